@@ -1,0 +1,1 @@
+// Keeps dpc_pipeline non-empty before the pipeline sources exist.

@@ -1,0 +1,79 @@
+// Bands: one value per octave band (63 Hz .. 8 kHz), with arithmetic.
+//
+// The frequency-dependent quantity of dpc, as pbrt's SampledSpectrum is pbrt's: absorption
+// coefficients, ray energies and energy-response bins are all Bands. The unit is whatever the
+// holder says (energy fraction, intensity in 1/m^2 relative to source power, ...).
+// Any thread; never allocates; no errors (arithmetic follows IEEE float).
+// Source: octave-band centre frequencies of IEC 61260-1 / ISO 266 (nominal values).
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+
+namespace dpc {
+
+/// Number of octave bands (63, 125, 250, 500, 1000, 2000, 4000, 8000 Hz).
+inline constexpr int kNumBands = 8;
+
+/// Nominal octave-band centre frequencies in Hz (ISO 266).
+inline constexpr std::array<float, kNumBands> kBandCentreHz = {63.f,   125.f,  250.f,  500.f,
+                                                               1000.f, 2000.f, 4000.f, 8000.f};
+
+/// Exact base-2 centre frequency of band b in Hz: 1000 * 2^(b-4) (IEC 61260-1).
+inline double bandCentreExactHz(int b) { return 1000.0 * std::exp2(double(b - 4)); }
+
+struct Bands {
+  std::array<float, kNumBands> v{};
+
+  constexpr Bands() = default;
+  constexpr explicit Bands(float x) { v.fill(x); }
+
+  constexpr float& operator[](int b) { return v[size_t(b)]; }
+  constexpr float operator[](int b) const { return v[size_t(b)]; }
+
+#define DPC_BANDS_OP(op)                                                         \
+  constexpr Bands& operator op##=(const Bands & o) {                             \
+    for (int b = 0; b < kNumBands; ++b) v[size_t(b)] op## = o.v[size_t(b)];      \
+    return *this;                                                                \
+  }                                                                              \
+  constexpr Bands& operator op##=(float s) {                                     \
+    for (int b = 0; b < kNumBands; ++b) v[size_t(b)] op## = s;                   \
+    return *this;                                                                \
+  }                                                                              \
+  friend constexpr Bands operator op(Bands a, const Bands & o) { return a op## = o; } \
+  friend constexpr Bands operator op(Bands a, float s) { return a op## = s; }
+  DPC_BANDS_OP(+)
+  DPC_BANDS_OP(-)
+  DPC_BANDS_OP(*)
+  DPC_BANDS_OP(/)
+#undef DPC_BANDS_OP
+  friend constexpr Bands operator*(float s, Bands a) { return a *= s; }
+
+  constexpr bool operator==(const Bands&) const = default;
+
+  float max() const { return *std::max_element(v.begin(), v.end()); }
+  float min() const { return *std::min_element(v.begin(), v.end()); }
+  float sum() const {
+    float s = 0.f;
+    for (float x : v) s += x;
+    return s;
+  }
+  float average() const { return sum() / float(kNumBands); }
+  bool hasNaN() const {
+    return std::any_of(v.begin(), v.end(), [](float x) { return std::isnan(x); });
+  }
+  bool allFinite() const {
+    return std::all_of(v.begin(), v.end(), [](float x) { return std::isfinite(x); });
+  }
+};
+
+/// Element-wise exp (for air attenuation factors).
+inline Bands exp(const Bands& a) {
+  Bands r;
+  for (int b = 0; b < kNumBands; ++b) r[b] = std::exp(a[b]);
+  return r;
+}
+
+}  // namespace dpc

@@ -1,0 +1,28 @@
+// InputError: a mistake in the user's input, named by file and field.
+//
+// Thrown by loaders on the control thread (never on the audio thread). what() is one line of
+// the form "FILE: FIELD: problem", e.g. "hall.json: materials.concrete.absorption[3]: 1.7 is
+// outside [0, 1]", ready to print as is. Apps catch it, print it, exit non-zero.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace dpc {
+
+class InputError : public std::runtime_error {
+ public:
+  /// file: path as the user gave it; field: dotted JSON path or "" for the whole file.
+  InputError(const std::string& file, const std::string& field, const std::string& problem)
+      : std::runtime_error(field.empty() ? file + ": " + problem
+                                         : file + ": " + field + ": " + problem),
+        file_(file),
+        field_(field) {}
+  const std::string& file() const { return file_; }
+  const std::string& field() const { return field_; }
+
+ private:
+  std::string file_, field_;
+};
+
+}  // namespace dpc

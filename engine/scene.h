@@ -1,0 +1,117 @@
+// Scene description: what a scene file (JSON + Wavefront OBJ) says, validated.
+//
+// Control thread: loadScene() reads files, allocates, and throws dpc::InputError (one line,
+// "FILE: FIELD: problem") for anything a user got wrong: missing file, malformed JSON, wrong
+// type, absorption outside [0, 1], NaN or infinite numbers, empty or fully degenerate mesh,
+// unknown material, radius <= 0, and so on. The key-by-key format with units is
+// docs/scene-format.md. Everything here is plain data: no Embree, no audio.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "engine/bands.h"
+
+namespace dpc {
+
+/// A surface material. absorption: energy absorption coefficient alpha per octave band,
+/// in [0, 1] (ISO 354 sense); scattering: probability in [0, 1] that a reflection is diffuse
+/// (Lambert, cosine-weighted) rather than specular (ISO 17497-1 scattering coefficient,
+/// broadband).
+struct Material {
+  std::string name;
+  Bands absorption{0.1f};
+  float scattering = 0.5f;
+};
+
+/// Triangle mesh in metres, world coordinates (right-handed, y up by convention of the
+/// shipped scenes; the engine does not care). Triangles index vertices; materialIndex[i]
+/// indexes SceneDesc::materials for triangle i.
+struct Mesh {
+  std::vector<glm::vec3> vertices;
+  std::vector<std::array<uint32_t, 3>> triangles;
+  std::vector<uint32_t> materialIndex;
+};
+
+struct SourceDesc {
+  std::string name;
+  glm::vec3 position{0.f};   ///< metres
+  std::string signalPath;    ///< dry WAV, resolved relative to the scene file's folder
+  float gainDb = 0.f;        ///< dB applied to the dry signal
+};
+
+struct Keyframe {
+  double timeSeconds = 0.0;  ///< seconds from the start of the render, strictly increasing
+  glm::vec3 position{0.f};   ///< metres
+};
+
+struct ListenerDesc {
+  glm::vec3 position{0.f};          ///< metres; used when the trajectory is empty
+  float radius = 0.5f;              ///< receiver sphere radius, metres, > 0
+  std::vector<Keyframe> trajectory; ///< linear interpolation between keyframes
+  bool loop = false;                ///< wrap time around the last keyframe
+};
+
+/// Which estimator turns traced paths into the energy response.
+enum class Estimator {
+  kDpc,          ///< diffuse path cache (Schissler thesis, section 3.2.2)
+  kPathTracing,  ///< plain Monte Carlo path tracing, no reuse between frames
+};
+
+/// How a DPC entry's intensity is averaged over time (design.md, "a subtlety").
+enum class DpcWeighting {
+  kSeed,  ///< thesis eq. 3.2: I_hat / mu, mu = rays emitted since the entry was created
+  kEma,   ///< unbiased: exponential moving average of per-frame estimates, time constant tau
+};
+
+struct PropagationSettings {
+  int raysPerFrame = 4096;        ///< rays emitted per source per frame (N)
+  int maxOrder = 50;              ///< maximum reflection order d_max
+  float patchSize = 0.5f;         ///< lambda, metres
+  float cacheTau = 1.0f;          ///< tau, seconds (0: no reuse)
+  float frameRate = 15.f;         ///< propagation frames per second, Hz
+  float irLength = 2.0f;          ///< impulse response length, seconds
+  uint64_t seed = 1;              ///< random seed; the same seed gives bit-identical output
+  Estimator estimator = Estimator::kDpc;
+  DpcWeighting dpcWeighting = DpcWeighting::kEma;
+  float speedOfSound = 343.f;     ///< m/s
+  float temperatureC = 20.f;      ///< air temperature, degrees Celsius (ISO 9613-1)
+  float humidityPercent = 50.f;   ///< relative humidity, percent (ISO 9613-1)
+  bool airAbsorption = true;      ///< apply ISO 9613-1 air absorption along paths
+};
+
+struct AudioSettings {
+  int sampleRate = 48000;  ///< Hz
+  int blockSize = 512;     ///< samples per processing block
+};
+
+struct SceneDesc {
+  std::string path;  ///< the scene file as given
+  std::string meshPath;
+  Mesh mesh;
+  std::vector<Material> materials;
+  std::vector<SourceDesc> sources;  ///< at least one
+  ListenerDesc listener;
+  PropagationSettings propagation;
+  AudioSettings audio;
+};
+
+/// Reads and validates a scene file and its mesh. Control thread; allocates.
+/// Throws InputError naming the file and field on any problem.
+SceneDesc loadScene(const std::string& path);
+
+/// Listener position at time t (seconds) along the trajectory (linear interpolation,
+/// clamped at the ends, or wrapped when loop is set). Any thread; no allocation.
+glm::vec3 listenerPositionAt(const ListenerDesc& listener, double t);
+
+/// Parses "dpc" / "path_tracing"; nullopt for anything else.
+std::optional<Estimator> parseEstimator(const std::string& s);
+/// Parses "ema" / "seed"; nullopt for anything else.
+std::optional<DpcWeighting> parseDpcWeighting(const std::string& s);
+
+}  // namespace dpc

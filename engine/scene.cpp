@@ -1,0 +1,2 @@
+// Placeholder until the scene loader lands.
+#include "engine/scene.h"

@@ -99,6 +99,9 @@ struct SceneDesc {
   ListenerDesc listener;
   PropagationSettings propagation;
   AudioSettings audio;
+  /// Things the loader repaired rather than refused (e.g. "hall.obj: 12 degenerate triangles
+  /// dropped"); apps print them. Nothing is dropped without a line here.
+  std::vector<std::string> warnings;
 };
 
 /// Reads and validates a scene file and its mesh. Control thread; allocates.

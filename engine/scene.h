@@ -83,6 +83,7 @@ struct PropagationSettings {
   float temperatureC = 20.f;      ///< air temperature, degrees Celsius (ISO 9613-1)
   float humidityPercent = 50.f;   ///< relative humidity, percent (ISO 9613-1)
   bool airAbsorption = true;      ///< apply ISO 9613-1 air absorption along paths
+  int threads = 0;                ///< tracing threads; 0 = all cores (command line only)
 };
 
 struct AudioSettings {

@@ -7,7 +7,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libembree-dev libtbb-dev libglm-dev
   libsndfile1-dev libsamplerate0-dev libfftw3-dev portaudio19-dev
-  libreaderwriterqueue-dev libmysofa-dev
+  libreaderwriterqueue-dev libmysofa-dev robin-map-dev
   nlohmann-json3-dev libtinyobjloader-dev libcli11-dev catch2
   python3 python3-numpy python3-matplotlib espeak-ng sox
 )

@@ -1,0 +1,146 @@
+#include "engine/geometry.h"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+
+#include <glm/geometric.hpp>
+
+namespace dpc {
+
+EmbreeDevice::EmbreeDevice() {
+  device_ = rtcNewDevice(nullptr);
+  if (!device_)
+    throw std::runtime_error("Embree: cannot create a device (error " +
+                             std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
+  rtcSetDeviceErrorFunction(device_, &EmbreeDevice::onError, this);
+}
+
+EmbreeDevice::~EmbreeDevice() {
+  if (device_) rtcReleaseDevice(device_);
+}
+
+void EmbreeDevice::onError(void* self, RTCError code, const char* str) {
+  auto* d = static_cast<EmbreeDevice*>(self);
+  if (d->firstError_ == RTC_ERROR_NONE) {
+    d->firstError_ = code;
+    d->firstMessage_ = str ? str : "unknown error";
+  }
+}
+
+void EmbreeDevice::throwIfError(const char* step) {
+  if (firstError_ != RTC_ERROR_NONE)
+    throw std::runtime_error(std::string("Embree: ") + firstMessage_ + ", during " + step);
+}
+
+Geometry::Geometry(const Mesh& mesh, const std::vector<Material>& materials, float patchSize) {
+  if (mesh.triangles.empty()) throw std::invalid_argument("Geometry: mesh has no triangles");
+  if (mesh.materialIndex.size() != mesh.triangles.size())
+    throw std::invalid_argument("Geometry: one material index per triangle required");
+  if (!(patchSize > 0.f)) throw std::invalid_argument("Geometry: patch size must be > 0");
+  for (const Material& m : materials) {
+    reflectance_.push_back(Bands(1.f) - m.absorption);
+    scattering_.push_back(m.scattering);
+  }
+  const size_t nv = mesh.vertices.size(), nt = mesh.triangles.size();
+  scene_ = rtcNewScene(device_.get());
+  rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+  RTCGeometry geom = rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                        RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
+  auto* idx = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
+      geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), nt));
+  device_.throwIfError("creating the triangle buffers");
+  boundsMin_ = glm::vec3(std::numeric_limits<float>::max());
+  boundsMax_ = glm::vec3(-std::numeric_limits<float>::max());
+  for (size_t i = 0; i < nv; ++i) {
+    v[3 * i + 0] = mesh.vertices[i].x;
+    v[3 * i + 1] = mesh.vertices[i].y;
+    v[3 * i + 2] = mesh.vertices[i].z;
+    boundsMin_ = glm::min(boundsMin_, mesh.vertices[i]);
+    boundsMax_ = glm::max(boundsMax_, mesh.vertices[i]);
+  }
+  patching_.resize(nt);
+  materialOf_.resize(nt);
+  for (size_t t = 0; t < nt; ++t) {
+    const auto& tri = mesh.triangles[t];
+    for (int k = 0; k < 3; ++k) {
+      if (tri[k] >= nv) {
+        rtcReleaseGeometry(geom);
+        throw std::invalid_argument("Geometry: triangle index out of range");
+      }
+      idx[3 * t + k] = tri[k];
+    }
+    if (mesh.materialIndex[t] >= materials.size()) {
+      rtcReleaseGeometry(geom);
+      throw std::invalid_argument("Geometry: material index out of range");
+    }
+    materialOf_[t] = mesh.materialIndex[t];
+    const glm::vec3 &a = mesh.vertices[tri[0]], &b = mesh.vertices[tri[1]],
+                    &c = mesh.vertices[tri[2]];
+    patching_[t] = TrianglePatching::build(a, b, c, patchSize);
+    surfaceArea_ += 0.5 * glm::length(glm::cross(glm::dvec3(b - a), glm::dvec3(c - a)));
+  }
+  rtcCommitGeometry(geom);
+  rtcAttachGeometry(scene_, geom);
+  rtcReleaseGeometry(geom);
+  rtcCommitScene(scene_);
+  device_.throwIfError("building the BVH");
+}
+
+Geometry::~Geometry() {
+  if (scene_) rtcReleaseScene(scene_);
+}
+
+bool Geometry::intersect(const glm::vec3& org, const glm::vec3& dir, float tnear, float tfar,
+                         SurfaceHit& hit) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh;
+  rh.ray.org_x = org.x;
+  rh.ray.org_y = org.y;
+  rh.ray.org_z = org.z;
+  rh.ray.dir_x = dir.x;
+  rh.ray.dir_y = dir.y;
+  rh.ray.dir_z = dir.z;
+  rh.ray.tnear = tnear;
+  rh.ray.tfar = tfar;
+  rh.ray.time = 0.f;
+  rh.ray.mask = 0xffffffffu;
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(scene_, &context, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  hit.t = rh.ray.tfar;
+  hit.triangle = rh.hit.primID;
+  hit.barycentric = {1.f - rh.hit.u - rh.hit.v, rh.hit.u, rh.hit.v};
+  hit.normal = glm::normalize(glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
+  return true;
+}
+
+bool Geometry::occluded(const glm::vec3& org, const glm::vec3& dir, float tnear,
+                        float tfar) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay ray;
+  ray.org_x = org.x;
+  ray.org_y = org.y;
+  ray.org_z = org.z;
+  ray.dir_x = dir.x;
+  ray.dir_y = dir.y;
+  ray.dir_z = dir.z;
+  ray.tnear = tnear;
+  ray.tfar = tfar;
+  ray.time = 0.f;
+  ray.mask = 0xffffffffu;
+  ray.id = 0;
+  ray.flags = 0;
+  rtcOccluded1(scene_, &context, &ray);
+  return ray.tfar < 0.f;  // Embree sets tfar = -inf when occluded
+}
+
+}  // namespace dpc

@@ -1,0 +1,94 @@
+// Acoustic geometry: the scene's triangles in an Embree 3 BVH, with per-triangle material and
+// patch subdivision.
+//
+// EmbreeDevice and the scene handle are owned here and released here only (RAII), following
+// the Embree tutorials: the device error callback is registered once at creation and records
+// the first error, which build steps turn into a std::runtime_error.
+// Construction: control/propagation thread; allocates; throws std::runtime_error on an
+// Embree error and std::invalid_argument on inconsistent input (the scene loader validates
+// user input first). Queries (intersect, occluded): any number of threads at once; no
+// allocation; no errors.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <embree3/rtcore.h>
+#include <glm/vec3.hpp>
+
+#include "engine/bands.h"
+#include "engine/patch.h"
+#include "engine/scene.h"
+
+namespace dpc {
+
+/// Owns an RTCDevice. Not copyable.
+class EmbreeDevice {
+ public:
+  EmbreeDevice();
+  ~EmbreeDevice();
+  EmbreeDevice(const EmbreeDevice&) = delete;
+  EmbreeDevice& operator=(const EmbreeDevice&) = delete;
+  RTCDevice get() const { return device_; }
+  /// Throws std::runtime_error("Embree: <what>, during <step>") if an error was recorded.
+  void throwIfError(const char* step);
+
+ private:
+  static void onError(void* self, RTCError code, const char* str);
+  RTCDevice device_ = nullptr;
+  RTCError firstError_ = RTC_ERROR_NONE;
+  std::string firstMessage_;
+};
+
+/// Result of a closest-hit query. t in metres along a unit direction.
+struct SurfaceHit {
+  float t = 0.f;
+  uint32_t triangle = 0;
+  std::array<float, 3> barycentric{};  ///< (1-u-v, u, v) for the triangle's vertices 0, 1, 2
+  glm::vec3 normal{0.f};               ///< unit geometric normal, winding-order side
+};
+
+class Geometry {
+ public:
+  /// mesh: triangles and per-triangle material indices into materials; patchSize: lambda in
+  /// metres (> 0).
+  Geometry(const Mesh& mesh, const std::vector<Material>& materials, float patchSize);
+  ~Geometry();
+  Geometry(const Geometry&) = delete;
+  Geometry& operator=(const Geometry&) = delete;
+
+  /// Closest hit of the ray org + t*dir, t in (tnear, tfar); dir must be unit length.
+  /// Returns false on a miss.
+  bool intersect(const glm::vec3& org, const glm::vec3& dir, float tnear, float tfar,
+                 SurfaceHit& hit) const;
+  /// True if anything blocks the segment org + t*dir, t in (tnear, tfar).
+  bool occluded(const glm::vec3& org, const glm::vec3& dir, float tnear, float tfar) const;
+
+  uint32_t triangleCount() const { return uint32_t(patching_.size()); }
+  const TrianglePatching& patching(uint32_t tri) const { return patching_[tri]; }
+  /// Energy reflection factor (1 - absorption) per band of triangle tri's material.
+  const Bands& reflectance(uint32_t tri) const { return reflectance_[materialOf_[tri]]; }
+  float scattering(uint32_t tri) const { return scattering_[materialOf_[tri]]; }
+  uint32_t materialOf(uint32_t tri) const { return materialOf_[tri]; }
+
+  /// Axis-aligned bounds of the mesh, metres.
+  glm::vec3 boundsMin() const { return boundsMin_; }
+  glm::vec3 boundsMax() const { return boundsMax_; }
+  /// Total surface area, m^2.
+  double surfaceArea() const { return surfaceArea_; }
+  /// Bytes of per-triangle data held here (patching, material index), not counting Embree.
+  size_t bytesPerTriangle() const { return sizeof(TrianglePatching) + sizeof(uint32_t); }
+
+ private:
+  EmbreeDevice device_;
+  RTCScene scene_ = nullptr;
+  std::vector<TrianglePatching> patching_;
+  std::vector<uint32_t> materialOf_;
+  std::vector<Bands> reflectance_;
+  std::vector<float> scattering_;
+  glm::vec3 boundsMin_{0.f}, boundsMax_{0.f};
+  double surfaceArea_ = 0.0;
+};
+
+}  // namespace dpc

@@ -1,0 +1,118 @@
+// Estimators that turn one frame's listener hits into an energy response: plain Monte Carlo
+// path tracing and the diffuse path cache (DPC) of Schissler's thesis, section 3.2.2.
+//
+// Both see the frame's hits grouped by path identifier (FrameGroups, in first-hit order).
+// - PathTracingEstimator: every group adds I_f / N at delay (r_f / eta_f) / c, nothing is
+//   kept between frames.
+// - DiffusePathCache: entries (eta, mu, I_hat, r_hat, created) persist across frames.
+//   Weighting kSeed is the thesis: eq. 3.4 update, eq. 3.2 I_bar = I_hat / mu, eq. 3.3
+//   r_bar = r_hat / eta, removal after tau. Weighting kEma is dpc's unbiased variant: each
+//   entry keeps an exponential moving average (time constant tau) of its per-frame estimate
+//   I_f / N, decayed every frame whether hit or not, normalised by 1 - (1-a)^(n+1) for the
+//   n+1 frames since the cache started, and dropped once its weight falls below
+//   kEmaDropFraction (docs/estimators.md has the derivation and the measurements).
+// With tau = 0 both weightings reduce to PathTracingEstimator, bit for bit (the same float
+// operations in the same order); tests/engine/path_cache_test.cpp checks it.
+// Propagation thread only. Allocation: tables grow as needed (amortised), then keep their
+// capacity. No errors.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+#include <tsl/robin_map.h>
+
+#include "engine/bands.h"
+#include "engine/energy_response.h"
+#include "engine/scene.h"
+
+namespace dpc {
+
+/// One ray segment that crossed the listener sphere.
+struct PathHit {
+  uint64_t key = 0;         ///< path identifier hash K (engine/patch.h)
+  Bands intensity{0.f};     ///< I(omega) = band energy * air attenuation / (pi R^2), 1/m^2
+  float length = 0.f;       ///< r, path length to the listener, metres
+  glm::vec3 direction{0.f}; ///< unit vector from the listener toward the arriving sound
+};
+
+/// A frame's hits grouped by path identifier, in order of each key's first hit.
+class FrameGroups {
+ public:
+  struct Group {
+    uint64_t key;
+    uint32_t eta;          ///< hits this frame
+    Bands intensity;       ///< summed I, 1/m^2
+    double length;         ///< summed r, metres
+    glm::vec3 direction;   ///< summed direction weighted by mean band intensity
+  };
+  void clear();
+  void add(const PathHit& hit);
+  const std::vector<Group>& groups() const { return groups_; }
+  size_t hitCount() const { return hits_; }
+
+ private:
+  tsl::robin_map<uint64_t, uint32_t> index_;
+  std::vector<Group> groups_;
+  size_t hits_ = 0;
+};
+
+/// Plain Monte Carlo path tracing: no memory between frames.
+class PathTracingEstimator {
+ public:
+  /// Adds every group's I_f / N at delay (r_f / eta_f) / c to out. N = rays emitted this frame.
+  void endFrame(const FrameGroups& frame, uint64_t raysEmitted, float speedOfSound,
+                EnergyResponse& out) const;
+};
+
+class DiffusePathCache {
+ public:
+  /// Weight below which an EMA entry that is no longer hit is dropped (bias <= this fraction
+  /// of one hit's contribution).
+  static constexpr double kEmaDropFraction = 1e-3;
+
+  /// tauSeconds >= 0: cache response time; framePeriodSeconds > 0.
+  DiffusePathCache(DpcWeighting weighting, double tauSeconds, double framePeriodSeconds);
+
+  /// One frame: applies the frame's groups (eq. 3.4), then mu += N for every entry and adds
+  /// every entry's estimate (eq. 3.2, 3.3, or the EMA) to out, then removes expired entries.
+  void endFrame(const FrameGroups& frame, uint64_t raysEmitted, float speedOfSound,
+                EnergyResponse& out);
+
+  void clear();
+  size_t entryCount() const { return entries_.size(); }
+  /// Heap bytes held by the cache's tables (entries and index).
+  size_t bytes() const;
+  /// Frames an entry is read out: seed = after its creation; EMA = after its last hit.
+  uint32_t lifetimeFrames() const { return lifetime_; }
+  /// EMA coefficient a = 1 - exp(-T / tau) (1 when tau = 0).
+  double emaCoefficient() const { return a_; }
+
+  struct Entry {
+    uint64_t key;
+    uint32_t eta;        ///< seed: rays of this path that reached the listener
+    uint32_t stamp;      ///< seed: frame created; EMA: frame last hit
+    uint64_t mu;         ///< seed: rays emitted while the entry existed
+    Bands intensity;     ///< seed: I_hat (sum); EMA: moving average of I_f / N
+    double length;       ///< seed: r_hat (sum); EMA: moving average of r_f
+    double etaAverage;   ///< EMA: moving average of eta_f
+    glm::vec3 direction; ///< summed / averaged arrival direction (intensity weighted)
+  };
+  const std::vector<Entry>& entries() const { return entries_; }
+
+ private:
+  Entry* findOrInsert(uint64_t key, bool& inserted);
+  void removeAt(size_t i);
+
+  DpcWeighting weighting_;
+  double a_ = 1.0;
+  uint32_t lifetime_ = 1;
+  uint32_t frame_ = 0;     ///< frames since the cache started (or was cleared)
+  double decayPow_ = 1.0;  ///< (1-a)^(frame_+1), for the start-up normalisation
+  tsl::robin_map<uint64_t, uint32_t> index_;
+  std::vector<Entry> entries_;
+};
+
+}  // namespace dpc

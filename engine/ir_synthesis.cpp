@@ -1,0 +1,194 @@
+#include "engine/ir_synthesis.h"
+
+#include <fftw3.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include "engine/random.h"
+
+namespace dpc {
+
+namespace {
+
+/// RAII owner of an fftwf_malloc'd array.
+template <typename T>
+struct FftwArray {
+  explicit FftwArray(size_t n) : p(static_cast<T*>(fftwf_malloc(n * sizeof(T)))) {
+    if (!p) throw std::bad_alloc();
+  }
+  ~FftwArray() { fftwf_free(p); }
+  FftwArray(const FftwArray&) = delete;
+  FftwArray& operator=(const FftwArray&) = delete;
+  T* p;
+};
+
+size_t nextPow2(size_t n) {
+  size_t p = 1;
+  while (p < n) p <<= 1;
+  return p;
+}
+
+}  // namespace
+
+OctaveBandMasks::OctaveBandMasks(int sampleRate, size_t fftSize) {
+  const size_t bins = fftSize / 2 + 1;
+  const double halfWidth = 1.0 / 6.0;  // octaves either side of an edge: 1/3-octave crossover
+  for (auto& g : gains_) g.assign(bins, 0.f);
+  for (size_t k = 0; k < bins; ++k) {
+    const double f = double(k) * sampleRate / double(fftSize);
+    // Power fraction passed above each edge e_b (between band b and b+1), as a raised-cosine
+    // in log2 frequency: sin^2 + cos^2 = 1 keeps the bank power-complementary.
+    double prevUpper = 1.0;  // fraction of power above the edge below band 0 (there is none)
+    for (int b = 0; b < kNumBands; ++b) {
+      double upper = 0.0;  // fraction of power above edge b
+      if (b < kNumBands - 1) {
+        const double edge = bandCentreExactHz(b) * std::numbers::sqrt2;
+        const double x = f > 0.0 ? std::log2(f / edge) : -1e9;
+        if (x >= halfWidth)
+          upper = 1.0;
+        else if (x > -halfWidth) {
+          const double s = std::sin(0.25 * std::numbers::pi * (1.0 + x / halfWidth));
+          upper = s * s;
+        }
+      }
+      const double power = prevUpper - upper;  // in band b: above edge b-1, below edge b
+      gains_[size_t(b)][k] = float(std::sqrt(std::max(0.0, power)));
+      prevUpper = upper;
+    }
+  }
+}
+
+IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVolume,
+                             double speedOfSound, uint64_t seed)
+    : sampleRate_(sampleRate) {
+  if (sampleRate <= 0 || !(lengthSeconds > 0.0) || !(roomVolume > 0.0) || !(speedOfSound > 0.0))
+    throw std::invalid_argument("IrSynthesizer: rate, length, volume and c must be > 0");
+  length_ = size_t(std::ceil(lengthSeconds * sampleRate));
+  const size_t margin = size_t(sampleRate / 4);  // room for the filters' tails
+  const size_t nfft = nextPow2(length_ + margin);
+  const size_t nbins = nfft / 2 + 1;
+
+  // Dirac sequence: Poisson process with rate mu(t) = min(4 pi c^3 t^2 / V, cap).
+  std::vector<float> seq(nfft, 0.f);
+  Rng rng(seed, 0x0d1acULL);
+  const double c3 = speedOfSound * speedOfSound * speedOfSound;
+  double t = 0.0;
+  const double dt = 1.0 / sampleRate;
+  // Generate by thinning per sample: probability mu(t) dt of a pulse in [t, t+dt).
+  for (size_t n = 0; n < length_; ++n, t += dt) {
+    const double mu = std::min(4.0 * std::numbers::pi * c3 * t * t / roomVolume,
+                               kMaxDensityPerSecond);
+    const double p = mu * dt;
+    if (double(rng.uniform()) < p) seq[n] = rng.uniform() < 0.5f ? -1.f : 1.f;
+  }
+
+  FftwArray<float> time(nfft);
+  FftwArray<fftwf_complex> spec(nbins), bandSpec(nbins);
+  fftwf_plan fwd = fftwf_plan_dft_r2c_1d(int(nfft), time.p, spec.p, FFTW_ESTIMATE);
+  fftwf_plan inv = fftwf_plan_dft_c2r_1d(int(nfft), bandSpec.p, time.p, FFTW_ESTIMATE);
+  if (!fwd || !inv) throw std::runtime_error("IrSynthesizer: FFTW plan failed");
+  std::copy(seq.begin(), seq.end(), time.p);
+  fftwf_execute(fwd);
+  const OctaveBandMasks masks(sampleRate, nfft);
+  const float scale = 1.f / float(nfft);
+  filterCentre_ = margin / 2;
+  for (int b = 0; b < kNumBands; ++b) {
+    const size_t bi = size_t(b);
+    for (size_t k = 0; k < nbins; ++k) {
+      const float g = masks.gain(b, k) * scale;
+      bandSpec.p[k][0] = spec.p[k][0] * g;
+      bandSpec.p[k][1] = spec.p[k][1] * g;
+    }
+    fftwf_execute(inv);  // destroys bandSpec, which is rebuilt per band
+    bandSequence_[bi].assign(time.p, time.p + length_);
+
+    // Band filter impulse response h_b: inverse FFT of the mask (zero phase, centred at 0),
+    // stored rotated so that index filterCentre_ is time 0.
+    for (size_t k = 0; k < nbins; ++k) {
+      bandSpec.p[k][0] = masks.gain(b, k) * scale;
+      bandSpec.p[k][1] = 0.f;
+    }
+    fftwf_execute(inv);
+    filter_[bi].assign(margin, 0.f);
+    double e = 0.0;
+    for (size_t i = 0; i < margin; ++i) {
+      const size_t src = (i + nfft - filterCentre_) % nfft;
+      filter_[bi][i] = time.p[src];
+      e += double(time.p[src]) * time.p[src];
+    }
+    filterEnergy_[bi] = e;
+
+    // Synthesis bins: max(1 ms, two periods of the band centre).
+    binSamples_[bi] = std::max<size_t>(
+        size_t(std::lround(1e-3 * sampleRate)),
+        size_t(std::lround(2.0 * sampleRate / bandCentreExactHz(b))));
+    const size_t nb = (length_ + binSamples_[bi] - 1) / binSamples_[bi];
+    sequenceEnergy_[bi].assign(nb, 0.0);
+    for (size_t n = 0; n < length_; ++n) {
+      const double x = bandSequence_[bi][n];
+      sequenceEnergy_[bi][n / binSamples_[bi]] += x * x;
+    }
+    targetEnergy_[bi].assign(nb, 0.0);
+    gain_[bi].assign(nb, 0.f);
+  }
+  fftwf_destroy_plan(fwd);
+  fftwf_destroy_plan(inv);
+}
+
+void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& direct,
+                               float* ir) {
+  std::fill(ir, ir + length_, 0.f);
+  const double samplesPerBin = energy.binSeconds() * sampleRate_;
+  for (int b = 0; b < kNumBands; ++b) {
+    const size_t bi = size_t(b);
+    auto& target = targetEnergy_[bi];
+    std::fill(target.begin(), target.end(), 0.0);
+    const size_t nb = target.size();
+    for (size_t k = 0; k < energy.binCount(); ++k) {
+      const float e = energy.bins()[k][b];
+      if (e == 0.f) continue;
+      // Assign the energy bin to the synthesis bin holding its centre sample.
+      const size_t n = size_t((double(k) + 0.5) * samplesPerBin);
+      const size_t j = std::min(nb - 1, n / binSamples_[bi]);
+      target[j] += e;
+    }
+    // Gains; energy of a bin the sequence leaves empty moves on to the next bin.
+    double carry = 0.0;
+    const auto& seqE = sequenceEnergy_[bi];
+    for (size_t j = 0; j < nb; ++j) {
+      const double want = target[j] + carry;
+      if (seqE[j] > 1e-12) {
+        gain_[bi][j] = float(std::sqrt(want / seqE[j]));
+        carry = 0.0;
+      } else {
+        gain_[bi][j] = 0.f;
+        carry = want;
+      }
+    }
+    const float* s = bandSequence_[bi].data();
+    const size_t w = binSamples_[bi];
+    for (size_t j = 0; j < nb; ++j) {
+      const float g = gain_[bi][j];
+      if (g == 0.f) continue;
+      const size_t end = std::min(length_, (j + 1) * w);
+      for (size_t n = j * w; n < end; ++n) ir[n] += g * s[n];
+    }
+  }
+  if (direct.visible) {
+    const long n0 = std::lround(double(direct.delaySeconds) * sampleRate_);
+    for (int b = 0; b < kNumBands; ++b) {
+      const size_t bi = size_t(b);
+      const float amp = float(std::sqrt(double(direct.intensity[b]) / filterEnergy_[bi]));
+      const auto& h = filter_[bi];
+      for (size_t i = 0; i < h.size(); ++i) {
+        const long n = n0 + long(i) - long(filterCentre_);
+        if (n >= 0 && n < long(length_)) ir[n] += amp * h[i];
+      }
+    }
+  }
+}
+
+}  // namespace dpc

@@ -1,0 +1,79 @@
+// Pressure impulse response from a band energy response: the band-filtered Dirac sequence
+// method (D. Schröder, "Physically Based Real-Time Auralization of Interactive Virtual
+// Environments", PhD thesis, RWTH Aachen 2011, section 5.3; reflection density after
+// H. Kuttruff, "Room Acoustics", 5th ed., eq. 4.6: dN/dt = 4 pi c^3 t^2 / V).
+//
+// At construction a Dirac sequence s (Poisson arrivals of rate min(4 pi c^3 t^2 / V,
+// kMaxDensityPerSecond), random signs; fixed per synthesiser, so successive frames' IRs differ
+// only in their envelopes, never in fine structure) is split into octave bands
+// s_b = h_b * s by zero-phase, power-complementary band filters (sum_b |H_b(f)|^2 = 1,
+// raised-cosine crossovers 1/3 octave wide at the band edges fc * 2^(1/2)).
+// Each frame: ir[n] = sum_b g_b[j] s_b[n], with g_b[j] = sqrt(E_b[j] / e_b[j]) per synthesis
+// bin j (E_b from the energy response, e_b the energy of s_b in that bin), so every band's
+// energy in every bin equals the energy response's (energy of bins without any pulse moves to
+// the next bin). Synthesis bins are max(1 ms, 2 periods of the band centre) wide. The direct
+// sound is added as the band filters' impulse responses at its exact sample delay, with band
+// energies equal to DirectSound::intensity. Units: the IR's squared samples sum to energy in
+// 1/m^2 relative to source power (so 1/(4 pi r^2) for a direct sound at r metres).
+//
+// Construction: control/propagation thread (FFTW plan creation is not thread-safe);
+// allocates; throws std::invalid_argument on bad sizes. synthesize(): propagation thread;
+// no allocation; no errors.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "engine/bands.h"
+#include "engine/energy_response.h"
+#include "engine/propagation.h"
+
+namespace dpc {
+
+/// Zero-phase power-complementary octave-band masks on the bins 0..fftSize/2 of a real FFT.
+class OctaveBandMasks {
+ public:
+  OctaveBandMasks(int sampleRate, size_t fftSize);
+  /// |H_b| at FFT bin k (0 <= k <= fftSize/2).
+  float gain(int band, size_t k) const { return gains_[size_t(band)][k]; }
+  size_t binCount() const { return gains_[0].size(); }
+
+ private:
+  std::array<std::vector<float>, kNumBands> gains_;
+};
+
+class IrSynthesizer {
+ public:
+  /// Dirac sequence density cap, pulses per second (Schröder 2011 uses about this order).
+  static constexpr double kMaxDensityPerSecond = 10000.0;
+
+  /// sampleRate in Hz; lengthSeconds of the IR; roomVolume in m^3 (density law; the bounding
+  /// box volume is an adequate estimate); speedOfSound m/s; seed for the Dirac sequence.
+  IrSynthesizer(int sampleRate, double lengthSeconds, double roomVolume, double speedOfSound,
+                uint64_t seed);
+
+  size_t lengthSamples() const { return length_; }
+  int sampleRate() const { return sampleRate_; }
+
+  /// Writes lengthSamples() samples of pressure IR to ir. energy: the frame's energy
+  /// response (any bin width); direct: the analytic direct sound (ignored when not visible).
+  void synthesize(const EnergyResponse& energy, const DirectSound& direct, float* ir);
+
+  /// Energy of band b's filter impulse response (sum of h_b^2), the fraction of a unit
+  /// impulse's energy that falls in band b.
+  double bandFilterEnergy(int b) const { return filterEnergy_[size_t(b)]; }
+
+ private:
+  int sampleRate_;
+  size_t length_;
+  std::array<std::vector<float>, kNumBands> bandSequence_;    ///< s_b, length_ samples
+  std::array<size_t, kNumBands> binSamples_{};                ///< synthesis bin width per band
+  std::array<std::vector<double>, kNumBands> sequenceEnergy_; ///< e_b[j]
+  std::array<std::vector<double>, kNumBands> targetEnergy_;   ///< scratch: E_b[j]
+  std::array<std::vector<float>, kNumBands> gain_;            ///< scratch: g_b[j]
+  std::array<std::vector<float>, kNumBands> filter_;          ///< h_b, centred at filterCentre_
+  std::array<double, kNumBands> filterEnergy_{};
+  size_t filterCentre_ = 0;
+};
+
+}  // namespace dpc

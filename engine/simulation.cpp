@@ -1,0 +1,53 @@
+#include "engine/simulation.h"
+
+namespace dpc {
+
+Simulation::Simulation(const SceneDesc& scene) : Simulation(scene, scene.propagation) {}
+
+Simulation::Simulation(const SceneDesc& scene, const PropagationSettings& settings)
+    : settings_(settings), listenerRadius_(scene.listener.radius) {
+  geometry_ = std::make_unique<Geometry>(scene.mesh, scene.materials, settings_.patchSize);
+  propagator_ = std::make_unique<Propagator>(*geometry_, settings_);
+  for (const SourceDesc& s : scene.sources) {
+    sourcePositions_.push_back(s.position);
+    if (settings_.estimator == Estimator::kDpc)
+      caches_.push_back(std::make_unique<DiffusePathCache>(
+          settings_.dpcWeighting, settings_.cacheTau, 1.0 / settings_.frameRate));
+    SourceResult r;
+    r.energy = EnergyResponse(settings_.irLength, kEnergyBinSeconds);
+    results_.push_back(std::move(r));
+  }
+}
+
+double Simulation::boundingVolume() const {
+  const glm::vec3 e = geometry_->boundsMax() - geometry_->boundsMin();
+  return std::max(1.0, double(e.x) * e.y * e.z);
+}
+
+void Simulation::runFrame(const glm::vec3& listenerPosition) {
+  runFrame(listenerPosition, sourcePositions_);
+}
+
+void Simulation::runFrame(const glm::vec3& listenerPosition,
+                          const std::vector<glm::vec3>& sources) {
+  const ListenerSphere listener{listenerPosition, listenerRadius_};
+  for (size_t s = 0; s < results_.size() && s < sources.size(); ++s) {
+    SourceResult& r = results_[s];
+    groups_.clear();
+    r.trace = propagator_->traceFrame(frame_, uint32_t(s), sources[s], listener, groups_);
+    r.direct = propagator_->directSound(sources[s], listener);
+    r.energy.clear();
+    if (caches_.empty()) {
+      pathTracing_.endFrame(groups_, r.trace.rays, settings_.speedOfSound, r.energy);
+      r.cacheEntries = groups_.groups().size();
+      r.cacheBytes = 0;
+    } else {
+      caches_[s]->endFrame(groups_, r.trace.rays, settings_.speedOfSound, r.energy);
+      r.cacheEntries = caches_[s]->entryCount();
+      r.cacheBytes = caches_[s]->bytes();
+    }
+  }
+  ++frame_;
+}
+
+}  // namespace dpc

@@ -1,0 +1,108 @@
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <numbers>
+
+#include "engine/propagation.h"
+#include "engine/simulation.h"
+#include "test_scenes.h"
+
+using namespace dpc;
+
+namespace {
+bool identical(const EnergyResponse& a, const EnergyResponse& b) {
+  return a.binCount() == b.binCount() &&
+         std::memcmp(a.bins().data(), b.bins().data(), a.binCount() * sizeof(Bands)) == 0;
+}
+}  // namespace
+
+// design.md oracle: the energy of order-0 rays through the listener sphere estimates the
+// direct intensity 1/(4 pi r^2) (times air attenuation).
+TEST_CASE("Order-0 energy through the listener sphere is 1/(4 pi r^2)", "[calibration]") {
+  // A huge box so that no reflection comes back within max order 0.
+  SceneDesc scene = test::makeShoebox({200, 200, 200}, Bands(1.f), 1.f, {100, 100, 100},
+                                      {104, 101, 102}, 0.5f);
+  PropagationSettings ps;
+  ps.raysPerFrame = 2000000;
+  ps.maxOrder = 0;
+  ps.estimator = Estimator::kPathTracing;
+  Simulation sim(scene, ps);
+  sim.propagator().setIncludeDirectRays(true);
+  sim.runFrame(scene.listener.position);
+  const double r = std::sqrt(16.0 + 1.0 + 4.0);
+  const double R = 0.5;
+  const Bands total = sim.result(0).energy.total();
+  const Bands expected = sim.result(0).direct.intensity;  // 1/(4 pi r^2) e^{-m r}, analytic
+  REQUIRE(sim.result(0).direct.visible);
+  CHECK(expected[4] == Approx(std::exp(-sim.propagator().airAttenuationPerMetre()[4] * r) /
+                              (4 * std::numbers::pi * r * r)));
+  // Hits are binomial with p = (1 - sqrt(1 - R^2/r^2)) / 2 (the sphere's solid angle share);
+  // the estimate's mean is p / (pi R^2), which exceeds 1/(4 pi r^2) by the factor
+  // 2 r^2 (1 - sqrt(1 - R^2/r^2)) / R^2 (+0.3 % here); relative sigma = sqrt((1-p)/(N p)).
+  const double p = (1 - std::sqrt(1 - R * R / (r * r))) / 2;
+  const double geometric = 2 * r * r * (1 - std::sqrt(1 - R * R / (r * r))) / (R * R);
+  const double sigma = std::sqrt((1 - p) / (ps.raysPerFrame * p));
+  for (int b = 0; b < kNumBands; ++b) {
+    const double ratio = total[b] / (expected[b] * geometric);
+    INFO("band " << b << ": estimate / analytic = " << ratio << ", sigma = " << sigma);
+    CHECK(std::abs(ratio - 1.0) < 4 * sigma);
+  }
+}
+
+TEST_CASE("tau = 0 DPC reproduces plain path tracing exactly, frame after frame", "[dpc]") {
+  SceneDesc scene = test::makeShoebox({10, 3, 7}, Bands(0.2f), 0.7f, {2, 1.5f, 2}, {7, 1.6f, 5});
+  PropagationSettings ps;
+  ps.raysPerFrame = 2000;
+  ps.maxOrder = 30;
+  ps.cacheTau = 0.f;
+  ps.seed = 42;
+  for (DpcWeighting w : {DpcWeighting::kSeed, DpcWeighting::kEma}) {
+    PropagationSettings dpcSettings = ps, ptSettings = ps;
+    dpcSettings.estimator = Estimator::kDpc;
+    dpcSettings.dpcWeighting = w;
+    ptSettings.estimator = Estimator::kPathTracing;
+    Simulation dpcSim(scene, dpcSettings), ptSim(scene, ptSettings);
+    for (int f = 0; f < 5; ++f) {
+      const glm::vec3 listener(7.f - 0.3f * f, 1.6f, 5.f);  // moving: nothing may carry over
+      dpcSim.runFrame(listener);
+      ptSim.runFrame(listener);
+      REQUIRE(dpcSim.result(0).trace.listenerHits > 100);
+      REQUIRE(identical(dpcSim.result(0).energy, ptSim.result(0).energy));
+    }
+  }
+}
+
+TEST_CASE("A frame is bit-identical for a seed whatever the thread count", "[determinism]") {
+  SceneDesc scene = test::makeShoebox({10, 3, 7}, Bands(0.1f), 0.5f, {2, 1.5f, 2}, {7, 1.6f, 5});
+  PropagationSettings ps;
+  ps.raysPerFrame = 3000;
+  ps.maxOrder = 40;
+  ps.seed = 7;
+  ps.threads = 1;
+  Simulation one(scene, ps);
+  ps.threads = 2;
+  Simulation two(scene, ps);
+  ps.seed = 8;
+  Simulation other(scene, ps);
+  for (int f = 0; f < 3; ++f) {
+    one.runFrame(scene.listener.position);
+    two.runFrame(scene.listener.position);
+    other.runFrame(scene.listener.position);
+    REQUIRE(identical(one.result(0).energy, two.result(0).energy));
+    REQUIRE_FALSE(identical(one.result(0).energy, other.result(0).energy));
+  }
+}
+
+TEST_CASE("Direct sound is blocked by a wall and respects the speed of sound", "[direct]") {
+  SceneDesc scene = test::makeShoebox({10, 3, 7}, Bands(0.1f), 0.5f, {2, 1.5f, 2}, {7, 1.6f, 5});
+  Geometry g(scene.mesh, scene.materials, 0.5f);
+  PropagationSettings ps;
+  Propagator prop(g, ps);
+  const DirectSound inside = prop.directSound({2, 1.5f, 2}, {{7, 1.5f, 2}, 0.5f});
+  CHECK(inside.visible);
+  CHECK(inside.delaySeconds == Approx(5.0 / ps.speedOfSound));
+  const DirectSound outside = prop.directSound({2, 1.5f, 2}, {{12, 1.5f, 2}, 0.5f});
+  CHECK_FALSE(outside.visible);
+  CHECK(outside.intensity.max() == 0.f);
+}

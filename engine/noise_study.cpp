@@ -1,0 +1,100 @@
+#include "engine/noise_study.h"
+
+#include <cmath>
+
+#include "engine/simulation.h"
+
+namespace dpc {
+
+namespace {
+
+size_t rebinFactor() {
+  return size_t(std::lround(kNoiseBinSeconds / Simulation::kEnergyBinSeconds));
+}
+
+double squaredNorm(const EnergyResponse& e) {
+  double s = 0.0;
+  for (const Bands& b : e.bins())
+    for (int i = 0; i < kNumBands; ++i) s += double(b[i]) * b[i];
+  return s;
+}
+
+double squaredDistance(const EnergyResponse& a, const EnergyResponse& b) {
+  double s = 0.0;
+  for (size_t k = 0; k < a.binCount(); ++k)
+    for (int i = 0; i < kNumBands; ++i) {
+      const double d = double(a.bins()[k][i]) - double(b.bins()[k][i]);
+      s += d * d;
+    }
+  return s;
+}
+
+}  // namespace
+
+EnergyResponse referenceResponse(const SceneDesc& scene, PropagationSettings settings,
+                                 const glm::vec3& listener, int frames, double* selfError,
+                                 size_t source) {
+  settings.estimator = Estimator::kPathTracing;
+  Simulation sim(scene, settings);
+  const size_t factor = rebinFactor();
+  std::vector<EnergyResponse> all;
+  EnergyResponse mean;
+  for (int f = 0; f < frames; ++f) {
+    sim.runFrame(listener);
+    all.push_back(sim.result(source).energy.rebinned(factor));
+    if (f == 0)
+      mean = all.back();
+    else
+      for (size_t k = 0; k < mean.binCount(); ++k) mean.bins()[k] += all.back().bins()[k];
+  }
+  for (Bands& b : mean.bins()) b /= float(frames);
+  if (selfError) {
+    // Standard error of the mean from the spread of the frames.
+    double spread = 0.0;
+    for (const EnergyResponse& e : all) spread += squaredDistance(e, mean);
+    spread /= std::max(1, frames - 1);
+    *selfError = std::sqrt(spread / frames / squaredNorm(mean));
+  }
+  return mean;
+}
+
+NoiseMetrics measureNoise(const SceneDesc& scene, const PropagationSettings& settings,
+                          int warmup, int frames,
+                          const std::function<glm::vec3(int)>& listenerAt,
+                          const std::function<const EnergyResponse&(int)>& referenceAt,
+                          size_t source) {
+  Simulation sim(scene, settings);
+  const size_t factor = rebinFactor();
+  NoiseMetrics m;
+  EnergyResponse previous, sum;
+  double biasNumerator = 0.0;
+  (void)biasNumerator;
+  for (int f = 0; f < warmup + frames; ++f) {
+    sim.runFrame(listenerAt(f));
+    EnergyResponse e = sim.result(source).energy.rebinned(factor);
+    const EnergyResponse& ref = referenceAt(f);
+    const double refNorm = std::sqrt(squaredNorm(ref));
+    const double err = std::sqrt(squaredDistance(e, ref)) / refNorm;
+    m.errorPerFrame.push_back(err);
+    if (f >= warmup) {
+      m.meanError += err;
+      if (f > 0) m.meanFlicker += std::sqrt(squaredDistance(e, previous)) / refNorm;
+      if (f == warmup)
+        sum = e;
+      else
+        for (size_t k = 0; k < sum.binCount(); ++k) sum.bins()[k] += e.bins()[k];
+    }
+    previous = std::move(e);
+  }
+  m.frames = frames;
+  m.meanError /= frames;
+  m.meanFlicker /= frames;
+  // Bias against the reference of the last frame (meaningful for a static listener).
+  for (Bands& b : sum.bins()) b /= float(frames);
+  const EnergyResponse& ref = referenceAt(warmup + frames - 1);
+  m.bias = std::sqrt(squaredDistance(sum, ref) / squaredNorm(ref));
+  m.energyBias = double(sum.total().sum()) / double(ref.total().sum()) - 1.0;
+  return m;
+}
+
+}  // namespace dpc

@@ -1,0 +1,52 @@
+// Noise study: how far an estimator's per-frame energy response is from a converged
+// reference, how much it flickers from frame to frame, and its bias (design.md, "How we know
+// it is right"; Schissler thesis 3.2.2 claims the DPC needs far fewer rays for equal noise).
+//
+// All metrics use the band energy response in 10 ms bins (rebinned from Simulation's 1 ms),
+// all 8 bands, every bin of the IR length, with the L2 norm over (band, bin):
+//   error_f   = ||E_f - R|| / ||R||               (relative RMS error of frame f)
+//   flicker_f = ||E_f - E_{f-1}|| / ||R||         (frame-to-frame change)
+//   bias      = ||mean_f E_f - R|| / ||R||        (systematic part; includes the residual
+//                                                  noise of the mean, ~ error / sqrt(frames))
+//   energyBias = (sum mean_f E_f - sum R) / sum R (signed, total energy)
+// The reference is plain path tracing averaged over many frames (independent seeds) at the
+// same listener position: an unbiased estimate whose own relative error is reported.
+// Propagation (or test) thread; allocates; no errors beyond Simulation's.
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include "engine/energy_response.h"
+#include "engine/scene.h"
+
+namespace dpc {
+
+struct NoiseMetrics {
+  double meanError = 0.0;    ///< mean of error_f over the measured frames
+  double meanFlicker = 0.0;  ///< mean of flicker_f over the measured frames
+  double bias = 0.0;
+  double energyBias = 0.0;
+  std::vector<double> errorPerFrame;  ///< error_f for every frame, warm-up included
+  int frames = 0;                     ///< measured frames (after warm-up)
+};
+
+/// Converged reference: the mean energy response of `frames` plain path-tracing frames with
+/// settings.raysPerFrame rays each, listener static at `listener`. Also returns the
+/// reference's own relative error estimate (standard error of the mean) in *selfError.
+EnergyResponse referenceResponse(const SceneDesc& scene, PropagationSettings settings,
+                                 const glm::vec3& listener, int frames, double* selfError,
+                                 size_t source = 0);
+
+/// Runs `warmup + frames` frames of the estimator in `settings` with the listener at
+/// listenerAt(frame) and compares each frame with referenceAt(frame) (10 ms bins).
+NoiseMetrics measureNoise(const SceneDesc& scene, const PropagationSettings& settings,
+                          int warmup, int frames,
+                          const std::function<glm::vec3(int)>& listenerAt,
+                          const std::function<const EnergyResponse&(int)>& referenceAt,
+                          size_t source = 0);
+
+/// 10 ms bins used by the study.
+inline constexpr double kNoiseBinSeconds = 0.010;
+
+}  // namespace dpc

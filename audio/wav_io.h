@@ -1,0 +1,45 @@
+// WAV file reading and writing (libsndfile).
+//
+// AudioData is a block of planar float samples at one sample rate: channels[c][frame]. It is
+// plain data; whoever holds it owns it. readWav/writeWav run on the control thread (or an
+// offline render thread): they allocate, make system calls and throw. Never call them on the
+// audio thread.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace dpc::audio {
+
+/// Planar audio: channels[c][i] is sample i of channel c, nominally in [-1, 1].
+struct AudioData {
+  int sampleRate = 0;                        ///< Hz
+  std::vector<std::vector<float>> channels;  ///< planar; all channels have the same length
+  /// Number of frames (samples per channel); 0 when there are no channels.
+  size_t frames() const { return channels.empty() ? 0 : channels.front().size(); }
+};
+
+/// Sample encoding of a written WAV file.
+enum class SampleFormat {
+  kFloat32,  ///< IEEE float, 32 bit: lossless for float data, values beyond [-1, 1] kept
+  kPcm24,    ///< signed integer, 24 bit: values clipped to [-1, 1), quantised to 2^-23
+  kPcm16,    ///< signed integer, 16 bit: values clipped to [-1, 1), quantised to 2^-15
+};
+
+/// Reads a sound file (any format libsndfile reads: WAV, AIFF, FLAC, ...) into planar float.
+/// Integer formats are scaled to [-1, 1) (libsndfile's normalisation).
+/// Throws InputError(path, "", "cannot read: <reason>") if the file is missing, unreadable,
+/// not audio, or holds no frames. Control thread; allocates.
+AudioData readWav(const std::string& path);
+
+/// Writes `audio` as a WAV file (RIFF/WAVE, whatever the extension of `path`).
+/// Atomic replace: the data goes to a temporary file in the same folder, which is renamed to
+/// `path` only once complete; on any failure the temporary is removed and `path` is untouched.
+/// Throws InputError(path, "", reason) if the folder is missing or not writable, or if the data
+/// is invalid: no channels, no frames, channels of unequal length, sampleRate <= 0, or a NaN or
+/// infinite sample. Control thread; allocates.
+void writeWav(const std::string& path, const AudioData& audio,
+              SampleFormat format = SampleFormat::kFloat32);
+
+}  // namespace dpc::audio

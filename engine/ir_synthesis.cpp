@@ -95,44 +95,64 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
   const OctaveBandMasks masks(sampleRate, nfft);
   const float scale = 1.f / float(nfft);
   filterCentre_ = margin / 2;
+  // Crossover coupling for a white spectrum (see header).
+  for (int b = 0; b < kNumBands; ++b) {
+    double norm = 0.0;
+    for (size_t k = 0; k < nbins; ++k) norm += double(masks.gain(b, k)) * masks.gain(b, k);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const int bi = b + i - 1, bj = b + j - 1;
+        if (bi < 0 || bj < 0 || bi >= kNumBands || bj >= kNumBands) continue;
+        double c = 0.0;
+        for (size_t k = 0; k < nbins; ++k) {
+          const double m2 = double(masks.gain(b, k)) * masks.gain(b, k);
+          c += m2 * double(masks.gain(bi, k)) * masks.gain(bi, k) * double(masks.gain(bj, k)) *
+               masks.gain(bj, k);
+        }
+        coupling_[size_t(b)][size_t(i)][size_t(j)] = c / norm;
+      }
+  }
   for (int b = 0; b < kNumBands; ++b) {
     const size_t bi = size_t(b);
+    // s_b through the amplitude-complementary filter A_b = M_b^2 (sum_b A_b = 1, so equal
+    // band gains give back the unfiltered, spectrally flat sequence: no coherent overlap).
     for (size_t k = 0; k < nbins; ++k) {
-      const float g = masks.gain(b, k) * scale;
+      const float g = masks.gain(b, k) * masks.gain(b, k) * scale;
       bandSpec.p[k][0] = spec.p[k][0] * g;
       bandSpec.p[k][1] = spec.p[k][1] * g;
     }
-    fftwf_execute(inv);  // destroys bandSpec, which is rebuilt per band
+    fftwf_execute(inv);  // destroys bandSpec, which is rebuilt each time
     bandSequence_[bi].assign(time.p, time.p + length_);
-
-    // Band filter impulse response h_b: inverse FFT of the mask (zero phase, centred at 0),
-    // stored rotated so that index filterCentre_ is time 0.
+    // Direct-sound filter: impulse response of A_b (zero phase), stored rotated so that
+    // index filterCentre_ is time 0; its measured energy per unit amplitude is that of M_b.
+    double e = 0.0;
     for (size_t k = 0; k < nbins; ++k) {
-      bandSpec.p[k][0] = masks.gain(b, k) * scale;
+      const double m2 = double(masks.gain(b, k)) * masks.gain(b, k);
+      e += ((k == 0 || k == nbins - 1) ? 1.0 : 2.0) * m2 / double(nfft);
+      bandSpec.p[k][0] = float(m2) * scale;
       bandSpec.p[k][1] = 0.f;
     }
+    filterEnergy_[bi] = e;
     fftwf_execute(inv);
     filter_[bi].assign(margin, 0.f);
-    double e = 0.0;
-    for (size_t i = 0; i < margin; ++i) {
-      const size_t src = (i + nfft - filterCentre_) % nfft;
-      filter_[bi][i] = time.p[src];
-      e += double(time.p[src]) * time.p[src];
-    }
-    filterEnergy_[bi] = e;
+    for (size_t i = 0; i < margin; ++i) filter_[bi][i] = time.p[(i + nfft - filterCentre_) % nfft];
 
     // Synthesis bins: max(1 ms, two periods of the band centre).
     binSamples_[bi] = std::max<size_t>(
         size_t(std::lround(1e-3 * sampleRate)),
         size_t(std::lround(2.0 * sampleRate / bandCentreExactHz(b))));
     const size_t nb = (length_ + binSamples_[bi] - 1) / binSamples_[bi];
+    // Expected measured energy of s_b per bin: the pulses' energy in the bin times the share
+    // of a unit impulse's energy that the band measurement M_b sees (cross terms between
+    // pulses have random signs and vanish on average). Using the pulse energy rather than the
+    // realised filtered energy keeps the gains of all bands moving together from bin to bin,
+    // so neighbouring bands stay coherent in their crossovers.
     sequenceEnergy_[bi].assign(nb, 0.0);
-    for (size_t n = 0; n < length_; ++n) {
-      const double x = bandSequence_[bi][n];
-      sequenceEnergy_[bi][n / binSamples_[bi]] += x * x;
-    }
+    for (size_t n = 0; n < length_; ++n)
+      sequenceEnergy_[bi][n / binSamples_[bi]] += double(seq[n]) * seq[n] * filterEnergy_[bi];
     targetEnergy_[bi].assign(nb, 0.0);
     gain_[bi].assign(nb, 0.f);
+    gainScratch_[bi].assign(nb, 0.f);
   }
   fftwf_destroy_plan(fwd);
   fftwf_destroy_plan(inv);
@@ -168,6 +188,37 @@ void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& 
         carry = want;
       }
     }
+  }
+  // Crossover correction: band b's measured energy in a bin is
+  // sum_{i,k} g_{b+i} g_{b+k} coupling[b][i][k] times the white energy; scale g_b so that it
+  // equals the uncorrected g_b^2 (what the energy response asks for). Gauss-Seidel steps.
+  std::array<std::vector<float>, kNumBands>& wanted = gainScratch_;  // uncorrected gains
+  for (int b = 0; b < kNumBands; ++b) wanted[size_t(b)] = gain_[size_t(b)];
+  for (int iter = 0; iter < 3; ++iter) {
+    for (int b = 0; b < kNumBands; ++b) {
+      const size_t bi = size_t(b);
+      const size_t w = binSamples_[bi];
+      for (size_t j = 0; j < gain_[bi].size(); ++j) {
+        const double target = wanted[bi][j];
+        if (target == 0.0) continue;
+        const size_t centre = std::min(length_ - 1, j * w + w / 2);
+        double g[3];
+        for (int i = 0; i < 3; ++i) {
+          const int nb = b + i - 1;
+          g[i] = (nb < 0 || nb >= kNumBands)
+                     ? 0.0
+                     : double(gain_[size_t(nb)][centre / binSamples_[size_t(nb)]]);
+        }
+        double measured = 0.0;
+        for (int i = 0; i < 3; ++i)
+          for (int k = 0; k < 3; ++k) measured += g[i] * g[k] * coupling_[bi][size_t(i)][size_t(k)];
+        if (measured > 0.0) gain_[bi][j] = float(g[1] * std::sqrt(target * target / measured));
+      }
+    }
+  }
+  for (int b = 0; b < kNumBands; ++b) {
+    const size_t bi = size_t(b);
+    const size_t nb = gain_[bi].size();
     const float* s = bandSequence_[bi].data();
     const size_t w = binSamples_[bi];
     for (size_t j = 0; j < nb; ++j) {

@@ -6,12 +6,17 @@
 // At construction a Dirac sequence s (Poisson arrivals of rate min(4 pi c^3 t^2 / V,
 // kMaxDensityPerSecond), random signs; fixed per synthesiser, so successive frames' IRs differ
 // only in their envelopes, never in fine structure) is split into octave bands
-// s_b = h_b * s by zero-phase, power-complementary band filters (sum_b |H_b(f)|^2 = 1,
-// raised-cosine crossovers 1/3 octave wide at the band edges fc * 2^(1/2)).
+// s_b = a_b * s by zero-phase, amplitude-complementary band filters A_b = M_b^2, where M_b
+// are power-complementary masks (sum_b M_b^2 = 1, raised-cosine crossovers 1/3 octave wide
+// at the band edges fc * 2^(1/2)); sum_b A_b = 1, so neighbouring bands never add up
+// coherently to more than the sequence itself.
 // Each frame: ir[n] = sum_b g_b[j] s_b[n], with g_b[j] = sqrt(E_b[j] / e_b[j]) per synthesis
-// bin j (E_b from the energy response, e_b the energy of s_b in that bin), so every band's
-// energy in every bin equals the energy response's (energy of bins without any pulse moves to
-// the next bin). Synthesis bins are max(1 ms, 2 periods of the band centre) wide. The direct
+// bin j (E_b from the energy response, e_b = beta_b x the pulses' energy in that bin, beta_b
+// the share of a unit impulse's energy that a band measurement with M_b sees), so every
+// band's energy follows the energy response in expectation over the sequence's random signs
+// (energy of bins without any pulse moves to the next bin). Where neighbouring bands' gains differ, the crossovers would
+// mix them; a per-bin correction (three fixed-point steps with the crossovers' coupling
+// coefficients for a white spectrum) keeps each band's measured energy on target. Synthesis bins are max(1 ms, 2 periods of the band centre) wide. The direct
 // sound is added as the band filters' impulse responses at its exact sample delay, with band
 // energies equal to DirectSound::intensity. Units: the IR's squared samples sum to energy in
 // 1/m^2 relative to source power (so 1/(4 pi r^2) for a direct sound at r metres).
@@ -59,8 +64,7 @@ class IrSynthesizer {
   /// response (any bin width); direct: the analytic direct sound (ignored when not visible).
   void synthesize(const EnergyResponse& energy, const DirectSound& direct, float* ir);
 
-  /// Energy of band b's filter impulse response (sum of h_b^2), the fraction of a unit
-  /// impulse's energy that falls in band b.
+  /// Fraction of a unit impulse's energy that a band measurement (mask M_b) puts in band b.
   double bandFilterEnergy(int b) const { return filterEnergy_[size_t(b)]; }
 
  private:
@@ -73,6 +77,10 @@ class IrSynthesizer {
   std::array<std::vector<float>, kNumBands> gain_;            ///< scratch: g_b[j]
   std::array<std::vector<float>, kNumBands> filter_;          ///< h_b, centred at filterCentre_
   std::array<double, kNumBands> filterEnergy_{};
+  /// coupling_[b][i][k] = sum_f M_b^2 A_{b+i-1} A_{b+k-1} / sum_f M_b^2 (white spectrum):
+  /// the share of band b's measured energy from the product of neighbours' gains.
+  std::array<std::array<std::array<double, 3>, 3>, kNumBands> coupling_{};
+  std::array<std::vector<float>, kNumBands> gainScratch_;
   size_t filterCentre_ = 0;
 };
 

@@ -1,1 +1,0 @@
-// Keeps dpc_pipeline non-empty before the pipeline sources exist.

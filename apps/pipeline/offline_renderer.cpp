@@ -1,0 +1,62 @@
+#include "apps/pipeline/offline_renderer.h"
+
+#include <chrono>
+#include <cmath>
+
+namespace dpc {
+
+OfflineResult renderOffline(const SceneDesc& scene, const PropagationSettings& settings,
+                            const DrySignals& dry, const OfflineOptions& options) {
+  const auto wall0 = std::chrono::steady_clock::now();
+  const int fs = scene.audio.sampleRate;
+  PropagationStage propagation(scene, settings, options.numOutputs);
+  AudioStage audioStage(propagation.layout(), dry, options.numOutputs);
+  const size_t B = size_t(scene.audio.blockSize);
+  const double duration = options.durationSeconds >= 0.0
+                              ? options.durationSeconds
+                              : double(dry.longestFrames()) / fs + settings.irLength;
+  const size_t totalFrames = size_t(std::ceil(duration * fs));
+  const size_t blocks = (totalFrames + B - 1) / B;
+
+  OfflineResult result;
+  result.output.sampleRate = fs;
+  result.output.channels.assign(size_t(options.numOutputs), std::vector<float>(blocks * B));
+  std::vector<float*> out(size_t(options.numOutputs));
+  const double framePeriod = 1.0 / settings.frameRate;
+  uint64_t nextFrame = 0;
+  size_t lastReport = 0;
+  for (size_t blk = 0; blk < blocks; ++blk) {
+    const double t = double(blk * B) / fs;
+    // Frames due by the start of this block (normally at most one).
+    IrSet* newest = nullptr;
+    while (double(nextFrame) * framePeriod <= t + 1e-12) {
+      const double ft = double(nextFrame) * framePeriod;
+      IrSet* set = propagation.computeFrame(listenerPositionAt(scene.listener, ft), ft);
+      if (newest) propagation.recycle(newest);  // superseded before the audio side saw it
+      newest = set;
+      ++nextFrame;
+    }
+    if (newest) audioStage.offer(newest);
+    for (int c = 0; c < options.numOutputs; ++c)
+      out[size_t(c)] = result.output.channels[size_t(c)].data() + blk * B;
+    audioStage.process(out.data());
+    while (IrSet* spent = audioStage.takeSpent()) propagation.recycle(spent);
+    if (options.progress && (blk + 1 == blocks || (blk - lastReport) * 100 >= blocks)) {
+      options.progress(double((blk + 1) * B) / fs, double(blocks * B) / fs);
+      lastReport = blk;
+    }
+  }
+  for (auto& ch : result.output.channels) ch.resize(totalFrames);
+  result.lastIrs = propagation.lastIrs();
+  result.totals = propagation.totals();
+  for (size_t s = 0; s < propagation.simulation().sourceCount(); ++s) {
+    result.cacheEntries += propagation.simulation().result(s).cacheEntries;
+    result.cacheBytes += propagation.simulation().result(s).cacheBytes;
+  }
+  result.irsApplied = audioStage.irsApplied();
+  result.wallSeconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  return result;
+}
+
+}  // namespace dpc

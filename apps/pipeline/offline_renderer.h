@@ -1,0 +1,36 @@
+// Offline rendering: the live pipeline (PropagationStage -> AudioStage) driven by a simulated
+// clock instead of an audio device. Block by block; every 1/frame_rate seconds of scene time
+// the listener moves along its trajectory, a propagation frame runs and its IR set is handed
+// to the audio stage, exactly as the propagation thread would hand it over live. The result
+// is bit-identical for a given seed (and independent of the thread count).
+// Control thread; allocates; throws InputError / std::runtime_error.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "apps/pipeline/render_pipeline.h"
+
+namespace dpc {
+
+struct OfflineOptions {
+  double durationSeconds = -1.0;  ///< < 0: longest source + IR length
+  int numOutputs = 1;
+  /// Called about every 1 % of progress with (scene seconds rendered, total seconds).
+  std::function<void(double, double)> progress;
+};
+
+struct OfflineResult {
+  audio::AudioData output;  ///< numOutputs channels at the scene's rate
+  std::vector<std::vector<std::vector<float>>> lastIrs;  ///< [source][channel][sample]
+  PropagationStage::Totals totals;
+  size_t cacheEntries = 0;  ///< summed over sources, after the last frame
+  size_t cacheBytes = 0;
+  uint64_t irsApplied = 0;
+  double wallSeconds = 0.0;
+};
+
+OfflineResult renderOffline(const SceneDesc& scene, const PropagationSettings& settings,
+                            const DrySignals& dry, const OfflineOptions& options);
+
+}  // namespace dpc

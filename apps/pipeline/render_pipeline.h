@@ -1,0 +1,122 @@
+// The rendering pipeline shared by offline (--offline) and live playback: only the clock
+// differs between them.
+//
+//   PropagationStage (propagation thread)          AudioStage (audio thread)
+//   listener pose -> Simulation frame -> energy    pops prepared IrSet, convolves every
+//   responses -> pressure IRs -> partition + FFT   source's dry signal, crossfades old/new IR
+//   into a recycled IrSet  ----- IrSet* ------>    over one block, mixes to the output bus
+//                          <--- spent IrSet* ----
+//
+// IrSet: one IrSpectra per source (each with numOutputs channels) plus the frame it came
+// from. Sets are allocated up front in a pool by the PropagationStage; the audio side only
+// borrows them and hands them back.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "audio/convolver.h"
+#include "audio/wav_io.h"
+#include "engine/ir_synthesis.h"
+#include "engine/scene.h"
+#include "engine/simulation.h"
+
+namespace dpc {
+
+/// Impulse responses of one propagation frame, partitioned and transformed, for all sources.
+struct IrSet {
+  std::vector<std::unique_ptr<audio::IrSpectra>> sources;  ///< one per scene source
+  uint64_t frame = 0;            ///< propagation frame index that produced it
+  double poseTimeSeconds = 0.0;  ///< scene time of the listener pose it was computed for
+};
+
+/// Dry source signals at the output rate, mono, gain applied. Control thread; allocates;
+/// throws InputError naming the scene file and sources[i].signal.
+struct DrySignals {
+  std::vector<std::vector<float>> samples;  ///< per source, at the scene's sample rate
+  std::vector<std::string> notes;           ///< e.g. "resampled 22050 -> 48000 Hz"
+  size_t longestFrames() const;
+};
+DrySignals loadDrySignals(const SceneDesc& scene);
+
+/// Propagation thread side. Construction (control thread) builds the Embree scene, the IR
+/// synthesisers, the convolver layout and a pool of IrSets; allocates; throws on bad input.
+class PropagationStage {
+ public:
+  PropagationStage(const SceneDesc& scene, const PropagationSettings& settings,
+                   int numOutputs, int poolSize = 4);
+
+  /// Runs one frame for the listener at `listener` (scene time t seconds), synthesises and
+  /// prepares every source's IR into a free IrSet from the pool and returns it; nullptr if no
+  /// set is free (all borrowed by the audio side). Propagation thread; allocates only while
+  /// the cache's tables grow.
+  IrSet* computeFrame(const glm::vec3& listener, double t);
+  /// Gives a set back to the pool. Propagation thread.
+  void recycle(IrSet* set);
+
+  const audio::ConvolverLayout& layout() const { return *layout_; }
+  const Simulation& simulation() const { return *simulation_; }
+  /// The pressure IR of the last frame: irs()[source][channel][sample].
+  const std::vector<std::vector<std::vector<float>>>& lastIrs() const { return irs_; }
+  int numOutputs() const { return numOutputs_; }
+  size_t irSamples() const { return irSamples_; }
+
+  struct Totals {
+    uint64_t frames = 0, rays = 0, segments = 0;
+    double traceSeconds = 0.0, synthesisSeconds = 0.0, prepareSeconds = 0.0;
+  };
+  const Totals& totals() const { return totals_; }
+
+ private:
+  const SceneDesc& scene_;
+  int numOutputs_;
+  std::unique_ptr<Simulation> simulation_;
+  std::vector<std::unique_ptr<IrSynthesizer>> synthesizers_;
+  std::unique_ptr<audio::ConvolverLayout> layout_;
+  std::vector<std::unique_ptr<IrSet>> pool_;
+  std::vector<IrSet*> free_;
+  std::vector<std::vector<std::vector<float>>> irs_;
+  size_t irSamples_ = 0;
+  Totals totals_;
+};
+
+/// Audio thread side: convolvers and the dry signals' read position. Construction allocates
+/// (control thread); process() and offer() never allocate, lock, log, throw or wait.
+class AudioStage {
+ public:
+  AudioStage(const audio::ConvolverLayout& layout, const DrySignals& dry, int numOutputs);
+
+  /// Schedules a new IR set for the next block (newest wins: a set offered while another is
+  /// still pending is returned through takeSpent()). Audio thread.
+  void offer(IrSet* set);
+  /// Renders one block of layout.blockSize() frames into out[c] (numOutputs channels),
+  /// reading the dry signals from the current position (silence past their end). Audio thread.
+  void process(float* const* out);
+  /// A set no longer in use, or nullptr. Audio thread; the caller returns it to the
+  /// propagation side.
+  IrSet* takeSpent();
+
+  const IrSet* current() const { return current_; }
+  uint64_t blocksProcessed() const { return blocks_; }
+  /// IR sets applied (crossfades started).
+  uint64_t irsApplied() const { return applied_; }
+
+ private:
+  const audio::ConvolverLayout& layout_;
+  const DrySignals& dry_;
+  int numOutputs_;
+  std::vector<std::unique_ptr<audio::PartitionedConvolver>> convolvers_;
+  std::vector<float> tail_;  ///< one block: the last partial block of a signal, zero-padded
+  IrSet* current_ = nullptr;
+  IrSet* pending_ = nullptr;
+  static constexpr int kSpentCapacity = 8;
+  IrSet* spent_[kSpentCapacity] = {};
+  int spentCount_ = 0;
+  size_t position_ = 0;
+  uint64_t blocks_ = 0, applied_ = 0;
+};
+
+}  // namespace dpc

@@ -1,0 +1,201 @@
+#include "audio/room_parameters.h"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <numbers>
+#include <vector>
+
+namespace dpc::audio {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// ISO 3382-1: the evaluation range must end at least this far above the noise/truncation floor.
+constexpr double kFloorHeadroomDb = 10.0;
+// The floor is read from the decay curve at this fraction of the record after the onset.
+constexpr double kFloorFraction = 0.9;
+// Onset: first sample within this many dB of the peak (ISO 3382-1:2009 A.3.4).
+constexpr double kOnsetBelowPeakDb = 20.0;
+
+RoomParameters allNaN() {
+  return {kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
+}
+
+// Least-squares decay time over the points of `levelDb` (sampled every dt from the onset)
+// lying in [loDb, hiDb]; NaN if the range is not reached, too close to the floor, or too short.
+double decayTime(const std::vector<double>& levelDb, double dt, double hiDb, double loDb,
+                 double floorDb) {
+  if (loDb < floorDb + kFloorHeadroomDb) return kNaN;
+  if (levelDb.empty() || !(levelDb.back() <= loDb)) return kNaN;  // never reaches loDb
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  size_t count = 0;
+  for (size_t k = 0; k < levelDb.size(); ++k) {
+    const double l = levelDb[k];
+    if (l > hiDb) continue;
+    if (l < loDb) break;  // the curve is non-increasing
+    const double x = double(k) * dt;
+    sx += x;
+    sy += l;
+    sxx += x * x;
+    sxy += x * l;
+    ++count;
+  }
+  if (count < kMinRegressionPoints) return kNaN;
+  const double cnt = double(count);
+  const double denom = cnt * sxx - sx * sx;
+  if (!(denom > 0)) return kNaN;
+  const double slope = (cnt * sxy - sx * sy) / denom;  // dB per second
+  if (!(slope < 0)) return kNaN;
+  return -60.0 / slope;
+}
+
+// Energy in [t0, t0 + window): whole bins plus the straddling bin's share in proportion to time.
+double earlyEnergy(const std::vector<double>& e, double dt, double window) {
+  const double bins = window / dt;
+  // Guard against 0.05/dt landing a hair below an integer.
+  const double rounded = std::round(bins);
+  const double q = std::abs(bins - rounded) < 1e-9 ? rounded : bins;
+  const size_t whole = size_t(std::floor(q));
+  double sum = 0;
+  for (size_t k = 0; k < std::min(whole, e.size()); ++k) sum += e[k];
+  if (whole < e.size()) sum += (q - double(whole)) * e[whole];
+  return sum;
+}
+
+// All parameters from an energy sequence starting at the onset (e[0] = energy at t0), step dt.
+RoomParameters fromEnergy(const std::vector<double>& e, double dt) {
+  RoomParameters r = allNaN();
+  const size_t n = e.size();
+  if (n == 0) return r;
+  std::vector<double> tail(n);  // Schroeder integral: tail[k] = Σ_{j>=k} e[j]
+  double acc = 0;
+  for (size_t k = n; k-- > 0;) {
+    acc += e[k];
+    tail[k] = acc;
+  }
+  const double total = tail[0];
+  if (!(total > 0) || !std::isfinite(total)) return r;
+
+  std::vector<double> levelDb(n);
+  for (size_t k = 0; k < n; ++k)
+    levelDb[k] = tail[k] > 0 ? 10.0 * std::log10(tail[k] / total) : -kInf;
+  // Monotonic by construction up to rounding; enforce it so the range selection is contiguous.
+  for (size_t k = 1; k < n; ++k) levelDb[k] = std::min(levelDb[k], levelDb[k - 1]);
+  const size_t floorIndex = std::min(n - 1, size_t(std::floor(kFloorFraction * double(n))));
+  const double floorDb = levelDb[floorIndex];
+
+  r.t20 = decayTime(levelDb, dt, -5.0, -25.0, floorDb);
+  r.t30 = decayTime(levelDb, dt, -5.0, -35.0, floorDb);
+  r.edt = decayTime(levelDb, dt, 0.0, -10.0, floorDb);
+
+  auto clarity = [&](double window) {
+    const double early = earlyEnergy(e, dt, window);
+    const double late = std::max(0.0, total - early);
+    if (late <= 0) return kInf;
+    if (early <= 0) return -kInf;
+    return 10.0 * std::log10(early / late);
+  };
+  r.c50 = clarity(0.050);
+  r.c80 = clarity(0.080);
+  r.d50 = std::clamp(earlyEnergy(e, dt, 0.050) / total, 0.0, 1.0);
+  return r;
+}
+
+// One second-order section, transposed direct form II, double precision.
+struct Biquad {
+  double b0, b1, b2, a1, a2;
+};
+
+// 6th-order Butterworth octave band-pass around fc: three biquads (bilinear transform with
+// both edges prewarped), unity gain at the centre. Requires f2 < fs/2.
+std::array<Biquad, 3> designOctaveBandPass(double fc, double fs) {
+  using C = std::complex<double>;
+  const double pi = std::numbers::pi;
+  const double k = 2.0 * fs;
+  const double f1 = fc / std::numbers::sqrt2, f2 = fc * std::numbers::sqrt2;
+  const double w1 = k * std::tan(pi * f1 / fs), w2 = k * std::tan(pi * f2 / fs);
+  const double w0 = std::sqrt(w1 * w2), bw = w2 - w1;
+  constexpr int kOrder = 3;
+  std::vector<C> upper;  // digital poles in the upper half plane
+  for (int i = 1; i <= kOrder; ++i) {
+    const C p = std::polar(1.0, pi * double(2 * i + kOrder - 1) / double(2 * kOrder));
+    const C root = std::sqrt(p * p * bw * bw - 4.0 * w0 * w0);
+    for (C s : {(p * bw + root) / 2.0, (p * bw - root) / 2.0}) {
+      const C z = (k + s) / (k - s);
+      if (z.imag() > 0) upper.push_back(z);
+    }
+  }
+  std::array<Biquad, 3> sections{};
+  const double omega0 = 2.0 * std::atan(w0 / k);
+  const C zc = std::polar(1.0, omega0);
+  for (size_t i = 0; i < sections.size() && i < upper.size(); ++i) {
+    Biquad q{1.0, 0.0, -1.0, -2.0 * upper[i].real(), std::norm(upper[i])};
+    const C h = (1.0 - 1.0 / (zc * zc)) / (1.0 + q.a1 / zc + q.a2 / (zc * zc));
+    const double g = 1.0 / std::abs(h);
+    q.b0 *= g;
+    q.b2 *= g;
+    sections[i] = q;
+  }
+  return sections;
+}
+
+void filterInPlace(std::vector<double>& x, const Biquad& q) {
+  double s1 = 0, s2 = 0;
+  for (double& v : x) {
+    const double in = v;
+    const double out = q.b0 * in + s1;
+    s1 = q.b1 * in - q.a1 * out + s2;
+    s2 = q.b2 * in - q.a2 * out;
+    v = out;
+  }
+}
+
+std::vector<double> squaredFrom(const std::vector<double>& p, size_t onset) {
+  std::vector<double> e(p.size() - onset);
+  for (size_t k = onset; k < p.size(); ++k) e[k - onset] = p[k] * p[k];
+  return e;
+}
+
+}  // namespace
+
+RoomParameters analyzeEnergyDecay(const double* energy, size_t n, double binSeconds) {
+  if (!energy || n == 0 || !(binSeconds > 0)) return allNaN();
+  size_t onset = 0;
+  while (onset < n && !(energy[onset] > 0)) ++onset;
+  if (onset == n) return allNaN();
+  std::vector<double> e(n - onset);
+  for (size_t k = onset; k < n; ++k) e[k - onset] = energy[k] > 0 ? energy[k] : 0.0;
+  return fromEnergy(e, binSeconds);
+}
+
+ImpulseResponseAnalysis analyzeImpulseResponse(const float* ir, size_t n, int sampleRate) {
+  ImpulseResponseAnalysis out;
+  out.broadband = allNaN();
+  out.bands.fill(allNaN());
+  if (!ir || n == 0 || sampleRate <= 0) return out;
+  const double fs = double(sampleRate);
+  const double dt = 1.0 / fs;
+
+  std::vector<double> p(ir, ir + n);
+  double peak = 0;
+  for (double v : p) peak = std::max(peak, v * v);
+  if (!(peak > 0) || !std::isfinite(peak)) return out;
+  const double threshold = peak * std::pow(10.0, -kOnsetBelowPeakDb / 10.0);
+  size_t onset = 0;
+  while (p[onset] * p[onset] < threshold) ++onset;
+
+  out.broadband = fromEnergy(squaredFrom(p, onset), dt);
+  for (int b = 0; b < kNumBands; ++b) {
+    const double fc = bandCentreExactHz(b);
+    if (fc * std::numbers::sqrt2 >= fs / 2) continue;  // band not representable: NaN
+    std::vector<double> band = p;
+    for (const Biquad& q : designOctaveBandPass(fc, fs)) filterInPlace(band, q);
+    out.bands[size_t(b)] = fromEnergy(squaredFrom(band, onset), dt);
+  }
+  return out;
+}
+
+}  // namespace dpc::audio

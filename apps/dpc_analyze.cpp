@@ -1,0 +1,176 @@
+// dpc-analyze: ISO 3382-1 room acoustic parameters of an impulse-response WAV file.
+//
+//   dpc-analyze IR.wav [--json] [--channel N]
+//
+// Per channel: T20, T30, EDT (s), C50, C80 (dB), D50 (%) in the octave bands 63 Hz .. 8 kHz
+// and broadband (see audio/room_parameters.h for the method). Control thread only. Bad input
+// prints one line "FILE: FIELD: problem" on stderr and exits with status 1.
+#include <CLI/CLI.hpp>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "audio/room_parameters.h"
+#include "audio/wav_io.h"
+#include "engine/bands.h"
+#include "engine/input_error.h"
+
+namespace {
+
+using dpc::kNumBands;
+using dpc::audio::AudioData;
+using dpc::audio::ImpulseResponseAnalysis;
+using dpc::audio::RoomParameters;
+
+// Parses "--channel" (1-based) against the file's channel count.
+size_t parseChannel(const std::string& file, const std::string& text, size_t channels) {
+  size_t used = 0;
+  long value = 0;
+  try {
+    value = std::stol(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size())
+    throw dpc::InputError(file, "--channel", "'" + text + "' is not a whole number");
+  if (value < 1 || size_t(value) > channels)
+    throw dpc::InputError(file, "--channel",
+                          std::to_string(value) + " is out of range: the file has " +
+                              std::to_string(channels) + " channel" + (channels == 1 ? "" : "s") +
+                              " (1.." + std::to_string(channels) + ")");
+  return size_t(value - 1);
+}
+
+// Table cell: "—" for NaN (not measurable), "+inf"/"-inf" for unbounded ratios.
+std::string cell(double v, int decimals) {
+  if (std::isnan(v)) return "—";
+  if (std::isinf(v)) return v > 0 ? "+inf" : "-inf";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
+
+// Right-aligns to `width` display columns (the em dash is one column but three bytes).
+std::string pad(const std::string& s, size_t width) {
+  size_t columns = 0;
+  for (unsigned char c : s) columns += (c & 0xC0) != 0x80;  // count UTF-8 lead bytes
+  return std::string(width > columns ? width - columns : 0, ' ') + s;
+}
+
+void printTable(const std::string& file, const AudioData& audio, size_t channel,
+                const ImpulseResponseAnalysis& a) {
+  std::printf("%s: channel %zu of %zu, %d Hz, %.3f s\n", file.c_str(), channel + 1,
+              audio.channels.size(), audio.sampleRate,
+              double(audio.frames()) / double(audio.sampleRate));
+  constexpr size_t kLabel = 10, kColumn = 8;
+  std::string header = std::string(kLabel, ' ');
+  for (int b = 0; b < kNumBands; ++b)
+    header += pad(std::to_string(int(dpc::kBandCentreHz[size_t(b)])), kColumn);
+  header += pad("broadband", kColumn + 2);
+  std::printf("%s\n", header.c_str());
+  struct Row {
+    const char* label;
+    double RoomParameters::*field;
+    double scale;
+    int decimals;
+  };
+  const Row rows[] = {
+      {"T20 (s)", &RoomParameters::t20, 1.0, 2},  {"T30 (s)", &RoomParameters::t30, 1.0, 2},
+      {"EDT (s)", &RoomParameters::edt, 1.0, 2},  {"C50 (dB)", &RoomParameters::c50, 1.0, 1},
+      {"C80 (dB)", &RoomParameters::c80, 1.0, 1}, {"D50 (%)", &RoomParameters::d50, 100.0, 0}};
+  for (const Row& row : rows) {
+    std::string line = row.label;
+    line.resize(kLabel, ' ');
+    for (int b = 0; b < kNumBands; ++b)
+      line += pad(cell(a.bands[size_t(b)].*row.field * row.scale, row.decimals), kColumn);
+    line += pad(cell(a.broadband.*row.field * row.scale, row.decimals), kColumn + 2);
+    std::printf("%s\n", line.c_str());
+  }
+}
+
+nlohmann::ordered_json toJson(double v) {
+  if (std::isnan(v)) return nullptr;
+  if (std::isinf(v)) return v > 0 ? "+inf" : "-inf";
+  return v;
+}
+
+nlohmann::ordered_json toJson(const RoomParameters& r) {
+  return {{"t20", toJson(r.t20)}, {"t30", toJson(r.t30)}, {"edt", toJson(r.edt)},
+          {"c50", toJson(r.c50)}, {"c80", toJson(r.c80)}, {"d50", toJson(r.d50)}};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "dpc-analyze: ISO 3382-1 room acoustic parameters of an impulse response.\n"
+      "Prints per channel T20, T30, EDT (s), C50, C80 (dB) and D50 (%) in the octave bands\n"
+      "63 Hz .. 8 kHz and broadband, from Schroeder backward integration (ISO 3382-1:2009).\n"
+      "'—' (JSON: null) marks a value the IR cannot give, e.g. T30 when the decay is not\n"
+      "recorded 10 dB below -35 dB, or a band above Nyquist. C50/C80 are +inf when no energy\n"
+      "arrives late (JSON: the string \"+inf\"). JSON gives D50 as a ratio 0..1.\n"
+      "Exit status: 0 on success, 1 on bad input (message on stderr).",
+      "dpc-analyze"};
+  std::string file;
+  bool json = false;
+  std::string channelText;
+  app.add_option("IR", file, "Impulse response file (WAV or anything libsndfile reads)")
+      ->required()
+      ->type_name("FILE");
+  app.add_flag("--json", json, "Print JSON instead of tables");
+  app.add_option("--channel", channelText, "Analyse only channel N (1 = first; default: all)")
+      ->type_name("N");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "dpc-analyze: " << e.what() << " (see --help)\n";
+    return 1;
+  }
+
+  try {
+    const AudioData audio = dpc::audio::readWav(file);
+    size_t first = 0, last = audio.channels.size();
+    if (!channelText.empty()) {
+      first = parseChannel(file, channelText, audio.channels.size());
+      last = first + 1;
+    }
+    nlohmann::ordered_json out;
+    if (json) {
+      out = {{"file", file},
+             {"sampleRate", audio.sampleRate},
+             {"frames", audio.frames()},
+             {"bandCentresHz", dpc::kBandCentreHz},
+             {"channels", nlohmann::ordered_json::array()}};
+    }
+    for (size_t c = first; c < last; ++c) {
+      const auto& samples = audio.channels[c];
+      const ImpulseResponseAnalysis a =
+          dpc::audio::analyzeImpulseResponse(samples.data(), samples.size(), audio.sampleRate);
+      if (json) {
+        nlohmann::ordered_json bands = nlohmann::ordered_json::array();
+        for (int b = 0; b < kNumBands; ++b) {
+          nlohmann::ordered_json entry = {{"centreHz", dpc::kBandCentreHz[size_t(b)]}};
+          entry.update(toJson(a.bands[size_t(b)]));
+          bands.push_back(entry);
+        }
+        out["channels"].push_back(
+            {{"channel", c + 1}, {"bands", bands}, {"broadband", toJson(a.broadband)}});
+      } else {
+        if (c != first) std::printf("\n");
+        printTable(file, audio, c, a);
+      }
+    }
+    if (json) std::cout << out.dump(2) << "\n";
+  } catch (const dpc::InputError& e) {
+    std::cerr << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << file << ": " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

@@ -1,2 +1,657 @@
-// Placeholder until the scene loader lands.
+// Scene loader: JSON (nlohmann::json) + Wavefront OBJ (tinyobjloader's callback parser).
+//
+// Control thread; allocates; every user mistake becomes an InputError naming the file and the
+// field (dotted JSON path with [i] for array elements). The key-by-key format is
+// docs/scene-format.md. Why the callback parser: tinyobjloader's LoadObj drops usemtl names it
+// cannot find in a .mtl file, and we want the names alone (the .mtl may be absent). Why we
+// parse "v" lines ourselves as well: tinyobjloader reads "nan", "abc" and missing coordinates
+// as 0 without a word; we refuse them with the vertex number and line.
 #include "engine/scene.h"
+
+#include <tiny_obj_loader.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <limits>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "engine/input_error.h"
+
+namespace dpc {
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+std::string inQuotes(const std::string& s) {
+  return "\"" + s + "\"";
+}
+
+std::string join(const std::string& parent, const std::string& key) {
+  return parent.empty() ? key : parent + "." + key;
+}
+
+std::string index(const std::string& parent, size_t i) {
+  return parent + "[" + std::to_string(i) + "]";
+}
+
+/// Levenshtein distance, for "did you mean" hints on unknown keys.
+size_t editDistance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diag = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+
+/// Reads typed values out of the parsed JSON, throwing InputError(file, field, ...) on any
+/// mismatch. Keys starting with '_' are comments and ignored everywhere.
+class JsonReader {
+ public:
+  explicit JsonReader(std::string file) : file_(std::move(file)) {}
+
+  [[noreturn]] void fail(const std::string& field, const std::string& problem) const {
+    throw InputError(file_, field, problem);
+  }
+
+  void expectObject(const json& v, const std::string& field) const {
+    if (!v.is_object()) fail(field, "expected an object, got " + describe(v));
+  }
+
+  /// Refuses keys not in `allowed` (typos), naming the key and the closest allowed one.
+  void checkKeys(const json& obj, const std::string& field,
+                 std::initializer_list<const char*> allowed) const {
+    for (const auto& [key, value] : obj.items()) {
+      if (!key.empty() && key[0] == '_') continue;
+      if (std::any_of(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; }))
+        continue;
+      std::string hint;
+      size_t best = 3;
+      for (const char* a : allowed) {
+        const size_t d = editDistance(key, a);
+        if (d < best) best = d, hint = a;
+      }
+      std::string allowedList;
+      for (const char* a : allowed)
+        allowedList += (allowedList.empty() ? "" : ", ") + std::string(a);
+      fail(join(field, key), "unknown key " + inQuotes(key) +
+                                 (hint.empty() ? "" : " (did you mean " + inQuotes(hint) + "?)") +
+                                 "; allowed: " + allowedList);
+    }
+  }
+
+  const json& require(const json& obj, const std::string& field, const char* key) const {
+    auto it = obj.find(key);
+    if (it == obj.end()) fail(join(field, key), "missing required key");
+    return *it;
+  }
+
+  static const json* find(const json& obj, const char* key) {
+    auto it = obj.find(key);
+    return it == obj.end() ? nullptr : &*it;
+  }
+
+  double number(const json& v, const std::string& field) const {
+    if (!v.is_number()) fail(field, "expected a number, got " + describe(v));
+    const double x = v.get<double>();
+    if (!std::isfinite(x)) fail(field, v.dump() + " is not a finite number");
+    return x;
+  }
+
+  /// A number stored as float: also refuses values that overflow float.
+  float floatNumber(const json& v, const std::string& field) const {
+    const double x = number(v, field);
+    if (std::abs(x) > double(std::numeric_limits<float>::max()))
+      fail(field, v.dump() + " is too large");
+    return float(x);
+  }
+
+  float inRange(const json& v, const std::string& field, double lo, double hi) const {
+    const float x = floatNumber(v, field);
+    if (x < lo || x > hi) fail(field, v.dump() + " is outside [" + fmt(lo) + ", " + fmt(hi) + "]");
+    return x;
+  }
+
+  float positive(const json& v, const std::string& field) const {
+    const float x = floatNumber(v, field);
+    if (!(x > 0.f)) fail(field, v.dump() + " must be > 0");
+    return x;
+  }
+
+  /// An integer in [lo, hi]; 4096.0 is accepted as 4096, 4096.5 is not.
+  int64_t integer(const json& v, const std::string& field, int64_t lo, int64_t hi) const {
+    const double x = number(v, field);
+    if (x != std::floor(x)) fail(field, v.dump() + " is not an integer");
+    if (x < double(lo) || x > double(hi))
+      fail(field,
+           v.dump() + " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    return v.is_number_integer() ? v.get<int64_t>() : int64_t(x);
+  }
+
+  bool boolean(const json& v, const std::string& field) const {
+    if (!v.is_boolean()) fail(field, "expected true or false, got " + describe(v));
+    return v.get<bool>();
+  }
+
+  std::string string(const json& v, const std::string& field) const {
+    if (!v.is_string()) fail(field, "expected a string, got " + describe(v));
+    return v.get<std::string>();
+  }
+
+  glm::vec3 vec3(const json& v, const std::string& field) const {
+    if (!v.is_array() || v.size() != 3)
+      fail(field, "expected an array of 3 numbers [x, y, z] in metres, got " + describe(v));
+    glm::vec3 p;
+    for (int i = 0; i < 3; ++i) p[i] = floatNumber(v[size_t(i)], index(field, size_t(i)));
+    return p;
+  }
+
+  static std::string describe(const json& v) {
+    std::string text = v.dump();
+    if (text.size() > 40) text = text.substr(0, 37) + "...";
+    return std::string(v.type_name()) + " " + text;
+  }
+
+  static std::string fmt(double x) {
+    std::ostringstream os;
+    os << x;
+    return os.str();
+  }
+
+ private:
+  std::string file_;
+};
+
+fs::path resolve(const fs::path& folder, const std::string& p) {
+  const fs::path path(p);
+  return (path.is_absolute() ? path : folder / path).lexically_normal();
+}
+
+json parseJson(const std::string& file) {
+  std::error_code ec;
+  if (!fs::exists(file, ec)) throw InputError(file, "", "scene file not found");
+  if (fs::is_directory(file, ec)) throw InputError(file, "", "is a directory, not a scene file");
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(file, "", "cannot open scene file");
+  std::stringstream buf;
+  buf << in.rdbuf();
+  const std::string text = buf.str();
+  try {
+    return json::parse(text);
+  } catch (const json::parse_error& e) {
+    // e.byte is the 1-based offset of the character where parsing stopped.
+    size_t line = 1, column = 1;
+    for (size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
+      if (text[i] == '\n') {
+        ++line;
+        column = 1;
+      } else {
+        ++column;
+      }
+    }
+    std::string detail = e.what();
+    if (auto pos = detail.find("column"); pos != std::string::npos) {
+      if (auto colon = detail.find(": ", pos); colon != std::string::npos)
+        detail = detail.substr(colon + 2);
+    }
+    throw InputError(file, "",
+                     "malformed JSON at line " + std::to_string(line) + ", column " +
+                         std::to_string(column) + ": " + detail);
+  } catch (const json::exception& e) {
+    // E.g. out_of_range.406 "number overflow parsing '1e999'": no offset given, so locate the
+    // quoted literal in the text.
+    std::string detail = e.what();
+    if (auto pos = detail.find("] "); pos != std::string::npos) detail = detail.substr(pos + 2);
+    std::string where;
+    const size_t q0 = detail.find('\''), q1 = detail.rfind('\'');
+    if (q0 != std::string::npos && q1 > q0 + 1) {
+      if (size_t at = text.find(detail.substr(q0 + 1, q1 - q0 - 1)); at != std::string::npos) {
+        const size_t line = size_t(std::count(text.begin(), text.begin() + long(at), '\n')) + 1;
+        const size_t lineStart = text.rfind('\n', at);
+        const size_t column = lineStart == std::string::npos ? at + 1 : at - lineStart;
+        where = " at line " + std::to_string(line) + ", column " + std::to_string(column);
+      }
+    }
+    throw InputError(file, "", "malformed JSON" + where + ": " + detail);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Materials
+
+Material readMaterial(const JsonReader& r, const json& v, const std::string& name,
+                      const std::string& field) {
+  r.expectObject(v, field);
+  r.checkKeys(v, field, {"absorption", "scattering", "source"});
+  Material m;
+  m.name = name;
+  const json& a = r.require(v, field, "absorption");
+  const std::string af = join(field, "absorption");
+  if (a.is_array()) {
+    if (a.size() != size_t(kNumBands))
+      r.fail(af, "expected " + std::to_string(kNumBands) +
+                     " values (octave bands 63 Hz .. 8 kHz), got " + std::to_string(a.size()));
+    for (int b = 0; b < kNumBands; ++b)
+      m.absorption[b] = r.inRange(a[size_t(b)], index(af, size_t(b)), 0.0, 1.0);
+  } else if (a.is_number()) {
+    m.absorption = Bands(r.inRange(a, af, 0.0, 1.0));
+  } else {
+    r.fail(af, "expected a number or an array of " + std::to_string(kNumBands) +
+                   " numbers in [0, 1], got " + JsonReader::describe(a));
+  }
+  if (const json* s = JsonReader::find(v, "scattering"))
+    m.scattering = r.inRange(*s, join(field, "scattering"), 0.0, 1.0);
+  if (const json* s = JsonReader::find(v, "source")) r.string(*s, join(field, "source"));
+  return m;
+}
+
+// ---------------------------------------------------------------------------------------------
+// OBJ
+
+struct ObjFace {
+  std::vector<int> vertexIndex;  // raw OBJ indices (1-based, or negative = relative)
+  int verticesSoFar = 0;         // for resolving negative indices
+  int materialSlot = -1;         // index into ObjData::materialNames, -1 = no usemtl
+};
+
+struct ObjData {
+  std::vector<glm::vec3> vertices;
+  std::vector<ObjFace> faces;
+  std::vector<std::string> materialNames;
+  int currentMaterial = -1;
+  int callbackVertices = 0;
+};
+
+std::string trim(const std::string& s) {
+  const size_t a = s.find_first_not_of(" \t\r\n");
+  if (a == std::string::npos) return "";
+  const size_t b = s.find_last_not_of(" \t\r\n");
+  return s.substr(a, b - a + 1);
+}
+
+/// Parses the "v x y z [w]" lines ourselves (strtod: sees nan/inf, refuses garbage).
+void readObjVertices(const std::string& objFile, const std::string& text, ObjData& obj) {
+  std::istringstream in(text);
+  std::string line;
+  size_t lineNo = 0;
+  while (std::getline(in, line)) {
+    ++lineNo;
+    const char* p = line.c_str();
+    p += std::strspn(p, " \t");
+    if (p[0] != 'v' || (p[1] != ' ' && p[1] != '\t')) continue;
+    p += 2;
+    const size_t vertexNo = obj.vertices.size() + 1;
+    const std::string field =
+        "vertex " + std::to_string(vertexNo) + " (line " + std::to_string(lineNo) + ")";
+    glm::vec3 v{0.f};
+    for (int i = 0; i < 3; ++i) {
+      p += std::strspn(p, " \t\r");
+      if (*p == '\0') throw InputError(objFile, field, "expected 3 coordinates x y z");
+      char* end = nullptr;
+      errno = 0;
+      const double x = std::strtod(p, &end);
+      if (end == p) {
+        const size_t n = std::strcspn(p, " \t\r");
+        throw InputError(objFile, field, inQuotes(std::string(p, n)) + " is not a number");
+      }
+      if (!std::isfinite(x) || std::abs(x) > double(std::numeric_limits<float>::max()))
+        throw InputError(objFile, field,
+                         "coordinate " + std::string(p, size_t(end - p)) + " is not finite");
+      v[i] = float(x);
+      p = end;
+    }
+    obj.vertices.push_back(v);
+  }
+}
+
+ObjData readObj(const std::string& sceneFile, const std::string& objFile) {
+  std::error_code ec;
+  if (!fs::exists(objFile, ec) || fs::is_directory(objFile, ec))
+    throw InputError(sceneFile, "mesh", "mesh file " + inQuotes(objFile) + " not found");
+  std::ifstream in(objFile, std::ios::binary);
+  if (!in) throw InputError(sceneFile, "mesh", "cannot open mesh file " + inQuotes(objFile));
+  std::stringstream buf;
+  buf << in.rdbuf();
+  const std::string text = buf.str();
+
+  ObjData obj;
+  readObjVertices(objFile, text, obj);
+
+  tinyobj::callback_t cb;
+  cb.vertex_cb = [](void* user, tinyobj::real_t, tinyobj::real_t, tinyobj::real_t,
+                    tinyobj::real_t) { ++static_cast<ObjData*>(user)->callbackVertices; };
+  cb.index_cb = [](void* user, tinyobj::index_t* indices, int n) {
+    auto& o = *static_cast<ObjData*>(user);
+    ObjFace f;
+    for (int i = 0; i < n; ++i) f.vertexIndex.push_back(indices[i].vertex_index);
+    f.verticesSoFar = o.callbackVertices;
+    f.materialSlot = o.currentMaterial;
+    o.faces.push_back(std::move(f));
+  };
+  cb.usemtl_cb = [](void* user, const char* name, int) {
+    auto& o = *static_cast<ObjData*>(user);
+    const std::string n = trim(name);
+    auto it = std::find(o.materialNames.begin(), o.materialNames.end(), n);
+    if (it == o.materialNames.end()) {
+      o.materialNames.push_back(n);
+      o.currentMaterial = int(o.materialNames.size()) - 1;
+    } else {
+      o.currentMaterial = int(it - o.materialNames.begin());
+    }
+  };
+  std::istringstream stream(text);
+  std::string warn, err;
+  if (!tinyobj::LoadObjWithCallback(stream, cb, &obj, nullptr, &warn, &err))
+    throw InputError(objFile, "", "cannot parse OBJ: " + trim(err));
+  if (obj.callbackVertices != int(obj.vertices.size()))
+    throw InputError(objFile, "",
+                     "vertex count mismatch (" + std::to_string(obj.vertices.size()) + " vs " +
+                         std::to_string(obj.callbackVertices) + "); unsupported 'v' syntax?");
+  return obj;
+}
+
+/// Builds the triangle mesh: resolves indices, fan-triangulates polygons (convex assumed),
+/// maps usemtl names to materials, drops degenerate triangles with a warning.
+void buildMesh(const std::string& sceneFile, const std::string& objFile, const ObjData& obj,
+               const std::vector<Material>& materials, SceneDesc& scene) {
+  auto materialIndex = [&](const std::string& name) -> int {
+    for (size_t i = 0; i < materials.size(); ++i)
+      if (materials[i].name == name) return int(i);
+    return -1;
+  };
+  std::vector<int> slotToMaterial;
+  for (const std::string& name : obj.materialNames) {
+    const int m = materialIndex(name);
+    if (m < 0)
+      throw InputError(objFile, "usemtl " + name,
+                       "material " + inQuotes(name) + " is not defined in " + sceneFile +
+                           " (materials." + name + ")");
+    slotToMaterial.push_back(m);
+  }
+  if (obj.faces.empty()) throw InputError(objFile, "", "mesh is empty (no faces)");
+
+  const int nv = int(obj.vertices.size());
+  Mesh& mesh = scene.mesh;
+  mesh.vertices = obj.vertices;
+  size_t degenerate = 0, candidates = 0, firstDegenerateFace = 0;
+  for (size_t fi = 0; fi < obj.faces.size(); ++fi) {
+    const ObjFace& f = obj.faces[fi];
+    const std::string field = "face " + std::to_string(fi + 1);
+    if (f.vertexIndex.size() < 3)
+      throw InputError(objFile, field, "a face needs at least 3 vertices");
+    std::vector<uint32_t> idx;
+    for (int raw : f.vertexIndex) {
+      int i = raw > 0 ? raw - 1 : (raw < 0 ? f.verticesSoFar + raw : -1);
+      if (raw == 0 || i < 0 || i >= nv)
+        throw InputError(objFile, field,
+                         "vertex index " + std::to_string(raw) + " is out of range (" +
+                             std::to_string(nv) + " vertices)");
+      idx.push_back(uint32_t(i));
+    }
+    int material = -1;
+    if (f.materialSlot >= 0) {
+      material = slotToMaterial[size_t(f.materialSlot)];
+    } else {
+      material = materialIndex("default");
+      if (material < 0)
+        throw InputError(
+            objFile, field,
+            "face has no usemtl and " + sceneFile + " defines no material named \"default\"");
+    }
+    for (size_t k = 1; k + 1 < idx.size(); ++k) {
+      const std::array<uint32_t, 3> tri{idx[0], idx[k], idx[k + 1]};
+      ++candidates;
+      const glm::vec3 a = mesh.vertices[tri[0]], b = mesh.vertices[tri[1]],
+                      c = mesh.vertices[tri[2]];
+      const glm::vec3 e0 = b - a, e1 = c - a, e2 = c - b;
+      const glm::vec3 n = glm::vec3(e0.y * e1.z - e0.z * e1.y, e0.z * e1.x - e0.x * e1.z,
+                                    e0.x * e1.y - e0.y * e1.x);
+      const double twiceArea = std::sqrt(double(n.x) * n.x + double(n.y) * n.y + double(n.z) * n.z);
+      auto len2 = [](glm::vec3 e) {
+        return double(e.x) * e.x + double(e.y) * e.y + double(e.z) * e.z;
+      };
+      const double longest2 = std::max({len2(e0), len2(e1), len2(e2)});
+      // Zero area, or a sliver whose height is below 1e-6 of its longest edge.
+      if (!(twiceArea > 1e-6 * longest2)) {
+        if (degenerate++ == 0) firstDegenerateFace = fi + 1;
+        continue;
+      }
+      mesh.triangles.push_back(tri);
+      mesh.materialIndex.push_back(uint32_t(material));
+    }
+  }
+  if (mesh.triangles.empty())
+    throw InputError(objFile, "",
+                     "all " + std::to_string(candidates) +
+                         " triangles are degenerate (zero area); nothing to trace");
+  if (degenerate > 0)
+    scene.warnings.push_back(objFile + ": " + std::to_string(degenerate) +
+                             " degenerate (zero-area) triangle(s) dropped, the first from face " +
+                             std::to_string(firstDegenerateFace));
+  std::vector<bool> used(materials.size(), false);
+  for (uint32_t m : mesh.materialIndex) used[m] = true;
+  for (size_t i = 0; i < materials.size(); ++i)
+    if (!used[i])
+      scene.warnings.push_back(sceneFile + ": materials." + materials[i].name +
+                               ": not used by any triangle of " + objFile);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Sections
+
+void readSources(const JsonReader& r, const json& v, const fs::path& folder, SceneDesc& scene) {
+  const std::string field = "sources";
+  if (!v.is_array()) r.fail(field, "expected an array of sources, got " + JsonReader::describe(v));
+  if (v.empty()) r.fail(field, "at least one source is required");
+  for (size_t i = 0; i < v.size(); ++i) {
+    const std::string f = index(field, i);
+    const json& s = v[i];
+    r.expectObject(s, f);
+    r.checkKeys(s, f, {"name", "position", "signal", "gain_db"});
+    SourceDesc src;
+    src.name = r.string(r.require(s, f, "name"), join(f, "name"));
+    if (src.name.empty()) r.fail(join(f, "name"), "must not be empty");
+    for (const SourceDesc& other : scene.sources)
+      if (other.name == src.name)
+        r.fail(join(f, "name"), "duplicate source name " + inQuotes(src.name));
+    src.position = r.vec3(r.require(s, f, "position"), join(f, "position"));
+    const std::string signal = r.string(r.require(s, f, "signal"), join(f, "signal"));
+    const fs::path resolved = resolve(folder, signal);
+    std::error_code ec;
+    if (!fs::is_regular_file(resolved, ec))
+      r.fail(join(f, "signal"), "file " + inQuotes(resolved.string()) + " not found");
+    src.signalPath = resolved.string();
+    if (const json* g = JsonReader::find(s, "gain_db"))
+      src.gainDb = r.inRange(*g, join(f, "gain_db"), -200.0, 200.0);
+    scene.sources.push_back(src);
+  }
+}
+
+void readListener(const JsonReader& r, const json& v, ListenerDesc& listener) {
+  const std::string field = "listener";
+  r.expectObject(v, field);
+  r.checkKeys(v, field, {"position", "radius", "trajectory", "loop"});
+  if (const json* t = JsonReader::find(v, "trajectory")) {
+    const std::string tf = join(field, "trajectory");
+    if (!t->is_array())
+      r.fail(tf, "expected an array of {\"t\", \"position\"} keyframes, got " +
+                     JsonReader::describe(*t));
+    for (size_t i = 0; i < t->size(); ++i) {
+      const std::string kf = index(tf, i);
+      const json& k = (*t)[i];
+      r.expectObject(k, kf);
+      r.checkKeys(k, kf, {"t", "position"});
+      Keyframe key;
+      key.timeSeconds = r.number(r.require(k, kf, "t"), join(kf, "t"));
+      if (key.timeSeconds < 0.0) r.fail(join(kf, "t"), k["t"].dump() + " must be >= 0");
+      if (!listener.trajectory.empty() &&
+          !(key.timeSeconds > listener.trajectory.back().timeSeconds))
+        r.fail(join(kf, "t"), k["t"].dump() + " is not greater than the previous keyframe's t (" +
+                                  JsonReader::fmt(listener.trajectory.back().timeSeconds) +
+                                  "); times must be strictly increasing");
+      key.position = r.vec3(r.require(k, kf, "position"), join(kf, "position"));
+      listener.trajectory.push_back(key);
+    }
+  }
+  if (const json* p = JsonReader::find(v, "position")) {
+    listener.position = r.vec3(*p, join(field, "position"));
+  } else if (!listener.trajectory.empty()) {
+    listener.position = listener.trajectory.front().position;
+  } else {
+    r.fail(join(field, "position"), "missing required key (needed when there is no trajectory)");
+  }
+  if (const json* rad = JsonReader::find(v, "radius"))
+    listener.radius = r.positive(*rad, join(field, "radius"));
+  if (const json* l = JsonReader::find(v, "loop"))
+    listener.loop = r.boolean(*l, join(field, "loop"));
+}
+
+void readPropagation(const JsonReader& r, const json& v, PropagationSettings& p) {
+  const std::string field = "propagation";
+  r.expectObject(v, field);
+  r.checkKeys(v, field,
+              {"rays_per_frame", "max_order", "patch_size", "cache_tau", "frame_rate", "ir_length",
+               "seed", "estimator", "dpc_weighting", "speed_of_sound", "temperature", "humidity",
+               "air_absorption"});
+  auto f = [&](const char* key) { return join(field, key); };
+  if (const json* x = JsonReader::find(v, "rays_per_frame"))
+    p.raysPerFrame = int(r.integer(*x, f("rays_per_frame"), 1, 100'000'000));
+  if (const json* x = JsonReader::find(v, "max_order"))
+    p.maxOrder = int(r.integer(*x, f("max_order"), 0, 10'000));
+  if (const json* x = JsonReader::find(v, "patch_size"))
+    p.patchSize = r.positive(*x, f("patch_size"));
+  if (const json* x = JsonReader::find(v, "cache_tau")) {
+    p.cacheTau = r.floatNumber(*x, f("cache_tau"));
+    if (p.cacheTau < 0.f) r.fail(f("cache_tau"), x->dump() + " must be >= 0");
+  }
+  if (const json* x = JsonReader::find(v, "frame_rate"))
+    p.frameRate = r.positive(*x, f("frame_rate"));
+  if (const json* x = JsonReader::find(v, "ir_length")) {
+    p.irLength = r.positive(*x, f("ir_length"));
+    if (p.irLength > 60.f) r.fail(f("ir_length"), x->dump() + " is outside (0, 60]");
+  }
+  if (const json* x = JsonReader::find(v, "seed")) {
+    if (!x->is_number_unsigned() && !(x->is_number_integer() && x->get<int64_t>() >= 0))
+      r.fail(f("seed"), "expected an unsigned integer, got " + JsonReader::describe(*x));
+    p.seed = x->get<uint64_t>();
+  }
+  if (const json* x = JsonReader::find(v, "estimator")) {
+    const std::string s = r.string(*x, f("estimator"));
+    const auto e = parseEstimator(s);
+    if (!e) r.fail(f("estimator"), inQuotes(s) + " is not one of \"dpc\", \"path_tracing\"");
+    p.estimator = *e;
+  }
+  if (const json* x = JsonReader::find(v, "dpc_weighting")) {
+    const std::string s = r.string(*x, f("dpc_weighting"));
+    const auto w = parseDpcWeighting(s);
+    if (!w) r.fail(f("dpc_weighting"), inQuotes(s) + " is not one of \"ema\", \"seed\"");
+    p.dpcWeighting = *w;
+  }
+  if (const json* x = JsonReader::find(v, "temperature"))
+    p.temperatureC = r.inRange(*x, f("temperature"), -50.0, 60.0);
+  if (const json* x = JsonReader::find(v, "humidity"))
+    p.humidityPercent = r.inRange(*x, f("humidity"), 0.0, 100.0);
+  if (const json* x = JsonReader::find(v, "speed_of_sound")) {
+    p.speedOfSound = r.inRange(*x, f("speed_of_sound"), 1.0, 10000.0);
+  } else {
+    // Ideal-gas dry air: c = 331.3 sqrt(1 + T / 273.15) m/s.
+    p.speedOfSound = float(331.3 * std::sqrt(1.0 + double(p.temperatureC) / 273.15));
+  }
+  if (const json* x = JsonReader::find(v, "air_absorption"))
+    p.airAbsorption = r.boolean(*x, f("air_absorption"));
+}
+
+void readAudio(const JsonReader& r, const json& v, AudioSettings& a) {
+  const std::string field = "audio";
+  r.expectObject(v, field);
+  r.checkKeys(v, field, {"sample_rate", "block_size"});
+  if (const json* x = JsonReader::find(v, "sample_rate"))
+    a.sampleRate = int(r.integer(*x, join(field, "sample_rate"), 8000, 192000));
+  if (const json* x = JsonReader::find(v, "block_size"))
+    a.blockSize = int(r.integer(*x, join(field, "block_size"), 16, 8192));
+}
+
+}  // namespace
+
+SceneDesc loadScene(const std::string& path) {
+  SceneDesc scene;
+  scene.path = path;
+  scene.propagation.speedOfSound =
+      float(331.3 * std::sqrt(1.0 + double(scene.propagation.temperatureC) / 273.15));
+  const json root = parseJson(path);
+  const JsonReader r(path);
+  if (!root.is_object())
+    r.fail("", "expected a JSON object at the top level, got " + JsonReader::describe(root));
+  r.checkKeys(root, "", {"mesh", "materials", "sources", "listener", "propagation", "audio"});
+  const fs::path folder = fs::path(path).parent_path();
+
+  // Materials (sorted by name: nlohmann::json objects iterate in key order).
+  const json& mats = r.require(root, "", "materials");
+  r.expectObject(mats, "materials");
+  for (const auto& [name, value] : mats.items()) {
+    if (!name.empty() && name[0] == '_') continue;
+    if (name.empty()) r.fail("materials", "a material name must not be empty");
+    scene.materials.push_back(readMaterial(r, value, name, "materials." + name));
+  }
+  if (scene.materials.empty()) r.fail("materials", "at least one material is required");
+
+  readSources(r, r.require(root, "", "sources"), folder, scene);
+  readListener(r, r.require(root, "", "listener"), scene.listener);
+  if (const json* p = JsonReader::find(root, "propagation"))
+    readPropagation(r, *p, scene.propagation);
+  if (const json* a = JsonReader::find(root, "audio")) readAudio(r, *a, scene.audio);
+
+  // Mesh last: the most expensive step, after the cheap checks.
+  const std::string meshName = r.string(r.require(root, "", "mesh"), "mesh");
+  scene.meshPath = resolve(folder, meshName).string();
+  const ObjData obj = readObj(path, scene.meshPath);
+  buildMesh(path, scene.meshPath, obj, scene.materials, scene);
+  return scene;
+}
+
+glm::vec3 listenerPositionAt(const ListenerDesc& listener, double t) {
+  const auto& k = listener.trajectory;
+  if (k.empty()) return listener.position;
+  if (k.size() == 1 || !std::isfinite(t)) return k.front().position;
+  const double t0 = k.front().timeSeconds, t1 = k.back().timeSeconds;
+  if (listener.loop) {
+    const double period = t1 - t0;
+    t = t0 + (t - t0) - period * std::floor((t - t0) / period);  // into [t0, t1)
+  }
+  if (t <= t0) return k.front().position;
+  if (t >= t1) return k.back().position;
+  // First keyframe with time > t; t lies in [prev.time, next.time).
+  const auto next = std::upper_bound(
+      k.begin(), k.end(), t, [](double x, const Keyframe& key) { return x < key.timeSeconds; });
+  const auto prev = next - 1;
+  const double u = (t - prev->timeSeconds) / (next->timeSeconds - prev->timeSeconds);
+  return prev->position + float(u) * (next->position - prev->position);
+}
+
+std::optional<Estimator> parseEstimator(const std::string& s) {
+  if (s == "dpc") return Estimator::kDpc;
+  if (s == "path_tracing") return Estimator::kPathTracing;
+  return std::nullopt;
+}
+
+std::optional<DpcWeighting> parseDpcWeighting(const std::string& s) {
+  if (s == "ema") return DpcWeighting::kEma;
+  if (s == "seed") return DpcWeighting::kSeed;
+  return std::nullopt;
+}
+
+}  // namespace dpc

@@ -1,0 +1,551 @@
+// Scene loader tests: the shipped scenes load; every bad input gives an InputError naming the
+// file and the field; listener trajectories interpolate, clamp and loop as specified.
+#include "engine/scene.h"
+
+#include <unistd.h>
+
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <glm/common.hpp>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "engine/input_error.h"
+
+namespace fs = std::filesystem;
+using namespace dpc;
+using Catch::Matchers::Contains;
+using nlohmann::json;
+
+namespace {
+
+const std::string kSourceDir = DPC_SOURCE_DIR;
+
+/// A fresh temporary folder holding a valid minimal scene: scene.json, cube.obj (unit cube,
+/// 12 triangles, materials "walls" and "floor") and dry.wav (existence is all that is checked).
+class Fixture {
+ public:
+  Fixture() {
+    static int counter = 0;
+    dir_ = fs::temp_directory_path() /
+           ("dpc_scene_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    write("dry.wav", "RIFF");
+    write("cube.obj", kCube);
+    scene = json::parse(R"({
+      "mesh": "cube.obj",
+      "materials": {
+        "walls": { "absorption": [0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1], "scattering": 0.2,
+                   "source": "made up for the test" },
+        "floor": { "absorption": 0.3 }
+      },
+      "sources": [ { "name": "talker", "position": [0.5, 0.5, 0.5], "signal": "dry.wav" } ],
+      "listener": { "position": [0.2, 0.5, 0.5], "radius": 0.1 }
+    })");
+  }
+  ~Fixture() {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+
+  void write(const std::string& name, const std::string& text) const {
+    std::ofstream(dir_ / name) << text;
+  }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  SceneDesc load() const {
+    write("scene.json", scene.dump(2));
+    return loadScene(path("scene.json"));
+  }
+
+  /// Loads and returns the InputError's message; fails the test if nothing is thrown.
+  std::string error() const {
+    try {
+      load();
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    FAIL("expected an InputError");
+    return "";
+  }
+
+  static constexpr const char* kCube = R"(# unit cube
+v 0 0 0
+v 1 0 0
+v 0 1 0
+v 1 1 0
+v 0 0 1
+v 1 0 1
+v 0 1 1
+v 1 1 1
+usemtl floor
+f 1 2 6
+f 1 6 5
+usemtl walls
+f 3 7 8
+f 3 8 4
+f 1 5 7
+f 1 7 3
+f 2 4 8
+f 2 8 6
+f 1 3 4
+f 1 4 2
+f 5 6 8
+f 5 8 7
+)";
+
+  json scene;
+
+ private:
+  fs::path dir_;
+};
+
+}  // namespace
+
+TEST_CASE("Shipped shoebox scene loads", "[scene]") {
+  const SceneDesc s = loadScene(kSourceDir + "/scenes/shoebox.json");
+  CHECK(s.mesh.triangles.size() == 12);
+  CHECK(s.mesh.materialIndex.size() == s.mesh.triangles.size());
+  REQUIRE(s.materials.size() == 3);  // sorted by name
+  CHECK(s.materials[0].name == "ceiling");
+  CHECK(s.materials[1].name == "floor");
+  CHECK(s.materials[2].name == "walls");
+  for (uint32_t m : s.mesh.materialIndex) CHECK(m < s.materials.size());
+  REQUIRE(s.sources.size() == 1);
+  CHECK(fs::exists(s.sources[0].signalPath));
+  CHECK(s.listener.loop);
+  CHECK(s.listener.trajectory.size() == 5);
+  CHECK(s.propagation.raysPerFrame == 4096);
+  CHECK(s.propagation.maxOrder == 50);
+  CHECK(s.propagation.frameRate == 15.f);
+  CHECK(s.propagation.estimator == Estimator::kDpc);
+  CHECK(s.propagation.speedOfSound == Approx(343.2).epsilon(1e-3));
+  CHECK(s.warnings.empty());
+  // Box bounds: 10 x 3 x 7 m.
+  glm::vec3 lo(1e9f), hi(-1e9f);
+  for (const auto& v : s.mesh.vertices) lo = glm::min(lo, v), hi = glm::max(hi, v);
+  CHECK(hi.x - lo.x == 10.f);
+  CHECK(hi.y - lo.y == 3.f);
+  CHECK(hi.z - lo.z == 7.f);
+  // The listener path keeps the sphere inside the room, >= 0.5 m from every wall.
+  for (double t = 0.0; t < 12.0; t += 0.1) {
+    const glm::vec3 p = listenerPositionAt(s.listener, t);
+    const float clearance = s.listener.radius + 0.5f;
+    CHECK(p.x >= clearance);
+    CHECK(p.x <= 10.f - clearance);
+    CHECK(p.z >= clearance);
+    CHECK(p.z <= 7.f - clearance);
+  }
+}
+
+TEST_CASE("Shipped hall scene loads", "[scene]") {
+  const SceneDesc s = loadScene(kSourceDir + "/scenes/hall.json");
+  CHECK(s.mesh.triangles.size() >= 10000);
+  CHECK(s.mesh.materialIndex.size() == s.mesh.triangles.size());
+  CHECK(s.materials.size() >= 6);
+  std::vector<int> uses(s.materials.size(), 0);
+  for (uint32_t m : s.mesh.materialIndex) {
+    REQUIRE(m < s.materials.size());
+    ++uses[m];
+  }
+  for (size_t i = 0; i < s.materials.size(); ++i) {
+    INFO(s.materials[i].name);
+    CHECK(uses[i] > 0);
+    CHECK(s.materials[i].absorption.min() >= 0.f);
+    CHECK(s.materials[i].absorption.max() <= 1.f);
+    CHECK(s.materials[i].scattering >= 0.f);
+    CHECK(s.materials[i].scattering <= 1.f);
+  }
+  REQUIRE(s.sources.size() == 2);
+  for (const auto& src : s.sources) CHECK(fs::exists(src.signalPath));
+  CHECK(s.listener.trajectory.back().timeSeconds == Approx(20.0));
+  CHECK(s.warnings.empty());
+}
+
+TEST_CASE("Minimal scene loads with defaults", "[scene]") {
+  Fixture f;
+  const SceneDesc s = f.load();
+  CHECK(s.mesh.triangles.size() == 12);
+  CHECK(s.materials[1].name == "walls");
+  CHECK(s.materials[1].absorption == Bands(0.1f));
+  CHECK(s.materials[1].scattering == 0.2f);
+  CHECK(s.materials[0].absorption == Bands(0.3f));  // a number means all bands
+  CHECK(s.materials[0].scattering == 0.5f);         // default
+  CHECK(s.mesh.materialIndex[0] == 0);              // floor
+  CHECK(s.mesh.materialIndex[2] == 1);              // walls
+  CHECK(s.sources[0].gainDb == 0.f);
+  CHECK(s.listener.radius == 0.1f);
+  CHECK_FALSE(s.listener.loop);
+  const PropagationSettings defaults;
+  CHECK(s.propagation.raysPerFrame == defaults.raysPerFrame);
+  CHECK(s.propagation.cacheTau == defaults.cacheTau);
+  CHECK(s.propagation.dpcWeighting == defaults.dpcWeighting);
+  CHECK(s.audio.sampleRate == 48000);
+  CHECK(fs::path(s.meshPath).filename() == "cube.obj");
+  CHECK(s.warnings.empty());
+}
+
+TEST_CASE("Propagation and audio keys are read", "[scene]") {
+  Fixture f;
+  f.scene["propagation"] = json::parse(R"({
+    "rays_per_frame": 1000, "max_order": 7, "patch_size": 0.25, "cache_tau": 0,
+    "frame_rate": 30, "ir_length": 1.5, "seed": 18446744073709551615,
+    "estimator": "path_tracing", "dpc_weighting": "seed", "temperature": 0,
+    "humidity": 80, "air_absorption": false })");
+  f.scene["audio"] = json::parse(R"({ "sample_rate": 44100, "block_size": 256 })");
+  const SceneDesc s = f.load();
+  CHECK(s.propagation.raysPerFrame == 1000);
+  CHECK(s.propagation.maxOrder == 7);
+  CHECK(s.propagation.patchSize == 0.25f);
+  CHECK(s.propagation.cacheTau == 0.f);
+  CHECK(s.propagation.frameRate == 30.f);
+  CHECK(s.propagation.irLength == 1.5f);
+  CHECK(s.propagation.seed == 18446744073709551615ull);
+  CHECK(s.propagation.estimator == Estimator::kPathTracing);
+  CHECK(s.propagation.dpcWeighting == DpcWeighting::kSeed);
+  CHECK(s.propagation.speedOfSound == Approx(331.3));  // from temperature 0 degC
+  CHECK(s.propagation.humidityPercent == 80.f);
+  CHECK_FALSE(s.propagation.airAbsorption);
+  CHECK(s.audio.sampleRate == 44100);
+  CHECK(s.audio.blockSize == 256);
+
+  f.scene["propagation"]["speed_of_sound"] = 340;
+  CHECK(f.load().propagation.speedOfSound == 340.f);
+}
+
+TEST_CASE("Comment keys are ignored, unknown keys are refused", "[scene]") {
+  Fixture f;
+  f.scene["_comment"] = "anything";
+  f.scene["listener"]["_note"] = 42;
+  CHECK_NOTHROW(f.load());
+
+  f.scene["propagation"] = {{"rays_per_fram", 10}};
+  const std::string e = f.error();
+  CHECK_THAT(e, Contains("scene.json: propagation.rays_per_fram: unknown key"));
+  CHECK_THAT(e, Contains("did you mean \"rays_per_frame\""));
+
+  Fixture g;
+  g.scene["listner"] = json::object();
+  CHECK_THAT(g.error(), Contains("scene.json: listner: unknown key"));
+}
+
+TEST_CASE("Missing or malformed scene file", "[scene][errors]") {
+  Fixture f;
+  try {
+    loadScene(f.path("nope.json"));
+    FAIL("expected an InputError");
+  } catch (const InputError& e) {
+    CHECK_THAT(e.what(), Contains("nope.json") && Contains("not found"));
+  }
+  f.write("bad.json", "{\n  \"mesh\": \"cube.obj\",\n  \"materials\" {}\n}\n");
+  try {
+    loadScene(f.path("bad.json"));
+    FAIL("expected an InputError");
+  } catch (const InputError& e) {
+    CHECK_THAT(e.what(), Contains("bad.json: malformed JSON at line 3, column 15"));
+  }
+  f.write("overflow.json", "{\n  \"mesh\": 1e999\n}\n");
+  try {
+    loadScene(f.path("overflow.json"));
+    FAIL("expected an InputError");
+  } catch (const InputError& e) {
+    CHECK_THAT(e.what(), Contains("overflow.json: malformed JSON at line 2, column 11"));
+  }
+  f.write("array.json", "[1, 2]");
+  try {
+    loadScene(f.path("array.json"));
+    FAIL("expected an InputError");
+  } catch (const InputError& e) {
+    CHECK_THAT(e.what(), Contains("array.json: expected a JSON object"));
+  }
+}
+
+TEST_CASE("Missing required keys and wrong types", "[scene][errors]") {
+  SECTION("sources") {
+    Fixture f;
+    f.scene.erase("sources");
+    CHECK_THAT(f.error(), Contains("scene.json: sources: missing required key"));
+  }
+  SECTION("mesh") {
+    Fixture f;
+    f.scene.erase("mesh");
+    CHECK_THAT(f.error(), Contains("scene.json: mesh: missing required key"));
+  }
+  SECTION("absorption") {
+    Fixture f;
+    f.scene["materials"]["walls"].erase("absorption");
+    CHECK_THAT(f.error(), Contains("scene.json: materials.walls.absorption: missing required key"));
+  }
+  SECTION("source position") {
+    Fixture f;
+    f.scene["sources"][0].erase("position");
+    CHECK_THAT(f.error(), Contains("scene.json: sources[0].position: missing required key"));
+  }
+  SECTION("listener position without trajectory") {
+    Fixture f;
+    f.scene["listener"].erase("position");
+    CHECK_THAT(f.error(), Contains("scene.json: listener.position: missing required key"));
+  }
+  SECTION("radius as a string") {
+    Fixture f;
+    f.scene["listener"]["radius"] = "big";
+    CHECK_THAT(f.error(), Contains("scene.json: listener.radius: expected a number, got string"));
+  }
+  SECTION("position of 2 numbers") {
+    Fixture f;
+    f.scene["sources"][0]["position"] = {1, 2};
+    CHECK_THAT(f.error(), Contains("scene.json: sources[0].position: expected an array of 3"));
+  }
+  SECTION("position element as bool") {
+    Fixture f;
+    f.scene["sources"][0]["position"] = {1, true, 2};
+    CHECK_THAT(f.error(), Contains("scene.json: sources[0].position[1]: expected a number"));
+  }
+  SECTION("loop as a number") {
+    Fixture f;
+    f.scene["listener"]["loop"] = 1;
+    CHECK_THAT(f.error(), Contains("scene.json: listener.loop: expected true or false"));
+  }
+  SECTION("sources as an object") {
+    Fixture f;
+    f.scene["sources"] = json::object();
+    CHECK_THAT(f.error(), Contains("scene.json: sources: expected an array"));
+  }
+  SECTION("no sources") {
+    Fixture f;
+    f.scene["sources"] = json::array();
+    CHECK_THAT(f.error(), Contains("scene.json: sources: at least one source"));
+  }
+  SECTION("rays_per_frame not an integer") {
+    Fixture f;
+    f.scene["propagation"]["rays_per_frame"] = 10.5;
+    CHECK_THAT(f.error(),
+               Contains("scene.json: propagation.rays_per_frame: 10.5 is not an integer"));
+  }
+  SECTION("negative seed") {
+    Fixture f;
+    f.scene["propagation"]["seed"] = -1;
+    CHECK_THAT(f.error(), Contains("scene.json: propagation.seed: expected an unsigned integer"));
+  }
+  SECTION("unknown estimator") {
+    Fixture f;
+    f.scene["propagation"]["estimator"] = "magic";
+    CHECK_THAT(f.error(), Contains("scene.json: propagation.estimator: \"magic\" is not one of"));
+  }
+  SECTION("unknown dpc_weighting") {
+    Fixture f;
+    f.scene["propagation"]["dpc_weighting"] = "EMA";
+    CHECK_THAT(f.error(), Contains("scene.json: propagation.dpc_weighting: \"EMA\""));
+  }
+  SECTION("sample rate out of range") {
+    Fixture f;
+    f.scene["audio"]["sample_rate"] = 1000;
+    CHECK_THAT(f.error(),
+               Contains("scene.json: audio.sample_rate: 1000 is outside [8000, 192000]"));
+  }
+  SECTION("duplicate source names") {
+    Fixture f;
+    f.scene["sources"].push_back(f.scene["sources"][0]);
+    CHECK_THAT(f.error(), Contains("scene.json: sources[1].name: duplicate source name"));
+  }
+}
+
+TEST_CASE("Material values are checked", "[scene][errors]") {
+  SECTION("absorption outside [0, 1]") {
+    Fixture f;
+    f.scene["materials"]["walls"]["absorption"][3] = 1.7;
+    CHECK_THAT(f.error(),
+               Contains("scene.json: materials.walls.absorption[3]: 1.7 is outside [0, 1]"));
+  }
+  SECTION("negative broadband absorption") {
+    Fixture f;
+    f.scene["materials"]["floor"]["absorption"] = -0.1;
+    CHECK_THAT(f.error(),
+               Contains("scene.json: materials.floor.absorption: -0.1 is outside [0, 1]"));
+  }
+  SECTION("absorption array of the wrong length") {
+    Fixture f;
+    f.scene["materials"]["walls"]["absorption"] = {0.1, 0.1, 0.1, 0.1, 0.1, 0.1};
+    CHECK_THAT(f.error(), Contains("scene.json: materials.walls.absorption: expected 8 values") &&
+                              Contains("got 6"));
+  }
+  SECTION("scattering outside [0, 1]") {
+    Fixture f;
+    f.scene["materials"]["walls"]["scattering"] = 1.5;
+    CHECK_THAT(f.error(),
+               Contains("scene.json: materials.walls.scattering: 1.5 is outside [0, 1]"));
+  }
+  SECTION("material typo") {
+    Fixture f;
+    f.scene["materials"]["walls"]["scatering"] = 0.5;
+    CHECK_THAT(f.error(), Contains("scene.json: materials.walls.scatering: unknown key") &&
+                              Contains("did you mean \"scattering\""));
+  }
+}
+
+TEST_CASE("Listener, propagation and signal values are checked", "[scene][errors]") {
+  auto expect = [](auto mutate, const std::string& expected) {
+    Fixture f;
+    mutate(f.scene);
+    CHECK_THAT(f.error(), Contains(expected));
+  };
+  expect([](json& s) { s["listener"]["radius"] = 0; },
+         "scene.json: listener.radius: 0 must be > 0");
+  expect([](json& s) { s["listener"]["radius"] = -0.5; },
+         "scene.json: listener.radius: -0.5 must be > 0");
+  expect([](json& s) { s["propagation"]["rays_per_frame"] = 0; },
+         "scene.json: propagation.rays_per_frame: 0 is outside [1,");
+  expect([](json& s) { s["propagation"]["frame_rate"] = 0; },
+         "scene.json: propagation.frame_rate: 0 must be > 0");
+  expect([](json& s) { s["propagation"]["ir_length"] = -1; },
+         "scene.json: propagation.ir_length: -1 must be > 0");
+  expect([](json& s) { s["propagation"]["patch_size"] = 0; },
+         "scene.json: propagation.patch_size: 0 must be > 0");
+  expect([](json& s) { s["propagation"]["cache_tau"] = -0.5; },
+         "scene.json: propagation.cache_tau: -0.5 must be >= 0");
+  expect([](json& s) { s["propagation"]["humidity"] = 120; },
+         "scene.json: propagation.humidity: 120 is outside [0, 100]");
+  expect(
+      [](json& s) {
+        s["listener"]["trajectory"] = json::parse(
+            R"([{"t": 0, "position": [0.2, 0.5, 0.5]}, {"t": 2, "position": [0.8, 0.5, 0.5]},
+                {"t": 2, "position": [0.5, 0.5, 0.5]}])");
+      },
+      "scene.json: listener.trajectory[2].t: 2 is not greater than the previous keyframe's t");
+  expect(
+      [](json& s) {
+        s["listener"]["trajectory"] = json::parse(R"([{"position": [0.2, 0.5, 0.5]}])");
+      },
+      "scene.json: listener.trajectory[0].t: missing required key");
+  expect([](json& s) { s["sources"][0]["signal"] = "missing.wav"; },
+         "scene.json: sources[0].signal: file");
+  expect([](json& s) { s["mesh"] = "missing.obj"; }, "scene.json: mesh: mesh file");
+}
+
+TEST_CASE("OBJ problems name the OBJ file", "[scene][errors]") {
+  SECTION("NaN vertex") {
+    Fixture f;
+    f.write("cube.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nusemtl walls\nf 1 2 3\n");
+    CHECK_THAT(f.error(), Contains("cube.obj: vertex 2 (line 2): coordinate nan is not finite"));
+  }
+  SECTION("infinite vertex") {
+    Fixture f;
+    f.write("cube.obj", "v 0 0 0\nv 1 0 0\n# comment\nv 0 1e999 0\nusemtl walls\nf 1 2 3\n");
+    CHECK_THAT(f.error(), Contains("cube.obj: vertex 3 (line 4): coordinate 1e999 is not finite"));
+  }
+  SECTION("garbage vertex") {
+    Fixture f;
+    f.write("cube.obj", "v 0 0 0\nv 1 zero 0\nv 0 1 0\nusemtl walls\nf 1 2 3\n");
+    CHECK_THAT(f.error(), Contains("cube.obj: vertex 2 (line 2): \"zero\" is not a number"));
+  }
+  SECTION("empty mesh") {
+    Fixture f;
+    f.write("cube.obj", "# nothing but vertices\nv 0 0 0\nv 1 0 0\n");
+    CHECK_THAT(f.error(), Contains("cube.obj: mesh is empty"));
+  }
+  SECTION("all triangles degenerate") {
+    Fixture f;
+    f.write("cube.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nusemtl walls\nf 1 2 3\nf 1 1 2\n");
+    CHECK_THAT(f.error(), Contains("cube.obj: all 2 triangles are degenerate"));
+  }
+  SECTION("unknown material") {
+    Fixture f;
+    f.write("cube.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl marble\nf 1 2 3\n");
+    CHECK_THAT(f.error(), Contains("cube.obj: usemtl marble: material \"marble\" is not defined"));
+  }
+  SECTION("no usemtl and no default material") {
+    Fixture f;
+    f.write("cube.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    CHECK_THAT(f.error(), Contains("cube.obj: face 1: face has no usemtl"));
+  }
+  SECTION("vertex index out of range") {
+    Fixture f;
+    f.write("cube.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl walls\nf 1 2 3\nf 1 2 9\n");
+    CHECK_THAT(f.error(), Contains("cube.obj: face 2: vertex index 9 is out of range"));
+  }
+}
+
+TEST_CASE("OBJ details: default material, polygons, relative indices, degenerate warning",
+          "[scene]") {
+  Fixture f;
+  f.scene["materials"]["default"] = {{"absorption", 0.5}};
+  f.write("cube.obj",
+          "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+          "f 1 2 3 4\n"      // quad, no usemtl -> default, fan-triangulated
+          "usemtl walls \n"  // trailing space is trimmed
+          "f -4 -3 -2\n"     // relative indices = 1 2 3
+          "f 1 2 2\n");      // degenerate: dropped with a warning
+  const SceneDesc s = f.load();
+  REQUIRE(s.mesh.triangles.size() == 3);
+  CHECK(s.materials[s.mesh.materialIndex[0]].name == "default");
+  CHECK(s.materials[s.mesh.materialIndex[1]].name == "default");
+  CHECK(s.materials[s.mesh.materialIndex[2]].name == "walls");
+  CHECK(s.mesh.triangles[1] == std::array<uint32_t, 3>{0, 2, 3});
+  CHECK(s.mesh.triangles[2] == std::array<uint32_t, 3>{0, 1, 2});
+  bool degenerateWarning = false, unusedWarning = false;
+  for (const auto& w : s.warnings) {
+    degenerateWarning |= w.find("cube.obj: 1 degenerate") != std::string::npos;
+    unusedWarning |= w.find("materials.floor: not used") != std::string::npos;
+  }
+  CHECK(degenerateWarning);
+  CHECK(unusedWarning);
+}
+
+TEST_CASE("listenerPositionAt interpolates, clamps and loops", "[scene][trajectory]") {
+  ListenerDesc l;
+  l.position = {9.f, 9.f, 9.f};
+  CHECK(listenerPositionAt(l, 3.0) == glm::vec3(9.f, 9.f, 9.f));  // static
+
+  l.trajectory = {{0.0, {0.f, 0.f, 0.f}}, {2.0, {2.f, 0.f, 0.f}}, {4.0, {2.f, 4.f, 0.f}}};
+  auto near = [](glm::vec3 a, glm::vec3 b) {
+    return std::abs(a.x - b.x) < 1e-5f && std::abs(a.y - b.y) < 1e-5f &&
+           std::abs(a.z - b.z) < 1e-5f;
+  };
+  CHECK(near(listenerPositionAt(l, 1.0), {1.f, 0.f, 0.f}));
+  CHECK(near(listenerPositionAt(l, 2.0), {2.f, 0.f, 0.f}));
+  CHECK(near(listenerPositionAt(l, 3.0), {2.f, 2.f, 0.f}));
+  CHECK(near(listenerPositionAt(l, 3.5), {2.f, 3.f, 0.f}));
+  CHECK(near(listenerPositionAt(l, -1.0), {0.f, 0.f, 0.f}));  // clamped before
+  CHECK(near(listenerPositionAt(l, 4.0), {2.f, 4.f, 0.f}));
+  CHECK(near(listenerPositionAt(l, 7.0), {2.f, 4.f, 0.f}));  // clamped after
+
+  l.loop = true;  // period 4 s
+  CHECK(near(listenerPositionAt(l, 5.0), {1.f, 0.f, 0.f}));
+  CHECK(near(listenerPositionAt(l, 4.0), {0.f, 0.f, 0.f}));
+  CHECK(near(listenerPositionAt(l, 11.0), {2.f, 2.f, 0.f}));
+  CHECK(near(listenerPositionAt(l, -1.0), {2.f, 2.f, 0.f}));  // wraps to t = 3
+
+  // A trajectory starting later loops over [t_first, t_last).
+  l.trajectory = {{1.0, {0.f, 0.f, 0.f}}, {3.0, {0.f, 0.f, 2.f}}};
+  CHECK(near(listenerPositionAt(l, 0.5), {0.f, 0.f, 1.5f}));
+  CHECK(near(listenerPositionAt(l, 3.5), {0.f, 0.f, 0.5f}));
+  l.loop = false;
+  CHECK(near(listenerPositionAt(l, 0.5), {0.f, 0.f, 0.f}));
+
+  l.trajectory = {{2.0, {1.f, 2.f, 3.f}}};  // a single keyframe is static
+  CHECK(listenerPositionAt(l, 0.0) == glm::vec3(1.f, 2.f, 3.f));
+  CHECK(listenerPositionAt(l, 10.0) == glm::vec3(1.f, 2.f, 3.f));
+}
+
+TEST_CASE("A trajectory alone sets the listener's start position", "[scene][trajectory]") {
+  Fixture f;
+  f.scene["listener"].erase("position");
+  f.scene["listener"]["trajectory"] = json::parse(
+      R"([{"t": 0, "position": [0.2, 0.5, 0.5]}, {"t": 1.5, "position": [0.8, 0.5, 0.5]}])");
+  f.scene["listener"]["loop"] = true;
+  const SceneDesc s = f.load();
+  CHECK(s.listener.position == glm::vec3(0.2f, 0.5f, 0.5f));
+  CHECK(s.listener.trajectory.size() == 2);
+  CHECK(s.listener.loop);
+}
+
+TEST_CASE("parseEstimator and parseDpcWeighting", "[scene]") {
+  CHECK(parseEstimator("dpc") == Estimator::kDpc);
+  CHECK(parseEstimator("path_tracing") == Estimator::kPathTracing);
+  CHECK_FALSE(parseEstimator("DPC").has_value());
+  CHECK(parseDpcWeighting("ema") == DpcWeighting::kEma);
+  CHECK(parseDpcWeighting("seed") == DpcWeighting::kSeed);
+  CHECK_FALSE(parseDpcWeighting("").has_value());
+}

@@ -57,7 +57,8 @@ class ConvolverLayout {
   /// blockSize B > 0 samples (any integer, not only powers of two); maxIrSamples > 0, the
   /// longest IR any spectrum of this layout can hold (P = ceil(maxIrSamples / B) partitions).
   /// Control/propagation thread (creates FFTW plans). Allocates. Throws std::invalid_argument
-  /// on non-positive sizes, std::runtime_error if FFTW cannot create a plan.
+  /// on non-positive sizes, std::runtime_error if FFTW cannot create a plan or its allocator
+  /// returns memory not aligned to 16 bytes.
   ConvolverLayout(int blockSize, size_t maxIrSamples, Planning planning = Planning::kEstimate);
   /// Control/propagation thread (destroys FFTW plans).
   ~ConvolverLayout();
@@ -68,7 +69,8 @@ class ConvolverLayout {
   int fftSize() const { return 2 * blockSize_; }
   /// Complex bins per partition: B + 1.
   int numBins() const { return blockSize_ + 1; }
-  /// Floats between successive partitions in split spectra: B + 1 rounded up to 16.
+  /// Offset in floats from a split spectrum's real parts to its imaginary parts: B + 1 rounded
+  /// up to a multiple of 16 (64 bytes, so offsets by it keep FFTW's SIMD alignment).
   size_t binStride() const { return binStride_; }
   int numPartitions() const { return numPartitions_; }
   /// numPartitions() * blockSize() (>= the maxIrSamples passed in).
@@ -181,8 +183,8 @@ class PartitionedConvolver {
   bool setNextIr(const IrSpectra* ir);
 
   /// Convolves exactly B samples in[0..B) and writes B samples to each out[c][0..B),
-  /// c < numOutputs() (with no IR: zeros). in and out must not overlap. Audio thread.
-  /// Wait-free: no allocation, locks, logging, exceptions or system calls.
+  /// c < numOutputs() (with no IR: zeros). in and the out[c] must not overlap each other. Audio
+  /// thread. Wait-free: no allocation, locks, logging, exceptions or system calls.
   void process(const float* in, float* const* out) { run(in, out, false); }
   /// As process(), but adds into out[c][0..B) (mixing several sources into one bus).
   void processAdd(const float* in, float* const* out) { run(in, out, true); }

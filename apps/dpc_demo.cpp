@@ -20,9 +20,12 @@ namespace {
 
 struct Flags {
   std::string scene, offline, irOut, estimator, weighting;
-  double duration = -1.0, tau = -1.0, gainDb = NAN;
-  int64_t seed = -1, rays = -1, maxOrder = -1, threads = -1;
+  double duration = 0.0, tau = 0.0, gainDb = 0.0;
+  int64_t seed = 0, rays = 0, maxOrder = 0, threads = 0;
   bool quiet = false;
+  // Which options the user gave (so that any value, even a sentinel-looking one, is checked).
+  bool hasDuration = false, hasTau = false, hasGain = false, hasSeed = false, hasRays = false,
+       hasMaxOrder = false, hasThreads = false;
 };
 
 void progressBar(double done, double total) {
@@ -44,20 +47,23 @@ PropagationSettings applyOverrides(const SceneDesc& scene, const Flags& fl) {
   auto bad = [&](const char* flag, const std::string& why) {
     throw InputError("command line", flag, why);
   };
-  if (fl.seed >= 0) s.seed = uint64_t(fl.seed);
-  if (fl.rays != -1) {
+  if (fl.hasSeed) {
+    if (fl.seed < 0) bad("--seed", "must be >= 0");
+    s.seed = uint64_t(fl.seed);
+  }
+  if (fl.hasRays) {
     if (fl.rays <= 0) bad("--rays", "must be > 0");
     s.raysPerFrame = int(fl.rays);
   }
-  if (fl.maxOrder != -1) {
+  if (fl.hasMaxOrder) {
     if (fl.maxOrder < 0) bad("--max-order", "must be >= 0");
     s.maxOrder = int(fl.maxOrder);
   }
-  if (fl.tau != -1.0) {
+  if (fl.hasTau) {
     if (!(fl.tau >= 0.0)) bad("--tau", "must be >= 0 seconds");
     s.cacheTau = float(fl.tau);
   }
-  if (fl.threads != -1) {
+  if (fl.hasThreads) {
     if (fl.threads < 0) bad("--threads", "must be >= 0");
     s.threads = int(fl.threads);
   }
@@ -78,13 +84,13 @@ int runOffline(const Flags& fl) {
   SceneDesc scene = loadScene(fl.scene);
   for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   const PropagationSettings settings = applyOverrides(scene, fl);
-  if (fl.duration != -1.0 && !(fl.duration > 0.0))
+  if (fl.hasDuration && !(fl.duration > 0.0))
     throw InputError("command line", "--duration", "must be > 0 seconds");
   const DrySignals dry = loadDrySignals(scene);
   for (const std::string& n : dry.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
 
   OfflineOptions opt;
-  opt.durationSeconds = fl.duration;
+  opt.durationSeconds = fl.hasDuration ? fl.duration : -1.0;
   if (!fl.quiet) opt.progress = progressBar;
   const OfflineResult r = renderOffline(scene, settings, dry, opt);
 
@@ -94,7 +100,7 @@ int runOffline(const Flags& fl) {
   for (const auto& ch : out.channels)
     for (float x : ch) peak = std::max(peak, std::abs(x));
   double gainDb = fl.gainDb;
-  if (std::isnan(gainDb)) gainDb = peak > 0.f ? -1.0 - 20.0 * std::log10(peak) : 0.0;
+  if (!fl.hasGain) gainDb = peak > 0.f ? -1.0 - 20.0 * std::log10(peak) : 0.0;
   const float gain = float(std::pow(10.0, gainDb / 20.0));
   for (auto& ch : out.channels)
     for (float& x : ch) x *= gain;
@@ -156,6 +162,13 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
+  fl.hasDuration = app.count("--duration") > 0;
+  fl.hasTau = app.count("--tau") > 0;
+  fl.hasGain = app.count("--gain-db") > 0;
+  fl.hasSeed = app.count("--seed") > 0;
+  fl.hasRays = app.count("--rays") > 0;
+  fl.hasMaxOrder = app.count("--max-order") > 0;
+  fl.hasThreads = app.count("--threads") > 0;
   try {
     if (fl.offline.empty()) {
       std::fprintf(stderr,

@@ -47,6 +47,7 @@ Propagator::Propagator(const Geometry& geometry, const PropagationSettings& sett
     : geometry_(geometry), settings_(settings) {
   if (settings_.airAbsorption)
     airPerMetre_ = airEnergyAttenuationPerMetre(settings_.temperatureC, settings_.humidityPercent);
+  minAir_ = airPerMetre_.min();
   const glm::vec3 extent = geometry_.boundsMax() - geometry_.boundsMin();
   epsilon_ = 1e-5f * std::max(10.f, std::max(extent.x, std::max(extent.y, extent.z)));
   arena_ = settings_.threads > 0 ? std::make_unique<tbb::task_arena>(settings_.threads)
@@ -114,6 +115,11 @@ void Propagator::traceRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t ray
     const auto [zeta, xi] = patching.patchOf(hit.barycentric);
     pathHash = pathHashAddPatch(pathHash, patchKey(hit.triangle, zeta, xi));
     energy *= geometry_.reflectance(hit.triangle);
+    if (settings_.rouletteThreshold > 0.f &&
+        energy.max() * std::exp(-minAir_ * travelled) < settings_.rouletteThreshold) {
+      if (rng.uniform() >= kRouletteSurvival) break;
+      energy *= 1.f / kRouletteSurvival;
+    }
     // Normal facing the side the ray came from.
     const glm::vec3 n = glm::dot(hit.normal, dir) < 0.f ? hit.normal : -hit.normal;
     if (rng.uniform() < geometry_.scattering(hit.triangle))

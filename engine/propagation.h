@@ -11,6 +11,11 @@
 // ISO 9613-1 air attenuation. Dividing by N gives intensity relative to the source power on
 // the scale of the direct sound 1/(4 pi r^2) (design.md, "energy convention").
 // The path identifier (engine/patch.h) is hashed incrementally, one patch per reflection.
+// Russian roulette (Arvo & Kirk, "Particle transport and image synthesis", SIGGRAPH 1990):
+// once a ray's band energy times the air attenuation of its lowest band has fallen below
+// settings.rouletteThreshold in every band, it continues with probability kRouletteSurvival
+// carrying 1/kRouletteSurvival times its energy, or ends: unbiased, and tails no longer stop
+// at an arbitrary max_order.
 //
 // Threads: traceFrame runs on the propagation thread and fans the rays out over TBB worker
 // threads in fixed chunks; every ray has its own random stream derived from (seed, frame,
@@ -55,6 +60,9 @@ struct TraceStats {
 
 class Propagator {
  public:
+  /// Survival probability of a ray that Russian roulette tests.
+  static constexpr float kRouletteSurvival = 0.1f;
+
   /// geometry must outlive the Propagator. settings: rays, max order, seed, air, threads.
   Propagator(const Geometry& geometry, const PropagationSettings& settings);
   ~Propagator();
@@ -84,6 +92,7 @@ class Propagator {
   const Geometry& geometry_;
   PropagationSettings settings_;
   Bands airPerMetre_{0.f};
+  float minAir_ = 0.f;  ///< smallest band air attenuation, 1/m (roulette's upper bound)
   float epsilon_ = 1e-4f;
   bool includeDirectRays_ = false;
   std::unique_ptr<tbb::task_arena> arena_;

@@ -461,7 +461,7 @@ void readSources(const JsonReader& r, const json& v, const fs::path& folder, Sce
     const std::string f = index(field, i);
     const json& s = v[i];
     r.expectObject(s, f);
-    r.checkKeys(s, f, {"name", "position", "signal", "gain_db"});
+    r.checkKeys(s, f, {"name", "position", "signal", "gain_db", "loop"});
     SourceDesc src;
     src.name = r.string(r.require(s, f, "name"), join(f, "name"));
     if (src.name.empty()) r.fail(join(f, "name"), "must not be empty");
@@ -477,6 +477,7 @@ void readSources(const JsonReader& r, const json& v, const fs::path& folder, Sce
     src.signalPath = resolved.string();
     if (const json* g = JsonReader::find(s, "gain_db"))
       src.gainDb = r.inRange(*g, join(f, "gain_db"), -200.0, 200.0);
+    if (const json* l = JsonReader::find(s, "loop")) src.loop = r.boolean(*l, join(f, "loop"));
     scene.sources.push_back(src);
   }
 }
@@ -526,7 +527,7 @@ void readPropagation(const JsonReader& r, const json& v, PropagationSettings& p)
   r.checkKeys(v, field,
               {"rays_per_frame", "max_order", "patch_size", "cache_tau", "frame_rate", "ir_length",
                "seed", "estimator", "dpc_weighting", "speed_of_sound", "temperature", "humidity",
-               "air_absorption"});
+               "air_absorption", "roulette_threshold_db"});
   auto f = [&](const char* key) { return join(field, key); };
   if (const json* x = JsonReader::find(v, "rays_per_frame"))
     p.raysPerFrame = int(r.integer(*x, f("rays_per_frame"), 1, 100'000'000));
@@ -573,6 +574,10 @@ void readPropagation(const JsonReader& r, const json& v, PropagationSettings& p)
   }
   if (const json* x = JsonReader::find(v, "air_absorption"))
     p.airAbsorption = r.boolean(*x, f("air_absorption"));
+  if (const json* x = JsonReader::find(v, "roulette_threshold_db")) {
+    const double db = r.inRange(*x, f("roulette_threshold_db"), -300.0, 0.0);
+    p.rouletteThreshold = float(std::pow(10.0, db / 10.0));
+  }
 }
 
 void readAudio(const JsonReader& r, const json& v, AudioSettings& a) {

@@ -43,6 +43,7 @@ struct SourceDesc {
   glm::vec3 position{0.f};   ///< metres
   std::string signalPath;    ///< dry WAV, resolved relative to the scene file's folder
   float gainDb = 0.f;        ///< dB applied to the dry signal
+  bool loop = false;         ///< repeat the dry signal for as long as the render lasts
 };
 
 struct Keyframe {
@@ -83,6 +84,11 @@ struct PropagationSettings {
   float temperatureC = 20.f;      ///< air temperature, degrees Celsius (ISO 9613-1)
   float humidityPercent = 50.f;   ///< relative humidity, percent (ISO 9613-1)
   bool airAbsorption = true;      ///< apply ISO 9613-1 air absorption along paths
+  /// Russian roulette: a ray whose band energy (with air attenuation) has fallen below this
+  /// fraction of its initial energy in every band survives with probability
+  /// kRouletteSurvival and, if it does, carries 1/kRouletteSurvival times its energy
+  /// (unbiased). 0 disables it. Default -60 dB.
+  float rouletteThreshold = 1e-6f;
   int threads = 0;                ///< tracing threads; 0 = all cores (command line only)
 };
 

@@ -1,5 +1,6 @@
 #include "apps/pipeline/offline_renderer.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -12,9 +13,11 @@ OfflineResult renderOffline(const SceneDesc& scene, const PropagationSettings& s
   PropagationStage propagation(scene, settings, options.numOutputs);
   AudioStage audioStage(propagation.layout(), dry, options.numOutputs);
   const size_t B = size_t(scene.audio.blockSize);
-  const double duration = options.durationSeconds >= 0.0
-                              ? options.durationSeconds
-                              : double(dry.longestFrames()) / fs + settings.irLength;
+  double content = double(dry.longestFrames()) / fs;
+  if (!scene.listener.loop && !scene.listener.trajectory.empty())
+    content = std::max(content, scene.listener.trajectory.back().timeSeconds);
+  const double duration =
+      options.durationSeconds >= 0.0 ? options.durationSeconds : content + settings.irLength;
   const size_t totalFrames = size_t(std::ceil(duration * fs));
   const size_t blocks = (totalFrames + B - 1) / B;
 

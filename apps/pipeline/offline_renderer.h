@@ -14,7 +14,9 @@
 namespace dpc {
 
 struct OfflineOptions {
-  double durationSeconds = -1.0;  ///< < 0: longest source + IR length
+  /// < 0: the longest non-looping source or the end of the (non-looping) trajectory,
+  /// whichever is later, plus the IR length.
+  double durationSeconds = -1.0;
   int numOutputs = 1;
   /// Called about every 1 % of progress with (scene seconds rendered, total seconds).
   std::function<void(double, double)> progress;

@@ -16,9 +16,12 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 size_t DrySignals::longestFrames() const {
-  size_t n = 0;
-  for (const auto& s : samples) n = std::max(n, s.size());
-  return n;
+  size_t once = 0, any = 0;
+  for (size_t i = 0; i < samples.size(); ++i) {
+    any = std::max(any, samples[i].size());
+    if (!loop[i]) once = std::max(once, samples[i].size());
+  }
+  return once > 0 ? once : any;
 }
 
 DrySignals loadDrySignals(const SceneDesc& scene) {
@@ -49,6 +52,7 @@ DrySignals loadDrySignals(const SceneDesc& scene) {
     const float gain = float(std::pow(10.0, src.gainDb / 20.0));
     for (float& x : a.channels[0]) x *= gain;
     d.samples.push_back(std::move(a.channels[0]));
+    d.loop.push_back(src.loop ? 1 : 0);
   }
   return d;
 }
@@ -136,7 +140,15 @@ void AudioStage::process(float* const* out) {
   for (int c = 0; c < numOutputs_; ++c) std::fill(out[c], out[c] + B, 0.f);
   for (size_t s = 0; s < convolvers_.size(); ++s) {
     const std::vector<float>& x = dry_.samples[s];
-    if (position_ + B <= x.size()) {
+    if (dry_.loop[s]) {
+      // Looping signal: read B samples from position mod length, wrapping as often as needed.
+      size_t p = position_ % x.size();
+      for (size_t i = 0; i < B; ++i) {
+        tail_[i] = x[p];
+        if (++p == x.size()) p = 0;
+      }
+      convolvers_[s]->processAdd(tail_.data(), out);
+    } else if (position_ + B <= x.size()) {
       convolvers_[s]->processAdd(x.data() + position_, out);
     } else {
       // The signal's last partial block, or silence past its end (the IR tail rings on).

@@ -37,7 +37,9 @@ struct IrSet {
 /// throws InputError naming the scene file and sources[i].signal.
 struct DrySignals {
   std::vector<std::vector<float>> samples;  ///< per source, at the scene's sample rate
+  std::vector<char> loop;                   ///< per source: repeat the signal (SourceDesc::loop)
   std::vector<std::string> notes;           ///< e.g. "resampled 22050 -> 48000 Hz"
+  /// Frames of the longest non-looping signal (of the longest signal if all loop).
   size_t longestFrames() const;
 };
 DrySignals loadDrySignals(const SceneDesc& scene);

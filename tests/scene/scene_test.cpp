@@ -118,7 +118,7 @@ TEST_CASE("Shipped shoebox scene loads", "[scene]") {
   CHECK(s.listener.loop);
   CHECK(s.listener.trajectory.size() == 5);
   CHECK(s.propagation.raysPerFrame == 4096);
-  CHECK(s.propagation.maxOrder == 50);
+  CHECK(s.propagation.maxOrder == 200);
   CHECK(s.propagation.frameRate == 15.f);
   CHECK(s.propagation.estimator == Estimator::kDpc);
   CHECK(s.propagation.speedOfSound == Approx(343.2).epsilon(1e-3));

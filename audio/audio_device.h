@@ -1,0 +1,200 @@
+// Live audio output: a thin RAII wrapper over PortAudio (http://www.portaudio.com, v19).
+//
+// One AudioOutput is one PortAudio output stream of non-interleaved (planar) float32 samples
+// with a fixed block size, so the render callback has exactly the shape of
+// dpc::AudioStage::process(float* const* out): B frames per call, one float array per channel.
+// PortAudio reaches ALSA, OSS and JACK through its host APIs (Debian's libportaudio2 is built
+// with JACK). On a machine without a sound card, run a JACK server with the dummy backend
+// (`jackd -d dummy -r 48000 -p 128`, see scripts/jack-headless.sh) and open its "system"
+// device.
+//
+// Device selection (`--device SPEC` in the apps):
+//   ""  or "default"   JACK's default output if a JACK server is running, otherwise
+//                      PortAudio's default output device, otherwise the first output device.
+//   "NAME"             the first output device whose name contains NAME (case-insensitive);
+//                      an exact (case-insensitive) name match wins over substring matches.
+//   "HOSTAPI:NAME"     as "NAME" but only among devices of the host API whose name contains
+//                      HOSTAPI (case-insensitive): "jack:system", "alsa:hw:0,0", "ALSA:pulse".
+//                      "HOSTAPI:" alone is that host API's default output ("jack:").
+//   If HOSTAPI matches no host API, or NAME matches nothing there, the whole SPEC is tried as
+//   a NAME (device names may contain ':', e.g. "HDA Intel PCH: ALC892 Analog (hw:0,0)").
+// listOutputDevices() (dpc-demo --list-devices) shows the names.
+//
+// Diagnostics: while PortAudio probes (initialisation, termination) ALSA's and JACK's own
+// stderr messages ("cannot find card '0'", "jack server is not running") are silenced, since
+// on a headless machine they bury the one message that matters; set DPC_AUDIO_VERBOSE=1 to
+// see them.
+//
+// Threads (design.md "Thread roles"): everything here is called on the control thread except
+// the RenderCallback, which PortAudio calls on its audio thread (for JACK: the JACK process
+// thread) and which must therefore not allocate, lock, log, throw, wait or make system calls.
+// The wrapper's own work on the audio thread is two steady_clock reads and a few relaxed
+// atomic increments (CallbackStats::record): no allocation, no locks, no system calls.
+// std::chrono::steady_clock is clock_gettime(CLOCK_MONOTONIC), served by the vDSO on Linux
+// (x86-64, arm64), i.e. a memory read, not a system call.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace dpc::audio {
+
+/// One PortAudio output device, as listed by listOutputDevices().
+struct DeviceInfo {
+  std::string name;                      ///< PortAudio device name, e.g. "system" (JACK)
+  std::string hostApi;                   ///< host API name, e.g. "JACK Audio Connection Kit"
+  int maxOutputChannels = 0;             ///< > 0 for every listed device
+  double defaultSampleRate = 0.0;        ///< Hz
+  double defaultLowOutputLatency = 0.0;  ///< seconds (PortAudio's estimate for interactive use)
+  bool isDefault = false;  ///< the device an empty --device spec opens (see the file comment)
+  /// "HOSTAPI:NAME" with the host API's short name ("JACK", "ALSA", "OSS"): a spec that
+  /// selects exactly this device's host API.
+  std::string spec() const;
+};
+
+/// All devices with at least one output channel, in PortAudio's order (grouped by host API).
+/// Control thread. Allocates; initialises PortAudio for the duration of the call (host APIs
+/// probe their devices: takes up to ~100 ms, and ALSA/JACK may print diagnostics on stderr).
+/// Returns an empty vector if there are none. Throws std::runtime_error if PortAudio cannot
+/// be initialised.
+std::vector<DeviceInfo> listOutputDevices();
+
+/// Callback statistics, written by the audio thread with relaxed atomics and read by the
+/// control thread (for a status line such as "audio-callback load (% of the block period)").
+/// Counters only grow; a control thread that wants windowed figures subtracts two snapshots
+/// (Snapshot::since). Durations are wall-clock nanoseconds of the user's RenderCallback,
+/// measured with std::chrono::steady_clock (vDSO, not a system call).
+class CallbackStats {
+ public:
+  /// Histogram of callback durations: log-linear bins, 16 per octave (bin width <= 6.25 % of
+  /// the value), exact below 32 ns, covering 0 .. 2^34 ns (17 s); longer durations land in
+  /// the last bin.
+  static constexpr int kBins = 512;
+
+  /// Bin of a duration in ns, and the largest duration (ns) that falls in a bin. Any thread.
+  static int binOf(uint64_t ns) noexcept;
+  static uint64_t binUpperNs(int bin) noexcept;
+
+  /// Records one callback of durationNs nanoseconds; xrun: PortAudio reported an output
+  /// underflow/overflow (or input under/overflow) for it. Audio thread. Wait-free: relaxed
+  /// atomics only, no allocation, no system calls.
+  void record(uint64_t durationNs, bool xrun) noexcept;
+
+  /// A copy of the counters at one moment (not an atomic snapshot of all of them together:
+  /// the audio thread may record one callback while it is being copied, which at most
+  /// miscounts that one callback).
+  struct Snapshot {
+    uint64_t callbacks = 0;
+    uint64_t xruns = 0;                       ///< callbacks flagged with an underflow or overflow
+    uint64_t lastNs = 0;                      ///< duration of the most recent callback
+    uint64_t maxNs = 0;                       ///< longest callback since the stream was opened
+    std::array<uint64_t, kBins> histogram{};  ///< callbacks per duration bin
+
+    /// Duration (ns) below which a fraction q in [0, 1] of the histogram's callbacks fall,
+    /// given as the upper edge of the bin that holds the q-quantile, capped at maxNs (so it
+    /// errs high by at most one bin width, 6.25 %). 0 if there are no callbacks. Any thread;
+    /// no allocation.
+    uint64_t quantileNs(double q) const noexcept;
+    /// The counters accumulated after `earlier` (a snapshot of the same stats taken
+    /// before): callbacks, xruns and histogram are differences, lastNs is this one's and
+    /// maxNs is the upper edge of the highest non-empty bin of the difference. No allocation.
+    Snapshot since(const Snapshot& earlier) const noexcept;
+  };
+  /// Control thread (any thread). No allocation, wait-free; copies ~4 KB.
+  Snapshot snapshot() const noexcept;
+
+ private:
+  std::atomic<uint64_t> callbacks_{0};
+  std::atomic<uint64_t> xruns_{0};
+  std::atomic<uint64_t> lastNs_{0};
+  std::atomic<uint64_t> maxNs_{0};
+  std::array<std::atomic<uint64_t>, kBins> histogram_{};
+};
+
+/// The function PortAudio's audio thread calls for every block: write `frames` samples to
+/// each out[c][0..frames), c < channels (planar float32, nominal range [-1, 1]); every
+/// sample must be written (the buffers hold garbage on entry). `frames` is always the block
+/// size the stream was opened with. Runs on the audio thread: must not allocate, lock, log,
+/// throw, wait or make system calls. noexcept is part of the type so that a throwing
+/// function does not convert silently.
+using RenderCallback = void (*)(void* user, float* const* out, int frames) noexcept;
+
+/// One open PortAudio output stream. Opened (not started) by the constructor, closed by the
+/// destructor; start()/stop() may alternate. Movable (the stream state lives on the heap, so
+/// moving does not disturb a running callback), not copyable. Holds a reference on
+/// PortAudio's initialisation: PortAudio stays initialised while any AudioOutput (or a
+/// listOutputDevices() call) is alive, and each object releases only its own reference.
+class AudioOutput {
+ public:
+  struct Options {
+    std::string device;           ///< device spec, see the file comment ("" = default)
+    double sampleRate = 48000.0;  ///< Hz; must be supported by the device (JACK: the server's)
+    int channels = 2;             ///< output channels, 1 .. device's maxOutputChannels
+    int blockSize = 128;          ///< frames per callback, fixed (> 0)
+    /// Requested output latency in seconds; <= 0: the device's default low output latency.
+    double suggestedLatency = 0.0;
+  };
+
+  /// Opens the stream; callback(user, out, frames) will be called once started. callback
+  /// must be non-null; user is passed through untouched and must outlive the stream.
+  /// Control thread. Allocates; initialises PortAudio (host APIs probe their devices).
+  /// Throws std::invalid_argument on a null callback or non-positive rate/channels/block
+  /// size, std::runtime_error with a one-line message naming the device and what failed:
+  /// PortAudio initialisation failed; no output device at all ("no audio output device
+  /// found; render with --offline OUT.wav, or start a JACK server (e.g. jackd -d dummy -r
+  /// 48000 -p 128)"); no device matches the spec (the message lists the available ones);
+  /// too many channels; sample rate not supported; the stream cannot be opened.
+  AudioOutput(const Options& options, RenderCallback callback, void* user);
+  /// Closes the stream (aborting it if active) and releases PortAudio. Control thread.
+  ~AudioOutput();
+  AudioOutput(AudioOutput&&) noexcept;
+  AudioOutput& operator=(AudioOutput&&) noexcept;
+  AudioOutput(const AudioOutput&) = delete;
+  AudioOutput& operator=(const AudioOutput&) = delete;
+
+  /// Starts calling the callback. Control thread. Throws std::runtime_error (naming the
+  /// device) if PortAudio cannot start the stream. No effect if already active.
+  void start();
+  /// Stops after the buffers already rendered have played (Pa_StopStream: waits up to the
+  /// output latency); the callback is not running when this returns. Control thread. Throws
+  /// std::runtime_error naming the device on failure. No effect if not active.
+  void stop();
+  /// Whether the callback is being called (started and not stopped or failed). Control
+  /// thread; no allocation, no errors.
+  bool isActive() const;
+
+  /// The device actually opened: PortAudio name and host API name.
+  const DeviceInfo& device() const;
+  /// Sample rate the stream runs at (Pa_GetStreamInfo), Hz.
+  double sampleRate() const;
+  /// Output latency reported by PortAudio for the open stream (Pa_GetStreamInfo), seconds.
+  double outputLatency() const;
+  int channels() const;
+  int blockSize() const;
+  /// Duration of one block, blockSize() / sampleRate(), in ns: 100 % callback load.
+  double blockPeriodNs() const;
+
+  /// The callback statistics (see CallbackStats); any thread may snapshot them.
+  const CallbackStats& stats() const;
+  /// One line for a status display, e.g. "audio 48000 Hz x 128: 37500 callbacks, 0 xruns,
+  /// load median 3.1% p99.9 7.9% max 12.4%" (load: callback duration as a percentage of
+  /// the block period). Pass a previous snapshot for figures over the window since then.
+  /// Control thread; allocates the string.
+  std::string statusLine() const;
+  std::string statusLine(const CallbackStats::Snapshot& since) const;
+
+  /// Load in % of the block period for a callback duration in ns. Any thread; no allocation.
+  double loadPercent(uint64_t durationNs) const {
+    return 100.0 * double(durationNs) / blockPeriodNs();
+  }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace dpc::audio

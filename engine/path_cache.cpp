@@ -1,5 +1,6 @@
 #include "engine/path_cache.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -16,13 +17,13 @@ void FrameGroups::add(const PathHit& hit) {
   const float w = hit.intensity.average();
   auto [it, inserted] = index_.try_emplace(hit.key, uint32_t(groups_.size()));
   if (inserted) {
-    groups_.push_back({hit.key, 1u, hit.intensity, double(hit.length), hit.direction * w});
+    groups_.push_back({hit.key, 1u, hit.intensity, hit.length, hit.direction * w});
     return;
   }
   Group& g = groups_[it->second];
   g.eta += 1;
   g.intensity += hit.intensity;
-  g.length += double(hit.length);
+  g.length += hit.length;
   g.direction += hit.direction * w;
 }
 
@@ -31,15 +32,14 @@ void PathTracingEstimator::endFrame(const FrameGroups& frame, uint64_t raysEmitt
   // The same expressions as DiffusePathCache::endFrame, so that tau = 0 matches bit for bit.
   const float n = float(raysEmitted);
   const double invC = 1.0 / double(speedOfSound);
-  for (const FrameGroups::Group& g : frame.groups()) {
-    const double rBar = g.length / double(g.eta);
-    out.add(rBar * invC, g.intensity / n);
-  }
+  for (const FrameGroups::Group& g : frame.groups())
+    out.add(meanDelaySeconds(g.length, float(g.eta), invC), g.intensity / n);
 }
 
 DiffusePathCache::DiffusePathCache(DpcWeighting weighting, double tauSeconds,
-                                   double framePeriodSeconds)
-    : weighting_(weighting) {
+                                   double framePeriodSeconds, size_t maxEntries)
+    : weighting_(weighting), maxEntries_(maxEntries) {
+  if (maxEntries_ == 0) throw std::invalid_argument("DiffusePathCache: maxEntries must be > 0");
   if (!(tauSeconds >= 0.0) || !(framePeriodSeconds > 0.0))
     throw std::invalid_argument("DiffusePathCache: tau must be >= 0 and frame period > 0");
   if (weighting_ == DpcWeighting::kSeed) {
@@ -53,6 +53,8 @@ DiffusePathCache::DiffusePathCache(DpcWeighting weighting, double tauSeconds,
                           : 1u + uint32_t(std::ceil(std::log(kEmaDropFraction) /
                                                     std::log(1.0 - a_)));
   }
+  raysBefore_.assign(size_t(lifetime_) + 1, 0);
+  index_.max_load_factor(0.8f);
 }
 
 void DiffusePathCache::clear() {
@@ -60,17 +62,22 @@ void DiffusePathCache::clear() {
   entries_.clear();
   frame_ = 0;
   decayPow_ = 1.0;
+  raysTotal_ = 0;
+  std::fill(raysBefore_.begin(), raysBefore_.end(), 0);
 }
 
 size_t DiffusePathCache::bytes() const {
+  // robin_map buckets hold the (key, index) pair and a 16-bit probe distance, padded.
   return entries_.capacity() * sizeof(Entry) +
-         index_.bucket_count() * (sizeof(std::pair<uint64_t, uint32_t>) + sizeof(uint32_t));
+         index_.bucket_count() * (sizeof(std::pair<uint64_t, uint32_t>) + sizeof(uint64_t)) +
+         raysBefore_.capacity() * sizeof(uint64_t) +
+         scratch_.capacity() * sizeof(std::pair<uint32_t, uint32_t>);
 }
 
 DiffusePathCache::Entry* DiffusePathCache::findOrInsert(uint64_t key, bool& inserted) {
   auto [it, ins] = index_.try_emplace(key, uint32_t(entries_.size()));
   inserted = ins;
-  if (ins) entries_.push_back(Entry{key, 0u, frame_, 0u, Bands(0.f), 0.0, 0.0, glm::vec3(0.f)});
+  if (ins) entries_.push_back(Entry{key, frame_, 0.f, Bands(0.f), 0.f, glm::vec3(0.f)});
   return &entries_[it->second];
 }
 
@@ -87,27 +94,30 @@ void DiffusePathCache::endFrame(const FrameGroups& frame, uint64_t raysEmitted,
                                 float speedOfSound, EnergyResponse& out) {
   const float n = float(raysEmitted);
   const double invC = 1.0 / double(speedOfSound);
+  raysBefore_[frame_ % raysBefore_.size()] = raysTotal_;
+  raysTotal_ += raysEmitted;
   if (weighting_ == DpcWeighting::kSeed) {
     // Eq. 3.4, applied to the frame's hits of each path at once (the same sums).
     for (const FrameGroups::Group& g : frame.groups()) {
       bool inserted = false;
       Entry* e = findOrInsert(g.key, inserted);
       if (inserted) {
-        e->eta = g.eta;
+        e->eta = float(g.eta);
         e->intensity = g.intensity;
         e->length = g.length;
         e->direction = g.direction;
       } else {
-        e->eta += g.eta;
+        e->eta += float(g.eta);
         e->intensity += g.intensity;
         e->length += g.length;
         e->direction += g.direction;
       }
     }
-    for (Entry& e : entries_) {
-      e.mu += raysEmitted;
-      const double rBar = e.length / double(e.eta);                   // eq. 3.3
-      out.add(rBar * invC, e.intensity / float(e.mu));                // eq. 3.2
+    for (const Entry& e : entries_) {
+      // mu: rays emitted from the frame that created the entry through this one.
+      const uint64_t mu = raysTotal_ - raysBefore_[e.stamp % raysBefore_.size()];
+      out.add(meanDelaySeconds(e.length, e.eta, invC),   // eq. 3.3
+              e.intensity / float(mu));                  // eq. 3.2
     }
     for (size_t i = entries_.size(); i-- > 0;)
       if (frame_ - entries_[i].stamp + 1 >= lifetime_) removeAt(i);
@@ -115,27 +125,37 @@ void DiffusePathCache::endFrame(const FrameGroups& frame, uint64_t raysEmitted,
     const float keep = float(1.0 - a_), af = float(a_);
     for (Entry& e : entries_) {
       e.intensity *= keep;
-      e.length *= 1.0 - a_;
-      e.etaAverage *= 1.0 - a_;
+      e.length *= keep;
+      e.eta *= keep;
       e.direction *= keep;
     }
     for (const FrameGroups::Group& g : frame.groups()) {
       bool inserted = false;
       Entry* e = findOrInsert(g.key, inserted);
       e->intensity += (g.intensity / n) * af;
-      e->length += g.length * a_;
-      e->etaAverage += double(g.eta) * a_;
+      e->length += g.length * af;
+      e->eta += float(g.eta) * af;
       e->direction += g.direction * af;
       e->stamp = frame_;
     }
     decayPow_ *= 1.0 - a_;
     const float norm = float(1.0 - decayPow_);
-    for (const Entry& e : entries_) {
-      const double rBar = e.length / e.etaAverage;
-      out.add(rBar * invC, e.intensity / norm);
-    }
+    for (const Entry& e : entries_)
+      out.add(meanDelaySeconds(e.length, e.eta, invC), e.intensity / norm);
     for (size_t i = entries_.size(); i-- > 0;)
       if (frame_ - entries_[i].stamp + 1 >= lifetime_) removeAt(i);
+  }
+  if (entries_.size() > maxEntries_) {
+    // Memory guard: remove the oldest entries (smallest stamp) beyond the cap.
+    scratch_.clear();
+    for (size_t i = 0; i < entries_.size(); ++i) scratch_.push_back({entries_[i].stamp, uint32_t(i)});
+    const size_t excess = entries_.size() - maxEntries_;
+    std::nth_element(scratch_.begin(), scratch_.begin() + long(excess), scratch_.end());
+    std::vector<uint64_t>& keys = dropKeys_;
+    keys.clear();
+    for (size_t i = 0; i < excess; ++i) keys.push_back(entries_[scratch_[i].second].key);
+    for (uint64_t k : keys) removeAt(index_.find(k)->second);
+    capped_ += excess;
   }
   ++frame_;
 }

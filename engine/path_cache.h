@@ -45,7 +45,7 @@ class FrameGroups {
     uint64_t key;
     uint32_t eta;          ///< hits this frame
     Bands intensity;       ///< summed I, 1/m^2
-    double length;         ///< summed r, metres
+    float length;          ///< summed r, metres
     glm::vec3 direction;   ///< summed direction weighted by mean band intensity
   };
   void clear();
@@ -60,6 +60,12 @@ class FrameGroups {
 };
 
 /// Plain Monte Carlo path tracing: no memory between frames.
+/// Delay in seconds of a group or entry: (summed length / count) / c. The one expression both
+/// estimators use, so that tau = 0 gives bit-identical responses.
+inline double meanDelaySeconds(float lengthSum, float count, double invSpeedOfSound) {
+  return double(lengthSum) / double(count) * invSpeedOfSound;
+}
+
 class PathTracingEstimator {
  public:
   /// Adds every group's I_f / N at delay (r_f / eta_f) / c to out. N = rays emitted this frame.
@@ -73,8 +79,15 @@ class DiffusePathCache {
   /// of one hit's contribution).
   static constexpr double kEmaDropFraction = 1e-3;
 
-  /// tauSeconds >= 0: cache response time; framePeriodSeconds > 0.
-  DiffusePathCache(DpcWeighting weighting, double tauSeconds, double framePeriodSeconds);
+  /// Default cap on entries (about 64 bytes + ~30 bytes of index each): 600,000 = ~56 MB.
+  static constexpr size_t kDefaultMaxEntries = 600000;
+
+  /// tauSeconds >= 0: cache response time; framePeriodSeconds > 0. maxEntries > 0: after a
+  /// frame, entries beyond the cap are removed oldest first (by creation for kSeed, by last
+  /// hit for kEma); each removal loses that entry's remaining contribution, so the cap is a
+  /// memory guard, sized well above what the shipped scenes need.
+  DiffusePathCache(DpcWeighting weighting, double tauSeconds, double framePeriodSeconds,
+                   size_t maxEntries = kDefaultMaxEntries);
 
   /// One frame: applies the frame's groups (eq. 3.4), then mu += N for every entry and adds
   /// every entry's estimate (eq. 3.2, 3.3, or the EMA) to out, then removes expired entries.
@@ -90,16 +103,20 @@ class DiffusePathCache {
   /// EMA coefficient a = 1 - exp(-T / tau) (1 when tau = 0).
   double emaCoefficient() const { return a_; }
 
+  /// 64 bytes. mu (rays emitted while the entry existed) is not stored: it is the rays
+  /// emitted since the entry's creation frame, kept per frame in a small ring.
   struct Entry {
     uint64_t key;
-    uint32_t eta;        ///< seed: rays of this path that reached the listener
     uint32_t stamp;      ///< seed: frame created; EMA: frame last hit
-    uint64_t mu;         ///< seed: rays emitted while the entry existed
+    float eta;           ///< seed: rays of this path that reached the listener (exact to 2^24);
+                         ///< EMA: moving average of eta_f
     Bands intensity;     ///< seed: I_hat (sum); EMA: moving average of I_f / N
-    double length;       ///< seed: r_hat (sum); EMA: moving average of r_f
-    double etaAverage;   ///< EMA: moving average of eta_f
+    float length;        ///< seed: r_hat (sum); EMA: moving average of r_f
     glm::vec3 direction; ///< summed / averaged arrival direction (intensity weighted)
   };
+  static_assert(sizeof(Entry) == 64);
+  /// Entries removed by the cap since construction.
+  uint64_t cappedRemovals() const { return capped_; }
   const std::vector<Entry>& entries() const { return entries_; }
 
  private:
@@ -111,6 +128,12 @@ class DiffusePathCache {
   uint32_t lifetime_ = 1;
   uint32_t frame_ = 0;     ///< frames since the cache started (or was cleared)
   double decayPow_ = 1.0;  ///< (1-a)^(frame_+1), for the start-up normalisation
+  size_t maxEntries_;
+  uint64_t capped_ = 0;
+  uint64_t raysTotal_ = 0;               ///< rays emitted since the start, this frame included
+  std::vector<uint64_t> raysBefore_;     ///< ring: rays emitted before frame f, f % size
+  std::vector<std::pair<uint32_t, uint32_t>> scratch_;  ///< (stamp, index) for the cap
+  std::vector<uint64_t> dropKeys_;
   tsl::robin_map<uint64_t, uint32_t> index_;
   std::vector<Entry> entries_;
 };

@@ -1,5 +1,7 @@
 #include "engine/simulation.h"
 
+#include <chrono>
+
 namespace dpc {
 
 Simulation::Simulation(const SceneDesc& scene) : Simulation(scene, scene.propagation) {}
@@ -33,8 +35,10 @@ void Simulation::runFrame(const glm::vec3& listenerPosition,
   const ListenerSphere listener{listenerPosition, listenerRadius_};
   for (size_t s = 0; s < results_.size() && s < sources.size(); ++s) {
     SourceResult& r = results_[s];
+    const auto t0 = std::chrono::steady_clock::now();
     groups_.clear();
     r.trace = propagator_->traceFrame(frame_, uint32_t(s), sources[s], listener, groups_);
+    const auto t1 = std::chrono::steady_clock::now();
     r.direct = propagator_->directSound(sources[s], listener);
     r.energy.clear();
     if (caches_.empty()) {
@@ -46,6 +50,9 @@ void Simulation::runFrame(const glm::vec3& listenerPosition,
       r.cacheEntries = caches_[s]->entryCount();
       r.cacheBytes = caches_[s]->bytes();
     }
+    const auto t2 = std::chrono::steady_clock::now();
+    r.traceSeconds = std::chrono::duration<double>(t1 - t0).count();
+    r.estimatorSeconds = std::chrono::duration<double>(t2 - t1).count();
   }
   ++frame_;
 }

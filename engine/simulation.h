@@ -35,6 +35,8 @@ class Simulation {
     TraceStats trace;
     size_t cacheEntries = 0;
     size_t cacheBytes = 0;
+    double traceSeconds = 0.0;      ///< wall time of this frame's ray tracing
+    double estimatorSeconds = 0.0;  ///< grouping hits + cache update + readout
   };
 
   /// Traces one frame from every source to a listener at listenerPosition (metres).

@@ -140,3 +140,22 @@ TEST_CASE("EMA weighting is unbiased for rarely hit paths; seed weighting is not
     if (p < 0.05) CHECK(meanSeed / truth > 2.0);  // H_15 = 3.3 for isolated hits
   }
 }
+
+TEST_CASE("The entry cap bounds the cache and removes the oldest entries first", "[dpc]") {
+  for (DpcWeighting w : {DpcWeighting::kSeed, DpcWeighting::kEma}) {
+    DiffusePathCache cache(w, 10.0, 0.1, /*maxEntries=*/100);
+    // 10 frames of 30 new paths each: 300 would live without the cap.
+    for (uint64_t f = 0; f < 10; ++f) {
+      std::vector<PathHit> hits;
+      for (uint64_t i = 0; i < 30; ++i) hits.push_back(hit(f * 1000 + i, 1.f, 10.f));
+      frame(cache, hits, 100);
+      REQUIRE(cache.entryCount() <= 100);
+    }
+    CHECK(cache.entryCount() == 100);
+    CHECK(cache.cappedRemovals() == 200);
+    // The survivors are the newest: keys of frames 7, 8 and 9 (and 10 of frame 6).
+    size_t newest = 0;
+    for (const auto& e : cache.entries()) newest += e.key >= 7000 ? 1 : 0;
+    CHECK(newest == 90);
+  }
+}

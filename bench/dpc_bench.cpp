@@ -1,0 +1,301 @@
+// dpc-bench: speed and noise benchmarks. Prints one JSON document on stdout; progress on stderr.
+//
+//   dpc-bench propagation SCENE [--threads T] [--rays N] [--max-order D] [--frames F]
+//                               [--no-roulette] [--tau S]
+//   dpc-bench noise SCENE [--rays N] [--frames F] [--tau S] [--walk-speed V]
+//                         [--reference-frames M] [--threads T] [--max-order D]
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <glm/geometric.hpp>
+#include <nlohmann/json.hpp>
+
+#include "bench/bare_embree.h"
+#include "engine/input_error.h"
+#include "engine/ir_synthesis.h"
+#include "engine/noise_study.h"
+#include "engine/scene.h"
+#include "engine/simulation.h"
+
+using namespace dpc;
+using json = nlohmann::ordered_json;
+
+namespace {
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  const double idx = p * double(v.size() - 1);
+  const size_t lo = size_t(std::floor(idx)), hi = size_t(std::ceil(idx));
+  return v[lo] + (v[hi] - v[lo]) * (idx - double(lo));
+}
+
+json stats(const std::vector<double>& v, double scale = 1.0) {
+  std::vector<double> s(v);
+  for (double& x : s) x *= scale;
+  return {{"median", percentile(s, 0.5)}, {"p95", percentile(s, 0.95)},
+          {"min", s.empty() ? NAN : *std::min_element(s.begin(), s.end())},
+          {"max", s.empty() ? NAN : *std::max_element(s.begin(), s.end())}};
+}
+
+/// The scene with only its first source (benchmarks time one source's frame).
+SceneDesc firstSourceOnly(SceneDesc scene) {
+  scene.sources.resize(1);
+  return scene;
+}
+
+struct Common {
+  std::string scene;
+  int threads = 0, rays = 4096, maxOrder = 200, frames = 30;
+  double tau = 1.0;
+  bool haveTau = false, haveMaxOrder = false, haveRays = false;
+};
+
+PropagationSettings settingsFor(const SceneDesc& scene, const Common& c) {
+  PropagationSettings s = scene.propagation;
+  s.threads = c.threads;
+  if (c.haveRays) s.raysPerFrame = c.rays;
+  if (c.haveMaxOrder) s.maxOrder = c.maxOrder;
+  if (c.haveTau) s.cacheTau = float(c.tau);
+  return s;
+}
+
+int benchPropagation(const Common& c, bool noRoulette) {
+  const SceneDesc scene = firstSourceOnly(loadScene(c.scene));
+  PropagationSettings s = settingsFor(scene, c);
+  if (!c.haveRays) s.raysPerFrame = 4096;
+  if (!c.haveMaxOrder) s.maxOrder = 200;
+  if (noRoulette) s.rouletteThreshold = 0.f;
+  const glm::vec3 listener = listenerPositionAt(scene.listener, 0.0);
+  Simulation sim(scene, s);
+  IrSynthesizer synth(scene.audio.sampleRate, s.irLength, sim.boundingVolume(), s.speedOfSound,
+                      1);
+  std::vector<float> ir(synth.lengthSamples());
+  std::vector<double> frameMs, traceMs, estimatorMs, synthMs;
+  uint64_t segments = 0, hits = 0;
+  double traceSeconds = 0.0;
+  for (int f = 0; f < c.frames; ++f) {
+    const auto t0 = std::chrono::steady_clock::now();
+    sim.runFrame(listener);
+    const auto t1 = std::chrono::steady_clock::now();
+    const Simulation::SourceResult& r = sim.result(0);
+    synth.synthesize(r.energy, r.direct, ir.data());
+    const auto t2 = std::chrono::steady_clock::now();
+    frameMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    synthMs.push_back(std::chrono::duration<double, std::milli>(t2 - t1).count());
+    traceMs.push_back(r.traceSeconds * 1e3);
+    estimatorMs.push_back(r.estimatorSeconds * 1e3);
+    segments += r.trace.segments;
+    hits += r.trace.listenerHits;
+    traceSeconds += std::chrono::duration<double>(t1 - t0).count();
+    std::fprintf(stderr, "\rframe %d/%d", f + 1, c.frames);
+  }
+  std::fprintf(stderr, "\rbare Embree loop...   ");
+  uint64_t bareSegments = 0;
+  double bareSeconds = 0.0;
+  for (int f = 0; f < c.frames; ++f) {
+    const bench::BareResult b = bench::traceBare(sim.geometry(), scene.sources[0].position,
+                                                 s.raysPerFrame, s.maxOrder, s.threads, f);
+    bareSegments += b.segments;
+    bareSeconds += b.seconds;
+  }
+  std::fprintf(stderr, "\r                      \r");
+  const double fullRate = double(segments) / traceSeconds;
+  const double bareRate = double(bareSegments) / bareSeconds;
+  json j;
+  j["benchmark"] = "propagation";
+  j["scene"] = c.scene;
+  j["triangles"] = sim.geometry().triangleCount();
+  j["threads"] = s.threads;
+  j["rays_per_frame"] = s.raysPerFrame;
+  j["max_order"] = s.maxOrder;
+  j["roulette"] = s.rouletteThreshold > 0.f;
+  j["estimator"] = s.estimator == Estimator::kDpc ? "dpc" : "path_tracing";
+  j["tau_s"] = s.cacheTau;
+  j["frames"] = c.frames;
+  j["full_frame"] = {{"segments_per_second", fullRate},
+                     {"segments_per_frame", double(segments) / c.frames},
+                     {"listener_hits_per_frame", double(hits) / c.frames},
+                     {"frame_ms", stats(frameMs)},
+                     {"trace_ms", stats(traceMs)},
+                     {"estimator_ms", stats(estimatorMs)}};
+  j["bare_embree"] = {{"segments_per_second", bareRate},
+                      {"segments_per_frame", double(bareSegments) / c.frames},
+                      {"note", "same rays and max order, cosine bounces, no listener/cache"}};
+  j["ratio_full_to_bare"] = fullRate / bareRate;
+  j["cache"] = {{"entries", sim.result(0).cacheEntries}, {"bytes", sim.result(0).cacheBytes}};
+  j["ir_synthesis_ms"] = stats(synthMs);
+  std::printf("%s\n", j.dump(2).c_str());
+  return 0;
+}
+
+/// Listener path for the noise study: the scene's trajectory (or +x from its position)
+/// walked at `speed` m/s, sampled at frame f of a rate of `frameRate`.
+std::function<glm::vec3(int)> walker(const SceneDesc& scene, double speed, double frameRate) {
+  std::vector<glm::vec3> pts;
+  for (const Keyframe& k : scene.listener.trajectory) pts.push_back(k.position);
+  if (pts.size() < 2) {
+    const glm::vec3 p = listenerPositionAt(scene.listener, 0.0);
+    pts = {p, p + glm::vec3(100.f, 0.f, 0.f)};
+  }
+  return [pts, speed, frameRate](int f) {
+    double d = speed * f / frameRate;
+    for (size_t i = 0; i + 1 < pts.size(); ++i) {
+      const double len = glm::length(pts[i + 1] - pts[i]);
+      if (d <= len || i + 2 == pts.size())
+        return pts[i] + (pts[i + 1] - pts[i]) * float(std::min(1.0, d / std::max(len, 1e-9)));
+      d -= len;
+    }
+    return pts.back();
+  };
+}
+
+int benchNoise(const Common& c, double walkSpeed, int referenceFrames, int warmup,
+               const std::vector<int>& ptMultipliers) {
+  const SceneDesc scene = firstSourceOnly(loadScene(c.scene));
+  PropagationSettings s = settingsFor(scene, c);
+  if (!c.haveRays) s.raysPerFrame = 4096;
+  const auto at = walker(scene, walkSpeed, s.frameRate);
+  const int total = warmup + c.frames;
+  // References: converged plain path tracing at each frame's position (one if static).
+  std::vector<EnergyResponse> refs;
+  std::vector<double> refErrors;
+  const int positions = walkSpeed > 0.0 ? total : 1;
+  PropagationSettings refSettings = s;
+  refSettings.seed = s.seed + 1000003;
+  for (int f = 0; f < positions; ++f) {
+    double e = 0.0;
+    refs.push_back(referenceResponse(scene, refSettings, at(f), referenceFrames, &e));
+    refErrors.push_back(e);
+    std::fprintf(stderr, "\rreference %d/%d", f + 1, positions);
+  }
+  const double refError =
+      std::accumulate(refErrors.begin(), refErrors.end(), 0.0) / double(refErrors.size());
+  auto ref = [&](int f) -> const EnergyResponse& { return refs[walkSpeed > 0.0 ? size_t(f) : 0]; };
+  auto corrected = [&](double e) { return std::sqrt(std::max(0.0, e * e - refError * refError)); };
+  auto describe = [&](const NoiseMetrics& m) {
+    return json{{"error", m.meanError},
+                {"error_corrected_for_reference", corrected(m.meanError)},
+                {"flicker", m.meanFlicker},
+                {"bias", m.bias},
+                {"energy_bias", m.energyBias},
+                {"error_per_frame", m.errorPerFrame}};
+  };
+  json j;
+  j["benchmark"] = "noise";
+  j["scene"] = c.scene;
+  j["rays_per_frame"] = s.raysPerFrame;
+  j["max_order"] = s.maxOrder;
+  j["tau_s"] = s.cacheTau;
+  j["frame_rate"] = s.frameRate;
+  j["walk_speed_mps"] = walkSpeed;
+  j["frames_measured"] = c.frames;
+  j["warmup_frames"] = warmup;
+  j["reference"] = {{"frames", referenceFrames},
+                    {"rays", double(referenceFrames) * s.raysPerFrame},
+                    {"own_relative_error", refError}};
+  j["metric"] =
+      "L2 over 8 bands x 10 ms bins of the energy response, relative to the reference's L2 norm";
+  double dpcError = 0.0;
+  for (auto [name, weighting] :
+       {std::pair{"dpc_ema", DpcWeighting::kEma}, std::pair{"dpc_seed", DpcWeighting::kSeed}}) {
+    PropagationSettings d = s;
+    d.estimator = Estimator::kDpc;
+    d.dpcWeighting = weighting;
+    std::fprintf(stderr, "\r%s...            ", name);
+    const NoiseMetrics m = measureNoise(scene, d, warmup, c.frames, at, ref);
+    j["estimators"][name] = describe(m);
+    if (weighting == DpcWeighting::kEma) dpcError = corrected(m.meanError);
+  }
+  // Plain path tracing at 1x, 2x, 4x ... the rays: error ~ rays^-1/2.
+  std::vector<std::pair<double, double>> pt;  // (multiplier, corrected error)
+  for (int k : ptMultipliers) {
+    PropagationSettings p = s;
+    p.estimator = Estimator::kPathTracing;
+    p.raysPerFrame = s.raysPerFrame * k;
+    std::fprintf(stderr, "\rpath tracing x%d...     ", k);
+    const NoiseMetrics m = measureNoise(scene, p, 0, std::min(c.frames, 20), at, ref);
+    j["path_tracing"][std::to_string(k) + "x"] = describe(m);
+    pt.push_back({double(k), corrected(m.meanError)});
+  }
+  std::fprintf(stderr, "\r                         \r");
+  // Equal-noise ray ratio: interpolate log(error) against log(rays) between the bracketing
+  // path-tracing runs, or extrapolate along the last two with their fitted slope.
+  double ratio = NAN;
+  std::string how = "interpolated";
+  for (size_t i = 0; i + 1 < pt.size(); ++i)
+    if (pt[i].second >= dpcError && pt[i + 1].second <= dpcError) {
+      const double t = std::log(pt[i].second / dpcError) / std::log(pt[i].second / pt[i + 1].second);
+      ratio = std::exp(std::log(pt[i].first) + t * std::log(pt[i + 1].first / pt[i].first));
+    }
+  if (std::isnan(ratio) && pt.size() >= 2 && dpcError > 0.0) {
+    const auto& a = pt[pt.size() - 2];
+    const auto& b = pt.back();
+    const double slope = std::log(b.second / a.second) / std::log(b.first / a.first);
+    ratio = b.first * std::pow(dpcError / b.second, 1.0 / slope);
+    how = "extrapolated with slope " + std::to_string(slope);
+  }
+  j["equal_noise_ray_ratio"] = {{"dpc_ema", ratio}, {"how", how}};
+  std::printf("%s\n", j.dump(2).c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"dpc-bench: propagation speed and DPC noise benchmarks (JSON on stdout)"};
+  app.require_subcommand(1);
+  Common c;
+  bool noRoulette = false;
+  double walkSpeed = 0.0;
+  int referenceFrames = 256, warmup = -1;
+  std::vector<int> multipliers = {1, 2, 4, 8, 16, 32};
+  auto addCommon = [&](CLI::App* sub) {
+    sub->add_option("scene", c.scene, "Scene file")->required();
+    sub->add_option("--threads", c.threads, "Tracing threads (0 = all cores)");
+    sub->add_option("--rays", c.rays, "Rays per frame (default 4096)");
+    sub->add_option("--max-order", c.maxOrder, "Maximum reflection order");
+    sub->add_option("--frames", c.frames, "Frames to measure");
+    sub->add_option("--tau", c.tau, "Cache response time tau, seconds");
+  };
+  CLI::App* prop = app.add_subcommand("propagation", "Frame time and segments/s vs bare Embree");
+  addCommon(prop);
+  prop->add_flag("--no-roulette", noRoulette, "Trace every ray to max order");
+  CLI::App* noise = app.add_subcommand("noise", "DPC vs path tracing against a converged reference");
+  addCommon(noise);
+  noise->add_option("--walk-speed", walkSpeed, "Listener speed along the trajectory, m/s");
+  noise->add_option("--reference-frames", referenceFrames, "Path-tracing frames per reference");
+  noise->add_option("--warmup", warmup, "Frames before measuring (default 2 tau)");
+  noise->add_option("--pt-multipliers", multipliers, "Ray multipliers for path tracing");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  for (CLI::App* sub : {prop, noise}) {
+    c.haveTau = c.haveTau || sub->count("--tau") > 0;
+    c.haveMaxOrder = c.haveMaxOrder || sub->count("--max-order") > 0;
+    c.haveRays = c.haveRays || sub->count("--rays") > 0;
+  }
+  try {
+    if (*prop) return benchPropagation(c, noRoulette);
+    if (warmup < 0) {
+      const SceneDesc scene = loadScene(c.scene);
+      const double tau = c.haveTau ? c.tau : scene.propagation.cacheTau;
+      warmup = int(std::ceil(2.0 * tau * scene.propagation.frameRate));
+    }
+    return benchNoise(c, walkSpeed, referenceFrames, warmup, multipliers);
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "dpc-bench: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "dpc-bench: error: %s\n", e.what());
+    return 1;
+  }
+}

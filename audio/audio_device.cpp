@@ -13,6 +13,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "audio/rt_check.h"
+
 namespace dpc::audio {
 
 namespace {
@@ -328,6 +330,7 @@ struct AudioOutput::Impl {
                         const PaStreamCallbackTimeInfo* /*timeInfo*/,
                         PaStreamCallbackFlags statusFlags, void* userData) {
     auto* self = static_cast<Impl*>(userData);
+    rt::setThreadRole(rt::ThreadRole::kAudio);  // a thread_local store, see rt_check.h
     const auto t0 = std::chrono::steady_clock::now();
     self->callback(self->user, static_cast<float* const*>(output), int(frames));
     const auto t1 = std::chrono::steady_clock::now();

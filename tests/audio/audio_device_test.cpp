@@ -13,6 +13,8 @@
 #include <string>
 #include <thread>
 
+#include "audio/rt_check.h"
+
 using dpc::audio::AudioOutput;
 using dpc::audio::CallbackStats;
 using dpc::audio::DeviceInfo;
@@ -33,10 +35,12 @@ struct Sine {
   double phase = 0.0;
   double step = 0.0;
   int channels = 2;
+  std::atomic<bool> wrongRole{false};  ///< a callback ran on a thread not declared kAudio
 };
 
 void sineRender(void* user, float* const* out, int frames) noexcept {
   auto* s = static_cast<Sine*>(user);
+  if (!dpc::audio::rt::onAudioThread()) s->wrongRole.store(true, std::memory_order_relaxed);
   for (int i = 0; i < frames; ++i) {
     const float v = float(0.2 * std::sin(s->phase));
     s->phase += s->step;
@@ -182,6 +186,8 @@ TEST_CASE("JACK: a sine plays for 2 s with the expected number of callbacks", "[
               static_cast<unsigned long long>(startup.xruns), out.statusLine(startup).c_str());
   CHECK(double(s.callbacks) > 0.9 * expected);
   CHECK(s.maxNs > 0);
+  CHECK_FALSE(sine.wrongRole.load());
+  CHECK_FALSE(dpc::audio::rt::onAudioThread());  // the test's own thread
 
   // Restart after stop, and a second stream while the first is open: each object holds its
   // own PortAudio reference.

@@ -1,0 +1,49 @@
+// Thread roles (design.md "Thread roles"), recorded per thread so that debug builds can assert
+// that a function runs where its documentation says ("Audio thread. Wait-free.").
+//
+// The role is a thread_local byte with constant initialisation: setting and reading it is a
+// plain memory access (no allocation, no locks, no system calls), so it is safe on the audio
+// thread. AudioOutput's PortAudio callback sets ThreadRole::kAudio on every callback; other
+// threads set their role once when they start. The checks compile to nothing with NDEBUG
+// (Release/RelWithDebInfo builds still record roles, which costs one store per callback).
+//
+// Heap calls on the audio thread are checked separately, by the interposing allocator of the
+// real-time tests (tests/rt/alloc_counter.h).
+#pragma once
+
+#include <cassert>
+#include <cstdint>
+
+namespace dpc::audio::rt {
+
+enum class ThreadRole : uint8_t {
+  kUnknown = 0,  ///< not declared (e.g. a library's worker thread)
+  kControl,      ///< main/UI: loads scenes, moves the listener, prints status
+  kPropagation,  ///< traces rays, synthesises and prepares IRs; may allocate
+  kAudio,        ///< renders blocks: never allocates, locks, logs, throws, waits or syscalls
+};
+
+namespace detail {
+inline thread_local ThreadRole tThreadRole = ThreadRole::kUnknown;
+}
+
+/// Declares the calling thread's role. Any thread (the audio thread too). No allocation.
+inline void setThreadRole(ThreadRole role) noexcept {
+  detail::tThreadRole = role;
+}
+/// The calling thread's declared role (kUnknown if never set). Any thread. No allocation.
+inline ThreadRole threadRole() noexcept {
+  return detail::tThreadRole;
+}
+/// Whether the calling thread declared itself the audio thread. Any thread. No allocation.
+inline bool onAudioThread() noexcept {
+  return detail::tThreadRole == ThreadRole::kAudio;
+}
+
+}  // namespace dpc::audio::rt
+
+/// Debug builds: aborts (assert) unless the calling thread declared ThreadRole::kAudio.
+#define DPC_ASSERT_AUDIO_THREAD() assert(::dpc::audio::rt::onAudioThread())
+/// Debug builds: aborts if the calling thread is the audio thread (for functions that may
+/// allocate, lock or block). Threads with no declared role pass.
+#define DPC_ASSERT_NOT_AUDIO_THREAD() assert(!::dpc::audio::rt::onAudioThread())

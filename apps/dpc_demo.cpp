@@ -9,7 +9,19 @@
 
 #include <CLI/CLI.hpp>
 
+#include <poll.h>
+#include <termios.h>
+
+#include <atomic>
+#include <chrono>
+#include <numbers>
+#include <thread>
+
+#include <glm/geometric.hpp>
+
+#include "apps/pipeline/live_session.h"
 #include "apps/pipeline/offline_renderer.h"
+#include "audio/audio_device.h"
 #include "audio/wav_io.h"
 #include "engine/input_error.h"
 #include "engine/scene.h"
@@ -19,7 +31,9 @@ using namespace dpc;
 namespace {
 
 struct Flags {
-  std::string scene, offline, irOut, estimator, weighting;
+  std::string scene, offline, irOut, estimator, weighting, device, record;
+  int64_t blockSize = 0;
+  bool listDevices = false, interactive = false, hasBlockSize = false;
   double duration = 0.0, tau = 0.0, gainDb = 0.0;
   int64_t seed = 0, rays = 0, maxOrder = 0, threads = 0;
   bool quiet = false;
@@ -133,15 +147,206 @@ int runOffline(const Flags& fl) {
   return 0;
 }
 
+
+/// Terminal raw mode for --interactive (restored on destruction).
+class RawTerminal {
+ public:
+  RawTerminal() {
+    if (!isatty(STDIN_FILENO) || tcgetattr(STDIN_FILENO, &saved_) != 0) return;
+    termios raw = saved_;
+    raw.c_lflag &= ~tcflag_t(ICANON | ECHO);
+    raw.c_cc[VMIN] = 0;
+    raw.c_cc[VTIME] = 0;
+    active_ = tcsetattr(STDIN_FILENO, TCSANOW, &raw) == 0;
+  }
+  ~RawTerminal() {
+    if (active_) tcsetattr(STDIN_FILENO, TCSANOW, &saved_);
+  }
+  /// Next key, or 0 if none is waiting. Arrow keys come back as 'U', 'D', 'L', 'R' + 256.
+  int key() {
+    pollfd p{STDIN_FILENO, POLLIN, 0};
+    if (poll(&p, 1, 0) <= 0) return 0;
+    unsigned char c = 0;
+    if (read(STDIN_FILENO, &c, 1) != 1) return 0;
+    if (c != 27) return c;
+    unsigned char seq[2] = {0, 0};
+    if (read(STDIN_FILENO, seq, 2) != 2 || seq[0] != '[') return 27;
+    switch (seq[1]) {
+      case 'A': return 256 + 'U';
+      case 'B': return 256 + 'D';
+      case 'C': return 256 + 'R';
+      case 'D': return 256 + 'L';
+    }
+    return 0;
+  }
+
+ private:
+  termios saved_{};
+  bool active_ = false;
+};
+
+int listDevices() {
+  const auto devices = audio::listOutputDevices();
+  if (devices.empty()) {
+    std::printf("no audio output devices (start a JACK server, e.g. jackd -d dummy -r 48000 "
+                "-p 128, or render with --offline OUT.wav)\n");
+    return 0;
+  }
+  for (const auto& d : devices)
+    std::printf("%s%-40s  %-28s  %d ch  %.0f Hz  %.1f ms\n", d.isDefault ? "* " : "  ",
+                d.spec().c_str(), d.hostApi.c_str(), d.maxOutputChannels, d.defaultSampleRate,
+                d.defaultLowOutputLatency * 1e3);
+  return 0;
+}
+
+int runLive(Flags& fl) {
+  SceneDesc scene = loadScene(fl.scene);
+  for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  const PropagationSettings settings = applyOverrides(scene, fl);
+  if (fl.hasBlockSize) {
+    if (fl.blockSize < 16 || fl.blockSize > 8192)
+      throw InputError("command line", "--block-size", "must be in 16..8192 samples");
+    scene.audio.blockSize = int(fl.blockSize);
+  }
+  if (fl.hasDuration && !(fl.duration > 0.0))
+    throw InputError("command line", "--duration", "must be > 0 seconds");
+  const DrySignals dry = loadDrySignals(scene);
+  for (const std::string& n : dry.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
+
+  LiveSession::Options lo;
+  lo.deviceChannels = 2;
+  const double duration = fl.hasDuration ? fl.duration : 1e9;
+  if (!fl.record.empty()) lo.recordSeconds = std::min(duration, 3600.0);
+  LiveSession session(scene, settings, dry, lo);
+
+  audio::AudioOutput::Options ao;
+  ao.device = fl.device;
+  ao.sampleRate = scene.audio.sampleRate;
+  ao.channels = 2;
+  ao.blockSize = scene.audio.blockSize;
+  std::unique_ptr<audio::AudioOutput> output;
+  try {
+    output = std::make_unique<audio::AudioOutput>(ao, &LiveSession::renderCallback, &session);
+  } catch (const std::exception& e) {
+    // One line: the device layer's reason, plus the way out if it does not already say it.
+    const std::string why = e.what();
+    if (why.find("--offline") != std::string::npos)
+      std::fprintf(stderr, "dpc-demo: %s\n", why.c_str());
+    else
+      std::fprintf(stderr,
+                   "dpc-demo: %s; render with --offline OUT.wav, or start a JACK server "
+                   "(jackd -d dummy -r %d -p 128); --list-devices shows what PortAudio sees\n",
+                   why.c_str(), scene.audio.sampleRate);
+    return 3;
+  }
+  std::fprintf(stderr, "playing on %s (%s), %.0f Hz, block %d, output latency %.1f ms\n",
+               output->device().spec().c_str(), output->device().hostApi.c_str(),
+               output->sampleRate(), output->blockSize(), output->outputLatency() * 1e3);
+
+  // Pose: the trajectory on a wall clock (space pauses it), or the keyboard.
+  double sceneTime = 0.0;
+  bool paused = false, manual = false;
+  glm::vec3 position = listenerPositionAt(scene.listener, 0.0);
+  float yaw = 0.f;
+  session.setPose(position, yaw, 0.0);
+  std::unique_ptr<RawTerminal> terminal;
+  if (fl.interactive) {
+    terminal = std::make_unique<RawTerminal>();
+    std::fprintf(stderr,
+                 "keys: arrows/WASD move, Q/E turn, space pauses the trajectory, q quits\n");
+  }
+  session.start();
+  output->start();
+  const auto start = std::chrono::steady_clock::now();
+  auto last = start, lastStatus = start;
+  const auto statsAtStart = output->stats().snapshot();
+  bool quit = false;
+  const bool tty = isatty(STDERR_FILENO);
+  while (!quit) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    const auto now = std::chrono::steady_clock::now();
+    const double dt = std::chrono::duration<double>(now - last).count();
+    last = now;
+    if (std::chrono::duration<double>(now - start).count() >= duration) break;
+    if (terminal) {
+      for (int k = terminal->key(); k; k = terminal->key()) {
+        const glm::vec3 forward(std::cos(yaw), 0.f, std::sin(yaw));
+        const glm::vec3 right(-std::sin(yaw), 0.f, std::cos(yaw));
+        const float step = 0.25f, turn = float(std::numbers::pi / 12);
+        switch (k) {
+          case 'q': quit = true; break;
+          case ' ': paused = !paused; break;
+          case 'w': case 256 + 'U': position += forward * step; manual = true; break;
+          case 's': case 256 + 'D': position -= forward * step; manual = true; break;
+          case 'a': case 256 + 'L': position -= right * step; manual = true; break;
+          case 'd': case 256 + 'R': position += right * step; manual = true; break;
+          case 'Q': yaw -= turn; break;
+          case 'E': case 'e': yaw += turn; break;
+        }
+      }
+    }
+    if (!paused && !manual) {
+      sceneTime += dt;
+      position = listenerPositionAt(scene.listener, sceneTime);
+    }
+    session.setPose(position, yaw, sceneTime);
+    if (std::chrono::duration<double>(now - lastStatus).count() >= 1.0) {
+      lastStatus = now;
+      const auto st = session.status();
+      const auto cb = output->stats().snapshot().since(statsAtStart);
+      std::fprintf(stderr,
+                   "%sframe %5.1f ms | %6.0fk rays/s | cache %7zu | IR age %5.1f ms | "
+                   "latency %5.1f/%5.1f ms | load %4.1f%% | xruns %llu | t %.1f s%s",
+                   tty ? "\r" : "", st.frameMs, st.raysPerSecond / 1e3, st.cacheEntries, st.irAgeMs,
+                   st.latencyMedianMs, st.latencyP95Ms,
+                   output->loadPercent(cb.quantileNs(0.5)), (unsigned long long)cb.xruns,
+                   sceneTime, tty ? "   " : "\n");
+    }
+  }
+  output->stop();
+  session.stop();
+  if (tty) std::fprintf(stderr, "\n");
+  const auto st = session.status();
+  const auto cb = output->stats().snapshot().since(statsAtStart);
+  const auto swap = session.renderStatsWithSwap().snapshot();
+  const auto noSwap = session.renderStatsWithoutSwap().snapshot();
+  if (!fl.record.empty()) {
+    audio::AudioData rec = session.takeRecording();
+    audio::writeWav(fl.record, rec, audio::SampleFormat::kFloat32);
+    std::printf("wrote %s (%.2f s played, %llu samples dropped by the recorder)\n",
+                fl.record.c_str(), double(rec.frames()) / scene.audio.sampleRate,
+                (unsigned long long)st.recordDropped);
+  }
+  std::printf(
+      "live: frames=%llu irs_applied=%llu irs_dropped=%llu blocks=%llu callbacks=%llu "
+      "xruns=%llu nan_blocks=%llu wrong_size_blocks=%llu latency_median_ms=%.1f "
+      "latency_p95_ms=%.1f callback_load_median_pct=%.1f callback_load_max_pct=%.1f "
+      "render_swap_p999_pct=%.1f render_noswap_p999_pct=%.1f\n",
+      (unsigned long long)st.frames, (unsigned long long)st.irsApplied,
+      (unsigned long long)st.irsDropped, (unsigned long long)st.blocks,
+      (unsigned long long)cb.callbacks, (unsigned long long)cb.xruns,
+      (unsigned long long)st.nanBlocks, (unsigned long long)st.lateBlocks, st.latencyMedianMs,
+      st.latencyP95Ms, output->loadPercent(cb.quantileNs(0.5)), output->loadPercent(cb.maxNs),
+      output->loadPercent(swap.quantileNs(0.999)), output->loadPercent(noSwap.quantileNs(0.999)));
+  return 0;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{
       "dpc-demo: interactive sound propagation with the diffuse path cache.\n"
-      "Renders SCENE.json offline to a WAV file (--offline), moving the listener along the\n"
-      "scene's trajectory. Flags override the scene's propagation settings."};
+      "Plays SCENE.json live through PortAudio (JACK, ALSA, PulseAudio), or renders it offline\n"
+      "to a WAV file (--offline), moving the listener along the scene's trajectory (or the\n"
+      "keyboard with --interactive). Flags override the scene's propagation settings."};
   Flags fl;
-  app.add_option("scene", fl.scene, "Scene file (JSON; see docs/scene-format.md)")->required();
+  app.add_option("scene", fl.scene, "Scene file (JSON; see docs/scene-format.md)");
+  app.add_flag("--list-devices", fl.listDevices, "List audio output devices and exit");
+  app.add_option("--device", fl.device,
+                 "Output device: NAME, HOSTAPI:NAME (e.g. jack:system), default: JACK if running");
+  app.add_option("--block-size", fl.blockSize, "Audio block size in samples (live)");
+  app.add_option("--record", fl.record, "Live: also write what was played to this WAV");
+  app.add_flag("--interactive", fl.interactive,
+               "Live: arrows/WASD move, Q/E turn, space pauses, q quits");
   app.add_option("--offline", fl.offline, "Render offline to this WAV file (float32)");
   app.add_option("--duration", fl.duration,
                  "Seconds to render (default: longest source + IR length)");
@@ -169,13 +374,14 @@ int main(int argc, char** argv) {
   fl.hasRays = app.count("--rays") > 0;
   fl.hasMaxOrder = app.count("--max-order") > 0;
   fl.hasThreads = app.count("--threads") > 0;
+  fl.hasBlockSize = app.count("--block-size") > 0;
   try {
-    if (fl.offline.empty()) {
-      std::fprintf(stderr,
-                   "dpc-demo: live playback is not available in this build; render with "
-                   "--offline OUT.wav\n");
-      return 2;
+    if (fl.listDevices) return listDevices();
+    if (fl.scene.empty()) {
+      std::fprintf(stderr, "dpc-demo: a scene file is required (--help for usage)\n");
+      return 1;
     }
+    if (fl.offline.empty()) return runLive(fl);
     return runOffline(fl);
   } catch (const InputError& e) {
     std::fprintf(stderr, "dpc-demo: %s\n", e.what());

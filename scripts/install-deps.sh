@@ -7,7 +7,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libembree-dev libtbb-dev libglm-dev
   libsndfile1-dev libsamplerate0-dev libfftw3-dev portaudio19-dev
-  libreaderwriterqueue-dev libmysofa-dev robin-map-dev
+  libreaderwriterqueue-dev libmysofa-dev robin-map-dev libboost-dev jackd2
   nlohmann-json3-dev libtinyobjloader-dev libcli11-dev catch2
   python3 python3-numpy python3-matplotlib espeak-ng sox
 )
@@ -24,6 +24,8 @@ if ((${#missing[@]})); then
   SUDO=""
   if [[ $(id -u) -ne 0 ]]; then SUDO=sudo; fi
   export DEBIAN_FRONTEND=noninteractive
+  # jackd2 asks whether to enable real-time priority limits; answer no without a prompt.
+  echo "jackd2 jackd/tweak_rt_limits boolean false" | $SUDO debconf-set-selections
   $SUDO apt-get update -qq
   $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 else

@@ -1,0 +1,261 @@
+#include "apps/pipeline/live_session.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace dpc {
+
+namespace {
+
+int64_t nowNs() noexcept {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+constexpr double kRecordRingSeconds = 2.0;
+
+}  // namespace
+
+LiveSession::LiveSession(const SceneDesc& scene, const PropagationSettings& settings,
+                         const DrySignals& dry, const Options& options)
+    : scene_(scene),
+      settings_(settings),
+      options_(options),
+      blockSize_(scene.audio.blockSize),
+      sampleRate_(scene.audio.sampleRate),
+      toAudio_(size_t(std::max(3, options.poolSize)) + 1),
+      fromAudio_(size_t(std::max(3, options.poolSize)) + 1) {
+  const int irChannels = 1;
+  propagation_ = std::make_unique<PropagationStage>(scene, settings, irChannels,
+                                                    std::max(3, options.poolSize));
+  audioStage_ = std::make_unique<AudioStage>(propagation_->layout(), dry, irChannels);
+  mono_.assign(size_t(blockSize_) * irChannels, 0.f);
+  for (int c = 0; c < irChannels; ++c) stageOut_.push_back(mono_.data() + size_t(c) * blockSize_);
+  if (options_.recordSeconds > 0.0) {
+    recordRing_ = std::make_unique<boost::lockfree::spsc_queue<float>>(
+        size_t(kRecordRingSeconds * sampleRate_) * size_t(options_.deviceChannels));
+    recordScratch_.assign(size_t(blockSize_) * size_t(options_.deviceChannels), 0.f);
+    recorded_.assign(size_t(options_.deviceChannels), {});
+    for (auto& ch : recorded_) ch.reserve(size_t(options_.recordSeconds * sampleRate_));
+  }
+  lastStatus_ = std::chrono::steady_clock::now();
+}
+
+LiveSession::~LiveSession() { stop(); }
+
+void LiveSession::setPose(const glm::vec3& position, float yawRadians, double sceneSeconds) {
+  pose_.publish(ListenerPose{position, yawRadians, nowNs(), sceneSeconds});
+}
+
+void LiveSession::start() {
+  if (running_.exchange(true)) return;
+  propagationThread_ = std::thread([this] { propagationLoop(); });
+  if (recordRing_) recorderThread_ = std::thread([this] { recorderLoop(); });
+}
+
+void LiveSession::stop() {
+  if (!running_.exchange(false)) return;
+  wake_.notify_all();
+  if (propagationThread_.joinable()) propagationThread_.join();
+  if (recorderThread_.joinable()) recorderThread_.join();
+}
+
+void LiveSession::propagationLoop() {
+  const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(1.0 / settings_.frameRate));
+  auto next = std::chrono::steady_clock::now();
+  while (running_.load(std::memory_order_relaxed)) {
+    next += period;
+    IrSet* back = nullptr;
+    while (fromAudio_.try_dequeue(back)) propagation_->recycle(back);
+    const auto t0 = std::chrono::steady_clock::now();
+    const ListenerPose pose = pose_.read();
+    IrSet* set = propagation_->computeFrame(pose.position, pose.sceneSeconds);
+    const auto t1 = std::chrono::steady_clock::now();
+    if (set) {
+      set->poseNs = pose.publishedNs;
+      set->readyNs = nowNs();
+      if (!toAudio_.try_enqueue(set)) {
+        propagation_->recycle(set);
+        irsDropped_.fetch_add(1, std::memory_order_relaxed);
+      }
+      frames_.fetch_add(1, std::memory_order_relaxed);
+      uint64_t rays = 0;
+      size_t entries = 0;
+      for (size_t s = 0; s < propagation_->simulation().sourceCount(); ++s) {
+        rays += propagation_->simulation().result(s).trace.rays;
+        entries += propagation_->simulation().result(s).cacheEntries;
+      }
+      rays_.fetch_add(rays, std::memory_order_relaxed);
+      cacheEntries_.store(entries, std::memory_order_relaxed);
+      frameMs_.store(std::chrono::duration<double, std::milli>(t1 - t0).count(),
+                     std::memory_order_relaxed);
+    }
+    // At most frame_rate frames per second; run late frames back to back.
+    std::unique_lock<std::mutex> lock(wakeMutex_);
+    if (std::chrono::steady_clock::now() < next)
+      wake_.wait_until(lock, next, [this] { return !running_.load(std::memory_order_relaxed); });
+    else
+      next = std::chrono::steady_clock::now();
+  }
+}
+
+void LiveSession::recorderLoop() {
+  std::vector<float> buf(size_t(0.05 * sampleRate_) * size_t(options_.deviceChannels));
+  const size_t channels = size_t(options_.deviceChannels);
+  size_t phase = 0;  // channel of the next sample (the ring is interleaved)
+  auto drain = [&] {
+    size_t n;
+    while ((n = recordRing_->pop(buf.data(), buf.size())) > 0)
+      for (size_t i = 0; i < n; ++i) {
+        recorded_[phase].push_back(buf[i]);
+        phase = (phase + 1) % channels;
+      }
+  };
+  while (running_.load(std::memory_order_relaxed)) {
+    drain();
+    std::unique_lock<std::mutex> lock(wakeMutex_);
+    wake_.wait_for(lock, std::chrono::milliseconds(10),
+                   [this] { return !running_.load(std::memory_order_relaxed); });
+  }
+  drain();
+}
+
+void LiveSession::renderCallback(void* user, float* const* out, int frames) noexcept {
+  static_cast<LiveSession*>(user)->render(out, frames);
+}
+
+void LiveSession::render(float* const* out, int frames) noexcept {
+  const int64_t t0 = nowNs();
+  const int channels = options_.deviceChannels;
+  if (frames != blockSize_) {
+    for (int c = 0; c < channels; ++c) std::fill(out[c], out[c] + frames, 0.f);
+    lateBlocks_.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  // Newest IR wins; older ones go straight back.
+  IrSet* newest = nullptr;
+  IrSet* s = nullptr;
+  while (toAudio_.try_dequeue(s)) {
+    if (newest) {
+      fromAudio_.try_enqueue(newest);
+      irsDropped_.fetch_add(1, std::memory_order_relaxed);
+    }
+    newest = s;
+  }
+  if (newest) audioStage_->offer(newest);
+  const uint64_t appliedBefore = audioStage_->irsApplied();
+  audioStage_->process(stageOut_.data());
+  const bool swapped = audioStage_->irsApplied() != appliedBefore;
+  while ((s = audioStage_->takeSpent())) fromAudio_.try_enqueue(s);
+
+  // Device channels: copy the IR channel(s); NaN/inf guard.
+  bool finite = true;
+  for (int n = 0; n < frames; ++n) finite = finite && std::isfinite(mono_[size_t(n)]);
+  for (int c = 0; c < channels; ++c) {
+    if (finite)
+      std::copy(mono_.begin(), mono_.begin() + frames, out[c]);
+    else
+      std::fill(out[c], out[c] + frames, 0.f);
+  }
+  if (!finite) nanBlocks_.fetch_add(1, std::memory_order_relaxed);
+
+  if (recordRing_) {
+    for (int n = 0; n < frames; ++n)
+      for (int c = 0; c < channels; ++c)
+        recordScratch_[size_t(n) * size_t(channels) + size_t(c)] = out[c][n];
+    const size_t want = size_t(frames) * size_t(channels);
+    const size_t pushed = recordRing_->push(recordScratch_.data(), want);
+    if (pushed < want) recordDropped_.fetch_add(want - pushed, std::memory_order_relaxed);
+  }
+
+  const int64_t t1 = nowNs();
+  if (const IrSet* cur = audioStage_->current()) {
+    irAgeMs_.store(double(t1 - cur->readyNs) * 1e-6, std::memory_order_relaxed);
+    if (swapped) latencyStats_.record(uint64_t(std::max<int64_t>(0, t1 - cur->poseNs)), false);
+  }
+  irsApplied_.store(audioStage_->irsApplied(), std::memory_order_relaxed);
+  (swapped ? swapStats_ : noSwapStats_).record(uint64_t(t1 - t0), false);
+  blocks_.fetch_add(1, std::memory_order_relaxed);
+}
+
+LiveSession::Status LiveSession::status() const {
+  Status st;
+  st.frames = frames_.load(std::memory_order_relaxed);
+  st.frameMs = frameMs_.load(std::memory_order_relaxed);
+  const auto now = std::chrono::steady_clock::now();
+  const uint64_t rays = rays_.load(std::memory_order_relaxed);
+  const double dt = std::chrono::duration<double>(now - lastStatus_).count();
+  st.raysPerSecond = dt > 0.0 ? double(rays - lastRays_) / dt : 0.0;
+  lastRays_ = rays;
+  lastStatus_ = now;
+  st.cacheEntries = cacheEntries_.load(std::memory_order_relaxed);
+  st.irsApplied = irsApplied_.load(std::memory_order_relaxed);
+  st.irsDropped = irsDropped_.load(std::memory_order_relaxed);
+  st.irAgeMs = irAgeMs_.load(std::memory_order_relaxed);
+  const auto lat = latencyStats_.snapshot();
+  st.latencyMedianMs = lat.callbacks ? double(lat.quantileNs(0.5)) * 1e-6 : 0.0;
+  st.latencyP95Ms = lat.callbacks ? double(lat.quantileNs(0.95)) * 1e-6 : 0.0;
+  st.blocks = blocks_.load(std::memory_order_relaxed);
+  st.nanBlocks = nanBlocks_.load(std::memory_order_relaxed);
+  st.lateBlocks = lateBlocks_.load(std::memory_order_relaxed);
+  st.recordDropped = recordDropped_.load(std::memory_order_relaxed);
+  return st;
+}
+
+audio::AudioData LiveSession::takeRecording() {
+  audio::AudioData a;
+  a.sampleRate = sampleRate_;
+  if (running_.load()) return a;
+  const size_t n = recorded_.empty() ? 0 : std::min_element(recorded_.begin(), recorded_.end(),
+                                                            [](const auto& x, const auto& y) {
+                                                              return x.size() < y.size();
+                                                            })->size();
+  for (auto& ch : recorded_) {
+    ch.resize(n);
+    a.channels.push_back(std::move(ch));
+  }
+  recorded_.clear();
+  return a;
+}
+
+NullOutput::NullOutput(int sampleRate, int blockSize, int channels, audio::RenderCallback cb,
+                       void* user)
+    : sampleRate_(sampleRate), blockSize_(blockSize), channels_(channels), callback_(cb),
+      user_(user) {
+  buffers_.assign(size_t(channels), std::vector<float>(size_t(blockSize)));
+  for (auto& b : buffers_) pointers_.push_back(b.data());
+}
+
+NullOutput::~NullOutput() { stop(); }
+
+void NullOutput::start() {
+  if (running_.exchange(true)) return;
+  thread_ = std::thread([this] {
+    const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+        std::chrono::duration<double>(double(blockSize_) / sampleRate_));
+    auto next = std::chrono::steady_clock::now();
+    while (running_.load(std::memory_order_relaxed)) {
+      const auto t0 = std::chrono::steady_clock::now();
+      callback_(user_, pointers_.data(), blockSize_);
+      const auto t1 = std::chrono::steady_clock::now();
+      next += period;
+      const bool late = t1 > next;  // the callback overran its block period
+      stats_.record(uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count()),
+                    late);
+      if (late)
+        next = t1;
+      else
+        std::this_thread::sleep_until(next);
+    }
+  });
+}
+
+void NullOutput::stop() {
+  if (!running_.exchange(false)) return;
+  if (thread_.joinable()) thread_.join();
+}
+
+}  // namespace dpc

@@ -1,0 +1,148 @@
+// LiveSession: the live pipeline. The same PropagationStage and AudioStage as offline
+// rendering, on three threads (design.md "Thread roles"):
+//
+//   control thread     setPose() (trajectory or keyboard), status(), start()/stop()
+//   propagation thread reads the pose (PoseChannel), runs a frame, prepares an IrSet, pushes
+//                      its pointer to the audio thread (SPSC queue), recycles spent sets
+//   audio thread       render(): pops at most the newest IrSet per block (older ones go
+//                      straight back), convolves and crossfades, mixes, counts problems in
+//                      relaxed atomics, feeds the recorder ring
+//
+// Queues: moodycamel::ReaderWriterQueue with fixed capacity (try_enqueue / try_dequeue only:
+// never allocate after construction). The recorder ring is boost::lockfree::spsc_queue, drained
+// by a recorder thread that writes the WAV at stop().
+// render() never allocates, locks, logs, throws, waits or makes system calls (steady_clock is
+// the vDSO); tests/rt checks it with an interposed allocator.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <boost/lockfree/spsc_queue.hpp>
+#include <readerwriterqueue/readerwriterqueue.h>
+
+#include "apps/pipeline/pose_channel.h"
+#include "apps/pipeline/render_pipeline.h"
+#include "audio/audio_device.h"
+
+namespace dpc {
+
+class LiveSession {
+ public:
+  struct Options {
+    int deviceChannels = 2;        ///< output channels the device renders (IR channels copied)
+    double recordSeconds = 0.0;    ///< > 0: keep what was played (ring of this many seconds)
+    int poolSize = 6;              ///< IrSets in flight (>= 3)
+  };
+
+  /// Control thread. Builds the stages (Embree scene, IR synthesisers, convolvers, queues).
+  /// Allocates; throws on bad input. blockSize comes from scene.audio.blockSize.
+  LiveSession(const SceneDesc& scene, const PropagationSettings& settings, const DrySignals& dry,
+              const Options& options);
+  ~LiveSession();
+
+  /// Control thread: starts the propagation (and recorder) threads. The audio device, created
+  /// by the caller, calls render() from its audio thread.
+  void start();
+  /// Control thread: stops and joins the threads. Idempotent.
+  void stop();
+
+  /// Control thread: publishes a new listener pose (timestamped now).
+  void setPose(const glm::vec3& position, float yawRadians, double sceneSeconds);
+
+  /// Audio thread: renders one block of blockSize() frames into out[0..deviceChannels).
+  /// Wait-free; no allocation, locks, logging, exceptions or system calls.
+  void render(float* const* out, int frames) noexcept;
+  /// Adapter with the audio::RenderCallback signature (user = LiveSession*).
+  static void renderCallback(void* user, float* const* out, int frames) noexcept;
+
+  int blockSize() const { return blockSize_; }
+  int sampleRate() const { return sampleRate_; }
+
+  struct Status {
+    uint64_t frames = 0;
+    double frameMs = 0.0;          ///< last propagation frame (trace + synthesis + prepare)
+    double raysPerSecond = 0.0;    ///< over the last status interval
+    size_t cacheEntries = 0;
+    uint64_t irsApplied = 0;       ///< IR sets that reached the convolvers
+    uint64_t irsDropped = 0;       ///< superseded before the audio thread applied them
+    double irAgeMs = 0.0;          ///< age of the IR playing, at the last block
+    double latencyMedianMs = 0.0;  ///< motion-to-sound latency, since start
+    double latencyP95Ms = 0.0;
+    uint64_t blocks = 0;
+    uint64_t nanBlocks = 0;        ///< blocks zeroed by the NaN/inf guard
+    uint64_t lateBlocks = 0;       ///< render() calls with frames != blockSize (skipped)
+    uint64_t recordDropped = 0;    ///< samples the recorder ring could not take
+  };
+  Status status() const;
+
+  /// Durations of render() per block, split by whether an IR swap (crossfade) happened.
+  const audio::CallbackStats& renderStatsWithSwap() const { return swapStats_; }
+  const audio::CallbackStats& renderStatsWithoutSwap() const { return noSwapStats_; }
+  const audio::CallbackStats& latencyStats() const { return latencyStats_; }
+
+  /// After stop(): the recorded output (deviceChannels channels) or empty.
+  audio::AudioData takeRecording();
+
+ private:
+  void propagationLoop();
+  void recorderLoop();
+
+  const SceneDesc& scene_;
+  PropagationSettings settings_;
+  Options options_;
+  int blockSize_, sampleRate_;
+  std::unique_ptr<PropagationStage> propagation_;
+  std::unique_ptr<AudioStage> audioStage_;
+  PoseChannel pose_;
+  moodycamel::ReaderWriterQueue<IrSet*> toAudio_, fromAudio_;
+  std::vector<float> mono_;  ///< audio-thread scratch: one block per IR channel
+  std::vector<float*> stageOut_;
+  std::unique_ptr<boost::lockfree::spsc_queue<float>> recordRing_;
+  std::vector<float> recordScratch_;
+  std::vector<std::vector<float>> recorded_;
+
+  std::thread propagationThread_, recorderThread_;
+  std::atomic<bool> running_{false};
+  std::mutex wakeMutex_;
+  std::condition_variable wake_;
+
+  // Statistics: written by one thread, read by the control thread (relaxed).
+  std::atomic<uint64_t> frames_{0}, rays_{0}, irsDropped_{0}, blocks_{0}, nanBlocks_{0},
+      lateBlocks_{0}, recordDropped_{0}, irsApplied_{0};
+  std::atomic<double> frameMs_{0.0}, irAgeMs_{0.0};
+  std::atomic<size_t> cacheEntries_{0};
+  mutable uint64_t lastRays_ = 0;
+  mutable std::chrono::steady_clock::time_point lastStatus_{};
+  audio::CallbackStats swapStats_, noSwapStats_, latencyStats_;
+};
+
+/// A stand-in audio device for machines without one (benchmarks, tests): a thread that calls
+/// the render callback every block period on a steady clock, like a sound card would.
+/// Control thread: construct, start, stop. Its thread is the "audio thread".
+class NullOutput {
+ public:
+  NullOutput(int sampleRate, int blockSize, int channels, audio::RenderCallback cb, void* user);
+  ~NullOutput();
+  void start();
+  void stop();
+  const audio::CallbackStats& stats() const { return stats_; }
+
+ private:
+  int sampleRate_, blockSize_, channels_;
+  audio::RenderCallback callback_;
+  void* user_;
+  std::vector<std::vector<float>> buffers_;
+  std::vector<float*> pointers_;
+  std::thread thread_;
+  std::atomic<bool> running_{false};
+  audio::CallbackStats stats_;
+};
+
+}  // namespace dpc

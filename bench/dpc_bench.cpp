@@ -4,6 +4,8 @@
 //                               [--no-roulette] [--tau S]
 //   dpc-bench noise SCENE [--rays N] [--frames F] [--tau S] [--walk-speed V]
 //                         [--reference-frames M] [--threads T] [--max-order D]
+//   dpc-bench live SCENE [--rays N] [--duration S] [--block-size B] [--frame-rate F]
+//                        [--threads T] [--device SPEC]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -16,6 +18,10 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
+#include <thread>
+
+#include "apps/pipeline/live_session.h"
+#include "audio/audio_device.h"
 #include "bench/bare_embree.h"
 #include "engine/input_error.h"
 #include "engine/ir_synthesis.h"
@@ -246,6 +252,82 @@ int benchNoise(const Common& c, double walkSpeed, int referenceFrames, int warmu
   return 0;
 }
 
+
+int benchLive(const Common& c, double duration, int blockSize, double frameRate,
+              const std::string& device) {
+  SceneDesc scene = loadScene(c.scene);
+  scene.audio.blockSize = blockSize;
+  PropagationSettings s = settingsFor(scene, c);
+  if (frameRate > 0.0) s.frameRate = float(frameRate);
+  const DrySignals dry = loadDrySignals(scene);
+  LiveSession::Options lo;
+  lo.deviceChannels = 2;
+  LiveSession session(scene, s, dry, lo);
+  session.setPose(listenerPositionAt(scene.listener, 0.0), 0.f, 0.0);
+  std::unique_ptr<NullOutput> null;
+  std::unique_ptr<audio::AudioOutput> real;
+  if (device.empty()) {
+    null = std::make_unique<NullOutput>(scene.audio.sampleRate, blockSize, 2,
+                                        &LiveSession::renderCallback, &session);
+  } else {
+    audio::AudioOutput::Options ao;
+    ao.device = device;
+    ao.sampleRate = scene.audio.sampleRate;
+    ao.channels = 2;
+    ao.blockSize = blockSize;
+    real = std::make_unique<audio::AudioOutput>(ao, &LiveSession::renderCallback, &session);
+  }
+  session.start();
+  if (null) null->start(); else real->start();
+  const auto start = std::chrono::steady_clock::now();
+  for (;;) {
+    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (t >= duration) break;
+    session.setPose(listenerPositionAt(scene.listener, t), 0.f, t);  // walking: every 5 ms
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  if (null) null->stop(); else real->stop();
+  session.stop();
+  const double periodNs = 1e9 * blockSize / scene.audio.sampleRate;
+  auto pct = [&](const audio::CallbackStats& st) {
+    const auto snap = st.snapshot();
+    return json{{"blocks", snap.callbacks},
+                {"median_pct", 100.0 * double(snap.quantileNs(0.5)) / periodNs},
+                {"p999_pct", 100.0 * double(snap.quantileNs(0.999)) / periodNs},
+                {"max_pct", 100.0 * double(snap.maxNs) / periodNs}};
+  };
+  const auto lat = session.latencyStats().snapshot();
+  const LiveSession::Status st = session.status();
+  const auto cb = null ? null->stats().snapshot() : real->stats().snapshot();
+  json j;
+  j["benchmark"] = "live";
+  j["scene"] = c.scene;
+  j["device"] = device.empty() ? "null (timer thread at the block rate)" : device;
+  j["sample_rate"] = scene.audio.sampleRate;
+  j["block_size"] = blockSize;
+  j["block_period_ms"] = periodNs * 1e-6;
+  j["rays_per_frame"] = s.raysPerFrame;
+  j["frame_rate_target"] = s.frameRate;
+  j["threads"] = s.threads;
+  j["duration_s"] = duration;
+  j["frames"] = st.frames;
+  j["frames_per_second"] = double(st.frames) / duration;
+  j["irs_applied"] = st.irsApplied;
+  j["motion_to_sound_latency_ms"] = {{"samples", lat.callbacks},
+                                     {"median", double(lat.quantileNs(0.5)) * 1e-6},
+                                     {"p95", double(lat.quantileNs(0.95)) * 1e-6},
+                                     {"max", double(lat.maxNs) * 1e-6}};
+  j["render_time_with_ir_swap"] = pct(session.renderStatsWithSwap());
+  j["render_time_without_ir_swap"] = pct(session.renderStatsWithoutSwap());
+  j["callbacks"] = cb.callbacks;
+  j["xruns"] = cb.xruns;
+  j["nan_blocks"] = st.nanBlocks;
+  j["note"] = "latency: pose published by the control thread -> first block rendered with an "
+              "IR computed for that pose; render time: LiveSession::render per block, % of the "
+              "block period";
+  std::printf("%s\n", j.dump(2).c_str());
+  return 0;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -273,18 +355,28 @@ int main(int argc, char** argv) {
   noise->add_option("--reference-frames", referenceFrames, "Path-tracing frames per reference");
   noise->add_option("--warmup", warmup, "Frames before measuring (default 2 tau)");
   noise->add_option("--pt-multipliers", multipliers, "Ray multipliers for path tracing");
+  CLI::App* live = app.add_subcommand("live", "Motion-to-sound latency and audio render load");
+  double liveDuration = 20.0, liveFrameRate = 0.0;
+  int liveBlock = 128;
+  std::string liveDevice;
+  addCommon(live);
+  live->add_option("--duration", liveDuration, "Seconds to run (default 20)");
+  live->add_option("--block-size", liveBlock, "Audio block size (default 128)");
+  live->add_option("--frame-rate", liveFrameRate, "Propagation frames per second (default: scene)");
+  live->add_option("--device", liveDevice, "Audio device (default: a timer thread, no device)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
-  for (CLI::App* sub : {prop, noise}) {
+  for (CLI::App* sub : {prop, noise, live}) {
     c.haveTau = c.haveTau || sub->count("--tau") > 0;
     c.haveMaxOrder = c.haveMaxOrder || sub->count("--max-order") > 0;
     c.haveRays = c.haveRays || sub->count("--rays") > 0;
   }
   try {
     if (*prop) return benchPropagation(c, noRoulette);
+    if (*live) return benchLive(c, liveDuration, liveBlock, liveFrameRate, liveDevice);
     if (warmup < 0) {
       const SceneDesc scene = loadScene(c.scene);
       const double tau = c.haveTau ? c.tau : scene.propagation.cacheTau;

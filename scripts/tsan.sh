@@ -15,7 +15,7 @@ cd "$(dirname "$0")/.."
 build=${BUILD_DIR:-build-tsan}
 start=$(date +%s)
 cmake -S . -B "$build" -G Ninja -DDPC_TSAN=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
-cmake --build "$build" --target queue_tsan_test -j"${JOBS:-2}"
+cmake --build "$build" --target queue_tsan_test pipeline_tsan_test -j"${JOBS:-2}"
 built=$(date +%s)
 
 # halt_on_error: the first race fails the run; second_deadlock_stack for lock reports.
@@ -23,6 +23,12 @@ set +e
 TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 ${TSAN_OPTIONS:-}" \
   "$build/tests/queue_tsan_test" "[tsan]"
 status=$?
+if ((status == 0)); then
+  # tests/rt/tsan.supp: uninstrumented libtbb's internals only (see the file).
+  TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$PWD/tests/rt/tsan.supp ${TSAN_OPTIONS:-}" \
+    "$build/tests/pipeline_tsan_test" "[tsan]"
+  status=$?
+fi
 set -e
 end=$(date +%s)
 echo "tsan.sh: build $((built - start)) s, test $((end - built)) s, status $status"

@@ -25,7 +25,7 @@
 #include <vector>
 
 #include <boost/lockfree/spsc_queue.hpp>
-#include <readerwriterqueue/readerwriterqueue.h>
+#include "apps/pipeline/spsc_queue.h"
 
 #include "apps/pipeline/pose_channel.h"
 #include "apps/pipeline/render_pipeline.h"

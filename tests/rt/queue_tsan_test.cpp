@@ -18,22 +18,7 @@
 // Negative control (checked): compiled with -DDPC_TSAN_INJECT_RACE the main thread also
 // rewrites a spectrum right after handing it over, and TSan reports the race between
 // IrSpectrum::prepare and the convolver's reads.
-#if defined(__SANITIZE_THREAD__) && defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wtsan"
-#endif
-#if defined(__SANITIZE_THREAD__) && !defined(AE_TSAN_ANNOTATE_RELEASE)
-namespace moodycamel {
-inline int ae_tsan_global;
-}
-extern "C" void AnnotateHappensBefore(const char*, int, void*);
-extern "C" void AnnotateHappensAfter(const char*, int, void*);
-#define AE_TSAN_ANNOTATE_RELEASE() \
-  AnnotateHappensBefore(__FILE__, __LINE__, (void*)(&::moodycamel::ae_tsan_global))
-#define AE_TSAN_ANNOTATE_ACQUIRE() \
-  AnnotateHappensAfter(__FILE__, __LINE__, (void*)(&::moodycamel::ae_tsan_global))
-#endif
-
-#include <readerwriterqueue/readerwriterqueue.h>
+#include "apps/pipeline/spsc_queue.h"  // readerwriterqueue with TSan annotations for GCC
 
 #include <atomic>
 #include <catch2/catch.hpp>

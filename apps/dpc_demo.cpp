@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -31,7 +32,7 @@ using namespace dpc;
 namespace {
 
 struct Flags {
-  std::string scene, offline, irOut, estimator, weighting, device, record;
+  std::string scene, offline, irOut, estimator, weighting, device, record, output, hrtf;
   int64_t blockSize = 0;
   bool listDevices = false, interactive = false, hasBlockSize = false;
   double duration = 0.0, tau = 0.0, gainDb = 0.0;
@@ -94,8 +95,24 @@ PropagationSettings applyOverrides(const SceneDesc& scene, const Flags& fl) {
   return s;
 }
 
+/// --output / --hrtf: the scene's audio output settings, overridden.
+void applyAudioOverrides(SceneDesc& scene, const Flags& fl) {
+  if (!fl.output.empty()) {
+    auto o = parseOutputFormat(fl.output);
+    if (!o) throw InputError("command line", "--output", "'" + fl.output + "' is not mono, stereo or binaural");
+    scene.audio.output = *o;
+  }
+  if (!fl.hrtf.empty()) {
+    if (!std::filesystem::is_regular_file(fl.hrtf))
+      throw InputError("command line", "--hrtf", "file '" + fl.hrtf + "' not found");
+    scene.audio.hrtfPath = fl.hrtf;
+    if (fl.output.empty()) scene.audio.output = OutputFormat::kBinaural;
+  }
+}
+
 int runOffline(const Flags& fl) {
   SceneDesc scene = loadScene(fl.scene);
+  applyAudioOverrides(scene, fl);
   for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   const PropagationSettings settings = applyOverrides(scene, fl);
   if (fl.hasDuration && !(fl.duration > 0.0))
@@ -129,8 +146,10 @@ int runOffline(const Flags& fl) {
 
   const double audioSeconds = double(out.frames()) / scene.audio.sampleRate;
   const auto& t = r.totals;
-  std::printf("wrote %s (%.2f s, %d Hz, float32, gain %+.1f dB)\n", fl.offline.c_str(),
-              audioSeconds, scene.audio.sampleRate, gainDb);
+  const char* format = scene.audio.output == OutputFormat::kBinaural ? "binaural"
+                       : scene.audio.output == OutputFormat::kStereo ? "stereo" : "mono";
+  std::printf("wrote %s (%.2f s, %d Hz, %s, float32, gain %+.1f dB)\n", fl.offline.c_str(),
+              audioSeconds, scene.audio.sampleRate, format, gainDb);
   if (!fl.irOut.empty())
     std::printf("wrote %s (last frame's IR, %zu channel(s): source-major)\n", fl.irOut.c_str(),
                 r.lastIrs.size() * r.lastIrs.front().size());
@@ -201,6 +220,7 @@ int listDevices() {
 
 int runLive(Flags& fl) {
   SceneDesc scene = loadScene(fl.scene);
+  applyAudioOverrides(scene, fl);
   for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   PropagationSettings settings = applyOverrides(scene, fl);
   // Live: leave one core to the audio thread unless --threads says otherwise (measured on 2
@@ -251,7 +271,8 @@ int runLive(Flags& fl) {
   double sceneTime = 0.0;
   bool paused = false, manual = false;
   glm::vec3 position = listenerPositionAt(scene.listener, 0.0);
-  float yaw = 0.f;
+  float yawOffset = 0.f;  // Q/E turn the head relative to the trajectory's heading
+  float yaw = listenerOrientationAt(scene.listener, 0.0).yawRadians;
   session.setPose(position, yaw, 0.0);
   std::unique_ptr<RawTerminal> terminal;
   if (fl.interactive) {
@@ -274,8 +295,9 @@ int runLive(Flags& fl) {
     if (std::chrono::duration<double>(now - start).count() >= duration) break;
     if (terminal) {
       for (int k = terminal->key(); k; k = terminal->key()) {
-        const glm::vec3 forward(std::cos(yaw), 0.f, std::sin(yaw));
-        const glm::vec3 right(-std::sin(yaw), 0.f, std::cos(yaw));
+        // Orientation convention (engine/scene.h): forward = (cos yaw, 0, -sin yaw).
+        const glm::vec3 forward(std::cos(yaw), 0.f, -std::sin(yaw));
+        const glm::vec3 right(std::sin(yaw), 0.f, std::cos(yaw));
         const float step = 0.25f, turn = float(std::numbers::pi / 12);
         switch (k) {
           case 'q': quit = true; break;
@@ -284,8 +306,8 @@ int runLive(Flags& fl) {
           case 's': case 256 + 'D': position -= forward * step; manual = true; break;
           case 'a': case 256 + 'L': position -= right * step; manual = true; break;
           case 'd': case 256 + 'R': position += right * step; manual = true; break;
-          case 'Q': yaw -= turn; break;
-          case 'E': case 'e': yaw += turn; break;
+          case 'Q': yawOffset += turn; break;            // turn left
+          case 'E': case 'e': yawOffset -= turn; break;  // turn right
         }
       }
     }
@@ -293,7 +315,9 @@ int runLive(Flags& fl) {
       sceneTime += dt;
       position = listenerPositionAt(scene.listener, sceneTime);
     }
-    session.setPose(position, yaw, sceneTime);
+    const Orientation heading = listenerOrientationAt(scene.listener, sceneTime);
+    yaw = heading.yawRadians + yawOffset;
+    session.setPose(position, yaw, sceneTime, heading.pitchRadians);
     if (std::chrono::duration<double>(now - lastStatus).count() >= 1.0) {
       lastStatus = now;
       const auto st = session.status();
@@ -366,6 +390,9 @@ int main(int argc, char** argv) {
   app.add_option("--gain-db", fl.gainDb,
                  "Fixed output gain in dB (default: normalise the peak to -1 dBFS)");
   app.add_flag("--quiet", fl.quiet, "No progress bar");
+  app.add_option("--output", fl.output, "mono | stereo | binaural (default: the scene's audio.output)");
+  app.add_option("--hrtf", fl.hrtf,
+                 "SOFA file for binaural output (default: /usr/share/libmysofa/default.sofa)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

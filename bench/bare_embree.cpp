@@ -1,5 +1,6 @@
 #include "bench/bare_embree.h"
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -14,42 +15,103 @@
 
 namespace dpc::bench {
 
+namespace {
+
+constexpr uint32_t kChunk = 64;
+
+glm::vec3 firstDirection(Rng& rng) {
+  const float z = 1.f - 2.f * rng.uniform();
+  const float r = std::sqrt(std::max(0.f, 1.f - z * z));
+  const float phi = 2.f * std::numbers::pi_v<float> * rng.uniform();
+  return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
+/// Cosine-weighted bounce (Malley), basis after Duff et al. 2017; moves org to the hit point.
+void bounce(const SurfaceHit& hit, Rng& rng, glm::vec3& org, glm::vec3& dir) {
+  const glm::vec3 n = glm::dot(hit.normal, dir) < 0.f ? hit.normal : -hit.normal;
+  const float sign = std::copysign(1.f, n.z);
+  const float a = -1.f / (sign + n.z), b = n.x * n.y * a;
+  const glm::vec3 t(1.f + sign * n.x * n.x * a, sign * b, -sign * n.x);
+  const glm::vec3 bt(b, sign + n.y * n.y * a, -n.y);
+  const float u1 = rng.uniform(), u2 = rng.uniform();
+  const float rr = std::sqrt(u1), ph = 2.f * std::numbers::pi_v<float> * u2;
+  org = org + dir * hit.t + n * 1e-4f;
+  dir = glm::normalize(t * (rr * std::cos(ph)) + bt * (rr * std::sin(ph)) +
+                       n * std::sqrt(std::max(0.f, 1.f - u1)));
+}
+
+uint64_t scalarChunk(const Geometry& geometry, const glm::vec3& source, uint32_t begin,
+                     uint32_t end, int maxOrder, uint64_t seed) {
+  uint64_t count = 0;
+  for (uint32_t ray = begin; ray < end; ++ray) {
+    Rng rng(seed, ray);
+    glm::vec3 dir = firstDirection(rng), org = source;
+    SurfaceHit hit;
+    for (int order = 0; order <= maxOrder; ++order) {
+      ++count;
+      if (!geometry.intersect(org, dir, 0.f, std::numeric_limits<float>::infinity(), hit)) break;
+      bounce(hit, rng, org, dir);
+    }
+  }
+  return count;
+}
+
+uint64_t packetChunk(const Geometry& geometry, const glm::vec3& source, uint32_t begin,
+                     uint32_t end, int maxOrder, uint64_t seed) {
+  constexpr int K = RayPacket16::kSize;
+  struct Lane {
+    Rng rng{0, 0};
+    int order = 0;
+  };
+  std::array<Lane, K> lanes;
+  RayPacket16 packet;
+  PacketHits16 hits;
+  uint64_t count = 0;
+  uint32_t next = begin;
+  int live = 0;
+  auto start = [&](int i) {
+    lanes[i].rng = Rng(seed, next++);
+    packet.dir[i] = firstDirection(lanes[i].rng);
+    packet.org[i] = source;
+    lanes[i].order = 0;
+  };
+  for (int i = 0; i < K && next < end; ++i, ++live) {
+    start(i);
+    packet.active[i] = true;
+  }
+  while (live > 0) {
+    geometry.intersect16(packet, 0.f, std::numeric_limits<float>::infinity(), hits);
+    count += uint64_t(live);
+    for (int i = 0; i < K; ++i) {
+      if (!packet.active[i]) continue;
+      if (hits.found[i] && lanes[i].order < maxOrder) {
+        bounce(hits.hit[i], lanes[i].rng, packet.org[i], packet.dir[i]);
+        ++lanes[i].order;
+      } else if (next < end) {
+        start(i);
+      } else {
+        packet.active[i] = false;
+        --live;
+      }
+    }
+  }
+  return count;
+}
+
+}  // namespace
+
 BareResult traceBare(const Geometry& geometry, const glm::vec3& source, int rays, int maxOrder,
-                     int threads, uint64_t seed) {
-  constexpr uint32_t kChunk = 64;
+                     int threads, uint64_t seed, BareMode mode) {
   const uint32_t chunks = (uint32_t(rays) + kChunk - 1) / kChunk;
   std::vector<uint64_t> segments(chunks, 0);
   tbb::task_arena arena = threads > 0 ? tbb::task_arena(threads) : tbb::task_arena();
   const auto t0 = std::chrono::steady_clock::now();
   arena.execute([&] {
     tbb::parallel_for(uint32_t(0), chunks, [&](uint32_t c) {
-      uint64_t count = 0;
-      const uint32_t end = std::min(uint32_t(rays), (c + 1) * kChunk);
-      for (uint32_t ray = c * kChunk; ray < end; ++ray) {
-        Rng rng(seed, ray);
-        const float z = 1.f - 2.f * rng.uniform();
-        const float r = std::sqrt(std::max(0.f, 1.f - z * z));
-        const float phi = 2.f * std::numbers::pi_v<float> * rng.uniform();
-        glm::vec3 dir(r * std::cos(phi), r * std::sin(phi), z), org = source;
-        SurfaceHit hit;
-        for (int order = 0; order <= maxOrder; ++order) {
-          ++count;
-          if (!geometry.intersect(org, dir, 0.f, std::numeric_limits<float>::infinity(), hit))
-            break;
-          const glm::vec3 n = glm::dot(hit.normal, dir) < 0.f ? hit.normal : -hit.normal;
-          // Cosine-weighted bounce (Malley), basis after Duff et al. 2017.
-          const float sign = std::copysign(1.f, n.z);
-          const float a = -1.f / (sign + n.z), b = n.x * n.y * a;
-          const glm::vec3 t(1.f + sign * n.x * n.x * a, sign * b, -sign * n.x);
-          const glm::vec3 bt(b, sign + n.y * n.y * a, -n.y);
-          const float u1 = rng.uniform(), u2 = rng.uniform();
-          const float rr = std::sqrt(u1), ph = 2.f * std::numbers::pi_v<float> * u2;
-          org = org + dir * hit.t + n * 1e-4f;
-          dir = glm::normalize(t * (rr * std::cos(ph)) + bt * (rr * std::sin(ph)) +
-                               n * std::sqrt(std::max(0.f, 1.f - u1)));
-        }
-      }
-      segments[c] = count;
+      const uint32_t begin = c * kChunk, end = std::min(uint32_t(rays), (c + 1) * kChunk);
+      segments[c] = mode == BareMode::kPacket16
+                        ? packetChunk(geometry, source, begin, end, maxOrder, seed)
+                        : scalarChunk(geometry, source, begin, end, maxOrder, seed);
     });
   });
   BareResult r;

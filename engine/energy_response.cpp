@@ -1,6 +1,8 @@
 #include "engine/energy_response.h"
 
 #include <cmath>
+
+#include <glm/geometric.hpp>
 #include <stdexcept>
 
 namespace dpc {
@@ -31,6 +33,57 @@ EnergyResponse EnergyResponse::rebinned(size_t factor) const {
   for (size_t k = 0; k < bins_.size(); ++k) r.bins_[k / factor] += bins_[k];
   r.dropped_ = dropped_;
   return r;
+}
+
+DirectionalEnergyResponse::DirectionalEnergyResponse(double lengthSeconds, double binSeconds,
+                                                     std::vector<glm::vec3> directions,
+                                                     float exponent)
+    : directions_(std::move(directions)), exponent_(exponent) {
+  if (directions_.empty() || !(exponent_ > 0.f))
+    throw std::invalid_argument("DirectionalEnergyResponse: need directions and exponent > 0");
+  for (glm::vec3& d : directions_) d = glm::normalize(d);
+  responses_.assign(directions_.size(), EnergyResponse(lengthSeconds, binSeconds));
+  weights_.assign(directions_.size(), 0.f);
+}
+
+void DirectionalEnergyResponse::setListenerFrame(const glm::vec3& forward, const glm::vec3& up) {
+  forward_ = glm::normalize(forward);
+  up_ = glm::normalize(up - forward_ * glm::dot(up, forward_));
+  left_ = glm::cross(up_, forward_);  // right-handed: left = up x forward
+}
+
+glm::vec3 DirectionalEnergyResponse::toListener(const glm::vec3& w) const {
+  return {glm::dot(w, forward_), glm::dot(w, left_), glm::dot(w, up_)};
+}
+
+void DirectionalEnergyResponse::add(double delaySeconds, const Bands& intensity,
+                                    const glm::vec3& worldDirection) {
+  const float len = glm::length(worldDirection);
+  if (!(len > 0.f)) {
+    // No direction (should not happen): spread evenly.
+    for (EnergyResponse& r : responses_) r.add(delaySeconds, intensity / float(responses_.size()));
+    return;
+  }
+  const glm::vec3 d = toListener(worldDirection / len);
+  float sum = 0.f;
+  for (size_t k = 0; k < directions_.size(); ++k) {
+    const float c = std::max(0.f, glm::dot(d, directions_[k]));
+    // c^p for p = 4 without pow: the common case.
+    const float c2 = c * c;
+    weights_[k] = exponent_ == 4.f ? c2 * c2 : std::pow(c, exponent_);
+    sum += weights_[k];
+  }
+  if (!(sum > 0.f)) {
+    for (EnergyResponse& r : responses_) r.add(delaySeconds, intensity / float(responses_.size()));
+    return;
+  }
+  const float inv = 1.f / sum;
+  for (size_t k = 0; k < directions_.size(); ++k)
+    if (weights_[k] > 0.f) responses_[k].add(delaySeconds, intensity * (weights_[k] * inv));
+}
+
+void DirectionalEnergyResponse::clear() {
+  for (EnergyResponse& r : responses_) r.clear();
 }
 
 }  // namespace dpc

@@ -11,6 +11,8 @@
 
 #include <vector>
 
+#include <glm/vec3.hpp>
+
 #include "engine/bands.h"
 
 namespace dpc {
@@ -46,6 +48,40 @@ class EnergyResponse {
   double binSeconds_ = 1e-3, invBin_ = 1e3;
   std::vector<Bands> bins_;
   Bands dropped_{0.f};
+};
+
+/// Energy response split over K fixed directions in the listener's frame (x forward, y left,
+/// z up: the SOFA convention), for spatial IR synthesis. An arrival from world direction d
+/// (unit vector from the listener toward where the sound comes from) is rotated into the
+/// listener frame and shared among the K directions v_k with energy weights
+/// w_k = max(0, d.v_k)^p / sum_j max(0, d.v_j)^p (a cosine-power panning in energy: the weights
+/// sum to 1, so the K responses add up to the plain energy response).
+/// Propagation thread. Construction and setDirections allocate; add/clear do not.
+class DirectionalEnergyResponse {
+ public:
+  DirectionalEnergyResponse() = default;
+  /// directions: K >= 1 unit vectors in the listener frame; exponent p > 0.
+  DirectionalEnergyResponse(double lengthSeconds, double binSeconds,
+                            std::vector<glm::vec3> directions, float exponent = 4.f);
+
+  /// The listener's orientation in world coordinates (unit, orthogonal): forward and up.
+  void setListenerFrame(const glm::vec3& forward, const glm::vec3& up);
+  /// World direction -> listener frame (x forward, y left, z up).
+  glm::vec3 toListener(const glm::vec3& world) const;
+
+  void add(double delaySeconds, const Bands& intensity, const glm::vec3& worldDirection);
+  void clear();
+
+  size_t directionCount() const { return responses_.size(); }
+  const glm::vec3& direction(size_t k) const { return directions_[k]; }
+  const EnergyResponse& response(size_t k) const { return responses_[k]; }
+
+ private:
+  std::vector<glm::vec3> directions_;
+  std::vector<EnergyResponse> responses_;
+  float exponent_ = 4.f;
+  glm::vec3 forward_{1.f, 0.f, 0.f}, left_{0.f, 0.f, -1.f}, up_{0.f, 1.f, 0.f};
+  std::vector<float> weights_;  ///< scratch, K
 };
 
 }  // namespace dpc

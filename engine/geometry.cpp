@@ -122,6 +122,44 @@ bool Geometry::intersect(const glm::vec3& org, const glm::vec3& dir, float tnear
   return true;
 }
 
+void Geometry::intersect16(const RayPacket16& rays, float tnear, float tfar,
+                           PacketHits16& hits) const {
+  constexpr int K = RayPacket16::kSize;
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  alignas(64) int valid[K];
+  RTCRayHit16 rh;  // RTC_ALIGN(64) in rtcore_ray.h
+  for (int i = 0; i < K; ++i) {
+    valid[i] = rays.active[i] ? -1 : 0;
+    rh.ray.org_x[i] = rays.org[i].x;
+    rh.ray.org_y[i] = rays.org[i].y;
+    rh.ray.org_z[i] = rays.org[i].z;
+    rh.ray.dir_x[i] = rays.dir[i].x;
+    rh.ray.dir_y[i] = rays.dir[i].y;
+    rh.ray.dir_z[i] = rays.dir[i].z;
+    rh.ray.tnear[i] = tnear;
+    rh.ray.tfar[i] = tfar;
+    rh.ray.time[i] = 0.f;
+    rh.ray.mask[i] = 0xffffffffu;
+    rh.ray.id[i] = unsigned(i);
+    rh.ray.flags[i] = 0;
+    rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.primID[i] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+  }
+  rtcIntersect16(valid, scene_, &context, &rh);
+  for (int i = 0; i < K; ++i) {
+    hits.found[i] = rays.active[i] && rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
+    if (!hits.found[i]) continue;
+    SurfaceHit& hit = hits.hit[i];
+    hit.t = rh.ray.tfar[i];
+    hit.triangle = rh.hit.primID[i];
+    hit.barycentric = {1.f - rh.hit.u[i] - rh.hit.v[i], rh.hit.u[i], rh.hit.v[i]};
+    hit.normal = glm::normalize(glm::vec3(rh.hit.Ng_x[i], rh.hit.Ng_y[i], rh.hit.Ng_z[i]));
+  }
+}
+
 bool Geometry::occluded(const glm::vec3& org, const glm::vec3& dir, float tnear,
                         float tfar) const {
   RTCIntersectContext context;

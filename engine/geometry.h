@@ -6,10 +6,11 @@
 // the first error, which build steps turn into a std::runtime_error.
 // Construction: control/propagation thread; allocates; throws std::runtime_error on an
 // Embree error and std::invalid_argument on inconsistent input (the scene loader validates
-// user input first). Queries (intersect, occluded): any number of threads at once; no
-// allocation; no errors.
+// user input first). Queries (intersect, intersect16, occluded): any number of threads at once;
+// no allocation; no errors.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -49,6 +50,23 @@ struct SurfaceHit {
   glm::vec3 normal{0.f};               ///< unit geometric normal, winding-order side
 };
 
+/// Up to 16 rays for one packet query (Geometry::intersect16). Lane i is traced only when
+/// active[i]; the other lanes' org/dir are ignored. dir must be unit length. Plain data, no
+/// allocation.
+struct RayPacket16 {
+  static constexpr int kSize = 16;
+  std::array<bool, kSize> active{};
+  std::array<glm::vec3, kSize> org{};
+  std::array<glm::vec3, kSize> dir{};
+};
+
+/// Result of a packet query: found[i] is false for inactive lanes and for misses; hit[i] is
+/// meaningful only where found[i].
+struct PacketHits16 {
+  std::array<bool, RayPacket16::kSize> found{};
+  std::array<SurfaceHit, RayPacket16::kSize> hit{};
+};
+
 class Geometry {
  public:
   /// mesh: triangles and per-triangle material indices into materials; patchSize: lambda in
@@ -62,6 +80,12 @@ class Geometry {
   /// Returns false on a miss.
   bool intersect(const glm::vec3& org, const glm::vec3& dir, float tnear, float tfar,
                  SurfaceHit& hit) const;
+  /// Closest hits of the active lanes of `rays`, t in (tnear, tfar), in one rtcIntersect16
+  /// call (Embree's hybrid packet traversal, flagged incoherent: the lanes are independent
+  /// paths). Each lane's answer is the same closest hit intersect() finds, up to the
+  /// floating-point rounding of the packet kernels (the hit triangle may differ where a ray
+  /// grazes a shared edge). Inactive lanes report found = false.
+  void intersect16(const RayPacket16& rays, float tnear, float tfar, PacketHits16& hits) const;
   /// True if anything blocks the segment org + t*dir, t in (tnear, tfar).
   bool occluded(const glm::vec3& org, const glm::vec3& dir, float tnear, float tfar) const;
 

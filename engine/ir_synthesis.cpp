@@ -61,44 +61,17 @@ OctaveBandMasks::OctaveBandMasks(int sampleRate, size_t fftSize) {
   }
 }
 
-IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVolume,
-                             double speedOfSound, uint64_t seed)
-    : sampleRate_(sampleRate) {
-  if (sampleRate <= 0 || !(lengthSeconds > 0.0) || !(roomVolume > 0.0) || !(speedOfSound > 0.0))
-    throw std::invalid_argument("IrSynthesizer: rate, length, volume and c must be > 0");
-  length_ = size_t(std::ceil(lengthSeconds * sampleRate));
-  const size_t margin = size_t(sampleRate / 4);  // room for the filters' tails
-  const size_t nfft = nextPow2(length_ + margin);
-  const size_t nbins = nfft / 2 + 1;
-
-  // Dirac sequence: Poisson process with rate mu(t) = min(4 pi c^3 t^2 / V, cap).
-  std::vector<float> seq(nfft, 0.f);
-  Rng rng(seed, 0x0d1acULL);
-  const double c3 = speedOfSound * speedOfSound * speedOfSound;
-  double t = 0.0;
-  const double dt = 1.0 / sampleRate;
-  // Generate by thinning per sample: probability mu(t) dt of a pulse in [t, t+dt).
-  for (size_t n = 0; n < length_; ++n, t += dt) {
-    const double mu = std::min(4.0 * std::numbers::pi * c3 * t * t / roomVolume,
-                               kMaxDensityPerSecond);
-    const double p = mu * dt;
-    if (double(rng.uniform()) < p) seq[n] = rng.uniform() < 0.5f ? -1.f : 1.f;
-  }
-
-  FftwArray<float> time(nfft);
-  FftwArray<fftwf_complex> spec(nbins), bandSpec(nbins);
-  fftwf_plan fwd = fftwf_plan_dft_r2c_1d(int(nfft), time.p, spec.p, FFTW_ESTIMATE);
-  fftwf_plan inv = fftwf_plan_dft_c2r_1d(int(nfft), bandSpec.p, time.p, FFTW_ESTIMATE);
-  if (!fwd || !inv) throw std::runtime_error("IrSynthesizer: FFTW plan failed");
-  std::copy(seq.begin(), seq.end(), time.p);
-  fftwf_execute(fwd);
-  const OctaveBandMasks masks(sampleRate, nfft);
-  const float scale = 1.f / float(nfft);
-  filterCentre_ = margin / 2;
-  // Crossover coupling for a white spectrum (see header).
+BandFilterData BandFilterData::compute(const OctaveBandMasks& masks, size_t fftSize) {
+  BandFilterData d;
+  const size_t nbins = masks.binCount();
   for (int b = 0; b < kNumBands; ++b) {
-    double norm = 0.0;
-    for (size_t k = 0; k < nbins; ++k) norm += double(masks.gain(b, k)) * masks.gain(b, k);
+    double norm = 0.0, share = 0.0;
+    for (size_t k = 0; k < nbins; ++k) {
+      const double m2 = double(masks.gain(b, k)) * masks.gain(b, k);
+      norm += m2;
+      share += ((k == 0 || k == nbins - 1) ? 1.0 : 2.0) * m2 / double(fftSize);
+    }
+    d.share[size_t(b)] = share;
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) {
         const int bi = b + i - 1, bj = b + j - 1;
@@ -109,62 +82,61 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
           c += m2 * double(masks.gain(bi, k)) * masks.gain(bi, k) * double(masks.gain(bj, k)) *
                masks.gain(bj, k);
         }
-        coupling_[size_t(b)][size_t(i)][size_t(j)] = c / norm;
+        d.coupling[size_t(b)][size_t(i)][size_t(j)] = c / norm;
       }
   }
-  for (int b = 0; b < kNumBands; ++b) {
-    const size_t bi = size_t(b);
-    // s_b through the amplitude-complementary filter A_b = M_b^2 (sum_b A_b = 1, so equal
-    // band gains give back the unfiltered, spectrally flat sequence: no coherent overlap).
-    for (size_t k = 0; k < nbins; ++k) {
-      const float g = masks.gain(b, k) * masks.gain(b, k) * scale;
-      bandSpec.p[k][0] = spec.p[k][0] * g;
-      bandSpec.p[k][1] = spec.p[k][1] * g;
-    }
-    fftwf_execute(inv);  // destroys bandSpec, which is rebuilt each time
-    bandSequence_[bi].assign(time.p, time.p + length_);
-    // Direct-sound filter: impulse response of A_b (zero phase), stored rotated so that
-    // index filterCentre_ is time 0; its measured energy per unit amplitude is that of M_b.
-    double e = 0.0;
-    for (size_t k = 0; k < nbins; ++k) {
-      const double m2 = double(masks.gain(b, k)) * masks.gain(b, k);
-      e += ((k == 0 || k == nbins - 1) ? 1.0 : 2.0) * m2 / double(nfft);
-      bandSpec.p[k][0] = float(m2) * scale;
-      bandSpec.p[k][1] = 0.f;
-    }
-    filterEnergy_[bi] = e;
-    fftwf_execute(inv);
-    filter_[bi].assign(margin, 0.f);
-    for (size_t i = 0; i < margin; ++i) filter_[bi][i] = time.p[(i + nfft - filterCentre_) % nfft];
-
-    // Synthesis bins: max(1 ms, two periods of the band centre).
-    binSamples_[bi] = std::max<size_t>(
-        size_t(std::lround(1e-3 * sampleRate)),
-        size_t(std::lround(2.0 * sampleRate / bandCentreExactHz(b))));
-    const size_t nb = (length_ + binSamples_[bi] - 1) / binSamples_[bi];
-    // Expected measured energy of s_b per bin: the pulses' energy in the bin times the share
-    // of a unit impulse's energy that the band measurement M_b sees (cross terms between
-    // pulses have random signs and vanish on average). Using the pulse energy rather than the
-    // realised filtered energy keeps the gains of all bands moving together from bin to bin,
-    // so neighbouring bands stay coherent in their crossovers.
-    sequenceEnergy_[bi].assign(nb, 0.0);
-    for (size_t n = 0; n < length_; ++n)
-      sequenceEnergy_[bi][n / binSamples_[bi]] += double(seq[n]) * seq[n] * filterEnergy_[bi];
-    targetEnergy_[bi].assign(nb, 0.0);
-    gain_[bi].assign(nb, 0.f);
-    gainScratch_[bi].assign(nb, 0.f);
-  }
-  fftwf_destroy_plan(fwd);
-  fftwf_destroy_plan(inv);
+  return d;
 }
 
-void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& direct,
-                               float* ir) {
-  std::fill(ir, ir + length_, 0.f);
+std::vector<float> diracSequence(int sampleRate, size_t length, double roomVolume,
+                                 double speedOfSound, double maxDensity, uint64_t seed) {
+  std::vector<float> seq(length, 0.f);
+  Rng rng(seed, 0x0d1acULL);
+  const double c3 = speedOfSound * speedOfSound * speedOfSound;
+  const double dt = 1.0 / sampleRate;
+  // Thinning per sample: probability mu(t) dt of a pulse in [t, t + dt).
+  for (size_t n = 0; n < length; ++n) {
+    const double t = double(n) * dt;
+    const double mu = std::min(4.0 * std::numbers::pi * c3 * t * t / roomVolume, maxDensity);
+    if (double(rng.uniform()) < mu * dt) seq[n] = rng.uniform() < 0.5f ? -1.f : 1.f;
+  }
+  return seq;
+}
+
+BandEnvelope::BandEnvelope(int sampleRate, const std::vector<float>& sequence, size_t length,
+                           const BandFilterData& filters,
+                           const std::array<std::vector<float>, kRealisedBands>& measured)
+    : sampleRate_(sampleRate), length_(length), filters_(&filters) {
+  for (int b = 0; b < kNumBands; ++b) {
+    const size_t bi = size_t(b);
+    binSamples_[bi] = std::max<size_t>(size_t(std::lround(1e-3 * sampleRate)),
+                                       size_t(std::lround(2.0 * sampleRate / bandCentreExactHz(b))));
+    const size_t nb = (length_ + binSamples_[bi] - 1) / binSamples_[bi];
+    // Expected measured energy of s_b per bin: the pulses' energy in the bin times beta_b
+    // (cross terms between pulses have random signs and vanish on average). Using the pulse
+    // energy rather than the realised filtered energy keeps the gains of all bands moving
+    // together from bin to bin, so neighbouring bands stay coherent in their crossovers.
+    sequenceEnergy_[bi].assign(nb, 0.0);
+    if (b < kRealisedBands) {
+      const std::vector<float>& m = measured[bi];
+      for (size_t n = 0; n < length_ && n < m.size(); ++n)
+        sequenceEnergy_[bi][n / binSamples_[bi]] += double(m[n]) * m[n];
+    } else {
+      for (size_t n = 0; n < length_ && n < sequence.size(); ++n)
+        sequenceEnergy_[bi][n / binSamples_[bi]] +=
+            double(sequence[n]) * sequence[n] * filters.share[bi];
+    }
+    target_[bi].assign(nb, 0.0);
+    gain_[bi].assign(nb, 0.f);
+    wanted_[bi].assign(nb, 0.f);
+  }
+}
+
+void BandEnvelope::compute(const EnergyResponse& energy) {
   const double samplesPerBin = energy.binSeconds() * sampleRate_;
   for (int b = 0; b < kNumBands; ++b) {
     const size_t bi = size_t(b);
-    auto& target = targetEnergy_[bi];
+    auto& target = target_[bi];
     std::fill(target.begin(), target.end(), 0.0);
     const size_t nb = target.size();
     for (size_t k = 0; k < energy.binCount(); ++k) {
@@ -192,14 +164,14 @@ void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& 
   // Crossover correction: band b's measured energy in a bin is
   // sum_{i,k} g_{b+i} g_{b+k} coupling[b][i][k] times the white energy; scale g_b so that it
   // equals the uncorrected g_b^2 (what the energy response asks for). Gauss-Seidel steps.
-  std::array<std::vector<float>, kNumBands>& wanted = gainScratch_;  // uncorrected gains
-  for (int b = 0; b < kNumBands; ++b) wanted[size_t(b)] = gain_[size_t(b)];
+  for (int b = 0; b < kNumBands; ++b) wanted_[size_t(b)] = gain_[size_t(b)];
+  const BandCoupling& coupling = filters_->coupling;
   for (int iter = 0; iter < 3; ++iter) {
     for (int b = 0; b < kNumBands; ++b) {
       const size_t bi = size_t(b);
       const size_t w = binSamples_[bi];
       for (size_t j = 0; j < gain_[bi].size(); ++j) {
-        const double target = wanted[bi][j];
+        const double target = wanted_[bi][j];
         if (target == 0.0) continue;
         const size_t centre = std::min(length_ - 1, j * w + w / 2);
         double g[3];
@@ -211,28 +183,102 @@ void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& 
         }
         double measured = 0.0;
         for (int i = 0; i < 3; ++i)
-          for (int k = 0; k < 3; ++k) measured += g[i] * g[k] * coupling_[bi][size_t(i)][size_t(k)];
+          for (int k = 0; k < 3; ++k) measured += g[i] * g[k] * coupling[bi][size_t(i)][size_t(k)];
         if (measured > 0.0) gain_[bi][j] = float(g[1] * std::sqrt(target * target / measured));
       }
     }
   }
-  for (int b = 0; b < kNumBands; ++b) {
+}
+
+void BandEnvelope::accumulateRange(const std::array<const float*, kNumBands>& bands, float* out,
+                                   size_t begin, size_t end, float scale, int bandBegin,
+                                   int bandEnd) const {
+  end = std::min(end, length_);
+  for (int b = bandBegin; b < bandEnd; ++b) {
     const size_t bi = size_t(b);
-    const size_t nb = gain_[bi].size();
-    const float* s = bandSequence_[bi].data();
+    const float* s = bands[bi];
     const size_t w = binSamples_[bi];
-    for (size_t j = 0; j < nb; ++j) {
-      const float g = gain_[bi][j];
+    for (size_t j = begin / w; j * w < end; ++j) {
+      const float g = gain_[bi][j] * scale;
       if (g == 0.f) continue;
-      const size_t end = std::min(length_, (j + 1) * w);
-      for (size_t n = j * w; n < end; ++n) ir[n] += g * s[n];
+      const size_t lo = std::max(begin, j * w), hi = std::min(end, (j + 1) * w);
+      for (size_t n = lo; n < hi; ++n) out[n] += g * s[n];
     }
   }
+}
+
+IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVolume,
+                             double speedOfSound, uint64_t seed)
+    : sampleRate_(sampleRate) {
+  if (sampleRate <= 0 || !(lengthSeconds > 0.0) || !(roomVolume > 0.0) || !(speedOfSound > 0.0))
+    throw std::invalid_argument("IrSynthesizer: rate, length, volume and c must be > 0");
+  length_ = size_t(std::ceil(lengthSeconds * sampleRate));
+  const size_t margin = size_t(sampleRate / 4);  // room for the filters' tails
+  const size_t nfft = nextPow2(length_ + margin);
+  const size_t nbins = nfft / 2 + 1;
+  const std::vector<float> seq =
+      diracSequence(sampleRate, length_, roomVolume, speedOfSound, kMaxDensityPerSecond, seed);
+
+  FftwArray<float> time(nfft);
+  FftwArray<fftwf_complex> spec(nbins), bandSpec(nbins);
+  fftwf_plan fwd = fftwf_plan_dft_r2c_1d(int(nfft), time.p, spec.p, FFTW_ESTIMATE);
+  fftwf_plan inv = fftwf_plan_dft_c2r_1d(int(nfft), bandSpec.p, time.p, FFTW_ESTIMATE);
+  if (!fwd || !inv) throw std::runtime_error("IrSynthesizer: FFTW plan failed");
+  std::fill(time.p, time.p + nfft, 0.f);
+  std::copy(seq.begin(), seq.end(), time.p);
+  fftwf_execute(fwd);
+  const OctaveBandMasks masks(sampleRate, nfft);
+  filterData_ = BandFilterData::compute(masks, nfft);
+  const float scale = 1.f / float(nfft);
+  filterCentre_ = margin / 2;
+  std::array<std::vector<float>, BandEnvelope::kRealisedBands> measured;
+  for (int b = 0; b < BandEnvelope::kRealisedBands; ++b) {
+    for (size_t k = 0; k < nbins; ++k) {
+      const float m = masks.gain(b, k);
+      bandSpec.p[k][0] = spec.p[k][0] * m * m * m * scale;
+      bandSpec.p[k][1] = spec.p[k][1] * m * m * m * scale;
+    }
+    fftwf_execute(inv);
+    measured[size_t(b)].assign(time.p, time.p + length_);
+  }
+  for (int b = 0; b < kNumBands; ++b) {
+    const size_t bi = size_t(b);
+    // s_b through the amplitude-complementary filter A_b = M_b^2 (sum_b A_b = 1, so equal
+    // band gains give back the unfiltered, spectrally flat sequence: no coherent overlap).
+    for (size_t k = 0; k < nbins; ++k) {
+      const float g = masks.gain(b, k) * masks.gain(b, k) * scale;
+      bandSpec.p[k][0] = spec.p[k][0] * g;
+      bandSpec.p[k][1] = spec.p[k][1] * g;
+    }
+    fftwf_execute(inv);  // destroys bandSpec, which is rebuilt each time
+    bandSequence_[bi].assign(time.p, time.p + length_);
+    // Direct-sound filter: impulse response of A_b (zero phase), stored rotated so that
+    // index filterCentre_ is time 0; its measured energy per unit amplitude is beta_b.
+    for (size_t k = 0; k < nbins; ++k) {
+      bandSpec.p[k][0] = masks.gain(b, k) * masks.gain(b, k) * scale;
+      bandSpec.p[k][1] = 0.f;
+    }
+    fftwf_execute(inv);
+    filter_[bi].assign(margin, 0.f);
+    for (size_t i = 0; i < margin; ++i) filter_[bi][i] = time.p[(i + nfft - filterCentre_) % nfft];
+  }
+  fftwf_destroy_plan(fwd);
+  fftwf_destroy_plan(inv);
+  envelope_ = std::make_unique<BandEnvelope>(sampleRate, seq, length_, filterData_, measured);
+}
+
+void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& direct,
+                               float* ir) {
+  std::fill(ir, ir + length_, 0.f);
+  envelope_->compute(energy);
+  std::array<const float*, kNumBands> bands;
+  for (int b = 0; b < kNumBands; ++b) bands[size_t(b)] = bandSequence_[size_t(b)].data();
+  envelope_->accumulate(bands, ir);
   if (direct.visible) {
     const long n0 = std::lround(double(direct.delaySeconds) * sampleRate_);
     for (int b = 0; b < kNumBands; ++b) {
       const size_t bi = size_t(b);
-      const float amp = float(std::sqrt(double(direct.intensity[b]) / filterEnergy_[bi]));
+      const float amp = float(std::sqrt(double(direct.intensity[b]) / filterData_.share[bi]));
       const auto& h = filter_[bi];
       for (size_t i = 0; i < h.size(); ++i) {
         const long n = n0 + long(i) - long(filterCentre_);

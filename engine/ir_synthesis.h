@@ -27,6 +27,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "engine/bands.h"
@@ -47,6 +48,67 @@ class OctaveBandMasks {
   std::array<std::vector<float>, kNumBands> gains_;
 };
 
+/// Crossover coupling of the band masks for a white spectrum:
+/// coupling[b][i][k] = sum_f M_b^2 A_{b+i-1} A_{b+k-1} / sum_f M_b^2, the share of band b's
+/// measured energy that the product of the gains of bands b+i-1 and b+k-1 contributes.
+using BandCoupling = std::array<std::array<std::array<double, 3>, 3>, kNumBands>;
+
+/// The band filters' fixed data for one sample rate: coupling and each band's energy share
+/// beta_b (the fraction of a unit impulse's energy that a band measurement with M_b sees).
+struct BandFilterData {
+  BandCoupling coupling{};
+  std::array<double, kNumBands> share{};
+  static BandFilterData compute(const OctaveBandMasks& masks, size_t fftSize);
+};
+
+/// A Dirac sequence (Poisson arrivals of rate min(4 pi c^3 t^2 / V, maxDensity) per second,
+/// random signs), `length` samples. Any thread; allocates.
+std::vector<float> diracSequence(int sampleRate, size_t length, double roomVolume,
+                                 double speedOfSound, double maxDensity, uint64_t seed);
+
+/// Gains g_b[j] per band and synthesis bin that give the band-filtered parts of one Dirac
+/// sequence the band energies of an energy response (in expectation over the sequence's
+/// signs): g_b[j] = sqrt(E_b[j] / e_b[j]), e_b[j] = beta_b x the pulses' energy in bin j, then
+/// the crossover correction. Synthesis bins are max(1 ms, 2 periods of the band centre).
+/// Construction allocates; compute() and accumulate() do not. Propagation thread.
+class BandEnvelope {
+ public:
+  /// Bands normalised by realised rather than expected energy (63 and 125 Hz: a noise
+  /// realisation there has too few degrees of freedom, e.g. 60 Hz x 0.3 s, to be near its
+  /// expectation).
+  static constexpr int kRealisedBands = 2;
+
+  /// measured: for b < kRealisedBands, the sequence through M_b^3 (what a band measurement
+  /// with M_b sees of the A_b-filtered sequence), length samples; e_b[j] is its energy in bin
+  /// j. Other bands use the expected energy (beta_b x the pulses' energy).
+  BandEnvelope(int sampleRate, const std::vector<float>& sequence, size_t length,
+               const BandFilterData& filters,
+               const std::array<std::vector<float>, kRealisedBands>& measured);
+  /// Gains for an energy response (any bin width).
+  void compute(const EnergyResponse& energy);
+  /// out[n] += scale * sum_b g_b[j(n)] x_b[n] for the band signals x_b (length samples each).
+  void accumulate(const std::array<const float*, kNumBands>& bands, float* out,
+                  float scale = 1.f) const {
+    accumulateRange(bands, out, 0, length_, scale);
+  }
+  /// The same for samples [begin, end) and bands [bandBegin, bandEnd) only (cache-blocked
+  /// accumulation of many signals; band subsets).
+  void accumulateRange(const std::array<const float*, kNumBands>& bands, float* out,
+                       size_t begin, size_t end, float scale = 1.f, int bandBegin = 0,
+                       int bandEnd = kNumBands) const;
+  size_t binSamples(int b) const { return binSamples_[size_t(b)]; }
+
+ private:
+  int sampleRate_;
+  size_t length_;
+  const BandFilterData* filters_;  ///< owned by the synthesiser, outlives the envelope
+  std::array<size_t, kNumBands> binSamples_{};
+  std::array<std::vector<double>, kNumBands> sequenceEnergy_;  ///< e_b[j]
+  std::array<std::vector<double>, kNumBands> target_;          ///< scratch: E_b[j]
+  std::array<std::vector<float>, kNumBands> gain_;             ///< g_b[j]
+  std::array<std::vector<float>, kNumBands> wanted_;           ///< scratch: uncorrected g_b[j]
+};
+
 class IrSynthesizer {
  public:
   /// Dirac sequence density cap, pulses per second (Schröder 2011 uses about this order).
@@ -65,22 +127,19 @@ class IrSynthesizer {
   void synthesize(const EnergyResponse& energy, const DirectSound& direct, float* ir);
 
   /// Fraction of a unit impulse's energy that a band measurement (mask M_b) puts in band b.
-  double bandFilterEnergy(int b) const { return filterEnergy_[size_t(b)]; }
+  double bandFilterEnergy(int b) const { return filterData_.share[size_t(b)]; }
+  /// Impulse response of the amplitude-complementary band filter A_b (zero phase), with time
+  /// 0 at index filterCentre().
+  const std::vector<float>& bandFilter(int b) const { return filter_[size_t(b)]; }
+  size_t filterCentre() const { return filterCentre_; }
 
  private:
   int sampleRate_;
   size_t length_;
-  std::array<std::vector<float>, kNumBands> bandSequence_;    ///< s_b, length_ samples
-  std::array<size_t, kNumBands> binSamples_{};                ///< synthesis bin width per band
-  std::array<std::vector<double>, kNumBands> sequenceEnergy_; ///< e_b[j]
-  std::array<std::vector<double>, kNumBands> targetEnergy_;   ///< scratch: E_b[j]
-  std::array<std::vector<float>, kNumBands> gain_;            ///< scratch: g_b[j]
-  std::array<std::vector<float>, kNumBands> filter_;          ///< h_b, centred at filterCentre_
-  std::array<double, kNumBands> filterEnergy_{};
-  /// coupling_[b][i][k] = sum_f M_b^2 A_{b+i-1} A_{b+k-1} / sum_f M_b^2 (white spectrum):
-  /// the share of band b's measured energy from the product of neighbours' gains.
-  std::array<std::array<std::array<double, 3>, 3>, kNumBands> coupling_{};
-  std::array<std::vector<float>, kNumBands> gainScratch_;
+  BandFilterData filterData_;
+  std::unique_ptr<BandEnvelope> envelope_;
+  std::array<std::vector<float>, kNumBands> bandSequence_;  ///< s_b, length_ samples
+  std::array<std::vector<float>, kNumBands> filter_;        ///< a_b, centred at filterCentre_
   size_t filterCentre_ = 0;
 };
 

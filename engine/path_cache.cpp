@@ -28,12 +28,16 @@ void FrameGroups::add(const PathHit& hit) {
 }
 
 void PathTracingEstimator::endFrame(const FrameGroups& frame, uint64_t raysEmitted,
-                                    float speedOfSound, EnergyResponse& out) const {
+                                    float speedOfSound, EnergyResponse& out,
+                                    DirectionalEnergyResponse* directional) const {
   // The same expressions as DiffusePathCache::endFrame, so that tau = 0 matches bit for bit.
   const float n = float(raysEmitted);
   const double invC = 1.0 / double(speedOfSound);
-  for (const FrameGroups::Group& g : frame.groups())
-    out.add(meanDelaySeconds(g.length, float(g.eta), invC), g.intensity / n);
+  for (const FrameGroups::Group& g : frame.groups()) {
+    const double delay = meanDelaySeconds(g.length, float(g.eta), invC);
+    out.add(delay, g.intensity / n);
+    if (directional) directional->add(delay, g.intensity / n, g.direction);
+  }
 }
 
 DiffusePathCache::DiffusePathCache(DpcWeighting weighting, double tauSeconds,
@@ -91,7 +95,8 @@ void DiffusePathCache::removeAt(size_t i) {
 }
 
 void DiffusePathCache::endFrame(const FrameGroups& frame, uint64_t raysEmitted,
-                                float speedOfSound, EnergyResponse& out) {
+                                float speedOfSound, EnergyResponse& out,
+                                DirectionalEnergyResponse* directional) {
   const float n = float(raysEmitted);
   const double invC = 1.0 / double(speedOfSound);
   raysBefore_[frame_ % raysBefore_.size()] = raysTotal_;
@@ -116,8 +121,9 @@ void DiffusePathCache::endFrame(const FrameGroups& frame, uint64_t raysEmitted,
     for (const Entry& e : entries_) {
       // mu: rays emitted from the frame that created the entry through this one.
       const uint64_t mu = raysTotal_ - raysBefore_[e.stamp % raysBefore_.size()];
-      out.add(meanDelaySeconds(e.length, e.eta, invC),   // eq. 3.3
-              e.intensity / float(mu));                  // eq. 3.2
+      const double delay = meanDelaySeconds(e.length, e.eta, invC);  // eq. 3.3
+      out.add(delay, e.intensity / float(mu));                       // eq. 3.2
+      if (directional) directional->add(delay, e.intensity / float(mu), e.direction);
     }
     for (size_t i = entries_.size(); i-- > 0;)
       if (frame_ - entries_[i].stamp + 1 >= lifetime_) removeAt(i);
@@ -140,8 +146,11 @@ void DiffusePathCache::endFrame(const FrameGroups& frame, uint64_t raysEmitted,
     }
     decayPow_ *= 1.0 - a_;
     const float norm = float(1.0 - decayPow_);
-    for (const Entry& e : entries_)
-      out.add(meanDelaySeconds(e.length, e.eta, invC), e.intensity / norm);
+    for (const Entry& e : entries_) {
+      const double delay = meanDelaySeconds(e.length, e.eta, invC);
+      out.add(delay, e.intensity / norm);
+      if (directional) directional->add(delay, e.intensity / norm, e.direction);
+    }
     for (size_t i = entries_.size(); i-- > 0;)
       if (frame_ - entries_[i].stamp + 1 >= lifetime_) removeAt(i);
   }

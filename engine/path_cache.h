@@ -69,8 +69,9 @@ inline double meanDelaySeconds(float lengthSum, float count, double invSpeedOfSo
 class PathTracingEstimator {
  public:
   /// Adds every group's I_f / N at delay (r_f / eta_f) / c to out. N = rays emitted this frame.
+  /// directional (optional): also receives every contribution with its arrival direction.
   void endFrame(const FrameGroups& frame, uint64_t raysEmitted, float speedOfSound,
-                EnergyResponse& out) const;
+                EnergyResponse& out, DirectionalEnergyResponse* directional = nullptr) const;
 };
 
 class DiffusePathCache {
@@ -91,8 +92,10 @@ class DiffusePathCache {
 
   /// One frame: applies the frame's groups (eq. 3.4), then mu += N for every entry and adds
   /// every entry's estimate (eq. 3.2, 3.3, or the EMA) to out, then removes expired entries.
+  /// directional (optional): also receives every entry's estimate with its mean arrival
+  /// direction (intensity-weighted over the entry's hits).
   void endFrame(const FrameGroups& frame, uint64_t raysEmitted, float speedOfSound,
-                EnergyResponse& out);
+                EnergyResponse& out, DirectionalEnergyResponse* directional = nullptr);
 
   void clear();
   size_t entryCount() const { return entries_.size(); }

@@ -1,6 +1,7 @@
 #include "engine/propagation.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -11,7 +12,6 @@
 
 #include "engine/air_absorption.h"
 #include "engine/patch.h"
-#include "engine/random.h"
 
 namespace dpc {
 
@@ -73,61 +73,129 @@ DirectSound Propagator::directSound(const glm::vec3& source,
   return d;
 }
 
+void Propagator::startRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t rayIndex,
+                          const glm::vec3& source, RayState& ray) const {
+  ray.rng = Rng(frameSeed, rayIndex);
+  ray.org = source;
+  ray.dir = uniformSphere(ray.rng);
+  ray.energy = Bands(1.f);
+  ray.travelled = 0.f;
+  ray.pathHash = pathHashStart(sourceIndex);
+  ray.order = 0;
+}
+
+bool Propagator::advance(RayState& ray, bool surface, const SurfaceHit& hit,
+                         const ListenerSphere& listener, std::vector<PathHit>& hits) const {
+  const float segEnd = surface ? hit.t : std::numeric_limits<float>::infinity();
+  if (ray.order > 0 || includeDirectRays_) {
+    // Segment against the listener sphere: |org + t dir - L|^2 = R^2.
+    const float r2 = listener.radius * listener.radius;
+    const glm::vec3 oc = listener.position - ray.org;
+    const float b = glm::dot(oc, ray.dir);
+    const float disc = b * b - (glm::dot(oc, oc) - r2);
+    if (disc > 0.f) {
+      const float s = std::sqrt(disc);
+      if (b + s > 0.f && b - s < segEnd) {
+        const float invArea = 1.f / (std::numbers::pi_v<float> * r2);
+        const float r = ray.travelled + std::clamp(b, 0.f, segEnd);
+        PathHit h;
+        h.key = pathHashFinish(ray.pathHash, 0);
+        h.intensity = ray.energy * exp(airPerMetre_ * -r) * invArea;
+        h.length = r;
+        h.direction = -ray.dir;
+        hits.push_back(h);
+      }
+    }
+  }
+  if (!surface || ray.order >= settings_.maxOrder) return false;
+  ray.travelled += hit.t;
+  const glm::vec3 p = ray.org + ray.dir * hit.t;
+  const TrianglePatching& patching = geometry_.patching(hit.triangle);
+  const auto [zeta, xi] = patching.patchOf(hit.barycentric);
+  ray.pathHash = pathHashAddPatch(ray.pathHash, patchKey(hit.triangle, zeta, xi));
+  ray.energy *= geometry_.reflectance(hit.triangle);
+  if (settings_.rouletteThreshold > 0.f &&
+      ray.energy.max() * std::exp(-minAir_ * ray.travelled) < settings_.rouletteThreshold) {
+    if (ray.rng.uniform() >= kRouletteSurvival) return false;
+    ray.energy *= 1.f / kRouletteSurvival;
+  }
+  // Normal facing the side the ray came from.
+  const glm::vec3 n = glm::dot(hit.normal, ray.dir) < 0.f ? hit.normal : -hit.normal;
+  if (ray.rng.uniform() < geometry_.scattering(hit.triangle))
+    ray.dir = cosineHemisphere(n, ray.rng);
+  else
+    ray.dir = glm::normalize(ray.dir - 2.f * glm::dot(ray.dir, n) * n);
+  ray.org = p + n * epsilon_;
+  ++ray.order;
+  return true;
+}
+
 void Propagator::traceRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t rayIndex,
                           const glm::vec3& source, const ListenerSphere& listener,
                           std::vector<PathHit>& hits, uint64_t& segments) const {
-  Rng rng(frameSeed, rayIndex);
+  RayState ray;
+  startRay(frameSeed, sourceIndex, rayIndex, source, ray);
   const float inf = std::numeric_limits<float>::infinity();
-  const float r2 = listener.radius * listener.radius;
-  const float invArea = 1.f / (std::numbers::pi_v<float> * r2);
-  glm::vec3 org = source;
-  glm::vec3 dir = uniformSphere(rng);
-  Bands energy(1.f);
-  float travelled = 0.f;
-  uint64_t pathHash = pathHashStart(sourceIndex);
   SurfaceHit hit;
-  for (int order = 0;; ++order) {
-    const bool surface = geometry_.intersect(org, dir, 0.f, inf, hit);
+  for (;;) {
+    const bool surface = geometry_.intersect(ray.org, ray.dir, 0.f, inf, hit);
     ++segments;
-    const float segEnd = surface ? hit.t : inf;
-    if (order > 0 || includeDirectRays_) {
-      // Segment against the listener sphere: |org + t dir - L|^2 = R^2.
-      const glm::vec3 oc = listener.position - org;
-      const float b = glm::dot(oc, dir);
-      const float disc = b * b - (glm::dot(oc, oc) - r2);
-      if (disc > 0.f) {
-        const float s = std::sqrt(disc);
-        if (b + s > 0.f && b - s < segEnd) {
-          const float r = travelled + std::clamp(b, 0.f, segEnd);
-          PathHit h;
-          h.key = pathHashFinish(pathHash, 0);
-          h.intensity = energy * exp(airPerMetre_ * -r) * invArea;
-          h.length = r;
-          h.direction = -dir;
-          hits.push_back(h);
-        }
+    if (!advance(ray, surface, hit, listener, hits)) break;
+  }
+}
+
+void Propagator::traceChunkPacket(uint64_t frameSeed, uint32_t sourceIndex, uint32_t firstRay,
+                                  uint32_t endRay, const glm::vec3& source,
+                                  const ListenerSphere& listener, Chunk& chunk) const {
+  constexpr int K = RayPacket16::kSize;
+  const float inf = std::numeric_limits<float>::infinity();
+  std::array<RayState, K> rays;
+  std::array<uint32_t, K> rayIndex{};
+  RayPacket16 packet;
+  PacketHits16 answers;
+  chunk.unordered.clear();
+  chunk.rayOf.clear();
+  uint32_t next = firstRay;
+  int live = 0;
+  // Lanes are filled in ray order and refilled, lowest lane first, as rays end: a fixed
+  // schedule, independent of threads.
+  for (int i = 0; i < K && next < endRay; ++i, ++next, ++live) {
+    startRay(frameSeed, sourceIndex, next, source, rays[i]);
+    rayIndex[i] = next;
+    packet.active[i] = true;
+  }
+  while (live > 0) {
+    for (int i = 0; i < K; ++i)
+      if (packet.active[i]) {
+        packet.org[i] = rays[i].org;
+        packet.dir[i] = rays[i].dir;
+      }
+    geometry_.intersect16(packet, 0.f, inf, answers);
+    chunk.segments += uint64_t(live);
+    for (int i = 0; i < K; ++i) {
+      if (!packet.active[i]) continue;
+      const bool more =
+          advance(rays[i], answers.found[i], answers.hit[i], listener, chunk.unordered);
+      if (chunk.unordered.size() != chunk.rayOf.size())  // at most one hit per segment
+        chunk.rayOf.push_back(rayIndex[i] - firstRay);
+      if (more) continue;
+      if (next < endRay) {
+        startRay(frameSeed, sourceIndex, next, source, rays[i]);
+        rayIndex[i] = next++;
+      } else {
+        packet.active[i] = false;
+        --live;
       }
     }
-    if (!surface || order >= settings_.maxOrder) break;
-    travelled += hit.t;
-    const glm::vec3 p = org + dir * hit.t;
-    const TrianglePatching& patching = geometry_.patching(hit.triangle);
-    const auto [zeta, xi] = patching.patchOf(hit.barycentric);
-    pathHash = pathHashAddPatch(pathHash, patchKey(hit.triangle, zeta, xi));
-    energy *= geometry_.reflectance(hit.triangle);
-    if (settings_.rouletteThreshold > 0.f &&
-        energy.max() * std::exp(-minAir_ * travelled) < settings_.rouletteThreshold) {
-      if (rng.uniform() >= kRouletteSurvival) break;
-      energy *= 1.f / kRouletteSurvival;
-    }
-    // Normal facing the side the ray came from.
-    const glm::vec3 n = glm::dot(hit.normal, dir) < 0.f ? hit.normal : -hit.normal;
-    if (rng.uniform() < geometry_.scattering(hit.triangle))
-      dir = cosineHemisphere(n, rng);
-    else
-      dir = glm::normalize(dir - 2.f * glm::dot(dir, n) * n);
-    org = p + n * epsilon_;
   }
+  // Back into ray order (counting sort; stable, so each ray's hits stay in reflection order).
+  const uint32_t count = endRay - firstRay;
+  chunk.offsets.assign(count + 1, 0);
+  for (uint32_t r : chunk.rayOf) ++chunk.offsets[r + 1];
+  for (uint32_t r = 0; r < count; ++r) chunk.offsets[r + 1] += chunk.offsets[r];
+  chunk.hits.resize(chunk.unordered.size());
+  for (size_t h = 0; h < chunk.unordered.size(); ++h)
+    chunk.hits[chunk.offsets[chunk.rayOf[h]]++] = chunk.unordered[h];
 }
 
 TraceStats Propagator::traceFrame(uint64_t frameIndex, uint32_t sourceIndex,
@@ -144,6 +212,10 @@ TraceStats Propagator::traceFrame(uint64_t frameIndex, uint32_t sourceIndex,
       chunk.hits.clear();
       chunk.segments = 0;
       const uint32_t end = std::min(n, (c + 1) * kRaysPerChunk);
+      if (traceMode_ == TraceMode::kPacket16) {
+        traceChunkPacket(frameSeed, sourceIndex, c * kRaysPerChunk, end, source, listener, chunk);
+        return;
+      }
       for (uint32_t ray = c * kRaysPerChunk; ray < end; ++ray)
         traceRay(frameSeed, sourceIndex, ray, source, listener, chunk.hits, chunk.segments);
     });

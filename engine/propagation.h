@@ -20,8 +20,16 @@
 // Threads: traceFrame runs on the propagation thread and fans the rays out over TBB worker
 // threads in fixed chunks; every ray has its own random stream derived from (seed, frame,
 // source, ray), and chunks are merged in ray order, so the result is bit-identical for a seed
-// whatever the thread count. Allocation: per-chunk hit buffers grow to their high-water mark,
-// then are reused. No errors.
+// whatever the thread count.
+// Packet tracing (TraceMode::kPacket16): each chunk keeps 16 of its rays in flight in
+// lockstep, one rtcIntersect16 per step for the live lanes (Wald et al., "Interactive
+// rendering with coherent ray tracing", 2001; Embree's hybrid traversal for incoherent
+// packets); a lane whose ray ends takes the chunk's next ray. Every ray keeps its own random
+// stream and its own per-ray arithmetic (the same code as the scalar path), and the chunk's
+// hits are put back in (ray, reflection order) order, so the result is again bit-identical
+// for a seed whatever the thread count; it equals the scalar path's up to the rounding of
+// Embree's packet kernels (statistically equal: tests/engine/packet_test.cpp). Allocation:
+// per-chunk hit buffers grow to their high-water mark, then are reused. No errors.
 #pragma once
 
 #include <cstdint>
@@ -34,6 +42,7 @@
 #include "engine/bands.h"
 #include "engine/geometry.h"
 #include "engine/path_cache.h"
+#include "engine/random.h"
 #include "engine/scene.h"
 
 namespace dpc {
@@ -58,6 +67,19 @@ struct TraceStats {
   uint64_t listenerHits = 0;  ///< segments that crossed the listener sphere
 };
 
+/// How Propagator issues its Embree queries (same physics, same random streams).
+enum class TraceMode {
+  kScalar,    ///< one ray to completion at a time, rtcIntersect1
+  kPacket16,  ///< 16 rays of a chunk in lockstep, rtcIntersect16
+};
+
+/// The default mode; builds may override it with -DDPC_DEFAULT_TRACE_MODE_SCALAR=1 (A/B runs).
+#if defined(DPC_DEFAULT_TRACE_MODE_SCALAR) && DPC_DEFAULT_TRACE_MODE_SCALAR
+inline constexpr TraceMode kDefaultTraceMode = TraceMode::kScalar;
+#else
+inline constexpr TraceMode kDefaultTraceMode = TraceMode::kPacket16;
+#endif
+
 class Propagator {
  public:
   /// Survival probability of a ray that Russian roulette tests.
@@ -80,14 +102,45 @@ class Propagator {
   /// against 1/(4 pi r^2); the renderer keeps the analytic direct sound instead).
   void setIncludeDirectRays(bool on) { includeDirectRays_ = on; }
 
+  /// Scalar or packet queries (default kDefaultTraceMode). Propagation thread, between frames.
+  void setTraceMode(TraceMode mode) { traceMode_ = mode; }
+  TraceMode traceMode() const { return traceMode_; }
+
   const Bands& airAttenuationPerMetre() const { return airPerMetre_; }
   const PropagationSettings& settings() const { return settings_; }
   void setRaysPerFrame(int n) { settings_.raysPerFrame = n; }
 
  private:
+  /// One ray's state between queries.
+  struct RayState {
+    Rng rng{0, 0};
+    glm::vec3 org{0.f}, dir{0.f};
+    Bands energy{1.f};
+    float travelled = 0.f;
+    uint64_t pathHash = 0;
+    int order = 0;
+  };
+  struct Chunk {
+    std::vector<PathHit> hits;
+    uint64_t segments = 0;
+    // Packet mode scratch: hits in completion order with their ray (offset in the chunk),
+    // and the per-ray counts/offsets of the counting sort back into ray order.
+    std::vector<PathHit> unordered;
+    std::vector<uint32_t> rayOf;
+    std::vector<uint32_t> offsets;
+  };
+  void startRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t rayIndex,
+                const glm::vec3& source, RayState& ray) const;
+  /// Applies one query's answer (surface hit or miss) to the ray: listener test (appends to
+  /// hits), then reflection. Returns false when the ray ends.
+  bool advance(RayState& ray, bool surface, const SurfaceHit& hit, const ListenerSphere& listener,
+               std::vector<PathHit>& hits) const;
   void traceRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t rayIndex,
                 const glm::vec3& source, const ListenerSphere& listener,
                 std::vector<PathHit>& hits, uint64_t& segments) const;
+  void traceChunkPacket(uint64_t frameSeed, uint32_t sourceIndex, uint32_t firstRay,
+                        uint32_t endRay, const glm::vec3& source, const ListenerSphere& listener,
+                        Chunk& chunk) const;
 
   const Geometry& geometry_;
   PropagationSettings settings_;
@@ -95,11 +148,8 @@ class Propagator {
   float minAir_ = 0.f;  ///< smallest band air attenuation, 1/m (roulette's upper bound)
   float epsilon_ = 1e-4f;
   bool includeDirectRays_ = false;
+  TraceMode traceMode_ = kDefaultTraceMode;
   std::unique_ptr<tbb::task_arena> arena_;
-  struct Chunk {
-    std::vector<PathHit> hits;
-    uint64_t segments = 0;
-  };
   std::vector<Chunk> chunks_;
 };
 

@@ -485,7 +485,7 @@ void readSources(const JsonReader& r, const json& v, const fs::path& folder, Sce
 void readListener(const JsonReader& r, const json& v, ListenerDesc& listener) {
   const std::string field = "listener";
   r.expectObject(v, field);
-  r.checkKeys(v, field, {"position", "radius", "trajectory", "loop"});
+  r.checkKeys(v, field, {"position", "radius", "trajectory", "loop", "yaw", "pitch"});
   if (const json* t = JsonReader::find(v, "trajectory")) {
     const std::string tf = join(field, "trajectory");
     if (!t->is_array())
@@ -495,7 +495,7 @@ void readListener(const JsonReader& r, const json& v, ListenerDesc& listener) {
       const std::string kf = index(tf, i);
       const json& k = (*t)[i];
       r.expectObject(k, kf);
-      r.checkKeys(k, kf, {"t", "position"});
+      r.checkKeys(k, kf, {"t", "position", "yaw", "pitch"});
       Keyframe key;
       key.timeSeconds = r.number(r.require(k, kf, "t"), join(kf, "t"));
       if (key.timeSeconds < 0.0) r.fail(join(kf, "t"), k["t"].dump() + " must be >= 0");
@@ -505,6 +505,13 @@ void readListener(const JsonReader& r, const json& v, ListenerDesc& listener) {
                                   JsonReader::fmt(listener.trajectory.back().timeSeconds) +
                                   "); times must be strictly increasing");
       key.position = r.vec3(r.require(k, kf, "position"), join(kf, "position"));
+      if (const json* y = JsonReader::find(k, "yaw"))
+        key.yawDegrees = float(r.inRange(*y, join(kf, "yaw"), -3600.0, 3600.0));
+      if (const json* p = JsonReader::find(k, "pitch"))
+        key.pitchDegrees = float(r.inRange(*p, join(kf, "pitch"), -90.0, 90.0));
+      if (!listener.trajectory.empty() &&
+          listener.trajectory.front().yawDegrees.has_value() != key.yawDegrees.has_value())
+        r.fail(join(kf, "yaw"), "give \"yaw\" on every keyframe or on none");
       listener.trajectory.push_back(key);
     }
   }
@@ -519,6 +526,10 @@ void readListener(const JsonReader& r, const json& v, ListenerDesc& listener) {
     listener.radius = r.positive(*rad, join(field, "radius"));
   if (const json* l = JsonReader::find(v, "loop"))
     listener.loop = r.boolean(*l, join(field, "loop"));
+  if (const json* y = JsonReader::find(v, "yaw"))
+    listener.yawDegrees = float(r.inRange(*y, join(field, "yaw"), -3600.0, 3600.0));
+  if (const json* p = JsonReader::find(v, "pitch"))
+    listener.pitchDegrees = float(r.inRange(*p, join(field, "pitch"), -90.0, 90.0));
 }
 
 void readPropagation(const JsonReader& r, const json& v, PropagationSettings& p) {
@@ -580,10 +591,23 @@ void readPropagation(const JsonReader& r, const json& v, PropagationSettings& p)
   }
 }
 
-void readAudio(const JsonReader& r, const json& v, AudioSettings& a) {
+void readAudio(const JsonReader& r, const json& v, const fs::path& folder, AudioSettings& a) {
   const std::string field = "audio";
   r.expectObject(v, field);
-  r.checkKeys(v, field, {"sample_rate", "block_size"});
+  r.checkKeys(v, field, {"sample_rate", "block_size", "output", "hrtf"});
+  if (const json* x = JsonReader::find(v, "output")) {
+    const std::string s = r.string(*x, join(field, "output"));
+    const auto o = parseOutputFormat(s);
+    if (!o) r.fail(join(field, "output"), inQuotes(s) + " is not one of \"mono\", \"stereo\", \"binaural\"");
+    a.output = *o;
+  }
+  if (const json* x = JsonReader::find(v, "hrtf")) {
+    const fs::path resolved = resolve(folder, r.string(*x, join(field, "hrtf")));
+    std::error_code ec;
+    if (!fs::is_regular_file(resolved, ec))
+      r.fail(join(field, "hrtf"), "file " + inQuotes(resolved.string()) + " not found");
+    a.hrtfPath = resolved.string();
+  }
   if (const json* x = JsonReader::find(v, "sample_rate"))
     a.sampleRate = int(r.integer(*x, join(field, "sample_rate"), 8000, 192000));
   if (const json* x = JsonReader::find(v, "block_size"))
@@ -618,7 +642,7 @@ SceneDesc loadScene(const std::string& path) {
   readListener(r, r.require(root, "", "listener"), scene.listener);
   if (const json* p = JsonReader::find(root, "propagation"))
     readPropagation(r, *p, scene.propagation);
-  if (const json* a = JsonReader::find(root, "audio")) readAudio(r, *a, scene.audio);
+  if (const json* a = JsonReader::find(root, "audio")) readAudio(r, *a, folder, scene.audio);
 
   // Mesh last: the most expensive step, after the cheap checks.
   const std::string meshName = r.string(r.require(root, "", "mesh"), "mesh");
@@ -645,6 +669,64 @@ glm::vec3 listenerPositionAt(const ListenerDesc& listener, double t) {
   const auto prev = next - 1;
   const double u = (t - prev->timeSeconds) / (next->timeSeconds - prev->timeSeconds);
   return prev->position + float(u) * (next->position - prev->position);
+}
+
+glm::vec3 Orientation::forward() const {
+  const float cp = std::cos(pitchRadians);
+  return {cp * std::cos(yawRadians), std::sin(pitchRadians), -cp * std::sin(yawRadians)};
+}
+
+glm::vec3 Orientation::up() const {
+  const float sp = std::sin(pitchRadians);
+  return {-sp * std::cos(yawRadians), std::cos(pitchRadians), sp * std::sin(yawRadians)};
+}
+
+Orientation listenerOrientationAt(const ListenerDesc& listener, double t) {
+  constexpr float kDeg = float(3.14159265358979323846 / 180.0);
+  Orientation o;
+  o.yawRadians = listener.yawDegrees * kDeg;
+  o.pitchRadians = listener.pitchDegrees * kDeg;
+  const auto& k = listener.trajectory;
+  if (k.empty()) return o;
+  if (listener.loop && k.size() > 1) {
+    const double t0 = k.front().timeSeconds, period = k.back().timeSeconds - t0;
+    t = t0 + (t - t0) - period * std::floor((t - t0) / period);
+  }
+  // Segment [i, i+1] holding t (clamped to the ends).
+  size_t i = 0;
+  while (i + 2 < k.size() && t >= k[i + 1].timeSeconds) ++i;
+  if (k.front().yawDegrees) {
+    if (k.size() == 1 || t <= k.front().timeSeconds) {
+      o.yawRadians = *k.front().yawDegrees * kDeg;
+      o.pitchRadians = k.front().pitchDegrees.value_or(0.f) * kDeg;
+      return o;
+    }
+    const Keyframe &a = k[i], &b = k[i + 1];
+    const double u = std::clamp((t - a.timeSeconds) / (b.timeSeconds - a.timeSeconds), 0.0, 1.0);
+    float dy = std::remainder(*b.yawDegrees - *a.yawDegrees, 360.f);  // shorter arc
+    o.yawRadians = (*a.yawDegrees + float(u) * dy) * kDeg;
+    o.pitchRadians = (a.pitchDegrees.value_or(0.f) +
+                      float(u) * (b.pitchDegrees.value_or(0.f) - a.pitchDegrees.value_or(0.f))) *
+                     kDeg;
+    return o;
+  }
+  // Face the walking direction: this segment's, or the last moving segment's before it.
+  for (size_t j = i + 1; j-- > 0;) {
+    if (j + 1 >= k.size()) continue;
+    const glm::vec3 v = k[j + 1].position - k[j].position;
+    if (v.x * v.x + v.z * v.z > 1e-12f) {
+      o.yawRadians = std::atan2(-v.z, v.x);
+      return o;
+    }
+  }
+  return o;
+}
+
+std::optional<OutputFormat> parseOutputFormat(const std::string& s) {
+  if (s == "mono") return OutputFormat::kMono;
+  if (s == "stereo") return OutputFormat::kStereo;
+  if (s == "binaural") return OutputFormat::kBinaural;
+  return std::nullopt;
 }
 
 std::optional<Estimator> parseEstimator(const std::string& s) {

@@ -49,6 +49,11 @@ struct SourceDesc {
 struct Keyframe {
   double timeSeconds = 0.0;  ///< seconds from the start of the render, strictly increasing
   glm::vec3 position{0.f};   ///< metres
+  /// Heading in degrees about the up (+y) axis: 0 faces +x, positive turns left
+  /// (counter-clockwise seen from above). Either every keyframe has one or none does; with
+  /// none the listener faces the walking direction.
+  std::optional<float> yawDegrees;
+  std::optional<float> pitchDegrees;  ///< degrees above the horizon (default 0)
 };
 
 struct ListenerDesc {
@@ -56,6 +61,17 @@ struct ListenerDesc {
   float radius = 0.5f;              ///< receiver sphere radius, metres, > 0
   std::vector<Keyframe> trajectory; ///< linear interpolation between keyframes
   bool loop = false;                ///< wrap time around the last keyframe
+  float yawDegrees = 0.f;    ///< heading when the trajectory gives none and there is no motion
+  float pitchDegrees = 0.f;  ///< degrees above the horizon, when keyframes give none
+};
+
+/// Listener orientation: heading (yaw, about +y, 0 = facing +x, positive = turning left) and
+/// pitch (above the horizon), radians. forward() and up() are world unit vectors (y up).
+struct Orientation {
+  float yawRadians = 0.f;
+  float pitchRadians = 0.f;
+  glm::vec3 forward() const;
+  glm::vec3 up() const;
 };
 
 /// Which estimator turns traced paths into the energy response.
@@ -92,9 +108,21 @@ struct PropagationSettings {
   int threads = 0;                ///< tracing threads; 0 = all cores (command line only)
 };
 
+/// Output channels of the rendered IRs and audio.
+enum class OutputFormat {
+  kMono,      ///< one channel (the pressure IR)
+  kStereo,    ///< two channels, constant-power panning of each arrival direction
+  kBinaural,  ///< two channels (ears), HRTF from a SOFA file
+};
+
+/// Debian libmysofa1's MIT KEMAR set: the default HRTF.
+inline constexpr const char* kDefaultHrtfPath = "/usr/share/libmysofa/default.sofa";
+
 struct AudioSettings {
   int sampleRate = 48000;  ///< Hz
   int blockSize = 512;     ///< samples per processing block
+  OutputFormat output = OutputFormat::kMono;
+  std::string hrtfPath = kDefaultHrtfPath;  ///< SOFA file for binaural output
 };
 
 struct SceneDesc {
@@ -118,6 +146,14 @@ SceneDesc loadScene(const std::string& path);
 /// Listener position at time t (seconds) along the trajectory (linear interpolation,
 /// clamped at the ends, or wrapped when loop is set). Any thread; no allocation.
 glm::vec3 listenerPositionAt(const ListenerDesc& listener, double t);
+
+/// Listener orientation at time t: the keyframes' yaw/pitch interpolated (yaw along the
+/// shorter arc), or facing the direction of motion along the trajectory (the last direction of
+/// motion while standing), or listener.yawDegrees without a trajectory. Any thread.
+Orientation listenerOrientationAt(const ListenerDesc& listener, double t);
+
+/// Parses "mono" / "stereo" / "binaural"; nullopt for anything else.
+std::optional<OutputFormat> parseOutputFormat(const std::string& s);
 
 /// Parses "dpc" / "path_tracing"; nullopt for anything else.
 std::optional<Estimator> parseEstimator(const std::string& s);

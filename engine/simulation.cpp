@@ -21,6 +21,12 @@ Simulation::Simulation(const SceneDesc& scene, const PropagationSettings& settin
   }
 }
 
+void Simulation::enableDirectional(const std::vector<glm::vec3>& listenerDirections) {
+  directional_.clear();
+  for (size_t s = 0; s < results_.size(); ++s)
+    directional_.emplace_back(settings_.irLength, kEnergyBinSeconds, listenerDirections);
+}
+
 double Simulation::boundingVolume() const {
   const glm::vec3 e = geometry_->boundsMax() - geometry_->boundsMin();
   return std::max(1.0, double(e.x) * e.y * e.z);
@@ -41,12 +47,18 @@ void Simulation::runFrame(const glm::vec3& listenerPosition,
     const auto t1 = std::chrono::steady_clock::now();
     r.direct = propagator_->directSound(sources[s], listener);
     r.energy.clear();
+    DirectionalEnergyResponse* dir = nullptr;
+    if (!directional_.empty()) {
+      dir = &directional_[s];
+      dir->clear();
+      dir->setListenerFrame(orientation_.forward(), orientation_.up());
+    }
     if (caches_.empty()) {
-      pathTracing_.endFrame(groups_, r.trace.rays, settings_.speedOfSound, r.energy);
+      pathTracing_.endFrame(groups_, r.trace.rays, settings_.speedOfSound, r.energy, dir);
       r.cacheEntries = groups_.groups().size();
       r.cacheBytes = 0;
     } else {
-      caches_[s]->endFrame(groups_, r.trace.rays, settings_.speedOfSound, r.energy);
+      caches_[s]->endFrame(groups_, r.trace.rays, settings_.speedOfSound, r.energy, dir);
       r.cacheEntries = caches_[s]->entryCount();
       r.cacheBytes = caches_[s]->bytes();
     }

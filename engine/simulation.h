@@ -44,6 +44,17 @@ class Simulation {
   /// Same, with source positions other than the scene's (one per source).
   void runFrame(const glm::vec3& listenerPosition, const std::vector<glm::vec3>& sources);
 
+  /// Also produce, per source, a DirectionalEnergyResponse over these listener-frame
+  /// directions (for spatial IR synthesis). Allocates.
+  void enableDirectional(const std::vector<glm::vec3>& listenerDirections);
+  /// The listener's orientation for the following frames (world forward/up; see Orientation).
+  void setListenerOrientation(const Orientation& orientation) { orientation_ = orientation; }
+  /// Valid after runFrame when enableDirectional was called.
+  const DirectionalEnergyResponse& directional(size_t source) const {
+    return directional_[source];
+  }
+  bool hasDirectional() const { return !directional_.empty(); }
+
   const SourceResult& result(size_t source) const { return results_[source]; }
   size_t sourceCount() const { return results_.size(); }
   uint64_t framesRun() const { return frame_; }
@@ -63,6 +74,8 @@ class Simulation {
   PathTracingEstimator pathTracing_;
   FrameGroups groups_;
   std::vector<SourceResult> results_;
+  std::vector<DirectionalEnergyResponse> directional_;
+  Orientation orientation_;
   uint64_t frame_ = 0;
 };
 

@@ -27,9 +27,8 @@ LiveSession::LiveSession(const SceneDesc& scene, const PropagationSettings& sett
       sampleRate_(scene.audio.sampleRate),
       toAudio_(size_t(std::max(3, options.poolSize)) + 1),
       fromAudio_(size_t(std::max(3, options.poolSize)) + 1) {
-  const int irChannels = 1;
-  propagation_ = std::make_unique<PropagationStage>(scene, settings, irChannels,
-                                                    std::max(3, options.poolSize));
+  propagation_ = std::make_unique<PropagationStage>(scene, settings, std::max(3, options.poolSize));
+  const int irChannels = propagation_->numOutputs();
   audioStage_ = std::make_unique<AudioStage>(propagation_->layout(), dry, irChannels);
   mono_.assign(size_t(blockSize_) * irChannels, 0.f);
   for (int c = 0; c < irChannels; ++c) stageOut_.push_back(mono_.data() + size_t(c) * blockSize_);
@@ -45,8 +44,9 @@ LiveSession::LiveSession(const SceneDesc& scene, const PropagationSettings& sett
 
 LiveSession::~LiveSession() { stop(); }
 
-void LiveSession::setPose(const glm::vec3& position, float yawRadians, double sceneSeconds) {
-  pose_.publish(ListenerPose{position, yawRadians, nowNs(), sceneSeconds});
+void LiveSession::setPose(const glm::vec3& position, float yawRadians, double sceneSeconds,
+                          float pitchRadians) {
+  pose_.publish(ListenerPose{position, yawRadians, pitchRadians, nowNs(), sceneSeconds});
 }
 
 void LiveSession::start() {
@@ -72,7 +72,10 @@ void LiveSession::propagationLoop() {
     while (fromAudio_.try_dequeue(back)) propagation_->recycle(back);
     const auto t0 = std::chrono::steady_clock::now();
     const ListenerPose pose = pose_.read();
-    IrSet* set = propagation_->computeFrame(pose.position, pose.sceneSeconds);
+    Orientation orientation;
+    orientation.yawRadians = pose.yawRadians;
+    orientation.pitchRadians = pose.pitchRadians;
+    IrSet* set = propagation_->computeFrame(pose.position, orientation, pose.sceneSeconds);
     const auto t1 = std::chrono::steady_clock::now();
     if (set) {
       set->poseNs = pose.publishedNs;
@@ -151,12 +154,15 @@ void LiveSession::render(float* const* out, int frames) noexcept {
   const bool swapped = audioStage_->irsApplied() != appliedBefore;
   while ((s = audioStage_->takeSpent())) fromAudio_.try_enqueue(s);
 
-  // Device channels: copy the IR channel(s); NaN/inf guard.
+  // Device channels: IR channel c (the last one repeats for extra device channels);
+  // NaN/inf guard.
+  const size_t irChannels = stageOut_.size();
   bool finite = true;
-  for (int n = 0; n < frames; ++n) finite = finite && std::isfinite(mono_[size_t(n)]);
+  for (size_t i = 0; i < size_t(frames) * irChannels; ++i) finite = finite && std::isfinite(mono_[i]);
   for (int c = 0; c < channels; ++c) {
+    const float* src = stageOut_[std::min(size_t(c), irChannels - 1)];
     if (finite)
-      std::copy(mono_.begin(), mono_.begin() + frames, out[c]);
+      std::copy(src, src + frames, out[c]);
     else
       std::fill(out[c], out[c] + frames, 0.f);
   }

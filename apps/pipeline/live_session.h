@@ -53,8 +53,12 @@ class LiveSession {
   /// Control thread: stops and joins the threads. Idempotent.
   void stop();
 
-  /// Control thread: publishes a new listener pose (timestamped now).
-  void setPose(const glm::vec3& position, float yawRadians, double sceneSeconds);
+  /// Control thread: publishes a new listener pose (timestamped now). Yaw and pitch as in
+  /// dpc::Orientation (radians; yaw 0 faces +x, positive turns left).
+  void setPose(const glm::vec3& position, float yawRadians, double sceneSeconds,
+               float pitchRadians = 0.f);
+  /// IR channels (1 mono, 2 stereo/binaural).
+  int irChannels() const { return int(stageOut_.size()); }
 
   /// Audio thread: renders one block of blockSize() frames into out[0..deviceChannels).
   /// Wait-free; no allocation, locks, logging, exceptions or system calls.

@@ -10,8 +10,9 @@ OfflineResult renderOffline(const SceneDesc& scene, const PropagationSettings& s
                             const DrySignals& dry, const OfflineOptions& options) {
   const auto wall0 = std::chrono::steady_clock::now();
   const int fs = scene.audio.sampleRate;
-  PropagationStage propagation(scene, settings, options.numOutputs);
-  AudioStage audioStage(propagation.layout(), dry, options.numOutputs);
+  PropagationStage propagation(scene, settings);
+  const int numOutputs = propagation.numOutputs();
+  AudioStage audioStage(propagation.layout(), dry, numOutputs);
   const size_t B = size_t(scene.audio.blockSize);
   double content = double(dry.longestFrames()) / fs;
   if (!scene.listener.loop && !scene.listener.trajectory.empty())
@@ -23,8 +24,8 @@ OfflineResult renderOffline(const SceneDesc& scene, const PropagationSettings& s
 
   OfflineResult result;
   result.output.sampleRate = fs;
-  result.output.channels.assign(size_t(options.numOutputs), std::vector<float>(blocks * B));
-  std::vector<float*> out(size_t(options.numOutputs));
+  result.output.channels.assign(size_t(numOutputs), std::vector<float>(blocks * B));
+  std::vector<float*> out(static_cast<size_t>(numOutputs));
   const double framePeriod = 1.0 / settings.frameRate;
   uint64_t nextFrame = 0;
   size_t lastReport = 0;
@@ -34,13 +35,14 @@ OfflineResult renderOffline(const SceneDesc& scene, const PropagationSettings& s
     IrSet* newest = nullptr;
     while (double(nextFrame) * framePeriod <= t + 1e-12) {
       const double ft = double(nextFrame) * framePeriod;
-      IrSet* set = propagation.computeFrame(listenerPositionAt(scene.listener, ft), ft);
+      IrSet* set = propagation.computeFrame(listenerPositionAt(scene.listener, ft),
+                                            listenerOrientationAt(scene.listener, ft), ft);
       if (newest) propagation.recycle(newest);  // superseded before the audio side saw it
       newest = set;
       ++nextFrame;
     }
     if (newest) audioStage.offer(newest);
-    for (int c = 0; c < options.numOutputs; ++c)
+    for (int c = 0; c < numOutputs; ++c)
       out[size_t(c)] = result.output.channels[size_t(c)].data() + blk * B;
     audioStage.process(out.data());
     while (IrSet* spent = audioStage.takeSpent()) propagation.recycle(spent);

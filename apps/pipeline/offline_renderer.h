@@ -17,13 +17,12 @@ struct OfflineOptions {
   /// < 0: the longest non-looping source or the end of the (non-looping) trajectory,
   /// whichever is later, plus the IR length.
   double durationSeconds = -1.0;
-  int numOutputs = 1;
   /// Called about every 1 % of progress with (scene seconds rendered, total seconds).
   std::function<void(double, double)> progress;
 };
 
 struct OfflineResult {
-  audio::AudioData output;  ///< numOutputs channels at the scene's rate
+  audio::AudioData output;  ///< 1 (mono) or 2 (stereo, binaural) channels at the scene's rate
   std::vector<std::vector<std::vector<float>>> lastIrs;  ///< [source][channel][sample]
   PropagationStage::Totals totals;
   size_t cacheEntries = 0;  ///< summed over sources, after the last frame

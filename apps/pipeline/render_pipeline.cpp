@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 
+#include "audio/hrtf.h"
+#include "audio/panning.h"
 #include "audio/resample.h"
 #include "engine/input_error.h"
 
@@ -57,42 +59,108 @@ DrySignals loadDrySignals(const SceneDesc& scene) {
   return d;
 }
 
+int outputChannels(OutputFormat format) { return format == OutputFormat::kMono ? 1 : 2; }
+
+namespace {
+
+/// Two-channel filters for the spatial synthesiser: HRIR pairs (binaural, with the SOFA
+/// file's onset delays as leading zeros) or constant-power panning gains (stereo).
+struct SpatialFilters {
+  std::shared_ptr<audio::Hrtf> hrtf;
+  void fill(const glm::vec3& d, EarFilter& out) const {
+    const float dir[3] = {d.x, d.y, d.z};
+    if (!hrtf) {
+      float l = 0.f, r = 0.f;
+      audio::stereoGains(dir, &l, &r);
+      out.left.assign(1, l);
+      out.right.assign(1, r);
+      return;
+    }
+    const size_t n = size_t(hrtf->filterLength());
+    float delayL = 0.f, delayR = 0.f;
+    out.left.resize(n);
+    out.right.resize(n);
+    hrtf->hrir(dir, out.left.data(), out.right.data(), &delayL, &delayR);
+    auto delay = [](std::vector<float>& h, float samples) {
+      const size_t k = size_t(std::max(0.f, std::round(samples)));
+      if (k) h.insert(h.begin(), k, 0.f);
+    };
+    delay(out.left, delayL);
+    delay(out.right, delayR);
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<SpatialIrSynthesizer> makeSpatialSynthesizer(const SceneDesc& scene,
+                                                             const PropagationSettings& settings,
+                                                             double roomVolume) {
+  const int fs = scene.audio.sampleRate;
+  auto filters = std::make_shared<SpatialFilters>();
+  if (scene.audio.output == OutputFormat::kBinaural) {
+    try {
+      filters->hrtf = std::make_shared<audio::Hrtf>(audio::Hrtf::load(scene.audio.hrtfPath, fs));
+    } catch (const InputError& e) {
+      throw InputError(scene.path, "audio.hrtf", e.what());
+    }
+  }
+  const std::vector<glm::vec3> directions = defaultSpatialDirections();
+  std::vector<EarFilter> ear(directions.size());
+  for (size_t d = 0; d < directions.size(); ++d) filters->fill(directions[d], ear[d]);
+  return std::make_unique<SpatialIrSynthesizer>(
+      fs, settings.irLength, roomVolume, settings.speedOfSound,
+      hashCombine(settings.seed, 0x5bd1e995ULL), directions, ear,
+      [filters](const glm::vec3& d, EarFilter& out) { filters->fill(d, out); });
+}
+
 PropagationStage::PropagationStage(const SceneDesc& scene, const PropagationSettings& settings,
-                                   int numOutputs, int poolSize)
-    : scene_(scene), numOutputs_(numOutputs) {
+                                   int poolSize)
+    : scene_(scene), numOutputs_(outputChannels(scene.audio.output)) {
   simulation_ = std::make_unique<Simulation>(scene, settings);
   const int fs = scene.audio.sampleRate;
-  for (size_t s = 0; s < scene.sources.size(); ++s)
-    synthesizers_.push_back(std::make_unique<IrSynthesizer>(
-        fs, settings.irLength, simulation_->boundingVolume(), settings.speedOfSound,
-        hashCombine(settings.seed, 0x5bd1e995ULL + s)));
-  irSamples_ = synthesizers_.front()->lengthSamples();
+  if (scene.audio.output == OutputFormat::kMono) {
+    for (size_t s = 0; s < scene.sources.size(); ++s)
+      synthesizers_.push_back(std::make_unique<IrSynthesizer>(
+          fs, settings.irLength, simulation_->boundingVolume(), settings.speedOfSound,
+          hashCombine(settings.seed, 0x5bd1e995ULL + s)));
+    irSamples_ = synthesizers_.front()->lengthSamples();
+  } else {
+    spatial_ = makeSpatialSynthesizer(scene, settings, simulation_->boundingVolume());
+    const std::vector<glm::vec3>& directions = spatial_->directions();
+    simulation_->enableDirectional(directions);
+    irSamples_ = spatial_->lengthSamples();
+  }
   layout_ = std::make_unique<audio::ConvolverLayout>(scene.audio.blockSize, irSamples_);
   for (int i = 0; i < poolSize; ++i) {
     auto set = std::make_unique<IrSet>();
     for (size_t s = 0; s < scene.sources.size(); ++s)
-      set->sources.push_back(std::make_unique<audio::IrSpectra>(*layout_, numOutputs));
+      set->sources.push_back(std::make_unique<audio::IrSpectra>(*layout_, numOutputs_));
     free_.push_back(set.get());
     pool_.push_back(std::move(set));
   }
   irs_.assign(scene.sources.size(),
-              std::vector<std::vector<float>>(size_t(numOutputs), std::vector<float>(irSamples_)));
+              std::vector<std::vector<float>>(size_t(numOutputs_), std::vector<float>(irSamples_)));
 }
 
-IrSet* PropagationStage::computeFrame(const glm::vec3& listener, double t) {
+IrSet* PropagationStage::computeFrame(const glm::vec3& listener, const Orientation& orientation,
+                                      double t) {
   if (free_.empty()) return nullptr;
   IrSet* set = free_.back();
   free_.pop_back();
   auto t0 = std::chrono::steady_clock::now();
+  simulation_->setListenerOrientation(orientation);
   simulation_->runFrame(listener);
   totals_.traceSeconds += secondsSince(t0);
-  for (size_t s = 0; s < synthesizers_.size(); ++s) {
+  for (size_t s = 0; s < simulation_->sourceCount(); ++s) {
     const Simulation::SourceResult& r = simulation_->result(s);
     totals_.rays += r.trace.rays;
     totals_.segments += r.trace.segments;
     t0 = std::chrono::steady_clock::now();
-    synthesizers_[s]->synthesize(r.energy, r.direct, irs_[s][0].data());
-    for (int c = 1; c < numOutputs_; ++c) irs_[s][size_t(c)] = irs_[s][0];
+    if (spatial_)
+      spatial_->synthesize(simulation_->directional(s), r.direct, irs_[s][0].data(),
+                           irs_[s][1].data());
+    else
+      synthesizers_[s]->synthesize(r.energy, r.direct, irs_[s][0].data());
     totals_.synthesisSeconds += secondsSince(t0);
     t0 = std::chrono::steady_clock::now();
     std::vector<const float*> channels;

@@ -21,6 +21,7 @@
 #include "audio/convolver.h"
 #include "audio/wav_io.h"
 #include "engine/ir_synthesis.h"
+#include "engine/spatial_ir.h"
 #include "engine/scene.h"
 #include "engine/simulation.h"
 
@@ -46,18 +47,31 @@ struct DrySignals {
 };
 DrySignals loadDrySignals(const SceneDesc& scene);
 
+/// IR channels for an output format: 1 for mono, 2 for stereo and binaural.
+int outputChannels(OutputFormat format);
+
+/// The spatial IR synthesiser for scene.audio.output (stereo: constant-power panning;
+/// binaural: HRIRs from scene.audio.hrtfPath at the scene's rate) over
+/// defaultSpatialDirections(). Control thread; allocates; throws InputError naming
+/// audio.hrtf for an unreadable SOFA file.
+std::unique_ptr<SpatialIrSynthesizer> makeSpatialSynthesizer(const SceneDesc& scene,
+                                                             const PropagationSettings& settings,
+                                                             double roomVolume);
+
 /// Propagation thread side. Construction (control thread) builds the Embree scene, the IR
-/// synthesisers, the convolver layout and a pool of IrSets; allocates; throws on bad input.
+/// synthesisers (mono per source, or one spatial synthesiser with HRTF or panning filters
+/// shared by all sources), the convolver layout and a pool of IrSets; allocates; throws
+/// InputError (e.g. an unreadable SOFA file, named by the scene's audio.hrtf) or
+/// std::runtime_error.
 class PropagationStage {
  public:
-  PropagationStage(const SceneDesc& scene, const PropagationSettings& settings,
-                   int numOutputs, int poolSize = 4);
+  PropagationStage(const SceneDesc& scene, const PropagationSettings& settings, int poolSize = 4);
 
-  /// Runs one frame for the listener at `listener` (scene time t seconds), synthesises and
-  /// prepares every source's IR into a free IrSet from the pool and returns it; nullptr if no
-  /// set is free (all borrowed by the audio side). Propagation thread; allocates only while
-  /// the cache's tables grow.
-  IrSet* computeFrame(const glm::vec3& listener, double t);
+  /// Runs one frame for the listener at `listener` facing `orientation` (scene time t
+  /// seconds), synthesises and prepares every source's IR into a free IrSet from the pool and
+  /// returns it; nullptr if no set is free (all borrowed by the audio side). Propagation
+  /// thread; allocates only while the cache's tables grow.
+  IrSet* computeFrame(const glm::vec3& listener, const Orientation& orientation, double t);
   /// Gives a set back to the pool. Propagation thread.
   void recycle(IrSet* set);
 
@@ -78,7 +92,8 @@ class PropagationStage {
   const SceneDesc& scene_;
   int numOutputs_;
   std::unique_ptr<Simulation> simulation_;
-  std::vector<std::unique_ptr<IrSynthesizer>> synthesizers_;
+  std::vector<std::unique_ptr<IrSynthesizer>> synthesizers_;  ///< mono: one per source
+  std::unique_ptr<SpatialIrSynthesizer> spatial_;             ///< stereo / binaural
   std::unique_ptr<audio::ConvolverLayout> layout_;
   std::vector<std::unique_ptr<IrSet>> pool_;
   std::vector<IrSet*> free_;

@@ -88,16 +88,27 @@ TEST_CASE("Synthesised IR has the energy response's band energies", "[ir]") {
     for (double x : v) s += (x - m) * (x - m);
     return std::pair{m, std::sqrt(s / double(v.size() - 1) / double(v.size()))};
   };
+  // Bands normalised by realised energy (63, 125 Hz; BandEnvelope::kRealisedBands) trade
+  // their ~2 dB realisation spread for a small crossover bias (their per-bin gains no longer
+  // move with the next band's): allowance 0.5 dB (12 %) there.
   for (int b = 0; b < kNumBands; ++b) {
     const auto [m, se] = meanAndError(ratios[size_t(b)]);
     INFO("band " << b << ": IR / energy response = " << db(m) << " dB +- " << se);
-    CHECK(std::abs(m - 1.0) < 3 * se + 0.023);  // 0.1 dB = 2.3 %
+    const double allowance = b < BandEnvelope::kRealisedBands ? 0.12 : 0.023;  // 0.5 / 0.1 dB
+    CHECK(std::abs(m - 1.0) < 3 * se + allowance);
   }
-  // Windowed decay at 500 Hz..2 kHz (100 ms windows hold enough cycles; above 2 kHz the
-  // expected drop, 41-59 dB, is below the leakage floor of a rectangular window through which
+  // One realisation of the realised bands is close to the energy response too (that is
+  // what the realised normalisation buys): within 1 dB for every seed.
+  for (int b = 0; b < BandEnvelope::kRealisedBands; ++b)
+    for (double r : ratios[size_t(b)]) {
+      INFO("band " << b << " single realisation " << db(r) << " dB");
+      CHECK(std::abs(db(r)) < 1.0);
+    }
+  // Windowed decay at 500 Hz and 1 kHz (100 ms windows hold enough cycles; from 2 kHz up the
+  // expected drop, 32-59 dB, reaches the leakage floor of a rectangular window through which
   // the slower lower bands spill, ~ -35 dB): expected 60 * 0.4 / T60 dB; allowance 1 dB for
   // the window edges cutting the band filters' responses.
-  for (int b = 3; b <= 5; ++b) {
+  for (int b = 3; b <= 4; ++b) {
     const auto [m, se] = meanAndError(drops[size_t(b)]);
     const double expectDrop = 60.0 * 0.4 / t60[b];
     INFO("band " << b << " drop " << m << " dB +- " << se << ", expected " << expectDrop);

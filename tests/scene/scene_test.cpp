@@ -15,6 +15,15 @@
 
 namespace fs = std::filesystem;
 using namespace dpc;
+
+namespace {
+Keyframe key(double t, glm::vec3 p) {
+  Keyframe k;
+  k.timeSeconds = t;
+  k.position = p;
+  return k;
+}
+}  // namespace
 using Catch::Matchers::Contains;
 using nlohmann::json;
 
@@ -498,7 +507,7 @@ TEST_CASE("listenerPositionAt interpolates, clamps and loops", "[scene][trajecto
   l.position = {9.f, 9.f, 9.f};
   CHECK(listenerPositionAt(l, 3.0) == glm::vec3(9.f, 9.f, 9.f));  // static
 
-  l.trajectory = {{0.0, {0.f, 0.f, 0.f}}, {2.0, {2.f, 0.f, 0.f}}, {4.0, {2.f, 4.f, 0.f}}};
+  l.trajectory = {key(0.0, {0.f, 0.f, 0.f}), key(2.0, {2.f, 0.f, 0.f}), key(4.0, {2.f, 4.f, 0.f})};
   auto near = [](glm::vec3 a, glm::vec3 b) {
     return std::abs(a.x - b.x) < 1e-5f && std::abs(a.y - b.y) < 1e-5f &&
            std::abs(a.z - b.z) < 1e-5f;
@@ -518,13 +527,13 @@ TEST_CASE("listenerPositionAt interpolates, clamps and loops", "[scene][trajecto
   CHECK(near(listenerPositionAt(l, -1.0), {2.f, 2.f, 0.f}));  // wraps to t = 3
 
   // A trajectory starting later loops over [t_first, t_last).
-  l.trajectory = {{1.0, {0.f, 0.f, 0.f}}, {3.0, {0.f, 0.f, 2.f}}};
+  l.trajectory = {key(1.0, {0.f, 0.f, 0.f}), key(3.0, {0.f, 0.f, 2.f})};
   CHECK(near(listenerPositionAt(l, 0.5), {0.f, 0.f, 1.5f}));
   CHECK(near(listenerPositionAt(l, 3.5), {0.f, 0.f, 0.5f}));
   l.loop = false;
   CHECK(near(listenerPositionAt(l, 0.5), {0.f, 0.f, 0.f}));
 
-  l.trajectory = {{2.0, {1.f, 2.f, 3.f}}};  // a single keyframe is static
+  l.trajectory = {key(2.0, {1.f, 2.f, 3.f})};  // a single keyframe is static
   CHECK(listenerPositionAt(l, 0.0) == glm::vec3(1.f, 2.f, 3.f));
   CHECK(listenerPositionAt(l, 10.0) == glm::vec3(1.f, 2.f, 3.f));
 }

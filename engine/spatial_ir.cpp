@@ -1,0 +1,283 @@
+#include "engine/spatial_ir.h"
+
+#include <fftw3.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <stdexcept>
+
+#include <glm/geometric.hpp>
+
+namespace dpc {
+
+namespace {
+size_t nextPow2(size_t n) {
+  size_t p = 1;
+  while (p < n) p <<= 1;
+  return p;
+}
+
+template <typename T>
+T* fftwAlloc(size_t n) {
+  T* p = static_cast<T*>(fftwf_malloc(n * sizeof(T)));
+  if (!p) throw std::bad_alloc();
+  return p;
+}
+}  // namespace
+
+std::vector<glm::vec3> defaultSpatialDirections() {
+  std::vector<glm::vec3> d;
+  for (int i = 0; i < 6; ++i) {
+    const float az = float(i) * std::numbers::pi_v<float> / 3.f;  // 0 = ahead, + = left
+    d.push_back({std::cos(az), std::sin(az), 0.f});
+  }
+  d.push_back({0.f, 0.f, 1.f});
+  const float el = -40.f * std::numbers::pi_v<float> / 180.f;
+  d.push_back({std::cos(el), 0.f, std::sin(el)});
+  return d;
+}
+
+struct SpatialIrSynthesizer::Fft {
+  size_t n = 0;
+  float* time = nullptr;
+  fftwf_complex* a = nullptr;
+  fftwf_complex* b = nullptr;
+  fftwf_plan fwd = nullptr, inv = nullptr;
+  ~Fft() {
+    if (fwd) fftwf_destroy_plan(fwd);
+    if (inv) fftwf_destroy_plan(inv);
+    fftwf_free(time);
+    fftwf_free(a);
+    fftwf_free(b);
+  }
+};
+
+SpatialIrSynthesizer::~SpatialIrSynthesizer() = default;
+
+SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
+                                           double roomVolume, double speedOfSound,
+                                           uint64_t seed, std::vector<glm::vec3> directions,
+                                           const std::vector<EarFilter>& filters,
+                                           ExactFilter exact)
+    : sampleRate_(sampleRate), directions_(std::move(directions)), exact_(std::move(exact)) {
+  if (sampleRate <= 0 || !(lengthSeconds > 0.0) || directions_.empty() ||
+      filters.size() != directions_.size() || !exact_)
+    throw std::invalid_argument("SpatialIrSynthesizer: inconsistent arguments");
+  const size_t margin = size_t(sampleRate / 4);
+  size_t maxFilter = 1;
+  for (const EarFilter& f : filters) {
+    if (f.left.empty() || f.right.empty() || f.left.size() >= margin || f.right.size() >= margin)
+      throw std::invalid_argument("SpatialIrSynthesizer: filters must have 1 .. rate/4 taps");
+    maxFilter = std::max({maxFilter, f.left.size(), f.right.size()});
+  }
+  length_ = size_t(std::ceil(lengthSeconds * sampleRate));
+  const size_t nfft = nextPow2(length_ + margin + maxFilter);
+  const size_t nbins = nfft / 2 + 1;
+  const OctaveBandMasks masks(sampleRate, nfft);
+  filterData_ = BandFilterData::compute(masks, nfft);
+  const float scale = 1.f / float(nfft);
+
+  Fft big;
+  big.n = nfft;
+  big.time = fftwAlloc<float>(nfft);
+  big.a = fftwAlloc<fftwf_complex>(nbins);
+  big.b = fftwAlloc<fftwf_complex>(nbins);
+  using Spectrum = std::vector<std::complex<float>>;  // layout-compatible with fftwf_complex
+  Spectrum seqSpec(nbins);
+  std::array<Spectrum, 2> earSpec{Spectrum(nbins), Spectrum(nbins)};
+  big.fwd = fftwf_plan_dft_r2c_1d(int(nfft), big.time, big.a, FFTW_ESTIMATE);
+  big.inv = fftwf_plan_dft_c2r_1d(int(nfft), big.b, big.time, FFTW_ESTIMATE);
+  if (!big.fwd || !big.inv) throw std::runtime_error("SpatialIrSynthesizer: FFTW plan failed");
+
+  // Diffuse-field equalisation: the band energy of every direction's filter, averaged.
+  std::array<double, kNumBands> norm{};
+  for (int b = 0; b < kNumBands; ++b)
+    for (size_t k = 0; k < nbins; ++k) norm[size_t(b)] += double(masks.gain(b, k)) * masks.gain(b, k);
+  auto spectrumOf = [&](const std::vector<float>& taps, Spectrum& out) {
+    std::fill(big.time, big.time + nfft, 0.f);
+    std::copy(taps.begin(), taps.end(), big.time);
+    fftwf_execute_dft_r2c(big.fwd, big.time, big.a);
+    for (size_t k = 0; k < nbins; ++k) out[k] = {big.a[k][0], big.a[k][1]};
+  };
+  kappa_.fill(0.0);
+  for (const EarFilter& f : filters)
+    for (int ear = 0; ear < 2; ++ear) {
+      spectrumOf(ear == 0 ? f.left : f.right, earSpec[size_t(ear)]);
+      for (int b = 0; b < kNumBands; ++b) {
+        double e = 0.0;
+        for (size_t k = 0; k < nbins; ++k) {
+          const double m2 = double(masks.gain(b, k)) * masks.gain(b, k);
+          e += m2 * double(std::norm(earSpec[size_t(ear)][k]));
+        }
+        kappa_[size_t(b)] += e / norm[size_t(b)] / double(2 * filters.size());
+      }
+    }
+
+  // Per direction: its own Dirac sequence, through A_b and the direction's filter.
+  bands_.resize(directions_.size());
+  for (size_t d = 0; d < directions_.size(); ++d) {
+    const std::vector<float> seq = diracSequence(
+        sampleRate, length_, roomVolume, speedOfSound, IrSynthesizer::kMaxDensityPerSecond,
+        hashCombine(seed, d + 1));
+    spectrumOf(seq, seqSpec);
+    std::array<std::vector<float>, BandEnvelope::kRealisedBands> measured;
+    for (int b = 0; b < BandEnvelope::kRealisedBands; ++b) {
+      for (size_t k = 0; k < nbins; ++k) {
+        const float m = masks.gain(b, k);
+        const std::complex<float> v = seqSpec[k] * (m * m * m * scale);
+        big.b[k][0] = v.real();
+        big.b[k][1] = v.imag();
+      }
+      fftwf_execute_dft_c2r(big.inv, big.b, big.time);
+      measured[size_t(b)].assign(big.time, big.time + length_);
+    }
+    envelopes_.push_back(
+        std::make_unique<BandEnvelope>(sampleRate, seq, length_, filterData_, measured));
+    for (int ear = 0; ear < 2; ++ear) {
+      spectrumOf(ear == 0 ? filters[d].left : filters[d].right, earSpec[size_t(ear)]);
+      for (int b = 0; b < kNumBands; ++b) {
+        const float eq = float(1.0 / std::sqrt(kappa_[size_t(b)]));
+        for (size_t k = 0; k < nbins; ++k) {
+          const float g = masks.gain(b, k) * masks.gain(b, k) * scale * eq;
+          const std::complex<float> v = g * seqSpec[k] * earSpec[size_t(ear)][k];
+          big.b[k][0] = v.real();
+          big.b[k][1] = v.imag();
+        }
+        fftwf_execute_dft_c2r(big.inv, big.b, big.time);
+        bands_[d][size_t(ear)][size_t(b)].assign(big.time, big.time + length_);
+      }
+    }
+  }
+
+  // The omnidirectional low bands: one more sequence, through A_b only (no ear filter).
+  {
+    const std::vector<float> seq = diracSequence(sampleRate, length_, roomVolume, speedOfSound,
+                                                 IrSynthesizer::kMaxDensityPerSecond,
+                                                 hashCombine(seed, 0x0a0a0a0aULL));
+    spectrumOf(seq, seqSpec);
+    std::array<std::vector<float>, BandEnvelope::kRealisedBands> measured;
+    for (int b = 0; b < kDirectionalFromBand; ++b) {
+      for (int pass = 0; pass < 2; ++pass) {
+        for (size_t k = 0; k < nbins; ++k) {
+          const float m = masks.gain(b, k);
+          const float g = (pass == 0 ? m * m : m * m * m) * scale;
+          big.b[k][0] = seqSpec[k].real() * g;
+          big.b[k][1] = seqSpec[k].imag() * g;
+        }
+        fftwf_execute_dft_c2r(big.inv, big.b, big.time);
+        if (pass == 0)
+          omniBands_[size_t(b)].assign(big.time, big.time + length_);
+        else if (b < BandEnvelope::kRealisedBands)
+          measured[size_t(b)].assign(big.time, big.time + length_);
+      }
+    }
+    omniEnvelope_ =
+        std::make_unique<BandEnvelope>(sampleRate, seq, length_, filterData_, measured);
+    omniEnergy_ = EnergyResponse(lengthSeconds, 1e-3);
+  }
+
+  // Band filters a_b for the direct sound (zero phase, centred), as in IrSynthesizer.
+  filterCentre_ = margin / 2;
+  for (int b = 0; b < kNumBands; ++b) {
+    for (size_t k = 0; k < nbins; ++k) {
+      big.b[k][0] = masks.gain(b, k) * masks.gain(b, k) * scale;
+      big.b[k][1] = 0.f;
+    }
+    fftwf_execute_dft_c2r(big.inv, big.b, big.time);
+    bandFilter_[size_t(b)].assign(margin, 0.f);
+    for (size_t i = 0; i < margin; ++i)
+      bandFilter_[size_t(b)][i] = big.time[(i + nfft - filterCentre_) % nfft];
+  }
+
+  // Direct-sound convolution: band-shaped impulse (margin) * filter (< margin).
+  fft_ = std::make_unique<Fft>();
+  fft_->n = nextPow2(2 * margin);
+  directFft_ = fft_->n;
+  fft_->time = fftwAlloc<float>(fft_->n);
+  fft_->a = fftwAlloc<fftwf_complex>(fft_->n / 2 + 1);
+  fft_->b = fftwAlloc<fftwf_complex>(fft_->n / 2 + 1);
+  fft_->fwd = fftwf_plan_dft_r2c_1d(int(fft_->n), fft_->time, fft_->a, FFTW_ESTIMATE);
+  fft_->inv = fftwf_plan_dft_c2r_1d(int(fft_->n), fft_->b, fft_->time, FFTW_ESTIMATE);
+  if (!fft_->fwd || !fft_->inv) throw std::runtime_error("SpatialIrSynthesizer: FFTW plan failed");
+  exactScratch_.left.reserve(margin);
+  exactScratch_.right.reserve(margin);
+}
+
+void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
+                                      const DirectSound& direct, float* left, float* right) {
+  std::fill(left, left + length_, 0.f);
+  std::fill(right, right + length_, 0.f);
+  const size_t count = std::min(energy.directionCount(), directions_.size());
+  for (size_t d = 0; d < count; ++d) envelopes_[d]->compute(energy.response(d));
+  // Omnidirectional low bands: the directions' responses summed (same bins as theirs).
+  if (omniEnergy_.binCount() != energy.response(0).binCount())
+    omniEnergy_ = EnergyResponse(double(energy.response(0).binCount()) *
+                                     energy.response(0).binSeconds(),
+                                 energy.response(0).binSeconds());
+  omniEnergy_.clear();
+  for (size_t d = 0; d < count; ++d)
+    for (size_t k = 0; k < omniEnergy_.binCount(); ++k)
+      for (int b = 0; b < kDirectionalFromBand; ++b)
+        omniEnergy_.bins()[k][b] += energy.response(d).bins()[k][b];
+  omniEnvelope_->compute(omniEnergy_);
+  std::array<const float*, kNumBands> omni{};
+  for (int b = 0; b < kDirectionalFromBand; ++b) omni[size_t(b)] = omniBands_[size_t(b)].data();
+  // Cache-blocked: each output block stays in L1 while all K x 2 x 8 band signals stream
+  // through it once (the loop is memory-bound: the band signals are K x 16 x length floats).
+  constexpr size_t kBlock = 2048;
+  for (size_t begin = 0; begin < length_; begin += kBlock) {
+    const size_t end = std::min(length_, begin + kBlock);
+    for (size_t d = 0; d < count; ++d)
+      for (int ear = 0; ear < 2; ++ear) {
+        std::array<const float*, kNumBands> bands;
+        for (int b = 0; b < kNumBands; ++b)
+          bands[size_t(b)] = bands_[d][size_t(ear)][size_t(b)].data();
+        envelopes_[d]->accumulateRange(bands, ear == 0 ? left : right, begin, end, 1.f,
+                                       kDirectionalFromBand, kNumBands);
+      }
+    for (int ear = 0; ear < 2; ++ear)
+      omniEnvelope_->accumulateRange(omni, ear == 0 ? left : right, begin, end, 1.f, 0,
+                                     kDirectionalFromBand);
+  }
+  if (direct.visible) addDirect(direct, energy.toListener(direct.direction), left, right);
+}
+
+void SpatialIrSynthesizer::addDirect(const DirectSound& direct, const glm::vec3& dir,
+                                     float* left, float* right) {
+  exact_(glm::normalize(dir), exactScratch_);
+  const size_t n = fft_->n, nbins = n / 2 + 1, margin = bandFilter_[0].size();
+  // The band-shaped impulse: sum_b amp_b a_b, diffuse-field equalised, time 0 at centre.
+  std::fill(fft_->time, fft_->time + n, 0.f);
+  for (int b = 0; b < kNumBands; ++b) {
+    const size_t bi = size_t(b);
+    const float amp = float(std::sqrt(double(direct.intensity[b]) /
+                                      (filterData_.share[bi] * kappa_[bi])));
+    for (size_t i = 0; i < margin; ++i) fft_->time[i] += amp * bandFilter_[bi][i];
+  }
+  fftwf_execute_dft_r2c(fft_->fwd, fft_->time, fft_->a);
+  const long n0 = std::lround(double(direct.delaySeconds) * sampleRate_) - long(filterCentre_);
+  for (int ear = 0; ear < 2; ++ear) {
+    const std::vector<float>& h = ear == 0 ? exactScratch_.left : exactScratch_.right;
+    std::fill(fft_->time, fft_->time + n, 0.f);
+    std::copy(h.begin(), h.begin() + long(std::min(h.size(), n)), fft_->time);
+    fftwf_execute_dft_r2c(fft_->fwd, fft_->time, fft_->b);
+    const float scale = 1.f / float(n);
+    for (size_t k = 0; k < nbins; ++k) {
+      const float ar = fft_->a[k][0], ai = fft_->a[k][1];
+      const float hr = fft_->b[k][0], hi = fft_->b[k][1];
+      fft_->b[k][0] = (ar * hr - ai * hi) * scale;
+      fft_->b[k][1] = (ar * hi + ai * hr) * scale;
+    }
+    fftwf_execute_dft_c2r(fft_->inv, fft_->b, fft_->time);
+    float* out = ear == 0 ? left : right;
+    const size_t used = margin + h.size();
+    for (size_t i = 0; i < used && i < n; ++i) {
+      const long t = n0 + long(i);
+      if (t >= 0 && t < long(length_)) out[t] += fft_->time[i];
+    }
+  }
+}
+
+}  // namespace dpc

@@ -103,18 +103,26 @@ int benchPropagation(const Common& c, bool noRoulette) {
     traceSeconds += std::chrono::duration<double>(t1 - t0).count();
     std::fprintf(stderr, "\rframe %d/%d", f + 1, c.frames);
   }
-  std::fprintf(stderr, "\rbare Embree loop...   ");
-  uint64_t bareSegments = 0;
-  double bareSeconds = 0.0;
+  std::fprintf(stderr, "\rbare Embree loops...   ");
+  // Two yardsticks: single rays (rtcIntersect1) and 16-wide packets (rtcIntersect16), the
+  // latter being what the full frame uses by default.
+  uint64_t bareSegments = 0, packetSegments = 0;
+  double bareSeconds = 0.0, packetSeconds = 0.0;
   for (int f = 0; f < c.frames; ++f) {
     const bench::BareResult b = bench::traceBare(sim.geometry(), scene.sources[0].position,
                                                  s.raysPerFrame, s.maxOrder, s.threads, f);
     bareSegments += b.segments;
     bareSeconds += b.seconds;
+    const bench::BareResult p =
+        bench::traceBare(sim.geometry(), scene.sources[0].position, s.raysPerFrame, s.maxOrder,
+                         s.threads, f, bench::BareMode::kPacket16);
+    packetSegments += p.segments;
+    packetSeconds += p.seconds;
   }
   std::fprintf(stderr, "\r                      \r");
   const double fullRate = double(segments) / traceSeconds;
   const double bareRate = double(bareSegments) / bareSeconds;
+  const double packetRate = double(packetSegments) / packetSeconds;
   json j;
   j["benchmark"] = "propagation";
   j["scene"] = c.scene;
@@ -135,7 +143,10 @@ int benchPropagation(const Common& c, bool noRoulette) {
   j["bare_embree"] = {{"segments_per_second", bareRate},
                       {"segments_per_frame", double(bareSegments) / c.frames},
                       {"note", "same rays and max order, cosine bounces, no listener/cache"}};
+  j["bare_embree_packet16"] = {{"segments_per_second", packetRate},
+                               {"segments_per_frame", double(packetSegments) / c.frames}};
   j["ratio_full_to_bare"] = fullRate / bareRate;
+  j["ratio_full_to_bare_packet16"] = fullRate / packetRate;
   j["cache"] = {{"entries", sim.result(0).cacheEntries}, {"bytes", sim.result(0).cacheBytes}};
   j["ir_synthesis_ms"] = stats(synthMs);
   j["ir_samples"] = synth.lengthSamples();

@@ -13,31 +13,13 @@
 #include "engine/input_error.h"
 #include "engine/simulation.h"
 #include "../engine/test_scenes.h"
+#include "../engine/test_util.h"
+
+using dpc::test::bandEnergies;
 
 using namespace dpc;
 
 namespace {
-
-/// Band energies with the synthesiser's own power-complementary octave masks.
-Bands bandEnergies(const std::vector<float>& x, int fs) {
-  size_t n = 1;
-  while (n < 2 * x.size()) n <<= 1;
-  std::vector<float> in(n, 0.f);
-  std::copy(x.begin(), x.end(), in.begin());
-  std::vector<fftwf_complex> out(n / 2 + 1);
-  fftwf_plan p = fftwf_plan_dft_r2c_1d(int(n), in.data(), out.data(), FFTW_ESTIMATE);
-  fftwf_execute(p);
-  fftwf_destroy_plan(p);
-  OctaveBandMasks masks(fs, n);
-  Bands e(0.f);
-  for (size_t k = 0; k <= n / 2; ++k) {
-    const double mag2 = double(out[k][0]) * out[k][0] + double(out[k][1]) * out[k][1];
-    const double w = (k == 0 || k == n / 2) ? 1.0 : 2.0;
-    for (int b = 0; b < kNumBands; ++b)
-      e[b] += float(w * double(masks.gain(b, k)) * masks.gain(b, k) * mag2 / double(n));
-  }
-  return e;
-}
 
 double db(double x) { return 10.0 * std::log10(x); }
 

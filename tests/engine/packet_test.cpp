@@ -44,11 +44,6 @@ bool sameGroups(const FrameGroups& a, const FrameGroups& b) {
   return true;
 }
 
-bool identical(const EnergyResponse& a, const EnergyResponse& b) {
-  return a.binCount() == b.binCount() &&
-         std::memcmp(a.bins().data(), b.bins().data(), a.binCount() * sizeof(Bands)) == 0;
-}
-
 struct MeanAndError {
   Bands mean{0.f};
   Bands standardError{0.f};  ///< of the mean, from the frame-to-frame spread
@@ -199,30 +194,6 @@ TEST_CASE("Packet tracing is bit-identical for a seed whatever the thread count"
       REQUIRE(sa.listenerHits > 100);
       REQUIRE(sa.segments == sb.segments);
       REQUIRE(sameGroups(a, b));
-    }
-  }
-}
-
-TEST_CASE("tau = 0 DPC equals plain path tracing in both trace modes", "[packet][dpc]") {
-  SceneDesc scene = test::makeShoebox({10, 3, 7}, Bands(0.2f), 0.7f, {2, 1.5f, 2}, {7, 1.6f, 5});
-  PropagationSettings ps;
-  ps.raysPerFrame = 2000;
-  ps.maxOrder = 30;
-  ps.cacheTau = 0.f;
-  ps.seed = 42;
-  for (TraceMode mode : {TraceMode::kPacket16, TraceMode::kScalar}) {
-    PropagationSettings dpcSettings = ps, ptSettings = ps;
-    dpcSettings.estimator = Estimator::kDpc;
-    ptSettings.estimator = Estimator::kPathTracing;
-    Simulation dpcSim(scene, dpcSettings), ptSim(scene, ptSettings);
-    dpcSim.propagator().setTraceMode(mode);
-    ptSim.propagator().setTraceMode(mode);
-    for (int f = 0; f < 3; ++f) {
-      const glm::vec3 listener(7.f - 0.3f * f, 1.6f, 5.f);
-      dpcSim.runFrame(listener);
-      ptSim.runFrame(listener);
-      REQUIRE(dpcSim.result(0).trace.listenerHits > 100);
-      REQUIRE(identical(dpcSim.result(0).energy, ptSim.result(0).energy));
     }
   }
 }

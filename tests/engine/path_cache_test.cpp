@@ -6,6 +6,9 @@
 
 #include "engine/path_cache.h"
 #include "engine/random.h"
+#include "test_util.h"
+
+using dpc::test::identical;
 
 using namespace dpc;
 
@@ -32,11 +35,6 @@ EnergyResponse frame(DiffusePathCache& cache, const std::vector<PathHit>& hits, 
 
 /// Energy in band 0 at the bin of delay r / c.
 float at(const EnergyResponse& e, float r) { return e.bins()[size_t(r / kC / 1e-3)][0]; }
-
-bool identical(const EnergyResponse& a, const EnergyResponse& b) {
-  return a.binCount() == b.binCount() &&
-         std::memcmp(a.bins().data(), b.bins().data(), a.binCount() * sizeof(Bands)) == 0;
-}
 
 }  // namespace
 

@@ -7,15 +7,11 @@
 #include "engine/propagation.h"
 #include "engine/simulation.h"
 #include "test_scenes.h"
+#include "test_util.h"
 
 using namespace dpc;
 
-namespace {
-bool identical(const EnergyResponse& a, const EnergyResponse& b) {
-  return a.binCount() == b.binCount() &&
-         std::memcmp(a.bins().data(), b.bins().data(), a.binCount() * sizeof(Bands)) == 0;
-}
-}  // namespace
+using test::identical;
 
 // design.md oracle: the energy of order-0 rays through the listener sphere estimates the
 // direct intensity 1/(4 pi r^2) (times air attenuation).
@@ -50,19 +46,22 @@ TEST_CASE("Order-0 energy through the listener sphere is 1/(4 pi r^2)", "[calibr
   }
 }
 
-TEST_CASE("tau = 0 DPC reproduces plain path tracing exactly, frame after frame", "[dpc]") {
+TEST_CASE("tau = 0 DPC reproduces plain path tracing exactly, frame after frame", "[dpc][packet]") {
   SceneDesc scene = test::makeShoebox({10, 3, 7}, Bands(0.2f), 0.7f, {2, 1.5f, 2}, {7, 1.6f, 5});
   PropagationSettings ps;
   ps.raysPerFrame = 2000;
   ps.maxOrder = 30;
   ps.cacheTau = 0.f;
   ps.seed = 42;
+  for (TraceMode mode : {TraceMode::kPacket16, TraceMode::kScalar})
   for (DpcWeighting w : {DpcWeighting::kSeed, DpcWeighting::kEma}) {
     PropagationSettings dpcSettings = ps, ptSettings = ps;
     dpcSettings.estimator = Estimator::kDpc;
     dpcSettings.dpcWeighting = w;
     ptSettings.estimator = Estimator::kPathTracing;
     Simulation dpcSim(scene, dpcSettings), ptSim(scene, ptSettings);
+    dpcSim.propagator().setTraceMode(mode);
+    ptSim.propagator().setTraceMode(mode);
     for (int f = 0; f < 5; ++f) {
       const glm::vec3 listener(7.f - 0.3f * f, 1.6f, 5.f);  // moving: nothing may carry over
       dpcSim.runFrame(listener);

@@ -3,62 +3,34 @@
 // thread computes frames and the control thread moves the listener.
 #include <catch2/catch.hpp>
 
-#include <chrono>
-#include <cmath>
-#include <thread>
-#include <vector>
-
 #include "alloc_counter.h"
-#include "apps/pipeline/live_session.h"
+#include "live_driver.h"
 
 using namespace dpc;
 
-TEST_CASE("LiveSession::render makes no heap calls across IR swaps", "[rt]") {
-  SceneDesc scene = loadScene(std::string(DPC_SOURCE_DIR) + "/scenes/shoebox.json");
-  scene.audio.blockSize = 128;
-  PropagationSettings ps = scene.propagation;
-  ps.raysPerFrame = 256;
-  ps.maxOrder = 30;
-  ps.irLength = 0.5f;
-  ps.frameRate = 60.f;  // many swaps in a short test
-  const DrySignals dry = loadDrySignals(scene);
-  LiveSession::Options opt;
-  opt.recordSeconds = 10.0;  // exercise the recorder ring too
-  LiveSession session(scene, ps, dry, opt);
-  session.setPose(listenerPositionAt(scene.listener, 0.0), 0.f, 0.0);
-  session.start();
-
-  const int blocks = 4000;
-  uint64_t heapCalls = ~0ull;
-  std::vector<float> left(128), right(128);
-  float* out[2] = {left.data(), right.data()};
-  bool finite = true;
-  std::thread audio([&] {
-    dpc::rt::AllocationScope scope;  // this thread is the audio thread from here on
-    for (int b = 0; b < blocks; ++b) {
-      session.render(out, 128);
-      for (float x : left) finite = finite && std::isfinite(x);
-      // Pace like a device at ~4x real time so that frames (60/s) keep arriving.
-      std::this_thread::sleep_for(std::chrono::microseconds(500));
-    }
-    heapCalls = scope.counts().total();
-  });
-  // Control thread: walk the listener meanwhile.
-  const auto start = std::chrono::steady_clock::now();
-  while (session.status().blocks < uint64_t(blocks)) {
-    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    session.setPose(listenerPositionAt(scene.listener, t), 0.f, t);
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+namespace {
+/// Counts heap calls on the audio thread between begin() and end().
+struct CountHeapCalls {
+  std::unique_ptr<rt::AllocationScope> scope;
+  uint64_t calls = ~0ull;
+  void begin() { scope = std::make_unique<rt::AllocationScope>(); }
+  void end() {
+    calls = scope->counts().total();
+    scope.reset();
   }
-  audio.join();
-  session.stop();
-  const LiveSession::Status st = session.status();
-  INFO("blocks " << st.blocks << ", IRs applied " << st.irsApplied << ", heap calls " << heapCalls);
-  CHECK(st.blocks == uint64_t(blocks));
-  CHECK(st.irsApplied >= 100);  // swaps really happened during the counted blocks
-  CHECK(heapCalls == 0);
-  CHECK(finite);
-  CHECK(st.nanBlocks == 0);
-  const audio::AudioData rec = session.takeRecording();
-  CHECK(rec.frames() == size_t(blocks) * 128);
+};
+}  // namespace
+
+TEST_CASE("LiveSession::render makes no heap calls across IR swaps", "[rt]") {
+  CountHeapCalls counter;
+  const int blocks = 4000;
+  const test::LiveRun run = test::driveLiveSession(blocks, counter);
+  INFO("blocks " << run.status.blocks << ", IRs applied " << run.status.irsApplied
+                 << ", heap calls " << counter.calls);
+  CHECK(run.status.blocks == uint64_t(blocks));
+  CHECK(run.status.irsApplied >= 100);  // swaps really happened during the counted blocks
+  CHECK(counter.calls == 0);
+  CHECK(run.finite);
+  CHECK(run.status.nanBlocks == 0);
+  CHECK(run.recordedFrames == size_t(blocks) * 128);
 }

@@ -1,0 +1,44 @@
+// Helpers shared by the engine and app tests.
+#pragma once
+
+#include <fftw3.h>
+
+#include <cstring>
+#include <vector>
+
+#include "engine/energy_response.h"
+#include "engine/ir_synthesis.h"
+
+namespace dpc::test {
+
+/// Bit-for-bit equality of two energy responses.
+inline bool identical(const EnergyResponse& a, const EnergyResponse& b) {
+  return a.binCount() == b.binCount() &&
+         std::memcmp(a.bins().data(), b.bins().data(), a.binCount() * sizeof(Bands)) == 0;
+}
+
+/// Band energies of x (sum over samples of the band-filtered signal squared), measured with
+/// the synthesiser's own power-complementary octave masks, by Parseval on one real FFT.
+inline Bands bandEnergies(const std::vector<float>& x, int fs) {
+  size_t n = 1;
+  while (n < 2 * x.size()) n <<= 1;
+  std::vector<float> in(n, 0.f);
+  std::copy(x.begin(), x.end(), in.begin());
+  std::vector<fftwf_complex> out(n / 2 + 1);
+  fftwf_plan p = fftwf_plan_dft_r2c_1d(int(n), in.data(), out.data(), FFTW_ESTIMATE);
+  fftwf_execute(p);
+  fftwf_destroy_plan(p);
+  OctaveBandMasks masks(fs, n);
+  Bands e(0.f);
+  for (size_t k = 0; k <= n / 2; ++k) {
+    const double mag2 = double(out[k][0]) * out[k][0] + double(out[k][1]) * out[k][1];
+    const double w = (k == 0 || k == n / 2) ? 1.0 : 2.0;  // one-sided spectrum
+    for (int b = 0; b < kNumBands; ++b) {
+      const double g = masks.gain(b, k);
+      e[b] += float(w * g * g * mag2 / double(n));
+    }
+  }
+  return e;
+}
+
+}  // namespace dpc::test

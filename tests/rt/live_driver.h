@@ -1,0 +1,65 @@
+// Drives a LiveSession the way a device would, for the real-time tests: an audio-role thread
+// renders `blocks` blocks of 128 frames (paced at ~4x real time so frames keep arriving at
+// 60/s), the calling thread walks the listener along the shoebox trajectory meanwhile.
+// `onAudioThread` runs on the audio thread around the blocks: begin() before the first, end()
+// after the last (e.g. to count heap calls there).
+#pragma once
+
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "apps/pipeline/live_session.h"
+
+namespace dpc::test {
+
+struct LiveRun {
+  LiveSession::Status status;
+  bool finite = true;
+  size_t recordedFrames = 0;
+};
+
+template <typename AudioThreadObserver>
+LiveRun driveLiveSession(int blocks, AudioThreadObserver& onAudioThread) {
+  SceneDesc scene = loadScene(std::string(DPC_SOURCE_DIR) + "/scenes/shoebox.json");
+  scene.audio.blockSize = 128;
+  PropagationSettings ps = scene.propagation;
+  ps.raysPerFrame = 256;
+  ps.maxOrder = 30;
+  ps.irLength = 0.5f;
+  ps.frameRate = 60.f;  // many swaps in a short test
+  const DrySignals dry = loadDrySignals(scene);
+  LiveSession::Options opt;
+  opt.recordSeconds = 10.0;  // exercise the recorder ring too
+  LiveSession session(scene, ps, dry, opt);
+  session.setPose(listenerPositionAt(scene.listener, 0.0), 0.f, 0.0);
+  session.start();
+
+  LiveRun run;
+  std::vector<float> left(128), right(128);
+  float* out[2] = {left.data(), right.data()};
+  std::thread audio([&] {
+    onAudioThread.begin();
+    for (int b = 0; b < blocks; ++b) {
+      session.render(out, 128);
+      for (float x : left) run.finite = run.finite && std::isfinite(x);
+      std::this_thread::sleep_for(std::chrono::microseconds(500));
+    }
+    onAudioThread.end();
+  });
+  const auto start = std::chrono::steady_clock::now();
+  while (session.status().blocks < uint64_t(blocks)) {
+    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    session.setPose(listenerPositionAt(scene.listener, t), 0.f, t);
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  audio.join();
+  session.stop();
+  run.status = session.status();
+  run.recordedFrames = session.takeRecording().frames();
+  return run;
+}
+
+}  // namespace dpc::test

@@ -1,24 +1,20 @@
 // dpc-demo: render a scene through the diffuse path cache, offline to a WAV file (live
 // playback builds on the same pipeline).
+#include <poll.h>
+#include <termios.h>
 #include <unistd.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <string>
-
-#include <CLI/CLI.hpp>
-
-#include <poll.h>
-#include <termios.h>
-
-#include <atomic>
-#include <chrono>
-#include <numbers>
-#include <thread>
-
 #include <glm/geometric.hpp>
+#include <numbers>
+#include <string>
+#include <thread>
 
 #include "apps/pipeline/live_session.h"
 #include "apps/pipeline/offline_renderer.h"
@@ -49,8 +45,8 @@ void progressBar(double done, double total) {
   const int filled = int(f * width);
   if (isatty(STDERR_FILENO)) {
     std::fprintf(stderr, "\r[%.*s%*s] %3d%%  %.1f / %.1f s", filled,
-                 "########################################", width - filled, "", int(f * 100),
-                 done, total);
+                 "########################################", width - filled, "", int(f * 100), done,
+                 total);
     if (f >= 1.0) std::fprintf(stderr, "\n");
   } else if (int(f * 100) % 10 == 0) {
     std::fprintf(stderr, "progress %3d%%  %.1f / %.1f s\n", int(f * 100), done, total);
@@ -99,7 +95,9 @@ PropagationSettings applyOverrides(const SceneDesc& scene, const Flags& fl) {
 void applyAudioOverrides(SceneDesc& scene, const Flags& fl) {
   if (!fl.output.empty()) {
     auto o = parseOutputFormat(fl.output);
-    if (!o) throw InputError("command line", "--output", "'" + fl.output + "' is not mono, stereo or binaural");
+    if (!o)
+      throw InputError("command line", "--output",
+                       "'" + fl.output + "' is not mono, stereo or binaural");
     scene.audio.output = *o;
   }
   if (!fl.hrtf.empty()) {
@@ -147,7 +145,8 @@ int runOffline(const Flags& fl) {
   const double audioSeconds = double(out.frames()) / scene.audio.sampleRate;
   const auto& t = r.totals;
   const char* format = scene.audio.output == OutputFormat::kBinaural ? "binaural"
-                       : scene.audio.output == OutputFormat::kStereo ? "stereo" : "mono";
+                       : scene.audio.output == OutputFormat::kStereo ? "stereo"
+                                                                     : "mono";
   std::printf("wrote %s (%.2f s, %d Hz, %s, float32, gain %+.1f dB)\n", fl.offline.c_str(),
               audioSeconds, scene.audio.sampleRate, format, gainDb);
   if (!fl.irOut.empty())
@@ -159,13 +158,11 @@ int runOffline(const Flags& fl) {
       "real-time factor %.1fx\n",
       (unsigned long long)t.frames, (unsigned long long)r.irsApplied,
       t.traceSeconds > 0 ? t.rays / t.traceSeconds : 0.0,
-      t.traceSeconds > 0 ? t.segments / t.traceSeconds : 0.0, r.cacheEntries,
-      r.cacheBytes / 1e6, t.traceSeconds + t.synthesisSeconds + t.prepareSeconds,
-      t.traceSeconds, t.synthesisSeconds, t.prepareSeconds, r.wallSeconds,
-      audioSeconds / r.wallSeconds);
+      t.traceSeconds > 0 ? t.segments / t.traceSeconds : 0.0, r.cacheEntries, r.cacheBytes / 1e6,
+      t.traceSeconds + t.synthesisSeconds + t.prepareSeconds, t.traceSeconds, t.synthesisSeconds,
+      t.prepareSeconds, r.wallSeconds, audioSeconds / r.wallSeconds);
   return 0;
 }
-
 
 /// Terminal raw mode for --interactive (restored on destruction).
 class RawTerminal {
@@ -191,10 +188,14 @@ class RawTerminal {
     unsigned char seq[2] = {0, 0};
     if (read(STDIN_FILENO, seq, 2) != 2 || seq[0] != '[') return 27;
     switch (seq[1]) {
-      case 'A': return 256 + 'U';
-      case 'B': return 256 + 'D';
-      case 'C': return 256 + 'R';
-      case 'D': return 256 + 'L';
+      case 'A':
+        return 256 + 'U';
+      case 'B':
+        return 256 + 'D';
+      case 'C':
+        return 256 + 'R';
+      case 'D':
+        return 256 + 'L';
     }
     return 0;
   }
@@ -207,8 +208,9 @@ class RawTerminal {
 int listDevices() {
   const auto devices = audio::listOutputDevices();
   if (devices.empty()) {
-    std::printf("no audio output devices (start a JACK server, e.g. jackd -d dummy -r 48000 "
-                "-p 128, or render with --offline OUT.wav)\n");
+    std::printf(
+        "no audio output devices (start a JACK server, e.g. jackd -d dummy -r 48000 "
+        "-p 128, or render with --offline OUT.wav)\n");
     return 0;
   }
   for (const auto& d : devices)
@@ -225,8 +227,7 @@ int runLive(Flags& fl) {
   PropagationSettings settings = applyOverrides(scene, fl);
   // Live: leave one core to the audio thread unless --threads says otherwise (measured on 2
   // cores: 245 late blocks in 20 s with both cores tracing, 24 with one; docs/live.md).
-  if (!fl.hasThreads)
-    settings.threads = std::max(1, int(std::thread::hardware_concurrency()) - 1);
+  if (!fl.hasThreads) settings.threads = std::max(1, int(std::thread::hardware_concurrency()) - 1);
   if (fl.hasBlockSize) {
     if (fl.blockSize < 16 || fl.blockSize > 8192)
       throw InputError("command line", "--block-size", "must be in 16..8192 samples");
@@ -300,14 +301,39 @@ int runLive(Flags& fl) {
         const glm::vec3 right(std::sin(yaw), 0.f, std::cos(yaw));
         const float step = 0.25f, turn = float(std::numbers::pi / 12);
         switch (k) {
-          case 'q': quit = true; break;
-          case ' ': paused = !paused; break;
-          case 'w': case 256 + 'U': position += forward * step; manual = true; break;
-          case 's': case 256 + 'D': position -= forward * step; manual = true; break;
-          case 'a': case 256 + 'L': position -= right * step; manual = true; break;
-          case 'd': case 256 + 'R': position += right * step; manual = true; break;
-          case 'Q': yawOffset += turn; break;            // turn left
-          case 'E': case 'e': yawOffset -= turn; break;  // turn right
+          case 'q':
+            quit = true;
+            break;
+          case ' ':
+            paused = !paused;
+            break;
+          case 'w':
+          case 256 + 'U':
+            position += forward * step;
+            manual = true;
+            break;
+          case 's':
+          case 256 + 'D':
+            position -= forward * step;
+            manual = true;
+            break;
+          case 'a':
+          case 256 + 'L':
+            position -= right * step;
+            manual = true;
+            break;
+          case 'd':
+          case 256 + 'R':
+            position += right * step;
+            manual = true;
+            break;
+          case 'Q':
+            yawOffset += turn;
+            break;  // turn left
+          case 'E':
+          case 'e':
+            yawOffset -= turn;
+            break;  // turn right
         }
       }
     }
@@ -326,9 +352,8 @@ int runLive(Flags& fl) {
                    "%sframe %5.1f ms | %6.0fk rays/s | cache %7zu | IR age %5.1f ms | "
                    "latency %5.1f/%5.1f ms | load %4.1f%% | xruns %llu | t %.1f s%s",
                    tty ? "\r" : "", st.frameMs, st.raysPerSecond / 1e3, st.cacheEntries, st.irAgeMs,
-                   st.latencyMedianMs, st.latencyP95Ms,
-                   output->loadPercent(cb.quantileNs(0.5)), (unsigned long long)cb.xruns,
-                   sceneTime, tty ? "   " : "\n");
+                   st.latencyMedianMs, st.latencyP95Ms, output->loadPercent(cb.quantileNs(0.5)),
+                   (unsigned long long)cb.xruns, sceneTime, tty ? "   " : "\n");
     }
   }
   output->stop();
@@ -390,7 +415,8 @@ int main(int argc, char** argv) {
   app.add_option("--gain-db", fl.gainDb,
                  "Fixed output gain in dB (default: normalise the peak to -1 dBFS)");
   app.add_flag("--quiet", fl.quiet, "No progress bar");
-  app.add_option("--output", fl.output, "mono | stereo | binaural (default: the scene's audio.output)");
+  app.add_option("--output", fl.output,
+                 "mono | stereo | binaural (default: the scene's audio.output)");
   app.add_option("--hrtf", fl.hrtf,
                  "SOFA file for binaural output (default: /usr/share/libmysofa/default.sofa)");
   try {

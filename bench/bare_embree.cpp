@@ -1,15 +1,15 @@
 #include "bench/bare_embree.h"
 
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <glm/geometric.hpp>
 #include <limits>
 #include <numbers>
 #include <vector>
-
-#include <glm/geometric.hpp>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include "engine/random.h"
 

@@ -6,19 +6,17 @@
 //                         [--reference-frames M] [--threads T] [--max-order D]
 //   dpc-bench live SCENE [--rays N] [--duration S] [--block-size B] [--frame-rate F]
 //                        [--threads T] [--device SPEC]
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <numeric>
-#include <string>
-#include <vector>
-
-#include <CLI/CLI.hpp>
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
-
+#include <numeric>
+#include <string>
 #include <thread>
+#include <vector>
 
 #include "apps/pipeline/live_session.h"
 #include "apps/pipeline/render_pipeline.h"
@@ -46,7 +44,8 @@ double percentile(std::vector<double> v, double p) {
 json stats(const std::vector<double>& v, double scale = 1.0) {
   std::vector<double> s(v);
   for (double& x : s) x *= scale;
-  return {{"median", percentile(s, 0.5)}, {"p95", percentile(s, 0.95)},
+  return {{"median", percentile(s, 0.5)},
+          {"p95", percentile(s, 0.95)},
           {"min", s.empty() ? NAN : *std::min_element(s.begin(), s.end())},
           {"max", s.empty() ? NAN : *std::max_element(s.begin(), s.end())}};
 }
@@ -81,8 +80,7 @@ int benchPropagation(const Common& c, bool noRoulette) {
   if (noRoulette) s.rouletteThreshold = 0.f;
   const glm::vec3 listener = listenerPositionAt(scene.listener, 0.0);
   Simulation sim(scene, s);
-  IrSynthesizer synth(scene.audio.sampleRate, s.irLength, sim.boundingVolume(), s.speedOfSound,
-                      1);
+  IrSynthesizer synth(scene.audio.sampleRate, s.irLength, sim.boundingVolume(), s.speedOfSound, 1);
   std::vector<float> ir(synth.lengthSamples());
   std::vector<double> frameMs, traceMs, estimatorMs, synthMs;
   uint64_t segments = 0, hits = 0;
@@ -167,11 +165,14 @@ int benchPropagation(const Common& c, bool noRoulette) {
       dsim.runFrame(listener);
       const auto t0 = std::chrono::steady_clock::now();
       spatial->synthesize(dsim.directional(0), dsim.result(0).direct, left.data(), right.data());
-      ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      ms.push_back(
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }
     j["binaural_ir_synthesis_ms"] = stats(ms);
-    j["binaural_ir"] = {{"seconds", 2.0}, {"directions", spatial->directions().size()},
-                        {"rays_per_frame", 4096}, {"threads", 1}};
+    j["binaural_ir"] = {{"seconds", 2.0},
+                        {"directions", spatial->directions().size()},
+                        {"rays_per_frame", 4096},
+                        {"threads", 1}};
   }
   std::printf("%s\n", j.dump(2).c_str());
   return 0;
@@ -222,12 +223,10 @@ int benchNoise(const Common& c, double walkSpeed, int referenceFrames, int warmu
   auto ref = [&](int f) -> const EnergyResponse& { return refs[walkSpeed > 0.0 ? size_t(f) : 0]; };
   auto corrected = [&](double e) { return std::sqrt(std::max(0.0, e * e - refError * refError)); };
   auto describe = [&](const NoiseMetrics& m) {
-    return json{{"error", m.meanError},
-                {"error_corrected_for_reference", corrected(m.meanError)},
-                {"flicker", m.meanFlicker},
-                {"bias", m.bias},
-                {"energy_bias", m.energyBias},
-                {"error_per_frame", m.errorPerFrame}};
+    return json{
+        {"error", m.meanError},        {"error_corrected_for_reference", corrected(m.meanError)},
+        {"flicker", m.meanFlicker},    {"bias", m.bias},
+        {"energy_bias", m.energyBias}, {"error_per_frame", m.errorPerFrame}};
   };
   json j;
   j["benchmark"] = "noise";
@@ -273,7 +272,8 @@ int benchNoise(const Common& c, double walkSpeed, int referenceFrames, int warmu
   std::string how = "interpolated";
   for (size_t i = 0; i + 1 < pt.size(); ++i)
     if (pt[i].second >= dpcError && pt[i + 1].second <= dpcError) {
-      const double t = std::log(pt[i].second / dpcError) / std::log(pt[i].second / pt[i + 1].second);
+      const double t =
+          std::log(pt[i].second / dpcError) / std::log(pt[i].second / pt[i + 1].second);
       ratio = std::exp(std::log(pt[i].first) + t * std::log(pt[i + 1].first / pt[i].first));
     }
   if (std::isnan(ratio) && pt.size() >= 2 && dpcError > 0.0) {
@@ -287,7 +287,6 @@ int benchNoise(const Common& c, double walkSpeed, int referenceFrames, int warmu
   std::printf("%s\n", j.dump(2).c_str());
   return 0;
 }
-
 
 int benchLive(const Common& c, double duration, int blockSize, double frameRate,
               const std::string& device) {
@@ -314,15 +313,22 @@ int benchLive(const Common& c, double duration, int blockSize, double frameRate,
     real = std::make_unique<audio::AudioOutput>(ao, &LiveSession::renderCallback, &session);
   }
   session.start();
-  if (null) null->start(); else real->start();
+  if (null)
+    null->start();
+  else
+    real->start();
   const auto start = std::chrono::steady_clock::now();
   for (;;) {
-    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double t =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (t >= duration) break;
     session.setPose(listenerPositionAt(scene.listener, t), 0.f, t);  // walking: every 5 ms
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
-  if (null) null->stop(); else real->stop();
+  if (null)
+    null->stop();
+  else
+    real->stop();
   session.stop();
   const double periodNs = 1e9 * blockSize / scene.audio.sampleRate;
   auto pct = [&](const audio::CallbackStats& st) {
@@ -358,9 +364,10 @@ int benchLive(const Common& c, double duration, int blockSize, double frameRate,
   j["callbacks"] = cb.callbacks;
   j["xruns"] = cb.xruns;
   j["nan_blocks"] = st.nanBlocks;
-  j["note"] = "latency: pose published by the control thread -> first block rendered with an "
-              "IR computed for that pose; render time: LiveSession::render per block, % of the "
-              "block period";
+  j["note"] =
+      "latency: pose published by the control thread -> first block rendered with an "
+      "IR computed for that pose; render time: LiveSession::render per block, % of the "
+      "block period";
   std::printf("%s\n", j.dump(2).c_str());
   return 0;
 }
@@ -385,7 +392,8 @@ int main(int argc, char** argv) {
   CLI::App* prop = app.add_subcommand("propagation", "Frame time and segments/s vs bare Embree");
   addCommon(prop);
   prop->add_flag("--no-roulette", noRoulette, "Trace every ray to max order");
-  CLI::App* noise = app.add_subcommand("noise", "DPC vs path tracing against a converged reference");
+  CLI::App* noise =
+      app.add_subcommand("noise", "DPC vs path tracing against a converged reference");
   addCommon(noise);
   noise->add_option("--walk-speed", walkSpeed, "Listener speed along the trajectory, m/s");
   noise->add_option("--reference-frames", referenceFrames, "Path-tracing frames per reference");

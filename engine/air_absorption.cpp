@@ -37,6 +37,8 @@ Bands airEnergyAttenuationPerMetre(double temperatureC, double humidityPercent,
   return m;
 }
 
-double speedOfSoundAt(double temperatureC) { return 331.3 * std::sqrt(1.0 + temperatureC / 273.15); }
+double speedOfSoundAt(double temperatureC) {
+  return 331.3 * std::sqrt(1.0 + temperatureC / 273.15);
+}
 
 }  // namespace dpc

@@ -22,7 +22,9 @@ inline constexpr std::array<float, kNumBands> kBandCentreHz = {63.f,   125.f,  2
                                                                1000.f, 2000.f, 4000.f, 8000.f};
 
 /// Exact base-2 centre frequency of band b in Hz: 1000 * 2^(b-4) (IEC 61260-1).
-inline double bandCentreExactHz(int b) { return 1000.0 * std::exp2(double(b - 4)); }
+inline double bandCentreExactHz(int b) {
+  return 1000.0 * std::exp2(double(b - 4));
+}
 
 struct Bands {
   std::array<float, kNumBands> v{};
@@ -33,34 +35,46 @@ struct Bands {
   constexpr float& operator[](int b) { return v[size_t(b)]; }
   constexpr float operator[](int b) const { return v[size_t(b)]; }
 
-#define DPC_BANDS_OP(op)                                                         \
-  constexpr Bands& operator op##=(const Bands & o) {                             \
-    for (int b = 0; b < kNumBands; ++b) v[size_t(b)] op## = o.v[size_t(b)];      \
-    return *this;                                                                \
-  }                                                                              \
-  constexpr Bands& operator op##=(float s) {                                     \
-    for (int b = 0; b < kNumBands; ++b) v[size_t(b)] op## = s;                   \
-    return *this;                                                                \
-  }                                                                              \
-  friend constexpr Bands operator op(Bands a, const Bands & o) { return a op## = o; } \
-  friend constexpr Bands operator op(Bands a, float s) { return a op## = s; }
+#define DPC_BANDS_OP(op)                                                    \
+  constexpr Bands& operator op##=(const Bands& o) {                         \
+    for (int b = 0; b < kNumBands; ++b) v[size_t(b)] op## = o.v[size_t(b)]; \
+    return *this;                                                           \
+  }                                                                         \
+  constexpr Bands& operator op##=(float s) {                                \
+    for (int b = 0; b < kNumBands; ++b) v[size_t(b)] op## = s;              \
+    return *this;                                                           \
+  }                                                                         \
+  friend constexpr Bands operator op(Bands a, const Bands& o) {             \
+    return a op## = o;                                                      \
+  }                                                                         \
+  friend constexpr Bands operator op(Bands a, float s) {                    \
+    return a op## = s;                                                      \
+  }
   DPC_BANDS_OP(+)
   DPC_BANDS_OP(-)
   DPC_BANDS_OP(*)
   DPC_BANDS_OP(/)
 #undef DPC_BANDS_OP
-  friend constexpr Bands operator*(float s, Bands a) { return a *= s; }
+  friend constexpr Bands operator*(float s, Bands a) {
+    return a *= s;
+  }
 
   constexpr bool operator==(const Bands&) const = default;
 
-  float max() const { return *std::max_element(v.begin(), v.end()); }
-  float min() const { return *std::min_element(v.begin(), v.end()); }
+  float max() const {
+    return *std::max_element(v.begin(), v.end());
+  }
+  float min() const {
+    return *std::min_element(v.begin(), v.end());
+  }
   float sum() const {
     float s = 0.f;
     for (float x : v) s += x;
     return s;
   }
-  float average() const { return sum() / float(kNumBands); }
+  float average() const {
+    return sum() / float(kNumBands);
+  }
   bool hasNaN() const {
     return std::any_of(v.begin(), v.end(), [](float x) { return std::isnan(x); });
   }

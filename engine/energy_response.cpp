@@ -1,7 +1,6 @@
 #include "engine/energy_response.h"
 
 #include <cmath>
-
 #include <glm/geometric.hpp>
 #include <stdexcept>
 

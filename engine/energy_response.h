@@ -9,9 +9,8 @@
 // beyond the length are counted in droppedEnergy() (nothing is lost silently).
 #pragma once
 
-#include <vector>
-
 #include <glm/vec3.hpp>
+#include <vector>
 
 #include "engine/bands.h"
 

@@ -2,10 +2,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <glm/geometric.hpp>
 #include <limits>
 #include <stdexcept>
-
-#include <glm/geometric.hpp>
 
 namespace dpc {
 
@@ -160,8 +159,7 @@ void Geometry::intersect16(const RayPacket16& rays, float tnear, float tfar,
   }
 }
 
-bool Geometry::occluded(const glm::vec3& org, const glm::vec3& dir, float tnear,
-                        float tfar) const {
+bool Geometry::occluded(const glm::vec3& org, const glm::vec3& dir, float tnear, float tfar) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRay ray;

@@ -10,13 +10,13 @@
 // no allocation; no errors.
 #pragma once
 
+#include <embree3/rtcore.h>
+
 #include <array>
 #include <cstdint>
+#include <glm/vec3.hpp>
 #include <string>
 #include <vector>
-
-#include <embree3/rtcore.h>
-#include <glm/vec3.hpp>
 
 #include "engine/bands.h"
 #include "engine/patch.h"

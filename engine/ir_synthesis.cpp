@@ -109,8 +109,9 @@ BandEnvelope::BandEnvelope(int sampleRate, const std::vector<float>& sequence, s
     : sampleRate_(sampleRate), length_(length), filters_(&filters) {
   for (int b = 0; b < kNumBands; ++b) {
     const size_t bi = size_t(b);
-    binSamples_[bi] = std::max<size_t>(size_t(std::lround(1e-3 * sampleRate)),
-                                       size_t(std::lround(2.0 * sampleRate / bandCentreExactHz(b))));
+    binSamples_[bi] =
+        std::max<size_t>(size_t(std::lround(1e-3 * sampleRate)),
+                         size_t(std::lround(2.0 * sampleRate / bandCentreExactHz(b))));
     const size_t nb = (length_ + binSamples_[bi] - 1) / binSamples_[bi];
     // Expected measured energy of s_b per bin: the pulses' energy in the bin times beta_b
     // (cross terms between pulses have random signs and vanish on average). Using the pulse
@@ -267,8 +268,7 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
   envelope_ = std::make_unique<BandEnvelope>(sampleRate, seq, length_, filterData_, measured);
 }
 
-void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& direct,
-                               float* ir) {
+void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& direct, float* ir) {
   std::fill(ir, ir + length_, 0.f);
   envelope_->compute(energy);
   std::array<const float*, kNumBands> bands;

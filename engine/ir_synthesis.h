@@ -14,12 +14,13 @@
 // bin j (E_b from the energy response, e_b = beta_b x the pulses' energy in that bin, beta_b
 // the share of a unit impulse's energy that a band measurement with M_b sees), so every
 // band's energy follows the energy response in expectation over the sequence's random signs
-// (energy of bins without any pulse moves to the next bin). Where neighbouring bands' gains differ, the crossovers would
-// mix them; a per-bin correction (three fixed-point steps with the crossovers' coupling
-// coefficients for a white spectrum) keeps each band's measured energy on target. Synthesis bins are max(1 ms, 2 periods of the band centre) wide. The direct
-// sound is added as the band filters' impulse responses at its exact sample delay, with band
-// energies equal to DirectSound::intensity. Units: the IR's squared samples sum to energy in
-// 1/m^2 relative to source power (so 1/(4 pi r^2) for a direct sound at r metres).
+// (energy of bins without any pulse moves to the next bin). Where neighbouring bands' gains differ,
+// the crossovers would mix them; a per-bin correction (three fixed-point steps with the crossovers'
+// coupling coefficients for a white spectrum) keeps each band's measured energy on target.
+// Synthesis bins are max(1 ms, 2 periods of the band centre) wide. The direct sound is added as the
+// band filters' impulse responses at its exact sample delay, with band energies equal to
+// DirectSound::intensity. Units: the IR's squared samples sum to energy in 1/m^2 relative to source
+// power (so 1/(4 pi r^2) for a direct sound at r metres).
 //
 // Construction: control/propagation thread (FFTW plan creation is not thread-safe);
 // allocates; throws std::invalid_argument on bad sizes. synthesize(): propagation thread;
@@ -93,8 +94,8 @@ class BandEnvelope {
   }
   /// The same for samples [begin, end) and bands [bandBegin, bandEnd) only (cache-blocked
   /// accumulation of many signals; band subsets).
-  void accumulateRange(const std::array<const float*, kNumBands>& bands, float* out,
-                       size_t begin, size_t end, float scale = 1.f, int bandBegin = 0,
+  void accumulateRange(const std::array<const float*, kNumBands>& bands, float* out, size_t begin,
+                       size_t end, float scale = 1.f, int bandBegin = 0,
                        int bandEnd = kNumBands) const;
   size_t binSamples(int b) const { return binSamples_[size_t(b)]; }
 

@@ -58,9 +58,8 @@ EnergyResponse referenceResponse(const SceneDesc& scene, PropagationSettings set
   return mean;
 }
 
-NoiseMetrics measureNoise(const SceneDesc& scene, const PropagationSettings& settings,
-                          int warmup, int frames,
-                          const std::function<glm::vec3(int)>& listenerAt,
+NoiseMetrics measureNoise(const SceneDesc& scene, const PropagationSettings& settings, int warmup,
+                          int frames, const std::function<glm::vec3(int)>& listenerAt,
                           const std::function<const EnergyResponse&(int)>& referenceAt,
                           size_t source) {
   Simulation sim(scene, settings);

@@ -40,9 +40,8 @@ EnergyResponse referenceResponse(const SceneDesc& scene, PropagationSettings set
 
 /// Runs `warmup + frames` frames of the estimator in `settings` with the listener at
 /// listenerAt(frame) and compares each frame with referenceAt(frame) (10 ms bins).
-NoiseMetrics measureNoise(const SceneDesc& scene, const PropagationSettings& settings,
-                          int warmup, int frames,
-                          const std::function<glm::vec3(int)>& listenerAt,
+NoiseMetrics measureNoise(const SceneDesc& scene, const PropagationSettings& settings, int warmup,
+                          int frames, const std::function<glm::vec3(int)>& listenerAt,
                           const std::function<const EnergyResponse&(int)>& referenceAt,
                           size_t source = 0);
 

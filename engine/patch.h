@@ -16,7 +16,6 @@
 
 #include <array>
 #include <cstdint>
-
 #include <glm/vec3.hpp>
 
 #include "engine/random.h"
@@ -54,7 +53,9 @@ constexpr uint64_t patchKey(uint32_t triangle, uint32_t zeta, uint32_t xi) {
 /// length (reflection order) is implied by the sequence. Collisions: a 64-bit bijective
 /// mixer per step, so two different sequences of equal length collide with probability
 /// about 2^-64 (tests/engine/patch_test.cpp checks a million sequences).
-constexpr uint64_t pathHashStart(uint32_t source) { return mix64(0x5eed0fd9c0ffee11ULL + source); }
+constexpr uint64_t pathHashStart(uint32_t source) {
+  return mix64(0x5eed0fd9c0ffee11ULL + source);
+}
 constexpr uint64_t pathHashAddPatch(uint64_t h, uint64_t key) {
   return mix64(h ^ mix64(key + 0x632be59bd9b4e019ULL));
 }

@@ -53,9 +53,8 @@ DiffusePathCache::DiffusePathCache(DpcWeighting weighting, double tauSeconds,
   } else {
     a_ = tauSeconds > 0.0 ? 1.0 - std::exp(-framePeriodSeconds / tauSeconds) : 1.0;
     // Read out at the frame of the last hit and M more frames, (1-a)^M <= drop fraction.
-    lifetime_ = a_ >= 1.0 ? 1u
-                          : 1u + uint32_t(std::ceil(std::log(kEmaDropFraction) /
-                                                    std::log(1.0 - a_)));
+    lifetime_ =
+        a_ >= 1.0 ? 1u : 1u + uint32_t(std::ceil(std::log(kEmaDropFraction) / std::log(1.0 - a_)));
   }
   raysBefore_.assign(size_t(lifetime_) + 1, 0);
   index_.max_load_factor(0.8f);
@@ -94,9 +93,8 @@ void DiffusePathCache::removeAt(size_t i) {
   entries_.pop_back();
 }
 
-void DiffusePathCache::endFrame(const FrameGroups& frame, uint64_t raysEmitted,
-                                float speedOfSound, EnergyResponse& out,
-                                DirectionalEnergyResponse* directional) {
+void DiffusePathCache::endFrame(const FrameGroups& frame, uint64_t raysEmitted, float speedOfSound,
+                                EnergyResponse& out, DirectionalEnergyResponse* directional) {
   const float n = float(raysEmitted);
   const double invC = 1.0 / double(speedOfSound);
   raysBefore_[frame_ % raysBefore_.size()] = raysTotal_;
@@ -157,7 +155,8 @@ void DiffusePathCache::endFrame(const FrameGroups& frame, uint64_t raysEmitted,
   if (entries_.size() > maxEntries_) {
     // Memory guard: remove the oldest entries (smallest stamp) beyond the cap.
     scratch_.clear();
-    for (size_t i = 0; i < entries_.size(); ++i) scratch_.push_back({entries_[i].stamp, uint32_t(i)});
+    for (size_t i = 0; i < entries_.size(); ++i)
+      scratch_.push_back({entries_[i].stamp, uint32_t(i)});
     const size_t excess = entries_.size() - maxEntries_;
     std::nth_element(scratch_.begin(), scratch_.begin() + long(excess), scratch_.end());
     std::vector<uint64_t>& keys = dropKeys_;

@@ -17,12 +17,12 @@
 // capacity. No errors.
 #pragma once
 
+#include <tsl/robin_map.h>
+
 #include <cstdint>
+#include <glm/vec3.hpp>
 #include <span>
 #include <vector>
-
-#include <glm/vec3.hpp>
-#include <tsl/robin_map.h>
 
 #include "engine/bands.h"
 #include "engine/energy_response.h"
@@ -32,10 +32,10 @@ namespace dpc {
 
 /// One ray segment that crossed the listener sphere.
 struct PathHit {
-  uint64_t key = 0;         ///< path identifier hash K (engine/patch.h)
-  Bands intensity{0.f};     ///< I(omega) = band energy * air attenuation / (pi R^2), 1/m^2
-  float length = 0.f;       ///< r, path length to the listener, metres
-  glm::vec3 direction{0.f}; ///< unit vector from the listener toward the arriving sound
+  uint64_t key = 0;          ///< path identifier hash K (engine/patch.h)
+  Bands intensity{0.f};      ///< I(omega) = band energy * air attenuation / (pi R^2), 1/m^2
+  float length = 0.f;        ///< r, path length to the listener, metres
+  glm::vec3 direction{0.f};  ///< unit vector from the listener toward the arriving sound
 };
 
 /// A frame's hits grouped by path identifier, in order of each key's first hit.
@@ -43,10 +43,10 @@ class FrameGroups {
  public:
   struct Group {
     uint64_t key;
-    uint32_t eta;          ///< hits this frame
-    Bands intensity;       ///< summed I, 1/m^2
-    float length;          ///< summed r, metres
-    glm::vec3 direction;   ///< summed direction weighted by mean band intensity
+    uint32_t eta;         ///< hits this frame
+    Bands intensity;      ///< summed I, 1/m^2
+    float length;         ///< summed r, metres
+    glm::vec3 direction;  ///< summed direction weighted by mean band intensity
   };
   void clear();
   void add(const PathHit& hit);
@@ -110,12 +110,12 @@ class DiffusePathCache {
   /// emitted since the entry's creation frame, kept per frame in a small ring.
   struct Entry {
     uint64_t key;
-    uint32_t stamp;      ///< seed: frame created; EMA: frame last hit
-    float eta;           ///< seed: rays of this path that reached the listener (exact to 2^24);
-                         ///< EMA: moving average of eta_f
-    Bands intensity;     ///< seed: I_hat (sum); EMA: moving average of I_f / N
-    float length;        ///< seed: r_hat (sum); EMA: moving average of r_f
-    glm::vec3 direction; ///< summed / averaged arrival direction (intensity weighted)
+    uint32_t stamp;       ///< seed: frame created; EMA: frame last hit
+    float eta;            ///< seed: rays of this path that reached the listener (exact to 2^24);
+                          ///< EMA: moving average of eta_f
+    Bands intensity;      ///< seed: I_hat (sum); EMA: moving average of I_f / N
+    float length;         ///< seed: r_hat (sum); EMA: moving average of r_f
+    glm::vec3 direction;  ///< summed / averaged arrival direction (intensity weighted)
   };
   static_assert(sizeof(Entry) == 64);
   /// Entries removed by the cap since construction.
@@ -133,8 +133,8 @@ class DiffusePathCache {
   double decayPow_ = 1.0;  ///< (1-a)^(frame_+1), for the start-up normalisation
   size_t maxEntries_;
   uint64_t capped_ = 0;
-  uint64_t raysTotal_ = 0;               ///< rays emitted since the start, this frame included
-  std::vector<uint64_t> raysBefore_;     ///< ring: rays emitted before frame f, f % size
+  uint64_t raysTotal_ = 0;            ///< rays emitted since the start, this frame included
+  std::vector<uint64_t> raysBefore_;  ///< ring: rays emitted before frame f, f % size
   std::vector<std::pair<uint32_t, uint32_t>> scratch_;  ///< (stamp, index) for the cap
   std::vector<uint64_t> dropKeys_;
   tsl::robin_map<uint64_t, uint32_t> index_;

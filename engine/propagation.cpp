@@ -1,14 +1,14 @@
 #include "engine/propagation.h"
 
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <glm/geometric.hpp>
 #include <limits>
 #include <numbers>
-
-#include <glm/geometric.hpp>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include "engine/air_absorption.h"
 #include "engine/patch.h"
@@ -56,16 +56,15 @@ Propagator::Propagator(const Geometry& geometry, const PropagationSettings& sett
 
 Propagator::~Propagator() = default;
 
-DirectSound Propagator::directSound(const glm::vec3& source,
-                                    const ListenerSphere& listener) const {
+DirectSound Propagator::directSound(const glm::vec3& source, const ListenerSphere& listener) const {
   DirectSound d;
   const glm::vec3 toListener = listener.position - source;
   const float dist = glm::length(toListener);
   d.distance = std::max(dist, 0.5f * listener.radius);
   d.delaySeconds = d.distance / settings_.speedOfSound;
   d.direction = dist > 0.f ? -toListener / dist : glm::vec3(0.f);
-  d.visible = dist <= 0.f ||
-              !geometry_.occluded(source, toListener / dist, 0.f, dist * (1.f - 1e-5f));
+  d.visible =
+      dist <= 0.f || !geometry_.occluded(source, toListener / dist, 0.f, dist * (1.f - 1e-5f));
   if (d.visible) {
     const float spreading = 1.f / (4.f * std::numbers::pi_v<float> * d.distance * d.distance);
     d.intensity = exp(airPerMetre_ * -d.distance) * spreading;

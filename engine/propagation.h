@@ -32,12 +32,12 @@
 // per-chunk hit buffers grow to their high-water mark, then are reused. No errors.
 #pragma once
 
+#include <tbb/task_arena.h>
+
 #include <cstdint>
+#include <glm/vec3.hpp>
 #include <memory>
 #include <vector>
-
-#include <glm/vec3.hpp>
-#include <tbb/task_arena.h>
 
 #include "engine/bands.h"
 #include "engine/geometry.h"
@@ -55,10 +55,10 @@ struct ListenerSphere {
 /// Analytic direct sound: line of sight, 1/(4 pi r^2), air absorption.
 struct DirectSound {
   bool visible = false;
-  float distance = 0.f;       ///< metres (clamped below at R/2: see directSound())
-  float delaySeconds = 0.f;   ///< distance / c
-  Bands intensity{0.f};       ///< 1/m^2 relative to source power; zero when occluded
-  glm::vec3 direction{0.f};   ///< unit vector from the listener toward the source
+  float distance = 0.f;      ///< metres (clamped below at R/2: see directSound())
+  float delaySeconds = 0.f;  ///< distance / c
+  Bands intensity{0.f};      ///< 1/m^2 relative to source power; zero when occluded
+  glm::vec3 direction{0.f};  ///< unit vector from the listener toward the source
 };
 
 struct TraceStats {
@@ -139,8 +139,8 @@ class Propagator {
   bool advance(RayState& ray, bool surface, const SurfaceHit& hit, const ListenerSphere& listener,
                std::vector<PathHit>& hits) const;
   void traceRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t rayIndex,
-                const glm::vec3& source, const ListenerSphere& listener,
-                std::vector<PathHit>& hits, uint64_t& segments) const;
+                const glm::vec3& source, const ListenerSphere& listener, std::vector<PathHit>& hits,
+                uint64_t& segments) const;
   void traceChunkPacket(uint64_t frameSeed, uint32_t sourceIndex, uint32_t firstRay,
                         uint32_t endRay, const glm::vec3& source, const ListenerSphere& listener,
                         Chunk& chunk) const;

@@ -598,7 +598,9 @@ void readAudio(const JsonReader& r, const json& v, const fs::path& folder, Audio
   if (const json* x = JsonReader::find(v, "output")) {
     const std::string s = r.string(*x, join(field, "output"));
     const auto o = parseOutputFormat(s);
-    if (!o) r.fail(join(field, "output"), inQuotes(s) + " is not one of \"mono\", \"stereo\", \"binaural\"");
+    if (!o)
+      r.fail(join(field, "output"),
+             inQuotes(s) + " is not one of \"mono\", \"stereo\", \"binaural\"");
     a.output = *o;
   }
   if (const json* x = JsonReader::find(v, "hrtf")) {

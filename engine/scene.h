@@ -9,11 +9,10 @@
 
 #include <array>
 #include <cstdint>
+#include <glm/vec3.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <glm/vec3.hpp>
 
 #include "engine/bands.h"
 
@@ -40,10 +39,10 @@ struct Mesh {
 
 struct SourceDesc {
   std::string name;
-  glm::vec3 position{0.f};   ///< metres
-  std::string signalPath;    ///< dry WAV, resolved relative to the scene file's folder
-  float gainDb = 0.f;        ///< dB applied to the dry signal
-  bool loop = false;         ///< repeat the dry signal for as long as the render lasts
+  glm::vec3 position{0.f};  ///< metres
+  std::string signalPath;   ///< dry WAV, resolved relative to the scene file's folder
+  float gainDb = 0.f;       ///< dB applied to the dry signal
+  bool loop = false;        ///< repeat the dry signal for as long as the render lasts
 };
 
 struct Keyframe {
@@ -57,10 +56,10 @@ struct Keyframe {
 };
 
 struct ListenerDesc {
-  glm::vec3 position{0.f};          ///< metres; used when the trajectory is empty
-  float radius = 0.5f;              ///< receiver sphere radius, metres, > 0
-  std::vector<Keyframe> trajectory; ///< linear interpolation between keyframes
-  bool loop = false;                ///< wrap time around the last keyframe
+  glm::vec3 position{0.f};           ///< metres; used when the trajectory is empty
+  float radius = 0.5f;               ///< receiver sphere radius, metres, > 0
+  std::vector<Keyframe> trajectory;  ///< linear interpolation between keyframes
+  bool loop = false;                 ///< wrap time around the last keyframe
   float yawDegrees = 0.f;    ///< heading when the trajectory gives none and there is no motion
   float pitchDegrees = 0.f;  ///< degrees above the horizon, when keyframes give none
 };
@@ -87,25 +86,25 @@ enum class DpcWeighting {
 };
 
 struct PropagationSettings {
-  int raysPerFrame = 4096;        ///< rays emitted per source per frame (N)
-  int maxOrder = 50;              ///< maximum reflection order d_max
-  float patchSize = 0.5f;         ///< lambda, metres
-  float cacheTau = 1.0f;          ///< tau, seconds (0: no reuse)
-  float frameRate = 15.f;         ///< propagation frames per second, Hz
-  float irLength = 2.0f;          ///< impulse response length, seconds
-  uint64_t seed = 1;              ///< random seed; the same seed gives bit-identical output
+  int raysPerFrame = 4096;  ///< rays emitted per source per frame (N)
+  int maxOrder = 50;        ///< maximum reflection order d_max
+  float patchSize = 0.5f;   ///< lambda, metres
+  float cacheTau = 1.0f;    ///< tau, seconds (0: no reuse)
+  float frameRate = 15.f;   ///< propagation frames per second, Hz
+  float irLength = 2.0f;    ///< impulse response length, seconds
+  uint64_t seed = 1;        ///< random seed; the same seed gives bit-identical output
   Estimator estimator = Estimator::kDpc;
   DpcWeighting dpcWeighting = DpcWeighting::kEma;
-  float speedOfSound = 343.f;     ///< m/s
-  float temperatureC = 20.f;      ///< air temperature, degrees Celsius (ISO 9613-1)
-  float humidityPercent = 50.f;   ///< relative humidity, percent (ISO 9613-1)
-  bool airAbsorption = true;      ///< apply ISO 9613-1 air absorption along paths
+  float speedOfSound = 343.f;    ///< m/s
+  float temperatureC = 20.f;     ///< air temperature, degrees Celsius (ISO 9613-1)
+  float humidityPercent = 50.f;  ///< relative humidity, percent (ISO 9613-1)
+  bool airAbsorption = true;     ///< apply ISO 9613-1 air absorption along paths
   /// Russian roulette: a ray whose band energy (with air attenuation) has fallen below this
   /// fraction of its initial energy in every band survives with probability
   /// kRouletteSurvival and, if it does, carries 1/kRouletteSurvival times its energy
   /// (unbiased). 0 disables it. Default -60 dB.
   float rouletteThreshold = 1e-6f;
-  int threads = 0;                ///< tracing threads; 0 = all cores (command line only)
+  int threads = 0;  ///< tracing threads; 0 = all cores (command line only)
 };
 
 /// Output channels of the rendered IRs and audio.

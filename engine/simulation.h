@@ -50,9 +50,7 @@ class Simulation {
   /// The listener's orientation for the following frames (world forward/up; see Orientation).
   void setListenerOrientation(const Orientation& orientation) { orientation_ = orientation; }
   /// Valid after runFrame when enableDirectional was called.
-  const DirectionalEnergyResponse& directional(size_t source) const {
-    return directional_[source];
-  }
+  const DirectionalEnergyResponse& directional(size_t source) const { return directional_[source]; }
   bool hasDirectional() const { return !directional_.empty(); }
 
   const SourceResult& result(size_t source) const { return results_[source]; }

@@ -5,10 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <glm/geometric.hpp>
 #include <numbers>
 #include <stdexcept>
-
-#include <glm/geometric.hpp>
 
 namespace dpc {
 
@@ -56,11 +55,10 @@ struct SpatialIrSynthesizer::Fft {
 
 SpatialIrSynthesizer::~SpatialIrSynthesizer() = default;
 
-SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
-                                           double roomVolume, double speedOfSound,
-                                           uint64_t seed, std::vector<glm::vec3> directions,
-                                           const std::vector<EarFilter>& filters,
-                                           ExactFilter exact)
+SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds, double roomVolume,
+                                           double speedOfSound, uint64_t seed,
+                                           std::vector<glm::vec3> directions,
+                                           const std::vector<EarFilter>& filters, ExactFilter exact)
     : sampleRate_(sampleRate), directions_(std::move(directions)), exact_(std::move(exact)) {
   if (sampleRate <= 0 || !(lengthSeconds > 0.0) || directions_.empty() ||
       filters.size() != directions_.size() || !exact_)
@@ -94,7 +92,8 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   // Diffuse-field equalisation: the band energy of every direction's filter, averaged.
   std::array<double, kNumBands> norm{};
   for (int b = 0; b < kNumBands; ++b)
-    for (size_t k = 0; k < nbins; ++k) norm[size_t(b)] += double(masks.gain(b, k)) * masks.gain(b, k);
+    for (size_t k = 0; k < nbins; ++k)
+      norm[size_t(b)] += double(masks.gain(b, k)) * masks.gain(b, k);
   auto spectrumOf = [&](const std::vector<float>& taps, Spectrum& out) {
     std::fill(big.time, big.time + nfft, 0.f);
     std::copy(taps.begin(), taps.end(), big.time);
@@ -118,9 +117,9 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   // Per direction: its own Dirac sequence, through A_b and the direction's filter.
   bands_.resize(directions_.size());
   for (size_t d = 0; d < directions_.size(); ++d) {
-    const std::vector<float> seq = diracSequence(
-        sampleRate, length_, roomVolume, speedOfSound, IrSynthesizer::kMaxDensityPerSecond,
-        hashCombine(seed, d + 1));
+    const std::vector<float> seq =
+        diracSequence(sampleRate, length_, roomVolume, speedOfSound,
+                      IrSynthesizer::kMaxDensityPerSecond, hashCombine(seed, d + 1));
     spectrumOf(seq, seqSpec);
     std::array<std::vector<float>, BandEnvelope::kRealisedBands> measured;
     for (int b = 0; b < BandEnvelope::kRealisedBands; ++b) {
@@ -153,9 +152,9 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
 
   // The omnidirectional low bands: one more sequence, through A_b only (no ear filter).
   {
-    const std::vector<float> seq = diracSequence(sampleRate, length_, roomVolume, speedOfSound,
-                                                 IrSynthesizer::kMaxDensityPerSecond,
-                                                 hashCombine(seed, 0x0a0a0a0aULL));
+    const std::vector<float> seq =
+        diracSequence(sampleRate, length_, roomVolume, speedOfSound,
+                      IrSynthesizer::kMaxDensityPerSecond, hashCombine(seed, 0x0a0a0a0aULL));
     spectrumOf(seq, seqSpec);
     std::array<std::vector<float>, BandEnvelope::kRealisedBands> measured;
     for (int b = 0; b < kDirectionalFromBand; ++b) {
@@ -173,8 +172,7 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
           measured[size_t(b)].assign(big.time, big.time + length_);
       }
     }
-    omniEnvelope_ =
-        std::make_unique<BandEnvelope>(sampleRate, seq, length_, filterData_, measured);
+    omniEnvelope_ = std::make_unique<BandEnvelope>(sampleRate, seq, length_, filterData_, measured);
     omniEnergy_ = EnergyResponse(lengthSeconds, 1e-3);
   }
 
@@ -213,9 +211,9 @@ void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
   for (size_t d = 0; d < count; ++d) envelopes_[d]->compute(energy.response(d));
   // Omnidirectional low bands: the directions' responses summed (same bins as theirs).
   if (omniEnergy_.binCount() != energy.response(0).binCount())
-    omniEnergy_ = EnergyResponse(double(energy.response(0).binCount()) *
-                                     energy.response(0).binSeconds(),
-                                 energy.response(0).binSeconds());
+    omniEnergy_ =
+        EnergyResponse(double(energy.response(0).binCount()) * energy.response(0).binSeconds(),
+                       energy.response(0).binSeconds());
   omniEnergy_.clear();
   for (size_t d = 0; d < count; ++d)
     for (size_t k = 0; k < omniEnergy_.binCount(); ++k)
@@ -244,16 +242,16 @@ void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
   if (direct.visible) addDirect(direct, energy.toListener(direct.direction), left, right);
 }
 
-void SpatialIrSynthesizer::addDirect(const DirectSound& direct, const glm::vec3& dir,
-                                     float* left, float* right) {
+void SpatialIrSynthesizer::addDirect(const DirectSound& direct, const glm::vec3& dir, float* left,
+                                     float* right) {
   exact_(glm::normalize(dir), exactScratch_);
   const size_t n = fft_->n, nbins = n / 2 + 1, margin = bandFilter_[0].size();
   // The band-shaped impulse: sum_b amp_b a_b, diffuse-field equalised, time 0 at centre.
   std::fill(fft_->time, fft_->time + n, 0.f);
   for (int b = 0; b < kNumBands; ++b) {
     const size_t bi = size_t(b);
-    const float amp = float(std::sqrt(double(direct.intensity[b]) /
-                                      (filterData_.share[bi] * kappa_[bi])));
+    const float amp =
+        float(std::sqrt(double(direct.intensity[b]) / (filterData_.share[bi] * kappa_[bi])));
     for (size_t i = 0; i < margin; ++i) fft_->time[i] += amp * bandFilter_[bi][i];
   }
   fftwf_execute_dft_r2c(fft_->fwd, fft_->time, fft_->a);

@@ -12,9 +12,9 @@
 // once from the omnidirectional response and fed to both channels: a diffuse field is almost
 // fully coherent between the ears there (sin(kd)/kd = 0.97 at 125 Hz for d = 18 cm), the
 // HRTFs carry no directional cue, and K independent low-band noises would interfere with
-// too few degrees of freedom to keep their band energy. All filters are diffuse-field equalised per band (divided by the band energy
-// of the K directions' filters averaged over both channels), so that the two channels'
-// average band energy follows the mono energy response for a diffuse field.
+// too few degrees of freedom to keep their band energy. All filters are diffuse-field equalised per
+// band (divided by the band energy of the K directions' filters averaged over both channels), so
+// that the two channels' average band energy follows the mono energy response for a diffuse field.
 // Method: the band-filtered Dirac sequence (Schröder 2011, section 5.3) per direction,
 // rendered through HRTFs as virtual loudspeakers (e.g. Noisternig et al., "3D binaural sound
 // reproduction using a virtual ambisonic approach", VECIMS 2003, for the virtual-loudspeaker
@@ -27,10 +27,9 @@
 #pragma once
 
 #include <functional>
+#include <glm/vec3.hpp>
 #include <memory>
 #include <vector>
-
-#include <glm/vec3.hpp>
 
 #include "engine/energy_response.h"
 #include "engine/ir_synthesis.h"
@@ -53,8 +52,8 @@ class SpatialIrSynthesizer {
 
   /// directions: K listener-frame unit vectors; filters: one EarFilter per direction (all
   /// shorter than sampleRate / 4); exact: the filter for any direction (direct sound).
-  SpatialIrSynthesizer(int sampleRate, double lengthSeconds, double roomVolume,
-                       double speedOfSound, uint64_t seed, std::vector<glm::vec3> directions,
+  SpatialIrSynthesizer(int sampleRate, double lengthSeconds, double roomVolume, double speedOfSound,
+                       uint64_t seed, std::vector<glm::vec3> directions,
                        const std::vector<EarFilter>& filters, ExactFilter exact);
   ~SpatialIrSynthesizer();
 
@@ -65,8 +64,8 @@ class SpatialIrSynthesizer {
 
   /// Writes lengthSamples() samples to left and right. energy must use this synthesiser's
   /// directions (same order); direct.direction is a world vector, rotated by energy's frame.
-  void synthesize(const DirectionalEnergyResponse& energy, const DirectSound& direct,
-                  float* left, float* right);
+  void synthesize(const DirectionalEnergyResponse& energy, const DirectSound& direct, float* left,
+                  float* right);
 
  private:
   void addDirect(const DirectSound& direct, const glm::vec3& listenerDirection, float* left,
@@ -79,9 +78,9 @@ class SpatialIrSynthesizer {
   BandFilterData filterData_;
   std::array<double, kNumBands> kappa_{};
   std::vector<std::unique_ptr<BandEnvelope>> envelopes_;  ///< one per direction
-  std::unique_ptr<BandEnvelope> omniEnvelope_;             ///< low bands, both channels
-  std::array<std::vector<float>, kNumBands> omniBands_;    ///< omni sequence through A_b
-  EnergyResponse omniEnergy_;                              ///< scratch: sum over directions
+  std::unique_ptr<BandEnvelope> omniEnvelope_;            ///< low bands, both channels
+  std::array<std::vector<float>, kNumBands> omniBands_;   ///< omni sequence through A_b
+  EnergyResponse omniEnergy_;                             ///< scratch: sum over directions
   /// bands_[k][ear][b]: the direction's sequence through A_b and its filter, length_ samples.
   std::vector<std::array<std::array<std::vector<float>, kNumBands>, 2>> bands_;
   std::array<std::vector<float>, kNumBands> bandFilter_;  ///< a_b centred at filterCentre_

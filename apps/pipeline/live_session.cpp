@@ -42,7 +42,9 @@ LiveSession::LiveSession(const SceneDesc& scene, const PropagationSettings& sett
   lastStatus_ = std::chrono::steady_clock::now();
 }
 
-LiveSession::~LiveSession() { stop(); }
+LiveSession::~LiveSession() {
+  stop();
+}
 
 void LiveSession::setPose(const glm::vec3& position, float yawRadians, double sceneSeconds,
                           float pitchRadians) {
@@ -158,7 +160,8 @@ void LiveSession::render(float* const* out, int frames) noexcept {
   // NaN/inf guard.
   const size_t irChannels = stageOut_.size();
   bool finite = true;
-  for (size_t i = 0; i < size_t(frames) * irChannels; ++i) finite = finite && std::isfinite(mono_[i]);
+  for (size_t i = 0; i < size_t(frames) * irChannels; ++i)
+    finite = finite && std::isfinite(mono_[i]);
   for (int c = 0; c < channels; ++c) {
     const float* src = stageOut_[std::min(size_t(c), irChannels - 1)];
     if (finite)
@@ -215,10 +218,12 @@ audio::AudioData LiveSession::takeRecording() {
   audio::AudioData a;
   a.sampleRate = sampleRate_;
   if (running_.load()) return a;
-  const size_t n = recorded_.empty() ? 0 : std::min_element(recorded_.begin(), recorded_.end(),
-                                                            [](const auto& x, const auto& y) {
-                                                              return x.size() < y.size();
-                                                            })->size();
+  const size_t n =
+      recorded_.empty()
+          ? 0
+          : std::min_element(recorded_.begin(), recorded_.end(), [](const auto& x, const auto& y) {
+              return x.size() < y.size();
+            })->size();
   for (auto& ch : recorded_) {
     ch.resize(n);
     a.channels.push_back(std::move(ch));
@@ -229,13 +234,18 @@ audio::AudioData LiveSession::takeRecording() {
 
 NullOutput::NullOutput(int sampleRate, int blockSize, int channels, audio::RenderCallback cb,
                        void* user)
-    : sampleRate_(sampleRate), blockSize_(blockSize), channels_(channels), callback_(cb),
+    : sampleRate_(sampleRate),
+      blockSize_(blockSize),
+      channels_(channels),
+      callback_(cb),
       user_(user) {
   buffers_.assign(size_t(channels), std::vector<float>(size_t(blockSize)));
   for (auto& b : buffers_) pointers_.push_back(b.data());
 }
 
-NullOutput::~NullOutput() { stop(); }
+NullOutput::~NullOutput() {
+  stop();
+}
 
 void NullOutput::start() {
   if (running_.exchange(true)) return;

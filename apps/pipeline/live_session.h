@@ -16,6 +16,7 @@
 #pragma once
 
 #include <atomic>
+#include <boost/lockfree/spsc_queue.hpp>
 #include <condition_variable>
 #include <cstdint>
 #include <memory>
@@ -24,11 +25,9 @@
 #include <thread>
 #include <vector>
 
-#include <boost/lockfree/spsc_queue.hpp>
-#include "apps/pipeline/spsc_queue.h"
-
 #include "apps/pipeline/pose_channel.h"
 #include "apps/pipeline/render_pipeline.h"
+#include "apps/pipeline/spsc_queue.h"
 #include "audio/audio_device.h"
 
 namespace dpc {
@@ -36,9 +35,9 @@ namespace dpc {
 class LiveSession {
  public:
   struct Options {
-    int deviceChannels = 2;        ///< output channels the device renders (IR channels copied)
-    double recordSeconds = 0.0;    ///< > 0: keep what was played (ring of this many seconds)
-    int poolSize = 6;              ///< IrSets in flight (>= 3)
+    int deviceChannels = 2;      ///< output channels the device renders (IR channels copied)
+    double recordSeconds = 0.0;  ///< > 0: keep what was played (ring of this many seconds)
+    int poolSize = 6;            ///< IrSets in flight (>= 3)
   };
 
   /// Control thread. Builds the stages (Embree scene, IR synthesisers, convolvers, queues).
@@ -71,8 +70,8 @@ class LiveSession {
 
   struct Status {
     uint64_t frames = 0;
-    double frameMs = 0.0;          ///< last propagation frame (trace + synthesis + prepare)
-    double raysPerSecond = 0.0;    ///< over the last status interval
+    double frameMs = 0.0;        ///< last propagation frame (trace + synthesis + prepare)
+    double raysPerSecond = 0.0;  ///< over the last status interval
     size_t cacheEntries = 0;
     uint64_t irsApplied = 0;       ///< IR sets that reached the convolvers
     uint64_t irsDropped = 0;       ///< superseded before the audio thread applied them
@@ -80,9 +79,9 @@ class LiveSession {
     double latencyMedianMs = 0.0;  ///< motion-to-sound latency, since start
     double latencyP95Ms = 0.0;
     uint64_t blocks = 0;
-    uint64_t nanBlocks = 0;        ///< blocks zeroed by the NaN/inf guard
-    uint64_t lateBlocks = 0;       ///< render() calls with frames != blockSize (skipped)
-    uint64_t recordDropped = 0;    ///< samples the recorder ring could not take
+    uint64_t nanBlocks = 0;      ///< blocks zeroed by the NaN/inf guard
+    uint64_t lateBlocks = 0;     ///< render() calls with frames != blockSize (skipped)
+    uint64_t recordDropped = 0;  ///< samples the recorder ring could not take
   };
   Status status() const;
 

@@ -9,16 +9,15 @@
 #include <atomic>
 #include <cstdint>
 #include <cstring>
-
 #include <glm/vec3.hpp>
 
 namespace dpc {
 
 struct ListenerPose {
-  glm::vec3 position{0.f};  ///< metres
-  float yawRadians = 0.f;   ///< heading about the up axis (0 = +x, + = left), radians
-  float pitchRadians = 0.f; ///< above the horizon, radians
-  int64_t publishedNs = 0;  ///< steady_clock time of publication, ns (for latency)
+  glm::vec3 position{0.f};    ///< metres
+  float yawRadians = 0.f;     ///< heading about the up axis (0 = +x, + = left), radians
+  float pitchRadians = 0.f;   ///< above the horizon, radians
+  int64_t publishedNs = 0;    ///< steady_clock time of publication, ns (for latency)
   double sceneSeconds = 0.0;  ///< scene time the pose belongs to (trajectory time)
 };
 

@@ -59,7 +59,9 @@ DrySignals loadDrySignals(const SceneDesc& scene) {
   return d;
 }
 
-int outputChannels(OutputFormat format) { return format == OutputFormat::kMono ? 1 : 2; }
+int outputChannels(OutputFormat format) {
+  return format == OutputFormat::kMono ? 1 : 2;
+}
 
 namespace {
 
@@ -178,8 +180,7 @@ void PropagationStage::recycle(IrSet* set) {
   if (set) free_.push_back(set);
 }
 
-AudioStage::AudioStage(const audio::ConvolverLayout& layout, const DrySignals& dry,
-                       int numOutputs)
+AudioStage::AudioStage(const audio::ConvolverLayout& layout, const DrySignals& dry, int numOutputs)
     : layout_(layout), dry_(dry), numOutputs_(numOutputs) {
   for (size_t s = 0; s < dry.samples.size(); ++s)
     convolvers_.push_back(std::make_unique<audio::PartitionedConvolver>(layout, numOutputs));

@@ -21,9 +21,9 @@
 #include "audio/convolver.h"
 #include "audio/wav_io.h"
 #include "engine/ir_synthesis.h"
-#include "engine/spatial_ir.h"
 #include "engine/scene.h"
 #include "engine/simulation.h"
+#include "engine/spatial_ir.h"
 
 namespace dpc {
 
@@ -32,8 +32,8 @@ struct IrSet {
   std::vector<std::unique_ptr<audio::IrSpectra>> sources;  ///< one per scene source
   uint64_t frame = 0;            ///< propagation frame index that produced it
   double poseTimeSeconds = 0.0;  ///< scene time of the listener pose it was computed for
-  int64_t poseNs = 0;   ///< live: steady_clock ns when that pose was published (latency)
-  int64_t readyNs = 0;  ///< live: steady_clock ns when the set was ready (IR age)
+  int64_t poseNs = 0;            ///< live: steady_clock ns when that pose was published (latency)
+  int64_t readyNs = 0;           ///< live: steady_clock ns when the set was ready (IR age)
 };
 
 /// Dry source signals at the output rate, mono, gain applied. Control thread; allocates;

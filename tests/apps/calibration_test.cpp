@@ -1,14 +1,13 @@
 // Physics oracle (design.md): a fully diffuse shoebox decays with Eyring's reverberation time.
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <vector>
 
+#include "../engine/test_scenes.h"
 #include "audio/room_parameters.h"
 #include "engine/air_absorption.h"
 #include "engine/ir_synthesis.h"
 #include "engine/simulation.h"
-#include "../engine/test_scenes.h"
 
 using namespace dpc;
 
@@ -60,7 +59,8 @@ TEST_CASE("Fully diffuse shoebox: T30 within 10 % of Eyring", "[calibration]") {
   IrSynthesizer synth(48000, ps.irLength, 210.0, ps.speedOfSound, 11);
   std::vector<float> ir(synth.lengthSamples());
   synth.synthesize(mean, sim.result(0).direct, ir.data());
-  const audio::ImpulseResponseAnalysis a = audio::analyzeImpulseResponse(ir.data(), ir.size(), 48000);
+  const audio::ImpulseResponseAnalysis a =
+      audio::analyzeImpulseResponse(ir.data(), ir.size(), 48000);
   for (int b = 3; b <= 6; ++b) {
     const double eyring = test::eyringT60(size, alpha[b], ps.speedOfSound, m[b]);
     INFO("band " << b << ": IR T30 " << a.bands[size_t(b)].t30 << " s, Eyring " << eyring);

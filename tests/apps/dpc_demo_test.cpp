@@ -1,18 +1,17 @@
 // dpc-demo end to end: bit-identical renders for a seed, and every bad-input case giving a
 // one-line error naming the file and the field, a non-zero exit status and no output file.
-#include <catch2/catch.hpp>
-
 #include <sys/wait.h>
+#include <unistd.h>
 
+#include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <set>
+#include <sstream>
 #include <string>
-#include <unistd.h>
-#include <algorithm>
 
 #include "apps/pipeline/offline_renderer.h"
 #include "engine/scene.h"
@@ -122,8 +121,8 @@ TEST_CASE("dpc-demo refuses bad input with one line naming file and field", "[er
   const fs::path out = fx.dir / "out.wav";
   struct Case {
     const char* name;
-    std::string sceneArg;       // path passed to dpc-demo
-    std::string mustMention;    // field or file the message must name
+    std::string sceneArg;     // path passed to dpc-demo
+    std::string mustMention;  // field or file the message must name
   };
   auto scene = [&](const std::string& json) { return fx.writeScene(json); };
   const std::string malformed = scene("{ \"mesh\": ");
@@ -132,12 +131,12 @@ TEST_CASE("dpc-demo refuses bad input with one line naming file and field", "[er
       {"malformed JSON", malformed, fs::path(malformed).filename().string()},
       {"wrong type", scene(fx.sceneJson(good, R"({ "position": [7, 1.6, 5], "radius": "big" })")),
        "listener.radius"},
-      {"absorption outside [0, 1]", scene(fx.sceneJson(materialsFor(fx.dir / "room.obj", "1.7"), listener)),
-       "absorption"},
+      {"absorption outside [0, 1]",
+       scene(fx.sceneJson(materialsFor(fx.dir / "room.obj", "1.7"), listener)), "absorption"},
       {"radius <= 0", scene(fx.sceneJson(good, R"({ "position": [7, 1.6, 5], "radius": 0 })")),
        "listener.radius"},
-      {"unknown material", scene(fx.sceneJson(R"({ "only_this": { "absorption": 0.1 } })", listener)),
-       "room.obj"},
+      {"unknown material",
+       scene(fx.sceneJson(R"({ "only_this": { "absorption": 0.1 } })", listener)), "room.obj"},
       {"unreadable WAV", scene(fx.sceneJson(good, listener, "scene.json")), "sources[0].signal"},
       {"missing WAV", scene(fx.sceneJson(good, listener, "nothing.wav")), "sources[0].signal"},
   };
@@ -170,13 +169,15 @@ TEST_CASE("dpc-demo refuses bad input with one line naming file and field", "[er
   }
 
   // Bad flags.
-  fs::copy_file(kScenes + "/shoebox.obj", fx.dir / "room.obj", fs::copy_options::overwrite_existing);
+  fs::copy_file(kScenes + "/shoebox.obj", fx.dir / "room.obj",
+                fs::copy_options::overwrite_existing);
   const std::string s = scene(fx.sceneJson(good, listener));
   for (const char* flag : {"--rays 0", "--tau -1", "--estimator magic", "--max-order -2"}) {
     const Run r = run(s + " --offline " + out.string() + " " + flag);
     INFO(flag << ": " << r.err);
     CHECK(r.status != 0);
-    CHECK(r.err.find(std::string(flag).substr(0, std::string(flag).find(' '))) != std::string::npos);
+    CHECK(r.err.find(std::string(flag).substr(0, std::string(flag).find(' '))) !=
+          std::string::npos);
     CHECK_FALSE(fs::exists(out));
   }
   // And the same scene renders when nothing is wrong.

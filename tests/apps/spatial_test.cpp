@@ -1,19 +1,18 @@
 // Spatial output (issue 5): binaural and stereo IRs from the arrival directions of cached
 // paths, with the direct sound at its exact direction.
-#include <catch2/catch.hpp>
-
 #include <fftw3.h>
 
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <vector>
 
+#include "../engine/test_scenes.h"
+#include "../engine/test_util.h"
 #include "apps/pipeline/render_pipeline.h"
 #include "engine/input_error.h"
 #include "engine/simulation.h"
-#include "../engine/test_scenes.h"
-#include "../engine/test_util.h"
 
 using dpc::test::bandEnergies;
 
@@ -21,7 +20,9 @@ using namespace dpc;
 
 namespace {
 
-double db(double x) { return 10.0 * std::log10(x); }
+double db(double x) {
+  return 10.0 * std::log10(x);
+}
 
 /// Lag (seconds) of the peak of the cross-correlation right vs left: > 0 when the right ear
 /// hears the sound later.
@@ -109,8 +110,7 @@ TEST_CASE("Binaural: turning the listener 180 degrees swaps the ears", "[spatial
   CHECK(db(br[6] / bl[6]) > 6.0);
 }
 
-TEST_CASE("Binaural band energies average to the mono energy response within 2 dB",
-          "[spatial]") {
+TEST_CASE("Binaural band energies average to the mono energy response within 2 dB", "[spatial]") {
   // A reverberant shoebox, source 5 m away: the diffuse field carries most of the energy.
   SceneDesc scene = test::makeShoebox({10, 3, 7}, Bands(0.15f), 0.7f, {2, 1.5f, 2}, {7, 1.6f, 5});
   scene.propagation.raysPerFrame = 4096;
@@ -128,8 +128,7 @@ TEST_CASE("Binaural band energies average to the mono energy response within 2 d
   }
 }
 
-TEST_CASE("Stereo: constant-power panning puts a left source in the left channel",
-          "[spatial]") {
+TEST_CASE("Stereo: constant-power panning puts a left source in the left channel", "[spatial]") {
   const Rendered r = render(anechoic({20, 20, 17}, {20, 20, 20}), OutputFormat::kStereo, 0.f);
   const Bands el = bandEnergies(r.left, 48000), er = bandEnergies(r.right, 48000);
   CHECK(db(el.sum() / er.sum()) > 15.0);  // hard left: g_R = cos(90 deg) = 0 for the direct

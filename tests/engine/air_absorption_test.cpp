@@ -1,6 +1,6 @@
-#include <catch2/catch.hpp>
-
 #include "engine/air_absorption.h"
+
+#include <catch2/catch.hpp>
 
 using namespace dpc;
 
@@ -26,8 +26,7 @@ TEST_CASE("ISO 9613-1 attenuation matches ISO 9613-2 Table 2", "[air]") {
   for (const Row& r : rows)
     for (int b = 0; b < 8; ++b) {
       const double got = 1000.0 * airAttenuationDbPerMetre(f[b], r.tC, r.rh);
-      INFO(r.tC << " C, " << r.rh << " %, " << f[b] << " Hz: " << got << " dB/km vs "
-                << r.a[b]);
+      INFO(r.tC << " C, " << r.rh << " %, " << f[b] << " Hz: " << got << " dB/km vs " << r.a[b]);
       CHECK(std::abs(got - r.a[b]) <= 0.03 * r.a[b] + 0.06);
     }
 }

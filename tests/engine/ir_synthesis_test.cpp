@@ -1,12 +1,12 @@
-#include <catch2/catch.hpp>
+#include "engine/ir_synthesis.h"
 
 #include <fftw3.h>
 
 #include <array>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <vector>
 
-#include "engine/ir_synthesis.h"
 #include "test_util.h"
 
 using dpc::test::bandEnergies;
@@ -15,7 +15,9 @@ using namespace dpc;
 
 namespace {
 
-double db(double x) { return 10.0 * std::log10(x); }
+double db(double x) {
+  return 10.0 * std::log10(x);
+}
 
 }  // namespace
 

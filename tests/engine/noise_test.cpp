@@ -2,7 +2,6 @@
 // shoebox, equal rays per frame; DPC against plain path tracing, both against a converged
 // plain path-tracing reference, in 10 ms bins of the band energy response.
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <cstdio>
 

@@ -1,13 +1,11 @@
 // Packet tracing (TraceMode::kPacket16, rtcIntersect16) against the scalar tracer
 // (TraceMode::kScalar, rtcIntersect1): same physics, same per-ray random streams.
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <cstring>
+#include <glm/geometric.hpp>
 #include <limits>
 #include <vector>
-
-#include <glm/geometric.hpp>
 
 #include "engine/propagation.h"
 #include "engine/simulation.h"

@@ -1,14 +1,13 @@
-#include <catch2/catch.hpp>
+#include "engine/patch.h"
 
+#include <catch2/catch.hpp>
 #include <cmath>
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
 #include <map>
 #include <set>
 #include <unordered_set>
 
-#include <glm/geometric.hpp>
-#include <glm/vec2.hpp>
-
-#include "engine/patch.h"
 #include "engine/random.h"
 
 using namespace dpc;

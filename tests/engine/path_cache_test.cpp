@@ -1,10 +1,10 @@
-#include <catch2/catch.hpp>
+#include "engine/path_cache.h"
 
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstring>
 #include <vector>
 
-#include "engine/path_cache.h"
 #include "engine/random.h"
 #include "test_util.h"
 
@@ -34,7 +34,9 @@ EnergyResponse frame(DiffusePathCache& cache, const std::vector<PathHit>& hits, 
 }
 
 /// Energy in band 0 at the bin of delay r / c.
-float at(const EnergyResponse& e, float r) { return e.bins()[size_t(r / kC / 1e-3)][0]; }
+float at(const EnergyResponse& e, float r) {
+  return e.bins()[size_t(r / kC / 1e-3)][0];
+}
 
 }  // namespace
 

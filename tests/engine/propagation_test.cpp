@@ -1,10 +1,10 @@
-#include <catch2/catch.hpp>
+#include "engine/propagation.h"
 
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstring>
 #include <numbers>
 
-#include "engine/propagation.h"
 #include "engine/simulation.h"
 #include "test_scenes.h"
 #include "test_util.h"
@@ -17,8 +17,8 @@ using test::identical;
 // direct intensity 1/(4 pi r^2) (times air attenuation).
 TEST_CASE("Order-0 energy through the listener sphere is 1/(4 pi r^2)", "[calibration]") {
   // A huge box so that no reflection comes back within max order 0.
-  SceneDesc scene = test::makeShoebox({200, 200, 200}, Bands(1.f), 1.f, {100, 100, 100},
-                                      {104, 101, 102}, 0.5f);
+  SceneDesc scene =
+      test::makeShoebox({200, 200, 200}, Bands(1.f), 1.f, {100, 100, 100}, {104, 101, 102}, 0.5f);
   PropagationSettings ps;
   ps.raysPerFrame = 2000000;
   ps.maxOrder = 0;
@@ -54,22 +54,22 @@ TEST_CASE("tau = 0 DPC reproduces plain path tracing exactly, frame after frame"
   ps.cacheTau = 0.f;
   ps.seed = 42;
   for (TraceMode mode : {TraceMode::kPacket16, TraceMode::kScalar})
-  for (DpcWeighting w : {DpcWeighting::kSeed, DpcWeighting::kEma}) {
-    PropagationSettings dpcSettings = ps, ptSettings = ps;
-    dpcSettings.estimator = Estimator::kDpc;
-    dpcSettings.dpcWeighting = w;
-    ptSettings.estimator = Estimator::kPathTracing;
-    Simulation dpcSim(scene, dpcSettings), ptSim(scene, ptSettings);
-    dpcSim.propagator().setTraceMode(mode);
-    ptSim.propagator().setTraceMode(mode);
-    for (int f = 0; f < 5; ++f) {
-      const glm::vec3 listener(7.f - 0.3f * f, 1.6f, 5.f);  // moving: nothing may carry over
-      dpcSim.runFrame(listener);
-      ptSim.runFrame(listener);
-      REQUIRE(dpcSim.result(0).trace.listenerHits > 100);
-      REQUIRE(identical(dpcSim.result(0).energy, ptSim.result(0).energy));
+    for (DpcWeighting w : {DpcWeighting::kSeed, DpcWeighting::kEma}) {
+      PropagationSettings dpcSettings = ps, ptSettings = ps;
+      dpcSettings.estimator = Estimator::kDpc;
+      dpcSettings.dpcWeighting = w;
+      ptSettings.estimator = Estimator::kPathTracing;
+      Simulation dpcSim(scene, dpcSettings), ptSim(scene, ptSettings);
+      dpcSim.propagator().setTraceMode(mode);
+      ptSim.propagator().setTraceMode(mode);
+      for (int f = 0; f < 5; ++f) {
+        const glm::vec3 listener(7.f - 0.3f * f, 1.6f, 5.f);  // moving: nothing may carry over
+        dpcSim.runFrame(listener);
+        ptSim.runFrame(listener);
+        REQUIRE(dpcSim.result(0).trace.listenerHits > 100);
+        REQUIRE(identical(dpcSim.result(0).energy, ptSim.result(0).energy));
+      }
     }
-  }
 }
 
 TEST_CASE("A frame is bit-identical for a seed whatever the thread count", "[determinism]") {

@@ -9,8 +9,8 @@ namespace dpc::test {
 
 /// Closed box [0,size.x] x [0,size.y] x [0,size.z] metres, 12 triangles facing inward, one
 /// material. Source at `source`, static listener at `listener`.
-inline SceneDesc makeShoebox(glm::vec3 size, Bands absorption, float scattering,
-                             glm::vec3 source, glm::vec3 listener, float radius = 0.5f) {
+inline SceneDesc makeShoebox(glm::vec3 size, Bands absorption, float scattering, glm::vec3 source,
+                             glm::vec3 listener, float radius = 0.5f) {
   SceneDesc s;
   s.path = "<test shoebox>";
   s.materials.push_back(Material{"walls", absorption, scattering});
@@ -36,8 +36,8 @@ inline SceneDesc makeShoebox(glm::vec3 size, Bands absorption, float scattering,
 /// c = 343 m/s: we use 24 ln10 / c exactly).
 inline double eyringT60(glm::vec3 size, double alpha, double c, double airM = 0.0) {
   const double V = double(size.x) * size.y * size.z;
-  const double S = 2.0 * (double(size.x) * size.y + double(size.y) * size.z +
-                          double(size.z) * size.x);
+  const double S =
+      2.0 * (double(size.x) * size.y + double(size.y) * size.z + double(size.z) * size.x);
   return 24.0 * std::log(10.0) / c * V / (-S * std::log(1.0 - alpha) + 4.0 * airM * V);
 }
 

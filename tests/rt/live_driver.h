@@ -51,7 +51,8 @@ LiveRun driveLiveSession(int blocks, AudioThreadObserver& onAudioThread) {
   });
   const auto start = std::chrono::steady_clock::now();
   while (session.status().blocks < uint64_t(blocks)) {
-    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double t =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     session.setPose(listenerPositionAt(scene.listener, t), 0.f, t);
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }

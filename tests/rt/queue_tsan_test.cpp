@@ -18,8 +18,6 @@
 // Negative control (checked): compiled with -DDPC_TSAN_INJECT_RACE the main thread also
 // rewrites a spectrum right after handing it over, and TSan reports the race between
 // IrSpectrum::prepare and the convolver's reads.
-#include "apps/pipeline/spsc_queue.h"  // readerwriterqueue with TSan annotations for GCC
-
 #include <atomic>
 #include <catch2/catch.hpp>
 #include <chrono>
@@ -29,6 +27,7 @@
 #include <thread>
 #include <vector>
 
+#include "apps/pipeline/spsc_queue.h"  // readerwriterqueue with TSan annotations for GCC
 #include "audio/convolver.h"
 
 using dpc::audio::ConvolverLayout;

@@ -16,8 +16,8 @@
 #include <string>
 #include <thread>
 
-#include "apps/pipeline/live_session.h"
-#include "apps/pipeline/offline_renderer.h"
+#include "runtime/live_session.h"
+#include "runtime/offline_renderer.h"
 #include "audio/audio_device.h"
 #include "audio/wav_io.h"
 #include "engine/input_error.h"

@@ -25,7 +25,7 @@
 // on a headless machine they bury the one message that matters; set DPC_AUDIO_VERBOSE=1 to
 // see them.
 //
-// Threads (design.md "Thread roles"): everything here is called on the control thread except
+// Threads (docs/design.md "Thread roles"): everything here is called on the control thread except
 // the RenderCallback, which PortAudio calls on its audio thread (for JACK: the JACK process
 // thread) and which must therefore not allocate, lock, log, throw, wait or make system calls.
 // The wrapper's own work on the audio thread is two steady_clock reads and a few relaxed

@@ -160,7 +160,7 @@ class IrSpectra {
 ///
 /// Threads: setNextIr(), process(), processAdd() and takeRetired() are called by one thread,
 /// the audio thread, and are wait-free (no atomics needed: the hand-over between threads is
-/// the owner's SPSC queues, design.md "Audio side"). The audio thread should drain
+/// the owner's SPSC queues, docs/design.md "Audio side"). The audio thread should drain
 /// takeRetired() into the return queue after each block.
 class PartitionedConvolver {
  public:

@@ -1,4 +1,4 @@
-// Thread roles (design.md "Thread roles"), recorded per thread so that debug builds can assert
+// Thread roles (docs/design.md "Thread roles"), recorded per thread so that debug builds can assert
 // that a function runs where its documentation says ("Audio thread. Wait-free.").
 //
 // The role is a thread_local byte with constant initialisation: setting and reading it is a

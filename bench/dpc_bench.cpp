@@ -18,8 +18,8 @@
 #include <thread>
 #include <vector>
 
-#include "apps/pipeline/live_session.h"
-#include "apps/pipeline/render_pipeline.h"
+#include "runtime/live_session.h"
+#include "runtime/render_pipeline.h"
 #include "audio/audio_device.h"
 #include "bench/bare_embree.h"
 #include "engine/input_error.h"

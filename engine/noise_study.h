@@ -1,5 +1,5 @@
 // Noise study: how far an estimator's per-frame energy response is from a converged
-// reference, how much it flickers from frame to frame, and its bias (design.md, "How we know
+// reference, how much it flickers from frame to frame, and its bias (docs/design.md, "How we know
 // it is right"; Schissler thesis 3.2.2 claims the DPC needs far fewer rays for equal noise).
 //
 // All metrics use the band energy response in 10 ms bins (rebinned from Simulation's 1 ms),

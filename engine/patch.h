@@ -3,7 +3,7 @@
 // Each triangle is cut into rows and columns of patches about lambda x lambda metres, without
 // storing the patches: a TrianglePatching (5 bytes) holds the row count N_zeta, the widest
 // row's column count N_xi and the key vertex, and patchOf() finds the patch of a hit from its
-// barycentric coordinates. Definitions (design.md): key vertex v_k = the vertex with the
+// barycentric coordinates. Definitions (docs/design.md): key vertex v_k = the vertex with the
 // longest altitude (opposite the shortest edge), h_k its altitude, e_k the opposite edge;
 // N_zeta = ceil(h_k / lambda), N_xi = ceil(e_k / lambda), row zeta has
 // N_xi^zeta = ceil((N_zeta - zeta) / N_zeta * N_xi) columns (thesis eq. 3.1).

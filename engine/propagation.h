@@ -9,7 +9,7 @@
 //   I(omega) = energy(omega) * exp(-m(omega) r) / (pi R^2),
 // r the path length to the point of closest approach to the listener's centre, m the
 // ISO 9613-1 air attenuation. Dividing by N gives intensity relative to the source power on
-// the scale of the direct sound 1/(4 pi r^2) (design.md, "energy convention").
+// the scale of the direct sound 1/(4 pi r^2) (docs/design.md, "Energy convention").
 // The path identifier (engine/patch.h) is hashed incrementally, one patch per reflection.
 // Russian roulette (Arvo & Kirk, "Particle transport and image synthesis", SIGGRAPH 1990):
 // once a ray's band energy times the air attenuation of its lowest band has fallen below

@@ -79,7 +79,7 @@ enum class Estimator {
   kPathTracing,  ///< plain Monte Carlo path tracing, no reuse between frames
 };
 
-/// How a DPC entry's intensity is averaged over time (design.md, "a subtlety").
+/// How a DPC entry's intensity is averaged over time (docs/estimators.md, "Its bias").
 enum class DpcWeighting {
   kSeed,  ///< thesis eq. 3.2: I_hat / mu, mu = rays emitted since the entry was created
   kEma,   ///< unbiased: exponential moving average of per-frame estimates, time constant tau

@@ -6,7 +6,7 @@
 #
 #   scripts/tsan.sh            # exit status: the test's (TSan reports fail it: halt_on_error)
 #
-# Cost (measured on 2 cores): first configure + build about 65 s (dpc_pipeline and its
+# Cost (measured on 2 cores): first configure + build about 65 s (dpc_runtime and its
 # libraries are compiled with -fsanitize=thread), rebuilds after a change seconds; the test
 # itself 1-2 s (about 4,000-15,000 blocks and 200+ IR swaps under TSan).
 set -euo pipefail

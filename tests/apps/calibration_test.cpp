@@ -1,4 +1,4 @@
-// Physics oracle (design.md): a fully diffuse shoebox decays with Eyring's reverberation time.
+// Physics oracle (docs/design.md): a fully diffuse shoebox decays with Eyring's reverberation time.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <vector>

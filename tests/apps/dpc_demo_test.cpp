@@ -13,7 +13,7 @@
 #include <sstream>
 #include <string>
 
-#include "apps/pipeline/offline_renderer.h"
+#include "runtime/offline_renderer.h"
 #include "engine/scene.h"
 
 using namespace dpc;

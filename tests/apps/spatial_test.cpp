@@ -10,7 +10,7 @@
 
 #include "../engine/test_scenes.h"
 #include "../engine/test_util.h"
-#include "apps/pipeline/render_pipeline.h"
+#include "runtime/render_pipeline.h"
 #include "engine/input_error.h"
 #include "engine/simulation.h"
 

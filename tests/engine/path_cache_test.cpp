@@ -106,7 +106,7 @@ TEST_CASE("tau = 0: both DPC weightings equal plain path tracing bit for bit", "
   }
 }
 
-// design.md, "a subtlety": a path hit with probability p per frame contributes I / N per hit
+// docs/estimators.md, "Its bias": a path hit with probability p per frame contributes I / N per hit
 // in expectation. The EMA estimator's long-run mean must equal p I / N (unbiased) within Monte
 // Carlo error; the thesis estimator inflates rare paths towards the harmonic number H_K.
 TEST_CASE("EMA weighting is unbiased for rarely hit paths; seed weighting is not", "[dpc]") {

@@ -13,7 +13,7 @@ using namespace dpc;
 
 using test::identical;
 
-// design.md oracle: the energy of order-0 rays through the listener sphere estimates the
+// docs/design.md oracle: the energy of order-0 rays through the listener sphere estimates the
 // direct intensity 1/(4 pi r^2) (times air attenuation).
 TEST_CASE("Order-0 energy through the listener sphere is 1/(4 pi r^2)", "[calibration]") {
   // A huge box so that no reflection comes back within max order 0.

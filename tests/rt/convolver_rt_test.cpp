@@ -1,7 +1,7 @@
 // Real-time safety of the audio side's IR hand-over: a thread in the audio role runs
 // thousands of PartitionedConvolver blocks while the main thread (propagation role) prepares
 // new IrSpectra and passes pointers over a fixed-capacity SPSC queue, getting spent ones back
-// through a second queue (design.md "Audio side"). The interposing allocator
+// through a second queue (docs/design.md "Audio side"). The interposing allocator
 // (alloc_counter.cpp) must count zero heap calls on the audio thread.
 #include <readerwriterqueue/readerwriterqueue.h>
 

@@ -11,7 +11,7 @@
 #include <thread>
 #include <vector>
 
-#include "apps/pipeline/live_session.h"
+#include "runtime/live_session.h"
 
 namespace dpc::test {
 

@@ -1,4 +1,4 @@
-// The IR hand-over of design.md "Audio side" under ThreadSanitizer (scripts/tsan.sh): the
+// The IR hand-over of docs/design.md "Audio side" under ThreadSanitizer (scripts/tsan.sh): the
 // main thread prepares IrSpectra (writes their spectra), passes pointers to an audio-role
 // thread through a fixed-capacity moodycamel::ReaderWriterQueue, the audio thread convolves
 // with them (reads the spectra) and returns spent ones through a second queue, after which
@@ -27,7 +27,7 @@
 #include <thread>
 #include <vector>
 
-#include "apps/pipeline/spsc_queue.h"  // readerwriterqueue with TSan annotations for GCC
+#include "runtime/spsc_queue.h"  // readerwriterqueue with TSan annotations for GCC
 #include "audio/convolver.h"
 
 using dpc::audio::ConvolverLayout;

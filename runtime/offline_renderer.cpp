@@ -1,4 +1,4 @@
-#include "apps/pipeline/offline_renderer.h"
+#include "runtime/offline_renderer.h"
 
 #include <algorithm>
 #include <chrono>

@@ -1,5 +1,5 @@
 // LiveSession: the live pipeline. The same PropagationStage and AudioStage as offline
-// rendering, on three threads (design.md "Thread roles"):
+// rendering, on three threads (docs/design.md "Thread roles"):
 //
 //   control thread     setPose() (trajectory or keyboard), status(), start()/stop()
 //   propagation thread reads the pose (PoseChannel), runs a frame, prepares an IrSet, pushes
@@ -25,9 +25,9 @@
 #include <thread>
 #include <vector>
 
-#include "apps/pipeline/pose_channel.h"
-#include "apps/pipeline/render_pipeline.h"
-#include "apps/pipeline/spsc_queue.h"
+#include "runtime/pose_channel.h"
+#include "runtime/render_pipeline.h"
+#include "runtime/spsc_queue.h"
 #include "audio/audio_device.h"
 
 namespace dpc {

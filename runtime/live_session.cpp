@@ -1,4 +1,4 @@
-#include "apps/pipeline/live_session.h"
+#include "runtime/live_session.h"
 
 #include <algorithm>
 #include <chrono>

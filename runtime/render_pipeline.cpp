@@ -1,4 +1,4 @@
-#include "apps/pipeline/render_pipeline.h"
+#include "runtime/render_pipeline.h"
 
 #include <algorithm>
 #include <chrono>

@@ -9,7 +9,7 @@
 #include <functional>
 #include <string>
 
-#include "apps/pipeline/render_pipeline.h"
+#include "runtime/render_pipeline.h"
 
 namespace dpc {
 

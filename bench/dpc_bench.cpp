@@ -18,8 +18,6 @@
 #include <thread>
 #include <vector>
 
-#include "runtime/live_session.h"
-#include "runtime/render_pipeline.h"
 #include "audio/audio_device.h"
 #include "bench/bare_embree.h"
 #include "engine/input_error.h"
@@ -27,6 +25,8 @@
 #include "engine/noise_study.h"
 #include "engine/scene.h"
 #include "engine/simulation.h"
+#include "runtime/live_session.h"
+#include "runtime/render_pipeline.h"
 
 using namespace dpc;
 using json = nlohmann::ordered_json;
@@ -80,7 +80,8 @@ int benchPropagation(const Common& c, bool noRoulette) {
   if (noRoulette) s.rouletteThreshold = 0.f;
   const glm::vec3 listener = listenerPositionAt(scene.listener, 0.0);
   Simulation sim(scene, s);
-  IrSynthesizer synth(scene.audio.sampleRate, s.irLength, sim.boundingVolume(), s.speedOfSound, 1);
+  IrSynthesizer synth(scene.audio.sampleRate, s.irLength, roomVolume(scene.mesh), s.speedOfSound,
+                      1);
   std::vector<float> ir(synth.lengthSamples());
   std::vector<double> frameMs, traceMs, estimatorMs, synthMs;
   uint64_t segments = 0, hits = 0;
@@ -158,7 +159,7 @@ int benchPropagation(const Common& c, bool noRoulette) {
     bs.raysPerFrame = 4096;
     Simulation dsim(binaural, bs);
     dsim.enableDirectional(defaultSpatialDirections());
-    auto spatial = makeSpatialSynthesizer(binaural, bs, dsim.boundingVolume());
+    auto spatial = makeSpatialSynthesizer(binaural, bs, roomVolume(binaural.mesh));
     std::vector<float> left(spatial->lengthSamples()), right(spatial->lengthSamples());
     std::vector<double> ms;
     for (int f = 0; f < std::max(5, c.frames / 3); ++f) {

@@ -4,8 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
 #include <numbers>
 #include <stdexcept>
+#include <unordered_map>
 
 #include "engine/random.h"
 
@@ -109,9 +112,7 @@ BandEnvelope::BandEnvelope(int sampleRate, const std::vector<float>& sequence, s
     : sampleRate_(sampleRate), length_(length), filters_(&filters) {
   for (int b = 0; b < kNumBands; ++b) {
     const size_t bi = size_t(b);
-    binSamples_[bi] =
-        std::max<size_t>(size_t(std::lround(1e-3 * sampleRate)),
-                         size_t(std::lround(2.0 * sampleRate / bandCentreExactHz(b))));
+    binSamples_[bi] = binSamplesFor(sampleRate, b);
     const size_t nb = (length_ + binSamples_[bi] - 1) / binSamples_[bi];
     // Expected measured energy of s_b per bin: the pulses' energy in the bin times beta_b
     // (cross terms between pulses have random signs and vanish on average). Using the pulse
@@ -133,7 +134,30 @@ BandEnvelope::BandEnvelope(int sampleRate, const std::vector<float>& sequence, s
   }
 }
 
-void BandEnvelope::compute(const EnergyResponse& energy) {
+BandEnvelope::BandEnvelope(int sampleRate, const std::vector<float>& sequence, size_t length,
+                           const BandFilterData& filters, Realised realised)
+    : BandEnvelope(sampleRate, sequence, length, filters,
+                   std::array<std::vector<float>, kRealisedBands>{}) {
+  // The expectation form's e_b[j] (pulses' energy x beta_b) stays: it tells which bins hold a
+  // pulse and gives the first guess of the gains.
+  // The delegated constructor had no measured signals for the lowest bands: fill them in.
+  for (int b = 0; b < kRealisedBands; ++b)
+    for (size_t n = 0; n < length_ && n < sequence.size(); ++n)
+      sequenceEnergy_[size_t(b)][n / binSamples_[size_t(b)]] +=
+          double(sequence[n]) * sequence[n] * filters.share[size_t(b)];
+  realised_ = std::move(realised);
+  useRealised_ = true;
+}
+
+size_t BandEnvelope::binSamplesFor(int sampleRate, int b) {
+  const size_t base = std::max<size_t>(1, size_t(std::lround(1e-3 * sampleRate)));
+  const double want = 2.0 * sampleRate / bandCentreExactHz(b);  // two periods, samples
+  size_t w = base;
+  while (double(w) < want - 1e-9) w *= 2;
+  return w;
+}
+
+void BandEnvelope::targets(const EnergyResponse& energy) {
   const double samplesPerBin = energy.binSeconds() * sampleRate_;
   for (int b = 0; b < kNumBands; ++b) {
     const size_t bi = size_t(b);
@@ -148,20 +172,84 @@ void BandEnvelope::compute(const EnergyResponse& energy) {
       const size_t j = std::min(nb - 1, n / binSamples_[bi]);
       target[j] += e;
     }
-    // Gains; energy of a bin the sequence leaves empty moves on to the next bin.
+    // Energy of a bin the sequence leaves empty moves on to the next bin; first-guess gains.
     double carry = 0.0;
     const auto& seqE = sequenceEnergy_[bi];
     for (size_t j = 0; j < nb; ++j) {
       const double want = target[j] + carry;
       if (seqE[j] > 1e-12) {
+        target[j] = want;
         gain_[bi][j] = float(std::sqrt(want / seqE[j]));
         carry = 0.0;
       } else {
+        target[j] = 0.0;
         gain_[bi][j] = 0.f;
         carry = want;
       }
     }
   }
+}
+
+void BandEnvelope::compute(const EnergyResponse& energy) {
+  targets(energy);
+  unplaced_.fill(0.0);
+  if (useRealised_)
+    computeRealised();
+  else
+    computeExpected();
+}
+
+void BandEnvelope::computeRealised() {
+  // Band b's measured energy in its bin j is a quadratic in g_b with the neighbours' gains
+  // fixed: a g^2 + 2 h g + c, summed over the fine bins q of j, where the upper neighbour's
+  // gain may change from one q to the next. Gauss-Seidel sweeps over the bands; the coupling
+  // between bands is a few per cent, so four sweeps converge far below 0.1 %.
+  constexpr int kSweeps = 4;
+  constexpr double kGainRange = 3.0;
+  for (int b = 0; b < kNumBands; ++b) first_[size_t(b)] = gain_[size_t(b)];
+  for (int sweep = 0; sweep < kSweeps; ++sweep) {
+    for (int b = 0; b < kNumBands; ++b) {
+      const size_t bi = size_t(b);
+      const auto& fine = realised_.fine[bi];
+      const size_t w = binSamples_[bi];
+      const size_t fw = b + 1 < kNumBands ? binSamples_[bi + 1] : w;
+      const size_t perBin = w / fw;
+      const bool last = sweep == kSweeps - 1;
+      for (size_t j = 0; j < gain_[bi].size(); ++j) {
+        const double want = target_[bi][j];
+        if (want <= 0.0) continue;
+        const double gLow = b > 0 ? double(gain_[bi - 1][(j * w) / binSamples_[bi - 1]]) : 0.0;
+        double a = 0.0, h = 0.0, c = 0.0;
+        const size_t qEnd = std::min(fine.size(), (j + 1) * perBin);
+        for (size_t q = j * perBin; q < qEnd; ++q) {
+          const double gHigh =
+              b + 1 < kNumBands ? double(gain_[bi + 1][(q * fw) / binSamples_[bi + 1]]) : 0.0;
+          const Correlations& r = fine[q];
+          a += r[3];
+          h += gLow * r[1] + gHigh * r[4];
+          c += gLow * gLow * r[0] + 2.0 * gLow * gHigh * r[2] + gHigh * gHigh * r[5];
+        }
+        if (!(a > 0.0)) continue;  // keep the first guess
+        const double disc = h * h - a * (c - want);
+        double g = disc > 0.0 ? (-h + std::sqrt(disc)) / a : 0.0;
+        // A bin whose pulses sit at its edges has little realised energy inside it; a large
+        // gain there would spill into the neighbouring bins through the band filter. Keep
+        // the gain within kGainRange of the expectation form's.
+        const double guess = first_[bi][j];
+        g = std::min(g, kGainRange * guess);
+        if (g > 0.0) g = std::max(g, guess / kGainRange);
+        if (g > 0.0) {
+          gain_[bi][j] = float(g);
+        } else {
+          gain_[bi][j] = 0.f;
+          if (last) unplaced_[bi] += want;
+        }
+      }
+    }
+  }
+}
+
+void BandEnvelope::computeExpected() {
   // Crossover correction: band b's measured energy in a bin is
   // sum_{i,k} g_{b+i} g_{b+k} coupling[b][i][k] times the white energy; scale g_b so that it
   // equals the uncorrected g_b^2 (what the energy response asks for). Gauss-Seidel steps.
@@ -208,6 +296,79 @@ void BandEnvelope::accumulateRange(const std::array<const float*, kNumBands>& ba
   }
 }
 
+BandEnvelope::Realised measureRealised(int sampleRate, const std::vector<float>& sequence,
+                                       size_t length, size_t nfft, const OctaveBandMasks& masks) {
+  const size_t nbins = nfft / 2 + 1;
+  FftwArray<float> time(nfft);
+  FftwArray<fftwf_complex> spec(nbins), bandSpec(nbins);
+  fftwf_plan fwd = fftwf_plan_dft_r2c_1d(int(nfft), time.p, spec.p, FFTW_ESTIMATE);
+  fftwf_plan inv = fftwf_plan_dft_c2r_1d(int(nfft), bandSpec.p, time.p, FFTW_ESTIMATE);
+  if (!fwd || !inv) throw std::runtime_error("measureRealised: FFTW plan failed");
+  std::fill(time.p, time.p + nfft, 0.f);
+  std::copy(sequence.begin(), sequence.begin() + long(std::min(length, sequence.size())), time.p);
+  fftwf_execute(fwd);
+  const float scale = 1.f / float(nfft);
+  BandEnvelope::Realised out;
+  std::array<std::vector<float>, 3> y;
+  for (int b = 0; b < kNumBands; ++b) {
+    for (int i = 0; i < 3; ++i) {
+      const int nb = b + i - 1;
+      y[size_t(i)].assign(length, 0.f);
+      if (nb < 0 || nb >= kNumBands) continue;
+      for (size_t k = 0; k < nbins; ++k) {
+        const float g = masks.gain(b, k) * masks.gain(nb, k) * masks.gain(nb, k) * scale;
+        bandSpec.p[k][0] = spec.p[k][0] * g;
+        bandSpec.p[k][1] = spec.p[k][1] * g;
+      }
+      fftwf_execute(inv);
+      y[size_t(i)].assign(time.p, time.p + length);
+    }
+    const size_t fw = BandEnvelope::binSamplesFor(sampleRate, std::min(b + 1, kNumBands - 1));
+    auto& fine = out.fine[size_t(b)];
+    fine.assign((length + fw - 1) / fw, BandEnvelope::Correlations{});
+    for (size_t n = 0; n < length; ++n) {
+      const double lo = y[0][n], mid = y[1][n], hi = y[2][n];
+      BandEnvelope::Correlations& r = fine[n / fw];
+      r[0] += lo * lo;
+      r[1] += lo * mid;
+      r[2] += lo * hi;
+      r[3] += mid * mid;
+      r[4] += mid * hi;
+      r[5] += hi * hi;
+    }
+  }
+  fftwf_destroy_plan(fwd);
+  fftwf_destroy_plan(inv);
+  return out;
+}
+
+double roomVolume(const Mesh& mesh) {
+  if (mesh.vertices.empty()) return 1.0;
+  glm::dvec3 lo(mesh.vertices[0]), hi(mesh.vertices[0]);
+  for (const glm::vec3& v : mesh.vertices) {
+    lo = glm::min(lo, glm::dvec3(v));
+    hi = glm::max(hi, glm::dvec3(v));
+  }
+  const glm::dvec3 e = hi - lo;
+  const double box = std::max(1.0, e.x * e.y * e.z);
+  // Closed: every undirected edge is used by an even number of triangles (2 for a manifold).
+  std::unordered_map<uint64_t, int> edges;
+  edges.reserve(mesh.triangles.size() * 3);
+  double sixV = 0.0;
+  for (const auto& t : mesh.triangles) {
+    const glm::dvec3 a(mesh.vertices[t[0]]), b(mesh.vertices[t[1]]), c(mesh.vertices[t[2]]);
+    sixV += glm::dot(a - lo, glm::cross(b - lo, c - lo));  // relative to lo: less rounding
+    for (int i = 0; i < 3; ++i) {
+      const uint64_t u = t[size_t(i)], v = t[size_t((i + 1) % 3)];
+      ++edges[u < v ? (u << 32 | v) : (v << 32 | u)];
+    }
+  }
+  for (const auto& [key, count] : edges)
+    if (count % 2 != 0) return box;  // open mesh: no enclosed volume
+  const double v = std::abs(sixV) / 6.0;
+  return v >= 0.01 * box ? std::max(1.0, v) : box;
+}
+
 IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVolume,
                              double speedOfSound, uint64_t seed)
     : sampleRate_(sampleRate) {
@@ -232,16 +393,6 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
   filterData_ = BandFilterData::compute(masks, nfft);
   const float scale = 1.f / float(nfft);
   filterCentre_ = margin / 2;
-  std::array<std::vector<float>, BandEnvelope::kRealisedBands> measured;
-  for (int b = 0; b < BandEnvelope::kRealisedBands; ++b) {
-    for (size_t k = 0; k < nbins; ++k) {
-      const float m = masks.gain(b, k);
-      bandSpec.p[k][0] = spec.p[k][0] * m * m * m * scale;
-      bandSpec.p[k][1] = spec.p[k][1] * m * m * m * scale;
-    }
-    fftwf_execute(inv);
-    measured[size_t(b)].assign(time.p, time.p + length_);
-  }
   for (int b = 0; b < kNumBands; ++b) {
     const size_t bi = size_t(b);
     // s_b through the amplitude-complementary filter A_b = M_b^2 (sum_b A_b = 1, so equal
@@ -265,7 +416,9 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
   }
   fftwf_destroy_plan(fwd);
   fftwf_destroy_plan(inv);
-  envelope_ = std::make_unique<BandEnvelope>(sampleRate, seq, length_, filterData_, measured);
+  envelope_ =
+      std::make_unique<BandEnvelope>(sampleRate, seq, length_, filterData_,
+                                     measureRealised(sampleRate, seq, length_, nfft, masks));
 }
 
 void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& direct, float* ir) {

@@ -10,17 +10,25 @@
 // are power-complementary masks (sum_b M_b^2 = 1, raised-cosine crossovers 1/3 octave wide
 // at the band edges fc * 2^(1/2)); sum_b A_b = 1, so neighbouring bands never add up
 // coherently to more than the sequence itself.
-// Each frame: ir[n] = sum_b g_b[j] s_b[n], with g_b[j] = sqrt(E_b[j] / e_b[j]) per synthesis
-// bin j (E_b from the energy response, e_b = beta_b x the pulses' energy in that bin, beta_b
-// the share of a unit impulse's energy that a band measurement with M_b sees), so every
-// band's energy follows the energy response in expectation over the sequence's random signs
-// (energy of bins without any pulse moves to the next bin). Where neighbouring bands' gains differ,
-// the crossovers would mix them; a per-bin correction (three fixed-point steps with the crossovers'
-// coupling coefficients for a white spectrum) keeps each band's measured energy on target.
-// Synthesis bins are max(1 ms, 2 periods of the band centre) wide. The direct sound is added as the
-// band filters' impulse responses at its exact sample delay, with band energies equal to
-// DirectSound::intensity. Units: the IR's squared samples sum to energy in 1/m^2 relative to source
-// power (so 1/(4 pi r^2) for a direct sound at r metres).
+// Each frame: ir[n] = sum_b g_b[j] s_b[n] with per-band, per-bin gains g_b[j]. The mono
+// synthesiser normalises to the sequence's *realised* energy: at construction it measures, for
+// every band b and time bin, the correlations of y_{b,i} = M_b A_{b+i} s (i = -1, 0, 1: what a
+// band measurement with M_b sees of its own and its neighbours' band signals); each frame it
+// solves, bin by bin, sum_{i,k} g_{b+i} g_{b+k} <y_{b,i}, y_{b,k}>_bin = E_b[bin] for g_b
+// (Gauss-Seidel over the bands, a quadratic per bin), so the synthesised IR's band energy in
+// every bin equals the energy response's exactly up to the smearing of the gain steps between
+// bins by the band filters (no random-sign fluctuation, no crossover error). Energy of bins
+// that hold no pulse moves to the next bin. The spatial synthesiser, whose band signals pass
+// through HRIRs, uses the older expectation form: g_b[j] = sqrt(E_b[j] / e_b[j]), e_b = beta_b x
+// the pulses' energy in the bin (beta_b: the share of a unit impulse's energy that a band
+// measurement with M_b sees), realised energy at 63/125 Hz, and a crossover correction with
+// white-spectrum coupling coefficients.
+// Synthesis bins are 1 ms x 2^p wide, the smallest such width holding 2 periods of the band
+// centre (32 ms at 63 Hz ... 1 ms from 2 kHz up); a band's bin is a whole number of the next
+// band's bins, so neighbours' gains are constant or change only at bin boundaries. The direct sound
+// is added as the band filters' impulse responses at its exact sample delay, with band energies
+// equal to DirectSound::intensity. Units: the IR's squared samples sum to energy in 1/m^2 relative
+// to source power (so 1/(4 pi r^2) for a direct sound at r metres).
 //
 // Construction: control/propagation thread (FFTW plan creation is not thread-safe);
 // allocates; throws std::invalid_argument on bad sizes. synthesize(): propagation thread;
@@ -34,6 +42,7 @@
 #include "engine/bands.h"
 #include "engine/energy_response.h"
 #include "engine/propagation.h"
+#include "engine/scene.h"
 
 namespace dpc {
 
@@ -85,6 +94,18 @@ class BandEnvelope {
   BandEnvelope(int sampleRate, const std::vector<float>& sequence, size_t length,
                const BandFilterData& filters,
                const std::array<std::vector<float>, kRealisedBands>& measured);
+  /// Correlations per fine bin of band b (width: the next band's bin, or b's own for the top
+  /// band): {<y-,y->, <y-,y0>, <y-,y+>, <y0,y0>, <y0,y+>, <y+,y+>} with y_i = M_b A_{b+i} s.
+  using Correlations = std::array<double, 6>;
+  struct Realised {
+    std::array<std::vector<Correlations>, kNumBands> fine;
+  };
+  /// Realised normalisation (mono synthesis): `realised` from measureRealised().
+  BandEnvelope(int sampleRate, const std::vector<float>& sequence, size_t length,
+               const BandFilterData& filters, Realised realised);
+  /// Synthesis bin width of band b in samples at sampleRate (see the file comment).
+  static size_t binSamplesFor(int sampleRate, int b);
+
   /// Gains for an energy response (any bin width).
   void compute(const EnergyResponse& energy);
   /// out[n] += scale * sum_b g_b[j(n)] x_b[n] for the band signals x_b (length samples each).
@@ -98,8 +119,14 @@ class BandEnvelope {
                        size_t end, float scale = 1.f, int bandBegin = 0,
                        int bandEnd = kNumBands) const;
   size_t binSamples(int b) const { return binSamples_[size_t(b)]; }
+  /// Energy of the last compute() that no gain could place (a bin whose neighbours' crossover
+  /// spill alone exceeds its target), summed over bins, per band, in the response's unit.
+  const std::array<double, kNumBands>& unplacedEnergy() const { return unplaced_; }
 
  private:
+  void targets(const EnergyResponse& energy);
+  void computeExpected();
+  void computeRealised();
   int sampleRate_;
   size_t length_;
   const BandFilterData* filters_;  ///< owned by the synthesiser, outlives the envelope
@@ -108,15 +135,32 @@ class BandEnvelope {
   std::array<std::vector<double>, kNumBands> target_;          ///< scratch: E_b[j]
   std::array<std::vector<float>, kNumBands> gain_;             ///< g_b[j]
   std::array<std::vector<float>, kNumBands> wanted_;           ///< scratch: uncorrected g_b[j]
+  std::array<std::vector<float>, kNumBands> first_;            ///< scratch: first-guess g_b[j]
+  Realised realised_;                                          ///< empty: expectation form
+  bool useRealised_ = false;
+  std::array<double, kNumBands> unplaced_{};
 };
+
+/// The realised correlations of `sequence` (length samples) for BandEnvelope: 3 band
+/// measurements per band by FFT (nfft >= length + filter margin). Allocates; any thread that
+/// may plan FFTW (not thread-safe: control/propagation thread).
+BandEnvelope::Realised measureRealised(int sampleRate, const std::vector<float>& sequence,
+                                       size_t length, size_t nfft, const OctaveBandMasks& masks);
+
+/// Volume for the reflection-density law, m^3: the enclosed volume of a closed mesh by the
+/// divergence theorem, V = |sum_triangles v0 . (v1 x v2)| / 6 (exact for any closed,
+/// consistently oriented triangle mesh); for a mesh with boundary edges (an open scene) or a
+/// volume below 1 % of the bounding box, the bounding-box volume. At least 1 m^3. Any thread;
+/// allocates a temporary edge table; no errors.
+double roomVolume(const Mesh& mesh);
 
 class IrSynthesizer {
  public:
   /// Dirac sequence density cap, pulses per second (Schröder 2011 uses about this order).
   static constexpr double kMaxDensityPerSecond = 10000.0;
 
-  /// sampleRate in Hz; lengthSeconds of the IR; roomVolume in m^3 (density law; the bounding
-  /// box volume is an adequate estimate); speedOfSound m/s; seed for the Dirac sequence.
+  /// sampleRate in Hz; lengthSeconds of the IR; roomVolume in m^3 (density law: roomVolume()
+  /// of the scene's mesh); speedOfSound m/s; seed for the Dirac sequence.
   IrSynthesizer(int sampleRate, double lengthSeconds, double roomVolume, double speedOfSound,
                 uint64_t seed);
 

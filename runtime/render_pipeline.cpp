@@ -123,11 +123,11 @@ PropagationStage::PropagationStage(const SceneDesc& scene, const PropagationSett
   if (scene.audio.output == OutputFormat::kMono) {
     for (size_t s = 0; s < scene.sources.size(); ++s)
       synthesizers_.push_back(std::make_unique<IrSynthesizer>(
-          fs, settings.irLength, simulation_->boundingVolume(), settings.speedOfSound,
+          fs, settings.irLength, roomVolume(scene.mesh), settings.speedOfSound,
           hashCombine(settings.seed, 0x5bd1e995ULL + s)));
     irSamples_ = synthesizers_.front()->lengthSamples();
   } else {
-    spatial_ = makeSpatialSynthesizer(scene, settings, simulation_->boundingVolume());
+    spatial_ = makeSpatialSynthesizer(scene, settings, roomVolume(scene.mesh));
     const std::vector<glm::vec3>& directions = spatial_->directions();
     simulation_->enableDirectional(directions);
     irSamples_ = spatial_->lengthSamples();

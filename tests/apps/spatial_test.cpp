@@ -10,9 +10,9 @@
 
 #include "../engine/test_scenes.h"
 #include "../engine/test_util.h"
-#include "runtime/render_pipeline.h"
 #include "engine/input_error.h"
 #include "engine/simulation.h"
+#include "runtime/render_pipeline.h"
 
 using dpc::test::bandEnergies;
 
@@ -56,7 +56,7 @@ Rendered render(SceneDesc scene, OutputFormat format, float yawDegrees, int fram
   o.yawRadians = yawDegrees * float(M_PI / 180.0);
   sim.setListenerOrientation(o);
   for (int f = 0; f < frames; ++f) sim.runFrame(scene.listener.position);
-  auto spatial = makeSpatialSynthesizer(scene, ps, sim.boundingVolume());
+  auto spatial = makeSpatialSynthesizer(scene, ps, roomVolume(scene.mesh));
   Rendered r;
   r.left.resize(spatial->lengthSamples());
   r.right.resize(spatial->lengthSamples());

@@ -1,11 +1,15 @@
-// dpc-analyze: ISO 3382-1 room acoustic parameters of an impulse-response WAV file.
+// dpc-analyze: ISO 3382-1 room acoustic parameters of an impulse-response WAV file or of an
+// energy response exported by dpc-demo --er-out (a .csv file).
 //
-//   dpc-analyze IR.wav [--json] [--channel N]
+//   dpc-analyze IR.wav|ER.csv [--json] [--channel N]
 //
-// Per channel: T20, T30, EDT (s), C50, C80 (dB), D50 (%) in the octave bands 63 Hz .. 8 kHz
-// and broadband (see audio/room_parameters.h for the method). Control thread only. Bad input
-// prints one line "FILE: FIELD: problem" on stderr and exits with status 1.
+// Per channel (WAV) or source (CSV): T20, T30, EDT (s), C50, C80 (dB), D50 (%) and strength
+// G (dB, relative to the free-field direct sound at 10 m on dpc's energy scale) in the octave
+// bands 63 Hz .. 8 kHz and broadband (see audio/room_parameters.h for the method). Control thread
+// only. Bad input prints one line "FILE: FIELD: problem" on stderr and exits with status 1.
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -15,6 +19,7 @@
 #include "audio/room_parameters.h"
 #include "audio/wav_io.h"
 #include "engine/bands.h"
+#include "engine/energy_response_csv.h"
 #include "engine/input_error.h"
 
 namespace {
@@ -59,11 +64,12 @@ std::string pad(const std::string& s, size_t width) {
   return std::string(width > columns ? width - columns : 0, ' ') + s;
 }
 
-void printTable(const std::string& file, const AudioData& audio, size_t channel,
-                const ImpulseResponseAnalysis& a) {
-  std::printf("%s: channel %zu of %zu, %d Hz, %.3f s\n", file.c_str(), channel + 1,
-              audio.channels.size(), audio.sampleRate,
-              double(audio.frames()) / double(audio.sampleRate));
+double strength(const RoomParameters& r) {
+  return dpc::audio::strengthDb(r.energy);
+}
+
+void printTable(const std::string& title, const ImpulseResponseAnalysis& a) {
+  std::printf("%s\n", title.c_str());
   constexpr size_t kLabel = 10, kColumn = 8;
   std::string header = std::string(kLabel, ' ');
   for (int b = 0; b < kNumBands; ++b)
@@ -88,6 +94,33 @@ void printTable(const std::string& file, const AudioData& audio, size_t channel,
     line += pad(cell(a.broadband.*row.field * row.scale, row.decimals), kColumn + 2);
     std::printf("%s\n", line.c_str());
   }
+  std::string line = "G (dB)";
+  line.resize(kLabel, ' ');
+  for (int b = 0; b < kNumBands; ++b) line += pad(cell(strength(a.bands[size_t(b)]), 1), kColumn);
+  line += pad(cell(strength(a.broadband), 1), kColumn + 2);
+  std::printf("%s\n", line.c_str());
+}
+
+bool endsWith(const std::string& s, const std::string& tail) {
+  return s.size() >= tail.size() &&
+         std::equal(tail.rbegin(), tail.rend(), s.rbegin(), [](char a, char b) {
+           return std::tolower(static_cast<unsigned char>(a)) == b;
+         });
+}
+
+/// Per-band parameters of one source of an energy-response CSV (dpc-demo --er-out); the
+/// "broadband" column sums the bands.
+ImpulseResponseAnalysis analyzeSource(const dpc::SourceEnergy& s) {
+  ImpulseResponseAnalysis a;
+  const auto bands = dpc::withDirect(s);
+  std::vector<double> sum(bands[0].size(), 0.0);
+  for (int b = 0; b < kNumBands; ++b) {
+    const auto& e = bands[size_t(b)];
+    a.bands[size_t(b)] = dpc::audio::analyzeEnergyDecay(e.data(), e.size(), s.energy.binSeconds());
+    for (size_t k = 0; k < e.size(); ++k) sum[k] += e[k];
+  }
+  a.broadband = dpc::audio::analyzeEnergyDecay(sum.data(), sum.size(), s.energy.binSeconds());
+  return a;
 }
 
 nlohmann::ordered_json toJson(double v) {
@@ -97,8 +130,9 @@ nlohmann::ordered_json toJson(double v) {
 }
 
 nlohmann::ordered_json toJson(const RoomParameters& r) {
-  return {{"t20", toJson(r.t20)}, {"t30", toJson(r.t30)}, {"edt", toJson(r.edt)},
-          {"c50", toJson(r.c50)}, {"c80", toJson(r.c80)}, {"d50", toJson(r.d50)}};
+  return {{"t20", toJson(r.t20)},    {"t30", toJson(r.t30)}, {"edt", toJson(r.edt)},
+          {"c50", toJson(r.c50)},    {"c80", toJson(r.c80)}, {"d50", toJson(r.d50)},
+          {"g", toJson(strength(r))}};
 }
 
 }  // namespace
@@ -106,7 +140,9 @@ nlohmann::ordered_json toJson(const RoomParameters& r) {
 int main(int argc, char** argv) {
   CLI::App app{
       "dpc-analyze: ISO 3382-1 room acoustic parameters of an impulse response.\n"
-      "Prints per channel T20, T30, EDT (s), C50, C80 (dB) and D50 (%) in the octave bands\n"
+      "Reads a WAV IR, or an energy-response CSV from dpc-demo --er-out (by its .csv name).\n"
+      "Prints per channel T20, T30, EDT (s), C50, C80 (dB), D50 (%) and G (dB re the free\n"
+      "field at 10 m, dpc's scale: 1/(4 pi 100) relative to source power) in the octave bands\n"
       "63 Hz .. 8 kHz and broadband, from Schroeder backward integration (ISO 3382-1:2009).\n"
       "'—' (JSON: null) marks a value the IR cannot give, e.g. T30 when the decay is not\n"
       "recorded 10 dB below -35 dB, or a band above Nyquist. C50/C80 are +inf when no energy\n"
@@ -132,6 +168,35 @@ int main(int argc, char** argv) {
   }
 
   try {
+    if (endsWith(file, ".csv")) {
+      // An energy response written by dpc-demo --er-out: one table per source.
+      const auto sources = dpc::readEnergyCsv(file);
+      nlohmann::ordered_json out = {{"file", file},
+                                    {"bandCentresHz", dpc::kBandCentreHz},
+                                    {"sources", nlohmann::ordered_json::array()}};
+      for (size_t s = 0; s < sources.size(); ++s) {
+        const ImpulseResponseAnalysis a = analyzeSource(sources[s]);
+        if (json) {
+          nlohmann::ordered_json bands = nlohmann::ordered_json::array();
+          for (int b = 0; b < kNumBands; ++b) {
+            nlohmann::ordered_json entry = {{"centreHz", dpc::kBandCentreHz[size_t(b)]}};
+            entry.update(toJson(a.bands[size_t(b)]));
+            bands.push_back(entry);
+          }
+          out["sources"].push_back(
+              {{"source", s}, {"bands", bands}, {"broadband", toJson(a.broadband)}});
+        } else {
+          if (s != 0) std::printf("\n");
+          char title[256];
+          std::snprintf(title, sizeof title, "%s: source %zu of %zu, energy response, %.3f s",
+                        file.c_str(), s, sources.size(),
+                        double(sources[s].energy.binCount()) * sources[s].energy.binSeconds());
+          printTable(title, a);
+        }
+      }
+      if (json) std::cout << out.dump(2) << "\n";
+      return 0;
+    }
     const AudioData audio = dpc::audio::readWav(file);
     size_t first = 0, last = audio.channels.size();
     if (!channelText.empty()) {
@@ -161,7 +226,11 @@ int main(int argc, char** argv) {
             {{"channel", c + 1}, {"bands", bands}, {"broadband", toJson(a.broadband)}});
       } else {
         if (c != first) std::printf("\n");
-        printTable(file, audio, c, a);
+        char title[256];
+        std::snprintf(title, sizeof title, "%s: channel %zu of %zu, %d Hz, %.3f s", file.c_str(),
+                      c + 1, audio.channels.size(), audio.sampleRate,
+                      double(audio.frames()) / double(audio.sampleRate));
+        printTable(title, a);
       }
     }
     if (json) std::cout << out.dump(2) << "\n";

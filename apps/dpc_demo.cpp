@@ -16,19 +16,20 @@
 #include <string>
 #include <thread>
 
-#include "runtime/live_session.h"
-#include "runtime/offline_renderer.h"
 #include "audio/audio_device.h"
 #include "audio/wav_io.h"
+#include "engine/energy_response_csv.h"
 #include "engine/input_error.h"
 #include "engine/scene.h"
+#include "runtime/live_session.h"
+#include "runtime/offline_renderer.h"
 
 using namespace dpc;
 
 namespace {
 
 struct Flags {
-  std::string scene, offline, irOut, estimator, weighting, device, record, output, hrtf;
+  std::string scene, offline, irOut, erOut, estimator, weighting, device, record, output, hrtf;
   int64_t blockSize = 0;
   bool listDevices = false, interactive = false, hasBlockSize = false;
   double duration = 0.0, tau = 0.0, gainDb = 0.0;
@@ -141,6 +142,12 @@ int runOffline(const Flags& fl) {
       for (const auto& channel : source) ir.channels.push_back(channel);
     audio::writeWav(fl.irOut, ir, audio::SampleFormat::kFloat32);
   }
+  if (!fl.erOut.empty()) {
+    std::vector<SourceEnergy> er;
+    for (size_t s = 0; s < r.lastEnergy.size(); ++s)
+      er.push_back({r.lastEnergy[s], r.lastDirect[s]});
+    writeEnergyCsv(fl.erOut, er);
+  }
 
   const double audioSeconds = double(out.frames()) / scene.audio.sampleRate;
   const auto& t = r.totals;
@@ -149,6 +156,9 @@ int runOffline(const Flags& fl) {
                                                                      : "mono";
   std::printf("wrote %s (%.2f s, %d Hz, %s, float32, gain %+.1f dB)\n", fl.offline.c_str(),
               audioSeconds, scene.audio.sampleRate, format, gainDb);
+  if (!fl.erOut.empty())
+    std::printf("wrote %s (last frame's energy response, %zu source(s))\n", fl.erOut.c_str(),
+                r.lastEnergy.size());
   if (!fl.irOut.empty())
     std::printf("wrote %s (last frame's IR, %zu channel(s): source-major)\n", fl.irOut.c_str(),
                 r.lastIrs.size() * r.lastIrs.front().size());
@@ -412,6 +422,9 @@ int main(int argc, char** argv) {
                  "ema (unbiased, default) | seed (thesis eq. 3.2; biased high)");
   app.add_option("--threads", fl.threads, "Tracing threads (0 = all cores)");
   app.add_option("--ir-out", fl.irOut, "Also write the last frame's IR (all channels) as WAV");
+  app.add_option("--er-out", fl.erOut,
+                 "Offline: also write each source's last-frame energy response per octave band "
+                 "in 1 ms bins, direct sound marked, as CSV (docs/validation.md)");
   app.add_option("--gain-db", fl.gainDb,
                  "Fixed output gain in dB (default: normalise the peak to -1 dBFS)");
   app.add_flag("--quiet", fl.quiet, "No progress bar");
@@ -438,6 +451,8 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "dpc-demo: a scene file is required (--help for usage)\n");
       return 1;
     }
+    if (fl.offline.empty() && !fl.erOut.empty())
+      throw InputError("command line", "--er-out", "needs --offline (offline renders only)");
     if (fl.offline.empty()) return runLive(fl);
     return runOffline(fl);
   } catch (const InputError& e) {

@@ -78,6 +78,7 @@ RoomParameters fromEnergy(const std::vector<double>& e, double dt) {
   }
   const double total = tail[0];
   if (!(total > 0) || !std::isfinite(total)) return r;
+  r.energy = total;
 
   std::vector<double> levelDb(n);
   for (size_t k = 0; k < n; ++k)

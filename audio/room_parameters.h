@@ -34,7 +34,9 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstddef>
+#include <limits>
 
 #include "engine/bands.h"
 
@@ -45,7 +47,17 @@ struct RoomParameters {
   double t20, t30, edt;  ///< s
   double c50, c80;       ///< dB
   double d50;            ///< ratio 0..1
+  /// Energy from the onset on: sum of squared samples (IR) or of the bins (energy decay), in
+  /// the input's unit; dpc's IRs and energy responses are in 1/m^2 relative to source power,
+  /// so 10 log10(energy / (1 / (4 pi 10^2))) is the strength G (ISO 3382-1 A.2.1: relative to
+  /// the free-field direct sound at 10 m). NaN when the input holds no energy.
+  double energy = std::numeric_limits<double>::quiet_NaN();
 };
+
+/// Strength G in dB from RoomParameters::energy on dpc's scale (relative to 1/(4 pi 10^2)).
+inline double strengthDb(double energy) {
+  return 10.0 * std::log10(energy * 4.0 * 3.14159265358979323846 * 100.0);
+}
 
 /// Parameters per octave band (63 Hz .. 8 kHz, index as dpc::Bands) and broadband.
 struct ImpulseResponseAnalysis {

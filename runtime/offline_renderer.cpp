@@ -57,6 +57,8 @@ OfflineResult renderOffline(const SceneDesc& scene, const PropagationSettings& s
   for (size_t s = 0; s < propagation.simulation().sourceCount(); ++s) {
     result.cacheEntries += propagation.simulation().result(s).cacheEntries;
     result.cacheBytes += propagation.simulation().result(s).cacheBytes;
+    result.lastEnergy.push_back(propagation.simulation().result(s).energy);
+    result.lastDirect.push_back(propagation.simulation().result(s).direct);
   }
   result.irsApplied = audioStage.irsApplied();
   result.wallSeconds =

@@ -24,6 +24,8 @@ struct OfflineOptions {
 struct OfflineResult {
   audio::AudioData output;  ///< 1 (mono) or 2 (stereo, binaural) channels at the scene's rate
   std::vector<std::vector<std::vector<float>>> lastIrs;  ///< [source][channel][sample]
+  std::vector<EnergyResponse> lastEnergy;  ///< [source]: the last frame's energy response
+  std::vector<DirectSound> lastDirect;     ///< [source]: the last frame's direct sound
   PropagationStage::Totals totals;
   size_t cacheEntries = 0;  ///< summed over sources, after the last frame
   size_t cacheBytes = 0;

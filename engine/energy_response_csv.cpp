@@ -1,0 +1,137 @@
+#include "engine/energy_response_csv.h"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "engine/input_error.h"
+
+namespace dpc {
+
+void writeEnergyCsv(const std::string& path, const std::vector<SourceEnergy>& sources) {
+  std::ostringstream out;
+  out << "# dpc energy response v1: intensity per octave band relative to source power "
+         "(1/m^2)\n";
+  out << "source,kind,time_s";
+  for (float f : kBandCentreHz) out << ",e" << int(f);
+  out << "\n";
+  char buf[64];
+  auto values = [&](const Bands& v) {
+    for (int b = 0; b < kNumBands; ++b) {
+      std::snprintf(buf, sizeof buf, ",%.9g", double(v[b]));
+      out << buf;
+    }
+    out << "\n";
+  };
+  for (size_t s = 0; s < sources.size(); ++s) {
+    const SourceEnergy& e = sources[s];
+    if (e.direct.visible) {
+      std::snprintf(buf, sizeof buf, "%zu,direct,%.9g", s, double(e.direct.delaySeconds));
+      out << buf;
+      values(e.direct.intensity);
+    }
+    for (size_t k = 0; k < e.energy.binCount(); ++k) {
+      std::snprintf(buf, sizeof buf, "%zu,bin,%.6f", s, double(k) * e.energy.binSeconds());
+      out << buf;
+      values(e.energy.bins()[k]);
+    }
+  }
+  // Written in one piece after formatting, so a failure leaves no half-written table behind
+  // that could be mistaken for a result.
+  std::ofstream f(path, std::ios::binary | std::ios::trunc);
+  if (!f) throw std::runtime_error(path + ": cannot open for writing");
+  f << out.str();
+  if (!f) throw std::runtime_error(path + ": write failed");
+}
+
+std::vector<SourceEnergy> readEnergyCsv(const std::string& path) {
+  std::ifstream f(path);
+  if (!f) throw InputError(path, "", "cannot open");
+  std::vector<SourceEnergy> sources;
+  std::vector<std::vector<Bands>> bins;
+  std::vector<double> binSeconds;
+  std::string line;
+  size_t lineNo = 0;
+  bool header = false;
+  while (std::getline(f, line)) {
+    ++lineNo;
+    const std::string where = "line " + std::to_string(lineNo);
+    if (line.empty() || line[0] == '#') continue;
+    if (!header) {
+      if (line.rfind("source,kind,time_s", 0) != 0)
+        throw InputError(path, where, "expected the header 'source,kind,time_s,e63,...'");
+      header = true;
+      continue;
+    }
+    std::istringstream in(line);
+    std::string cell;
+    std::vector<std::string> cells;
+    while (std::getline(in, cell, ',')) cells.push_back(cell);
+    if (cells.size() != 3 + kNumBands)
+      throw InputError(path, where,
+                       "expected " + std::to_string(3 + kNumBands) + " fields, found " +
+                           std::to_string(cells.size()));
+    double nums[1 + kNumBands];
+    long source = -1;
+    try {
+      size_t used = 0;
+      source = std::stol(cells[0], &used);
+      if (used != cells[0].size()) source = -1;
+      for (int i = 0; i <= kNumBands; ++i) {
+        nums[i] = std::stod(cells[size_t(2 + i)], &used);
+        if (used != cells[size_t(2 + i)].size() || !std::isfinite(nums[i]))
+          throw std::invalid_argument("");
+      }
+    } catch (const std::exception&) {
+      throw InputError(path, where, "a field is not a finite number");
+    }
+    if (source < 0 || source > 100000) throw InputError(path, where, "bad source index");
+    if (size_t(source) >= sources.size()) {
+      sources.resize(size_t(source) + 1);
+      bins.resize(size_t(source) + 1);
+      binSeconds.resize(size_t(source) + 1, 0.0);
+    }
+    Bands v;
+    for (int b = 0; b < kNumBands; ++b) v[b] = float(nums[1 + b]);
+    if (cells[1] == "direct") {
+      sources[size_t(source)].direct.visible = true;
+      sources[size_t(source)].direct.delaySeconds = float(nums[0]);
+      sources[size_t(source)].direct.intensity = v;
+    } else if (cells[1] == "bin") {
+      auto& list = bins[size_t(source)];
+      if (list.size() == 1) binSeconds[size_t(source)] = nums[0];
+      list.push_back(v);
+    } else {
+      throw InputError(path, where, "kind must be 'direct' or 'bin', not '" + cells[1] + "'");
+    }
+  }
+  if (!header) throw InputError(path, "", "no header line: not a dpc energy-response CSV");
+  for (size_t s = 0; s < sources.size(); ++s) {
+    const double bin = binSeconds[s] > 0.0 ? binSeconds[s] : 1e-3;
+    if (bins[s].empty()) throw InputError(path, "source " + std::to_string(s), "has no bins");
+    sources[s].energy = EnergyResponse(double(bins[s].size()) * bin, bin);
+    const size_t n = std::min(bins[s].size(), sources[s].energy.binCount());
+    for (size_t k = 0; k < n; ++k) sources[s].energy.bins()[k] = bins[s][k];
+  }
+  return sources;
+}
+
+std::array<std::vector<double>, kNumBands> withDirect(const SourceEnergy& s) {
+  std::array<std::vector<double>, kNumBands> out;
+  for (int b = 0; b < kNumBands; ++b) {
+    auto& v = out[size_t(b)];
+    v.resize(s.energy.binCount());
+    for (size_t k = 0; k < v.size(); ++k) v[k] = s.energy.bins()[k][b];
+    if (s.direct.visible && !v.empty()) {
+      const size_t k =
+          std::min(v.size() - 1,
+                   size_t(std::max(0.0, double(s.direct.delaySeconds) / s.energy.binSeconds())));
+      v[k] += s.direct.intensity[b];
+    }
+  }
+  return out;
+}
+
+}  // namespace dpc

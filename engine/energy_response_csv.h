@@ -1,0 +1,37 @@
+// Energy-response export: the band energy response of each source as CSV, and its reader.
+//
+// Format (one file, all sources; docs/validation.md "Energy-response export"):
+//   # dpc energy response v1: intensity per octave band relative to source power (1/m^2)
+//   source,kind,time_s,e63,e125,e250,e500,e1000,e2000,e4000,e8000
+//   0,direct,0.0087463,<8 values>     exact arrival of the analytic direct sound (omitted when
+//                                      occluded), band intensity 1/(4 pi r^2) x air absorption
+//   0,bin,0.000,<8 values>            every bin of the energy response: time_s is the bin's
+//   0,bin,0.001,...                   start, values its energy over [t, t + bin) (1 ms bins)
+// Sources are numbered from 0 in scene order. Lines starting with '#' are comments.
+//
+// Any thread except the audio thread; allocates. writeEnergyCsv throws std::runtime_error when
+// the file cannot be written; readEnergyCsv throws InputError naming the file and the line.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "engine/energy_response.h"
+#include "engine/propagation.h"
+
+namespace dpc {
+
+/// One source's exported response: bins of binSeconds, and the direct sound (if visible).
+struct SourceEnergy {
+  EnergyResponse energy;
+  DirectSound direct;  ///< visible, delaySeconds and intensity are what the file holds
+};
+
+void writeEnergyCsv(const std::string& path, const std::vector<SourceEnergy>& sources);
+std::vector<SourceEnergy> readEnergyCsv(const std::string& path);
+
+/// The response with the direct sound added to the bin holding its arrival (for analysis),
+/// as doubles per band: out[b][k].
+std::array<std::vector<double>, kNumBands> withDirect(const SourceEnergy& s);
+
+}  // namespace dpc

@@ -10,6 +10,7 @@ Simulation::Simulation(const SceneDesc& scene, const PropagationSettings& settin
     : settings_(settings), listenerRadius_(scene.listener.radius) {
   geometry_ = std::make_unique<Geometry>(scene.mesh, scene.materials, settings_.patchSize);
   propagator_ = std::make_unique<Propagator>(*geometry_, settings_);
+  diffraction_ = std::make_unique<EdgeDiffraction>(scene.mesh);
   for (const SourceDesc& s : scene.sources) {
     sourcePositions_.push_back(s.position);
     if (settings_.estimator == Estimator::kDpc)
@@ -46,6 +47,8 @@ void Simulation::runFrame(const glm::vec3& listenerPosition,
     r.trace = propagator_->traceFrame(frame_, uint32_t(s), sources[s], listener, groups_);
     const auto t1 = std::chrono::steady_clock::now();
     r.direct = propagator_->directSound(sources[s], listener);
+    diffraction_->apply(*geometry_, sources[s], listener, settings_.speedOfSound,
+                        propagator_->airAttenuationPerMetre(), r.direct);
     r.energy.clear();
     DirectionalEnergyResponse* dir = nullptr;
     if (!directional_.empty()) {

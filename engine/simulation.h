@@ -11,6 +11,7 @@
 #include <memory>
 #include <vector>
 
+#include "engine/diffraction.h"
 #include "engine/energy_response.h"
 #include "engine/geometry.h"
 #include "engine/path_cache.h"
@@ -68,6 +69,7 @@ class Simulation {
   std::vector<glm::vec3> sourcePositions_;
   std::unique_ptr<Geometry> geometry_;
   std::unique_ptr<Propagator> propagator_;
+  std::unique_ptr<EdgeDiffraction> diffraction_;  ///< first-order edge paths into the direct sound
   std::vector<std::unique_ptr<DiffusePathCache>> caches_;
   PathTracingEstimator pathTracing_;
   FrameGroups groups_;

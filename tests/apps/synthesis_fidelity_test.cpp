@@ -75,7 +75,8 @@ std::vector<double> maskedBinEnergy(const std::vector<float>& x, int b, size_t b
 
 }  // namespace
 
-TEST_CASE("Synthesised IR: band energy per 10 ms bin equals the energy response's", "[synthesis]") {
+TEST_CASE("Synthesised IR: band energy per synthesis bin follows the energy response's",
+          "[synthesis]") {
   Bands t60;
   for (int b = 0; b < kNumBands; ++b) t60[b] = 1.4f - 0.12f * float(b);
   const Case c = makeCase(1.5, t60, 0.f);

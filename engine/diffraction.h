@@ -1,0 +1,88 @@
+// First-order edge diffraction by the uniform theory of diffraction (UTD: R. G. Kouyoumjian &
+// P. H. Pathak, "A uniform geometrical theory of diffraction for an edge in a perfectly
+// conducting surface", Proc. IEEE 62(11), 1974; used for interactive acoustics by N. Tsingos,
+// T. Funkhouser, A. Ngan & I. Carlbom, "Modeling acoustics in virtual environments using the
+// uniform theory of diffraction", SIGGRAPH 2001), for acoustically hard wedges.
+//
+// Load time: the mesh's diffracting edges. An edge shared by two triangles diffracts when the
+// air-side wedge is wider than pi (a convex corner seen from the air: it can shadow); triangle
+// normals (winding order) must point into the air, as they do for room surfaces. An edge used
+// by one triangle only (the rim of an open surface, a thin screen) is a half-plane edge (wedge
+// 2 pi). Coplanar and concave edges (a room's inner corners) are not kept.
+//
+// Per frame and source: for every edge, the path source -> Q -> listener through the point Q
+// of least length on the edge (Fermat: equal angles with the edge), kept when both legs are
+// unoccluded and Q lies inside the edge. Its pressure per frequency is the UTD field
+//   p_e = e^{-jkr}/r * D(phi, phi', beta0; k L) * sqrt(r / (s (r + s))) * e^{-jks}
+// (r, s the legs, L = r s sin^2 beta0 / (r + s), D the four-term hard-wedge coefficient with
+// the transition function F(X) = 2j sqrt(X) e^{jX} int_sqrt(X)^inf e^{-j t^2} dt). Continuity:
+// the UTD field is built so that geometric-optics field + diffracted field is continuous at
+// the shadow boundary; here the direct sound (when visible) and every edge path are summed
+// coherently and |p|^2 is averaged over 16 frequencies per octave band, so the band energy is
+// continuous when the listener crosses a shadow boundary, and distant paths (whose phases
+// differ across the band) add as energies. The result replaces the direct sound: band
+// intensity <|p|^2> / (4 pi) (the scale of 1/(4 pi r^2)), delay and direction those of the
+// shortest contributing path. Air absorption multiplies each path's energy by exp(-m l).
+// Paths that merge into one impulse arrive within (longest - shortest) path difference; the
+// synthesis places them at the shortest path's delay (first order only; higher orders: see
+// docs/validation.md).
+//
+// Construction: control/propagation thread; allocates; no errors (degenerate triangles are
+// skipped). apply(): propagation thread (Geometry's occlusion queries); no allocation; no errors.
+#pragma once
+
+#include <glm/vec3.hpp>
+#include <vector>
+
+#include "engine/bands.h"
+#include "engine/geometry.h"
+#include "engine/propagation.h"
+#include "engine/scene.h"
+
+namespace dpc {
+
+/// One diffracting edge: endpoints (m), the unit direction a -> b, the in-plane unit vector of
+/// face 0 pointing away from the edge, face 0's unit air-side normal, and the wedge index n
+/// (air-side wedge angle n pi, 1 < n <= 2).
+struct DiffractionEdge {
+  glm::vec3 a{0.f}, b{0.f};
+  glm::vec3 direction{0.f}, face0{0.f}, normal0{0.f};
+  float n = 2.f;
+  float length = 0.f;
+};
+
+/// UTD diffraction coefficient magnitude-and-phase for a hard wedge of index n at wavenumber
+/// k (rad/m): phi, phiSource in (0, n pi) measured from face 0, sinBeta0 the sine of the angle
+/// between the incident ray and the edge, L the distance parameter (m). Any thread; no
+/// allocation. Returned as (real, imaginary).
+struct Complex {
+  double re = 0.0, im = 0.0;
+};
+Complex utdCoefficient(double n, double k, double phi, double phiSource, double sinBeta0, double L);
+
+class EdgeDiffraction {
+ public:
+  /// Finds the diffracting edges of the mesh.
+  explicit EdgeDiffraction(const Mesh& mesh);
+
+  const std::vector<DiffractionEdge>& edges() const { return edges_; }
+
+  /// Replaces `direct` by the direct sound plus every first-order edge path from source to the
+  /// listener centre (see the file comment). speedOfSound in m/s, airPerMetre the energy
+  /// attenuation per metre per band. Counts the edge paths used in pathsUsed().
+  void apply(const Geometry& geometry, const glm::vec3& source, const ListenerSphere& listener,
+             float speedOfSound, const Bands& airPerMetre, DirectSound& direct) const;
+
+  /// Edge paths that contributed in the last apply() (unoccluded, Q inside its edge).
+  size_t pathsUsed() const { return pathsUsed_; }
+
+ private:
+  struct Path {
+    double r, s, phiS, phiL, n, sinBeta0;
+  };
+  std::vector<DiffractionEdge> edges_;
+  mutable std::vector<Path> scratch_;  ///< one per edge, sized at construction
+  mutable size_t pathsUsed_ = 0;
+};
+
+}  // namespace dpc

@@ -96,6 +96,29 @@ EdgeDiffraction::EdgeDiffraction(const Mesh& mesh) {
     w -= glm::dot(w, dir) * dir;
     return safeNormalize(w);
   };
+  // An edge lying in another triangle (a partition's rim along the floor, a box standing on
+  // it) is sealed by that surface: no wedge of air around it. Load time, edges x triangles.
+  auto liesOnSurface = [&](const DiffractionEdge& e) {
+    constexpr float kTol = 1e-3f;  // m
+    const glm::vec3 mid = 0.5f * (e.a + e.b);
+    for (const auto& tr : mesh.triangles) {
+      const glm::vec3 p0 = mesh.vertices[tr[0]], p1 = mesh.vertices[tr[1]],
+                      p2 = mesh.vertices[tr[2]];
+      const glm::vec3 nrm = safeNormalize(glm::cross(p1 - p0, p2 - p0));
+      if (glm::length(nrm) == 0.f) continue;
+      if (std::abs(glm::dot(e.a - p0, nrm)) > kTol || std::abs(glm::dot(e.b - p0, nrm)) > kTol)
+        continue;
+      // Is the midpoint inside the triangle (edge functions, with tolerance)?
+      const glm::vec3 q = mid - glm::dot(mid - p0, nrm) * nrm;
+      const float w0 = glm::dot(glm::cross(p1 - p0, q - p0), nrm) / glm::length(p1 - p0);
+      const float w1 = glm::dot(glm::cross(p2 - p1, q - p1), nrm) / glm::length(p2 - p1);
+      const float w2 = glm::dot(glm::cross(p0 - p2, q - p2), nrm) / glm::length(p0 - p2);
+      auto isVertex = [&](const glm::vec3& v) { return v == p0 || v == p1 || v == p2; };
+      if (isVertex(e.a) && isVertex(e.b)) continue;  // one of the edge's own faces
+      if (w0 > -kTol && w1 > -kTol && w2 > -kTol) return true;
+    }
+    return false;
+  };
   for (const auto& [key, use] : uses) {
     if (use.count > 2) continue;  // non-manifold: no wedge defined
     const uint32_t ia = uint32_t(key >> 32), ib = uint32_t(key & 0xffffffffu);
@@ -109,16 +132,18 @@ EdgeDiffraction::EdgeDiffraction(const Mesh& mesh) {
     e.normal0 = normalOf(use.tri[0]);
     if (glm::length(e.face0) == 0.f || glm::length(e.normal0) == 0.f) continue;
     if (use.count == 1) {
-      e.n = 2.f;  // half-plane: air on both sides
+      e.open = float(2.0 * kPi);  // half-plane: one wedge of 2 pi
     } else {
-      // Angle of face 1 from face 0, turning through the air (toward normal0).
+      // Angle of face 1 from face 0, turning toward normal0. Which of the two wedges
+      // (open, 2 pi - open) holds air is decided per frame by where the source is, so the
+      // mesh's winding does not matter.
       const glm::vec3 f1 = inward(use.tri[1], ia, ib, e.direction);
       double ang = std::atan2(double(glm::dot(f1, e.normal0)), double(glm::dot(f1, e.face0)));
       if (ang < 0) ang += 2.0 * kPi;
-      e.n = float(ang / kPi);
-      if (e.n <= 1.05f) continue;  // flat or concave from the air: cannot shadow
+      e.open = float(ang);
+      if (std::abs(ang - kPi) < 0.05 * kPi) continue;  // flat: no wedge
     }
-    edges_.push_back(e);
+    if (!liesOnSurface(e)) edges_.push_back(e);
   }
   // Deterministic order (the hash map's is not).
   std::sort(edges_.begin(), edges_.end(), [](const DiffractionEdge& x, const DiffractionEdge& y) {
@@ -160,8 +185,18 @@ void EdgeDiffraction::apply(const Geometry& geometry, const glm::vec3& source,
       double a = std::atan2(double(glm::dot(v, e.normal0)), double(glm::dot(v, e.face0)));
       return a < 0 ? a + 2.0 * kPi : a;
     };
-    const double phiS = angleOf(source);
+    double phiS = angleOf(source);
     double phiL = angleOf(L);
+    // The source's wedge is the air wedge: [0, open] or, measured from face 0 the other way,
+    // [0, 2 pi - open]. The listener must be in it too; wedges narrower than about pi cannot
+    // shadow (a room's inner corner seen from inside).
+    double wedge = double(e.open);
+    if (phiS > wedge) {
+      wedge = 2.0 * kPi - wedge;
+      phiS = 2.0 * kPi - phiS;
+      phiL = 2.0 * kPi - phiL;
+    }
+    if (!(phiL > 0.0 && phiL < wedge) || wedge <= 1.05 * kPi) continue;
     // On the shadow boundary itself (|phi - phi'| = pi) the occlusion test that decided
     // direct.visible and the UTD's side of the boundary could disagree by rounding; put the
     // listener 1e-4 rad on the side the direct sound's visibility says.
@@ -169,8 +204,6 @@ void EdgeDiffraction::apply(const Geometry& geometry, const glm::vec3& source,
     const double dphi = phiL - phiS;
     if (std::abs(std::abs(dphi) - kPi) < kBoundary)
       phiL = phiS + std::copysign(direct.visible ? kPi - kBoundary : kPi + kBoundary, dphi);
-    const double wedge = double(e.n) * kPi;
-    if (!(phiS < wedge && phiL < wedge)) continue;  // a point inside the solid
     // Both legs clear (the listener sphere itself is not geometry).
     if (geometry.occluded(source, toQ / r, kLegEpsilon, r - kLegEpsilon)) continue;
     if (geometry.occluded(q, toL / s, kLegEpsilon, s - kLegEpsilon)) continue;
@@ -180,7 +213,7 @@ void EdgeDiffraction::apply(const Geometry& geometry, const glm::vec3& source,
     p.s = s;
     p.phiS = phiS;
     p.phiL = phiL;
-    p.n = e.n;
+    p.n = wedge / kPi;
     p.sinBeta0 = sinB;
     if (r + s < shortest) {
       shortest = r + s;

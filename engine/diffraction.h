@@ -4,11 +4,12 @@
 // T. Funkhouser, A. Ngan & I. Carlbom, "Modeling acoustics in virtual environments using the
 // uniform theory of diffraction", SIGGRAPH 2001), for acoustically hard wedges.
 //
-// Load time: the mesh's diffracting edges. An edge shared by two triangles diffracts when the
-// air-side wedge is wider than pi (a convex corner seen from the air: it can shadow); triangle
-// normals (winding order) must point into the air, as they do for room surfaces. An edge used
-// by one triangle only (the rim of an open surface, a thin screen) is a half-plane edge (wedge
-// 2 pi). Coplanar and concave edges (a room's inner corners) are not kept.
+// Load time: the mesh's candidate edges: every edge shared by two non-coplanar triangles, and
+// every edge used by one triangle only (the rim of an open surface, a thin screen: a
+// half-plane, wedge 2 pi), unless it lies on another surface (a partition's rim along the
+// floor is sealed). Per frame the wedge holding the source is the air wedge (the mesh's
+// winding does not matter); it diffracts when wider than pi (a convex corner seen from the
+// source: it can shadow). A room's inner corners, seen from inside, never do.
 //
 // Per frame and source: for every edge, the path source -> Q -> listener through the point Q
 // of least length on the edge (Fermat: equal angles with the edge), kept when both legs are
@@ -41,13 +42,15 @@
 
 namespace dpc {
 
-/// One diffracting edge: endpoints (m), the unit direction a -> b, the in-plane unit vector of
-/// face 0 pointing away from the edge, face 0's unit air-side normal, and the wedge index n
-/// (air-side wedge angle n pi, 1 < n <= 2).
+/// One candidate diffracting edge: endpoints (m), the unit direction a -> b, the in-plane unit
+/// vector of face 0 pointing away from the edge, face 0's unit normal (winding side), and
+/// `open`, the angle (radians) from face 0 to face 1 turning toward normal0 (2 pi for a free
+/// edge). The two wedges are open and 2 pi - open; the one holding the source is the air wedge,
+/// and it diffracts (can shadow) when wider than pi, with UTD index n = wedge / pi.
 struct DiffractionEdge {
   glm::vec3 a{0.f}, b{0.f};
   glm::vec3 direction{0.f}, face0{0.f}, normal0{0.f};
-  float n = 2.f;
+  float open = 0.f;
   float length = 0.f;
 };
 

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <glm/vector_relational.hpp>
 #include <numbers>
 #include <unordered_map>
 
@@ -98,10 +100,23 @@ EdgeDiffraction::EdgeDiffraction(const Mesh& mesh) {
   };
   // An edge lying in another triangle (a partition's rim along the floor, a box standing on
   // it) is sealed by that surface: no wedge of air around it. Load time, edges x triangles.
+  std::vector<glm::vec3> boxLo, boxHi;
+  boxLo.reserve(mesh.triangles.size());
+  boxHi.reserve(mesh.triangles.size());
+  for (const auto& tr : mesh.triangles) {
+    const glm::vec3 p0 = mesh.vertices[tr[0]], p1 = mesh.vertices[tr[1]], p2 = mesh.vertices[tr[2]];
+    boxLo.push_back(glm::min(p0, glm::min(p1, p2)));
+    boxHi.push_back(glm::max(p0, glm::max(p1, p2)));
+  }
   auto liesOnSurface = [&](const DiffractionEdge& e) {
     constexpr float kTol = 1e-3f;  // m
     const glm::vec3 mid = 0.5f * (e.a + e.b);
-    for (const auto& tr : mesh.triangles) {
+    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+      // Cheap reject: the midpoint must lie in the triangle's box (grown by the tolerance).
+      if (glm::any(glm::lessThan(mid, boxLo[t] - kTol)) ||
+          glm::any(glm::greaterThan(mid, boxHi[t] + kTol)))
+        continue;
+      const auto& tr = mesh.triangles[t];
       const glm::vec3 p0 = mesh.vertices[tr[0]], p1 = mesh.vertices[tr[1]],
                       p2 = mesh.vertices[tr[2]];
       const glm::vec3 nrm = safeNormalize(glm::cross(p1 - p0, p2 - p0));

@@ -2,6 +2,7 @@
 // the energy response's.
 #include <catch2/catch.hpp>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <string>
 
@@ -59,4 +60,31 @@ TEST_CASE("Energy-response CSV: bad input names the file and the line", "[er-out
     CHECK(std::string(e.what()).find("energy_csv_bad.csv: line 2") != std::string::npos);
   }
   std::remove(path.c_str());
+}
+
+TEST_CASE("dpc-demo --er-out writes what dpc-analyze reads; live mode refuses it", "[er-out]") {
+  const std::string bin = std::string(DPC_BINARY_DIR) + "/apps/";
+  const std::string scene = std::string(DPC_SOURCE_DIR) + "/scenes/shoebox-corner.json";
+  const std::string dir = std::string(DPC_BINARY_DIR) + "/er_out_test";
+  std::system(("mkdir -p " + dir).c_str());
+  const std::string csv = dir + "/er.csv";
+  std::remove(csv.c_str());
+  const int demo =
+      std::system((bin + "dpc-demo " + scene + " --offline " + dir +
+                   "/out.wav --duration 0.3 --rays 512 --quiet --er-out " + csv + " >/dev/null")
+                      .c_str());
+  REQUIRE(demo == 0);
+  const auto sources = readEnergyCsv(csv);
+  REQUIRE(sources.size() == 1);
+  // The listener starts behind the partition: the direct sound is the diffracted one.
+  CHECK(sources[0].direct.visible);
+  CHECK(sources[0].energy.binSeconds() == Approx(1e-3));
+  CHECK(std::system((bin + "dpc-analyze " + csv + " --json >/dev/null").c_str()) == 0);
+  // Without --offline: one-line error naming the flag, non-zero exit, no file.
+  const std::string live = dir + "/live.csv";
+  const int refused =
+      std::system((bin + "dpc-demo " + scene + " --er-out " + live + " 2>/dev/null").c_str());
+  CHECK(refused != 0);
+  CHECK_FALSE(std::ifstream(live).good());
+  std::system(("rm -rf " + dir).c_str());
 }

@@ -16,12 +16,13 @@
 #include <string>
 #include <thread>
 
-#include "runtime/live_session.h"
-#include "runtime/offline_renderer.h"
 #include "audio/audio_device.h"
 #include "audio/wav_io.h"
 #include "engine/input_error.h"
+#include "engine/input_file.h"
 #include "engine/scene.h"
+#include "runtime/live_session.h"
+#include "runtime/offline_renderer.h"
 
 using namespace dpc;
 
@@ -38,6 +39,9 @@ struct Flags {
   bool hasDuration = false, hasTau = false, hasGain = false, hasSeed = false, hasRays = false,
        hasMaxOrder = false, hasThreads = false;
 };
+
+/// Longest render accepted, seconds (a day).
+constexpr double kMaxDurationSeconds = 86400.0;
 
 void progressBar(double done, double total) {
   const int width = 40;
@@ -108,13 +112,52 @@ void applyAudioOverrides(SceneDesc& scene, const Flags& fl) {
   }
 }
 
+/// Refuses, before any work, an output path that names an input (scene, mesh, dry signal, SOFA:
+/// same device and inode, symlinks followed), an existing non-regular file, the other output, or
+/// a folder that does not exist. writeWav then replaces the file only on success.
+void checkOutputs(const SceneDesc& scene, const Flags& fl) {
+  std::vector<std::pair<std::string, std::string>> inputs = {{fl.scene, "the scene file"},
+                                                             {scene.meshPath, "the mesh"}};
+  for (const auto& src : scene.sources) inputs.push_back({src.signalPath, "a dry signal"});
+  if (!scene.audio.hrtfPath.empty()) inputs.push_back({scene.audio.hrtfPath, "the SOFA file"});
+  const std::pair<const char*, std::string> outputs[] = {
+      {"--offline", fl.offline}, {"--ir-out", fl.irOut}, {"--record", fl.record}};
+  for (const auto& [flag, out] : outputs) {
+    if (out.empty()) continue;
+    struct stat st {};
+    if (::stat(out.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
+      throw InputError("command line", flag, "'" + out + "' exists and is not a regular file");
+    for (const auto& [in, what] : inputs)
+      if (sameFile(out, in))
+        throw InputError("command line", flag,
+                         "'" + out + "' is " + what + "; refusing to overwrite it");
+    for (const auto& [flag2, out2] : outputs)
+      if (flag2 != flag && !out2.empty() &&
+          (sameFile(out, out2) ||
+           std::filesystem::weakly_canonical(std::filesystem::absolute(out)) ==
+               std::filesystem::weakly_canonical(std::filesystem::absolute(out2))))
+        throw InputError("command line", flag, "'" + out + "' is also given to " + flag2);
+    std::filesystem::path folder = std::filesystem::path(out).parent_path();
+    if (folder.empty()) folder = ".";
+    std::error_code ec;
+    if (!std::filesystem::is_directory(folder, ec))
+      throw InputError("command line", flag, "folder '" + folder.string() + "' does not exist");
+    if (::access(folder.c_str(), W_OK) != 0)
+      throw InputError("command line", flag, "folder '" + folder.string() + "' is not writable");
+  }
+}
+
 int runOffline(const Flags& fl) {
   SceneDesc scene = loadScene(fl.scene);
   applyAudioOverrides(scene, fl);
   for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   const PropagationSettings settings = applyOverrides(scene, fl);
-  if (fl.hasDuration && !(fl.duration > 0.0))
-    throw InputError("command line", "--duration", "must be > 0 seconds");
+  if (fl.hasDuration && !(fl.duration > 0.0 && fl.duration <= kMaxDurationSeconds))
+    throw InputError("command line", "--duration",
+                     "must be in (0, " + std::to_string(int(kMaxDurationSeconds)) + "] seconds");
+  if (fl.hasGain && !(fl.gainDb >= -120.0 && fl.gainDb <= 60.0))
+    throw InputError("command line", "--gain-db", "must be a number in [-120, 60] dB");
+  checkOutputs(scene, fl);
   const DrySignals dry = loadDrySignals(scene);
   for (const std::string& n : dry.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
 
@@ -128,6 +171,11 @@ int runOffline(const Flags& fl) {
   float peak = 0.f;
   for (const auto& ch : out.channels)
     for (float x : ch) peak = std::max(peak, std::abs(x));
+  if (peak == 0.f)
+    std::fprintf(stderr,
+                 "warning: %s: the render is silent (empty energy response: is the listener "
+                 "inside the mesh and each source inside the room?)\n",
+                 fl.scene.c_str());
   double gainDb = fl.gainDb;
   if (!fl.hasGain) gainDb = peak > 0.f ? -1.0 - 20.0 * std::log10(peak) : 0.0;
   const float gain = float(std::pow(10.0, gainDb / 20.0));
@@ -233,8 +281,10 @@ int runLive(Flags& fl) {
       throw InputError("command line", "--block-size", "must be in 16..8192 samples");
     scene.audio.blockSize = int(fl.blockSize);
   }
-  if (fl.hasDuration && !(fl.duration > 0.0))
-    throw InputError("command line", "--duration", "must be > 0 seconds");
+  if (fl.hasDuration && !(fl.duration > 0.0 && fl.duration <= kMaxDurationSeconds))
+    throw InputError("command line", "--duration",
+                     "must be in (0, " + std::to_string(int(kMaxDurationSeconds)) + "] seconds");
+  checkOutputs(scene, fl);
   const DrySignals dry = loadDrySignals(scene);
   for (const std::string& n : dry.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
 

@@ -23,6 +23,7 @@
 #include <sstream>
 
 #include "engine/input_error.h"
+#include "engine/input_file.h"
 
 namespace dpc {
 namespace {
@@ -156,7 +157,12 @@ class JsonReader {
     if (!v.is_array() || v.size() != 3)
       fail(field, "expected an array of 3 numbers [x, y, z] in metres, got " + describe(v));
     glm::vec3 p;
-    for (int i = 0; i < 3; ++i) p[i] = floatNumber(v[size_t(i)], index(field, size_t(i)));
+    for (int i = 0; i < 3; ++i) {
+      p[i] = floatNumber(v[size_t(i)], index(field, size_t(i)));
+      if (std::abs(double(p[i])) > kMaxCoordinateM)
+        fail(index(field, size_t(i)), fmt(p[i]) + " m is outside [-" + fmt(kMaxCoordinateM) + ", " +
+                                          fmt(kMaxCoordinateM) + "] m");
+    }
     return p;
   }
 
@@ -181,15 +187,41 @@ fs::path resolve(const fs::path& folder, const std::string& p) {
   return (path.is_absolute() ? path : folder / path).lexically_normal();
 }
 
+/// The JSON parser recurses once per nested array/object: bound the depth before parsing so that
+/// a hostile file cannot overflow the stack.
+void checkJsonDepth(const std::string& file, const std::string& text) {
+  int depth = 0;
+  bool inString = false;
+  size_t line = 1;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '\n') ++line;
+    if (inString) {
+      if (c == '\\')
+        ++i;
+      else if (c == '"')
+        inString = false;
+    } else if (c == '"') {
+      inString = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxJsonDepth)
+        throw InputError(file, "",
+                         "JSON nested deeper than " + std::to_string(kMaxJsonDepth) +
+                             " levels at line " + std::to_string(line));
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+}
+
 json parseJson(const std::string& file) {
-  std::error_code ec;
-  if (!fs::exists(file, ec)) throw InputError(file, "", "scene file not found");
-  if (fs::is_directory(file, ec)) throw InputError(file, "", "is a directory, not a scene file");
+  checkInputFile(file, kMaxSceneBytes, file, "", "scene file");
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file, "", "cannot open scene file");
   std::stringstream buf;
   buf << in.rdbuf();
   const std::string text = buf.str();
+  checkJsonDepth(file, text);
   try {
     return json::parse(text);
   } catch (const json::parse_error& e) {
@@ -319,9 +351,7 @@ void readObjVertices(const std::string& objFile, const std::string& text, ObjDat
 }
 
 ObjData readObj(const std::string& sceneFile, const std::string& objFile) {
-  std::error_code ec;
-  if (!fs::exists(objFile, ec) || fs::is_directory(objFile, ec))
-    throw InputError(sceneFile, "mesh", "mesh file " + inQuotes(objFile) + " not found");
+  checkInputFile(objFile, kMaxMeshBytes, sceneFile, "mesh", "mesh file");
   std::ifstream in(objFile, std::ios::binary);
   if (!in) throw InputError(sceneFile, "mesh", "cannot open mesh file " + inQuotes(objFile));
   std::stringstream buf;

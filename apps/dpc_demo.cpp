@@ -40,6 +40,22 @@ struct Flags {
        hasMaxOrder = false, hasThreads = false;
 };
 
+/// Levenshtein distance, for "did you mean" on mistyped flags.
+size_t editDistance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diag = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] != b[j - 1])});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+
 /// Longest render accepted, seconds (a day).
 constexpr double kMaxDurationSeconds = 86400.0;
 
@@ -67,19 +83,19 @@ PropagationSettings applyOverrides(const SceneDesc& scene, const Flags& fl) {
     s.seed = uint64_t(fl.seed);
   }
   if (fl.hasRays) {
-    if (fl.rays <= 0) bad("--rays", "must be > 0");
+    if (fl.rays < 1 || fl.rays > 100'000'000) bad("--rays", "must be in 1..100000000");
     s.raysPerFrame = int(fl.rays);
   }
   if (fl.hasMaxOrder) {
-    if (fl.maxOrder < 0) bad("--max-order", "must be >= 0");
+    if (fl.maxOrder < 0 || fl.maxOrder > 10'000) bad("--max-order", "must be in 0..10000");
     s.maxOrder = int(fl.maxOrder);
   }
   if (fl.hasTau) {
-    if (!(fl.tau >= 0.0)) bad("--tau", "must be >= 0 seconds");
+    if (!(fl.tau >= 0.0 && fl.tau <= 3600.0)) bad("--tau", "must be in [0, 3600] seconds");
     s.cacheTau = float(fl.tau);
   }
   if (fl.hasThreads) {
-    if (fl.threads < 0) bad("--threads", "must be >= 0");
+    if (fl.threads < 0 || fl.threads > 1024) bad("--threads", "must be in 0..1024");
     s.threads = int(fl.threads);
   }
   if (!fl.estimator.empty()) {
@@ -471,8 +487,29 @@ int main(int argc, char** argv) {
                  "SOFA file for binaural output (default: /usr/share/libmysofa/default.sofa)");
   try {
     app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
+  } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    // One line, the same format and exit status as every other input error, with the closest
+    // option name when a flag looks mistyped.
+    std::string msg = e.what(), hint;
+    for (char& c : msg)
+      if (c == '\n' || (unsigned char)c < 0x20) c = ' ';
+    for (int i = 1; i < argc; ++i) {
+      const std::string a = argv[i];
+      if (a.rfind("--", 0) != 0) continue;
+      const std::string name = a.substr(0, a.find('='));
+      if (app.get_option_no_throw(name) != nullptr) continue;
+      size_t best = 3;
+      for (const CLI::Option* o : app.get_options()) {
+        for (const std::string& ln : o->get_lnames()) {
+          const size_t d = editDistance(name.substr(2), ln);
+          if (d < best) best = d, hint = "; did you mean --" + ln + "?";
+        }
+      }
+    }
+    std::fprintf(stderr, "dpc-demo: command line: %s%s\n", msg.c_str(), hint.c_str());
+    return 1;
   }
   fl.hasDuration = app.count("--duration") > 0;
   fl.hasTau = app.count("--tau") > 0;

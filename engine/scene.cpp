@@ -319,11 +319,30 @@ std::string trim(const std::string& s) {
 void readObjVertices(const std::string& objFile, const std::string& text, ObjData& obj) {
   std::istringstream in(text);
   std::string line;
-  size_t lineNo = 0;
+  size_t lineNo = 0, faceNo = 0;
   while (std::getline(in, line)) {
     ++lineNo;
     const char* p = line.c_str();
     p += std::strspn(p, " \t");
+    if (p[0] == 'f' && (p[1] == ' ' || p[1] == '\t')) {
+      // tinyobjloader parses indices into int: refuse what would wrap before it does.
+      ++faceNo;
+      for (p += 2; *p != '\0';) {
+        p += std::strspn(p, " \t\r/");
+        char* end = nullptr;
+        const long long raw = std::strtoll(p, &end, 10);
+        if (end == p) {
+          p += std::strcspn(p, " \t\r/");
+          continue;
+        }
+        if (raw > std::numeric_limits<int>::max() || raw < -std::numeric_limits<int>::max())
+          throw InputError(
+              objFile, "face " + std::to_string(faceNo) + " (line " + std::to_string(lineNo) + ")",
+              "vertex index " + std::string(p, size_t(end - p)) + " is out of range");
+        p = end;
+      }
+      continue;
+    }
     if (p[0] != 'v' || (p[1] != ' ' && p[1] != '\t')) continue;
     p += 2;
     const size_t vertexNo = obj.vertices.size() + 1;
@@ -343,6 +362,10 @@ void readObjVertices(const std::string& objFile, const std::string& text, ObjDat
       if (!std::isfinite(x) || std::abs(x) > double(std::numeric_limits<float>::max()))
         throw InputError(objFile, field,
                          "coordinate " + std::string(p, size_t(end - p)) + " is not finite");
+      if (std::abs(x) > kMaxCoordinateM)
+        throw InputError(objFile, field,
+                         "coordinate " + std::string(p, size_t(end - p)) + " m is outside +-" +
+                             std::to_string(int64_t(kMaxCoordinateM)) + " m");
       v[i] = float(x);
       p = end;
     }

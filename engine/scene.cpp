@@ -603,8 +603,11 @@ void readPropagation(const JsonReader& r, const json& v, PropagationSettings& p)
     p.cacheTau = r.floatNumber(*x, f("cache_tau"));
     if (p.cacheTau < 0.f) r.fail(f("cache_tau"), x->dump() + " must be >= 0");
   }
-  if (const json* x = JsonReader::find(v, "frame_rate"))
+  if (const json* x = JsonReader::find(v, "frame_rate")) {
     p.frameRate = r.positive(*x, f("frame_rate"));
+    if (p.frameRate < 1.f || p.frameRate > 120.f)
+      r.fail(f("frame_rate"), x->dump() + " is outside [1, 120] Hz");
+  }
   if (const json* x = JsonReader::find(v, "ir_length")) {
     p.irLength = r.positive(*x, f("ir_length"));
     if (p.irLength > 60.f) r.fail(f("ir_length"), x->dump() + " is outside (0, 60]");
@@ -664,7 +667,7 @@ void readAudio(const JsonReader& r, const json& v, const fs::path& folder, Audio
     a.hrtfPath = resolved.string();
   }
   if (const json* x = JsonReader::find(v, "sample_rate"))
-    a.sampleRate = int(r.integer(*x, join(field, "sample_rate"), 8000, 192000));
+    a.sampleRate = int(r.integer(*x, join(field, "sample_rate"), 16000, 192000));
   if (const json* x = JsonReader::find(v, "block_size"))
     a.blockSize = int(r.integer(*x, join(field, "block_size"), 16, 8192));
 }

@@ -154,6 +154,8 @@ CASES = {
     "scene_number_overflow": (write("shoebox.json", '{"mesh": 1e999}'), OFF, "shoebox.json"),
     "absorption_above_1": (scene_with(**{"materials.walls.absorption": [1.7] * 8}), OFF, "absorption"),
     "scattering_negative": (scene_with(**{"materials.walls.scattering": -0.5}), OFF, "scattering"),
+    "frame_rate_1e6": (scene_with(**{"propagation.frame_rate": 1e6}), OFF, "frame_rate"),
+    "sample_rate_8000": (scene_with(**{"audio.sample_rate": 8000}), OFF, "sample_rate"),
     "frame_rate_zero": (scene_with(**{"propagation.frame_rate": 0}), OFF, "frame_rate"),
     "sample_rate_zero": (scene_with(**{"audio.sample_rate": 0}), OFF, "sample_rate"),
     "ir_length_negative": (scene_with(**{"propagation.ir_length": -1}), OFF, "ir_length"),

@@ -75,7 +75,7 @@ int sndfileFormat(SampleFormat format) {
 }  // namespace
 
 AudioData readWav(const std::string& path) {
-  checkInputFile(path, kMaxSignalBytes, path, "", "audio file");
+  checkInputFile(path, kMaxSignalBytes, path, "", "cannot read: audio file");
   SF_INFO info{};
   SndFile file;
   file.handle = sf_open(path.c_str(), SFM_READ, &info);

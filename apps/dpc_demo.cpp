@@ -20,6 +20,7 @@
 #include "audio/wav_io.h"
 #include "engine/energy_response_csv.h"
 #include "engine/input_error.h"
+#include "engine/input_file.h"
 #include "engine/scene.h"
 #include "runtime/live_session.h"
 #include "runtime/offline_renderer.h"
@@ -39,6 +40,25 @@ struct Flags {
   bool hasDuration = false, hasTau = false, hasGain = false, hasSeed = false, hasRays = false,
        hasMaxOrder = false, hasThreads = false;
 };
+
+/// Levenshtein distance, for "did you mean" on mistyped flags.
+size_t editDistance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diag = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] != b[j - 1])});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+
+/// Longest render accepted, seconds (a day).
+constexpr double kMaxDurationSeconds = 86400.0;
 
 void progressBar(double done, double total) {
   const int width = 40;
@@ -64,19 +84,19 @@ PropagationSettings applyOverrides(const SceneDesc& scene, const Flags& fl) {
     s.seed = uint64_t(fl.seed);
   }
   if (fl.hasRays) {
-    if (fl.rays <= 0) bad("--rays", "must be > 0");
+    if (fl.rays < 1 || fl.rays > 100'000'000) bad("--rays", "must be in 1..100000000");
     s.raysPerFrame = int(fl.rays);
   }
   if (fl.hasMaxOrder) {
-    if (fl.maxOrder < 0) bad("--max-order", "must be >= 0");
+    if (fl.maxOrder < 0 || fl.maxOrder > 10'000) bad("--max-order", "must be in 0..10000");
     s.maxOrder = int(fl.maxOrder);
   }
   if (fl.hasTau) {
-    if (!(fl.tau >= 0.0)) bad("--tau", "must be >= 0 seconds");
+    if (!(fl.tau >= 0.0 && fl.tau <= 3600.0)) bad("--tau", "must be in [0, 3600] seconds");
     s.cacheTau = float(fl.tau);
   }
   if (fl.hasThreads) {
-    if (fl.threads < 0) bad("--threads", "must be >= 0");
+    if (fl.threads < 0 || fl.threads > 1024) bad("--threads", "must be in 0..1024");
     s.threads = int(fl.threads);
   }
   if (!fl.estimator.empty()) {
@@ -109,13 +129,52 @@ void applyAudioOverrides(SceneDesc& scene, const Flags& fl) {
   }
 }
 
+/// Refuses, before any work, an output path that names an input (scene, mesh, dry signal, SOFA:
+/// same device and inode, symlinks followed), an existing non-regular file, the other output, or
+/// a folder that does not exist. writeWav then replaces the file only on success.
+void checkOutputs(const SceneDesc& scene, const Flags& fl) {
+  std::vector<std::pair<std::string, std::string>> inputs = {{fl.scene, "the scene file"},
+                                                             {scene.meshPath, "the mesh"}};
+  for (const auto& src : scene.sources) inputs.push_back({src.signalPath, "a dry signal"});
+  if (!scene.audio.hrtfPath.empty()) inputs.push_back({scene.audio.hrtfPath, "the SOFA file"});
+  const std::pair<const char*, std::string> outputs[] = {
+      {"--offline", fl.offline}, {"--ir-out", fl.irOut}, {"--record", fl.record}};
+  for (const auto& [flag, out] : outputs) {
+    if (out.empty()) continue;
+    struct stat st {};
+    if (::stat(out.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
+      throw InputError("command line", flag, "'" + out + "' exists and is not a regular file");
+    for (const auto& [in, what] : inputs)
+      if (sameFile(out, in))
+        throw InputError("command line", flag,
+                         "'" + out + "' is " + what + "; refusing to overwrite it");
+    for (const auto& [flag2, out2] : outputs)
+      if (flag2 != flag && !out2.empty() &&
+          (sameFile(out, out2) ||
+           std::filesystem::weakly_canonical(std::filesystem::absolute(out)) ==
+               std::filesystem::weakly_canonical(std::filesystem::absolute(out2))))
+        throw InputError("command line", flag, "'" + out + "' is also given to " + flag2);
+    std::filesystem::path folder = std::filesystem::path(out).parent_path();
+    if (folder.empty()) folder = ".";
+    std::error_code ec;
+    if (!std::filesystem::is_directory(folder, ec))
+      throw InputError("command line", flag, "folder '" + folder.string() + "' does not exist");
+    if (::access(folder.c_str(), W_OK) != 0)
+      throw InputError("command line", flag, "folder '" + folder.string() + "' is not writable");
+  }
+}
+
 int runOffline(const Flags& fl) {
   SceneDesc scene = loadScene(fl.scene);
   applyAudioOverrides(scene, fl);
   for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   const PropagationSettings settings = applyOverrides(scene, fl);
-  if (fl.hasDuration && !(fl.duration > 0.0))
-    throw InputError("command line", "--duration", "must be > 0 seconds");
+  if (fl.hasDuration && !(fl.duration > 0.0 && fl.duration <= kMaxDurationSeconds))
+    throw InputError("command line", "--duration",
+                     "must be in (0, " + std::to_string(int(kMaxDurationSeconds)) + "] seconds");
+  if (fl.hasGain && !(fl.gainDb >= -120.0 && fl.gainDb <= 60.0))
+    throw InputError("command line", "--gain-db", "must be a number in [-120, 60] dB");
+  checkOutputs(scene, fl);
   const DrySignals dry = loadDrySignals(scene);
   for (const std::string& n : dry.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
 
@@ -129,6 +188,11 @@ int runOffline(const Flags& fl) {
   float peak = 0.f;
   for (const auto& ch : out.channels)
     for (float x : ch) peak = std::max(peak, std::abs(x));
+  if (peak == 0.f)
+    std::fprintf(stderr,
+                 "warning: %s: the render is silent (empty energy response: is the listener "
+                 "inside the mesh and each source inside the room?)\n",
+                 fl.scene.c_str());
   double gainDb = fl.gainDb;
   if (!fl.hasGain) gainDb = peak > 0.f ? -1.0 - 20.0 * std::log10(peak) : 0.0;
   const float gain = float(std::pow(10.0, gainDb / 20.0));
@@ -243,8 +307,10 @@ int runLive(Flags& fl) {
       throw InputError("command line", "--block-size", "must be in 16..8192 samples");
     scene.audio.blockSize = int(fl.blockSize);
   }
-  if (fl.hasDuration && !(fl.duration > 0.0))
-    throw InputError("command line", "--duration", "must be > 0 seconds");
+  if (fl.hasDuration && !(fl.duration > 0.0 && fl.duration <= kMaxDurationSeconds))
+    throw InputError("command line", "--duration",
+                     "must be in (0, " + std::to_string(int(kMaxDurationSeconds)) + "] seconds");
+  checkOutputs(scene, fl);
   const DrySignals dry = loadDrySignals(scene);
   for (const std::string& n : dry.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
 
@@ -434,8 +500,29 @@ int main(int argc, char** argv) {
                  "SOFA file for binaural output (default: /usr/share/libmysofa/default.sofa)");
   try {
     app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
+  } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    // One line, the same format and exit status as every other input error, with the closest
+    // option name when a flag looks mistyped.
+    std::string msg = e.what(), hint;
+    for (char& c : msg)
+      if (c == '\n' || (unsigned char)c < 0x20) c = ' ';
+    for (int i = 1; i < argc; ++i) {
+      const std::string a = argv[i];
+      if (a.rfind("--", 0) != 0) continue;
+      const std::string name = a.substr(0, a.find('='));
+      if (app.get_option_no_throw(name) != nullptr) continue;
+      size_t best = 3;
+      for (const CLI::Option* o : app.get_options()) {
+        for (const std::string& ln : o->get_lnames()) {
+          const size_t d = editDistance(name.substr(2), ln);
+          if (d < best) best = d, hint = "; did you mean --" + ln + "?";
+        }
+      }
+    }
+    std::fprintf(stderr, "dpc-demo: command line: %s%s\n", msg.c_str(), hint.c_str());
+    return 1;
   }
   fl.hasDuration = app.count("--duration") > 0;
   fl.hasTau = app.count("--tau") > 0;

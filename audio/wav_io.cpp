@@ -13,6 +13,7 @@
 #include <filesystem>
 
 #include "engine/input_error.h"
+#include "engine/input_file.h"
 
 namespace dpc::audio {
 
@@ -74,6 +75,7 @@ int sndfileFormat(SampleFormat format) {
 }  // namespace
 
 AudioData readWav(const std::string& path) {
+  checkInputFile(path, kMaxSignalBytes, path, "", "cannot read: audio file");
   SF_INFO info{};
   SndFile file;
   file.handle = sf_open(path.c_str(), SFM_READ, &info);
@@ -134,6 +136,8 @@ void writeWav(const std::string& path, const AudioData& audio, SampleFormat form
   }
   // Integer formats: clip out-of-range values instead of letting them wrap around.
   sf_command(file.handle, SFC_SET_CLIPPING, nullptr, SF_TRUE);
+  // No PEAK chunk: it carries the time of writing, and same-seed renders must be byte-identical.
+  sf_command(file.handle, SFC_SET_ADD_PEAK_CHUNK, nullptr, SF_FALSE);
 
   const size_t channels = audio.channels.size();
   const size_t frames = audio.frames();

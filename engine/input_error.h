@@ -14,14 +14,30 @@ class InputError : public std::runtime_error {
  public:
   /// file: path as the user gave it; field: dotted JSON path or "" for the whole file.
   InputError(const std::string& file, const std::string& field, const std::string& problem)
-      : std::runtime_error(field.empty() ? file + ": " + problem
-                                         : file + ": " + field + ": " + problem),
+      : std::runtime_error(printable(field.empty() ? file + ": " + problem
+                                                   : file + ": " + field + ": " + problem)),
         file_(file),
         field_(field) {}
   const std::string& file() const { return file_; }
   const std::string& field() const { return field_; }
 
  private:
+  /// Control characters (from keys or file names) escaped as \xNN so the line is safe to print.
+  static std::string printable(const std::string& s) {
+    static const char* hex = "0123456789abcdef";
+    std::string out;
+    for (const char c : s) {
+      const auto u = static_cast<unsigned char>(c);
+      if (u < 0x20 || u == 0x7f) {
+        out += "\\x";
+        out += hex[u >> 4];
+        out += hex[u & 15];
+      } else {
+        out += c;
+      }
+    }
+    return out;
+  }
   std::string file_, field_;
 };
 

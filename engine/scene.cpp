@@ -23,6 +23,7 @@
 #include <sstream>
 
 #include "engine/input_error.h"
+#include "engine/input_file.h"
 
 namespace dpc {
 namespace {
@@ -156,7 +157,12 @@ class JsonReader {
     if (!v.is_array() || v.size() != 3)
       fail(field, "expected an array of 3 numbers [x, y, z] in metres, got " + describe(v));
     glm::vec3 p;
-    for (int i = 0; i < 3; ++i) p[i] = floatNumber(v[size_t(i)], index(field, size_t(i)));
+    for (int i = 0; i < 3; ++i) {
+      p[i] = floatNumber(v[size_t(i)], index(field, size_t(i)));
+      if (std::abs(double(p[i])) > kMaxCoordinateM)
+        fail(index(field, size_t(i)), fmt(p[i]) + " m is outside [-" + fmt(kMaxCoordinateM) + ", " +
+                                          fmt(kMaxCoordinateM) + "] m");
+    }
     return p;
   }
 
@@ -181,15 +187,41 @@ fs::path resolve(const fs::path& folder, const std::string& p) {
   return (path.is_absolute() ? path : folder / path).lexically_normal();
 }
 
+/// The JSON parser recurses once per nested array/object: bound the depth before parsing so that
+/// a hostile file cannot overflow the stack.
+void checkJsonDepth(const std::string& file, const std::string& text) {
+  int depth = 0;
+  bool inString = false;
+  size_t line = 1;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '\n') ++line;
+    if (inString) {
+      if (c == '\\')
+        ++i;
+      else if (c == '"')
+        inString = false;
+    } else if (c == '"') {
+      inString = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxJsonDepth)
+        throw InputError(file, "",
+                         "JSON nested deeper than " + std::to_string(kMaxJsonDepth) +
+                             " levels at line " + std::to_string(line));
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+}
+
 json parseJson(const std::string& file) {
-  std::error_code ec;
-  if (!fs::exists(file, ec)) throw InputError(file, "", "scene file not found");
-  if (fs::is_directory(file, ec)) throw InputError(file, "", "is a directory, not a scene file");
+  checkInputFile(file, kMaxSceneBytes, file, "", "scene file");
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file, "", "cannot open scene file");
   std::stringstream buf;
   buf << in.rdbuf();
   const std::string text = buf.str();
+  checkJsonDepth(file, text);
   try {
     return json::parse(text);
   } catch (const json::parse_error& e) {
@@ -287,11 +319,30 @@ std::string trim(const std::string& s) {
 void readObjVertices(const std::string& objFile, const std::string& text, ObjData& obj) {
   std::istringstream in(text);
   std::string line;
-  size_t lineNo = 0;
+  size_t lineNo = 0, faceNo = 0;
   while (std::getline(in, line)) {
     ++lineNo;
     const char* p = line.c_str();
     p += std::strspn(p, " \t");
+    if (p[0] == 'f' && (p[1] == ' ' || p[1] == '\t')) {
+      // tinyobjloader parses indices into int: refuse what would wrap before it does.
+      ++faceNo;
+      for (p += 2; *p != '\0';) {
+        p += std::strspn(p, " \t\r/");
+        char* end = nullptr;
+        const long long raw = std::strtoll(p, &end, 10);
+        if (end == p) {
+          p += std::strcspn(p, " \t\r/");
+          continue;
+        }
+        if (raw > std::numeric_limits<int>::max() || raw < -std::numeric_limits<int>::max())
+          throw InputError(
+              objFile, "face " + std::to_string(faceNo) + " (line " + std::to_string(lineNo) + ")",
+              "vertex index " + std::string(p, size_t(end - p)) + " is out of range");
+        p = end;
+      }
+      continue;
+    }
     if (p[0] != 'v' || (p[1] != ' ' && p[1] != '\t')) continue;
     p += 2;
     const size_t vertexNo = obj.vertices.size() + 1;
@@ -311,6 +362,10 @@ void readObjVertices(const std::string& objFile, const std::string& text, ObjDat
       if (!std::isfinite(x) || std::abs(x) > double(std::numeric_limits<float>::max()))
         throw InputError(objFile, field,
                          "coordinate " + std::string(p, size_t(end - p)) + " is not finite");
+      if (std::abs(x) > kMaxCoordinateM)
+        throw InputError(objFile, field,
+                         "coordinate " + std::string(p, size_t(end - p)) + " m is outside +-" +
+                             std::to_string(int64_t(kMaxCoordinateM)) + " m");
       v[i] = float(x);
       p = end;
     }
@@ -319,9 +374,7 @@ void readObjVertices(const std::string& objFile, const std::string& text, ObjDat
 }
 
 ObjData readObj(const std::string& sceneFile, const std::string& objFile) {
-  std::error_code ec;
-  if (!fs::exists(objFile, ec) || fs::is_directory(objFile, ec))
-    throw InputError(sceneFile, "mesh", "mesh file " + inQuotes(objFile) + " not found");
+  checkInputFile(objFile, kMaxMeshBytes, sceneFile, "mesh", "mesh file");
   std::ifstream in(objFile, std::ios::binary);
   if (!in) throw InputError(sceneFile, "mesh", "cannot open mesh file " + inQuotes(objFile));
   std::stringstream buf;
@@ -550,8 +603,11 @@ void readPropagation(const JsonReader& r, const json& v, PropagationSettings& p)
     p.cacheTau = r.floatNumber(*x, f("cache_tau"));
     if (p.cacheTau < 0.f) r.fail(f("cache_tau"), x->dump() + " must be >= 0");
   }
-  if (const json* x = JsonReader::find(v, "frame_rate"))
+  if (const json* x = JsonReader::find(v, "frame_rate")) {
     p.frameRate = r.positive(*x, f("frame_rate"));
+    if (p.frameRate < 1.f || p.frameRate > 120.f)
+      r.fail(f("frame_rate"), x->dump() + " is outside [1, 120] Hz");
+  }
   if (const json* x = JsonReader::find(v, "ir_length")) {
     p.irLength = r.positive(*x, f("ir_length"));
     if (p.irLength > 60.f) r.fail(f("ir_length"), x->dump() + " is outside (0, 60]");
@@ -611,7 +667,7 @@ void readAudio(const JsonReader& r, const json& v, const fs::path& folder, Audio
     a.hrtfPath = resolved.string();
   }
   if (const json* x = JsonReader::find(v, "sample_rate"))
-    a.sampleRate = int(r.integer(*x, join(field, "sample_rate"), 8000, 192000));
+    a.sampleRate = int(r.integer(*x, join(field, "sample_rate"), 16000, 192000));
   if (const json* x = JsonReader::find(v, "block_size"))
     a.blockSize = int(r.integer(*x, join(field, "block_size"), 16, 8192));
 }

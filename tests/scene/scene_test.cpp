@@ -352,7 +352,7 @@ TEST_CASE("Missing required keys and wrong types", "[scene][errors]") {
     Fixture f;
     f.scene["audio"]["sample_rate"] = 1000;
     CHECK_THAT(f.error(),
-               Contains("scene.json: audio.sample_rate: 1000 is outside [8000, 192000]"));
+               Contains("scene.json: audio.sample_rate: 1000 is outside [16000, 192000]"));
   }
   SECTION("duplicate source names") {
     Fixture f;

@@ -1,0 +1,51 @@
+// Input and output file checks shared by the loaders and the apps (control thread; may throw
+// InputError; allocate only for messages). See docs/scene-format.md, "Limits".
+#pragma once
+
+#include <sys/stat.h>
+
+#include <cstdint>
+#include <string>
+
+#include "engine/input_error.h"
+
+namespace dpc {
+
+/// Size bounds of input files in bytes (a scene's JSON, its OBJ mesh, a dry WAV, a SOFA file).
+inline constexpr std::uintmax_t kMaxSceneBytes = 16u << 20;
+inline constexpr std::uintmax_t kMaxMeshBytes = 512u << 20;
+inline constexpr std::uintmax_t kMaxSignalBytes = 2048u << 20;
+inline constexpr std::uintmax_t kMaxSofaBytes = 256u << 20;
+/// Largest nesting depth of arrays/objects accepted in a scene's JSON (the parser recurses).
+inline constexpr int kMaxJsonDepth = 64;
+/// Largest |coordinate| accepted in a scene, metres (keeps Embree's rays valid in float).
+inline constexpr double kMaxCoordinateM = 1e6;
+
+/// Throws InputError(reportFile, field, ...) unless `path` names an existing regular file (after
+/// symlinks) of at most maxBytes: FIFOs, devices and directories are refused before any read.
+inline void checkInputFile(const std::string& path, std::uintmax_t maxBytes,
+                           const std::string& reportFile, const std::string& field,
+                           const std::string& what) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0)
+    throw InputError(reportFile, field, what + " '" + path + "' not found");
+  if (S_ISDIR(st.st_mode))
+    throw InputError(reportFile, field, what + " '" + path + "' is a directory");
+  if (!S_ISREG(st.st_mode))
+    throw InputError(reportFile, field,
+                     what + " '" + path + "' is not a regular file (FIFO, device or socket)");
+  if (std::uintmax_t(st.st_size) > maxBytes)
+    throw InputError(reportFile, field,
+                     what + " '" + path + "' is " + std::to_string(st.st_size >> 20) +
+                         " MiB, more than the limit of " + std::to_string(maxBytes >> 20) + " MiB");
+}
+
+/// True when a and b name the same existing file (same device and inode, symlinks followed).
+inline bool sameFile(const std::string& a, const std::string& b) {
+  struct stat sa {
+  }, sb{};
+  return ::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 && sa.st_dev == sb.st_dev &&
+         sa.st_ino == sb.st_ino;
+}
+
+}  // namespace dpc

@@ -1,0 +1,238 @@
+#!/usr/bin/env python3
+"""Bad-input suite for dpc-demo (docs/scene-format.md, "Limits").
+
+Each case copies the shoebox scene into a fresh folder, damages one thing, runs dpc-demo under a
+time limit (timeout) and an address-space limit (RLIMIT_AS) and asserts: exit status 1 (no
+signal), exactly one "dpc-demo: ..." line on stderr containing the expected file/field text, no
+new file in the folder, every existing file byte-identical afterwards.
+
+  run.py DPC_DEMO SCENES_DIR --list      print the case names
+  run.py DPC_DEMO SCENES_DIR CASE...     run the named cases (all when none given)
+"""
+import hashlib, json, os, re, resource, shutil, signal, subprocess, sys, tempfile
+
+TIME_LIMIT_S = 60
+MEMORY_LIMIT_BYTES = 4 << 30
+
+
+def scene_with(**edits):
+    """Returns a function that edits the shoebox JSON: keys are dotted paths, values new values."""
+    def apply(d):
+        s = json.load(open(os.path.join(d, "shoebox.json")))
+        for path, value in edits.items():
+            node, keys = s, path.split(".")
+            for k in keys[:-1]:
+                node = node[int(k)] if isinstance(node, list) else node[k]
+            last = keys[-1]
+            if isinstance(node, list):
+                node[int(last)] = value
+            else:
+                node[last] = value
+        json.dump(s, open(os.path.join(d, "shoebox.json"), "w"))
+    return apply
+
+
+def write(name, text, mode="w"):
+    def apply(d):
+        with open(os.path.join(d, name), mode) as f:
+            f.write(text)
+    return apply
+
+
+def obj_with(line):
+    return lambda d: open(os.path.join(d, "shoebox.obj"), "a").write(line + "\n")
+
+
+def nothing(d):
+    pass
+
+
+def fifo(name):
+    return lambda d: os.mkfifo(os.path.join(d, name))
+
+
+def symlink(target, name):
+    return lambda d: os.symlink(target, os.path.join(d, name))
+
+
+def mkdir(name):
+    return lambda d: os.mkdir(os.path.join(d, name))
+
+
+def sparse(name, size):
+    def apply(d):
+        with open(os.path.join(d, name), "wb") as f:
+            f.truncate(size)
+    return apply
+
+
+OFF = ["shoebox.json", "--offline", "out.wav", "--duration", "0.2", "--rays", "64"]
+
+# name: (setup, extra args or full args, expected substring of the error line)
+CASES = {
+    # Finding 1: deep nesting.
+    "deep_json_array": (write("shoebox.json", "[" * 100000 + "]" * 100000), OFF, "nested deeper"),
+    "deep_json_object": (write("shoebox.json", '{"a":' * 50000 + "1" + "}" * 50000), OFF, "nested deeper"),
+    "deep_json_unclosed": (write("shoebox.json", "[" * 100000), OFF, "nested deeper"),
+    # Finding 2: huge coordinates.
+    "source_1e20": (scene_with(**{"sources.0.position": [1e20, 1.6, 3.5]}), OFF, "sources[0].position[0]"),
+    "source_neg_1e7": (scene_with(**{"sources.0.position": [2, -1e7, 3.5]}), OFF, "sources[0].position[1]"),
+    "listener_1e30": (scene_with(**{"listener.position": [1e30, 1.6, 1.5]}), OFF, "listener.position[0]"),
+    "keyframe_1e9": (scene_with(**{"listener.trajectory.1.position": [8.5, 1.6, 1e9]}), OFF, "listener.trajectory[1].position[2]"),
+    # Finding 3: outputs naming inputs or non-regular files.
+    "offline_is_scene": (nothing, ["shoebox.json", "--offline", "shoebox.json"], "--offline"),
+    "offline_is_mesh": (nothing, ["shoebox.json", "--offline", "shoebox.obj"], "the mesh"),
+    "offline_is_signal": (nothing, ["shoebox.json", "--offline", "signals/speech.wav"], "a dry signal"),
+    "offline_symlink_to_scene": (symlink("shoebox.json", "link.wav"), ["shoebox.json", "--offline", "link.wav"], "the scene file"),
+    "offline_dotdot_scene": (nothing, ["shoebox.json", "--offline", "signals/../shoebox.json"], "the scene file"),
+    "offline_dev_null": (nothing, ["shoebox.json", "--offline", "/dev/null"], "not a regular file"),
+    "offline_directory": (mkdir("adir"), ["shoebox.json", "--offline", "adir"], "not a regular file"),
+    "offline_fifo": (fifo("out.fifo"), ["shoebox.json", "--offline", "out.fifo"], "not a regular file"),
+    "offline_missing_folder": (nothing, ["shoebox.json", "--offline", "missing/out.wav"], "does not exist"),
+    "ir_out_same_as_offline": (nothing, ["shoebox.json", "--offline", "o.wav", "--ir-out", "./o.wav"], "--ir-out"),
+    "ir_out_is_scene": (nothing, ["shoebox.json", "--offline", "o.wav", "--ir-out", "shoebox.json"], "--ir-out"),
+    "ir_out_missing_folder": (nothing, ["shoebox.json", "--offline", "o.wav", "--ir-out", "nope/ir.wav"], "--ir-out"),
+    "record_is_signal": (nothing, ["shoebox.json", "--record", "signals/speech.wav", "--duration", "1"], "--record"),
+    "record_missing_folder": (nothing, ["shoebox.json", "--record", "missing/r.wav", "--duration", "1"], "--record"),
+    "offline_is_hrtf": (lambda d: shutil.copy("/usr/share/libmysofa/default.sofa", os.path.join(d, "h.sofa")) if os.path.exists("/usr/share/libmysofa/default.sofa") else open(os.path.join(d, "h.sofa"), "w").write("x"),
+                        ["shoebox.json", "--offline", "h.sofa", "--hrtf", "h.sofa"], "--"),
+    # Finding 4 and 5: non-regular or huge inputs.
+    "scene_fifo": (fifo("f.json"), ["f.json", "--offline", "out.wav"], "not a regular file"),
+    "scene_dev_zero": (nothing, ["/dev/zero", "--offline", "out.wav"], "not a regular file"),
+    "scene_dev_urandom": (nothing, ["/dev/urandom", "--offline", "out.wav"], "not a regular file"),
+    "scene_directory": (mkdir("s.json"), ["s.json", "--offline", "out.wav"], "is a directory"),
+    "scene_missing": (nothing, ["none.json", "--offline", "out.wav"], "not found"),
+    "scene_huge_sparse": (sparse("big.json", 1 << 33), ["big.json", "--offline", "out.wav"], "MiB"),
+    "mesh_dev_zero": (scene_with(mesh="/dev/zero"), OFF, "mesh"),
+    "mesh_dev_urandom": (scene_with(mesh="/dev/urandom"), OFF, "mesh"),
+    "mesh_fifo": (lambda d: (fifo("m.obj")(d), scene_with(mesh="m.obj")(d)), OFF, "mesh"),
+    "mesh_directory": (lambda d: (mkdir("m.obj")(d), scene_with(mesh="m.obj")(d)), OFF, "mesh"),
+    "mesh_huge_sparse": (lambda d: (sparse("m.obj", 1 << 34)(d), scene_with(mesh="m.obj")(d)), OFF, "mesh"),
+    "signal_dev_zero": (scene_with(**{"sources.0.signal": "/dev/zero"}), OFF, "/dev/zero"),
+    "signal_fifo": (lambda d: (fifo("s.wav")(d), scene_with(**{"sources.0.signal": "s.wav"})(d)), OFF, "s.wav"),
+    "signal_directory": (scene_with(**{"sources.0.signal": "signals"}), OFF, "signals"),
+    "signal_huge_sparse": (lambda d: (sparse("s.wav", 1 << 35)(d), scene_with(**{"sources.0.signal": "s.wav"})(d)), OFF, "s.wav"),
+    "signal_not_wav": (lambda d: (write("s.wav", "not audio")(d), scene_with(**{"sources.0.signal": "s.wav"})(d)), OFF, "s.wav"),
+    "hrtf_dev_zero": (nothing, OFF + ["--hrtf", "/dev/zero"], "--hrtf"),
+    "hrtf_missing": (nothing, OFF + ["--hrtf", "none.sofa"], "--hrtf"),
+    # Finding 7: integers out of range.
+    "rays_3e9": (nothing, OFF + ["--rays", "3000000000"], "--rays"),
+    "rays_2p32_plus_1": (nothing, OFF + ["--rays", "4294967297"], "--rays"),
+    "rays_zero": (nothing, OFF + ["--rays", "0"], "--rays"),
+    "rays_negative": (nothing, OFF + ["--rays", "-5"], "--rays"),
+    "max_order_huge": (nothing, OFF + ["--max-order", "1000000"], "--max-order"),
+    "max_order_negative": (nothing, OFF + ["--max-order", "-1"], "--max-order"),
+    "threads_huge": (nothing, OFF + ["--threads", "99999"], "--threads"),
+    "seed_negative": (nothing, OFF + ["--seed", "-1"], "--seed"),
+    "seed_text": (nothing, OFF + ["--seed", "abc"], "--seed"),
+    "block_size_huge": (nothing, ["shoebox.json", "--block-size", "100000", "--duration", "1"], "--block-size"),
+    "scene_rays_1e10": (scene_with(**{"propagation.rays_per_frame": 10000000000}), OFF[:-2], "rays_per_frame"),
+    "scene_max_order_huge": (scene_with(**{"propagation.max_order": 1000000}), OFF, "max_order"),
+    "obj_index_huge": (obj_with("f 1 2 99999999999"), OFF, "99999999999"),
+    "obj_vertex_1e20": (obj_with("v 1e20 0 0"), OFF, "shoebox.obj"),
+    # Finding 9: unclear messages.
+    "tau_inf": (nothing, OFF + ["--tau", "inf"], "--tau"),
+    "tau_nan": (nothing, OFF + ["--tau", "nan"], "--tau"),
+    "duration_1e9": (nothing, ["shoebox.json", "--offline", "out.wav", "--duration=1e9"], "--duration"),
+    "duration_inf": (nothing, ["shoebox.json", "--offline", "out.wav", "--duration=inf"], "--duration"),
+    "duration_zero": (nothing, ["shoebox.json", "--offline", "out.wav", "--duration=0"], "--duration"),
+    "duration_negative": (nothing, ["shoebox.json", "--offline", "out.wav", "--duration=-1"], "--duration"),
+    "gain_nan": (nothing, OFF + ["--gain-db", "nan"], "--gain-db"),
+    "gain_inf": (nothing, OFF + ["--gain-db", "inf"], "--gain-db"),
+    "gain_huge": (nothing, OFF + ["--gain-db", "1000"], "--gain-db"),
+    "typo_flag": (nothing, OFF + ["--raus", "5"], "did you mean --rays"),
+    "typo_flag_offline": (nothing, ["shoebox.json", "--ofline", "out.wav"], "did you mean --offline"),
+    "unknown_flag": (nothing, OFF + ["--zzzzzzzz"], "command line"),
+    "estimator_bad": (nothing, OFF + ["--estimator", "magic"], "--estimator"),
+    "weighting_bad": (nothing, OFF + ["--dpc-weighting", "x"], "--dpc-weighting"),
+    "output_bad": (nothing, OFF + ["--output", "quad"], "--output"),
+    "control_chars_key": (write("shoebox.json", '{"\\u001b[31mevil": 1}'), OFF, "shoebox.json"),
+    # Scene-level values.
+    "scene_empty": (write("shoebox.json", ""), OFF, "shoebox.json"),
+    "scene_not_object": (write("shoebox.json", "[1,2,3]"), OFF, "shoebox.json"),
+    "scene_binary": (write("shoebox.json", "\x00\x01\x02garbage"), OFF, "shoebox.json"),
+    "scene_number_overflow": (write("shoebox.json", '{"mesh": 1e999}'), OFF, "shoebox.json"),
+    "absorption_above_1": (scene_with(**{"materials.walls.absorption": [1.7] * 8}), OFF, "absorption"),
+    "scattering_negative": (scene_with(**{"materials.walls.scattering": -0.5}), OFF, "scattering"),
+    "frame_rate_1e6": (scene_with(**{"propagation.frame_rate": 1e6}), OFF, "frame_rate"),
+    "sample_rate_8000": (scene_with(**{"audio.sample_rate": 8000}), OFF, "sample_rate"),
+    "frame_rate_zero": (scene_with(**{"propagation.frame_rate": 0}), OFF, "frame_rate"),
+    "sample_rate_zero": (scene_with(**{"audio.sample_rate": 0}), OFF, "sample_rate"),
+    "ir_length_negative": (scene_with(**{"propagation.ir_length": -1}), OFF, "ir_length"),
+    "radius_negative": (scene_with(**{"listener.radius": -1}), OFF, "radius"),
+    "mesh_missing": (scene_with(mesh="none.obj"), OFF, "mesh"),
+    "mesh_empty": (write("shoebox.obj", ""), OFF, "shoebox.obj"),
+    "sources_empty": (scene_with(sources=[]), OFF, "sources"),
+    "estimator_scene_bad": (scene_with(**{"propagation.estimator": "x"}), OFF, "estimator"),
+}
+
+
+def digest(folder):
+    out = {}
+    for root, dirs, files in os.walk(folder):
+        for name in files + dirs:
+            p = os.path.join(root, name)
+            st = os.lstat(p)
+            if os.path.isfile(p) and not os.path.islink(p) and st.st_size < (1 << 30):
+                out[p] = hashlib.sha256(open(p, "rb").read()).hexdigest()
+            else:
+                out[p] = (st.st_mode, st.st_size)
+    return out
+
+
+def limits():
+    resource.setrlimit(resource.RLIMIT_AS, (MEMORY_LIMIT_BYTES, MEMORY_LIMIT_BYTES))
+    resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
+
+
+def run_case(demo, scenes, name):
+    setup, args, expect = CASES[name]
+    with tempfile.TemporaryDirectory(prefix="dpc_bad_") as d:
+        shutil.copy(os.path.join(scenes, "shoebox.json"), d)
+        shutil.copy(os.path.join(scenes, "shoebox.obj"), d)
+        shutil.copytree(os.path.join(scenes, "signals"), os.path.join(d, "signals"))
+        setup(d)
+        before = digest(d)
+        try:
+            p = subprocess.run([demo] + args, cwd=d, stdin=subprocess.DEVNULL, capture_output=True,
+                               timeout=TIME_LIMIT_S, preexec_fn=limits)
+        except subprocess.TimeoutExpired:
+            return f"hung: no exit within {TIME_LIMIT_S} s"
+        err = p.stderr.decode("utf-8", "replace")
+        errors = [l for l in err.splitlines() if l.startswith("dpc-demo:")]
+        problems = []
+        if p.returncode < 0:
+            problems.append(f"killed by signal {signal.Signals(-p.returncode).name}")
+        elif p.returncode != 1:
+            problems.append(f"exit status {p.returncode}, expected 1")
+        if len(errors) != 1:
+            problems.append(f"{len(errors)} error lines, expected 1")
+        elif expect not in errors[0]:
+            problems.append(f"error line lacks {expect!r}")
+        if re.search(r"[\x00-\x08\x0b-\x1f\x7f]", err):
+            problems.append("control characters on stderr")
+        after = digest(d)
+        if after != before:
+            changed = sorted(set(after.items()) ^ set(before.items()))
+            problems.append(f"files created or changed: {[os.path.relpath(c[0], d) for c in changed]}")
+        if problems:
+            return "; ".join(problems) + f"\n  stderr: {err.strip()[-600:]}"
+        return None
+
+
+def main():
+    names = sys.argv[3:]
+    if names == ["--list"]:
+        print(";".join(CASES))
+        return 0
+    demo, scenes = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+    failed = 0
+    for name in names or CASES:
+        why = run_case(demo, scenes, name)
+        print(f"{'FAIL' if why else 'ok  '} {name}" + (f": {why}" if why else ""))
+        failed += why is not None
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

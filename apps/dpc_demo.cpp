@@ -448,14 +448,16 @@ int runLive(Flags& fl) {
   }
   std::printf(
       "live: frames=%llu irs_applied=%llu irs_dropped=%llu blocks=%llu callbacks=%llu "
-      "xruns=%llu nan_blocks=%llu wrong_size_blocks=%llu latency_median_ms=%.1f "
+      "xruns=%llu nan_blocks=%llu late_callbacks=%llu rejected_callbacks=%llu "
+      "latency_median_ms=%.1f "
       "latency_p95_ms=%.1f callback_load_median_pct=%.1f callback_load_max_pct=%.1f "
       "render_swap_p999_pct=%.1f render_noswap_p999_pct=%.1f\n",
       (unsigned long long)st.frames, (unsigned long long)st.irsApplied,
       (unsigned long long)st.irsDropped, (unsigned long long)st.blocks,
       (unsigned long long)cb.callbacks, (unsigned long long)cb.xruns,
-      (unsigned long long)st.nanBlocks, (unsigned long long)st.lateBlocks, st.latencyMedianMs,
-      st.latencyP95Ms, output->loadPercent(cb.quantileNs(0.5)), output->loadPercent(cb.maxNs),
+      (unsigned long long)st.nanBlocks, (unsigned long long)st.lateCallbacks,
+      (unsigned long long)st.rejectedCallbacks, st.latencyMedianMs, st.latencyP95Ms,
+      output->loadPercent(cb.quantileNs(0.5)), output->loadPercent(cb.maxNs),
       output->loadPercent(swap.quantileNs(0.999)), output->loadPercent(noSwap.quantileNs(0.999)));
   return 0;
 }

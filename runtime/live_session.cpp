@@ -32,6 +32,9 @@ LiveSession::LiveSession(const SceneDesc& scene, const PropagationSettings& sett
   audioStage_ = std::make_unique<AudioStage>(propagation_->layout(), dry, irChannels);
   mono_.assign(size_t(blockSize_) * irChannels, 0.f);
   for (int c = 0; c < irChannels; ++c) stageOut_.push_back(mono_.data() + size_t(c) * blockSize_);
+  hostIn_.assign(size_t(audioStage_->sourceCount()), std::vector<float>(size_t(blockSize_), 0.f));
+  for (auto& ch : hostIn_) hostInPtr_.push_back(ch.data());
+  blockOut_.assign(size_t(options_.deviceChannels), std::vector<float>(size_t(blockSize_), 0.f));
   if (options_.recordSeconds > 0.0) {
     recordRing_ = std::make_unique<boost::lockfree::spsc_queue<float>>(
         size_t(kRecordRingSeconds * sampleRate_) * size_t(options_.deviceChannels));
@@ -129,17 +132,44 @@ void LiveSession::recorderLoop() {
 }
 
 void LiveSession::renderCallback(void* user, float* const* out, int frames) noexcept {
-  static_cast<LiveSession*>(user)->render(out, frames);
+  static_cast<LiveSession*>(user)->render(nullptr, out, frames);
 }
 
-void LiveSession::render(float* const* out, int frames) noexcept {
-  const int64_t t0 = nowNs();
-  const int channels = options_.deviceChannels;
-  if (frames != blockSize_) {
-    for (int c = 0; c < channels; ++c) std::fill(out[c], out[c] + frames, 0.f);
-    lateBlocks_.fetch_add(1, std::memory_order_relaxed);
+void LiveSession::render(const float* const* inputs, float* const* outputs, int frames) noexcept {
+  if (frames < 1 || frames > kMaxCallbackFrames) {
+    rejectedCallbacks_.fetch_add(1, std::memory_order_relaxed);
     return;
   }
+  const int64_t t0 = nowNs();
+  const int channels = options_.deviceChannels;
+  bool swapped = false;
+  // FIFO adapter: each host frame takes the output of the previous engine block at the same
+  // position and leaves its input there; a full block is rendered before its output slot is
+  // read again, so the delay is exactly one block whatever the call sizes.
+  for (int done = 0; done < frames;) {
+    const int k = std::min(frames - done, blockSize_ - fill_);
+    if (inputs)
+      for (size_t s = 0; s < hostIn_.size(); ++s)
+        std::copy(inputs[s] + done, inputs[s] + done + k, hostIn_[s].data() + fill_);
+    for (int c = 0; c < channels; ++c)
+      std::copy(blockOut_[size_t(c)].data() + fill_, blockOut_[size_t(c)].data() + fill_ + k,
+                outputs[c] + done);
+    fill_ += k;
+    done += k;
+    if (fill_ == blockSize_) {
+      swapped = renderBlock(inputs != nullptr) || swapped;
+      fill_ = 0;
+    }
+  }
+  const int64_t t1 = nowNs();
+  const int64_t ns = t1 - t0;
+  if (double(ns) * 1e-9 * sampleRate_ > double(frames))
+    lateCallbacks_.fetch_add(1, std::memory_order_relaxed);
+  (swapped ? swapStats_ : noSwapStats_).record(uint64_t(ns), false);
+}
+
+bool LiveSession::renderBlock(bool hostInputs) noexcept {
+  const int channels = options_.deviceChannels;
   // Newest IR wins; older ones go straight back.
   IrSet* newest = nullptr;
   IrSet* s = nullptr;
@@ -152,30 +182,33 @@ void LiveSession::render(float* const* out, int frames) noexcept {
   }
   if (newest) audioStage_->offer(newest);
   const uint64_t appliedBefore = audioStage_->irsApplied();
-  audioStage_->process(stageOut_.data());
+  audioStage_->process(stageOut_.data(), hostInputs ? hostInPtr_.data() : nullptr);
   const bool swapped = audioStage_->irsApplied() != appliedBefore;
   while ((s = audioStage_->takeSpent())) fromAudio_.try_enqueue(s);
 
   // Device channels: IR channel c (the last one repeats for extra device channels);
   // NaN/inf guard.
   const size_t irChannels = stageOut_.size();
+  const size_t B = size_t(blockSize_);
   bool finite = true;
-  for (size_t i = 0; i < size_t(frames) * irChannels; ++i)
-    finite = finite && std::isfinite(mono_[i]);
+  for (size_t i = 0; i < B * irChannels; ++i) finite = finite && std::isfinite(mono_[i]);
   for (int c = 0; c < channels; ++c) {
     const float* src = stageOut_[std::min(size_t(c), irChannels - 1)];
+    float* dst = blockOut_[size_t(c)].data();
     if (finite)
-      std::copy(src, src + frames, out[c]);
+      std::copy(src, src + B, dst);
     else
-      std::fill(out[c], out[c] + frames, 0.f);
+      std::fill(dst, dst + B, 0.f);
   }
   if (!finite) nanBlocks_.fetch_add(1, std::memory_order_relaxed);
 
+  // The recording holds the engine's blocks (what the device plays, without the adapter's
+  // leading block of silence).
   if (recordRing_) {
-    for (int n = 0; n < frames; ++n)
+    for (size_t n = 0; n < B; ++n)
       for (int c = 0; c < channels; ++c)
-        recordScratch_[size_t(n) * size_t(channels) + size_t(c)] = out[c][n];
-    const size_t want = size_t(frames) * size_t(channels);
+        recordScratch_[n * size_t(channels) + size_t(c)] = blockOut_[size_t(c)][n];
+    const size_t want = B * size_t(channels);
     const size_t pushed = recordRing_->push(recordScratch_.data(), want);
     if (pushed < want) recordDropped_.fetch_add(want - pushed, std::memory_order_relaxed);
   }
@@ -186,8 +219,8 @@ void LiveSession::render(float* const* out, int frames) noexcept {
     if (swapped) latencyStats_.record(uint64_t(std::max<int64_t>(0, t1 - cur->poseNs)), false);
   }
   irsApplied_.store(audioStage_->irsApplied(), std::memory_order_relaxed);
-  (swapped ? swapStats_ : noSwapStats_).record(uint64_t(t1 - t0), false);
   blocks_.fetch_add(1, std::memory_order_relaxed);
+  return swapped;
 }
 
 LiveSession::Status LiveSession::status() const {
@@ -209,7 +242,8 @@ LiveSession::Status LiveSession::status() const {
   st.latencyP95Ms = lat.callbacks ? double(lat.quantileNs(0.95)) * 1e-6 : 0.0;
   st.blocks = blocks_.load(std::memory_order_relaxed);
   st.nanBlocks = nanBlocks_.load(std::memory_order_relaxed);
-  st.lateBlocks = lateBlocks_.load(std::memory_order_relaxed);
+  st.lateCallbacks = lateCallbacks_.load(std::memory_order_relaxed);
+  st.rejectedCallbacks = rejectedCallbacks_.load(std::memory_order_relaxed);
   st.recordDropped = recordDropped_.load(std::memory_order_relaxed);
   return st;
 }

@@ -25,10 +25,10 @@
 #include <thread>
 #include <vector>
 
+#include "audio/audio_device.h"
 #include "runtime/pose_channel.h"
 #include "runtime/render_pipeline.h"
 #include "runtime/spsc_queue.h"
-#include "audio/audio_device.h"
 
 namespace dpc {
 
@@ -59,11 +59,29 @@ class LiveSession {
   /// IR channels (1 mono, 2 stereo/binaural).
   int irChannels() const { return int(stageOut_.size()); }
 
-  /// Audio thread: renders one block of blockSize() frames into out[0..deviceChannels).
-  /// Wait-free; no allocation, locks, logging, exceptions or system calls.
-  void render(float* const* out, int frames) noexcept;
-  /// Adapter with the audio::RenderCallback signature (user = LiveSession*).
+  /// Audio thread: renders `frames` frames (any count from 1 to kMaxCallbackFrames, varying
+  /// from call to call) into outputs[0..deviceChannels). The engine works in fixed blocks of
+  /// blockSize() frames; a FIFO adapter between the host's calls and those blocks adds a
+  /// constant latency of adapterLatencyFrames() = blockSize() frames for every call pattern:
+  /// output sample t (counted from the first call) is engine output sample t - blockSize()
+  /// (zeros before). inputs: nullptr renders the scene's own dry signals; otherwise
+  /// inputs[s][0..frames) is the host's dry input for source s (one mono channel per scene
+  /// source, same order as scene.sources), delayed by the same adapter latency.
+  /// Calls with frames < 1 or > kMaxCallbackFrames render nothing and are counted
+  /// (Status::rejectedCallbacks). Wait-free; no allocation, locks, logging, exceptions or
+  /// system calls.
+  void render(const float* const* inputs, float* const* outputs, int frames) noexcept;
+  /// render(nullptr, outputs, frames): the scene's own dry signals.
+  void render(float* const* outputs, int frames) noexcept { render(nullptr, outputs, frames); }
+  /// Adapter with the audio::RenderCallback signature (user = LiveSession*; nullptr inputs).
   static void renderCallback(void* user, float* const* out, int frames) noexcept;
+
+  /// Largest host callback render() accepts, frames.
+  static constexpr int kMaxCallbackFrames = 8192;
+  /// Latency added by the callback-size adapter, frames (constant: one engine block).
+  int adapterLatencyFrames() const { return blockSize_; }
+  /// Dry inputs render() expects when the host provides them (the scene's source count).
+  int sourceCount() const { return int(hostIn_.size()); }
 
   int blockSize() const { return blockSize_; }
   int sampleRate() const { return sampleRate_; }
@@ -79,9 +97,11 @@ class LiveSession {
     double latencyMedianMs = 0.0;  ///< motion-to-sound latency, since start
     double latencyP95Ms = 0.0;
     uint64_t blocks = 0;
-    uint64_t nanBlocks = 0;      ///< blocks zeroed by the NaN/inf guard
-    uint64_t lateBlocks = 0;     ///< render() calls with frames != blockSize (skipped)
-    uint64_t recordDropped = 0;  ///< samples the recorder ring could not take
+    uint64_t nanBlocks = 0;          ///< blocks zeroed by the NaN/inf guard
+    uint64_t lateCallbacks = 0;      ///< render() calls that took longer than the audio they
+                                     ///< produced (frames / sampleRate): a device would xrun
+    uint64_t rejectedCallbacks = 0;  ///< render() calls with frames outside 1..kMaxCallbackFrames
+    uint64_t recordDropped = 0;      ///< samples the recorder ring could not take
   };
   Status status() const;
 
@@ -95,6 +115,9 @@ class LiveSession {
 
  private:
   void propagationLoop();
+  /// Audio thread: one engine block from blockIn_ (or the scene's signals) into blockOut_.
+  /// Returns whether an IR swap started.
+  bool renderBlock(bool hostInputs) noexcept;
   void recorderLoop();
 
   const SceneDesc& scene_;
@@ -107,6 +130,13 @@ class LiveSession {
   moodycamel::ReaderWriterQueue<IrSet*> toAudio_, fromAudio_;
   std::vector<float> mono_;  ///< audio-thread scratch: one block per IR channel
   std::vector<float*> stageOut_;
+  // Callback-size adapter (audio thread): the host's inputs of the engine block being filled
+  // (one block per source) and the device-channel output of the last engine block, read out
+  // while the next one fills. fill_ = frames of the current block filled so far.
+  std::vector<std::vector<float>> hostIn_;
+  std::vector<const float*> hostInPtr_;
+  std::vector<std::vector<float>> blockOut_;
+  int fill_ = 0;
   std::unique_ptr<boost::lockfree::spsc_queue<float>> recordRing_;
   std::vector<float> recordScratch_;
   std::vector<std::vector<float>> recorded_;
@@ -118,7 +148,7 @@ class LiveSession {
 
   // Statistics: written by one thread, read by the control thread (relaxed).
   std::atomic<uint64_t> frames_{0}, rays_{0}, irsDropped_{0}, blocks_{0}, nanBlocks_{0},
-      lateBlocks_{0}, recordDropped_{0}, irsApplied_{0};
+      lateCallbacks_{0}, rejectedCallbacks_{0}, recordDropped_{0}, irsApplied_{0};
   std::atomic<double> frameMs_{0.0}, irAgeMs_{0.0};
   std::atomic<size_t> cacheEntries_{0};
   mutable uint64_t lastRays_ = 0;

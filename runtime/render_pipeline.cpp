@@ -192,7 +192,7 @@ void AudioStage::offer(IrSet* set) {
   pending_ = set;
 }
 
-void AudioStage::process(float* const* out) {
+void AudioStage::process(float* const* out, const float* const* inputs) {
   const size_t B = size_t(layout_.blockSize());
   IrSet* swapped = nullptr;
   if (pending_) {
@@ -209,7 +209,9 @@ void AudioStage::process(float* const* out) {
   for (int c = 0; c < numOutputs_; ++c) std::fill(out[c], out[c] + B, 0.f);
   for (size_t s = 0; s < convolvers_.size(); ++s) {
     const std::vector<float>& x = dry_.samples[s];
-    if (dry_.loop[s]) {
+    if (inputs) {
+      convolvers_[s]->processAdd(inputs[s], out);
+    } else if (dry_.loop[s]) {
       // Looping signal: read B samples from position mod length, wrapping as often as needed.
       size_t p = position_ % x.size();
       for (size_t i = 0; i < B; ++i) {

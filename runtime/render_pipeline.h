@@ -111,9 +111,13 @@ class AudioStage {
   /// Schedules a new IR set for the next block (newest wins: a set offered while another is
   /// still pending is returned through takeSpent()). Audio thread.
   void offer(IrSet* set);
-  /// Renders one block of layout.blockSize() frames into out[c] (numOutputs channels),
-  /// reading the dry signals from the current position (silence past their end). Audio thread.
-  void process(float* const* out);
+  /// Renders one block of layout.blockSize() frames into out[c] (numOutputs channels).
+  /// inputs: nullptr reads the scene's dry signals from the current position (silence past
+  /// their end); otherwise inputs[s][0..blockSize) is source s's dry block (one per scene
+  /// source, as given by a host). Audio thread.
+  void process(float* const* out, const float* const* inputs = nullptr);
+  /// Sources (one convolver and one dry input each).
+  int sourceCount() const { return int(convolvers_.size()); }
   /// A set no longer in use, or nullptr. Audio thread; the caller returns it to the
   /// propagation side.
   IrSet* takeSpent();

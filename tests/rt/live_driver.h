@@ -43,7 +43,7 @@ LiveRun driveLiveSession(int blocks, AudioThreadObserver& onAudioThread) {
   std::thread audio([&] {
     onAudioThread.begin();
     for (int b = 0; b < blocks; ++b) {
-      session.render(out, 128);
+      session.render(nullptr, out, 128);
       for (float x : left) run.finite = run.finite && std::isfinite(x);
       std::this_thread::sleep_for(std::chrono::microseconds(500));
     }

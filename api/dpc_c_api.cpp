@@ -1,14 +1,13 @@
 // The C API (include/dpc/dpc.h) over LiveSession: the engine handle owns the scene, the dry
 // signals and the session; every entry point catches exceptions and stores their text in a
 // thread-local message (docs/design.md "Library boundary").
-#include "dpc/dpc.h"
-
 #include <cmath>
 #include <exception>
 #include <memory>
 #include <new>
 #include <string>
 
+#include "dpc/dpc.h"
 #include "engine/input_error.h"
 #include "engine/scene.h"
 #include "runtime/live_session.h"
@@ -55,9 +54,13 @@ constexpr float kDegrees = 3.14159265358979323846f / 180.f;
 
 extern "C" {
 
-const char* dpc_last_error(void) { return lastError.c_str(); }
+const char* dpc_last_error(void) {
+  return lastError.c_str();
+}
 
-const char* dpc_version(void) { return DPC_VERSION_STRING; }
+const char* dpc_version(void) {
+  return DPC_VERSION_STRING;
+}
 
 dpc_status dpc_engine_create_from_file(const char* scene_path, dpc_engine** out) {
   if (!out) return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_create_from_file: out is NULL");
@@ -71,8 +74,8 @@ dpc_status dpc_engine_create_from_file(const char* scene_path, dpc_engine** out)
     engine->sources = int(engine->scene.sources.size());
     dpc::LiveSession::Options options;
     options.deviceChannels = dpc::outputChannels(engine->scene.audio.output);
-    engine->session = std::make_unique<dpc::LiveSession>(
-        engine->scene, engine->scene.propagation, engine->dry, options);
+    engine->session = std::make_unique<dpc::LiveSession>(engine->scene, engine->scene.propagation,
+                                                         engine->dry, options);
     *out = engine.release();
     return DPC_OK;
   });
@@ -103,11 +106,11 @@ dpc_status dpc_engine_stop(dpc_engine* engine) {
   });
 }
 
-dpc_status dpc_engine_set_listener(dpc_engine* engine, float x, float y, float z,
-                                   float yaw_degrees, float pitch_degrees) {
+dpc_status dpc_engine_set_listener(dpc_engine* engine, float x, float y, float z, float yaw_degrees,
+                                   float pitch_degrees) {
   if (!engine) return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_set_listener: engine is NULL");
-  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z) ||
-      !std::isfinite(yaw_degrees) || !std::isfinite(pitch_degrees))
+  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z) || !std::isfinite(yaw_degrees) ||
+      !std::isfinite(pitch_degrees))
     return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_set_listener: non-finite pose");
   engine->session->setPose(glm::vec3(x, y, z), yaw_degrees * kDegrees, 0.0,
                            pitch_degrees * kDegrees);
@@ -120,8 +123,8 @@ dpc_status dpc_engine_set_source_position(dpc_engine*, int, float, float, float)
               "in this version");
 }
 
-dpc_status dpc_engine_process(dpc_engine* engine, const float* const* inputs,
-                              float* const* outputs, int frames) {
+dpc_status dpc_engine_process(dpc_engine* engine, const float* const* inputs, float* const* outputs,
+                              int frames) {
   if (!engine || !outputs || frames <= 0) return DPC_ERR_INVALID_ARGUMENT;
   // The session renders blocks of its own block size from the scene's dry signals; any other
   // call is zeroed and counted by the session (late blocks).
@@ -130,10 +133,18 @@ dpc_status dpc_engine_process(dpc_engine* engine, const float* const* inputs,
   return DPC_OK;
 }
 
-int dpc_engine_sample_rate(const dpc_engine* e) { return e ? e->session->sampleRate() : 0; }
-int dpc_engine_block_size(const dpc_engine* e) { return e ? e->session->blockSize() : 0; }
-int dpc_engine_output_channels(const dpc_engine* e) { return e ? e->session->irChannels() : 0; }
-int dpc_engine_source_count(const dpc_engine* e) { return e ? e->sources : 0; }
+int dpc_engine_sample_rate(const dpc_engine* e) {
+  return e ? e->session->sampleRate() : 0;
+}
+int dpc_engine_block_size(const dpc_engine* e) {
+  return e ? e->session->blockSize() : 0;
+}
+int dpc_engine_output_channels(const dpc_engine* e) {
+  return e ? e->session->irChannels() : 0;
+}
+int dpc_engine_source_count(const dpc_engine* e) {
+  return e ? e->sources : 0;
+}
 
 dpc_status dpc_engine_get_stats(dpc_engine* engine, dpc_stats* out) {
   if (!engine || !out) return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_get_stats: NULL");

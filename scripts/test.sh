@@ -5,5 +5,7 @@ cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 scripts/build.sh
 (cd build && ctest --output-on-failure -j"$(nproc 2>/dev/null || echo 2)" --timeout 600)
+# The installed package: both examples built out of tree against a fresh prefix and run.
+scripts/test-install.sh
 # The queue and live-pipeline threads under ThreadSanitizer (separate build in build-tsan).
 scripts/tsan.sh

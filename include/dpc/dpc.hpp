@@ -1,0 +1,83 @@
+// C++ façade over the C API (include/dpc/dpc.h): RAII engine, errors as dpc::Error exceptions
+// on the control thread, standard-library types only. Thread roles, units, allocation and
+// errors are those of the C function each method calls (see dpc.h).
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "dpc/dpc.h"
+
+namespace dpc {
+
+/// A failed control-thread call: the dpc_status and the library's one-line message.
+class Error : public std::runtime_error {
+ public:
+  Error(dpc_status status, const std::string& message)
+      : std::runtime_error(message), status_(status) {}
+  dpc_status status() const noexcept { return status_; }
+
+ private:
+  dpc_status status_;
+};
+
+using Stats = dpc_stats;
+
+class Engine {
+ public:
+  /// Control thread; allocates; throws dpc::Error naming the scene file and field.
+  static Engine fromFile(const std::string& scenePath) {
+    dpc_engine* e = nullptr;
+    check(dpc_engine_create_from_file(scenePath.c_str(), &e));
+    return Engine(e);
+  }
+  Engine(Engine&& o) noexcept : e_(std::exchange(o.e_, nullptr)) {}
+  Engine& operator=(Engine&& o) noexcept {
+    std::swap(e_, o.e_);
+    return *this;
+  }
+  Engine(const Engine&) = delete;
+  Engine& operator=(const Engine&) = delete;
+  ~Engine() { dpc_engine_destroy(e_); }
+
+  /// Control thread: start/stop the propagation thread (idempotent).
+  void start() { check(dpc_engine_start(e_)); }
+  void stop() { check(dpc_engine_stop(e_)); }
+
+  /// Any thread, wait-free: listener position (m) and yaw/pitch (degrees). Returns the status
+  /// instead of throwing so that it may be called from an audio thread.
+  dpc_status setListener(float x, float y, float z, float yawDegrees,
+                         float pitchDegrees = 0.f) noexcept {
+    return dpc_engine_set_listener(e_, x, y, z, yawDegrees, pitchDegrees);
+  }
+
+  /// Audio thread: see dpc_engine_process. Never allocates or throws.
+  dpc_status process(const float* const* inputs, float* const* outputs, int frames) noexcept {
+    return dpc_engine_process(e_, inputs, outputs, frames);
+  }
+
+  int sampleRate() const noexcept { return dpc_engine_sample_rate(e_); }          ///< Hz
+  int blockSize() const noexcept { return dpc_engine_block_size(e_); }            ///< frames
+  int outputChannels() const noexcept { return dpc_engine_output_channels(e_); }  ///< 1 or 2
+  int sourceCount() const noexcept { return dpc_engine_source_count(e_); }
+
+  /// Control thread: counters and last-frame measurements.
+  Stats stats() {
+    Stats s{};
+    check(dpc_engine_get_stats(e_, &s));
+    return s;
+  }
+
+  dpc_engine* handle() noexcept { return e_; }
+
+ private:
+  explicit Engine(dpc_engine* e) : e_(e) {}
+  static void check(dpc_status s) {
+    if (s != DPC_OK) throw Error(s, dpc_last_error());
+  }
+  dpc_engine* e_ = nullptr;
+};
+
+}  // namespace dpc

@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Installs dpc from ./build into a fresh prefix, builds both examples out of tree against it
+# (C with pkg-config, C++ with find_package(dpc)), runs them on scenes/shoebox.json and checks
+# that each writes a non-silent, finite WAV. Usage: scripts/test-install.sh (after build.sh)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$(pwd)
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+# DPC_KEEP_WAVS=DIR keeps the two renderings for listening.
+prefix=$work/prefix
+cmake --build build -j"$(nproc)" --target dpc_shared dpc_static >/dev/null
+cmake --install build --prefix "$prefix" >/dev/null
+# No build-tree or source-tree path may leak into the installed package files.
+if grep -rl -e "$root/build" -e "$root/" "$prefix/lib" --include='*.cmake' --include='*.pc'; then
+  echo "test-install: build-tree path in the installed package" >&2
+  exit 1
+fi
+libdir=$(dirname "$(find "$prefix" -name 'libdpc.so' | head -1)")
+PKG_CONFIG_PATH=$libdir/pkgconfig cmake -S examples/c -B "$work/c" >/dev/null
+cmake --build "$work/c" >/dev/null
+cmake -S examples/cpp -B "$work/cpp" -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
+cmake --build "$work/cpp" >/dev/null
+export LD_LIBRARY_PATH=$libdir${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
+"$work/c/play_scene" scenes/shoebox.json "$work/c.wav"
+"$work/cpp/play_scene_cpp" scenes/shoebox.json "$work/cpp.wav"
+[[ -n "${DPC_KEEP_WAVS:-}" ]] && cp "$work/c.wav" "$work/cpp.wav" "$DPC_KEEP_WAVS"/
+python3 scripts/wavcheck.py "$work/c.wav"
+python3 scripts/wavcheck.py "$work/cpp.wav"
+echo "test-install: OK"

@@ -536,7 +536,7 @@ void readPropagation(const JsonReader& r, const json& v, PropagationSettings& p)
   const std::string field = "propagation";
   r.expectObject(v, field);
   r.checkKeys(v, field,
-              {"rays_per_frame", "max_order", "patch_size", "cache_tau", "frame_rate", "ir_length",
+              {"rays_per_frame", "max_order", "patch_size", "cache_tau", "cache_memory_mb", "frame_rate", "ir_length",
                "seed", "estimator", "dpc_weighting", "speed_of_sound", "temperature", "humidity",
                "air_absorption", "roulette_threshold_db"});
   auto f = [&](const char* key) { return join(field, key); };
@@ -550,6 +550,8 @@ void readPropagation(const JsonReader& r, const json& v, PropagationSettings& p)
     p.cacheTau = r.floatNumber(*x, f("cache_tau"));
     if (p.cacheTau < 0.f) r.fail(f("cache_tau"), x->dump() + " must be >= 0");
   }
+  if (const json* x = JsonReader::find(v, "cache_memory_mb"))
+    p.cacheMemoryMb = r.positive(*x, f("cache_memory_mb"));
   if (const json* x = JsonReader::find(v, "frame_rate"))
     p.frameRate = r.positive(*x, f("frame_rate"));
   if (const json* x = JsonReader::find(v, "ir_length")) {

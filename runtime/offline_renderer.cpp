@@ -56,7 +56,13 @@ OfflineResult renderOffline(const SceneDesc& scene, const PropagationSettings& s
   result.totals = propagation.totals();
   for (size_t s = 0; s < propagation.simulation().sourceCount(); ++s) {
     result.cacheEntries += propagation.simulation().result(s).cacheEntries;
-    result.cacheBytes += propagation.simulation().result(s).cacheBytes;
+    const Simulation::SourceResult& sr = propagation.simulation().result(s);
+    result.cacheBytes += sr.cacheBytes;
+    result.cacheCoarseEntries += sr.cacheCoarseEntries;
+    result.cacheBudgetBytes += sr.cacheBudgetBytes;
+    result.cacheMergedEntries += sr.cacheMergedEntries;
+    result.cacheCoarseEnergyFraction =
+        std::max(result.cacheCoarseEnergyFraction, sr.cacheCoarseEnergyFraction);
   }
   result.irsApplied = audioStage.irsApplied();
   result.wallSeconds =

@@ -16,12 +16,12 @@
 #include <string>
 #include <thread>
 
-#include "runtime/live_session.h"
-#include "runtime/offline_renderer.h"
 #include "audio/audio_device.h"
 #include "audio/wav_io.h"
 #include "engine/input_error.h"
 #include "engine/scene.h"
+#include "runtime/live_session.h"
+#include "runtime/offline_renderer.h"
 
 using namespace dpc;
 
@@ -35,8 +35,8 @@ struct Flags {
   int64_t seed = 0, rays = 0, maxOrder = 0, threads = 0;
   bool quiet = false;
   // Which options the user gave (so that any value, even a sentinel-looking one, is checked).
-  bool hasDuration = false, hasTau = false, hasCacheMb = false, hasGain = false, hasSeed = false, hasRays = false,
-       hasMaxOrder = false, hasThreads = false;
+  bool hasDuration = false, hasTau = false, hasCacheMb = false, hasGain = false, hasSeed = false,
+       hasRays = false, hasMaxOrder = false, hasThreads = false;
 };
 
 void progressBar(double done, double total) {
@@ -166,9 +166,9 @@ int runOffline(const Flags& fl) {
       t.traceSeconds > 0 ? t.rays / t.traceSeconds : 0.0,
       t.traceSeconds > 0 ? t.segments / t.traceSeconds : 0.0, r.cacheEntries, r.cacheBytes / 1e6,
       r.cacheBudgetBytes / 1e6, r.cacheCoarseEntries, (unsigned long long)r.cacheMergedEntries,
-      100.0 * r.cacheCoarseEnergyFraction,
-      t.traceSeconds + t.synthesisSeconds + t.prepareSeconds, t.traceSeconds, t.synthesisSeconds,
-      t.prepareSeconds, r.wallSeconds, audioSeconds / r.wallSeconds);
+      100.0 * r.cacheCoarseEnergyFraction, t.traceSeconds + t.synthesisSeconds + t.prepareSeconds,
+      t.traceSeconds, t.synthesisSeconds, t.prepareSeconds, r.wallSeconds,
+      audioSeconds / r.wallSeconds);
   return 0;
 }
 
@@ -357,14 +357,15 @@ int runLive(Flags& fl) {
       const auto st = session.status();
       const auto cb = output->stats().snapshot().since(statsAtStart);
       std::fprintf(stderr,
-                   "%sframe %5.1f ms | %6.0fk rays/s | cache %7zu %5.1f/%.0f MB merged %llu (%4.1f%%) | IR age %5.1f ms | "
+                   "%sframe %5.1f ms | %6.0fk rays/s | cache %7zu %5.1f/%.0f MB merged %llu "
+                   "(%4.1f%%) | IR age %5.1f ms | "
                    "latency %5.1f/%5.1f ms | load %4.1f%% | xruns %llu | t %.1f s%s",
                    tty ? "\r" : "", st.frameMs, st.raysPerSecond / 1e3, st.cacheEntries,
                    st.cacheBytes / 1e6, st.cacheBudgetBytes / 1e6,
                    (unsigned long long)st.cacheMergedEntries, 100.0 * st.cacheMergedEnergyFraction,
-                   st.irAgeMs,
-                   st.latencyMedianMs, st.latencyP95Ms, output->loadPercent(cb.quantileNs(0.5)),
-                   (unsigned long long)cb.xruns, sceneTime, tty ? "   " : "\n");
+                   st.irAgeMs, st.latencyMedianMs, st.latencyP95Ms,
+                   output->loadPercent(cb.quantileNs(0.5)), (unsigned long long)cb.xruns, sceneTime,
+                   tty ? "   " : "\n");
     }
   }
   output->stop();

@@ -18,8 +18,6 @@
 #include <thread>
 #include <vector>
 
-#include "runtime/live_session.h"
-#include "runtime/render_pipeline.h"
 #include "audio/audio_device.h"
 #include "bench/bare_embree.h"
 #include "engine/input_error.h"
@@ -27,6 +25,8 @@
 #include "engine/noise_study.h"
 #include "engine/scene.h"
 #include "engine/simulation.h"
+#include "runtime/live_session.h"
+#include "runtime/render_pipeline.h"
 
 using namespace dpc;
 using json = nlohmann::ordered_json;

@@ -211,7 +211,8 @@ void DiffusePathCache::endFrame(const FrameGroups& frame, uint64_t raysEmitted, 
     std::sort(scratch_.begin(), scratch_.end());
     std::vector<uint64_t>& keys = dropKeys_;
     keys.clear();
-    for (size_t j = 0; j < scratch_.size() && entries_.size() - keys.size() + coarse_.size() > maxEntries_; ++j) {
+    for (size_t j = 0;
+         j < scratch_.size() && entries_.size() - keys.size() + coarse_.size() > maxEntries_; ++j) {
       const Entry& e = entries_[scratch_[j].second];
       mergeIntoCoarse(e, invC);
       keys.push_back(e.key);

@@ -87,7 +87,8 @@ class DiffusePathCache {
   static constexpr double kDefaultBudgetMb = 64.0;
   /// Entries (path entries plus coarse entries) that fit a budget of megabytes (>= 1 entry).
   static size_t entriesForBudget(double megabytes);
-  static constexpr size_t kDefaultMaxEntries = size_t(kDefaultBudgetMb * 1048576.0) / kBytesPerEntry;
+  static constexpr size_t kDefaultMaxEntries =
+      size_t(kDefaultBudgetMb * 1048576.0) / kBytesPerEntry;
   /// Width of a coarse-store delay bin, seconds.
   static constexpr double kCoarseBinSeconds = 1e-3;
 

@@ -536,9 +536,9 @@ void readPropagation(const JsonReader& r, const json& v, PropagationSettings& p)
   const std::string field = "propagation";
   r.expectObject(v, field);
   r.checkKeys(v, field,
-              {"rays_per_frame", "max_order", "patch_size", "cache_tau", "cache_memory_mb", "frame_rate", "ir_length",
-               "seed", "estimator", "dpc_weighting", "speed_of_sound", "temperature", "humidity",
-               "air_absorption", "roulette_threshold_db"});
+              {"rays_per_frame", "max_order", "patch_size", "cache_tau", "cache_memory_mb",
+               "frame_rate", "ir_length", "seed", "estimator", "dpc_weighting", "speed_of_sound",
+               "temperature", "humidity", "air_absorption", "roulette_threshold_db"});
   auto f = [&](const char* key) { return join(field, key); };
   if (const json* x = JsonReader::find(v, "rays_per_frame"))
     p.raysPerFrame = int(r.integer(*x, f("rays_per_frame"), 1, 100'000'000));

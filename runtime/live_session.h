@@ -25,10 +25,10 @@
 #include <thread>
 #include <vector>
 
+#include "audio/audio_device.h"
 #include "runtime/pose_channel.h"
 #include "runtime/render_pipeline.h"
 #include "runtime/spsc_queue.h"
-#include "audio/audio_device.h"
 
 namespace dpc {
 
@@ -70,13 +70,14 @@ class LiveSession {
 
   struct Status {
     uint64_t frames = 0;
-    double frameMs = 0.0;        ///< last propagation frame (trace + synthesis + prepare)
-    double raysPerSecond = 0.0;  ///< over the last status interval
-    size_t cacheEntries = 0;             ///< DPC path + coarse entries, summed over sources
-    size_t cacheBytes = 0;               ///< DPC heap bytes, summed over sources
-    size_t cacheBudgetBytes = 0;         ///< DPC memory budget, summed over sources
-    uint64_t cacheMergedEntries = 0;     ///< entries merged into the coarse store, cumulative
-    double cacheMergedEnergyFraction = 0.0;  ///< largest per-source share of the response they carry
+    double frameMs = 0.0;             ///< last propagation frame (trace + synthesis + prepare)
+    double raysPerSecond = 0.0;       ///< over the last status interval
+    size_t cacheEntries = 0;          ///< DPC path + coarse entries, summed over sources
+    size_t cacheBytes = 0;            ///< DPC heap bytes, summed over sources
+    size_t cacheBudgetBytes = 0;      ///< DPC memory budget, summed over sources
+    uint64_t cacheMergedEntries = 0;  ///< entries merged into the coarse store, cumulative
+    double cacheMergedEnergyFraction =
+        0.0;                       ///< largest per-source share of the response they carry
     uint64_t irsApplied = 0;       ///< IR sets that reached the convolvers
     uint64_t irsDropped = 0;       ///< superseded before the audio thread applied them
     double irAgeMs = 0.0;          ///< age of the IR playing, at the last block

@@ -33,12 +33,12 @@ struct Flags {
   std::string scene, offline, irOut, erOut, estimator, weighting, device, record, output, hrtf;
   int64_t blockSize = 0;
   bool listDevices = false, interactive = false, hasBlockSize = false;
-  double duration = 0.0, tau = 0.0, gainDb = 0.0;
+  double duration = 0.0, tau = 0.0, gainDb = 0.0, cacheMb = 64.0;
   int64_t seed = 0, rays = 0, maxOrder = 0, threads = 0;
   bool quiet = false;
   // Which options the user gave (so that any value, even a sentinel-looking one, is checked).
-  bool hasDuration = false, hasTau = false, hasGain = false, hasSeed = false, hasRays = false,
-       hasMaxOrder = false, hasThreads = false;
+  bool hasDuration = false, hasTau = false, hasCacheMb = false, hasGain = false, hasSeed = false,
+       hasRays = false, hasMaxOrder = false, hasThreads = false;
 };
 
 /// Levenshtein distance, for "did you mean" on mistyped flags.
@@ -94,6 +94,11 @@ PropagationSettings applyOverrides(const SceneDesc& scene, const Flags& fl) {
   if (fl.hasTau) {
     if (!(fl.tau >= 0.0 && fl.tau <= 3600.0)) bad("--tau", "must be in [0, 3600] seconds");
     s.cacheTau = float(fl.tau);
+  }
+  if (fl.hasCacheMb) {
+    if (!(fl.cacheMb > 0.0 && fl.cacheMb <= 16384.0))
+      bad("--cache-memory-mb", "must be in (0, 16384] megabytes");
+    s.cacheMemoryMb = float(fl.cacheMb);
   }
   if (fl.hasThreads) {
     if (fl.threads < 0 || fl.threads > 1024) bad("--threads", "must be in 0..1024");
@@ -228,13 +233,17 @@ int runOffline(const Flags& fl) {
                 r.lastIrs.size() * r.lastIrs.front().size());
   std::printf(
       "frames %llu  IRs applied %llu  rays/s %.3g  segments/s %.3g  cache entries %zu (%.1f MB)\n"
+      "cache budget %.1f MB  coarse entries %zu  entries merged %llu (carrying %.2f %% of the "
+      "response's energy)\n"
       "propagation %.2f s (trace %.2f, IR synthesis %.2f, partition+FFT %.2f)  wall %.2f s  "
       "real-time factor %.1fx\n",
       (unsigned long long)t.frames, (unsigned long long)r.irsApplied,
       t.traceSeconds > 0 ? t.rays / t.traceSeconds : 0.0,
       t.traceSeconds > 0 ? t.segments / t.traceSeconds : 0.0, r.cacheEntries, r.cacheBytes / 1e6,
-      t.traceSeconds + t.synthesisSeconds + t.prepareSeconds, t.traceSeconds, t.synthesisSeconds,
-      t.prepareSeconds, r.wallSeconds, audioSeconds / r.wallSeconds);
+      r.cacheBudgetBytes / 1e6, r.cacheCoarseEntries, (unsigned long long)r.cacheMergedEntries,
+      100.0 * r.cacheCoarseEnergyFraction, t.traceSeconds + t.synthesisSeconds + t.prepareSeconds,
+      t.traceSeconds, t.synthesisSeconds, t.prepareSeconds, r.wallSeconds,
+      audioSeconds / r.wallSeconds);
   return 0;
 }
 
@@ -425,11 +434,15 @@ int runLive(Flags& fl) {
       const auto st = session.status();
       const auto cb = output->stats().snapshot().since(statsAtStart);
       std::fprintf(stderr,
-                   "%sframe %5.1f ms | %6.0fk rays/s | cache %7zu | IR age %5.1f ms | "
+                   "%sframe %5.1f ms | %6.0fk rays/s | cache %7zu %5.1f/%.0f MB merged %llu "
+                   "(%4.1f%%) | IR age %5.1f ms | "
                    "latency %5.1f/%5.1f ms | load %4.1f%% | xruns %llu | t %.1f s%s",
-                   tty ? "\r" : "", st.frameMs, st.raysPerSecond / 1e3, st.cacheEntries, st.irAgeMs,
-                   st.latencyMedianMs, st.latencyP95Ms, output->loadPercent(cb.quantileNs(0.5)),
-                   (unsigned long long)cb.xruns, sceneTime, tty ? "   " : "\n");
+                   tty ? "\r" : "", st.frameMs, st.raysPerSecond / 1e3, st.cacheEntries,
+                   st.cacheBytes / 1e6, st.cacheBudgetBytes / 1e6,
+                   (unsigned long long)st.cacheMergedEntries, 100.0 * st.cacheMergedEnergyFraction,
+                   st.irAgeMs, st.latencyMedianMs, st.latencyP95Ms,
+                   output->loadPercent(cb.quantileNs(0.5)), (unsigned long long)cb.xruns, sceneTime,
+                   tty ? "   " : "\n");
     }
   }
   output->stop();
@@ -485,6 +498,9 @@ int main(int argc, char** argv) {
   app.add_option("--rays", fl.rays, "Rays per source per frame");
   app.add_option("--max-order", fl.maxOrder, "Maximum reflection order");
   app.add_option("--tau", fl.tau, "Cache response time tau, seconds (0 = path tracing)");
+  app.add_option("--cache-memory-mb", fl.cacheMb,
+                 "DPC memory budget per source-listener pair, MB (default 64; beyond it old "
+                 "entries are merged, not dropped)");
   app.add_option("--estimator", fl.estimator, "dpc | path_tracing");
   app.add_option("--dpc-weighting", fl.weighting,
                  "ema (unbiased, default) | seed (thesis eq. 3.2; biased high)");
@@ -528,6 +544,7 @@ int main(int argc, char** argv) {
   }
   fl.hasDuration = app.count("--duration") > 0;
   fl.hasTau = app.count("--tau") > 0;
+  fl.hasCacheMb = app.count("--cache-memory-mb") > 0;
   fl.hasGain = app.count("--gain-db") > 0;
   fl.hasSeed = app.count("--seed") > 0;
   fl.hasRays = app.count("--rays") > 0;

@@ -59,7 +59,8 @@ SceneDesc firstSourceOnly(SceneDesc scene) {
 struct Common {
   std::string scene;
   int threads = 0, rays = 4096, maxOrder = 200, frames = 30;
-  double tau = 1.0;
+  double tau = 1.0, cacheMb = 64.0;
+  bool haveCacheMb = false;
   bool haveTau = false, haveMaxOrder = false, haveRays = false;
 };
 
@@ -69,6 +70,7 @@ PropagationSettings settingsFor(const SceneDesc& scene, const Common& c) {
   if (c.haveRays) s.raysPerFrame = c.rays;
   if (c.haveMaxOrder) s.maxOrder = c.maxOrder;
   if (c.haveTau) s.cacheTau = float(c.tau);
+  if (c.haveCacheMb) s.cacheMemoryMb = float(c.cacheMb);
   return s;
 }
 
@@ -146,7 +148,13 @@ int benchPropagation(const Common& c, bool noRoulette) {
                                {"segments_per_frame", double(packetSegments) / c.frames}};
   j["ratio_full_to_bare"] = fullRate / bareRate;
   j["ratio_full_to_bare_packet16"] = fullRate / packetRate;
-  j["cache"] = {{"entries", sim.result(0).cacheEntries}, {"bytes", sim.result(0).cacheBytes}};
+  const Simulation::SourceResult& r0 = sim.result(0);
+  j["cache"] = {{"entries", r0.cacheEntries},
+                {"bytes", r0.cacheBytes},
+                {"budget_bytes", r0.cacheBudgetBytes},
+                {"coarse_entries", r0.cacheCoarseEntries},
+                {"entries_merged", r0.cacheMergedEntries},
+                {"merged_energy_fraction", r0.cacheCoarseEnergyFraction}};
   j["ir_synthesis_ms"] = stats(synthMs);
   j["ir_samples"] = synth.lengthSamples();
   // Binaural IR synthesis (issue 5 target: <= 10 ms per source per frame for a 2 s IR at
@@ -389,6 +397,8 @@ int main(int argc, char** argv) {
     sub->add_option("--max-order", c.maxOrder, "Maximum reflection order");
     sub->add_option("--frames", c.frames, "Frames to measure");
     sub->add_option("--tau", c.tau, "Cache response time tau, seconds");
+    sub->add_option("--cache-memory-mb", c.cacheMb, "DPC memory budget per source, MB (> 0)")
+        ->check(CLI::PositiveNumber);
   };
   CLI::App* prop = app.add_subcommand("propagation", "Frame time and segments/s vs bare Embree");
   addCommon(prop);
@@ -416,6 +426,7 @@ int main(int argc, char** argv) {
   }
   for (CLI::App* sub : {prop, noise, live}) {
     c.haveTau = c.haveTau || sub->count("--tau") > 0;
+    c.haveCacheMb = c.haveCacheMb || sub->count("--cache-memory-mb") > 0;
     c.haveMaxOrder = c.haveMaxOrder || sub->count("--max-order") > 0;
     c.haveRays = c.haveRays || sub->count("--rays") > 0;
   }

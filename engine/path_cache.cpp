@@ -60,9 +60,16 @@ DiffusePathCache::DiffusePathCache(DpcWeighting weighting, double tauSeconds,
   index_.max_load_factor(0.8f);
 }
 
+size_t DiffusePathCache::entriesForBudget(double megabytes) {
+  return std::max<size_t>(1, size_t(megabytes * 1048576.0) / kBytesPerEntry);
+}
+
 void DiffusePathCache::clear() {
   index_.clear();
   entries_.clear();
+  coarseIndex_.clear();
+  coarse_.clear();
+  coarseFraction_ = 0.0;
   frame_ = 0;
   decayPow_ = 1.0;
   raysTotal_ = 0;
@@ -74,7 +81,9 @@ size_t DiffusePathCache::bytes() const {
   return entries_.capacity() * sizeof(Entry) +
          index_.bucket_count() * (sizeof(std::pair<uint64_t, uint32_t>) + sizeof(uint64_t)) +
          raysBefore_.capacity() * sizeof(uint64_t) +
-         scratch_.capacity() * sizeof(std::pair<uint32_t, uint32_t>);
+         scratch_.capacity() * sizeof(std::pair<uint32_t, uint32_t>) +
+         coarse_.capacity() * sizeof(Entry) +
+         coarseIndex_.bucket_count() * (sizeof(std::pair<uint64_t, uint32_t>) + sizeof(uint64_t));
 }
 
 DiffusePathCache::Entry* DiffusePathCache::findOrInsert(uint64_t key, bool& inserted) {
@@ -93,12 +102,37 @@ void DiffusePathCache::removeAt(size_t i) {
   entries_.pop_back();
 }
 
+void DiffusePathCache::mergeIntoCoarse(const Entry& e, double invSpeedOfSound) {
+  // Seed entries merge only with entries of the same creation frame, so that mu (rays since
+  // creation) and the lifetime are shared and I_hat / mu stays exactly additive. EMA entries
+  // decay by the same factor whatever their age, so any two merge exactly; the coarse entry
+  // expires with the newest member's last hit (the older members' remaining weight is below
+  // kEmaDropFraction by then).
+  const double delay = e.eta > 0.f ? meanDelaySeconds(e.length, e.eta, invSpeedOfSound) : 0.0;
+  const uint64_t bin = uint64_t(std::max(0.0, delay / kCoarseBinSeconds));
+  const uint64_t stamp = weighting_ == DpcWeighting::kSeed ? uint64_t(e.stamp) + 1 : 0;
+  const uint64_t key = bin * 0x9E3779B97F4A7C15ull ^ (stamp << 40);
+  auto [it, ins] = coarseIndex_.try_emplace(key, uint32_t(coarse_.size()));
+  if (ins) {
+    coarse_.push_back(e);
+    coarse_.back().key = key;
+    return;
+  }
+  Entry& c = coarse_[it->second];
+  c.eta += e.eta;
+  c.intensity += e.intensity;
+  c.length += e.length;
+  c.direction += e.direction;
+  c.stamp = std::max(c.stamp, e.stamp);
+}
+
 void DiffusePathCache::endFrame(const FrameGroups& frame, uint64_t raysEmitted, float speedOfSound,
                                 EnergyResponse& out, DirectionalEnergyResponse* directional) {
   const float n = float(raysEmitted);
   const double invC = 1.0 / double(speedOfSound);
   raysBefore_[frame_ % raysBefore_.size()] = raysTotal_;
   raysTotal_ += raysEmitted;
+  double total = 0.0, coarse = 0.0;  // band-average energy read out: all, from the coarse store
   if (weighting_ == DpcWeighting::kSeed) {
     // Eq. 3.4, applied to the frame's hits of each path at once (the same sums).
     for (const FrameGroups::Group& g : frame.groups()) {
@@ -116,23 +150,25 @@ void DiffusePathCache::endFrame(const FrameGroups& frame, uint64_t raysEmitted, 
         e->direction += g.direction;
       }
     }
-    for (const Entry& e : entries_) {
+    auto readout = [&](const Entry& e) {
       // mu: rays emitted from the frame that created the entry through this one.
       const uint64_t mu = raysTotal_ - raysBefore_[e.stamp % raysBefore_.size()];
       const double delay = meanDelaySeconds(e.length, e.eta, invC);  // eq. 3.3
       out.add(delay, e.intensity / float(mu));                       // eq. 3.2
       if (directional) directional->add(delay, e.intensity / float(mu), e.direction);
-    }
-    for (size_t i = entries_.size(); i-- > 0;)
-      if (frame_ - entries_[i].stamp + 1 >= lifetime_) removeAt(i);
+      return double((e.intensity / float(mu)).average());
+    };
+    for (const Entry& e : entries_) total += readout(e);
+    for (const Entry& e : coarse_) coarse += readout(e);
   } else {
     const float keep = float(1.0 - a_), af = float(a_);
-    for (Entry& e : entries_) {
-      e.intensity *= keep;
-      e.length *= keep;
-      e.eta *= keep;
-      e.direction *= keep;
-    }
+    for (std::vector<Entry>* store : {&entries_, &coarse_})
+      for (Entry& e : *store) {
+        e.intensity *= keep;
+        e.length *= keep;
+        e.eta *= keep;
+        e.direction *= keep;
+      }
     for (const FrameGroups::Group& g : frame.groups()) {
       bool inserted = false;
       Entry* e = findOrInsert(g.key, inserted);
@@ -144,26 +180,45 @@ void DiffusePathCache::endFrame(const FrameGroups& frame, uint64_t raysEmitted, 
     }
     decayPow_ *= 1.0 - a_;
     const float norm = float(1.0 - decayPow_);
-    for (const Entry& e : entries_) {
+    auto readout = [&](const Entry& e) {
       const double delay = meanDelaySeconds(e.length, e.eta, invC);
       out.add(delay, e.intensity / norm);
       if (directional) directional->add(delay, e.intensity / norm, e.direction);
-    }
-    for (size_t i = entries_.size(); i-- > 0;)
-      if (frame_ - entries_[i].stamp + 1 >= lifetime_) removeAt(i);
+      return double((e.intensity / norm).average());
+    };
+    for (const Entry& e : entries_) total += readout(e);
+    for (const Entry& e : coarse_) coarse += readout(e);
   }
-  if (entries_.size() > maxEntries_) {
-    // Memory guard: remove the oldest entries (smallest stamp) beyond the cap.
+  total += coarse;
+  coarseFraction_ = total > 0.0 ? coarse / total : 0.0;
+  for (size_t i = entries_.size(); i-- > 0;)
+    if (frame_ - entries_[i].stamp + 1 >= lifetime_) removeAt(i);
+  for (size_t i = coarse_.size(); i-- > 0;)
+    if (frame_ - coarse_[i].stamp + 1 >= lifetime_) {
+      coarseIndex_.erase(coarse_[i].key);
+      if (i + 1 != coarse_.size()) {
+        coarse_[i] = coarse_.back();
+        coarseIndex_[coarse_[i].key] = uint32_t(i);
+      }
+      coarse_.pop_back();
+    }
+  if (entries_.size() + coarse_.size() > maxEntries_ && !entries_.empty()) {
+    // Budget: merge the oldest path entries (smallest stamp) into the coarse store until path
+    // plus coarse entries fit. Merging may create coarse entries, so repeat while over.
     scratch_.clear();
     for (size_t i = 0; i < entries_.size(); ++i)
       scratch_.push_back({entries_[i].stamp, uint32_t(i)});
-    const size_t excess = entries_.size() - maxEntries_;
-    std::nth_element(scratch_.begin(), scratch_.begin() + long(excess), scratch_.end());
+    std::sort(scratch_.begin(), scratch_.end());
     std::vector<uint64_t>& keys = dropKeys_;
     keys.clear();
-    for (size_t i = 0; i < excess; ++i) keys.push_back(entries_[scratch_[i].second].key);
+    for (size_t j = 0;
+         j < scratch_.size() && entries_.size() - keys.size() + coarse_.size() > maxEntries_; ++j) {
+      const Entry& e = entries_[scratch_[j].second];
+      mergeIntoCoarse(e, invC);
+      keys.push_back(e.key);
+    }
     for (uint64_t k : keys) removeAt(index_.find(k)->second);
-    capped_ += excess;
+    merged_ += keys.size();
   }
   ++frame_;
 }

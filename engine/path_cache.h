@@ -80,13 +80,27 @@ class DiffusePathCache {
   /// of one hit's contribution).
   static constexpr double kEmaDropFraction = 1e-3;
 
-  /// Default cap on entries (about 64 bytes + ~30 bytes of index each): 600,000 = ~56 MB.
-  static constexpr size_t kDefaultMaxEntries = 600000;
+  /// Heap bytes one entry costs: the 64-byte Entry plus its index bucket (24 bytes) at the
+  /// index's 0.8 load factor.
+  static constexpr size_t kBytesPerEntry = 64 + 30;
+  /// Default memory budget per cache (one cache per source-listener pair), megabytes.
+  static constexpr double kDefaultBudgetMb = 64.0;
+  /// Entries (path entries plus coarse entries) that fit a budget of megabytes (>= 1 entry).
+  static size_t entriesForBudget(double megabytes);
+  static constexpr size_t kDefaultMaxEntries =
+      size_t(kDefaultBudgetMb * 1048576.0) / kBytesPerEntry;
+  /// Width of a coarse-store delay bin, seconds.
+  static constexpr double kCoarseBinSeconds = 1e-3;
 
   /// tauSeconds >= 0: cache response time; framePeriodSeconds > 0. maxEntries > 0: after a
-  /// frame, entries beyond the cap are removed oldest first (by creation for kSeed, by last
-  /// hit for kEma); each removal loses that entry's remaining contribution, so the cap is a
-  /// memory guard, sized well above what the shipped scenes need.
+  /// frame, while path entries plus coarse entries exceed the cap, the oldest path entries (by
+  /// creation for kSeed, by last hit for kEma) are merged into the coarse store instead of
+  /// dropped: one coarse entry per 1 ms delay bin (and, for kSeed, per creation frame), whose
+  /// state is the sum of the merged entries' states. Both weightings' readouts are linear in
+  /// the state, so the response's energy is unchanged by a merge (within float rounding); the
+  /// cost is the delay resolution (1 ms bins, hit-weighted mean delay) and the arrival
+  /// direction (intensity-weighted mean). Coarse entries are read out and expire like path
+  /// entries (EMA: by the newest merged entry's last hit). docs/estimators.md.
   DiffusePathCache(DpcWeighting weighting, double tauSeconds, double framePeriodSeconds,
                    size_t maxEntries = kDefaultMaxEntries);
 
@@ -98,7 +112,12 @@ class DiffusePathCache {
                 EnergyResponse& out, DirectionalEnergyResponse* directional = nullptr);
 
   void clear();
+  /// Path entries (coarse entries not included).
   size_t entryCount() const { return entries_.size(); }
+  /// Coarse-store entries (merged evicted path entries).
+  size_t coarseEntryCount() const { return coarse_.size(); }
+  /// Cap on path entries plus coarse entries.
+  size_t maxEntries() const { return maxEntries_; }
   /// Heap bytes held by the cache's tables (entries and index).
   size_t bytes() const;
   /// Frames an entry is read out: seed = after its creation; EMA = after its last hit.
@@ -118,13 +137,17 @@ class DiffusePathCache {
     glm::vec3 direction;  ///< summed / averaged arrival direction (intensity weighted)
   };
   static_assert(sizeof(Entry) == 64);
-  /// Entries removed by the cap since construction.
-  uint64_t cappedRemovals() const { return capped_; }
+  /// Path entries merged into the coarse store by the cap since construction (none lost).
+  uint64_t mergedEntries() const { return merged_; }
+  /// Fraction of the last frame's response energy (band average) read out from the coarse
+  /// store, in [0, 1].
+  double coarseEnergyFraction() const { return coarseFraction_; }
   const std::vector<Entry>& entries() const { return entries_; }
 
  private:
   Entry* findOrInsert(uint64_t key, bool& inserted);
   void removeAt(size_t i);
+  void mergeIntoCoarse(const Entry& e, double invSpeedOfSound);
 
   DpcWeighting weighting_;
   double a_ = 1.0;
@@ -132,7 +155,10 @@ class DiffusePathCache {
   uint32_t frame_ = 0;     ///< frames since the cache started (or was cleared)
   double decayPow_ = 1.0;  ///< (1-a)^(frame_+1), for the start-up normalisation
   size_t maxEntries_;
-  uint64_t capped_ = 0;
+  uint64_t merged_ = 0;
+  double coarseFraction_ = 0.0;
+  tsl::robin_map<uint64_t, uint32_t> coarseIndex_;  ///< coarse key -> index in coarse_
+  std::vector<Entry> coarse_;
   uint64_t raysTotal_ = 0;            ///< rays emitted since the start, this frame included
   std::vector<uint64_t> raysBefore_;  ///< ring: rays emitted before frame f, f % size
   std::vector<std::pair<uint32_t, uint32_t>> scratch_;  ///< (stamp, index) for the cap

@@ -589,9 +589,9 @@ void readPropagation(const JsonReader& r, const json& v, PropagationSettings& p)
   const std::string field = "propagation";
   r.expectObject(v, field);
   r.checkKeys(v, field,
-              {"rays_per_frame", "max_order", "patch_size", "cache_tau", "frame_rate", "ir_length",
-               "seed", "estimator", "dpc_weighting", "speed_of_sound", "temperature", "humidity",
-               "air_absorption", "roulette_threshold_db"});
+              {"rays_per_frame", "max_order", "patch_size", "cache_tau", "cache_memory_mb",
+               "frame_rate", "ir_length", "seed", "estimator", "dpc_weighting", "speed_of_sound",
+               "temperature", "humidity", "air_absorption", "roulette_threshold_db"});
   auto f = [&](const char* key) { return join(field, key); };
   if (const json* x = JsonReader::find(v, "rays_per_frame"))
     p.raysPerFrame = int(r.integer(*x, f("rays_per_frame"), 1, 100'000'000));
@@ -602,6 +602,11 @@ void readPropagation(const JsonReader& r, const json& v, PropagationSettings& p)
   if (const json* x = JsonReader::find(v, "cache_tau")) {
     p.cacheTau = r.floatNumber(*x, f("cache_tau"));
     if (p.cacheTau < 0.f) r.fail(f("cache_tau"), x->dump() + " must be >= 0");
+  }
+  if (const json* x = JsonReader::find(v, "cache_memory_mb")) {
+    p.cacheMemoryMb = r.positive(*x, f("cache_memory_mb"));
+    if (p.cacheMemoryMb > 16384.f)
+      r.fail(f("cache_memory_mb"), x->dump() + " is outside (0, 16384] MB");
   }
   if (const json* x = JsonReader::find(v, "frame_rate")) {
     p.frameRate = r.positive(*x, f("frame_rate"));

@@ -90,9 +90,12 @@ struct PropagationSettings {
   int maxOrder = 50;        ///< maximum reflection order d_max
   float patchSize = 0.5f;   ///< lambda, metres
   float cacheTau = 1.0f;    ///< tau, seconds (0: no reuse)
-  float frameRate = 15.f;   ///< propagation frames per second, Hz
-  float irLength = 2.0f;    ///< impulse response length, seconds
-  uint64_t seed = 1;        ///< random seed; the same seed gives bit-identical output
+  /// DPC memory budget per cache, i.e. per source-listener pair, megabytes (> 0). Beyond it
+  /// the oldest entries are merged into a coarse store, never dropped (engine/path_cache.h).
+  float cacheMemoryMb = 64.f;
+  float frameRate = 15.f;  ///< propagation frames per second, Hz
+  float irLength = 2.0f;   ///< impulse response length, seconds
+  uint64_t seed = 1;       ///< random seed; the same seed gives bit-identical output
   Estimator estimator = Estimator::kDpc;
   DpcWeighting dpcWeighting = DpcWeighting::kEma;
   float speedOfSound = 343.f;    ///< m/s

@@ -15,7 +15,8 @@ Simulation::Simulation(const SceneDesc& scene, const PropagationSettings& settin
     sourcePositions_.push_back(s.position);
     if (settings_.estimator == Estimator::kDpc)
       caches_.push_back(std::make_unique<DiffusePathCache>(
-          settings_.dpcWeighting, settings_.cacheTau, 1.0 / settings_.frameRate));
+          settings_.dpcWeighting, settings_.cacheTau, 1.0 / settings_.frameRate,
+          DiffusePathCache::entriesForBudget(settings_.cacheMemoryMb)));
     SourceResult r;
     r.energy = EnergyResponse(settings_.irLength, kEnergyBinSeconds);
     results_.push_back(std::move(r));
@@ -64,6 +65,10 @@ void Simulation::runFrame(const glm::vec3& listenerPosition,
       caches_[s]->endFrame(groups_, r.trace.rays, settings_.speedOfSound, r.energy, dir);
       r.cacheEntries = caches_[s]->entryCount();
       r.cacheBytes = caches_[s]->bytes();
+      r.cacheCoarseEntries = caches_[s]->coarseEntryCount();
+      r.cacheBudgetBytes = caches_[s]->maxEntries() * DiffusePathCache::kBytesPerEntry;
+      r.cacheMergedEntries = caches_[s]->mergedEntries();
+      r.cacheCoarseEnergyFraction = caches_[s]->coarseEnergyFraction();
     }
     const auto t2 = std::chrono::steady_clock::now();
     r.traceSeconds = std::chrono::duration<double>(t1 - t0).count();

@@ -36,6 +36,11 @@ class Simulation {
     TraceStats trace;
     size_t cacheEntries = 0;
     size_t cacheBytes = 0;
+    size_t cacheCoarseEntries = 0;    ///< DPC coarse-store entries (merged path entries)
+    size_t cacheBudgetBytes = 0;      ///< DPC memory budget, bytes (0: no cache)
+    uint64_t cacheMergedEntries = 0;  ///< path entries merged by the budget, cumulative
+    double cacheCoarseEnergyFraction =
+        0.0;                        ///< share of this frame's response from the coarse store
     double traceSeconds = 0.0;      ///< wall time of this frame's ray tracing
     double estimatorSeconds = 0.0;  ///< grouping hits + cache update + readout
   };

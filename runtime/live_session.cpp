@@ -91,11 +91,22 @@ void LiveSession::propagationLoop() {
       }
       frames_.fetch_add(1, std::memory_order_relaxed);
       uint64_t rays = 0;
-      size_t entries = 0;
+      size_t entries = 0, bytes = 0, budget = 0;
+      uint64_t merged = 0;
+      double mergedShare = 0.0;
       for (size_t s = 0; s < propagation_->simulation().sourceCount(); ++s) {
-        rays += propagation_->simulation().result(s).trace.rays;
-        entries += propagation_->simulation().result(s).cacheEntries;
+        const Simulation::SourceResult& sr = propagation_->simulation().result(s);
+        rays += sr.trace.rays;
+        entries += sr.cacheEntries + sr.cacheCoarseEntries;
+        bytes += sr.cacheBytes;
+        budget += sr.cacheBudgetBytes;
+        merged += sr.cacheMergedEntries;
+        mergedShare = std::max(mergedShare, sr.cacheCoarseEnergyFraction);
       }
+      cacheBytes_.store(bytes, std::memory_order_relaxed);
+      cacheBudgetBytes_.store(budget, std::memory_order_relaxed);
+      cacheMergedEntries_.store(merged, std::memory_order_relaxed);
+      cacheMergedEnergyFraction_.store(mergedShare, std::memory_order_relaxed);
       rays_.fetch_add(rays, std::memory_order_relaxed);
       cacheEntries_.store(entries, std::memory_order_relaxed);
       frameMs_.store(std::chrono::duration<double, std::milli>(t1 - t0).count(),
@@ -234,6 +245,10 @@ LiveSession::Status LiveSession::status() const {
   lastRays_ = rays;
   lastStatus_ = now;
   st.cacheEntries = cacheEntries_.load(std::memory_order_relaxed);
+  st.cacheBytes = cacheBytes_.load(std::memory_order_relaxed);
+  st.cacheBudgetBytes = cacheBudgetBytes_.load(std::memory_order_relaxed);
+  st.cacheMergedEntries = cacheMergedEntries_.load(std::memory_order_relaxed);
+  st.cacheMergedEnergyFraction = cacheMergedEnergyFraction_.load(std::memory_order_relaxed);
   st.irsApplied = irsApplied_.load(std::memory_order_relaxed);
   st.irsDropped = irsDropped_.load(std::memory_order_relaxed);
   st.irAgeMs = irAgeMs_.load(std::memory_order_relaxed);

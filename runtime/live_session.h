@@ -88,9 +88,14 @@ class LiveSession {
 
   struct Status {
     uint64_t frames = 0;
-    double frameMs = 0.0;        ///< last propagation frame (trace + synthesis + prepare)
-    double raysPerSecond = 0.0;  ///< over the last status interval
-    size_t cacheEntries = 0;
+    double frameMs = 0.0;             ///< last propagation frame (trace + synthesis + prepare)
+    double raysPerSecond = 0.0;       ///< over the last status interval
+    size_t cacheEntries = 0;          ///< DPC path + coarse entries, summed over sources
+    size_t cacheBytes = 0;            ///< DPC heap bytes, summed over sources
+    size_t cacheBudgetBytes = 0;      ///< DPC memory budget, summed over sources
+    uint64_t cacheMergedEntries = 0;  ///< entries merged into the coarse store, cumulative
+    double cacheMergedEnergyFraction =
+        0.0;                       ///< largest per-source share of the response they carry
     uint64_t irsApplied = 0;       ///< IR sets that reached the convolvers
     uint64_t irsDropped = 0;       ///< superseded before the audio thread applied them
     double irAgeMs = 0.0;          ///< age of the IR playing, at the last block
@@ -150,7 +155,9 @@ class LiveSession {
   std::atomic<uint64_t> frames_{0}, rays_{0}, irsDropped_{0}, blocks_{0}, nanBlocks_{0},
       lateCallbacks_{0}, rejectedCallbacks_{0}, recordDropped_{0}, irsApplied_{0};
   std::atomic<double> frameMs_{0.0}, irAgeMs_{0.0};
-  std::atomic<size_t> cacheEntries_{0};
+  std::atomic<size_t> cacheEntries_{0}, cacheBytes_{0}, cacheBudgetBytes_{0};
+  std::atomic<uint64_t> cacheMergedEntries_{0};
+  std::atomic<double> cacheMergedEnergyFraction_{0.0};
   mutable uint64_t lastRays_ = 0;
   mutable std::chrono::steady_clock::time_point lastStatus_{};
   audio::CallbackStats swapStats_, noSwapStats_, latencyStats_;

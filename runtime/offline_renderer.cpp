@@ -56,9 +56,15 @@ OfflineResult renderOffline(const SceneDesc& scene, const PropagationSettings& s
   result.totals = propagation.totals();
   for (size_t s = 0; s < propagation.simulation().sourceCount(); ++s) {
     result.cacheEntries += propagation.simulation().result(s).cacheEntries;
-    result.cacheBytes += propagation.simulation().result(s).cacheBytes;
-    result.lastEnergy.push_back(propagation.simulation().result(s).energy);
-    result.lastDirect.push_back(propagation.simulation().result(s).direct);
+    const Simulation::SourceResult& sr = propagation.simulation().result(s);
+    result.cacheBytes += sr.cacheBytes;
+    result.cacheCoarseEntries += sr.cacheCoarseEntries;
+    result.cacheBudgetBytes += sr.cacheBudgetBytes;
+    result.cacheMergedEntries += sr.cacheMergedEntries;
+    result.cacheCoarseEnergyFraction =
+        std::max(result.cacheCoarseEnergyFraction, sr.cacheCoarseEnergyFraction);
+    result.lastEnergy.push_back(sr.energy);
+    result.lastDirect.push_back(sr.direct);
   }
   result.irsApplied = audioStage.irsApplied();
   result.wallSeconds =

@@ -29,6 +29,10 @@ struct OfflineResult {
   PropagationStage::Totals totals;
   size_t cacheEntries = 0;  ///< summed over sources, after the last frame
   size_t cacheBytes = 0;
+  size_t cacheCoarseEntries = 0;         ///< DPC coarse-store entries, summed over sources
+  size_t cacheBudgetBytes = 0;           ///< DPC memory budget, summed over sources
+  uint64_t cacheMergedEntries = 0;       ///< path entries merged by the budget, summed
+  double cacheCoarseEnergyFraction = 0;  ///< largest per-source share of the last response
   uint64_t irsApplied = 0;
   double wallSeconds = 0.0;
 };

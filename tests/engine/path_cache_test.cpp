@@ -141,21 +141,30 @@ TEST_CASE("EMA weighting is unbiased for rarely hit paths; seed weighting is not
   }
 }
 
-TEST_CASE("The entry cap bounds the cache and removes the oldest entries first", "[dpc]") {
+TEST_CASE("The entry cap merges the oldest entries into the coarse store, losing none", "[dpc]") {
   for (DpcWeighting w : {DpcWeighting::kSeed, DpcWeighting::kEma}) {
     DiffusePathCache cache(w, 10.0, 0.1, /*maxEntries=*/100);
-    // 10 frames of 30 new paths each: 300 would live without the cap.
+    DiffusePathCache unbounded(w, 10.0, 0.1, /*maxEntries=*/1000000);
+    // 10 frames of 30 new paths each, 3 delays per frame: 300 would live without the cap.
     for (uint64_t f = 0; f < 10; ++f) {
       std::vector<PathHit> hits;
-      for (uint64_t i = 0; i < 30; ++i) hits.push_back(hit(f * 1000 + i, 1.f, 10.f));
-      frame(cache, hits, 100);
-      REQUIRE(cache.entryCount() <= 100);
+      for (uint64_t i = 0; i < 30; ++i)
+        hits.push_back(hit(f * 1000 + i, 1.f + float(i % 7), 10.f + float(i % 3) * 20.f));
+      const EnergyResponse capped = frame(cache, hits, 100);
+      const EnergyResponse ref = frame(unbounded, hits, 100);
+      REQUIRE(cache.entryCount() + cache.coarseEntryCount() <= 100);
+      // Total energy: equal within float rounding (a few ulp per summed entry, ~300 terms).
+      const double a = capped.total()[0], b = ref.total()[0];
+      INFO("frame " << f << " capped " << a << " unbounded " << b);
+      CHECK(std::abs(a - b) <= 1e-5 * b);
     }
-    CHECK(cache.entryCount() == 100);
-    CHECK(cache.cappedRemovals() == 200);
-    // The survivors are the newest: keys of frames 7, 8 and 9 (and 10 of frame 6).
-    size_t newest = 0;
-    for (const auto& e : cache.entries()) newest += e.key >= 7000 ? 1 : 0;
-    CHECK(newest == 90);
+    CHECK(cache.mergedEntries() >= 200);
+    CHECK(cache.coarseEntryCount() > 0);
+    // Frames 0-5 (60 % of the hits) live only in the coarse store now; it carries a
+    // substantial share of the response (seed weighting favours the newer entries' smaller mu).
+    CHECK(cache.coarseEnergyFraction() > 0.2);
+    CHECK(cache.coarseEnergyFraction() < 1.0);
+    // The surviving path entries are the newest: keys of frames 6-9.
+    for (const auto& e : cache.entries()) CHECK(e.key >= 6000);
   }
 }

@@ -28,7 +28,8 @@ using namespace dpc;
 namespace {
 
 struct Flags {
-  std::string scene, offline, irOut, estimator, weighting, device, record, output, hrtf;
+  std::string scene, offline, irOut, estimator, weighting, device, record, output, hrtf,
+      listener;
   int64_t blockSize = 0;
   bool listDevices = false, interactive = false, hasBlockSize = false;
   double duration = 0.0, tau = 0.0, gainDb = 0.0;
@@ -105,6 +106,13 @@ void applyAudioOverrides(SceneDesc& scene, const Flags& fl) {
       throw InputError("command line", "--hrtf", "file '" + fl.hrtf + "' not found");
     scene.audio.hrtfPath = fl.hrtf;
     if (fl.output.empty()) scene.audio.output = OutputFormat::kBinaural;
+  }
+  if (!fl.listener.empty()) {
+    selectListener(scene, fl.listener, "--listener");
+  } else if (scene.listeners.size() > 1) {
+    scene.warnings.push_back(fl.scene + ": listeners: " + std::to_string(scene.listeners.size()) +
+                             " listeners; rendering the first, \"" + scene.listener.name +
+                             "\" (choose with --listener NAME)");
   }
 }
 
@@ -400,6 +408,8 @@ int main(int argc, char** argv) {
   app.add_option("--record", fl.record, "Live: also write what was played to this WAV");
   app.add_flag("--interactive", fl.interactive,
                "Live: arrows/WASD move, Q/E turn, space pauses, q quits");
+  app.add_option("--listener", fl.listener,
+                 "Render or play the scene's listener of this name (default: the first)");
   app.add_option("--offline", fl.offline, "Render offline to this WAV file (float32)");
   app.add_option("--duration", fl.duration,
                  "Seconds to render (default: longest source + IR length)");

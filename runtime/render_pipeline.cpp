@@ -119,6 +119,7 @@ PropagationStage::PropagationStage(const SceneDesc& scene, const PropagationSett
                                    int poolSize)
     : scene_(scene), numOutputs_(outputChannels(scene.audio.output)) {
   simulation_ = std::make_unique<Simulation>(scene, settings);
+  sourcePositions_.resize(scene.sources.size());
   const int fs = scene.audio.sampleRate;
   if (scene.audio.output == OutputFormat::kMono) {
     for (size_t s = 0; s < scene.sources.size(); ++s)
@@ -151,7 +152,11 @@ IrSet* PropagationStage::computeFrame(const glm::vec3& listener, const Orientati
   free_.pop_back();
   auto t0 = std::chrono::steady_clock::now();
   simulation_->setListenerOrientation(orientation);
-  simulation_->runFrame(listener);
+  // Sources follow their trajectories at scene time t (fixed sources stay where they are).
+  sourcePositions_.resize(scene_.sources.size());
+  for (size_t s = 0; s < scene_.sources.size(); ++s)
+    sourcePositions_[s] = sourcePositionAt(scene_.sources[s], t);
+  simulation_->runFrame(listener, sourcePositions_);
   totals_.traceSeconds += secondsSince(t0);
   for (size_t s = 0; s < simulation_->sourceCount(); ++s) {
     const Simulation::SourceResult& r = simulation_->result(s);

@@ -16,20 +16,19 @@
 #include <string>
 #include <thread>
 
-#include "runtime/live_session.h"
-#include "runtime/offline_renderer.h"
 #include "audio/audio_device.h"
 #include "audio/wav_io.h"
 #include "engine/input_error.h"
 #include "engine/scene.h"
+#include "runtime/live_session.h"
+#include "runtime/offline_renderer.h"
 
 using namespace dpc;
 
 namespace {
 
 struct Flags {
-  std::string scene, offline, irOut, estimator, weighting, device, record, output, hrtf,
-      listener;
+  std::string scene, offline, irOut, estimator, weighting, device, record, output, hrtf, listener;
   int64_t blockSize = 0;
   bool listDevices = false, interactive = false, hasBlockSize = false;
   double duration = 0.0, tau = 0.0, gainDb = 0.0;

@@ -443,8 +443,8 @@ void buildMesh(const std::string& sceneFile, const std::string& objFile, const O
                          " triangles are degenerate (zero area); nothing to trace");
   if (degenerate > 0)
     warnings.push_back(objFile + ": " + std::to_string(degenerate) +
-                             " degenerate (zero-area) triangle(s) dropped, the first from face " +
-                             std::to_string(firstDegenerateFace));
+                       " degenerate (zero-area) triangle(s) dropped, the first from face " +
+                       std::to_string(firstDegenerateFace));
 }
 
 /// Reads a keyframe time at kf + ".t": finite, >= 0, greater than `previous` (if any).
@@ -470,8 +470,8 @@ std::vector<Keyframe> readPositionKeys(const JsonReader& r, const json& t, const
     r.expectObject(k, kf);
     r.checkKeys(k, kf, {"t", "position"});
     Keyframe key;
-    key.timeSeconds = keyTime(r, k, kf,
-                              keys.empty() ? std::nullopt : std::optional(keys.back().timeSeconds));
+    key.timeSeconds =
+        keyTime(r, k, kf, keys.empty() ? std::nullopt : std::optional(keys.back().timeSeconds));
     key.position = r.vec3(r.require(k, kf, "position"), join(kf, "position"));
     keys.push_back(key);
   }
@@ -509,19 +509,19 @@ void readObjects(const JsonReader& r, const json& v, const fs::path& folder, Sce
     const std::string tf = join(f, "trajectory");
     const json& t = r.require(o, f, "trajectory");
     if (!t.is_array() || t.empty())
-      r.fail(tf, "expected a non-empty array of {\"t\", \"position\", \"rotation\"?} "
-                 "keyframes, got " +
-                     JsonReader::describe(t));
+      r.fail(tf,
+             "expected a non-empty array of {\"t\", \"position\", \"rotation\"?} "
+             "keyframes, got " +
+                 JsonReader::describe(t));
     for (size_t k = 0; k < t.size(); ++k) {
       const std::string kf = index(tf, k);
       const json& kv = t[k];
       r.expectObject(kv, kf);
       r.checkKeys(kv, kf, {"t", "position", "rotation"});
       ObjectKeyframe key;
-      key.timeSeconds =
-          keyTime(r, kv, kf,
-                  obj.trajectory.empty() ? std::nullopt
-                                         : std::optional(obj.trajectory.back().timeSeconds));
+      key.timeSeconds = keyTime(
+          r, kv, kf,
+          obj.trajectory.empty() ? std::nullopt : std::optional(obj.trajectory.back().timeSeconds));
       key.position = r.vec3(r.require(kv, kf, "position"), join(kf, "position"));
       if (const json* q = JsonReader::find(kv, "rotation"))
         key.rotation = readQuaternion(r, *q, join(kf, "rotation"));
@@ -725,9 +725,9 @@ SceneDesc loadScene(const std::string& path) {
   const JsonReader r(path);
   if (!root.is_object())
     r.fail("", "expected a JSON object at the top level, got " + JsonReader::describe(root));
-  r.checkKeys(root, "",
-              {"mesh", "materials", "sources", "listener", "listeners", "objects", "propagation",
-               "audio"});
+  r.checkKeys(
+      root, "",
+      {"mesh", "materials", "sources", "listener", "listeners", "objects", "propagation", "audio"});
   const fs::path folder = fs::path(path).parent_path();
 
   // Materials (sorted by name: nlohmann::json objects iterate in key order).
@@ -749,8 +749,8 @@ SceneDesc loadScene(const std::string& path) {
     readListener(r, *one, "listener", false, scene.listeners.back());
   } else if (many) {
     if (!many->is_array() || many->empty())
-      r.fail("listeners", "expected a non-empty array of listeners, got " +
-                              JsonReader::describe(*many));
+      r.fail("listeners",
+             "expected a non-empty array of listeners, got " + JsonReader::describe(*many));
     for (size_t i = 0; i < many->size(); ++i) {
       ListenerDesc l;
       readListener(r, (*many)[i], index("listeners", i), true, l);
@@ -764,11 +764,6 @@ SceneDesc loadScene(const std::string& path) {
   }
   scene.listener = scene.listeners.front();
   if (const json* o = JsonReader::find(root, "objects")) readObjects(r, *o, folder, scene);
-  // Said aloud rather than dropped: what this build reads but does not yet trace.
-  if (!scene.objects.empty())
-    scene.warnings.push_back(path + ": objects: " + std::to_string(scene.objects.size()) +
-                             " moving object(s) read and checked but not traced yet (no "
-                             "occlusion or reflection by them)");
   if (const json* p = JsonReader::find(root, "propagation"))
     readPropagation(r, *p, scene.propagation);
   if (const json* a = JsonReader::find(root, "audio")) readAudio(r, *a, folder, scene.audio);
@@ -874,8 +869,9 @@ void selectListener(SceneDesc& scene, const std::string& name, const std::string
     }
     known += (known.empty() ? "" : ", ") + inQuotes(l.name);
   }
-  throw InputError("command line", flag, "no listener named " + inQuotes(name) + " in " + scene.path +
-                                 " (listeners: " + known + ")");
+  throw InputError(
+      "command line", flag,
+      "no listener named " + inQuotes(name) + " in " + scene.path + " (listeners: " + known + ")");
 }
 
 glm::vec3 Orientation::forward() const {

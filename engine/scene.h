@@ -71,8 +71,8 @@ struct ObjectKeyframe {
 /// scene's `materials`, and a pose trajectory.
 struct ObjectDesc {
   std::string name;
-  std::string meshPath;  ///< resolved relative to the scene file's folder
-  Mesh mesh;             ///< local coordinates
+  std::string meshPath;                    ///< resolved relative to the scene file's folder
+  Mesh mesh;                               ///< local coordinates
   std::vector<ObjectKeyframe> trajectory;  ///< at least one keyframe
   bool loop = false;                       ///< wrap time around the last keyframe
 };
@@ -196,9 +196,9 @@ Pose objectPoseAt(const ObjectDesc& object, double t);
 /// object, in scene order (docs/design.md, "Runtime interfaces that several features share").
 struct WorldState {
   double timeSeconds = 0.0;
-  std::vector<glm::vec3> listenerPositions;        ///< metres
+  std::vector<glm::vec3> listenerPositions;  ///< metres
   std::vector<Orientation> listenerOrientations;
-  std::vector<glm::vec3> sourcePositions;          ///< metres
+  std::vector<glm::vec3> sourcePositions;  ///< metres
   std::vector<Pose> objectPoses;
 };
 

@@ -8,7 +8,8 @@ Simulation::Simulation(const SceneDesc& scene) : Simulation(scene, scene.propaga
 
 Simulation::Simulation(const SceneDesc& scene, const PropagationSettings& settings)
     : settings_(settings), listenerRadius_(scene.listener.radius) {
-  geometry_ = std::make_unique<Geometry>(scene.mesh, scene.materials, settings_.patchSize);
+  geometry_ =
+      std::make_unique<Geometry>(scene.mesh, scene.materials, settings_.patchSize, scene.objects);
   propagator_ = std::make_unique<Propagator>(*geometry_, settings_);
   for (const SourceDesc& s : scene.sources) {
     sourcePositions_.push_back(s.position);
@@ -30,6 +31,12 @@ void Simulation::enableDirectional(const std::vector<glm::vec3>& listenerDirecti
 double Simulation::boundingVolume() const {
   const glm::vec3 e = geometry_->boundsMax() - geometry_->boundsMin();
   return std::max(1.0, double(e.x) * e.y * e.z);
+}
+
+void Simulation::setObjectPoses(const std::vector<Pose>& poses) {
+  for (size_t k = 0; k < poses.size() && k < geometry_->objectCount(); ++k)
+    geometry_->setObjectPose(k, poses[k]);
+  geometry_->commitPoses();
 }
 
 void Simulation::runFrame(const glm::vec3& listenerPosition) {

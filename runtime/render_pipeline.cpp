@@ -120,6 +120,7 @@ PropagationStage::PropagationStage(const SceneDesc& scene, const PropagationSett
     : scene_(scene), numOutputs_(outputChannels(scene.audio.output)) {
   simulation_ = std::make_unique<Simulation>(scene, settings);
   sourcePositions_.resize(scene.sources.size());
+  objectPoses_.resize(scene.objects.size());
   const int fs = scene.audio.sampleRate;
   if (scene.audio.output == OutputFormat::kMono) {
     for (size_t s = 0; s < scene.sources.size(); ++s)
@@ -156,6 +157,12 @@ IrSet* PropagationStage::computeFrame(const glm::vec3& listener, const Orientati
   sourcePositions_.resize(scene_.sources.size());
   for (size_t s = 0; s < scene_.sources.size(); ++s)
     sourcePositions_[s] = sourcePositionAt(scene_.sources[s], t);
+  if (!scene_.objects.empty()) {
+    objectPoses_.resize(scene_.objects.size());
+    for (size_t k = 0; k < scene_.objects.size(); ++k)
+      objectPoses_[k] = objectPoseAt(scene_.objects[k], t);
+    simulation_->setObjectPoses(objectPoses_);
+  }
   simulation_->runFrame(listener, sourcePositions_);
   totals_.traceSeconds += secondsSince(t0);
   for (size_t s = 0; s < simulation_->sourceCount(); ++s) {

@@ -91,6 +91,7 @@ class PropagationStage {
  private:
   const SceneDesc& scene_;
   std::vector<glm::vec3> sourcePositions_;  ///< this frame's, one per source (scene time t)
+  std::vector<Pose> objectPoses_;           ///< this frame's, one per object
   int numOutputs_;
   std::unique_ptr<Simulation> simulation_;
   std::vector<std::unique_ptr<IrSynthesizer>> synthesizers_;  ///< mono: one per source

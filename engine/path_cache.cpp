@@ -46,7 +46,10 @@ DiffusePathCache::DiffusePathCache(DpcWeighting weighting, double tauSeconds,
   if (maxEntries_ == 0) throw std::invalid_argument("DiffusePathCache: maxEntries must be > 0");
   if (!(tauSeconds >= 0.0) || !(framePeriodSeconds > 0.0))
     throw std::invalid_argument("DiffusePathCache: tau must be >= 0 and frame period > 0");
-  if (weighting_ == DpcWeighting::kSeed) {
+  if (weighting_ == DpcWeighting::kWindow) {
+    lifetime_ = uint32_t(std::max(1.0, std::round(tauSeconds / framePeriodSeconds)));
+    window_.resize(lifetime_);
+  } else if (weighting_ == DpcWeighting::kSeed) {
     // An entry is read out in the frame that creates it and every frame until it is tau old.
     lifetime_ = uint32_t(std::max(1.0, std::round(tauSeconds / framePeriodSeconds)));
     a_ = 1.0;
@@ -67,6 +70,7 @@ void DiffusePathCache::clear() {
   decayPow_ = 1.0;
   raysTotal_ = 0;
   std::fill(raysBefore_.begin(), raysBefore_.end(), 0);
+  for (auto& terms : window_) terms.clear();
 }
 
 size_t DiffusePathCache::bytes() const {
@@ -74,7 +78,52 @@ size_t DiffusePathCache::bytes() const {
   return entries_.capacity() * sizeof(Entry) +
          index_.bucket_count() * (sizeof(std::pair<uint64_t, uint32_t>) + sizeof(uint64_t)) +
          raysBefore_.capacity() * sizeof(uint64_t) +
-         scratch_.capacity() * sizeof(std::pair<uint32_t, uint32_t>);
+         scratch_.capacity() * sizeof(std::pair<uint32_t, uint32_t>) + windowBytes();
+}
+
+size_t DiffusePathCache::windowBytes() const {
+  size_t b = window_.capacity() * sizeof(std::vector<WindowTerm>);
+  for (const auto& terms : window_) b += terms.capacity() * sizeof(WindowTerm);
+  return b;
+}
+
+void DiffusePathCache::windowEndFrame(const FrameGroups& frame, float n, double invC,
+                                      EnergyResponse& out, DirectionalEnergyResponse* directional) {
+  // The slot of the frame W frames ago: subtract its terms, drop entries left without hits.
+  std::vector<WindowTerm>& slot = window_[frame_ % window_.size()];
+  for (const WindowTerm& t : slot) {
+    auto it = index_.find(t.key);
+    if (it == index_.end()) continue;  // removed by the entry cap
+    const size_t i = it->second;
+    Entry& e = entries_[i];
+    e.eta -= t.eta;  // integer counts: exact
+    if (e.eta <= 0.f) {
+      removeAt(i);
+      continue;
+    }
+    e.intensity -= t.intensity;
+    e.length -= t.length;
+    e.direction -= t.direction;
+  }
+  slot.clear();
+  for (const FrameGroups::Group& g : frame.groups()) {
+    bool inserted = false;
+    Entry* e = findOrInsert(g.key, inserted);
+    const Bands i = g.intensity / n;
+    e->intensity += i;
+    e->length += g.length;
+    e->eta += float(g.eta);
+    e->direction += g.direction;
+    e->stamp = frame_;
+    slot.push_back({g.key, i, g.length, float(g.eta), g.direction});
+  }
+  // Mean over the frames in the window so far (fewer than W at the start: still unbiased).
+  const float frames = float(std::min<uint64_t>(uint64_t(frame_) + 1, window_.size()));
+  for (const Entry& e : entries_) {
+    const double delay = meanDelaySeconds(e.length, e.eta, invC);
+    out.add(delay, e.intensity / frames);
+    if (directional) directional->add(delay, e.intensity / frames, e.direction);
+  }
 }
 
 DiffusePathCache::Entry* DiffusePathCache::findOrInsert(uint64_t key, bool& inserted) {
@@ -99,7 +148,9 @@ void DiffusePathCache::endFrame(const FrameGroups& frame, uint64_t raysEmitted, 
   const double invC = 1.0 / double(speedOfSound);
   raysBefore_[frame_ % raysBefore_.size()] = raysTotal_;
   raysTotal_ += raysEmitted;
-  if (weighting_ == DpcWeighting::kSeed) {
+  if (weighting_ == DpcWeighting::kWindow) {
+    windowEndFrame(frame, n, invC, out, directional);
+  } else if (weighting_ == DpcWeighting::kSeed) {
     // Eq. 3.4, applied to the frame's hits of each path at once (the same sums).
     for (const FrameGroups::Group& g : frame.groups()) {
       bool inserted = false;

@@ -668,7 +668,8 @@ void readPropagation(const JsonReader& r, const json& v, PropagationSettings& p)
   if (const json* x = JsonReader::find(v, "dpc_weighting")) {
     const std::string s = r.string(*x, f("dpc_weighting"));
     const auto w = parseDpcWeighting(s);
-    if (!w) r.fail(f("dpc_weighting"), inQuotes(s) + " is not one of \"ema\", \"seed\"");
+    if (!w)
+      r.fail(f("dpc_weighting"), inQuotes(s) + " is not one of \"ema\", \"seed\", \"window\"");
     p.dpcWeighting = *w;
   }
   if (const json* x = JsonReader::find(v, "temperature"))
@@ -941,6 +942,7 @@ std::optional<Estimator> parseEstimator(const std::string& s) {
 std::optional<DpcWeighting> parseDpcWeighting(const std::string& s) {
   if (s == "ema") return DpcWeighting::kEma;
   if (s == "seed") return DpcWeighting::kSeed;
+  if (s == "window") return DpcWeighting::kWindow;
   return std::nullopt;
 }
 

@@ -112,6 +112,10 @@ enum class Estimator {
 enum class DpcWeighting {
   kSeed,  ///< thesis eq. 3.2: I_hat / mu, mu = rays emitted since the entry was created
   kEma,   ///< unbiased: exponential moving average of per-frame estimates, time constant tau
+  /// Unbiased: mean of the per-frame estimates over the last tau of frames (a sliding window,
+  /// stored sparsely: only the frames that hit the entry). A change is answered fully after
+  /// tau (docs/dynamic.md).
+  kWindow,
 };
 
 struct PropagationSettings {

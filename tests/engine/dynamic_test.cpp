@@ -152,3 +152,105 @@ TEST_CASE("An object between source and listener occludes the direct sound", "[d
   sim.runFrame(s.listener.position);
   CHECK_FALSE(sim.result(0).direct.visible);
 }
+
+namespace {
+
+/// Two rooms 5 x 3 x 4 m side by side along x (x in [0, 10]), joined by a 1 m wide, 2 m high
+/// doorway in the wall x = 5 at z in [3, 4]; a door panel (local frame: the doorway's size
+/// plus 5 cm all round, 1 cm off the wall) seals it when placed at the doorway. Source and
+/// listener sit in different rooms without line of sight.
+SceneDesc twoRooms(DpcWeighting weighting, float tau) {
+  SceneDesc s = test::makeShoebox({10, 3, 4}, Bands(0.1f), 0.6f, {2, 1.2f, 1}, {8, 1.2f, 1}, 0.5f);
+  const glm::vec3 y{0, 1, 0}, z{0, 0, 1};
+  addPanel(s.mesh, {5, 0, 0}, 3.f * z, 3.f * y, 0);  // below z = 3, full height
+  addPanel(s.mesh, {5, 2, 3}, 1.f * z, 1.f * y, 0);  // above the doorway
+  ObjectDesc door;
+  door.name = "door";
+  addPanel(door.mesh, {0, -0.05f, -0.05f}, 1.1f * z, 2.1f * y, 0);
+  ObjectKeyframe shut;
+  shut.position = {5.01f, 0.f, 3.f};
+  door.trajectory = {shut};
+  s.objects.push_back(door);
+  s.propagation.estimator = Estimator::kDpc;
+  s.propagation.dpcWeighting = weighting;
+  s.propagation.cacheTau = tau;
+  s.propagation.frameRate = 10.f;
+  s.propagation.raysPerFrame = 8192;
+  s.propagation.maxOrder = 40;
+  return s;
+}
+
+const Pose kDoorShut{{5.01f, 0.f, 3.f}, glm::quat(1, 0, 0, 0)};
+/// Swung open by 90 degrees about its hinge edge (the vertical edge at z = 3): into room B.
+const Pose kDoorOpen{{5.01f, 0.f, 2.95f},
+                     glm::angleAxis(float(3.14159265358979323846 / 2), glm::vec3(0, 1, 0))};
+
+}  // namespace
+
+TEST_CASE("A door closing and opening is answered within tau by the window estimator",
+          "[dynamic][response]") {
+  const float tau = 0.5f;
+  SceneDesc s = twoRooms(DpcWeighting::kWindow, tau);
+  Simulation sim(s);
+  const glm::vec3 L = s.listener.position;
+  const int W = int(std::lround(tau * s.propagation.frameRate));  // frames in tau
+  auto late = [&] { return double(sim.result(0).energy.total()[3]); };
+
+  // Open: settle for 2 tau, then the reference level is the mean of 4 tau of readouts
+  // (each the mean of W independent frames; the reference's own error is 1/sqrt(4) of that).
+  sim.setObjectPoses({kDoorOpen});
+  for (int f = 0; f < 2 * W; ++f) sim.runFrame(L);
+  double open = 0.0;
+  for (int f = 0; f < 4 * W; ++f) sim.runFrame(L), open += late();
+  open /= 4 * W;
+  REQUIRE(open > 0.0);
+  CHECK_FALSE(sim.result(0).direct.visible);  // no line of sight through the doorway
+
+  // Shut: only the 1 cm slit round the door joins the rooms, so the settled level is near 0
+  // (well under 1 % of the open level here); the readout must have
+  // dropped by >= 90 % at the last frame within tau of the change (W - 1 frame periods later).
+  sim.setObjectPoses({kDoorShut});
+  std::vector<double> closing;
+  for (int f = 0; f < W; ++f) sim.runFrame(L), closing.push_back(late());
+  INFO("open level " << open << ", after shutting " << closing.front() << " .. " << closing.back());
+  CHECK(closing.back() <= 0.1 * open);
+
+  // Open again: >= 90 % restored within tau. The readout at W - 1 is a mean of W frames whose
+  // relative standard error (measured below over the settled open frames) must leave room:
+  // we require it at the 90 % line minus 3 standard errors of the readout would fail, so the
+  // test asserts readout >= 0.9 * open and separately that the error is below 3 %.
+  sim.setObjectPoses({kDoorOpen});
+  std::vector<double> opening;
+  for (int f = 0; f < W; ++f) sim.runFrame(L), opening.push_back(late());
+  INFO("after opening " << opening.front() << " .. " << opening.back());
+  CHECK(opening.back() >= 0.9 * open);
+  double sum = 0.0, sum2 = 0.0;
+  const int n = 4 * W;
+  for (int f = 0; f < n; ++f) {
+    sim.runFrame(L);
+    sum += late(), sum2 += late() * late();
+  }
+  const double mean = sum / n, sd = std::sqrt(std::max(0.0, sum2 / n - mean * mean));
+  INFO("settled open readout: mean " << mean << ", sd " << sd);
+  CHECK(sd < 0.033 * mean);  // 0.9 is 3 standard deviations below the mean: the check is sound
+  CHECK(mean == Approx(open).epsilon(0.05));  // unbiased: the same level as before
+}
+
+TEST_CASE("The EMA tuned to tau answers slower than tau (what the window fixes)",
+          "[dynamic][response]") {
+  // Documents the difference measured in docs/dynamic.md: the EMA's readout 1 - exp(-t/tau)
+  // is only 1 - exp(-(W-1)/W) ~ 55 % of the way after W - 1 frames, so it cannot meet the 90 %
+  // bound; it needs ~2.3 tau.
+  const float tau = 0.5f;
+  SceneDesc s = twoRooms(DpcWeighting::kEma, tau);
+  s.propagation.raysPerFrame = 2048;
+  Simulation sim(s);
+  const glm::vec3 L = s.listener.position;
+  const int W = int(std::lround(tau * s.propagation.frameRate));
+  sim.setObjectPoses({kDoorOpen});
+  for (int f = 0; f < 6 * W; ++f) sim.runFrame(L);
+  const double open = sim.result(0).energy.total()[3];
+  sim.setObjectPoses({kDoorShut});
+  for (int f = 0; f < W; ++f) sim.runFrame(L);
+  CHECK(sim.result(0).energy.total()[3] > 0.3 * open);  // far from a 90 % drop
+}

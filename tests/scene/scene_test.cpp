@@ -556,6 +556,7 @@ TEST_CASE("parseEstimator and parseDpcWeighting", "[scene]") {
   CHECK_FALSE(parseEstimator("DPC").has_value());
   CHECK(parseDpcWeighting("ema") == DpcWeighting::kEma);
   CHECK(parseDpcWeighting("seed") == DpcWeighting::kSeed);
+  CHECK(parseDpcWeighting("window") == DpcWeighting::kWindow);
   CHECK_FALSE(parseDpcWeighting("").has_value());
 }
 

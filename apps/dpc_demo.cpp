@@ -418,8 +418,8 @@ int main(int argc, char** argv) {
   app.add_option("--tau", fl.tau, "Cache response time tau, seconds (0 = path tracing)");
   app.add_option("--estimator", fl.estimator, "dpc | path_tracing");
   app.add_option("--dpc-weighting", fl.weighting,
-                 "ema (unbiased, default) | seed (thesis eq. 3.2; biased high) | window (unbiased, "
-                 "answers within tau)");
+                 "window (unbiased, answers within tau; default) | ema (unbiased, slower) | seed "
+                 "(thesis eq. 3.2; biased high)");
   app.add_option("--threads", fl.threads, "Tracing threads (0 = all cores)");
   app.add_option("--ir-out", fl.irOut, "Also write the last frame's IR (all channels) as WAV");
   app.add_option("--gain-db", fl.gainDb,

@@ -127,7 +127,7 @@ struct PropagationSettings {
   float irLength = 2.0f;    ///< impulse response length, seconds
   uint64_t seed = 1;        ///< random seed; the same seed gives bit-identical output
   Estimator estimator = Estimator::kDpc;
-  DpcWeighting dpcWeighting = DpcWeighting::kEma;
+  DpcWeighting dpcWeighting = DpcWeighting::kWindow;  ///< default: docs/dynamic.md
   float speedOfSound = 343.f;    ///< m/s
   float temperatureC = 20.f;     ///< air temperature, degrees Celsius (ISO 9613-1)
   float humidityPercent = 50.f;  ///< relative humidity, percent (ISO 9613-1)

@@ -14,17 +14,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-/// Appends a double-sided rectangular panel (4 triangles) of material m: corner o, edges u, v.
-void addPanel(Mesh& mesh, glm::vec3 o, glm::vec3 u, glm::vec3 v, uint32_t m) {
-  const auto base = uint32_t(mesh.vertices.size());
-  mesh.vertices.insert(mesh.vertices.end(), {o, o + u, o + u + v, o + v});
-  for (const std::array<uint32_t, 3>& t :
-       std::initializer_list<std::array<uint32_t, 3>>{{0, 1, 2}, {0, 2, 3}, {0, 2, 1}, {0, 3, 2}}) {
-    mesh.triangles.push_back({base + t[0], base + t[1], base + t[2]});
-    mesh.materialIndex.push_back(m);
-  }
-}
-
 }  // namespace
 
 TEST_CASE("A source moving in a free field: delay r/c and energy 1/(4 pi r^2) every frame",
@@ -33,7 +22,7 @@ TEST_CASE("A source moving in a free field: delay r/c and energy 1/(4 pi r^2) ev
   SceneDesc s;
   s.path = "<free field>";
   s.materials.push_back(Material{"absorber", Bands(1.f), 0.f});
-  addPanel(s.mesh, {-100, -50, -100}, {200, 0, 0}, {0, 0, 200}, 0);
+  test::addPanel(s.mesh, {-100, -50, -100}, {200, 0, 0}, {0, 0, 200}, 0);
   SourceDesc src{"walker", {0, 0, 0}, "", 0.f};
   Keyframe a, b;
   a.timeSeconds = 0.0, a.position = {1, 0, 0};
@@ -75,7 +64,7 @@ TEST_CASE("An object moved to a pose equals the static scene with it baked in (t
   // A 2 m x 3 m panel in local coordinates, placed by a pose: 30 degrees about +y, moved.
   ObjectDesc door;
   door.name = "door";
-  addPanel(door.mesh, {0, 0, 0}, {2, 0, 0}, {0, 3, 0}, 1);
+  test::addPanel(door.mesh, {0, 0, 0}, {2, 0, 0}, {0, 3, 0}, 1);
   ObjectKeyframe key;
   key.position = {3.5f, 0.5f, 2.5f};
   key.rotation = glm::angleAxis(float(kPi / 6), glm::vec3(0, 1, 0));
@@ -134,7 +123,7 @@ TEST_CASE("An object between source and listener occludes the direct sound", "[d
   s.propagation.raysPerFrame = 16;
   ObjectDesc wall;
   wall.name = "screen";
-  addPanel(wall.mesh, {0, -1, -1}, {0, 2, 0}, {0, 0, 2}, 0);  // 2 m x 2 m in the local y-z plane
+  test::addPanel(wall.mesh, {0, -1, -1}, {0, 2, 0}, {0, 0, 2}, 0);  // 2 m x 2 m in the local y-z plane
   ObjectKeyframe k;
   k.position = {5, 2, 2};
   wall.trajectory = {k};
@@ -153,44 +142,11 @@ TEST_CASE("An object between source and listener occludes the direct sound", "[d
   CHECK_FALSE(sim.result(0).direct.visible);
 }
 
-namespace {
-
-/// Two rooms 5 x 3 x 4 m side by side along x (x in [0, 10]), joined by a 1 m wide, 2 m high
-/// doorway in the wall x = 5 at z in [3, 4]; a door panel (local frame: the doorway's size
-/// plus 5 cm all round, 1 cm off the wall) seals it when placed at the doorway. Source and
-/// listener sit in different rooms without line of sight.
-SceneDesc twoRooms(DpcWeighting weighting, float tau) {
-  SceneDesc s = test::makeShoebox({10, 3, 4}, Bands(0.1f), 0.6f, {2, 1.2f, 1}, {8, 1.2f, 1}, 0.5f);
-  const glm::vec3 y{0, 1, 0}, z{0, 0, 1};
-  addPanel(s.mesh, {5, 0, 0}, 3.f * z, 3.f * y, 0);  // below z = 3, full height
-  addPanel(s.mesh, {5, 2, 3}, 1.f * z, 1.f * y, 0);  // above the doorway
-  ObjectDesc door;
-  door.name = "door";
-  addPanel(door.mesh, {0, -0.05f, -0.05f}, 1.1f * z, 2.1f * y, 0);
-  ObjectKeyframe shut;
-  shut.position = {5.01f, 0.f, 3.f};
-  door.trajectory = {shut};
-  s.objects.push_back(door);
-  s.propagation.estimator = Estimator::kDpc;
-  s.propagation.dpcWeighting = weighting;
-  s.propagation.cacheTau = tau;
-  s.propagation.frameRate = 10.f;
-  s.propagation.raysPerFrame = 8192;
-  s.propagation.maxOrder = 40;
-  return s;
-}
-
-const Pose kDoorShut{{5.01f, 0.f, 3.f}, glm::quat(1, 0, 0, 0)};
-/// Swung open by 90 degrees about its hinge edge (the vertical edge at z = 3): into room B.
-const Pose kDoorOpen{{5.01f, 0.f, 2.95f},
-                     glm::angleAxis(float(3.14159265358979323846 / 2), glm::vec3(0, 1, 0))};
-
-}  // namespace
 
 TEST_CASE("A door closing and opening is answered within tau by the window estimator",
           "[dynamic][response]") {
   const float tau = 0.5f;
-  SceneDesc s = twoRooms(DpcWeighting::kWindow, tau);
+  SceneDesc s = test::twoRooms(DpcWeighting::kWindow, tau);
   Simulation sim(s);
   const glm::vec3 L = s.listener.position;
   const int W = int(std::lround(tau * s.propagation.frameRate));  // frames in tau
@@ -198,7 +154,7 @@ TEST_CASE("A door closing and opening is answered within tau by the window estim
 
   // Open: settle for 2 tau, then the reference level is the mean of 4 tau of readouts
   // (each the mean of W independent frames; the reference's own error is 1/sqrt(4) of that).
-  sim.setObjectPoses({kDoorOpen});
+  sim.setObjectPoses({test::kDoorOpen});
   for (int f = 0; f < 2 * W; ++f) sim.runFrame(L);
   double open = 0.0;
   for (int f = 0; f < 4 * W; ++f) sim.runFrame(L), open += late();
@@ -209,7 +165,7 @@ TEST_CASE("A door closing and opening is answered within tau by the window estim
   // Shut: only the 1 cm slit round the door joins the rooms, so the settled level is near 0
   // (well under 1 % of the open level here); the readout must have
   // dropped by >= 90 % at the last frame within tau of the change (W - 1 frame periods later).
-  sim.setObjectPoses({kDoorShut});
+  sim.setObjectPoses({test::kDoorShut});
   std::vector<double> closing;
   for (int f = 0; f < W; ++f) sim.runFrame(L), closing.push_back(late());
   INFO("open level " << open << ", after shutting " << closing.front() << " .. " << closing.back());
@@ -219,7 +175,7 @@ TEST_CASE("A door closing and opening is answered within tau by the window estim
   // relative standard error (measured below over the settled open frames) must leave room:
   // we require it at the 90 % line minus 3 standard errors of the readout would fail, so the
   // test asserts readout >= 0.9 * open and separately that the error is below 3 %.
-  sim.setObjectPoses({kDoorOpen});
+  sim.setObjectPoses({test::kDoorOpen});
   std::vector<double> opening;
   for (int f = 0; f < W; ++f) sim.runFrame(L), opening.push_back(late());
   INFO("after opening " << opening.front() << " .. " << opening.back());
@@ -242,15 +198,15 @@ TEST_CASE("The EMA tuned to tau answers slower than tau (what the window fixes)"
   // is only 1 - exp(-(W-1)/W) ~ 55 % of the way after W - 1 frames, so it cannot meet the 90 %
   // bound; it needs ~2.3 tau.
   const float tau = 0.5f;
-  SceneDesc s = twoRooms(DpcWeighting::kEma, tau);
+  SceneDesc s = test::twoRooms(DpcWeighting::kEma, tau);
   s.propagation.raysPerFrame = 2048;
   Simulation sim(s);
   const glm::vec3 L = s.listener.position;
   const int W = int(std::lround(tau * s.propagation.frameRate));
-  sim.setObjectPoses({kDoorOpen});
+  sim.setObjectPoses({test::kDoorOpen});
   for (int f = 0; f < 6 * W; ++f) sim.runFrame(L);
   const double open = sim.result(0).energy.total()[3];
-  sim.setObjectPoses({kDoorShut});
+  sim.setObjectPoses({test::kDoorShut});
   for (int f = 0; f < W; ++f) sim.runFrame(L);
   CHECK(sim.result(0).energy.total()[3] > 0.3 * open);  // far from a 90 % drop
 }

@@ -106,14 +106,21 @@ void applyAudioOverrides(SceneDesc& scene, const Flags& fl) {
     scene.audio.hrtfPath = fl.hrtf;
     if (fl.output.empty()) scene.audio.output = OutputFormat::kBinaural;
   }
-  if (!fl.listener.empty()) {
-    selectListener(scene, fl.listener, "--listener");
-  } else if (scene.listeners.size() > 1) {
-    scene.warnings.push_back(fl.scene + ": listeners: " + std::to_string(scene.listeners.size()) +
-                             " listeners; rendering the first, \"" + scene.listener.name +
-                             "\" (choose with --listener NAME)");
-  }
+  if (!fl.listener.empty()) selectListener(scene, fl.listener, "--listener");
 }
+
+/// OUT.wav -> OUT-NAME.wav (the listener's name before the extension).
+std::string withListener(const std::string& path, const std::string& name) {
+  if (path.empty()) return path;
+  const size_t slash = path.find_last_of('/');
+  const size_t dot = path.rfind('.');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash))
+    return path + "-" + name;
+  return path.substr(0, dot) + "-" + name + path.substr(dot);
+}
+
+int renderOne(const Flags& fl, const SceneDesc& scene, const PropagationSettings& settings,
+              const DrySignals& dry, const std::string& outPath, const std::string& irPath);
 
 int runOffline(const Flags& fl) {
   SceneDesc scene = loadScene(fl.scene);
@@ -124,7 +131,22 @@ int runOffline(const Flags& fl) {
     throw InputError("command line", "--duration", "must be > 0 seconds");
   const DrySignals dry = loadDrySignals(scene);
   for (const std::string& n : dry.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
+  // Without --listener every listener is rendered: one listener writes the names as given,
+  // several write OUT-NAME.wav (and IR-NAME.wav) each.
+  if (fl.listener.empty() && scene.listeners.size() > 1) {
+    for (const ListenerDesc& l : scene.listeners) {
+      selectListener(scene, l.name, "--listener");
+      const int rc = renderOne(fl, scene, settings, dry, withListener(fl.offline, l.name),
+                               withListener(fl.irOut, l.name));
+      if (rc != 0) return rc;
+    }
+    return 0;
+  }
+  return renderOne(fl, scene, settings, dry, fl.offline, fl.irOut);
+}
 
+int renderOne(const Flags& fl, const SceneDesc& scene, const PropagationSettings& settings,
+              const DrySignals& dry, const std::string& outPath, const std::string& irPath) {
   OfflineOptions opt;
   opt.durationSeconds = fl.hasDuration ? fl.duration : -1.0;
   if (!fl.quiet) opt.progress = progressBar;
@@ -140,13 +162,13 @@ int runOffline(const Flags& fl) {
   const float gain = float(std::pow(10.0, gainDb / 20.0));
   for (auto& ch : out.channels)
     for (float& x : ch) x *= gain;
-  audio::writeWav(fl.offline, out, audio::SampleFormat::kFloat32);
-  if (!fl.irOut.empty()) {
+  audio::writeWav(outPath, out, audio::SampleFormat::kFloat32);
+  if (!irPath.empty()) {
     audio::AudioData ir;
     ir.sampleRate = scene.audio.sampleRate;
     for (const auto& source : r.lastIrs)
       for (const auto& channel : source) ir.channels.push_back(channel);
-    audio::writeWav(fl.irOut, ir, audio::SampleFormat::kFloat32);
+    audio::writeWav(irPath, ir, audio::SampleFormat::kFloat32);
   }
 
   const double audioSeconds = double(out.frames()) / scene.audio.sampleRate;
@@ -154,10 +176,10 @@ int runOffline(const Flags& fl) {
   const char* format = scene.audio.output == OutputFormat::kBinaural ? "binaural"
                        : scene.audio.output == OutputFormat::kStereo ? "stereo"
                                                                      : "mono";
-  std::printf("wrote %s (%.2f s, %d Hz, %s, float32, gain %+.1f dB)\n", fl.offline.c_str(),
+  std::printf("wrote %s (%.2f s, %d Hz, %s, float32, gain %+.1f dB)\n", outPath.c_str(),
               audioSeconds, scene.audio.sampleRate, format, gainDb);
-  if (!fl.irOut.empty())
-    std::printf("wrote %s (last frame's IR, %zu channel(s): source-major)\n", fl.irOut.c_str(),
+  if (!irPath.empty())
+    std::printf("wrote %s (last frame's IR, %zu channel(s): source-major)\n", irPath.c_str(),
                 r.lastIrs.size() * r.lastIrs.front().size());
   std::printf(
       "frames %llu  IRs applied %llu  rays/s %.3g  segments/s %.3g  cache entries %zu (%.1f MB)\n"
@@ -231,6 +253,9 @@ int runLive(Flags& fl) {
   SceneDesc scene = loadScene(fl.scene);
   applyAudioOverrides(scene, fl);
   for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  if (fl.listener.empty() && scene.listeners.size() > 1)
+    std::fprintf(stderr, "note: playing listener \"%s\" of %zu (choose with --listener NAME)\n",
+                 scene.listener.name.c_str(), scene.listeners.size());
   PropagationSettings settings = applyOverrides(scene, fl);
   // Live: leave one core to the audio thread unless --threads says otherwise (measured on 2
   // cores: 245 late blocks in 20 s with both cores tracing, 24 with one; docs/live.md).

@@ -20,8 +20,6 @@
 #include <thread>
 #include <vector>
 
-#include "runtime/live_session.h"
-#include "runtime/render_pipeline.h"
 #include "audio/audio_device.h"
 #include "bench/bare_embree.h"
 #include "engine/input_error.h"
@@ -29,6 +27,8 @@
 #include "engine/noise_study.h"
 #include "engine/scene.h"
 #include "engine/simulation.h"
+#include "runtime/live_session.h"
+#include "runtime/render_pipeline.h"
 #include "test_scenes.h"
 
 using namespace dpc;
@@ -381,8 +381,9 @@ int benchDynamic(int rays, int frames) {
   j["scene"] = "two rooms 10 x 3 x 4 m, 1 x 2 m doorway, door shut/open by pose jumps";
   j["rays_per_frame"] = rays;
   json steps = json::array();
-  const std::pair<const char*, DpcWeighting> weightings[] = {
-      {"ema", DpcWeighting::kEma}, {"seed", DpcWeighting::kSeed}, {"window", DpcWeighting::kWindow}};
+  const std::pair<const char*, DpcWeighting> weightings[] = {{"ema", DpcWeighting::kEma},
+                                                             {"seed", DpcWeighting::kSeed},
+                                                             {"window", DpcWeighting::kWindow}};
   for (const auto& [name, w] : weightings) {
     for (double tau : {0.25, 0.5, 1.0, 2.0}) {
       // "ema_matched": the EMA with the time constant that completes 90 % of a step at tau
@@ -455,7 +456,8 @@ int benchDynamic(int rays, int frames) {
       o.name = "panel" + std::to_string(k);
       test::addPanel(o.mesh, {0, 0, 0}, {0.5f, 0, 0}, {0, 1, 0}, 0);
       ObjectKeyframe key;
-      key.position = {1.f + float(k % 10) * 1.8f, 0.5f + float(k / 50), 1.f + float(k / 10 % 5) * 3.6f};
+      key.position = {1.f + float(k % 10) * 1.8f, 0.5f + float(k / 50),
+                      1.f + float(k / 10 % 5) * 3.6f};
       o.trajectory = {key};
       for (glm::vec3 v : o.mesh.vertices) baked.mesh.vertices.push_back(v + key.position);
       const auto base = uint32_t(baked.mesh.vertices.size() - 4);

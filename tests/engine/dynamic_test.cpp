@@ -123,7 +123,8 @@ TEST_CASE("An object between source and listener occludes the direct sound", "[d
   s.propagation.raysPerFrame = 16;
   ObjectDesc wall;
   wall.name = "screen";
-  test::addPanel(wall.mesh, {0, -1, -1}, {0, 2, 0}, {0, 0, 2}, 0);  // 2 m x 2 m in the local y-z plane
+  test::addPanel(wall.mesh, {0, -1, -1}, {0, 2, 0}, {0, 0, 2},
+                 0);  // 2 m x 2 m in the local y-z plane
   ObjectKeyframe k;
   k.position = {5, 2, 2};
   wall.trajectory = {k};
@@ -141,7 +142,6 @@ TEST_CASE("An object between source and listener occludes the direct sound", "[d
   sim.runFrame(s.listener.position);
   CHECK_FALSE(sim.result(0).direct.visible);
 }
-
 
 TEST_CASE("A door closing and opening is answered within tau by the window estimator",
           "[dynamic][response]") {

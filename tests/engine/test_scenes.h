@@ -83,7 +83,6 @@ inline SceneDesc twoRooms(DpcWeighting weighting, float tau) {
 inline const Pose kDoorShut{{5.01f, 0.f, 3.f}, glm::quat(1, 0, 0, 0)};
 /// Swung open by 90 degrees about its hinge edge (the vertical edge at z = 3): into room B.
 inline const Pose kDoorOpen{{5.01f, 0.f, 2.95f},
-                     glm::angleAxis(float(3.14159265358979323846 / 2), glm::vec3(0, 1, 0))};
-
+                            glm::angleAxis(float(3.14159265358979323846 / 2), glm::vec3(0, 1, 0))};
 
 }  // namespace dpc::test

@@ -121,6 +121,8 @@ PropagationStage::PropagationStage(const SceneDesc& scene, const PropagationSett
   simulation_ = std::make_unique<Simulation>(scene, settings);
   sourcePositions_.resize(scene.sources.size());
   objectPoses_.resize(scene.objects.size());
+  sourceOverridden_.assign(scene.sources.size(), 0);
+  objectOverridden_.assign(scene.objects.size(), 0);
   const int fs = scene.audio.sampleRate;
   if (scene.audio.output == OutputFormat::kMono) {
     for (size_t s = 0; s < scene.sources.size(); ++s)
@@ -146,6 +148,18 @@ PropagationStage::PropagationStage(const SceneDesc& scene, const PropagationSett
               std::vector<std::vector<float>>(size_t(numOutputs_), std::vector<float>(irSamples_)));
 }
 
+void PropagationStage::overrideSource(size_t index, const glm::vec3& position) {
+  if (index >= sourcePositions_.size()) return;
+  sourcePositions_[index] = position;
+  sourceOverridden_[index] = 1;
+}
+
+void PropagationStage::overrideObject(size_t index, const Pose& pose) {
+  if (index >= objectPoses_.size()) return;
+  objectPoses_[index] = pose;
+  objectOverridden_[index] = 1;
+}
+
 IrSet* PropagationStage::computeFrame(const glm::vec3& listener, const Orientation& orientation,
                                       double t) {
   if (free_.empty()) return nullptr;
@@ -156,11 +170,11 @@ IrSet* PropagationStage::computeFrame(const glm::vec3& listener, const Orientati
   // Sources follow their trajectories at scene time t (fixed sources stay where they are).
   sourcePositions_.resize(scene_.sources.size());
   for (size_t s = 0; s < scene_.sources.size(); ++s)
-    sourcePositions_[s] = sourcePositionAt(scene_.sources[s], t);
+    if (!sourceOverridden_[s]) sourcePositions_[s] = sourcePositionAt(scene_.sources[s], t);
   if (!scene_.objects.empty()) {
     objectPoses_.resize(scene_.objects.size());
     for (size_t k = 0; k < scene_.objects.size(); ++k)
-      objectPoses_[k] = objectPoseAt(scene_.objects[k], t);
+      if (!objectOverridden_[k]) objectPoses_[k] = objectPoseAt(scene_.objects[k], t);
     simulation_->setObjectPoses(objectPoses_);
   }
   simulation_->runFrame(listener, sourcePositions_);

@@ -300,7 +300,12 @@ int runLive(Flags& fl) {
                output->device().spec().c_str(), output->device().hostApi.c_str(),
                output->sampleRate(), output->blockSize(), output->outputLatency() * 1e3);
 
-  // Pose: the trajectory on a wall clock (space pauses it), or the keyboard.
+  // Pose: the trajectory on a wall clock (space pauses it), or the keyboard. 'l' switches to
+  // the scene's next listener (its trajectory; the sphere radius stays the first one's).
+  const ListenerDesc* played = &scene.listener;
+  size_t playedIndex = 0;
+  for (size_t i = 0; i < scene.listeners.size(); ++i)
+    if (scene.listeners[i].name == scene.listener.name) playedIndex = i;
   double sceneTime = 0.0;
   bool paused = false, manual = false;
   glm::vec3 position = listenerPositionAt(scene.listener, 0.0);
@@ -311,7 +316,8 @@ int runLive(Flags& fl) {
   if (fl.interactive) {
     terminal = std::make_unique<RawTerminal>();
     std::fprintf(stderr,
-                 "keys: arrows/WASD move, Q/E turn, space pauses the trajectory, q quits\n");
+                 "keys: arrows/WASD move, Q/E turn, space pauses the trajectory, l next "
+                 "listener, q quits\n");
   }
   session.start();
   output->start();
@@ -338,6 +344,13 @@ int runLive(Flags& fl) {
             break;
           case ' ':
             paused = !paused;
+            break;
+          case 'l':
+            playedIndex = (playedIndex + 1) % scene.listeners.size();
+            played = &scene.listeners[playedIndex];
+            position = listenerPositionAt(*played, sceneTime);
+            manual = false;
+            std::fprintf(stderr, "\nlistener \"%s\"\n", played->name.c_str());
             break;
           case 'w':
           case 256 + 'U':
@@ -371,9 +384,9 @@ int runLive(Flags& fl) {
     }
     if (!paused && !manual) {
       sceneTime += dt;
-      position = listenerPositionAt(scene.listener, sceneTime);
+      position = listenerPositionAt(*played, sceneTime);
     }
-    const Orientation heading = listenerOrientationAt(scene.listener, sceneTime);
+    const Orientation heading = listenerOrientationAt(*played, sceneTime);
     yaw = heading.yawRadians + yawOffset;
     session.setPose(position, yaw, sceneTime, heading.pitchRadians);
     if (std::chrono::duration<double>(now - lastStatus).count() >= 1.0) {

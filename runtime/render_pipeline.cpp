@@ -162,21 +162,31 @@ void PropagationStage::overrideObject(size_t index, const Pose& pose) {
 
 IrSet* PropagationStage::computeFrame(const glm::vec3& listener, const Orientation& orientation,
                                       double t) {
+  // Sources and objects follow their trajectories at scene time t unless a host took over.
+  for (size_t s = 0; s < scene_.sources.size(); ++s)
+    if (!sourceOverridden_[s]) sourcePositions_[s] = sourcePositionAt(scene_.sources[s], t);
+  for (size_t k = 0; k < scene_.objects.size(); ++k)
+    if (!objectOverridden_[k]) objectPoses_[k] = objectPoseAt(scene_.objects[k], t);
+  return runPrepared(listener, orientation, t);
+}
+
+IrSet* PropagationStage::computeFrame(const WorldState& world, size_t listener) {
+  for (size_t s = 0; s < sourcePositions_.size() && s < world.sourcePositions.size(); ++s)
+    sourcePositions_[s] = world.sourcePositions[s];
+  for (size_t k = 0; k < objectPoses_.size() && k < world.objectPoses.size(); ++k)
+    objectPoses_[k] = world.objectPoses[k];
+  return runPrepared(world.listenerPositions.at(listener), world.listenerOrientations.at(listener),
+                     world.timeSeconds);
+}
+
+IrSet* PropagationStage::runPrepared(const glm::vec3& listener, const Orientation& orientation,
+                                     double t) {
   if (free_.empty()) return nullptr;
   IrSet* set = free_.back();
   free_.pop_back();
   auto t0 = std::chrono::steady_clock::now();
   simulation_->setListenerOrientation(orientation);
-  // Sources follow their trajectories at scene time t (fixed sources stay where they are).
-  sourcePositions_.resize(scene_.sources.size());
-  for (size_t s = 0; s < scene_.sources.size(); ++s)
-    if (!sourceOverridden_[s]) sourcePositions_[s] = sourcePositionAt(scene_.sources[s], t);
-  if (!scene_.objects.empty()) {
-    objectPoses_.resize(scene_.objects.size());
-    for (size_t k = 0; k < scene_.objects.size(); ++k)
-      if (!objectOverridden_[k]) objectPoses_[k] = objectPoseAt(scene_.objects[k], t);
-    simulation_->setObjectPoses(objectPoses_);
-  }
+  if (!objectPoses_.empty()) simulation_->setObjectPoses(objectPoses_);
   simulation_->runFrame(listener, sourcePositions_);
   totals_.traceSeconds += secondsSince(t0);
   for (size_t s = 0; s < simulation_->sourceCount(); ++s) {

@@ -210,3 +210,25 @@ TEST_CASE("The EMA tuned to tau answers slower than tau (what the window fixes)"
   for (int f = 0; f < W; ++f) sim.runFrame(L);
   CHECK(sim.result(0).energy.total()[3] > 0.3 * open);  // far from a 90 % drop
 }
+
+TEST_CASE("tau = 0 is plain path tracing bit for bit with source, object and listener moving",
+          "[dynamic]") {
+  for (DpcWeighting w : {DpcWeighting::kWindow, DpcWeighting::kEma, DpcWeighting::kSeed}) {
+    SceneDesc dpc = test::twoRooms(w, 0.f);
+    dpc.propagation.raysPerFrame = 512;
+    SceneDesc pt = dpc;
+    pt.propagation.estimator = Estimator::kPathTracing;
+    Simulation a(dpc), b(pt);
+    for (int f = 0; f < 6; ++f) {
+      const float u = float(f) / 5.f;
+      const Pose door{test::kDoorShut.position,
+                      glm::slerp(test::kDoorShut.rotation, test::kDoorOpen.rotation, u)};
+      const glm::vec3 src{2.f + u, 1.2f, 1.f}, lis{8.f - u, 1.2f, 1.f + u};
+      a.setObjectPoses({door});
+      b.setObjectPoses({door});
+      a.runFrame(lis, {src});
+      b.runFrame(lis, {src});
+      CHECK(test::identical(a.result(0).energy, b.result(0).energy));
+    }
+  }
+}

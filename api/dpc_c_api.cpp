@@ -117,20 +117,36 @@ dpc_status dpc_engine_set_listener(dpc_engine* engine, float x, float y, float z
   return DPC_OK;
 }
 
-dpc_status dpc_engine_set_source_position(dpc_engine*, int, float, float, float) {
-  return fail(DPC_ERR_UNSUPPORTED,
-              "dpc_engine_set_source_position: sources move only along the scene's trajectories "
-              "in this version");
+dpc_status dpc_engine_set_source_position(dpc_engine* engine, int source, float x, float y,
+                                          float z) {
+  // Any thread: no message on failure (setting it would allocate).
+  if (!engine || source < 0 || source >= engine->sources || !std::isfinite(x) ||
+      !std::isfinite(y) || !std::isfinite(z))
+    return DPC_ERR_INVALID_ARGUMENT;
+  return engine->session->setSourcePosition(size_t(source), glm::vec3(x, y, z))
+             ? DPC_OK
+             : DPC_ERR_INVALID_ARGUMENT;
+}
+
+dpc_status dpc_engine_set_object_pose(dpc_engine* engine, int object, float x, float y, float z,
+                                      float qx, float qy, float qz, float qw) {
+  if (!engine || object < 0 || object >= int(engine->scene.objects.size())) return DPC_ERR_INVALID_ARGUMENT;
+  const float q[4] = {qx, qy, qz, qw};
+  for (float v : {x, y, z, qx, qy, qz, qw})
+    if (!std::isfinite(v)) return DPC_ERR_INVALID_ARGUMENT;
+  return engine->session->setObjectPose(size_t(object), glm::vec3(x, y, z), q)
+             ? DPC_OK
+             : DPC_ERR_INVALID_ARGUMENT;
 }
 
 dpc_status dpc_engine_process(dpc_engine* engine, const float* const* inputs, float* const* outputs,
                               int frames) {
-  if (!engine || !outputs || frames <= 0) return DPC_ERR_INVALID_ARGUMENT;
-  // The session renders blocks of its own block size from the scene's dry signals; any other
-  // call is zeroed and counted by the session (late blocks).
-  engine->session->render(outputs, frames);
-  if (inputs || frames != engine->session->blockSize()) return DPC_ERR_UNSUPPORTED;
-  return DPC_OK;
+  if (!engine || !outputs) return DPC_ERR_INVALID_ARGUMENT;
+  // The session adapts any callback size to its block; sizes outside 1..8192 output nothing and
+  // are counted (dpc_stats.rejected_callbacks).
+  engine->session->render(inputs, outputs, frames);
+  return frames >= 1 && frames <= dpc::LiveSession::kMaxCallbackFrames ? DPC_OK
+                                                                         : DPC_ERR_INVALID_ARGUMENT;
 }
 
 int dpc_engine_sample_rate(const dpc_engine* e) {
@@ -144,6 +160,12 @@ int dpc_engine_output_channels(const dpc_engine* e) {
 }
 int dpc_engine_source_count(const dpc_engine* e) {
   return e ? e->sources : 0;
+}
+int dpc_engine_object_count(const dpc_engine* e) {
+  return e ? int(e->scene.objects.size()) : 0;
+}
+int dpc_engine_latency_frames(const dpc_engine* e) {
+  return e ? e->session->adapterLatencyFrames() : 0;
 }
 
 dpc_status dpc_engine_get_stats(dpc_engine* engine, dpc_stats* out) {
@@ -159,7 +181,12 @@ dpc_status dpc_engine_get_stats(dpc_engine* engine, dpc_stats* out) {
     out->ir_age_ms = s.irAgeMs;
     out->blocks = s.blocks;
     out->nan_blocks = s.nanBlocks;
-    out->late_blocks = s.lateBlocks;
+    out->late_callbacks = s.lateCallbacks;
+    out->rejected_callbacks = s.rejectedCallbacks;
+    out->cache_bytes = s.cacheBytes;
+    out->cache_budget_bytes = s.cacheBudgetBytes;
+    out->cache_merged_entries = s.cacheMergedEntries;
+    out->cache_merged_energy_fraction = s.cacheMergedEnergyFraction;
     return DPC_OK;
   });
 }

@@ -30,7 +30,8 @@ using namespace dpc;
 namespace {
 
 struct Flags {
-  std::string scene, offline, irOut, erOut, estimator, weighting, device, record, output, hrtf;
+  std::string scene, offline, irOut, erOut, estimator, weighting, device, record, output, hrtf,
+      listener;
   int64_t blockSize = 0;
   bool listDevices = false, interactive = false, hasBlockSize = false;
   double duration = 0.0, tau = 0.0, gainDb = 0.0, cacheMb = 64.0;
@@ -111,7 +112,7 @@ PropagationSettings applyOverrides(const SceneDesc& scene, const Flags& fl) {
   }
   if (!fl.weighting.empty()) {
     auto w = parseDpcWeighting(fl.weighting);
-    if (!w) bad("--dpc-weighting", "'" + fl.weighting + "' is not ema or seed");
+    if (!w) bad("--dpc-weighting", "'" + fl.weighting + "' is not ema, seed or window");
     s.dpcWeighting = *w;
   }
   return s;
@@ -132,19 +133,53 @@ void applyAudioOverrides(SceneDesc& scene, const Flags& fl) {
     scene.audio.hrtfPath = fl.hrtf;
     if (fl.output.empty()) scene.audio.output = OutputFormat::kBinaural;
   }
+  if (!fl.listener.empty()) selectListener(scene, fl.listener, "--listener");
 }
 
-/// Refuses, before any work, an output path that names an input (scene, mesh, dry signal, SOFA:
-/// same device and inode, symlinks followed), an existing non-regular file, the other output, or
-/// a folder that does not exist. writeWav then replaces the file only on success.
+/// OUT.wav -> OUT-NAME.wav (the listener's name before the extension).
+std::string withListener(const std::string& path, const std::string& name) {
+  if (path.empty()) return path;
+  const size_t slash = path.find_last_of('/');
+  const size_t dot = path.rfind('.');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash))
+    return path + "-" + name;
+  return path.substr(0, dot) + "-" + name + path.substr(dot);
+}
+
+/// The files one offline render writes for one listener (empty = not asked for).
+struct OutputPaths {
+  std::string audio, ir, energy;
+};
+
+/// Offline without --listener renders every listener: one listener writes the names as given,
+/// several write OUT-NAME.wav (and IR-NAME.wav, ER-NAME.csv) each.
+std::vector<OutputPaths> offlineOutputs(const SceneDesc& scene, const Flags& fl) {
+  if (!fl.listener.empty() || scene.listeners.size() <= 1) return {{fl.offline, fl.irOut, fl.erOut}};
+  std::vector<OutputPaths> v;
+  for (const ListenerDesc& l : scene.listeners)
+    v.push_back({withListener(fl.offline, l.name), withListener(fl.irOut, l.name),
+                 withListener(fl.erOut, l.name)});
+  return v;
+}
+
+/// Refuses, before any work, an output path that names an input (scene, meshes, dry signal,
+/// SOFA: same device and inode, symlinks followed), an existing non-regular file, another output,
+/// or a folder that does not exist. writeWav then replaces the file only on success.
 void checkOutputs(const SceneDesc& scene, const Flags& fl) {
   std::vector<std::pair<std::string, std::string>> inputs = {{fl.scene, "the scene file"},
                                                              {scene.meshPath, "the mesh"}};
+  for (const auto& obj : scene.objects) inputs.push_back({obj.meshPath, "an object's mesh"});
   for (const auto& src : scene.sources) inputs.push_back({src.signalPath, "a dry signal"});
   if (!scene.audio.hrtfPath.empty()) inputs.push_back({scene.audio.hrtfPath, "the SOFA file"});
-  const std::pair<const char*, std::string> outputs[] = {
-      {"--offline", fl.offline}, {"--ir-out", fl.irOut}, {"--record", fl.record}};
-  for (const auto& [flag, out] : outputs) {
+  std::vector<std::pair<const char*, std::string>> outputs = {{"--record", fl.record}};
+  if (!fl.offline.empty())
+    for (const OutputPaths& o : offlineOutputs(scene, fl)) {
+      outputs.push_back({"--offline", o.audio});
+      outputs.push_back({"--ir-out", o.ir});
+      outputs.push_back({"--er-out", o.energy});
+    }
+  for (size_t i = 0; i < outputs.size(); ++i) {
+    const auto& [flag, out] = outputs[i];
     if (out.empty()) continue;
     struct stat st {};
     if (::stat(out.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
@@ -153,12 +188,14 @@ void checkOutputs(const SceneDesc& scene, const Flags& fl) {
       if (sameFile(out, in))
         throw InputError("command line", flag,
                          "'" + out + "' is " + what + "; refusing to overwrite it");
-    for (const auto& [flag2, out2] : outputs)
-      if (flag2 != flag && !out2.empty() &&
+    for (size_t j = 0; j < outputs.size(); ++j) {
+      const auto& [flag2, out2] = outputs[j];
+      if (j != i && !out2.empty() &&
           (sameFile(out, out2) ||
            std::filesystem::weakly_canonical(std::filesystem::absolute(out)) ==
                std::filesystem::weakly_canonical(std::filesystem::absolute(out2))))
-        throw InputError("command line", flag, "'" + out + "' is also given to " + flag2);
+        throw InputError("command line", flag, "'" + out + "' is also written for " + flag2);
+    }
     std::filesystem::path folder = std::filesystem::path(out).parent_path();
     if (folder.empty()) folder = ".";
     std::error_code ec;
@@ -168,6 +205,9 @@ void checkOutputs(const SceneDesc& scene, const Flags& fl) {
       throw InputError("command line", flag, "folder '" + folder.string() + "' is not writable");
   }
 }
+
+int renderOne(const Flags& fl, const SceneDesc& scene, const PropagationSettings& settings,
+              const DrySignals& dry, const OutputPaths& paths);
 
 int runOffline(const Flags& fl) {
   SceneDesc scene = loadScene(fl.scene);
@@ -182,7 +222,18 @@ int runOffline(const Flags& fl) {
   checkOutputs(scene, fl);
   const DrySignals dry = loadDrySignals(scene);
   for (const std::string& n : dry.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
+  const std::vector<OutputPaths> paths = offlineOutputs(scene, fl);
+  if (paths.size() == 1) return renderOne(fl, scene, settings, dry, paths.front());
+  for (size_t l = 0; l < paths.size(); ++l) {
+    selectListener(scene, scene.listeners[l].name, "--listener");
+    const int rc = renderOne(fl, scene, settings, dry, paths[l]);
+    if (rc != 0) return rc;
+  }
+  return 0;
+}
 
+int renderOne(const Flags& fl, const SceneDesc& scene, const PropagationSettings& settings,
+              const DrySignals& dry, const OutputPaths& paths) {
   OfflineOptions opt;
   opt.durationSeconds = fl.hasDuration ? fl.duration : -1.0;
   if (!fl.quiet) opt.progress = progressBar;
@@ -203,19 +254,19 @@ int runOffline(const Flags& fl) {
   const float gain = float(std::pow(10.0, gainDb / 20.0));
   for (auto& ch : out.channels)
     for (float& x : ch) x *= gain;
-  audio::writeWav(fl.offline, out, audio::SampleFormat::kFloat32);
-  if (!fl.irOut.empty()) {
+  audio::writeWav(paths.audio, out, audio::SampleFormat::kFloat32);
+  if (!paths.ir.empty()) {
     audio::AudioData ir;
     ir.sampleRate = scene.audio.sampleRate;
     for (const auto& source : r.lastIrs)
       for (const auto& channel : source) ir.channels.push_back(channel);
-    audio::writeWav(fl.irOut, ir, audio::SampleFormat::kFloat32);
+    audio::writeWav(paths.ir, ir, audio::SampleFormat::kFloat32);
   }
-  if (!fl.erOut.empty()) {
+  if (!paths.energy.empty()) {
     std::vector<SourceEnergy> er;
     for (size_t s = 0; s < r.lastEnergy.size(); ++s)
       er.push_back({r.lastEnergy[s], r.lastDirect[s]});
-    writeEnergyCsv(fl.erOut, er);
+    writeEnergyCsv(paths.energy, er);
   }
 
   const double audioSeconds = double(out.frames()) / scene.audio.sampleRate;
@@ -223,13 +274,13 @@ int runOffline(const Flags& fl) {
   const char* format = scene.audio.output == OutputFormat::kBinaural ? "binaural"
                        : scene.audio.output == OutputFormat::kStereo ? "stereo"
                                                                      : "mono";
-  std::printf("wrote %s (%.2f s, %d Hz, %s, float32, gain %+.1f dB)\n", fl.offline.c_str(),
+  std::printf("wrote %s (%.2f s, %d Hz, %s, float32, gain %+.1f dB)\n", paths.audio.c_str(),
               audioSeconds, scene.audio.sampleRate, format, gainDb);
-  if (!fl.erOut.empty())
-    std::printf("wrote %s (last frame's energy response, %zu source(s))\n", fl.erOut.c_str(),
+  if (!paths.energy.empty())
+    std::printf("wrote %s (last frame's energy response, %zu source(s))\n", paths.energy.c_str(),
                 r.lastEnergy.size());
-  if (!fl.irOut.empty())
-    std::printf("wrote %s (last frame's IR, %zu channel(s): source-major)\n", fl.irOut.c_str(),
+  if (!paths.ir.empty())
+    std::printf("wrote %s (last frame's IR, %zu channel(s): source-major)\n", paths.ir.c_str(),
                 r.lastIrs.size() * r.lastIrs.front().size());
   std::printf(
       "frames %llu  IRs applied %llu  rays/s %.3g  segments/s %.3g  cache entries %zu (%.1f MB)\n"
@@ -307,6 +358,9 @@ int runLive(Flags& fl) {
   SceneDesc scene = loadScene(fl.scene);
   applyAudioOverrides(scene, fl);
   for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  if (fl.listener.empty() && scene.listeners.size() > 1)
+    std::fprintf(stderr, "note: playing listener \"%s\" of %zu (choose with --listener NAME)\n",
+                 scene.listener.name.c_str(), scene.listeners.size());
   PropagationSettings settings = applyOverrides(scene, fl);
   // Live: leave one core to the audio thread unless --threads says otherwise (measured on 2
   // cores: 245 late blocks in 20 s with both cores tracing, 24 with one; docs/live.md).
@@ -353,7 +407,12 @@ int runLive(Flags& fl) {
                output->device().spec().c_str(), output->device().hostApi.c_str(),
                output->sampleRate(), output->blockSize(), output->outputLatency() * 1e3);
 
-  // Pose: the trajectory on a wall clock (space pauses it), or the keyboard.
+  // Pose: the trajectory on a wall clock (space pauses it), or the keyboard. 'l' switches to
+  // the scene's next listener (its trajectory; the sphere radius stays the first one's).
+  const ListenerDesc* played = &scene.listener;
+  size_t playedIndex = 0;
+  for (size_t i = 0; i < scene.listeners.size(); ++i)
+    if (scene.listeners[i].name == scene.listener.name) playedIndex = i;
   double sceneTime = 0.0;
   bool paused = false, manual = false;
   glm::vec3 position = listenerPositionAt(scene.listener, 0.0);
@@ -364,7 +423,8 @@ int runLive(Flags& fl) {
   if (fl.interactive) {
     terminal = std::make_unique<RawTerminal>();
     std::fprintf(stderr,
-                 "keys: arrows/WASD move, Q/E turn, space pauses the trajectory, q quits\n");
+                 "keys: arrows/WASD move, Q/E turn, space pauses the trajectory, l next "
+                 "listener, q quits\n");
   }
   session.start();
   output->start();
@@ -391,6 +451,13 @@ int runLive(Flags& fl) {
             break;
           case ' ':
             paused = !paused;
+            break;
+          case 'l':
+            playedIndex = (playedIndex + 1) % scene.listeners.size();
+            played = &scene.listeners[playedIndex];
+            position = listenerPositionAt(*played, sceneTime);
+            manual = false;
+            std::fprintf(stderr, "\nlistener \"%s\"\n", played->name.c_str());
             break;
           case 'w':
           case 256 + 'U':
@@ -424,9 +491,9 @@ int runLive(Flags& fl) {
     }
     if (!paused && !manual) {
       sceneTime += dt;
-      position = listenerPositionAt(scene.listener, sceneTime);
+      position = listenerPositionAt(*played, sceneTime);
     }
-    const Orientation heading = listenerOrientationAt(scene.listener, sceneTime);
+    const Orientation heading = listenerOrientationAt(*played, sceneTime);
     yaw = heading.yawRadians + yawOffset;
     session.setPose(position, yaw, sceneTime, heading.pitchRadians);
     if (std::chrono::duration<double>(now - lastStatus).count() >= 1.0) {
@@ -491,6 +558,8 @@ int main(int argc, char** argv) {
   app.add_option("--record", fl.record, "Live: also write what was played to this WAV");
   app.add_flag("--interactive", fl.interactive,
                "Live: arrows/WASD move, Q/E turn, space pauses, q quits");
+  app.add_option("--listener", fl.listener,
+                 "Render or play the scene's listener of this name (default: the first)");
   app.add_option("--offline", fl.offline, "Render offline to this WAV file (float32)");
   app.add_option("--duration", fl.duration,
                  "Seconds to render (default: longest source + IR length)");
@@ -503,7 +572,8 @@ int main(int argc, char** argv) {
                  "entries are merged, not dropped)");
   app.add_option("--estimator", fl.estimator, "dpc | path_tracing");
   app.add_option("--dpc-weighting", fl.weighting,
-                 "ema (unbiased, default) | seed (thesis eq. 3.2; biased high)");
+                 "window (unbiased, answers within tau; default) | ema (unbiased, slower) | seed "
+                 "(thesis eq. 3.2; biased high)");
   app.add_option("--threads", fl.threads, "Tracing threads (0 = all cores)");
   app.add_option("--ir-out", fl.irOut, "Also write the last frame's IR (all channels) as WAV");
   app.add_option("--er-out", fl.erOut,

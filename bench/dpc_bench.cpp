@@ -4,6 +4,7 @@
 //                               [--no-roulette] [--tau S]
 //   dpc-bench noise SCENE [--rays N] [--frames F] [--tau S] [--walk-speed V]
 //                         [--reference-frames M] [--threads T] [--max-order D]
+//   dpc-bench dynamic [--rays N] [--frames F]   (built-in two-room door scene; no file)
 //   dpc-bench live SCENE [--rays N] [--duration S] [--block-size B] [--frame-rate F]
 //                        [--threads T] [--device SPEC]
 #include <CLI/CLI.hpp>
@@ -11,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 #include <numeric>
@@ -27,6 +29,7 @@
 #include "engine/simulation.h"
 #include "runtime/live_session.h"
 #include "runtime/render_pipeline.h"
+#include "test_scenes.h"
 
 using namespace dpc;
 using json = nlohmann::ordered_json;
@@ -380,6 +383,130 @@ int benchLive(const Common& c, double duration, int blockSize, double frameRate,
   std::printf("%s\n", j.dump(2).c_str());
   return 0;
 }
+/// Door step response, static noise and moving-object frame time (docs/dynamic.md).
+int benchDynamic(int rays, int frames) {
+  json j;
+  j["machine"] = "shared 2-core machine under load from other builds: ratios within one run";
+  j["scene"] = "two rooms 10 x 3 x 4 m, 1 x 2 m doorway, door shut/open by pose jumps";
+  j["rays_per_frame"] = rays;
+  json steps = json::array();
+  const std::pair<const char*, DpcWeighting> weightings[] = {{"ema", DpcWeighting::kEma},
+                                                             {"seed", DpcWeighting::kSeed},
+                                                             {"window", DpcWeighting::kWindow}};
+  for (const auto& [name, w] : weightings) {
+    for (double tau : {0.25, 0.5, 1.0, 2.0}) {
+      // "ema_matched": the EMA with the time constant that completes 90 % of a step at tau
+      // (1 - exp(-tau / tau_e) = 0.9, tau_e = tau / ln 10), for the noise comparison.
+      for (bool matched : {false, true}) {
+        if (matched && w != DpcWeighting::kEma) continue;
+        const double tauE = matched ? tau / std::log(10.0) : tau;
+        SceneDesc sc = test::twoRooms(w, float(tauE));
+        sc.propagation.raysPerFrame = rays;
+        Simulation sim(sc);
+        const glm::vec3 L = sc.listener.position;
+        const double T = 1.0 / sc.propagation.frameRate;
+        const int settle = int(std::ceil(std::max(3.0 * tau, 1.5) / T));
+        const int span = int(std::ceil(3.0 * tau / T));
+        auto late = [&] { return double(sim.result(0).energy.total()[3]); };
+        sim.setObjectPoses({test::kDoorOpen});
+        for (int f = 0; f < settle; ++f) sim.runFrame(L);
+        std::vector<double> open;
+        for (int f = 0; f < span; ++f) sim.runFrame(L), open.push_back(late());
+        const double openMean = std::accumulate(open.begin(), open.end(), 0.0) / double(span);
+        double var = 0.0;
+        for (double x : open) var += (x - openMean) * (x - openMean);
+        const double openSd = std::sqrt(var / double(span - 1));
+        std::vector<double> shut, reopen;
+        sim.setObjectPoses({test::kDoorShut});
+        for (int f = 0; f < span; ++f) sim.runFrame(L), shut.push_back(late());
+        sim.setObjectPoses({test::kDoorOpen});
+        for (int f = 0; f < span; ++f) sim.runFrame(L), reopen.push_back(late());
+        const double shutLevel = shut.back();
+        // Time of the frame after the change (0 = the first frame with the new pose) from
+        // which the readout has completed 90 % of the step; frame k is at k T after the change.
+        auto t90 = [&](const std::vector<double>& v, bool down) {
+          for (size_t k = 0; k < v.size(); ++k) {
+            const double done = down ? (openMean - v[k]) / (openMean - shutLevel)
+                                     : (v[k] - shutLevel) / (openMean - shutLevel);
+            if (done >= 0.9) return double(k) * T;
+          }
+          return std::nan("");
+        };
+        json e;
+        e["weighting"] = matched ? "ema_matched" : name;
+        e["tau"] = tau;
+        e["time_constant"] = tauE;
+        e["open_level"] = openMean;
+        e["open_relative_sd"] = openSd / openMean;
+        e["t90_shut"] = t90(shut, true);
+        e["t90_open"] = t90(reopen, false);
+        e["frame_period"] = T;
+        e["shut"] = shut;
+        e["reopen"] = reopen;
+        steps.push_back(e);
+        std::fprintf(stderr, "%s tau %.2f: t90 shut %.2f open %.2f, sd %.3f\n",
+                     matched ? "ema_matched" : name, tau, double(e["t90_shut"]),
+                     double(e["t90_open"]), openSd / openMean);
+      }
+    }
+  }
+  j["step_response"] = steps;
+
+  // Frame time with N moving objects vs the same triangles baked into the static mesh.
+  json objs = json::array();
+  for (int n : {1, 10, 100}) {
+    SceneDesc moving = test::makeShoebox({20, 5, 20}, Bands(0.2f), 0.5f, {3, 2, 3}, {15, 2, 15});
+    moving.propagation.estimator = Estimator::kPathTracing;
+    moving.propagation.raysPerFrame = rays;
+    moving.propagation.maxOrder = 30;
+    SceneDesc baked = moving;
+    for (int k = 0; k < n; ++k) {
+      ObjectDesc o;
+      o.name = "panel" + std::to_string(k);
+      test::addPanel(o.mesh, {0, 0, 0}, {0.5f, 0, 0}, {0, 1, 0}, 0);
+      ObjectKeyframe key;
+      key.position = {1.f + float(k % 10) * 1.8f, 0.5f + float(k / 50),
+                      1.f + float(k / 10 % 5) * 3.6f};
+      o.trajectory = {key};
+      for (glm::vec3 v : o.mesh.vertices) baked.mesh.vertices.push_back(v + key.position);
+      const auto base = uint32_t(baked.mesh.vertices.size() - 4);
+      for (const auto& t : o.mesh.triangles) {
+        baked.mesh.triangles.push_back({base + t[0] - 0, base + t[1], base + t[2]});
+        baked.mesh.materialIndex.push_back(0);
+      }
+      moving.objects.push_back(o);
+    }
+    Simulation sm(moving), sb(baked);
+    std::vector<Pose> poses(static_cast<size_t>(n));
+    auto cpu = [] { return double(std::clock()) / CLOCKS_PER_SEC; };
+    double movingCpu = 0.0, staticCpu = 0.0;
+    for (int f = 0; f < frames; ++f) {
+      for (int k = 0; k < n; ++k) {
+        const ObjectKeyframe& key = moving.objects[size_t(k)].trajectory[0];
+        poses[size_t(k)] = Pose{key.position + glm::vec3(0.f, 0.f, 0.01f * float(f % 7)),
+                                glm::angleAxis(0.05f * float(f), glm::vec3(0, 1, 0))};
+      }
+      double t0 = cpu();
+      sm.setObjectPoses(poses);
+      sm.runFrame(moving.listener.position);
+      movingCpu += cpu() - t0;
+      t0 = cpu();
+      sb.runFrame(baked.listener.position);
+      staticCpu += cpu() - t0;
+    }
+    json e;
+    e["objects"] = n;
+    e["triangles"] = sb.geometry().triangleCount();
+    e["moving_cpu_ms_per_frame"] = 1e3 * movingCpu / frames;
+    e["static_cpu_ms_per_frame"] = 1e3 * staticCpu / frames;
+    e["ratio"] = movingCpu / staticCpu;
+    objs.push_back(e);
+    std::fprintf(stderr, "%d objects: moving/static cpu %.3f\n", n, movingCpu / staticCpu);
+  }
+  j["moving_objects"] = objs;
+  std::printf("%s\n", j.dump(2).c_str());
+  return 0;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -419,6 +546,11 @@ int main(int argc, char** argv) {
   live->add_option("--block-size", liveBlock, "Audio block size (default 128)");
   live->add_option("--frame-rate", liveFrameRate, "Propagation frames per second (default: scene)");
   live->add_option("--device", liveDevice, "Audio device (default: a timer thread, no device)");
+  CLI::App* dyn = app.add_subcommand(
+      "dynamic", "Door step response per estimator and tau; moving-object frame time");
+  int dynRays = 2048, dynFrames = 20;
+  dyn->add_option("--rays", dynRays, "Rays per frame (default 2048)");
+  dyn->add_option("--frames", dynFrames, "Frames per object-count measurement (default 20)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -432,6 +564,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (*prop) return benchPropagation(c, noRoulette);
+    if (*dyn) return benchDynamic(dynRays, dynFrames);
     if (*live) return benchLive(c, liveDuration, liveBlock, liveFrameRate, liveDevice);
     if (warmup < 0) {
       const SceneDesc scene = loadScene(c.scene);

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdio>
 #include <glm/geometric.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/mat3x3.hpp>
 #include <limits>
 #include <stdexcept>
 
@@ -33,35 +35,30 @@ void EmbreeDevice::throwIfError(const char* step) {
     throw std::runtime_error(std::string("Embree: ") + firstMessage_ + ", during " + step);
 }
 
-Geometry::Geometry(const Mesh& mesh, const std::vector<Material>& materials, float patchSize) {
+RTCGeometry Geometry::addTriangles(const Mesh& mesh, const std::vector<Material>& materials,
+                                   float patchSize, bool bounds) {
   if (mesh.triangles.empty()) throw std::invalid_argument("Geometry: mesh has no triangles");
   if (mesh.materialIndex.size() != mesh.triangles.size())
     throw std::invalid_argument("Geometry: one material index per triangle required");
-  if (!(patchSize > 0.f)) throw std::invalid_argument("Geometry: patch size must be > 0");
-  for (const Material& m : materials) {
-    reflectance_.push_back(Bands(1.f) - m.absorption);
-    scattering_.push_back(m.scattering);
-  }
   const size_t nv = mesh.vertices.size(), nt = mesh.triangles.size();
-  scene_ = rtcNewScene(device_.get());
-  rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
   RTCGeometry geom = rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
   auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
                                                         RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
   auto* idx = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
       geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), nt));
   device_.throwIfError("creating the triangle buffers");
-  boundsMin_ = glm::vec3(std::numeric_limits<float>::max());
-  boundsMax_ = glm::vec3(-std::numeric_limits<float>::max());
   for (size_t i = 0; i < nv; ++i) {
     v[3 * i + 0] = mesh.vertices[i].x;
     v[3 * i + 1] = mesh.vertices[i].y;
     v[3 * i + 2] = mesh.vertices[i].z;
-    boundsMin_ = glm::min(boundsMin_, mesh.vertices[i]);
-    boundsMax_ = glm::max(boundsMax_, mesh.vertices[i]);
+    if (bounds) {
+      boundsMin_ = glm::min(boundsMin_, mesh.vertices[i]);
+      boundsMax_ = glm::max(boundsMax_, mesh.vertices[i]);
+    }
   }
-  patching_.resize(nt);
-  materialOf_.resize(nt);
+  const size_t first = patching_.size();
+  patching_.resize(first + nt);
+  materialOf_.resize(first + nt);
   for (size_t t = 0; t < nt; ++t) {
     const auto& tri = mesh.triangles[t];
     for (int k = 0; k < 3; ++k) {
@@ -75,21 +72,101 @@ Geometry::Geometry(const Mesh& mesh, const std::vector<Material>& materials, flo
       rtcReleaseGeometry(geom);
       throw std::invalid_argument("Geometry: material index out of range");
     }
-    materialOf_[t] = mesh.materialIndex[t];
+    materialOf_[first + t] = mesh.materialIndex[t];
     const glm::vec3 &a = mesh.vertices[tri[0]], &b = mesh.vertices[tri[1]],
                     &c = mesh.vertices[tri[2]];
-    patching_[t] = TrianglePatching::build(a, b, c, patchSize);
+    patching_[first + t] = TrianglePatching::build(a, b, c, patchSize);
     surfaceArea_ += 0.5 * glm::length(glm::cross(glm::dvec3(b - a), glm::dvec3(c - a)));
   }
   rtcCommitGeometry(geom);
-  rtcAttachGeometry(scene_, geom);
-  rtcReleaseGeometry(geom);
+  return geom;
+}
+
+Geometry::Geometry(const Mesh& mesh, const std::vector<Material>& materials, float patchSize,
+                   const std::vector<ObjectDesc>& objects) {
+  if (!(patchSize > 0.f)) throw std::invalid_argument("Geometry: patch size must be > 0");
+  for (const Material& m : materials) {
+    reflectance_.push_back(Bands(1.f) - m.absorption);
+    scattering_.push_back(m.scattering);
+  }
+  boundsMin_ = glm::vec3(std::numeric_limits<float>::max());
+  boundsMax_ = glm::vec3(-std::numeric_limits<float>::max());
+  scene_ = rtcNewScene(device_.get());
+  if (objects.empty()) {
+    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+    RTCGeometry geom = addTriangles(mesh, materials, patchSize, true);
+    rtcAttachGeometry(scene_, geom);
+    rtcReleaseGeometry(geom);
+    rtcCommitScene(scene_);
+    device_.throwIfError("building the BVH");
+    return;
+  }
+  // Two levels: every mesh (the static one too) gets its own BVH, built once; the top-level
+  // scene holds only instances, so moving an object rebuilds a BVH over a handful of boxes.
+  rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_DYNAMIC);
+  rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_LOW);
+  instances_.resize(1 + objects.size());
+  for (size_t i = 0; i < instances_.size(); ++i) {
+    Instance& in = instances_[i];
+    in.firstTriangle = uint32_t(patching_.size());
+    const Mesh& m = i == 0 ? mesh : objects[i - 1].mesh;
+    in.scene = rtcNewScene(device_.get());
+    rtcSetSceneBuildQuality(in.scene, RTC_BUILD_QUALITY_HIGH);
+    RTCGeometry geom = addTriangles(m, materials, patchSize, i == 0);
+    rtcAttachGeometry(in.scene, geom);
+    rtcReleaseGeometry(geom);
+    rtcCommitScene(in.scene);
+    in.instance = rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(in.instance, in.scene);
+    rtcAttachGeometryByID(scene_, in.instance, unsigned(i));
+    if (i > 0) objects_.push_back(&in);
+  }
+  device_.throwIfError("building the object BVHs");
+  setObjectPose(~size_t(0), Pose{});  // the static mesh: identity
+  for (size_t k = 0; k < objects.size(); ++k) {
+    const auto& key = objects[k].trajectory;
+    setObjectPose(k, key.empty() ? Pose{} : Pose{key.front().position, key.front().rotation});
+  }
+  commitPoses();
+}
+
+void Geometry::setObjectPose(size_t object, const Pose& pose) {
+  Instance& in = object == ~size_t(0) ? instances_.front() : *objects_[object];
+  in.rotation = pose.rotation;
+  const glm::mat3 r = glm::mat3_cast(pose.rotation);
+  // 3x4 column-major: the rotation's three columns, then the translation.
+  const float xfm[12] = {r[0][0], r[0][1],         r[0][2],         r[1][0],
+                         r[1][1], r[1][2],         r[2][0],         r[2][1],
+                         r[2][2], pose.position.x, pose.position.y, pose.position.z};
+  rtcSetGeometryTransform(in.instance, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
+  rtcCommitGeometry(in.instance);
+}
+
+void Geometry::commitPoses() {
+  if (instances_.empty()) return;
   rtcCommitScene(scene_);
-  device_.throwIfError("building the BVH");
+  device_.throwIfError("moving the objects");
+}
+
+void Geometry::resolveHit(unsigned instID, unsigned primID, const glm::vec3& ng,
+                          SurfaceHit& hit) const {
+  if (instID == RTC_INVALID_GEOMETRY_ID || instances_.empty()) {
+    hit.triangle = primID;
+    hit.normal = glm::normalize(ng);
+    return;
+  }
+  // Instanced hits report the normal in the instance's local frame (RTCHit, Embree 3).
+  const Instance& in = instances_[instID];
+  hit.triangle = in.firstTriangle + primID;
+  hit.normal = glm::normalize(in.rotation * ng);
 }
 
 Geometry::~Geometry() {
   if (scene_) rtcReleaseScene(scene_);
+  for (Instance& in : instances_) {
+    if (in.instance) rtcReleaseGeometry(in.instance);
+    if (in.scene) rtcReleaseScene(in.scene);
+  }
 }
 
 bool Geometry::intersect(const glm::vec3& org, const glm::vec3& dir, float tnear, float tfar,
@@ -115,9 +192,9 @@ bool Geometry::intersect(const glm::vec3& org, const glm::vec3& dir, float tnear
   rtcIntersect1(scene_, &context, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
   hit.t = rh.ray.tfar;
-  hit.triangle = rh.hit.primID;
   hit.barycentric = {1.f - rh.hit.u - rh.hit.v, rh.hit.u, rh.hit.v};
-  hit.normal = glm::normalize(glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
+  resolveHit(rh.hit.instID[0], rh.hit.primID, glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z),
+             hit);
   return true;
 }
 
@@ -153,9 +230,9 @@ void Geometry::intersect16(const RayPacket16& rays, float tnear, float tfar,
     if (!hits.found[i]) continue;
     SurfaceHit& hit = hits.hit[i];
     hit.t = rh.ray.tfar[i];
-    hit.triangle = rh.hit.primID[i];
     hit.barycentric = {1.f - rh.hit.u[i] - rh.hit.v[i], rh.hit.u[i], rh.hit.v[i]};
-    hit.normal = glm::normalize(glm::vec3(rh.hit.Ng_x[i], rh.hit.Ng_y[i], rh.hit.Ng_z[i]));
+    resolveHit(rh.hit.instID[0][i], rh.hit.primID[i],
+               glm::vec3(rh.hit.Ng_x[i], rh.hit.Ng_y[i], rh.hit.Ng_z[i]), hit);
   }
 }
 

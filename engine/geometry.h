@@ -67,11 +67,18 @@ struct PacketHits16 {
   std::array<SurfaceHit, RayPacket16::kSize> hit{};
 };
 
+/// Triangle numbering: the static mesh's triangles come first (0 .. n-1), then each moving
+/// object's in scene order. A triangle's number and its patches (defined on the object's own
+/// mesh, in local coordinates) do not change when the object moves, so path identifiers and the
+/// cache's grouping survive motion (docs/dynamic.md).
 class Geometry {
  public:
   /// mesh: triangles and per-triangle material indices into materials; patchSize: lambda in
-  /// metres (> 0).
-  Geometry(const Mesh& mesh, const std::vector<Material>& materials, float patchSize);
+  /// metres (> 0). objects: moving rigid objects, each its own BVH built here once and placed
+  /// in the top-level scene as an Embree instance (RTC_GEOMETRY_TYPE_INSTANCE), initially at
+  /// its first keyframe's pose. Without objects the mesh is traced directly (one level).
+  Geometry(const Mesh& mesh, const std::vector<Material>& materials, float patchSize,
+           const std::vector<ObjectDesc>& objects = {});
   ~Geometry();
   Geometry(const Geometry&) = delete;
   Geometry& operator=(const Geometry&) = delete;
@@ -89,6 +96,15 @@ class Geometry {
   /// True if anything blocks the segment org + t*dir, t in (tnear, tfar).
   bool occluded(const glm::vec3& org, const glm::vec3& dir, float tnear, float tfar) const;
 
+  /// Places object k (index into the constructor's objects) at `pose`: sets its instance
+  /// transform. Takes effect at commitPoses(). Propagation thread, between frames, never while
+  /// a query runs; no allocation.
+  void setObjectPose(size_t object, const Pose& pose);
+  /// Rebuilds the top-level BVH over the instances (cheap: one node per object, no triangle
+  /// is rebuilt). Throws std::runtime_error on an Embree error. Propagation thread.
+  void commitPoses();
+  size_t objectCount() const { return objects_.size(); }
+
   uint32_t triangleCount() const { return uint32_t(patching_.size()); }
   const TrianglePatching& patching(uint32_t tri) const { return patching_[tri]; }
   /// Energy reflection factor (1 - absorption) per band of triangle tri's material.
@@ -105,8 +121,25 @@ class Geometry {
   size_t bytesPerTriangle() const { return sizeof(TrianglePatching) + sizeof(uint32_t); }
 
  private:
+  /// One instanced mesh: its BVH, its instance in the top-level scene, its first triangle's
+  /// global number and its current rotation (hit normals come back in local coordinates).
+  struct Instance {
+    RTCScene scene = nullptr;
+    RTCGeometry instance = nullptr;
+    uint32_t firstTriangle = 0;
+    glm::quat rotation{1.f, 0.f, 0.f, 0.f};
+  };
+  /// Adds mesh's triangles to the per-triangle tables and returns its Embree triangle geometry.
+  RTCGeometry addTriangles(const Mesh& mesh, const std::vector<Material>& materials,
+                           float patchSize, bool bounds);
+  /// Global triangle number and world normal from an Embree hit.
+  void resolveHit(unsigned instID, unsigned primID, const glm::vec3& ng, SurfaceHit& hit) const;
+
   EmbreeDevice device_;
   RTCScene scene_ = nullptr;
+  /// Empty without objects; else [0] is the static mesh (identity), [1 + k] object k.
+  std::vector<Instance> instances_;
+  std::vector<Instance*> objects_;
   std::vector<TrianglePatching> patching_;
   std::vector<uint32_t> materialOf_;
   std::vector<Bands> reflectance_;

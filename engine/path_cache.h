@@ -11,7 +11,12 @@
 //   I_f / N, decayed every frame whether hit or not, normalised by 1 - (1-a)^(n+1) for the
 //   n+1 frames since the cache started, and dropped once its weight falls below
 //   kEmaDropFraction (docs/estimators.md has the derivation and the measurements).
-// With tau = 0 both weightings reduce to PathTracingEstimator, bit for bit (the same float
+//   Weighting kWindow: each entry holds the sums of its per-frame estimates over the last
+//   W = round(tau / T) frames (at least 1) and reads out their mean, sum / min(frames so far,
+//   W); each frame's contributions are kept in a ring of W frames and subtracted when they
+//   leave the window; an entry with no hit left in the window is removed. Unbiased for a
+//   static scene, and a step is answered completely W frames later.
+// With tau = 0 every weighting reduce to PathTracingEstimator, bit for bit (the same float
 // operations in the same order); tests/engine/path_cache_test.cpp checks it.
 // Propagation thread only. Allocation: tables grow as needed (amortised), then keep their
 // capacity. No errors.
@@ -120,7 +125,8 @@ class DiffusePathCache {
   size_t maxEntries() const { return maxEntries_; }
   /// Heap bytes held by the cache's tables (entries and index).
   size_t bytes() const;
-  /// Frames an entry is read out: seed = after its creation; EMA = after its last hit.
+  /// Frames an entry is read out: seed = after its creation; EMA = after its last hit;
+  /// window = the window length W.
   uint32_t lifetimeFrames() const { return lifetime_; }
   /// EMA coefficient a = 1 - exp(-T / tau) (1 when tau = 0).
   double emaCoefficient() const { return a_; }
@@ -145,6 +151,27 @@ class DiffusePathCache {
   const std::vector<Entry>& entries() const { return entries_; }
 
  private:
+  /// One frame's contribution to one entry, kept for the sliding window.
+  struct WindowTerm {
+    uint64_t key;
+    Bands intensity;  ///< I_f / N
+    float length;     ///< r_f summed
+    float eta;        ///< hits this frame
+    glm::vec3 direction;
+  };
+  /// kWindow: a path entry merged into the coarse store: which coarse entry, and the last frame
+  /// whose terms went there (terms of later frames belong to a path entry again).
+  struct MergeRecord {
+    uint64_t coarseKey;
+    uint32_t frame;
+  };
+  /// kWindow: retires the frame leaving the window, adds this frame's groups, reads out (adds
+  /// the band-average energy read out to total, and the coarse store's share to coarse).
+  void windowEndFrame(const FrameGroups& frame, float n, double invC, EnergyResponse& out,
+                      DirectionalEnergyResponse* directional, double& total, double& coarse);
+  void removeCoarseAt(size_t i);
+
+  size_t windowBytes() const;
   Entry* findOrInsert(uint64_t key, bool& inserted);
   void removeAt(size_t i);
   void mergeIntoCoarse(const Entry& e, double invSpeedOfSound);
@@ -163,6 +190,8 @@ class DiffusePathCache {
   std::vector<uint64_t> raysBefore_;  ///< ring: rays emitted before frame f, f % size
   std::vector<std::pair<uint32_t, uint32_t>> scratch_;  ///< (stamp, index) for the cap
   std::vector<uint64_t> dropKeys_;
+  std::vector<std::vector<WindowTerm>> window_;  ///< kWindow: ring of the last W frames' terms
+  tsl::robin_map<uint64_t, MergeRecord> mergedAt_;  ///< kWindow: path key -> its merge
   tsl::robin_map<uint64_t, uint32_t> index_;
   std::vector<Entry> entries_;
 };

@@ -20,6 +20,7 @@
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 
 #include "engine/input_error.h"
@@ -373,10 +374,12 @@ void readObjVertices(const std::string& objFile, const std::string& text, ObjDat
   }
 }
 
-ObjData readObj(const std::string& sceneFile, const std::string& objFile) {
-  checkInputFile(objFile, kMaxMeshBytes, sceneFile, "mesh", "mesh file");
+/// meshField: the scene key naming the file ("mesh", "objects[2].mesh"), for errors.
+ObjData readObj(const std::string& sceneFile, const std::string& objFile,
+                const std::string& meshField) {
+  checkInputFile(objFile, kMaxMeshBytes, sceneFile, meshField, "mesh file");
   std::ifstream in(objFile, std::ios::binary);
-  if (!in) throw InputError(sceneFile, "mesh", "cannot open mesh file " + inQuotes(objFile));
+  if (!in) throw InputError(sceneFile, meshField, "cannot open mesh file " + inQuotes(objFile));
   std::stringstream buf;
   buf << in.rdbuf();
   const std::string text = buf.str();
@@ -420,7 +423,8 @@ ObjData readObj(const std::string& sceneFile, const std::string& objFile) {
 /// Builds the triangle mesh: resolves indices, fan-triangulates polygons (convex assumed),
 /// maps usemtl names to materials, drops degenerate triangles with a warning.
 void buildMesh(const std::string& sceneFile, const std::string& objFile, const ObjData& obj,
-               const std::vector<Material>& materials, SceneDesc& scene) {
+               const std::vector<Material>& materials, Mesh& mesh,
+               std::vector<std::string>& warnings) {
   auto materialIndex = [&](const std::string& name) -> int {
     for (size_t i = 0; i < materials.size(); ++i)
       if (materials[i].name == name) return int(i);
@@ -438,7 +442,6 @@ void buildMesh(const std::string& sceneFile, const std::string& objFile, const O
   if (obj.faces.empty()) throw InputError(objFile, "", "mesh is empty (no faces)");
 
   const int nv = int(obj.vertices.size());
-  Mesh& mesh = scene.mesh;
   mesh.vertices = obj.vertices;
   size_t degenerate = 0, candidates = 0, firstDegenerateFace = 0;
   for (size_t fi = 0; fi < obj.faces.size(); ++fi) {
@@ -492,15 +495,94 @@ void buildMesh(const std::string& sceneFile, const std::string& objFile, const O
                      "all " + std::to_string(candidates) +
                          " triangles are degenerate (zero area); nothing to trace");
   if (degenerate > 0)
-    scene.warnings.push_back(objFile + ": " + std::to_string(degenerate) +
-                             " degenerate (zero-area) triangle(s) dropped, the first from face " +
-                             std::to_string(firstDegenerateFace));
-  std::vector<bool> used(materials.size(), false);
-  for (uint32_t m : mesh.materialIndex) used[m] = true;
-  for (size_t i = 0; i < materials.size(); ++i)
-    if (!used[i])
-      scene.warnings.push_back(sceneFile + ": materials." + materials[i].name +
-                               ": not used by any triangle of " + objFile);
+    warnings.push_back(objFile + ": " + std::to_string(degenerate) +
+                       " degenerate (zero-area) triangle(s) dropped, the first from face " +
+                       std::to_string(firstDegenerateFace));
+}
+
+/// Reads a keyframe time at kf + ".t": finite, >= 0, greater than `previous` (if any).
+double keyTime(const JsonReader& r, const json& k, const std::string& kf,
+               const std::optional<double>& previous) {
+  const double t = r.number(r.require(k, kf, "t"), join(kf, "t"));
+  if (t < 0.0) r.fail(join(kf, "t"), k["t"].dump() + " must be >= 0");
+  if (previous && !(t > *previous))
+    r.fail(join(kf, "t"), k["t"].dump() + " is not greater than the previous keyframe's t (" +
+                              JsonReader::fmt(*previous) + "); times must be strictly increasing");
+  return t;
+}
+
+/// Position-only keyframes {t, position} (sources).
+std::vector<Keyframe> readPositionKeys(const JsonReader& r, const json& t, const std::string& tf) {
+  if (!t.is_array() || t.empty())
+    r.fail(tf, "expected a non-empty array of {\"t\", \"position\"} keyframes, got " +
+                   JsonReader::describe(t));
+  std::vector<Keyframe> keys;
+  for (size_t i = 0; i < t.size(); ++i) {
+    const std::string kf = index(tf, i);
+    const json& k = t[i];
+    r.expectObject(k, kf);
+    r.checkKeys(k, kf, {"t", "position"});
+    Keyframe key;
+    key.timeSeconds =
+        keyTime(r, k, kf, keys.empty() ? std::nullopt : std::optional(keys.back().timeSeconds));
+    key.position = r.vec3(r.require(k, kf, "position"), join(kf, "position"));
+    keys.push_back(key);
+  }
+  return keys;
+}
+
+/// [x, y, z, w] (glTF order) of non-zero length, normalised.
+glm::quat readQuaternion(const JsonReader& r, const json& v, const std::string& field) {
+  if (!v.is_array() || v.size() != 4)
+    r.fail(field, "expected a unit quaternion [x, y, z, w], got " + JsonReader::describe(v));
+  float c[4];
+  for (int i = 0; i < 4; ++i) c[i] = r.floatNumber(v[size_t(i)], index(field, size_t(i)));
+  const double n = std::sqrt(double(c[0]) * c[0] + double(c[1]) * c[1] + double(c[2]) * c[2] +
+                             double(c[3]) * c[3]);
+  if (!(n > 1e-6)) r.fail(field, v.dump() + " has zero length; a rotation needs a unit quaternion");
+  // Not exactly unit (rounded decimals in a file): normalised rather than refused.
+  return glm::quat(float(c[3] / n), float(c[0] / n), float(c[1] / n), float(c[2] / n));
+}
+
+void readObjects(const JsonReader& r, const json& v, const fs::path& folder, SceneDesc& scene) {
+  const std::string field = "objects";
+  if (!v.is_array()) r.fail(field, "expected an array of objects, got " + JsonReader::describe(v));
+  for (size_t i = 0; i < v.size(); ++i) {
+    const std::string f = index(field, i);
+    const json& o = v[i];
+    r.expectObject(o, f);
+    r.checkKeys(o, f, {"name", "mesh", "trajectory", "loop"});
+    ObjectDesc obj;
+    obj.name = r.string(r.require(o, f, "name"), join(f, "name"));
+    if (obj.name.empty()) r.fail(join(f, "name"), "must not be empty");
+    for (const ObjectDesc& other : scene.objects)
+      if (other.name == obj.name)
+        r.fail(join(f, "name"), "duplicate object name " + inQuotes(obj.name));
+    obj.meshPath = resolve(folder, r.string(r.require(o, f, "mesh"), join(f, "mesh"))).string();
+    const std::string tf = join(f, "trajectory");
+    const json& t = r.require(o, f, "trajectory");
+    if (!t.is_array() || t.empty())
+      r.fail(tf,
+             "expected a non-empty array of {\"t\", \"position\", \"rotation\"?} "
+             "keyframes, got " +
+                 JsonReader::describe(t));
+    for (size_t k = 0; k < t.size(); ++k) {
+      const std::string kf = index(tf, k);
+      const json& kv = t[k];
+      r.expectObject(kv, kf);
+      r.checkKeys(kv, kf, {"t", "position", "rotation"});
+      ObjectKeyframe key;
+      key.timeSeconds = keyTime(
+          r, kv, kf,
+          obj.trajectory.empty() ? std::nullopt : std::optional(obj.trajectory.back().timeSeconds));
+      key.position = r.vec3(r.require(kv, kf, "position"), join(kf, "position"));
+      if (const json* q = JsonReader::find(kv, "rotation"))
+        key.rotation = readQuaternion(r, *q, join(kf, "rotation"));
+      obj.trajectory.push_back(key);
+    }
+    if (const json* l = JsonReader::find(o, "loop")) obj.loop = r.boolean(*l, join(f, "loop"));
+    scene.objects.push_back(std::move(obj));
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -514,14 +596,24 @@ void readSources(const JsonReader& r, const json& v, const fs::path& folder, Sce
     const std::string f = index(field, i);
     const json& s = v[i];
     r.expectObject(s, f);
-    r.checkKeys(s, f, {"name", "position", "signal", "gain_db", "loop"});
+    r.checkKeys(s, f,
+                {"name", "position", "signal", "gain_db", "loop", "trajectory", "trajectory_loop"});
     SourceDesc src;
     src.name = r.string(r.require(s, f, "name"), join(f, "name"));
     if (src.name.empty()) r.fail(join(f, "name"), "must not be empty");
     for (const SourceDesc& other : scene.sources)
       if (other.name == src.name)
         r.fail(join(f, "name"), "duplicate source name " + inQuotes(src.name));
-    src.position = r.vec3(r.require(s, f, "position"), join(f, "position"));
+    if (const json* t = JsonReader::find(s, "trajectory"))
+      src.trajectory = readPositionKeys(r, *t, join(f, "trajectory"));
+    if (const json* p = JsonReader::find(s, "position"))
+      src.position = r.vec3(*p, join(f, "position"));
+    else if (!src.trajectory.empty())
+      src.position = src.trajectory.front().position;
+    else
+      r.fail(join(f, "position"), "missing required key (needed when there is no trajectory)");
+    if (const json* l = JsonReader::find(s, "trajectory_loop"))
+      src.trajectoryLoop = r.boolean(*l, join(f, "trajectory_loop"));
     const std::string signal = r.string(r.require(s, f, "signal"), join(f, "signal"));
     const fs::path resolved = resolve(folder, signal);
     std::error_code ec;
@@ -535,10 +627,16 @@ void readSources(const JsonReader& r, const json& v, const fs::path& folder, Sce
   }
 }
 
-void readListener(const JsonReader& r, const json& v, ListenerDesc& listener) {
-  const std::string field = "listener";
+void readListener(const JsonReader& r, const json& v, const std::string& field, bool named,
+                  ListenerDesc& listener) {
   r.expectObject(v, field);
-  r.checkKeys(v, field, {"position", "radius", "trajectory", "loop", "yaw", "pitch"});
+  if (named) {
+    r.checkKeys(v, field, {"name", "position", "radius", "trajectory", "loop", "yaw", "pitch"});
+    listener.name = r.string(r.require(v, field, "name"), join(field, "name"));
+    if (listener.name.empty()) r.fail(join(field, "name"), "must not be empty");
+  } else {
+    r.checkKeys(v, field, {"position", "radius", "trajectory", "loop", "yaw", "pitch"});
+  }
   if (const json* t = JsonReader::find(v, "trajectory")) {
     const std::string tf = join(field, "trajectory");
     if (!t->is_array())
@@ -591,7 +689,7 @@ void readPropagation(const JsonReader& r, const json& v, PropagationSettings& p)
   r.checkKeys(v, field,
               {"rays_per_frame", "max_order", "patch_size", "cache_tau", "cache_memory_mb",
                "frame_rate", "ir_length", "seed", "estimator", "dpc_weighting", "speed_of_sound",
-               "temperature", "humidity", "air_absorption", "roulette_threshold_db"});
+               "temperature", "humidity", "air_absorption", "diffraction", "roulette_threshold_db"});
   auto f = [&](const char* key) { return join(field, key); };
   if (const json* x = JsonReader::find(v, "rays_per_frame"))
     p.raysPerFrame = int(r.integer(*x, f("rays_per_frame"), 1, 100'000'000));
@@ -631,7 +729,8 @@ void readPropagation(const JsonReader& r, const json& v, PropagationSettings& p)
   if (const json* x = JsonReader::find(v, "dpc_weighting")) {
     const std::string s = r.string(*x, f("dpc_weighting"));
     const auto w = parseDpcWeighting(s);
-    if (!w) r.fail(f("dpc_weighting"), inQuotes(s) + " is not one of \"ema\", \"seed\"");
+    if (!w)
+      r.fail(f("dpc_weighting"), inQuotes(s) + " is not one of \"ema\", \"seed\", \"window\"");
     p.dpcWeighting = *w;
   }
   if (const json* x = JsonReader::find(v, "temperature"))
@@ -646,6 +745,8 @@ void readPropagation(const JsonReader& r, const json& v, PropagationSettings& p)
   }
   if (const json* x = JsonReader::find(v, "air_absorption"))
     p.airAbsorption = r.boolean(*x, f("air_absorption"));
+  if (const json* x = JsonReader::find(v, "diffraction"))
+    p.diffraction = r.boolean(*x, f("diffraction"));
   if (const json* x = JsonReader::find(v, "roulette_threshold_db")) {
     const double db = r.inRange(*x, f("roulette_threshold_db"), -300.0, 0.0);
     p.rouletteThreshold = float(std::pow(10.0, db / 10.0));
@@ -688,7 +789,9 @@ SceneDesc loadScene(const std::string& path) {
   const JsonReader r(path);
   if (!root.is_object())
     r.fail("", "expected a JSON object at the top level, got " + JsonReader::describe(root));
-  r.checkKeys(root, "", {"mesh", "materials", "sources", "listener", "propagation", "audio"});
+  r.checkKeys(
+      root, "",
+      {"mesh", "materials", "sources", "listener", "listeners", "objects", "propagation", "audio"});
   const fs::path folder = fs::path(path).parent_path();
 
   // Materials (sorted by name: nlohmann::json objects iterate in key order).
@@ -702,7 +805,29 @@ SceneDesc loadScene(const std::string& path) {
   if (scene.materials.empty()) r.fail("materials", "at least one material is required");
 
   readSources(r, r.require(root, "", "sources"), folder, scene);
-  readListener(r, r.require(root, "", "listener"), scene.listener);
+  const json* one = JsonReader::find(root, "listener");
+  const json* many = JsonReader::find(root, "listeners");
+  if (one && many) r.fail("listeners", "give either \"listener\" or \"listeners\", not both");
+  if (one) {
+    scene.listeners.emplace_back();
+    readListener(r, *one, "listener", false, scene.listeners.back());
+  } else if (many) {
+    if (!many->is_array() || many->empty())
+      r.fail("listeners",
+             "expected a non-empty array of listeners, got " + JsonReader::describe(*many));
+    for (size_t i = 0; i < many->size(); ++i) {
+      ListenerDesc l;
+      readListener(r, (*many)[i], index("listeners", i), true, l);
+      for (const ListenerDesc& other : scene.listeners)
+        if (other.name == l.name)
+          r.fail(index("listeners", i) + ".name", "duplicate listener name " + inQuotes(l.name));
+      scene.listeners.push_back(std::move(l));
+    }
+  } else {
+    r.fail("listener", "missing required key (or give \"listeners\")");
+  }
+  scene.listener = scene.listeners.front();
+  if (const json* o = JsonReader::find(root, "objects")) readObjects(r, *o, folder, scene);
   if (const json* p = JsonReader::find(root, "propagation"))
     readPropagation(r, *p, scene.propagation);
   if (const json* a = JsonReader::find(root, "audio")) readAudio(r, *a, folder, scene.audio);
@@ -710,17 +835,34 @@ SceneDesc loadScene(const std::string& path) {
   // Mesh last: the most expensive step, after the cheap checks.
   const std::string meshName = r.string(r.require(root, "", "mesh"), "mesh");
   scene.meshPath = resolve(folder, meshName).string();
-  const ObjData obj = readObj(path, scene.meshPath);
-  buildMesh(path, scene.meshPath, obj, scene.materials, scene);
+  const ObjData obj = readObj(path, scene.meshPath, "mesh");
+  buildMesh(path, scene.meshPath, obj, scene.materials, scene.mesh, scene.warnings);
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    ObjectDesc& o = scene.objects[i];
+    const ObjData od = readObj(path, o.meshPath, index("objects", i) + ".mesh");
+    buildMesh(path, o.meshPath, od, scene.materials, o.mesh, scene.warnings);
+  }
+  std::vector<bool> used(scene.materials.size(), false);
+  for (uint32_t m : scene.mesh.materialIndex) used[m] = true;
+  for (const ObjectDesc& o : scene.objects)
+    for (uint32_t m : o.mesh.materialIndex) used[m] = true;
+  for (size_t i = 0; i < scene.materials.size(); ++i)
+    if (!used[i])
+      scene.warnings.push_back(path + ": materials." + scene.materials[i].name +
+                               ": not used by any triangle of " + scene.meshPath +
+                               (scene.objects.empty() ? "" : " or of an object"));
   return scene;
 }
 
-glm::vec3 listenerPositionAt(const ListenerDesc& listener, double t) {
-  const auto& k = listener.trajectory;
-  if (k.empty()) return listener.position;
+namespace {
+
+/// Position along keyframes (linear; clamped, or wrapped when loop is set).
+glm::vec3 positionAlong(const std::vector<Keyframe>& k, bool loop, const glm::vec3& fixed,
+                        double t) {
+  if (k.empty()) return fixed;
   if (k.size() == 1 || !std::isfinite(t)) return k.front().position;
   const double t0 = k.front().timeSeconds, t1 = k.back().timeSeconds;
-  if (listener.loop) {
+  if (loop) {
     const double period = t1 - t0;
     t = t0 + (t - t0) - period * std::floor((t - t0) / period);  // into [t0, t1)
   }
@@ -732,6 +874,68 @@ glm::vec3 listenerPositionAt(const ListenerDesc& listener, double t) {
   const auto prev = next - 1;
   const double u = (t - prev->timeSeconds) / (next->timeSeconds - prev->timeSeconds);
   return prev->position + float(u) * (next->position - prev->position);
+}
+
+}  // namespace
+
+glm::vec3 listenerPositionAt(const ListenerDesc& listener, double t) {
+  return positionAlong(listener.trajectory, listener.loop, listener.position, t);
+}
+
+glm::vec3 sourcePositionAt(const SourceDesc& source, double t) {
+  return positionAlong(source.trajectory, source.trajectoryLoop, source.position, t);
+}
+
+Pose objectPoseAt(const ObjectDesc& object, double t) {
+  const auto& k = object.trajectory;
+  if (k.empty()) return {};
+  if (k.size() == 1 || !std::isfinite(t)) return {k.front().position, k.front().rotation};
+  const double t0 = k.front().timeSeconds, t1 = k.back().timeSeconds;
+  if (object.loop) t = t0 + (t - t0) - (t1 - t0) * std::floor((t - t0) / (t1 - t0));
+  if (t <= t0) return {k.front().position, k.front().rotation};
+  if (t >= t1) return {k.back().position, k.back().rotation};
+  const auto next =
+      std::upper_bound(k.begin(), k.end(), t,
+                       [](double x, const ObjectKeyframe& key) { return x < key.timeSeconds; });
+  const auto prev = next - 1;
+  const float u = float((t - prev->timeSeconds) / (next->timeSeconds - prev->timeSeconds));
+  Pose p;
+  p.position = prev->position + u * (next->position - prev->position);
+  // Shorter arc: q and -q are the same rotation.
+  glm::quat b = next->rotation;
+  if (glm::dot(prev->rotation, b) < 0.f) b = -b;
+  p.rotation = glm::normalize(glm::slerp(prev->rotation, b, u));
+  return p;
+}
+
+void evaluateWorld(const SceneDesc& scene, double t, WorldState& state) {
+  state.timeSeconds = t;
+  state.listenerPositions.resize(scene.listeners.size());
+  state.listenerOrientations.resize(scene.listeners.size());
+  for (size_t i = 0; i < scene.listeners.size(); ++i) {
+    state.listenerPositions[i] = listenerPositionAt(scene.listeners[i], t);
+    state.listenerOrientations[i] = listenerOrientationAt(scene.listeners[i], t);
+  }
+  state.sourcePositions.resize(scene.sources.size());
+  for (size_t i = 0; i < scene.sources.size(); ++i)
+    state.sourcePositions[i] = sourcePositionAt(scene.sources[i], t);
+  state.objectPoses.resize(scene.objects.size());
+  for (size_t i = 0; i < scene.objects.size(); ++i)
+    state.objectPoses[i] = objectPoseAt(scene.objects[i], t);
+}
+
+void selectListener(SceneDesc& scene, const std::string& name, const std::string& flag) {
+  std::string known;
+  for (const ListenerDesc& l : scene.listeners) {
+    if (l.name == name) {
+      scene.listener = l;
+      return;
+    }
+    known += (known.empty() ? "" : ", ") + inQuotes(l.name);
+  }
+  throw InputError(
+      "command line", flag,
+      "no listener named " + inQuotes(name) + " in " + scene.path + " (listeners: " + known + ")");
 }
 
 glm::vec3 Orientation::forward() const {
@@ -801,6 +1005,7 @@ std::optional<Estimator> parseEstimator(const std::string& s) {
 std::optional<DpcWeighting> parseDpcWeighting(const std::string& s) {
   if (s == "ema") return DpcWeighting::kEma;
   if (s == "seed") return DpcWeighting::kSeed;
+  if (s == "window") return DpcWeighting::kWindow;
   return std::nullopt;
 }
 

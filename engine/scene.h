@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cstdint>
+#include <glm/gtc/quaternion.hpp>
 #include <glm/vec3.hpp>
 #include <optional>
 #include <string>
@@ -37,14 +38,6 @@ struct Mesh {
   std::vector<uint32_t> materialIndex;
 };
 
-struct SourceDesc {
-  std::string name;
-  glm::vec3 position{0.f};  ///< metres
-  std::string signalPath;   ///< dry WAV, resolved relative to the scene file's folder
-  float gainDb = 0.f;       ///< dB applied to the dry signal
-  bool loop = false;        ///< repeat the dry signal for as long as the render lasts
-};
-
 struct Keyframe {
   double timeSeconds = 0.0;  ///< seconds from the start of the render, strictly increasing
   glm::vec3 position{0.f};   ///< metres
@@ -55,7 +48,43 @@ struct Keyframe {
   std::optional<float> pitchDegrees;  ///< degrees above the horizon (default 0)
 };
 
+struct SourceDesc {
+  std::string name;
+  glm::vec3 position{0.f};  ///< metres; used when the trajectory is empty
+  std::string signalPath;   ///< dry WAV, resolved relative to the scene file's folder
+  float gainDb = 0.f;       ///< dB applied to the dry signal
+  bool loop = false;        ///< repeat the dry signal for as long as the render lasts
+  /// Position keyframes (yaw/pitch unused), linearly interpolated as the listener's.
+  std::vector<Keyframe> trajectory;
+  bool trajectoryLoop = false;  ///< wrap time around the last keyframe ("trajectory_loop")
+};
+
+/// One pose keyframe of a moving object: world = R(rotation) * local + position.
+struct ObjectKeyframe {
+  double timeSeconds = 0.0;  ///< seconds, strictly increasing
+  glm::vec3 position{0.f};   ///< metres, linearly interpolated
+  /// Unit quaternion (glm stores w, x, y, z; the file gives [x, y, z, w] as glTF), slerped.
+  glm::quat rotation{1.f, 0.f, 0.f, 0.f};
+};
+
+/// A moving rigid object: its own mesh in local coordinates (metres), materials from the
+/// scene's `materials`, and a pose trajectory.
+struct ObjectDesc {
+  std::string name;
+  std::string meshPath;                    ///< resolved relative to the scene file's folder
+  Mesh mesh;                               ///< local coordinates
+  std::vector<ObjectKeyframe> trajectory;  ///< at least one keyframe
+  bool loop = false;                       ///< wrap time around the last keyframe
+};
+
+/// Rigid pose: world = rotation * local + position.
+struct Pose {
+  glm::vec3 position{0.f};
+  glm::quat rotation{1.f, 0.f, 0.f, 0.f};
+};
+
 struct ListenerDesc {
+  std::string name = "listener";     ///< unique among the scene's listeners
   glm::vec3 position{0.f};           ///< metres; used when the trajectory is empty
   float radius = 0.5f;               ///< receiver sphere radius, metres, > 0
   std::vector<Keyframe> trajectory;  ///< linear interpolation between keyframes
@@ -83,6 +112,10 @@ enum class Estimator {
 enum class DpcWeighting {
   kSeed,  ///< thesis eq. 3.2: I_hat / mu, mu = rays emitted since the entry was created
   kEma,   ///< unbiased: exponential moving average of per-frame estimates, time constant tau
+  /// Unbiased: mean of the per-frame estimates over the last tau of frames (a sliding window,
+  /// stored sparsely: only the frames that hit the entry). A change is answered fully after
+  /// tau (docs/dynamic.md).
+  kWindow,
 };
 
 struct PropagationSettings {
@@ -97,11 +130,14 @@ struct PropagationSettings {
   float irLength = 2.0f;   ///< impulse response length, seconds
   uint64_t seed = 1;       ///< random seed; the same seed gives bit-identical output
   Estimator estimator = Estimator::kDpc;
-  DpcWeighting dpcWeighting = DpcWeighting::kEma;
+  DpcWeighting dpcWeighting = DpcWeighting::kWindow;  ///< default: docs/dynamic.md
   float speedOfSound = 343.f;    ///< m/s
   float temperatureC = 20.f;     ///< air temperature, degrees Celsius (ISO 9613-1)
   float humidityPercent = 50.f;  ///< relative humidity, percent (ISO 9613-1)
   bool airAbsorption = true;     ///< apply ISO 9613-1 air absorption along paths
+  /// First-order edge diffraction (UTD) of the direct sound around the static mesh's edges
+  /// (engine/diffraction.h).
+  bool diffraction = true;
   /// Russian roulette: a ray whose band energy (with air attenuation) has fallen below this
   /// fraction of its initial energy in every band survives with probability
   /// kRouletteSurvival and, if it does, carries 1/kRouletteSurvival times its energy
@@ -133,6 +169,10 @@ struct SceneDesc {
   Mesh mesh;
   std::vector<Material> materials;
   std::vector<SourceDesc> sources;  ///< at least one
+  std::vector<ObjectDesc> objects;  ///< moving rigid objects (may be empty)
+  /// Every listener, at least one, unique names (from `listeners`, or `listener` alone).
+  std::vector<ListenerDesc> listeners;
+  /// The listener being rendered: listeners[0] unless selectListener() picked another.
   ListenerDesc listener;
   PropagationSettings propagation;
   AudioSettings audio;
@@ -153,6 +193,32 @@ glm::vec3 listenerPositionAt(const ListenerDesc& listener, double t);
 /// shorter arc), or facing the direction of motion along the trajectory (the last direction of
 /// motion while standing), or listener.yawDegrees without a trajectory. Any thread.
 Orientation listenerOrientationAt(const ListenerDesc& listener, double t);
+
+/// Source position at time t: its trajectory as listenerPositionAt (linear, clamped or
+/// wrapped), or its fixed position. Any thread; no allocation.
+glm::vec3 sourcePositionAt(const SourceDesc& source, double t);
+
+/// Object pose at time t: position linear, rotation slerped (shorter arc) between keyframes,
+/// clamped at the ends or wrapped when loop is set. Any thread; no allocation.
+Pose objectPoseAt(const ObjectDesc& object, double t);
+
+/// Everything that moves, evaluated at one time: one entry per scene listener, source and
+/// object, in scene order (docs/design.md, "Runtime interfaces that several features share").
+struct WorldState {
+  double timeSeconds = 0.0;
+  std::vector<glm::vec3> listenerPositions;  ///< metres
+  std::vector<Orientation> listenerOrientations;
+  std::vector<glm::vec3> sourcePositions;  ///< metres
+  std::vector<Pose> objectPoses;
+};
+
+/// Evaluates every trajectory of the scene at time t. Allocates only when `state`'s vectors
+/// grow. Any thread (the scene is read only).
+void evaluateWorld(const SceneDesc& scene, double t, WorldState& state);
+
+/// Makes the listener named `name` the scene's `listener`. Throws InputError("command line",
+/// flag, ...) listing the known names when there is none of that name. Control thread.
+void selectListener(SceneDesc& scene, const std::string& name, const std::string& flag);
 
 /// Parses "mono" / "stereo" / "binaural"; nullopt for anything else.
 std::optional<OutputFormat> parseOutputFormat(const std::string& s);

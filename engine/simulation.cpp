@@ -8,9 +8,10 @@ Simulation::Simulation(const SceneDesc& scene) : Simulation(scene, scene.propaga
 
 Simulation::Simulation(const SceneDesc& scene, const PropagationSettings& settings)
     : settings_(settings), listenerRadius_(scene.listener.radius) {
-  geometry_ = std::make_unique<Geometry>(scene.mesh, scene.materials, settings_.patchSize);
+  geometry_ =
+      std::make_unique<Geometry>(scene.mesh, scene.materials, settings_.patchSize, scene.objects);
   propagator_ = std::make_unique<Propagator>(*geometry_, settings_);
-  diffraction_ = std::make_unique<EdgeDiffraction>(scene.mesh);
+  if (settings_.diffraction) diffraction_ = std::make_unique<EdgeDiffraction>(scene.mesh);
   for (const SourceDesc& s : scene.sources) {
     sourcePositions_.push_back(s.position);
     if (settings_.estimator == Estimator::kDpc)
@@ -34,6 +35,12 @@ double Simulation::boundingVolume() const {
   return std::max(1.0, double(e.x) * e.y * e.z);
 }
 
+void Simulation::setObjectPoses(const std::vector<Pose>& poses) {
+  for (size_t k = 0; k < poses.size() && k < geometry_->objectCount(); ++k)
+    geometry_->setObjectPose(k, poses[k]);
+  geometry_->commitPoses();
+}
+
 void Simulation::runFrame(const glm::vec3& listenerPosition) {
   runFrame(listenerPosition, sourcePositions_);
 }
@@ -48,7 +55,8 @@ void Simulation::runFrame(const glm::vec3& listenerPosition,
     r.trace = propagator_->traceFrame(frame_, uint32_t(s), sources[s], listener, groups_);
     const auto t1 = std::chrono::steady_clock::now();
     r.direct = propagator_->directSound(sources[s], listener);
-    diffraction_->apply(*geometry_, sources[s], listener, settings_.speedOfSound,
+    if (diffraction_)
+      diffraction_->apply(*geometry_, sources[s], listener, settings_.speedOfSound,
                         propagator_->airAttenuationPerMetre(), r.direct);
     r.energy.clear();
     DirectionalEnergyResponse* dir = nullptr;

@@ -50,6 +50,10 @@ class Simulation {
   /// Same, with source positions other than the scene's (one per source).
   void runFrame(const glm::vec3& listenerPosition, const std::vector<glm::vec3>& sources);
 
+  /// Moves the scene's objects (one pose per object, scene order) for the following frames:
+  /// sets the Embree instance transforms and commits the top-level BVH. No allocation.
+  void setObjectPoses(const std::vector<Pose>& poses);
+
   /// Also produce, per source, a DirectionalEnergyResponse over these listener-frame
   /// directions (for spatial IR synthesis). Allocates.
   void enableDirectional(const std::vector<glm::vec3>& listenerDirections);

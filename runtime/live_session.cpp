@@ -28,6 +28,8 @@ LiveSession::LiveSession(const SceneDesc& scene, const PropagationSettings& sett
       toAudio_(size_t(std::max(3, options.poolSize)) + 1),
       fromAudio_(size_t(std::max(3, options.poolSize)) + 1) {
   propagation_ = std::make_unique<PropagationStage>(scene, settings, std::max(3, options.poolSize));
+  hostSources_ = std::make_unique<SeqlockChannel<HostSourcePosition>[]>(scene.sources.size());
+  hostObjects_ = std::make_unique<SeqlockChannel<HostObjectPose>[]>(scene.objects.size());
   const int irChannels = propagation_->numOutputs();
   audioStage_ = std::make_unique<AudioStage>(propagation_->layout(), dry, irChannels);
   mono_.assign(size_t(blockSize_) * irChannels, 0.f);
@@ -47,6 +49,25 @@ LiveSession::LiveSession(const SceneDesc& scene, const PropagationSettings& sett
 
 LiveSession::~LiveSession() {
   stop();
+}
+
+bool LiveSession::setSourcePosition(size_t index, const glm::vec3& position) {
+  if (index >= scene_.sources.size()) return false;
+  hostSources_[index].publish(HostSourcePosition{position, 1u});
+  return true;
+}
+
+bool LiveSession::setObjectPose(size_t index, const glm::vec3& position, const float rotation[4]) {
+  if (index >= scene_.objects.size()) return false;
+  const double n = std::sqrt(double(rotation[0]) * rotation[0] + double(rotation[1]) * rotation[1] +
+                             double(rotation[2]) * rotation[2] + double(rotation[3]) * rotation[3]);
+  if (!(n > 1e-6) || !std::isfinite(n)) return false;
+  HostObjectPose h;
+  h.position = position;
+  for (int i = 0; i < 4; ++i) h.rotation[i] = float(rotation[i] / n);
+  h.set = 1u;
+  hostObjects_[index].publish(h);
+  return true;
 }
 
 void LiveSession::setPose(const glm::vec3& position, float yawRadians, double sceneSeconds,
@@ -80,6 +101,13 @@ void LiveSession::propagationLoop() {
     Orientation orientation;
     orientation.yawRadians = pose.yawRadians;
     orientation.pitchRadians = pose.pitchRadians;
+    for (size_t i = 0; i < scene_.sources.size(); ++i)
+      if (const HostSourcePosition h = hostSources_[i].read(); h.set)
+        propagation_->overrideSource(i, h.position);
+    for (size_t i = 0; i < scene_.objects.size(); ++i)
+      if (const HostObjectPose h = hostObjects_[i].read(); h.set)
+        propagation_->overrideObject(i, Pose{h.position, glm::quat(h.rotation[3], h.rotation[0],
+                                                                   h.rotation[1], h.rotation[2])});
     IrSet* set = propagation_->computeFrame(pose.position, orientation, pose.sceneSeconds);
     const auto t1 = std::chrono::steady_clock::now();
     if (set) {

@@ -56,6 +56,14 @@ class LiveSession {
   /// dpc::Orientation (radians; yaw 0 faces +x, positive turns left).
   void setPose(const glm::vec3& position, float yawRadians, double sceneSeconds,
                float pitchRadians = 0.f);
+  /// Any thread (one writer per source at a time): places source `index` (scene order) at
+  /// `position` (m) from the next propagation frame on, instead of its trajectory. Returns false
+  /// (and changes nothing) for an index out of range. Wait-free; no allocation.
+  bool setSourcePosition(size_t index, const glm::vec3& position);
+  /// Any thread (one writer per object at a time): object `index` at world = R(rotation) *
+  /// local + position; rotation a unit quaternion (x, y, z, w), normalised here; false for an
+  /// index out of range or a zero-length rotation. Wait-free; no allocation.
+  bool setObjectPose(size_t index, const glm::vec3& position, const float rotation[4]);
   /// IR channels (1 mono, 2 stereo/binaural).
   int irChannels() const { return int(stageOut_.size()); }
 
@@ -132,6 +140,8 @@ class LiveSession {
   std::unique_ptr<PropagationStage> propagation_;
   std::unique_ptr<AudioStage> audioStage_;
   PoseChannel pose_;
+  std::unique_ptr<SeqlockChannel<HostSourcePosition>[]> hostSources_;
+  std::unique_ptr<SeqlockChannel<HostObjectPose>[]> hostObjects_;
   moodycamel::ReaderWriterQueue<IrSet*> toAudio_, fromAudio_;
   std::vector<float> mono_;  ///< audio-thread scratch: one block per IR channel
   std::vector<float*> stageOut_;

@@ -17,6 +17,9 @@ OfflineResult renderOffline(const SceneDesc& scene, const PropagationSettings& s
   double content = double(dry.longestFrames()) / fs;
   if (!scene.listener.loop && !scene.listener.trajectory.empty())
     content = std::max(content, scene.listener.trajectory.back().timeSeconds);
+  for (const SourceDesc& s : scene.sources)
+    if (!s.trajectoryLoop && !s.trajectory.empty())
+      content = std::max(content, s.trajectory.back().timeSeconds);
   const double duration =
       options.durationSeconds >= 0.0 ? options.durationSeconds : content + settings.irLength;
   const size_t totalFrames = size_t(std::ceil(duration * fs));

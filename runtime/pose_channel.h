@@ -1,4 +1,5 @@
-// PoseChannel: the listener pose, written by the control thread and read by the propagation
+// SeqlockChannel<T>: one trivially copyable value (the listener pose, a host-set source
+// position or object pose), written by the control thread and read by the propagation
 // thread without locks (a sequence lock; Boehm, "Can seqlocks get along with programming
 // language memory models?", MSPC 2012: data held in relaxed atomics, so it is race-free in the
 // C++ memory model and clean under ThreadSanitizer).
@@ -10,6 +11,7 @@
 #include <cstdint>
 #include <cstring>
 #include <glm/vec3.hpp>
+#include <type_traits>
 
 namespace dpc {
 
@@ -21,11 +23,27 @@ struct ListenerPose {
   double sceneSeconds = 0.0;  ///< scene time the pose belongs to (trajectory time)
 };
 
-class PoseChannel {
+/// A source position set by the host (overrides the scene's trajectory once set).
+struct HostSourcePosition {
+  glm::vec3 position{0.f};  ///< metres
+  uint32_t set = 0;         ///< 0: never set (the scene's trajectory applies)
+};
+
+/// An object pose set by the host: world = R(q) * local + position, q = (x, y, z, w) unit.
+struct HostObjectPose {
+  glm::vec3 position{0.f};                   ///< metres
+  float rotation[4] = {0.f, 0.f, 0.f, 1.f};  ///< quaternion x, y, z, w (glTF order)
+  uint32_t set = 0;                          ///< 0: never set
+};
+
+template <class T>
+class SeqlockChannel {
+  static_assert(std::is_trivially_copyable_v<T>);
+
  public:
-  void publish(const ListenerPose& pose) {
+  void publish(const T& value) {
     Words w{};
-    std::memcpy(w.data, &pose, sizeof(ListenerPose));
+    std::memcpy(w.data, &value, sizeof(T));
     const uint32_t s = seq_.load(std::memory_order_relaxed);
     seq_.store(s + 1, std::memory_order_relaxed);  // odd: write in progress
     std::atomic_thread_fence(std::memory_order_release);
@@ -33,7 +51,7 @@ class PoseChannel {
     seq_.store(s + 2, std::memory_order_release);
   }
 
-  ListenerPose read() const {
+  T read() const {
     Words w{};
     for (;;) {
       const uint32_t s0 = seq_.load(std::memory_order_acquire);
@@ -42,18 +60,20 @@ class PoseChannel {
       std::atomic_thread_fence(std::memory_order_acquire);
       if (seq_.load(std::memory_order_relaxed) == s0) break;
     }
-    ListenerPose p;
-    std::memcpy(&p, w.data, sizeof(ListenerPose));
-    return p;
+    T v;
+    std::memcpy(&v, w.data, sizeof(T));
+    return v;
   }
 
  private:
-  static constexpr size_t kWords = (sizeof(ListenerPose) + 7) / 8;
+  static constexpr size_t kWords = (sizeof(T) + 7) / 8;
   struct Words {
     uint64_t data[kWords];
   };
   std::atomic<uint32_t> seq_{0};
   std::atomic<uint64_t> words_[kWords] = {};
 };
+
+using PoseChannel = SeqlockChannel<ListenerPose>;
 
 }  // namespace dpc

@@ -119,6 +119,10 @@ PropagationStage::PropagationStage(const SceneDesc& scene, const PropagationSett
                                    int poolSize)
     : scene_(scene), numOutputs_(outputChannels(scene.audio.output)) {
   simulation_ = std::make_unique<Simulation>(scene, settings);
+  sourcePositions_.resize(scene.sources.size());
+  objectPoses_.resize(scene.objects.size());
+  sourceOverridden_.assign(scene.sources.size(), 0);
+  objectOverridden_.assign(scene.objects.size(), 0);
   const int fs = scene.audio.sampleRate;
   if (scene.audio.output == OutputFormat::kMono) {
     for (size_t s = 0; s < scene.sources.size(); ++s)
@@ -144,14 +148,46 @@ PropagationStage::PropagationStage(const SceneDesc& scene, const PropagationSett
               std::vector<std::vector<float>>(size_t(numOutputs_), std::vector<float>(irSamples_)));
 }
 
+void PropagationStage::overrideSource(size_t index, const glm::vec3& position) {
+  if (index >= sourcePositions_.size()) return;
+  sourcePositions_[index] = position;
+  sourceOverridden_[index] = 1;
+}
+
+void PropagationStage::overrideObject(size_t index, const Pose& pose) {
+  if (index >= objectPoses_.size()) return;
+  objectPoses_[index] = pose;
+  objectOverridden_[index] = 1;
+}
+
 IrSet* PropagationStage::computeFrame(const glm::vec3& listener, const Orientation& orientation,
                                       double t) {
+  // Sources and objects follow their trajectories at scene time t unless a host took over.
+  for (size_t s = 0; s < scene_.sources.size(); ++s)
+    if (!sourceOverridden_[s]) sourcePositions_[s] = sourcePositionAt(scene_.sources[s], t);
+  for (size_t k = 0; k < scene_.objects.size(); ++k)
+    if (!objectOverridden_[k]) objectPoses_[k] = objectPoseAt(scene_.objects[k], t);
+  return runPrepared(listener, orientation, t);
+}
+
+IrSet* PropagationStage::computeFrame(const WorldState& world, size_t listener) {
+  for (size_t s = 0; s < sourcePositions_.size() && s < world.sourcePositions.size(); ++s)
+    sourcePositions_[s] = world.sourcePositions[s];
+  for (size_t k = 0; k < objectPoses_.size() && k < world.objectPoses.size(); ++k)
+    objectPoses_[k] = world.objectPoses[k];
+  return runPrepared(world.listenerPositions.at(listener), world.listenerOrientations.at(listener),
+                     world.timeSeconds);
+}
+
+IrSet* PropagationStage::runPrepared(const glm::vec3& listener, const Orientation& orientation,
+                                     double t) {
   if (free_.empty()) return nullptr;
   IrSet* set = free_.back();
   free_.pop_back();
   auto t0 = std::chrono::steady_clock::now();
   simulation_->setListenerOrientation(orientation);
-  simulation_->runFrame(listener);
+  if (!objectPoses_.empty()) simulation_->setObjectPoses(objectPoses_);
+  simulation_->runFrame(listener, sourcePositions_);
   totals_.traceSeconds += secondsSince(t0);
   for (size_t s = 0; s < simulation_->sourceCount(); ++s) {
     const Simulation::SourceResult& r = simulation_->result(s);

@@ -72,6 +72,15 @@ class PropagationStage {
   /// returns it; nullptr if no set is free (all borrowed by the audio side). Propagation
   /// thread; allocates only while the cache's tables grow.
   IrSet* computeFrame(const glm::vec3& listener, const Orientation& orientation, double t);
+  /// The same for a whole world state (docs/design.md, "World state"): every source and object
+  /// where `world` puts them, the listener world.listener*[listener] (index must be valid:
+  /// std::out_of_range otherwise). Host overrides are replaced for this frame.
+  IrSet* computeFrame(const WorldState& world, size_t listener);
+  /// Host overrides of the scene's trajectories for the following frames: source `index` at
+  /// `position` (m), object `index` at `pose`. Out-of-range indices are ignored (callers check).
+  /// Propagation thread; no allocation.
+  void overrideSource(size_t index, const glm::vec3& position);
+  void overrideObject(size_t index, const Pose& pose);
   /// Gives a set back to the pool. Propagation thread.
   void recycle(IrSet* set);
 
@@ -89,7 +98,13 @@ class PropagationStage {
   const Totals& totals() const { return totals_; }
 
  private:
+  /// Runs the frame with sourcePositions_ and objectPoses_ as they stand.
+  IrSet* runPrepared(const glm::vec3& listener, const Orientation& orientation, double t);
+
   const SceneDesc& scene_;
+  std::vector<glm::vec3> sourcePositions_;  ///< this frame's, one per source (scene time t)
+  std::vector<Pose> objectPoses_;           ///< this frame's, one per object
+  std::vector<uint8_t> sourceOverridden_, objectOverridden_;  ///< host took over: 1
   int numOutputs_;
   std::unique_ptr<Simulation> simulation_;
   std::vector<std::unique_ptr<IrSynthesizer>> synthesizers_;  ///< mono: one per source

@@ -71,24 +71,40 @@ DPC_API dpc_status dpc_engine_stop(dpc_engine* engine);
 DPC_API dpc_status dpc_engine_set_listener(dpc_engine* engine, float x, float y, float z,
                                            float yaw_degrees, float pitch_degrees);
 
-/** Any thread. Moving sources at run time: not available in this version (sources move along
- *  the trajectories of the scene file). Always returns DPC_ERR_UNSUPPORTED. */
+/** Any thread, wait-free, no allocation. Moves source `source` (0-based, scene order) to
+ *  (x, y, z) metres in scene coordinates from the next propagation frame on, instead of its
+ *  trajectory. Errors: DPC_ERR_INVALID_ARGUMENT (null engine, index out of range, non-finite
+ *  value; no message is set, since setting one would allocate). */
 DPC_API dpc_status dpc_engine_set_source_position(dpc_engine* engine, int source, float x,
                                                   float y, float z);
 
-/** Audio thread. Renders `frames` frames into outputs[0..dpc_engine_output_channels()).
- *  inputs: NULL to play the scene's own dry signals (one per source, in scene order), or one
- *  mono buffer per source of `frames` samples. Never allocates, locks, logs or waits. In this
- *  version frames must equal dpc_engine_block_size() and inputs must be NULL; other calls
- *  output silence and return DPC_ERR_UNSUPPORTED (and are counted in dpc_stats.late_blocks). */
+/** Any thread (one writer per object at a time), wait-free, no allocation. Places moving
+ *  object `object` (0-based, the scene's "objects" order): world = R(q) * local + (x, y, z),
+ *  metres; q = (qx, qy, qz, qw) a rotation quaternion in glTF order, normalised here. Replaces
+ *  the object's trajectory from the next propagation frame on. Errors: DPC_ERR_INVALID_ARGUMENT
+ *  (null engine, index out of range, non-finite value or zero quaternion; no message set). */
+DPC_API dpc_status dpc_engine_set_object_pose(dpc_engine* engine, int object, float x, float y,
+                                              float z, float qx, float qy, float qz, float qw);
+
+/** Audio thread. Renders `frames` frames (1..8192, may vary from call to call) into
+ *  outputs[0..dpc_engine_output_channels()), each a buffer of `frames` samples.
+ *  inputs: NULL to play the scene's own dry signals, or one mono buffer of `frames` samples per
+ *  source (scene order) holding the host's dry signal. The engine convolves in fixed blocks of
+ *  dpc_engine_block_size() frames; a FIFO between the host's calls and those blocks adds a
+ *  constant latency of dpc_engine_latency_frames() frames whatever the call pattern. Never
+ *  allocates, locks, logs or waits. Errors: DPC_ERR_INVALID_ARGUMENT (null engine or outputs;
+ *  frames outside 1..8192: nothing rendered, counted in dpc_stats.rejected_callbacks). */
 DPC_API dpc_status dpc_engine_process(dpc_engine* engine, const float* const* inputs,
                                       float* const* outputs, int frames);
 
 /** Any thread. Fixed properties of the engine (from the scene file). */
 DPC_API int dpc_engine_sample_rate(const dpc_engine* engine);     /**< Hz */
-DPC_API int dpc_engine_block_size(const dpc_engine* engine);      /**< frames per process() */
+DPC_API int dpc_engine_block_size(const dpc_engine* engine);      /**< engine block, frames */
 DPC_API int dpc_engine_output_channels(const dpc_engine* engine); /**< 1 mono, 2 stereo */
 DPC_API int dpc_engine_source_count(const dpc_engine* engine);
+DPC_API int dpc_engine_object_count(const dpc_engine* engine);    /**< moving objects */
+/** Latency process() adds to the host's signal, frames (one engine block). */
+DPC_API int dpc_engine_latency_frames(const dpc_engine* engine);
 
 /** Counters and last-frame measurements of a running engine. */
 typedef struct dpc_stats {
@@ -96,12 +112,19 @@ typedef struct dpc_stats {
   double frame_ms;            /**< duration of the last propagation frame, ms */
   double rays_per_second;     /**< since the previous dpc_engine_get_stats call */
   uint64_t cache_entries;     /**< diffuse path cache entries after the last frame */
+  uint64_t cache_bytes;       /**< heap bytes held by the caches, summed over sources */
+  uint64_t cache_budget_bytes; /**< their memory budget, summed over sources */
+  uint64_t cache_merged_entries; /**< path entries merged into coarse delay bins, cumulative */
+  double cache_merged_energy_fraction; /**< largest per-source share of the response's energy
+                                            read from merged entries, [0, 1] */
   uint64_t irs_applied;       /**< impulse-response sets that reached the convolvers */
   uint64_t irs_dropped;       /**< superseded before the audio thread applied them */
   double ir_age_ms;           /**< age of the impulse response playing, ms */
-  uint64_t blocks;            /**< process() calls rendered */
+  uint64_t blocks;            /**< engine blocks rendered */
   uint64_t nan_blocks;        /**< blocks zeroed because they held NaN or infinity */
-  uint64_t late_blocks;       /**< process() calls skipped (unsupported frame count/inputs) */
+  uint64_t late_callbacks;    /**< process() calls that took longer than the audio they
+                                   produced (a device would have underrun) */
+  uint64_t rejected_callbacks; /**< process() calls with frames outside 1..8192 */
 } dpc_stats;
 
 /** Control thread (it updates the rays-per-second interval). No allocation. */

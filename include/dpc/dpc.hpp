@@ -53,6 +53,16 @@ class Engine {
     return dpc_engine_set_listener(e_, x, y, z, yawDegrees, pitchDegrees);
   }
 
+  /// Any thread, wait-free: see dpc_engine_set_source_position (metres).
+  dpc_status setSourcePosition(int source, float x, float y, float z) noexcept {
+    return dpc_engine_set_source_position(e_, source, x, y, z);
+  }
+  /// Any thread, wait-free: see dpc_engine_set_object_pose (metres, quaternion x, y, z, w).
+  dpc_status setObjectPose(int object, float x, float y, float z, float qx, float qy, float qz,
+                           float qw) noexcept {
+    return dpc_engine_set_object_pose(e_, object, x, y, z, qx, qy, qz, qw);
+  }
+
   /// Audio thread: see dpc_engine_process. Never allocates or throws.
   dpc_status process(const float* const* inputs, float* const* outputs, int frames) noexcept {
     return dpc_engine_process(e_, inputs, outputs, frames);
@@ -62,6 +72,8 @@ class Engine {
   int blockSize() const noexcept { return dpc_engine_block_size(e_); }            ///< frames
   int outputChannels() const noexcept { return dpc_engine_output_channels(e_); }  ///< 1 or 2
   int sourceCount() const noexcept { return dpc_engine_source_count(e_); }
+  int objectCount() const noexcept { return dpc_engine_object_count(e_); }
+  int latencyFrames() const noexcept { return dpc_engine_latency_frames(e_); }  ///< frames
 
   /// Control thread: counters and last-frame measurements.
   Stats stats() {

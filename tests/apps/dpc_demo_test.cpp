@@ -13,8 +13,8 @@
 #include <sstream>
 #include <string>
 
-#include "runtime/offline_renderer.h"
 #include "engine/scene.h"
+#include "runtime/offline_renderer.h"
 
 using namespace dpc;
 namespace fs = std::filesystem;
@@ -172,7 +172,8 @@ TEST_CASE("dpc-demo refuses bad input with one line naming file and field", "[er
   fs::copy_file(kScenes + "/shoebox.obj", fx.dir / "room.obj",
                 fs::copy_options::overwrite_existing);
   const std::string s = scene(fx.sceneJson(good, listener));
-  for (const char* flag : {"--rays 0", "--tau -1", "--estimator magic", "--max-order -2"}) {
+  for (const char* flag :
+       {"--rays 0", "--tau -1", "--estimator magic", "--max-order -2", "--listener nobody"}) {
     const Run r = run(s + " --offline " + out.string() + " " + flag);
     INFO(flag << ": " << r.err);
     CHECK(r.status != 0);
@@ -185,4 +186,23 @@ TEST_CASE("dpc-demo refuses bad input with one line naming file and field", "[er
   INFO(ok.err);
   CHECK(ok.status == 0);
   CHECK(fs::exists(out));
+}
+
+TEST_CASE("Two-room scene: every listener rendered to OUT-NAME.wav, or one with --listener",
+          "[offline][dynamic]") {
+  const fs::path dir = fs::temp_directory_path() / ("dpc_demo_two_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string base = " --duration 0.3 --rays 256 --max-order 10 ";
+  const Run all = run(kScenes + "/two_rooms.json --offline " + (dir / "out.wav").string() + base);
+  INFO(all.err);
+  CHECK(all.status == 0);
+  CHECK(fs::exists(dir / "out-a.wav"));
+  CHECK(fs::exists(dir / "out-b.wav"));
+  CHECK_FALSE(fs::exists(dir / "out.wav"));
+  const Run one = run(kScenes + "/two_rooms.json --offline " + (dir / "one.wav").string() + base +
+                      "--listener b");
+  CHECK(one.status == 0);
+  CHECK(fs::exists(dir / "one.wav"));
+  CHECK_FALSE(fs::exists(dir / "one-b.wav"));
+  fs::remove_all(dir);
 }

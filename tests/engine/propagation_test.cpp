@@ -54,7 +54,7 @@ TEST_CASE("tau = 0 DPC reproduces plain path tracing exactly, frame after frame"
   ps.cacheTau = 0.f;
   ps.seed = 42;
   for (TraceMode mode : {TraceMode::kPacket16, TraceMode::kScalar})
-    for (DpcWeighting w : {DpcWeighting::kSeed, DpcWeighting::kEma}) {
+    for (DpcWeighting w : {DpcWeighting::kSeed, DpcWeighting::kEma, DpcWeighting::kWindow}) {
       PropagationSettings dpcSettings = ps, ptSettings = ps;
       dpcSettings.estimator = Estimator::kDpc;
       dpcSettings.dpcWeighting = w;

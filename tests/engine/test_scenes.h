@@ -1,7 +1,10 @@
 // Scenes built in code for engine tests (no files needed).
 #pragma once
 
+#include <array>
+#include <glm/gtc/quaternion.hpp>
 #include <glm/vec3.hpp>
+#include <initializer_list>
 
 #include "engine/scene.h"
 
@@ -40,5 +43,46 @@ inline double eyringT60(glm::vec3 size, double alpha, double c, double airM = 0.
       2.0 * (double(size.x) * size.y + double(size.y) * size.z + double(size.z) * size.x);
   return 24.0 * std::log(10.0) / c * V / (-S * std::log(1.0 - alpha) + 4.0 * airM * V);
 }
+
+/// Appends a double-sided rectangular panel (4 triangles) of material m: corner o, edges u, v.
+inline void addPanel(Mesh& mesh, glm::vec3 o, glm::vec3 u, glm::vec3 v, uint32_t m) {
+  const auto base = uint32_t(mesh.vertices.size());
+  mesh.vertices.insert(mesh.vertices.end(), {o, o + u, o + u + v, o + v});
+  for (const std::array<uint32_t, 3>& t :
+       std::initializer_list<std::array<uint32_t, 3>>{{0, 1, 2}, {0, 2, 3}, {0, 2, 1}, {0, 3, 2}}) {
+    mesh.triangles.push_back({base + t[0], base + t[1], base + t[2]});
+    mesh.materialIndex.push_back(m);
+  }
+}
+
+/// Two rooms 5 x 3 x 4 m side by side along x (x in [0, 10]), joined by a 1 m wide, 2 m high
+/// doorway in the wall x = 5 at z in [3, 4]; a door panel (local frame: the doorway's size
+/// plus 5 cm all round, 1 cm off the wall) seals it when placed at the doorway. Source and
+/// listener sit in different rooms without line of sight.
+inline SceneDesc twoRooms(DpcWeighting weighting, float tau) {
+  SceneDesc s = test::makeShoebox({10, 3, 4}, Bands(0.1f), 0.6f, {2, 1.2f, 1}, {8, 1.2f, 1}, 0.5f);
+  const glm::vec3 y{0, 1, 0}, z{0, 0, 1};
+  addPanel(s.mesh, {5, 0, 0}, 3.f * z, 3.f * y, 0);  // below z = 3, full height
+  addPanel(s.mesh, {5, 2, 3}, 1.f * z, 1.f * y, 0);  // above the doorway
+  ObjectDesc door;
+  door.name = "door";
+  addPanel(door.mesh, {0, -0.05f, -0.05f}, 1.1f * z, 2.1f * y, 0);
+  ObjectKeyframe shut;
+  shut.position = {5.01f, 0.f, 3.f};
+  door.trajectory = {shut};
+  s.objects.push_back(door);
+  s.propagation.estimator = Estimator::kDpc;
+  s.propagation.dpcWeighting = weighting;
+  s.propagation.cacheTau = tau;
+  s.propagation.frameRate = 10.f;
+  s.propagation.raysPerFrame = 8192;
+  s.propagation.maxOrder = 40;
+  return s;
+}
+
+inline const Pose kDoorShut{{5.01f, 0.f, 3.f}, glm::quat(1, 0, 0, 0)};
+/// Swung open by 90 degrees about its hinge edge (the vertical edge at z = 3): into room B.
+inline const Pose kDoorOpen{{5.01f, 0.f, 2.95f},
+                            glm::angleAxis(float(3.14159265358979323846 / 2), glm::vec3(0, 1, 0))};
 
 }  // namespace dpc::test

@@ -556,5 +556,133 @@ TEST_CASE("parseEstimator and parseDpcWeighting", "[scene]") {
   CHECK_FALSE(parseEstimator("DPC").has_value());
   CHECK(parseDpcWeighting("ema") == DpcWeighting::kEma);
   CHECK(parseDpcWeighting("seed") == DpcWeighting::kSeed);
+  CHECK(parseDpcWeighting("window") == DpcWeighting::kWindow);
   CHECK_FALSE(parseDpcWeighting("").has_value());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Dynamic scenes: source trajectories, moving objects, several listeners.
+
+TEST_CASE("Source trajectory interpolates, clamps and loops; position defaults to the first key",
+          "[scene][dynamic]") {
+  Fixture fx;
+  fx.scene["sources"][0].erase("position");
+  fx.scene["sources"][0]["trajectory"] =
+      json::parse(R"([ { "t": 1, "position": [0, 0, 0] }, { "t": 3, "position": [2, 0, 0] } ])");
+  SceneDesc s = fx.load();
+  const SourceDesc& src = s.sources[0];
+  CHECK(src.position == glm::vec3(0.f));
+  CHECK(sourcePositionAt(src, 0.0) == glm::vec3(0.f));         // clamped before the first key
+  CHECK(sourcePositionAt(src, 2.0) == glm::vec3(1.f, 0, 0));   // halfway
+  CHECK(sourcePositionAt(src, 10.0) == glm::vec3(2.f, 0, 0));  // clamped after the last
+  fx.scene["sources"][0]["trajectory_loop"] = true;
+  s = fx.load();
+  CHECK(sourcePositionAt(s.sources[0], 4.0).x == Approx(1.0));  // 4 -> 2 (period 2 s)
+  CHECK_FALSE(s.sources[0].loop);  // the dry signal's loop is a different key
+}
+
+TEST_CASE("Object poses: linear position, slerped rotation along the shorter arc",
+          "[scene][dynamic]") {
+  Fixture fx;
+  fx.write("door.obj", Fixture::kCube);
+  // 90 degrees about +y at t = 2: [x, y, z, w] = [0, sin 45, 0, cos 45]. The second key
+  // is given with the opposite sign (same rotation) to check the shorter-arc choice.
+  fx.scene["objects"] = json::parse(R"([ { "name": "door", "mesh": "door.obj", "trajectory": [
+      { "t": 0, "position": [0, 0, 0] },
+      { "t": 2, "position": [4, 0, 0], "rotation": [0, -0.70710678, 0, -0.70710678] } ] } ])");
+  const SceneDesc s = fx.load();
+  REQUIRE(s.objects.size() == 1);
+  CHECK(s.objects[0].mesh.triangles.size() == 12);
+  const Pose p = objectPoseAt(s.objects[0], 1.0);
+  CHECK(p.position.x == Approx(2.0));
+  // Halfway: 45 degrees about +y maps +x to (cos 45, 0, -sin 45).
+  const glm::vec3 x = p.rotation * glm::vec3(1, 0, 0);
+  CHECK(x.x == Approx(std::sqrt(0.5)).margin(1e-5));
+  CHECK(x.z == Approx(-std::sqrt(0.5)).margin(1e-5));
+  WorldState world;
+  evaluateWorld(s, 2.0, world);
+  CHECK(world.objectPoses.size() == 1);
+  CHECK(world.sourcePositions.size() == 1);
+  CHECK(world.listenerPositions.size() == 1);
+}
+
+TEST_CASE("Several listeners: names, selection, unknown name", "[scene][dynamic]") {
+  Fixture fx;
+  fx.scene.erase("listener");
+  fx.scene["listeners"] = json::parse(R"([ { "name": "a", "position": [0.2, 0.5, 0.5] },
+                                           { "name": "b", "position": [0.8, 0.5, 0.5] } ])");
+  SceneDesc s = fx.load();
+  REQUIRE(s.listeners.size() == 2);
+  CHECK(s.listener.name == "a");
+  selectListener(s, "b", "--listener");
+  CHECK(s.listener.position.x == Approx(0.8));
+  try {
+    selectListener(s, "c", "--listener");
+    FAIL("expected an InputError");
+  } catch (const InputError& e) {
+    CHECK_THAT(e.what(), Contains("--listener") && Contains("\"c\"") && Contains("\"b\""));
+  }
+}
+
+TEST_CASE("Dynamic-scene bad input names the file and the field", "[scene][dynamic][errors]") {
+  const std::string door = R"([ { "name": "door", "mesh": "door.obj", "trajectory": [
+      { "t": 0, "position": [0, 0, 0] } ] } ])";
+  SECTION("zero-length quaternion") {
+    Fixture fx;
+    fx.write("door.obj", Fixture::kCube);
+    fx.scene["objects"] = json::parse(door);
+    fx.scene["objects"][0]["trajectory"][0]["rotation"] = json::parse("[0, 0, 0, 0]");
+    CHECK_THAT(fx.error(), Contains("scene.json: objects[0].trajectory[0].rotation:") &&
+                               Contains("zero length"));
+  }
+  SECTION("object keyframe times not increasing") {
+    Fixture fx;
+    fx.write("door.obj", Fixture::kCube);
+    fx.scene["objects"] = json::parse(door);
+    fx.scene["objects"][0]["trajectory"].push_back(json::parse(R"({"t": 0, "position": [1,0,0]})"));
+    CHECK_THAT(fx.error(),
+               Contains("objects[0].trajectory[1].t:") && Contains("strictly increasing"));
+  }
+  SECTION("source keyframe times not increasing") {
+    Fixture fx;
+    fx.scene["sources"][0]["trajectory"] =
+        json::parse(R"([ { "t": 2, "position": [0, 0, 0] }, { "t": 1, "position": [1, 0, 0] } ])");
+    CHECK_THAT(fx.error(), Contains("sources[0].trajectory[1].t:"));
+  }
+  SECTION("object mesh missing") {
+    Fixture fx;
+    fx.scene["objects"] = json::parse(door);
+    CHECK_THAT(fx.error(), Contains("scene.json: objects[0].mesh:") && Contains("not found"));
+  }
+  SECTION("object mesh degenerate") {
+    Fixture fx;
+    fx.write("door.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nusemtl walls\nf 1 2 3\n");
+    fx.scene["objects"] = json::parse(door);
+    CHECK_THAT(fx.error(), Contains("door.obj") && Contains("degenerate"));
+  }
+  SECTION("undefined material in an object mesh") {
+    Fixture fx;
+    fx.write("door.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl oak\nf 1 2 3\n");
+    fx.scene["objects"] = json::parse(door);
+    CHECK_THAT(fx.error(), Contains("door.obj: usemtl oak:") && Contains("not defined"));
+  }
+  SECTION("duplicate object names") {
+    Fixture fx;
+    fx.write("door.obj", Fixture::kCube);
+    fx.scene["objects"] = json::parse(door);
+    fx.scene["objects"].push_back(fx.scene["objects"][0]);
+    CHECK_THAT(fx.error(), Contains("objects[1].name:") && Contains("duplicate"));
+  }
+  SECTION("duplicate listener names") {
+    Fixture fx;
+    fx.scene.erase("listener");
+    fx.scene["listeners"] = json::parse(R"([ { "name": "a", "position": [0.2, 0.5, 0.5] },
+                                             { "name": "a", "position": [0.8, 0.5, 0.5] } ])");
+    CHECK_THAT(fx.error(), Contains("listeners[1].name:") && Contains("duplicate"));
+  }
+  SECTION("listener and listeners together") {
+    Fixture fx;
+    fx.scene["listeners"] = json::parse(R"([ { "name": "a", "position": [0.2, 0.5, 0.5] } ])");
+    CHECK_THAT(fx.error(), Contains("scene.json: listeners:"));
+  }
 }

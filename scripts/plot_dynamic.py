@@ -1,0 +1,61 @@
+#!/usr/bin/python3
+"""Plots `dpc-bench dynamic` JSON into docs/images/dynamic-step.png (door step response per
+estimator and tau, with the tau bound) and prints the t90 table (markdown) on stdout.
+
+Usage: /usr/bin/python3 scripts/plot_dynamic.py [--in docs/data/dynamic.json] [--out docs/images]
+Needs matplotlib (Debian: python3-matplotlib; /usr/bin/python3).
+"""
+import argparse
+import json
+import os
+
+import matplotlib
+matplotlib.use('Agg')
+import matplotlib.pyplot as plt  # noqa: E402
+
+ap = argparse.ArgumentParser()
+ap.add_argument('--in', dest='inp', default='docs/data/dynamic.json')
+ap.add_argument('--out', default='docs/images')
+a = ap.parse_args()
+d = json.load(open(a.inp))
+steps = d['step_response']
+taus = sorted({s['tau'] for s in steps})
+names = ['window', 'ema', 'ema_matched', 'seed']
+fig, axes = plt.subplots(1, len(taus), figsize=(4 * len(taus), 3.6), sharey=True)
+for ax, tau in zip(axes, taus):
+    for s in steps:
+        if s['tau'] != tau:
+            continue
+        T, lvl = s['frame_period'], s['open_level']
+        y = [v / lvl for v in s['shut'] + s['reopen']]
+        t = [k * T for k in range(len(y))]
+        ax.plot(t, y, label=s['weighting'], lw=1.2)
+        half = len(s['shut']) * T
+    for t0 in (0.0, half):
+        ax.axvspan(t0, t0 + tau, color='0.9')
+        ax.axvline(t0 + tau, color='k', ls=':', lw=0.8)
+    ax.axhline(0.1, color='r', lw=0.5)
+    ax.axhline(0.9, color='r', lw=0.5)
+    ax.set_title(f'tau = {tau} s (shaded: within tau)')
+    ax.set_xlabel('time since the door shut (s); reopened at the middle')
+axes[0].set_ylabel('late energy at the listener / open level (500 Hz)')
+axes[0].legend(fontsize=8)
+fig.tight_layout()
+os.makedirs(a.out, exist_ok=True)
+fig.savefig(os.path.join(a.out, 'dynamic-step.png'), dpi=90)
+
+print('| weighting | tau (s) | time constant (s) | t90 shut (s) | t90 open (s) | within tau | readout sd / mean |')
+print('|---|---|---|---|---|---|---|')
+for n in names:
+    for s in steps:
+        if s['weighting'] != n:
+            continue
+        ok = s['t90_shut'] <= s['tau'] and s['t90_open'] <= s['tau']
+        print(f"| {n} | {s['tau']} | {s['time_constant']:.3g} | {s['t90_shut']:.2f} | "
+              f"{s['t90_open']:.2f} | {'yes' if ok else 'no'} | {s['open_relative_sd']:.3f} |")
+print()
+print('| moving objects | triangles | moving CPU ms/frame | static CPU ms/frame | ratio |')
+print('|---|---|---|---|---|')
+for o in d['moving_objects']:
+    print(f"| {o['objects']} | {o['triangles']} | {o['moving_cpu_ms_per_frame']:.1f} | "
+          f"{o['static_cpu_ms_per_frame']:.1f} | {o['ratio']:.2f} |")

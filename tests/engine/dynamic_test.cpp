@@ -1,0 +1,237 @@
+// Dynamic scenes in the engine: sources that move, objects that move (Embree instances), and
+// the τ = 0 equality of a moved object with the same object baked into the static mesh.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <glm/gtc/quaternion.hpp>
+
+#include "engine/simulation.h"
+#include "test_scenes.h"
+#include "test_util.h"
+
+using namespace dpc;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+}  // namespace
+
+TEST_CASE("A source moving in a free field: delay r/c and energy 1/(4 pi r^2) every frame",
+          "[dynamic]") {
+  // "Free field": one fully absorbing floor far below (the mesh must not be empty).
+  SceneDesc s;
+  s.path = "<free field>";
+  s.materials.push_back(Material{"absorber", Bands(1.f), 0.f});
+  test::addPanel(s.mesh, {-100, -50, -100}, {200, 0, 0}, {0, 0, 200}, 0);
+  SourceDesc src{"walker", {0, 0, 0}, "", 0.f};
+  Keyframe a, b;
+  a.timeSeconds = 0.0, a.position = {1, 0, 0};
+  b.timeSeconds = 4.0, b.position = {7, 0, 0};  // 1.5 m/s
+  src.trajectory = {a, b};
+  s.sources.push_back(src);
+  s.listener.radius = 0.25f;
+  s.propagation.airAbsorption = false;
+  // The floor's far rim would add a diffracted wave (about 1e-4 of the energy) to the direct
+  // sound; this test checks the direct path alone.
+  s.propagation.diffraction = false;
+  s.propagation.raysPerFrame = 64;
+  s.propagation.frameRate = 10.f;
+  Simulation sim(s);
+  const double c = s.propagation.speedOfSound;
+  for (int f = 0; f <= 40; ++f) {
+    const double t = f / 10.0;
+    const glm::vec3 p = sourcePositionAt(s.sources[0], t);
+    sim.runFrame(glm::vec3(0.f), {p});
+    const DirectSound& d = sim.result(0).direct;
+    const double r = 1.0 + 1.5 * t;
+    REQUIRE(d.visible);
+    // Float rounding of positions and of 1/(4 pi r^2): relative 1e-5.
+    CHECK(d.distance == Approx(r).epsilon(1e-5));
+    CHECK(d.delaySeconds == Approx(r / c).epsilon(1e-5));
+    for (int band = 0; band < kNumBands; ++band)
+      CHECK(d.intensity[band] == Approx(1.0 / (4.0 * kPi * r * r)).epsilon(1e-5));
+  }
+}
+
+TEST_CASE("An object moved to a pose equals the static scene with it baked in (tau = 0)",
+          "[dynamic]") {
+  const glm::vec3 size{8, 4, 6};
+  SceneDesc moving =
+      test::makeShoebox(size, Bands(0.2f), 0.5f, {1.5f, 1.5f, 1.5f}, {6.f, 2.f, 4.f}, 0.5f);
+  moving.materials.push_back(Material{"door", Bands(0.9f), 0.1f});  // an absorbing panel
+  moving.propagation.estimator = Estimator::kPathTracing;
+  moving.propagation.cacheTau = 0.f;
+  moving.propagation.raysPerFrame = 4096;
+  moving.propagation.maxOrder = 30;
+  moving.propagation.rouletteThreshold = 0.f;
+  // A 2 m x 3 m panel in local coordinates, placed by a pose: 30 degrees about +y, moved.
+  ObjectDesc door;
+  door.name = "door";
+  test::addPanel(door.mesh, {0, 0, 0}, {2, 0, 0}, {0, 3, 0}, 1);
+  ObjectKeyframe key;
+  key.position = {3.5f, 0.5f, 2.5f};
+  key.rotation = glm::angleAxis(float(kPi / 6), glm::vec3(0, 1, 0));
+  door.trajectory = {key};
+  // The same panel baked into the static mesh at that pose.
+  SceneDesc baked = moving;
+  for (glm::vec3 v : door.mesh.vertices)
+    baked.mesh.vertices.push_back(key.rotation * v + key.position);
+  const auto base = uint32_t(moving.mesh.vertices.size());
+  for (size_t t = 0; t < door.mesh.triangles.size(); ++t) {
+    const auto& tri = door.mesh.triangles[t];
+    baked.mesh.triangles.push_back({base + tri[0], base + tri[1], base + tri[2]});
+    baked.mesh.materialIndex.push_back(1);
+  }
+  // Start the moving one elsewhere, then move it to the pose.
+  ObjectKeyframe away = key;
+  away.position = {20.f, 0.f, 0.f};  // outside the room: no effect
+  door.trajectory = {away};
+  moving.objects.push_back(door);
+
+  Simulation a(moving), b(baked);
+  a.setObjectPoses({Pose{key.position, key.rotation}});
+  a.runFrame(moving.listener.position);
+  b.runFrame(baked.listener.position);
+  // Same rays (same seed), same surfaces; but the instance transform rounds differently from
+  // the baked vertices, so a ray grazing an edge takes another branch and from there on is an
+  // independent sample (diffuse reflections amplify any difference). So: equal within Monte
+  // Carlo error, not float rounding. The error bar is measured: the spread of one frame's
+  // total over 8 independent frames (other frame indices: other streams) of the baked scene;
+  // the two estimates must agree within 3 standard errors of a difference of two independent
+  // frames (sqrt 2 sigma), a bound they would meet even if no ray were shared.
+  const Bands ea = a.result(0).energy.total(), eb = b.result(0).energy.total();
+  double sum = 0.0, sum2 = 0.0;
+  const int n = 8;
+  for (int f = 0; f < n; ++f) {
+    b.runFrame(baked.listener.position);
+    const double e = b.result(0).energy.total()[3];
+    sum += e, sum2 += e * e;
+  }
+  const double mean = sum / n,
+               sigma = std::sqrt(std::max(0.0, sum2 / n - mean * mean) * n / (n - 1));
+  INFO("band 3 (500 Hz): moved " << ea[3] << ", baked " << eb[3] << ", sigma " << sigma);
+  CHECK(std::abs(double(ea[3]) - eb[3]) < 3.0 * std::sqrt(2.0) * sigma);
+  for (int band = 0; band < kNumBands; ++band)
+    CHECK(std::abs(double(ea[band]) - eb[band]) < 3.0 * std::sqrt(2.0) * sigma * eb[band] / eb[3]);
+  // The panel really is there: left where it started, the response differs.
+  Simulation c(moving);
+  c.runFrame(moving.listener.position);
+  const Bands ec = c.result(0).energy.total();
+  INFO("left at its start: " << ec[3]);
+  CHECK(std::abs(double(ec[3]) - mean) > 3.0 * std::sqrt(2.0) * sigma);
+}
+
+TEST_CASE("An object between source and listener occludes the direct sound", "[dynamic]") {
+  SceneDesc s = test::makeShoebox({10, 4, 4}, Bands(0.3f), 0.5f, {2, 2, 2}, {8, 2, 2}, 0.3f);
+  s.propagation.raysPerFrame = 16;
+  ObjectDesc wall;
+  wall.name = "screen";
+  test::addPanel(wall.mesh, {0, -1, -1}, {0, 2, 0}, {0, 0, 2},
+                 0);  // 2 m x 2 m in the local y-z plane
+  ObjectKeyframe k;
+  k.position = {5, 2, 2};
+  wall.trajectory = {k};
+  s.objects.push_back(wall);
+  Simulation sim(s);
+  sim.runFrame(s.listener.position);
+  CHECK_FALSE(sim.result(0).direct.visible);
+  // Slid sideways (z in [2.5, 4.5]): the line of sight at z = 2 is free.
+  sim.setObjectPoses({Pose{{5, 2, 3.5f}, glm::quat(1, 0, 0, 0)}});
+  sim.runFrame(s.listener.position);
+  CHECK(sim.result(0).direct.visible);
+  // Turned back across by 90 degrees about +x about its new centre: (y, z) -> (-z, y) keeps it
+  // square, so it must block again once returned to z = 2.
+  sim.setObjectPoses({Pose{{5, 2, 2}, glm::angleAxis(float(kPi / 2), glm::vec3(1, 0, 0))}});
+  sim.runFrame(s.listener.position);
+  CHECK_FALSE(sim.result(0).direct.visible);
+}
+
+TEST_CASE("A door closing and opening is answered within tau by the window estimator",
+          "[dynamic][response]") {
+  const float tau = 0.5f;
+  SceneDesc s = test::twoRooms(DpcWeighting::kWindow, tau);
+  Simulation sim(s);
+  const glm::vec3 L = s.listener.position;
+  const int W = int(std::lround(tau * s.propagation.frameRate));  // frames in tau
+  auto late = [&] { return double(sim.result(0).energy.total()[3]); };
+
+  // Open: settle for 2 tau, then the reference level is the mean of 4 tau of readouts
+  // (each the mean of W independent frames; the reference's own error is 1/sqrt(4) of that).
+  sim.setObjectPoses({test::kDoorOpen});
+  for (int f = 0; f < 2 * W; ++f) sim.runFrame(L);
+  double open = 0.0;
+  for (int f = 0; f < 4 * W; ++f) sim.runFrame(L), open += late();
+  open /= 4 * W;
+  REQUIRE(open > 0.0);
+  CHECK_FALSE(sim.result(0).direct.visible);  // no line of sight through the doorway
+
+  // Shut: only the 1 cm slit round the door joins the rooms, so the settled level is near 0
+  // (well under 1 % of the open level here); the readout must have
+  // dropped by >= 90 % at the last frame within tau of the change (W - 1 frame periods later).
+  sim.setObjectPoses({test::kDoorShut});
+  std::vector<double> closing;
+  for (int f = 0; f < W; ++f) sim.runFrame(L), closing.push_back(late());
+  INFO("open level " << open << ", after shutting " << closing.front() << " .. " << closing.back());
+  CHECK(closing.back() <= 0.1 * open);
+
+  // Open again: >= 90 % restored within tau. The readout at W - 1 is a mean of W frames whose
+  // relative standard error (measured below over the settled open frames) must leave room:
+  // we require it at the 90 % line minus 3 standard errors of the readout would fail, so the
+  // test asserts readout >= 0.9 * open and separately that the error is below 3 %.
+  sim.setObjectPoses({test::kDoorOpen});
+  std::vector<double> opening;
+  for (int f = 0; f < W; ++f) sim.runFrame(L), opening.push_back(late());
+  INFO("after opening " << opening.front() << " .. " << opening.back());
+  CHECK(opening.back() >= 0.9 * open);
+  double sum = 0.0, sum2 = 0.0;
+  const int n = 4 * W;
+  for (int f = 0; f < n; ++f) {
+    sim.runFrame(L);
+    sum += late(), sum2 += late() * late();
+  }
+  const double mean = sum / n, sd = std::sqrt(std::max(0.0, sum2 / n - mean * mean));
+  INFO("settled open readout: mean " << mean << ", sd " << sd);
+  CHECK(sd < 0.033 * mean);  // 0.9 is 3 standard deviations below the mean: the check is sound
+  CHECK(mean == Approx(open).epsilon(0.05));  // unbiased: the same level as before
+}
+
+TEST_CASE("The EMA tuned to tau answers slower than tau (what the window fixes)",
+          "[dynamic][response]") {
+  // Documents the difference measured in docs/dynamic.md: the EMA's readout 1 - exp(-t/tau)
+  // is only 1 - exp(-(W-1)/W) ~ 55 % of the way after W - 1 frames, so it cannot meet the 90 %
+  // bound; it needs ~2.3 tau.
+  const float tau = 0.5f;
+  SceneDesc s = test::twoRooms(DpcWeighting::kEma, tau);
+  s.propagation.raysPerFrame = 2048;
+  Simulation sim(s);
+  const glm::vec3 L = s.listener.position;
+  const int W = int(std::lround(tau * s.propagation.frameRate));
+  sim.setObjectPoses({test::kDoorOpen});
+  for (int f = 0; f < 6 * W; ++f) sim.runFrame(L);
+  const double open = sim.result(0).energy.total()[3];
+  sim.setObjectPoses({test::kDoorShut});
+  for (int f = 0; f < W; ++f) sim.runFrame(L);
+  CHECK(sim.result(0).energy.total()[3] > 0.3 * open);  // far from a 90 % drop
+}
+
+TEST_CASE("tau = 0 is plain path tracing bit for bit with source, object and listener moving",
+          "[dynamic]") {
+  for (DpcWeighting w : {DpcWeighting::kWindow, DpcWeighting::kEma, DpcWeighting::kSeed}) {
+    SceneDesc dpc = test::twoRooms(w, 0.f);
+    dpc.propagation.raysPerFrame = 512;
+    SceneDesc pt = dpc;
+    pt.propagation.estimator = Estimator::kPathTracing;
+    Simulation a(dpc), b(pt);
+    for (int f = 0; f < 6; ++f) {
+      const float u = float(f) / 5.f;
+      const Pose door{test::kDoorShut.position,
+                      glm::slerp(test::kDoorShut.rotation, test::kDoorOpen.rotation, u)};
+      const glm::vec3 src{2.f + u, 1.2f, 1.f}, lis{8.f - u, 1.2f, 1.f + u};
+      a.setObjectPoses({door});
+      b.setObjectPoses({door});
+      a.runFrame(lis, {src});
+      b.runFrame(lis, {src});
+      CHECK(test::identical(a.result(0).energy, b.result(0).energy));
+    }
+  }
+}

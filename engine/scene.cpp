@@ -614,12 +614,15 @@ void readSources(const JsonReader& r, const json& v, const fs::path& folder, Sce
       r.fail(join(f, "position"), "missing required key (needed when there is no trajectory)");
     if (const json* l = JsonReader::find(s, "trajectory_loop"))
       src.trajectoryLoop = r.boolean(*l, join(f, "trajectory_loop"));
-    const std::string signal = r.string(r.require(s, f, "signal"), join(f, "signal"));
-    const fs::path resolved = resolve(folder, signal);
-    std::error_code ec;
-    if (!fs::is_regular_file(resolved, ec))
-      r.fail(join(f, "signal"), "file " + inQuotes(resolved.string()) + " not found");
-    src.signalPath = resolved.string();
+    // No signal: the source's dry input comes from a host (C API, plugin) or is silent.
+    if (const json* sig = JsonReader::find(s, "signal")) {
+      const std::string signal = r.string(*sig, join(f, "signal"));
+      const fs::path resolved = resolve(folder, signal);
+      std::error_code ec;
+      if (!fs::is_regular_file(resolved, ec))
+        r.fail(join(f, "signal"), "file " + inQuotes(resolved.string()) + " not found");
+      src.signalPath = resolved.string();
+    }
     if (const json* g = JsonReader::find(s, "gain_db"))
       src.gainDb = r.inRange(*g, join(f, "gain_db"), -200.0, 200.0);
     if (const json* l = JsonReader::find(s, "loop")) src.loop = r.boolean(*l, join(f, "loop"));

@@ -235,6 +235,10 @@ dpc_engine* finish(std::unique_ptr<dpc_engine> engine) {
   options.deviceChannels = dpc::outputChannels(engine->scene.audio.output);
   engine->session = std::make_unique<dpc::LiveSession>(engine->scene, engine->scene.propagation,
                                                        engine->dry, options);
+  // Until the host sets one, the listener stands where the scene puts it at time 0.
+  const dpc::ListenerDesc& l = engine->scene.listener;
+  const dpc::Orientation o = dpc::listenerOrientationAt(l, 0.0);
+  engine->session->setPose(dpc::listenerPositionAt(l, 0.0), o.yawRadians, 0.0, o.pitchRadians);
   return engine.release();
 }
 

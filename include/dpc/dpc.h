@@ -178,7 +178,8 @@ DPC_API dpc_status dpc_engine_stop(dpc_engine* engine);
 /** Any thread, wait-free, no allocation. Sets the listener pose: position (x, y, z) in metres
  *  in scene coordinates, yaw in degrees (0 faces +x, positive turns left, about +y), pitch in
  *  degrees (positive looks up). The propagation thread uses the newest pose at its next frame.
- *  Errors: DPC_ERR_INVALID_ARGUMENT (null engine or non-finite value). */
+ *  Until the first call the listener stands where the scene puts it at time 0 (its position
+ *  or first keyframe). Errors: DPC_ERR_INVALID_ARGUMENT (null engine or non-finite value). */
 DPC_API dpc_status dpc_engine_set_listener(dpc_engine* engine, float x, float y, float z,
                                            float yaw_degrees, float pitch_degrees);
 
@@ -209,11 +210,11 @@ DPC_API dpc_status dpc_engine_step(dpc_engine* engine);
  *  holds while it copies; the propagation thread never waits for it). Copies the pressure
  *  impulse response of the newest propagation frame for `source` (scene order) and output
  *  channel `channel` (< dpc_engine_output_channels) into out[0..capacity): linear pressure
- *  per sample at dpc_engine_sample_rate(), sample 0 = emission time, unit gain for a direct
- *  sound at 1 m without air absorption. *length (if not NULL) receives the IR's full length
- *  in samples; min(capacity, length) samples are copied (out may be NULL with capacity 0 to
- *  ask for the length). *frame (if not NULL) receives the propagation frame count it came
- *  from. No allocation. Errors: DPC_ERR_INVALID_ARGUMENT (NULL engine, index out of range,
+ *  per sample at dpc_engine_sample_rate(), sample 0 = emission time; its energy per octave
+ *  band follows the energy response (dpc_engine_copy_energy_response). *length (if not NULL)
+ *  receives the IR's full length in samples; min(capacity, length) samples are copied (out
+ *  may be NULL with capacity 0 to ask for the length). *frame (if not NULL) receives the
+ *  propagation frame count it came from. No allocation. Errors: DPC_ERR_INVALID_ARGUMENT (NULL engine, index out of range,
  *  out NULL with capacity > 0), DPC_ERR_STATE (no frame run yet). */
 DPC_API dpc_status dpc_engine_copy_impulse_response(dpc_engine* engine, int source, int channel,
                                                     float* out, size_t capacity, size_t* length,

@@ -134,18 +134,16 @@ dpc_scene_data boxData(std::vector<dpc_material>& materials, dpc_source& source)
 
 std::vector<float> copyIr(dpc_engine* e, int channel) {
   size_t length = 0;
-  REQUIRE(dpc_engine_copy_impulse_response(e, 0, channel, nullptr, 0, &length, nullptr) ==
-          DPC_OK);
+  REQUIRE(dpc_engine_copy_impulse_response(e, 0, channel, nullptr, 0, &length, nullptr) == DPC_OK);
   std::vector<float> ir(length);
-  REQUIRE(dpc_engine_copy_impulse_response(e, 0, channel, ir.data(), ir.size(), nullptr,
-                                           nullptr) == DPC_OK);
+  REQUIRE(dpc_engine_copy_impulse_response(e, 0, channel, ir.data(), ir.size(), nullptr, nullptr) ==
+          DPC_OK);
   return ir;
 }
 
 std::vector<float> copyEnergy(dpc_engine* e, double* binSeconds) {
   size_t bins = 0;
-  REQUIRE(dpc_engine_copy_energy_response(e, 0, nullptr, 0, &bins, binSeconds, nullptr) ==
-          DPC_OK);
+  REQUIRE(dpc_engine_copy_energy_response(e, 0, nullptr, 0, &bins, binSeconds, nullptr) == DPC_OK);
   std::vector<float> er(bins * DPC_BANDS);
   REQUIRE(dpc_engine_copy_energy_response(e, 0, er.data(), bins, nullptr, nullptr, nullptr) ==
           DPC_OK);
@@ -200,8 +198,7 @@ TEST_CASE("C API: a scene built in code equals the same scene from a file, bit f
   const double expected = 1.0 / (4.0 * M_PI * 16.0);
   CHECK(ea[k * DPC_BANDS + 0] == Approx(expected).epsilon(1e-3));
   uint64_t frame = 0;
-  REQUIRE(dpc_engine_copy_impulse_response(fromData, 0, 0, nullptr, 0, nullptr, &frame) ==
-          DPC_OK);
+  REQUIRE(dpc_engine_copy_impulse_response(fromData, 0, 0, nullptr, 0, nullptr, &frame) == DPC_OK);
   CHECK(frame == 3);
   // step() is for a stopped engine only.
   REQUIRE(dpc_engine_start(fromData) == DPC_OK);

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "dpc/dpc.h"
+#include "engine/air_absorption.h"
 #include "engine/input_error.h"
 #include "engine/scene.h"
 #include "runtime/live_session.h"
@@ -200,8 +201,7 @@ dpc::SceneDesc sceneFromData(const dpc_scene_data& d) {
   p.temperatureC = d.temperature;
   p.humidityPercent = d.humidity;
   if (d.speed_of_sound == 0.f) {
-    // Ideal-gas dry air, as the scene loader: c = 331.3 sqrt(1 + T / 273.15) m/s.
-    p.speedOfSound = float(331.3 * std::sqrt(1.0 + double(p.temperatureC) / 273.15));
+    p.speedOfSound = float(dpc::speedOfSoundAt(p.temperatureC));
   } else {
     checkRange(d.speed_of_sound, 1.0, 10000.0, "speed_of_sound", " m/s");
     p.speedOfSound = d.speed_of_sound;

@@ -32,10 +32,10 @@ export LD_LIBRARY_PATH=$libdir${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
 "$work/c/play_scene" scenes/shoebox.json "$work/c.wav"
 "$work/cpp/play_scene_cpp" scenes/shoebox.json "$work/cpp.wav"
 [[ -n "${DPC_KEEP_WAVS:-}" ]] && cp "$work/c.wav" "$work/cpp.wav" "$DPC_KEEP_WAVS"/
-python3 scripts/wavcheck.py "$work/c.wav"
-python3 scripts/wavcheck.py "$work/cpp.wav"
+/usr/bin/python3 scripts/wavcheck.py "$work/c.wav"
+/usr/bin/python3 scripts/wavcheck.py "$work/cpp.wav"
 if [[ -d $libdir/lv2/dpc.lv2 ]]; then
   # The installed bundle finds libdpc.so through its RPATH, not LD_LIBRARY_PATH.
-  env -u LD_LIBRARY_PATH python3 tests/lv2/lv2_test.py "$libdir/lv2"
+  env -u LD_LIBRARY_PATH /usr/bin/python3 tests/lv2/lv2_test.py "$libdir/lv2"
 fi
 echo "test-install: OK"

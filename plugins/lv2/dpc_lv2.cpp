@@ -16,6 +16,7 @@
 #include <lv2/worker/worker.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -107,6 +108,33 @@ struct Plugin {
   bool notifyScene = false;  ///< tell the host the scene path at the next run()
   Pose sent{};               ///< the pose last published to the engine
   bool sentValid = false;
+  // The playing scene's path for save(), which LV2 may call concurrently with run(): a
+  // seqlock (run() writes without waiting, save() retries until it reads a stable copy).
+  // Empty for the bundle's default scene.
+  std::atomic<uint32_t> pathSeq{0};
+  char savedPath[kMaxPath] = {};
+
+  /// Whoever swaps the scene (run() or restore()): records its path for save().
+  void recordPath(const Scene& s) {
+    pathSeq.fetch_add(1, std::memory_order_acq_rel);
+    const size_t n = s.isDefault ? 0 : std::min(s.path.size(), kMaxPath - 1);
+    std::memcpy(savedPath, s.path.data(), n);
+    savedPath[n] = '\0';
+    pathSeq.fetch_add(1, std::memory_order_release);
+  }
+  /// save(): a consistent copy of savedPath.
+  std::string readPath() const {
+    char copy[kMaxPath];
+    for (;;) {
+      const uint32_t before = pathSeq.load(std::memory_order_acquire);
+      if (before & 1u) continue;
+      std::memcpy(copy, savedPath, kMaxPath);
+      std::atomic_thread_fence(std::memory_order_acquire);
+      if (pathSeq.load(std::memory_order_relaxed) == before) break;
+    }
+    copy[kMaxPath - 1] = '\0';
+    return copy;
+  }
 
   float control(Port p, float fallback) const {
     return ports[p] ? *static_cast<const float*>(ports[p]) : fallback;
@@ -324,22 +352,24 @@ LV2_Worker_Status workResponse(LV2_Handle h, uint32_t size, const void* data) {
   m.kind = WorkMessage::kFree;
   m.scene = p->scene;
   p->scene = s;
+  p->recordPath(*s);
   p->sentValid = false;
   p->notifyScene = true;
   p->schedule->schedule_work(p->schedule->handle, uint32_t(offsetof(WorkMessage, path)), &m);
   return LV2_WORKER_SUCCESS;
 }
 
-/// Saves the chosen scene's path (nothing for the bundle's default scene).
+/// Saves the chosen scene's path (nothing for the bundle's default scene). May run
+/// concurrently with run(): reads the path through the seqlock, never the Scene.
 LV2_State_Status save(LV2_Handle h, LV2_State_Store_Function store, LV2_State_Handle handle,
                       uint32_t, const LV2_Feature* const* features) {
   auto* p = static_cast<Plugin*>(h);
-  if (!p->map || p->scene->isDefault) return LV2_STATE_SUCCESS;
+  std::string value = p->readPath();
+  if (!p->map || value.empty()) return LV2_STATE_SUCCESS;
   LV2_State_Map_Path* mapPath = nullptr;
   for (int i = 0; features && features[i]; ++i)
     if (!std::strcmp(features[i]->URI, LV2_STATE__mapPath))
       mapPath = static_cast<LV2_State_Map_Path*>(features[i]->data);
-  std::string value = p->scene->path;
   if (mapPath) {
     char* abstract = mapPath->abstract_path(mapPath->handle, value.c_str());
     value = abstract;
@@ -377,6 +407,7 @@ LV2_State_Status restore(LV2_Handle h, LV2_State_Retrieve_Function retrieve,
   if (!s) return LV2_STATE_ERR_UNKNOWN;
   delete p->scene;
   p->scene = s;
+  p->recordPath(*s);
   p->sentValid = false;
   p->notifyScene = true;
   return LV2_STATE_SUCCESS;

@@ -104,7 +104,6 @@ struct Plugin {
   void* ports[kPortCount] = {};
   Scene* scene = nullptr;
   bool active = false;
-  bool loading = false;      ///< a load is with the worker
   bool notifyScene = false;  ///< tell the host the scene path at the next run()
   Pose sent{};               ///< the pose last published to the engine
   bool sentValid = false;
@@ -268,8 +267,8 @@ void requestScene(Plugin* p, const LV2_Atom* value) {
   std::memcpy(m->path, LV2_ATOM_BODY_CONST(value), value->size);
   m->path[value->size] = '\0';
   const uint32_t size = uint32_t(offsetof(WorkMessage, path) + value->size + 1);
-  if (p->schedule->schedule_work(p->schedule->handle, size, m) == LV2_WORKER_SUCCESS)
-    p->loading = true;
+  // A full worker queue drops the request; the host's next patch:Set tries again.
+  p->schedule->schedule_work(p->schedule->handle, size, m);
 }
 
 void readControl(Plugin* p) {
@@ -343,7 +342,6 @@ LV2_Worker_Status work(LV2_Handle h, LV2_Worker_Respond_Function respond,
 /// Audio thread: swaps in the scene the worker loaded and sends the old one back to be freed.
 LV2_Worker_Status workResponse(LV2_Handle h, uint32_t size, const void* data) {
   auto* p = static_cast<Plugin*>(h);
-  p->loading = false;
   if (size != sizeof(Scene*)) return LV2_WORKER_ERR_UNKNOWN;
   Scene* s = nullptr;
   std::memcpy(&s, data, sizeof s);

@@ -5,6 +5,7 @@
 //   dpc-bench noise SCENE [--rays N] [--frames F] [--tau S] [--walk-speed V]
 //                         [--reference-frames M] [--threads T] [--max-order D]
 //   dpc-bench dynamic [--rays N] [--frames F]   (built-in two-room door scene; no file)
+//   dpc-bench listeners SCENE [--rays N] [--frames F] [--threads T] [--counts 1,2,4,8]
 //   dpc-bench live SCENE [--rays N] [--duration S] [--block-size B] [--frame-rate F]
 //                        [--threads T] [--device SPEC]
 #include <CLI/CLI.hpp>
@@ -383,6 +384,85 @@ int benchLive(const Common& c, double duration, int blockSize, double frameRate,
   std::printf("%s\n", j.dump(2).c_str());
   return 0;
 }
+/// Frame time for several listeners traced in one pass (docs/dynamic.md, "Several
+/// listeners"): one PropagationStage per listener count, stepped frame by frame in turn (so
+/// that load from other processes falls on all counts alike); process CPU time of the pass
+/// (tracing + one cache per source-listener pair) and of preparing every listener's IR set.
+int benchListeners(const Common& c, const std::vector<int>& counts) {
+  const SceneDesc scene = loadScene(c.scene);
+  PropagationSettings s = settingsFor(scene, c);
+  auto cpu = [] { return double(std::clock()) / CLOCKS_PER_SEC; };
+  // Listener i: scene listener i mod n, at a point of its trajectory spread over its span.
+  const size_t n = scene.listeners.size();
+  auto place = [&](size_t i, size_t count, double t, WorldState& w) {
+    const ListenerDesc& d = scene.listeners[i % n];
+    const double span = d.trajectory.size() > 1
+                            ? d.trajectory.back().timeSeconds - d.trajectory.front().timeSeconds
+                            : 0.0;
+    const size_t per = (count + n - 1) / n;
+    const double ti = t + span * double(i / n) / double(per);
+    w.listenerPositions[i] = listenerPositionAt(d, ti);
+    w.listenerOrientations[i] = listenerOrientationAt(d, ti);
+  };
+  std::vector<std::unique_ptr<PropagationStage>> stages;
+  const int maxCount = *std::max_element(counts.begin(), counts.end());
+  for (size_t k = 0; k < counts.size(); ++k)
+    stages.push_back(std::make_unique<PropagationStage>(scene, s, 3 * maxCount + 1));
+  std::vector<double> traceCpu(counts.size(), 0.0), prepareCpu(counts.size(), 0.0);
+  std::vector<uint64_t> segments(counts.size(), 0), hits(counts.size(), 0);
+  WorldState world;
+  for (int f = 0; f < c.frames; ++f) {
+    const double t = double(f) / s.frameRate;
+    for (size_t k = 0; k < counts.size(); ++k) {
+      evaluateWorld(scene, t, world);
+      const size_t count = size_t(counts[k]);
+      world.listenerPositions.resize(count);
+      world.listenerOrientations.resize(count);
+      for (size_t i = 0; i < count; ++i) place(i, count, t, world);
+      double t0 = cpu();
+      stages[k]->traceWorld(world);
+      traceCpu[k] += cpu() - t0;
+      t0 = cpu();
+      for (size_t l = 0; l < count; ++l) stages[k]->recycle(stages[k]->prepare(l));
+      prepareCpu[k] += cpu() - t0;
+      for (size_t src = 0; src < scene.sources.size(); ++src) {
+        segments[k] += stages[k]->simulation().result(src).trace.segments;
+        hits[k] += stages[k]->simulation().result(src).trace.listenerHits;
+      }
+    }
+    std::fprintf(stderr, "\rframe %d/%d", f + 1, c.frames);
+  }
+  std::fprintf(stderr, "\n");
+  json j;
+  j["machine"] = "shared 2-core machine under load from other builds: ratios within one run";
+  j["scene"] = c.scene;
+  j["sources"] = scene.sources.size();
+  j["rays_per_frame"] = s.raysPerFrame;
+  j["frames"] = c.frames;
+  j["estimator"] = s.estimator == Estimator::kDpc ? "dpc" : "path_tracing";
+  json rows = json::array();
+  for (size_t k = 0; k < counts.size(); ++k) {
+    json e;
+    e["listeners"] = counts[k];
+    e["pass_cpu_ms_per_frame"] = 1e3 * traceCpu[k] / c.frames;
+    e["prepare_all_cpu_ms_per_frame"] = 1e3 * prepareCpu[k] / c.frames;
+    e["pass_ratio_to_one"] = traceCpu[k] / traceCpu[0];
+    e["segments_per_frame"] = double(segments[k]) / c.frames;
+    e["sphere_hits_per_frame"] = double(hits[k]) / c.frames;
+    rows.push_back(e);
+    std::fprintf(stderr, "%d listeners: pass %.1f ms (x%.2f), prepare all %.1f ms, segments %.0f\n",
+                 counts[k], 1e3 * traceCpu[k] / c.frames, traceCpu[k] / traceCpu[0],
+                 1e3 * prepareCpu[k] / c.frames, double(segments[k]) / c.frames);
+  }
+  j["listeners"] = rows;
+  j["note"] =
+      "pass: one traceWorld (every source's rays traced once against all listener spheres, "
+      "then each source-listener pair's cache); prepare all: IR synthesis + partition/FFT for "
+      "every listener (offline needs all, live only the played one); process CPU time";
+  std::printf("%s\n", j.dump(2).c_str());
+  return 0;
+}
+
 /// Door step response, static noise and moving-object frame time (docs/dynamic.md).
 int benchDynamic(int rays, int frames) {
   json j;
@@ -546,6 +626,13 @@ int main(int argc, char** argv) {
   live->add_option("--block-size", liveBlock, "Audio block size (default 128)");
   live->add_option("--frame-rate", liveFrameRate, "Propagation frames per second (default: scene)");
   live->add_option("--device", liveDevice, "Audio device (default: a timer thread, no device)");
+  CLI::App* lis = app.add_subcommand(
+      "listeners", "Frame time for several listeners traced in one pass (1, 2, 4, 8)");
+  std::vector<int> listenerCounts = {1, 2, 4, 8};
+  addCommon(lis);
+  lis->add_option("--counts", listenerCounts, "Listener counts (first = the reference)")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber);
   CLI::App* dyn = app.add_subcommand(
       "dynamic", "Door step response per estimator and tau; moving-object frame time");
   int dynRays = 2048, dynFrames = 20;
@@ -556,7 +643,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
-  for (CLI::App* sub : {prop, noise, live}) {
+  for (CLI::App* sub : {prop, noise, live, lis}) {
     c.haveTau = c.haveTau || sub->count("--tau") > 0;
     c.haveCacheMb = c.haveCacheMb || sub->count("--cache-memory-mb") > 0;
     c.haveMaxOrder = c.haveMaxOrder || sub->count("--max-order") > 0;
@@ -565,6 +652,7 @@ int main(int argc, char** argv) {
   try {
     if (*prop) return benchPropagation(c, noRoulette);
     if (*dyn) return benchDynamic(dynRays, dynFrames);
+    if (*lis) return benchListeners(c, listenerCounts);
     if (*live) return benchLive(c, liveDuration, liveBlock, liveFrameRate, liveDevice);
     if (warmup < 0) {
       const SceneDesc scene = loadScene(c.scene);

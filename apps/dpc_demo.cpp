@@ -154,7 +154,8 @@ struct OutputPaths {
 /// Offline without --listener renders every listener: one listener writes the names as given,
 /// several write OUT-NAME.wav (and IR-NAME.wav, ER-NAME.csv) each.
 std::vector<OutputPaths> offlineOutputs(const SceneDesc& scene, const Flags& fl) {
-  if (!fl.listener.empty() || scene.listeners.size() <= 1) return {{fl.offline, fl.irOut, fl.erOut}};
+  if (!fl.listener.empty() || scene.listeners.size() <= 1)
+    return {{fl.offline, fl.irOut, fl.erOut}};
   std::vector<OutputPaths> v;
   for (const ListenerDesc& l : scene.listeners)
     v.push_back({withListener(fl.offline, l.name), withListener(fl.irOut, l.name),
@@ -501,8 +502,8 @@ int runLive(Flags& fl) {
     for (size_t i = 0; i < scene.listeners.size(); ++i)
       if (i != playedIndex) {
         const Orientation o = listenerOrientationAt(scene.listeners[i], sceneTime);
-        session.setListenerPose(i, listenerPositionAt(scene.listeners[i], sceneTime),
-                                o.yawRadians, sceneTime, o.pitchRadians);
+        session.setListenerPose(i, listenerPositionAt(scene.listeners[i], sceneTime), o.yawRadians,
+                                sceneTime, o.pitchRadians);
       }
     session.setPose(position, yaw, sceneTime, heading.pitchRadians);
     if (std::chrono::duration<double>(now - lastStatus).count() >= 1.0) {

@@ -4,7 +4,8 @@
 //                               [--no-roulette] [--tau S]
 //   dpc-bench noise SCENE [--rays N] [--frames F] [--tau S] [--walk-speed V]
 //                         [--reference-frames M] [--threads T] [--max-order D]
-//   dpc-bench dynamic [--rays N] [--frames F]   (built-in two-room door scene; no file)
+//   dpc-bench dynamic [--rays N] [--frames F] [--parts step,objects,moving_source]
+//                     (built-in scenes; no file)
 //   dpc-bench listeners SCENE [--rays N] [--frames F] [--threads T] [--counts 1,2,4,8]
 //   dpc-bench live SCENE [--rays N] [--duration S] [--block-size B] [--frame-rate F]
 //                        [--threads T] [--device SPEC]
@@ -464,7 +465,8 @@ int benchListeners(const Common& c, const std::vector<int>& counts) {
 }
 
 /// Door step response, static noise and moving-object frame time (docs/dynamic.md).
-int benchDynamic(int rays, int frames) {
+int benchDynamic(int rays, int frames, const std::string& parts) {
+  auto want = [&](const char* part) { return parts.find(part) != std::string::npos; };
   json j;
   j["machine"] = "shared 2-core machine under load from other builds: ratios within one run";
   j["scene"] = "two rooms 10 x 3 x 4 m, 1 x 2 m doorway, door shut/open by pose jumps";
@@ -474,6 +476,7 @@ int benchDynamic(int rays, int frames) {
                                                              {"seed", DpcWeighting::kSeed},
                                                              {"window", DpcWeighting::kWindow}};
   for (const auto& [name, w] : weightings) {
+    if (!want("step")) break;
     for (double tau : {0.25, 0.5, 1.0, 2.0}) {
       // "ema_matched": the EMA with the time constant that completes 90 % of a step at tau
       // (1 - exp(-tau / tau_e) = 0.9, tau_e = tau / ln 10), for the noise comparison.
@@ -535,6 +538,7 @@ int benchDynamic(int rays, int frames) {
   // Frame time with N moving objects vs the same triangles baked into the static mesh.
   json objs = json::array();
   for (int n : {1, 10, 100}) {
+    if (!want("objects")) break;
     SceneDesc moving = test::makeShoebox({20, 5, 20}, Bands(0.2f), 0.5f, {3, 2, 3}, {15, 2, 15});
     moving.propagation.estimator = Estimator::kPathTracing;
     moving.propagation.raysPerFrame = rays;
@@ -584,6 +588,67 @@ int benchDynamic(int rays, int frames) {
     std::fprintf(stderr, "%d objects: moving/static cpu %.3f\n", n, movingCpu / staticCpu);
   }
   j["moving_objects"] = objs;
+
+  // Noise while a source walks at 1.5 m/s vs standing still: relative RMS error of each frame's
+  // energy response (10 ms bins, all bands; engine/noise_study.h) against converged path
+  // tracing at that frame's source position; path tracing and the DPC window (tau 0.5 s) with
+  // the same seed, i.e. the same rays.
+  if (want("moving_source")) {
+    SceneDesc room = test::makeShoebox({10, 3, 7}, Bands(0.15f), 0.5f, {2, 1.6f, 2}, {8, 1.6f, 5});
+    room.propagation.raysPerFrame = rays;
+    room.propagation.frameRate = 10.f;
+    room.propagation.cacheTau = 0.5f;
+    const double T = 1.0 / room.propagation.frameRate, speed = 1.5;
+    const int warm = int(std::lround(room.propagation.cacheTau / T)), measured = 25;
+    const int total = warm + measured;
+    auto sourceAt = [&](int f) {
+      return room.sources[0].position + glm::vec3(float(speed * T * f), 0.f, 0.f);
+    };
+    PropagationSettings refSettings = room.propagation;
+    refSettings.raysPerFrame = 4 * rays;
+    refSettings.seed += 1000003;
+    std::vector<EnergyResponse> refs;
+    double refError = 0.0;
+    for (int f = 0; f < total; ++f) {
+      SceneDesc at = room;
+      at.sources[0].position = sourceAt(f);
+      double e = 0.0;
+      refs.push_back(referenceResponse(at, refSettings, room.listener.position, 16, &e));
+      refError = std::max(refError, e);
+      std::fprintf(stderr, "\rmoving-source references %d/%d", f + 1, total);
+    }
+    std::fprintf(stderr, "\n");
+    const EnergyResponse staticRef = refs.front();
+    json cases = json::array();
+    for (bool moving : {true, false})
+      for (Estimator est : {Estimator::kPathTracing, Estimator::kDpc}) {
+        PropagationSettings ps = room.propagation;
+        ps.estimator = est;
+        const NoiseMetrics m = measureNoise(
+            room, ps, warm, measured, [&](int) { return room.listener.position; },
+            [&](int f) -> const EnergyResponse& { return moving ? refs[size_t(f)] : staticRef; }, 0,
+            moving ? std::function<glm::vec3(int)>(sourceAt) : nullptr);
+        json e;
+        e["estimator"] = est == Estimator::kDpc ? "dpc_window" : "path_tracing";
+        e["source"] = moving ? "walking" : "static";
+        e["mean_error"] = m.meanError;
+        e["mean_flicker"] = m.meanFlicker;
+        e["error_per_frame"] = m.errorPerFrame;
+        cases.push_back(e);
+        std::fprintf(stderr, "%s %s: error %.3f flicker %.3f\n", moving ? "walking" : "static",
+                     est == Estimator::kDpc ? "window" : "path tracing", m.meanError,
+                     m.meanFlicker);
+      }
+    json ms;
+    ms["scene"] = "shoebox 10 x 3 x 7 m, absorption 0.15, scattering 0.5";
+    ms["speed_m_per_s"] = speed;
+    ms["tau"] = room.propagation.cacheTau;
+    ms["frame_period"] = T;
+    ms["warmup_frames"] = warm;
+    ms["reference_relative_error"] = refError;
+    ms["cases"] = cases;
+    j["moving_source"] = ms;
+  }
   std::printf("%s\n", j.dump(2).c_str());
   return 0;
 }
@@ -636,6 +701,9 @@ int main(int argc, char** argv) {
   CLI::App* dyn = app.add_subcommand(
       "dynamic", "Door step response per estimator and tau; moving-object frame time");
   int dynRays = 2048, dynFrames = 20;
+  std::string dynParts = "step,objects,moving_source";
+  dyn->add_option("--parts", dynParts,
+                  "Comma-separated parts to run: step, objects, moving_source (default all)");
   dyn->add_option("--rays", dynRays, "Rays per frame (default 2048)");
   dyn->add_option("--frames", dynFrames, "Frames per object-count measurement (default 20)");
   try {
@@ -651,7 +719,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (*prop) return benchPropagation(c, noRoulette);
-    if (*dyn) return benchDynamic(dynRays, dynFrames);
+    if (*dyn) return benchDynamic(dynRays, dynFrames, dynParts);
     if (*lis) return benchListeners(c, listenerCounts);
     if (*live) return benchLive(c, liveDuration, liveBlock, liveFrameRate, liveDevice);
     if (warmup < 0) {

@@ -242,8 +242,7 @@ TraceStats Propagator::traceFrame(uint64_t frameIndex, uint32_t sourceIndex,
     const Chunk& chunk = chunks_[c];
     stats.segments += chunk.segments;
     stats.listenerHits += chunk.hits.size();
-    for (size_t h = 0; h < chunk.hits.size(); ++h)
-      groups[chunk.hitListener[h]]->add(chunk.hits[h]);
+    for (size_t h = 0; h < chunk.hits.size(); ++h) groups[chunk.hitListener[h]]->add(chunk.hits[h]);
   }
   return stats;
 }

@@ -78,8 +78,8 @@ void Simulation::runFrame(std::span<const ListenerSphere> listeners,
   for (size_t s = 0; s < sourceCount_ && s < sources.size(); ++s) {
     const auto t0 = std::chrono::steady_clock::now();
     for (size_t l = 0; l < L; ++l) groups_[l].clear();
-    const TraceStats trace = propagator_->traceFrame(frame_, uint32_t(s), sources[s], listeners,
-                                                     std::span(groupPtrs_.data(), listeners.size()));
+    const TraceStats trace = propagator_->traceFrame(
+        frame_, uint32_t(s), sources[s], listeners, std::span(groupPtrs_.data(), listeners.size()));
     const double traceSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     for (size_t l = 0; l < listeners.size(); ++l) {

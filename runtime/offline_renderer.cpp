@@ -12,8 +12,8 @@ OfflineResult renderOffline(const SceneDesc& scene, const PropagationSettings& s
   const int fs = scene.audio.sampleRate;
   // The listeners rendered: every scene listener from one pass, or scene.listener alone.
   const bool all = options.allListeners && !scene.listeners.empty();
-  const std::vector<ListenerDesc> listeners = all ? scene.listeners
-                                                  : std::vector<ListenerDesc>{scene.listener};
+  const std::vector<ListenerDesc> listeners =
+      all ? scene.listeners : std::vector<ListenerDesc>{scene.listener};
   const size_t L = listeners.size();
   // Each audio stage holds at most a current and a pending set; one more per listener is being
   // filled while the others wait.
@@ -40,8 +40,7 @@ OfflineResult renderOffline(const SceneDesc& scene, const PropagationSettings& s
   for (size_t l = 0; l < L; ++l) {
     result.listeners[l].name = listeners[l].name;
     result.listeners[l].output.sampleRate = fs;
-    result.listeners[l].output.channels.assign(size_t(numOutputs),
-                                               std::vector<float>(blocks * B));
+    result.listeners[l].output.channels.assign(size_t(numOutputs), std::vector<float>(blocks * B));
   }
   std::vector<float*> out(static_cast<size_t>(numOutputs));
   std::vector<IrSet*> newest(L, nullptr);

@@ -39,7 +39,7 @@ struct OfflineListenerResult {
 
 struct OfflineResult {
   std::vector<OfflineListenerResult> listeners;  ///< one per listener rendered
-  PropagationStage::Totals totals;  ///< one propagation run (shared by all listeners)
+  PropagationStage::Totals totals;               ///< one propagation run (shared by all listeners)
   size_t cacheEntries = 0;  ///< summed over source-listener pairs, after the last frame
   size_t cacheBytes = 0;
   size_t cacheCoarseEntries = 0;         ///< DPC coarse-store entries, summed over pairs

@@ -146,9 +146,10 @@ PropagationStage::PropagationStage(const SceneDesc& scene, const PropagationSett
     free_.push_back(set.get());
     pool_.push_back(std::move(set));
   }
-  irs_.assign(1, std::vector<std::vector<std::vector<float>>>(
-                   scene.sources.size(), std::vector<std::vector<float>>(
-                                             size_t(numOutputs_), std::vector<float>(irSamples_))));
+  irs_.assign(
+      1, std::vector<std::vector<std::vector<float>>>(
+             scene.sources.size(),
+             std::vector<std::vector<float>>(size_t(numOutputs_), std::vector<float>(irSamples_))));
 }
 
 void PropagationStage::overrideSource(size_t index, const glm::vec3& position) {

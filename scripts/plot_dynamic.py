@@ -7,6 +7,9 @@ relative to one listener, with the 1.5x target) and prints its table.
 
 Usage: /usr/bin/python3 scripts/plot_dynamic.py [--in docs/data/dynamic.json] [--out docs/images]
            [--listeners docs/data/listeners-hall.json docs/data/listeners-two_rooms.json]
+           [--moving-source docs/data/dynamic-moving-source.json]
+--moving-source plots `dpc-bench dynamic --parts moving_source` into
+docs/images/dynamic-moving-source.png (per-frame relative error, walking vs static source).
 Needs matplotlib (Debian: python3-matplotlib; /usr/bin/python3).
 """
 import argparse
@@ -21,9 +24,12 @@ ap = argparse.ArgumentParser()
 ap.add_argument('--in', dest='inp', default='docs/data/dynamic.json')
 ap.add_argument('--out', default='docs/images')
 ap.add_argument('--listeners', nargs='*', default=[])
+ap.add_argument('--moving-source', dest='moving', default=None)
 a = ap.parse_args()
 d = json.load(open(a.inp))
 steps = d['step_response']
+if not steps:
+    raise SystemExit(f"{a.inp}: no step_response (run dpc-bench dynamic with the step part)")
 taus = sorted({s['tau'] for s in steps})
 names = ['window', 'ema', 'ema_matched', 'seed']
 fig, axes = plt.subplots(1, len(taus), figsize=(4 * len(taus), 3.6), sharey=True)
@@ -96,3 +102,25 @@ if a.listeners:
     ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(os.path.join(a.out, 'dynamic-listeners.png'), dpi=90)
+
+if a.moving:
+    m = json.load(open(a.moving))['moving_source']
+    fig, ax = plt.subplots(figsize=(6, 3.6))
+    T = m['frame_period']
+    print()
+    print('| source | estimator | mean relative error | mean flicker |')
+    print('|---|---|---|---|')
+    for c in m['cases']:
+        y = c['error_per_frame']
+        ax.plot([k * T for k in range(len(y))], y,
+                ls='-' if c['source'] == 'walking' else '--',
+                label=f"{c['estimator']}, {c['source']} source")
+        print(f"| {c['source']} | {c['estimator']} | {c['mean_error']:.3f} | "
+              f"{c['mean_flicker']:.3f} |")
+    ax.axvspan(0, m['warmup_frames'] * T, color='0.9', label='warm-up (tau)')
+    ax.set_xlabel(f"time (s); source walks at {m['speed_m_per_s']} m/s")
+    ax.set_ylabel('relative RMS error of the energy response')
+    ax.set_title(f"{m['scene']}; tau = {m['tau']} s", fontsize=8)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(a.out, 'dynamic-moving-source.png'), dpi=90)

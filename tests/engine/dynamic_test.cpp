@@ -3,9 +3,9 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstring>
+#include <glm/gtc/quaternion.hpp>
 #include <span>
 #include <vector>
-#include <glm/gtc/quaternion.hpp>
 
 #include "engine/simulation.h"
 #include "test_scenes.h"

@@ -42,22 +42,6 @@ struct Flags {
        hasRays = false, hasMaxOrder = false, hasThreads = false;
 };
 
-/// Levenshtein distance, for "did you mean" on mistyped flags.
-size_t editDistance(const std::string& a, const std::string& b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diag = row[0];
-    row[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] != b[j - 1])});
-      diag = up;
-    }
-  }
-  return row[b.size()];
-}
-
 /// Longest render accepted, seconds (a day).
 constexpr double kMaxDurationSeconds = 86400.0;
 

@@ -44,22 +44,6 @@ std::string index(const std::string& parent, size_t i) {
   return parent + "[" + std::to_string(i) + "]";
 }
 
-/// Levenshtein distance, for "did you mean" hints on unknown keys.
-size_t editDistance(const std::string& a, const std::string& b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diag = row[0];
-    row[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diag = up;
-    }
-  }
-  return row[b.size()];
-}
-
 /// Reads typed values out of the parsed JSON, throwing InputError(file, field, ...) on any
 /// mismatch. Keys starting with '_' are comments and ignored everywhere.
 class JsonReader {

@@ -25,6 +25,6 @@ export LD_LIBRARY_PATH=$libdir${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
 "$work/c/play_scene" scenes/shoebox.json "$work/c.wav"
 "$work/cpp/play_scene_cpp" scenes/shoebox.json "$work/cpp.wav"
 [[ -n "${DPC_KEEP_WAVS:-}" ]] && cp "$work/c.wav" "$work/cpp.wav" "$DPC_KEEP_WAVS"/
-python3 scripts/wavcheck.py "$work/c.wav"
-python3 scripts/wavcheck.py "$work/cpp.wav"
+/usr/bin/python3 scripts/wavcheck.py "$work/c.wav"
+/usr/bin/python3 scripts/wavcheck.py "$work/cpp.wav"
 echo "test-install: OK"

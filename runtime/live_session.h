@@ -53,8 +53,9 @@ class LiveSession {
   /// Control thread: stops and joins the threads. Idempotent.
   void stop();
 
-  /// Control thread: publishes a new pose (timestamped now) for the played listener. Yaw and
-  /// pitch as in dpc::Orientation (radians; yaw 0 faces +x, positive turns left).
+  /// Any thread (one writer at a time): publishes a new pose (timestamped now) for the played
+  /// listener (playedListener()). Yaw and pitch as in dpc::Orientation (radians; yaw 0 faces
+  /// +x, positive turns left). Wait-free; no allocation.
   void setPose(const glm::vec3& position, float yawRadians, double sceneSeconds,
                float pitchRadians = 0.f);
   /// Any thread (one writer per listener at a time): publishes listener `index`'s pose

@@ -201,8 +201,9 @@ void checkOutputs(const SceneDesc& scene, const Flags& fl) {
   }
 }
 
-int renderOne(const Flags& fl, const SceneDesc& scene, const PropagationSettings& settings,
-              const DrySignals& dry, const OutputPaths& paths);
+void writeListener(const Flags& fl, const SceneDesc& scene, const OfflineListenerResult& r,
+                   const OutputPaths& paths);
+void printTotals(const OfflineResult& r, double audioSeconds);
 
 int runOffline(const Flags& fl) {
   SceneDesc scene = loadScene(fl.scene);
@@ -219,22 +220,22 @@ int runOffline(const Flags& fl) {
   const DrySignals dry = loadDrySignals(scene);
   for (const std::string& n : dry.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
   const std::vector<OutputPaths> paths = offlineOutputs(scene, fl);
-  if (paths.size() == 1) return renderOne(fl, scene, settings, dry, paths.front());
-  for (size_t l = 0; l < paths.size(); ++l) {
-    selectListener(scene, scene.listeners[l].name, "--listener");
-    const int rc = renderOne(fl, scene, settings, dry, paths[l]);
-    if (rc != 0) return rc;
-  }
+  // Several listeners: one propagation run traces them all (one pass per source and frame).
+  OfflineOptions opt;
+  opt.durationSeconds = fl.hasDuration ? fl.duration : -1.0;
+  opt.allListeners = paths.size() > 1;
+  if (!fl.quiet) opt.progress = progressBar;
+  const OfflineResult r = renderOffline(scene, settings, dry, opt);
+  for (size_t l = 0; l < r.listeners.size() && l < paths.size(); ++l)
+    writeListener(fl, scene, r.listeners[l], paths[l]);
+  printTotals(r, double(r.listeners.front().output.frames()) / scene.audio.sampleRate);
   return 0;
 }
 
-int renderOne(const Flags& fl, const SceneDesc& scene, const PropagationSettings& settings,
-              const DrySignals& dry, const OutputPaths& paths) {
-  OfflineOptions opt;
-  opt.durationSeconds = fl.hasDuration ? fl.duration : -1.0;
-  if (!fl.quiet) opt.progress = progressBar;
-  const OfflineResult r = renderOffline(scene, settings, dry, opt);
-
+/// Writes one listener's render (level: peak normalised to -1 dBFS, or --gain-db) and its
+/// --ir-out / --er-out files.
+void writeListener(const Flags& fl, const SceneDesc& scene, const OfflineListenerResult& r,
+                   const OutputPaths& paths) {
   // Level: by default normalise the peak to -1 dBFS; --gain-db sets a fixed gain instead.
   audio::AudioData out = r.output;
   float peak = 0.f;
@@ -242,9 +243,9 @@ int renderOne(const Flags& fl, const SceneDesc& scene, const PropagationSettings
     for (float x : ch) peak = std::max(peak, std::abs(x));
   if (peak == 0.f)
     std::fprintf(stderr,
-                 "warning: %s: the render is silent (empty energy response: is the listener "
-                 "inside the mesh and each source inside the room?)\n",
-                 fl.scene.c_str());
+                 "warning: %s: the render of listener \"%s\" is silent (empty energy response: "
+                 "is the listener inside the mesh and each source inside the room?)\n",
+                 fl.scene.c_str(), r.name.c_str());
   double gainDb = fl.gainDb;
   if (!fl.hasGain) gainDb = peak > 0.f ? -1.0 - 20.0 * std::log10(peak) : 0.0;
   const float gain = float(std::pow(10.0, gainDb / 20.0));
@@ -264,9 +265,7 @@ int renderOne(const Flags& fl, const SceneDesc& scene, const PropagationSettings
       er.push_back({r.lastEnergy[s], r.lastDirect[s]});
     writeEnergyCsv(paths.energy, er);
   }
-
   const double audioSeconds = double(out.frames()) / scene.audio.sampleRate;
-  const auto& t = r.totals;
   const char* format = scene.audio.output == OutputFormat::kBinaural ? "binaural"
                        : scene.audio.output == OutputFormat::kStereo ? "stereo"
                                                                      : "mono";
@@ -278,20 +277,24 @@ int renderOne(const Flags& fl, const SceneDesc& scene, const PropagationSettings
   if (!paths.ir.empty())
     std::printf("wrote %s (last frame's IR, %zu channel(s): source-major)\n", paths.ir.c_str(),
                 r.lastIrs.size() * r.lastIrs.front().size());
+}
+
+/// One line per propagation run (shared by every listener it rendered).
+void printTotals(const OfflineResult& r, double audioSeconds) {
+  const auto& t = r.totals;
   std::printf(
       "frames %llu  IRs applied %llu  rays/s %.3g  segments/s %.3g  cache entries %zu (%.1f MB)\n"
       "cache budget %.1f MB  coarse entries %zu  entries merged %llu (carrying %.2f %% of the "
       "response's energy)\n"
       "propagation %.2f s (trace %.2f, IR synthesis %.2f, partition+FFT %.2f)  wall %.2f s  "
       "real-time factor %.1fx\n",
-      (unsigned long long)t.frames, (unsigned long long)r.irsApplied,
+      (unsigned long long)t.frames, (unsigned long long)r.listeners.front().irsApplied,
       t.traceSeconds > 0 ? t.rays / t.traceSeconds : 0.0,
       t.traceSeconds > 0 ? t.segments / t.traceSeconds : 0.0, r.cacheEntries, r.cacheBytes / 1e6,
       r.cacheBudgetBytes / 1e6, r.cacheCoarseEntries, (unsigned long long)r.cacheMergedEntries,
       100.0 * r.cacheCoarseEnergyFraction, t.traceSeconds + t.synthesisSeconds + t.prepareSeconds,
       t.traceSeconds, t.synthesisSeconds, t.prepareSeconds, r.wallSeconds,
       audioSeconds / r.wallSeconds);
-  return 0;
 }
 
 /// Terminal raw mode for --interactive (restored on destruction).
@@ -404,12 +407,10 @@ int runLive(Flags& fl) {
                output->device().spec().c_str(), output->device().hostApi.c_str(),
                output->sampleRate(), output->blockSize(), output->outputLatency() * 1e3);
 
-  // Pose: the trajectory on a wall clock (space pauses it), or the keyboard. 'l' switches to
-  // the scene's next listener (its trajectory; the sphere radius stays the first one's).
+  // Pose: the trajectory on a wall clock (space pauses it), or the keyboard. Every listener is
+  // traced each frame; 'l' plays the scene's next one (the keyboard then moves that one).
   const ListenerDesc* played = &scene.listener;
-  size_t playedIndex = 0;
-  for (size_t i = 0; i < scene.listeners.size(); ++i)
-    if (scene.listeners[i].name == scene.listener.name) playedIndex = i;
+  size_t playedIndex = session.playedListener();
   double sceneTime = 0.0;
   bool paused = false, manual = false;
   glm::vec3 position = listenerPositionAt(scene.listener, 0.0);
@@ -452,6 +453,7 @@ int runLive(Flags& fl) {
           case 'l':
             playedIndex = (playedIndex + 1) % scene.listeners.size();
             played = &scene.listeners[playedIndex];
+            session.selectListener(playedIndex);
             position = listenerPositionAt(*played, sceneTime);
             manual = false;
             std::fprintf(stderr, "\nlistener \"%s\"\n", played->name.c_str());
@@ -492,6 +494,13 @@ int runLive(Flags& fl) {
     }
     const Orientation heading = listenerOrientationAt(*played, sceneTime);
     yaw = heading.yawRadians + yawOffset;
+    // The others follow their trajectories.
+    for (size_t i = 0; i < scene.listeners.size(); ++i)
+      if (i != playedIndex) {
+        const Orientation o = listenerOrientationAt(scene.listeners[i], sceneTime);
+        session.setListenerPose(i, listenerPositionAt(scene.listeners[i], sceneTime), o.yawRadians,
+                                sceneTime, o.pitchRadians);
+      }
     session.setPose(position, yaw, sceneTime, heading.pitchRadians);
     if (std::chrono::duration<double>(now - lastStatus).count() >= 1.0) {
       lastStatus = now;

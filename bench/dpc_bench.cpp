@@ -4,7 +4,9 @@
 //                               [--no-roulette] [--tau S]
 //   dpc-bench noise SCENE [--rays N] [--frames F] [--tau S] [--walk-speed V]
 //                         [--reference-frames M] [--threads T] [--max-order D]
-//   dpc-bench dynamic [--rays N] [--frames F]   (built-in two-room door scene; no file)
+//   dpc-bench dynamic [--rays N] [--frames F] [--parts step,objects,moving_source]
+//                     (built-in scenes; no file)
+//   dpc-bench listeners SCENE [--rays N] [--frames F] [--threads T] [--counts 1,2,4,8]
 //   dpc-bench live SCENE [--rays N] [--duration S] [--block-size B] [--frame-rate F]
 //                        [--threads T] [--device SPEC]
 #include <CLI/CLI.hpp>
@@ -383,8 +385,88 @@ int benchLive(const Common& c, double duration, int blockSize, double frameRate,
   std::printf("%s\n", j.dump(2).c_str());
   return 0;
 }
+/// Frame time for several listeners traced in one pass (docs/dynamic.md, "Several
+/// listeners"): one PropagationStage per listener count, stepped frame by frame in turn (so
+/// that load from other processes falls on all counts alike); process CPU time of the pass
+/// (tracing + one cache per source-listener pair) and of preparing every listener's IR set.
+int benchListeners(const Common& c, const std::vector<int>& counts) {
+  const SceneDesc scene = loadScene(c.scene);
+  PropagationSettings s = settingsFor(scene, c);
+  auto cpu = [] { return double(std::clock()) / CLOCKS_PER_SEC; };
+  // Listener i: scene listener i mod n, at a point of its trajectory spread over its span.
+  const size_t n = scene.listeners.size();
+  auto place = [&](size_t i, size_t count, double t, WorldState& w) {
+    const ListenerDesc& d = scene.listeners[i % n];
+    const double span = d.trajectory.size() > 1
+                            ? d.trajectory.back().timeSeconds - d.trajectory.front().timeSeconds
+                            : 0.0;
+    const size_t per = (count + n - 1) / n;
+    const double ti = t + span * double(i / n) / double(per);
+    w.listenerPositions[i] = listenerPositionAt(d, ti);
+    w.listenerOrientations[i] = listenerOrientationAt(d, ti);
+  };
+  std::vector<std::unique_ptr<PropagationStage>> stages;
+  const int maxCount = *std::max_element(counts.begin(), counts.end());
+  for (size_t k = 0; k < counts.size(); ++k)
+    stages.push_back(std::make_unique<PropagationStage>(scene, s, 3 * maxCount + 1));
+  std::vector<double> traceCpu(counts.size(), 0.0), prepareCpu(counts.size(), 0.0);
+  std::vector<uint64_t> segments(counts.size(), 0), hits(counts.size(), 0);
+  WorldState world;
+  for (int f = 0; f < c.frames; ++f) {
+    const double t = double(f) / s.frameRate;
+    for (size_t k = 0; k < counts.size(); ++k) {
+      evaluateWorld(scene, t, world);
+      const size_t count = size_t(counts[k]);
+      world.listenerPositions.resize(count);
+      world.listenerOrientations.resize(count);
+      for (size_t i = 0; i < count; ++i) place(i, count, t, world);
+      double t0 = cpu();
+      stages[k]->traceWorld(world);
+      traceCpu[k] += cpu() - t0;
+      t0 = cpu();
+      for (size_t l = 0; l < count; ++l) stages[k]->recycle(stages[k]->prepare(l));
+      prepareCpu[k] += cpu() - t0;
+      for (size_t src = 0; src < scene.sources.size(); ++src) {
+        segments[k] += stages[k]->simulation().result(src).trace.segments;
+        hits[k] += stages[k]->simulation().result(src).trace.listenerHits;
+      }
+    }
+    std::fprintf(stderr, "\rframe %d/%d", f + 1, c.frames);
+  }
+  std::fprintf(stderr, "\n");
+  json j;
+  j["machine"] = "shared 2-core machine under load from other builds: ratios within one run";
+  j["scene"] = c.scene;
+  j["sources"] = scene.sources.size();
+  j["rays_per_frame"] = s.raysPerFrame;
+  j["frames"] = c.frames;
+  j["estimator"] = s.estimator == Estimator::kDpc ? "dpc" : "path_tracing";
+  json rows = json::array();
+  for (size_t k = 0; k < counts.size(); ++k) {
+    json e;
+    e["listeners"] = counts[k];
+    e["pass_cpu_ms_per_frame"] = 1e3 * traceCpu[k] / c.frames;
+    e["prepare_all_cpu_ms_per_frame"] = 1e3 * prepareCpu[k] / c.frames;
+    e["pass_ratio_to_one"] = traceCpu[k] / traceCpu[0];
+    e["segments_per_frame"] = double(segments[k]) / c.frames;
+    e["sphere_hits_per_frame"] = double(hits[k]) / c.frames;
+    rows.push_back(e);
+    std::fprintf(stderr, "%d listeners: pass %.1f ms (x%.2f), prepare all %.1f ms, segments %.0f\n",
+                 counts[k], 1e3 * traceCpu[k] / c.frames, traceCpu[k] / traceCpu[0],
+                 1e3 * prepareCpu[k] / c.frames, double(segments[k]) / c.frames);
+  }
+  j["listeners"] = rows;
+  j["note"] =
+      "pass: one traceWorld (every source's rays traced once against all listener spheres, "
+      "then each source-listener pair's cache); prepare all: IR synthesis + partition/FFT for "
+      "every listener (offline needs all, live only the played one); process CPU time";
+  std::printf("%s\n", j.dump(2).c_str());
+  return 0;
+}
+
 /// Door step response, static noise and moving-object frame time (docs/dynamic.md).
-int benchDynamic(int rays, int frames) {
+int benchDynamic(int rays, int frames, const std::string& parts) {
+  auto want = [&](const char* part) { return parts.find(part) != std::string::npos; };
   json j;
   j["machine"] = "shared 2-core machine under load from other builds: ratios within one run";
   j["scene"] = "two rooms 10 x 3 x 4 m, 1 x 2 m doorway, door shut/open by pose jumps";
@@ -394,6 +476,7 @@ int benchDynamic(int rays, int frames) {
                                                              {"seed", DpcWeighting::kSeed},
                                                              {"window", DpcWeighting::kWindow}};
   for (const auto& [name, w] : weightings) {
+    if (!want("step")) break;
     for (double tau : {0.25, 0.5, 1.0, 2.0}) {
       // "ema_matched": the EMA with the time constant that completes 90 % of a step at tau
       // (1 - exp(-tau / tau_e) = 0.9, tau_e = tau / ln 10), for the noise comparison.
@@ -455,6 +538,7 @@ int benchDynamic(int rays, int frames) {
   // Frame time with N moving objects vs the same triangles baked into the static mesh.
   json objs = json::array();
   for (int n : {1, 10, 100}) {
+    if (!want("objects")) break;
     SceneDesc moving = test::makeShoebox({20, 5, 20}, Bands(0.2f), 0.5f, {3, 2, 3}, {15, 2, 15});
     moving.propagation.estimator = Estimator::kPathTracing;
     moving.propagation.raysPerFrame = rays;
@@ -504,6 +588,67 @@ int benchDynamic(int rays, int frames) {
     std::fprintf(stderr, "%d objects: moving/static cpu %.3f\n", n, movingCpu / staticCpu);
   }
   j["moving_objects"] = objs;
+
+  // Noise while a source walks at 1.5 m/s vs standing still: relative RMS error of each frame's
+  // energy response (10 ms bins, all bands; engine/noise_study.h) against converged path
+  // tracing at that frame's source position; path tracing and the DPC window (tau 0.5 s) with
+  // the same seed, i.e. the same rays.
+  if (want("moving_source")) {
+    SceneDesc room = test::makeShoebox({10, 3, 7}, Bands(0.15f), 0.5f, {2, 1.6f, 2}, {8, 1.6f, 5});
+    room.propagation.raysPerFrame = rays;
+    room.propagation.frameRate = 10.f;
+    room.propagation.cacheTau = 0.5f;
+    const double T = 1.0 / room.propagation.frameRate, speed = 1.5;
+    const int warm = int(std::lround(room.propagation.cacheTau / T)), measured = 25;
+    const int total = warm + measured;
+    auto sourceAt = [&](int f) {
+      return room.sources[0].position + glm::vec3(float(speed * T * f), 0.f, 0.f);
+    };
+    PropagationSettings refSettings = room.propagation;
+    refSettings.raysPerFrame = 4 * rays;
+    refSettings.seed += 1000003;
+    std::vector<EnergyResponse> refs;
+    double refError = 0.0;
+    for (int f = 0; f < total; ++f) {
+      SceneDesc at = room;
+      at.sources[0].position = sourceAt(f);
+      double e = 0.0;
+      refs.push_back(referenceResponse(at, refSettings, room.listener.position, 16, &e));
+      refError = std::max(refError, e);
+      std::fprintf(stderr, "\rmoving-source references %d/%d", f + 1, total);
+    }
+    std::fprintf(stderr, "\n");
+    const EnergyResponse staticRef = refs.front();
+    json cases = json::array();
+    for (bool moving : {true, false})
+      for (Estimator est : {Estimator::kPathTracing, Estimator::kDpc}) {
+        PropagationSettings ps = room.propagation;
+        ps.estimator = est;
+        const NoiseMetrics m = measureNoise(
+            room, ps, warm, measured, [&](int) { return room.listener.position; },
+            [&](int f) -> const EnergyResponse& { return moving ? refs[size_t(f)] : staticRef; }, 0,
+            moving ? std::function<glm::vec3(int)>(sourceAt) : nullptr);
+        json e;
+        e["estimator"] = est == Estimator::kDpc ? "dpc_window" : "path_tracing";
+        e["source"] = moving ? "walking" : "static";
+        e["mean_error"] = m.meanError;
+        e["mean_flicker"] = m.meanFlicker;
+        e["error_per_frame"] = m.errorPerFrame;
+        cases.push_back(e);
+        std::fprintf(stderr, "%s %s: error %.3f flicker %.3f\n", moving ? "walking" : "static",
+                     est == Estimator::kDpc ? "window" : "path tracing", m.meanError,
+                     m.meanFlicker);
+      }
+    json ms;
+    ms["scene"] = "shoebox 10 x 3 x 7 m, absorption 0.15, scattering 0.5";
+    ms["speed_m_per_s"] = speed;
+    ms["tau"] = room.propagation.cacheTau;
+    ms["frame_period"] = T;
+    ms["warmup_frames"] = warm;
+    ms["reference_relative_error"] = refError;
+    ms["cases"] = cases;
+    j["moving_source"] = ms;
+  }
   std::printf("%s\n", j.dump(2).c_str());
   return 0;
 }
@@ -546,9 +691,19 @@ int main(int argc, char** argv) {
   live->add_option("--block-size", liveBlock, "Audio block size (default 128)");
   live->add_option("--frame-rate", liveFrameRate, "Propagation frames per second (default: scene)");
   live->add_option("--device", liveDevice, "Audio device (default: a timer thread, no device)");
+  CLI::App* lis = app.add_subcommand(
+      "listeners", "Frame time for several listeners traced in one pass (1, 2, 4, 8)");
+  std::vector<int> listenerCounts = {1, 2, 4, 8};
+  addCommon(lis);
+  lis->add_option("--counts", listenerCounts, "Listener counts (first = the reference)")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber);
   CLI::App* dyn = app.add_subcommand(
       "dynamic", "Door step response per estimator and tau; moving-object frame time");
   int dynRays = 2048, dynFrames = 20;
+  std::string dynParts = "step,objects,moving_source";
+  dyn->add_option("--parts", dynParts,
+                  "Comma-separated parts to run: step, objects, moving_source (default all)");
   dyn->add_option("--rays", dynRays, "Rays per frame (default 2048)");
   dyn->add_option("--frames", dynFrames, "Frames per object-count measurement (default 20)");
   try {
@@ -556,7 +711,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
-  for (CLI::App* sub : {prop, noise, live}) {
+  for (CLI::App* sub : {prop, noise, live, lis}) {
     c.haveTau = c.haveTau || sub->count("--tau") > 0;
     c.haveCacheMb = c.haveCacheMb || sub->count("--cache-memory-mb") > 0;
     c.haveMaxOrder = c.haveMaxOrder || sub->count("--max-order") > 0;
@@ -564,7 +719,8 @@ int main(int argc, char** argv) {
   }
   try {
     if (*prop) return benchPropagation(c, noRoulette);
-    if (*dyn) return benchDynamic(dynRays, dynFrames);
+    if (*dyn) return benchDynamic(dynRays, dynFrames, dynParts);
+    if (*lis) return benchListeners(c, listenerCounts);
     if (*live) return benchLive(c, liveDuration, liveBlock, liveFrameRate, liveDevice);
     if (warmup < 0) {
       const SceneDesc scene = loadScene(c.scene);

@@ -61,15 +61,18 @@ EnergyResponse referenceResponse(const SceneDesc& scene, PropagationSettings set
 NoiseMetrics measureNoise(const SceneDesc& scene, const PropagationSettings& settings, int warmup,
                           int frames, const std::function<glm::vec3(int)>& listenerAt,
                           const std::function<const EnergyResponse&(int)>& referenceAt,
-                          size_t source) {
+                          size_t source, const std::function<glm::vec3(int)>& sourceAt) {
   Simulation sim(scene, settings);
+  std::vector<glm::vec3> sources;
+  for (const SourceDesc& s : scene.sources) sources.push_back(s.position);
   const size_t factor = rebinFactor();
   NoiseMetrics m;
   EnergyResponse previous, sum;
   double biasNumerator = 0.0;
   (void)biasNumerator;
   for (int f = 0; f < warmup + frames; ++f) {
-    sim.runFrame(listenerAt(f));
+    if (sourceAt) sources[source] = sourceAt(f);
+    sim.runFrame(listenerAt(f), sources);
     EnergyResponse e = sim.result(source).energy.rebinned(factor);
     const EnergyResponse& ref = referenceAt(f);
     const double refNorm = std::sqrt(squaredNorm(ref));

@@ -39,11 +39,14 @@ EnergyResponse referenceResponse(const SceneDesc& scene, PropagationSettings set
                                  size_t source = 0);
 
 /// Runs `warmup + frames` frames of the estimator in `settings` with the listener at
-/// listenerAt(frame) and compares each frame with referenceAt(frame) (10 ms bins).
+/// listenerAt(frame) and compares each frame with referenceAt(frame) (10 ms bins). sourceAt
+/// (optional): source `source` at sourceAt(frame) instead of its scene position (a walking
+/// source; the reference must then be computed at that position).
 NoiseMetrics measureNoise(const SceneDesc& scene, const PropagationSettings& settings, int warmup,
                           int frames, const std::function<glm::vec3(int)>& listenerAt,
                           const std::function<const EnergyResponse&(int)>& referenceAt,
-                          size_t source = 0);
+                          size_t source = 0,
+                          const std::function<glm::vec3(int)>& sourceAt = nullptr);
 
 /// 10 ms bins used by the study.
 inline constexpr double kNoiseBinSeconds = 0.010;

@@ -84,10 +84,12 @@ void Propagator::startRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t ray
 }
 
 bool Propagator::advance(RayState& ray, bool surface, const SurfaceHit& hit,
-                         const ListenerSphere& listener, std::vector<PathHit>& hits) const {
+                         std::span<const ListenerSphere> listeners, std::vector<PathHit>& hits,
+                         std::vector<uint32_t>& hitListener) const {
   const float segEnd = surface ? hit.t : std::numeric_limits<float>::infinity();
-  if (ray.order > 0 || includeDirectRays_) {
-    // Segment against the listener sphere: |org + t dir - L|^2 = R^2.
+  for (uint32_t l = 0; l < listeners.size() && (ray.order > 0 || includeDirectRays_); ++l) {
+    // Segment against listener l's sphere: |org + t dir - L|^2 = R^2.
+    const ListenerSphere& listener = listeners[l];
     const float r2 = listener.radius * listener.radius;
     const glm::vec3 oc = listener.position - ray.org;
     const float b = glm::dot(oc, ray.dir);
@@ -98,11 +100,12 @@ bool Propagator::advance(RayState& ray, bool surface, const SurfaceHit& hit,
         const float invArea = 1.f / (std::numbers::pi_v<float> * r2);
         const float r = ray.travelled + std::clamp(b, 0.f, segEnd);
         PathHit h;
-        h.key = pathHashFinish(ray.pathHash, 0);
+        h.key = pathHashFinish(ray.pathHash, l);
         h.intensity = ray.energy * exp(airPerMetre_ * -r) * invArea;
         h.length = r;
         h.direction = -ray.dir;
         hits.push_back(h);
+        hitListener.push_back(l);
       }
     }
   }
@@ -130,22 +133,22 @@ bool Propagator::advance(RayState& ray, bool surface, const SurfaceHit& hit,
 }
 
 void Propagator::traceRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t rayIndex,
-                          const glm::vec3& source, const ListenerSphere& listener,
-                          std::vector<PathHit>& hits, uint64_t& segments) const {
+                          const glm::vec3& source, std::span<const ListenerSphere> listeners,
+                          Chunk& chunk) const {
   RayState ray;
   startRay(frameSeed, sourceIndex, rayIndex, source, ray);
   const float inf = std::numeric_limits<float>::infinity();
   SurfaceHit hit;
   for (;;) {
     const bool surface = geometry_.intersect(ray.org, ray.dir, 0.f, inf, hit);
-    ++segments;
-    if (!advance(ray, surface, hit, listener, hits)) break;
+    ++chunk.segments;
+    if (!advance(ray, surface, hit, listeners, chunk.hits, chunk.hitListener)) break;
   }
 }
 
 void Propagator::traceChunkPacket(uint64_t frameSeed, uint32_t sourceIndex, uint32_t firstRay,
                                   uint32_t endRay, const glm::vec3& source,
-                                  const ListenerSphere& listener, Chunk& chunk) const {
+                                  std::span<const ListenerSphere> listeners, Chunk& chunk) const {
   constexpr int K = RayPacket16::kSize;
   const float inf = std::numeric_limits<float>::infinity();
   std::array<RayState, K> rays;
@@ -153,6 +156,7 @@ void Propagator::traceChunkPacket(uint64_t frameSeed, uint32_t sourceIndex, uint
   RayPacket16 packet;
   PacketHits16 answers;
   chunk.unordered.clear();
+  chunk.unorderedListener.clear();
   chunk.rayOf.clear();
   uint32_t next = firstRay;
   int live = 0;
@@ -173,9 +177,9 @@ void Propagator::traceChunkPacket(uint64_t frameSeed, uint32_t sourceIndex, uint
     chunk.segments += uint64_t(live);
     for (int i = 0; i < K; ++i) {
       if (!packet.active[i]) continue;
-      const bool more =
-          advance(rays[i], answers.found[i], answers.hit[i], listener, chunk.unordered);
-      if (chunk.unordered.size() != chunk.rayOf.size())  // at most one hit per segment
+      const bool more = advance(rays[i], answers.found[i], answers.hit[i], listeners,
+                                chunk.unordered, chunk.unorderedListener);
+      while (chunk.rayOf.size() < chunk.unordered.size())  // one hit per listener at most
         chunk.rayOf.push_back(rayIndex[i] - firstRay);
       if (more) continue;
       if (next < endRay) {
@@ -193,13 +197,25 @@ void Propagator::traceChunkPacket(uint64_t frameSeed, uint32_t sourceIndex, uint
   for (uint32_t r : chunk.rayOf) ++chunk.offsets[r + 1];
   for (uint32_t r = 0; r < count; ++r) chunk.offsets[r + 1] += chunk.offsets[r];
   chunk.hits.resize(chunk.unordered.size());
-  for (size_t h = 0; h < chunk.unordered.size(); ++h)
-    chunk.hits[chunk.offsets[chunk.rayOf[h]]++] = chunk.unordered[h];
+  chunk.hitListener.resize(chunk.unordered.size());
+  for (size_t h = 0; h < chunk.unordered.size(); ++h) {
+    const uint32_t to = chunk.offsets[chunk.rayOf[h]]++;
+    chunk.hits[to] = chunk.unordered[h];
+    chunk.hitListener[to] = chunk.unorderedListener[h];
+  }
 }
 
 TraceStats Propagator::traceFrame(uint64_t frameIndex, uint32_t sourceIndex,
                                   const glm::vec3& source, const ListenerSphere& listener,
                                   FrameGroups& groups) {
+  FrameGroups* const g = &groups;
+  return traceFrame(frameIndex, sourceIndex, source, std::span(&listener, 1), std::span(&g, 1));
+}
+
+TraceStats Propagator::traceFrame(uint64_t frameIndex, uint32_t sourceIndex,
+                                  const glm::vec3& source,
+                                  std::span<const ListenerSphere> listeners,
+                                  std::span<FrameGroups* const> groups) {
   const uint32_t n = uint32_t(std::max(0, settings_.raysPerFrame));
   const uint32_t chunkCount = (n + kRaysPerChunk - 1) / kRaysPerChunk;
   if (chunks_.size() < chunkCount) chunks_.resize(chunkCount);
@@ -209,22 +225,24 @@ TraceStats Propagator::traceFrame(uint64_t frameIndex, uint32_t sourceIndex,
     tbb::parallel_for(uint32_t(0), chunkCount, [&](uint32_t c) {
       Chunk& chunk = chunks_[c];
       chunk.hits.clear();
+      chunk.hitListener.clear();
       chunk.segments = 0;
       const uint32_t end = std::min(n, (c + 1) * kRaysPerChunk);
       if (traceMode_ == TraceMode::kPacket16) {
-        traceChunkPacket(frameSeed, sourceIndex, c * kRaysPerChunk, end, source, listener, chunk);
+        traceChunkPacket(frameSeed, sourceIndex, c * kRaysPerChunk, end, source, listeners, chunk);
         return;
       }
       for (uint32_t ray = c * kRaysPerChunk; ray < end; ++ray)
-        traceRay(frameSeed, sourceIndex, ray, source, listener, chunk.hits, chunk.segments);
+        traceRay(frameSeed, sourceIndex, ray, source, listeners, chunk);
     });
   });
   TraceStats stats;
   stats.rays = n;
   for (uint32_t c = 0; c < chunkCount; ++c) {
-    stats.segments += chunks_[c].segments;
-    stats.listenerHits += chunks_[c].hits.size();
-    for (const PathHit& h : chunks_[c].hits) groups.add(h);
+    const Chunk& chunk = chunks_[c];
+    stats.segments += chunk.segments;
+    stats.listenerHits += chunk.hits.size();
+    for (size_t h = 0; h < chunk.hits.size(); ++h) groups[chunk.hitListener[h]]->add(chunk.hits[h]);
   }
   return stats;
 }

@@ -37,6 +37,7 @@
 #include <cstdint>
 #include <glm/vec3.hpp>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "engine/bands.h"
@@ -64,7 +65,7 @@ struct DirectSound {
 struct TraceStats {
   uint64_t rays = 0;          ///< rays emitted
   uint64_t segments = 0;      ///< ray segments traced (Embree closest-hit queries)
-  uint64_t listenerHits = 0;  ///< segments that crossed the listener sphere
+  uint64_t listenerHits = 0;  ///< segment-sphere crossings, summed over the listeners
 };
 
 /// How Propagator issues its Embree queries (same physics, same random streams).
@@ -93,9 +94,20 @@ class Propagator {
   ~Propagator();
 
   /// Traces settings.raysPerFrame rays from `source` and adds the listener hits, grouped by
-  /// path identifier in ray order, to `groups` (which the caller clears).
+  /// path identifier in ray order, to `groups` (which the caller clears). The listener's index
+  /// in the path identifier is 0.
   TraceStats traceFrame(uint64_t frameIndex, uint32_t sourceIndex, const glm::vec3& source,
                         const ListenerSphere& listener, FrameGroups& groups);
+  /// Several listeners in one pass (thesis §3.2.2: the path identifier carries the listener):
+  /// the same rays as above, each segment tested against every sphere of `listeners`; listener
+  /// l's hits go to *groups[l] (groups.size() == listeners.size(); the caller clears them) in
+  /// ray order, with l finished into the path identifier (pathHashFinish). Embree work (the
+  /// segments) does not depend on the number of listeners, only the ray-sphere tests do; the
+  /// random streams do not depend on the listeners either, so listener l's groups equal, bit
+  /// for bit, those of tracing it alone (up to the listener index in the keys).
+  TraceStats traceFrame(uint64_t frameIndex, uint32_t sourceIndex, const glm::vec3& source,
+                        std::span<const ListenerSphere> listeners,
+                        std::span<FrameGroups* const> groups);
 
   /// The direct sound from source to listener centre. The distance is clamped to at least
   /// R/2, where 1/(4 pi r^2) equals what rays crossing the sphere would report (1/(pi R^2)).
@@ -125,25 +137,29 @@ class Propagator {
   };
   struct Chunk {
     std::vector<PathHit> hits;
+    std::vector<uint32_t> hitListener;  ///< listener index of each hit
     uint64_t segments = 0;
     // Packet mode scratch: hits in completion order with their ray (offset in the chunk),
     // and the per-ray counts/offsets of the counting sort back into ray order.
     std::vector<PathHit> unordered;
+    std::vector<uint32_t> unorderedListener;
     std::vector<uint32_t> rayOf;
     std::vector<uint32_t> offsets;
   };
   void startRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t rayIndex,
                 const glm::vec3& source, RayState& ray) const;
-  /// Applies one query's answer (surface hit or miss) to the ray: listener test (appends to
-  /// hits), then reflection. Returns false when the ray ends.
-  bool advance(RayState& ray, bool surface, const SurfaceHit& hit, const ListenerSphere& listener,
-               std::vector<PathHit>& hits) const;
+  /// Applies one query's answer (surface hit or miss) to the ray: listener tests (append to
+  /// hits and their indices to hitListener, in listener order), then reflection. Returns false
+  /// when the ray ends.
+  bool advance(RayState& ray, bool surface, const SurfaceHit& hit,
+               std::span<const ListenerSphere> listeners, std::vector<PathHit>& hits,
+               std::vector<uint32_t>& hitListener) const;
   void traceRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t rayIndex,
-                const glm::vec3& source, const ListenerSphere& listener, std::vector<PathHit>& hits,
-                uint64_t& segments) const;
+                const glm::vec3& source, std::span<const ListenerSphere> listeners,
+                Chunk& chunk) const;
   void traceChunkPacket(uint64_t frameSeed, uint32_t sourceIndex, uint32_t firstRay,
-                        uint32_t endRay, const glm::vec3& source, const ListenerSphere& listener,
-                        Chunk& chunk) const;
+                        uint32_t endRay, const glm::vec3& source,
+                        std::span<const ListenerSphere> listeners, Chunk& chunk) const;
 
   const Geometry& geometry_;
   PropagationSettings settings_;

@@ -12,22 +12,41 @@ Simulation::Simulation(const SceneDesc& scene, const PropagationSettings& settin
       std::make_unique<Geometry>(scene.mesh, scene.materials, settings_.patchSize, scene.objects);
   propagator_ = std::make_unique<Propagator>(*geometry_, settings_);
   if (settings_.diffraction) diffraction_ = std::make_unique<EdgeDiffraction>(scene.mesh);
-  for (const SourceDesc& s : scene.sources) {
-    sourcePositions_.push_back(s.position);
-    if (settings_.estimator == Estimator::kDpc)
-      caches_.push_back(std::make_unique<DiffusePathCache>(
-          settings_.dpcWeighting, settings_.cacheTau, 1.0 / settings_.frameRate,
-          DiffusePathCache::entriesForBudget(settings_.cacheMemoryMb)));
-    SourceResult r;
-    r.energy = EnergyResponse(settings_.irLength, kEnergyBinSeconds);
-    results_.push_back(std::move(r));
+  for (const SourceDesc& s : scene.sources) sourcePositions_.push_back(s.position);
+  sourceCount_ = scene.sources.size();
+  reserveListeners(1);
+}
+
+void Simulation::reserveListeners(size_t listeners) {
+  for (; reserved_ < listeners; ++reserved_) {
+    for (size_t s = 0; s < sourceCount_; ++s) {
+      if (settings_.estimator == Estimator::kDpc)
+        caches_.push_back(std::make_unique<DiffusePathCache>(
+            settings_.dpcWeighting, settings_.cacheTau, 1.0 / settings_.frameRate,
+            DiffusePathCache::entriesForBudget(settings_.cacheMemoryMb)));
+      SourceResult r;
+      r.energy = EnergyResponse(settings_.irLength, kEnergyBinSeconds);
+      results_.push_back(std::move(r));
+      if (!directions_.empty())
+        directional_.emplace_back(settings_.irLength, kEnergyBinSeconds, directions_);
+    }
+    groups_.emplace_back();
   }
+  groupPtrs_.clear();
+  for (FrameGroups& g : groups_) groupPtrs_.push_back(&g);
+  if (orientations_.size() < listeners) orientations_.resize(listeners);
+}
+
+void Simulation::setListenerOrientation(size_t listener, const Orientation& orientation) {
+  if (orientations_.size() <= listener) orientations_.resize(listener + 1);
+  orientations_[listener] = orientation;
 }
 
 void Simulation::enableDirectional(const std::vector<glm::vec3>& listenerDirections) {
+  directions_ = listenerDirections;
   directional_.clear();
-  for (size_t s = 0; s < results_.size(); ++s)
-    directional_.emplace_back(settings_.irLength, kEnergyBinSeconds, listenerDirections);
+  for (size_t i = 0; i < results_.size(); ++i)
+    directional_.emplace_back(settings_.irLength, kEnergyBinSeconds, directions_);
 }
 
 double Simulation::boundingVolume() const {
@@ -48,39 +67,57 @@ void Simulation::runFrame(const glm::vec3& listenerPosition) {
 void Simulation::runFrame(const glm::vec3& listenerPosition,
                           const std::vector<glm::vec3>& sources) {
   const ListenerSphere listener{listenerPosition, listenerRadius_};
-  for (size_t s = 0; s < results_.size() && s < sources.size(); ++s) {
-    SourceResult& r = results_[s];
+  runFrame(std::span(&listener, 1), sources);
+}
+
+void Simulation::runFrame(std::span<const ListenerSphere> listeners,
+                          const std::vector<glm::vec3>& sources) {
+  const size_t L = std::max<size_t>(1, listeners.size());
+  reserveListeners(L);
+  listenerCount_ = L;
+  for (size_t s = 0; s < sourceCount_ && s < sources.size(); ++s) {
     const auto t0 = std::chrono::steady_clock::now();
-    groups_.clear();
-    r.trace = propagator_->traceFrame(frame_, uint32_t(s), sources[s], listener, groups_);
-    const auto t1 = std::chrono::steady_clock::now();
-    r.direct = propagator_->directSound(sources[s], listener);
-    if (diffraction_)
-      diffraction_->apply(*geometry_, sources[s], listener, settings_.speedOfSound,
-                        propagator_->airAttenuationPerMetre(), r.direct);
-    r.energy.clear();
-    DirectionalEnergyResponse* dir = nullptr;
-    if (!directional_.empty()) {
-      dir = &directional_[s];
-      dir->clear();
-      dir->setListenerFrame(orientation_.forward(), orientation_.up());
+    for (size_t l = 0; l < L; ++l) groups_[l].clear();
+    const TraceStats trace = propagator_->traceFrame(
+        frame_, uint32_t(s), sources[s], listeners, std::span(groupPtrs_.data(), listeners.size()));
+    const double traceSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    for (size_t l = 0; l < listeners.size(); ++l) {
+      const size_t pair = l * sourceCount_ + s;
+      SourceResult& r = results_[pair];
+      const ListenerSphere& listener = listeners[l];
+      const FrameGroups& groups = groups_[l];
+      const auto t1 = std::chrono::steady_clock::now();
+      r.trace = trace;
+      r.direct = propagator_->directSound(sources[s], listener);
+      if (diffraction_)
+        diffraction_->apply(*geometry_, sources[s], listener, settings_.speedOfSound,
+                            propagator_->airAttenuationPerMetre(), r.direct);
+      r.energy.clear();
+      DirectionalEnergyResponse* dir = nullptr;
+      if (!directional_.empty()) {
+        dir = &directional_[pair];
+        dir->clear();
+        dir->setListenerFrame(orientations_[l].forward(), orientations_[l].up());
+      }
+      if (caches_.empty()) {
+        pathTracing_.endFrame(groups, r.trace.rays, settings_.speedOfSound, r.energy, dir);
+        r.cacheEntries = groups.groups().size();
+        r.cacheBytes = 0;
+      } else {
+        DiffusePathCache& cache = *caches_[pair];
+        cache.endFrame(groups, r.trace.rays, settings_.speedOfSound, r.energy, dir);
+        r.cacheEntries = cache.entryCount();
+        r.cacheBytes = cache.bytes();
+        r.cacheCoarseEntries = cache.coarseEntryCount();
+        r.cacheBudgetBytes = cache.maxEntries() * DiffusePathCache::kBytesPerEntry;
+        r.cacheMergedEntries = cache.mergedEntries();
+        r.cacheCoarseEnergyFraction = cache.coarseEnergyFraction();
+      }
+      r.traceSeconds = traceSeconds;
+      r.estimatorSeconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
     }
-    if (caches_.empty()) {
-      pathTracing_.endFrame(groups_, r.trace.rays, settings_.speedOfSound, r.energy, dir);
-      r.cacheEntries = groups_.groups().size();
-      r.cacheBytes = 0;
-    } else {
-      caches_[s]->endFrame(groups_, r.trace.rays, settings_.speedOfSound, r.energy, dir);
-      r.cacheEntries = caches_[s]->entryCount();
-      r.cacheBytes = caches_[s]->bytes();
-      r.cacheCoarseEntries = caches_[s]->coarseEntryCount();
-      r.cacheBudgetBytes = caches_[s]->maxEntries() * DiffusePathCache::kBytesPerEntry;
-      r.cacheMergedEntries = caches_[s]->mergedEntries();
-      r.cacheCoarseEnergyFraction = caches_[s]->coarseEnergyFraction();
-    }
-    const auto t2 = std::chrono::steady_clock::now();
-    r.traceSeconds = std::chrono::duration<double>(t1 - t0).count();
-    r.estimatorSeconds = std::chrono::duration<double>(t2 - t1).count();
   }
   ++frame_;
 }

@@ -1,7 +1,8 @@
 // Simulation: one propagation frame for every source of a scene, as the renderer, the tests
 // and dpc-bench all run it. Owns the Embree geometry, the path tracer and one estimator (diffuse
-// path cache or plain path tracing) per source; produces each source's energy response
-// (1 ms bins, ir_length long) and analytic direct sound.
+// path cache or plain path tracing) per source-listener pair; produces each pair's energy
+// response (1 ms bins, ir_length long) and analytic direct sound. Several listeners are traced
+// in one pass: every source's rays are tested against all listener spheres (docs/dynamic.md).
 //
 // Propagation thread: construct, runFrame, read results; not safe to share between threads.
 // Construction allocates (BVH, tables) and throws std::runtime_error on an Embree error;
@@ -9,6 +10,7 @@
 #pragma once
 
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "engine/diffraction.h"
@@ -45,10 +47,16 @@ class Simulation {
     double estimatorSeconds = 0.0;  ///< grouping hits + cache update + readout
   };
 
-  /// Traces one frame from every source to a listener at listenerPosition (metres).
+  /// Traces one frame from every source to a listener at listenerPosition (metres), with the
+  /// scene's listener radius; results go to listener index 0.
   void runFrame(const glm::vec3& listenerPosition);
   /// Same, with source positions other than the scene's (one per source).
   void runFrame(const glm::vec3& listenerPosition, const std::vector<glm::vec3>& sources);
+  /// One pass for several listeners: each source's rays are traced once and tested against
+  /// every sphere in `listeners` (index l = listener l: its own cache per source, path
+  /// identifiers carrying l). The first frame with more listeners than before allocates their
+  /// caches and responses. Listener l's results: result(source, l), directional(source, l).
+  void runFrame(std::span<const ListenerSphere> listeners, const std::vector<glm::vec3>& sources);
 
   /// Moves the scene's objects (one pose per object, scene order) for the following frames:
   /// sets the Embree instance transforms and commits the top-level BVH. No allocation.
@@ -57,14 +65,25 @@ class Simulation {
   /// Also produce, per source, a DirectionalEnergyResponse over these listener-frame
   /// directions (for spatial IR synthesis). Allocates.
   void enableDirectional(const std::vector<glm::vec3>& listenerDirections);
-  /// The listener's orientation for the following frames (world forward/up; see Orientation).
-  void setListenerOrientation(const Orientation& orientation) { orientation_ = orientation; }
+  /// Listener 0's orientation for the following frames (world forward/up; see Orientation).
+  void setListenerOrientation(const Orientation& orientation) { orientations_[0] = orientation; }
+  /// Listener l's orientation for the following frames (grows the table; allocates then).
+  void setListenerOrientation(size_t listener, const Orientation& orientation);
   /// Valid after runFrame when enableDirectional was called.
-  const DirectionalEnergyResponse& directional(size_t source) const { return directional_[source]; }
-  bool hasDirectional() const { return !directional_.empty(); }
+  const DirectionalEnergyResponse& directional(size_t source, size_t listener = 0) const {
+    return directional_[listener * sourceCount_ + source];
+  }
+  bool hasDirectional() const { return !directions_.empty(); }
 
-  const SourceResult& result(size_t source) const { return results_[source]; }
-  size_t sourceCount() const { return results_.size(); }
+  /// Source `source`'s result for listener `listener` (< listenerCount()). The trace statistics
+  /// (rays, segments, trace time) are those of the source's one pass, repeated for every
+  /// listener; listenerHits counts all listeners' hits.
+  const SourceResult& result(size_t source, size_t listener = 0) const {
+    return results_[listener * sourceCount_ + source];
+  }
+  size_t sourceCount() const { return sourceCount_; }
+  /// Listeners the last runFrame traced (at least 1).
+  size_t listenerCount() const { return listenerCount_; }
   uint64_t framesRun() const { return frame_; }
   const Geometry& geometry() const { return *geometry_; }
   Propagator& propagator() { return *propagator_; }
@@ -73,18 +92,27 @@ class Simulation {
   double boundingVolume() const;
 
  private:
+  /// Caches, responses and groups for `listeners` listeners (grows only).
+  void reserveListeners(size_t listeners);
+
   PropagationSettings settings_;
   float listenerRadius_;
   std::vector<glm::vec3> sourcePositions_;
   std::unique_ptr<Geometry> geometry_;
   std::unique_ptr<Propagator> propagator_;
   std::unique_ptr<EdgeDiffraction> diffraction_;  ///< first-order edge paths into the direct sound
+  size_t sourceCount_ = 0;
+  size_t listenerCount_ = 1;  ///< listeners of the last frame
+  size_t reserved_ = 0;       ///< listeners with caches and responses
+  // Per source-listener pair, index listener * sourceCount_ + source:
   std::vector<std::unique_ptr<DiffusePathCache>> caches_;
-  PathTracingEstimator pathTracing_;
-  FrameGroups groups_;
   std::vector<SourceResult> results_;
   std::vector<DirectionalEnergyResponse> directional_;
-  Orientation orientation_;
+  PathTracingEstimator pathTracing_;
+  std::vector<FrameGroups> groups_;      ///< per listener, this source's frame
+  std::vector<FrameGroups*> groupPtrs_;  ///< &groups_[l]
+  std::vector<glm::vec3> directions_;    ///< enableDirectional's listener-frame directions
+  std::vector<Orientation> orientations_{1};
   uint64_t frame_ = 0;
 };
 

@@ -28,6 +28,16 @@ LiveSession::LiveSession(const SceneDesc& scene, const PropagationSettings& sett
       toAudio_(size_t(std::max(3, options.poolSize)) + 1),
       fromAudio_(size_t(std::max(3, options.poolSize)) + 1) {
   propagation_ = std::make_unique<PropagationStage>(scene, settings, std::max(3, options.poolSize));
+  // Every listener is traced each frame; each starts where its trajectory is at t = 0.
+  listenerCount_ = std::max<size_t>(1, scene.listeners.size());
+  poses_ = std::make_unique<PoseChannel[]>(listenerCount_);
+  for (size_t l = 0; l < listenerCount_; ++l) {
+    const ListenerDesc& d = scene.listeners.empty() ? scene.listener : scene.listeners[l];
+    const Orientation o = listenerOrientationAt(d, 0.0);
+    poses_[l].publish(
+        ListenerPose{listenerPositionAt(d, 0.0), o.yawRadians, o.pitchRadians, nowNs(), 0.0});
+    if (d.name == scene.listener.name) played_.store(l, std::memory_order_relaxed);
+  }
   hostSources_ = std::make_unique<SeqlockChannel<HostSourcePosition>[]>(scene.sources.size());
   hostObjects_ = std::make_unique<SeqlockChannel<HostObjectPose>[]>(scene.objects.size());
   const int irChannels = propagation_->numOutputs();
@@ -72,7 +82,21 @@ bool LiveSession::setObjectPose(size_t index, const glm::vec3& position, const f
 
 void LiveSession::setPose(const glm::vec3& position, float yawRadians, double sceneSeconds,
                           float pitchRadians) {
-  pose_.publish(ListenerPose{position, yawRadians, pitchRadians, nowNs(), sceneSeconds});
+  setListenerPose(played_.load(std::memory_order_relaxed), position, yawRadians, sceneSeconds,
+                  pitchRadians);
+}
+
+bool LiveSession::setListenerPose(size_t index, const glm::vec3& position, float yawRadians,
+                                  double sceneSeconds, float pitchRadians) {
+  if (index >= listenerCount_) return false;
+  poses_[index].publish(ListenerPose{position, yawRadians, pitchRadians, nowNs(), sceneSeconds});
+  return true;
+}
+
+bool LiveSession::selectListener(size_t index) {
+  if (index >= listenerCount_) return false;
+  played_.store(index, std::memory_order_relaxed);
+  return true;
 }
 
 void LiveSession::start() {
@@ -98,10 +122,25 @@ void LiveSession::runFrame() {
   IrSet* back = nullptr;
   while (fromAudio_.try_dequeue(back)) propagation_->recycle(back);
   const auto t0 = std::chrono::steady_clock::now();
-  const ListenerPose pose = pose_.read();
-  Orientation orientation;
-  orientation.yawRadians = pose.yawRadians;
-  orientation.pitchRadians = pose.pitchRadians;
+  // Every listener's pose; sources and objects at the played listener's scene time.
+  const size_t played = played_.load(std::memory_order_relaxed);
+  ListenerPose pose;
+  world_.listenerPositions.resize(listenerCount_);
+  world_.listenerOrientations.resize(listenerCount_);
+  for (size_t l = 0; l < listenerCount_; ++l) {
+    const ListenerPose p = poses_[l].read();
+    world_.listenerPositions[l] = p.position;
+    world_.listenerOrientations[l].yawRadians = p.yawRadians;
+    world_.listenerOrientations[l].pitchRadians = p.pitchRadians;
+    if (l == played) pose = p;
+  }
+  world_.timeSeconds = pose.sceneSeconds;
+  world_.sourcePositions.resize(scene_.sources.size());
+  for (size_t i = 0; i < scene_.sources.size(); ++i)
+    world_.sourcePositions[i] = sourcePositionAt(scene_.sources[i], pose.sceneSeconds);
+  world_.objectPoses.resize(scene_.objects.size());
+  for (size_t k = 0; k < scene_.objects.size(); ++k)
+    world_.objectPoses[k] = objectPoseAt(scene_.objects[k], pose.sceneSeconds);
   for (size_t i = 0; i < scene_.sources.size(); ++i)
     if (const HostSourcePosition h = hostSources_[i].read(); h.set)
       propagation_->overrideSource(i, h.position);
@@ -109,7 +148,8 @@ void LiveSession::runFrame() {
     if (const HostObjectPose h = hostObjects_[i].read(); h.set)
       propagation_->overrideObject(i, Pose{h.position, glm::quat(h.rotation[3], h.rotation[0],
                                                                  h.rotation[1], h.rotation[2])});
-  IrSet* set = propagation_->computeFrame(pose.position, orientation, pose.sceneSeconds);
+  propagation_->traceWorld(world_);
+  IrSet* set = propagation_->prepare(played);
   const auto t1 = std::chrono::steady_clock::now();
   if (set) {
     set->poseNs = pose.publishedNs;
@@ -124,7 +164,7 @@ void LiveSession::runFrame() {
     uint64_t merged = 0;
     double mergedShare = 0.0;
     for (size_t s = 0; s < propagation_->simulation().sourceCount(); ++s) {
-      const Simulation::SourceResult& sr = propagation_->simulation().result(s);
+      const Simulation::SourceResult& sr = propagation_->simulation().result(s, played);
       rays += sr.trace.rays;
       entries += sr.cacheEntries + sr.cacheCoarseEntries;
       bytes += sr.cacheBytes;
@@ -150,7 +190,7 @@ void LiveSession::runFrame() {
       snapshotIrs_ = propagation_->lastIrs();
       snapshotEnergy_.resize(sim.sourceCount());
       for (size_t s = 0; s < sim.sourceCount(); ++s) {
-        const Simulation::SourceResult& r = sim.result(s);
+        const Simulation::SourceResult& r = sim.result(s, played);
         snapshotEnergy_[s] = r.energy.bins();
         // The direct sound (with its diffraction) is computed apart from the estimator's bins.
         const double k = r.direct.delaySeconds / r.energy.binSeconds();

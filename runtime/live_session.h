@@ -2,7 +2,8 @@
 // rendering, on three threads (docs/design.md "Thread roles"):
 //
 //   control thread     setPose() (trajectory or keyboard), status(), start()/stop()
-//   propagation thread reads the pose (PoseChannel), runs a frame, prepares an IrSet, pushes
+//   propagation thread reads every listener's pose (one PoseChannel each), traces all
+//                      listeners in one pass, prepares the played listener's IrSet, pushes
 //                      its pointer to the audio thread (SPSC queue), recycles spent sets
 //   audio thread       render(): pops at most the newest IrSet per block (older ones go
 //                      straight back), convolves and crossfades, mixes, counts problems in
@@ -53,10 +54,28 @@ class LiveSession {
   /// Control thread: stops and joins the threads. Idempotent.
   void stop();
 
-  /// Control thread: publishes a new listener pose (timestamped now). Yaw and pitch as in
-  /// dpc::Orientation (radians; yaw 0 faces +x, positive turns left).
+  /// Any thread (one writer at a time): publishes a new pose (timestamped now) for the played
+  /// listener (playedListener()). Yaw and pitch as in dpc::Orientation (radians; yaw 0 faces
+  /// +x, positive turns left). Wait-free; no allocation.
   void setPose(const glm::vec3& position, float yawRadians, double sceneSeconds,
                float pitchRadians = 0.f);
+  /// Any thread (one writer per listener at a time): publishes listener `index`'s pose
+  /// (scene.listeners order; index 0 only when the scene lists none), timestamped now, for the
+  /// following propagation frames. Every listener is traced each frame in the same pass (its
+  /// cache stays current whether it is played or not); until a pose is published a listener
+  /// stands where its trajectory puts it at t = 0. sceneSeconds: the scene time the pose
+  /// belongs to (sources and objects follow their trajectories at the played listener's
+  /// time). Returns false (and changes nothing) for an index out of range. Wait-free (seqlock,
+  /// runtime/pose_channel.h); no allocation.
+  bool setListenerPose(size_t index, const glm::vec3& position, float yawRadians,
+                       double sceneSeconds, float pitchRadians = 0.f);
+  /// Any thread: plays listener `index` from the next propagation frame on (the audio thread
+  /// crossfades to its IR like to any new IR). False for an index out of range. Wait-free.
+  bool selectListener(size_t index);
+  /// The listener being played (scene.listeners order).
+  size_t playedListener() const { return played_.load(std::memory_order_relaxed); }
+  /// Listeners traced every frame: scene.listeners.size(), or 1 when the scene lists none.
+  size_t listenerCount() const { return listenerCount_; }
   /// Any thread (one writer per source at a time): places source `index` (scene order) at
   /// `position` (m) from the next propagation frame on, instead of its trajectory. Returns false
   /// (and changes nothing) for an index out of range. Wait-free; no allocation.
@@ -165,7 +184,10 @@ class LiveSession {
   int blockSize_, sampleRate_;
   std::unique_ptr<PropagationStage> propagation_;
   std::unique_ptr<AudioStage> audioStage_;
-  PoseChannel pose_;
+  size_t listenerCount_ = 1;
+  std::unique_ptr<PoseChannel[]> poses_;  ///< one per listener
+  std::atomic<size_t> played_{0};
+  WorldState world_;  ///< propagation thread: this frame's poses
   std::unique_ptr<SeqlockChannel<HostSourcePosition>[]> hostSources_;
   std::unique_ptr<SeqlockChannel<HostObjectPose>[]> hostObjects_;
   moodycamel::ReaderWriterQueue<IrSet*> toAudio_, fromAudio_;

@@ -10,13 +10,23 @@ OfflineResult renderOffline(const SceneDesc& scene, const PropagationSettings& s
                             const DrySignals& dry, const OfflineOptions& options) {
   const auto wall0 = std::chrono::steady_clock::now();
   const int fs = scene.audio.sampleRate;
-  PropagationStage propagation(scene, settings);
+  // The listeners rendered: every scene listener from one pass, or scene.listener alone.
+  const bool all = options.allListeners && !scene.listeners.empty();
+  const std::vector<ListenerDesc> listeners =
+      all ? scene.listeners : std::vector<ListenerDesc>{scene.listener};
+  const size_t L = listeners.size();
+  // Each audio stage holds at most a current and a pending set; one more per listener is being
+  // filled while the others wait.
+  PropagationStage propagation(scene, settings, int(std::max<size_t>(4, 3 * L + 1)));
   const int numOutputs = propagation.numOutputs();
-  AudioStage audioStage(propagation.layout(), dry, numOutputs);
+  std::vector<std::unique_ptr<AudioStage>> audioStages;
+  for (size_t l = 0; l < L; ++l)
+    audioStages.push_back(std::make_unique<AudioStage>(propagation.layout(), dry, numOutputs));
   const size_t B = size_t(scene.audio.blockSize);
   double content = double(dry.longestFrames()) / fs;
-  if (!scene.listener.loop && !scene.listener.trajectory.empty())
-    content = std::max(content, scene.listener.trajectory.back().timeSeconds);
+  for (const ListenerDesc& l : listeners)
+    if (!l.loop && !l.trajectory.empty())
+      content = std::max(content, l.trajectory.back().timeSeconds);
   for (const SourceDesc& s : scene.sources)
     if (!s.trajectoryLoop && !s.trajectory.empty())
       content = std::max(content, s.trajectory.back().timeSeconds);
@@ -26,50 +36,72 @@ OfflineResult renderOffline(const SceneDesc& scene, const PropagationSettings& s
   const size_t blocks = (totalFrames + B - 1) / B;
 
   OfflineResult result;
-  result.output.sampleRate = fs;
-  result.output.channels.assign(size_t(numOutputs), std::vector<float>(blocks * B));
+  result.listeners.resize(L);
+  for (size_t l = 0; l < L; ++l) {
+    result.listeners[l].name = listeners[l].name;
+    result.listeners[l].output.sampleRate = fs;
+    result.listeners[l].output.channels.assign(size_t(numOutputs), std::vector<float>(blocks * B));
+  }
   std::vector<float*> out(static_cast<size_t>(numOutputs));
+  std::vector<IrSet*> newest(L, nullptr);
+  WorldState world;
   const double framePeriod = 1.0 / settings.frameRate;
   uint64_t nextFrame = 0;
   size_t lastReport = 0;
   for (size_t blk = 0; blk < blocks; ++blk) {
     const double t = double(blk * B) / fs;
     // Frames due by the start of this block (normally at most one).
-    IrSet* newest = nullptr;
+    std::fill(newest.begin(), newest.end(), nullptr);
     while (double(nextFrame) * framePeriod <= t + 1e-12) {
       const double ft = double(nextFrame) * framePeriod;
-      IrSet* set = propagation.computeFrame(listenerPositionAt(scene.listener, ft),
-                                            listenerOrientationAt(scene.listener, ft), ft);
-      if (newest) propagation.recycle(newest);  // superseded before the audio side saw it
-      newest = set;
+      if (all) {
+        evaluateWorld(scene, ft, world);
+        propagation.traceWorld(world);
+        for (size_t l = 0; l < L; ++l) {
+          IrSet* set = propagation.prepare(l);
+          if (newest[l]) propagation.recycle(newest[l]);  // superseded before it was heard
+          newest[l] = set;
+        }
+      } else {
+        IrSet* set = propagation.computeFrame(listenerPositionAt(scene.listener, ft),
+                                              listenerOrientationAt(scene.listener, ft), ft);
+        if (newest[0]) propagation.recycle(newest[0]);
+        newest[0] = set;
+      }
       ++nextFrame;
     }
-    if (newest) audioStage.offer(newest);
-    for (int c = 0; c < numOutputs; ++c)
-      out[size_t(c)] = result.output.channels[size_t(c)].data() + blk * B;
-    audioStage.process(out.data());
-    while (IrSet* spent = audioStage.takeSpent()) propagation.recycle(spent);
+    for (size_t l = 0; l < L; ++l) {
+      if (newest[l]) audioStages[l]->offer(newest[l]);
+      for (int c = 0; c < numOutputs; ++c)
+        out[size_t(c)] = result.listeners[l].output.channels[size_t(c)].data() + blk * B;
+      audioStages[l]->process(out.data());
+      while (IrSet* spent = audioStages[l]->takeSpent()) propagation.recycle(spent);
+    }
     if (options.progress && (blk + 1 == blocks || (blk - lastReport) * 100 >= blocks)) {
       options.progress(double((blk + 1) * B) / fs, double(blocks * B) / fs);
       lastReport = blk;
     }
   }
-  for (auto& ch : result.output.channels) ch.resize(totalFrames);
-  result.lastIrs = propagation.lastIrs();
   result.totals = propagation.totals();
-  for (size_t s = 0; s < propagation.simulation().sourceCount(); ++s) {
-    result.cacheEntries += propagation.simulation().result(s).cacheEntries;
-    const Simulation::SourceResult& sr = propagation.simulation().result(s);
-    result.cacheBytes += sr.cacheBytes;
-    result.cacheCoarseEntries += sr.cacheCoarseEntries;
-    result.cacheBudgetBytes += sr.cacheBudgetBytes;
-    result.cacheMergedEntries += sr.cacheMergedEntries;
-    result.cacheCoarseEnergyFraction =
-        std::max(result.cacheCoarseEnergyFraction, sr.cacheCoarseEnergyFraction);
-    result.lastEnergy.push_back(sr.energy);
-    result.lastDirect.push_back(sr.direct);
+  const Simulation& sim = propagation.simulation();
+  for (size_t l = 0; l < L; ++l) {
+    OfflineListenerResult& lr = result.listeners[l];
+    for (auto& ch : lr.output.channels) ch.resize(totalFrames);
+    lr.lastIrs = propagation.lastIrs(l);
+    lr.irsApplied = audioStages[l]->irsApplied();
+    for (size_t s = 0; s < sim.sourceCount(); ++s) {
+      const Simulation::SourceResult& sr = sim.result(s, l);
+      result.cacheEntries += sr.cacheEntries;
+      result.cacheBytes += sr.cacheBytes;
+      result.cacheCoarseEntries += sr.cacheCoarseEntries;
+      result.cacheBudgetBytes += sr.cacheBudgetBytes;
+      result.cacheMergedEntries += sr.cacheMergedEntries;
+      result.cacheCoarseEnergyFraction =
+          std::max(result.cacheCoarseEnergyFraction, sr.cacheCoarseEnergyFraction);
+      lr.lastEnergy.push_back(sr.energy);
+      lr.lastDirect.push_back(sr.direct);
+    }
   }
-  result.irsApplied = audioStage.irsApplied();
   result.wallSeconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return result;

@@ -3,6 +3,9 @@
 // the listener moves along its trajectory, a propagation frame runs and its IR set is handed
 // to the audio stage, exactly as the propagation thread would hand it over live. The result
 // is bit-identical for a given seed (and independent of the thread count).
+// With OfflineOptions::allListeners every scene listener is rendered from one propagation
+// run: each frame traces every source once against all listener spheres, and each listener's
+// IR set goes to its own audio stage (convolvers), giving one output per listener.
 // Control thread; allocates; throws InputError / std::runtime_error.
 #pragma once
 
@@ -19,21 +22,30 @@ struct OfflineOptions {
   double durationSeconds = -1.0;
   /// Called about every 1 % of progress with (scene seconds rendered, total seconds).
   std::function<void(double, double)> progress;
+  /// false: render scene.listener only (one listener traced). true: render every listener of
+  /// scene.listeners from one propagation run (OfflineResult::listeners in scene order).
+  bool allListeners = false;
 };
 
-struct OfflineResult {
+/// What one listener heard.
+struct OfflineListenerResult {
+  std::string name;         ///< the listener's name
   audio::AudioData output;  ///< 1 (mono) or 2 (stereo, binaural) channels at the scene's rate
   std::vector<std::vector<std::vector<float>>> lastIrs;  ///< [source][channel][sample]
   std::vector<EnergyResponse> lastEnergy;  ///< [source]: the last frame's energy response
   std::vector<DirectSound> lastDirect;     ///< [source]: the last frame's direct sound
-  PropagationStage::Totals totals;
-  size_t cacheEntries = 0;  ///< summed over sources, after the last frame
-  size_t cacheBytes = 0;
-  size_t cacheCoarseEntries = 0;         ///< DPC coarse-store entries, summed over sources
-  size_t cacheBudgetBytes = 0;           ///< DPC memory budget, summed over sources
-  uint64_t cacheMergedEntries = 0;       ///< path entries merged by the budget, summed
-  double cacheCoarseEnergyFraction = 0;  ///< largest per-source share of the last response
   uint64_t irsApplied = 0;
+};
+
+struct OfflineResult {
+  std::vector<OfflineListenerResult> listeners;  ///< one per listener rendered
+  PropagationStage::Totals totals;               ///< one propagation run (shared by all listeners)
+  size_t cacheEntries = 0;  ///< summed over source-listener pairs, after the last frame
+  size_t cacheBytes = 0;
+  size_t cacheCoarseEntries = 0;         ///< DPC coarse-store entries, summed over pairs
+  size_t cacheBudgetBytes = 0;           ///< DPC memory budget, summed over pairs
+  uint64_t cacheMergedEntries = 0;       ///< path entries merged by the budget, summed
+  double cacheCoarseEnergyFraction = 0;  ///< largest per-pair share of the last response
   double wallSeconds = 0.0;
 };
 

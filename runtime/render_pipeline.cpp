@@ -1,8 +1,10 @@
 #include "runtime/render_pipeline.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 
 #include "audio/hrtf.h"
 #include "audio/panning.h"
@@ -150,8 +152,10 @@ PropagationStage::PropagationStage(const SceneDesc& scene, const PropagationSett
     free_.push_back(set.get());
     pool_.push_back(std::move(set));
   }
-  irs_.assign(scene.sources.size(),
-              std::vector<std::vector<float>>(size_t(numOutputs_), std::vector<float>(irSamples_)));
+  irs_.assign(
+      1, std::vector<std::vector<std::vector<float>>>(
+             scene.sources.size(),
+             std::vector<std::vector<float>>(size_t(numOutputs_), std::vector<float>(irSamples_))));
 }
 
 void PropagationStage::overrideSource(size_t index, const glm::vec3& position) {
@@ -188,33 +192,68 @@ IrSet* PropagationStage::computeFrame(const WorldState& world, size_t listener) 
 IrSet* PropagationStage::runPrepared(const glm::vec3& listener, const Orientation& orientation,
                                      double t) {
   if (free_.empty()) return nullptr;
-  IrSet* set = free_.back();
-  free_.pop_back();
-  auto t0 = std::chrono::steady_clock::now();
   simulation_->setListenerOrientation(orientation);
+  const ListenerSphere sphere{listener, scene_.listener.radius};
+  trace(std::span(&sphere, 1), t);
+  return prepare(0);
+}
+
+void PropagationStage::traceWorld(const WorldState& world) {
+  for (size_t s = 0; s < sourcePositions_.size() && s < world.sourcePositions.size(); ++s)
+    if (!sourceOverridden_[s]) sourcePositions_[s] = world.sourcePositions[s];
+  for (size_t k = 0; k < objectPoses_.size() && k < world.objectPoses.size(); ++k)
+    if (!objectOverridden_[k]) objectPoses_[k] = world.objectPoses[k];
+  const size_t L = world.listenerPositions.size();
+  spheres_.resize(L);
+  for (size_t l = 0; l < L; ++l) {
+    const float radius =
+        l < scene_.listeners.size() ? scene_.listeners[l].radius : scene_.listener.radius;
+    spheres_[l] = ListenerSphere{world.listenerPositions[l], radius};
+    if (l < world.listenerOrientations.size())
+      simulation_->setListenerOrientation(l, world.listenerOrientations[l]);
+  }
+  trace(spheres_, world.timeSeconds);
+}
+
+void PropagationStage::trace(std::span<const ListenerSphere> listeners, double t) {
+  const auto t0 = std::chrono::steady_clock::now();
   if (!objectPoses_.empty()) simulation_->setObjectPoses(objectPoses_);
-  simulation_->runFrame(listener, sourcePositions_);
+  simulation_->runFrame(listeners, sourcePositions_);
   totals_.traceSeconds += secondsSince(t0);
   for (size_t s = 0; s < simulation_->sourceCount(); ++s) {
-    const Simulation::SourceResult& r = simulation_->result(s);
-    totals_.rays += r.trace.rays;
-    totals_.segments += r.trace.segments;
-    t0 = std::chrono::steady_clock::now();
+    totals_.rays += simulation_->result(s).trace.rays;
+    totals_.segments += simulation_->result(s).trace.segments;
+  }
+  while (irs_.size() < listeners.size()) irs_.push_back(irs_.front());
+  lastTime_ = t;
+  ++totals_.frames;
+}
+
+IrSet* PropagationStage::prepare(size_t listener) {
+  if (listener >= simulation_->listenerCount())
+    throw std::out_of_range("PropagationStage::prepare: listener index out of range");
+  if (free_.empty()) return nullptr;
+  IrSet* set = free_.back();
+  free_.pop_back();
+  auto& irs = irs_[listener];
+  for (size_t s = 0; s < simulation_->sourceCount(); ++s) {
+    const Simulation::SourceResult& r = simulation_->result(s, listener);
+    auto t0 = std::chrono::steady_clock::now();
     if (spatial_)
-      spatial_->synthesize(simulation_->directional(s), r.direct, irs_[s][0].data(),
-                           irs_[s][1].data());
+      spatial_->synthesize(simulation_->directional(s, listener), r.direct, irs[s][0].data(),
+                           irs[s][1].data());
     else
-      synthesizers_[s]->synthesize(r.energy, r.direct, irs_[s][0].data());
+      synthesizers_[s]->synthesize(r.energy, r.direct, irs[s][0].data());
     totals_.synthesisSeconds += secondsSince(t0);
     t0 = std::chrono::steady_clock::now();
-    std::vector<const float*> channels;
-    for (int c = 0; c < numOutputs_; ++c) channels.push_back(irs_[s][size_t(c)].data());
+    std::array<const float*, 2> channels{};
+    for (int c = 0; c < numOutputs_; ++c) channels[size_t(c)] = irs[s][size_t(c)].data();
     set->sources[s]->prepare(channels.data(), irSamples_);
     totals_.prepareSeconds += secondsSince(t0);
   }
+  set->listener = listener;
   set->frame = simulation_->framesRun() - 1;
-  set->poseTimeSeconds = t;
-  ++totals_.frames;
+  set->poseTimeSeconds = lastTime_;
   return set;
 }
 

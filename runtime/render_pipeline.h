@@ -15,6 +15,7 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,7 @@ namespace dpc {
 /// Impulse responses of one propagation frame, partitioned and transformed, for all sources.
 struct IrSet {
   std::vector<std::unique_ptr<audio::IrSpectra>> sources;  ///< one per scene source
+  size_t listener = 0;           ///< listener index (scene.listeners order) it was computed for
   uint64_t frame = 0;            ///< propagation frame index that produced it
   double poseTimeSeconds = 0.0;  ///< scene time of the listener pose it was computed for
   int64_t poseNs = 0;            ///< live: steady_clock ns when that pose was published (latency)
@@ -76,6 +78,20 @@ class PropagationStage {
   /// where `world` puts them, the listener world.listener*[listener] (index must be valid:
   /// std::out_of_range otherwise). Host overrides are replaced for this frame.
   IrSet* computeFrame(const WorldState& world, size_t listener);
+  /// Every listener in one pass (docs/dynamic.md, "Several listeners"): listener l at
+  /// world.listener*[l] with the radius of scene.listeners[l] (scene.listener when the scene
+  /// lists none); sources and objects where `world` puts them, except those a host overrode.
+  /// Each source's rays are traced once and tested against all listener spheres; every
+  /// source-listener pair has its own cache. Then prepare(l) makes listener l's IR set.
+  /// Propagation thread; allocates only while tables grow (more listeners than before).
+  void traceWorld(const WorldState& world);
+  /// Synthesises listener l's IRs from the last traceWorld (or computeFrame: listener 0),
+  /// partitions and transforms them into a free IrSet (set->listener = l) and returns it;
+  /// nullptr if no set is free. l < listenerCount() (std::out_of_range otherwise).
+  /// Propagation thread; no allocation.
+  IrSet* prepare(size_t listener);
+  /// Listeners the last frame traced.
+  size_t listenerCount() const { return simulation_->listenerCount(); }
   /// Host overrides of the scene's trajectories for the following frames: source `index` at
   /// `position` (m), object `index` at `pose`. Out-of-range indices are ignored (callers check).
   /// Propagation thread; no allocation.
@@ -86,8 +102,10 @@ class PropagationStage {
 
   const audio::ConvolverLayout& layout() const { return *layout_; }
   const Simulation& simulation() const { return *simulation_; }
-  /// The pressure IR of the last frame: irs()[source][channel][sample].
-  const std::vector<std::vector<std::vector<float>>>& lastIrs() const { return irs_; }
+  /// The pressure IR listener l's last prepared set holds: [source][channel][sample].
+  const std::vector<std::vector<std::vector<float>>>& lastIrs(size_t listener = 0) const {
+    return irs_.at(listener);
+  }
   int numOutputs() const { return numOutputs_; }
   size_t irSamples() const { return irSamples_; }
 
@@ -100,6 +118,8 @@ class PropagationStage {
  private:
   /// Runs the frame with sourcePositions_ and objectPoses_ as they stand.
   IrSet* runPrepared(const glm::vec3& listener, const Orientation& orientation, double t);
+  /// Traces `listeners` with sourcePositions_ and objectPoses_ as they stand (scene time t).
+  void trace(std::span<const ListenerSphere> listeners, double t);
 
   const SceneDesc& scene_;
   std::vector<glm::vec3> sourcePositions_;  ///< this frame's, one per source (scene time t)
@@ -112,7 +132,9 @@ class PropagationStage {
   std::unique_ptr<audio::ConvolverLayout> layout_;
   std::vector<std::unique_ptr<IrSet>> pool_;
   std::vector<IrSet*> free_;
-  std::vector<std::vector<std::vector<float>>> irs_;
+  std::vector<std::vector<std::vector<std::vector<float>>>> irs_;  ///< [listener][source][ch]
+  std::vector<ListenerSphere> spheres_;  ///< traceWorld's listener spheres
+  double lastTime_ = 0.0;                ///< scene time of the last traced frame
   size_t irSamples_ = 0;
   Totals totals_;
 };

@@ -1,8 +1,15 @@
 #!/usr/bin/python3
 """Plots `dpc-bench dynamic` JSON into docs/images/dynamic-step.png (door step response per
-estimator and tau, with the tau bound) and prints the t90 table (markdown) on stdout.
+estimator and tau, with the tau bound) and prints the t90 table (markdown) on stdout; plots
+`dpc-bench listeners` JSON (--listeners, one file per scene) into
+docs/images/dynamic-listeners.png (frame CPU time for 1, 2, 4, 8 listeners traced in one pass,
+relative to one listener, with the 1.5x target) and prints its table.
 
 Usage: /usr/bin/python3 scripts/plot_dynamic.py [--in docs/data/dynamic.json] [--out docs/images]
+           [--listeners docs/data/listeners-hall.json docs/data/listeners-two_rooms.json]
+           [--moving-source docs/data/dynamic-moving-source.json]
+--moving-source plots `dpc-bench dynamic --parts moving_source` into
+docs/images/dynamic-moving-source.png (per-frame relative error, walking vs static source).
 Needs matplotlib (Debian: python3-matplotlib; /usr/bin/python3).
 """
 import argparse
@@ -16,9 +23,13 @@ import matplotlib.pyplot as plt  # noqa: E402
 ap = argparse.ArgumentParser()
 ap.add_argument('--in', dest='inp', default='docs/data/dynamic.json')
 ap.add_argument('--out', default='docs/images')
+ap.add_argument('--listeners', nargs='*', default=[])
+ap.add_argument('--moving-source', dest='moving', default=None)
 a = ap.parse_args()
 d = json.load(open(a.inp))
 steps = d['step_response']
+if not steps:
+    raise SystemExit(f"{a.inp}: no step_response (run dpc-bench dynamic with the step part)")
 taus = sorted({s['tau'] for s in steps})
 names = ['window', 'ema', 'ema_matched', 'seed']
 fig, axes = plt.subplots(1, len(taus), figsize=(4 * len(taus), 3.6), sharey=True)
@@ -59,3 +70,57 @@ print('|---|---|---|---|---|')
 for o in d['moving_objects']:
     print(f"| {o['objects']} | {o['triangles']} | {o['moving_cpu_ms_per_frame']:.1f} | "
           f"{o['static_cpu_ms_per_frame']:.1f} | {o['ratio']:.2f} |")
+
+if a.listeners:
+    fig, ax = plt.subplots(figsize=(5.5, 3.8))
+    print()
+    print('| scene | listeners | pass CPU ms/frame | ratio to 1 | IR prep. all listeners ms | '
+          'Embree segments/frame | sphere hits/frame |')
+    print('|---|---|---|---|---|---|---|')
+    for path in a.listeners:
+        ld = json.load(open(path))
+        rows = ld['listeners']
+        name = os.path.splitext(os.path.basename(ld['scene']))[0]
+        n = [r['listeners'] for r in rows]
+        ax.plot(n, [r['pass_ratio_to_one'] for r in rows], 'o-',
+                label=f"{name}: pass (trace + caches)")
+        base = rows[0]['pass_cpu_ms_per_frame']
+        ax.plot(n, [(r['pass_cpu_ms_per_frame'] + r['prepare_all_cpu_ms_per_frame']) / base
+                    for r in rows], 's--', label=f"{name}: + IRs of every listener")
+        for r in rows:
+            print(f"| {name} | {r['listeners']} | {r['pass_cpu_ms_per_frame']:.1f} | "
+                  f"{r['pass_ratio_to_one']:.2f} | {r['prepare_all_cpu_ms_per_frame']:.1f} | "
+                  f"{r['segments_per_frame']:.0f} | {r['sphere_hits_per_frame']:.0f} |")
+    ax.axhline(1.5, color='r', lw=0.8, ls=':', label='target 1.5x')
+    ax.plot([1, 8], [1, 8], color='0.6', lw=0.8, label='one pass per listener')
+    ax.set_xscale('log', base=2)
+    ax.set_xticks([1, 2, 4, 8])
+    ax.set_xticklabels(['1', '2', '4', '8'])
+    ax.set_ylim(0.8, 3.0)
+    ax.set_xlabel('listeners traced in one pass')
+    ax.set_ylabel('frame CPU time / one listener')
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(a.out, 'dynamic-listeners.png'), dpi=90)
+
+if a.moving:
+    m = json.load(open(a.moving))['moving_source']
+    fig, ax = plt.subplots(figsize=(6, 3.6))
+    T = m['frame_period']
+    print()
+    print('| source | estimator | mean relative error | mean flicker |')
+    print('|---|---|---|---|')
+    for c in m['cases']:
+        y = c['error_per_frame']
+        ax.plot([k * T for k in range(len(y))], y,
+                ls='-' if c['source'] == 'walking' else '--',
+                label=f"{c['estimator']}, {c['source']} source")
+        print(f"| {c['source']} | {c['estimator']} | {c['mean_error']:.3f} | "
+              f"{c['mean_flicker']:.3f} |")
+    ax.axvspan(0, m['warmup_frames'] * T, color='0.9', label='warm-up (tau)')
+    ax.set_xlabel(f"time (s); source walks at {m['speed_m_per_s']} m/s")
+    ax.set_ylabel('relative RMS error of the energy response')
+    ax.set_title(f"{m['scene']}; tau = {m['tau']} s", fontsize=8)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(a.out, 'dynamic-moving-source.png'), dpi=90)

@@ -100,14 +100,14 @@ TEST_CASE("Offline render is bit-identical for a seed and differs for another", 
   const OfflineResult b = renderOffline(scene, ps, dry, opt);
   ps.seed += 1;
   const OfflineResult c = renderOffline(scene, ps, dry, opt);
-  REQUIRE(a.output.frames() == size_t(scene.audio.sampleRate));
-  CHECK(a.output.channels == b.output.channels);
-  CHECK(a.output.channels != c.output.channels);
+  REQUIRE(a.listeners[0].output.frames() == size_t(scene.audio.sampleRate));
+  CHECK(a.listeners[0].output.channels == b.listeners[0].output.channels);
+  CHECK(a.listeners[0].output.channels != c.listeners[0].output.channels);
   // 15 frames per second for 1 s: every frame's IR reached the convolver.
   CHECK(a.totals.frames == 15);
-  CHECK(a.irsApplied == 15);
+  CHECK(a.listeners[0].irsApplied == 15);
   double energy = 0;
-  for (float x : a.output.channels[0]) {
+  for (float x : a.listeners[0].output.channels[0]) {
     REQUIRE(std::isfinite(x));
     energy += double(x) * x;
   }

@@ -433,6 +433,7 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
     binResponse_[bi].assign(length_, 0.f);
     binResponseEnergy_[bi].assign(nb, 0.0);
     binEndState_[bi].assign(nb, OctaveBandPass::State{});
+    firstGain_[bi].assign(nb, 0.f);  // capacity for the per-frame copy (no allocation then)
     for (size_t j = 0; j < nb; ++j) {
       OctaveBandPass::State st{};
       double e = 0.0;
@@ -551,6 +552,9 @@ void IrSynthesizer::refineOnAnalysisFilters(const EnergyResponse& energy, const 
     const size_t widest = envelope_->binSamples(0);
     refineEnd_ = std::min(length_, (refineEnd_ + widest - 1) / widest * widest + widest);
   }
+  for (int b = 0; b < kNumBands; ++b)
+    std::copy(envelope_->gains(b).begin(), envelope_->gains(b).end(),
+              firstGain_[size_t(b)].begin());
   for (int pass = 0; pass < 2 * kRefineSweeps; ++pass) {
     const int sweep = pass / 2;
     // Every band's filter output of the IR as the half-sweep starts; each band below
@@ -648,7 +652,7 @@ void IrSynthesizer::refineOnAnalysisFilters(const EnergyResponse& energy, const 
         double g = 0.0;
         if (a > 0.0 && missing > 0.0) {
           g = (-h + std::sqrt(h * h + a * missing)) / a;
-          g = std::min(g, kGainRange * gOld);
+          g = std::min(g, kGainRange * double(firstGain_[bi][j]));
         }
         gotSoFar = a * g * g + 2.0 * h * g + c;
         for (size_t i = 0; i < 6; ++i) {

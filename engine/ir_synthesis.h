@@ -201,7 +201,9 @@ class IrSynthesizer {
   void filterAllBands(const float* ir, size_t end);
   /// Relative remaining target energy below which a band's later bins are not refined.
   static constexpr double kNegligible = 1e-6;
-  size_t refineEnd_ = 0;  ///< samples the refinement filters
+  size_t refineEnd_ = 0;
+  std::array<std::vector<float>, kNumBands>
+      firstGain_;  ///< scratch: gains before refinement  ///< samples the refinement filters
 
   int sampleRate_;
   size_t length_;

@@ -18,7 +18,17 @@
 // (Gauss-Seidel over the bands, a quadratic per bin), so the synthesised IR's band energy in
 // every bin equals the energy response's exactly up to the smearing of the gain steps between
 // bins by the band filters (no random-sign fluctuation, no crossover error). Energy of bins
-// that hold no pulse moves to the next bin. The spatial synthesiser, whose band signals pass
+// that hold no pulse moves to the next bin. That solve is the first guess of the refinement
+// on the analysis filters: per band b, walking forward through its bins, g_b[j] is chosen so
+// that the ISO 3382-1 octave filter H_b (engine/octave_filter.h, the filter the band analysis
+// uses) has put out, up to the end of bin j and counting the ringing its state still holds
+// (x^T Q x), the energy response's cumulative energy plus the direct sound. The other bands'
+// leakage through H_b's skirts and H_b's memory of earlier bins are measured on the realised
+// signal, so the band analysis of the IR returns the response's decay (T30 within 1 % from
+// 125 Hz up, docs/validation.md) and level; the extreme bands' shares outside the analysed
+// octaves (below 44 Hz, above 11.3 kHz) carry their band's spectral density. Red-black
+// Gauss-Seidel over the bands (kRefineSweeps sweeps); bins after the remaining target falls
+// below kNegligible keep the first guess. The spatial synthesiser, whose band signals pass
 // through HRIRs, uses the older expectation form: g_b[j] = sqrt(E_b[j] / e_b[j]), e_b = beta_b x
 // the pulses' energy in the bin (beta_b: the share of a unit impulse's energy that a band
 // measurement with M_b sees), realised energy at 63/125 Hz, and a crossover correction with

@@ -7,6 +7,8 @@
 #include <numbers>
 #include <vector>
 
+#include "engine/octave_filter.h"
+
 namespace dpc::audio {
 
 namespace {
@@ -105,55 +107,6 @@ RoomParameters fromEnergy(const std::vector<double>& e, double dt) {
   return r;
 }
 
-// One second-order section, transposed direct form II, double precision.
-struct Biquad {
-  double b0, b1, b2, a1, a2;
-};
-
-// 6th-order Butterworth octave band-pass around fc: three biquads (bilinear transform with
-// both edges prewarped), unity gain at the centre. Requires f2 < fs/2.
-std::array<Biquad, 3> designOctaveBandPass(double fc, double fs) {
-  using C = std::complex<double>;
-  const double pi = std::numbers::pi;
-  const double k = 2.0 * fs;
-  const double f1 = fc / std::numbers::sqrt2, f2 = fc * std::numbers::sqrt2;
-  const double w1 = k * std::tan(pi * f1 / fs), w2 = k * std::tan(pi * f2 / fs);
-  const double w0 = std::sqrt(w1 * w2), bw = w2 - w1;
-  constexpr int kOrder = 3;
-  std::vector<C> upper;  // digital poles in the upper half plane
-  for (int i = 1; i <= kOrder; ++i) {
-    const C p = std::polar(1.0, pi * double(2 * i + kOrder - 1) / double(2 * kOrder));
-    const C root = std::sqrt(p * p * bw * bw - 4.0 * w0 * w0);
-    for (C s : {(p * bw + root) / 2.0, (p * bw - root) / 2.0}) {
-      const C z = (k + s) / (k - s);
-      if (z.imag() > 0) upper.push_back(z);
-    }
-  }
-  std::array<Biquad, 3> sections{};
-  const double omega0 = 2.0 * std::atan(w0 / k);
-  const C zc = std::polar(1.0, omega0);
-  for (size_t i = 0; i < sections.size() && i < upper.size(); ++i) {
-    Biquad q{1.0, 0.0, -1.0, -2.0 * upper[i].real(), std::norm(upper[i])};
-    const C h = (1.0 - 1.0 / (zc * zc)) / (1.0 + q.a1 / zc + q.a2 / (zc * zc));
-    const double g = 1.0 / std::abs(h);
-    q.b0 *= g;
-    q.b2 *= g;
-    sections[i] = q;
-  }
-  return sections;
-}
-
-void filterInPlace(std::vector<double>& x, const Biquad& q) {
-  double s1 = 0, s2 = 0;
-  for (double& v : x) {
-    const double in = v;
-    const double out = q.b0 * in + s1;
-    s1 = q.b1 * in - q.a1 * out + s2;
-    s2 = q.b2 * in - q.a2 * out;
-    v = out;
-  }
-}
-
 std::vector<double> squaredFrom(const std::vector<double>& p, size_t onset) {
   std::vector<double> e(p.size() - onset);
   for (size_t k = onset; k < p.size(); ++k) e[k - onset] = p[k] * p[k];
@@ -192,8 +145,9 @@ ImpulseResponseAnalysis analyzeImpulseResponse(const float* ir, size_t n, int sa
   for (int b = 0; b < kNumBands; ++b) {
     const double fc = bandCentreExactHz(b);
     if (fc * std::numbers::sqrt2 >= fs / 2) continue;  // band not representable: NaN
-    std::vector<double> band = p;
-    for (const Biquad& q : designOctaveBandPass(fc, fs)) filterInPlace(band, q);
+    std::vector<double> band(p.size());
+    OctaveBandPass::State state{};
+    OctaveBandPass::design(fc, fs).run(p.data(), band.data(), p.size(), state);
     out.bands[size_t(b)] = fromEnergy(squaredFrom(band, onset), dt);
   }
   return out;

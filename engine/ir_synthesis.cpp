@@ -419,6 +419,254 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
   envelope_ =
       std::make_unique<BandEnvelope>(sampleRate, seq, length_, filterData_,
                                      measureRealised(sampleRate, seq, length_, nfft, masks));
+  // The analysis filters' responses to each synthesis bin of each band signal.
+  size_t maxBins = 0;
+  for (int b = 0; b < kNumBands; ++b) {
+    const size_t bi = size_t(b);
+    const double fc = bandCentreExactHz(b);
+    analysed_[bi] = fc * std::numbers::sqrt2 < 0.5 * sampleRate;
+    if (!analysed_[bi]) continue;
+    analysis_[bi] = OctaveBandPass::design(fc, sampleRate);
+    const size_t w = envelope_->binSamples(b);
+    const size_t nb = (length_ + w - 1) / w;
+    maxBins = std::max(maxBins, nb);
+    binResponse_[bi].assign(length_, 0.f);
+    binResponseEnergy_[bi].assign(nb, 0.0);
+    binEndState_[bi].assign(nb, OctaveBandPass::State{});
+    firstGain_[bi].assign(nb, 0.f);  // capacity for the per-frame copy (no allocation then)
+    for (size_t j = 0; j < nb; ++j) {
+      OctaveBandPass::State st{};
+      double e = 0.0;
+      for (size_t n = j * w; n < std::min(length_, (j + 1) * w); ++n) {
+        const double y = analysis_[bi].step(bandSequence_[bi][n], st);
+        binResponse_[bi][n] = float(y);
+        e += y * y;
+      }
+      binResponseEnergy_[bi][j] = e;
+      binEndState_[bi][j] = st;
+    }
+  }
+  // Tail energy form: the energy of the filter's zero-input response from state x is x^T Q x.
+  for (int b = 0; b < kNumBands; ++b) {
+    const size_t bi = size_t(b);
+    if (!analysed_[bi]) continue;
+    std::array<std::vector<double>, 6> resp;
+    const size_t ring = size_t(sampleRate);  // 1 s: the 63 Hz filter has decayed by > 200 dB
+    for (size_t i = 0; i < 6; ++i) {
+      OctaveBandPass::State st{};
+      st[i] = 1.0;
+      resp[i].resize(ring);
+      for (size_t n = 0; n < ring; ++n) {
+        resp[i][n] = analysis_[bi].step(0.0, st);
+        if (n % 64 == 63) OctaveBandPass::flushTiny(st);
+      }
+    }
+    for (size_t i = 0; i < 6; ++i)
+      for (size_t k = 0; k < 6; ++k) {
+        double t = 0.0;
+        for (size_t n = 0; n < ring; ++n) t += resp[i][n] * resp[k][n];
+        tailForm_[bi][i][k] = t;
+      }
+  }
+  // Zero-input responses over one bin from unit states, and the bin's state transition.
+  for (int b = 0; b < kNumBands; ++b) {
+    const size_t bi = size_t(b);
+    if (!analysed_[bi]) continue;
+    const size_t w = envelope_->binSamples(b);
+    zeroInput_[bi].assign(6 * w, 0.0);
+    for (size_t i = 0; i < 6; ++i) {
+      OctaveBandPass::State st{};
+      st[i] = 1.0;
+      for (size_t m = 0; m < w; ++m) zeroInput_[bi][i * w + m] = analysis_[bi].step(0.0, st);
+      transition_[bi][i] = st;
+    }
+  }
+  filtered_.assign(size_t(kNumBands) * length_, 0.f);
+  cumulativeWant_.assign(maxBins, 0.0);
+}
+
+void IrSynthesizer::filterAllBands(const float* ir, size_t end) {
+  // The eight cascades run side by side, sample by sample (structure of arrays, the band
+  // innermost): each cascade is a chain of dependent multiply-adds, and eight independent
+  // chains fill the vector units.
+  constexpr size_t B = kNumBands;
+  alignas(64) double c[5][3][B], s1[3][B] = {}, s2[3][B] = {}, x[B];
+  for (size_t b = 0; b < B; ++b)
+    for (size_t k = 0; k < 3; ++k) {
+      const Biquad& q = analysis_[b].sections[k];
+      c[0][k][b] = q.b0;
+      c[1][k][b] = q.b1;
+      c[2][k][b] = q.b2;
+      c[3][k][b] = q.a1;
+      c[4][k][b] = q.a2;
+    }
+  float* out = filtered_.data();
+  for (size_t n = 0; n < end; ++n) {
+    for (size_t b = 0; b < B; ++b) x[b] = ir[n];
+    for (size_t k = 0; k < 3; ++k)
+      for (size_t b = 0; b < B; ++b) {
+        const double in = x[b];
+        const double y = c[0][k][b] * in + s1[k][b];
+        s1[k][b] = c[1][k][b] * in - c[3][k][b] * y + s2[k][b];
+        s2[k][b] = c[2][k][b] * in - c[4][k][b] * y;
+        x[b] = y;
+      }
+    for (size_t b = 0; b < B; ++b) out[n * B + b] = float(x[b]);
+    if (n % 64 == 63)
+      for (size_t k = 0; k < 3; ++k)
+        for (size_t b = 0; b < B; ++b) {
+          if (std::abs(s1[k][b]) < 1e-150) s1[k][b] = 0.0;
+          if (std::abs(s2[k][b]) < 1e-150) s2[k][b] = 0.0;
+        }
+  }
+}
+
+void IrSynthesizer::refineOnAnalysisFilters(const EnergyResponse& energy, const DirectSound& direct,
+                                            float* ir) {
+  // A bin whose pulses sit at its start has little of its response inside it; cap the gain
+  // at this multiple of the first guess so one bin cannot spill far into the next.
+  constexpr double kGainRange = 4.0;
+  missing_.fill(0.0);
+  const double samplesPerBin = energy.binSeconds() * sampleRate_;
+  const long directSample =
+      direct.visible ? std::lround(double(direct.delaySeconds) * sampleRate_) : -1;
+  // How far the refinement reaches: where every band's remaining target is negligible.
+  {
+    std::array<double, kNumBands> total{}, rest{};
+    for (size_t k = 0; k < energy.binCount(); ++k)
+      for (int b = 0; b < kNumBands; ++b) total[size_t(b)] += energy.bins()[k][b];
+    for (int b = 0; b < kNumBands; ++b)
+      total[size_t(b)] += direct.visible ? direct.intensity[b] : 0.f;
+    rest = total;
+    refineEnd_ = 0;
+    for (size_t k = 0; k < energy.binCount(); ++k) {
+      bool any = false;
+      for (int b = 0; b < kNumBands; ++b) {
+        rest[size_t(b)] -= energy.bins()[k][b];
+        any = any || rest[size_t(b)] >= kNegligible * total[size_t(b)];
+      }
+      refineEnd_ = std::min(length_, size_t(double(k + 1) * samplesPerBin) + 1);
+      if (!any) break;
+    }
+    // whole bins of the widest band, which the per-band loops may reach
+    const size_t widest = envelope_->binSamples(0);
+    refineEnd_ = std::min(length_, (refineEnd_ + widest - 1) / widest * widest + widest);
+  }
+  for (int b = 0; b < kNumBands; ++b)
+    std::copy(envelope_->gains(b).begin(), envelope_->gains(b).end(),
+              firstGain_[size_t(b)].begin());
+  for (int pass = 0; pass < 2 * kRefineSweeps; ++pass) {
+    const int sweep = pass / 2;
+    // Every band's filter output of the IR as the half-sweep starts; each band below
+    // subtracts its own part, so it sees its neighbours' leakage. Even bands, then odd ones
+    // (red-black Gauss-Seidel: a band's nearest neighbours are updated between its steps).
+    filterAllBands(ir, refineEnd_);
+    for (int b = pass % 2; b < kNumBands; b += 2) {
+      const size_t bi = size_t(b);
+      if (!analysed_[bi]) continue;
+      std::vector<float>& gain = envelope_->gains(b);
+      const size_t w = envelope_->binSamples(b);
+      const size_t nb = gain.size();
+      const float* s = bandSequence_[bi].data();
+      const float* u = binResponse_[bi].data();
+      const float* y = filtered_.data() + bi;  // stride kNumBands
+      const double* basis = zeroInput_[bi].data();
+      // Target per bin: the energy response's bins by their centre sample, plus the direct sound.
+      double* want = cumulativeWant_.data();
+      std::fill(want, want + nb, 0.0);
+      for (size_t k = 0; k < energy.binCount(); ++k) {
+        const size_t n = size_t((double(k) + 0.5) * samplesPerBin);
+        want[std::min(nb - 1, n / w)] += energy.bins()[k][b];
+      }
+      if (directSample >= 0 && size_t(directSample) < length_)
+        want[size_t(directSample) / w] += direct.intensity[b];
+      // Bins after the remaining target falls below kNegligible of the total keep their first
+      // guess: what is left there moves the decay curve above it by < 0.01 dB.
+      size_t stop = nb;
+      {
+        double total = 0.0;
+        for (size_t j = 0; j < nb; ++j) total += want[j];
+        double rest = total;
+        for (size_t j = 0; j < nb; ++j) {
+          rest -= want[j];
+          if (rest < kNegligible * total) {
+            stop = j + 1;
+            break;
+          }
+        }
+      }
+      const auto& q = tailForm_[bi];
+      auto tail = [&q](const OctaveBandPass::State& x, const OctaveBandPass::State& z) {
+        double t = 0.0;
+        for (size_t i = 0; i < 6; ++i)
+          for (size_t k = 0; k < 6; ++k) t += x[i] * q[i][k] * z[k];
+        return t;
+      };
+      const auto& tr = transition_[bi];
+      auto advance = [&tr](const OctaveBandPass::State& x) {
+        OctaveBandPass::State z{};
+        for (size_t i = 0; i < 6; ++i)
+          for (size_t k = 0; k < 6; ++k) z[k] += x[i] * tr[i][k];
+        OctaveBandPass::flushTiny(z);
+        return z;
+      };
+      // Forward through the bins, in state-space form: the filter's state after this band's
+      // earlier bins, with the new gains (state) and with the gains the IR holds now (old);
+      // within a bin the zero-input response is a sum of the 6 precomputed basis responses.
+      // Each bin is charged with its whole output energy, in the bin and in the ringing that
+      // follows (the tail energy of the state, x^T Q x), so a pulse at a bin's end counts in
+      // full.
+      OctaveBandPass::State state{}, old{};
+      double wantSoFar = 0.0, gotSoFar = 0.0;  // gotSoFar: output up to bin j-1 + its tail
+      for (size_t j = 0; j < stop; ++j) {
+        const size_t lo = j * w, hi = std::min(length_, (j + 1) * w);
+        const double gOld = gain[j];
+        wantSoFar += want[j];
+        gotSoFar -= tail(state, state);  // the tail is about to be measured in this bin
+        double h = 0.0, c = 0.0;
+        for (size_t n = lo; n < hi; ++n) {
+          const size_t m = n - lo;
+          double dr = 0.0;  // new minus old zero-input response
+          for (size_t i = 0; i < 6; ++i) dr += (state[i] - old[i]) * basis[i * w + m];
+          const double v = double(y[n * kNumBands]) - gOld * double(u[n]) + dr;  // all but own bin
+          h += v * u[n];
+          c += v * v;
+        }
+        OctaveBandPass::State z, zOld;
+        if (hi - lo == w) {
+          z = advance(state);
+          zOld = advance(old);
+        } else {  // a last, shorter bin
+          z = state;
+          zOld = old;
+          for (size_t n = lo; n < hi; ++n) {
+            analysis_[bi].step(0.0, z);
+            analysis_[bi].step(0.0, zOld);
+          }
+        }
+        const OctaveBandPass::State& end = binEndState_[bi][j];
+        const double a = binResponseEnergy_[bi][j] + tail(end, end);
+        h += tail(z, end);
+        c += tail(z, z) + gotSoFar;
+        const double missing = wantSoFar - c;
+        double g = 0.0;
+        if (a > 0.0 && missing > 0.0) {
+          g = (-h + std::sqrt(h * h + a * missing)) / a;
+          g = std::min(g, kGainRange * double(firstGain_[bi][j]));
+        }
+        gotSoFar = a * g * g + 2.0 * h * g + c;
+        for (size_t i = 0; i < 6; ++i) {
+          state[i] = z[i] + g * end[i];
+          old[i] = zOld[i] + gOld * end[i];
+        }
+        const float step = float(g) - gain[j];
+        if (step != 0.f)
+          for (size_t n = lo; n < hi; ++n) ir[n] += step * s[n];
+        gain[j] = float(g);
+      }
+      if (sweep == kRefineSweeps - 1) missing_[bi] = std::max(0.0, wantSoFar - gotSoFar);
+    }
+  }
 }
 
 void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& direct, float* ir) {
@@ -439,6 +687,8 @@ void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& 
       }
     }
   }
+  refineOnAnalysisFilters(energy, direct, ir);
+  for (int b = 0; b < kNumBands; ++b) missingBands_[b] = float(missing_[size_t(b)]);
 }
 
 }  // namespace dpc

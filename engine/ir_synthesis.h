@@ -18,7 +18,17 @@
 // (Gauss-Seidel over the bands, a quadratic per bin), so the synthesised IR's band energy in
 // every bin equals the energy response's exactly up to the smearing of the gain steps between
 // bins by the band filters (no random-sign fluctuation, no crossover error). Energy of bins
-// that hold no pulse moves to the next bin. The spatial synthesiser, whose band signals pass
+// that hold no pulse moves to the next bin. That solve is the first guess of the refinement
+// on the analysis filters: per band b, walking forward through its bins, g_b[j] is chosen so
+// that the ISO 3382-1 octave filter H_b (engine/octave_filter.h, the filter the band analysis
+// uses) has put out, up to the end of bin j and counting the ringing its state still holds
+// (x^T Q x), the energy response's cumulative energy plus the direct sound. The other bands'
+// leakage through H_b's skirts and H_b's memory of earlier bins are measured on the realised
+// signal, so the band analysis of the IR returns the response's decay (T30 within 1 % from
+// 125 Hz up, docs/validation.md) and level; the extreme bands' shares outside the analysed
+// octaves (below 44 Hz, above 11.3 kHz) carry their band's spectral density. Red-black
+// Gauss-Seidel over the bands (kRefineSweeps sweeps); bins after the remaining target falls
+// below kNegligible keep the first guess. The spatial synthesiser, whose band signals pass
 // through HRIRs, uses the older expectation form: g_b[j] = sqrt(E_b[j] / e_b[j]), e_b = beta_b x
 // the pulses' energy in the bin (beta_b: the share of a unit impulse's energy that a band
 // measurement with M_b sees), realised energy at 63/125 Hz, and a crossover correction with
@@ -41,6 +51,7 @@
 
 #include "engine/bands.h"
 #include "engine/energy_response.h"
+#include "engine/octave_filter.h"
 #include "engine/propagation.h"
 #include "engine/scene.h"
 
@@ -119,6 +130,9 @@ class BandEnvelope {
                        size_t end, float scale = 1.f, int bandBegin = 0,
                        int bandEnd = kNumBands) const;
   size_t binSamples(int b) const { return binSamples_[size_t(b)]; }
+  /// Band b's gains g_b[j] of the last compute(), one per synthesis bin (the synthesiser's
+  /// refinement on the analysis filters rewrites them).
+  std::vector<float>& gains(int b) { return gain_[size_t(b)]; }
   /// Energy of the last compute() that no gain could place (a bin whose neighbours' crossover
   /// spill alone exceeds its target), summed over bins, per band, in the response's unit.
   const std::array<double, kNumBands>& unplacedEnergy() const { return unplaced_; }
@@ -158,6 +172,9 @@ class IrSynthesizer {
  public:
   /// Dirac sequence density cap, pulses per second (Schröder 2011 uses about this order).
   static constexpr double kMaxDensityPerSecond = 10000.0;
+  /// Gauss-Seidel sweeps over the bands of the refinement on the analysis filters (a band's
+  /// gains change the leakage its neighbours see).
+  static constexpr int kRefineSweeps = 2;
 
   /// sampleRate in Hz; lengthSeconds of the IR; roomVolume in m^3 (density law: roomVolume()
   /// of the scene's mesh); speedOfSound m/s; seed for the Dirac sequence.
@@ -177,11 +194,48 @@ class IrSynthesizer {
   /// 0 at index filterCentre().
   const std::vector<float>& bandFilter(int b) const { return filter_[size_t(b)]; }
   size_t filterCentre() const { return filterCentre_; }
+  /// Per band, the energy (1/m^2, the response's unit) of the last synthesize()'s energy
+  /// response plus direct sound that the IR's analysis-filter output lacks at its end: energy
+  /// no gain could place (a bin whose earlier bins' ringing and the neighbours' leakage
+  /// already exceed the target, or the gain cap). Zero when the synthesis is exact.
+  const Bands& missingEnergy() const { return missingBands_; }
 
  private:
+  /// Per band, walking forward through its synthesis bins, chooses the bin's gain so that the
+  /// ISO 3382-1 analysis filter's output (octave_filter.h) holds, up to the bin's end, the
+  /// energy response's cumulative energy: the filter's causal memory of earlier bins and the
+  /// other bands' leakage through its skirts are measured, not estimated. Rewrites the
+  /// envelope's gains and ir.
+  void refineOnAnalysisFilters(const EnergyResponse& energy, const DirectSound& direct, float* ir);
+  /// filtered_[n * kNumBands + b] = ir through band b's analysis filter, samples [0, end).
+  void filterAllBands(const float* ir, size_t end);
+  /// Relative remaining target energy below which a band's later bins are not refined.
+  static constexpr double kNegligible = 1e-6;
+  size_t refineEnd_ = 0;
+  std::array<std::vector<float>, kNumBands>
+      firstGain_;  ///< scratch: gains before refinement  ///< samples the refinement filters
+
   int sampleRate_;
   size_t length_;
   BandFilterData filterData_;
+  /// Analysis filter per band, and whether the band is representable (upper edge < Nyquist).
+  std::array<OctaveBandPass, kNumBands> analysis_{};
+  std::array<bool, kNumBands> analysed_{};
+  /// Per band and synthesis bin j: u = the analysis filter's zero-state response to the bin's
+  /// part of s_b (over the bin), its energy and the filter state at the bin's end.
+  std::array<std::vector<float>, kNumBands> binResponse_;
+  std::array<std::vector<double>, kNumBands> binResponseEnergy_;
+  std::array<std::vector<OctaveBandPass::State>, kNumBands> binEndState_;
+  /// Per band: Q with x^T Q x the energy of the analysis filter's zero-input response from x.
+  std::array<std::array<std::array<double, 6>, 6>, kNumBands> tailForm_{};
+  std::array<double, kNumBands> missing_{};
+  Bands missingBands_{};
+  /// Per band, the analysis filter's zero-input response over one synthesis bin (w samples)
+  /// from each unit state: zeroInput_[b][i * w + m], and the state after w steps: transition_.
+  std::array<std::vector<double>, kNumBands> zeroInput_;
+  std::array<std::array<OctaveBandPass::State, 6>, kNumBands> transition_{};
+  std::vector<float> filtered_;         ///< scratch: the IR through every band's filter, band-major
+  std::vector<double> cumulativeWant_;  ///< scratch: target energy per bin
   std::unique_ptr<BandEnvelope> envelope_;
   std::array<std::vector<float>, kNumBands> bandSequence_;  ///< s_b, length_ samples
   std::array<std::vector<float>, kNumBands> filter_;        ///< a_b, centred at filterCentre_

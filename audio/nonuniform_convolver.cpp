@@ -138,6 +138,7 @@ NonUniformConvolver::NonUniformConvolver(const NonUniformLayout& layout, int num
     for (int s = 0; s < numSources; ++s) {
       st.input.push_back(allocZeroed(2 * n));
       st.fdl.push_back(allocZeroed(size_t(lv.numPartitions) * spec));
+      if (lv.period > 1) st.staging.push_back(allocZeroed(2 * n));
     }
     for (int c = 0; c < numOutputs; ++c) {
       st.acc.push_back(allocZeroed(2 * spec));
@@ -229,21 +230,44 @@ void NonUniformConvolver::process(const float* const* in, float* const* out, boo
       std::memcpy(st.input[size_t(s)].get() + n + size_t(inPos) * ub, in[s], ub * sizeof(float));
 
     if (step == 0) {
-      // A chunk is complete: transform [previous | this] chunk of every source into the FDL.
+      // A chunk is complete. Level 0 transforms it now; longer levels keep a copy and
+      // transform one source after another over the chunk's first m - 1 callbacks.
       st.head = st.head == 0 ? lv.numPartitions - 1 : st.head - 1;
       for (int s = 0; s < numSources_; ++s) {
         float* input = st.input[size_t(s)].get();
-        lv.fft->forward(input, st.fdl[size_t(s)].get() + size_t(st.head) * spec);
+        if (m == 1)
+          lv.fft->forward(input, st.fdl[size_t(s)].get() + size_t(st.head) * spec);
+        else
+          std::memcpy(st.staging[size_t(s)].get(), input, 2 * n * sizeof(float));
         std::memcpy(input, input + n, n * sizeof(float));
       }
       st.next = target_;  // the chunk's IR: the newest now
       for (int c = 0; c < numOutputs_; ++c)
         std::fill(st.acc[size_t(c)].get(), st.acc[size_t(c)].get() + 2 * spec, 0.0f);
     }
+    if (m > 1 && step < m - 1) {
+      // Sources whose forward FFT falls in this callback: s with s (m - 1) / S == step.
+      for (int s = 0; s < numSources_; ++s)
+        if (int(int64_t(s) * (m - 1) / numSources_) == step)
+          lv.fft->forward(st.staging[size_t(s)].get(),
+                          st.fdl[size_t(s)].get() + size_t(st.head) * spec);
+    }
 
-    // This callback's share of the partitions.
-    const int begin = int(int64_t(step) * lv.numPartitions / m);
-    const int end = int(int64_t(step + 1) * lv.numPartitions / m);
+    // This callback's share of the partitions: level 0 all of them; longer levels spread
+    // partitions 1..P-1 (older input, already transformed) over the first m - 1 callbacks and
+    // do partition 0 (the chunk just transformed) in the last, with the inverse FFTs.
+    int begin, end;
+    if (m == 1) {
+      begin = 0;
+      end = lv.numPartitions;
+    } else if (step == m - 1) {
+      begin = 0;
+      end = 1;
+    } else {
+      const int rest = lv.numPartitions - 1;
+      begin = 1 + int(int64_t(step) * rest / (m - 1));
+      end = 1 + int(int64_t(step + 1) * rest / (m - 1));
+    }
     const bool crossfade = st.next != st.cur;
     if (begin < end) {
       if (st.cur) {

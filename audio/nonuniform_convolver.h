@@ -15,8 +15,9 @@
 // o_l = 2 N_l - 2 B, so level l covers [o_l, o_{l+1}) with 2 (N_{l+1} - N_l) / N_l partitions
 // (6 when the size quadruples); the last level covers the rest of the IR. Level l's work for
 // one N_l-sample input chunk is spread over the m_l = N_l / B callbacks after the chunk is
-// complete: the forward FFTs of every source in the first, the spectral multiply-accumulate
-// (MAC) of partitions p in [j P / m, (j + 1) P / m) in callback j, the inverse FFTs in the last
+// complete: the forward FFTs of the sources spread over callbacks 0..m-2 (source s in callback
+// s (m - 1) / S), the spectral multiply-accumulate (MAC) of partitions 1..P-1 (older input
+// spectra) spread over the same callbacks, and partition 0 with the inverse FFTs in the last
 // (callback m_l - 1), whose output chunk starts playing in that same callback. That is exactly
 // when the IR offset o_l needs it, so the convolution adds no latency: output block k depends
 // on input up to block k (as the uniform convolver, docs/live.md).
@@ -156,11 +157,12 @@ class NonUniformConvolver {
 
  private:
   struct LevelState {
-    std::vector<detail::FftwBuffer> input;  ///< per source: 2 N floats [previous | filling]
-    std::vector<detail::FftwBuffer> fdl;    ///< per source: P spectra ring
-    std::vector<detail::FftwBuffer> acc;    ///< per output: 2 spectra (old IR, new IR)
-    std::vector<detail::FftwBuffer> out;    ///< per output: N samples being played
-    detail::FftwBuffer time;                ///< 2 N floats: inverse FFT scratch (old, new)
+    std::vector<detail::FftwBuffer> input;    ///< per source: 2 N floats [previous | filling]
+    std::vector<detail::FftwBuffer> fdl;      ///< per source: P spectra ring
+    std::vector<detail::FftwBuffer> staging;  ///< per source (m > 1): the chunk to transform
+    std::vector<detail::FftwBuffer> acc;      ///< per output: 2 spectra (old IR, new IR)
+    std::vector<detail::FftwBuffer> out;      ///< per output: N samples being played
+    detail::FftwBuffer time;                  ///< 2 N floats: inverse FFT scratch (old, new)
     detail::FftwBuffer time2;
     int head = 0;                           ///< FDL slot of the newest chunk spectrum
     const NonUniformIrSet* cur = nullptr;   ///< IR of the previous chunk

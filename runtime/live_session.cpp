@@ -28,6 +28,10 @@ LiveSession::LiveSession(const SceneDesc& scene, const PropagationSettings& sett
       toAudio_(size_t(std::max(3, options.poolSize)) + 1),
       fromAudio_(size_t(std::max(3, options.poolSize)) + 1) {
   propagation_ = std::make_unique<PropagationStage>(scene, settings, std::max(3, options.poolSize));
+  // Room in either queue for every set of the pool (more than poolSize with several partition
+  // levels), so try_enqueue never fails for want of space.
+  toAudio_ = moodycamel::ReaderWriterQueue<IrSet*>(size_t(propagation_->poolSize()) + 1);
+  fromAudio_ = moodycamel::ReaderWriterQueue<IrSet*>(size_t(propagation_->poolSize()) + 1);
   hostSources_ = std::make_unique<SeqlockChannel<HostSourcePosition>[]>(scene.sources.size());
   hostObjects_ = std::make_unique<SeqlockChannel<HostObjectPose>[]>(scene.objects.size());
   const int irChannels = propagation_->numOutputs();

@@ -15,30 +15,16 @@
 #include <stdexcept>
 #include <vector>
 
+#include "tests/audio/convolution_reference.h"
+
 using namespace dpc::audio;
 
 namespace {
 
-using Signal = std::vector<float>;
+using dpc::test::Signal;
 
-Signal randomSignal(std::mt19937& rng, size_t n) {
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  Signal s(n);
-  for (float& v : s) v = u(rng);
-  return s;
-}
-
-/// y[t] = sum_{k in [begin, end)} h[k] x[t - k], double precision.
-std::vector<double> segmentConvolution(const Signal& x, const Signal& h, size_t begin, size_t end) {
-  std::vector<double> y(x.size(), 0.0);
-  end = std::min(end, h.size());
-  for (size_t t = 0; t < x.size(); ++t) {
-    double acc = 0.0;
-    for (size_t k = begin; k < end && k <= t; ++k) acc += double(h[k]) * double(x[t - k]);
-    y[t] = acc;
-  }
-  return y;
-}
+using dpc::test::randomSignal;
+using dpc::test::segmentConvolution;
 
 /// Tolerance on the relative error energy, as for the uniform convolver
 /// (tests/audio/convolver_test.cpp): float rounding u = 2^-24 enters in the forward and

@@ -26,6 +26,17 @@ Reference directConvolution(const Signal& x, const Signal& h) {
   return dpc::test::segmentConvolution(x, h, 0, h.size());
 }
 
+/// Runs x (a whole number of blocks) through conv; one signal per output.
+void runBlocks(PartitionedConvolver& conv, const Signal& x, size_t firstBlock, size_t numBlocks,
+               std::vector<Signal>& out) {
+  const size_t b = size_t(conv.blockSize());
+  std::vector<float*> ptrs(size_t(conv.numOutputs()));
+  for (size_t k = firstBlock; k < firstBlock + numBlocks; ++k) {
+    for (size_t c = 0; c < ptrs.size(); ++c) ptrs[c] = out[c].data() + k * b;
+    conv.process(x.data() + k * b, ptrs.data());
+  }
+}
+
 /// sum (y - ref)^2 / sum ref^2 over [begin, end).
 double relativeErrorEnergy(const Signal& y, const Reference& ref, size_t begin, size_t end) {
   double err = 0.0, energy = 0.0;

@@ -1,9 +1,13 @@
 #include "audio/audio_device.h"
 
 #include <dlfcn.h>
+#include <pa_linux_alsa.h>
 #include <portaudio.h>
+#include <pthread.h>
+#include <sched.h>
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cctype>
 #include <chrono>
@@ -317,6 +321,10 @@ struct AudioOutput::Impl {
   int channels = 0;
   int blockSize = 0;
   CallbackStats stats;
+  /// The callback thread, stored by its first callback (pthread_self reads thread-local
+  /// storage: no system call), read by the control thread to report its scheduling.
+  std::atomic<pthread_t> callbackThread{};
+  std::atomic<bool> callbackThreadKnown{false};
 
   std::string where() const { return "audio device '" + device.spec() + "'"; }
 
@@ -331,6 +339,10 @@ struct AudioOutput::Impl {
                         PaStreamCallbackFlags statusFlags, void* userData) {
     auto* self = static_cast<Impl*>(userData);
     rt::setThreadRole(rt::ThreadRole::kAudio);  // a thread_local store, see rt_check.h
+    if (!self->callbackThreadKnown.load(std::memory_order_relaxed)) {
+      self->callbackThread.store(pthread_self(), std::memory_order_relaxed);
+      self->callbackThreadKnown.store(true, std::memory_order_release);
+    }
     const auto t0 = std::chrono::steady_clock::now();
     self->callback(self->user, static_cast<float* const*>(output), int(frames));
     const auto t1 = std::chrono::steady_clock::now();
@@ -390,6 +402,11 @@ AudioOutput::AudioOutput(const Options& options, RenderCallback callback, void* 
                              " with " + std::to_string(options.blockSize) +
                              "-frame blocks: " + Pa_GetErrorText(err));
   }
+  // ALSA: ask PortAudio to run the callback thread with SCHED_FIFO (refused without rtprio
+  // limits; callbackScheduling() reports what was granted). JACK: the server's -R decides.
+  if (const PaHostApiInfo* api = Pa_GetHostApiInfo(Pa_GetDeviceInfo(index)->hostApi);
+      api && api->type == paALSA)
+    PaAlsa_EnableRealtimeScheduling(impl->stream, 1);
   const PaStreamInfo* info = Pa_GetStreamInfo(impl->stream);
   impl->sampleRate = info ? info->sampleRate : options.sampleRate;
   impl->outputLatency = info ? info->outputLatency : 0.0;
@@ -445,6 +462,21 @@ const CallbackStats& AudioOutput::stats() const {
   return impl_->stats;
 }
 
+AudioOutput::Scheduling AudioOutput::callbackScheduling() const {
+  Scheduling s;
+  if (!isActive() || !impl_->callbackThreadKnown.load(std::memory_order_acquire)) return s;
+  int policy = 0;
+  sched_param param{};
+  if (pthread_getschedparam(impl_->callbackThread.load(std::memory_order_relaxed), &policy,
+                            &param) != 0)
+    return s;
+  s.known = true;
+  s.realTime = policy == SCHED_FIFO || policy == SCHED_RR;
+  s.priority = param.sched_priority;
+  s.policy = policy == SCHED_FIFO ? "SCHED_FIFO" : policy == SCHED_RR ? "SCHED_RR" : "SCHED_OTHER";
+  return s;
+}
+
 std::string AudioOutput::statusLine() const {
   return statusLine(CallbackStats::Snapshot{});
 }
@@ -461,7 +493,11 @@ std::string AudioOutput::statusLine(const CallbackStats::Snapshot& since) const 
                 static_cast<unsigned long long>(s.callbacks),
                 static_cast<unsigned long long>(s.xruns), loadPercent(s.quantileNs(0.5)),
                 loadPercent(s.quantileNs(0.999)), loadPercent(maxNs), blockPeriodNs() * 1e-6);
-  return buf;
+  const Scheduling sched = callbackScheduling();
+  if (!sched.known) return buf;
+  return std::string(buf) + ", callback thread " + sched.policy +
+         (sched.realTime ? " " + std::to_string(sched.priority)
+                         : " (no real-time priority: JACK needs jackd -R, ALSA rtprio limits)");
 }
 
 }  // namespace dpc::audio

@@ -181,6 +181,18 @@ class AudioOutput {
 
   /// The callback statistics (see CallbackStats); any thread may snapshot them.
   const CallbackStats& stats() const;
+  /// Scheduling of the callback thread as the OS reports it (known once a callback ran while
+  /// the stream is active). On ALSA the stream asks PortAudio for SCHED_FIFO; on JACK the
+  /// server decides (jackd -R gives the process thread SCHED_FIFO).
+  struct Scheduling {
+    bool known = false;
+    bool realTime = false;  ///< SCHED_FIFO or SCHED_RR
+    int priority = 0;       ///< sched_priority (0 for SCHED_OTHER)
+    const char* policy = "unknown";
+  };
+  /// Control thread, while the stream is active (the thread must exist: the control thread
+  /// is the one that stops the stream). One system call (pthread_getschedparam).
+  Scheduling callbackScheduling() const;
   /// One line for a status display, e.g. "audio 48000 Hz x 128: 37500 callbacks, 0 xruns,
   /// load median 3.1% p99.9 7.9% max 12.4%" (load: callback duration as a percentage of
   /// the block period). Pass a previous snapshot for figures over the window since then.

@@ -29,8 +29,10 @@ std::mutex& plannerMutex() {
   return m;
 }
 
-/// Zero-initialised, SIMD-aligned float buffer.
-detail::FftwBuffer allocZeroed(size_t n) {
+}  // namespace
+
+namespace detail {
+FftwBuffer allocZeroed(size_t n) {
   float* p = fftwf_alloc_real(n);
   if (!p) throw std::bad_alloc();
   if (reinterpret_cast<uintptr_t>(p) % 16 != 0) {  // multiplyAccumulate's Float4 loads
@@ -38,8 +40,12 @@ detail::FftwBuffer allocZeroed(size_t n) {
     throw std::runtime_error("fftwf_alloc_real returned memory not aligned to 16 bytes");
   }
   std::memset(p, 0, n * sizeof(float));
-  return detail::FftwBuffer(p);
+  return FftwBuffer(p);
 }
+}  // namespace detail
+
+namespace {
+using detail::allocZeroed;
 
 constexpr size_t kLanes = 16;  ///< binStride multiple: 64 bytes, any SIMD width up to AVX-512
 
@@ -49,11 +55,12 @@ constexpr size_t kLanes = 16;  ///< binStride multiple: 64 bytes, any SIMD width
 typedef float Float4 __attribute__((vector_size(16)));
 static_assert(kLanes % 4 == 0);
 
-/// acc += x * h over n complex bins (split format). n is a multiple of kLanes and all
-/// pointers are 16-byte aligned (fftwf_alloc_real, offsets in multiples of binStride).
-inline void multiplyAccumulate(float* __restrict accRe, float* __restrict accIm,
-                               const float* __restrict xRe, const float* __restrict xIm,
-                               const float* __restrict hRe, const float* __restrict hIm, size_t n) {
+}  // namespace
+
+namespace detail {
+void multiplyAccumulate(float* __restrict accRe, float* __restrict accIm,
+                        const float* __restrict xRe, const float* __restrict xIm,
+                        const float* __restrict hRe, const float* __restrict hIm, size_t n) {
   auto* ar = reinterpret_cast<Float4*>(__builtin_assume_aligned(accRe, 16));
   auto* ai = reinterpret_cast<Float4*>(__builtin_assume_aligned(accIm, 16));
   const auto* xr = reinterpret_cast<const Float4*>(__builtin_assume_aligned(xRe, 16));
@@ -65,8 +72,7 @@ inline void multiplyAccumulate(float* __restrict accRe, float* __restrict accIm,
     ai[k] += xr[k] * hi[k] + xi[k] * hr[k];
   }
 }
-
-}  // namespace
+}  // namespace detail
 
 // ---------------------------------------------------------------------------------------------
 // ConvolverLayout
@@ -245,7 +251,7 @@ const float* PartitionedConvolver::convolveChannel(const IrSpectrum& h, int whic
   for (int p = 0; p < active; ++p) {
     const int slot = p < firstRun ? head_ + p : p - firstRun;
     const float* xRe = fdl_.get() + size_t(slot) * 2 * stride;
-    multiplyAccumulate(accRe, accIm, xRe, xRe + stride, h.re(p), h.im(p), stride);
+    detail::multiplyAccumulate(accRe, accIm, xRe, xRe + stride, h.re(p), h.im(p), stride);
   }
   float* time = time_[which].get();
   layout_->inverse(accRe, time);

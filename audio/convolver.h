@@ -37,6 +37,15 @@ struct FftwFree {
 };
 /// Float buffer from fftwf_alloc_real (SIMD aligned), freed with fftwf_free.
 using FftwBuffer = std::unique_ptr<float[], FftwFree>;
+/// n zeroed floats from fftwf_alloc_real. Allocates; throws std::bad_alloc, or
+/// std::runtime_error if the memory is not 16-byte aligned.
+FftwBuffer allocZeroed(size_t n);
+/// acc += x * h over n complex bins in split format (real parts, imaginary parts). n is a
+/// multiple of 16 and every pointer 16-byte aligned (ConvolverLayout::binStride() keeps both).
+/// Any thread; no allocation.
+void multiplyAccumulate(float* __restrict accRe, float* __restrict accIm,
+                        const float* __restrict xRe, const float* __restrict xIm,
+                        const float* __restrict hRe, const float* __restrict hIm, size_t n);
 }  // namespace detail
 
 /// Block size, FFT size (2B) and partition count shared by IR spectra and convolvers, and the

@@ -24,6 +24,8 @@
 
 #include "audio/audio_device.h"
 #include "bench/bare_embree.h"
+#include "bench/bench_util.h"
+#include "bench/convolve_bench.h"
 #include "engine/input_error.h"
 #include "engine/ir_synthesis.h"
 #include "engine/noise_study.h"
@@ -38,13 +40,7 @@ using json = nlohmann::ordered_json;
 
 namespace {
 
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  const double idx = p * double(v.size() - 1);
-  const size_t lo = size_t(std::floor(idx)), hi = size_t(std::ceil(idx));
-  return v[lo] + (v[hi] - v[lo]) * (idx - double(lo));
-}
+using bench::percentile;
 
 json stats(const std::vector<double>& v, double scale = 1.0) {
   std::vector<double> s(v);
@@ -706,6 +702,16 @@ int main(int argc, char** argv) {
                   "Comma-separated parts to run: step, objects, moving_source (default all)");
   dyn->add_option("--rays", dynRays, "Rays per frame (default 2048)");
   dyn->add_option("--frames", dynFrames, "Frames per object-count measurement (default 20)");
+  CLI::App* conv = app.add_subcommand(
+      "convolve", "Convolver CPU: non-uniform dpc (with/without IR swaps) vs zita-convolver");
+  bench::ConvolveOptions convOptions;
+  conv->add_option("--blocks", convOptions.blocks, "Block sizes (default 64 128 256 512)")
+      ->check(CLI::Range(16, 8192));
+  conv->add_option("--seconds", convOptions.seconds, "Audio seconds per run (default 3)")
+      ->check(CLI::Range(0.1, 600.0));
+  conv->add_option("--swap-ms", convOptions.swapIntervalMs, "IR swap interval, ms (default 66)")
+      ->check(CLI::Range(0.1, 10000.0));
+  conv->add_flag("!--no-uniform", convOptions.uniform, "Skip the uniform convolver");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -721,6 +727,7 @@ int main(int argc, char** argv) {
     if (*prop) return benchPropagation(c, noRoulette);
     if (*dyn) return benchDynamic(dynRays, dynFrames, dynParts);
     if (*lis) return benchListeners(c, listenerCounts);
+    if (*conv) return bench::benchConvolve(convOptions);
     if (*live) return benchLive(c, liveDuration, liveBlock, liveFrameRate, liveDevice);
     if (warmup < 0) {
       const SceneDesc scene = loadScene(c.scene);

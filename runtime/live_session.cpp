@@ -38,6 +38,10 @@ LiveSession::LiveSession(const SceneDesc& scene, const PropagationSettings& sett
         ListenerPose{listenerPositionAt(d, 0.0), o.yawRadians, o.pitchRadians, nowNs(), 0.0});
     if (d.name == scene.listener.name) played_.store(l, std::memory_order_relaxed);
   }
+  // Room in either queue for every set of the pool (more than poolSize with several partition
+  // levels), so try_enqueue never fails for want of space.
+  toAudio_ = moodycamel::ReaderWriterQueue<IrSet*>(size_t(propagation_->poolSize()) + 1);
+  fromAudio_ = moodycamel::ReaderWriterQueue<IrSet*>(size_t(propagation_->poolSize()) + 1);
   hostSources_ = std::make_unique<SeqlockChannel<HostSourcePosition>[]>(scene.sources.size());
   hostObjects_ = std::make_unique<SeqlockChannel<HostObjectPose>[]>(scene.objects.size());
   const int irChannels = propagation_->numOutputs();

@@ -144,11 +144,12 @@ PropagationStage::PropagationStage(const SceneDesc& scene, const PropagationSett
     simulation_->enableDirectional(directions);
     irSamples_ = spatial_->lengthSamples();
   }
-  layout_ = std::make_unique<audio::ConvolverLayout>(scene.audio.blockSize, irSamples_);
-  for (int i = 0; i < poolSize; ++i) {
+  layout_ = std::make_unique<audio::NonUniformLayout>(scene.audio.blockSize, irSamples_);
+  const int sets = poolSize + 2 * (layout_->numLevels() - 1);
+  for (int i = 0; i < sets; ++i) {
     auto set = std::make_unique<IrSet>();
-    for (size_t s = 0; s < scene.sources.size(); ++s)
-      set->sources.push_back(std::make_unique<audio::IrSpectra>(*layout_, numOutputs_));
+    set->irs =
+        std::make_unique<audio::NonUniformIrSet>(*layout_, int(scene.sources.size()), numOutputs_);
     free_.push_back(set.get());
     pool_.push_back(std::move(set));
   }
@@ -248,7 +249,7 @@ IrSet* PropagationStage::prepare(size_t listener) {
     t0 = std::chrono::steady_clock::now();
     std::array<const float*, 2> channels{};
     for (int c = 0; c < numOutputs_; ++c) channels[size_t(c)] = irs[s][size_t(c)].data();
-    set->sources[s]->prepare(channels.data(), irSamples_);
+    set->irs->prepare(int(s), channels.data(), irSamples_);
     totals_.prepareSeconds += secondsSince(t0);
   }
   set->listener = listener;
@@ -261,11 +262,13 @@ void PropagationStage::recycle(IrSet* set) {
   if (set) free_.push_back(set);
 }
 
-AudioStage::AudioStage(const audio::ConvolverLayout& layout, const DrySignals& dry, int numOutputs)
-    : layout_(layout), dry_(dry), numOutputs_(numOutputs) {
-  for (size_t s = 0; s < dry.samples.size(); ++s)
-    convolvers_.push_back(std::make_unique<audio::PartitionedConvolver>(layout, numOutputs));
-  tail_.assign(size_t(layout.blockSize()), 0.f);
+AudioStage::AudioStage(const audio::NonUniformLayout& layout, const DrySignals& dry, int numOutputs)
+    : layout_(layout),
+      dry_(dry),
+      numOutputs_(numOutputs),
+      convolver_(layout, int(dry.samples.size()), numOutputs) {
+  tail_.assign(dry.samples.size() * size_t(layout.blockSize()), 0.f);
+  in_.assign(dry.samples.size(), nullptr);
 }
 
 void AudioStage::offer(IrSet* set) {
@@ -275,44 +278,50 @@ void AudioStage::offer(IrSet* set) {
 
 void AudioStage::process(float* const* out, const float* const* inputs) {
   const size_t B = size_t(layout_.blockSize());
-  IrSet* swapped = nullptr;
   if (pending_) {
-    bool ok = true;
-    for (size_t s = 0; s < convolvers_.size(); ++s)
-      ok = convolvers_[s]->setNextIr(pending_->sources[s].get()) && ok;
-    if (ok) {
-      swapped = current_;
+    int slot = 0;
+    while (slot < kInFlightCapacity && inFlight_[slot]) ++slot;
+    // A full table or retired list (spent sets not drained) keeps the set pending.
+    if (slot < kInFlightCapacity && convolver_.setNextIr(pending_->irs.get())) {
+      inFlight_[slot] = pending_;
       current_ = pending_;
       pending_ = nullptr;
       ++applied_;
     }
   }
-  for (int c = 0; c < numOutputs_; ++c) std::fill(out[c], out[c] + B, 0.f);
-  for (size_t s = 0; s < convolvers_.size(); ++s) {
+  for (size_t s = 0; s < in_.size(); ++s) {
     const std::vector<float>& x = dry_.samples[s];
+    float* tail = tail_.data() + s * B;
     if (inputs) {
-      convolvers_[s]->processAdd(inputs[s], out);
+      in_[s] = inputs[s];
     } else if (dry_.loop[s]) {
       // Looping signal: read B samples from position mod length, wrapping as often as needed.
       size_t p = position_ % x.size();
       for (size_t i = 0; i < B; ++i) {
-        tail_[i] = x[p];
+        tail[i] = x[p];
         if (++p == x.size()) p = 0;
       }
-      convolvers_[s]->processAdd(tail_.data(), out);
+      in_[s] = tail;
     } else if (position_ + B <= x.size()) {
-      convolvers_[s]->processAdd(x.data() + position_, out);
+      in_[s] = x.data() + position_;
     } else {
       // The signal's last partial block, or silence past its end (the IR tail rings on).
       const size_t left = position_ < x.size() ? x.size() - position_ : 0;
-      std::fill(tail_.begin(), tail_.end(), 0.f);
-      if (left) std::copy(x.data() + position_, x.data() + position_ + left, tail_.begin());
-      convolvers_[s]->processAdd(tail_.data(), out);
-    }
-    while (convolvers_[s]->takeRetired()) {
+      std::fill(tail, tail + B, 0.f);
+      if (left) std::copy(x.data() + position_, x.data() + position_ + left, tail);
+      in_[s] = tail;
     }
   }
-  if (swapped && spentCount_ < kSpentCapacity) spent_[spentCount_++] = swapped;
+  convolver_.process(in_.data(), out);
+  while (const audio::NonUniformIrSet* retired = convolver_.takeRetired()) {
+    for (IrSet*& set : inFlight_) {
+      if (set && set->irs.get() == retired) {
+        if (spentCount_ < kSpentCapacity) spent_[spentCount_++] = set;
+        set = nullptr;
+        break;
+      }
+    }
+  }
   position_ += B;
   ++blocks_;
 }

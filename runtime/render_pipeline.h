@@ -3,13 +3,14 @@
 //
 //   PropagationStage (propagation thread)          AudioStage (audio thread)
 //   listener pose -> Simulation frame -> energy    pops prepared IrSet, convolves every
-//   responses -> pressure IRs -> partition + FFT   source's dry signal, crossfades old/new IR
-//   into a recycled IrSet  ----- IrSet* ------>    over one block, mixes to the output bus
+//   responses -> pressure IRs -> non-uniform       source's dry signal (non-uniform partitions,
+//   partition + FFT into a recycled IrSet          crossfade old/new IR at every partition
+//                          ----- IrSet* ------>    level), mixes into the output bus
 //                          <--- spent IrSet* ----
 //
-// IrSet: one IrSpectra per source (each with numOutputs channels) plus the frame it came
-// from. Sets are allocated up front in a pool by the PropagationStage; the audio side only
-// borrows them and hands them back.
+// IrSet: the partitioned spectra of every source's IR (numOutputs channels each) plus the frame
+// it came from. Sets are allocated up front in a pool by the PropagationStage; the audio side
+// only borrows them and hands each back once no partition level uses it.
 #pragma once
 
 #include <atomic>
@@ -19,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "audio/convolver.h"
+#include "audio/nonuniform_convolver.h"
 #include "audio/wav_io.h"
 #include "engine/ir_synthesis.h"
 #include "engine/scene.h"
@@ -30,7 +31,7 @@ namespace dpc {
 
 /// Impulse responses of one propagation frame, partitioned and transformed, for all sources.
 struct IrSet {
-  std::vector<std::unique_ptr<audio::IrSpectra>> sources;  ///< one per scene source
+  std::unique_ptr<audio::NonUniformIrSet> irs;  ///< scene sources x output channels
   size_t listener = 0;           ///< listener index (scene.listeners order) it was computed for
   uint64_t frame = 0;            ///< propagation frame index that produced it
   double poseTimeSeconds = 0.0;  ///< scene time of the listener pose it was computed for
@@ -62,7 +63,9 @@ std::unique_ptr<SpatialIrSynthesizer> makeSpatialSynthesizer(const SceneDesc& sc
 
 /// Propagation thread side. Construction (control thread) builds the Embree scene, the IR
 /// synthesisers (mono per source, or one spatial synthesiser with HRTF or panning filters
-/// shared by all sources), the convolver layout and a pool of IrSets; allocates; throws
+/// shared by all sources), the convolver layout and a pool of IrSets (poolSize plus two per
+/// partition level beyond the first: a slow level keeps its old and new set through its
+/// crossfade); allocates; throws
 /// InputError (e.g. an unreadable SOFA file, named by the scene's audio.hrtf) or
 /// std::runtime_error.
 class PropagationStage {
@@ -100,7 +103,9 @@ class PropagationStage {
   /// Gives a set back to the pool. Propagation thread.
   void recycle(IrSet* set);
 
-  const audio::ConvolverLayout& layout() const { return *layout_; }
+  const audio::NonUniformLayout& layout() const { return *layout_; }
+  /// IrSets in the pool (fixed at construction).
+  int poolSize() const { return int(pool_.size()); }
   const Simulation& simulation() const { return *simulation_; }
   /// The pressure IR listener l's last prepared set holds: [source][channel][sample].
   const std::vector<std::vector<std::vector<float>>>& lastIrs(size_t listener = 0) const {
@@ -129,7 +134,7 @@ class PropagationStage {
   std::unique_ptr<Simulation> simulation_;
   std::vector<std::unique_ptr<IrSynthesizer>> synthesizers_;  ///< mono: one per source
   std::unique_ptr<SpatialIrSynthesizer> spatial_;             ///< stereo / binaural
-  std::unique_ptr<audio::ConvolverLayout> layout_;
+  std::unique_ptr<audio::NonUniformLayout> layout_;
   std::vector<std::unique_ptr<IrSet>> pool_;
   std::vector<IrSet*> free_;
   std::vector<std::vector<std::vector<std::vector<float>>>> irs_;  ///< [listener][source][ch]
@@ -139,11 +144,11 @@ class PropagationStage {
   Totals totals_;
 };
 
-/// Audio thread side: convolvers and the dry signals' read position. Construction allocates
-/// (control thread); process() and offer() never allocate, lock, log, throw or wait.
+/// Audio thread side: the convolver of all sources and the dry signals' read position. Construction
+/// allocates (control thread); process() and offer() never allocate, lock, log, throw or wait.
 class AudioStage {
  public:
-  AudioStage(const audio::ConvolverLayout& layout, const DrySignals& dry, int numOutputs);
+  AudioStage(const audio::NonUniformLayout& layout, const DrySignals& dry, int numOutputs);
 
   /// Schedules a new IR set for the next block (newest wins: a set offered while another is
   /// still pending is returned through takeSpent()). Audio thread.
@@ -153,26 +158,31 @@ class AudioStage {
   /// their end); otherwise inputs[s][0..blockSize) is source s's dry block (one per scene
   /// source, as given by a host). Audio thread.
   void process(float* const* out, const float* const* inputs = nullptr);
-  /// Sources (one convolver and one dry input each).
-  int sourceCount() const { return int(convolvers_.size()); }
-  /// A set no longer in use, or nullptr. Audio thread; the caller returns it to the
-  /// propagation side.
+  /// Sources (one dry input each).
+  int sourceCount() const { return convolver_.numSources(); }
+  /// A set no longer in use (superseded before it was applied, or no partition level uses it
+  /// any more), or nullptr. Audio thread; the caller returns it to the propagation side.
   IrSet* takeSpent();
 
+  /// The newest set applied (every level takes it at its next chunk).
   const IrSet* current() const { return current_; }
   uint64_t blocksProcessed() const { return blocks_; }
   /// IR sets applied (crossfades started).
   uint64_t irsApplied() const { return applied_; }
 
  private:
-  const audio::ConvolverLayout& layout_;
+  const audio::NonUniformLayout& layout_;
   const DrySignals& dry_;
   int numOutputs_;
-  std::vector<std::unique_ptr<audio::PartitionedConvolver>> convolvers_;
-  std::vector<float> tail_;  ///< one block: the last partial block of a signal, zero-padded
+  audio::NonUniformConvolver convolver_;
+  std::vector<float> tail_;       ///< per source one block: a partial or looped block, zero-padded
+  std::vector<const float*> in_;  ///< per source: this block's dry input
   IrSet* current_ = nullptr;
   IrSet* pending_ = nullptr;
-  static constexpr int kSpentCapacity = 8;
+  /// Sets handed to the convolver and not yet retired (to map its spectra back to the set).
+  static constexpr int kInFlightCapacity = audio::NonUniformConvolver::kRetiredCapacity;
+  IrSet* inFlight_[kInFlightCapacity] = {};
+  static constexpr int kSpentCapacity = audio::NonUniformConvolver::kRetiredCapacity + 2;
   IrSet* spent_[kSpentCapacity] = {};
   int spentCount_ = 0;
   size_t position_ = 0;

@@ -10,30 +10,20 @@
 #include <stdexcept>
 #include <vector>
 
+#include "tests/audio/convolution_reference.h"
+
 using namespace dpc::audio;
 
 namespace {
 
-using Signal = std::vector<float>;
+using dpc::test::Signal;
 using Reference = std::vector<double>;
 
-Signal randomSignal(std::mt19937& rng, size_t n) {
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  Signal s(n);
-  for (float& v : s) v = u(rng);
-  return s;
-}
+using dpc::test::randomSignal;
 
 /// y[n] = sum_k h[k] x[n - k], n < x.size(), in double precision.
 Reference directConvolution(const Signal& x, const Signal& h) {
-  Reference y(x.size(), 0.0);
-  for (size_t n = 0; n < x.size(); ++n) {
-    double acc = 0.0;
-    const size_t kmax = std::min(h.size(), n + 1);
-    for (size_t k = 0; k < kmax; ++k) acc += double(h[k]) * double(x[n - k]);
-    y[n] = acc;
-  }
-  return y;
+  return dpc::test::segmentConvolution(x, h, 0, h.size());
 }
 
 /// Runs x (a whole number of blocks) through conv; one signal per output.

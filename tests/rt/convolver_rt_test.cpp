@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "audio/convolver.h"
+#include "audio/nonuniform_convolver.h"
 #include "tests/rt/alloc_counter.h"
 
 using dpc::audio::ConvolverLayout;
@@ -261,5 +262,136 @@ TEST_CASE("Convolver IR swaps through SPSC queues: zero heap calls on the audio 
   CHECK(peak > 0.0f);
   CHECK(held == size_t(kPool));
   CHECK(returnFailures.load() == 0);
+  CHECK(audioCounts.total() == 0);
+}
+
+TEST_CASE(
+    "Non-uniform convolver, several sources, IR set swaps through SPSC queues: zero heap "
+    "calls on the audio thread",
+    "[rt][convolver]") {
+  using dpc::audio::NonUniformConvolver;
+  using dpc::audio::NonUniformIrSet;
+  using dpc::audio::NonUniformLayout;
+  constexpr int kBlock = 64;
+  constexpr int kSources = 3;
+  constexpr int kChannels = 2;
+  constexpr size_t kIrSamples = 30000;  // levels of 64, 256, 1024, 4096 samples
+  constexpr int kPool = 16;             // a set per level in use, one pending, spares
+  constexpr uint64_t kMinBlocks = 6000;
+  constexpr uint64_t kMinSwaps = 300;
+
+  NonUniformLayout layout(kBlock, kIrSamples, 4096);
+  REQUIRE(layout.numLevels() == 4);
+  NonUniformConvolver convolver(layout, kSources, kChannels);
+  std::vector<std::unique_ptr<NonUniformIrSet>> pool;
+  std::vector<NonUniformIrSet*> freeList;
+  for (int i = 0; i < kPool; ++i) {
+    pool.push_back(std::make_unique<NonUniformIrSet>(layout, kSources, kChannels));
+    freeList.push_back(pool.back().get());
+  }
+  moodycamel::ReaderWriterQueue<const NonUniformIrSet*> toAudio(kPool);
+  moodycamel::ReaderWriterQueue<const NonUniformIrSet*> toMain(kPool);
+
+  std::atomic<bool> audioDone{false};
+  std::atomic<uint64_t> blocks{0}, swaps{0}, refused{0};
+  AllocationCounts audioCounts;
+  float peak = 0.0f;
+  bool finite = true;
+
+  std::thread audio([&] {
+    float input[kSources][kBlock];
+    const float* in[kSources] = {input[0], input[1], input[2]};
+    float outputs[kChannels][kBlock];
+    float* out[kChannels] = {outputs[0], outputs[1]};
+    uint32_t lcg = 777;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    AllocationScope scope;
+    uint64_t b = 0, s = 0;
+    while ((b < kMinBlocks || s < kMinSwaps) && std::chrono::steady_clock::now() < deadline) {
+      // Newest set wins; older ones not yet taken go straight back (the queue has room for
+      // every set, so try_enqueue cannot fail).
+      const NonUniformIrSet* latest = nullptr;
+      const NonUniformIrSet* ir = nullptr;
+      while (toAudio.try_dequeue(ir)) {
+        if (latest) toMain.try_enqueue(latest);
+        latest = ir;
+      }
+      if (latest) {
+        if (convolver.setNextIr(latest)) {
+          ++s;
+        } else {
+          refused.fetch_add(1, std::memory_order_relaxed);
+          toMain.try_enqueue(latest);
+        }
+      }
+      for (auto& channel : input)
+        for (float& v : channel) {
+          lcg = lcg * 1664525u + 1013904223u;
+          v = float(int32_t(lcg)) * (0.5f / 2147483648.0f);
+        }
+      convolver.process(in, out);
+      for (const auto& channel : outputs)
+        for (float v : channel) {
+          finite = finite && std::isfinite(v);
+          peak = std::max(peak, std::fabs(v));
+        }
+      while (const NonUniformIrSet* spent = convolver.takeRetired()) toMain.try_enqueue(spent);
+      ++b;
+      blocks.store(b, std::memory_order_relaxed);
+      swaps.store(s, std::memory_order_relaxed);
+    }
+    audioCounts = scope.counts();
+    audioDone.store(true, std::memory_order_release);
+  });
+
+  std::vector<std::vector<float>> ir(kChannels, std::vector<float>(kIrSamples));
+  std::vector<const float*> irPointers(kChannels);
+  uint32_t version = 0;
+  while (!audioDone.load(std::memory_order_acquire)) {
+    const NonUniformIrSet* spent = nullptr;
+    while (toMain.try_dequeue(spent)) freeList.push_back(const_cast<NonUniformIrSet*>(spent));
+    if (freeList.empty()) {
+      std::this_thread::yield();
+      continue;
+    }
+    NonUniformIrSet* next = freeList.back();
+    const size_t n = (version % 4 == 3) ? kIrSamples / 11 : kIrSamples - 313 * (version % 4);
+    makeIr(ir, ++version);
+    for (int c = 0; c < kChannels; ++c) irPointers[size_t(c)] = ir[size_t(c)].data();
+    for (int s = 0; s < kSources; ++s) next->prepare(s, irPointers.data(), n);
+    if (toAudio.try_enqueue(next)) freeList.pop_back();
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+  audio.join();
+
+  // Every set is free, queued, or still used by the convolver.
+  const NonUniformIrSet* p = nullptr;
+  while (toMain.try_dequeue(p)) freeList.push_back(const_cast<NonUniformIrSet*>(p));
+  while (toAudio.try_dequeue(p)) freeList.push_back(const_cast<NonUniformIrSet*>(p));
+  // Fade every level out to silence: then no set is in use and all must come back.
+  REQUIRE(convolver.setNextIr(nullptr));
+  {
+    float zeros[kBlock] = {}, sink[kChannels][kBlock];
+    const float* in[kSources] = {zeros, zeros, zeros};
+    float* out[kChannels] = {sink[0], sink[1]};
+    for (int k = 0; k < 4 * 4096 / kBlock && convolver.swapping(); ++k) {
+      convolver.process(in, out);
+      while ((p = convolver.takeRetired())) freeList.push_back(const_cast<NonUniformIrSet*>(p));
+    }
+  }
+  while ((p = convolver.takeRetired())) freeList.push_back(const_cast<NonUniformIrSet*>(p));
+  std::printf(
+      "non-uniform audio thread: %llu blocks, %d sources x %d channels, %llu swaps "
+      "(%llu refused), peak %.3f\n",
+      static_cast<unsigned long long>(blocks.load()), kSources, kChannels,
+      static_cast<unsigned long long>(swaps.load()),
+      static_cast<unsigned long long>(refused.load()), double(peak));
+  printCounts("non-uniform audio thread", audioCounts);
+  CHECK(blocks.load() >= kMinBlocks);
+  CHECK(swaps.load() >= kMinSwaps);
+  CHECK(finite);
+  CHECK(peak > 0.0f);
+  CHECK_FALSE(convolver.swapping());
+  CHECK(freeList.size() == size_t(kPool));
   CHECK(audioCounts.total() == 0);
 }

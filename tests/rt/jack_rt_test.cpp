@@ -75,6 +75,10 @@ TEST_CASE("JACK: convolution on the PortAudio callback thread makes no heap call
   out.start();
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
   const CallbackStats::Snapshot warm = out.stats().snapshot();
+  const auto sched = out.callbackScheduling();  // reported, not asserted: jackd -R decides
+  std::printf("callback thread scheduling: %s %d (%s)\n", sched.policy, sched.priority,
+              sched.realTime ? "real-time" : "not real-time");
+  CHECK(sched.known);
   std::this_thread::sleep_for(std::chrono::milliseconds(1700));
   out.stop();
   const dpc::rt::AllocationCounts counts = dpc::rt::audioThreadAllocations();

@@ -1,0 +1,330 @@
+// Non-uniformly partitioned overlap-save convolution; see nonuniform_convolver.h for the
+// algorithm and its sources (Gardner 1995, Garcia 2002, Wefers 2015 ch. 5-6).
+#include "audio/nonuniform_convolver.h"
+
+#include <algorithm>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+namespace dpc::audio {
+
+using detail::allocZeroed;
+
+namespace {
+constexpr int kMaxBlock = 8192;
+constexpr size_t kMaxIrSamples = size_t(1) << 27;
+}  // namespace
+
+NonUniformLayout::NonUniformLayout(int blockSize, size_t maxIrSamples, int maxPartition,
+                                   ConvolverLayout::Planning planning)
+    : blockSize_(blockSize), maxIrSamples_(maxIrSamples) {
+  if (blockSize < 1 || blockSize > kMaxBlock)
+    throw std::invalid_argument("NonUniformLayout: blockSize " + std::to_string(blockSize) +
+                                " outside 1.." + std::to_string(kMaxBlock));
+  if (maxIrSamples < 1 || maxIrSamples > kMaxIrSamples)
+    throw std::invalid_argument("NonUniformLayout: maxIrSamples " + std::to_string(maxIrSamples) +
+                                " outside 1.." + std::to_string(kMaxIrSamples));
+  if (maxPartition < blockSize)
+    throw std::invalid_argument("NonUniformLayout: maxPartition " + std::to_string(maxPartition) +
+                                " is below the block size " + std::to_string(blockSize));
+  int capPeriod = 1;  // largest power of two with capPeriod * B <= maxPartition
+  while (size_t(capPeriod) * 2 * size_t(blockSize) <= size_t(maxPartition)) capPeriod *= 2;
+
+  const size_t b = size_t(blockSize);
+  size_t offset = 0;
+  int period = 1;
+  for (;;) {
+    const size_t n = size_t(period) * b;
+    const int nextPeriod = std::min(4 * period, capPeriod);
+    const size_t nextOffset = 2 * size_t(nextPeriod) * b - 2 * b;
+    int partitions;
+    bool last = nextPeriod == period || maxIrSamples <= nextOffset;
+    if (last)
+      partitions = int((maxIrSamples - offset + n - 1) / n);
+    else
+      partitions = int((nextOffset - offset) / n);
+    ffts_.push_back(std::make_unique<ConvolverLayout>(int(n), size_t(partitions) * n, planning));
+    levels_.push_back(Level{int(n), partitions, offset, period, ffts_.back().get()});
+    if (last) break;
+    offset = nextOffset;
+    period = nextPeriod;
+  }
+}
+
+int NonUniformLayout::totalPartitions() const {
+  int total = 0;
+  for (const Level& l : levels_) total += l.numPartitions;
+  return total;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+NonUniformIrSet::NonUniformIrSet(const NonUniformLayout& layout, int numSources, int numChannels)
+    : layout_(&layout), numSources_(numSources), numChannels_(numChannels) {
+  if (numSources <= 0 || numChannels <= 0)
+    throw std::invalid_argument("NonUniformIrSet: numSources " + std::to_string(numSources) +
+                                " and numChannels " + std::to_string(numChannels) +
+                                " must be positive");
+  size_t maxN = 0;
+  for (int l = 0; l < layout.numLevels(); ++l) {
+    const NonUniformLayout::Level& lv = layout.level(l);
+    data_.push_back(allocZeroed(size_t(numSources) * size_t(numChannels) *
+                                size_t(lv.numPartitions) * lv.fft->spectrumFloats()));
+    maxN = std::max(maxN, size_t(lv.partitionSize));
+  }
+  active_.assign(size_t(numSources) * size_t(layout.numLevels()), 0);
+  time_ = allocZeroed(2 * maxN);
+}
+
+const float* NonUniformIrSet::spectrum(int level, int source, int channel, int p) const {
+  const NonUniformLayout::Level& lv = layout_->level(level);
+  const size_t index =
+      (size_t(source) * size_t(numChannels_) + size_t(channel)) * size_t(lv.numPartitions) +
+      size_t(p);
+  return data_[size_t(level)].get() + index * lv.fft->spectrumFloats();
+}
+
+void NonUniformIrSet::prepare(int source, const float* const* irs, size_t n) {
+  if (source < 0 || source >= numSources_)
+    throw std::invalid_argument("NonUniformIrSet::prepare: source " + std::to_string(source) +
+                                " outside 0.." + std::to_string(numSources_ - 1));
+  if (n > layout_->maxIrSamples())
+    throw std::invalid_argument("NonUniformIrSet::prepare: IR of " + std::to_string(n) +
+                                " samples exceeds the layout's " +
+                                std::to_string(layout_->maxIrSamples()));
+  float* time = time_.get();
+  for (int l = 0; l < layout_->numLevels(); ++l) {
+    const NonUniformLayout::Level& lv = layout_->level(l);
+    const size_t len = size_t(lv.partitionSize);
+    const size_t bins = size_t(lv.fft->numBins());
+    const float scale = 1.0f / float(lv.fft->fftSize());
+    const size_t left = n > lv.offset ? n - lv.offset : 0;
+    const int active = int(std::min<size_t>((left + len - 1) / len, size_t(lv.numPartitions)));
+    for (int c = 0; c < numChannels_; ++c) {
+      for (int p = 0; p < active; ++p) {
+        const size_t begin = lv.offset + size_t(p) * len;
+        const size_t count = std::min(len, n - begin);
+        std::copy(irs[c] + begin, irs[c] + begin + count, time);
+        std::fill(time + count, time + 2 * len, 0.0f);
+        float* re = const_cast<float*>(spectrum(l, source, c, p));
+        float* im = re + lv.fft->binStride();
+        lv.fft->forward(time, re);
+        for (size_t k = 0; k < bins; ++k) {
+          re[k] *= scale;
+          im[k] *= scale;
+        }
+      }
+    }
+    active_[size_t(source) * size_t(layout_->numLevels()) + size_t(l)] = active;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+
+NonUniformConvolver::NonUniformConvolver(const NonUniformLayout& layout, int numSources,
+                                         int numOutputs)
+    : layout_(&layout), numSources_(numSources), numOutputs_(numOutputs) {
+  if (numSources <= 0 || numOutputs <= 0)
+    throw std::invalid_argument("NonUniformConvolver: numSources " + std::to_string(numSources) +
+                                " and numOutputs " + std::to_string(numOutputs) +
+                                " must be positive");
+  levels_.resize(size_t(layout.numLevels()));
+  for (int l = 0; l < layout.numLevels(); ++l) {
+    const NonUniformLayout::Level& lv = layout.level(l);
+    LevelState& st = levels_[size_t(l)];
+    const size_t n = size_t(lv.partitionSize);
+    const size_t spec = lv.fft->spectrumFloats();
+    for (int s = 0; s < numSources; ++s) {
+      st.input.push_back(allocZeroed(2 * n));
+      st.fdl.push_back(allocZeroed(size_t(lv.numPartitions) * spec));
+      if (lv.period > 1) st.staging.push_back(allocZeroed(2 * n));
+    }
+    for (int c = 0; c < numOutputs; ++c) {
+      st.acc.push_back(allocZeroed(2 * spec));
+      st.out.push_back(allocZeroed(n));
+    }
+    st.time = allocZeroed(2 * n);
+    st.time2 = allocZeroed(2 * n);
+  }
+  accPtrs_.assign(size_t(numOutputs), nullptr);
+}
+
+bool NonUniformConvolver::referenced(const NonUniformIrSet* ir) const {
+  if (ir == target_) return true;
+  for (const LevelState& st : levels_)
+    if (st.cur == ir || st.next == ir) return true;
+  return false;
+}
+
+void NonUniformConvolver::retireIfUnused(const NonUniformIrSet* ir) {
+  if (!ir || referenced(ir)) return;
+  retired_[(retiredFirst_ + retiredCount_) % kRetiredCapacity] = ir;
+  ++retiredCount_;  // setNextIr() keeps room for one per level and one more
+}
+
+bool NonUniformConvolver::setNextIr(const NonUniformIrSet* ir) {
+  if (ir && (&ir->layout() != layout_ || ir->numSources() != numSources_ ||
+             ir->numChannels() != numOutputs_))
+    return false;
+  if (retiredCount_ + layout_->numLevels() + 1 > kRetiredCapacity) return false;
+  const NonUniformIrSet* old = target_;
+  target_ = ir;
+  if (old != ir) retireIfUnused(old);
+  return true;
+}
+
+const NonUniformIrSet* NonUniformConvolver::takeRetired() {
+  if (retiredCount_ == 0) return nullptr;
+  const NonUniformIrSet* ir = retired_[retiredFirst_];
+  retired_[retiredFirst_] = nullptr;
+  retiredFirst_ = (retiredFirst_ + 1) % kRetiredCapacity;
+  --retiredCount_;
+  return ir;
+}
+
+bool NonUniformConvolver::swapping() const {
+  for (const LevelState& st : levels_)
+    if (st.cur != target_ || st.next != target_) return true;
+  return false;
+}
+
+void NonUniformConvolver::macRange(LevelState& st, int level, const NonUniformIrSet* ir,
+                                   float* const* acc, int begin, int end) {
+  const NonUniformLayout::Level& lv = layout_->level(level);
+  const size_t stride = lv.fft->binStride();
+  const size_t spec = lv.fft->spectrumFloats();
+  const int numPartitions = lv.numPartitions;
+  for (int s = 0; s < numSources_; ++s) {
+    const int stop = std::min(end, ir->activePartitions(s, level));
+    const float* fdl = st.fdl[size_t(s)].get();
+    for (int p = begin; p < stop; ++p) {
+      // X from p chunks ago sits in slot (head + p) mod P.
+      int slot = st.head + p;
+      if (slot >= numPartitions) slot -= numPartitions;
+      const float* x = fdl + size_t(slot) * spec;
+      for (int c = 0; c < numOutputs_; ++c) {
+        const float* h = ir->spectrum(level, s, c, p);
+        detail::multiplyAccumulate(acc[c], acc[c] + stride, x, x + stride, h, h + stride, stride);
+      }
+    }
+  }
+}
+
+void NonUniformConvolver::process(const float* const* in, float* const* out, bool add) {
+  const int b = layout_->blockSize();
+  const size_t ub = size_t(b);
+  if (!add)
+    for (int c = 0; c < numOutputs_; ++c) std::fill(out[c], out[c] + ub, 0.0f);
+
+  for (int l = 0; l < layout_->numLevels(); ++l) {
+    const NonUniformLayout::Level& lv = layout_->level(l);
+    LevelState& st = levels_[size_t(l)];
+    const int m = lv.period;
+    const size_t n = size_t(lv.partitionSize);
+    const size_t spec = lv.fft->spectrumFloats();
+    const int inPos = int(block_ % uint64_t(m));
+    const int step = inPos + 1 == m ? 0 : inPos + 1;  // callback index within the chunk's work
+
+    for (int s = 0; s < numSources_; ++s)
+      std::memcpy(st.input[size_t(s)].get() + n + size_t(inPos) * ub, in[s], ub * sizeof(float));
+
+    if (step == 0) {
+      // A chunk is complete. Level 0 transforms it now; longer levels keep a copy and
+      // transform one source after another over the chunk's first m - 1 callbacks.
+      st.head = st.head == 0 ? lv.numPartitions - 1 : st.head - 1;
+      for (int s = 0; s < numSources_; ++s) {
+        float* input = st.input[size_t(s)].get();
+        if (m == 1)
+          lv.fft->forward(input, st.fdl[size_t(s)].get() + size_t(st.head) * spec);
+        else
+          std::memcpy(st.staging[size_t(s)].get(), input, 2 * n * sizeof(float));
+        std::memcpy(input, input + n, n * sizeof(float));
+      }
+      st.next = target_;  // the chunk's IR: the newest now
+      for (int c = 0; c < numOutputs_; ++c)
+        std::fill(st.acc[size_t(c)].get(), st.acc[size_t(c)].get() + 2 * spec, 0.0f);
+    }
+    if (m > 1 && step < m - 1) {
+      // Sources whose forward FFT falls in this callback: s with s (m - 1) / S == step.
+      for (int s = 0; s < numSources_; ++s)
+        if (int(int64_t(s) * (m - 1) / numSources_) == step)
+          lv.fft->forward(st.staging[size_t(s)].get(),
+                          st.fdl[size_t(s)].get() + size_t(st.head) * spec);
+    }
+
+    // This callback's share of the partitions: level 0 all of them; longer levels spread
+    // partitions 1..P-1 (older input, already transformed) over the first m - 1 callbacks and
+    // do partition 0 (the chunk just transformed) in the last, with the inverse FFTs.
+    int begin, end;
+    if (m == 1) {
+      begin = 0;
+      end = lv.numPartitions;
+    } else if (step == m - 1) {
+      begin = 0;
+      end = 1;
+    } else {
+      const int rest = lv.numPartitions - 1;
+      begin = 1 + int(int64_t(step) * rest / (m - 1));
+      end = 1 + int(int64_t(step + 1) * rest / (m - 1));
+    }
+    const bool crossfade = st.next != st.cur;
+    if (begin < end) {
+      if (st.cur) {
+        for (int c = 0; c < numOutputs_; ++c) accPtrs_[size_t(c)] = st.acc[size_t(c)].get();
+        macRange(st, l, st.cur, accPtrs_.data(), begin, end);
+      }
+      if (crossfade && st.next) {
+        for (int c = 0; c < numOutputs_; ++c) accPtrs_[size_t(c)] = st.acc[size_t(c)].get() + spec;
+        macRange(st, l, st.next, accPtrs_.data(), begin, end);
+      }
+    }
+
+    if (step == m - 1) {
+      // Inverse transforms: the chunk that starts playing in this callback (overlap-save: the
+      // last N of 2N samples are valid).
+      for (int c = 0; c < numOutputs_; ++c) {
+        float* y = st.out[size_t(c)].get();
+        const float* oldY = nullptr;
+        const float* newY = nullptr;
+        if (st.cur) {
+          lv.fft->inverse(st.acc[size_t(c)].get(), st.time.get());
+          oldY = st.time.get() + n;
+        }
+        if (!crossfade) {
+          if (oldY)
+            std::memcpy(y, oldY, n * sizeof(float));
+          else
+            std::fill(y, y + n, 0.0f);
+          continue;
+        }
+        if (st.next) {
+          lv.fft->inverse(st.acc[size_t(c)].get() + spec, st.time2.get());
+          newY = st.time2.get() + n;
+        }
+        // y = (1 - g) old + g new, g = (k + 1) / N over the chunk.
+        const float invN = 1.0f / float(n);
+        for (size_t k = 0; k < n; ++k) {
+          const float g = float(k + 1) * invN;
+          y[k] = (oldY ? (1.0f - g) * oldY[k] : 0.0f) + (newY ? g * newY[k] : 0.0f);
+        }
+      }
+      if (crossfade) {
+        const NonUniformIrSet* old = st.cur;
+        st.cur = st.next;
+        retireIfUnused(old);
+      }
+    }
+
+    // Play this callback's block of the chunk computed at step m - 1.
+    const size_t at = size_t(step + 1 == m ? 0 : step + 1) * ub;
+    for (int c = 0; c < numOutputs_; ++c) {
+      const float* y = st.out[size_t(c)].get() + at;
+      float* o = out[c];
+      for (size_t k = 0; k < ub; ++k) o[k] += y[k];
+    }
+  }
+  ++block_;
+}
+
+}  // namespace dpc::audio

@@ -1,0 +1,186 @@
+// Non-uniformly partitioned overlap-save convolution (NUPOLS) of many sources into a shared
+// output bus, with time-distributed work inside the audio callback and a click-free IR swap at
+// every partition level.
+//
+// Sources: W. G. Gardner, "Efficient convolution without input-output delay", JAES 43(3), 1995
+// (a short head partition and longer tail partitions, each level delayed so that its longer
+// FFT has time to complete); G. Garcia, "Optimal filter partition for efficient convolution
+// with short input/output delay", AES 113th Convention 2002 (the choice of partition sizes);
+// F. Wefers, "Partitioned convolution algorithms for real-time auralization", PhD thesis, RWTH
+// Aachen 2015, ch. 5-6 (each level is a uniformly partitioned overlap-save convolver with its
+// own frequency-domain delay line, FDL).
+//
+// Layout (NonUniformLayout): level 0 has partitions of the block size B at IR offset 0; level
+// l has partitions of N_l = B * 4^l samples (capped at maxPartition) starting at IR offset
+// o_l = 2 N_l - 2 B, so level l covers [o_l, o_{l+1}) with 2 (N_{l+1} - N_l) / N_l partitions
+// (6 when the size quadruples); the last level covers the rest of the IR. Level l's work for
+// one N_l-sample input chunk is spread over the m_l = N_l / B callbacks after the chunk is
+// complete: the forward FFTs of the sources spread over callbacks 0..m-2 (source s in callback
+// s (m - 1) / S), the spectral multiply-accumulate (MAC) of partitions 1..P-1 (older input
+// spectra) spread over the same callbacks, and partition 0 with the inverse FFTs in the last
+// (callback m_l - 1), whose output chunk starts playing in that same callback. That is exactly
+// when the IR offset o_l needs it, so the convolution adds no latency: output block k depends
+// on input up to block k (as the uniform convolver, docs/live.md).
+//
+// Many sources: each source has its own FDL per level; sources are multiply-accumulated per
+// output channel into one spectrum, so the inverse FFTs are one per output channel and level
+// (two while that level crossfades), not one per source.
+//
+// IR swap: the IR set is swapped for all sources at once. Each level takes the newest IR when
+// it starts a chunk (the chunk's first callback above); if that differs from the IR of its
+// previous chunk, the chunk is computed with both from the same FDL (both are steady-state
+// convolutions of the whole input history) and crossfaded over the chunk:
+//   y_l[n] = (1 - g[n]) (x * h_old,l)[n] + g[n] (x * h_new,l)[n],  g[n] = (n + 1) / N_l,
+// where h_l is the IR restricted to level l's segment. Level 0 thus swaps within one block,
+// the tail levels at their own chunk boundaries (a later level's segment is later in the IR,
+// so its swap is heard later anyway); an IR replaced before a level took it is skipped by
+// that level.
+//
+// Threads: NonUniformLayout and NonUniformIrSet construct on the control/propagation thread
+// (FFTW plans and memory); NonUniformIrSet::prepare on the propagation thread;
+// NonUniformConvolver::setNextIr/process/takeRetired on the audio thread only, wait-free: no
+// allocation, locks, logging, exceptions or system calls.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "audio/convolver.h"
+
+namespace dpc::audio {
+
+/// Partition sizes, offsets and FFT plans of a non-uniform partitioning (see the file comment).
+/// Must outlive every NonUniformIrSet / NonUniformConvolver made from it. Not copyable.
+class NonUniformLayout {
+ public:
+  /// Default cap on the partition size, samples: a 16384-point FFT per level chunk keeps the
+  /// callback that runs it short, while an IR of seconds needs few partitions.
+  static constexpr int kDefaultMaxPartition = 8192;
+
+  struct Level {
+    int partitionSize;     ///< N_l samples (a multiple of the block size)
+    int numPartitions;     ///< P_l
+    size_t offset;         ///< o_l: IR sample where the level's first partition starts
+    int period;            ///< m_l = N_l / B: callbacks per chunk
+    ConvolverLayout* fft;  ///< 2 N_l-point transforms, split spectra of N_l + 1 bins
+  };
+
+  /// blockSize B in 1..8192 samples; maxIrSamples in 1..2^27 (the longest IR any set of this
+  /// layout holds); maxPartition >= blockSize caps N_l (rounded down to B times a power of 2).
+  /// Control thread. Allocates, creates FFTW plans. Throws std::invalid_argument naming the
+  /// out-of-range argument, std::runtime_error if FFTW cannot plan.
+  NonUniformLayout(int blockSize, size_t maxIrSamples, int maxPartition = kDefaultMaxPartition,
+                   ConvolverLayout::Planning planning = ConvolverLayout::Planning::kEstimate);
+  NonUniformLayout(const NonUniformLayout&) = delete;
+  NonUniformLayout& operator=(const NonUniformLayout&) = delete;
+
+  int blockSize() const { return blockSize_; }
+  size_t maxIrSamples() const { return maxIrSamples_; }
+  int numLevels() const { return int(levels_.size()); }
+  const Level& level(int l) const { return levels_[size_t(l)]; }
+  /// Total partitions over all levels.
+  int totalPartitions() const;
+
+ private:
+  int blockSize_;
+  size_t maxIrSamples_;
+  std::vector<Level> levels_;
+  std::vector<std::unique_ptr<ConvolverLayout>> ffts_;
+};
+
+/// The partitioned spectra of one IR set: numSources x numChannels IRs, each cut into the
+/// layout's levels and partitions and transformed (scaled by 1 / (2 N_l): the convolver needs
+/// no normalisation). Fixed capacity; prepare() replaces a source's IRs without allocating.
+class NonUniformIrSet {
+ public:
+  /// numSources, numChannels > 0. Control/propagation thread. Allocates. Throws
+  /// std::invalid_argument on non-positive counts.
+  NonUniformIrSet(const NonUniformLayout& layout, int numSources, int numChannels);
+
+  /// Source s's IRs: irs[c][0..n) for every channel c (samples, pressure); n = 0 is silence.
+  /// Propagation thread, while no convolver uses this set. No allocation. Throws
+  /// std::invalid_argument if s is out of range or n > layout.maxIrSamples() (nothing
+  /// changed then).
+  void prepare(int source, const float* const* irs, size_t n);
+
+  const NonUniformLayout& layout() const { return *layout_; }
+  int numSources() const { return numSources_; }
+  int numChannels() const { return numChannels_; }
+  /// Partitions of level l holding source s's IR (the rest are skipped).
+  int activePartitions(int source, int level) const {
+    return active_[size_t(source) * size_t(layout_->numLevels()) + size_t(level)];
+  }
+  /// Split spectrum of partition p of level l, source s, channel c.
+  const float* spectrum(int level, int source, int channel, int p) const;
+
+ private:
+  const NonUniformLayout* layout_;
+  int numSources_, numChannels_;
+  std::vector<detail::FftwBuffer> data_;  ///< per level: sources x channels x P_l spectra
+  std::vector<int> active_;
+  detail::FftwBuffer time_;  ///< scratch, 2 N_max floats
+};
+
+/// numSources dry inputs convolved with a NonUniformIrSet and summed into numOutputs channels.
+/// IR sets are borrowed: handed in by setNextIr(), handed back by takeRetired(). "No IR"
+/// (initially, or setNextIr(nullptr)) is silence.
+class NonUniformConvolver {
+ public:
+  /// Retired sets held until takeRetired().
+  static constexpr int kRetiredCapacity = 32;
+
+  /// Control thread. Allocates all the memory it will use. Throws std::invalid_argument on
+  /// non-positive counts.
+  NonUniformConvolver(const NonUniformLayout& layout, int numSources, int numOutputs);
+
+  /// Makes ir (or nullptr) the newest IR set; each level takes it at its next chunk (level 0:
+  /// the next block). A set replaced before any level took it is retired. Returns false and
+  /// changes nothing if ir does not match (layout, sources, channels) or the retired list is
+  /// nearly full (takeRetired() not drained). Audio thread; wait-free.
+  bool setNextIr(const NonUniformIrSet* ir);
+
+  /// One block: in[s][0..B) per source, out[c][0..B) per output (written, or added to when
+  /// add is true). Audio thread; wait-free, no allocation.
+  void process(const float* const* in, float* const* out, bool add = false);
+
+  /// A set no longer used by any level, oldest first; nullptr when none. Audio thread.
+  const NonUniformIrSet* takeRetired();
+
+  /// True while some level still uses an older set than the newest (a swap in progress).
+  bool swapping() const;
+  const NonUniformIrSet* newestIr() const { return target_; }
+  int numSources() const { return numSources_; }
+  int numOutputs() const { return numOutputs_; }
+  const NonUniformLayout& layout() const { return *layout_; }
+
+ private:
+  struct LevelState {
+    std::vector<detail::FftwBuffer> input;    ///< per source: 2 N floats [previous | filling]
+    std::vector<detail::FftwBuffer> fdl;      ///< per source: P spectra ring
+    std::vector<detail::FftwBuffer> staging;  ///< per source (m > 1): the chunk to transform
+    std::vector<detail::FftwBuffer> acc;      ///< per output: 2 spectra (old IR, new IR)
+    std::vector<detail::FftwBuffer> out;      ///< per output: N samples being played
+    detail::FftwBuffer time;                  ///< 2 N floats: inverse FFT scratch (old, new)
+    detail::FftwBuffer time2;
+    int head = 0;                           ///< FDL slot of the newest chunk spectrum
+    const NonUniformIrSet* cur = nullptr;   ///< IR of the previous chunk
+    const NonUniformIrSet* next = nullptr;  ///< IR of the chunk being computed
+  };
+  bool referenced(const NonUniformIrSet* ir) const;
+  void retireIfUnused(const NonUniformIrSet* ir);
+  void macRange(LevelState& st, int level, const NonUniformIrSet* ir, float* const* acc, int begin,
+                int end);
+
+  const NonUniformLayout* layout_;
+  int numSources_, numOutputs_;
+  std::vector<LevelState> levels_;
+  std::vector<float*> accPtrs_;  ///< scratch: one accumulator pointer per output
+  const NonUniformIrSet* target_ = nullptr;
+  uint64_t block_ = 0;
+  const NonUniformIrSet* retired_[kRetiredCapacity] = {};
+  int retiredFirst_ = 0, retiredCount_ = 0;
+};
+
+}  // namespace dpc::audio

@@ -1,0 +1,21 @@
+// `dpc-bench convolve`: dpc's convolvers against zita-convolver (the yardstick, linked by the
+// benchmark only) on the same IRs and input, CPU time of all threads.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace dpc::bench {
+
+struct ConvolveOptions {
+  std::vector<int> blocks = {64, 128, 256, 512};  ///< block sizes, samples
+  double seconds = 3.0;                           ///< audio rendered per measurement
+  double swapIntervalMs = 66.0;                   ///< IR swap period of the swapping runs
+  int sampleRate = 48000;
+  bool uniform = true;  ///< also time the uniformly partitioned convolver (no swaps)
+};
+
+/// Prints the JSON report on stdout; returns the process exit code.
+int benchConvolve(const ConvolveOptions& options);
+
+}  // namespace dpc::bench

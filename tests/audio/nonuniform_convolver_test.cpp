@@ -1,0 +1,239 @@
+// NonUniformConvolver against direct convolution in double precision: random IRs (lengths that
+// are no multiple of any partition), several sources into two outputs, random IR swaps. The
+// expected output follows the per-level crossfade of nonuniform_convolver.h exactly: level l's
+// chunk c (output samples [o_l + c N_l, o_l + (c + 1) N_l)) uses the IR that was newest in the
+// callback where its input chunk completed, and crossfades from the previous chunk's IR with
+// g[n] = (n + 1) / N_l when they differ.
+#include "audio/nonuniform_convolver.h"
+
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+#include "tests/audio/convolution_reference.h"
+
+using namespace dpc::audio;
+
+namespace {
+
+using dpc::test::Signal;
+
+using dpc::test::randomSignal;
+using dpc::test::segmentConvolution;
+
+/// Tolerance on the relative error energy, as for the uniform convolver
+/// (tests/audio/convolver_test.cpp): float rounding u = 2^-24 enters in the forward and
+/// inverse FFTs (log2(2 N) stages) and in every term of the spectral multiply-accumulate;
+/// treated as independent errors the relative error energy is about u^2 (c1 log2(2 N_max) +
+/// c2 P_total); we allow 64 u^2 (log2(2 N_max) + P_total) (relative RMS error 8 u sqrt(...)),
+/// never more than -100 dB. The crossfade adds one rounding per sample (within the margin).
+double tolerance(const NonUniformLayout& layout, int numSources) {
+  const double u = std::ldexp(1.0, -24);
+  int maxN = 0;
+  for (int l = 0; l < layout.numLevels(); ++l) maxN = std::max(maxN, layout.level(l).partitionSize);
+  const double bound =
+      64.0 * u * u * (std::log2(2.0 * maxN) + double(layout.totalPartitions() * numSources));
+  return std::min(bound, 1e-10);
+}
+
+struct Event {
+  size_t block;
+  int ir;  ///< index into the IR list, -1: no IR
+};
+
+/// Runs the convolver over x (numBlocks blocks per source) with setNextIr(event) before the
+/// event's block, checks against the per-level crossfade reference; returns the relative
+/// error energy. IR sets are lent only while at home, as the pipeline does.
+double runAndCompare(const NonUniformLayout& layout, const std::vector<std::vector<Signal>>& irs,
+                     int numSources, int numOutputs, const std::vector<Event>& events,
+                     size_t numBlocks, std::mt19937& rng) {
+  const size_t b = size_t(layout.blockSize());
+  const size_t total = numBlocks * b;
+  // One set per event (the owner never lends a set twice before it comes back), holding
+  // irs[event.ir][s * numOutputs + c].
+  std::vector<std::unique_ptr<NonUniformIrSet>> sets;
+  for (const Event& ev : events) {
+    sets.push_back(std::make_unique<NonUniformIrSet>(layout, numSources, numOutputs));
+    if (ev.ir < 0) continue;
+    const auto& ir = irs[size_t(ev.ir)];
+    for (int s = 0; s < numSources; ++s) {
+      std::vector<const float*> ch;
+      for (int c = 0; c < numOutputs; ++c) ch.push_back(ir[size_t(s * numOutputs + c)].data());
+      sets.back()->prepare(s, ch.data(), ir[size_t(s * numOutputs)].size());
+    }
+  }
+  std::vector<Signal> x;
+  for (int s = 0; s < numSources; ++s) x.push_back(randomSignal(rng, total));
+
+  NonUniformConvolver conv(layout, numSources, numOutputs);
+  std::vector<Signal> out(size_t(numOutputs), Signal(total, 0.0f));
+  std::vector<char> atHome(sets.size(), 1);
+  std::vector<const float*> in(static_cast<size_t>(numSources), nullptr);
+  std::vector<float*> o(static_cast<size_t>(numOutputs), nullptr);
+  size_t e = 0;
+  for (size_t k = 0; k < numBlocks; ++k) {
+    for (; e < events.size() && events[e].block == k; ++e) {
+      const bool silent = events[e].ir < 0;
+      REQUIRE(conv.setNextIr(silent ? nullptr : sets[e].get()));
+      if (!silent) atHome[e] = 0;
+    }
+    for (int s = 0; s < numSources; ++s) in[size_t(s)] = x[size_t(s)].data() + k * b;
+    for (int c = 0; c < numOutputs; ++c) o[size_t(c)] = out[size_t(c)].data() + k * b;
+    conv.process(in.data(), o.data(), k % 2 == 1);  // add mode on zeroed output: same result
+    while (const NonUniformIrSet* r = conv.takeRetired()) {
+      size_t i = 0;
+      while (sets[i].get() != r) ++i;
+      REQUIRE_FALSE(atHome[i]);  // returned once
+      atHome[i] = 1;
+    }
+  }
+
+  // Newest IR at callback k (after the events of block k).
+  auto newestAt = [&](long long k) {
+    int ir = -1;
+    for (const Event& ev : events)
+      if (static_cast<long long>(ev.block) <= k) ir = ev.ir;
+    return ir;
+  };
+  double err = 0.0, energy = 0.0;
+  for (int c = 0; c < numOutputs; ++c) {
+    std::vector<double> expected(total, 0.0);
+    for (int l = 0; l < layout.numLevels(); ++l) {
+      const NonUniformLayout::Level& lv = layout.level(l);
+      const size_t n = size_t(lv.partitionSize);
+      const size_t begin = lv.offset, end = lv.offset + size_t(lv.numPartitions) * n;
+      // Per IR: the level segment's output summed over sources.
+      std::vector<std::vector<double>> seg(irs.size());
+      for (size_t i = 0; i < irs.size(); ++i) {
+        seg[i].assign(total, 0.0);
+        for (int s = 0; s < numSources; ++s) {
+          const auto y =
+              segmentConvolution(x[size_t(s)], irs[i][size_t(s * numOutputs + c)], begin, end);
+          for (size_t t = 0; t < total; ++t) seg[i][t] += y[t];
+        }
+      }
+      const long long m = lv.period;
+      for (size_t t = begin; t < total; ++t) {
+        const long long chunk = (long long)((t - begin) / n);
+        const size_t pos = (t - begin) % n;
+        const int now = newestAt((chunk + 1) * m - 1);
+        const int before = newestAt(chunk * m - 1);
+        const double vNow = now < 0 ? 0.0 : seg[size_t(now)][t];
+        const double vBefore = before < 0 ? 0.0 : seg[size_t(before)][t];
+        const double g = now == before ? 1.0 : double(pos + 1) / double(n);
+        expected[t] += (1.0 - g) * vBefore + g * vNow;
+      }
+    }
+    for (size_t t = 0; t < total; ++t) {
+      const double d = double(out[size_t(c)][t]) - expected[t];
+      err += d * d;
+      energy += expected[t] * expected[t];
+    }
+  }
+  // Every set comes home once no level uses it.
+  REQUIRE(conv.setNextIr(nullptr));
+  const size_t settle = 4 * size_t(layout.level(layout.numLevels() - 1).period) + 2;
+  std::vector<float> silence(b, 0.0f), sink(b * size_t(numOutputs));
+  for (int s = 0; s < numSources; ++s) in[size_t(s)] = silence.data();
+  for (int c = 0; c < numOutputs; ++c) o[size_t(c)] = sink.data() + size_t(c) * b;
+  for (size_t k = 0; k < settle; ++k) {
+    conv.process(in.data(), o.data());
+    while (const NonUniformIrSet* r = conv.takeRetired()) {
+      size_t i = 0;
+      while (sets[i].get() != r) ++i;
+      REQUIRE_FALSE(atHome[i]);
+      atHome[i] = 1;
+    }
+  }
+  CHECK_FALSE(conv.swapping());
+  for (char h : atHome) CHECK(h);
+  return energy > 0.0 ? err / energy : err;
+}
+
+}  // namespace
+
+TEST_CASE("Non-uniform layout: head at the block size, offsets 2 N - 2 B", "[convolver]") {
+  NonUniformLayout layout(128, 144000, 8192);
+  REQUIRE(layout.numLevels() == 4);
+  const int sizes[] = {128, 512, 2048, 8192};
+  for (int l = 0; l < 4; ++l) {
+    const auto& lv = layout.level(l);
+    CHECK(lv.partitionSize == sizes[l]);
+    CHECK(lv.offset == (l == 0 ? 0u : size_t(2 * sizes[l] - 2 * 128)));
+    if (l < 3)
+      CHECK(lv.offset + size_t(lv.numPartitions * lv.partitionSize) == layout.level(l + 1).offset);
+  }
+  CHECK(layout.level(3).offset + size_t(layout.level(3).numPartitions) * 8192 >= 144000);
+  CHECK(layout.totalPartitions() == 6 + 6 + 6 + 16);
+
+  CHECK_THROWS_AS(NonUniformLayout(0, 100), std::invalid_argument);
+  CHECK_THROWS_AS(NonUniformLayout(8193, 100), std::invalid_argument);
+  CHECK_THROWS_AS(NonUniformLayout(64, 0), std::invalid_argument);
+  CHECK_THROWS_AS(NonUniformLayout(64, 100, 32), std::invalid_argument);
+  NonUniformIrSet set(layout, 1, 1);
+  std::vector<float> tooLong(144001, 0.0f);
+  const float* p = tooLong.data();
+  CHECK_THROWS_AS(set.prepare(0, &p, tooLong.size()), std::invalid_argument);
+  CHECK_THROWS_AS(set.prepare(1, &p, 10), std::invalid_argument);
+  NonUniformConvolver conv(layout, 2, 1);
+  CHECK_FALSE(conv.setNextIr(&set));  // one source, the convolver has two
+}
+
+TEST_CASE("Non-uniform convolution equals direct convolution, with IR swaps", "[convolver]") {
+  std::mt19937 rng(20261122);
+  double worstDb = -1e9, worstMarginDb = -1e9;
+  struct Case {
+    int block, maxPartition, sources, outputs;
+    size_t irLength;
+    bool swaps;
+  };
+  std::vector<Case> cases = {{1, 16, 1, 1, 301, false},     {3, 48, 2, 1, 777, true},
+                             {16, 256, 1, 2, 3001, false},  {16, 1024, 3, 2, 5003, true},
+                             {64, 4096, 2, 2, 6007, true},  {100, 1600, 1, 1, 4999, true},
+                             {128, 8192, 2, 2, 5555, true}, {37, 37, 1, 1, 1001, true}};
+  for (const Case& cs : cases) {
+    NonUniformLayout layout(cs.block, cs.irLength, cs.maxPartition);
+    // Three IRs of different lengths (the last shorter than the layout: unused partitions).
+    std::vector<std::vector<Signal>> irs;
+    for (size_t len : {cs.irLength, cs.irLength - cs.irLength / 3, size_t(1) + cs.irLength / 9}) {
+      std::vector<Signal> ir;
+      for (int i = 0; i < cs.sources * cs.outputs; ++i) ir.push_back(randomSignal(rng, len));
+      irs.push_back(std::move(ir));
+    }
+    const size_t numBlocks = (cs.irLength + 3 * size_t(cs.maxPartition)) / size_t(cs.block) + 40;
+    std::vector<Event> events = {{0, 0}};
+    if (cs.swaps) {
+      // Swaps at random blocks, sometimes in consecutive blocks, once to silence.
+      std::uniform_int_distribution<size_t> when(1, numBlocks - 1);
+      std::vector<size_t> at;
+      for (int i = 0; i < 6; ++i) at.push_back(when(rng));
+      at.push_back(at[0] + 1 < numBlocks ? at[0] + 1 : at[0]);
+      std::sort(at.begin(), at.end());
+      at.erase(std::unique(at.begin(), at.end()), at.end());
+      int last = 0;
+      for (size_t k : at) {
+        int next = int(rng() % 4) - 1;  // -1: silence
+        if (next == last) next = (next + 2) % 3;
+        events.push_back({k, next});
+        last = next;
+      }
+    }
+    const double rel = runAndCompare(layout, irs, cs.sources, cs.outputs, events, numBlocks, rng);
+    const double tol = tolerance(layout, cs.sources);
+    const double db = 10.0 * std::log10(std::max(rel, 1e-300));
+    worstDb = std::max(worstDb, db);
+    worstMarginDb = std::max(worstMarginDb, db - 10.0 * std::log10(tol));
+    INFO("B=" << cs.block << " maxPartition=" << cs.maxPartition << " levels " << layout.numLevels()
+              << " L=" << cs.irLength << " error " << db << " dB");
+    CHECK(rel < tol);
+  }
+  std::printf(
+      "non-uniform convolver vs direct: worst relative error energy %.1f dB, closest to "
+      "tolerance %.1f dB\n",
+      worstDb, worstMarginDb);
+}

@@ -237,24 +237,32 @@ int renderOne(const Flags& fl, const SceneDesc& scene, const PropagationSettings
   OfflineOptions opt;
   opt.durationSeconds = fl.hasDuration ? fl.duration : -1.0;
   if (!fl.quiet) opt.progress = progressBar;
+  // The render streams to a temporary file next to the output (memory independent of the
+  // duration), renamed into place only once complete. Level: --gain-db is applied as the blocks
+  // are written; by default the peak is normalised to -1 dBFS by a second streaming pass over
+  // the temporary file once the peak is known.
+  audio::WavStreamWriter writer(paths.audio, scene.audio.sampleRate,
+                                outputChannels(scene.audio.output),
+                                audio::SampleFormat::kFloat32);
+  const float fixedGain = fl.hasGain ? float(std::pow(10.0, fl.gainDb / 20.0)) : 1.f;
+  opt.sink = [&](const float* const* planar, size_t frames) {
+    writer.write(planar, frames, fixedGain);
+  };
   const OfflineResult r = renderOffline(scene, settings, dry, opt);
 
-  // Level: by default normalise the peak to -1 dBFS; --gain-db sets a fixed gain instead.
-  audio::AudioData out = r.output;
-  float peak = 0.f;
-  for (const auto& ch : out.channels)
-    for (float x : ch) peak = std::max(peak, std::abs(x));
+  const float peak = writer.peak();
   if (peak == 0.f)
     std::fprintf(stderr,
                  "warning: %s: the render is silent (empty energy response: is the listener "
                  "inside the mesh and each source inside the room?)\n",
                  fl.scene.c_str());
   double gainDb = fl.gainDb;
-  if (!fl.hasGain) gainDb = peak > 0.f ? -1.0 - 20.0 * std::log10(peak) : 0.0;
-  const float gain = float(std::pow(10.0, gainDb / 20.0));
-  for (auto& ch : out.channels)
-    for (float& x : ch) x *= gain;
-  audio::writeWav(paths.audio, out, audio::SampleFormat::kFloat32);
+  if (!fl.hasGain) {
+    gainDb = peak > 0.f ? -1.0 - 20.0 * std::log10(peak) : 0.0;
+    writer.rescale(float(std::pow(10.0, gainDb / 20.0)));
+  }
+  const size_t frames = writer.frames();
+  writer.commit();
   if (!paths.ir.empty()) {
     audio::AudioData ir;
     ir.sampleRate = scene.audio.sampleRate;
@@ -269,7 +277,7 @@ int renderOne(const Flags& fl, const SceneDesc& scene, const PropagationSettings
     writeEnergyCsv(paths.energy, er);
   }
 
-  const double audioSeconds = double(out.frames()) / scene.audio.sampleRate;
+  const double audioSeconds = double(frames) / scene.audio.sampleRate;
   const auto& t = r.totals;
   const char* format = scene.audio.output == OutputFormat::kBinaural ? "binaural"
                        : scene.audio.output == OutputFormat::kStereo ? "stereo"

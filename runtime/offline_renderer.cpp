@@ -27,7 +27,9 @@ OfflineResult renderOffline(const SceneDesc& scene, const PropagationSettings& s
 
   OfflineResult result;
   result.output.sampleRate = fs;
-  result.output.channels.assign(size_t(numOutputs), std::vector<float>(blocks * B));
+  const bool streaming = bool(options.sink);
+  // Streaming: one block per channel, handed to the sink; otherwise the whole render is kept.
+  result.output.channels.assign(size_t(numOutputs), std::vector<float>(streaming ? B : blocks * B));
   std::vector<float*> out(static_cast<size_t>(numOutputs));
   const double framePeriod = 1.0 / settings.frameRate;
   uint64_t nextFrame = 0;
@@ -46,15 +48,19 @@ OfflineResult renderOffline(const SceneDesc& scene, const PropagationSettings& s
     }
     if (newest) audioStage.offer(newest);
     for (int c = 0; c < numOutputs; ++c)
-      out[size_t(c)] = result.output.channels[size_t(c)].data() + blk * B;
+      out[size_t(c)] = result.output.channels[size_t(c)].data() + (streaming ? 0 : blk * B);
     audioStage.process(out.data());
+    if (streaming) options.sink(out.data(), std::min(B, totalFrames - blk * B));
     while (IrSet* spent = audioStage.takeSpent()) propagation.recycle(spent);
     if (options.progress && (blk + 1 == blocks || (blk - lastReport) * 100 >= blocks)) {
       options.progress(double((blk + 1) * B) / fs, double(blocks * B) / fs);
       lastReport = blk;
     }
   }
-  for (auto& ch : result.output.channels) ch.resize(totalFrames);
+  if (streaming)
+    result.output.channels.clear();
+  else
+    for (auto& ch : result.output.channels) ch.resize(totalFrames);
   result.lastIrs = propagation.lastIrs();
   result.totals = propagation.totals();
   for (size_t s = 0; s < propagation.simulation().sourceCount(); ++s) {

@@ -19,10 +19,18 @@ struct OfflineOptions {
   double durationSeconds = -1.0;
   /// Called about every 1 % of progress with (scene seconds rendered, total seconds).
   std::function<void(double, double)> progress;
+  /// If set, every rendered block goes here as it is made (planar[c][i], c < the output
+  /// channels, i < frames; the last block is cut to the duration) and OfflineResult::output
+  /// stays empty, so memory does not grow with the duration (dpc-demo streams it to the WAV
+  /// file). The pointers are valid during the call only. An exception thrown here ends the
+  /// render and propagates out of renderOffline.
+  std::function<void(const float* const* planar, size_t frames)> sink;
 };
 
 struct OfflineResult {
-  audio::AudioData output;  ///< 1 (mono) or 2 (stereo, binaural) channels at the scene's rate
+  /// 1 (mono) or 2 (stereo, binaural) channels at the scene's rate; no channels when
+  /// OfflineOptions::sink took the blocks.
+  audio::AudioData output;
   std::vector<std::vector<std::vector<float>>> lastIrs;  ///< [source][channel][sample]
   std::vector<EnergyResponse> lastEnergy;  ///< [source]: the last frame's energy response
   std::vector<DirectSound> lastDirect;     ///< [source]: the last frame's direct sound

@@ -180,9 +180,24 @@ def digest(folder):
     return out
 
 
+# A sanitized dpc-demo (scripts/asan.sh) reserves terabytes of shadow address space, so the
+# address-space limit would stop it at start-up: ASan's own resident-memory limit replaces it.
+SANITIZED = os.environ.get("DPC_BAD_INPUT_SANITIZED") == "1"
+
+
 def limits():
-    resource.setrlimit(resource.RLIMIT_AS, (MEMORY_LIMIT_BYTES, MEMORY_LIMIT_BYTES))
+    if not SANITIZED:
+        resource.setrlimit(resource.RLIMIT_AS, (MEMORY_LIMIT_BYTES, MEMORY_LIMIT_BYTES))
     resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
+
+
+def child_env():
+    env = dict(os.environ)
+    if SANITIZED:
+        # A sanitizer report exits 86/87 (never the 1 of a clean refusal).
+        env["ASAN_OPTIONS"] = f"hard_rss_limit_mb={MEMORY_LIMIT_BYTES >> 20}:exitcode=86:" + env.get("ASAN_OPTIONS", "")
+        env["UBSAN_OPTIONS"] = "halt_on_error=1:print_stacktrace=1:exitcode=87:" + env.get("UBSAN_OPTIONS", "")
+    return env
 
 
 def run_case(demo, scenes, name):
@@ -195,7 +210,7 @@ def run_case(demo, scenes, name):
         before = digest(d)
         try:
             p = subprocess.run([demo] + args, cwd=d, stdin=subprocess.DEVNULL, capture_output=True,
-                               timeout=TIME_LIMIT_S, preexec_fn=limits)
+                               timeout=TIME_LIMIT_S, preexec_fn=limits, env=child_env())
         except subprocess.TimeoutExpired:
             return f"hung: no exit within {TIME_LIMIT_S} s"
         err = p.stderr.decode("utf-8", "replace")

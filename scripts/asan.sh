@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# AddressSanitizer + UndefinedBehaviorSanitizer run: configures build-asan with -DDPC_ASAN=ON,
+# builds the test binaries and dpc-demo, and runs ctest there except the device tests
+# (jack|live) and the heap-counting tests/rt binaries (not built: ASan replaces malloc). The
+# bad-input suite runs against the sanitized dpc-demo. UBSan errors abort (no recovery);
+# leak checking is on (LeakSanitizer).
+#
+#   scripts/asan.sh                 # exit status: ctest's
+#   ASAN_TESTS='wav_io|bad_input' scripts/asan.sh    # only tests matching a regex
+#
+# Cost: see docs/hardening.md ("Sanitizers and fuzzing").
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+build=${BUILD_DIR:-build-asan}
+launcher=()
+command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+start=$(date +%s)
+cmake -S . -B "$build" -G Ninja -DDPC_ASAN=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo "${launcher[@]}" >/dev/null
+cmake --build "$build" -j"${JOBS:-$(nproc 2>/dev/null || echo 2)}"
+built=$(date +%s)
+
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:exitcode=86:${ASAN_OPTIONS:-}"
+export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:exitcode=87:${UBSAN_OPTIONS:-}"
+# LeakSanitizer: only the system libraries' own one-time allocations (see the file).
+export LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:${LSAN_OPTIONS:-}"
+set +e
+(cd "$build" && ctest --output-on-failure -j"${JOBS:-$(nproc 2>/dev/null || echo 2)}" --timeout 900 \
+   -E 'jack|live' ${ASAN_TESTS:+-R "$ASAN_TESTS"})
+status=$?
+set -e
+end=$(date +%s)
+echo "asan.sh: build $((built - start)) s, tests $((end - built)) s, status $status"
+exit "$status"

@@ -66,6 +66,19 @@ def sparse(name, size):
     return apply
 
 
+def float_wav(name, rate, samples):
+    """Writes a mono IEEE-float WAV (format 3) holding `samples`, and points source 0 at it."""
+    import struct
+    def apply(d):
+        data = struct.pack(f"<{len(samples)}f", *samples)
+        fmt = struct.pack("<HHIIHH", 3, 1, rate, rate * 4, 4, 32)
+        body = b"WAVE" + b"fmt " + struct.pack("<I", len(fmt)) + fmt + b"data" + struct.pack("<I", len(data)) + data
+        with open(os.path.join(d, name), "wb") as f:
+            f.write(b"RIFF" + struct.pack("<I", len(body)) + body)
+        scene_with(**{"sources.0.signal": name})(d)
+    return apply
+
+
 OFF = ["shoebox.json", "--offline", "out.wav", "--duration", "0.2", "--rays", "64"]
 
 # name: (setup, extra args or full args, expected substring of the error line)
@@ -113,6 +126,10 @@ CASES = {
     "signal_directory": (scene_with(**{"sources.0.signal": "signals"}), OFF, "signals"),
     "signal_huge_sparse": (lambda d: (sparse("s.wav", 1 << 35)(d), scene_with(**{"sources.0.signal": "s.wav"})(d)), OFF, "s.wav"),
     "signal_not_wav": (lambda d: (write("s.wav", "not audio")(d), scene_with(**{"sources.0.signal": "s.wav"})(d)), OFF, "s.wav"),
+    "signal_nan": (float_wav("n.wav", 48000, [0.1] * 100 + [float("nan")] + [0.1] * 100), OFF, "n.wav: sample 100 of channel 0 is not finite"),
+    "signal_inf": (float_wav("n.wav", 48000, [0.1] * 10 + [float("inf")]), OFF, "sources[0].signal: n.wav"),
+    "signal_100hz": (float_wav("lo.wav", 100, [0.1] * 100), OFF, "sample rate 100 Hz is outside"),
+    "signal_2mhz": (float_wav("hi.wav", 2000000, [0.1] * 1000), OFF, "sample rate 2000000 Hz"),
     "hrtf_dev_zero": (nothing, OFF + ["--hrtf", "/dev/zero"], "--hrtf"),
     "hrtf_missing": (nothing, OFF + ["--hrtf", "none.sofa"], "--hrtf"),
     # Finding 7: integers out of range.

@@ -1,6 +1,7 @@
 // dpc-demo: render a scene through the diffuse path cache, offline to a WAV file (live
 // playback builds on the same pipeline).
 #include <poll.h>
+#include <sys/resource.h>
 #include <termios.h>
 #include <unistd.h>
 
@@ -22,6 +23,8 @@
 #include "engine/input_error.h"
 #include "engine/input_file.h"
 #include "engine/scene.h"
+#include "engine/setup_check.h"
+#include "engine/workload.h"
 #include "runtime/live_session.h"
 #include "runtime/offline_renderer.h"
 
@@ -209,6 +212,34 @@ void checkOutputs(const SceneDesc& scene, const Flags& fl) {
 int renderOne(const Flags& fl, const SceneDesc& scene, const PropagationSettings& settings,
               const DrySignals& dry, const OutputPaths& paths);
 
+/// Memory a render may plan to use for its impulse responses: half of the smaller of the
+/// machine's physical memory and the process's address-space and data limits (the other half
+/// is for tracing, the cache, signals and the libraries).
+double memoryLimitBytes() {
+  double limit = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE));
+  for (const int which : {RLIMIT_AS, RLIMIT_DATA}) {
+    rlimit rl{};
+    if (getrlimit(which, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY)
+      limit = std::min(limit, double(rl.rlim_cur));
+  }
+  return 0.5 * limit;
+}
+
+/// Refuses a render that cannot finish or fit (engine/workload.h) and prints one-line warnings
+/// for heavy work and for setups that cannot be meant (engine/setup_check.h). Before any work.
+/// durationSeconds <= 0: not known yet (before the dry signals are loaded; live), only the
+/// per-frame and memory checks apply and nothing is printed; call again once it is known.
+void checkSetup(const SceneDesc& scene, const PropagationSettings& settings,
+                double durationSeconds, bool warn) {
+  const WorkloadEstimate e =
+      estimateWorkload(scene, settings, outputChannels(scene.audio.output), durationSeconds);
+  const std::vector<std::string> heavy = checkWorkload(scene, settings, e, memoryLimitBytes());
+  if (!warn) return;
+  for (const std::string& w : heavy) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  for (const std::string& w : setupWarnings(scene))
+    std::fprintf(stderr, "warning: %s\n", w.c_str());
+}
+
 int runOffline(const Flags& fl) {
   SceneDesc scene = loadScene(fl.scene);
   applyAudioOverrides(scene, fl);
@@ -220,8 +251,13 @@ int runOffline(const Flags& fl) {
   if (fl.hasGain && !(fl.gainDb >= -120.0 && fl.gainDb <= 60.0))
     throw InputError("command line", "--gain-db", "must be a number in [-120, 60] dB");
   checkOutputs(scene, fl);
+  // Work and memory first (loading many or long signals takes time), then with the length.
+  checkSetup(scene, settings, fl.hasDuration ? fl.duration : 0.0, false);
   const DrySignals dry = loadDrySignals(scene);
   for (const std::string& n : dry.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
+  OfflineOptions lengthOnly;
+  lengthOnly.durationSeconds = fl.hasDuration ? fl.duration : -1.0;
+  checkSetup(scene, settings, offlineDurationSeconds(scene, settings, dry, lengthOnly), true);
   const std::vector<OutputPaths> paths = offlineOutputs(scene, fl);
   if (paths.size() == 1) return renderOne(fl, scene, settings, dry, paths.front());
   for (size_t l = 0; l < paths.size(); ++l) {
@@ -382,6 +418,7 @@ int runLive(Flags& fl) {
     throw InputError("command line", "--duration",
                      "must be in (0, " + std::to_string(int(kMaxDurationSeconds)) + "] seconds");
   checkOutputs(scene, fl);
+  checkSetup(scene, settings, 0.0, true);
   const DrySignals dry = loadDrySignals(scene);
   for (const std::string& n : dry.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
 
@@ -511,12 +548,14 @@ int runLive(Flags& fl) {
       std::fprintf(stderr,
                    "%sframe %5.1f ms | %6.0fk rays/s | cache %7zu %5.1f/%.0f MB merged %llu "
                    "(%4.1f%%) | IR age %5.1f ms | "
-                   "latency %5.1f/%5.1f ms | load %4.1f%% | xruns %llu | t %.1f s%s",
+                   "latency %5.1f/%5.1f ms | load %4.1f%% | xruns %llu | limiter %llu (-%.1f dB) | "
+                   "t %.1f s%s",
                    tty ? "\r" : "", st.frameMs, st.raysPerSecond / 1e3, st.cacheEntries,
                    st.cacheBytes / 1e6, st.cacheBudgetBytes / 1e6,
                    (unsigned long long)st.cacheMergedEntries, 100.0 * st.cacheMergedEnergyFraction,
                    st.irAgeMs, st.latencyMedianMs, st.latencyP95Ms,
-                   output->loadPercent(cb.quantileNs(0.5)), (unsigned long long)cb.xruns, sceneTime,
+                   output->loadPercent(cb.quantileNs(0.5)), (unsigned long long)cb.xruns,
+                   (unsigned long long)st.limitedFrames, st.limiterMaxReductionDb, sceneTime,
                    tty ? "   " : "\n");
     }
   }
@@ -539,14 +578,17 @@ int runLive(Flags& fl) {
       "xruns=%llu nan_blocks=%llu late_callbacks=%llu rejected_callbacks=%llu "
       "latency_median_ms=%.1f "
       "latency_p95_ms=%.1f callback_load_median_pct=%.1f callback_load_max_pct=%.1f "
-      "render_swap_p999_pct=%.1f render_noswap_p999_pct=%.1f\n",
+      "render_swap_p999_pct=%.1f render_noswap_p999_pct=%.1f limited_frames=%llu "
+      "over_ceiling_frames=%llu limiter_max_reduction_db=%.2f\n",
       (unsigned long long)st.frames, (unsigned long long)st.irsApplied,
       (unsigned long long)st.irsDropped, (unsigned long long)st.blocks,
       (unsigned long long)cb.callbacks, (unsigned long long)cb.xruns,
       (unsigned long long)st.nanBlocks, (unsigned long long)st.lateCallbacks,
       (unsigned long long)st.rejectedCallbacks, st.latencyMedianMs, st.latencyP95Ms,
       output->loadPercent(cb.quantileNs(0.5)), output->loadPercent(cb.maxNs),
-      output->loadPercent(swap.quantileNs(0.999)), output->loadPercent(noSwap.quantileNs(0.999)));
+      output->loadPercent(swap.quantileNs(0.999)), output->loadPercent(noSwap.quantileNs(0.999)),
+      (unsigned long long)st.limitedFrames, (unsigned long long)st.overCeilingFrames,
+      st.limiterMaxReductionDb);
   return 0;
 }
 }  // namespace

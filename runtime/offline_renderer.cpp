@@ -6,6 +6,18 @@
 
 namespace dpc {
 
+double offlineDurationSeconds(const SceneDesc& scene, const PropagationSettings& settings,
+                              const DrySignals& dry, const OfflineOptions& options) {
+  if (options.durationSeconds >= 0.0) return options.durationSeconds;
+  double content = double(dry.longestFrames()) / scene.audio.sampleRate;
+  if (!scene.listener.loop && !scene.listener.trajectory.empty())
+    content = std::max(content, scene.listener.trajectory.back().timeSeconds);
+  for (const SourceDesc& s : scene.sources)
+    if (!s.trajectoryLoop && !s.trajectory.empty())
+      content = std::max(content, s.trajectory.back().timeSeconds);
+  return content + settings.irLength;
+}
+
 OfflineResult renderOffline(const SceneDesc& scene, const PropagationSettings& settings,
                             const DrySignals& dry, const OfflineOptions& options) {
   const auto wall0 = std::chrono::steady_clock::now();
@@ -14,14 +26,7 @@ OfflineResult renderOffline(const SceneDesc& scene, const PropagationSettings& s
   const int numOutputs = propagation.numOutputs();
   AudioStage audioStage(propagation.layout(), dry, numOutputs);
   const size_t B = size_t(scene.audio.blockSize);
-  double content = double(dry.longestFrames()) / fs;
-  if (!scene.listener.loop && !scene.listener.trajectory.empty())
-    content = std::max(content, scene.listener.trajectory.back().timeSeconds);
-  for (const SourceDesc& s : scene.sources)
-    if (!s.trajectoryLoop && !s.trajectory.empty())
-      content = std::max(content, s.trajectory.back().timeSeconds);
-  const double duration =
-      options.durationSeconds >= 0.0 ? options.durationSeconds : content + settings.irLength;
+  const double duration = offlineDurationSeconds(scene, settings, dry, options);
   const size_t totalFrames = size_t(std::ceil(duration * fs));
   const size_t blocks = (totalFrames + B - 1) / B;
 

@@ -45,6 +45,11 @@ struct OfflineResult {
   double wallSeconds = 0.0;
 };
 
+/// The render's length in seconds: options.durationSeconds when >= 0, otherwise the default
+/// described at OfflineOptions::durationSeconds. Control thread; no allocation.
+double offlineDurationSeconds(const SceneDesc& scene, const PropagationSettings& settings,
+                              const DrySignals& dry, const OfflineOptions& options);
+
 OfflineResult renderOffline(const SceneDesc& scene, const PropagationSettings& settings,
                             const DrySignals& dry, const OfflineOptions& options);
 

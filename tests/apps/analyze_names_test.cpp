@@ -26,8 +26,8 @@ TEST_CASE("dpc-analyze --json survives a non-UTF-8 file name", "[analyze]") {
   const std::string name = (dir / "ir-\xff\xfe-latin1-\xe9.wav").string();
   dpc::audio::writeWav(name, ir);
   const std::string out = (dir / "out.json").string();
-  const std::string cmd = std::string(DPC_BINARY_DIR) + "/apps/dpc-analyze '" + name +
-                          "' --json > " + out + " 2>&1";
+  const std::string cmd =
+      std::string(DPC_BINARY_DIR) + "/apps/dpc-analyze '" + name + "' --json > " + out + " 2>&1";
   REQUIRE(std::system(cmd.c_str()) == 0);
   std::ifstream f(out);
   std::stringstream text;

@@ -181,6 +181,21 @@ CASES = {
     "mesh_empty": (write("shoebox.obj", ""), OFF, "shoebox.obj"),
     "sources_empty": (scene_with(sources=[]), OFF, "sources"),
     "estimator_scene_bad": (scene_with(**{"propagation.estimator": "x"}), OFF, "estimator"),
+    # Finding 4 and 5: work and memory refused before any work, naming the setting to lower.
+    "rays_1e8_order_10000": (scene_with(**{"propagation.rays_per_frame": 100000000, "propagation.max_order": 10000}), OFF[:-2], "rays_per_frame"),
+    "ir_60s_192k_binaural": (scene_with(**{"propagation.ir_length": 60, "audio.sample_rate": 192000, "audio.output": "binaural"}), OFF, "ir_length"),
+    "sources_1000": (lambda d: scene_with(sources=[{"name": f"s{i}", "position": [2, 1.6, 3.5], "signal": "signals/speech.wav"} for i in range(1000)])(d), OFF, "source count"),
+}
+
+# Setups that load but cannot be meant: the render runs (exit 0, the output is written), and a
+# one-line "warning:" on stderr names the scene and what is wrong.
+OUT_ONLY = ["out.wav"]
+WARN_CASES = {
+    "listener_outside_room": (scene_with(listener={"position": [20, 1.6, 3.5], "radius": 0.5}), OFF, "listener 'listener' at (20, 1.6, 3.5)"),
+    "source_outside_room": (scene_with(**{"sources.0.position": [2, 10, 3.5]}), OFF, "source 'talker' at (2, 10, 3.5)"),
+    "radius_larger_than_room": (scene_with(listener={"position": [5, 1.5, 3.5], "radius": 30}), OFF, "larger than the room"),
+    "radius_through_wall": (scene_with(listener={"position": [5, 1.5, 3.5], "radius": 2}), OFF, "reaches through a surface"),
+    "render_silent": (scene_with(listener={"position": [20, 1.6, 3.5], "radius": 0.5}), OFF, "the render is silent"),
 }
 
 
@@ -218,7 +233,8 @@ def child_env():
 
 
 def run_case(demo, scenes, name):
-    setup, args, expect = CASES[name]
+    warn = name in WARN_CASES
+    setup, args, expect = WARN_CASES[name] if warn else CASES[name]
     with tempfile.TemporaryDirectory(prefix="dpc_bad_") as d:
         shutil.copy(os.path.join(scenes, "shoebox.json"), d)
         shutil.copy(os.path.join(scenes, "shoebox.obj"), d)
@@ -233,6 +249,20 @@ def run_case(demo, scenes, name):
         err = p.stderr.decode("utf-8", "replace")
         errors = [l for l in err.splitlines() if l.startswith("dpc-demo:")]
         problems = []
+        if warn:
+            warnings = [l for l in err.splitlines() if l.startswith("warning:") and expect in l]
+            if p.returncode != 0:
+                problems.append(f"exit status {p.returncode}, expected 0")
+            if len(warnings) != 1:
+                problems.append(f"{len(warnings)} warning lines with {expect!r}, expected 1")
+            if errors:
+                problems.append("an error line")
+            created = sorted(set(digest(d)) - set(before))
+            if [os.path.relpath(c, d) for c in created] != OUT_ONLY:
+                problems.append(f"files created: {[os.path.relpath(c, d) for c in created]}, expected {OUT_ONLY}")
+            if problems:
+                return "; ".join(problems) + f"\n  stderr: {err.strip()[-600:]}"
+            return None
         if p.returncode < 0:
             problems.append(f"killed by signal {signal.Signals(-p.returncode).name}")
         elif p.returncode != 1:
@@ -255,11 +285,11 @@ def run_case(demo, scenes, name):
 def main():
     names = sys.argv[3:]
     if names == ["--list"]:
-        print(";".join(CASES))
+        print(";".join(list(CASES) + list(WARN_CASES)))
         return 0
     demo, scenes = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
     failed = 0
-    for name in names or CASES:
+    for name in names or list(CASES) + list(WARN_CASES):
         why = run_case(demo, scenes, name)
         print(f"{'FAIL' if why else 'ok  '} {name}" + (f": {why}" if why else ""))
         failed += why is not None

@@ -22,7 +22,7 @@ cmake -S . -B "$build" -G Ninja -DDPC_ASAN=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo 
 # pipelines, the C API's session, and the apps (bad-input suite). ASAN_TARGETS=all: everything.
 targets=(${ASAN_TARGETS:-dpc-demo dpc-analyze scene_test wav_io_test resample_test convolver_test
   propagation_test path_cache_test ir_synthesis_test dpc_demo_test energy_csv_test
-  analyze_names_test pipeline_tsan_test queue_tsan_test})
+  analyze_names_test workload_test limiter_test pipeline_tsan_test queue_tsan_test})
 if [[ "${targets[*]}" == all ]]; then targets=(all); fi
 cmake --build "$build" -j"${JOBS:-$(nproc 2>/dev/null || echo 2)}" --target "${targets[@]}"
 built=$(date +%s)

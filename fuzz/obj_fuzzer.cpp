@@ -15,7 +15,7 @@ const char kScene[] = R"({
     "floor": {"absorption": [0.2,0.2,0.2,0.2,0.2,0.2,0.2,0.2], "scattering": 0.2},
     "ceiling": {"absorption": [0.3,0.3,0.3,0.3,0.3,0.3,0.3,0.3], "scattering": 0.1}
   },
-  "sources": [{"name": "s", "position": [2, 1.6, 3.5], "signal": "none.wav"}],
+  "sources": [{"name": "s", "position": [2, 1.6, 3.5], "signal": "signals/speech.wav"}],
   "listener": {"position": [8.5, 1.6, 1.5], "radius": 0.5}
 })";
 }  // namespace

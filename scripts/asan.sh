@@ -18,11 +18,12 @@ launcher=()
 command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
 start=$(date +%s)
 cmake -S . -B "$build" -G Ninja -DDPC_ASAN=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo "${launcher[@]}" >/dev/null
-# The default set: loaders and writers, the engine's tracing and cache, the offline and live
-# pipelines, the C API's session, and the apps (bad-input suite). ASAN_TARGETS=all: everything.
-targets=(${ASAN_TARGETS:-dpc-demo dpc-analyze scene_test wav_io_test resample_test convolver_test
-  propagation_test path_cache_test ir_synthesis_test dpc_demo_test energy_csv_test
-  analyze_names_test workload_test limiter_test pipeline_tsan_test queue_tsan_test})
+# The default set (kept small for CI time): loaders and writers, the engine's tracing and
+# cache, the offline pipeline, the work estimate, the limiter, and the apps (the whole
+# bad-input suite). The threaded hand-over runs under TSan (scripts/tsan.sh).
+# ASAN_TARGETS=all: every test binary.
+targets=(${ASAN_TARGETS:-dpc-demo dpc-analyze scene_test wav_io_test propagation_test
+  path_cache_test dpc_demo_test analyze_names_test workload_test limiter_test})
 if [[ "${targets[*]}" == all ]]; then targets=(all); fi
 cmake --build "$build" -j"${JOBS:-$(nproc 2>/dev/null || echo 2)}" --target "${targets[@]}"
 built=$(date +%s)

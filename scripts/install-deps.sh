@@ -11,6 +11,7 @@ packages=(
   nlohmann-json3-dev libtinyobjloader-dev libcli11-dev catch2
   python3 python3-numpy python3-matplotlib espeak-ng sox
   clang libclang-rt-dev
+  lv2-dev lilv-utils sordi
 )
 
 missing=()

@@ -224,8 +224,8 @@ double memoryLimitBytes() {
 /// for heavy work and for setups that cannot be meant (engine/setup_check.h). Before any work.
 /// durationSeconds <= 0: not known yet (before the dry signals are loaded; live), only the
 /// per-frame and memory checks apply and nothing is printed; call again once it is known.
-void checkSetup(const SceneDesc& scene, const PropagationSettings& settings,
-                double durationSeconds, bool warn) {
+void checkSetup(const SceneDesc& scene, const PropagationSettings& settings, double durationSeconds,
+                bool warn) {
   const WorkloadEstimate e =
       estimateWorkload(scene, settings, outputChannels(scene.audio.output), durationSeconds);
   const std::vector<std::string> heavy = checkWorkload(scene, settings, e, memoryLimitBytes());
@@ -274,8 +274,7 @@ int renderOne(const Flags& fl, const SceneDesc& scene, const PropagationSettings
   // are written; by default the peak is normalised to -1 dBFS by a second streaming pass over
   // the temporary file once the peak is known.
   audio::WavStreamWriter writer(paths.audio, scene.audio.sampleRate,
-                                outputChannels(scene.audio.output),
-                                audio::SampleFormat::kFloat32);
+                                outputChannels(scene.audio.output), audio::SampleFormat::kFloat32);
   const float fixedGain = fl.hasGain ? float(std::pow(10.0, fl.gainDb / 20.0)) : 1.f;
   opt.sink = [&](const float* const* planar, size_t frames) {
     writer.write(planar, frames, fixedGain);

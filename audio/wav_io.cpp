@@ -1,7 +1,6 @@
 #include "audio/wav_io.h"
 
 #include <sndfile.h>
-#include <stdexcept>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -12,6 +11,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <stdexcept>
 
 #include "engine/input_error.h"
 #include "engine/input_file.h"
@@ -110,15 +110,17 @@ void writeWav(const std::string& path, const AudioData& audio, SampleFormat form
 
 namespace {
 constexpr size_t kChunkFrames = 8192;
-SNDFILE* sf(void* h) { return static_cast<SNDFILE*>(h); }
+SNDFILE* sf(void* h) {
+  return static_cast<SNDFILE*>(h);
+}
 }  // namespace
 
 WavStreamWriter::WavStreamWriter(const std::string& path, int sampleRate, int channels,
                                  SampleFormat format)
     : path_(path), channels_(channels), format_(format) {
   if (sampleRate <= 0)
-    throw InputError(path, "",
-                     "cannot write: sample rate " + std::to_string(sampleRate) + " is not positive");
+    throw InputError(
+        path, "", "cannot write: sample rate " + std::to_string(sampleRate) + " is not positive");
   if (channels < 1) throw InputError(path, "", "cannot write: no channels");
   const std::string folder = folderOf(path);
   std::error_code ec;

@@ -123,6 +123,12 @@ ImpulseResponseAnalysis analyzeSource(const dpc::SourceEnergy& s) {
   return a;
 }
 
+/// JSON text of `j`; bytes of a file name that are not UTF-8 become U+FFFD instead of making
+/// the JSON library throw (file names on Linux are bytes, not text).
+std::string dumpJson(const nlohmann::ordered_json& j) {
+  return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+}
+
 nlohmann::ordered_json toJson(double v) {
   if (std::isnan(v)) return nullptr;
   if (std::isinf(v)) return v > 0 ? "+inf" : "-inf";
@@ -200,7 +206,7 @@ int main(int argc, char** argv) {
           printTable(title, a);
         }
       }
-      if (json) std::cout << out.dump(2) << "\n";
+      if (json) std::cout << dumpJson(out) << "\n";
       return 0;
     }
     const AudioData audio = dpc::audio::readWav(file);
@@ -234,7 +240,7 @@ int main(int argc, char** argv) {
         printTable(title, a);
       }
     }
-    if (json) std::cout << out.dump(2) << "\n";
+    if (json) std::cout << dumpJson(out) << "\n";
   } catch (const dpc::InputError& e) {
     std::cerr << e.what() << "\n";
     return 1;

@@ -1,6 +1,7 @@
 // dpc-demo: render a scene through the diffuse path cache, offline to a WAV file (live
 // playback builds on the same pipeline).
 #include <poll.h>
+#include <sys/resource.h>
 #include <termios.h>
 #include <unistd.h>
 
@@ -22,6 +23,8 @@
 #include "engine/input_error.h"
 #include "engine/input_file.h"
 #include "engine/scene.h"
+#include "engine/setup_check.h"
+#include "engine/workload.h"
 #include "runtime/live_session.h"
 #include "runtime/offline_renderer.h"
 
@@ -202,8 +205,36 @@ void checkOutputs(const SceneDesc& scene, const Flags& fl) {
 }
 
 void writeListener(const Flags& fl, const SceneDesc& scene, const OfflineListenerResult& r,
-                   const OutputPaths& paths);
+                   audio::WavStreamWriter& writer, const OutputPaths& paths);
 void printTotals(const OfflineResult& r, double audioSeconds);
+
+/// Memory a render may plan to use for its impulse responses: half of the smaller of the
+/// machine's physical memory and the process's address-space and data limits (the other half
+/// is for tracing, the cache, signals and the libraries).
+double memoryLimitBytes() {
+  double limit = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE));
+  for (const int which : {RLIMIT_AS, RLIMIT_DATA}) {
+    rlimit rl{};
+    if (getrlimit(which, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY)
+      limit = std::min(limit, double(rl.rlim_cur));
+  }
+  return 0.5 * limit;
+}
+
+/// Refuses a render that cannot finish or fit (engine/workload.h) and prints one-line warnings
+/// for heavy work and for setups that cannot be meant (engine/setup_check.h). Before any work.
+/// durationSeconds <= 0: not known yet (before the dry signals are loaded; live), only the
+/// per-frame and memory checks apply and nothing is printed; call again once it is known.
+void checkSetup(const SceneDesc& scene, const PropagationSettings& settings, double durationSeconds,
+                bool warn) {
+  const WorkloadEstimate e =
+      estimateWorkload(scene, settings, outputChannels(scene.audio.output), durationSeconds);
+  const std::vector<std::string> heavy = checkWorkload(scene, settings, e, memoryLimitBytes());
+  if (!warn) return;
+  for (const std::string& w : heavy) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  for (const std::string& w : setupWarnings(scene))
+    std::fprintf(stderr, "warning: %s\n", w.c_str());
+}
 
 int runOffline(const Flags& fl) {
   SceneDesc scene = loadScene(fl.scene);
@@ -217,41 +248,57 @@ int runOffline(const Flags& fl) {
     throw InputError("command line", "--gain-db", "must be a number in [-120, 60] dB");
   checkOutputs(scene, fl);
   requireSignal(scene);
+  // Work and memory first (loading many or long signals takes time), then with the length.
+  checkSetup(scene, settings, fl.hasDuration ? fl.duration : 0.0, false);
   const DrySignals dry = loadDrySignals(scene);
   for (const std::string& n : dry.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
+  OfflineOptions lengthOnly;
+  lengthOnly.durationSeconds = fl.hasDuration ? fl.duration : -1.0;
+  checkSetup(scene, settings, offlineDurationSeconds(scene, settings, dry, lengthOnly), true);
   const std::vector<OutputPaths> paths = offlineOutputs(scene, fl);
   // Several listeners: one propagation run traces them all (one pass per source and frame).
   OfflineOptions opt;
   opt.durationSeconds = fl.hasDuration ? fl.duration : -1.0;
   opt.allListeners = paths.size() > 1;
   if (!fl.quiet) opt.progress = progressBar;
+  // Each listener streams to a temporary file next to its output (memory independent of the
+  // duration), renamed into place only once complete; a failed render leaves no file.
+  // --gain-db is applied as the blocks are written.
+  std::vector<std::unique_ptr<audio::WavStreamWriter>> writers;
+  for (const OutputPaths& p : paths)
+    writers.push_back(std::make_unique<audio::WavStreamWriter>(
+        p.audio, scene.audio.sampleRate, outputChannels(scene.audio.output),
+        audio::SampleFormat::kFloat32));
+  const float fixedGain = fl.hasGain ? float(std::pow(10.0, fl.gainDb / 20.0)) : 1.f;
+  opt.sink = [&](size_t l, const float* const* planar, size_t frames) {
+    writers.at(l)->write(planar, frames, fixedGain);
+  };
   const OfflineResult r = renderOffline(scene, settings, dry, opt);
+  const double audioSeconds = double(writers.front()->frames()) / scene.audio.sampleRate;
   for (size_t l = 0; l < r.listeners.size() && l < paths.size(); ++l)
-    writeListener(fl, scene, r.listeners[l], paths[l]);
-  printTotals(r, double(r.listeners.front().output.frames()) / scene.audio.sampleRate);
+    writeListener(fl, scene, r.listeners[l], *writers[l], paths[l]);
+  printTotals(r, audioSeconds);
   return 0;
 }
 
-/// Writes one listener's render (level: peak normalised to -1 dBFS, or --gain-db) and its
-/// --ir-out / --er-out files.
+/// Finishes one listener's render streamed into `writer` (level: peak normalised to -1 dBFS
+/// by a second streaming pass, or --gain-db already applied), renames it into place and writes
+/// its --ir-out / --er-out files.
 void writeListener(const Flags& fl, const SceneDesc& scene, const OfflineListenerResult& r,
-                   const OutputPaths& paths) {
-  // Level: by default normalise the peak to -1 dBFS; --gain-db sets a fixed gain instead.
-  audio::AudioData out = r.output;
-  float peak = 0.f;
-  for (const auto& ch : out.channels)
-    for (float x : ch) peak = std::max(peak, std::abs(x));
+                   audio::WavStreamWriter& writer, const OutputPaths& paths) {
+  const float peak = writer.peak();
   if (peak == 0.f)
     std::fprintf(stderr,
                  "warning: %s: the render of listener \"%s\" is silent (empty energy response: "
                  "is the listener inside the mesh and each source inside the room?)\n",
                  fl.scene.c_str(), r.name.c_str());
   double gainDb = fl.gainDb;
-  if (!fl.hasGain) gainDb = peak > 0.f ? -1.0 - 20.0 * std::log10(peak) : 0.0;
-  const float gain = float(std::pow(10.0, gainDb / 20.0));
-  for (auto& ch : out.channels)
-    for (float& x : ch) x *= gain;
-  audio::writeWav(paths.audio, out, audio::SampleFormat::kFloat32);
+  if (!fl.hasGain) {
+    gainDb = peak > 0.f ? -1.0 - 20.0 * std::log10(peak) : 0.0;
+    writer.rescale(float(std::pow(10.0, gainDb / 20.0)));
+  }
+  const size_t frames = writer.frames();
+  writer.commit();
   if (!paths.ir.empty()) {
     audio::AudioData ir;
     ir.sampleRate = scene.audio.sampleRate;
@@ -265,7 +312,7 @@ void writeListener(const Flags& fl, const SceneDesc& scene, const OfflineListene
       er.push_back({r.lastEnergy[s], r.lastDirect[s]});
     writeEnergyCsv(paths.energy, er);
   }
-  const double audioSeconds = double(out.frames()) / scene.audio.sampleRate;
+  const double audioSeconds = double(frames) / scene.audio.sampleRate;
   const char* format = scene.audio.output == OutputFormat::kBinaural ? "binaural"
                        : scene.audio.output == OutputFormat::kStereo ? "stereo"
                                                                      : "mono";
@@ -374,6 +421,7 @@ int runLive(Flags& fl) {
                      "must be in (0, " + std::to_string(int(kMaxDurationSeconds)) + "] seconds");
   checkOutputs(scene, fl);
   requireSignal(scene);
+  checkSetup(scene, settings, 0.0, true);
   const DrySignals dry = loadDrySignals(scene);
   for (const std::string& n : dry.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
 
@@ -509,12 +557,14 @@ int runLive(Flags& fl) {
       std::fprintf(stderr,
                    "%sframe %5.1f ms | %6.0fk rays/s | cache %7zu %5.1f/%.0f MB merged %llu "
                    "(%4.1f%%) | IR age %5.1f ms | "
-                   "latency %5.1f/%5.1f ms | load %4.1f%% | xruns %llu | t %.1f s%s",
+                   "latency %5.1f/%5.1f ms | load %4.1f%% | xruns %llu | limiter %llu (-%.1f dB) | "
+                   "t %.1f s%s",
                    tty ? "\r" : "", st.frameMs, st.raysPerSecond / 1e3, st.cacheEntries,
                    st.cacheBytes / 1e6, st.cacheBudgetBytes / 1e6,
                    (unsigned long long)st.cacheMergedEntries, 100.0 * st.cacheMergedEnergyFraction,
                    st.irAgeMs, st.latencyMedianMs, st.latencyP95Ms,
-                   output->loadPercent(cb.quantileNs(0.5)), (unsigned long long)cb.xruns, sceneTime,
+                   output->loadPercent(cb.quantileNs(0.5)), (unsigned long long)cb.xruns,
+                   (unsigned long long)st.limitedFrames, st.limiterMaxReductionDb, sceneTime,
                    tty ? "   " : "\n");
     }
   }
@@ -537,14 +587,17 @@ int runLive(Flags& fl) {
       "xruns=%llu nan_blocks=%llu late_callbacks=%llu rejected_callbacks=%llu "
       "latency_median_ms=%.1f "
       "latency_p95_ms=%.1f callback_load_median_pct=%.1f callback_load_max_pct=%.1f "
-      "render_swap_p999_pct=%.1f render_noswap_p999_pct=%.1f\n",
+      "render_swap_p999_pct=%.1f render_noswap_p999_pct=%.1f limited_frames=%llu "
+      "over_ceiling_frames=%llu limiter_max_reduction_db=%.2f\n",
       (unsigned long long)st.frames, (unsigned long long)st.irsApplied,
       (unsigned long long)st.irsDropped, (unsigned long long)st.blocks,
       (unsigned long long)cb.callbacks, (unsigned long long)cb.xruns,
       (unsigned long long)st.nanBlocks, (unsigned long long)st.lateCallbacks,
       (unsigned long long)st.rejectedCallbacks, st.latencyMedianMs, st.latencyP95Ms,
       output->loadPercent(cb.quantileNs(0.5)), output->loadPercent(cb.maxNs),
-      output->loadPercent(swap.quantileNs(0.999)), output->loadPercent(noSwap.quantileNs(0.999)));
+      output->loadPercent(swap.quantileNs(0.999)), output->loadPercent(noSwap.quantileNs(0.999)),
+      (unsigned long long)st.limitedFrames, (unsigned long long)st.overCeilingFrames,
+      st.limiterMaxReductionDb);
   return 0;
 }
 }  // namespace

@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <stdexcept>
 
 #include "engine/input_error.h"
 #include "engine/input_file.h"
@@ -100,63 +101,136 @@ AudioData readWav(const std::string& path) {
 
 void writeWav(const std::string& path, const AudioData& audio, SampleFormat format) {
   validate(path, audio);
+  WavStreamWriter writer(path, audio.sampleRate, int(audio.channels.size()), format);
+  std::vector<const float*> planar;
+  for (const auto& ch : audio.channels) planar.push_back(ch.data());
+  writer.write(planar.data(), audio.frames());
+  writer.commit();
+}
+
+namespace {
+constexpr size_t kChunkFrames = 8192;
+SNDFILE* sf(void* h) {
+  return static_cast<SNDFILE*>(h);
+}
+}  // namespace
+
+WavStreamWriter::WavStreamWriter(const std::string& path, int sampleRate, int channels,
+                                 SampleFormat format)
+    : path_(path), channels_(channels), format_(format) {
+  if (sampleRate <= 0)
+    throw InputError(
+        path, "", "cannot write: sample rate " + std::to_string(sampleRate) + " is not positive");
+  if (channels < 1) throw InputError(path, "", "cannot write: no channels");
   const std::string folder = folderOf(path);
   std::error_code ec;
   if (!std::filesystem::is_directory(folder, ec))
     throw InputError(path, "", "cannot write: folder '" + folder + "' does not exist");
+  SF_INFO info{};
+  info.samplerate = sampleRate;
+  info.channels = channels;
+  info.format = sndfileFormat(format);
+  if (!sf_format_check(&info))
+    throw InputError(path, "", "cannot write: libsndfile refuses this format/channel count");
 
   // The temporary lives next to the target so that the final rename stays on one filesystem.
-  std::string tmp = path + ".tmp-XXXXXX";
-  const int fd = mkstemp(tmp.data());
-  if (fd < 0)
+  tmp_ = path + ".tmp-XXXXXX";
+  const int fd = mkstemp(tmp_.data());
+  if (fd < 0) {
+    tmp_.clear();
     throw InputError(path, "", "cannot write in folder '" + folder + "': " + std::strerror(errno));
+  }
   // mkstemp creates mode 0600; give the file the usual mode a new file would have (0666 & ~umask).
   const mode_t mask = umask(0);
   umask(mask);
   fchmod(fd, 0666 & ~mask);
-
-  auto fail = [&](const std::string& reason) {
-    std::remove(tmp.c_str());
-    throw InputError(path, "", "cannot write: " + reason);
-  };
-
-  SF_INFO info{};
-  info.samplerate = audio.sampleRate;
-  info.channels = int(audio.channels.size());
-  info.format = sndfileFormat(format);
-  if (!sf_format_check(&info)) {
-    ::close(fd);
-    fail("libsndfile refuses this format/channel count");
-  }
-  SndFile file;
-  file.handle = sf_open_fd(fd, SFM_WRITE, &info, SF_TRUE /* close fd with the file */);
-  if (!file.handle) {
+  handle_ = sf_open_fd(fd, SFM_WRITE, &info, SF_TRUE /* close fd with the file */);
+  if (!handle_) {
     ::close(fd);
     fail(sf_strerror(nullptr));
   }
   // Integer formats: clip out-of-range values instead of letting them wrap around.
-  sf_command(file.handle, SFC_SET_CLIPPING, nullptr, SF_TRUE);
+  sf_command(sf(handle_), SFC_SET_CLIPPING, nullptr, SF_TRUE);
   // No PEAK chunk: it carries the time of writing, and same-seed renders must be byte-identical.
-  sf_command(file.handle, SFC_SET_ADD_PEAK_CHUNK, nullptr, SF_FALSE);
+  sf_command(sf(handle_), SFC_SET_ADD_PEAK_CHUNK, nullptr, SF_FALSE);
+  interleaved_.resize(kChunkFrames * size_t(channels));
+}
 
-  const size_t channels = audio.channels.size();
-  const size_t frames = audio.frames();
-  constexpr size_t kChunkFrames = 8192;
-  std::vector<float> interleaved(kChunkFrames * channels);
+WavStreamWriter::~WavStreamWriter() {
+  if (handle_) sf_close(sf(handle_));
+  if (!committed_ && !tmp_.empty()) std::remove(tmp_.c_str());
+}
+
+void WavStreamWriter::fail(const std::string& reason) {
+  if (handle_) sf_close(sf(handle_));
+  handle_ = nullptr;
+  if (!tmp_.empty()) std::remove(tmp_.c_str());
+  tmp_.clear();
+  throw InputError(path_, "", "cannot write: " + reason);
+}
+
+void WavStreamWriter::write(const float* const* planar, size_t frames, float gain) {
+  if (!handle_) fail("the file is already closed");
+  const size_t channels = size_t(channels_);
   for (size_t start = 0; start < frames; start += kChunkFrames) {
     const size_t count = std::min(kChunkFrames, frames - start);
     for (size_t i = 0; i < count; ++i)
-      for (size_t c = 0; c < channels; ++c)
-        interleaved[i * channels + c] = audio.channels[c][start + i];
-    if (sf_writef_float(file.handle, interleaved.data(), sf_count_t(count)) != sf_count_t(count)) {
-      std::string reason = sf_strerror(file.handle);
-      file.close();
-      fail(reason);
-    }
+      for (size_t c = 0; c < channels; ++c) {
+        const float x = planar[c][start + i] * gain;
+        if (!std::isfinite(x))
+          fail("channel " + std::to_string(c) + " frame " + std::to_string(frames_ + start + i) +
+               " is not finite");
+        peak_ = std::max(peak_, std::abs(x));
+        interleaved_[i * channels + c] = x;
+      }
+    if (sf_writef_float(sf(handle_), interleaved_.data(), sf_count_t(count)) != sf_count_t(count))
+      fail(sf_strerror(sf(handle_)));
   }
-  if (file.close() != 0) fail("closing the file failed (disk full?)");
-  std::filesystem::rename(tmp, path, ec);
+  frames_ += frames;
+}
+
+void WavStreamWriter::rescale(float gain) {
+  if (format_ != SampleFormat::kFloat32)
+    throw std::logic_error("WavStreamWriter::rescale: float32 files only");
+  if (!handle_) fail("the file is already closed");
+  if (gain == 1.f) return;
+  // Close to complete the header, reopen read-write, and rewrite each chunk in place.
+  if (sf_close(sf(handle_)) != 0) {
+    handle_ = nullptr;
+    fail("closing the file failed (disk full?)");
+  }
+  SF_INFO info{};
+  handle_ = sf_open(tmp_.c_str(), SFM_RDWR, &info);
+  if (!handle_) fail(std::string("reopening the temporary file failed: ") + sf_strerror(nullptr));
+  sf_command(sf(handle_), SFC_SET_ADD_PEAK_CHUNK, nullptr, SF_FALSE);
+  float peak = 0.f;
+  for (size_t start = 0; start < frames_; start += kChunkFrames) {
+    const sf_count_t count = sf_count_t(std::min(kChunkFrames, frames_ - start));
+    if (sf_seek(sf(handle_), sf_count_t(start), SEEK_SET | SFM_READ) < 0 ||
+        sf_readf_float(sf(handle_), interleaved_.data(), count) != count)
+      fail(std::string("rereading the temporary file failed: ") + sf_strerror(sf(handle_)));
+    for (size_t i = 0; i < size_t(count) * size_t(channels_); ++i) {
+      interleaved_[i] *= gain;
+      if (!std::isfinite(interleaved_[i])) fail("a sample is not finite after the gain");
+      peak = std::max(peak, std::abs(interleaved_[i]));
+    }
+    if (sf_seek(sf(handle_), sf_count_t(start), SEEK_SET | SFM_WRITE) < 0 ||
+        sf_writef_float(sf(handle_), interleaved_.data(), count) != count)
+      fail(std::string("rewriting the temporary file failed: ") + sf_strerror(sf(handle_)));
+  }
+  peak_ = peak;
+}
+
+void WavStreamWriter::commit() {
+  if (!handle_) fail("the file is already closed");
+  if (frames_ == 0) fail("no frames");
+  const int rc = sf_close(sf(handle_));
+  handle_ = nullptr;
+  if (rc != 0) fail("closing the file failed (disk full?)");
+  std::error_code ec;
+  std::filesystem::rename(tmp_, path_, ec);
   if (ec) fail("renaming the temporary file failed: " + ec.message());
+  committed_ = true;
 }
 
 }  // namespace dpc::audio

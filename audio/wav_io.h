@@ -42,4 +42,49 @@ AudioData readWav(const std::string& path);
 void writeWav(const std::string& path, const AudioData& audio,
               SampleFormat format = SampleFormat::kFloat32);
 
+/// Writes a WAV file block by block, so that memory does not grow with its length.
+/// The samples go to a temporary file (PATH.tmp-XXXXXX) in the destination folder, which
+/// commit() renames to `path`; if commit() is never reached (an exception, a failed render) the
+/// destructor removes the temporary and `path` is untouched. No PEAK chunk is written, so the
+/// same samples always give the same bytes.
+/// Control thread or an offline render thread; allocates one chunk buffer; every member throws
+/// InputError(path, "", "cannot write: <reason>") on failure (the temporary is then removed).
+class WavStreamWriter {
+ public:
+  /// Creates the temporary file. Throws if the folder is missing or not writable, sampleRate
+  /// <= 0, channels < 1, or libsndfile refuses the format.
+  WavStreamWriter(const std::string& path, int sampleRate, int channels,
+                  SampleFormat format = SampleFormat::kFloat32);
+  ~WavStreamWriter();
+  WavStreamWriter(const WavStreamWriter&) = delete;
+  WavStreamWriter& operator=(const WavStreamWriter&) = delete;
+
+  /// Appends `frames` frames of planar data (planar[c][i], c < channels), each sample
+  /// multiplied by `gain` before writing. A NaN or infinite sample (after the gain) is refused,
+  /// naming channel and frame.
+  void write(const float* const* planar, size_t frames, float gain = 1.f);
+  /// Largest |sample| written so far (after the gain).
+  float peak() const { return peak_; }
+  /// Frames written so far.
+  size_t frames() const { return frames_; }
+  /// Multiplies every sample written so far by `gain`, in place, reading and rewriting the
+  /// temporary file chunk by chunk (a second streaming pass: memory independent of length).
+  /// float32 only (an integer file would be quantised twice): throws std::logic_error otherwise.
+  void rescale(float gain);
+  /// Closes the temporary file and renames it to `path`. Throws if no frame was written or the
+  /// file cannot be completed (disk full) or renamed.
+  void commit();
+
+ private:
+  [[noreturn]] void fail(const std::string& reason);
+  std::string path_, tmp_;
+  int channels_ = 0;
+  SampleFormat format_;
+  void* handle_ = nullptr;  ///< SNDFILE*
+  std::vector<float> interleaved_;
+  size_t frames_ = 0;
+  float peak_ = 0.f;
+  bool committed_ = false;
+};
+
 }  // namespace dpc::audio

@@ -20,6 +20,10 @@ inline constexpr std::uintmax_t kMaxSignalBytes = 2048u << 20;
 inline constexpr std::uintmax_t kMaxSofaBytes = 256u << 20;
 /// Largest nesting depth of arrays/objects accepted in a scene's JSON (the parser recurses).
 inline constexpr int kMaxJsonDepth = 64;
+/// Sample rates accepted for a dry signal, Hz: below 8 kHz even speech loses its band; the
+/// ratio to any scene rate (16-192 kHz) then stays within the resampler's range [1/256, 256].
+inline constexpr int kMinSignalRateHz = 8000;
+inline constexpr int kMaxSignalRateHz = 768000;
 /// Largest |coordinate| accepted in a scene, metres (keeps Embree's rays valid in float).
 inline constexpr double kMaxCoordinateM = 1e6;
 

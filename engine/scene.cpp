@@ -61,7 +61,8 @@ class JsonReader {
   /// Refuses keys not in `allowed` (typos), naming the key and the closest allowed one.
   void checkKeys(const json& obj, const std::string& field,
                  std::initializer_list<const char*> allowed) const {
-    for (const auto& [key, value] : obj.items()) {
+    for (const auto& item : obj.items()) {
+      const std::string& key = item.key();  // not a structured binding: clang 14 cannot capture one
       if (!key.empty() && key[0] == '_') continue;
       if (std::any_of(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; }))
         continue;

@@ -51,6 +51,8 @@ LiveSession::LiveSession(const SceneDesc& scene, const PropagationSettings& sett
   hostIn_.assign(size_t(audioStage_->sourceCount()), std::vector<float>(size_t(blockSize_), 0.f));
   for (auto& ch : hostIn_) hostInPtr_.push_back(ch.data());
   blockOut_.assign(size_t(options_.deviceChannels), std::vector<float>(size_t(blockSize_), 0.f));
+  for (auto& ch : blockOut_) blockOutPtr_.push_back(ch.data());
+  limiter_ = std::make_unique<audio::Limiter>(sampleRate_);
   if (options_.recordSeconds > 0.0) {
     recordRing_ = std::make_unique<boost::lockfree::spsc_queue<float>>(
         size_t(kRecordRingSeconds * sampleRate_) * size_t(options_.deviceChannels));
@@ -323,6 +325,7 @@ bool LiveSession::renderBlock(bool hostInputs) noexcept {
       std::fill(dst, dst + B, 0.f);
   }
   if (!finite) nanBlocks_.fetch_add(1, std::memory_order_relaxed);
+  limiter_->process(blockOutPtr_.data(), channels, B);
 
   // The recording holds the engine's blocks (what the device plays, without the adapter's
   // leading block of silence).
@@ -371,6 +374,9 @@ LiveSession::Status LiveSession::status() const {
   st.lateCallbacks = lateCallbacks_.load(std::memory_order_relaxed);
   st.rejectedCallbacks = rejectedCallbacks_.load(std::memory_order_relaxed);
   st.recordDropped = recordDropped_.load(std::memory_order_relaxed);
+  st.limitedFrames = limiter_->limitedFrames();
+  st.overCeilingFrames = limiter_->overCeilingFrames();
+  st.limiterMaxReductionDb = limiter_->maxReductionDb();
   return st;
 }
 

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "audio/audio_device.h"
+#include "audio/limiter.h"
 #include "runtime/pose_channel.h"
 #include "runtime/render_pipeline.h"
 #include "runtime/spsc_queue.h"
@@ -157,6 +158,11 @@ class LiveSession {
                                      ///< produced (frames / sampleRate): a device would xrun
     uint64_t rejectedCallbacks = 0;  ///< render() calls with frames outside 1..kMaxCallbackFrames
     uint64_t recordDropped = 0;      ///< samples the recorder ring could not take
+    /// Output safety limiter (audio/limiter.h), since start: frames it attenuated, frames
+    /// whose input exceeded its ceiling, and its largest gain reduction (dB).
+    uint64_t limitedFrames = 0;
+    uint64_t overCeilingFrames = 0;
+    float limiterMaxReductionDb = 0.f;
   };
   Status status() const;
 
@@ -199,6 +205,9 @@ class LiveSession {
   std::vector<std::vector<float>> hostIn_;
   std::vector<const float*> hostInPtr_;
   std::vector<std::vector<float>> blockOut_;
+  std::vector<float*> blockOutPtr_;
+  /// Last stage before the device: nothing beyond full scale reaches it.
+  std::unique_ptr<audio::Limiter> limiter_;
   int fill_ = 0;
   std::unique_ptr<boost::lockfree::spsc_queue<float>> recordRing_;
   std::vector<float> recordScratch_;

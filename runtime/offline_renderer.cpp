@@ -6,6 +6,20 @@
 
 namespace dpc {
 
+double offlineDurationSeconds(const SceneDesc& scene, const PropagationSettings& settings,
+                              const DrySignals& dry, const OfflineOptions& options) {
+  if (options.durationSeconds >= 0.0) return options.durationSeconds;
+  double content = double(dry.longestFrames()) / scene.audio.sampleRate;
+  const bool all = options.allListeners && !scene.listeners.empty();
+  for (const ListenerDesc& l : all ? scene.listeners : std::vector<ListenerDesc>{scene.listener})
+    if (!l.loop && !l.trajectory.empty())
+      content = std::max(content, l.trajectory.back().timeSeconds);
+  for (const SourceDesc& s : scene.sources)
+    if (!s.trajectoryLoop && !s.trajectory.empty())
+      content = std::max(content, s.trajectory.back().timeSeconds);
+  return content + settings.irLength;
+}
+
 OfflineResult renderOffline(const SceneDesc& scene, const PropagationSettings& settings,
                             const DrySignals& dry, const OfflineOptions& options) {
   const auto wall0 = std::chrono::steady_clock::now();
@@ -23,24 +37,19 @@ OfflineResult renderOffline(const SceneDesc& scene, const PropagationSettings& s
   for (size_t l = 0; l < L; ++l)
     audioStages.push_back(std::make_unique<AudioStage>(propagation.layout(), dry, numOutputs));
   const size_t B = size_t(scene.audio.blockSize);
-  double content = double(dry.longestFrames()) / fs;
-  for (const ListenerDesc& l : listeners)
-    if (!l.loop && !l.trajectory.empty())
-      content = std::max(content, l.trajectory.back().timeSeconds);
-  for (const SourceDesc& s : scene.sources)
-    if (!s.trajectoryLoop && !s.trajectory.empty())
-      content = std::max(content, s.trajectory.back().timeSeconds);
-  const double duration =
-      options.durationSeconds >= 0.0 ? options.durationSeconds : content + settings.irLength;
+  const double duration = offlineDurationSeconds(scene, settings, dry, options);
   const size_t totalFrames = size_t(std::ceil(duration * fs));
   const size_t blocks = (totalFrames + B - 1) / B;
 
   OfflineResult result;
+  const bool streaming = bool(options.sink);
   result.listeners.resize(L);
   for (size_t l = 0; l < L; ++l) {
     result.listeners[l].name = listeners[l].name;
     result.listeners[l].output.sampleRate = fs;
-    result.listeners[l].output.channels.assign(size_t(numOutputs), std::vector<float>(blocks * B));
+    // Streaming: one block per channel, handed to the sink; otherwise the whole render is kept.
+    result.listeners[l].output.channels.assign(size_t(numOutputs),
+                                               std::vector<float>(streaming ? B : blocks * B));
   }
   std::vector<float*> out(static_cast<size_t>(numOutputs));
   std::vector<IrSet*> newest(L, nullptr);
@@ -73,8 +82,10 @@ OfflineResult renderOffline(const SceneDesc& scene, const PropagationSettings& s
     for (size_t l = 0; l < L; ++l) {
       if (newest[l]) audioStages[l]->offer(newest[l]);
       for (int c = 0; c < numOutputs; ++c)
-        out[size_t(c)] = result.listeners[l].output.channels[size_t(c)].data() + blk * B;
+        out[size_t(c)] =
+            result.listeners[l].output.channels[size_t(c)].data() + (streaming ? 0 : blk * B);
       audioStages[l]->process(out.data());
+      if (streaming) options.sink(l, out.data(), std::min(B, totalFrames - blk * B));
       while (IrSet* spent = audioStages[l]->takeSpent()) propagation.recycle(spent);
     }
     if (options.progress && (blk + 1 == blocks || (blk - lastReport) * 100 >= blocks)) {
@@ -86,7 +97,10 @@ OfflineResult renderOffline(const SceneDesc& scene, const PropagationSettings& s
   const Simulation& sim = propagation.simulation();
   for (size_t l = 0; l < L; ++l) {
     OfflineListenerResult& lr = result.listeners[l];
-    for (auto& ch : lr.output.channels) ch.resize(totalFrames);
+    if (streaming)
+      lr.output.channels.clear();
+    else
+      for (auto& ch : lr.output.channels) ch.resize(totalFrames);
     lr.lastIrs = propagation.lastIrs(l);
     lr.irsApplied = audioStages[l]->irsApplied();
     for (size_t s = 0; s < sim.sourceCount(); ++s) {

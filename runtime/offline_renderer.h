@@ -25,12 +25,21 @@ struct OfflineOptions {
   /// false: render scene.listener only (one listener traced). true: render every listener of
   /// scene.listeners from one propagation run (OfflineResult::listeners in scene order).
   bool allListeners = false;
+  /// If set, every rendered block goes here as it is made: (listener index in
+  /// OfflineResult::listeners order, planar[c][i], frames), c < the output channels,
+  /// i < frames; the last block is cut to the duration. OfflineListenerResult::output then
+  /// stays empty, so memory does not grow with the duration (dpc-demo streams each listener to
+  /// its WAV file). The pointers are valid during the call only. An exception thrown here ends
+  /// the render and propagates out of renderOffline.
+  std::function<void(size_t listener, const float* const* planar, size_t frames)> sink;
 };
 
 /// What one listener heard.
 struct OfflineListenerResult {
-  std::string name;         ///< the listener's name
-  audio::AudioData output;  ///< 1 (mono) or 2 (stereo, binaural) channels at the scene's rate
+  std::string name;  ///< the listener's name
+  /// 1 (mono) or 2 (stereo, binaural) channels at the scene's rate; no channels when
+  /// OfflineOptions::sink took the blocks.
+  audio::AudioData output;
   std::vector<std::vector<std::vector<float>>> lastIrs;  ///< [source][channel][sample]
   std::vector<EnergyResponse> lastEnergy;  ///< [source]: the last frame's energy response
   std::vector<DirectSound> lastDirect;     ///< [source]: the last frame's direct sound
@@ -48,6 +57,11 @@ struct OfflineResult {
   double cacheCoarseEnergyFraction = 0;  ///< largest per-pair share of the last response
   double wallSeconds = 0.0;
 };
+
+/// The render's length in seconds: options.durationSeconds when >= 0, otherwise the default
+/// described at OfflineOptions::durationSeconds. Control thread; no allocation.
+double offlineDurationSeconds(const SceneDesc& scene, const PropagationSettings& settings,
+                              const DrySignals& dry, const OfflineOptions& options);
 
 OfflineResult renderOffline(const SceneDesc& scene, const PropagationSettings& settings,
                             const DrySignals& dry, const OfflineOptions& options);

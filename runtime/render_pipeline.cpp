@@ -10,6 +10,7 @@
 #include "audio/panning.h"
 #include "audio/resample.h"
 #include "engine/input_error.h"
+#include "engine/input_file.h"
 
 namespace dpc {
 
@@ -46,6 +47,17 @@ DrySignals loadDrySignals(const SceneDesc& scene) {
       throw InputError(scene.path, field, e.what());
     }
     if (a.frames() == 0) throw InputError(scene.path, field, src.signalPath + ": no samples");
+    if (a.sampleRate < kMinSignalRateHz || a.sampleRate > kMaxSignalRateHz)
+      throw InputError(scene.path, field,
+                       src.signalPath + ": sample rate " + std::to_string(a.sampleRate) +
+                           " Hz is outside [" + std::to_string(kMinSignalRateHz) + ", " +
+                           std::to_string(kMaxSignalRateHz) + "] Hz");
+    for (size_t c = 0; c < a.channels.size(); ++c)
+      for (size_t n = 0; n < a.frames(); ++n)
+        if (!std::isfinite(a.channels[c][n]))
+          throw InputError(scene.path, field,
+                           src.signalPath + ": sample " + std::to_string(n) + " of channel " +
+                               std::to_string(c) + " is not finite (NaN or infinity)");
     if (a.channels.size() > 1) {
       std::vector<float> mono(a.frames(), 0.f);
       for (const auto& ch : a.channels)

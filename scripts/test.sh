@@ -9,3 +9,7 @@ scripts/build.sh
 scripts/test-install.sh
 # The queue and live-pipeline threads under ThreadSanitizer (separate build in build-tsan).
 scripts/tsan.sh
+# AddressSanitizer + UBSan build of the engine/runtime tests and dpc-demo, bad-input suite
+# included (build-asan), and a 15 s libFuzzer run per fuzz target (build-fuzz, clang).
+scripts/asan.sh
+scripts/fuzz.sh 15

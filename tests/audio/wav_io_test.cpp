@@ -197,3 +197,48 @@ TEST_CASE("invalid data is refused and an existing file is left untouched") {
   CHECK(readWav(path).channels == good.channels);
   CHECK(filesIn(dir.path) == 1);
 }
+
+TEST_CASE("streamed writing: blocks, gain, in-place rescale, and nothing left on failure") {
+  using dpc::audio::WavStreamWriter;
+  TempDir dir;
+  const AudioData a = randomAudio(2, 20000, 44100, 0.8f, 7);  // spans several 8192-frame chunks
+  const std::string path = dir.file("s.wav");
+  {
+    WavStreamWriter w(path, 44100, 2);
+    // Uneven blocks, as a renderer's last block is cut to the duration.
+    for (size_t start = 0; start < a.frames(); start += 777) {
+      const size_t n = std::min<size_t>(777, a.frames() - start);
+      const float* planar[2] = {a.channels[0].data() + start, a.channels[1].data() + start};
+      w.write(planar, n, 2.f);  // times 2 is exact in float
+    }
+    CHECK(w.frames() == a.frames());
+    CHECK(!fs::exists(path));  // only the temporary exists until commit
+    w.rescale(0.25f);          // exact too: the file now holds a * 0.5
+    w.commit();
+  }
+  const AudioData b = readWav(path);
+  REQUIRE(b.frames() == a.frames());
+  for (size_t c = 0; c < 2; ++c)
+    for (size_t i = 0; i < a.frames(); ++i) REQUIRE(b.channels[c][i] == a.channels[c][i] * 0.5f);
+  CHECK(filesIn(dir.path) == 1);
+
+  // Abandoned (an exception ends the render): the temporary is removed, the old file kept.
+  {
+    WavStreamWriter w(path, 44100, 1);
+    const float* planar[1] = {a.channels[0].data()};
+    w.write(planar, 100);
+  }
+  CHECK(readWav(path).channels == b.channels);
+  CHECK(filesIn(dir.path) == 1);
+
+  // A non-finite sample fails at once, naming the frame counted over all blocks.
+  {
+    std::vector<float> x(50, 0.1f);
+    x[10] = INFINITY;
+    WavStreamWriter w(dir.file("n.wav"), 48000, 1);
+    const float* planar[1] = {x.data()};
+    w.write(planar, 5);
+    CHECK_THROWS_WITH(w.write(planar, 50), Catch::Contains("frame 15"));
+  }
+  CHECK(filesIn(dir.path) == 1);
+}

@@ -66,6 +66,19 @@ def sparse(name, size):
     return apply
 
 
+def float_wav(name, rate, samples):
+    """Writes a mono IEEE-float WAV (format 3) holding `samples`, and points source 0 at it."""
+    import struct
+    def apply(d):
+        data = struct.pack(f"<{len(samples)}f", *samples)
+        fmt = struct.pack("<HHIIHH", 3, 1, rate, rate * 4, 4, 32)
+        body = b"WAVE" + b"fmt " + struct.pack("<I", len(fmt)) + fmt + b"data" + struct.pack("<I", len(data)) + data
+        with open(os.path.join(d, name), "wb") as f:
+            f.write(b"RIFF" + struct.pack("<I", len(body)) + body)
+        scene_with(**{"sources.0.signal": name})(d)
+    return apply
+
+
 OFF = ["shoebox.json", "--offline", "out.wav", "--duration", "0.2", "--rays", "64"]
 
 # name: (setup, extra args or full args, expected substring of the error line)
@@ -113,6 +126,10 @@ CASES = {
     "signal_directory": (scene_with(**{"sources.0.signal": "signals"}), OFF, "signals"),
     "signal_huge_sparse": (lambda d: (sparse("s.wav", 1 << 35)(d), scene_with(**{"sources.0.signal": "s.wav"})(d)), OFF, "s.wav"),
     "signal_not_wav": (lambda d: (write("s.wav", "not audio")(d), scene_with(**{"sources.0.signal": "s.wav"})(d)), OFF, "s.wav"),
+    "signal_nan": (float_wav("n.wav", 48000, [0.1] * 100 + [float("nan")] + [0.1] * 100), OFF, "n.wav: sample 100 of channel 0 is not finite"),
+    "signal_inf": (float_wav("n.wav", 48000, [0.1] * 10 + [float("inf")]), OFF, "sources[0].signal: n.wav"),
+    "signal_100hz": (float_wav("lo.wav", 100, [0.1] * 100), OFF, "sample rate 100 Hz is outside"),
+    "signal_2mhz": (float_wav("hi.wav", 2000000, [0.1] * 1000), OFF, "sample rate 2000000 Hz"),
     "hrtf_dev_zero": (nothing, OFF + ["--hrtf", "/dev/zero"], "--hrtf"),
     "hrtf_missing": (nothing, OFF + ["--hrtf", "none.sofa"], "--hrtf"),
     # Finding 7: integers out of range.
@@ -164,6 +181,21 @@ CASES = {
     "mesh_empty": (write("shoebox.obj", ""), OFF, "shoebox.obj"),
     "sources_empty": (scene_with(sources=[]), OFF, "sources"),
     "estimator_scene_bad": (scene_with(**{"propagation.estimator": "x"}), OFF, "estimator"),
+    # Finding 4 and 5: work and memory refused before any work, naming the setting to lower.
+    "rays_1e8_order_10000": (scene_with(**{"propagation.rays_per_frame": 100000000, "propagation.max_order": 10000}), OFF[:-2], "rays_per_frame"),
+    "ir_60s_192k_binaural": (scene_with(**{"propagation.ir_length": 60, "audio.sample_rate": 192000, "audio.output": "binaural"}), OFF, "ir_length"),
+    "sources_1000": (lambda d: scene_with(sources=[{"name": f"s{i}", "position": [2, 1.6, 3.5], "signal": "signals/speech.wav"} for i in range(1000)])(d), OFF, "source count"),
+}
+
+# Setups that load but cannot be meant: the render runs (exit 0, the output is written), and a
+# one-line "warning:" on stderr names the scene and what is wrong.
+OUT_ONLY = ["out.wav"]
+WARN_CASES = {
+    "listener_outside_room": (scene_with(listener={"position": [20, 1.6, 3.5], "radius": 0.5}), OFF, "listener 'listener' at (20, 1.6, 3.5)"),
+    "source_outside_room": (scene_with(**{"sources.0.position": [2, 10, 3.5]}), OFF, "source 'talker' at (2, 10, 3.5)"),
+    "radius_larger_than_room": (scene_with(listener={"position": [5, 1.5, 3.5], "radius": 30}), OFF, "larger than the room"),
+    "radius_through_wall": (scene_with(listener={"position": [5, 1.5, 3.5], "radius": 2}), OFF, "reaches through a surface"),
+    "render_silent": (scene_with(listener={"position": [20, 1.6, 3.5], "radius": 0.5}), OFF, "is silent (empty energy response"),
 }
 
 
@@ -180,13 +212,36 @@ def digest(folder):
     return out
 
 
+# A sanitized dpc-demo (scripts/asan.sh) reserves terabytes of shadow address space, so the
+# address-space limit would stop it at start-up: ASan's own resident-memory limit replaces it.
+SANITIZED = os.environ.get("DPC_BAD_INPUT_SANITIZED") == "1"
+
+
 def limits():
-    resource.setrlimit(resource.RLIMIT_AS, (MEMORY_LIMIT_BYTES, MEMORY_LIMIT_BYTES))
+    if not SANITIZED:
+        resource.setrlimit(resource.RLIMIT_AS, (MEMORY_LIMIT_BYTES, MEMORY_LIMIT_BYTES))
     resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
 
 
+# Cases refused only because the address-space limit above leaves too little memory: without
+# that limit (sanitized runs) the render would fit this machine and run for minutes.
+NEEDS_MEMORY_LIMIT = {"ir_60s_192k_binaural"}
+
+
+def child_env():
+    env = dict(os.environ)
+    if SANITIZED:
+        # A sanitizer report exits 86/87 (never the 1 of a clean refusal).
+        env["ASAN_OPTIONS"] = f"hard_rss_limit_mb={MEMORY_LIMIT_BYTES >> 20}:exitcode=86:" + env.get("ASAN_OPTIONS", "")
+        env["UBSAN_OPTIONS"] = "halt_on_error=1:print_stacktrace=1:exitcode=87:" + env.get("UBSAN_OPTIONS", "")
+    return env
+
+
 def run_case(demo, scenes, name):
-    setup, args, expect = CASES[name]
+    if SANITIZED and name in NEEDS_MEMORY_LIMIT:
+        return None
+    warn = name in WARN_CASES
+    setup, args, expect = WARN_CASES[name] if warn else CASES[name]
     with tempfile.TemporaryDirectory(prefix="dpc_bad_") as d:
         shutil.copy(os.path.join(scenes, "shoebox.json"), d)
         shutil.copy(os.path.join(scenes, "shoebox.obj"), d)
@@ -195,12 +250,26 @@ def run_case(demo, scenes, name):
         before = digest(d)
         try:
             p = subprocess.run([demo] + args, cwd=d, stdin=subprocess.DEVNULL, capture_output=True,
-                               timeout=TIME_LIMIT_S, preexec_fn=limits)
+                               timeout=TIME_LIMIT_S, preexec_fn=limits, env=child_env())
         except subprocess.TimeoutExpired:
             return f"hung: no exit within {TIME_LIMIT_S} s"
         err = p.stderr.decode("utf-8", "replace")
         errors = [l for l in err.splitlines() if l.startswith("dpc-demo:")]
         problems = []
+        if warn:
+            warnings = [l for l in err.splitlines() if l.startswith("warning:") and expect in l]
+            if p.returncode != 0:
+                problems.append(f"exit status {p.returncode}, expected 0")
+            if len(warnings) != 1:
+                problems.append(f"{len(warnings)} warning lines with {expect!r}, expected 1")
+            if errors:
+                problems.append("an error line")
+            created = sorted(set(digest(d)) - set(before))
+            if [os.path.relpath(c, d) for c in created] != OUT_ONLY:
+                problems.append(f"files created: {[os.path.relpath(c, d) for c in created]}, expected {OUT_ONLY}")
+            if problems:
+                return "; ".join(problems) + f"\n  stderr: {err.strip()[-600:]}"
+            return None
         if p.returncode < 0:
             problems.append(f"killed by signal {signal.Signals(-p.returncode).name}")
         elif p.returncode != 1:
@@ -223,11 +292,11 @@ def run_case(demo, scenes, name):
 def main():
     names = sys.argv[3:]
     if names == ["--list"]:
-        print(";".join(CASES))
+        print(";".join(list(CASES) + list(WARN_CASES)))
         return 0
     demo, scenes = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
     failed = 0
-    for name in names or CASES:
+    for name in names or list(CASES) + list(WARN_CASES):
         why = run_case(demo, scenes, name)
         print(f"{'FAIL' if why else 'ok  '} {name}" + (f": {why}" if why else ""))
         failed += why is not None

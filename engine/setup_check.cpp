@@ -1,0 +1,86 @@
+#include "engine/setup_check.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+#include "engine/geometry.h"
+
+namespace dpc {
+
+namespace {
+
+struct Seen {
+  int escaped = 0;        ///< directions that hit nothing
+  float nearest = 1e30f;  ///< metres to the nearest hit
+  float farthest = 0.f;   ///< metres to the farthest hit
+};
+
+Seen look(const Geometry& g, const glm::vec3& p) {
+  Seen s;
+  const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
+  for (int i = 0; i < kSetupCheckDirections; ++i) {
+    const double y = 1.0 - 2.0 * (i + 0.5) / kSetupCheckDirections;
+    const double r = std::sqrt(1.0 - y * y);
+    const glm::vec3 d(float(r * std::cos(golden * i)), float(y), float(r * std::sin(golden * i)));
+    SurfaceHit hit;
+    if (!g.intersect(p, d, 0.f, 1e30f, hit)) {
+      ++s.escaped;
+      continue;
+    }
+    s.nearest = std::min(s.nearest, hit.t);
+    s.farthest = std::max(s.farthest, hit.t);
+  }
+  return s;
+}
+
+std::string fmt(const char* f, double a, double b = 0, double c = 0) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, f, a, b, c);
+  return buf;
+}
+
+}  // namespace
+
+std::vector<std::string> setupWarnings(const SceneDesc& scene) {
+  std::vector<std::string> out;
+  if (scene.mesh.materialIndex.empty()) return out;
+  const Geometry g(scene.mesh, scene.materials, scene.propagation.patchSize);
+  struct Point {
+    std::string what;
+    glm::vec3 p;
+    Seen seen;
+    float radius;  ///< listener sphere radius; 0 for sources
+  };
+  std::vector<Point> points;
+  for (const ListenerDesc& l : scene.listeners)
+    points.push_back({"listener '" + l.name + "'", listenerPositionAt(l, 0.0), {}, l.radius});
+  for (const SourceDesc& s : scene.sources)
+    points.push_back({"source '" + s.name + "'", sourcePositionAt(s, 0.0), {}, 0.f});
+  size_t enclosed = 0;
+  for (Point& pt : points) {
+    pt.seen = look(g, pt.p);
+    enclosed += pt.seen.escaped == 0;
+  }
+  for (const Point& pt : points) {
+    const std::string at = pt.what + fmt(" at (%g, %g, %g)", pt.p.x, pt.p.y, pt.p.z);
+    if (enclosed > 0 && pt.seen.escaped > 0)
+      out.push_back(scene.path + ": " + at + ": " + std::to_string(pt.seen.escaped) + " of " +
+                    std::to_string(kSetupCheckDirections) +
+                    " rays from it escape while other points are enclosed: is it outside the "
+                    "room?");
+    if (pt.radius <= 0.f || pt.seen.escaped == kSetupCheckDirections) continue;
+    if (pt.seen.escaped == 0 && pt.radius >= pt.seen.farthest)
+      out.push_back(scene.path + ": " + at + ": radius " + fmt("%g", pt.radius) +
+                    " m is larger than the room (farthest surface " +
+                    fmt("%.2f", pt.seen.farthest) + " m): the sphere holds every path");
+    else if (pt.radius > pt.seen.nearest)
+      out.push_back(scene.path + ": " + at + ": radius " + fmt("%g", pt.radius) +
+                    " m reaches through a surface " + fmt("%.2f", pt.seen.nearest) +
+                    " m away: paths on both sides of it are counted");
+  }
+  return out;
+}
+
+}  // namespace dpc

@@ -1,0 +1,28 @@
+// Setups that load but cannot be meant, found before a render by casting a few rays: a
+// listener or source outside the room, a listener sphere larger than the room. Each gives a
+// one-line warning (the render still runs: an open scene or a deliberate test may want it).
+// Control thread; builds its own Embree scene of the static mesh (milliseconds for the shipped
+// scenes); allocates.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "engine/scene.h"
+
+namespace dpc {
+
+/// Directions cast from each point (a Fibonacci sphere: near-uniform, deterministic).
+inline constexpr int kSetupCheckDirections = 64;
+
+/// Warnings for the scene's listeners and sources at time 0 (trajectories evaluated there):
+/// - a point is "enclosed" when every direction hits the static mesh; when some points are
+///   enclosed and others are not, each one that is not is outside the room (or the room has a
+///   hole it can see through): its rays escape, and no sound connects it with the others;
+/// - a listener whose sphere radius exceeds the farthest surface seen from its centre contains
+///   the whole room: the energy response counts every ray segment it holds;
+/// - a listener sphere that reaches through a surface (radius larger than the nearest hit)
+///   counts paths on both sides of that surface.
+std::vector<std::string> setupWarnings(const SceneDesc& scene);
+
+}  // namespace dpc

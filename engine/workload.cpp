@@ -1,0 +1,83 @@
+#include "engine/workload.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "engine/input_error.h"
+#include "engine/propagation.h"
+
+namespace dpc {
+
+namespace {
+std::string g3(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", x);
+  return buf;
+}
+}  // namespace
+
+WorkloadEstimate estimateWorkload(const SceneDesc& scene, const PropagationSettings& settings,
+                                  int channels, double durationSeconds) {
+  WorkloadEstimate e;
+  double order = double(settings.maxOrder);
+  // The slowest energy decay: the material (of those the mesh uses) with the smallest mean
+  // absorption over the octave bands.
+  double alphaMin = 1.0;
+  std::vector<char> used(scene.materials.size(), 0);
+  for (const auto m : scene.mesh.materialIndex)
+    if (size_t(m) < used.size()) used[size_t(m)] = 1;
+  for (size_t i = 0; i < scene.materials.size(); ++i) {
+    if (!used[i]) continue;
+    double mean = 0;
+    for (int b = 0; b < kNumBands; ++b) mean += scene.materials[i].absorption[b];
+    alphaMin = std::min(alphaMin, mean / kNumBands);
+  }
+  if (settings.rouletteThreshold > 0.f && alphaMin > 0.0 && alphaMin < 1.0) {
+    // (1 - alpha)^n = threshold; survivors add about 10 % (kRouletteSurvival) more bounces.
+    const double n = std::log(double(settings.rouletteThreshold)) / std::log1p(-alphaMin);
+    order = std::min(order, n * (1.0 + Propagator::kRouletteSurvival));
+  } else if (alphaMin >= 1.0) {
+    order = 0;
+  }
+  e.expectedOrder = order;
+  e.segmentsPerFrame = double(settings.raysPerFrame) * (order + 1.0) * double(scene.sources.size());
+  if (durationSeconds > 0)
+    e.segmentsTotal = e.segmentsPerFrame * double(settings.frameRate) * durationSeconds;
+  e.irBytes = double(scene.sources.size()) * channels * double(settings.irLength) *
+              double(scene.audio.sampleRate) * kIrBytesPerSample;
+  return e;
+}
+
+std::vector<std::string> checkWorkload(const SceneDesc& scene, const PropagationSettings& settings,
+                                       const WorkloadEstimate& e, double memoryLimitBytes) {
+  const std::string work = "rays_per_frame " + std::to_string(settings.raysPerFrame) +
+                           " x reflection order ~" + g3(e.expectedOrder) + " (max_order " +
+                           std::to_string(settings.maxOrder) + ") x " +
+                           std::to_string(scene.sources.size()) + " source(s)";
+  if (e.segmentsPerFrame > kMaxSegmentsPerFrame)
+    throw InputError(scene.path, "propagation.rays_per_frame",
+                     work + " = " + g3(e.segmentsPerFrame) + " ray segments per frame, more than " +
+                         g3(kMaxSegmentsPerFrame) + ": lower rays_per_frame or max_order");
+  if (e.segmentsTotal > kMaxSegmentsTotal)
+    throw InputError(scene.path, "propagation.rays_per_frame",
+                     work + " x " + g3(e.segmentsTotal / e.segmentsPerFrame) + " frames = " +
+                         g3(e.segmentsTotal) + " ray segments, more than " + g3(kMaxSegmentsTotal) +
+                         ": lower rays_per_frame, frame_rate or the duration");
+  if (e.irBytes > memoryLimitBytes)
+    throw InputError(scene.path, "propagation.ir_length",
+                     "impulse responses of " + g3(settings.irLength) + " s x " +
+                         std::to_string(scene.audio.sampleRate) + " Hz x " +
+                         std::to_string(scene.sources.size()) +
+                         " source(s) x channels need about " + g3(e.irBytes / 1e9) +
+                         " GB, more than the " + g3(memoryLimitBytes / 1e9) +
+                         " GB available: lower ir_length, sample_rate or the source count");
+  std::vector<std::string> warnings;
+  if (e.segmentsTotal > kWarnSegmentsTotal)
+    warnings.push_back(scene.path + ": about " + g3(e.segmentsTotal) + " ray segments to trace (" +
+                       work + " x " + g3(e.segmentsTotal / e.segmentsPerFrame) +
+                       " frames): this render may take a long time");
+  return warnings;
+}
+
+}  // namespace dpc

@@ -1,0 +1,55 @@
+// Work and memory estimate of a render before it starts, so that a setting that cannot finish
+// or cannot fit is refused (or warned about) with its numbers instead of hanging or exhausting
+// memory part-way (docs/scene-format.md, "Limits").
+// Control thread; pure computation (no allocation beyond the message strings).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/scene.h"
+
+namespace dpc {
+
+struct WorkloadEstimate {
+  /// Reflection order a ray reaches on average before Russian roulette ends it: the order at
+  /// which the least absorbing material's mean reflectance (1 - alpha) has fallen to the
+  /// roulette threshold, plus its survivals' share (10 %), capped by max_order. Without
+  /// roulette: max_order. Air absorption only shortens paths, so this is an upper estimate.
+  double expectedOrder = 0;
+  /// Ray segments traced per propagation frame: rays x (expectedOrder + 1) x sources.
+  double segmentsPerFrame = 0;
+  /// Segments over the render: segmentsPerFrame x frame_rate x duration (0 for live).
+  double segmentsTotal = 0;
+  /// Memory of the impulse responses in flight, bytes: sources x channels x ir_length x
+  /// sample rate x kIrBytesPerSample (time-domain IRs, their partitioned spectra, the pooled
+  /// sets being prepared, applied and recycled, and the synthesis buffers).
+  double irBytes = 0;
+};
+
+/// Bytes of memory per IR sample per output channel per source, measured: peak RSS of
+/// dpc-demo on the shoebox with ir_length 2 s and 20 s (48 kHz, 64 rays, 0.5 s): +89 MB mono
+/// (103 B per sample) and +543 MB binaural (157 B per sample and channel); the larger is used.
+inline constexpr double kIrBytesPerSample = 160.0;
+/// Above this many segments in one frame the frame cannot finish in any useful time (about
+/// 500 s at 2e7 segments/s): refused.
+inline constexpr double kMaxSegmentsPerFrame = 1e10;
+/// Above this many segments for the whole render (about 14 h at 2e7 segments/s): refused.
+inline constexpr double kMaxSegmentsTotal = 1e12;
+/// Above this many segments for the whole render (minutes or more): warned, with the numbers.
+inline constexpr double kWarnSegmentsTotal = 1e10;
+
+/// durationSeconds: the render's length (<= 0: live, per-frame figures only); channels: output
+/// channels (1 mono, 2 stereo or binaural).
+WorkloadEstimate estimateWorkload(const SceneDesc& scene, const PropagationSettings& settings,
+                                  int channels, double durationSeconds);
+
+/// Throws InputError(scene.path, setting, "...") when the estimate exceeds kMaxSegmentsPerFrame,
+/// kMaxSegmentsTotal or memoryLimitBytes (the IR memory), naming the numbers and the settings to
+/// lower. Returns one-line warnings (above kWarnSegmentsTotal) otherwise.
+std::vector<std::string> checkWorkload(const SceneDesc& scene, const PropagationSettings& settings,
+                                       const WorkloadEstimate& estimate, double memoryLimitBytes);
+
+}  // namespace dpc

@@ -17,7 +17,7 @@ Simulation::Simulation(const SceneDesc& scene, const PropagationSettings& settin
     if (settings_.estimator == Estimator::kDpc)
       caches_.push_back(std::make_unique<DiffusePathCache>(
           settings_.dpcWeighting, settings_.cacheTau, 1.0 / settings_.frameRate,
-          DiffusePathCache::entriesForBudget(settings_.cacheMemoryMb)));
+          size_t(double(settings_.cacheMemoryMb) * 1048576.0)));
     SourceResult r;
     r.energy = EnergyResponse(settings_.irLength, kEnergyBinSeconds);
     results_.push_back(std::move(r));
@@ -57,7 +57,7 @@ void Simulation::runFrame(const glm::vec3& listenerPosition,
     r.direct = propagator_->directSound(sources[s], listener);
     if (diffraction_)
       diffraction_->apply(*geometry_, sources[s], listener, settings_.speedOfSound,
-                        propagator_->airAttenuationPerMetre(), r.direct);
+                          propagator_->airAttenuationPerMetre(), r.direct);
     r.energy.clear();
     DirectionalEnergyResponse* dir = nullptr;
     if (!directional_.empty()) {
@@ -74,7 +74,7 @@ void Simulation::runFrame(const glm::vec3& listenerPosition,
       r.cacheEntries = caches_[s]->entryCount();
       r.cacheBytes = caches_[s]->bytes();
       r.cacheCoarseEntries = caches_[s]->coarseEntryCount();
-      r.cacheBudgetBytes = caches_[s]->maxEntries() * DiffusePathCache::kBytesPerEntry;
+      r.cacheBudgetBytes = caches_[s]->budgetBytes();
       r.cacheMergedEntries = caches_[s]->mergedEntries();
       r.cacheCoarseEnergyFraction = caches_[s]->coarseEnergyFraction();
     }

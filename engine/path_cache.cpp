@@ -125,13 +125,14 @@ DiffusePathCache::DiffusePathCache(DpcWeighting weighting, double tauSeconds,
   indexShift_ = 64 - int(std::countr_zero(cap_.indexSlots));
   entries_.reserve(cap_.entries);
   terms_.reset(allocZeroed<WindowTerm>(cap_.windowTerms));
+  coarseSub_ = std::bit_floor(cap_.coarseBins);
 }
 
 void DiffusePathCache::clear() {
   for (const Entry& e : entries_) indexErase(e.key);
   entries_.clear();
   std::fill(coarse_.get(), coarse_.get() + layers_ * cap_.coarseBins, Cell{});
-  coarseWidth_ = 1;
+  coarseSub_ = std::bit_floor(cap_.coarseBins);
   coarseFraction_ = 0.0;
   frame_ = 0;
   decayPow_ = 1.0;
@@ -207,20 +208,31 @@ void DiffusePathCache::removeAt(size_t i) {
   entries_.pop_back();
 }
 
+size_t DiffusePathCache::binOf(uint64_t fine, size_t sub) {
+  if (fine < sub) return size_t(fine);
+  const int k = std::bit_width(fine / sub) - 1;  // octave: fine in [sub 2^k, sub 2^(k+1))
+  return sub * size_t(k) + size_t(fine >> k);
+}
+
 size_t DiffusePathCache::coarseBin(double delaySeconds) {
-  const double fine = std::max(0.0, delaySeconds / kCoarseBinSeconds);
-  while (fine / double(coarseWidth_) >= double(cap_.coarseBins)) widenCoarse();
-  return size_t(fine / double(coarseWidth_));
+  const uint64_t fine = uint64_t(std::min(std::max(0.0, delaySeconds / kCoarseBinSeconds), 1e15));
+  while (binOf(fine, coarseSub_) >= cap_.coarseBins && coarseSub_ > 1) widenCoarse();
+  // One bin per octave and still beyond: the last bin (only with a handful of bins).
+  return std::min(binOf(fine, coarseSub_), cap_.coarseBins - 1);
 }
 
 void DiffusePathCache::widenCoarse() {
-  // Bins 2b and 2b+1 become bin b: sums, so no energy moves out of the store.
-  const size_t nb = cap_.coarseBins;
-  for (size_t l = 0; l < layers_; ++l) {
-    for (size_t b = 0; b < nb; ++b) {
+  // Halving S: every new bin is the union of old bins (octave k of S is octave k + 1 of S / 2,
+  // bins twice as wide), so cells only add up and no energy leaves the store. New indices are
+  // never above old ones, so an ascending pass moves each cell once.
+  const size_t nb = cap_.coarseBins, sub = coarseSub_ / 2;
+  for (size_t b = 0; b < nb; ++b) {
+    const size_t to = binOf(binStart(b, coarseSub_), sub);
+    if (to == b) continue;
+    for (size_t l = 0; l < layers_; ++l) {
       const Cell src = cell(l, b);
       cell(l, b) = Cell{};
-      Cell& d = cell(l, b / 2);
+      Cell& d = cell(l, to);
       d.intensity += src.intensity;
       d.length += src.length;
       d.eta += src.eta;
@@ -228,7 +240,7 @@ void DiffusePathCache::widenCoarse() {
       d.stamp = std::max(d.stamp, src.stamp);
     }
   }
-  coarseWidth_ *= 2;
+  coarseSub_ = sub;
 }
 
 void DiffusePathCache::makeRoom(double invC) {
@@ -308,23 +320,37 @@ void DiffusePathCache::readCell(const Cell& c, size_t bin, float divisor, double
                                 double& energy) const {
   const Bands i = c.intensity / divisor;
   energy += double(i.average());
-  if (coarseWidth_ == 1) {  // 1 ms bins: at the hit-weighted mean delay
+  const size_t first = binStart(bin, coarseSub_),
+               widthSteps = binStart(bin + 1, coarseSub_) - first;
+  if (widthSteps == 1) {  // 1 ms bins: at the hit-weighted mean delay
     const double delay = meanDelaySeconds(c.length, c.eta, invC);
     out.add(delay, i);
     if (directional) directional->add(delay, i, c.direction);
     return;
   }
-  // Wider bins: spread evenly over the bin, 1 ms at a time, so that the late response keeps
-  // no comb of one arrival per bin; only over the part inside the response when the bin runs
-  // past its end (the mean delay decides whether the energy is inside at all).
+  // Wider bins: spread over the bin 1 ms at a time with a linear density 1 + s x (x in [-1, 1]
+  // across the bin) whose slope s = 6 (mean - centre) / width keeps the hit-weighted mean delay
+  // (clamped to |s| <= 1, where the density reaches 0 at one end), so that the late response
+  // has no comb of one arrival per bin and follows the decay within the bin. Only the part
+  // inside the response is used when the bin runs past its end (the mean delay decides whether
+  // the energy is inside at all).
+  const double mean = meanDelaySeconds(c.length, c.eta, invC);
   const double end = double(out.binCount()) * out.binSeconds();
-  const size_t first = bin * coarseWidth_;
-  size_t steps = coarseWidth_;
-  if (meanDelaySeconds(c.length, c.eta, invC) < end)
+  const double width = double(widthSteps) * kCoarseBinSeconds;
+  const double centre = (double(first) + 0.5 * double(widthSteps)) * kCoarseBinSeconds;
+  const double slope = std::clamp(6.0 * (mean - centre) / width, -1.0, 1.0);
+  size_t steps = widthSteps;
+  if (mean < end)
     steps = std::clamp<size_t>(size_t(std::ceil(end / kCoarseBinSeconds - 1e-6)) - first, 1, steps);
-  const Bands part = i / float(steps);
+  auto weight = [&](size_t k) {
+    const double t = (double(first + k) + 0.5) * kCoarseBinSeconds;
+    return 1.0 + slope * (t - centre) / (0.5 * width);
+  };
+  double sum = 0.0;
+  for (size_t k = 0; k < steps; ++k) sum += weight(k);
   for (size_t k = 0; k < steps; ++k) {
     const double delay = (double(first + k) + 0.5) * kCoarseBinSeconds;
+    const Bands part = i * float(weight(k) / sum);
     out.add(delay, part);
     if (directional) directional->add(delay, part, c.direction);
   }

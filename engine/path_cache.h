@@ -143,8 +143,10 @@ class DiffusePathCache {
   size_t bytes() const { return cap_.bytes; }
   /// Heap bytes of the slots in use (entries, index load, window terms, coarse cells).
   size_t bytesInUse() const;
-  /// Current coarse-store bin width, seconds (kCoarseBinSeconds times a power of two).
-  double coarseBinSeconds() const { return kCoarseBinSeconds * double(coarseWidth_); }
+  /// Coarse-store layout: delays below S ms in 1 ms bins, then S bins per octave (each octave
+  /// [S 2^k, S 2^(k+1)) ms in bins of 2^k ms). S starts at the largest power of two <= the
+  /// bins per layer and halves (bins merge pairwise) whenever a delay would not fit.
+  size_t coarseBinsPerOctave() const { return coarseSub_; }
   /// Frames an entry is read out: seed = after its creation; EMA = after its last hit;
   /// window = the window length W.
   uint32_t lifetimeFrames() const { return lifetime_; }
@@ -207,8 +209,16 @@ class DiffusePathCache {
   /// Makes room for at least one more path entry and (window) one more term: merges the
   /// oldest path entries, at least an eighth of the table, into the coarse store.
   void makeRoom(double invSpeedOfSound);
-  /// Coarse bin of a delay at the current width, doubling the width until it fits.
+  /// Coarse bin of a delay at the current layout, halving S until it fits.
   size_t coarseBin(double delaySeconds);
+  /// Bin of a delay of `fine` whole kCoarseBinSeconds steps with S bins per octave.
+  static size_t binOf(uint64_t fine, size_t sub);
+  /// First kCoarseBinSeconds step of a bin with S bins per octave (inverse of binOf).
+  static uint64_t binStart(size_t bin, size_t sub) {
+    if (bin < sub) return bin;
+    const size_t k = bin / sub - 1;
+    return uint64_t(bin - sub * k) << k;
+  }
   void widenCoarse();
   Cell& cell(size_t layer, size_t bin) { return coarse_[layer * cap_.coarseBins + bin]; }
   void readCell(const Cell& c, size_t bin, float divisor, double invC, EnergyResponse& out,
@@ -231,7 +241,7 @@ class DiffusePathCache {
   std::vector<uint64_t> raysBefore_;  ///< ring: rays emitted before frame f, f % size
   std::vector<uint32_t> ageCount_;    ///< scratch for makeRoom: entries per age in frames
   std::vector<uint32_t> layerStamp_;  ///< seed: creation frame of each coarse layer
-  size_t coarseWidth_ = 1;            ///< coarse bin width in kCoarseBinSeconds
+  size_t coarseSub_ = 1;              ///< S: coarse bins per octave (see coarseBinsPerOctave)
   Buffer<Cell> coarse_;               ///< layers_ x coarseBins cells
   Buffer<IndexSlot> index_;           ///< open addressing, linear probing
   int indexShift_ = 63;               ///< 64 - log2(indexSlots)

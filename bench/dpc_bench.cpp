@@ -569,7 +569,9 @@ int benchBudget(const Common& c, const std::vector<int>& raysList) {
   j["benchmark"] = "budget";
   j["scene"] = c.scene;
   j["budget_mb"] = s.cacheMemoryMb;
-  j["weighting"] = "window";
+  j["weighting"] = s.dpcWeighting == DpcWeighting::kWindow ? "window"
+                   : s.dpcWeighting == DpcWeighting::kEma  ? "ema"
+                                                           : "seed";
   j["tau_s"] = s.cacheTau;
   j["frames"] = frames;
   json points = json::array();

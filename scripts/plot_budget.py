@@ -39,6 +39,7 @@ def main():
         if not j:
             continue
         pts = j['points']
+        name = f"{name} ({j['weighting']})"
         rays = [p['rays_per_frame'] for p in pts]
         ax1.loglog(rays, [p['entries'] for p in pts], 'o-', label=f'{name}: path entries (budget)')
         ax1.loglog(rays, [p['unbounded_entries'] for p in pts], 'x--', label=f'{name}: unbounded')
@@ -47,7 +48,7 @@ def main():
                      label=name)
         budget = pts[0]['budget_bytes'] / 1048576
     ax2.axhline(budget, color='k', lw=0.8, ls=':', label='budget')
-    ax1.set(xlabel='rays per frame', ylabel='path entries', title='Entries (window, tau 1 s)')
+    ax1.set(xlabel='rays per frame', ylabel='path entries', title='Path entries at a 1 MB budget (tau 1 s)')
     ax2.set(xlabel='rays per frame', ylabel='MB held', title='Bytes held (max over frames)')
     ax2.set_ylim(0, budget * 1.2)
     ax3.set(xlabel='rays per frame', ylabel='energy, % vs unbounded cache',

@@ -135,6 +135,17 @@ nlohmann::ordered_json toJson(const RoomParameters& r) {
           {"g", toJson(strength(r))}};
 }
 
+/// Per-band parameters and the broadband ones, keyed by band centre.
+nlohmann::ordered_json analysisJson(const ImpulseResponseAnalysis& a) {
+  nlohmann::ordered_json bands = nlohmann::ordered_json::array();
+  for (int b = 0; b < kNumBands; ++b) {
+    nlohmann::ordered_json entry = {{"centreHz", dpc::kBandCentreHz[size_t(b)]}};
+    entry.update(toJson(a.bands[size_t(b)]));
+    bands.push_back(entry);
+  }
+  return {{"bands", bands}, {"broadband", toJson(a.broadband)}};
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -177,14 +188,9 @@ int main(int argc, char** argv) {
       for (size_t s = 0; s < sources.size(); ++s) {
         const ImpulseResponseAnalysis a = analyzeSource(sources[s]);
         if (json) {
-          nlohmann::ordered_json bands = nlohmann::ordered_json::array();
-          for (int b = 0; b < kNumBands; ++b) {
-            nlohmann::ordered_json entry = {{"centreHz", dpc::kBandCentreHz[size_t(b)]}};
-            entry.update(toJson(a.bands[size_t(b)]));
-            bands.push_back(entry);
-          }
-          out["sources"].push_back(
-              {{"source", s}, {"bands", bands}, {"broadband", toJson(a.broadband)}});
+          nlohmann::ordered_json entry = {{"source", s}};
+          entry.update(analysisJson(a));
+          out["sources"].push_back(entry);
         } else {
           if (s != 0) std::printf("\n");
           char title[256];
@@ -216,14 +222,9 @@ int main(int argc, char** argv) {
       const ImpulseResponseAnalysis a =
           dpc::audio::analyzeImpulseResponse(samples.data(), samples.size(), audio.sampleRate);
       if (json) {
-        nlohmann::ordered_json bands = nlohmann::ordered_json::array();
-        for (int b = 0; b < kNumBands; ++b) {
-          nlohmann::ordered_json entry = {{"centreHz", dpc::kBandCentreHz[size_t(b)]}};
-          entry.update(toJson(a.bands[size_t(b)]));
-          bands.push_back(entry);
-        }
-        out["channels"].push_back(
-            {{"channel", c + 1}, {"bands", bands}, {"broadband", toJson(a.broadband)}});
+        nlohmann::ordered_json entry = {{"channel", c + 1}};
+        entry.update(analysisJson(a));
+        out["channels"].push_back(entry);
       } else {
         if (c != first) std::printf("\n");
         char title[256];

@@ -42,22 +42,6 @@ struct Flags {
        hasRays = false, hasMaxOrder = false, hasThreads = false;
 };
 
-/// Levenshtein distance, for "did you mean" on mistyped flags.
-size_t editDistance(const std::string& a, const std::string& b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diag = row[0];
-    row[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] != b[j - 1])});
-      diag = up;
-    }
-  }
-  return row[b.size()];
-}
-
 /// Longest render accepted, seconds (a day).
 constexpr double kMaxDurationSeconds = 86400.0;
 
@@ -154,7 +138,8 @@ struct OutputPaths {
 /// Offline without --listener renders every listener: one listener writes the names as given,
 /// several write OUT-NAME.wav (and IR-NAME.wav, ER-NAME.csv) each.
 std::vector<OutputPaths> offlineOutputs(const SceneDesc& scene, const Flags& fl) {
-  if (!fl.listener.empty() || scene.listeners.size() <= 1) return {{fl.offline, fl.irOut, fl.erOut}};
+  if (!fl.listener.empty() || scene.listeners.size() <= 1)
+    return {{fl.offline, fl.irOut, fl.erOut}};
   std::vector<OutputPaths> v;
   for (const ListenerDesc& l : scene.listeners)
     v.push_back({withListener(fl.offline, l.name), withListener(fl.irOut, l.name),
@@ -165,6 +150,16 @@ std::vector<OutputPaths> offlineOutputs(const SceneDesc& scene, const Flags& fl)
 /// Refuses, before any work, an output path that names an input (scene, meshes, dry signal,
 /// SOFA: same device and inode, symlinks followed), an existing non-regular file, another output,
 /// or a folder that does not exist. writeWav then replaces the file only on success.
+/// A scene whose sources have no signal is for hosts that feed them (C API, LV2 plugin);
+/// dpc-demo would only render silence.
+void requireSignal(const SceneDesc& scene) {
+  for (const SourceDesc& s : scene.sources)
+    if (!s.signalPath.empty()) return;
+  throw InputError(scene.path, "sources[0].signal",
+                   "no source has a signal: nothing to play (signal-less scenes are for the C "
+                   "API and the LV2 plugin, which feed the sources)");
+}
+
 void checkOutputs(const SceneDesc& scene, const Flags& fl) {
   std::vector<std::pair<std::string, std::string>> inputs = {{fl.scene, "the scene file"},
                                                              {scene.meshPath, "the mesh"}};
@@ -220,6 +215,7 @@ int runOffline(const Flags& fl) {
   if (fl.hasGain && !(fl.gainDb >= -120.0 && fl.gainDb <= 60.0))
     throw InputError("command line", "--gain-db", "must be a number in [-120, 60] dB");
   checkOutputs(scene, fl);
+  requireSignal(scene);
   const DrySignals dry = loadDrySignals(scene);
   for (const std::string& n : dry.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
   const std::vector<OutputPaths> paths = offlineOutputs(scene, fl);
@@ -374,6 +370,7 @@ int runLive(Flags& fl) {
     throw InputError("command line", "--duration",
                      "must be in (0, " + std::to_string(int(kMaxDurationSeconds)) + "] seconds");
   checkOutputs(scene, fl);
+  requireSignal(scene);
   const DrySignals dry = loadDrySignals(scene);
   for (const std::string& n : dry.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
 

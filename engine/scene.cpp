@@ -44,22 +44,6 @@ std::string index(const std::string& parent, size_t i) {
   return parent + "[" + std::to_string(i) + "]";
 }
 
-/// Levenshtein distance, for "did you mean" hints on unknown keys.
-size_t editDistance(const std::string& a, const std::string& b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diag = row[0];
-    row[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diag = up;
-    }
-  }
-  return row[b.size()];
-}
-
 /// Reads typed values out of the parsed JSON, throwing InputError(file, field, ...) on any
 /// mismatch. Keys starting with '_' are comments and ignored everywhere.
 class JsonReader {
@@ -614,12 +598,15 @@ void readSources(const JsonReader& r, const json& v, const fs::path& folder, Sce
       r.fail(join(f, "position"), "missing required key (needed when there is no trajectory)");
     if (const json* l = JsonReader::find(s, "trajectory_loop"))
       src.trajectoryLoop = r.boolean(*l, join(f, "trajectory_loop"));
-    const std::string signal = r.string(r.require(s, f, "signal"), join(f, "signal"));
-    const fs::path resolved = resolve(folder, signal);
-    std::error_code ec;
-    if (!fs::is_regular_file(resolved, ec))
-      r.fail(join(f, "signal"), "file " + inQuotes(resolved.string()) + " not found");
-    src.signalPath = resolved.string();
+    // No signal: the source's dry input comes from a host (C API, plugin) or is silent.
+    if (const json* sig = JsonReader::find(s, "signal")) {
+      const std::string signal = r.string(*sig, join(f, "signal"));
+      const fs::path resolved = resolve(folder, signal);
+      std::error_code ec;
+      if (!fs::is_regular_file(resolved, ec))
+        r.fail(join(f, "signal"), "file " + inQuotes(resolved.string()) + " not found");
+      src.signalPath = resolved.string();
+    }
     if (const json* g = JsonReader::find(s, "gain_db"))
       src.gainDb = r.inRange(*g, join(f, "gain_db"), -200.0, 200.0);
     if (const json* l = JsonReader::find(s, "loop")) src.loop = r.boolean(*l, join(f, "loop"));

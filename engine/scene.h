@@ -51,7 +51,7 @@ struct Keyframe {
 struct SourceDesc {
   std::string name;
   glm::vec3 position{0.f};  ///< metres; used when the trajectory is empty
-  std::string signalPath;   ///< dry WAV, resolved relative to the scene file's folder
+  std::string signalPath;   ///< dry WAV, resolved relative to the scene file's folder; empty: none
   float gainDb = 0.f;       ///< dB applied to the dry signal
   bool loop = false;        ///< repeat the dry signal for as long as the render lasts
   /// Position keyframes (yaw/pitch unused), linearly interpolated as the listener's.

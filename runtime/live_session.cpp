@@ -88,58 +88,97 @@ void LiveSession::stop() {
   if (recorderThread_.joinable()) recorderThread_.join();
 }
 
+bool LiveSession::step() {
+  if (running_.load()) return false;
+  runFrame();
+  return true;
+}
+
+void LiveSession::runFrame() {
+  IrSet* back = nullptr;
+  while (fromAudio_.try_dequeue(back)) propagation_->recycle(back);
+  const auto t0 = std::chrono::steady_clock::now();
+  const ListenerPose pose = pose_.read();
+  Orientation orientation;
+  orientation.yawRadians = pose.yawRadians;
+  orientation.pitchRadians = pose.pitchRadians;
+  for (size_t i = 0; i < scene_.sources.size(); ++i)
+    if (const HostSourcePosition h = hostSources_[i].read(); h.set)
+      propagation_->overrideSource(i, h.position);
+  for (size_t i = 0; i < scene_.objects.size(); ++i)
+    if (const HostObjectPose h = hostObjects_[i].read(); h.set)
+      propagation_->overrideObject(i, Pose{h.position, glm::quat(h.rotation[3], h.rotation[0],
+                                                                 h.rotation[1], h.rotation[2])});
+  IrSet* set = propagation_->computeFrame(pose.position, orientation, pose.sceneSeconds);
+  const auto t1 = std::chrono::steady_clock::now();
+  if (set) {
+    set->poseNs = pose.publishedNs;
+    set->readyNs = nowNs();
+    if (!toAudio_.try_enqueue(set)) {
+      propagation_->recycle(set);
+      irsDropped_.fetch_add(1, std::memory_order_relaxed);
+    }
+    frames_.fetch_add(1, std::memory_order_relaxed);
+    uint64_t rays = 0;
+    size_t entries = 0, bytes = 0, budget = 0;
+    uint64_t merged = 0;
+    double mergedShare = 0.0;
+    for (size_t s = 0; s < propagation_->simulation().sourceCount(); ++s) {
+      const Simulation::SourceResult& sr = propagation_->simulation().result(s);
+      rays += sr.trace.rays;
+      entries += sr.cacheEntries + sr.cacheCoarseEntries;
+      bytes += sr.cacheBytes;
+      budget += sr.cacheBudgetBytes;
+      merged += sr.cacheMergedEntries;
+      mergedShare = std::max(mergedShare, sr.cacheCoarseEnergyFraction);
+    }
+    cacheBytes_.store(bytes, std::memory_order_relaxed);
+    cacheBudgetBytes_.store(budget, std::memory_order_relaxed);
+    cacheMergedEntries_.store(merged, std::memory_order_relaxed);
+    cacheMergedEnergyFraction_.store(mergedShare, std::memory_order_relaxed);
+    rays_.fetch_add(rays, std::memory_order_relaxed);
+    cacheEntries_.store(entries, std::memory_order_relaxed);
+    frameMs_.store(std::chrono::duration<double, std::milli>(t1 - t0).count(),
+                   std::memory_order_relaxed);
+  }
+  // Snapshot of this frame's responses for readers on other threads (copyResponses). Never
+  // waits: a reader holding the lock makes this frame skip its snapshot.
+  if (set) {
+    std::unique_lock<std::mutex> lock(snapshotMutex_, std::try_to_lock);
+    if (lock.owns_lock()) {
+      const Simulation& sim = propagation_->simulation();
+      snapshotIrs_ = propagation_->lastIrs();
+      snapshotEnergy_.resize(sim.sourceCount());
+      for (size_t s = 0; s < sim.sourceCount(); ++s) {
+        const Simulation::SourceResult& r = sim.result(s);
+        snapshotEnergy_[s] = r.energy.bins();
+        // The direct sound (with its diffraction) is computed apart from the estimator's bins.
+        const double k = r.direct.delaySeconds / r.energy.binSeconds();
+        if (k >= 0.0 && k < double(snapshotEnergy_[s].size()))
+          snapshotEnergy_[s][size_t(k)] += r.direct.intensity;
+      }
+      snapshotBinSeconds_ = Simulation::kEnergyBinSeconds;
+      snapshotFrame_ = frames_.load(std::memory_order_relaxed);
+      snapshotValid_ = true;
+    }
+  }
+}
+
+bool LiveSession::copyResponses(size_t source, const std::function<void(const Responses&)>& f) {
+  std::lock_guard<std::mutex> lock(snapshotMutex_);
+  if (!snapshotValid_ || source >= snapshotIrs_.size()) return false;
+  f(Responses{&snapshotIrs_[source], &snapshotEnergy_[source], snapshotBinSeconds_,
+              snapshotFrame_});
+  return true;
+}
+
 void LiveSession::propagationLoop() {
   const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
       std::chrono::duration<double>(1.0 / settings_.frameRate));
   auto next = std::chrono::steady_clock::now();
   while (running_.load(std::memory_order_relaxed)) {
     next += period;
-    IrSet* back = nullptr;
-    while (fromAudio_.try_dequeue(back)) propagation_->recycle(back);
-    const auto t0 = std::chrono::steady_clock::now();
-    const ListenerPose pose = pose_.read();
-    Orientation orientation;
-    orientation.yawRadians = pose.yawRadians;
-    orientation.pitchRadians = pose.pitchRadians;
-    for (size_t i = 0; i < scene_.sources.size(); ++i)
-      if (const HostSourcePosition h = hostSources_[i].read(); h.set)
-        propagation_->overrideSource(i, h.position);
-    for (size_t i = 0; i < scene_.objects.size(); ++i)
-      if (const HostObjectPose h = hostObjects_[i].read(); h.set)
-        propagation_->overrideObject(i, Pose{h.position, glm::quat(h.rotation[3], h.rotation[0],
-                                                                   h.rotation[1], h.rotation[2])});
-    IrSet* set = propagation_->computeFrame(pose.position, orientation, pose.sceneSeconds);
-    const auto t1 = std::chrono::steady_clock::now();
-    if (set) {
-      set->poseNs = pose.publishedNs;
-      set->readyNs = nowNs();
-      if (!toAudio_.try_enqueue(set)) {
-        propagation_->recycle(set);
-        irsDropped_.fetch_add(1, std::memory_order_relaxed);
-      }
-      frames_.fetch_add(1, std::memory_order_relaxed);
-      uint64_t rays = 0;
-      size_t entries = 0, bytes = 0, budget = 0;
-      uint64_t merged = 0;
-      double mergedShare = 0.0;
-      for (size_t s = 0; s < propagation_->simulation().sourceCount(); ++s) {
-        const Simulation::SourceResult& sr = propagation_->simulation().result(s);
-        rays += sr.trace.rays;
-        entries += sr.cacheEntries + sr.cacheCoarseEntries;
-        bytes += sr.cacheBytes;
-        budget += sr.cacheBudgetBytes;
-        merged += sr.cacheMergedEntries;
-        mergedShare = std::max(mergedShare, sr.cacheCoarseEnergyFraction);
-      }
-      cacheBytes_.store(bytes, std::memory_order_relaxed);
-      cacheBudgetBytes_.store(budget, std::memory_order_relaxed);
-      cacheMergedEntries_.store(merged, std::memory_order_relaxed);
-      cacheMergedEnergyFraction_.store(mergedShare, std::memory_order_relaxed);
-      rays_.fetch_add(rays, std::memory_order_relaxed);
-      cacheEntries_.store(entries, std::memory_order_relaxed);
-      frameMs_.store(std::chrono::duration<double, std::milli>(t1 - t0).count(),
-                     std::memory_order_relaxed);
-    }
+    runFrame();
     // At most frame_rate frames per second; run late frames back to back.
     std::unique_lock<std::mutex> lock(wakeMutex_);
     if (std::chrono::steady_clock::now() < next)

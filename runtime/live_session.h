@@ -19,6 +19,7 @@
 #include <boost/lockfree/spsc_queue.hpp>
 #include <condition_variable>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -64,6 +65,28 @@ class LiveSession {
   /// local + position; rotation a unit quaternion (x, y, z, w), normalised here; false for an
   /// index out of range or a zero-length rotation. Wait-free; no allocation.
   bool setObjectPose(size_t index, const glm::vec3& position, const float rotation[4]);
+  /// Control thread, while the propagation thread is not running (before start() or after
+  /// stop()): runs one propagation frame now on the calling thread and hands its IR set to the
+  /// audio side, as the propagation thread would. Lets a host render deterministically (same
+  /// seed, same frames, same bits). Returns false (nothing done) while running. Allocates
+  /// while the cache's tables grow.
+  bool step();
+
+  /// The newest frame's responses for one source, as copied by the propagation thread after
+  /// each frame: ir[channel][sample] the pressure IR at sampleRate(); energy[k][band] the
+  /// energy response in bins of binSeconds (1/m^2 relative to source power, direct sound
+  /// included); frame = propagation frames run when it was taken.
+  struct Responses {
+    const std::vector<std::vector<float>>* ir;
+    const std::vector<Bands>* energy;
+    double binSeconds;
+    uint64_t frame;
+  };
+  /// Any thread but the audio thread: calls f with the newest responses of `source` while
+  /// holding the snapshot lock (the propagation thread skips its copy rather than wait for
+  /// it). Returns false, without calling f, before the first frame or for a bad index.
+  bool copyResponses(size_t source, const std::function<void(const Responses&)>& f);
+
   /// IR channels (1 mono, 2 stereo/binaural).
   int irChannels() const { return int(stageOut_.size()); }
 
@@ -128,6 +151,9 @@ class LiveSession {
 
  private:
   void propagationLoop();
+  /// One propagation frame: read the poses, compute, hand the IR set over, update the counters
+  /// and the response snapshot. Propagation thread (or the control thread through step()).
+  void runFrame();
   /// Audio thread: one engine block from blockIn_ (or the scene's signals) into blockOut_.
   /// Returns whether an IR swap started.
   bool renderBlock(bool hostInputs) noexcept;
@@ -155,6 +181,14 @@ class LiveSession {
   std::unique_ptr<boost::lockfree::spsc_queue<float>> recordRing_;
   std::vector<float> recordScratch_;
   std::vector<std::vector<float>> recorded_;
+
+  // Snapshot of the newest frame's responses (runFrame writes it under try_lock).
+  std::mutex snapshotMutex_;
+  std::vector<std::vector<std::vector<float>>> snapshotIrs_;  ///< [source][channel][sample]
+  std::vector<std::vector<Bands>> snapshotEnergy_;            ///< [source][bin]
+  double snapshotBinSeconds_ = 0.0;
+  uint64_t snapshotFrame_ = 0;
+  bool snapshotValid_ = false;
 
   std::thread propagationThread_, recorderThread_;
   std::atomic<bool> running_{false};

@@ -31,6 +31,12 @@ DrySignals loadDrySignals(const SceneDesc& scene) {
   for (size_t i = 0; i < scene.sources.size(); ++i) {
     const SourceDesc& src = scene.sources[i];
     const std::string field = "sources[" + std::to_string(i) + "].signal";
+    if (src.signalPath.empty()) {  // host input only: silence when played on its own
+      d.samples.emplace_back();
+      d.loop.push_back(0);
+      d.notes.push_back("sources[" + std::to_string(i) + "]: no signal (silent without host input)");
+      continue;
+    }
     audio::AudioData a;
     try {
       a = audio::readWav(src.signalPath);

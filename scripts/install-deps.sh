@@ -10,6 +10,7 @@ packages=(
   libreaderwriterqueue-dev libmysofa-dev robin-map-dev libboost-dev jackd2
   nlohmann-json3-dev libtinyobjloader-dev libcli11-dev catch2
   python3 python3-numpy python3-matplotlib espeak-ng sox
+  lv2-dev lilv-utils sordi
 )
 
 missing=()

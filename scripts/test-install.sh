@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Installs dpc from ./build into a fresh prefix, builds both examples out of tree against it
 # (C with pkg-config, C++ with find_package(dpc)), runs them on scenes/shoebox.json and checks
-# that each writes a non-silent, finite WAV. Usage: scripts/test-install.sh (after build.sh)
+# that each writes a non-silent, finite WAV; then checks the installed LV2 bundle
+# (lib/lv2/dpc.lv2) with lilv's tools (tests/lv2/lv2_test.py).
+# Usage: scripts/test-install.sh (after build.sh)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -9,7 +11,12 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 # DPC_KEEP_WAVS=DIR keeps the two renderings for listening.
 prefix=$work/prefix
-cmake --build build -j"$(nproc)" --target dpc_shared dpc_static >/dev/null
+targets=(dpc_shared dpc_static)
+# The plugin is configured only where lv2-dev is installed.
+if grep -q '^dpc_lv2:' <(cmake --build build --target help 2>/dev/null | sed 's/^\.\.\. //'); then
+  targets+=(dpc_lv2)
+fi
+cmake --build build -j"$(nproc)" --target "${targets[@]}" >/dev/null
 cmake --install build --prefix "$prefix" >/dev/null
 # No build-tree or source-tree path may leak into the installed package files.
 if grep -rl -e "$root/build" -e "$root/" "$prefix/lib" --include='*.cmake' --include='*.pc'; then
@@ -25,6 +32,10 @@ export LD_LIBRARY_PATH=$libdir${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
 "$work/c/play_scene" scenes/shoebox.json "$work/c.wav"
 "$work/cpp/play_scene_cpp" scenes/shoebox.json "$work/cpp.wav"
 [[ -n "${DPC_KEEP_WAVS:-}" ]] && cp "$work/c.wav" "$work/cpp.wav" "$DPC_KEEP_WAVS"/
-python3 scripts/wavcheck.py "$work/c.wav"
-python3 scripts/wavcheck.py "$work/cpp.wav"
+/usr/bin/python3 scripts/wavcheck.py "$work/c.wav"
+/usr/bin/python3 scripts/wavcheck.py "$work/cpp.wav"
+if [[ -d $libdir/lv2/dpc.lv2 ]]; then
+  # The installed bundle finds libdpc.so through its RPATH, not LD_LIBRARY_PATH.
+  env -u LD_LIBRARY_PATH /usr/bin/python3 tests/lv2/lv2_test.py "$libdir/lv2"
+fi
 echo "test-install: OK"

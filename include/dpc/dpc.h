@@ -55,6 +55,118 @@ DPC_API const char* dpc_version(void);
  *  DPC_ERR_INPUT, DPC_ERR_INTERNAL. */
 DPC_API dpc_status dpc_engine_create_from_file(const char* scene_path, dpc_engine** out);
 
+/** Output format of an engine: 1 channel, 2 channels by constant-power panning of each
+ *  arrival direction, or 2 ear channels through HRTFs (docs/spatial.md). */
+typedef enum dpc_output_format {
+  DPC_OUTPUT_SCENE = 0, /**< as the scene says (dpc_engine_options only) */
+  DPC_OUTPUT_MONO = 1,
+  DPC_OUTPUT_STEREO = 2,
+  DPC_OUTPUT_BINAURAL = 3
+} dpc_output_format;
+
+/** Overrides of a scene's settings when an engine is created. Fill with
+ *  dpc_engine_options_init() (every field "keep the scene's"), then change what you need. */
+typedef struct dpc_engine_options {
+  int sample_rate;          /**< Hz, 8000..384000; 0 keeps the scene's audio.sample_rate. Dry
+                                 signals are resampled to it, HRTFs read at it. */
+  int block_size;           /**< engine block, frames, 16..8192; 0 keeps the scene's */
+  int rays_per_frame;       /**< rays per source per propagation frame, > 0; 0 keeps the scene's */
+  dpc_output_format output; /**< DPC_OUTPUT_SCENE keeps the scene's audio.output */
+  int host_inputs_only;     /**< nonzero: the scene's dry signals are not read (sources may have
+                                 none); dpc_engine_process then needs inputs, and plays silence
+                                 for inputs == NULL */
+} dpc_engine_options;
+
+/** Any thread; no allocation. Sets every field to "keep the scene's" (zero). */
+DPC_API void dpc_engine_options_init(dpc_engine_options* options);
+
+/** Control thread. As dpc_engine_create_from_file, with the overrides in `options` (NULL: none).
+ *  Errors as dpc_engine_create_from_file; an option out of range gives
+ *  DPC_ERR_INVALID_ARGUMENT naming the field. */
+DPC_API dpc_status dpc_engine_create_from_file_ex(const char* scene_path,
+                                                  const dpc_engine_options* options,
+                                                  dpc_engine** out);
+
+/** Number of octave bands of absorption and energy responses: 63, 125, 250, 500, 1000, 2000,
+ *  4000 and 8000 Hz nominal centres (ISO 266, IEC 61260-1). */
+#define DPC_BANDS 8
+
+/** A surface material for dpc_scene_data. */
+typedef struct dpc_material {
+  const char* name;            /**< for error messages; may be NULL */
+  float absorption[DPC_BANDS]; /**< energy absorption coefficient per octave band, [0, 1]
+                                    (ISO 354 sense) */
+  float scattering;            /**< scattering coefficient, [0, 1]: probability that a
+                                    reflection is diffuse (Lambert) rather than specular
+                                    (ISO 17497-1) */
+} dpc_material;
+
+/** A static triangle mesh, world coordinates in metres (y up by convention). */
+typedef struct dpc_mesh {
+  const float* vertices; /**< vertex_count * 3 floats: x, y, z of each vertex, m */
+  uint32_t vertex_count;
+  const uint32_t* indices;   /**< triangle_count * 3 vertex indices, < vertex_count */
+  uint32_t triangle_count;   /**< > 0; no triangle may have zero area */
+  const uint32_t* materials; /**< triangle_count indices into dpc_scene_data.materials */
+} dpc_mesh;
+
+/** A sound source for dpc_scene_data (an omnidirectional point source). */
+typedef struct dpc_source {
+  float position[3];   /**< m */
+  float gain_db;       /**< dB applied to the dry signal, [-200, 200] */
+  const float* signal; /**< mono dry signal at the engine's rate (the options'
+                            sample_rate if set, else dpc_scene_data.sample_rate), copied at
+                            creation; NULL (with signal_frames 0) for host inputs only */
+  size_t signal_frames;
+  int loop; /**< nonzero: repeat the signal */
+} dpc_source;
+
+/** A scene built in code: what a scene file says (docs/scene-format.md), same defaults.
+ *  Fill with dpc_scene_data_init(), then set mesh, materials and sources. */
+typedef struct dpc_scene_data {
+  dpc_mesh mesh;
+  const dpc_material* materials;
+  int material_count; /**< >= 1 */
+  const dpc_source* sources;
+  int source_count;           /**< >= 1 */
+  float listener_position[3]; /**< m */
+  float listener_radius;      /**< receiver sphere radius, m, > 0 */
+  float listener_yaw_degrees; /**< 0 faces +x, positive turns left (about +y) */
+  float listener_pitch_degrees;
+  /* propagation (docs/estimators.md) */
+  int rays_per_frame;   /**< rays per source per frame, > 0 */
+  int max_order;        /**< maximum reflection order, >= 0 */
+  float patch_size;     /**< DPC patch size lambda, m, > 0 */
+  float cache_tau;      /**< DPC time window tau, s, >= 0 (0: no reuse) */
+  float frame_rate;     /**< propagation frames per second, Hz, > 0 */
+  float ir_length;      /**< impulse response length, s, > 0 */
+  uint64_t seed;        /**< random seed: same seed, same bits */
+  float speed_of_sound; /**< m/s, [1, 10000]; 0 (the default): dry air at `temperature`,
+                             331.3 sqrt(1 + T / 273.15) m/s */
+  float temperature;    /**< air temperature, degrees Celsius (ISO 9613-1) */
+  float humidity;       /**< relative humidity, percent, [0, 100] (ISO 9613-1) */
+  int air_absorption;   /**< nonzero: ISO 9613-1 air absorption along paths */
+  int diffraction;      /**< nonzero: first-order edge diffraction of the direct sound */
+  /* audio */
+  int sample_rate;          /**< Hz, 8000..384000 */
+  int block_size;           /**< engine block, frames, 16..8192 */
+  dpc_output_format output; /**< MONO, STEREO or BINAURAL (default HRTF) */
+} dpc_scene_data;
+
+/** Any thread; no allocation. Zero mesh, materials and sources; listener at the origin; every
+ *  other field the scene-file default (docs/scene-format.md). */
+DPC_API void dpc_scene_data_init(dpc_scene_data* data);
+
+/** Control thread. Builds an engine from a scene described in memory; everything is copied, the
+ *  caller's arrays may be freed on return. The same data as a scene file gives the same engine
+ *  (same seed: same impulse responses). Allocates. Errors: DPC_ERR_INVALID_ARGUMENT (NULL
+ *  pointers), DPC_ERR_INPUT (a value out of range, an index out of bounds, a non-finite or
+ *  degenerate triangle: dpc_last_error() names the field, e.g. "dpc_scene_data:
+ *  materials[1].absorption[3]: ..."), DPC_ERR_INTERNAL. `options` as for
+ *  dpc_engine_create_from_file_ex (may be NULL). */
+DPC_API dpc_status dpc_engine_create_from_data(const dpc_scene_data* data,
+                                               const dpc_engine_options* options, dpc_engine** out);
+
 /** Control thread. Stops the threads if running and frees everything. NULL is ignored. The
  *  host must have stopped calling dpc_engine_process before. */
 DPC_API void dpc_engine_destroy(dpc_engine* engine);
@@ -67,7 +179,8 @@ DPC_API dpc_status dpc_engine_stop(dpc_engine* engine);
 /** Any thread, wait-free, no allocation. Sets the listener pose: position (x, y, z) in metres
  *  in scene coordinates, yaw in degrees (0 faces +x, positive turns left, about +y), pitch in
  *  degrees (positive looks up). The propagation thread uses the newest pose at its next frame.
- *  Errors: DPC_ERR_INVALID_ARGUMENT (null engine or non-finite value). */
+ *  Until the first call the listener stands where the scene puts it at time 0 (its position
+ *  or first keyframe). Errors: DPC_ERR_INVALID_ARGUMENT (null engine or non-finite value). */
 DPC_API dpc_status dpc_engine_set_listener(dpc_engine* engine, float x, float y, float z,
                                            float yaw_degrees, float pitch_degrees);
 
@@ -75,8 +188,8 @@ DPC_API dpc_status dpc_engine_set_listener(dpc_engine* engine, float x, float y,
  *  (x, y, z) metres in scene coordinates from the next propagation frame on, instead of its
  *  trajectory. Errors: DPC_ERR_INVALID_ARGUMENT (null engine, index out of range, non-finite
  *  value; no message is set, since setting one would allocate). */
-DPC_API dpc_status dpc_engine_set_source_position(dpc_engine* engine, int source, float x,
-                                                  float y, float z);
+DPC_API dpc_status dpc_engine_set_source_position(dpc_engine* engine, int source, float x, float y,
+                                                  float z);
 
 /** Any thread (one writer per object at a time), wait-free, no allocation. Places moving
  *  object `object` (0-based, the scene's "objects" order): world = R(q) * local + (x, y, z),
@@ -85,6 +198,37 @@ DPC_API dpc_status dpc_engine_set_source_position(dpc_engine* engine, int source
  *  (null engine, index out of range, non-finite value or zero quaternion; no message set). */
 DPC_API dpc_status dpc_engine_set_object_pose(dpc_engine* engine, int object, float x, float y,
                                               float z, float qx, float qy, float qz, float qw);
+
+/** Control thread, while the propagation thread is stopped (before dpc_engine_start or after
+ *  dpc_engine_stop): runs one propagation frame now, on the calling thread, for the current
+ *  listener and source poses, and hands its impulse responses to the audio side as the
+ *  propagation thread would. For hosts that render faster or slower than real time
+ *  (offline bounces, tests): same seed and same calls give the same bits. Allocates while the
+ *  path cache grows. Errors: DPC_ERR_INVALID_ARGUMENT (NULL), DPC_ERR_STATE (running). */
+DPC_API dpc_status dpc_engine_step(dpc_engine* engine);
+
+/** Any thread except the audio thread (it may wait briefly for a lock the propagation thread
+ *  holds while it copies; the propagation thread never waits for it). Copies the pressure
+ *  impulse response of the newest propagation frame for `source` (scene order) and output
+ *  channel `channel` (< dpc_engine_output_channels) into out[0..capacity): linear pressure
+ *  per sample at dpc_engine_sample_rate(), sample 0 = emission time; its energy per octave
+ *  band follows the energy response (dpc_engine_copy_energy_response). *length (if not NULL)
+ *  receives the IR's full length in samples; min(capacity, length) samples are copied (out
+ *  may be NULL with capacity 0 to ask for the length). *frame (if not NULL) receives the
+ *  propagation frame count it came from. No allocation. Errors: DPC_ERR_INVALID_ARGUMENT (NULL
+ * engine, index out of range, out NULL with capacity > 0), DPC_ERR_STATE (no frame run yet). */
+DPC_API dpc_status dpc_engine_copy_impulse_response(dpc_engine* engine, int source, int channel,
+                                                    float* out, size_t capacity, size_t* length,
+                                                    uint64_t* frame);
+
+/** As dpc_engine_copy_impulse_response, for the energy response of `source` behind it: bin k
+ *  holds the intensity arriving with a delay in [k, k+1) * *bin_seconds (1 ms), per octave
+ *  band, relative to the source's emitted power, in 1/m^2 (a direct sound at distance r adds
+ *  1/(4 pi r^2) before air absorption); direct sound and reflections together. out receives
+ *  bin-major data out[k * DPC_BANDS + b] for min(capacity_bins, *bins) bins. */
+DPC_API dpc_status dpc_engine_copy_energy_response(dpc_engine* engine, int source, float* out,
+                                                   size_t capacity_bins, size_t* bins,
+                                                   double* bin_seconds, uint64_t* frame);
 
 /** Audio thread. Renders `frames` frames (1..8192, may vary from call to call) into
  *  outputs[0..dpc_engine_output_channels()), each a buffer of `frames` samples.
@@ -102,29 +246,29 @@ DPC_API int dpc_engine_sample_rate(const dpc_engine* engine);     /**< Hz */
 DPC_API int dpc_engine_block_size(const dpc_engine* engine);      /**< engine block, frames */
 DPC_API int dpc_engine_output_channels(const dpc_engine* engine); /**< 1 mono, 2 stereo */
 DPC_API int dpc_engine_source_count(const dpc_engine* engine);
-DPC_API int dpc_engine_object_count(const dpc_engine* engine);    /**< moving objects */
+DPC_API int dpc_engine_object_count(const dpc_engine* engine); /**< moving objects */
 /** Latency process() adds to the host's signal, frames (one engine block). */
 DPC_API int dpc_engine_latency_frames(const dpc_engine* engine);
 
 /** Counters and last-frame measurements of a running engine. */
 typedef struct dpc_stats {
-  uint64_t frames;            /**< propagation frames run */
-  double frame_ms;            /**< duration of the last propagation frame, ms */
-  double rays_per_second;     /**< since the previous dpc_engine_get_stats call */
-  uint64_t cache_entries;     /**< diffuse path cache entries after the last frame */
-  uint64_t cache_bytes;       /**< heap bytes held by the caches, summed over sources */
-  uint64_t cache_budget_bytes; /**< their memory budget, summed over sources */
+  uint64_t frames;               /**< propagation frames run */
+  double frame_ms;               /**< duration of the last propagation frame, ms */
+  double rays_per_second;        /**< since the previous dpc_engine_get_stats call */
+  uint64_t cache_entries;        /**< diffuse path cache entries after the last frame */
+  uint64_t cache_bytes;          /**< heap bytes held by the caches, summed over sources */
+  uint64_t cache_budget_bytes;   /**< their memory budget, summed over sources */
   uint64_t cache_merged_entries; /**< path entries merged into coarse delay bins, cumulative */
   double cache_merged_energy_fraction; /**< largest per-source share of the response's energy
                                             read from merged entries, [0, 1] */
-  uint64_t irs_applied;       /**< impulse-response sets that reached the convolvers */
-  uint64_t irs_dropped;       /**< superseded before the audio thread applied them */
-  double ir_age_ms;           /**< age of the impulse response playing, ms */
-  uint64_t blocks;            /**< engine blocks rendered */
-  uint64_t nan_blocks;        /**< blocks zeroed because they held NaN or infinity */
-  uint64_t late_callbacks;    /**< process() calls that took longer than the audio they
-                                   produced (a device would have underrun) */
-  uint64_t rejected_callbacks; /**< process() calls with frames outside 1..8192 */
+  uint64_t irs_applied;                /**< impulse-response sets that reached the convolvers */
+  uint64_t irs_dropped;                /**< superseded before the audio thread applied them */
+  double ir_age_ms;                    /**< age of the impulse response playing, ms */
+  uint64_t blocks;                     /**< engine blocks rendered */
+  uint64_t nan_blocks;                 /**< blocks zeroed because they held NaN or infinity */
+  uint64_t late_callbacks;             /**< process() calls that took longer than the audio they
+                                            produced (a device would have underrun) */
+  uint64_t rejected_callbacks;         /**< process() calls with frames outside 1..8192 */
 } dpc_stats;
 
 /** Control thread (it updates the rays-per-second interval). No allocation. */

@@ -3,10 +3,12 @@
 // errors are those of the C function each method calls (see dpc.h).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "dpc/dpc.h"
 
@@ -31,6 +33,19 @@ class Engine {
   static Engine fromFile(const std::string& scenePath) {
     dpc_engine* e = nullptr;
     check(dpc_engine_create_from_file(scenePath.c_str(), &e));
+    return Engine(e);
+  }
+  /// Control thread: as fromFile with overrides (dpc_engine_options; see dpc.h).
+  static Engine fromFile(const std::string& scenePath, const dpc_engine_options& options) {
+    dpc_engine* e = nullptr;
+    check(dpc_engine_create_from_file_ex(scenePath.c_str(), &options, &e));
+    return Engine(e);
+  }
+  /// Control thread: a scene built in code (dpc_scene_data, filled by dpc_scene_data_init
+  /// first); throws dpc::Error naming the field. options may be nullptr.
+  static Engine fromData(const dpc_scene_data& data, const dpc_engine_options* options = nullptr) {
+    dpc_engine* e = nullptr;
+    check(dpc_engine_create_from_data(&data, options, &e));
     return Engine(e);
   }
   Engine(Engine&& o) noexcept : e_(std::exchange(o.e_, nullptr)) {}
@@ -74,6 +89,31 @@ class Engine {
   int sourceCount() const noexcept { return dpc_engine_source_count(e_); }
   int objectCount() const noexcept { return dpc_engine_object_count(e_); }
   int latencyFrames() const noexcept { return dpc_engine_latency_frames(e_); }  ///< frames
+
+  /// Control thread, engine stopped: one propagation frame now (dpc_engine_step).
+  void step() { check(dpc_engine_step(e_)); }
+
+  /// Not the audio thread: the newest impulse response of `source`, channel `channel`
+  /// (linear pressure at sampleRate()). Allocates the vector; throws dpc::Error before the
+  /// first frame.
+  std::vector<float> impulseResponse(int source, int channel) {
+    size_t n = 0;
+    check(dpc_engine_copy_impulse_response(e_, source, channel, nullptr, 0, &n, nullptr));
+    std::vector<float> ir(n);
+    size_t copied = 0;
+    check(dpc_engine_copy_impulse_response(e_, source, channel, ir.data(), n, &copied, nullptr));
+    ir.resize(std::min(n, copied));  // a later frame could be shorter, never with one scene
+    return ir;
+  }
+  /// Not the audio thread: the newest energy response of `source`, bin-major
+  /// [bin * DPC_BANDS + band], 1/m^2 per binSeconds (1 ms) bin.
+  std::vector<float> energyResponse(int source, double* binSeconds = nullptr) {
+    size_t bins = 0;
+    check(dpc_engine_copy_energy_response(e_, source, nullptr, 0, &bins, binSeconds, nullptr));
+    std::vector<float> er(bins * DPC_BANDS);
+    check(dpc_engine_copy_energy_response(e_, source, er.data(), bins, nullptr, nullptr, nullptr));
+    return er;
+  }
 
   /// Control thread: counters and last-frame measurements.
   Stats stats() {

@@ -21,8 +21,9 @@ struct LiveRun {
   size_t recordedFrames = 0;
 };
 
+/// tracingThreads: the propagation's TBB arena (0 = all cores).
 template <typename AudioThreadObserver>
-LiveRun driveLiveSession(int blocks, AudioThreadObserver& onAudioThread) {
+LiveRun driveLiveSession(int blocks, AudioThreadObserver& onAudioThread, int tracingThreads = 0) {
   SceneDesc scene = loadScene(std::string(DPC_SOURCE_DIR) + "/scenes/shoebox.json");
   scene.audio.blockSize = 128;
   PropagationSettings ps = scene.propagation;
@@ -30,6 +31,7 @@ LiveRun driveLiveSession(int blocks, AudioThreadObserver& onAudioThread) {
   ps.maxOrder = 30;
   ps.irLength = 0.5f;
   ps.frameRate = 60.f;  // many swaps in a short test
+  ps.threads = tracingThreads;
   const DrySignals dry = loadDrySignals(scene);
   LiveSession::Options opt;
   opt.recordSeconds = 10.0;  // exercise the recorder ring too

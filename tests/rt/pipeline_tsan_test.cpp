@@ -17,7 +17,10 @@ struct Nothing {
 TEST_CASE("Live pipeline threads under ThreadSanitizer", "[tsan]") {
   Nothing none;
   const int blocks = 1500;
-  const test::LiveRun run = test::driveLiveSession(blocks, none);
+  // One tracing thread: Debian's TBB is not instrumented, so the hand-back of chunks traced by
+  // TBB workers to the propagation thread is invisible to TSan and reported as a race on
+  // their memory (seen under load). This test is about dpc's own threads and queues.
+  const test::LiveRun run = test::driveLiveSession(blocks, none, 1);
   INFO("blocks " << run.status.blocks << ", IRs applied " << run.status.irsApplied);
   CHECK(run.status.blocks == uint64_t(blocks));
   CHECK(run.status.irsApplied >= 30);  // swaps happened while the threads raced

@@ -1,0 +1,435 @@
+// LV2 plugin "dpc room": a mono dry input rendered through a dpc scene to a stereo (or
+// binaural, if the scene says so) output. A thin layer over the public C API (include/dpc/dpc.h):
+// one dpc_engine per loaded scene, whose propagation thread runs inside the instance; run() only
+// publishes the control ports' poses (wait-free) and calls dpc_engine_process (no allocation,
+// locks or waiting). Another scene is chosen through the patch:Parameter <URI#scene> (atom:Path),
+// loaded by the LV2 worker and saved with the plugin's state (docs/design.md "LV2 plugin").
+#include <lv2/atom/atom.h>
+#include <lv2/atom/forge.h>
+#include <lv2/atom/util.h>
+#include <lv2/core/lv2.h>
+#include <lv2/log/log.h>
+#include <lv2/log/logger.h>
+#include <lv2/patch/patch.h>
+#include <lv2/state/state.h>
+#include <lv2/urid/urid.h>
+#include <lv2/worker/worker.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "dpc/dpc.h"
+
+namespace {
+
+constexpr const char* kUri = "urn:dpc:lv2:room";
+constexpr const char* kSceneParam = "urn:dpc:lv2:room#scene";
+/// The scene shipped inside the bundle.
+constexpr const char* kDefaultScene = "scene/room.json";
+/// Longest scene path the worker message carries, bytes.
+constexpr size_t kMaxPath = 2048;
+
+enum Port : uint32_t {
+  kIn = 0,
+  kOutL,
+  kOutR,
+  kListenerX,
+  kListenerY,
+  kListenerZ,
+  kListenerYaw,
+  kSourceX,
+  kSourceY,
+  kSourceZ,
+  kControl,
+  kNotify,
+  kLatency,
+  kPortCount
+};
+
+/// A loaded scene: the engine and the input pointer array process() needs (one per source,
+/// all fed by the mono input). Built and freed off the audio thread.
+struct Scene {
+  dpc_engine* engine = nullptr;
+  std::string path;
+  bool isDefault = false;
+  int channels = 0;
+  std::vector<const float*> inputs;
+  ~Scene() { dpc_engine_destroy(engine); }
+};
+
+/// Listener x, y, z (m), yaw (degrees); source x, y, z (m).
+struct Pose {
+  float v[7];
+  bool operator!=(const Pose& o) const { return std::memcmp(v, o.v, sizeof v) != 0; }
+};
+
+/// Worker messages: load a scene (path follows) or free one.
+struct WorkMessage {
+  enum Kind : uint32_t { kLoad, kFree } kind;
+  Scene* scene;  ///< kFree
+  Pose pose;     ///< kLoad: the pose to compute the first frame for
+  bool start;    ///< kLoad: start the propagation thread (the plugin is active)
+  char path[1];  ///< kLoad: NUL-terminated, the message's tail
+};
+
+struct Uris {
+  LV2_URID atomPath, atomUrid, atomObject, atomSequence, patchSet, patchGet, patchProperty,
+      patchValue, sceneParam;
+  void map(LV2_URID_Map* m) {
+    atomPath = m->map(m->handle, LV2_ATOM__Path);
+    atomUrid = m->map(m->handle, LV2_ATOM__URID);
+    atomObject = m->map(m->handle, LV2_ATOM__Object);
+    atomSequence = m->map(m->handle, LV2_ATOM__Sequence);
+    patchSet = m->map(m->handle, LV2_PATCH__Set);
+    patchGet = m->map(m->handle, LV2_PATCH__Get);
+    patchProperty = m->map(m->handle, LV2_PATCH__property);
+    patchValue = m->map(m->handle, LV2_PATCH__value);
+    sceneParam = m->map(m->handle, kSceneParam);
+  }
+};
+
+struct Plugin {
+  double rate = 48000.0;
+  std::string bundle;
+  LV2_URID_Map* map = nullptr;
+  LV2_Worker_Schedule* schedule = nullptr;
+  LV2_Log_Logger logger{};
+  Uris uris{};
+  LV2_Atom_Forge forge{};
+  void* ports[kPortCount] = {};
+  Scene* scene = nullptr;
+  bool active = false;
+  bool notifyScene = false;  ///< tell the host the scene path at the next run()
+  Pose sent{};               ///< the pose last published to the engine
+  bool sentValid = false;
+  // The playing scene's path for save(), which LV2 may call concurrently with run(): a
+  // seqlock (run() writes without waiting, save() retries until it reads a stable copy).
+  // Empty for the bundle's default scene.
+  std::atomic<uint32_t> pathSeq{0};
+  char savedPath[kMaxPath] = {};
+
+  /// Whoever swaps the scene (run() or restore()): records its path for save().
+  void recordPath(const Scene& s) {
+    pathSeq.fetch_add(1, std::memory_order_acq_rel);
+    const size_t n = s.isDefault ? 0 : std::min(s.path.size(), kMaxPath - 1);
+    std::memcpy(savedPath, s.path.data(), n);
+    savedPath[n] = '\0';
+    pathSeq.fetch_add(1, std::memory_order_release);
+  }
+  /// save(): a consistent copy of savedPath.
+  std::string readPath() const {
+    char copy[kMaxPath];
+    for (;;) {
+      const uint32_t before = pathSeq.load(std::memory_order_acquire);
+      if (before & 1u) continue;
+      std::memcpy(copy, savedPath, kMaxPath);
+      std::atomic_thread_fence(std::memory_order_acquire);
+      if (pathSeq.load(std::memory_order_relaxed) == before) break;
+    }
+    copy[kMaxPath - 1] = '\0';
+    return copy;
+  }
+
+  float control(Port p, float fallback) const {
+    return ports[p] ? *static_cast<const float*>(ports[p]) : fallback;
+  }
+  Pose pose() const {
+    return Pose{{control(kListenerX, 7.f), control(kListenerY, 1.6f), control(kListenerZ, 3.5f),
+                 control(kListenerYaw, 180.f), control(kSourceX, 3.f), control(kSourceY, 1.6f),
+                 control(kSourceZ, 3.5f)}};
+  }
+};
+
+/// Any thread but the audio thread: the message of the last failed dpc call, logged.
+void logError(Plugin* p, const char* what) {
+  if (p->logger.log)
+    lv2_log_error(&p->logger, "dpc: %s: %s\n", what, dpc_last_error());
+  else
+    std::fprintf(stderr, "dpc: %s: %s\n", what, dpc_last_error());
+}
+
+/// Publishes a pose to an engine (wait-free; any thread). Non-finite values are refused by
+/// the API and leave the previous pose in place.
+void publish(dpc_engine* e, const Pose& q) {
+  dpc_engine_set_listener(e, q.v[0], q.v[1], q.v[2], q.v[3], 0.f);
+  dpc_engine_set_source_position(e, 0, q.v[4], q.v[5], q.v[6]);
+}
+
+/// Control or worker thread: loads a scene at the host's rate with host inputs only, computes
+/// its first frame for `pose` (so that sound comes out from the first block) and, if `start`,
+/// starts its propagation thread. nullptr on failure (logged).
+Scene* loadScene(Plugin* p, const std::string& path, bool isDefault, const Pose& pose, bool start) {
+  dpc_engine_options o;
+  dpc_engine_options_init(&o);
+  o.sample_rate = int(std::lround(p->rate));
+  o.host_inputs_only = 1;
+  dpc_engine* e = nullptr;
+  if (dpc_engine_create_from_file_ex(path.c_str(), &o, &e) != DPC_OK) {
+    logError(p, path.c_str());
+    return nullptr;
+  }
+  auto* s = new Scene;
+  s->engine = e;
+  s->path = path;
+  s->isDefault = isDefault;
+  s->channels = dpc_engine_output_channels(e);
+  s->inputs.assign(size_t(dpc_engine_source_count(e)), nullptr);
+  publish(e, pose);
+  if (dpc_engine_step(e) != DPC_OK) logError(p, "first propagation frame");
+  if (start && dpc_engine_start(e) != DPC_OK) logError(p, "start");
+  return s;
+}
+
+LV2_Handle instantiate(const LV2_Descriptor*, double rate, const char* bundlePath,
+                       const LV2_Feature* const* features) {
+  auto* p = new Plugin;
+  p->rate = rate;
+  p->bundle = bundlePath;
+  if (!p->bundle.empty() && p->bundle.back() != '/') p->bundle += '/';
+  LV2_Log_Log* log = nullptr;
+  for (int i = 0; features && features[i]; ++i) {
+    if (!std::strcmp(features[i]->URI, LV2_URID__map))
+      p->map = static_cast<LV2_URID_Map*>(features[i]->data);
+    else if (!std::strcmp(features[i]->URI, LV2_WORKER__schedule))
+      p->schedule = static_cast<LV2_Worker_Schedule*>(features[i]->data);
+    else if (!std::strcmp(features[i]->URI, LV2_LOG__log))
+      log = static_cast<LV2_Log_Log*>(features[i]->data);
+  }
+  lv2_log_logger_init(&p->logger, p->map, log);
+  if (p->map) {
+    p->uris.map(p->map);
+    lv2_atom_forge_init(&p->forge, p->map);
+  }
+  p->scene = loadScene(p, p->bundle + kDefaultScene, true, p->pose(), false);
+  if (!p->scene) {
+    delete p;
+    return nullptr;
+  }
+  return p;
+}
+
+void connectPort(LV2_Handle h, uint32_t port, void* data) {
+  if (port < kPortCount) static_cast<Plugin*>(h)->ports[port] = data;
+}
+
+void activate(LV2_Handle h) {
+  auto* p = static_cast<Plugin*>(h);
+  // The control ports hold their values now: compute the first frame for them before any audio.
+  const Pose q = p->pose();
+  publish(p->scene->engine, q);
+  p->sent = q;
+  p->sentValid = true;
+  if (dpc_engine_step(p->scene->engine) != DPC_OK) logError(p, "first propagation frame");
+  if (dpc_engine_start(p->scene->engine) != DPC_OK) logError(p, "start");
+  p->active = true;
+}
+
+void deactivate(LV2_Handle h) {
+  auto* p = static_cast<Plugin*>(h);
+  dpc_engine_stop(p->scene->engine);
+  p->active = false;
+}
+
+/// Audio thread: writes patch:Set <scene> <path> to the notify port (if connected).
+void writeScenePath(Plugin* p, LV2_Atom_Sequence* notify) {
+  const uint32_t capacity = notify->atom.size;
+  lv2_atom_forge_set_buffer(&p->forge, reinterpret_cast<uint8_t*>(notify), capacity);
+  LV2_Atom_Forge_Frame seq;
+  lv2_atom_forge_sequence_head(&p->forge, &seq, 0);
+  lv2_atom_forge_frame_time(&p->forge, 0);
+  LV2_Atom_Forge_Frame obj;
+  lv2_atom_forge_object(&p->forge, &obj, 0, p->uris.patchSet);
+  lv2_atom_forge_key(&p->forge, p->uris.patchProperty);
+  lv2_atom_forge_urid(&p->forge, p->uris.sceneParam);
+  lv2_atom_forge_key(&p->forge, p->uris.patchValue);
+  lv2_atom_forge_path(&p->forge, p->scene->path.c_str(), uint32_t(p->scene->path.size()));
+  lv2_atom_forge_pop(&p->forge, &obj);
+  lv2_atom_forge_pop(&p->forge, &seq);
+}
+
+/// Audio thread: hands a scene path from a patch:Set to the worker (no allocation: the
+/// message is built on the stack and copied by the host).
+void requestScene(Plugin* p, const LV2_Atom* value) {
+  if (!p->schedule || value->type != p->uris.atomPath || value->size == 0 ||
+      value->size >= kMaxPath)
+    return;
+  alignas(WorkMessage) char buf[sizeof(WorkMessage) + kMaxPath];
+  auto* m = reinterpret_cast<WorkMessage*>(buf);
+  m->kind = WorkMessage::kLoad;
+  m->scene = nullptr;
+  m->pose = p->pose();
+  m->start = p->active;
+  std::memcpy(m->path, LV2_ATOM_BODY_CONST(value), value->size);
+  m->path[value->size] = '\0';
+  const uint32_t size = uint32_t(offsetof(WorkMessage, path) + value->size + 1);
+  // A full worker queue drops the request; the host's next patch:Set tries again.
+  p->schedule->schedule_work(p->schedule->handle, size, m);
+}
+
+void readControl(Plugin* p) {
+  const auto* in = static_cast<const LV2_Atom_Sequence*>(p->ports[kControl]);
+  if (!in || !p->map) return;
+  LV2_ATOM_SEQUENCE_FOREACH(in, ev) {
+    if (ev->body.type != p->uris.atomObject) continue;
+    const auto* obj = reinterpret_cast<const LV2_Atom_Object*>(&ev->body);
+    if (obj->body.otype == p->uris.patchGet) {
+      p->notifyScene = true;
+    } else if (obj->body.otype == p->uris.patchSet) {
+      const LV2_Atom* property = nullptr;
+      const LV2_Atom* value = nullptr;
+      lv2_atom_object_get(obj, p->uris.patchProperty, &property, p->uris.patchValue, &value, 0);
+      if (property && value && property->type == p->uris.atomUrid &&
+          reinterpret_cast<const LV2_Atom_URID*>(property)->body == p->uris.sceneParam)
+        requestScene(p, value);
+    }
+  }
+}
+
+void run(LV2_Handle h, uint32_t frames) {
+  auto* p = static_cast<Plugin*>(h);
+  readControl(p);
+  auto* notify = static_cast<LV2_Atom_Sequence*>(p->ports[kNotify]);
+  if (notify && p->map && p->notifyScene) {
+    writeScenePath(p, notify);
+    p->notifyScene = false;
+  } else if (notify) {
+    lv2_atom_sequence_clear(notify);  // an empty sequence (the host set atom.size to capacity)
+    notify->atom.type = p->map ? p->uris.atomSequence : 0;
+  }
+  Scene* s = p->scene;
+  const Pose q = p->pose();
+  if (!p->sentValid || q != p->sent) {
+    publish(s->engine, q);
+    p->sent = q;
+    p->sentValid = true;
+  }
+  if (p->ports[kLatency])
+    *static_cast<float*>(p->ports[kLatency]) = float(dpc_engine_latency_frames(s->engine));
+  auto* in = static_cast<const float*>(p->ports[kIn]);
+  auto* l = static_cast<float*>(p->ports[kOutL]);
+  auto* r = static_cast<float*>(p->ports[kOutR]);
+  for (uint32_t done = 0; done < frames;) {
+    const uint32_t n = std::min<uint32_t>(frames - done, 8192);
+    for (auto& ptr : s->inputs) ptr = in + done;
+    float* outs[2] = {l + done, r + done};
+    dpc_engine_process(s->engine, s->inputs.data(), outs, int(n));
+    if (s->channels == 1) std::copy(l + done, l + done + n, r + done);
+    done += n;
+  }
+}
+
+/// Worker thread: loads a scene (and answers with it) or frees one.
+LV2_Worker_Status work(LV2_Handle h, LV2_Worker_Respond_Function respond,
+                       LV2_Worker_Respond_Handle handle, uint32_t size, const void* data) {
+  auto* p = static_cast<Plugin*>(h);
+  if (size < offsetof(WorkMessage, path)) return LV2_WORKER_ERR_UNKNOWN;
+  const auto* m = static_cast<const WorkMessage*>(data);
+  if (m->kind == WorkMessage::kFree) {
+    delete m->scene;
+    return LV2_WORKER_SUCCESS;
+  }
+  const std::string path(m->path, strnlen(m->path, size - offsetof(WorkMessage, path)));
+  Scene* s = loadScene(p, path, false, m->pose, m->start);
+  respond(handle, sizeof s, &s);  // nullptr on failure: the audio thread keeps the old scene
+  return LV2_WORKER_SUCCESS;
+}
+
+/// Audio thread: swaps in the scene the worker loaded and sends the old one back to be freed.
+LV2_Worker_Status workResponse(LV2_Handle h, uint32_t size, const void* data) {
+  auto* p = static_cast<Plugin*>(h);
+  if (size != sizeof(Scene*)) return LV2_WORKER_ERR_UNKNOWN;
+  Scene* s = nullptr;
+  std::memcpy(&s, data, sizeof s);
+  if (!s) return LV2_WORKER_SUCCESS;
+  WorkMessage m{};
+  m.kind = WorkMessage::kFree;
+  m.scene = p->scene;
+  p->scene = s;
+  p->recordPath(*s);
+  p->sentValid = false;
+  p->notifyScene = true;
+  p->schedule->schedule_work(p->schedule->handle, uint32_t(offsetof(WorkMessage, path)), &m);
+  return LV2_WORKER_SUCCESS;
+}
+
+/// Saves the chosen scene's path (nothing for the bundle's default scene). May run
+/// concurrently with run(): reads the path through the seqlock, never the Scene.
+LV2_State_Status save(LV2_Handle h, LV2_State_Store_Function store, LV2_State_Handle handle,
+                      uint32_t, const LV2_Feature* const* features) {
+  auto* p = static_cast<Plugin*>(h);
+  std::string value = p->readPath();
+  if (!p->map || value.empty()) return LV2_STATE_SUCCESS;
+  LV2_State_Map_Path* mapPath = nullptr;
+  for (int i = 0; features && features[i]; ++i)
+    if (!std::strcmp(features[i]->URI, LV2_STATE__mapPath))
+      mapPath = static_cast<LV2_State_Map_Path*>(features[i]->data);
+  if (mapPath) {
+    char* abstract = mapPath->abstract_path(mapPath->handle, value.c_str());
+    value = abstract;
+    std::free(abstract);
+  }
+  return store(handle, p->uris.sceneParam, value.c_str(), value.size() + 1, p->uris.atomPath,
+               LV2_STATE_IS_POD | LV2_STATE_IS_PORTABLE);
+}
+
+/// Loads the saved scene (or the default one if the state holds none). Instantiation thread:
+/// run() is not running meanwhile.
+LV2_State_Status restore(LV2_Handle h, LV2_State_Retrieve_Function retrieve,
+                         LV2_State_Handle handle, uint32_t, const LV2_Feature* const* features) {
+  auto* p = static_cast<Plugin*>(h);
+  if (!p->map) return LV2_STATE_ERR_NO_FEATURE;
+  size_t size = 0;
+  uint32_t type = 0, flags = 0;
+  const void* value = retrieve(handle, p->uris.sceneParam, &size, &type, &flags);
+  std::string path = p->bundle + kDefaultScene;
+  bool isDefault = true;
+  if (value) {
+    if (type != p->uris.atomPath) return LV2_STATE_ERR_BAD_TYPE;
+    path.assign(static_cast<const char*>(value), strnlen(static_cast<const char*>(value), size));
+    isDefault = false;
+    for (int i = 0; features && features[i]; ++i)
+      if (!std::strcmp(features[i]->URI, LV2_STATE__mapPath)) {
+        auto* mp = static_cast<LV2_State_Map_Path*>(features[i]->data);
+        char* absolute = mp->absolute_path(mp->handle, path.c_str());
+        path = absolute;
+        std::free(absolute);
+      }
+  }
+  if (path == p->scene->path) return LV2_STATE_SUCCESS;
+  Scene* s = loadScene(p, path, isDefault, p->pose(), p->active);
+  if (!s) return LV2_STATE_ERR_UNKNOWN;
+  delete p->scene;
+  p->scene = s;
+  p->recordPath(*s);
+  p->sentValid = false;
+  p->notifyScene = true;
+  return LV2_STATE_SUCCESS;
+}
+
+void cleanup(LV2_Handle h) {
+  auto* p = static_cast<Plugin*>(h);
+  delete p->scene;
+  delete p;
+}
+
+const void* extensionData(const char* uri) {
+  static const LV2_Worker_Interface worker = {work, workResponse, nullptr};
+  static const LV2_State_Interface state = {save, restore};
+  if (!std::strcmp(uri, LV2_WORKER__interface)) return &worker;
+  if (!std::strcmp(uri, LV2_STATE__interface)) return &state;
+  return nullptr;
+}
+
+const LV2_Descriptor kDescriptor = {kUri, instantiate, connectPort, activate,
+                                    run,  deactivate,  cleanup,     extensionData};
+
+}  // namespace
+
+extern "C" LV2_SYMBOL_EXPORT const LV2_Descriptor* lv2_descriptor(uint32_t index) {
+  return index == 0 ? &kDescriptor : nullptr;
+}

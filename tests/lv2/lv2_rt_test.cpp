@@ -1,0 +1,242 @@
+// The LV2 plugin's audio-thread contract, with a minimal host in the test: run() (with control
+// changes, a patch:Set choosing another scene and the worker's response swapping it in) makes no
+// heap call (tests/rt/alloc_counter.h), the output stays finite and not silent, and the chosen
+// scene survives save/restore into a fresh instance (read back through patch:Get on the notify
+// port).
+#include <dlfcn.h>
+#include <lv2/atom/forge.h>
+#include <lv2/atom/util.h>
+#include <lv2/core/lv2.h>
+#include <lv2/patch/patch.h>
+#include <lv2/state/state.h>
+#include <lv2/urid/urid.h>
+#include <lv2/worker/worker.h>
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "tests/rt/alloc_counter.h"
+
+namespace {
+
+constexpr const char* kBundle = DPC_BINARY_DIR "/lv2/dpc.lv2/";
+constexpr const char* kSceneParam = "urn:dpc:lv2:room#scene";
+constexpr uint32_t kFrames = 256;
+
+struct Host {
+  std::map<std::string, LV2_URID> ids;
+  std::vector<std::string> names{""};
+  LV2_URID_Map map{this, [](LV2_URID_Map_Handle h, const char* uri) -> LV2_URID {
+                     auto* host = static_cast<Host*>(h);
+                     auto [it, fresh] = host->ids.emplace(uri, LV2_URID(host->names.size()));
+                     if (fresh) host->names.push_back(uri);
+                     return it->second;
+                   }};
+  // Worker: messages are queued by run() (copied into preallocated storage, no allocation)
+  // and executed later on the test's control thread.
+  std::vector<char> pending = std::vector<char>(8192);
+  uint32_t pendingSize = 0;
+  int scheduled = 0;
+  LV2_Worker_Schedule schedule{this,
+                               [](LV2_Worker_Schedule_Handle h, uint32_t size, const void* data) {
+                                 auto* host = static_cast<Host*>(h);
+                                 if (size > host->pending.size() || host->pendingSize)
+                                   return LV2_WORKER_ERR_NO_SPACE;
+                                 std::memcpy(host->pending.data(), data, size);
+                                 host->pendingSize = size;
+                                 ++host->scheduled;
+                                 return LV2_WORKER_SUCCESS;
+                               }};
+  std::vector<char> response = std::vector<char>(64);
+  uint32_t responseSize = 0;
+  LV2_Feature mapFeature{LV2_URID__map, &map};
+  LV2_Feature workerFeature{LV2_WORKER__schedule, &schedule};
+  const LV2_Feature* features[3] = {&mapFeature, &workerFeature, nullptr};
+};
+
+struct Instance {
+  const LV2_Descriptor* d;
+  LV2_Handle h;
+  float in[kFrames], left[kFrames], right[kFrames];
+  float controls[7] = {7.f, 1.6f, 3.5f, 180.f, 3.f, 1.6f, 3.5f};
+  float latency = 0.f;
+  alignas(8) uint8_t control[4096], notify[4096];
+  Instance(const LV2_Descriptor* desc, Host& host) : d(desc) {
+    h = d->instantiate(d, 48000.0, kBundle, host.features);
+    REQUIRE(h);
+    d->connect_port(h, 0, in);
+    d->connect_port(h, 1, left);
+    d->connect_port(h, 2, right);
+    for (uint32_t i = 0; i < 7; ++i) d->connect_port(h, 3 + i, &controls[i]);
+    d->connect_port(h, 10, control);
+    d->connect_port(h, 11, notify);
+    d->connect_port(h, 12, &latency);
+  }
+  ~Instance() { d->cleanup(h); }
+  // An empty input sequence and an output sequence of full capacity, as a host prepares them.
+  void clearAtoms(LV2_URID sequence) {
+    auto* c = reinterpret_cast<LV2_Atom_Sequence*>(control);
+    c->atom.type = sequence;
+    c->atom.size = sizeof(LV2_Atom_Sequence_Body);
+    c->body.unit = 0;
+    c->body.pad = 0;
+    auto* n = reinterpret_cast<LV2_Atom_Sequence*>(notify);
+    n->atom.type = 0;
+    n->atom.size = sizeof notify - sizeof(LV2_Atom);
+  }
+};
+
+const LV2_Descriptor* loadDescriptor() {
+  void* lib = dlopen(DPC_BINARY_DIR "/lv2/dpc.lv2/dpc_lv2.so", RTLD_NOW);
+  INFO(dlerror());
+  REQUIRE(lib);
+  auto fn = reinterpret_cast<LV2_Descriptor_Function>(dlsym(lib, "lv2_descriptor"));
+  REQUIRE(fn);
+  REQUIRE(fn(1) == nullptr);
+  return fn(0);
+}
+
+// Writes a patch message into the instance's control port (control thread).
+void writePatch(Instance& x, Host& host, bool set, const std::string& path) {
+  LV2_Atom_Forge forge;
+  lv2_atom_forge_init(&forge, &host.map);
+  lv2_atom_forge_set_buffer(&forge, x.control, sizeof x.control);
+  LV2_Atom_Forge_Frame seq, obj;
+  lv2_atom_forge_sequence_head(&forge, &seq, 0);
+  lv2_atom_forge_frame_time(&forge, 0);
+  lv2_atom_forge_object(&forge, &obj, 0,
+                        host.map.map(&host, set ? LV2_PATCH__Set : LV2_PATCH__Get));
+  if (set) {
+    lv2_atom_forge_key(&forge, host.map.map(&host, LV2_PATCH__property));
+    lv2_atom_forge_urid(&forge, host.map.map(&host, kSceneParam));
+    lv2_atom_forge_key(&forge, host.map.map(&host, LV2_PATCH__value));
+    lv2_atom_forge_path(&forge, path.c_str(), uint32_t(path.size()));
+  }
+  lv2_atom_forge_pop(&forge, &obj);
+  lv2_atom_forge_pop(&forge, &seq);
+}
+
+// The scene path in a patch:Set on the notify port, or "".
+std::string notifiedPath(Instance& x, Host& host) {
+  const auto* seq = reinterpret_cast<const LV2_Atom_Sequence*>(x.notify);
+  std::string path;
+  LV2_ATOM_SEQUENCE_FOREACH(seq, ev) {
+    const auto* obj = reinterpret_cast<const LV2_Atom_Object*>(&ev->body);
+    const LV2_Atom* value = nullptr;
+    lv2_atom_object_get(obj, host.map.map(&host, LV2_PATCH__value), &value, 0);
+    if (value && value->type == host.map.map(&host, LV2_ATOM__Path))
+      path.assign(static_cast<const char*>(LV2_ATOM_BODY_CONST(value)));
+  }
+  return path;
+}
+
+// Runs the worker's pending message on this (control) thread.
+void runWorker(const LV2_Descriptor* d, LV2_Handle h, Host& host) {
+  const auto* worker =
+      static_cast<const LV2_Worker_Interface*>(d->extension_data(LV2_WORKER__interface));
+  REQUIRE(worker);
+  const uint32_t size = host.pendingSize;
+  std::vector<char> msg(host.pending.begin(), host.pending.begin() + size);
+  host.pendingSize = 0;
+  worker->work(
+      h,
+      [](LV2_Worker_Respond_Handle rh, uint32_t n, const void* data) {
+        auto* hst = static_cast<Host*>(rh);
+        std::memcpy(hst->response.data(), data, n);
+        hst->responseSize = n;
+        return LV2_WORKER_SUCCESS;
+      },
+      &host, size, msg.data());
+}
+
+}  // namespace
+
+TEST_CASE("LV2 plugin: run() and a scene swap make no heap call, the scene is saved") {
+  const LV2_Descriptor* d = loadDescriptor();
+  Host host;
+  const LV2_URID sequence = host.map.map(&host, LV2_ATOM__Sequence);
+  const auto* worker =
+      static_cast<const LV2_Worker_Interface*>(d->extension_data(LV2_WORKER__interface));
+  const std::string other = DPC_SOURCE_DIR "/scenes/shoebox.json";
+  std::string saved;
+  {
+    Instance x(d, host);
+    d->activate(x.h);
+    double energy = 0.0;
+    bool finite = true;
+    uint64_t heapCalls = 0;
+    for (int block = 0; block < 400; ++block) {
+      x.clearAtoms(sequence);
+      if (block == 100) writePatch(x, host, true, other);
+      for (uint32_t i = 0; i < kFrames; ++i) x.in[i] = (block * kFrames + i) % 4800 == 0;
+      x.controls[0] = 7.f - 0.005f * float(block);  // the listener walks 2 m towards the source
+      {
+        dpc::rt::AllocationScope scope;
+        d->run(x.h, kFrames);
+        if (block == 150 && host.responseSize)  // the worker has answered: swap on this thread
+          worker->work_response(x.h, host.responseSize, host.response.data());
+        heapCalls += scope.counts().total();
+      }
+      if (block == 100) {
+        REQUIRE(host.scheduled == 1);
+        runWorker(d, x.h, host);  // loads the scene on this (control) thread
+      }
+      if (block == 150) {
+        CHECK(notifiedPath(x, host).empty());  // told at the next run
+        REQUIRE(host.scheduled == 2);          // the old scene goes back to be freed
+        runWorker(d, x.h, host);
+      }
+      if (block == 151) CHECK(notifiedPath(x, host) == other);
+      for (uint32_t i = 0; i < kFrames; ++i) {
+        finite = finite && std::isfinite(x.left[i]) && std::isfinite(x.right[i]);
+        energy += double(x.left[i]) * x.left[i] + double(x.right[i]) * x.right[i];
+      }
+    }
+    CHECK(heapCalls == 0);
+    CHECK(finite);
+    CHECK(energy > 1e-6);
+    CHECK(x.latency == 512.f);  // one block of the scene now playing (shoebox.json: 512)
+    d->deactivate(x.h);
+    const auto* state =
+        static_cast<const LV2_State_Interface*>(d->extension_data(LV2_STATE__interface));
+    REQUIRE(state);
+    REQUIRE(
+        state->save(
+            x.h,
+            [](LV2_State_Handle sh, uint32_t, const void* value, size_t size, uint32_t, uint32_t) {
+              static_cast<std::string*>(sh)->assign(static_cast<const char*>(value), size - 1);
+              return LV2_STATE_SUCCESS;
+            },
+            &saved, LV2_STATE_IS_POD, nullptr) == LV2_STATE_SUCCESS);
+    CHECK(saved == other);
+  }
+  // A fresh instance restores the saved scene and reports it on patch:Get.
+  Instance y(d, host);
+  const auto* state =
+      static_cast<const LV2_State_Interface*>(d->extension_data(LV2_STATE__interface));
+  struct Saved {
+    std::string path;
+    LV2_URID type;
+  } s{saved, host.map.map(&host, LV2_ATOM__Path)};
+  REQUIRE(state->restore(
+              y.h,
+              [](LV2_State_Handle sh, uint32_t, size_t* size, uint32_t* type,
+                 uint32_t* flags) -> const void* {
+                auto* sv = static_cast<Saved*>(sh);
+                *size = sv->path.size() + 1;
+                *type = sv->type;
+                *flags = LV2_STATE_IS_POD;
+                return sv->path.c_str();
+              },
+              &s, 0, nullptr) == LV2_STATE_SUCCESS);
+  d->activate(y.h);
+  y.clearAtoms(sequence);
+  writePatch(y, host, false, "");
+  d->run(y.h, kFrames);
+  CHECK(notifiedPath(y, host) == other);
+  d->deactivate(y.h);
+}

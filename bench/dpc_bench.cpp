@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <ctime>
 #include <glm/geometric.hpp>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <numeric>
 #include <string>
@@ -253,47 +254,89 @@ int benchNoise(const Common& c, double walkSpeed, int referenceFrames, int warmu
                     {"own_relative_error", refError}};
   j["metric"] =
       "L2 over 8 bands x 10 ms bins of the energy response, relative to the reference's L2 norm";
-  double dpcError = 0.0;
+  // Order ranges as delay ranges (mean reflection rate of the room, engine/noise_study.h).
+  const std::vector<std::pair<int, int>> orderRanges = {{1, 3}, {4, 10}, {11, 50}, {51, 200}};
+  std::vector<std::pair<double, double>> delayRanges;
+  {
+    const Geometry geometry(scene.mesh, scene.materials, s.patchSize, scene.objects);
+    const glm::vec3 e = geometry.boundsMax() - geometry.boundsMin();
+    const double volume = double(e.x) * e.y * e.z;
+    const double direct = glm::length(scene.sources[0].position - at(0)) / double(s.speedOfSound);
+    for (auto [d0, d1] : orderRanges)
+      delayRanges.push_back(
+          delayRangeOfOrders(d0, d1, volume, geometry.surfaceArea(), s.speedOfSound, direct));
+  }
+  auto rangeName = [&](size_t r) {
+    return std::to_string(orderRanges[r].first) + "-" + std::to_string(orderRanges[r].second);
+  };
+  std::map<std::string, double> dpcError;
+  std::map<std::string, std::vector<double>> dpcRangeError;
   for (auto [name, weighting] :
-       {std::pair{"dpc_ema", DpcWeighting::kEma}, std::pair{"dpc_seed", DpcWeighting::kSeed}}) {
+       {std::pair{"dpc_window", DpcWeighting::kWindow}, std::pair{"dpc_ema", DpcWeighting::kEma},
+        std::pair{"dpc_seed", DpcWeighting::kSeed}}) {
     PropagationSettings d = s;
     d.estimator = Estimator::kDpc;
     d.dpcWeighting = weighting;
     std::fprintf(stderr, "\r%s...            ", name);
-    const NoiseMetrics m = measureNoise(scene, d, warmup, c.frames, at, ref);
+    const NoiseMetrics m = measureNoise(scene, d, warmup, c.frames, at, ref, 0, nullptr, delayRanges);
     j["estimators"][name] = describe(m);
-    if (weighting == DpcWeighting::kEma) dpcError = corrected(m.meanError);
+    dpcError[name] = corrected(m.meanError);
+    for (double e : m.errorByRange) dpcRangeError[name].push_back(corrected(e));
   }
   // Plain path tracing at 1x, 2x, 4x ... the rays: error ~ rays^-1/2.
   std::vector<std::pair<double, double>> pt;  // (multiplier, corrected error)
+  std::vector<std::vector<std::pair<double, double>>> ptRange(delayRanges.size());
   for (int k : ptMultipliers) {
     PropagationSettings p = s;
     p.estimator = Estimator::kPathTracing;
     p.raysPerFrame = s.raysPerFrame * k;
     std::fprintf(stderr, "\rpath tracing x%d...     ", k);
-    const NoiseMetrics m = measureNoise(scene, p, 0, std::min(c.frames, 20), at, ref);
+    const NoiseMetrics m =
+        measureNoise(scene, p, 0, std::min(c.frames, 20), at, ref, 0, nullptr, delayRanges);
     j["path_tracing"][std::to_string(k) + "x"] = describe(m);
     pt.push_back({double(k), corrected(m.meanError)});
+    for (size_t r = 0; r < delayRanges.size(); ++r)
+      ptRange[r].push_back({double(k), corrected(m.errorByRange[r])});
   }
   std::fprintf(stderr, "\r                         \r");
   // Equal-noise ray ratio: interpolate log(error) against log(rays) between the bracketing
   // path-tracing runs, or extrapolate along the last two with their fitted slope.
-  double ratio = NAN;
-  std::string how = "interpolated";
-  for (size_t i = 0; i + 1 < pt.size(); ++i)
-    if (pt[i].second >= dpcError && pt[i + 1].second <= dpcError) {
-      const double t =
-          std::log(pt[i].second / dpcError) / std::log(pt[i].second / pt[i + 1].second);
-      ratio = std::exp(std::log(pt[i].first) + t * std::log(pt[i + 1].first / pt[i].first));
+  auto equalNoise = [](const std::vector<std::pair<double, double>>& pt, double dpcError,
+                       std::string* how) {
+    double ratio = NAN;
+    if (how) *how = "interpolated";
+    for (size_t i = 0; i + 1 < pt.size(); ++i)
+      if (pt[i].second >= dpcError && pt[i + 1].second <= dpcError && dpcError > 0.0) {
+        const double t =
+            std::log(pt[i].second / dpcError) / std::log(pt[i].second / pt[i + 1].second);
+        ratio = std::exp(std::log(pt[i].first) + t * std::log(pt[i + 1].first / pt[i].first));
+      }
+    if (std::isnan(ratio) && pt.size() >= 2 && dpcError > 0.0) {
+      const auto& a = pt[pt.size() - 2];
+      const auto& b = pt.back();
+      const double slope = std::log(b.second / a.second) / std::log(b.first / a.first);
+      ratio = b.first * std::pow(dpcError / b.second, 1.0 / slope);
+      if (how) *how = "extrapolated with slope " + std::to_string(slope);
     }
-  if (std::isnan(ratio) && pt.size() >= 2 && dpcError > 0.0) {
-    const auto& a = pt[pt.size() - 2];
-    const auto& b = pt.back();
-    const double slope = std::log(b.second / a.second) / std::log(b.first / a.first);
-    ratio = b.first * std::pow(dpcError / b.second, 1.0 / slope);
-    how = "extrapolated with slope " + std::to_string(slope);
+    return ratio;
+  };
+  std::string how;
+  const double ratio = equalNoise(pt, dpcError["dpc_ema"], &how);
+  std::string howWindow;
+  const double ratioWindow = equalNoise(pt, dpcError["dpc_window"], &howWindow);
+  json byOrder;
+  for (size_t r = 0; r < delayRanges.size(); ++r) {
+    byOrder[rangeName(r)] = equalNoise(ptRange[r], dpcRangeError["dpc_window"][r], nullptr);
+    j["order_ranges_as_delays_s"][rangeName(r)] = {delayRanges[r].first, delayRanges[r].second};
   }
-  j["equal_noise_ray_ratio"] = {{"dpc_ema", ratio}, {"how", how}};
+  j["equal_noise_ray_ratio_by_order"] = byOrder;
+  j["equal_noise_ray_ratio_by_order_estimator"] = "dpc_window (the default)";
+  j["energy_bias"] = j["estimators"]["dpc_window"]["energy_bias"];
+  j["energy_bias_note"] =
+      "dpc_window's total energy over the measured frames vs the reference, signed; the "
+      "reference's own relative error is reference.own_relative_error";
+  j["equal_noise_ray_ratio"] = {
+      {"dpc_ema", ratio}, {"how", how}, {"dpc_window", ratioWindow}, {"how_window", howWindow}};
   std::printf("%s\n", j.dump(2).c_str());
   return 0;
 }
@@ -648,6 +691,66 @@ int benchDynamic(int rays, int frames, const std::string& parts) {
   std::printf("%s\n", j.dump(2).c_str());
   return 0;
 }
+
+/// Memory budget sweep (docs/estimators.md): for each rays-per-frame value, the DPC at the
+/// budget and an unbounded one (16384 MB, pages committed only as used) see the same rays; the
+/// JSON gives entries, bytes, merged entries, the coarse store's share and the budget's bias
+/// (total energy and strength G of the last frame, budgeted vs unbounded).
+int benchBudget(const Common& c, const std::vector<int>& raysList) {
+  SceneDesc scene;
+  if (c.scene == "room-4x3x2.5")
+    scene = test::makeShoebox({4, 3, 2.5f}, Bands(0.1f), 1.f, {1, 1, 1.2f}, {3, 2, 1.5f});
+  else
+    scene = firstSourceOnly(loadScene(c.scene));
+  PropagationSettings s = settingsFor(scene, c);
+  s.estimator = Estimator::kDpc;
+  s.diffraction = false;
+  const int frames = std::max(1, c.frames);
+  json j;
+  j["benchmark"] = "budget";
+  j["scene"] = c.scene;
+  j["budget_mb"] = s.cacheMemoryMb;
+  j["weighting"] = s.dpcWeighting == DpcWeighting::kWindow ? "window"
+                   : s.dpcWeighting == DpcWeighting::kEma  ? "ema"
+                                                           : "seed";
+  j["tau_s"] = s.cacheTau;
+  j["frames"] = frames;
+  json points = json::array();
+  for (int rays : raysList) {
+    PropagationSettings a = s, b = s;
+    a.raysPerFrame = b.raysPerFrame = rays;
+    b.cacheMemoryMb = 16384.f;
+    Simulation small(scene, a), big(scene, b);
+    size_t maxBytes = 0;
+    const glm::vec3 at = listenerPositionAt(scene.listener, 0.0);
+    for (int f = 0; f < frames; ++f) {
+      small.runFrame(at);
+      big.runFrame(at);
+      maxBytes = std::max(maxBytes, small.result(0).cacheBytes);
+    }
+    const auto& x = small.result(0);
+    const auto& y = big.result(0);
+    const double ex = x.energy.total().average(), ey = y.energy.total().average();
+    json p;
+    p["rays_per_frame"] = rays;
+    p["entries"] = x.cacheEntries;
+    p["coarse_entries"] = x.cacheCoarseEntries;
+    p["bytes"] = maxBytes;
+    p["budget_bytes"] = x.cacheBudgetBytes;
+    p["entries_merged"] = x.cacheMergedEntries;
+    p["merged_energy_fraction"] = x.cacheCoarseEnergyFraction;
+    p["unbounded_entries"] = y.cacheEntries;
+    p["energy_ratio_vs_unbounded"] = ey > 0.0 ? ex / ey : 1.0;
+    p["g_difference_db"] = ey > 0.0 ? 10.0 * std::log10(ex / ey) : 0.0;
+    points.push_back(p);
+    std::fprintf(stderr, "%d rays: entries %zu (unbounded %zu), merged %llu, energy ratio %.6f\n",
+                 rays, x.cacheEntries, y.cacheEntries, (unsigned long long)x.cacheMergedEntries,
+                 ex / ey);
+  }
+  j["points"] = points;
+  std::printf("%s\n", j.dump(2).c_str());
+  return 0;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -694,6 +797,11 @@ int main(int argc, char** argv) {
   lis->add_option("--counts", listenerCounts, "Listener counts (first = the reference)")
       ->delimiter(',')
       ->check(CLI::PositiveNumber);
+  CLI::App* budget = app.add_subcommand(
+      "budget", "Cache entries, bytes and budget bias vs rays per frame (scene or room-4x3x2.5)");
+  std::vector<int> budgetRays = {1000, 10000, 100000};
+  addCommon(budget);
+  budget->add_option("--rays-list", budgetRays, "Rays per frame values");
   CLI::App* dyn = app.add_subcommand(
       "dynamic", "Door step response per estimator and tau; moving-object frame time");
   int dynRays = 2048, dynFrames = 20;
@@ -717,7 +825,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
-  for (CLI::App* sub : {prop, noise, live, lis}) {
+  for (CLI::App* sub : {prop, noise, live, lis, budget}) {
     c.haveTau = c.haveTau || sub->count("--tau") > 0;
     c.haveCacheMb = c.haveCacheMb || sub->count("--cache-memory-mb") > 0;
     c.haveMaxOrder = c.haveMaxOrder || sub->count("--max-order") > 0;
@@ -728,6 +836,7 @@ int main(int argc, char** argv) {
     if (*dyn) return benchDynamic(dynRays, dynFrames, dynParts);
     if (*lis) return benchListeners(c, listenerCounts);
     if (*conv) return bench::benchConvolve(convOptions);
+    if (*budget) return benchBudget(c, budgetRays);
     if (*live) return benchLive(c, liveDuration, liveBlock, liveFrameRate, liveDevice);
     if (warmup < 0) {
       const SceneDesc scene = loadScene(c.scene);

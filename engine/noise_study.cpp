@@ -61,15 +61,14 @@ EnergyResponse referenceResponse(const SceneDesc& scene, PropagationSettings set
 NoiseMetrics measureNoise(const SceneDesc& scene, const PropagationSettings& settings, int warmup,
                           int frames, const std::function<glm::vec3(int)>& listenerAt,
                           const std::function<const EnergyResponse&(int)>& referenceAt,
-                          size_t source, const std::function<glm::vec3(int)>& sourceAt) {
+                          size_t source, const std::function<glm::vec3(int)>& sourceAt,
+                          const std::vector<std::pair<double, double>>& ranges) {
   Simulation sim(scene, settings);
   std::vector<glm::vec3> sources;
   for (const SourceDesc& s : scene.sources) sources.push_back(s.position);
   const size_t factor = rebinFactor();
   NoiseMetrics m;
   EnergyResponse previous, sum;
-  double biasNumerator = 0.0;
-  (void)biasNumerator;
   for (int f = 0; f < warmup + frames; ++f) {
     if (sourceAt) sources[source] = sourceAt(f);
     sim.runFrame(listenerAt(f), sources);
@@ -78,6 +77,22 @@ NoiseMetrics measureNoise(const SceneDesc& scene, const PropagationSettings& set
     const double refNorm = std::sqrt(squaredNorm(ref));
     const double err = std::sqrt(squaredDistance(e, ref)) / refNorm;
     m.errorPerFrame.push_back(err);
+    if (f >= warmup && !ranges.empty()) {
+      m.errorByRange.resize(ranges.size(), 0.0);
+      for (size_t r = 0; r < ranges.size(); ++r) {
+        double d2 = 0.0, n2 = 0.0;
+        for (size_t k = 0; k < e.binCount(); ++k) {
+          const double t = double(k) * e.binSeconds();
+          if (t < ranges[r].first || t >= ranges[r].second) continue;
+          for (int i = 0; i < kNumBands; ++i) {
+            const double x = ref.bins()[k][i], d = double(e.bins()[k][i]) - x;
+            d2 += d * d;
+            n2 += x * x;
+          }
+        }
+        m.errorByRange[r] += n2 > 0.0 ? std::sqrt(d2 / n2) / frames : 0.0;
+      }
+    }
     if (f >= warmup) {
       m.meanError += err;
       if (f > 0) m.meanFlicker += std::sqrt(squaredDistance(e, previous)) / refNorm;
@@ -97,6 +112,12 @@ NoiseMetrics measureNoise(const SceneDesc& scene, const PropagationSettings& set
   m.bias = std::sqrt(squaredDistance(sum, ref) / squaredNorm(ref));
   m.energyBias = double(sum.total().sum()) / double(ref.total().sum()) - 1.0;
   return m;
+}
+
+std::pair<double, double> delayRangeOfOrders(int d0, int d1, double volume, double surfaceArea,
+                                             double c, double directDelay) {
+  const double perOrder = 4.0 * volume / (c * surfaceArea);
+  return {directDelay + (double(d0) - 0.5) * perOrder, directDelay + (double(d1) + 0.5) * perOrder};
 }
 
 }  // namespace dpc

@@ -28,7 +28,10 @@ struct NoiseMetrics {
   double bias = 0.0;
   double energyBias = 0.0;
   std::vector<double> errorPerFrame;  ///< error_f for every frame, warm-up included
-  int frames = 0;                     ///< measured frames (after warm-up)
+  /// Per delay range (measureNoise's `ranges`): mean over measured frames of
+  /// ||E_f - R|| / ||R|| restricted to the 10 ms bins whose start lies in the range.
+  std::vector<double> errorByRange;
+  int frames = 0;  ///< measured frames (after warm-up)
 };
 
 /// Converged reference: the mean energy response of `frames` plain path-tracing frames with
@@ -46,7 +49,14 @@ NoiseMetrics measureNoise(const SceneDesc& scene, const PropagationSettings& set
                           int frames, const std::function<glm::vec3(int)>& listenerAt,
                           const std::function<const EnergyResponse&(int)>& referenceAt,
                           size_t source = 0,
-                          const std::function<glm::vec3(int)>& sourceAt = nullptr);
+                          const std::function<glm::vec3(int)>& sourceAt = nullptr,
+                          const std::vector<std::pair<double, double>>& ranges = {});
+
+/// Delay range [t0, t1) seconds in which reflection orders [d0, d1] arrive on average: the mean
+/// reflection rate of a room is c S / (4 V) (Kuttruff, Room Acoustics, section 5.1), so order d
+/// arrives around d 4 V / (c S) after the direct sound; the range starts half an order early.
+std::pair<double, double> delayRangeOfOrders(int d0, int d1, double volume, double surfaceArea,
+                                             double c, double directDelay);
 
 /// 10 ms bins used by the study.
 inline constexpr double kNoiseBinSeconds = 0.010;

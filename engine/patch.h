@@ -14,9 +14,12 @@
 // Any thread; no allocation; no errors (degenerate triangles get one patch).
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <glm/vec3.hpp>
+#include <limits>
 
 #include "engine/random.h"
 
@@ -62,5 +65,62 @@ constexpr uint64_t pathHashAddPatch(uint64_t h, uint64_t key) {
 constexpr uint64_t pathHashFinish(uint64_t h, uint32_t listener) {
   return mix64(h ^ (0xa0761d6478bd642fULL * (uint64_t(listener) + 1)));
 }
+
+/// Order-adaptive grouping: which hits the cache treats as "the same path".
+///
+/// Orders d <= fullOrder keep the thesis identifier (the whole patch sequence, above). Beyond
+/// it the identifier is {S, last triangle, length bin, L}, the length bin floor(r / lengthBin)
+/// with lengthBin = c times the energy response's bin width. Why this is allowed: every dpc
+/// estimator is linear in the per-frame sums of a group's hits, so grouping never changes the
+/// expected energy; it changes only where a group's energy lands (its mean delay) and how many
+/// groups the cache holds. Hits grouped by length bin have their mean delay in the same energy
+/// response bin, so the energy response is the one of the full identifier up to float rounding,
+/// while the number of high-order groups is bounded by triangles x length bins instead of
+/// growing with the rays (the thesis notes that patch sequences stop repeating at high orders,
+/// which is what fills the cache). The last triangle keeps the arrival side for directional
+/// responses. fullOrder is the reflection order at the mixing time, after which the field is
+/// diffuse and arrivals depend statistically on delay only: t_mix = sqrt(V) ms (Polack's
+/// estimate, V in m^3), reached after d = t_mix c S / (4 V) reflections (the mean reflection
+/// rate c S / (4 V), Kuttruff, Room Acoustics, section 5.1), and at least kMinFullOrder so that
+/// the early, specular part keeps its paths.
+struct PathKeyRule {
+  static constexpr int kMinFullOrder = 3;
+  int fullOrder = std::numeric_limits<int>::max();  ///< default: the thesis identifier
+  float lengthBin = 0.343f;                         ///< metres
+
+  /// The rule for a room of volume (m^3) and surface area (m^2), speed of sound c (m/s) and
+  /// energy response bin width binSeconds.
+  static PathKeyRule forRoom(double volume, double surfaceArea, double c, double binSeconds) {
+    PathKeyRule r;
+    const double tMix = std::sqrt(std::max(volume, 1.0)) * 1e-3;
+    const double order = tMix * c * surfaceArea / (4.0 * std::max(volume, 1.0));
+    r.fullOrder = std::max(kMinFullOrder, int(std::ceil(std::min(order, 1e6))));
+    r.lengthBin = float(c * binSeconds);
+    return r;
+  }
+};
+
+/// One ray's path identifier while it reflects: the thesis hash and what the order-adaptive
+/// identifier needs (source, last triangle, reflections so far). 24 bytes.
+struct PathKey {
+  uint64_t hash = 0;
+  uint32_t source = 0;
+  uint32_t lastTriangle = 0;
+  int order = 0;
+
+  static PathKey start(uint32_t source) { return PathKey{pathHashStart(source), source, 0, 0}; }
+  void add(uint32_t triangle, uint32_t zeta, uint32_t xi) {
+    hash = pathHashAddPatch(hash, patchKey(triangle, zeta, xi));
+    lastTriangle = triangle;
+    ++order;
+  }
+  /// The identifier of a hit at path length `length` (metres).
+  uint64_t finish(uint32_t listener, float length, const PathKeyRule& rule) const {
+    if (order <= rule.fullOrder) return pathHashFinish(hash, listener);
+    const uint64_t bin = uint64_t(std::max(0.f, length / rule.lengthBin));
+    uint64_t h = pathHashAddPatch(mix64(0x7a11c0de5eed0001ULL + source), lastTriangle);
+    return pathHashFinish(pathHashAddPatch(h, ~bin), listener);
+  }
+};
 
 }  // namespace dpc

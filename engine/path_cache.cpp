@@ -1,8 +1,12 @@
 #include "engine/path_cache.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdlib>
+#include <new>
 #include <stdexcept>
+#include <string>
 
 namespace dpc {
 
@@ -40,105 +44,345 @@ void PathTracingEstimator::endFrame(const FrameGroups& frame, uint64_t raysEmitt
   }
 }
 
-DiffusePathCache::DiffusePathCache(DpcWeighting weighting, double tauSeconds,
-                                   double framePeriodSeconds, size_t maxEntries)
-    : weighting_(weighting), maxEntries_(maxEntries) {
-  if (maxEntries_ == 0) throw std::invalid_argument("DiffusePathCache: maxEntries must be > 0");
-  if (!(tauSeconds >= 0.0) || !(framePeriodSeconds > 0.0))
-    throw std::invalid_argument("DiffusePathCache: tau must be >= 0 and frame period > 0");
-  if (weighting_ == DpcWeighting::kWindow) {
-    lifetime_ = uint32_t(std::max(1.0, std::round(tauSeconds / framePeriodSeconds)));
-    window_.resize(lifetime_);
-  } else if (weighting_ == DpcWeighting::kSeed) {
-    // An entry is read out in the frame that creates it and every frame until it is tau old.
-    lifetime_ = uint32_t(std::max(1.0, std::round(tauSeconds / framePeriodSeconds)));
-    a_ = 1.0;
-  } else {
-    a_ = tauSeconds > 0.0 ? 1.0 - std::exp(-framePeriodSeconds / tauSeconds) : 1.0;
+namespace {
+
+uint32_t lifetimeFor(DpcWeighting w, double tau, double period, double& a) {
+  a = 1.0;
+  if (w == DpcWeighting::kEma) {
+    a = tau > 0.0 ? 1.0 - std::exp(-period / tau) : 1.0;
     // Read out at the frame of the last hit and M more frames, (1-a)^M <= drop fraction.
-    lifetime_ =
-        a_ >= 1.0 ? 1u : 1u + uint32_t(std::ceil(std::log(kEmaDropFraction) / std::log(1.0 - a_)));
+    return a >= 1.0 ? 1u
+                    : 1u + uint32_t(std::ceil(std::log(DiffusePathCache::kEmaDropFraction) /
+                                              std::log(1.0 - a)));
   }
-  raysBefore_.assign(size_t(lifetime_) + 1, 0);
-  index_.max_load_factor(0.8f);
+  // Seed: read out in the creation frame and until tau old; window: W = round(tau / T) frames.
+  return uint32_t(std::max(1.0, std::round(tau / period)));
 }
 
-size_t DiffusePathCache::entriesForBudget(double megabytes) {
-  return std::max<size_t>(1, size_t(megabytes * 1048576.0) / kBytesPerEntry);
+template <class T>
+T* allocZeroed(size_t n) {
+  if (n == 0) return nullptr;
+  void* p = std::calloc(n, sizeof(T));
+  if (!p) throw std::bad_alloc();
+  return static_cast<T*>(p);
+}
+
+}  // namespace
+
+void DiffusePathCache::FreeDeleter::operator()(void* p) const {
+  std::free(p);
+}
+
+DiffusePathCache::Capacity DiffusePathCache::capacityFor(DpcWeighting weighting, double tauSeconds,
+                                                         double framePeriodSeconds,
+                                                         size_t budgetBytes) {
+  if (!(tauSeconds >= 0.0) || !(framePeriodSeconds > 0.0))
+    throw std::invalid_argument("DiffusePathCache: tau must be >= 0 and frame period > 0");
+  double a = 1.0;
+  const size_t lifetime = lifetimeFor(weighting, tauSeconds, framePeriodSeconds, a);
+  const bool window = weighting == DpcWeighting::kWindow;
+  const size_t layers = weighting == DpcWeighting::kEma ? 1 : lifetime;
+  // Fixed tables: the rays ring, the age histogram, seed layer stamps, window slot counts.
+  const size_t fixed = (lifetime + 1) * sizeof(uint64_t) + (lifetime + 1) * sizeof(uint32_t) +
+                       layers * sizeof(uint32_t) + (window ? lifetime * sizeof(uint32_t) : 0);
+  Capacity c;
+  const size_t perBin = layers * sizeof(Cell);
+  c.coarseBins = std::min(kMaxCoarseBins, budgetBytes / 4 / perBin);
+  const size_t perEntry = sizeof(Entry) + (window ? 2 * sizeof(WindowTerm) : 0);
+  const size_t used = fixed + c.coarseBins * perBin;
+  if (c.coarseBins == 0 || used >= budgetBytes)
+    throw std::invalid_argument("cache_memory_mb: a budget of " + std::to_string(budgetBytes) +
+                                " bytes is below the minimum " +
+                                std::to_string(fixed + perBin + perEntry + 4 * sizeof(IndexSlot)) +
+                                " for this cache_tau and frame_rate (MB = 1048576 bytes)");
+  const size_t rest = budgetBytes - used;
+  // Index slots a power of two at load <= 3/4: pick the size that holds the most entries.
+  for (size_t slots = 2; slots * sizeof(IndexSlot) < rest; slots *= 2) {
+    const size_t e = std::min(slots / 4 * 3, (rest - slots * sizeof(IndexSlot)) / perEntry);
+    if (e > c.entries) c.entries = e, c.indexSlots = slots;
+  }
+  if (c.entries == 0)
+    throw std::invalid_argument("cache_memory_mb: a budget of " + std::to_string(budgetBytes) +
+                                " bytes holds no path entry");
+  c.windowTerms = window ? 2 * c.entries : 0;
+  c.bytes = used + c.entries * sizeof(Entry) + c.indexSlots * sizeof(IndexSlot) +
+            c.windowTerms * sizeof(WindowTerm);
+  return c;
+}
+
+DiffusePathCache::DiffusePathCache(DpcWeighting weighting, double tauSeconds,
+                                   double framePeriodSeconds, size_t budgetBytes)
+    : weighting_(weighting), budget_(budgetBytes) {
+  cap_ = capacityFor(weighting, tauSeconds, framePeriodSeconds, budgetBytes);
+  lifetime_ = lifetimeFor(weighting, tauSeconds, framePeriodSeconds, a_);
+  layers_ = weighting_ == DpcWeighting::kEma ? 1 : lifetime_;
+  raysBefore_.assign(size_t(lifetime_) + 1, 0);
+  ageCount_.assign(size_t(lifetime_) + 1, 0);
+  layerStamp_.assign(layers_, 0);
+  if (weighting_ == DpcWeighting::kWindow) slotTerms_.assign(lifetime_, 0);
+  coarse_.reset(allocZeroed<Cell>(layers_ * cap_.coarseBins));
+  index_.reset(allocZeroed<IndexSlot>(cap_.indexSlots));
+  indexShift_ = 64 - int(std::countr_zero(cap_.indexSlots));
+  entries_.reserve(cap_.entries);
+  terms_.reset(allocZeroed<WindowTerm>(cap_.windowTerms));
+  coarseSub_ = std::bit_floor(cap_.coarseBins);
 }
 
 void DiffusePathCache::clear() {
-  index_.clear();
+  for (const Entry& e : entries_) indexErase(e.key);
   entries_.clear();
-  coarseIndex_.clear();
-  coarse_.clear();
+  std::fill(coarse_.get(), coarse_.get() + layers_ * cap_.coarseBins, Cell{});
+  coarseSub_ = std::bit_floor(cap_.coarseBins);
   coarseFraction_ = 0.0;
   frame_ = 0;
   decayPow_ = 1.0;
   raysTotal_ = 0;
   std::fill(raysBefore_.begin(), raysBefore_.end(), 0);
-  for (auto& terms : window_) terms.clear();
-  mergedAt_.clear();
+  std::fill(layerStamp_.begin(), layerStamp_.end(), 0);
+  std::fill(slotTerms_.begin(), slotTerms_.end(), 0);
+  termHead_ = termCount_ = 0;
 }
 
-size_t DiffusePathCache::bytes() const {
-  // robin_map buckets hold the (key, index) pair and a 16-bit probe distance, padded.
-  return entries_.capacity() * sizeof(Entry) +
-         index_.bucket_count() * (sizeof(std::pair<uint64_t, uint32_t>) + sizeof(uint64_t)) +
-         raysBefore_.capacity() * sizeof(uint64_t) +
-         scratch_.capacity() * sizeof(std::pair<uint32_t, uint32_t>) +
-         coarse_.capacity() * sizeof(Entry) +
-         coarseIndex_.bucket_count() * (sizeof(std::pair<uint64_t, uint32_t>) + sizeof(uint64_t)) +
-         mergedAt_.bucket_count() * (sizeof(std::pair<uint64_t, MergeRecord>) + sizeof(uint64_t)) +
-         windowBytes();
+size_t DiffusePathCache::coarseEntryCount() const {
+  size_t n = 0;
+  for (size_t i = 0; i < layers_ * cap_.coarseBins; ++i) n += coarse_[i].eta > 0.f ? 1 : 0;
+  return n;
 }
 
-size_t DiffusePathCache::windowBytes() const {
-  size_t b = window_.capacity() * sizeof(std::vector<WindowTerm>);
-  for (const auto& terms : window_) b += terms.capacity() * sizeof(WindowTerm);
-  return b;
+size_t DiffusePathCache::bytesInUse() const {
+  return cap_.bytes - (cap_.entries - entries_.size()) * sizeof(Entry) -
+         (cap_.windowTerms - termCount_) * sizeof(WindowTerm);
 }
 
-void DiffusePathCache::removeCoarseAt(size_t i) {
-  coarseIndex_.erase(coarse_[i].key);
-  if (i + 1 != coarse_.size()) {
-    coarse_[i] = coarse_.back();
-    coarseIndex_[coarse_[i].key] = uint32_t(i);
+// Open-addressing index: Fibonacci hashing of the key (test keys are small integers), linear
+// probing, backward-shift deletion (no tombstones, so probe lengths stay short at load 3/4).
+size_t DiffusePathCache::indexFind(uint64_t key) const {
+  const size_t mask = cap_.indexSlots - 1;
+  for (size_t i = size_t((key * 0x9E3779B97F4A7C15ull) >> indexShift_);; i = (i + 1) & mask) {
+    if (index_[i].index1 == 0) return cap_.indexSlots;
+    if (index_[i].key == key) return i;
   }
-  coarse_.pop_back();
+}
+
+uint32_t DiffusePathCache::indexOf(uint64_t key) const {
+  return index_[indexFind(key)].index1 - 1;
+}
+
+void DiffusePathCache::indexInsert(uint64_t key, uint32_t index) {
+  const size_t mask = cap_.indexSlots - 1;
+  size_t i = size_t((key * 0x9E3779B97F4A7C15ull) >> indexShift_);
+  while (index_[i].index1 != 0 && index_[i].key != key) i = (i + 1) & mask;
+  index_[i] = {key, index + 1};
+}
+
+void DiffusePathCache::indexErase(uint64_t key) {
+  const size_t mask = cap_.indexSlots - 1;
+  size_t i = indexFind(key);
+  if (i == cap_.indexSlots) return;
+  for (size_t j = (i + 1) & mask; index_[j].index1 != 0; j = (j + 1) & mask) {
+    const size_t home = size_t((index_[j].key * 0x9E3779B97F4A7C15ull) >> indexShift_);
+    // Move j back into the hole at i unless its home lies cyclically in (i, j].
+    const bool stays = i <= j ? (i < home && home <= j) : (i < home || home <= j);
+    if (stays) continue;
+    index_[i] = index_[j];
+    i = j;
+  }
+  index_[i].index1 = 0;
+}
+
+DiffusePathCache::Entry* DiffusePathCache::findOrInsert(uint64_t key, bool& inserted) {
+  const size_t slot = indexFind(key);
+  inserted = slot == cap_.indexSlots;
+  if (!inserted) return &entries_[index_[slot].index1 - 1];
+  indexInsert(key, uint32_t(entries_.size()));
+  entries_.push_back(Entry{key, frame_, 0.f, Bands(0.f), 0.f, glm::vec3(0.f)});
+  return &entries_.back();
+}
+
+void DiffusePathCache::removeAt(size_t i) {
+  indexErase(entries_[i].key);
+  if (i + 1 != entries_.size()) {
+    entries_[i] = entries_.back();
+    index_[indexFind(entries_[i].key)].index1 = uint32_t(i) + 1;
+  }
+  entries_.pop_back();
+}
+
+size_t DiffusePathCache::binOf(uint64_t fine, size_t sub) {
+  if (fine < sub) return size_t(fine);
+  const int k = std::bit_width(fine / sub) - 1;  // octave: fine in [sub 2^k, sub 2^(k+1))
+  return sub * size_t(k) + size_t(fine >> k);
+}
+
+size_t DiffusePathCache::coarseBin(double delaySeconds) {
+  const uint64_t fine = uint64_t(std::min(std::max(0.0, delaySeconds / kCoarseBinSeconds), 1e15));
+  while (binOf(fine, coarseSub_) >= cap_.coarseBins && coarseSub_ > 1) widenCoarse();
+  // One bin per octave and still beyond: the last bin (only with a handful of bins).
+  return std::min(binOf(fine, coarseSub_), cap_.coarseBins - 1);
+}
+
+void DiffusePathCache::widenCoarse() {
+  // Halving S: every new bin is the union of old bins (octave k of S is octave k + 1 of S / 2,
+  // bins twice as wide), so cells only add up and no energy leaves the store. New indices are
+  // never above old ones, so an ascending pass moves each cell once.
+  const size_t nb = cap_.coarseBins, sub = coarseSub_ / 2;
+  for (size_t b = 0; b < nb; ++b) {
+    const size_t to = binOf(binStart(b, coarseSub_), sub);
+    if (to == b) continue;
+    for (size_t l = 0; l < layers_; ++l) {
+      const Cell src = cell(l, b);
+      cell(l, b) = Cell{};
+      Cell& d = cell(l, to);
+      d.intensity += src.intensity;
+      d.length += src.length;
+      d.eta += src.eta;
+      d.direction += src.direction;
+      d.stamp = std::max(d.stamp, src.stamp);
+    }
+  }
+  coarseSub_ = sub;
+}
+
+void DiffusePathCache::makeRoom(double invC) {
+  // Oldest first: ages (frames since stamp) are < lifetime_ for live entries. Merge the entries
+  // of the oldest ages until at least an eighth of the table (and one entry) is merged.
+  const size_t target = std::max<size_t>(1, cap_.entries / 8);
+  const bool window = weighting_ == DpcWeighting::kWindow;
+  for (;;) {
+    std::fill(ageCount_.begin(), ageCount_.end(), 0);
+    for (const Entry& e : entries_) ++ageCount_[std::min<size_t>(frame_ - e.stamp, lifetime_)];
+    size_t thr = ageCount_.size(), count = 0;
+    while (thr > 0 && count < target) count += ageCount_[--thr];
+    size_t quota = ageCount_[thr] - (count - std::min(count, target));  // of age == thr
+    constexpr uint32_t kMarked = 0xFFFFFFFFu;
+    for (size_t i = entries_.size(); i-- > 0;) {
+      Entry& e = entries_[i];
+      const size_t age = std::min<size_t>(frame_ - e.stamp, lifetime_);
+      if (age < thr || (age == thr && quota == 0)) continue;
+      if (age == thr) --quota;
+      ++merged_;
+      if (window) {  // its terms move to the coarse rows below; the entry goes after that
+        e.stamp = kMarked;
+        continue;
+      }
+      const double delay = e.eta > 0.f ? meanDelaySeconds(e.length, e.eta, invC) : 0.0;
+      const size_t bin = coarseBin(delay);
+      size_t layer = 0;
+      if (weighting_ == DpcWeighting::kSeed) {
+        // Seed cells merge only entries of one creation frame: mu and the lifetime are shared
+        // and I_hat / mu stays exactly additive.
+        layer = e.stamp % layers_;
+        layerStamp_[layer] = e.stamp;
+      }
+      Cell& c = cell(layer, bin);
+      c.intensity += e.intensity;
+      c.length += e.length;
+      c.eta += e.eta;
+      c.direction += e.direction;
+      c.stamp = std::max(c.stamp, e.stamp);  // EMA: expires with the newest member's last hit
+      removeAt(i);
+    }
+    if (!window) return;
+    // Window: walk the ring oldest frame first; terms of marked entries go to the coarse row
+    // of their frame (retired with it), the others are compacted towards the head.
+    const uint64_t first = frame_ + 1 > lifetime_ ? uint64_t(frame_) + 1 - lifetime_ : 0;
+    size_t r = termHead_, w = termHead_;
+    for (uint64_t f = first; f <= frame_; ++f) {
+      uint32_t& n = slotTerms_[windowSlot(f)];
+      uint32_t kept = 0;
+      for (uint32_t k = 0; k < n; ++k, r = (r + 1) % cap_.windowTerms) {
+        const WindowTerm t = terms_[r];
+        const Entry& e = entries_[indexOf(t.key)];
+        if (e.stamp != kMarked) {
+          terms_[w] = t;
+          w = (w + 1) % cap_.windowTerms;
+          ++kept;
+          continue;
+        }
+        const size_t bin = coarseBin(meanDelaySeconds(e.length, e.eta, invC));
+        Cell& c = cell(windowSlot(f), bin);
+        c.intensity += t.intensity;
+        c.length += t.length;
+        c.eta += t.eta;
+        c.direction += t.direction;
+      }
+      termCount_ -= n - kept;
+      n = kept;
+    }
+    for (size_t i = entries_.size(); i-- > 0;)
+      if (entries_[i].stamp == kMarked) removeAt(i);
+    if (termCount_ < cap_.windowTerms) return;
+  }
+}
+
+void DiffusePathCache::readCell(const Cell& c, size_t bin, float divisor, double invC,
+                                EnergyResponse& out, DirectionalEnergyResponse* directional,
+                                double& energy) const {
+  const Bands i = c.intensity / divisor;
+  energy += double(i.average());
+  const size_t first = binStart(bin, coarseSub_),
+               widthSteps = binStart(bin + 1, coarseSub_) - first;
+  if (widthSteps == 1) {  // 1 ms bins: at the hit-weighted mean delay
+    const double delay = meanDelaySeconds(c.length, c.eta, invC);
+    out.add(delay, i);
+    if (directional) directional->add(delay, i, c.direction);
+    return;
+  }
+  // Wider bins: spread over the bin 1 ms at a time with a linear density 1 + s x (x in [-1, 1]
+  // across the bin) whose slope s = 6 (mean - centre) / width keeps the hit-weighted mean delay
+  // (clamped to |s| <= 1, where the density reaches 0 at one end), so that the late response
+  // has no comb of one arrival per bin and follows the decay within the bin. Only the part
+  // inside the response is used when the bin runs past its end (the mean delay decides whether
+  // the energy is inside at all).
+  const double mean = meanDelaySeconds(c.length, c.eta, invC);
+  const double end = double(out.binCount()) * out.binSeconds();
+  const double width = double(widthSteps) * kCoarseBinSeconds;
+  const double centre = (double(first) + 0.5 * double(widthSteps)) * kCoarseBinSeconds;
+  const double slope = std::clamp(6.0 * (mean - centre) / width, -1.0, 1.0);
+  size_t steps = widthSteps;
+  if (mean < end)
+    steps = std::clamp<size_t>(size_t(std::ceil(end / kCoarseBinSeconds - 1e-6)) - first, 1, steps);
+  auto weight = [&](size_t k) {
+    const double t = (double(first + k) + 0.5) * kCoarseBinSeconds;
+    return 1.0 + slope * (t - centre) / (0.5 * width);
+  };
+  double sum = 0.0;
+  for (size_t k = 0; k < steps; ++k) sum += weight(k);
+  for (size_t k = 0; k < steps; ++k) {
+    const double delay = (double(first + k) + 0.5) * kCoarseBinSeconds;
+    const Bands part = i * float(weight(k) / sum);
+    out.add(delay, part);
+    if (directional) directional->add(delay, part, c.direction);
+  }
 }
 
 void DiffusePathCache::windowEndFrame(const FrameGroups& frame, float n, double invC,
                                       EnergyResponse& out, DirectionalEnergyResponse* directional,
                                       double& total, double& coarse) {
-  // The slot of frame f0 = frame_ - W: subtract its terms from the entry that holds them (the
-  // path entry, or the coarse entry it was merged into before or at f0), and remove entries
-  // left without hits in the window. Hit counts are integers, so eta reaches 0 exactly.
-  std::vector<WindowTerm>& slot = window_[frame_ % window_.size()];
-  const uint64_t f0 = uint64_t(frame_) - window_.size();  // only read when the slot is filled
-  auto retire = [](Entry& e, const WindowTerm& t) {
-    e.eta -= t.eta;
-    e.intensity -= t.intensity;
-    e.length -= t.length;
-    e.direction -= t.direction;
-    return e.eta <= 0.5f;
-  };
-  for (const WindowTerm& t : slot) {
-    auto m = mergedAt_.find(t.key);
-    if (m != mergedAt_.end() && f0 <= m->second.frame) {
-      auto c = coarseIndex_.find(m->second.coarseKey);
-      if (c != coarseIndex_.end() && retire(coarse_[c->second], t)) removeCoarseAt(c->second);
-      continue;
+  // Retire frame f0 = frame_ - W: its path terms are the oldest in the ring; subtract each from
+  // its entry and remove entries left without hits (hit counts are integers, so eta reaches 0
+  // exactly); its coarse row is cleared.
+  const size_t slot = windowSlot(frame_);
+  if (frame_ >= lifetime_) {
+    for (uint32_t k = 0; k < slotTerms_[slot]; ++k) {
+      const WindowTerm& t = terms_[termHead_];
+      termHead_ = (termHead_ + 1) % cap_.windowTerms;
+      const uint32_t i = indexOf(t.key);
+      Entry& e = entries_[i];
+      e.eta -= t.eta;
+      e.intensity -= t.intensity;
+      e.length -= t.length;
+      e.direction -= t.direction;
+      if (e.eta <= 0.5f) removeAt(i);
     }
-    auto it = index_.find(t.key);
-    if (it != index_.end() && retire(entries_[it->second], t)) removeAt(it->second);
+    termCount_ -= slotTerms_[slot];
+    std::fill(&cell(slot, 0), &cell(slot, 0) + cap_.coarseBins, Cell{});
   }
-  slot.clear();
-  // Terms from frames up to f0 have all left: their merge records are no longer needed.
-  if (frame_ >= window_.size())
-    for (auto m = mergedAt_.begin(); m != mergedAt_.end();)
-      m = m->second.frame <= f0 ? mergedAt_.erase(m) : std::next(m);
+  slotTerms_[slot] = 0;
   for (const FrameGroups::Group& g : frame.groups()) {
+    if (termCount_ == cap_.windowTerms ||
+        (entries_.size() == cap_.entries && indexFind(g.key) == cap_.indexSlots))
+      makeRoom(invC);
     bool inserted = false;
     Entry* e = findOrInsert(g.key, inserted);
     const Bands i = g.intensity / n;
@@ -147,67 +391,30 @@ void DiffusePathCache::windowEndFrame(const FrameGroups& frame, float n, double 
     e->eta += float(g.eta);
     e->direction += g.direction;
     e->stamp = frame_;
-    slot.push_back({g.key, i, g.length, float(g.eta), g.direction});
+    terms_[(termHead_ + termCount_) % cap_.windowTerms] = {g.key, i, g.length, float(g.eta),
+                                                           g.direction};
+    ++termCount_;
+    ++slotTerms_[slot];
   }
   // Mean over the frames in the window so far (fewer than W at the start: still unbiased).
-  const float frames = float(std::min<uint64_t>(uint64_t(frame_) + 1, window_.size()));
-  auto readout = [&](const Entry& e) {
+  const float frames = float(std::min<uint64_t>(uint64_t(frame_) + 1, lifetime_));
+  for (const Entry& e : entries_) {
     const double delay = meanDelaySeconds(e.length, e.eta, invC);
     out.add(delay, e.intensity / frames);
     if (directional) directional->add(delay, e.intensity / frames, e.direction);
-    return double((e.intensity / frames).average());
-  };
-  for (const Entry& e : entries_) total += readout(e);
-  for (const Entry& e : coarse_) coarse += readout(e);
-}
-
-DiffusePathCache::Entry* DiffusePathCache::findOrInsert(uint64_t key, bool& inserted) {
-  auto [it, ins] = index_.try_emplace(key, uint32_t(entries_.size()));
-  inserted = ins;
-  if (ins) entries_.push_back(Entry{key, frame_, 0.f, Bands(0.f), 0.f, glm::vec3(0.f)});
-  return &entries_[it->second];
-}
-
-void DiffusePathCache::removeAt(size_t i) {
-  index_.erase(entries_[i].key);
-  if (i + 1 != entries_.size()) {
-    entries_[i] = entries_.back();
-    index_[entries_[i].key] = uint32_t(i);
+    total += double((e.intensity / frames).average());
   }
-  entries_.pop_back();
-}
-
-void DiffusePathCache::mergeIntoCoarse(const Entry& e, double invSpeedOfSound) {
-  // Seed entries merge only with entries of the same creation frame, so that mu (rays since
-  // creation) and the lifetime are shared and I_hat / mu stays exactly additive. EMA entries
-  // decay by the same factor whatever their age, so any two merge exactly; the coarse entry
-  // expires with the newest member's last hit (the older members' remaining weight is below
-  // kEmaDropFraction by then).
-  // Window entries: the path's terms still in the window are later subtracted from the coarse
-  // entry it went into (mergedAt_), so a path merged again goes into the same coarse entry.
-  const double delay = e.eta > 0.f ? meanDelaySeconds(e.length, e.eta, invSpeedOfSound) : 0.0;
-  const uint64_t bin = uint64_t(std::max(0.0, delay / kCoarseBinSeconds));
-  const uint64_t stamp = weighting_ == DpcWeighting::kSeed ? uint64_t(e.stamp) + 1 : 0;
-  uint64_t key = bin * 0x9E3779B97F4A7C15ull ^ (stamp << 40);
-  if (weighting_ == DpcWeighting::kWindow) {
-    auto [m, fresh] = mergedAt_.try_emplace(e.key, MergeRecord{key, frame_});
-    if (!fresh) {
-      key = m->second.coarseKey;
-      m.value().frame = frame_;
+  for (size_t b = 0; b < cap_.coarseBins; ++b) {
+    Cell sum{};
+    for (size_t l = 0; l < layers_; ++l) {
+      const Cell& c = cell(l, b);
+      sum.intensity += c.intensity;
+      sum.length += c.length;
+      sum.eta += c.eta;
+      sum.direction += c.direction;
     }
+    if (sum.eta > 0.5f) readCell(sum, b, frames, invC, out, directional, coarse);
   }
-  auto [it, ins] = coarseIndex_.try_emplace(key, uint32_t(coarse_.size()));
-  if (ins) {
-    coarse_.push_back(e);
-    coarse_.back().key = key;
-    return;
-  }
-  Entry& c = coarse_[it->second];
-  c.eta += e.eta;
-  c.intensity += e.intensity;
-  c.length += e.length;
-  c.direction += e.direction;
-  c.stamp = std::max(c.stamp, e.stamp);
 }
 
 void DiffusePathCache::endFrame(const FrameGroups& frame, uint64_t raysEmitted, float speedOfSound,
@@ -217,11 +424,15 @@ void DiffusePathCache::endFrame(const FrameGroups& frame, uint64_t raysEmitted, 
   raysBefore_[frame_ % raysBefore_.size()] = raysTotal_;
   raysTotal_ += raysEmitted;
   double total = 0.0, coarse = 0.0;  // band-average energy read out: all, from the coarse store
+  auto roomFor = [&](uint64_t key) {
+    if (entries_.size() == cap_.entries && indexFind(key) == cap_.indexSlots) makeRoom(invC);
+  };
   if (weighting_ == DpcWeighting::kWindow) {
     windowEndFrame(frame, n, invC, out, directional, total, coarse);
   } else if (weighting_ == DpcWeighting::kSeed) {
     // Eq. 3.4, applied to the frame's hits of each path at once (the same sums).
     for (const FrameGroups::Group& g : frame.groups()) {
+      roomFor(g.key);
       bool inserted = false;
       Entry* e = findOrInsert(g.key, inserted);
       if (inserted) {
@@ -236,26 +447,37 @@ void DiffusePathCache::endFrame(const FrameGroups& frame, uint64_t raysEmitted, 
         e->direction += g.direction;
       }
     }
-    auto readout = [&](const Entry& e) {
-      // mu: rays emitted from the frame that created the entry through this one.
-      const uint64_t mu = raysTotal_ - raysBefore_[e.stamp % raysBefore_.size()];
-      const double delay = meanDelaySeconds(e.length, e.eta, invC);  // eq. 3.3
-      out.add(delay, e.intensity / float(mu));                       // eq. 3.2
-      if (directional) directional->add(delay, e.intensity / float(mu), e.direction);
-      return double((e.intensity / float(mu)).average());
+    // mu: rays emitted from the frame that created the entry (or layer) through this one.
+    auto mu = [&](uint32_t stamp) {
+      return float(raysTotal_ - raysBefore_[stamp % raysBefore_.size()]);
     };
-    for (const Entry& e : entries_) total += readout(e);
-    for (const Entry& e : coarse_) coarse += readout(e);
+    for (const Entry& e : entries_) {
+      const double delay = meanDelaySeconds(e.length, e.eta, invC);  // eq. 3.3
+      out.add(delay, e.intensity / mu(e.stamp));                     // eq. 3.2
+      if (directional) directional->add(delay, e.intensity / mu(e.stamp), e.direction);
+      total += double((e.intensity / mu(e.stamp)).average());
+    }
+    for (size_t l = 0; l < layers_; ++l)
+      for (size_t b = 0; b < cap_.coarseBins; ++b)
+        if (cell(l, b).eta > 0.f)
+          readCell(cell(l, b), b, mu(layerStamp_[l]), invC, out, directional, coarse);
   } else {
     const float keep = float(1.0 - a_), af = float(a_);
-    for (std::vector<Entry>* store : {&entries_, &coarse_})
-      for (Entry& e : *store) {
-        e.intensity *= keep;
-        e.length *= keep;
-        e.eta *= keep;
-        e.direction *= keep;
-      }
+    for (Entry& e : entries_) {
+      e.intensity *= keep;
+      e.length *= keep;
+      e.eta *= keep;
+      e.direction *= keep;
+    }
+    for (size_t b = 0; b < cap_.coarseBins; ++b) {
+      Cell& c = cell(0, b);
+      c.intensity *= keep;
+      c.length *= keep;
+      c.eta *= keep;
+      c.direction *= keep;
+    }
     for (const FrameGroups::Group& g : frame.groups()) {
+      roomFor(g.key);
       bool inserted = false;
       Entry* e = findOrInsert(g.key, inserted);
       e->intensity += (g.intensity / n) * af;
@@ -266,40 +488,29 @@ void DiffusePathCache::endFrame(const FrameGroups& frame, uint64_t raysEmitted, 
     }
     decayPow_ *= 1.0 - a_;
     const float norm = float(1.0 - decayPow_);
-    auto readout = [&](const Entry& e) {
+    for (const Entry& e : entries_) {
       const double delay = meanDelaySeconds(e.length, e.eta, invC);
       out.add(delay, e.intensity / norm);
       if (directional) directional->add(delay, e.intensity / norm, e.direction);
-      return double((e.intensity / norm).average());
-    };
-    for (const Entry& e : entries_) total += readout(e);
-    for (const Entry& e : coarse_) coarse += readout(e);
+      total += double((e.intensity / norm).average());
+    }
+    for (size_t b = 0; b < cap_.coarseBins; ++b)
+      if (cell(0, b).eta > 0.f) readCell(cell(0, b), b, norm, invC, out, directional, coarse);
   }
   total += coarse;
   coarseFraction_ = total > 0.0 ? coarse / total : 0.0;
   if (weighting_ != DpcWeighting::kWindow) {  // window entries leave with their last term
     for (size_t i = entries_.size(); i-- > 0;)
       if (frame_ - entries_[i].stamp + 1 >= lifetime_) removeAt(i);
-    for (size_t i = coarse_.size(); i-- > 0;)
-      if (frame_ - coarse_[i].stamp + 1 >= lifetime_) removeCoarseAt(i);
-  }
-  if (entries_.size() + coarse_.size() > maxEntries_ && !entries_.empty()) {
-    // Budget: merge the oldest path entries (smallest stamp) into the coarse store until path
-    // plus coarse entries fit. Merging may create coarse entries, so repeat while over.
-    scratch_.clear();
-    for (size_t i = 0; i < entries_.size(); ++i)
-      scratch_.push_back({entries_[i].stamp, uint32_t(i)});
-    std::sort(scratch_.begin(), scratch_.end());
-    std::vector<uint64_t>& keys = dropKeys_;
-    keys.clear();
-    for (size_t j = 0;
-         j < scratch_.size() && entries_.size() - keys.size() + coarse_.size() > maxEntries_; ++j) {
-      const Entry& e = entries_[scratch_[j].second];
-      mergeIntoCoarse(e, invC);
-      keys.push_back(e.key);
+    if (weighting_ == DpcWeighting::kSeed) {
+      // The layer created L - 1 frames ago has been read out L times.
+      const uint32_t l = (frame_ + 1) % lifetime_;
+      if (frame_ + 1 >= lifetime_ && layerStamp_[l] + lifetime_ <= frame_ + 1)
+        std::fill(&cell(l, 0), &cell(l, 0) + cap_.coarseBins, Cell{});
+    } else {
+      for (size_t b = 0; b < cap_.coarseBins; ++b)
+        if (cell(0, b).eta > 0.f && frame_ - cell(0, b).stamp + 1 >= lifetime_) cell(0, b) = Cell{};
     }
-    for (uint64_t k : keys) removeAt(index_.find(k)->second);
-    merged_ += keys.size();
   }
   ++frame_;
 }

@@ -18,14 +18,15 @@
 //   static scene, and a step is answered completely W frames later.
 // With tau = 0 every weighting reduce to PathTracingEstimator, bit for bit (the same float
 // operations in the same order); tests/engine/path_cache_test.cpp checks it.
-// Propagation thread only. Allocation: tables grow as needed (amortised), then keep their
-// capacity. No errors.
+// Propagation thread only. Allocation: FrameGroups grows as needed, then keeps its capacity;
+// DiffusePathCache allocates its whole memory budget at construction and never again.
 #pragma once
 
 #include <tsl/robin_map.h>
 
 #include <cstdint>
 #include <glm/vec3.hpp>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -84,47 +85,68 @@ class DiffusePathCache {
   /// Weight below which an EMA entry that is no longer hit is dropped (bias <= this fraction
   /// of one hit's contribution).
   static constexpr double kEmaDropFraction = 1e-3;
-
-  /// Heap bytes one entry costs: the 64-byte Entry plus its index bucket (24 bytes) at the
-  /// index's 0.8 load factor.
-  static constexpr size_t kBytesPerEntry = 64 + 30;
   /// Default memory budget per cache (one cache per source-listener pair), megabytes.
   static constexpr double kDefaultBudgetMb = 64.0;
-  /// Entries (path entries plus coarse entries) that fit a budget of megabytes (>= 1 entry).
-  static size_t entriesForBudget(double megabytes);
-  static constexpr size_t kDefaultMaxEntries =
-      size_t(kDefaultBudgetMb * 1048576.0) / kBytesPerEntry;
-  /// Width of a coarse-store delay bin, seconds.
+  /// Default budget in bytes (kDefaultBudgetMb MiB).
+  static constexpr size_t kDefaultBudgetBytes = size_t(kDefaultBudgetMb * 1048576.0);
+  /// Finest coarse-store delay bin, seconds (the energy response's own bin width).
   static constexpr double kCoarseBinSeconds = 1e-3;
+  /// Most coarse-store delay bins; the bin width doubles when a delay does not fit.
+  static constexpr size_t kMaxCoarseBins = 4096;
 
-  /// tauSeconds >= 0: cache response time; framePeriodSeconds > 0. maxEntries > 0: after a
-  /// frame, while path entries plus coarse entries exceed the cap, the oldest path entries (by
-  /// creation for kSeed, by last hit for kEma) are merged into the coarse store instead of
-  /// dropped: one coarse entry per 1 ms delay bin (and, for kSeed, per creation frame), whose
-  /// state is the sum of the merged entries' states. Both weightings' readouts are linear in
-  /// the state, so the response's energy is unchanged by a merge (within float rounding); the
-  /// cost is the delay resolution (1 ms bins, hit-weighted mean delay) and the arrival
-  /// direction (intensity-weighted mean). Coarse entries are read out and expire like path
-  /// entries (EMA: by the newest merged entry's last hit). docs/estimators.md.
+  /// How a budget is split (all tables are allocated once, at construction, to these sizes).
+  struct Capacity {
+    size_t entries = 0;      ///< path entries (64 bytes each)
+    size_t indexSlots = 0;   ///< open-addressing index slots (16 bytes each, load <= 3/4)
+    size_t windowTerms = 0;  ///< kWindow: per-frame terms of path entries (64 bytes each)
+    size_t coarseBins = 0;   ///< coarse-store delay bins (per layer: seed L, window W, EMA 1)
+    size_t bytes = 0;        ///< everything the cache allocates, <= the budget
+  };
+  /// The split of budgetBytes for a weighting, tau and frame period: about a quarter for the
+  /// coarse store (at most kMaxCoarseBins bins per layer), the rest for path entries, their
+  /// index and (window) their per-frame terms, two per entry. Throws std::invalid_argument
+  /// when the budget cannot hold one path entry and one coarse bin.
+  static Capacity capacityFor(DpcWeighting weighting, double tauSeconds, double framePeriodSeconds,
+                              size_t budgetBytes);
+
+  /// tauSeconds >= 0: cache response time; framePeriodSeconds > 0; budgetBytes: the most heap
+  /// the cache may hold, allocated at construction and never exceeded (pages are committed by
+  /// the OS as they are first written). When a table is full, the oldest path entries (by
+  /// creation for kSeed, by last hit for kEma and kWindow) are merged into the coarse store
+  /// instead of dropped: per delay bin (1 ms, doubling when a delay does not fit) and, for kSeed,
+  /// per creation frame, for kWindow per frame of the window. A coarse cell's state is the sum
+  /// of its members' states, and every weighting's readout is linear in the state, so a merge
+  /// changes the response's energy only by float rounding; the cost is delay resolution (1 ms:
+  /// the hit-weighted mean delay; wider: spread evenly over the bin) and arrival direction
+  /// (intensity-weighted mean). docs/estimators.md. Throws std::invalid_argument on bad
+  /// arguments (see capacityFor).
   DiffusePathCache(DpcWeighting weighting, double tauSeconds, double framePeriodSeconds,
-                   size_t maxEntries = kDefaultMaxEntries);
+                   size_t budgetBytes = kDefaultBudgetBytes);
 
-  /// One frame: applies the frame's groups (eq. 3.4), then mu += N for every entry and adds
-  /// every entry's estimate (eq. 3.2, 3.3, or the EMA) to out, then removes expired entries.
-  /// directional (optional): also receives every entry's estimate with its mean arrival
-  /// direction (intensity-weighted over the entry's hits).
+  /// One frame: applies the frame's groups (eq. 3.4, the EMA or the window), reads out every
+  /// entry and coarse cell into out, then removes expired entries. directional (optional):
+  /// also receives every estimate with its mean arrival direction (intensity-weighted over
+  /// the entry's hits). Does not allocate.
   void endFrame(const FrameGroups& frame, uint64_t raysEmitted, float speedOfSound,
                 EnergyResponse& out, DirectionalEnergyResponse* directional = nullptr);
 
   void clear();
-  /// Path entries (coarse entries not included).
+  /// Path entries (coarse cells not included).
   size_t entryCount() const { return entries_.size(); }
-  /// Coarse-store entries (merged evicted path entries).
-  size_t coarseEntryCount() const { return coarse_.size(); }
-  /// Cap on path entries plus coarse entries.
-  size_t maxEntries() const { return maxEntries_; }
-  /// Heap bytes held by the cache's tables (entries and index).
-  size_t bytes() const;
+  /// Non-empty coarse-store cells (delay bins per layer holding merged energy).
+  size_t coarseEntryCount() const;
+  /// Most path entries the budget holds.
+  size_t maxEntries() const { return cap_.entries; }
+  /// The budget, bytes.
+  size_t budgetBytes() const { return budget_; }
+  /// Heap bytes held by the cache's tables: fixed at construction, <= budgetBytes().
+  size_t bytes() const { return cap_.bytes; }
+  /// Heap bytes of the slots in use (entries, index load, window terms, coarse cells).
+  size_t bytesInUse() const;
+  /// Coarse-store layout: delays below S ms in 1 ms bins, then S bins per octave (each octave
+  /// [S 2^k, S 2^(k+1)) ms in bins of 2^k ms). S starts at the largest power of two <= the
+  /// bins per layer and halves (bins merge pairwise) whenever a delay would not fit.
+  size_t coarseBinsPerOctave() const { return coarseSub_; }
   /// Frames an entry is read out: seed = after its creation; EMA = after its last hit;
   /// window = the window length W.
   uint32_t lifetimeFrames() const { return lifetime_; }
@@ -135,15 +157,15 @@ class DiffusePathCache {
   /// emitted since the entry's creation frame, kept per frame in a small ring.
   struct Entry {
     uint64_t key;
-    uint32_t stamp;       ///< seed: frame created; EMA: frame last hit
+    uint32_t stamp;       ///< seed: frame created; EMA and window: frame last hit
     float eta;            ///< seed: rays of this path that reached the listener (exact to 2^24);
-                          ///< EMA: moving average of eta_f
-    Bands intensity;      ///< seed: I_hat (sum); EMA: moving average of I_f / N
-    float length;         ///< seed: r_hat (sum); EMA: moving average of r_f
+                          ///< EMA: moving average of eta_f; window: hits in the window
+    Bands intensity;      ///< seed: I_hat (sum); EMA: moving average of I_f / N; window: sum
+    float length;         ///< seed: r_hat (sum); EMA: moving average of r_f; window: sum
     glm::vec3 direction;  ///< summed / averaged arrival direction (intensity weighted)
   };
   static_assert(sizeof(Entry) == 64);
-  /// Path entries merged into the coarse store by the cap since construction (none lost).
+  /// Path entries merged into the coarse store since construction (none lost).
   uint64_t mergedEntries() const { return merged_; }
   /// Fraction of the last frame's response energy (band average) read out from the coarse
   /// store, in [0, 1].
@@ -151,7 +173,7 @@ class DiffusePathCache {
   const std::vector<Entry>& entries() const { return entries_; }
 
  private:
-  /// One frame's contribution to one entry, kept for the sliding window.
+  /// kWindow: one frame's contribution to one path entry.
   struct WindowTerm {
     uint64_t key;
     Bands intensity;  ///< I_f / N
@@ -159,41 +181,74 @@ class DiffusePathCache {
     float eta;        ///< hits this frame
     glm::vec3 direction;
   };
-  /// kWindow: a path entry merged into the coarse store: which coarse entry, and the last frame
-  /// whose terms went there (terms of later frames belong to a path entry again).
-  struct MergeRecord {
-    uint64_t coarseKey;
-    uint32_t frame;
+  /// A coarse-store cell: summed state of the path entries merged into it.
+  struct Cell {
+    Bands intensity;
+    float length;
+    float eta;
+    glm::vec3 direction;
+    uint32_t stamp;  ///< EMA: newest member's last hit
   };
-  /// kWindow: retires the frame leaving the window, adds this frame's groups, reads out (adds
-  /// the band-average energy read out to total, and the coarse store's share to coarse).
-  void windowEndFrame(const FrameGroups& frame, float n, double invC, EnergyResponse& out,
-                      DirectionalEnergyResponse* directional, double& total, double& coarse);
-  void removeCoarseAt(size_t i);
+  struct IndexSlot {
+    uint64_t key;
+    uint32_t index1;  ///< entry index + 1; 0 = empty
+  };
+  struct FreeDeleter {
+    void operator()(void* p) const;
+  };
+  template <class T>
+  using Buffer = std::unique_ptr<T[], FreeDeleter>;
 
-  size_t windowBytes() const;
+  size_t indexFind(uint64_t key) const;  ///< slot of key, or indexSlots when absent
+  void indexInsert(uint64_t key, uint32_t index);
+  void indexErase(uint64_t key);
+  uint32_t indexOf(uint64_t key) const;  ///< entry index of a present key
+
   Entry* findOrInsert(uint64_t key, bool& inserted);
   void removeAt(size_t i);
-  void mergeIntoCoarse(const Entry& e, double invSpeedOfSound);
+  /// Makes room for at least one more path entry and (window) one more term: merges the
+  /// oldest path entries, at least an eighth of the table, into the coarse store.
+  void makeRoom(double invSpeedOfSound);
+  /// Coarse bin of a delay at the current layout, halving S until it fits.
+  size_t coarseBin(double delaySeconds);
+  /// Bin of a delay of `fine` whole kCoarseBinSeconds steps with S bins per octave.
+  static size_t binOf(uint64_t fine, size_t sub);
+  /// First kCoarseBinSeconds step of a bin with S bins per octave (inverse of binOf).
+  static uint64_t binStart(size_t bin, size_t sub) {
+    if (bin < sub) return bin;
+    const size_t k = bin / sub - 1;
+    return uint64_t(bin - sub * k) << k;
+  }
+  void widenCoarse();
+  Cell& cell(size_t layer, size_t bin) { return coarse_[layer * cap_.coarseBins + bin]; }
+  void readCell(const Cell& c, size_t bin, float divisor, double invC, EnergyResponse& out,
+                DirectionalEnergyResponse* directional, double& energy) const;
+  void windowEndFrame(const FrameGroups& frame, float n, double invC, EnergyResponse& out,
+                      DirectionalEnergyResponse* directional, double& total, double& coarse);
+  size_t windowSlot(uint64_t frame) const { return size_t(frame % lifetime_); }
 
   DpcWeighting weighting_;
   double a_ = 1.0;
   uint32_t lifetime_ = 1;
+  size_t layers_ = 1;      ///< coarse layers: seed L (creation frames), window W (frames), EMA 1
   uint32_t frame_ = 0;     ///< frames since the cache started (or was cleared)
   double decayPow_ = 1.0;  ///< (1-a)^(frame_+1), for the start-up normalisation
-  size_t maxEntries_;
+  size_t budget_;
+  Capacity cap_;
   uint64_t merged_ = 0;
   double coarseFraction_ = 0.0;
-  tsl::robin_map<uint64_t, uint32_t> coarseIndex_;  ///< coarse key -> index in coarse_
-  std::vector<Entry> coarse_;
   uint64_t raysTotal_ = 0;            ///< rays emitted since the start, this frame included
   std::vector<uint64_t> raysBefore_;  ///< ring: rays emitted before frame f, f % size
-  std::vector<std::pair<uint32_t, uint32_t>> scratch_;  ///< (stamp, index) for the cap
-  std::vector<uint64_t> dropKeys_;
-  std::vector<std::vector<WindowTerm>> window_;  ///< kWindow: ring of the last W frames' terms
-  tsl::robin_map<uint64_t, MergeRecord> mergedAt_;  ///< kWindow: path key -> its merge
-  tsl::robin_map<uint64_t, uint32_t> index_;
-  std::vector<Entry> entries_;
+  std::vector<uint32_t> ageCount_;    ///< scratch for makeRoom: entries per age in frames
+  std::vector<uint32_t> layerStamp_;  ///< seed: creation frame of each coarse layer
+  size_t coarseSub_ = 1;              ///< S: coarse bins per octave (see coarseBinsPerOctave)
+  Buffer<Cell> coarse_;               ///< layers_ x coarseBins cells
+  Buffer<IndexSlot> index_;           ///< open addressing, linear probing
+  int indexShift_ = 63;               ///< 64 - log2(indexSlots)
+  std::vector<Entry> entries_;        ///< reserved to cap_.entries once
+  Buffer<WindowTerm> terms_;          ///< kWindow: FIFO ring of the window's path terms
+  size_t termHead_ = 0, termCount_ = 0;
+  std::vector<uint32_t> slotTerms_;  ///< kWindow: path terms per frame slot
 };
 
 }  // namespace dpc

@@ -50,6 +50,8 @@ Propagator::Propagator(const Geometry& geometry, const PropagationSettings& sett
   minAir_ = airPerMetre_.min();
   const glm::vec3 extent = geometry_.boundsMax() - geometry_.boundsMin();
   epsilon_ = 1e-5f * std::max(10.f, std::max(extent.x, std::max(extent.y, extent.z)));
+  keyRule_ = PathKeyRule::forRoom(double(extent.x) * extent.y * extent.z, geometry_.surfaceArea(),
+                                  settings_.speedOfSound, 1e-3);
   arena_ = settings_.threads > 0 ? std::make_unique<tbb::task_arena>(settings_.threads)
                                  : std::make_unique<tbb::task_arena>();
 }
@@ -79,7 +81,7 @@ void Propagator::startRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t ray
   ray.dir = uniformSphere(ray.rng);
   ray.energy = Bands(1.f);
   ray.travelled = 0.f;
-  ray.pathHash = pathHashStart(sourceIndex);
+  ray.path = PathKey::start(sourceIndex);
   ray.order = 0;
 }
 
@@ -100,7 +102,7 @@ bool Propagator::advance(RayState& ray, bool surface, const SurfaceHit& hit,
         const float invArea = 1.f / (std::numbers::pi_v<float> * r2);
         const float r = ray.travelled + std::clamp(b, 0.f, segEnd);
         PathHit h;
-        h.key = pathHashFinish(ray.pathHash, l);
+        h.key = ray.path.finish(l, r, keyRule_);
         h.intensity = ray.energy * exp(airPerMetre_ * -r) * invArea;
         h.length = r;
         h.direction = -ray.dir;
@@ -114,7 +116,7 @@ bool Propagator::advance(RayState& ray, bool surface, const SurfaceHit& hit,
   const glm::vec3 p = ray.org + ray.dir * hit.t;
   const TrianglePatching& patching = geometry_.patching(hit.triangle);
   const auto [zeta, xi] = patching.patchOf(hit.barycentric);
-  ray.pathHash = pathHashAddPatch(ray.pathHash, patchKey(hit.triangle, zeta, xi));
+  ray.path.add(hit.triangle, zeta, xi);
   ray.energy *= geometry_.reflectance(hit.triangle);
   if (settings_.rouletteThreshold > 0.f &&
       ray.energy.max() * std::exp(-minAir_ * ray.travelled) < settings_.rouletteThreshold) {

@@ -42,6 +42,7 @@
 
 #include "engine/bands.h"
 #include "engine/geometry.h"
+#include "engine/patch.h"
 #include "engine/path_cache.h"
 #include "engine/random.h"
 #include "engine/scene.h"
@@ -124,6 +125,10 @@ class Propagator {
   const Bands& airAttenuationPerMetre() const { return airPerMetre_; }
   const PropagationSettings& settings() const { return settings_; }
   void setRaysPerFrame(int n) { settings_.raysPerFrame = n; }
+  /// Path identifier rule (engine/patch.h); default PathKeyRule::forRoom of the geometry's
+  /// bounding box and surface area with 1 ms energy bins. Propagation thread, between frames.
+  void setPathKeyRule(const PathKeyRule& rule) { keyRule_ = rule; }
+  const PathKeyRule& pathKeyRule() const { return keyRule_; }
 
  private:
   /// One ray's state between queries.
@@ -132,7 +137,7 @@ class Propagator {
     glm::vec3 org{0.f}, dir{0.f};
     Bands energy{1.f};
     float travelled = 0.f;
-    uint64_t pathHash = 0;
+    PathKey path;
     int order = 0;
   };
   struct Chunk {
@@ -166,6 +171,7 @@ class Propagator {
   Bands airPerMetre_{0.f};
   float minAir_ = 0.f;  ///< smallest band air attenuation, 1/m (roulette's upper bound)
   float epsilon_ = 1e-4f;
+  PathKeyRule keyRule_;  ///< order-adaptive path identifier (engine/patch.h)
   bool includeDirectRays_ = false;
   TraceMode traceMode_ = kDefaultTraceMode;
   std::unique_ptr<tbb::task_arena> arena_;

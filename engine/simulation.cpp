@@ -23,7 +23,7 @@ void Simulation::reserveListeners(size_t listeners) {
       if (settings_.estimator == Estimator::kDpc)
         caches_.push_back(std::make_unique<DiffusePathCache>(
             settings_.dpcWeighting, settings_.cacheTau, 1.0 / settings_.frameRate,
-            DiffusePathCache::entriesForBudget(settings_.cacheMemoryMb)));
+            size_t(double(settings_.cacheMemoryMb) * 1048576.0)));
       SourceResult r;
       r.energy = EnergyResponse(settings_.irLength, kEnergyBinSeconds);
       results_.push_back(std::move(r));
@@ -110,7 +110,7 @@ void Simulation::runFrame(std::span<const ListenerSphere> listeners,
         r.cacheEntries = cache.entryCount();
         r.cacheBytes = cache.bytes();
         r.cacheCoarseEntries = cache.coarseEntryCount();
-        r.cacheBudgetBytes = cache.maxEntries() * DiffusePathCache::kBytesPerEntry;
+        r.cacheBudgetBytes = cache.budgetBytes();
         r.cacheMergedEntries = cache.mergedEntries();
         r.cacheCoarseEnergyFraction = cache.coarseEnergyFraction();
       }

@@ -1,10 +1,13 @@
 // Drives a LiveSession the way a device would, for the real-time tests: an audio-role thread
-// renders `blocks` blocks of 128 frames (paced at ~4x real time so frames keep arriving at
-// 60/s), the calling thread walks the listener along the shoebox trajectory meanwhile.
+// renders blocks of 128 frames (paced at ~4x real time so frames keep arriving at 60/s), at
+// least `blocks` of them and on until `minIrsApplied` IR sets were swapped in (a slow or loaded
+// machine traces fewer frames per block; at most 50 x `blocks`), while the calling thread walks
+// the listener along the shoebox trajectory.
 // `onAudioThread` runs on the audio thread around the blocks: begin() before the first, end()
 // after the last (e.g. to count heap calls there).
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -23,7 +26,8 @@ struct LiveRun {
 
 /// tracingThreads: the propagation's TBB arena (0 = all cores).
 template <typename AudioThreadObserver>
-LiveRun driveLiveSession(int blocks, AudioThreadObserver& onAudioThread, int tracingThreads = 0) {
+LiveRun driveLiveSession(int blocks, uint64_t minIrsApplied, AudioThreadObserver& onAudioThread,
+                         int tracingThreads = 0) {
   SceneDesc scene = loadScene(std::string(DPC_SOURCE_DIR) + "/scenes/shoebox.json");
   scene.audio.blockSize = 128;
   PropagationSettings ps = scene.propagation;
@@ -42,9 +46,10 @@ LiveRun driveLiveSession(int blocks, AudioThreadObserver& onAudioThread, int tra
   LiveRun run;
   std::vector<float> left(128), right(128);
   float* out[2] = {left.data(), right.data()};
+  std::atomic<bool> done{false};
   std::thread audio([&] {
     onAudioThread.begin();
-    for (int b = 0; b < blocks; ++b) {
+    for (int b = 0; !done.load(std::memory_order_relaxed) && b < 50 * blocks; ++b) {
       session.render(nullptr, out, 128);
       for (float x : left) run.finite = run.finite && std::isfinite(x);
       std::this_thread::sleep_for(std::chrono::microseconds(500));
@@ -52,10 +57,14 @@ LiveRun driveLiveSession(int blocks, AudioThreadObserver& onAudioThread, int tra
     onAudioThread.end();
   });
   const auto start = std::chrono::steady_clock::now();
-  while (session.status().blocks < uint64_t(blocks)) {
+  while (!done.load(std::memory_order_relaxed)) {
     const double t =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     session.setPose(listenerPositionAt(scene.listener, t), 0.f, t);
+    const LiveSession::Status st = session.status();
+    done.store((st.blocks >= uint64_t(blocks) && st.irsApplied >= minIrsApplied) ||
+                   st.blocks >= 50 * uint64_t(blocks),
+               std::memory_order_relaxed);
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   audio.join();

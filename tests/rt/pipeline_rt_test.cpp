@@ -24,13 +24,14 @@ struct CountHeapCalls {
 TEST_CASE("LiveSession::render makes no heap calls across IR swaps", "[rt]") {
   CountHeapCalls counter;
   const int blocks = 4000;
-  const test::LiveRun run = test::driveLiveSession(blocks, counter);
+  const uint64_t swaps = 100;  // swaps really happen during the counted blocks
+  const test::LiveRun run = test::driveLiveSession(blocks, swaps, counter);
   INFO("blocks " << run.status.blocks << ", IRs applied " << run.status.irsApplied
                  << ", heap calls " << counter.calls);
-  CHECK(run.status.blocks == uint64_t(blocks));
-  CHECK(run.status.irsApplied >= 100);  // swaps really happened during the counted blocks
+  CHECK(run.status.blocks >= uint64_t(blocks));
+  CHECK(run.status.irsApplied >= swaps);
   CHECK(counter.calls == 0);
   CHECK(run.finite);
   CHECK(run.status.nanBlocks == 0);
-  CHECK(run.recordedFrames == size_t(blocks) * 128);
+  CHECK(run.recordedFrames == size_t(run.status.blocks) * 128);  // the recorder lost nothing
 }

@@ -20,11 +20,12 @@ TEST_CASE("Live pipeline threads under ThreadSanitizer", "[tsan]") {
   // One tracing thread: Debian's TBB is not instrumented, so the hand-back of chunks traced by
   // TBB workers to the propagation thread is invisible to TSan and reported as a race on
   // their memory (seen under load). This test is about dpc's own threads and queues.
-  const test::LiveRun run = test::driveLiveSession(blocks, none, 1);
+  const uint64_t swaps = 30;  // swaps must happen while the threads race
+  const test::LiveRun run = test::driveLiveSession(blocks, swaps, none, 1);
   INFO("blocks " << run.status.blocks << ", IRs applied " << run.status.irsApplied);
-  CHECK(run.status.blocks == uint64_t(blocks));
-  CHECK(run.status.irsApplied >= 30);  // swaps happened while the threads raced
+  CHECK(run.status.blocks >= uint64_t(blocks));
+  CHECK(run.status.irsApplied >= swaps);
   CHECK(run.finite);
   CHECK(run.status.nanBlocks == 0);
-  CHECK(run.recordedFrames == size_t(blocks) * 128);
+  CHECK(run.recordedFrames == size_t(run.status.blocks) * 128);  // the recorder lost nothing
 }

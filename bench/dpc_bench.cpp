@@ -428,7 +428,7 @@ int benchLive(const Common& c, double duration, int blockSize, double frameRate,
 /// listeners"): one PropagationStage per listener count, stepped frame by frame in turn (so
 /// that load from other processes falls on all counts alike); process CPU time of the pass
 /// (tracing + one cache per source-listener pair) and of preparing every listener's IR set.
-int benchListeners(const Common& c, const std::vector<int>& counts) {
+int benchListeners(const Common& c, const std::vector<int>& counts, int warmupFrames) {
   const SceneDesc scene = loadScene(c.scene);
   PropagationSettings s = settingsFor(scene, c);
   auto cpu = [] { return double(std::clock()) / CLOCKS_PER_SEC; };
@@ -451,8 +451,14 @@ int benchListeners(const Common& c, const std::vector<int>& counts) {
   std::vector<double> traceCpu(counts.size(), 0.0), prepareCpu(counts.size(), 0.0);
   std::vector<uint64_t> segments(counts.size(), 0), hits(counts.size(), 0);
   WorldState world;
-  for (int f = 0; f < c.frames; ++f) {
-    const double t = double(f) / s.frameRate;
+  for (int f = -warmupFrames; f < c.frames; ++f) {
+    const double t = double(f + warmupFrames) / s.frameRate;
+    if (f == 0) {  // steady state from here: caches filled, their memory touched
+      std::fill(traceCpu.begin(), traceCpu.end(), 0.0);
+      std::fill(prepareCpu.begin(), prepareCpu.end(), 0.0);
+      std::fill(segments.begin(), segments.end(), 0);
+      std::fill(hits.begin(), hits.end(), 0);
+    }
     for (size_t k = 0; k < counts.size(); ++k) {
       evaluateWorld(scene, t, world);
       const size_t count = size_t(counts[k]);
@@ -470,10 +476,11 @@ int benchListeners(const Common& c, const std::vector<int>& counts) {
         hits[k] += stages[k]->simulation().result(src).trace.listenerHits;
       }
     }
-    std::fprintf(stderr, "\rframe %d/%d", f + 1, c.frames);
+    std::fprintf(stderr, "\rframe %d/%d", f + warmupFrames + 1, c.frames + warmupFrames);
   }
   std::fprintf(stderr, "\n");
   json j;
+  j["warmup_frames"] = warmupFrames;
   j["machine"] = "shared 2-core machine under load from other builds: ratios within one run";
   j["scene"] = c.scene;
   j["sources"] = scene.sources.size();
@@ -498,7 +505,8 @@ int benchListeners(const Common& c, const std::vector<int>& counts) {
   j["note"] =
       "pass: one traceWorld (every source's rays traced once against all listener spheres, "
       "then each source-listener pair's cache); prepare all: IR synthesis + partition/FFT for "
-      "every listener (offline needs all, live only the played one); process CPU time";
+      "every listener (offline needs all, live only the played one); process CPU time of the "
+      "frames after warmup_frames (the first frames fill the caches and fault in their memory)";
   std::printf("%s\n", j.dump(2).c_str());
   return 0;
 }
@@ -793,7 +801,11 @@ int main(int argc, char** argv) {
   CLI::App* lis = app.add_subcommand(
       "listeners", "Frame time for several listeners traced in one pass (1, 2, 4, 8)");
   std::vector<int> listenerCounts = {1, 2, 4, 8};
+  int listenerWarmup = 5;
   addCommon(lis);
+  lis->add_option("--warmup-frames", listenerWarmup,
+                  "Frames run before timing (cache fill, first-touch page faults; default 5)")
+      ->check(CLI::Range(0, 1000));
   lis->add_option("--counts", listenerCounts, "Listener counts (first = the reference)")
       ->delimiter(',')
       ->check(CLI::PositiveNumber);
@@ -834,7 +846,7 @@ int main(int argc, char** argv) {
   try {
     if (*prop) return benchPropagation(c, noRoulette);
     if (*dyn) return benchDynamic(dynRays, dynFrames, dynParts);
-    if (*lis) return benchListeners(c, listenerCounts);
+    if (*lis) return benchListeners(c, listenerCounts, listenerWarmup);
     if (*conv) return bench::benchConvolve(convOptions);
     if (*budget) return benchBudget(c, budgetRays);
     if (*live) return benchLive(c, liveDuration, liveBlock, liveFrameRate, liveDevice);

@@ -368,6 +368,31 @@ dpc_status dpc_engine_set_listener(dpc_engine* engine, float x, float y, float z
   return DPC_OK;
 }
 
+int dpc_engine_listener_count(const dpc_engine* engine) {
+  return engine ? int(engine->session->listenerCount()) : 0;
+}
+
+dpc_status dpc_engine_set_listener_pose(dpc_engine* engine, int listener, float x, float y,
+                                        float z, float yaw_degrees, float pitch_degrees) {
+  // Any thread: no message on failure (setting it would allocate).
+  if (!engine || listener < 0) return DPC_ERR_INVALID_ARGUMENT;
+  for (float v : {x, y, z, yaw_degrees, pitch_degrees})
+    if (!std::isfinite(v)) return DPC_ERR_INVALID_ARGUMENT;
+  return engine->session->setListenerPose(size_t(listener), glm::vec3(x, y, z),
+                                          yaw_degrees * kDegrees, 0.0, pitch_degrees * kDegrees)
+             ? DPC_OK
+             : DPC_ERR_INVALID_ARGUMENT;
+}
+
+dpc_status dpc_engine_select_listener(dpc_engine* engine, int listener) {
+  if (!engine || listener < 0) return DPC_ERR_INVALID_ARGUMENT;
+  return engine->session->selectListener(size_t(listener)) ? DPC_OK : DPC_ERR_INVALID_ARGUMENT;
+}
+
+int dpc_engine_selected_listener(const dpc_engine* engine) {
+  return engine ? int(engine->session->playedListener()) : 0;
+}
+
 dpc_status dpc_engine_set_source_position(dpc_engine* engine, int source, float x, float y,
                                           float z) {
   // Any thread: no message on failure (setting it would allocate).

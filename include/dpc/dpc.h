@@ -176,13 +176,39 @@ DPC_API dpc_status dpc_engine_start(dpc_engine* engine);
 /** Control thread. Stops and joins the propagation thread (idempotent). */
 DPC_API dpc_status dpc_engine_stop(dpc_engine* engine);
 
-/** Any thread, wait-free, no allocation. Sets the listener pose: position (x, y, z) in metres
+/** Any thread, wait-free, no allocation. Sets the selected listener's pose (see
+ *  dpc_engine_select_listener; the only listener of a one-listener scene): position (x, y, z) in metres
  *  in scene coordinates, yaw in degrees (0 faces +x, positive turns left, about +y), pitch in
  *  degrees (positive looks up). The propagation thread uses the newest pose at its next frame.
  *  Until the first call the listener stands where the scene puts it at time 0 (its position
  *  or first keyframe). Errors: DPC_ERR_INVALID_ARGUMENT (null engine or non-finite value). */
 DPC_API dpc_status dpc_engine_set_listener(dpc_engine* engine, float x, float y, float z,
                                            float yaw_degrees, float pitch_degrees);
+
+/** Any thread. Listeners traced every propagation frame: the length of the scene's
+ *  "listeners" array, or 1 for a scene with one "listener" (or built from dpc_scene_data).
+ *  All of them share each frame's rays (docs/dynamic.md "Several listeners"); one of them, the
+ *  selected listener, is heard through dpc_engine_process and read by the copy functions. */
+DPC_API int dpc_engine_listener_count(const dpc_engine* engine);
+
+/** Any thread (one writer per listener at a time), wait-free, no allocation. As
+ *  dpc_engine_set_listener for listener `listener` (0-based, the scene's "listeners" order),
+ *  selected or not. Errors: DPC_ERR_INVALID_ARGUMENT (null engine, index out of range,
+ *  non-finite value; no message set, since setting one would allocate). */
+DPC_API dpc_status dpc_engine_set_listener_pose(dpc_engine* engine, int listener, float x,
+                                                float y, float z, float yaw_degrees,
+                                                float pitch_degrees);
+
+/** Any thread, wait-free, no allocation. Makes listener `listener` (0-based) the one
+ *  dpc_engine_process plays and dpc_engine_copy_* read, from the next propagation frame on;
+ *  the audio side crossfades to its impulse responses as to any new ones (its cache is already
+ *  warm: every listener is traced every frame). dpc_engine_set_listener then moves it. Until
+ *  the first call the scene's first listener is selected. Errors: DPC_ERR_INVALID_ARGUMENT
+ *  (null engine or index out of range; no message set). */
+DPC_API dpc_status dpc_engine_select_listener(dpc_engine* engine, int listener);
+
+/** Any thread. The selected listener (0-based); 0 for a null engine. */
+DPC_API int dpc_engine_selected_listener(const dpc_engine* engine);
 
 /** Any thread, wait-free, no allocation. Moves source `source` (0-based, scene order) to
  *  (x, y, z) metres in scene coordinates from the next propagation frame on, instead of its

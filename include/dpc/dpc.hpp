@@ -68,6 +68,19 @@ class Engine {
     return dpc_engine_set_listener(e_, x, y, z, yawDegrees, pitchDegrees);
   }
 
+  /// Any thread: listeners traced every frame (dpc_engine_listener_count).
+  int listenerCount() const noexcept { return dpc_engine_listener_count(e_); }
+  /// Any thread, wait-free: pose of listener `listener` (dpc_engine_set_listener_pose).
+  dpc_status setListenerPose(int listener, float x, float y, float z, float yawDegrees,
+                             float pitchDegrees = 0.f) noexcept {
+    return dpc_engine_set_listener_pose(e_, listener, x, y, z, yawDegrees, pitchDegrees);
+  }
+  /// Any thread, wait-free: the listener heard and read out (dpc_engine_select_listener).
+  dpc_status selectListener(int listener) noexcept {
+    return dpc_engine_select_listener(e_, listener);
+  }
+  int selectedListener() const noexcept { return dpc_engine_selected_listener(e_); }
+
   /// Any thread, wait-free: see dpc_engine_set_source_position (metres).
   dpc_status setSourcePosition(int source, float x, float y, float z) noexcept {
     return dpc_engine_set_source_position(e_, source, x, y, z);

@@ -236,7 +236,7 @@ TEST_CASE("C API: bad scene data names the field") {
   CHECK(dpc_engine_create_from_data(nullptr, nullptr, &e) == DPC_ERR_INVALID_ARGUMENT);
 }
 
-TEST_CASE("C API: several listeners share a frame; the selected one is heard and read out") {
+TEST_CASE("C API: several listeners share a frame, the selected one is heard and read out") {
   // The box scene with two listeners: "a" 4 m from the source, "b" 6 m from it.
   const std::string folder = std::filesystem::temp_directory_path().string() + "/dpc_api_two";
   std::string json;

@@ -39,7 +39,7 @@ TEST_CASE("PropagationStage follows source trajectories and host overrides", "[d
   CHECK(stage.simulation().result(0).direct.visible);
 }
 
-TEST_CASE("PropagationStage takes a whole world state; two listeners at one place agree",
+TEST_CASE("PropagationStage takes a whole world state, two listeners at one place agree",
           "[dynamic]") {
   SceneDesc s = test::twoRooms(DpcWeighting::kWindow, 0.f);
   s.propagation.raysPerFrame = 256;

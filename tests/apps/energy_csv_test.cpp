@@ -62,7 +62,7 @@ TEST_CASE("Energy-response CSV: bad input names the file and the line", "[er-out
   std::remove(path.c_str());
 }
 
-TEST_CASE("dpc-demo --er-out writes what dpc-analyze reads; live mode refuses it", "[er-out]") {
+TEST_CASE("dpc-demo --er-out writes what dpc-analyze reads, live mode refuses it", "[er-out]") {
   const std::string bin = std::string(DPC_BINARY_DIR) + "/apps/";
   const std::string scene = std::string(DPC_SOURCE_DIR) + "/scenes/shoebox-corner.json";
   const std::string dir = std::string(DPC_BINARY_DIR) + "/er_out_test";

@@ -104,7 +104,7 @@ std::array<float, 3> randomDirection(std::mt19937& rng) {
 
 }  // namespace
 
-TEST_CASE("the KEMAR SOFA file loads at 44100 and 48000 Hz; filter length scales with rate") {
+TEST_CASE("the KEMAR SOFA file loads at 44100 and 48000 Hz, filter length scales with rate") {
   const Hrtf h44 = Hrtf::load(kKemar, 44100);
   const Hrtf h48 = Hrtf::load(kKemar, 48000);
   CHECK(h44.sampleRate() == 44100);

@@ -38,7 +38,7 @@ TEST_CASE("hard left gives (1, 0), hard right (0, 1)") {
   CHECK(l2.left == Approx(1.0f).margin(1e-7));
 }
 
-TEST_CASE("front and back fold onto the same pan position; gains rise towards the side") {
+TEST_CASE("front and back fold onto the same pan position, gains rise towards the side") {
   const Gains front = gains(1, 1, 0), back = gains(-1, 1, 0);
   CHECK(front.left == Approx(back.left).margin(1e-7));
   CHECK(front.right == Approx(back.right).margin(1e-7));

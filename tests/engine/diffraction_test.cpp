@@ -118,7 +118,7 @@ TEST_CASE("Diffraction: thin screen follows Kurze-Anderson across Fresnel number
   std::printf("screen: worst |UTD - Kurze-Anderson| %.2f dB\n", worst);
 }
 
-TEST_CASE("Diffraction: continuous across the shadow boundary; -6 dB on it", "[diffraction]") {
+TEST_CASE("Diffraction: continuous across the shadow boundary, -6 dB on it", "[diffraction]") {
   for (int which = 0; which < 2; ++which) {
     // A screen (half-plane) and a 90-degree corner of a solid box.
     Setup s(which == 0 ? screen() : solidBox());

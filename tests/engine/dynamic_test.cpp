@@ -280,7 +280,7 @@ TEST_CASE("Several listeners in one pass: each equals its own trace, Embree work
   }
 }
 
-TEST_CASE("Path identifiers carry the listener; segments do not grow with listeners",
+TEST_CASE("Path identifiers carry the listener, segments do not grow with listeners",
           "[dynamic][listeners]") {
   SceneDesc sc = test::twoRooms(DpcWeighting::kWindow, 0.5f);
   sc.objects.clear();

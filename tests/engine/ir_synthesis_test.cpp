@@ -111,7 +111,7 @@ TEST_CASE("Synthesised IR has the energy response's band energies", "[ir]") {
   }
 }
 
-TEST_CASE("Direct sound lands at its delay; silence gives silence", "[ir]") {
+TEST_CASE("Direct sound lands at its delay, silence gives silence", "[ir]") {
   const int fs = 48000;
   IrSynthesizer synth(fs, 0.5, 100.0, 343.0, 3);
   EnergyResponse er(0.5, 1e-3);

@@ -18,7 +18,7 @@ glm::vec3 pointOf(const std::array<glm::vec3, 3>& p, const std::array<float, 3>&
 }
 }  // namespace
 
-TEST_CASE("Key vertex is opposite the shortest edge; counts as defined", "[patch]") {
+TEST_CASE("Key vertex is opposite the shortest edge, counts as defined", "[patch]") {
   // Right triangle with legs 4 (x) and 3 (y): edges 3, 4, 5; shortest edge (3) is opposite
   // vertex 1 at (4,0,0): altitude h = 2A / 3 = 12 / 3 = 4.
   const glm::vec3 a(0, 0, 0), b(4, 0, 0), c(0, 3, 0);

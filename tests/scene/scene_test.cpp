@@ -563,7 +563,7 @@ TEST_CASE("parseEstimator and parseDpcWeighting", "[scene]") {
 // ---------------------------------------------------------------------------------------------
 // Dynamic scenes: source trajectories, moving objects, several listeners.
 
-TEST_CASE("Source trajectory interpolates, clamps and loops; position defaults to the first key",
+TEST_CASE("Source trajectory interpolates, clamps and loops, position defaults to the first key",
           "[scene][dynamic]") {
   Fixture fx;
   fx.scene["sources"][0].erase("position");

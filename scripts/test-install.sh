@@ -28,6 +28,13 @@ PKG_CONFIG_PATH=$libdir/pkgconfig cmake -S examples/c -B "$work/c" >/dev/null
 cmake --build "$work/c" >/dev/null
 cmake -S examples/cpp -B "$work/cpp" -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
 cmake --build "$work/cpp" >/dev/null
+# The static archive links on its own with the libraries dpc.pc lists as private (no
+# unresolved symbol), and the program runs without libdpc.so.
+cc -o "$work/play_scene_static" examples/c/play_scene.c -I"$prefix/include" \
+  "$libdir/libdpc.a" $(PKG_CONFIG_PATH=$libdir/pkgconfig pkg-config --static --libs-only-l dpc |
+  sed 's/-ldpc //')
+"$work/play_scene_static" scenes/shoebox.json "$work/c-static.wav"
+/usr/bin/python3 scripts/wavcheck.py "$work/c-static.wav"
 export LD_LIBRARY_PATH=$libdir${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
 "$work/c/play_scene" scenes/shoebox.json "$work/c.wav"
 "$work/cpp/play_scene_cpp" scenes/shoebox.json "$work/cpp.wav"

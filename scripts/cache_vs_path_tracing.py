@@ -1,0 +1,123 @@
+#!/usr/bin/python3
+"""Room-acoustic parameters of the diffuse path cache against plain path tracing.
+
+The 10 x 7 x 3 m shoebox (scenes/shoebox.obj) with every surface at absorption 0.1 in every
+band, once fully diffuse (scattering 1) and once specular (scattering 0); one source, one
+static listener (R = 0.5 m), tau = 1 s, 15 frames/s, 3 s rendered at 20,000 rays per frame.
+For each estimator and seed, dpc-demo writes the last frame's energy response (--er-out) and
+dpc-analyze reports G, C80 and EDT per octave band from it (no IR synthesis in between).
+Path tracing's last frame is one frame of 20,000 rays; its seed-to-seed scatter is printed
+as the Monte Carlo error of the comparison.
+
+Writes docs/data/cache-vs-path-tracing.json and prints a table.
+Usage: /usr/bin/python3 scripts/cache_vs_path_tracing.py [--build build] [--seeds 3]
+       [--rays 20000] [--out docs/data/cache-vs-path-tracing.json]
+"""
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+BANDS = ['63', '125', '250', '500', '1000', '2000', '4000', '8000']
+PARAMS = ['g', 'c80', 'edt']
+
+
+def scene(scattering):
+    material = {'absorption': [0.1] * 8, 'scattering': scattering}
+    return {
+        'mesh': os.path.join(ROOT, 'scenes', 'shoebox.obj'),
+        'materials': {'walls': material, 'floor': material, 'ceiling': material},
+        'sources': [{'name': 'talker', 'position': [2.0, 1.6, 3.5],
+                     'signal': os.path.join(ROOT, 'scenes', 'signals', 'speech.wav')}],
+        'listener': {'position': [7.0, 1.6, 3.5], 'radius': 0.5},
+        'propagation': {'max_order': 200, 'patch_size': 0.5, 'cache_tau': 1.0,
+                        'frame_rate': 15, 'ir_length': 2.0, 'air_absorption': True},
+        'audio': {'sample_rate': 48000, 'block_size': 512},
+    }
+
+
+def run(build, scene_path, folder, estimator, seed, rays):
+    tag = f'{estimator}-{seed}'
+    wav, csv = os.path.join(folder, tag + '.wav'), os.path.join(folder, tag + '.csv')
+    cmd = [os.path.join(build, 'apps', 'dpc-demo'), scene_path, '--offline', wav, '--duration',
+           '3', '--rays', str(rays), '--seed', str(seed), '--estimator', estimator,
+           '--er-out', csv, '--quiet']
+    done = subprocess.run(cmd, check=True, capture_output=True, text=True)
+    summary = [line for line in done.stderr.splitlines() if 'cache' in line]
+    analysis = subprocess.run([os.path.join(build, 'apps', 'dpc-analyze'), csv, '--json'],
+                              check=True, capture_output=True, text=True)
+    return json.loads(analysis.stdout), summary
+
+
+def band_values(analysis, param):
+    return [band[param] for band in analysis['sources'][0]['bands']]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    ap.add_argument('--build', default=os.path.join(ROOT, 'build'))
+    ap.add_argument('--seeds', type=int, default=3)
+    ap.add_argument('--rays', type=int, default=20000)
+    ap.add_argument('--out', default=os.path.join(ROOT, 'docs', 'data',
+                                                  'cache-vs-path-tracing.json'))
+    args = ap.parse_args()
+    result = {'rays_per_frame': args.rays, 'seeds': args.seeds, 'cases': []}
+    with tempfile.TemporaryDirectory() as folder:
+        for name, scattering in (('diffuse', 1.0), ('specular', 0.0)):
+            path = os.path.join(folder, name + '.json')
+            with open(path, 'w') as f:
+                json.dump(scene(scattering), f)
+            case = {'room': name, 'scattering': scattering}
+            for estimator in ('dpc', 'path_tracing'):
+                runs = []
+                for seed in range(1, args.seeds + 1):
+                    print(f'{name} {estimator} seed {seed}', file=sys.stderr)
+                    analysis, summary = run(args.build, path, folder, estimator, seed, args.rays)
+                    runs.append({p: band_values(analysis, p) for p in PARAMS})
+                    if estimator == 'dpc':
+                        case['dpc_summary'] = summary
+                case[estimator] = runs
+            # Mean over seeds per band; path tracing's standard deviation over seeds is the
+            # Monte Carlo error of one path-tracing frame.
+            diff = {}
+            for p in PARAMS:
+                rows = []
+                for b in range(len(BANDS)):
+                    dv = [r[p][b] for r in case['dpc']]
+                    pv = [r[p][b] for r in case['path_tracing']]
+                    if any(v is None or isinstance(v, str) for v in dv + pv):
+                        rows.append(None)
+                        continue
+                    dm, pm = statistics.mean(dv), statistics.mean(pv)
+                    sd = statistics.stdev(pv) if len(pv) > 1 else float('nan')
+                    delta = dm - pm if p != 'edt' else dm / pm - 1.0
+                    rows.append({'dpc': dm, 'path_tracing': pm, 'difference': delta,
+                                 'path_tracing_sd': sd})
+                diff[p] = rows
+            case['comparison'] = diff
+            result['cases'].append(case)
+    os.makedirs(os.path.dirname(args.out), exist_ok=True)
+    with open(args.out, 'w') as f:
+        json.dump(result, f, indent=1)
+    print('| room | parameter | ' + ' | '.join(BANDS) + ' |')
+    print('|---|---|' + '---|' * len(BANDS))
+    for case in result['cases']:
+        for p in PARAMS:
+            cells = []
+            for row in case['comparison'][p]:
+                if row is None:
+                    cells.append('—')
+                elif p == 'edt':
+                    cells.append(f"{100 * row['difference']:+.1f} %")
+                else:
+                    cells.append(f"{row['difference']:+.2f} dB")
+            unit = ' (DPC / PT − 1)' if p == 'edt' else ' (DPC − PT)'
+            print(f"| {case['room']} | {p.upper()}{unit} | " + ' | '.join(cells) + ' |')
+
+
+if __name__ == '__main__':
+    main()

@@ -359,10 +359,10 @@ dpc_status dpc_engine_stop(dpc_engine* engine) {
 
 dpc_status dpc_engine_set_listener(dpc_engine* engine, float x, float y, float z, float yaw_degrees,
                                    float pitch_degrees) {
-  if (!engine) return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_set_listener: engine is NULL");
-  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z) || !std::isfinite(yaw_degrees) ||
-      !std::isfinite(pitch_degrees))
-    return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_set_listener: non-finite pose");
+  // Any thread: no message on failure (setting it would allocate).
+  if (!engine) return DPC_ERR_INVALID_ARGUMENT;
+  for (float v : {x, y, z, yaw_degrees, pitch_degrees})
+    if (!std::isfinite(v)) return DPC_ERR_INVALID_ARGUMENT;
   engine->session->setPose(glm::vec3(x, y, z), yaw_degrees * kDegrees, 0.0,
                            pitch_degrees * kDegrees);
   return DPC_OK;

@@ -210,13 +210,6 @@ void LiveSession::runFrame() {
   }
 }
 
-bool LiveSession::copyResponses(size_t source, const std::function<void(const Responses&)>& f) {
-  std::lock_guard<std::mutex> lock(snapshotMutex_);
-  if (!snapshotValid_ || source >= snapshotIrs_.size()) return false;
-  f(Responses{&snapshotIrs_[source], &snapshotEnergy_[source], snapshotBinSeconds_,
-              snapshotFrame_});
-  return true;
-}
 
 void LiveSession::propagationLoop() {
   const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(

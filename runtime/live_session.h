@@ -20,7 +20,6 @@
 #include <boost/lockfree/spsc_queue.hpp>
 #include <condition_variable>
 #include <cstdint>
-#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -105,7 +104,15 @@ class LiveSession {
   /// Any thread but the audio thread: calls f with the newest responses of `source` while
   /// holding the snapshot lock (the propagation thread skips its copy rather than wait for
   /// it). Returns false, without calling f, before the first frame or for a bad index.
-  bool copyResponses(size_t source, const std::function<void(const Responses&)>& f);
+  /// Allocates nothing itself (f is called directly, not through a type-erased wrapper).
+  template <class F>
+  bool copyResponses(size_t source, F&& f) {
+    std::lock_guard<std::mutex> lock(snapshotMutex_);
+    if (!snapshotValid_ || source >= snapshotIrs_.size()) return false;
+    f(Responses{&snapshotIrs_[source], &snapshotEnergy_[source], snapshotBinSeconds_,
+                snapshotFrame_});
+    return true;
+  }
 
   /// IR channels (1 mono, 2 stereo/binaural).
   int irChannels() const { return int(stageOut_.size()); }

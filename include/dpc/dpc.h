@@ -32,7 +32,8 @@ typedef enum dpc_status {
   DPC_OK = 0,
   DPC_ERR_INVALID_ARGUMENT = 1, /**< null handle/pointer or value out of range */
   DPC_ERR_INPUT = 2,            /**< scene file or one of its fields is invalid */
-  DPC_ERR_STATE = 3,            /**< wrong engine state (e.g. started twice is fine; see fn) */
+  DPC_ERR_STATE = 3,            /**< not possible in the engine's current state (e.g.
+                                     dpc_engine_step while running, a read before any frame) */
   DPC_ERR_UNSUPPORTED = 4,      /**< the operation is not available in this version */
   DPC_ERR_INTERNAL = 5          /**< unexpected failure (out of memory, runtime error) */
 } dpc_status;
@@ -41,8 +42,9 @@ typedef enum dpc_status {
 typedef struct dpc_engine dpc_engine;
 
 /** Any thread. The text of the last error raised on the calling thread ("" if none). The
- *  pointer stays valid until the next failing call on this thread. Never allocates after the
- *  first error on a thread. */
+ *  pointer stays valid until the next failing call on this thread. Reading it never
+ *  allocates; the functions that may be called from the audio thread or "any thread" set no
+ *  message (their status code says it all). */
 DPC_API const char* dpc_last_error(void);
 
 /** Library version "MAJOR.MINOR.PATCH". Any thread; static storage. */
@@ -171,9 +173,11 @@ DPC_API dpc_status dpc_engine_create_from_data(const dpc_scene_data* data,
  *  host must have stopped calling dpc_engine_process before. */
 DPC_API void dpc_engine_destroy(dpc_engine* engine);
 
-/** Control thread. Starts the propagation thread (idempotent). Allocates (thread creation). */
+/** Control thread. Starts the propagation thread (idempotent). Allocates (thread creation).
+ *  Errors: DPC_ERR_INVALID_ARGUMENT (NULL), DPC_ERR_INTERNAL (the thread could not start). */
 DPC_API dpc_status dpc_engine_start(dpc_engine* engine);
-/** Control thread. Stops and joins the propagation thread (idempotent). */
+/** Control thread. Stops and joins the propagation thread (idempotent). Errors:
+ *  DPC_ERR_INVALID_ARGUMENT (NULL). */
 DPC_API dpc_status dpc_engine_stop(dpc_engine* engine);
 
 /** Any thread, wait-free, no allocation. Sets the selected listener's pose (see
@@ -181,7 +185,8 @@ DPC_API dpc_status dpc_engine_stop(dpc_engine* engine);
  *  in scene coordinates, yaw in degrees (0 faces +x, positive turns left, about +y), pitch in
  *  degrees (positive looks up). The propagation thread uses the newest pose at its next frame.
  *  Until the first call the listener stands where the scene puts it at time 0 (its position
- *  or first keyframe). Errors: DPC_ERR_INVALID_ARGUMENT (null engine or non-finite value). */
+ *  or first keyframe). Errors: DPC_ERR_INVALID_ARGUMENT (null engine or non-finite value; no
+ *  message set, since setting one would allocate). */
 DPC_API dpc_status dpc_engine_set_listener(dpc_engine* engine, float x, float y, float z,
                                            float yaw_degrees, float pitch_degrees);
 
@@ -241,7 +246,7 @@ DPC_API dpc_status dpc_engine_step(dpc_engine* engine);
  *  band follows the energy response (dpc_engine_copy_energy_response). *length (if not NULL)
  *  receives the IR's full length in samples; min(capacity, length) samples are copied (out
  *  may be NULL with capacity 0 to ask for the length). *frame (if not NULL) receives the
- *  propagation frame count it came from. No allocation. Errors: DPC_ERR_INVALID_ARGUMENT (NULL
+ *  propagation frame count it came from. No allocation on success. Errors: DPC_ERR_INVALID_ARGUMENT (NULL
  * engine, index out of range, out NULL with capacity > 0), DPC_ERR_STATE (no frame run yet). */
 DPC_API dpc_status dpc_engine_copy_impulse_response(dpc_engine* engine, int source, int channel,
                                                     float* out, size_t capacity, size_t* length,
@@ -267,10 +272,12 @@ DPC_API dpc_status dpc_engine_copy_energy_response(dpc_engine* engine, int sourc
 DPC_API dpc_status dpc_engine_process(dpc_engine* engine, const float* const* inputs,
                                       float* const* outputs, int frames);
 
-/** Any thread. Fixed properties of the engine (from the scene file). */
+/** Any thread, no allocation. Fixed properties of the engine (from the scene and the
+ *  creation options); each returns 0 for a NULL engine. */
 DPC_API int dpc_engine_sample_rate(const dpc_engine* engine);     /**< Hz */
 DPC_API int dpc_engine_block_size(const dpc_engine* engine);      /**< engine block, frames */
-DPC_API int dpc_engine_output_channels(const dpc_engine* engine); /**< 1 mono, 2 stereo */
+DPC_API int dpc_engine_output_channels(const dpc_engine* engine); /**< 1 mono, 2 stereo or
+                                                                      binaural (left, right) */
 DPC_API int dpc_engine_source_count(const dpc_engine* engine);
 DPC_API int dpc_engine_object_count(const dpc_engine* engine); /**< moving objects */
 /** Latency process() adds to the host's signal, frames (one engine block). */

@@ -9,7 +9,8 @@ scripts/build.sh
 scripts/test-install.sh
 # The queue and live-pipeline threads under ThreadSanitizer (separate build in build-tsan).
 scripts/tsan.sh
-# AddressSanitizer + UBSan build of the engine/runtime tests and dpc-demo, bad-input suite
-# included (build-asan), and a 15 s libFuzzer run per fuzz target (build-fuzz, clang).
+# AddressSanitizer + UBSan build of everything and the whole ctest (build-asan; the JACK and
+# LV2-host tests excepted, see the script), and a 15 s libFuzzer run per fuzz target
+# (build-fuzz, clang).
 scripts/asan.sh
 scripts/fuzz.sh 15

@@ -11,7 +11,7 @@ as the Monte Carlo error of the comparison.
 
 Writes docs/data/cache-vs-path-tracing.json and prints a table.
 Usage: /usr/bin/python3 scripts/cache_vs_path_tracing.py [--build build] [--seeds 3]
-       [--rays 20000] [--out docs/data/cache-vs-path-tracing.json]
+       [--rays 20000] [--cache-memory-mb 64] [--out docs/data/cache-vs-path-tracing.json]
 """
 import argparse
 import json
@@ -40,14 +40,15 @@ def scene(scattering):
     }
 
 
-def run(build, scene_path, folder, estimator, seed, rays):
+def run(build, scene_path, folder, estimator, seed, rays, budget_mb):
     tag = f'{estimator}-{seed}'
     wav, csv = os.path.join(folder, tag + '.wav'), os.path.join(folder, tag + '.csv')
     cmd = [os.path.join(build, 'apps', 'dpc-demo'), scene_path, '--offline', wav, '--duration',
            '3', '--rays', str(rays), '--seed', str(seed), '--estimator', estimator,
-           '--er-out', csv, '--quiet']
+           '--er-out', csv, '--cache-memory-mb', str(budget_mb)]
     done = subprocess.run(cmd, check=True, capture_output=True, text=True)
-    summary = [line for line in done.stderr.splitlines() if 'cache' in line]
+    lines = done.stdout.splitlines()
+    summary = [line for line in lines if line.startswith('cache') or 'cache entries' in line]
     analysis = subprocess.run([os.path.join(build, 'apps', 'dpc-analyze'), csv, '--json'],
                               check=True, capture_output=True, text=True)
     return json.loads(analysis.stdout), summary
@@ -62,10 +63,13 @@ def main():
     ap.add_argument('--build', default=os.path.join(ROOT, 'build'))
     ap.add_argument('--seeds', type=int, default=3)
     ap.add_argument('--rays', type=int, default=20000)
+    ap.add_argument('--cache-memory-mb', type=float, default=64.0,
+                    help='DPC memory budget per source-listener pair (1 forces merging)')
     ap.add_argument('--out', default=os.path.join(ROOT, 'docs', 'data',
                                                   'cache-vs-path-tracing.json'))
     args = ap.parse_args()
-    result = {'rays_per_frame': args.rays, 'seeds': args.seeds, 'cases': []}
+    result = {'rays_per_frame': args.rays, 'seeds': args.seeds,
+              'cache_memory_mb': args.cache_memory_mb, 'cases': []}
     with tempfile.TemporaryDirectory() as folder:
         for name, scattering in (('diffuse', 1.0), ('specular', 0.0)):
             path = os.path.join(folder, name + '.json')
@@ -76,7 +80,8 @@ def main():
                 runs = []
                 for seed in range(1, args.seeds + 1):
                     print(f'{name} {estimator} seed {seed}', file=sys.stderr)
-                    analysis, summary = run(args.build, path, folder, estimator, seed, args.rays)
+                    analysis, summary = run(args.build, path, folder, estimator, seed, args.rays,
+                                            args.cache_memory_mb)
                     runs.append({p: band_values(analysis, p) for p in PARAMS})
                     if estimator == 'dpc':
                         case['dpc_summary'] = summary

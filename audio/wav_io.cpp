@@ -1,20 +1,15 @@
 #include "audio/wav_io.h"
 
 #include <sndfile.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
-#include <cstring>
-#include <filesystem>
 #include <stdexcept>
 
 #include "engine/input_error.h"
 #include "engine/input_file.h"
+#include "engine/output_file.h"
 
 namespace dpc::audio {
 
@@ -32,11 +27,6 @@ struct SndFile {
     return rc;
   }
 };
-
-std::string folderOf(const std::string& path) {
-  std::filesystem::path parent = std::filesystem::path(path).parent_path();
-  return parent.empty() ? std::string(".") : parent.string();
-}
 
 void validate(const std::string& path, const AudioData& audio) {
   if (audio.channels.empty()) throw InputError(path, "", "cannot write: no channels");
@@ -122,10 +112,6 @@ WavStreamWriter::WavStreamWriter(const std::string& path, int sampleRate, int ch
     throw InputError(
         path, "", "cannot write: sample rate " + std::to_string(sampleRate) + " is not positive");
   if (channels < 1) throw InputError(path, "", "cannot write: no channels");
-  const std::string folder = folderOf(path);
-  std::error_code ec;
-  if (!std::filesystem::is_directory(folder, ec))
-    throw InputError(path, "", "cannot write: folder '" + folder + "' does not exist");
   SF_INFO info{};
   info.samplerate = sampleRate;
   info.channels = channels;
@@ -133,22 +119,10 @@ WavStreamWriter::WavStreamWriter(const std::string& path, int sampleRate, int ch
   if (!sf_format_check(&info))
     throw InputError(path, "", "cannot write: libsndfile refuses this format/channel count");
 
-  // The temporary lives next to the target so that the final rename stays on one filesystem.
-  tmp_ = path + ".tmp-XXXXXX";
-  const int fd = mkstemp(tmp_.data());
-  if (fd < 0) {
-    tmp_.clear();
-    throw InputError(path, "", "cannot write in folder '" + folder + "': " + std::strerror(errno));
-  }
-  // mkstemp creates mode 0600; give the file the usual mode a new file would have (0666 & ~umask).
-  const mode_t mask = umask(0);
-  umask(mask);
-  fchmod(fd, 0666 & ~mask);
-  handle_ = sf_open_fd(fd, SFM_WRITE, &info, SF_TRUE /* close fd with the file */);
-  if (!handle_) {
-    ::close(fd);
-    fail(sf_strerror(nullptr));
-  }
+  tmp_.emplace(path);  // throws if the folder is missing or not writable
+  handle_ = sf_open_fd(tmp_->fd(), SFM_WRITE, &info, SF_TRUE /* close fd with the file */);
+  if (!handle_) fail(sf_strerror(nullptr));
+  tmp_->releaseFd();  // libsndfile closes it now
   // Integer formats: clip out-of-range values instead of letting them wrap around.
   sf_command(sf(handle_), SFC_SET_CLIPPING, nullptr, SF_TRUE);
   // No PEAK chunk: it carries the time of writing, and same-seed renders must be byte-identical.
@@ -158,14 +132,13 @@ WavStreamWriter::WavStreamWriter(const std::string& path, int sampleRate, int ch
 
 WavStreamWriter::~WavStreamWriter() {
   if (handle_) sf_close(sf(handle_));
-  if (!committed_ && !tmp_.empty()) std::remove(tmp_.c_str());
+  // tmp_'s destructor removes the temporary unless committed.
 }
 
 void WavStreamWriter::fail(const std::string& reason) {
   if (handle_) sf_close(sf(handle_));
   handle_ = nullptr;
-  if (!tmp_.empty()) std::remove(tmp_.c_str());
-  tmp_.clear();
+  if (tmp_) tmp_->fail(reason);
   throw InputError(path_, "", "cannot write: " + reason);
 }
 
@@ -200,7 +173,7 @@ void WavStreamWriter::rescale(float gain) {
     fail("closing the file failed (disk full?)");
   }
   SF_INFO info{};
-  handle_ = sf_open(tmp_.c_str(), SFM_RDWR, &info);
+  handle_ = sf_open(tmp_->tempPath().c_str(), SFM_RDWR, &info);
   if (!handle_) fail(std::string("reopening the temporary file failed: ") + sf_strerror(nullptr));
   sf_command(sf(handle_), SFC_SET_ADD_PEAK_CHUNK, nullptr, SF_FALSE);
   float peak = 0.f;
@@ -227,10 +200,7 @@ void WavStreamWriter::commit() {
   const int rc = sf_close(sf(handle_));
   handle_ = nullptr;
   if (rc != 0) fail("closing the file failed (disk full?)");
-  std::error_code ec;
-  std::filesystem::rename(tmp_, path_, ec);
-  if (ec) fail("renaming the temporary file failed: " + ec.message());
-  committed_ = true;
+  tmp_->commit();
 }
 
 }  // namespace dpc::audio

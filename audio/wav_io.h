@@ -7,8 +7,11 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "engine/output_file.h"
 
 namespace dpc::audio {
 
@@ -77,14 +80,14 @@ class WavStreamWriter {
 
  private:
   [[noreturn]] void fail(const std::string& reason);
-  std::string path_, tmp_;
+  std::string path_;
+  std::optional<TempOutputFile> tmp_;  ///< the temporary PATH.tmp-XXXXXX until commit()
   int channels_ = 0;
   SampleFormat format_;
   void* handle_ = nullptr;  ///< SNDFILE*
   std::vector<float> interleaved_;
   size_t frames_ = 0;
   float peak_ = 0.f;
-  bool committed_ = false;
 };
 
 }  // namespace dpc::audio

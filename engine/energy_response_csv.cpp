@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "engine/input_error.h"
+#include "engine/output_file.h"
 
 namespace dpc {
 
@@ -38,12 +39,13 @@ void writeEnergyCsv(const std::string& path, const std::vector<SourceEnergy>& so
       values(e.energy.bins()[k]);
     }
   }
-  // Written in one piece after formatting, so a failure leaves no half-written table behind
-  // that could be mistaken for a result.
-  std::ofstream f(path, std::ios::binary | std::ios::trunc);
-  if (!f) throw std::runtime_error(path + ": cannot open for writing");
-  f << out.str();
-  if (!f) throw std::runtime_error(path + ": write failed");
+  // Like the WAV outputs: a temporary file next to `path`, renamed into place only once
+  // complete, so a failure leaves neither a half-written table that could be mistaken for a
+  // result nor a damaged earlier file.
+  const std::string text = out.str();
+  TempOutputFile file(path);
+  file.writeAll(text.data(), text.size());
+  file.commit();
 }
 
 std::vector<SourceEnergy> readEnergyCsv(const std::string& path) {

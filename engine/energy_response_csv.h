@@ -9,8 +9,10 @@
 //   0,bin,0.001,...                   start, values its energy over [t, t + bin) (1 ms bins)
 // Sources are numbered from 0 in scene order. Lines starting with '#' are comments.
 //
-// Any thread except the audio thread; allocates. writeEnergyCsv throws std::runtime_error when
-// the file cannot be written; readEnergyCsv throws InputError naming the file and the line.
+// Any thread except the audio thread; allocates. writeEnergyCsv writes a temporary file in the
+// destination folder and renames it to the path only when complete (engine/output_file.h): on
+// failure it throws InputError naming the path, removes the temporary and leaves any existing
+// file untouched. readEnergyCsv throws InputError naming the file and the line.
 #pragma once
 
 #include <string>

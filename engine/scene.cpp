@@ -532,6 +532,9 @@ glm::quat readQuaternion(const JsonReader& r, const json& v, const std::string& 
 void readObjects(const JsonReader& r, const json& v, const fs::path& folder, SceneDesc& scene) {
   const std::string field = "objects";
   if (!v.is_array()) r.fail(field, "expected an array of objects, got " + JsonReader::describe(v));
+  if (v.size() > kMaxObjects)
+    r.fail(field, std::to_string(v.size()) + " objects, more than the limit of " +
+                      std::to_string(kMaxObjects));
   for (size_t i = 0; i < v.size(); ++i) {
     const std::string f = index(field, i);
     const json& o = v[i];
@@ -577,6 +580,9 @@ void readSources(const JsonReader& r, const json& v, const fs::path& folder, Sce
   const std::string field = "sources";
   if (!v.is_array()) r.fail(field, "expected an array of sources, got " + JsonReader::describe(v));
   if (v.empty()) r.fail(field, "at least one source is required");
+  if (v.size() > kMaxSources)
+    r.fail(field, std::to_string(v.size()) + " sources, more than the limit of " +
+                      std::to_string(kMaxSources));
   for (size_t i = 0; i < v.size(); ++i) {
     const std::string f = index(field, i);
     const json& s = v[i];
@@ -803,6 +809,9 @@ SceneDesc loadScene(const std::string& path) {
     if (!many->is_array() || many->empty())
       r.fail("listeners",
              "expected a non-empty array of listeners, got " + JsonReader::describe(*many));
+    if (many->size() > kMaxListeners)
+      r.fail("listeners", std::to_string(many->size()) + " listeners, more than the limit of " +
+                              std::to_string(kMaxListeners));
     for (size_t i = 0; i < many->size(); ++i) {
       ListenerDesc l;
       readListener(r, (*many)[i], index("listeners", i), true, l);

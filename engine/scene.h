@@ -8,6 +8,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/vec3.hpp>
@@ -162,6 +163,12 @@ struct AudioSettings {
   OutputFormat output = OutputFormat::kMono;
   std::string hrtfPath = kDefaultHrtfPath;  ///< SOFA file for binaural output
 };
+
+/// Upper bounds on a scene's entity counts, fixed (independent of the machine's memory) so a
+/// scene either loads everywhere or nowhere; docs/scene-format.md "Limits" says why these values.
+inline constexpr size_t kMaxSources = 256;   ///< each source: its own IR, convolution and rays
+inline constexpr size_t kMaxListeners = 64;  ///< each listener: an IR and convolution per source
+inline constexpr size_t kMaxObjects = 256;   ///< each object: its own mesh and BVH instance
 
 struct SceneDesc {
   std::string path;  ///< the scene file as given

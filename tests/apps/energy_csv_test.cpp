@@ -1,9 +1,16 @@
 // Energy-response export (dpc-demo --er-out): the CSV round-trips, and its analysis agrees with
 // the energy response's.
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <catch2/catch.hpp>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 #include "audio/room_parameters.h"
@@ -87,4 +94,71 @@ TEST_CASE("dpc-demo --er-out writes what dpc-analyze reads, live mode refuses it
   CHECK(refused != 0);
   CHECK_FALSE(std::ifstream(live).good());
   std::system(("rm -rf " + dir).c_str());
+}
+
+namespace {
+
+std::string slurp(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::ostringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+size_t entriesIn(const std::filesystem::path& dir) {
+  size_t n = 0;
+  for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++n;
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("Energy-response CSV: a failed write leaves no file and an existing one untouched",
+          "[er-out]") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(DPC_BINARY_DIR) / ("er_atomic_test_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  SourceEnergy a;
+  a.energy = EnergyResponse(1.0, 1e-3);  // 1000 bins: about 100 kB of text
+  for (size_t k = 0; k < a.energy.binCount(); ++k) a.energy.bins()[k] = Bands(1e-4f);
+
+  // A missing folder: refused naming the path, nothing created.
+  const std::string missing = (dir / "missing" / "er.csv").string();
+  CHECK_THROWS_WITH(writeEnergyCsv(missing, {a}), Catch::StartsWith(missing + ": cannot write"));
+  CHECK(entriesIn(dir) == 0);
+
+  // A write that fails half-way (the file-size limit is hit, as a full disk would be): the error
+  // names the path, the temporary is removed, and the file already at the path is untouched.
+  const std::string path = (dir / "er.csv").string();
+  std::ofstream(path, std::ios::binary) << "an earlier result\n";
+  const pid_t child = ::fork();
+  REQUIRE(child >= 0);
+  if (child == 0) {
+    ::signal(SIGXFSZ, SIG_IGN);  // write() then fails with EFBIG instead of killing the process
+    const rlimit limit{4096, 4096};
+    ::setrlimit(RLIMIT_FSIZE, &limit);
+    int code = 1;
+    try {
+      writeEnergyCsv(path, {a});
+      code = 2;  // no error: the limit did not bite
+    } catch (const InputError& e) {
+      code = std::string(e.what()).rfind(path + ": cannot write", 0) == 0 ? 0 : 3;
+    } catch (...) {
+      code = 4;
+    }
+    ::_exit(code);
+  }
+  int status = 0;
+  REQUIRE(::waitpid(child, &status, 0) == child);
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 0);
+  CHECK(slurp(path) == "an earlier result\n");
+  CHECK(entriesIn(dir) == 1);
+
+  // A successful write replaces it, leaving no temporary behind.
+  writeEnergyCsv(path, {a});
+  REQUIRE(readEnergyCsv(path).size() == 1);
+  CHECK(entriesIn(dir) == 1);
+  fs::remove_all(dir);
 }

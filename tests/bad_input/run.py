@@ -32,6 +32,17 @@ def scene_with(**edits):
     return apply
 
 
+def without(key, **edits):
+    """Like scene_with, after removing the top-level `key` from the shoebox JSON."""
+    def apply(d):
+        path = os.path.join(d, "shoebox.json")
+        s = json.load(open(path))
+        del s[key]
+        json.dump(s, open(path, "w"))
+        scene_with(**edits)(d)
+    return apply
+
+
 def write(name, text, mode="w"):
     def apply(d):
         with open(os.path.join(d, name), mode) as f:
@@ -184,7 +195,11 @@ CASES = {
     # Finding 4 and 5: work and memory refused before any work, naming the setting to lower.
     "rays_1e8_order_10000": (scene_with(**{"propagation.rays_per_frame": 100000000, "propagation.max_order": 10000}), OFF[:-2], "rays_per_frame"),
     "ir_60s_192k_binaural": (scene_with(**{"propagation.ir_length": 60, "audio.sample_rate": 192000, "audio.output": "binaural"}), OFF, "ir_length"),
-    "sources_1000": (lambda d: scene_with(sources=[{"name": f"s{i}", "position": [2, 1.6, 3.5], "signal": "signals/speech.wav"} for i in range(1000)])(d), OFF, "source count"),
+    # Entity counts: fixed bounds in the loader (docs/scene-format.md, "Limits").
+    "sources_1000": (scene_with(sources=[{"name": f"s{i}", "position": [2, 1.6, 3.5], "signal": "signals/speech.wav"} for i in range(1000)]), OFF, "shoebox.json: sources: 1000 sources, more than the limit of 256"),
+    "sources_257": (scene_with(sources=[{"name": f"s{i}", "position": [2, 1.6, 3.5], "signal": "signals/speech.wav"} for i in range(257)]), OFF, "shoebox.json: sources: 257 sources, more than the limit of 256"),
+    "listeners_65": (without("listener", listeners=[{"name": f"l{i}", "position": [5, 1.6, 3.5]} for i in range(65)]), OFF, "shoebox.json: listeners: 65 listeners, more than the limit of 64"),
+    "objects_257": (scene_with(objects=[{"name": f"o{i}", "mesh": "shoebox.obj", "trajectory": [{"t": 0, "position": [0, 0, 0]}]} for i in range(257)]), OFF, "shoebox.json: objects: 257 objects, more than the limit of 256"),
 }
 
 # Setups that load but cannot be meant: the render runs (exit 0, the output is written), and a

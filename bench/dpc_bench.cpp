@@ -217,22 +217,39 @@ int benchNoise(const Common& c, double walkSpeed, int referenceFrames, int warmu
   if (!c.haveRays) s.raysPerFrame = 4096;
   const auto at = walker(scene, walkSpeed, s.frameRate);
   const int total = warmup + c.frames;
+  // Order ranges as delay ranges (mean reflection rate of the room, engine/noise_study.h).
+  const std::vector<std::pair<int, int>> orderRanges = {{1, 3}, {4, 10}, {11, 50}, {51, 200}};
+  std::vector<std::pair<double, double>> delayRanges;
+  {
+    const Geometry geometry(scene.mesh, scene.materials, s.patchSize, scene.objects);
+    const double volume = roomVolume(scene.mesh);  // the room's, not its bounding box's
+    const double direct = glm::length(scene.sources[0].position - at(0)) / double(s.speedOfSound);
+    for (auto [d0, d1] : orderRanges)
+      delayRanges.push_back(
+          delayRangeOfOrders(d0, d1, volume, geometry.surfaceArea(), s.speedOfSound, direct));
+  }
   // References: converged plain path tracing at each frame's position (one if static).
   std::vector<EnergyResponse> refs;
   std::vector<double> refErrors;
+  std::vector<double> refRangeErrors(delayRanges.size(), 0.0);
   const int positions = walkSpeed > 0.0 ? total : 1;
   PropagationSettings refSettings = s;
   refSettings.seed = s.seed + 1000003;
   for (int f = 0; f < positions; ++f) {
     double e = 0.0;
-    refs.push_back(referenceResponse(scene, refSettings, at(f), referenceFrames, &e));
+    std::vector<double> byRange;
+    refs.push_back(referenceResponse(scene, refSettings, at(f), referenceFrames, &e, 0,
+                                     &delayRanges, &byRange));
     refErrors.push_back(e);
+    for (size_t r = 0; r < byRange.size(); ++r) refRangeErrors[r] += byRange[r] / positions;
     std::fprintf(stderr, "\rreference %d/%d", f + 1, positions);
   }
   const double refError =
       std::accumulate(refErrors.begin(), refErrors.end(), 0.0) / double(refErrors.size());
   auto ref = [&](int f) -> const EnergyResponse& { return refs[walkSpeed > 0.0 ? size_t(f) : 0]; };
-  auto corrected = [&](double e) { return std::sqrt(std::max(0.0, e * e - refError * refError)); };
+  // The reference's own error adds in quadrature to an estimator's error against it.
+  auto correctedBy = [](double e, double r) { return std::sqrt(std::max(0.0, e * e - r * r)); };
+  auto corrected = [&](double e) { return correctedBy(e, refError); };
   auto describe = [&](const NoiseMetrics& m) {
     return json{
         {"error", m.meanError},        {"error_corrected_for_reference", corrected(m.meanError)},
@@ -249,23 +266,16 @@ int benchNoise(const Common& c, double walkSpeed, int referenceFrames, int warmu
   j["walk_speed_mps"] = walkSpeed;
   j["frames_measured"] = c.frames;
   j["warmup_frames"] = warmup;
+  json refByRange;
+  for (size_t r = 0; r < delayRanges.size(); ++r)
+    refByRange[std::to_string(orderRanges[r].first) + "-" + std::to_string(orderRanges[r].second)] =
+        refRangeErrors[r];
   j["reference"] = {{"frames", referenceFrames},
                     {"rays", double(referenceFrames) * s.raysPerFrame},
-                    {"own_relative_error", refError}};
+                    {"own_relative_error", refError},
+                    {"own_relative_error_by_order", refByRange}};
   j["metric"] =
       "L2 over 8 bands x 10 ms bins of the energy response, relative to the reference's L2 norm";
-  // Order ranges as delay ranges (mean reflection rate of the room, engine/noise_study.h).
-  const std::vector<std::pair<int, int>> orderRanges = {{1, 3}, {4, 10}, {11, 50}, {51, 200}};
-  std::vector<std::pair<double, double>> delayRanges;
-  {
-    const Geometry geometry(scene.mesh, scene.materials, s.patchSize, scene.objects);
-    const glm::vec3 e = geometry.boundsMax() - geometry.boundsMin();
-    const double volume = double(e.x) * e.y * e.z;
-    const double direct = glm::length(scene.sources[0].position - at(0)) / double(s.speedOfSound);
-    for (auto [d0, d1] : orderRanges)
-      delayRanges.push_back(
-          delayRangeOfOrders(d0, d1, volume, geometry.surfaceArea(), s.speedOfSound, direct));
-  }
   auto rangeName = [&](size_t r) {
     return std::to_string(orderRanges[r].first) + "-" + std::to_string(orderRanges[r].second);
   };
@@ -281,7 +291,8 @@ int benchNoise(const Common& c, double walkSpeed, int referenceFrames, int warmu
     const NoiseMetrics m = measureNoise(scene, d, warmup, c.frames, at, ref, 0, nullptr, delayRanges);
     j["estimators"][name] = describe(m);
     dpcError[name] = corrected(m.meanError);
-    for (double e : m.errorByRange) dpcRangeError[name].push_back(corrected(e));
+    for (size_t r = 0; r < m.errorByRange.size(); ++r)
+      dpcRangeError[name].push_back(correctedBy(m.errorByRange[r], refRangeErrors[r]));
   }
   // Plain path tracing at 1x, 2x, 4x ... the rays: error ~ rays^-1/2.
   std::vector<std::pair<double, double>> pt;  // (multiplier, corrected error)
@@ -296,7 +307,7 @@ int benchNoise(const Common& c, double walkSpeed, int referenceFrames, int warmu
     j["path_tracing"][std::to_string(k) + "x"] = describe(m);
     pt.push_back({double(k), corrected(m.meanError)});
     for (size_t r = 0; r < delayRanges.size(); ++r)
-      ptRange[r].push_back({double(k), corrected(m.errorByRange[r])});
+      ptRange[r].push_back({double(k), correctedBy(m.errorByRange[r], refRangeErrors[r])});
   }
   std::fprintf(stderr, "\r                         \r");
   // Equal-noise ray ratio: interpolate log(error) against log(rays) between the bracketing

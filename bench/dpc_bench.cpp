@@ -281,6 +281,7 @@ int benchNoise(const Common& c, double walkSpeed, int referenceFrames, int warmu
   };
   std::map<std::string, double> dpcError;
   std::map<std::string, std::vector<double>> dpcRangeError;
+  std::map<std::string, std::vector<double>> dpcEnergy;
   for (auto [name, weighting] :
        {std::pair{"dpc_window", DpcWeighting::kWindow}, std::pair{"dpc_ema", DpcWeighting::kEma},
         std::pair{"dpc_seed", DpcWeighting::kSeed}}) {
@@ -290,9 +291,45 @@ int benchNoise(const Common& c, double walkSpeed, int referenceFrames, int warmu
     std::fprintf(stderr, "\r%s...            ", name);
     const NoiseMetrics m = measureNoise(scene, d, warmup, c.frames, at, ref, 0, nullptr, delayRanges);
     j["estimators"][name] = describe(m);
+    dpcEnergy[name] = m.energyPerFrame;
     dpcError[name] = corrected(m.meanError);
     for (size_t r = 0; r < m.errorByRange.size(); ++r)
       dpcRangeError[name].push_back(correctedBy(m.errorByRange[r], refRangeErrors[r]));
+  }
+  // The estimator's own bias, free of Monte Carlo error: path tracing with the same seed traces
+  // the same rays in every frame, so the window's total energy at frame f must equal the mean
+  // of path tracing's over the frames in its window (all frames so far, at most W), and the
+  // EMA's the same exponential average of them, up to float rounding (and the coarse store's
+  // rounding when the budget is hit).
+  {
+    PropagationSettings p = s;
+    p.estimator = Estimator::kPathTracing;
+    const NoiseMetrics m = measureNoise(scene, p, warmup, c.frames, at, ref, 0, nullptr, {});
+    const std::vector<double>& pt = m.energyPerFrame;
+    const int window = std::max(1, int(std::lround(s.cacheTau * s.frameRate)));
+    const double a = 1.0 - std::exp(-1.0 / (s.cacheTau * s.frameRate));
+    double sumWindow = 0.0, sumEma = 0.0, sumPtWindow = 0.0, sumPtEma = 0.0, ema = 0.0;
+    double decay = 1.0;
+    for (int f = 0; f < warmup + c.frames; ++f) {
+      // The cache's EMA starts from zero and is read out divided by 1 - (1 - a)^(f + 1).
+      ema = (1.0 - a) * ema + a * pt[size_t(f)];
+      decay *= 1.0 - a;
+      if (f < warmup) continue;
+      double mean = 0.0;
+      const int n = std::min(f + 1, window);
+      for (int k = f - n + 1; k <= f; ++k) mean += pt[size_t(k)] / n;
+      sumPtWindow += mean;
+      sumPtEma += ema / (1.0 - decay);
+      sumWindow += dpcEnergy["dpc_window"][size_t(f)];
+      sumEma += dpcEnergy["dpc_ema"][size_t(f)];
+    }
+    j["energy_bias_vs_same_rays"] = {
+        {"dpc_window", sumWindow / sumPtWindow - 1.0},
+        {"dpc_ema", sumEma / sumPtEma - 1.0},
+        {"note",
+         "total energy over the measured frames against path tracing of the same rays, "
+         "averaged as the estimator averages (window: mean of the last W frames; ema: "
+         "exponential); free of Monte Carlo error, so it isolates the estimator's own bias"}};
   }
   // Plain path tracing at 1x, 2x, 4x ... the rays: error ~ rays^-1/2.
   std::vector<std::pair<double, double>> pt;  // (multiplier, corrected error)

@@ -99,6 +99,10 @@ NoiseMetrics measureNoise(const SceneDesc& scene, const PropagationSettings& set
     const double refNorm = std::sqrt(squaredNorm(ref));
     const double err = std::sqrt(squaredDistance(e, ref)) / refNorm;
     m.errorPerFrame.push_back(err);
+    double total = 0.0;
+    for (const Bands& b : e.bins())
+      for (int i = 0; i < kNumBands; ++i) total += double(b[i]);
+    m.energyPerFrame.push_back(total);
     if (f >= warmup && !ranges.empty()) {
       m.errorByRange.resize(ranges.size(), 0.0);
       for (size_t r = 0; r < ranges.size(); ++r) {

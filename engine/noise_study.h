@@ -31,6 +31,8 @@ struct NoiseMetrics {
   /// Per delay range (measureNoise's `ranges`): mean over measured frames of
   /// ||E_f - R|| / ||R|| restricted to the 10 ms bins whose start lies in the range.
   std::vector<double> errorByRange;
+  /// Total energy of each frame's energy response (every bin and band), warm-up included.
+  std::vector<double> energyPerFrame;
   int frames = 0;  ///< measured frames (after warm-up)
 };
 

@@ -7,6 +7,7 @@
 
 #include "engine/noise_study.h"
 #include "engine/path_cache.h"
+#include "engine/simulation.h"
 #include "test_scenes.h"
 
 using namespace dpc;
@@ -121,5 +122,10 @@ TEST_CASE("DPC total energy is path tracing's on the same rays, averaged as the 
     // below kEmaDropFraction (1e-4 of a hit's): at most that share of the energy.
     CHECK(worstWin < 1e-5);
     CHECK(worstEma < 1e-5 + DiffusePathCache::kEmaDropFraction);
+    if (budgetMb == 1.0) {  // the budget case does merge
+      Simulation sim(scene, window);
+      for (int f = 0; f < frames; ++f) sim.runFrame(listener);
+      CHECK(sim.result(0).cacheMergedEntries > 0);
+    }
   }
 }

@@ -179,8 +179,29 @@ dpc::SceneDesc sceneFromData(const dpc_scene_data& d) {
   checkFinite(d.listener_pitch_degrees, "listener_pitch_degrees");
   l.yawDegrees = d.listener_yaw_degrees;
   l.pitchDegrees = d.listener_pitch_degrees;
+  l.name = "listener 0";
   scene.listeners.push_back(l);
   scene.listener = l;
+  if (d.additional_listener_count < 0 || d.additional_listener_count > 63)
+    bad("additional_listener_count", "must be in 0..63");
+  if (d.additional_listener_count > 0 && !d.additional_listeners)
+    bad("additional_listeners", "NULL with additional_listener_count > 0");
+  for (int i = 0; i < d.additional_listener_count; ++i) {
+    const dpc_listener& a = d.additional_listeners[i];
+    const std::string f = "additional_listeners[" + std::to_string(i) + "]";
+    dpc::ListenerDesc extra;
+    extra.name = "listener " + std::to_string(i + 1);
+    for (int k = 0; k < 3; ++k) checkFinite(a.position[k], f + ".position");
+    extra.position = glm::vec3(a.position[0], a.position[1], a.position[2]);
+    if (!(a.radius > 0.f) || !std::isfinite(a.radius))
+      bad(f + ".radius", "must be a finite number > 0 m");
+    extra.radius = a.radius;
+    checkFinite(a.yaw_degrees, f + ".yaw_degrees");
+    checkFinite(a.pitch_degrees, f + ".pitch_degrees");
+    extra.yawDegrees = a.yaw_degrees;
+    extra.pitchDegrees = a.pitch_degrees;
+    scene.listeners.push_back(extra);
+  }
   // Bounds of the scene file's "propagation" and "audio" (engine/scene.cpp).
   dpc::PropagationSettings& p = scene.propagation;
   checkRange(d.rays_per_frame, 1, 100'000'000, "rays_per_frame", "");

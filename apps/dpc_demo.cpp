@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -22,6 +23,7 @@
 #include "engine/energy_response_csv.h"
 #include "engine/input_error.h"
 #include "engine/input_file.h"
+#include "engine/output_file.h"
 #include "engine/scene.h"
 #include "engine/setup_check.h"
 #include "engine/workload.h"
@@ -33,8 +35,8 @@ using namespace dpc;
 namespace {
 
 struct Flags {
-  std::string scene, offline, irOut, erOut, estimator, weighting, device, record, output, hrtf,
-      listener;
+  std::string scene, offline, irOut, erOut, estimator, weighting, device, record, stats, output,
+      hrtf, listener;
   int64_t blockSize = 0;
   bool listDevices = false, interactive = false, hasBlockSize = false;
   double duration = 0.0, tau = 0.0, gainDb = 0.0, cacheMb = 64.0;
@@ -169,7 +171,8 @@ void checkOutputs(const SceneDesc& scene, const Flags& fl) {
   for (const auto& obj : scene.objects) inputs.push_back({obj.meshPath, "an object's mesh"});
   for (const auto& src : scene.sources) inputs.push_back({src.signalPath, "a dry signal"});
   if (!scene.audio.hrtfPath.empty()) inputs.push_back({scene.audio.hrtfPath, "the SOFA file"});
-  std::vector<std::pair<const char*, std::string>> outputs = {{"--record", fl.record}};
+  std::vector<std::pair<const char*, std::string>> outputs = {{"--record", fl.record},
+                                                              {"--stats", fl.stats}};
   if (!fl.offline.empty())
     for (const OutputPaths& o : offlineOutputs(scene, fl)) {
       outputs.push_back({"--offline", o.audio});
@@ -400,6 +403,71 @@ int listDevices() {
   return 0;
 }
 
+/// --stats FILE.json: what a live run measured, for scripts and CI (docs/live.md "Statistics
+/// file"). Loads are callback durations as a percentage of the block period; latencies are
+/// motion-to-sound (pose published -> first block rendered with the IR traced for it).
+void writeLiveStats(const std::string& path, const std::string& scenePath,
+                    const audio::AudioOutput& output,
+                    const audio::AudioOutput::Scheduling& scheduling, const LiveSession& session,
+                    const LiveSession::Status& st, const audio::CallbackStats::Snapshot& cb,
+                    const audio::CallbackStats::Snapshot& swap,
+                    const audio::CallbackStats::Snapshot& noSwap) {
+  using Json = nlohmann::ordered_json;
+  auto load = [&](const audio::CallbackStats::Snapshot& s) {
+    return Json{{"median", output.loadPercent(s.quantileNs(0.5))},
+                {"p99", output.loadPercent(s.quantileNs(0.99))},
+                {"p99_9", output.loadPercent(s.quantileNs(0.999))},
+                {"max", output.loadPercent(s.maxNs)}};
+  };
+  const auto lat = session.latencyStats().snapshot();
+  auto ms = [](uint64_t ns) { return double(ns) * 1e-6; };
+  Json j = {
+      {"scene", scenePath},
+      {"sample_rate_hz", output.sampleRate()},
+      {"block_frames", output.blockSize()},
+      {"device", output.device().spec()},
+      {"callback_scheduling",
+       {{"known", scheduling.known},
+        {"policy", scheduling.policy},
+        {"priority", scheduling.priority},
+        {"real_time", scheduling.realTime}}},
+      {"callbacks", cb.callbacks},
+      {"xruns", cb.xruns},
+      {"late_callbacks", st.lateCallbacks},
+      {"rejected_callbacks", st.rejectedCallbacks},
+      {"nan_blocks", st.nanBlocks},
+      // The long partitions are computed inside the callback, spread over the blocks of their
+      // period (docs/live.md): there are no convolution worker threads that could miss one.
+      {"worker_deadline_misses", 0},
+      {"worker_threads", 0},
+      {"callback_load_percent", load(cb)},
+      {"render_load_percent", {{"with_ir_swap", load(swap)}, {"without_ir_swap", load(noSwap)}}},
+      {"propagation_frames", st.frames},
+      {"irs_applied", st.irsApplied},
+      {"irs_dropped", st.irsDropped},
+      // Adaptive rays (docs/live.md): rays per source the frames traced to hold the frame rate.
+      {"rays_per_frame",
+       {{"scene", st.raysPerFrameScene},
+        {"last", st.raysPerFrame},
+        {"min", st.raysPerFrameMin},
+        {"reduced_frames", st.reducedFrames}}},
+      {"motion_to_sound_latency_ms",
+       {{"count", lat.callbacks},
+        {"median", ms(lat.quantileNs(0.5))},
+        {"p95", ms(lat.quantileNs(0.95))},
+        {"p99", ms(lat.quantileNs(0.99))},
+        {"max", ms(lat.maxNs)}}},
+      {"limiter",
+       {{"limited_frames", st.limitedFrames},
+        {"over_ceiling_frames", st.overCeilingFrames},
+        {"max_reduction_db", st.limiterMaxReductionDb}}}};
+  const std::string text =
+      j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
+  TempOutputFile file(path);
+  file.writeAll(text.data(), text.size());
+  file.commit();
+}
+
 int runLive(Flags& fl) {
   SceneDesc scene = loadScene(fl.scene);
   applyAudioOverrides(scene, fl);
@@ -465,6 +533,8 @@ int runLive(Flags& fl) {
   float yawOffset = 0.f;  // Q/E turn the head relative to the trajectory's heading
   float yaw = listenerOrientationAt(scene.listener, 0.0).yawRadians;
   session.setPose(position, yaw, 0.0);
+  // The callback thread's scheduling, read once a callback has run (reported, and in --stats).
+  audio::AudioOutput::Scheduling scheduling;
   std::unique_ptr<RawTerminal> terminal;
   if (fl.interactive) {
     terminal = std::make_unique<RawTerminal>();
@@ -552,6 +622,16 @@ int runLive(Flags& fl) {
     session.setPose(position, yaw, sceneTime, heading.pitchRadians);
     if (std::chrono::duration<double>(now - lastStatus).count() >= 1.0) {
       lastStatus = now;
+      if (!scheduling.known) {
+        scheduling = output->callbackScheduling();
+        if (scheduling.known)
+          std::fprintf(stderr, "%saudio callback: %s priority %d%s\n", tty ? "\r" : "",
+                       scheduling.policy, scheduling.priority,
+                       scheduling.realTime ? " (real-time)"
+                                           : ": real-time priority not granted (JACK: start jackd "
+                                             "with -R; ALSA: needs rtprio, e.g. ulimit -r or "
+                                             "/etc/security/limits.d), xruns are likely under load");
+      }
       const auto st = session.status();
       const auto cb = output->stats().snapshot().since(statsAtStart);
       std::fprintf(stderr,
@@ -601,6 +681,10 @@ int runLive(Flags& fl) {
       (unsigned long long)st.limitedFrames, (unsigned long long)st.overCeilingFrames,
       st.limiterMaxReductionDb, st.raysPerFrame, st.raysPerFrameMin, st.raysPerFrameScene,
       (unsigned long long)st.reducedFrames);
+  if (!fl.stats.empty()) {
+    writeLiveStats(fl.stats, fl.scene, *output, scheduling, session, st, cb, swap, noSwap);
+    std::printf("wrote %s\n", fl.stats.c_str());
+  }
   return 0;
 }
 }  // namespace
@@ -618,6 +702,11 @@ int main(int argc, char** argv) {
                  "Output device: NAME, HOSTAPI:NAME (e.g. jack:system), default: JACK if running");
   app.add_option("--block-size", fl.blockSize, "Audio block size in samples (live)");
   app.add_option("--record", fl.record, "Live: also write what was played to this WAV");
+  app.add_option("--stats", fl.stats,
+                 "Live: write xruns, late callbacks, callback load and motion-to-sound latency "
+                 "percentiles, IRs applied and the callback's scheduling to this JSON file at "
+                 "the end (docs/live.md)")
+      ->type_name("FILE.json");
   app.add_flag("--interactive", fl.interactive,
                "Live: arrows/WASD move, Q/E turn, space pauses, q quits");
   app.add_option("--listener", fl.listener,
@@ -689,6 +778,8 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "dpc-demo: a scene file is required (--help for usage)\n");
       return 1;
     }
+    if (!fl.offline.empty() && !fl.stats.empty())
+      throw InputError("command line", "--stats", "is for live runs (offline prints its summary)");
     if (fl.offline.empty() && !fl.erOut.empty())
       throw InputError("command line", "--er-out", "needs --offline (offline renders only)");
     if (fl.offline.empty()) return runLive(fl);

@@ -217,22 +217,39 @@ int benchNoise(const Common& c, double walkSpeed, int referenceFrames, int warmu
   if (!c.haveRays) s.raysPerFrame = 4096;
   const auto at = walker(scene, walkSpeed, s.frameRate);
   const int total = warmup + c.frames;
+  // Order ranges as delay ranges (mean reflection rate of the room, engine/noise_study.h).
+  const std::vector<std::pair<int, int>> orderRanges = {{1, 3}, {4, 10}, {11, 50}, {51, 200}};
+  std::vector<std::pair<double, double>> delayRanges;
+  {
+    const Geometry geometry(scene.mesh, scene.materials, s.patchSize, scene.objects);
+    const double volume = roomVolume(scene.mesh);  // the room's, not its bounding box's
+    const double direct = glm::length(scene.sources[0].position - at(0)) / double(s.speedOfSound);
+    for (auto [d0, d1] : orderRanges)
+      delayRanges.push_back(
+          delayRangeOfOrders(d0, d1, volume, geometry.surfaceArea(), s.speedOfSound, direct));
+  }
   // References: converged plain path tracing at each frame's position (one if static).
   std::vector<EnergyResponse> refs;
   std::vector<double> refErrors;
+  std::vector<double> refRangeErrors(delayRanges.size(), 0.0);
   const int positions = walkSpeed > 0.0 ? total : 1;
   PropagationSettings refSettings = s;
   refSettings.seed = s.seed + 1000003;
   for (int f = 0; f < positions; ++f) {
     double e = 0.0;
-    refs.push_back(referenceResponse(scene, refSettings, at(f), referenceFrames, &e));
+    std::vector<double> byRange;
+    refs.push_back(referenceResponse(scene, refSettings, at(f), referenceFrames, &e, 0,
+                                     &delayRanges, &byRange));
     refErrors.push_back(e);
+    for (size_t r = 0; r < byRange.size(); ++r) refRangeErrors[r] += byRange[r] / positions;
     std::fprintf(stderr, "\rreference %d/%d", f + 1, positions);
   }
   const double refError =
       std::accumulate(refErrors.begin(), refErrors.end(), 0.0) / double(refErrors.size());
   auto ref = [&](int f) -> const EnergyResponse& { return refs[walkSpeed > 0.0 ? size_t(f) : 0]; };
-  auto corrected = [&](double e) { return std::sqrt(std::max(0.0, e * e - refError * refError)); };
+  // The reference's own error adds in quadrature to an estimator's error against it.
+  auto correctedBy = [](double e, double r) { return std::sqrt(std::max(0.0, e * e - r * r)); };
+  auto corrected = [&](double e) { return correctedBy(e, refError); };
   auto describe = [&](const NoiseMetrics& m) {
     return json{
         {"error", m.meanError},        {"error_corrected_for_reference", corrected(m.meanError)},
@@ -249,28 +266,22 @@ int benchNoise(const Common& c, double walkSpeed, int referenceFrames, int warmu
   j["walk_speed_mps"] = walkSpeed;
   j["frames_measured"] = c.frames;
   j["warmup_frames"] = warmup;
+  json refByRange;
+  for (size_t r = 0; r < delayRanges.size(); ++r)
+    refByRange[std::to_string(orderRanges[r].first) + "-" + std::to_string(orderRanges[r].second)] =
+        refRangeErrors[r];
   j["reference"] = {{"frames", referenceFrames},
                     {"rays", double(referenceFrames) * s.raysPerFrame},
-                    {"own_relative_error", refError}};
+                    {"own_relative_error", refError},
+                    {"own_relative_error_by_order", refByRange}};
   j["metric"] =
       "L2 over 8 bands x 10 ms bins of the energy response, relative to the reference's L2 norm";
-  // Order ranges as delay ranges (mean reflection rate of the room, engine/noise_study.h).
-  const std::vector<std::pair<int, int>> orderRanges = {{1, 3}, {4, 10}, {11, 50}, {51, 200}};
-  std::vector<std::pair<double, double>> delayRanges;
-  {
-    const Geometry geometry(scene.mesh, scene.materials, s.patchSize, scene.objects);
-    const glm::vec3 e = geometry.boundsMax() - geometry.boundsMin();
-    const double volume = double(e.x) * e.y * e.z;
-    const double direct = glm::length(scene.sources[0].position - at(0)) / double(s.speedOfSound);
-    for (auto [d0, d1] : orderRanges)
-      delayRanges.push_back(
-          delayRangeOfOrders(d0, d1, volume, geometry.surfaceArea(), s.speedOfSound, direct));
-  }
   auto rangeName = [&](size_t r) {
     return std::to_string(orderRanges[r].first) + "-" + std::to_string(orderRanges[r].second);
   };
   std::map<std::string, double> dpcError;
   std::map<std::string, std::vector<double>> dpcRangeError;
+  std::map<std::string, std::vector<double>> dpcEnergy;
   for (auto [name, weighting] :
        {std::pair{"dpc_window", DpcWeighting::kWindow}, std::pair{"dpc_ema", DpcWeighting::kEma},
         std::pair{"dpc_seed", DpcWeighting::kSeed}}) {
@@ -280,8 +291,45 @@ int benchNoise(const Common& c, double walkSpeed, int referenceFrames, int warmu
     std::fprintf(stderr, "\r%s...            ", name);
     const NoiseMetrics m = measureNoise(scene, d, warmup, c.frames, at, ref, 0, nullptr, delayRanges);
     j["estimators"][name] = describe(m);
+    dpcEnergy[name] = m.energyPerFrame;
     dpcError[name] = corrected(m.meanError);
-    for (double e : m.errorByRange) dpcRangeError[name].push_back(corrected(e));
+    for (size_t r = 0; r < m.errorByRange.size(); ++r)
+      dpcRangeError[name].push_back(correctedBy(m.errorByRange[r], refRangeErrors[r]));
+  }
+  // The estimator's own bias, free of Monte Carlo error: path tracing with the same seed traces
+  // the same rays in every frame, so the window's total energy at frame f must equal the mean
+  // of path tracing's over the frames in its window (all frames so far, at most W), and the
+  // EMA's the same exponential average of them, up to float rounding (and the coarse store's
+  // rounding when the budget is hit).
+  {
+    PropagationSettings p = s;
+    p.estimator = Estimator::kPathTracing;
+    const NoiseMetrics m = measureNoise(scene, p, warmup, c.frames, at, ref, 0, nullptr, {});
+    const std::vector<double>& pt = m.energyPerFrame;
+    const int window = std::max(1, int(std::lround(s.cacheTau * s.frameRate)));
+    const double a = 1.0 - std::exp(-1.0 / (s.cacheTau * s.frameRate));
+    double sumWindow = 0.0, sumEma = 0.0, sumPtWindow = 0.0, sumPtEma = 0.0, ema = 0.0;
+    double decay = 1.0;
+    for (int f = 0; f < warmup + c.frames; ++f) {
+      // The cache's EMA starts from zero and is read out divided by 1 - (1 - a)^(f + 1).
+      ema = (1.0 - a) * ema + a * pt[size_t(f)];
+      decay *= 1.0 - a;
+      if (f < warmup) continue;
+      double mean = 0.0;
+      const int n = std::min(f + 1, window);
+      for (int k = f - n + 1; k <= f; ++k) mean += pt[size_t(k)] / n;
+      sumPtWindow += mean;
+      sumPtEma += ema / (1.0 - decay);
+      sumWindow += dpcEnergy["dpc_window"][size_t(f)];
+      sumEma += dpcEnergy["dpc_ema"][size_t(f)];
+    }
+    j["energy_bias_vs_same_rays"] = {
+        {"dpc_window", sumWindow / sumPtWindow - 1.0},
+        {"dpc_ema", sumEma / sumPtEma - 1.0},
+        {"note",
+         "total energy over the measured frames against path tracing of the same rays, "
+         "averaged as the estimator averages (window: mean of the last W frames; ema: "
+         "exponential); free of Monte Carlo error, so it isolates the estimator's own bias"}};
   }
   // Plain path tracing at 1x, 2x, 4x ... the rays: error ~ rays^-1/2.
   std::vector<std::pair<double, double>> pt;  // (multiplier, corrected error)
@@ -296,7 +344,7 @@ int benchNoise(const Common& c, double walkSpeed, int referenceFrames, int warmu
     j["path_tracing"][std::to_string(k) + "x"] = describe(m);
     pt.push_back({double(k), corrected(m.meanError)});
     for (size_t r = 0; r < delayRanges.size(); ++r)
-      ptRange[r].push_back({double(k), corrected(m.errorByRange[r])});
+      ptRange[r].push_back({double(k), correctedBy(m.errorByRange[r], refRangeErrors[r])});
   }
   std::fprintf(stderr, "\r                         \r");
   // Equal-noise ray ratio: interpolate log(error) against log(rays) between the bracketing

@@ -33,7 +33,9 @@ double squaredDistance(const EnergyResponse& a, const EnergyResponse& b) {
 
 EnergyResponse referenceResponse(const SceneDesc& scene, PropagationSettings settings,
                                  const glm::vec3& listener, int frames, double* selfError,
-                                 size_t source) {
+                                 size_t source,
+                                 const std::vector<std::pair<double, double>>* ranges,
+                                 std::vector<double>* selfErrorByRange) {
   settings.estimator = Estimator::kPathTracing;
   Simulation sim(scene, settings);
   const size_t factor = rebinFactor();
@@ -54,6 +56,26 @@ EnergyResponse referenceResponse(const SceneDesc& scene, PropagationSettings set
     for (const EnergyResponse& e : all) spread += squaredDistance(e, mean);
     spread /= std::max(1, frames - 1);
     *selfError = std::sqrt(spread / frames / squaredNorm(mean));
+  }
+  if (ranges && selfErrorByRange) {
+    selfErrorByRange->assign(ranges->size(), 0.0);
+    for (size_t r = 0; r < ranges->size(); ++r) {
+      double spread = 0.0, norm = 0.0;
+      for (size_t k = 0; k < mean.binCount(); ++k) {
+        const double t = double(k) * mean.binSeconds();
+        if (t < (*ranges)[r].first || t >= (*ranges)[r].second) continue;
+        for (int i = 0; i < kNumBands; ++i) {
+          const double m = mean.bins()[k][i];
+          norm += m * m;
+          for (const EnergyResponse& e : all) {
+            const double d = double(e.bins()[k][i]) - m;
+            spread += d * d;
+          }
+        }
+      }
+      spread /= std::max(1, frames - 1);
+      (*selfErrorByRange)[r] = norm > 0.0 ? std::sqrt(spread / frames / norm) : 0.0;
+    }
   }
   return mean;
 }
@@ -77,6 +99,10 @@ NoiseMetrics measureNoise(const SceneDesc& scene, const PropagationSettings& set
     const double refNorm = std::sqrt(squaredNorm(ref));
     const double err = std::sqrt(squaredDistance(e, ref)) / refNorm;
     m.errorPerFrame.push_back(err);
+    double total = 0.0;
+    for (const Bands& b : e.bins())
+      for (int i = 0; i < kNumBands; ++i) total += double(b[i]);
+    m.energyPerFrame.push_back(total);
     if (f >= warmup && !ranges.empty()) {
       m.errorByRange.resize(ranges.size(), 0.0);
       for (size_t r = 0; r < ranges.size(); ++r) {

@@ -31,15 +31,21 @@ struct NoiseMetrics {
   /// Per delay range (measureNoise's `ranges`): mean over measured frames of
   /// ||E_f - R|| / ||R|| restricted to the 10 ms bins whose start lies in the range.
   std::vector<double> errorByRange;
+  /// Total energy of each frame's energy response (every bin and band), warm-up included.
+  std::vector<double> energyPerFrame;
   int frames = 0;  ///< measured frames (after warm-up)
 };
 
 /// Converged reference: the mean energy response of `frames` plain path-tracing frames with
 /// settings.raysPerFrame rays each, listener static at `listener`. Also returns the
-/// reference's own relative error estimate (standard error of the mean) in *selfError.
+/// reference's own relative error estimate (standard error of the mean) in *selfError, and,
+/// if `ranges` and `selfErrorByRange` are given, the same restricted to each delay range
+/// [first, second) seconds (as measureNoise's errorByRange is).
 EnergyResponse referenceResponse(const SceneDesc& scene, PropagationSettings settings,
                                  const glm::vec3& listener, int frames, double* selfError,
-                                 size_t source = 0);
+                                 size_t source = 0,
+                                 const std::vector<std::pair<double, double>>* ranges = nullptr,
+                                 std::vector<double>* selfErrorByRange = nullptr);
 
 /// Runs `warmup + frames` frames of the estimator in `settings` with the listener at
 /// listenerAt(frame) and compares each frame with referenceAt(frame) (10 ms bins). sourceAt

@@ -9,9 +9,13 @@ dpc-analyze reports G, C80 and EDT per octave band from it (no IR synthesis in b
 Path tracing's last frame is one frame of 20,000 rays; its seed-to-seed scatter is printed
 as the Monte Carlo error of the comparison.
 
-Writes docs/data/cache-vs-path-tracing.json and prints a table.
+Writes docs/data/cache-vs-path-tracing.json and prints a table. --plot JSON... draws the
+differences per band of one or more such files, with the targets (G 0.3 dB, C80 0.5 dB,
+EDT 5 %) and path tracing's seed-to-seed standard deviation, to --image.
 Usage: /usr/bin/python3 scripts/cache_vs_path_tracing.py [--build build] [--seeds 3]
-       [--rays 20000] [--out docs/data/cache-vs-path-tracing.json]
+       [--rays 20000] [--cache-memory-mb 64] [--out docs/data/cache-vs-path-tracing.json]
+       /usr/bin/python3 scripts/cache_vs_path_tracing.py --plot A.json [B.json ...]
+       [--image docs/images/cache-vs-path-tracing.png]
 """
 import argparse
 import json
@@ -40,14 +44,15 @@ def scene(scattering):
     }
 
 
-def run(build, scene_path, folder, estimator, seed, rays):
+def run(build, scene_path, folder, estimator, seed, rays, budget_mb):
     tag = f'{estimator}-{seed}'
     wav, csv = os.path.join(folder, tag + '.wav'), os.path.join(folder, tag + '.csv')
     cmd = [os.path.join(build, 'apps', 'dpc-demo'), scene_path, '--offline', wav, '--duration',
            '3', '--rays', str(rays), '--seed', str(seed), '--estimator', estimator,
-           '--er-out', csv, '--quiet']
+           '--er-out', csv, '--cache-memory-mb', str(budget_mb)]
     done = subprocess.run(cmd, check=True, capture_output=True, text=True)
-    summary = [line for line in done.stderr.splitlines() if 'cache' in line]
+    lines = done.stdout.splitlines()
+    summary = [line for line in lines if line.startswith('cache') or 'cache entries' in line]
     analysis = subprocess.run([os.path.join(build, 'apps', 'dpc-analyze'), csv, '--json'],
                               check=True, capture_output=True, text=True)
     return json.loads(analysis.stdout), summary
@@ -57,15 +62,60 @@ def band_values(analysis, param):
     return [band[param] for band in analysis['sources'][0]['bands']]
 
 
+def plot(files, image):
+    import matplotlib
+    matplotlib.use('Agg')
+    import matplotlib.pyplot as plt
+    targets = {'g': (0.3, 'G, DPC − PT (dB)'), 'c80': (0.5, 'C80, DPC − PT (dB)'),
+               'edt': (5.0, 'EDT, DPC / PT − 1 (%)')}
+    fig, axes = plt.subplots(1, 3, figsize=(13, 3.8))
+    x = range(len(BANDS))
+    for path in files:
+        with open(path) as f:
+            data = json.load(f)
+        for case in data['cases']:
+            label = f"{case['room']}, {data['cache_memory_mb']:g} MB"
+            for ax, p in zip(axes, PARAMS):
+                scale = 100.0 if p == 'edt' else 1.0
+                rows = case['comparison'][p]
+                ax.errorbar([i for i, r in zip(x, rows) if r],
+                            [scale * r['difference'] for r in rows if r],
+                            yerr=[scale * r['path_tracing_sd'] / len(case['dpc']) ** 0.5
+                                  for r in rows if r], marker='o', capsize=3, label=label)
+    for ax, p in zip(axes, PARAMS):
+        limit, title = targets[p]
+        ax.axhspan(-limit, limit, color='0.92', zorder=0)
+        ax.axhline(0, color='0.5', lw=0.8)
+        ax.set_xticks(list(x), BANDS, rotation=45)
+        ax.set_xlabel('octave band (Hz)')
+        ax.set_title(title + f' — target ±{limit:g}')
+        ax.set_ylim(-1.2 * limit, 1.2 * limit)
+    axes[0].legend(fontsize=8)
+    fig.suptitle('DPC vs plain path tracing, 10 × 7 × 3 m shoebox, α = 0.1, 20,000 rays '
+                 '(error bars: path tracing σ / √seeds)', fontsize=10)
+    fig.tight_layout()
+    fig.savefig(image, dpi=110)
+    print(f'wrote {image}', file=sys.stderr)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     ap.add_argument('--build', default=os.path.join(ROOT, 'build'))
     ap.add_argument('--seeds', type=int, default=3)
     ap.add_argument('--rays', type=int, default=20000)
+    ap.add_argument('--cache-memory-mb', type=float, default=64.0,
+                    help='DPC memory budget per source-listener pair (1 forces merging)')
     ap.add_argument('--out', default=os.path.join(ROOT, 'docs', 'data',
                                                   'cache-vs-path-tracing.json'))
+    ap.add_argument('--plot', nargs='+', metavar='JSON', help='plot these result files only')
+    ap.add_argument('--image', default=os.path.join(ROOT, 'docs', 'images',
+                                                    'cache-vs-path-tracing.png'))
     args = ap.parse_args()
-    result = {'rays_per_frame': args.rays, 'seeds': args.seeds, 'cases': []}
+    if args.plot:
+        plot(args.plot, args.image)
+        return
+    result = {'rays_per_frame': args.rays, 'seeds': args.seeds,
+              'cache_memory_mb': args.cache_memory_mb, 'cases': []}
     with tempfile.TemporaryDirectory() as folder:
         for name, scattering in (('diffuse', 1.0), ('specular', 0.0)):
             path = os.path.join(folder, name + '.json')
@@ -76,7 +126,8 @@ def main():
                 runs = []
                 for seed in range(1, args.seeds + 1):
                     print(f'{name} {estimator} seed {seed}', file=sys.stderr)
-                    analysis, summary = run(args.build, path, folder, estimator, seed, args.rays)
+                    analysis, summary = run(args.build, path, folder, estimator, seed, args.rays,
+                                            args.cache_memory_mb)
                     runs.append({p: band_values(analysis, p) for p in PARAMS})
                     if estimator == 'dpc':
                         case['dpc_summary'] = summary

@@ -123,6 +123,14 @@ typedef struct dpc_source {
   int loop; /**< nonzero: repeat the signal */
 } dpc_source;
 
+/** A further listener for dpc_scene_data (the first is given by its listener_* fields). */
+typedef struct dpc_listener {
+  float position[3];    /**< m */
+  float radius;         /**< receiver sphere radius, m, > 0 */
+  float yaw_degrees;    /**< 0 faces +x, positive turns left (about +y) */
+  float pitch_degrees;  /**< positive looks up */
+} dpc_listener;
+
 /** A scene built in code: what a scene file says (docs/scene-format.md), same defaults.
  *  Fill with dpc_scene_data_init(), then set mesh, materials and sources. */
 typedef struct dpc_scene_data {
@@ -153,6 +161,10 @@ typedef struct dpc_scene_data {
   int sample_rate;          /**< Hz, 8000..384000 */
   int block_size;           /**< engine block, frames, 16..8192 */
   dpc_output_format output; /**< MONO, STEREO or BINAURAL (default HRTF) */
+  /* further listeners, traced in the same pass as the first (docs/dynamic.md): listener
+     index i + 1 is additional_listeners[i]; see dpc_engine_select_listener */
+  const dpc_listener* additional_listeners; /**< NULL, or additional_listener_count entries */
+  int additional_listener_count;            /**< 0..63 (a scene has at most 64 listeners) */
 } dpc_scene_data;
 
 /** Any thread; no allocation. Zero mesh, materials and sources; listener at the origin; every

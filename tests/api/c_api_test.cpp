@@ -300,4 +300,28 @@ TEST_CASE("C API: several listeners share a frame, the selected one is heard and
   CHECK(copyEnergy(e, nullptr) == copyEnergy(moved, nullptr));
   dpc_engine_destroy(moved);
   dpc_engine_destroy(e);
+
+  // The same two listeners built in code: listener 1 is additional_listeners[0]; selected, its
+  // response equals the file scene's "b" bit for bit.
+  std::vector<dpc_material> materials;
+  dpc_source source;
+  dpc_scene_data data = boxData(materials, source);
+  const dpc_listener b = {{9.f, 1.6f, 3.5f}, 0.5f, 0.f, 0.f};
+  data.additional_listeners = &b;
+  data.additional_listener_count = 1;
+  dpc_engine *fromData = nullptr, *fromFile = nullptr;
+  REQUIRE(dpc_engine_create_from_data(&data, nullptr, &fromData) == DPC_OK);
+  REQUIRE(dpc_engine_create_from_file_ex(file.c_str(), &host, &fromFile) == DPC_OK);
+  CHECK(dpc_engine_listener_count(fromData) == 2);
+  for (dpc_engine* x : {fromData, fromFile}) {
+    REQUIRE(dpc_engine_select_listener(x, 1) == DPC_OK);
+    REQUIRE(dpc_engine_step(x) == DPC_OK);
+  }
+  CHECK(copyEnergy(fromData, nullptr) == copyEnergy(fromFile, nullptr));
+  dpc_engine_destroy(fromFile);
+  dpc_engine_destroy(fromData);
+  data.additional_listener_count = 64;
+  dpc_engine* none = nullptr;
+  CHECK(dpc_engine_create_from_data(&data, nullptr, &none) == DPC_ERR_INPUT);
+  CHECK(std::string(dpc_last_error()).find("additional_listener_count") != std::string::npos);
 }

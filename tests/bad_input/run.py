@@ -118,6 +118,9 @@ CASES = {
     "ir_out_missing_folder": (nothing, ["shoebox.json", "--offline", "o.wav", "--ir-out", "nope/ir.wav"], "--ir-out"),
     "record_is_signal": (nothing, ["shoebox.json", "--record", "signals/speech.wav", "--duration", "1"], "--record"),
     "record_missing_folder": (nothing, ["shoebox.json", "--record", "missing/r.wav", "--duration", "1"], "--record"),
+    "stats_is_scene": (nothing, ["shoebox.json", "--stats", "shoebox.json", "--duration", "1"], "--stats"),
+    "stats_missing_folder": (nothing, ["shoebox.json", "--stats", "missing/s.json", "--duration", "1"], "--stats"),
+    "stats_with_offline": (nothing, ["shoebox.json", "--offline", "out.wav", "--stats", "s.json"], "--stats"),
     "offline_is_hrtf": (lambda d: shutil.copy("/usr/share/libmysofa/default.sofa", os.path.join(d, "h.sofa")) if os.path.exists("/usr/share/libmysofa/default.sofa") else open(os.path.join(d, "h.sofa"), "w").write("x"),
                         ["shoebox.json", "--offline", "h.sofa", "--hrtf", "h.sofa"], "--"),
     # Finding 4 and 5: non-regular or huge inputs.

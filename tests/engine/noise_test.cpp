@@ -6,6 +6,8 @@
 #include <cstdio>
 
 #include "engine/noise_study.h"
+#include "engine/path_cache.h"
+#include "engine/simulation.h"
 #include "test_scenes.h"
 
 using namespace dpc;
@@ -67,4 +69,63 @@ TEST_CASE("DPC halves the noise and flicker of plain path tracing at equal rays"
   CHECK(std::abs(mEma.energyBias) <= emaBound);
   // Plain path tracing is unbiased: its mean over frames has error ~ error / sqrt(F).
   CHECK(mPt.bias <= 3.0 * mPt.meanError / std::sqrt(double(frames)) + refError + 0.01);
+}
+
+TEST_CASE("DPC total energy is path tracing's on the same rays, averaged as the cache averages",
+          "[noise]") {
+  // The same seed traces the same rays in every frame, so the cache's readout must carry
+  // exactly path tracing's energy: for the window the mean of the last W = tau * frame rate
+  // frames, for the EMA the exponential average read out divided by 1 - (1 - a)^f. Any
+  // estimator bias (energy lost when entries are merged or retired, double counting, wrong
+  // normalisation by the rays) would show here far above float rounding. Run at the default
+  // budget and at 1 MB, where the cache merges entries into its coarse store.
+  const glm::vec3 size(10, 3, 7), source(2.5f, 1.5f, 2.f), listener(7.f, 1.6f, 4.5f);
+  const SceneDesc scene = test::makeShoebox(size, Bands(0.1f), 1.0f, source, listener, 0.5f);
+  for (const double budgetMb : {64.0, 1.0}) {
+    PropagationSettings ps;
+    ps.raysPerFrame = 4000;
+    ps.maxOrder = 100;
+    ps.frameRate = 15.f;
+    ps.cacheTau = 0.5f;  // W = 7.5 -> 8 frames
+    ps.irLength = 1.0f;
+    ps.seed = 99;
+    ps.cacheMemoryMb = float(budgetMb);
+    auto at = [&](int) { return listener; };
+    const EnergyResponse any = referenceResponse(scene, ps, listener, 1, nullptr);
+    auto ref = [&](int) -> const EnergyResponse& { return any; };  // errors are not used
+    const int frames = 24;
+    PropagationSettings pt = ps, window = ps, ema = ps;
+    pt.estimator = Estimator::kPathTracing;
+    window.estimator = ema.estimator = Estimator::kDpc;
+    window.dpcWeighting = DpcWeighting::kWindow;
+    ema.dpcWeighting = DpcWeighting::kEma;
+    const std::vector<double> ePt = measureNoise(scene, pt, 0, frames, at, ref).energyPerFrame;
+    const std::vector<double> eWin =
+        measureNoise(scene, window, 0, frames, at, ref).energyPerFrame;
+    const std::vector<double> eEma = measureNoise(scene, ema, 0, frames, at, ref).energyPerFrame;
+    const int w = int(std::lround(ps.cacheTau * ps.frameRate));
+    const double a = 1.0 - std::exp(-1.0 / (ps.cacheTau * ps.frameRate));
+    double avg = 0.0, decay = 1.0, worstWin = 0.0, worstEma = 0.0;
+    for (int f = 0; f < frames; ++f) {
+      double mean = 0.0;
+      const int n = std::min(f + 1, w);
+      for (int k = f - n + 1; k <= f; ++k) mean += ePt[size_t(k)] / n;
+      avg = (1.0 - a) * avg + a * ePt[size_t(f)];
+      decay *= 1.0 - a;
+      worstWin = std::max(worstWin, std::abs(eWin[size_t(f)] / mean - 1.0));
+      worstEma = std::max(worstEma, std::abs(eEma[size_t(f)] / (avg / (1.0 - decay)) - 1.0));
+    }
+    std::printf("budget %.0f MB: total energy vs path tracing of the same rays, worst frame: "
+                "window %.2e, EMA %.2e\n",
+                budgetMb, worstWin, worstEma);
+    // Float sums over ~1e5 contributions: 1e-5. The EMA also drops an entry once its weight is
+    // below kEmaDropFraction (1e-4 of a hit's): at most that share of the energy.
+    CHECK(worstWin < 1e-5);
+    CHECK(worstEma < 1e-5 + DiffusePathCache::kEmaDropFraction);
+    if (budgetMb == 1.0) {  // the budget case does merge
+      Simulation sim(scene, window);
+      for (int f = 0; f < frames; ++f) sim.runFrame(listener);
+      CHECK(sim.result(0).cacheMergedEntries > 0);
+    }
+  }
 }

@@ -528,6 +528,9 @@ dpc_status dpc_engine_get_stats(dpc_engine* engine, dpc_stats* out) {
     out->cache_budget_bytes = s.cacheBudgetBytes;
     out->cache_merged_entries = s.cacheMergedEntries;
     out->cache_merged_energy_fraction = s.cacheMergedEnergyFraction;
+    out->rays_per_frame = int32_t(s.raysPerFrame);
+    out->rays_per_frame_min = int32_t(s.raysPerFrameMin);
+    out->reduced_frames = s.reducedFrames;
     return DPC_OK;
   });
 }

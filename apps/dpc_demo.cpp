@@ -443,6 +443,11 @@ void writeLiveStats(const std::string& path, const std::string& scenePath,
       {"callback_load_percent", load(cb)},
       {"render_load_percent", {{"with_ir_swap", load(swap)}, {"without_ir_swap", load(noSwap)}}},
       {"propagation_frames", st.frames},
+      {"rays_per_frame",
+       {{"last", st.raysPerFrame},
+        {"min", st.raysPerFrameMin},
+        {"scene", st.raysPerFrameScene},
+        {"reduced_frames", st.reducedFrames}}},
       {"irs_applied", st.irsApplied},
       {"irs_dropped", st.irsDropped},
       {"motion_to_sound_latency_ms",
@@ -629,17 +634,18 @@ int runLive(Flags& fl) {
       const auto st = session.status();
       const auto cb = output->stats().snapshot().since(statsAtStart);
       std::fprintf(stderr,
-                   "%sframe %5.1f ms | %6.0fk rays/s | cache %7zu %5.1f/%.0f MB merged %llu "
+                   "%sframe %5.1f ms | rays %5d/%d | %6.0fk rays/s | cache %7zu %5.1f/%.0f MB "
+                   "merged %llu "
                    "(%4.1f%%) | IR age %5.1f ms | "
                    "latency %5.1f/%5.1f ms | load %4.1f%% | xruns %llu | limiter %llu (-%.1f dB) | "
                    "t %.1f s%s",
-                   tty ? "\r" : "", st.frameMs, st.raysPerSecond / 1e3, st.cacheEntries,
-                   st.cacheBytes / 1e6, st.cacheBudgetBytes / 1e6,
-                   (unsigned long long)st.cacheMergedEntries, 100.0 * st.cacheMergedEnergyFraction,
-                   st.irAgeMs, st.latencyMedianMs, st.latencyP95Ms,
-                   output->loadPercent(cb.quantileNs(0.5)), (unsigned long long)cb.xruns,
-                   (unsigned long long)st.limitedFrames, st.limiterMaxReductionDb, sceneTime,
-                   tty ? "   " : "\n");
+                   tty ? "\r" : "", st.frameMs, st.raysPerFrame, st.raysPerFrameScene,
+                   st.raysPerSecond / 1e3, st.cacheEntries, st.cacheBytes / 1e6,
+                   st.cacheBudgetBytes / 1e6, (unsigned long long)st.cacheMergedEntries,
+                   100.0 * st.cacheMergedEnergyFraction, st.irAgeMs, st.latencyMedianMs,
+                   st.latencyP95Ms, output->loadPercent(cb.quantileNs(0.5)),
+                   (unsigned long long)cb.xruns, (unsigned long long)st.limitedFrames,
+                   st.limiterMaxReductionDb, sceneTime, tty ? "   " : "\n");
     }
   }
   output->stop();
@@ -662,7 +668,8 @@ int runLive(Flags& fl) {
       "latency_median_ms=%.1f "
       "latency_p95_ms=%.1f callback_load_median_pct=%.1f callback_load_max_pct=%.1f "
       "render_swap_p999_pct=%.1f render_noswap_p999_pct=%.1f limited_frames=%llu "
-      "over_ceiling_frames=%llu limiter_max_reduction_db=%.2f\n",
+      "over_ceiling_frames=%llu limiter_max_reduction_db=%.2f rays_per_frame=%d "
+      "rays_per_frame_min=%d rays_per_frame_scene=%d reduced_frames=%llu\n",
       (unsigned long long)st.frames, (unsigned long long)st.irsApplied,
       (unsigned long long)st.irsDropped, (unsigned long long)st.blocks,
       (unsigned long long)cb.callbacks, (unsigned long long)cb.xruns,
@@ -671,7 +678,8 @@ int runLive(Flags& fl) {
       output->loadPercent(cb.quantileNs(0.5)), output->loadPercent(cb.maxNs),
       output->loadPercent(swap.quantileNs(0.999)), output->loadPercent(noSwap.quantileNs(0.999)),
       (unsigned long long)st.limitedFrames, (unsigned long long)st.overCeilingFrames,
-      st.limiterMaxReductionDb);
+      st.limiterMaxReductionDb, st.raysPerFrame, st.raysPerFrameMin, st.raysPerFrameScene,
+      (unsigned long long)st.reducedFrames);
   if (!fl.stats.empty()) {
     writeLiveStats(fl.stats, fl.scene, *output, scheduling, session, st, cb, swap, noSwap);
     std::printf("wrote %s\n", fl.stats.c_str());

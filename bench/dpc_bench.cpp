@@ -450,6 +450,10 @@ int benchLive(const Common& c, double duration, int blockSize, double frameRate,
   j["block_size"] = blockSize;
   j["block_period_ms"] = periodNs * 1e-6;
   j["rays_per_frame"] = s.raysPerFrame;
+  // Adaptive rays (docs/live.md): what the controller traced to hold the frame rate.
+  j["rays_per_frame_last"] = st.raysPerFrame;
+  j["rays_per_frame_min"] = st.raysPerFrameMin;
+  j["reduced_frames"] = st.reducedFrames;
   j["frame_rate_target"] = s.frameRate;
   j["threads"] = s.threads;
   j["duration_s"] = duration;

@@ -1,5 +1,6 @@
 #include "engine/simulation.h"
 
+#include <algorithm>
 #include <chrono>
 
 namespace dpc {
@@ -52,6 +53,11 @@ void Simulation::enableDirectional(const std::vector<glm::vec3>& listenerDirecti
 double Simulation::boundingVolume() const {
   const glm::vec3 e = geometry_->boundsMax() - geometry_->boundsMin();
   return std::max(1.0, double(e.x) * e.y * e.z);
+}
+
+void Simulation::setRaysPerFrame(int n) {
+  settings_.raysPerFrame = std::max(1, n);
+  propagator_->setRaysPerFrame(settings_.raysPerFrame);
 }
 
 void Simulation::setObjectPoses(const std::vector<Pose>& poses) {

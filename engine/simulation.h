@@ -58,6 +58,12 @@ class Simulation {
   /// caches and responses. Listener l's results: result(source, l), directional(source, l).
   void runFrame(std::span<const ListenerSphere> listeners, const std::vector<glm::vec3>& sources);
 
+  /// Rays per source for the following frames (n >= 1; settings().raysPerFrame follows).
+  /// Every estimator normalises a frame by the rays that frame traced (TraceStats::rays), so
+  /// frames of different counts average without bias. Propagation thread, between frames;
+  /// allocates only if n needs more trace chunks than any frame before.
+  void setRaysPerFrame(int n);
+
   /// Moves the scene's objects (one pose per object, scene order) for the following frames:
   /// sets the Embree instance transforms and commits the top-level BVH. No allocation.
   void setObjectPoses(const std::vector<Pose>& poses);

@@ -26,7 +26,8 @@ LiveSession::LiveSession(const SceneDesc& scene, const PropagationSettings& sett
       blockSize_(scene.audio.blockSize),
       sampleRate_(scene.audio.sampleRate),
       toAudio_(size_t(std::max(3, options.poolSize)) + 1),
-      fromAudio_(size_t(std::max(3, options.poolSize)) + 1) {
+      fromAudio_(size_t(std::max(3, options.poolSize)) + 1),
+      adaptiveRays_(settings.raysPerFrame, 1.0 / settings.frameRate) {
   propagation_ = std::make_unique<PropagationStage>(scene, settings, std::max(3, options.poolSize));
   // Every listener is traced each frame; each starts where its trajectory is at t = 0.
   listenerCount_ = std::max<size_t>(1, scene.listeners.size());
@@ -120,11 +121,21 @@ void LiveSession::stop() {
 
 bool LiveSession::step() {
   if (running_.load()) return false;
-  runFrame();
+  runFrame(settings_.raysPerFrame);
   return true;
 }
 
-void LiveSession::runFrame() {
+bool LiveSession::stepAdaptive(double frameSeconds) {
+  if (running_.load()) return false;
+  runFrame(adaptiveRays_.rays());
+  adaptiveRays_.update(frameSeconds);
+  return true;
+}
+
+void LiveSession::runFrame(int raysPerSource) {
+  // The estimators normalise by the rays each frame traced, so the count may change per frame.
+  if (raysPerSource != propagation_->simulation().settings().raysPerFrame)
+    propagation_->setRaysPerFrame(raysPerSource);
   IrSet* back = nullptr;
   while (fromAudio_.try_dequeue(back)) propagation_->recycle(back);
   const auto t0 = std::chrono::steady_clock::now();
@@ -157,6 +168,14 @@ void LiveSession::runFrame() {
   propagation_->traceWorld(world_);
   IrSet* set = propagation_->prepare(played);
   const auto t1 = std::chrono::steady_clock::now();
+  // Rays per source this frame really traced (every source traces the same count).
+  if (propagation_->simulation().sourceCount() > 0) {
+    const int traced = int(propagation_->simulation().result(0, played).trace.rays);
+    raysPerFrame_.store(traced, std::memory_order_relaxed);
+    const int low = raysPerFrameMin_.load(std::memory_order_relaxed);
+    if (low == 0 || traced < low) raysPerFrameMin_.store(traced, std::memory_order_relaxed);
+    if (traced < settings_.raysPerFrame) reducedFrames_.fetch_add(1, std::memory_order_relaxed);
+  }
   if (set) {
     set->poseNs = pose.publishedNs;
     set->readyNs = nowNs();
@@ -210,14 +229,18 @@ void LiveSession::runFrame() {
   }
 }
 
-
 void LiveSession::propagationLoop() {
   const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
       std::chrono::duration<double>(1.0 / settings_.frameRate));
   auto next = std::chrono::steady_clock::now();
   while (running_.load(std::memory_order_relaxed)) {
     next += period;
-    runFrame();
+    const auto start = std::chrono::steady_clock::now();
+    runFrame(options_.adaptiveRays ? adaptiveRays_.rays() : settings_.raysPerFrame);
+    // The whole frame, snapshot included: what must fit in the period.
+    if (options_.adaptiveRays)
+      adaptiveRays_.update(
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     // At most frame_rate frames per second; run late frames back to back.
     std::unique_lock<std::mutex> lock(wakeMutex_);
     if (std::chrono::steady_clock::now() < next)
@@ -349,6 +372,10 @@ LiveSession::Status LiveSession::status() const {
   const uint64_t rays = rays_.load(std::memory_order_relaxed);
   const double dt = std::chrono::duration<double>(now - lastStatus_).count();
   st.raysPerSecond = dt > 0.0 ? double(rays - lastRays_) / dt : 0.0;
+  st.raysPerFrame = raysPerFrame_.load(std::memory_order_relaxed);
+  st.raysPerFrameMin = raysPerFrameMin_.load(std::memory_order_relaxed);
+  st.raysPerFrameScene = settings_.raysPerFrame;
+  st.reducedFrames = reducedFrames_.load(std::memory_order_relaxed);
   lastRays_ = rays;
   lastStatus_ = now;
   st.cacheEntries = cacheEntries_.load(std::memory_order_relaxed);

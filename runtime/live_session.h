@@ -28,6 +28,7 @@
 
 #include "audio/audio_device.h"
 #include "audio/limiter.h"
+#include "runtime/adaptive_rays.h"
 #include "runtime/pose_channel.h"
 #include "runtime/render_pipeline.h"
 #include "runtime/spsc_queue.h"
@@ -40,6 +41,11 @@ class LiveSession {
     int deviceChannels = 2;      ///< output channels the device renders (IR channels copied)
     double recordSeconds = 0.0;  ///< > 0: keep what was played (ring of this many seconds)
     int poolSize = 6;            ///< IrSets in flight (>= 3)
+    /// The propagation thread adapts the rays per source of each frame to hold the frame
+    /// rate (runtime/adaptive_rays.h, docs/live.md "Adaptive rays"): fewer rays when a frame
+    /// takes longer than 1 / frame_rate, back up to the settings' rays when there is room.
+    /// false: every frame traces the settings' rays, however long it takes.
+    bool adaptiveRays = true;
   };
 
   /// Control thread. Builds the stages (Embree scene, IR synthesisers, convolvers, queues).
@@ -87,9 +93,16 @@ class LiveSession {
   /// Control thread, while the propagation thread is not running (before start() or after
   /// stop()): runs one propagation frame now on the calling thread and hands its IR set to the
   /// audio side, as the propagation thread would. Lets a host render deterministically (same
-  /// seed, same frames, same bits). Returns false (nothing done) while running. Allocates
-  /// while the cache's tables grow.
+  /// seed, same frames, same bits). Always traces the settings' rays (no adaptation: the
+  /// result must not depend on the machine's speed). Returns false (nothing done) while
+  /// running. Allocates while the cache's tables grow.
   bool step();
+  /// As step(), but traced at the adaptive controller's current rays per source, after which
+  /// the controller is told the frame took frameSeconds (seconds; instead of the wall clock)
+  /// and picks the next frame's rays, as the propagation thread does after each frame. For
+  /// hosts that run their own clock, and for tests of the controller that must not depend on
+  /// the machine's load. Control thread, while not running (false otherwise).
+  bool stepAdaptive(double frameSeconds);
 
   /// The newest frame's responses for one source, as copied by the propagation thread after
   /// each frame: ir[channel][sample] the pressure IR at sampleRate(); energy[k][band] the
@@ -146,8 +159,14 @@ class LiveSession {
 
   struct Status {
     uint64_t frames = 0;
-    double frameMs = 0.0;             ///< last propagation frame (trace + synthesis + prepare)
-    double raysPerSecond = 0.0;       ///< over the last status interval
+    double frameMs = 0.0;        ///< last propagation frame (trace + synthesis + prepare)
+    double raysPerSecond = 0.0;  ///< over the last status interval
+    /// Rays per source traced by the last frame (0 before the first); below raysPerFrameScene
+    /// when the adaptive controller reduced them to hold the frame rate.
+    int raysPerFrame = 0;
+    int raysPerFrameMin = 0;          ///< fewest rays per source of any frame so far (0: none yet)
+    int raysPerFrameScene = 0;        ///< the settings' rays per source (the controller's ceiling)
+    uint64_t reducedFrames = 0;       ///< frames traced with fewer rays than raysPerFrameScene
     size_t cacheEntries = 0;          ///< DPC path + coarse entries, summed over sources
     size_t cacheBytes = 0;            ///< DPC heap bytes, summed over sources
     size_t cacheBudgetBytes = 0;      ///< DPC memory budget, summed over sources
@@ -183,9 +202,10 @@ class LiveSession {
 
  private:
   void propagationLoop();
-  /// One propagation frame: read the poses, compute, hand the IR set over, update the counters
-  /// and the response snapshot. Propagation thread (or the control thread through step()).
-  void runFrame();
+  /// One propagation frame at raysPerSource rays per source: read the poses, compute, hand the IR
+  /// set over, update the counters and the response snapshot. Propagation thread (or the control
+  /// thread through step()).
+  void runFrame(int raysPerSource);
   /// Audio thread: one engine block from blockIn_ (or the scene's signals) into blockOut_.
   /// Returns whether an IR swap started.
   bool renderBlock(bool hostInputs) noexcept;
@@ -240,6 +260,9 @@ class LiveSession {
   std::atomic<size_t> cacheEntries_{0}, cacheBytes_{0}, cacheBudgetBytes_{0};
   std::atomic<uint64_t> cacheMergedEntries_{0};
   std::atomic<double> cacheMergedEnergyFraction_{0.0};
+  AdaptiveRays adaptiveRays_;  ///< propagation thread (or stepAdaptive() while stopped)
+  std::atomic<int> raysPerFrame_{0}, raysPerFrameMin_{0};
+  std::atomic<uint64_t> reducedFrames_{0};
   mutable uint64_t lastRays_ = 0;
   mutable std::chrono::steady_clock::time_point lastStatus_{};
   audio::CallbackStats swapStats_, noSwapStats_, latencyStats_;

@@ -100,6 +100,9 @@ class PropagationStage {
   /// Propagation thread; no allocation.
   void overrideSource(size_t index, const glm::vec3& position);
   void overrideObject(size_t index, const Pose& pose);
+  /// Rays per source for the following frames (Simulation::setRaysPerFrame). Propagation
+  /// thread, between frames.
+  void setRaysPerFrame(int n) { simulation_->setRaysPerFrame(n); }
   /// Gives a set back to the pool. Propagation thread.
   void recycle(IrSet* set);
 

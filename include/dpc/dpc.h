@@ -314,6 +314,11 @@ typedef struct dpc_stats {
   uint64_t late_callbacks;             /**< process() calls that took longer than the audio they
                                             produced (a device would have underrun) */
   uint64_t rejected_callbacks;         /**< process() calls with frames outside 1..8192 */
+  /* Adaptive rays (docs/live.md): while running, the propagation thread traces fewer rays per
+   * source than the scene's rays_per_frame when a frame would not fit in 1 / frame_rate. */
+  int32_t rays_per_frame;     /**< rays per source traced by the last frame (0 before one) */
+  int32_t rays_per_frame_min; /**< fewest rays per source of any frame so far (0 before one) */
+  uint64_t reduced_frames;    /**< frames traced with fewer rays than the scene's */
 } dpc_stats;
 
 /** Control thread (it updates the rays-per-second interval). No allocation. */

@@ -58,6 +58,7 @@ TEST_CASE("C API: shoebox engine processes finite blocks, counts unsupported cal
   CHECK(s.blocks == 9);
   CHECK(s.rejected_callbacks == 2);
   CHECK(s.cache_budget_bytes == 0);  // no propagation frame has run yet
+  CHECK(s.rays_per_frame == 0);
   CHECK(dpc_engine_start(e) == DPC_OK);
   CHECK(dpc_engine_stop(e) == DPC_OK);
   dpc_engine_destroy(e);
@@ -201,6 +202,12 @@ TEST_CASE("C API: a scene built in code equals the same scene from a file, bit f
   uint64_t frame = 0;
   REQUIRE(dpc_engine_copy_impulse_response(fromData, 0, 0, nullptr, 0, nullptr, &frame) == DPC_OK);
   CHECK(frame == 3);
+  // step() traces the scene's rays every frame (no adaptation: same bits on any machine).
+  dpc_stats stats{};
+  REQUIRE(dpc_engine_get_stats(fromData, &stats) == DPC_OK);
+  CHECK(stats.rays_per_frame == 1024);
+  CHECK(stats.rays_per_frame_min == 1024);
+  CHECK(stats.reduced_frames == 0);
   // step() is for a stopped engine only.
   REQUIRE(dpc_engine_start(fromData) == DPC_OK);
   CHECK(dpc_engine_step(fromData) == DPC_ERR_STATE);

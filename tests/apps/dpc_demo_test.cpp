@@ -30,7 +30,9 @@ struct Run {
 };
 
 Run run(const std::string& args) {
-  const fs::path errFile = fs::temp_directory_path() / "dpc_demo_test_stderr.txt";
+  // One file per process: ctest -j runs this binary's test cases side by side.
+  const fs::path errFile =
+      fs::temp_directory_path() / ("dpc_demo_test_stderr_" + std::to_string(::getpid()) + ".txt");
   const std::string cmd = kDemo + " " + args + " --quiet >/dev/null 2>" + errFile.string();
   const int raw = std::system(cmd.c_str());
   Run r;
@@ -39,6 +41,7 @@ Run run(const std::string& args) {
   std::stringstream ss;
   ss << in.rdbuf();
   r.err = ss.str();
+  fs::remove(errFile);
   return r;
 }
 

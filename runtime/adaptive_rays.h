@@ -1,0 +1,72 @@
+// AdaptiveRays: the live propagation thread's ray-count controller (docs/live.md, "Adaptive
+// rays"). After each frame it is told how long the frame took and picks the rays per source of
+// the next one, so that a frame fits in the frame period (1 / frame_rate) instead of falling
+// behind:
+//
+//   elapsed > period          rays *= kTarget * period / elapsed   (down, proportionally)
+//   elapsed < kTarget*period  rays *= min(kGrowth, kTarget * period / elapsed)   (back up)
+//   otherwise                 unchanged (hysteresis: no oscillation around the period)
+//
+// always within [floor, scene rays], floor = max(scene rays / 16, min(256, scene rays)). The
+// tracing time is close to proportional to the rays; the part that is not (IR synthesis,
+// partitioning) makes a reduction undershoot, and the next frames correct it.
+//
+// The diffuse path cache stays unbiased: each frame's estimate is I_f / N_f with N_f the rays
+// that frame really traced (TraceStats::rays, passed to the estimator by Simulation), so
+// frames of different ray counts average to the same expectation; fewer rays only add variance.
+//
+// Plain arithmetic, no allocation, no clock: the caller measures (or, in tests, injects) the
+// frame's duration. One thread (the propagation thread).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+namespace dpc {
+
+class AdaptiveRays {
+ public:
+  /// Aim: a frame takes at most this fraction of the period (room for the rest of the loop
+  /// and for frame-to-frame variation).
+  static constexpr double kTarget = 0.8;
+  /// Largest growth per frame (x1.25: back from 1/16 to full rays in 13 frames, under a
+  /// second at 15 frames/s, without overshooting into a late frame at once).
+  static constexpr double kGrowth = 1.25;
+  /// The floor: at least 1/16 of the scene's rays, and 256 rays (or all of them if fewer).
+  static constexpr int kFloorDivisor = 16;
+  static constexpr int kFloorRays = 256;
+
+  /// sceneRays: rays per source the scene asks for (the ceiling, and the start).
+  /// framePeriodSeconds: 1 / frame_rate.
+  AdaptiveRays(int sceneRays, double framePeriodSeconds)
+      : ceiling_(std::max(1, sceneRays)),
+        floor_(std::max(ceiling_ / kFloorDivisor, std::min(kFloorRays, ceiling_))),
+        period_(framePeriodSeconds),
+        rays_(ceiling_) {}
+
+  /// Rays per source for the next frame.
+  int rays() const { return rays_; }
+  int floor() const { return floor_; }
+  int ceiling() const { return ceiling_; }
+
+  /// The frame just run (at rays()) took elapsedSeconds: sets rays() for the next one and
+  /// returns it. A non-finite or non-positive duration changes nothing.
+  int update(double elapsedSeconds) {
+    if (!(elapsedSeconds > 0.0) || !std::isfinite(elapsedSeconds) || !(period_ > 0.0)) return rays_;
+    const double fit = kTarget * period_ / elapsedSeconds;  // scale that would hit the target
+    double next = rays_;
+    if (elapsedSeconds > period_)
+      next = rays_ * fit;
+    else if (fit > 1.0)
+      next = rays_ * std::min(kGrowth, fit);
+    rays_ = int(std::clamp(std::round(next), double(floor_), double(ceiling_)));
+    return rays_;
+  }
+
+ private:
+  int ceiling_, floor_;
+  double period_;
+  int rays_;
+};
+
+}  // namespace dpc

@@ -478,12 +478,17 @@ int benchLive(const Common& c, double duration, int blockSize, double frameRate,
 }
 /// Frame time for several listeners traced in one pass (docs/dynamic.md, "Several
 /// listeners"): one PropagationStage per listener count, stepped frame by frame in turn (so
-/// that load from other processes falls on all counts alike); process CPU time of the pass
-/// (tracing + one cache per source-listener pair) and of preparing every listener's IR set.
+/// that load from other processes falls on all counts alike); wall-clock frame time and process
+/// CPU time of the pass (tracing + one cache per source-listener pair) and CPU time of
+/// preparing every listener's IR set.
 int benchListeners(const Common& c, const std::vector<int>& counts, int warmupFrames) {
   const SceneDesc scene = loadScene(c.scene);
   PropagationSettings s = settingsFor(scene, c);
   auto cpu = [] { return double(std::clock()) / CLOCKS_PER_SEC; };
+  auto wall = [] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+  };
   // Listener i: scene listener i mod n, at a point of its trajectory spread over its span.
   const size_t n = scene.listeners.size();
   auto place = [&](size_t i, size_t count, double t, WorldState& w) {
@@ -501,12 +506,14 @@ int benchListeners(const Common& c, const std::vector<int>& counts, int warmupFr
   for (size_t k = 0; k < counts.size(); ++k)
     stages.push_back(std::make_unique<PropagationStage>(scene, s, 3 * maxCount + 1));
   std::vector<double> traceCpu(counts.size(), 0.0), prepareCpu(counts.size(), 0.0);
+  std::vector<double> traceWall(counts.size(), 0.0);
   std::vector<uint64_t> segments(counts.size(), 0), hits(counts.size(), 0);
   WorldState world;
   for (int f = -warmupFrames; f < c.frames; ++f) {
     const double t = double(f + warmupFrames) / s.frameRate;
     if (f == 0) {  // steady state from here: caches filled, their memory touched
       std::fill(traceCpu.begin(), traceCpu.end(), 0.0);
+      std::fill(traceWall.begin(), traceWall.end(), 0.0);
       std::fill(prepareCpu.begin(), prepareCpu.end(), 0.0);
       std::fill(segments.begin(), segments.end(), 0);
       std::fill(hits.begin(), hits.end(), 0);
@@ -518,7 +525,9 @@ int benchListeners(const Common& c, const std::vector<int>& counts, int warmupFr
       world.listenerOrientations.resize(count);
       for (size_t i = 0; i < count; ++i) place(i, count, t, world);
       double t0 = cpu();
+      const double w0 = wall();
       stages[k]->traceWorld(world);
+      traceWall[k] += wall() - w0;
       traceCpu[k] += cpu() - t0;
       t0 = cpu();
       for (size_t l = 0; l < count; ++l) stages[k]->recycle(stages[k]->prepare(l));
@@ -543,22 +552,28 @@ int benchListeners(const Common& c, const std::vector<int>& counts, int warmupFr
   for (size_t k = 0; k < counts.size(); ++k) {
     json e;
     e["listeners"] = counts[k];
+    e["pass_wall_ms_per_frame"] = 1e3 * traceWall[k] / c.frames;
+    e["pass_wall_ratio_to_one"] = traceWall[k] / traceWall[0];
     e["pass_cpu_ms_per_frame"] = 1e3 * traceCpu[k] / c.frames;
     e["prepare_all_cpu_ms_per_frame"] = 1e3 * prepareCpu[k] / c.frames;
     e["pass_ratio_to_one"] = traceCpu[k] / traceCpu[0];
     e["segments_per_frame"] = double(segments[k]) / c.frames;
     e["sphere_hits_per_frame"] = double(hits[k]) / c.frames;
     rows.push_back(e);
-    std::fprintf(stderr, "%d listeners: pass %.1f ms (x%.2f), prepare all %.1f ms, segments %.0f\n",
-                 counts[k], 1e3 * traceCpu[k] / c.frames, traceCpu[k] / traceCpu[0],
+    std::fprintf(stderr,
+                 "%d listeners: pass wall %.1f ms (x%.2f), CPU %.1f ms (x%.2f), prepare all "
+                 "%.1f ms, segments %.0f\n",
+                 counts[k], 1e3 * traceWall[k] / c.frames, traceWall[k] / traceWall[0],
+                 1e3 * traceCpu[k] / c.frames, traceCpu[k] / traceCpu[0],
                  1e3 * prepareCpu[k] / c.frames, double(segments[k]) / c.frames);
   }
   j["listeners"] = rows;
   j["note"] =
       "pass: one traceWorld (every source's rays traced once against all listener spheres, "
       "then each source-listener pair's cache); prepare all: IR synthesis + partition/FFT for "
-      "every listener (offline needs all, live only the played one); process CPU time of the "
-      "frames after warmup_frames (the first frames fill the caches and fault in their memory)";
+      "every listener (offline needs all, live only the played one); wall-clock frame time "
+      "(what the frame rate sees) and process CPU time of the frames after warmup_frames (the "
+      "first frames fill the caches and fault in their memory)";
   std::printf("%s\n", j.dump(2).c_str());
   return 0;
 }

@@ -169,13 +169,15 @@ EdgeDiffraction::EdgeDiffraction(const Mesh& mesh) {
     if (x.b.y != y.b.y) return x.b.y < y.b.y;
     return x.b.z < y.b.z;
   });
-  scratch_.resize(edges_.size());
 }
 
-void EdgeDiffraction::apply(const Geometry& geometry, const glm::vec3& source,
-                            const ListenerSphere& listener, float speedOfSound,
-                            const Bands& airPerMetre, DirectSound& direct) const {
-  pathsUsed_ = 0;
+size_t EdgeDiffraction::apply(const Geometry& geometry, const glm::vec3& source,
+                              const ListenerSphere& listener, float speedOfSound,
+                              const Bands& airPerMetre, DirectSound& direct) const {
+  struct Path {
+    double r, s, phiS, phiL, n, sinBeta0;
+  };
+  std::vector<Path> paths;
   const glm::vec3 L = listener.position;
   constexpr float kLegEpsilon = 1e-3f;  // m: keeps occlusion tests off the edge's own faces
   size_t used = 0;
@@ -223,7 +225,8 @@ void EdgeDiffraction::apply(const Geometry& geometry, const glm::vec3& source,
     if (geometry.occluded(source, toQ / r, kLegEpsilon, r - kLegEpsilon)) continue;
     if (geometry.occluded(q, toL / s, kLegEpsilon, s - kLegEpsilon)) continue;
     const double sinB = double(glm::length(glm::cross(toQ / r, e.direction)));
-    Path& p = scratch_[used++];
+    Path& p = paths.emplace_back();
+    ++used;
     p.r = r;
     p.s = s;
     p.phiS = phiS;
@@ -235,8 +238,7 @@ void EdgeDiffraction::apply(const Geometry& geometry, const glm::vec3& source,
       shortestDir = -toL / s;
     }
   }
-  pathsUsed_ = used;
-  if (used == 0) return;
+  if (used == 0) return 0;
   // Band energy of the coherent sum, averaged over kFrequencies log-spaced per octave.
   constexpr int kFrequencies = 16;
   Bands intensity(0.f);
@@ -251,7 +253,7 @@ void EdgeDiffraction::apply(const Geometry& geometry, const glm::vec3& source,
         p += amp * std::exp(C(0.0, -k * double(direct.distance)));
       }
       for (size_t j = 0; j < used; ++j) {
-        const Path& q = scratch_[j];
+        const Path& q = paths[j];
         const double len = q.r + q.s;
         const double Lp = q.r * q.s * q.sinBeta0 * q.sinBeta0 / len;
         const Complex d = utdCoefficient(q.n, k, q.phiL, q.phiS, q.sinBeta0, Lp);
@@ -268,6 +270,7 @@ void EdgeDiffraction::apply(const Geometry& geometry, const glm::vec3& source,
   direct.distance = shortest;
   direct.delaySeconds = shortest / speedOfSound;
   direct.direction = shortestDir;
+  return used;
 }
 
 }  // namespace dpc

@@ -72,20 +72,14 @@ class EdgeDiffraction {
 
   /// Replaces `direct` by the direct sound plus every first-order edge path from source to the
   /// listener centre (see the file comment). speedOfSound in m/s, airPerMetre the energy
-  /// attenuation per metre per band. Counts the edge paths used in pathsUsed().
-  void apply(const Geometry& geometry, const glm::vec3& source, const ListenerSphere& listener,
-             float speedOfSound, const Bands& airPerMetre, DirectSound& direct) const;
-
-  /// Edge paths that contributed in the last apply() (unoccluded, Q inside its edge).
-  size_t pathsUsed() const { return pathsUsed_; }
+  /// attenuation per metre per band. Returns the number of edge paths used (unoccluded, Q
+  /// inside its edge). Reentrant: concurrent calls (one per listener) are safe; allocates its
+  /// list of paths.
+  size_t apply(const Geometry& geometry, const glm::vec3& source, const ListenerSphere& listener,
+               float speedOfSound, const Bands& airPerMetre, DirectSound& direct) const;
 
  private:
-  struct Path {
-    double r, s, phiS, phiL, n, sinBeta0;
-  };
   std::vector<DiffractionEdge> edges_;
-  mutable std::vector<Path> scratch_;  ///< one per edge, sized at construction
-  mutable size_t pathsUsed_ = 0;
 };
 
 }  // namespace dpc

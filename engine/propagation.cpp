@@ -58,6 +58,14 @@ Propagator::Propagator(const Geometry& geometry, const PropagationSettings& sett
 
 Propagator::~Propagator() = default;
 
+void Propagator::forEachParallel(size_t n, const std::function<void(size_t)>& f) {
+  if (n == 1) {
+    f(0);
+    return;
+  }
+  arena_->execute([&] { tbb::parallel_for(size_t(0), n, [&](size_t i) { f(i); }); });
+}
+
 DirectSound Propagator::directSound(const glm::vec3& source, const ListenerSphere& listener) const {
   DirectSound d;
   const glm::vec3 toListener = listener.position - source;

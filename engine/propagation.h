@@ -37,6 +37,7 @@
 #include <cstdint>
 #include <glm/vec3.hpp>
 #include <memory>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -123,6 +124,11 @@ class Propagator {
   TraceMode traceMode() const { return traceMode_; }
 
   const Bands& airAttenuationPerMetre() const { return airPerMetre_; }
+
+  /// Runs f(i) for i in [0, n) on the tracing threads (the same task arena as traceFrame), in
+  /// any order and concurrently; returns when all are done. For per-listener work after a
+  /// trace (each i must touch only its own data). Propagation thread.
+  void forEachParallel(size_t n, const std::function<void(size_t)>& f);
   const PropagationSettings& settings() const { return settings_; }
   void setRaysPerFrame(int n) { settings_.raysPerFrame = n; }
   /// Path identifier rule (engine/patch.h); default PathKeyRule::forRoom of the geometry's

@@ -88,7 +88,10 @@ void Simulation::runFrame(std::span<const ListenerSphere> listeners,
         frame_, uint32_t(s), sources[s], listeners, std::span(groupPtrs_.data(), listeners.size()));
     const double traceSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    for (size_t l = 0; l < listeners.size(); ++l) {
+    // Each listener's direct sound (with edge diffraction) and estimator update touch only
+    // that source-listener pair's data: run them concurrently on the tracing threads. Each
+    // pair's float operations are the same whatever the thread, so results do not change.
+    propagator_->forEachParallel(listeners.size(), [&](size_t l) {
       const size_t pair = l * sourceCount_ + s;
       SourceResult& r = results_[pair];
       const ListenerSphere& listener = listeners[l];
@@ -123,7 +126,7 @@ void Simulation::runFrame(std::span<const ListenerSphere> listeners,
       r.traceSeconds = traceSeconds;
       r.estimatorSeconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
-    }
+    });
   }
   ++frame_;
 }

@@ -159,7 +159,7 @@ int benchPropagation(const Common& c, bool noRoulette) {
                 {"merged_energy_fraction", r0.cacheCoarseEnergyFraction}};
   j["ir_synthesis_ms"] = stats(synthMs);
   j["ir_samples"] = synth.lengthSamples();
-  // Binaural IR synthesis (issue 5 target: <= 10 ms per source per frame for a 2 s IR at
+  // Binaural IR synthesis (target: <= 10 ms per source per frame for a 2 s IR at
   // 48 kHz, 4096 rays per frame, one core): a directional frame, then the synthesis timed.
   {
     SceneDesc binaural = scene;

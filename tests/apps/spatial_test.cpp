@@ -1,4 +1,4 @@
-// Spatial output (issue 5): binaural and stereo IRs from the arrival directions of cached
+// Spatial output: binaural and stereo IRs from the arrival directions of cached
 // paths, with the direct sound at its exact direction.
 #include <fftw3.h>
 

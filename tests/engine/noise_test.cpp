@@ -1,4 +1,4 @@
-// The mission's headless noise comparison (issue 2): static source and listener in a
+// The headless noise comparison: static source and listener in a
 // shoebox, equal rays per frame; DPC against plain path tracing, both against a converged
 // plain path-tracing reference, in 10 ms bins of the band energy response.
 #include <catch2/catch.hpp>
@@ -53,7 +53,7 @@ TEST_CASE("DPC halves the noise and flicker of plain path tracing at equal rays"
     std::printf("  %-13s error %.4f  flicker %.4f  bias %.4f  energy bias %+.4f\n", name,
                 m->meanError, m->meanFlicker, m->bias, m->energyBias);
 
-  // The required ratios (issue 2): error and flicker of the default DPC at most 0.5 x PT.
+  // The required ratios: error and flicker of the default DPC at most 0.5 x PT.
   CHECK(mEma.meanError <= 0.5 * mPt.meanError);
   CHECK(mEma.meanFlicker <= 0.5 * mPt.meanFlicker);
   // Bias bound for the unbiased (EMA) estimator: what remains of the mean over F frames is

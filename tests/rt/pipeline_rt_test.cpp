@@ -1,4 +1,4 @@
-// Real-time safety of the whole live pipeline (issue 3): the audio thread's render() makes
+// Real-time safety of the whole live pipeline: the audio thread's render() makes
 // zero heap calls across thousands of blocks that include IR swaps, while the propagation
 // thread computes frames and the control thread moves the listener.
 #include <catch2/catch.hpp>

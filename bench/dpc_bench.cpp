@@ -266,19 +266,17 @@ int benchNoise(const Common& c, double walkSpeed, int referenceFrames, int warmu
   j["walk_speed_mps"] = walkSpeed;
   j["frames_measured"] = c.frames;
   j["warmup_frames"] = warmup;
+  auto rangeName = [&](size_t r) {
+    return std::to_string(orderRanges[r].first) + "-" + std::to_string(orderRanges[r].second);
+  };
   json refByRange;
-  for (size_t r = 0; r < delayRanges.size(); ++r)
-    refByRange[std::to_string(orderRanges[r].first) + "-" + std::to_string(orderRanges[r].second)] =
-        refRangeErrors[r];
+  for (size_t r = 0; r < delayRanges.size(); ++r) refByRange[rangeName(r)] = refRangeErrors[r];
   j["reference"] = {{"frames", referenceFrames},
                     {"rays", double(referenceFrames) * s.raysPerFrame},
                     {"own_relative_error", refError},
                     {"own_relative_error_by_order", refByRange}};
   j["metric"] =
       "L2 over 8 bands x 10 ms bins of the energy response, relative to the reference's L2 norm";
-  auto rangeName = [&](size_t r) {
-    return std::to_string(orderRanges[r].first) + "-" + std::to_string(orderRanges[r].second);
-  };
   std::map<std::string, double> dpcError;
   std::map<std::string, std::vector<double>> dpcRangeError;
   std::map<std::string, std::vector<double>> dpcEnergy;
@@ -305,23 +303,16 @@ int benchNoise(const Common& c, double walkSpeed, int referenceFrames, int warmu
     PropagationSettings p = s;
     p.estimator = Estimator::kPathTracing;
     const NoiseMetrics m = measureNoise(scene, p, warmup, c.frames, at, ref, 0, nullptr, {});
-    const std::vector<double>& pt = m.energyPerFrame;
-    const int window = std::max(1, int(std::lround(s.cacheTau * s.frameRate)));
-    const double a = 1.0 - std::exp(-1.0 / (s.cacheTau * s.frameRate));
-    double sumWindow = 0.0, sumEma = 0.0, sumPtWindow = 0.0, sumPtEma = 0.0, ema = 0.0;
-    double decay = 1.0;
-    for (int f = 0; f < warmup + c.frames; ++f) {
-      // The cache's EMA starts from zero and is read out divided by 1 - (1 - a)^(f + 1).
-      ema = (1.0 - a) * ema + a * pt[size_t(f)];
-      decay *= 1.0 - a;
-      if (f < warmup) continue;
-      double mean = 0.0;
-      const int n = std::min(f + 1, window);
-      for (int k = f - n + 1; k <= f; ++k) mean += pt[size_t(k)] / n;
-      sumPtWindow += mean;
-      sumPtEma += ema / (1.0 - decay);
-      sumWindow += dpcEnergy["dpc_window"][size_t(f)];
-      sumEma += dpcEnergy["dpc_ema"][size_t(f)];
+    const std::vector<double> window =
+        cacheAveraged(m.energyPerFrame, DpcWeighting::kWindow, s.cacheTau, s.frameRate);
+    const std::vector<double> ema =
+        cacheAveraged(m.energyPerFrame, DpcWeighting::kEma, s.cacheTau, s.frameRate);
+    double sumWindow = 0.0, sumEma = 0.0, sumPtWindow = 0.0, sumPtEma = 0.0;
+    for (size_t f = size_t(warmup); f < window.size(); ++f) {
+      sumPtWindow += window[f];
+      sumPtEma += ema[f];
+      sumWindow += dpcEnergy["dpc_window"][f];
+      sumEma += dpcEnergy["dpc_ema"][f];
     }
     j["energy_bias_vs_same_rays"] = {
         {"dpc_window", sumWindow / sumPtWindow - 1.0},

@@ -1,6 +1,8 @@
 #include "engine/noise_study.h"
 
+#include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "engine/simulation.h"
 
@@ -144,6 +146,29 @@ std::pair<double, double> delayRangeOfOrders(int d0, int d1, double volume, doub
                                              double c, double directDelay) {
   const double perOrder = 4.0 * volume / (c * surfaceArea);
   return {directDelay + (double(d0) - 0.5) * perOrder, directDelay + (double(d1) + 0.5) * perOrder};
+}
+
+std::vector<double> cacheAveraged(const std::vector<double>& perFrame, DpcWeighting weighting,
+                                  double tau, double frameRate) {
+  std::vector<double> out(perFrame.size(), 0.0);
+  if (weighting == DpcWeighting::kWindow) {
+    const size_t w = size_t(std::max(1L, std::lround(tau * frameRate)));
+    for (size_t f = 0; f < perFrame.size(); ++f) {
+      const size_t n = std::min(f + 1, w);
+      for (size_t k = f + 1 - n; k <= f; ++k) out[f] += perFrame[k] / double(n);
+    }
+  } else if (weighting == DpcWeighting::kEma) {
+    const double a = tau > 0.0 ? 1.0 - std::exp(-1.0 / (tau * frameRate)) : 1.0;
+    double ema = 0.0, decay = 1.0;
+    for (size_t f = 0; f < perFrame.size(); ++f) {
+      ema = (1.0 - a) * ema + a * perFrame[f];
+      decay *= 1.0 - a;
+      out[f] = ema / (1.0 - decay);
+    }
+  } else {
+    throw std::invalid_argument("cacheAveraged: the seed weighting has no unbiased average");
+  }
+  return out;
 }
 
 }  // namespace dpc

@@ -64,6 +64,16 @@ NoiseMetrics measureNoise(const SceneDesc& scene, const PropagationSettings& set
 std::pair<double, double> delayRangeOfOrders(int d0, int d1, double volume, double surfaceArea,
                                              double c, double directDelay);
 
+/// What the diffuse path cache's total energy must be at each frame, given the totals of plain
+/// path tracing on the same rays (perFrame[f], frames 0..): for the window weighting the mean
+/// of the last min(f + 1, W) frames, W = round(tau * frameRate); for the EMA the exponential
+/// average with a = 1 - exp(-1 / (tau * frameRate)) started from zero and divided by
+/// 1 - (1 - a)^(f + 1), as the cache reads it out. An unbiased estimator matches it up to
+/// float rounding. The seed weighting has no such expectation (it is biased); it throws
+/// std::invalid_argument.
+std::vector<double> cacheAveraged(const std::vector<double>& perFrame, DpcWeighting weighting,
+                                  double tau, double frameRate);
+
 /// 10 ms bins used by the study.
 inline constexpr double kNoiseBinSeconds = 0.010;
 

@@ -36,8 +36,8 @@
 
 #include <cstdint>
 #include <glm/vec3.hpp>
-#include <memory>
 #include <functional>
+#include <memory>
 #include <span>
 #include <vector>
 

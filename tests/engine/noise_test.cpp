@@ -100,24 +100,21 @@ TEST_CASE("DPC total energy is path tracing's on the same rays, averaged as the 
     window.dpcWeighting = DpcWeighting::kWindow;
     ema.dpcWeighting = DpcWeighting::kEma;
     const std::vector<double> ePt = measureNoise(scene, pt, 0, frames, at, ref).energyPerFrame;
-    const std::vector<double> eWin =
-        measureNoise(scene, window, 0, frames, at, ref).energyPerFrame;
+    const std::vector<double> eWin = measureNoise(scene, window, 0, frames, at, ref).energyPerFrame;
     const std::vector<double> eEma = measureNoise(scene, ema, 0, frames, at, ref).energyPerFrame;
-    const int w = int(std::lround(ps.cacheTau * ps.frameRate));
-    const double a = 1.0 - std::exp(-1.0 / (ps.cacheTau * ps.frameRate));
-    double avg = 0.0, decay = 1.0, worstWin = 0.0, worstEma = 0.0;
+    const std::vector<double> wantWin =
+        cacheAveraged(ePt, DpcWeighting::kWindow, ps.cacheTau, ps.frameRate);
+    const std::vector<double> wantEma =
+        cacheAveraged(ePt, DpcWeighting::kEma, ps.cacheTau, ps.frameRate);
+    double worstWin = 0.0, worstEma = 0.0;
     for (int f = 0; f < frames; ++f) {
-      double mean = 0.0;
-      const int n = std::min(f + 1, w);
-      for (int k = f - n + 1; k <= f; ++k) mean += ePt[size_t(k)] / n;
-      avg = (1.0 - a) * avg + a * ePt[size_t(f)];
-      decay *= 1.0 - a;
-      worstWin = std::max(worstWin, std::abs(eWin[size_t(f)] / mean - 1.0));
-      worstEma = std::max(worstEma, std::abs(eEma[size_t(f)] / (avg / (1.0 - decay)) - 1.0));
+      worstWin = std::max(worstWin, std::abs(eWin[size_t(f)] / wantWin[size_t(f)] - 1.0));
+      worstEma = std::max(worstEma, std::abs(eEma[size_t(f)] / wantEma[size_t(f)] - 1.0));
     }
-    std::printf("budget %.0f MB: total energy vs path tracing of the same rays, worst frame: "
-                "window %.2e, EMA %.2e\n",
-                budgetMb, worstWin, worstEma);
+    std::printf(
+        "budget %.0f MB: total energy vs path tracing of the same rays, worst frame: "
+        "window %.2e, EMA %.2e\n",
+        budgetMb, worstWin, worstEma);
     // Float sums over ~1e5 contributions: 1e-5. The EMA also drops an entry once its weight is
     // below kEmaDropFraction (1e-4 of a hit's): at most that share of the energy.
     CHECK(worstWin < 1e-5);

@@ -67,6 +67,15 @@ T* allocZeroed(size_t n) {
   return static_cast<T*>(p);
 }
 
+/// Writes one byte per 4 KiB of p[0, bytes) so the pages are committed now. The index is hashed,
+/// so a table in use touches all its pages within a few frames anyway; committing them at
+/// construction keeps those first frames free of page faults (each a read fault mapping the
+/// shared zero page, then a copy-on-write fault whose TLB flush interrupts every core).
+void commitPages(void* p, size_t bytes) {
+  volatile unsigned char* c = static_cast<unsigned char*>(p);
+  for (size_t i = 0; i < bytes; i += 4096) c[i] = 0;
+}
+
 }  // namespace
 
 void DiffusePathCache::FreeDeleter::operator()(void* p) const {
@@ -119,9 +128,11 @@ DiffusePathCache::DiffusePathCache(DpcWeighting weighting, double tauSeconds,
   raysBefore_.assign(size_t(lifetime_) + 1, 0);
   ageCount_.assign(size_t(lifetime_) + 1, 0);
   layerStamp_.assign(layers_, 0);
+  layerUsed_.assign(layers_, 0);
   if (weighting_ == DpcWeighting::kWindow) slotTerms_.assign(lifetime_, 0);
   coarse_.reset(allocZeroed<Cell>(layers_ * cap_.coarseBins));
   index_.reset(allocZeroed<IndexSlot>(cap_.indexSlots));
+  commitPages(index_.get(), cap_.indexSlots * sizeof(IndexSlot));
   indexShift_ = 64 - int(std::countr_zero(cap_.indexSlots));
   entries_.reserve(cap_.entries);
   terms_.reset(allocZeroed<WindowTerm>(cap_.windowTerms));
@@ -139,13 +150,16 @@ void DiffusePathCache::clear() {
   raysTotal_ = 0;
   std::fill(raysBefore_.begin(), raysBefore_.end(), 0);
   std::fill(layerStamp_.begin(), layerStamp_.end(), 0);
+  std::fill(layerUsed_.begin(), layerUsed_.end(), 0);
   std::fill(slotTerms_.begin(), slotTerms_.end(), 0);
   termHead_ = termCount_ = 0;
 }
 
 size_t DiffusePathCache::coarseEntryCount() const {
   size_t n = 0;
-  for (size_t i = 0; i < layers_ * cap_.coarseBins; ++i) n += coarse_[i].eta > 0.f ? 1 : 0;
+  for (size_t l = 0; l < layers_; ++l)
+    if (layerUsed_[l])
+      for (size_t b = 0; b < cap_.coarseBins; ++b) n += coarse_[l * cap_.coarseBins + b].eta > 0.f;
   return n;
 }
 
@@ -274,6 +288,7 @@ void DiffusePathCache::makeRoom(double invC) {
         layer = e.stamp % layers_;
         layerStamp_[layer] = e.stamp;
       }
+      layerUsed_[layer] = 1;
       Cell& c = cell(layer, bin);
       c.intensity += e.intensity;
       c.length += e.length;
@@ -300,6 +315,7 @@ void DiffusePathCache::makeRoom(double invC) {
           continue;
         }
         const size_t bin = coarseBin(meanDelaySeconds(e.length, e.eta, invC));
+        layerUsed_[windowSlot(f)] = 1;
         Cell& c = cell(windowSlot(f), bin);
         c.intensity += t.intensity;
         c.length += t.length;
@@ -376,7 +392,8 @@ void DiffusePathCache::windowEndFrame(const FrameGroups& frame, float n, double 
       if (e.eta <= 0.5f) removeAt(i);
     }
     termCount_ -= slotTerms_[slot];
-    std::fill(&cell(slot, 0), &cell(slot, 0) + cap_.coarseBins, Cell{});
+    if (layerUsed_[slot]) std::fill(&cell(slot, 0), &cell(slot, 0) + cap_.coarseBins, Cell{});
+    layerUsed_[slot] = 0;
   }
   slotTerms_[slot] = 0;
   for (const FrameGroups::Group& g : frame.groups()) {
@@ -404,9 +421,11 @@ void DiffusePathCache::windowEndFrame(const FrameGroups& frame, float n, double 
     if (directional) directional->add(delay, e.intensity / frames, e.direction);
     total += double((e.intensity / frames).average());
   }
-  for (size_t b = 0; b < cap_.coarseBins; ++b) {
+  const bool anyCoarse = std::find(layerUsed_.begin(), layerUsed_.end(), 1) != layerUsed_.end();
+  for (size_t b = 0; anyCoarse && b < cap_.coarseBins; ++b) {
     Cell sum{};
     for (size_t l = 0; l < layers_; ++l) {
+      if (!layerUsed_[l]) continue;
       const Cell& c = cell(l, b);
       sum.intensity += c.intensity;
       sum.length += c.length;
@@ -458,7 +477,7 @@ void DiffusePathCache::endFrame(const FrameGroups& frame, uint64_t raysEmitted, 
       total += double((e.intensity / mu(e.stamp)).average());
     }
     for (size_t l = 0; l < layers_; ++l)
-      for (size_t b = 0; b < cap_.coarseBins; ++b)
+      for (size_t b = 0; layerUsed_[l] && b < cap_.coarseBins; ++b)
         if (cell(l, b).eta > 0.f)
           readCell(cell(l, b), b, mu(layerStamp_[l]), invC, out, directional, coarse);
   } else {
@@ -469,7 +488,7 @@ void DiffusePathCache::endFrame(const FrameGroups& frame, uint64_t raysEmitted, 
       e.eta *= keep;
       e.direction *= keep;
     }
-    for (size_t b = 0; b < cap_.coarseBins; ++b) {
+    for (size_t b = 0; layerUsed_[0] && b < cap_.coarseBins; ++b) {
       Cell& c = cell(0, b);
       c.intensity *= keep;
       c.length *= keep;
@@ -494,7 +513,7 @@ void DiffusePathCache::endFrame(const FrameGroups& frame, uint64_t raysEmitted, 
       if (directional) directional->add(delay, e.intensity / norm, e.direction);
       total += double((e.intensity / norm).average());
     }
-    for (size_t b = 0; b < cap_.coarseBins; ++b)
+    for (size_t b = 0; layerUsed_[0] && b < cap_.coarseBins; ++b)
       if (cell(0, b).eta > 0.f) readCell(cell(0, b), b, norm, invC, out, directional, coarse);
   }
   total += coarse;
@@ -505,11 +524,20 @@ void DiffusePathCache::endFrame(const FrameGroups& frame, uint64_t raysEmitted, 
     if (weighting_ == DpcWeighting::kSeed) {
       // The layer created L - 1 frames ago has been read out L times.
       const uint32_t l = (frame_ + 1) % lifetime_;
-      if (frame_ + 1 >= lifetime_ && layerStamp_[l] + lifetime_ <= frame_ + 1)
+      if (frame_ + 1 >= lifetime_ && layerStamp_[l] + lifetime_ <= frame_ + 1 && layerUsed_[l]) {
         std::fill(&cell(l, 0), &cell(l, 0) + cap_.coarseBins, Cell{});
-    } else {
-      for (size_t b = 0; b < cap_.coarseBins; ++b)
-        if (cell(0, b).eta > 0.f && frame_ - cell(0, b).stamp + 1 >= lifetime_) cell(0, b) = Cell{};
+        layerUsed_[l] = 0;
+      }
+    } else if (layerUsed_[0]) {
+      size_t live = 0;
+      for (size_t b = 0; b < cap_.coarseBins; ++b) {
+        if (!(cell(0, b).eta > 0.f)) continue;
+        if (frame_ - cell(0, b).stamp + 1 >= lifetime_)
+          cell(0, b) = Cell{};
+        else
+          ++live;
+      }
+      layerUsed_[0] = live > 0;
     }
   }
   ++frame_;

@@ -241,6 +241,10 @@ class DiffusePathCache {
   std::vector<uint64_t> raysBefore_;  ///< ring: rays emitted before frame f, f % size
   std::vector<uint32_t> ageCount_;    ///< scratch for makeRoom: entries per age in frames
   std::vector<uint32_t> layerStamp_;  ///< seed: creation frame of each coarse layer
+  /// Per coarse layer: may hold a cell with eta > 0 (set on every merge into it, cleared when
+  /// the layer is emptied). Readouts and counts skip the others: without merges (a budget
+  /// large enough for the scene) the coarse store costs nothing per frame.
+  std::vector<uint8_t> layerUsed_;
   size_t coarseSub_ = 1;              ///< S: coarse bins per octave (see coarseBinsPerOctave)
   Buffer<Cell> coarse_;               ///< layers_ x coarseBins cells
   Buffer<IndexSlot> index_;           ///< open addressing, linear probing

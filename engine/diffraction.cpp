@@ -158,6 +158,10 @@ Complex utdCoefficient(double n, double k, double phi, double phiSource, double 
   return {d.real(), d.imag()};
 }
 
+double diffractionFrequencyHz(int band, int i) {
+  return bandCentreExactHz(band) * std::exp2((i + 0.5) / kDiffractionFrequenciesPerBand - 0.5);
+}
+
 EdgeDiffraction::EdgeDiffraction(const Mesh& mesh) {
   // Undirected edge -> the triangles using it (first two) and the count.
   struct Use {
@@ -332,8 +336,8 @@ size_t EdgeDiffraction::apply(const Geometry& geometry, const glm::vec3& source,
     }
   }
   if (used == 0) return 0;
-  // Band energy of the coherent sum, averaged over kFrequencies log-spaced per octave.
-  constexpr int kFrequencies = 16;
+  // Band energy of the coherent sum, averaged over the band's frequencies.
+  constexpr int kFrequencies = kDiffractionFrequenciesPerBand;
   Bands intensity(0.f);
   std::vector<double> amplitude(used);
   for (int b = 0; b < kNumBands; ++b) {
@@ -345,8 +349,7 @@ size_t EdgeDiffraction::apply(const Geometry& geometry, const glm::vec3& source,
         direct.visible ? std::sqrt(4.0 * kPi * double(direct.intensity[b])) : 0.0;
     double acc = 0.0;
     for (int i = 0; i < kFrequencies; ++i) {
-      const double f = bandCentreExactHz(b) * std::exp2((i + 0.5) / kFrequencies - 0.5);
-      const double k = 2.0 * kPi * f / speedOfSound;
+      const double k = 2.0 * kPi * diffractionFrequencyHz(b, i) / speedOfSound;
       C p = directAmplitude * std::polar(1.0, -k * double(direct.distance));
       C diffracted(0.0, 0.0);
       for (size_t j = 0; j < used; ++j) {

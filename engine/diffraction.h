@@ -63,6 +63,12 @@ struct Complex {
 };
 Complex utdCoefficient(double n, double k, double phi, double phiSource, double sinBeta0, double L);
 
+/// The band energy of the direct-plus-diffracted field is |p|^2 averaged over these
+/// frequencies: kDiffractionFrequenciesPerBand log-spaced across octave band `band`
+/// (i = 0 .. 15, the centres of equal log-frequency slices of the octave), Hz.
+inline constexpr int kDiffractionFrequenciesPerBand = 16;
+double diffractionFrequencyHz(int band, int i);
+
 class EdgeDiffraction {
  public:
   /// Finds the diffracting edges of the mesh.

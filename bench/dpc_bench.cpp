@@ -7,6 +7,7 @@
 //   dpc-bench dynamic [--rays N] [--frames F] [--parts step,objects,moving_source]
 //                     (built-in scenes; no file)
 //   dpc-bench listeners SCENE [--rays N] [--frames F] [--threads T] [--counts 1,2,4,8]
+//   dpc-bench diffraction SCENE [--frames F]
 //   dpc-bench live SCENE [--rays N] [--duration S] [--block-size B] [--frame-rate F]
 //                        [--threads T] [--device SPEC]
 #include <CLI/CLI.hpp>
@@ -27,6 +28,7 @@
 #include "bench/bare_embree.h"
 #include "bench/bench_util.h"
 #include "bench/convolve_bench.h"
+#include "engine/diffraction.h"
 #include "engine/input_error.h"
 #include "engine/ir_synthesis.h"
 #include "engine/noise_study.h"
@@ -817,6 +819,52 @@ int benchBudget(const Common& c, const std::vector<int>& raysList) {
   std::printf("%s\n", j.dump(2).c_str());
   return 0;
 }
+/// Edge diffraction cost (docs/validation.md): load-time edge finding, then per source-listener
+/// pair and frame the direct sound plus EdgeDiffraction::apply (one thread), at F listener
+/// positions spread over the first listener's trajectory (its last keyframe's time, or 20 s).
+int benchDiffraction(const Common& c) {
+  using Clock = std::chrono::steady_clock;
+  const SceneDesc scene = loadScene(c.scene);
+  const PropagationSettings s = settingsFor(scene, c);
+  const auto t0 = Clock::now();
+  const Geometry geometry(scene.mesh, scene.materials, s.patchSize, scene.objects);
+  const auto t1 = Clock::now();
+  const EdgeDiffraction diffraction(scene.mesh);
+  const auto t2 = Clock::now();
+  const Propagator propagator(geometry, s);
+  const ListenerDesc& listener = scene.listeners.front();
+  const double span = listener.trajectory.empty() ? 20.0 : listener.trajectory.back().timeSeconds;
+  const int frames = std::max(1, c.frames);
+  std::vector<double> micros;
+  double paths = 0.0;
+  for (int f = 0; f < frames; ++f) {
+    const double t = span * (f + 0.5) / frames;
+    const ListenerSphere sphere{listenerPositionAt(listener, t), listener.radius};
+    for (const SourceDesc& source : scene.sources) {
+      const glm::vec3 at = sourcePositionAt(source, t);
+      const auto a = Clock::now();
+      DirectSound d = propagator.directSound(at, sphere);
+      paths += double(diffraction.apply(geometry, at, sphere, s.speedOfSound,
+                                        propagator.airAttenuationPerMetre(), d));
+      micros.push_back(std::chrono::duration<double, std::micro>(Clock::now() - a).count());
+    }
+  }
+  json j;
+  j["benchmark"] = "diffraction";
+  j["scene"] = c.scene;
+  j["triangles"] = scene.mesh.triangles.size();
+  j["candidate_edges"] = diffraction.edges().size();
+  j["geometry_build_ms"] = std::chrono::duration<double, std::milli>(t1 - t0).count();
+  j["edge_finding_ms"] = std::chrono::duration<double, std::milli>(t2 - t1).count();
+  j["pairs_timed"] = micros.size();
+  j["edge_paths_per_pair_mean"] = paths / double(micros.size());
+  j["direct_plus_diffraction_us_per_pair"] = stats(micros);
+  std::fprintf(stderr, "%zu edges; %.1f edge paths and %.0f us per pair (median)\n",
+               diffraction.edges().size(), paths / double(micros.size()),
+               percentile(micros, 0.5));
+  std::printf("%s\n", j.dump(2).c_str());
+  return 0;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -867,6 +915,9 @@ int main(int argc, char** argv) {
   lis->add_option("--counts", listenerCounts, "Listener counts (first = the reference)")
       ->delimiter(',')
       ->check(CLI::PositiveNumber);
+  CLI::App* diff = app.add_subcommand(
+      "diffraction", "Edge diffraction: edges found at load time, cost per source-listener pair");
+  addCommon(diff);
   CLI::App* budget = app.add_subcommand(
       "budget", "Cache entries, bytes and budget bias vs rays per frame (scene or room-4x3x2.5)");
   std::vector<int> budgetRays = {1000, 10000, 100000};
@@ -895,7 +946,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
-  for (CLI::App* sub : {prop, noise, live, lis, budget}) {
+  for (CLI::App* sub : {prop, noise, live, lis, budget, diff}) {
     c.haveTau = c.haveTau || sub->count("--tau") > 0;
     c.haveCacheMb = c.haveCacheMb || sub->count("--cache-memory-mb") > 0;
     c.haveMaxOrder = c.haveMaxOrder || sub->count("--max-order") > 0;
@@ -907,6 +958,7 @@ int main(int argc, char** argv) {
     if (*lis) return benchListeners(c, listenerCounts, listenerWarmup);
     if (*conv) return bench::benchConvolve(convOptions);
     if (*budget) return benchBudget(c, budgetRays);
+    if (*diff) return benchDiffraction(c);
     if (*live) return benchLive(c, liveDuration, liveBlock, liveFrameRate, liveDevice);
     if (warmup < 0) {
       const SceneDesc scene = loadScene(c.scene);

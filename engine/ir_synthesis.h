@@ -207,8 +207,9 @@ class IrSynthesizer {
   /// other bands' leakage through its skirts are measured, not estimated. Rewrites the
   /// envelope's gains and ir.
   void refineOnAnalysisFilters(const EnergyResponse& energy, const DirectSound& direct, float* ir);
-  /// filtered_[n * kNumBands + b] = ir through band b's analysis filter, samples [0, end).
-  void filterAllBands(const float* ir, size_t end);
+  /// filtered_[n * kNumBands / 2 + b / 2] = ir through band b's analysis filter, samples
+  /// [0, end), for the bands b of the given parity (0: even, 1: odd).
+  void filterBands(const float* ir, size_t end, int parity);
   /// Relative remaining target energy below which a band's later bins are not refined.
   static constexpr double kNegligible = 1e-6;
   size_t refineEnd_ = 0;
@@ -234,7 +235,7 @@ class IrSynthesizer {
   /// from each unit state: zeroInput_[b][i * w + m], and the state after w steps: transition_.
   std::array<std::vector<double>, kNumBands> zeroInput_;
   std::array<std::array<OctaveBandPass::State, 6>, kNumBands> transition_{};
-  std::vector<float> filtered_;         ///< scratch: the IR through every band's filter, band-major
+  std::vector<float> filtered_;  ///< scratch: the IR through one parity's band filters, band-major
   std::vector<double> cumulativeWant_;  ///< scratch: target energy per bin
   std::unique_ptr<BandEnvelope> envelope_;
   std::array<std::vector<float>, kNumBands> bandSequence_;  ///< s_b, length_ samples

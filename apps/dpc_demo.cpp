@@ -39,7 +39,7 @@ struct Flags {
       hrtf, listener;
   int64_t blockSize = 0;
   bool listDevices = false, interactive = false, hasBlockSize = false;
-  double duration = 0.0, tau = 0.0, gainDb = 0.0, cacheMb = 64.0;
+  double duration = 0.0, tau = 0.0, gainDb = 0.0, cacheMb = 64.0, latencyTargetMs = 50.0;
   int64_t seed = 0, rays = 0, maxOrder = 0, threads = 0;
   bool quiet = false;
   // Which options the user gave (so that any value, even a sentinel-looking one, is checked).
@@ -494,6 +494,7 @@ int runLive(Flags& fl) {
 
   LiveSession::Options lo;
   lo.deviceChannels = 2;
+  lo.latencyTargetSeconds = fl.latencyTargetMs * 1e-3;
   const double duration = fl.hasDuration ? fl.duration : 1e9;
   if (!fl.record.empty()) lo.recordSeconds = std::min(duration, 3600.0);
   LiveSession session(scene, settings, dry, lo);
@@ -706,6 +707,9 @@ int main(int argc, char** argv) {
                  "percentiles, IRs applied and the callback's scheduling to this JSON file at "
                  "the end (docs/live.md)")
       ->type_name("FILE.json");
+  app.add_option("--latency-target-ms", fl.latencyTargetMs,
+                 "Live: motion-to-sound latency to stay under; frames take fewer rays when "
+                 "needed (default 50; the frame period applies when it is shorter)");
   app.add_flag("--interactive", fl.interactive,
                "Live: arrows/WASD move, Q/E turn, space pauses, q quits");
   app.add_option("--listener", fl.listener,
@@ -779,6 +783,12 @@ int main(int argc, char** argv) {
     }
     if (!fl.offline.empty() && !fl.stats.empty())
       throw InputError("command line", "--stats", "is for live runs (offline prints its summary)");
+    if (app.count("--latency-target-ms") > 0) {
+      if (!fl.offline.empty())
+        throw InputError("command line", "--latency-target-ms", "is for live runs");
+      if (!(fl.latencyTargetMs >= 1.0 && fl.latencyTargetMs <= 10000.0))
+        throw InputError("command line", "--latency-target-ms", "must be in [1, 10000] ms");
+    }
     if (fl.offline.empty() && !fl.erOut.empty())
       throw InputError("command line", "--er-out", "needs --offline (offline renders only)");
     if (fl.offline.empty()) return runLive(fl);

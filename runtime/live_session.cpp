@@ -27,7 +27,8 @@ LiveSession::LiveSession(const SceneDesc& scene, const PropagationSettings& sett
       sampleRate_(scene.audio.sampleRate),
       toAudio_(size_t(std::max(3, options.poolSize)) + 1),
       fromAudio_(size_t(std::max(3, options.poolSize)) + 1),
-      adaptiveRays_(settings.raysPerFrame, 1.0 / settings.frameRate) {
+      adaptiveRays_(settings.raysPerFrame, 1.0 / settings.frameRate,
+                    options.latencyTargetSeconds) {
   propagation_ = std::make_unique<PropagationStage>(scene, settings, std::max(3, options.poolSize));
   // Every listener is traced each frame; each starts where its trajectory is at t = 0.
   listenerCount_ = std::max<size_t>(1, scene.listeners.size());
@@ -179,6 +180,8 @@ void LiveSession::runFrame(int raysPerSource) {
   if (set) {
     set->poseNs = pose.publishedNs;
     set->readyNs = nowNs();
+    lastPoseNs_ = set->poseNs;
+    lastReadyNs_ = set->readyNs;
     if (!toAudio_.try_enqueue(set)) {
       propagation_->recycle(set);
       irsDropped_.fetch_add(1, std::memory_order_relaxed);
@@ -237,10 +240,17 @@ void LiveSession::propagationLoop() {
     next += period;
     const auto start = std::chrono::steady_clock::now();
     runFrame(options_.adaptiveRays ? adaptiveRays_.rays() : settings_.raysPerFrame);
-    // The whole frame, snapshot included: what must fit in the period.
-    if (options_.adaptiveRays)
+    // The whole frame, snapshot included: what must fit in the period; and its pose's age when
+    // the IR was ready plus one block (the audio thread picks it up at its next block): the
+    // motion-to-sound latency it will have.
+    if (options_.adaptiveRays) {
+      const double latency = lastPoseNs_ > 0 ? double(lastReadyNs_ - lastPoseNs_) * 1e-9 +
+                                                   double(blockSize_) / sampleRate_
+                                             : std::nan("");
       adaptiveRays_.update(
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+          latency);
+    }
     // At most frame_rate frames per second; run late frames back to back.
     std::unique_lock<std::mutex> lock(wakeMutex_);
     if (std::chrono::steady_clock::now() < next)

@@ -46,6 +46,10 @@ class LiveSession {
     /// takes longer than 1 / frame_rate, back up to the settings' rays when there is room.
     /// false: every frame traces the settings' rays, however long it takes.
     bool adaptiveRays = true;
+    /// Motion-to-sound latency the adaptive rays aim under, seconds (pose published -> IR
+    /// ready, plus one block for the audio thread to pick it up). Infinite: the frame period
+    /// alone bounds the rays.
+    double latencyTargetSeconds = 0.05;
   };
 
   /// Control thread. Builds the stages (Embree scene, IR synthesisers, convolvers, queues).
@@ -261,6 +265,8 @@ class LiveSession {
   std::atomic<uint64_t> cacheMergedEntries_{0};
   std::atomic<double> cacheMergedEnergyFraction_{0.0};
   AdaptiveRays adaptiveRays_;  ///< propagation thread (or stepAdaptive() while stopped)
+  /// The last IR set's pose publication and readiness, steady_clock ns (propagation thread).
+  int64_t lastPoseNs_ = 0, lastReadyNs_ = 0;
   std::atomic<int> raysPerFrame_{0}, raysPerFrameMin_{0};
   std::atomic<uint64_t> reducedFrames_{0};
   mutable uint64_t lastRays_ = 0;

@@ -9,6 +9,7 @@
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <thread>
 #include <vector>
 
@@ -55,6 +56,25 @@ TEST_CASE("AdaptiveRays: down in proportion when late, back up with headroom, wi
   CHECK(AdaptiveRays(100, period).floor() == 100);  // fewer than 256 rays: never reduced
   AdaptiveRays few(100, period);
   CHECK(few.update(10.0 * period) == 100);
+}
+
+TEST_CASE("AdaptiveRays: a motion-to-sound latency target bounds the frames too",
+          "[adaptive]") {
+  const double period = 1.0 / 15.0;  // 66.7 ms
+  AdaptiveRays c(4096, period, 0.050);
+  // A 30 ms frame fits the period, but its IR was ready 75 ms after its pose: load 1.5,
+  // scaled by 0.8 / 1.5.
+  CHECK(c.update(0.030, 0.075) == 2185);  // 2184.5, rounded
+  // Latency 45 ms: between 0.8 x target (40 ms) and the target: held.
+  CHECK(c.update(0.030, 0.045) == 2185);
+  // Latency 20 ms and a short frame: room again, x1.25 at most.
+  CHECK(c.update(0.010, 0.020) == 2731);  // 2731.25, rounded
+  // A late frame still counts when the latency is fine (load = 2 x period / period).
+  CHECK(c.update(2.0 * period, 0.010) == 1092);  // 2731 x 0.4 = 1092.4
+  // Unknown latency (NaN, or no target): the period alone.
+  AdaptiveRays none(4096, period);
+  CHECK(none.update(0.030, 0.075) == 4096);
+  CHECK(c.update(0.030, std::nan("")) == 1365);  // load 0.45: x1.25
 }
 
 namespace {
@@ -154,8 +174,10 @@ TEST_CASE("LiveSession: an unmeetable frame budget lowers the rays, the response
   CHECK(full.status().reducedFrames == 0);
 
   // Same seed, every frame reported as taking twice the period: 4096 -> 1638 -> 655 -> 262 ->
-  // the floor of 256, held there.
-  LiveSession slow(scene, ps, dry, LiveSession::Options{});
+  // the floor of 256, held there (no latency target: the period is the budget).
+  LiveSession::Options periodOnly;
+  periodOnly.latencyTargetSeconds = std::numeric_limits<double>::infinity();
+  LiveSession slow(scene, ps, dry, periodOnly);
   std::vector<int> used;
   std::array<double, kNumBands> reduced{};
   for (int f = 0; f < kFrames; ++f) {

@@ -4,7 +4,7 @@
 //   - a frame fits in the frame period (1 / frame_rate) instead of falling behind, and
 //   - the motion-to-sound latency (pose published -> IR ready, plus the audio thread's pick-up
 //     of at most one block, which the caller adds) stays under a target.
-// With load = max(elapsed / period, latency / target):
+// With load = max(elapsed / period, latency / (kLatencyMargin * target)):
 //
 //   load > 1          rays *= kTarget / load                    (down, proportionally)
 //   load < kTarget    rays *= min(kGrowth, kTarget / load)      (back up)
@@ -36,6 +36,11 @@ class AdaptiveRays {
   /// Largest growth per frame (x1.25: back from 1/16 to full rays in 13 frames, under a
   /// second at 15 frames/s, without overshooting into a late frame at once).
   static constexpr double kGrowth = 1.25;
+  /// The latency target bounds nearly every frame, not the typical one: the controller keeps
+  /// the latency it sees under this fraction of the target, because the next frame's latency
+  /// differs from the last one's by the frame-to-frame variation (and the pose's age) that it
+  /// cannot foresee.
+  static constexpr double kLatencyMargin = 0.9;
   /// The floor: at least 1/16 of the scene's rays, and 256 rays (or all of them if fewer).
   static constexpr int kFloorDivisor = 16;
   static constexpr int kFloorRays = 256;
@@ -65,7 +70,7 @@ class AdaptiveRays {
     if (!(elapsedSeconds > 0.0) || !std::isfinite(elapsedSeconds) || !(period_ > 0.0)) return rays_;
     double load = elapsedSeconds / period_;
     if (latencySeconds > 0.0 && std::isfinite(latencySeconds) && std::isfinite(latencyTarget_))
-      load = std::max(load, latencySeconds / latencyTarget_);
+      load = std::max(load, latencySeconds / (kLatencyMargin * latencyTarget_));
     const double fit = kTarget / load;  // scale that would hit the target
     double next = rays_;
     if (load > 1.0)

@@ -62,19 +62,19 @@ TEST_CASE("AdaptiveRays: a motion-to-sound latency target bounds the frames too"
           "[adaptive]") {
   const double period = 1.0 / 15.0;  // 66.7 ms
   AdaptiveRays c(4096, period, 0.050);
-  // A 30 ms frame fits the period, but its IR was ready 75 ms after its pose: load 1.5,
-  // scaled by 0.8 / 1.5.
-  CHECK(c.update(0.030, 0.075) == 2185);  // 2184.5, rounded
-  // Latency 45 ms: between 0.8 x target (40 ms) and the target: held.
-  CHECK(c.update(0.030, 0.045) == 2185);
-  // Latency 20 ms and a short frame: room again, x1.25 at most.
-  CHECK(c.update(0.010, 0.020) == 2731);  // 2731.25, rounded
+  // The latency is held under 0.9 x 50 = 45 ms. A 30 ms frame fits the period, but its IR was
+  // ready 72 ms after its pose: load 72 / 45 = 1.6, scaled by 0.8 / 1.6.
+  CHECK(c.update(0.030, 0.072) == 2048);
+  // Latency 40 ms: load 0.89, between kTarget and 1: held.
+  CHECK(c.update(0.030, 0.040) == 2048);
+  // Latency 18 ms and a short frame: load 0.4, room again, x1.25 at most.
+  CHECK(c.update(0.010, 0.018) == 2560);
   // A late frame still counts when the latency is fine (load = 2 x period / period).
-  CHECK(c.update(2.0 * period, 0.010) == 1092);  // 2731 x 0.4 = 1092.4
-  // Unknown latency (NaN, or no target): the period alone.
+  CHECK(c.update(2.0 * period, 0.010) == 1024);  // 2560 x 0.4
+  // Unknown latency (NaN), or no target: the period alone.
   AdaptiveRays none(4096, period);
   CHECK(none.update(0.030, 0.075) == 4096);
-  CHECK(c.update(0.030, std::nan("")) == 1365);  // load 0.45: x1.25
+  CHECK(c.update(0.030, std::nan("")) == 1280);  // load 0.45: x1.25
 }
 
 namespace {

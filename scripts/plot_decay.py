@@ -5,10 +5,12 @@ Usage: scripts/plot_decay.py ER.csv IR.wav [--source N] [-o decay.png]
 
 ER.csv comes from `dpc-demo ... --er-out ER.csv`, IR.wav from `--ir-out IR.wav` of the same run
 (mono output: channel N+1 is source N). The energy response's EDC is drawn from its 1 ms bins
-with the direct sound added to its bin; the IR is split into octave bands with the same
-power-complementary raised-cosine masks the synthesiser uses (engine/ir_synthesis.h,
-OctaveBandMasks: 1/3-octave crossovers at fc * 2^(1/2)), squared and backward-integrated.
-Both curves start at the IR's onset (first sample within 20 dB of the peak).
+with the direct sound added to its bin; the IR is split into octave bands by the ISO 3382-1
+analysis filters that dpc-analyze uses and the synthesiser matches its band energies on
+(engine/octave_filter.h: IEC 61260-1 6th-order Butterworth band-pass, bilinear with both edges
+fc * 2^(+-1/2) prewarped; here scipy.signal.butter(3, edges, 'bandpass', fs), the same
+design), causal, squared and backward-integrated. Both curves start at the IR's onset (first
+sample within 20 dB of the peak). Bands whose upper edge reaches Nyquist are left empty.
 """
 import argparse
 import csv
@@ -28,21 +30,13 @@ CENTRES = [1000.0 * 2.0 ** (b - 4) for b in range(8)]
 LABELS = ["63", "125", "250", "500", "1k", "2k", "4k", "8k"]
 
 
-def band_masks(n, fs):
-    f = np.arange(n // 2 + 1) * fs / n
-    half = 1.0 / 6.0
-    gains, prev = [], np.ones_like(f)
-    for b in range(8):
-        if b < 7:
-            with np.errstate(divide="ignore"):
-                x = np.where(f > 0, np.log2(np.maximum(f, 1e-30) / (CENTRES[b] * np.sqrt(2))), -1e9)
-            s = np.sin(0.25 * np.pi * (1 + np.clip(x / half, -1, 1)))
-            upper = np.where(x >= half, 1.0, np.where(x > -half, s * s, 0.0))
-        else:
-            upper = np.zeros_like(f)
-        gains.append(np.sqrt(np.maximum(prev - upper, 0)))
-        prev = upper
-    return gains
+def octave_band(x, fs, b):
+    """x through the ISO 3382-1 octave filter of band b (None above Nyquist)."""
+    from scipy.signal import butter, sosfilt
+    lo, hi = CENTRES[b] / np.sqrt(2), CENTRES[b] * np.sqrt(2)
+    if hi >= fs / 2:
+        return None
+    return sosfilt(butter(3, [lo, hi], btype="bandpass", fs=fs, output="sos"), x)
 
 
 def read_er(path, source):
@@ -78,16 +72,14 @@ def main():
     x, fs = read_wav(a.ir)
     ir = x[a.source]
     onset = int(np.argmax(ir ** 2 >= 0.01 * np.max(ir ** 2)))
-    n = 1 << int(np.ceil(np.log2(2 * len(ir))))
-    spec = np.fft.rfft(ir, n)
-    masks = band_masks(n, fs)
     fig, axes = plt.subplots(2, 4, figsize=(14, 6), sharex=True, sharey=True,
                              constrained_layout=True)
     k0 = int(onset / fs / 1e-3)
     for b, ax in enumerate(axes.flat):
-        band = np.fft.irfft(spec * masks[b], n)[: len(ir)]
+        band = octave_band(ir, fs, b)
         t_ir = np.arange(len(ir) - onset) / fs
-        ax.plot(t_ir, edc_db(band[onset:] ** 2), label="synthesised IR", lw=1.5)
+        if band is not None:
+            ax.plot(t_ir, edc_db(band[onset:] ** 2), label="synthesised IR", lw=1.5)
         t_er = np.arange(len(er) - k0) * 1e-3
         ax.plot(t_er, edc_db(er[k0:, b]), "--", label="energy response", lw=1.5)
         ax.set(title=f"{LABELS[b]} Hz", ylim=(-60, 2), xlim=(0, t_er[-1]))

@@ -26,7 +26,8 @@ TEST_CASE("A source moving in a free field: delay r/c and energy 1/(4 pi r^2) ev
   s.path = "<free field>";
   s.materials.push_back(Material{"absorber", Bands(1.f), 0.f});
   test::addPanel(s.mesh, {-100, -50, -100}, {200, 0, 0}, {0, 0, 200}, 0);
-  SourceDesc src{"walker", {0, 0, 0}, "", 0.f};
+  SourceDesc src;
+  src.name = "walker";
   Keyframe a, b;
   a.timeSeconds = 0.0, a.position = {1, 0, 0};
   b.timeSeconds = 4.0, b.position = {7, 0, 0};  // 1.5 m/s

@@ -28,7 +28,10 @@ inline SceneDesc makeShoebox(glm::vec3 size, Bands absorption, float scattering,
     s.mesh.triangles.push_back({uint32_t(q[0]), uint32_t(q[2]), uint32_t(q[3])});
   }
   s.mesh.materialIndex.assign(s.mesh.triangles.size(), 0);
-  s.sources.push_back(SourceDesc{"source", source, "", 0.f});
+  SourceDesc src;
+  src.name = "source";
+  src.position = source;
+  s.sources.push_back(src);
   s.listener.position = listener;
   s.listener.radius = radius;
   return s;

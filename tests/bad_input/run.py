@@ -121,6 +121,9 @@ CASES = {
     "stats_is_scene": (nothing, ["shoebox.json", "--stats", "shoebox.json", "--duration", "1"], "--stats"),
     "stats_missing_folder": (nothing, ["shoebox.json", "--stats", "missing/s.json", "--duration", "1"], "--stats"),
     "stats_with_offline": (nothing, ["shoebox.json", "--offline", "out.wav", "--stats", "s.json"], "--stats"),
+    "latency_target_zero": (nothing, ["shoebox.json", "--latency-target-ms", "0", "--duration", "1"], "--latency-target-ms"),
+    "latency_target_nan": (nothing, ["shoebox.json", "--latency-target-ms", "nan", "--duration", "1"], "--latency-target-ms"),
+    "latency_target_with_offline": (nothing, ["shoebox.json", "--offline", "out.wav", "--latency-target-ms", "40"], "--latency-target-ms"),
     "offline_is_hrtf": (lambda d: shutil.copy("/usr/share/libmysofa/default.sofa", os.path.join(d, "h.sofa")) if os.path.exists("/usr/share/libmysofa/default.sofa") else open(os.path.join(d, "h.sofa"), "w").write("x"),
                         ["shoebox.json", "--offline", "h.sofa", "--hrtf", "h.sofa"], "--"),
     # Finding 4 and 5: non-regular or huge inputs.

@@ -821,7 +821,7 @@ int benchBudget(const Common& c, const std::vector<int>& raysList) {
 }
 /// Edge diffraction cost (docs/validation.md): load-time edge finding, then per source-listener
 /// pair and frame the direct sound plus EdgeDiffraction::apply (one thread), at F listener
-/// positions spread over the first listener's trajectory (its last keyframe's time, or 20 s).
+/// positions spread over the scene's listener's trajectory (its last keyframe's time, or 20 s).
 int benchDiffraction(const Common& c) {
   using Clock = std::chrono::steady_clock;
   const SceneDesc scene = loadScene(c.scene);
@@ -832,7 +832,7 @@ int benchDiffraction(const Common& c) {
   const EdgeDiffraction diffraction(scene.mesh);
   const auto t2 = Clock::now();
   const Propagator propagator(geometry, s);
-  const ListenerDesc& listener = scene.listeners.front();
+  const ListenerDesc& listener = scene.listener;
   const double span = listener.trajectory.empty() ? 20.0 : listener.trajectory.back().timeSeconds;
   const int frames = std::max(1, c.frames);
   std::vector<double> micros;

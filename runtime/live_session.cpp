@@ -139,6 +139,7 @@ void LiveSession::runFrame(int raysPerSource) {
     propagation_->setRaysPerFrame(raysPerSource);
   IrSet* back = nullptr;
   while (fromAudio_.try_dequeue(back)) propagation_->recycle(back);
+  lastPoseNs_ = lastReadyNs_ = 0;  // set below only if this frame yields an IR set
   const auto t0 = std::chrono::steady_clock::now();
   // Every listener's pose; sources and objects at the played listener's scene time.
   const size_t played = played_.load(std::memory_order_relaxed);

@@ -120,7 +120,7 @@ dpc::SceneDesc sceneFromData(const dpc_scene_data& d) {
       mat.absorption[b] = m.absorption[b];
     }
     checkRange(m.scattering, 0.0, 1.0, f + ".scattering", "");
-    mat.scattering = m.scattering;
+    mat.scattering = dpc::Bands(m.scattering);
     scene.materials.push_back(mat);
   }
   const dpc_mesh& mesh = d.mesh;

@@ -88,6 +88,7 @@ Geometry::Geometry(const Mesh& mesh, const std::vector<Material>& materials, flo
   for (const Material& m : materials) {
     reflectance_.push_back(Bands(1.f) - m.absorption);
     scattering_.push_back(m.scattering);
+    if (m.scattering.min() != m.scattering.max()) scatteringVariesWithBand_ = true;
   }
   boundsMin_ = glm::vec3(std::numeric_limits<float>::max());
   boundsMax_ = glm::vec3(-std::numeric_limits<float>::max());

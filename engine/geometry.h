@@ -109,7 +109,11 @@ class Geometry {
   const TrianglePatching& patching(uint32_t tri) const { return patching_[tri]; }
   /// Energy reflection factor (1 - absorption) per band of triangle tri's material.
   const Bands& reflectance(uint32_t tri) const { return reflectance_[materialOf_[tri]]; }
-  float scattering(uint32_t tri) const { return scattering_[materialOf_[tri]]; }
+  /// Scattering coefficient per octave band of triangle tri's material (ISO 17497-1).
+  const Bands& scattering(uint32_t tri) const { return scattering_[materialOf_[tri]]; }
+  /// True if some material's scattering coefficient differs between octave bands; the
+  /// tracer then gives each ray one band (Propagator, docs/design.md).
+  bool scatteringVariesWithBand() const { return scatteringVariesWithBand_; }
   uint32_t materialOf(uint32_t tri) const { return materialOf_[tri]; }
 
   /// Axis-aligned bounds of the mesh, metres.
@@ -143,7 +147,8 @@ class Geometry {
   std::vector<TrianglePatching> patching_;
   std::vector<uint32_t> materialOf_;
   std::vector<Bands> reflectance_;
-  std::vector<float> scattering_;
+  std::vector<Bands> scattering_;
+  bool scatteringVariesWithBand_ = false;
   glm::vec3 boundsMin_{0.f}, boundsMax_{0.f};
   double surfaceArea_ = 0.0;
 };

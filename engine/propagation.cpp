@@ -87,7 +87,17 @@ void Propagator::startRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t ray
   ray.rng = Rng(frameSeed, rayIndex);
   ray.org = source;
   ray.dir = uniformSphere(ray.rng);
-  ray.energy = Bands(1.f);
+  if (geometry_.scatteringVariesWithBand()) {
+    // One band per ray, in turn (ray index mod 8: every band gets N/8 rays a frame), carrying
+    // kNumBands times its share so each band's energy stays unbiased; its reflections use that
+    // band's scattering coefficient.
+    ray.band = int(rayIndex % uint32_t(kNumBands));
+    ray.energy = Bands(0.f);
+    ray.energy[ray.band] = float(kNumBands);
+  } else {
+    ray.band = 0;  // every band scatters alike: one ray carries them all
+    ray.energy = Bands(1.f);
+  }
   ray.travelled = 0.f;
   ray.path = PathKey::start(sourceIndex);
   ray.order = 0;
@@ -133,7 +143,7 @@ bool Propagator::advance(RayState& ray, bool surface, const SurfaceHit& hit,
   }
   // Normal facing the side the ray came from.
   const glm::vec3 n = glm::dot(hit.normal, ray.dir) < 0.f ? hit.normal : -hit.normal;
-  if (ray.rng.uniform() < geometry_.scattering(hit.triangle))
+  if (ray.rng.uniform() < geometry_.scattering(hit.triangle)[ray.band])
     ray.dir = cosineHemisphere(n, ray.rng);
   else
     ray.dir = glm::normalize(ray.dir - 2.f * glm::dot(ray.dir, n) * n);

@@ -145,6 +145,7 @@ class Propagator {
     float travelled = 0.f;
     PathKey path;
     int order = 0;
+    int band = 0;  ///< band whose scattering coefficient steers reflections
   };
   struct Chunk {
     std::vector<PathHit> hits;

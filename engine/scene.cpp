@@ -251,28 +251,35 @@ json parseJson(const std::string& file) {
 // ---------------------------------------------------------------------------------------------
 // Materials
 
+/// A per-band coefficient: a number in [0, 1] for every octave band, or an array of exactly
+/// kNumBands numbers in [0, 1] (63 Hz .. 8 kHz). Errors name `field` (and the element).
+Bands readBandsInUnitRange(const JsonReader& r, const json& a, const std::string& field) {
+  Bands out;
+  if (a.is_array()) {
+    if (a.size() != size_t(kNumBands))
+      r.fail(field, "expected " + std::to_string(kNumBands) +
+                        " values (octave bands 63 Hz .. 8 kHz), got " + std::to_string(a.size()));
+    for (int b = 0; b < kNumBands; ++b)
+      out[b] = r.inRange(a[size_t(b)], index(field, size_t(b)), 0.0, 1.0);
+  } else if (a.is_number()) {
+    out = Bands(r.inRange(a, field, 0.0, 1.0));
+  } else {
+    r.fail(field, "expected a number or an array of " + std::to_string(kNumBands) +
+                      " numbers in [0, 1], got " + JsonReader::describe(a));
+  }
+  return out;
+}
+
 Material readMaterial(const JsonReader& r, const json& v, const std::string& name,
                       const std::string& field) {
   r.expectObject(v, field);
   r.checkKeys(v, field, {"absorption", "scattering", "source"});
   Material m;
   m.name = name;
-  const json& a = r.require(v, field, "absorption");
-  const std::string af = join(field, "absorption");
-  if (a.is_array()) {
-    if (a.size() != size_t(kNumBands))
-      r.fail(af, "expected " + std::to_string(kNumBands) +
-                     " values (octave bands 63 Hz .. 8 kHz), got " + std::to_string(a.size()));
-    for (int b = 0; b < kNumBands; ++b)
-      m.absorption[b] = r.inRange(a[size_t(b)], index(af, size_t(b)), 0.0, 1.0);
-  } else if (a.is_number()) {
-    m.absorption = Bands(r.inRange(a, af, 0.0, 1.0));
-  } else {
-    r.fail(af, "expected a number or an array of " + std::to_string(kNumBands) +
-                   " numbers in [0, 1], got " + JsonReader::describe(a));
-  }
+  m.absorption =
+      readBandsInUnitRange(r, r.require(v, field, "absorption"), join(field, "absorption"));
   if (const json* s = JsonReader::find(v, "scattering"))
-    m.scattering = r.inRange(*s, join(field, "scattering"), 0.0, 1.0);
+    m.scattering = readBandsInUnitRange(r, *s, join(field, "scattering"));
   if (const json* s = JsonReader::find(v, "source")) r.string(*s, join(field, "source"));
   return m;
 }

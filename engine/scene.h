@@ -21,13 +21,14 @@
 namespace dpc {
 
 /// A surface material. absorption: energy absorption coefficient alpha per octave band,
-/// in [0, 1] (ISO 354 sense); scattering: probability in [0, 1] that a reflection is diffuse
-/// (Lambert, cosine-weighted) rather than specular (ISO 17497-1 scattering coefficient,
-/// broadband).
+/// in [0, 1] (ISO 354 sense); scattering: scattering coefficient s per octave band, in
+/// [0, 1] (ISO 17497-1): the fraction of a band's reflected energy that leaves diffusely
+/// (Lambert, cosine-weighted) rather than specularly. How the tracer honours per-band values
+/// with one ray direction: ScatteringChoice (engine/geometry.h).
 struct Material {
   std::string name;
   Bands absorption{0.1f};
-  float scattering = 0.5f;
+  Bands scattering{0.5f};
 };
 
 /// Triangle mesh in metres, world coordinates (right-handed, y up by convention of the

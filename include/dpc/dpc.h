@@ -98,9 +98,10 @@ typedef struct dpc_material {
   const char* name;            /**< for error messages; may be NULL */
   float absorption[DPC_BANDS]; /**< energy absorption coefficient per octave band, [0, 1]
                                     (ISO 354 sense) */
-  float scattering;            /**< scattering coefficient, [0, 1]: probability that a
-                                    reflection is diffuse (Lambert) rather than specular
-                                    (ISO 17497-1) */
+  float scattering;            /**< scattering coefficient, [0, 1]: fraction of the reflected
+                                    energy that leaves diffusely (Lambert) rather than
+                                    specularly (ISO 17497-1); the same in every octave band
+                                    here (a scene file may give one per band) */
 } dpc_material;
 
 /** A static triangle mesh, world coordinates in metres (y up by convention). */

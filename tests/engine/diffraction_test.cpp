@@ -49,7 +49,7 @@ Mesh solidBox() {
 
 struct Setup {
   Mesh mesh;
-  std::vector<Material> materials{Material{"rigid", Bands(0.f), 0.f}};
+  std::vector<Material> materials{Material{"rigid", Bands(0.f), Bands(0.f)}};
   Geometry geometry;
   EdgeDiffraction diffraction;
   explicit Setup(Mesh m) : mesh(std::move(m)), geometry(mesh, materials, 1.f), diffraction(mesh) {}

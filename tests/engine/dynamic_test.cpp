@@ -24,7 +24,7 @@ TEST_CASE("A source moving in a free field: delay r/c and energy 1/(4 pi r^2) ev
   // "Free field": one fully absorbing floor far below (the mesh must not be empty).
   SceneDesc s;
   s.path = "<free field>";
-  s.materials.push_back(Material{"absorber", Bands(1.f), 0.f});
+  s.materials.push_back(Material{"absorber", Bands(1.f), Bands(0.f)});
   test::addPanel(s.mesh, {-100, -50, -100}, {200, 0, 0}, {0, 0, 200}, 0);
   SourceDesc src;
   src.name = "walker";
@@ -62,7 +62,7 @@ TEST_CASE("An object moved to a pose equals the static scene with it baked in (t
   const glm::vec3 size{8, 4, 6};
   SceneDesc moving =
       test::makeShoebox(size, Bands(0.2f), 0.5f, {1.5f, 1.5f, 1.5f}, {6.f, 2.f, 4.f}, 0.5f);
-  moving.materials.push_back(Material{"door", Bands(0.9f), 0.1f});  // an absorbing panel
+  moving.materials.push_back(Material{"door", Bands(0.9f), Bands(0.1f)});  // an absorbing panel
   moving.propagation.estimator = Estimator::kPathTracing;
   moving.propagation.cacheTau = 0.f;
   moving.propagation.raysPerFrame = 4096;

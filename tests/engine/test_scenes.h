@@ -16,7 +16,7 @@ inline SceneDesc makeShoebox(glm::vec3 size, Bands absorption, float scattering,
                              glm::vec3 listener, float radius = 0.5f) {
   SceneDesc s;
   s.path = "<test shoebox>";
-  s.materials.push_back(Material{"walls", absorption, scattering});
+  s.materials.push_back(Material{"walls", absorption, Bands(scattering)});
   auto& v = s.mesh.vertices;
   for (int i = 0; i < 8; ++i)
     v.push_back({(i & 1) ? size.x : 0.f, (i & 2) ? size.y : 0.f, (i & 4) ? size.z : 0.f});

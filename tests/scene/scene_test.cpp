@@ -164,8 +164,8 @@ TEST_CASE("Shipped hall scene loads", "[scene]") {
     CHECK(uses[i] > 0);
     CHECK(s.materials[i].absorption.min() >= 0.f);
     CHECK(s.materials[i].absorption.max() <= 1.f);
-    CHECK(s.materials[i].scattering >= 0.f);
-    CHECK(s.materials[i].scattering <= 1.f);
+    CHECK(s.materials[i].scattering.min() >= 0.f);
+    CHECK(s.materials[i].scattering.max() <= 1.f);
   }
   REQUIRE(s.sources.size() == 2);
   for (const auto& src : s.sources) CHECK(fs::exists(src.signalPath));
@@ -179,9 +179,9 @@ TEST_CASE("Minimal scene loads with defaults", "[scene]") {
   CHECK(s.mesh.triangles.size() == 12);
   CHECK(s.materials[1].name == "walls");
   CHECK(s.materials[1].absorption == Bands(0.1f));
-  CHECK(s.materials[1].scattering == 0.2f);
+  CHECK(s.materials[1].scattering == Bands(0.2f));  // a number means all bands
   CHECK(s.materials[0].absorption == Bands(0.3f));  // a number means all bands
-  CHECK(s.materials[0].scattering == 0.5f);         // default
+  CHECK(s.materials[0].scattering == Bands(0.5f));  // default
   CHECK(s.mesh.materialIndex[0] == 0);              // floor
   CHECK(s.mesh.materialIndex[2] == 1);              // walls
   CHECK(s.sources[0].gainDb == 0.f);
@@ -194,6 +194,16 @@ TEST_CASE("Minimal scene loads with defaults", "[scene]") {
   CHECK(s.audio.sampleRate == 48000);
   CHECK(fs::path(s.meshPath).filename() == "cube.obj");
   CHECK(s.warnings.empty());
+}
+
+TEST_CASE("Scattering per octave band is read in band order", "[scene]") {
+  Fixture f;
+  f.scene["materials"]["walls"]["scattering"] = {0.05, 0.05, 0.1, 0.2, 0.3, 0.5, 0.7, 0.9};
+  const SceneDesc s = f.load();
+  Bands expected;
+  const float values[kNumBands] = {0.05f, 0.05f, 0.1f, 0.2f, 0.3f, 0.5f, 0.7f, 0.9f};
+  for (int b = 0; b < kNumBands; ++b) expected[b] = values[b];
+  CHECK(s.materials[1].scattering == expected);
 }
 
 TEST_CASE("Propagation and audio keys are read", "[scene]") {
@@ -385,6 +395,24 @@ TEST_CASE("Material values are checked", "[scene][errors]") {
     f.scene["materials"]["walls"]["scattering"] = 1.5;
     CHECK_THAT(f.error(),
                Contains("scene.json: materials.walls.scattering: 1.5 is outside [0, 1]"));
+  }
+  SECTION("scattering per band: an element outside [0, 1]") {
+    Fixture f;
+    f.scene["materials"]["walls"]["scattering"] = {0.1, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, -0.2};
+    CHECK_THAT(f.error(),
+               Contains("scene.json: materials.walls.scattering[7]: -0.2 is outside [0, 1]"));
+  }
+  SECTION("scattering array of the wrong length") {
+    Fixture f;
+    f.scene["materials"]["walls"]["scattering"] = {0.1, 0.2, 0.3};
+    CHECK_THAT(f.error(), Contains("scene.json: materials.walls.scattering: expected 8 values") &&
+                              Contains("got 3"));
+  }
+  SECTION("scattering of the wrong type") {
+    Fixture f;
+    f.scene["materials"]["walls"]["scattering"] = "high";
+    CHECK_THAT(f.error(), Contains("scene.json: materials.walls.scattering: expected a number or "
+                                   "an array of 8 numbers in [0, 1]"));
   }
   SECTION("material typo") {
     Fixture f;

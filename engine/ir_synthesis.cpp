@@ -166,7 +166,7 @@ void BandEnvelope::targets(const EnergyResponse& energy) {
     const size_t nb = target.size();
     for (size_t k = 0; k < energy.binCount(); ++k) {
       const float e = energy.bins()[k][b];
-      if (e == 0.f) continue;
+      if (!(e > 0.f)) continue;  // energy is >= 0: a negative rounding residue counts as 0
       // Assign the energy bin to the synthesis bin holding its centre sample.
       const size_t n = size_t((double(k) + 0.5) * samplesPerBin);
       const size_t j = std::min(nb - 1, n / binSamples_[bi]);
@@ -594,7 +594,7 @@ void IrSynthesizer::refineOnAnalysisFilters(const EnergyResponse& energy, const 
   {
     std::array<double, kNumBands> total{}, rest{};
     for (size_t k = 0; k < energy.binCount(); ++k)
-      for (int b = 0; b < kNumBands; ++b) total[size_t(b)] += energy.bins()[k][b];
+      for (int b = 0; b < kNumBands; ++b) total[size_t(b)] += std::max(0.f, energy.bins()[k][b]);
     for (int b = 0; b < kNumBands; ++b)
       total[size_t(b)] += direct.visible ? direct.intensity[b] : 0.f;
     rest = total;
@@ -602,7 +602,7 @@ void IrSynthesizer::refineOnAnalysisFilters(const EnergyResponse& energy, const 
     for (size_t k = 0; k < energy.binCount(); ++k) {
       bool any = false;
       for (int b = 0; b < kNumBands; ++b) {
-        rest[size_t(b)] -= energy.bins()[k][b];
+        rest[size_t(b)] -= std::max(0.f, energy.bins()[k][b]);
         any = any || rest[size_t(b)] >= kNegligible * total[size_t(b)];
       }
       refineEnd_ = std::min(length_, size_t(double(k + 1) * samplesPerBin) + 1);
@@ -637,7 +637,7 @@ void IrSynthesizer::refineOnAnalysisFilters(const EnergyResponse& energy, const 
       std::fill(want, want + nb, 0.0);
       for (size_t k = 0; k < energy.binCount(); ++k) {
         const size_t n = size_t((double(k) + 0.5) * samplesPerBin);
-        want[std::min(nb - 1, n / w)] += energy.bins()[k][b];
+        want[std::min(nb - 1, n / w)] += std::max(0.f, energy.bins()[k][b]);
       }
       if (directSample >= 0 && size_t(directSample) < length_)
         want[size_t(directSample) / w] += direct.intensity[b];

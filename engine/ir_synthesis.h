@@ -185,7 +185,8 @@ class IrSynthesizer {
   int sampleRate() const { return sampleRate_; }
 
   /// Writes lengthSamples() samples of pressure IR to ir. energy: the frame's energy
-  /// response (any bin width); direct: the analytic direct sound (ignored when not visible).
+  /// response (any bin width; a bin below 0, which no energy is, counts as 0); direct: the
+  /// analytic direct sound (ignored when not visible).
   void synthesize(const EnergyResponse& energy, const DirectSound& direct, float* ir);
 
   /// Fraction of a unit impulse's energy that a band measurement (mask M_b) puts in band b.

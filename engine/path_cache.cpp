@@ -387,6 +387,10 @@ void DiffusePathCache::windowEndFrame(const FrameGroups& frame, float n, double 
       Entry& e = entries_[i];
       e.eta -= t.eta;
       e.intensity -= t.intensity;
+      // The true sum of the remaining non-negative terms is >= 0; rounding of the add-then-
+      // subtract can leave a residue below 0 (1 + 1e-8 - 1 - 1e-8 in float), which no
+      // energy may hold.
+      for (int b = 0; b < kNumBands; ++b) e.intensity[b] = std::max(e.intensity[b], 0.f);
       e.length -= t.length;
       e.direction -= t.direction;
       if (e.eta <= 0.5f) removeAt(i);

@@ -107,6 +107,25 @@ TEST_CASE("tau = 0: every DPC weighting equals plain path tracing bit for bit", 
   }
 }
 
+TEST_CASE("Window DPC: retiring a frame never leaves a negative band energy", "[dpc]") {
+  // One path hit every frame in band 0 (so its entry stays), and in band 7 with 1 in frame 0
+  // and 1e-8 in frame 1 only. In float, (1 + 1e-8) - 1 - 1e-8 is -1e-8, not 0: subtracting
+  // retired terms must not leave such residue (energy is a sum of non-negative terms; a
+  // negative bin made the IR synthesiser's square roots NaN).
+  const double period = 1.0 / 15;
+  DiffusePathCache cache(DpcWeighting::kWindow, 2 * period, period);
+  for (int f = 0; f < 6; ++f) {
+    PathHit h = hit(42, 1.f, 10.f);
+    h.intensity[7] = f == 0 ? 1.f : f == 1 ? 1e-8f : 0.f;
+    const EnergyResponse e = frame(cache, {h}, 1);
+    INFO("frame " << f);
+    REQUIRE(cache.entryCount() == 1);
+    float lowest = 0.f;
+    for (size_t k = 0; k < e.binCount(); ++k) lowest = std::min(lowest, e.bins()[k].min());
+    CHECK(lowest >= 0.f);
+  }
+}
+
 // docs/estimators.md, "Its bias": a path hit with probability p per frame contributes I / N per hit
 // in expectation. The EMA estimator's long-run mean must equal p I / N (unbiased) within Monte
 // Carlo error; the thesis estimator inflates rare paths towards the harmonic number H_K.

@@ -2,6 +2,7 @@
 // energy response exported by dpc-demo --er-out (a .csv file).
 //
 //   dpc-analyze IR.wav|ER.csv [--json] [--channel N]
+//   dpc-analyze --air-attenuation T RH [--json]
 //
 // Per channel (WAV) or source (CSV): T20, T30, EDT (s), C50, C80 (dB), D50 (%) and strength
 // G (dB, relative to the free-field direct sound at 10 m on dpc's energy scale) in the octave
@@ -14,10 +15,13 @@
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
+
+#include "engine/air_absorption.h"
 #include <string>
 
 #include "audio/room_parameters.h"
 #include "audio/wav_io.h"
+#include "engine/air_absorption.h"
 #include "engine/bands.h"
 #include "engine/energy_response_csv.h"
 #include "engine/input_error.h"
@@ -169,9 +173,17 @@ int main(int argc, char** argv) {
   std::string file;
   bool json = false;
   std::string channelText;
-  app.add_option("IR", file, "Impulse response file (WAV or anything libsndfile reads)")
-      ->required()
-      ->type_name("FILE");
+  std::vector<double> air;
+  auto* irOption =
+      app.add_option("IR", file, "Impulse response file (WAV or anything libsndfile reads)")
+          ->type_name("FILE");
+  app.add_option("--air-attenuation", air,
+                 "Instead of analysing: print the ISO 9613-1 air attenuation per octave band that "
+                 "dpc applies at this temperature (degrees C, -50..60) and relative humidity "
+                 "(%, 0..100), as energy attenuation m (1/m) and dB/km")
+      ->expected(2)
+      ->type_name("T RH")
+      ->excludes(irOption);
   app.add_flag("--json", json, "Print JSON instead of tables");
   app.add_option("--channel", channelText, "Analyse only channel N (1 = first; default: all)")
       ->type_name("N");
@@ -184,6 +196,33 @@ int main(int argc, char** argv) {
     return 1;
   }
 
+  if (!air.empty()) {
+    const double t = air[0], rh = air[1];
+    if (!(t >= -50.0 && t <= 60.0) || !(rh >= 0.0 && rh <= 100.0)) {
+      std::cerr << "dpc-analyze: --air-attenuation: temperature must be in [-50, 60] C and "
+                   "humidity in [0, 100] %\n";
+      return 1;
+    }
+    const dpc::Bands m = dpc::airEnergyAttenuationPerMetre(t, rh);
+    nlohmann::ordered_json out = {{"temperatureC", t},
+                                  {"humidityPercent", rh},
+                                  {"bandCentresHz", dpc::kBandCentreHz},
+                                  {"energyAttenuationPerMetre", nlohmann::ordered_json::array()}};
+    for (int b = 0; b < dpc::kNumBands; ++b) out["energyAttenuationPerMetre"].push_back(m[b]);
+    if (json) {
+      std::cout << dumpJson(out) << "\n";
+    } else {
+      std::printf("air attenuation at %.1f C, %.1f %% RH (ISO 9613-1)\n", t, rh);
+      for (int b = 0; b < dpc::kNumBands; ++b)
+        std::printf("  %5.0f Hz  m = %.3e 1/m  (%.2f dB/km)\n", dpc::kBandCentreHz[size_t(b)],
+                    double(m[b]), double(m[b]) * 10.0 / std::log(10.0) * 1000.0);
+    }
+    return 0;
+  }
+  if (file.empty()) {
+    std::cerr << "dpc-analyze: IR: an impulse response file is required (see --help)\n";
+    return 1;
+  }
   try {
     if (endsWith(file, ".csv")) {
       // An energy response written by dpc-demo --er-out: one table per source.

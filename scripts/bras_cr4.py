@@ -27,7 +27,9 @@ Steps:
   compare  per octave band 125 Hz - 8 kHz, the mean over the 10 pairs against BRAS's measured
            mean (octave value = mean of its three third-octave values, as BRAS gives third
            octaves only), in just noticeable differences (ISO 3382-1 annex A: EDT and T20
-           5 %, C80 1 dB, D50 0.05).
+           5 %, C80 1 dB, D50 0.05); and Sabine's and Eyring's T60 from the same absorption,
+           the model's volume and areas, and dpc's air attenuation (dpc-analyze
+           --air-attenuation), for the diffuse-field reading.
 
 Coordinates: BRAS gives positions as (x from the stage to the back, y across, z up from the
 stage floor); RAVEN's model is y up with z = -y_BRAS, so a BRAS point (x, y, z) is
@@ -183,6 +185,27 @@ def clearance_below(v, f, point):
     return float(t[hit].min()) if hit.any() else math.inf
 
 
+def air_attenuation(build):
+    """dpc's ISO 9613-1 energy attenuation m (1/m) per band at BRAS's air conditions."""
+    out = subprocess.run([os.path.join(build, 'apps', 'dpc-analyze'), '--air-attenuation',
+                          str(TEMPERATURE_C), str(HUMIDITY), '--json'],
+                         check=True, capture_output=True, text=True)
+    return json.loads(out.stdout)['energyAttenuationPerMetre']
+
+
+def diffuse_field_t60(volume, areas, absorption, air_m):
+    """Sabine and Eyring T60 per band with air (Kuttruff, Room Acoustics, eqs. 5.21, 5.24):
+    24 ln10 V / (c (A + 4 m V)), A = sum S_i a_i (Sabine) or -S ln(1 - a_mean) (Eyring)."""
+    c = 331.3 * math.sqrt(1 + TEMPERATURE_C / 273.15)
+    total = sum(areas.values())
+    out = {'sabine': [], 'eyring': []}
+    for b in range(len(BANDS)):
+        a_sum = sum(areas[m] * absorption[m][b] for m in areas)
+        for name, a in (('sabine', a_sum), ('eyring', -total * math.log(1 - a_sum / total))):
+            out[name].append(24 * math.log(10) * volume / (c * (a + 4 * air_m[b] * volume)))
+    return out
+
+
 def scene(variant, freqs, materials):
     estimate = 'initial' if variant == 'initial' else 'fitted'
     mats = {}
@@ -287,8 +310,10 @@ def main():
         result['clearance_below_m'] = clear
         print('bras_cr4: height above the surface below: ' +
               ', '.join(f'{k} {c:.2f} m' for k, c in clear.items()), file=sys.stderr)
+        air_m = air_attenuation(args.build)
         for variant in args.variants:
             sc = scene(variant, freqs, materials)
+            absorption = {m: d['absorption'] for m, d in sc['materials'].items()}
             runs = [render(args.build, folder, variant, sc, args.rays, seed, args.threads)
                     for seed in range(1, args.seeds + 1)]
             pairs = {}
@@ -315,6 +340,8 @@ def main():
                     summary[p][str(centre)] = entry
             result['variants'][variant] = {
                 'pairs': pairs, 'summary': summary,
+                'diffuse_field_t60': {k: dict(zip(map(str, BANDS), v)) for k, v in
+                                      diffuse_field_t60(volume, areas, absorption, air_m).items()},
                 'mean_scattering': {str(c): float(np.average(
                     [sc['materials'][m]['scattering'][b] for m in areas],
                     weights=[areas[m] for m in areas])) for b, c in enumerate(BANDS)}}
@@ -337,6 +364,9 @@ def print_table(result):
                 cells.append('—' if e is None else
                              f"{e['mean']:.2f} ({e['measured']:.2f}) {e['jnd']:+.1f}")
             print(f'| {p.upper()} | ' + ' | '.join(cells) + ' |')
+        for k in ('sabine', 'eyring'):
+            print(f'| {k.capitalize()} T60 | ' + ' | '.join(
+                f"{d['diffuse_field_t60'][k][str(c)]:.2f}" for c in COMPARED) + ' |')
 
 
 def plot(result, image):
@@ -359,6 +389,9 @@ def plot(result, image):
             ys = [d['summary'][p].get(str(c), {}).get('mean', np.nan) for c in COMPARED]
             err = [d['summary'][p].get(str(c), {}).get('pair_sd', np.nan) for c in COMPARED]
             ax.errorbar(x, ys, yerr=err, fmt=fmt, color=color, capsize=2, label=f'dpc, {variant}')
+            if p == 't20' and variant != 'fitted-diffuse':  # same absorption as 'fitted'
+                ax.plot(x, [d['diffuse_field_t60']['eyring'][str(c)] for c in COMPARED], ':',
+                        color=color, alpha=0.7, label=f'Eyring, {variant} absorption')
         ax.set_xticks(x)
         ax.set_xticklabels([f'{c // 1000}k' if c >= 1000 else str(c) for c in COMPARED])
         ax.set_xlabel('octave band (Hz)')

@@ -4,11 +4,18 @@
 # playing the hall for 60 s with the listener walking, recording what it played and writing
 # --stats. Asserts: exit 0; IRs applied at no less than half the frame rate (the tracer shares
 # the machine with the test runner); recording non-silent and finite; no worker deadline miss;
-# and, when the audio callback ran SCHED_FIFO, no callback longer than its period and at most
-# one JACK xrun per 1000 callbacks (target 0; see below). Without real-time scheduling xruns
-# are reported, not asserted (a preemptible callback on a loaded machine misses deadlines
-# that are not dpc's to keep). Motion-to-sound latency is reported (it is a timing of the
-# shared machine, not a property of the code).
+# and, when the audio callback ran SCHED_FIFO, that the engine adds no xruns and no overlong
+# callbacks to what the machine itself causes:
+#   first, for the same time, a do-nothing JACK client runs beside an offline render of the
+#   same scene with the same rays and threads (scripts/jack-xrun-baseline.sh): its xruns X0 and
+#   callbacks longer than the period L0 are the machine's (on a VM, the host descheduling a
+#   virtual CPU; measured 0 to 115 a minute on the same 2-core machine on different days);
+#   then dpc-demo plays live, and its xruns must be at most one per 1000 callbacks (target 0)
+#   plus X0 + 3 sqrt(X0 + 1), its late callbacks at most L0 + 3 sqrt(L0 + 1) (Poisson counts:
+#   three standard deviations of the baseline's count).
+# Without real-time scheduling xruns are reported, not asserted (a preemptible callback on a
+# loaded machine misses deadlines that are not dpc's to keep). Motion-to-sound latency is
+# reported (it is a timing of the shared machine, not a property of the code).
 # Usage: live_jack_test.sh BUILD_DIR SOURCE_DIR [SECONDS]
 set -euo pipefail
 build=$1
@@ -17,6 +24,11 @@ seconds=${3:-60}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 log="$work/log.txt"
+baseline=$(JACK_PERIOD=128 "$src/scripts/jack-xrun-baseline.sh" "$seconds" 0 -- \
+    "$build/apps/dpc-demo" "$src/scenes/hall.json" --offline "$work/load.wav" \
+    --duration "$seconds" --rays 1024 --threads 1 --quiet 2>/dev/null | tail -n 1)
+echo "machine baseline (do-nothing client beside an offline render): $baseline"
+rm -f "$work/load.wav"
 if ! JACK_PERIOD=128 "$src/scripts/jack-headless.sh" "$build/apps/dpc-demo" \
     "$src/scenes/hall.json" --duration "$seconds" --block-size 128 --rays 1024 --threads 1 \
     --record "$work/played.wav" --stats "$work/stats.json" >"$log" 2>&1; then
@@ -25,10 +37,15 @@ if ! JACK_PERIOD=128 "$src/scripts/jack-headless.sh" "$build/apps/dpc-demo" \
   exit 1
 fi
 grep -E '^(wrote|live:|audio callback:)' "$log" || true
-/usr/bin/python3 - "$work/stats.json" "$seconds" <<'PY'
-import json, sys
+/usr/bin/python3 - "$work/stats.json" "$seconds" "$baseline" <<'PY'
+import json, math, re, sys
 s = json.load(open(sys.argv[1]))
 seconds = float(sys.argv[2])
+m = re.fullmatch(r'cycles (\d+) xruns (\d+) late (\d+)', sys.argv[3].strip())
+if not m:
+    print(f'FAIL: no machine baseline (got {sys.argv[3]!r})')
+    sys.exit(1)
+base_cycles, base_xruns, base_late = map(int, m.groups())
 fails = []
 sched = s['callback_scheduling']
 lat = s['motion_to_sound_latency_ms']
@@ -48,13 +65,18 @@ if s['nan_blocks'] != 0:
 if s['worker_deadline_misses'] != 0:
     fails.append(f"{s['worker_deadline_misses']} worker deadline misses")
 if sched['real_time']:
-    # dpc's own deadline: no callback may take longer than the audio it produces.
-    if s['late_callbacks'] != 0:
-        fails.append(f"{s['late_callbacks']} callbacks overran their period")
-    # JACK's count also holds the dummy driver's own late wake-ups (on a VM, the host may
-    # deschedule the whole machine); at most one per 1000 callbacks, target 0.
-    if s['xruns'] * 1000 > s['callbacks']:
-        fails.append(f"{s['xruns']} xruns in {s['callbacks']} callbacks with a real-time callback")
+    # dpc's own deadline: no callback may take longer than the audio it produces, beyond what
+    # the machine does to a callback that does nothing.
+    late_bound = base_late + 3 * math.sqrt(base_late + 1)
+    if s['late_callbacks'] > late_bound:
+        fails.append(f"{s['late_callbacks']} callbacks overran their period (machine baseline "
+                     f"{base_late}: bound {late_bound:.1f})")
+    # JACK's count also holds the dummy driver's own late wake-ups: at most one per 1000
+    # callbacks (target 0) beyond the machine's own.
+    xrun_bound = s['callbacks'] / 1000 + base_xruns + 3 * math.sqrt(base_xruns + 1)
+    if s['xruns'] > xrun_bound:
+        fails.append(f"{s['xruns']} xruns in {s['callbacks']} callbacks with a real-time callback "
+                     f"(machine baseline {base_xruns} in {base_cycles}: bound {xrun_bound:.1f})")
 else:
     print(f"xruns not asserted: the callback ran {sched['policy']} (no real-time priority here)")
 for f in fails:

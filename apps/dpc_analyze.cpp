@@ -15,8 +15,6 @@
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
-
-#include "engine/air_absorption.h"
 #include <string>
 
 #include "audio/room_parameters.h"
@@ -25,6 +23,8 @@
 #include "engine/bands.h"
 #include "engine/energy_response_csv.h"
 #include "engine/input_error.h"
+#include "engine/ir_synthesis.h"
+#include "engine/scene.h"
 
 namespace {
 
@@ -114,14 +114,20 @@ bool endsWith(const std::string& s, const std::string& tail) {
 
 /// Per-band parameters of one source of an energy-response CSV (dpc-demo --er-out); the
 /// "broadband" column sums the bands.
-ImpulseResponseAnalysis analyzeSource(const dpc::SourceEnergy& s) {
+/// asMeasured: the bands are what the ISO band analysis reads, in expectation, from an IR that
+/// carries the response (dpc::expectedBandAnalysisEnergy at the default scene sample rate); the
+/// broadband column is the same sum of the response's bands either way.
+ImpulseResponseAnalysis analyzeSource(const dpc::SourceEnergy& s, bool asMeasured) {
   ImpulseResponseAnalysis a;
   const auto bands = dpc::withDirect(s);
+  const auto measured = asMeasured ? dpc::expectedBandAnalysisEnergy(
+                                         s.energy, s.direct, dpc::AudioSettings{}.sampleRate)
+                                   : bands;
   std::vector<double> sum(bands[0].size(), 0.0);
   for (int b = 0; b < kNumBands; ++b) {
-    const auto& e = bands[size_t(b)];
+    const auto& e = measured[size_t(b)];
     a.bands[size_t(b)] = dpc::audio::analyzeEnergyDecay(e.data(), e.size(), s.energy.binSeconds());
-    for (size_t k = 0; k < e.size(); ++k) sum[k] += e[k];
+    for (size_t k = 0; k < e.size(); ++k) sum[k] += bands[size_t(b)][k];
   }
   a.broadband = dpc::audio::analyzeEnergyDecay(sum.data(), sum.size(), s.energy.binSeconds());
   return a;
@@ -185,6 +191,12 @@ int main(int argc, char** argv) {
       ->type_name("T RH")
       ->excludes(irOption);
   app.add_flag("--json", json, "Print JSON instead of tables");
+  bool asMeasured = false;
+  app.add_flag("--as-measured", asMeasured,
+               "For an energy-response CSV: the band parameters that the ISO 3382-1 band "
+               "analysis of an IR carrying this response would give (expected values at 48 kHz: "
+               "the octave filters' delay, skirts and noise bandwidth included), for comparison "
+               "with parameters measured from real IRs");
   app.add_option("--channel", channelText, "Analyse only channel N (1 = first; default: all)")
       ->type_name("N");
   try {
@@ -224,6 +236,12 @@ int main(int argc, char** argv) {
     return 1;
   }
   try {
+    if (asMeasured && !endsWith(file, ".csv")) {
+      std::cerr << "dpc-analyze: --as-measured: " << file
+                << ": needs an energy-response CSV from dpc-demo --er-out (an IR is already "
+                   "measured)\n";
+      return 1;
+    }
     if (endsWith(file, ".csv")) {
       // An energy response written by dpc-demo --er-out: one table per source.
       const auto sources = dpc::readEnergyCsv(file);
@@ -231,7 +249,7 @@ int main(int argc, char** argv) {
                                     {"bandCentresHz", dpc::kBandCentreHz},
                                     {"sources", nlohmann::ordered_json::array()}};
       for (size_t s = 0; s < sources.size(); ++s) {
-        const ImpulseResponseAnalysis a = analyzeSource(sources[s]);
+        const ImpulseResponseAnalysis a = analyzeSource(sources[s], asMeasured);
         if (json) {
           nlohmann::ordered_json entry = {{"source", s}};
           entry.update(analysisJson(a));
@@ -239,8 +257,8 @@ int main(int argc, char** argv) {
         } else {
           if (s != 0) std::printf("\n");
           char title[256];
-          std::snprintf(title, sizeof title, "%s: source %zu of %zu, energy response, %.3f s",
-                        file.c_str(), s, sources.size(),
+          std::snprintf(title, sizeof title, "%s: source %zu of %zu, energy response%s, %.3f s",
+                        file.c_str(), s, sources.size(), asMeasured ? " as measured" : "",
                         double(sources[s].energy.binCount()) * sources[s].energy.binSeconds());
           printTable(title, a);
         }

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <unordered_map>
@@ -490,8 +491,8 @@ namespace {
 // Compiled twice, for AVX2 and for the baseline, and picked at load time (GCC function
 // multiversioning): the loops below are plain multiply-adds over independent lanes, which
 // AVX2 runs four doubles at a time. No FMA is enabled, so both versions round identically.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__) && \
-    !defined(__SANITIZE_THREAD__)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && \
+    !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
 #define DPC_WIDE_VECTORS __attribute__((target_clones("avx2", "default")))
 #else
 #define DPC_WIDE_VECTORS
@@ -745,6 +746,136 @@ void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& 
   }
   refineOnAnalysisFilters(energy, direct, ir);
   for (int b = 0; b < kNumBands; ++b) missingBands_[b] = float(missing_[size_t(b)]);
+}
+
+std::array<std::vector<double>, kNumBands> expectedBandAnalysisEnergy(const EnergyResponse& energy,
+                                                                      const DirectSound& direct,
+                                                                      int sampleRate) {
+  const double fs = double(sampleRate);
+  const double w = energy.binSeconds() * fs;  // samples per response bin
+  if (sampleRate <= 0 || !(w >= 1.0))
+    throw std::invalid_argument("expectedBandAnalysisEnergy: rate <= 0 or bins below a sample");
+  const size_t nbins = energy.binCount();
+  const auto& bins = energy.bins();
+
+  // Zero-phase impulse responses of the masks m_k and of the direct pulse, time -half..half-1
+  // at index 0..2 half-1 (their crossovers span 1/3 octave, >= 20 Hz: negligible beyond 1/4 s).
+  const size_t half = size_t(sampleRate / 4);
+  const size_t nfft = nextPow2(2 * half);
+  const size_t nspec = nfft / 2 + 1;
+  const OctaveBandMasks masks(sampleRate, nfft);
+  FftwArray<float> time(nfft);
+  FftwArray<fftwf_complex> spec(nspec);
+  fftwf_plan inv = fftwf_plan_dft_c2r_1d(int(nfft), spec.p, time.p, FFTW_ESTIMATE);
+  if (!inv) throw std::runtime_error("expectedBandAnalysisEnergy: FFTW plan failed");
+  std::array<double, kNumBands> density{};  // (fs/2) / B_k: band energy -> white-noise energy
+  for (int k = 0; k < kNumBands; ++k)
+    density[size_t(k)] = 0.5 * fs / (bandCentreExactHz(k) / std::numbers::sqrt2);
+  auto impulse = [&](auto amplitudeAt) {
+    for (size_t f = 0; f < nspec; ++f) {
+      spec.p[f][0] = float(amplitudeAt(f) / double(nfft));
+      spec.p[f][1] = 0.f;
+    }
+    fftwf_execute(inv);
+    std::vector<double> h(2 * half);
+    for (size_t i = 0; i < h.size(); ++i) h[i] = time.p[(i + nfft - half) % nfft];
+    return h;
+  };
+  std::array<std::vector<double>, kNumBands> mask;
+  for (int k = 0; k < kNumBands; ++k)
+    mask[size_t(k)] = impulse([&](size_t f) { return double(masks.gain(k, f)); });
+  std::vector<double> pulse;
+  if (direct.visible)
+    pulse = impulse([&](size_t f) {
+      double s = 0.0;
+      for (int k = 0; k < kNumBands; ++k) {
+        const double m = masks.gain(k, f);
+        s += m * m * std::max(0.0, double(direct.intensity[k])) * density[size_t(k)];
+      }
+      return std::sqrt(s);
+    });
+  fftwf_destroy_plan(inv);
+
+  // The broadband onset: the band analysis integrates from the direct sound (or the first
+  // arrival), so nothing before its bin counts.
+  const long directSample = direct.visible ? std::lround(double(direct.delaySeconds) * fs) : -1;
+  size_t onset = nbins;
+  if (direct.visible) onset = std::min(nbins, size_t(std::floor(double(directSample) / w)));
+  for (size_t j = 0; j < std::min(onset, nbins); ++j)
+    for (int k = 0; k < kNumBands; ++k)
+      if (bins[j][k] > 0.f) {
+        onset = j;
+        break;
+      }
+
+  // The filter's response rings on after the mask's span; 1/2 s takes the 63 Hz octave's
+  // 6th-order Butterworth more than 100 dB down.
+  const size_t ring = size_t(sampleRate / 2);
+  const size_t span = 2 * half + ring;  // kernel samples, time -half .. half+ring-1
+  const size_t wi = std::max<size_t>(1, size_t(std::lround(w)));
+  // Bin offsets d = i - j at which a unit bin j feeds output bin i: from the kernel's first
+  // sample (-half) to its last, one bin either side for the bin averaging.
+  const long dMin = -long(half / wi) - 2, dMax = long((half + ring) / wi) + 2;
+  std::vector<double> prefix(span + 1), cumulative(size_t(dMax - dMin + 2)),
+      g(size_t(dMax - dMin + 1));
+  std::vector<double> u(span);
+
+  std::array<std::vector<double>, kNumBands> out;
+  for (int b = 0; b < kNumBands; ++b) {
+    const size_t bi = size_t(b);
+    const double fc = bandCentreExactHz(b);
+    if (!(fc * std::numbers::sqrt2 < 0.5 * fs)) {
+      out[bi].assign(nbins, std::numeric_limits<double>::quiet_NaN());
+      continue;
+    }
+    out[bi].assign(nbins, 0.0);
+    const OctaveBandPass filter = OctaveBandPass::design(fc, fs);
+    auto filtered = [&](const std::vector<double>& x) {
+      OctaveBandPass::State st{};
+      for (size_t n = 0; n < span; ++n) {
+        u[n] = filter.step(n < x.size() ? x[n] : 0.0, st);
+        if (n % 64 == 63) OctaveBandPass::flushTiny(st);
+      }
+    };
+    for (int k = 0; k < kNumBands; ++k) {
+      filtered(mask[size_t(k)]);
+      // prefix[s]: kernel energy at times < s - half; the kernel K = density (h_b * m_k)^2.
+      prefix[0] = 0.0;
+      for (size_t n = 0; n < span; ++n)
+        prefix[n + 1] = prefix[n] + density[size_t(k)] * u[n] * u[n];
+      auto below = [&](long t) {  // kernel energy at times < t (t in samples)
+        const long s = t + long(half);
+        return prefix[size_t(std::clamp<long>(s, 0, long(span)))];
+      };
+      // cumulative[d - dMin]: output energy before the start of output bin j + d from a unit
+      // energy spread evenly over bin j's wi samples; g: the part inside output bin j + d.
+      for (long d = dMin; d <= dMax + 1; ++d) {
+        double c = 0.0;
+        for (size_t m = 0; m < wi; ++m) c += below(d * long(wi) - long(m));
+        cumulative[size_t(d - dMin)] = c / double(wi);
+      }
+      for (long d = dMin; d <= dMax; ++d)
+        g[size_t(d - dMin)] = cumulative[size_t(d + 1 - dMin)] - cumulative[size_t(d - dMin)];
+      for (size_t j = 0; j < nbins; ++j) {
+        const double e = bins[j][k];
+        if (!(e > 0.0)) continue;
+        const long iLo = std::max<long>(long(onset), long(j) + dMin);
+        const long iHi = std::min<long>(long(nbins) - 1, long(j) + dMax);
+        for (long i = iLo; i <= iHi; ++i) out[bi][size_t(i)] += e * g[size_t(i - long(j) - dMin)];
+      }
+    }
+    if (direct.visible) {
+      filtered(pulse);
+      for (size_t n = 0; n < span; ++n) {
+        const long s = directSample + long(n) - long(half);
+        if (s < 0) continue;
+        const size_t i = size_t(std::floor(double(s) / w));
+        if (i >= nbins) break;
+        if (i >= onset) out[bi][i] += u[n] * u[n];
+      }
+    }
+  }
+  return out;
 }
 
 }  // namespace dpc

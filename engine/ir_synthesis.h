@@ -245,3 +245,38 @@ class IrSynthesizer {
 };
 
 }  // namespace dpc
+
+namespace dpc {
+
+/// What the ISO 3382-1 band analysis (the OctaveBandPass filters of analyzeImpulseResponse in
+/// audio/room_parameters.h) reads, in expectation, from an impulse response that carries the
+/// energy response exactly: per octave b, the expected energy of the IR through b's analysis
+/// filter in each of the response's time bins. Use it to compare a simulated energy response
+/// with parameters measured from real IRs, and to separate what the analysis filters do to any
+/// IR (their delay of 16 ms at 63 Hz halving per octave, their skirts passing neighbouring
+/// octaves, their noise bandwidth 4.7 % above the octave) from what a synthesis adds.
+///
+/// The model IR: the direct sound is one zero-phase pulse at the sample nearest its delay,
+/// with amplitude spectrum sqrt(sum_k M_k^2(f) E_k (fs/2) / B_k); every other bin j of band k
+/// is white noise of energy E_k[j] within octave k, i.e. independent processes
+/// x_k = sqrt((fs/2) / B_k) m_k * (v_k w), w unit white noise, v_k^2 = E_k[j] / (samples per
+/// bin), m_k the zero-phase power-complementary band mask M_k (OctaveBandMasks: octaves
+/// blended across 1/3-octave raised-cosine crossovers), B_k = fc_k / sqrt(2) the octave's
+/// width in Hz (the 63 Hz band's density continues down to 0 Hz and the 8 kHz band's up to
+/// Nyquist). Its expected analysed energy is then exact: the direct pulse through the filter,
+/// squared, plus sum_k E_k (*) (fs/2)/B_k (h_b * m_k)^2, convolved at the response's bin
+/// resolution.
+///
+/// energy: bins of any width (>= 1 sample at sampleRate); direct: added when visible. Returns
+/// out[b][j], same bins and unit as `energy` (1/m^2 relative to source power); bins before the
+/// onset (the direct sound's bin, else the response's first non-zero bin) are 0, since the
+/// band analysis integrates from the broadband onset; bands whose analysis filter reaches
+/// Nyquist (fc sqrt(2) >= fs/2) are all NaN. Any thread that may plan FFTW (not thread-safe:
+/// not beside another thread creating plans); allocates O(bins + fs); not for the audio
+/// thread. Throws std::invalid_argument when sampleRate <= 0 or the bins are shorter than a
+/// sample.
+std::array<std::vector<double>, kNumBands> expectedBandAnalysisEnergy(const EnergyResponse& energy,
+                                                                      const DirectSound& direct,
+                                                                      int sampleRate);
+
+}  // namespace dpc

@@ -2,6 +2,8 @@
 // synthesised IR (Butterworth octave filters, audio/room_parameters.h) returns the parameters
 // and level of the energy response it was made from, and the IR's band decay curve through
 // those filters follows the energy response's.
+#include <algorithm>
+#include <array>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
@@ -106,6 +108,18 @@ TEST_CASE("Synthesised IR: ISO 3382-1 band analysis returns the energy response'
   for (int b = 0; b < kNumBands; ++b) t60[b] = 1.3f - 0.1f * float(b);
   const double length = 2.0;
   const Case c = makeCase(length, t60, 2e-3f);
+  // What the same band analysis reads from an exact IR of this response, in expectation.
+  const auto ideal = expectedBandAnalysisEnergy(c.er, c.direct, kFs);
+  std::array<audio::RoomParameters, kNumBands> idealParameters;
+  for (int b = 0; b < kNumBands; ++b) {
+    const audio::RoomParameters want = energyParameters(c, b);
+    const audio::RoomParameters& m = idealParameters[size_t(b)] =
+        audio::analyzeEnergyDecay(ideal[size_t(b)].data(), ideal[size_t(b)].size(), 1e-3);
+    std::printf("exact IR, band %4d Hz: T30 %+.2f %% EDT %+.2f %% C80 %+.3f dB G %+.3f dB\n",
+                int(kBandCentreHz[size_t(b)]), 100 * (m.t30 / want.t30 - 1),
+                100 * (m.edt / want.edt - 1), m.c80 - want.c80,
+                strengthDbOf(m) - strengthDbOf(want));
+  }
   for (uint64_t seed : {1u, 2u, 3u}) {
     IrSynthesizer synth(kFs, length, 200.0, 343.0, seed);
     std::vector<float> ir(synth.lengthSamples());
@@ -114,6 +128,7 @@ TEST_CASE("Synthesised IR: ISO 3382-1 band analysis returns the energy response'
         audio::analyzeImpulseResponse(ir.data(), ir.size(), kFs);
     for (int b = 0; b < kNumBands; ++b) {
       const audio::RoomParameters want = energyParameters(c, b);
+      const audio::RoomParameters& asMeasured = idealParameters[size_t(b)];
       const audio::RoomParameters& got = a.bands[size_t(b)];
       std::printf(
           "seed %d band %4d Hz: T30 %.3f/%.3f (%+.2f %%) T20 %+.2f %% EDT %+.2f %% C80 %+.3f dB "
@@ -124,12 +139,16 @@ TEST_CASE("Synthesised IR: ISO 3382-1 band analysis returns the energy response'
           got.d50 - want.d50, strengthDbOf(got) - strengthDbOf(want));
       // Measured over these 3 seeds (docs/validation.md): T30 within 0.63 % from 125 Hz to
       // 8 kHz, 1.8 % at 63 Hz; C80 within 0.19 dB from 500 Hz to 8 kHz, 0.32 dB at 125/250 Hz,
-      // 1.7 dB at 63 Hz. What limits the low bands: the analysis filter's energy delay (16 ms
-      // at 63 Hz, 8 ms at 125 Hz, 4 ms at 250 Hz) moves early energy past 80 ms in any IR it
-      // analyses, and their synthesis bins (32, 16, 8 ms) hold few degrees of freedom.
+      // 1.7 dB at 63 Hz. The same analysis of an exact IR of this response (asMeasured:
+      // expectedBandAnalysisEnergy) reads C80 1.37, 0.74, 0.39 dB low at 63/125/250 Hz: the
+      // octave filters' energy delay (16 ms at 63 Hz, halving per octave) moves early energy
+      // past 80 ms in any IR. So C80 must be within 0.2 dB or, where the filters alone move
+      // it further, no further off than the exact IR; 63 Hz gets 0.5 dB more, its 32 ms
+      // synthesis bins holding about 1.4 degrees of freedom each.
       INFO("band " << b << " seed " << seed);
       CHECK(std::abs(got.t30 / want.t30 - 1) < (b >= 1 ? 0.01 : 0.025));
-      CHECK(std::abs(got.c80 - want.c80) < (b >= 3 ? 0.2 : b >= 1 ? 0.4 : 2.0));
+      CHECK(std::abs(got.c80 - want.c80) <
+            std::max(0.2, std::abs(asMeasured.c80 - want.c80)) + (b == 0 ? 0.5 : 0.0));
       CHECK(std::abs(strengthDbOf(got) - strengthDbOf(want)) < (b == 0 ? 0.3 : 0.1));
     }
   }

@@ -5,6 +5,7 @@
 #include <array>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <random>
 #include <vector>
 
 #include "engine/octave_filter.h"
@@ -177,4 +178,105 @@ TEST_CASE("Room volume: closed mesh by the divergence theorem, open mesh by its 
   CHECK(roomVolume(s.mesh) == Approx(210.0).epsilon(1e-9));
   tet.triangles.pop_back();
   CHECK(roomVolume(tet) == Approx(27.0).epsilon(1e-9));
+}
+
+TEST_CASE("As measured: the expected band analysis equals the mean over noise IRs of the model",
+          "[ir]") {
+  // The model of expectedBandAnalysisEnergy built sample by sample: per band k, Gaussian white
+  // noise with the response's per-sample energy E_k[j] / 48, shaped in the frequency domain by
+  // sqrt((fs/2) / B_k) M_k, plus the zero-phase direct pulse; through the analysis filters;
+  // squared and binned; averaged over R realisations. Different decays per band (so the
+  // filters' skirts matter) and a direct sound with a sloping spectrum.
+  constexpr int fs = 48000;
+  constexpr size_t kBin = 48, kPre = 8192, kFft = 65536;
+  constexpr int kRealisations = 48;
+  const double length = 0.6;
+  EnergyResponse er(length, 1e-3);
+  for (size_t j = 5; j < er.binCount(); ++j)
+    for (int b = 0; b < kNumBands; ++b)
+      er.bins()[j][b] =
+          float(2e-4 * std::pow(10.0, -6.0 * (double(j) + 0.5) * 1e-3 / (0.9 - 0.08 * double(b))));
+  DirectSound direct;
+  direct.visible = true;
+  direct.delaySeconds = 0.003f;
+  for (int b = 0; b < kNumBands; ++b) direct.intensity[b] = float(2e-3 * (1.0 + 0.2 * b));
+  const auto model = expectedBandAnalysisEnergy(er, direct, fs);
+
+  const OctaveBandMasks masks(fs, kFft);
+  const size_t nspec = kFft / 2 + 1;
+  std::vector<float> time(kFft);
+  std::vector<fftwf_complex> spec(nspec), sum(nspec);
+  fftwf_plan fwd = fftwf_plan_dft_r2c_1d(int(kFft), time.data(), spec.data(), FFTW_ESTIMATE);
+  fftwf_plan inv = fftwf_plan_dft_c2r_1d(int(kFft), sum.data(), time.data(), FFTW_ESTIMATE);
+  auto density = [&](int k) { return 0.5 * fs / (bandCentreExactHz(k) / std::sqrt(2.0)); };
+  const size_t n = er.binCount() * kBin;
+  const size_t directAt = kPre + 144;  // 3 ms
+  std::array<std::vector<double>, kNumBands> mean;
+  for (auto& m : mean) m.assign(er.binCount(), 0.0);
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> normal;
+  for (int r = 0; r < kRealisations; ++r) {
+    for (auto& s : sum) s[0] = s[1] = 0.f;
+    for (int k = 0; k < kNumBands; ++k) {
+      std::fill(time.begin(), time.end(), 0.f);
+      for (size_t i = 0; i < n; ++i)
+        time[kPre + i] = float(normal(rng) * std::sqrt(er.bins()[i / kBin][k] / double(kBin)));
+      fftwf_execute(fwd);
+      for (size_t f = 0; f < nspec; ++f) {
+        const double g = std::sqrt(density(k)) * masks.gain(k, f) / double(kFft);
+        // The direct pulse's share of band k: amplitude sqrt(M_k^2 E_k density_k) would not
+        // add up across bands, so the pulse is built once below from its power spectrum.
+        sum[f][0] += float(spec[f][0] * g);
+        sum[f][1] += float(spec[f][1] * g);
+      }
+    }
+    for (size_t f = 0; f < nspec; ++f) {
+      double p = 0.0;
+      for (int k = 0; k < kNumBands; ++k)
+        p += double(masks.gain(k, f)) * masks.gain(k, f) * direct.intensity[k] * density(k);
+      const double phase = -2.0 * 3.14159265358979323846 * double(f) * double(directAt) / kFft;
+      sum[f][0] += float(std::sqrt(p) * std::cos(phase) / double(kFft));
+      sum[f][1] += float(std::sqrt(p) * std::sin(phase) / double(kFft));
+    }
+    fftwf_execute(inv);
+    for (int b = 0; b < kNumBands; ++b) {
+      const OctaveBandPass filter = OctaveBandPass::design(bandCentreExactHz(b), fs);
+      OctaveBandPass::State st{};
+      for (size_t i = 0; i < kPre + n; ++i) {
+        const double y = filter.step(time[i], st);
+        if (i >= kPre + 3 * kBin) mean[size_t(b)][(i - kPre) / kBin] += y * y / kRealisations;
+      }
+    }
+  }
+  fftwf_destroy_plan(fwd);
+  fftwf_destroy_plan(inv);
+
+  for (int b = 0; b < kNumBands; ++b) {
+    const auto& want = model[size_t(b)];
+    const auto& got = mean[size_t(b)];
+    CHECK(want[0] == 0.0);  // before the onset (the direct sound's bin, 3)
+    CHECK(want[2] == 0.0);
+    // Energy in [3, 5) ms (mostly the direct sound), [5, 83), [83, 300) and [300, 600) ms.
+    // Monte Carlo error: noise in a band B Hz wide (B = fc / sqrt 2, the octave) holds about
+    // 2 B independent Gaussian samples per second; under a decaying envelope a window counts as
+    // T_eff = (sum e)^2 / sum e^2 x 1 ms of it (e the model's energy per bin; the deterministic
+    // direct pulse counted as noise, which overstates the error), so the mean energy of R
+    // realisations has a relative standard deviation 1 / sqrt(B T_eff R). Allowed: 4 of those.
+    const double bandwidth = bandCentreExactHz(b) / std::sqrt(2.0);
+    const std::array<std::pair<size_t, size_t>, 4> windows = {
+        {{3, 5}, {5, 83}, {83, 300}, {300, 600}}};
+    for (const auto& [lo, hi] : windows) {
+      double w = 0.0, w2 = 0.0, g = 0.0;
+      for (size_t j = lo; j < hi; ++j) {
+        w += want[j];
+        w2 += want[j] * want[j];
+        g += got[j];
+      }
+      const double tEff = w * w / w2 * 1e-3;
+      const double sd = 1.0 / std::sqrt(bandwidth * tEff * kRealisations);
+      INFO("band " << kBandCentreHz[size_t(b)] << " Hz, window " << lo << ".." << hi
+                   << " ms: model " << w << ", mean of realisations " << g << ", sd " << sd);
+      CHECK(std::abs(g / w - 1.0) < 4.0 * sd);
+    }
+  }
 }

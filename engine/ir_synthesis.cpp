@@ -37,27 +37,25 @@ size_t nextPow2(size_t n) {
 
 }  // namespace
 
+double powerAbove(double f, double edge) {
+  constexpr double halfWidth = 1.0 / 6.0;  // octaves either side of the edge
+  const double x = f > 0.0 ? std::log2(f / edge) : -1e9;
+  if (x >= halfWidth) return 1.0;
+  if (x <= -halfWidth) return 0.0;
+  const double s = std::sin(0.25 * std::numbers::pi * (1.0 + x / halfWidth));
+  return s * s;
+}
+
 OctaveBandMasks::OctaveBandMasks(int sampleRate, size_t fftSize) {
   const size_t bins = fftSize / 2 + 1;
-  const double halfWidth = 1.0 / 6.0;  // octaves either side of an edge: 1/3-octave crossover
   for (auto& g : gains_) g.assign(bins, 0.f);
   for (size_t k = 0; k < bins; ++k) {
     const double f = double(k) * sampleRate / double(fftSize);
-    // Power fraction passed above each edge e_b (between band b and b+1), as a raised-cosine
-    // in log2 frequency: sin^2 + cos^2 = 1 keeps the bank power-complementary.
+    // Power fraction passed above each edge e_b (between band b and b+1): powerAbove.
     double prevUpper = 1.0;  // fraction of power above the edge below band 0 (there is none)
     for (int b = 0; b < kNumBands; ++b) {
-      double upper = 0.0;  // fraction of power above edge b
-      if (b < kNumBands - 1) {
-        const double edge = bandCentreExactHz(b) * std::numbers::sqrt2;
-        const double x = f > 0.0 ? std::log2(f / edge) : -1e9;
-        if (x >= halfWidth)
-          upper = 1.0;
-        else if (x > -halfWidth) {
-          const double s = std::sin(0.25 * std::numbers::pi * (1.0 + x / halfWidth));
-          upper = s * s;
-        }
-      }
+      const double upper =
+          b < kNumBands - 1 ? powerAbove(f, bandCentreExactHz(b) * std::numbers::sqrt2) : 0.0;
       const double power = prevUpper - upper;  // in band b: above edge b-1, below edge b
       gains_[size_t(b)][k] = float(std::sqrt(std::max(0.0, power)));
       prevUpper = upper;
@@ -370,6 +368,39 @@ double roomVolume(const Mesh& mesh) {
   return v >= 0.01 * box ? std::max(1.0, v) : box;
 }
 
+/// FFT buffers and plans of IrSynthesizer::cleanUp, made at construction.
+struct IrSynthesizer::CleanUp {
+  size_t nfft = 0;
+  FftwArray<float> time;
+  FftwArray<fftwf_complex> spec, band;
+  fftwf_plan fwd = nullptr, inv = nullptr;
+  /// A_b / nfft on the FFT bins, per cleaned band.
+  std::array<std::vector<float>, kNumBands - kFirstCleanedBand> filter;
+  /// Energy of a band's part relative to its octave's: the part is white over A_b, the
+  /// response's band energy white over the octave (the 8 kHz part reaches up to Nyquist).
+  std::array<double, kNumBands - kFirstCleanedBand> partPerOctave{};
+  size_t start = 0;         ///< first sample cleaned: the Dirac sequence holds >= 10 pulses per bin
+  std::vector<float> part;  ///< a band's part of the IR, length samples
+  std::vector<double> target;  ///< per clean bin
+  std::vector<double> actual;
+  std::vector<float> gain;
+  CleanUp(size_t n) : nfft(n), time(n), spec(n / 2 + 1), band(n / 2 + 1) {
+    fwd = fftwf_plan_dft_r2c_1d(int(n), time.p, spec.p, FFTW_ESTIMATE);
+    inv = fftwf_plan_dft_c2r_1d(int(n), band.p, time.p, FFTW_ESTIMATE);
+    if (!fwd || !inv) throw std::runtime_error("IrSynthesizer: FFTW plan failed");
+  }
+  ~CleanUp() {
+    fftwf_destroy_plan(fwd);
+    fftwf_destroy_plan(inv);
+  }
+  CleanUp(const CleanUp&) = delete;
+  CleanUp& operator=(const CleanUp&) = delete;
+};
+
+IrSynthesizer::~IrSynthesizer() = default;
+IrSynthesizer::IrSynthesizer(IrSynthesizer&&) noexcept = default;
+IrSynthesizer& IrSynthesizer::operator=(IrSynthesizer&&) noexcept = default;
+
 IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVolume,
                              double speedOfSound, uint64_t seed)
     : sampleRate_(sampleRate) {
@@ -405,6 +436,24 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
     }
     fftwf_execute(inv);  // destroys bandSpec, which is rebuilt each time
     bandSequence_[bi].assign(time.p, time.p + length_);
+    // Its upper half s_hi: A_b P, P the power fraction above fc (powerAbove), so that
+    // s_b = s_lo + s_hi with s_lo = A_b (1 - P); the shares' energies for a white input.
+    const double fc = bandCentreExactHz(b);
+    std::array<double, 3> half{};
+    for (size_t k = 0; k < nbins; ++k) {
+      const double a = double(masks.gain(b, k)) * masks.gain(b, k);
+      const double p = powerAbove(double(k) * sampleRate / double(nfft), fc);
+      const float g = float(a * p) * scale;
+      bandSpec.p[k][0] = spec.p[k][0] * g;
+      bandSpec.p[k][1] = spec.p[k][1] * g;
+      half[0] += a * (1.0 - p) * a * (1.0 - p);
+      half[1] += a * (1.0 - p) * a * p;
+      half[2] += a * p * a * p;
+    }
+    halfEnergy_[bi] = half;
+    fftwf_execute(inv);
+    bandSequenceHigh_[bi].assign(time.p, time.p + length_);
+    tilted_[bi].assign(length_, 0.f);
     // Direct-sound filter: impulse response of A_b (zero phase), stored rotated so that
     // index filterCentre_ is time 0; its measured energy per unit amplitude is beta_b.
     for (size_t k = 0; k < nbins; ++k) {
@@ -417,6 +466,33 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
   }
   fftwf_destroy_plan(fwd);
   fftwf_destroy_plan(inv);
+  clean_ = std::make_unique<CleanUp>(nfft);
+  for (int b = kFirstCleanedBand; b < kNumBands; ++b) {
+    auto& f = clean_->filter[size_t(b - kFirstCleanedBand)];
+    f.resize(nbins);
+    double sum = 0.0;
+    for (size_t k = 0; k < nbins; ++k) {
+      const double a = double(masks.gain(b, k)) * masks.gain(b, k);
+      f[k] = float(a) * scale;
+      sum += a * a;
+    }
+    clean_->partPerOctave[size_t(b - kFirstCleanedBand)] =
+        sum * (double(sampleRate) / double(nfft)) / (bandCentreExactHz(b) / std::numbers::sqrt2);
+  }
+  {
+    // mu(t) = 4 pi c^3 t^2 / V >= 10 pulses per clean bin
+    const double mu = 10.0 / kCleanBinSeconds;
+    clean_->start =
+        size_t(std::sqrt(mu * roomVolume /
+                         (4.0 * std::numbers::pi * speedOfSound * speedOfSound * speedOfSound)) *
+               sampleRate);
+  }
+  clean_->part.assign(length_, 0.f);
+  const size_t cleanBin = std::max<size_t>(1, size_t(std::lround(kCleanBinSeconds * sampleRate)));
+  const size_t cleanBins = (length_ + cleanBin - 1) / cleanBin;
+  clean_->target.assign(cleanBins, 0.0);
+  clean_->actual.assign(cleanBins, 0.0);
+  clean_->gain.assign(cleanBins, 1.f);
   envelope_ =
       std::make_unique<BandEnvelope>(sampleRate, seq, length_, filterData_,
                                      measureRealised(sampleRate, seq, length_, nfft, masks));
@@ -434,6 +510,10 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
     binResponse_[bi].assign(length_, 0.f);
     binResponseEnergy_[bi].assign(nb, 0.0);
     binEndState_[bi].assign(nb, OctaveBandPass::State{});
+    binResponseHigh_[bi].assign(length_, 0.f);
+    binResponseCross_[bi].assign(nb, 0.0);
+    binResponseHighEnergy_[bi].assign(nb, 0.0);
+    binEndStateHigh_[bi].assign(nb, OctaveBandPass::State{});
     firstGain_[bi].assign(nb, 0.f);  // capacity for the per-frame copy (no allocation then)
     for (size_t j = 0; j < nb; ++j) {
       OctaveBandPass::State st{};
@@ -445,6 +525,17 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
       }
       binResponseEnergy_[bi][j] = e;
       binEndState_[bi][j] = st;
+      OctaveBandPass::State sh{};
+      double cross = 0.0, high = 0.0;
+      for (size_t n = j * w; n < std::min(length_, (j + 1) * w); ++n) {
+        const double y = analysis_[bi].step(bandSequenceHigh_[bi][n], sh);
+        binResponseHigh_[bi][n] = float(y);
+        cross += double(binResponse_[bi][n]) * y;
+        high += y * y;
+      }
+      binResponseCross_[bi][j] = cross;
+      binResponseHighEnergy_[bi][j] = high;
+      binEndStateHigh_[bi][j] = sh;
     }
   }
   // Tail energy form: the energy of the filter's zero-input response from state x is x^T Q x.
@@ -483,6 +574,11 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
     }
   }
   filtered_.assign(size_t(kNumBands) / 2 * length_, 0.f);
+  for (int b = 0; b < kNumBands; ++b) {
+    const size_t nb = envelope_->gains(b).size();
+    tiltLow_[size_t(b)].assign(nb, 1.f);
+    tiltDelta_[size_t(b)].assign(nb, 0.f);
+  }
   cumulativeWant_.assign(maxBins, 0.0);
 }
 
@@ -530,14 +626,16 @@ void filterCascades(const Double4 (&c)[5][3], const float* ir, size_t end, float
   }
 }
 
-/// Over one synthesis bin of `count` samples: v = y - gOld u + sum_i d_i basis_i (the band's
-/// filter output without its own bin's old contribution, with the zero-input response moved
-/// from the old state to the new, d = new - old state), accumulating h += sum v u and
-/// c += sum v^2 (four interleaved partial sums). y has stride kHalfBands; basis_i is
-/// basis[i * w + m].
+/// Over one synthesis bin of `count` samples, with u the filter's zero-state response to the
+/// bin's tilted band signal, u = alpha uBand + gamma uHigh: v = y - gOld u + sum_i d_i basis_i
+/// (the band's filter output without its own bin's old contribution, with the zero-input
+/// response moved from the old state to the new, d = new - old state), accumulating
+/// h += sum v u and c += sum v^2 (four interleaved partial sums). y has stride kHalfBands;
+/// basis_i is basis[i * w + m].
 DPC_WIDE_VECTORS
-void binProducts(const float* y, const float* u, const double* basis, size_t w,
-                 const double (&d)[6], double gOld, size_t count, double& h, double& c) {
+void binProducts(const float* y, const float* u, const float* uHigh, double alpha, double gamma,
+                 const double* basis, size_t w, const double (&d)[6], double gOld, size_t count,
+                 double& h, double& c) {
   Double4 h4 = {}, c4 = {};
   size_t m = 0;
   for (; m + 4 <= count; m += 4) {
@@ -547,7 +645,10 @@ void binProducts(const float* y, const float* u, const double* basis, size_t w,
       const Double4 bi = {p[0], p[1], p[2], p[3]};
       dr += d[i] * bi;
     }
-    const Double4 uu = {double(u[m]), double(u[m + 1]), double(u[m + 2]), double(u[m + 3])};
+    const Double4 ub = {double(u[m]), double(u[m + 1]), double(u[m + 2]), double(u[m + 3])};
+    const Double4 uh = {double(uHigh[m]), double(uHigh[m + 1]), double(uHigh[m + 2]),
+                        double(uHigh[m + 3])};
+    const Double4 uu = alpha * ub + gamma * uh;
     const Double4 yy = {double(y[m * kHalfBands]), double(y[(m + 1) * kHalfBands]),
                         double(y[(m + 2) * kHalfBands]), double(y[(m + 3) * kHalfBands])};
     const Double4 v = yy - gOld * uu + dr;
@@ -558,8 +659,9 @@ void binProducts(const float* y, const float* u, const double* basis, size_t w,
   for (; m < count; ++m) {
     double dr = 0.0;
     for (size_t i = 0; i < 6; ++i) dr += d[i] * basis[i * w + m];
-    const double v = double(y[m * kHalfBands]) - gOld * double(u[m]) + dr;
-    hh += v * u[m];
+    const double uu = alpha * double(u[m]) + gamma * double(uHigh[m]);
+    const double v = double(y[m * kHalfBands]) - gOld * uu + dr;
+    hh += v * uu;
     cc += v * v;
   }
   h += hh;
@@ -629,8 +731,9 @@ void IrSynthesizer::refineOnAnalysisFilters(const EnergyResponse& energy, const 
       std::vector<float>& gain = envelope_->gains(b);
       const size_t w = envelope_->binSamples(b);
       const size_t nb = gain.size();
-      const float* s = bandSequence_[bi].data();
+      const float* s = tilted_[bi].data();
       const float* u = binResponse_[bi].data();
+      const float* uHigh = binResponseHigh_[bi].data();
       const float* y = filtered_.data() + bi / 2;  // stride kHalfBands
       const double* basis = zeroInput_[bi].data();
       // Target per bin: the energy response's bins by their centre sample, plus the direct sound.
@@ -688,7 +791,9 @@ void IrSynthesizer::refineOnAnalysisFilters(const EnergyResponse& energy, const 
         double h = 0.0, c = 0.0;
         double d[6];
         for (size_t i = 0; i < 6; ++i) d[i] = state[i] - old[i];
-        binProducts(y + lo * kHalfBands, u + lo, basis, w, d, gOld, hi - lo, h, c);
+        const double alpha = tiltLow_[bi][j], gamma = tiltDelta_[bi][j];
+        binProducts(y + lo * kHalfBands, u + lo, uHigh + lo, alpha, gamma, basis, w, d, gOld,
+                    hi - lo, h, c);
         OctaveBandPass::State z, zOld;
         if (hi - lo == w) {
           z = advance(state);
@@ -701,8 +806,13 @@ void IrSynthesizer::refineOnAnalysisFilters(const EnergyResponse& energy, const 
             analysis_[bi].step(0.0, zOld);
           }
         }
-        const OctaveBandPass::State& end = binEndState_[bi][j];
-        const double a = binResponseEnergy_[bi][j] + tail(end, end);
+        // The bin's tilted signal: its zero-state response's energy and end state.
+        OctaveBandPass::State end;
+        for (size_t i = 0; i < 6; ++i)
+          end[i] = alpha * binEndState_[bi][j][i] + gamma * binEndStateHigh_[bi][j][i];
+        const double a = alpha * alpha * binResponseEnergy_[bi][j] +
+                         2.0 * alpha * gamma * binResponseCross_[bi][j] +
+                         gamma * gamma * binResponseHighEnergy_[bi][j] + tail(end, end);
         h += tail(z, end);
         c += tail(z, z) + gotSoFar;
         const double missing = wantSoFar - c;
@@ -726,11 +836,63 @@ void IrSynthesizer::refineOnAnalysisFilters(const EnergyResponse& energy, const 
   }
 }
 
+void IrSynthesizer::tiltBands(const EnergyResponse& energy) {
+  const double perBin = energy.binSeconds() * sampleRate_;  // samples per response bin
+  const size_t nk = energy.binCount();
+  const double reach = kTiltWindowSeconds * 0.5 * sampleRate_;
+  // Mean of exp(x L) over half an octave, x in [0, 1/2]: the log-linear density's average
+  // over a half band, relative to its value at the band centre.
+  auto halfMean = [](double l) {
+    l = std::clamp(l, -kTiltMaxLog, kTiltMaxLog);
+    return std::abs(l) < 1e-6 ? 1.0 : std::expm1(0.5 * l) / (0.5 * l);
+  };
+  for (int b = 0; b < kNumBands; ++b) {
+    const size_t bi = size_t(b);
+    const size_t w = envelope_->binSamples(b);
+    const size_t nb = tiltLow_[bi].size();
+    const auto& [ll, lh, hh] = halfEnergy_[bi];
+    for (size_t j = 0; j < nb; ++j) {
+      const double centre = (double(j) + 0.5) * double(w);
+      const size_t k0 = size_t(std::max(0.0, std::floor((centre - reach) / perBin)));
+      const size_t k1 = std::min(nk, size_t(std::max(0.0, std::ceil((centre + reach) / perBin))));
+      double below = 0.0, own = 0.0, above = 0.0;
+      for (size_t k = k0; k < k1; ++k) {
+        const Bands& e = energy.bins()[k];
+        own += std::max(0.f, e[b]);
+        if (b > 0) below += std::max(0.f, e[b - 1]);
+        if (b + 1 < kNumBands) above += std::max(0.f, e[b + 1]);
+      }
+      double alpha = 1.0, gamma = 0.0;
+      if (own > 0.0) {
+        // Spectral densities E / bandwidth, the neighbours' octaves being half and twice as
+        // wide: log-density ratios to this band's at the neighbouring centres.
+        const double rLow = b > 0 ? halfMean(std::log(std::max(2.0 * below / own, 1e-300))) : 1.0;
+        const double rHigh =
+            b + 1 < kNumBands ? halfMean(std::log(std::max(0.5 * above / own, 1e-300))) : 1.0;
+        const double pl = std::sqrt(rLow), ph = std::sqrt(rHigh);
+        // Same expected energy as the untilted s_b = s_lo + s_hi.
+        const double norm =
+            std::sqrt((ll + 2.0 * lh + hh) / (rLow * ll + 2.0 * pl * ph * lh + rHigh * hh));
+        alpha = pl * norm;
+        gamma = ph * norm - alpha;
+      }
+      tiltLow_[bi][j] = float(alpha);
+      tiltDelta_[bi][j] = float(gamma);
+      const float* s = bandSequence_[bi].data();
+      const float* sh = bandSequenceHigh_[bi].data();
+      float* t = tilted_[bi].data();
+      const float a = float(alpha), g = float(gamma);
+      for (size_t n = j * w; n < std::min(length_, (j + 1) * w); ++n) t[n] = a * s[n] + g * sh[n];
+    }
+  }
+}
+
 void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& direct, float* ir) {
   std::fill(ir, ir + length_, 0.f);
+  tiltBands(energy);
   envelope_->compute(energy);
   std::array<const float*, kNumBands> bands;
-  for (int b = 0; b < kNumBands; ++b) bands[size_t(b)] = bandSequence_[size_t(b)].data();
+  for (int b = 0; b < kNumBands; ++b) bands[size_t(b)] = tilted_[size_t(b)].data();
   envelope_->accumulate(bands, ir);
   if (direct.visible) {
     const long n0 = std::lround(double(direct.delaySeconds) * sampleRate_);
@@ -745,7 +907,86 @@ void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& 
     }
   }
   refineOnAnalysisFilters(energy, direct, ir);
+  cleanUp(energy, direct, ir);
   for (int b = 0; b < kNumBands; ++b) missingBands_[b] = float(missing_[size_t(b)]);
+}
+
+void IrSynthesizer::cleanUp(const EnergyResponse& energy, const DirectSound& direct, float* ir) {
+  CleanUp& c = *clean_;
+  std::fill(c.time.p, c.time.p + c.nfft, 0.f);
+  std::copy(ir, ir + length_, c.time.p);
+  fftwf_execute(c.fwd);
+  const size_t nbins = c.nfft / 2 + 1;
+  const size_t w = std::max<size_t>(1, size_t(std::lround(kCleanBinSeconds * sampleRate_)));
+  const size_t nb = c.target.size();
+  const double perBin = energy.binSeconds() * sampleRate_;
+  for (int b = kFirstCleanedBand; b < kNumBands; ++b) {
+    const auto& f = c.filter[size_t(b - kFirstCleanedBand)];
+    for (size_t k = 0; k < nbins; ++k) {
+      c.band.p[k][0] = c.spec.p[k][0] * f[k];
+      c.band.p[k][1] = c.spec.p[k][1] * f[k];
+    }
+    fftwf_execute(c.inv);
+    std::copy(c.time.p, c.time.p + length_, c.part.begin());
+    std::fill(c.target.begin(), c.target.end(), 0.0);
+    std::fill(c.actual.begin(), c.actual.end(), 0.0);
+    for (size_t k = 0; k < energy.binCount(); ++k) {
+      const size_t n = size_t((double(k) + 0.5) * perBin);
+      c.target[std::min(nb - 1, n / w)] += std::max(0.f, energy.bins()[k][b]);
+    }
+    if (direct.visible) {
+      const long n0 = std::lround(double(direct.delaySeconds) * sampleRate_);
+      if (n0 >= 0 && size_t(n0) < length_) c.target[size_t(n0) / w] += direct.intensity[b];
+    }
+    for (size_t n = 0; n < length_; ++n) c.actual[n / w] += double(c.part[n]) * c.part[n];
+    // The direct sound's bin and the next stay: the filter A_b spreads the direct pulse (and
+    // the first arrivals) over bins whose target holds none of it.
+    size_t first = nb;
+    if (direct.visible)
+      first = std::min(
+          nb, size_t(std::max(0L, std::lround(double(direct.delaySeconds) * sampleRate_))) / w);
+    for (size_t j = 0; j < first; ++j)
+      if (c.target[j] > 0.0) {
+        first = j;
+        break;
+      }
+    first = std::max(first + 2, c.start / w + 1);
+    const double ratio = c.partPerOctave[size_t(b - kFirstCleanedBand)];
+    bool any = false;
+    for (size_t j = 0; j < nb; ++j) {
+      if (j < first) {
+        c.gain[j] = 1.f;
+        continue;
+      }
+      // Over five bins (50 ms), so that energy the synthesis moved between bins (a bin
+      // without pulses passes its share on) is not taken for splatter.
+      double want = 0.0, got = 0.0;
+      for (size_t i = j >= 2 ? j - 2 : 0; i < std::min(nb, j + 3); ++i) {
+        want += c.target[i];
+        got += c.actual[i];
+      }
+      const double allowed = kCleanMargin * ratio * want;
+      c.gain[j] = got > allowed ? float(std::sqrt(allowed / got)) : 1.f;
+      any = any || c.gain[j] < 1.f;
+    }
+    if (!any) continue;
+    // ir += (g(n) - 1) part, g linear between bin centres (constant before the first and
+    // after the last).
+    for (size_t n = 0; n < length_; ++n) {
+      const double x = (double(n) + 0.5) / double(w) - 0.5;
+      double g;
+      if (x <= 0.0) {
+        g = c.gain[0];
+      } else if (x >= double(nb - 1)) {
+        g = c.gain[nb - 1];
+      } else {
+        const size_t j = size_t(x);
+        const double t = x - double(j);
+        g = (1.0 - t) * c.gain[j] + t * c.gain[j + 1];
+      }
+      if (g != 1.0) ir[n] += float((g - 1.0) * c.part[n]);
+    }
+  }
 }
 
 std::array<std::vector<double>, kNumBands> expectedBandAnalysisEnergy(const EnergyResponse& energy,

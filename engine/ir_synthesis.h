@@ -28,8 +28,13 @@
 // 125 Hz up, docs/validation.md) and level; the extreme bands' shares outside the analysed
 // octaves (below 44 Hz, above 11.3 kHz) carry their band's spectral density. Red-black
 // Gauss-Seidel over the bands (kRefineSweeps sweeps); bins after the remaining target falls
-// below kNegligible keep the first guess. The spatial synthesiser, whose band signals pass
-// through HRIRs, uses the older expectation form: g_b[j] = sqrt(E_b[j] / e_b[j]), e_b = beta_b x
+// below kNegligible keep the first guess. Two steps serve rooms whose bands decay at very
+// different rates (air absorption in large rooms): each band's spectrum is tilted within
+// its octave per synthesis bin toward its neighbours' (halfBandDensity: the density
+// log-linear in log frequency between band centres), and the finished IR's 4 and 8 kHz parts
+// are scaled down where the gain steps of slower bands splatter into them (cleanUp). The
+// spatial synthesiser, whose band signals pass through HRIRs, uses neither and the older
+// expectation form: g_b[j] = sqrt(E_b[j] / e_b[j]), e_b = beta_b x
 // the pulses' energy in the bin (beta_b: the share of a unit impulse's energy that a band
 // measurement with M_b sees), realised energy at 63/125 Hz, and a crossover correction with
 // white-spectrum coupling coefficients.
@@ -329,14 +334,15 @@ namespace dpc {
 ///
 /// The model IR: the direct sound is one zero-phase pulse at the sample nearest its delay,
 /// with amplitude spectrum sqrt(sum_k M_k^2(f) E_k (fs/2) / B_k); every other bin j of band k
-/// is white noise of energy E_k[j] within octave k, i.e. independent processes
-/// x_k = sqrt((fs/2) / B_k) m_k * (v_k w), w unit white noise, v_k^2 = E_k[j] / (samples per
-/// bin), m_k the zero-phase power-complementary band mask M_k (OctaveBandMasks: octaves
-/// blended across 1/3-octave raised-cosine crossovers), B_k = fc_k / sqrt(2) the octave's
-/// width in Hz (the 63 Hz band's density continues down to 0 Hz and the 8 kHz band's up to
-/// Nyquist). Its expected analysed energy is then exact: the direct pulse through the filter,
-/// squared, plus sum_k E_k (*) (fs/2)/B_k (h_b * m_k)^2, convolved at the response's bin
-/// resolution.
+/// is noise of energy E_k[j] within octave k, split into two independent half-octave
+/// processes x_kh = sqrt((fs/2) / B_k) m_kh * (v_kh w), w unit white noise,
+/// v_kh^2 = E_k[j] t_kh[j] / (samples per bin), m_kh = M_k sqrt(1 - P) and M_k sqrt(P) (M_k
+/// the zero-phase power-complementary band mask of OctaveBandMasks, P = powerAbove(f, fc_k)),
+/// t_kh the within-band tilt (halfBandDensity, scaled so that the band keeps its energy),
+/// B_k = fc_k / sqrt(2) the octave's width in Hz (the 63 Hz band's density continues down to
+/// 0 Hz and the 8 kHz band's up to Nyquist). Its expected analysed energy is then exact: the
+/// direct pulse through the filter, squared, plus sum_kh E_k t_kh (*) (fs/2)/B_k (h_b * m_kh)^2,
+/// convolved at the response's bin resolution.
 ///
 /// energy: bins of any width (>= 1 sample at sampleRate); direct: added when visible. Returns
 /// out[b][j], same bins and unit as `energy` (1/m^2 relative to source power); bins before the

@@ -11,31 +11,11 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include "engine/band_leveller.h"
+#include "engine/fftw_util.h"
 #include "engine/random.h"
 
 namespace dpc {
-
-namespace {
-
-/// RAII owner of an fftwf_malloc'd array.
-template <typename T>
-struct FftwArray {
-  explicit FftwArray(size_t n) : p(static_cast<T*>(fftwf_malloc(n * sizeof(T)))) {
-    if (!p) throw std::bad_alloc();
-  }
-  ~FftwArray() { fftwf_free(p); }
-  FftwArray(const FftwArray&) = delete;
-  FftwArray& operator=(const FftwArray&) = delete;
-  T* p;
-};
-
-size_t nextPow2(size_t n) {
-  size_t p = 1;
-  while (p < n) p <<= 1;
-  return p;
-}
-
-}  // namespace
 
 double powerAbove(double f, double edge) {
   constexpr double halfWidth = 1.0 / 6.0;  // octaves either side of the edge
@@ -369,36 +349,6 @@ double roomVolume(const Mesh& mesh) {
 }
 
 /// FFT buffers and plans of IrSynthesizer::cleanUp, made at construction.
-struct IrSynthesizer::CleanUp {
-  size_t nfft = 0;
-  FftwArray<float> time;
-  FftwArray<fftwf_complex> spec, band;
-  fftwf_plan fwd = nullptr, inv = nullptr;
-  /// A_b / nfft on the FFT bins, per cleaned band.
-  std::array<std::vector<float>, kNumBands - kFirstCleanedBand> filter;
-  /// Expected energy of a band's part through the band's analysis filter relative to the
-  /// octave's energy: (fs/2) / B_b x the energy of the analysis filter's response to A_b
-  /// (white noise of the octave's density over A_b: noise bandwidth and the part above the
-  /// octave that the filter's skirt passes).
-  std::array<double, kNumBands - kFirstCleanedBand> analysedPerOctave{};
-  size_t start = 0;         ///< first sample cleaned: the Dirac sequence holds >= 10 pulses per bin
-  std::vector<float> part;  ///< a band's part of the IR, length samples
-  std::vector<double> target;  ///< per clean bin
-  std::vector<double> actual;
-  std::vector<float> gain;
-  CleanUp(size_t n) : nfft(n), time(n), spec(n / 2 + 1), band(n / 2 + 1) {
-    fwd = fftwf_plan_dft_r2c_1d(int(n), time.p, spec.p, FFTW_ESTIMATE);
-    inv = fftwf_plan_dft_c2r_1d(int(n), band.p, time.p, FFTW_ESTIMATE);
-    if (!fwd || !inv) throw std::runtime_error("IrSynthesizer: FFTW plan failed");
-  }
-  ~CleanUp() {
-    fftwf_destroy_plan(fwd);
-    fftwf_destroy_plan(inv);
-  }
-  CleanUp(const CleanUp&) = delete;
-  CleanUp& operator=(const CleanUp&) = delete;
-};
-
 IrSynthesizer::~IrSynthesizer() = default;
 IrSynthesizer::IrSynthesizer(IrSynthesizer&&) noexcept = default;
 IrSynthesizer& IrSynthesizer::operator=(IrSynthesizer&&) noexcept = default;
@@ -468,26 +418,9 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
   }
   fftwf_destroy_plan(fwd);
   fftwf_destroy_plan(inv);
-  clean_ = std::make_unique<CleanUp>(nfft);
-  for (int b = kFirstCleanedBand; b < kNumBands; ++b) {
-    auto& f = clean_->filter[size_t(b - kFirstCleanedBand)];
-    f.resize(nbins);
-    for (size_t k = 0; k < nbins; ++k) f[k] = masks.gain(b, k) * masks.gain(b, k) * scale;
-  }
-  {
-    // mu(t) = 4 pi c^3 t^2 / V >= 10 pulses per clean bin
-    const double mu = 10.0 / kCleanBinSeconds;
-    clean_->start =
-        size_t(std::sqrt(mu * roomVolume /
-                         (4.0 * std::numbers::pi * speedOfSound * speedOfSound * speedOfSound)) *
-               sampleRate);
-  }
-  clean_->part.assign(length_, 0.f);
-  const size_t cleanBin = std::max<size_t>(1, size_t(std::lround(kCleanBinSeconds * sampleRate)));
-  const size_t cleanBins = (length_ + cleanBin - 1) / cleanBin;
-  clean_->target.assign(cleanBins, 0.0);
-  clean_->actual.assign(cleanBins, 0.0);
-  clean_->gain.assign(cleanBins, 1.f);
+  leveller_ = std::make_unique<BandLeveller>(
+      sampleRate, length_, kFirstCleanedBand,
+      BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, 10.0));
   envelope_ =
       std::make_unique<BandEnvelope>(sampleRate, seq, length_, filterData_,
                                      measureRealised(sampleRate, seq, length_, nfft, masks));
@@ -554,18 +487,6 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
         for (size_t n = 0; n < ring; ++n) t += resp[i][n] * resp[k][n];
         tailForm_[bi][i][k] = t;
       }
-  }
-  for (int b = kFirstCleanedBand; b < kNumBands; ++b) {
-    const size_t bi = size_t(b);
-    if (!analysed_[bi]) continue;
-    OctaveBandPass::State st{};
-    double e = 0.0;
-    for (size_t n = 0; n < filter_[bi].size() + size_t(sampleRate / 4); ++n) {
-      const double y = analysis_[bi].step(n < filter_[bi].size() ? filter_[bi][n] : 0.f, st);
-      e += y * y;
-    }
-    clean_->analysedPerOctave[size_t(b - kFirstCleanedBand)] =
-        e * 0.5 * sampleRate / (bandCentreExactHz(b) / std::numbers::sqrt2);
   }
   // Zero-input responses over one bin from unit states, and the bin's state transition.
   for (int b = 0; b < kNumBands; ++b) {
@@ -920,91 +841,10 @@ void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& 
 }
 
 void IrSynthesizer::cleanUp(const EnergyResponse& energy, const DirectSound& direct, float* ir) {
-  CleanUp& c = *clean_;
-  std::fill(c.time.p, c.time.p + c.nfft, 0.f);
-  std::copy(ir, ir + length_, c.time.p);
-  fftwf_execute(c.fwd);
-  const size_t nbins = c.nfft / 2 + 1;
-  const size_t w = std::max<size_t>(1, size_t(std::lround(kCleanBinSeconds * sampleRate_)));
-  const size_t nb = c.target.size();
-  const double perBin = energy.binSeconds() * sampleRate_;
-  for (int b = kFirstCleanedBand; b < kNumBands; ++b) {
-    const auto& f = c.filter[size_t(b - kFirstCleanedBand)];
-    for (size_t k = 0; k < nbins; ++k) {
-      c.band.p[k][0] = c.spec.p[k][0] * f[k];
-      c.band.p[k][1] = c.spec.p[k][1] * f[k];
-    }
-    fftwf_execute(c.inv);
-    std::copy(c.time.p, c.time.p + length_, c.part.begin());
-    std::fill(c.target.begin(), c.target.end(), 0.0);
-    std::fill(c.actual.begin(), c.actual.end(), 0.0);
-    for (size_t k = 0; k < energy.binCount(); ++k) {
-      const size_t n = size_t((double(k) + 0.5) * perBin);
-      c.target[std::min(nb - 1, n / w)] += std::max(0.f, energy.bins()[k][b]);
-    }
-    if (direct.visible) {
-      const long n0 = std::lround(double(direct.delaySeconds) * sampleRate_);
-      if (n0 >= 0 && size_t(n0) < length_) c.target[size_t(n0) / w] += direct.intensity[b];
-    }
-    // What the band's analysis filter measures of the part: splatter sits mostly low in A_b's
-    // span, inside the analysed octave, so A_b's reach up to Nyquist must not excuse it.
-    if (!analysed_[size_t(b)]) continue;
-    {
-      OctaveBandPass::State st{};
-      for (size_t n = 0; n < length_; ++n) {
-        const double y = analysis_[size_t(b)].step(c.part[n], st);
-        c.actual[n / w] += y * y;
-        if (n % 64 == 63) OctaveBandPass::flushTiny(st);
-      }
-    }
-    // The direct sound's bin and the next stay: the filter A_b spreads the direct pulse (and
-    // the first arrivals) over bins whose target holds none of it.
-    size_t first = nb;
-    if (direct.visible)
-      first = std::min(
-          nb, size_t(std::max(0L, std::lround(double(direct.delaySeconds) * sampleRate_))) / w);
-    for (size_t j = 0; j < first; ++j)
-      if (c.target[j] > 0.0) {
-        first = j;
-        break;
-      }
-    first = std::max(first + 2, c.start / w + 1);
-    const double ratio = c.analysedPerOctave[size_t(b - kFirstCleanedBand)];
-    bool any = false;
-    for (size_t j = 0; j < nb; ++j) {
-      if (j < first) {
-        c.gain[j] = 1.f;
-        continue;
-      }
-      // Over five bins (50 ms), so that energy the synthesis moved between bins (a bin
-      // without pulses passes its share on) is not taken for splatter.
-      double want = 0.0, got = 0.0;
-      for (size_t i = j >= 2 ? j - 2 : 0; i < std::min(nb, j + 3); ++i) {
-        want += c.target[i];
-        got += c.actual[i];
-      }
-      const double allowed = kCleanMargin * ratio * want;
-      c.gain[j] = got > allowed ? float(std::sqrt(allowed / got)) : 1.f;
-      any = any || c.gain[j] < 1.f;
-    }
-    if (!any) continue;
-    // ir += (g(n) - 1) part, g linear between bin centres (constant before the first and
-    // after the last).
-    for (size_t n = 0; n < length_; ++n) {
-      const double x = (double(n) + 0.5) / double(w) - 0.5;
-      double g;
-      if (x <= 0.0) {
-        g = c.gain[0];
-      } else if (x >= double(nb - 1)) {
-        g = c.gain[nb - 1];
-      } else {
-        const size_t j = size_t(x);
-        const double t = x - double(j);
-        g = (1.0 - t) * c.gain[j] + t * c.gain[j + 1];
-      }
-      if (g != 1.0) ir[n] += float((g - 1.0) * c.part[n]);
-    }
-  }
+  leveller_->clearTargets();
+  leveller_->addResponse(energy, Bands(1.f));
+  if (direct.visible) leveller_->addDirect(direct.delaySeconds, direct.intensity);
+  leveller_->apply(ir, kCleanMargin, false, std::numeric_limits<double>::infinity());
 }
 
 std::array<std::vector<double>, kNumBands> expectedBandAnalysisEnergy(const EnergyResponse& energy,

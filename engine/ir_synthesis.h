@@ -62,6 +62,8 @@
 
 namespace dpc {
 
+class BandLeveller;
+
 /// Fraction of power above `edge` Hz at f Hz: a raised cosine in log2 frequency over +-1/6
 /// octave around the edge (a 1/3-octave crossover); with its complement (1 - it) it splits
 /// power without loss (sin^2 + cos^2 = 1). Any thread; no allocation; no errors.
@@ -214,8 +216,6 @@ class IrSynthesizer {
   /// the two highest, 4 and 8 kHz, where air absorption makes the decay much faster than the
   /// band below's.
   static constexpr int kFirstCleanedBand = 6;
-  /// Time resolution of that cleaning, seconds.
-  static constexpr double kCleanBinSeconds = 0.01;
   /// A band's part is cleaned only where its analysed energy exceeds the expected by this
   /// factor (1 dB): below it, the refinement's own adjustments for the analysis filters stand.
   static constexpr double kCleanMargin = 1.26;
@@ -261,21 +261,12 @@ class IrSynthesizer {
   /// energies over kTiltWindowSeconds around each bin set the ratios (halfBandDensity).
   /// Fills tiltLow_, tiltDelta_ and tilted_.
   void tiltBands(const EnergyResponse& energy);
-  /// Every gain step between synthesis bins splatters a little of its band's signal over
-  /// the whole spectrum (a step in the envelope is broadband), some 40-60 dB below the band.
-  /// Late in a large room's decay the 8 kHz band lies 40-60 dB below the 2 kHz band, so that
-  /// splatter, not the band's own signal, is what its analysis filter measures (T30 read
-  /// twice the response's in the hall). cleanUp takes each band b >= kFirstCleanedBand out
-  /// of the finished IR with its zero-phase filter A_b, compares its energy through the
-  /// band's analysis filter over five kCleanBinSeconds bins with what white noise of the
-  /// response's band energy (plus the direct sound) over A_b gives there, and where it
-  /// exceeds that by more than kCleanMargin scales the part down to that margin, the gain
-  /// interpolated linearly between bin centres (so the scaling does not splatter itself). Not
-  /// before the direct sound's bin + 2 nor before the Dirac sequence holds 10 pulses per bin (early
-  /// bins hold few pulses, which carry the energy of the empty bins before them).
+  /// Cleans the bands b >= kFirstCleanedBand of the finished IR of the slower bands' gain-step
+  /// splatter (BandLeveller, engine/band_leveller.h: scale-down only, kCleanMargin tolerance,
+  /// from where the Dirac sequence holds 10 pulses per bin). Without it the 8 kHz T30 of a
+  /// large hall's IR reads twice the response's.
   void cleanUp(const EnergyResponse& energy, const DirectSound& direct, float* ir);
-  struct CleanUp;
-  std::unique_ptr<CleanUp> clean_;
+  std::unique_ptr<BandLeveller> leveller_;  ///< does cleanUp's work
   /// Relative remaining target energy below which a band's later bins are not refined.
   static constexpr double kNegligible = 1e-6;
   size_t refineEnd_ = 0;

@@ -1,5 +1,7 @@
 #include "engine/spatial_ir.h"
 
+#include "engine/fftw_util.h"
+
 #include <fftw3.h>
 
 #include <algorithm>
@@ -10,21 +12,6 @@
 #include <stdexcept>
 
 namespace dpc {
-
-namespace {
-size_t nextPow2(size_t n) {
-  size_t p = 1;
-  while (p < n) p <<= 1;
-  return p;
-}
-
-template <typename T>
-T* fftwAlloc(size_t n) {
-  T* p = static_cast<T*>(fftwf_malloc(n * sizeof(T)));
-  if (!p) throw std::bad_alloc();
-  return p;
-}
-}  // namespace
 
 std::vector<glm::vec3> defaultSpatialDirections() {
   std::vector<glm::vec3> d;
@@ -79,9 +66,9 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
 
   Fft big;
   big.n = nfft;
-  big.time = fftwAlloc<float>(nfft);
-  big.a = fftwAlloc<fftwf_complex>(nbins);
-  big.b = fftwAlloc<fftwf_complex>(nbins);
+  big.time = fftwAllocate<float>(nfft);
+  big.a = fftwAllocate<fftwf_complex>(nbins);
+  big.b = fftwAllocate<fftwf_complex>(nbins);
   using Spectrum = std::vector<std::complex<float>>;  // layout-compatible with fftwf_complex
   Spectrum seqSpec(nbins);
   std::array<Spectrum, 2> earSpec{Spectrum(nbins), Spectrum(nbins)};
@@ -193,9 +180,9 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   fft_ = std::make_unique<Fft>();
   fft_->n = nextPow2(2 * margin);
   directFft_ = fft_->n;
-  fft_->time = fftwAlloc<float>(fft_->n);
-  fft_->a = fftwAlloc<fftwf_complex>(fft_->n / 2 + 1);
-  fft_->b = fftwAlloc<fftwf_complex>(fft_->n / 2 + 1);
+  fft_->time = fftwAllocate<float>(fft_->n);
+  fft_->a = fftwAllocate<fftwf_complex>(fft_->n / 2 + 1);
+  fft_->b = fftwAllocate<fftwf_complex>(fft_->n / 2 + 1);
   fft_->fwd = fftwf_plan_dft_r2c_1d(int(fft_->n), fft_->time, fft_->a, FFTW_ESTIMATE);
   fft_->inv = fftwf_plan_dft_c2r_1d(int(fft_->n), fft_->b, fft_->time, FFTW_ESTIMATE);
   if (!fft_->fwd || !fft_->inv) throw std::runtime_error("SpatialIrSynthesizer: FFTW plan failed");

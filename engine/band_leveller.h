@@ -1,0 +1,90 @@
+// Per-band level correction of a finished impulse response, measured on the ISO 3382-1
+// analysis filters (engine/octave_filter.h, the filters the band analysis of an IR uses).
+//
+// Both IR synthesisers shape band-filtered noise with gains that step between synthesis bins.
+// Every step splatters a little of its band over the whole spectrum (a step in an envelope is
+// broadband), some 40-60 dB below the band; late in a large room's decay the 8 kHz band lies
+// that far below the 2 kHz band, so the splatter, not the band's own signal, is what its
+// analysis filter measures. The spatial synthesiser's per-direction gains are besides set in
+// expectation (docs/design.md, "IR synthesis"), so a band's level in a time window follows its
+// noise realisation. The leveller takes each band b >= firstBand out of the IR with its
+// zero-phase amplitude-complementary filter A_b (sum_b A_b = 1), measures that part through
+// b's analysis filter in kBinSeconds bins, and compares, over kWindowBins bins centred on
+// each bin, with what white noise of the target band energy over A_b gives there
+// (analysedPerOctave: (fs/2) / B_b x the analysis filter's energy response to A_b). Where the
+// ratio leaves [1 / tolerance, tolerance] the part is scaled to the nearer edge, the gain
+// linear between bin centres (so the correction does not splatter itself) and at most
+// maxGain either way; boost = false only scales down. Bins before the direct sound's bin + 2
+// (the filter A_b spreads the direct pulse over bins whose target holds none of it) and
+// before `startSample` (where the Dirac sequence holds too few pulses per bin for a bin's
+// energy to stay in it) are left as they are.
+//
+// Construction: control/propagation thread (FFTW planning is not thread-safe); allocates
+// O(nfft) with nfft = nextPow2(length + sampleRate / 4); throws std::invalid_argument on bad
+// sizes. clearTargets / addResponse / addArrival / apply: propagation thread; no allocation;
+// no errors.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+#include "engine/bands.h"
+#include "engine/energy_response.h"
+#include "engine/octave_filter.h"
+
+namespace dpc {
+
+class BandLeveller {
+ public:
+  /// Time resolution of the correction, seconds.
+  static constexpr double kBinSeconds = 0.01;
+  /// Bins per comparison window (centred): energy a synthesis moves between neighbouring bins
+  /// (a bin without pulses passes its share on) is not taken for an error.
+  static constexpr size_t kWindowBins = 5;
+
+  /// sampleRate Hz; length samples of the IRs to level; bands firstBand..7 are levelled (those
+  /// whose analysis filter fits below Nyquist); startSample as in the file comment.
+  BandLeveller(int sampleRate, size_t length, int firstBand, size_t startSample);
+  ~BandLeveller();
+  BandLeveller(const BandLeveller&) = delete;
+  BandLeveller& operator=(const BandLeveller&) = delete;
+
+  /// The first sample at which a Dirac sequence of density 4 pi c^3 t^2 / V (Kuttruff eq. 4.6)
+  /// holds `pulses` pulses per kBinSeconds bin; roomVolume m^3, speedOfSound m/s.
+  static size_t densityStart(int sampleRate, double roomVolume, double speedOfSound,
+                             double pulses);
+
+  /// Empties the targets.
+  void clearTargets();
+  /// Adds weight[b] x the response's band energies (1/m^2) to the targets (any bin width; a
+  /// negative bin counts as 0).
+  void addResponse(const EnergyResponse& energy, const Bands& weight);
+  /// Adds one arrival's band energies (1/m^2) at delaySeconds to the targets and marks the
+  /// direct sound there (bins up to its bin + 2 are not levelled).
+  void addDirect(double delaySeconds, const Bands& energy);
+  /// Levels ir (length samples) to the targets; see the file comment for tolerance (>= 1),
+  /// boost and maxGain (>= 1, amplitude factor).
+  void apply(float* ir, double tolerance, bool boost, double maxGain);
+
+ private:
+  struct Fft;
+  std::unique_ptr<Fft> fft_;
+  int sampleRate_;
+  size_t length_;
+  int firstBand_;
+  size_t start_;
+  size_t binSamples_;
+  long directSample_ = -1;
+  std::array<bool, kNumBands> analysed_{};
+  std::array<OctaveBandPass, kNumBands> analysis_{};
+  std::array<double, kNumBands> analysedPerOctave_{};
+  std::array<std::vector<float>, kNumBands> filter_;  ///< A_b / nfft on the FFT bins
+  std::array<std::vector<double>, kNumBands> target_;  ///< per bin
+  std::vector<double> actual_;
+  std::vector<float> gain_;
+  std::vector<float> part_;
+};
+
+}  // namespace dpc

@@ -1,0 +1,37 @@
+// FFTW single-precision buffer ownership and FFT sizing, shared by the IR synthesisers.
+// Any thread; FftwArray allocates (throws std::bad_alloc on failure); nextPow2 does not.
+#pragma once
+
+#include <fftw3.h>
+
+#include <cstddef>
+#include <new>
+
+namespace dpc {
+
+/// fftwf_malloc of n elements (SIMD-aligned, uninitialised); free with fftwf_free.
+template <typename T>
+T* fftwAllocate(size_t n) {
+  T* p = static_cast<T*>(fftwf_malloc(n * sizeof(T)));
+  if (!p) throw std::bad_alloc();
+  return p;
+}
+
+/// RAII owner of an fftwAllocate'd array of n elements.
+template <typename T>
+struct FftwArray {
+  explicit FftwArray(size_t n) : p(fftwAllocate<T>(n)) {}
+  ~FftwArray() { fftwf_free(p); }
+  FftwArray(const FftwArray&) = delete;
+  FftwArray& operator=(const FftwArray&) = delete;
+  T* p;
+};
+
+/// The smallest power of two >= n (1 for n = 0).
+inline size_t nextPow2(size_t n) {
+  size_t p = 1;
+  while (p < n) p <<= 1;
+  return p;
+}
+
+}  // namespace dpc

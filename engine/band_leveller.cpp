@@ -111,7 +111,7 @@ void BandLeveller::addDirect(double delaySeconds, const Bands& energy) {
     target_[size_t(b)][size_t(n0) / binSamples_] += energy[b];
 }
 
-void BandLeveller::apply(float* ir, double tolerance, bool boost, double maxGain) {
+void BandLeveller::apply(float* ir, double tolerance, double maxBoost) {
   Fft& c = *fft_;
   std::fill(c.time.p, c.time.p + c.nfft, 0.f);
   std::copy(ir, ir + length_, c.time.p);
@@ -120,7 +120,6 @@ void BandLeveller::apply(float* ir, double tolerance, bool boost, double maxGain
   const size_t w = binSamples_;
   const size_t nb = actual_.size();
   const size_t half = kWindowBins / 2;
-  const double floorGain = 1.0 / maxGain;
   for (int b = firstBand_; b < kNumBands; ++b) {
     const size_t bi = size_t(b);
     if (!analysed_[bi]) continue;
@@ -165,9 +164,9 @@ void BandLeveller::apply(float* ir, double tolerance, bool boost, double maxGain
       }
       const double high = tolerance * ratio * want;
       if (got > high) {
-        gain_[j] = float(std::max(floorGain, std::sqrt(high / got)));
-      } else if (boost && got > 0.0 && got * tolerance < ratio * want) {
-        gain_[j] = float(std::min(maxGain, std::sqrt(ratio * want / (tolerance * got))));
+        gain_[j] = float(std::sqrt(high / got));
+      } else if (maxBoost > 1.0 && got > 0.0 && got * tolerance < ratio * want) {
+        gain_[j] = float(std::min(maxBoost, std::sqrt(ratio * want / (tolerance * got))));
       }
       any = any || gain_[j] != 1.f;
     }

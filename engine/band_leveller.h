@@ -13,8 +13,8 @@
 // each bin, with what white noise of the target band energy over A_b gives there
 // (analysedPerOctave: (fs/2) / B_b x the analysis filter's energy response to A_b). Where the
 // ratio leaves [1 / tolerance, tolerance] the part is scaled to the nearer edge, the gain
-// linear between bin centres (so the correction does not splatter itself) and at most
-// maxGain either way; boost = false only scales down. Bins before the direct sound's bin + 2
+// linear between bin centres (so the correction does not splatter itself); scaling down is
+// unbounded (splatter can exceed a band by 30 dB), scaling up at most maxBoost (1: never). Bins before the direct sound's bin + 2
 // (the filter A_b spreads the direct pulse over bins whose target holds none of it) and
 // before `startSample` (where the Dirac sequence holds too few pulses per bin for a bin's
 // energy to stay in it) are left as they are.
@@ -64,9 +64,9 @@ class BandLeveller {
   /// Adds one arrival's band energies (1/m^2) at delaySeconds to the targets and marks the
   /// direct sound there (bins up to its bin + 2 are not levelled).
   void addDirect(double delaySeconds, const Bands& energy);
-  /// Levels ir (length samples) to the targets; see the file comment for tolerance (>= 1),
-  /// boost and maxGain (>= 1, amplitude factor).
-  void apply(float* ir, double tolerance, bool boost, double maxGain);
+  /// Levels ir (length samples) to the targets; see the file comment for tolerance (>= 1,
+  /// energy ratio) and maxBoost (>= 1, amplitude factor).
+  void apply(float* ir, double tolerance, double maxBoost);
 
  private:
   struct Fft;

@@ -844,7 +844,7 @@ void IrSynthesizer::cleanUp(const EnergyResponse& energy, const DirectSound& dir
   leveller_->clearTargets();
   leveller_->addResponse(energy, Bands(1.f));
   if (direct.visible) leveller_->addDirect(direct.delaySeconds, direct.intensity);
-  leveller_->apply(ir, kCleanMargin, false, std::numeric_limits<double>::infinity());
+  leveller_->apply(ir, kCleanMargin, 1.0);
 }
 
 std::array<std::vector<double>, kNumBands> expectedBandAnalysisEnergy(const EnergyResponse& energy,

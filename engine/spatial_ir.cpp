@@ -1,5 +1,6 @@
 #include "engine/spatial_ir.h"
 
+#include "engine/band_leveller.h"
 #include "engine/fftw_util.h"
 
 #include <fftw3.h>
@@ -24,6 +25,18 @@ std::vector<glm::vec3> defaultSpatialDirections() {
   d.push_back({std::cos(el), 0.f, std::sin(el)});
   return d;
 }
+
+namespace {
+/// Whether frequency f (Hz) lies in what band b's analysis sees of its filter A_b: all of it,
+/// except below the 63 Hz octave and above the 8 kHz octave, where A_b reaches on to 0 Hz and
+/// Nyquist but an octave-band analysis does not.
+bool inAnalysedOctave(int b, double f) {
+  const double fc = bandCentreExactHz(b);
+  if (b == 0) return f >= fc / std::numbers::sqrt2;
+  if (b == kNumBands - 1) return f <= fc * std::numbers::sqrt2;
+  return true;
+}
+}  // namespace
 
 struct SpatialIrSynthesizer::Fft {
   size_t n = 0;
@@ -76,30 +89,49 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   big.inv = fftwf_plan_dft_c2r_1d(int(nfft), big.b, big.time, FFTW_ESTIMATE);
   if (!big.fwd || !big.inv) throw std::runtime_error("SpatialIrSynthesizer: FFTW plan failed");
 
-  // Diffuse-field equalisation: the band energy of every direction's filter, averaged.
+  // Each mask's span: sum of M_b^2 over the FFT bins.
   std::array<double, kNumBands> norm{};
   for (int b = 0; b < kNumBands; ++b)
     for (size_t k = 0; k < nbins; ++k)
       norm[size_t(b)] += double(masks.gain(b, k)) * masks.gain(b, k);
+  // A band's energy in the energy response is its octave's (fc / sqrt 2 .. fc sqrt 2). The
+  // extreme bands' filters reach beyond it (63 Hz down to 0 Hz, 8 kHz up to Nyquist); there
+  // an IR carries the octave's spectral density on (as the mono synthesiser and
+  // expectedBandAnalysisEnergy do), so those bands carry (span of M_b^2) / (octave width)
+  // times the band energy: 2 at 63 Hz, 3.2 at 8 kHz and 48 kHz.
+  for (int b = 0; b < kNumBands; ++b) {
+    const double width = bandCentreExactHz(b) / std::numbers::sqrt2;
+    densityGain_[size_t(b)] =
+        (b == 0 || b == kNumBands - 1) ? norm[size_t(b)] * sampleRate / double(nfft) / width : 1.0;
+  }
   auto spectrumOf = [&](const std::vector<float>& taps, Spectrum& out) {
     std::fill(big.time, big.time + nfft, 0.f);
     std::copy(taps.begin(), taps.end(), big.time);
     fftwf_execute_dft_r2c(big.fwd, big.time, big.a);
     for (size_t k = 0; k < nbins; ++k) out[k] = {big.a[k][0], big.a[k][1]};
   };
+  // Diffuse-field equalisation: the band energy of every direction's filter over the analysed
+  // octave (inAnalysedOctave), averaged over directions and ears.
   kappa_.fill(0.0);
-  for (const EarFilter& f : filters)
+  earWeight_.assign(filters.size(), {});
+  for (size_t d = 0; d < filters.size(); ++d)
     for (int ear = 0; ear < 2; ++ear) {
-      spectrumOf(ear == 0 ? f.left : f.right, earSpec[size_t(ear)]);
+      spectrumOf(ear == 0 ? filters[d].left : filters[d].right, earSpec[size_t(ear)]);
       for (int b = 0; b < kNumBands; ++b) {
-        double e = 0.0;
+        double seen = 0.0, seenNorm = 0.0;
         for (size_t k = 0; k < nbins; ++k) {
+          if (!inAnalysedOctave(b, double(k) * sampleRate / double(nfft))) continue;
           const double m2 = double(masks.gain(b, k)) * masks.gain(b, k);
-          e += m2 * double(std::norm(earSpec[size_t(ear)][k]));
+          seen += m2 * double(std::norm(earSpec[size_t(ear)][k]));
+          seenNorm += m2;
         }
-        kappa_[size_t(b)] += e / norm[size_t(b)] / double(2 * filters.size());
+        earWeight_[d][size_t(ear)][b] = float(seen / seenNorm);
+        kappa_[size_t(b)] += seen / seenNorm / double(2 * filters.size());
       }
     }
+  for (auto& perEar : earWeight_)
+    for (Bands& w : perEar)
+      for (int b = 0; b < kNumBands; ++b) w[b] = float(double(w[b]) / kappa_[size_t(b)]);
 
   // Per direction: its own Dirac sequence, through A_b and the direction's filter.
   bands_.resize(directions_.size());
@@ -124,7 +156,7 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
     for (int ear = 0; ear < 2; ++ear) {
       spectrumOf(ear == 0 ? filters[d].left : filters[d].right, earSpec[size_t(ear)]);
       for (int b = 0; b < kNumBands; ++b) {
-        const float eq = float(1.0 / std::sqrt(kappa_[size_t(b)]));
+        const float eq = float(std::sqrt(densityGain_[size_t(b)] / kappa_[size_t(b)]));
         for (size_t k = 0; k < nbins; ++k) {
           const float g = masks.gain(b, k) * masks.gain(b, k) * scale * eq;
           const std::complex<float> v = g * seqSpec[k] * earSpec[size_t(ear)][k];
@@ -153,8 +185,11 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
           big.b[k][1] = seqSpec[k].imag() * g;
         }
         fftwf_execute_dft_c2r(big.inv, big.b, big.time);
-        if (pass == 0)
+        if (pass == 0) {
           omniBands_[size_t(b)].assign(big.time, big.time + length_);
+          const float density = float(std::sqrt(densityGain_[size_t(b)]));
+          for (float& x : omniBands_[size_t(b)]) x *= density;
+        }
         else if (b < BandEnvelope::kRealisedBands)
           measured[size_t(b)].assign(big.time, big.time + length_);
       }
@@ -188,6 +223,18 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   if (!fft_->fwd || !fft_->inv) throw std::runtime_error("SpatialIrSynthesizer: FFTW plan failed");
   exactScratch_.left.reserve(margin);
   exactScratch_.right.reserve(margin);
+  const OctaveBandMasks directMasks(sampleRate, fft_->n);
+  directMask2_.resize(fft_->n / 2 + 1);
+  for (size_t k = 0; k < directMask2_.size(); ++k)
+    for (int b = 0; b < kNumBands; ++b) {
+      const bool seen = inAnalysedOctave(b, double(k) * sampleRate / double(fft_->n));
+      const float m2 = seen ? directMasks.gain(b, k) * directMasks.gain(b, k) : 0.f;
+      directMask2_[k][b] = m2;
+      directNorm_[size_t(b)] += double(m2);
+    }
+  leveller_ = std::make_unique<BandLeveller>(
+      sampleRate, length_, kDirectionalFromBand,
+      BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, kLevelFromPulses));
 }
 
 void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
@@ -227,6 +274,19 @@ void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
                                      kDirectionalFromBand);
   }
   if (direct.visible) addDirect(direct, energy.toListener(direct.direction), left, right);
+  // Each ear levelled to its own target: sum_d E_d,b x the ear filter's band energy for
+  // direction d (diffuse-field equalised), plus the direct sound through its exact filter.
+  for (int ear = 0; ear < 2; ++ear) {
+    leveller_->clearTargets();
+    for (size_t d = 0; d < count; ++d)
+      leveller_->addResponse(energy.response(d), earWeight_[d][size_t(ear)]);
+    if (direct.visible) {
+      Bands e;
+      for (int b = 0; b < kNumBands; ++b) e[b] = direct.intensity[b] * directWeight_[size_t(ear)][b];
+      leveller_->addDirect(direct.delaySeconds, e);
+    }
+    leveller_->apply(ear == 0 ? left : right, kLevelTolerance, kLevelMaxBoost);
+  }
 }
 
 void SpatialIrSynthesizer::addDirect(const DirectSound& direct, const glm::vec3& dir, float* left,
@@ -238,7 +298,8 @@ void SpatialIrSynthesizer::addDirect(const DirectSound& direct, const glm::vec3&
   for (int b = 0; b < kNumBands; ++b) {
     const size_t bi = size_t(b);
     const float amp =
-        float(std::sqrt(double(direct.intensity[b]) / (filterData_.share[bi] * kappa_[bi])));
+        float(std::sqrt(double(direct.intensity[b]) * densityGain_[bi] /
+                        (filterData_.share[bi] * kappa_[bi])));
     for (size_t i = 0; i < margin; ++i) fft_->time[i] += amp * bandFilter_[bi][i];
   }
   fftwf_execute_dft_r2c(fft_->fwd, fft_->time, fft_->a);
@@ -248,6 +309,19 @@ void SpatialIrSynthesizer::addDirect(const DirectSound& direct, const glm::vec3&
     std::fill(fft_->time, fft_->time + n, 0.f);
     std::copy(h.begin(), h.begin() + long(std::min(h.size(), n)), fft_->time);
     fftwf_execute_dft_r2c(fft_->fwd, fft_->time, fft_->b);
+    // The exact filter's band energies (diffuse-field equalised) for this ear's target.
+    Bands& w = directWeight_[size_t(ear)];
+    for (int b = 0; b < kNumBands; ++b) w[b] = 0.f;
+    {
+      std::array<double, kNumBands> e{};
+      for (size_t k = 0; k < nbins; ++k) {
+        const double p =
+            double(fft_->b[k][0]) * fft_->b[k][0] + double(fft_->b[k][1]) * fft_->b[k][1];
+        for (int b = 0; b < kNumBands; ++b) e[size_t(b)] += p * double(directMask2_[k][b]);
+      }
+      for (int b = 0; b < kNumBands; ++b)
+        w[b] = float(e[size_t(b)] / (directNorm_[size_t(b)] * kappa_[size_t(b)]));
+    }
     const float scale = 1.f / float(n);
     for (size_t k = 0; k < nbins; ++k) {
       const float ar = fft_->a[k][0], ai = fft_->a[k][1];

@@ -37,6 +37,8 @@
 
 namespace dpc {
 
+class BandLeveller;
+
 /// A two-channel FIR (left, right) at the synthesis rate. Panning: one tap per channel.
 struct EarFilter {
   std::vector<float> left, right;
@@ -46,6 +48,13 @@ class SpatialIrSynthesizer {
  public:
   /// Bands from this one up are rendered per direction; lower ones omnidirectionally.
   static constexpr int kDirectionalFromBand = 2;
+  /// Per-ear levelling of the directional bands (BandLeveller): each band's analysed energy
+  /// over 50 ms windows is brought to within this energy ratio of the ear's target, scaled up
+  /// by at most kLevelMaxBoost (amplitude), from where each direction's Dirac sequence holds
+  /// kLevelFromPulses pulses per 10 ms.
+  static constexpr double kLevelTolerance = 1.0;
+  static constexpr double kLevelMaxBoost = 2.0;
+  static constexpr double kLevelFromPulses = 1.0;
 
   /// Fills a filter for an exact listener-frame direction (x forward, y left, z up).
   using ExactFilter = std::function<void(const glm::vec3& listenerDirection, EarFilter& out)>;
@@ -62,6 +71,13 @@ class SpatialIrSynthesizer {
   /// Diffuse-field equalisation gain applied in band b (energy factor).
   double diffuseFieldGain(int b) const { return 1.0 / kappa_[size_t(b)]; }
 
+  /// Direction d's filter's band energy for `ear` (0 left, 1 right; M_b^2-weighted, as a band
+  /// measurement sees it) over the diffuse-field average kappa_b: what the ear's IR carries
+  /// of direction d's band energy. directWeight: the same for the exact filter of the last
+  /// synthesize()'s direct sound (valid when it was visible).
+  const Bands& earWeight(size_t d, int ear) const { return earWeight_[d][size_t(ear)]; }
+  const Bands& directWeight(int ear) const { return directWeight_[size_t(ear)]; }
+
   /// Writes lengthSamples() samples to left and right. energy must use this synthesiser's
   /// directions (same order); direct.direction is a world vector, rotated by energy's frame.
   void synthesize(const DirectionalEnergyResponse& energy, const DirectSound& direct, float* left,
@@ -77,6 +93,7 @@ class SpatialIrSynthesizer {
   ExactFilter exact_;
   BandFilterData filterData_;
   std::array<double, kNumBands> kappa_{};
+  std::array<double, kNumBands> densityGain_{};  ///< energy factor, see the constructor
   std::vector<std::unique_ptr<BandEnvelope>> envelopes_;  ///< one per direction
   std::unique_ptr<BandEnvelope> omniEnvelope_;            ///< low bands, both channels
   std::array<std::vector<float>, kNumBands> omniBands_;   ///< omni sequence through A_b
@@ -90,6 +107,13 @@ class SpatialIrSynthesizer {
   struct Fft;
   std::unique_ptr<Fft> fft_;
   EarFilter exactScratch_;
+  /// earWeight_[d][ear][b]: direction d's ear filter's band energy / kappa_b; directWeight_:
+  /// the same for the last direct sound's exact filter.
+  std::vector<std::array<Bands, 2>> earWeight_;
+  std::array<Bands, 2> directWeight_{};
+  std::vector<Bands> directMask2_;  ///< M_b^2 on the direct-sound FFT's bins
+  std::array<double, kNumBands> directNorm_{};
+  std::unique_ptr<BandLeveller> leveller_;
 };
 
 /// The K = 8 listener-frame directions dpc uses: six on the horizon every 60 degrees from

@@ -117,7 +117,9 @@ TEST_CASE("Binaural band energies average to the mono energy response within 2 d
   scene.propagation.maxOrder = 200;
   scene.propagation.irLength = 1.5f;
   const Rendered r = render(scene, OutputFormat::kBinaural, 30.f, 10);
-  const Bands el = bandEnergies(r.left, 48000), er = bandEnergies(r.right, 48000);
+  // The extreme bands over their octave only: beyond it (below 44 Hz, above 11.3 kHz) the IR
+  // carries the octave's spectral density on, as an exact IR would (spatial_ir.h).
+  const Bands el = bandEnergies(r.left, 48000, true), er = bandEnergies(r.right, 48000, true);
   // Tolerance 2 dB (the issue's): the synthesis preserves band energy in expectation; one
   // realisation fluctuates by ~1 dB at 63 Hz (ir_synthesis_test), and the direct sound keeps
   // its direction's HRTF colouration relative to the diffuse-field equalisation.

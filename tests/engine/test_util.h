@@ -4,6 +4,7 @@
 #include <fftw3.h>
 
 #include <cstring>
+#include <numbers>
 #include <vector>
 
 #include "engine/energy_response.h"
@@ -19,7 +20,9 @@ inline bool identical(const EnergyResponse& a, const EnergyResponse& b) {
 
 /// Band energies of x (sum over samples of the band-filtered signal squared), measured with
 /// the synthesiser's own power-complementary octave masks, by Parseval on one real FFT.
-inline Bands bandEnergies(const std::vector<float>& x, int fs) {
+/// analysedOctaves: the 63 Hz and 8 kHz bands count only their octave (fc / sqrt 2 .. fc sqrt 2),
+/// as an octave-band analysis does, not their masks' reach down to 0 Hz and up to Nyquist.
+inline Bands bandEnergies(const std::vector<float>& x, int fs, bool analysedOctaves = false) {
   size_t n = 1;
   while (n < 2 * x.size()) n <<= 1;
   std::vector<float> in(n, 0.f);
@@ -33,7 +36,11 @@ inline Bands bandEnergies(const std::vector<float>& x, int fs) {
   for (size_t k = 0; k <= n / 2; ++k) {
     const double mag2 = double(out[k][0]) * out[k][0] + double(out[k][1]) * out[k][1];
     const double w = (k == 0 || k == n / 2) ? 1.0 : 2.0;  // one-sided spectrum
+    const double f = double(k) * fs / double(n);
     for (int b = 0; b < kNumBands; ++b) {
+      if (analysedOctaves && ((b == 0 && f < bandCentreExactHz(b) / std::numbers::sqrt2) ||
+                              (b == kNumBands - 1 && f > bandCentreExactHz(b) * std::numbers::sqrt2)))
+        continue;
       const double g = masks.gain(b, k);
       e[b] += float(w * g * g * mag2 / double(n));
     }

@@ -1,0 +1,135 @@
+// The two-channel (binaural, stereo) IR synthesis adds no error to each ear's band parameters:
+// the ISO 3382-1 band analysis of an ear's IR returns the parameters of the energy response
+// that ear receives (every direction's response weighted by that ear's filter, plus the
+// direct sound through its exact filter), as closely as an exact IR of that response would.
+// The room decays like a large hall: air absorption makes 8 kHz fall three times faster than
+// 1 kHz, where the gain steps of the slower bands splatter into the faster ones.
+#include <algorithm>
+#include <array>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "audio/room_parameters.h"
+#include "engine/ir_synthesis.h"
+#include "engine/spatial_ir.h"
+#include "runtime/render_pipeline.h"
+
+using namespace dpc;
+
+namespace {
+
+constexpr int kFs = 48000;
+
+/// Per ear: its energy response and direct sound.
+struct EarResponse {
+  EnergyResponse er;
+  DirectSound direct;
+};
+
+/// Parameters of an energy response with the direct sound in its bin (1 ms bins).
+audio::RoomParameters energyParameters(const EarResponse& e, int b) {
+  std::vector<double> x(e.er.binCount());
+  for (size_t k = 0; k < x.size(); ++k) x[k] = e.er.bins()[k][b];
+  if (e.direct.visible) x[size_t(e.direct.delaySeconds * 1e3)] += e.direct.intensity[b];
+  return audio::analyzeEnergyDecay(x.data(), x.size(), 1e-3);
+}
+
+double strengthDb(const audio::RoomParameters& p) {
+  return audio::strengthDb(p.energy);
+}
+
+}  // namespace
+
+TEST_CASE("Two-channel IR: each ear's band analysis returns its energy response's T30, C80 and G",
+          "[synthesis][spatial]") {
+  const double length = 2.5;
+  // T60 per band (63 Hz .. 8 kHz): a hall with air absorption.
+  const std::array<double, kNumBands> t60{2.6, 2.6, 2.5, 2.4, 2.2, 1.9, 1.4, 0.8};
+  const std::vector<glm::vec3> dirs = defaultSpatialDirections();
+  for (OutputFormat format : {OutputFormat::kBinaural, OutputFormat::kStereo}) {
+    SceneDesc scene;
+    scene.audio.output = format;
+    PropagationSettings ps;
+    ps.irLength = float(length);
+    for (uint64_t seed : {1u, 2u}) {
+      ps.seed = seed;
+      const double volume = 1000.0;
+      auto synth = makeSpatialSynthesizer(scene, ps, volume);
+      // The late field: from 15 ms on, arriving from all directions, more from the front
+      // left early on (a lateral reflection pattern), diffuse later. 1000 m^3: the density
+      // law gives an early part that the Dirac sequences can carry (see the tolerances).
+      DirectionalEnergyResponse energy(length, 1e-3, dirs);
+      for (size_t k = 15; k < size_t(length * 1e3) - 1; ++k) {
+        const double t = (double(k) + 0.5) * 1e-3;
+        Bands e;
+        for (int b = 0; b < kNumBands; ++b)
+          e[b] = float(4e-5 * std::pow(10.0, -6.0 * t / t60[size_t(b)]));
+        const double lateral = std::exp(-t / 0.1);
+        for (const glm::vec3& w : {glm::vec3(1, 0, 0), glm::vec3(-1, 0, 0), glm::vec3(0, 1, 0),
+                                   glm::vec3(0, -1, 0), glm::vec3(0, 0, 1), glm::vec3(0, 0, -1)}) {
+          Bands share = e;
+          for (int b = 0; b < kNumBands; ++b) share[b] *= float(1.0 / 6.0);
+          energy.add(t, share, w);
+        }
+        Bands side = e;
+        for (int b = 0; b < kNumBands; ++b) side[b] *= float(lateral);
+        energy.add(t, side, glm::normalize(glm::vec3(1, 0, -1)));  // front left (world)
+      }
+      DirectSound direct;
+      direct.visible = true;
+      direct.delaySeconds = 0.008f;
+      direct.distance = 0.008f * 343.f;
+      direct.direction = glm::normalize(glm::vec3(1, 0.2f, 0.5f));  // front right, above
+      for (int b = 0; b < kNumBands; ++b) direct.intensity[b] = 2e-3f;
+      std::vector<float> left(synth->lengthSamples()), right(synth->lengthSamples());
+      synth->synthesize(energy, direct, left.data(), right.data());
+
+      for (int ear = 0; ear < 2; ++ear) {
+        EarResponse want{EnergyResponse(length, 1e-3), direct};
+        for (size_t d = 0; d < dirs.size(); ++d)
+          for (size_t k = 0; k < want.er.binCount(); ++k)
+            for (int b = 0; b < kNumBands; ++b)
+              want.er.bins()[k][b] +=
+                  energy.response(d).bins()[k][b] * synth->earWeight(d, ear)[b];
+        for (int b = 0; b < kNumBands; ++b)
+          want.direct.intensity[b] = direct.intensity[b] * synth->directWeight(ear)[b];
+        const auto ideal = expectedBandAnalysisEnergy(want.er, want.direct, kFs);
+        const std::vector<float>& ir = ear == 0 ? left : right;
+        const audio::ImpulseResponseAnalysis a =
+            audio::analyzeImpulseResponse(ir.data(), ir.size(), kFs);
+        // From 250 Hz: the bands rendered per direction and levelled per ear (63/125 Hz are
+        // one omnidirectional rendering fed to both ears, see spatial_ir.h).
+        for (int b = SpatialIrSynthesizer::kDirectionalFromBand; b < kNumBands; ++b) {
+          const audio::RoomParameters target = energyParameters(want, b);
+          const audio::RoomParameters exact =
+              audio::analyzeEnergyDecay(ideal[size_t(b)].data(), ideal[size_t(b)].size(), 1e-3);
+          const audio::RoomParameters& got = a.bands[size_t(b)];
+          std::printf(
+              "%s seed %d ear %d band %4d Hz: T30 response %.3f exact IR %.3f synthesised %.3f; "
+              "C80 %+.2f / %+.2f / %+.2f dB; G %+.2f / %+.2f / %+.2f dB\n",
+              format == OutputFormat::kBinaural ? "binaural" : "stereo", int(seed), ear,
+              int(kBandCentreHz[size_t(b)]), target.t30, exact.t30, got.t30, target.c80,
+              exact.c80, got.c80, strengthDb(target), strengthDb(exact), strengthDb(got));
+          INFO("format " << int(format) << " seed " << seed << " ear " << ear << " band " << b);
+          // Tolerances. The per-ear levelling matches the analysed energy in 50 ms windows
+          // from 20 ms after the direct sound, so T30 keeps what a window's resolution on a
+          // steep slope and one realisation's noise leave (measured up to 3.7 % over at 4 kHz
+          // binaural, 6.7 % at 8 kHz stereo, where the band decays 60 dB in 0.8 s: 8 %). C80
+          // keeps the early part's error: each direction's Dirac sequence follows the
+          // reflection density law (Kuttruff eq. 4.6), 115 pulses/s at 15 ms in 1000 m^3, so
+          // an early bin without a pulse passes its energy to the next one, possibly past
+          // 80 ms (measured up to 1.2 dB beyond an exact IR's deviation: 1.5 dB). G: 0.5 dB
+          // beyond an exact IR's (measured 0.32). Without the levelling and the extreme
+          // bands' density the 8 kHz T30 reads over twice the response's and its G 3 dB low.
+          CHECK(got.t30 < std::max(target.t30, exact.t30) * 1.08);
+          CHECK(got.t30 > std::min(target.t30, exact.t30) * 0.97);
+          CHECK(std::abs(got.c80 - target.c80) < std::abs(exact.c80 - target.c80) + 1.5);
+          CHECK(std::abs(strengthDb(got) - strengthDb(target)) <
+                std::abs(strengthDb(exact) - strengthDb(target)) + 0.5);
+        }
+      }
+    }
+  }
+}

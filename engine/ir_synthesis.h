@@ -33,8 +33,9 @@
 // its octave per synthesis bin toward its neighbours' (halfBandDensity: the density
 // log-linear in log frequency between band centres), and the finished IR's 4 and 8 kHz parts
 // are scaled down where the gain steps of slower bands splatter into them (cleanUp). The
-// spatial synthesiser, whose band signals pass through HRIRs, uses neither and the older
-// expectation form: g_b[j] = sqrt(E_b[j] / e_b[j]), e_b = beta_b x
+// spatial synthesiser, whose band signals pass through HRIRs, uses the older expectation
+// form per direction and levels each ear afterwards (BandLeveller): g_b[j] =
+// sqrt(E_b[j] / e_b[j]), e_b = beta_b x
 // the pulses' energy in the bin (beta_b: the share of a unit impulse's energy that a band
 // measurement with M_b sees), realised energy at 63/125 Hz, and a crossover correction with
 // white-spectrum coupling coefficients.

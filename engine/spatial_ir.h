@@ -14,7 +14,13 @@
 // HRTFs carry no directional cue, and K independent low-band noises would interfere with
 // too few degrees of freedom to keep their band energy. All filters are diffuse-field equalised per
 // band (divided by the band energy of the K directions' filters averaged over both channels), so
-// that the two channels' average band energy follows the mono energy response for a diffuse field.
+// that the two channels' average band energy follows the mono energy response for a diffuse field
+// (taken over the analysed octave: the 63 Hz and 8 kHz bands carry their octave's spectral
+// density on below 44 Hz and above 11.3 kHz, as an exact IR does). Each ear is then levelled
+// on the ISO 3382-1 analysis filters (BandLeveller, engine/band_leveller.h) to its own target:
+// sum_d E_d,b x earWeight(d, ear)[b] plus the direct sound x directWeight(ear)[b], which
+// removes the slower bands' gain-step splatter from the faster ones and the expectation
+// form's realisation noise over 50 ms windows.
 // Method: the band-filtered Dirac sequence (Schröder 2011, section 5.3) per direction,
 // rendered through HRTFs as virtual loudspeakers (e.g. Noisternig et al., "3D binaural sound
 // reproduction using a virtual ambisonic approach", VECIMS 2003, for the virtual-loudspeaker

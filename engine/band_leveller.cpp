@@ -82,9 +82,11 @@ BandLeveller::BandLeveller(int sampleRate, size_t length, int firstBand, size_t 
     }
     analysedPerOctave_[bi] = e * 0.5 * sampleRate / (fc / std::numbers::sqrt2);
   }
-  actual_.assign(bins, 0.0);
+  for (int b = firstBand; b < kNumBands; ++b) {
+    actual_[size_t(b)].assign(bins, 0.0);
+    part_[size_t(b)].assign(length, 0.f);
+  }
   gain_.assign(bins, 1.f);
-  part_.assign(length, 0.f);
 }
 
 void BandLeveller::clearTargets() {
@@ -95,7 +97,7 @@ void BandLeveller::clearTargets() {
 
 void BandLeveller::addResponse(const EnergyResponse& energy, const Bands& weight) {
   const double perBin = energy.binSeconds() * sampleRate_;
-  const size_t nb = actual_.size();
+  const size_t nb = gain_.size();
   for (size_t k = 0; k < energy.binCount(); ++k) {
     const size_t j = std::min(nb - 1, size_t((double(k) + 0.5) * perBin) / binSamples_);
     for (int b = firstBand_; b < kNumBands; ++b)
@@ -118,49 +120,83 @@ void BandLeveller::apply(float* ir, double tolerance, double maxBoost) {
   fftwf_execute(c.fwd);
   const size_t nbins = c.nfft / 2 + 1;
   const size_t w = binSamples_;
-  const size_t nb = actual_.size();
+  const size_t nb = actual_[size_t(firstBand_)].size();
   const size_t half = kWindowBins / 2;
+  // The bands to level and, per band, the first bin levelled: after the direct sound's (or
+  // the first target's) bin + 2 and after the sequence is dense enough.
+  std::array<int, kNumBands> bands{};
+  std::array<size_t, kNumBands> first{};
+  int count = 0;
   for (int b = firstBand_; b < kNumBands; ++b) {
     const size_t bi = size_t(b);
     if (!analysed_[bi]) continue;
-    const auto& target = target_[bi];
-    // The first bin levelled: after the direct sound's (or the first target's) bin + 2 and
-    // after the sequence is dense enough.
-    size_t first = directSample_ >= 0 ? std::min(nb, size_t(directSample_) / w) : nb;
-    for (size_t j = 0; j < first; ++j)
-      if (target[j] > 0.0) {
-        first = j;
+    size_t f = directSample_ >= 0 ? std::min(nb, size_t(directSample_) / w) : nb;
+    for (size_t j = 0; j < f; ++j)
+      if (target_[bi][j] > 0.0) {
+        f = j;
         break;
       }
-    first = std::max(first + 2, start_ / w + 1);
-    if (first >= nb) continue;
+    f = std::max(f + 2, start_ / w + 1);
+    if (f >= nb) continue;
+    first[bi] = f;
+    bands[size_t(count++)] = b;
+  }
+  if (count == 0) return;
+  // Each band's part of the IR, through A_b.
+  for (int i = 0; i < count; ++i) {
+    const size_t bi = size_t(bands[size_t(i)]);
     const auto& f = filter_[bi];
     for (size_t k = 0; k < nbins; ++k) {
       c.band.p[k][0] = c.spec.p[k][0] * f[k];
       c.band.p[k][1] = c.spec.p[k][1] * f[k];
     }
     fftwf_execute(c.inv);
-    std::copy(c.time.p, c.time.p + length_, part_.begin());
-    // What the band's analysis filter measures of the part: splatter sits mostly low in A_b's
-    // span, inside the analysed octave, so A_b's reach up to Nyquist must not excuse it.
-    std::fill(actual_.begin(), actual_.end(), 0.0);
-    {
-      OctaveBandPass::State st{};
-      for (size_t n = 0; n < length_; ++n) {
-        const double y = analysis_[bi].step(part_[n], st);
-        actual_[n / w] += y * y;
-        if (n % 64 == 63) OctaveBandPass::flushTiny(st);
+    std::copy(c.time.p, c.time.p + length_, part_[bi].begin());
+  }
+  // What each band's analysis filter measures of its part (splatter sits mostly low in A_b's
+  // span, inside the analysed octave, so A_b's reach up to Nyquist must not excuse it). The
+  // bands' filters run side by side: each is a serial recursion, so interleaving them lets
+  // the processor overlap their latencies.
+  std::array<OctaveBandPass::State, kNumBands> state{};
+  std::array<const float*, kNumBands> in{};
+  std::array<const OctaveBandPass*, kNumBands> filters{};
+  std::array<OctaveBandPass::State*, kNumBands> states{};
+  std::array<double*, kNumBands> out{};
+  for (int i = 0; i < count; ++i) {
+    const size_t bi = size_t(bands[size_t(i)]);
+    in[size_t(i)] = part_[bi].data();
+    filters[size_t(i)] = &analysis_[bi];
+    states[size_t(i)] = &state[bi];
+    out[size_t(i)] = actual_[bi].data();
+  }
+  for (size_t begin = 0; begin < length_; begin += w) {
+    const size_t end = std::min(length_, begin + w);
+    std::array<double, kNumBands> e{};
+    for (size_t n = begin; n < end; ++n)
+      for (int i = 0; i < count; ++i) {
+        const size_t ii = size_t(i);
+        const double y = filters[ii]->step(in[ii][n], *states[ii]);
+        e[ii] += y * y;
       }
+    for (int i = 0; i < count; ++i) {
+      out[size_t(i)][begin / w] = e[size_t(i)];
+      OctaveBandPass::flushTiny(*states[size_t(i)]);
     }
+  }
+  const double invW = 1.0 / double(w);
+  for (int i = 0; i < count; ++i) {
+    const size_t bi = size_t(bands[size_t(i)]);
+    const auto& target = target_[bi];
+    const auto& actual = actual_[bi];
     const double ratio = analysedPerOctave_[bi];
     bool any = false;
     for (size_t j = 0; j < nb; ++j) {
       gain_[j] = 1.f;
-      if (j < first) continue;
+      if (j < first[bi]) continue;
       double want = 0.0, got = 0.0;
-      for (size_t i = j >= half ? j - half : 0; i < std::min(nb, j + half + 1); ++i) {
-        want += target[i];
-        got += actual_[i];
+      for (size_t q = j >= half ? j - half : 0; q < std::min(nb, j + half + 1); ++q) {
+        want += target[q];
+        got += actual[q];
       }
       const double high = tolerance * ratio * want;
       if (got > high) {
@@ -172,21 +208,25 @@ void BandLeveller::apply(float* ir, double tolerance, double maxBoost) {
     }
     if (!any) continue;
     // ir += (g(n) - 1) part, g linear between bin centres (constant before the first and
-    // after the last).
-    for (size_t n = 0; n < length_; ++n) {
-      const double x = (double(n) + 0.5) / double(w) - 0.5;
-      double g;
-      if (x <= 0.0) {
-        g = gain_[0];
-      } else if (x >= double(nb - 1)) {
-        g = gain_[nb - 1];
-      } else {
-        const size_t j = size_t(x);
-        const double t = x - double(j);
-        g = (1.0 - t) * gain_[j] + t * gain_[j + 1];
+    // after the last), segment by segment between centres; segments at unit gain skipped.
+    const float* x = part_[bi].data();
+    const size_t firstCentre = w / 2;  // samples n with (n + 0.5) / w - 0.5 <= 0 come before
+    for (size_t n = 0; n < std::min(length_, firstCentre); ++n)
+      if (gain_[0] != 1.f) ir[n] += float((double(gain_[0]) - 1.0) * x[n]);
+    for (size_t j = 0; j + 1 < nb; ++j) {
+      if (gain_[j] == 1.f && gain_[j + 1] == 1.f) continue;
+      const double g0 = gain_[j], g1 = gain_[j + 1];
+      const size_t n0 = std::min(length_, j * w + firstCentre);
+      const size_t n1 = std::min(length_, (j + 1) * w + firstCentre);
+      for (size_t n = n0; n < n1; ++n) {
+        const double t = (double(n) + 0.5) * invW - 0.5 - double(j);
+        ir[n] += float(((1.0 - t) * g0 + t * g1 - 1.0) * x[n]);
       }
-      if (g != 1.0) ir[n] += float((g - 1.0) * part_[n]);
     }
+    const size_t lastStart = std::min(length_, (nb - 1) * w + firstCentre);
+    if (gain_[nb - 1] != 1.f)
+      for (size_t n = lastStart; n < length_; ++n)
+        ir[n] += float((double(gain_[nb - 1]) - 1.0) * x[n]);
   }
 }
 

@@ -82,9 +82,9 @@ class BandLeveller {
   std::array<double, kNumBands> analysedPerOctave_{};
   std::array<std::vector<float>, kNumBands> filter_;  ///< A_b / nfft on the FFT bins
   std::array<std::vector<double>, kNumBands> target_;  ///< per bin
-  std::vector<double> actual_;
-  std::vector<float> gain_;
-  std::vector<float> part_;
+  std::array<std::vector<double>, kNumBands> actual_;  ///< analysed energy per bin
+  std::vector<float> gain_;                             ///< per bin, one band at a time
+  std::array<std::vector<float>, kNumBands> part_;      ///< the IR through A_b
 };
 
 }  // namespace dpc

@@ -7,6 +7,7 @@
 
 #include "engine/fftw_util.h"
 #include "engine/ir_synthesis.h"
+#include "engine/wide_vectors.h"
 
 namespace dpc {
 
@@ -31,6 +32,41 @@ struct BandLeveller::Fft {
   Fft(const Fft&) = delete;
   Fft& operator=(const Fft&) = delete;
 };
+
+namespace {
+
+/// Four analysis filters side by side, one per lane (3 biquads each, transposed direct form
+/// II, coefficients c[coef][section] with coef = b0, b1, b2, a1, a2), each on its own input
+/// in[lane][0, length): each lane's squared output summed over bins of w samples into
+/// e[lane][bin]. The recursions are serial per lane; side by side they run in parallel.
+DPC_WIDE_VECTORS
+void analysedEnergy4(const Double4 (&c)[5][3], const float* const (&in)[4], size_t length,
+                     size_t w, double* const (&e)[4]) {
+  Double4 s1[3] = {}, s2[3] = {};
+  const Double4 tiny = {1e-150, 1e-150, 1e-150, 1e-150}, zero = {};
+  for (size_t begin = 0; begin < length; begin += w) {
+    const size_t end = std::min(length, begin + w);
+    Double4 sum = {};
+    for (size_t n = begin; n < end; ++n) {
+      Double4 x = {double(in[0][n]), double(in[1][n]), double(in[2][n]), double(in[3][n])};
+      for (size_t k = 0; k < 3; ++k) {
+        const Double4 y = c[0][k] * x + s1[k];
+        s1[k] = c[1][k] * x - c[3][k] * y + s2[k];
+        s2[k] = c[2][k] * x - c[4][k] * y;
+        x = y;
+      }
+      sum += x * x;
+    }
+    for (size_t lane = 0; lane < 4; ++lane) e[lane][begin / w] = sum[lane];
+    // Values far below float range would become denormals (about 100 times slower).
+    for (size_t k = 0; k < 3; ++k) {
+      s1[k] = (s1[k] < tiny && s1[k] > -tiny) ? zero : s1[k];
+      s2[k] = (s2[k] < tiny && s2[k] > -tiny) ? zero : s2[k];
+    }
+  }
+}
+
+}  // namespace
 
 BandLeveller::~BandLeveller() = default;
 
@@ -87,6 +123,7 @@ BandLeveller::BandLeveller(int sampleRate, size_t length, int firstBand, size_t 
     part_[size_t(b)].assign(length, 0.f);
   }
   gain_.assign(bins, 1.f);
+  unusedEnergy_.assign(bins, 0.0);
 }
 
 void BandLeveller::clearTargets() {
@@ -154,34 +191,29 @@ void BandLeveller::apply(float* ir, double tolerance, double maxBoost) {
     std::copy(c.time.p, c.time.p + length_, part_[bi].begin());
   }
   // What each band's analysis filter measures of its part (splatter sits mostly low in A_b's
-  // span, inside the analysed octave, so A_b's reach up to Nyquist must not excuse it). The
-  // bands' filters run side by side: each is a serial recursion, so interleaving them lets
-  // the processor overlap their latencies.
-  std::array<OctaveBandPass::State, kNumBands> state{};
-  std::array<const float*, kNumBands> in{};
-  std::array<const OctaveBandPass*, kNumBands> filters{};
-  std::array<OctaveBandPass::State*, kNumBands> states{};
-  std::array<double*, kNumBands> out{};
-  for (int i = 0; i < count; ++i) {
-    const size_t bi = size_t(bands[size_t(i)]);
-    in[size_t(i)] = part_[bi].data();
-    filters[size_t(i)] = &analysis_[bi];
-    states[size_t(i)] = &state[bi];
-    out[size_t(i)] = actual_[bi].data();
-  }
-  for (size_t begin = 0; begin < length_; begin += w) {
-    const size_t end = std::min(length_, begin + w);
-    std::array<double, kNumBands> e{};
-    for (size_t n = begin; n < end; ++n)
-      for (int i = 0; i < count; ++i) {
-        const size_t ii = size_t(i);
-        const double y = filters[ii]->step(in[ii][n], *states[ii]);
-        e[ii] += y * y;
+  // span, inside the analysed octave, so A_b's reach up to Nyquist must not excuse it), four
+  // bands at a time in vector lanes.
+  for (int g = 0; g < count; g += 4) {
+    Double4 coef[5][3] = {};
+    const float* in[4];
+    double* e[4];
+    for (size_t lane = 0; lane < 4; ++lane) {
+      const int i = g + int(lane);
+      // A lane without a band filters the first band's part with zero coefficients.
+      const size_t bi = size_t(bands[size_t(i < count ? i : g)]);
+      in[lane] = part_[bi].data();
+      e[lane] = i < count ? actual_[bi].data() : unusedEnergy_.data();
+      if (i >= count) continue;
+      for (size_t k = 0; k < 3; ++k) {
+        const Biquad& q = analysis_[bi].sections[k];
+        coef[0][k][lane] = q.b0;
+        coef[1][k][lane] = q.b1;
+        coef[2][k][lane] = q.b2;
+        coef[3][k][lane] = q.a1;
+        coef[4][k][lane] = q.a2;
       }
-    for (int i = 0; i < count; ++i) {
-      out[size_t(i)][begin / w] = e[size_t(i)];
-      OctaveBandPass::flushTiny(*states[size_t(i)]);
     }
+    analysedEnergy4(coef, in, length_, w, e);
   }
   const double invW = 1.0 / double(w);
   for (int i = 0; i < count; ++i) {

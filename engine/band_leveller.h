@@ -84,6 +84,7 @@ class BandLeveller {
   std::array<std::vector<double>, kNumBands> target_;  ///< per bin
   std::array<std::vector<double>, kNumBands> actual_;  ///< analysed energy per bin
   std::vector<float> gain_;                             ///< per bin, one band at a time
+  std::vector<double> unusedEnergy_;                    ///< output of an unused filter lane
   std::array<std::vector<float>, kNumBands> part_;      ///< the IR through A_b
 };
 

@@ -14,6 +14,7 @@
 #include "engine/band_leveller.h"
 #include "engine/fftw_util.h"
 #include "engine/random.h"
+#include "engine/wide_vectors.h"
 
 namespace dpc {
 
@@ -512,21 +513,8 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
 
 namespace {
 
-// Compiled twice, for AVX2 and for the baseline, and picked at load time (GCC function
-// multiversioning): the loops below are plain multiply-adds over independent lanes, which
-// AVX2 runs four doubles at a time. No FMA is enabled, so both versions round identically.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && \
-    !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
-#define DPC_WIDE_VECTORS __attribute__((target_clones("avx2", "default")))
-#else
-#define DPC_WIDE_VECTORS
-#endif
-
+// The loops below are plain multiply-adds over independent lanes (engine/wide_vectors.h).
 constexpr size_t kHalfBands = size_t(kNumBands) / 2;
-
-/// Four doubles (GCC/Clang vector extension): one AVX2 register, two SSE2 ones in the
-/// baseline; the same IEEE operations per lane either way.
-typedef double Double4 __attribute__((vector_size(32)));
 static_assert(kHalfBands == 4, "one Double4 lane per band of a parity");
 
 /// The IR through the kHalfBands cascades (3 biquads each, transposed direct form II,

@@ -84,7 +84,7 @@ BandLeveller::BandLeveller(int sampleRate, size_t length, int firstBand, size_t 
   if (sampleRate <= 0 || length == 0 || firstBand < 0 || firstBand >= kNumBands)
     throw std::invalid_argument("BandLeveller: rate, length and first band must be valid");
   const size_t margin = size_t(sampleRate / 4);  // the zero-phase filters' reach
-  fft_ = std::make_unique<Fft>(nextPow2(length + margin));
+  fft_ = std::make_unique<Fft>(smoothFftSize(length + margin));
   const size_t nfft = fft_->nfft, nbins = nfft / 2 + 1;
   const OctaveBandMasks masks(sampleRate, nfft);
   const float scale = 1.f / float(nfft);

@@ -20,7 +20,7 @@
 // energy to stay in it) are left as they are.
 //
 // Construction: control/propagation thread (FFTW planning is not thread-safe); allocates
-// O(nfft) with nfft = nextPow2(length + sampleRate / 4); throws std::invalid_argument on bad
+// O(nfft) with nfft = smoothFftSize(length + sampleRate / 4); throws std::invalid_argument on bad
 // sizes. clearTargets / addResponse / addArrival / apply: propagation thread; no allocation;
 // no errors.
 #pragma once

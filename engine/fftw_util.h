@@ -27,6 +27,18 @@ struct FftwArray {
   T* p;
 };
 
+/// The smallest even n' >= n whose only prime factors are 2, 3 and 5: FFTW transforms such
+/// sizes about as fast per point as powers of two, and they waste less padding (160000 for a
+/// 3 s IR at 48 kHz plus 1/4 s of filter reach, where the next power of two is 262144).
+inline size_t smoothFftSize(size_t n) {
+  for (size_t m = n < 2 ? 2 : n + (n & 1);; m += 2) {
+    size_t r = m;
+    for (size_t p : {2, 3, 5})
+      while (r % p == 0) r /= p;
+    if (r == 1) return m;
+  }
+}
+
 /// The smallest power of two >= n (1 for n = 0).
 inline size_t nextPow2(size_t n) {
   size_t p = 1;

@@ -632,8 +632,9 @@ void IrSynthesizer::refineOnAnalysisFilters(const EnergyResponse& energy, const 
     refineEnd_ = std::min(length_, (refineEnd_ + widest - 1) / widest * widest + widest);
   }
   for (int b = 0; b < kNumBands; ++b)
-    std::copy(envelope_->gains(b).begin(), envelope_->gains(b).end(),
-              firstGain_[size_t(b)].begin());
+    if (analysed_[size_t(b)])  // bands above Nyquist (8 kHz at 22.05 kHz) are not refined
+      std::copy(envelope_->gains(b).begin(), envelope_->gains(b).end(),
+                firstGain_[size_t(b)].begin());
   for (int pass = 0; pass < 2 * kRefineSweeps; ++pass) {
     const int sweep = pass / 2;
     // The filter output of the IR of every band this half-sweep updates, as it starts; each

@@ -152,9 +152,35 @@ void BandEnvelope::targets(const EnergyResponse& energy) {
       const size_t j = std::min(nb - 1, n / binSamples_[bi]);
       target[j] += e;
     }
+    const auto& seqE = sequenceEnergy_[bi];
+    if (!useRealised_) {
+      // Expectation form (one sequence per direction, sparse early): the energy of a bin the
+      // sequence leaves empty goes to the nearer bin that holds pulses, the earlier one only
+      // from the band's first bin with energy on (never before the sound's onset), so that
+      // the energy's centre in time stays put.
+      size_t onset = nb;
+      for (size_t j = 0; j < nb; ++j)
+        if (target[j] > 0.0) {
+          onset = j;
+          break;
+        }
+      size_t previous = nb;  // last bin at or after the onset holding pulses
+      for (size_t j = onset; j < nb; ++j) {
+        if (seqE[j] > 1e-12) {
+          previous = j;
+          continue;
+        }
+        if (target[j] == 0.0) continue;
+        size_t next = j + 1;
+        while (next < nb && !(seqE[next] > 1e-12)) ++next;
+        const bool back = previous < nb && (next >= nb || j - previous <= next - j);
+        if (!back && next >= nb) continue;  // no bin with pulses after it: as below
+        target[back ? previous : next] += target[j];
+        target[j] = 0.0;
+      }
+    }
     // Energy of a bin the sequence leaves empty moves on to the next bin; first-guess gains.
     double carry = 0.0;
-    const auto& seqE = sequenceEnergy_[bi];
     for (size_t j = 0; j < nb; ++j) {
       const double want = target[j] + carry;
       if (seqE[j] > 1e-12) {

@@ -119,7 +119,11 @@ std::vector<float> diracSequence(int sampleRate, size_t length, double roomVolum
 /// Gains g_b[j] per band and synthesis bin that give the band-filtered parts of one Dirac
 /// sequence the band energies of an energy response (in expectation over the sequence's
 /// signs): g_b[j] = sqrt(E_b[j] / e_b[j]), e_b[j] = beta_b x the pulses' energy in bin j, then
-/// the crossover correction. Synthesis bins are max(1 ms, 2 periods of the band centre).
+/// the crossover correction. Synthesis bins are max(1 ms, 2 periods of the band centre). The
+/// energy of a bin without pulses goes to the next bin with pulses (realised form) or to the
+/// nearer one, the earlier one only from the band's first bin with energy on (expectation
+/// form: the spatial synthesiser's sparse per-direction sequences, where the next pulse can
+/// lie tens of milliseconds on early in a large room).
 /// Construction allocates; compute() and accumulate() do not. Propagation thread.
 class BandEnvelope {
  public:

@@ -112,6 +112,43 @@ bool endsWith(const std::string& s, const std::string& tail) {
          });
 }
 
+/// --band-energy bins for an IR, seconds (the energy response's usual resolution).
+constexpr double kBandEnergyBinSeconds = 1e-3;
+
+/// The --band-energy table's comment line and header.
+void printBandEnergyHeader(const std::string& file, const char* index) {
+  std::printf("# dpc-analyze --band-energy: %s\n%s,time_s", file.c_str(), index);
+  for (int b = 0; b < kNumBands; ++b) std::printf(",%g", dpc::kBandCentreHz[size_t(b)]);
+  std::printf("\n");
+}
+
+/// One --band-energy table row per bin: `index,time_s,<energy per band>`; a band without
+/// values (above Nyquist) leaves its cells empty.
+void printBandEnergy(size_t index, double start, double binSeconds,
+                     const std::array<std::vector<double>, kNumBands>& energy) {
+  size_t rows = 0;
+  for (const auto& e : energy) rows = std::max(rows, e.size());
+  for (size_t k = 0; k < rows; ++k) {
+    std::printf("%zu,%.6f", index, start + double(k) * binSeconds);
+    for (const auto& e : energy) {
+      if (k < e.size())
+        std::printf(",%.9g", e[k]);
+      else
+        std::printf(",");
+    }
+    std::printf("\n");
+  }
+}
+
+/// Band energies per bin of one source of an energy-response CSV: the response with its direct
+/// sound in its bin, or (asMeasured) what the band analysis of an exact IR of it reads.
+std::array<std::vector<double>, kNumBands> sourceBandEnergy(const dpc::SourceEnergy& s,
+                                                            bool asMeasured) {
+  return asMeasured ? dpc::expectedBandAnalysisEnergy(s.energy, s.direct,
+                                                      dpc::AudioSettings{}.sampleRate)
+                    : dpc::withDirect(s);
+}
+
 /// Per-band parameters of one source of an energy-response CSV (dpc-demo --er-out); the
 /// "broadband" column sums the bands.
 /// asMeasured: the bands are what the ISO band analysis reads, in expectation, from an IR that
@@ -120,9 +157,7 @@ bool endsWith(const std::string& s, const std::string& tail) {
 ImpulseResponseAnalysis analyzeSource(const dpc::SourceEnergy& s, bool asMeasured) {
   ImpulseResponseAnalysis a;
   const auto bands = dpc::withDirect(s);
-  const auto measured = asMeasured ? dpc::expectedBandAnalysisEnergy(
-                                         s.energy, s.direct, dpc::AudioSettings{}.sampleRate)
-                                   : bands;
+  const auto measured = asMeasured ? sourceBandEnergy(s, true) : bands;
   std::vector<double> sum(bands[0].size(), 0.0);
   for (int b = 0; b < kNumBands; ++b) {
     const auto& e = measured[size_t(b)];
@@ -197,6 +232,15 @@ int main(int argc, char** argv) {
                "analysis of an IR carrying this response would give (expected values at 48 kHz: "
                "the octave filters' delay, skirts and noise bandwidth included), for comparison "
                "with parameters measured from real IRs");
+  bool bandEnergy = false;
+  app.add_flag("--band-energy", bandEnergy,
+               "Instead of parameters: print CSV rows `index,time_s,E63,...,E8000`, the energy "
+               "per octave band in time bins (1/m^2 on dpc's scale), for plotting decay curves. "
+               "WAV: channel (1 = first), 1 ms bins from the broadband onset, through the ISO "
+               "analysis filters; energy-response CSV: source (0 = first), the response's own "
+               "bins from emission, the direct sound in its bin (with --as-measured: what an "
+               "exact IR's band analysis reads)")
+      ->excludes("--json");
   app.add_option("--channel", channelText, "Analyse only channel N (1 = first; default: all)")
       ->type_name("N");
   try {
@@ -253,6 +297,13 @@ int main(int argc, char** argv) {
                       << dpc::AudioSettings{}.sampleRate << " Hz\n";
             return 1;
           }
+      if (bandEnergy) {
+        printBandEnergyHeader(file, "source");
+        for (size_t s = 0; s < sources.size(); ++s)
+          printBandEnergy(s, 0.0, sources[s].energy.binSeconds(),
+                          sourceBandEnergy(sources[s], asMeasured));
+        return 0;
+      }
       nlohmann::ordered_json out = {{"file", file},
                                     {"bandCentresHz", dpc::kBandCentreHz},
                                     {"sources", nlohmann::ordered_json::array()}};
@@ -279,6 +330,16 @@ int main(int argc, char** argv) {
     if (!channelText.empty()) {
       first = parseChannel(file, channelText, audio.channels.size());
       last = first + 1;
+    }
+    if (bandEnergy) {
+      printBandEnergyHeader(file, "channel");
+      for (size_t c = first; c < last; ++c) {
+        const auto& samples = audio.channels[c];
+        const dpc::audio::BandEnergyBins e = dpc::audio::bandEnergyBins(
+            samples.data(), samples.size(), audio.sampleRate, kBandEnergyBinSeconds);
+        printBandEnergy(c + 1, e.onsetSeconds, e.binSeconds, e.energy);
+      }
+      return 0;
     }
     nlohmann::ordered_json out;
     if (json) {

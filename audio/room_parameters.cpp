@@ -125,30 +125,65 @@ RoomParameters analyzeEnergyDecay(const double* energy, size_t n, double binSeco
   return fromEnergy(e, binSeconds);
 }
 
+namespace {
+
+// The IR in double precision and its broadband onset (first sample within kOnsetBelowPeakDb of
+// the squared peak); false when the IR holds no finite energy.
+bool onsetOf(const float* ir, size_t n, std::vector<double>& p, size_t& onset) {
+  if (!ir || n == 0) return false;
+  p.assign(ir, ir + n);
+  double peak = 0;
+  for (double v : p) peak = std::max(peak, v * v);
+  if (!(peak > 0) || !std::isfinite(peak)) return false;
+  const double threshold = peak * std::pow(10.0, -kOnsetBelowPeakDb / 10.0);
+  onset = 0;
+  while (p[onset] * p[onset] < threshold) ++onset;
+  return true;
+}
+
+// p through band b's analysis filter; false (band untouched) when the band's upper edge is at
+// or above Nyquist.
+bool bandSignal(const std::vector<double>& p, int b, double fs, std::vector<double>& band) {
+  const double fc = bandCentreExactHz(b);
+  if (fc * std::numbers::sqrt2 >= fs / 2) return false;
+  band.resize(p.size());
+  OctaveBandPass::State state{};
+  OctaveBandPass::design(fc, fs).run(p.data(), band.data(), p.size(), state);
+  return true;
+}
+
+}  // namespace
+
 ImpulseResponseAnalysis analyzeImpulseResponse(const float* ir, size_t n, int sampleRate) {
   ImpulseResponseAnalysis out;
   out.broadband = allNaN();
   out.bands.fill(allNaN());
-  if (!ir || n == 0 || sampleRate <= 0) return out;
+  std::vector<double> p, band;
+  size_t onset = 0;
+  if (sampleRate <= 0 || !onsetOf(ir, n, p, onset)) return out;
   const double fs = double(sampleRate);
   const double dt = 1.0 / fs;
-
-  std::vector<double> p(ir, ir + n);
-  double peak = 0;
-  for (double v : p) peak = std::max(peak, v * v);
-  if (!(peak > 0) || !std::isfinite(peak)) return out;
-  const double threshold = peak * std::pow(10.0, -kOnsetBelowPeakDb / 10.0);
-  size_t onset = 0;
-  while (p[onset] * p[onset] < threshold) ++onset;
-
   out.broadband = fromEnergy(squaredFrom(p, onset), dt);
+  for (int b = 0; b < kNumBands; ++b)
+    if (bandSignal(p, b, fs, band)) out.bands[size_t(b)] = fromEnergy(squaredFrom(band, onset), dt);
+  return out;
+}
+
+BandEnergyBins bandEnergyBins(const float* ir, size_t n, int sampleRate, double binSeconds) {
+  BandEnergyBins out{kNaN, kNaN, {}};
+  if (sampleRate <= 0 || !(binSeconds > 0) || !std::isfinite(binSeconds)) return out;
+  const double fs = double(sampleRate);
+  const size_t w = std::max<size_t>(1, size_t(std::llround(std::min(binSeconds * fs, 1e12))));
+  out.binSeconds = double(w) / fs;
+  std::vector<double> p, band;
+  size_t onset = 0;
+  if (!onsetOf(ir, n, p, onset)) return out;
+  out.onsetSeconds = double(onset) / fs;
   for (int b = 0; b < kNumBands; ++b) {
-    const double fc = bandCentreExactHz(b);
-    if (fc * std::numbers::sqrt2 >= fs / 2) continue;  // band not representable: NaN
-    std::vector<double> band(p.size());
-    OctaveBandPass::State state{};
-    OctaveBandPass::design(fc, fs).run(p.data(), band.data(), p.size(), state);
-    out.bands[size_t(b)] = fromEnergy(squaredFrom(band, onset), dt);
+    if (!bandSignal(p, b, fs, band)) continue;
+    std::vector<double>& e = out.energy[size_t(b)];
+    e.assign((n - onset + w - 1) / w, 0.0);
+    for (size_t i = onset; i < n; ++i) e[(i - onset) / w] += band[i] * band[i];
   }
   return out;
 }

@@ -37,6 +37,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <vector>
 
 #include "engine/bands.h"
 
@@ -89,6 +90,25 @@ inline constexpr size_t kMinRegressionPoints = 3;
 ///
 /// Allocates O(n) doubles. Not for the audio thread.
 ImpulseResponseAnalysis analyzeImpulseResponse(const float* ir, size_t n, int sampleRate);
+
+/// Energy per octave band of an impulse response in time bins from its onset: what the band
+/// analysis of analyzeImpulseResponse integrates, binned (backward sums give each band's
+/// Schroeder decay curve, e.g. to plot against an energy response's).
+struct BandEnergyBins {
+  double onsetSeconds;  ///< broadband onset t0 (same rule as analyzeImpulseResponse), s from
+                        ///< the IR's first sample; NaN when the IR holds no energy
+  double binSeconds;    ///< bin width used: the request rounded to whole samples (>= 1), s
+  /// energy[b][k]: sum of the squared band-b signal over [t0 + k binSeconds, t0 + (k+1)
+  /// binSeconds) (the last bin may be partial), in the IR's unit squared (dpc: 1/m^2, as
+  /// RoomParameters::energy). Empty for a band whose upper edge reaches Nyquist, and for
+  /// every band when the IR holds no energy.
+  std::array<std::vector<double>, kNumBands> energy;
+};
+
+/// The band energies of `ir` (n samples at sampleRate Hz) through the IEC 61260-1 filters of
+/// analyzeImpulseResponse, in bins of binSeconds (> 0) from the onset. Invalid arguments give
+/// NaN times and empty bands. Allocates O(n). Not for the audio thread.
+BandEnergyBins bandEnergyBins(const float* ir, size_t n, int sampleRate, double binSeconds);
 
 /// Parameters of one energy envelope already per band, e.g. one band of an energy response
 /// histogram: energy[k] is the energy (any unit) in time bin k = [k·binSeconds,

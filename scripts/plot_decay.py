@@ -1,21 +1,25 @@
 #!/usr/bin/python3
-"""Per-band energy decay curves (Schroeder EDC) of an energy response and of a synthesised IR.
+"""Per-band energy decay curves (Schroeder EDC) of an energy response, of an exact IR of it, and of a synthesised IR.
 
-Usage: scripts/plot_decay.py ER.csv IR.wav [--source N] [-o decay.png]
+Usage: scripts/plot_decay.py ER.csv IR.wav [--source N] [--build DIR] [-o decay.png]
 
 ER.csv comes from `dpc-demo ... --er-out ER.csv`, IR.wav from `--ir-out IR.wav` of the same run
-(mono output: channel N+1 is source N). The energy response's EDC is drawn from its 1 ms bins
-with the direct sound added to its bin; the IR is split into octave bands by the ISO 3382-1
-analysis filters that dpc-analyze uses and the synthesiser matches its band energies on
-(engine/octave_filter.h: IEC 61260-1 6th-order Butterworth band-pass, bilinear with both edges
-fc * 2^(+-1/2) prewarped; here scipy.signal.butter(3, edges, 'bandpass', fs), the same
-design), causal, squared and backward-integrated. Both curves start at the IR's onset (first
-sample within 20 dB of the peak). Bands whose upper edge reaches Nyquist are left empty.
+(mono output: channel N+1 is source N). Every curve is dpc-analyze's own band energy
+(`--band-energy`), so the picture shows what dpc-analyze's T30/EDT/C80 are computed from:
+  - energy response: the response's bins per octave band, the direct sound in its bin;
+  - exact IR: what the ISO 3382-1 octave filters read from an IR carrying the response exactly
+    (`--as-measured`: the filters' skirts, delay and ringing, no synthesis noise);
+  - synthesised IR: the IR through those filters, 1 ms bins from its onset.
+The synthesis is right where its curve follows the exact IR's; where the exact IR leaves the
+energy response (the 4 and 8 kHz tails of a fast decay under a slower band) the octave filters
+are what differ, not the synthesis. All curves start at the IR's onset. Bands whose upper edge
+reaches Nyquist are left empty.
 """
 import argparse
 import csv
+import io
 import os
-import sys
+import subprocess
 
 import matplotlib
 
@@ -23,37 +27,27 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from plot_render import read_wav  # noqa: E402
-
-CENTRES = [1000.0 * 2.0 ** (b - 4) for b in range(8)]
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 LABELS = ["63", "125", "250", "500", "1k", "2k", "4k", "8k"]
 
 
-def octave_band(x, fs, b):
-    """x through the ISO 3382-1 octave filter of band b (None above Nyquist)."""
-    from scipy.signal import butter, sosfilt
-    lo, hi = CENTRES[b] / np.sqrt(2), CENTRES[b] * np.sqrt(2)
-    if hi >= fs / 2:
-        return None
-    return sosfilt(butter(3, [lo, hi], btype="bandpass", fs=fs, output="sos"), x)
-
-
-def read_er(path, source):
-    direct, bins = None, []
-    with open(path) as fh:
-        rows = [r for r in csv.reader(line for line in fh if not line.startswith("#"))]
-    for r in rows[1:]:
-        if int(r[0]) != source:
-            continue
-        if r[1] == "direct":
-            direct = (float(r[2]), np.array([float(v) for v in r[3:]]))
-        else:
-            bins.append([float(v) for v in r[3:]])
-    e = np.array(bins)
-    if direct is not None:
-        e[int(direct[0] / 1e-3)] += direct[1]
-    return e
+def band_energy(analyze, path, index, *flags):
+    """(bin start times s, energy [bins x 8] with NaN for empty bands) of one channel/source."""
+    try:
+        run = subprocess.run([analyze, path, "--band-energy", *flags], capture_output=True,
+                             text=True)
+    except OSError as e:
+        raise SystemExit(f"plot_decay: --build: cannot run {analyze}: {e.strerror}")
+    if run.returncode != 0:
+        raise SystemExit(f"plot_decay: {run.stderr.strip()}")
+    out = run.stdout
+    rows = [r for r in csv.reader(io.StringIO(out)) if r and not r[0].startswith("#")]
+    rows = [r for r in rows[1:] if int(r[0]) == index]
+    if not rows:
+        raise SystemExit(f"plot_decay: {path}: no rows for index {index}")
+    t = np.array([float(r[1]) for r in rows])
+    e = np.array([[float(v) if v else np.nan for v in r[2:]] for r in rows])
+    return t, e
 
 
 def edc_db(e):
@@ -66,30 +60,33 @@ def main():
     ap.add_argument("er")
     ap.add_argument("ir")
     ap.add_argument("--source", type=int, default=0)
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"),
+                    help="build directory holding apps/dpc-analyze")
     ap.add_argument("-o", "--output", default="decay.png")
     a = ap.parse_args()
-    er = read_er(a.er, a.source)
-    x, fs = read_wav(a.ir)
-    ir = x[a.source]
-    onset = int(np.argmax(ir ** 2 >= 0.01 * np.max(ir ** 2)))
+    analyze = os.path.join(a.build, "apps", "dpc-analyze")
+    t_ir, ir = band_energy(analyze, a.ir, a.source + 1)
+    t_er, er = band_energy(analyze, a.er, a.source)
+    t_ex, exact = band_energy(analyze, a.er, a.source, "--as-measured")
+    onset = t_ir[0]
     fig, axes = plt.subplots(2, 4, figsize=(14, 6), sharex=True, sharey=True,
                              constrained_layout=True)
-    k0 = int(onset / fs / 1e-3)
     for b, ax in enumerate(axes.flat):
-        band = octave_band(ir, fs, b)
-        t_ir = np.arange(len(ir) - onset) / fs
-        if band is not None:
-            ax.plot(t_ir, edc_db(band[onset:] ** 2), label="synthesised IR", lw=1.5)
-        t_er = np.arange(len(er) - k0) * 1e-3
-        ax.plot(t_er, edc_db(er[k0:, b]), "--", label="energy response", lw=1.5)
-        ax.set(title=f"{LABELS[b]} Hz", ylim=(-60, 2), xlim=(0, t_er[-1]))
+        if not np.isnan(ir[0, b]):
+            ax.plot(t_ir - onset, edc_db(ir[:, b]), label="synthesised IR", lw=1.5)
+        for t, e, style, label in ((t_ex, exact, ":", "exact IR"),
+                                   (t_er, er, "--", "energy response")):
+            k0 = int(np.searchsorted(t, onset, side="right")) - 1
+            ax.plot(t[k0:] - t[k0], edc_db(e[k0:, b]), style, label=label, lw=1.5)
+        ax.set(title=f"{LABELS[b]} Hz", ylim=(-60, 2), xlim=(0, t_er[-1] - onset))
         ax.grid(alpha=0.3)
         if b % 4 == 0:
             ax.set_ylabel("EDC (dB)")
         if b >= 4:
             ax.set_xlabel("time after onset (s)")
     axes.flat[0].legend(fontsize=8)
-    fig.suptitle(f"Schroeder decay per octave band: {a.er} vs {a.ir}")
+    fig.suptitle(f"Schroeder decay per octave band: {os.path.basename(a.er)} and an exact IR "
+                 f"of it vs {os.path.basename(a.ir)}")
     fig.savefig(a.output, dpi=90)
     print(f"wrote {a.output}")
 

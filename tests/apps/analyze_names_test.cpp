@@ -1,6 +1,8 @@
 // dpc-analyze as a command: --json on a file whose name is not UTF-8 (Linux file names are
 // bytes) gives valid JSON with U+FFFD for the bad bytes; --air-attenuation prints ISO 9613-1
-// values; --as-measured gives what the band analysis of an exact IR of a response reads.
+// values; --as-measured gives what the band analysis of an exact IR of a response reads;
+// --band-energy prints the band energies the parameters are computed from.
+#include <array>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
@@ -145,5 +147,95 @@ TEST_CASE("dpc-analyze --as-measured: what the band analysis of an exact IR read
   std::getline(e, line);
   CHECK(line.find("--as-measured") != std::string::npos);
   CHECK(fs::file_size(dir / "o.txt") == 0);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("dpc-analyze --band-energy: the energies the parameters come from", "[analyze]") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(DPC_BINARY_DIR) / "analyze_band_energy_test";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string tool = std::string(DPC_BINARY_DIR) + "/apps/dpc-analyze ";
+  // Rows "index,time_s,E63..E8000" of the given index, summed per band, and the row count.
+  auto sums = [&](const std::string& args, size_t index, size_t& rows) {
+    const std::string out = (dir / "bands.csv").string();
+    REQUIRE(std::system((tool + args + " --band-energy > " + out).c_str()) == 0);
+    std::ifstream f(out);
+    std::string line;
+    std::array<double, dpc::kNumBands> sum{};
+    rows = 0;
+    std::getline(f, line);  // comment
+    std::getline(f, line);  // header
+    CHECK(line.find(",time_s,63,125,250,500,1000,2000,4000,8000") != std::string::npos);
+    while (std::getline(f, line)) {
+      std::stringstream cells(line);
+      std::string cell;
+      std::getline(cells, cell, ',');
+      if (std::stoul(cell) != index) continue;
+      ++rows;
+      std::getline(cells, cell, ',');
+      for (double& s : sum) {
+        std::getline(cells, cell, ',');
+        s += cell.empty() ? std::nan("") : std::stod(cell);
+      }
+    }
+    return sum;
+  };
+  auto strengths = [&](const std::string& args, const char* list) {
+    const std::string out = (dir / "out.json").string();
+    REQUIRE(std::system((tool + args + " --json > " + out).c_str()) == 0);
+    std::ifstream f(out);
+    std::stringstream text;
+    text << f.rdbuf();
+    return nlohmann::json::parse(text.str()).at(list).at(0).at("bands");
+  };
+  const double g0 = 1.0 / (4.0 * M_PI * 100.0);  // G's reference energy, 1/m^2
+
+  // An energy response: its own bins (plus the direct sound), or the exact IR's analysed ones.
+  dpc::SourceEnergy s{dpc::EnergyResponse(1.0, 1e-3), dpc::DirectSound{}};
+  s.direct.visible = true;
+  s.direct.delaySeconds = 0.004f;
+  for (int b = 0; b < dpc::kNumBands; ++b) {
+    s.direct.intensity[b] = 1e-3f;
+    for (size_t j = 6; j < s.energy.binCount(); ++j)
+      s.energy.bins()[j][b] = float(1e-4 * std::pow(10.0, -6.0 * double(j) * 1e-3 / 0.6));
+  }
+  const std::string csv = (dir / "er.csv").string();
+  dpc::writeEnergyCsv(csv, {s, s});
+  for (const std::string flags : {"", " --as-measured"}) {
+    INFO("energy response" << flags);
+    size_t rows = 0;
+    const auto sum = sums(csv + flags, 1, rows);
+    CHECK(rows == s.energy.binCount());
+    const nlohmann::json g = strengths(csv + flags, "sources");
+    // G is printed to 1e-6 dB or better by the JSON writer; %.9g rows sum to 1e-8 relative.
+    for (size_t b = 0; b < 8; ++b)
+      CHECK(10 * std::log10(sum[b] / g0) == Approx(g[b].at("g").get<double>()).margin(1e-5));
+  }
+
+  // An IR at 16 kHz (the 8 kHz band above Nyquist: empty cells): 1 ms bins from the onset.
+  dpc::audio::AudioData ir;
+  ir.sampleRate = 16000;
+  ir.channels.assign(2, std::vector<float>(16000, 0.f));
+  for (size_t i = 80; i < ir.channels[1].size(); ++i)  // 5 ms of silence, then a decay
+    ir.channels[1][i] = float(0.1 * std::pow(10.0, -3.0 * double(i - 80) / 16000.0 / 0.5) *
+                              (i % 3 == 0 ? 1.0 : -0.5));
+  ir.channels[0][40] = 0.5f;
+  const std::string wav = (dir / "ir.wav").string();
+  dpc::audio::writeWav(wav, ir);
+  size_t rows = 0;
+  const auto sum = sums(wav, 2, rows);
+  CHECK(rows == (16000 - 80 + 15) / 16);
+  CHECK(std::isnan(sum[7]));
+  const nlohmann::json g2 = strengths(wav + " --channel 2", "channels");
+  for (size_t b = 0; b < 7; ++b)
+    CHECK(10 * std::log10(sum[b] / g0) == Approx(g2[b].at("g").get<double>()).margin(1e-4));
+  // --band-energy with --json: refused, one line naming both flags.
+  const std::string err = (dir / "err.txt").string();
+  CHECK(std::system((tool + wav + " --band-energy --json > /dev/null 2> " + err).c_str()) != 0);
+  std::ifstream e(err);
+  std::string line;
+  std::getline(e, line);
+  CHECK(line.find("--band-energy") != std::string::npos);
   fs::remove_all(dir);
 }

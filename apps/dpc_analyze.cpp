@@ -331,6 +331,14 @@ int main(int argc, char** argv) {
       first = parseChannel(file, channelText, audio.channels.size());
       last = first + 1;
     }
+    // A NaN or infinite sample would turn every parameter into '—': refuse it by name.
+    for (size_t c = first; c < last; ++c)
+      for (size_t n = 0; n < audio.frames(); ++n)
+        if (!std::isfinite(audio.channels[c][n])) {
+          std::cerr << file << ": sample " << n << " of channel " << c + 1
+                    << " is not finite (NaN or infinity)\n";
+          return 1;
+        }
     if (bandEnergy) {
       printBandEnergyHeader(file, "channel");
       for (size_t c = first; c < last; ++c) {

@@ -5,6 +5,7 @@
 #include <array>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -230,6 +231,34 @@ TEST_CASE("dpc-analyze --band-energy: the energies the parameters come from", "[
   const nlohmann::json g2 = strengths(wav + " --channel 2", "channels");
   for (size_t b = 0; b < 7; ++b)
     CHECK(10 * std::log10(sum[b] / g0) == Approx(g2[b].at("g").get<double>()).margin(1e-4));
+  // A NaN sample: refused, one line naming the file, the sample and the channel.
+  ir.channels[1][500] = std::nanf("");
+  const std::string nan = (dir / "nan.wav").string();
+  {
+    // writeWav refuses non-finite samples: write the float WAV by hand (RIFF, format 3).
+    std::ofstream f(nan, std::ios::binary);
+    auto u32 = [&](uint32_t v) { f.write(reinterpret_cast<const char*>(&v), 4); };
+    auto u16 = [&](uint16_t v) { f.write(reinterpret_cast<const char*>(&v), 2); };
+    const uint32_t bytes = uint32_t(ir.channels[1].size() * 4);
+    f << "RIFF";
+    u32(36 + bytes);
+    f << "WAVEfmt ";
+    u32(16), u16(3), u16(1), u32(16000), u32(64000), u16(4), u16(32);
+    f << "data";
+    u32(bytes);
+    f.write(reinterpret_cast<const char*>(ir.channels[1].data()), bytes);
+  }
+  for (const std::string flags : {"", " --band-energy", " --json"}) {
+    INFO("flags" << flags);
+    const std::string err = (dir / "nan.txt").string(), out = (dir / "nan.out").string();
+    CHECK(std::system((tool + nan + flags + " > " + out + " 2> " + err).c_str()) != 0);
+    std::ifstream e(err);
+    std::string line, more;
+    std::getline(e, line);
+    CHECK(line == nan + ": sample 500 of channel 1 is not finite (NaN or infinity)");
+    CHECK_FALSE(std::getline(e, more));
+    CHECK(fs::file_size(out) == 0);
+  }
   // --band-energy with --json: refused, one line naming both flags.
   const std::string err = (dir / "err.txt").string();
   CHECK(std::system((tool + wav + " --band-energy --json > /dev/null 2> " + err).c_str()) != 0);

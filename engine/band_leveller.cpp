@@ -74,9 +74,13 @@ size_t BandLeveller::densityStart(int sampleRate, double roomVolume, double spee
                                   double pulses) {
   // mu(t) = 4 pi c^3 t^2 / V >= pulses per bin
   const double mu = pulses / kBinSeconds;
-  return size_t(std::sqrt(mu * roomVolume /
-                          (4.0 * std::numbers::pi * speedOfSound * speedOfSound * speedOfSound)) *
-                sampleRate);
+  const double start =
+      std::sqrt(mu * roomVolume /
+                (4.0 * std::numbers::pi * speedOfSound * speedOfSound * speedOfSound)) *
+      sampleRate;
+  // A room too large (or c too small) for the density to reach `pulses` within any IR: never.
+  constexpr double kNever = 1e15;
+  return start >= 0.0 ? size_t(std::min(start, kNever)) : size_t(kNever);
 }
 
 BandLeveller::BandLeveller(int sampleRate, size_t length, int firstBand, size_t startSample)
@@ -147,7 +151,7 @@ void BandLeveller::addDirect(double delaySeconds, const Bands& energy) {
   if (n0 < 0 || size_t(n0) >= length_) return;
   directSample_ = n0;
   for (int b = firstBand_; b < kNumBands; ++b)
-    target_[size_t(b)][size_t(n0) / binSamples_] += energy[b];
+    target_[size_t(b)][size_t(n0) / binSamples_] += std::max(0.f, energy[b]);
 }
 
 void BandLeveller::apply(float* ir, double tolerance, double maxBoost) {
@@ -231,6 +235,7 @@ void BandLeveller::apply(float* ir, double tolerance, double maxBoost) {
         got += actual[q];
       }
       const double high = tolerance * ratio * want;
+      if (!std::isfinite(want)) continue;  // an unbounded target gives no level to aim at
       if (got > high) {
         gain_[j] = float(std::sqrt(high / got));
       } else if (maxBoost > 1.0 && got > 0.0 && got * tolerance < ratio * want) {

@@ -21,7 +21,7 @@
 //
 // Construction: control/propagation thread (FFTW planning is not thread-safe); allocates
 // O(nfft) with nfft = smoothFftSize(length + sampleRate / 4); throws std::invalid_argument on bad
-// sizes. clearTargets / addResponse / addArrival / apply: propagation thread; no allocation;
+// sizes. clearTargets / addResponse / addDirect / apply: propagation thread; no allocation;
 // no errors.
 #pragma once
 
@@ -52,7 +52,9 @@ class BandLeveller {
   BandLeveller& operator=(const BandLeveller&) = delete;
 
   /// The first sample at which a Dirac sequence of density 4 pi c^3 t^2 / V (Kuttruff eq. 4.6)
-  /// holds `pulses` pulses per kBinSeconds bin; roomVolume m^3, speedOfSound m/s.
+  /// holds `pulses` pulses per kBinSeconds bin by that law alone (the sequence's floor,
+  /// kMinPulseDensity in ir_synthesis.h, is not counted); roomVolume m^3, speedOfSound m/s. A room so
+  /// large that this lies beyond 10^15 samples (or invalid arguments) gives 10^15: never.
   static size_t densityStart(int sampleRate, double roomVolume, double speedOfSound,
                              double pulses);
 
@@ -61,8 +63,9 @@ class BandLeveller {
   /// Adds weight[b] x the response's band energies (1/m^2) to the targets (any bin width; a
   /// negative bin counts as 0).
   void addResponse(const EnergyResponse& energy, const Bands& weight);
-  /// Adds one arrival's band energies (1/m^2) at delaySeconds to the targets and marks the
-  /// direct sound there (bins up to its bin + 2 are not levelled).
+  /// Adds one arrival's band energies (1/m^2; a negative one counts as 0) at delaySeconds to
+  /// the targets and marks the direct sound there (its bin and the next are not levelled). An
+  /// arrival outside [0, length) is ignored.
   void addDirect(double delaySeconds, const Bands& energy);
   /// Levels ir (length samples) to the targets; see the file comment for tolerance (>= 1,
   /// energy ratio) and maxBoost (>= 1, amplitude factor).

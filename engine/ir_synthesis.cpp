@@ -80,7 +80,8 @@ std::vector<float> diracSequence(int sampleRate, size_t length, double roomVolum
   // Thinning per sample: probability mu(t) dt of a pulse in [t, t + dt).
   for (size_t n = 0; n < length; ++n) {
     const double t = double(n) * dt;
-    const double mu = std::min(4.0 * std::numbers::pi * c3 * t * t / roomVolume, maxDensity);
+    const double mu = std::max(
+        kMinPulseDensity, std::min(4.0 * std::numbers::pi * c3 * t * t / roomVolume, maxDensity));
     if (double(rng.uniform()) < mu * dt) seq[n] = rng.uniform() < 0.5f ? -1.f : 1.f;
   }
   return seq;
@@ -153,26 +154,29 @@ void BandEnvelope::targets(const EnergyResponse& energy) {
       target[j] += e;
     }
     const auto& seqE = sequenceEnergy_[bi];
+    size_t onset = nb;  // the band's first bin with energy
     if (!useRealised_) {
       // Expectation form (one sequence per direction, sparse early): the energy of a bin the
       // sequence leaves empty goes to the nearer bin that holds pulses, the earlier one only
       // from the band's first bin with energy on (never before the sound's onset), so that
       // the energy's centre in time stays put.
-      size_t onset = nb;
       for (size_t j = 0; j < nb; ++j)
         if (target[j] > 0.0) {
           onset = j;
           break;
         }
       size_t previous = nb;  // last bin at or after the onset holding pulses
+      size_t next = onset;   // first bin after j holding pulses (nb: none), kept across j
       for (size_t j = onset; j < nb; ++j) {
         if (seqE[j] > 1e-12) {
           previous = j;
           continue;
         }
         if (target[j] == 0.0) continue;
-        size_t next = j + 1;
-        while (next < nb && !(seqE[next] > 1e-12)) ++next;
+        if (next <= j) {
+          next = j + 1;
+          while (next < nb && !(seqE[next] > 1e-12)) ++next;
+        }
         const bool back = previous < nb && (next >= nb || j - previous <= next - j);
         if (!back && next >= nb) continue;  // no bin with pulses after it: as below
         target[back ? previous : next] += target[j];
@@ -193,12 +197,33 @@ void BandEnvelope::targets(const EnergyResponse& energy) {
         carry = want;
       }
     }
+    unplaced_[bi] += carry;  // after the last bin with pulses: nowhere to go
+    if (!useRealised_) {
+      // A bin without pulses still carries its neighbours' pulses as the band filter (and a
+      // spatial synthesiser's ear filter, with its delay) spreads them; at gain 0 it would cut
+      // that part of their energy, which the expected energy e_b[j] counts in the pulse's
+      // bin. So from the onset on it takes the gain of the bin it handed its energy to (the
+      // nearer bin with pulses, as above), and a sparse sequence's pulses sound whole.
+      size_t previous = nb, next = onset;
+      for (size_t j = onset; j < nb; ++j) {
+        if (seqE[j] > 1e-12) {
+          previous = j;
+          continue;
+        }
+        if (next <= j) {
+          next = j + 1;
+          while (next < nb && !(seqE[next] > 1e-12)) ++next;
+        }
+        const bool back = previous < nb && (next >= nb || j - previous <= next - j);
+        if (back || next < nb) gain_[bi][j] = gain_[bi][back ? previous : next];
+      }
+    }
   }
 }
 
 void BandEnvelope::compute(const EnergyResponse& energy) {
-  targets(energy);
   unplaced_.fill(0.0);
+  targets(energy);
   if (useRealised_)
     computeRealised();
   else
@@ -383,8 +408,9 @@ IrSynthesizer& IrSynthesizer::operator=(IrSynthesizer&&) noexcept = default;
 IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVolume,
                              double speedOfSound, uint64_t seed)
     : sampleRate_(sampleRate) {
-  if (sampleRate <= 0 || !(lengthSeconds > 0.0) || !(roomVolume > 0.0) || !(speedOfSound > 0.0))
-    throw std::invalid_argument("IrSynthesizer: rate, length, volume and c must be > 0");
+  if (sampleRate <= 0 || !(lengthSeconds > 0.0) || !(roomVolume > 0.0) || !(speedOfSound > 0.0) ||
+      !std::isfinite(lengthSeconds) || !std::isfinite(roomVolume) || !std::isfinite(speedOfSound))
+    throw std::invalid_argument("IrSynthesizer: rate, length, volume and c must be finite, > 0");
   length_ = size_t(std::ceil(lengthSeconds * sampleRate));
   const size_t margin = size_t(sampleRate / 4);  // room for the filters' tails
   const size_t nfft = nextPow2(length_ + margin);

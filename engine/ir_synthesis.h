@@ -3,8 +3,8 @@
 // Environments", PhD thesis, RWTH Aachen 2011, section 5.3; reflection density after
 // H. Kuttruff, "Room Acoustics", 5th ed., eq. 4.6: dN/dt = 4 pi c^3 t^2 / V).
 //
-// At construction a Dirac sequence s (Poisson arrivals of rate min(4 pi c^3 t^2 / V,
-// kMaxDensityPerSecond), random signs; fixed per synthesiser, so successive frames' IRs differ
+// At construction a Dirac sequence s (Poisson arrivals of rate 4 pi c^3 t^2 / V, held within
+// [kMinPulseDensity, kMaxDensityPerSecond], random signs; fixed per synthesiser, so successive frames' IRs differ
 // only in their envelopes, never in fine structure) is split into octave bands
 // s_b = a_b * s by zero-phase, amplitude-complementary band filters A_b = M_b^2, where M_b
 // are power-complementary masks (sum_b M_b^2 = 1, raised-cosine crossovers 1/3 octave wide
@@ -111,8 +111,17 @@ struct BandFilterData {
   static BandFilterData compute(const OctaveBandMasks& masks, size_t fftSize);
 };
 
-/// A Dirac sequence (Poisson arrivals of rate min(4 pi c^3 t^2 / V, maxDensity) per second,
-/// random signs), `length` samples. Any thread; allocates.
+/// Lowest Dirac-sequence density, pulses per second. The law 4 pi c^3 t^2 / V alone leaves an
+/// open scene (V its bounding box, 10^8 m^3 for a 2 km square) without a pulse for the first
+/// second, so every early reflection's energy would wait for a pulse up to a second later and
+/// be heard as an echo; at 100 pulses/s the next pulse is 10 ms away on average, well inside
+/// the echo threshold (about 50 ms). The floor changes the law only before
+/// t = sqrt(100 V / (4 pi c^3)): 6 ms in 200 m^3, 54 ms in 15,000 m^3. Bins without energy
+/// leave their pulses silent, so a denser carrier adds no sound of its own.
+inline constexpr double kMinPulseDensity = 100.0;
+
+/// A Dirac sequence (Poisson arrivals of rate 4 pi c^3 t^2 / V per second held within
+/// [kMinPulseDensity, maxDensity], random signs), `length` samples. Any thread; allocates.
 std::vector<float> diracSequence(int sampleRate, size_t length, double roomVolume,
                                  double speedOfSound, double maxDensity, uint64_t seed);
 

@@ -60,7 +60,9 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
                                            std::vector<glm::vec3> directions,
                                            const std::vector<EarFilter>& filters, ExactFilter exact)
     : sampleRate_(sampleRate), directions_(std::move(directions)), exact_(std::move(exact)) {
-  if (sampleRate <= 0 || !(lengthSeconds > 0.0) || directions_.empty() ||
+  if (sampleRate <= 0 || !(lengthSeconds > 0.0) || !std::isfinite(lengthSeconds) ||
+      !(roomVolume > 0.0) || !std::isfinite(roomVolume) || !(speedOfSound > 0.0) ||
+      !std::isfinite(speedOfSound) || directions_.empty() ||
       filters.size() != directions_.size() || !exact_)
     throw std::invalid_argument("SpatialIrSynthesizer: inconsistent arguments");
   const size_t margin = size_t(sampleRate / 4);

@@ -53,7 +53,7 @@ TEST_CASE("Two-channel IR: each ear's band analysis returns its energy response'
     scene.audio.output = format;
     PropagationSettings ps;
     ps.irLength = float(length);
-    for (uint64_t seed : {1u, 2u}) {
+    for (uint64_t seed : {1u, 2u, 3u, 4u, 5u, 6u}) {
       ps.seed = seed;
       const double volume = 1000.0;
       auto synth = makeSpatialSynthesizer(scene, ps, volume);
@@ -132,4 +132,67 @@ TEST_CASE("Two-channel IR: each ear's band analysis returns its energy response'
       }
     }
   }
+}
+
+TEST_CASE("Two-channel IR in an open scene's volume: sparse pulses, every band's energy kept",
+          "[synthesis][spatial]") {
+  // An open scene's bounding volume (1e9 m^3): the density law alone gives each direction's
+  // Dirac sequence about one pulse per second, so an early reflection's energy would wait up
+  // to a second for a pulse and empty directions would lose theirs. With the density floor
+  // (kMinPulseDensity, 100 pulses/s) a bin's energy goes to the nearer pulse, and the bins
+  // between pulses keep that pulse's gain so that its band- and ear-filtered waveform (the
+  // HRIR's delay moves it into the next bin) sounds whole. Most of this response's energy
+  // lies in its first 100 ms, about ten pulses per direction, whose filtered responses overlap
+  // with random signs: a band's energy scatters about its target by about 1 dB (measured up
+  // to 1.4 dB over seeds 3 and 4, two ears, 250 Hz-8 kHz; mean +0.25 dB). Tolerances: each
+  // within 2 dB, the mean (the systematic part) within 0.5 dB. Without the floor and the gains
+  // the bands read 1 to 11 dB low (mean -6 dB).
+  const double length = 2.0, volume = 1e9;
+  const std::vector<glm::vec3> dirs = defaultSpatialDirections();
+  SceneDesc scene;
+  scene.audio.output = OutputFormat::kBinaural;
+  PropagationSettings ps;
+  ps.irLength = float(length);
+  double sumDb = 0.0;
+  int count = 0;
+  for (uint64_t seed : {3u, 4u}) {
+    ps.seed = seed;
+    auto synth = makeSpatialSynthesizer(scene, ps, volume);
+    // A ground reflection 2 ms after the direct sound and a short decay (T60 0.4 s) from two
+    // directions: an open space's early-heavy response.
+    DirectionalEnergyResponse energy(length, 1e-3, dirs);
+    Bands reflection;
+    for (int b = 0; b < kNumBands; ++b) reflection[b] = 1e-3f;
+    energy.add(0.0125, reflection, glm::normalize(glm::vec3(1, 0, -1)));
+    for (size_t k = 20; k < size_t(length * 1e3) - 1; ++k) {
+      const double t = (double(k) + 0.5) * 1e-3;
+      Bands e;
+      for (int b = 0; b < kNumBands; ++b) e[b] = float(1e-4 * std::pow(10.0, -6.0 * t / 0.4));
+      energy.add(t, e, glm::vec3(1, 0, 0));
+      energy.add(t, e, glm::vec3(0, 1, 0));
+    }
+    DirectSound direct;
+    direct.visible = false;
+    std::vector<float> left(synth->lengthSamples()), right(synth->lengthSamples());
+    synth->synthesize(energy, direct, left.data(), right.data());
+    for (int ear = 0; ear < 2; ++ear) {
+      const std::vector<float>& ir = ear == 0 ? left : right;
+      for (float x : ir) REQUIRE(std::isfinite(x));
+      const auto a = audio::analyzeImpulseResponse(ir.data(), ir.size(), kFs);
+      for (int b = SpatialIrSynthesizer::kDirectionalFromBand; b < kNumBands; ++b) {
+        double want = 0.0;
+        for (size_t d = 0; d < dirs.size(); ++d)
+          for (size_t k = 0; k < energy.response(d).binCount(); ++k)
+            want += double(energy.response(d).bins()[k][b]) * synth->earWeight(d, ear)[b];
+        const double db = 10 * std::log10(a.bands[size_t(b)].energy / want);
+        std::printf("open scene seed %d ear %d band %4d Hz: %+.2f dB re target\n", int(seed),
+                    ear, int(kBandCentreHz[size_t(b)]), db);
+        INFO("seed " << seed << " ear " << ear << " band " << b);
+        CHECK(std::abs(db) < 2.0);
+        sumDb += db;
+        ++count;
+      }
+    }
+  }
+  CHECK(std::abs(sumDb / count) < 0.5);
 }

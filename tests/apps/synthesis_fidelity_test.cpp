@@ -199,3 +199,44 @@ TEST_CASE(
     }
   }
 }
+
+TEST_CASE("An open scene's bounding volume: early energy stays early", "[synthesis]") {
+  // 10^8 m^3 (a 2 km square open scene's bounding box): the density law alone gives the Dirac
+  // sequence its first pulse about a second in, so the direct sound's neighbours (a ground
+  // reflection 4 ms after it, the first 80 ms of scattering) would all wait for it and C80
+  // would turn from clearly positive to negative (measured -3 to -4 dB in an open test scene
+  // whose exact IR reads +21 to +85 dB). The density floor (kMinPulseDensity) keeps a pulse
+  // within about 10 ms, so no band's C80 may fall more than 1 dB below an exact IR's (measured
+  // at most 0.3 dB below, seeds 1-3, 125 Hz-8 kHz). What the sparse sequence still does: the
+  // refinement cannot give the late part its full energy where pulses are 10 ms apart, so
+  // C80 reads high (measured up to +21 dB above the exact IR's +9 dB) and G up to 2.7 dB
+  // high; asserted only as a bound (G within 3 dB), see docs/validation.md.
+  const double length = 1.5;
+  for (uint64_t seed : {1u, 2u, 3u}) {
+    IrSynthesizer synth(48000, length, 1e8, 343.0, seed);
+    EnergyResponse er(length, 1e-3);
+    DirectSound d;
+    d.visible = true;
+    d.delaySeconds = 0.010f;
+    d.intensity = Bands(1e-3f);
+    er.bins()[14] = Bands(6e-4f);  // ground reflection
+    for (size_t k = 15; k < er.binCount(); ++k)  // scattering, T60 0.8 s
+      er.bins()[k] = Bands(float(2e-5 * std::pow(10.0, -6.0 * double(k) * 1e-3 / 0.8)));
+    std::vector<float> ir(synth.lengthSamples());
+    synth.synthesize(er, d, ir.data());
+    const audio::ImpulseResponseAnalysis got =
+        audio::analyzeImpulseResponse(ir.data(), ir.size(), 48000);
+    const auto ideal = expectedBandAnalysisEnergy(er, d, 48000);
+    for (int b = 1; b < kNumBands; ++b) {
+      const audio::RoomParameters exact =
+          audio::analyzeEnergyDecay(ideal[size_t(b)].data(), ideal[size_t(b)].size(), 1e-3);
+      const double dG = 10 * std::log10(got.bands[size_t(b)].energy / exact.energy);
+      std::printf("open scene seed %d band %4d Hz: C80 %+.2f (exact %+.2f) dB, G %+.2f dB\n",
+                  int(seed), int(kBandCentreHz[size_t(b)]), got.bands[size_t(b)].c80, exact.c80,
+                  dG);
+      INFO("seed " << seed << " band " << b);
+      CHECK(got.bands[size_t(b)].c80 > exact.c80 - 1.0);
+      CHECK(std::abs(dG) < 3.0);
+    }
+  }
+}

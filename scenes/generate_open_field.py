@@ -1,0 +1,114 @@
+#!/usr/bin/python3
+"""Generates the outdoor scene: scenes/open_field.obj and scenes/open_field.json.
+Deterministic (same output every run).
+
+A 2000 x 2000 m ground plane (y = 0 up; x, z -1000..1000) with two closed buildings: A
+(x 10..40, y 0..25, z -20..20) and B (x -30..-10, y 0..15, z -40..-20). A talker stands at
+(0, 1.6, 0) in front of A's west face. The listener walks along z = 22 from x = 45 (behind A:
+the direct sound only arrives diffracted round A's north-west vertical edge at x = 10, z = 20)
+to x = 2 (in view) over 12 s, crossing the shadow boundary at x = 11.
+
+The scene is open (the ground's boundary edges), so the IR synthesis' reflection-density law
+runs on the bounding box, 10^8 m^3; the Dirac sequence's density floor keeps early
+reflections early there (docs/validation.md, "Open scenes").
+
+Usage: generate_open_field.py [OUT_FOLDER]   (default: this script's folder)
+"""
+import json
+import os
+import sys
+
+HALF = 1000.0  # ground half-width, m
+BUILDINGS = [  # (x0, x1, height, z0, z1)
+    (10.0, 40.0, 25.0, -20.0, 20.0),
+    (-30.0, -10.0, 15.0, -40.0, -20.0),
+]
+out = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
+
+verts, faces = [], []
+
+
+def quad(a, b, c, d, material):
+    """Quad a-b-c-d, counter-clockwise seen from the side it faces: two triangles."""
+    base = len(verts) + 1
+    verts.extend([a, b, c, d])
+    faces.append((material, [(base, base + 1, base + 2), (base, base + 2, base + 3)]))
+
+
+# Ground, facing up (+y).
+quad((-HALF, 0, -HALF), (-HALF, 0, HALF), (HALF, 0, HALF), (HALF, 0, -HALF), "ground")
+for x0, x1, h, z0, z1 in BUILDINGS:
+    # Closed boxes, faces outward (the floor face too, so each box is watertight).
+    quad((x0, 0, z0), (x0, 0, z1), (x0, h, z1), (x0, h, z0), "facade")  # -x
+    quad((x1, 0, z0), (x1, h, z0), (x1, h, z1), (x1, 0, z1), "facade")  # +x
+    quad((x0, 0, z0), (x0, h, z0), (x1, h, z0), (x1, 0, z0), "facade")  # -z
+    quad((x0, 0, z1), (x1, 0, z1), (x1, h, z1), (x0, h, z1), "facade")  # +z
+    quad((x0, h, z0), (x0, h, z1), (x1, h, z1), (x1, h, z0), "roof")    # +y
+    quad((x0, 0, z0), (x1, 0, z0), (x1, 0, z1), (x0, 0, z1), "facade")  # -y
+
+with open(os.path.join(out, "open_field.obj"), "w") as f:
+    f.write("# dpc open field: 2 km ground plane and two buildings, written by "
+            "generate_open_field.py. Materials are defined in open_field.json.\n")
+    for v in verts:
+        f.write("v %g %g %g\n" % v)
+    for material, tris in faces:
+        f.write("usemtl %s\n" % material)
+        for t in tris:
+            f.write("f %d %d %d\n" % t)
+
+scene = {
+    "_comment": "Outdoor scene (scenes/generate_open_field.py): 2 km ground plane, two "
+                "buildings. The listener walks from behind building A (direct sound only "
+                "diffracted round its corner) into view of the talker, crossing the shadow "
+                "boundary at x = 11. Absorption values are illustrative, not from a measured "
+                "table.",
+    "mesh": "open_field.obj",
+    "materials": {
+        "ground": {
+            "source": "illustrative: short grass on firm soil, absorbing more at high "
+                      "frequencies",
+            "absorption": [0.05, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.5],
+            "scattering": 0.5,
+        },
+        "facade": {
+            "source": "illustrative: brick and glass facade",
+            "absorption": [0.03, 0.03, 0.03, 0.04, 0.05, 0.07, 0.07, 0.07],
+            "scattering": 0.3,
+        },
+        "roof": {
+            "source": "illustrative: flat roof",
+            "absorption": [0.05, 0.05, 0.05, 0.05, 0.05, 0.05, 0.05, 0.05],
+            "scattering": 0.2,
+        },
+    },
+    "sources": [
+        {"name": "talker", "position": [0.0, 1.6, 0.0], "signal": "signals/speech.wav",
+         "gain_db": 0, "loop": True}
+    ],
+    "listener": {
+        "position": [45.0, 1.6, 22.0],
+        "radius": 0.5,
+        "trajectory": [
+            {"t": 0.0, "position": [45.0, 1.6, 22.0]},
+            {"t": 12.0, "position": [2.0, 1.6, 22.0]},
+        ],
+    },
+    "propagation": {
+        "rays_per_frame": 4096,
+        "max_order": 50,
+        "patch_size": 1.0,
+        "cache_tau": 1.0,
+        "frame_rate": 15,
+        "ir_length": 1.5,
+        "seed": 1,
+        "estimator": "dpc",
+        "dpc_weighting": "ema",
+        "temperature": 20,
+        "humidity": 50,
+        "air_absorption": True,
+    },
+    "audio": {"sample_rate": 48000, "block_size": 512},
+}
+with open(os.path.join(out, "open_field.json"), "w") as f:
+    json.dump(scene, f, indent=2)
+    f.write("\n")

@@ -234,7 +234,8 @@ int main(int argc, char** argv) {
                "with parameters measured from real IRs");
   bool bandEnergy = false;
   app.add_flag("--band-energy", bandEnergy,
-               "Instead of parameters: print CSV rows `index,time_s,E63,...,E8000`, the energy "
+               "Instead of parameters: print CSV rows `index,time_s,<8 bands>` under a header "
+               "`channel|source,time_s,63,...,8000`: the energy "
                "per octave band in time bins (1/m^2 on dpc's scale), for plotting decay curves. "
                "WAV: channel (1 = first), 1 ms bins from the broadband onset, through the ISO "
                "analysis filters; energy-response CSV: source (0 = first), the response's own "
@@ -286,6 +287,11 @@ int main(int argc, char** argv) {
                    "measured)\n";
       return 1;
     }
+    if (endsWith(file, ".csv") && !channelText.empty()) {
+      std::cerr << "dpc-analyze: --channel: " << file
+                << ": an energy-response CSV has sources, not channels (all are analysed)\n";
+      return 1;
+    }
     if (endsWith(file, ".csv")) {
       // An energy response written by dpc-demo --er-out: one table per source.
       const auto sources = dpc::readEnergyCsv(file);
@@ -335,7 +341,7 @@ int main(int argc, char** argv) {
     for (size_t c = first; c < last; ++c)
       for (size_t n = 0; n < audio.frames(); ++n)
         if (!std::isfinite(audio.channels[c][n])) {
-          std::cerr << file << ": sample " << n << " of channel " << c + 1
+          std::cerr << file << ": sample " << n << " (0 = first) of channel " << c + 1
                     << " is not finite (NaN or infinity)\n";
           return 1;
         }

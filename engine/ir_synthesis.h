@@ -176,7 +176,8 @@ class BandEnvelope {
   /// refinement on the analysis filters rewrites them).
   std::vector<float>& gains(int b) { return gain_[size_t(b)]; }
   /// Energy of the last compute() that no gain could place (a bin whose neighbours' crossover
-  /// spill alone exceeds its target), summed over bins, per band, in the response's unit.
+  /// spill alone exceeds its target, or energy after the sequence's last pulse), summed over
+  /// bins, per band, in the response's unit.
   const std::array<double, kNumBands>& unplacedEnergy() const { return unplaced_; }
 
  private:

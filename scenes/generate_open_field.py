@@ -28,17 +28,29 @@ out = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__fi
 verts, faces = [], []
 
 
+def vertex(p):
+    """Index (1-based) of vertex p, shared by every face that uses it: edges are found by
+    vertex index (engine/diffraction.h), so a box's faces must share their corners."""
+    if p not in index:
+        verts.append(p)
+        index[p] = len(verts)
+    return index[p]
+
+
+index = {}
+
+
 def quad(a, b, c, d, material):
     """Quad a-b-c-d, counter-clockwise seen from the side it faces: two triangles."""
-    base = len(verts) + 1
-    verts.extend([a, b, c, d])
-    faces.append((material, [(base, base + 1, base + 2), (base, base + 2, base + 3)]))
+    i = [vertex(p) for p in (a, b, c, d)]
+    faces.append((material, [(i[0], i[1], i[2]), (i[0], i[2], i[3])]))
 
 
 # Ground, facing up (+y).
 quad((-HALF, 0, -HALF), (-HALF, 0, HALF), (HALF, 0, HALF), (HALF, 0, -HALF), "ground")
 for x0, x1, h, z0, z1 in BUILDINGS:
-    # Closed boxes, faces outward (the floor face too, so each box is watertight).
+    # Closed boxes (8 shared corners), faces outward (the floor face too, so each box is
+    # watertight).
     quad((x0, 0, z0), (x0, 0, z1), (x0, h, z1), (x0, h, z0), "facade")  # -x
     quad((x1, 0, z0), (x1, h, z0), (x1, h, z1), (x1, 0, z1), "facade")  # +x
     quad((x0, 0, z0), (x0, h, z0), (x1, h, z0), (x1, 0, z0), "facade")  # -z

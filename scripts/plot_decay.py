@@ -31,8 +31,8 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 LABELS = ["63", "125", "250", "500", "1k", "2k", "4k", "8k"]
 
 
-def band_energy(analyze, path, index, *flags):
-    """(bin start times s, energy [bins x 8] with NaN for empty bands) of one channel/source."""
+def band_table(analyze, path, *flags):
+    """dpc-analyze --band-energy rows of every channel (IR) or source (energy response)."""
     try:
         run = subprocess.run([analyze, path, "--band-energy", *flags], capture_output=True,
                              text=True)
@@ -40,9 +40,13 @@ def band_energy(analyze, path, index, *flags):
         raise SystemExit(f"plot_decay: --build: cannot run {analyze}: {e.strerror}")
     if run.returncode != 0:
         raise SystemExit(f"plot_decay: {run.stderr.strip()}")
-    out = run.stdout
-    rows = [r for r in csv.reader(io.StringIO(out)) if r and not r[0].startswith("#")]
-    rows = [r for r in rows[1:] if int(r[0]) == index]
+    rows = [r for r in csv.reader(io.StringIO(run.stdout)) if r and not r[0].startswith("#")]
+    return rows[1:]
+
+
+def band_energy(rows, path, index):
+    """(bin start times s, energy [bins x 8] with NaN for empty bands) of one channel/source."""
+    rows = [r for r in rows if int(r[0]) == index]
     if not rows:
         raise SystemExit(f"plot_decay: {path}: no rows for index {index}")
     t = np.array([float(r[1]) for r in rows])
@@ -65,9 +69,15 @@ def main():
     ap.add_argument("-o", "--output", default="decay.png")
     a = ap.parse_args()
     analyze = os.path.join(a.build, "apps", "dpc-analyze")
-    t_ir, ir = band_energy(analyze, a.ir, a.source + 1)
-    t_er, er = band_energy(analyze, a.er, a.source)
-    t_ex, exact = band_energy(analyze, a.er, a.source, "--as-measured")
+    er_rows, ir_rows = band_table(analyze, a.er), band_table(analyze, a.ir)
+    sources, channels = len({r[0] for r in er_rows}), len({r[0] for r in ir_rows})
+    if channels != sources:
+        raise SystemExit(f"plot_decay: {a.ir}: {channels} channels for the {sources} source(s) of "
+                         f"{a.er}: needs a mono IR (dpc-demo --output mono), one channel per "
+                         f"source")
+    t_er, er = band_energy(er_rows, a.er, a.source)
+    t_ex, exact = band_energy(band_table(analyze, a.er, "--as-measured"), a.er, a.source)
+    t_ir, ir = band_energy(ir_rows, a.ir, a.source + 1)
     onset = t_ir[0]
     fig, axes = plt.subplots(2, 4, figsize=(14, 6), sharex=True, sharey=True,
                              constrained_layout=True)

@@ -255,9 +255,19 @@ TEST_CASE("dpc-analyze --band-energy: the energies the parameters come from", "[
     std::ifstream e(err);
     std::string line, more;
     std::getline(e, line);
-    CHECK(line == nan + ": sample 500 of channel 1 is not finite (NaN or infinity)");
+    CHECK(line == nan + ": sample 500 (0 = first) of channel 1 is not finite (NaN or infinity)");
     CHECK_FALSE(std::getline(e, more));
     CHECK(fs::file_size(out) == 0);
+  }
+  // --channel with an energy response (sources, not channels): refused, naming the flag.
+  {
+    const std::string err2 = (dir / "err2.txt").string(), out2 = (dir / "out2.txt").string();
+    CHECK(std::system((tool + csv + " --channel 2 > " + out2 + " 2> " + err2).c_str()) != 0);
+    std::ifstream e2(err2);
+    std::string l2;
+    std::getline(e2, l2);
+    CHECK(l2.find("--channel") != std::string::npos);
+    CHECK(fs::file_size(out2) == 0);
   }
   // --band-energy with --json: refused, one line naming both flags.
   const std::string err = (dir / "err.txt").string();

@@ -168,11 +168,14 @@ EdgeDiffraction::EdgeDiffraction(const Mesh& mesh) {
     uint32_t tri[2]{};
     int count = 0;
   };
+  // Edges by position, not by index: an exporter may write a corner once per face.
+  const std::vector<uint32_t> id = weldedVertexIds(mesh);
   std::unordered_map<uint64_t, Use> uses;
   uses.reserve(mesh.triangles.size() * 3);
   for (uint32_t t = 0; t < mesh.triangles.size(); ++t)
     for (int i = 0; i < 3; ++i) {
-      const uint64_t u = mesh.triangles[t][size_t(i)], v = mesh.triangles[t][size_t((i + 1) % 3)];
+      const uint64_t u = id[mesh.triangles[t][size_t(i)]],
+                     v = id[mesh.triangles[t][size_t((i + 1) % 3)]];
       Use& e = uses[u < v ? (u << 32 | v) : (v << 32 | u)];
       if (e.count < 2) e.tri[e.count] = t;
       ++e.count;
@@ -187,7 +190,7 @@ EdgeDiffraction::EdgeDiffraction(const Mesh& mesh) {
     const auto& tr = mesh.triangles[t];
     uint32_t third = tr[0];
     for (uint32_t v : tr)
-      if (v != ia && v != ib) third = v;
+      if (id[v] != ia && id[v] != ib) third = v;
     glm::vec3 w = mesh.vertices[third] - mesh.vertices[ia];
     w -= glm::dot(w, dir) * dir;
     return safeNormalize(w);

@@ -385,12 +385,13 @@ double roomVolume(const Mesh& mesh) {
   // Closed: every undirected edge is used by an even number of triangles (2 for a manifold).
   std::unordered_map<uint64_t, int> edges;
   edges.reserve(mesh.triangles.size() * 3);
+  const std::vector<uint32_t> id = weldedVertexIds(mesh);  // corners written once per face
   double sixV = 0.0;
   for (const auto& t : mesh.triangles) {
     const glm::dvec3 a(mesh.vertices[t[0]]), b(mesh.vertices[t[1]]), c(mesh.vertices[t[2]]);
     sixV += glm::dot(a - lo, glm::cross(b - lo, c - lo));  // relative to lo: less rounding
     for (int i = 0; i < 3; ++i) {
-      const uint64_t u = t[size_t(i)], v = t[size_t((i + 1) % 3)];
+      const uint64_t u = id[t[size_t(i)]], v = id[t[size_t((i + 1) % 3)]];
       ++edges[u < v ? (u << 32 | v) : (v << 32 | u)];
     }
   }

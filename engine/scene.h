@@ -40,6 +40,11 @@ struct Mesh {
   std::vector<uint32_t> materialIndex;
 };
 
+/// Per vertex, the index of the first vertex at exactly the same position: the mesh's
+/// topology (shared edges, closedness) when an exporter writes a corner once per face.
+/// Any thread; allocates O(vertices); no errors.
+std::vector<uint32_t> weldedVertexIds(const Mesh& mesh);
+
 struct Keyframe {
   double timeSeconds = 0.0;  ///< seconds from the start of the render, strictly increasing
   glm::vec3 position{0.f};   ///< metres

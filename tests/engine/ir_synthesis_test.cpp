@@ -201,6 +201,15 @@ TEST_CASE("Room volume: closed mesh by the divergence theorem, open mesh by its 
   tet.vertices = {{0, 0, 0}, {3, 0, 0}, {0, 3, 0}, {0, 0, 3}};
   tet.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
   CHECK(roomVolume(tet) == Approx(4.5).epsilon(1e-9));
+  // The same tetrahedron with each face's corners written separately (as some exporters do)
+  // is still closed: its edges are matched by position.
+  Mesh split;
+  for (const auto& t : tet.triangles) {
+    const uint32_t base = uint32_t(split.vertices.size());
+    for (uint32_t v : t) split.vertices.push_back(tet.vertices[v]);
+    split.triangles.push_back({base, base + 1, base + 2});
+  }
+  CHECK(roomVolume(split) == Approx(4.5).epsilon(1e-9));
   // Open: drop one triangle of the box (a missing ceiling half): bounding box, 210 m^3.
   s.mesh.triangles.pop_back();
   CHECK(roomVolume(s.mesh) == Approx(210.0).epsilon(1e-9));

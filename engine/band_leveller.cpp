@@ -11,27 +11,6 @@
 
 namespace dpc {
 
-struct BandLeveller::Fft {
-  size_t nfft;
-  FftwArray<float> time;
-  FftwArray<fftwf_complex> spec, band;
-  fftwf_plan fwd = nullptr, inv = nullptr;
-  explicit Fft(size_t n) : nfft(n), time(n), spec(n / 2 + 1), band(n / 2 + 1) {
-    fwd = fftwf_plan_dft_r2c_1d(int(n), time.p, spec.p, FFTW_ESTIMATE);
-    inv = fftwf_plan_dft_c2r_1d(int(n), band.p, time.p, FFTW_ESTIMATE);
-    if (!fwd || !inv) {
-      if (fwd) fftwf_destroy_plan(fwd);
-      if (inv) fftwf_destroy_plan(inv);
-      throw std::runtime_error("BandLeveller: FFTW plan failed");
-    }
-  }
-  ~Fft() {
-    fftwf_destroy_plan(fwd);
-    fftwf_destroy_plan(inv);
-  }
-  Fft(const Fft&) = delete;
-  Fft& operator=(const Fft&) = delete;
-};
 
 namespace {
 
@@ -88,8 +67,8 @@ BandLeveller::BandLeveller(int sampleRate, size_t length, int firstBand, size_t 
   if (sampleRate <= 0 || length == 0 || firstBand < 0 || firstBand >= kNumBands)
     throw std::invalid_argument("BandLeveller: rate, length and first band must be valid");
   const size_t margin = size_t(sampleRate / 4);  // the zero-phase filters' reach
-  fft_ = std::make_unique<Fft>(smoothFftSize(length + margin));
-  const size_t nfft = fft_->nfft, nbins = nfft / 2 + 1;
+  fft_ = std::make_unique<FftwRealTransforms>(smoothFftSize(length + margin));
+  const size_t nfft = fft_->n, nbins = nfft / 2 + 1;
   const OctaveBandMasks masks(sampleRate, nfft);
   const float scale = 1.f / float(nfft);
   binSamples_ = std::max<size_t>(1, size_t(std::lround(kBinSeconds * sampleRate)));
@@ -155,11 +134,11 @@ void BandLeveller::addDirect(double delaySeconds, const Bands& energy) {
 }
 
 void BandLeveller::apply(float* ir, double tolerance, double maxBoost) {
-  Fft& c = *fft_;
-  std::fill(c.time.p, c.time.p + c.nfft, 0.f);
+  FftwRealTransforms& c = *fft_;
+  std::fill(c.time.p, c.time.p + c.n, 0.f);
   std::copy(ir, ir + length_, c.time.p);
   fftwf_execute(c.fwd);
-  const size_t nbins = c.nfft / 2 + 1;
+  const size_t nbins = c.n / 2 + 1;
   const size_t w = binSamples_;
   const size_t nb = actual_[size_t(firstBand_)].size();
   const size_t half = kWindowBins / 2;

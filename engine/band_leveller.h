@@ -32,6 +32,7 @@
 
 #include "engine/bands.h"
 #include "engine/energy_response.h"
+#include "engine/fftw_util.h"
 #include "engine/octave_filter.h"
 
 namespace dpc {
@@ -72,8 +73,7 @@ class BandLeveller {
   void apply(float* ir, double tolerance, double maxBoost);
 
  private:
-  struct Fft;
-  std::unique_ptr<Fft> fft_;
+  std::unique_ptr<FftwRealTransforms> fft_;
   int sampleRate_;
   size_t length_;
   int firstBand_;

@@ -1,11 +1,13 @@
 // FFTW single-precision buffer ownership and FFT sizing, shared by the IR synthesisers.
 // Any thread; FftwArray allocates (throws std::bad_alloc on failure); nextPow2 does not.
+// FftwRealTransforms plans, which FFTW does not allow on two threads at once.
 #pragma once
 
 #include <fftw3.h>
 
 #include <cstddef>
 #include <new>
+#include <stdexcept>
 
 namespace dpc {
 
@@ -25,6 +27,35 @@ struct FftwArray {
   FftwArray(const FftwArray&) = delete;
   FftwArray& operator=(const FftwArray&) = delete;
   T* p;
+};
+
+/// An n-point real FFT pair with its buffers: fwd maps time -> spec, inv maps band -> time
+/// (FFTW_ESTIMATE; fftwf_execute_dft_r2c/c2r may run them on other fftwAllocate'd arrays of
+/// the same sizes). Throws std::bad_alloc, or std::runtime_error when planning fails.
+struct FftwRealTransforms {
+  explicit FftwRealTransforms(size_t size)
+      : n(size), time(size), spec(size / 2 + 1), band(size / 2 + 1) {
+    fwd = fftwf_plan_dft_r2c_1d(int(n), time.p, spec.p, FFTW_ESTIMATE);
+    inv = fftwf_plan_dft_c2r_1d(int(n), band.p, time.p, FFTW_ESTIMATE);
+    if (!fwd || !inv) {
+      destroy();
+      throw std::runtime_error("FFTW plan failed");
+    }
+  }
+  ~FftwRealTransforms() { destroy(); }
+  FftwRealTransforms(const FftwRealTransforms&) = delete;
+  FftwRealTransforms& operator=(const FftwRealTransforms&) = delete;
+  size_t n;
+  FftwArray<float> time;
+  FftwArray<fftwf_complex> spec, band;
+  fftwf_plan fwd = nullptr, inv = nullptr;
+
+ private:
+  void destroy() {
+    if (fwd) fftwf_destroy_plan(fwd);
+    if (inv) fftwf_destroy_plan(inv);
+    fwd = inv = nullptr;
+  }
 };
 
 /// The smallest even n' >= n whose only prime factors are 2, 3 and 5: FFTW transforms such

@@ -38,20 +38,6 @@ bool inAnalysedOctave(int b, double f) {
 }
 }  // namespace
 
-struct SpatialIrSynthesizer::Fft {
-  size_t n = 0;
-  float* time = nullptr;
-  fftwf_complex* a = nullptr;
-  fftwf_complex* b = nullptr;
-  fftwf_plan fwd = nullptr, inv = nullptr;
-  ~Fft() {
-    if (fwd) fftwf_destroy_plan(fwd);
-    if (inv) fftwf_destroy_plan(inv);
-    fftwf_free(time);
-    fftwf_free(a);
-    fftwf_free(b);
-  }
-};
 
 SpatialIrSynthesizer::~SpatialIrSynthesizer() = default;
 
@@ -79,17 +65,10 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   filterData_ = BandFilterData::compute(masks, nfft);
   const float scale = 1.f / float(nfft);
 
-  Fft big;
-  big.n = nfft;
-  big.time = fftwAllocate<float>(nfft);
-  big.a = fftwAllocate<fftwf_complex>(nbins);
-  big.b = fftwAllocate<fftwf_complex>(nbins);
+  FftwRealTransforms big(nfft);
   using Spectrum = std::vector<std::complex<float>>;  // layout-compatible with fftwf_complex
   Spectrum seqSpec(nbins);
   std::array<Spectrum, 2> earSpec{Spectrum(nbins), Spectrum(nbins)};
-  big.fwd = fftwf_plan_dft_r2c_1d(int(nfft), big.time, big.a, FFTW_ESTIMATE);
-  big.inv = fftwf_plan_dft_c2r_1d(int(nfft), big.b, big.time, FFTW_ESTIMATE);
-  if (!big.fwd || !big.inv) throw std::runtime_error("SpatialIrSynthesizer: FFTW plan failed");
 
   // Each mask's span: sum of M_b^2 over the FFT bins.
   std::array<double, kNumBands> norm{};
@@ -107,10 +86,10 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
         (b == 0 || b == kNumBands - 1) ? norm[size_t(b)] * sampleRate / double(nfft) / width : 1.0;
   }
   auto spectrumOf = [&](const std::vector<float>& taps, Spectrum& out) {
-    std::fill(big.time, big.time + nfft, 0.f);
-    std::copy(taps.begin(), taps.end(), big.time);
-    fftwf_execute_dft_r2c(big.fwd, big.time, big.a);
-    for (size_t k = 0; k < nbins; ++k) out[k] = {big.a[k][0], big.a[k][1]};
+    std::fill(big.time.p, big.time.p + nfft, 0.f);
+    std::copy(taps.begin(), taps.end(), big.time.p);
+    fftwf_execute_dft_r2c(big.fwd, big.time.p, big.spec.p);
+    for (size_t k = 0; k < nbins; ++k) out[k] = {big.spec.p[k][0], big.spec.p[k][1]};
   };
   // Diffuse-field equalisation: the band energy of every direction's filter over the analysed
   // octave (inAnalysedOctave), averaged over directions and ears.
@@ -147,11 +126,11 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
       for (size_t k = 0; k < nbins; ++k) {
         const float m = masks.gain(b, k);
         const std::complex<float> v = seqSpec[k] * (m * m * m * scale);
-        big.b[k][0] = v.real();
-        big.b[k][1] = v.imag();
+        big.band.p[k][0] = v.real();
+        big.band.p[k][1] = v.imag();
       }
-      fftwf_execute_dft_c2r(big.inv, big.b, big.time);
-      measured[size_t(b)].assign(big.time, big.time + length_);
+      fftwf_execute_dft_c2r(big.inv, big.band.p, big.time.p);
+      measured[size_t(b)].assign(big.time.p, big.time.p + length_);
     }
     envelopes_.push_back(
         std::make_unique<BandEnvelope>(sampleRate, seq, length_, filterData_, measured));
@@ -162,11 +141,11 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
         for (size_t k = 0; k < nbins; ++k) {
           const float g = masks.gain(b, k) * masks.gain(b, k) * scale * eq;
           const std::complex<float> v = g * seqSpec[k] * earSpec[size_t(ear)][k];
-          big.b[k][0] = v.real();
-          big.b[k][1] = v.imag();
+          big.band.p[k][0] = v.real();
+          big.band.p[k][1] = v.imag();
         }
-        fftwf_execute_dft_c2r(big.inv, big.b, big.time);
-        bands_[d][size_t(ear)][size_t(b)].assign(big.time, big.time + length_);
+        fftwf_execute_dft_c2r(big.inv, big.band.p, big.time.p);
+        bands_[d][size_t(ear)][size_t(b)].assign(big.time.p, big.time.p + length_);
       }
     }
   }
@@ -183,17 +162,17 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
         for (size_t k = 0; k < nbins; ++k) {
           const float m = masks.gain(b, k);
           const float g = (pass == 0 ? m * m : m * m * m) * scale;
-          big.b[k][0] = seqSpec[k].real() * g;
-          big.b[k][1] = seqSpec[k].imag() * g;
+          big.band.p[k][0] = seqSpec[k].real() * g;
+          big.band.p[k][1] = seqSpec[k].imag() * g;
         }
-        fftwf_execute_dft_c2r(big.inv, big.b, big.time);
+        fftwf_execute_dft_c2r(big.inv, big.band.p, big.time.p);
         if (pass == 0) {
-          omniBands_[size_t(b)].assign(big.time, big.time + length_);
+          omniBands_[size_t(b)].assign(big.time.p, big.time.p + length_);
           const float density = float(std::sqrt(densityGain_[size_t(b)]));
           for (float& x : omniBands_[size_t(b)]) x *= density;
         }
         else if (b < BandEnvelope::kRealisedBands)
-          measured[size_t(b)].assign(big.time, big.time + length_);
+          measured[size_t(b)].assign(big.time.p, big.time.p + length_);
       }
     }
     omniEnvelope_ = std::make_unique<BandEnvelope>(sampleRate, seq, length_, filterData_, measured);
@@ -204,25 +183,18 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   filterCentre_ = margin / 2;
   for (int b = 0; b < kNumBands; ++b) {
     for (size_t k = 0; k < nbins; ++k) {
-      big.b[k][0] = masks.gain(b, k) * masks.gain(b, k) * scale;
-      big.b[k][1] = 0.f;
+      big.band.p[k][0] = masks.gain(b, k) * masks.gain(b, k) * scale;
+      big.band.p[k][1] = 0.f;
     }
-    fftwf_execute_dft_c2r(big.inv, big.b, big.time);
+    fftwf_execute_dft_c2r(big.inv, big.band.p, big.time.p);
     bandFilter_[size_t(b)].assign(margin, 0.f);
     for (size_t i = 0; i < margin; ++i)
-      bandFilter_[size_t(b)][i] = big.time[(i + nfft - filterCentre_) % nfft];
+      bandFilter_[size_t(b)][i] = big.time.p[(i + nfft - filterCentre_) % nfft];
   }
 
   // Direct-sound convolution: band-shaped impulse (margin) * filter (< margin).
-  fft_ = std::make_unique<Fft>();
-  fft_->n = nextPow2(2 * margin);
+  fft_ = std::make_unique<FftwRealTransforms>(nextPow2(2 * margin));
   directFft_ = fft_->n;
-  fft_->time = fftwAllocate<float>(fft_->n);
-  fft_->a = fftwAllocate<fftwf_complex>(fft_->n / 2 + 1);
-  fft_->b = fftwAllocate<fftwf_complex>(fft_->n / 2 + 1);
-  fft_->fwd = fftwf_plan_dft_r2c_1d(int(fft_->n), fft_->time, fft_->a, FFTW_ESTIMATE);
-  fft_->inv = fftwf_plan_dft_c2r_1d(int(fft_->n), fft_->b, fft_->time, FFTW_ESTIMATE);
-  if (!fft_->fwd || !fft_->inv) throw std::runtime_error("SpatialIrSynthesizer: FFTW plan failed");
   exactScratch_.left.reserve(margin);
   exactScratch_.right.reserve(margin);
   const OctaveBandMasks directMasks(sampleRate, fft_->n);
@@ -296,21 +268,21 @@ void SpatialIrSynthesizer::addDirect(const DirectSound& direct, const glm::vec3&
   exact_(glm::normalize(dir), exactScratch_);
   const size_t n = fft_->n, nbins = n / 2 + 1, margin = bandFilter_[0].size();
   // The band-shaped impulse: sum_b amp_b a_b, diffuse-field equalised, time 0 at centre.
-  std::fill(fft_->time, fft_->time + n, 0.f);
+  std::fill(fft_->time.p, fft_->time.p + n, 0.f);
   for (int b = 0; b < kNumBands; ++b) {
     const size_t bi = size_t(b);
     const float amp =
         float(std::sqrt(double(direct.intensity[b]) * densityGain_[bi] /
                         (filterData_.share[bi] * kappa_[bi])));
-    for (size_t i = 0; i < margin; ++i) fft_->time[i] += amp * bandFilter_[bi][i];
+    for (size_t i = 0; i < margin; ++i) fft_->time.p[i] += amp * bandFilter_[bi][i];
   }
-  fftwf_execute_dft_r2c(fft_->fwd, fft_->time, fft_->a);
+  fftwf_execute_dft_r2c(fft_->fwd, fft_->time.p, fft_->spec.p);
   const long n0 = std::lround(double(direct.delaySeconds) * sampleRate_) - long(filterCentre_);
   for (int ear = 0; ear < 2; ++ear) {
     const std::vector<float>& h = ear == 0 ? exactScratch_.left : exactScratch_.right;
-    std::fill(fft_->time, fft_->time + n, 0.f);
-    std::copy(h.begin(), h.begin() + long(std::min(h.size(), n)), fft_->time);
-    fftwf_execute_dft_r2c(fft_->fwd, fft_->time, fft_->b);
+    std::fill(fft_->time.p, fft_->time.p + n, 0.f);
+    std::copy(h.begin(), h.begin() + long(std::min(h.size(), n)), fft_->time.p);
+    fftwf_execute_dft_r2c(fft_->fwd, fft_->time.p, fft_->band.p);
     // The exact filter's band energies (diffuse-field equalised) for this ear's target.
     Bands& w = directWeight_[size_t(ear)];
     for (int b = 0; b < kNumBands; ++b) w[b] = 0.f;
@@ -318,7 +290,8 @@ void SpatialIrSynthesizer::addDirect(const DirectSound& direct, const glm::vec3&
       std::array<double, kNumBands> e{};
       for (size_t k = 0; k < nbins; ++k) {
         const double p =
-            double(fft_->b[k][0]) * fft_->b[k][0] + double(fft_->b[k][1]) * fft_->b[k][1];
+            double(fft_->band.p[k][0]) * fft_->band.p[k][0] +
+            double(fft_->band.p[k][1]) * fft_->band.p[k][1];
         for (int b = 0; b < kNumBands; ++b) e[size_t(b)] += p * double(directMask2_[k][b]);
       }
       for (int b = 0; b < kNumBands; ++b)
@@ -326,17 +299,17 @@ void SpatialIrSynthesizer::addDirect(const DirectSound& direct, const glm::vec3&
     }
     const float scale = 1.f / float(n);
     for (size_t k = 0; k < nbins; ++k) {
-      const float ar = fft_->a[k][0], ai = fft_->a[k][1];
-      const float hr = fft_->b[k][0], hi = fft_->b[k][1];
-      fft_->b[k][0] = (ar * hr - ai * hi) * scale;
-      fft_->b[k][1] = (ar * hi + ai * hr) * scale;
+      const float ar = fft_->spec.p[k][0], ai = fft_->spec.p[k][1];
+      const float hr = fft_->band.p[k][0], hi = fft_->band.p[k][1];
+      fft_->band.p[k][0] = (ar * hr - ai * hi) * scale;
+      fft_->band.p[k][1] = (ar * hi + ai * hr) * scale;
     }
-    fftwf_execute_dft_c2r(fft_->inv, fft_->b, fft_->time);
+    fftwf_execute_dft_c2r(fft_->inv, fft_->band.p, fft_->time.p);
     float* out = ear == 0 ? left : right;
     const size_t used = margin + h.size();
     for (size_t i = 0; i < used && i < n; ++i) {
       const long t = n0 + long(i);
-      if (t >= 0 && t < long(length_)) out[t] += fft_->time[i];
+      if (t >= 0 && t < long(length_)) out[t] += fft_->time.p[i];
     }
   }
 }

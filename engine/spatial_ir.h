@@ -38,6 +38,7 @@
 #include <vector>
 
 #include "engine/energy_response.h"
+#include "engine/fftw_util.h"
 #include "engine/ir_synthesis.h"
 #include "engine/propagation.h"
 
@@ -110,8 +111,7 @@ class SpatialIrSynthesizer {
   size_t filterCentre_ = 0;
   // Direct sound: FFT convolution buffers and plans, made at construction.
   size_t directFft_ = 0;
-  struct Fft;
-  std::unique_ptr<Fft> fft_;
+  std::unique_ptr<FftwRealTransforms> fft_;
   EarFilter exactScratch_;
   /// earWeight_[d][ear][b]: direction d's ear filter's band energy / kappa_b; directWeight_:
   /// the same for the last direct sound's exact filter.

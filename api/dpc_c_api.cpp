@@ -11,9 +11,9 @@
 #include <string>
 
 #include "dpc/dpc.h"
-#include "engine/air_absorption.h"
-#include "engine/input_error.h"
-#include "engine/scene.h"
+#include "common/air_absorption.h"
+#include "common/input_error.h"
+#include "scene/scene.h"
 #include "runtime/live_session.h"
 #include "runtime/render_pipeline.h"
 
@@ -202,7 +202,7 @@ dpc::SceneDesc sceneFromData(const dpc_scene_data& d) {
     extra.pitchDegrees = a.pitch_degrees;
     scene.listeners.push_back(extra);
   }
-  // Bounds of the scene file's "propagation" and "audio" (engine/scene.cpp).
+  // Bounds of the scene file's "propagation" and "audio" (scene/scene.cpp).
   dpc::PropagationSettings& p = scene.propagation;
   checkRange(d.rays_per_frame, 1, 100'000'000, "rays_per_frame", "");
   checkRange(d.max_order, 0, 10'000, "max_order", "");

@@ -6,7 +6,7 @@
 //
 // Per channel (WAV) or source (CSV): T20, T30, EDT (s), C50, C80 (dB), D50 (%) and strength
 // G (dB, relative to the free-field direct sound at 10 m on dpc's energy scale) in the octave
-// bands 63 Hz .. 8 kHz and broadband (see audio/room_parameters.h for the method). Control thread
+// bands 63 Hz .. 8 kHz and broadband (see analysis/room_parameters.h for the method). Control thread
 // only. Bad input prints one line "FILE: FIELD: problem" on stderr and exits with status 1.
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -17,14 +17,14 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "audio/room_parameters.h"
+#include "analysis/room_parameters.h"
 #include "audio/wav_io.h"
-#include "engine/air_absorption.h"
-#include "engine/bands.h"
-#include "engine/energy_response_csv.h"
-#include "engine/input_error.h"
-#include "engine/ir_synthesis.h"
-#include "engine/scene.h"
+#include "common/air_absorption.h"
+#include "common/bands.h"
+#include "analysis/energy_response_csv.h"
+#include "common/input_error.h"
+#include "synthesis/ir_synthesis.h"
+#include "scene/scene.h"
 
 namespace {
 

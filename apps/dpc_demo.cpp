@@ -20,11 +20,11 @@
 
 #include "audio/audio_device.h"
 #include "audio/wav_io.h"
-#include "engine/energy_response_csv.h"
-#include "engine/input_error.h"
-#include "engine/input_file.h"
-#include "engine/output_file.h"
-#include "engine/scene.h"
+#include "analysis/energy_response_csv.h"
+#include "common/input_error.h"
+#include "common/input_file.h"
+#include "common/output_file.h"
+#include "scene/scene.h"
 #include "engine/setup_check.h"
 #include "engine/workload.h"
 #include "runtime/live_session.h"
@@ -557,7 +557,7 @@ int runLive(Flags& fl) {
     if (std::chrono::duration<double>(now - start).count() >= duration) break;
     if (terminal) {
       for (int k = terminal->key(); k; k = terminal->key()) {
-        // Orientation convention (engine/scene.h): forward = (cos yaw, 0, -sin yaw).
+        // Orientation convention (scene/scene.h): forward = (cos yaw, 0, -sin yaw).
         const glm::vec3 forward(std::cos(yaw), 0.f, -std::sin(yaw));
         const glm::vec3 right(std::sin(yaw), 0.f, std::cos(yaw));
         const float step = 0.25f, turn = float(std::numbers::pi / 12);

@@ -11,7 +11,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "engine/input_error.h"
+#include "common/input_error.h"
 
 namespace dpc::audio {
 

@@ -7,9 +7,9 @@
 #include <cstdlib>
 #include <stdexcept>
 
-#include "engine/input_error.h"
-#include "engine/input_file.h"
-#include "engine/output_file.h"
+#include "common/input_error.h"
+#include "common/input_file.h"
+#include "common/output_file.h"
 
 namespace dpc::audio {
 

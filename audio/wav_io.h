@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/output_file.h"
+#include "common/output_file.h"
 
 namespace dpc::audio {
 

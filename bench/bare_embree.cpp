@@ -11,7 +11,7 @@
 #include <numbers>
 #include <vector>
 
-#include "engine/random.h"
+#include "common/random.h"
 
 namespace dpc::bench {
 

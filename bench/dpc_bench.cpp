@@ -29,14 +29,14 @@
 #include "bench/bench_util.h"
 #include "bench/convolve_bench.h"
 #include "engine/diffraction.h"
-#include "engine/input_error.h"
-#include "engine/ir_synthesis.h"
-#include "engine/noise_study.h"
-#include "engine/scene.h"
+#include "common/input_error.h"
+#include "synthesis/ir_synthesis.h"
+#include "bench/noise_study.h"
+#include "scene/scene.h"
 #include "engine/simulation.h"
 #include "runtime/live_session.h"
 #include "runtime/render_pipeline.h"
-#include "test_scenes.h"
+#include "testing/test_scenes.h"
 
 using namespace dpc;
 using json = nlohmann::ordered_json;
@@ -219,7 +219,7 @@ int benchNoise(const Common& c, double walkSpeed, int referenceFrames, int warmu
   if (!c.haveRays) s.raysPerFrame = 4096;
   const auto at = walker(scene, walkSpeed, s.frameRate);
   const int total = warmup + c.frames;
-  // Order ranges as delay ranges (mean reflection rate of the room, engine/noise_study.h).
+  // Order ranges as delay ranges (mean reflection rate of the room, bench/noise_study.h).
   const std::vector<std::pair<int, int>> orderRanges = {{1, 3}, {4, 10}, {11, 50}, {51, 200}};
   std::vector<std::pair<double, double>> delayRanges;
   {
@@ -697,7 +697,7 @@ int benchDynamic(int rays, int frames, const std::string& parts) {
   j["moving_objects"] = objs;
 
   // Noise while a source walks at 1.5 m/s vs standing still: relative RMS error of each frame's
-  // energy response (10 ms bins, all bands; engine/noise_study.h) against converged path
+  // energy response (10 ms bins, all bands; bench/noise_study.h) against converged path
   // tracing at that frame's source position; path tracing and the DPC window (tau 0.5 s) with
   // the same seed, i.e. the same rays.
   if (want("moving_source")) {

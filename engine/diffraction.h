@@ -35,10 +35,10 @@
 #include <glm/vec3.hpp>
 #include <vector>
 
-#include "engine/bands.h"
+#include "common/bands.h"
 #include "engine/geometry.h"
 #include "engine/propagation.h"
-#include "engine/scene.h"
+#include "scene/scene.h"
 
 namespace dpc {
 

@@ -12,7 +12,7 @@
 #include <glm/vec3.hpp>
 #include <vector>
 
-#include "engine/bands.h"
+#include "common/bands.h"
 
 namespace dpc {
 

@@ -18,9 +18,9 @@
 #include <string>
 #include <vector>
 
-#include "engine/bands.h"
+#include "common/bands.h"
 #include "engine/patch.h"
-#include "engine/scene.h"
+#include "scene/scene.h"
 
 namespace dpc {
 

@@ -21,7 +21,7 @@
 #include <glm/vec3.hpp>
 #include <limits>
 
-#include "engine/random.h"
+#include "common/random.h"
 
 namespace dpc {
 

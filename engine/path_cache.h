@@ -30,9 +30,9 @@
 #include <span>
 #include <vector>
 
-#include "engine/bands.h"
+#include "common/bands.h"
 #include "engine/energy_response.h"
-#include "engine/scene.h"
+#include "scene/scene.h"
 
 namespace dpc {
 

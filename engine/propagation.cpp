@@ -10,7 +10,7 @@
 #include <limits>
 #include <numbers>
 
-#include "engine/air_absorption.h"
+#include "common/air_absorption.h"
 #include "engine/patch.h"
 
 namespace dpc {

@@ -41,12 +41,12 @@
 #include <span>
 #include <vector>
 
-#include "engine/bands.h"
+#include "common/bands.h"
 #include "engine/geometry.h"
 #include "engine/patch.h"
 #include "engine/path_cache.h"
-#include "engine/random.h"
-#include "engine/scene.h"
+#include "common/random.h"
+#include "scene/scene.h"
 
 namespace dpc {
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/scene.h"
+#include "scene/scene.h"
 
 namespace dpc {
 

@@ -18,7 +18,7 @@
 #include "engine/geometry.h"
 #include "engine/path_cache.h"
 #include "engine/propagation.h"
-#include "engine/scene.h"
+#include "scene/scene.h"
 
 namespace dpc {
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "engine/input_error.h"
+#include "common/input_error.h"
 #include "engine/propagation.h"
 
 namespace dpc {

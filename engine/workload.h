@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/scene.h"
+#include "scene/scene.h"
 
 namespace dpc {
 

@@ -3,8 +3,8 @@
 // other exception, crash, hang or sanitizer report is a finding. Corpus: fuzz/corpus/obj.
 #include <cstdint>
 
-#include "engine/input_error.h"
-#include "engine/scene.h"
+#include "common/input_error.h"
+#include "scene/scene.h"
 #include "fuzz/fuzz_files.h"
 
 namespace {

@@ -4,7 +4,7 @@
 #include <cstdint>
 
 #include "audio/wav_io.h"
-#include "engine/input_error.h"
+#include "common/input_error.h"
 #include "fuzz/fuzz_files.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

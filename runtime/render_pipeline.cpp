@@ -9,8 +9,8 @@
 #include "audio/hrtf.h"
 #include "audio/panning.h"
 #include "audio/resample.h"
-#include "engine/input_error.h"
-#include "engine/input_file.h"
+#include "common/input_error.h"
+#include "common/input_file.h"
 
 namespace dpc {
 

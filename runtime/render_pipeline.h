@@ -22,10 +22,10 @@
 
 #include "audio/nonuniform_convolver.h"
 #include "audio/wav_io.h"
-#include "engine/ir_synthesis.h"
-#include "engine/scene.h"
+#include "synthesis/ir_synthesis.h"
+#include "scene/scene.h"
 #include "engine/simulation.h"
-#include "engine/spatial_ir.h"
+#include "synthesis/spatial_ir.h"
 
 namespace dpc {
 

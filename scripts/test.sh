@@ -1,16 +1,30 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds everything, and runs every test (ctest).
+# The README's test command. Installs what is missing, builds, checks the layer table, runs
+# every test (ctest) and the install test.
+#   scripts/test.sh          the quick run (about 10 minutes on 2 cores)
+#   scripts/test.sh --full   adds ThreadSanitizer, AddressSanitizer + UBSan and libFuzzer runs
+#                            (what CI runs: .ci/run)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+full=0
+case "${1:-}" in
+  --full) full=1 ;;
+  "") ;;
+  *) echo "usage: scripts/test.sh [--full]" >&2; exit 2 ;;
+esac
 scripts/install-deps.sh
+# Every #include against docs/design.md's layer table.
+python3 scripts/check-layers.py
 scripts/build.sh
 (cd build && ctest --output-on-failure -j"$(nproc 2>/dev/null || echo 2)" --timeout 600)
 # The installed package: both examples built out of tree against a fresh prefix and run.
 scripts/test-install.sh
-# The queue and live-pipeline threads under ThreadSanitizer (separate build in build-tsan).
-scripts/tsan.sh
-# AddressSanitizer + UBSan build of everything and the whole ctest (build-asan; the JACK and
-# LV2-host tests excepted, see the script), and a 15 s libFuzzer run per fuzz target
-# (build-fuzz, clang).
-scripts/asan.sh
-scripts/fuzz.sh 15
+if ((full)); then
+  # The queue and live-pipeline threads under ThreadSanitizer (separate build in build-tsan).
+  scripts/tsan.sh
+  # AddressSanitizer + UBSan build of everything and the whole ctest (build-asan; the JACK and
+  # LV2-host tests excepted, see the script), and a 15 s libFuzzer run per fuzz target
+  # (build-fuzz, clang).
+  scripts/asan.sh
+  scripts/fuzz.sh 15
+fi

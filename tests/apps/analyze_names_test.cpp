@@ -15,8 +15,8 @@
 #include <string>
 
 #include "audio/wav_io.h"
-#include "engine/bands.h"
-#include "engine/energy_response_csv.h"
+#include "common/bands.h"
+#include "analysis/energy_response_csv.h"
 
 TEST_CASE("dpc-analyze --json survives a non-UTF-8 file name", "[analyze]") {
   namespace fs = std::filesystem;

@@ -3,10 +3,10 @@
 #include <cmath>
 #include <vector>
 
-#include "../engine/test_scenes.h"
-#include "audio/room_parameters.h"
-#include "engine/air_absorption.h"
-#include "engine/ir_synthesis.h"
+#include "testing/test_scenes.h"
+#include "analysis/room_parameters.h"
+#include "common/air_absorption.h"
+#include "synthesis/ir_synthesis.h"
 #include "engine/simulation.h"
 
 using namespace dpc;

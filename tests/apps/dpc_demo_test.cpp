@@ -13,7 +13,7 @@
 #include <sstream>
 #include <string>
 
-#include "engine/scene.h"
+#include "scene/scene.h"
 #include "runtime/offline_renderer.h"
 
 using namespace dpc;

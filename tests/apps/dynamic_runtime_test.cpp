@@ -5,7 +5,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <stdexcept>
 
-#include "../engine/test_scenes.h"
+#include "testing/test_scenes.h"
 #include "runtime/live_session.h"
 #include "runtime/offline_renderer.h"
 #include "runtime/render_pipeline.h"

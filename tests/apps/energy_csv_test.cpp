@@ -13,9 +13,9 @@
 #include <sstream>
 #include <string>
 
-#include "audio/room_parameters.h"
-#include "engine/energy_response_csv.h"
-#include "engine/input_error.h"
+#include "analysis/room_parameters.h"
+#include "analysis/energy_response_csv.h"
+#include "common/input_error.h"
 
 using namespace dpc;
 

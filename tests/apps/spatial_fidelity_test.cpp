@@ -11,9 +11,9 @@
 #include <cstdio>
 #include <vector>
 
-#include "audio/room_parameters.h"
-#include "engine/ir_synthesis.h"
-#include "engine/spatial_ir.h"
+#include "analysis/room_parameters.h"
+#include "synthesis/ir_synthesis.h"
+#include "synthesis/spatial_ir.h"
 #include "runtime/render_pipeline.h"
 
 using namespace dpc;

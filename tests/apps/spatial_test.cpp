@@ -8,9 +8,9 @@
 #include <fstream>
 #include <vector>
 
-#include "../engine/test_scenes.h"
-#include "../engine/test_util.h"
-#include "engine/input_error.h"
+#include "testing/test_scenes.h"
+#include "testing/test_util.h"
+#include "common/input_error.h"
 #include "engine/simulation.h"
 #include "runtime/render_pipeline.h"
 
@@ -79,7 +79,7 @@ SceneDesc anechoic(glm::vec3 source, glm::vec3 listener) {
 
 TEST_CASE("Binaural: a source at the left gives ILD > 6 dB at 4 kHz and ITD 0.5-0.8 ms",
           "[spatial]") {
-  // Listener facing +x (yaw 0); its left is -z (engine/scene.h: left = up x forward).
+  // Listener facing +x (yaw 0); its left is -z (scene/scene.h: left = up x forward).
   const Rendered r = render(anechoic({20, 20, 17}, {20, 20, 20}), OutputFormat::kBinaural, 0.f);
   const Bands el = bandEnergies(r.left, 48000), er = bandEnergies(r.right, 48000);
   const double ild = db(el[6] / er[6]);

@@ -1,5 +1,5 @@
 // The IR synthesis adds no error to band parameters: the ISO 3382-1 band analysis of a
-// synthesised IR (Butterworth octave filters, audio/room_parameters.h) returns the parameters
+// synthesised IR (Butterworth octave filters, analysis/room_parameters.h) returns the parameters
 // and level of the energy response it was made from, and the IR's band decay curve through
 // those filters follows the energy response's.
 #include <algorithm>
@@ -9,9 +9,9 @@
 #include <cstdio>
 #include <vector>
 
-#include "audio/room_parameters.h"
-#include "engine/ir_synthesis.h"
-#include "engine/octave_filter.h"
+#include "analysis/room_parameters.h"
+#include "synthesis/ir_synthesis.h"
+#include "common/octave_filter.h"
 
 using namespace dpc;
 

@@ -17,7 +17,7 @@
 #include <thread>
 #include <vector>
 
-#include "engine/input_error.h"
+#include "common/input_error.h"
 
 using dpc::audio::Hrtf;
 

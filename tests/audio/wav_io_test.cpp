@@ -9,7 +9,7 @@
 #include <fstream>
 #include <random>
 
-#include "engine/input_error.h"
+#include "common/input_error.h"
 
 using dpc::InputError;
 using dpc::audio::AudioData;

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "engine/simulation.h"
-#include "test_scenes.h"
+#include "testing/test_scenes.h"
 
 using namespace dpc;
 

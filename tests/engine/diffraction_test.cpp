@@ -14,7 +14,7 @@
 
 #include "engine/geometry.h"
 #include "engine/propagation.h"
-#include "engine/scene.h"
+#include "scene/scene.h"
 
 using namespace dpc;
 

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "engine/simulation.h"
-#include "test_scenes.h"
-#include "test_util.h"
+#include "testing/test_scenes.h"
+#include "testing/test_util.h"
 
 using namespace dpc;
 

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "engine/simulation.h"
-#include "test_scenes.h"
+#include "testing/test_scenes.h"
 
 using namespace dpc;
 

@@ -5,10 +5,10 @@
 #include <cmath>
 #include <cstdio>
 
-#include "engine/noise_study.h"
+#include "bench/noise_study.h"
 #include "engine/path_cache.h"
 #include "engine/simulation.h"
-#include "test_scenes.h"
+#include "testing/test_scenes.h"
 
 using namespace dpc;
 

@@ -9,7 +9,7 @@
 
 #include "engine/propagation.h"
 #include "engine/simulation.h"
-#include "test_scenes.h"
+#include "testing/test_scenes.h"
 
 using namespace dpc;
 

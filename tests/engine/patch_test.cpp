@@ -8,7 +8,7 @@
 #include <set>
 #include <unordered_set>
 
-#include "engine/random.h"
+#include "common/random.h"
 
 using namespace dpc;
 

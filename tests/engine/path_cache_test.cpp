@@ -5,8 +5,8 @@
 #include <cstring>
 #include <vector>
 
-#include "engine/random.h"
-#include "test_util.h"
+#include "common/random.h"
+#include "testing/test_util.h"
 
 using dpc::test::identical;
 

@@ -6,10 +6,10 @@
 #include <cmath>
 
 #include "engine/geometry.h"
-#include "engine/input_error.h"
+#include "common/input_error.h"
 #include "engine/path_cache.h"
 #include "engine/propagation.h"
-#include "test_scenes.h"
+#include "testing/test_scenes.h"
 
 using namespace dpc;
 

@@ -1,6 +1,6 @@
 // Scene loader tests: the shipped scenes load; every bad input gives an InputError naming the
 // file and the field; listener trajectories interpolate, clamp and loop as specified.
-#include "engine/scene.h"
+#include "scene/scene.h"
 
 #include <unistd.h>
 
@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "engine/input_error.h"
+#include "common/input_error.h"
 
 namespace fs = std::filesystem;
 using namespace dpc;

@@ -1,4 +1,4 @@
-#include "engine/energy_response_csv.h"
+#include "analysis/energy_response_csv.h"
 
 #include <cmath>
 #include <cstdio>
@@ -6,8 +6,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "engine/input_error.h"
-#include "engine/output_file.h"
+#include "common/input_error.h"
+#include "common/output_file.h"
 
 namespace dpc {
 

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/bands.h"
+#include "common/bands.h"
 
 namespace dpc {
 

@@ -4,7 +4,7 @@
 // loader: temperature in degrees C, relative humidity in percent, pressure in kPa).
 #pragma once
 
-#include "engine/bands.h"
+#include "common/bands.h"
 
 namespace dpc {
 

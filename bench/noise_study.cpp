@@ -1,4 +1,4 @@
-#include "engine/noise_study.h"
+#include "bench/noise_study.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "audio/room_parameters.h"
+#include "analysis/room_parameters.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <numbers>
 #include <vector>
 
-#include "engine/octave_filter.h"
+#include "common/octave_filter.h"
 
 namespace dpc::audio {
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/input_error.h"
+#include "common/input_error.h"
 
 namespace dpc {
 

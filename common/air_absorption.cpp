@@ -1,4 +1,4 @@
-#include "engine/air_absorption.h"
+#include "common/air_absorption.h"
 
 #include <cmath>
 

@@ -17,7 +17,7 @@
 // that the two channels' average band energy follows the mono energy response for a diffuse field
 // (taken over the analysed octave: the 63 Hz and 8 kHz bands carry their octave's spectral
 // density on below 44 Hz and above 11.3 kHz, as an exact IR does). Each ear is then levelled
-// on the ISO 3382-1 analysis filters (BandLeveller, engine/band_leveller.h) to its own target:
+// on the ISO 3382-1 analysis filters (BandLeveller, synthesis/band_leveller.h) to its own target:
 // sum_d E_d,b x earWeight(d, ear)[b] plus the direct sound x directWeight(ear)[b], which
 // removes the slower bands' gain-step splatter from the faster ones and the expectation
 // form's realisation noise over 50 ms windows.
@@ -38,8 +38,8 @@
 #include <vector>
 
 #include "engine/energy_response.h"
-#include "engine/fftw_util.h"
-#include "engine/ir_synthesis.h"
+#include "common/fftw_util.h"
+#include "synthesis/ir_synthesis.h"
 #include "engine/propagation.h"
 
 namespace dpc {

@@ -20,7 +20,7 @@
 // bins by the band filters (no random-sign fluctuation, no crossover error). Energy of bins
 // that hold no pulse moves to the next bin. That solve is the first guess of the refinement
 // on the analysis filters: per band b, walking forward through its bins, g_b[j] is chosen so
-// that the ISO 3382-1 octave filter H_b (engine/octave_filter.h, the filter the band analysis
+// that the ISO 3382-1 octave filter H_b (common/octave_filter.h, the filter the band analysis
 // uses) has put out, up to the end of bin j and counting the ringing its state still holds
 // (x^T Q x), the energy response's cumulative energy plus the direct sound. The other bands'
 // leakage through H_b's skirts and H_b's memory of earlier bins are measured on the realised
@@ -55,11 +55,11 @@
 #include <memory>
 #include <vector>
 
-#include "engine/bands.h"
+#include "common/bands.h"
 #include "engine/energy_response.h"
-#include "engine/octave_filter.h"
+#include "common/octave_filter.h"
 #include "engine/propagation.h"
-#include "engine/scene.h"
+#include "scene/scene.h"
 
 namespace dpc {
 
@@ -278,7 +278,7 @@ class IrSynthesizer {
   /// Fills tiltLow_, tiltDelta_ and tilted_.
   void tiltBands(const EnergyResponse& energy);
   /// Cleans the bands b >= kFirstCleanedBand of the finished IR of the slower bands' gain-step
-  /// splatter (BandLeveller, engine/band_leveller.h: scale-down only, kCleanMargin tolerance,
+  /// splatter (BandLeveller, synthesis/band_leveller.h: scale-down only, kCleanMargin tolerance,
   /// from where the Dirac sequence holds 10 pulses per bin). Without it the 8 kHz T30 of a
   /// large hall's IR reads twice the response's.
   void cleanUp(const EnergyResponse& energy, const DirectSound& direct, float* ir);
@@ -332,7 +332,7 @@ class IrSynthesizer {
 namespace dpc {
 
 /// What the ISO 3382-1 band analysis (the OctaveBandPass filters of analyzeImpulseResponse in
-/// audio/room_parameters.h) reads, in expectation, from an impulse response that carries the
+/// analysis/room_parameters.h) reads, in expectation, from an impulse response that carries the
 /// energy response exactly: per octave b, the expected energy of the IR through b's analysis
 /// filter in each of the response's time bins. Use it to compare a simulated energy response
 /// with parameters measured from real IRs, and to separate what the analysis filters do to any

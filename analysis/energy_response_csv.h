@@ -10,7 +10,7 @@
 // Sources are numbered from 0 in scene order. Lines starting with '#' are comments.
 //
 // Any thread except the audio thread; allocates. writeEnergyCsv writes a temporary file in the
-// destination folder and renames it to the path only when complete (engine/output_file.h): on
+// destination folder and renames it to the path only when complete (common/output_file.h): on
 // failure it throws InputError naming the path, removes the temporary and leaves any existing
 // file untouched. readEnergyCsv throws InputError naming the file and the line.
 #pragma once

@@ -1,5 +1,5 @@
 // Per-band level correction of a finished impulse response, measured on the ISO 3382-1
-// analysis filters (engine/octave_filter.h, the filters the band analysis of an IR uses).
+// analysis filters (common/octave_filter.h, the filters the band analysis of an IR uses).
 //
 // Both IR synthesisers shape band-filtered noise with gains that step between synthesis bins.
 // Every step splatters a little of its band over the whole spectrum (a step in an envelope is
@@ -30,10 +30,10 @@
 #include <memory>
 #include <vector>
 
-#include "engine/bands.h"
+#include "common/bands.h"
 #include "engine/energy_response.h"
-#include "engine/fftw_util.h"
-#include "engine/octave_filter.h"
+#include "common/fftw_util.h"
+#include "common/octave_filter.h"
 
 namespace dpc {
 

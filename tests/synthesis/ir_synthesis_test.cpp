@@ -1,4 +1,4 @@
-#include "engine/ir_synthesis.h"
+#include "synthesis/ir_synthesis.h"
 
 #include <fftw3.h>
 
@@ -8,9 +8,9 @@
 #include <random>
 #include <vector>
 
-#include "engine/octave_filter.h"
-#include "test_scenes.h"
-#include "test_util.h"
+#include "common/octave_filter.h"
+#include "testing/test_scenes.h"
+#include "testing/test_util.h"
 
 using dpc::test::bandEnergies;
 
@@ -22,7 +22,7 @@ double db(double x) {
   return 10.0 * std::log10(x);
 }
 
-/// Band energies of x through the ISO 3382-1 octave filters (engine/octave_filter.h), with
+/// Band energies of x through the ISO 3382-1 octave filters (common/octave_filter.h), with
 /// 0.5 s of silence after it so that the filters ring out.
 Bands analysisBandEnergies(const std::vector<float>& x, int fs) {
   Bands out;

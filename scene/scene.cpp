@@ -6,7 +6,7 @@
 // cannot find in a .mtl file, and we want the names alone (the .mtl may be absent). Why we
 // parse "v" lines ourselves as well: tinyobjloader reads "nan", "abc" and missing coordinates
 // as 0 without a word; we refuse them with the vertex number and line.
-#include "engine/scene.h"
+#include "scene/scene.h"
 
 #include <tiny_obj_loader.h>
 
@@ -25,8 +25,8 @@
 #include <sstream>
 #include <unordered_map>
 
-#include "engine/input_error.h"
-#include "engine/input_file.h"
+#include "common/input_error.h"
+#include "common/input_file.h"
 
 namespace dpc {
 namespace {

@@ -1,7 +1,7 @@
 // Tests for audio/room_parameters against constructed truths: exponentially decaying noise of
 // known T60, band-wise decays, an ideal impulse, and energy envelopes whose Schroeder curve is
 // known in closed form.
-#include "audio/room_parameters.h"
+#include "analysis/room_parameters.h"
 
 #include <fftw3.h>
 

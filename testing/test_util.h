@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "engine/energy_response.h"
-#include "engine/ir_synthesis.h"
+#include "synthesis/ir_synthesis.h"
 
 namespace dpc::test {
 

@@ -6,7 +6,7 @@
 #include <glm/vec3.hpp>
 #include <initializer_list>
 
-#include "engine/scene.h"
+#include "scene/scene.h"
 
 namespace dpc::test {
 

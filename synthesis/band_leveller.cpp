@@ -1,13 +1,13 @@
-#include "engine/band_leveller.h"
+#include "synthesis/band_leveller.h"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
 
-#include "engine/fftw_util.h"
-#include "engine/ir_synthesis.h"
-#include "engine/wide_vectors.h"
+#include "common/fftw_util.h"
+#include "synthesis/ir_synthesis.h"
+#include "common/wide_vectors.h"
 
 namespace dpc {
 

@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "engine/energy_response.h"
-#include "engine/scene.h"
+#include "scene/scene.h"
 
 namespace dpc {
 

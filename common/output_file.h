@@ -17,7 +17,7 @@
 #include <filesystem>
 #include <string>
 
-#include "engine/input_error.h"
+#include "common/input_error.h"
 
 namespace dpc {
 

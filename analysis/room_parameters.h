@@ -39,7 +39,7 @@
 #include <limits>
 #include <vector>
 
-#include "engine/bands.h"
+#include "common/bands.h"
 
 namespace dpc::audio {
 

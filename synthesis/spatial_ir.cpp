@@ -1,7 +1,7 @@
-#include "engine/spatial_ir.h"
+#include "synthesis/spatial_ir.h"
 
-#include "engine/band_leveller.h"
-#include "engine/fftw_util.h"
+#include "synthesis/band_leveller.h"
+#include "common/fftw_util.h"
 
 #include <fftw3.h>
 

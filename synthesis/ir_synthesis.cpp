@@ -1,4 +1,4 @@
-#include "engine/ir_synthesis.h"
+#include "synthesis/ir_synthesis.h"
 
 #include <fftw3.h>
 
@@ -11,10 +11,10 @@
 #include <stdexcept>
 #include <unordered_map>
 
-#include "engine/band_leveller.h"
-#include "engine/fftw_util.h"
-#include "engine/random.h"
-#include "engine/wide_vectors.h"
+#include "synthesis/band_leveller.h"
+#include "common/fftw_util.h"
+#include "common/random.h"
+#include "common/wide_vectors.h"
 
 namespace dpc {
 
@@ -566,7 +566,7 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
 
 namespace {
 
-// The loops below are plain multiply-adds over independent lanes (engine/wide_vectors.h).
+// The loops below are plain multiply-adds over independent lanes (common/wide_vectors.h).
 constexpr size_t kHalfBands = size_t(kNumBands) / 2;
 static_assert(kHalfBands == 4, "one Double4 lane per band of a parity");
 

@@ -212,119 +212,131 @@ void NonUniformConvolver::macRange(LevelState& st, int level, const NonUniformIr
 }
 
 void NonUniformConvolver::process(const float* const* in, float* const* out, bool add) {
-  const int b = layout_->blockSize();
-  const size_t ub = size_t(b);
+  const size_t ub = size_t(layout_->blockSize());
   if (!add)
     for (int c = 0; c < numOutputs_; ++c) std::fill(out[c], out[c] + ub, 0.0f);
+  for (int l = 0; l < layout_->numLevels(); ++l) processLevel(l, in, out);
+  ++block_;
+}
 
-  for (int l = 0; l < layout_->numLevels(); ++l) {
-    const NonUniformLayout::Level& lv = layout_->level(l);
-    LevelState& st = levels_[size_t(l)];
-    const int m = lv.period;
-    const size_t n = size_t(lv.partitionSize);
-    const size_t spec = lv.fft->spectrumFloats();
-    const int inPos = int(block_ % uint64_t(m));
-    const int step = inPos + 1 == m ? 0 : inPos + 1;  // callback index within the chunk's work
+void NonUniformConvolver::processLevel(int l, const float* const* in, float* const* out) {
+  const NonUniformLayout::Level& lv = layout_->level(l);
+  LevelState& st = levels_[size_t(l)];
+  const int m = lv.period;
+  const size_t ub = size_t(layout_->blockSize());
+  const int inPos = int(block_ % uint64_t(m));
+  const int step = inPos + 1 == m ? 0 : inPos + 1;  // callback index within the chunk's work
 
+  for (int s = 0; s < numSources_; ++s)
+    std::memcpy(st.input[size_t(s)].get() + size_t(lv.partitionSize) + size_t(inPos) * ub, in[s],
+                ub * sizeof(float));
+  if (step == 0) startChunk(lv, st);
+  if (m > 1 && step < m - 1) {
+    // Sources whose forward FFT falls in this callback: s with s (m - 1) / S == step.
     for (int s = 0; s < numSources_; ++s)
-      std::memcpy(st.input[size_t(s)].get() + n + size_t(inPos) * ub, in[s], ub * sizeof(float));
+      if (int(int64_t(s) * (m - 1) / numSources_) == step)
+        lv.fft->forward(st.staging[size_t(s)].get(),
+                        st.fdl[size_t(s)].get() + size_t(st.head) * lv.fft->spectrumFloats());
+  }
+  const bool crossfade = st.next != st.cur;
+  accumulateShare(l, st, step, crossfade);
+  if (step == m - 1) finishChunk(lv, st, crossfade);
 
-    if (step == 0) {
-      // A chunk is complete. Level 0 transforms it now; longer levels keep a copy and
-      // transform one source after another over the chunk's first m - 1 callbacks.
-      st.head = st.head == 0 ? lv.numPartitions - 1 : st.head - 1;
-      for (int s = 0; s < numSources_; ++s) {
-        float* input = st.input[size_t(s)].get();
-        if (m == 1)
-          lv.fft->forward(input, st.fdl[size_t(s)].get() + size_t(st.head) * spec);
-        else
-          std::memcpy(st.staging[size_t(s)].get(), input, 2 * n * sizeof(float));
-        std::memcpy(input, input + n, n * sizeof(float));
-      }
-      st.next = target_;  // the chunk's IR: the newest now
-      for (int c = 0; c < numOutputs_; ++c)
-        std::fill(st.acc[size_t(c)].get(), st.acc[size_t(c)].get() + 2 * spec, 0.0f);
-    }
-    if (m > 1 && step < m - 1) {
-      // Sources whose forward FFT falls in this callback: s with s (m - 1) / S == step.
-      for (int s = 0; s < numSources_; ++s)
-        if (int(int64_t(s) * (m - 1) / numSources_) == step)
-          lv.fft->forward(st.staging[size_t(s)].get(),
-                          st.fdl[size_t(s)].get() + size_t(st.head) * spec);
-    }
+  // Play this callback's block of the chunk computed at step m - 1.
+  const size_t at = size_t(step + 1 == m ? 0 : step + 1) * ub;
+  for (int c = 0; c < numOutputs_; ++c) {
+    const float* y = st.out[size_t(c)].get() + at;
+    float* o = out[c];
+    for (size_t k = 0; k < ub; ++k) o[k] += y[k];
+  }
+}
 
-    // This callback's share of the partitions: level 0 all of them; longer levels spread
-    // partitions 1..P-1 (older input, already transformed) over the first m - 1 callbacks and
-    // do partition 0 (the chunk just transformed) in the last, with the inverse FFTs.
-    int begin, end;
-    if (m == 1) {
-      begin = 0;
-      end = lv.numPartitions;
-    } else if (step == m - 1) {
-      begin = 0;
-      end = 1;
-    } else {
-      const int rest = lv.numPartitions - 1;
-      begin = 1 + int(int64_t(step) * rest / (m - 1));
-      end = 1 + int(int64_t(step + 1) * rest / (m - 1));
-    }
-    const bool crossfade = st.next != st.cur;
-    if (begin < end) {
-      if (st.cur) {
-        for (int c = 0; c < numOutputs_; ++c) accPtrs_[size_t(c)] = st.acc[size_t(c)].get();
-        macRange(st, l, st.cur, accPtrs_.data(), begin, end);
-      }
-      if (crossfade && st.next) {
-        for (int c = 0; c < numOutputs_; ++c) accPtrs_[size_t(c)] = st.acc[size_t(c)].get() + spec;
-        macRange(st, l, st.next, accPtrs_.data(), begin, end);
-      }
-    }
+void NonUniformConvolver::startChunk(const NonUniformLayout::Level& lv, LevelState& st) {
+  // A chunk is complete. Level 0 transforms it now; longer levels keep a copy and transform
+  // one source after another over the chunk's first m - 1 callbacks.
+  const size_t n = size_t(lv.partitionSize);
+  const size_t spec = lv.fft->spectrumFloats();
+  st.head = st.head == 0 ? lv.numPartitions - 1 : st.head - 1;
+  for (int s = 0; s < numSources_; ++s) {
+    float* input = st.input[size_t(s)].get();
+    if (lv.period == 1)
+      lv.fft->forward(input, st.fdl[size_t(s)].get() + size_t(st.head) * spec);
+    else
+      std::memcpy(st.staging[size_t(s)].get(), input, 2 * n * sizeof(float));
+    std::memcpy(input, input + n, n * sizeof(float));
+  }
+  st.next = target_;  // the chunk's IR: the newest now
+  for (int c = 0; c < numOutputs_; ++c)
+    std::fill(st.acc[size_t(c)].get(), st.acc[size_t(c)].get() + 2 * spec, 0.0f);
+}
 
-    if (step == m - 1) {
-      // Inverse transforms: the chunk that starts playing in this callback (overlap-save: the
-      // last N of 2N samples are valid).
-      for (int c = 0; c < numOutputs_; ++c) {
-        float* y = st.out[size_t(c)].get();
-        const float* oldY = nullptr;
-        const float* newY = nullptr;
-        if (st.cur) {
-          lv.fft->inverse(st.acc[size_t(c)].get(), st.time.get());
-          oldY = st.time.get() + n;
-        }
-        if (!crossfade) {
-          if (oldY)
-            std::memcpy(y, oldY, n * sizeof(float));
-          else
-            std::fill(y, y + n, 0.0f);
-          continue;
-        }
-        if (st.next) {
-          lv.fft->inverse(st.acc[size_t(c)].get() + spec, st.time2.get());
-          newY = st.time2.get() + n;
-        }
-        // y = (1 - g) old + g new, g = (k + 1) / N over the chunk.
-        const float invN = 1.0f / float(n);
-        for (size_t k = 0; k < n; ++k) {
-          const float g = float(k + 1) * invN;
-          y[k] = (oldY ? (1.0f - g) * oldY[k] : 0.0f) + (newY ? g * newY[k] : 0.0f);
-        }
-      }
-      if (crossfade) {
-        const NonUniformIrSet* old = st.cur;
-        st.cur = st.next;
-        retireIfUnused(old);
-      }
-    }
+void NonUniformConvolver::accumulateShare(int l, LevelState& st, int step, bool crossfade) {
+  // This callback's share of the partitions: level 0 all of them; longer levels spread
+  // partitions 1..P-1 (older input, already transformed) over the first m - 1 callbacks and
+  // do partition 0 (the chunk just transformed) in the last, with the inverse FFTs.
+  const NonUniformLayout::Level& lv = layout_->level(l);
+  const int m = lv.period;
+  int begin, end;
+  if (m == 1) {
+    begin = 0;
+    end = lv.numPartitions;
+  } else if (step == m - 1) {
+    begin = 0;
+    end = 1;
+  } else {
+    const int rest = lv.numPartitions - 1;
+    begin = 1 + int(int64_t(step) * rest / (m - 1));
+    end = 1 + int(int64_t(step + 1) * rest / (m - 1));
+  }
+  if (begin >= end) return;
+  const size_t spec = lv.fft->spectrumFloats();
+  if (st.cur) {
+    for (int c = 0; c < numOutputs_; ++c) accPtrs_[size_t(c)] = st.acc[size_t(c)].get();
+    macRange(st, l, st.cur, accPtrs_.data(), begin, end);
+  }
+  if (crossfade && st.next) {
+    for (int c = 0; c < numOutputs_; ++c) accPtrs_[size_t(c)] = st.acc[size_t(c)].get() + spec;
+    macRange(st, l, st.next, accPtrs_.data(), begin, end);
+  }
+}
 
-    // Play this callback's block of the chunk computed at step m - 1.
-    const size_t at = size_t(step + 1 == m ? 0 : step + 1) * ub;
-    for (int c = 0; c < numOutputs_; ++c) {
-      const float* y = st.out[size_t(c)].get() + at;
-      float* o = out[c];
-      for (size_t k = 0; k < ub; ++k) o[k] += y[k];
+void NonUniformConvolver::finishChunk(const NonUniformLayout::Level& lv, LevelState& st,
+                                      bool crossfade) {
+  // Inverse transforms: the chunk that starts playing in this callback (overlap-save: the last
+  // N of 2N samples are valid).
+  const size_t n = size_t(lv.partitionSize);
+  const size_t spec = lv.fft->spectrumFloats();
+  for (int c = 0; c < numOutputs_; ++c) {
+    float* y = st.out[size_t(c)].get();
+    const float* oldY = nullptr;
+    const float* newY = nullptr;
+    if (st.cur) {
+      lv.fft->inverse(st.acc[size_t(c)].get(), st.time.get());
+      oldY = st.time.get() + n;
+    }
+    if (!crossfade) {
+      if (oldY)
+        std::memcpy(y, oldY, n * sizeof(float));
+      else
+        std::fill(y, y + n, 0.0f);
+      continue;
+    }
+    if (st.next) {
+      lv.fft->inverse(st.acc[size_t(c)].get() + spec, st.time2.get());
+      newY = st.time2.get() + n;
+    }
+    // y = (1 - g) old + g new, g = (k + 1) / N over the chunk.
+    const float invN = 1.0f / float(n);
+    for (size_t k = 0; k < n; ++k) {
+      const float g = float(k + 1) * invN;
+      y[k] = (oldY ? (1.0f - g) * oldY[k] : 0.0f) + (newY ? g * newY[k] : 0.0f);
     }
   }
-  ++block_;
+  if (crossfade) {
+    const NonUniformIrSet* old = st.cur;
+    st.cur = st.next;
+    retireIfUnused(old);
+  }
 }
 
 }  // namespace dpc::audio

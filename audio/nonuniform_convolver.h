@@ -170,6 +170,16 @@ class NonUniformConvolver {
   };
   bool referenced(const NonUniformIrSet* ir) const;
   void retireIfUnused(const NonUniformIrSet* ir);
+  /// One level's work in this callback: stage the input block, start, accumulate and finish
+  /// the level's chunk as its schedule says, and add the level's output block.
+  void processLevel(int level, const float* const* in, float* const* out);
+  /// A chunk of the level's input is complete: transform it (level 0) or stage it.
+  void startChunk(const NonUniformLayout::Level& lv, LevelState& st);
+  /// Multiply-accumulates this callback's share of the level's partitions (both IRs while
+  /// crossfading).
+  void accumulateShare(int level, LevelState& st, int step, bool crossfade);
+  /// Inverse transforms of the finished chunk, crossfaded over it when the IR changed.
+  void finishChunk(const NonUniformLayout::Level& lv, LevelState& st, bool crossfade);
   void macRange(LevelState& st, int level, const NonUniformIrSet* ir, float* const* acc, int begin,
                 int end);
 

@@ -18,6 +18,9 @@ import json
 import os
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from objfile import write_obj  # noqa: E402
+
 HALF = 1000.0  # ground half-width, m
 BUILDINGS = [  # (x0, x1, height, z0, z1)
     (10.0, 40.0, 25.0, -20.0, 20.0),
@@ -58,15 +61,9 @@ for x0, x1, h, z0, z1 in BUILDINGS:
     quad((x0, h, z0), (x0, h, z1), (x1, h, z1), (x1, h, z0), "roof")    # +y
     quad((x0, 0, z0), (x1, 0, z0), (x1, 0, z1), (x0, 0, z1), "facade")  # -y
 
-with open(os.path.join(out, "open_field.obj"), "w") as f:
-    f.write("# dpc open field: 2 km ground plane and two buildings, written by "
-            "generate_open_field.py. Materials are defined in open_field.json.\n")
-    for v in verts:
-        f.write("v %g %g %g\n" % v)
-    for material, tris in faces:
-        f.write("usemtl %s\n" % material)
-        for t in tris:
-            f.write("f %d %d %d\n" % t)
+write_obj(os.path.join(out, "open_field.obj"),
+          "# dpc open field: 2 km ground plane and two buildings, written by "
+          "generate_open_field.py. Materials are defined in open_field.json.\n", verts, faces)
 
 scene = {
     "_comment": "Outdoor scene (scenes/generate_open_field.py): 2 km ground plane, two "

@@ -18,6 +18,9 @@ import math
 import os
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from objfile import write_obj  # noqa: E402
+
 ROOM_X, HEIGHT, DEPTH = 6.0, 3.0, 5.0
 DOOR_Z0, DOOR_W, DOOR_H = 3.5, 1.0, 2.1
 out = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
@@ -53,17 +56,6 @@ panel((X, 0, DOOR_Z0 + DOOR_W), (X, 0, DEPTH), (X, HEIGHT, DEPTH), (X, HEIGHT, D
       'walls')
 panel((X, DOOR_H, DOOR_Z0), (X, DOOR_H, DOOR_Z0 + DOOR_W), (X, HEIGHT, DOOR_Z0 + DOOR_W),
       (X, HEIGHT, DOOR_Z0), 'walls')
-
-
-def write_obj(path, header, vs, fs):
-    with open(path, 'w') as f:
-        f.write(header)
-        for v in vs:
-            f.write('v %g %g %g\n' % v)
-        for material, tris in fs:
-            f.write('usemtl %s\n' % material)
-            for t in tris:
-                f.write('f %d %d %d\n' % t)
 
 
 write_obj(os.path.join(out, 'two_rooms.obj'),

@@ -328,20 +328,23 @@ for scene in ('shoebox', 'hall'):
                 m += f" ({100 * j['ratio_full_to_bare_packet16']:.0f} % of the 16-wide packet loop)"
             row(f'{scene}: full frame >= 85 % of bare Embree (segments/s; 4096 x 200, {what})',
                 m, r >= 0.85, f'prop-{scene}-rays-4096{suffix}.json')
+def thread_scaling_row(one, two, label, digits):
+    """A row for the two-thread speed-up of frame time between two bench files, if both exist."""
+    j1, j2 = load(one), load(two)
+    if j1 and j2:
+        s = frame_ms(j1) / frame_ms(j2)
+        row(label(j1), f'{s:.2f}x ({frame_ms(j1):.{digits}f} -> {frame_ms(j2):.{digits}f} ms)',
+            s >= 1.85, two if 'tri' in two else one)
+
+
 for scene in ('shoebox', 'hall'):
-    j2, j1 = load(f'prop-{scene}-rays-4096.json'), load(f'prop-{scene}-rays-4096-t1.json')
-    if j1 and j2:
-        s = frame_ms(j1) / frame_ms(j2)
-        row(f'{scene}: 2 threads >= 1.85x one (frame time, 4096 x 200, roulette)',
-            f'{s:.2f}x ({frame_ms(j1):.1f} -> {frame_ms(j2):.1f} ms)', s >= 1.85,
-            f'prop-{scene}-rays-4096-t1.json')
+    thread_scaling_row(f'prop-{scene}-rays-4096-t1.json', f'prop-{scene}-rays-4096.json',
+                       lambda j, scene=scene: f'{scene}: 2 threads >= 1.85x one (frame time, '
+                       '4096 x 200, roulette)', 1)
 for k in range(4):
-    j1, j2 = load(f'prop-hall-tri-k{k}-t1.json'), load(f'prop-hall-tri-k{k}-t2.json')
-    if j1 and j2:
-        s = frame_ms(j1) / frame_ms(j2)
-        row(f"hall {j1['triangles']} triangles: 2 threads >= 1.85x one (no roulette)",
-            f'{s:.2f}x ({frame_ms(j1):.0f} -> {frame_ms(j2):.0f} ms)', s >= 1.85,
-            f'prop-hall-tri-k{k}-t2.json')
+    thread_scaling_row(f'prop-hall-tri-k{k}-t1.json', f'prop-hall-tri-k{k}-t2.json',
+                       lambda j: f"hall {j['triangles']} triangles: 2 threads >= 1.85x one "
+                       '(no roulette)', 0)
 for scene in ('shoebox', 'hall'):
     for suffix, what in (('', 'roulette'), ('-noroulette', 'no roulette')):
         j = load(f'prop-{scene}-rays-4096{suffix}.json')

@@ -37,6 +37,20 @@ void runBlocks(PartitionedConvolver& conv, const Signal& x, size_t firstBlock, s
   }
 }
 
+/// A one-source, one-output convolver holding a random IR of `length` samples drawn from rng.
+struct RandomIrConvolver {
+  RandomIrConvolver(std::mt19937& rng, int block, size_t length)
+      : h(randomSignal(rng, length)), layout(block, length), spectra(layout, 1), conv(layout, 1) {
+    const float* hp = h.data();
+    spectra.prepare(&hp, h.size());
+    REQUIRE(conv.setNextIr(&spectra));
+  }
+  Signal h;
+  ConvolverLayout layout;
+  IrSpectra spectra;
+  PartitionedConvolver conv;
+};
+
 /// sum (y - ref)^2 / sum ref^2 over [begin, end).
 double relativeErrorEnergy(const Signal& y, const Reference& ref, size_t begin, size_t end) {
   double err = 0.0, energy = 0.0;
@@ -215,13 +229,10 @@ TEST_CASE("IR change crossfades the two full convolutions over one block", "[con
 TEST_CASE("Setting the current IR again is no change", "[convolver]") {
   std::mt19937 rng(11);
   const int b = 48;
-  const Signal h = randomSignal(rng, 100);
-  ConvolverLayout layout(b, 100);
-  IrSpectra s(layout, 1);
-  const float* hp = h.data();
-  s.prepare(&hp, h.size());
-  PartitionedConvolver conv(layout, 1);
-  REQUIRE(conv.setNextIr(&s));
+  RandomIrConvolver fixture(rng, b, 100);
+  const Signal& h = fixture.h;
+  IrSpectra& s = fixture.spectra;
+  PartitionedConvolver& conv = fixture.conv;
   const Signal x = randomSignal(rng, 10 * size_t(b));
   std::vector<Signal> out(1, Signal(x.size(), 0.0f));
   runBlocks(conv, x, 0, 4, out);
@@ -319,13 +330,10 @@ TEST_CASE("Re-preparing a spectrum with a shorter IR forgets the longer one", "[
 TEST_CASE("reset() clears the input history", "[convolver]") {
   std::mt19937 rng(9);
   const int b = 20;
-  const Signal h = randomSignal(rng, 90);
-  ConvolverLayout layout(b, 90);
-  IrSpectra s(layout, 1);
-  const float* hp = h.data();
-  s.prepare(&hp, h.size());
-  PartitionedConvolver conv(layout, 1);
-  REQUIRE(conv.setNextIr(&s));
+  RandomIrConvolver fixture(rng, b, 90);
+  const Signal& h = fixture.h;
+  IrSpectra& s = fixture.spectra;
+  PartitionedConvolver& conv = fixture.conv;
   const Signal noise = randomSignal(rng, 10 * 20);
   std::vector<Signal> out(1, Signal(noise.size(), 0.0f));
   runBlocks(conv, noise, 0, 10, out);

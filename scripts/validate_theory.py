@@ -43,6 +43,9 @@ import tempfile
 
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import image_sources  # noqa: E402
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BANDS = ['63', '125', '250', '500', '1000', '2000', '4000', '8000']
 BAND = 4  # 1 kHz: every band is the same here (one absorption, no air)
@@ -151,43 +154,14 @@ def theory_t60(alpha, gamma2):
 
 def image_source_csv(alpha, path, length_s=4.0, bin_s=1e-3):
     """The exact specular energy response (1 ms bins) of the box, in dpc's --er-out format."""
-    size = np.array(SIZE)
-    src, lis = np.array(SOURCE), np.array(LISTENER)
-    reach = C * length_s
-    nbins = int(round(length_s / bin_s))
-    energy = np.zeros(nbins)
-    direct_t = direct_e = None
-    # per axis: image coordinate (1 - 2p) s + 2 n L, reflections |n - p| + |n|
-    axes = []
-    for k in range(3):
-        nmax = int(math.ceil(reach / (2 * size[k]))) + 1
-        coords, counts = [], []
-        for n in range(-nmax, nmax + 1):
-            for p in (0, 1):
-                coords.append((1 - 2 * p) * src[k] + 2 * n * size[k])
-                counts.append(abs(n - p) + abs(n))
-        axes.append((np.array(coords) - lis[k], np.array(counts)))
-    (dx, nx), (dy, ny), (dz, nz) = axes
-    r = 1.0 - alpha
-    for i in range(len(dx)):
-        if abs(dx[i]) > reach:
-            continue
-        d2xy = dx[i] ** 2 + dy[:, None] ** 2 + dz[None, :] ** 2
-        order = nx[i] + ny[:, None] + nz[None, :]
-        d = np.sqrt(d2xy)
-        keep = d < reach
-        e = np.power(r, order[keep]) / (4 * np.pi * d2xy[keep])
-        t = d[keep] / C
-        direct = order[keep] == 0
-        if direct.any():
-            direct_t, direct_e = float(t[direct][0]), float(e[direct][0])
-        np.add.at(energy, np.minimum((t[~direct] / bin_s).astype(int), nbins - 1), e[~direct])
+    direct_t, direct_e, energy = image_sources.energy_response(SIZE, SOURCE, LISTENER, alpha,
+                                                               length_s, bin_s, C)
     with open(path, 'w') as f:
         f.write('# dpc energy response v1: intensity per octave band relative to source power '
                 '(1/m^2)\n')
         f.write('source,kind,time_s,' + ','.join('e' + b for b in BANDS) + '\n')
         f.write(f'0,direct,{direct_t:.7f},' + ','.join([f'{direct_e:.9e}'] * 8) + '\n')
-        for k in range(nbins):
+        for k in range(len(energy)):
             f.write(f'0,bin,{k * bin_s:.6f},' + ','.join([f'{energy[k]:.9e}'] * 8) + '\n')
 
 

@@ -76,6 +76,10 @@ int dpc_engine_latency_frames(const dpc_engine* e) {
 
 dpc_status dpc_engine_get_stats(dpc_engine* engine, dpc_stats* out) {
   if (!engine || !out) return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_get_stats: NULL");
+  if (const dpc_status s = dpc::api::checkStructSize(out->struct_size, sizeof(dpc_stats),
+                                                     "dpc_stats.struct_size");
+      s != DPC_OK)
+    return s;
   return guarded([&] {
     const auto s = engine->session->status();
     out->frames = s.frames;

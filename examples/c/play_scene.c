@@ -55,6 +55,7 @@ int main(int argc, char** argv) {
   }
   dpc_engine_stop(engine);
   dpc_stats stats;
+  stats.struct_size = sizeof stats;
   dpc_engine_get_stats(engine, &stats);
   printf("%llu propagation frames, %llu impulse responses applied, %llu blocks\n",
          (unsigned long long)stats.frames, (unsigned long long)stats.irs_applied,

@@ -25,9 +25,10 @@
  * dropped).
  *
  * Versions and layouts: DPC_VERSION (dpc_version.h, this header's) and dpc_version() (the
- * library's) must agree on major and minor. The structs a caller fills for creation carry their
- * size in struct_size (first member, set by their *_init function), so that a library given a
- * struct of another layout returns DPC_ERR_VERSION instead of reading past it. */
+ * library's) must agree on major and minor. The structs a caller hands over (creation options
+ * and scene data, statistics to fill) carry their size in struct_size (first member, set by
+ * their *_init function or by the caller), so that a library given a struct of another layout
+ * returns DPC_ERR_VERSION instead of reading or writing past it. */
 #ifndef DPC_DPC_H
 #define DPC_DPC_H
 
@@ -350,8 +351,11 @@ DPC_API int dpc_engine_object_count(const dpc_engine* engine); /**< moving objec
 /** Latency process() adds to the host's signal, frames (one engine block). */
 DPC_API int dpc_engine_latency_frames(const dpc_engine* engine);
 
-/** Counters and last-frame measurements of a running engine. */
+/** Counters and last-frame measurements of a running engine. The caller sets struct_size =
+ *  sizeof(dpc_stats) before dpc_engine_get_stats, so that a library of another layout refuses
+ *  to write past it. */
 typedef struct dpc_stats {
+  size_t struct_size;            /**< sizeof(dpc_stats), set by the caller */
   uint64_t frames;               /**< propagation frames run */
   double frame_ms;               /**< duration of the last propagation frame, ms */
   double rays_per_second;        /**< since the previous dpc_engine_get_stats call */
@@ -376,7 +380,9 @@ typedef struct dpc_stats {
   uint64_t reduced_frames;    /**< frames traced with fewer rays than the scene's */
 } dpc_stats;
 
-/** Control thread (it updates the rays-per-second interval). No allocation. */
+/** Control thread (it updates the rays-per-second interval). No allocation. Fills *out (all but
+ *  struct_size). Errors: DPC_ERR_INVALID_ARGUMENT (NULL), DPC_ERR_VERSION (out->struct_size is
+ *  not sizeof(dpc_stats) of this library: nothing written). */
 DPC_API dpc_status dpc_engine_get_stats(dpc_engine* engine, dpc_stats* out);
 
 #ifdef __cplusplus

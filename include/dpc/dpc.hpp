@@ -122,6 +122,7 @@ class Engine {
   /// Control thread: counters and last-frame measurements.
   Stats stats() {
     Stats s{};
+    s.struct_size = sizeof(Stats);
     check(dpc_engine_get_stats(e_, &s));
     return s;
   }

@@ -58,6 +58,9 @@ TEST_CASE("C API: shoebox engine processes finite blocks, counts unsupported cal
   CHECK(dpc_engine_process(e, nullptr, outputs.data(), 0) == DPC_ERR_INVALID_ARGUMENT);
   CHECK(dpc_engine_process(e, nullptr, outputs.data(), 8193) == DPC_ERR_INVALID_ARGUMENT);
   dpc_stats s{};
+  CHECK(dpc_engine_get_stats(e, &s) == DPC_ERR_VERSION);  // struct_size not set
+  CHECK(s.blocks == 0);                                   // nothing written
+  s.struct_size = sizeof(dpc_stats);
   REQUIRE(dpc_engine_get_stats(e, &s) == DPC_OK);
   CHECK(s.blocks == 9);
   CHECK(s.rejected_callbacks == 2);
@@ -208,6 +211,7 @@ TEST_CASE("C API: a scene built in code equals the same scene from a file, bit f
   CHECK(frame == 3);
   // step() traces the scene's rays every frame (no adaptation: same bits on any machine).
   dpc_stats stats{};
+  stats.struct_size = sizeof(dpc_stats);
   REQUIRE(dpc_engine_get_stats(fromData, &stats) == DPC_OK);
   CHECK(stats.rays_per_frame == 1024);
   CHECK(stats.rays_per_frame_min == 1024);

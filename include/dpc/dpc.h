@@ -90,8 +90,10 @@ typedef void (*dpc_log_callback)(dpc_log_level level, const char* message, void*
  *  restores the default, which prints them to stderr ("warning: " before a warning). The
  *  callback runs on the thread whose dpc call raises the message (the control thread creating
  *  an engine; never the audio thread), one call at a time (the library serialises them under a
- *  lock, so it must not call dpc_set_log_callback itself). Errors of a call are not logged:
- *  they are its dpc_status and dpc_last_error(). */
+ *  lock, so it must not call dpc_set_log_callback itself). When this function returns, the
+ *  previous callback is not running and will not be called again (its user_data may be
+ *  freed); it waits for a call in progress. Errors of a call are not logged: they are its
+ *  dpc_status and dpc_last_error(). */
 DPC_API void dpc_set_log_callback(dpc_log_callback callback, void* user_data);
 
 /** Output format of an engine: 1 channel, 2 channels by constant-power panning of each

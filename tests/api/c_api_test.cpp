@@ -400,14 +400,18 @@ TEST_CASE("C API: a scene file's warnings reach the log callback") {
   host.host_inputs_only = 1;
   dpc_engine* e = nullptr;
   REQUIRE(dpc_engine_create_from_file(file.c_str(), &host, &e) == DPC_OK);
-  dpc_set_log_callback(nullptr, nullptr);  // back to stderr: nothing more reaches `logged`
   dpc_engine_destroy(e);
   REQUIRE(logged.lines.size() == 1);
   CHECK(logged.lines[0].first == DPC_LOG_WARNING);
   CHECK(logged.lines[0].second.find("materials.spare: not used") != std::string::npos);
+  // A replaced callback is called no more.
+  LoggedLines later;
+  dpc_set_log_callback(&collect, &later);
   REQUIRE(dpc_engine_create_from_file(file.c_str(), &host, &e) == DPC_OK);
   dpc_engine_destroy(e);
+  dpc_set_log_callback(nullptr, nullptr);  // the default: stderr
   CHECK(logged.lines.size() == 1);
+  CHECK(later.lines.size() == 1);
 }
 
 TEST_CASE("C API: a quaternion in the API's frame gives the listener's yaw and pitch") {

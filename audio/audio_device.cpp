@@ -18,6 +18,7 @@
 #include <utility>
 
 #include "audio/rt_check.h"
+#include "common/log.h"
 
 namespace dpc::audio {
 
@@ -34,12 +35,16 @@ constexpr const char* kNoDeviceHint =
 /// ("cannot find card '0'", "jack server is not running"), which on a machine without a sound
 /// card or JACK server bury the one message that matters (ours). Unless DPC_AUDIO_VERBOSE=1,
 /// their error handlers are silenced during Pa_Initialize and Pa_Terminate and set back afterwards
-/// (ALSA: its default; JACK: print to stderr, as its default does). Both libraries are loaded with
-/// libportaudio, so their setters are looked up with dlsym instead of linking them.
+/// (ALSA: its default; JACK: the library's log, stderr by default, as JACK's default prints).
+/// Both libraries are loaded with libportaudio, so their setters are looked up with dlsym
+/// instead of linking them.
 void alsaSilent(const char*, int, const char*, int, const char*, ...) {}
 void jackSilent(const char*) {}
-void jackToStderr(const char* message) {
-  std::fprintf(stderr, "%s\n", message);
+void jackErrorToLog(const char* message) {
+  logMessage(LogLevel::kError, message);
+}
+void jackInfoToLog(const char* message) {
+  logMessage(LogLevel::kInfo, message);
 }
 
 void quietProbing(bool quiet) {
@@ -58,8 +63,8 @@ void quietProbing(bool quiet) {
   static const auto jackSetInfo =
       reinterpret_cast<JackSetFunction>(dlsym(RTLD_DEFAULT, "jack_set_info_function"));
   if (alsaSet) alsaSet(quiet ? &alsaSilent : nullptr);
-  if (jackSetError) jackSetError(quiet ? &jackSilent : &jackToStderr);
-  if (jackSetInfo) jackSetInfo(quiet ? &jackSilent : &jackToStderr);
+  if (jackSetError) jackSetError(quiet ? &jackSilent : &jackErrorToLog);
+  if (jackSetInfo) jackSetInfo(quiet ? &jackSilent : &jackInfoToLog);
 }
 
 std::mutex& paInitMutex() {

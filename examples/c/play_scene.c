@@ -12,8 +12,14 @@ int main(int argc, char** argv) {
     fprintf(stderr, "usage: %s SCENE.json OUT.wav\n", argv[0]);
     return 2;
   }
+  /* The library must have the major and minor version of the header compiled in. */
+  if ((dpc_version() >> 8) != (DPC_VERSION >> 8)) {
+    fprintf(stderr, "libdpc %lu.%lu does not match dpc.h %s\n", dpc_version() >> 16,
+            (dpc_version() >> 8) & 0xff, DPC_VERSION_STRING);
+    return 1;
+  }
   dpc_engine* engine = NULL;
-  if (dpc_engine_create_from_file(argv[1], &engine) != DPC_OK) {
+  if (dpc_engine_create_from_file(argv[1], NULL, &engine) != DPC_OK) {
     fprintf(stderr, "%s\n", dpc_last_error());
     return 1;
   }
@@ -33,13 +39,13 @@ int main(int argc, char** argv) {
   float* interleaved = calloc((size_t)block * channels, sizeof(float));
   float* outputs[2] = {planar, planar + block};
 
-  dpc_engine_set_listener(engine, 3.5f, 1.6f, 1.5f, 0.f, 0.f);
+  dpc_engine_set_listener_pose(engine, 0, 3.5f, 1.6f, 1.5f, 0.f, 0.f);
   dpc_engine_start(engine);
   const int blocks = 4 * rate / block; /* 4 s */
   for (int b = 0; b < blocks; ++b) {
     /* Move the listener, then wait (as a sound card would) for one block period. */
     const float x = 3.5f + 3.f * (float)b / (float)blocks;
-    dpc_engine_set_listener(engine, x, 1.6f, 1.5f, 0.f, 0.f);
+    dpc_engine_set_listener_pose(engine, 0, x, 1.6f, 1.5f, 0.f, 0.f);
     struct timespec period = {0, (long)(1e9 * block / rate)};
     nanosleep(&period, NULL);
     dpc_engine_process(engine, NULL, outputs, block);
@@ -49,6 +55,7 @@ int main(int argc, char** argv) {
   }
   dpc_engine_stop(engine);
   dpc_stats stats;
+  stats.struct_size = sizeof stats;
   dpc_engine_get_stats(engine, &stats);
   printf("%llu propagation frames, %llu impulse responses applied, %llu blocks\n",
          (unsigned long long)stats.frames, (unsigned long long)stats.irs_applied,

@@ -29,11 +29,11 @@ int main(int argc, char** argv) {
     for (auto& c : planar) outputs.push_back(c.data());
     std::vector<float> interleaved(size_t(block) * channels);
 
-    engine.setListener(5.f, 1.6f, 3.5f, 0.f);
+    engine.setListenerPose(0, 5.f, 1.6f, 3.5f, 0.f);
     engine.start();
     const int blocks = 4 * rate / block;  // 4 s
     for (int b = 0; b < blocks; ++b) {
-      engine.setListener(5.f, 1.6f, 3.5f, 360.f * float(b) / float(blocks));
+      engine.setListenerPose(0, 5.f, 1.6f, 3.5f, 360.f * float(b) / float(blocks));
       std::this_thread::sleep_for(std::chrono::microseconds(1000000LL * block / rate));
       engine.process(nullptr, outputs.data(), block);
       for (int i = 0; i < block; ++i)

@@ -9,13 +9,33 @@
  *   any thread:     lock-free and wait-free, may be called concurrently with process();
  *   audio thread:   the host's real-time callback; never allocates, locks, logs or waits.
  * No function throws: C++ exceptions are caught inside and turned into a dpc_status. The text
- * of the last error on the calling thread is returned by dpc_last_error().
- * Units: metres, seconds, degrees for the API's angles, linear sample values. */
+ * of the last error on the calling thread is returned by dpc_last_error(); warnings go to the
+ * log callback (dpc_set_log_callback).
+ * Units: metres, seconds, degrees for the API's angles, linear sample values.
+ *
+ * Frame and rotations (one convention for every pose): a right-handed world frame, metres,
+ * +y up (scene files and meshes use the same). A rotation is a unit quaternion in glTF order
+ * (x, y, z, w) that maps an object's local frame to the world: world = R(q) * local + position.
+ * Moving objects take that quaternion (dpc_engine_set_object_pose). Listeners take yaw and
+ * pitch in degrees instead, in the same frame, because the engine's listener has no roll (its
+ * ears stay level; the spatial synthesis reads only its forward and up directions): at yaw 0,
+ * pitch 0 it faces +x with +y up; yaw turns it about +y, positive to the left (+x towards -z);
+ * pitch then raises its gaze, positive up. A host holding a head or camera quaternion converts
+ * it with dpc_yaw_pitch_from_quaternion (the quaternion rotates that rest pose; roll is
+ * dropped).
+ *
+ * Versions and layouts: DPC_VERSION (dpc_version.h, this header's) and dpc_version() (the
+ * library's) must agree on major and minor. The structs a caller hands over (creation options
+ * and scene data, statistics to fill) carry their size in struct_size (first member, set by
+ * their *_init function or by the caller), so that a library given a struct of another layout
+ * returns DPC_ERR_VERSION instead of reading or writing past it. */
 #ifndef DPC_DPC_H
 #define DPC_DPC_H
 
 #include <stddef.h>
 #include <stdint.h>
+
+#include "dpc/dpc_version.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -35,7 +55,9 @@ typedef enum dpc_status {
   DPC_ERR_STATE = 3,            /**< not possible in the engine's current state (e.g.
                                      dpc_engine_step while running, a read before any frame) */
   DPC_ERR_UNSUPPORTED = 4,      /**< the operation is not available in this version */
-  DPC_ERR_INTERNAL = 5          /**< unexpected failure (out of memory, runtime error) */
+  DPC_ERR_INTERNAL = 5,         /**< unexpected failure (out of memory, runtime error) */
+  DPC_ERR_VERSION = 6           /**< a struct's struct_size is not this library's layout: the
+                                     caller was compiled against another dpc.h */
 } dpc_status;
 
 /** Opaque engine handle. */
@@ -47,15 +69,32 @@ typedef struct dpc_engine dpc_engine;
  *  message (their status code says it all). */
 DPC_API const char* dpc_last_error(void);
 
-/** Library version "MAJOR.MINOR.PATCH". Any thread; static storage. */
-DPC_API const char* dpc_version(void);
+/** Any thread; no allocation. The library's version, packed as DPC_MAKE_VERSION(major, minor,
+ *  patch) (dpc_version.h): compare it with DPC_VERSION, the header's, e.g.
+ *  (dpc_version() >> 8) == (DPC_VERSION >> 8) for the same major and minor. */
+DPC_API unsigned long dpc_version(void);
 
-/** Control thread. Loads a scene file (JSON, docs/scene-format.md), its meshes and dry
- *  signals, and builds the engine (Embree scene, IR synthesisers, convolvers). Allocates.
- *  On success *out receives a handle to free with dpc_engine_destroy; on failure *out is NULL
- *  and dpc_last_error() names the file and field. Errors: DPC_ERR_INVALID_ARGUMENT,
- *  DPC_ERR_INPUT, DPC_ERR_INTERNAL. */
-DPC_API dpc_status dpc_engine_create_from_file(const char* scene_path, dpc_engine** out);
+/** Severity of a log message. */
+typedef enum dpc_log_level {
+  DPC_LOG_INFO = 0,
+  DPC_LOG_WARNING = 1, /**< e.g. a scene file's degenerate triangles, skipped */
+  DPC_LOG_ERROR = 2
+} dpc_log_level;
+
+/** Receives one log message: a single line without a trailing newline, valid only during the
+ *  call. */
+typedef void (*dpc_log_callback)(dpc_log_level level, const char* message, void* user_data);
+
+/** Any thread but the audio thread; no allocation. Sends the library's warnings and messages to
+ *  `callback` (with `user_data`) for the whole process, replacing the previous one; NULL
+ *  restores the default, which prints them to stderr ("warning: " before a warning). The
+ *  callback runs on the thread whose dpc call raises the message (the control thread creating
+ *  an engine; never the audio thread), one call at a time (the library serialises them under a
+ *  lock, so it must not call dpc_set_log_callback itself). When this function returns, the
+ *  previous callback is not running and will not be called again (its user_data may be
+ *  freed); it waits for a call in progress. Errors of a call are not logged: they are its
+ *  dpc_status and dpc_last_error(). */
+DPC_API void dpc_set_log_callback(dpc_log_callback callback, void* user_data);
 
 /** Output format of an engine: 1 channel, 2 channels by constant-power panning of each
  *  arrival direction, or 2 ear channels through HRTFs (docs/spatial.md). */
@@ -67,8 +106,10 @@ typedef enum dpc_output_format {
 } dpc_output_format;
 
 /** Overrides of a scene's settings when an engine is created. Fill with
- *  dpc_engine_options_init() (every field "keep the scene's"), then change what you need. */
+ *  dpc_engine_options_init() (struct_size set, every other field "keep the scene's"), then
+ *  change what you need. */
 typedef struct dpc_engine_options {
+  size_t struct_size;       /**< sizeof(dpc_engine_options), set by dpc_engine_options_init */
   int sample_rate;          /**< Hz, 8000..384000; 0 keeps the scene's audio.sample_rate. Dry
                                  signals are resampled to it, HRTFs read at it. */
   int block_size;           /**< engine block, frames, 16..8192; 0 keeps the scene's */
@@ -79,15 +120,20 @@ typedef struct dpc_engine_options {
                                  for inputs == NULL */
 } dpc_engine_options;
 
-/** Any thread; no allocation. Sets every field to "keep the scene's" (zero). */
+/** Any thread; no allocation. Sets struct_size to sizeof(dpc_engine_options) and every other
+ *  field to "keep the scene's" (zero). NULL is ignored. */
 DPC_API void dpc_engine_options_init(dpc_engine_options* options);
 
-/** Control thread. As dpc_engine_create_from_file, with the overrides in `options` (NULL: none).
- *  Errors as dpc_engine_create_from_file; an option out of range gives
- *  DPC_ERR_INVALID_ARGUMENT naming the field. */
-DPC_API dpc_status dpc_engine_create_from_file_ex(const char* scene_path,
-                                                  const dpc_engine_options* options,
-                                                  dpc_engine** out);
+/** Control thread. Loads a scene file (JSON, docs/scene-format.md), its meshes and dry
+ *  signals (unless options->host_inputs_only), applies the overrides in `options` (NULL: none)
+ *  and builds the engine (Embree scene, IR synthesisers, convolvers). Allocates. The scene
+ *  file's warnings go to the log callback. On success *out receives a handle to free with
+ *  dpc_engine_destroy; on failure *out is NULL and dpc_last_error() names the file and field.
+ *  Errors: DPC_ERR_INVALID_ARGUMENT (NULL path or out, an option out of range: the message
+ *  names the field), DPC_ERR_VERSION (options->struct_size), DPC_ERR_INPUT, DPC_ERR_INTERNAL. */
+DPC_API dpc_status dpc_engine_create_from_file(const char* scene_path,
+                                               const dpc_engine_options* options,
+                                               dpc_engine** out);
 
 /** Number of octave bands of absorption and energy responses: 63, 125, 250, 500, 1000, 2000,
  *  4000 and 8000 Hz nominal centres (ISO 266, IEC 61260-1). */
@@ -128,13 +174,16 @@ typedef struct dpc_source {
 typedef struct dpc_listener {
   float position[3];    /**< m */
   float radius;         /**< receiver sphere radius, m, > 0 */
-  float yaw_degrees;    /**< 0 faces +x, positive turns left (about +y) */
+  float yaw_degrees;    /**< 0 faces +x, positive turns left (about +y); see the top */
   float pitch_degrees;  /**< positive looks up */
 } dpc_listener;
 
 /** A scene built in code: what a scene file says (docs/scene-format.md), same defaults.
- *  Fill with dpc_scene_data_init(), then set mesh, materials and sources. */
+ *  Fill with dpc_scene_data_init(), then set mesh, materials and sources. Its struct_size also
+ *  stands for the layout of the structs it points to (dpc_mesh, dpc_material, dpc_source,
+ *  dpc_listener), which change only together with it. */
 typedef struct dpc_scene_data {
+  size_t struct_size; /**< sizeof(dpc_scene_data), set by dpc_scene_data_init */
   dpc_mesh mesh;
   const dpc_material* materials;
   int material_count; /**< >= 1 */
@@ -142,8 +191,8 @@ typedef struct dpc_scene_data {
   int source_count;           /**< >= 1 */
   float listener_position[3]; /**< m */
   float listener_radius;      /**< receiver sphere radius, m, > 0 */
-  float listener_yaw_degrees; /**< 0 faces +x, positive turns left (about +y) */
-  float listener_pitch_degrees;
+  float listener_yaw_degrees; /**< 0 faces +x, positive turns left (about +y); see the top */
+  float listener_pitch_degrees; /**< positive looks up */
   /* propagation (docs/estimators.md) */
   int rays_per_frame;   /**< rays per source per frame, > 0 */
   int max_order;        /**< maximum reflection order, >= 0 */
@@ -168,17 +217,18 @@ typedef struct dpc_scene_data {
   int additional_listener_count;            /**< 0..63 (a scene has at most 64 listeners) */
 } dpc_scene_data;
 
-/** Any thread; no allocation. Zero mesh, materials and sources; listener at the origin; every
- *  other field the scene-file default (docs/scene-format.md). */
+/** Any thread; no allocation. struct_size = sizeof(dpc_scene_data); zero mesh, materials and
+ *  sources; listener at the origin; every other field the scene-file default
+ *  (docs/scene-format.md). NULL is ignored. */
 DPC_API void dpc_scene_data_init(dpc_scene_data* data);
 
 /** Control thread. Builds an engine from a scene described in memory; everything is copied, the
  *  caller's arrays may be freed on return. The same data as a scene file gives the same engine
  *  (same seed: same impulse responses). Allocates. Errors: DPC_ERR_INVALID_ARGUMENT (NULL
- *  pointers), DPC_ERR_INPUT (a value out of range, an index out of bounds, a non-finite or
- *  degenerate triangle: dpc_last_error() names the field, e.g. "dpc_scene_data:
- *  materials[1].absorption[3]: ..."), DPC_ERR_INTERNAL. `options` as for
- *  dpc_engine_create_from_file_ex (may be NULL). */
+ *  pointers), DPC_ERR_VERSION (data->struct_size or options->struct_size), DPC_ERR_INPUT (a
+ *  value out of range, an index out of bounds, a non-finite or degenerate triangle:
+ *  dpc_last_error() names the field, e.g. "dpc_scene_data: materials[1].absorption[3]: ..."),
+ *  DPC_ERR_INTERNAL. `options` as for dpc_engine_create_from_file (may be NULL). */
 DPC_API dpc_status dpc_engine_create_from_data(const dpc_scene_data* data,
                                                const dpc_engine_options* options, dpc_engine** out);
 
@@ -193,26 +243,21 @@ DPC_API dpc_status dpc_engine_start(dpc_engine* engine);
  *  DPC_ERR_INVALID_ARGUMENT (NULL). */
 DPC_API dpc_status dpc_engine_stop(dpc_engine* engine);
 
-/** Any thread, wait-free, no allocation. Sets the selected listener's pose (see
- *  dpc_engine_select_listener; the only listener of a one-listener scene): position (x, y, z) in metres
- *  in scene coordinates, yaw in degrees (0 faces +x, positive turns left, about +y), pitch in
- *  degrees (positive looks up). The propagation thread uses the newest pose at its next frame.
- *  Until the first call the listener stands where the scene puts it at time 0 (its position
- *  or first keyframe). Errors: DPC_ERR_INVALID_ARGUMENT (null engine or non-finite value; no
- *  message set, since setting one would allocate). */
-DPC_API dpc_status dpc_engine_set_listener(dpc_engine* engine, float x, float y, float z,
-                                           float yaw_degrees, float pitch_degrees);
-
 /** Any thread. Listeners traced every propagation frame: the length of the scene's
  *  "listeners" array, or 1 for a scene with one "listener" (or built from dpc_scene_data).
  *  All of them share each frame's rays (docs/dynamic.md "Several listeners"); one of them, the
  *  selected listener, is heard through dpc_engine_process and read by the copy functions. */
 DPC_API int dpc_engine_listener_count(const dpc_engine* engine);
 
-/** Any thread (one writer per listener at a time), wait-free, no allocation. As
- *  dpc_engine_set_listener for listener `listener` (0-based, the scene's "listeners" order),
- *  selected or not. Errors: DPC_ERR_INVALID_ARGUMENT (null engine, index out of range,
- *  non-finite value; no message set, since setting one would allocate). */
+/** Any thread (one writer per listener at a time), wait-free, no allocation. Sets the pose of
+ *  listener `listener` (0-based, the scene's "listeners" order; 0 in a one-listener scene;
+ *  dpc_engine_selected_listener() for the one heard), selected or not: position (x, y, z) in
+ *  metres in scene coordinates, yaw and pitch in degrees as defined at the top of this header
+ *  (0, 0 faces +x; positive yaw turns left about +y; positive pitch looks up). The propagation
+ *  thread uses the newest pose at its next frame. Until the first call a listener stands where
+ *  the scene puts it at time 0 (its position or first keyframe). Errors:
+ *  DPC_ERR_INVALID_ARGUMENT (null engine, index out of range, non-finite value; no message
+ *  set, since setting one would allocate). */
 DPC_API dpc_status dpc_engine_set_listener_pose(dpc_engine* engine, int listener, float x,
                                                 float y, float z, float yaw_degrees,
                                                 float pitch_degrees);
@@ -220,13 +265,23 @@ DPC_API dpc_status dpc_engine_set_listener_pose(dpc_engine* engine, int listener
 /** Any thread, wait-free, no allocation. Makes listener `listener` (0-based) the one
  *  dpc_engine_process plays and dpc_engine_copy_* read, from the next propagation frame on;
  *  the audio side crossfades to its impulse responses as to any new ones (its cache is already
- *  warm: every listener is traced every frame). dpc_engine_set_listener then moves it. Until
+ *  warm: every listener is traced every frame). Until
  *  the first call the scene's first listener is selected. Errors: DPC_ERR_INVALID_ARGUMENT
  *  (null engine or index out of range; no message set). */
 DPC_API dpc_status dpc_engine_select_listener(dpc_engine* engine, int listener);
 
 /** Any thread. The selected listener (0-based); 0 for a null engine. */
 DPC_API int dpc_engine_selected_listener(const dpc_engine* engine);
+
+/** Any thread; no allocation. The listener yaw and pitch (degrees, as defined at the top of
+ *  this header) of the unit quaternion q = (qx, qy, qz, qw) in glTF order, normalised here,
+ *  which rotates the listener's rest pose (facing +x, +y up): its forward direction
+ *  f = R(q) * (1, 0, 0) gives yaw = atan2(-f.z, f.x) and pitch = asin(f.y); roll about f is
+ *  dropped. Straight up or down the yaw is undetermined (0 if f is exactly vertical). Errors:
+ *  DPC_ERR_INVALID_ARGUMENT (NULL
+ *  output, non-finite value or zero quaternion; no message set). */
+DPC_API dpc_status dpc_yaw_pitch_from_quaternion(float qx, float qy, float qz, float qw,
+                                                 float* yaw_degrees, float* pitch_degrees);
 
 /** Any thread, wait-free, no allocation. Moves source `source` (0-based, scene order) to
  *  (x, y, z) metres in scene coordinates from the next propagation frame on, instead of its
@@ -237,7 +292,8 @@ DPC_API dpc_status dpc_engine_set_source_position(dpc_engine* engine, int source
 
 /** Any thread (one writer per object at a time), wait-free, no allocation. Places moving
  *  object `object` (0-based, the scene's "objects" order): world = R(q) * local + (x, y, z),
- *  metres; q = (qx, qy, qz, qw) a rotation quaternion in glTF order, normalised here. Replaces
+ *  metres; q = (qx, qy, qz, qw) a rotation quaternion in glTF order (the frame at the top of
+ *  this header), normalised here. Replaces
  *  the object's trajectory from the next propagation frame on. Errors: DPC_ERR_INVALID_ARGUMENT
  *  (null engine, index out of range, non-finite value or zero quaternion; no message set). */
 DPC_API dpc_status dpc_engine_set_object_pose(dpc_engine* engine, int object, float x, float y,
@@ -259,8 +315,9 @@ DPC_API dpc_status dpc_engine_step(dpc_engine* engine);
  *  band follows the energy response (dpc_engine_copy_energy_response). *length (if not NULL)
  *  receives the IR's full length in samples; min(capacity, length) samples are copied (out
  *  may be NULL with capacity 0 to ask for the length). *frame (if not NULL) receives the
- *  propagation frame count it came from. No allocation on success. Errors: DPC_ERR_INVALID_ARGUMENT (NULL
- * engine, index out of range, out NULL with capacity > 0), DPC_ERR_STATE (no frame run yet). */
+ *  propagation frame count it came from. No allocation on success. Errors:
+ *  DPC_ERR_INVALID_ARGUMENT (NULL engine, index out of range, out NULL with capacity > 0),
+ *  DPC_ERR_STATE (no frame run yet). */
 DPC_API dpc_status dpc_engine_copy_impulse_response(dpc_engine* engine, int source, int channel,
                                                     float* out, size_t capacity, size_t* length,
                                                     uint64_t* frame);
@@ -296,8 +353,11 @@ DPC_API int dpc_engine_object_count(const dpc_engine* engine); /**< moving objec
 /** Latency process() adds to the host's signal, frames (one engine block). */
 DPC_API int dpc_engine_latency_frames(const dpc_engine* engine);
 
-/** Counters and last-frame measurements of a running engine. */
+/** Counters and last-frame measurements of a running engine. The caller sets struct_size =
+ *  sizeof(dpc_stats) before dpc_engine_get_stats, so that a library of another layout refuses
+ *  to write past it. */
 typedef struct dpc_stats {
+  size_t struct_size;            /**< sizeof(dpc_stats), set by the caller */
   uint64_t frames;               /**< propagation frames run */
   double frame_ms;               /**< duration of the last propagation frame, ms */
   double rays_per_second;        /**< since the previous dpc_engine_get_stats call */
@@ -322,7 +382,9 @@ typedef struct dpc_stats {
   uint64_t reduced_frames;    /**< frames traced with fewer rays than the scene's */
 } dpc_stats;
 
-/** Control thread (it updates the rays-per-second interval). No allocation. */
+/** Control thread (it updates the rays-per-second interval). No allocation. Fills *out (all but
+ *  struct_size). Errors: DPC_ERR_INVALID_ARGUMENT (NULL), DPC_ERR_VERSION (out->struct_size is
+ *  not sizeof(dpc_stats) of this library: nothing written). */
 DPC_API dpc_status dpc_engine_get_stats(dpc_engine* engine, dpc_stats* out);
 
 #ifdef __cplusplus

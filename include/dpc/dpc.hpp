@@ -29,16 +29,12 @@ using Stats = dpc_stats;
 
 class Engine {
  public:
-  /// Control thread; allocates; throws dpc::Error naming the scene file and field.
-  static Engine fromFile(const std::string& scenePath) {
+  /// Control thread; allocates; throws dpc::Error naming the scene file and field. options
+  /// (filled by dpc_engine_options_init first) may be nullptr: the scene's settings.
+  static Engine fromFile(const std::string& scenePath,
+                         const dpc_engine_options* options = nullptr) {
     dpc_engine* e = nullptr;
-    check(dpc_engine_create_from_file(scenePath.c_str(), &e));
-    return Engine(e);
-  }
-  /// Control thread: as fromFile with overrides (dpc_engine_options; see dpc.h).
-  static Engine fromFile(const std::string& scenePath, const dpc_engine_options& options) {
-    dpc_engine* e = nullptr;
-    check(dpc_engine_create_from_file_ex(scenePath.c_str(), &options, &e));
+    check(dpc_engine_create_from_file(scenePath.c_str(), options, &e));
     return Engine(e);
   }
   /// Control thread: a scene built in code (dpc_scene_data, filled by dpc_scene_data_init
@@ -61,16 +57,11 @@ class Engine {
   void start() { check(dpc_engine_start(e_)); }
   void stop() { check(dpc_engine_stop(e_)); }
 
-  /// Any thread, wait-free: listener position (m) and yaw/pitch (degrees). Returns the status
-  /// instead of throwing so that it may be called from an audio thread.
-  dpc_status setListener(float x, float y, float z, float yawDegrees,
-                         float pitchDegrees = 0.f) noexcept {
-    return dpc_engine_set_listener(e_, x, y, z, yawDegrees, pitchDegrees);
-  }
-
   /// Any thread: listeners traced every frame (dpc_engine_listener_count).
   int listenerCount() const noexcept { return dpc_engine_listener_count(e_); }
-  /// Any thread, wait-free: pose of listener `listener` (dpc_engine_set_listener_pose).
+  /// Any thread, wait-free: pose of listener `listener` (dpc_engine_set_listener_pose):
+  /// position (m), yaw and pitch (degrees, the frame of dpc.h). Returns the status instead of
+  /// throwing so that it may be called from an audio thread.
   dpc_status setListenerPose(int listener, float x, float y, float z, float yawDegrees,
                              float pitchDegrees = 0.f) noexcept {
     return dpc_engine_set_listener_pose(e_, listener, x, y, z, yawDegrees, pitchDegrees);
@@ -131,6 +122,7 @@ class Engine {
   /// Control thread: counters and last-frame measurements.
   Stats stats() {
     Stats s{};
+    s.struct_size = sizeof(Stats);
     check(dpc_engine_get_stats(e_, &s));
     return s;
   }

@@ -153,10 +153,11 @@ void logError(Plugin* p, const char* what) {
     std::fprintf(stderr, "dpc: %s: %s\n", what, dpc_last_error());
 }
 
-/// Publishes a pose to an engine (wait-free; any thread). Non-finite values are refused by
-/// the API and leave the previous pose in place.
+/// Publishes a pose to an engine's selected listener and first source (wait-free; any thread).
+/// Non-finite values are refused by the API and leave the previous pose in place.
 void publish(dpc_engine* e, const Pose& q) {
-  dpc_engine_set_listener(e, q.v[0], q.v[1], q.v[2], q.v[3], 0.f);
+  dpc_engine_set_listener_pose(e, dpc_engine_selected_listener(e), q.v[0], q.v[1], q.v[2],
+                               q.v[3], 0.f);
   dpc_engine_set_source_position(e, 0, q.v[4], q.v[5], q.v[6]);
 }
 
@@ -169,7 +170,7 @@ Scene* loadScene(Plugin* p, const std::string& path, bool isDefault, const Pose&
   o.sample_rate = int(std::lround(p->rate));
   o.host_inputs_only = 1;
   dpc_engine* e = nullptr;
-  if (dpc_engine_create_from_file_ex(path.c_str(), &o, &e) != DPC_OK) {
+  if (dpc_engine_create_from_file(path.c_str(), &o, &e) != DPC_OK) {
     logError(p, path.c_str());
     return nullptr;
   }

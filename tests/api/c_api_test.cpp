@@ -10,13 +10,15 @@
 #include <vector>
 
 #include "dpc/dpc.h"
+#include "dpc/dpc_version.h"
 
 TEST_CASE("C API: bad arguments and bad scene files give codes and a message naming the file") {
   dpc_engine* e = reinterpret_cast<dpc_engine*>(1);
-  CHECK(dpc_engine_create_from_file(nullptr, &e) == DPC_ERR_INVALID_ARGUMENT);
+  CHECK(dpc_engine_create_from_file(nullptr, nullptr, &e) == DPC_ERR_INVALID_ARGUMENT);
   CHECK(e == nullptr);
-  CHECK(dpc_engine_create_from_file("x.json", nullptr) == DPC_ERR_INVALID_ARGUMENT);
-  CHECK(dpc_engine_create_from_file("/nonexistent/scene.json", &e) == DPC_ERR_INPUT);
+  CHECK(dpc_engine_create_from_file("x.json", nullptr, nullptr) == DPC_ERR_INVALID_ARGUMENT);
+  CHECK(dpc_engine_create_from_file("/nonexistent/scene.json", nullptr, &e) ==
+        DPC_ERR_INPUT);
   CHECK(e == nullptr);
   CHECK(std::string(dpc_last_error()).find("/nonexistent/scene.json") != std::string::npos);
   CHECK(dpc_engine_start(nullptr) == DPC_ERR_INVALID_ARGUMENT);
@@ -25,7 +27,8 @@ TEST_CASE("C API: bad arguments and bad scene files give codes and a message nam
 
 TEST_CASE("C API: shoebox engine processes finite blocks, counts unsupported calls") {
   dpc_engine* e = nullptr;
-  REQUIRE(dpc_engine_create_from_file(DPC_SOURCE_DIR "/scenes/shoebox.json", &e) == DPC_OK);
+  REQUIRE(dpc_engine_create_from_file(DPC_SOURCE_DIR "/scenes/shoebox.json", nullptr, &e) ==
+          DPC_OK);
   const int block = dpc_engine_block_size(e), channels = dpc_engine_output_channels(e);
   CHECK(dpc_engine_sample_rate(e) == 48000);
   CHECK(block == 512);
@@ -38,8 +41,9 @@ TEST_CASE("C API: shoebox engine processes finite blocks, counts unsupported cal
   CHECK(dpc_engine_set_object_pose(e, 0, 0.f, 0.f, 0.f, identity[0], identity[1], identity[2],
                                    identity[3]) == DPC_ERR_INVALID_ARGUMENT);
   CHECK(dpc_engine_latency_frames(e) == block);
-  CHECK(dpc_engine_set_listener(e, NAN, 1.6f, 1.5f, 0.f, 0.f) == DPC_ERR_INVALID_ARGUMENT);
-  CHECK(dpc_engine_set_listener(e, 3.5f, 1.6f, 1.5f, 90.f, 0.f) == DPC_OK);
+  CHECK(dpc_engine_set_listener_pose(e, 0, NAN, 1.6f, 1.5f, 0.f, 0.f) ==
+        DPC_ERR_INVALID_ARGUMENT);
+  CHECK(dpc_engine_set_listener_pose(e, 0, 3.5f, 1.6f, 1.5f, 90.f, 0.f) == DPC_OK);
 
   std::vector<float> buffer(size_t(block) * channels, 1.f);
   std::vector<float*> outputs;
@@ -54,6 +58,9 @@ TEST_CASE("C API: shoebox engine processes finite blocks, counts unsupported cal
   CHECK(dpc_engine_process(e, nullptr, outputs.data(), 0) == DPC_ERR_INVALID_ARGUMENT);
   CHECK(dpc_engine_process(e, nullptr, outputs.data(), 8193) == DPC_ERR_INVALID_ARGUMENT);
   dpc_stats s{};
+  CHECK(dpc_engine_get_stats(e, &s) == DPC_ERR_VERSION);  // struct_size not set
+  CHECK(s.blocks == 0);                                   // nothing written
+  s.struct_size = sizeof(dpc_stats);
   REQUIRE(dpc_engine_get_stats(e, &s) == DPC_OK);
   CHECK(s.blocks == 9);
   CHECK(s.rejected_callbacks == 2);
@@ -161,7 +168,7 @@ TEST_CASE("C API: a scene built in code equals the same scene from a file, bit f
   dpc_engine_options_init(&host);
   host.host_inputs_only = 1;
   dpc_engine* fromFile = nullptr;
-  REQUIRE(dpc_engine_create_from_file_ex(file.c_str(), &host, &fromFile) == DPC_OK);
+  REQUIRE(dpc_engine_create_from_file(file.c_str(), &host, &fromFile) == DPC_OK);
   std::vector<dpc_material> materials;
   dpc_source source;
   const dpc_scene_data data = boxData(materials, source);
@@ -204,6 +211,7 @@ TEST_CASE("C API: a scene built in code equals the same scene from a file, bit f
   CHECK(frame == 3);
   // step() traces the scene's rays every frame (no adaptation: same bits on any machine).
   dpc_stats stats{};
+  stats.struct_size = sizeof(dpc_stats);
   REQUIRE(dpc_engine_get_stats(fromData, &stats) == DPC_OK);
   CHECK(stats.rays_per_frame == 1024);
   CHECK(stats.rays_per_frame_min == 1024);
@@ -264,8 +272,8 @@ TEST_CASE("C API: several listeners share a frame, the selected one is heard and
   dpc_engine_options_init(&host);
   host.host_inputs_only = 1;
   dpc_engine *e = nullptr, *moved = nullptr;
-  REQUIRE(dpc_engine_create_from_file_ex(file.c_str(), &host, &e) == DPC_OK);
-  REQUIRE(dpc_engine_create_from_file_ex(file.c_str(), &host, &moved) == DPC_OK);
+  REQUIRE(dpc_engine_create_from_file(file.c_str(), &host, &e) == DPC_OK);
+  REQUIRE(dpc_engine_create_from_file(file.c_str(), &host, &moved) == DPC_OK);
   CHECK(dpc_engine_listener_count(e) == 2);
   CHECK(dpc_engine_selected_listener(e) == 0);
   CHECK(dpc_engine_select_listener(e, 2) == DPC_ERR_INVALID_ARGUMENT);
@@ -311,7 +319,7 @@ TEST_CASE("C API: several listeners share a frame, the selected one is heard and
   data.additional_listener_count = 1;
   dpc_engine *fromData = nullptr, *fromFile = nullptr;
   REQUIRE(dpc_engine_create_from_data(&data, nullptr, &fromData) == DPC_OK);
-  REQUIRE(dpc_engine_create_from_file_ex(file.c_str(), &host, &fromFile) == DPC_OK);
+  REQUIRE(dpc_engine_create_from_file(file.c_str(), &host, &fromFile) == DPC_OK);
   CHECK(dpc_engine_listener_count(fromData) == 2);
   for (dpc_engine* x : {fromData, fromFile}) {
     REQUIRE(dpc_engine_select_listener(x, 1) == DPC_OK);
@@ -324,4 +332,111 @@ TEST_CASE("C API: several listeners share a frame, the selected one is heard and
   dpc_engine* none = nullptr;
   CHECK(dpc_engine_create_from_data(&data, nullptr, &none) == DPC_ERR_INPUT);
   CHECK(std::string(dpc_last_error()).find("additional_listener_count") != std::string::npos);
+}
+
+TEST_CASE("C API: the library's version is the header's") {
+  CHECK(dpc_version() == DPC_VERSION);
+  CHECK(DPC_VERSION == DPC_MAKE_VERSION(DPC_VERSION_MAJOR, DPC_VERSION_MINOR, DPC_VERSION_PATCH));
+  CHECK(DPC_MAKE_VERSION(0, 2, 0) > DPC_MAKE_VERSION(0, 1, 9));
+  CHECK(std::string(DPC_VERSION_STRING) == std::to_string(DPC_VERSION_MAJOR) + "." +
+                                               std::to_string(DPC_VERSION_MINOR) + "." +
+                                               std::to_string(DPC_VERSION_PATCH));
+}
+
+TEST_CASE("C API: a struct of another layout gives DPC_ERR_VERSION, not a read past it") {
+  dpc_engine_options o;
+  dpc_engine_options_init(&o);
+  CHECK(o.struct_size == sizeof(dpc_engine_options));
+  dpc_engine* e = reinterpret_cast<dpc_engine*>(1);
+  o.struct_size = sizeof(dpc_engine_options) - sizeof(int);  // a caller of an older dpc.h
+  CHECK(dpc_engine_create_from_file(DPC_SOURCE_DIR "/scenes/shoebox.json", &o, &e) ==
+        DPC_ERR_VERSION);
+  CHECK(e == nullptr);
+  CHECK(std::string(dpc_last_error()).find("dpc_engine_options.struct_size") == 0);
+  std::vector<dpc_material> materials;
+  dpc_source source;
+  dpc_scene_data data = boxData(materials, source);
+  CHECK(data.struct_size == sizeof(dpc_scene_data));
+  data.struct_size = 0;  // never initialised by dpc_scene_data_init
+  CHECK(dpc_engine_create_from_data(&data, nullptr, &e) == DPC_ERR_VERSION);
+  CHECK(std::string(dpc_last_error()).find("dpc_scene_data.struct_size") == 0);
+  data.struct_size = sizeof(dpc_scene_data);
+  o.struct_size = sizeof(dpc_engine_options) + 8;  // a caller of a newer dpc.h
+  CHECK(dpc_engine_create_from_data(&data, &o, &e) == DPC_ERR_VERSION);
+  CHECK(e == nullptr);
+}
+
+namespace {
+
+struct LoggedLines {
+  std::vector<std::pair<dpc_log_level, std::string>> lines;
+};
+
+void collect(dpc_log_level level, const char* message, void* user) {
+  static_cast<LoggedLines*>(user)->lines.emplace_back(level, message);
+}
+
+}  // namespace
+
+TEST_CASE("C API: a scene file's warnings reach the log callback") {
+  // The box scene with one more material that no triangle uses: the loader warns about it.
+  const std::string folder = std::filesystem::temp_directory_path().string() + "/dpc_api_log";
+  std::string json;
+  {
+    std::ifstream in(writeBoxScene(folder));
+    json.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  const std::string key = "\"materials\": {";
+  REQUIRE(json.find(key) != std::string::npos);
+  json.insert(json.find(key) + key.size(),
+              "\"spare\": {\"absorption\": [0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1], "
+              "\"scattering\": 0.1}, ");
+  const std::string file = folder + "/spare.json";
+  std::ofstream(file) << json;
+  LoggedLines logged;
+  dpc_set_log_callback(&collect, &logged);
+  dpc_engine_options host;
+  dpc_engine_options_init(&host);
+  host.host_inputs_only = 1;
+  dpc_engine* e = nullptr;
+  REQUIRE(dpc_engine_create_from_file(file.c_str(), &host, &e) == DPC_OK);
+  dpc_engine_destroy(e);
+  REQUIRE(logged.lines.size() == 1);
+  CHECK(logged.lines[0].first == DPC_LOG_WARNING);
+  CHECK(logged.lines[0].second.find("materials.spare: not used") != std::string::npos);
+  // A replaced callback is called no more.
+  LoggedLines later;
+  dpc_set_log_callback(&collect, &later);
+  REQUIRE(dpc_engine_create_from_file(file.c_str(), &host, &e) == DPC_OK);
+  dpc_engine_destroy(e);
+  dpc_set_log_callback(nullptr, nullptr);  // the default: stderr
+  CHECK(logged.lines.size() == 1);
+  CHECK(later.lines.size() == 1);
+}
+
+TEST_CASE("C API: a quaternion in the API's frame gives the listener's yaw and pitch") {
+  float yaw = 1.f, pitch = 1.f;
+  const float h = std::sqrt(0.5f);
+  CHECK(dpc_yaw_pitch_from_quaternion(0.f, 0.f, 0.f, 1.f, &yaw, &pitch) == DPC_OK);
+  CHECK(yaw == 0.f);
+  CHECK(pitch == 0.f);
+  // 90 degrees about +y turns +x towards -z: a left turn, yaw +90.
+  CHECK(dpc_yaw_pitch_from_quaternion(0.f, h, 0.f, h, &yaw, &pitch) == DPC_OK);
+  CHECK(yaw == Approx(90.f).margin(1e-4));
+  CHECK(pitch == Approx(0.f).margin(1e-4));
+  // 30 degrees about +z raises +x towards +y: pitch +30; not normalised on input.
+  const float s = std::sin(15.f * 3.14159265f / 180.f), c = std::cos(15.f * 3.14159265f / 180.f);
+  CHECK(dpc_yaw_pitch_from_quaternion(0.f, 0.f, 2.f * s, 2.f * c, &yaw, &pitch) == DPC_OK);
+  CHECK(yaw == Approx(0.f).margin(1e-4));
+  CHECK(pitch == Approx(30.f).margin(1e-4));
+  // Roll (about the forward axis +x) is dropped.
+  CHECK(dpc_yaw_pitch_from_quaternion(h, 0.f, 0.f, h, &yaw, &pitch) == DPC_OK);
+  CHECK(yaw == Approx(0.f).margin(1e-4));
+  CHECK(pitch == Approx(0.f).margin(1e-4));
+  CHECK(dpc_yaw_pitch_from_quaternion(0.f, 0.f, 0.f, 0.f, &yaw, &pitch) ==
+        DPC_ERR_INVALID_ARGUMENT);
+  CHECK(dpc_yaw_pitch_from_quaternion(NAN, 0.f, 0.f, 1.f, &yaw, &pitch) ==
+        DPC_ERR_INVALID_ARGUMENT);
+  CHECK(dpc_yaw_pitch_from_quaternion(0.f, 0.f, 0.f, 1.f, nullptr, &pitch) ==
+        DPC_ERR_INVALID_ARGUMENT);
 }

@@ -15,7 +15,7 @@ TEST_CASE("C++ API: options, step and responses of the shoebox") {
   o.output = DPC_OUTPUT_STEREO;
   o.rays_per_frame = 512;
   o.host_inputs_only = 1;  // the scene's speech.wav is not read
-  dpc::Engine e = dpc::Engine::fromFile(DPC_SOURCE_DIR "/scenes/shoebox.json", o);
+  dpc::Engine e = dpc::Engine::fromFile(DPC_SOURCE_DIR "/scenes/shoebox.json", &o);
   CHECK(e.sampleRate() == 44100);
   CHECK(e.blockSize() == 128);
   CHECK(e.outputChannels() == 2);

@@ -1,0 +1,149 @@
+// Engine lifetime across the C API: options, creation from a scene file or from scene data,
+// destruction, start, stop and single frames (include/dpc/dpc.h).
+#include <memory>
+#include <string>
+
+#include "api/engine_handle.h"
+#include "api/errors.h"
+#include "api/scene_data.h"
+#include "common/log.h"
+
+namespace dpc::api {
+namespace {
+
+// Checks range of the numeric dpc_engine_options; returns a message for a bad one.
+const char* checkOptionRanges(const dpc_engine_options& o) {
+  if (o.sample_rate != 0 && (o.sample_rate < 8000 || o.sample_rate > 384000))
+    return "dpc_engine_options.sample_rate: outside 8000..384000 Hz";
+  if (o.block_size != 0 && (o.block_size < 16 || o.block_size > 8192))
+    return "dpc_engine_options.block_size: outside 16..8192 frames";
+  if (o.rays_per_frame < 0) return "dpc_engine_options.rays_per_frame: must be > 0";
+  if (o.output != DPC_OUTPUT_SCENE && o.output != DPC_OUTPUT_MONO &&
+      o.output != DPC_OUTPUT_STEREO && o.output != DPC_OUTPUT_BINAURAL)
+    return "dpc_engine_options.output: not a dpc_output_format";
+  return nullptr;
+}
+
+// Applies dpc_engine_options (checked, may be NULL) to a loaded scene; DPC_OK or the failure.
+dpc_status applyOptions(const dpc_engine_options* o, SceneDesc& scene) {
+  if (!o) return DPC_OK;
+  if (const char* bad = checkOptionRanges(*o)) return fail(DPC_ERR_INVALID_ARGUMENT, bad);
+  if (o->sample_rate != 0) scene.audio.sampleRate = o->sample_rate;
+  if (o->block_size != 0) scene.audio.blockSize = o->block_size;
+  if (o->rays_per_frame != 0) scene.propagation.raysPerFrame = o->rays_per_frame;
+  if (o->output != DPC_OUTPUT_SCENE) toOutputFormat(o->output, &scene.audio.output);
+  return DPC_OK;
+}
+
+// DPC_OK, or DPC_ERR_VERSION for options of another layout.
+dpc_status checkOptions(const dpc_engine_options* o) {
+  return o ? checkStructSize(o->struct_size, sizeof(dpc_engine_options),
+                             "dpc_engine_options.struct_size")
+           : DPC_OK;
+}
+
+}  // namespace
+
+dpc_engine* finishEngine(std::unique_ptr<dpc_engine> engine) {
+  for (const std::string& w : engine->scene.warnings) logMessage(LogLevel::kWarning, w);
+  engine->sources = int(engine->scene.sources.size());
+  LiveSession::Options options;
+  options.deviceChannels = outputChannels(engine->scene.audio.output);
+  engine->session = std::make_unique<LiveSession>(engine->scene, engine->scene.propagation,
+                                                  engine->dry, options);
+  // Until the host sets one, the listener stands where the scene puts it at time 0.
+  const ListenerDesc& l = engine->scene.listener;
+  const Orientation o = listenerOrientationAt(l, 0.0);
+  engine->session->setPose(listenerPositionAt(l, 0.0), o.yawRadians, 0.0, o.pitchRadians);
+  return engine.release();
+}
+
+}  // namespace dpc::api
+
+using dpc::api::fail;
+using dpc::api::guarded;
+
+extern "C" {
+
+void dpc_engine_options_init(dpc_engine_options* options) {
+  if (!options) return;
+  *options = dpc_engine_options{};
+  options->struct_size = sizeof(dpc_engine_options);
+}
+
+dpc_status dpc_engine_create_from_file(const char* scene_path, const dpc_engine_options* options,
+                                       dpc_engine** out) {
+  if (!out) return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_create_from_file: out is NULL");
+  *out = nullptr;
+  if (!scene_path)
+    return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_create_from_file: scene_path is NULL");
+  if (const dpc_status s = dpc::api::checkOptions(options); s != DPC_OK) return s;
+  return guarded([&] {
+    auto engine = std::make_unique<dpc_engine>();
+    engine->scene = dpc::loadScene(scene_path);
+    if (const dpc_status s = dpc::api::applyOptions(options, engine->scene); s != DPC_OK)
+      return s;
+    if (options && options->host_inputs_only)
+      for (auto& src : engine->scene.sources) src.signalPath.clear();
+    engine->dry = dpc::loadDrySignals(engine->scene);
+    *out = dpc::api::finishEngine(std::move(engine));
+    return DPC_OK;
+  });
+}
+
+dpc_status dpc_engine_create_from_data(const dpc_scene_data* data,
+                                       const dpc_engine_options* options, dpc_engine** out) {
+  if (!out) return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_create_from_data: out is NULL");
+  *out = nullptr;
+  if (!data) return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_create_from_data: data is NULL");
+  if (const dpc_status s = dpc::api::checkStructSize(
+          data->struct_size, sizeof(dpc_scene_data), "dpc_scene_data.struct_size");
+      s != DPC_OK)
+    return s;
+  if (const dpc_status s = dpc::api::checkOptions(options); s != DPC_OK) return s;
+  return guarded([&] {
+    auto engine = std::make_unique<dpc_engine>();
+    engine->scene = dpc::api::sceneFromData(*data);
+    if (const dpc_status s = dpc::api::applyOptions(options, engine->scene); s != DPC_OK)
+      return s;
+    engine->dry = dpc::api::drySignalsFromData(*data, options && options->host_inputs_only);
+    *out = dpc::api::finishEngine(std::move(engine));
+    return DPC_OK;
+  });
+}
+
+void dpc_engine_destroy(dpc_engine* engine) {
+  if (!engine) return;
+  try {
+    engine->session->stop();
+  } catch (...) {
+  }
+  delete engine;
+}
+
+dpc_status dpc_engine_start(dpc_engine* engine) {
+  if (!engine) return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_start: engine is NULL");
+  return guarded([&] {
+    engine->session->start();
+    return DPC_OK;
+  });
+}
+
+dpc_status dpc_engine_stop(dpc_engine* engine) {
+  if (!engine) return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_stop: engine is NULL");
+  return guarded([&] {
+    engine->session->stop();
+    return DPC_OK;
+  });
+}
+
+dpc_status dpc_engine_step(dpc_engine* engine) {
+  if (!engine) return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_step: engine is NULL");
+  return guarded([&] {
+    return engine->session->step()
+               ? DPC_OK
+               : fail(DPC_ERR_STATE, "dpc_engine_step: the propagation thread is running");
+  });
+}
+
+}  // extern "C"

@@ -1,0 +1,107 @@
+// Audio and read-outs across the C API: dpc_engine_process on the host's audio thread, the
+// newest impulse and energy responses, fixed properties and statistics (include/dpc/dpc.h).
+#include <algorithm>
+#include <cstring>
+
+#include "api/engine_handle.h"
+#include "api/errors.h"
+
+using dpc::api::fail;
+using dpc::api::guarded;
+
+extern "C" {
+
+dpc_status dpc_engine_copy_impulse_response(dpc_engine* engine, int source, int channel, float* out,
+                                            size_t capacity, size_t* length, uint64_t* frame) {
+  if (!engine || source < 0 || source >= engine->sources || channel < 0 ||
+      channel >= engine->session->irChannels() || (!out && capacity > 0))
+    return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_copy_impulse_response: bad argument");
+  const bool ok = engine->session->copyResponses(size_t(source), [&](const auto& r) {
+    const std::vector<float>& ir = (*r.ir)[size_t(channel)];
+    if (length) *length = ir.size();
+    if (frame) *frame = r.frame;
+    if (out && capacity > 0)
+      std::memcpy(out, ir.data(), std::min(capacity, ir.size()) * sizeof(float));
+  });
+  return ok ? DPC_OK
+            : fail(DPC_ERR_STATE, "dpc_engine_copy_impulse_response: no propagation frame yet");
+}
+
+dpc_status dpc_engine_copy_energy_response(dpc_engine* engine, int source, float* out,
+                                           size_t capacity_bins, size_t* bins, double* bin_seconds,
+                                           uint64_t* frame) {
+  if (!engine || source < 0 || source >= engine->sources || (!out && capacity_bins > 0))
+    return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_copy_energy_response: bad argument");
+  static_assert(DPC_BANDS == dpc::kNumBands, "band count of the public API");
+  const bool ok = engine->session->copyResponses(size_t(source), [&](const auto& r) {
+    if (bins) *bins = r.energy->size();
+    if (bin_seconds) *bin_seconds = r.binSeconds;
+    if (frame) *frame = r.frame;
+    const size_t n = std::min(capacity_bins, r.energy->size());
+    for (size_t k = 0; k < n; ++k)
+      for (int b = 0; b < DPC_BANDS; ++b) out[k * DPC_BANDS + size_t(b)] = (*r.energy)[k][b];
+  });
+  return ok ? DPC_OK
+            : fail(DPC_ERR_STATE, "dpc_engine_copy_energy_response: no propagation frame yet");
+}
+
+dpc_status dpc_engine_process(dpc_engine* engine, const float* const* inputs, float* const* outputs,
+                              int frames) {
+  if (!engine || !outputs) return DPC_ERR_INVALID_ARGUMENT;
+  // The session adapts any callback size to its block; sizes outside 1..8192 output nothing and
+  // are counted (dpc_stats.rejected_callbacks).
+  engine->session->render(inputs, outputs, frames);
+  return frames >= 1 && frames <= dpc::LiveSession::kMaxCallbackFrames ? DPC_OK
+                                                                       : DPC_ERR_INVALID_ARGUMENT;
+}
+
+int dpc_engine_sample_rate(const dpc_engine* e) {
+  return e ? e->session->sampleRate() : 0;
+}
+int dpc_engine_block_size(const dpc_engine* e) {
+  return e ? e->session->blockSize() : 0;
+}
+int dpc_engine_output_channels(const dpc_engine* e) {
+  return e ? e->session->irChannels() : 0;
+}
+int dpc_engine_source_count(const dpc_engine* e) {
+  return e ? e->sources : 0;
+}
+int dpc_engine_object_count(const dpc_engine* e) {
+  return e ? int(e->scene.objects.size()) : 0;
+}
+int dpc_engine_latency_frames(const dpc_engine* e) {
+  return e ? e->session->adapterLatencyFrames() : 0;
+}
+
+dpc_status dpc_engine_get_stats(dpc_engine* engine, dpc_stats* out) {
+  if (!engine || !out) return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_get_stats: NULL");
+  if (const dpc_status s = dpc::api::checkStructSize(out->struct_size, sizeof(dpc_stats),
+                                                     "dpc_stats.struct_size");
+      s != DPC_OK)
+    return s;
+  return guarded([&] {
+    const auto s = engine->session->status();
+    out->frames = s.frames;
+    out->frame_ms = s.frameMs;
+    out->rays_per_second = s.raysPerSecond;
+    out->cache_entries = s.cacheEntries;
+    out->irs_applied = s.irsApplied;
+    out->irs_dropped = s.irsDropped;
+    out->ir_age_ms = s.irAgeMs;
+    out->blocks = s.blocks;
+    out->nan_blocks = s.nanBlocks;
+    out->late_callbacks = s.lateCallbacks;
+    out->rejected_callbacks = s.rejectedCallbacks;
+    out->cache_bytes = s.cacheBytes;
+    out->cache_budget_bytes = s.cacheBudgetBytes;
+    out->cache_merged_entries = s.cacheMergedEntries;
+    out->cache_merged_energy_fraction = s.cacheMergedEnergyFraction;
+    out->rays_per_frame = int32_t(s.raysPerFrame);
+    out->rays_per_frame_min = int32_t(s.raysPerFrameMin);
+    out->reduced_frames = s.reducedFrames;
+    return DPC_OK;
+  });
+}
+
+}  // extern "C"

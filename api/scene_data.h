@@ -1,0 +1,23 @@
+// dpc_scene_data (include/dpc/dpc.h) to the SceneDesc and dry signals a scene file with the
+// same content would give, checked with the scene file's bounds (docs/scene-format.md).
+#pragma once
+
+#include "dpc/dpc.h"
+#include "runtime/render_pipeline.h"
+#include "scene/scene.h"
+
+namespace dpc::api {
+
+/// Any thread. The OutputFormat of DPC_OUTPUT_MONO, _STEREO or _BINAURAL in *out; false (and
+/// *out unchanged) for any other value.
+bool toOutputFormat(dpc_output_format format, OutputFormat* out);
+
+/// Control thread. The scene of `data`; throws InputError naming the field ("dpc_scene_data:
+/// FIELD: problem") for a value out of range. Allocates.
+SceneDesc sceneFromData(const dpc_scene_data& data);
+
+/// Control thread. The sources' dry signals with their gains applied (empty for a source
+/// without signal, or for every source if `hostInputsOnly`). Allocates.
+DrySignals drySignalsFromData(const dpc_scene_data& data, bool hostInputsOnly);
+
+}  // namespace dpc::api

@@ -294,8 +294,8 @@ void runCase(const Case& cs, int block, const ConvolveOptions& o, json& list) {
           c["dpc"]["cpu_percent_mean"].get<double>() / zita["cpu_percent_mean"].get<double>();
       if (!swapping) c["dpc_vs_zita_output_error_db"] = relativeErrorDb(dpcOut, zitaOut);
     }
-    std::fprintf(stderr, "convolve: block %d %s swap %d: dpc %.2f %% zita %s %%\n", block,
-                 cs.name, swapping, c["dpc"]["cpu_percent_mean"].get<double>(),
+    std::fprintf(stderr, "convolve: block %d %s swap %d: dpc %.2f %% zita %s %%\n", block, cs.name,
+                 swapping, c["dpc"]["cpu_percent_mean"].get<double>(),
                  zita.is_object() ? zita["cpu_percent_mean"].dump().c_str() : "-");
     list.push_back(c);
   }

@@ -20,8 +20,8 @@ struct PairTimes {
   double paths = 0.0;
 };
 
-PairTimes timePairs(const SceneDesc& scene, const PropagationSettings& s,
-                    const Geometry& geometry, const EdgeDiffraction& diffraction, int frames) {
+PairTimes timePairs(const SceneDesc& scene, const PropagationSettings& s, const Geometry& geometry,
+                    const EdgeDiffraction& diffraction, int frames) {
   const Propagator propagator(geometry, s);
   const ListenerDesc& listener = scene.listener;
   const double span = listener.trajectory.empty() ? 20.0 : listener.trajectory.back().timeSeconds;

@@ -66,8 +66,8 @@ CLI::App* addSceneBench(CLI::App& app, const char* name, const char* description
 }
 
 CLI::App* addNoise(CLI::App& app, Options& o) {
-  CLI::App* sub = addSceneBench(app, "noise", "DPC vs path tracing against a converged reference",
-                                o.common);
+  CLI::App* sub =
+      addSceneBench(app, "noise", "DPC vs path tracing against a converged reference", o.common);
   sub->add_option("--walk-speed", o.noise.walkSpeed, "Listener speed along the trajectory, m/s");
   sub->add_option("--reference-frames", o.noise.referenceFrames,
                   "Path-tracing frames per reference");
@@ -77,21 +77,20 @@ CLI::App* addNoise(CLI::App& app, Options& o) {
 }
 
 CLI::App* addLive(CLI::App& app, Options& o) {
-  CLI::App* sub = addSceneBench(app, "live", "Motion-to-sound latency and audio render load",
-                                o.common);
+  CLI::App* sub =
+      addSceneBench(app, "live", "Motion-to-sound latency and audio render load", o.common);
   sub->add_option("--duration", o.live.duration, "Seconds to run (default 20)");
   sub->add_option("--block-size", o.live.blockSize, "Audio block size (default 128)");
   sub->add_option("--frame-rate", o.live.frameRate,
                   "Propagation frames per second (default: scene)");
-  sub->add_option("--device", o.live.device,
-                  "Audio device (default: a timer thread, no device)");
+  sub->add_option("--device", o.live.device, "Audio device (default: a timer thread, no device)");
   return sub;
 }
 
 CLI::App* addListeners(CLI::App& app, Options& o) {
-  CLI::App* sub = addSceneBench(
-      app, "listeners", "Frame time for several listeners traced in one pass (1, 2, 4, 8)",
-      o.common);
+  CLI::App* sub =
+      addSceneBench(app, "listeners",
+                    "Frame time for several listeners traced in one pass (1, 2, 4, 8)", o.common);
   sub->add_option("--warmup-frames", o.listeners.warmupFrames,
                   "Frames run before timing (cache fill, first-touch page faults; default 5)")
       ->check(CLI::Range(0, 1000));
@@ -107,8 +106,7 @@ CLI::App* addDynamic(CLI::App& app, Options& o) {
   sub->add_option("--parts", o.dynamic.parts,
                   "Comma-separated parts to run: step, objects, moving_source (default all)");
   sub->add_option("--rays", o.dynamic.rays, "Rays per frame (default 2048)");
-  sub->add_option("--frames", o.dynamic.frames,
-                  "Frames per object-count measurement (default 20)");
+  sub->add_option("--frames", o.dynamic.frames, "Frames per object-count measurement (default 20)");
   return sub;
 }
 
@@ -128,8 +126,8 @@ CLI::App* addConvolve(CLI::App& app, Options& o) {
 /// Defines every subcommand, in the order --help lists them.
 Subcommands addSubcommands(CLI::App& app, Options& o) {
   Subcommands s{};
-  s.propagation = addSceneBench(app, "propagation", "Frame time and segments/s vs bare Embree",
-                                o.common);
+  s.propagation =
+      addSceneBench(app, "propagation", "Frame time and segments/s vs bare Embree", o.common);
   s.propagation->add_flag("--no-roulette", o.noRoulette, "Trace every ray to max order");
   s.noise = addNoise(app, o);
   s.live = addLive(app, o);

@@ -7,8 +7,8 @@
 namespace dpc::bench {
 
 struct DynamicOptions {
-  int rays = 2048;    ///< rays per frame
-  int frames = 20;    ///< frames per object-count measurement
+  int rays = 2048;                                   ///< rays per frame
+  int frames = 20;                                   ///< frames per object-count measurement
   std::string parts = "step,objects,moving_source";  ///< the parts to run, comma-separated
 };
 

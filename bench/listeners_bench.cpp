@@ -17,8 +17,7 @@ double cpuSeconds() {
 }
 
 double wallSeconds() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 /// Listener i of `count`: scene listener i mod n, at a point of its trajectory spread over its

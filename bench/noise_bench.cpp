@@ -70,9 +70,9 @@ struct Study {
   const EnergyResponse& ref(int f) const { return refs[walking ? size_t(f) : 0]; }
   double corrected(double e) const { return correctedBy(e, refError); }
   NoiseMetrics measure(const PropagationSettings& p, int warm, int n, const Ranges& r) const {
-    return measureNoise(scene, p, warm, n, at, [this](int f) -> const EnergyResponse& {
-      return ref(f);
-    }, 0, nullptr, r);
+    return measureNoise(
+        scene, p, warm, n, at, [this](int f) -> const EnergyResponse& { return ref(f); }, 0,
+        nullptr, r);
   }
 };
 
@@ -104,17 +104,14 @@ void computeReferences(Study& st, int referenceFrames) {
     for (size_t r = 0; r < byRange.size(); ++r) st.refRangeErrors[r] += byRange[r] / positions;
     std::fprintf(stderr, "\rreference %d/%d", f + 1, positions);
   }
-  st.refError =
-      std::accumulate(refErrors.begin(), refErrors.end(), 0.0) / double(refErrors.size());
+  st.refError = std::accumulate(refErrors.begin(), refErrors.end(), 0.0) / double(refErrors.size());
 }
 
 Json describe(const Study& st, const NoiseMetrics& m) {
-  return Json{{"error", m.meanError},
-              {"error_corrected_for_reference", st.corrected(m.meanError)},
-              {"flicker", m.meanFlicker},
-              {"bias", m.bias},
-              {"energy_bias", m.energyBias},
-              {"error_per_frame", m.errorPerFrame}};
+  return Json{
+      {"error", m.meanError},        {"error_corrected_for_reference", st.corrected(m.meanError)},
+      {"flicker", m.meanFlicker},    {"bias", m.bias},
+      {"energy_bias", m.energyBias}, {"error_per_frame", m.errorPerFrame}};
 }
 
 /// The report's header: settings and the references.
@@ -130,7 +127,8 @@ Json header(const CommonOptions& c, const NoiseOptions& o, const Study& st) {
   j["frames_measured"] = c.frames;
   j["warmup_frames"] = st.warmup;
   Json refByRange;
-  for (size_t r = 0; r < st.delayRanges.size(); ++r) refByRange[rangeName(r)] = st.refRangeErrors[r];
+  for (size_t r = 0; r < st.delayRanges.size(); ++r)
+    refByRange[rangeName(r)] = st.refRangeErrors[r];
   j["reference"] = {{"frames", o.referenceFrames},
                     {"rays", double(o.referenceFrames) * st.s.raysPerFrame},
                     {"own_relative_error", st.refError},
@@ -142,7 +140,7 @@ Json header(const CommonOptions& c, const NoiseOptions& o, const Study& st) {
 
 /// What the DPC weightings measured, by name ("dpc_window", "dpc_ema", "dpc_seed").
 struct DpcResults {
-  std::map<std::string, double> error;                ///< corrected mean error
+  std::map<std::string, double> error;                    ///< corrected mean error
   std::map<std::string, std::vector<double>> rangeError;  ///< corrected, per delay range
   std::map<std::string, std::vector<double>> energy;      ///< total energy per frame
 };

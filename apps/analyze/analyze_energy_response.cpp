@@ -47,9 +47,8 @@ ImpulseResponseAnalysis analyzeSource(const SourceEnergy& s, bool asMeasured) {
 bool binsFitAsMeasured(const std::string& file, const std::vector<SourceEnergy>& sources) {
   for (const auto& src : sources)
     if (!(src.energy.binSeconds() * AudioSettings{}.sampleRate >= 1.0)) {
-      std::cerr << "dpc-analyze: --as-measured: " << file << ": bins of "
-                << src.energy.binSeconds() << " s are shorter than one sample at "
-                << AudioSettings{}.sampleRate << " Hz\n";
+      std::cerr << "dpc-analyze: --as-measured: " << file << ": bins of " << src.energy.binSeconds()
+                << " s are shorter than one sample at " << AudioSettings{}.sampleRate << " Hz\n";
       return false;
     }
   return true;

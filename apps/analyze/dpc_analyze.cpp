@@ -6,8 +6,8 @@
 //
 // Per channel (WAV) or source (CSV): T20, T30, EDT (s), C50, C80 (dB), D50 (%) and strength
 // G (dB, relative to the free-field direct sound at 10 m on dpc's energy scale) in the octave
-// bands 63 Hz .. 8 kHz and broadband (see analysis/room_parameters.h for the method). Control thread
-// only. Bad input prints one line "FILE: FIELD: problem" on stderr and exits with status 1.
+// bands 63 Hz .. 8 kHz and broadband (see analysis/room_parameters.h for the method). Control
+// thread only. Bad input prints one line "FILE: FIELD: problem" on stderr and exits with status 1.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cctype>

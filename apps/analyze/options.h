@@ -8,12 +8,12 @@ namespace dpc::analyze {
 
 /// Every dpc-analyze option (dpc_analyze.cpp defines them with CLI11).
 struct Options {
-  std::string file;          ///< the IR (WAV) or energy response (.csv) to analyse
-  bool json = false;         ///< JSON instead of tables
-  std::string channelText;   ///< --channel N as typed (1-based; "" = all)
-  std::vector<double> air;   ///< --air-attenuation T RH (empty = not asked for)
-  bool asMeasured = false;   ///< energy-response CSV: what an IR's band analysis would read
-  bool bandEnergy = false;   ///< band energies per time bin instead of parameters
+  std::string file;         ///< the IR (WAV) or energy response (.csv) to analyse
+  bool json = false;        ///< JSON instead of tables
+  std::string channelText;  ///< --channel N as typed (1-based; "" = all)
+  std::vector<double> air;  ///< --air-attenuation T RH (empty = not asked for)
+  bool asMeasured = false;  ///< energy-response CSV: what an IR's band analysis would read
+  bool bandEnergy = false;  ///< band energies per time bin instead of parameters
 };
 
 /// --air-attenuation T RH: prints the ISO 9613-1 attenuation per octave band (table or JSON)

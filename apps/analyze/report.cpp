@@ -75,9 +75,8 @@ void printTable(const std::string& title, const ImpulseResponseAnalysis& a) {
       {"EDT (s)", &RoomParameters::edt, 1.0, 2},  {"C50 (dB)", &RoomParameters::c50, 1.0, 1},
       {"C80 (dB)", &RoomParameters::c80, 1.0, 1}, {"D50 (%)", &RoomParameters::d50, 100.0, 0}};
   for (const Row& row : rows)
-    printRow(row.label, a, [&](const RoomParameters& r) {
-      return cell(r.*row.field * row.scale, row.decimals);
-    });
+    printRow(row.label, a,
+             [&](const RoomParameters& r) { return cell(r.*row.field * row.scale, row.decimals); });
   printRow("G (dB)", a, [](const RoomParameters& r) { return cell(strength(r), 1); });
 }
 

@@ -14,17 +14,14 @@ struct Flags {
   std::string scene, offline, irOut, erOut, estimator, weighting, device, record, stats, output,
       hrtf, listener;
   bool listDevices = false, interactive = false, quiet = false;
-  std::optional<int64_t> blockSize;  ///< samples per audio block (live)
-  std::optional<double> duration;    ///< seconds to render or play
-  std::optional<double> tau;         ///< cache response time, seconds
-  std::optional<double> gainDb;      ///< fixed output gain, dB
-  std::optional<double> cacheMb;     ///< DPC memory budget per source-listener pair, MB
-  std::optional<double> latencyTargetMs;  ///< live motion-to-sound latency target, ms
+  std::optional<int64_t> blockSize;       ///< samples per audio block (live)
+  std::optional<double> duration;         ///< seconds to render or play
+  std::optional<double> tau;              ///< cache response time, seconds
+  std::optional<double> gainDb;           ///< fixed output gain, dB
+  std::optional<double> cacheMb;          ///< DPC memory budget per source-listener pair, MB
+  std::optional<double> latencyTargetMs;  ///< live latency target, ms (default: LiveSession's)
   std::optional<int64_t> seed, rays, maxOrder, threads;
 };
-
-/// Motion-to-sound latency a live run aims for when --latency-target-ms is not given, ms.
-constexpr double kDefaultLatencyTargetMs = 50.0;
 
 /// Parses argv into `fl`. Returns the exit status when the program must stop here (0 after
 /// --help; 1 after a parse error, printed as one line "dpc-demo: command line: ..." with the

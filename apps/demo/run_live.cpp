@@ -64,7 +64,7 @@ PropagationSettings prepareLive(SceneDesc& scene, const Flags& fl) {
 LiveSession::Options sessionOptions(const Flags& fl, double durationSeconds) {
   LiveSession::Options lo;
   lo.deviceChannels = 2;
-  lo.latencyTargetSeconds = fl.latencyTargetMs.value_or(kDefaultLatencyTargetMs) * 1e-3;
+  if (fl.latencyTargetMs) lo.latencyTargetSeconds = *fl.latencyTargetMs * 1e-3;
   if (!fl.record.empty()) lo.recordSeconds = std::min(durationSeconds, kMaxRecordSeconds);
   return lo;
 }
@@ -115,8 +115,8 @@ void reportStatus(const LiveSession& session, const audio::AudioOutput& output, 
 
 /// Starts the session and the device, moves the listener every 10 ms until the duration has
 /// passed or 'q', then stops both.
-Playback play(const SceneDesc& scene, const Flags& fl, double durationSeconds,
-              LiveSession& session, audio::AudioOutput& output) {
+Playback play(const SceneDesc& scene, const Flags& fl, double durationSeconds, LiveSession& session,
+              audio::AudioOutput& output) {
   KeyboardMotion motion(scene, session.playedListener());
   session.setPose(motion.position(), motion.yaw(), 0.0);
   Playback pb;

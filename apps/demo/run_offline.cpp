@@ -61,9 +61,9 @@ PropagationSettings prepareOffline(SceneDesc& scene, const Flags& fl) {
 Writers openWriters(const SceneDesc& scene, const std::vector<OutputPaths>& paths) {
   Writers writers;
   for (const OutputPaths& p : paths)
-    writers.push_back(std::make_unique<audio::WavStreamWriter>(
-        p.audio, scene.audio.sampleRate, outputChannels(scene.audio.output),
-        audio::SampleFormat::kFloat32));
+    writers.push_back(std::make_unique<audio::WavStreamWriter>(p.audio, scene.audio.sampleRate,
+                                                               outputChannels(scene.audio.output),
+                                                               audio::SampleFormat::kFloat32));
   return writers;
 }
 

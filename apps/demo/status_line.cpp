@@ -6,8 +6,8 @@
 namespace dpc::demo {
 
 void printScheduling(const audio::AudioOutput::Scheduling& scheduling, bool tty) {
-  std::fprintf(stderr, "%saudio callback: %s priority %d%s\n", tty ? "\r" : "",
-               scheduling.policy, scheduling.priority,
+  std::fprintf(stderr, "%saudio callback: %s priority %d%s\n", tty ? "\r" : "", scheduling.policy,
+               scheduling.priority,
                scheduling.realTime ? " (real-time)"
                                    : ": real-time priority not granted (JACK: start jackd "
                                      "with -R; ALSA: needs rtprio, e.g. ulimit -r or "

@@ -6,8 +6,7 @@
 namespace dpc::demo {
 
 /// Key codes of the arrow keys as RawTerminal::key returns them.
-constexpr int kKeyUp = 256 + 'U', kKeyDown = 256 + 'D', kKeyLeft = 256 + 'L',
-              kKeyRight = 256 + 'R';
+constexpr int kKeyUp = 256 + 'U', kKeyDown = 256 + 'D', kKeyLeft = 256 + 'L', kKeyRight = 256 + 'R';
 
 /// Standard input in raw mode (no line buffering, no echo, non-blocking reads) while the
 /// object lives; restored on destruction. Does nothing if standard input is not a terminal.

@@ -1,10 +1,11 @@
 // dpc-demo's live listener motion (apps/demo/keyboard_motion.h): the trajectory on scene time,
 // keyboard moves along the heading, turns, pause, the next listener and quit.
+#include "apps/demo/keyboard_motion.h"
+
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>
 
-#include "apps/demo/keyboard_motion.h"
 #include "apps/demo/terminal.h"
 
 using namespace dpc;

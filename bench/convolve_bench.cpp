@@ -97,6 +97,44 @@ struct Timing {
   }
 };
 
+/// IR sets for the non-uniform convolver: prepared on demand from one of the case's two IR
+/// variants, recycled once the convolver retires them; the CPU time of each preparation kept.
+class IrSetPool {
+ public:
+  IrSetPool(const CaseData& d, const audio::NonUniformLayout& layout) : d_(d), layout_(layout) {}
+
+  /// A set holding IR variant `variant` (allocates a set when none is free).
+  audio::NonUniformIrSet* prepared(int variant) {
+    if (free_.empty()) {
+      pool_.push_back(std::make_unique<audio::NonUniformIrSet>(layout_, d_.sources, d_.channels));
+      free_.push_back(pool_.back().get());
+    }
+    audio::NonUniformIrSet* set = free_.back();
+    free_.pop_back();
+    const double t0 = threadCpuSeconds();
+    for (int s = 0; s < d_.sources; ++s) {
+      std::vector<const float*> ch;
+      for (int c = 0; c < d_.channels; ++c)
+        ch.push_back(d_.irs[variant][size_t(s * d_.channels + c)].data());
+      set->prepare(s, ch.data(), d_.irSamples);
+    }
+    prepareSeconds_.push_back(threadCpuSeconds() - t0);
+    return set;
+  }
+  void recycle(const audio::NonUniformIrSet* set) {
+    free_.push_back(const_cast<audio::NonUniformIrSet*>(set));
+  }
+  size_t allocated() const { return pool_.size(); }
+  const std::vector<double>& prepareSeconds() const { return prepareSeconds_; }
+
+ private:
+  const CaseData& d_;
+  const audio::NonUniformLayout& layout_;
+  std::vector<std::unique_ptr<audio::NonUniformIrSet>> pool_;
+  std::vector<audio::NonUniformIrSet*> free_;
+  std::vector<double> prepareSeconds_;
+};
+
 /// The non-uniform convolver over the case; swapEvery > 0: a new IR set every swapEvery blocks
 /// (prepared between blocks, its CPU time reported apart: the propagation thread's work).
 json runNonUniform(const CaseData& d, int swapEvery, bool measure, std::vector<float>* firstOut,
@@ -106,27 +144,8 @@ json runNonUniform(const CaseData& d, int swapEvery, bool measure, std::vector<f
       d.block, d.irSamples, NonUniformLayout::kDefaultMaxPartition,
       measure ? ConvolverLayout::Planning::kMeasure : ConvolverLayout::Planning::kEstimate);
   NonUniformConvolver conv(layout, d.sources, d.channels);
-  std::vector<std::unique_ptr<NonUniformIrSet>> pool;
-  std::vector<NonUniformIrSet*> free;
-  std::vector<double> prepareSeconds;
-  auto prepared = [&](int variant) {
-    if (free.empty()) {
-      pool.push_back(std::make_unique<NonUniformIrSet>(layout, d.sources, d.channels));
-      free.push_back(pool.back().get());
-    }
-    NonUniformIrSet* set = free.back();
-    free.pop_back();
-    const double t0 = threadCpuSeconds();
-    for (int s = 0; s < d.sources; ++s) {
-      std::vector<const float*> ch;
-      for (int c = 0; c < d.channels; ++c)
-        ch.push_back(d.irs[variant][size_t(s * d.channels + c)].data());
-      set->prepare(s, ch.data(), d.irSamples);
-    }
-    prepareSeconds.push_back(threadCpuSeconds() - t0);
-    return set;
-  };
-  conv.setNextIr(prepared(0));
+  IrSetPool pool(d, layout);
+  conv.setNextIr(pool.prepared(0));
   std::vector<std::vector<float>> out(size_t(d.channels), std::vector<float>(size_t(d.block)));
   std::vector<float*> outPtr;
   for (auto& o : out) outPtr.push_back(o.data());
@@ -139,10 +158,9 @@ json runNonUniform(const CaseData& d, int swapEvery, bool measure, std::vector<f
   for (size_t k = 0; k < d.blocks; ++k) {
     if (swapEvery > 0 && k > 0 && k % size_t(swapEvery) == 0) {
       const double e0 = processCpuSeconds();
-      while (const NonUniformIrSet* r = conv.takeRetired())
-        free.push_back(const_cast<NonUniformIrSet*>(r));
-      NonUniformIrSet* set = prepared(++swaps % 2);
-      if (!conv.setNextIr(set)) free.push_back(set);
+      while (const NonUniformIrSet* r = conv.takeRetired()) pool.recycle(r);
+      NonUniformIrSet* set = pool.prepared(++swaps % 2);
+      if (!conv.setNextIr(set)) pool.recycle(set);
       excluded += processCpuSeconds() - e0;
     }
     for (int s = 0; s < d.sources; ++s)
@@ -157,8 +175,8 @@ json runNonUniform(const CaseData& d, int swapEvery, bool measure, std::vector<f
   j["levels"] = layout.numLevels();
   j["partitions"] = layout.totalPartitions();
   j["swaps"] = swaps;
-  j["ir_sets_allocated"] = pool.size();
-  j["prepare_ms_median"] = 1e3 * percentile(prepareSeconds, 0.5);
+  j["ir_sets_allocated"] = pool.allocated();
+  j["prepare_ms_median"] = 1e3 * percentile(pool.prepareSeconds(), 0.5);
   return j;
 }
 
@@ -247,6 +265,42 @@ double relativeErrorDb(const std::vector<float>& a, const std::vector<float>& b)
   return 10.0 * std::log10(std::max(err, 1e-300) / std::max(energy, 1e-300));
 }
 
+/// The report's two entries of one case at one block size: without and with IR swaps, each
+/// against zita-convolver and the uniform convolver.
+void runCase(const Case& cs, int block, const ConvolveOptions& o, json& list) {
+  const double period = double(block) / o.sampleRate;
+  const int swapEvery = std::max(1, int(std::lround(o.swapIntervalMs * 1e-3 / period)));
+  const CaseData d = makeData(cs, block, o);
+  std::vector<float> dpcOut, zitaOut;
+  json zita = nullptr;
+#ifdef DPC_HAVE_ZITA
+  zita = runZita(d, false, &zitaOut, period);
+#endif
+  json uniform = o.uniform ? runUniform(d, false, period) : json(nullptr);
+  for (int swapping = 0; swapping < 2; ++swapping) {
+    json c;
+    c["name"] = cs.name;
+    c["block"] = block;
+    c["sources"] = cs.sources;
+    c["channels"] = cs.channels;
+    c["ir_seconds"] = cs.irSeconds;
+    c["swap_interval_ms"] = swapping ? 1e3 * swapEvery * period : 0.0;
+    c["dpc"] =
+        runNonUniform(d, swapping ? swapEvery : 0, false, swapping ? nullptr : &dpcOut, period);
+    c["zita"] = zita;
+    c["dpc_uniform_no_swap"] = uniform;
+    if (zita.is_object() && zita.contains("cpu_percent_mean")) {
+      c["ratio_to_zita"] =
+          c["dpc"]["cpu_percent_mean"].get<double>() / zita["cpu_percent_mean"].get<double>();
+      if (!swapping) c["dpc_vs_zita_output_error_db"] = relativeErrorDb(dpcOut, zitaOut);
+    }
+    std::fprintf(stderr, "convolve: block %d %s swap %d: dpc %.2f %% zita %s %%\n", block, cs.name,
+                 swapping, c["dpc"]["cpu_percent_mean"].get<double>(),
+                 zita.is_object() ? zita["cpu_percent_mean"].dump().c_str() : "-");
+    list.push_back(c);
+  }
+}
+
 }  // namespace
 
 int benchConvolve(const ConvolveOptions& o) {
@@ -269,41 +323,8 @@ int benchConvolve(const ConvolveOptions& o) {
   out["zita_version"] = nullptr;
 #endif
   json list = json::array();
-  for (int block : o.blocks) {
-    const double period = double(block) / o.sampleRate;
-    const int swapEvery = std::max(1, int(std::lround(o.swapIntervalMs * 1e-3 / period)));
-    for (const Case& cs : cases) {
-      const CaseData d = makeData(cs, block, o);
-      std::vector<float> dpcOut, zitaOut;
-      json zita = nullptr;
-#ifdef DPC_HAVE_ZITA
-      zita = runZita(d, false, &zitaOut, period);
-#endif
-      json uniform = o.uniform ? runUniform(d, false, period) : json(nullptr);
-      for (int swapping = 0; swapping < 2; ++swapping) {
-        json c;
-        c["name"] = cs.name;
-        c["block"] = block;
-        c["sources"] = cs.sources;
-        c["channels"] = cs.channels;
-        c["ir_seconds"] = cs.irSeconds;
-        c["swap_interval_ms"] = swapping ? 1e3 * swapEvery * period : 0.0;
-        c["dpc"] =
-            runNonUniform(d, swapping ? swapEvery : 0, false, swapping ? nullptr : &dpcOut, period);
-        c["zita"] = zita;
-        c["dpc_uniform_no_swap"] = uniform;
-        if (zita.is_object() && zita.contains("cpu_percent_mean")) {
-          c["ratio_to_zita"] =
-              c["dpc"]["cpu_percent_mean"].get<double>() / zita["cpu_percent_mean"].get<double>();
-          if (!swapping) c["dpc_vs_zita_output_error_db"] = relativeErrorDb(dpcOut, zitaOut);
-        }
-        std::fprintf(stderr, "convolve: block %d %s swap %d: dpc %.2f %% zita %s %%\n", block,
-                     cs.name, swapping, c["dpc"]["cpu_percent_mean"].get<double>(),
-                     zita.is_object() ? zita["cpu_percent_mean"].dump().c_str() : "-");
-        list.push_back(c);
-      }
-    }
-  }
+  for (int block : o.blocks)
+    for (const Case& cs : cases) runCase(cs, block, o, list);
   out["cases"] = list;
   std::printf("%s\n", out.dump(2).c_str());
   return 0;

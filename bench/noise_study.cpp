@@ -31,6 +31,56 @@ double squaredDistance(const EnergyResponse& a, const EnergyResponse& b) {
   return s;
 }
 
+/// Sum of every bin and band of e.
+double totalEnergy(const EnergyResponse& e) {
+  double total = 0.0;
+  for (const Bands& b : e.bins())
+    for (int i = 0; i < kNumBands; ++i) total += double(b[i]);
+  return total;
+}
+
+/// Whether bin k of e starts in the delay range [first, second) seconds.
+bool binInRange(const EnergyResponse& e, size_t k, const std::pair<double, double>& range) {
+  const double t = double(k) * e.binSeconds();
+  return !(t < range.first || t >= range.second);
+}
+
+/// Standard error of the mean `mean` of the responses `all`, relative to its norm, over the
+/// bins in `range`; 0 if the mean has no energy there.
+double selfErrorInRange(const EnergyResponse& mean, const std::vector<EnergyResponse>& all,
+                        const std::pair<double, double>& range) {
+  const int frames = int(all.size());
+  double spread = 0.0, norm = 0.0;
+  for (size_t k = 0; k < mean.binCount(); ++k) {
+    if (!binInRange(mean, k, range)) continue;
+    for (int i = 0; i < kNumBands; ++i) {
+      const double m = mean.bins()[k][i];
+      norm += m * m;
+      for (const EnergyResponse& e : all) {
+        const double d = double(e.bins()[k][i]) - m;
+        spread += d * d;
+      }
+    }
+  }
+  spread /= std::max(1, frames - 1);
+  return norm > 0.0 ? std::sqrt(spread / frames / norm) : 0.0;
+}
+
+/// ||e - ref|| / ||ref|| over the bins in `range`; 0 if ref has no energy there.
+double relativeErrorInRange(const EnergyResponse& e, const EnergyResponse& ref,
+                            const std::pair<double, double>& range) {
+  double d2 = 0.0, n2 = 0.0;
+  for (size_t k = 0; k < e.binCount(); ++k) {
+    if (!binInRange(e, k, range)) continue;
+    for (int i = 0; i < kNumBands; ++i) {
+      const double x = ref.bins()[k][i], d = double(e.bins()[k][i]) - x;
+      d2 += d * d;
+      n2 += x * x;
+    }
+  }
+  return n2 > 0.0 ? std::sqrt(d2 / n2) : 0.0;
+}
+
 }  // namespace
 
 EnergyResponse referenceResponse(const SceneDesc& scene, PropagationSettings settings,
@@ -61,23 +111,8 @@ EnergyResponse referenceResponse(const SceneDesc& scene, PropagationSettings set
   }
   if (ranges && selfErrorByRange) {
     selfErrorByRange->assign(ranges->size(), 0.0);
-    for (size_t r = 0; r < ranges->size(); ++r) {
-      double spread = 0.0, norm = 0.0;
-      for (size_t k = 0; k < mean.binCount(); ++k) {
-        const double t = double(k) * mean.binSeconds();
-        if (t < (*ranges)[r].first || t >= (*ranges)[r].second) continue;
-        for (int i = 0; i < kNumBands; ++i) {
-          const double m = mean.bins()[k][i];
-          norm += m * m;
-          for (const EnergyResponse& e : all) {
-            const double d = double(e.bins()[k][i]) - m;
-            spread += d * d;
-          }
-        }
-      }
-      spread /= std::max(1, frames - 1);
-      (*selfErrorByRange)[r] = norm > 0.0 ? std::sqrt(spread / frames / norm) : 0.0;
-    }
+    for (size_t r = 0; r < ranges->size(); ++r)
+      (*selfErrorByRange)[r] = selfErrorInRange(mean, all, (*ranges)[r]);
   }
   return mean;
 }
@@ -101,25 +136,11 @@ NoiseMetrics measureNoise(const SceneDesc& scene, const PropagationSettings& set
     const double refNorm = std::sqrt(squaredNorm(ref));
     const double err = std::sqrt(squaredDistance(e, ref)) / refNorm;
     m.errorPerFrame.push_back(err);
-    double total = 0.0;
-    for (const Bands& b : e.bins())
-      for (int i = 0; i < kNumBands; ++i) total += double(b[i]);
-    m.energyPerFrame.push_back(total);
+    m.energyPerFrame.push_back(totalEnergy(e));
     if (f >= warmup && !ranges.empty()) {
       m.errorByRange.resize(ranges.size(), 0.0);
-      for (size_t r = 0; r < ranges.size(); ++r) {
-        double d2 = 0.0, n2 = 0.0;
-        for (size_t k = 0; k < e.binCount(); ++k) {
-          const double t = double(k) * e.binSeconds();
-          if (t < ranges[r].first || t >= ranges[r].second) continue;
-          for (int i = 0; i < kNumBands; ++i) {
-            const double x = ref.bins()[k][i], d = double(e.bins()[k][i]) - x;
-            d2 += d * d;
-            n2 += x * x;
-          }
-        }
-        m.errorByRange[r] += n2 > 0.0 ? std::sqrt(d2 / n2) / frames : 0.0;
-      }
+      for (size_t r = 0; r < ranges.size(); ++r)
+        m.errorByRange[r] += relativeErrorInRange(e, ref, ranges[r]) / frames;
     }
     if (f >= warmup) {
       m.meanError += err;

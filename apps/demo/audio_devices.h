@@ -1,0 +1,26 @@
+// dpc-demo's audio devices: --list-devices, and opening the output of a live run.
+#pragma once
+
+#include <memory>
+
+#include "apps/demo/flags.h"
+#include "audio/audio_device.h"
+#include "runtime/live_session.h"
+
+namespace dpc::demo {
+
+/// Exit status of a live run whose audio output cannot be opened.
+constexpr int kNoAudioDeviceStatus = 3;
+
+/// --list-devices: one line per PortAudio output device on stdout (the default marked "*"),
+/// or how to get one when there is none. Main thread. Returns 0; throws std::runtime_error if
+/// PortAudio cannot be initialised.
+int listDevices();
+
+/// Opens --device (stereo, the scene's rate and block size) with the session's render
+/// callback, not started. On failure prints one line "dpc-demo: why; the way out" on stderr
+/// and returns null. Main thread. Allocates.
+std::unique_ptr<audio::AudioOutput> openOutput(const SceneDesc& scene, const Flags& fl,
+                                               LiveSession& session);
+
+}  // namespace dpc::demo

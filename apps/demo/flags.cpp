@@ -1,0 +1,117 @@
+// dpc-demo's CLI11 definition: option names, help texts and the one-line parse errors.
+#include "apps/demo/flags.h"
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+
+#include "common/input_file.h"
+
+namespace dpc::demo {
+namespace {
+
+constexpr const char* kDescription =
+    "dpc-demo: interactive sound propagation with the diffuse path cache.\n"
+    "Plays SCENE.json live through PortAudio (JACK, ALSA, PulseAudio), or renders it offline\n"
+    "to a WAV file (--offline), moving the listener along the scene's trajectory (or the\n"
+    "keyboard with --interactive). Flags override the scene's propagation settings.";
+
+/// Scene, devices and the live run's options.
+void addLiveOptions(CLI::App& app, Flags& fl) {
+  app.add_option("scene", fl.scene, "Scene file (JSON; see docs/scene-format.md)");
+  app.add_flag("--list-devices", fl.listDevices, "List audio output devices and exit");
+  app.add_option("--device", fl.device,
+                 "Output device: NAME, HOSTAPI:NAME (e.g. jack:system), default: JACK if running");
+  app.add_option("--block-size", fl.blockSize, "Audio block size in samples (live)");
+  app.add_option("--record", fl.record, "Live: also write what was played to this WAV");
+  app.add_option("--stats", fl.stats,
+                 "Live: write xruns, late callbacks, callback load and motion-to-sound latency "
+                 "percentiles, IRs applied and the callback's scheduling to this JSON file at "
+                 "the end (docs/live.md)")
+      ->type_name("FILE.json");
+  app.add_option("--latency-target-ms", fl.latencyTargetMs,
+                 "Live: motion-to-sound latency to stay under; frames take fewer rays when "
+                 "needed (default 50; the frame period applies when it is shorter)");
+  app.add_flag("--interactive", fl.interactive,
+               "Live: arrows/WASD move, Q/E turn, space pauses, q quits");
+  app.add_option("--listener", fl.listener,
+                 "Render or play the scene's listener of this name (default: the first)");
+}
+
+/// The offline render and the propagation settings it overrides.
+void addRenderOptions(CLI::App& app, Flags& fl) {
+  app.add_option("--offline", fl.offline, "Render offline to this WAV file (float32)");
+  app.add_option("--duration", fl.duration,
+                 "Seconds to render (default: longest source + IR length)");
+  app.add_option("--seed", fl.seed, "Random seed (same seed: bit-identical output)");
+  app.add_option("--rays", fl.rays, "Rays per source per frame");
+  app.add_option("--max-order", fl.maxOrder, "Maximum reflection order");
+  app.add_option("--tau", fl.tau, "Cache response time tau, seconds (0 = path tracing)");
+  app.add_option("--cache-memory-mb", fl.cacheMb,
+                 "DPC memory budget per source-listener pair, MB (default 64; beyond it old "
+                 "entries are merged, not dropped)");
+  app.add_option("--estimator", fl.estimator, "dpc | path_tracing");
+  app.add_option("--dpc-weighting", fl.weighting,
+                 "window (unbiased, answers within tau; default) | ema (unbiased, slower) | seed "
+                 "(thesis eq. 3.2; biased high)");
+  app.add_option("--threads", fl.threads, "Tracing threads (0 = all cores)");
+}
+
+/// The output files and their format.
+void addOutputOptions(CLI::App& app, Flags& fl) {
+  app.add_option("--ir-out", fl.irOut, "Also write the last frame's IR (all channels) as WAV");
+  app.add_option("--er-out", fl.erOut,
+                 "Offline: also write each source's last-frame energy response per octave band "
+                 "in 1 ms bins, direct sound marked, as CSV (docs/validation.md)");
+  app.add_option("--gain-db", fl.gainDb,
+                 "Fixed output gain in dB (default: normalise the peak to -1 dBFS)");
+  app.add_flag("--quiet", fl.quiet, "No progress bar");
+  app.add_option("--output", fl.output,
+                 "mono | stereo | binaural (default: the scene's audio.output)");
+  app.add_option("--hrtf", fl.hrtf,
+                 "SOFA file for binaural output (default: /usr/share/libmysofa/default.sofa)");
+}
+
+/// "; did you mean --NAME?" for the last unknown --option in argv that is within two edits
+/// of a known option name, or "" if there is none.
+std::string mistypedOptionHint(const CLI::App& app, int argc, char** argv) {
+  std::string hint;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a.rfind("--", 0) != 0) continue;
+    const std::string name = a.substr(0, a.find('='));
+    if (app.get_option_no_throw(name) != nullptr) continue;
+    size_t best = 3;
+    for (const CLI::Option* o : app.get_options()) {
+      for (const std::string& ln : o->get_lnames()) {
+        const size_t d = editDistance(name.substr(2), ln);
+        if (d < best) best = d, hint = "; did you mean --" + ln + "?";
+      }
+    }
+  }
+  return hint;
+}
+
+}  // namespace
+
+std::optional<int> parseFlags(int argc, char** argv, Flags& fl) {
+  CLI::App app{kDescription};
+  addLiveOptions(app, fl);
+  addRenderOptions(app, fl);
+  addOutputOptions(app, fl);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    // One line, the same format and exit status as every other input error.
+    std::string msg = e.what();
+    for (char& c : msg)
+      if (c == '\n' || (unsigned char)c < 0x20) c = ' ';
+    std::fprintf(stderr, "dpc-demo: command line: %s%s\n", msg.c_str(),
+                 mistypedOptionHint(app, argc, argv).c_str());
+    return 1;
+  }
+  return std::nullopt;
+}
+
+}  // namespace dpc::demo

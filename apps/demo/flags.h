@@ -1,0 +1,32 @@
+// dpc-demo's command line: the options as parsed (CLI11), before any of them is checked
+// against the scene (overrides.h, run_live.h, run_offline.h).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace dpc::demo {
+
+/// Every dpc-demo option. An empty string or an empty optional means "not given", so that
+/// any value the user gives, even one that looks like a default, is range-checked.
+struct Flags {
+  std::string scene, offline, irOut, erOut, estimator, weighting, device, record, stats, output,
+      hrtf, listener;
+  bool listDevices = false, interactive = false, quiet = false;
+  std::optional<int64_t> blockSize;       ///< samples per audio block (live)
+  std::optional<double> duration;         ///< seconds to render or play
+  std::optional<double> tau;              ///< cache response time, seconds
+  std::optional<double> gainDb;           ///< fixed output gain, dB
+  std::optional<double> cacheMb;          ///< DPC memory budget per source-listener pair, MB
+  std::optional<double> latencyTargetMs;  ///< live latency target, ms (default: LiveSession's)
+  std::optional<int64_t> seed, rays, maxOrder, threads;
+};
+
+/// Parses argv into `fl`. Returns the exit status when the program must stop here (0 after
+/// --help; 1 after a parse error, printed as one line "dpc-demo: command line: ..." with the
+/// closest option name when a flag looks mistyped), or nothing when parsing succeeded.
+/// Main thread. Allocates.
+std::optional<int> parseFlags(int argc, char** argv, Flags& fl);
+
+}  // namespace dpc::demo

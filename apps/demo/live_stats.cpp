@@ -1,0 +1,84 @@
+// The JSON statistics file of a live dpc-demo run.
+#include "apps/demo/live_stats.h"
+
+#include <nlohmann/json.hpp>
+
+#include "common/output_file.h"
+
+namespace dpc::demo {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+using Snapshot = audio::CallbackStats::Snapshot;
+
+/// Durations of `s` as percentages of the block period.
+Json loadJson(const audio::AudioOutput& output, const Snapshot& s) {
+  return Json{{"median", output.loadPercent(s.quantileNs(0.5))},
+              {"p99", output.loadPercent(s.quantileNs(0.99))},
+              {"p99_9", output.loadPercent(s.quantileNs(0.999))},
+              {"max", output.loadPercent(s.maxNs)}};
+}
+
+/// Motion-to-sound latencies, milliseconds.
+Json latencyJson(const Snapshot& lat) {
+  auto ms = [](uint64_t ns) { return double(ns) * 1e-6; };
+  return Json{{"count", lat.callbacks},
+              {"median", ms(lat.quantileNs(0.5))},
+              {"p95", ms(lat.quantileNs(0.95))},
+              {"p99", ms(lat.quantileNs(0.99))},
+              {"max", ms(lat.maxNs)}};
+}
+
+Json schedulingJson(const audio::AudioOutput::Scheduling& scheduling) {
+  return Json{{"known", scheduling.known},
+              {"policy", scheduling.policy},
+              {"priority", scheduling.priority},
+              {"real_time", scheduling.realTime}};
+}
+
+}  // namespace
+
+void writeLiveStats(const std::string& path, const std::string& scenePath,
+                    const audio::AudioOutput& output,
+                    const audio::AudioOutput::Scheduling& scheduling, const LiveSession& session,
+                    const LiveSession::Status& st, const Snapshot& cb, const Snapshot& swap,
+                    const Snapshot& noSwap) {
+  const Json j = {
+      {"scene", scenePath},
+      {"sample_rate_hz", output.sampleRate()},
+      {"block_frames", output.blockSize()},
+      {"device", output.device().spec()},
+      {"callback_scheduling", schedulingJson(scheduling)},
+      {"callbacks", cb.callbacks},
+      {"xruns", cb.xruns},
+      {"late_callbacks", st.lateCallbacks},
+      {"rejected_callbacks", st.rejectedCallbacks},
+      {"nan_blocks", st.nanBlocks},
+      // The long partitions are computed inside the callback, spread over the blocks of their
+      // period (docs/live.md): there are no convolution worker threads that could miss one.
+      {"worker_deadline_misses", 0},
+      {"worker_threads", 0},
+      {"callback_load_percent", loadJson(output, cb)},
+      {"render_load_percent",
+       {{"with_ir_swap", loadJson(output, swap)}, {"without_ir_swap", loadJson(output, noSwap)}}},
+      {"propagation_frames", st.frames},
+      {"rays_per_frame",
+       {{"last", st.raysPerFrame},
+        {"min", st.raysPerFrameMin},
+        {"scene", st.raysPerFrameScene},
+        {"reduced_frames", st.reducedFrames}}},
+      {"irs_applied", st.irsApplied},
+      {"irs_dropped", st.irsDropped},
+      {"motion_to_sound_latency_ms", latencyJson(session.latencyStats().snapshot())},
+      {"limiter",
+       {{"limited_frames", st.limitedFrames},
+        {"over_ceiling_frames", st.overCeilingFrames},
+        {"max_reduction_db", st.limiterMaxReductionDb}}}};
+  const std::string text = j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
+  TempOutputFile file(path);
+  file.writeAll(text.data(), text.size());
+  file.commit();
+}
+
+}  // namespace dpc::demo

@@ -1,0 +1,121 @@
+// dpc-demo's overrides of the scene's settings from the command line, and the checks of its
+// output paths against the inputs and each other.
+#include "apps/demo/overrides.h"
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "apps/demo/output_paths.h"
+#include "common/input_error.h"
+#include "common/input_file.h"
+
+namespace dpc::demo {
+
+PropagationSettings applyOverrides(const SceneDesc& scene, const Flags& fl) {
+  PropagationSettings s = scene.propagation;
+  auto bad = [&](const char* flag, const std::string& why) {
+    throw InputError("command line", flag, why);
+  };
+  if (fl.seed) {
+    if (*fl.seed < 0) bad("--seed", "must be >= 0");
+    s.seed = uint64_t(*fl.seed);
+  }
+  if (fl.rays) {
+    if (*fl.rays < 1 || *fl.rays > 100'000'000) bad("--rays", "must be in 1..100000000");
+    s.raysPerFrame = int(*fl.rays);
+  }
+  if (fl.maxOrder) {
+    if (*fl.maxOrder < 0 || *fl.maxOrder > 10'000) bad("--max-order", "must be in 0..10000");
+    s.maxOrder = int(*fl.maxOrder);
+  }
+  if (fl.tau) {
+    if (!(*fl.tau >= 0.0 && *fl.tau <= 3600.0)) bad("--tau", "must be in [0, 3600] seconds");
+    s.cacheTau = float(*fl.tau);
+  }
+  if (fl.cacheMb) {
+    if (!(*fl.cacheMb > 0.0 && *fl.cacheMb <= 16384.0))
+      bad("--cache-memory-mb", "must be in (0, 16384] megabytes");
+    s.cacheMemoryMb = float(*fl.cacheMb);
+  }
+  if (fl.threads) {
+    if (*fl.threads < 0 || *fl.threads > 1024) bad("--threads", "must be in 0..1024");
+    s.threads = int(*fl.threads);
+  }
+  if (!fl.estimator.empty()) {
+    auto e = parseEstimator(fl.estimator);
+    if (!e) bad("--estimator", "'" + fl.estimator + "' is not dpc or path_tracing");
+    s.estimator = *e;
+  }
+  if (!fl.weighting.empty()) {
+    auto w = parseDpcWeighting(fl.weighting);
+    if (!w) bad("--dpc-weighting", "'" + fl.weighting + "' is not ema, seed or window");
+    s.dpcWeighting = *w;
+  }
+  return s;
+}
+
+void applyAudioOverrides(SceneDesc& scene, const Flags& fl) {
+  if (!fl.output.empty()) {
+    auto o = parseOutputFormat(fl.output);
+    if (!o)
+      throw InputError("command line", "--output",
+                       "'" + fl.output + "' is not mono, stereo or binaural");
+    scene.audio.output = *o;
+  }
+  if (!fl.hrtf.empty()) {
+    if (!std::filesystem::is_regular_file(fl.hrtf))
+      throw InputError("command line", "--hrtf", "file '" + fl.hrtf + "' not found");
+    scene.audio.hrtfPath = fl.hrtf;
+    if (fl.output.empty()) scene.audio.output = OutputFormat::kBinaural;
+  }
+  if (!fl.listener.empty()) selectListener(scene, fl.listener, "--listener");
+}
+
+void checkOutputs(const SceneDesc& scene, const Flags& fl) {
+  std::vector<std::pair<std::string, std::string>> inputs = {{fl.scene, "the scene file"},
+                                                             {scene.meshPath, "the mesh"}};
+  for (const auto& obj : scene.objects) inputs.push_back({obj.meshPath, "an object's mesh"});
+  for (const auto& src : scene.sources) inputs.push_back({src.signalPath, "a dry signal"});
+  if (!scene.audio.hrtfPath.empty()) inputs.push_back({scene.audio.hrtfPath, "the SOFA file"});
+  std::vector<std::pair<const char*, std::string>> outputs = {{"--record", fl.record},
+                                                              {"--stats", fl.stats}};
+  if (!fl.offline.empty())
+    for (const OutputPaths& o : offlineOutputs(scene, fl)) {
+      outputs.push_back({"--offline", o.audio});
+      outputs.push_back({"--ir-out", o.ir});
+      outputs.push_back({"--er-out", o.energy});
+    }
+  for (size_t i = 0; i < outputs.size(); ++i) {
+    const auto& [flag, out] = outputs[i];
+    if (out.empty()) continue;
+    struct stat st {};
+    if (::stat(out.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
+      throw InputError("command line", flag, "'" + out + "' exists and is not a regular file");
+    for (const auto& [in, what] : inputs)
+      if (sameFile(out, in))
+        throw InputError("command line", flag,
+                         "'" + out + "' is " + what + "; refusing to overwrite it");
+    for (size_t j = 0; j < outputs.size(); ++j) {
+      const auto& [flag2, out2] = outputs[j];
+      if (j != i && !out2.empty() &&
+          (sameFile(out, out2) ||
+           std::filesystem::weakly_canonical(std::filesystem::absolute(out)) ==
+               std::filesystem::weakly_canonical(std::filesystem::absolute(out2))))
+        throw InputError("command line", flag, "'" + out + "' is also written for " + flag2);
+    }
+    std::filesystem::path folder = std::filesystem::path(out).parent_path();
+    if (folder.empty()) folder = ".";
+    std::error_code ec;
+    if (!std::filesystem::is_directory(folder, ec))
+      throw InputError("command line", flag, "folder '" + folder.string() + "' does not exist");
+    if (::access(folder.c_str(), W_OK) != 0)
+      throw InputError("command line", flag, "folder '" + folder.string() + "' is not writable");
+  }
+}
+
+}  // namespace dpc::demo

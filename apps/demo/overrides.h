@@ -1,0 +1,25 @@
+// Command-line overrides of a scene's settings, and the checks of dpc-demo's output paths.
+#pragma once
+
+#include "apps/demo/flags.h"
+#include "scene/scene.h"
+
+namespace dpc::demo {
+
+/// The scene's propagation settings with --seed, --rays, --max-order, --tau,
+/// --cache-memory-mb, --threads, --estimator and --dpc-weighting applied. Main thread.
+/// Throws InputError ("command line", flag, why) for a value out of range or unknown.
+PropagationSettings applyOverrides(const SceneDesc& scene, const Flags& fl);
+
+/// --output / --hrtf / --listener: the scene's audio output settings and played listener,
+/// overridden in place. Main thread. Throws InputError for an unknown format or listener, or
+/// a SOFA file that does not exist.
+void applyAudioOverrides(SceneDesc& scene, const Flags& fl);
+
+/// Refuses, before any work, an output path that names an input (scene, meshes, dry signal,
+/// SOFA: same device and inode, symlinks followed), an existing non-regular file, another
+/// output, or a folder that does not exist or is not writable. Main thread. Throws InputError
+/// naming the flag.
+void checkOutputs(const SceneDesc& scene, const Flags& fl);
+
+}  // namespace dpc::demo

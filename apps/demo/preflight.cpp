@@ -1,0 +1,69 @@
+// dpc-demo's checks before any work: duration, signals, workload, memory.
+#include "apps/demo/preflight.h"
+
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "common/input_error.h"
+#include "engine/setup_check.h"
+#include "engine/workload.h"
+
+namespace dpc::demo {
+namespace {
+
+/// Memory a render may plan to use for its impulse responses: half of the smaller of the
+/// machine's physical memory and the process's address-space and data limits (the other half
+/// is for tracing, the cache, signals and the libraries).
+double memoryLimitBytes() {
+  double limit = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE));
+  for (const int which : {RLIMIT_AS, RLIMIT_DATA}) {
+    rlimit rl{};
+    if (getrlimit(which, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY)
+      limit = std::min(limit, double(rl.rlim_cur));
+  }
+  return 0.5 * limit;
+}
+
+}  // namespace
+
+void printSceneWarnings(const SceneDesc& scene) {
+  for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+}
+
+void checkDuration(const Flags& fl) {
+  if (fl.duration && !(*fl.duration > 0.0 && *fl.duration <= kMaxDurationSeconds))
+    throw InputError("command line", "--duration",
+                     "must be in (0, " + std::to_string(int(kMaxDurationSeconds)) + "] seconds");
+}
+
+void requireSignal(const SceneDesc& scene) {
+  for (const SourceDesc& s : scene.sources)
+    if (!s.signalPath.empty()) return;
+  throw InputError(scene.path, "sources[0].signal",
+                   "no source has a signal: nothing to play (signal-less scenes are for the C "
+                   "API and the LV2 plugin, which feed the sources)");
+}
+
+void checkSetup(const SceneDesc& scene, const PropagationSettings& settings, double durationSeconds,
+                bool warn) {
+  const WorkloadEstimate e =
+      estimateWorkload(scene, settings, outputChannels(scene.audio.output), durationSeconds);
+  const std::vector<std::string> heavy = checkWorkload(scene, settings, e, memoryLimitBytes());
+  if (!warn) return;
+  for (const std::string& w : heavy) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  for (const std::string& w : setupWarnings(scene))
+    std::fprintf(stderr, "warning: %s\n", w.c_str());
+}
+
+DrySignals loadDrySignalsWithNotes(const SceneDesc& scene) {
+  DrySignals dry = loadDrySignals(scene);
+  for (const std::string& n : dry.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
+  return dry;
+}
+
+}  // namespace dpc::demo

@@ -1,0 +1,34 @@
+// Checks dpc-demo makes before any work, shared by the live and the offline run.
+#pragma once
+
+#include "apps/demo/flags.h"
+#include "runtime/offline_renderer.h"
+#include "scene/scene.h"
+
+namespace dpc::demo {
+
+/// Longest render or live run accepted, seconds (a day).
+constexpr double kMaxDurationSeconds = 86400.0;
+
+/// Prints the scene's load warnings, one "warning: ..." line each on stderr. Main thread.
+void printSceneWarnings(const SceneDesc& scene);
+
+/// Throws InputError for a --duration outside (0, kMaxDurationSeconds]. Main thread.
+void checkDuration(const Flags& fl);
+
+/// A scene whose sources have no signal is for hosts that feed them (C API, LV2 plugin);
+/// dpc-demo would only render silence. Throws InputError naming sources[0].signal. Main thread.
+void requireSignal(const SceneDesc& scene);
+
+/// Refuses a render that cannot finish or fit (engine/workload.h) and prints one-line warnings
+/// for heavy work and for setups that cannot be meant (engine/setup_check.h), if `warn`.
+/// durationSeconds <= 0: not known yet (before the dry signals are loaded; live), only the
+/// per-frame and memory checks apply. Main thread. Throws InputError.
+void checkSetup(const SceneDesc& scene, const PropagationSettings& settings, double durationSeconds,
+                bool warn);
+
+/// The scene's dry signals, with one "note: ..." line on stderr per note of the loader.
+/// Main thread. Allocates; throws InputError for a signal that cannot be read.
+DrySignals loadDrySignalsWithNotes(const SceneDesc& scene);
+
+}  // namespace dpc::demo

@@ -1,0 +1,195 @@
+// dpc-demo's live run: checks, the session and its device, the control loop, the summary.
+#include "apps/demo/run_live.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "apps/demo/audio_devices.h"
+#include "apps/demo/keyboard_motion.h"
+#include "apps/demo/live_stats.h"
+#include "apps/demo/overrides.h"
+#include "apps/demo/preflight.h"
+#include "apps/demo/status_line.h"
+#include "apps/demo/terminal.h"
+#include "audio/wav_io.h"
+#include "common/input_error.h"
+
+namespace dpc::demo {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// Seconds a live run plays when --duration is not given (until 'q' or a signal).
+constexpr double kUnboundedSeconds = 1e9;
+/// Longest recording kept by --record, seconds.
+constexpr double kMaxRecordSeconds = 3600.0;
+
+/// What the control loop learnt that the summary and --stats report.
+struct Playback {
+  /// The callback thread's scheduling, read once a callback has run.
+  audio::AudioOutput::Scheduling scheduling;
+  /// The device's callback statistics when playback started.
+  audio::CallbackStats::Snapshot atStart;
+};
+
+/// Applies the overrides and checks everything that can be checked before playing.
+PropagationSettings prepareLive(SceneDesc& scene, const Flags& fl) {
+  applyAudioOverrides(scene, fl);
+  printSceneWarnings(scene);
+  if (fl.listener.empty() && scene.listeners.size() > 1)
+    std::fprintf(stderr, "note: playing listener \"%s\" of %zu (choose with --listener NAME)\n",
+                 scene.listener.name.c_str(), scene.listeners.size());
+  PropagationSettings settings = applyOverrides(scene, fl);
+  // Live: leave one core to the audio thread unless --threads says otherwise (docs/live.md:
+  // on 2 cores, tracing on both makes late blocks ten times as frequent).
+  if (!fl.threads) settings.threads = std::max(1, int(std::thread::hardware_concurrency()) - 1);
+  if (fl.blockSize) {
+    if (*fl.blockSize < 16 || *fl.blockSize > 8192)
+      throw InputError("command line", "--block-size", "must be in 16..8192 samples");
+    scene.audio.blockSize = int(*fl.blockSize);
+  }
+  checkDuration(fl);
+  checkOutputs(scene, fl);
+  requireSignal(scene);
+  checkSetup(scene, settings, 0.0, true);
+  return settings;
+}
+
+LiveSession::Options sessionOptions(const Flags& fl, double durationSeconds) {
+  LiveSession::Options lo;
+  lo.deviceChannels = 2;
+  if (fl.latencyTargetMs) lo.latencyTargetSeconds = *fl.latencyTargetMs * 1e-3;
+  if (!fl.record.empty()) lo.recordSeconds = std::min(durationSeconds, kMaxRecordSeconds);
+  return lo;
+}
+
+/// Applies the keys waiting on the terminal; true if one of them asked to quit.
+bool readKeys(RawTerminal& terminal, KeyboardMotion& motion, LiveSession& session) {
+  bool quit = false;
+  for (int k = terminal.key(); k; k = terminal.key()) {
+    switch (motion.key(k)) {
+      case KeyboardMotion::Action::kQuit:
+        quit = true;
+        break;
+      case KeyboardMotion::Action::kNextListener:
+        session.selectListener(motion.playedIndex());
+        std::fprintf(stderr, "\nlistener \"%s\"\n", motion.played().name.c_str());
+        break;
+      case KeyboardMotion::Action::kNone:
+        break;
+    }
+  }
+  return quit;
+}
+
+/// Every listener is traced each frame: the played one where `motion` puts it, the others on
+/// their trajectories at the same scene time.
+void publishPoses(const SceneDesc& scene, const KeyboardMotion& motion, LiveSession& session) {
+  const double t = motion.sceneTime();
+  for (size_t i = 0; i < scene.listeners.size(); ++i)
+    if (i != motion.playedIndex()) {
+      const Orientation o = listenerOrientationAt(scene.listeners[i], t);
+      session.setListenerPose(i, listenerPositionAt(scene.listeners[i], t), o.yawRadians, t,
+                              o.pitchRadians);
+    }
+  session.setPose(motion.position(), motion.yaw(), t, motion.pitch());
+}
+
+/// The once-a-second report: the callback's scheduling as soon as it is known, then the
+/// status line.
+void reportStatus(const LiveSession& session, const audio::AudioOutput& output, Playback& pb,
+                  double sceneSeconds, bool tty) {
+  if (!pb.scheduling.known) {
+    pb.scheduling = output.callbackScheduling();
+    if (pb.scheduling.known) printScheduling(pb.scheduling, tty);
+  }
+  const auto cb = output.stats().snapshot().since(pb.atStart);
+  printStatusLine(session.status(), output, cb, sceneSeconds, tty);
+}
+
+/// Starts the session and the device, moves the listener every 10 ms until the duration has
+/// passed or 'q', then stops both.
+Playback play(const SceneDesc& scene, const Flags& fl, double durationSeconds, LiveSession& session,
+              audio::AudioOutput& output) {
+  KeyboardMotion motion(scene, session.playedListener());
+  session.setPose(motion.position(), motion.yaw(), 0.0);
+  Playback pb;
+  std::unique_ptr<RawTerminal> terminal;
+  if (fl.interactive) {
+    terminal = std::make_unique<RawTerminal>();
+    std::fprintf(stderr,
+                 "keys: arrows/WASD move, Q/E turn, space pauses the trajectory, l next "
+                 "listener, q quits\n");
+  }
+  session.start();
+  output.start();
+  const auto start = Clock::now();
+  auto last = start, lastStatus = start;
+  pb.atStart = output.stats().snapshot();
+  const bool tty = isatty(STDERR_FILENO);
+  for (bool quit = false; !quit;) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    const auto now = Clock::now();
+    const double dt = std::chrono::duration<double>(now - last).count();
+    last = now;
+    if (std::chrono::duration<double>(now - start).count() >= durationSeconds) break;
+    if (terminal) quit = readKeys(*terminal, motion, session);
+    motion.advance(dt);
+    publishPoses(scene, motion, session);
+    if (std::chrono::duration<double>(now - lastStatus).count() >= 1.0) {
+      lastStatus = now;
+      reportStatus(session, output, pb, motion.sceneTime(), tty);
+    }
+  }
+  output.stop();
+  session.stop();
+  if (tty) std::fprintf(stderr, "\n");
+  return pb;
+}
+
+/// After playback: --record, the summary line, --stats.
+void finishLive(const SceneDesc& scene, const Flags& fl, LiveSession& session,
+                const audio::AudioOutput& output, const Playback& pb) {
+  const auto st = session.status();
+  const auto cb = output.stats().snapshot().since(pb.atStart);
+  const auto swap = session.renderStatsWithSwap().snapshot();
+  const auto noSwap = session.renderStatsWithoutSwap().snapshot();
+  if (!fl.record.empty()) {
+    audio::AudioData rec = session.takeRecording();
+    audio::writeWav(fl.record, rec, audio::SampleFormat::kFloat32);
+    std::printf("wrote %s (%.2f s played, %llu samples dropped by the recorder)\n",
+                fl.record.c_str(), double(rec.frames()) / scene.audio.sampleRate,
+                (unsigned long long)st.recordDropped);
+  }
+  printLiveSummary(st, output, cb, swap, noSwap);
+  if (!fl.stats.empty()) {
+    writeLiveStats(fl.stats, fl.scene, output, pb.scheduling, session, st, cb, swap, noSwap);
+    std::printf("wrote %s\n", fl.stats.c_str());
+  }
+}
+
+}  // namespace
+
+int runLive(const Flags& fl) {
+  SceneDesc scene = loadScene(fl.scene);
+  const PropagationSettings settings = prepareLive(scene, fl);
+  const DrySignals dry = loadDrySignalsWithNotes(scene);
+  const double duration = fl.duration.value_or(kUnboundedSeconds);
+  LiveSession session(scene, settings, dry, sessionOptions(fl, duration));
+  const std::unique_ptr<audio::AudioOutput> output = openOutput(scene, fl, session);
+  if (!output) return kNoAudioDeviceStatus;
+  std::fprintf(stderr, "playing on %s (%s), %.0f Hz, block %d, output latency %.1f ms\n",
+               output->device().spec().c_str(), output->device().hostApi.c_str(),
+               output->sampleRate(), output->blockSize(), output->outputLatency() * 1e3);
+  const Playback pb = play(scene, fl, duration, session, *output);
+  finishLive(scene, fl, session, *output, pb);
+  return 0;
+}
+
+}  // namespace dpc::demo

@@ -1,0 +1,16 @@
+// dpc-demo without --offline: play a scene live through an audio device.
+#pragma once
+
+#include "apps/demo/flags.h"
+
+namespace dpc::demo {
+
+/// Plays fl.scene live for --duration seconds (or until 'q' with --interactive), the played
+/// listener moving along its trajectory or by the keyboard (keyboard_motion.h), a status line
+/// on stderr once a second, the summary line on stdout at the end, and --record / --stats
+/// files. Main thread (the session runs its propagation thread, the device its audio
+/// thread). Returns 0, or kNoAudioDeviceStatus (audio_devices.h) if no device can be opened;
+/// throws InputError for bad input and std::exception for anything else.
+int runLive(const Flags& fl);
+
+}  // namespace dpc::demo

@@ -1,0 +1,171 @@
+// dpc-demo --offline: streams each listener's render to a temporary WAV, levels it and
+// renames it into place, then writes the last frame's IR and energy response if asked.
+#include "apps/demo/run_offline.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "analysis/energy_response_csv.h"
+#include "apps/demo/output_paths.h"
+#include "apps/demo/overrides.h"
+#include "apps/demo/preflight.h"
+#include "audio/wav_io.h"
+#include "common/input_error.h"
+#include "runtime/offline_renderer.h"
+
+namespace dpc::demo {
+namespace {
+
+using Writers = std::vector<std::unique_ptr<audio::WavStreamWriter>>;
+
+/// Progress on stderr: a bar redrawn in place on a terminal, a line per 10 % otherwise.
+void progressBar(double done, double total) {
+  const int width = 40;
+  const double f = total > 0 ? std::min(1.0, done / total) : 1.0;
+  const int filled = int(f * width);
+  if (isatty(STDERR_FILENO)) {
+    std::fprintf(stderr, "\r[%.*s%*s] %3d%%  %.1f / %.1f s", filled,
+                 "########################################", width - filled, "", int(f * 100), done,
+                 total);
+    if (f >= 1.0) std::fprintf(stderr, "\n");
+  } else if (int(f * 100) % 10 == 0) {
+    std::fprintf(stderr, "progress %3d%%  %.1f / %.1f s\n", int(f * 100), done, total);
+  }
+}
+
+/// Loads the scene's overrides and checks everything that can be checked before rendering:
+/// the settings, --duration and --gain-db, the output paths, the signals, the workload.
+PropagationSettings prepareOffline(SceneDesc& scene, const Flags& fl) {
+  applyAudioOverrides(scene, fl);
+  printSceneWarnings(scene);
+  const PropagationSettings settings = applyOverrides(scene, fl);
+  checkDuration(fl);
+  if (fl.gainDb && !(*fl.gainDb >= -120.0 && *fl.gainDb <= 60.0))
+    throw InputError("command line", "--gain-db", "must be a number in [-120, 60] dB");
+  checkOutputs(scene, fl);
+  requireSignal(scene);
+  // Work and memory first (loading many or long signals takes time), then with the length.
+  checkSetup(scene, settings, fl.duration.value_or(0.0), false);
+  return settings;
+}
+
+/// One streaming writer per listener. Each listener streams to a temporary file next to its
+/// output (memory independent of the duration), renamed into place only once complete; a
+/// failed render leaves no file.
+Writers openWriters(const SceneDesc& scene, const std::vector<OutputPaths>& paths) {
+  Writers writers;
+  for (const OutputPaths& p : paths)
+    writers.push_back(std::make_unique<audio::WavStreamWriter>(p.audio, scene.audio.sampleRate,
+                                                               outputChannels(scene.audio.output),
+                                                               audio::SampleFormat::kFloat32));
+  return writers;
+}
+
+/// The name of the scene's output format as printed.
+const char* formatName(OutputFormat format) {
+  return format == OutputFormat::kBinaural ? "binaural"
+         : format == OutputFormat::kStereo ? "stereo"
+                                           : "mono";
+}
+
+/// --ir-out and --er-out of one listener: its last frame's IRs (all channels, source-major)
+/// and energy responses.
+void writeLastFrame(const SceneDesc& scene, const OfflineListenerResult& r,
+                    const OutputPaths& paths) {
+  if (!paths.ir.empty()) {
+    audio::AudioData ir;
+    ir.sampleRate = scene.audio.sampleRate;
+    for (const auto& source : r.lastIrs)
+      for (const auto& channel : source) ir.channels.push_back(channel);
+    audio::writeWav(paths.ir, ir, audio::SampleFormat::kFloat32);
+  }
+  if (!paths.energy.empty()) {
+    std::vector<SourceEnergy> er;
+    for (size_t s = 0; s < r.lastEnergy.size(); ++s)
+      er.push_back({r.lastEnergy[s], r.lastDirect[s]});
+    writeEnergyCsv(paths.energy, er);
+  }
+}
+
+/// Finishes one listener's render streamed into `writer` (level: peak normalised to -1 dBFS
+/// by a second streaming pass, or --gain-db already applied), renames it into place, writes
+/// its --ir-out / --er-out files and says what it wrote.
+void writeListener(const Flags& fl, const SceneDesc& scene, const OfflineListenerResult& r,
+                   audio::WavStreamWriter& writer, const OutputPaths& paths) {
+  const float peak = writer.peak();
+  if (peak == 0.f)
+    std::fprintf(stderr,
+                 "warning: %s: the render of listener \"%s\" is silent (empty energy response: "
+                 "is the listener inside the mesh and each source inside the room?)\n",
+                 fl.scene.c_str(), r.name.c_str());
+  double gainDb = fl.gainDb.value_or(0.0);
+  if (!fl.gainDb) {
+    gainDb = peak > 0.f ? -1.0 - 20.0 * std::log10(peak) : 0.0;
+    writer.rescale(float(std::pow(10.0, gainDb / 20.0)));
+  }
+  const size_t frames = writer.frames();
+  writer.commit();
+  writeLastFrame(scene, r, paths);
+  const double audioSeconds = double(frames) / scene.audio.sampleRate;
+  std::printf("wrote %s (%.2f s, %d Hz, %s, float32, gain %+.1f dB)\n", paths.audio.c_str(),
+              audioSeconds, scene.audio.sampleRate, formatName(scene.audio.output), gainDb);
+  if (!paths.energy.empty())
+    std::printf("wrote %s (last frame's energy response, %zu source(s))\n", paths.energy.c_str(),
+                r.lastEnergy.size());
+  if (!paths.ir.empty())
+    std::printf("wrote %s (last frame's IR, %zu channel(s): source-major)\n", paths.ir.c_str(),
+                r.lastIrs.size() * r.lastIrs.front().size());
+}
+
+/// One line per propagation run (shared by every listener it rendered).
+void printTotals(const OfflineResult& r, double audioSeconds) {
+  const auto& t = r.totals;
+  std::printf(
+      "frames %llu  IRs applied %llu  rays/s %.3g  segments/s %.3g  cache entries %zu (%.1f MB)\n"
+      "cache budget %.1f MB  coarse entries %zu  entries merged %llu (carrying %.2f %% of the "
+      "response's energy)\n"
+      "propagation %.2f s (trace %.2f, IR synthesis %.2f, partition+FFT %.2f)  wall %.2f s  "
+      "real-time factor %.1fx\n",
+      (unsigned long long)t.frames, (unsigned long long)r.listeners.front().irsApplied,
+      t.traceSeconds > 0 ? t.rays / t.traceSeconds : 0.0,
+      t.traceSeconds > 0 ? t.segments / t.traceSeconds : 0.0, r.cacheEntries, r.cacheBytes / 1e6,
+      r.cacheBudgetBytes / 1e6, r.cacheCoarseEntries, (unsigned long long)r.cacheMergedEntries,
+      100.0 * r.cacheCoarseEnergyFraction, t.traceSeconds + t.synthesisSeconds + t.prepareSeconds,
+      t.traceSeconds, t.synthesisSeconds, t.prepareSeconds, r.wallSeconds,
+      audioSeconds / r.wallSeconds);
+}
+
+}  // namespace
+
+int runOffline(const Flags& fl) {
+  SceneDesc scene = loadScene(fl.scene);
+  const PropagationSettings settings = prepareOffline(scene, fl);
+  const DrySignals dry = loadDrySignalsWithNotes(scene);
+  OfflineOptions opt;
+  opt.durationSeconds = fl.duration.value_or(-1.0);
+  checkSetup(scene, settings, offlineDurationSeconds(scene, settings, dry, opt), true);
+  const std::vector<OutputPaths> paths = offlineOutputs(scene, fl);
+  // Several listeners: one propagation run traces them all (one pass per source and frame).
+  opt.allListeners = paths.size() > 1;
+  if (!fl.quiet) opt.progress = progressBar;
+  Writers writers = openWriters(scene, paths);
+  // --gain-db is applied as the blocks are written.
+  const float fixedGain = fl.gainDb ? float(std::pow(10.0, *fl.gainDb / 20.0)) : 1.f;
+  opt.sink = [&](size_t l, const float* const* planar, size_t frames) {
+    writers.at(l)->write(planar, frames, fixedGain);
+  };
+  const OfflineResult r = renderOffline(scene, settings, dry, opt);
+  const double audioSeconds = double(writers.front()->frames()) / scene.audio.sampleRate;
+  for (size_t l = 0; l < r.listeners.size() && l < paths.size(); ++l)
+    writeListener(fl, scene, r.listeners[l], *writers[l], paths[l]);
+  printTotals(r, audioSeconds);
+  return 0;
+}
+
+}  // namespace dpc::demo

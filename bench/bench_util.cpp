@@ -1,0 +1,40 @@
+// Helpers shared by the dpc-bench subcommands.
+#include "bench/bench_util.h"
+
+#include <cstdio>
+
+namespace dpc::bench {
+
+Json stats(const std::vector<double>& v, double scale) {
+  std::vector<double> s(v);
+  for (double& x : s) x *= scale;
+  return {{"median", percentile(s, 0.5)},
+          {"p95", percentile(s, 0.95)},
+          {"min", s.empty() ? NAN : *std::min_element(s.begin(), s.end())},
+          {"max", s.empty() ? NAN : *std::max_element(s.begin(), s.end())}};
+}
+
+SceneDesc firstSourceOnly(SceneDesc scene) {
+  scene.sources.resize(1);
+  return scene;
+}
+
+PropagationSettings settingsFor(const SceneDesc& scene, const CommonOptions& c) {
+  PropagationSettings s = scene.propagation;
+  s.threads = c.threads;
+  if (c.rays) s.raysPerFrame = *c.rays;
+  if (c.maxOrder) s.maxOrder = *c.maxOrder;
+  if (c.tau) s.cacheTau = float(*c.tau);
+  if (c.cacheMb) s.cacheMemoryMb = float(*c.cacheMb);
+  return s;
+}
+
+const char* estimatorName(Estimator estimator) {
+  return estimator == Estimator::kDpc ? "dpc" : "path_tracing";
+}
+
+void printReport(const Json& j) {
+  std::printf("%s\n", j.dump(2).c_str());
+}
+
+}  // namespace dpc::bench

@@ -29,6 +29,7 @@
 #include "bench/bench_util.h"
 #include "bench/convolve_bench.h"
 #include "engine/diffraction.h"
+#include "engine/embree_tracer.h"
 #include "common/input_error.h"
 #include "synthesis/ir_synthesis.h"
 #include "bench/noise_study.h"
@@ -114,12 +115,12 @@ int benchPropagation(const Common& c, bool noRoulette) {
   uint64_t bareSegments = 0, packetSegments = 0;
   double bareSeconds = 0.0, packetSeconds = 0.0;
   for (int f = 0; f < c.frames; ++f) {
-    const bench::BareResult b = bench::traceBare(sim.geometry(), scene.sources[0].position,
+    const bench::BareResult b = bench::traceBare(sim.tracer(), scene.sources[0].position,
                                                  s.raysPerFrame, s.maxOrder, s.threads, f);
     bareSegments += b.segments;
     bareSeconds += b.seconds;
     const bench::BareResult p =
-        bench::traceBare(sim.geometry(), scene.sources[0].position, s.raysPerFrame, s.maxOrder,
+        bench::traceBare(sim.tracer(), scene.sources[0].position, s.raysPerFrame, s.maxOrder,
                          s.threads, f, bench::BareMode::kPacket16);
     packetSegments += p.segments;
     packetSeconds += p.seconds;
@@ -828,10 +829,11 @@ int benchDiffraction(const Common& c) {
   const PropagationSettings s = settingsFor(scene, c);
   const auto t0 = Clock::now();
   const Geometry geometry(scene.mesh, scene.materials, s.patchSize, scene.objects);
+  const EmbreeTracer tracer(scene.mesh, scene.objects);
   const auto t1 = Clock::now();
   const EdgeDiffraction diffraction(scene.mesh);
   const auto t2 = Clock::now();
-  const Propagator propagator(geometry, s);
+  const Propagator propagator(geometry, tracer, s);
   const ListenerDesc& listener = scene.listener;
   const double span = listener.trajectory.empty() ? 20.0 : listener.trajectory.back().timeSeconds;
   const int frames = std::max(1, c.frames);
@@ -844,7 +846,7 @@ int benchDiffraction(const Common& c) {
       const glm::vec3 at = sourcePositionAt(source, t);
       const auto a = Clock::now();
       DirectSound d = propagator.directSound(at, sphere);
-      paths += double(diffraction.apply(geometry, at, sphere, s.speedOfSound,
+      paths += double(diffraction.apply(tracer, at, sphere, s.speedOfSound,
                                         propagator.airAttenuationPerMetre(), d));
       micros.push_back(std::chrono::duration<double, std::micro>(Clock::now() - a).count());
     }

@@ -268,7 +268,7 @@ EdgeDiffraction::EdgeDiffraction(const Mesh& mesh) {
   });
 }
 
-size_t EdgeDiffraction::apply(const Geometry& geometry, const glm::vec3& source,
+size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
                               const ListenerSphere& listener, float speedOfSound,
                               const Bands& airPerMetre, DirectSound& direct) const {
   struct Path {
@@ -323,8 +323,8 @@ size_t EdgeDiffraction::apply(const Geometry& geometry, const glm::vec3& source,
     if (std::abs(std::abs(dphi) - kPi) < kBoundary)
       phiL = phiS + std::copysign(direct.visible ? kPi - kBoundary : kPi + kBoundary, dphi);
     // Both legs clear (the listener sphere itself is not geometry).
-    if (geometry.occluded(source, toQ / r, kLegEpsilon, r - kLegEpsilon)) continue;
-    if (geometry.occluded(q, toL / s, kLegEpsilon, s - kLegEpsilon)) continue;
+    if (tracer.occluded(TraceRay{source, toQ / r, kLegEpsilon, r - kLegEpsilon})) continue;
+    if (tracer.occluded(TraceRay{q, toL / s, kLegEpsilon, s - kLegEpsilon})) continue;
     const double sinB = double(glm::length(glm::cross(toQ / r, e.direction)));
     Path& p = paths.emplace_back();
     ++used;

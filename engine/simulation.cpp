@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 
+#include "engine/embree_tracer.h"
+
 namespace dpc {
 
 Simulation::Simulation(const SceneDesc& scene) : Simulation(scene, scene.propagation) {}
@@ -11,7 +13,8 @@ Simulation::Simulation(const SceneDesc& scene, const PropagationSettings& settin
     : settings_(settings), listenerRadius_(scene.listener.radius) {
   geometry_ =
       std::make_unique<Geometry>(scene.mesh, scene.materials, settings_.patchSize, scene.objects);
-  propagator_ = std::make_unique<Propagator>(*geometry_, settings_);
+  tracer_ = std::make_unique<EmbreeTracer>(scene.mesh, scene.objects);
+  propagator_ = std::make_unique<Propagator>(*geometry_, *tracer_, settings_);
   if (settings_.diffraction) diffraction_ = std::make_unique<EdgeDiffraction>(scene.mesh);
   for (const SourceDesc& s : scene.sources) sourcePositions_.push_back(s.position);
   sourceCount_ = scene.sources.size();
@@ -61,9 +64,9 @@ void Simulation::setRaysPerFrame(int n) {
 }
 
 void Simulation::setObjectPoses(const std::vector<Pose>& poses) {
-  for (size_t k = 0; k < poses.size() && k < geometry_->objectCount(); ++k)
-    geometry_->setObjectPose(k, poses[k]);
-  geometry_->commitPoses();
+  for (size_t k = 0; k < poses.size() && k < tracer_->objectCount(); ++k)
+    tracer_->setObjectPose(k, poses[k]);
+  tracer_->commitPoses();
 }
 
 void Simulation::runFrame(const glm::vec3& listenerPosition) {
@@ -100,7 +103,7 @@ void Simulation::runFrame(std::span<const ListenerSphere> listeners,
       r.trace = trace;
       r.direct = propagator_->directSound(sources[s], listener);
       if (diffraction_)
-        diffraction_->apply(*geometry_, sources[s], listener, settings_.speedOfSound,
+        diffraction_->apply(*tracer_, sources[s], listener, settings_.speedOfSound,
                             propagator_->airAttenuationPerMetre(), r.direct);
       r.energy.clear();
       DirectionalEnergyResponse* dir = nullptr;

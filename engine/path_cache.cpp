@@ -379,33 +379,45 @@ void DiffusePathCache::readCell(const Cell& c, size_t bin, float divisor, double
   }
 }
 
+void DiffusePathCache::retireWindowSlot(size_t slot) {
+  // Frame f0 = frame_ - W: its path terms are the oldest in the ring; subtract each from its
+  // entry and remove entries left without hits (hit counts are integers, so eta reaches 0
+  // exactly); its coarse row is cleared.
+  for (uint32_t k = 0; k < slotTerms_[slot]; ++k) {
+    const WindowTerm& t = terms_[termHead_];
+    termHead_ = (termHead_ + 1) % cap_.windowTerms;
+    const uint32_t i = indexOf(t.key);
+    Entry& e = entries_[i];
+    e.eta -= t.eta;
+    e.intensity -= t.intensity;
+    // The true sum of the remaining non-negative terms is >= 0; rounding of the add-then-
+    // subtract can leave a residue below 0 (1 + 1e-8 - 1 - 1e-8 in float), which no
+    // energy may hold.
+    for (int b = 0; b < kNumBands; ++b) e.intensity[b] = std::max(e.intensity[b], 0.f);
+    e.length -= t.length;
+    e.direction -= t.direction;
+    if (e.eta <= 0.5f) removeAt(i);
+  }
+  termCount_ -= slotTerms_[slot];
+  if (layerUsed_[slot]) std::fill(&cell(slot, 0), &cell(slot, 0) + cap_.coarseBins, Cell{});
+  layerUsed_[slot] = 0;
+}
+
+void DiffusePathCache::readEntries(float divisor, double invC, EnergyResponse& out,
+                                   DirectionalEnergyResponse* directional, double& total) const {
+  for (const Entry& e : entries_) {
+    const double delay = meanDelaySeconds(e.length, e.eta, invC);
+    out.add(delay, e.intensity / divisor);
+    if (directional) directional->add(delay, e.intensity / divisor, e.direction);
+    total += double((e.intensity / divisor).average());
+  }
+}
+
 void DiffusePathCache::windowEndFrame(const FrameGroups& frame, float n, double invC,
                                       EnergyResponse& out, DirectionalEnergyResponse* directional,
                                       double& total, double& coarse) {
-  // Retire frame f0 = frame_ - W: its path terms are the oldest in the ring; subtract each from
-  // its entry and remove entries left without hits (hit counts are integers, so eta reaches 0
-  // exactly); its coarse row is cleared.
   const size_t slot = windowSlot(frame_);
-  if (frame_ >= lifetime_) {
-    for (uint32_t k = 0; k < slotTerms_[slot]; ++k) {
-      const WindowTerm& t = terms_[termHead_];
-      termHead_ = (termHead_ + 1) % cap_.windowTerms;
-      const uint32_t i = indexOf(t.key);
-      Entry& e = entries_[i];
-      e.eta -= t.eta;
-      e.intensity -= t.intensity;
-      // The true sum of the remaining non-negative terms is >= 0; rounding of the add-then-
-      // subtract can leave a residue below 0 (1 + 1e-8 - 1 - 1e-8 in float), which no
-      // energy may hold.
-      for (int b = 0; b < kNumBands; ++b) e.intensity[b] = std::max(e.intensity[b], 0.f);
-      e.length -= t.length;
-      e.direction -= t.direction;
-      if (e.eta <= 0.5f) removeAt(i);
-    }
-    termCount_ -= slotTerms_[slot];
-    if (layerUsed_[slot]) std::fill(&cell(slot, 0), &cell(slot, 0) + cap_.coarseBins, Cell{});
-    layerUsed_[slot] = 0;
-  }
+  if (frame_ >= lifetime_) retireWindowSlot(slot);
   slotTerms_[slot] = 0;
   for (const FrameGroups::Group& g : frame.groups()) {
     if (termCount_ == cap_.windowTerms)
@@ -427,12 +439,7 @@ void DiffusePathCache::windowEndFrame(const FrameGroups& frame, float n, double 
   }
   // Mean over the frames in the window so far (fewer than W at the start: still unbiased).
   const float frames = float(std::min<uint64_t>(uint64_t(frame_) + 1, lifetime_));
-  for (const Entry& e : entries_) {
-    const double delay = meanDelaySeconds(e.length, e.eta, invC);
-    out.add(delay, e.intensity / frames);
-    if (directional) directional->add(delay, e.intensity / frames, e.direction);
-    total += double((e.intensity / frames).average());
-  }
+  readEntries(frames, invC, out, directional, total);
   const bool anyCoarse = std::find(layerUsed_.begin(), layerUsed_.end(), 1) != layerUsed_.end();
   for (size_t b = 0; anyCoarse && b < cap_.coarseBins; ++b) {
     Cell sum{};
@@ -536,12 +543,7 @@ void DiffusePathCache::emaEndFrame(const FrameGroups& frame, float n, double inv
   }
   decayPow_ *= 1.0 - a_;
   const float norm = float(1.0 - decayPow_);
-  for (const Entry& e : entries_) {
-    const double delay = meanDelaySeconds(e.length, e.eta, invC);
-    out.add(delay, e.intensity / norm);
-    if (directional) directional->add(delay, e.intensity / norm, e.direction);
-    total += double((e.intensity / norm).average());
-  }
+  readEntries(norm, invC, out, directional, total);
   for (size_t b = 0; layerUsed_[0] && b < cap_.coarseBins; ++b)
     if (cell(0, b).eta > 0.f) readCell(cell(0, b), b, norm, invC, out, directional, coarse);
 }

@@ -229,6 +229,12 @@ class DiffusePathCache {
   void windowEndFrame(const FrameGroups& frame, float n, double invC, EnergyResponse& out,
                       DirectionalEnergyResponse* directional, double& total, double& coarse);
   size_t windowSlot(uint64_t frame) const { return size_t(frame % lifetime_); }
+  /// kWindow: takes the oldest frame's terms (ring slot `slot`) out of their entries.
+  void retireWindowSlot(size_t slot);
+  /// Reads every path entry out with its intensity divided by `divisor`; adds the band-average
+  /// energy to total.
+  void readEntries(float divisor, double invC, EnergyResponse& out,
+                   DirectionalEnergyResponse* directional, double& total) const;
   /// kSeed: adds the frame's groups (eq. 3.4) and reads every entry and layer out (eq. 3.2,
   /// 3.3); total and coarse add the band-average energy read out (all, coarse store).
   void seedEndFrame(const FrameGroups& frame, double invC, EnergyResponse& out,

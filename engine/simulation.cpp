@@ -95,43 +95,51 @@ void Simulation::runFrame(std::span<const ListenerSphere> listeners,
     // that source-listener pair's data: run them concurrently on the tracing threads. Each
     // pair's float operations are the same whatever the thread, so results do not change.
     propagator_->forEachParallel(listeners.size(), [&](size_t l) {
-      const size_t pair = l * sourceCount_ + s;
-      SourceResult& r = results_[pair];
-      const ListenerSphere& listener = listeners[l];
-      const FrameGroups& groups = groups_[l];
-      const auto t1 = std::chrono::steady_clock::now();
-      r.trace = trace;
-      r.direct = propagator_->directSound(sources[s], listener);
-      if (diffraction_)
-        diffraction_->apply(*tracer_, sources[s], listener, settings_.speedOfSound,
-                            propagator_->airAttenuationPerMetre(), r.direct);
-      r.energy.clear();
-      DirectionalEnergyResponse* dir = nullptr;
-      if (!directional_.empty()) {
-        dir = &directional_[pair];
-        dir->clear();
-        dir->setListenerFrame(orientations_[l].forward(), orientations_[l].up());
-      }
-      if (caches_.empty()) {
-        pathTracing_.endFrame(groups, r.trace.rays, settings_.speedOfSound, r.energy, dir);
-        r.cacheEntries = groups.groups().size();
-        r.cacheBytes = 0;
-      } else {
-        DiffusePathCache& cache = *caches_[pair];
-        cache.endFrame(groups, r.trace.rays, settings_.speedOfSound, r.energy, dir);
-        r.cacheEntries = cache.entryCount();
-        r.cacheBytes = cache.bytes();
-        r.cacheCoarseEntries = cache.coarseEntryCount();
-        r.cacheBudgetBytes = cache.budgetBytes();
-        r.cacheMergedEntries = cache.mergedEntries();
-        r.cacheCoarseEnergyFraction = cache.coarseEnergyFraction();
-      }
-      r.traceSeconds = traceSeconds;
-      r.estimatorSeconds =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+      finishPair(s, l, sources[s], listeners[l], trace, traceSeconds);
     });
   }
   ++frame_;
+}
+
+void Simulation::finishPair(size_t s, size_t l, const glm::vec3& source,
+                            const ListenerSphere& listener, const TraceStats& trace,
+                            double traceSeconds) {
+  const size_t pair = l * sourceCount_ + s;
+  SourceResult& r = results_[pair];
+  const auto t1 = std::chrono::steady_clock::now();
+  r.trace = trace;
+  r.direct = propagator_->directSound(source, listener);
+  if (diffraction_)
+    diffraction_->apply(*tracer_, source, listener, settings_.speedOfSound,
+                        propagator_->airAttenuationPerMetre(), r.direct);
+  r.energy.clear();
+  DirectionalEnergyResponse* dir = nullptr;
+  if (!directional_.empty()) {
+    dir = &directional_[pair];
+    dir->clear();
+    dir->setListenerFrame(orientations_[l].forward(), orientations_[l].up());
+  }
+  updateEstimator(pair, groups_[l], r, dir);
+  r.traceSeconds = traceSeconds;
+  r.estimatorSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+}
+
+void Simulation::updateEstimator(size_t pair, const FrameGroups& groups, SourceResult& r,
+                                 DirectionalEnergyResponse* dir) {
+  if (caches_.empty()) {
+    pathTracing_.endFrame(groups, r.trace.rays, settings_.speedOfSound, r.energy, dir);
+    r.cacheEntries = groups.groups().size();
+    r.cacheBytes = 0;
+    return;
+  }
+  DiffusePathCache& cache = *caches_[pair];
+  cache.endFrame(groups, r.trace.rays, settings_.speedOfSound, r.energy, dir);
+  r.cacheEntries = cache.entryCount();
+  r.cacheBytes = cache.bytes();
+  r.cacheCoarseEntries = cache.coarseEntryCount();
+  r.cacheBudgetBytes = cache.budgetBytes();
+  r.cacheMergedEntries = cache.mergedEntries();
+  r.cacheCoarseEnergyFraction = cache.coarseEnergyFraction();
 }
 
 }  // namespace dpc

@@ -103,6 +103,14 @@ class Simulation {
  private:
   /// Caches, responses and groups for `listeners` listeners (grows only).
   void reserveListeners(size_t listeners);
+  /// Source s and listener l after the trace: direct sound (with edge diffraction) and the
+  /// estimator update into their pair's result. Touches only that pair's data.
+  void finishPair(size_t s, size_t l, const glm::vec3& source, const ListenerSphere& listener,
+                  const TraceStats& trace, double traceSeconds);
+  /// Adds the frame's groups to pair's estimator and reads its energy response into r.energy
+  /// (and dir when not null).
+  void updateEstimator(size_t pair, const FrameGroups& groups, SourceResult& r,
+                       DirectionalEnergyResponse* dir);
 
   PropagationSettings settings_;
   float listenerRadius_;

@@ -187,16 +187,18 @@ void Propagator::traceChunkPacket(uint64_t frameSeed, uint32_t sourceIndex, uint
   chunk.unorderedListener.clear();
   chunk.rayOf.clear();
   uint32_t next = firstRay;
-  int live = 0;
   // Lanes are filled in ray order and refilled, lowest lane first, as rays end: a fixed
-  // schedule, independent of threads.
-  for (int i = 0; i < K; ++i) {
+  // schedule, independent of threads. A lane stays idle once the chunk has no rays left.
+  auto refill = [&](int i) {
     packet[i].active = next < endRay;
-    if (!packet[i].active) continue;
-    startRay(frameSeed, sourceIndex, next, source, rays[i]);
-    rayIndex[i] = next++;
-    ++live;
-  }
+    if (packet[i].active) {
+      startRay(frameSeed, sourceIndex, next, source, rays[i]);
+      rayIndex[i] = next++;
+    }
+    return packet[i].active;
+  };
+  int live = 0;
+  for (int i = 0; i < K; ++i) live += refill(i) ? 1 : 0;
   while (live > 0) {
     for (int i = 0; i < K; ++i)
       if (packet[i].active) {
@@ -211,14 +213,7 @@ void Propagator::traceChunkPacket(uint64_t frameSeed, uint32_t sourceIndex, uint
                                 chunk.unordered, chunk.unorderedListener);
       while (chunk.rayOf.size() < chunk.unordered.size())  // one hit per listener at most
         chunk.rayOf.push_back(rayIndex[i] - firstRay);
-      if (more) continue;
-      if (next < endRay) {
-        startRay(frameSeed, sourceIndex, next, source, rays[i]);
-        rayIndex[i] = next++;
-      } else {
-        packet[i].active = false;
-        --live;
-      }
+      if (!more && !refill(i)) --live;
     }
   }
   chunk.sortByRay(endRay - firstRay);

@@ -40,8 +40,8 @@ void bounce(const SurfaceHit& hit, Rng& rng, glm::vec3& org, glm::vec3& dir) {
                        n * std::sqrt(std::max(0.f, 1.f - u1)));
 }
 
-uint64_t scalarChunk(const Geometry& geometry, const glm::vec3& source, uint32_t begin,
-                     uint32_t end, int maxOrder, uint64_t seed) {
+uint64_t scalarChunk(const Tracer& tracer, const glm::vec3& source, uint32_t begin, uint32_t end,
+                     int maxOrder, uint64_t seed) {
   uint64_t count = 0;
   for (uint32_t ray = begin; ray < end; ++ray) {
     Rng rng(seed, ray);
@@ -49,48 +49,50 @@ uint64_t scalarChunk(const Geometry& geometry, const glm::vec3& source, uint32_t
     SurfaceHit hit;
     for (int order = 0; order <= maxOrder; ++order) {
       ++count;
-      if (!geometry.intersect(org, dir, 0.f, std::numeric_limits<float>::infinity(), hit)) break;
+      if (!tracer.intersect(TraceRay{org, dir}, hit)) break;
       bounce(hit, rng, org, dir);
     }
   }
   return count;
 }
 
-uint64_t packetChunk(const Geometry& geometry, const glm::vec3& source, uint32_t begin,
-                     uint32_t end, int maxOrder, uint64_t seed) {
-  constexpr int K = RayPacket16::kSize;
+uint64_t packetChunk(const Tracer& tracer, const glm::vec3& source, uint32_t begin, uint32_t end,
+                     int maxOrder, uint64_t seed) {
+  constexpr int K = int(Tracer::kPacketSize);
   struct Lane {
     Rng rng{0, 0};
     int order = 0;
   };
   std::array<Lane, K> lanes;
-  RayPacket16 packet;
-  PacketHits16 hits;
+  std::array<TraceRay, K> packet;
+  std::array<TraceHit, K> hits;
   uint64_t count = 0;
   uint32_t next = begin;
   int live = 0;
   auto start = [&](int i) {
     lanes[i].rng = Rng(seed, next++);
-    packet.dir[i] = firstDirection(lanes[i].rng);
-    packet.org[i] = source;
+    packet[i].dir = firstDirection(lanes[i].rng);
+    packet[i].org = source;
     lanes[i].order = 0;
   };
-  for (int i = 0; i < K && next < end; ++i, ++live) {
+  for (int i = 0; i < K; ++i) {
+    packet[i].active = next < end;
+    if (!packet[i].active) continue;
     start(i);
-    packet.active[i] = true;
+    ++live;
   }
   while (live > 0) {
-    geometry.intersect16(packet, 0.f, std::numeric_limits<float>::infinity(), hits);
+    tracer.intersect(packet, hits);
     count += uint64_t(live);
     for (int i = 0; i < K; ++i) {
-      if (!packet.active[i]) continue;
-      if (hits.found[i] && lanes[i].order < maxOrder) {
-        bounce(hits.hit[i], lanes[i].rng, packet.org[i], packet.dir[i]);
+      if (!packet[i].active) continue;
+      if (hits[i].found && lanes[i].order < maxOrder) {
+        bounce(hits[i].surface, lanes[i].rng, packet[i].org, packet[i].dir);
         ++lanes[i].order;
       } else if (next < end) {
         start(i);
       } else {
-        packet.active[i] = false;
+        packet[i].active = false;
         --live;
       }
     }
@@ -100,7 +102,7 @@ uint64_t packetChunk(const Geometry& geometry, const glm::vec3& source, uint32_t
 
 }  // namespace
 
-BareResult traceBare(const Geometry& geometry, const glm::vec3& source, int rays, int maxOrder,
+BareResult traceBare(const Tracer& tracer, const glm::vec3& source, int rays, int maxOrder,
                      int threads, uint64_t seed, BareMode mode) {
   const uint32_t chunks = (uint32_t(rays) + kChunk - 1) / kChunk;
   std::vector<uint64_t> segments(chunks, 0);
@@ -110,8 +112,8 @@ BareResult traceBare(const Geometry& geometry, const glm::vec3& source, int rays
     tbb::parallel_for(uint32_t(0), chunks, [&](uint32_t c) {
       const uint32_t begin = c * kChunk, end = std::min(uint32_t(rays), (c + 1) * kChunk);
       segments[c] = mode == BareMode::kPacket16
-                        ? packetChunk(geometry, source, begin, end, maxOrder, seed)
-                        : scalarChunk(geometry, source, begin, end, maxOrder, seed);
+                        ? packetChunk(tracer, source, begin, end, maxOrder, seed)
+                        : scalarChunk(tracer, source, begin, end, maxOrder, seed);
     });
   });
   BareResult r;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "engine/diffraction.h"
+#include "engine/embree_tracer.h"
 #include "engine/simulation.h"
 
 namespace dpc::bench {
@@ -21,8 +22,8 @@ struct PairTimes {
 };
 
 PairTimes timePairs(const SceneDesc& scene, const PropagationSettings& s, const Geometry& geometry,
-                    const EdgeDiffraction& diffraction, int frames) {
-  const Propagator propagator(geometry, s);
+                    const Tracer& tracer, const EdgeDiffraction& diffraction, int frames) {
+  const Propagator propagator(geometry, tracer, s);
   const ListenerDesc& listener = scene.listener;
   const double span = listener.trajectory.empty() ? 20.0 : listener.trajectory.back().timeSeconds;
   PairTimes p;
@@ -33,7 +34,7 @@ PairTimes timePairs(const SceneDesc& scene, const PropagationSettings& s, const 
       const glm::vec3 at = sourcePositionAt(source, t);
       const auto a = Clock::now();
       DirectSound d = propagator.directSound(at, sphere);
-      p.paths += double(diffraction.apply(geometry, at, sphere, s.speedOfSound,
+      p.paths += double(diffraction.apply(tracer, at, sphere, s.speedOfSound,
                                           propagator.airAttenuationPerMetre(), d));
       p.micros.push_back(std::chrono::duration<double, std::micro>(Clock::now() - a).count());
     }
@@ -48,10 +49,11 @@ int benchDiffraction(const CommonOptions& c) {
   const PropagationSettings s = settingsFor(scene, c);
   const auto t0 = Clock::now();
   const Geometry geometry(scene.mesh, scene.materials, s.patchSize, scene.objects);
+  const EmbreeTracer tracer(scene.mesh, scene.objects);
   const auto t1 = Clock::now();
   const EdgeDiffraction diffraction(scene.mesh);
   const auto t2 = Clock::now();
-  const PairTimes p = timePairs(scene, s, geometry, diffraction, std::max(1, c.frames));
+  const PairTimes p = timePairs(scene, s, geometry, tracer, diffraction, std::max(1, c.frames));
   Json j;
   j["benchmark"] = "diffraction";
   j["scene"] = c.scene;

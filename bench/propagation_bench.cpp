@@ -62,11 +62,11 @@ BareTimes timeBare(const Simulation& sim, const SceneDesc& scene, const Propagat
                    int frames) {
   BareTimes b;
   for (int f = 0; f < frames; ++f) {
-    const BareResult one = traceBare(sim.geometry(), scene.sources[0].position, s.raysPerFrame,
+    const BareResult one = traceBare(sim.tracer(), scene.sources[0].position, s.raysPerFrame,
                                      s.maxOrder, s.threads, f);
     b.segments += one.segments;
     b.seconds += one.seconds;
-    const BareResult p = traceBare(sim.geometry(), scene.sources[0].position, s.raysPerFrame,
+    const BareResult p = traceBare(sim.tracer(), scene.sources[0].position, s.raysPerFrame,
                                    s.maxOrder, s.threads, f, BareMode::kPacket16);
     b.packetSegments += p.segments;
     b.packetSeconds += p.seconds;

@@ -149,6 +149,256 @@ glm::vec3 safeNormalize(const glm::vec3& v) {
   return l > 0.f ? v / l : glm::vec3(0.f);
 }
 
+/// Undirected edge (welded vertex ids, smaller first, as one key) -> the triangles using it
+/// (first two) and the count.
+struct EdgeUse {
+  uint32_t tri[2]{};
+  int count = 0;
+};
+
+std::unordered_map<uint64_t, EdgeUse> edgeUses(const Mesh& mesh, const std::vector<uint32_t>& id) {
+  std::unordered_map<uint64_t, EdgeUse> uses;
+  uses.reserve(mesh.triangles.size() * 3);
+  for (uint32_t t = 0; t < mesh.triangles.size(); ++t)
+    for (int i = 0; i < 3; ++i) {
+      const uint64_t u = id[mesh.triangles[t][size_t(i)]],
+                     v = id[mesh.triangles[t][size_t((i + 1) % 3)]];
+      EdgeUse& e = uses[u < v ? (u << 32 | v) : (v << 32 | u)];
+      if (e.count < 2) e.tri[e.count] = t;
+      ++e.count;
+    }
+  return uses;
+}
+
+glm::vec3 normalOf(const Mesh& mesh, uint32_t t) {
+  const auto& tr = mesh.triangles[t];
+  return safeNormalize(glm::cross(mesh.vertices[tr[1]] - mesh.vertices[tr[0]],
+                                  mesh.vertices[tr[2]] - mesh.vertices[tr[0]]));
+}
+
+/// In-plane unit vector of triangle t from the edge (ia, ib) toward its third vertex.
+glm::vec3 inward(const Mesh& mesh, const std::vector<uint32_t>& id, uint32_t t, uint32_t ia,
+                 uint32_t ib, const glm::vec3& dir) {
+  const auto& tr = mesh.triangles[t];
+  uint32_t third = tr[0];
+  for (uint32_t v : tr)
+    if (id[v] != ia && id[v] != ib) third = v;
+  glm::vec3 w = mesh.vertices[third] - mesh.vertices[ia];
+  w -= glm::dot(w, dir) * dir;
+  return safeNormalize(w);
+}
+
+/// The candidate edge of welded edge `key`; false when it has no wedge (non-manifold,
+/// degenerate or flat).
+bool makeEdge(const Mesh& mesh, const std::vector<uint32_t>& id, uint64_t key, const EdgeUse& use,
+              DiffractionEdge& e) {
+  if (use.count > 2) return false;  // non-manifold: no wedge defined
+  const uint32_t ia = uint32_t(key >> 32), ib = uint32_t(key & 0xffffffffu);
+  e.a = mesh.vertices[ia];
+  e.b = mesh.vertices[ib];
+  e.length = glm::length(e.b - e.a);
+  if (!(e.length > 0.f)) return false;
+  e.direction = (e.b - e.a) / e.length;
+  e.face0 = inward(mesh, id, use.tri[0], ia, ib, e.direction);
+  e.normal0 = normalOf(mesh, use.tri[0]);
+  if (glm::length(e.face0) == 0.f || glm::length(e.normal0) == 0.f) return false;
+  if (use.count == 1) {
+    e.open = float(2.0 * kPi);  // half-plane: one wedge of 2 pi
+    return true;
+  }
+  // Angle of face 1 from face 0, turning toward normal0. Which of the two wedges
+  // (open, 2 pi - open) holds air is decided per frame by where the source is, so the
+  // mesh's winding does not matter.
+  const glm::vec3 f1 = inward(mesh, id, use.tri[1], ia, ib, e.direction);
+  double ang = std::atan2(double(glm::dot(f1, e.normal0)), double(glm::dot(f1, e.face0)));
+  if (ang < 0) ang += 2.0 * kPi;
+  e.open = float(ang);
+  return !(std::abs(ang - kPi) < 0.05 * kPi);  // flat: no wedge
+}
+
+/// An edge lying in another triangle (a partition's rim along the floor, a box standing on
+/// it) is sealed by that surface: no wedge of air around it. Load time, edges x triangles,
+/// with each triangle's bounding box as a cheap reject.
+class SealingSurfaces {
+ public:
+  explicit SealingSurfaces(const Mesh& mesh) : mesh_(mesh) {
+    boxLo_.reserve(mesh.triangles.size());
+    boxHi_.reserve(mesh.triangles.size());
+    for (const auto& tr : mesh.triangles) {
+      const glm::vec3 p0 = mesh.vertices[tr[0]], p1 = mesh.vertices[tr[1]],
+                      p2 = mesh.vertices[tr[2]];
+      boxLo_.push_back(glm::min(p0, glm::min(p1, p2)));
+      boxHi_.push_back(glm::max(p0, glm::max(p1, p2)));
+    }
+  }
+  bool seal(const DiffractionEdge& e) const {
+    const glm::vec3 mid = 0.5f * (e.a + e.b);
+    for (size_t t = 0; t < mesh_.triangles.size(); ++t) {
+      // Cheap reject: the midpoint must lie in the triangle's box (grown by the tolerance).
+      if (glm::any(glm::lessThan(mid, boxLo_[t] - kTol)) ||
+          glm::any(glm::greaterThan(mid, boxHi_[t] + kTol)))
+        continue;
+      if (holds(mesh_.triangles[t], e, mid)) return true;
+    }
+    return false;
+  }
+
+ private:
+  static constexpr float kTol = 1e-3f;  // m
+  /// True if the triangle tr (not one of the edge's own faces) contains the edge.
+  bool holds(const std::array<uint32_t, 3>& tr, const DiffractionEdge& e,
+             const glm::vec3& mid) const {
+    const glm::vec3 p0 = mesh_.vertices[tr[0]], p1 = mesh_.vertices[tr[1]],
+                    p2 = mesh_.vertices[tr[2]];
+    const glm::vec3 nrm = safeNormalize(glm::cross(p1 - p0, p2 - p0));
+    if (glm::length(nrm) == 0.f) return false;
+    if (std::abs(glm::dot(e.a - p0, nrm)) > kTol || std::abs(glm::dot(e.b - p0, nrm)) > kTol)
+      return false;
+    // Is the midpoint inside the triangle (edge functions, with tolerance)?
+    const glm::vec3 q = mid - glm::dot(mid - p0, nrm) * nrm;
+    const float w0 = glm::dot(glm::cross(p1 - p0, q - p0), nrm) / glm::length(p1 - p0);
+    const float w1 = glm::dot(glm::cross(p2 - p1, q - p1), nrm) / glm::length(p2 - p1);
+    const float w2 = glm::dot(glm::cross(p0 - p2, q - p2), nrm) / glm::length(p0 - p2);
+    auto isVertex = [&](const glm::vec3& v) { return v == p0 || v == p1 || v == p2; };
+    if (isVertex(e.a) && isVertex(e.b)) return false;  // one of the edge's own faces
+    return w0 > -kTol && w1 > -kTol && w2 > -kTol;
+  }
+
+  const Mesh& mesh_;
+  std::vector<glm::vec3> boxLo_, boxHi_;
+};
+
+/// Lexicographic order of the endpoints: a deterministic edge order (the hash map's is not).
+bool edgeBefore(const DiffractionEdge& x, const DiffractionEdge& y) {
+  if (x.a.x != y.a.x) return x.a.x < y.a.x;
+  if (x.a.y != y.a.y) return x.a.y < y.a.y;
+  if (x.a.z != y.a.z) return x.a.z < y.a.z;
+  if (x.b.x != y.b.x) return x.b.x < y.b.x;
+  if (x.b.y != y.b.y) return x.b.y < y.b.y;
+  return x.b.z < y.b.z;
+}
+
+constexpr float kLegEpsilon = 1e-3f;  // m: keeps occlusion tests off the edge's own faces
+
+/// One first-order edge path source -> Q -> listener: its frequency-independent parts.
+struct EdgePath {
+  double length;                      // r + s, m
+  double distanceParameter;           // L = r s sin^2 beta0 / (r + s), m
+  double spreading;                   // 1/r sqrt(r / (s (r + s))), 1/m
+  double prefactor;                   // utdPrefactor(n, sin beta0)
+  std::array<TermGeometry, 4> terms;  // frequency-independent parts of D
+  float legs;                         // r + s in single precision, m
+  glm::vec3 arrival;                  // unit vector from the listener toward Q
+};
+
+/// Angles (radians, from face 0 in the plane perpendicular to the edge) of the source and the
+/// listener seen from Q, and the air wedge's angle; false unless the listener is in the
+/// source's wedge and that wedge is wider than about pi (narrower ones cannot shadow: a room's
+/// inner corner seen from inside).
+bool wedgeAngles(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3& source,
+                 const glm::vec3& L, bool directVisible, double& phiS, double& phiL,
+                 double& wedge) {
+  auto angleOf = [&](const glm::vec3& p) {  // in [0, 2 pi)
+    const glm::vec3 v = p - q;
+    double a = std::atan2(double(glm::dot(v, e.normal0)), double(glm::dot(v, e.face0)));
+    return a < 0 ? a + 2.0 * kPi : a;
+  };
+  phiS = angleOf(source);
+  phiL = angleOf(L);
+  // The source's wedge is the air wedge: [0, open] or, measured from face 0 the other way,
+  // [0, 2 pi - open]. The listener must be in it too.
+  wedge = double(e.open);
+  if (phiS > wedge) {
+    wedge = 2.0 * kPi - wedge;
+    phiS = 2.0 * kPi - phiS;
+    phiL = 2.0 * kPi - phiL;
+  }
+  if (!(phiL > 0.0 && phiL < wedge) || wedge <= 1.05 * kPi) return false;
+  // On the shadow boundary itself (|phi - phi'| = pi) the occlusion test that decided
+  // direct.visible and the UTD's side of the boundary could disagree by rounding; put the
+  // listener 1e-4 rad on the side the direct sound's visibility says.
+  constexpr double kBoundary = 1e-4;
+  const double dphi = phiL - phiS;
+  if (std::abs(std::abs(dphi) - kPi) < kBoundary)
+    phiL = phiS + std::copysign(directVisible ? kPi - kBoundary : kPi + kBoundary, dphi);
+  return true;
+}
+
+/// The path over edge e from source to the listener centre L through the point Q of least
+/// length; false when Q lies outside the edge, the wedge cannot diffract toward L, or a leg
+/// is blocked (the listener sphere itself is not geometry).
+bool edgePath(const DiffractionEdge& e, const glm::vec3& source, const glm::vec3& L,
+              bool directVisible, const Tracer& tracer, EdgePath& p) {
+  // Stationary point: unfold both points about the edge; Q divides the along-edge
+  // separation in the ratio of their distances from the edge line.
+  const glm::vec3 ps = source - e.a, pl = L - e.a;
+  const float ts = glm::dot(ps, e.direction), tl = glm::dot(pl, e.direction);
+  const float rs = glm::length(ps - ts * e.direction), rl = glm::length(pl - tl * e.direction);
+  if (!(rs > 1e-4f) || !(rl > 1e-4f)) return false;
+  const float t = ts + (tl - ts) * rs / (rs + rl);
+  if (!(t > 0.f && t < e.length)) return false;
+  const glm::vec3 q = e.a + t * e.direction;
+  const glm::vec3 toQ = q - source, toL = L - q;
+  const float r = glm::length(toQ), s = glm::length(toL);
+  if (!(r > kLegEpsilon && s > kLegEpsilon)) return false;
+  double phiS = 0.0, phiL = 0.0, wedge = 0.0;
+  if (!wedgeAngles(e, q, source, L, directVisible, phiS, phiL, wedge)) return false;
+  if (tracer.occluded(TraceRay{source, toQ / r, kLegEpsilon, r - kLegEpsilon})) return false;
+  if (tracer.occluded(TraceRay{q, toL / s, kLegEpsilon, s - kLegEpsilon})) return false;
+  const double sinB = double(glm::length(glm::cross(toQ / r, e.direction)));
+  p.length = double(r) + double(s);
+  p.distanceParameter = double(r) * double(s) * sinB * sinB / p.length;
+  p.spreading = 1.0 / double(r) * std::sqrt(double(r) / (double(s) * p.length));
+  p.prefactor = utdPrefactor(wedge / kPi, sinB);
+  p.terms = wedgeTerms(wedge / kPi, phiL, phiS);
+  p.legs = r + s;
+  p.arrival = -toL / s;
+  return true;
+}
+
+/// |p|^2 of the direct sound (amplitude directAmplitude at directDistance, m) plus every
+/// path (per-path band amplitude in `amplitude`), averaged over band b's frequencies.
+double bandMeanSquare(int b, const std::vector<EdgePath>& paths,
+                      const std::vector<double>& amplitude, double directAmplitude,
+                      float directDistance, float speedOfSound) {
+  double acc = 0.0;
+  for (int i = 0; i < kDiffractionFrequenciesPerBand; ++i) {
+    const double k = 2.0 * kPi * diffractionFrequencyHz(b, i) / speedOfSound;
+    C p = directAmplitude * std::polar(1.0, -k * double(directDistance));
+    C diffracted(0.0, 0.0);
+    for (size_t j = 0; j < paths.size(); ++j) {
+      const EdgePath& q = paths[j];
+      const C d = utdScaled(q.terms, q.prefactor, k * q.distanceParameter);
+      const double c = std::cos(k * q.length), sn = std::sin(k * q.length);
+      // amplitude * d * e^{-jkl}
+      diffracted += amplitude[j] * C(d.real() * c + d.imag() * sn, d.imag() * c - d.real() * sn);
+    }
+    p += diffracted / std::sqrt(k);
+    acc += std::norm(p);
+  }
+  return acc / kDiffractionFrequenciesPerBand;
+}
+
+/// Band intensity (1/m^2, the scale of 1/(4 pi r^2)) of the coherent sum of the direct sound
+/// (when visible) and the edge paths.
+Bands coherentIntensity(const std::vector<EdgePath>& paths, const DirectSound& direct,
+                        float speedOfSound, const Bands& airPerMetre) {
+  Bands intensity(0.f);
+  std::vector<double> amplitude(paths.size());
+  for (int b = 0; b < kNumBands; ++b) {
+    // Per path and band: spreading times the air's pressure attenuation sqrt(exp(-m l)).
+    for (size_t j = 0; j < paths.size(); ++j)
+      amplitude[j] =
+          paths[j].spreading * std::exp(-0.5 * double(airPerMetre[b]) * paths[j].length);
+    const double directAmplitude =
+        direct.visible ? std::sqrt(4.0 * kPi * double(direct.intensity[b])) : 0.0;
+    const double meanSquare =
+        bandMeanSquare(b, paths, amplitude, directAmplitude, direct.distance, speedOfSound);
+    intensity[b] = float(meanSquare / (4.0 * kPi));
+  }
+  return intensity;
+}
+
 }  // namespace
 
 Complex utdCoefficient(double n, double k, double phi, double phiSource, double sinBeta0,
@@ -163,216 +413,38 @@ double diffractionFrequencyHz(int band, int i) {
 }
 
 EdgeDiffraction::EdgeDiffraction(const Mesh& mesh) {
-  // Undirected edge -> the triangles using it (first two) and the count.
-  struct Use {
-    uint32_t tri[2]{};
-    int count = 0;
-  };
   // Edges by position, not by index: an exporter may write a corner once per face.
   const std::vector<uint32_t> id = weldedVertexIds(mesh);
-  std::unordered_map<uint64_t, Use> uses;
-  uses.reserve(mesh.triangles.size() * 3);
-  for (uint32_t t = 0; t < mesh.triangles.size(); ++t)
-    for (int i = 0; i < 3; ++i) {
-      const uint64_t u = id[mesh.triangles[t][size_t(i)]],
-                     v = id[mesh.triangles[t][size_t((i + 1) % 3)]];
-      Use& e = uses[u < v ? (u << 32 | v) : (v << 32 | u)];
-      if (e.count < 2) e.tri[e.count] = t;
-      ++e.count;
-    }
-  auto normalOf = [&](uint32_t t) {
-    const auto& tr = mesh.triangles[t];
-    return safeNormalize(glm::cross(mesh.vertices[tr[1]] - mesh.vertices[tr[0]],
-                                    mesh.vertices[tr[2]] - mesh.vertices[tr[0]]));
-  };
-  auto inward = [&](uint32_t t, uint32_t ia, uint32_t ib, const glm::vec3& dir) {
-    // In-plane unit vector of triangle t from the edge (ia, ib) toward its third vertex.
-    const auto& tr = mesh.triangles[t];
-    uint32_t third = tr[0];
-    for (uint32_t v : tr)
-      if (id[v] != ia && id[v] != ib) third = v;
-    glm::vec3 w = mesh.vertices[third] - mesh.vertices[ia];
-    w -= glm::dot(w, dir) * dir;
-    return safeNormalize(w);
-  };
-  // An edge lying in another triangle (a partition's rim along the floor, a box standing on
-  // it) is sealed by that surface: no wedge of air around it. Load time, edges x triangles.
-  std::vector<glm::vec3> boxLo, boxHi;
-  boxLo.reserve(mesh.triangles.size());
-  boxHi.reserve(mesh.triangles.size());
-  for (const auto& tr : mesh.triangles) {
-    const glm::vec3 p0 = mesh.vertices[tr[0]], p1 = mesh.vertices[tr[1]], p2 = mesh.vertices[tr[2]];
-    boxLo.push_back(glm::min(p0, glm::min(p1, p2)));
-    boxHi.push_back(glm::max(p0, glm::max(p1, p2)));
-  }
-  auto liesOnSurface = [&](const DiffractionEdge& e) {
-    constexpr float kTol = 1e-3f;  // m
-    const glm::vec3 mid = 0.5f * (e.a + e.b);
-    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
-      // Cheap reject: the midpoint must lie in the triangle's box (grown by the tolerance).
-      if (glm::any(glm::lessThan(mid, boxLo[t] - kTol)) ||
-          glm::any(glm::greaterThan(mid, boxHi[t] + kTol)))
-        continue;
-      const auto& tr = mesh.triangles[t];
-      const glm::vec3 p0 = mesh.vertices[tr[0]], p1 = mesh.vertices[tr[1]],
-                      p2 = mesh.vertices[tr[2]];
-      const glm::vec3 nrm = safeNormalize(glm::cross(p1 - p0, p2 - p0));
-      if (glm::length(nrm) == 0.f) continue;
-      if (std::abs(glm::dot(e.a - p0, nrm)) > kTol || std::abs(glm::dot(e.b - p0, nrm)) > kTol)
-        continue;
-      // Is the midpoint inside the triangle (edge functions, with tolerance)?
-      const glm::vec3 q = mid - glm::dot(mid - p0, nrm) * nrm;
-      const float w0 = glm::dot(glm::cross(p1 - p0, q - p0), nrm) / glm::length(p1 - p0);
-      const float w1 = glm::dot(glm::cross(p2 - p1, q - p1), nrm) / glm::length(p2 - p1);
-      const float w2 = glm::dot(glm::cross(p0 - p2, q - p2), nrm) / glm::length(p0 - p2);
-      auto isVertex = [&](const glm::vec3& v) { return v == p0 || v == p1 || v == p2; };
-      if (isVertex(e.a) && isVertex(e.b)) continue;  // one of the edge's own faces
-      if (w0 > -kTol && w1 > -kTol && w2 > -kTol) return true;
-    }
-    return false;
-  };
-  for (const auto& [key, use] : uses) {
-    if (use.count > 2) continue;  // non-manifold: no wedge defined
-    const uint32_t ia = uint32_t(key >> 32), ib = uint32_t(key & 0xffffffffu);
+  const SealingSurfaces surfaces(mesh);
+  for (const auto& [key, use] : edgeUses(mesh, id)) {
     DiffractionEdge e;
-    e.a = mesh.vertices[ia];
-    e.b = mesh.vertices[ib];
-    e.length = glm::length(e.b - e.a);
-    if (!(e.length > 0.f)) continue;
-    e.direction = (e.b - e.a) / e.length;
-    e.face0 = inward(use.tri[0], ia, ib, e.direction);
-    e.normal0 = normalOf(use.tri[0]);
-    if (glm::length(e.face0) == 0.f || glm::length(e.normal0) == 0.f) continue;
-    if (use.count == 1) {
-      e.open = float(2.0 * kPi);  // half-plane: one wedge of 2 pi
-    } else {
-      // Angle of face 1 from face 0, turning toward normal0. Which of the two wedges
-      // (open, 2 pi - open) holds air is decided per frame by where the source is, so the
-      // mesh's winding does not matter.
-      const glm::vec3 f1 = inward(use.tri[1], ia, ib, e.direction);
-      double ang = std::atan2(double(glm::dot(f1, e.normal0)), double(glm::dot(f1, e.face0)));
-      if (ang < 0) ang += 2.0 * kPi;
-      e.open = float(ang);
-      if (std::abs(ang - kPi) < 0.05 * kPi) continue;  // flat: no wedge
-    }
-    if (!liesOnSurface(e)) edges_.push_back(e);
+    if (makeEdge(mesh, id, key, use, e) && !surfaces.seal(e)) edges_.push_back(e);
   }
-  // Deterministic order (the hash map's is not).
-  std::sort(edges_.begin(), edges_.end(), [](const DiffractionEdge& x, const DiffractionEdge& y) {
-    if (x.a.x != y.a.x) return x.a.x < y.a.x;
-    if (x.a.y != y.a.y) return x.a.y < y.a.y;
-    if (x.a.z != y.a.z) return x.a.z < y.a.z;
-    if (x.b.x != y.b.x) return x.b.x < y.b.x;
-    if (x.b.y != y.b.y) return x.b.y < y.b.y;
-    return x.b.z < y.b.z;
-  });
+  std::sort(edges_.begin(), edges_.end(), edgeBefore);
 }
 
-size_t EdgeDiffraction::apply(const Geometry& geometry, const glm::vec3& source,
+size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
                               const ListenerSphere& listener, float speedOfSound,
                               const Bands& airPerMetre, DirectSound& direct) const {
-  struct Path {
-    double length;                     // r + s, m
-    double distanceParameter;          // L = r s sin^2 beta0 / (r + s), m
-    double spreading;                  // 1/r sqrt(r / (s (r + s))), 1/m
-    double prefactor;                  // utdPrefactor(n, sin beta0)
-    std::array<TermGeometry, 4> terms;  // frequency-independent parts of D
-  };
-  std::vector<Path> paths;
-  const glm::vec3 L = listener.position;
-  constexpr float kLegEpsilon = 1e-3f;  // m: keeps occlusion tests off the edge's own faces
-  size_t used = 0;
+  std::vector<EdgePath> paths;
   float shortest = direct.visible ? direct.distance : 1e30f;
   glm::vec3 shortestDir = direct.direction;
   for (const DiffractionEdge& e : edges_) {
-    // Stationary point: unfold both points about the edge; Q divides the along-edge
-    // separation in the ratio of their distances from the edge line.
-    const glm::vec3 ps = source - e.a, pl = L - e.a;
-    const float ts = glm::dot(ps, e.direction), tl = glm::dot(pl, e.direction);
-    const float rs = glm::length(ps - ts * e.direction), rl = glm::length(pl - tl * e.direction);
-    if (!(rs > 1e-4f) || !(rl > 1e-4f)) continue;
-    const float t = ts + (tl - ts) * rs / (rs + rl);
-    if (!(t > 0.f && t < e.length)) continue;
-    const glm::vec3 q = e.a + t * e.direction;
-    const glm::vec3 toQ = q - source, toL = L - q;
-    const float r = glm::length(toQ), s = glm::length(toL);
-    if (!(r > kLegEpsilon && s > kLegEpsilon)) continue;
-    // Angles from face 0 in the plane perpendicular to the edge, in [0, 2 pi).
-    auto angleOf = [&](const glm::vec3& p) {
-      const glm::vec3 v = p - q;
-      double a = std::atan2(double(glm::dot(v, e.normal0)), double(glm::dot(v, e.face0)));
-      return a < 0 ? a + 2.0 * kPi : a;
-    };
-    double phiS = angleOf(source);
-    double phiL = angleOf(L);
-    // The source's wedge is the air wedge: [0, open] or, measured from face 0 the other way,
-    // [0, 2 pi - open]. The listener must be in it too; wedges narrower than about pi cannot
-    // shadow (a room's inner corner seen from inside).
-    double wedge = double(e.open);
-    if (phiS > wedge) {
-      wedge = 2.0 * kPi - wedge;
-      phiS = 2.0 * kPi - phiS;
-      phiL = 2.0 * kPi - phiL;
-    }
-    if (!(phiL > 0.0 && phiL < wedge) || wedge <= 1.05 * kPi) continue;
-    // On the shadow boundary itself (|phi - phi'| = pi) the occlusion test that decided
-    // direct.visible and the UTD's side of the boundary could disagree by rounding; put the
-    // listener 1e-4 rad on the side the direct sound's visibility says.
-    constexpr double kBoundary = 1e-4;
-    const double dphi = phiL - phiS;
-    if (std::abs(std::abs(dphi) - kPi) < kBoundary)
-      phiL = phiS + std::copysign(direct.visible ? kPi - kBoundary : kPi + kBoundary, dphi);
-    // Both legs clear (the listener sphere itself is not geometry).
-    if (geometry.occluded(source, toQ / r, kLegEpsilon, r - kLegEpsilon)) continue;
-    if (geometry.occluded(q, toL / s, kLegEpsilon, s - kLegEpsilon)) continue;
-    const double sinB = double(glm::length(glm::cross(toQ / r, e.direction)));
-    Path& p = paths.emplace_back();
-    ++used;
-    p.length = double(r) + double(s);
-    p.distanceParameter = double(r) * double(s) * sinB * sinB / p.length;
-    p.spreading = 1.0 / double(r) * std::sqrt(double(r) / (double(s) * p.length));
-    p.prefactor = utdPrefactor(wedge / kPi, sinB);
-    p.terms = wedgeTerms(wedge / kPi, phiL, phiS);
-    if (r + s < shortest) {
-      shortest = r + s;
-      shortestDir = -toL / s;
+    EdgePath p;
+    if (!edgePath(e, source, listener.position, direct.visible, tracer, p)) continue;
+    paths.push_back(p);
+    if (p.legs < shortest) {
+      shortest = p.legs;
+      shortestDir = p.arrival;
     }
   }
-  if (used == 0) return 0;
-  // Band energy of the coherent sum, averaged over the band's frequencies.
-  constexpr int kFrequencies = kDiffractionFrequenciesPerBand;
-  Bands intensity(0.f);
-  std::vector<double> amplitude(used);
-  for (int b = 0; b < kNumBands; ++b) {
-    // Per path and band: spreading times the air's pressure attenuation sqrt(exp(-m l)).
-    for (size_t j = 0; j < used; ++j)
-      amplitude[j] =
-          paths[j].spreading * std::exp(-0.5 * double(airPerMetre[b]) * paths[j].length);
-    const double directAmplitude =
-        direct.visible ? std::sqrt(4.0 * kPi * double(direct.intensity[b])) : 0.0;
-    double acc = 0.0;
-    for (int i = 0; i < kFrequencies; ++i) {
-      const double k = 2.0 * kPi * diffractionFrequencyHz(b, i) / speedOfSound;
-      C p = directAmplitude * std::polar(1.0, -k * double(direct.distance));
-      C diffracted(0.0, 0.0);
-      for (size_t j = 0; j < used; ++j) {
-        const Path& q = paths[j];
-        const C d = utdScaled(q.terms, q.prefactor, k * q.distanceParameter);
-        const double c = std::cos(k * q.length), sn = std::sin(k * q.length);
-        // amplitude * d * e^{-jkl}
-        diffracted += amplitude[j] * C(d.real() * c + d.imag() * sn, d.imag() * c - d.real() * sn);
-      }
-      p += diffracted / std::sqrt(k);
-      acc += std::norm(p);
-    }
-    intensity[b] = float(acc / kFrequencies / (4.0 * kPi));
-  }
-  direct.intensity = intensity;
+  if (paths.empty()) return 0;
+  direct.intensity = coherentIntensity(paths, direct, speedOfSound, airPerMetre);
   direct.visible = true;
   direct.distance = shortest;
   direct.delaySeconds = shortest / speedOfSound;
   direct.direction = shortestDir;
-  return used;
+  return paths.size();
 }
 
 }  // namespace dpc

@@ -29,15 +29,15 @@
 // docs/validation.md).
 //
 // Construction: control/propagation thread; allocates; no errors (degenerate triangles are
-// skipped). apply(): propagation thread (Geometry's occlusion queries); no allocation; no errors.
+// skipped). apply(): propagation thread (the Tracer's occlusion queries); no errors.
 #pragma once
 
 #include <glm/vec3.hpp>
 #include <vector>
 
 #include "common/bands.h"
-#include "engine/geometry.h"
 #include "engine/propagation.h"
+#include "engine/tracer.h"
 #include "scene/scene.h"
 
 namespace dpc {
@@ -81,7 +81,7 @@ class EdgeDiffraction {
   /// attenuation per metre per band. Returns the number of edge paths used (unoccluded, Q
   /// inside its edge). Reentrant: concurrent calls (one per listener) are safe; allocates its
   /// list of paths.
-  size_t apply(const Geometry& geometry, const glm::vec3& source, const ListenerSphere& listener,
+  size_t apply(const Tracer& tracer, const glm::vec3& source, const ListenerSphere& listener,
                float speedOfSound, const Bands& airPerMetre, DirectSound& direct) const;
 
  private:

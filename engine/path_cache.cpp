@@ -46,6 +46,10 @@ void PathTracingEstimator::endFrame(const FrameGroups& frame, uint64_t raysEmitt
 
 namespace {
 
+/// Stamp of a kWindow entry that makeRoom merges: its terms go to the coarse store, then the
+/// entry is removed (no frame number reaches it).
+constexpr uint32_t kMergedStamp = 0xFFFFFFFFu;
+
 uint32_t lifetimeFor(DpcWeighting w, double tau, double period, double& a) {
   a = 1.0;
   if (w == DpcWeighting::kEma) {
@@ -268,7 +272,6 @@ void DiffusePathCache::makeRoom(double invC) {
     size_t thr = ageCount_.size(), count = 0;
     while (thr > 0 && count < target) count += ageCount_[--thr];
     size_t quota = ageCount_[thr] - (count - std::min(count, target));  // of age == thr
-    constexpr uint32_t kMarked = 0xFFFFFFFFu;
     for (size_t i = entries_.size(); i-- > 0;) {
       Entry& e = entries_[i];
       const size_t age = std::min<size_t>(frame_ - e.stamp, lifetime_);
@@ -276,7 +279,7 @@ void DiffusePathCache::makeRoom(double invC) {
       if (age == thr) --quota;
       ++merged_;
       if (window) {  // its terms move to the coarse rows below; the entry goes after that
-        e.stamp = kMarked;
+        e.stamp = kMergedStamp;
         continue;
       }
       const double delay = e.eta > 0.f ? meanDelaySeconds(e.length, e.eta, invC) : 0.0;
@@ -298,37 +301,41 @@ void DiffusePathCache::makeRoom(double invC) {
       removeAt(i);
     }
     if (!window) return;
-    // Window: walk the ring oldest frame first; terms of marked entries go to the coarse row
-    // of their frame (retired with it), the others are compacted towards the head.
-    const uint64_t first = frame_ + 1 > lifetime_ ? uint64_t(frame_) + 1 - lifetime_ : 0;
-    size_t r = termHead_, w = termHead_;
-    for (uint64_t f = first; f <= frame_; ++f) {
-      uint32_t& n = slotTerms_[windowSlot(f)];
-      uint32_t kept = 0;
-      for (uint32_t k = 0; k < n; ++k, r = (r + 1) % cap_.windowTerms) {
-        const WindowTerm t = terms_[r];
-        const Entry& e = entries_[indexOf(t.key)];
-        if (e.stamp != kMarked) {
-          terms_[w] = t;
-          w = (w + 1) % cap_.windowTerms;
-          ++kept;
-          continue;
-        }
-        const size_t bin = coarseBin(meanDelaySeconds(e.length, e.eta, invC));
-        layerUsed_[windowSlot(f)] = 1;
-        Cell& c = cell(windowSlot(f), bin);
-        c.intensity += t.intensity;
-        c.length += t.length;
-        c.eta += t.eta;
-        c.direction += t.direction;
-      }
-      termCount_ -= n - kept;
-      n = kept;
-    }
-    for (size_t i = entries_.size(); i-- > 0;)
-      if (entries_[i].stamp == kMarked) removeAt(i);
+    mergeMarkedTerms(invC);
     if (termCount_ < cap_.windowTerms) return;
   }
+}
+
+void DiffusePathCache::mergeMarkedTerms(double invC) {
+  // Walk the ring oldest frame first; terms of marked entries go to the coarse row of their
+  // frame (retired with it), the others are compacted towards the head.
+  const uint64_t first = frame_ + 1 > lifetime_ ? uint64_t(frame_) + 1 - lifetime_ : 0;
+  size_t r = termHead_, w = termHead_;
+  for (uint64_t f = first; f <= frame_; ++f) {
+    uint32_t& n = slotTerms_[windowSlot(f)];
+    uint32_t kept = 0;
+    for (uint32_t k = 0; k < n; ++k, r = (r + 1) % cap_.windowTerms) {
+      const WindowTerm t = terms_[r];
+      const Entry& e = entries_[indexOf(t.key)];
+      if (e.stamp != kMergedStamp) {
+        terms_[w] = t;
+        w = (w + 1) % cap_.windowTerms;
+        ++kept;
+        continue;
+      }
+      const size_t bin = coarseBin(meanDelaySeconds(e.length, e.eta, invC));
+      layerUsed_[windowSlot(f)] = 1;
+      Cell& c = cell(windowSlot(f), bin);
+      c.intensity += t.intensity;
+      c.length += t.length;
+      c.eta += t.eta;
+      c.direction += t.direction;
+    }
+    termCount_ -= n - kept;
+    n = kept;
+  }
+  for (size_t i = entries_.size(); i-- > 0;)
+    if (entries_[i].stamp == kMergedStamp) removeAt(i);
 }
 
 void DiffusePathCache::readCell(const Cell& c, size_t bin, float divisor, double invC,
@@ -372,38 +379,51 @@ void DiffusePathCache::readCell(const Cell& c, size_t bin, float divisor, double
   }
 }
 
+void DiffusePathCache::retireWindowSlot(size_t slot) {
+  // Frame f0 = frame_ - W: its path terms are the oldest in the ring; subtract each from its
+  // entry and remove entries left without hits (hit counts are integers, so eta reaches 0
+  // exactly); its coarse row is cleared.
+  for (uint32_t k = 0; k < slotTerms_[slot]; ++k) {
+    const WindowTerm& t = terms_[termHead_];
+    termHead_ = (termHead_ + 1) % cap_.windowTerms;
+    const uint32_t i = indexOf(t.key);
+    Entry& e = entries_[i];
+    e.eta -= t.eta;
+    e.intensity -= t.intensity;
+    // The true sum of the remaining non-negative terms is >= 0; rounding of the add-then-
+    // subtract can leave a residue below 0 (1 + 1e-8 - 1 - 1e-8 in float), which no
+    // energy may hold.
+    for (int b = 0; b < kNumBands; ++b) e.intensity[b] = std::max(e.intensity[b], 0.f);
+    e.length -= t.length;
+    e.direction -= t.direction;
+    if (e.eta <= 0.5f) removeAt(i);
+  }
+  termCount_ -= slotTerms_[slot];
+  if (layerUsed_[slot]) std::fill(&cell(slot, 0), &cell(slot, 0) + cap_.coarseBins, Cell{});
+  layerUsed_[slot] = 0;
+}
+
+void DiffusePathCache::readEntries(float divisor, double invC, EnergyResponse& out,
+                                   DirectionalEnergyResponse* directional, double& total) const {
+  for (const Entry& e : entries_) {
+    const double delay = meanDelaySeconds(e.length, e.eta, invC);
+    out.add(delay, e.intensity / divisor);
+    if (directional) directional->add(delay, e.intensity / divisor, e.direction);
+    total += double((e.intensity / divisor).average());
+  }
+}
+
 void DiffusePathCache::windowEndFrame(const FrameGroups& frame, float n, double invC,
                                       EnergyResponse& out, DirectionalEnergyResponse* directional,
                                       double& total, double& coarse) {
-  // Retire frame f0 = frame_ - W: its path terms are the oldest in the ring; subtract each from
-  // its entry and remove entries left without hits (hit counts are integers, so eta reaches 0
-  // exactly); its coarse row is cleared.
   const size_t slot = windowSlot(frame_);
-  if (frame_ >= lifetime_) {
-    for (uint32_t k = 0; k < slotTerms_[slot]; ++k) {
-      const WindowTerm& t = terms_[termHead_];
-      termHead_ = (termHead_ + 1) % cap_.windowTerms;
-      const uint32_t i = indexOf(t.key);
-      Entry& e = entries_[i];
-      e.eta -= t.eta;
-      e.intensity -= t.intensity;
-      // The true sum of the remaining non-negative terms is >= 0; rounding of the add-then-
-      // subtract can leave a residue below 0 (1 + 1e-8 - 1 - 1e-8 in float), which no
-      // energy may hold.
-      for (int b = 0; b < kNumBands; ++b) e.intensity[b] = std::max(e.intensity[b], 0.f);
-      e.length -= t.length;
-      e.direction -= t.direction;
-      if (e.eta <= 0.5f) removeAt(i);
-    }
-    termCount_ -= slotTerms_[slot];
-    if (layerUsed_[slot]) std::fill(&cell(slot, 0), &cell(slot, 0) + cap_.coarseBins, Cell{});
-    layerUsed_[slot] = 0;
-  }
+  if (frame_ >= lifetime_) retireWindowSlot(slot);
   slotTerms_[slot] = 0;
   for (const FrameGroups::Group& g : frame.groups()) {
-    if (termCount_ == cap_.windowTerms ||
-        (entries_.size() == cap_.entries && indexFind(g.key) == cap_.indexSlots))
+    if (termCount_ == cap_.windowTerms)
       makeRoom(invC);
+    else
+      makeRoomFor(g.key, invC);
     bool inserted = false;
     Entry* e = findOrInsert(g.key, inserted);
     const Bands i = g.intensity / n;
@@ -419,12 +439,7 @@ void DiffusePathCache::windowEndFrame(const FrameGroups& frame, float n, double 
   }
   // Mean over the frames in the window so far (fewer than W at the start: still unbiased).
   const float frames = float(std::min<uint64_t>(uint64_t(frame_) + 1, lifetime_));
-  for (const Entry& e : entries_) {
-    const double delay = meanDelaySeconds(e.length, e.eta, invC);
-    out.add(delay, e.intensity / frames);
-    if (directional) directional->add(delay, e.intensity / frames, e.direction);
-    total += double((e.intensity / frames).average());
-  }
+  readEntries(frames, invC, out, directional, total);
   const bool anyCoarse = std::find(layerUsed_.begin(), layerUsed_.end(), 1) != layerUsed_.end();
   for (size_t b = 0; anyCoarse && b < cap_.coarseBins; ++b) {
     Cell sum{};
@@ -447,104 +462,114 @@ void DiffusePathCache::endFrame(const FrameGroups& frame, uint64_t raysEmitted, 
   raysBefore_[frame_ % raysBefore_.size()] = raysTotal_;
   raysTotal_ += raysEmitted;
   double total = 0.0, coarse = 0.0;  // band-average energy read out: all, from the coarse store
-  auto roomFor = [&](uint64_t key) {
-    if (entries_.size() == cap_.entries && indexFind(key) == cap_.indexSlots) makeRoom(invC);
-  };
-  if (weighting_ == DpcWeighting::kWindow) {
+  if (weighting_ == DpcWeighting::kWindow)
     windowEndFrame(frame, n, invC, out, directional, total, coarse);
-  } else if (weighting_ == DpcWeighting::kSeed) {
-    // Eq. 3.4, applied to the frame's hits of each path at once (the same sums).
-    for (const FrameGroups::Group& g : frame.groups()) {
-      roomFor(g.key);
-      bool inserted = false;
-      Entry* e = findOrInsert(g.key, inserted);
-      if (inserted) {
-        e->eta = float(g.eta);
-        e->intensity = g.intensity;
-        e->length = g.length;
-        e->direction = g.direction;
-      } else {
-        e->eta += float(g.eta);
-        e->intensity += g.intensity;
-        e->length += g.length;
-        e->direction += g.direction;
-      }
-    }
-    // mu: rays emitted from the frame that created the entry (or layer) through this one.
-    auto mu = [&](uint32_t stamp) {
-      return float(raysTotal_ - raysBefore_[stamp % raysBefore_.size()]);
-    };
-    for (const Entry& e : entries_) {
-      const double delay = meanDelaySeconds(e.length, e.eta, invC);  // eq. 3.3
-      out.add(delay, e.intensity / mu(e.stamp));                     // eq. 3.2
-      if (directional) directional->add(delay, e.intensity / mu(e.stamp), e.direction);
-      total += double((e.intensity / mu(e.stamp)).average());
-    }
-    for (size_t l = 0; l < layers_; ++l)
-      for (size_t b = 0; layerUsed_[l] && b < cap_.coarseBins; ++b)
-        if (cell(l, b).eta > 0.f)
-          readCell(cell(l, b), b, mu(layerStamp_[l]), invC, out, directional, coarse);
-  } else {
-    const float keep = float(1.0 - a_), af = float(a_);
-    for (Entry& e : entries_) {
-      e.intensity *= keep;
-      e.length *= keep;
-      e.eta *= keep;
-      e.direction *= keep;
-    }
-    for (size_t b = 0; layerUsed_[0] && b < cap_.coarseBins; ++b) {
-      Cell& c = cell(0, b);
-      c.intensity *= keep;
-      c.length *= keep;
-      c.eta *= keep;
-      c.direction *= keep;
-    }
-    for (const FrameGroups::Group& g : frame.groups()) {
-      roomFor(g.key);
-      bool inserted = false;
-      Entry* e = findOrInsert(g.key, inserted);
-      e->intensity += (g.intensity / n) * af;
-      e->length += g.length * af;
-      e->eta += float(g.eta) * af;
-      e->direction += g.direction * af;
-      e->stamp = frame_;
-    }
-    decayPow_ *= 1.0 - a_;
-    const float norm = float(1.0 - decayPow_);
-    for (const Entry& e : entries_) {
-      const double delay = meanDelaySeconds(e.length, e.eta, invC);
-      out.add(delay, e.intensity / norm);
-      if (directional) directional->add(delay, e.intensity / norm, e.direction);
-      total += double((e.intensity / norm).average());
-    }
-    for (size_t b = 0; layerUsed_[0] && b < cap_.coarseBins; ++b)
-      if (cell(0, b).eta > 0.f) readCell(cell(0, b), b, norm, invC, out, directional, coarse);
-  }
+  else if (weighting_ == DpcWeighting::kSeed)
+    seedEndFrame(frame, invC, out, directional, total, coarse);
+  else
+    emaEndFrame(frame, n, invC, out, directional, total, coarse);
   total += coarse;
   coarseFraction_ = total > 0.0 ? coarse / total : 0.0;
-  if (weighting_ != DpcWeighting::kWindow) {  // window entries leave with their last term
-    for (size_t i = entries_.size(); i-- > 0;)
-      if (frame_ - entries_[i].stamp + 1 >= lifetime_) removeAt(i);
-    if (weighting_ == DpcWeighting::kSeed) {
-      // The layer created L - 1 frames ago has been read out L times.
-      const uint32_t l = (frame_ + 1) % lifetime_;
-      if (frame_ + 1 >= lifetime_ && layerStamp_[l] + lifetime_ <= frame_ + 1 && layerUsed_[l]) {
-        std::fill(&cell(l, 0), &cell(l, 0) + cap_.coarseBins, Cell{});
-        layerUsed_[l] = 0;
-      }
-    } else if (layerUsed_[0]) {
-      size_t live = 0;
-      for (size_t b = 0; b < cap_.coarseBins; ++b) {
-        if (!(cell(0, b).eta > 0.f)) continue;
-        if (frame_ - cell(0, b).stamp + 1 >= lifetime_)
-          cell(0, b) = Cell{};
-        else
-          ++live;
-      }
-      layerUsed_[0] = live > 0;
+  if (weighting_ != DpcWeighting::kWindow) expire();  // window entries leave with their last term
+  ++frame_;
+}
+
+void DiffusePathCache::makeRoomFor(uint64_t key, double invC) {
+  if (entries_.size() == cap_.entries && indexFind(key) == cap_.indexSlots) makeRoom(invC);
+}
+
+void DiffusePathCache::seedEndFrame(const FrameGroups& frame, double invC, EnergyResponse& out,
+                                    DirectionalEnergyResponse* directional, double& total,
+                                    double& coarse) {
+  // Eq. 3.4, applied to the frame's hits of each path at once (the same sums).
+  for (const FrameGroups::Group& g : frame.groups()) {
+    makeRoomFor(g.key, invC);
+    bool inserted = false;
+    Entry* e = findOrInsert(g.key, inserted);
+    if (inserted) {
+      e->eta = float(g.eta);
+      e->intensity = g.intensity;
+      e->length = g.length;
+      e->direction = g.direction;
+    } else {
+      e->eta += float(g.eta);
+      e->intensity += g.intensity;
+      e->length += g.length;
+      e->direction += g.direction;
     }
   }
-  ++frame_;
+  // mu: rays emitted from the frame that created the entry (or layer) through this one.
+  auto mu = [&](uint32_t stamp) {
+    return float(raysTotal_ - raysBefore_[stamp % raysBefore_.size()]);
+  };
+  for (const Entry& e : entries_) {
+    const double delay = meanDelaySeconds(e.length, e.eta, invC);  // eq. 3.3
+    out.add(delay, e.intensity / mu(e.stamp));                     // eq. 3.2
+    if (directional) directional->add(delay, e.intensity / mu(e.stamp), e.direction);
+    total += double((e.intensity / mu(e.stamp)).average());
+  }
+  for (size_t l = 0; l < layers_; ++l)
+    for (size_t b = 0; layerUsed_[l] && b < cap_.coarseBins; ++b)
+      if (cell(l, b).eta > 0.f)
+        readCell(cell(l, b), b, mu(layerStamp_[l]), invC, out, directional, coarse);
+}
+
+void DiffusePathCache::emaEndFrame(const FrameGroups& frame, float n, double invC,
+                                   EnergyResponse& out, DirectionalEnergyResponse* directional,
+                                   double& total, double& coarse) {
+  const float keep = float(1.0 - a_), af = float(a_);
+  for (Entry& e : entries_) {
+    e.intensity *= keep;
+    e.length *= keep;
+    e.eta *= keep;
+    e.direction *= keep;
+  }
+  for (size_t b = 0; layerUsed_[0] && b < cap_.coarseBins; ++b) {
+    Cell& c = cell(0, b);
+    c.intensity *= keep;
+    c.length *= keep;
+    c.eta *= keep;
+    c.direction *= keep;
+  }
+  for (const FrameGroups::Group& g : frame.groups()) {
+    makeRoomFor(g.key, invC);
+    bool inserted = false;
+    Entry* e = findOrInsert(g.key, inserted);
+    e->intensity += (g.intensity / n) * af;
+    e->length += g.length * af;
+    e->eta += float(g.eta) * af;
+    e->direction += g.direction * af;
+    e->stamp = frame_;
+  }
+  decayPow_ *= 1.0 - a_;
+  const float norm = float(1.0 - decayPow_);
+  readEntries(norm, invC, out, directional, total);
+  for (size_t b = 0; layerUsed_[0] && b < cap_.coarseBins; ++b)
+    if (cell(0, b).eta > 0.f) readCell(cell(0, b), b, norm, invC, out, directional, coarse);
+}
+
+void DiffusePathCache::expire() {
+  for (size_t i = entries_.size(); i-- > 0;)
+    if (frame_ - entries_[i].stamp + 1 >= lifetime_) removeAt(i);
+  if (weighting_ == DpcWeighting::kSeed) {
+    // The layer created L - 1 frames ago has been read out L times.
+    const uint32_t l = (frame_ + 1) % lifetime_;
+    if (frame_ + 1 >= lifetime_ && layerStamp_[l] + lifetime_ <= frame_ + 1 && layerUsed_[l]) {
+      std::fill(&cell(l, 0), &cell(l, 0) + cap_.coarseBins, Cell{});
+      layerUsed_[l] = 0;
+    }
+    return;
+  }
+  if (!layerUsed_[0]) return;
+  size_t live = 0;
+  for (size_t b = 0; b < cap_.coarseBins; ++b) {
+    if (!(cell(0, b).eta > 0.f)) continue;
+    if (frame_ - cell(0, b).stamp + 1 >= lifetime_)
+      cell(0, b) = Cell{};
+    else
+      ++live;
+  }
+  layerUsed_[0] = live > 0;
 }
 
 }  // namespace dpc

@@ -209,6 +209,9 @@ class DiffusePathCache {
   /// Makes room for at least one more path entry and (window) one more term: merges the
   /// oldest path entries, at least an eighth of the table, into the coarse store.
   void makeRoom(double invSpeedOfSound);
+  /// kWindow part of makeRoom: moves the terms of entries stamped for merging into the coarse
+  /// rows of their frames, compacts the others and removes the merged entries.
+  void mergeMarkedTerms(double invC);
   /// Coarse bin of a delay at the current layout, halving S until it fits.
   size_t coarseBin(double delaySeconds);
   /// Bin of a delay of `fine` whole kCoarseBinSeconds steps with S bins per octave.
@@ -226,6 +229,23 @@ class DiffusePathCache {
   void windowEndFrame(const FrameGroups& frame, float n, double invC, EnergyResponse& out,
                       DirectionalEnergyResponse* directional, double& total, double& coarse);
   size_t windowSlot(uint64_t frame) const { return size_t(frame % lifetime_); }
+  /// kWindow: takes the oldest frame's terms (ring slot `slot`) out of their entries.
+  void retireWindowSlot(size_t slot);
+  /// Reads every path entry out with its intensity divided by `divisor`; adds the band-average
+  /// energy to total.
+  void readEntries(float divisor, double invC, EnergyResponse& out,
+                   DirectionalEnergyResponse* directional, double& total) const;
+  /// kSeed: adds the frame's groups (eq. 3.4) and reads every entry and layer out (eq. 3.2,
+  /// 3.3); total and coarse add the band-average energy read out (all, coarse store).
+  void seedEndFrame(const FrameGroups& frame, double invC, EnergyResponse& out,
+                    DirectionalEnergyResponse* directional, double& total, double& coarse);
+  /// kEma: decays entries and coarse cells, adds the frame's groups, reads out normalised.
+  void emaEndFrame(const FrameGroups& frame, float n, double invC, EnergyResponse& out,
+                   DirectionalEnergyResponse* directional, double& total, double& coarse);
+  /// Merges the oldest entries into the coarse store if `key` is new and the table is full.
+  void makeRoomFor(uint64_t key, double invC);
+  /// kSeed, kEma: removes entries and coarse cells older than the lifetime.
+  void expire();
 
   DpcWeighting weighting_;
   double a_ = 1.0;

@@ -43,8 +43,9 @@ glm::vec3 cosineHemisphere(const glm::vec3& n, Rng& rng) {
 
 }  // namespace
 
-Propagator::Propagator(const Geometry& geometry, const PropagationSettings& settings)
-    : geometry_(geometry), settings_(settings) {
+Propagator::Propagator(const Geometry& geometry, const Tracer& tracer,
+                       const PropagationSettings& settings)
+    : geometry_(geometry), tracer_(tracer), settings_(settings) {
   if (settings_.airAbsorption)
     airPerMetre_ = airEnergyAttenuationPerMetre(settings_.temperatureC, settings_.humidityPercent);
   minAir_ = airPerMetre_.min();
@@ -73,8 +74,8 @@ DirectSound Propagator::directSound(const glm::vec3& source, const ListenerSpher
   d.distance = std::max(dist, 0.5f * listener.radius);
   d.delaySeconds = d.distance / settings_.speedOfSound;
   d.direction = dist > 0.f ? -toListener / dist : glm::vec3(0.f);
-  d.visible =
-      dist <= 0.f || !geometry_.occluded(source, toListener / dist, 0.f, dist * (1.f - 1e-5f));
+  d.visible = dist <= 0.f ||
+              !tracer_.occluded(TraceRay{source, toListener / dist, 0.f, dist * (1.f - 1e-5f)});
   if (d.visible) {
     const float spreading = 1.f / (4.f * std::numbers::pi_v<float> * d.distance * d.distance);
     d.intensity = exp(airPerMetre_ * -d.distance) * spreading;
@@ -107,29 +108,38 @@ bool Propagator::advance(RayState& ray, bool surface, const SurfaceHit& hit,
                          std::span<const ListenerSphere> listeners, std::vector<PathHit>& hits,
                          std::vector<uint32_t>& hitListener) const {
   const float segEnd = surface ? hit.t : std::numeric_limits<float>::infinity();
-  for (uint32_t l = 0; l < listeners.size() && (ray.order > 0 || includeDirectRays_); ++l) {
+  if (ray.order > 0 || includeDirectRays_) testListeners(ray, segEnd, listeners, hits, hitListener);
+  if (!surface || ray.order >= settings_.maxOrder) return false;
+  return reflect(ray, hit);
+}
+
+void Propagator::testListeners(const RayState& ray, float segEnd,
+                               std::span<const ListenerSphere> listeners,
+                               std::vector<PathHit>& hits,
+                               std::vector<uint32_t>& hitListener) const {
+  for (uint32_t l = 0; l < listeners.size(); ++l) {
     // Segment against listener l's sphere: |org + t dir - L|^2 = R^2.
     const ListenerSphere& listener = listeners[l];
     const float r2 = listener.radius * listener.radius;
     const glm::vec3 oc = listener.position - ray.org;
     const float b = glm::dot(oc, ray.dir);
     const float disc = b * b - (glm::dot(oc, oc) - r2);
-    if (disc > 0.f) {
-      const float s = std::sqrt(disc);
-      if (b + s > 0.f && b - s < segEnd) {
-        const float invArea = 1.f / (std::numbers::pi_v<float> * r2);
-        const float r = ray.travelled + std::clamp(b, 0.f, segEnd);
-        PathHit h;
-        h.key = ray.path.finish(l, r, keyRule_);
-        h.intensity = ray.energy * exp(airPerMetre_ * -r) * invArea;
-        h.length = r;
-        h.direction = -ray.dir;
-        hits.push_back(h);
-        hitListener.push_back(l);
-      }
-    }
+    if (!(disc > 0.f)) continue;
+    const float s = std::sqrt(disc);
+    if (!(b + s > 0.f && b - s < segEnd)) continue;
+    const float invArea = 1.f / (std::numbers::pi_v<float> * r2);
+    const float r = ray.travelled + std::clamp(b, 0.f, segEnd);
+    PathHit h;
+    h.key = ray.path.finish(l, r, keyRule_);
+    h.intensity = ray.energy * exp(airPerMetre_ * -r) * invArea;
+    h.length = r;
+    h.direction = -ray.dir;
+    hits.push_back(h);
+    hitListener.push_back(l);
   }
-  if (!surface || ray.order >= settings_.maxOrder) return false;
+}
+
+bool Propagator::reflect(RayState& ray, const SurfaceHit& hit) const {
   ray.travelled += hit.t;
   const glm::vec3 p = ray.org + ray.dir * hit.t;
   const TrianglePatching& patching = geometry_.patching(hit.triangle);
@@ -157,10 +167,9 @@ void Propagator::traceRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t ray
                           Chunk& chunk) const {
   RayState ray;
   startRay(frameSeed, sourceIndex, rayIndex, source, ray);
-  const float inf = std::numeric_limits<float>::infinity();
   SurfaceHit hit;
   for (;;) {
-    const bool surface = geometry_.intersect(ray.org, ray.dir, 0.f, inf, hit);
+    const bool surface = tracer_.intersect(TraceRay{ray.org, ray.dir}, hit);
     ++chunk.segments;
     if (!advance(ray, surface, hit, listeners, chunk.hits, chunk.hitListener)) break;
   }
@@ -169,59 +178,58 @@ void Propagator::traceRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t ray
 void Propagator::traceChunkPacket(uint64_t frameSeed, uint32_t sourceIndex, uint32_t firstRay,
                                   uint32_t endRay, const glm::vec3& source,
                                   std::span<const ListenerSphere> listeners, Chunk& chunk) const {
-  constexpr int K = RayPacket16::kSize;
-  const float inf = std::numeric_limits<float>::infinity();
+  constexpr int K = int(Tracer::kPacketSize);
   std::array<RayState, K> rays;
   std::array<uint32_t, K> rayIndex{};
-  RayPacket16 packet;
-  PacketHits16 answers;
+  std::array<TraceRay, K> packet;  // org and dir of live lanes; tnear 0, tfar infinity
+  std::array<TraceHit, K> answers;
   chunk.unordered.clear();
   chunk.unorderedListener.clear();
   chunk.rayOf.clear();
   uint32_t next = firstRay;
-  int live = 0;
   // Lanes are filled in ray order and refilled, lowest lane first, as rays end: a fixed
-  // schedule, independent of threads.
-  for (int i = 0; i < K && next < endRay; ++i, ++next, ++live) {
-    startRay(frameSeed, sourceIndex, next, source, rays[i]);
-    rayIndex[i] = next;
-    packet.active[i] = true;
-  }
+  // schedule, independent of threads. A lane stays idle once the chunk has no rays left.
+  auto refill = [&](int i) {
+    packet[i].active = next < endRay;
+    if (packet[i].active) {
+      startRay(frameSeed, sourceIndex, next, source, rays[i]);
+      rayIndex[i] = next++;
+    }
+    return packet[i].active;
+  };
+  int live = 0;
+  for (int i = 0; i < K; ++i) live += refill(i) ? 1 : 0;
   while (live > 0) {
     for (int i = 0; i < K; ++i)
-      if (packet.active[i]) {
-        packet.org[i] = rays[i].org;
-        packet.dir[i] = rays[i].dir;
+      if (packet[i].active) {
+        packet[i].org = rays[i].org;
+        packet[i].dir = rays[i].dir;
       }
-    geometry_.intersect16(packet, 0.f, inf, answers);
+    tracer_.intersect(packet, answers);
     chunk.segments += uint64_t(live);
     for (int i = 0; i < K; ++i) {
-      if (!packet.active[i]) continue;
-      const bool more = advance(rays[i], answers.found[i], answers.hit[i], listeners,
+      if (!packet[i].active) continue;
+      const bool more = advance(rays[i], answers[i].found, answers[i].surface, listeners,
                                 chunk.unordered, chunk.unorderedListener);
       while (chunk.rayOf.size() < chunk.unordered.size())  // one hit per listener at most
         chunk.rayOf.push_back(rayIndex[i] - firstRay);
-      if (more) continue;
-      if (next < endRay) {
-        startRay(frameSeed, sourceIndex, next, source, rays[i]);
-        rayIndex[i] = next++;
-      } else {
-        packet.active[i] = false;
-        --live;
-      }
+      if (!more && !refill(i)) --live;
     }
   }
-  // Back into ray order (counting sort; stable, so each ray's hits stay in reflection order).
-  const uint32_t count = endRay - firstRay;
-  chunk.offsets.assign(count + 1, 0);
-  for (uint32_t r : chunk.rayOf) ++chunk.offsets[r + 1];
-  for (uint32_t r = 0; r < count; ++r) chunk.offsets[r + 1] += chunk.offsets[r];
-  chunk.hits.resize(chunk.unordered.size());
-  chunk.hitListener.resize(chunk.unordered.size());
-  for (size_t h = 0; h < chunk.unordered.size(); ++h) {
-    const uint32_t to = chunk.offsets[chunk.rayOf[h]]++;
-    chunk.hits[to] = chunk.unordered[h];
-    chunk.hitListener[to] = chunk.unorderedListener[h];
+  chunk.sortByRay(endRay - firstRay);
+}
+
+void Propagator::Chunk::sortByRay(uint32_t count) {
+  // Counting sort; stable, so each ray's hits stay in reflection order.
+  offsets.assign(count + 1, 0);
+  for (uint32_t r : rayOf) ++offsets[r + 1];
+  for (uint32_t r = 0; r < count; ++r) offsets[r + 1] += offsets[r];
+  hits.resize(unordered.size());
+  hitListener.resize(unordered.size());
+  for (size_t h = 0; h < unordered.size(); ++h) {
+    const uint32_t to = offsets[rayOf[h]]++;
+    hits[to] = unordered[h];
+    hitListener[to] = unorderedListener[h];
   }
 }
 

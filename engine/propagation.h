@@ -21,31 +21,35 @@
 // threads in fixed chunks; every ray has its own random stream derived from (seed, frame,
 // source, ray), and chunks are merged in ray order, so the result is bit-identical for a seed
 // whatever the thread count.
+// Queries go through the Tracer interface (engine/tracer.h); materials and patches come from
+// Geometry.
 // Packet tracing (TraceMode::kPacket16): each chunk keeps 16 of its rays in flight in
-// lockstep, one rtcIntersect16 per step for the live lanes (Wald et al., "Interactive
+// lockstep, one batch query of Tracer::kPacketSize rays per step for the live lanes (the
+// Embree tracer's rtcIntersect16; Wald et al., "Interactive
 // rendering with coherent ray tracing", 2001; Embree's hybrid traversal for incoherent
 // packets); a lane whose ray ends takes the chunk's next ray. Every ray keeps its own random
 // stream and its own per-ray arithmetic (the same code as the scalar path), and the chunk's
 // hits are put back in (ray, reflection order) order, so the result is again bit-identical
 // for a seed whatever the thread count; it equals the scalar path's up to the rounding of
-// Embree's packet kernels (statistically equal: tests/engine/packet_test.cpp). Allocation:
+// the packet kernels (statistically equal: tests/engine/packet_test.cpp). Allocation:
 // per-chunk hit buffers grow to their high-water mark, then are reused. No errors.
 #pragma once
 
 #include <tbb/task_arena.h>
 
 #include <cstdint>
-#include <glm/vec3.hpp>
 #include <functional>
+#include <glm/vec3.hpp>
 #include <memory>
 #include <span>
 #include <vector>
 
 #include "common/bands.h"
+#include "common/random.h"
 #include "engine/geometry.h"
 #include "engine/patch.h"
 #include "engine/path_cache.h"
-#include "common/random.h"
+#include "engine/tracer.h"
 #include "scene/scene.h"
 
 namespace dpc {
@@ -66,14 +70,14 @@ struct DirectSound {
 
 struct TraceStats {
   uint64_t rays = 0;          ///< rays emitted
-  uint64_t segments = 0;      ///< ray segments traced (Embree closest-hit queries)
+  uint64_t segments = 0;      ///< ray segments traced (closest-hit queries)
   uint64_t listenerHits = 0;  ///< segment-sphere crossings, summed over the listeners
 };
 
-/// How Propagator issues its Embree queries (same physics, same random streams).
+/// How Propagator issues its tracer queries (same physics, same random streams).
 enum class TraceMode {
-  kScalar,    ///< one ray to completion at a time, rtcIntersect1
-  kPacket16,  ///< 16 rays of a chunk in lockstep, rtcIntersect16
+  kScalar,    ///< one ray to completion at a time, single-ray queries (rtcIntersect1)
+  kPacket16,  ///< 16 rays of a chunk in lockstep, batch queries (rtcIntersect16)
 };
 
 /// The default mode: packets. Hall (16,288 triangles, 4096 rays x 200 orders, no roulette,
@@ -91,8 +95,9 @@ class Propagator {
   /// Survival probability of a ray that Russian roulette tests.
   static constexpr float kRouletteSurvival = 0.1f;
 
-  /// geometry must outlive the Propagator. settings: rays, max order, seed, air, threads.
-  Propagator(const Geometry& geometry, const PropagationSettings& settings);
+  /// geometry (patches, materials) and tracer (ray queries over the same triangles) must
+  /// outlive the Propagator. settings: rays, max order, seed, air, threads.
+  Propagator(const Geometry& geometry, const Tracer& tracer, const PropagationSettings& settings);
   ~Propagator();
 
   /// Traces settings.raysPerFrame rays from `source` and adds the listener hits, grouped by
@@ -103,7 +108,7 @@ class Propagator {
   /// Several listeners in one pass (thesis §3.2.2: the path identifier carries the listener):
   /// the same rays as above, each segment tested against every sphere of `listeners`; listener
   /// l's hits go to *groups[l] (groups.size() == listeners.size(); the caller clears them) in
-  /// ray order, with l finished into the path identifier (pathHashFinish). Embree work (the
+  /// ray order, with l finished into the path identifier (pathHashFinish). Tracer work (the
   /// segments) does not depend on the number of listeners, only the ray-sphere tests do; the
   /// random streams do not depend on the listeners either, so listener l's groups equal, bit
   /// for bit, those of tracing it alone (up to the listener index in the keys).
@@ -157,6 +162,8 @@ class Propagator {
     std::vector<uint32_t> unorderedListener;
     std::vector<uint32_t> rayOf;
     std::vector<uint32_t> offsets;
+    /// Moves `unordered` into `hits` in ray order (count rays from the chunk's first).
+    void sortByRay(uint32_t count);
   };
   void startRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t rayIndex,
                 const glm::vec3& source, RayState& ray) const;
@@ -166,6 +173,13 @@ class Propagator {
   bool advance(RayState& ray, bool surface, const SurfaceHit& hit,
                std::span<const ListenerSphere> listeners, std::vector<PathHit>& hits,
                std::vector<uint32_t>& hitListener) const;
+  /// The segment of `ray` up to segEnd (m) against every listener sphere: appends a hit per
+  /// sphere it crosses (with its listener index), in listener order.
+  void testListeners(const RayState& ray, float segEnd, std::span<const ListenerSphere> listeners,
+                     std::vector<PathHit>& hits, std::vector<uint32_t>& hitListener) const;
+  /// Reflects `ray` at `hit`: patch into the path identifier, reflectance, Russian roulette,
+  /// diffuse or specular direction. Returns false when roulette ends the ray.
+  bool reflect(RayState& ray, const SurfaceHit& hit) const;
   void traceRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t rayIndex,
                 const glm::vec3& source, std::span<const ListenerSphere> listeners,
                 Chunk& chunk) const;
@@ -174,6 +188,7 @@ class Propagator {
                         std::span<const ListenerSphere> listeners, Chunk& chunk) const;
 
   const Geometry& geometry_;
+  const Tracer& tracer_;
   PropagationSettings settings_;
   Bands airPerMetre_{0.f};
   float minAir_ = 0.f;  ///< smallest band air attenuation, 1/m (roulette's upper bound)

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <numbers>
 
-#include "engine/geometry.h"
+#include "engine/embree_tracer.h"
 
 namespace dpc {
 
@@ -17,7 +17,7 @@ struct Seen {
   float farthest = 0.f;   ///< metres to the farthest hit
 };
 
-Seen look(const Geometry& g, const glm::vec3& p) {
+Seen look(const Tracer& tracer, const glm::vec3& p) {
   Seen s;
   const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
   for (int i = 0; i < kSetupCheckDirections; ++i) {
@@ -25,7 +25,7 @@ Seen look(const Geometry& g, const glm::vec3& p) {
     const double r = std::sqrt(1.0 - y * y);
     const glm::vec3 d(float(r * std::cos(golden * i)), float(y), float(r * std::sin(golden * i)));
     SurfaceHit hit;
-    if (!g.intersect(p, d, 0.f, 1e30f, hit)) {
+    if (!tracer.intersect(TraceRay{p, d, 0.f, 1e30f}, hit)) {
       ++s.escaped;
       continue;
     }
@@ -46,7 +46,7 @@ std::string fmt(const char* f, double a, double b = 0, double c = 0) {
 std::vector<std::string> setupWarnings(const SceneDesc& scene) {
   std::vector<std::string> out;
   if (scene.mesh.materialIndex.empty()) return out;
-  const Geometry g(scene.mesh, scene.materials, scene.propagation.patchSize);
+  const EmbreeTracer tracer(scene.mesh);
   struct Point {
     std::string what;
     glm::vec3 p;
@@ -60,7 +60,7 @@ std::vector<std::string> setupWarnings(const SceneDesc& scene) {
     points.push_back({"source '" + s.name + "'", sourcePositionAt(s, 0.0), {}, 0.f});
   size_t enclosed = 0;
   for (Point& pt : points) {
-    pt.seen = look(g, pt.p);
+    pt.seen = look(tracer, pt.p);
     enclosed += pt.seen.escaped == 0;
   }
   for (const Point& pt : points) {

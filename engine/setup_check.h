@@ -1,7 +1,7 @@
 // Setups that load but cannot be meant, found before a render by casting a few rays: a
 // listener or source outside the room, a listener sphere larger than the room. Each gives a
 // one-line warning (the render still runs: an open scene or a deliberate test may want it).
-// Control thread; builds its own Embree scene of the static mesh (milliseconds for the shipped
+// Control thread; builds its own tracer (Embree) over the static mesh (milliseconds for the shipped
 // scenes); allocates.
 #pragma once
 

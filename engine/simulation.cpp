@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 
+#include "engine/embree_tracer.h"
+
 namespace dpc {
 
 Simulation::Simulation(const SceneDesc& scene) : Simulation(scene, scene.propagation) {}
@@ -11,7 +13,8 @@ Simulation::Simulation(const SceneDesc& scene, const PropagationSettings& settin
     : settings_(settings), listenerRadius_(scene.listener.radius) {
   geometry_ =
       std::make_unique<Geometry>(scene.mesh, scene.materials, settings_.patchSize, scene.objects);
-  propagator_ = std::make_unique<Propagator>(*geometry_, settings_);
+  tracer_ = std::make_unique<EmbreeTracer>(scene.mesh, scene.objects);
+  propagator_ = std::make_unique<Propagator>(*geometry_, *tracer_, settings_);
   if (settings_.diffraction) diffraction_ = std::make_unique<EdgeDiffraction>(scene.mesh);
   for (const SourceDesc& s : scene.sources) sourcePositions_.push_back(s.position);
   sourceCount_ = scene.sources.size();
@@ -61,9 +64,9 @@ void Simulation::setRaysPerFrame(int n) {
 }
 
 void Simulation::setObjectPoses(const std::vector<Pose>& poses) {
-  for (size_t k = 0; k < poses.size() && k < geometry_->objectCount(); ++k)
-    geometry_->setObjectPose(k, poses[k]);
-  geometry_->commitPoses();
+  for (size_t k = 0; k < poses.size() && k < tracer_->objectCount(); ++k)
+    tracer_->setObjectPose(k, poses[k]);
+  tracer_->commitPoses();
 }
 
 void Simulation::runFrame(const glm::vec3& listenerPosition) {
@@ -92,43 +95,51 @@ void Simulation::runFrame(std::span<const ListenerSphere> listeners,
     // that source-listener pair's data: run them concurrently on the tracing threads. Each
     // pair's float operations are the same whatever the thread, so results do not change.
     propagator_->forEachParallel(listeners.size(), [&](size_t l) {
-      const size_t pair = l * sourceCount_ + s;
-      SourceResult& r = results_[pair];
-      const ListenerSphere& listener = listeners[l];
-      const FrameGroups& groups = groups_[l];
-      const auto t1 = std::chrono::steady_clock::now();
-      r.trace = trace;
-      r.direct = propagator_->directSound(sources[s], listener);
-      if (diffraction_)
-        diffraction_->apply(*geometry_, sources[s], listener, settings_.speedOfSound,
-                            propagator_->airAttenuationPerMetre(), r.direct);
-      r.energy.clear();
-      DirectionalEnergyResponse* dir = nullptr;
-      if (!directional_.empty()) {
-        dir = &directional_[pair];
-        dir->clear();
-        dir->setListenerFrame(orientations_[l].forward(), orientations_[l].up());
-      }
-      if (caches_.empty()) {
-        pathTracing_.endFrame(groups, r.trace.rays, settings_.speedOfSound, r.energy, dir);
-        r.cacheEntries = groups.groups().size();
-        r.cacheBytes = 0;
-      } else {
-        DiffusePathCache& cache = *caches_[pair];
-        cache.endFrame(groups, r.trace.rays, settings_.speedOfSound, r.energy, dir);
-        r.cacheEntries = cache.entryCount();
-        r.cacheBytes = cache.bytes();
-        r.cacheCoarseEntries = cache.coarseEntryCount();
-        r.cacheBudgetBytes = cache.budgetBytes();
-        r.cacheMergedEntries = cache.mergedEntries();
-        r.cacheCoarseEnergyFraction = cache.coarseEnergyFraction();
-      }
-      r.traceSeconds = traceSeconds;
-      r.estimatorSeconds =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+      finishPair(s, l, sources[s], listeners[l], trace, traceSeconds);
     });
   }
   ++frame_;
+}
+
+void Simulation::finishPair(size_t s, size_t l, const glm::vec3& source,
+                            const ListenerSphere& listener, const TraceStats& trace,
+                            double traceSeconds) {
+  const size_t pair = l * sourceCount_ + s;
+  SourceResult& r = results_[pair];
+  const auto t1 = std::chrono::steady_clock::now();
+  r.trace = trace;
+  r.direct = propagator_->directSound(source, listener);
+  if (diffraction_)
+    diffraction_->apply(*tracer_, source, listener, settings_.speedOfSound,
+                        propagator_->airAttenuationPerMetre(), r.direct);
+  r.energy.clear();
+  DirectionalEnergyResponse* dir = nullptr;
+  if (!directional_.empty()) {
+    dir = &directional_[pair];
+    dir->clear();
+    dir->setListenerFrame(orientations_[l].forward(), orientations_[l].up());
+  }
+  updateEstimator(pair, groups_[l], r, dir);
+  r.traceSeconds = traceSeconds;
+  r.estimatorSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+}
+
+void Simulation::updateEstimator(size_t pair, const FrameGroups& groups, SourceResult& r,
+                                 DirectionalEnergyResponse* dir) {
+  if (caches_.empty()) {
+    pathTracing_.endFrame(groups, r.trace.rays, settings_.speedOfSound, r.energy, dir);
+    r.cacheEntries = groups.groups().size();
+    r.cacheBytes = 0;
+    return;
+  }
+  DiffusePathCache& cache = *caches_[pair];
+  cache.endFrame(groups, r.trace.rays, settings_.speedOfSound, r.energy, dir);
+  r.cacheEntries = cache.entryCount();
+  r.cacheBytes = cache.bytes();
+  r.cacheCoarseEntries = cache.coarseEntryCount();
+  r.cacheBudgetBytes = cache.budgetBytes();
+  r.cacheMergedEntries = cache.mergedEntries();
+  r.cacheCoarseEnergyFraction = cache.coarseEnergyFraction();
 }
 
 }  // namespace dpc

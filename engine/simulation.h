@@ -1,5 +1,6 @@
 // Simulation: one propagation frame for every source of a scene, as the renderer, the tests
-// and dpc-bench all run it. Owns the Embree geometry, the path tracer and one estimator (diffuse
+// and dpc-bench all run it. Owns the geometry tables, the tracer (Embree), the propagator and one
+// estimator (diffuse
 // path cache or plain path tracing) per source-listener pair; produces each pair's energy
 // response (1 ms bins, ir_length long) and analytic direct sound. Several listeners are traced
 // in one pass: every source's rays are tested against all listener spheres (docs/dynamic.md).
@@ -18,6 +19,7 @@
 #include "engine/geometry.h"
 #include "engine/path_cache.h"
 #include "engine/propagation.h"
+#include "engine/tracer.h"
 #include "scene/scene.h"
 
 namespace dpc {
@@ -64,8 +66,8 @@ class Simulation {
   /// allocates only if n needs more trace chunks than any frame before.
   void setRaysPerFrame(int n);
 
-  /// Moves the scene's objects (one pose per object, scene order) for the following frames:
-  /// sets the Embree instance transforms and commits the top-level BVH. No allocation.
+  /// Moves the scene's objects (one pose per object, scene order) for the following frames
+  /// (Tracer::setObjectPose, then commitPoses). No allocation.
   void setObjectPoses(const std::vector<Pose>& poses);
 
   /// Also produce, per source, a DirectionalEnergyResponse over these listener-frame
@@ -92,6 +94,7 @@ class Simulation {
   size_t listenerCount() const { return listenerCount_; }
   uint64_t framesRun() const { return frame_; }
   const Geometry& geometry() const { return *geometry_; }
+  const Tracer& tracer() const { return *tracer_; }
   Propagator& propagator() { return *propagator_; }
   const PropagationSettings& settings() const { return settings_; }
   /// Bounding-box volume of the mesh, m^3 (used for the Dirac sequence density).
@@ -100,11 +103,20 @@ class Simulation {
  private:
   /// Caches, responses and groups for `listeners` listeners (grows only).
   void reserveListeners(size_t listeners);
+  /// Source s and listener l after the trace: direct sound (with edge diffraction) and the
+  /// estimator update into their pair's result. Touches only that pair's data.
+  void finishPair(size_t s, size_t l, const glm::vec3& source, const ListenerSphere& listener,
+                  const TraceStats& trace, double traceSeconds);
+  /// Adds the frame's groups to pair's estimator and reads its energy response into r.energy
+  /// (and dir when not null).
+  void updateEstimator(size_t pair, const FrameGroups& groups, SourceResult& r,
+                       DirectionalEnergyResponse* dir);
 
   PropagationSettings settings_;
   float listenerRadius_;
   std::vector<glm::vec3> sourcePositions_;
   std::unique_ptr<Geometry> geometry_;
+  std::unique_ptr<Tracer> tracer_;
   std::unique_ptr<Propagator> propagator_;
   std::unique_ptr<EdgeDiffraction> diffraction_;  ///< first-order edge paths into the direct sound
   size_t sourceCount_ = 0;

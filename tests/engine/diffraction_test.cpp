@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/embree_tracer.h"
 #include "engine/geometry.h"
 #include "engine/propagation.h"
 #include "scene/scene.h"
@@ -49,22 +50,21 @@ Mesh solidBox() {
 
 struct Setup {
   Mesh mesh;
-  std::vector<Material> materials{Material{"rigid", Bands(0.f), Bands(0.f)}};
-  Geometry geometry;
+  EmbreeTracer tracer;
   EdgeDiffraction diffraction;
-  explicit Setup(Mesh m) : mesh(std::move(m)), geometry(mesh, materials, 1.f), diffraction(mesh) {}
+  explicit Setup(Mesh m) : mesh(std::move(m)), tracer(mesh), diffraction(mesh) {}
   /// Band levels (dB) relative to the free field at the direct distance, air ignored.
   Bands levels(glm::vec3 src, glm::vec3 lis) {
     ListenerSphere l{lis, 0.01f};
     DirectSound d;
     const glm::vec3 v = src - lis;
     const float dist = glm::length(v);
-    d.visible = !geometry.occluded(lis, v / dist, 1e-3f, dist - 1e-3f);
+    d.visible = !tracer.occluded(TraceRay{lis, v / dist, 1e-3f, dist - 1e-3f});
     d.distance = dist;
     d.delaySeconds = dist / kC;
     d.direction = v / dist;
     d.intensity = d.visible ? Bands(float(1.0 / (4 * std::numbers::pi * dist * dist))) : Bands(0.f);
-    diffraction.apply(geometry, src, l, kC, Bands(0.f), d);
+    diffraction.apply(tracer, src, l, kC, Bands(0.f), d);
     Bands out;
     for (int b = 0; b < kNumBands; ++b)
       out[b] = float(10 * std::log10(double(d.intensity[b]) * 4 * std::numbers::pi * dist * dist));
@@ -278,12 +278,13 @@ TEST_CASE("Diffraction: the shipped walk past a partition's edge (scenes/shoebox
           "[diffraction]") {
   const SceneDesc scene = loadScene(std::string(DPC_SOURCE_DIR) + "/scenes/shoebox-corner.json");
   Geometry geometry(scene.mesh, scene.materials, 0.5f);
+  EmbreeTracer tracer(scene.mesh);
   const EdgeDiffraction diffraction(scene.mesh);
   // The room's 12 edges (inner corners, never diffracting from inside) and the partition's
   // free vertical edge; its rims on the floor, ceiling and wall are sealed.
   REQUIRE(diffraction.edges().size() == 13);
   PropagationSettings ps = scene.propagation;
-  Propagator prop(geometry, ps);
+  Propagator prop(geometry, tracer, ps);
   const glm::vec3 src = scene.sources[0].position;
   Bands prev(0.f);
   double maxStep = 0.0;
@@ -292,7 +293,7 @@ TEST_CASE("Diffraction: the shipped walk past a partition's edge (scenes/shoebox
     const ListenerSphere l{lis, scene.listener.radius};
     DirectSound d = prop.directSound(src, l);
     const bool visible = d.visible;
-    diffraction.apply(geometry, src, l, ps.speedOfSound, prop.airAttenuationPerMetre(), d);
+    diffraction.apply(tracer, src, l, ps.speedOfSound, prop.airAttenuationPerMetre(), d);
     REQUIRE(d.visible);  // in the partition's shadow the edge path still arrives
     const double lv = 10 * std::log10(double(d.intensity[4]));
     if (i % 50 == 0)
@@ -330,7 +331,7 @@ TEST_CASE("Diffraction: wedges of 240-330 degrees against the exact Biot-Tolstoy
     const glm::vec3 src{float(rS * std::cos(k.thS)), float(rS * std::sin(k.thS)), 0.f};
     const glm::vec3 lis{float(rR * std::cos(k.thR)), float(rR * std::sin(k.thR)), float(dz)};
     const float dist = glm::length(lis - src);
-    REQUIRE(s.geometry.occluded(src, (lis - src) / dist, 1e-3f, dist - 1e-3f) == !k.lit);
+    REQUIRE(s.tracer.occluded(TraceRay{src, (lis - src) / dist, 1e-3f, dist - 1e-3f}) == !k.lit);
     const Bands level = s.levels(src, lis);  // dB re the free field at dist
     for (int b = 2; b <= 6; ++b) {           // 250 Hz - 4 kHz
       std::vector<double> freqs;

@@ -7,6 +7,7 @@
 #include <span>
 #include <vector>
 
+#include "engine/embree_tracer.h"
 #include "engine/simulation.h"
 #include "testing/test_scenes.h"
 #include "testing/test_util.h"
@@ -286,8 +287,9 @@ TEST_CASE("Path identifiers carry the listener, segments do not grow with listen
   SceneDesc sc = test::twoRooms(DpcWeighting::kWindow, 0.5f);
   sc.objects.clear();
   Geometry geometry(sc.mesh, sc.materials, sc.propagation.patchSize, sc.objects);
+  EmbreeTracer tracer(sc.mesh, sc.objects);
   sc.propagation.raysPerFrame = 512;
-  Propagator propagator(geometry, sc.propagation);
+  Propagator propagator(geometry, tracer, sc.propagation);
   const glm::vec3 source = sc.sources[0].position;
   uint64_t segmentsOne = 0;
   for (size_t n : {1, 2, 4, 8}) {

@@ -1,12 +1,16 @@
 // Packet tracing (TraceMode::kPacket16, rtcIntersect16) against the scalar tracer
 // (TraceMode::kScalar, rtcIntersect1): same physics, same per-ray random streams.
+#include <array>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstring>
 #include <glm/geometric.hpp>
 #include <limits>
+#include <memory>
+#include <span>
 #include <vector>
 
+#include "engine/embree_tracer.h"
 #include "engine/propagation.h"
 #include "engine/simulation.h"
 #include "testing/test_scenes.h"
@@ -80,12 +84,13 @@ TEST_CASE("One ray: the packet path equals the scalar path bit for bit", "[packe
   // kernel, so the hits are the same bits; every other step of a ray is shared code.
   SceneDesc scene = test::makeShoebox({10, 3, 7}, Bands(0.1f), 0.5f, {2, 1.5f, 2}, {7, 1.6f, 5});
   Geometry g(scene.mesh, scene.materials, 0.5f);
+  EmbreeTracer tracer(scene.mesh);
   PropagationSettings ps;
   ps.raysPerFrame = 1;
   ps.maxOrder = 200;
   ps.seed = 3;
   ps.threads = 1;
-  Propagator scalar(g, ps), packet(g, ps);
+  Propagator scalar(g, tracer, ps), packet(g, tracer, ps);
   scalar.setTraceMode(TraceMode::kScalar);
   packet.setTraceMode(TraceMode::kPacket16);
   const ListenerSphere listener{{7, 1.6f, 5}, 1.0f};
@@ -108,6 +113,7 @@ TEST_CASE("Packet and scalar tracing agree within Monte Carlo error", "[packet]"
   // lanes retire and are refilled at different times.
   SceneDesc scene = test::makeShoebox({10, 3, 7}, Bands(0.3f), 0.6f, {2, 1.5f, 2}, {7, 1.6f, 5});
   Geometry g(scene.mesh, scene.materials, 0.5f);
+  EmbreeTracer tracer(scene.mesh);
   PropagationSettings ps;
   ps.raysPerFrame = 3000;
   ps.maxOrder = 80;
@@ -118,7 +124,7 @@ TEST_CASE("Packet and scalar tracing agree within Monte Carlo error", "[packet]"
 
   SECTION("same seed: the same rays, up to kernel rounding") {
     ps.seed = 11;
-    Propagator scalar(g, ps), packet(g, ps);
+    Propagator scalar(g, tracer, ps), packet(g, tracer, ps);
     scalar.setTraceMode(TraceMode::kScalar);
     packet.setTraceMode(TraceMode::kPacket16);
     const MeanAndError a = runFrames(scalar, kFrames, 0, source, listener);
@@ -140,10 +146,10 @@ TEST_CASE("Packet and scalar tracing agree within Monte Carlo error", "[packet]"
 
   SECTION("independent seeds: statistically equal") {
     ps.seed = 21;
-    Propagator scalar(g, ps);
+    Propagator scalar(g, tracer, ps);
     scalar.setTraceMode(TraceMode::kScalar);
     ps.seed = 22;
-    Propagator packet(g, ps);
+    Propagator packet(g, tracer, ps);
     packet.setTraceMode(TraceMode::kPacket16);
     const MeanAndError a = runFrames(scalar, kFrames, 0, source, listener);
     const MeanAndError b = runFrames(packet, kFrames, 0, source, listener);
@@ -173,15 +179,16 @@ TEST_CASE("Packet and scalar tracing agree within Monte Carlo error", "[packet]"
 TEST_CASE("Packet tracing is bit-identical for a seed whatever the thread count", "[packet]") {
   SceneDesc scene = test::makeShoebox({10, 3, 7}, Bands(0.1f), 0.5f, {2, 1.5f, 2}, {7, 1.6f, 5});
   Geometry g(scene.mesh, scene.materials, 0.5f);
+  EmbreeTracer tracer(scene.mesh);
   PropagationSettings ps;
   ps.raysPerFrame = 3001;  // a partial last chunk and a partial last packet
   ps.maxOrder = 40;
   ps.seed = 5;
   for (TraceMode mode : {TraceMode::kPacket16, TraceMode::kScalar}) {
     ps.threads = 1;
-    Propagator one(g, ps);
+    Propagator one(g, tracer, ps);
     ps.threads = 2;
-    Propagator two(g, ps);
+    Propagator two(g, tracer, ps);
     one.setTraceMode(mode);
     two.setTraceMode(mode);
     const ListenerSphere listener{{7, 1.6f, 5}, 0.5f};
@@ -196,37 +203,73 @@ TEST_CASE("Packet tracing is bit-identical for a seed whatever the thread count"
   }
 }
 
-TEST_CASE("Geometry::intersect16 answers every active lane like intersect", "[packet]") {
-  SceneDesc scene = test::makeShoebox({10, 3, 7}, Bands(0.1f), 0.5f, {2, 1.5f, 2}, {7, 1.6f, 5});
-  Geometry g(scene.mesh, scene.materials, 0.5f);
-  RayPacket16 packet;
-  for (int i = 0; i < RayPacket16::kSize; ++i) {
-    packet.active[i] = i % 3 != 1;
-    packet.org[i] = {1.f + 0.5f * i, 1.5f, 3.f};
+/// 16 rays in and around the shoebox: every third inactive, ray 3 a miss from outside.
+std::array<TraceRay, Tracer::kPacketSize> testPacket() {
+  std::array<TraceRay, Tracer::kPacketSize> packet;
+  for (size_t i = 0; i < packet.size(); ++i) {
+    packet[i].active = i % 3 != 1;
+    packet[i].org = {1.f + 0.5f * float(i), 1.5f, 3.f};
     const float a = 0.4f * float(i);
-    packet.dir[i] = {std::cos(a) * 0.8f, 0.6f * std::sin(3.f * a), std::sin(a) * 0.8f};
-    packet.dir[i] /= std::sqrt(glm::dot(packet.dir[i], packet.dir[i]));
+    packet[i].dir = {std::cos(a) * 0.8f, 0.6f * std::sin(3.f * a), std::sin(a) * 0.8f};
+    packet[i].dir /= std::sqrt(glm::dot(packet[i].dir, packet[i].dir));
   }
-  packet.org[3] = {20.f, 1.5f, 3.f};  // outside the box, pointing away: a miss
-  packet.dir[3] = {1.f, 0.f, 0.f};
-  PacketHits16 hits;
-  g.intersect16(packet, 0.f, std::numeric_limits<float>::infinity(), hits);
-  for (int i = 0; i < RayPacket16::kSize; ++i) {
+  packet[3].org = {20.f, 1.5f, 3.f};  // outside the box, pointing away: a miss
+  packet[3].dir = {1.f, 0.f, 0.f};
+  return packet;
+}
+
+TEST_CASE("Tracer batch intersect answers every active ray like single intersect", "[packet]") {
+  SceneDesc scene = test::makeShoebox({10, 3, 7}, Bands(0.1f), 0.5f, {2, 1.5f, 2}, {7, 1.6f, 5});
+  const EmbreeTracer tracer(scene.mesh);
+  const auto packet = testPacket();
+  std::array<TraceHit, Tracer::kPacketSize> hits;
+  tracer.intersect(packet, hits);
+  for (size_t i = 0; i < packet.size(); ++i) {
     INFO("lane " << i);
     SurfaceHit one;
-    const bool found =
-        g.intersect(packet.org[i], packet.dir[i], 0.f, std::numeric_limits<float>::infinity(), one);
-    if (!packet.active[i]) {
-      CHECK_FALSE(hits.found[i]);
+    const bool found = tracer.intersect(packet[i], one);
+    if (!packet[i].active) {
+      CHECK_FALSE(hits[i].found);
       continue;
     }
-    REQUIRE(hits.found[i] == found);
+    REQUIRE(hits[i].found == found);
     if (!found) continue;
-    CHECK(hits.hit[i].triangle == one.triangle);
-    CHECK(hits.hit[i].t == Approx(one.t).epsilon(1e-5));
-    CHECK(hits.hit[i].normal.x == Approx(one.normal.x).margin(1e-6));
-    CHECK(hits.hit[i].normal.y == Approx(one.normal.y).margin(1e-6));
-    CHECK(hits.hit[i].normal.z == Approx(one.normal.z).margin(1e-6));
+    CHECK(hits[i].surface.triangle == one.triangle);
+    CHECK(hits[i].surface.t == Approx(one.t).epsilon(1e-5));
+    CHECK(hits[i].surface.normal.x == Approx(one.normal.x).margin(1e-6));
+    CHECK(hits[i].surface.normal.y == Approx(one.normal.y).margin(1e-6));
+    CHECK(hits[i].surface.normal.z == Approx(one.normal.z).margin(1e-6));
   }
-  CHECK_FALSE(hits.found[3]);
+}
+
+TEST_CASE("Tracer batches of any length: packets of 16, idle lanes, occlusion", "[packet]") {
+  SceneDesc scene = test::makeShoebox({10, 3, 7}, Bands(0.1f), 0.5f, {2, 1.5f, 2}, {7, 1.6f, 5});
+  const EmbreeTracer tracer(scene.mesh);
+  const auto packet = testPacket();
+  // 37 rays: two full packets and a partial one; rays limited to 3 m so some miss.
+  std::vector<TraceRay> rays;
+  for (size_t i = 0; i < 37; ++i) {
+    TraceRay r = packet[i % packet.size()];
+    r.org.z += 0.1f * float(i / packet.size());
+    r.tfar = 3.f;
+    rays.push_back(r);
+  }
+  std::vector<TraceHit> hits(rays.size());
+  std::unique_ptr<bool[]> blocked(new bool[rays.size()]);
+  tracer.intersect(rays, hits);
+  tracer.occluded(rays, std::span(blocked.get(), rays.size()));
+  size_t found = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    INFO("ray " << i);
+    SurfaceHit one;
+    const bool single = rays[i].active && tracer.intersect(rays[i], one);
+    CHECK(hits[i].found == single);
+    CHECK(blocked[i] == (rays[i].active && tracer.occluded(rays[i])));
+    CHECK(blocked[i] == hits[i].found);
+    if (single) CHECK(hits[i].surface.triangle == one.triangle);
+    found += single;
+  }
+  INFO("found " << found);
+  CHECK(found > 5);
+  CHECK(found < rays.size() - 5);
 }

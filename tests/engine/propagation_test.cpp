@@ -5,6 +5,7 @@
 #include <cstring>
 #include <numbers>
 
+#include "engine/embree_tracer.h"
 #include "engine/simulation.h"
 #include "testing/test_scenes.h"
 #include "testing/test_util.h"
@@ -96,8 +97,9 @@ TEST_CASE("A frame is bit-identical for a seed whatever the thread count", "[det
 TEST_CASE("Direct sound is blocked by a wall and respects the speed of sound", "[direct]") {
   SceneDesc scene = test::makeShoebox({10, 3, 7}, Bands(0.1f), 0.5f, {2, 1.5f, 2}, {7, 1.6f, 5});
   Geometry g(scene.mesh, scene.materials, 0.5f);
+  EmbreeTracer tracer(scene.mesh);
   PropagationSettings ps;
-  Propagator prop(g, ps);
+  Propagator prop(g, tracer, ps);
   const DirectSound inside = prop.directSound({2, 1.5f, 2}, {{7, 1.5f, 2}, 0.5f});
   CHECK(inside.visible);
   CHECK(inside.delaySeconds == Approx(5.0 / ps.speedOfSound));

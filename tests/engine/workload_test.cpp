@@ -5,8 +5,9 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "engine/geometry.h"
 #include "common/input_error.h"
+#include "engine/embree_tracer.h"
+#include "engine/geometry.h"
 #include "engine/path_cache.h"
 #include "engine/propagation.h"
 #include "testing/test_scenes.h"
@@ -24,7 +25,8 @@ TEST_CASE("expected reflection order matches the segments traced in a diffuse sh
   ps.airAbsorption = false;
   const WorkloadEstimate e = estimateWorkload(scene, ps, 1, 10.0);
   Geometry g(scene.mesh, scene.materials, 0.5f);
-  Propagator prop(g, ps);
+  EmbreeTracer tracer(scene.mesh);
+  Propagator prop(g, tracer, ps);
   FrameGroups groups;
   const TraceStats t = prop.traceFrame(0, 0, {2, 1.5f, 2}, {{7, 1.6f, 5}, 0.5f}, groups);
   const double perRay = double(t.segments) / ps.raysPerFrame;

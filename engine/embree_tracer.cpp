@@ -1,0 +1,312 @@
+#include "engine/embree_tracer.h"
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <glm/geometric.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/mat3x3.hpp>
+#include <stdexcept>
+#include <string>
+
+#include "engine/geometry.h"
+
+namespace dpc {
+
+namespace {
+
+constexpr int kLanes = int(Tracer::kPacketSize);
+static_assert(kLanes == 16, "batches map onto rtcIntersect16 / rtcOccluded16");
+
+/// Owns an RTCDevice and records its first error. Not copyable.
+class EmbreeDevice {
+ public:
+  EmbreeDevice() {
+    device_ = rtcNewDevice(nullptr);
+    if (!device_)
+      throw std::runtime_error("Embree: cannot create a device (error " +
+                               std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
+    rtcSetDeviceErrorFunction(device_, &EmbreeDevice::onError, this);
+  }
+  ~EmbreeDevice() {
+    if (device_) rtcReleaseDevice(device_);
+  }
+  EmbreeDevice(const EmbreeDevice&) = delete;
+  EmbreeDevice& operator=(const EmbreeDevice&) = delete;
+  RTCDevice get() const { return device_; }
+  /// Throws std::runtime_error("Embree: <what>, during <step>") if an error was recorded.
+  void throwIfError(const char* step) const {
+    if (firstError_ != RTC_ERROR_NONE)
+      throw std::runtime_error(std::string("Embree: ") + firstMessage_ + ", during " + step);
+  }
+
+ private:
+  static void onError(void* self, RTCError code, const char* str) {
+    auto* d = static_cast<EmbreeDevice*>(self);
+    if (d->firstError_ == RTC_ERROR_NONE) {
+      d->firstError_ = code;
+      d->firstMessage_ = str ? str : "unknown error";
+    }
+  }
+  RTCDevice device_ = nullptr;
+  RTCError firstError_ = RTC_ERROR_NONE;
+  std::string firstMessage_;
+};
+
+/// The ray part of one lane of a packet (Embree's SoA layout), and its valid flag.
+template <class Ray16>
+void setLane(Ray16& r, int lane, const TraceRay& ray, int* valid) {
+  valid[lane] = ray.active ? -1 : 0;
+  r.org_x[lane] = ray.org.x;
+  r.org_y[lane] = ray.org.y;
+  r.org_z[lane] = ray.org.z;
+  r.dir_x[lane] = ray.dir.x;
+  r.dir_y[lane] = ray.dir.y;
+  r.dir_z[lane] = ray.dir.z;
+  r.tnear[lane] = ray.tnear;
+  r.tfar[lane] = ray.tfar;
+  r.time[lane] = 0.f;
+  r.mask[lane] = 0xffffffffu;
+  r.id[lane] = unsigned(lane);
+  r.flags[lane] = 0;
+}
+
+/// Fills a packet from up to kLanes rays (idle lanes past rays.size()); false if none is active.
+template <class Ray16>
+bool fillPacket(std::span<const TraceRay> rays, Ray16& r, int* valid) {
+  static const TraceRay idle{.active = false};
+  bool any = false;
+  for (int i = 0; i < kLanes; ++i) {
+    const TraceRay& ray = size_t(i) < rays.size() ? rays[size_t(i)] : idle;
+    setLane(r, i, ray, valid);
+    any = any || ray.active;
+  }
+  return any;
+}
+
+RTCRay singleRay(const TraceRay& in) {
+  RTCRay ray;
+  ray.org_x = in.org.x;
+  ray.org_y = in.org.y;
+  ray.org_z = in.org.z;
+  ray.dir_x = in.dir.x;
+  ray.dir_y = in.dir.y;
+  ray.dir_z = in.dir.z;
+  ray.tnear = in.tnear;
+  ray.tfar = in.tfar;
+  ray.time = 0.f;
+  ray.mask = 0xffffffffu;
+  ray.id = 0;
+  ray.flags = 0;
+  return ray;
+}
+
+}  // namespace
+
+/// Embree handles: the device, the top-level scene and, with objects, one instanced BVH per
+/// mesh ([0] the static mesh at identity, [1 + k] object k).
+struct EmbreeTracer::State {
+  /// One instanced mesh: its BVH, its instance in the top-level scene, its first triangle's
+  /// global number and its current rotation (hit normals come back in local coordinates).
+  struct Instance {
+    RTCScene scene = nullptr;
+    RTCGeometry instance = nullptr;
+    uint32_t firstTriangle = 0;
+    glm::quat rotation{1.f, 0.f, 0.f, 0.f};
+  };
+
+  EmbreeDevice device;
+  RTCScene scene = nullptr;
+  std::vector<Instance> instances;
+
+  ~State() {
+    if (scene) rtcReleaseScene(scene);
+    for (Instance& in : instances) {
+      if (in.instance) rtcReleaseGeometry(in.instance);
+      if (in.scene) rtcReleaseScene(in.scene);
+    }
+  }
+  /// A committed Embree triangle geometry of mesh (checked by checkMeshTriangles).
+  RTCGeometry triangles(const Mesh& mesh);
+  void buildSingleLevel(const Mesh& mesh);
+  void buildInstances(const Mesh& mesh, const std::vector<ObjectDesc>& objects);
+  void setPose(Instance& in, const Pose& pose);
+  /// Global triangle number and world normal from an Embree hit.
+  void resolveHit(unsigned instID, unsigned primID, const glm::vec3& ng, SurfaceHit& hit) const;
+};
+
+RTCGeometry EmbreeTracer::State::triangles(const Mesh& mesh) {
+  checkMeshTriangles(mesh);
+  const size_t nv = mesh.vertices.size(), nt = mesh.triangles.size();
+  RTCGeometry geom = rtcNewGeometry(device.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                        RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
+  auto* idx = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
+      geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), nt));
+  device.throwIfError("creating the triangle buffers");
+  for (size_t i = 0; i < nv; ++i) {
+    v[3 * i + 0] = mesh.vertices[i].x;
+    v[3 * i + 1] = mesh.vertices[i].y;
+    v[3 * i + 2] = mesh.vertices[i].z;
+  }
+  for (size_t t = 0; t < nt; ++t)
+    for (size_t k = 0; k < 3; ++k) idx[3 * t + k] = mesh.triangles[t][k];
+  rtcCommitGeometry(geom);
+  return geom;
+}
+
+void EmbreeTracer::State::buildSingleLevel(const Mesh& mesh) {
+  rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+  RTCGeometry geom = triangles(mesh);
+  rtcAttachGeometry(scene, geom);
+  rtcReleaseGeometry(geom);
+  rtcCommitScene(scene);
+  device.throwIfError("building the BVH");
+}
+
+void EmbreeTracer::State::buildInstances(const Mesh& mesh, const std::vector<ObjectDesc>& objects) {
+  rtcSetSceneFlags(scene, RTC_SCENE_FLAG_DYNAMIC);
+  rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_LOW);
+  instances.resize(1 + objects.size());
+  uint32_t first = 0;
+  for (size_t i = 0; i < instances.size(); ++i) {
+    Instance& in = instances[i];
+    const Mesh& m = i == 0 ? mesh : objects[i - 1].mesh;
+    in.firstTriangle = first;
+    first += uint32_t(m.triangles.size());
+    in.scene = rtcNewScene(device.get());
+    rtcSetSceneBuildQuality(in.scene, RTC_BUILD_QUALITY_HIGH);
+    RTCGeometry geom = triangles(m);
+    rtcAttachGeometry(in.scene, geom);
+    rtcReleaseGeometry(geom);
+    rtcCommitScene(in.scene);
+    in.instance = rtcNewGeometry(device.get(), RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(in.instance, in.scene);
+    rtcAttachGeometryByID(scene, in.instance, unsigned(i));
+  }
+  device.throwIfError("building the object BVHs");
+}
+
+void EmbreeTracer::State::setPose(Instance& in, const Pose& pose) {
+  in.rotation = pose.rotation;
+  const glm::mat3 r = glm::mat3_cast(pose.rotation);
+  // 3x4 column-major: the rotation's three columns, then the translation.
+  const float xfm[12] = {r[0][0], r[0][1],         r[0][2],         r[1][0],
+                         r[1][1], r[1][2],         r[2][0],         r[2][1],
+                         r[2][2], pose.position.x, pose.position.y, pose.position.z};
+  rtcSetGeometryTransform(in.instance, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
+  rtcCommitGeometry(in.instance);
+}
+
+void EmbreeTracer::State::resolveHit(unsigned instID, unsigned primID, const glm::vec3& ng,
+                                     SurfaceHit& hit) const {
+  if (instID == RTC_INVALID_GEOMETRY_ID || instances.empty()) {
+    hit.triangle = primID;
+    hit.normal = glm::normalize(ng);
+    return;
+  }
+  // Instanced hits report the normal in the instance's local frame (RTCHit, Embree 3).
+  const Instance& in = instances[instID];
+  hit.triangle = in.firstTriangle + primID;
+  hit.normal = glm::normalize(in.rotation * ng);
+}
+
+EmbreeTracer::EmbreeTracer(const Mesh& mesh, const std::vector<ObjectDesc>& objects)
+    : state_(std::make_unique<State>()) {
+  state_->scene = rtcNewScene(state_->device.get());
+  if (objects.empty()) {
+    state_->buildSingleLevel(mesh);
+    return;
+  }
+  state_->buildInstances(mesh, objects);
+  state_->setPose(state_->instances.front(), Pose{});  // the static mesh: identity
+  for (size_t k = 0; k < objects.size(); ++k) {
+    const auto& key = objects[k].trajectory;
+    setObjectPose(k, key.empty() ? Pose{} : Pose{key.front().position, key.front().rotation});
+  }
+  commitPoses();
+}
+
+EmbreeTracer::~EmbreeTracer() = default;
+
+size_t EmbreeTracer::objectCount() const {
+  return state_->instances.empty() ? 0 : state_->instances.size() - 1;
+}
+
+void EmbreeTracer::setObjectPose(size_t object, const Pose& pose) {
+  state_->setPose(state_->instances[1 + object], pose);
+}
+
+void EmbreeTracer::commitPoses() {
+  if (state_->instances.empty()) return;
+  rtcCommitScene(state_->scene);
+  state_->device.throwIfError("moving the objects");
+}
+
+bool EmbreeTracer::intersect(const TraceRay& ray, SurfaceHit& hit) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh;
+  rh.ray = singleRay(ray);
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(state_->scene, &context, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  hit.t = rh.ray.tfar;
+  hit.barycentric = {1.f - rh.hit.u - rh.hit.v, rh.hit.u, rh.hit.v};
+  state_->resolveHit(rh.hit.instID[0], rh.hit.primID,
+                     glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z), hit);
+  return true;
+}
+
+bool EmbreeTracer::occluded(const TraceRay& ray) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay r = singleRay(ray);
+  rtcOccluded1(state_->scene, &context, &r);
+  return r.tfar < 0.f;  // Embree sets tfar = -inf when occluded
+}
+
+void EmbreeTracer::intersect(std::span<const TraceRay> rays, std::span<TraceHit> hits) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  for (size_t first = 0; first < rays.size(); first += kLanes) {
+    const auto packet = rays.subspan(first, std::min(size_t(kLanes), rays.size() - first));
+    alignas(64) int valid[kLanes];
+    RTCRayHit16 rh;  // RTC_ALIGN(64) in rtcore_ray.h
+    const bool any = fillPacket(packet, rh.ray, valid);
+    for (int i = 0; i < kLanes; ++i) {
+      rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.primID[i] = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    if (any) rtcIntersect16(valid, state_->scene, &context, &rh);
+    for (size_t i = 0; i < packet.size(); ++i) {
+      TraceHit& out = hits[first + i];
+      out.found = packet[i].active && rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
+      if (!out.found) continue;
+      out.surface.t = rh.ray.tfar[i];
+      out.surface.barycentric = {1.f - rh.hit.u[i] - rh.hit.v[i], rh.hit.u[i], rh.hit.v[i]};
+      state_->resolveHit(rh.hit.instID[0][i], rh.hit.primID[i],
+                         glm::vec3(rh.hit.Ng_x[i], rh.hit.Ng_y[i], rh.hit.Ng_z[i]), out.surface);
+    }
+  }
+}
+
+void EmbreeTracer::occluded(std::span<const TraceRay> rays, std::span<bool> blocked) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  for (size_t first = 0; first < rays.size(); first += kLanes) {
+    const auto packet = rays.subspan(first, std::min(size_t(kLanes), rays.size() - first));
+    alignas(64) int valid[kLanes];
+    RTCRay16 r;  // RTC_ALIGN(64) in rtcore_ray.h
+    if (fillPacket(packet, r, valid)) rtcOccluded16(valid, state_->scene, &context, &r);
+    for (size_t i = 0; i < packet.size(); ++i)
+      blocked[first + i] = packet[i].active && r.tfar[i] < 0.f;  // tfar = -inf when occluded
+  }
+}
+
+}  // namespace dpc

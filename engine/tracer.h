@@ -1,0 +1,84 @@
+// Tracer: the ray queries that propagation, diffraction, the direct sound and the setup check
+// ask of the scene's triangles, and the rigid motion of its objects. engine/embree_tracer.h is
+// the implementation (Embree 3); nothing above it sees a ray-tracing library.
+//
+// Units: metres; directions are unit vectors, t is the distance along them. Triangles are
+// numbered as Geometry numbers them (the static mesh's first, then each object's in scene
+// order), so a hit's triangle indexes Geometry's patch and material tables.
+// Threads: the queries (intersect, occluded, single or batch) may run on any number of
+// threads at once (the propagation thread and its TBB workers); they do not allocate and
+// report no errors. setObjectPose and commitPoses run on the propagation thread between
+// frames, never while a query runs.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <glm/vec3.hpp>
+#include <limits>
+#include <span>
+
+#include "scene/scene.h"
+
+namespace dpc {
+
+/// Result of a closest-hit query. t in metres along a unit direction.
+struct SurfaceHit {
+  float t = 0.f;
+  uint32_t triangle = 0;
+  std::array<float, 3> barycentric{};  ///< (1-u-v, u, v) for the triangle's vertices 0, 1, 2
+  glm::vec3 normal{0.f};               ///< unit geometric normal, winding-order side
+};
+
+/// One ray of a query: the points org + t*dir with t in (tnear, tfar); dir unit length.
+/// An inactive ray is skipped and keeps its place in a batch. Plain data.
+struct TraceRay {
+  glm::vec3 org{0.f};
+  glm::vec3 dir{0.f};
+  float tnear = 0.f;
+  float tfar = std::numeric_limits<float>::infinity();
+  bool active = true;
+};
+
+/// Answer of a batch closest-hit query for one ray: found is false for a miss and for an
+/// inactive ray; surface is meaningful only where found.
+struct TraceHit {
+  bool found = false;
+  SurfaceHit surface;
+};
+
+class Tracer {
+ public:
+  /// Rays the implementation traces together in a batch: rays [16 j, 16 j + 16) of a batch
+  /// form one packet, each ray in its lane (a shorter last packet has idle lanes). Callers
+  /// that keep rays in flight in lockstep fill batches of this size.
+  static constexpr size_t kPacketSize = 16;
+
+  virtual ~Tracer() = default;
+
+  /// Closest hit of one ray; false on a miss (hit is then unchanged).
+  virtual bool intersect(const TraceRay& ray, SurfaceHit& hit) const = 0;
+  /// True if anything blocks the ray between tnear and tfar (any hit).
+  virtual bool occluded(const TraceRay& ray) const = 0;
+
+  /// Closest hits of a batch: hits[i] answers rays[i] (hits.size() >= rays.size()). Traced in
+  /// packets of kPacketSize flagged incoherent (the rays are independent paths); each answer
+  /// is the closest hit the single-ray query finds, up to the floating-point rounding of the
+  /// packet kernels (the hit triangle may differ where a ray grazes a shared edge).
+  virtual void intersect(std::span<const TraceRay> rays, std::span<TraceHit> hits) const = 0;
+  /// Any-hit of a batch: blocked[i] answers rays[i] (false for inactive rays; blocked.size()
+  /// >= rays.size()), in packets as above.
+  virtual void occluded(std::span<const TraceRay> rays, std::span<bool> blocked) const = 0;
+
+  /// Moving rigid objects (the scene's `objects`, scene order), each at its first keyframe's
+  /// pose after construction.
+  virtual size_t objectCount() const = 0;
+  /// Places object k at `pose` (position in metres, unit rotation); takes effect at
+  /// commitPoses(). Propagation thread, between frames; no allocation.
+  virtual void setObjectPose(size_t object, const Pose& pose) = 0;
+  /// Makes the poses set since the last commit visible to queries. Propagation thread,
+  /// between frames; throws std::runtime_error if the implementation fails.
+  virtual void commitPoses() = 0;
+};
+
+}  // namespace dpc

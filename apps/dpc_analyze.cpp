@@ -17,13 +17,13 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "analysis/expected_band_analysis.h"
 #include "analysis/room_parameters.h"
 #include "audio/wav_io.h"
 #include "common/air_absorption.h"
 #include "common/bands.h"
 #include "analysis/energy_response_csv.h"
 #include "common/input_error.h"
-#include "synthesis/ir_synthesis.h"
 #include "scene/scene.h"
 
 namespace {

@@ -30,7 +30,8 @@
 #include "bench/convolve_bench.h"
 #include "engine/diffraction.h"
 #include "common/input_error.h"
-#include "synthesis/ir_synthesis.h"
+#include "engine/room_volume.h"
+#include "synthesis/mono_synthesizer.h"
 #include "bench/noise_study.h"
 #include "scene/scene.h"
 #include "engine/simulation.h"
@@ -177,7 +178,8 @@ int benchPropagation(const Common& c, bool noRoulette) {
     for (int f = 0; f < std::max(5, c.frames / 3); ++f) {
       dsim.runFrame(listener);
       const auto t0 = std::chrono::steady_clock::now();
-      spatial->synthesize(dsim.directional(0), dsim.result(0).direct, left.data(), right.data());
+      float* const channels[] = {left.data(), right.data()};
+      spatial->synthesize(dsim.directional(0), dsim.result(0).direct, channels);
       ms.push_back(
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }

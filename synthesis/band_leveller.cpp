@@ -6,11 +6,10 @@
 #include <stdexcept>
 
 #include "common/fftw_util.h"
-#include "synthesis/ir_synthesis.h"
 #include "common/wide_vectors.h"
+#include "synthesis/band_filters.h"
 
 namespace dpc {
-
 
 namespace {
 
@@ -133,19 +132,10 @@ void BandLeveller::addDirect(double delaySeconds, const Bands& energy) {
     target_[size_t(b)][size_t(n0) / binSamples_] += std::max(0.f, energy[b]);
 }
 
-void BandLeveller::apply(float* ir, double tolerance, double maxBoost) {
-  FftwRealTransforms& c = *fft_;
-  std::fill(c.time.p, c.time.p + c.n, 0.f);
-  std::copy(ir, ir + length_, c.time.p);
-  fftwf_execute(c.fwd);
-  const size_t nbins = c.n / 2 + 1;
+int BandLeveller::levelledBands(std::array<int, kNumBands>& bands,
+                                std::array<size_t, kNumBands>& first) const {
   const size_t w = binSamples_;
   const size_t nb = actual_[size_t(firstBand_)].size();
-  const size_t half = kWindowBins / 2;
-  // The bands to level and, per band, the first bin levelled: after the direct sound's (or
-  // the first target's) bin + 2 and after the sequence is dense enough.
-  std::array<int, kNumBands> bands{};
-  std::array<size_t, kNumBands> first{};
   int count = 0;
   for (int b = firstBand_; b < kNumBands; ++b) {
     const size_t bi = size_t(b);
@@ -161,8 +151,12 @@ void BandLeveller::apply(float* ir, double tolerance, double maxBoost) {
     first[bi] = f;
     bands[size_t(count++)] = b;
   }
-  if (count == 0) return;
-  // Each band's part of the IR, through A_b.
+  return count;
+}
+
+void BandLeveller::splitBands(const std::array<int, kNumBands>& bands, int count) {
+  FftwRealTransforms& c = *fft_;
+  const size_t nbins = c.n / 2 + 1;
   for (int i = 0; i < count; ++i) {
     const size_t bi = size_t(bands[size_t(i)]);
     const auto& f = filter_[bi];
@@ -173,9 +167,11 @@ void BandLeveller::apply(float* ir, double tolerance, double maxBoost) {
     fftwf_execute(c.inv);
     std::copy(c.time.p, c.time.p + length_, part_[bi].begin());
   }
-  // What each band's analysis filter measures of its part (splatter sits mostly low in A_b's
-  // span, inside the analysed octave, so A_b's reach up to Nyquist must not excuse it), four
-  // bands at a time in vector lanes.
+}
+
+void BandLeveller::measureBands(const std::array<int, kNumBands>& bands, int count) {
+  // Splatter sits mostly low in A_b's span, inside the analysed octave, so A_b's reach up to
+  // Nyquist must not excuse it. Four bands at a time in vector lanes.
   for (int g = 0; g < count; g += 4) {
     Double4 coef[5][3] = {};
     const float* in[4];
@@ -196,53 +192,75 @@ void BandLeveller::apply(float* ir, double tolerance, double maxBoost) {
         coef[4][k][lane] = q.a2;
       }
     }
-    analysedEnergy4(coef, in, length_, w, e);
+    analysedEnergy4(coef, in, length_, binSamples_, e);
   }
+}
+
+bool BandLeveller::bandGains(size_t bi, size_t first, double tolerance, double maxBoost) {
+  const auto& target = target_[bi];
+  const auto& actual = actual_[bi];
+  const double ratio = analysedPerOctave_[bi];
+  const size_t nb = actual.size(), half = kWindowBins / 2;
+  bool any = false;
+  for (size_t j = 0; j < nb; ++j) {
+    gain_[j] = 1.f;
+    if (j < first) continue;
+    double want = 0.0, got = 0.0;
+    for (size_t q = j >= half ? j - half : 0; q < std::min(nb, j + half + 1); ++q) {
+      want += target[q];
+      got += actual[q];
+    }
+    const double high = tolerance * ratio * want;
+    if (!std::isfinite(want)) continue;  // an unbounded target gives no level to aim at
+    if (got > high) {
+      gain_[j] = float(std::sqrt(high / got));
+    } else if (maxBoost > 1.0 && got > 0.0 && got * tolerance < ratio * want) {
+      gain_[j] = float(std::min(maxBoost, std::sqrt(ratio * want / (tolerance * got))));
+    }
+    any = any || gain_[j] != 1.f;
+  }
+  return any;
+}
+
+void BandLeveller::applyGains(size_t bi, float* ir) const {
+  // g constant before the first centre and after the last, segment by segment between
+  // centres; segments at unit gain skipped.
+  const size_t w = binSamples_, nb = gain_.size();
   const double invW = 1.0 / double(w);
+  const float* x = part_[bi].data();
+  const size_t firstCentre = w / 2;  // samples n with (n + 0.5) / w - 0.5 <= 0 come before
+  for (size_t n = 0; n < std::min(length_, firstCentre); ++n)
+    if (gain_[0] != 1.f) ir[n] += float((double(gain_[0]) - 1.0) * x[n]);
+  for (size_t j = 0; j + 1 < nb; ++j) {
+    if (gain_[j] == 1.f && gain_[j + 1] == 1.f) continue;
+    const double g0 = gain_[j], g1 = gain_[j + 1];
+    const size_t n0 = std::min(length_, j * w + firstCentre);
+    const size_t n1 = std::min(length_, (j + 1) * w + firstCentre);
+    for (size_t n = n0; n < n1; ++n) {
+      const double t = (double(n) + 0.5) * invW - 0.5 - double(j);
+      ir[n] += float(((1.0 - t) * g0 + t * g1 - 1.0) * x[n]);
+    }
+  }
+  const size_t lastStart = std::min(length_, (nb - 1) * w + firstCentre);
+  if (gain_[nb - 1] != 1.f)
+    for (size_t n = lastStart; n < length_; ++n)
+      ir[n] += float((double(gain_[nb - 1]) - 1.0) * x[n]);
+}
+
+void BandLeveller::apply(float* ir, double tolerance, double maxBoost) {
+  std::array<int, kNumBands> bands{};
+  std::array<size_t, kNumBands> first{};
+  const int count = levelledBands(bands, first);
+  if (count == 0) return;
+  FftwRealTransforms& c = *fft_;
+  std::fill(c.time.p, c.time.p + c.n, 0.f);
+  std::copy(ir, ir + length_, c.time.p);
+  fftwf_execute(c.fwd);
+  splitBands(bands, count);
+  measureBands(bands, count);
   for (int i = 0; i < count; ++i) {
     const size_t bi = size_t(bands[size_t(i)]);
-    const auto& target = target_[bi];
-    const auto& actual = actual_[bi];
-    const double ratio = analysedPerOctave_[bi];
-    bool any = false;
-    for (size_t j = 0; j < nb; ++j) {
-      gain_[j] = 1.f;
-      if (j < first[bi]) continue;
-      double want = 0.0, got = 0.0;
-      for (size_t q = j >= half ? j - half : 0; q < std::min(nb, j + half + 1); ++q) {
-        want += target[q];
-        got += actual[q];
-      }
-      const double high = tolerance * ratio * want;
-      if (!std::isfinite(want)) continue;  // an unbounded target gives no level to aim at
-      if (got > high) {
-        gain_[j] = float(std::sqrt(high / got));
-      } else if (maxBoost > 1.0 && got > 0.0 && got * tolerance < ratio * want) {
-        gain_[j] = float(std::min(maxBoost, std::sqrt(ratio * want / (tolerance * got))));
-      }
-      any = any || gain_[j] != 1.f;
-    }
-    if (!any) continue;
-    // ir += (g(n) - 1) part, g linear between bin centres (constant before the first and
-    // after the last), segment by segment between centres; segments at unit gain skipped.
-    const float* x = part_[bi].data();
-    const size_t firstCentre = w / 2;  // samples n with (n + 0.5) / w - 0.5 <= 0 come before
-    for (size_t n = 0; n < std::min(length_, firstCentre); ++n)
-      if (gain_[0] != 1.f) ir[n] += float((double(gain_[0]) - 1.0) * x[n]);
-    for (size_t j = 0; j + 1 < nb; ++j) {
-      if (gain_[j] == 1.f && gain_[j + 1] == 1.f) continue;
-      const double g0 = gain_[j], g1 = gain_[j + 1];
-      const size_t n0 = std::min(length_, j * w + firstCentre);
-      const size_t n1 = std::min(length_, (j + 1) * w + firstCentre);
-      for (size_t n = n0; n < n1; ++n) {
-        const double t = (double(n) + 0.5) * invW - 0.5 - double(j);
-        ir[n] += float(((1.0 - t) * g0 + t * g1 - 1.0) * x[n]);
-      }
-    }
-    const size_t lastStart = std::min(length_, (nb - 1) * w + firstCentre);
-    if (gain_[nb - 1] != 1.f)
-      for (size_t n = lastStart; n < length_; ++n)
-        ir[n] += float((double(gain_[nb - 1]) - 1.0) * x[n]);
+    if (bandGains(bi, first[bi], tolerance, maxBoost)) applyGains(bi, ir);
   }
 }
 

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "engine/energy_response.h"
-#include "synthesis/ir_synthesis.h"
+#include "synthesis/band_filters.h"
 
 namespace dpc::test {
 

@@ -219,7 +219,7 @@ std::array<std::vector<double>, kNumBands> expectedBandAnalysisEnergy(const Ener
   BandAnalysis analysis(model, sampleRate);
   std::array<std::vector<double>, kNumBands> out;
   for (int b = 0; b < kNumBands; ++b) {
-    if (!(bandCentreExactHz(b) * std::numbers::sqrt2 < 0.5 * model.fs))
+    if (!analysableBand(b, model.fs))
       out[size_t(b)].assign(model.nbins, std::numeric_limits<double>::quiet_NaN());
     else
       analysis.run(energy, b, out[size_t(b)]);

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
 #include "common/wide_vectors.h"
 
@@ -89,10 +88,9 @@ AnalysisFilterRefinement::AnalysisFilterRefinement(int sampleRate, size_t length
   size_t maxBins = 0;
   for (int b = 0; b < kNumBands; ++b) {
     const size_t bi = size_t(b);
-    const double fc = bandCentreExactHz(b);
-    analysed_[bi] = fc * std::numbers::sqrt2 < 0.5 * sampleRate;
+    analysed_[bi] = analysableBand(b, sampleRate);
     if (!analysed_[bi]) continue;
-    analysis_[bi] = OctaveBandPass::design(fc, sampleRate);
+    analysis_[bi] = OctaveBandPass::design(bandCentreExactHz(b), sampleRate);
     const size_t w = BandEnvelope::binSamplesFor(sampleRate, b);
     maxBins = std::max(maxBins, (length_ + w - 1) / w);
     measureBinResponses(b, bands);
@@ -189,6 +187,27 @@ AnalysisFilterRefinement::State AnalysisFilterRefinement::advance(size_t b, cons
     for (size_t k = 0; k < 6; ++k) z[k] += x[i] * tr[i][k];
   OctaveBandPass::flushTiny(z);
   return z;
+}
+
+void AnalysisFilterRefinement::zeroInputStates(size_t b, size_t count, size_t w, State& z,
+                                               State& zOld) const {
+  if (count == w) {
+    z = advance(b, z);
+    zOld = advance(b, zOld);
+  } else {  // a last, shorter bin
+    for (size_t n = 0; n < count; ++n) {
+      analysis_[b].step(0.0, z);
+      analysis_[b].step(0.0, zOld);
+    }
+  }
+}
+
+double AnalysisFilterRefinement::tiltedBin(size_t b, size_t j, double alpha, double gamma,
+                                           State& end) const {
+  for (size_t i = 0; i < 6; ++i)
+    end[i] = alpha * binEndState_[b][j][i] + gamma * binEndStateHigh_[b][j][i];
+  return alpha * alpha * binResponseEnergy_[b][j] + 2.0 * alpha * gamma * binResponseCross_[b][j] +
+         gamma * gamma * binResponseHighEnergy_[b][j] + tail(b, end, end);
 }
 
 void AnalysisFilterRefinement::findRefineEnd(const EnergyResponse& energy,
@@ -303,22 +322,9 @@ void AnalysisFilterRefinement::refineBin(int b, size_t j, size_t w, std::vector<
               binResponseHigh_[bi].data() + lo, alpha, gamma, zeroInput_[bi].data(), w, d, gOld,
               hi - lo, h, c);
   State z = walk.state, zOld = walk.old;
-  if (hi - lo == w) {
-    z = advance(bi, walk.state);
-    zOld = advance(bi, walk.old);
-  } else {  // a last, shorter bin
-    for (size_t n = lo; n < hi; ++n) {
-      analysis_[bi].step(0.0, z);
-      analysis_[bi].step(0.0, zOld);
-    }
-  }
-  // The bin's tilted signal: its zero-state response's energy and end state.
+  zeroInputStates(bi, hi - lo, w, z, zOld);
   State end;
-  for (size_t i = 0; i < 6; ++i)
-    end[i] = alpha * binEndState_[bi][j][i] + gamma * binEndStateHigh_[bi][j][i];
-  const double a = alpha * alpha * binResponseEnergy_[bi][j] +
-                   2.0 * alpha * gamma * binResponseCross_[bi][j] +
-                   gamma * gamma * binResponseHighEnergy_[bi][j] + tail(bi, end, end);
+  const double a = tiltedBin(bi, j, alpha, gamma, end);
   h += tail(bi, z, end);
   c += tail(bi, z, z) + walk.gotSoFar;
   const double missing = walk.wantSoFar - c;

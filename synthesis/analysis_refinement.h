@@ -79,6 +79,12 @@ class AnalysisFilterRefinement {
   /// Chooses bin j's gain (rewriting gain[j] and ir) and advances the walk.
   void refineBin(int b, size_t j, size_t w, std::vector<float>& gain, const TiltedBands& bands,
                  Walk& walk, float* ir);
+  /// z and zOld (the walk's states at bin start) advanced over `count` samples of zero input
+  /// (w: a whole bin).
+  void zeroInputStates(size_t b, size_t count, size_t w, State& z, State& zOld) const;
+  /// The zero-state response of bin j's tilted signal alpha s_b + gamma s_hi: its end state in
+  /// `end`; returns its energy in the bin and in the ringing after it.
+  double tiltedBin(size_t b, size_t j, double alpha, double gamma, State& end) const;
   /// x^T Q_b z.
   double tail(size_t b, const State& x, const State& z) const;
   /// The state one whole bin of zero input after x.

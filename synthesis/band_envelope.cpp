@@ -195,30 +195,35 @@ void BandEnvelope::computeRealised() {
     for (int b = 0; b < kNumBands; ++b) solveRealisedBand(b, sweep == kSweeps - 1);
 }
 
-void BandEnvelope::solveRealisedBand(int b, bool lastSweep) {
-  // Band b's measured energy in its bin j is a quadratic in g_b with the neighbours' gains
-  // fixed: a g^2 + 2 h g + c, summed over the fine bins q of j, where the upper neighbour's
-  // gain may change from one q to the next.
-  constexpr double kGainRange = 3.0;
+void BandEnvelope::realisedQuadratic(int b, size_t j, double& a, double& h, double& c) const {
+  // Summed over the fine bins q of j, where the upper neighbour's gain may change from one q
+  // to the next.
   const size_t bi = size_t(b);
   const auto& fine = realised_.fine[bi];
   const size_t w = binSamples_[bi];
   const size_t fw = b + 1 < kNumBands ? binSamples_[bi + 1] : w;
   const size_t perBin = w / fw;
+  const double gLow = b > 0 ? double(gain_[bi - 1][(j * w) / binSamples_[bi - 1]]) : 0.0;
+  a = h = c = 0.0;
+  const size_t qEnd = std::min(fine.size(), (j + 1) * perBin);
+  for (size_t q = j * perBin; q < qEnd; ++q) {
+    const double gHigh =
+        b + 1 < kNumBands ? double(gain_[bi + 1][(q * fw) / binSamples_[bi + 1]]) : 0.0;
+    const Correlations& r = fine[q];
+    a += r[3];
+    h += gLow * r[1] + gHigh * r[4];
+    c += gLow * gLow * r[0] + 2.0 * gLow * gHigh * r[2] + gHigh * gHigh * r[5];
+  }
+}
+
+void BandEnvelope::solveRealisedBand(int b, bool lastSweep) {
+  constexpr double kGainRange = 3.0;
+  const size_t bi = size_t(b);
   for (size_t j = 0; j < gain_[bi].size(); ++j) {
     const double want = target_[bi][j];
     if (want <= 0.0) continue;
-    const double gLow = b > 0 ? double(gain_[bi - 1][(j * w) / binSamples_[bi - 1]]) : 0.0;
-    double a = 0.0, h = 0.0, c = 0.0;
-    const size_t qEnd = std::min(fine.size(), (j + 1) * perBin);
-    for (size_t q = j * perBin; q < qEnd; ++q) {
-      const double gHigh =
-          b + 1 < kNumBands ? double(gain_[bi + 1][(q * fw) / binSamples_[bi + 1]]) : 0.0;
-      const Correlations& r = fine[q];
-      a += r[3];
-      h += gLow * r[1] + gHigh * r[4];
-      c += gLow * gLow * r[0] + 2.0 * gLow * gHigh * r[2] + gHigh * gHigh * r[5];
-    }
+    double a, h, c;
+    realisedQuadratic(b, j, a, h, c);
     if (!(a > 0.0)) continue;  // keep the first guess
     const double disc = h * h - a * (c - want);
     double g = disc > 0.0 ? (-h + std::sqrt(disc)) / a : 0.0;

@@ -89,7 +89,11 @@ class BandEnvelope {
   void holdGainsOverEmptyBins(int b, size_t onset);
   void computeExpected();
   void computeRealised();
+  /// One Gauss-Seidel step of band b over its bins (see the file comment).
   void solveRealisedBand(int b, bool lastSweep);
+  /// Band b's measured energy in its bin j as a g_b^2 + 2 h g_b + c, the neighbours' gains
+  /// fixed.
+  void realisedQuadratic(int b, size_t j, double& a, double& h, double& c) const;
   int sampleRate_;
   size_t length_;
   const BandFilterData* filters_;  ///< owned by the synthesiser, outlives the envelope

@@ -8,12 +8,24 @@
 
 #include <array>
 #include <cstddef>
+#include <numbers>
 #include <vector>
 
 #include "common/bands.h"
 #include "common/fftw_util.h"
 
 namespace dpc {
+
+/// Taps of the zero-phase band filters a_b and the FFT padding that leaves room for their
+/// tails: 1/4 s at sampleRate Hz. Any thread; no allocation; no errors.
+inline size_t bandFilterTaps(int sampleRate) { return size_t(sampleRate / 4); }
+
+/// Whether band b has an ISO 3382-1 analysis filter at sampleRate Hz (common/octave_filter.h:
+/// its upper edge fc sqrt(2) lies below Nyquist; 8 kHz at 22.05 kHz does not). Any thread; no
+/// allocation; no errors.
+inline bool analysableBand(int b, double sampleRate) {
+  return bandCentreExactHz(b) * std::numbers::sqrt2 < 0.5 * sampleRate;
+}
 
 /// Fraction of power above `edge` Hz at f Hz: a raised cosine in log2 frequency over +-1/6
 /// octave around the edge (a 1/3-octave crossover); with its complement (1 - it) it splits

@@ -61,48 +61,49 @@ size_t BandLeveller::densityStart(int sampleRate, double roomVolume, double spee
   return start >= 0.0 ? size_t(std::min(start, kNever)) : size_t(kNever);
 }
 
+namespace {
+
+/// The energy that band b's analysis filter puts out for white noise of unit band energy
+/// through A_b: the energy of a_b (impulse, time 0 at its centre) through the filter, rung
+/// out, times the white density per unit band energy (fs/2) / B_b.
+double analysedPerOctave(const OctaveBandPass& filter, const std::vector<float>& impulse, int b,
+                         int sampleRate) {
+  const size_t taps = impulse.size();
+  OctaveBandPass::State st{};
+  double e = 0.0;
+  for (size_t n = 0; n < taps + bandFilterTaps(sampleRate); ++n) {
+    const double y = filter.step(n < taps ? impulse[n] : 0.f, st);
+    e += y * y;
+  }
+  return e * 0.5 * sampleRate / (bandCentreExactHz(b) / std::numbers::sqrt2);
+}
+
+}  // namespace
+
 BandLeveller::BandLeveller(int sampleRate, size_t length, int firstBand, size_t startSample)
     : sampleRate_(sampleRate), length_(length), firstBand_(firstBand), start_(startSample) {
   if (sampleRate <= 0 || length == 0 || firstBand < 0 || firstBand >= kNumBands)
     throw std::invalid_argument("BandLeveller: rate, length and first band must be valid");
-  const size_t margin = size_t(sampleRate / 4);  // the zero-phase filters' reach
-  fft_ = std::make_unique<FftwRealTransforms>(smoothFftSize(length + margin));
+  const size_t taps = bandFilterTaps(sampleRate);  // the zero-phase filters' reach
+  fft_ = std::make_unique<FftwRealTransforms>(smoothFftSize(length + taps));
   const size_t nfft = fft_->n, nbins = nfft / 2 + 1;
   const OctaveBandMasks masks(sampleRate, nfft);
+  const DirectSoundFilter impulses(masks, *fft_, taps);
   const float scale = 1.f / float(nfft);
   binSamples_ = std::max<size_t>(1, size_t(std::lround(kBinSeconds * sampleRate)));
   const size_t bins = (length + binSamples_ - 1) / binSamples_;
-  const size_t centre = margin / 2;
-  std::vector<float> impulse(margin);
   for (int b = firstBand; b < kNumBands; ++b) {
     const size_t bi = size_t(b);
     target_[bi].assign(bins, 0.0);
-    auto& f = filter_[bi];
-    f.resize(nbins);
-    for (size_t k = 0; k < nbins; ++k) f[k] = masks.gain(b, k) * masks.gain(b, k) * scale;
-    const double fc = bandCentreExactHz(b);
-    analysed_[bi] = fc * std::numbers::sqrt2 < 0.5 * sampleRate;
+    actual_[bi].assign(bins, 0.0);
+    part_[bi].assign(length, 0.f);
+    filter_[bi].resize(nbins);
+    for (size_t k = 0; k < nbins; ++k)
+      filter_[bi][k] = masks.gain(b, k) * masks.gain(b, k) * scale;
+    analysed_[bi] = analysableBand(b, sampleRate);
     if (!analysed_[bi]) continue;
-    analysis_[bi] = OctaveBandPass::design(fc, sampleRate);
-    // a_b (zero phase, time 0 at `centre`) through the analysis filter: its energy x the
-    // white density per unit band energy.
-    for (size_t k = 0; k < nbins; ++k) {
-      fft_->band.p[k][0] = f[k];
-      fft_->band.p[k][1] = 0.f;
-    }
-    fftwf_execute(fft_->inv);
-    for (size_t i = 0; i < margin; ++i) impulse[i] = fft_->time.p[(i + nfft - centre) % nfft];
-    OctaveBandPass::State st{};
-    double e = 0.0;
-    for (size_t n = 0; n < margin + size_t(sampleRate / 4); ++n) {
-      const double y = analysis_[bi].step(n < margin ? impulse[n] : 0.f, st);
-      e += y * y;
-    }
-    analysedPerOctave_[bi] = e * 0.5 * sampleRate / (fc / std::numbers::sqrt2);
-  }
-  for (int b = firstBand; b < kNumBands; ++b) {
-    actual_[size_t(b)].assign(bins, 0.0);
-    part_[size_t(b)].assign(length, 0.f);
+    analysis_[bi] = OctaveBandPass::design(bandCentreExactHz(b), sampleRate);
+    analysedPerOctave_[bi] = analysedPerOctave(analysis_[bi], impulses.band(b), b, sampleRate);
   }
   gain_.assign(bins, 1.f);
   unusedEnergy_.assign(bins, 0.0);

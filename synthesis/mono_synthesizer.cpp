@@ -24,7 +24,7 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
       !std::isfinite(lengthSeconds) || !std::isfinite(roomVolume) || !std::isfinite(speedOfSound))
     throw std::invalid_argument("IrSynthesizer: rate, length, volume and c must be finite, > 0");
   length_ = size_t(std::ceil(lengthSeconds * sampleRate));
-  const size_t margin = size_t(sampleRate / 4);  // room for the filters' tails
+  const size_t margin = bandFilterTaps(sampleRate);
   FftwRealTransforms fft(nextPow2(length_ + margin));
   const std::vector<float> seq =
       diracSequence(sampleRate, length_, roomVolume, speedOfSound, kMaxPulseDensity, seed);

@@ -70,7 +70,7 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
       !std::isfinite(speedOfSound) || directions_.empty() ||
       filters.size() != directions_.size() || !exact_)
     throw std::invalid_argument("SpatialIrSynthesizer: inconsistent arguments");
-  const size_t margin = size_t(sampleRate / 4);
+  const size_t margin = bandFilterTaps(sampleRate);
   channels_ = filters[0].channels.size();
   const size_t maxFilter = longestFilter(filters, channels_, margin);
   length_ = size_t(std::ceil(lengthSeconds * sampleRate));

@@ -20,14 +20,14 @@ using HalfBands = std::array<std::array<std::vector<double>, 2>, kNumBands>;
 /// The model IR's parts shared by every analysed band.
 struct Model {
   double fs = 0.0;
-  double w = 0.0;    ///< samples per response bin
-  size_t half = 0;   ///< the zero-phase impulses span time -half..half-1
-  size_t nbins = 0;  ///< response bins
+  double w = 0.0;                           ///< samples per response bin
+  size_t half = 0;                          ///< the zero-phase impulses span time -half..half-1
+  size_t nbins = 0;                         ///< response bins
   std::array<double, kNumBands> density{};  ///< (fs/2) / B_k: band energy -> white-noise energy
-  HalfBands mask;    ///< m_kh's impulse responses, time -half at index 0
-  HalfBands weight;  ///< t_kh per response bin
-  bool direct = false;        ///< whether the direct sound is visible
-  std::vector<double> pulse;  ///< the direct sound's impulse
+  HalfBands mask;                           ///< m_kh's impulse responses, time -half at index 0
+  HalfBands weight;                         ///< t_kh per response bin
+  bool direct = false;                      ///< whether the direct sound is visible
+  std::vector<double> pulse;                ///< the direct sound's impulse
   long directSample = -1;
   size_t onset = 0;  ///< the first response bin the band analysis counts
 };

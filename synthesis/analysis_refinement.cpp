@@ -248,8 +248,7 @@ void AnalysisFilterRefinement::filterBands(const float* ir, size_t end, int pari
 }
 
 void AnalysisFilterRefinement::refine(const EnergyResponse& energy, const DirectSound& direct,
-                                      BandEnvelope& envelope, const TiltedBands& bands,
-                                      float* ir) {
+                                      BandEnvelope& envelope, const TiltedBands& bands, float* ir) {
   missing_.fill(0.0);
   findRefineEnd(energy, direct, envelope.binSamples(0));
   for (int b = 0; b < kNumBands; ++b)

@@ -8,7 +8,9 @@ namespace dpc {
 namespace {
 
 /// A sequence's bins hold pulses where their energy e_b[j] exceeds this.
-bool holdsPulses(double sequenceEnergy) { return sequenceEnergy > 1e-12; }
+bool holdsPulses(double sequenceEnergy) {
+  return sequenceEnergy > 1e-12;
+}
 
 /// For a walk forward through a band's bins from its onset: the nearer bin holding pulses
 /// of a bin without any (the earlier one on a tie, and only a bin at or after the onset), or

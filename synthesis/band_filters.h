@@ -18,7 +18,9 @@ namespace dpc {
 
 /// Taps of the zero-phase band filters a_b and the FFT padding that leaves room for their
 /// tails: 1/4 s at sampleRate Hz. Any thread; no allocation; no errors.
-inline size_t bandFilterTaps(int sampleRate) { return size_t(sampleRate / 4); }
+inline size_t bandFilterTaps(int sampleRate) {
+  return size_t(sampleRate / 4);
+}
 
 /// Whether band b has an ISO 3382-1 analysis filter at sampleRate Hz (common/octave_filter.h:
 /// its upper edge fc sqrt(2) lies below Nyquist; 8 kHz at 22.05 kHz does not). Any thread; no

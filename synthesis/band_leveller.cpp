@@ -18,8 +18,8 @@ namespace {
 /// in[lane][0, length): each lane's squared output summed over bins of w samples into
 /// e[lane][bin]. The recursions are serial per lane; side by side they run in parallel.
 DPC_WIDE_VECTORS
-void analysedEnergy4(const Double4 (&c)[5][3], const float* const (&in)[4], size_t length,
-                     size_t w, double* const (&e)[4]) {
+void analysedEnergy4(const Double4 (&c)[5][3], const float* const (&in)[4], size_t length, size_t w,
+                     double* const (&e)[4]) {
   Double4 s1[3] = {}, s2[3] = {};
   const Double4 tiny = {1e-150, 1e-150, 1e-150, 1e-150}, zero = {};
   for (size_t begin = 0; begin < length; begin += w) {
@@ -44,25 +44,6 @@ void analysedEnergy4(const Double4 (&c)[5][3], const float* const (&in)[4], size
   }
 }
 
-}  // namespace
-
-BandLeveller::~BandLeveller() = default;
-
-size_t BandLeveller::densityStart(int sampleRate, double roomVolume, double speedOfSound,
-                                  double pulses) {
-  // mu(t) = 4 pi c^3 t^2 / V >= pulses per bin
-  const double mu = pulses / kBinSeconds;
-  const double start =
-      std::sqrt(mu * roomVolume /
-                (4.0 * std::numbers::pi * speedOfSound * speedOfSound * speedOfSound)) *
-      sampleRate;
-  // A room too large (or c too small) for the density to reach `pulses` within any IR: never.
-  constexpr double kNever = 1e15;
-  return start >= 0.0 ? size_t(std::min(start, kNever)) : size_t(kNever);
-}
-
-namespace {
-
 /// The energy that band b's analysis filter puts out for white noise of unit band energy
 /// through A_b: the energy of a_b (impulse, time 0 at its centre) through the filter, rung
 /// out, times the white density per unit band energy (fs/2) / B_b.
@@ -79,6 +60,21 @@ double analysedPerOctave(const OctaveBandPass& filter, const std::vector<float>&
 }
 
 }  // namespace
+
+BandLeveller::~BandLeveller() = default;
+
+size_t BandLeveller::densityStart(int sampleRate, double roomVolume, double speedOfSound,
+                                  double pulses) {
+  // mu(t) = 4 pi c^3 t^2 / V >= pulses per bin
+  const double mu = pulses / kBinSeconds;
+  const double start =
+      std::sqrt(mu * roomVolume /
+                (4.0 * std::numbers::pi * speedOfSound * speedOfSound * speedOfSound)) *
+      sampleRate;
+  // A room too large (or c too small) for the density to reach `pulses` within any IR: never.
+  constexpr double kNever = 1e15;
+  return start >= 0.0 ? size_t(std::min(start, kNever)) : size_t(kNever);
+}
 
 BandLeveller::BandLeveller(int sampleRate, size_t length, int firstBand, size_t startSample)
     : sampleRate_(sampleRate), length_(length), firstBand_(firstBand), start_(startSample) {
@@ -98,8 +94,7 @@ BandLeveller::BandLeveller(int sampleRate, size_t length, int firstBand, size_t 
     actual_[bi].assign(bins, 0.0);
     part_[bi].assign(length, 0.f);
     filter_[bi].resize(nbins);
-    for (size_t k = 0; k < nbins; ++k)
-      filter_[bi][k] = masks.gain(b, k) * masks.gain(b, k) * scale;
+    for (size_t k = 0; k < nbins; ++k) filter_[bi][k] = masks.gain(b, k) * masks.gain(b, k) * scale;
     analysed_[bi] = analysableBand(b, sampleRate);
     if (!analysed_[bi]) continue;
     analysis_[bi] = OctaveBandPass::design(bandCentreExactHz(b), sampleRate);

@@ -57,8 +57,7 @@ class BandLeveller {
   /// kMinPulseDensity in synthesis/dirac_sequence.h, is not counted); roomVolume m^3,
   /// speedOfSound m/s. A room so large that this lies beyond 10^15 samples (or invalid
   /// arguments) gives 10^15: never.
-  static size_t densityStart(int sampleRate, double roomVolume, double speedOfSound,
-                             double pulses);
+  static size_t densityStart(int sampleRate, double roomVolume, double speedOfSound, double pulses);
 
   /// Empties the targets.
   void clearTargets();
@@ -96,12 +95,12 @@ class BandLeveller {
   std::array<bool, kNumBands> analysed_{};
   std::array<OctaveBandPass, kNumBands> analysis_{};
   std::array<double, kNumBands> analysedPerOctave_{};
-  std::array<std::vector<float>, kNumBands> filter_;  ///< A_b / nfft on the FFT bins
+  std::array<std::vector<float>, kNumBands> filter_;   ///< A_b / nfft on the FFT bins
   std::array<std::vector<double>, kNumBands> target_;  ///< per bin
   std::array<std::vector<double>, kNumBands> actual_;  ///< analysed energy per bin
-  std::vector<float> gain_;                             ///< per bin, one band at a time
-  std::vector<double> unusedEnergy_;                    ///< output of an unused filter lane
-  std::array<std::vector<float>, kNumBands> part_;      ///< the IR through A_b
+  std::vector<float> gain_;                            ///< per bin, one band at a time
+  std::vector<double> unusedEnergy_;                   ///< output of an unused filter lane
+  std::array<std::vector<float>, kNumBands> part_;     ///< the IR through A_b
 };
 
 }  // namespace dpc

@@ -44,8 +44,7 @@ HalfBandDensity halfBandDensity(const EnergyResponse& energy, int band, double c
 /// update(): propagation thread; no allocation; no errors.
 class TiltedBands {
  public:
-  TiltedBands(int sampleRate, size_t length, const OctaveBandMasks& masks,
-              FftwRealTransforms& fft);
+  TiltedBands(int sampleRate, size_t length, const OctaveBandMasks& masks, FftwRealTransforms& fft);
   /// Sets every bin's weights and tilted signal from the response (any bin width).
   void update(const EnergyResponse& energy);
 

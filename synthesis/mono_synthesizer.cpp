@@ -59,8 +59,7 @@ void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& 
 void IrSynthesizer::addDirect(const DirectSound& direct, float* ir) const {
   const long n0 = std::lround(double(direct.delaySeconds) * sampleRate_);
   for (int b = 0; b < kNumBands; ++b) {
-    const float amp =
-        float(std::sqrt(double(direct.intensity[b]) / filterData_.share[size_t(b)]));
+    const float amp = float(std::sqrt(double(direct.intensity[b]) / filterData_.share[size_t(b)]));
     direct_->add(b, amp, n0 - long(direct_->centre()), ir, length_);
   }
 }

@@ -67,8 +67,8 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
     : sampleRate_(sampleRate), directions_(std::move(directions)), exact_(std::move(exact)) {
   if (sampleRate <= 0 || !(lengthSeconds > 0.0) || !std::isfinite(lengthSeconds) ||
       !(roomVolume > 0.0) || !std::isfinite(roomVolume) || !(speedOfSound > 0.0) ||
-      !std::isfinite(speedOfSound) || directions_.empty() ||
-      filters.size() != directions_.size() || !exact_)
+      !std::isfinite(speedOfSound) || directions_.empty() || filters.size() != directions_.size() ||
+      !exact_)
     throw std::invalid_argument("SpatialIrSynthesizer: inconsistent arguments");
   const size_t margin = bandFilterTaps(sampleRate);
   channels_ = filters[0].channels.size();
@@ -117,9 +117,8 @@ void SpatialIrSynthesizer::densityGains(const OctaveBandMasks& masks, size_t nff
   // times the band energy: 2 at 63 Hz, 3.2 at 8 kHz and 48 kHz.
   for (int b = 0; b < kNumBands; ++b) {
     const double width = bandCentreExactHz(b) / std::numbers::sqrt2;
-    densityGain_[size_t(b)] = (b == 0 || b == kNumBands - 1)
-                                  ? norm[size_t(b)] * sampleRate_ / double(nfft) / width
-                                  : 1.0;
+    densityGain_[size_t(b)] =
+        (b == 0 || b == kNumBands - 1) ? norm[size_t(b)] * sampleRate_ / double(nfft) / width : 1.0;
   }
 }
 
@@ -252,8 +251,7 @@ void SpatialIrSynthesizer::sumOmniEnergy(const DirectionalEnergyResponse& energy
 }
 
 void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
-                                      const DirectSound& direct,
-                                      std::span<float* const> channels) {
+                                      const DirectSound& direct, std::span<float* const> channels) {
   for (float* out : channels) std::fill(out, out + length_, 0.f);
   const size_t count = std::min(energy.directionCount(), directions_.size());
   for (size_t d = 0; d < count; ++d) envelopes_[d]->compute(energy.response(d));
@@ -280,9 +278,8 @@ void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
   level(energy, direct, count, channels);
 }
 
-void SpatialIrSynthesizer::level(const DirectionalEnergyResponse& energy,
-                                 const DirectSound& direct, size_t count,
-                                 std::span<float* const> channels) {
+void SpatialIrSynthesizer::level(const DirectionalEnergyResponse& energy, const DirectSound& direct,
+                                 size_t count, std::span<float* const> channels) {
   // Each channel's target: sum_d E_d,b x the channel filter's band energy for direction d
   // (diffuse-field equalised), plus the direct sound through its exact filter.
   for (size_t c = 0; c < channels_; ++c) {

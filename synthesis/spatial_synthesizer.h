@@ -113,9 +113,8 @@ class SpatialIrSynthesizer {
   void equaliseDiffuseField(const std::vector<DirectionFilter>& filters,
                             const OctaveBandMasks& masks, FftwRealTransforms& fft);
   /// Direction d's sequence through A_b and its channels' filters, and its envelope.
-  void directionBands(size_t d, const std::vector<float>& sequence,
-                      const DirectionFilter& filter, const OctaveBandMasks& masks,
-                      FftwRealTransforms& fft);
+  void directionBands(size_t d, const std::vector<float>& sequence, const DirectionFilter& filter,
+                      const OctaveBandMasks& masks, FftwRealTransforms& fft);
   /// The omnidirectional low bands' sequence through A_b, and its envelope.
   void omniBands(const std::vector<float>& sequence, const OctaveBandMasks& masks,
                  FftwRealTransforms& fft, double lengthSeconds);
@@ -138,7 +137,7 @@ class SpatialIrSynthesizer {
   ExactFilter exact_;
   BandFilterData filterData_;
   std::array<double, kNumBands> kappa_{};
-  std::array<double, kNumBands> densityGain_{};  ///< energy factor, see densityGains
+  std::array<double, kNumBands> densityGain_{};           ///< energy factor, see densityGains
   std::vector<std::unique_ptr<BandEnvelope>> envelopes_;  ///< one per direction
   std::unique_ptr<BandEnvelope> omniEnvelope_;            ///< low bands, every channel
   std::array<std::vector<float>, kNumBands> omniBands_;   ///< omni sequence through A_b

@@ -34,7 +34,7 @@ struct NearestPulseBin {
 BandEnvelope::BandEnvelope(int sampleRate, const std::vector<float>& sequence, size_t length,
                            const BandFilterData& filters,
                            const std::array<std::vector<float>, kRealisedBands>& measured)
-    : sampleRate_(sampleRate), length_(length), filters_(&filters) {
+    : sampleRate_(sampleRate), length_(length), coupling_(filters.coupling) {
   for (int b = 0; b < kNumBands; ++b) {
     const size_t bi = size_t(b);
     binSamples_[bi] = binSamplesFor(sampleRate, b);
@@ -249,7 +249,7 @@ void BandEnvelope::computeExpected() {
   // sum_{i,k} g_{b+i} g_{b+k} coupling[b][i][k] times the white energy; scale g_b so that it
   // equals the uncorrected g_b^2 (what the energy response asks for). Gauss-Seidel steps.
   for (int b = 0; b < kNumBands; ++b) wanted_[size_t(b)] = gain_[size_t(b)];
-  const BandCoupling& coupling = filters_->coupling;
+  const BandCoupling& coupling = coupling_;
   for (int iter = 0; iter < 3; ++iter) {
     for (int b = 0; b < kNumBands; ++b) {
       const size_t bi = size_t(b);

@@ -96,7 +96,7 @@ class BandEnvelope {
   void realisedQuadratic(int b, size_t j, double& a, double& h, double& c) const;
   int sampleRate_;
   size_t length_;
-  const BandFilterData* filters_;  ///< owned by the synthesiser, outlives the envelope
+  BandCoupling coupling_;  ///< the band filters' (BandFilterData::coupling)
   std::array<size_t, kNumBands> binSamples_{};
   std::array<std::vector<double>, kNumBands> sequenceEnergy_;  ///< e_b[j]
   std::array<std::vector<double>, kNumBands> target_;          ///< scratch: E_b[j]

@@ -12,7 +12,7 @@
 
 #include "bench/noise_study.h"
 #include "engine/geometry.h"
-#include "synthesis/ir_synthesis.h"
+#include "engine/room_volume.h"
 
 namespace dpc::bench {
 namespace {

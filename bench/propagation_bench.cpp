@@ -8,7 +8,8 @@
 #include "bench/bare_embree.h"
 #include "engine/simulation.h"
 #include "runtime/render_pipeline.h"
-#include "synthesis/ir_synthesis.h"
+#include "engine/room_volume.h"
+#include "synthesis/mono_synthesizer.h"
 
 namespace dpc::bench {
 namespace {
@@ -92,7 +93,8 @@ void timeBinauralSynthesis(const SceneDesc& scene, const PropagationSettings& s,
   for (int f = 0; f < std::max(5, frames / 3); ++f) {
     dsim.runFrame(listener);
     const auto t0 = Clock::now();
-    spatial->synthesize(dsim.directional(0), dsim.result(0).direct, left.data(), right.data());
+    float* const channels[] = {left.data(), right.data()};
+    spatial->synthesize(dsim.directional(0), dsim.result(0).direct, channels);
     ms.push_back(msBetween(t0, Clock::now()));
   }
   j["binaural_ir_synthesis_ms"] = stats(ms);

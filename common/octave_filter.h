@@ -5,8 +5,8 @@
 // -19.6 dB one octave away, unity gain at the centre fc.
 //
 // One definition shared by the band analysis (analysis/room_parameters.h) and the IR synthesis
-// (synthesis/ir_synthesis.h, which normalises its band energies on these filters' outputs so that
-// an ISO 3382-1 analysis of the synthesised IR returns the energy response it was made from).
+// (synthesis/analysis_refinement.h, which normalises its band energies on these filters'
+// outputs so that an ISO 3382-1 analysis of the synthesised IR returns the energy response it was made from).
 // Any thread; design() allocates a few complex numbers; filtering never allocates; no errors
 // (requires fc * sqrt(2) < fs / 2, which callers check).
 #pragma once

@@ -11,6 +11,7 @@
 #include "audio/resample.h"
 #include "common/input_error.h"
 #include "common/input_file.h"
+#include "engine/room_volume.h"
 
 namespace dpc {
 
@@ -85,30 +86,33 @@ int outputChannels(OutputFormat format) {
 
 namespace {
 
-/// Two-channel filters for the spatial synthesiser: HRIR pairs (binaural, with the SOFA
-/// file's onset delays as leading zeros) or constant-power panning gains (stereo).
+/// Two-channel filters (left, right) for the spatial synthesiser: HRIR pairs (binaural, with
+/// the SOFA file's onset delays as leading zeros) or constant-power panning gains (stereo).
 struct SpatialFilters {
   std::shared_ptr<audio::Hrtf> hrtf;
-  void fill(const glm::vec3& d, EarFilter& out) const {
+  void fill(const glm::vec3& d, DirectionFilter& out) const {
     const float dir[3] = {d.x, d.y, d.z};
+    out.channels.resize(2);
+    std::vector<float>& left = out.channels[0];
+    std::vector<float>& right = out.channels[1];
     if (!hrtf) {
       float l = 0.f, r = 0.f;
       audio::stereoGains(dir, &l, &r);
-      out.left.assign(1, l);
-      out.right.assign(1, r);
+      left.assign(1, l);
+      right.assign(1, r);
       return;
     }
     const size_t n = size_t(hrtf->filterLength());
     float delayL = 0.f, delayR = 0.f;
-    out.left.resize(n);
-    out.right.resize(n);
-    hrtf->hrir(dir, out.left.data(), out.right.data(), &delayL, &delayR);
+    left.resize(n);
+    right.resize(n);
+    hrtf->hrir(dir, left.data(), right.data(), &delayL, &delayR);
     auto delay = [](std::vector<float>& h, float samples) {
       const size_t k = size_t(std::max(0.f, std::round(samples)));
       if (k) h.insert(h.begin(), k, 0.f);
     };
-    delay(out.left, delayL);
-    delay(out.right, delayR);
+    delay(left, delayL);
+    delay(right, delayR);
   }
 };
 
@@ -127,12 +131,12 @@ std::unique_ptr<SpatialIrSynthesizer> makeSpatialSynthesizer(const SceneDesc& sc
     }
   }
   const std::vector<glm::vec3> directions = defaultSpatialDirections();
-  std::vector<EarFilter> ear(directions.size());
-  for (size_t d = 0; d < directions.size(); ++d) filters->fill(directions[d], ear[d]);
+  std::vector<DirectionFilter> perDirection(directions.size());
+  for (size_t d = 0; d < directions.size(); ++d) filters->fill(directions[d], perDirection[d]);
   return std::make_unique<SpatialIrSynthesizer>(
       fs, settings.irLength, roomVolume, settings.speedOfSound,
-      hashCombine(settings.seed, 0x5bd1e995ULL), directions, ear,
-      [filters](const glm::vec3& d, EarFilter& out) { filters->fill(d, out); });
+      hashCombine(settings.seed, 0x5bd1e995ULL), directions, perDirection,
+      [filters](const glm::vec3& d, DirectionFilter& out) { filters->fill(d, out); });
 }
 
 PropagationStage::PropagationStage(const SceneDesc& scene, const PropagationSettings& settings,
@@ -252,11 +256,12 @@ IrSet* PropagationStage::prepare(size_t listener) {
   for (size_t s = 0; s < simulation_->sourceCount(); ++s) {
     const Simulation::SourceResult& r = simulation_->result(s, listener);
     auto t0 = std::chrono::steady_clock::now();
-    if (spatial_)
-      spatial_->synthesize(simulation_->directional(s, listener), r.direct, irs[s][0].data(),
-                           irs[s][1].data());
-    else
+    if (spatial_) {
+      float* const channels[] = {irs[s][0].data(), irs[s][1].data()};
+      spatial_->synthesize(simulation_->directional(s, listener), r.direct, channels);
+    } else {
       synthesizers_[s]->synthesize(r.energy, r.direct, irs[s][0].data());
+    }
     totals_.synthesisSeconds += secondsSince(t0);
     t0 = std::chrono::steady_clock::now();
     std::array<const float*, 2> channels{};

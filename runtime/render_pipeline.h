@@ -22,10 +22,10 @@
 
 #include "audio/nonuniform_convolver.h"
 #include "audio/wav_io.h"
-#include "synthesis/ir_synthesis.h"
 #include "scene/scene.h"
 #include "engine/simulation.h"
-#include "synthesis/spatial_ir.h"
+#include "synthesis/mono_synthesizer.h"
+#include "synthesis/spatial_synthesizer.h"
 
 namespace dpc {
 

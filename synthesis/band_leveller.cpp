@@ -6,11 +6,10 @@
 #include <stdexcept>
 
 #include "common/fftw_util.h"
-#include "synthesis/ir_synthesis.h"
 #include "common/wide_vectors.h"
+#include "synthesis/band_filters.h"
 
 namespace dpc {
-
 
 namespace {
 
@@ -19,8 +18,8 @@ namespace {
 /// in[lane][0, length): each lane's squared output summed over bins of w samples into
 /// e[lane][bin]. The recursions are serial per lane; side by side they run in parallel.
 DPC_WIDE_VECTORS
-void analysedEnergy4(const Double4 (&c)[5][3], const float* const (&in)[4], size_t length,
-                     size_t w, double* const (&e)[4]) {
+void analysedEnergy4(const Double4 (&c)[5][3], const float* const (&in)[4], size_t length, size_t w,
+                     double* const (&e)[4]) {
   Double4 s1[3] = {}, s2[3] = {};
   const Double4 tiny = {1e-150, 1e-150, 1e-150, 1e-150}, zero = {};
   for (size_t begin = 0; begin < length; begin += w) {
@@ -45,6 +44,21 @@ void analysedEnergy4(const Double4 (&c)[5][3], const float* const (&in)[4], size
   }
 }
 
+/// The energy that band b's analysis filter puts out for white noise of unit band energy
+/// through A_b: the energy of a_b (impulse, time 0 at its centre) through the filter, rung
+/// out, times the white density per unit band energy (fs/2) / B_b.
+double analysedPerOctave(const OctaveBandPass& filter, const std::vector<float>& impulse, int b,
+                         int sampleRate) {
+  const size_t taps = impulse.size();
+  OctaveBandPass::State st{};
+  double e = 0.0;
+  for (size_t n = 0; n < taps + bandFilterTaps(sampleRate); ++n) {
+    const double y = filter.step(n < taps ? impulse[n] : 0.f, st);
+    e += y * y;
+  }
+  return e * 0.5 * sampleRate / (bandCentreExactHz(b) / std::numbers::sqrt2);
+}
+
 }  // namespace
 
 BandLeveller::~BandLeveller() = default;
@@ -66,44 +80,25 @@ BandLeveller::BandLeveller(int sampleRate, size_t length, int firstBand, size_t 
     : sampleRate_(sampleRate), length_(length), firstBand_(firstBand), start_(startSample) {
   if (sampleRate <= 0 || length == 0 || firstBand < 0 || firstBand >= kNumBands)
     throw std::invalid_argument("BandLeveller: rate, length and first band must be valid");
-  const size_t margin = size_t(sampleRate / 4);  // the zero-phase filters' reach
-  fft_ = std::make_unique<FftwRealTransforms>(smoothFftSize(length + margin));
+  const size_t taps = bandFilterTaps(sampleRate);  // the zero-phase filters' reach
+  fft_ = std::make_unique<FftwRealTransforms>(smoothFftSize(length + taps));
   const size_t nfft = fft_->n, nbins = nfft / 2 + 1;
   const OctaveBandMasks masks(sampleRate, nfft);
+  const DirectSoundFilter impulses(masks, *fft_, taps);
   const float scale = 1.f / float(nfft);
   binSamples_ = std::max<size_t>(1, size_t(std::lround(kBinSeconds * sampleRate)));
   const size_t bins = (length + binSamples_ - 1) / binSamples_;
-  const size_t centre = margin / 2;
-  std::vector<float> impulse(margin);
   for (int b = firstBand; b < kNumBands; ++b) {
     const size_t bi = size_t(b);
     target_[bi].assign(bins, 0.0);
-    auto& f = filter_[bi];
-    f.resize(nbins);
-    for (size_t k = 0; k < nbins; ++k) f[k] = masks.gain(b, k) * masks.gain(b, k) * scale;
-    const double fc = bandCentreExactHz(b);
-    analysed_[bi] = fc * std::numbers::sqrt2 < 0.5 * sampleRate;
+    actual_[bi].assign(bins, 0.0);
+    part_[bi].assign(length, 0.f);
+    filter_[bi].resize(nbins);
+    for (size_t k = 0; k < nbins; ++k) filter_[bi][k] = masks.gain(b, k) * masks.gain(b, k) * scale;
+    analysed_[bi] = analysableBand(b, sampleRate);
     if (!analysed_[bi]) continue;
-    analysis_[bi] = OctaveBandPass::design(fc, sampleRate);
-    // a_b (zero phase, time 0 at `centre`) through the analysis filter: its energy x the
-    // white density per unit band energy.
-    for (size_t k = 0; k < nbins; ++k) {
-      fft_->band.p[k][0] = f[k];
-      fft_->band.p[k][1] = 0.f;
-    }
-    fftwf_execute(fft_->inv);
-    for (size_t i = 0; i < margin; ++i) impulse[i] = fft_->time.p[(i + nfft - centre) % nfft];
-    OctaveBandPass::State st{};
-    double e = 0.0;
-    for (size_t n = 0; n < margin + size_t(sampleRate / 4); ++n) {
-      const double y = analysis_[bi].step(n < margin ? impulse[n] : 0.f, st);
-      e += y * y;
-    }
-    analysedPerOctave_[bi] = e * 0.5 * sampleRate / (fc / std::numbers::sqrt2);
-  }
-  for (int b = firstBand; b < kNumBands; ++b) {
-    actual_[size_t(b)].assign(bins, 0.0);
-    part_[size_t(b)].assign(length, 0.f);
+    analysis_[bi] = OctaveBandPass::design(bandCentreExactHz(b), sampleRate);
+    analysedPerOctave_[bi] = analysedPerOctave(analysis_[bi], impulses.band(b), b, sampleRate);
   }
   gain_.assign(bins, 1.f);
   unusedEnergy_.assign(bins, 0.0);
@@ -133,19 +128,10 @@ void BandLeveller::addDirect(double delaySeconds, const Bands& energy) {
     target_[size_t(b)][size_t(n0) / binSamples_] += std::max(0.f, energy[b]);
 }
 
-void BandLeveller::apply(float* ir, double tolerance, double maxBoost) {
-  FftwRealTransforms& c = *fft_;
-  std::fill(c.time.p, c.time.p + c.n, 0.f);
-  std::copy(ir, ir + length_, c.time.p);
-  fftwf_execute(c.fwd);
-  const size_t nbins = c.n / 2 + 1;
+int BandLeveller::levelledBands(std::array<int, kNumBands>& bands,
+                                std::array<size_t, kNumBands>& first) const {
   const size_t w = binSamples_;
   const size_t nb = actual_[size_t(firstBand_)].size();
-  const size_t half = kWindowBins / 2;
-  // The bands to level and, per band, the first bin levelled: after the direct sound's (or
-  // the first target's) bin + 2 and after the sequence is dense enough.
-  std::array<int, kNumBands> bands{};
-  std::array<size_t, kNumBands> first{};
   int count = 0;
   for (int b = firstBand_; b < kNumBands; ++b) {
     const size_t bi = size_t(b);
@@ -161,8 +147,12 @@ void BandLeveller::apply(float* ir, double tolerance, double maxBoost) {
     first[bi] = f;
     bands[size_t(count++)] = b;
   }
-  if (count == 0) return;
-  // Each band's part of the IR, through A_b.
+  return count;
+}
+
+void BandLeveller::splitBands(const std::array<int, kNumBands>& bands, int count) {
+  FftwRealTransforms& c = *fft_;
+  const size_t nbins = c.n / 2 + 1;
   for (int i = 0; i < count; ++i) {
     const size_t bi = size_t(bands[size_t(i)]);
     const auto& f = filter_[bi];
@@ -173,9 +163,11 @@ void BandLeveller::apply(float* ir, double tolerance, double maxBoost) {
     fftwf_execute(c.inv);
     std::copy(c.time.p, c.time.p + length_, part_[bi].begin());
   }
-  // What each band's analysis filter measures of its part (splatter sits mostly low in A_b's
-  // span, inside the analysed octave, so A_b's reach up to Nyquist must not excuse it), four
-  // bands at a time in vector lanes.
+}
+
+void BandLeveller::measureBands(const std::array<int, kNumBands>& bands, int count) {
+  // Splatter sits mostly low in A_b's span, inside the analysed octave, so A_b's reach up to
+  // Nyquist must not excuse it. Four bands at a time in vector lanes.
   for (int g = 0; g < count; g += 4) {
     Double4 coef[5][3] = {};
     const float* in[4];
@@ -196,53 +188,75 @@ void BandLeveller::apply(float* ir, double tolerance, double maxBoost) {
         coef[4][k][lane] = q.a2;
       }
     }
-    analysedEnergy4(coef, in, length_, w, e);
+    analysedEnergy4(coef, in, length_, binSamples_, e);
   }
+}
+
+bool BandLeveller::bandGains(size_t bi, size_t first, double tolerance, double maxBoost) {
+  const auto& target = target_[bi];
+  const auto& actual = actual_[bi];
+  const double ratio = analysedPerOctave_[bi];
+  const size_t nb = actual.size(), half = kWindowBins / 2;
+  bool any = false;
+  for (size_t j = 0; j < nb; ++j) {
+    gain_[j] = 1.f;
+    if (j < first) continue;
+    double want = 0.0, got = 0.0;
+    for (size_t q = j >= half ? j - half : 0; q < std::min(nb, j + half + 1); ++q) {
+      want += target[q];
+      got += actual[q];
+    }
+    const double high = tolerance * ratio * want;
+    if (!std::isfinite(want)) continue;  // an unbounded target gives no level to aim at
+    if (got > high) {
+      gain_[j] = float(std::sqrt(high / got));
+    } else if (maxBoost > 1.0 && got > 0.0 && got * tolerance < ratio * want) {
+      gain_[j] = float(std::min(maxBoost, std::sqrt(ratio * want / (tolerance * got))));
+    }
+    any = any || gain_[j] != 1.f;
+  }
+  return any;
+}
+
+void BandLeveller::applyGains(size_t bi, float* ir) const {
+  // g constant before the first centre and after the last, segment by segment between
+  // centres; segments at unit gain skipped.
+  const size_t w = binSamples_, nb = gain_.size();
   const double invW = 1.0 / double(w);
+  const float* x = part_[bi].data();
+  const size_t firstCentre = w / 2;  // samples n with (n + 0.5) / w - 0.5 <= 0 come before
+  for (size_t n = 0; n < std::min(length_, firstCentre); ++n)
+    if (gain_[0] != 1.f) ir[n] += float((double(gain_[0]) - 1.0) * x[n]);
+  for (size_t j = 0; j + 1 < nb; ++j) {
+    if (gain_[j] == 1.f && gain_[j + 1] == 1.f) continue;
+    const double g0 = gain_[j], g1 = gain_[j + 1];
+    const size_t n0 = std::min(length_, j * w + firstCentre);
+    const size_t n1 = std::min(length_, (j + 1) * w + firstCentre);
+    for (size_t n = n0; n < n1; ++n) {
+      const double t = (double(n) + 0.5) * invW - 0.5 - double(j);
+      ir[n] += float(((1.0 - t) * g0 + t * g1 - 1.0) * x[n]);
+    }
+  }
+  const size_t lastStart = std::min(length_, (nb - 1) * w + firstCentre);
+  if (gain_[nb - 1] != 1.f)
+    for (size_t n = lastStart; n < length_; ++n)
+      ir[n] += float((double(gain_[nb - 1]) - 1.0) * x[n]);
+}
+
+void BandLeveller::apply(float* ir, double tolerance, double maxBoost) {
+  std::array<int, kNumBands> bands{};
+  std::array<size_t, kNumBands> first{};
+  const int count = levelledBands(bands, first);
+  if (count == 0) return;
+  FftwRealTransforms& c = *fft_;
+  std::fill(c.time.p, c.time.p + c.n, 0.f);
+  std::copy(ir, ir + length_, c.time.p);
+  fftwf_execute(c.fwd);
+  splitBands(bands, count);
+  measureBands(bands, count);
   for (int i = 0; i < count; ++i) {
     const size_t bi = size_t(bands[size_t(i)]);
-    const auto& target = target_[bi];
-    const auto& actual = actual_[bi];
-    const double ratio = analysedPerOctave_[bi];
-    bool any = false;
-    for (size_t j = 0; j < nb; ++j) {
-      gain_[j] = 1.f;
-      if (j < first[bi]) continue;
-      double want = 0.0, got = 0.0;
-      for (size_t q = j >= half ? j - half : 0; q < std::min(nb, j + half + 1); ++q) {
-        want += target[q];
-        got += actual[q];
-      }
-      const double high = tolerance * ratio * want;
-      if (!std::isfinite(want)) continue;  // an unbounded target gives no level to aim at
-      if (got > high) {
-        gain_[j] = float(std::sqrt(high / got));
-      } else if (maxBoost > 1.0 && got > 0.0 && got * tolerance < ratio * want) {
-        gain_[j] = float(std::min(maxBoost, std::sqrt(ratio * want / (tolerance * got))));
-      }
-      any = any || gain_[j] != 1.f;
-    }
-    if (!any) continue;
-    // ir += (g(n) - 1) part, g linear between bin centres (constant before the first and
-    // after the last), segment by segment between centres; segments at unit gain skipped.
-    const float* x = part_[bi].data();
-    const size_t firstCentre = w / 2;  // samples n with (n + 0.5) / w - 0.5 <= 0 come before
-    for (size_t n = 0; n < std::min(length_, firstCentre); ++n)
-      if (gain_[0] != 1.f) ir[n] += float((double(gain_[0]) - 1.0) * x[n]);
-    for (size_t j = 0; j + 1 < nb; ++j) {
-      if (gain_[j] == 1.f && gain_[j + 1] == 1.f) continue;
-      const double g0 = gain_[j], g1 = gain_[j + 1];
-      const size_t n0 = std::min(length_, j * w + firstCentre);
-      const size_t n1 = std::min(length_, (j + 1) * w + firstCentre);
-      for (size_t n = n0; n < n1; ++n) {
-        const double t = (double(n) + 0.5) * invW - 0.5 - double(j);
-        ir[n] += float(((1.0 - t) * g0 + t * g1 - 1.0) * x[n]);
-      }
-    }
-    const size_t lastStart = std::min(length_, (nb - 1) * w + firstCentre);
-    if (gain_[nb - 1] != 1.f)
-      for (size_t n = lastStart; n < length_; ++n)
-        ir[n] += float((double(gain_[nb - 1]) - 1.0) * x[n]);
+    if (bandGains(bi, first[bi], tolerance, maxBoost)) applyGains(bi, ir);
   }
 }
 

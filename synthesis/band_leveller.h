@@ -14,10 +14,10 @@
 // (analysedPerOctave: (fs/2) / B_b x the analysis filter's energy response to A_b). Where the
 // ratio leaves [1 / tolerance, tolerance] the part is scaled to the nearer edge, the gain
 // linear between bin centres (so the correction does not splatter itself); scaling down is
-// unbounded (splatter can exceed a band by 30 dB), scaling up at most maxBoost (1: never). Bins before the direct sound's bin + 2
-// (the filter A_b spreads the direct pulse over bins whose target holds none of it) and
-// before `startSample` (where the Dirac sequence holds too few pulses per bin for a bin's
-// energy to stay in it) are left as they are.
+// unbounded (splatter can exceed a band by 30 dB), scaling up at most maxBoost (1: never).
+// Bins before the direct sound's bin + 2 (the filter A_b spreads the direct pulse over bins
+// whose target holds none of it) and before `startSample` (where the Dirac sequence holds too
+// few pulses per bin for a bin's energy to stay in it) are left as they are.
 //
 // Construction: control/propagation thread (FFTW planning is not thread-safe); allocates
 // O(nfft) with nfft = smoothFftSize(length + sampleRate / 4); throws std::invalid_argument on bad
@@ -31,9 +31,9 @@
 #include <vector>
 
 #include "common/bands.h"
-#include "engine/energy_response.h"
 #include "common/fftw_util.h"
 #include "common/octave_filter.h"
+#include "engine/energy_response.h"
 
 namespace dpc {
 
@@ -54,10 +54,10 @@ class BandLeveller {
 
   /// The first sample at which a Dirac sequence of density 4 pi c^3 t^2 / V (Kuttruff eq. 4.6)
   /// holds `pulses` pulses per kBinSeconds bin by that law alone (the sequence's floor,
-  /// kMinPulseDensity in ir_synthesis.h, is not counted); roomVolume m^3, speedOfSound m/s. A room so
-  /// large that this lies beyond 10^15 samples (or invalid arguments) gives 10^15: never.
-  static size_t densityStart(int sampleRate, double roomVolume, double speedOfSound,
-                             double pulses);
+  /// kMinPulseDensity in synthesis/dirac_sequence.h, is not counted); roomVolume m^3,
+  /// speedOfSound m/s. A room so large that this lies beyond 10^15 samples (or invalid
+  /// arguments) gives 10^15: never.
+  static size_t densityStart(int sampleRate, double roomVolume, double speedOfSound, double pulses);
 
   /// Empties the targets.
   void clearTargets();
@@ -73,6 +73,18 @@ class BandLeveller {
   void apply(float* ir, double tolerance, double maxBoost);
 
  private:
+  /// The bands to level, and per band its first levelled bin (after the direct sound's or the
+  /// first target's bin + 2, and after start_); returns their count.
+  int levelledBands(std::array<int, kNumBands>& bands, std::array<size_t, kNumBands>& first) const;
+  /// part_[b] = ir (whose spectrum fft_->spec holds) through A_b for the given bands.
+  void splitBands(const std::array<int, kNumBands>& bands, int count);
+  /// actual_[b] = what b's analysis filter measures of part_[b], per bin.
+  void measureBands(const std::array<int, kNumBands>& bands, int count);
+  /// gain_ per bin for band b; whether any differs from 1.
+  bool bandGains(size_t bi, size_t first, double tolerance, double maxBoost);
+  /// ir += (g(n) - 1) part_[b], g linear between the bins' centres.
+  void applyGains(size_t bi, float* ir) const;
+
   std::unique_ptr<FftwRealTransforms> fft_;
   int sampleRate_;
   size_t length_;
@@ -83,12 +95,12 @@ class BandLeveller {
   std::array<bool, kNumBands> analysed_{};
   std::array<OctaveBandPass, kNumBands> analysis_{};
   std::array<double, kNumBands> analysedPerOctave_{};
-  std::array<std::vector<float>, kNumBands> filter_;  ///< A_b / nfft on the FFT bins
+  std::array<std::vector<float>, kNumBands> filter_;   ///< A_b / nfft on the FFT bins
   std::array<std::vector<double>, kNumBands> target_;  ///< per bin
   std::array<std::vector<double>, kNumBands> actual_;  ///< analysed energy per bin
-  std::vector<float> gain_;                             ///< per bin, one band at a time
-  std::vector<double> unusedEnergy_;                    ///< output of an unused filter lane
-  std::array<std::vector<float>, kNumBands> part_;      ///< the IR through A_b
+  std::vector<float> gain_;                            ///< per bin, one band at a time
+  std::vector<double> unusedEnergy_;                   ///< output of an unused filter lane
+  std::array<std::vector<float>, kNumBands> part_;     ///< the IR through A_b
 };
 
 }  // namespace dpc

@@ -1,14 +1,14 @@
 // Helpers shared by the engine and app tests.
 #pragma once
 
-#include <fftw3.h>
-
+#include <algorithm>
 #include <cstring>
 #include <numbers>
 #include <vector>
 
+#include "common/fftw_util.h"
 #include "engine/energy_response.h"
-#include "synthesis/ir_synthesis.h"
+#include "synthesis/band_filters.h"
 
 namespace dpc::test {
 
@@ -25,12 +25,11 @@ inline bool identical(const EnergyResponse& a, const EnergyResponse& b) {
 inline Bands bandEnergies(const std::vector<float>& x, int fs, bool analysedOctaves = false) {
   size_t n = 1;
   while (n < 2 * x.size()) n <<= 1;
-  std::vector<float> in(n, 0.f);
-  std::copy(x.begin(), x.end(), in.begin());
-  std::vector<fftwf_complex> out(n / 2 + 1);
-  fftwf_plan p = fftwf_plan_dft_r2c_1d(int(n), in.data(), out.data(), FFTW_ESTIMATE);
-  fftwf_execute(p);
-  fftwf_destroy_plan(p);
+  FftwRealTransforms fft(n);
+  std::fill(fft.time.p, fft.time.p + n, 0.f);
+  std::copy(x.begin(), x.end(), fft.time.p);
+  fftwf_execute(fft.fwd);
+  const fftwf_complex* out = fft.spec.p;
   OctaveBandMasks masks(fs, n);
   Bands e(0.f);
   for (size_t k = 0; k <= n / 2; ++k) {

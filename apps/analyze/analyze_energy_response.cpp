@@ -8,7 +8,7 @@
 #include "apps/analyze/options.h"
 #include "apps/analyze/report.h"
 #include "scene/scene.h"
-#include "synthesis/ir_synthesis.h"
+#include "analysis/expected_band_analysis.h"
 
 namespace dpc::analyze {
 namespace {

@@ -6,7 +6,7 @@
 #include "testing/test_scenes.h"
 #include "analysis/room_parameters.h"
 #include "common/air_absorption.h"
-#include "synthesis/ir_synthesis.h"
+#include "synthesis/mono_synthesizer.h"
 #include "engine/simulation.h"
 
 using namespace dpc;

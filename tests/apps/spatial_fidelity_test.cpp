@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "analysis/room_parameters.h"
-#include "synthesis/ir_synthesis.h"
-#include "synthesis/spatial_ir.h"
+#include "analysis/expected_band_analysis.h"
+#include "synthesis/spatial_synthesizer.h"
 #include "runtime/render_pipeline.h"
 
 using namespace dpc;
@@ -84,7 +84,7 @@ TEST_CASE("Two-channel IR: each ear's band analysis returns its energy response'
       direct.direction = glm::normalize(glm::vec3(1, 0.2f, 0.5f));  // front right, above
       for (int b = 0; b < kNumBands; ++b) direct.intensity[b] = 2e-3f;
       std::vector<float> left(synth->lengthSamples()), right(synth->lengthSamples());
-      synth->synthesize(energy, direct, left.data(), right.data());
+      synth->synthesize(energy, direct, std::array<float*, 2>{left.data(), right.data()});
 
       for (int ear = 0; ear < 2; ++ear) {
         EarResponse want{EnergyResponse(length, 1e-3), direct};
@@ -92,15 +92,15 @@ TEST_CASE("Two-channel IR: each ear's band analysis returns its energy response'
           for (size_t k = 0; k < want.er.binCount(); ++k)
             for (int b = 0; b < kNumBands; ++b)
               want.er.bins()[k][b] +=
-                  energy.response(d).bins()[k][b] * synth->earWeight(d, ear)[b];
+                  energy.response(d).bins()[k][b] * synth->channelWeight(d, size_t(ear))[b];
         for (int b = 0; b < kNumBands; ++b)
-          want.direct.intensity[b] = direct.intensity[b] * synth->directWeight(ear)[b];
+          want.direct.intensity[b] = direct.intensity[b] * synth->directWeight(size_t(ear))[b];
         const auto ideal = expectedBandAnalysisEnergy(want.er, want.direct, kFs);
         const std::vector<float>& ir = ear == 0 ? left : right;
         const audio::ImpulseResponseAnalysis a =
             audio::analyzeImpulseResponse(ir.data(), ir.size(), kFs);
         // From 250 Hz: the bands rendered per direction and levelled per ear (63/125 Hz are
-        // one omnidirectional rendering fed to both ears, see spatial_ir.h).
+        // one omnidirectional rendering fed to both ears, see synthesis/spatial_synthesizer.h).
         for (int b = SpatialIrSynthesizer::kDirectionalFromBand; b < kNumBands; ++b) {
           const audio::RoomParameters target = energyParameters(want, b);
           const audio::RoomParameters exact =
@@ -174,7 +174,7 @@ TEST_CASE("Two-channel IR in an open scene's volume: sparse pulses, every band's
     DirectSound direct;
     direct.visible = false;
     std::vector<float> left(synth->lengthSamples()), right(synth->lengthSamples());
-    synth->synthesize(energy, direct, left.data(), right.data());
+    synth->synthesize(energy, direct, std::array<float*, 2>{left.data(), right.data()});
     for (int ear = 0; ear < 2; ++ear) {
       const std::vector<float>& ir = ear == 0 ? left : right;
       for (float x : ir) REQUIRE(std::isfinite(x));
@@ -183,7 +183,7 @@ TEST_CASE("Two-channel IR in an open scene's volume: sparse pulses, every band's
         double want = 0.0;
         for (size_t d = 0; d < dirs.size(); ++d)
           for (size_t k = 0; k < energy.response(d).binCount(); ++k)
-            want += double(energy.response(d).bins()[k][b]) * synth->earWeight(d, ear)[b];
+            want += double(energy.response(d).bins()[k][b]) * synth->channelWeight(d, size_t(ear))[b];
         const double db = 10 * std::log10(a.bands[size_t(b)].energy / want);
         std::printf("open scene seed %d ear %d band %4d Hz: %+.2f dB re target\n", int(seed),
                     ear, int(kBandCentreHz[size_t(b)]), db);

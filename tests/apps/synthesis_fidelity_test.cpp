@@ -10,7 +10,8 @@
 #include <vector>
 
 #include "analysis/room_parameters.h"
-#include "synthesis/ir_synthesis.h"
+#include "analysis/expected_band_analysis.h"
+#include "synthesis/mono_synthesizer.h"
 #include "common/octave_filter.h"
 
 using namespace dpc;

@@ -1,0 +1,118 @@
+// Per-band gain envelopes that give the band-filtered parts s_b = a_b * s of one Dirac sequence
+// (synthesis/dirac_sequence.h, synthesis/band_filters.h) the band energies of an energy
+// response: ir[n] = sum_b g_b[j(n)] s_b[n] with one gain per band and synthesis bin.
+//
+// Synthesis bins are 1 ms x 2^p wide, the smallest such width holding 2 periods of the band
+// centre (32 ms at 63 Hz ... 1 ms from 2 kHz up); a band's bin is a whole number of the next
+// band's bins, so neighbours' gains are constant or change only at bin boundaries.
+//
+// Two forms. The expectation form (the spatial synthesiser's per-direction sequences):
+// g_b[j] = sqrt(E_b[j] / e_b[j]), e_b = beta_b x the pulses' energy in the bin (beta_b: the
+// share of a unit impulse's energy that a band measurement with M_b sees), realised energy at
+// 63/125 Hz, and a crossover correction with the white-spectrum coupling coefficients. The
+// realised form (the mono synthesiser): at construction the correlations of
+// y_{b,i} = M_b A_{b+i} s (i = -1, 0, 1: what a band measurement with M_b sees of its own and
+// its neighbours' band signals) are measured per bin (measureRealised); each frame solves, bin
+// by bin, sum_{i,k} g_{b+i} g_{b+k} <y_{b,i}, y_{b,k}>_bin = E_b[bin] for g_b (Gauss-Seidel
+// over the bands, a quadratic per bin), so the band energy in every bin equals the response's
+// up to the smearing of the gain steps between bins by the band filters.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include "common/bands.h"
+#include "common/fftw_util.h"
+#include "engine/energy_response.h"
+#include "synthesis/band_filters.h"
+
+namespace dpc {
+
+/// Gains g_b[j] per band and synthesis bin (see the file comment). The energy of a bin without
+/// pulses goes to the next bin with pulses (realised form) or to the nearer one, the earlier one
+/// only from the band's first bin with energy on (expectation form: the spatial synthesiser's
+/// sparse per-direction sequences, where the next pulse can lie tens of milliseconds on early in
+/// a large room). Construction allocates; compute() allocates only on its first call;
+/// accumulate() does not. Propagation thread; no errors.
+class BandEnvelope {
+ public:
+  /// Bands normalised by realised rather than expected energy (63 and 125 Hz: a noise
+  /// realisation there has too few degrees of freedom, e.g. 60 Hz x 0.3 s, to be near its
+  /// expectation).
+  static constexpr int kRealisedBands = 2;
+
+  /// Expectation form. measured: for b < kRealisedBands, the sequence through M_b^3 (what a
+  /// band measurement with M_b sees of the A_b-filtered sequence), length samples; e_b[j] is
+  /// its energy in bin j. Other bands use the expected energy (beta_b x the pulses' energy).
+  BandEnvelope(int sampleRate, const std::vector<float>& sequence, size_t length,
+               const BandFilterData& filters,
+               const std::array<std::vector<float>, kRealisedBands>& measured);
+  /// Correlations per fine bin of band b (width: the next band's bin, or b's own for the top
+  /// band): {<y-,y->, <y-,y0>, <y-,y+>, <y0,y0>, <y0,y+>, <y+,y+>} with y_i = M_b A_{b+i} s.
+  using Correlations = std::array<double, 6>;
+  struct Realised {
+    std::array<std::vector<Correlations>, kNumBands> fine;
+  };
+  /// Realised form (mono synthesis): `realised` from measureRealised().
+  BandEnvelope(int sampleRate, const std::vector<float>& sequence, size_t length,
+               const BandFilterData& filters, Realised realised);
+  /// Synthesis bin width of band b in samples at sampleRate (see the file comment).
+  static size_t binSamplesFor(int sampleRate, int b);
+
+  /// Gains for an energy response (any bin width; a negative bin counts as 0).
+  void compute(const EnergyResponse& energy);
+  /// out[n] += scale * sum_b g_b[j(n)] x_b[n] for the band signals x_b (length samples each).
+  void accumulate(const std::array<const float*, kNumBands>& bands, float* out,
+                  float scale = 1.f) const {
+    accumulateRange(bands, out, 0, length_, scale);
+  }
+  /// The same for samples [begin, end) and bands [bandBegin, bandEnd) only (cache-blocked
+  /// accumulation of many signals; band subsets).
+  void accumulateRange(const std::array<const float*, kNumBands>& bands, float* out, size_t begin,
+                       size_t end, float scale = 1.f, int bandBegin = 0,
+                       int bandEnd = kNumBands) const;
+  size_t binSamples(int b) const { return binSamples_[size_t(b)]; }
+  /// Band b's gains g_b[j] of the last compute(), one per synthesis bin (the mono synthesiser's
+  /// refinement on the analysis filters rewrites them).
+  std::vector<float>& gains(int b) { return gain_[size_t(b)]; }
+  /// Energy of the last compute() that no gain could place (a bin whose neighbours' crossover
+  /// spill alone exceeds its target, or energy after the sequence's last pulse), summed over
+  /// bins, per band, in the response's unit.
+  const std::array<double, kNumBands>& unplacedEnergy() const { return unplaced_; }
+
+ private:
+  void targets(const EnergyResponse& energy);
+  void binTargets(const EnergyResponse& energy, int b);
+  size_t moveToNearestPulses(int b);
+  void carryToPulses(int b);
+  void holdGainsOverEmptyBins(int b, size_t onset);
+  void computeExpected();
+  void computeRealised();
+  /// One Gauss-Seidel step of band b over its bins (see the file comment).
+  void solveRealisedBand(int b, bool lastSweep);
+  /// Band b's measured energy in its bin j as a g_b^2 + 2 h g_b + c, the neighbours' gains
+  /// fixed.
+  void realisedQuadratic(int b, size_t j, double& a, double& h, double& c) const;
+  int sampleRate_;
+  size_t length_;
+  BandCoupling coupling_;  ///< the band filters' (BandFilterData::coupling)
+  std::array<size_t, kNumBands> binSamples_{};
+  std::array<std::vector<double>, kNumBands> sequenceEnergy_;  ///< e_b[j]
+  std::array<std::vector<double>, kNumBands> target_;          ///< scratch: E_b[j]
+  std::array<std::vector<float>, kNumBands> gain_;             ///< g_b[j]
+  std::array<std::vector<float>, kNumBands> wanted_;           ///< scratch: uncorrected g_b[j]
+  std::array<std::vector<float>, kNumBands> first_;            ///< scratch: first-guess g_b[j]
+  Realised realised_;                                          ///< empty: expectation form
+  bool useRealised_ = false;
+  std::array<double, kNumBands> unplaced_{};
+};
+
+/// The realised correlations of `sequence` (length samples) for BandEnvelope: 3 band
+/// measurements per band by FFT through `fft` (fft.n >= length + the filters' reach; masks of
+/// fft.n points). Allocates; a thread that may run fft's plans; no errors.
+BandEnvelope::Realised measureRealised(int sampleRate, const std::vector<float>& sequence,
+                                       size_t length, FftwRealTransforms& fft,
+                                       const OctaveBandMasks& masks);
+
+}  // namespace dpc

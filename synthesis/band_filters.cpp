@@ -1,0 +1,97 @@
+#include "synthesis/band_filters.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace dpc {
+
+double powerAbove(double f, double edge) {
+  constexpr double halfWidth = 1.0 / 6.0;  // octaves either side of the edge
+  const double x = f > 0.0 ? std::log2(f / edge) : -1e9;
+  if (x >= halfWidth) return 1.0;
+  if (x <= -halfWidth) return 0.0;
+  const double s = std::sin(0.25 * std::numbers::pi * (1.0 + x / halfWidth));
+  return s * s;
+}
+
+OctaveBandMasks::OctaveBandMasks(int sampleRate, size_t fftSize) {
+  const size_t bins = fftSize / 2 + 1;
+  for (auto& g : gains_) g.assign(bins, 0.f);
+  for (size_t k = 0; k < bins; ++k) {
+    const double f = double(k) * sampleRate / double(fftSize);
+    // Power fraction passed above each edge e_b (between band b and b+1): powerAbove.
+    double prevUpper = 1.0;  // fraction of power above the edge below band 0 (there is none)
+    for (int b = 0; b < kNumBands; ++b) {
+      const double upper =
+          b < kNumBands - 1 ? powerAbove(f, bandCentreExactHz(b) * std::numbers::sqrt2) : 0.0;
+      const double power = prevUpper - upper;  // in band b: above edge b-1, below edge b
+      gains_[size_t(b)][k] = float(std::sqrt(std::max(0.0, power)));
+      prevUpper = upper;
+    }
+  }
+}
+
+namespace {
+
+/// sum_k M_b^2 A_bi A_bj over the FFT bins (bi, bj valid bands).
+double couplingSum(const OctaveBandMasks& masks, int b, int bi, int bj) {
+  double c = 0.0;
+  for (size_t k = 0; k < masks.binCount(); ++k) {
+    const double m2 = double(masks.gain(b, k)) * masks.gain(b, k);
+    c += m2 * double(masks.gain(bi, k)) * masks.gain(bi, k) * double(masks.gain(bj, k)) *
+         masks.gain(bj, k);
+  }
+  return c;
+}
+
+}  // namespace
+
+BandFilterData BandFilterData::compute(const OctaveBandMasks& masks, size_t fftSize) {
+  BandFilterData d;
+  const size_t nbins = masks.binCount();
+  for (int b = 0; b < kNumBands; ++b) {
+    double norm = 0.0, share = 0.0;
+    for (size_t k = 0; k < nbins; ++k) {
+      const double m2 = double(masks.gain(b, k)) * masks.gain(b, k);
+      norm += m2;
+      share += ((k == 0 || k == nbins - 1) ? 1.0 : 2.0) * m2 / double(fftSize);
+    }
+    d.share[size_t(b)] = share;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const int bi = b + i - 1, bj = b + j - 1;
+        if (bi < 0 || bj < 0 || bi >= kNumBands || bj >= kNumBands) continue;
+        d.coupling[size_t(b)][size_t(i)][size_t(j)] = couplingSum(masks, b, bi, bj) / norm;
+      }
+  }
+  return d;
+}
+
+DirectSoundFilter::DirectSoundFilter(const OctaveBandMasks& masks, FftwRealTransforms& fft,
+                                     size_t taps)
+    : centre_(taps / 2) {
+  const size_t nfft = fft.n, nbins = nfft / 2 + 1;
+  const float scale = 1.f / float(nfft);
+  for (int b = 0; b < kNumBands; ++b) {
+    for (size_t k = 0; k < nbins; ++k) {
+      fft.band.p[k][0] = masks.gain(b, k) * masks.gain(b, k) * scale;
+      fft.band.p[k][1] = 0.f;
+    }
+    fftwf_execute(fft.inv);
+    // Rotated so that index centre_ is time 0.
+    filter_[size_t(b)].assign(taps, 0.f);
+    for (size_t i = 0; i < taps; ++i)
+      filter_[size_t(b)][i] = fft.time.p[(i + nfft - centre_) % nfft];
+  }
+}
+
+void DirectSoundFilter::add(int b, float amplitude, long start, float* out, size_t length) const {
+  const auto& h = filter_[size_t(b)];
+  for (size_t i = 0; i < h.size(); ++i) {
+    const long n = start + long(i);
+    if (n >= 0 && n < long(length)) out[n] += amplitude * h[i];
+  }
+}
+
+}  // namespace dpc

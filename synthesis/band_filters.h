@@ -1,0 +1,85 @@
+// The synthesis band filters: zero-phase, power-complementary octave-band masks M_b on the bins
+// of a real FFT (raised-cosine crossovers 1/3 octave wide at the band edges fc * 2^(1/2)), the
+// amplitude-complementary band filters A_b = M_b^2 (sum_b A_b = 1, so equal band gains give
+// back the unfiltered signal and neighbouring bands never add up coherently to more than it),
+// their crossover coupling for a white spectrum, and the impulse responses a_b of A_b that place
+// a direct sound (shared by the mono and the spatial synthesiser).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <numbers>
+#include <vector>
+
+#include "common/bands.h"
+#include "common/fftw_util.h"
+
+namespace dpc {
+
+/// Taps of the zero-phase band filters a_b and the FFT padding that leaves room for their
+/// tails: 1/4 s at sampleRate Hz. Any thread; no allocation; no errors.
+inline size_t bandFilterTaps(int sampleRate) {
+  return size_t(sampleRate / 4);
+}
+
+/// Whether band b has an ISO 3382-1 analysis filter at sampleRate Hz (common/octave_filter.h:
+/// its upper edge fc sqrt(2) lies below Nyquist; 8 kHz at 22.05 kHz does not). Any thread; no
+/// allocation; no errors.
+inline bool analysableBand(int b, double sampleRate) {
+  return bandCentreExactHz(b) * std::numbers::sqrt2 < 0.5 * sampleRate;
+}
+
+/// Fraction of power above `edge` Hz at f Hz: a raised cosine in log2 frequency over +-1/6
+/// octave around the edge (a 1/3-octave crossover); with its complement (1 - it) it splits
+/// power without loss (sin^2 + cos^2 = 1). Any thread; no allocation; no errors.
+double powerAbove(double f, double edge);
+
+/// Zero-phase power-complementary octave-band masks M_b on the bins 0..fftSize/2 of a real FFT
+/// of fftSize points at sampleRate Hz (sum_b M_b^2 = 1 on every bin). Any thread; the
+/// constructor allocates kNumBands x (fftSize/2 + 1) floats; no errors.
+class OctaveBandMasks {
+ public:
+  OctaveBandMasks(int sampleRate, size_t fftSize);
+  /// |H_b| at FFT bin k (0 <= k <= fftSize/2).
+  float gain(int band, size_t k) const { return gains_[size_t(band)][k]; }
+  size_t binCount() const { return gains_[0].size(); }
+
+ private:
+  std::array<std::vector<float>, kNumBands> gains_;
+};
+
+/// Crossover coupling of the band masks for a white spectrum:
+/// coupling[b][i][k] = sum_f M_b^2 A_{b+i-1} A_{b+k-1} / sum_f M_b^2, the share of band b's
+/// measured energy that the product of the gains of bands b+i-1 and b+k-1 contributes.
+using BandCoupling = std::array<std::array<std::array<double, 3>, 3>, kNumBands>;
+
+/// The band filters' fixed data for one sample rate: coupling and each band's energy share
+/// beta_b (the fraction of a unit impulse's energy that a band measurement with M_b sees).
+/// compute(): any thread; no allocation; no errors.
+struct BandFilterData {
+  BandCoupling coupling{};
+  std::array<double, kNumBands> share{};
+  static BandFilterData compute(const OctaveBandMasks& masks, size_t fftSize);
+};
+
+/// The direct-sound filters: per band the impulse response a_b of A_b (zero phase), `taps`
+/// samples long with time 0 at index centre() = taps / 2. Its energy as a band measurement with
+/// M_b sees it is beta_b (BandFilterData::share) per unit amplitude. Construction: a thread that
+/// may run the FFTW plans of `fft` (masks of fft.n points; taps <= fft.n); allocates
+/// kNumBands x taps floats; no errors. The accessors and add(): any thread; no allocation.
+class DirectSoundFilter {
+ public:
+  DirectSoundFilter(const OctaveBandMasks& masks, FftwRealTransforms& fft, size_t taps);
+  /// a_b, centred at centre().
+  const std::vector<float>& band(int b) const { return filter_[size_t(b)]; }
+  size_t centre() const { return centre_; }
+  size_t taps() const { return filter_[0].size(); }
+  /// out[start + i] += amplitude x a_b[i] for the i with start + i in [0, length).
+  void add(int b, float amplitude, long start, float* out, size_t length) const;
+
+ private:
+  std::array<std::vector<float>, kNumBands> filter_;
+  size_t centre_;
+};
+
+}  // namespace dpc

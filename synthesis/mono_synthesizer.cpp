@@ -1,0 +1,74 @@
+#include "synthesis/mono_synthesizer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "common/fftw_util.h"
+#include "synthesis/analysis_refinement.h"
+#include "synthesis/band_envelope.h"
+#include "synthesis/band_leveller.h"
+#include "synthesis/band_tilt.h"
+#include "synthesis/dirac_sequence.h"
+
+namespace dpc {
+
+IrSynthesizer::~IrSynthesizer() = default;
+IrSynthesizer::IrSynthesizer(IrSynthesizer&&) noexcept = default;
+IrSynthesizer& IrSynthesizer::operator=(IrSynthesizer&&) noexcept = default;
+
+IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVolume,
+                             double speedOfSound, uint64_t seed)
+    : sampleRate_(sampleRate) {
+  if (sampleRate <= 0 || !(lengthSeconds > 0.0) || !(roomVolume > 0.0) || !(speedOfSound > 0.0) ||
+      !std::isfinite(lengthSeconds) || !std::isfinite(roomVolume) || !std::isfinite(speedOfSound))
+    throw std::invalid_argument("IrSynthesizer: rate, length, volume and c must be finite, > 0");
+  length_ = size_t(std::ceil(lengthSeconds * sampleRate));
+  const size_t margin = bandFilterTaps(sampleRate);
+  FftwRealTransforms fft(nextPow2(length_ + margin));
+  const std::vector<float> seq =
+      diracSequence(sampleRate, length_, roomVolume, speedOfSound, kMaxPulseDensity, seed);
+  std::fill(fft.time.p, fft.time.p + fft.n, 0.f);
+  std::copy(seq.begin(), seq.end(), fft.time.p);
+  fftwf_execute(fft.fwd);
+  const OctaveBandMasks masks(sampleRate, fft.n);
+  filterData_ = BandFilterData::compute(masks, fft.n);
+  bands_ = std::make_unique<TiltedBands>(sampleRate, length_, masks, fft);
+  direct_ = std::make_unique<DirectSoundFilter>(masks, fft, margin);
+  leveller_ = std::make_unique<BandLeveller>(
+      sampleRate, length_, kFirstCleanedBand,
+      BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, 10.0));
+  envelope_ = std::make_unique<BandEnvelope>(sampleRate, seq, length_, filterData_,
+                                             measureRealised(sampleRate, seq, length_, fft, masks));
+  refinement_ = std::make_unique<AnalysisFilterRefinement>(sampleRate, length_, *bands_);
+}
+
+void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& direct, float* ir) {
+  std::fill(ir, ir + length_, 0.f);
+  bands_->update(energy);
+  envelope_->compute(energy);
+  std::array<const float*, kNumBands> tilted;
+  for (int b = 0; b < kNumBands; ++b) tilted[size_t(b)] = bands_->tilted(b).data();
+  envelope_->accumulate(tilted, ir);
+  if (direct.visible) addDirect(direct, ir);
+  refinement_->refine(energy, direct, *envelope_, *bands_, ir);
+  cleanUp(energy, direct, ir);
+  for (int b = 0; b < kNumBands; ++b) missingBands_[b] = float(refinement_->missing()[size_t(b)]);
+}
+
+void IrSynthesizer::addDirect(const DirectSound& direct, float* ir) const {
+  const long n0 = std::lround(double(direct.delaySeconds) * sampleRate_);
+  for (int b = 0; b < kNumBands; ++b) {
+    const float amp = float(std::sqrt(double(direct.intensity[b]) / filterData_.share[size_t(b)]));
+    direct_->add(b, amp, n0 - long(direct_->centre()), ir, length_);
+  }
+}
+
+void IrSynthesizer::cleanUp(const EnergyResponse& energy, const DirectSound& direct, float* ir) {
+  leveller_->clearTargets();
+  leveller_->addResponse(energy, Bands(1.f));
+  if (direct.visible) leveller_->addDirect(direct.delaySeconds, direct.intensity);
+  leveller_->apply(ir, kCleanMargin, 1.0);
+}
+
+}  // namespace dpc

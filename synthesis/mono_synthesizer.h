@@ -1,0 +1,100 @@
+// The mono pressure impulse response from a band energy response: the band-filtered Dirac
+// sequence method (D. Schröder, "Physically Based Real-Time Auralization of Interactive
+// Virtual Environments", PhD thesis, RWTH Aachen 2011, section 5.3).
+//
+// At construction a Dirac sequence s (synthesis/dirac_sequence.h; fixed per synthesiser, so
+// successive frames' IRs differ only in their envelopes, never in fine structure) is split
+// into octave bands s_b = a_b * s by the amplitude-complementary band filters A_b
+// (synthesis/band_filters.h). Each frame, in stages:
+//  1. the within-band tilt (synthesis/band_tilt.h): each band's spectrum is tilted within its
+//     octave per synthesis bin toward its neighbours';
+//  2. the realised-form envelope (synthesis/band_envelope.h): per band and bin the gain that
+//     gives the tilted band signal the response's band energy as a band measurement sees it;
+//     ir[n] = sum_b g_b[j] s_b[n];
+//  3. the direct sound: the band filters' impulse responses at its exact sample delay, with
+//     band energies equal to DirectSound::intensity;
+//  4. the refinement on the ISO 3382-1 analysis filters (synthesis/analysis_refinement.h), so
+//     that the band analysis of the IR returns the response's decay and level;
+//  5. the clean-up of the 4 and 8 kHz parts where the gain steps of slower bands splatter into
+//     them (synthesis/band_leveller.h).
+// The extreme bands' shares outside the analysed octaves (below 44 Hz, above 11.3 kHz) carry
+// their band's spectral density. Units: the IR's squared samples sum to energy in 1/m^2
+// relative to source power (so 1/(4 pi r^2) for a direct sound at r metres).
+//
+// Construction: control/propagation thread (FFTW plan creation is not thread-safe);
+// allocates; throws std::invalid_argument on bad sizes, std::runtime_error when FFTW cannot
+// plan. synthesize(): propagation thread; no allocation after the first call; no errors.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include "common/bands.h"
+#include "engine/energy_response.h"
+#include "engine/propagation.h"
+#include "synthesis/band_filters.h"
+
+namespace dpc {
+
+class AnalysisFilterRefinement;
+class BandEnvelope;
+class BandLeveller;
+class TiltedBands;
+
+class IrSynthesizer {
+ public:
+  /// Bands whose synthesised part is cleaned of the other bands' splatter (see cleanUp):
+  /// the two highest, 4 and 8 kHz, where air absorption makes the decay much faster than the
+  /// band below's.
+  static constexpr int kFirstCleanedBand = 6;
+  /// A band's part is cleaned only where its analysed energy exceeds the expected by this
+  /// factor (1 dB): below it, the refinement's own adjustments for the analysis filters stand.
+  static constexpr double kCleanMargin = 1.26;
+
+  /// sampleRate in Hz; lengthSeconds of the IR; roomVolume in m^3 (density law: roomVolume()
+  /// of the scene's mesh, engine/room_volume.h); speedOfSound m/s; seed for the Dirac sequence.
+  IrSynthesizer(int sampleRate, double lengthSeconds, double roomVolume, double speedOfSound,
+                uint64_t seed);
+  ~IrSynthesizer();
+  IrSynthesizer(IrSynthesizer&&) noexcept;
+  IrSynthesizer& operator=(IrSynthesizer&&) noexcept;
+
+  size_t lengthSamples() const { return length_; }
+  int sampleRate() const { return sampleRate_; }
+
+  /// Writes lengthSamples() samples of pressure IR to ir. energy: the frame's energy
+  /// response (any bin width; a bin below 0, which no energy is, counts as 0); direct: the
+  /// analytic direct sound (ignored when not visible).
+  void synthesize(const EnergyResponse& energy, const DirectSound& direct, float* ir);
+
+  /// Fraction of a unit impulse's energy that a band measurement (mask M_b) puts in band b.
+  double bandFilterEnergy(int b) const { return filterData_.share[size_t(b)]; }
+  /// The band filters a_b that place the direct sound.
+  const DirectSoundFilter& directSoundFilter() const { return *direct_; }
+  /// Per band, the energy (1/m^2, the response's unit) of the last synthesize()'s energy
+  /// response plus direct sound that the IR's analysis-filter output lacks at its end: energy
+  /// no gain could place (a bin whose earlier bins' ringing and the neighbours' leakage
+  /// already exceed the target, or the gain cap). Zero when the synthesis is exact.
+  const Bands& missingEnergy() const { return missingBands_; }
+
+ private:
+  /// Adds the direct sound's band filters at its sample delay.
+  void addDirect(const DirectSound& direct, float* ir) const;
+  /// Cleans the bands b >= kFirstCleanedBand of the finished IR of the slower bands' gain-step
+  /// splatter (BandLeveller: scale-down only, kCleanMargin tolerance, from where the Dirac
+  /// sequence holds 10 pulses per bin). Without it the 8 kHz T30 of a large hall's IR reads
+  /// twice the response's.
+  void cleanUp(const EnergyResponse& energy, const DirectSound& direct, float* ir);
+
+  int sampleRate_;
+  size_t length_;
+  BandFilterData filterData_;
+  std::unique_ptr<TiltedBands> bands_;
+  std::unique_ptr<DirectSoundFilter> direct_;
+  std::unique_ptr<BandEnvelope> envelope_;
+  std::unique_ptr<AnalysisFilterRefinement> refinement_;
+  std::unique_ptr<BandLeveller> leveller_;
+  Bands missingBands_{};
+};
+
+}  // namespace dpc

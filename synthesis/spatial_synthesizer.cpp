@@ -1,0 +1,346 @@
+#include "synthesis/spatial_synthesizer.h"
+
+#include <fftw3.h>
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <numbers>
+#include <stdexcept>
+
+#include "common/random.h"
+#include "synthesis/band_leveller.h"
+#include "synthesis/dirac_sequence.h"
+
+namespace dpc {
+
+std::vector<glm::vec3> defaultSpatialDirections() {
+  std::vector<glm::vec3> d;
+  for (int i = 0; i < 6; ++i) {
+    const float az = float(i) * std::numbers::pi_v<float> / 3.f;  // 0 = ahead, + = left
+    d.push_back({std::cos(az), std::sin(az), 0.f});
+  }
+  d.push_back({0.f, 0.f, 1.f});
+  const float el = -40.f * std::numbers::pi_v<float> / 180.f;
+  d.push_back({std::cos(el), 0.f, std::sin(el)});
+  return d;
+}
+
+namespace {
+
+/// Whether frequency f (Hz) lies in what band b's analysis sees of its filter A_b: all of it,
+/// except below the 63 Hz octave and above the 8 kHz octave, where A_b reaches on to 0 Hz and
+/// Nyquist but an octave-band analysis does not.
+bool inAnalysedOctave(int b, double f) {
+  const double fc = bandCentreExactHz(b);
+  if (b == 0) return f >= fc / std::numbers::sqrt2;
+  if (b == kNumBands - 1) return f <= fc * std::numbers::sqrt2;
+  return true;
+}
+
+/// The longest channel filter of any direction (at least 1); throws std::invalid_argument
+/// unless every direction has `channels` >= 1 channels of 1 .. margin - 1 taps.
+size_t longestFilter(const std::vector<DirectionFilter>& filters, size_t channels, size_t margin) {
+  if (channels == 0) throw std::invalid_argument("SpatialIrSynthesizer: filters need a channel");
+  size_t longest = 1;
+  for (const DirectionFilter& f : filters) {
+    if (f.channels.size() != channels)
+      throw std::invalid_argument("SpatialIrSynthesizer: every direction needs the same channels");
+    for (const std::vector<float>& h : f.channels) {
+      if (h.empty() || h.size() >= margin)
+        throw std::invalid_argument("SpatialIrSynthesizer: filters must have 1 .. rate/4 taps");
+      longest = std::max(longest, h.size());
+    }
+  }
+  return longest;
+}
+
+}  // namespace
+
+SpatialIrSynthesizer::~SpatialIrSynthesizer() = default;
+
+SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds, double roomVolume,
+                                           double speedOfSound, uint64_t seed,
+                                           std::vector<glm::vec3> directions,
+                                           const std::vector<DirectionFilter>& filters,
+                                           ExactFilter exact)
+    : sampleRate_(sampleRate), directions_(std::move(directions)), exact_(std::move(exact)) {
+  if (sampleRate <= 0 || !(lengthSeconds > 0.0) || !std::isfinite(lengthSeconds) ||
+      !(roomVolume > 0.0) || !std::isfinite(roomVolume) || !(speedOfSound > 0.0) ||
+      !std::isfinite(speedOfSound) || directions_.empty() || filters.size() != directions_.size() ||
+      !exact_)
+    throw std::invalid_argument("SpatialIrSynthesizer: inconsistent arguments");
+  const size_t margin = bandFilterTaps(sampleRate);
+  channels_ = filters[0].channels.size();
+  const size_t maxFilter = longestFilter(filters, channels_, margin);
+  length_ = size_t(std::ceil(lengthSeconds * sampleRate));
+  FftwRealTransforms big(nextPow2(length_ + margin + maxFilter));
+  const OctaveBandMasks masks(sampleRate, big.n);
+  filterData_ = BandFilterData::compute(masks, big.n);
+  densityGains(masks, big.n);
+  equaliseDiffuseField(filters, masks, big);
+  // Per direction: its own Dirac sequence, through A_b and the direction's filters.
+  bands_.resize(directions_.size());
+  for (size_t d = 0; d < directions_.size(); ++d)
+    directionBands(d,
+                   diracSequence(sampleRate, length_, roomVolume, speedOfSound, kMaxPulseDensity,
+                                 hashCombine(seed, d + 1)),
+                   filters[d], masks, big);
+  omniBands(diracSequence(sampleRate, length_, roomVolume, speedOfSound, kMaxPulseDensity,
+                          hashCombine(seed, 0x0a0a0a0aULL)),
+            masks, big, lengthSeconds);
+  direct_ = std::make_unique<DirectSoundFilter>(masks, big, margin);
+  prepareDirect(margin);
+  leveller_ = std::make_unique<BandLeveller>(
+      sampleRate, length_, kDirectionalFromBand,
+      BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, kLevelFromPulses));
+}
+
+void SpatialIrSynthesizer::spectrumOf(FftwRealTransforms& fft, const std::vector<float>& taps,
+                                      Spectrum& out) const {
+  std::fill(fft.time.p, fft.time.p + fft.n, 0.f);
+  std::copy(taps.begin(), taps.end(), fft.time.p);
+  fftwf_execute_dft_r2c(fft.fwd, fft.time.p, fft.spec.p);
+  for (size_t k = 0; k < fft.n / 2 + 1; ++k) out[k] = {fft.spec.p[k][0], fft.spec.p[k][1]};
+}
+
+void SpatialIrSynthesizer::densityGains(const OctaveBandMasks& masks, size_t nfft) {
+  // Each mask's span: sum of M_b^2 over the FFT bins.
+  std::array<double, kNumBands> norm{};
+  for (int b = 0; b < kNumBands; ++b)
+    for (size_t k = 0; k < nfft / 2 + 1; ++k)
+      norm[size_t(b)] += double(masks.gain(b, k)) * masks.gain(b, k);
+  // A band's energy in the energy response is its octave's (fc / sqrt 2 .. fc sqrt 2). The
+  // extreme bands' filters reach beyond it (63 Hz down to 0 Hz, 8 kHz up to Nyquist); there
+  // an IR carries the octave's spectral density on (as the mono synthesiser and
+  // expectedBandAnalysisEnergy do), so those bands carry (span of M_b^2) / (octave width)
+  // times the band energy: 2 at 63 Hz, 3.2 at 8 kHz and 48 kHz.
+  for (int b = 0; b < kNumBands; ++b) {
+    const double width = bandCentreExactHz(b) / std::numbers::sqrt2;
+    densityGain_[size_t(b)] =
+        (b == 0 || b == kNumBands - 1) ? norm[size_t(b)] * sampleRate_ / double(nfft) / width : 1.0;
+  }
+}
+
+void SpatialIrSynthesizer::equaliseDiffuseField(const std::vector<DirectionFilter>& filters,
+                                                const OctaveBandMasks& masks,
+                                                FftwRealTransforms& fft) {
+  // The band energy of every direction's filters over the analysed octave (inAnalysedOctave),
+  // averaged over directions and channels.
+  const size_t nbins = fft.n / 2 + 1;
+  Spectrum spec(nbins);
+  kappa_.fill(0.0);
+  channelWeight_.assign(filters.size(), std::vector<Bands>(channels_));
+  for (size_t d = 0; d < filters.size(); ++d)
+    for (size_t c = 0; c < channels_; ++c) {
+      spectrumOf(fft, filters[d].channels[c], spec);
+      for (int b = 0; b < kNumBands; ++b) {
+        double seen = 0.0, seenNorm = 0.0;
+        for (size_t k = 0; k < nbins; ++k) {
+          if (!inAnalysedOctave(b, double(k) * sampleRate_ / double(fft.n))) continue;
+          const double m2 = double(masks.gain(b, k)) * masks.gain(b, k);
+          seen += m2 * double(std::norm(spec[k]));
+          seenNorm += m2;
+        }
+        channelWeight_[d][c][b] = float(seen / seenNorm);
+        kappa_[size_t(b)] += seen / seenNorm / double(channels_ * filters.size());
+      }
+    }
+  for (auto& perChannel : channelWeight_)
+    for (Bands& w : perChannel)
+      for (int b = 0; b < kNumBands; ++b) w[b] = float(double(w[b]) / kappa_[size_t(b)]);
+}
+
+void SpatialIrSynthesizer::directionBands(size_t d, const std::vector<float>& sequence,
+                                          const DirectionFilter& filter,
+                                          const OctaveBandMasks& masks, FftwRealTransforms& fft) {
+  const size_t nbins = fft.n / 2 + 1;
+  const float scale = 1.f / float(fft.n);
+  Spectrum seqSpec(nbins), channelSpec(nbins);
+  spectrumOf(fft, sequence, seqSpec);
+  std::array<std::vector<float>, BandEnvelope::kRealisedBands> measured;
+  for (int b = 0; b < BandEnvelope::kRealisedBands; ++b) {
+    for (size_t k = 0; k < nbins; ++k) {
+      const float m = masks.gain(b, k);
+      const std::complex<float> v = seqSpec[k] * (m * m * m * scale);
+      fft.band.p[k][0] = v.real();
+      fft.band.p[k][1] = v.imag();
+    }
+    fftwf_execute_dft_c2r(fft.inv, fft.band.p, fft.time.p);
+    measured[size_t(b)].assign(fft.time.p, fft.time.p + length_);
+  }
+  envelopes_.push_back(
+      std::make_unique<BandEnvelope>(sampleRate_, sequence, length_, filterData_, measured));
+  bands_[d].resize(channels_);
+  for (size_t c = 0; c < channels_; ++c) {
+    spectrumOf(fft, filter.channels[c], channelSpec);
+    for (int b = 0; b < kNumBands; ++b) {
+      const float eq = float(std::sqrt(densityGain_[size_t(b)] / kappa_[size_t(b)]));
+      for (size_t k = 0; k < nbins; ++k) {
+        const float g = masks.gain(b, k) * masks.gain(b, k) * scale * eq;
+        const std::complex<float> v = g * seqSpec[k] * channelSpec[k];
+        fft.band.p[k][0] = v.real();
+        fft.band.p[k][1] = v.imag();
+      }
+      fftwf_execute_dft_c2r(fft.inv, fft.band.p, fft.time.p);
+      bands_[d][c][size_t(b)].assign(fft.time.p, fft.time.p + length_);
+    }
+  }
+}
+
+void SpatialIrSynthesizer::omniBands(const std::vector<float>& sequence,
+                                     const OctaveBandMasks& masks, FftwRealTransforms& fft,
+                                     double lengthSeconds) {
+  // One more sequence, through A_b only (no channel filter).
+  const size_t nbins = fft.n / 2 + 1;
+  const float scale = 1.f / float(fft.n);
+  Spectrum seqSpec(nbins);
+  spectrumOf(fft, sequence, seqSpec);
+  std::array<std::vector<float>, BandEnvelope::kRealisedBands> measured;
+  for (int b = 0; b < kDirectionalFromBand; ++b) {
+    for (int pass = 0; pass < 2; ++pass) {
+      for (size_t k = 0; k < nbins; ++k) {
+        const float m = masks.gain(b, k);
+        const float g = (pass == 0 ? m * m : m * m * m) * scale;
+        fft.band.p[k][0] = seqSpec[k].real() * g;
+        fft.band.p[k][1] = seqSpec[k].imag() * g;
+      }
+      fftwf_execute_dft_c2r(fft.inv, fft.band.p, fft.time.p);
+      if (pass == 0) {
+        omniBands_[size_t(b)].assign(fft.time.p, fft.time.p + length_);
+        const float density = float(std::sqrt(densityGain_[size_t(b)]));
+        for (float& x : omniBands_[size_t(b)]) x *= density;
+      } else if (b < BandEnvelope::kRealisedBands) {
+        measured[size_t(b)].assign(fft.time.p, fft.time.p + length_);
+      }
+    }
+  }
+  omniEnvelope_ =
+      std::make_unique<BandEnvelope>(sampleRate_, sequence, length_, filterData_, measured);
+  omniEnergy_ = EnergyResponse(lengthSeconds, 1e-3);
+}
+
+void SpatialIrSynthesizer::prepareDirect(size_t margin) {
+  // Direct-sound convolution: band-shaped impulse (margin) * filter (< margin).
+  fft_ = std::make_unique<FftwRealTransforms>(nextPow2(2 * margin));
+  exactScratch_.channels.assign(channels_, {});
+  for (std::vector<float>& h : exactScratch_.channels) h.reserve(margin);
+  directWeight_.assign(channels_, Bands{});
+  const OctaveBandMasks directMasks(sampleRate_, fft_->n);
+  directMask2_.resize(fft_->n / 2 + 1);
+  for (size_t k = 0; k < directMask2_.size(); ++k)
+    for (int b = 0; b < kNumBands; ++b) {
+      const bool seen = inAnalysedOctave(b, double(k) * sampleRate_ / double(fft_->n));
+      const float m2 = seen ? directMasks.gain(b, k) * directMasks.gain(b, k) : 0.f;
+      directMask2_[k][b] = m2;
+      directNorm_[size_t(b)] += double(m2);
+    }
+}
+
+void SpatialIrSynthesizer::sumOmniEnergy(const DirectionalEnergyResponse& energy, size_t count) {
+  // Same bins as the directions' responses.
+  if (omniEnergy_.binCount() != energy.response(0).binCount())
+    omniEnergy_ =
+        EnergyResponse(double(energy.response(0).binCount()) * energy.response(0).binSeconds(),
+                       energy.response(0).binSeconds());
+  omniEnergy_.clear();
+  for (size_t d = 0; d < count; ++d)
+    for (size_t k = 0; k < omniEnergy_.binCount(); ++k)
+      for (int b = 0; b < kDirectionalFromBand; ++b)
+        omniEnergy_.bins()[k][b] += energy.response(d).bins()[k][b];
+}
+
+void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
+                                      const DirectSound& direct, std::span<float* const> channels) {
+  for (float* out : channels) std::fill(out, out + length_, 0.f);
+  const size_t count = std::min(energy.directionCount(), directions_.size());
+  for (size_t d = 0; d < count; ++d) envelopes_[d]->compute(energy.response(d));
+  sumOmniEnergy(energy, count);
+  omniEnvelope_->compute(omniEnergy_);
+  std::array<const float*, kNumBands> omni{};
+  for (int b = 0; b < kDirectionalFromBand; ++b) omni[size_t(b)] = omniBands_[size_t(b)].data();
+  // Cache-blocked: each output block stays in L1 while all K x N x 8 band signals stream
+  // through it once (the loop is memory-bound: the band signals are K x 8 N x length floats).
+  constexpr size_t kBlock = 2048;
+  for (size_t begin = 0; begin < length_; begin += kBlock) {
+    const size_t end = std::min(length_, begin + kBlock);
+    for (size_t d = 0; d < count; ++d)
+      for (size_t c = 0; c < channels_; ++c) {
+        std::array<const float*, kNumBands> bands;
+        for (int b = 0; b < kNumBands; ++b) bands[size_t(b)] = bands_[d][c][size_t(b)].data();
+        envelopes_[d]->accumulateRange(bands, channels[c], begin, end, 1.f, kDirectionalFromBand,
+                                       kNumBands);
+      }
+    for (size_t c = 0; c < channels_; ++c)
+      omniEnvelope_->accumulateRange(omni, channels[c], begin, end, 1.f, 0, kDirectionalFromBand);
+  }
+  if (direct.visible) addDirect(direct, energy.toListener(direct.direction), channels);
+  level(energy, direct, count, channels);
+}
+
+void SpatialIrSynthesizer::level(const DirectionalEnergyResponse& energy, const DirectSound& direct,
+                                 size_t count, std::span<float* const> channels) {
+  // Each channel's target: sum_d E_d,b x the channel filter's band energy for direction d
+  // (diffuse-field equalised), plus the direct sound through its exact filter.
+  for (size_t c = 0; c < channels_; ++c) {
+    leveller_->clearTargets();
+    for (size_t d = 0; d < count; ++d)
+      leveller_->addResponse(energy.response(d), channelWeight_[d][c]);
+    if (direct.visible) {
+      Bands e;
+      for (int b = 0; b < kNumBands; ++b) e[b] = direct.intensity[b] * directWeight_[c][b];
+      leveller_->addDirect(direct.delaySeconds, e);
+    }
+    leveller_->apply(channels[c], kLevelTolerance, kLevelMaxBoost);
+  }
+}
+
+void SpatialIrSynthesizer::directBandWeights(size_t c) {
+  std::array<double, kNumBands> e{};
+  for (size_t k = 0; k < fft_->n / 2 + 1; ++k) {
+    const double p = double(fft_->band.p[k][0]) * fft_->band.p[k][0] +
+                     double(fft_->band.p[k][1]) * fft_->band.p[k][1];
+    for (int b = 0; b < kNumBands; ++b) e[size_t(b)] += p * double(directMask2_[k][b]);
+  }
+  Bands& w = directWeight_[c];
+  for (int b = 0; b < kNumBands; ++b)
+    w[b] = float(e[size_t(b)] / (directNorm_[size_t(b)] * kappa_[size_t(b)]));
+}
+
+void SpatialIrSynthesizer::addDirect(const DirectSound& direct, const glm::vec3& dir,
+                                     std::span<float* const> channels) {
+  exact_(glm::normalize(dir), exactScratch_);
+  const size_t n = fft_->n, nbins = n / 2 + 1, margin = direct_->taps();
+  // The band-shaped impulse: sum_b amp_b a_b, diffuse-field equalised, time 0 at centre.
+  std::fill(fft_->time.p, fft_->time.p + n, 0.f);
+  for (int b = 0; b < kNumBands; ++b) {
+    const size_t bi = size_t(b);
+    const float amp = float(std::sqrt(double(direct.intensity[b]) * densityGain_[bi] /
+                                      (filterData_.share[bi] * kappa_[bi])));
+    direct_->add(b, amp, 0, fft_->time.p, n);
+  }
+  fftwf_execute_dft_r2c(fft_->fwd, fft_->time.p, fft_->spec.p);
+  const long n0 = std::lround(double(direct.delaySeconds) * sampleRate_) - long(direct_->centre());
+  const float scale = 1.f / float(n);
+  for (size_t c = 0; c < channels_; ++c) {
+    const std::vector<float>& h = exactScratch_.channels[c];
+    std::fill(fft_->time.p, fft_->time.p + n, 0.f);
+    std::copy(h.begin(), h.begin() + long(std::min(h.size(), n)), fft_->time.p);
+    fftwf_execute_dft_r2c(fft_->fwd, fft_->time.p, fft_->band.p);
+    directBandWeights(c);  // the exact filter's band energies, for this channel's target
+    for (size_t k = 0; k < nbins; ++k) {
+      const float ar = fft_->spec.p[k][0], ai = fft_->spec.p[k][1];
+      const float hr = fft_->band.p[k][0], hi = fft_->band.p[k][1];
+      fft_->band.p[k][0] = (ar * hr - ai * hi) * scale;
+      fft_->band.p[k][1] = (ar * hi + ai * hr) * scale;
+    }
+    fftwf_execute_dft_c2r(fft_->inv, fft_->band.p, fft_->time.p);
+    const size_t used = margin + h.size();
+    for (size_t i = 0; i < used && i < n; ++i) {
+      const long t = n0 + long(i);
+      if (t >= 0 && t < long(length_)) channels[c][t] += fft_->time.p[i];
+    }
+  }
+}
+
+}  // namespace dpc

@@ -1,0 +1,165 @@
+// N-channel impulse responses (stereo or binaural for N = 2) from a directional energy
+// response.
+//
+// K fixed directions in the listener's frame each own a Dirac sequence (independent per
+// direction, so the directions add up incoherently, as a diffuse field does) that is split
+// into octave bands by the amplitude-complementary filters A_b and convolved, once at
+// construction, with that direction's N per-channel filters (HRIR pairs, or panning gains). A
+// frame then only weights those pre-convolved band signals by per-bin envelope gains
+// (BandEnvelope, expectation form, synthesis/band_envelope.h), so per frame the cost is
+// K x 8 bands x N channels multiply-adds per sample, with no FFT. The direct sound is placed
+// with the filters for its exact direction (FFT convolution of the band-shaped impulse, made
+// of the direct-sound filters a_b that the mono synthesiser uses, with each channel's filter).
+// Below kDirectionalFromBand (63 and 125 Hz) the reverberant part is rendered once from the
+// omnidirectional response and fed to every channel: a diffuse field is almost fully coherent
+// between the ears there (sin(kd)/kd = 0.97 at 125 Hz for d = 18 cm), the HRTFs carry no
+// directional cue, and K independent low-band noises would interfere with too few degrees of
+// freedom to keep their band energy. All filters are diffuse-field equalised per band (divided
+// by the band energy of the K directions' filters averaged over all channels), so that the
+// channels' average band energy follows the mono energy response for a diffuse field (taken
+// over the analysed octave: the 63 Hz and 8 kHz bands carry their octave's spectral density on
+// below 44 Hz and above 11.3 kHz, as an exact IR does). Each channel is then levelled on the
+// ISO 3382-1 analysis filters (BandLeveller, synthesis/band_leveller.h) to its own target:
+// sum_d E_d,b x channelWeight(d, c)[b] plus the direct sound x directWeight(c)[b], which
+// removes the slower bands' gain-step splatter from the faster ones and the expectation
+// form's realisation noise over 50 ms windows.
+// Method: the band-filtered Dirac sequence (Schröder 2011, section 5.3) per direction,
+// rendered through HRTFs as virtual loudspeakers (e.g. Noisternig et al., "3D binaural sound
+// reproduction using a virtual ambisonic approach", VECIMS 2003, for the virtual-loudspeaker
+// idea).
+//
+// One synthesiser serves every source (its sequences are shared; sources differ by their
+// envelopes). Construction: control/propagation thread (FFTW planning); allocates
+// K x N x 8 x length floats; throws std::invalid_argument on inconsistent input,
+// std::runtime_error when FFTW cannot plan. synthesize(): propagation thread; does not
+// allocate after the first call; no errors.
+#pragma once
+
+#include <complex>
+#include <functional>
+#include <glm/vec3.hpp>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "common/fftw_util.h"
+#include "engine/energy_response.h"
+#include "engine/propagation.h"
+#include "synthesis/band_envelope.h"
+#include "synthesis/band_filters.h"
+
+namespace dpc {
+
+class BandLeveller;
+
+/// One direction's filter: one FIR per output channel at the synthesis rate. Panning gains
+/// (one tap per channel) and HRIR pairs (left, right) are the N = 2 cases.
+struct DirectionFilter {
+  std::vector<std::vector<float>> channels;
+};
+
+class SpatialIrSynthesizer {
+ public:
+  /// Bands from this one up are rendered per direction; lower ones omnidirectionally.
+  static constexpr int kDirectionalFromBand = 2;
+  /// Per-channel levelling of the directional bands (BandLeveller): each band's analysed
+  /// energy over 50 ms windows is brought to within this energy ratio of the channel's
+  /// target, scaled up by at most kLevelMaxBoost (amplitude), from where each direction's Dirac
+  /// sequence holds kLevelFromPulses pulses per 10 ms.
+  static constexpr double kLevelTolerance = 1.0;
+  static constexpr double kLevelMaxBoost = 2.0;
+  static constexpr double kLevelFromPulses = 1.0;
+
+  /// Fills `out` (as many channels as the constructor's filters) for an exact listener-frame
+  /// direction (x forward, y left, z up); called on the thread that calls synthesize().
+  using ExactFilter = std::function<void(const glm::vec3& listenerDirection, DirectionFilter& out)>;
+
+  /// directions: K listener-frame unit vectors; filters: one DirectionFilter per direction,
+  /// all with the same N >= 1 channels of 1 .. sampleRate / 4 - 1 taps; exact: the filter for
+  /// any direction (direct sound). roomVolume m^3 and speedOfSound m/s set the reflection
+  /// density; seed the directions' Dirac sequences.
+  SpatialIrSynthesizer(int sampleRate, double lengthSeconds, double roomVolume, double speedOfSound,
+                       uint64_t seed, std::vector<glm::vec3> directions,
+                       const std::vector<DirectionFilter>& filters, ExactFilter exact);
+  ~SpatialIrSynthesizer();
+
+  size_t lengthSamples() const { return length_; }
+  /// N: the channels synthesize() writes.
+  size_t channelCount() const { return channels_; }
+  const std::vector<glm::vec3>& directions() const { return directions_; }
+  /// Diffuse-field equalisation gain applied in band b (energy factor).
+  double diffuseFieldGain(int b) const { return 1.0 / kappa_[size_t(b)]; }
+
+  /// Direction d's filter's band energy for channel c (M_b^2-weighted, as a band measurement
+  /// sees it) over the diffuse-field average kappa_b: what channel c's IR carries of direction
+  /// d's band energy. directWeight: the same for the exact filter of the last synthesize()'s
+  /// direct sound (valid when it was visible).
+  const Bands& channelWeight(size_t d, size_t c) const { return channelWeight_[d][c]; }
+  const Bands& directWeight(size_t c) const { return directWeight_[c]; }
+
+  /// Writes lengthSamples() samples to each of the channelCount() buffers of `channels`.
+  /// energy must use this synthesiser's directions (same order); direct.direction is a world
+  /// vector, rotated by energy's frame.
+  void synthesize(const DirectionalEnergyResponse& energy, const DirectSound& direct,
+                  std::span<float* const> channels);
+
+ private:
+  using Spectrum = std::vector<std::complex<float>>;  // layout-compatible with fftwf_complex
+  /// The spectrum of taps on big_'s bins.
+  void spectrumOf(FftwRealTransforms& fft, const std::vector<float>& taps, Spectrum& out) const;
+  /// densityGain_: the extreme bands' spectral density continued beyond their octave.
+  void densityGains(const OctaveBandMasks& masks, size_t nfft);
+  /// kappa_ and channelWeight_ from every direction's filters.
+  void equaliseDiffuseField(const std::vector<DirectionFilter>& filters,
+                            const OctaveBandMasks& masks, FftwRealTransforms& fft);
+  /// Direction d's sequence through A_b and its channels' filters, and its envelope.
+  void directionBands(size_t d, const std::vector<float>& sequence, const DirectionFilter& filter,
+                      const OctaveBandMasks& masks, FftwRealTransforms& fft);
+  /// The omnidirectional low bands' sequence through A_b, and its envelope.
+  void omniBands(const std::vector<float>& sequence, const OctaveBandMasks& masks,
+                 FftwRealTransforms& fft, double lengthSeconds);
+  /// The direct sound's FFT and the analysed-octave masks on its bins.
+  void prepareDirect(size_t margin);
+  /// The omnidirectional response: the directions' low bands summed.
+  void sumOmniEnergy(const DirectionalEnergyResponse& energy, size_t count);
+  void addDirect(const DirectSound& direct, const glm::vec3& listenerDirection,
+                 std::span<float* const> channels);
+  /// directWeight_[c] from the channel's exact-filter spectrum in fft_->band.
+  void directBandWeights(size_t c);
+  /// Levels each channel to its target (see the file comment).
+  void level(const DirectionalEnergyResponse& energy, const DirectSound& direct, size_t count,
+             std::span<float* const> channels);
+
+  int sampleRate_;
+  size_t length_ = 0;
+  size_t channels_ = 0;
+  std::vector<glm::vec3> directions_;
+  ExactFilter exact_;
+  BandFilterData filterData_;
+  std::array<double, kNumBands> kappa_{};
+  std::array<double, kNumBands> densityGain_{};           ///< energy factor, see densityGains
+  std::vector<std::unique_ptr<BandEnvelope>> envelopes_;  ///< one per direction
+  std::unique_ptr<BandEnvelope> omniEnvelope_;            ///< low bands, every channel
+  std::array<std::vector<float>, kNumBands> omniBands_;   ///< omni sequence through A_b
+  EnergyResponse omniEnergy_;                             ///< scratch: sum over directions
+  /// bands_[d][c][b]: direction d's sequence through A_b and its channel c filter, length_
+  /// samples.
+  std::vector<std::vector<std::array<std::vector<float>, kNumBands>>> bands_;
+  std::unique_ptr<DirectSoundFilter> direct_;
+  // Direct sound: FFT convolution buffers and plans, made at construction.
+  std::unique_ptr<FftwRealTransforms> fft_;
+  DirectionFilter exactScratch_;
+  /// channelWeight_[d][c][b]: direction d's channel c filter's band energy / kappa_b;
+  /// directWeight_: the same for the last direct sound's exact filter.
+  std::vector<std::vector<Bands>> channelWeight_;
+  std::vector<Bands> directWeight_;
+  std::vector<Bands> directMask2_;  ///< M_b^2 on the direct-sound FFT's bins
+  std::array<double, kNumBands> directNorm_{};
+  std::unique_ptr<BandLeveller> leveller_;
+};
+
+/// The K = 8 listener-frame directions dpc uses: six on the horizon every 60 degrees from
+/// straight ahead, one straight up, one 40 degrees below the front (KEMAR's lowest ring).
+std::vector<glm::vec3> defaultSpatialDirections();
+
+}  // namespace dpc

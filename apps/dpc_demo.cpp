@@ -25,6 +25,7 @@
 #include "common/input_file.h"
 #include "common/output_file.h"
 #include "scene/scene.h"
+#include "scene/validate.h"
 #include "engine/setup_check.h"
 #include "engine/workload.h"
 #include "runtime/live_session.h"
@@ -73,21 +74,22 @@ PropagationSettings applyOverrides(const SceneDesc& scene, const Flags& fl) {
     if (fl.seed < 0) bad("--seed", "must be >= 0");
     s.seed = uint64_t(fl.seed);
   }
+  // Ranges: the scene keys' (scene/limits.h), checked before narrowing to the stored type.
+  const Origin flags = commandLineOrigin();
   if (fl.hasRays) {
-    if (fl.rays < 1 || fl.rays > 100'000'000) bad("--rays", "must be in 1..100000000");
+    checkField("propagation.rays_per_frame", double(fl.rays), flags);
     s.raysPerFrame = int(fl.rays);
   }
   if (fl.hasMaxOrder) {
-    if (fl.maxOrder < 0 || fl.maxOrder > 10'000) bad("--max-order", "must be in 0..10000");
+    checkField("propagation.max_order", double(fl.maxOrder), flags);
     s.maxOrder = int(fl.maxOrder);
   }
   if (fl.hasTau) {
-    if (!(fl.tau >= 0.0 && fl.tau <= 3600.0)) bad("--tau", "must be in [0, 3600] seconds");
+    checkField("propagation.cache_tau", fl.tau, flags);
     s.cacheTau = float(fl.tau);
   }
   if (fl.hasCacheMb) {
-    if (!(fl.cacheMb > 0.0 && fl.cacheMb <= 16384.0))
-      bad("--cache-memory-mb", "must be in (0, 16384] megabytes");
+    checkField("propagation.cache_memory_mb", fl.cacheMb, flags);
     s.cacheMemoryMb = float(fl.cacheMb);
   }
   if (fl.hasThreads) {
@@ -479,8 +481,7 @@ int runLive(Flags& fl) {
   // cores: 245 late blocks in 20 s with both cores tracing, 24 with one; docs/live.md).
   if (!fl.hasThreads) settings.threads = std::max(1, int(std::thread::hardware_concurrency()) - 1);
   if (fl.hasBlockSize) {
-    if (fl.blockSize < 16 || fl.blockSize > 8192)
-      throw InputError("command line", "--block-size", "must be in 16..8192 samples");
+    checkField("audio.block_size", double(fl.blockSize), commandLineOrigin());
     scene.audio.blockSize = int(fl.blockSize);
   }
   if (fl.hasDuration && !(fl.duration > 0.0 && fl.duration <= kMaxDurationSeconds))

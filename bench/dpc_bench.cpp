@@ -32,7 +32,9 @@
 #include "common/input_error.h"
 #include "synthesis/ir_synthesis.h"
 #include "bench/noise_study.h"
+#include "scene/limits.h"
 #include "scene/scene.h"
+#include "scene/validate.h"
 #include "engine/simulation.h"
 #include "runtime/live_session.h"
 #include "runtime/render_pipeline.h"
@@ -71,6 +73,12 @@ struct Common {
 PropagationSettings settingsFor(const SceneDesc& scene, const Common& c) {
   PropagationSettings s = scene.propagation;
   s.threads = c.threads;
+  // The flags' ranges are the scene keys' (scene/limits.h).
+  const Origin flags = commandLineOrigin();
+  if (c.haveRays) checkField("propagation.rays_per_frame", c.rays, flags);
+  if (c.haveMaxOrder) checkField("propagation.max_order", c.maxOrder, flags);
+  if (c.haveTau) checkField("propagation.cache_tau", c.tau, flags);
+  if (c.haveCacheMb) checkField("propagation.cache_memory_mb", c.cacheMb, flags);
   if (c.haveRays) s.raysPerFrame = c.rays;
   if (c.haveMaxOrder) s.maxOrder = c.maxOrder;
   if (c.haveTau) s.cacheTau = float(c.tau);
@@ -385,8 +393,10 @@ int benchNoise(const Common& c, double walkSpeed, int referenceFrames, int warmu
 int benchLive(const Common& c, double duration, int blockSize, double frameRate,
               const std::string& device) {
   SceneDesc scene = loadScene(c.scene);
+  checkField("audio.block_size", blockSize, commandLineOrigin());
   scene.audio.blockSize = blockSize;
   PropagationSettings s = settingsFor(scene, c);
+  if (frameRate > 0.0) checkField("propagation.frame_rate", frameRate, commandLineOrigin());
   if (frameRate > 0.0) s.frameRate = float(frameRate);
   const DrySignals dry = loadDrySignals(scene);
   LiveSession::Options lo;
@@ -882,8 +892,7 @@ int main(int argc, char** argv) {
     sub->add_option("--max-order", c.maxOrder, "Maximum reflection order");
     sub->add_option("--frames", c.frames, "Frames to measure");
     sub->add_option("--tau", c.tau, "Cache response time tau, seconds");
-    sub->add_option("--cache-memory-mb", c.cacheMb, "DPC memory budget per source, MB (> 0)")
-        ->check(CLI::PositiveNumber);
+    sub->add_option("--cache-memory-mb", c.cacheMb, "DPC memory budget per source, MB (> 0)");
   };
   CLI::App* prop = app.add_subcommand("propagation", "Frame time and segments/s vs bare Embree");
   addCommon(prop);
@@ -935,7 +944,7 @@ int main(int argc, char** argv) {
       "convolve", "Convolver CPU: non-uniform dpc (with/without IR swaps) vs zita-convolver");
   bench::ConvolveOptions convOptions;
   conv->add_option("--blocks", convOptions.blocks, "Block sizes (default 64 128 256 512)")
-      ->check(CLI::Range(16, 8192));
+      ->check(CLI::Range(limitOf("audio.block_size").min, limitOf("audio.block_size").max));
   conv->add_option("--seconds", convOptions.seconds, "Audio seconds per run (default 3)")
       ->check(CLI::Range(0.1, 600.0));
   conv->add_option("--swap-ms", convOptions.swapIntervalMs, "IR swap interval, ms (default 66)")

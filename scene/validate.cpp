@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <set>
+#include <utility>
 
 #include "common/input_error.h"
 #include "scene/limits.h"
@@ -159,6 +160,21 @@ std::string Origin::fieldName(const std::string& path) const {
   return spell ? spell(path) : path;
 }
 
+Origin commandLineOrigin() {
+  return Origin{"command line", [](const std::string& path) -> std::string {
+                  static const std::pair<const char*, const char*> kFlags[] = {
+                      {"propagation.rays_per_frame", "--rays"},
+                      {"propagation.max_order", "--max-order"},
+                      {"propagation.cache_tau", "--tau"},
+                      {"propagation.cache_memory_mb", "--cache-memory-mb"},
+                      {"propagation.frame_rate", "--frame-rate"},
+                      {"audio.block_size", "--block-size"}};
+                  for (const auto& [key, flag] : kFlags)
+                    if (path == key) return flag;
+                  return path;
+                }};
+}
+
 void checkField(std::string_view field, double value, const Origin& origin,
                 const std::string& path) {
   const Limit& l = limitOf(field);
@@ -167,9 +183,9 @@ void checkField(std::string_view field, double value, const Origin& origin,
   const std::string v = valueText(value);
   if (l.integer && std::isfinite(value) && value != std::floor(value))
     fail(origin, where, v + " is not an integer");
-  const std::string unit = l.unit.empty() ? "" : " " + std::string(l.unit);
-  if (std::isinf(l.max)) fail(origin, where, v + " must be " + rangeText(l) + unit);
-  fail(origin, where, v + " is outside " + rangeText(l) + unit);
+  std::string why = v + (std::isinf(l.max) ? " must be " : " is outside ") + rangeText(l);
+  if (!l.unit.empty()) why.append(" ").append(l.unit);
+  fail(origin, where, why);
 }
 
 void validate(const SceneDesc& scene, const Origin& origin) {

@@ -29,6 +29,11 @@ struct Origin {
   std::string fieldName(const std::string& path) const;
 };
 
+/// Origin "command line": the flags of dpc-demo and dpc-bench that override scene keys
+/// (--rays, --max-order, --tau, --cache-memory-mb, --frame-rate, --block-size) spell their
+/// key; other fields keep their path.
+Origin commandLineOrigin();
+
 /// Throws InputError(origin.name, origin.fieldName(path), "VALUE is outside RANGE UNIT", or
 /// "VALUE must be > MIN" for a range without upper bound, or "VALUE is not an integer") unless
 /// `value` lies within limitOf(field). `path` is the concrete place (with indices and names);

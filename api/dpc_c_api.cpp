@@ -105,6 +105,11 @@ std::string applyOptions(const dpc_engine_options* o, dpc::SceneDesc& scene) {
   if (o->sample_rate != 0) scene.audio.sampleRate = o->sample_rate;
   if (o->block_size != 0) scene.audio.blockSize = o->block_size;
   if (o->rays_per_frame != 0) scene.propagation.raysPerFrame = o->rays_per_frame;
+  try {
+    dpc::validate(scene, apiOrigin("dpc_engine_options", scene));
+  } catch (const dpc::InputError& e) {
+    return e.what();
+  }
   switch (o->output) {
     case DPC_OUTPUT_SCENE:
       break;
@@ -119,11 +124,6 @@ std::string applyOptions(const dpc_engine_options* o, dpc::SceneDesc& scene) {
       break;
     default:
       return "dpc_engine_options.output: not a dpc_output_format";
-  }
-  try {
-    dpc::validate(scene, apiOrigin("dpc_engine_options", scene));
-  } catch (const dpc::InputError& e) {
-    return e.what();
   }
   return {};
 }

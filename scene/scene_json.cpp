@@ -21,14 +21,6 @@ namespace {
 using nlohmann::json;
 namespace fs = std::filesystem;
 
-/// An array's length within the count limit `limitField` ("sources"), before reading it.
-void checkCount(const JsonReader& r, const json& v, const char* limitField, const char* what) {
-  const Limit& l = limitOf(limitField);
-  if (double(v.size()) > l.max)
-    r.fail(limitField, std::to_string(v.size()) + " " + what + ", more than the limit of " +
-                           valueText(l.max));
-}
-
 /// A per-band coefficient within `limitField`: one number for every octave band, or an array
 /// of exactly kNumBands numbers (63 Hz .. 8 kHz). Errors name `field` (and the element).
 Bands readBands(const JsonReader& r, const json& a, const std::string& field,
@@ -160,7 +152,7 @@ std::string readName(const JsonReader& r, const json& v, const std::string& f,
 void readObjects(const JsonReader& r, const json& v, const fs::path& folder, SceneDesc& scene) {
   const std::string field = "objects";
   if (!v.is_array()) r.fail(field, "expected an array of objects, got " + JsonReader::describe(v));
-  checkCount(r, v, "objects", "objects");
+  checkCount("objects", v.size(), Origin{r.file(), {}});
   for (size_t i = 0; i < v.size(); ++i) {
     const std::string f = index(field, i);
     const json& o = v[i];
@@ -215,7 +207,7 @@ void readSources(const JsonReader& r, const json& v, const fs::path& folder, Sce
   const std::string field = "sources";
   if (!v.is_array()) r.fail(field, "expected an array of sources, got " + JsonReader::describe(v));
   if (v.empty()) r.fail(field, "at least one source is required");
-  checkCount(r, v, "sources", "sources");
+  checkCount("sources", v.size(), Origin{r.file(), {}});
   for (size_t i = 0; i < v.size(); ++i)
     scene.sources.push_back(readSource(r, v[i], index(field, i), folder, scene.sources));
 }
@@ -283,7 +275,7 @@ void readListeners(const JsonReader& r, const json& root, SceneDesc& scene) {
   if (!many->is_array() || many->empty())
     r.fail("listeners",
            "expected a non-empty array of listeners, got " + JsonReader::describe(*many));
-  checkCount(r, *many, "listeners", "listeners");
+  checkCount("listeners", many->size(), Origin{r.file(), {}});
   for (size_t i = 0; i < many->size(); ++i) {
     ListenerDesc l;
     readListener(r, (*many)[i], index("listeners", i), true, l);

@@ -18,13 +18,6 @@ std::string at(const std::string& parent, size_t i) {
   throw InputError(origin.name, origin.fieldName(path), why);
 }
 
-void checkCount(const char* field, size_t count, const Origin& origin) {
-  const Limit& l = limitOf(field);
-  if (!withinLimit(l, double(count)))
-    fail(origin, field,
-         std::to_string(count) + " " + field + ", outside the limits " + rangeText(l));
-}
-
 void checkPosition(const glm::vec3& p, const Origin& origin, const std::string& path) {
   for (int k = 0; k < 3; ++k) checkField("position", double(p[k]), origin, at(path, size_t(k)));
 }
@@ -173,6 +166,13 @@ Origin commandLineOrigin() {
                     if (path == key) return flag;
                   return path;
                 }};
+}
+
+void checkCount(const char* field, size_t count, const Origin& origin) {
+  const Limit& l = limitOf(field);
+  const std::string n = std::to_string(count) + " " + field;
+  if (double(count) > l.max) fail(origin, field, n + ", more than the limit of " + valueText(l.max));
+  if (double(count) < l.min) fail(origin, field, n + ", fewer than the minimum of " + valueText(l.min));
 }
 
 void checkField(std::string_view field, double value, const Origin& origin,

@@ -41,6 +41,11 @@ Origin commandLineOrigin();
 void checkField(std::string_view field, double value, const Origin& origin,
                 const std::string& path = "");
 
+/// Throws InputError(origin.name, origin.fieldName(field), "N FIELD, more than the limit of
+/// MAX" or "..., fewer than the minimum of MIN") unless `count` entries of the array `field`
+/// ("sources", "listeners", "objects") lie within its limit.
+void checkCount(const char* field, size_t count, const Origin& origin);
+
 /// Checks every field of `scene` against the limits table and the rules between fields:
 /// at least one material; entity counts; unique, non-empty source, listener and object names;
 /// keyframe times >= 0 and strictly increasing, yaw on every listener keyframe or on none;

@@ -35,8 +35,13 @@ std::string readText(const std::string& path) {
 
 /// The doc's minus signs (U+2212) as ASCII, so "[−200, 200]" reads as rangeText's "[-200, 200]".
 std::string asciiMinus(std::string s) {
-  for (size_t at; (at = s.find("\xE2\x88\x92")) != std::string::npos;) s.replace(at, 3, "-");
-  return s;
+  std::string out;
+  for (size_t at = 0, next; at < s.size(); at = next + 3) {
+    next = std::min(s.find("\xE2\x88\x92", at), s.size());
+    out.append(s, at, next - at);
+    if (next < s.size()) out.push_back('-');
+  }
+  return out;
 }
 
 /// The doc section ("### `propagation`") and row key ("cache_tau") that document `field`.
@@ -102,7 +107,8 @@ json number(double x) {
 json entries(const std::string& field, size_t count) {
   json a = json::array();
   for (size_t i = 0; i < count; ++i) {
-    const std::string name = "e" + std::to_string(i);
+    std::string name(1, 'e');
+    name.append(std::to_string(i));
     if (field == "sources") a.push_back({{"name", name}, {"position", {2, 1.6, 3.5}}});
     if (field == "listeners")
       a.push_back({{"name", name}, {"position", {8.5, 1.6, 1.5}}, {"radius", 0.5}});

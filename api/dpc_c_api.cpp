@@ -153,7 +153,8 @@ void materialsFromData(const dpc_scene_data& d, dpc::SceneDesc& scene) {
 void meshFromData(const dpc_mesh& mesh, dpc::Mesh& out) {
   if (mesh.triangle_count == 0 || !mesh.vertices || !mesh.indices || !mesh.materials)
     bad("mesh", "vertices, indices and materials are required, with triangle_count > 0");
-  for (uint32_t v = 0; v < mesh.vertex_count; ++v) out.vertices.push_back(vec3(mesh.vertices + 3 * size_t(v)));
+  for (uint32_t v = 0; v < mesh.vertex_count; ++v)
+    out.vertices.push_back(vec3(mesh.vertices + 3 * size_t(v)));
   for (uint32_t t = 0; t < mesh.triangle_count; ++t) {
     const uint32_t* i = mesh.indices + 3 * size_t(t);
     out.triangles.push_back({i[0], i[1], i[2]});

@@ -771,9 +771,9 @@ int benchDynamic(int rays, int frames, const std::string& parts) {
 }
 
 /// Memory budget sweep (docs/estimators.md): for each rays-per-frame value, the DPC at the
-/// budget and an unbounded one (16384 MB, pages committed only as used) see the same rays; the
-/// JSON gives entries, bytes, merged entries, the coarse store's share and the budget's bias
-/// (total energy and strength G of the last frame, budgeted vs unbounded).
+/// budget and an unbounded one (the largest budget allowed, pages committed only as used) see
+/// the same rays; the JSON gives entries, bytes, merged entries, the coarse store's share and
+/// the budget's bias (total energy and strength G of the last frame, budgeted vs unbounded).
 int benchBudget(const Common& c, const std::vector<int>& raysList) {
   SceneDesc scene;
   if (c.scene == "room-4x3x2.5")
@@ -797,7 +797,7 @@ int benchBudget(const Common& c, const std::vector<int>& raysList) {
   for (int rays : raysList) {
     PropagationSettings a = s, b = s;
     a.raysPerFrame = b.raysPerFrame = rays;
-    b.cacheMemoryMb = 16384.f;
+    b.cacheMemoryMb = float(limitOf("propagation.cache_memory_mb").max);  // the largest allowed
     Simulation small(scene, a), big(scene, b);
     size_t maxBytes = 0;
     const glm::vec3 at = listenerPositionAt(scene.listener, 0.0);

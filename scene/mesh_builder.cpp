@@ -14,12 +14,10 @@ namespace {
 /// edge (twice the area below 1e-6 times the longest edge squared), computed in double.
 bool degenerate(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
   const glm::vec3 e0 = b - a, e1 = c - a, e2 = c - b;
-  const glm::vec3 n = glm::vec3(e0.y * e1.z - e0.z * e1.y, e0.z * e1.x - e0.x * e1.z,
-                                e0.x * e1.y - e0.y * e1.x);
+  const glm::vec3 n =
+      glm::vec3(e0.y * e1.z - e0.z * e1.y, e0.z * e1.x - e0.x * e1.z, e0.x * e1.y - e0.y * e1.x);
   const double twiceArea = std::sqrt(double(n.x) * n.x + double(n.y) * n.y + double(n.z) * n.z);
-  auto len2 = [](glm::vec3 e) {
-    return double(e.x) * e.x + double(e.y) * e.y + double(e.z) * e.z;
-  };
+  auto len2 = [](glm::vec3 e) { return double(e.x) * e.x + double(e.y) * e.y + double(e.z) * e.z; };
   const double longest2 = std::max({len2(e0), len2(e1), len2(e2)});
   return !(twiceArea > 1e-6 * longest2);
 }
@@ -39,9 +37,9 @@ std::vector<uint32_t> materialIndicesByName(const RawMesh& raw,
   for (const std::string& name : raw.materialNames) {
     const int m = findMaterial(materials, name);
     if (m < 0)
-      throw InputError(raw.file, "usemtl " + name,
-                       "material \"" + name + "\" is not defined in " + sceneFile +
-                           " (materials." + name + ")");
+      throw InputError(
+          raw.file, "usemtl " + name,
+          "material \"" + name + "\" is not defined in " + sceneFile + " (materials." + name + ")");
     slotToMaterial.push_back(uint32_t(m));
   }
   const int fallback = findMaterial(materials, "default");

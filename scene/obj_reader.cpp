@@ -53,9 +53,9 @@ void checkFaceIndices(const std::string& objFile, const char* p, size_t faceNo, 
       continue;
     }
     if (raw > std::numeric_limits<int>::max() || raw < -std::numeric_limits<int>::max())
-      throw InputError(
-          objFile, "face " + std::to_string(faceNo) + " (line " + std::to_string(lineNo) + ")",
-          "vertex index " + std::string(p, size_t(end - p)) + " is out of range");
+      throw InputError(objFile,
+                       "face " + std::to_string(faceNo) + " (line " + std::to_string(lineNo) + ")",
+                       "vertex index " + std::string(p, size_t(end - p)) + " is out of range");
     p = end;
   }
 }
@@ -153,7 +153,8 @@ ObjData parseObj(const std::string& objFile, const std::string& text) {
 std::vector<uint32_t> resolveFace(const std::string& objFile, const ObjFace& f, size_t fi,
                                   int vertexCount) {
   const std::string field = "face " + std::to_string(fi + 1);
-  if (f.vertexIndex.size() < 3) throw InputError(objFile, field, "a face needs at least 3 vertices");
+  if (f.vertexIndex.size() < 3)
+    throw InputError(objFile, field, "a face needs at least 3 vertices");
   std::vector<uint32_t> idx;
   for (int raw : f.vertexIndex) {
     const int i = raw > 0 ? raw - 1 : (raw < 0 ? f.verticesSoFar + raw : -1);
@@ -172,8 +173,7 @@ void triangulate(const std::string& objFile, const ObjData& obj, RawMesh& mesh) 
   for (size_t fi = 0; fi < obj.faces.size(); ++fi) {
     const ObjFace& f = obj.faces[fi];
     const std::vector<uint32_t> idx = resolveFace(objFile, f, fi, int(obj.vertices.size()));
-    const uint32_t material =
-        f.materialSlot >= 0 ? uint32_t(f.materialSlot) : RawMesh::kNoMaterial;
+    const uint32_t material = f.materialSlot >= 0 ? uint32_t(f.materialSlot) : RawMesh::kNoMaterial;
     for (size_t k = 1; k + 1 < idx.size(); ++k) {
       mesh.triangles.push_back({idx[0], idx[k], idx[k + 1]});
       mesh.triangleMaterial.push_back(material);

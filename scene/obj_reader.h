@@ -26,8 +26,8 @@ struct RawMesh {
 
   std::vector<glm::vec3> positions;
   std::vector<std::array<uint32_t, 3>> triangles;  ///< indices into positions
-  std::vector<uint32_t> triangleMaterial;  ///< per triangle: index into materialNames
-  std::vector<std::string> materialNames;  ///< usemtl names in order of first use
+  std::vector<uint32_t> triangleMaterial;          ///< per triangle: index into materialNames
+  std::vector<std::string> materialNames;          ///< usemtl names in order of first use
   /// Per triangle, the number users know its face by (1-based OBJ face), for messages.
   std::vector<uint32_t> triangleFace;
   std::string faceWord = "face";  ///< what triangleFace counts ("face", "triangle")

@@ -5,6 +5,9 @@
 #include <cmath>
 #include <filesystem>
 #include <optional>
+#include <string>
+#include <type_traits>
+#include <vector>
 
 #include "common/air_absorption.h"
 #include "common/input_error.h"
@@ -139,8 +142,8 @@ std::vector<ObjectKeyframe> readObjectKeys(const JsonReader& r, const json& t,
 
 /// A name: a non-empty string, unique among `others`' names (`what`: "source", "object").
 template <class Items>
-std::string readName(const JsonReader& r, const json& v, const std::string& f,
-                     const Items& others, const char* what) {
+std::string readName(const JsonReader& r, const json& v, const std::string& f, const Items& others,
+                     const char* what) {
   std::string name = r.string(r.require(v, f, "name"), join(f, "name"));
   if (name.empty()) r.fail(join(f, "name"), "must not be empty");
   for (const auto& other : others)
@@ -254,7 +257,8 @@ void readListener(const JsonReader& r, const json& v, const std::string& field, 
     r.fail(join(field, "position"), "missing required key (needed when there is no trajectory)");
   if (const json* rad = JsonReader::find(v, "radius"))
     listener.radius = float(r.limited(*rad, join(field, "radius"), "listener.radius"));
-  if (const json* l = JsonReader::find(v, "loop")) listener.loop = r.boolean(*l, join(field, "loop"));
+  if (const json* l = JsonReader::find(v, "loop"))
+    listener.loop = r.boolean(*l, join(field, "loop"));
   if (const json* y = JsonReader::find(v, "yaw"))
     listener.yawDegrees = float(r.limited(*y, join(field, "yaw"), "listener.yaw"));
   if (const json* p = JsonReader::find(v, "pitch"))
@@ -324,10 +328,11 @@ void readPropagationNumbers(const JsonReader& r, const json& v, PropagationSetti
 void readPropagation(const JsonReader& r, const json& v, PropagationSettings& p) {
   const std::string field = "propagation";
   r.expectObject(v, field);
-  r.checkKeys(v, field,
-              {"rays_per_frame", "max_order", "patch_size", "cache_tau", "cache_memory_mb",
-               "frame_rate", "ir_length", "seed", "estimator", "dpc_weighting", "speed_of_sound",
-               "temperature", "humidity", "air_absorption", "diffraction", "roulette_threshold_db"});
+  r.checkKeys(
+      v, field,
+      {"rays_per_frame", "max_order", "patch_size", "cache_tau", "cache_memory_mb", "frame_rate",
+       "ir_length", "seed", "estimator", "dpc_weighting", "speed_of_sound", "temperature",
+       "humidity", "air_absorption", "diffraction", "roulette_threshold_db"});
   auto f = [&](const char* key) { return join(field, key); };
   readPropagationNumbers(r, v, p);
   if (const json* x = JsonReader::find(v, "seed")) {
@@ -338,8 +343,8 @@ void readPropagation(const JsonReader& r, const json& v, PropagationSettings& p)
   if (const json* x = JsonReader::find(v, "estimator"))
     p.estimator = readChoice(r, *x, f("estimator"), parseEstimator, "\"dpc\", \"path_tracing\"");
   if (const json* x = JsonReader::find(v, "dpc_weighting"))
-    p.dpcWeighting = readChoice(r, *x, f("dpc_weighting"), parseDpcWeighting,
-                                "\"ema\", \"seed\", \"window\"");
+    p.dpcWeighting =
+        readChoice(r, *x, f("dpc_weighting"), parseDpcWeighting, "\"ema\", \"seed\", \"window\"");
   if (const json* x = JsonReader::find(v, "air_absorption"))
     p.airAbsorption = r.boolean(*x, f("air_absorption"));
   if (const json* x = JsonReader::find(v, "diffraction"))

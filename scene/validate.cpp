@@ -171,8 +171,10 @@ Origin commandLineOrigin() {
 void checkCount(const char* field, size_t count, const Origin& origin) {
   const Limit& l = limitOf(field);
   const std::string n = std::to_string(count) + " " + field;
-  if (double(count) > l.max) fail(origin, field, n + ", more than the limit of " + valueText(l.max));
-  if (double(count) < l.min) fail(origin, field, n + ", fewer than the minimum of " + valueText(l.min));
+  if (double(count) > l.max)
+    fail(origin, field, n + ", more than the limit of " + valueText(l.max));
+  if (double(count) < l.min)
+    fail(origin, field, n + ", fewer than the minimum of " + valueText(l.min));
 }
 
 void checkField(std::string_view field, double value, const Origin& origin,

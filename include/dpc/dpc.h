@@ -177,8 +177,8 @@ DPC_API void dpc_scene_data_init(dpc_scene_data* data);
  *  (same seed: same impulse responses). Allocates. Errors: DPC_ERR_INVALID_ARGUMENT (NULL
  *  pointers), DPC_ERR_INPUT (a value outside the scene file's range, an index out of bounds,
  *  a coordinate beyond +-10^6 m or not finite, only degenerate triangles: dpc_last_error()
- *  names the field, e.g. "dpc_scene_data: materials[1].absorption[3]: ..."), DPC_ERR_INTERNAL. `options` as for
- *  dpc_engine_create_from_file_ex (may be NULL). */
+ *  names the field, e.g. "dpc_scene_data: materials[1].absorption[3]: ..."),
+ *  DPC_ERR_INTERNAL. `options` as for dpc_engine_create_from_file_ex (may be NULL). */
 DPC_API dpc_status dpc_engine_create_from_data(const dpc_scene_data* data,
                                                const dpc_engine_options* options, dpc_engine** out);
 

@@ -68,39 +68,48 @@ const std::map<std::string, DataSetter>& dataSetters() {
          b.d.additional_listener_count = int(v) - 1;
          return "listeners (1 + additional_listener_count)";
        }},
-      {"position", [](BoxData& b, double v) {
+      {"position",
+       [](BoxData& b, double v) {
          b.sources[0].position[0] = float(v);
          return "sources[0].position[0]";
        }},
-      {"materials.*.absorption", [](BoxData& b, double v) {
+      {"materials.*.absorption",
+       [](BoxData& b, double v) {
          b.material.absorption[0] = float(v);
          return "materials[0].absorption[0]";
        }},
-      {"materials.*.scattering", [](BoxData& b, double v) {
+      {"materials.*.scattering",
+       [](BoxData& b, double v) {
          b.material.scattering = float(v);
          return "materials[0].scattering";
        }},
-      {"sources[].gain_db", [](BoxData& b, double v) {
+      {"sources[].gain_db",
+       [](BoxData& b, double v) {
          b.sources[0].gain_db = float(v);
          return "sources[0].gain_db";
        }},
-      {"listener.radius", [](BoxData& b, double v) {
+      {"listener.radius",
+       [](BoxData& b, double v) {
          b.d.listener_radius = float(v);
          return "listener_radius";
        }},
-      {"listener.yaw", [](BoxData& b, double v) {
+      {"listener.yaw",
+       [](BoxData& b, double v) {
          b.d.listener_yaw_degrees = float(v);
          return "listener_yaw_degrees";
        }},
-      {"listener.pitch", [](BoxData& b, double v) {
+      {"listener.pitch",
+       [](BoxData& b, double v) {
          b.d.listener_pitch_degrees = float(v);
          return "listener_pitch_degrees";
        }},
-#define DPC_FIELD(key, member, type)                     \
-  {"propagation." key, [](BoxData& b, double v) {        \
-     b.d.member = type(v);                               \
-     return key;                                         \
-   }}
+#define DPC_FIELD(key, member, type)               \
+  {                                                \
+    "propagation." key, [](BoxData& b, double v) { \
+      b.d.member = type(v);                        \
+      return key;                                  \
+    }                                              \
+  }
       DPC_FIELD("rays_per_frame", rays_per_frame, int),
       DPC_FIELD("max_order", max_order, int),
       DPC_FIELD("patch_size", patch_size, float),
@@ -111,11 +120,13 @@ const std::map<std::string, DataSetter>& dataSetters() {
       DPC_FIELD("temperature", temperature, float),
       DPC_FIELD("humidity", humidity, float),
 #undef DPC_FIELD
-      {"audio.sample_rate", [](BoxData& b, double v) {
+      {"audio.sample_rate",
+       [](BoxData& b, double v) {
          b.d.sample_rate = int(v);
          return "sample_rate";
        }},
-      {"audio.block_size", [](BoxData& b, double v) {
+      {"audio.block_size",
+       [](BoxData& b, double v) {
          b.d.block_size = int(v);
          return "block_size";
        }},

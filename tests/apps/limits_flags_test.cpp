@@ -34,8 +34,7 @@ std::string runDemo(const std::string& args) {
 
 }  // namespace
 
-TEST_CASE("dpc-demo flags: every limit is accepted at its bounds and refused beyond",
-          "[limits]") {
+TEST_CASE("dpc-demo flags: every limit is accepted at its bounds and refused beyond", "[limits]") {
   const std::string help = runDemo("--help");
   const Origin flags = commandLineOrigin();
   int probed = 0;

@@ -206,3 +206,17 @@ TEST_CASE("C API options: sample rate, block size and rays per frame limits", "[
     }
   }
 }
+
+TEST_CASE("C API scene data: degenerate triangles are dropped as from a file", "[limits]") {
+  BoxData box;
+  box.indices.insert(box.indices.end(), {0, 1, 1});  // zero area
+  box.materials.push_back(0);
+  dpc_engine* e = nullptr;
+  REQUIRE(dpc_engine_create_from_data(&box.data(), nullptr, &e) == DPC_OK);
+  dpc_engine_destroy(e);
+  box.indices = {0, 1, 1, 2, 2, 3};
+  box.materials = {0, 0};
+  CHECK(dpc_engine_create_from_data(&box.data(), nullptr, &e) == DPC_ERR_INPUT);
+  CHECK(std::string(dpc_last_error()) ==
+        "dpc_scene_data: all 2 triangles are degenerate (zero area); nothing to trace");
+}

@@ -5,33 +5,30 @@
 
 #include "api/engine_handle.h"
 #include "api/errors.h"
+#include "api/field_names.h"
 #include "api/scene_data.h"
+#include "common/input_error.h"
 #include "common/log.h"
+#include "scene/validate.h"
 
 namespace dpc::api {
 namespace {
 
-// Checks range of the numeric dpc_engine_options; returns a message for a bad one.
-const char* checkOptionRanges(const dpc_engine_options& o) {
-  if (o.sample_rate != 0 && (o.sample_rate < 8000 || o.sample_rate > 384000))
-    return "dpc_engine_options.sample_rate: outside 8000..384000 Hz";
-  if (o.block_size != 0 && (o.block_size < 16 || o.block_size > 8192))
-    return "dpc_engine_options.block_size: outside 16..8192 frames";
-  if (o.rays_per_frame < 0) return "dpc_engine_options.rays_per_frame: must be > 0";
-  if (o.output != DPC_OUTPUT_SCENE && o.output != DPC_OUTPUT_MONO &&
-      o.output != DPC_OUTPUT_STEREO && o.output != DPC_OUTPUT_BINAURAL)
-    return "dpc_engine_options.output: not a dpc_output_format";
-  return nullptr;
-}
-
-// Applies dpc_engine_options (checked, may be NULL) to a loaded scene; DPC_OK or the failure.
+// Applies dpc_engine_options (may be NULL) to a loaded scene and validates the result with the
+// scene file's limits (scene/validate.h); DPC_OK or the failure with its one-line message.
 dpc_status applyOptions(const dpc_engine_options* o, SceneDesc& scene) {
   if (!o) return DPC_OK;
-  if (const char* bad = checkOptionRanges(*o)) return fail(DPC_ERR_INVALID_ARGUMENT, bad);
   if (o->sample_rate != 0) scene.audio.sampleRate = o->sample_rate;
   if (o->block_size != 0) scene.audio.blockSize = o->block_size;
   if (o->rays_per_frame != 0) scene.propagation.raysPerFrame = o->rays_per_frame;
-  if (o->output != DPC_OUTPUT_SCENE) toOutputFormat(o->output, &scene.audio.output);
+  try {
+    validate(scene, apiOrigin("dpc_engine_options", scene));
+  } catch (const InputError& e) {
+    return fail(DPC_ERR_INVALID_ARGUMENT, e.what());
+  }
+  // Checked after the values, so that a bad value's message wins.
+  if (o->output != DPC_OUTPUT_SCENE && !toOutputFormat(o->output, &scene.audio.output))
+    return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_options.output: not a dpc_output_format");
   return DPC_OK;
 }
 

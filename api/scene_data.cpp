@@ -2,11 +2,15 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <glm/geometric.hpp>
 #include <string>
 
+#include "api/field_names.h"
 #include "common/air_absorption.h"
 #include "common/input_error.h"
+#include "scene/mesh_builder.h"
+#include "scene/validate.h"
 
 namespace dpc::api {
 namespace {
@@ -16,84 +20,54 @@ namespace {
   throw InputError("dpc_scene_data", field, problem);
 }
 
-void checkFinite(float v, const std::string& field) {
-  if (!std::isfinite(v)) bad(field, "not a finite number");
+glm::vec3 vec3(const float* p) {
+  return glm::vec3(p[0], p[1], p[2]);
 }
 
-void checkRange(double v, double lo, double hi, const std::string& field, const char* unit) {
-  if (!(v >= lo && v <= hi))
-    bad(field, std::to_string(v) + " is outside [" + std::to_string(lo) + ", " +
-                   std::to_string(hi) + "]" + unit);
-}
-
-void addMaterials(const dpc_scene_data& d, SceneDesc& scene) {
+void materialsFromData(const dpc_scene_data& d, SceneDesc& scene) {
   if (d.material_count < 1 || !d.materials) bad("materials", "at least one material is required");
   for (int i = 0; i < d.material_count; ++i) {
     const dpc_material& m = d.materials[i];
-    const std::string f = "materials[" + std::to_string(i) + "]";
     Material mat;
     mat.name = m.name ? m.name : "material " + std::to_string(i);
-    for (int b = 0; b < DPC_BANDS; ++b) {
-      checkRange(m.absorption[b], 0.0, 1.0, f + ".absorption[" + std::to_string(b) + "]", "");
-      mat.absorption[b] = m.absorption[b];
-    }
-    checkRange(m.scattering, 0.0, 1.0, f + ".scattering", "");
+    for (int b = 0; b < DPC_BANDS; ++b) mat.absorption[b] = m.absorption[b];
     mat.scattering = Bands(m.scattering);
     scene.materials.push_back(mat);
   }
 }
 
-void addVertices(const dpc_mesh& mesh, SceneDesc& scene) {
-  for (uint32_t v = 0; v < mesh.vertex_count; ++v) {
-    const float* p = mesh.vertices + size_t(v) * 3;
-    for (int k = 0; k < 3; ++k)
-      checkFinite(p[k], "mesh.vertices[" + std::to_string(size_t(v) * 3 + size_t(k)) + "]");
-    scene.mesh.vertices.emplace_back(p[0], p[1], p[2]);
-  }
-}
-
-void addTriangles(const dpc_scene_data& d, SceneDesc& scene) {
-  const dpc_mesh& mesh = d.mesh;
-  for (uint32_t t = 0; t < mesh.triangle_count; ++t) {
-    std::array<uint32_t, 3> tri;
-    for (int k = 0; k < 3; ++k) {
-      tri[size_t(k)] = mesh.indices[size_t(t) * 3 + size_t(k)];
-      if (tri[size_t(k)] >= mesh.vertex_count)
-        bad("mesh.indices[" + std::to_string(size_t(t) * 3 + size_t(k)) + "]",
-            std::to_string(tri[size_t(k)]) + " >= vertex_count " +
-                std::to_string(mesh.vertex_count));
-    }
-    const glm::vec3 a = scene.mesh.vertices[tri[0]], b = scene.mesh.vertices[tri[1]],
-                    c = scene.mesh.vertices[tri[2]];
-    if (!(glm::length(glm::cross(b - a, c - a)) > 0.f))
-      bad("mesh.indices", "triangle " + std::to_string(t) + " has zero area");
-    if (mesh.materials[t] >= uint32_t(d.material_count))
-      bad("mesh.materials[" + std::to_string(t) + "]", std::to_string(mesh.materials[t]) +
-                                                           " >= material_count " +
-                                                           std::to_string(d.material_count));
-    scene.mesh.triangles.push_back(tri);
-    scene.mesh.materialIndex.push_back(mesh.materials[t]);
-  }
-}
-
-void addMesh(const dpc_scene_data& d, SceneDesc& scene) {
-  const dpc_mesh& mesh = d.mesh;
+// The mesh as given (validate() checks its indices), then cleaned by the one mesh builder.
+void meshFromData(const dpc_mesh& mesh, Mesh& out) {
   if (mesh.triangle_count == 0 || !mesh.vertices || !mesh.indices || !mesh.materials)
     bad("mesh", "vertices, indices and materials are required, with triangle_count > 0");
-  addVertices(mesh, scene);
-  addTriangles(d, scene);
+  for (uint32_t v = 0; v < mesh.vertex_count; ++v)
+    out.vertices.push_back(vec3(mesh.vertices + 3 * size_t(v)));
+  for (uint32_t t = 0; t < mesh.triangle_count; ++t) {
+    const uint32_t* i = mesh.indices + 3 * size_t(t);
+    out.triangles.push_back({i[0], i[1], i[2]});
+    out.materialIndex.push_back(mesh.materials[t]);
+  }
 }
 
-void addSources(const dpc_scene_data& d, SceneDesc& scene) {
+Mesh cleanMesh(const Mesh& mesh, std::vector<std::string>& warnings) {
+  RawMesh raw;
+  raw.file = "dpc_scene_data";
+  raw.faceWord = "triangle";
+  raw.positions = mesh.vertices;
+  raw.triangles = mesh.triangles;
+  for (uint32_t t = 0; t < mesh.triangles.size(); ++t) raw.triangleFace.push_back(t);
+  return buildMesh(raw, mesh.materialIndex, warnings);
+}
+
+void sourcesFromData(const dpc_scene_data& d, const Origin& origin, SceneDesc& scene) {
   if (d.source_count < 1 || !d.sources) bad("sources", "at least one source is required");
+  checkField("sources", d.source_count, origin);
   for (int i = 0; i < d.source_count; ++i) {
     const dpc_source& s = d.sources[i];
     const std::string f = "sources[" + std::to_string(i) + "]";
     SourceDesc src;
     src.name = "source " + std::to_string(i);
-    for (int k = 0; k < 3; ++k) checkFinite(s.position[k], f + ".position");
-    src.position = glm::vec3(s.position[0], s.position[1], s.position[2]);
-    checkRange(s.gain_db, -200.0, 200.0, f + ".gain_db", " dB");
+    src.position = vec3(s.position);
     src.gainDb = s.gain_db;
     src.loop = s.loop != 0;
     if (!s.signal && s.signal_frames > 0) bad(f + ".signal", "NULL with signal_frames > 0");
@@ -104,56 +78,30 @@ void addSources(const dpc_scene_data& d, SceneDesc& scene) {
   }
 }
 
-void addFirstListener(const dpc_scene_data& d, SceneDesc& scene) {
-  ListenerDesc l;
-  for (int k = 0; k < 3; ++k) checkFinite(d.listener_position[k], "listener_position");
-  l.position = glm::vec3(d.listener_position[0], d.listener_position[1], d.listener_position[2]);
-  if (!(d.listener_radius > 0.f) || !std::isfinite(d.listener_radius))
-    bad("listener_radius", "must be a finite number > 0 m");
-  l.radius = d.listener_radius;
-  checkFinite(d.listener_yaw_degrees, "listener_yaw_degrees");
-  checkFinite(d.listener_pitch_degrees, "listener_pitch_degrees");
-  l.yawDegrees = d.listener_yaw_degrees;
-  l.pitchDegrees = d.listener_pitch_degrees;
-  l.name = "listener 0";
-  scene.listeners.push_back(l);
-  scene.listener = l;
-}
-
-void addAdditionalListeners(const dpc_scene_data& d, SceneDesc& scene) {
-  if (d.additional_listener_count < 0 || d.additional_listener_count > 63)
-    bad("additional_listener_count", "must be in 0..63");
+void listenersFromData(const dpc_scene_data& d, const Origin& origin, SceneDesc& scene) {
+  checkField("listeners", 1.0 + d.additional_listener_count, origin);
   if (d.additional_listener_count > 0 && !d.additional_listeners)
     bad("additional_listeners", "NULL with additional_listener_count > 0");
-  for (int i = 0; i < d.additional_listener_count; ++i) {
-    const dpc_listener& a = d.additional_listeners[i];
-    const std::string f = "additional_listeners[" + std::to_string(i) + "]";
-    ListenerDesc extra;
-    extra.name = "listener " + std::to_string(i + 1);
-    for (int k = 0; k < 3; ++k) checkFinite(a.position[k], f + ".position");
-    extra.position = glm::vec3(a.position[0], a.position[1], a.position[2]);
-    if (!(a.radius > 0.f) || !std::isfinite(a.radius))
-      bad(f + ".radius", "must be a finite number > 0 m");
-    extra.radius = a.radius;
-    checkFinite(a.yaw_degrees, f + ".yaw_degrees");
-    checkFinite(a.pitch_degrees, f + ".pitch_degrees");
-    extra.yawDegrees = a.yaw_degrees;
-    extra.pitchDegrees = a.pitch_degrees;
-    scene.listeners.push_back(extra);
+  dpc_listener first{};
+  std::memcpy(first.position, d.listener_position, sizeof first.position);
+  first.radius = d.listener_radius;
+  first.yaw_degrees = d.listener_yaw_degrees;
+  first.pitch_degrees = d.listener_pitch_degrees;
+  for (int i = 0; i <= d.additional_listener_count; ++i) {
+    const dpc_listener& a = i == 0 ? first : d.additional_listeners[i - 1];
+    ListenerDesc l;
+    l.name = "listener " + std::to_string(i);
+    l.position = vec3(a.position);
+    l.radius = a.radius;
+    l.yawDegrees = a.yaw_degrees;
+    l.pitchDegrees = a.pitch_degrees;
+    scene.listeners.push_back(l);
   }
+  scene.listener = scene.listeners.front();
 }
 
-// Bounds of the scene file's "propagation" (scene/scene.cpp).
-void setPropagation(const dpc_scene_data& d, SceneDesc& scene) {
+void settingsFromData(const dpc_scene_data& d, SceneDesc& scene) {
   PropagationSettings& p = scene.propagation;
-  checkRange(d.rays_per_frame, 1, 100'000'000, "rays_per_frame", "");
-  checkRange(d.max_order, 0, 10'000, "max_order", "");
-  if (!(d.patch_size > 0.f) || !std::isfinite(d.patch_size)) bad("patch_size", "must be > 0 m");
-  checkRange(d.cache_tau, 0.0, 1e6, "cache_tau", " s");
-  checkRange(d.frame_rate, 1.0, 120.0, "frame_rate", " Hz");
-  if (!(d.ir_length > 0.f && d.ir_length <= 60.f)) bad("ir_length", "outside (0, 60] s");
-  checkRange(d.temperature, -50.0, 60.0, "temperature", " degrees C");
-  checkRange(d.humidity, 0.0, 100.0, "humidity", " %");
   p.raysPerFrame = d.rays_per_frame;
   p.maxOrder = d.max_order;
   p.patchSize = d.patch_size;
@@ -163,20 +111,10 @@ void setPropagation(const dpc_scene_data& d, SceneDesc& scene) {
   p.seed = d.seed;
   p.temperatureC = d.temperature;
   p.humidityPercent = d.humidity;
-  if (d.speed_of_sound == 0.f) {
-    p.speedOfSound = float(speedOfSoundAt(p.temperatureC));
-  } else {
-    checkRange(d.speed_of_sound, 1.0, 10000.0, "speed_of_sound", " m/s");
-    p.speedOfSound = d.speed_of_sound;
-  }
+  p.speedOfSound =
+      d.speed_of_sound == 0.f ? float(speedOfSoundAt(p.temperatureC)) : d.speed_of_sound;
   p.airAbsorption = d.air_absorption != 0;
   p.diffraction = d.diffraction != 0;
-}
-
-// Bounds of the scene file's "audio" (scene/scene.cpp).
-void setAudio(const dpc_scene_data& d, SceneDesc& scene) {
-  checkRange(d.sample_rate, 8000, 384000, "sample_rate", " Hz");
-  checkRange(d.block_size, 16, 8192, "block_size", " frames");
   scene.audio.sampleRate = d.sample_rate;
   scene.audio.blockSize = d.block_size;
   if (!toOutputFormat(d.output, &scene.audio.output))
@@ -201,16 +139,19 @@ bool toOutputFormat(dpc_output_format format, OutputFormat* out) {
   }
 }
 
+// The SceneDesc a scene file with the same content would give (docs/scene-format.md),
+// checked by the same validate() and cleaned by the same mesh builder.
 SceneDesc sceneFromData(const dpc_scene_data& d) {
   SceneDesc scene;
   scene.path = "dpc_scene_data";
-  addMaterials(d, scene);
-  addMesh(d, scene);
-  addSources(d, scene);
-  addFirstListener(d, scene);
-  addAdditionalListeners(d, scene);
-  setPropagation(d, scene);
-  setAudio(d, scene);
+  const Origin origin = apiOrigin("dpc_scene_data", scene);
+  materialsFromData(d, scene);
+  meshFromData(d.mesh, scene.mesh);
+  sourcesFromData(d, origin, scene);
+  listenersFromData(d, origin, scene);
+  settingsFromData(d, scene);
+  validate(scene, origin);
+  scene.mesh = cleanMesh(scene.mesh, scene.warnings);
   return scene;
 }
 

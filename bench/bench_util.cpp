@@ -1,5 +1,6 @@
 // Helpers shared by the dpc-bench subcommands.
 #include "bench/bench_util.h"
+#include "scene/validate.h"
 
 #include <cstdio>
 
@@ -22,6 +23,12 @@ SceneDesc firstSourceOnly(SceneDesc scene) {
 PropagationSettings settingsFor(const SceneDesc& scene, const CommonOptions& c) {
   PropagationSettings s = scene.propagation;
   s.threads = c.threads;
+  // The flags' ranges are the scene keys' (scene/limits.h).
+  const Origin flags = commandLineOrigin();
+  if (c.rays) checkField("propagation.rays_per_frame", *c.rays, flags);
+  if (c.maxOrder) checkField("propagation.max_order", *c.maxOrder, flags);
+  if (c.tau) checkField("propagation.cache_tau", *c.tau, flags);
+  if (c.cacheMb) checkField("propagation.cache_memory_mb", *c.cacheMb, flags);
   if (c.rays) s.raysPerFrame = *c.rays;
   if (c.maxOrder) s.maxOrder = *c.maxOrder;
   if (c.tau) s.cacheTau = float(*c.tau);

@@ -6,6 +6,7 @@
 
 #include "engine/simulation.h"
 #include "testing/test_scenes.h"
+#include "scene/limits.h"
 
 namespace dpc::bench {
 namespace {
@@ -25,7 +26,7 @@ const char* weightingName(DpcWeighting w) {
 Json sweepPoint(const SceneDesc& scene, const PropagationSettings& s, int rays, int frames) {
   PropagationSettings a = s, b = s;
   a.raysPerFrame = b.raysPerFrame = rays;
-  b.cacheMemoryMb = 16384.f;
+  b.cacheMemoryMb = float(limitOf("propagation.cache_memory_mb").max);  // the largest allowed
   Simulation small(scene, a), big(scene, b);
   size_t maxBytes = 0;
   const glm::vec3 at = listenerPositionAt(scene.listener, 0.0);

@@ -8,7 +8,7 @@
 namespace dpc::bench {
 
 /// Memory budget sweep (docs/estimators.md): for each rays-per-frame value, the DPC at the
-/// budget and an unbounded one (16384 MB, pages committed only as used) see the same rays; the
+/// budget and an unbounded one (the largest budget allowed, pages committed only as used) see the same rays; the
 /// JSON gives entries, bytes, merged entries, the coarse store's share and the budget's bias
 /// (total energy and strength G of the last frame, budgeted vs unbounded). c.scene
 /// "room-4x3x2.5" is a built-in shoebox. Main thread. Returns 0; throws on bad input.

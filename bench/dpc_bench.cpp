@@ -29,6 +29,7 @@
 #include "bench/noise_bench.h"
 #include "bench/propagation_bench.h"
 #include "common/input_error.h"
+#include "scene/limits.h"
 
 namespace dpc::bench {
 namespace {
@@ -60,8 +61,7 @@ CLI::App* addSceneBench(CLI::App& app, const char* name, const char* description
   sub->add_option("--max-order", c.maxOrder, "Maximum reflection order");
   sub->add_option("--frames", c.frames, "Frames to measure");
   sub->add_option("--tau", c.tau, "Cache response time tau, seconds");
-  sub->add_option("--cache-memory-mb", c.cacheMb, "DPC memory budget per source, MB (> 0)")
-      ->check(CLI::PositiveNumber);
+  sub->add_option("--cache-memory-mb", c.cacheMb, "DPC memory budget per source, MB (> 0)");
   return sub;
 }
 
@@ -114,7 +114,7 @@ CLI::App* addConvolve(CLI::App& app, Options& o) {
   CLI::App* sub = app.add_subcommand(
       "convolve", "Convolver CPU: non-uniform dpc (with/without IR swaps) vs zita-convolver");
   sub->add_option("--blocks", o.convolve.blocks, "Block sizes (default 64 128 256 512)")
-      ->check(CLI::Range(16, 8192));
+      ->check(CLI::Range(limitOf("audio.block_size").min, limitOf("audio.block_size").max));
   sub->add_option("--seconds", o.convolve.seconds, "Audio seconds per run (default 3)")
       ->check(CLI::Range(0.1, 600.0));
   sub->add_option("--swap-ms", o.convolve.swapIntervalMs, "IR swap interval, ms (default 66)")

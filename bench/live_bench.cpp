@@ -8,6 +8,7 @@
 #include "audio/audio_device.h"
 #include "runtime/live_session.h"
 #include "runtime/render_pipeline.h"
+#include "scene/validate.h"
 
 namespace dpc::bench {
 namespace {
@@ -97,8 +98,10 @@ Json report(const CommonOptions& c, const LiveOptions& o, const SceneDesc& scene
 
 int benchLive(const CommonOptions& c, const LiveOptions& o) {
   SceneDesc scene = loadScene(c.scene);
+  checkField("audio.block_size", o.blockSize, commandLineOrigin());
   scene.audio.blockSize = o.blockSize;
   PropagationSettings s = settingsFor(scene, c);
+  if (o.frameRate > 0.0) checkField("propagation.frame_rate", o.frameRate, commandLineOrigin());
   if (o.frameRate > 0.0) s.frameRate = float(o.frameRate);
   const DrySignals dry = loadDrySignals(scene);
   LiveSession::Options lo;

@@ -4,7 +4,10 @@
 // "FILE: FIELD: problem") for anything a user got wrong: missing file, malformed JSON, wrong
 // type, absorption outside [0, 1], NaN or infinite numbers, empty or fully degenerate mesh,
 // unknown material, radius <= 0, and so on. The key-by-key format with units is
-// docs/scene-format.md. Everything here is plain data: no Embree, no audio.
+// docs/scene-format.md; the numeric ranges are one table (scene/limits.h) and one check
+// (scene/validate.h), shared with the C API and the command lines. The readers are
+// scene/scene_json.cpp and scene/obj_reader.h, the mesh cleaning scene/mesh_builder.h.
+// Everything here is plain data: no Embree, no audio.
 #pragma once
 
 #include <array>
@@ -172,6 +175,7 @@ struct AudioSettings {
 
 /// Upper bounds on a scene's entity counts, fixed (independent of the machine's memory) so a
 /// scene either loads everywhere or nowhere; docs/scene-format.md "Limits" says why these values.
+/// The limits table (scene/limits.h) bounds the counts with them.
 inline constexpr size_t kMaxSources = 256;   ///< each source: its own IR, convolution and rays
 inline constexpr size_t kMaxListeners = 64;  ///< each listener: an IR and convolution per source
 inline constexpr size_t kMaxObjects = 256;   ///< each object: its own mesh and BVH instance
@@ -194,8 +198,8 @@ struct SceneDesc {
   std::vector<std::string> warnings;
 };
 
-/// Reads and validates a scene file and its mesh. Control thread; allocates.
-/// Throws InputError naming the file and field on any problem.
+/// Reads a scene file and its meshes and validates them (scene/validate.h). Control thread;
+/// allocates. Throws InputError naming the file and field on any problem.
 SceneDesc loadScene(const std::string& path);
 
 /// Listener position at time t (seconds) along the trajectory (linear interpolation,

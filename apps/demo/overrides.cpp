@@ -13,6 +13,7 @@
 #include "apps/demo/output_paths.h"
 #include "common/input_error.h"
 #include "common/input_file.h"
+#include "scene/validate.h"
 
 namespace dpc::demo {
 
@@ -25,21 +26,22 @@ PropagationSettings applyOverrides(const SceneDesc& scene, const Flags& fl) {
     if (*fl.seed < 0) bad("--seed", "must be >= 0");
     s.seed = uint64_t(*fl.seed);
   }
+  // Ranges: the scene keys' (scene/limits.h), checked before narrowing to the stored type.
+  const Origin flags = commandLineOrigin();
   if (fl.rays) {
-    if (*fl.rays < 1 || *fl.rays > 100'000'000) bad("--rays", "must be in 1..100000000");
+    checkField("propagation.rays_per_frame", double(*fl.rays), flags);
     s.raysPerFrame = int(*fl.rays);
   }
   if (fl.maxOrder) {
-    if (*fl.maxOrder < 0 || *fl.maxOrder > 10'000) bad("--max-order", "must be in 0..10000");
+    checkField("propagation.max_order", double(*fl.maxOrder), flags);
     s.maxOrder = int(*fl.maxOrder);
   }
   if (fl.tau) {
-    if (!(*fl.tau >= 0.0 && *fl.tau <= 3600.0)) bad("--tau", "must be in [0, 3600] seconds");
+    checkField("propagation.cache_tau", *fl.tau, flags);
     s.cacheTau = float(*fl.tau);
   }
   if (fl.cacheMb) {
-    if (!(*fl.cacheMb > 0.0 && *fl.cacheMb <= 16384.0))
-      bad("--cache-memory-mb", "must be in (0, 16384] megabytes");
+    checkField("propagation.cache_memory_mb", *fl.cacheMb, flags);
     s.cacheMemoryMb = float(*fl.cacheMb);
   }
   if (fl.threads) {

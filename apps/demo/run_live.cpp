@@ -19,6 +19,7 @@
 #include "apps/demo/terminal.h"
 #include "audio/wav_io.h"
 #include "common/input_error.h"
+#include "scene/validate.h"
 
 namespace dpc::demo {
 namespace {
@@ -50,8 +51,7 @@ PropagationSettings prepareLive(SceneDesc& scene, const Flags& fl) {
   // on 2 cores, tracing on both makes late blocks ten times as frequent).
   if (!fl.threads) settings.threads = std::max(1, int(std::thread::hardware_concurrency()) - 1);
   if (fl.blockSize) {
-    if (*fl.blockSize < 16 || *fl.blockSize > 8192)
-      throw InputError("command line", "--block-size", "must be in 16..8192 samples");
+    checkField("audio.block_size", double(*fl.blockSize), commandLineOrigin());
     scene.audio.blockSize = int(*fl.blockSize);
   }
   checkDuration(fl);

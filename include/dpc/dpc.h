@@ -110,10 +110,10 @@ typedef enum dpc_output_format {
  *  change what you need. */
 typedef struct dpc_engine_options {
   size_t struct_size;       /**< sizeof(dpc_engine_options), set by dpc_engine_options_init */
-  int sample_rate;          /**< Hz, 8000..384000; 0 keeps the scene's audio.sample_rate. Dry
+  int sample_rate;          /**< Hz, 16000..192000; 0 keeps the scene's audio.sample_rate. Dry
                                  signals are resampled to it, HRTFs read at it. */
   int block_size;           /**< engine block, frames, 16..8192; 0 keeps the scene's */
-  int rays_per_frame;       /**< rays per source per propagation frame, > 0; 0 keeps the scene's */
+  int rays_per_frame;       /**< rays per source per frame, 1..10^8; 0 keeps the scene's */
   dpc_output_format output; /**< DPC_OUTPUT_SCENE keeps the scene's audio.output */
   int host_inputs_only;     /**< nonzero: the scene's dry signals are not read (sources may have
                                  none); dpc_engine_process then needs inputs, and plays silence
@@ -155,7 +155,7 @@ typedef struct dpc_mesh {
   const float* vertices; /**< vertex_count * 3 floats: x, y, z of each vertex, m */
   uint32_t vertex_count;
   const uint32_t* indices;   /**< triangle_count * 3 vertex indices, < vertex_count */
-  uint32_t triangle_count;   /**< > 0; no triangle may have zero area */
+  uint32_t triangle_count;   /**< > 0; degenerate triangles are dropped as from a file */
   const uint32_t* materials; /**< triangle_count indices into dpc_scene_data.materials */
 } dpc_mesh;
 
@@ -197,18 +197,18 @@ typedef struct dpc_scene_data {
   int rays_per_frame;   /**< rays per source per frame, > 0 */
   int max_order;        /**< maximum reflection order, >= 0 */
   float patch_size;     /**< DPC patch size lambda, m, > 0 */
-  float cache_tau;      /**< DPC time window tau, s, >= 0 (0: no reuse) */
-  float frame_rate;     /**< propagation frames per second, Hz, > 0 */
-  float ir_length;      /**< impulse response length, s, > 0 */
+  float cache_tau;      /**< DPC time window tau, s, [0, 3600] (0: no reuse) */
+  float frame_rate;     /**< propagation frames per second, Hz, [1, 120] */
+  float ir_length;      /**< impulse response length, s, (0, 60] */
   uint64_t seed;        /**< random seed: same seed, same bits */
   float speed_of_sound; /**< m/s, [1, 10000]; 0 (the default): dry air at `temperature`,
                              331.3 sqrt(1 + T / 273.15) m/s */
-  float temperature;    /**< air temperature, degrees Celsius (ISO 9613-1) */
+  float temperature;    /**< air temperature, degrees Celsius (ISO 9613-1), [-50, 60] */
   float humidity;       /**< relative humidity, percent, [0, 100] (ISO 9613-1) */
   int air_absorption;   /**< nonzero: ISO 9613-1 air absorption along paths */
   int diffraction;      /**< nonzero: first-order edge diffraction of the direct sound */
   /* audio */
-  int sample_rate;          /**< Hz, 8000..384000 */
+  int sample_rate;          /**< Hz, 16000..192000 */
   int block_size;           /**< engine block, frames, 16..8192 */
   dpc_output_format output; /**< MONO, STEREO or BINAURAL (default HRTF) */
   /* further listeners, traced in the same pass as the first (docs/dynamic.md): listener
@@ -226,9 +226,10 @@ DPC_API void dpc_scene_data_init(dpc_scene_data* data);
  *  caller's arrays may be freed on return. The same data as a scene file gives the same engine
  *  (same seed: same impulse responses). Allocates. Errors: DPC_ERR_INVALID_ARGUMENT (NULL
  *  pointers), DPC_ERR_VERSION (data->struct_size or options->struct_size), DPC_ERR_INPUT (a
- *  value out of range, an index out of bounds, a non-finite or degenerate triangle:
- *  dpc_last_error() names the field, e.g. "dpc_scene_data: materials[1].absorption[3]: ..."),
- *  DPC_ERR_INTERNAL. `options` as for dpc_engine_create_from_file (may be NULL). */
+ *  value outside the scene file's range, an index out of bounds, a coordinate beyond
+ *  +-10^6 m or not finite, only degenerate triangles: dpc_last_error() names the field, e.g.
+ *  "dpc_scene_data: materials[1].absorption[3]: ..."), DPC_ERR_INTERNAL. `options` as for
+ *  dpc_engine_create_from_file (may be NULL). */
 DPC_API dpc_status dpc_engine_create_from_data(const dpc_scene_data* data,
                                                const dpc_engine_options* options, dpc_engine** out);
 

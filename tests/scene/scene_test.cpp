@@ -435,13 +435,13 @@ TEST_CASE("Listener, propagation and signal values are checked", "[scene][errors
   expect([](json& s) { s["propagation"]["rays_per_frame"] = 0; },
          "scene.json: propagation.rays_per_frame: 0 is outside [1,");
   expect([](json& s) { s["propagation"]["frame_rate"] = 0; },
-         "scene.json: propagation.frame_rate: 0 must be > 0");
+         "scene.json: propagation.frame_rate: 0 is outside [1, 120] Hz");
   expect([](json& s) { s["propagation"]["ir_length"] = -1; },
-         "scene.json: propagation.ir_length: -1 must be > 0");
+         "scene.json: propagation.ir_length: -1 is outside (0, 60] s");
   expect([](json& s) { s["propagation"]["patch_size"] = 0; },
          "scene.json: propagation.patch_size: 0 must be > 0");
   expect([](json& s) { s["propagation"]["cache_tau"] = -0.5; },
-         "scene.json: propagation.cache_tau: -0.5 must be >= 0");
+         "scene.json: propagation.cache_tau: -0.5 is outside [0, 3600] s");
   expect([](json& s) { s["propagation"]["humidity"] = 120; },
          "scene.json: propagation.humidity: 120 is outside [0, 100]");
   expect(

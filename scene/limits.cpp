@@ -1,0 +1,120 @@
+#include "scene/limits.h"
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "common/input_file.h"
+#include "scene/scene.h"
+
+namespace dpc {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// clang-format off
+constexpr std::array kLimits = {
+  // Top level: entity counts (docs/scene-format.md "Limits" says why these values).
+  Limit{"sources", 1, double(kMaxSources), false, true, "",
+        "each source traces its own rays and has its own IRs and convolutions"},
+  Limit{"listeners", 1, double(kMaxListeners), false, true, "",
+        "each listener multiplies the IRs and convolutions (sources x listeners)"},
+  Limit{"objects", 0, double(kMaxObjects), false, true, "",
+        "each object keeps its own mesh, BVH and top-level instance"},
+  Limit{"position", -kMaxCoordinateM, kMaxCoordinateM, false, false, "m",
+        "keeps Embree's rays and hit distances valid in float"},
+  Limit{"materials.*.absorption", 0, 1, false, false, "",
+        "a fraction of the incident energy (ISO 354)"},
+  Limit{"materials.*.scattering", 0, 1, false, false, "",
+        "a fraction of the reflected energy (ISO 17497-1)"},
+  Limit{"sources[].gain_db", -200, 200, false, false, "dB",
+        "beyond, a float signal under- or overflows"},
+  Limit{"listener.radius", 0, kInf, true, false, "m",
+        "the receiver sphere needs an area to be hit"},
+  Limit{"listener.yaw", -3600, 3600, false, false, "degrees",
+        "ten turns either way: enough for any keyframed spin, finite for interpolation"},
+  Limit{"listener.pitch", -90, 90, false, false, "degrees",
+        "beyond the poles the head would be upside down"},
+  Limit{"propagation.rays_per_frame", 1, 1e8, false, true, "",
+        "at least one ray; more cannot finish a frame on any machine"},
+  Limit{"propagation.max_order", 0, 10000, false, true, "",
+        "0 is the direct sound; beyond, the path bookkeeping grows without audible effect"},
+  Limit{"propagation.patch_size", 0, kInf, true, false, "m",
+        "patches need an extent to be told apart"},
+  Limit{"propagation.cache_tau", 0, 3600, false, false, "s",
+        "0 is plain path tracing; an hour exceeds any render, and the window length "
+        "(tau times the frame rate) must fit the cache's frame counter"},
+  Limit{"propagation.cache_memory_mb", 0, 16384, true, false, "MB",
+        "per source-listener pair; beyond, several pairs exhaust any machine"},
+  Limit{"propagation.frame_rate", 1, 120, false, false, "Hz",
+        "slower than 1 Hz is no longer interactive; faster than audio blocks is wasted"},
+  Limit{"propagation.ir_length", 0, 60, true, false, "s",
+        "no room rings for a minute; longer IRs only cost memory and convolution"},
+  Limit{"propagation.speed_of_sound", 1, 10000, false, false, "m/s",
+        "covers every gas, liquid and most solids"},
+  Limit{"propagation.temperature", -50, 60, false, false, "degrees C",
+        "the range of ISO 9613-1 air absorption"},
+  Limit{"propagation.humidity", 0, 100, false, false, "%", "relative humidity"},
+  Limit{"propagation.roulette_threshold_db", -300, 0, false, false, "dB",
+        "0 dB ends every ray at once; below -300 dB the threshold underflows a float"},
+  Limit{"audio.sample_rate", 16000, 192000, false, true, "Hz",
+        "below 16 kHz the 8 kHz octave band lies beyond Nyquist (NaN IRs)"},
+  Limit{"audio.block_size", 16, 8192, false, true, "samples",
+        "the partitioned convolver's smallest and largest partition"},
+};
+// clang-format on
+
+std::string numberText(double x) {
+  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
+  return valueText(x);
+}
+
+}  // namespace
+
+std::span<const Limit> limits() {
+  return kLimits;
+}
+
+const Limit& limitOf(std::string_view field) {
+  for (const Limit& l : kLimits)
+    if (l.field == field) return l;
+  throw std::logic_error("no limit for field " + std::string(field));
+}
+
+bool withinLimit(const Limit& limit, double value) {
+  if (std::isnan(value)) return false;
+  if (limit.integer && value != std::floor(value)) return false;
+  const bool aboveMin = limit.minExclusive ? value > limit.min : value >= limit.min;
+  return aboveMin && value <= limit.max;
+}
+
+std::string rangeText(const Limit& limit) {
+  std::string text(1, limit.minExclusive ? '(' : '[');
+  if (std::isinf(limit.max)) {
+    text = limit.minExclusive ? std::string("> ") : std::string(">= ");
+    return text.append(numberText(limit.min));
+  }
+  text += numberText(limit.min);
+  text += ", ";
+  text += numberText(limit.max);
+  text += "]";
+  return text;
+}
+
+std::string valueText(double value) {
+  if (!std::isfinite(value)) return std::isnan(value) ? "nan" : (value > 0 ? "inf" : "-inf");
+  char buf[64];
+  if (value == std::floor(value) && std::abs(value) < 1e15) {
+    const auto r = std::to_chars(buf, buf + sizeof buf, static_cast<long long>(value));
+    return std::string(buf, r.ptr);
+  }
+  // A float field reads back as the float it holds ("1.7", not "1.7000000476837158").
+  const float f = static_cast<float>(value);
+  const auto r = double(f) == value ? std::to_chars(buf, buf + sizeof buf, f)
+                                    : std::to_chars(buf, buf + sizeof buf, value);
+  return std::string(buf, r.ptr);
+}
+
+}  // namespace dpc

@@ -1,0 +1,114 @@
+#include "scene/mesh_builder.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <unordered_map>
+
+#include "common/input_error.h"
+
+namespace dpc {
+namespace {
+
+/// True for a triangle of zero area or a sliver whose height is below 1e-6 of its longest
+/// edge (twice the area below 1e-6 times the longest edge squared), computed in double.
+bool degenerate(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+  const glm::vec3 e0 = b - a, e1 = c - a, e2 = c - b;
+  const glm::vec3 n =
+      glm::vec3(e0.y * e1.z - e0.z * e1.y, e0.z * e1.x - e0.x * e1.z, e0.x * e1.y - e0.y * e1.x);
+  const double twiceArea = std::sqrt(double(n.x) * n.x + double(n.y) * n.y + double(n.z) * n.z);
+  auto len2 = [](glm::vec3 e) { return double(e.x) * e.x + double(e.y) * e.y + double(e.z) * e.z; };
+  const double longest2 = std::max({len2(e0), len2(e1), len2(e2)});
+  return !(twiceArea > 1e-6 * longest2);
+}
+
+int findMaterial(const std::vector<Material>& materials, const std::string& name) {
+  for (size_t i = 0; i < materials.size(); ++i)
+    if (materials[i].name == name) return int(i);
+  return -1;
+}
+
+}  // namespace
+
+std::vector<uint32_t> materialIndicesByName(const RawMesh& raw,
+                                            const std::vector<Material>& materials,
+                                            const std::string& sceneFile) {
+  std::vector<uint32_t> slotToMaterial;
+  for (const std::string& name : raw.materialNames) {
+    const int m = findMaterial(materials, name);
+    if (m < 0)
+      throw InputError(
+          raw.file, "usemtl " + name,
+          "material \"" + name + "\" is not defined in " + sceneFile + " (materials." + name + ")");
+    slotToMaterial.push_back(uint32_t(m));
+  }
+  const int fallback = findMaterial(materials, "default");
+  std::vector<uint32_t> out(raw.triangles.size());
+  for (size_t t = 0; t < raw.triangles.size(); ++t) {
+    const uint32_t slot = raw.triangleMaterial[t];
+    if (slot != RawMesh::kNoMaterial) {
+      out[t] = slotToMaterial[slot];
+    } else if (fallback >= 0) {
+      out[t] = uint32_t(fallback);
+    } else {
+      throw InputError(
+          raw.file, raw.faceWord + " " + std::to_string(raw.triangleFace[t]),
+          "face has no usemtl and " + sceneFile + " defines no material named \"default\"");
+    }
+  }
+  return out;
+}
+
+Mesh buildMesh(const RawMesh& raw, const std::vector<uint32_t>& materialIndex,
+               std::vector<std::string>& warnings) {
+  Mesh mesh;
+  mesh.vertices = raw.positions;
+  size_t dropped = 0, firstDropped = 0;
+  for (size_t t = 0; t < raw.triangles.size(); ++t) {
+    const std::array<uint32_t, 3>& tri = raw.triangles[t];
+    if (degenerate(raw.positions[tri[0]], raw.positions[tri[1]], raw.positions[tri[2]])) {
+      if (dropped++ == 0) firstDropped = raw.triangleFace[t];
+      continue;
+    }
+    mesh.triangles.push_back(tri);
+    mesh.materialIndex.push_back(materialIndex[t]);
+  }
+  if (mesh.triangles.empty())
+    throw InputError(raw.file, "",
+                     "all " + std::to_string(raw.triangles.size()) +
+                         " triangles are degenerate (zero area); nothing to trace");
+  if (dropped > 0)
+    warnings.push_back(raw.file + ": " + std::to_string(dropped) +
+                       " degenerate (zero-area) triangle(s) dropped, the first from " +
+                       raw.faceWord + " " + std::to_string(firstDropped));
+  return mesh;
+}
+
+std::vector<uint32_t> weldedVertexIds(const Mesh& mesh) {
+  struct Key {
+    uint32_t x, y, z;
+    bool operator==(const Key&) const = default;
+  };
+  struct Hash {
+    size_t operator()(const Key& k) const {
+      return size_t(k.x) * 0x9e3779b97f4a7c15ULL ^ size_t(k.y) * 0xc2b2ae3d27d4eb4fULL ^
+             size_t(k.z) * 0x165667b19e3779f9ULL;
+    }
+  };
+  auto bits = [](float f) {
+    f += 0.f;  // -0 and +0 are one position
+    uint32_t u;
+    std::memcpy(&u, &f, sizeof u);
+    return u;
+  };
+  std::unordered_map<Key, uint32_t, Hash> first;
+  first.reserve(mesh.vertices.size());
+  std::vector<uint32_t> ids(mesh.vertices.size());
+  for (uint32_t i = 0; i < mesh.vertices.size(); ++i) {
+    const glm::vec3& v = mesh.vertices[i];
+    ids[i] = first.try_emplace(Key{bits(v.x), bits(v.y), bits(v.z)}, i).first->second;
+  }
+  return ids;
+}
+
+}  // namespace dpc

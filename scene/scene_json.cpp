@@ -1,0 +1,423 @@
+// Scene file reader: the JSON's sections into a SceneDesc, then the meshes (scene/obj_reader.h,
+// scene/mesh_builder.h), then the one validation (scene/validate.h). The key-by-key format is
+// docs/scene-format.md; every numeric range comes from scene/limits.h and is checked as each
+// value is read, so the first error named is the first in the file.
+#include <cmath>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "common/air_absorption.h"
+#include "common/input_error.h"
+#include "scene/json_reader.h"
+#include "scene/limits.h"
+#include "scene/mesh_builder.h"
+#include "scene/obj_reader.h"
+#include "scene/scene.h"
+#include "scene/validate.h"
+
+namespace dpc {
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+/// A per-band coefficient within `limitField`: one number for every octave band, or an array
+/// of exactly kNumBands numbers (63 Hz .. 8 kHz). Errors name `field` (and the element).
+Bands readBands(const JsonReader& r, const json& a, const std::string& field,
+                const char* limitField) {
+  Bands out;
+  if (a.is_array()) {
+    if (a.size() != size_t(kNumBands))
+      r.fail(field, "expected " + std::to_string(kNumBands) +
+                        " values (octave bands 63 Hz .. 8 kHz), got " + std::to_string(a.size()));
+    for (int b = 0; b < kNumBands; ++b)
+      out[b] = float(r.limited(a[size_t(b)], index(field, size_t(b)), limitField));
+  } else if (a.is_number()) {
+    out = Bands(float(r.limited(a, field, limitField)));
+  } else {
+    r.fail(field, "expected a number or an array of " + std::to_string(kNumBands) +
+                      " numbers in [0, 1], got " + JsonReader::describe(a));
+  }
+  return out;
+}
+
+Material readMaterial(const JsonReader& r, const json& v, const std::string& name,
+                      const std::string& field) {
+  r.expectObject(v, field);
+  r.checkKeys(v, field, {"absorption", "scattering", "source"});
+  Material m;
+  m.name = name;
+  m.absorption = readBands(r, r.require(v, field, "absorption"), join(field, "absorption"),
+                           "materials.*.absorption");
+  if (const json* s = JsonReader::find(v, "scattering"))
+    m.scattering = readBands(r, *s, join(field, "scattering"), "materials.*.scattering");
+  if (const json* s = JsonReader::find(v, "source")) r.string(*s, join(field, "source"));
+  return m;
+}
+
+/// Materials sorted by name (nlohmann::json objects iterate in key order).
+void readMaterials(const JsonReader& r, const json& root, SceneDesc& scene) {
+  const json& mats = r.require(root, "", "materials");
+  r.expectObject(mats, "materials");
+  for (const auto& [name, value] : mats.items()) {
+    if (!name.empty() && name[0] == '_') continue;
+    if (name.empty()) r.fail("materials", "a material name must not be empty");
+    scene.materials.push_back(readMaterial(r, value, name, "materials." + name));
+  }
+  if (scene.materials.empty()) r.fail("materials", "at least one material is required");
+}
+
+/// Reads a keyframe time at kf + ".t": finite, >= 0, greater than `previous` (if any).
+double keyTime(const JsonReader& r, const json& k, const std::string& kf,
+               const std::optional<double>& previous) {
+  const double t = r.number(r.require(k, kf, "t"), join(kf, "t"));
+  if (t < 0.0) r.fail(join(kf, "t"), k["t"].dump() + " must be >= 0");
+  if (previous && !(t > *previous))
+    r.fail(join(kf, "t"), k["t"].dump() + " is not greater than the previous keyframe's t (" +
+                              valueText(*previous) + "); times must be strictly increasing");
+  return t;
+}
+
+template <class Keys>
+std::optional<double> lastTime(const Keys& keys) {
+  return keys.empty() ? std::nullopt : std::optional(keys.back().timeSeconds);
+}
+
+/// Position-only keyframes {t, position} (sources).
+std::vector<Keyframe> readPositionKeys(const JsonReader& r, const json& t, const std::string& tf) {
+  if (!t.is_array() || t.empty())
+    r.fail(tf, "expected a non-empty array of {\"t\", \"position\"} keyframes, got " +
+                   JsonReader::describe(t));
+  std::vector<Keyframe> keys;
+  for (size_t i = 0; i < t.size(); ++i) {
+    const std::string kf = index(tf, i);
+    const json& k = t[i];
+    r.expectObject(k, kf);
+    r.checkKeys(k, kf, {"t", "position"});
+    Keyframe key;
+    key.timeSeconds = keyTime(r, k, kf, lastTime(keys));
+    key.position = r.vec3(r.require(k, kf, "position"), join(kf, "position"));
+    keys.push_back(key);
+  }
+  return keys;
+}
+
+/// [x, y, z, w] (glTF order) of non-zero length, normalised.
+glm::quat readQuaternion(const JsonReader& r, const json& v, const std::string& field) {
+  if (!v.is_array() || v.size() != 4)
+    r.fail(field, "expected a unit quaternion [x, y, z, w], got " + JsonReader::describe(v));
+  float c[4];
+  for (int i = 0; i < 4; ++i) c[i] = r.floatNumber(v[size_t(i)], index(field, size_t(i)));
+  const double n = std::sqrt(double(c[0]) * c[0] + double(c[1]) * c[1] + double(c[2]) * c[2] +
+                             double(c[3]) * c[3]);
+  if (!(n > 1e-6)) r.fail(field, v.dump() + " has zero length; a rotation needs a unit quaternion");
+  // Not exactly unit (rounded decimals in a file): normalised rather than refused.
+  return glm::quat(float(c[3] / n), float(c[0] / n), float(c[1] / n), float(c[2] / n));
+}
+
+std::vector<ObjectKeyframe> readObjectKeys(const JsonReader& r, const json& t,
+                                           const std::string& tf) {
+  if (!t.is_array() || t.empty())
+    r.fail(tf,
+           "expected a non-empty array of {\"t\", \"position\", \"rotation\"?} keyframes, got " +
+               JsonReader::describe(t));
+  std::vector<ObjectKeyframe> keys;
+  for (size_t k = 0; k < t.size(); ++k) {
+    const std::string kf = index(tf, k);
+    const json& kv = t[k];
+    r.expectObject(kv, kf);
+    r.checkKeys(kv, kf, {"t", "position", "rotation"});
+    ObjectKeyframe key;
+    key.timeSeconds = keyTime(r, kv, kf, lastTime(keys));
+    key.position = r.vec3(r.require(kv, kf, "position"), join(kf, "position"));
+    if (const json* q = JsonReader::find(kv, "rotation"))
+      key.rotation = readQuaternion(r, *q, join(kf, "rotation"));
+    keys.push_back(key);
+  }
+  return keys;
+}
+
+/// A name: a non-empty string, unique among `others`' names (`what`: "source", "object").
+template <class Items>
+std::string readName(const JsonReader& r, const json& v, const std::string& f, const Items& others,
+                     const char* what) {
+  std::string name = r.string(r.require(v, f, "name"), join(f, "name"));
+  if (name.empty()) r.fail(join(f, "name"), "must not be empty");
+  for (const auto& other : others)
+    if (other.name == name)
+      r.fail(join(f, "name"), std::string("duplicate ") + what + " name " + inQuotes(name));
+  return name;
+}
+
+void readObjects(const JsonReader& r, const json& v, const fs::path& folder, SceneDesc& scene) {
+  const std::string field = "objects";
+  if (!v.is_array()) r.fail(field, "expected an array of objects, got " + JsonReader::describe(v));
+  checkCount("objects", v.size(), Origin{r.file(), {}});
+  for (size_t i = 0; i < v.size(); ++i) {
+    const std::string f = index(field, i);
+    const json& o = v[i];
+    r.expectObject(o, f);
+    r.checkKeys(o, f, {"name", "mesh", "trajectory", "loop"});
+    ObjectDesc obj;
+    obj.name = readName(r, o, f, scene.objects, "object");
+    obj.meshPath = resolve(folder, r.string(r.require(o, f, "mesh"), join(f, "mesh"))).string();
+    obj.trajectory = readObjectKeys(r, r.require(o, f, "trajectory"), join(f, "trajectory"));
+    if (const json* l = JsonReader::find(o, "loop")) obj.loop = r.boolean(*l, join(f, "loop"));
+    scene.objects.push_back(std::move(obj));
+  }
+}
+
+/// An existing file named by a string at `field`, resolved against the scene's folder.
+std::string existingFile(const JsonReader& r, const json& v, const std::string& field,
+                         const fs::path& folder) {
+  const fs::path resolved = resolve(folder, r.string(v, field));
+  std::error_code ec;
+  if (!fs::is_regular_file(resolved, ec))
+    r.fail(field, "file " + inQuotes(resolved.string()) + " not found");
+  return resolved.string();
+}
+
+SourceDesc readSource(const JsonReader& r, const json& s, const std::string& f,
+                      const fs::path& folder, const std::vector<SourceDesc>& others) {
+  r.expectObject(s, f);
+  r.checkKeys(s, f,
+              {"name", "position", "signal", "gain_db", "loop", "trajectory", "trajectory_loop"});
+  SourceDesc src;
+  src.name = readName(r, s, f, others, "source");
+  if (const json* t = JsonReader::find(s, "trajectory"))
+    src.trajectory = readPositionKeys(r, *t, join(f, "trajectory"));
+  if (const json* p = JsonReader::find(s, "position"))
+    src.position = r.vec3(*p, join(f, "position"));
+  else if (!src.trajectory.empty())
+    src.position = src.trajectory.front().position;
+  else
+    r.fail(join(f, "position"), "missing required key (needed when there is no trajectory)");
+  if (const json* l = JsonReader::find(s, "trajectory_loop"))
+    src.trajectoryLoop = r.boolean(*l, join(f, "trajectory_loop"));
+  // No signal: the source's dry input comes from a host (C API, plugin) or is silent.
+  if (const json* sig = JsonReader::find(s, "signal"))
+    src.signalPath = existingFile(r, *sig, join(f, "signal"), folder);
+  if (const json* g = JsonReader::find(s, "gain_db"))
+    src.gainDb = float(r.limited(*g, join(f, "gain_db"), "sources[].gain_db"));
+  if (const json* l = JsonReader::find(s, "loop")) src.loop = r.boolean(*l, join(f, "loop"));
+  return src;
+}
+
+void readSources(const JsonReader& r, const json& v, const fs::path& folder, SceneDesc& scene) {
+  const std::string field = "sources";
+  if (!v.is_array()) r.fail(field, "expected an array of sources, got " + JsonReader::describe(v));
+  if (v.empty()) r.fail(field, "at least one source is required");
+  checkCount("sources", v.size(), Origin{r.file(), {}});
+  for (size_t i = 0; i < v.size(); ++i)
+    scene.sources.push_back(readSource(r, v[i], index(field, i), folder, scene.sources));
+}
+
+Keyframe readListenerKey(const JsonReader& r, const json& k, const std::string& kf,
+                         const std::vector<Keyframe>& before) {
+  r.expectObject(k, kf);
+  r.checkKeys(k, kf, {"t", "position", "yaw", "pitch"});
+  Keyframe key;
+  key.timeSeconds = keyTime(r, k, kf, lastTime(before));
+  key.position = r.vec3(r.require(k, kf, "position"), join(kf, "position"));
+  if (const json* y = JsonReader::find(k, "yaw"))
+    key.yawDegrees = float(r.limited(*y, join(kf, "yaw"), "listener.yaw"));
+  if (const json* p = JsonReader::find(k, "pitch"))
+    key.pitchDegrees = float(r.limited(*p, join(kf, "pitch"), "listener.pitch"));
+  if (!before.empty() && before.front().yawDegrees.has_value() != key.yawDegrees.has_value())
+    r.fail(join(kf, "yaw"), "give \"yaw\" on every keyframe or on none");
+  return key;
+}
+
+void readListener(const JsonReader& r, const json& v, const std::string& field, bool named,
+                  ListenerDesc& listener) {
+  r.expectObject(v, field);
+  if (named) {
+    r.checkKeys(v, field, {"name", "position", "radius", "trajectory", "loop", "yaw", "pitch"});
+    listener.name = r.string(r.require(v, field, "name"), join(field, "name"));
+    if (listener.name.empty()) r.fail(join(field, "name"), "must not be empty");
+  } else {
+    r.checkKeys(v, field, {"position", "radius", "trajectory", "loop", "yaw", "pitch"});
+  }
+  if (const json* t = JsonReader::find(v, "trajectory")) {
+    const std::string tf = join(field, "trajectory");
+    if (!t->is_array())
+      r.fail(tf, "expected an array of {\"t\", \"position\"} keyframes, got " +
+                     JsonReader::describe(*t));
+    for (size_t i = 0; i < t->size(); ++i)
+      listener.trajectory.push_back(readListenerKey(r, (*t)[i], index(tf, i), listener.trajectory));
+  }
+  if (const json* p = JsonReader::find(v, "position"))
+    listener.position = r.vec3(*p, join(field, "position"));
+  else if (!listener.trajectory.empty())
+    listener.position = listener.trajectory.front().position;
+  else
+    r.fail(join(field, "position"), "missing required key (needed when there is no trajectory)");
+  if (const json* rad = JsonReader::find(v, "radius"))
+    listener.radius = float(r.limited(*rad, join(field, "radius"), "listener.radius"));
+  if (const json* l = JsonReader::find(v, "loop"))
+    listener.loop = r.boolean(*l, join(field, "loop"));
+  if (const json* y = JsonReader::find(v, "yaw"))
+    listener.yawDegrees = float(r.limited(*y, join(field, "yaw"), "listener.yaw"));
+  if (const json* p = JsonReader::find(v, "pitch"))
+    listener.pitchDegrees = float(r.limited(*p, join(field, "pitch"), "listener.pitch"));
+}
+
+/// `listener` (one, named "listener") or `listeners` (an array of named ones).
+void readListeners(const JsonReader& r, const json& root, SceneDesc& scene) {
+  const json* one = JsonReader::find(root, "listener");
+  const json* many = JsonReader::find(root, "listeners");
+  if (one && many) r.fail("listeners", "give either \"listener\" or \"listeners\", not both");
+  if (!one && !many) r.fail("listener", "missing required key (or give \"listeners\")");
+  if (one) {
+    scene.listeners.emplace_back();
+    readListener(r, *one, "listener", false, scene.listeners.back());
+    return;
+  }
+  if (!many->is_array() || many->empty())
+    r.fail("listeners",
+           "expected a non-empty array of listeners, got " + JsonReader::describe(*many));
+  checkCount("listeners", many->size(), Origin{r.file(), {}});
+  for (size_t i = 0; i < many->size(); ++i) {
+    ListenerDesc l;
+    readListener(r, (*many)[i], index("listeners", i), true, l);
+    for (const ListenerDesc& other : scene.listeners)
+      if (other.name == l.name)
+        r.fail(index("listeners", i) + ".name", "duplicate listener name " + inQuotes(l.name));
+    scene.listeners.push_back(std::move(l));
+  }
+}
+
+/// A string key naming one of an enum's values (`parse` returns nullopt for others).
+template <class Parse>
+auto readChoice(const JsonReader& r, const json& v, const std::string& field, Parse parse,
+                const char* allowed) {
+  const std::string s = r.string(v, field);
+  const auto value = parse(s);
+  if (!value) r.fail(field, inQuotes(s) + " is not one of " + allowed);
+  return *value;
+}
+
+void readPropagationNumbers(const JsonReader& r, const json& v, PropagationSettings& p) {
+  auto read = [&](const char* key, auto& out) {
+    const std::string field = join("propagation", key);
+    if (const json* x = JsonReader::find(v, key))
+      out = static_cast<std::remove_reference_t<decltype(out)>>(r.limited(*x, field, field));
+  };
+  read("rays_per_frame", p.raysPerFrame);
+  read("max_order", p.maxOrder);
+  read("patch_size", p.patchSize);
+  read("cache_tau", p.cacheTau);
+  read("cache_memory_mb", p.cacheMemoryMb);
+  read("frame_rate", p.frameRate);
+  read("ir_length", p.irLength);
+  read("temperature", p.temperatureC);
+  read("humidity", p.humidityPercent);
+  // Without it: ideal-gas dry air at the temperature.
+  p.speedOfSound = float(speedOfSoundAt(p.temperatureC));
+  read("speed_of_sound", p.speedOfSound);
+  if (const json* x = JsonReader::find(v, "roulette_threshold_db")) {
+    const double db =
+        r.limited(*x, "propagation.roulette_threshold_db", "propagation.roulette_threshold_db");
+    p.rouletteThreshold = float(std::pow(10.0, db / 10.0));
+  }
+}
+
+void readPropagation(const JsonReader& r, const json& v, PropagationSettings& p) {
+  const std::string field = "propagation";
+  r.expectObject(v, field);
+  r.checkKeys(
+      v, field,
+      {"rays_per_frame", "max_order", "patch_size", "cache_tau", "cache_memory_mb", "frame_rate",
+       "ir_length", "seed", "estimator", "dpc_weighting", "speed_of_sound", "temperature",
+       "humidity", "air_absorption", "diffraction", "roulette_threshold_db"});
+  auto f = [&](const char* key) { return join(field, key); };
+  readPropagationNumbers(r, v, p);
+  if (const json* x = JsonReader::find(v, "seed")) {
+    if (!x->is_number_unsigned() && !(x->is_number_integer() && x->get<int64_t>() >= 0))
+      r.fail(f("seed"), "expected an unsigned integer, got " + JsonReader::describe(*x));
+    p.seed = x->get<uint64_t>();
+  }
+  if (const json* x = JsonReader::find(v, "estimator"))
+    p.estimator = readChoice(r, *x, f("estimator"), parseEstimator, "\"dpc\", \"path_tracing\"");
+  if (const json* x = JsonReader::find(v, "dpc_weighting"))
+    p.dpcWeighting =
+        readChoice(r, *x, f("dpc_weighting"), parseDpcWeighting, "\"ema\", \"seed\", \"window\"");
+  if (const json* x = JsonReader::find(v, "air_absorption"))
+    p.airAbsorption = r.boolean(*x, f("air_absorption"));
+  if (const json* x = JsonReader::find(v, "diffraction"))
+    p.diffraction = r.boolean(*x, f("diffraction"));
+}
+
+void readAudio(const JsonReader& r, const json& v, const fs::path& folder, AudioSettings& a) {
+  const std::string field = "audio";
+  r.expectObject(v, field);
+  r.checkKeys(v, field, {"sample_rate", "block_size", "output", "hrtf"});
+  if (const json* x = JsonReader::find(v, "output"))
+    a.output = readChoice(r, *x, join(field, "output"), parseOutputFormat,
+                          "\"mono\", \"stereo\", \"binaural\"");
+  if (const json* x = JsonReader::find(v, "hrtf"))
+    a.hrtfPath = existingFile(r, *x, join(field, "hrtf"), folder);
+  if (const json* x = JsonReader::find(v, "sample_rate"))
+    a.sampleRate = int(r.limited(*x, "audio.sample_rate", "audio.sample_rate"));
+  if (const json* x = JsonReader::find(v, "block_size"))
+    a.blockSize = int(r.limited(*x, "audio.block_size", "audio.block_size"));
+}
+
+/// Reads and builds one OBJ mesh; meshField names the scene key ("mesh", "objects[1].mesh").
+Mesh loadMesh(const SceneDesc& scene, const std::string& objFile, const std::string& meshField,
+              std::vector<std::string>& warnings) {
+  const RawMesh raw = readObj(scene.path, objFile, meshField);
+  return buildMesh(raw, materialIndicesByName(raw, scene.materials, scene.path), warnings);
+}
+
+/// The meshes, last: the most expensive step, after the cheap checks. Warns about materials
+/// that no triangle uses.
+void loadMeshes(const JsonReader& r, const json& root, SceneDesc& scene) {
+  const fs::path folder = fs::path(scene.path).parent_path();
+  scene.meshPath = resolve(folder, r.string(r.require(root, "", "mesh"), "mesh")).string();
+  scene.mesh = loadMesh(scene, scene.meshPath, "mesh", scene.warnings);
+  for (size_t i = 0; i < scene.objects.size(); ++i)
+    scene.objects[i].mesh =
+        loadMesh(scene, scene.objects[i].meshPath, index("objects", i) + ".mesh", scene.warnings);
+  std::vector<bool> used(scene.materials.size(), false);
+  for (uint32_t m : scene.mesh.materialIndex) used[m] = true;
+  for (const ObjectDesc& o : scene.objects)
+    for (uint32_t m : o.mesh.materialIndex) used[m] = true;
+  for (size_t i = 0; i < scene.materials.size(); ++i)
+    if (!used[i])
+      scene.warnings.push_back(scene.path + ": materials." + scene.materials[i].name +
+                               ": not used by any triangle of " + scene.meshPath +
+                               (scene.objects.empty() ? "" : " or of an object"));
+}
+
+}  // namespace
+
+SceneDesc loadScene(const std::string& path) {
+  SceneDesc scene;
+  scene.path = path;
+  scene.propagation.speedOfSound = float(speedOfSoundAt(scene.propagation.temperatureC));
+  const json root = parseJsonFile(path);
+  const JsonReader r(path);
+  if (!root.is_object())
+    r.fail("", "expected a JSON object at the top level, got " + JsonReader::describe(root));
+  r.checkKeys(
+      root, "",
+      {"mesh", "materials", "sources", "listener", "listeners", "objects", "propagation", "audio"});
+  const fs::path folder = fs::path(path).parent_path();
+  readMaterials(r, root, scene);
+  readSources(r, r.require(root, "", "sources"), folder, scene);
+  readListeners(r, root, scene);
+  scene.listener = scene.listeners.front();
+  if (const json* o = JsonReader::find(root, "objects")) readObjects(r, *o, folder, scene);
+  if (const json* p = JsonReader::find(root, "propagation"))
+    readPropagation(r, *p, scene.propagation);
+  if (const json* a = JsonReader::find(root, "audio")) readAudio(r, *a, folder, scene.audio);
+  loadMeshes(r, root, scene);
+  validate(scene, Origin{path, {}});
+  return scene;
+}
+
+}  // namespace dpc

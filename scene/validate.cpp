@@ -1,0 +1,206 @@
+#include "scene/validate.h"
+
+#include <cmath>
+#include <set>
+#include <utility>
+
+#include "common/input_error.h"
+#include "scene/limits.h"
+
+namespace dpc {
+namespace {
+
+std::string at(const std::string& parent, size_t i) {
+  return parent + "[" + std::to_string(i) + "]";
+}
+
+[[noreturn]] void fail(const Origin& origin, const std::string& path, const std::string& why) {
+  throw InputError(origin.name, origin.fieldName(path), why);
+}
+
+void checkPosition(const glm::vec3& p, const Origin& origin, const std::string& path) {
+  for (int k = 0; k < 3; ++k) checkField("position", double(p[k]), origin, at(path, size_t(k)));
+}
+
+void checkBands(const char* field, const Bands& b, const Origin& origin, const std::string& path) {
+  for (int k = 0; k < kNumBands; ++k) checkField(field, double(b[k]), origin, at(path, size_t(k)));
+}
+
+/// Keyframe times: finite, >= 0, strictly increasing.
+template <class Keys>
+void checkKeyTimes(const Keys& keys, const Origin& origin, const std::string& path) {
+  for (size_t i = 0; i < keys.size(); ++i) {
+    const double t = keys[i].timeSeconds;
+    const std::string f = at(path, i) + ".t";
+    if (!(t >= 0.0) || !std::isfinite(t)) fail(origin, f, valueText(t) + " must be >= 0");
+    if (i > 0 && !(t > keys[i - 1].timeSeconds))
+      fail(origin, f,
+           valueText(t) + " is not greater than the previous keyframe's t (" +
+               valueText(keys[i - 1].timeSeconds) + "); times must be strictly increasing");
+  }
+}
+
+template <class Items>
+void checkNames(const Items& items, const char* field, const char* what, const Origin& origin) {
+  std::set<std::string> seen;
+  for (size_t i = 0; i < items.size(); ++i) {
+    const std::string f = at(field, i) + ".name";
+    if (items[i].name.empty()) fail(origin, f, "must not be empty");
+    if (!seen.insert(items[i].name).second)
+      fail(origin, f, std::string("duplicate ") + what + " name \"" + items[i].name + "\"");
+  }
+}
+
+void checkMaterials(const std::vector<Material>& materials, const Origin& origin) {
+  if (materials.empty()) fail(origin, "materials", "at least one material is required");
+  for (const Material& m : materials) {
+    const std::string f = "materials." + m.name;
+    checkBands("materials.*.absorption", m.absorption, origin, f + ".absorption");
+    checkBands("materials.*.scattering", m.scattering, origin, f + ".scattering");
+  }
+}
+
+void checkPropagation(const PropagationSettings& p, const Origin& origin) {
+  checkField("propagation.rays_per_frame", p.raysPerFrame, origin);
+  checkField("propagation.max_order", p.maxOrder, origin);
+  checkField("propagation.patch_size", p.patchSize, origin);
+  checkField("propagation.cache_tau", p.cacheTau, origin);
+  checkField("propagation.cache_memory_mb", p.cacheMemoryMb, origin);
+  checkField("propagation.frame_rate", p.frameRate, origin);
+  checkField("propagation.ir_length", p.irLength, origin);
+  checkField("propagation.speed_of_sound", p.speedOfSound, origin);
+  checkField("propagation.temperature", p.temperatureC, origin);
+  checkField("propagation.humidity", p.humidityPercent, origin);
+}
+
+void checkSources(const std::vector<SourceDesc>& sources, const Origin& origin) {
+  checkCount("sources", sources.size(), origin);
+  checkNames(sources, "sources", "source", origin);
+  for (size_t i = 0; i < sources.size(); ++i) {
+    const SourceDesc& s = sources[i];
+    const std::string f = at("sources", i);
+    checkPosition(s.position, origin, f + ".position");
+    checkField("sources[].gain_db", s.gainDb, origin, f + ".gain_db");
+    checkKeyTimes(s.trajectory, origin, f + ".trajectory");
+    for (size_t k = 0; k < s.trajectory.size(); ++k)
+      checkPosition(s.trajectory[k].position, origin, at(f + ".trajectory", k) + ".position");
+  }
+}
+
+void checkListenerKeys(const ListenerDesc& l, const Origin& origin, const std::string& f) {
+  checkKeyTimes(l.trajectory, origin, f + ".trajectory");
+  for (size_t k = 0; k < l.trajectory.size(); ++k) {
+    const Keyframe& key = l.trajectory[k];
+    const std::string kf = at(f + ".trajectory", k);
+    checkPosition(key.position, origin, kf + ".position");
+    if (key.yawDegrees.has_value() != l.trajectory.front().yawDegrees.has_value())
+      fail(origin, kf + ".yaw", "give \"yaw\" on every keyframe or on none");
+    if (key.yawDegrees) checkField("listener.yaw", *key.yawDegrees, origin, kf + ".yaw");
+    if (key.pitchDegrees) checkField("listener.pitch", *key.pitchDegrees, origin, kf + ".pitch");
+  }
+}
+
+void checkListeners(const std::vector<ListenerDesc>& listeners, const Origin& origin) {
+  checkCount("listeners", listeners.size(), origin);
+  checkNames(listeners, "listeners", "listener", origin);
+  for (size_t i = 0; i < listeners.size(); ++i) {
+    const ListenerDesc& l = listeners[i];
+    const std::string f = at("listeners", i);
+    checkPosition(l.position, origin, f + ".position");
+    checkField("listener.radius", l.radius, origin, f + ".radius");
+    checkField("listener.yaw", l.yawDegrees, origin, f + ".yaw");
+    checkField("listener.pitch", l.pitchDegrees, origin, f + ".pitch");
+    checkListenerKeys(l, origin, f);
+  }
+}
+
+void checkObjects(const std::vector<ObjectDesc>& objects, const Origin& origin) {
+  checkCount("objects", objects.size(), origin);
+  checkNames(objects, "objects", "object", origin);
+  for (size_t i = 0; i < objects.size(); ++i) {
+    const ObjectDesc& o = objects[i];
+    const std::string f = at("objects", i) + ".trajectory";
+    if (o.trajectory.empty()) fail(origin, f, "at least one keyframe is required");
+    checkKeyTimes(o.trajectory, origin, f);
+    for (size_t k = 0; k < o.trajectory.size(); ++k)
+      checkPosition(o.trajectory[k].position, origin, at(f, k) + ".position");
+  }
+}
+
+/// Indices in range and coordinates within limits. `path`: "mesh" or "objects[i].mesh".
+void checkMesh(const Mesh& mesh, size_t materials, const Origin& origin, const std::string& path) {
+  if (mesh.triangles.empty()) fail(origin, path, "no triangles; nothing to trace");
+  if (mesh.materialIndex.size() != mesh.triangles.size())
+    fail(origin, path + ".materials", "one material index per triangle is required");
+  for (size_t v = 0; v < mesh.vertices.size(); ++v)
+    checkPosition(mesh.vertices[v], origin, at(path + ".vertices", v));
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    for (size_t k = 0; k < 3; ++k)
+      if (mesh.triangles[t][k] >= mesh.vertices.size())
+        fail(origin, at(at(path + ".triangles", t), k),
+             std::to_string(mesh.triangles[t][k]) + " >= vertex count " +
+                 std::to_string(mesh.vertices.size()));
+    if (mesh.materialIndex[t] >= materials)
+      fail(origin, at(path + ".materials", t),
+           std::to_string(mesh.materialIndex[t]) + " >= material count " +
+               std::to_string(materials));
+  }
+}
+
+}  // namespace
+
+std::string Origin::fieldName(const std::string& path) const {
+  return spell ? spell(path) : path;
+}
+
+Origin commandLineOrigin() {
+  return Origin{"command line", [](const std::string& path) -> std::string {
+                  static const std::pair<const char*, const char*> kFlags[] = {
+                      {"propagation.rays_per_frame", "--rays"},
+                      {"propagation.max_order", "--max-order"},
+                      {"propagation.cache_tau", "--tau"},
+                      {"propagation.cache_memory_mb", "--cache-memory-mb"},
+                      {"propagation.frame_rate", "--frame-rate"},
+                      {"audio.block_size", "--block-size"}};
+                  for (const auto& [key, flag] : kFlags)
+                    if (path == key) return flag;
+                  return path;
+                }};
+}
+
+void checkCount(const char* field, size_t count, const Origin& origin) {
+  const Limit& l = limitOf(field);
+  const std::string n = std::to_string(count) + " " + field;
+  if (double(count) > l.max)
+    fail(origin, field, n + ", more than the limit of " + valueText(l.max));
+  if (double(count) < l.min)
+    fail(origin, field, n + ", fewer than the minimum of " + valueText(l.min));
+}
+
+void checkField(std::string_view field, double value, const Origin& origin,
+                const std::string& path) {
+  const Limit& l = limitOf(field);
+  if (withinLimit(l, value)) return;
+  const std::string where = path.empty() ? std::string(field) : path;
+  const std::string v = valueText(value);
+  if (l.integer && std::isfinite(value) && value != std::floor(value))
+    fail(origin, where, v + " is not an integer");
+  std::string why = v + (std::isinf(l.max) ? " must be " : " is outside ") + rangeText(l);
+  if (!l.unit.empty()) why.append(" ").append(l.unit);
+  fail(origin, where, why);
+}
+
+void validate(const SceneDesc& scene, const Origin& origin) {
+  checkMaterials(scene.materials, origin);
+  checkPropagation(scene.propagation, origin);
+  checkField("audio.sample_rate", scene.audio.sampleRate, origin);
+  checkField("audio.block_size", scene.audio.blockSize, origin);
+  checkSources(scene.sources, origin);
+  checkListeners(scene.listeners, origin);
+  checkObjects(scene.objects, origin);
+  checkMesh(scene.mesh, scene.materials.size(), origin, "mesh");
+  for (size_t i = 0; i < scene.objects.size(); ++i)
+    checkMesh(scene.objects[i].mesh, scene.materials.size(), origin, at("objects", i) + ".mesh");
+}
+
+}  // namespace dpc

@@ -80,10 +80,9 @@ enum class TraceMode {
   kPacket16,  ///< 16 rays of a chunk in lockstep, batch queries (rtcIntersect16)
 };
 
-/// The default mode: packets. Hall (16,288 triangles, 4096 rays x 200 orders, no roulette,
-/// shared 2-core machine): packet frames took a median 0.88x the scalar frame time over 10
-/// interleaved pairs at 2 threads (0.91x at 1 thread; shoebox 0.85x/0.89x), with the same
-/// segment and hit counts. Builds may pick scalar with -DDPC_DEFAULT_TRACE_MODE_SCALAR=1.
+/// The default mode: packets, which trace the same segments and hits faster than single rays
+/// (docs/performance.md, "16-wide packets"). Builds may pick scalar with
+/// -DDPC_DEFAULT_TRACE_MODE_SCALAR=1.
 #if defined(DPC_DEFAULT_TRACE_MODE_SCALAR) && DPC_DEFAULT_TRACE_MODE_SCALAR
 inline constexpr TraceMode kDefaultTraceMode = TraceMode::kScalar;
 #else

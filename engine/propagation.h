@@ -24,15 +24,15 @@
 // Queries go through the Tracer interface (engine/tracer.h); materials and patches come from
 // Geometry.
 // Packet tracing (TraceMode::kPacket16): each chunk keeps 16 of its rays in flight in
-// lockstep, one batch query of Tracer::kPacketSize rays per step for the live lanes (the
-// Embree tracer's rtcIntersect16; Wald et al., "Interactive
-// rendering with coherent ray tracing", 2001; Embree's hybrid traversal for incoherent
-// packets); a lane whose ray ends takes the chunk's next ray. Every ray keeps its own random
-// stream and its own per-ray arithmetic (the same code as the scalar path), and the chunk's
-// hits are put back in (ray, reflection order) order, so the result is again bit-identical
-// for a seed whatever the thread count; it equals the scalar path's up to the rounding of
-// the packet kernels (statistically equal: tests/engine/packet_test.cpp). Allocation:
-// per-chunk hit buffers grow to their high-water mark, then are reused. No errors.
+// lockstep, one batch query of Tracer::kPacketSize rays per step for the live lanes
+// (rtcIntersect16 in the Embree tracer; Wald et al., "Interactive rendering with coherent ray
+// tracing", 2001; Embree's hybrid traversal for incoherent packets); a lane whose ray ends
+// takes the chunk's next ray. Every ray keeps its own random stream and its own per-ray
+// arithmetic (the same code as the scalar path), and the chunk's hits are put back in (ray,
+// reflection order) order, so the result is again bit-identical for a seed whatever the thread
+// count; it equals the scalar path's up to the rounding of the packet kernels (statistically
+// equal: tests/engine/packet_test.cpp). Allocation: per-chunk hit buffers grow to their
+// high-water mark, then are reused. No errors.
 #pragma once
 
 #include <tbb/task_arena.h>

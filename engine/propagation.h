@@ -173,13 +173,6 @@ class Propagator {
   bool advance(RayState& ray, bool surface, const SurfaceHit& hit,
                std::span<const ListenerSphere> listeners, std::vector<PathHit>& hits,
                std::vector<uint32_t>& hitListener) const;
-  /// The segment of `ray` up to segEnd (m) against every listener sphere: appends a hit per
-  /// sphere it crosses (with its listener index), in listener order.
-  void testListeners(const RayState& ray, float segEnd, std::span<const ListenerSphere> listeners,
-                     std::vector<PathHit>& hits, std::vector<uint32_t>& hitListener) const;
-  /// Reflects `ray` at `hit`: patch into the path identifier, reflectance, Russian roulette,
-  /// diffuse or specular direction. Returns false when roulette ends the ray.
-  bool reflect(RayState& ray, const SurfaceHit& hit) const;
   void traceRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t rayIndex,
                 const glm::vec3& source, std::span<const ListenerSphere> listeners,
                 Chunk& chunk) const;

@@ -3,6 +3,7 @@
 #include <embree3/rtcore.h>
 
 #include <algorithm>
+#include <array>
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/mat3x3.hpp>
@@ -53,35 +54,35 @@ class EmbreeDevice {
   std::string firstMessage_;
 };
 
-/// The ray part of one lane of a packet (Embree's SoA layout), and its valid flag.
+/// Fills a packet's rays (Embree's SoA layout) and valid flags from kLanes rays, one per lane.
 template <class Ray16>
-void setLane(Ray16& r, int lane, const TraceRay& ray, int* valid) {
-  valid[lane] = ray.active ? -1 : 0;
-  r.org_x[lane] = ray.org.x;
-  r.org_y[lane] = ray.org.y;
-  r.org_z[lane] = ray.org.z;
-  r.dir_x[lane] = ray.dir.x;
-  r.dir_y[lane] = ray.dir.y;
-  r.dir_z[lane] = ray.dir.z;
-  r.tnear[lane] = ray.tnear;
-  r.tfar[lane] = ray.tfar;
-  r.time[lane] = 0.f;
-  r.mask[lane] = 0xffffffffu;
-  r.id[lane] = unsigned(lane);
-  r.flags[lane] = 0;
+void fillPacket(const TraceRay* rays, Ray16& r, int* valid) {
+  for (int i = 0; i < kLanes; ++i) {
+    const TraceRay& ray = rays[i];
+    valid[i] = ray.active ? -1 : 0;
+    r.org_x[i] = ray.org.x;
+    r.org_y[i] = ray.org.y;
+    r.org_z[i] = ray.org.z;
+    r.dir_x[i] = ray.dir.x;
+    r.dir_y[i] = ray.dir.y;
+    r.dir_z[i] = ray.dir.z;
+    r.tnear[i] = ray.tnear;
+    r.tfar[i] = ray.tfar;
+    r.time[i] = 0.f;
+    r.mask[i] = 0xffffffffu;
+    r.id[i] = unsigned(i);
+    r.flags[i] = 0;
+  }
 }
 
-/// Fills a packet from up to kLanes rays (idle lanes past rays.size()); false if none is active.
-template <class Ray16>
-bool fillPacket(std::span<const TraceRay> rays, Ray16& r, int* valid) {
-  static const TraceRay idle{.active = false};
-  bool any = false;
-  for (int i = 0; i < kLanes; ++i) {
-    const TraceRay& ray = size_t(i) < rays.size() ? rays[size_t(i)] : idle;
-    setLane(r, i, ray, valid);
-    any = any || ray.active;
-  }
-  return any;
+/// The rays of the packet starting at `first`: the batch's own memory for a full packet, else
+/// a copy in `tail` with idle lanes after the batch's last ray.
+const TraceRay* packetRays(std::span<const TraceRay> rays, size_t first,
+                           std::array<TraceRay, kLanes>& tail) {
+  if (rays.size() - first >= size_t(kLanes)) return rays.data() + first;
+  tail.fill(TraceRay{.active = false});
+  std::copy(rays.begin() + std::ptrdiff_t(first), rays.end(), tail.begin());
+  return tail.data();
 }
 
 RTCRay singleRay(const TraceRay& in) {
@@ -269,28 +270,31 @@ bool EmbreeTracer::occluded(const TraceRay& ray) const {
 }
 
 void EmbreeTracer::intersect(std::span<const TraceRay> rays, std::span<TraceHit> hits) const {
+  const State& st = *state_;
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  std::array<TraceRay, kLanes> tail;
   for (size_t first = 0; first < rays.size(); first += kLanes) {
-    const auto packet = rays.subspan(first, std::min(size_t(kLanes), rays.size() - first));
+    const TraceRay* lanes = packetRays(rays, first, tail);
     alignas(64) int valid[kLanes];
     RTCRayHit16 rh;  // RTC_ALIGN(64) in rtcore_ray.h
-    const bool any = fillPacket(packet, rh.ray, valid);
+    fillPacket(lanes, rh.ray, valid);
     for (int i = 0; i < kLanes; ++i) {
       rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
       rh.hit.primID[i] = RTC_INVALID_GEOMETRY_ID;
       rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
     }
-    if (any) rtcIntersect16(valid, state_->scene, &context, &rh);
-    for (size_t i = 0; i < packet.size(); ++i) {
+    rtcIntersect16(valid, st.scene, &context, &rh);
+    const size_t n = std::min(size_t(kLanes), rays.size() - first);
+    for (size_t i = 0; i < n; ++i) {
       TraceHit& out = hits[first + i];
-      out.found = packet[i].active && rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
+      out.found = valid[i] && rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
       if (!out.found) continue;
       out.surface.t = rh.ray.tfar[i];
       out.surface.barycentric = {1.f - rh.hit.u[i] - rh.hit.v[i], rh.hit.u[i], rh.hit.v[i]};
-      state_->resolveHit(rh.hit.instID[0][i], rh.hit.primID[i],
-                         glm::vec3(rh.hit.Ng_x[i], rh.hit.Ng_y[i], rh.hit.Ng_z[i]), out.surface);
+      st.resolveHit(rh.hit.instID[0][i], rh.hit.primID[i],
+                    glm::vec3(rh.hit.Ng_x[i], rh.hit.Ng_y[i], rh.hit.Ng_z[i]), out.surface);
     }
   }
 }
@@ -299,13 +303,15 @@ void EmbreeTracer::occluded(std::span<const TraceRay> rays, std::span<bool> bloc
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  std::array<TraceRay, kLanes> tail;
   for (size_t first = 0; first < rays.size(); first += kLanes) {
-    const auto packet = rays.subspan(first, std::min(size_t(kLanes), rays.size() - first));
     alignas(64) int valid[kLanes];
     RTCRay16 r;  // RTC_ALIGN(64) in rtcore_ray.h
-    if (fillPacket(packet, r, valid)) rtcOccluded16(valid, state_->scene, &context, &r);
-    for (size_t i = 0; i < packet.size(); ++i)
-      blocked[first + i] = packet[i].active && r.tfar[i] < 0.f;  // tfar = -inf when occluded
+    fillPacket(packetRays(rays, first, tail), r, valid);
+    rtcOccluded16(valid, state_->scene, &context, &r);
+    const size_t n = std::min(size_t(kLanes), rays.size() - first);
+    for (size_t i = 0; i < n; ++i)
+      blocked[first + i] = valid[i] && r.tfar[i] < 0.f;  // tfar = -inf when occluded
   }
 }
 

@@ -108,38 +108,29 @@ bool Propagator::advance(RayState& ray, bool surface, const SurfaceHit& hit,
                          std::span<const ListenerSphere> listeners, std::vector<PathHit>& hits,
                          std::vector<uint32_t>& hitListener) const {
   const float segEnd = surface ? hit.t : std::numeric_limits<float>::infinity();
-  if (ray.order > 0 || includeDirectRays_) testListeners(ray, segEnd, listeners, hits, hitListener);
-  if (!surface || ray.order >= settings_.maxOrder) return false;
-  return reflect(ray, hit);
-}
-
-void Propagator::testListeners(const RayState& ray, float segEnd,
-                               std::span<const ListenerSphere> listeners,
-                               std::vector<PathHit>& hits,
-                               std::vector<uint32_t>& hitListener) const {
-  for (uint32_t l = 0; l < listeners.size(); ++l) {
+  for (uint32_t l = 0; l < listeners.size() && (ray.order > 0 || includeDirectRays_); ++l) {
     // Segment against listener l's sphere: |org + t dir - L|^2 = R^2.
     const ListenerSphere& listener = listeners[l];
     const float r2 = listener.radius * listener.radius;
     const glm::vec3 oc = listener.position - ray.org;
     const float b = glm::dot(oc, ray.dir);
     const float disc = b * b - (glm::dot(oc, oc) - r2);
-    if (!(disc > 0.f)) continue;
-    const float s = std::sqrt(disc);
-    if (!(b + s > 0.f && b - s < segEnd)) continue;
-    const float invArea = 1.f / (std::numbers::pi_v<float> * r2);
-    const float r = ray.travelled + std::clamp(b, 0.f, segEnd);
-    PathHit h;
-    h.key = ray.path.finish(l, r, keyRule_);
-    h.intensity = ray.energy * exp(airPerMetre_ * -r) * invArea;
-    h.length = r;
-    h.direction = -ray.dir;
-    hits.push_back(h);
-    hitListener.push_back(l);
+    if (disc > 0.f) {
+      const float s = std::sqrt(disc);
+      if (b + s > 0.f && b - s < segEnd) {
+        const float invArea = 1.f / (std::numbers::pi_v<float> * r2);
+        const float r = ray.travelled + std::clamp(b, 0.f, segEnd);
+        PathHit h;
+        h.key = ray.path.finish(l, r, keyRule_);
+        h.intensity = ray.energy * exp(airPerMetre_ * -r) * invArea;
+        h.length = r;
+        h.direction = -ray.dir;
+        hits.push_back(h);
+        hitListener.push_back(l);
+      }
+    }
   }
-}
-
-bool Propagator::reflect(RayState& ray, const SurfaceHit& hit) const {
+  if (!surface || ray.order >= settings_.maxOrder) return false;
   ray.travelled += hit.t;
   const glm::vec3 p = ray.org + ray.dir * hit.t;
   const TrianglePatching& patching = geometry_.patching(hit.triangle);

@@ -24,15 +24,15 @@
 // Queries go through the Tracer interface (engine/tracer.h); materials and patches come from
 // Geometry.
 // Packet tracing (TraceMode::kPacket16): each chunk keeps 16 of its rays in flight in
-// lockstep, one batch query of Tracer::kPacketSize rays per step for the live lanes (the
-// Embree tracer's rtcIntersect16; Wald et al., "Interactive
-// rendering with coherent ray tracing", 2001; Embree's hybrid traversal for incoherent
-// packets); a lane whose ray ends takes the chunk's next ray. Every ray keeps its own random
-// stream and its own per-ray arithmetic (the same code as the scalar path), and the chunk's
-// hits are put back in (ray, reflection order) order, so the result is again bit-identical
-// for a seed whatever the thread count; it equals the scalar path's up to the rounding of
-// the packet kernels (statistically equal: tests/engine/packet_test.cpp). Allocation:
-// per-chunk hit buffers grow to their high-water mark, then are reused. No errors.
+// lockstep, one batch query of Tracer::kPacketSize rays per step for the live lanes
+// (rtcIntersect16 in the Embree tracer; Wald et al., "Interactive rendering with coherent ray
+// tracing", 2001; Embree's hybrid traversal for incoherent packets); a lane whose ray ends
+// takes the chunk's next ray. Every ray keeps its own random stream and its own per-ray
+// arithmetic (the same code as the scalar path), and the chunk's hits are put back in (ray,
+// reflection order) order, so the result is again bit-identical for a seed whatever the thread
+// count; it equals the scalar path's up to the rounding of the packet kernels (statistically
+// equal: tests/engine/packet_test.cpp). Allocation: per-chunk hit buffers grow to their
+// high-water mark, then are reused. No errors.
 #pragma once
 
 #include <tbb/task_arena.h>
@@ -172,13 +172,6 @@ class Propagator {
   bool advance(RayState& ray, bool surface, const SurfaceHit& hit,
                std::span<const ListenerSphere> listeners, std::vector<PathHit>& hits,
                std::vector<uint32_t>& hitListener) const;
-  /// The segment of `ray` up to segEnd (m) against every listener sphere: appends a hit per
-  /// sphere it crosses (with its listener index), in listener order.
-  void testListeners(const RayState& ray, float segEnd, std::span<const ListenerSphere> listeners,
-                     std::vector<PathHit>& hits, std::vector<uint32_t>& hitListener) const;
-  /// Reflects `ray` at `hit`: patch into the path identifier, reflectance, Russian roulette,
-  /// diffuse or specular direction. Returns false when roulette ends the ray.
-  bool reflect(RayState& ray, const SurfaceHit& hit) const;
   void traceRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t rayIndex,
                 const glm::vec3& source, std::span<const ListenerSphere> listeners,
                 Chunk& chunk) const;

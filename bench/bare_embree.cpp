@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "common/random.h"
+#include "engine/sampling.h"
 
 namespace dpc::bench {
 
@@ -19,25 +20,11 @@ namespace {
 
 constexpr uint32_t kChunk = 64;
 
-glm::vec3 firstDirection(Rng& rng) {
-  const float z = 1.f - 2.f * rng.uniform();
-  const float r = std::sqrt(std::max(0.f, 1.f - z * z));
-  const float phi = 2.f * std::numbers::pi_v<float> * rng.uniform();
-  return {r * std::cos(phi), r * std::sin(phi), z};
-}
-
-/// Cosine-weighted bounce (Malley), basis after Duff et al. 2017; moves org to the hit point.
+/// Cosine-weighted bounce; moves org to the hit point.
 void bounce(const SurfaceHit& hit, Rng& rng, glm::vec3& org, glm::vec3& dir) {
   const glm::vec3 n = glm::dot(hit.normal, dir) < 0.f ? hit.normal : -hit.normal;
-  const float sign = std::copysign(1.f, n.z);
-  const float a = -1.f / (sign + n.z), b = n.x * n.y * a;
-  const glm::vec3 t(1.f + sign * n.x * n.x * a, sign * b, -sign * n.x);
-  const glm::vec3 bt(b, sign + n.y * n.y * a, -n.y);
-  const float u1 = rng.uniform(), u2 = rng.uniform();
-  const float rr = std::sqrt(u1), ph = 2.f * std::numbers::pi_v<float> * u2;
   org = org + dir * hit.t + n * 1e-4f;
-  dir = glm::normalize(t * (rr * std::cos(ph)) + bt * (rr * std::sin(ph)) +
-                       n * std::sqrt(std::max(0.f, 1.f - u1)));
+  dir = cosineHemisphere(n, rng);
 }
 
 uint64_t scalarChunk(const Tracer& tracer, const glm::vec3& source, uint32_t begin, uint32_t end,
@@ -45,7 +32,7 @@ uint64_t scalarChunk(const Tracer& tracer, const glm::vec3& source, uint32_t beg
   uint64_t count = 0;
   for (uint32_t ray = begin; ray < end; ++ray) {
     Rng rng(seed, ray);
-    glm::vec3 dir = firstDirection(rng), org = source;
+    glm::vec3 dir = uniformSphere(rng), org = source;
     SurfaceHit hit;
     for (int order = 0; order <= maxOrder; ++order) {
       ++count;
@@ -71,7 +58,7 @@ uint64_t packetChunk(const Tracer& tracer, const glm::vec3& source, uint32_t beg
   int live = 0;
   auto start = [&](int i) {
     lanes[i].rng = Rng(seed, next++);
-    packet[i].dir = firstDirection(lanes[i].rng);
+    packet[i].dir = uniformSphere(lanes[i].rng);
     packet[i].org = source;
     lanes[i].order = 0;
   };

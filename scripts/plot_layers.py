@@ -73,6 +73,16 @@ ORDER = ["audio", "common", "scene", "engine", "synthesis", "analysis", "testing
          "api", "apps", "bench", "include", "plugins"]
 
 
+def finish_panel(ax, note_x, note_y, note, title, title_size):
+    """A panel's grey note at its foot and its title; the panel spans x 0..1 and y from just
+    below the note to 1, axes hidden."""
+    ax.text(note_x, note_y, note, ha="center", fontsize=8, color="#555555")
+    ax.set_title(title, fontsize=title_size)
+    ax.set_xlim(0, 1)
+    ax.set_ylim(note_y - 0.02, 1.0)
+    ax.axis("off")
+
+
 def draw_layers(ax, rules):
     level = depths(rules)
     rows = {}
@@ -92,12 +102,9 @@ def draw_layers(ax, rules):
         ax.add_patch(FancyArrowPatch(a.get_position(), b.get_position(), arrowstyle="-",
                                      color="#777777", lw=0.8, zorder=2,
                                      patchA=a.get_bbox_patch(), patchB=b.get_bbox_patch()))
-    ax.text(0.5, -0.03, "tests/, fuzz/, examples/ may include any layer", ha="center",
-            fontsize=8, color="#555555")
-    ax.set_title("Layers: a line means the upper layer may include the lower\n(lines implied through another layer left out)", fontsize=10)
-    ax.set_xlim(0, 1)
-    ax.set_ylim(-0.05, 1.0)
-    ax.axis("off")
+    finish_panel(ax, 0.5, -0.03, "tests/, fuzz/, examples/ may include any layer",
+                 "Layers: a line means the upper layer may include the lower\n"
+                 "(lines implied through another layer left out)", 10)
 
 
 def draw_frame(ax):
@@ -111,12 +118,7 @@ def draw_frame(ax):
         if i + 1 < n:
             ax.add_patch(FancyArrowPatch((0.35, y - 0.033), (0.35, y - 1 / n + 0.033),
                                          arrowstyle="-|>", mutation_scale=9, color="#555555"))
-    ax.text(0.35, -0.01, "propagation thread (tan) · audio thread (green)", ha="center",
-            fontsize=8, color="#555555")
-    ax.set_title("One frame", fontsize=11)
-    ax.set_xlim(0, 1)
-    ax.set_ylim(-0.03, 1.0)
-    ax.axis("off")
+    finish_panel(ax, 0.35, -0.01, "propagation thread (tan) · audio thread (green)", "One frame", 11)
 
 
 def main():

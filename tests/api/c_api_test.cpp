@@ -115,6 +115,25 @@ std::string writeBoxScene(const std::string& folder) {
   return folder + "/box.json";
 }
 
+/// The folder `name` in the system's temporary folder.
+std::string tempFolder(const std::string& name) {
+  return std::filesystem::temp_directory_path().string() + "/" + name;
+}
+
+/// The JSON text of the box scene file that writeBoxScene writes in `folder`.
+std::string boxSceneJson(const std::string& folder) {
+  std::ifstream in(writeBoxScene(folder));
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+/// Options for a scene whose sources the host feeds (no signal file read).
+dpc_engine_options hostOptions() {
+  dpc_engine_options o;
+  dpc_engine_options_init(&o);
+  o.host_inputs_only = 1;
+  return o;
+}
+
 dpc_scene_data boxData(std::vector<dpc_material>& materials, dpc_source& source) {
   dpc_scene_data d;
   dpc_scene_data_init(&d);
@@ -162,11 +181,8 @@ std::vector<float> copyEnergy(dpc_engine* e, double* binSeconds) {
 }  // namespace
 
 TEST_CASE("C API: a scene built in code equals the same scene from a file, bit for bit") {
-  const std::string file =
-      writeBoxScene(std::filesystem::temp_directory_path().string() + "/dpc_api_box");
-  dpc_engine_options host;
-  dpc_engine_options_init(&host);
-  host.host_inputs_only = 1;
+  const std::string file = writeBoxScene(tempFolder("dpc_api_box"));
+  const dpc_engine_options host = hostOptions();
   dpc_engine* fromFile = nullptr;
   REQUIRE(dpc_engine_create_from_file(file.c_str(), &host, &fromFile) == DPC_OK);
   std::vector<dpc_material> materials;
@@ -253,12 +269,8 @@ TEST_CASE("C API: bad scene data names the field") {
 
 TEST_CASE("C API: several listeners share a frame, the selected one is heard and read out") {
   // The box scene with two listeners: "a" 4 m from the source, "b" 6 m from it.
-  const std::string folder = std::filesystem::temp_directory_path().string() + "/dpc_api_two";
-  std::string json;
-  {
-    std::ifstream in(writeBoxScene(folder));
-    json.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  }
+  const std::string folder = tempFolder("dpc_api_two");
+  std::string json = boxSceneJson(folder);
   const std::string one = "\"listener\": {\"position\": [7, 1.6, 3.5], \"radius\": 0.5}";
   const size_t at = json.find(one);
   REQUIRE(at != std::string::npos);
@@ -268,9 +280,7 @@ TEST_CASE("C API: several listeners share a frame, the selected one is heard and
   const std::string file = folder + "/two.json";
   std::ofstream(file) << json;
 
-  dpc_engine_options host;
-  dpc_engine_options_init(&host);
-  host.host_inputs_only = 1;
+  const dpc_engine_options host = hostOptions();
   dpc_engine *e = nullptr, *moved = nullptr;
   REQUIRE(dpc_engine_create_from_file(file.c_str(), &host, &e) == DPC_OK);
   REQUIRE(dpc_engine_create_from_file(file.c_str(), &host, &moved) == DPC_OK);
@@ -380,12 +390,8 @@ void collect(dpc_log_level level, const char* message, void* user) {
 
 TEST_CASE("C API: a scene file's warnings reach the log callback") {
   // The box scene with one more material that no triangle uses: the loader warns about it.
-  const std::string folder = std::filesystem::temp_directory_path().string() + "/dpc_api_log";
-  std::string json;
-  {
-    std::ifstream in(writeBoxScene(folder));
-    json.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  }
+  const std::string folder = tempFolder("dpc_api_log");
+  std::string json = boxSceneJson(folder);
   const std::string key = "\"materials\": {";
   REQUIRE(json.find(key) != std::string::npos);
   json.insert(json.find(key) + key.size(),
@@ -395,9 +401,7 @@ TEST_CASE("C API: a scene file's warnings reach the log callback") {
   std::ofstream(file) << json;
   LoggedLines logged;
   dpc_set_log_callback(&collect, &logged);
-  dpc_engine_options host;
-  dpc_engine_options_init(&host);
-  host.host_inputs_only = 1;
+  const dpc_engine_options host = hostOptions();
   dpc_engine* e = nullptr;
   REQUIRE(dpc_engine_create_from_file(file.c_str(), &host, &e) == DPC_OK);
   dpc_engine_destroy(e);

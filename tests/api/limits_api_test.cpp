@@ -55,6 +55,30 @@ struct BoxData {
 /// Writes `v` where dpc_scene_data holds the limit; returns the field the error must name.
 using DataSetter = std::function<std::string(BoxData&, double v)>;
 
+/// Writes T(v) into that member of the dpc_scene_data.
+template <class T>
+DataSetter dataMember(T dpc_scene_data::*member, const char* name) {
+  return [member, name](BoxData& b, double v) {
+    b.d.*member = T(v);
+    return std::string(name);
+  };
+}
+
+/// Writes float(v) into the float of the box that `at` picks (in its material or a source).
+DataSetter boxFloat(float& (*at)(BoxData&), const char* name) {
+  return [at, name](BoxData& b, double v) {
+    at(b) = float(v);
+    return std::string(name);
+  };
+}
+
+/// "propagation.<key>", held in the dpc_scene_data member of the same name.
+template <class T>
+std::pair<const std::string, DataSetter> propagationField(const char* key,
+                                                          T dpc_scene_data::*member) {
+  return {std::string("propagation.") + key, dataMember(member, key)};
+}
+
 const std::map<std::string, DataSetter>& dataSetters() {
   static const std::map<std::string, DataSetter> m = {
       {"sources",
@@ -68,68 +92,31 @@ const std::map<std::string, DataSetter>& dataSetters() {
          b.d.additional_listener_count = int(v) - 1;
          return "listeners (1 + additional_listener_count)";
        }},
-      {"position",
-       [](BoxData& b, double v) {
-         b.sources[0].position[0] = float(v);
-         return "sources[0].position[0]";
-       }},
+      {"position", boxFloat([](BoxData& b) -> float& { return b.sources[0].position[0]; },
+                            "sources[0].position[0]")},
       {"materials.*.absorption",
-       [](BoxData& b, double v) {
-         b.material.absorption[0] = float(v);
-         return "materials[0].absorption[0]";
-       }},
+       boxFloat([](BoxData& b) -> float& { return b.material.absorption[0]; },
+                "materials[0].absorption[0]")},
       {"materials.*.scattering",
-       [](BoxData& b, double v) {
-         b.material.scattering = float(v);
-         return "materials[0].scattering";
-       }},
+       boxFloat([](BoxData& b) -> float& { return b.material.scattering; },
+                "materials[0].scattering")},
       {"sources[].gain_db",
-       [](BoxData& b, double v) {
-         b.sources[0].gain_db = float(v);
-         return "sources[0].gain_db";
-       }},
-      {"listener.radius",
-       [](BoxData& b, double v) {
-         b.d.listener_radius = float(v);
-         return "listener_radius";
-       }},
-      {"listener.yaw",
-       [](BoxData& b, double v) {
-         b.d.listener_yaw_degrees = float(v);
-         return "listener_yaw_degrees";
-       }},
+       boxFloat([](BoxData& b) -> float& { return b.sources[0].gain_db; }, "sources[0].gain_db")},
+      {"listener.radius", dataMember(&dpc_scene_data::listener_radius, "listener_radius")},
+      {"listener.yaw", dataMember(&dpc_scene_data::listener_yaw_degrees, "listener_yaw_degrees")},
       {"listener.pitch",
-       [](BoxData& b, double v) {
-         b.d.listener_pitch_degrees = float(v);
-         return "listener_pitch_degrees";
-       }},
-#define DPC_FIELD(key, member, type)               \
-  {                                                \
-    "propagation." key, [](BoxData& b, double v) { \
-      b.d.member = type(v);                        \
-      return key;                                  \
-    }                                              \
-  }
-      DPC_FIELD("rays_per_frame", rays_per_frame, int),
-      DPC_FIELD("max_order", max_order, int),
-      DPC_FIELD("patch_size", patch_size, float),
-      DPC_FIELD("cache_tau", cache_tau, float),
-      DPC_FIELD("frame_rate", frame_rate, float),
-      DPC_FIELD("ir_length", ir_length, float),
-      DPC_FIELD("speed_of_sound", speed_of_sound, float),
-      DPC_FIELD("temperature", temperature, float),
-      DPC_FIELD("humidity", humidity, float),
-#undef DPC_FIELD
-      {"audio.sample_rate",
-       [](BoxData& b, double v) {
-         b.d.sample_rate = int(v);
-         return "sample_rate";
-       }},
-      {"audio.block_size",
-       [](BoxData& b, double v) {
-         b.d.block_size = int(v);
-         return "block_size";
-       }},
+       dataMember(&dpc_scene_data::listener_pitch_degrees, "listener_pitch_degrees")},
+      propagationField("rays_per_frame", &dpc_scene_data::rays_per_frame),
+      propagationField("max_order", &dpc_scene_data::max_order),
+      propagationField("patch_size", &dpc_scene_data::patch_size),
+      propagationField("cache_tau", &dpc_scene_data::cache_tau),
+      propagationField("frame_rate", &dpc_scene_data::frame_rate),
+      propagationField("ir_length", &dpc_scene_data::ir_length),
+      propagationField("speed_of_sound", &dpc_scene_data::speed_of_sound),
+      propagationField("temperature", &dpc_scene_data::temperature),
+      propagationField("humidity", &dpc_scene_data::humidity),
+      {"audio.sample_rate", dataMember(&dpc_scene_data::sample_rate, "sample_rate")},
+      {"audio.block_size", dataMember(&dpc_scene_data::block_size, "block_size")},
   };
   return m;
 }

@@ -18,11 +18,40 @@
 #include "common/bands.h"
 #include "analysis/energy_response_csv.h"
 
-TEST_CASE("dpc-analyze --json survives a non-UTF-8 file name", "[analyze]") {
-  namespace fs = std::filesystem;
-  const fs::path dir = fs::path(DPC_BINARY_DIR) / "analyze_names_test";
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kTool = std::string(DPC_BINARY_DIR) + "/apps/dpc-analyze";
+
+/// DPC_BINARY_DIR/name, emptied: removed with all it held and made again.
+fs::path freshDir(const std::string& name) {
+  const fs::path dir = fs::path(DPC_BINARY_DIR) / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
+  return dir;
+}
+
+/// The JSON in the file at `path`; throws if it is not valid JSON.
+nlohmann::json readJson(const std::string& path) {
+  std::ifstream f(path);
+  std::stringstream text;
+  text << f.rdbuf();
+  return nlohmann::json::parse(text.str());
+}
+
+/// The first line of the file at `path` (empty if it has none).
+std::string firstLine(const std::string& path) {
+  std::ifstream f(path);
+  std::string line;
+  std::getline(f, line);
+  return line;
+}
+
+}  // namespace
+
+TEST_CASE("dpc-analyze --json survives a non-UTF-8 file name", "[analyze]") {
+  const fs::path dir = freshDir("analyze_names_test");
   // A decaying noise-free impulse response: exponential decay of a 1 kHz tone, 0.5 s.
   dpc::audio::AudioData ir;
   ir.sampleRate = 48000;
@@ -32,13 +61,9 @@ TEST_CASE("dpc-analyze --json survives a non-UTF-8 file name", "[analyze]") {
   const std::string name = (dir / "ir-\xff\xfe-latin1-\xe9.wav").string();
   dpc::audio::writeWav(name, ir);
   const std::string out = (dir / "out.json").string();
-  const std::string cmd =
-      std::string(DPC_BINARY_DIR) + "/apps/dpc-analyze '" + name + "' --json > " + out + " 2>&1";
+  const std::string cmd = kTool + " '" + name + "' --json > " + out + " 2>&1";
   REQUIRE(std::system(cmd.c_str()) == 0);
-  std::ifstream f(out);
-  std::stringstream text;
-  text << f.rdbuf();
-  const nlohmann::json j = nlohmann::json::parse(text.str());  // throws if not valid JSON
+  const nlohmann::json j = readJson(out);  // throws if not valid JSON
   const std::string file = j.at("file").get<std::string>();
   CHECK(file.find("\xef\xbf\xbd") != std::string::npos);  // U+FFFD in UTF-8
   CHECK(file.find("latin1") != std::string::npos);
@@ -47,18 +72,10 @@ TEST_CASE("dpc-analyze --json survives a non-UTF-8 file name", "[analyze]") {
 
 TEST_CASE("dpc-analyze --air-attenuation prints dpc's ISO 9613-1 values, refuses bad values",
           "[analyze]") {
-  namespace fs = std::filesystem;
-  const fs::path dir = fs::path(DPC_BINARY_DIR) / "analyze_air_test";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = freshDir("analyze_air_test");
   const std::string out = (dir / "air.json").string();
-  const std::string tool = std::string(DPC_BINARY_DIR) + "/apps/dpc-analyze";
-  REQUIRE(std::system((tool + " --air-attenuation 20 70 --json > " + out).c_str()) == 0);
-  std::ifstream f(out);
-  std::stringstream text;
-  text << f.rdbuf();
-  const nlohmann::json j = nlohmann::json::parse(text.str());
-  const auto m = j.at("energyAttenuationPerMetre").get<std::vector<double>>();
+  REQUIRE(std::system((kTool + " --air-attenuation 20 70 --json > " + out).c_str()) == 0);
+  const auto m = readJson(out).at("energyAttenuationPerMetre").get<std::vector<double>>();
   REQUIRE(m.size() == 8);
   // ISO 9613-2:1996 table 2 at 20 C, 70 % RH: 5.0 dB/km at 1 kHz, 76.6 dB/km at 8 kHz. dpc
   // evaluates the exact base-2 centres (1000, 8192 Hz): 3 % at 1 kHz (the table's rounding),
@@ -70,19 +87,13 @@ TEST_CASE("dpc-analyze --air-attenuation prints dpc's ISO 9613-1 values, refuses
   for (size_t b = 1; b < m.size(); ++b) CHECK(m[b] > m[b - 1]);
   // Out of range: exit 1, one line naming the flag.
   const std::string err = (dir / "err.txt").string();
-  CHECK(std::system((tool + " --air-attenuation 20 150 2> " + err).c_str()) != 0);
-  std::ifstream e(err);
-  std::string line;
-  std::getline(e, line);
-  CHECK(line.find("--air-attenuation") != std::string::npos);
+  CHECK(std::system((kTool + " --air-attenuation 20 150 2> " + err).c_str()) != 0);
+  CHECK(firstLine(err).find("--air-attenuation") != std::string::npos);
   fs::remove_all(dir);
 }
 
 TEST_CASE("dpc-analyze --as-measured: what the band analysis of an exact IR reads", "[analyze]") {
-  namespace fs = std::filesystem;
-  const fs::path dir = fs::path(DPC_BINARY_DIR) / "analyze_as_measured_test";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = freshDir("analyze_as_measured_test");
   // A white spectrum (band energy proportional to the octave's width fc / sqrt 2) decaying with
   // T60 = 1 s in every band from 5 ms, and a white direct sound at 3 ms.
   dpc::SourceEnergy s{dpc::EnergyResponse(2.0, 1e-3), dpc::DirectSound{}};
@@ -96,14 +107,11 @@ TEST_CASE("dpc-analyze --as-measured: what the band analysis of an exact IR read
   }
   const std::string csv = (dir / "white.csv").string();
   dpc::writeEnergyCsv(csv, {s});
-  const std::string tool = std::string(DPC_BINARY_DIR) + "/apps/dpc-analyze ";
+  const std::string tool = kTool + " ";
   auto bands = [&](const std::string& flags) {
     const std::string out = (dir / "out.json").string();
     REQUIRE(std::system((tool + csv + " --json " + flags + " > " + out).c_str()) == 0);
-    std::ifstream f(out);
-    std::stringstream text;
-    text << f.rdbuf();
-    return nlohmann::json::parse(text.str()).at("sources").at(0).at("bands");
+    return readJson(out).at("sources").at(0).at("bands");
   };
   const nlohmann::json plain = bands(""), measured = bands("--as-measured");
   std::vector<double> c80Shift;
@@ -143,20 +151,14 @@ TEST_CASE("dpc-analyze --as-measured: what the band analysis of an exact IR read
   CHECK(std::system(
             (tool + wav + " --as-measured > " + (dir / "o.txt").string() + " 2> " + err).c_str()) !=
         0);
-  std::ifstream e(err);
-  std::string line;
-  std::getline(e, line);
-  CHECK(line.find("--as-measured") != std::string::npos);
+  CHECK(firstLine(err).find("--as-measured") != std::string::npos);
   CHECK(fs::file_size(dir / "o.txt") == 0);
   fs::remove_all(dir);
 }
 
 TEST_CASE("dpc-analyze --band-energy: the energies the parameters come from", "[analyze]") {
-  namespace fs = std::filesystem;
-  const fs::path dir = fs::path(DPC_BINARY_DIR) / "analyze_band_energy_test";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  const std::string tool = std::string(DPC_BINARY_DIR) + "/apps/dpc-analyze ";
+  const fs::path dir = freshDir("analyze_band_energy_test");
+  const std::string tool = kTool + " ";
   // Rows "index,time_s,E63..E8000" of the given index, summed per band, and the row count.
   auto sums = [&](const std::string& args, size_t index, size_t& rows) {
     const std::string out = (dir / "bands.csv").string();
@@ -185,10 +187,7 @@ TEST_CASE("dpc-analyze --band-energy: the energies the parameters come from", "[
   auto strengths = [&](const std::string& args, const char* list) {
     const std::string out = (dir / "out.json").string();
     REQUIRE(std::system((tool + args + " --json > " + out).c_str()) == 0);
-    std::ifstream f(out);
-    std::stringstream text;
-    text << f.rdbuf();
-    return nlohmann::json::parse(text.str()).at(list).at(0).at("bands");
+    return readJson(out).at(list).at(0).at("bands");
   };
   const double g0 = 1.0 / (4.0 * M_PI * 100.0);  // G's reference energy, 1/m^2
 
@@ -263,18 +262,12 @@ TEST_CASE("dpc-analyze --band-energy: the energies the parameters come from", "[
   {
     const std::string err2 = (dir / "err2.txt").string(), out2 = (dir / "out2.txt").string();
     CHECK(std::system((tool + csv + " --channel 2 > " + out2 + " 2> " + err2).c_str()) != 0);
-    std::ifstream e2(err2);
-    std::string l2;
-    std::getline(e2, l2);
-    CHECK(l2.find("--channel") != std::string::npos);
+    CHECK(firstLine(err2).find("--channel") != std::string::npos);
     CHECK(fs::file_size(out2) == 0);
   }
   // --band-energy with --json: refused, one line naming both flags.
   const std::string err = (dir / "err.txt").string();
   CHECK(std::system((tool + wav + " --band-energy --json > /dev/null 2> " + err).c_str()) != 0);
-  std::ifstream e(err);
-  std::string line;
-  std::getline(e, line);
-  CHECK(line.find("--band-energy") != std::string::npos);
+  CHECK(firstLine(err).find("--band-energy") != std::string::npos);
   fs::remove_all(dir);
 }

@@ -12,11 +12,12 @@
 #include <vector>
 
 #include "analysis/room_parameters.h"
-#include "analysis/expected_band_analysis.h"
 #include "synthesis/spatial_synthesizer.h"
 #include "runtime/render_pipeline.h"
+#include "tests/apps/band_readings.h"
 
 using namespace dpc;
+using test::strengthDbOf;
 
 namespace {
 
@@ -27,18 +28,6 @@ struct EarResponse {
   EnergyResponse er;
   DirectSound direct;
 };
-
-/// Parameters of an energy response with the direct sound in its bin (1 ms bins).
-audio::RoomParameters energyParameters(const EarResponse& e, int b) {
-  std::vector<double> x(e.er.binCount());
-  for (size_t k = 0; k < x.size(); ++k) x[k] = e.er.bins()[k][b];
-  if (e.direct.visible) x[size_t(e.direct.delaySeconds * 1e3)] += e.direct.intensity[b];
-  return audio::analyzeEnergyDecay(x.data(), x.size(), 1e-3);
-}
-
-double strengthDb(const audio::RoomParameters& p) {
-  return audio::strengthDb(p.energy);
-}
 
 }  // namespace
 
@@ -95,23 +84,17 @@ TEST_CASE("Two-channel IR: each ear's band analysis returns its energy response'
                   energy.response(d).bins()[k][b] * synth->channelWeight(d, size_t(ear))[b];
         for (int b = 0; b < kNumBands; ++b)
           want.direct.intensity[b] = direct.intensity[b] * synth->directWeight(size_t(ear))[b];
-        const auto ideal = expectedBandAnalysisEnergy(want.er, want.direct, kFs);
-        const std::vector<float>& ir = ear == 0 ? left : right;
-        const audio::ImpulseResponseAnalysis a =
-            audio::analyzeImpulseResponse(ir.data(), ir.size(), kFs);
+        const test::ResponseBands bands(want.er, want.direct, kFs);
         // From 250 Hz: the bands rendered per direction and levelled per ear (63/125 Hz are
         // one omnidirectional rendering fed to both ears, see synthesis/spatial_synthesizer.h).
-        for (int b = SpatialIrSynthesizer::kDirectionalFromBand; b < kNumBands; ++b) {
-          const audio::RoomParameters target = energyParameters(want, b);
-          const audio::RoomParameters exact =
-              audio::analyzeEnergyDecay(ideal[size_t(b)].data(), ideal[size_t(b)].size(), 1e-3);
-          const audio::RoomParameters& got = a.bands[size_t(b)];
+        for (const auto& [b, target, exact, got] :
+             bands.read(ear == 0 ? left : right, SpatialIrSynthesizer::kDirectionalFromBand)) {
           std::printf(
               "%s seed %d ear %d band %4d Hz: T30 response %.3f exact IR %.3f synthesised %.3f; "
               "C80 %+.2f / %+.2f / %+.2f dB; G %+.2f / %+.2f / %+.2f dB\n",
               format == OutputFormat::kBinaural ? "binaural" : "stereo", int(seed), ear,
               int(kBandCentreHz[size_t(b)]), target.t30, exact.t30, got.t30, target.c80,
-              exact.c80, got.c80, strengthDb(target), strengthDb(exact), strengthDb(got));
+              exact.c80, got.c80, strengthDbOf(target), strengthDbOf(exact), strengthDbOf(got));
           INFO("format " << int(format) << " seed " << seed << " ear " << ear << " band " << b);
           // Tolerances. The per-ear levelling matches the analysed energy in 50 ms windows
           // from 20 ms after the direct sound, so T30 keeps what a window's resolution on a
@@ -126,8 +109,8 @@ TEST_CASE("Two-channel IR: each ear's band analysis returns its energy response'
           CHECK(got.t30 < std::max(target.t30, exact.t30) * 1.08);
           CHECK(got.t30 > std::min(target.t30, exact.t30) * 0.97);
           CHECK(std::abs(got.c80 - target.c80) < std::abs(exact.c80 - target.c80) + 1.5);
-          CHECK(std::abs(strengthDb(got) - strengthDb(target)) <
-                std::abs(strengthDb(exact) - strengthDb(target)) + 0.5);
+          CHECK(std::abs(strengthDbOf(got) - strengthDbOf(target)) <
+                std::abs(strengthDbOf(exact) - strengthDbOf(target)) + 0.5);
         }
       }
     }

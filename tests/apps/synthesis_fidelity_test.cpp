@@ -10,11 +10,12 @@
 #include <vector>
 
 #include "analysis/room_parameters.h"
-#include "analysis/expected_band_analysis.h"
 #include "synthesis/mono_synthesizer.h"
 #include "common/octave_filter.h"
+#include "tests/apps/band_readings.h"
 
 using namespace dpc;
+using test::strengthDbOf;
 
 namespace {
 
@@ -42,16 +43,14 @@ Case makeCase(double length, const Bands& t60, float directIntensity) {
   return c;
 }
 
-double strengthDbOf(const audio::RoomParameters& p) {
-  return audio::strengthDb(p.energy);
-}
-
-/// Parameters of the energy response with the direct sound in its bin.
-audio::RoomParameters energyParameters(const Case& c, int b) {
-  std::vector<double> e(c.er.binCount());
-  for (size_t k = 0; k < e.size(); ++k) e[k] = c.er.bins()[k][b];
-  e[size_t(std::lround(c.direct.delaySeconds * 1e3))] += c.direct.intensity[b];
-  return audio::analyzeEnergyDecay(e.data(), e.size(), 1e-3);
+/// The IR synthesised at kFs from er and d (an IrSynthesizer of that length, room volume and
+/// seed).
+std::vector<float> synthesise(const EnergyResponse& er, const DirectSound& d, double length,
+                              double volume, uint64_t seed) {
+  IrSynthesizer synth(kFs, length, volume, 343.0, seed);
+  std::vector<float> ir(synth.lengthSamples());
+  synth.synthesize(er, d, ir.data());
+  return ir;
 }
 
 }  // namespace
@@ -109,28 +108,19 @@ TEST_CASE("Synthesised IR: ISO 3382-1 band analysis returns the energy response'
   for (int b = 0; b < kNumBands; ++b) t60[b] = 1.3f - 0.1f * float(b);
   const double length = 2.0;
   const Case c = makeCase(length, t60, 2e-3f);
-  // What the same band analysis reads from an exact IR of this response, in expectation.
-  const auto ideal = expectedBandAnalysisEnergy(c.er, c.direct, kFs);
-  std::array<audio::RoomParameters, kNumBands> idealParameters;
+  // The response's parameters, and what the same band analysis reads from an exact IR of this
+  // response, in expectation.
+  const test::ResponseBands bands(c.er, c.direct, kFs);
   for (int b = 0; b < kNumBands; ++b) {
-    const audio::RoomParameters want = energyParameters(c, b);
-    const audio::RoomParameters& m = idealParameters[size_t(b)] =
-        audio::analyzeEnergyDecay(ideal[size_t(b)].data(), ideal[size_t(b)].size(), 1e-3);
+    const audio::RoomParameters &want = bands.response(b), &m = bands.exactIr(b);
     std::printf("exact IR, band %4d Hz: T30 %+.2f %% EDT %+.2f %% C80 %+.3f dB G %+.3f dB\n",
                 int(kBandCentreHz[size_t(b)]), 100 * (m.t30 / want.t30 - 1),
                 100 * (m.edt / want.edt - 1), m.c80 - want.c80,
                 strengthDbOf(m) - strengthDbOf(want));
   }
   for (uint64_t seed : {1u, 2u, 3u}) {
-    IrSynthesizer synth(kFs, length, 200.0, 343.0, seed);
-    std::vector<float> ir(synth.lengthSamples());
-    synth.synthesize(c.er, c.direct, ir.data());
-    const audio::ImpulseResponseAnalysis a =
-        audio::analyzeImpulseResponse(ir.data(), ir.size(), kFs);
-    for (int b = 0; b < kNumBands; ++b) {
-      const audio::RoomParameters want = energyParameters(c, b);
-      const audio::RoomParameters& asMeasured = idealParameters[size_t(b)];
-      const audio::RoomParameters& got = a.bands[size_t(b)];
+    const std::vector<float> ir = synthesise(c.er, c.direct, length, 200.0, seed);
+    for (const auto& [b, want, asMeasured, got] : bands.read(ir, 0)) {
       std::printf(
           "seed %d band %4d Hz: T30 %.3f/%.3f (%+.2f %%) T20 %+.2f %% EDT %+.2f %% C80 %+.3f dB "
           "C50 %+.3f dB D50 %+.4f G %+.3f dB\n",
@@ -172,18 +162,10 @@ TEST_CASE(
   for (int b = 0; b < kNumBands; ++b) t60[b] = hall[size_t(b)];
   const double length = 3.0;
   const Case c = makeCase(length, t60, 2e-3f);
-  const auto ideal = expectedBandAnalysisEnergy(c.er, c.direct, kFs);
+  const test::ResponseBands bands(c.er, c.direct, kFs);
   for (uint64_t seed : {1u, 2u}) {
-    IrSynthesizer synth(kFs, length, 8000.0, 343.0, seed);
-    std::vector<float> ir(synth.lengthSamples());
-    synth.synthesize(c.er, c.direct, ir.data());
-    const audio::ImpulseResponseAnalysis a =
-        audio::analyzeImpulseResponse(ir.data(), ir.size(), kFs);
-    for (int b = 5; b < kNumBands; ++b) {
-      const audio::RoomParameters want = energyParameters(c, b);
-      const audio::RoomParameters exact =
-          audio::analyzeEnergyDecay(ideal[size_t(b)].data(), ideal[size_t(b)].size(), 1e-3);
-      const audio::RoomParameters& got = a.bands[size_t(b)];
+    const std::vector<float> ir = synthesise(c.er, c.direct, length, 8000.0, seed);
+    for (const auto& [b, want, exact, got] : bands.read(ir, 5)) {
       std::printf(
           "seed %d band %4d Hz: T30 response %.3f, exact IR %.3f, synthesised %.3f; "
           "C80 %.2f / %.2f / %.2f dB\n",
@@ -214,7 +196,6 @@ TEST_CASE("An open scene's bounding volume: early energy stays early", "[synthes
   // high; asserted only as a bound (G within 3 dB), see docs/validation.md.
   const double length = 1.5;
   for (uint64_t seed : {1u, 2u, 3u}) {
-    IrSynthesizer synth(48000, length, 1e8, 343.0, seed);
     EnergyResponse er(length, 1e-3);
     DirectSound d;
     d.visible = true;
@@ -223,20 +204,15 @@ TEST_CASE("An open scene's bounding volume: early energy stays early", "[synthes
     er.bins()[14] = Bands(6e-4f);  // ground reflection
     for (size_t k = 15; k < er.binCount(); ++k)  // scattering, T60 0.8 s
       er.bins()[k] = Bands(float(2e-5 * std::pow(10.0, -6.0 * double(k) * 1e-3 / 0.8)));
-    std::vector<float> ir(synth.lengthSamples());
-    synth.synthesize(er, d, ir.data());
-    const audio::ImpulseResponseAnalysis got =
-        audio::analyzeImpulseResponse(ir.data(), ir.size(), 48000);
-    const auto ideal = expectedBandAnalysisEnergy(er, d, 48000);
-    for (int b = 1; b < kNumBands; ++b) {
-      const audio::RoomParameters exact =
-          audio::analyzeEnergyDecay(ideal[size_t(b)].data(), ideal[size_t(b)].size(), 1e-3);
-      const double dG = 10 * std::log10(got.bands[size_t(b)].energy / exact.energy);
+    const std::vector<float> ir = synthesise(er, d, length, 1e8, seed);
+    for (const test::BandReading& r : test::ResponseBands(er, d, kFs).read(ir, 1)) {
+      const int b = r.band;
+      const audio::RoomParameters &exact = r.exactIr, &got = r.ir;
+      const double dG = 10 * std::log10(got.energy / exact.energy);
       std::printf("open scene seed %d band %4d Hz: C80 %+.2f (exact %+.2f) dB, G %+.2f dB\n",
-                  int(seed), int(kBandCentreHz[size_t(b)]), got.bands[size_t(b)].c80, exact.c80,
-                  dG);
+                  int(seed), int(kBandCentreHz[size_t(b)]), got.c80, exact.c80, dG);
       INFO("seed " << seed << " band " << b);
-      CHECK(got.bands[size_t(b)].c80 > exact.c80 - 1.0);
+      CHECK(got.c80 > exact.c80 - 1.0);
       CHECK(std::abs(dG) < 3.0);
     }
   }

@@ -37,20 +37,6 @@ void runBlocks(PartitionedConvolver& conv, const Signal& x, size_t firstBlock, s
   }
 }
 
-/// A one-source, one-output convolver holding a random IR of `length` samples drawn from rng.
-struct RandomIrConvolver {
-  RandomIrConvolver(std::mt19937& rng, int block, size_t length)
-      : h(randomSignal(rng, length)), layout(block, length), spectra(layout, 1), conv(layout, 1) {
-    const float* hp = h.data();
-    spectra.prepare(&hp, h.size());
-    REQUIRE(conv.setNextIr(&spectra));
-  }
-  Signal h;
-  ConvolverLayout layout;
-  IrSpectra spectra;
-  PartitionedConvolver conv;
-};
-
 /// sum (y - ref)^2 / sum ref^2 over [begin, end).
 double relativeErrorEnergy(const Signal& y, const Reference& ref, size_t begin, size_t end) {
   double err = 0.0, energy = 0.0;
@@ -79,6 +65,37 @@ double tolerance(int blockSize, size_t irSamples) {
   const double bound = 64.0 * u * u * (std::log2(2.0 * blockSize) + partitions);
   return std::min(bound, 1e-10);
 }
+
+/// A one-source, one-output convolver holding a random IR of `length` samples drawn from rng,
+/// and the input run through it with its output.
+struct RandomIrConvolver {
+  RandomIrConvolver(std::mt19937& rng, int block, size_t length)
+      : h(randomSignal(rng, length)), layout(block, length), spectra(layout, 1), conv(layout, 1) {
+    const float* hp = h.data();
+    spectra.prepare(&hp, h.size());
+    REQUIRE(conv.setNextIr(&spectra));
+  }
+  /// `blocks` blocks of new random input from rng; the output keeps what it holds (zeros the
+  /// first time).
+  void newInput(std::mt19937& rng, size_t blocks) {
+    x = randomSignal(rng, blocks * size_t(layout.blockSize()));
+    out.resize(1);
+    out[0].resize(x.size(), 0.0f);
+  }
+  void run(size_t firstBlock, size_t numBlocks) { runBlocks(conv, x, firstBlock, numBlocks, out); }
+  /// The output's relative error energy against the direct convolution of x and h, from sample
+  /// `begin` to the end.
+  double errorFrom(size_t begin) const {
+    return relativeErrorEnergy(out[0], directConvolution(x, h), begin, x.size());
+  }
+  double allowedError() const { return tolerance(layout.blockSize(), h.size()); }
+  Signal h;
+  ConvolverLayout layout;
+  IrSpectra spectra;
+  PartitionedConvolver conv;
+  Signal x;
+  std::vector<Signal> out;
+};
 
 /// w[n] = (n + 1) / B crossfade of a and b over [begin, begin + B).
 Reference crossfade(const Reference& a, const Reference& b, size_t begin, size_t blockSize) {
@@ -228,20 +245,14 @@ TEST_CASE("IR change crossfades the two full convolutions over one block", "[con
 
 TEST_CASE("Setting the current IR again is no change", "[convolver]") {
   std::mt19937 rng(11);
-  const int b = 48;
-  RandomIrConvolver fixture(rng, b, 100);
-  const Signal& h = fixture.h;
-  IrSpectra& s = fixture.spectra;
-  PartitionedConvolver& conv = fixture.conv;
-  const Signal x = randomSignal(rng, 10 * size_t(b));
-  std::vector<Signal> out(1, Signal(x.size(), 0.0f));
-  runBlocks(conv, x, 0, 4, out);
-  REQUIRE(conv.setNextIr(&s));
-  CHECK_FALSE(conv.hasPending());
-  runBlocks(conv, x, 4, 6, out);
-  CHECK(conv.takeRetired() == nullptr);  // s is still current: never retired
-  const Reference ref = directConvolution(x, h);
-  CHECK(relativeErrorEnergy(out[0], ref, size_t(b), x.size()) < tolerance(b, h.size()));
+  RandomIrConvolver f(rng, 48, 100);
+  f.newInput(rng, 10);
+  f.run(0, 4);
+  REQUIRE(f.conv.setNextIr(&f.spectra));
+  CHECK_FALSE(f.conv.hasPending());
+  f.run(4, 6);
+  CHECK(f.conv.takeRetired() == nullptr);     // the spectra are still current: never retired
+  CHECK(f.errorFrom(48) < f.allowedError());  // from the second block on
 }
 
 TEST_CASE("Two outputs with different IRs match their own direct convolutions", "[convolver]") {
@@ -329,19 +340,14 @@ TEST_CASE("Re-preparing a spectrum with a shorter IR forgets the longer one", "[
 
 TEST_CASE("reset() clears the input history", "[convolver]") {
   std::mt19937 rng(9);
-  const int b = 20;
-  RandomIrConvolver fixture(rng, b, 90);
-  const Signal& h = fixture.h;
-  IrSpectra& s = fixture.spectra;
-  PartitionedConvolver& conv = fixture.conv;
-  const Signal noise = randomSignal(rng, 10 * 20);
-  std::vector<Signal> out(1, Signal(noise.size(), 0.0f));
-  runBlocks(conv, noise, 0, 10, out);
-  conv.reset();
-  CHECK(conv.currentIr() == &s);
-  const Signal x = randomSignal(rng, 10 * 20);
-  runBlocks(conv, x, 0, 10, out);
-  CHECK(relativeErrorEnergy(out[0], directConvolution(x, h), 0, x.size()) < tolerance(b, h.size()));
+  RandomIrConvolver f(rng, 20, 90);
+  f.newInput(rng, 10);  // noise, to be forgotten
+  f.run(0, 10);
+  f.conv.reset();
+  CHECK(f.conv.currentIr() == &f.spectra);
+  f.newInput(rng, 10);
+  f.run(0, 10);
+  CHECK(f.errorFrom(0) < f.allowedError());
 }
 
 TEST_CASE("Errors: sizes, capacity, mismatched spectra, full retired list", "[convolver]") {

@@ -3,10 +3,7 @@
 // naming the field. Table-driven: a new limit is checked here without a new test.
 #include "scene/limits.h"
 
-#include <unistd.h>
-
 #include <catch2/catch.hpp>
-#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -16,9 +13,9 @@
 #include "common/input_error.h"
 #include "scene/scene.h"
 #include "scene/validate.h"
+#include "testing/temp_dir.h"
 #include "tests/limit_probes.h"
 
-namespace fs = std::filesystem;
 using nlohmann::json;
 using namespace dpc;
 
@@ -69,22 +66,14 @@ std::string docRow(const std::string& doc, const std::string& heading, const std
 /// A valid scene (the shipped shoebox, with absolute paths) written to a temporary folder.
 class SceneFile {
  public:
-  SceneFile() {
-    static int counter = 0;
-    dir_ = fs::temp_directory_path() /
-           ("dpc_limits_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    fs::create_directories(dir_);
+  SceneFile() : dir_("dpc_limits_test") {
     scene = json::parse(readText(kSourceDir + "/scenes/shoebox.json"));
     scene["mesh"] = kSourceDir + "/scenes/shoebox.obj";
     scene["sources"][0]["signal"] = kSourceDir + "/scenes/signals/speech.wav";
   }
-  ~SceneFile() {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
   /// Loads the scene; returns the InputError's message, or nullopt when it loads.
   std::optional<std::string> loadError() const {
-    const std::string path = (dir_ / "scene.json").string();
+    const std::string path = (dir_.path() / "scene.json").string();
     std::ofstream(path) << scene.dump(2);
     try {
       loadScene(path);
@@ -96,7 +85,7 @@ class SceneFile {
   json scene;
 
  private:
-  fs::path dir_;
+  test::TempDir dir_;
 };
 
 json number(double x) {

@@ -41,6 +41,28 @@ Bands analysisBandEnergies(const std::vector<float>& x, int fs) {
   return out;
 }
 
+/// A 1 s response in 1 ms bins decaying exponentially (T60 0.5 s) in every band from bin
+/// `firstBin` on, empty before.
+EnergyResponse exponentialDecay(size_t firstBin) {
+  EnergyResponse er(1.0, 1e-3);
+  for (size_t k = firstBin; k < er.binCount(); ++k)
+    er.bins()[k] = Bands(1e-4f * std::exp(-13.8f * float(k) * 1e-3f));
+  return er;
+}
+
+/// The IR synth makes of er with no direct sound.
+std::vector<float> synthesizeWithoutDirect(IrSynthesizer& synth, const EnergyResponse& er) {
+  std::vector<float> ir(synth.lengthSamples());
+  synth.synthesize(er, DirectSound{}, ir.data());
+  return ir;
+}
+
+size_t nonFiniteCount(const std::vector<float>& x) {
+  size_t n = 0;
+  for (float v : x) n += std::isfinite(v) ? 0 : 1;
+  return n;
+}
+
 }  // namespace
 
 TEST_CASE("Octave masks are power-complementary", "[ir]") {
@@ -73,8 +95,7 @@ TEST_CASE("Synthesised IR has the energy response's band energies", "[ir]") {
   std::array<std::vector<double>, kNumBands> drops;
   for (int seed = 1; seed <= seeds; ++seed) {
     IrSynthesizer synth(fs, 1.5, 210.0, 343.0, uint64_t(seed));
-    std::vector<float> ir(synth.lengthSamples());
-    synth.synthesize(er, DirectSound{}, ir.data());
+    const std::vector<float> ir = synthesizeWithoutDirect(synth, er);
     const Bands got = analysisBandEnergies(ir, fs);
     for (int b = 0; b < kNumBands; ++b) ratios[size_t(b)].push_back(got[b] / want[b]);
     // The decay survives: band energy in [0.2, 0.3) s against [0.6, 0.7) s.
@@ -150,17 +171,10 @@ TEST_CASE("A negative rounding residue in a bin gives a finite IR", "[ir]") {
   // finite samples, as if it were 0.
   const int fs = 48000;
   IrSynthesizer synth(fs, 1.0, 500.0, 343.0, 7);
-  EnergyResponse er(1.0, 1e-3);
-  for (size_t k = 0; k < er.binCount(); ++k)
-    er.bins()[k] = Bands(1e-4f * std::exp(-13.8f * float(k) * 1e-3f));
+  EnergyResponse er = exponentialDecay(0);
   for (size_t k = 650; k < 750; ++k) er.bins()[k][7] = 0.f;  // a sparse late 8 kHz band
   er.bins()[700][7] = -1.76e-24f;
-  DirectSound d;
-  std::vector<float> ir(synth.lengthSamples());
-  synth.synthesize(er, d, ir.data());
-  size_t nonFinite = 0;
-  for (float x : ir) nonFinite += std::isfinite(x) ? 0 : 1;
-  CHECK(nonFinite == 0);
+  CHECK(nonFiniteCount(synthesizeWithoutDirect(synth, er)) == 0);
 }
 
 TEST_CASE("Sample rates whose Nyquist cuts the top octaves synthesise the bands below", "[ir]") {
@@ -171,15 +185,9 @@ TEST_CASE("Sample rates whose Nyquist cuts the top octaves synthesise the bands 
   // 48 kHz from 125 Hz up; measured here up to 0.06 dB).
   for (int fs : {16000, 22050}) {
     IrSynthesizer synth(fs, 1.0, 300.0, 343.0, 3);
-    EnergyResponse er(1.0, 1e-3);
-    for (size_t k = 5; k < er.binCount(); ++k)
-      er.bins()[k] = Bands(1e-4f * std::exp(-13.8f * float(k) * 1e-3f));
-    DirectSound d;
-    std::vector<float> ir(synth.lengthSamples());
-    synth.synthesize(er, d, ir.data());
-    size_t nonFinite = 0;
-    for (float x : ir) nonFinite += std::isfinite(x) ? 0 : 1;
-    REQUIRE(nonFinite == 0);
+    const EnergyResponse er = exponentialDecay(5);
+    const std::vector<float> ir = synthesizeWithoutDirect(synth, er);
+    REQUIRE(nonFiniteCount(ir) == 0);
     const Bands got = analysisBandEnergies(ir, fs);
     for (int b = 1; b < kNumBands; ++b) {
       if (bandCentreExactHz(b) * std::sqrt(2.0) >= 0.5 * fs) continue;

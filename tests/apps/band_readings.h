@@ -1,0 +1,65 @@
+// What the ISO 3382-1 band analysis (analysis/room_parameters.h) reads from an IR, band by
+// band, beside what it should read: the parameters of the energy response the IR was made
+// from, and those the same analysis reads from an exact IR of that response
+// (analysis/expected_band_analysis.h). Shared by the synthesis fidelity tests
+// (synthesis_fidelity_test, spatial_fidelity_test).
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "analysis/expected_band_analysis.h"
+#include "analysis/room_parameters.h"
+#include "engine/energy_response.h"
+#include "engine/propagation.h"
+
+namespace dpc::test {
+
+/// Strength G (dB) of a band's parameters.
+inline double strengthDbOf(const audio::RoomParameters& p) {
+  return audio::strengthDb(p.energy);
+}
+
+/// One band read three ways.
+struct BandReading {
+  int band;
+  audio::RoomParameters response;  ///< the energy response's own (direct sound in its bin)
+  audio::RoomParameters exactIr;   ///< the band analysis of an exact IR of the response
+  audio::RoomParameters ir;        ///< the band analysis of the IR under test
+};
+
+/// An energy response and its direct sound, read per band as the response itself and as the
+/// band analysis of an exact IR of it at sample rate fs; read() adds an IR's analysis.
+class ResponseBands {
+ public:
+  ResponseBands(const EnergyResponse& er, const DirectSound& direct, int fs) : fs_(fs) {
+    const auto exact = expectedBandAnalysisEnergy(er, direct, fs);
+    std::vector<double> e(er.binCount());
+    for (int b = 0; b < kNumBands; ++b) {
+      for (size_t k = 0; k < e.size(); ++k) e[k] = er.bins()[k][b];
+      if (direct.visible) e[size_t(direct.delaySeconds / er.binSeconds())] += direct.intensity[b];
+      response_[size_t(b)] = audio::analyzeEnergyDecay(e.data(), e.size(), er.binSeconds());
+      const std::vector<double>& x = exact[size_t(b)];
+      exactIr_[size_t(b)] = audio::analyzeEnergyDecay(x.data(), x.size(), er.binSeconds());
+    }
+  }
+
+  const audio::RoomParameters& response(int b) const { return response_[size_t(b)]; }
+  const audio::RoomParameters& exactIr(int b) const { return exactIr_[size_t(b)]; }
+
+  /// Bands firstBand .. kNumBands - 1 of `ir` (at fs) beside the response's and the exact IR's.
+  std::vector<BandReading> read(const std::vector<float>& ir, int firstBand) const {
+    const audio::ImpulseResponseAnalysis a =
+        audio::analyzeImpulseResponse(ir.data(), ir.size(), fs_);
+    std::vector<BandReading> out;
+    for (int b = firstBand; b < kNumBands; ++b)
+      out.push_back({b, response(b), exactIr(b), a.bands[size_t(b)]});
+    return out;
+  }
+
+ private:
+  int fs_;
+  std::array<audio::RoomParameters, kNumBands> response_, exactIr_;
+};
+
+}  // namespace dpc::test

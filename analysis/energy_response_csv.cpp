@@ -48,12 +48,91 @@ void writeEnergyCsv(const std::string& path, const std::vector<SourceEnergy>& so
   file.commit();
 }
 
-std::vector<SourceEnergy> readEnergyCsv(const std::string& path) {
-  std::ifstream f(path);
-  if (!f) throw InputError(path, "", "cannot open");
+namespace {
+
+/// One data row: source index, kind ("direct" or "bin"), time and band values.
+struct CsvRow {
+  size_t source = 0;
+  std::string kind;
+  double time = 0.0;
+  Bands values;
+};
+
+/// Splits and checks one data line (3 + kNumBands comma-separated fields, finite numbers).
+CsvRow parseRow(const std::string& line, const std::string& path, const std::string& where) {
+  std::istringstream in(line);
+  std::string cell;
+  std::vector<std::string> cells;
+  while (std::getline(in, cell, ',')) cells.push_back(cell);
+  if (cells.size() != 3 + kNumBands)
+    throw InputError(path, where,
+                     "expected " + std::to_string(3 + kNumBands) + " fields, found " +
+                         std::to_string(cells.size()));
+  double nums[1 + kNumBands];
+  long source = -1;
+  try {
+    size_t used = 0;
+    source = std::stol(cells[0], &used);
+    if (used != cells[0].size()) source = -1;
+    for (int i = 0; i <= kNumBands; ++i) {
+      nums[i] = std::stod(cells[size_t(2 + i)], &used);
+      if (used != cells[size_t(2 + i)].size() || !std::isfinite(nums[i]))
+        throw std::invalid_argument("");
+    }
+  } catch (const std::exception&) {
+    throw InputError(path, where, "a field is not a finite number");
+  }
+  if (source < 0 || source > 100000) throw InputError(path, where, "bad source index");
+  if (cells[1] != "direct" && cells[1] != "bin")
+    throw InputError(path, where, "kind must be 'direct' or 'bin', not '" + cells[1] + "'");
+  CsvRow row{size_t(source), cells[1], nums[0], Bands{}};
+  for (int b = 0; b < kNumBands; ++b) row.values[b] = float(nums[1 + b]);
+  return row;
+}
+
+/// The rows of every source, gathered while reading.
+struct CsvSources {
   std::vector<SourceEnergy> sources;
   std::vector<std::vector<Bands>> bins;
   std::vector<double> binSeconds;
+
+  void add(const CsvRow& row) {
+    if (row.source >= sources.size()) {
+      sources.resize(row.source + 1);
+      bins.resize(row.source + 1);
+      binSeconds.resize(row.source + 1, 0.0);
+    }
+    if (row.kind == "direct") {
+      DirectSound& d = sources[row.source].direct;
+      d.visible = true;
+      d.delaySeconds = float(row.time);
+      d.intensity = row.values;
+      return;
+    }
+    auto& list = bins[row.source];
+    if (list.size() == 1) binSeconds[row.source] = row.time;
+    list.push_back(row.values);
+  }
+
+  /// Each source's bins as an energy response (bin width from its second row; 1 ms if single).
+  std::vector<SourceEnergy> finish(const std::string& path) {
+    for (size_t s = 0; s < sources.size(); ++s) {
+      const double bin = binSeconds[s] > 0.0 ? binSeconds[s] : 1e-3;
+      if (bins[s].empty()) throw InputError(path, "source " + std::to_string(s), "has no bins");
+      sources[s].energy = EnergyResponse(double(bins[s].size()) * bin, bin);
+      const size_t n = std::min(bins[s].size(), sources[s].energy.binCount());
+      for (size_t k = 0; k < n; ++k) sources[s].energy.bins()[k] = bins[s][k];
+    }
+    return std::move(sources);
+  }
+};
+
+}  // namespace
+
+std::vector<SourceEnergy> readEnergyCsv(const std::string& path) {
+  std::ifstream f(path);
+  if (!f) throw InputError(path, "", "cannot open");
+  CsvSources read;
   std::string line;
   size_t lineNo = 0;
   bool header = false;
@@ -61,63 +140,16 @@ std::vector<SourceEnergy> readEnergyCsv(const std::string& path) {
     ++lineNo;
     const std::string where = "line " + std::to_string(lineNo);
     if (line.empty() || line[0] == '#') continue;
-    if (!header) {
-      if (line.rfind("source,kind,time_s", 0) != 0)
-        throw InputError(path, where, "expected the header 'source,kind,time_s,e63,...'");
+    if (header) {
+      read.add(parseRow(line, path, where));
+    } else if (line.rfind("source,kind,time_s", 0) == 0) {
       header = true;
-      continue;
-    }
-    std::istringstream in(line);
-    std::string cell;
-    std::vector<std::string> cells;
-    while (std::getline(in, cell, ',')) cells.push_back(cell);
-    if (cells.size() != 3 + kNumBands)
-      throw InputError(path, where,
-                       "expected " + std::to_string(3 + kNumBands) + " fields, found " +
-                           std::to_string(cells.size()));
-    double nums[1 + kNumBands];
-    long source = -1;
-    try {
-      size_t used = 0;
-      source = std::stol(cells[0], &used);
-      if (used != cells[0].size()) source = -1;
-      for (int i = 0; i <= kNumBands; ++i) {
-        nums[i] = std::stod(cells[size_t(2 + i)], &used);
-        if (used != cells[size_t(2 + i)].size() || !std::isfinite(nums[i]))
-          throw std::invalid_argument("");
-      }
-    } catch (const std::exception&) {
-      throw InputError(path, where, "a field is not a finite number");
-    }
-    if (source < 0 || source > 100000) throw InputError(path, where, "bad source index");
-    if (size_t(source) >= sources.size()) {
-      sources.resize(size_t(source) + 1);
-      bins.resize(size_t(source) + 1);
-      binSeconds.resize(size_t(source) + 1, 0.0);
-    }
-    Bands v;
-    for (int b = 0; b < kNumBands; ++b) v[b] = float(nums[1 + b]);
-    if (cells[1] == "direct") {
-      sources[size_t(source)].direct.visible = true;
-      sources[size_t(source)].direct.delaySeconds = float(nums[0]);
-      sources[size_t(source)].direct.intensity = v;
-    } else if (cells[1] == "bin") {
-      auto& list = bins[size_t(source)];
-      if (list.size() == 1) binSeconds[size_t(source)] = nums[0];
-      list.push_back(v);
     } else {
-      throw InputError(path, where, "kind must be 'direct' or 'bin', not '" + cells[1] + "'");
+      throw InputError(path, where, "expected the header 'source,kind,time_s,e63,...'");
     }
   }
   if (!header) throw InputError(path, "", "no header line: not a dpc energy-response CSV");
-  for (size_t s = 0; s < sources.size(); ++s) {
-    const double bin = binSeconds[s] > 0.0 ? binSeconds[s] : 1e-3;
-    if (bins[s].empty()) throw InputError(path, "source " + std::to_string(s), "has no bins");
-    sources[s].energy = EnergyResponse(double(bins[s].size()) * bin, bin);
-    const size_t n = std::min(bins[s].size(), sources[s].energy.binCount());
-    for (size_t k = 0; k < n; ++k) sources[s].energy.bins()[k] = bins[s][k];
-  }
-  return sources;
+  return read.finish(path);
 }
 
 std::array<std::vector<double>, kNumBands> withDirect(const SourceEnergy& s) {

@@ -103,12 +103,14 @@ void toSpherical(const float d[3], float* azimuthDeg, float* elevationDeg) {
 // nearest measurement from a k-d tree plus the closer neighbour per axis, which jumps when the
 // nearest measurement changes and breaks KEMAR's exact mirror symmetry; see hrtf_test.)
 // Measurements at less than 99 % of the largest radius are ignored (direction only).
-void fillGrid(const MYSOFA_HRTF& h, int n, std::vector<float>* irs, std::vector<float>* delays) {
-  struct Dir {
-    float x, y, z;
-    unsigned m;
-  };
-  std::vector<Dir> dirs;
+struct MeasuredDirection {
+  float x, y, z;  ///< unit vector
+  unsigned m;     ///< measurement index
+};
+
+// The measurements' unit directions, those at less than 99 % of the largest radius left out.
+std::vector<MeasuredDirection> measuredDirections(const MYSOFA_HRTF& h) {
+  std::vector<MeasuredDirection> dirs;
   float rMax = 0;
   for (unsigned m = 0; m < h.M; ++m) {
     const float* p = h.SourcePosition.values + size_t(m) * h.C;
@@ -119,12 +121,56 @@ void fillGrid(const MYSOFA_HRTF& h, int n, std::vector<float>* irs, std::vector<
     const float r = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
     if (r >= 0.99f * rMax && r > 0) dirs.push_back({p[0] / r, p[1] / r, p[2] / r, m});
   }
-  const bool perMeasurementDelay = h.DataDelay.elements >= h.M * h.R;
-  auto delayOf = [&](unsigned m, int ear) -> float {
-    if (h.DataDelay.elements == 0) return 0.0f;
-    return perMeasurementDelay ? h.DataDelay.values[size_t(m) * h.R + size_t(ear)]
-                               : h.DataDelay.values[size_t(ear) % h.DataDelay.elements];
+  return dirs;
+}
+
+// Measurement m's delay for one ear (per measurement, or one per receiver), samples.
+float delayOf(const MYSOFA_HRTF& h, unsigned m, int ear) {
+  if (h.DataDelay.elements == 0) return 0.0f;
+  return h.DataDelay.elements >= h.M * h.R
+             ? h.DataDelay.values[size_t(m) * h.R + size_t(ear)]
+             : h.DataDelay.values[size_t(ear) % h.DataDelay.elements];
+}
+
+// One grid node: the Shepard blend (see fillGrid) of the measurements around unit direction u
+// into out[0, 2n) ([left | right]) and delay[2]. dist and acc are scratch of dirs.size() and 2n.
+void blendNode(const MYSOFA_HRTF& h, int n, const std::vector<MeasuredDirection>& dirs,
+               const double u[3], std::vector<double>& dist, std::vector<double>& acc, float* out,
+               float* delayOut) {
+  double dMin = 1e9;
+  size_t nearest = 0;
+  for (size_t q = 0; q < dirs.size(); ++q) {
+    const double dx = u[0] - dirs[q].x, dy = u[1] - dirs[q].y, dz = u[2] - dirs[q].z;
+    dist[q] = std::sqrt(dx * dx + dy * dy + dz * dz);
+    if (dist[q] < dMin) dMin = dist[q], nearest = q;
+  }
+  std::fill(acc.begin(), acc.end(), 0.0);
+  double delay[2] = {0, 0}, wSum = 0;
+  auto add = [&](size_t q, double w) {
+    const float* src = h.DataIR.values + size_t(dirs[q].m) * h.R * h.N;
+    for (int k = 0; k < 2 * n; ++k) acc[size_t(k)] += w * src[k];  // [left | right]
+    for (int ear = 0; ear < 2; ++ear) delay[ear] += w * delayOf(h, dirs[q].m, ear);
+    wSum += w;
   };
+  if (dMin < 1e-6) {
+    add(nearest, 1.0);
+  } else {
+    // 3 d_min, but at most d_min + 10 degrees of arc, so that nodes far from any measurement
+    // (below KEMAR's -40 degree ring) blend the nearest ring, not a hemisphere.
+    const double radius = dMin + std::min(2.0 * dMin, 2.0 * std::sin(5.0 * std::numbers::pi / 180));
+    for (size_t q = 0; q < dirs.size(); ++q)
+      if (dist[q] < radius) {
+        const double w = (radius - dist[q]) / (radius * dist[q]);
+        add(q, w * w);
+      }
+  }
+  for (int k = 0; k < 2 * n; ++k) out[k] = float(acc[size_t(k)] / wSum);
+  delayOut[0] = float(delay[0] / wSum);
+  delayOut[1] = float(delay[1] / wSum);
+}
+
+void fillGrid(const MYSOFA_HRTF& h, int n, std::vector<float>* irs, std::vector<float>* delays) {
+  const std::vector<MeasuredDirection> dirs = measuredDirections(h);
   const int nodes = kAzimuthSteps * kElevationSteps;
   irs->assign(size_t(nodes) * 2 * size_t(n), 0.0f);
   delays->assign(size_t(nodes) * 2, 0.0f);
@@ -134,39 +180,9 @@ void fillGrid(const MYSOFA_HRTF& h, int n, std::vector<float>* irs, std::vector<
     for (int j = 0; j < kAzimuthSteps; ++j) {
       const double az = Hrtf::kGridStepDegrees * j * std::numbers::pi / 180;
       const double u[3] = {std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
-      double dMin = 1e9;
-      size_t nearest = 0;
-      for (size_t q = 0; q < dirs.size(); ++q) {
-        const double dx = u[0] - dirs[q].x, dy = u[1] - dirs[q].y, dz = u[2] - dirs[q].z;
-        dist[q] = std::sqrt(dx * dx + dy * dy + dz * dz);
-        if (dist[q] < dMin) dMin = dist[q], nearest = q;
-      }
       const size_t node = size_t(i) * kAzimuthSteps + size_t(j);
-      float* out = irs->data() + node * 2 * size_t(n);
-      std::fill(acc.begin(), acc.end(), 0.0);
-      double delay[2] = {0, 0}, wSum = 0;
-      auto add = [&](size_t q, double w) {
-        const float* src = h.DataIR.values + size_t(dirs[q].m) * h.R * h.N;
-        for (int k = 0; k < 2 * n; ++k) acc[size_t(k)] += w * src[k];  // [left | right]
-        for (int ear = 0; ear < 2; ++ear) delay[ear] += w * delayOf(dirs[q].m, ear);
-        wSum += w;
-      };
-      if (dMin < 1e-6) {
-        add(nearest, 1.0);
-      } else {
-        // 3 d_min, but at most d_min + 10 degrees of arc, so that nodes far from any
-        // measurement (below KEMAR's -40 degree ring) blend the nearest ring, not a hemisphere.
-        const double radius =
-            dMin + std::min(2.0 * dMin, 2.0 * std::sin(5.0 * std::numbers::pi / 180));
-        for (size_t q = 0; q < dirs.size(); ++q)
-          if (dist[q] < radius) {
-            const double w = (radius - dist[q]) / (radius * dist[q]);
-            add(q, w * w);
-          }
-      }
-      for (int k = 0; k < 2 * n; ++k) out[k] = float(acc[size_t(k)] / wSum);
-      (*delays)[node * 2] = float(delay[0] / wSum);
-      (*delays)[node * 2 + 1] = float(delay[1] / wSum);
+      blendNode(h, n, dirs, u, dist, acc, irs->data() + node * 2 * size_t(n),
+                delays->data() + node * 2);
     }
   }
 }

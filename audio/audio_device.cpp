@@ -359,6 +359,40 @@ struct AudioOutput::Impl {
   }
 };
 
+namespace {
+
+// The stream's output parameters; throws (naming the device) when the device cannot play them.
+PaStreamParameters checkedOutputParameters(const AudioOutput::Options& options, PaDeviceIndex index,
+                                           const DeviceInfo& device, const std::string& where) {
+  if (options.channels > device.maxOutputChannels) {
+    throw std::runtime_error(where + ": " + std::to_string(options.channels) +
+                             " output channels requested, the device has " +
+                             std::to_string(device.maxOutputChannels));
+  }
+  PaStreamParameters out{};
+  out.device = index;
+  out.channelCount = options.channels;
+  out.sampleFormat = paFloat32 | paNonInterleaved;
+  out.suggestedLatency =
+      options.suggestedLatency > 0.0 ? options.suggestedLatency : device.defaultLowOutputLatency;
+  out.hostApiSpecificStreamInfo = nullptr;
+  const PaError supported = Pa_IsFormatSupported(nullptr, &out, options.sampleRate);
+  if (supported != paFormatIsSupported) {
+    std::string what = Pa_GetErrorText(supported);
+    if (supported == paInvalidSampleRate) {
+      what = formatHz(options.sampleRate) + " not supported (the device's default rate is " +
+             formatHz(device.defaultSampleRate) + "; a JACK device runs only at the " +
+             "server's rate)";
+    } else if (supported == paInvalidChannelCount) {
+      what = std::to_string(options.channels) + " output channels not supported";
+    }
+    throw std::runtime_error(where + ": " + what);
+  }
+  return out;
+}
+
+}  // namespace
+
 AudioOutput::AudioOutput(const Options& options, RenderCallback callback, void* user) {
   if (!callback) throw std::invalid_argument("AudioOutput: null render callback");
   if (!(options.sampleRate > 0.0) || options.channels <= 0 || options.blockSize <= 0) {
@@ -370,33 +404,7 @@ AudioOutput::AudioOutput(const Options& options, RenderCallback callback, void* 
   const PaDeviceIndex index = resolveDevice(options.device);
   impl->device = describe(index, defaultOutputDevice());
   const std::string where = impl->where();
-
-  if (options.channels > impl->device.maxOutputChannels) {
-    throw std::runtime_error(where + ": " + std::to_string(options.channels) +
-                             " output channels requested, the device has " +
-                             std::to_string(impl->device.maxOutputChannels));
-  }
-  PaStreamParameters out{};
-  out.device = index;
-  out.channelCount = options.channels;
-  out.sampleFormat = paFloat32 | paNonInterleaved;
-  out.suggestedLatency = options.suggestedLatency > 0.0 ? options.suggestedLatency
-                                                        : impl->device.defaultLowOutputLatency;
-  out.hostApiSpecificStreamInfo = nullptr;
-
-  const PaError supported = Pa_IsFormatSupported(nullptr, &out, options.sampleRate);
-  if (supported != paFormatIsSupported) {
-    std::string what = Pa_GetErrorText(supported);
-    if (supported == paInvalidSampleRate) {
-      what = formatHz(options.sampleRate) + " not supported (the device's default rate is " +
-             formatHz(impl->device.defaultSampleRate) + "; a JACK device runs only at the " +
-             "server's rate)";
-    } else if (supported == paInvalidChannelCount) {
-      what = std::to_string(options.channels) + " output channels not supported";
-    }
-    throw std::runtime_error(where + ": " + what);
-  }
-
+  const PaStreamParameters out = checkedOutputParameters(options, index, impl->device, where);
   PaError err = Pa_OpenStream(&impl->stream, nullptr, &out, options.sampleRate,
                               static_cast<unsigned long>(options.blockSize), paNoFlag,
                               &Impl::paCallback, impl.get());

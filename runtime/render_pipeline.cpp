@@ -284,7 +284,7 @@ AudioStage::AudioStage(const audio::NonUniformLayout& layout, const DrySignals& 
 }
 
 void AudioStage::offer(IrSet* set) {
-  if (pending_ && spentCount_ < kSpentCapacity) spent_[spentCount_++] = pending_;
+  if (pending_) spent_.tryPush(pending_);  // a full ring counts it (lostSets())
   pending_ = set;
 }
 
@@ -328,7 +328,7 @@ void AudioStage::process(float* const* out, const float* const* inputs) {
   while (const audio::NonUniformIrSet* retired = convolver_.takeRetired()) {
     for (IrSet*& set : inFlight_) {
       if (set && set->irs.get() == retired) {
-        if (spentCount_ < kSpentCapacity) spent_[spentCount_++] = set;
+        spent_.tryPush(set);
         set = nullptr;
         break;
       }
@@ -339,11 +339,8 @@ void AudioStage::process(float* const* out, const float* const* inputs) {
 }
 
 IrSet* AudioStage::takeSpent() {
-  if (spentCount_ == 0) return nullptr;
-  IrSet* s = spent_[0];
-  for (int i = 1; i < spentCount_; ++i) spent_[i - 1] = spent_[i];
-  --spentCount_;
-  return s;
+  IrSet* s = nullptr;
+  return spent_.tryPop(s) ? s : nullptr;
 }
 
 }  // namespace dpc

@@ -22,6 +22,7 @@
 
 #include "audio/nonuniform_convolver.h"
 #include "audio/wav_io.h"
+#include "common/fixed_ring.h"
 #include "synthesis/ir_synthesis.h"
 #include "scene/scene.h"
 #include "engine/simulation.h"
@@ -172,6 +173,9 @@ class AudioStage {
   uint64_t blocksProcessed() const { return blocks_; }
   /// IR sets applied (crossfades started).
   uint64_t irsApplied() const { return applied_; }
+  /// IR sets that found the spent ring full (takeSpent() not drained): they never return to
+  /// the pool. Any thread (relaxed); 0 when the caller drains takeSpent() after every block.
+  uint64_t lostSets() const { return spent_.overflows(); }
 
  private:
   const audio::NonUniformLayout& layout_;
@@ -186,8 +190,7 @@ class AudioStage {
   static constexpr int kInFlightCapacity = audio::NonUniformConvolver::kRetiredCapacity;
   IrSet* inFlight_[kInFlightCapacity] = {};
   static constexpr int kSpentCapacity = audio::NonUniformConvolver::kRetiredCapacity + 2;
-  IrSet* spent_[kSpentCapacity] = {};
-  int spentCount_ = 0;
+  FixedRing<IrSet*> spent_{kSpentCapacity};  ///< sets for takeSpent(), oldest first
   size_t position_ = 0;
   uint64_t blocks_ = 0, applied_ = 0;
 };

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "dpc/dpc.h"
+#include "audio/rt_check.h"
 #include "common/air_absorption.h"
 #include "common/input_error.h"
 #include "scene/scene.h"
@@ -18,8 +19,8 @@
 #include "runtime/render_pipeline.h"
 
 struct dpc_engine {
-  dpc::SceneDesc scene;
-  dpc::DrySignals dry;
+  dpc::SceneDesc scene;  ///< built by create, then moved into the session, which shares it
+  dpc::DrySignals dry;   ///< likewise
   std::unique_ptr<dpc::LiveSession> session;
   int sources = 0;
 };
@@ -181,7 +182,6 @@ dpc::SceneDesc sceneFromData(const dpc_scene_data& d) {
   l.pitchDegrees = d.listener_pitch_degrees;
   l.name = "listener 0";
   scene.listeners.push_back(l);
-  scene.listener = l;
   if (d.additional_listener_count < 0 || d.additional_listener_count > 63)
     bad("additional_listener_count", "must be in 0..63");
   if (d.additional_listener_count > 0 && !d.additional_listeners)
@@ -254,12 +254,12 @@ dpc_engine* finish(std::unique_ptr<dpc_engine> engine) {
   engine->sources = int(engine->scene.sources.size());
   dpc::LiveSession::Options options;
   options.deviceChannels = dpc::outputChannels(engine->scene.audio.output);
-  engine->session = std::make_unique<dpc::LiveSession>(engine->scene, engine->scene.propagation,
-                                                       engine->dry, options);
-  // Until the host sets one, the listener stands where the scene puts it at time 0.
-  const dpc::ListenerDesc& l = engine->scene.listener;
-  const dpc::Orientation o = dpc::listenerOrientationAt(l, 0.0);
-  engine->session->setPose(dpc::listenerPositionAt(l, 0.0), o.yawRadians, 0.0, o.pitchRadians);
+  // The session shares the scene and the signals; until the host sets a pose, every listener
+  // stands where the scene puts it at time 0.
+  const dpc::PropagationSettings settings = engine->scene.propagation;
+  engine->session = std::make_unique<dpc::LiveSession>(
+      std::make_shared<const dpc::SceneDesc>(std::move(engine->scene)), settings,
+      std::make_shared<const dpc::DrySignals>(std::move(engine->dry)), options);
   return engine.release();
 }
 
@@ -427,7 +427,7 @@ dpc_status dpc_engine_set_source_position(dpc_engine* engine, int source, float 
 
 dpc_status dpc_engine_set_object_pose(dpc_engine* engine, int object, float x, float y, float z,
                                       float qx, float qy, float qz, float qw) {
-  if (!engine || object < 0 || object >= int(engine->scene.objects.size()))
+  if (!engine || object < 0 || object >= engine->session->objectCount())
     return DPC_ERR_INVALID_ARGUMENT;
   const float q[4] = {qx, qy, qz, qw};
   for (float v : {x, y, z, qx, qy, qz, qw})
@@ -482,6 +482,7 @@ dpc_status dpc_engine_copy_energy_response(dpc_engine* engine, int source, float
 
 dpc_status dpc_engine_process(dpc_engine* engine, const float* const* inputs, float* const* outputs,
                               int frames) {
+  dpc::audio::rt::enterAudioThread();  // the host's audio thread (audio/rt_check.h)
   if (!engine || !outputs) return DPC_ERR_INVALID_ARGUMENT;
   // The session adapts any callback size to its block; sizes outside 1..8192 output nothing and
   // are counted (dpc_stats.rejected_callbacks).
@@ -503,7 +504,7 @@ int dpc_engine_source_count(const dpc_engine* e) {
   return e ? e->sources : 0;
 }
 int dpc_engine_object_count(const dpc_engine* e) {
-  return e ? int(e->scene.objects.size()) : 0;
+  return e ? e->session->objectCount() : 0;
 }
 int dpc_engine_latency_frames(const dpc_engine* e) {
   return e ? e->session->adapterLatencyFrames() : 0;

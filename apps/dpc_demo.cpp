@@ -122,7 +122,12 @@ void applyAudioOverrides(SceneDesc& scene, const Flags& fl) {
     scene.audio.hrtfPath = fl.hrtf;
     if (fl.output.empty()) scene.audio.output = OutputFormat::kBinaural;
   }
-  if (!fl.listener.empty()) selectListener(scene, fl.listener, "--listener");
+  if (!fl.listener.empty()) listenerIndex(scene, fl.listener, "--listener");  // known name?
+}
+
+/// --listener: the listener played or rendered (scene.listeners index); the first without it.
+size_t selectedListener(const SceneDesc& scene, const Flags& fl) {
+  return fl.listener.empty() ? 0 : listenerIndex(scene, fl.listener, "--listener");
 }
 
 /// OUT.wav -> OUT-NAME.wav (the listener's name before the extension).
@@ -240,7 +245,8 @@ void checkSetup(const SceneDesc& scene, const PropagationSettings& settings, dou
 }
 
 int runOffline(const Flags& fl) {
-  SceneDesc scene = loadScene(fl.scene);
+  const auto shared = std::make_shared<SceneDesc>(loadScene(fl.scene));
+  SceneDesc& scene = *shared;
   applyAudioOverrides(scene, fl);
   for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   const PropagationSettings settings = applyOverrides(scene, fl);
@@ -253,16 +259,18 @@ int runOffline(const Flags& fl) {
   requireSignal(scene);
   // Work and memory first (loading many or long signals takes time), then with the length.
   checkSetup(scene, settings, fl.hasDuration ? fl.duration : 0.0, false);
-  const DrySignals dry = loadDrySignals(scene);
-  for (const std::string& n : dry.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
+  const auto dry = std::make_shared<const DrySignals>(loadDrySignals(scene));
+  for (const std::string& n : dry->notes) std::fprintf(stderr, "note: %s\n", n.c_str());
   OfflineOptions lengthOnly;
   lengthOnly.durationSeconds = fl.hasDuration ? fl.duration : -1.0;
-  checkSetup(scene, settings, offlineDurationSeconds(scene, settings, dry, lengthOnly), true);
+  lengthOnly.listener = selectedListener(scene, fl);
+  checkSetup(scene, settings, offlineDurationSeconds(scene, settings, *dry, lengthOnly), true);
   const std::vector<OutputPaths> paths = offlineOutputs(scene, fl);
   // Several listeners: one propagation run traces them all (one pass per source and frame).
   OfflineOptions opt;
   opt.durationSeconds = fl.hasDuration ? fl.duration : -1.0;
   opt.allListeners = paths.size() > 1;
+  opt.listener = selectedListener(scene, fl);
   if (!fl.quiet) opt.progress = progressBar;
   // Each listener streams to a temporary file next to its output (memory independent of the
   // duration), renamed into place only once complete; a failed render leaves no file.
@@ -276,7 +284,7 @@ int runOffline(const Flags& fl) {
   opt.sink = [&](size_t l, const float* const* planar, size_t frames) {
     writers.at(l)->write(planar, frames, fixedGain);
   };
-  const OfflineResult r = renderOffline(scene, settings, dry, opt);
+  const OfflineResult r = renderOffline(shared, settings, dry, opt);
   const double audioSeconds = double(writers.front()->frames()) / scene.audio.sampleRate;
   for (size_t l = 0; l < r.listeners.size() && l < paths.size(); ++l)
     writeListener(fl, scene, r.listeners[l], *writers[l], paths[l]);
@@ -345,6 +353,9 @@ void printTotals(const OfflineResult& r, double audioSeconds) {
       100.0 * r.cacheCoarseEnergyFraction, t.traceSeconds + t.synthesisSeconds + t.prepareSeconds,
       t.traceSeconds, t.synthesisSeconds, t.prepareSeconds, r.wallSeconds,
       audioSeconds / r.wallSeconds);
+  std::printf("energy beyond the IR length %.3g %% of the last response (largest per pair)  "
+              "IR sets lost %llu\n",
+              100.0 * r.droppedEnergyFraction, (unsigned long long)r.irsLost);
 }
 
 /// Terminal raw mode for --interactive (restored on destruction).
@@ -450,6 +461,8 @@ void writeLiveStats(const std::string& path, const std::string& scenePath,
         {"reduced_frames", st.reducedFrames}}},
       {"irs_applied", st.irsApplied},
       {"irs_dropped", st.irsDropped},
+      {"irs_lost", st.irsLost},
+      {"dropped_energy_fraction", st.droppedEnergyFraction},
       {"motion_to_sound_latency_ms",
        {{"count", lat.callbacks},
         {"median", ms(lat.quantileNs(0.5))},
@@ -468,12 +481,13 @@ void writeLiveStats(const std::string& path, const std::string& scenePath,
 }
 
 int runLive(Flags& fl) {
-  SceneDesc scene = loadScene(fl.scene);
+  const auto shared = std::make_shared<SceneDesc>(loadScene(fl.scene));
+  SceneDesc& scene = *shared;
   applyAudioOverrides(scene, fl);
   for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   if (fl.listener.empty() && scene.listeners.size() > 1)
     std::fprintf(stderr, "note: playing listener \"%s\" of %zu (choose with --listener NAME)\n",
-                 scene.listener.name.c_str(), scene.listeners.size());
+                 scene.listeners[0].name.c_str(), scene.listeners.size());
   PropagationSettings settings = applyOverrides(scene, fl);
   // Live: leave one core to the audio thread unless --threads says otherwise (measured on 2
   // cores: 245 late blocks in 20 s with both cores tracing, 24 with one; docs/live.md).
@@ -489,15 +503,16 @@ int runLive(Flags& fl) {
   checkOutputs(scene, fl);
   requireSignal(scene);
   checkSetup(scene, settings, 0.0, true);
-  const DrySignals dry = loadDrySignals(scene);
-  for (const std::string& n : dry.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
+  const auto dry = std::make_shared<const DrySignals>(loadDrySignals(scene));
+  for (const std::string& n : dry->notes) std::fprintf(stderr, "note: %s\n", n.c_str());
 
   LiveSession::Options lo;
+  lo.listener = selectedListener(scene, fl);
   lo.deviceChannels = 2;
   lo.latencyTargetSeconds = fl.latencyTargetMs * 1e-3;
   const double duration = fl.hasDuration ? fl.duration : 1e9;
   if (!fl.record.empty()) lo.recordSeconds = std::min(duration, 3600.0);
-  LiveSession session(scene, settings, dry, lo);
+  LiveSession session(shared, settings, dry, lo);
 
   audio::AudioOutput::Options ao;
   ao.device = fl.device;
@@ -525,13 +540,13 @@ int runLive(Flags& fl) {
 
   // Pose: the trajectory on a wall clock (space pauses it), or the keyboard. Every listener is
   // traced each frame; 'l' plays the scene's next one (the keyboard then moves that one).
-  const ListenerDesc* played = &scene.listener;
   size_t playedIndex = session.playedListener();
+  const ListenerDesc* played = &scene.listeners[playedIndex];
   double sceneTime = 0.0;
   bool paused = false, manual = false;
-  glm::vec3 position = listenerPositionAt(scene.listener, 0.0);
+  glm::vec3 position = listenerPositionAt(*played, 0.0);
   float yawOffset = 0.f;  // Q/E turn the head relative to the trajectory's heading
-  float yaw = listenerOrientationAt(scene.listener, 0.0).yawRadians;
+  float yaw = listenerOrientationAt(*played, 0.0).yawRadians;
   session.setPose(position, yaw, 0.0);
   // The callback thread's scheduling, read once a callback has run (reported, and in --stats).
   audio::AudioOutput::Scheduling scheduling;

@@ -35,6 +35,7 @@
 #include "scene/scene.h"
 #include "engine/simulation.h"
 #include "runtime/live_session.h"
+#include "runtime/null_output.h"
 #include "runtime/render_pipeline.h"
 #include "testing/test_scenes.h"
 
@@ -84,7 +85,7 @@ int benchPropagation(const Common& c, bool noRoulette) {
   if (!c.haveRays) s.raysPerFrame = 4096;
   if (!c.haveMaxOrder) s.maxOrder = 200;
   if (noRoulette) s.rouletteThreshold = 0.f;
-  const glm::vec3 listener = listenerPositionAt(scene.listener, 0.0);
+  const glm::vec3 listener = listenerPositionAt(scene.listeners[0], 0.0);
   Simulation sim(scene, s);
   IrSynthesizer synth(scene.audio.sampleRate, s.irLength, roomVolume(scene.mesh), s.speedOfSound,
                       1);
@@ -195,9 +196,9 @@ int benchPropagation(const Common& c, bool noRoulette) {
 /// walked at `speed` m/s, sampled at frame f of a rate of `frameRate`.
 std::function<glm::vec3(int)> walker(const SceneDesc& scene, double speed, double frameRate) {
   std::vector<glm::vec3> pts;
-  for (const Keyframe& k : scene.listener.trajectory) pts.push_back(k.position);
+  for (const Keyframe& k : scene.listeners[0].trajectory) pts.push_back(k.position);
   if (pts.size() < 2) {
-    const glm::vec3 p = listenerPositionAt(scene.listener, 0.0);
+    const glm::vec3 p = listenerPositionAt(scene.listeners[0], 0.0);
     pts = {p, p + glm::vec3(100.f, 0.f, 0.f)};
   }
   return [pts, speed, frameRate](int f) {
@@ -384,15 +385,15 @@ int benchNoise(const Common& c, double walkSpeed, int referenceFrames, int warmu
 
 int benchLive(const Common& c, double duration, int blockSize, double frameRate,
               const std::string& device) {
-  SceneDesc scene = loadScene(c.scene);
+  const auto shared = std::make_shared<SceneDesc>(loadScene(c.scene));
+  SceneDesc& scene = *shared;
   scene.audio.blockSize = blockSize;
   PropagationSettings s = settingsFor(scene, c);
   if (frameRate > 0.0) s.frameRate = float(frameRate);
-  const DrySignals dry = loadDrySignals(scene);
   LiveSession::Options lo;
   lo.deviceChannels = 2;
-  LiveSession session(scene, s, dry, lo);
-  session.setPose(listenerPositionAt(scene.listener, 0.0), 0.f, 0.0);
+  LiveSession session(shared, s, std::make_shared<const DrySignals>(loadDrySignals(scene)), lo);
+  session.setPose(listenerPositionAt(scene.listeners[0], 0.0), 0.f, 0.0);
   std::unique_ptr<NullOutput> null;
   std::unique_ptr<audio::AudioOutput> real;
   if (device.empty()) {
@@ -416,7 +417,7 @@ int benchLive(const Common& c, double duration, int blockSize, double frameRate,
     const double t =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (t >= duration) break;
-    session.setPose(listenerPositionAt(scene.listener, t), 0.f, t);  // walking: every 5 ms
+    session.setPose(listenerPositionAt(scene.listeners[0], t), 0.f, t);  // walking: every 5 ms
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   if (null)
@@ -475,7 +476,8 @@ int benchLive(const Common& c, double duration, int blockSize, double frameRate,
 /// CPU time of the pass (tracing + one cache per source-listener pair) and CPU time of
 /// preparing every listener's IR set.
 int benchListeners(const Common& c, const std::vector<int>& counts, int warmupFrames) {
-  const SceneDesc scene = loadScene(c.scene);
+  const auto shared = std::make_shared<const SceneDesc>(loadScene(c.scene));
+  const SceneDesc& scene = *shared;
   PropagationSettings s = settingsFor(scene, c);
   auto cpu = [] { return double(std::clock()) / CLOCKS_PER_SEC; };
   auto wall = [] {
@@ -497,7 +499,7 @@ int benchListeners(const Common& c, const std::vector<int>& counts, int warmupFr
   std::vector<std::unique_ptr<PropagationStage>> stages;
   const int maxCount = *std::max_element(counts.begin(), counts.end());
   for (size_t k = 0; k < counts.size(); ++k)
-    stages.push_back(std::make_unique<PropagationStage>(scene, s, 3 * maxCount + 1));
+    stages.push_back(std::make_unique<PropagationStage>(shared, s, 3 * maxCount + 1));
   std::vector<double> traceCpu(counts.size(), 0.0), prepareCpu(counts.size(), 0.0);
   std::vector<double> traceWall(counts.size(), 0.0);
   std::vector<uint64_t> segments(counts.size(), 0), hits(counts.size(), 0);
@@ -593,7 +595,7 @@ int benchDynamic(int rays, int frames, const std::string& parts) {
         SceneDesc sc = test::twoRooms(w, float(tauE));
         sc.propagation.raysPerFrame = rays;
         Simulation sim(sc);
-        const glm::vec3 L = sc.listener.position;
+        const glm::vec3 L = sc.listeners[0].position;
         const double T = 1.0 / sc.propagation.frameRate;
         const int settle = int(std::ceil(std::max(3.0 * tau, 1.5) / T));
         const int span = int(std::ceil(3.0 * tau / T));
@@ -679,10 +681,10 @@ int benchDynamic(int rays, int frames, const std::string& parts) {
       }
       double t0 = cpu();
       sm.setObjectPoses(poses);
-      sm.runFrame(moving.listener.position);
+      sm.runFrame(moving.listeners[0].position);
       movingCpu += cpu() - t0;
       t0 = cpu();
-      sb.runFrame(baked.listener.position);
+      sb.runFrame(baked.listeners[0].position);
       staticCpu += cpu() - t0;
     }
     json e;
@@ -720,7 +722,7 @@ int benchDynamic(int rays, int frames, const std::string& parts) {
       SceneDesc at = room;
       at.sources[0].position = sourceAt(f);
       double e = 0.0;
-      refs.push_back(referenceResponse(at, refSettings, room.listener.position, 16, &e));
+      refs.push_back(referenceResponse(at, refSettings, room.listeners[0].position, 16, &e));
       refError = std::max(refError, e);
       std::fprintf(stderr, "\rmoving-source references %d/%d", f + 1, total);
     }
@@ -732,7 +734,7 @@ int benchDynamic(int rays, int frames, const std::string& parts) {
         PropagationSettings ps = room.propagation;
         ps.estimator = est;
         const NoiseMetrics m = measureNoise(
-            room, ps, warm, measured, [&](int) { return room.listener.position; },
+            room, ps, warm, measured, [&](int) { return room.listeners[0].position; },
             [&](int f) -> const EnergyResponse& { return moving ? refs[size_t(f)] : staticRef; }, 0,
             moving ? std::function<glm::vec3(int)>(sourceAt) : nullptr);
         json e;
@@ -790,7 +792,7 @@ int benchBudget(const Common& c, const std::vector<int>& raysList) {
     b.cacheMemoryMb = 16384.f;
     Simulation small(scene, a), big(scene, b);
     size_t maxBytes = 0;
-    const glm::vec3 at = listenerPositionAt(scene.listener, 0.0);
+    const glm::vec3 at = listenerPositionAt(scene.listeners[0], 0.0);
     for (int f = 0; f < frames; ++f) {
       small.runFrame(at);
       big.runFrame(at);
@@ -832,7 +834,7 @@ int benchDiffraction(const Common& c) {
   const EdgeDiffraction diffraction(scene.mesh);
   const auto t2 = Clock::now();
   const Propagator propagator(geometry, s);
-  const ListenerDesc& listener = scene.listener;
+  const ListenerDesc& listener = scene.listeners[0];
   const double span = listener.trajectory.empty() ? 20.0 : listener.trajectory.back().timeSeconds;
   const int frames = std::max(1, c.frames);
   std::vector<double> micros;

@@ -859,7 +859,6 @@ SceneDesc loadScene(const std::string& path) {
   } else {
     r.fail("listener", "missing required key (or give \"listeners\")");
   }
-  scene.listener = scene.listeners.front();
   if (const json* o = JsonReader::find(root, "objects")) readObjects(r, *o, folder, scene);
   if (const json* p = JsonReader::find(root, "propagation"))
     readPropagation(r, *p, scene.propagation);
@@ -957,14 +956,11 @@ void evaluateWorld(const SceneDesc& scene, double t, WorldState& state) {
     state.objectPoses[i] = objectPoseAt(scene.objects[i], t);
 }
 
-void selectListener(SceneDesc& scene, const std::string& name, const std::string& flag) {
+size_t listenerIndex(const SceneDesc& scene, const std::string& name, const std::string& flag) {
   std::string known;
-  for (const ListenerDesc& l : scene.listeners) {
-    if (l.name == name) {
-      scene.listener = l;
-      return;
-    }
-    known += (known.empty() ? "" : ", ") + inQuotes(l.name);
+  for (size_t i = 0; i < scene.listeners.size(); ++i) {
+    if (scene.listeners[i].name == name) return i;
+    known += (known.empty() ? "" : ", ") + inQuotes(scene.listeners[i].name);
   }
   throw InputError(
       "command line", flag,

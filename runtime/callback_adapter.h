@@ -61,8 +61,8 @@ class CallbackAdapter {
 
  private:
   int blockSize_;
-  int fill_ = 0;  ///< frames of the current block filled so far
-  std::vector<std::vector<float>> in_;   ///< the host's inputs of the block being filled
+  int fill_ = 0;                        ///< frames of the current block filled so far
+  std::vector<std::vector<float>> in_;  ///< the host's inputs of the block being filled
   std::vector<const float*> inPtr_;
   std::vector<std::vector<float>> out_;  ///< the last engine block, read out while the next fills
   std::vector<float*> outPtr_;

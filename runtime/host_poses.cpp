@@ -85,10 +85,9 @@ ListenerPose HostPoses::assemble(WorldState& world, size_t& played) const {
   world.objectPoses.resize(s.objects.size());
   for (size_t k = 0; k < s.objects.size(); ++k) {
     const HostObjectPose h = objects_[k].read();
-    world.objectPoses[k] =
-        h.set ? Pose{h.position, glm::quat(h.rotation[3], h.rotation[0], h.rotation[1],
-                                           h.rotation[2])}
-              : objectPoseAt(s.objects[k], t);
+    world.objectPoses[k] = h.set ? Pose{h.position, glm::quat(h.rotation[3], h.rotation[0],
+                                                              h.rotation[1], h.rotation[2])}
+                                 : objectPoseAt(s.objects[k], t);
   }
   return pose;
 }

@@ -20,16 +20,16 @@ int64_t nowNs() noexcept {
 size_t checkedListener(const SceneDesc& scene, size_t listener) {
   if (listener >= scene.listeners.size())
     throw std::out_of_range("LiveSession: listener " + std::to_string(listener) +
-                            " is not one of the scene's " +
-                            std::to_string(scene.listeners.size()) + " listeners");
+                            " is not one of the scene's " + std::to_string(scene.listeners.size()) +
+                            " listeners");
   return listener;
 }
 
 }  // namespace
 
 LiveSession::LiveSession(std::shared_ptr<const SceneDesc> scene,
-                         const PropagationSettings& settings,
-                         std::shared_ptr<const DrySignals> dry, const Options& options)
+                         const PropagationSettings& settings, std::shared_ptr<const DrySignals> dry,
+                         const Options& options)
     : scene_(std::move(scene)),
       settings_(settings),
       options_(options),
@@ -46,8 +46,7 @@ LiveSession::LiveSession(std::shared_ptr<const SceneDesc> scene,
       adapter_(blockSize_, audioStage_->sourceCount(), options.deviceChannels),
       limiter_(std::make_unique<audio::Limiter>(sampleRate_)),
       counters_(settings.raysPerFrame),
-      adaptiveRays_(settings.raysPerFrame, 1.0 / settings.frameRate,
-                    options.latencyTargetSeconds) {
+      adaptiveRays_(settings.raysPerFrame, 1.0 / settings.frameRate, options.latencyTargetSeconds) {
   const int irChannels = propagation_->numOutputs();
   mono_.assign(size_t(blockSize_) * size_t(irChannels), 0.f);
   for (int c = 0; c < irChannels; ++c)
@@ -157,8 +156,7 @@ void LiveSession::propagationLoop() {
                                                    double(blockSize_) / sampleRate_
                                              : std::nan("");
       adaptiveRays_.update(
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
-          latency);
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), latency);
     }
     // At most frame_rate frames per second; run late frames back to back.
     std::unique_lock<std::mutex> lock(wakeMutex_);
@@ -180,10 +178,9 @@ void LiveSession::render(const float* const* inputs, float* const* outputs, int 
     return;
   }
   const int64_t t0 = nowNs();
-  const bool swapped =
-      adapter_.run(inputs, outputs, frames, [this](const float* const* in, float* const* out) {
-        return renderBlock(in, out);
-      });
+  const bool swapped = adapter_.run(
+      inputs, outputs, frames,
+      [this](const float* const* in, float* const* out) { return renderBlock(in, out); });
   const int64_t ns = nowNs() - t0;
   if (double(ns) * 1e-9 * sampleRate_ > double(frames)) counters_.lateCallback();
   (swapped ? swapStats_ : noSwapStats_).record(uint64_t(ns), false);

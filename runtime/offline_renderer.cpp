@@ -21,8 +21,8 @@ std::vector<size_t> renderedListeners(const SceneDesc& scene, const OfflineOptio
   }
   if (options.listener >= scene.listeners.size())
     throw std::out_of_range("renderOffline: listener " + std::to_string(options.listener) +
-                            " is not one of the scene's " +
-                            std::to_string(scene.listeners.size()) + " listeners");
+                            " is not one of the scene's " + std::to_string(scene.listeners.size()) +
+                            " listeners");
   return {options.listener};
 }
 

@@ -82,10 +82,10 @@ PropagationStage::PropagationStage(std::shared_ptr<const SceneDesc> scene,
   makeSynthesizers(settings);
   layout_ = std::make_shared<const audio::NonUniformLayout>(scene_->audio.blockSize, irSamples_);
   makePool(poolSize);
-  irs_.assign(1, std::vector<std::vector<std::vector<float>>>(
-                     scene_->sources.size(),
-                     std::vector<std::vector<float>>(size_t(numOutputs_),
-                                                     std::vector<float>(irSamples_))));
+  irs_.assign(
+      1, std::vector<std::vector<std::vector<float>>>(
+             scene_->sources.size(),
+             std::vector<std::vector<float>>(size_t(numOutputs_), std::vector<float>(irSamples_))));
 }
 
 void PropagationStage::makeSynthesizers(const PropagationSettings& settings) {
@@ -121,8 +121,9 @@ void PropagationStage::traceWorld(const WorldState& world) {
   if (L == 0 || world.listenerOrientations.size() != L ||
       world.sourcePositions.size() != scene.sources.size() ||
       world.objectPoses.size() != scene.objects.size())
-    throw std::invalid_argument("PropagationStage::traceWorld: the world state does not match "
-                                "the scene's sources and objects, or has no listener");
+    throw std::invalid_argument(
+        "PropagationStage::traceWorld: the world state does not match "
+        "the scene's sources and objects, or has no listener");
   spheres_.resize(L);
   for (size_t l = 0; l < L; ++l) {
     const float radius = scene.listeners[l % scene.listeners.size()].radius;
@@ -164,8 +165,7 @@ IrSet* PropagationStage::prepare(size_t listener) {
     totals_.synthesisSeconds += secondsSince(t0);
     t0 = std::chrono::steady_clock::now();
     std::array<const float*, 2> channels{};
-    for (int c = 0; c < numOutputs_; ++c)
-      channels[size_t(c)] = irs_[listener][s][size_t(c)].data();
+    for (int c = 0; c < numOutputs_; ++c) channels[size_t(c)] = irs_[listener][s][size_t(c)].data();
     set->irs->prepare(int(s), channels.data(), irSamples_);
     totals_.prepareSeconds += secondsSince(t0);
   }

@@ -50,7 +50,7 @@ class Recorder {
   void drain();
 
   int sampleRate_, channels_;
-  FixedRing<float> ring_;      ///< interleaved samples
+  FixedRing<float> ring_;       ///< interleaved samples
   std::vector<float> scratch_;  ///< audio thread: one interleaved block
   std::vector<float> popped_;   ///< recorder thread: what one pop returned
   std::vector<std::vector<float>> recorded_;

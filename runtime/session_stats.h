@@ -16,11 +16,11 @@ namespace dpc {
 /// One frame's cache and ray totals over a set of source-listener pairs. Any thread; no
 /// allocation.
 struct FrameTotals {
-  uint64_t rays = 0;              ///< rays traced, summed
-  size_t cacheEntries = 0;        ///< DPC path entries, summed
-  size_t cacheCoarseEntries = 0;  ///< DPC coarse-store entries, summed
-  size_t cacheBytes = 0;          ///< DPC heap bytes, summed
-  size_t cacheBudgetBytes = 0;    ///< DPC memory budget, summed
+  uint64_t rays = 0;                     ///< rays traced, summed
+  size_t cacheEntries = 0;               ///< DPC path entries, summed
+  size_t cacheCoarseEntries = 0;         ///< DPC coarse-store entries, summed
+  size_t cacheBytes = 0;                 ///< DPC heap bytes, summed
+  size_t cacheBudgetBytes = 0;           ///< DPC memory budget, summed
   uint64_t cacheMergedEntries = 0;       ///< path entries merged by the budget, cumulative, summed
   double cacheCoarseEnergyFraction = 0;  ///< largest per-pair share of the response they carry
   /// Largest per-pair share of the estimator's energy that arrived beyond the IR length and
@@ -44,13 +44,12 @@ struct SessionStatus {
   size_t cacheBytes = 0;            ///< DPC heap bytes, summed over sources
   size_t cacheBudgetBytes = 0;      ///< DPC memory budget, summed over sources
   uint64_t cacheMergedEntries = 0;  ///< entries merged into the coarse store, cumulative
-  double cacheMergedEnergyFraction =
-      0.0;  ///< largest per-source share of the response they carry
+  double cacheMergedEnergyFraction = 0.0;  ///< largest per-source share of the response they carry
   /// Last frame, played listener: largest per-source share of the energy that arrived beyond
   /// the IR length (not in the IR; FrameTotals::droppedEnergyFraction).
   double droppedEnergyFraction = 0.0;
-  uint64_t irsApplied = 0;       ///< IR sets that reached the convolvers
-  uint64_t irsDropped = 0;       ///< superseded before the audio thread applied them
+  uint64_t irsApplied = 0;  ///< IR sets that reached the convolvers
+  uint64_t irsDropped = 0;  ///< superseded before the audio thread applied them
   /// IR sets that found a hand-over ring full and never came back to the pool (0 unless a
   /// ring is too small: a bug worth reporting).
   uint64_t irsLost = 0;

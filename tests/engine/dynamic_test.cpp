@@ -33,6 +33,7 @@ TEST_CASE("A source moving in a free field: delay r/c and energy 1/(4 pi r^2) ev
   b.timeSeconds = 4.0, b.position = {7, 0, 0};  // 1.5 m/s
   src.trajectory = {a, b};
   s.sources.push_back(src);
+  s.listeners.emplace_back();
   s.listeners[0].radius = 0.25f;
   s.propagation.airAbsorption = false;
   // The floor's far rim would add a diffracted wave (about 1e-4 of the energy) to the direct

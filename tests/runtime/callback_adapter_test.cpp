@@ -1,10 +1,10 @@
 // CallbackAdapter (runtime/callback_adapter.h): any sequence of host call sizes delays the
 // engine's blocks by exactly one block, inputs and outputs alike.
+#include "runtime/callback_adapter.h"
+
 #include <catch2/catch.hpp>
 #include <random>
 #include <vector>
-
-#include "runtime/callback_adapter.h"
 
 using namespace dpc;
 

@@ -1,10 +1,10 @@
 // FixedRing (common/fixed_ring.h): FIFO order, fixed capacity, refused pushes counted, and an
 // ordered hand-over between two threads.
+#include "common/fixed_ring.h"
+
 #include <catch2/catch.hpp>
 #include <thread>
 #include <vector>
-
-#include "common/fixed_ring.h"
 
 using namespace dpc;
 

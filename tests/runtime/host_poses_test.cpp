@@ -1,14 +1,14 @@
 // HostPoses (runtime/host_poses.h): the world state of a frame is the trajectories at the
 // played listener's scene time, then the host's overrides.
+#include "runtime/host_poses.h"
+
 #include <catch2/catch.hpp>
 
-#include "runtime/host_poses.h"
 #include "testing/test_scenes.h"
 
 using namespace dpc;
 
-TEST_CASE("HostPoses: trajectories at the played listener's time, then host overrides",
-          "[poses]") {
+TEST_CASE("HostPoses: trajectories at the played listener's time, then host overrides", "[poses]") {
   SceneDesc s = test::makeShoebox({6, 3, 4}, Bands(0.3f), 0.5f, {1, 1.5f, 1}, {4, 1.5f, 3});
   Keyframe a, b;
   a.timeSeconds = 0.0, a.position = {1, 1.5f, 1};

@@ -1,10 +1,10 @@
 // Recorder (runtime/recorder.h): what the audio thread pushes comes back per channel, and
 // samples that find the ring full are counted, never waited for.
+#include "runtime/recorder.h"
+
 #include <catch2/catch.hpp>
 #include <thread>
 #include <vector>
-
-#include "runtime/recorder.h"
 
 using namespace dpc;
 
@@ -39,7 +39,7 @@ TEST_CASE("Recorder: pushed blocks come back per channel after stop()", "[record
 
 TEST_CASE("Recorder: a full ring drops and counts samples", "[recorder]") {
   constexpr int kRate = 1000, kBlock = 100;  // ring: kRingSeconds * 1000 frames
-  Recorder rec(kRate, 1, 1.0, kBlock);      // not started: nothing drains the ring
+  Recorder rec(kRate, 1, 1.0, kBlock);       // not started: nothing drains the ring
   std::vector<float> x(kBlock, 0.5f);
   float* planar[1] = {x.data()};
   const int blocks = int(Recorder::kRingSeconds * kRate) / kBlock + 3;

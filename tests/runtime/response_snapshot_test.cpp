@@ -1,10 +1,11 @@
 // ResponseSnapshot (runtime/response_snapshot.h): a store copies the listener's responses, a
 // reader holding the lock makes the writer skip rather than wait.
+#include "runtime/response_snapshot.h"
+
 #include <catch2/catch.hpp>
 #include <thread>
 
 #include "runtime/propagation_stage.h"
-#include "runtime/response_snapshot.h"
 #include "testing/test_scenes.h"
 
 using namespace dpc;

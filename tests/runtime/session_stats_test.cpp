@@ -1,7 +1,7 @@
 // SessionCounters and FrameTotals (runtime/session_stats.h): counts as documented.
-#include <catch2/catch.hpp>
-
 #include "runtime/session_stats.h"
+
+#include <catch2/catch.hpp>
 
 using namespace dpc;
 

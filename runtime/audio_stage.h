@@ -36,7 +36,8 @@ class AudioStage {
   /// any more), or nullptr. Audio thread; the caller returns it to the propagation side.
   IrSet* takeSpent();
 
-  /// The newest set applied (every level takes it at its next chunk).
+  /// The newest set applied (every level takes it at its next chunk), or nullptr. This and
+  /// the two counters below: the audio thread.
   const IrSet* current() const { return current_; }
   uint64_t blocksProcessed() const { return blocks_; }
   /// IR sets applied (crossfades started).

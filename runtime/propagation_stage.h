@@ -44,7 +44,9 @@ std::unique_ptr<SpatialIrSynthesizer> makeSpatialSynthesizer(const SceneDesc& sc
 /// shared by all sources), the convolver layout and a pool of IrSets (poolSize plus two per
 /// partition level beyond the first: a slow level keeps its old and new set through its
 /// crossfade); allocates; throws InputError (e.g. an unreadable SOFA file, named by the
-/// scene's audio.hrtf) or std::runtime_error. The scene is shared, read only.
+/// scene's audio.hrtf) or std::runtime_error. The scene is shared, read only. The accessors
+/// (simulation(), lastIrs(), totals(), ...) belong to the thread that runs the frames; they
+/// neither allocate nor throw (lastIrs: std::out_of_range for a listener never traced).
 class PropagationStage {
  public:
   PropagationStage(std::shared_ptr<const SceneDesc> scene, const PropagationSettings& settings,

@@ -2,6 +2,7 @@
 // destruction, start, stop and single frames (include/dpc/dpc.h).
 #include <memory>
 #include <string>
+#include <utility>
 
 #include "api/engine_handle.h"
 #include "api/errors.h"
@@ -46,12 +47,12 @@ dpc_engine* finishEngine(std::unique_ptr<dpc_engine> engine) {
   engine->sources = int(engine->scene.sources.size());
   LiveSession::Options options;
   options.deviceChannels = outputChannels(engine->scene.audio.output);
-  engine->session = std::make_unique<LiveSession>(engine->scene, engine->scene.propagation,
-                                                  engine->dry, options);
-  // Until the host sets one, the listener stands where the scene puts it at time 0.
-  const ListenerDesc& l = engine->scene.listener;
-  const Orientation o = listenerOrientationAt(l, 0.0);
-  engine->session->setPose(listenerPositionAt(l, 0.0), o.yawRadians, 0.0, o.pitchRadians);
+  // The session shares the scene and the signals; until the host sets a pose, every listener
+  // stands where the scene puts it at time 0.
+  const PropagationSettings settings = engine->scene.propagation;
+  engine->session = std::make_unique<LiveSession>(
+      std::make_shared<const SceneDesc>(std::move(engine->scene)), settings,
+      std::make_shared<const DrySignals>(std::move(engine->dry)), options);
   return engine.release();
 }
 

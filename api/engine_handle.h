@@ -10,16 +10,17 @@
 #include "scene/scene.h"
 
 struct dpc_engine {
-  dpc::SceneDesc scene;
-  dpc::DrySignals dry;
+  dpc::SceneDesc scene;  ///< built by create, then moved into the session, which shares it
+  dpc::DrySignals dry;   ///< likewise
   std::unique_ptr<dpc::LiveSession> session;
   int sources = 0;
 };
 
 namespace dpc::api {
 
-/// Control thread: builds the session over the engine's complete scene and dry signals, places
-/// the listener where the scene puts it at time 0 and logs the scene's warnings. Allocates;
+/// Control thread: moves the engine's complete scene and dry signals into the session that
+/// shares them (every listener stands where the scene puts it at time 0 until the host sets a
+/// pose) and logs the scene's warnings. Allocates;
 /// throws what LiveSession throws. Returns the released handle.
 dpc_engine* finishEngine(std::unique_ptr<dpc_engine> engine);
 

@@ -68,7 +68,7 @@ dpc_status dpc_engine_set_source_position(dpc_engine* engine, int source, float 
 
 dpc_status dpc_engine_set_object_pose(dpc_engine* engine, int object, float x, float y, float z,
                                       float qx, float qy, float qz, float qw) {
-  if (!engine || object < 0 || object >= int(engine->scene.objects.size()) ||
+  if (!engine || object < 0 || object >= engine->session->objectCount() ||
       !allFinite({x, y, z, qx, qy, qz, qw}))
     return DPC_ERR_INVALID_ARGUMENT;
   const float q[4] = {qx, qy, qz, qw};

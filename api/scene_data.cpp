@@ -97,7 +97,6 @@ void listenersFromData(const dpc_scene_data& d, const Origin& origin, SceneDesc&
     l.pitchDegrees = a.pitch_degrees;
     scene.listeners.push_back(l);
   }
-  scene.listener = scene.listeners.front();
 }
 
 void settingsFromData(const dpc_scene_data& d, SceneDesc& scene) {

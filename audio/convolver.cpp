@@ -5,6 +5,7 @@
 #include <fftw3.h>
 
 #include <algorithm>
+#include <cassert>
 #include <cstdint>
 #include <cstring>
 #include <mutex>
@@ -202,8 +203,9 @@ PartitionedConvolver::PartitionedConvolver(const ConvolverLayout& layout, int nu
 void PartitionedConvolver::retire(const IrSpectra* ir) {
   // Retire only what is neither current nor pending (the same spectra may be set twice).
   if (!ir || ir == current_ || (hasPending_ && ir == pending_)) return;
-  retired_[(retiredFirst_ + retiredCount_) % kRetiredCapacity] = ir;
-  ++retiredCount_;  // setNextIr() guarantees room
+  const bool room = retired_.tryPush(ir);  // setNextIr() guarantees room
+  assert(room);
+  (void)room;
 }
 
 bool PartitionedConvolver::setNextIr(const IrSpectra* ir) {
@@ -214,7 +216,7 @@ bool PartitionedConvolver::setNextIr(const IrSpectra* ir) {
       return false;
   }
   // Room for the replaced pending IR (now) and the current one (at the swap).
-  if (retiredCount_ + 2 > kRetiredCapacity) return false;
+  if (retired_.size() + 2 > retired_.capacity()) return false;
   const IrSpectra* replaced = hasPending_ ? pending_ : nullptr;
   const bool wasPending = hasPending_;
   pending_ = ir;
@@ -224,12 +226,8 @@ bool PartitionedConvolver::setNextIr(const IrSpectra* ir) {
 }
 
 const IrSpectra* PartitionedConvolver::takeRetired() {
-  if (retiredCount_ == 0) return nullptr;
-  const IrSpectra* ir = retired_[retiredFirst_];
-  retired_[retiredFirst_] = nullptr;
-  retiredFirst_ = (retiredFirst_ + 1) % kRetiredCapacity;
-  --retiredCount_;
-  return ir;
+  const IrSpectra* ir = nullptr;
+  return retired_.tryPop(ir) ? ir : nullptr;
 }
 
 void PartitionedConvolver::reset() {

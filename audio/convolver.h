@@ -29,6 +29,8 @@
 #include <memory>
 #include <vector>
 
+#include "common/fixed_ring.h"
+
 namespace dpc::audio {
 
 namespace detail {
@@ -233,9 +235,7 @@ class PartitionedConvolver {
   const IrSpectra* current_ = nullptr;
   const IrSpectra* pending_ = nullptr;
   bool hasPending_ = false;
-  const IrSpectra* retired_[kRetiredCapacity] = {};
-  int retiredFirst_ = 0;
-  int retiredCount_ = 0;
+  FixedRing<const IrSpectra*> retired_{kRetiredCapacity};
 };
 
 }  // namespace dpc::audio

@@ -3,6 +3,7 @@
 #include "audio/nonuniform_convolver.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -159,15 +160,17 @@ bool NonUniformConvolver::referenced(const NonUniformIrSet* ir) const {
 
 void NonUniformConvolver::retireIfUnused(const NonUniformIrSet* ir) {
   if (!ir || referenced(ir)) return;
-  retired_[(retiredFirst_ + retiredCount_) % kRetiredCapacity] = ir;
-  ++retiredCount_;  // setNextIr() keeps room for one per level and one more
+  // setNextIr() keeps room for one per level and one more.
+  const bool room = retired_.tryPush(ir);
+  assert(room);
+  (void)room;
 }
 
 bool NonUniformConvolver::setNextIr(const NonUniformIrSet* ir) {
   if (ir && (&ir->layout() != layout_ || ir->numSources() != numSources_ ||
              ir->numChannels() != numOutputs_))
     return false;
-  if (retiredCount_ + layout_->numLevels() + 1 > kRetiredCapacity) return false;
+  if (retired_.size() + size_t(layout_->numLevels()) + 1 > retired_.capacity()) return false;
   const NonUniformIrSet* old = target_;
   target_ = ir;
   if (old != ir) retireIfUnused(old);
@@ -175,12 +178,8 @@ bool NonUniformConvolver::setNextIr(const NonUniformIrSet* ir) {
 }
 
 const NonUniformIrSet* NonUniformConvolver::takeRetired() {
-  if (retiredCount_ == 0) return nullptr;
-  const NonUniformIrSet* ir = retired_[retiredFirst_];
-  retired_[retiredFirst_] = nullptr;
-  retiredFirst_ = (retiredFirst_ + 1) % kRetiredCapacity;
-  --retiredCount_;
-  return ir;
+  const NonUniformIrSet* ir = nullptr;
+  return retired_.tryPop(ir) ? ir : nullptr;
 }
 
 bool NonUniformConvolver::swapping() const {

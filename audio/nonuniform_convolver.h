@@ -189,8 +189,7 @@ class NonUniformConvolver {
   std::vector<float*> accPtrs_;  ///< scratch: one accumulator pointer per output
   const NonUniformIrSet* target_ = nullptr;
   uint64_t block_ = 0;
-  const NonUniformIrSet* retired_[kRetiredCapacity] = {};
-  int retiredFirst_ = 0, retiredCount_ = 0;
+  FixedRing<const NonUniformIrSet*> retired_{kRetiredCapacity};
 };
 
 }  // namespace dpc::audio

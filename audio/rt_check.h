@@ -21,11 +21,17 @@ enum class ThreadRole : uint8_t {
   kControl,      ///< main/UI: loads scenes, moves the listener, prints status
   kPropagation,  ///< traces rays, synthesises and prepares IRs; may allocate
   kAudio,        ///< renders blocks: never allocates, locks, logs, throws, waits or syscalls
+  kWorker,       ///< below the audio thread (the recorder): never waited for by it
 };
 
 namespace detail {
-inline thread_local ThreadRole tThreadRole = ThreadRole::kUnknown;
-}
+// initial-exec: the byte sits in the static TLS block, so the first access on a thread is a
+// plain memory access even inside a dlopen()ed library (a plugin host loading libdpc), where
+// the default model would have glibc allocate the thread's block on that first access (the
+// audio thread's first dpc_engine_process; tests/lv2/lv2_rt_test.cpp counts it).
+__attribute__((tls_model("initial-exec"))) inline thread_local ThreadRole tThreadRole =
+    ThreadRole::kUnknown;
+}  // namespace detail
 
 /// Declares the calling thread's role. Any thread (the audio thread too). No allocation.
 inline void setThreadRole(ThreadRole role) noexcept {
@@ -39,6 +45,32 @@ inline ThreadRole threadRole() noexcept {
 inline bool onAudioThread() noexcept {
   return detail::tThreadRole == ThreadRole::kAudio;
 }
+
+/// For audio-thread entry points that the host's thread calls (device callback, a host's
+/// process call): declares the calling thread the audio thread. Debug builds assert that it
+/// declared no other role before (a propagation or recorder thread must never render). Any
+/// thread; no allocation.
+inline void enterAudioThread() noexcept {
+  assert(detail::tThreadRole == ThreadRole::kUnknown ||
+         detail::tThreadRole == ThreadRole::kAudio);
+  detail::tThreadRole = ThreadRole::kAudio;
+}
+
+/// Declares the calling thread's role for the object's lifetime and restores the previous one
+/// after: e.g. the offline renderer plays the audio thread around AudioStage::process. No
+/// allocation.
+class ScopedThreadRole {
+ public:
+  explicit ScopedThreadRole(ThreadRole role) noexcept : previous_(detail::tThreadRole) {
+    detail::tThreadRole = role;
+  }
+  ~ScopedThreadRole() { detail::tThreadRole = previous_; }
+  ScopedThreadRole(const ScopedThreadRole&) = delete;
+  ScopedThreadRole& operator=(const ScopedThreadRole&) = delete;
+
+ private:
+  ThreadRole previous_;
+};
 
 }  // namespace dpc::audio::rt
 

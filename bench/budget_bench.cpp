@@ -29,7 +29,7 @@ Json sweepPoint(const SceneDesc& scene, const PropagationSettings& s, int rays, 
   b.cacheMemoryMb = float(limitOf("propagation.cache_memory_mb").max);  // the largest allowed
   Simulation small(scene, a), big(scene, b);
   size_t maxBytes = 0;
-  const glm::vec3 at = listenerPositionAt(scene.listener, 0.0);
+  const glm::vec3 at = listenerPositionAt(scene.listeners[0], 0.0);
   for (int f = 0; f < frames; ++f) {
     small.runFrame(at);
     big.runFrame(at);

@@ -24,7 +24,7 @@ struct PairTimes {
 PairTimes timePairs(const SceneDesc& scene, const PropagationSettings& s, const Geometry& geometry,
                     const Tracer& tracer, const EdgeDiffraction& diffraction, int frames) {
   const Propagator propagator(geometry, tracer, s);
-  const ListenerDesc& listener = scene.listener;
+  const ListenerDesc& listener = scene.listeners[0];
   const double span = listener.trajectory.empty() ? 20.0 : listener.trajectory.back().timeSeconds;
   PairTimes p;
   for (int f = 0; f < frames; ++f) {

@@ -46,7 +46,7 @@ Json stepCase(const StepCase& c, int rays) {
   SceneDesc sc = test::twoRooms(c.weighting, float(c.timeConstant));
   sc.propagation.raysPerFrame = rays;
   Simulation sim(sc);
-  const glm::vec3 L = sc.listener.position;
+  const glm::vec3 L = sc.listeners[0].position;
   const double T = 1.0 / sc.propagation.frameRate;
   const int settle = int(std::ceil(std::max(3.0 * c.tau, 1.5) / T));
   const int span = int(std::ceil(3.0 * c.tau / T));
@@ -137,10 +137,10 @@ Json movingObjectsCase(int n, int rays, int frames) {
     }
     double t0 = cpu();
     sm.setObjectPoses(poses);
-    sm.runFrame(moving.listener.position);
+    sm.runFrame(moving.listeners[0].position);
     movingCpu += cpu() - t0;
     t0 = cpu();
-    sb.runFrame(baked.listener.position);
+    sb.runFrame(baked.listeners[0].position);
     staticCpu += cpu() - t0;
   }
   Json e;
@@ -182,7 +182,7 @@ WalkingSource walkingSource(int rays) {
     SceneDesc at = w.room;
     at.sources[0].position = w.sourceAt(f);
     double e = 0.0;
-    w.refs.push_back(referenceResponse(at, refSettings, w.room.listener.position, 16, &e));
+    w.refs.push_back(referenceResponse(at, refSettings, w.room.listeners[0].position, 16, &e));
     w.refError = std::max(w.refError, e);
     std::fprintf(stderr, "\rmoving-source references %d/%d", f + 1, total);
   }
@@ -196,7 +196,7 @@ Json walkingSourceCase(const WalkingSource& w, bool moving, Estimator est) {
   PropagationSettings ps = w.room.propagation;
   ps.estimator = est;
   const NoiseMetrics m = measureNoise(
-      w.room, ps, w.warm, w.measured, [&](int) { return w.room.listener.position; },
+      w.room, ps, w.warm, w.measured, [&](int) { return w.room.listeners[0].position; },
       [&](int f) -> const EnergyResponse& { return moving ? w.refs[size_t(f)] : staticRef; }, 0,
       moving ? std::function<glm::vec3(int)>([&](int f) { return w.sourceAt(f); }) : nullptr);
   Json e;

@@ -107,12 +107,13 @@ Json report(const CommonOptions& c, const ListenersOptions& o, const SceneDesc& 
 }  // namespace
 
 int benchListeners(const CommonOptions& c, const ListenersOptions& o) {
-  const SceneDesc scene = loadScene(c.scene);
+  const auto shared = std::make_shared<const SceneDesc>(loadScene(c.scene));
+  const SceneDesc& scene = *shared;
   const PropagationSettings s = settingsFor(scene, c);
   std::vector<std::unique_ptr<PropagationStage>> stages;
   const int maxCount = *std::max_element(o.counts.begin(), o.counts.end());
   for (size_t k = 0; k < o.counts.size(); ++k)
-    stages.push_back(std::make_unique<PropagationStage>(scene, s, 3 * maxCount + 1));
+    stages.push_back(std::make_unique<PropagationStage>(shared, s, 3 * maxCount + 1));
   std::vector<CountTimes> times(o.counts.size());
   WorldState world;
   for (int f = -o.warmupFrames; f < c.frames; ++f) {

@@ -7,6 +7,7 @@
 
 #include "audio/audio_device.h"
 #include "runtime/live_session.h"
+#include "runtime/null_output.h"
 #include "runtime/render_pipeline.h"
 #include "scene/validate.h"
 
@@ -48,7 +49,7 @@ void walk(const SceneDesc& scene, double duration, LiveSession& session) {
     const double t =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (t >= duration) break;
-    session.setPose(listenerPositionAt(scene.listener, t), 0.f, t);
+    session.setPose(listenerPositionAt(scene.listeners[0], t), 0.f, t);
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
 }
@@ -97,17 +98,17 @@ Json report(const CommonOptions& c, const LiveOptions& o, const SceneDesc& scene
 }  // namespace
 
 int benchLive(const CommonOptions& c, const LiveOptions& o) {
-  SceneDesc scene = loadScene(c.scene);
+  const auto shared = std::make_shared<SceneDesc>(loadScene(c.scene));
+  SceneDesc& scene = *shared;
   checkField("audio.block_size", o.blockSize, commandLineOrigin());
   scene.audio.blockSize = o.blockSize;
   PropagationSettings s = settingsFor(scene, c);
   if (o.frameRate > 0.0) checkField("propagation.frame_rate", o.frameRate, commandLineOrigin());
   if (o.frameRate > 0.0) s.frameRate = float(o.frameRate);
-  const DrySignals dry = loadDrySignals(scene);
   LiveSession::Options lo;
   lo.deviceChannels = 2;
-  LiveSession session(scene, s, dry, lo);
-  session.setPose(listenerPositionAt(scene.listener, 0.0), 0.f, 0.0);
+  LiveSession session(shared, s, std::make_shared<const DrySignals>(loadDrySignals(scene)), lo);
+  session.setPose(listenerPositionAt(scene.listeners[0], 0.0), 0.f, 0.0);
   Output output = openOutput(scene, o, session);
   session.start();
   output.start();

@@ -38,9 +38,9 @@ double correctedBy(double e, double r) {
 /// walked at `speed` m/s, sampled at frame f of a rate of `frameRate`.
 std::function<glm::vec3(int)> walker(const SceneDesc& scene, double speed, double frameRate) {
   std::vector<glm::vec3> pts;
-  for (const Keyframe& k : scene.listener.trajectory) pts.push_back(k.position);
+  for (const Keyframe& k : scene.listeners[0].trajectory) pts.push_back(k.position);
   if (pts.size() < 2) {
-    const glm::vec3 p = listenerPositionAt(scene.listener, 0.0);
+    const glm::vec3 p = listenerPositionAt(scene.listeners[0], 0.0);
     pts = {p, p + glm::vec3(100.f, 0.f, 0.f)};
   }
   return [pts, speed, frameRate](int f) {

@@ -155,7 +155,7 @@ int benchPropagation(const CommonOptions& c, bool noRoulette) {
   if (!c.rays) s.raysPerFrame = 4096;
   if (!c.maxOrder) s.maxOrder = 200;
   if (noRoulette) s.rouletteThreshold = 0.f;
-  const glm::vec3 listener = listenerPositionAt(scene.listener, 0.0);
+  const glm::vec3 listener = listenerPositionAt(scene.listeners[0], 0.0);
   Simulation sim(scene, s);
   IrSynthesizer synth(scene.audio.sampleRate, s.irLength, roomVolume(scene.mesh), s.speedOfSound,
                       1);

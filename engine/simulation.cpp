@@ -10,7 +10,8 @@ namespace dpc {
 Simulation::Simulation(const SceneDesc& scene) : Simulation(scene, scene.propagation) {}
 
 Simulation::Simulation(const SceneDesc& scene, const PropagationSettings& settings)
-    : settings_(settings), listenerRadius_(scene.listener.radius) {
+    : settings_(settings), listenerRadius_(scene.listeners.empty() ? ListenerDesc{}.radius
+                                               : scene.listeners.front().radius) {
   geometry_ =
       std::make_unique<Geometry>(scene.mesh, scene.materials, settings_.patchSize, scene.objects);
   tracer_ = std::make_unique<EmbreeTracer>(scene.mesh, scene.objects);

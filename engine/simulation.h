@@ -29,7 +29,8 @@ class Simulation {
   /// Energy response bin width, seconds.
   static constexpr double kEnergyBinSeconds = 1e-3;
 
-  /// Uses scene.mesh, materials, sources, listener.radius and the propagation settings.
+  /// Uses scene.mesh, materials, sources, listeners[0].radius (runFrame(position)) and the
+  /// propagation settings.
   explicit Simulation(const SceneDesc& scene);
   /// As above with other propagation settings (e.g. command-line overrides).
   Simulation(const SceneDesc& scene, const PropagationSettings& settings);

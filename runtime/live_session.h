@@ -2,36 +2,38 @@
 // rendering, on three threads (docs/design.md "Thread roles"):
 //
 //   control thread     setPose() (trajectory or keyboard), status(), start()/stop()
-//   propagation thread reads every listener's pose (one PoseChannel each), traces all
-//                      listeners in one pass, prepares the played listener's IrSet, pushes
-//                      its pointer to the audio thread (SPSC queue), recycles spent sets
-//   audio thread       render(): pops at most the newest IrSet per block (older ones go
-//                      straight back), convolves and crossfades, mixes, counts problems in
-//                      relaxed atomics, feeds the recorder ring
+//   propagation thread assembles the frame's world state (HostPoses), traces all listeners
+//                      in one pass, prepares the played listener's IrSet, pushes its pointer
+//                      to the audio thread, recycles spent sets, stores the response snapshot
+//   audio thread       render(): through the callback adapter, pops at most the newest IrSet
+//                      per block (older ones go straight back), convolves and crossfades,
+//                      mixes, limits, counts problems in relaxed atomics, feeds the recorder
 //
-// Queues: moodycamel::ReaderWriterQueue with fixed capacity (try_enqueue / try_dequeue only:
-// never allocate after construction). The recorder ring is boost::lockfree::spsc_queue, drained
-// by a recorder thread that writes the WAV at stop().
+// It composes single-purpose parts: HostPoses (poses and world assembly), PropagationStage and
+// AudioStage, two FixedRing<IrSet*> hand-over rings, CallbackAdapter (host block sizes),
+// audio::Limiter, Recorder, ResponseSnapshot, SessionCounters and AdaptiveRays.
 // render() never allocates, locks, logs, throws, waits or makes system calls (steady_clock is
 // the vDSO); tests/rt checks it with an interposed allocator.
 #pragma once
 
 #include <atomic>
-#include <boost/lockfree/spsc_queue.hpp>
 #include <condition_variable>
 #include <cstdint>
 #include <memory>
 #include <mutex>
-#include <string>
 #include <thread>
 #include <vector>
 
 #include "audio/audio_device.h"
 #include "audio/limiter.h"
+#include "common/fixed_ring.h"
 #include "runtime/adaptive_rays.h"
-#include "runtime/pose_channel.h"
+#include "runtime/callback_adapter.h"
+#include "runtime/host_poses.h"
+#include "runtime/recorder.h"
 #include "runtime/render_pipeline.h"
-#include "runtime/spsc_queue.h"
+#include "runtime/response_snapshot.h"
+#include "runtime/session_stats.h"
 
 namespace dpc {
 
@@ -39,8 +41,10 @@ class LiveSession {
  public:
   struct Options {
     int deviceChannels = 2;      ///< output channels the device renders (IR channels copied)
-    double recordSeconds = 0.0;  ///< > 0: keep what was played (ring of this many seconds)
+    double recordSeconds = 0.0;  ///< > 0: keep what was played (reserved for this many seconds)
     int poolSize = 6;            ///< IrSets in flight (>= 3)
+    /// The listener played first (scene.listeners index; selectListener() changes it).
+    size_t listener = 0;
     /// The propagation thread adapts the rays per source of each frame to hold the frame
     /// rate (runtime/adaptive_rays.h, docs/live.md "Adaptive rays"): fewer rays when a frame
     /// takes longer than 1 / frame_rate, back up to the settings' rays when there is room.
@@ -52,10 +56,12 @@ class LiveSession {
     double latencyTargetSeconds = 0.05;
   };
 
-  /// Control thread. Builds the stages (Embree scene, IR synthesisers, convolvers, queues).
-  /// Allocates; throws on bad input. blockSize comes from scene.audio.blockSize.
-  LiveSession(const SceneDesc& scene, const PropagationSettings& settings, const DrySignals& dry,
-              const Options& options);
+  /// Control thread. Builds the stages (Embree scene, IR synthesisers, convolvers, rings) over
+  /// the shared scene and dry signals (one per scene source). Allocates; throws on bad input
+  /// (std::out_of_range for options.listener outside the scene's listeners). blockSize comes
+  /// from scene->audio.blockSize.
+  LiveSession(std::shared_ptr<const SceneDesc> scene, const PropagationSettings& settings,
+              std::shared_ptr<const DrySignals> dry, const Options& options);
   ~LiveSession();
 
   /// Control thread: starts the propagation (and recorder) threads. The audio device, created
@@ -70,30 +76,33 @@ class LiveSession {
   void setPose(const glm::vec3& position, float yawRadians, double sceneSeconds,
                float pitchRadians = 0.f);
   /// Any thread (one writer per listener at a time): publishes listener `index`'s pose
-  /// (scene.listeners order; index 0 only when the scene lists none), timestamped now, for the
-  /// following propagation frames. Every listener is traced each frame in the same pass (its
-  /// cache stays current whether it is played or not); until a pose is published a listener
-  /// stands where its trajectory puts it at t = 0. sceneSeconds: the scene time the pose
-  /// belongs to (sources and objects follow their trajectories at the played listener's
-  /// time). Returns false (and changes nothing) for an index out of range. Wait-free (seqlock,
-  /// runtime/pose_channel.h); no allocation.
+  /// (scene.listeners order), timestamped now, for the following propagation frames. Every
+  /// listener is traced each frame in the same pass (its cache stays current whether it is
+  /// played or not); until a pose is published a listener stands where its trajectory puts it
+  /// at t = 0. sceneSeconds: the scene time the pose belongs to (sources and objects follow
+  /// their trajectories at the played listener's time). Returns false (and changes nothing)
+  /// for an index out of range. Wait-free (seqlock, runtime/pose_channel.h); no allocation.
   bool setListenerPose(size_t index, const glm::vec3& position, float yawRadians,
                        double sceneSeconds, float pitchRadians = 0.f);
   /// Any thread: plays listener `index` from the next propagation frame on (the audio thread
   /// crossfades to its IR like to any new IR). False for an index out of range. Wait-free.
-  bool selectListener(size_t index);
+  bool selectListener(size_t index) { return poses_.select(index); }
   /// The listener being played (scene.listeners order).
-  size_t playedListener() const { return played_.load(std::memory_order_relaxed); }
-  /// Listeners traced every frame: scene.listeners.size(), or 1 when the scene lists none.
-  size_t listenerCount() const { return listenerCount_; }
+  size_t playedListener() const { return poses_.played(); }
+  /// Listeners traced every frame: scene.listeners.size().
+  size_t listenerCount() const { return poses_.listenerCount(); }
   /// Any thread (one writer per source at a time): places source `index` (scene order) at
   /// `position` (m) from the next propagation frame on, instead of its trajectory. Returns false
   /// (and changes nothing) for an index out of range. Wait-free; no allocation.
-  bool setSourcePosition(size_t index, const glm::vec3& position);
+  bool setSourcePosition(size_t index, const glm::vec3& position) {
+    return poses_.setSourcePosition(index, position);
+  }
   /// Any thread (one writer per object at a time): object `index` at world = R(rotation) *
   /// local + position; rotation a unit quaternion (x, y, z, w), normalised here; false for an
   /// index out of range or a zero-length rotation. Wait-free; no allocation.
-  bool setObjectPose(size_t index, const glm::vec3& position, const float rotation[4]);
+  bool setObjectPose(size_t index, const glm::vec3& position, const float rotation[4]) {
+    return poses_.setObjectPose(index, position, rotation);
+  }
   /// Control thread, while the propagation thread is not running (before start() or after
   /// stop()): runs one propagation frame now on the calling thread and hands its IR set to the
   /// audio side, as the propagation thread would. Lets a host render deterministically (same
@@ -108,27 +117,15 @@ class LiveSession {
   /// the machine's load. Control thread, while not running (false otherwise).
   bool stepAdaptive(double frameSeconds);
 
-  /// The newest frame's responses for one source, as copied by the propagation thread after
-  /// each frame: ir[channel][sample] the pressure IR at sampleRate(); energy[k][band] the
-  /// energy response in bins of binSeconds (1/m^2 relative to source power, direct sound
-  /// included); frame = propagation frames run when it was taken.
-  struct Responses {
-    const std::vector<std::vector<float>>* ir;
-    const std::vector<Bands>* energy;
-    double binSeconds;
-    uint64_t frame;
-  };
+  /// The newest frame's responses of the played listener for one source (ResponseSnapshot).
+  using Responses = ResponseSnapshot::Responses;
   /// Any thread but the audio thread: calls f with the newest responses of `source` while
   /// holding the snapshot lock (the propagation thread skips its copy rather than wait for
   /// it). Returns false, without calling f, before the first frame or for a bad index.
   /// Allocates nothing itself (f is called directly, not through a type-erased wrapper).
   template <class F>
   bool copyResponses(size_t source, F&& f) {
-    std::lock_guard<std::mutex> lock(snapshotMutex_);
-    if (!snapshotValid_ || source >= snapshotIrs_.size()) return false;
-    f(Responses{&snapshotIrs_[source], &snapshotEnergy_[source], snapshotBinSeconds_,
-                snapshotFrame_});
-    return true;
+    return snapshot_.read(source, std::forward<F>(f));
   }
 
   /// IR channels (1 mono, 2 stereo/binaural).
@@ -136,15 +133,15 @@ class LiveSession {
 
   /// Audio thread: renders `frames` frames (any count from 1 to kMaxCallbackFrames, varying
   /// from call to call) into outputs[0..deviceChannels). The engine works in fixed blocks of
-  /// blockSize() frames; a FIFO adapter between the host's calls and those blocks adds a
-  /// constant latency of adapterLatencyFrames() = blockSize() frames for every call pattern:
-  /// output sample t (counted from the first call) is engine output sample t - blockSize()
-  /// (zeros before). inputs: nullptr renders the scene's own dry signals; otherwise
-  /// inputs[s][0..frames) is the host's dry input for source s (one mono channel per scene
-  /// source, same order as scene.sources), delayed by the same adapter latency.
+  /// blockSize() frames; the callback adapter (runtime/callback_adapter.h) between the host's
+  /// calls and those blocks adds a constant latency of adapterLatencyFrames() = blockSize()
+  /// frames for every call pattern: output sample t (counted from the first call) is engine
+  /// output sample t - blockSize() (zeros before). inputs: nullptr renders the scene's own dry
+  /// signals; otherwise inputs[s][0..frames) is the host's dry input for source s (one mono
+  /// channel per scene source, same order as scene.sources), delayed by the same latency.
   /// Calls with frames < 1 or > kMaxCallbackFrames render nothing and are counted
-  /// (Status::rejectedCallbacks). Wait-free; no allocation, locks, logging, exceptions or
-  /// system calls.
+  /// (Status::rejectedCallbacks). The calling thread becomes the audio thread
+  /// (audio/rt_check.h). Wait-free; no allocation, locks, logging, exceptions or system calls.
   void render(const float* const* inputs, float* const* outputs, int frames) noexcept;
   /// render(nullptr, outputs, frames): the scene's own dry signals.
   void render(float* const* outputs, int frames) noexcept { render(nullptr, outputs, frames); }
@@ -152,48 +149,20 @@ class LiveSession {
   static void renderCallback(void* user, float* const* out, int frames) noexcept;
 
   /// Largest host callback render() accepts, frames.
-  static constexpr int kMaxCallbackFrames = 8192;
+  static constexpr int kMaxCallbackFrames = CallbackAdapter::kMaxCallbackFrames;
   /// Latency added by the callback-size adapter, frames (constant: one engine block).
-  int adapterLatencyFrames() const { return blockSize_; }
+  int adapterLatencyFrames() const { return adapter_.latencyFrames(); }
   /// Dry inputs render() expects when the host provides them (the scene's source count).
-  int sourceCount() const { return int(hostIn_.size()); }
+  int sourceCount() const { return adapter_.sourceCount(); }
+  /// Rigid objects of the scene (setObjectPose() indices).
+  int objectCount() const { return int(scene_->objects.size()); }
 
   int blockSize() const { return blockSize_; }
   int sampleRate() const { return sampleRate_; }
 
-  struct Status {
-    uint64_t frames = 0;
-    double frameMs = 0.0;        ///< last propagation frame (trace + synthesis + prepare)
-    double raysPerSecond = 0.0;  ///< over the last status interval
-    /// Rays per source traced by the last frame (0 before the first); below raysPerFrameScene
-    /// when the adaptive controller reduced them to hold the frame rate.
-    int raysPerFrame = 0;
-    int raysPerFrameMin = 0;          ///< fewest rays per source of any frame so far (0: none yet)
-    int raysPerFrameScene = 0;        ///< the settings' rays per source (the controller's ceiling)
-    uint64_t reducedFrames = 0;       ///< frames traced with fewer rays than raysPerFrameScene
-    size_t cacheEntries = 0;          ///< DPC path + coarse entries, summed over sources
-    size_t cacheBytes = 0;            ///< DPC heap bytes, summed over sources
-    size_t cacheBudgetBytes = 0;      ///< DPC memory budget, summed over sources
-    uint64_t cacheMergedEntries = 0;  ///< entries merged into the coarse store, cumulative
-    double cacheMergedEnergyFraction =
-        0.0;                       ///< largest per-source share of the response they carry
-    uint64_t irsApplied = 0;       ///< IR sets that reached the convolvers
-    uint64_t irsDropped = 0;       ///< superseded before the audio thread applied them
-    double irAgeMs = 0.0;          ///< age of the IR playing, at the last block
-    double latencyMedianMs = 0.0;  ///< motion-to-sound latency, since start
-    double latencyP95Ms = 0.0;
-    uint64_t blocks = 0;
-    uint64_t nanBlocks = 0;          ///< blocks zeroed by the NaN/inf guard
-    uint64_t lateCallbacks = 0;      ///< render() calls that took longer than the audio they
-                                     ///< produced (frames / sampleRate): a device would xrun
-    uint64_t rejectedCallbacks = 0;  ///< render() calls with frames outside 1..kMaxCallbackFrames
-    uint64_t recordDropped = 0;      ///< samples the recorder ring could not take
-    /// Output safety limiter (audio/limiter.h), since start: frames it attenuated, frames
-    /// whose input exceeded its ceiling, and its largest gain reduction (dB).
-    uint64_t limitedFrames = 0;
-    uint64_t overCeilingFrames = 0;
-    float limiterMaxReductionDb = 0.f;
-  };
+  using Status = SessionStatus;
+  /// Control thread (one reader): the counters, the latency quantiles, the limiter's and the
+  /// recorder's counts.
   Status status() const;
 
   /// Durations of render() per block, split by whether an IR swap (crossfade) happened.
@@ -206,94 +175,51 @@ class LiveSession {
 
  private:
   void propagationLoop();
-  /// One propagation frame at raysPerSource rays per source: read the poses, compute, hand the IR
-  /// set over, update the counters and the response snapshot. Propagation thread (or the control
-  /// thread through step()).
+  /// One propagation frame at raysPerSource rays per source: assemble the world, trace it,
+  /// hand the played listener's IR set over, update the counters and the response snapshot.
+  /// Propagation thread (or the control thread through step()).
   void runFrame(int raysPerSource);
-  /// Audio thread: one engine block from blockIn_ (or the scene's signals) into blockOut_.
-  /// Returns whether an IR swap started.
-  bool renderBlock(bool hostInputs) noexcept;
-  void recorderLoop();
+  /// The frame's statistics after the trace (runFrame).
+  void recordFrame(size_t played, bool produced, double frameMs);
+  /// Hands a prepared set to the audio thread (the pose's publication time stamped for the
+  /// latency); a full ring recycles it and counts it superseded.
+  void handOver(IrSet* set, const ListenerPose& pose);
+  /// Audio thread: one engine block from the adapter's inputs (nullptr: the scene's signals)
+  /// into its outputs. Returns whether an IR swap started.
+  bool renderBlock(const float* const* inputs, float* const* outputs) noexcept;
+  /// Audio thread: offers the newest IR set from the ring; older ones go straight back.
+  void takeNewestIr() noexcept;
+  /// Audio thread: the IR channels onto the device channels (the last repeats), zeros for
+  /// a block with NaN or infinity. Returns whether the block was finite.
+  bool copyToDevice(float* const* outputs) noexcept;
 
-  const SceneDesc& scene_;
+  std::shared_ptr<const SceneDesc> scene_;
   PropagationSettings settings_;
   Options options_;
   int blockSize_, sampleRate_;
   std::unique_ptr<PropagationStage> propagation_;
   std::unique_ptr<AudioStage> audioStage_;
-  size_t listenerCount_ = 1;
-  std::unique_ptr<PoseChannel[]> poses_;  ///< one per listener
-  std::atomic<size_t> played_{0};
-  WorldState world_;  ///< propagation thread: this frame's poses
-  std::unique_ptr<SeqlockChannel<HostSourcePosition>[]> hostSources_;
-  std::unique_ptr<SeqlockChannel<HostObjectPose>[]> hostObjects_;
-  moodycamel::ReaderWriterQueue<IrSet*> toAudio_, fromAudio_;
+  HostPoses poses_;
+  WorldState world_;  ///< propagation thread: this frame's world
+  std::unique_ptr<FixedRing<IrSet*>> toAudio_, fromAudio_;
   std::vector<float> mono_;  ///< audio-thread scratch: one block per IR channel
   std::vector<float*> stageOut_;
-  // Callback-size adapter (audio thread): the host's inputs of the engine block being filled
-  // (one block per source) and the device-channel output of the last engine block, read out
-  // while the next one fills. fill_ = frames of the current block filled so far.
-  std::vector<std::vector<float>> hostIn_;
-  std::vector<const float*> hostInPtr_;
-  std::vector<std::vector<float>> blockOut_;
-  std::vector<float*> blockOutPtr_;
+  CallbackAdapter adapter_;
   /// Last stage before the device: nothing beyond full scale reaches it.
   std::unique_ptr<audio::Limiter> limiter_;
-  int fill_ = 0;
-  std::unique_ptr<boost::lockfree::spsc_queue<float>> recordRing_;
-  std::vector<float> recordScratch_;
-  std::vector<std::vector<float>> recorded_;
+  std::unique_ptr<Recorder> recorder_;  ///< null unless options.recordSeconds > 0
+  ResponseSnapshot snapshot_;
 
-  // Snapshot of the newest frame's responses (runFrame writes it under try_lock).
-  std::mutex snapshotMutex_;
-  std::vector<std::vector<std::vector<float>>> snapshotIrs_;  ///< [source][channel][sample]
-  std::vector<std::vector<Bands>> snapshotEnergy_;            ///< [source][bin]
-  double snapshotBinSeconds_ = 0.0;
-  uint64_t snapshotFrame_ = 0;
-  bool snapshotValid_ = false;
-
-  std::thread propagationThread_, recorderThread_;
+  std::thread propagationThread_;
   std::atomic<bool> running_{false};
   std::mutex wakeMutex_;
   std::condition_variable wake_;
 
-  // Statistics: written by one thread, read by the control thread (relaxed).
-  std::atomic<uint64_t> frames_{0}, rays_{0}, irsDropped_{0}, blocks_{0}, nanBlocks_{0},
-      lateCallbacks_{0}, rejectedCallbacks_{0}, recordDropped_{0}, irsApplied_{0};
-  std::atomic<double> frameMs_{0.0}, irAgeMs_{0.0};
-  std::atomic<size_t> cacheEntries_{0}, cacheBytes_{0}, cacheBudgetBytes_{0};
-  std::atomic<uint64_t> cacheMergedEntries_{0};
-  std::atomic<double> cacheMergedEnergyFraction_{0.0};
+  mutable SessionCounters counters_;
   AdaptiveRays adaptiveRays_;  ///< propagation thread (or stepAdaptive() while stopped)
   /// The last IR set's pose publication and readiness, steady_clock ns (propagation thread).
   int64_t lastPoseNs_ = 0, lastReadyNs_ = 0;
-  std::atomic<int> raysPerFrame_{0}, raysPerFrameMin_{0};
-  std::atomic<uint64_t> reducedFrames_{0};
-  mutable uint64_t lastRays_ = 0;
-  mutable std::chrono::steady_clock::time_point lastStatus_{};
   audio::CallbackStats swapStats_, noSwapStats_, latencyStats_;
-};
-
-/// A stand-in audio device for machines without one (benchmarks, tests): a thread that calls
-/// the render callback every block period on a steady clock, like a sound card would.
-/// Control thread: construct, start, stop. Its thread is the "audio thread".
-class NullOutput {
- public:
-  NullOutput(int sampleRate, int blockSize, int channels, audio::RenderCallback cb, void* user);
-  ~NullOutput();
-  void start();
-  void stop();
-  const audio::CallbackStats& stats() const { return stats_; }
-
- private:
-  int sampleRate_, blockSize_, channels_;
-  audio::RenderCallback callback_;
-  void* user_;
-  std::vector<std::vector<float>> buffers_;
-  std::vector<float*> pointers_;
-  std::thread thread_;
-  std::atomic<bool> running_{false};
-  audio::CallbackStats stats_;
 };
 
 }  // namespace dpc

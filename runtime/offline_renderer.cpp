@@ -3,122 +3,186 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
+
+#include "audio/rt_check.h"
+#include "runtime/session_stats.h"
 
 namespace dpc {
+
+namespace {
+
+/// Scene listener indices rendered, in OfflineResult::listeners order.
+std::vector<size_t> renderedListeners(const SceneDesc& scene, const OfflineOptions& options) {
+  if (options.allListeners) {
+    std::vector<size_t> all(scene.listeners.size());
+    for (size_t l = 0; l < all.size(); ++l) all[l] = l;
+    return all;
+  }
+  if (options.listener >= scene.listeners.size())
+    throw std::out_of_range("renderOffline: listener " + std::to_string(options.listener) +
+                            " is not one of the scene's " + std::to_string(scene.listeners.size()) +
+                            " listeners");
+  return {options.listener};
+}
+
+/// One offline render: the pipeline, the simulated clock and the outputs.
+class OfflineRender {
+ public:
+  OfflineRender(std::shared_ptr<const SceneDesc> scene, const PropagationSettings& settings,
+                std::shared_ptr<const DrySignals> dry, const OfflineOptions& options);
+  OfflineResult run();
+
+ private:
+  /// Runs the propagation frames due by scene time t; newest_[k] the newest set for
+  /// rendered listener k (a set superseded before it was heard goes back to the pool).
+  void runFramesDue(double t);
+  /// Renders block blk of every rendered listener.
+  void renderBlock(size_t blk);
+  /// Totals, last responses and outputs cut to length.
+  void finish();
+
+  std::shared_ptr<const SceneDesc> scene_;
+  const OfflineOptions& options_;
+  std::vector<size_t> listeners_;
+  PropagationStage propagation_;
+  std::vector<std::unique_ptr<AudioStage>> audioStages_;
+  size_t B_, totalFrames_, blocks_;
+  bool streaming_;
+  double framePeriod_;
+  uint64_t nextFrame_ = 0;
+  WorldState world_;
+  std::vector<IrSet*> newest_;
+  std::vector<float*> out_;
+  OfflineResult result_;
+};
+
+OfflineRender::OfflineRender(std::shared_ptr<const SceneDesc> scene,
+                             const PropagationSettings& settings,
+                             std::shared_ptr<const DrySignals> dry, const OfflineOptions& options)
+    : scene_(std::move(scene)),
+      options_(options),
+      listeners_(renderedListeners(*scene_, options)),
+      // Each audio stage holds at most a current and a pending set; one more per listener is
+      // being filled while the others wait.
+      propagation_(scene_, settings, int(std::max<size_t>(4, 3 * listeners_.size() + 1))),
+      B_(size_t(scene_->audio.blockSize)),
+      streaming_(bool(options.sink)),
+      framePeriod_(1.0 / settings.frameRate) {
+  for (size_t k = 0; k < listeners_.size(); ++k)
+    audioStages_.push_back(
+        std::make_unique<AudioStage>(propagation_.layout(), dry, propagation_.numOutputs()));
+  const int fs = scene_->audio.sampleRate;
+  totalFrames_ = size_t(std::ceil(offlineDurationSeconds(*scene_, settings, *dry, options) * fs));
+  blocks_ = (totalFrames_ + B_ - 1) / B_;
+  result_.listeners.resize(listeners_.size());
+  for (size_t k = 0; k < listeners_.size(); ++k) {
+    OfflineListenerResult& lr = result_.listeners[k];
+    lr.name = scene_->listeners[listeners_[k]].name;
+    lr.output.sampleRate = fs;
+    // Streaming: one block per channel, handed to the sink; otherwise the whole render is kept.
+    lr.output.channels.assign(size_t(propagation_.numOutputs()),
+                              std::vector<float>(streaming_ ? B_ : blocks_ * B_));
+  }
+  out_.resize(size_t(propagation_.numOutputs()));
+  newest_.assign(listeners_.size(), nullptr);
+}
+
+void OfflineRender::runFramesDue(double t) {
+  std::fill(newest_.begin(), newest_.end(), nullptr);
+  while (double(nextFrame_) * framePeriod_ <= t + 1e-12) {
+    evaluateWorld(*scene_, double(nextFrame_) * framePeriod_, world_);
+    propagation_.traceWorld(world_);
+    for (size_t k = 0; k < listeners_.size(); ++k) {
+      IrSet* set = propagation_.prepare(listeners_[k]);
+      if (newest_[k]) propagation_.recycle(newest_[k]);  // superseded before it was heard
+      newest_[k] = set;
+    }
+    ++nextFrame_;
+  }
+}
+
+void OfflineRender::renderBlock(size_t blk) {
+  // The render loop plays the audio thread for the stages (audio/rt_check.h).
+  const audio::rt::ScopedThreadRole role(audio::rt::ThreadRole::kAudio);
+  for (size_t k = 0; k < listeners_.size(); ++k) {
+    if (newest_[k]) audioStages_[k]->offer(newest_[k]);
+    for (size_t c = 0; c < out_.size(); ++c)
+      out_[c] = result_.listeners[k].output.channels[c].data() + (streaming_ ? 0 : blk * B_);
+    audioStages_[k]->process(out_.data());
+    if (streaming_) options_.sink(k, out_.data(), std::min(B_, totalFrames_ - blk * B_));
+    while (IrSet* spent = audioStages_[k]->takeSpent()) propagation_.recycle(spent);
+  }
+}
+
+OfflineResult OfflineRender::run() {
+  const auto wall0 = std::chrono::steady_clock::now();
+  const double fs = scene_->audio.sampleRate;
+  size_t lastReport = 0;
+  for (size_t blk = 0; blk < blocks_; ++blk) {
+    runFramesDue(double(blk * B_) / fs);  // normally at most one frame
+    renderBlock(blk);
+    if (options_.progress && (blk + 1 == blocks_ || (blk - lastReport) * 100 >= blocks_)) {
+      options_.progress(double((blk + 1) * B_) / fs, double(blocks_ * B_) / fs);
+      lastReport = blk;
+    }
+  }
+  finish();
+  result_.wallSeconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  return std::move(result_);
+}
+
+void OfflineRender::finish() {
+  result_.totals = propagation_.totals();
+  const Simulation& sim = propagation_.simulation();
+  FrameTotals totals;
+  for (size_t k = 0; k < listeners_.size(); ++k) {
+    OfflineListenerResult& lr = result_.listeners[k];
+    if (streaming_)
+      lr.output.channels.clear();
+    else
+      for (auto& ch : lr.output.channels) ch.resize(totalFrames_);
+    lr.lastIrs = propagation_.lastIrs(listeners_[k]);
+    lr.irsApplied = audioStages_[k]->irsApplied();
+    result_.irsLost += audioStages_[k]->lostSets();
+    for (size_t s = 0; s < sim.sourceCount(); ++s) {
+      const Simulation::SourceResult& sr = sim.result(s, listeners_[k]);
+      totals.add(sr);
+      lr.lastEnergy.push_back(sr.energy);
+      lr.lastDirect.push_back(sr.direct);
+    }
+  }
+  result_.cacheEntries = totals.cacheEntries;
+  result_.cacheBytes = totals.cacheBytes;
+  result_.cacheCoarseEntries = totals.cacheCoarseEntries;
+  result_.cacheBudgetBytes = totals.cacheBudgetBytes;
+  result_.cacheMergedEntries = totals.cacheMergedEntries;
+  result_.cacheCoarseEnergyFraction = totals.cacheCoarseEnergyFraction;
+  result_.droppedEnergyFraction = totals.droppedEnergyFraction;
+}
+
+}  // namespace
 
 double offlineDurationSeconds(const SceneDesc& scene, const PropagationSettings& settings,
                               const DrySignals& dry, const OfflineOptions& options) {
   if (options.durationSeconds >= 0.0) return options.durationSeconds;
   double content = double(dry.longestFrames()) / scene.audio.sampleRate;
-  const bool all = options.allListeners && !scene.listeners.empty();
-  for (const ListenerDesc& l : all ? scene.listeners : std::vector<ListenerDesc>{scene.listener})
-    if (!l.loop && !l.trajectory.empty())
-      content = std::max(content, l.trajectory.back().timeSeconds);
+  for (size_t l : renderedListeners(scene, options)) {
+    const ListenerDesc& d = scene.listeners[l];
+    if (!d.loop && !d.trajectory.empty())
+      content = std::max(content, d.trajectory.back().timeSeconds);
+  }
   for (const SourceDesc& s : scene.sources)
     if (!s.trajectoryLoop && !s.trajectory.empty())
       content = std::max(content, s.trajectory.back().timeSeconds);
   return content + settings.irLength;
 }
 
-OfflineResult renderOffline(const SceneDesc& scene, const PropagationSettings& settings,
-                            const DrySignals& dry, const OfflineOptions& options) {
-  const auto wall0 = std::chrono::steady_clock::now();
-  const int fs = scene.audio.sampleRate;
-  // The listeners rendered: every scene listener from one pass, or scene.listener alone.
-  const bool all = options.allListeners && !scene.listeners.empty();
-  const std::vector<ListenerDesc> listeners =
-      all ? scene.listeners : std::vector<ListenerDesc>{scene.listener};
-  const size_t L = listeners.size();
-  // Each audio stage holds at most a current and a pending set; one more per listener is being
-  // filled while the others wait.
-  PropagationStage propagation(scene, settings, int(std::max<size_t>(4, 3 * L + 1)));
-  const int numOutputs = propagation.numOutputs();
-  std::vector<std::unique_ptr<AudioStage>> audioStages;
-  for (size_t l = 0; l < L; ++l)
-    audioStages.push_back(std::make_unique<AudioStage>(propagation.layout(), dry, numOutputs));
-  const size_t B = size_t(scene.audio.blockSize);
-  const double duration = offlineDurationSeconds(scene, settings, dry, options);
-  const size_t totalFrames = size_t(std::ceil(duration * fs));
-  const size_t blocks = (totalFrames + B - 1) / B;
-
-  OfflineResult result;
-  const bool streaming = bool(options.sink);
-  result.listeners.resize(L);
-  for (size_t l = 0; l < L; ++l) {
-    result.listeners[l].name = listeners[l].name;
-    result.listeners[l].output.sampleRate = fs;
-    // Streaming: one block per channel, handed to the sink; otherwise the whole render is kept.
-    result.listeners[l].output.channels.assign(size_t(numOutputs),
-                                               std::vector<float>(streaming ? B : blocks * B));
-  }
-  std::vector<float*> out(static_cast<size_t>(numOutputs));
-  std::vector<IrSet*> newest(L, nullptr);
-  WorldState world;
-  const double framePeriod = 1.0 / settings.frameRate;
-  uint64_t nextFrame = 0;
-  size_t lastReport = 0;
-  for (size_t blk = 0; blk < blocks; ++blk) {
-    const double t = double(blk * B) / fs;
-    // Frames due by the start of this block (normally at most one).
-    std::fill(newest.begin(), newest.end(), nullptr);
-    while (double(nextFrame) * framePeriod <= t + 1e-12) {
-      const double ft = double(nextFrame) * framePeriod;
-      if (all) {
-        evaluateWorld(scene, ft, world);
-        propagation.traceWorld(world);
-        for (size_t l = 0; l < L; ++l) {
-          IrSet* set = propagation.prepare(l);
-          if (newest[l]) propagation.recycle(newest[l]);  // superseded before it was heard
-          newest[l] = set;
-        }
-      } else {
-        IrSet* set = propagation.computeFrame(listenerPositionAt(scene.listener, ft),
-                                              listenerOrientationAt(scene.listener, ft), ft);
-        if (newest[0]) propagation.recycle(newest[0]);
-        newest[0] = set;
-      }
-      ++nextFrame;
-    }
-    for (size_t l = 0; l < L; ++l) {
-      if (newest[l]) audioStages[l]->offer(newest[l]);
-      for (int c = 0; c < numOutputs; ++c)
-        out[size_t(c)] =
-            result.listeners[l].output.channels[size_t(c)].data() + (streaming ? 0 : blk * B);
-      audioStages[l]->process(out.data());
-      if (streaming) options.sink(l, out.data(), std::min(B, totalFrames - blk * B));
-      while (IrSet* spent = audioStages[l]->takeSpent()) propagation.recycle(spent);
-    }
-    if (options.progress && (blk + 1 == blocks || (blk - lastReport) * 100 >= blocks)) {
-      options.progress(double((blk + 1) * B) / fs, double(blocks * B) / fs);
-      lastReport = blk;
-    }
-  }
-  result.totals = propagation.totals();
-  const Simulation& sim = propagation.simulation();
-  for (size_t l = 0; l < L; ++l) {
-    OfflineListenerResult& lr = result.listeners[l];
-    if (streaming)
-      lr.output.channels.clear();
-    else
-      for (auto& ch : lr.output.channels) ch.resize(totalFrames);
-    lr.lastIrs = propagation.lastIrs(l);
-    lr.irsApplied = audioStages[l]->irsApplied();
-    for (size_t s = 0; s < sim.sourceCount(); ++s) {
-      const Simulation::SourceResult& sr = sim.result(s, l);
-      result.cacheEntries += sr.cacheEntries;
-      result.cacheBytes += sr.cacheBytes;
-      result.cacheCoarseEntries += sr.cacheCoarseEntries;
-      result.cacheBudgetBytes += sr.cacheBudgetBytes;
-      result.cacheMergedEntries += sr.cacheMergedEntries;
-      result.cacheCoarseEnergyFraction =
-          std::max(result.cacheCoarseEnergyFraction, sr.cacheCoarseEnergyFraction);
-      lr.lastEnergy.push_back(sr.energy);
-      lr.lastDirect.push_back(sr.direct);
-    }
-  }
-  result.wallSeconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-  return result;
+OfflineResult renderOffline(std::shared_ptr<const SceneDesc> scene,
+                            const PropagationSettings& settings,
+                            std::shared_ptr<const DrySignals> dry, const OfflineOptions& options) {
+  return OfflineRender(std::move(scene), settings, std::move(dry), options).run();
 }
 
 }  // namespace dpc

@@ -1,17 +1,19 @@
 // Offline rendering: the live pipeline (PropagationStage -> AudioStage) driven by a simulated
 // clock instead of an audio device. Block by block; every 1/frame_rate seconds of scene time
-// the listener moves along its trajectory, a propagation frame runs and its IR set is handed
-// to the audio stage, exactly as the propagation thread would hand it over live. The result
+// the world state is evaluated from the trajectories, a propagation frame traces it (every
+// scene listener in one pass, as live) and the rendered listeners' IR sets are handed to
+// their audio stages, exactly as the propagation thread would hand them over live. The result
 // is bit-identical for a given seed (and independent of the thread count).
-// With OfflineOptions::allListeners every scene listener is rendered from one propagation
-// run: each frame traces every source once against all listener spheres, and each listener's
-// IR set goes to its own audio stage (convolvers), giving one output per listener.
+// OfflineOptions::listener picks the listener rendered; with OfflineOptions::allListeners every
+// scene listener is rendered, each with its own audio stage (convolvers), one output each.
 // Control thread; allocates; throws InputError / std::runtime_error.
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 
+#include "audio/wav_io.h"
 #include "runtime/render_pipeline.h"
 
 namespace dpc {
@@ -22,9 +24,12 @@ struct OfflineOptions {
   double durationSeconds = -1.0;
   /// Called about every 1 % of progress with (scene seconds rendered, total seconds).
   std::function<void(double, double)> progress;
-  /// false: render scene.listener only (one listener traced). true: render every listener of
-  /// scene.listeners from one propagation run (OfflineResult::listeners in scene order).
+  /// false: render scene.listeners[listener] only. true: render every listener of
+  /// scene.listeners (OfflineResult::listeners in scene order).
   bool allListeners = false;
+  /// The listener rendered without allListeners (scene.listeners index; std::out_of_range
+  /// from renderOffline when there is no such listener).
+  size_t listener = 0;
   /// If set, every rendered block goes here as it is made: (listener index in
   /// OfflineResult::listeners order, planar[c][i], frames), c < the output channels,
   /// i < frames; the last block is cut to the duration. OfflineListenerResult::output then
@@ -55,6 +60,12 @@ struct OfflineResult {
   size_t cacheBudgetBytes = 0;           ///< DPC memory budget, summed over pairs
   uint64_t cacheMergedEntries = 0;       ///< path entries merged by the budget, summed
   double cacheCoarseEnergyFraction = 0;  ///< largest per-pair share of the last response
+  /// Largest per-pair share of the last frame's estimated energy that arrived beyond the IR
+  /// length and is not in the IR (FrameTotals::droppedEnergyFraction).
+  double droppedEnergyFraction = 0;
+  /// IR sets an audio stage could not hand back (its spent ring was full); 0 unless a ring
+  /// is too small.
+  uint64_t irsLost = 0;
   double wallSeconds = 0.0;
 };
 
@@ -63,7 +74,11 @@ struct OfflineResult {
 double offlineDurationSeconds(const SceneDesc& scene, const PropagationSettings& settings,
                               const DrySignals& dry, const OfflineOptions& options);
 
-OfflineResult renderOffline(const SceneDesc& scene, const PropagationSettings& settings,
-                            const DrySignals& dry, const OfflineOptions& options);
+/// Renders the scene (shared, read only) with its dry signals (one per source). Control
+/// thread; allocates; throws InputError / std::runtime_error / std::out_of_range (listener),
+/// and whatever options.sink throws.
+OfflineResult renderOffline(std::shared_ptr<const SceneDesc> scene,
+                            const PropagationSettings& settings,
+                            std::shared_ptr<const DrySignals> dry, const OfflineOptions& options);
 
 }  // namespace dpc

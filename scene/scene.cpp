@@ -1,5 +1,5 @@
 // The scene model's functions: trajectories evaluated at a time, listener orientation,
-// listener selection, and the names of the enumerations in scene files and on command lines.
+// listener lookup by name, and the names of the enumerations in scene files and on command lines.
 // The readers are scene/scene_json.cpp and scene/obj_reader.cpp; the checks scene/validate.cpp.
 #include "scene/scene.h"
 
@@ -81,14 +81,11 @@ void evaluateWorld(const SceneDesc& scene, double t, WorldState& state) {
     state.objectPoses[i] = objectPoseAt(scene.objects[i], t);
 }
 
-void selectListener(SceneDesc& scene, const std::string& name, const std::string& flag) {
+size_t listenerIndex(const SceneDesc& scene, const std::string& name, const std::string& flag) {
   std::string known;
-  for (const ListenerDesc& l : scene.listeners) {
-    if (l.name == name) {
-      scene.listener = l;
-      return;
-    }
-    known += (known.empty() ? "\"" : ", \"") + l.name + "\"";
+  for (size_t i = 0; i < scene.listeners.size(); ++i) {
+    if (scene.listeners[i].name == name) return i;
+    known += (known.empty() ? "\"" : ", \"") + scene.listeners[i].name + "\"";
   }
   throw InputError(
       "command line", flag,

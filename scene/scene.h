@@ -187,10 +187,9 @@ struct SceneDesc {
   std::vector<Material> materials;
   std::vector<SourceDesc> sources;  ///< at least one
   std::vector<ObjectDesc> objects;  ///< moving rigid objects (may be empty)
-  /// Every listener, at least one, unique names (from `listeners`, or `listener` alone).
+  /// Every listener, at least one, unique names (from `listeners`, or `listener` alone);
+  /// a listener is chosen by its index in this list.
   std::vector<ListenerDesc> listeners;
-  /// The listener being rendered: listeners[0] unless selectListener() picked another.
-  ListenerDesc listener;
   PropagationSettings propagation;
   AudioSettings audio;
   /// Things the loader repaired rather than refused (e.g. "hall.obj: 12 degenerate triangles
@@ -233,9 +232,9 @@ struct WorldState {
 /// grow. Any thread (the scene is read only).
 void evaluateWorld(const SceneDesc& scene, double t, WorldState& state);
 
-/// Makes the listener named `name` the scene's `listener`. Throws InputError("command line",
-/// flag, ...) listing the known names when there is none of that name. Control thread.
-void selectListener(SceneDesc& scene, const std::string& name, const std::string& flag);
+/// The index in scene.listeners of the listener named `name`. Throws InputError("command
+/// line", flag, ...) listing the known names when there is none of that name. Any thread.
+size_t listenerIndex(const SceneDesc& scene, const std::string& name, const std::string& flag);
 
 /// Parses "mono" / "stereo" / "binaural"; nullopt for anything else.
 std::optional<OutputFormat> parseOutputFormat(const std::string& s);

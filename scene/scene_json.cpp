@@ -410,7 +410,6 @@ SceneDesc loadScene(const std::string& path) {
   readMaterials(r, root, scene);
   readSources(r, r.require(root, "", "sources"), folder, scene);
   readListeners(r, root, scene);
-  scene.listener = scene.listeners.front();
   if (const json* o = JsonReader::find(root, "objects")) readObjects(r, *o, folder, scene);
   if (const json* p = JsonReader::find(root, "propagation"))
     readPropagation(r, *p, scene.propagation);

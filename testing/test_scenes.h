@@ -5,10 +5,18 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/vec3.hpp>
 #include <initializer_list>
+#include <memory>
 
 #include "scene/scene.h"
 
 namespace dpc::test {
+
+/// A shared read-only copy of v: the runtime's stages and sessions share their scene and dry
+/// signals (std::shared_ptr<const T>).
+template <class T>
+std::shared_ptr<const T> shared(const T& v) {
+  return std::make_shared<const T>(v);
+}
 
 /// Closed box [0,size.x] x [0,size.y] x [0,size.z] metres, 12 triangles facing inward, one
 /// material. Source at `source`, static listener at `listener`.
@@ -32,8 +40,10 @@ inline SceneDesc makeShoebox(glm::vec3 size, Bands absorption, float scattering,
   src.name = "source";
   src.position = source;
   s.sources.push_back(src);
-  s.listener.position = listener;
-  s.listener.radius = radius;
+  ListenerDesc l;
+  l.position = listener;
+  l.radius = radius;
+  s.listeners.push_back(l);
   return s;
 }
 

@@ -16,10 +16,10 @@ constexpr float kTurnRadians = float(std::numbers::pi / 12);
 
 KeyboardMotion::KeyboardMotion(const SceneDesc& scene, size_t playedIndex)
     : scene_(scene),
-      played_(&scene.listener),
+      played_(&scene.listeners.at(playedIndex)),
       playedIndex_(playedIndex),
-      position_(listenerPositionAt(scene.listener, 0.0)),
-      yaw_(listenerOrientationAt(scene.listener, 0.0).yawRadians) {}
+      position_(listenerPositionAt(*played_, 0.0)),
+      yaw_(listenerOrientationAt(*played_, 0.0).yawRadians) {}
 
 void KeyboardMotion::move(float forwardSteps, float rightSteps) {
   const glm::vec3 forward(std::cos(yaw_), 0.f, -std::sin(yaw_));

@@ -20,8 +20,8 @@ class KeyboardMotion {
   /// What a key asks of the caller beyond the pose.
   enum class Action { kNone, kQuit, kNextListener };
 
-  /// Starts at scene time 0 on scene.listener, whose index in scene.listeners is
-  /// playedIndex.
+  /// Starts at scene time 0 on scene.listeners[playedIndex] (std::out_of_range if there is
+  /// none).
   KeyboardMotion(const SceneDesc& scene, size_t playedIndex);
 
   /// Applies one key (terminal.h codes): arrows/WASD move 0.25 m, Q/E turn 15 degrees,

@@ -75,7 +75,11 @@ void applyAudioOverrides(SceneDesc& scene, const Flags& fl) {
     scene.audio.hrtfPath = fl.hrtf;
     if (fl.output.empty()) scene.audio.output = OutputFormat::kBinaural;
   }
-  if (!fl.listener.empty()) selectListener(scene, fl.listener, "--listener");
+  if (!fl.listener.empty()) listenerIndex(scene, fl.listener, "--listener");  // known name?
+}
+
+size_t selectedListener(const SceneDesc& scene, const Flags& fl) {
+  return fl.listener.empty() ? 0 : listenerIndex(scene, fl.listener, "--listener");
 }
 
 void checkOutputs(const SceneDesc& scene, const Flags& fl) {

@@ -11,10 +11,14 @@ namespace dpc::demo {
 /// Throws InputError ("command line", flag, why) for a value out of range or unknown.
 PropagationSettings applyOverrides(const SceneDesc& scene, const Flags& fl);
 
-/// --output / --hrtf / --listener: the scene's audio output settings and played listener,
-/// overridden in place. Main thread. Throws InputError for an unknown format or listener, or
-/// a SOFA file that does not exist.
+/// --output / --hrtf: the scene's audio output settings, overridden in place; --listener's
+/// name is checked. Main thread. Throws InputError for an unknown format or listener, or a
+/// SOFA file that does not exist.
 void applyAudioOverrides(SceneDesc& scene, const Flags& fl);
+
+/// --listener: the listener played or rendered (scene.listeners index); the first without it.
+/// Main thread. Throws InputError for an unknown name.
+size_t selectedListener(const SceneDesc& scene, const Flags& fl);
 
 /// Refuses, before any work, an output path that names an input (scene, meshes, dry signal,
 /// SOFA: same device and inode, symlinks followed), an existing non-regular file, another

@@ -60,9 +60,9 @@ void checkSetup(const SceneDesc& scene, const PropagationSettings& settings, dou
     std::fprintf(stderr, "warning: %s\n", w.c_str());
 }
 
-DrySignals loadDrySignalsWithNotes(const SceneDesc& scene) {
-  DrySignals dry = loadDrySignals(scene);
-  for (const std::string& n : dry.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
+std::shared_ptr<const DrySignals> loadDrySignalsWithNotes(const SceneDesc& scene) {
+  auto dry = std::make_shared<const DrySignals>(loadDrySignals(scene));
+  for (const std::string& n : dry->notes) std::fprintf(stderr, "note: %s\n", n.c_str());
   return dry;
 }
 

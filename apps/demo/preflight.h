@@ -1,6 +1,8 @@
 // Checks dpc-demo makes before any work, shared by the live and the offline run.
 #pragma once
 
+#include <memory>
+
 #include "apps/demo/flags.h"
 #include "runtime/offline_renderer.h"
 #include "scene/scene.h"
@@ -27,8 +29,9 @@ void requireSignal(const SceneDesc& scene);
 void checkSetup(const SceneDesc& scene, const PropagationSettings& settings, double durationSeconds,
                 bool warn);
 
-/// The scene's dry signals, with one "note: ..." line on stderr per note of the loader.
-/// Main thread. Allocates; throws InputError for a signal that cannot be read.
-DrySignals loadDrySignalsWithNotes(const SceneDesc& scene);
+/// The scene's dry signals (shared with the renderer or the session), with one "note: ..."
+/// line on stderr per note of the loader. Main thread. Allocates; throws InputError for a
+/// signal that cannot be read.
+std::shared_ptr<const DrySignals> loadDrySignalsWithNotes(const SceneDesc& scene);
 
 }  // namespace dpc::demo

@@ -45,7 +45,7 @@ PropagationSettings prepareLive(SceneDesc& scene, const Flags& fl) {
   printSceneWarnings(scene);
   if (fl.listener.empty() && scene.listeners.size() > 1)
     std::fprintf(stderr, "note: playing listener \"%s\" of %zu (choose with --listener NAME)\n",
-                 scene.listener.name.c_str(), scene.listeners.size());
+                 scene.listeners[0].name.c_str(), scene.listeners.size());
   PropagationSettings settings = applyOverrides(scene, fl);
   // Live: leave one core to the audio thread unless --threads says otherwise (docs/live.md:
   // on 2 cores, tracing on both makes late blocks ten times as frequent).
@@ -61,8 +61,10 @@ PropagationSettings prepareLive(SceneDesc& scene, const Flags& fl) {
   return settings;
 }
 
-LiveSession::Options sessionOptions(const Flags& fl, double durationSeconds) {
+LiveSession::Options sessionOptions(const SceneDesc& scene, const Flags& fl,
+                                    double durationSeconds) {
   LiveSession::Options lo;
+  lo.listener = selectedListener(scene, fl);
   lo.deviceChannels = 2;
   if (fl.latencyTargetMs) lo.latencyTargetSeconds = *fl.latencyTargetMs * 1e-3;
   if (!fl.record.empty()) lo.recordSeconds = std::min(durationSeconds, kMaxRecordSeconds);
@@ -177,11 +179,12 @@ void finishLive(const SceneDesc& scene, const Flags& fl, LiveSession& session,
 }  // namespace
 
 int runLive(const Flags& fl) {
-  SceneDesc scene = loadScene(fl.scene);
+  const auto shared = std::make_shared<SceneDesc>(loadScene(fl.scene));
+  SceneDesc& scene = *shared;
   const PropagationSettings settings = prepareLive(scene, fl);
-  const DrySignals dry = loadDrySignalsWithNotes(scene);
+  const std::shared_ptr<const DrySignals> dry = loadDrySignalsWithNotes(scene);
   const double duration = fl.duration.value_or(kUnboundedSeconds);
-  LiveSession session(scene, settings, dry, sessionOptions(fl, duration));
+  LiveSession session(shared, settings, dry, sessionOptions(scene, fl, duration));
   const std::unique_ptr<audio::AudioOutput> output = openOutput(scene, fl, session);
   if (!output) return kNoAudioDeviceStatus;
   std::fprintf(stderr, "playing on %s (%s), %.0f Hz, block %d, output latency %.1f ms\n",

@@ -139,17 +139,23 @@ void printTotals(const OfflineResult& r, double audioSeconds) {
       100.0 * r.cacheCoarseEnergyFraction, t.traceSeconds + t.synthesisSeconds + t.prepareSeconds,
       t.traceSeconds, t.synthesisSeconds, t.prepareSeconds, r.wallSeconds,
       audioSeconds / r.wallSeconds);
+  std::printf(
+      "energy beyond the IR length %.3g %% of the last response (largest per pair)  "
+      "IR sets lost %llu\n",
+      100.0 * r.droppedEnergyFraction, (unsigned long long)r.irsLost);
 }
 
 }  // namespace
 
 int runOffline(const Flags& fl) {
-  SceneDesc scene = loadScene(fl.scene);
+  const auto shared = std::make_shared<SceneDesc>(loadScene(fl.scene));
+  SceneDesc& scene = *shared;
   const PropagationSettings settings = prepareOffline(scene, fl);
-  const DrySignals dry = loadDrySignalsWithNotes(scene);
+  const std::shared_ptr<const DrySignals> dry = loadDrySignalsWithNotes(scene);
   OfflineOptions opt;
   opt.durationSeconds = fl.duration.value_or(-1.0);
-  checkSetup(scene, settings, offlineDurationSeconds(scene, settings, dry, opt), true);
+  opt.listener = selectedListener(scene, fl);
+  checkSetup(scene, settings, offlineDurationSeconds(scene, settings, *dry, opt), true);
   const std::vector<OutputPaths> paths = offlineOutputs(scene, fl);
   // Several listeners: one propagation run traces them all (one pass per source and frame).
   opt.allListeners = paths.size() > 1;
@@ -160,7 +166,7 @@ int runOffline(const Flags& fl) {
   opt.sink = [&](size_t l, const float* const* planar, size_t frames) {
     writers.at(l)->write(planar, frames, fixedGain);
   };
-  const OfflineResult r = renderOffline(scene, settings, dry, opt);
+  const OfflineResult r = renderOffline(shared, settings, dry, opt);
   const double audioSeconds = double(writers.front()->frames()) / scene.audio.sampleRate;
   for (size_t l = 0; l < r.listeners.size() && l < paths.size(); ++l)
     writeListener(fl, scene, r.listeners[l], *writers[l], paths[l]);

@@ -3,6 +3,7 @@
 // Monte Carlo error of the full-ray one (the estimators normalise each frame by the rays it
 // traced). Frame durations are injected (LiveSession::stepAdaptive), never measured, so the
 // assertions hold however loaded the machine is.
+#include "testing/test_scenes.h"
 #include "runtime/adaptive_rays.h"
 
 #include <array>
@@ -131,14 +132,14 @@ TEST_CASE("LiveSession: each frame's estimate is normalised by the rays that fra
   ps.irLength = 0.5f;
   ps.estimator = Estimator::kPathTracing;
   const double period = 1.0 / ps.frameRate;
-  LiveSession slow(scene, ps, dry, LiveSession::Options{});
+  LiveSession slow(test::shared(scene), ps, test::shared(dry), LiveSession::Options{});
   for (int f = 0; f < 5; ++f) {
     frame(slow, 2.0 * period);
     const int rays = slow.status().raysPerFrame;
     INFO("frame " << f << ": " << rays << " rays");
     PropagationSettings fixed = ps;
     fixed.raysPerFrame = rays;
-    LiveSession reference(scene, fixed, dry, LiveSession::Options{});
+    LiveSession reference(test::shared(scene), fixed, test::shared(dry), LiveSession::Options{});
     for (int g = 0; g <= f; ++g) frame(reference);
     CHECK(energyBins(slow) == energyBins(reference));
   }
@@ -164,7 +165,7 @@ TEST_CASE("LiveSession: an unmeetable frame budget lowers the rays, the response
   constexpr int kFrames = 45, kSkip = 15;  // averaged over frames 15..44 (past one tau window)
 
   // Reference: every frame at the scene's rays (step() never adapts).
-  LiveSession full(scene, ps, dry, LiveSession::Options{});
+  LiveSession full(test::shared(scene), ps, test::shared(dry), LiveSession::Options{});
   std::array<double, kNumBands> reference{};
   for (int f = 0; f < kFrames; ++f) {
     frame(full);
@@ -177,7 +178,7 @@ TEST_CASE("LiveSession: an unmeetable frame budget lowers the rays, the response
   // the floor of 256, held there (no latency target: the period is the budget).
   LiveSession::Options periodOnly;
   periodOnly.latencyTargetSeconds = std::numeric_limits<double>::infinity();
-  LiveSession slow(scene, ps, dry, periodOnly);
+  LiveSession slow(test::shared(scene), ps, test::shared(dry), periodOnly);
   std::vector<int> used;
   std::array<double, kNumBands> reduced{};
   for (int f = 0; f < kFrames; ++f) {
@@ -225,7 +226,7 @@ TEST_CASE("LiveSession: the running propagation thread adapts, and can be told n
   auto run = [&](bool adaptive) {
     LiveSession::Options o;
     o.adaptiveRays = adaptive;
-    LiveSession session(scene, ps, dry, o);
+    LiveSession session(test::shared(scene), ps, test::shared(dry), o);
     session.start();
     const auto t0 = std::chrono::steady_clock::now();
     while (session.status().frames < 8 &&

@@ -27,7 +27,7 @@ TEST_CASE("Fully diffuse shoebox: T30 within 10 % of Eyring", "[calibration]") {
   const int frames = 6;
   std::vector<std::vector<double>> energy(kNumBands);
   for (int f = 0; f < frames; ++f) {
-    sim.runFrame(scene.listener.position);
+    sim.runFrame(scene.listeners[0].position);
     const EnergyResponse& e = sim.result(0).energy;
     for (int b = 0; b < kNumBands; ++b) {
       energy[size_t(b)].resize(e.binCount());

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "scene/scene.h"
+#include "testing/test_scenes.h"
 #include "runtime/offline_renderer.h"
 
 using namespace dpc;
@@ -99,10 +100,10 @@ TEST_CASE("Offline render is bit-identical for a seed and differs for another", 
   const DrySignals dry = loadDrySignals(scene);
   OfflineOptions opt;
   opt.durationSeconds = 1.0;
-  const OfflineResult a = renderOffline(scene, ps, dry, opt);
-  const OfflineResult b = renderOffline(scene, ps, dry, opt);
+  const OfflineResult a = renderOffline(test::shared(scene), ps, test::shared(dry), opt);
+  const OfflineResult b = renderOffline(test::shared(scene), ps, test::shared(dry), opt);
   ps.seed += 1;
-  const OfflineResult c = renderOffline(scene, ps, dry, opt);
+  const OfflineResult c = renderOffline(test::shared(scene), ps, test::shared(dry), opt);
   REQUIRE(a.listeners[0].output.frames() == size_t(scene.audio.sampleRate));
   CHECK(a.listeners[0].output.channels == b.listeners[0].output.channels);
   CHECK(a.listeners[0].output.channels != c.listeners[0].output.channels);
@@ -152,7 +153,7 @@ TEST_CASE("Offline render streamed block by block equals the held render", "[off
   const DrySignals dry = loadDrySignals(scene);
   OfflineOptions opt;
   opt.durationSeconds = 0.51;  // not a whole number of blocks: the last block is cut
-  const OfflineResult held = renderOffline(scene, ps, dry, opt);
+  const OfflineResult held = renderOffline(test::shared(scene), ps, test::shared(dry), opt);
   std::vector<float> streamed;
   size_t calls = 0;
   opt.sink = [&](size_t listener, const float* const* planar, size_t frames) {
@@ -161,7 +162,7 @@ TEST_CASE("Offline render streamed block by block equals the held render", "[off
     streamed.insert(streamed.end(), planar[0], planar[0] + frames);
     ++calls;
   };
-  const OfflineResult r = renderOffline(scene, ps, dry, opt);
+  const OfflineResult r = renderOffline(test::shared(scene), ps, test::shared(dry), opt);
   const audio::AudioData& heldOut = held.listeners.at(0).output;
   CHECK(r.listeners.at(0).output.channels.empty());
   CHECK(calls == (heldOut.frames() + scene.audio.blockSize - 1) / scene.audio.blockSize);

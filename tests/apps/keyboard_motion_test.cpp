@@ -23,7 +23,6 @@ SceneDesc twoListeners() {
   b.name = "b";
   b.trajectory = {Keyframe{0.0, {2.f, 1.f, 1.f}, {}, {}}, Keyframe{2.0, {4.f, 1.f, 1.f}, {}, {}}};
   scene.listeners = {a, b};
-  scene.listener = a;
   return scene;
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "audio/limiter.h"
+#include "testing/test_scenes.h"
 #include "runtime/live_session.h"
 
 using namespace dpc;
@@ -21,8 +22,8 @@ TEST_CASE("session output stays within the limiter's ceiling and the status coun
   ps.maxOrder = 20;
   ps.irLength = 0.3f;
   const DrySignals dry = loadDrySignals(scene);
-  LiveSession session(scene, ps, dry, LiveSession::Options{});
-  session.setPose(listenerPositionAt(scene.listener, 0.0), 0.f, 0.0);
+  LiveSession session(test::shared(scene), ps, test::shared(dry), LiveSession::Options{});
+  session.setPose(listenerPositionAt(scene.listeners[0], 0.0), 0.f, 0.0);
   session.start();
   const float ceiling = audio::Limiter(scene.audio.sampleRate).ceiling();
   std::vector<float> left(128), right(128);

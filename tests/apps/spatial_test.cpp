@@ -56,7 +56,7 @@ Rendered render(SceneDesc scene, OutputFormat format, float yawDegrees, int fram
   Orientation o;
   o.yawRadians = yawDegrees * float(M_PI / 180.0);
   sim.setListenerOrientation(o);
-  for (int f = 0; f < frames; ++f) sim.runFrame(scene.listener.position);
+  for (int f = 0; f < frames; ++f) sim.runFrame(scene.listeners[0].position);
   auto spatial = makeSpatialSynthesizer(scene, ps, roomVolume(scene.mesh));
   Rendered r;
   r.left.resize(spatial->lengthSamples());

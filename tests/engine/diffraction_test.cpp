@@ -290,7 +290,7 @@ TEST_CASE("Diffraction: the shipped walk past a partition's edge (scenes/shoebox
   double maxStep = 0.0;
   for (int i = 0; i <= 500; ++i) {
     const glm::vec3 lis{8.f, 1.6f, 1.5f + 0.01f * float(i)};
-    const ListenerSphere l{lis, scene.listener.radius};
+    const ListenerSphere l{lis, scene.listeners[0].radius};
     DirectSound d = prop.directSound(src, l);
     const bool visible = d.visible;
     diffraction.apply(tracer, src, l, ps.speedOfSound, prop.airAttenuationPerMetre(), d);

@@ -34,7 +34,8 @@ TEST_CASE("A source moving in a free field: delay r/c and energy 1/(4 pi r^2) ev
   b.timeSeconds = 4.0, b.position = {7, 0, 0};  // 1.5 m/s
   src.trajectory = {a, b};
   s.sources.push_back(src);
-  s.listener.radius = 0.25f;
+  s.listeners.emplace_back();
+  s.listeners[0].radius = 0.25f;
   s.propagation.airAbsorption = false;
   // The floor's far rim would add a diffracted wave (about 1e-4 of the energy) to the direct
   // sound; this test checks the direct path alone.
@@ -95,8 +96,8 @@ TEST_CASE("An object moved to a pose equals the static scene with it baked in (t
 
   Simulation a(moving), b(baked);
   a.setObjectPoses({Pose{key.position, key.rotation}});
-  a.runFrame(moving.listener.position);
-  b.runFrame(baked.listener.position);
+  a.runFrame(moving.listeners[0].position);
+  b.runFrame(baked.listeners[0].position);
   // Same rays (same seed), same surfaces; but the instance transform rounds differently from
   // the baked vertices, so a ray grazing an edge takes another branch and from there on is an
   // independent sample (diffuse reflections amplify any difference). So: equal within Monte
@@ -108,7 +109,7 @@ TEST_CASE("An object moved to a pose equals the static scene with it baked in (t
   double sum = 0.0, sum2 = 0.0;
   const int n = 8;
   for (int f = 0; f < n; ++f) {
-    b.runFrame(baked.listener.position);
+    b.runFrame(baked.listeners[0].position);
     const double e = b.result(0).energy.total()[3];
     sum += e, sum2 += e * e;
   }
@@ -120,7 +121,7 @@ TEST_CASE("An object moved to a pose equals the static scene with it baked in (t
     CHECK(std::abs(double(ea[band]) - eb[band]) < 3.0 * std::sqrt(2.0) * sigma * eb[band] / eb[3]);
   // The panel really is there: left where it started, the response differs.
   Simulation c(moving);
-  c.runFrame(moving.listener.position);
+  c.runFrame(moving.listeners[0].position);
   const Bands ec = c.result(0).energy.total();
   INFO("left at its start: " << ec[3]);
   CHECK(std::abs(double(ec[3]) - mean) > 3.0 * std::sqrt(2.0) * sigma);
@@ -138,16 +139,16 @@ TEST_CASE("An object between source and listener occludes the direct sound", "[d
   wall.trajectory = {k};
   s.objects.push_back(wall);
   Simulation sim(s);
-  sim.runFrame(s.listener.position);
+  sim.runFrame(s.listeners[0].position);
   CHECK_FALSE(sim.result(0).direct.visible);
   // Slid sideways (z in [2.5, 4.5]): the line of sight at z = 2 is free.
   sim.setObjectPoses({Pose{{5, 2, 3.5f}, glm::quat(1, 0, 0, 0)}});
-  sim.runFrame(s.listener.position);
+  sim.runFrame(s.listeners[0].position);
   CHECK(sim.result(0).direct.visible);
   // Turned back across by 90 degrees about +x about its new centre: (y, z) -> (-z, y) keeps it
   // square, so it must block again once returned to z = 2.
   sim.setObjectPoses({Pose{{5, 2, 2}, glm::angleAxis(float(kPi / 2), glm::vec3(1, 0, 0))}});
-  sim.runFrame(s.listener.position);
+  sim.runFrame(s.listeners[0].position);
   CHECK_FALSE(sim.result(0).direct.visible);
 }
 
@@ -156,7 +157,7 @@ TEST_CASE("A door closing and opening is answered within tau by the window estim
   const float tau = 0.5f;
   SceneDesc s = test::twoRooms(DpcWeighting::kWindow, tau);
   Simulation sim(s);
-  const glm::vec3 L = s.listener.position;
+  const glm::vec3 L = s.listeners[0].position;
   const int W = int(std::lround(tau * s.propagation.frameRate));  // frames in tau
   auto late = [&] { return double(sim.result(0).energy.total()[3]); };
 
@@ -209,7 +210,7 @@ TEST_CASE("The EMA tuned to tau answers slower than tau (what the window fixes)"
   SceneDesc s = test::twoRooms(DpcWeighting::kEma, tau);
   s.propagation.raysPerFrame = 2048;
   Simulation sim(s);
-  const glm::vec3 L = s.listener.position;
+  const glm::vec3 L = s.listeners[0].position;
   const int W = int(std::lround(tau * s.propagation.frameRate));
   sim.setObjectPoses({test::kDoorOpen});
   for (int f = 0; f < 6 * W; ++f) sim.runFrame(L);
@@ -254,7 +255,7 @@ TEST_CASE("Several listeners in one pass: each equals its own trace, Embree work
     SceneDesc sc = test::twoRooms(DpcWeighting::kWindow, 0.5f);
     sc.propagation.estimator = est;
     sc.propagation.raysPerFrame = 1024;
-    const ListenerSphere a{sc.listener.position, sc.listener.radius};
+    const ListenerSphere a{sc.listeners[0].position, sc.listeners[0].radius};
     const ListenerSphere c{{3.5f, 1.2f, 2.f}, 0.4f};
     const std::vector<ListenerSphere> together = {a, a, c};
     Simulation multi(sc), aloneA(sc), aloneC(sc);

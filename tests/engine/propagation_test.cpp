@@ -26,7 +26,7 @@ TEST_CASE("Order-0 energy through the listener sphere is 1/(4 pi r^2)", "[calibr
   ps.estimator = Estimator::kPathTracing;
   Simulation sim(scene, ps);
   sim.propagator().setIncludeDirectRays(true);
-  sim.runFrame(scene.listener.position);
+  sim.runFrame(scene.listeners[0].position);
   const double r = std::sqrt(16.0 + 1.0 + 4.0);
   const double R = 0.5;
   const Bands total = sim.result(0).energy.total();
@@ -86,9 +86,9 @@ TEST_CASE("A frame is bit-identical for a seed whatever the thread count", "[det
   ps.seed = 8;
   Simulation other(scene, ps);
   for (int f = 0; f < 3; ++f) {
-    one.runFrame(scene.listener.position);
-    two.runFrame(scene.listener.position);
-    other.runFrame(scene.listener.position);
+    one.runFrame(scene.listeners[0].position);
+    two.runFrame(scene.listeners[0].position);
+    other.runFrame(scene.listeners[0].position);
     REQUIRE(identical(one.result(0).energy, two.result(0).energy));
     REQUIRE_FALSE(identical(one.result(0).energy, other.result(0).energy));
   }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "alloc_counter.h"
+#include "testing/test_scenes.h"
 #include "runtime/live_session.h"
 
 using namespace dpc;
@@ -29,8 +30,8 @@ std::unique_ptr<LiveSession> oneFrameSession(const SceneDesc& scene, const DrySi
   ps.frameRate = 0.2f;
   ps.threads = 1;
   LiveSession::Options opt;
-  auto session = std::make_unique<LiveSession>(scene, ps, dry, opt);
-  session->setPose(scene.listener.position, 0.f, 0.0);
+  auto session = std::make_unique<LiveSession>(test::shared(scene), ps, test::shared(dry), opt);
+  session->setPose(scene.listeners[0].position, 0.f, 0.0);
   session->start();
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
   while (session->status().frames < 1 && std::chrono::steady_clock::now() < deadline)
@@ -125,7 +126,7 @@ TEST_CASE("LiveSession::render: out-of-range callback sizes are counted, not ren
   SceneDesc scene = loadScene(std::string(DPC_SOURCE_DIR) + "/scenes/shoebox.json");
   scene.audio.blockSize = kBlock;
   const DrySignals dry = loadDrySignals(scene);
-  LiveSession session(scene, scene.propagation, dry, {});
+  LiveSession session(test::shared(scene), scene.propagation, test::shared(dry), {});
   std::vector<float> l(16, 1.f), r(16, 1.f);
   float* out[2] = {l.data(), r.data()};
   session.render(out, 0);

@@ -3,7 +3,6 @@
 // new IrSpectra and passes pointers over a fixed-capacity SPSC queue, getting spent ones back
 // through a second queue (docs/design.md "Audio side"). The interposing allocator
 // (alloc_counter.cpp) must count zero heap calls on the audio thread.
-#include <readerwriterqueue/readerwriterqueue.h>
 
 #include <algorithm>
 #include <atomic>
@@ -16,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "common/fixed_ring.h"
 #include "audio/convolver.h"
 #include "audio/nonuniform_convolver.h"
 #include "tests/rt/alloc_counter.h"
@@ -93,33 +93,25 @@ TEST_CASE("The counter sees heap calls on the marked thread only", "[rt][alloc_c
   CHECK_FALSE(dpc::rt::isMarkedAudioThread());
 }
 
-TEST_CASE("ReaderWriterQueue: try_enqueue never allocates, enqueue past capacity does",
-          "[rt][alloc_counter]") {
-  moodycamel::ReaderWriterQueue<int*> queue(4);  // allocates here, on the main thread
-  AllocationCounts tryCounts, growCounts;
+TEST_CASE("FixedRing: tryPush and tryPop never allocate, full or not", "[rt][alloc_counter]") {
+  dpc::FixedRing<int*> ring(4);  // allocates here, on the main thread
+  AllocationCounts tryCounts;
   std::thread([&] {
-    {
-      AllocationScope scope;
-      int rejected = 0;
-      for (int i = 0; i < 100; ++i) {
-        if (!queue.try_enqueue(nullptr)) ++rejected;
-        if (i % 3 == 0) {
-          int* p;
-          queue.try_dequeue(p);
-        }
+    AllocationScope scope;
+    int rejected = 0;
+    for (int i = 0; i < 100; ++i) {
+      if (!ring.tryPush(nullptr)) ++rejected;
+      if (i % 3 == 0) {
+        int* p;
+        ring.tryPop(p);
       }
-      CHECK(rejected > 0);
-      tryCounts = scope.counts();
     }
-    {
-      AllocationScope scope;
-      for (int i = 0; i < 64; ++i) queue.enqueue(nullptr);  // grows: allocates a block
-      growCounts = scope.counts();
-    }
+    CHECK(rejected > 0);
+    tryCounts = scope.counts();
   }).join();
-  printCounts("try_enqueue/try_dequeue x 100", tryCounts);
+  printCounts("tryPush/tryPop x 100", tryCounts);
   CHECK(tryCounts.total() == 0);
-  CHECK(growCounts.total() > 0);
+  CHECK(ring.overflows() > 0);
 }
 
 TEST_CASE("Convolver IR swaps through SPSC queues: zero heap calls on the audio thread",
@@ -139,10 +131,10 @@ TEST_CASE("Convolver IR swaps through SPSC queues: zero heap calls on the audio 
     pool.push_back(std::make_unique<IrSpectra>(layout, kChannels));
     freeList.push_back(pool.back().get());
   }
-  // Capacities fixed up front: every pointer fits in either queue, so try_enqueue can only
+  // Capacities fixed up front: every pointer fits in either queue, so tryPush can only
   // fail if a pointer were duplicated.
-  moodycamel::ReaderWriterQueue<const IrSpectra*> toAudio(kPool);
-  moodycamel::ReaderWriterQueue<const IrSpectra*> toMain(kPool);
+  dpc::FixedRing<const IrSpectra*> toAudio(kPool);
+  dpc::FixedRing<const IrSpectra*> toMain(kPool);
 
   std::atomic<bool> audioDone{false};
   std::atomic<uint64_t> blocks{0}, swaps{0}, refused{0}, returnFailures{0};
@@ -162,7 +154,7 @@ TEST_CASE("Convolver IR swaps through SPSC queues: zero heap calls on the audio 
 
     AllocationScope scope;
     auto giveBack = [&](const IrSpectra* ir) {
-      if (!toMain.try_enqueue(ir)) {
+      if (!toMain.tryPush(ir)) {
         returnFailures.fetch_add(1, std::memory_order_relaxed);
         unreturned[numUnreturned++] = ir;  // retried next block
       }
@@ -170,7 +162,7 @@ TEST_CASE("Convolver IR swaps through SPSC queues: zero heap calls on the audio 
     uint64_t b = 0, s = 0;
     while ((b < kMinBlocks || s < kMinSwaps) && std::chrono::steady_clock::now() < deadline) {
       for (int i = 0; i < numUnreturned;) {
-        if (toMain.try_enqueue(unreturned[i])) {
+        if (toMain.tryPush(unreturned[i])) {
           unreturned[i] = unreturned[--numUnreturned];
         } else {
           ++i;
@@ -179,7 +171,7 @@ TEST_CASE("Convolver IR swaps through SPSC queues: zero heap calls on the audio 
       // Newest IR wins; older ones not yet taken go straight back.
       const IrSpectra* latest = nullptr;
       const IrSpectra* ir = nullptr;
-      while (toAudio.try_dequeue(ir)) {
+      while (toAudio.tryPop(ir)) {
         if (latest) giveBack(latest);
         latest = ir;
       }
@@ -209,7 +201,7 @@ TEST_CASE("Convolver IR swaps through SPSC queues: zero heap calls on the audio 
       swaps.store(s, std::memory_order_relaxed);
     }
     audioCounts = scope.counts();
-    for (int i = 0; i < numUnreturned; ++i) toMain.enqueue(unreturned[i]);  // outside scope
+    for (int i = 0; i < numUnreturned; ++i) toMain.tryPush(unreturned[i]);  // outside scope
     audioDone.store(true, std::memory_order_release);
   });
 
@@ -220,7 +212,7 @@ TEST_CASE("Convolver IR swaps through SPSC queues: zero heap calls on the audio 
   uint64_t prepared = 0;
   while (!audioDone.load(std::memory_order_acquire)) {
     const IrSpectra* spent = nullptr;
-    while (toMain.try_dequeue(spent)) freeList.push_back(const_cast<IrSpectra*>(spent));
+    while (toMain.tryPop(spent)) freeList.push_back(const_cast<IrSpectra*>(spent));
     if (freeList.empty()) {
       std::this_thread::yield();
       continue;
@@ -231,7 +223,7 @@ TEST_CASE("Convolver IR swaps through SPSC queues: zero heap calls on the audio 
     makeIr(ir, ++version);
     for (int c = 0; c < kChannels; ++c) irPointers[size_t(c)] = ir[size_t(c)].data();
     next->prepare(irPointers.data(), n);
-    if (toAudio.try_enqueue(next)) {
+    if (toAudio.tryPush(next)) {
       freeList.pop_back();
       ++prepared;
     }
@@ -240,9 +232,9 @@ TEST_CASE("Convolver IR swaps through SPSC queues: zero heap calls on the audio 
 
   // Account for every spectrum: free, queued either way, or held by the convolver.
   const IrSpectra* p = nullptr;
-  while (toMain.try_dequeue(p)) freeList.push_back(const_cast<IrSpectra*>(p));
+  while (toMain.tryPop(p)) freeList.push_back(const_cast<IrSpectra*>(p));
   size_t held = freeList.size();
-  while (toAudio.try_dequeue(p)) ++held;
+  while (toAudio.tryPop(p)) ++held;
   if (convolver.currentIr()) ++held;
   if (convolver.hasPending() && convolver.pendingIr()) ++held;
   while (convolver.takeRetired()) ++held;
@@ -289,8 +281,8 @@ TEST_CASE(
     pool.push_back(std::make_unique<NonUniformIrSet>(layout, kSources, kChannels));
     freeList.push_back(pool.back().get());
   }
-  moodycamel::ReaderWriterQueue<const NonUniformIrSet*> toAudio(kPool);
-  moodycamel::ReaderWriterQueue<const NonUniformIrSet*> toMain(kPool);
+  dpc::FixedRing<const NonUniformIrSet*> toAudio(kPool);
+  dpc::FixedRing<const NonUniformIrSet*> toMain(kPool);
 
   std::atomic<bool> audioDone{false};
   std::atomic<uint64_t> blocks{0}, swaps{0}, refused{0};
@@ -309,11 +301,11 @@ TEST_CASE(
     uint64_t b = 0, s = 0;
     while ((b < kMinBlocks || s < kMinSwaps) && std::chrono::steady_clock::now() < deadline) {
       // Newest set wins; older ones not yet taken go straight back (the queue has room for
-      // every set, so try_enqueue cannot fail).
+      // every set, so tryPush cannot fail).
       const NonUniformIrSet* latest = nullptr;
       const NonUniformIrSet* ir = nullptr;
-      while (toAudio.try_dequeue(ir)) {
-        if (latest) toMain.try_enqueue(latest);
+      while (toAudio.tryPop(ir)) {
+        if (latest) toMain.tryPush(latest);
         latest = ir;
       }
       if (latest) {
@@ -321,7 +313,7 @@ TEST_CASE(
           ++s;
         } else {
           refused.fetch_add(1, std::memory_order_relaxed);
-          toMain.try_enqueue(latest);
+          toMain.tryPush(latest);
         }
       }
       for (auto& channel : input)
@@ -335,7 +327,7 @@ TEST_CASE(
           finite = finite && std::isfinite(v);
           peak = std::max(peak, std::fabs(v));
         }
-      while (const NonUniformIrSet* spent = convolver.takeRetired()) toMain.try_enqueue(spent);
+      while (const NonUniformIrSet* spent = convolver.takeRetired()) toMain.tryPush(spent);
       ++b;
       blocks.store(b, std::memory_order_relaxed);
       swaps.store(s, std::memory_order_relaxed);
@@ -349,7 +341,7 @@ TEST_CASE(
   uint32_t version = 0;
   while (!audioDone.load(std::memory_order_acquire)) {
     const NonUniformIrSet* spent = nullptr;
-    while (toMain.try_dequeue(spent)) freeList.push_back(const_cast<NonUniformIrSet*>(spent));
+    while (toMain.tryPop(spent)) freeList.push_back(const_cast<NonUniformIrSet*>(spent));
     if (freeList.empty()) {
       std::this_thread::yield();
       continue;
@@ -359,15 +351,15 @@ TEST_CASE(
     makeIr(ir, ++version);
     for (int c = 0; c < kChannels; ++c) irPointers[size_t(c)] = ir[size_t(c)].data();
     for (int s = 0; s < kSources; ++s) next->prepare(s, irPointers.data(), n);
-    if (toAudio.try_enqueue(next)) freeList.pop_back();
+    if (toAudio.tryPush(next)) freeList.pop_back();
     std::this_thread::sleep_for(std::chrono::microseconds(200));
   }
   audio.join();
 
   // Every set is free, queued, or still used by the convolver.
   const NonUniformIrSet* p = nullptr;
-  while (toMain.try_dequeue(p)) freeList.push_back(const_cast<NonUniformIrSet*>(p));
-  while (toAudio.try_dequeue(p)) freeList.push_back(const_cast<NonUniformIrSet*>(p));
+  while (toMain.tryPop(p)) freeList.push_back(const_cast<NonUniformIrSet*>(p));
+  while (toAudio.tryPop(p)) freeList.push_back(const_cast<NonUniformIrSet*>(p));
   // Fade every level out to silence: then no set is in use and all must come back.
   REQUIRE(convolver.setNextIr(nullptr));
   {

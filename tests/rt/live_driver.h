@@ -14,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include "testing/test_scenes.h"
 #include "runtime/live_session.h"
 
 namespace dpc::test {
@@ -39,8 +40,8 @@ LiveRun driveLiveSession(int blocks, uint64_t minIrsApplied, AudioThreadObserver
   const DrySignals dry = loadDrySignals(scene);
   LiveSession::Options opt;
   opt.recordSeconds = 10.0;  // exercise the recorder ring too
-  LiveSession session(scene, ps, dry, opt);
-  session.setPose(listenerPositionAt(scene.listener, 0.0), 0.f, 0.0);
+  LiveSession session(test::shared(scene), ps, test::shared(dry), opt);
+  session.setPose(listenerPositionAt(scene.listeners[0], 0.0), 0.f, 0.0);
   session.start();
 
   LiveRun run;
@@ -60,7 +61,7 @@ LiveRun driveLiveSession(int blocks, uint64_t minIrsApplied, AudioThreadObserver
   while (!done.load(std::memory_order_relaxed)) {
     const double t =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    session.setPose(listenerPositionAt(scene.listener, t), 0.f, t);
+    session.setPose(listenerPositionAt(scene.listeners[0], t), 0.f, t);
     const LiveSession::Status st = session.status();
     done.store((st.blocks >= uint64_t(blocks) && st.irsApplied >= minIrsApplied) ||
                    st.blocks >= 50 * uint64_t(blocks),

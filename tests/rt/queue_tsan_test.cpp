@@ -1,23 +1,16 @@
 // The IR hand-over of docs/design.md "Audio side" under ThreadSanitizer (scripts/tsan.sh): the
 // main thread prepares IrSpectra (writes their spectra), passes pointers to an audio-role
-// thread through a fixed-capacity moodycamel::ReaderWriterQueue, the audio thread convolves
-// with them (reads the spectra) and returns spent ones through a second queue, after which
-// the main thread overwrites them. Any missing happens-before edge between a prepare() and
-// the convolver's reads, or between the convolver's last read and the next prepare(), is a
-// data race TSan reports. Built without the interposing allocator (TSan replaces malloc
-// itself); in ordinary builds it runs as a plain functional test.
+// thread through a FixedRing (common/fixed_ring.h), the audio thread convolves with them
+// (reads the spectra) and returns spent ones through a second ring, after which the main
+// thread overwrites them. Any missing happens-before edge between a prepare() and the
+// convolver's reads, or between the convolver's last read and the next prepare(), is a data
+// race TSan reports. The ring synchronises with acquire/release atomics only (no standalone
+// fences), which TSan models without annotations. Built without the interposing allocator
+// (TSan replaces malloc itself); in ordinary builds it runs as a plain functional test.
 //
-// GCC (before 14) has no __has_feature(thread_sanitizer), so readerwriterqueue's atomicops.h
-// does not annotate its standalone fences for TSan, which does not model
-// std::atomic_thread_fence: without the annotations below every hand-over would be reported
-// as a race (checked: without them TSan reports try_dequeue vs inner_enqueue). Define them the
-// way atomicops.h does under Clang (one global address: every release/acquire fence of the
-// queue becomes a happens-before edge, as upstream). GCC's -Wtsan warning about the fences
-// themselves is then noise, and silenced.
-//
-// Negative control (checked): compiled with -DDPC_TSAN_INJECT_RACE the main thread also
-// rewrites a spectrum right after handing it over, and TSan reports the race between
-// IrSpectrum::prepare and the convolver's reads.
+// Negative control (not yet re-run with FixedRing): compiled with -DDPC_TSAN_INJECT_RACE the
+// main thread also rewrites a spectrum right after handing it over, which TSan must report as
+// a race between IrSpectrum::prepare and the convolver's reads.
 #include <atomic>
 #include <catch2/catch.hpp>
 #include <chrono>
@@ -27,7 +20,7 @@
 #include <thread>
 #include <vector>
 
-#include "runtime/spsc_queue.h"  // readerwriterqueue with TSan annotations for GCC
+#include "common/fixed_ring.h"
 #include "audio/convolver.h"
 
 using dpc::audio::ConvolverLayout;
@@ -50,8 +43,8 @@ TEST_CASE("IR hand-over through SPSC queues is race-free", "[rt][tsan]") {
     pool.push_back(std::make_unique<IrSpectra>(layout, kChannels));
     freeList.push_back(pool.back().get());
   }
-  moodycamel::ReaderWriterQueue<const IrSpectra*> toAudio(kPool);
-  moodycamel::ReaderWriterQueue<const IrSpectra*> toMain(kPool);
+  dpc::FixedRing<const IrSpectra*> toAudio(kPool);
+  dpc::FixedRing<const IrSpectra*> toMain(kPool);
   std::atomic<bool> audioDone{false};
   std::atomic<int> blocks{0}, swaps{0};
   std::atomic<int> queueFull{0};  // Catch2 assertions are not thread-safe: count, check later
@@ -63,7 +56,7 @@ TEST_CASE("IR hand-over through SPSC queues is race-free", "[rt][tsan]") {
     float* out[kChannels] = {outputs[0], outputs[1]};
     int s = 0;
     auto giveBack = [&](const IrSpectra* spent) {
-      if (!toMain.try_enqueue(spent)) queueFull.fetch_add(1, std::memory_order_relaxed);
+      if (!toMain.tryPush(spent)) queueFull.fetch_add(1, std::memory_order_relaxed);
     };
     // Runs until both enough blocks and enough swaps happened (the main thread's pace
     // varies, especially under TSan), bounded by a deadline.
@@ -72,7 +65,7 @@ TEST_CASE("IR hand-over through SPSC queues is race-free", "[rt][tsan]") {
     for (; (b < kMinBlocks || s < kMinSwaps) && std::chrono::steady_clock::now() < deadline; ++b) {
       const IrSpectra* latest = nullptr;
       const IrSpectra* ir = nullptr;
-      while (toAudio.try_dequeue(ir)) {
+      while (toAudio.tryPop(ir)) {
         if (latest) giveBack(latest);
         latest = ir;
       }
@@ -100,7 +93,7 @@ TEST_CASE("IR hand-over through SPSC queues is race-free", "[rt][tsan]") {
   int version = 0;
   while (!audioDone.load(std::memory_order_acquire)) {
     const IrSpectra* spent = nullptr;
-    while (toMain.try_dequeue(spent)) freeList.push_back(const_cast<IrSpectra*>(spent));
+    while (toMain.tryPop(spent)) freeList.push_back(const_cast<IrSpectra*>(spent));
     if (freeList.empty()) {
       std::this_thread::yield();
       continue;
@@ -114,7 +107,7 @@ TEST_CASE("IR hand-over through SPSC queues is race-free", "[rt][tsan]") {
     }
     IrSpectra* next = freeList.back();
     next->prepare(irPointers.data(), kIrSamples);
-    if (toAudio.try_enqueue(next)) freeList.pop_back();
+    if (toAudio.tryPush(next)) freeList.pop_back();
 #ifdef DPC_TSAN_INJECT_RACE
     // Negative control (manual): overwrite a spectrum the audio thread may be reading.
     next->prepare(irPointers.data(), kIrSamples);

@@ -124,8 +124,8 @@ TEST_CASE("Shipped shoebox scene loads", "[scene]") {
   for (uint32_t m : s.mesh.materialIndex) CHECK(m < s.materials.size());
   REQUIRE(s.sources.size() == 1);
   CHECK(fs::exists(s.sources[0].signalPath));
-  CHECK(s.listener.loop);
-  CHECK(s.listener.trajectory.size() == 5);
+  CHECK(s.listeners[0].loop);
+  CHECK(s.listeners[0].trajectory.size() == 5);
   CHECK(s.propagation.raysPerFrame == 4096);
   CHECK(s.propagation.maxOrder == 200);
   CHECK(s.propagation.frameRate == 15.f);
@@ -140,8 +140,8 @@ TEST_CASE("Shipped shoebox scene loads", "[scene]") {
   CHECK(hi.z - lo.z == 7.f);
   // The listener path keeps the sphere inside the room, >= 0.5 m from every wall.
   for (double t = 0.0; t < 12.0; t += 0.1) {
-    const glm::vec3 p = listenerPositionAt(s.listener, t);
-    const float clearance = s.listener.radius + 0.5f;
+    const glm::vec3 p = listenerPositionAt(s.listeners[0], t);
+    const float clearance = s.listeners[0].radius + 0.5f;
     CHECK(p.x >= clearance);
     CHECK(p.x <= 10.f - clearance);
     CHECK(p.z >= clearance);
@@ -169,7 +169,7 @@ TEST_CASE("Shipped hall scene loads", "[scene]") {
   }
   REQUIRE(s.sources.size() == 2);
   for (const auto& src : s.sources) CHECK(fs::exists(src.signalPath));
-  CHECK(s.listener.trajectory.back().timeSeconds == Approx(20.0));
+  CHECK(s.listeners[0].trajectory.back().timeSeconds == Approx(20.0));
   CHECK(s.warnings.empty());
 }
 
@@ -185,8 +185,8 @@ TEST_CASE("Minimal scene loads with defaults", "[scene]") {
   CHECK(s.mesh.materialIndex[0] == 0);              // floor
   CHECK(s.mesh.materialIndex[2] == 1);              // walls
   CHECK(s.sources[0].gainDb == 0.f);
-  CHECK(s.listener.radius == 0.1f);
-  CHECK_FALSE(s.listener.loop);
+  CHECK(s.listeners[0].radius == 0.1f);
+  CHECK_FALSE(s.listeners[0].loop);
   const PropagationSettings defaults;
   CHECK(s.propagation.raysPerFrame == defaults.raysPerFrame);
   CHECK(s.propagation.cacheTau == defaults.cacheTau);
@@ -573,9 +573,9 @@ TEST_CASE("A trajectory alone sets the listener's start position", "[scene][traj
       R"([{"t": 0, "position": [0.2, 0.5, 0.5]}, {"t": 1.5, "position": [0.8, 0.5, 0.5]}])");
   f.scene["listener"]["loop"] = true;
   const SceneDesc s = f.load();
-  CHECK(s.listener.position == glm::vec3(0.2f, 0.5f, 0.5f));
-  CHECK(s.listener.trajectory.size() == 2);
-  CHECK(s.listener.loop);
+  CHECK(s.listeners[0].position == glm::vec3(0.2f, 0.5f, 0.5f));
+  CHECK(s.listeners[0].trajectory.size() == 2);
+  CHECK(s.listeners[0].loop);
 }
 
 TEST_CASE("parseEstimator and parseDpcWeighting", "[scene]") {
@@ -641,11 +641,11 @@ TEST_CASE("Several listeners: names, selection, unknown name", "[scene][dynamic]
                                            { "name": "b", "position": [0.8, 0.5, 0.5] } ])");
   SceneDesc s = fx.load();
   REQUIRE(s.listeners.size() == 2);
-  CHECK(s.listener.name == "a");
-  selectListener(s, "b", "--listener");
-  CHECK(s.listener.position.x == Approx(0.8));
+  CHECK(s.listeners[0].name == "a");
+  CHECK(listenerIndex(s, "b", "--listener") == 1);
+  CHECK(s.listeners[1].position.x == Approx(0.8));
   try {
-    selectListener(s, "c", "--listener");
+    listenerIndex(s, "c", "--listener");
     FAIL("expected an InputError");
   } catch (const InputError& e) {
     CHECK_THAT(e.what(), Contains("--listener") && Contains("\"c\"") && Contains("\"b\""));

@@ -1,0 +1,74 @@
+// AudioStage: the audio side of the render pipeline (runtime/render_pipeline.h): the
+// convolver of all sources and the dry signals' read position. Construction allocates
+// (control thread); offer(), process() and takeSpent() run on the audio thread and never
+// allocate, lock, log, throw or wait.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "audio/nonuniform_convolver.h"
+#include "common/fixed_ring.h"
+#include "runtime/dry_signals.h"
+#include "runtime/propagation_stage.h"
+
+namespace dpc {
+
+class AudioStage {
+ public:
+  /// layout: the propagation stage's (PropagationStage::layout()); dry: the signals played
+  /// when process() gets no host inputs (one per scene source); numOutputs: IR channels.
+  AudioStage(std::shared_ptr<const audio::NonUniformLayout> layout,
+             std::shared_ptr<const DrySignals> dry, int numOutputs);
+
+  /// Schedules a new IR set for the next block (newest wins: a set offered while another is
+  /// still pending is returned through takeSpent()). Audio thread.
+  void offer(IrSet* set);
+  /// Renders one block of layout.blockSize() frames into out[c] (numOutputs channels).
+  /// inputs: nullptr reads the scene's dry signals from the current position (silence past
+  /// their end); otherwise inputs[s][0..blockSize) is source s's dry block (one per scene
+  /// source, as given by a host). Audio thread.
+  void process(float* const* out, const float* const* inputs = nullptr);
+  /// Sources (one dry input each).
+  int sourceCount() const { return convolver_.numSources(); }
+  /// A set no longer in use (superseded before it was applied, or no partition level uses it
+  /// any more), or nullptr. Audio thread; the caller returns it to the propagation side.
+  IrSet* takeSpent();
+
+  /// The newest set applied (every level takes it at its next chunk), or nullptr. This and
+  /// the two counters below: the audio thread.
+  const IrSet* current() const { return current_; }
+  uint64_t blocksProcessed() const { return blocks_; }
+  /// IR sets applied (crossfades started).
+  uint64_t irsApplied() const { return applied_; }
+  /// IR sets that found the spent ring full (takeSpent() not drained): they never return to
+  /// the pool. Any thread (relaxed); 0 when the caller drains takeSpent() after every block.
+  uint64_t lostSets() const { return spent_.overflows(); }
+
+ private:
+  /// Hands the pending set to the convolver if it has room.
+  void applyPending();
+  /// Points in_[s] at source s's dry block for this block.
+  void readDry(size_t s, size_t blockSize);
+  /// Moves the sets the convolver retired into the spent ring.
+  void collectRetired();
+
+  std::shared_ptr<const audio::NonUniformLayout> layout_;
+  std::shared_ptr<const DrySignals> dry_;
+  int numOutputs_;
+  audio::NonUniformConvolver convolver_;
+  std::vector<float> tail_;       ///< per source one block: a partial or looped block, zero-padded
+  std::vector<const float*> in_;  ///< per source: this block's dry input
+  IrSet* current_ = nullptr;
+  IrSet* pending_ = nullptr;
+  /// Sets handed to the convolver and not yet retired (to map its spectra back to the set).
+  static constexpr int kInFlightCapacity = audio::NonUniformConvolver::kRetiredCapacity;
+  IrSet* inFlight_[kInFlightCapacity] = {};
+  static constexpr int kSpentCapacity = audio::NonUniformConvolver::kRetiredCapacity + 2;
+  FixedRing<IrSet*> spent_{kSpentCapacity};  ///< sets for takeSpent(), oldest first
+  size_t position_ = 0;
+  uint64_t blocks_ = 0, applied_ = 0;
+};
+
+}  // namespace dpc

@@ -1,0 +1,92 @@
+#include "runtime/dry_signals.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "audio/resample.h"
+#include "audio/wav_io.h"
+#include "common/input_error.h"
+#include "common/input_file.h"
+
+namespace dpc {
+
+size_t DrySignals::longestFrames() const {
+  size_t once = 0, any = 0;
+  for (size_t i = 0; i < samples.size(); ++i) {
+    any = std::max(any, samples[i].size());
+    if (!loop[i]) once = std::max(once, samples[i].size());
+  }
+  return once > 0 ? once : any;
+}
+
+namespace {
+
+/// Reads source i's WAV file; throws InputError naming sources[i].signal when it cannot be
+/// read, is empty, has a rate outside [kMinSignalRateHz, kMaxSignalRateHz] or a sample that
+/// is not finite.
+audio::AudioData readSignal(const SceneDesc& scene, size_t i) {
+  const std::string& path = scene.sources[i].signalPath;
+  const std::string field = "sources[" + std::to_string(i) + "].signal";
+  audio::AudioData a;
+  try {
+    a = audio::readWav(path);
+  } catch (const InputError& e) {
+    throw InputError(scene.path, field, e.what());
+  }
+  if (a.frames() == 0) throw InputError(scene.path, field, path + ": no samples");
+  if (a.sampleRate < kMinSignalRateHz || a.sampleRate > kMaxSignalRateHz)
+    throw InputError(scene.path, field,
+                     path + ": sample rate " + std::to_string(a.sampleRate) + " Hz is outside [" +
+                         std::to_string(kMinSignalRateHz) + ", " +
+                         std::to_string(kMaxSignalRateHz) + "] Hz");
+  for (size_t c = 0; c < a.channels.size(); ++c)
+    for (size_t n = 0; n < a.frames(); ++n)
+      if (!std::isfinite(a.channels[c][n]))
+        throw InputError(scene.path, field,
+                         path + ": sample " + std::to_string(n) + " of channel " +
+                             std::to_string(c) + " is not finite (NaN or infinity)");
+  return a;
+}
+
+/// One mono channel at `rate` Hz: channels averaged, then resampled; notes say what was done.
+std::vector<float> monoAtRate(audio::AudioData a, int rate, const std::string& path,
+                              std::vector<std::string>& notes) {
+  if (a.channels.size() > 1) {
+    std::vector<float> mono(a.frames(), 0.f);
+    for (const auto& ch : a.channels)
+      for (size_t n = 0; n < mono.size(); ++n) mono[n] += ch[n] / float(a.channels.size());
+    notes.push_back(path + ": " + std::to_string(a.channels.size()) + " channels mixed to mono");
+    a.channels = {std::move(mono)};
+  }
+  if (a.sampleRate != rate) {
+    notes.push_back(path + ": resampled " + std::to_string(a.sampleRate) + " -> " +
+                    std::to_string(rate) + " Hz");
+    a = audio::resample(a, rate);
+  }
+  return std::move(a.channels[0]);
+}
+
+}  // namespace
+
+DrySignals loadDrySignals(const SceneDesc& scene) {
+  DrySignals d;
+  for (size_t i = 0; i < scene.sources.size(); ++i) {
+    const SourceDesc& src = scene.sources[i];
+    if (src.signalPath.empty()) {  // host input only: silence when played on its own
+      d.samples.emplace_back();
+      d.loop.push_back(0);
+      d.notes.push_back("sources[" + std::to_string(i) +
+                        "]: no signal (silent without host input)");
+      continue;
+    }
+    std::vector<float> x =
+        monoAtRate(readSignal(scene, i), scene.audio.sampleRate, src.signalPath, d.notes);
+    const float gain = float(std::pow(10.0, src.gainDb / 20.0));
+    for (float& v : x) v *= gain;
+    d.samples.push_back(std::move(x));
+    d.loop.push_back(src.loop ? 1 : 0);
+  }
+  return d;
+}
+
+}  // namespace dpc

@@ -1,0 +1,27 @@
+// DrySignals: every source's dry signal at the scene's sample rate, read from the scene's WAV
+// files (or given by a host), shared read-only by the audio stages that play them.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "scene/scene.h"
+
+namespace dpc {
+
+/// Dry source signals at the output rate, mono, gain applied.
+struct DrySignals {
+  std::vector<std::vector<float>> samples;  ///< per source, at the scene's sample rate
+  std::vector<char> loop;                   ///< per source: repeat the signal (SourceDesc::loop)
+  std::vector<std::string> notes;           ///< e.g. "resampled 22050 -> 48000 Hz"
+  /// Frames of the longest non-looping signal (of the longest signal if all loop). Any thread.
+  size_t longestFrames() const;
+};
+
+/// Reads every source's signal (mixed to mono, resampled to scene.audio.sampleRate, gain
+/// applied; a source without a signal gets an empty one). Control thread; allocates; throws
+/// InputError naming the scene file and sources[i].signal.
+DrySignals loadDrySignals(const SceneDesc& scene);
+
+}  // namespace dpc

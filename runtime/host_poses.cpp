@@ -1,0 +1,95 @@
+#include "runtime/host_poses.h"
+
+#include <cassert>
+#include <chrono>
+#include <cmath>
+#include <glm/gtc/quaternion.hpp>
+
+namespace dpc {
+
+namespace {
+int64_t nowNs() noexcept {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+}  // namespace
+
+HostPoses::HostPoses(std::shared_ptr<const SceneDesc> scene, size_t played)
+    : scene_(std::move(scene)), played_(played) {
+  const SceneDesc& s = *scene_;
+  assert(played < s.listeners.size());
+  listeners_ = std::make_unique<PoseChannel[]>(s.listeners.size());
+  for (size_t l = 0; l < s.listeners.size(); ++l) {
+    const Orientation o = listenerOrientationAt(s.listeners[l], 0.0);
+    listeners_[l].publish(ListenerPose{listenerPositionAt(s.listeners[l], 0.0), o.yawRadians,
+                                       o.pitchRadians, nowNs(), 0.0});
+  }
+  sources_ = std::make_unique<SeqlockChannel<HostSourcePosition>[]>(s.sources.size());
+  objects_ = std::make_unique<SeqlockChannel<HostObjectPose>[]>(s.objects.size());
+}
+
+bool HostPoses::setListenerPose(size_t index, const glm::vec3& position, float yawRadians,
+                                double sceneSeconds, float pitchRadians) {
+  if (index >= scene_->listeners.size()) return false;
+  listeners_[index].publish(
+      ListenerPose{position, yawRadians, pitchRadians, nowNs(), sceneSeconds});
+  return true;
+}
+
+bool HostPoses::setSourcePosition(size_t index, const glm::vec3& position) {
+  if (index >= scene_->sources.size()) return false;
+  sources_[index].publish(HostSourcePosition{position, 1u});
+  return true;
+}
+
+bool HostPoses::setObjectPose(size_t index, const glm::vec3& position, const float rotation[4]) {
+  if (index >= scene_->objects.size()) return false;
+  const double n = std::sqrt(double(rotation[0]) * rotation[0] + double(rotation[1]) * rotation[1] +
+                             double(rotation[2]) * rotation[2] + double(rotation[3]) * rotation[3]);
+  if (!(n > 1e-6) || !std::isfinite(n)) return false;
+  HostObjectPose h;
+  h.position = position;
+  for (int i = 0; i < 4; ++i) h.rotation[i] = float(rotation[i] / n);
+  h.set = 1u;
+  objects_[index].publish(h);
+  return true;
+}
+
+bool HostPoses::select(size_t index) {
+  if (index >= scene_->listeners.size()) return false;
+  played_.store(index, std::memory_order_relaxed);
+  return true;
+}
+
+ListenerPose HostPoses::assemble(WorldState& world, size_t& played) const {
+  const SceneDesc& s = *scene_;
+  played = played_.load(std::memory_order_relaxed);
+  ListenerPose pose;
+  world.listenerPositions.resize(s.listeners.size());
+  world.listenerOrientations.resize(s.listeners.size());
+  for (size_t l = 0; l < s.listeners.size(); ++l) {
+    const ListenerPose p = listeners_[l].read();
+    world.listenerPositions[l] = p.position;
+    world.listenerOrientations[l] = Orientation{p.yawRadians, p.pitchRadians};
+    if (l == played) pose = p;
+  }
+  // Sources and objects at the played listener's scene time, unless the host placed them.
+  const double t = pose.sceneSeconds;
+  world.timeSeconds = t;
+  world.sourcePositions.resize(s.sources.size());
+  for (size_t i = 0; i < s.sources.size(); ++i) {
+    const HostSourcePosition h = sources_[i].read();
+    world.sourcePositions[i] = h.set ? h.position : sourcePositionAt(s.sources[i], t);
+  }
+  world.objectPoses.resize(s.objects.size());
+  for (size_t k = 0; k < s.objects.size(); ++k) {
+    const HostObjectPose h = objects_[k].read();
+    world.objectPoses[k] = h.set ? Pose{h.position, glm::quat(h.rotation[3], h.rotation[0],
+                                                              h.rotation[1], h.rotation[2])}
+                                 : objectPoseAt(s.objects[k], t);
+  }
+  return pose;
+}
+
+}  // namespace dpc

@@ -1,0 +1,54 @@
+// HostPoses: what a live host moves, and the one place where a frame's world state is put
+// together (docs/design.md "World state"). Hosts publish listener poses, source positions
+// and object poses from any thread through seqlock channels (runtime/pose_channel.h); once per
+// frame the propagation thread assembles the complete WorldState: every listener where its
+// latest pose puts it, then every source and object where its trajectory puts it at the
+// played listener's scene time, then the host's overrides on top.
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+#include <memory>
+
+#include "runtime/pose_channel.h"
+#include "scene/scene.h"
+
+namespace dpc {
+
+class HostPoses {
+ public:
+  /// Publishes every listener's pose at scene time 0 (its trajectory's start); `played`
+  /// (< scene->listeners.size()) is the listener played first. Control thread; allocates.
+  HostPoses(std::shared_ptr<const SceneDesc> scene, size_t played);
+
+  /// Any thread (one writer per listener at a time): listener `index`'s pose (position m,
+  /// yaw and pitch radians as dpc::Orientation) for scene time sceneSeconds, timestamped now.
+  /// False (nothing changed) for an index out of range. Wait-free; no allocation.
+  bool setListenerPose(size_t index, const glm::vec3& position, float yawRadians,
+                       double sceneSeconds, float pitchRadians);
+  /// Any thread (one writer per source at a time): source `index` at `position` (m) instead
+  /// of its trajectory from now on. False for an index out of range. Wait-free; no allocation.
+  bool setSourcePosition(size_t index, const glm::vec3& position);
+  /// Any thread (one writer per object at a time): object `index` at world = R(q) * local +
+  /// position, q = (x, y, z, w) normalised here. False for an index out of range or a
+  /// zero-length or non-finite rotation. Wait-free; no allocation.
+  bool setObjectPose(size_t index, const glm::vec3& position, const float rotation[4]);
+  /// Any thread: plays listener `index` from the next frame on. False if out of range.
+  bool select(size_t index);
+  size_t played() const { return played_.load(std::memory_order_relaxed); }
+  size_t listenerCount() const { return scene_->listeners.size(); }
+
+  /// Propagation thread: the complete world state of this frame into `world` (allocates only
+  /// while its vectors grow). Returns the played listener's pose (its scene time is the
+  /// world's; its publication time measures latency) and its index in `played`.
+  ListenerPose assemble(WorldState& world, size_t& played) const;
+
+ private:
+  std::shared_ptr<const SceneDesc> scene_;
+  std::unique_ptr<PoseChannel[]> listeners_;  ///< one per scene listener
+  std::unique_ptr<SeqlockChannel<HostSourcePosition>[]> sources_;
+  std::unique_ptr<SeqlockChannel<HostObjectPose>[]> objects_;
+  std::atomic<size_t> played_{0};
+};
+
+}  // namespace dpc

@@ -1,0 +1,188 @@
+#include "runtime/propagation_stage.h"
+
+#include <algorithm>
+#include <array>
+#include <cassert>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "audio/hrtf.h"
+#include "audio/panning.h"
+#include "common/input_error.h"
+#include "engine/room_volume.h"
+
+namespace dpc {
+
+namespace {
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+int outputChannels(OutputFormat format) {
+  return format == OutputFormat::kMono ? 1 : 2;
+}
+
+namespace {
+
+/// Two-channel filters (left, right) for the spatial synthesiser: HRIR pairs (binaural, with
+/// the SOFA file's onset delays as leading zeros) or constant-power panning gains (stereo).
+struct SpatialFilters {
+  std::shared_ptr<audio::Hrtf> hrtf;
+  void fill(const glm::vec3& d, DirectionFilter& out) const {
+    const float dir[3] = {d.x, d.y, d.z};
+    out.channels.resize(2);
+    std::vector<float>& left = out.channels[0];
+    std::vector<float>& right = out.channels[1];
+    if (!hrtf) {
+      float l = 0.f, r = 0.f;
+      audio::stereoGains(dir, &l, &r);
+      left.assign(1, l);
+      right.assign(1, r);
+      return;
+    }
+    const size_t n = size_t(hrtf->filterLength());
+    float delayL = 0.f, delayR = 0.f;
+    left.resize(n);
+    right.resize(n);
+    hrtf->hrir(dir, left.data(), right.data(), &delayL, &delayR);
+    auto delay = [](std::vector<float>& h, float samples) {
+      const size_t k = size_t(std::max(0.f, std::round(samples)));
+      if (k) h.insert(h.begin(), k, 0.f);
+    };
+    delay(left, delayL);
+    delay(right, delayR);
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<SpatialIrSynthesizer> makeSpatialSynthesizer(const SceneDesc& scene,
+                                                             const PropagationSettings& settings,
+                                                             double roomVolume) {
+  const int fs = scene.audio.sampleRate;
+  auto filters = std::make_shared<SpatialFilters>();
+  if (scene.audio.output == OutputFormat::kBinaural) {
+    try {
+      filters->hrtf = std::make_shared<audio::Hrtf>(audio::Hrtf::load(scene.audio.hrtfPath, fs));
+    } catch (const InputError& e) {
+      throw InputError(scene.path, "audio.hrtf", e.what());
+    }
+  }
+  const std::vector<glm::vec3> directions = defaultSpatialDirections();
+  std::vector<DirectionFilter> perDirection(directions.size());
+  for (size_t d = 0; d < directions.size(); ++d) filters->fill(directions[d], perDirection[d]);
+  return std::make_unique<SpatialIrSynthesizer>(
+      fs, settings.irLength, roomVolume, settings.speedOfSound,
+      hashCombine(settings.seed, 0x5bd1e995ULL), directions, perDirection,
+      [filters](const glm::vec3& d, DirectionFilter& out) { filters->fill(d, out); });
+}
+
+PropagationStage::PropagationStage(std::shared_ptr<const SceneDesc> scene,
+                                   const PropagationSettings& settings, int poolSize)
+    : scene_(std::move(scene)), numOutputs_(outputChannels(scene_->audio.output)) {
+  simulation_ = std::make_unique<Simulation>(*scene_, settings);
+  makeSynthesizers(settings);
+  layout_ = std::make_shared<const audio::NonUniformLayout>(scene_->audio.blockSize, irSamples_);
+  makePool(poolSize);
+  irs_.assign(
+      1, std::vector<std::vector<std::vector<float>>>(
+             scene_->sources.size(),
+             std::vector<std::vector<float>>(size_t(numOutputs_), std::vector<float>(irSamples_))));
+}
+
+void PropagationStage::makeSynthesizers(const PropagationSettings& settings) {
+  const SceneDesc& scene = *scene_;
+  const int fs = scene.audio.sampleRate;
+  if (scene.audio.output == OutputFormat::kMono) {
+    for (size_t s = 0; s < scene.sources.size(); ++s)
+      synthesizers_.push_back(std::make_unique<IrSynthesizer>(
+          fs, settings.irLength, roomVolume(scene.mesh), settings.speedOfSound,
+          hashCombine(settings.seed, 0x5bd1e995ULL + s)));
+    irSamples_ = synthesizers_.front()->lengthSamples();
+  } else {
+    spatial_ = makeSpatialSynthesizer(scene, settings, roomVolume(scene.mesh));
+    simulation_->enableDirectional(spatial_->directions());
+    irSamples_ = spatial_->lengthSamples();
+  }
+}
+
+void PropagationStage::makePool(int poolSize) {
+  const int sets = poolSize + 2 * (layout_->numLevels() - 1);
+  for (int i = 0; i < sets; ++i) {
+    auto set = std::make_unique<IrSet>();
+    set->irs = std::make_unique<audio::NonUniformIrSet>(*layout_, int(scene_->sources.size()),
+                                                        numOutputs_);
+    free_.push_back(set.get());
+    pool_.push_back(std::move(set));
+  }
+}
+
+void PropagationStage::traceWorld(const WorldState& world) {
+  const SceneDesc& scene = *scene_;
+  const size_t L = world.listenerPositions.size();
+  if (L == 0 || world.listenerOrientations.size() != L ||
+      world.sourcePositions.size() != scene.sources.size() ||
+      world.objectPoses.size() != scene.objects.size())
+    throw std::invalid_argument(
+        "PropagationStage::traceWorld: the world state does not match "
+        "the scene's sources and objects, or has no listener");
+  spheres_.resize(L);
+  for (size_t l = 0; l < L; ++l) {
+    const float radius = scene.listeners[l % scene.listeners.size()].radius;
+    spheres_[l] = ListenerSphere{world.listenerPositions[l], radius};
+    simulation_->setListenerOrientation(l, world.listenerOrientations[l]);
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  if (!world.objectPoses.empty()) simulation_->setObjectPoses(world.objectPoses);
+  simulation_->runFrame(spheres_, world.sourcePositions);
+  totals_.traceSeconds += secondsSince(t0);
+  for (size_t s = 0; s < simulation_->sourceCount(); ++s) {
+    totals_.rays += simulation_->result(s).trace.rays;
+    totals_.segments += simulation_->result(s).trace.segments;
+  }
+  while (irs_.size() < L) irs_.push_back(irs_.front());
+  lastTime_ = world.timeSeconds;
+  ++totals_.frames;
+}
+
+void PropagationStage::synthesize(size_t s, size_t listener) {
+  auto& irs = irs_[listener];
+  const Simulation::SourceResult& r = simulation_->result(s, listener);
+  if (spatial_) {
+    float* const channels[] = {irs[s][0].data(), irs[s][1].data()};
+    spatial_->synthesize(simulation_->directional(s, listener), r.direct, channels);
+  } else {
+    synthesizers_[s]->synthesize(r.energy, r.direct, irs[s][0].data());
+  }
+}
+
+IrSet* PropagationStage::prepare(size_t listener) {
+  if (listener >= simulation_->listenerCount())
+    throw std::out_of_range("PropagationStage::prepare: listener index out of range");
+  if (free_.empty()) return nullptr;
+  IrSet* set = free_.back();
+  free_.pop_back();
+  for (size_t s = 0; s < simulation_->sourceCount(); ++s) {
+    auto t0 = std::chrono::steady_clock::now();
+    synthesize(s, listener);
+    totals_.synthesisSeconds += secondsSince(t0);
+    t0 = std::chrono::steady_clock::now();
+    std::array<const float*, 2> channels{};
+    for (int c = 0; c < numOutputs_; ++c) channels[size_t(c)] = irs_[listener][s][size_t(c)].data();
+    set->irs->prepare(int(s), channels.data(), irSamples_);
+    totals_.prepareSeconds += secondsSince(t0);
+  }
+  set->listener = listener;
+  set->frame = simulation_->framesRun() - 1;
+  set->poseTimeSeconds = lastTime_;
+  return set;
+}
+
+void PropagationStage::recycle(IrSet* set) {
+  assert(set == nullptr || std::find(free_.begin(), free_.end(), set) == free_.end());
+  if (set) free_.push_back(set);
+}
+
+}  // namespace dpc

@@ -1,0 +1,117 @@
+// PropagationStage: the propagation side of the render pipeline (runtime/render_pipeline.h).
+// One frame entry: traceWorld(world) traces every scene listener where `world` puts it, with
+// every source and object where `world` puts them (the caller assembled the world: the
+// trajectories at the frame's time, then whatever a host overrode); prepare(l) then makes
+// listener l's IR set. The offline renderer and the live session drive it the same way.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "audio/nonuniform_convolver.h"
+#include "engine/simulation.h"
+#include "scene/scene.h"
+#include "synthesis/mono_synthesizer.h"
+#include "synthesis/spatial_synthesizer.h"
+
+namespace dpc {
+
+/// Impulse responses of one propagation frame, partitioned and transformed, for all sources.
+struct IrSet {
+  std::unique_ptr<audio::NonUniformIrSet> irs;  ///< scene sources x output channels
+  size_t listener = 0;           ///< listener index (scene.listeners order) it was computed for
+  uint64_t frame = 0;            ///< propagation frame index that produced it
+  double poseTimeSeconds = 0.0;  ///< scene time of the listener pose it was computed for
+  int64_t poseNs = 0;            ///< live: steady_clock ns when that pose was published (latency)
+  int64_t readyNs = 0;           ///< live: steady_clock ns when the set was ready (IR age)
+};
+
+/// IR channels for an output format: 1 for mono, 2 for stereo and binaural. Any thread.
+int outputChannels(OutputFormat format);
+
+/// The spatial IR synthesiser for scene.audio.output (stereo: constant-power panning;
+/// binaural: HRIRs from scene.audio.hrtfPath at the scene's rate) over
+/// defaultSpatialDirections(). Control thread; allocates; throws InputError naming
+/// audio.hrtf for an unreadable SOFA file.
+std::unique_ptr<SpatialIrSynthesizer> makeSpatialSynthesizer(const SceneDesc& scene,
+                                                             const PropagationSettings& settings,
+                                                             double roomVolume);
+
+/// Propagation thread side. Construction (control thread) builds the Embree scene, the IR
+/// synthesisers (mono per source, or one spatial synthesiser with HRTF or panning filters
+/// shared by all sources), the convolver layout and a pool of IrSets (poolSize plus two per
+/// partition level beyond the first: a slow level keeps its old and new set through its
+/// crossfade); allocates; throws InputError (e.g. an unreadable SOFA file, named by the
+/// scene's audio.hrtf) or std::runtime_error. The scene is shared, read only. The accessors
+/// (simulation(), lastIrs(), totals(), ...) belong to the thread that runs the frames; they
+/// neither allocate nor throw (lastIrs: std::out_of_range for a listener never traced).
+class PropagationStage {
+ public:
+  PropagationStage(std::shared_ptr<const SceneDesc> scene, const PropagationSettings& settings,
+                   int poolSize = 4);
+
+  /// The frame entry (docs/design.md, "World state"): listener l at world.listener*[l] with
+  /// the radius of scene.listeners[l] (evaluateWorld gives one per scene listener; a
+  /// benchmark may give more: listener l then has the radius of scene listener l mod n);
+  /// sources and objects where `world` puts them. Each source's rays are traced once and
+  /// tested against all listener spheres; every source-listener pair has its own cache
+  /// (docs/dynamic.md, "Several listeners"). Then prepare(l) makes listener l's IR set. world
+  /// must hold at least one listener and one entry per scene source and object
+  /// (std::invalid_argument otherwise). Propagation thread; allocates only while tables grow.
+  void traceWorld(const WorldState& world);
+  /// Synthesises listener l's IRs from the last traceWorld, partitions and transforms them
+  /// into a free IrSet (set->listener = l) and returns it; nullptr if no set is free (all
+  /// borrowed by the audio side). l < listenerCount() (std::out_of_range otherwise).
+  /// Propagation thread; no allocation.
+  IrSet* prepare(size_t listener);
+  /// Listeners the last frame traced.
+  size_t listenerCount() const { return simulation_->listenerCount(); }
+  /// Rays per source for the following frames (Simulation::setRaysPerFrame). Propagation
+  /// thread, between frames.
+  void setRaysPerFrame(int n) { simulation_->setRaysPerFrame(n); }
+  /// Gives a set back to the pool. Propagation thread.
+  void recycle(IrSet* set);
+
+  const SceneDesc& scene() const { return *scene_; }
+  /// The convolver layout every IrSet uses, shared with the audio stages.
+  const std::shared_ptr<const audio::NonUniformLayout>& layout() const { return layout_; }
+  /// IrSets in the pool (fixed at construction).
+  int poolSize() const { return int(pool_.size()); }
+  const Simulation& simulation() const { return *simulation_; }
+  /// The pressure IR listener l's last prepared set holds: [source][channel][sample].
+  const std::vector<std::vector<std::vector<float>>>& lastIrs(size_t listener = 0) const {
+    return irs_.at(listener);
+  }
+  int numOutputs() const { return numOutputs_; }
+  size_t irSamples() const { return irSamples_; }
+
+  struct Totals {
+    uint64_t frames = 0, rays = 0, segments = 0;
+    double traceSeconds = 0.0, synthesisSeconds = 0.0, prepareSeconds = 0.0;
+  };
+  const Totals& totals() const { return totals_; }
+
+ private:
+  void makeSynthesizers(const PropagationSettings& settings);
+  void makePool(int poolSize);
+  /// Synthesises source s's IR for listener l into irs_[l][s].
+  void synthesize(size_t s, size_t listener);
+
+  std::shared_ptr<const SceneDesc> scene_;
+  int numOutputs_;
+  std::unique_ptr<Simulation> simulation_;
+  std::vector<std::unique_ptr<IrSynthesizer>> synthesizers_;  ///< mono: one per source
+  std::unique_ptr<SpatialIrSynthesizer> spatial_;             ///< stereo / binaural
+  std::shared_ptr<const audio::NonUniformLayout> layout_;
+  std::vector<std::unique_ptr<IrSet>> pool_;
+  std::vector<IrSet*> free_;
+  std::vector<std::vector<std::vector<std::vector<float>>>> irs_;  ///< [listener][source][ch]
+  std::vector<ListenerSphere> spheres_;  ///< traceWorld's listener spheres
+  double lastTime_ = 0.0;                ///< scene time of the last traced frame
+  size_t irSamples_ = 0;
+  Totals totals_;
+};
+
+}  // namespace dpc

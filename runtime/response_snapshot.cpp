@@ -1,0 +1,24 @@
+#include "runtime/response_snapshot.h"
+
+namespace dpc {
+
+bool ResponseSnapshot::tryStore(const PropagationStage& stage, size_t listener, uint64_t frame) {
+  std::unique_lock<std::mutex> lock(mutex_, std::try_to_lock);
+  if (!lock.owns_lock()) return false;
+  const Simulation& sim = stage.simulation();
+  irs_ = stage.lastIrs(listener);
+  energy_.resize(sim.sourceCount());
+  for (size_t s = 0; s < sim.sourceCount(); ++s) {
+    const Simulation::SourceResult& r = sim.result(s, listener);
+    energy_[s] = r.energy.bins();
+    // The direct sound (with its diffraction) is computed apart from the estimator's bins.
+    const double k = r.direct.delaySeconds / r.energy.binSeconds();
+    if (k >= 0.0 && k < double(energy_[s].size())) energy_[s][size_t(k)] += r.direct.intensity;
+  }
+  binSeconds_ = Simulation::kEnergyBinSeconds;
+  frame_ = frame;
+  valid_ = true;
+  return true;
+}
+
+}  // namespace dpc

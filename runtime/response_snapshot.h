@@ -1,0 +1,53 @@
+// ResponseSnapshot: the newest frame's responses of one listener, copied by the propagation
+// thread after each frame for readers on other threads (the C API's copy functions, tests).
+// The writer only tries the lock: a reader holding it makes that frame skip its copy, so a
+// reader never delays propagation. The audio thread must not read it.
+#pragma once
+
+#include <cstdint>
+#include <mutex>
+#include <vector>
+
+#include "common/bands.h"
+#include "runtime/propagation_stage.h"
+
+namespace dpc {
+
+class ResponseSnapshot {
+ public:
+  /// One source's responses: ir[channel][sample] the pressure IR at the scene's rate;
+  /// energy[k][band] the energy response in bins of binSeconds (1/m^2 relative to source
+  /// power, direct sound included); frame = propagation frames run when it was taken.
+  struct Responses {
+    const std::vector<std::vector<float>>* ir;
+    const std::vector<Bands>* energy;
+    double binSeconds;
+    uint64_t frame;
+  };
+
+  /// Propagation thread, after stage.prepare(listener): copies listener's IRs and energy
+  /// responses (direct sound added into its bin) unless a reader holds the lock. Returns
+  /// whether it copied. Allocates while the copies grow.
+  bool tryStore(const PropagationStage& stage, size_t listener, uint64_t frame);
+
+  /// Any thread but the audio thread: calls f(const Responses&) with the newest responses of
+  /// `source` while holding the lock. Returns false, without calling f, before the first
+  /// store or for a bad index. Allocates nothing itself (f is called directly).
+  template <class F>
+  bool read(size_t source, F&& f) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!valid_ || source >= irs_.size()) return false;
+    f(Responses{&irs_[source], &energy_[source], binSeconds_, frame_});
+    return true;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::vector<std::vector<std::vector<float>>> irs_;  ///< [source][channel][sample]
+  std::vector<std::vector<Bands>> energy_;            ///< [source][bin]
+  double binSeconds_ = 0.0;
+  uint64_t frame_ = 0;
+  bool valid_ = false;
+};
+
+}  // namespace dpc

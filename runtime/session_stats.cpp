@@ -1,0 +1,79 @@
+#include "runtime/session_stats.h"
+
+#include <algorithm>
+
+namespace dpc {
+
+void FrameTotals::add(const Simulation::SourceResult& r) {
+  rays += r.trace.rays;
+  cacheEntries += r.cacheEntries;
+  cacheCoarseEntries += r.cacheCoarseEntries;
+  cacheBytes += r.cacheBytes;
+  cacheBudgetBytes += r.cacheBudgetBytes;
+  cacheMergedEntries += r.cacheMergedEntries;
+  cacheCoarseEnergyFraction = std::max(cacheCoarseEnergyFraction, r.cacheCoarseEnergyFraction);
+  const double dropped = double(r.energy.droppedEnergy().sum());
+  const double kept = double(r.energy.total().sum());
+  if (dropped > 0.0)
+    droppedEnergyFraction = std::max(droppedEnergyFraction, dropped / (dropped + kept));
+}
+
+SessionCounters::SessionCounters(int sceneRaysPerFrame)
+    : sceneRays_(sceneRaysPerFrame), lastRead_(std::chrono::steady_clock::now()) {}
+
+void SessionCounters::raysTraced(int traced) noexcept {
+  raysPerFrame_.store(traced, std::memory_order_relaxed);
+  const int low = raysPerFrameMin_.load(std::memory_order_relaxed);
+  if (low == 0 || traced < low) raysPerFrameMin_.store(traced, std::memory_order_relaxed);
+  if (traced < sceneRays_) reducedFrames_.fetch_add(1, std::memory_order_relaxed);
+}
+
+void SessionCounters::frameDone(const FrameTotals& t, double frameMs) noexcept {
+  frames_.fetch_add(1, std::memory_order_relaxed);
+  rays_.fetch_add(t.rays, std::memory_order_relaxed);
+  cacheEntries_.store(t.cacheEntries + t.cacheCoarseEntries, std::memory_order_relaxed);
+  cacheBytes_.store(t.cacheBytes, std::memory_order_relaxed);
+  cacheBudgetBytes_.store(t.cacheBudgetBytes, std::memory_order_relaxed);
+  cacheMergedEntries_.store(t.cacheMergedEntries, std::memory_order_relaxed);
+  cacheMergedEnergyFraction_.store(t.cacheCoarseEnergyFraction, std::memory_order_relaxed);
+  droppedEnergyFraction_.store(t.droppedEnergyFraction, std::memory_order_relaxed);
+  frameMs_.store(frameMs, std::memory_order_relaxed);
+}
+
+void SessionCounters::blockDone(bool finite, uint64_t irsApplied, double irAgeMs) noexcept {
+  if (!finite) nanBlocks_.fetch_add(1, std::memory_order_relaxed);
+  if (irAgeMs >= 0.0) irAgeMs_.store(irAgeMs, std::memory_order_relaxed);
+  irsApplied_.store(irsApplied, std::memory_order_relaxed);
+  blocks_.fetch_add(1, std::memory_order_relaxed);
+}
+
+void SessionCounters::read(SessionStatus& st) {
+  constexpr auto r = std::memory_order_relaxed;
+  st.frames = frames_.load(r);
+  st.frameMs = frameMs_.load(r);
+  const auto now = std::chrono::steady_clock::now();
+  const uint64_t rays = rays_.load(r);
+  const double dt = std::chrono::duration<double>(now - lastRead_).count();
+  st.raysPerSecond = dt > 0.0 ? double(rays - lastRays_) / dt : 0.0;
+  lastRays_ = rays;
+  lastRead_ = now;
+  st.raysPerFrame = raysPerFrame_.load(r);
+  st.raysPerFrameMin = raysPerFrameMin_.load(r);
+  st.raysPerFrameScene = sceneRays_;
+  st.reducedFrames = reducedFrames_.load(r);
+  st.cacheEntries = cacheEntries_.load(r);
+  st.cacheBytes = cacheBytes_.load(r);
+  st.cacheBudgetBytes = cacheBudgetBytes_.load(r);
+  st.cacheMergedEntries = cacheMergedEntries_.load(r);
+  st.cacheMergedEnergyFraction = cacheMergedEnergyFraction_.load(r);
+  st.droppedEnergyFraction = droppedEnergyFraction_.load(r);
+  st.irsApplied = irsApplied_.load(r);
+  st.irsDropped = irsDropped_.load(r);
+  st.irAgeMs = irAgeMs_.load(r);
+  st.blocks = blocks_.load(r);
+  st.nanBlocks = nanBlocks_.load(r);
+  st.lateCallbacks = lateCallbacks_.load(r);
+  st.rejectedCallbacks = rejectedCallbacks_.load(r);
+}
+
+}  // namespace dpc

@@ -1,0 +1,110 @@
+// Statistics of a live session (docs/design.md "Runtime interfaces", "Statistics"): what the
+// propagation thread measured of its last frame, what the audio thread counted, and the
+// per-frame cache totals the offline renderer reports too. Counters are relaxed atomics, each
+// written by one thread and read by the control thread at any time.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+
+#include "engine/simulation.h"
+
+namespace dpc {
+
+/// One frame's cache and ray totals over a set of source-listener pairs. Any thread; no
+/// allocation.
+struct FrameTotals {
+  uint64_t rays = 0;                     ///< rays traced, summed
+  size_t cacheEntries = 0;               ///< DPC path entries, summed
+  size_t cacheCoarseEntries = 0;         ///< DPC coarse-store entries, summed
+  size_t cacheBytes = 0;                 ///< DPC heap bytes, summed
+  size_t cacheBudgetBytes = 0;           ///< DPC memory budget, summed
+  uint64_t cacheMergedEntries = 0;       ///< path entries merged by the budget, cumulative, summed
+  double cacheCoarseEnergyFraction = 0;  ///< largest per-pair share of the response they carry
+  /// Largest per-pair share of the estimator's energy that arrived beyond the IR length and
+  /// was left out of the response (EnergyResponse::droppedEnergy(), summed over bands).
+  double droppedEnergyFraction = 0;
+  void add(const Simulation::SourceResult& r);
+};
+
+/// What LiveSession::status() reports. Plain values; any thread.
+struct SessionStatus {
+  uint64_t frames = 0;
+  double frameMs = 0.0;        ///< last propagation frame (trace + synthesis + prepare)
+  double raysPerSecond = 0.0;  ///< over the last status interval
+  /// Rays per source traced by the last frame (0 before the first); below raysPerFrameScene
+  /// when the adaptive controller reduced them to hold the frame rate.
+  int raysPerFrame = 0;
+  int raysPerFrameMin = 0;          ///< fewest rays per source of any frame so far (0: none yet)
+  int raysPerFrameScene = 0;        ///< the settings' rays per source (the controller's ceiling)
+  uint64_t reducedFrames = 0;       ///< frames traced with fewer rays than raysPerFrameScene
+  size_t cacheEntries = 0;          ///< DPC path + coarse entries, summed over sources
+  size_t cacheBytes = 0;            ///< DPC heap bytes, summed over sources
+  size_t cacheBudgetBytes = 0;      ///< DPC memory budget, summed over sources
+  uint64_t cacheMergedEntries = 0;  ///< entries merged into the coarse store, cumulative
+  double cacheMergedEnergyFraction = 0.0;  ///< largest per-source share of the response they carry
+  /// Last frame, played listener: largest per-source share of the energy that arrived beyond
+  /// the IR length (not in the IR; FrameTotals::droppedEnergyFraction).
+  double droppedEnergyFraction = 0.0;
+  uint64_t irsApplied = 0;  ///< IR sets that reached the convolvers
+  uint64_t irsDropped = 0;  ///< superseded before the audio thread applied them
+  /// IR sets that found a hand-over ring full and never came back to the pool (0 unless a
+  /// ring is too small: a bug worth reporting).
+  uint64_t irsLost = 0;
+  double irAgeMs = 0.0;          ///< age of the IR playing, at the last block
+  double latencyMedianMs = 0.0;  ///< motion-to-sound latency, since start
+  double latencyP95Ms = 0.0;
+  uint64_t blocks = 0;
+  uint64_t nanBlocks = 0;          ///< blocks zeroed by the NaN/inf guard
+  uint64_t lateCallbacks = 0;      ///< render() calls that took longer than the audio they
+                                   ///< produced (frames / sampleRate): a device would xrun
+  uint64_t rejectedCallbacks = 0;  ///< render() calls with frames outside the accepted range
+  uint64_t recordDropped = 0;      ///< samples the recorder ring could not take
+  /// Output safety limiter (audio/limiter.h), since start: frames it attenuated, frames
+  /// whose input exceeded its ceiling, and its largest gain reduction (dB).
+  uint64_t limitedFrames = 0;
+  uint64_t overCeilingFrames = 0;
+  float limiterMaxReductionDb = 0.f;
+};
+
+/// The counters behind SessionStatus that the session's threads update. Propagation-side
+/// methods: the propagation thread (or the control thread while it is stopped); audio-side
+/// methods: the audio thread; read() and the getters: any thread. Wait-free; no allocation.
+class SessionCounters {
+ public:
+  explicit SessionCounters(int sceneRaysPerFrame);
+
+  /// Propagation side: rays per source the frame traced (every source the same).
+  void raysTraced(int raysPerSource) noexcept;
+  /// Propagation side: a frame produced an IR set; its totals and duration.
+  void frameDone(const FrameTotals& totals, double frameMs) noexcept;
+  /// Propagation or audio side: an IR set superseded before it was applied.
+  void irSuperseded() noexcept { irsDropped_.fetch_add(1, std::memory_order_relaxed); }
+  /// Audio side: a block rendered (finite: false when the NaN guard zeroed it), the sets
+  /// applied so far and the age of the one playing (ms; negative: none yet).
+  void blockDone(bool finite, uint64_t irsApplied, double irAgeMs) noexcept;
+  /// Audio side: a render() call that took longer than its audio, or one refused.
+  void lateCallback() noexcept { lateCallbacks_.fetch_add(1, std::memory_order_relaxed); }
+  void rejectedCallback() noexcept { rejectedCallbacks_.fetch_add(1, std::memory_order_relaxed); }
+
+  uint64_t frames() const noexcept { return frames_.load(std::memory_order_relaxed); }
+  /// Fills the counters' part of st; raysPerSecond over the time since the previous call.
+  /// Control thread (one reader).
+  void read(SessionStatus& st);
+
+ private:
+  const int sceneRays_;
+  std::atomic<uint64_t> frames_{0}, rays_{0}, irsDropped_{0}, blocks_{0}, nanBlocks_{0},
+      lateCallbacks_{0}, rejectedCallbacks_{0}, irsApplied_{0}, reducedFrames_{0},
+      cacheMergedEntries_{0};
+  std::atomic<double> frameMs_{0.0}, irAgeMs_{0.0}, cacheMergedEnergyFraction_{0.0},
+      droppedEnergyFraction_{0.0};
+  std::atomic<size_t> cacheEntries_{0}, cacheBytes_{0}, cacheBudgetBytes_{0};
+  std::atomic<int> raysPerFrame_{0}, raysPerFrameMin_{0};
+  uint64_t lastRays_ = 0;  ///< read()'s previous ray count
+  std::chrono::steady_clock::time_point lastRead_;
+};
+
+}  // namespace dpc

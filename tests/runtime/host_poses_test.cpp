@@ -1,0 +1,54 @@
+// HostPoses (runtime/host_poses.h): the world state of a frame is the trajectories at the
+// played listener's scene time, then the host's overrides.
+#include "runtime/host_poses.h"
+
+#include <catch2/catch.hpp>
+
+#include "testing/test_scenes.h"
+
+using namespace dpc;
+
+TEST_CASE("HostPoses: trajectories at the played listener's time, then host overrides", "[poses]") {
+  SceneDesc s = test::makeShoebox({6, 3, 4}, Bands(0.3f), 0.5f, {1, 1.5f, 1}, {4, 1.5f, 3});
+  Keyframe a, b;
+  a.timeSeconds = 0.0, a.position = {1, 1.5f, 1};
+  b.timeSeconds = 2.0, b.position = {3, 1.5f, 1};
+  s.sources[0].trajectory = {a, b};
+  ListenerDesc second = s.listeners[0];
+  second.name = "second";
+  second.position = {5, 1.5f, 3};
+  s.listeners.push_back(second);
+  HostPoses host(test::shared(s), 1);
+  CHECK(host.listenerCount() == 2);
+  CHECK(host.played() == 1);
+
+  WorldState w;
+  size_t played = 0;
+  ListenerPose pose = host.assemble(w, played);
+  CHECK(played == 1);
+  CHECK(pose.sceneSeconds == 0.0);
+  CHECK(w.listenerPositions[0] == s.listeners[0].position);  // where the scene puts them
+  CHECK(w.listenerPositions[1] == second.position);
+  CHECK(w.sourcePositions[0] == a.position);
+
+  CHECK(host.setListenerPose(1, {2, 1.5f, 2}, 0.5f, 1.0, 0.f));
+  host.assemble(w, played);
+  CHECK(w.timeSeconds == 1.0);
+  CHECK(w.listenerPositions[1] == glm::vec3(2, 1.5f, 2));
+  CHECK(w.listenerOrientations[1].yawRadians == 0.5f);
+  CHECK(w.sourcePositions[0].x == Approx(2.0));  // trajectory at t = 1
+
+  CHECK(host.setSourcePosition(0, {5, 1, 1}));
+  host.assemble(w, played);
+  CHECK(w.sourcePositions[0] == glm::vec3(5, 1, 1));  // the override wins from now on
+
+  CHECK(host.select(0));
+  host.assemble(w, played);
+  CHECK(played == 0);
+  CHECK(w.timeSeconds == 0.0);  // listener 0's pose is still the one at t = 0
+  CHECK_FALSE(host.select(2));
+  CHECK_FALSE(host.setListenerPose(2, {0, 0, 0}, 0.f, 0.0, 0.f));
+  CHECK_FALSE(host.setSourcePosition(1, {0, 0, 0}));
+  const float zero[4] = {0, 0, 0, 0};
+  CHECK_FALSE(host.setObjectPose(0, {0, 0, 0}, zero));  // no objects in the scene
+}

@@ -1,0 +1,66 @@
+// SessionCounters and FrameTotals (runtime/session_stats.h): counts as documented.
+#include "runtime/session_stats.h"
+
+#include <catch2/catch.hpp>
+
+using namespace dpc;
+
+TEST_CASE("SessionCounters: rays, frames, blocks and callbacks as counted", "[stats]") {
+  SessionCounters c(1000);
+  SessionStatus st;
+  c.read(st);
+  CHECK(st.frames == 0);
+  CHECK(st.raysPerFrameMin == 0);
+  CHECK(st.raysPerFrameScene == 1000);
+  c.raysTraced(1000);
+  c.raysTraced(400);
+  c.raysTraced(800);
+  FrameTotals t;
+  t.rays = 2400;
+  t.cacheEntries = 10;
+  t.cacheCoarseEntries = 5;
+  t.droppedEnergyFraction = 0.25;
+  c.frameDone(t, 12.5);
+  c.irSuperseded();
+  c.blockDone(true, 1, 3.0);
+  c.blockDone(false, 2, -1.0);  // no IR age: the last one stays
+  c.lateCallback();
+  c.rejectedCallback();
+  c.read(st);
+  CHECK(st.raysPerFrame == 800);
+  CHECK(st.raysPerFrameMin == 400);
+  CHECK(st.reducedFrames == 2);
+  CHECK(st.frames == 1);
+  CHECK(st.frameMs == 12.5);
+  CHECK(st.cacheEntries == 15);
+  CHECK(st.droppedEnergyFraction == 0.25);
+  CHECK(st.irsDropped == 1);
+  CHECK(st.blocks == 2);
+  CHECK(st.nanBlocks == 1);
+  CHECK(st.irsApplied == 2);
+  CHECK(st.irAgeMs == 3.0);
+  CHECK(st.lateCallbacks == 1);
+  CHECK(st.rejectedCallbacks == 1);
+}
+
+TEST_CASE("FrameTotals: sums, largest shares, and the energy beyond the IR length", "[stats]") {
+  Simulation::SourceResult a, b;
+  a.energy = EnergyResponse(0.01, 0.001);  // 10 bins
+  b.energy = EnergyResponse(0.01, 0.001);
+  a.energy.add(0.002, Bands(3.f));
+  a.energy.add(0.5, Bands(1.f));  // beyond the length: dropped
+  b.energy.add(0.002, Bands(1.f));
+  a.trace.rays = 100;
+  b.trace.rays = 50;
+  a.cacheEntries = 4;
+  b.cacheEntries = 6;
+  a.cacheCoarseEnergyFraction = 0.1;
+  b.cacheCoarseEnergyFraction = 0.3;
+  FrameTotals t;
+  t.add(a);
+  t.add(b);
+  CHECK(t.rays == 150);
+  CHECK(t.cacheEntries == 10);
+  CHECK(t.cacheCoarseEnergyFraction == 0.3);
+  CHECK(t.droppedEnergyFraction == Approx(0.25));  // a: 1 of 4 dropped, b: none
+}

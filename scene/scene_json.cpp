@@ -118,6 +118,15 @@ glm::quat readQuaternion(const JsonReader& r, const json& v, const std::string& 
   return glm::quat(float(c[3] / n), float(c[0] / n), float(c[1] / n), float(c[2] / n));
 }
 
+/// The "position" key of v, or else the trajectory's first keyframe; one of them is required.
+glm::vec3 readStartPosition(const JsonReader& r, const json& v, const std::string& field,
+                            const std::vector<Keyframe>& trajectory) {
+  if (const json* p = JsonReader::find(v, "position")) return r.vec3(*p, join(field, "position"));
+  if (trajectory.empty())
+    r.fail(join(field, "position"), "missing required key (needed when there is no trajectory)");
+  return trajectory.front().position;
+}
+
 std::vector<ObjectKeyframe> readObjectKeys(const JsonReader& r, const json& t,
                                            const std::string& tf) {
   if (!t.is_array() || t.empty())
@@ -189,12 +198,7 @@ SourceDesc readSource(const JsonReader& r, const json& s, const std::string& f,
   src.name = readName(r, s, f, others, "source");
   if (const json* t = JsonReader::find(s, "trajectory"))
     src.trajectory = readPositionKeys(r, *t, join(f, "trajectory"));
-  if (const json* p = JsonReader::find(s, "position"))
-    src.position = r.vec3(*p, join(f, "position"));
-  else if (!src.trajectory.empty())
-    src.position = src.trajectory.front().position;
-  else
-    r.fail(join(f, "position"), "missing required key (needed when there is no trajectory)");
+  src.position = readStartPosition(r, s, f, src.trajectory);
   if (const json* l = JsonReader::find(s, "trajectory_loop"))
     src.trajectoryLoop = r.boolean(*l, join(f, "trajectory_loop"));
   // No signal: the source's dry input comes from a host (C API, plugin) or is silent.
@@ -249,12 +253,7 @@ void readListener(const JsonReader& r, const json& v, const std::string& field, 
     for (size_t i = 0; i < t->size(); ++i)
       listener.trajectory.push_back(readListenerKey(r, (*t)[i], index(tf, i), listener.trajectory));
   }
-  if (const json* p = JsonReader::find(v, "position"))
-    listener.position = r.vec3(*p, join(field, "position"));
-  else if (!listener.trajectory.empty())
-    listener.position = listener.trajectory.front().position;
-  else
-    r.fail(join(field, "position"), "missing required key (needed when there is no trajectory)");
+  listener.position = readStartPosition(r, v, field, listener.trajectory);
   if (const json* rad = JsonReader::find(v, "radius"))
     listener.radius = float(r.limited(*rad, join(field, "radius"), "listener.radius"));
   if (const json* l = JsonReader::find(v, "loop"))

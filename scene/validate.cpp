@@ -73,6 +73,14 @@ void checkPropagation(const PropagationSettings& p, const Origin& origin) {
   checkField("propagation.humidity", p.humidityPercent, origin);
 }
 
+// Key times in order and every keyframe's position within the coordinate limit.
+void checkTrajectory(const std::vector<Keyframe>& keys, const Origin& origin,
+                     const std::string& f) {
+  checkKeyTimes(keys, origin, f);
+  for (size_t k = 0; k < keys.size(); ++k)
+    checkPosition(keys[k].position, origin, at(f, k) + ".position");
+}
+
 void checkSources(const std::vector<SourceDesc>& sources, const Origin& origin) {
   checkCount("sources", sources.size(), origin);
   checkNames(sources, "sources", "source", origin);
@@ -81,18 +89,15 @@ void checkSources(const std::vector<SourceDesc>& sources, const Origin& origin) 
     const std::string f = at("sources", i);
     checkPosition(s.position, origin, f + ".position");
     checkField("sources[].gain_db", s.gainDb, origin, f + ".gain_db");
-    checkKeyTimes(s.trajectory, origin, f + ".trajectory");
-    for (size_t k = 0; k < s.trajectory.size(); ++k)
-      checkPosition(s.trajectory[k].position, origin, at(f + ".trajectory", k) + ".position");
+    checkTrajectory(s.trajectory, origin, f + ".trajectory");
   }
 }
 
 void checkListenerKeys(const ListenerDesc& l, const Origin& origin, const std::string& f) {
-  checkKeyTimes(l.trajectory, origin, f + ".trajectory");
+  checkTrajectory(l.trajectory, origin, f + ".trajectory");
   for (size_t k = 0; k < l.trajectory.size(); ++k) {
     const Keyframe& key = l.trajectory[k];
     const std::string kf = at(f + ".trajectory", k);
-    checkPosition(key.position, origin, kf + ".position");
     if (key.yawDegrees.has_value() != l.trajectory.front().yawDegrees.has_value())
       fail(origin, kf + ".yaw", "give \"yaw\" on every keyframe or on none");
     if (key.yawDegrees) checkField("listener.yaw", *key.yawDegrees, origin, kf + ".yaw");

@@ -30,6 +30,7 @@
 #include "bench/propagation_bench.h"
 #include "common/input_error.h"
 #include "scene/limits.h"
+#include "common/program_main.h"
 
 namespace dpc::bench {
 namespace {
@@ -169,13 +170,5 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
-  try {
-    return dpc::bench::run(subs, o);
-  } catch (const dpc::InputError& e) {
-    std::fprintf(stderr, "dpc-bench: %s\n", e.what());
-    return 1;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "dpc-bench: error: %s\n", e.what());
-    return 1;
-  }
+  return dpc::runReportingErrors("dpc-bench", [&] { return dpc::bench::run(subs, o); });
 }

@@ -8,6 +8,7 @@
 #include "apps/demo/run_live.h"
 #include "apps/demo/run_offline.h"
 #include "common/input_error.h"
+#include "common/program_main.h"
 
 namespace dpc::demo {
 namespace {
@@ -44,13 +45,5 @@ int run(const Flags& fl) {
 int main(int argc, char** argv) {
   dpc::demo::Flags fl;
   if (const auto status = dpc::demo::parseFlags(argc, argv, fl)) return *status;
-  try {
-    return dpc::demo::run(fl);
-  } catch (const dpc::InputError& e) {
-    std::fprintf(stderr, "dpc-demo: %s\n", e.what());
-    return 1;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "dpc-demo: error: %s\n", e.what());
-    return 1;
-  }
+  return dpc::runReportingErrors("dpc-demo", [&] { return dpc::demo::run(fl); });
 }

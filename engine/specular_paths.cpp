@@ -50,6 +50,14 @@ bool inside(const glm::dvec3& q, const glm::dvec3& v0, const glm::dvec3& v1,
 
 }  // namespace
 
+void addSpecularPaths(const std::vector<SpecularPath>& paths, EnergyResponse& response,
+                      DirectionalEnergyResponse* directional) {
+  for (const SpecularPath& p : paths) {
+    response.add(p.delaySeconds, p.intensity);
+    if (directional) directional->add(p.delaySeconds, p.intensity, p.direction);
+  }
+}
+
 uint64_t SpecularSequence::key() const {
   uint64_t h = mix64(0x5bec0a7e1ade0001ULL + order);
   for (uint32_t i = 0; i < order; ++i) h = pathHashAddPatch(h, triangles[i]);

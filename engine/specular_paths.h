@@ -44,6 +44,7 @@
 #include <vector>
 
 #include "common/bands.h"
+#include "engine/energy_response.h"
 #include "engine/geometry.h"
 #include "engine/tracer.h"
 #include "scene/scene.h"
@@ -75,11 +76,19 @@ struct SpecularPath {
   std::array<glm::vec3, kMaxExactOrder> points{};    ///< reflection points P1..Pk, metres
 };
 
+/// Adds every path's intensity at its delay to `response` (and, when not null, with its
+/// arrival direction to `directional`): the energy response the estimators would have given
+/// with exact_order 0, up to Monte Carlo error, for consumers that want one response.
+/// Propagation thread; no allocation.
+void addSpecularPaths(const std::vector<SpecularPath>& paths, EnergyResponse& response,
+                      DirectionalEnergyResponse* directional = nullptr);
+
 /// The unique sequences the rays of one source proposed in one frame, in insertion order.
 /// Capacity fixed at construction; insertions beyond it are counted in overflow().
 class SpecularCandidates {
  public:
-  /// Default capacity: every prefix of 4096 rays' runs at order 3 still fits four times over.
+  /// Default capacity: every prefix of 4096 rays' runs at order 3 still fits five times over
+  /// (about 3 MB reserved, once per simulation).
   static constexpr size_t kDefaultCapacity = 1 << 16;
   explicit SpecularCandidates(size_t capacity = kDefaultCapacity);
   void clear();
@@ -140,7 +149,8 @@ class SpecularScene {
 class SpecularPathCache {
  public:
   /// Default capacity of validated sequences per pair (a shoebox has 62 image sources up to
-  /// order 3; rooms with many triangles split them into more sequences).
+  /// order 3; rooms with many triangles split them into more sequences). At this capacity a
+  /// pair reserves about 1 MB (entries, index, the frame's paths).
   static constexpr size_t kDefaultCapacity = 4096;
   /// tauSeconds >= 0: how long a sequence neither valid nor proposed is kept; framePeriod > 0.
   SpecularPathCache(double tauSeconds, double framePeriodSeconds,

@@ -294,7 +294,7 @@ Totals frameTotals(uint64_t seed, int exactOrder, int warmup) {
     if (k < 50) t.responseEarly += er.bins()[k][4];
   }
   EnergyResponse exact(er.binCount() * er.binSeconds(), er.binSeconds());
-  for (const SpecularPath& p : sim.specularPaths(0, 0)) exact.add(p.delaySeconds, p.intensity);
+  addSpecularPaths(sim.specularPaths(0, 0), exact);
   t.paths = sim.specularPaths(0, 0).size();
   for (size_t k = 0; k < exact.binCount(); ++k) {
     t.exact += exact.bins()[k][4];

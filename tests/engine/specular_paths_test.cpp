@@ -262,6 +262,18 @@ TEST_CASE("Specular paths follow a moving source in the next frame", "[specular]
   CHECK(after.size() == 62);
 }
 
+TEST_CASE("Specular paths: two listeners in one pass, each its own lattice", "[specular]") {
+  const glm::vec3 second{3.6f, 2.2f, 5.8f};
+  Simulation sim(box(0.f, kSrc, kLis, 3));
+  const ListenerSphere listeners[2] = {{kLis, 0.5f}, {second, 0.5f}};
+  for (int f = 0; f < 4; ++f) sim.runFrame(std::span<const ListenerSphere>(listeners, 2), {kSrc});
+  CHECK(matchLattice(sim.specularPaths(0, 0), lattice(kRoom, kSrc, kLis, 3), kLis, 0.0) == 62);
+  CHECK(matchLattice(sim.specularPaths(0, 1), lattice(kRoom, kSrc, second, 3), second, 0.0) ==
+        62);
+  CHECK(sim.specularPaths(0, 0).size() == 62);
+  CHECK(sim.specularPaths(0, 1).size() == 62);
+}
+
 TEST_CASE("Specular paths carry (1 - s)^k with scattering 0.5", "[specular]") {
   // Fewer rays stay specular (each reflection with probability 1 - s), so 8 frames of
   // candidates; the cache keeps what earlier frames found.

@@ -20,6 +20,7 @@ namespace {
 
 constexpr uint32_t kRaysPerChunk = 64;
 
+
 }  // namespace
 
 Propagator::Propagator(const Geometry& geometry, const Tracer& tracer,
@@ -32,6 +33,7 @@ Propagator::Propagator(const Geometry& geometry, const Tracer& tracer,
   epsilon_ = 1e-5f * std::max(10.f, std::max(extent.x, std::max(extent.y, extent.z)));
   keyRule_ = PathKeyRule::forRoom(double(extent.x) * extent.y * extent.z, geometry_.surfaceArea(),
                                   settings_.speedOfSound, 1e-3);
+  exactOrder_ = std::clamp(std::min(settings_.exactOrder, settings_.maxOrder), 0, kMaxExactOrder);
   arena_ = settings_.threads > 0 ? std::make_unique<tbb::task_arena>(settings_.threads)
                                  : std::make_unique<tbb::task_arena>();
 }
@@ -81,35 +83,47 @@ void Propagator::startRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t ray
   ray.travelled = 0.f;
   ray.path = PathKey::start(sourceIndex);
   ray.order = 0;
+  ray.specularRun = 0;
 }
 
 bool Propagator::advance(RayState& ray, bool surface, const SurfaceHit& hit,
                          std::span<const ListenerSphere> listeners, std::vector<PathHit>& hits,
                          std::vector<uint32_t>& hitListener) const {
   const float segEnd = surface ? hit.t : std::numeric_limits<float>::infinity();
-  for (uint32_t l = 0; l < listeners.size() && (ray.order > 0 || includeDirectRays_); ++l) {
+  // An exact specular path's hits stay out: specular_paths.h finds that path exactly.
+  if ((ray.order > 0 || includeDirectRays_) && !ray.exactSpecular())
+    testListeners(ray, segEnd, listeners, hits, hitListener);
+  if (!surface || ray.order >= settings_.maxOrder) return false;
+  return reflect(ray, hit);
+}
+
+void Propagator::testListeners(const RayState& ray, float segEnd,
+                               std::span<const ListenerSphere> listeners,
+                               std::vector<PathHit>& hits,
+                               std::vector<uint32_t>& hitListener) const {
+  for (uint32_t l = 0; l < listeners.size(); ++l) {
     // Segment against listener l's sphere: |org + t dir - L|^2 = R^2.
     const ListenerSphere& listener = listeners[l];
     const float r2 = listener.radius * listener.radius;
     const glm::vec3 oc = listener.position - ray.org;
     const float b = glm::dot(oc, ray.dir);
     const float disc = b * b - (glm::dot(oc, oc) - r2);
-    if (disc > 0.f) {
-      const float s = std::sqrt(disc);
-      if (b + s > 0.f && b - s < segEnd) {
-        const float invArea = 1.f / (std::numbers::pi_v<float> * r2);
-        const float r = ray.travelled + std::clamp(b, 0.f, segEnd);
-        PathHit h;
-        h.key = ray.path.finish(l, r, keyRule_);
-        h.intensity = ray.energy * exp(airPerMetre_ * -r) * invArea;
-        h.length = r;
-        h.direction = -ray.dir;
-        hits.push_back(h);
-        hitListener.push_back(l);
-      }
-    }
+    if (!(disc > 0.f)) continue;
+    const float s = std::sqrt(disc);
+    if (!(b + s > 0.f && b - s < segEnd)) continue;
+    const float invArea = 1.f / (std::numbers::pi_v<float> * r2);
+    const float r = ray.travelled + std::clamp(b, 0.f, segEnd);
+    PathHit h;
+    h.key = ray.path.finish(l, r, keyRule_);
+    h.intensity = ray.energy * exp(airPerMetre_ * -r) * invArea;
+    h.length = r;
+    h.direction = -ray.dir;
+    hits.push_back(h);
+    hitListener.push_back(l);
   }
-  if (!surface || ray.order >= settings_.maxOrder) return false;
+}
+
+bool Propagator::reflect(RayState& ray, const SurfaceHit& hit) const {
   ray.travelled += hit.t;
   const glm::vec3 p = ray.org + ray.dir * hit.t;
   const TrianglePatching& patching = geometry_.patching(hit.triangle);
@@ -123,11 +137,14 @@ bool Propagator::advance(RayState& ray, bool surface, const SurfaceHit& hit,
   }
   // Normal facing the side the ray came from.
   const glm::vec3 n = glm::dot(hit.normal, ray.dir) < 0.f ? hit.normal : -hit.normal;
-  if (ray.rng.uniform() < geometry_.scattering(hit.triangle)[ray.band])
+  const bool diffuse = ray.rng.uniform() < geometry_.scattering(hit.triangle)[ray.band];
+  if (diffuse)
     ray.dir = cosineHemisphere(n, ray.rng);
   else
     ray.dir = glm::normalize(ray.dir - 2.f * glm::dot(ray.dir, n) * n);
   ray.org = p + n * epsilon_;
+  if (!diffuse && ray.specularRun == ray.order && ray.order < exactOrder_)
+    ray.specular[size_t(ray.specularRun++)] = hit.triangle;
   ++ray.order;
   return true;
 }
@@ -143,6 +160,21 @@ void Propagator::traceRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t ray
     ++chunk.segments;
     if (!advance(ray, surface, hit, listeners, chunk.hits, chunk.hitListener)) break;
   }
+  noteSpecularRun(ray, chunk);
+}
+
+void Propagator::noteSpecularRun(const RayState& ray, Chunk& chunk) const {
+  if (ray.specularRun == 0) return;
+  SpecularSequence s;
+  s.order = uint32_t(ray.specularRun);
+  std::copy_n(ray.specular.begin(), ray.specularRun, s.triangles.begin());
+  chunk.specularRuns.push_back(s);
+}
+
+void Propagator::collectCandidates(uint32_t chunkCount, SpecularCandidates& candidates) const {
+  for (uint32_t c = 0; c < chunkCount; ++c)
+    for (const SpecularSequence& run : chunks_[c].specularRuns)
+      for (uint32_t k = 1; k <= run.order; ++k) candidates.insert(run.prefix(k));
 }
 
 void Propagator::traceChunkPacket(uint64_t frameSeed, uint32_t sourceIndex, uint32_t firstRay,
@@ -183,6 +215,7 @@ void Propagator::traceChunkPacket(uint64_t frameSeed, uint32_t sourceIndex, uint
                                 chunk.unordered, chunk.unorderedListener);
       while (chunk.rayOf.size() < chunk.unordered.size())  // one hit per listener at most
         chunk.rayOf.push_back(rayIndex[i] - firstRay);
+      if (!more) noteSpecularRun(rays[i], chunk);
       if (!more && !refill(i)) --live;
     }
   }
@@ -213,7 +246,8 @@ TraceStats Propagator::traceFrame(uint64_t frameIndex, uint32_t sourceIndex,
 TraceStats Propagator::traceFrame(uint64_t frameIndex, uint32_t sourceIndex,
                                   const glm::vec3& source,
                                   std::span<const ListenerSphere> listeners,
-                                  std::span<FrameGroups* const> groups) {
+                                  std::span<FrameGroups* const> groups,
+                                  SpecularCandidates* candidates) {
   const uint32_t n = uint32_t(std::max(0, settings_.raysPerFrame));
   const uint32_t chunkCount = (n + kRaysPerChunk - 1) / kRaysPerChunk;
   if (chunks_.size() < chunkCount) chunks_.resize(chunkCount);
@@ -224,6 +258,7 @@ TraceStats Propagator::traceFrame(uint64_t frameIndex, uint32_t sourceIndex,
       Chunk& chunk = chunks_[c];
       chunk.hits.clear();
       chunk.hitListener.clear();
+      chunk.specularRuns.clear();
       chunk.segments = 0;
       const uint32_t end = std::min(n, (c + 1) * kRaysPerChunk);
       if (traceMode_ == TraceMode::kPacket16) {
@@ -242,6 +277,7 @@ TraceStats Propagator::traceFrame(uint64_t frameIndex, uint32_t sourceIndex,
     stats.listenerHits += chunk.hits.size();
     for (size_t h = 0; h < chunk.hits.size(); ++h) groups[chunk.hitListener[h]]->add(chunk.hits[h]);
   }
+  if (candidates && exactOrder_ > 0) collectCandidates(chunkCount, *candidates);
   return stats;
 }
 

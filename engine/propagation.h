@@ -24,19 +24,27 @@
 // Queries go through the Tracer interface (engine/tracer.h); materials and patches come from
 // Geometry.
 // Packet tracing (TraceMode::kPacket16): each chunk keeps 16 of its rays in flight in
-// lockstep, one batch query of Tracer::kPacketSize rays per step for the live lanes
-// (rtcIntersect16 in the Embree tracer; Wald et al., "Interactive rendering with coherent ray
-// tracing", 2001; Embree's hybrid traversal for incoherent packets); a lane whose ray ends
-// takes the chunk's next ray. Every ray keeps its own random stream and its own per-ray
-// arithmetic (the same code as the scalar path), and the chunk's hits are put back in (ray,
-// reflection order) order, so the result is again bit-identical for a seed whatever the thread
-// count; it equals the scalar path's up to the rounding of the packet kernels (statistically
-// equal: tests/engine/packet_test.cpp). Allocation: per-chunk hit buffers grow to their
-// high-water mark, then are reused. No errors.
+// lockstep, one batch query of Tracer::kPacketSize rays per step for the live lanes (the
+// Embree tracer's rtcIntersect16; Wald et al., "Interactive
+// rendering with coherent ray tracing", 2001; Embree's hybrid traversal for incoherent
+// packets); a lane whose ray ends takes the chunk's next ray. Every ray keeps its own random
+// stream and its own per-ray arithmetic (the same code as the scalar path), and the chunk's
+// hits are put back in (ray, reflection order) order, so the result is again bit-identical
+// for a seed whatever the thread count; it equals the scalar path's up to the rounding of
+// the packet kernels (statistically equal: tests/engine/packet_test.cpp). Allocation:
+// per-chunk hit buffers grow to their high-water mark, then are reused. No errors.
+// Exact early specular paths (settings.exactOrder = N > 0; engine/specular_paths.h): each ray
+// remembers the triangles of its leading reflections while every one chose the specular lobe,
+// up to N; traceFrame hands these sequences (and their prefixes) out as image-source
+// candidates, and a listener hit of a ray whose reflections so far are all specular and at
+// most N is left out of the groups, because the exact path replaces it in expectation
+// (docs/estimators.md, "Exact early specular paths"). No random draw and no float operation of
+// a ray depends on N, so N = 0 gives the same groups, bit for bit, as before the feature.
 #pragma once
 
 #include <tbb/task_arena.h>
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <glm/vec3.hpp>
@@ -49,6 +57,7 @@
 #include "engine/geometry.h"
 #include "engine/patch.h"
 #include "engine/path_cache.h"
+#include "engine/specular_paths.h"
 #include "engine/tracer.h"
 #include "scene/scene.h"
 
@@ -111,9 +120,19 @@ class Propagator {
   /// segments) does not depend on the number of listeners, only the ray-sphere tests do; the
   /// random streams do not depend on the listeners either, so listener l's groups equal, bit
   /// for bit, those of tracing it alone (up to the listener index in the keys).
+  /// candidates (optional, used when exactOrder() > 0): receives, in ray order, every
+  /// all-specular triangle sequence of order 1..exactOrder() the rays followed (the caller
+  /// clears it).
   TraceStats traceFrame(uint64_t frameIndex, uint32_t sourceIndex, const glm::vec3& source,
                         std::span<const ListenerSphere> listeners,
-                        std::span<FrameGroups* const> groups);
+                        std::span<FrameGroups* const> groups,
+                        SpecularCandidates* candidates = nullptr);
+
+  /// Order N of the exact specular paths: settings.exactOrder clamped to [0, kMaxExactOrder]
+  /// and to maxOrder (a path the rays cannot follow is not removed from them either).
+  int exactOrder() const { return exactOrder_; }
+  /// The propagator's offset of a reflected ray from its surface, metres.
+  float surfaceEpsilon() const { return epsilon_; }
 
   /// The direct sound from source to listener centre. The distance is clamped to at least
   /// R/2, where 1/(4 pi r^2) equals what rays crossing the sphere would report (1/(pi R^2)).
@@ -150,10 +169,17 @@ class Propagator {
     PathKey path;
     int order = 0;
     int band = 0;  ///< band whose scattering coefficient steers reflections
+    /// Leading reflections that were all specular, at most exactOrder_ (== order while the
+    /// path is all specular and short enough to be an exact path), and their triangles.
+    int specularRun = 0;
+    std::array<uint32_t, kMaxExactOrder> specular{};
+    /// True when this ray's listener hits belong to an exact specular path (left out).
+    bool exactSpecular() const { return order > 0 && specularRun == order; }
   };
   struct Chunk {
     std::vector<PathHit> hits;
     std::vector<uint32_t> hitListener;  ///< listener index of each hit
+    std::vector<SpecularSequence> specularRuns;  ///< per ended ray with a run: its sequence
     uint64_t segments = 0;
     // Packet mode scratch: hits in completion order with their ray (offset in the chunk),
     // and the per-ray counts/offsets of the counting sort back into ray order.
@@ -172,6 +198,17 @@ class Propagator {
   bool advance(RayState& ray, bool surface, const SurfaceHit& hit,
                std::span<const ListenerSphere> listeners, std::vector<PathHit>& hits,
                std::vector<uint32_t>& hitListener) const;
+  /// The segment of `ray` up to segEnd (m) against every listener sphere: appends a hit per
+  /// sphere it crosses (with its listener index), in listener order.
+  void testListeners(const RayState& ray, float segEnd, std::span<const ListenerSphere> listeners,
+                     std::vector<PathHit>& hits, std::vector<uint32_t>& hitListener) const;
+  /// Reflects `ray` at `hit`: patch into the path identifier, reflectance, Russian roulette,
+  /// diffuse or specular direction. Returns false when roulette ends the ray.
+  bool reflect(RayState& ray, const SurfaceHit& hit) const;
+  /// Appends the ended ray's leading specular sequence, if any, to chunk.specularRuns.
+  void noteSpecularRun(const RayState& ray, Chunk& chunk) const;
+  /// Adds the chunks' specular sequences and all their prefixes to candidates.
+  void collectCandidates(uint32_t chunkCount, SpecularCandidates& candidates) const;
   void traceRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t rayIndex,
                 const glm::vec3& source, std::span<const ListenerSphere> listeners,
                 Chunk& chunk) const;
@@ -187,6 +224,7 @@ class Propagator {
   float epsilon_ = 1e-4f;
   PathKeyRule keyRule_;  ///< order-adaptive path identifier (engine/patch.h)
   bool includeDirectRays_ = false;
+  int exactOrder_ = 0;  ///< exactOrder()
   TraceMode traceMode_ = kDefaultTraceMode;
   std::unique_ptr<tbb::task_arena> arena_;
   std::vector<Chunk> chunks_;

@@ -17,6 +17,12 @@ Simulation::Simulation(const SceneDesc& scene, const PropagationSettings& settin
   tracer_ = std::make_unique<EmbreeTracer>(scene.mesh, scene.objects);
   propagator_ = std::make_unique<Propagator>(*geometry_, *tracer_, settings_);
   if (settings_.diffraction) diffraction_ = std::make_unique<EdgeDiffraction>(scene.mesh);
+  if (propagator_->exactOrder() > 0) {
+    specularScene_ = std::make_unique<SpecularScene>(
+        scene.mesh, scene.objects, *geometry_, *tracer_, propagator_->airAttenuationPerMetre(),
+        settings_.speedOfSound, propagator_->surfaceEpsilon());
+    specularCandidates_ = std::make_unique<SpecularCandidates>();
+  }
   for (const SourceDesc& s : scene.sources) sourcePositions_.push_back(s.position);
   sourceCount_ = scene.sources.size();
   reserveListeners(1);
@@ -29,6 +35,9 @@ void Simulation::reserveListeners(size_t listeners) {
         caches_.push_back(std::make_unique<DiffusePathCache>(
             settings_.dpcWeighting, settings_.cacheTau, 1.0 / settings_.frameRate,
             size_t(double(settings_.cacheMemoryMb) * 1048576.0)));
+      if (specularScene_)
+        specularCaches_.push_back(
+            std::make_unique<SpecularPathCache>(settings_.cacheTau, 1.0 / settings_.frameRate));
       SourceResult r;
       r.energy = EnergyResponse(settings_.irLength, kEnergyBinSeconds);
       results_.push_back(std::move(r));
@@ -68,6 +77,9 @@ void Simulation::setObjectPoses(const std::vector<Pose>& poses) {
   for (size_t k = 0; k < poses.size() && k < tracer_->objectCount(); ++k)
     tracer_->setObjectPose(k, poses[k]);
   tracer_->commitPoses();
+  if (specularScene_)
+    for (size_t k = 0; k < poses.size() && k < tracer_->objectCount(); ++k)
+      specularScene_->setObjectPose(k, poses[k]);
 }
 
 void Simulation::runFrame(const glm::vec3& listenerPosition) {
@@ -88,8 +100,12 @@ void Simulation::runFrame(std::span<const ListenerSphere> listeners,
   for (size_t s = 0; s < sourceCount_ && s < sources.size(); ++s) {
     const auto t0 = std::chrono::steady_clock::now();
     for (size_t l = 0; l < L; ++l) groups_[l].clear();
-    const TraceStats trace = propagator_->traceFrame(
-        frame_, uint32_t(s), sources[s], listeners, std::span(groupPtrs_.data(), listeners.size()));
+    if (specularCandidates_) specularCandidates_->clear();
+    const TraceStats trace =
+        propagator_->traceFrame(frame_, uint32_t(s), sources[s], listeners,
+                                std::span(groupPtrs_.data(), listeners.size()),
+                                specularCandidates_.get());
+    if (specularCandidates_) specularCandidateOverflow_ += specularCandidates_->overflow();
     const double traceSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     // Each listener's direct sound (with edge diffraction) and estimator update touch only
@@ -123,6 +139,26 @@ void Simulation::finishPair(size_t s, size_t l, const glm::vec3& source,
   updateEstimator(pair, groups_[l], r, dir);
   r.traceSeconds = traceSeconds;
   r.estimatorSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+  if (specularScene_) updateSpecular(pair, source, listener, r);
+}
+
+void Simulation::updateSpecular(size_t pair, const glm::vec3& source,
+                                const ListenerSphere& listener, SourceResult& r) {
+  const auto t0 = std::chrono::steady_clock::now();
+  SpecularPathCache& cache = *specularCaches_[pair];
+  cache.update(*specularCandidates_, *specularScene_, source, listener.position, listener.radius,
+               frame_);
+  r.specularPaths = cache.paths().size();
+  r.specularCandidates = specularCandidates_->sequences().size();
+  r.specularCacheEntries = cache.entryCount();
+  r.specularOverflow = cache.overflow() + specularCandidateOverflow_;
+  r.specularSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+const std::vector<SpecularPath>& Simulation::specularPaths(size_t source, size_t listener) const {
+  static const std::vector<SpecularPath> kNone;
+  if (specularCaches_.empty()) return kNone;
+  return specularCaches_[listener * sourceCount_ + source]->paths();
 }
 
 void Simulation::updateEstimator(size_t pair, const FrameGroups& groups, SourceResult& r,

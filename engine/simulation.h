@@ -5,6 +5,10 @@
 // response (1 ms bins, ir_length long) and analytic direct sound. Several listeners are traced
 // in one pass: every source's rays are tested against all listener spheres (docs/dynamic.md).
 //
+// Exact early specular paths (settings.exactOrder > 0, engine/specular_paths.h): every pair
+// also gets the frame's exact all-specular paths up to that order (specularPaths), which the
+// energy response then no longer contains.
+//
 // Propagation thread: construct, runFrame, read results; not safe to share between threads.
 // Construction allocates (BVH, tables) and throws std::runtime_error on an Embree error;
 // runFrame allocates only while tables grow. No errors otherwise.
@@ -19,6 +23,7 @@
 #include "engine/geometry.h"
 #include "engine/path_cache.h"
 #include "engine/propagation.h"
+#include "engine/specular_paths.h"
 #include "engine/tracer.h"
 #include "scene/scene.h"
 
@@ -48,6 +53,12 @@ class Simulation {
         0.0;                        ///< share of this frame's response from the coarse store
     double traceSeconds = 0.0;      ///< wall time of this frame's ray tracing
     double estimatorSeconds = 0.0;  ///< grouping hits + cache update + readout
+    // Exact specular paths (all 0 while exactOrder is 0):
+    size_t specularPaths = 0;         ///< valid exact paths this frame (specularPaths())
+    size_t specularCandidates = 0;    ///< unique sequences the source's rays proposed
+    size_t specularCacheEntries = 0;  ///< sequences the pair keeps across frames
+    uint64_t specularOverflow = 0;    ///< cumulative: sequences refused by full tables
+    double specularSeconds = 0.0;     ///< wall time of this pair's validation
   };
 
   /// Traces one frame from every source to a listener at listenerPosition (metres), with the
@@ -90,6 +101,13 @@ class Simulation {
   const SourceResult& result(size_t source, size_t listener = 0) const {
     return results_[listener * sourceCount_ + source];
   }
+  /// Source `source`'s exact specular paths to listener `listener` in the last frame
+  /// (engine/specular_paths.h): order 1..exactOrder, sorted by length; delaySeconds in seconds,
+  /// intensity per band in 1/m^2 relative to source power (DirectSound's scale), direction a
+  /// unit vector from the listener toward the last reflection point, key stable across frames.
+  /// Empty while settings().exactOrder is 0. The reference stays valid, and the vector keeps
+  /// its capacity (no allocation), until the next runFrame. Propagation thread.
+  const std::vector<SpecularPath>& specularPaths(size_t source, size_t listener = 0) const;
   size_t sourceCount() const { return sourceCount_; }
   /// Listeners the last runFrame traced (at least 1).
   size_t listenerCount() const { return listenerCount_; }
@@ -112,6 +130,9 @@ class Simulation {
   /// (and dir when not null).
   void updateEstimator(size_t pair, const FrameGroups& groups, SourceResult& r,
                        DirectionalEnergyResponse* dir);
+  /// The pair's exact specular paths for this frame, statistics into r.
+  void updateSpecular(size_t pair, const glm::vec3& source, const ListenerSphere& listener,
+                      SourceResult& r);
 
   PropagationSettings settings_;
   float listenerRadius_;
@@ -132,6 +153,11 @@ class Simulation {
   std::vector<FrameGroups*> groupPtrs_;  ///< &groups_[l]
   std::vector<glm::vec3> directions_;    ///< enableDirectional's listener-frame directions
   std::vector<Orientation> orientations_{1};
+  // Exact specular paths (null / empty while exactOrder is 0):
+  std::unique_ptr<SpecularScene> specularScene_;
+  std::unique_ptr<SpecularCandidates> specularCandidates_;  ///< this source's frame
+  std::vector<std::unique_ptr<SpecularPathCache>> specularCaches_;  ///< per pair
+  uint64_t specularCandidateOverflow_ = 0;  ///< cumulative over sources and frames
   uint64_t frame_ = 0;
 };
 

@@ -41,6 +41,8 @@ constexpr std::array kLimits = {
         "at least one ray; more cannot finish a frame on any machine"},
   Limit{"propagation.max_order", 0, 10000, false, true, "",
         "0 is the direct sound; beyond, the path bookkeeping grows without audible effect"},
+  Limit{"propagation.exact_order", 0, double(kMaxExactOrder), false, true, "",
+        "0 disables exact specular paths; image-source candidates grow as the order's power"},
   Limit{"propagation.patch_size", 0, kInf, true, false, "m",
         "patches need an extent to be told apart"},
   Limit{"propagation.cache_tau", 0, 3600, false, false, "s",

@@ -128,6 +128,10 @@ enum class DpcWeighting {
   kWindow,
 };
 
+/// Highest reflection order of exact specular paths (PropagationSettings::exactOrder): the
+/// engine keeps a fixed array of this many triangles per path.
+inline constexpr int kMaxExactOrder = 6;
+
 struct PropagationSettings {
   int raysPerFrame = 4096;  ///< rays emitted per source per frame (N)
   int maxOrder = 50;        ///< maximum reflection order d_max
@@ -154,6 +158,11 @@ struct PropagationSettings {
   /// (unbiased). 0 disables it. Default -60 dB.
   float rouletteThreshold = 1e-6f;
   int threads = 0;  ///< tracing threads; 0 = all cores (command line only)
+  /// Exact early specular paths (ray-guided image sources, engine/specular_paths.h): all-specular
+  /// paths of up to this many reflections (0 .. kMaxExactOrder, and at most maxOrder) are found
+  /// exactly and leave the energy response. 0 disables the feature (the outputs are then those
+  /// of an engine without it, bit for bit).
+  int exactOrder = 0;
 };
 
 /// Output channels of the rendered IRs and audio.

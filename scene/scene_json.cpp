@@ -307,6 +307,7 @@ void readPropagationNumbers(const JsonReader& r, const json& v, PropagationSetti
   };
   read("rays_per_frame", p.raysPerFrame);
   read("max_order", p.maxOrder);
+  read("exact_order", p.exactOrder);
   read("patch_size", p.patchSize);
   read("cache_tau", p.cacheTau);
   read("cache_memory_mb", p.cacheMemoryMb);
@@ -329,7 +330,7 @@ void readPropagation(const JsonReader& r, const json& v, PropagationSettings& p)
   r.expectObject(v, field);
   r.checkKeys(
       v, field,
-      {"rays_per_frame", "max_order", "patch_size", "cache_tau", "cache_memory_mb", "frame_rate",
+      {"rays_per_frame", "max_order", "exact_order", "patch_size", "cache_tau", "cache_memory_mb", "frame_rate",
        "ir_length", "seed", "estimator", "dpc_weighting", "speed_of_sound", "temperature",
        "humidity", "air_absorption", "diffraction", "roulette_threshold_db"});
   auto f = [&](const char* key) { return join(field, key); };

@@ -63,6 +63,7 @@ void checkMaterials(const std::vector<Material>& materials, const Origin& origin
 void checkPropagation(const PropagationSettings& p, const Origin& origin) {
   checkField("propagation.rays_per_frame", p.raysPerFrame, origin);
   checkField("propagation.max_order", p.maxOrder, origin);
+  checkField("propagation.exact_order", p.exactOrder, origin);
   checkField("propagation.patch_size", p.patchSize, origin);
   checkField("propagation.cache_tau", p.cacheTau, origin);
   checkField("propagation.cache_memory_mb", p.cacheMemoryMb, origin);

@@ -1,0 +1,298 @@
+#include "engine/specular_paths.h"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <numbers>
+
+#include "common/random.h"
+#include "engine/patch.h"
+
+namespace dpc {
+
+namespace {
+
+/// Barycentric tolerance of the inside test: a reflection point this far outside its triangle
+/// (as a fraction of the triangle) still counts, so a path across the shared edge of two
+/// triangles is not lost to rounding; the duplicate this can give is removed afterwards.
+constexpr double kInsideTolerance = 1e-6;
+/// Reflection points closer than this (metres) and lengths equal within it are one path.
+constexpr float kSamePointMetres = 1e-4f;
+
+struct Plane {
+  glm::dvec3 n{0.0};  ///< unit normal
+  double d = 0.0;     ///< n . x = d on the plane
+};
+
+bool planeOf(const glm::dvec3& v0, const glm::dvec3& v1, const glm::dvec3& v2, Plane& p) {
+  const glm::dvec3 c = glm::cross(v1 - v0, v2 - v0);
+  const double len = glm::length(c);
+  if (!(len > 0.0)) return false;  // degenerate triangle: no plane
+  p.n = c / len;
+  p.d = glm::dot(p.n, v0);
+  return true;
+}
+
+/// True when q (on the triangle's plane) lies inside triangle (v0, v1, v2), within
+/// kInsideTolerance in barycentric coordinates.
+bool inside(const glm::dvec3& q, const glm::dvec3& v0, const glm::dvec3& v1,
+            const glm::dvec3& v2) {
+  const glm::dvec3 e1 = v1 - v0, e2 = v2 - v0, w = q - v0;
+  const double d11 = glm::dot(e1, e1), d12 = glm::dot(e1, e2), d22 = glm::dot(e2, e2);
+  const double w1 = glm::dot(w, e1), w2 = glm::dot(w, e2);
+  const double det = d11 * d22 - d12 * d12;
+  if (!(det > 0.0)) return false;
+  const double u = (d22 * w1 - d12 * w2) / det;
+  const double v = (d11 * w2 - d12 * w1) / det;
+  return u >= -kInsideTolerance && v >= -kInsideTolerance && u + v <= 1.0 + kInsideTolerance;
+}
+
+}  // namespace
+
+void addSpecularPaths(const std::vector<SpecularPath>& paths, EnergyResponse& response,
+                      DirectionalEnergyResponse* directional) {
+  for (const SpecularPath& p : paths) {
+    response.add(p.delaySeconds, p.intensity);
+    if (directional) directional->add(p.delaySeconds, p.intensity, p.direction);
+  }
+}
+
+uint64_t SpecularSequence::key() const {
+  uint64_t h = mix64(0x5bec0a7e1ade0001ULL + order);
+  for (uint32_t i = 0; i < order; ++i) h = pathHashAddPatch(h, triangles[i]);
+  return h;
+}
+
+SpecularSequence SpecularSequence::prefix(uint32_t k) const {
+  SpecularSequence s;
+  s.order = k;
+  std::copy_n(triangles.begin(), k, s.triangles.begin());
+  return s;
+}
+
+SpecularCandidates::SpecularCandidates(size_t capacity) : capacity_(capacity) {
+  sequences_.reserve(capacity_);
+  index_.reserve(capacity_);
+}
+
+void SpecularCandidates::clear() {
+  sequences_.clear();
+  index_.clear();
+  overflow_ = 0;
+}
+
+bool SpecularCandidates::insert(const SpecularSequence& sequence) {
+  const uint64_t key = sequence.key();
+  if (index_.find(key) != index_.end()) return true;
+  if (sequences_.size() >= capacity_) {
+    ++overflow_;
+    return false;
+  }
+  index_.emplace(key, uint32_t(sequences_.size()));
+  sequences_.push_back(sequence);
+  return true;
+}
+
+SpecularScene::SpecularScene(const Mesh& mesh, const std::vector<ObjectDesc>& objects,
+                             const Geometry& geometry, const Tracer& tracer,
+                             const Bands& airPerMetre, float speedOfSound, float epsilon)
+    : geometry_(geometry),
+      tracer_(tracer),
+      airPerMetre_(airPerMetre),
+      speedOfSound_(speedOfSound),
+      epsilon_(epsilon) {
+  auto trianglesOf = [](const Mesh& m) {
+    std::vector<Triangle> t;
+    t.reserve(m.triangles.size());
+    for (const auto& tri : m.triangles)
+      t.push_back({m.vertices[tri[0]], m.vertices[tri[1]], m.vertices[tri[2]]});
+    return t;
+  };
+  world_ = trianglesOf(mesh);
+  for (const ObjectDesc& o : objects) {
+    objectFirst_.push_back(uint32_t(world_.size()));
+    local_.push_back(trianglesOf(o.mesh));
+    world_.insert(world_.end(), local_.back().begin(), local_.back().end());
+  }
+  for (size_t k = 0; k < objects.size(); ++k) {
+    const auto& key = objects[k].trajectory;
+    setObjectPose(k, key.empty() ? Pose{} : Pose{key.front().position, key.front().rotation});
+  }
+}
+
+void SpecularScene::setObjectPose(size_t object, const Pose& pose) {
+  if (object >= local_.size()) return;
+  const glm::mat3 r = glm::mat3_cast(pose.rotation);
+  Triangle* out = world_.data() + objectFirst_[object];
+  for (const Triangle& t : local_[object])
+    *out++ = {r * t.v0 + pose.position, r * t.v1 + pose.position, r * t.v2 + pose.position};
+}
+
+bool SpecularScene::construct(const SpecularSequence& seq, const glm::dvec3& source,
+                              const glm::dvec3& listener, SpecularPath& path,
+                              glm::dvec3& image) const {
+  const uint32_t k = seq.order;
+  if (k < 1 || k > uint32_t(kMaxExactOrder)) return false;
+  std::array<Plane, kMaxExactOrder> planes;
+  std::array<glm::dvec3, kMaxExactOrder + 1> images;  // S_0 .. S_k
+  images[0] = source;
+  for (uint32_t i = 0; i < k; ++i) {
+    if (seq.triangles[i] >= world_.size()) return false;
+    const Triangle& t = world_[seq.triangles[i]];
+    if (!planeOf(t.v0, t.v1, t.v2, planes[i])) return false;
+    const double dist = glm::dot(planes[i].n, images[i]) - planes[i].d;
+    if (std::abs(dist) < 1e-9) return false;  // the previous image lies on the plane
+    images[i + 1] = images[i] - 2.0 * dist * planes[i].n;
+  }
+  glm::dvec3 p = listener;  // P_{i+1}, starting at the listener
+  for (uint32_t i = k; i-- > 0;) {
+    const Plane& pl = planes[i];
+    const double a = glm::dot(pl.n, p) - pl.d;              // listener-side point
+    const double b = glm::dot(pl.n, images[i + 1]) - pl.d;  // image S_{i+1} (1-based: S_i)
+    // Opposite sides, strictly: the crossing lies between the two ends, and P_{i+1} is on the
+    // side the sound arrives from (the side of the previous image).
+    if (!(a * b < 0.0)) return false;
+    const glm::dvec3 q = p + (a / (a - b)) * (images[i + 1] - p);
+    const Triangle& t = world_[seq.triangles[i]];
+    if (!inside(q, t.v0, t.v1, t.v2)) return false;
+    path.points[i] = glm::vec3(q);
+    p = q;
+  }
+  image = images[k];
+  return true;
+}
+
+bool SpecularScene::visible(const SpecularPath& path, const glm::vec3& source,
+                            const glm::vec3& listener) const {
+  // Segments S -> P1 -> ... -> Pk -> L; ends on a surface keep epsilon_ clear of it.
+  for (uint32_t i = 0; i <= path.order; ++i) {
+    const glm::vec3 a = i == 0 ? source : path.points[i - 1];
+    const glm::vec3 b = i == path.order ? listener : path.points[i];
+    const glm::vec3 ab = b - a;
+    const float len = glm::length(ab);
+    const float tnear = i == 0 ? 0.f : epsilon_;
+    const float tfar = i == path.order ? len : len - epsilon_;
+    if (!(tfar > tnear)) return false;  // reflection points (nearly) coincide
+    if (tracer_.occluded(TraceRay{a, ab / len, tnear, tfar})) return false;
+  }
+  return true;
+}
+
+bool SpecularScene::validate(const SpecularSequence& seq, const glm::vec3& source,
+                             const glm::vec3& listener, float radius, SpecularPath& path) const {
+  path.order = seq.order;
+  glm::dvec3 image;
+  if (!construct(seq, source, listener, path, image)) return false;
+  if (!visible(path, source, listener)) return false;
+  const double length = glm::length(glm::dvec3(listener) - image);
+  path.key = seq.key();
+  path.triangles = seq.triangles;
+  path.length = float(length);
+  path.delaySeconds = length / double(speedOfSound_);
+  const glm::vec3 toLast = path.points[seq.order - 1] - listener;
+  const float toLastLength = glm::length(toLast);
+  path.direction = toLastLength > 0.f ? toLast / toLastLength : glm::vec3(0.f);
+  Bands factor(1.f);
+  for (uint32_t i = 0; i < seq.order; ++i)
+    factor *= geometry_.reflectance(seq.triangles[i]) *
+              (Bands(1.f) - geometry_.scattering(seq.triangles[i]));
+  const float spread = std::max(float(length), 0.5f * radius);
+  path.intensity = factor * exp(airPerMetre_ * -float(length)) *
+                   (1.f / (4.f * std::numbers::pi_v<float> * spread * spread));
+  return true;
+}
+
+SpecularPathCache::SpecularPathCache(double tauSeconds, double framePeriodSeconds,
+                                     size_t capacity)
+    : keepFrames_(uint64_t(std::max(0.0, std::floor(tauSeconds / framePeriodSeconds + 1e-9)))),
+      capacity_(capacity) {
+  entries_.reserve(capacity_);
+  index_.reserve(capacity_);
+  paths_.reserve(capacity_);
+  dropped_.reserve(capacity_);
+}
+
+void SpecularPathCache::clear() {
+  entries_.clear();
+  index_.clear();
+  paths_.clear();
+}
+
+void SpecularPathCache::removeEntry(size_t i) {
+  index_.erase(entries_[i].key);
+  if (i + 1 != entries_.size()) {
+    entries_[i] = entries_.back();
+    index_[entries_[i].key] = uint32_t(i);
+  }
+  entries_.pop_back();
+}
+
+void SpecularPathCache::revalidate(const SpecularCandidates& frame, const SpecularScene& scene,
+                                   const glm::vec3& source, const glm::vec3& listener,
+                                   float radius, uint64_t frameIndex) {
+  SpecularPath path;
+  for (size_t i = 0; i < entries_.size();) {
+    Entry& e = entries_[i];
+    if (scene.validate(e.sequence, source, listener, radius, path)) {
+      paths_.push_back(path);
+      e.lastAlive = frameIndex;
+    } else if (frame.contains(e.key)) {
+      e.lastAlive = frameIndex;
+    } else if (frameIndex - e.lastAlive > keepFrames_) {
+      removeEntry(i);  // the last entry moves to i: look at i again
+      continue;
+    }
+    ++i;
+  }
+}
+
+void SpecularPathCache::addCandidates(const SpecularCandidates& frame, const SpecularScene& scene,
+                                      const glm::vec3& source, const glm::vec3& listener,
+                                      float radius, uint64_t frameIndex) {
+  SpecularPath path;
+  for (const SpecularSequence& s : frame.sequences()) {
+    const uint64_t key = s.key();
+    if (index_.find(key) != index_.end()) continue;  // cached: validated above
+    if (!scene.validate(s, source, listener, radius, path)) continue;
+    if (entries_.size() >= capacity_) {
+      ++overflow_;
+      continue;
+    }
+    index_.emplace(key, uint32_t(entries_.size()));
+    entries_.push_back(Entry{s, key, frameIndex});
+    paths_.push_back(path);
+  }
+}
+
+void SpecularPathCache::removeDuplicates() {
+  std::sort(paths_.begin(), paths_.end(), [](const SpecularPath& a, const SpecularPath& b) {
+    return a.length != b.length ? a.length < b.length : a.key < b.key;
+  });
+  dropped_.assign(paths_.size(), 0);
+  for (size_t i = 0; i < paths_.size(); ++i)
+    for (size_t j = i + 1; j < paths_.size(); ++j) {
+      const SpecularPath &a = paths_[i], &b = paths_[j];
+      if (b.length - a.length > kSamePointMetres) break;
+      if (a.order != b.order) continue;
+      bool same = true;
+      for (uint32_t r = 0; r < a.order && same; ++r)
+        same = glm::length(a.points[r] - b.points[r]) <= kSamePointMetres;
+      if (same) dropped_[a.key < b.key ? j : i] = 1;
+    }
+  size_t out = 0;
+  for (size_t i = 0; i < paths_.size(); ++i)
+    if (!dropped_[i]) paths_[out++] = paths_[i];
+  paths_.resize(out);
+}
+
+void SpecularPathCache::update(const SpecularCandidates& frame, const SpecularScene& scene,
+                               const glm::vec3& source, const glm::vec3& listener, float radius,
+                               uint64_t frameIndex) {
+  paths_.clear();
+  revalidate(frame, scene, source, listener, radius, frameIndex);
+  addCandidates(frame, scene, source, listener, radius, frameIndex);
+  removeDuplicates();
+}
+
+}  // namespace dpc

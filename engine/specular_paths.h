@@ -1,0 +1,197 @@
+// Exact early specular paths: ray-guided image sources.
+//
+// The image-source method (J. B. Allen & D. A. Berkley, "Image method for efficiently
+// simulating small-room acoustics", JASA 65(4), 1979) places every specular reflection path
+// exactly, but enumerating all triangle sequences grows as (triangles)^order. Ray-guided image
+// sources (M. Vorländer, "Auralization", Springer 2008, on hybrid ray tracing / image-source
+// models) test only the triangle sequences that the traced rays actually followed: a ray whose
+// first k reflections all chose the specular lobe proposes T1..Tk (and each prefix) as a
+// candidate; the image construction below then decides, for each listener, whether the path
+// exists and where it lies.
+//
+// Validation of a sequence T1..Tk for source S and listener L: S_0 = S, S_i = S_{i-1} mirrored
+// in the plane of T_i. Backwards from P_{k+1} = L, P_i is where the segment P_{i+1} -> S_i
+// crosses the plane of T_i; the path exists when every crossing lies strictly between its ends
+// (so P_{i+1} and S_{i-1} are on the same, reflecting side of T_i), every P_i lies inside T_i,
+// and no segment S -> P_1 -> ... -> P_k -> L is blocked (Tracer::occluded, so moving objects
+// block in their current pose). Its length is |L - S_k|.
+//
+// Energy of a valid path (intensity relative to source power, 1/m^2, DirectSound's scale):
+//   I_b = prod_i (1 - alpha_b(T_i)) (1 - s_b(T_i)) * exp(-m_b d) / (4 pi d^2),
+// m_b the ISO 9613-1 air attenuation, d the path length (the spreading clamped at R/2 as
+// DirectSound does). The factor (1 - s) per reflection is the probability that a ray takes the
+// specular lobe (docs/design.md, "Reflection direction"): the propagator keeps every listener
+// hit of an all-specular path of order <= N out of the energy response, whose expectation is
+// exactly this I_b, so nothing is counted twice (docs/estimators.md, "Exact early specular
+// paths").
+//
+// Persistence across frames (as the DPC keeps its paths, Schissler thesis §3.2.2): each
+// source-listener pair keeps the sequences that validated once and re-validates them every
+// frame at the current poses; a sequence that is neither valid nor proposed by a ray for
+// longer than tau is dropped. Memory is bounded: a frame's candidates and a pair's cache have
+// fixed capacities, reserved at construction; what does not fit is counted, not stored.
+//
+// Threads: propagation thread. SpecularScene::validate and SpecularPathCache::update of
+// different pairs may run concurrently (they only read the scene and the tracer); poses change
+// between frames. Allocation: at construction only. No errors (invalid input gives no paths).
+#pragma once
+
+#include <tsl/robin_map.h>
+
+#include <array>
+#include <cstdint>
+#include <glm/vec3.hpp>
+#include <vector>
+
+#include "common/bands.h"
+#include "engine/energy_response.h"
+#include "engine/geometry.h"
+#include "engine/tracer.h"
+#include "scene/scene.h"
+
+namespace dpc {
+
+/// The triangles T1..Tk of an all-specular path, k = order in 1..kMaxExactOrder; entries past
+/// `order` are 0. Triangle numbers are Geometry's (static mesh first, then objects).
+struct SpecularSequence {
+  std::array<uint32_t, kMaxExactOrder> triangles{};
+  uint32_t order = 0;
+
+  /// Stable 64-bit identifier of the sequence: the same in every frame and for every source
+  /// and listener (collisions about 2^-64 per pair of sequences, as path identifiers).
+  uint64_t key() const;
+  /// The first k triangles (1 <= k <= order).
+  SpecularSequence prefix(uint32_t k) const;
+};
+
+/// One exact specular path from a source to a listener in one frame.
+struct SpecularPath {
+  uint64_t key = 0;       ///< SpecularSequence::key() of its triangles: stable across frames
+  uint32_t order = 0;     ///< reflections k, 1..kMaxExactOrder
+  float length = 0.f;     ///< metres, |L - S_k|
+  double delaySeconds = 0.0;  ///< length / c
+  Bands intensity{0.f};   ///< 1/m^2 relative to source power, per octave band (formula above)
+  glm::vec3 direction{0.f};   ///< unit vector from the listener toward the last reflection point
+  std::array<uint32_t, kMaxExactOrder> triangles{};  ///< T1..Tk (Geometry's numbering)
+  std::array<glm::vec3, kMaxExactOrder> points{};    ///< reflection points P1..Pk, metres
+};
+
+/// Adds every path's intensity at its delay to `response` (and, when not null, with its
+/// arrival direction to `directional`): the energy response the estimators would have given
+/// with exact_order 0, up to Monte Carlo error, for consumers that want one response.
+/// Propagation thread; no allocation.
+void addSpecularPaths(const std::vector<SpecularPath>& paths, EnergyResponse& response,
+                      DirectionalEnergyResponse* directional = nullptr);
+
+/// The unique sequences the rays of one source proposed in one frame, in insertion order.
+/// Capacity fixed at construction; insertions beyond it are counted in overflow().
+class SpecularCandidates {
+ public:
+  /// Default capacity: every prefix of 4096 rays' runs at order 3 still fits five times over
+  /// (about 3 MB reserved, once per simulation).
+  static constexpr size_t kDefaultCapacity = 1 << 16;
+  explicit SpecularCandidates(size_t capacity = kDefaultCapacity);
+  void clear();
+  /// Adds the sequence unless present; false (and counted) when full.
+  bool insert(const SpecularSequence& sequence);
+  bool contains(uint64_t key) const { return index_.find(key) != index_.end(); }
+  const std::vector<SpecularSequence>& sequences() const { return sequences_; }
+  /// Sequences refused since the last clear() because the set was full.
+  uint64_t overflow() const { return overflow_; }
+
+ private:
+  size_t capacity_;
+  std::vector<SpecularSequence> sequences_;
+  tsl::robin_map<uint64_t, uint32_t> index_;
+  uint64_t overflow_ = 0;
+};
+
+/// The scene's triangles in world coordinates at the current poses, and the image-source
+/// validation of a sequence.
+class SpecularScene {
+ public:
+  /// mesh and objects as for Geometry (objects at their first keyframe's pose, as the tracer
+  /// places them); geometry, tracer: the simulation's, outliving this. airPerMetre: ISO 9613-1
+  /// energy attenuation per band, 1/m; speedOfSound m/s; epsilon: metres kept clear of a
+  /// reflecting surface by the visibility queries (the propagator's offset).
+  SpecularScene(const Mesh& mesh, const std::vector<ObjectDesc>& objects, const Geometry& geometry,
+                const Tracer& tracer, const Bands& airPerMetre, float speedOfSound,
+                float epsilon);
+
+  /// Object k's triangles follow `pose` (world = R local + position). Between frames.
+  void setObjectPose(size_t object, const Pose& pose);
+
+  /// The path of `sequence` from source to the listener sphere's centre (the spreading is
+  /// clamped at radius / 2): true and `path` filled when it exists (above), false otherwise.
+  bool validate(const SpecularSequence& sequence, const glm::vec3& source,
+                const glm::vec3& listener, float radius, SpecularPath& path) const;
+
+ private:
+  struct Triangle {
+    glm::vec3 v0{0.f}, v1{0.f}, v2{0.f};
+  };
+  /// Fills path.points, returns the image S_k; false when the construction fails.
+  bool construct(const SpecularSequence& sequence, const glm::dvec3& source,
+                 const glm::dvec3& listener, SpecularPath& path, glm::dvec3& image) const;
+  bool visible(const SpecularPath& path, const glm::vec3& source, const glm::vec3& listener) const;
+
+  std::vector<Triangle> world_;                 ///< per triangle, current pose
+  std::vector<std::vector<Triangle>> local_;    ///< per object, local coordinates
+  std::vector<uint32_t> objectFirst_;           ///< per object, its first triangle number
+  const Geometry& geometry_;
+  const Tracer& tracer_;
+  Bands airPerMetre_;
+  float speedOfSound_;
+  float epsilon_;
+};
+
+/// One source-listener pair's exact paths, kept across frames.
+class SpecularPathCache {
+ public:
+  /// Default capacity of validated sequences per pair (a shoebox has 62 image sources up to
+  /// order 3; rooms with many triangles split them into more sequences). At this capacity a
+  /// pair reserves about 1 MB (entries, index, the frame's paths).
+  static constexpr size_t kDefaultCapacity = 4096;
+  /// tauSeconds >= 0: how long a sequence neither valid nor proposed is kept; framePeriod > 0.
+  SpecularPathCache(double tauSeconds, double framePeriodSeconds,
+                    size_t capacity = kDefaultCapacity);
+
+  /// One frame: re-validates the cached sequences at the current poses, validates this frame's
+  /// candidates that are not cached yet, drops expired sequences, and leaves the valid paths in
+  /// paths(), sorted by length (then key); coincident duplicates (the same reflection points
+  /// through coplanar neighbour triangles) are reported once, under the smaller key.
+  void update(const SpecularCandidates& frame, const SpecularScene& scene,
+              const glm::vec3& source, const glm::vec3& listener, float radius,
+              uint64_t frameIndex);
+
+  const std::vector<SpecularPath>& paths() const { return paths_; }
+  size_t entryCount() const { return entries_.size(); }
+  /// Valid sequences not cached because the cache was full, cumulative.
+  uint64_t overflow() const { return overflow_; }
+  void clear();
+
+ private:
+  struct Entry {
+    SpecularSequence sequence;
+    uint64_t key = 0;
+    uint64_t lastAlive = 0;  ///< last frame it was valid or proposed by a ray
+  };
+  void revalidate(const SpecularCandidates& frame, const SpecularScene& scene,
+                  const glm::vec3& source, const glm::vec3& listener, float radius,
+                  uint64_t frameIndex);
+  void addCandidates(const SpecularCandidates& frame, const SpecularScene& scene,
+                     const glm::vec3& source, const glm::vec3& listener, float radius,
+                     uint64_t frameIndex);
+  void removeEntry(size_t i);
+  void removeDuplicates();
+
+  uint64_t keepFrames_;  ///< tau in frames (rounded down)
+  size_t capacity_;
+  std::vector<Entry> entries_;
+  tsl::robin_map<uint64_t, uint32_t> index_;
+  std::vector<SpecularPath> paths_;
+  std::vector<uint8_t> dropped_;  ///< scratch for removeDuplicates
+  uint64_t overflow_ = 0;
+};
+
+}  // namespace dpc

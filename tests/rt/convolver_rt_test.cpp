@@ -23,6 +23,9 @@
 
 using dpc::audio::ConvolverLayout;
 using dpc::audio::IrSpectra;
+using dpc::audio::NonUniformConvolver;
+using dpc::audio::NonUniformIrSet;
+using dpc::audio::NonUniformLayout;
 using dpc::audio::PartitionedConvolver;
 using dpc::rt::AllocationCounts;
 using dpc::rt::AllocationScope;
@@ -112,6 +115,72 @@ void track(const float (&outputs)[Channels][Frames], float& peak, bool& finite) 
   }
 }
 
+/// The audio thread's way back to the main thread: a spectrum that finds the ring full is
+/// counted in `failures` and retried before the next block (retry()), and pushed once more,
+/// outside the allocation scope, at the end (flush()). No allocation.
+template <int Capacity>
+class RetryingReturn {
+ public:
+  RetryingReturn(dpc::FixedRing<const IrSpectra*>& ring, std::atomic<uint64_t>& failures)
+      : ring_(ring), failures_(failures) {}
+  void operator()(const IrSpectra* ir) {
+    if (!ring_.tryPush(ir)) {
+      failures_.fetch_add(1, std::memory_order_relaxed);
+      unreturned_[numUnreturned_++] = ir;
+    }
+  }
+  void retry() {
+    for (int i = 0; i < numUnreturned_;) {
+      if (ring_.tryPush(unreturned_[i])) {
+        unreturned_[i] = unreturned_[--numUnreturned_];
+      } else {
+        ++i;
+      }
+    }
+  }
+  void flush() {
+    for (int i = 0; i < numUnreturned_; ++i) ring_.tryPush(unreturned_[i]);
+  }
+
+ private:
+  dpc::FixedRing<const IrSpectra*>& ring_;
+  std::atomic<uint64_t>& failures_;
+  const IrSpectra* unreturned_[Capacity];
+  int numUnreturned_ = 0;
+};
+
+/// Main thread, after the audio thread ended: the spectra free, queued either way, or held by
+/// the convolver.
+size_t countHeld(dpc::test::IrHandOver<IrSpectra>& handOver, PartitionedConvolver& convolver) {
+  handOver.reclaim();
+  size_t held = handOver.freeList.size();
+  const IrSpectra* p = nullptr;
+  while (handOver.toAudio.tryPop(p)) ++held;
+  if (convolver.currentIr()) ++held;
+  if (convolver.hasPending() && convolver.pendingIr()) ++held;
+  while (convolver.takeRetired()) ++held;
+  return held;
+}
+
+/// Fades every level of `convolver` out to silence (for at most four blocks of the longest
+/// level of 4096 samples), returning each set it lets go to freeList.
+template <int Block, int Sources, int Channels>
+void fadeOutAll(NonUniformConvolver& convolver, std::vector<NonUniformIrSet*>& freeList) {
+  auto release = [&] {
+    while (const NonUniformIrSet* p = convolver.takeRetired())
+      freeList.push_back(const_cast<NonUniformIrSet*>(p));
+  };
+  REQUIRE(convolver.setNextIr(nullptr));
+  float zeros[Block] = {}, sink[Channels][Block];
+  const float* in[Sources] = {zeros, zeros, zeros};
+  float* out[Channels] = {sink[0], sink[1]};
+  for (int k = 0; k < 4 * 4096 / Block && convolver.swapping(); ++k) {
+    convolver.process(in, out);
+    release();
+  }
+  release();
+}
+
 }  // namespace
 
 TEST_CASE("The counter sees heap calls on the marked thread only", "[rt][alloc_counter]") {
@@ -180,7 +249,6 @@ TEST_CASE("Convolver IR swaps through SPSC queues: zero heap calls on the audio 
   ConvolverLayout layout(kBlock, kSpec.irSamples);
   PartitionedConvolver convolver(layout, kChannels);
   dpc::test::IrHandOver<IrSpectra> handOver(kSpec.pool, layout, kChannels);
-  auto& toMain = handOver.toMain;
 
   std::atomic<bool> audioDone{false};
   AudioProgress progress;
@@ -194,26 +262,13 @@ TEST_CASE("Convolver IR swaps through SPSC queues: zero heap calls on the audio 
     float input[kBlock];
     float outputs[kChannels][kBlock];
     float* out[kChannels] = {outputs[0], outputs[1]};
-    const IrSpectra* unreturned[2 * kSpec.pool];
-    int numUnreturned = 0;
+    RetryingReturn<2 * kSpec.pool> giveBack(handOver.toMain, returnFailures);
     uint32_t lcg = 12345;
     const auto deadline = kSpec.deadline();
 
     AllocationScope scope;
-    auto giveBack = [&](const IrSpectra* ir) {
-      if (!toMain.tryPush(ir)) {
-        returnFailures.fetch_add(1, std::memory_order_relaxed);
-        unreturned[numUnreturned++] = ir;  // retried next block
-      }
-    };
     while (kSpec.running(progress.b, progress.s, deadline)) {
-      for (int i = 0; i < numUnreturned;) {
-        if (toMain.tryPush(unreturned[i])) {
-          unreturned[i] = unreturned[--numUnreturned];
-        } else {
-          ++i;
-        }
-      }
+      giveBack.retry();
       progress.offered(handOver.offerLatest(convolver, giveBack));
       for (int i = 0; i < kBlock; ++i) input[i] = dpc::test::lcgNoise(lcg, 0.5f);
       for (auto& channel : outputs) std::fill(channel, channel + kBlock, 0.0f);
@@ -223,7 +278,7 @@ TEST_CASE("Convolver IR swaps through SPSC queues: zero heap calls on the audio 
       progress.blockDone();
     }
     audioCounts = scope.counts();
-    for (int i = 0; i < numUnreturned; ++i) toMain.tryPush(unreturned[i]);  // outside scope
+    giveBack.flush();
     audioDone.store(true, std::memory_order_release);
   });
 
@@ -243,13 +298,7 @@ TEST_CASE("Convolver IR swaps through SPSC queues: zero heap calls on the audio 
   audio.join();
 
   // Account for every spectrum: free, queued either way, or held by the convolver.
-  handOver.reclaim();
-  size_t held = handOver.freeList.size();
-  const IrSpectra* p = nullptr;
-  while (handOver.toAudio.tryPop(p)) ++held;
-  if (convolver.currentIr()) ++held;
-  if (convolver.hasPending() && convolver.pendingIr()) ++held;
-  while (convolver.takeRetired()) ++held;
+  const size_t held = countHeld(handOver, convolver);
 
   std::printf(
       "audio thread: %llu blocks of %d frames x %d channels, %llu IR swaps (%llu prepared, "
@@ -274,9 +323,6 @@ TEST_CASE(
     "Non-uniform convolver, several sources, IR set swaps through SPSC queues: zero heap "
     "calls on the audio thread",
     "[rt][convolver]") {
-  using dpc::audio::NonUniformConvolver;
-  using dpc::audio::NonUniformIrSet;
-  using dpc::audio::NonUniformLayout;
   constexpr int kSources = 3;
   constexpr dpc::test::HandOverSpec kSpec{
       .block = 64,
@@ -340,17 +386,7 @@ TEST_CASE(
   const NonUniformIrSet* p = nullptr;
   while (handOver.toAudio.tryPop(p)) freeList.push_back(const_cast<NonUniformIrSet*>(p));
   // Fade every level out to silence: then no set is in use and all must come back.
-  REQUIRE(convolver.setNextIr(nullptr));
-  {
-    float zeros[kBlock] = {}, sink[kChannels][kBlock];
-    const float* in[kSources] = {zeros, zeros, zeros};
-    float* out[kChannels] = {sink[0], sink[1]};
-    for (int k = 0; k < 4 * 4096 / kBlock && convolver.swapping(); ++k) {
-      convolver.process(in, out);
-      while ((p = convolver.takeRetired())) freeList.push_back(const_cast<NonUniformIrSet*>(p));
-    }
-  }
-  while ((p = convolver.takeRetired())) freeList.push_back(const_cast<NonUniformIrSet*>(p));
+  fadeOutAll<kBlock, kSources, kChannels>(convolver, freeList);
   std::printf(
       "non-uniform audio thread: %llu blocks, %d sources x %d channels, %llu swaps "
       "(%llu refused), peak %.3f\n",

@@ -7,13 +7,11 @@
 
 namespace dpc {
 
-namespace {
-int64_t nowNs() noexcept {
+int64_t steadyNowNs() noexcept {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(
              std::chrono::steady_clock::now().time_since_epoch())
       .count();
 }
-}  // namespace
 
 HostPoses::HostPoses(std::shared_ptr<const SceneDesc> scene, size_t played)
     : scene_(std::move(scene)), played_(played) {
@@ -23,7 +21,7 @@ HostPoses::HostPoses(std::shared_ptr<const SceneDesc> scene, size_t played)
   for (size_t l = 0; l < s.listeners.size(); ++l) {
     const Orientation o = listenerOrientationAt(s.listeners[l], 0.0);
     listeners_[l].publish(ListenerPose{listenerPositionAt(s.listeners[l], 0.0), o.yawRadians,
-                                       o.pitchRadians, nowNs(), 0.0});
+                                       o.pitchRadians, steadyNowNs(), 0.0});
   }
   sources_ = std::make_unique<SeqlockChannel<HostSourcePosition>[]>(s.sources.size());
   objects_ = std::make_unique<SeqlockChannel<HostObjectPose>[]>(s.objects.size());
@@ -33,7 +31,7 @@ bool HostPoses::setListenerPose(size_t index, const glm::vec3& position, float y
                                 double sceneSeconds, float pitchRadians) {
   if (index >= scene_->listeners.size()) return false;
   listeners_[index].publish(
-      ListenerPose{position, yawRadians, pitchRadians, nowNs(), sceneSeconds});
+      ListenerPose{position, yawRadians, pitchRadians, steadyNowNs(), sceneSeconds});
   return true;
 }
 

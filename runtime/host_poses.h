@@ -8,12 +8,17 @@
 
 #include <atomic>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 
 #include "runtime/pose_channel.h"
 #include "scene/scene.h"
 
 namespace dpc {
+
+/// steady_clock now in ns: the time base of ListenerPose::publishedNs and of the session's
+/// latency and timing measurements. Any thread; no allocation.
+int64_t steadyNowNs() noexcept;
 
 class HostPoses {
  public:

@@ -11,12 +11,6 @@ namespace dpc {
 
 namespace {
 
-int64_t nowNs() noexcept {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-
 size_t checkedListener(const SceneDesc& scene, size_t listener) {
   if (listener >= scene.listeners.size())
     throw std::out_of_range("LiveSession: listener " + std::to_string(listener) +
@@ -121,7 +115,7 @@ void LiveSession::runFrame(int raysPerSource) {
 
 void LiveSession::handOver(IrSet* set, const ListenerPose& pose) {
   set->poseNs = pose.publishedNs;
-  set->readyNs = nowNs();
+  set->readyNs = steadyNowNs();
   lastPoseNs_ = set->poseNs;
   lastReadyNs_ = set->readyNs;
   if (!toAudio_->tryPush(set)) {
@@ -177,11 +171,11 @@ void LiveSession::render(const float* const* inputs, float* const* outputs, int 
     counters_.rejectedCallback();
     return;
   }
-  const int64_t t0 = nowNs();
+  const int64_t t0 = steadyNowNs();
   const bool swapped = adapter_.run(
       inputs, outputs, frames,
       [this](const float* const* in, float* const* out) { return renderBlock(in, out); });
-  const int64_t ns = nowNs() - t0;
+  const int64_t ns = steadyNowNs() - t0;
   if (double(ns) * 1e-9 * sampleRate_ > double(frames)) counters_.lateCallback();
   (swapped ? swapStats_ : noSwapStats_).record(uint64_t(ns), false);
 }
@@ -225,7 +219,7 @@ bool LiveSession::renderBlock(const float* const* inputs, float* const* outputs)
   // The recording holds the engine's blocks (what the device plays, without the adapter's
   // leading block of silence).
   if (recorder_) recorder_->push(outputs, blockSize_);
-  const int64_t t1 = nowNs();
+  const int64_t t1 = steadyNowNs();
   double irAgeMs = -1.0;
   if (const IrSet* cur = audioStage_->current()) {
     irAgeMs = double(t1 - cur->readyNs) * 1e-6;

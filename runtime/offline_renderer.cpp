@@ -153,13 +153,7 @@ void OfflineRender::finish() {
       lr.lastDirect.push_back(sr.direct);
     }
   }
-  result_.cacheEntries = totals.cacheEntries;
-  result_.cacheBytes = totals.cacheBytes;
-  result_.cacheCoarseEntries = totals.cacheCoarseEntries;
-  result_.cacheBudgetBytes = totals.cacheBudgetBytes;
-  result_.cacheMergedEntries = totals.cacheMergedEntries;
-  result_.cacheCoarseEnergyFraction = totals.cacheCoarseEnergyFraction;
-  result_.droppedEnergyFraction = totals.droppedEnergyFraction;
+  result_.last = totals;
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 
 #include "audio/wav_io.h"
 #include "runtime/render_pipeline.h"
+#include "runtime/session_stats.h"
 
 namespace dpc {
 
@@ -54,15 +55,9 @@ struct OfflineListenerResult {
 struct OfflineResult {
   std::vector<OfflineListenerResult> listeners;  ///< one per listener rendered
   PropagationStage::Totals totals;               ///< one propagation run (shared by all listeners)
-  size_t cacheEntries = 0;  ///< summed over source-listener pairs, after the last frame
-  size_t cacheBytes = 0;
-  size_t cacheCoarseEntries = 0;         ///< DPC coarse-store entries, summed over pairs
-  size_t cacheBudgetBytes = 0;           ///< DPC memory budget, summed over pairs
-  uint64_t cacheMergedEntries = 0;       ///< path entries merged by the budget, summed
-  double cacheCoarseEnergyFraction = 0;  ///< largest per-pair share of the last response
-  /// Largest per-pair share of the last frame's estimated energy that arrived beyond the IR
-  /// length and is not in the IR (FrameTotals::droppedEnergyFraction).
-  double droppedEnergyFraction = 0;
+  /// The last frame's totals over every source-listener pair rendered: rays, cache sizes and
+  /// merges, the coarse store's share of the response and the energy beyond the IR length.
+  FrameTotals last;
   /// IR sets an audio stage could not hand back (its spent ring was full); 0 unless a ring
   /// is too small.
   uint64_t irsLost = 0;

@@ -66,4 +66,12 @@ std::shared_ptr<const DrySignals> loadDrySignalsWithNotes(const SceneDesc& scene
   return dry;
 }
 
+LoadedRun loadRun(const Flags& fl, PropagationSettings (*prepare)(SceneDesc&, const Flags&)) {
+  LoadedRun run;
+  run.scene = std::make_shared<SceneDesc>(loadScene(fl.scene));
+  run.settings = prepare(*run.scene, fl);
+  run.dry = loadDrySignalsWithNotes(*run.scene);
+  return run;
+}
+
 }  // namespace dpc::demo

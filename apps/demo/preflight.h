@@ -34,4 +34,17 @@ void checkSetup(const SceneDesc& scene, const PropagationSettings& settings, dou
 /// signal that cannot be read.
 std::shared_ptr<const DrySignals> loadDrySignalsWithNotes(const SceneDesc& scene);
 
+/// What a live or offline run starts from: the scene (after --flag overrides), its settings
+/// and its dry signals.
+struct LoadedRun {
+  std::shared_ptr<SceneDesc> scene;
+  PropagationSettings settings;
+  std::shared_ptr<const DrySignals> dry;
+};
+
+/// Loads fl.scene, applies `prepare` (the mode's overrides and checks, which may change the
+/// scene and return its settings), then loads the dry signals with their notes. Main thread.
+/// Allocates; throws InputError.
+LoadedRun loadRun(const Flags& fl, PropagationSettings (*prepare)(SceneDesc&, const Flags&));
+
 }  // namespace dpc::demo

@@ -179,12 +179,10 @@ void finishLive(const SceneDesc& scene, const Flags& fl, LiveSession& session,
 }  // namespace
 
 int runLive(const Flags& fl) {
-  const auto shared = std::make_shared<SceneDesc>(loadScene(fl.scene));
-  SceneDesc& scene = *shared;
-  const PropagationSettings settings = prepareLive(scene, fl);
-  const std::shared_ptr<const DrySignals> dry = loadDrySignalsWithNotes(scene);
+  const LoadedRun run = loadRun(fl, prepareLive);
+  SceneDesc& scene = *run.scene;
   const double duration = fl.duration.value_or(kUnboundedSeconds);
-  LiveSession session(shared, settings, dry, sessionOptions(scene, fl, duration));
+  LiveSession session(run.scene, run.settings, run.dry, sessionOptions(scene, fl, duration));
   const std::unique_ptr<audio::AudioOutput> output = openOutput(scene, fl, session);
   if (!output) return kNoAudioDeviceStatus;
   std::fprintf(stderr, "playing on %s (%s), %.0f Hz, block %d, output latency %.1f ms\n",

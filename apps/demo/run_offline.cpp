@@ -134,28 +134,26 @@ void printTotals(const OfflineResult& r, double audioSeconds) {
       "real-time factor %.1fx\n",
       (unsigned long long)t.frames, (unsigned long long)r.listeners.front().irsApplied,
       t.traceSeconds > 0 ? t.rays / t.traceSeconds : 0.0,
-      t.traceSeconds > 0 ? t.segments / t.traceSeconds : 0.0, r.cacheEntries, r.cacheBytes / 1e6,
-      r.cacheBudgetBytes / 1e6, r.cacheCoarseEntries, (unsigned long long)r.cacheMergedEntries,
-      100.0 * r.cacheCoarseEnergyFraction, t.traceSeconds + t.synthesisSeconds + t.prepareSeconds,
-      t.traceSeconds, t.synthesisSeconds, t.prepareSeconds, r.wallSeconds,
-      audioSeconds / r.wallSeconds);
+      t.traceSeconds > 0 ? t.segments / t.traceSeconds : 0.0, r.last.cacheEntries,
+      r.last.cacheBytes / 1e6, r.last.cacheBudgetBytes / 1e6, r.last.cacheCoarseEntries,
+      (unsigned long long)r.last.cacheMergedEntries, 100.0 * r.last.cacheCoarseEnergyFraction,
+      t.traceSeconds + t.synthesisSeconds + t.prepareSeconds, t.traceSeconds, t.synthesisSeconds,
+      t.prepareSeconds, r.wallSeconds, audioSeconds / r.wallSeconds);
   std::printf(
       "energy beyond the IR length %.3g %% of the last response (largest per pair)  "
       "IR sets lost %llu\n",
-      100.0 * r.droppedEnergyFraction, (unsigned long long)r.irsLost);
+      100.0 * r.last.droppedEnergyFraction, (unsigned long long)r.irsLost);
 }
 
 }  // namespace
 
 int runOffline(const Flags& fl) {
-  const auto shared = std::make_shared<SceneDesc>(loadScene(fl.scene));
-  SceneDesc& scene = *shared;
-  const PropagationSettings settings = prepareOffline(scene, fl);
-  const std::shared_ptr<const DrySignals> dry = loadDrySignalsWithNotes(scene);
+  const LoadedRun run = loadRun(fl, prepareOffline);
+  SceneDesc& scene = *run.scene;
   OfflineOptions opt;
   opt.durationSeconds = fl.duration.value_or(-1.0);
   opt.listener = selectedListener(scene, fl);
-  checkSetup(scene, settings, offlineDurationSeconds(scene, settings, *dry, opt), true);
+  checkSetup(scene, run.settings, offlineDurationSeconds(scene, run.settings, *run.dry, opt), true);
   const std::vector<OutputPaths> paths = offlineOutputs(scene, fl);
   // Several listeners: one propagation run traces them all (one pass per source and frame).
   opt.allListeners = paths.size() > 1;
@@ -166,7 +164,7 @@ int runOffline(const Flags& fl) {
   opt.sink = [&](size_t l, const float* const* planar, size_t frames) {
     writers.at(l)->write(planar, frames, fixedGain);
   };
-  const OfflineResult r = renderOffline(shared, settings, dry, opt);
+  const OfflineResult r = renderOffline(run.scene, run.settings, run.dry, opt);
   const double audioSeconds = double(writers.front()->frames()) / scene.audio.sampleRate;
   for (size_t l = 0; l < r.listeners.size() && l < paths.size(); ++l)
     writeListener(fl, scene, r.listeners[l], *writers[l], paths[l]);

@@ -13,9 +13,9 @@
 #include <sstream>
 #include <string>
 
+#include "runtime/offline_renderer.h"
 #include "scene/scene.h"
 #include "testing/test_scenes.h"
-#include "runtime/offline_renderer.h"
 
 using namespace dpc;
 namespace fs = std::filesystem;
@@ -89,22 +89,35 @@ std::string materialsFor(const fs::path& obj, const std::string& absorption) {
   return json + "}";
 }
 
+/// An offline render of the shoebox scene with its dry signals and the given propagation
+/// (rays per frame, maximum order, IR length s) and duration (s); the members may be changed
+/// between renders.
+struct ShoeboxRender {
+  SceneDesc scene = loadScene(kScenes + "/shoebox.json");
+  PropagationSettings ps = scene.propagation;
+  DrySignals dry = loadDrySignals(scene);
+  OfflineOptions opt;
+
+  ShoeboxRender(int rays, int maxOrder, float irLength, double durationSeconds) {
+    ps.raysPerFrame = rays;
+    ps.maxOrder = maxOrder;
+    ps.irLength = irLength;
+    opt.durationSeconds = durationSeconds;
+  }
+  OfflineResult render() const {
+    return renderOffline(test::shared(scene), ps, test::shared(dry), opt);
+  }
+};
+
 }  // namespace
 
 TEST_CASE("Offline render is bit-identical for a seed and differs for another", "[offline]") {
-  SceneDesc scene = loadScene(kScenes + "/shoebox.json");
-  PropagationSettings ps = scene.propagation;
-  ps.raysPerFrame = 300;
-  ps.maxOrder = 20;
-  ps.irLength = 0.5f;
-  const DrySignals dry = loadDrySignals(scene);
-  OfflineOptions opt;
-  opt.durationSeconds = 1.0;
-  const OfflineResult a = renderOffline(test::shared(scene), ps, test::shared(dry), opt);
-  const OfflineResult b = renderOffline(test::shared(scene), ps, test::shared(dry), opt);
-  ps.seed += 1;
-  const OfflineResult c = renderOffline(test::shared(scene), ps, test::shared(dry), opt);
-  REQUIRE(a.listeners[0].output.frames() == size_t(scene.audio.sampleRate));
+  ShoeboxRender shoebox(300, 20, 0.5f, 1.0);
+  const OfflineResult a = shoebox.render();
+  const OfflineResult b = shoebox.render();
+  shoebox.ps.seed += 1;
+  const OfflineResult c = shoebox.render();
+  REQUIRE(a.listeners[0].output.frames() == size_t(shoebox.scene.audio.sampleRate));
   CHECK(a.listeners[0].output.channels == b.listeners[0].output.channels);
   CHECK(a.listeners[0].output.channels != c.listeners[0].output.channels);
   // 15 frames per second for 1 s: every frame's IR reached the convolver.
@@ -145,24 +158,18 @@ TEST_CASE("Same-seed dpc-demo renders write byte-identical files", "[offline]") 
 }
 
 TEST_CASE("Offline render streamed block by block equals the held render", "[offline]") {
-  SceneDesc scene = loadScene(kScenes + "/shoebox.json");
-  PropagationSettings ps = scene.propagation;
-  ps.raysPerFrame = 200;
-  ps.maxOrder = 10;
-  ps.irLength = 0.3f;
-  const DrySignals dry = loadDrySignals(scene);
-  OfflineOptions opt;
-  opt.durationSeconds = 0.51;  // not a whole number of blocks: the last block is cut
-  const OfflineResult held = renderOffline(test::shared(scene), ps, test::shared(dry), opt);
+  ShoeboxRender shoebox(200, 10, 0.3f, 0.51);  // not a whole number of blocks: the last is cut
+  const SceneDesc& scene = shoebox.scene;
+  const OfflineResult held = shoebox.render();
   std::vector<float> streamed;
   size_t calls = 0;
-  opt.sink = [&](size_t listener, const float* const* planar, size_t frames) {
+  shoebox.opt.sink = [&](size_t listener, const float* const* planar, size_t frames) {
     CHECK(listener == 0);
     CHECK(frames <= size_t(scene.audio.blockSize));
     streamed.insert(streamed.end(), planar[0], planar[0] + frames);
     ++calls;
   };
-  const OfflineResult r = renderOffline(test::shared(scene), ps, test::shared(dry), opt);
+  const OfflineResult r = shoebox.render();
   const audio::AudioData& heldOut = held.listeners.at(0).output;
   CHECK(r.listeners.at(0).output.channels.empty());
   CHECK(calls == (heldOut.frames() + scene.audio.blockSize - 1) / scene.audio.blockSize);

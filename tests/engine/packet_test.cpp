@@ -76,21 +76,38 @@ MeanAndError runFrames(Propagator& prop, int frames, uint64_t firstFrame, const 
   return r;
 }
 
+/// The 10 x 3 x 7 m shoebox of these tests (source at (2, 1.5, 2), listener at (7, 1.6, 5))
+/// with its geometry (0.5 m patches) and Embree tracer.
+struct TracedShoebox {
+  SceneDesc scene;
+  Geometry g;
+  EmbreeTracer tracer;
+  TracedShoebox(float absorption, float scattering)
+      : scene(test::makeShoebox({10, 3, 7}, Bands(absorption), scattering, {2, 1.5f, 2},
+                                {7, 1.6f, 5})),
+        g(scene.mesh, scene.materials, 0.5f),
+        tracer(scene.mesh) {}
+};
+
+/// Default settings but `rays` rays per source and frame and reflection order `maxOrder`.
+PropagationSettings raySettings(int rays, int maxOrder) {
+  PropagationSettings ps;
+  ps.raysPerFrame = rays;
+  ps.maxOrder = maxOrder;
+  return ps;
+}
+
 }  // namespace
 
 TEST_CASE("One ray: the packet path equals the scalar path bit for bit", "[packet]") {
   // With one live lane the only difference is rtcIntersect16 vs rtcIntersect1. Embree's
   // hybrid packet traversal hands packets with very few active rays to its single-ray
   // kernel, so the hits are the same bits; every other step of a ray is shared code.
-  SceneDesc scene = test::makeShoebox({10, 3, 7}, Bands(0.1f), 0.5f, {2, 1.5f, 2}, {7, 1.6f, 5});
-  Geometry g(scene.mesh, scene.materials, 0.5f);
-  EmbreeTracer tracer(scene.mesh);
-  PropagationSettings ps;
-  ps.raysPerFrame = 1;
-  ps.maxOrder = 200;
+  TracedShoebox box(0.1f, 0.5f);
+  PropagationSettings ps = raySettings(1, 200);
   ps.seed = 3;
   ps.threads = 1;
-  Propagator scalar(g, tracer, ps), packet(g, tracer, ps);
+  Propagator scalar(box.g, box.tracer, ps), packet(box.g, box.tracer, ps);
   scalar.setTraceMode(TraceMode::kScalar);
   packet.setTraceMode(TraceMode::kPacket16);
   const ListenerSphere listener{{7, 1.6f, 5}, 1.0f};
@@ -111,12 +128,8 @@ TEST_CASE("One ray: the packet path equals the scalar path bit for bit", "[packe
 TEST_CASE("Packet and scalar tracing agree within Monte Carlo error", "[packet]") {
   // Absorption 0.3 and max order 80: Russian roulette ends rays at different orders, so
   // lanes retire and are refilled at different times.
-  SceneDesc scene = test::makeShoebox({10, 3, 7}, Bands(0.3f), 0.6f, {2, 1.5f, 2}, {7, 1.6f, 5});
-  Geometry g(scene.mesh, scene.materials, 0.5f);
-  EmbreeTracer tracer(scene.mesh);
-  PropagationSettings ps;
-  ps.raysPerFrame = 3000;
-  ps.maxOrder = 80;
+  TracedShoebox box(0.3f, 0.6f);
+  PropagationSettings ps = raySettings(3000, 80);
   ps.threads = 2;
   const glm::vec3 source(2, 1.5f, 2);
   const ListenerSphere listener{{7, 1.6f, 5}, 0.5f};
@@ -124,7 +137,7 @@ TEST_CASE("Packet and scalar tracing agree within Monte Carlo error", "[packet]"
 
   SECTION("same seed: the same rays, up to kernel rounding") {
     ps.seed = 11;
-    Propagator scalar(g, tracer, ps), packet(g, tracer, ps);
+    Propagator scalar(box.g, box.tracer, ps), packet(box.g, box.tracer, ps);
     scalar.setTraceMode(TraceMode::kScalar);
     packet.setTraceMode(TraceMode::kPacket16);
     const MeanAndError a = runFrames(scalar, kFrames, 0, source, listener);
@@ -146,10 +159,10 @@ TEST_CASE("Packet and scalar tracing agree within Monte Carlo error", "[packet]"
 
   SECTION("independent seeds: statistically equal") {
     ps.seed = 21;
-    Propagator scalar(g, tracer, ps);
+    Propagator scalar(box.g, box.tracer, ps);
     scalar.setTraceMode(TraceMode::kScalar);
     ps.seed = 22;
-    Propagator packet(g, tracer, ps);
+    Propagator packet(box.g, box.tracer, ps);
     packet.setTraceMode(TraceMode::kPacket16);
     const MeanAndError a = runFrames(scalar, kFrames, 0, source, listener);
     const MeanAndError b = runFrames(packet, kFrames, 0, source, listener);
@@ -177,18 +190,15 @@ TEST_CASE("Packet and scalar tracing agree within Monte Carlo error", "[packet]"
 }
 
 TEST_CASE("Packet tracing is bit-identical for a seed whatever the thread count", "[packet]") {
-  SceneDesc scene = test::makeShoebox({10, 3, 7}, Bands(0.1f), 0.5f, {2, 1.5f, 2}, {7, 1.6f, 5});
-  Geometry g(scene.mesh, scene.materials, 0.5f);
-  EmbreeTracer tracer(scene.mesh);
-  PropagationSettings ps;
-  ps.raysPerFrame = 3001;  // a partial last chunk and a partial last packet
-  ps.maxOrder = 40;
+  TracedShoebox box(0.1f, 0.5f);
+  // 3001 rays: a partial last chunk and a partial last packet.
+  PropagationSettings ps = raySettings(3001, 40);
   ps.seed = 5;
   for (TraceMode mode : {TraceMode::kPacket16, TraceMode::kScalar}) {
     ps.threads = 1;
-    Propagator one(g, tracer, ps);
+    Propagator one(box.g, box.tracer, ps);
     ps.threads = 2;
-    Propagator two(g, tracer, ps);
+    Propagator two(box.g, box.tracer, ps);
     one.setTraceMode(mode);
     two.setTraceMode(mode);
     const ListenerSphere listener{{7, 1.6f, 5}, 0.5f};

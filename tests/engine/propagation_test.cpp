@@ -14,6 +14,24 @@ using namespace dpc;
 
 using test::identical;
 
+namespace {
+
+/// The 10 x 3 x 7 m shoebox of these tests: source at (2, 1.5, 2), listener at (7, 1.6, 5).
+SceneDesc shoebox(float absorption, float scattering) {
+  return test::makeShoebox({10, 3, 7}, Bands(absorption), scattering, {2, 1.5f, 2}, {7, 1.6f, 5});
+}
+
+/// Default settings but `rays` rays per source and frame, reflection order `maxOrder`, `seed`.
+PropagationSettings seededSettings(int rays, int maxOrder, uint64_t seed) {
+  PropagationSettings ps;
+  ps.raysPerFrame = rays;
+  ps.maxOrder = maxOrder;
+  ps.seed = seed;
+  return ps;
+}
+
+}  // namespace
+
 // docs/design.md oracle: the energy of order-0 rays through the listener sphere estimates the
 // direct intensity 1/(4 pi r^2) (times air attenuation).
 TEST_CASE("Order-0 energy through the listener sphere is 1/(4 pi r^2)", "[calibration]") {
@@ -48,12 +66,9 @@ TEST_CASE("Order-0 energy through the listener sphere is 1/(4 pi r^2)", "[calibr
 }
 
 TEST_CASE("tau = 0 DPC reproduces plain path tracing exactly, frame after frame", "[dpc][packet]") {
-  SceneDesc scene = test::makeShoebox({10, 3, 7}, Bands(0.2f), 0.7f, {2, 1.5f, 2}, {7, 1.6f, 5});
-  PropagationSettings ps;
-  ps.raysPerFrame = 2000;
-  ps.maxOrder = 30;
+  SceneDesc scene = shoebox(0.2f, 0.7f);
+  PropagationSettings ps = seededSettings(2000, 30, 42);
   ps.cacheTau = 0.f;
-  ps.seed = 42;
   for (TraceMode mode : {TraceMode::kPacket16, TraceMode::kScalar})
     for (DpcWeighting w : {DpcWeighting::kSeed, DpcWeighting::kEma, DpcWeighting::kWindow}) {
       PropagationSettings dpcSettings = ps, ptSettings = ps;
@@ -74,11 +89,8 @@ TEST_CASE("tau = 0 DPC reproduces plain path tracing exactly, frame after frame"
 }
 
 TEST_CASE("A frame is bit-identical for a seed whatever the thread count", "[determinism]") {
-  SceneDesc scene = test::makeShoebox({10, 3, 7}, Bands(0.1f), 0.5f, {2, 1.5f, 2}, {7, 1.6f, 5});
-  PropagationSettings ps;
-  ps.raysPerFrame = 3000;
-  ps.maxOrder = 40;
-  ps.seed = 7;
+  SceneDesc scene = shoebox(0.1f, 0.5f);
+  PropagationSettings ps = seededSettings(3000, 40, 7);
   ps.threads = 1;
   Simulation one(scene, ps);
   ps.threads = 2;
@@ -95,7 +107,7 @@ TEST_CASE("A frame is bit-identical for a seed whatever the thread count", "[det
 }
 
 TEST_CASE("Direct sound is blocked by a wall and respects the speed of sound", "[direct]") {
-  SceneDesc scene = test::makeShoebox({10, 3, 7}, Bands(0.1f), 0.5f, {2, 1.5f, 2}, {7, 1.6f, 5});
+  SceneDesc scene = shoebox(0.1f, 0.5f);
   Geometry g(scene.mesh, scene.materials, 0.5f);
   EmbreeTracer tracer(scene.mesh);
   PropagationSettings ps;

@@ -15,16 +15,21 @@
 #include <thread>
 #include <vector>
 
-#include "common/fixed_ring.h"
 #include "audio/convolver.h"
 #include "audio/nonuniform_convolver.h"
+#include "common/fixed_ring.h"
 #include "tests/rt/alloc_counter.h"
+#include "tests/rt/rt_helpers.h"
 
 using dpc::audio::ConvolverLayout;
 using dpc::audio::IrSpectra;
+using dpc::audio::NonUniformConvolver;
+using dpc::audio::NonUniformIrSet;
+using dpc::audio::NonUniformLayout;
 using dpc::audio::PartitionedConvolver;
 using dpc::rt::AllocationCounts;
 using dpc::rt::AllocationScope;
+using dpc::test::Offer;
 
 namespace {
 
@@ -48,15 +53,132 @@ void printCounts(const char* what, const AllocationCounts& c) {
   }
 }
 
-/// A decaying noise IR with a per-version seed, so successive IRs differ.
-void makeIr(std::vector<std::vector<float>>& ir, uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<float> noise(0.0f, 1.0f);
-  for (auto& channel : ir) {
-    for (size_t n = 0; n < channel.size(); ++n) {
-      channel[n] = 0.1f * noise(rng) * std::exp(-6.9f * float(n) / float(channel.size()));
+/// Decaying noise IRs per channel, a new one per version (the seed), so successive IRs differ,
+/// and the per-channel pointers prepare() takes.
+class NoiseIr {
+ public:
+  NoiseIr(int channels, size_t samples)
+      : ir_(size_t(channels), std::vector<float>(samples)), pointers_(size_t(channels)) {
+    for (size_t c = 0; c < ir_.size(); ++c) pointers_[c] = ir_[c].data();
+  }
+  /// The length to prepare the next version with, varied so activePartitions() changes: over
+  /// `period` versions the full length minus 0, step, 2 step, ..., and last a short one,
+  /// the full length / shortDivisor.
+  size_t nextLength(uint32_t period, size_t step, size_t shortDivisor) const {
+    const size_t samples = ir_.front().size();
+    return (version_ % period == period - 1) ? samples / shortDivisor
+                                             : samples - step * (version_ % period);
+  }
+  /// The next version, all channels.
+  const float* const* make() {
+    std::mt19937 rng(++version_);
+    std::normal_distribution<float> noise(0.0f, 1.0f);
+    for (auto& channel : ir_) {
+      for (size_t n = 0; n < channel.size(); ++n) {
+        channel[n] = 0.1f * noise(rng) * std::exp(-6.9f * float(n) / float(channel.size()));
+      }
+    }
+    return pointers_.data();
+  }
+
+ private:
+  std::vector<std::vector<float>> ir_;
+  std::vector<const float*> pointers_;
+  uint32_t version_ = 0;
+};
+
+/// The audio thread's blocks and IR swaps: counted there in b and s, published in the atomics
+/// for the main thread after every block.
+struct AudioProgress {
+  std::atomic<uint64_t> blocks{0}, swaps{0}, refused{0};
+  uint64_t b = 0, s = 0;
+
+  void offered(Offer offer) {
+    if (offer == Offer::taken) ++s;
+    if (offer == Offer::refused) refused.fetch_add(1, std::memory_order_relaxed);
+  }
+  void blockDone() {
+    ++b;
+    blocks.store(b, std::memory_order_relaxed);
+    swaps.store(s, std::memory_order_relaxed);
+  }
+};
+
+/// Adds one block of `outputs` to the test's running peak and finiteness.
+template <size_t Channels, size_t Frames>
+void track(const float (&outputs)[Channels][Frames], float& peak, bool& finite) {
+  for (const auto& channel : outputs) {
+    for (float v : channel) {
+      finite = finite && std::isfinite(v);
+      peak = std::max(peak, std::fabs(v));
     }
   }
+}
+
+/// The audio thread's way back to the main thread: a spectrum that finds the ring full is
+/// counted in `failures` and retried before the next block (retry()), and pushed once more,
+/// outside the allocation scope, at the end (flush()). No allocation.
+template <int Capacity>
+class RetryingReturn {
+ public:
+  RetryingReturn(dpc::FixedRing<const IrSpectra*>& ring, std::atomic<uint64_t>& failures)
+      : ring_(ring), failures_(failures) {}
+  void operator()(const IrSpectra* ir) {
+    if (!ring_.tryPush(ir)) {
+      failures_.fetch_add(1, std::memory_order_relaxed);
+      unreturned_[numUnreturned_++] = ir;
+    }
+  }
+  void retry() {
+    for (int i = 0; i < numUnreturned_;) {
+      if (ring_.tryPush(unreturned_[i])) {
+        unreturned_[i] = unreturned_[--numUnreturned_];
+      } else {
+        ++i;
+      }
+    }
+  }
+  void flush() {
+    for (int i = 0; i < numUnreturned_; ++i) ring_.tryPush(unreturned_[i]);
+  }
+
+ private:
+  dpc::FixedRing<const IrSpectra*>& ring_;
+  std::atomic<uint64_t>& failures_;
+  const IrSpectra* unreturned_[Capacity];
+  int numUnreturned_ = 0;
+};
+
+/// Main thread, after the audio thread ended: the spectra free, queued either way, or held by
+/// the convolver.
+size_t countHeld(dpc::test::IrHandOver<IrSpectra>& handOver, PartitionedConvolver& convolver) {
+  handOver.reclaim();
+  size_t held = handOver.freeList.size();
+  const IrSpectra* p = nullptr;
+  while (handOver.toAudio.tryPop(p)) ++held;
+  if (convolver.currentIr()) ++held;
+  if (convolver.hasPending() && convolver.pendingIr()) ++held;
+  while (convolver.takeRetired()) ++held;
+  return held;
+}
+
+/// Fades every level of `convolver` out to silence (for at most four blocks of the longest
+/// level of 4096 samples), returning each set it lets go to freeList.
+template <int Block, int Sources, int Channels>
+void fadeOutAll(NonUniformConvolver& convolver, std::vector<NonUniformIrSet*>& freeList) {
+  auto release = [&] {
+    while (const NonUniformIrSet* p = convolver.takeRetired())
+      freeList.push_back(const_cast<NonUniformIrSet*>(p));
+  };
+  REQUIRE(convolver.setNextIr(nullptr));
+  float zeros[Block] = {}, sink[Channels][Block];
+  const float* in[Sources] = {zeros, zeros, zeros};
+  float* out[Channels] = {sink[0], sink[1]};
+  for (int k = 0; k < 4 * 4096 / Block && convolver.swapping(); ++k) {
+    convolver.process(in, out);
+    release();
+  }
+  release();
 }
 
 }  // namespace
@@ -116,28 +238,21 @@ TEST_CASE("FixedRing: tryPush and tryPop never allocate, full or not", "[rt][all
 
 TEST_CASE("Convolver IR swaps through SPSC queues: zero heap calls on the audio thread",
           "[rt][convolver]") {
-  constexpr int kBlock = 128;
-  constexpr int kChannels = 2;
-  constexpr size_t kIrSamples = 12000;  // 0.25 s at 48 kHz: 94 partitions
-  constexpr int kPool = 6;
-  constexpr uint64_t kMinBlocks = 5000;
-  constexpr uint64_t kMinSwaps = 300;
-
-  ConvolverLayout layout(kBlock, kIrSamples);
+  constexpr dpc::test::HandOverSpec kSpec{.block = 128,
+                                          .channels = 2,
+                                          .irSamples = 12000,  // 0.25 s at 48 kHz: 94 partitions
+                                          .pool = 6,
+                                          .minBlocks = 5000,
+                                          .minSwaps = 300};
+  constexpr int kBlock = kSpec.block;
+  constexpr int kChannels = kSpec.channels;
+  ConvolverLayout layout(kBlock, kSpec.irSamples);
   PartitionedConvolver convolver(layout, kChannels);
-  std::vector<std::unique_ptr<IrSpectra>> pool;
-  std::vector<IrSpectra*> freeList;
-  for (int i = 0; i < kPool; ++i) {
-    pool.push_back(std::make_unique<IrSpectra>(layout, kChannels));
-    freeList.push_back(pool.back().get());
-  }
-  // Capacities fixed up front: every pointer fits in either queue, so tryPush can only
-  // fail if a pointer were duplicated.
-  dpc::FixedRing<const IrSpectra*> toAudio(kPool);
-  dpc::FixedRing<const IrSpectra*> toMain(kPool);
+  dpc::test::IrHandOver<IrSpectra> handOver(kSpec.pool, layout, kChannels);
 
   std::atomic<bool> audioDone{false};
-  std::atomic<uint64_t> blocks{0}, swaps{0}, refused{0}, returnFailures{0};
+  AudioProgress progress;
+  std::atomic<uint64_t> returnFailures{0};
   AllocationCounts audioCounts;
   float peak = 0.0f;
   bool finite = true;
@@ -147,112 +262,59 @@ TEST_CASE("Convolver IR swaps through SPSC queues: zero heap calls on the audio 
     float input[kBlock];
     float outputs[kChannels][kBlock];
     float* out[kChannels] = {outputs[0], outputs[1]};
-    const IrSpectra* unreturned[2 * kPool];
-    int numUnreturned = 0;
+    RetryingReturn<2 * kSpec.pool> giveBack(handOver.toMain, returnFailures);
     uint32_t lcg = 12345;
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    const auto deadline = kSpec.deadline();
 
     AllocationScope scope;
-    auto giveBack = [&](const IrSpectra* ir) {
-      if (!toMain.tryPush(ir)) {
-        returnFailures.fetch_add(1, std::memory_order_relaxed);
-        unreturned[numUnreturned++] = ir;  // retried next block
-      }
-    };
-    uint64_t b = 0, s = 0;
-    while ((b < kMinBlocks || s < kMinSwaps) && std::chrono::steady_clock::now() < deadline) {
-      for (int i = 0; i < numUnreturned;) {
-        if (toMain.tryPush(unreturned[i])) {
-          unreturned[i] = unreturned[--numUnreturned];
-        } else {
-          ++i;
-        }
-      }
-      // Newest IR wins; older ones not yet taken go straight back.
-      const IrSpectra* latest = nullptr;
-      const IrSpectra* ir = nullptr;
-      while (toAudio.tryPop(ir)) {
-        if (latest) giveBack(latest);
-        latest = ir;
-      }
-      if (latest) {
-        if (convolver.setNextIr(latest)) {
-          ++s;
-        } else {
-          refused.fetch_add(1, std::memory_order_relaxed);
-          giveBack(latest);
-        }
-      }
-      for (int i = 0; i < kBlock; ++i) {
-        lcg = lcg * 1664525u + 1013904223u;
-        input[i] = float(int32_t(lcg)) * (0.5f / 2147483648.0f);
-      }
+    while (kSpec.running(progress.b, progress.s, deadline)) {
+      giveBack.retry();
+      progress.offered(handOver.offerLatest(convolver, giveBack));
+      for (int i = 0; i < kBlock; ++i) input[i] = dpc::test::lcgNoise(lcg, 0.5f);
       for (auto& channel : outputs) std::fill(channel, channel + kBlock, 0.0f);
       convolver.processAdd(input, out);
-      for (const auto& channel : outputs) {
-        for (float v : channel) {
-          finite = finite && std::isfinite(v);
-          peak = std::max(peak, std::fabs(v));
-        }
-      }
-      while (const IrSpectra* spent = convolver.takeRetired()) giveBack(spent);
-      ++b;
-      blocks.store(b, std::memory_order_relaxed);
-      swaps.store(s, std::memory_order_relaxed);
+      track(outputs, peak, finite);
+      dpc::test::returnRetired(convolver, giveBack);
+      progress.blockDone();
     }
     audioCounts = scope.counts();
-    for (int i = 0; i < numUnreturned; ++i) toMain.tryPush(unreturned[i]);  // outside scope
+    giveBack.flush();
     audioDone.store(true, std::memory_order_release);
   });
 
   // Propagation role: allocate freely, prepare IRs, hand them over, recycle spent ones.
-  std::vector<std::vector<float>> ir(kChannels, std::vector<float>(kIrSamples));
-  std::vector<const float*> irPointers(kChannels);
-  uint32_t version = 0;
+  NoiseIr ir(kChannels, kSpec.irSamples);
   uint64_t prepared = 0;
   while (!audioDone.load(std::memory_order_acquire)) {
-    const IrSpectra* spent = nullptr;
-    while (toMain.tryPop(spent)) freeList.push_back(const_cast<IrSpectra*>(spent));
-    if (freeList.empty()) {
-      std::this_thread::yield();
-      continue;
-    }
-    IrSpectra* next = freeList.back();
-    // Vary the length too (including a short one), so activePartitions() changes.
-    const size_t n = (version % 5 == 4) ? kIrSamples / 7 : kIrSamples - 97 * (version % 5);
-    makeIr(ir, ++version);
-    for (int c = 0; c < kChannels; ++c) irPointers[size_t(c)] = ir[size_t(c)].data();
-    next->prepare(irPointers.data(), n);
-    if (toAudio.tryPush(next)) {
-      freeList.pop_back();
+    IrSpectra* next = handOver.nextFree();
+    if (!next) continue;
+    const size_t n = ir.nextLength(5, 97, 7);  // including a short one
+    next->prepare(ir.make(), n);
+    if (handOver.toAudio.tryPush(next)) {
+      handOver.freeList.pop_back();
       ++prepared;
     }
   }
   audio.join();
 
   // Account for every spectrum: free, queued either way, or held by the convolver.
-  const IrSpectra* p = nullptr;
-  while (toMain.tryPop(p)) freeList.push_back(const_cast<IrSpectra*>(p));
-  size_t held = freeList.size();
-  while (toAudio.tryPop(p)) ++held;
-  if (convolver.currentIr()) ++held;
-  if (convolver.hasPending() && convolver.pendingIr()) ++held;
-  while (convolver.takeRetired()) ++held;
+  const size_t held = countHeld(handOver, convolver);
 
   std::printf(
       "audio thread: %llu blocks of %d frames x %d channels, %llu IR swaps (%llu prepared, "
       "%llu refused, %llu return-queue retries), peak %.3f\n",
-      static_cast<unsigned long long>(blocks.load()), kBlock, kChannels,
-      static_cast<unsigned long long>(swaps.load()), static_cast<unsigned long long>(prepared),
-      static_cast<unsigned long long>(refused.load()),
+      static_cast<unsigned long long>(progress.blocks.load()), kBlock, kChannels,
+      static_cast<unsigned long long>(progress.swaps.load()),
+      static_cast<unsigned long long>(prepared),
+      static_cast<unsigned long long>(progress.refused.load()),
       static_cast<unsigned long long>(returnFailures.load()), double(peak));
   printCounts("audio thread", audioCounts);
 
-  CHECK(blocks.load() >= kMinBlocks);
-  CHECK(swaps.load() >= kMinSwaps);
+  CHECK(progress.blocks.load() >= kSpec.minBlocks);
+  CHECK(progress.swaps.load() >= kSpec.minSwaps);
   CHECK(finite);
   CHECK(peak > 0.0f);
-  CHECK(held == size_t(kPool));
+  CHECK(held == size_t(kSpec.pool));
   CHECK(returnFailures.load() == 0);
   CHECK(audioCounts.total() == 0);
 }
@@ -261,31 +323,25 @@ TEST_CASE(
     "Non-uniform convolver, several sources, IR set swaps through SPSC queues: zero heap "
     "calls on the audio thread",
     "[rt][convolver]") {
-  using dpc::audio::NonUniformConvolver;
-  using dpc::audio::NonUniformIrSet;
-  using dpc::audio::NonUniformLayout;
-  constexpr int kBlock = 64;
   constexpr int kSources = 3;
-  constexpr int kChannels = 2;
-  constexpr size_t kIrSamples = 30000;  // levels of 64, 256, 1024, 4096 samples
-  constexpr int kPool = 16;             // a set per level in use, one pending, spares
-  constexpr uint64_t kMinBlocks = 6000;
-  constexpr uint64_t kMinSwaps = 300;
+  constexpr dpc::test::HandOverSpec kSpec{
+      .block = 64,
+      .channels = 2,
+      .irSamples = 30000,  // levels of 64, 256, 1024, 4096 samples
+      .pool = 16,          // a set per level in use, one pending, spares
+      .minBlocks = 6000,
+      .minSwaps = 300};
+  constexpr int kBlock = kSpec.block;
+  constexpr int kChannels = kSpec.channels;
 
-  NonUniformLayout layout(kBlock, kIrSamples, 4096);
+  NonUniformLayout layout(kBlock, kSpec.irSamples, 4096);
   REQUIRE(layout.numLevels() == 4);
   NonUniformConvolver convolver(layout, kSources, kChannels);
-  std::vector<std::unique_ptr<NonUniformIrSet>> pool;
-  std::vector<NonUniformIrSet*> freeList;
-  for (int i = 0; i < kPool; ++i) {
-    pool.push_back(std::make_unique<NonUniformIrSet>(layout, kSources, kChannels));
-    freeList.push_back(pool.back().get());
-  }
-  dpc::FixedRing<const NonUniformIrSet*> toAudio(kPool);
-  dpc::FixedRing<const NonUniformIrSet*> toMain(kPool);
+  dpc::test::IrHandOver<NonUniformIrSet> handOver(kSpec.pool, layout, kSources, kChannels);
+  auto& freeList = handOver.freeList;
 
   std::atomic<bool> audioDone{false};
-  std::atomic<uint64_t> blocks{0}, swaps{0}, refused{0};
+  AudioProgress progress;
   AllocationCounts audioCounts;
   float peak = 0.0f;
   bool finite = true;
@@ -296,94 +352,53 @@ TEST_CASE(
     float outputs[kChannels][kBlock];
     float* out[kChannels] = {outputs[0], outputs[1]};
     uint32_t lcg = 777;
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    const auto deadline = kSpec.deadline();
     AllocationScope scope;
-    uint64_t b = 0, s = 0;
-    while ((b < kMinBlocks || s < kMinSwaps) && std::chrono::steady_clock::now() < deadline) {
-      // Newest set wins; older ones not yet taken go straight back (the queue has room for
-      // every set, so tryPush cannot fail).
-      const NonUniformIrSet* latest = nullptr;
-      const NonUniformIrSet* ir = nullptr;
-      while (toAudio.tryPop(ir)) {
-        if (latest) toMain.tryPush(latest);
-        latest = ir;
-      }
-      if (latest) {
-        if (convolver.setNextIr(latest)) {
-          ++s;
-        } else {
-          refused.fetch_add(1, std::memory_order_relaxed);
-          toMain.tryPush(latest);
-        }
-      }
+    // The return ring has room for every set, so tryPush cannot fail.
+    auto giveBack = [&](const NonUniformIrSet* spent) { handOver.toMain.tryPush(spent); };
+    while (kSpec.running(progress.b, progress.s, deadline)) {
+      progress.offered(handOver.offerLatest(convolver, giveBack));
       for (auto& channel : input)
-        for (float& v : channel) {
-          lcg = lcg * 1664525u + 1013904223u;
-          v = float(int32_t(lcg)) * (0.5f / 2147483648.0f);
-        }
+        for (float& v : channel) v = dpc::test::lcgNoise(lcg, 0.5f);
       convolver.process(in, out);
-      for (const auto& channel : outputs)
-        for (float v : channel) {
-          finite = finite && std::isfinite(v);
-          peak = std::max(peak, std::fabs(v));
-        }
-      while (const NonUniformIrSet* spent = convolver.takeRetired()) toMain.tryPush(spent);
-      ++b;
-      blocks.store(b, std::memory_order_relaxed);
-      swaps.store(s, std::memory_order_relaxed);
+      track(outputs, peak, finite);
+      dpc::test::returnRetired(convolver, giveBack);
+      progress.blockDone();
     }
     audioCounts = scope.counts();
     audioDone.store(true, std::memory_order_release);
   });
 
-  std::vector<std::vector<float>> ir(kChannels, std::vector<float>(kIrSamples));
-  std::vector<const float*> irPointers(kChannels);
-  uint32_t version = 0;
+  NoiseIr ir(kChannels, kSpec.irSamples);
   while (!audioDone.load(std::memory_order_acquire)) {
-    const NonUniformIrSet* spent = nullptr;
-    while (toMain.tryPop(spent)) freeList.push_back(const_cast<NonUniformIrSet*>(spent));
-    if (freeList.empty()) {
-      std::this_thread::yield();
-      continue;
-    }
-    NonUniformIrSet* next = freeList.back();
-    const size_t n = (version % 4 == 3) ? kIrSamples / 11 : kIrSamples - 313 * (version % 4);
-    makeIr(ir, ++version);
-    for (int c = 0; c < kChannels; ++c) irPointers[size_t(c)] = ir[size_t(c)].data();
-    for (int s = 0; s < kSources; ++s) next->prepare(s, irPointers.data(), n);
-    if (toAudio.tryPush(next)) freeList.pop_back();
+    NonUniformIrSet* next = handOver.nextFree();
+    if (!next) continue;
+    const size_t n = ir.nextLength(4, 313, 11);
+    const float* const* channels = ir.make();
+    for (int s = 0; s < kSources; ++s) next->prepare(s, channels, n);
+    if (handOver.toAudio.tryPush(next)) freeList.pop_back();
     std::this_thread::sleep_for(std::chrono::microseconds(200));
   }
   audio.join();
 
   // Every set is free, queued, or still used by the convolver.
+  handOver.reclaim();
   const NonUniformIrSet* p = nullptr;
-  while (toMain.tryPop(p)) freeList.push_back(const_cast<NonUniformIrSet*>(p));
-  while (toAudio.tryPop(p)) freeList.push_back(const_cast<NonUniformIrSet*>(p));
+  while (handOver.toAudio.tryPop(p)) freeList.push_back(const_cast<NonUniformIrSet*>(p));
   // Fade every level out to silence: then no set is in use and all must come back.
-  REQUIRE(convolver.setNextIr(nullptr));
-  {
-    float zeros[kBlock] = {}, sink[kChannels][kBlock];
-    const float* in[kSources] = {zeros, zeros, zeros};
-    float* out[kChannels] = {sink[0], sink[1]};
-    for (int k = 0; k < 4 * 4096 / kBlock && convolver.swapping(); ++k) {
-      convolver.process(in, out);
-      while ((p = convolver.takeRetired())) freeList.push_back(const_cast<NonUniformIrSet*>(p));
-    }
-  }
-  while ((p = convolver.takeRetired())) freeList.push_back(const_cast<NonUniformIrSet*>(p));
+  fadeOutAll<kBlock, kSources, kChannels>(convolver, freeList);
   std::printf(
       "non-uniform audio thread: %llu blocks, %d sources x %d channels, %llu swaps "
       "(%llu refused), peak %.3f\n",
-      static_cast<unsigned long long>(blocks.load()), kSources, kChannels,
-      static_cast<unsigned long long>(swaps.load()),
-      static_cast<unsigned long long>(refused.load()), double(peak));
+      static_cast<unsigned long long>(progress.blocks.load()), kSources, kChannels,
+      static_cast<unsigned long long>(progress.swaps.load()),
+      static_cast<unsigned long long>(progress.refused.load()), double(peak));
   printCounts("non-uniform audio thread", audioCounts);
-  CHECK(blocks.load() >= kMinBlocks);
-  CHECK(swaps.load() >= kMinSwaps);
+  CHECK(progress.blocks.load() >= kSpec.minBlocks);
+  CHECK(progress.swaps.load() >= kSpec.minSwaps);
   CHECK(finite);
   CHECK(peak > 0.0f);
   CHECK_FALSE(convolver.swapping());
-  CHECK(freeList.size() == size_t(kPool));
+  CHECK(freeList.size() == size_t(kSpec.pool));
   CHECK(audioCounts.total() == 0);
 }

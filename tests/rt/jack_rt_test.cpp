@@ -16,17 +16,14 @@
 #include "audio/audio_device.h"
 #include "audio/convolver.h"
 #include "tests/rt/alloc_counter.h"
+#include "tests/rt/rt_helpers.h"
 
-using dpc::audio::AudioOutput;
-using dpc::audio::CallbackStats;
-using dpc::audio::ConvolverLayout;
-using dpc::audio::IrSpectra;
-using dpc::audio::PartitionedConvolver;
+namespace audio = dpc::audio;
 
 namespace {
 
 struct Render {
-  PartitionedConvolver* convolver = nullptr;
+  audio::PartitionedConvolver* convolver = nullptr;
   std::vector<float> input;  // one block, sized before the stream starts
   uint32_t lcg = 1;
 };
@@ -34,10 +31,7 @@ struct Render {
 void render(void* user, float* const* out, int frames) noexcept {
   dpc::rt::markAudioThread(true);  // from the first callback on, for the thread's lifetime
   auto* r = static_cast<Render*>(user);
-  for (int i = 0; i < frames; ++i) {
-    r->lcg = r->lcg * 1664525u + 1013904223u;
-    r->input[size_t(i)] = float(int32_t(r->lcg)) * (0.1f / 2147483648.0f);
-  }
+  for (int i = 0; i < frames; ++i) r->input[size_t(i)] = dpc::test::lcgNoise(r->lcg, 0.1f);
   r->convolver->process(r->input.data(), out);
 }
 
@@ -51,9 +45,9 @@ TEST_CASE("JACK: convolution on the PortAudio callback thread makes no heap call
   }
   constexpr int kBlock = 128;
   constexpr size_t kIrSamples = 24000;  // 0.5 s at 48 kHz: 188 partitions
-  ConvolverLayout layout(kBlock, kIrSamples);
-  PartitionedConvolver convolver(layout, 2);
-  IrSpectra ir(layout, 2);
+  audio::ConvolverLayout layout(kBlock, kIrSamples);
+  audio::PartitionedConvolver convolver(layout, 2);
+  audio::IrSpectra ir(layout, 2);
   std::vector<float> h(kIrSamples);
   for (size_t n = 0; n < kIrSamples; ++n) {
     h[n] = ((n * 7919) % 13 - 6.0f) / 60.0f * std::exp(-6.9f * float(n) / float(kIrSamples));
@@ -65,16 +59,16 @@ TEST_CASE("JACK: convolution on the PortAudio callback thread makes no heap call
   Render r;
   r.convolver = &convolver;
   r.input.assign(kBlock, 0.0f);
-  AudioOutput::Options options;
+  audio::AudioOutput::Options options;
   options.device = "jack:";
   options.blockSize = kBlock;
   options.channels = 2;
-  AudioOutput out(options, &render, &r);
+  audio::AudioOutput out(options, &render, &r);
 
   dpc::rt::resetAudioThreadAllocations();
   out.start();
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  const CallbackStats::Snapshot warm = out.stats().snapshot();
+  const audio::CallbackStats::Snapshot warm = out.stats().snapshot();
   const auto sched = out.callbackScheduling();  // reported, not asserted: jackd -R decides
   std::printf("callback thread scheduling: %s %d (%s)\n", sched.policy, sched.priority,
               sched.realTime ? "real-time" : "not real-time");
@@ -83,7 +77,7 @@ TEST_CASE("JACK: convolution on the PortAudio callback thread makes no heap call
   out.stop();
   const dpc::rt::AllocationCounts counts = dpc::rt::audioThreadAllocations();
 
-  const CallbackStats::Snapshot all = out.stats().snapshot();
+  const audio::CallbackStats::Snapshot all = out.stats().snapshot();
   std::printf("%s\n", out.statusLine().c_str());
   std::printf("after the first 0.3 s: %s\n", out.statusLine(warm).c_str());
   std::printf("callback median %llu ns, p99.9 %llu ns, max %llu ns; block %.0f ns\n",

@@ -324,7 +324,7 @@ for scene in ('shoebox', 'hall'):
         if j:
             r = j['ratio_full_to_bare']
             m = f'{100 * r:.0f} %'
-            if 'ratio_full_to_bare_packet16' in j:  # dpc-bench since 05a5ffd: packet yardstick
+            if 'ratio_full_to_bare_packet16' in j:  # the packet yardstick, when the JSON has it
                 m += f" ({100 * j['ratio_full_to_bare_packet16']:.0f} % of the 16-wide packet loop)"
             row(f'{scene}: full frame >= 85 % of bare Embree (segments/s; 4096 x 200, {what})',
                 m, r >= 0.85, f'prop-{scene}-rays-4096{suffix}.json')

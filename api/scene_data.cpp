@@ -5,6 +5,7 @@
 #include <cstring>
 #include <glm/geometric.hpp>
 #include <string>
+#include <type_traits>
 
 #include "api/field_names.h"
 #include "common/air_absorption.h"
@@ -122,20 +123,24 @@ void settingsFromData(const dpc_scene_data& d, SceneDesc& scene) {
 
 }  // namespace
 
-bool toOutputFormat(dpc_output_format format, OutputFormat* out) {
-  switch (format) {
-    case DPC_OUTPUT_MONO:
-      *out = OutputFormat::kMono;
-      return true;
-    case DPC_OUTPUT_STEREO:
-      *out = OutputFormat::kStereo;
-      return true;
-    case DPC_OUTPUT_BINAURAL:
-      *out = OutputFormat::kBinaural;
-      return true;
-    default:
-      return false;
+long rawOutputFormat(const dpc_output_format& field) {
+  std::underlying_type_t<dpc_output_format> raw;
+  std::memcpy(&raw, &field, sizeof raw);
+  return long(raw);
+}
+
+bool toOutputFormat(const dpc_output_format& field, OutputFormat* out) {
+  const long raw = rawOutputFormat(field);
+  if (raw == DPC_OUTPUT_MONO) {
+    *out = OutputFormat::kMono;
+  } else if (raw == DPC_OUTPUT_STEREO) {
+    *out = OutputFormat::kStereo;
+  } else if (raw == DPC_OUTPUT_BINAURAL) {
+    *out = OutputFormat::kBinaural;
+  } else {
+    return false;
   }
+  return true;
 }
 
 // The SceneDesc a scene file with the same content would give (docs/scene-format.md),

@@ -8,9 +8,13 @@
 
 namespace dpc::api {
 
-/// Any thread. The OutputFormat of DPC_OUTPUT_MONO, _STEREO or _BINAURAL in *out; false (and
-/// *out unchanged) for any other value.
-bool toOutputFormat(dpc_output_format format, OutputFormat* out);
+/// Any thread. The caller's dpc_output_format field read as its integer value, so that a value
+/// outside the enumeration (a caller's garbage) is compared, never loaded as the enum type.
+long rawOutputFormat(const dpc_output_format& field);
+
+/// Any thread. The OutputFormat of a `field` holding DPC_OUTPUT_MONO, _STEREO or _BINAURAL in
+/// *out; false (and *out unchanged) for any other value, DPC_OUTPUT_SCENE included.
+bool toOutputFormat(const dpc_output_format& field, OutputFormat* out);
 
 /// Control thread. The scene of `data`; throws InputError naming the field ("dpc_scene_data:
 /// FIELD: problem") for a value out of range. Allocates.

@@ -2,8 +2,6 @@
 // cube.obj, dry.wav) whose JSON a test edits before loading it, and a keyframe helper.
 #pragma once
 
-#include <unistd.h>
-
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +10,7 @@
 
 #include "common/input_error.h"
 #include "scene/scene.h"
+#include "testing/temp_dir.h"
 
 namespace dpc::test {
 
@@ -31,12 +30,7 @@ inline Keyframe key(double t, glm::vec3 p) {
 /// 12 triangles, materials "walls" and "floor") and dry.wav (existence is all that is checked).
 class Fixture {
  public:
-  Fixture() {
-    static int counter = 0;
-    dir_ = fs::temp_directory_path() /
-           ("dpc_scene_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+  Fixture() : dir_("dpc_scene_test") {
     write("dry.wav", "RIFF");
     write("cube.obj", kCube);
     scene = json::parse(R"({
@@ -50,15 +44,10 @@ class Fixture {
       "listener": { "position": [0.2, 0.5, 0.5], "radius": 0.1 }
     })");
   }
-  ~Fixture() {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-
   void write(const std::string& name, const std::string& text) const {
-    std::ofstream(dir_ / name) << text;
+    std::ofstream(dir_.path() / name) << text;
   }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string path(const std::string& name) const { return (dir_.path() / name).string(); }
 
   SceneDesc load() const {
     write("scene.json", scene.dump(2));
@@ -104,7 +93,7 @@ f 5 8 7
   json scene;
 
  private:
-  fs::path dir_;
+  TempDir dir_;
 };
 
 }  // namespace dpc::test

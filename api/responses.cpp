@@ -5,7 +5,6 @@
 
 #include "api/engine_handle.h"
 #include "api/errors.h"
-#include "audio/rt_check.h"
 
 using dpc::api::fail;
 using dpc::api::guarded;
@@ -48,7 +47,6 @@ dpc_status dpc_engine_copy_energy_response(dpc_engine* engine, int source, float
 
 dpc_status dpc_engine_process(dpc_engine* engine, const float* const* inputs, float* const* outputs,
                               int frames) {
-  dpc::audio::rt::enterAudioThread();  // the host's audio thread (audio/rt_check.h)
   if (!engine || !outputs) return DPC_ERR_INVALID_ARGUMENT;
   // The session adapts any callback size to its block; sizes outside 1..8192 output nothing and
   // are counted (dpc_stats.rejected_callbacks).

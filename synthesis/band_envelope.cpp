@@ -291,6 +291,18 @@ void BandEnvelope::accumulateRange(const std::array<const float*, kNumBands>& ba
   }
 }
 
+void BandEnvelope::startAt(size_t onset, const std::array<const float*, kNumBands>& bands) {
+  for (int b = 0; b < kNumBands; ++b) {
+    const size_t bi = size_t(b), w = binSamples_[bi], j = onset / w;
+    if (onset % w == 0 || j >= gain_[bi].size() || gain_[bi][j] == 0.f) continue;
+    const float* x = bands[bi];
+    double before = 0.0, after = 0.0;
+    for (size_t n = j * w; n < onset; ++n) before += double(x[n]) * x[n];
+    for (size_t n = onset; n < std::min(length_, (j + 1) * w); ++n) after += double(x[n]) * x[n];
+    if (after > 0.0) gain_[bi][j] = float(gain_[bi][j] * std::sqrt((before + after) / after));
+  }
+}
+
 namespace {
 
 /// y = the sequence (whose spectrum fft.spec holds) through M_b A_nb A_nb, length samples.

@@ -72,6 +72,12 @@ class BandEnvelope {
   void accumulateRange(const std::array<const float*, kNumBands>& bands, float* out, size_t begin,
                        size_t end, float scale = 1.f, int bandBegin = 0,
                        int bandEnd = kNumBands) const;
+  /// Makes the envelope causal at sample `onset` (the first arrival): the part of each band's
+  /// synthesis bin that straddles it is to be rendered from `onset` on only (accumulateRange
+  /// with begin = onset), so its gain is raised by sqrt(E_bin / E_from_onset), E the band
+  /// signal's energy, and the bin keeps its energy. Bins before onset hold no energy (nothing
+  /// arrives before the first arrival). No allocation.
+  void startAt(size_t onset, const std::array<const float*, kNumBands>& bands);
   size_t binSamples(int b) const { return binSamples_[size_t(b)]; }
   /// Band b's gains g_b[j] of the last compute(), one per synthesis bin (the mono synthesiser's
   /// refinement on the analysis filters rewrites them).

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <cstdlib>
 
 #include "common/fftw_util.h"
 #include "synthesis/analysis_refinement.h"
@@ -44,16 +45,32 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
 }
 
 void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& direct, float* ir) {
+  static const int variant = getenv("DPC_VARIANT") ? atoi(getenv("DPC_VARIANT")) : 0;
   std::fill(ir, ir + length_, 0.f);
   bands_->update(energy);
   envelope_->compute(energy);
   std::array<const float*, kNumBands> tilted;
   for (int b = 0; b < kNumBands; ++b) tilted[size_t(b)] = bands_->tilted(b).data();
-  envelope_->accumulate(tilted, ir);
+  const size_t onset = variant == 3 ? 0 : firstArrivalSample(energy, direct);
+  envelope_->startAt(onset, tilted);
+  envelope_->accumulateRange(tilted, ir, onset, length_);
   if (direct.visible) addDirect(direct, ir);
-  refinement_->refine(energy, direct, *envelope_, *bands_, ir);
-  cleanUp(energy, direct, ir);
+  if (variant == 0) refinement_->refine(energy, direct, *envelope_, *bands_, ir);
+  if (variant != 1) cleanUp(energy, direct, ir);
   for (int b = 0; b < kNumBands; ++b) missingBands_[b] = float(refinement_->missing()[size_t(b)]);
+}
+
+size_t IrSynthesizer::firstArrivalSample(const EnergyResponse& energy,
+                                         const DirectSound& direct) const {
+  double t = direct.visible ? double(direct.delaySeconds) : energy.binCount() * energy.binSeconds();
+  for (size_t k = 0; k < energy.binCount() && double(k) * energy.binSeconds() < t; ++k) {
+    const Bands& e = energy.bins()[k];
+    if (e.max() > 0.f) {
+      t = double(k) * energy.binSeconds();
+      break;
+    }
+  }
+  return std::min(length_, size_t(std::max(0L, std::lround(t * sampleRate_))));
 }
 
 void IrSynthesizer::addDirect(const DirectSound& direct, float* ir) const {

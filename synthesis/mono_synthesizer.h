@@ -78,6 +78,10 @@ class IrSynthesizer {
   const Bands& missingEnergy() const { return missingBands_; }
 
  private:
+  /// The first arrival's sample: the direct sound's when it is visible, else the start of the
+  /// response's first bin with energy (or of an earlier one, should a response hold energy
+  /// before the direct sound). The reverberant part starts there.
+  size_t firstArrivalSample(const EnergyResponse& energy, const DirectSound& direct) const;
   /// Adds the direct sound's band filters at its sample delay.
   void addDirect(const DirectSound& direct, float* ir) const;
   /// Cleans the bands b >= kFirstCleanedBand of the finished IR of the slower bands' gain-step

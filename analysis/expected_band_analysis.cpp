@@ -23,7 +23,6 @@ struct Model {
   double w = 0.0;                           ///< samples per response bin
   size_t half = 0;                          ///< the zero-phase impulses span time -half..half-1
   size_t nbins = 0;                         ///< response bins
-  std::array<double, kNumBands> density{};  ///< (fs/2) / B_k: band energy -> white-noise energy
   HalfBands mask;                           ///< m_kh's impulse responses, time -half at index 0
   HalfBands weight;                         ///< t_kh per response bin
   bool direct = false;                      ///< whether the direct sound is visible
@@ -100,15 +99,13 @@ Model buildModel(const EnergyResponse& energy, const DirectSound& direct, int sa
   m.half = size_t(sampleRate / 4);
   FftwRealTransforms fft(nextPow2(2 * m.half));
   const OctaveBandMasks masks(sampleRate, fft.n);
-  for (int k = 0; k < kNumBands; ++k)
-    m.density[size_t(k)] = 0.5 * m.fs / (bandCentreExactHz(k) / std::numbers::sqrt2);
   halfBandProcesses(energy, masks, fft, m);
   if (direct.visible)
     m.pulse = zeroPhaseImpulse(fft, m.half, [&](size_t f) {
       double s = 0.0;
       for (int k = 0; k < kNumBands; ++k) {
         const double g = masks.gain(k, f);
-        s += g * g * std::max(0.0, double(direct.intensity[k])) * m.density[size_t(k)];
+        s += g * g * std::max(0.0, double(direct.intensity[k]));
       }
       return std::sqrt(s);
     });
@@ -144,7 +141,7 @@ class BandAnalysis {
     for (int kh = 0; kh < 2 * kNumBands; ++kh) {
       const int k = kh / 2, part = kh % 2;
       filtered(m_.mask[size_t(k)][size_t(part)]);
-      binKernel(m_.density[size_t(k)]);
+      binKernel();
       spread(energy, k, m_.weight[size_t(k)][size_t(part)], out);
     }
     if (m_.direct) addDirect(out);
@@ -160,10 +157,10 @@ class BandAnalysis {
     }
   }
   /// g_[d - dMin]: the part of a unit energy spread evenly over a bin j's wi samples that
-  /// lands in output bin j + d, for the kernel K = density (h_b * m_k)^2 = density u^2.
-  void binKernel(double density) {
+  /// lands in output bin j + d, for the kernel K = (h_b * m_k)^2 = u^2.
+  void binKernel() {
     prefix_[0] = 0.0;  // prefix[s]: kernel energy at times < s - half
-    for (size_t n = 0; n < span_; ++n) prefix_[n + 1] = prefix_[n] + density * u_[n] * u_[n];
+    for (size_t n = 0; n < span_; ++n) prefix_[n + 1] = prefix_[n] + u_[n] * u_[n];
     auto below = [&](long t) {  // kernel energy at times < t (t in samples)
       const long s = t + long(m_.half);
       return prefix_[size_t(std::clamp<long>(s, 0, long(span_)))];

@@ -19,17 +19,17 @@ namespace dpc {
 /// at 63 Hz halving per octave, their skirts passing neighbouring octaves, their noise bandwidth
 /// 4.7 % above the octave) from what a synthesis adds.
 ///
-/// The model IR: the direct sound is one zero-phase pulse at the sample nearest its delay,
-/// with amplitude spectrum sqrt(sum_k M_k^2(f) E_k (fs/2) / B_k); every other bin j of band k
-/// is noise of energy E_k[j] within octave k, split into two independent half-octave
-/// processes x_kh = sqrt((fs/2) / B_k) m_kh * (v_kh w), w unit white noise,
+/// The model IR: a response's band value E_k is a spectral density relative to a unit
+/// impulse's (synthesis/band_filters.h: a flat response is a scaled Dirac). The direct sound is
+/// one zero-phase pulse at the sample nearest its delay, with amplitude spectrum
+/// sqrt(sum_k M_k^2(f) E_k); every other bin j of band k is noise of density E_k[j] over M_k,
+/// split into two independent half-octave processes x_kh = m_kh * (v_kh w), w unit white noise,
 /// v_kh^2 = E_k[j] t_kh[j] / (samples per bin), m_kh = M_k sqrt(1 - P) and M_k sqrt(P) (M_k
 /// the zero-phase power-complementary band mask of OctaveBandMasks, P = powerAbove(f, fc_k),
-/// synthesis/band_filters.h), t_kh the within-band tilt (halfBandDensity,
-/// synthesis/band_tilt.h, scaled so that the band keeps its energy), B_k = fc_k / sqrt(2) the
-/// octave's width in Hz (the 63 Hz band's density continues down to 0 Hz and the 8 kHz band's
-/// up to Nyquist). Its expected analysed energy is then exact: the direct pulse through the
-/// filter, squared, plus sum_kh E_k t_kh (*) (fs/2)/B_k (h_b * m_kh)^2, convolved at the
+/// synthesis/band_filters.h; the 63 Hz mask reaches down to 0 Hz and the 8 kHz one up to
+/// Nyquist), t_kh the within-band tilt (halfBandDensity, synthesis/band_tilt.h, scaled so that
+/// the band keeps its energy). Its expected analysed energy is then exact: the direct pulse
+/// through the filter, squared, plus sum_kh E_k t_kh (*) (h_b * m_kh)^2, convolved at the
 /// response's bin resolution.
 ///
 /// energy: bins of any width (>= 1 sample at sampleRate); direct: added when visible. Returns

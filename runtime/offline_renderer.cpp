@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "audio/rt_check.h"
+#include "engine/specular_paths.h"
 #include "runtime/session_stats.h"
 
 namespace dpc {
@@ -149,7 +150,10 @@ void OfflineRender::finish() {
     for (size_t s = 0; s < sim.sourceCount(); ++s) {
       const Simulation::SourceResult& sr = sim.result(s, listeners_[k]);
       totals.add(sr);
+      // The whole response: the exact early paths, kept out of the estimators' response, are
+      // added at their delays.
       lr.lastEnergy.push_back(sr.energy);
+      addSpecularPaths(sim.specularPaths(s, listeners_[k]), lr.lastEnergy.back());
       lr.lastDirect.push_back(sr.direct);
     }
   }

@@ -47,7 +47,8 @@ struct OfflineListenerResult {
   /// OfflineOptions::sink took the blocks.
   audio::AudioData output;
   std::vector<std::vector<std::vector<float>>> lastIrs;  ///< [source][channel][sample]
-  std::vector<EnergyResponse> lastEnergy;  ///< [source]: the last frame's energy response
+  /// [source]: the last frame's energy response, exact early specular paths included
+  std::vector<EnergyResponse> lastEnergy;
   std::vector<DirectSound> lastDirect;     ///< [source]: the last frame's direct sound
   uint64_t irsApplied = 0;
 };

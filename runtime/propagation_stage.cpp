@@ -152,9 +152,11 @@ void PropagationStage::synthesize(size_t s, size_t listener) {
   const Simulation::SourceResult& r = simulation_->result(s, listener);
   if (spatial_) {
     float* const channels[] = {irs[s][0].data(), irs[s][1].data()};
-    spatial_->synthesize(simulation_->directional(s, listener), r.direct, channels);
+    spatial_->synthesize(simulation_->directional(s, listener), r.direct, channels,
+                         simulation_->specularPaths(s, listener));
   } else {
-    synthesizers_[s]->synthesize(r.energy, r.direct, irs[s][0].data());
+    synthesizers_[s]->synthesize(r.energy, r.direct, irs[s][0].data(),
+                                 simulation_->specularPaths(s, listener));
   }
 }
 

@@ -81,7 +81,7 @@ def scene_json(obj, size, alpha, scattering, ir_length):
         'listener': {'position': list(listener), 'radius': 0.5},
         'propagation': {'max_order': 1000, 'patch_size': 0.5, 'cache_tau': 2.0,
                         'frame_rate': 15, 'ir_length': ir_length, 'air_absorption': False,
-                        'speed_of_sound': C},
+                        'speed_of_sound': C, 'exact_order': 3},
         'audio': {'sample_rate': 48000, 'block_size': 512},
     }
 
@@ -180,13 +180,23 @@ def render(build, folder, tag, scene, rays, seed, duration):
     return rate, x[:, 0], read_er(er)
 
 
-def er_broadband(er):
+def band_weights(rate):
+    """Each octave band's share of a white spectrum's energy: its span in Hz over Nyquist, the
+    63 Hz band reaching down to 0 Hz and the 8 kHz band up to Nyquist. A band value of the ER
+    is a spectral density (docs/design.md, "IR synthesis"), so the broadband energy of an IR
+    that carries the ER is sum_b E_b w_b; a flat ER of E is a Dirac of energy E."""
+    edges = [0.0] + [fc * np.sqrt(2) for fc in CENTRES[:-1]] + [rate / 2.0]
+    return np.diff(edges) / (rate / 2.0)
+
+
+def er_broadband(er, rate):
     direct_t, direct_e, dt, bins = er
-    energy = bins.sum(axis=1)
+    w = band_weights(rate)
+    energy = bins @ w
     k = int(direct_t / dt)
     energy = energy.copy()
-    energy[k] += direct_e.sum()
-    return decay_parameters(energy, dt, k), direct_e.sum()
+    energy[k] += direct_e @ w
+    return decay_parameters(energy, dt, k), direct_e @ w
 
 
 def arrivals(ir, rate, delay, energy, order, direct_energy_ir):
@@ -236,7 +246,7 @@ def measure(build, folder, name, rays, seed):
                               scene_json(obj, size, alpha, scattering, ir_length), rays, seed, 2.0)
         k0 = int(round(r / C * rate))
         ir_par = decay_parameters(ir ** 2, 1.0 / rate, max(onset, 0))
-        er_par, er_direct = er_broadband(er)
+        er_par, er_direct = er_broadband(er, rate)
         tail = ir[k0 + int(0.005 * rate):]
         t_bands, t_low, t_high = band_energies(tail, rate)
         t_energy = (tail ** 2).sum()

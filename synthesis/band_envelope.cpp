@@ -34,7 +34,8 @@ struct NearestPulseBin {
 BandEnvelope::BandEnvelope(int sampleRate, const std::vector<float>& sequence, size_t length,
                            const BandFilterData& filters,
                            const std::array<std::vector<float>, kRealisedBands>& measured)
-    : sampleRate_(sampleRate), length_(length), coupling_(filters.coupling) {
+    : sampleRate_(sampleRate), length_(length), coupling_(filters.coupling),
+      share_(filters.share) {
   for (int b = 0; b < kNumBands; ++b) {
     const size_t bi = size_t(b);
     binSamples_[bi] = binSamplesFor(sampleRate, b);
@@ -94,7 +95,7 @@ void BandEnvelope::binTargets(const EnergyResponse& energy, int b) {
     // Assign the energy bin to the synthesis bin holding its centre sample.
     const size_t n = size_t((double(k) + 0.5) * samplesPerBin);
     const size_t j = std::min(nb - 1, n / binSamples_[bi]);
-    target[j] += e;
+    target[j] += double(e) * share_[bi];
   }
 }
 

@@ -103,6 +103,10 @@ class BandEnvelope {
   int sampleRate_;
   size_t length_;
   BandCoupling coupling_;  ///< the band filters' (BandFilterData::coupling)
+  /// beta_b (BandFilterData::share): a response's band value E_b is a spectral density (a
+  /// white IR of energy E_b has E_b in every band), so a band measurement with M_b sees
+  /// E_b beta_b of it.
+  std::array<double, kNumBands> share_{};
   std::array<size_t, kNumBands> binSamples_{};
   std::array<std::vector<double>, kNumBands> sequenceEnergy_;  ///< e_b[j]
   std::array<std::vector<double>, kNumBands> target_;          ///< scratch: E_b[j]

@@ -20,12 +20,11 @@ OctaveBandMasks::OctaveBandMasks(int sampleRate, size_t fftSize) {
   for (auto& g : gains_) g.assign(bins, 0.f);
   for (size_t k = 0; k < bins; ++k) {
     const double f = double(k) * sampleRate / double(fftSize);
-    // Power fraction passed above each edge e_b (between band b and b+1): powerAbove. The
-    // outer edges (below 63 Hz, above 8 kHz) roll off with the same crossover shape, so that
-    // every band holds its octave's energy and nothing beyond the modelled range.
-    double prevUpper = powerAbove(f, bandCentreExactHz(0) / std::numbers::sqrt2);
+    // Power fraction passed above each edge e_b (between band b and b+1): powerAbove.
+    double prevUpper = 1.0;  // fraction of power above the edge below band 0 (there is none)
     for (int b = 0; b < kNumBands; ++b) {
-      const double upper = powerAbove(f, bandCentreExactHz(b) * std::numbers::sqrt2);
+      const double upper =
+          b < kNumBands - 1 ? powerAbove(f, bandCentreExactHz(b) * std::numbers::sqrt2) : 0.0;
       const double power = prevUpper - upper;  // in band b: above edge b-1, below edge b
       gains_[size_t(b)][k] = float(std::sqrt(std::max(0.0, power)));
       prevUpper = upper;

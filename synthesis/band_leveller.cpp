@@ -44,10 +44,10 @@ void analysedEnergy4(const Double4 (&c)[5][3], const float* const (&in)[4], size
   }
 }
 
-/// The energy that band b's analysis filter puts out for white noise of unit band energy
-/// through A_b: the energy of a_b (impulse, time 0 at its centre) through the filter, rung
-/// out, times the white density per unit band energy (fs/2) / B_b.
-double analysedPerOctave(const OctaveBandPass& filter, const std::vector<float>& impulse, int b,
+/// The energy that band b's analysis filter puts out for white noise of unit spectral density
+/// (a response's band value, synthesis/band_filters.h) through A_b: the energy of a_b
+/// (impulse, time 0 at its centre) through the filter, rung out.
+double analysedPerOctave(const OctaveBandPass& filter, const std::vector<float>& impulse,
                          int sampleRate) {
   const size_t taps = impulse.size();
   OctaveBandPass::State st{};
@@ -56,7 +56,7 @@ double analysedPerOctave(const OctaveBandPass& filter, const std::vector<float>&
     const double y = filter.step(n < taps ? impulse[n] : 0.f, st);
     e += y * y;
   }
-  return e * 0.5 * sampleRate / (bandCentreExactHz(b) / std::numbers::sqrt2);
+  return e;
 }
 
 }  // namespace
@@ -98,7 +98,7 @@ BandLeveller::BandLeveller(int sampleRate, size_t length, int firstBand, size_t 
     analysed_[bi] = analysableBand(b, sampleRate);
     if (!analysed_[bi]) continue;
     analysis_[bi] = OctaveBandPass::design(bandCentreExactHz(b), sampleRate);
-    analysedPerOctave_[bi] = analysedPerOctave(analysis_[bi], impulses.band(b), b, sampleRate);
+    analysedPerOctave_[bi] = analysedPerOctave(analysis_[bi], impulses.band(b), sampleRate);
   }
   gain_.assign(bins, 1.f);
   unusedEnergy_.assign(bins, 0.0);
@@ -123,7 +123,7 @@ void BandLeveller::addResponse(const EnergyResponse& energy, const Bands& weight
 void BandLeveller::addDirect(double delaySeconds, const Bands& energy) {
   const long n0 = std::lround(delaySeconds * sampleRate_);
   if (n0 < 0 || size_t(n0) >= length_) return;
-  directSample_ = n0;
+  if (directSample_ < 0 || n0 < directSample_) directSample_ = n0;  // the first arrival's
   for (int b = firstBand_; b < kNumBands; ++b)
     target_[size_t(b)][size_t(n0) / binSamples_] += std::max(0.f, energy[b]);
 }

@@ -11,7 +11,8 @@
 // zero-phase amplitude-complementary filter A_b (sum_b A_b = 1), measures that part through
 // b's analysis filter in kBinSeconds bins, and compares, over kWindowBins bins centred on
 // each bin, with what white noise of the target band energy over A_b gives there
-// (analysedPerOctave: (fs/2) / B_b x the analysis filter's energy response to A_b). Where the
+// (analysedPerOctave: the analysis filter's energy response to A_b, a response's band value
+// being a spectral density). Where the
 // ratio leaves [1 / tolerance, tolerance] the part is scaled to the nearer edge, the gain
 // linear between bin centres (so the correction does not splatter itself); scaling down is
 // unbounded (splatter can exceed a band by 30 dB), scaling up at most maxBoost (1: never).
@@ -65,8 +66,9 @@ class BandLeveller {
   /// negative bin counts as 0).
   void addResponse(const EnergyResponse& energy, const Bands& weight);
   /// Adds one arrival's band energies (1/m^2; a negative one counts as 0) at delaySeconds to
-  /// the targets and marks the direct sound there (its bin and the next are not levelled). An
-  /// arrival outside [0, length) is ignored.
+  /// the targets (the direct sound or an exact early path). The earliest arrival marks where
+  /// levelling may start (its bin and the next are not levelled). An arrival outside
+  /// [0, length) is ignored.
   void addDirect(double delaySeconds, const Bands& energy);
   /// Levels ir (length samples) to the targets; see the file comment for tolerance (>= 1,
   /// energy ratio) and maxBoost (>= 1, amplitude factor).

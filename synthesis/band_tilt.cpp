@@ -28,9 +28,9 @@ HalfBandDensity halfBandDensity(const EnergyResponse& energy, int band, double c
   };
   HalfBandDensity r{1.0, 1.0};
   if (!(own > 0.0)) return r;
-  // Spectral densities E / bandwidth, the neighbours' octaves being half and twice as wide.
-  if (band > 0) r.low = halfMean(std::log(std::max(2.0 * below / own, 1e-300)));
-  if (band + 1 < kNumBands) r.high = halfMean(std::log(std::max(0.5 * above / own, 1e-300)));
+  // A band's value is its spectral density (band_filters.h), so the ratios compare directly.
+  if (band > 0) r.low = halfMean(std::log(std::max(below / own, 1e-300)));
+  if (band + 1 < kNumBands) r.high = halfMean(std::log(std::max(above / own, 1e-300)));
   return r;
 }
 

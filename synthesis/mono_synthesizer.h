@@ -2,6 +2,10 @@
 // sequence method (D. Schröder, "Physically Based Real-Time Auralization of Interactive
 // Virtual Environments", PhD thesis, RWTH Aachen 2011, section 5.3).
 //
+// A response's band value E_b is a spectral density relative to a unit impulse's (see
+// synthesis/band_filters.h): an anechoic response of 1/(4 pi r^2) in every band gives a
+// scaled Dirac, and the IR's power spectrum follows the band values across each band's mask.
+//
 // At construction a Dirac sequence s (synthesis/dirac_sequence.h; fixed per synthesiser, so
 // successive frames' IRs differ only in their envelopes, never in fine structure) is split
 // into octave bands s_b = a_b * s by the amplitude-complementary band filters A_b
@@ -10,16 +14,16 @@
 //     octave per synthesis bin toward its neighbours';
 //  2. the realised-form envelope (synthesis/band_envelope.h): per band and bin the gain that
 //     gives the tilted band signal the response's band energy as a band measurement sees it;
-//     ir[n] = sum_b g_b[j] s_b[n];
-//  3. the direct sound: the band filters' impulse responses at its exact sample delay, with
-//     band energies equal to DirectSound::intensity;
-//  4. the refinement on the ISO 3382-1 analysis filters (synthesis/analysis_refinement.h), so
-//     that the band analysis of the IR returns the response's decay and level;
-//  5. the clean-up of the 4 and 8 kHz parts where the gain steps of slower bands splatter into
+//     ir[n] = sum_b g_b[j] s_b[n], from the first arrival on (the bin that straddles it keeps
+//     its energy in its part after it: nothing is rendered before the first arrival);
+//  3. the direct sound and the exact early arrivals: the band filters' impulse responses at
+//     each arrival's sample delay, with band amplitudes sqrt(E_b), so a flat arrival is a
+//     Dirac;
+//  4. the clean-up of the 4 and 8 kHz parts where the gain steps of slower bands splatter into
 //     them (synthesis/band_leveller.h).
-// The extreme bands' shares outside the analysed octaves (below 44 Hz, above 11.3 kHz) carry
-// their band's spectral density. Units: the IR's squared samples sum to energy in 1/m^2
-// relative to source power (so 1/(4 pi r^2) for a direct sound at r metres).
+// The 63 Hz band's mask reaches down to 0 Hz and the 8 kHz band's up to Nyquist, for the
+// direct sound and the reverberant part alike. Units: the IR's squared samples sum to energy
+// in 1/m^2 relative to source power (so 1/(4 pi r^2) for a direct sound at r metres).
 //
 // Construction: control/propagation thread (FFTW plan creation is not thread-safe);
 // allocates; throws std::invalid_argument on bad sizes, std::runtime_error when FFTW cannot
@@ -28,15 +32,16 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 
 #include "common/bands.h"
 #include "engine/energy_response.h"
 #include "engine/propagation.h"
+#include "engine/specular_paths.h"
 #include "synthesis/band_filters.h"
 
 namespace dpc {
 
-class AnalysisFilterRefinement;
 class BandEnvelope;
 class BandLeveller;
 class TiltedBands;
@@ -48,7 +53,7 @@ class IrSynthesizer {
   /// band below's.
   static constexpr int kFirstCleanedBand = 6;
   /// A band's part is cleaned only where its analysed energy exceeds the expected by this
-  /// factor (1 dB): below it, the refinement's own adjustments for the analysis filters stand.
+  /// factor (1 dB): the synthesis's own realisation noise stays.
   static constexpr double kCleanMargin = 1.26;
 
   /// sampleRate in Hz; lengthSeconds of the IR; roomVolume in m^3 (density law: roomVolume()
@@ -64,31 +69,36 @@ class IrSynthesizer {
 
   /// Writes lengthSamples() samples of pressure IR to ir. energy: the frame's energy
   /// response (any bin width; a bin below 0, which no energy is, counts as 0); direct: the
-  /// analytic direct sound (ignored when not visible).
-  void synthesize(const EnergyResponse& energy, const DirectSound& direct, float* ir);
+  /// analytic direct sound (ignored when not visible); early: the frame's exact specular paths
+  /// (engine/specular_paths.h), placed like the direct sound at their delays (the energy
+  /// response holds none of their energy, so nothing is counted twice).
+  void synthesize(const EnergyResponse& energy, const DirectSound& direct, float* ir,
+                  std::span<const SpecularPath> early = {});
 
   /// Fraction of a unit impulse's energy that a band measurement (mask M_b) puts in band b.
   double bandFilterEnergy(int b) const { return filterData_.share[size_t(b)]; }
   /// The band filters a_b that place the direct sound.
   const DirectSoundFilter& directSoundFilter() const { return *direct_; }
   /// Per band, the energy (1/m^2, the response's unit) of the last synthesize()'s energy
-  /// response plus direct sound that the IR's analysis-filter output lacks at its end: energy
-  /// no gain could place (a bin whose earlier bins' ringing and the neighbours' leakage
-  /// already exceed the target, or the gain cap). Zero when the synthesis is exact.
+  /// response that no gain could place (a bin whose neighbours' crossover spill alone exceeds
+  /// its target, or energy after the Dirac sequence's last pulse). Zero when all is placed.
   const Bands& missingEnergy() const { return missingBands_; }
 
  private:
   /// The first arrival's sample: the direct sound's when it is visible, else the start of the
   /// response's first bin with energy (or of an earlier one, should a response hold energy
   /// before the direct sound). The reverberant part starts there.
-  size_t firstArrivalSample(const EnergyResponse& energy, const DirectSound& direct) const;
-  /// Adds the direct sound's band filters at its sample delay.
-  void addDirect(const DirectSound& direct, float* ir) const;
+  size_t firstArrivalSample(const EnergyResponse& energy, const DirectSound& direct,
+                            std::span<const SpecularPath> early) const;
+  /// Adds one arrival: the band filters a_b with amplitudes sqrt(intensity_b) at the sample
+  /// nearest delaySeconds.
+  void addArrival(double delaySeconds, const Bands& intensity, float* ir) const;
   /// Cleans the bands b >= kFirstCleanedBand of the finished IR of the slower bands' gain-step
   /// splatter (BandLeveller: scale-down only, kCleanMargin tolerance, from where the Dirac
   /// sequence holds 10 pulses per bin). Without it the 8 kHz T30 of a large hall's IR reads
   /// twice the response's.
-  void cleanUp(const EnergyResponse& energy, const DirectSound& direct, float* ir);
+  void cleanUp(const EnergyResponse& energy, const DirectSound& direct,
+               std::span<const SpecularPath> early, float* ir);
 
   int sampleRate_;
   size_t length_;
@@ -96,7 +106,6 @@ class IrSynthesizer {
   std::unique_ptr<TiltedBands> bands_;
   std::unique_ptr<DirectSoundFilter> direct_;
   std::unique_ptr<BandEnvelope> envelope_;
-  std::unique_ptr<AnalysisFilterRefinement> refinement_;
   std::unique_ptr<BandLeveller> leveller_;
   Bands missingBands_{};
 };

@@ -77,7 +77,6 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   FftwRealTransforms big(nextPow2(length_ + margin + maxFilter));
   const OctaveBandMasks masks(sampleRate, big.n);
   filterData_ = BandFilterData::compute(masks, big.n);
-  densityGains(masks, big.n);
   equaliseDiffuseField(filters, masks, big);
   // Per direction: its own Dirac sequence, through A_b and the direction's filters.
   bands_.resize(directions_.size());
@@ -102,24 +101,6 @@ void SpatialIrSynthesizer::spectrumOf(FftwRealTransforms& fft, const std::vector
   std::copy(taps.begin(), taps.end(), fft.time.p);
   fftwf_execute_dft_r2c(fft.fwd, fft.time.p, fft.spec.p);
   for (size_t k = 0; k < fft.n / 2 + 1; ++k) out[k] = {fft.spec.p[k][0], fft.spec.p[k][1]};
-}
-
-void SpatialIrSynthesizer::densityGains(const OctaveBandMasks& masks, size_t nfft) {
-  // Each mask's span: sum of M_b^2 over the FFT bins.
-  std::array<double, kNumBands> norm{};
-  for (int b = 0; b < kNumBands; ++b)
-    for (size_t k = 0; k < nfft / 2 + 1; ++k)
-      norm[size_t(b)] += double(masks.gain(b, k)) * masks.gain(b, k);
-  // A band's energy in the energy response is its octave's (fc / sqrt 2 .. fc sqrt 2). The
-  // extreme bands' filters reach beyond it (63 Hz down to 0 Hz, 8 kHz up to Nyquist); there
-  // an IR carries the octave's spectral density on (as the mono synthesiser and
-  // expectedBandAnalysisEnergy do), so those bands carry (span of M_b^2) / (octave width)
-  // times the band energy: 2 at 63 Hz, 3.2 at 8 kHz and 48 kHz.
-  for (int b = 0; b < kNumBands; ++b) {
-    const double width = bandCentreExactHz(b) / std::numbers::sqrt2;
-    densityGain_[size_t(b)] =
-        (b == 0 || b == kNumBands - 1) ? norm[size_t(b)] * sampleRate_ / double(nfft) / width : 1.0;
-  }
 }
 
 void SpatialIrSynthesizer::equaliseDiffuseField(const std::vector<DirectionFilter>& filters,
@@ -175,7 +156,7 @@ void SpatialIrSynthesizer::directionBands(size_t d, const std::vector<float>& se
   for (size_t c = 0; c < channels_; ++c) {
     spectrumOf(fft, filter.channels[c], channelSpec);
     for (int b = 0; b < kNumBands; ++b) {
-      const float eq = float(std::sqrt(densityGain_[size_t(b)] / kappa_[size_t(b)]));
+      const float eq = float(std::sqrt(1.0 / kappa_[size_t(b)]));
       for (size_t k = 0; k < nbins; ++k) {
         const float g = masks.gain(b, k) * masks.gain(b, k) * scale * eq;
         const std::complex<float> v = g * seqSpec[k] * channelSpec[k];
@@ -208,8 +189,6 @@ void SpatialIrSynthesizer::omniBands(const std::vector<float>& sequence,
       fftwf_execute_dft_c2r(fft.inv, fft.band.p, fft.time.p);
       if (pass == 0) {
         omniBands_[size_t(b)].assign(fft.time.p, fft.time.p + length_);
-        const float density = float(std::sqrt(densityGain_[size_t(b)]));
-        for (float& x : omniBands_[size_t(b)]) x *= density;
       } else if (b < BandEnvelope::kRealisedBands) {
         measured[size_t(b)].assign(fft.time.p, fft.time.p + length_);
       }
@@ -226,6 +205,8 @@ void SpatialIrSynthesizer::prepareDirect(size_t margin) {
   exactScratch_.channels.assign(channels_, {});
   for (std::vector<float>& h : exactScratch_.channels) h.reserve(margin);
   directWeight_.assign(channels_, Bands{});
+  arrivalDelays_.reserve(kReservedArrivals);
+  arrivalEnergy_.reserve(kReservedArrivals * channels_);
   const OctaveBandMasks directMasks(sampleRate_, fft_->n);
   directMask2_.resize(fft_->n / 2 + 1);
   for (size_t k = 0; k < directMask2_.size(); ++k)
@@ -251,46 +232,72 @@ void SpatialIrSynthesizer::sumOmniEnergy(const DirectionalEnergyResponse& energy
 }
 
 void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
-                                      const DirectSound& direct, std::span<float* const> channels) {
+                                      const DirectSound& direct, std::span<float* const> channels,
+                                      std::span<const SpecularPath> early) {
   for (float* out : channels) std::fill(out, out + length_, 0.f);
   const size_t count = std::min(energy.directionCount(), directions_.size());
   for (size_t d = 0; d < count; ++d) envelopes_[d]->compute(energy.response(d));
   sumOmniEnergy(energy, count);
   omniEnvelope_->compute(omniEnergy_);
+  const size_t onset = firstArrivalSample(energy, direct, early);
   std::array<const float*, kNumBands> omni{};
   for (int b = 0; b < kDirectionalFromBand; ++b) omni[size_t(b)] = omniBands_[size_t(b)].data();
+  omniEnvelope_->startAt(onset, omni);
+  for (size_t d = 0; d < count; ++d) envelopes_[d]->startAt(onset, bandSignals(d, 0));
   // Cache-blocked: each output block stays in L1 while all K x N x 8 band signals stream
   // through it once (the loop is memory-bound: the band signals are K x 8 N x length floats).
   constexpr size_t kBlock = 2048;
-  for (size_t begin = 0; begin < length_; begin += kBlock) {
+  for (size_t begin = onset; begin < length_; begin += kBlock) {
     const size_t end = std::min(length_, begin + kBlock);
     for (size_t d = 0; d < count; ++d)
-      for (size_t c = 0; c < channels_; ++c) {
-        std::array<const float*, kNumBands> bands;
-        for (int b = 0; b < kNumBands; ++b) bands[size_t(b)] = bands_[d][c][size_t(b)].data();
-        envelopes_[d]->accumulateRange(bands, channels[c], begin, end, 1.f, kDirectionalFromBand,
-                                       kNumBands);
-      }
+      for (size_t c = 0; c < channels_; ++c)
+        envelopes_[d]->accumulateRange(bandSignals(d, c), channels[c], begin, end, 1.f,
+                                       kDirectionalFromBand, kNumBands);
     for (size_t c = 0; c < channels_; ++c)
       omniEnvelope_->accumulateRange(omni, channels[c], begin, end, 1.f, 0, kDirectionalFromBand);
   }
-  if (direct.visible) addDirect(direct, energy.toListener(direct.direction), channels);
-  level(energy, direct, count, channels);
+  arrivalDelays_.clear();
+  arrivalEnergy_.clear();
+  if (direct.visible) addArrival(direct, energy.toListener(direct.direction), channels);
+  for (const SpecularPath& p : early) {
+    const DirectSound arrival{true, p.length, float(p.delaySeconds), p.intensity, p.direction};
+    addArrival(arrival, energy.toListener(p.direction), channels);
+  }
+  level(energy, count, channels);
 }
 
-void SpatialIrSynthesizer::level(const DirectionalEnergyResponse& energy, const DirectSound& direct,
-                                 size_t count, std::span<float* const> channels) {
+std::array<const float*, kNumBands> SpatialIrSynthesizer::bandSignals(size_t d, size_t c) const {
+  std::array<const float*, kNumBands> bands;
+  for (int b = 0; b < kNumBands; ++b) bands[size_t(b)] = bands_[d][c][size_t(b)].data();
+  return bands;
+}
+
+size_t SpatialIrSynthesizer::firstArrivalSample(const DirectionalEnergyResponse& energy,
+                                                const DirectSound& direct,
+                                                std::span<const SpecularPath> early) const {
+  double t = direct.visible ? double(direct.delaySeconds) : 1e300;
+  for (const SpecularPath& p : early) t = std::min(t, p.delaySeconds);
+  for (size_t d = 0; d < std::min(energy.directionCount(), directions_.size()); ++d) {
+    const EnergyResponse& r = energy.response(d);
+    for (size_t k = 0; k < r.binCount() && double(k) * r.binSeconds() < t; ++k)
+      if (r.bins()[k].max() > 0.f) {
+        t = double(k) * r.binSeconds();
+        break;
+      }
+  }
+  return size_t(std::clamp(std::lround(std::min(t, 1e9) * sampleRate_), 0L, long(length_)));
+}
+
+void SpatialIrSynthesizer::level(const DirectionalEnergyResponse& energy, size_t count,
+                                 std::span<float* const> channels) {
   // Each channel's target: sum_d E_d,b x the channel filter's band energy for direction d
-  // (diffuse-field equalised), plus the direct sound through its exact filter.
+  // (diffuse-field equalised), plus each arrival through its exact filter.
   for (size_t c = 0; c < channels_; ++c) {
     leveller_->clearTargets();
     for (size_t d = 0; d < count; ++d)
       leveller_->addResponse(energy.response(d), channelWeight_[d][c]);
-    if (direct.visible) {
-      Bands e;
-      for (int b = 0; b < kNumBands; ++b) e[b] = direct.intensity[b] * directWeight_[c][b];
-      leveller_->addDirect(direct.delaySeconds, e);
-    }
+    for (size_t i = 0; i < arrivalDelays_.size(); ++i)
+      leveller_->addDirect(arrivalDelays_[i], arrivalEnergy_[i * channels_ + c]);
     leveller_->apply(channels[c], kLevelTolerance, kLevelMaxBoost);
   }
 }
@@ -307,16 +314,16 @@ void SpatialIrSynthesizer::directBandWeights(size_t c) {
     w[b] = float(e[size_t(b)] / (directNorm_[size_t(b)] * kappa_[size_t(b)]));
 }
 
-void SpatialIrSynthesizer::addDirect(const DirectSound& direct, const glm::vec3& dir,
-                                     std::span<float* const> channels) {
+void SpatialIrSynthesizer::addArrival(const DirectSound& direct, const glm::vec3& dir,
+                                      std::span<float* const> channels) {
+  arrivalDelays_.push_back(double(direct.delaySeconds));
   exact_(glm::normalize(dir), exactScratch_);
   const size_t n = fft_->n, nbins = n / 2 + 1, margin = direct_->taps();
   // The band-shaped impulse: sum_b amp_b a_b, diffuse-field equalised, time 0 at centre.
   std::fill(fft_->time.p, fft_->time.p + n, 0.f);
   for (int b = 0; b < kNumBands; ++b) {
     const size_t bi = size_t(b);
-    const float amp = float(std::sqrt(double(direct.intensity[b]) * densityGain_[bi] /
-                                      (filterData_.share[bi] * kappa_[bi])));
+    const float amp = float(std::sqrt(double(direct.intensity[b]) / kappa_[bi]));
     direct_->add(b, amp, 0, fft_->time.p, n);
   }
   fftwf_execute_dft_r2c(fft_->fwd, fft_->time.p, fft_->spec.p);
@@ -328,6 +335,9 @@ void SpatialIrSynthesizer::addDirect(const DirectSound& direct, const glm::vec3&
     std::copy(h.begin(), h.begin() + long(std::min(h.size(), n)), fft_->time.p);
     fftwf_execute_dft_r2c(fft_->fwd, fft_->time.p, fft_->band.p);
     directBandWeights(c);  // the exact filter's band energies, for this channel's target
+    Bands e;
+    for (int b = 0; b < kNumBands; ++b) e[b] = direct.intensity[b] * directWeight_[c][b];
+    arrivalEnergy_.push_back(e);
     for (size_t k = 0; k < nbins; ++k) {
       const float ar = fft_->spec.p[k][0], ai = fft_->spec.p[k][1];
       const float hr = fft_->band.p[k][0], hi = fft_->band.p[k][1];

@@ -45,6 +45,7 @@
 #include "common/fftw_util.h"
 #include "engine/energy_response.h"
 #include "engine/propagation.h"
+#include "engine/specular_paths.h"
 #include "synthesis/band_envelope.h"
 #include "synthesis/band_filters.h"
 
@@ -99,16 +100,20 @@ class SpatialIrSynthesizer {
 
   /// Writes lengthSamples() samples to each of the channelCount() buffers of `channels`.
   /// energy must use this synthesiser's directions (same order); direct.direction is a world
-  /// vector, rotated by energy's frame.
+  /// vector, rotated by energy's frame. early: the frame's exact specular paths
+  /// (engine/specular_paths.h), each placed like the direct sound through the exact filter of
+  /// its arrival direction (the energy response holds none of their energy). Nothing is
+  /// rendered before the first arrival. Allocates only when a frame has more than
+  /// kReservedArrivals arrivals for the first time.
   void synthesize(const DirectionalEnergyResponse& energy, const DirectSound& direct,
-                  std::span<float* const> channels);
+                  std::span<float* const> channels, std::span<const SpecularPath> early = {});
+  /// Arrivals (direct sound and exact paths) per frame that need no allocation.
+  static constexpr size_t kReservedArrivals = 256;
 
  private:
   using Spectrum = std::vector<std::complex<float>>;  // layout-compatible with fftwf_complex
   /// The spectrum of taps on big_'s bins.
   void spectrumOf(FftwRealTransforms& fft, const std::vector<float>& taps, Spectrum& out) const;
-  /// densityGain_: the extreme bands' spectral density continued beyond their octave.
-  void densityGains(const OctaveBandMasks& masks, size_t nfft);
   /// kappa_ and channelWeight_ from every direction's filters.
   void equaliseDiffuseField(const std::vector<DirectionFilter>& filters,
                             const OctaveBandMasks& masks, FftwRealTransforms& fft);
@@ -122,12 +127,20 @@ class SpatialIrSynthesizer {
   void prepareDirect(size_t margin);
   /// The omnidirectional response: the directions' low bands summed.
   void sumOmniEnergy(const DirectionalEnergyResponse& energy, size_t count);
-  void addDirect(const DirectSound& direct, const glm::vec3& listenerDirection,
-                 std::span<float* const> channels);
+  /// Adds one arrival through the exact filter of its listener-frame direction, and records
+  /// its per-channel band energies for the levelling.
+  void addArrival(const DirectSound& arrival, const glm::vec3& listenerDirection,
+                  std::span<float* const> channels);
+  /// The first arrival's sample: the direct sound's or an exact path's, or the start of the
+  /// first bin with energy when that is earlier (length_ when there is nothing).
+  size_t firstArrivalSample(const DirectionalEnergyResponse& energy, const DirectSound& direct,
+                            std::span<const SpecularPath> early) const;
+  /// Direction d's band signals for channel c.
+  std::array<const float*, kNumBands> bandSignals(size_t d, size_t c) const;
   /// directWeight_[c] from the channel's exact-filter spectrum in fft_->band.
   void directBandWeights(size_t c);
   /// Levels each channel to its target (see the file comment).
-  void level(const DirectionalEnergyResponse& energy, const DirectSound& direct, size_t count,
+  void level(const DirectionalEnergyResponse& energy, size_t count,
              std::span<float* const> channels);
 
   int sampleRate_;
@@ -137,7 +150,6 @@ class SpatialIrSynthesizer {
   ExactFilter exact_;
   BandFilterData filterData_;
   std::array<double, kNumBands> kappa_{};
-  std::array<double, kNumBands> densityGain_{};           ///< energy factor, see densityGains
   std::vector<std::unique_ptr<BandEnvelope>> envelopes_;  ///< one per direction
   std::unique_ptr<BandEnvelope> omniEnvelope_;            ///< low bands, every channel
   std::array<std::vector<float>, kNumBands> omniBands_;   ///< omni sequence through A_b
@@ -153,6 +165,8 @@ class SpatialIrSynthesizer {
   /// directWeight_: the same for the last direct sound's exact filter.
   std::vector<std::vector<Bands>> channelWeight_;
   std::vector<Bands> directWeight_;
+  std::vector<double> arrivalDelays_;  ///< this frame's arrivals, seconds
+  std::vector<Bands> arrivalEnergy_;   ///< per arrival and channel: band energy as levelled
   std::vector<Bands> directMask2_;  ///< M_b^2 on the direct-sound FFT's bins
   std::array<double, kNumBands> directNorm_{};
   std::unique_ptr<BandLeveller> leveller_;

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "common/fftw_util.h"
+#include "analysis/room_parameters.h"
 #include "common/octave_filter.h"
 #include "synthesis/band_filters.h"
 #include "synthesis/band_tilt.h"
@@ -218,8 +219,13 @@ std::array<std::vector<double>, kNumBands> expectedBandAnalysisEnergy(const Ener
   for (int b = 0; b < kNumBands; ++b) {
     if (!analysableBand(b, model.fs))
       out[size_t(b)].assign(model.nbins, std::numeric_limits<double>::quiet_NaN());
-    else
+    else {
       analysis.run(energy, b, out[size_t(b)]);
+      // On the band analysis's scale (room_parameters.h: divided by the filter's unit-impulse
+      // energy).
+      const double unit = audio::analysisFilterImpulseEnergy(b, model.fs);
+      for (double& e : out[size_t(b)]) e /= unit;
+    }
   }
   return out;
 }

@@ -33,7 +33,8 @@ namespace dpc {
 /// response's bin resolution.
 ///
 /// energy: bins of any width (>= 1 sample at sampleRate); direct: added when visible. Returns
-/// out[b][j], same bins and unit as `energy` (1/m^2 relative to source power); bins before the
+/// out[b][j], same bins and unit as `energy` (1/m^2 relative to source power; divided by the analysis
+/// filter's unit-impulse energy, as analyzeImpulseResponse reads a band); bins before the
 /// onset (the direct sound's bin, else the response's first non-zero bin) are 0, since the
 /// band analysis integrates from the broadband onset; bands whose analysis filter reaches
 /// Nyquist (fc sqrt(2) >= fs/2) are all NaN. Any thread that may plan FFTW (not thread-safe:

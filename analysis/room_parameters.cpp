@@ -141,18 +141,26 @@ bool onsetOf(const float* ir, size_t n, std::vector<double>& p, size_t& onset) {
   return true;
 }
 
-// p through band b's analysis filter; false (band untouched) when the band's upper edge is at
-// or above Nyquist.
+// p through band b's analysis filter, scaled by 1 / sqrt(analysisFilterImpulseEnergy): false
+// (band untouched) when the band's upper edge is at or above Nyquist.
 bool bandSignal(const std::vector<double>& p, int b, double fs, std::vector<double>& band) {
   const double fc = bandCentreExactHz(b);
   if (fc * std::numbers::sqrt2 >= fs / 2) return false;
   band.resize(p.size());
   OctaveBandPass::State state{};
   OctaveBandPass::design(fc, fs).run(p.data(), band.data(), p.size(), state);
+  const double scale = 1.0 / std::sqrt(analysisFilterImpulseEnergy(b, fs));
+  for (double& x : band) x *= scale;
   return true;
 }
 
 }  // namespace
+
+double analysisFilterImpulseEnergy(int b, double sampleRate) {
+  const double fc = bandCentreExactHz(b);
+  if (!(sampleRate > 0.0) || fc * std::numbers::sqrt2 >= sampleRate / 2) return kNaN;
+  return OctaveBandPass::design(fc, sampleRate).impulseEnergy(size_t(sampleRate));
+}
 
 ImpulseResponseAnalysis analyzeImpulseResponse(const float* ir, size_t n, int sampleRate) {
   ImpulseResponseAnalysis out;

@@ -51,7 +51,10 @@ struct RoomParameters {
   /// Energy from the onset on: sum of squared samples (IR) or of the bins (energy decay), in
   /// the input's unit; dpc's IRs and energy responses are in 1/m^2 relative to source power,
   /// so 10 log10(energy / (1 / (4 pi 10^2))) is the strength G (ISO 3382-1 A.2.1: relative to
-  /// the free-field direct sound at 10 m). NaN when the input holds no energy.
+  /// the free-field direct sound at 10 m). An IR's octave band b is divided by
+  /// analysisFilterImpulseEnergy(b): the free-field reference measured through the same filter,
+  /// so a band reads the energy response's band value (a spectral density, see
+  /// synthesis/band_filters.h). NaN when the input holds no energy.
   double energy = std::numeric_limits<double>::quiet_NaN();
 };
 
@@ -59,6 +62,12 @@ struct RoomParameters {
 inline double strengthDb(double energy) {
   return 10.0 * std::log10(energy * 4.0 * 3.14159265358979323846 * 100.0);
 }
+
+/// Energy of a unit impulse through octave band b's analysis filter (below) at sampleRate Hz,
+/// rung out: about the band's share of a white spectrum (0.0018 at 63 Hz, 0.24 at 8 kHz, at
+/// 48 kHz). NaN where the band cannot be filtered (upper edge at or above Nyquist). Any
+/// thread; no allocation.
+double analysisFilterImpulseEnergy(int b, double sampleRate);
 
 /// Parameters per octave band (63 Hz .. 8 kHz, index as dpc::Bands) and broadband.
 struct ImpulseResponseAnalysis {
@@ -99,8 +108,8 @@ struct BandEnergyBins {
                         ///< the IR's first sample; NaN when the IR holds no energy
   double binSeconds;    ///< bin width used: the request rounded to whole samples (>= 1), s
   /// energy[b][k]: sum of the squared band-b signal over [t0 + k binSeconds, t0 + (k+1)
-  /// binSeconds) (the last bin may be partial), in the IR's unit squared (dpc: 1/m^2, as
-  /// RoomParameters::energy). Empty for a band whose upper edge reaches Nyquist, and for
+  /// binSeconds) (the last bin may be partial), divided by analysisFilterImpulseEnergy(b) (as
+  /// RoomParameters::energy: on the energy response's scale). Empty for a band whose upper edge reaches Nyquist, and for
   /// every band when the IR holds no energy.
   std::array<std::vector<double>, kNumBands> energy;
 };

@@ -64,13 +64,16 @@ BandEnvelope::BandEnvelope(int sampleRate, const std::vector<float>& sequence, s
                            const BandFilterData& filters, Realised realised)
     : BandEnvelope(sampleRate, sequence, length, filters,
                    std::array<std::vector<float>, kRealisedBands>{}) {
-  // The expectation form's e_b[j] (pulses' energy x beta_b) stays: it tells which bins hold a
-  // pulse and gives the first guess of the gains. The delegated constructor had no measured
-  // signals for the lowest bands: fill them in.
-  for (int b = 0; b < kRealisedBands; ++b)
+  // The realised correlations see each band within its analysed octave (measureRealised), so
+  // do its targets and the expectation form's e_b[j] (the pulses' energy x that octave's share
+  // of beta_b), which tells which bins hold a pulse and gives the first guess of the gains.
+  share_ = filters.octaveShare;
+  for (int b = 0; b < kNumBands; ++b) {
+    std::vector<double>& e = sequenceEnergy_[size_t(b)];
+    std::fill(e.begin(), e.end(), 0.0);
     for (size_t n = 0; n < length_ && n < sequence.size(); ++n)
-      sequenceEnergy_[size_t(b)][n / binSamples_[size_t(b)]] +=
-          double(sequence[n]) * sequence[n] * filters.share[size_t(b)];
+      e[n / binSamples_[size_t(b)]] += double(sequence[n]) * sequence[n] * share_[size_t(b)];
+  }
   realised_ = std::move(realised);
   useRealised_ = true;
 }
@@ -306,12 +309,14 @@ void BandEnvelope::startAt(size_t onset, const std::array<const float*, kNumBand
 
 namespace {
 
-/// y = the sequence (whose spectrum fft.spec holds) through M_b A_nb A_nb, length samples.
-void bandMeasurement(FftwRealTransforms& fft, const OctaveBandMasks& masks, int b, int nb,
-                     size_t length, std::vector<float>& y) {
+/// y = the sequence (whose spectrum fft.spec holds) through M_b A_nb A_nb within band b's
+/// analysed octave (inAnalysedOctave), length samples.
+void bandMeasurement(FftwRealTransforms& fft, const OctaveBandMasks& masks, int sampleRate, int b,
+                     int nb, size_t length, std::vector<float>& y) {
   const float scale = 1.f / float(fft.n);
   for (size_t k = 0; k < fft.n / 2 + 1; ++k) {
-    const float g = masks.gain(b, k) * masks.gain(nb, k) * masks.gain(nb, k) * scale;
+    const bool seen = inAnalysedOctave(b, double(k) * sampleRate / double(fft.n));
+    const float g = seen ? masks.gain(b, k) * masks.gain(nb, k) * masks.gain(nb, k) * scale : 0.f;
     fft.band.p[k][0] = fft.spec.p[k][0] * g;
     fft.band.p[k][1] = fft.spec.p[k][1] * g;
   }
@@ -350,7 +355,8 @@ BandEnvelope::Realised measureRealised(int sampleRate, const std::vector<float>&
     for (int i = 0; i < 3; ++i) {
       const int nb = b + i - 1;
       y[size_t(i)].assign(length, 0.f);
-      if (nb >= 0 && nb < kNumBands) bandMeasurement(fft, masks, b, nb, length, y[size_t(i)]);
+      if (nb >= 0 && nb < kNumBands)
+        bandMeasurement(fft, masks, sampleRate, b, nb, length, y[size_t(i)]);
     }
     const size_t fw = BandEnvelope::binSamplesFor(sampleRate, std::min(b + 1, kNumBands - 1));
     accumulateCorrelations(y, length, fw, out.fine[size_t(b)]);

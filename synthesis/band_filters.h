@@ -29,6 +29,16 @@ inline bool analysableBand(int b, double sampleRate) {
   return bandCentreExactHz(b) * std::numbers::sqrt2 < 0.5 * sampleRate;
 }
 
+/// Whether an octave-band analysis counts band b's mask at f Hz: everywhere for the inner
+/// bands, from fc / sqrt 2 up for the 63 Hz band and up to fc sqrt 2 for the 8 kHz band (their
+/// masks reach on to 0 Hz and to Nyquist). Any thread; no allocation; no errors.
+inline bool inAnalysedOctave(int b, double f) {
+  const double fc = bandCentreExactHz(b);
+  if (b == 0) return f >= fc / std::numbers::sqrt2;
+  if (b == kNumBands - 1) return f <= fc * std::numbers::sqrt2;
+  return true;
+}
+
 /// Fraction of power above `edge` Hz at f Hz: a raised cosine in log2 frequency over +-1/6
 /// octave around the edge (a 1/3-octave crossover); with its complement (1 - it) it splits
 /// power without loss (sin^2 + cos^2 = 1). Any thread; no allocation; no errors.
@@ -55,11 +65,21 @@ using BandCoupling = std::array<std::array<std::array<double, 3>, 3>, kNumBands>
 
 /// The band filters' fixed data for one sample rate: coupling and each band's energy share
 /// beta_b (the fraction of a unit impulse's energy that a band measurement with M_b sees).
-/// compute(): any thread; no allocation; no errors.
+/// compute(): masks of fftSize points at sampleRate Hz; any thread; no allocation; no errors.
 struct BandFilterData {
   BandCoupling coupling{};
   std::array<double, kNumBands> share{};
-  static BandFilterData compute(const OctaveBandMasks& masks, size_t fftSize);
+  /// The part of share within the analysed octave (inAnalysedOctave): share but for the 63 Hz
+  /// and 8 kHz bands.
+  std::array<double, kNumBands> octaveShare{};
+  static BandFilterData compute(const OctaveBandMasks& masks, size_t fftSize, int sampleRate);
+};
+
+/// One deterministic arrival that the direct-sound filters place (the direct sound or an exact
+/// early path): its delay in seconds and band intensities (1/m^2 relative to source power).
+struct Arrival {
+  double delaySeconds = 0.0;
+  Bands intensity{0.f};
 };
 
 /// The direct-sound filters: per band the impulse response a_b of A_b (zero phase), `taps`

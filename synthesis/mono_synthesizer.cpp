@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "common/fftw_util.h"
+#include "synthesis/analysis_refinement.h"
 #include "synthesis/band_envelope.h"
 #include "synthesis/band_leveller.h"
 #include "synthesis/band_tilt.h"
@@ -31,7 +32,7 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
   std::copy(seq.begin(), seq.end(), fft.time.p);
   fftwf_execute(fft.fwd);
   const OctaveBandMasks masks(sampleRate, fft.n);
-  filterData_ = BandFilterData::compute(masks, fft.n);
+  filterData_ = BandFilterData::compute(masks, fft.n, sampleRate);
   bands_ = std::make_unique<TiltedBands>(sampleRate, length_, masks, fft);
   direct_ = std::make_unique<DirectSoundFilter>(masks, fft, margin);
   leveller_ = std::make_unique<BandLeveller>(
@@ -39,31 +40,32 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
       BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, 10.0));
   envelope_ = std::make_unique<BandEnvelope>(sampleRate, seq, length_, filterData_,
                                              measureRealised(sampleRate, seq, length_, fft, masks));
+  refinement_ = std::make_unique<AnalysisFilterRefinement>(sampleRate, length_, *bands_);
+  arrivals_.reserve(kReservedArrivals);
 }
 
 void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& direct, float* ir,
                                std::span<const SpecularPath> early) {
   std::fill(ir, ir + length_, 0.f);
+  arrivals_.clear();
+  if (direct.visible) arrivals_.push_back({double(direct.delaySeconds), direct.intensity});
+  for (const SpecularPath& p : early) arrivals_.push_back({p.delaySeconds, p.intensity});
   bands_->update(energy);
   envelope_->compute(energy);
   std::array<const float*, kNumBands> tilted;
   for (int b = 0; b < kNumBands; ++b) tilted[size_t(b)] = bands_->tilted(b).data();
-  const size_t onset = firstArrivalSample(energy, direct, early);
+  const size_t onset = firstArrivalSample(energy);
   envelope_->startAt(onset, tilted);
   envelope_->accumulateRange(tilted, ir, onset, length_);
-  if (direct.visible) addArrival(direct.delaySeconds, direct.intensity, ir);
-  for (const SpecularPath& p : early) addArrival(p.delaySeconds, p.intensity, ir);
-  cleanUp(energy, direct, early, ir);
-  // The envelope's unplaced energy is as a band measurement sees it (E_b beta_b).
-  for (int b = 0; b < kNumBands; ++b)
-    missingBands_[b] =
-        float(envelope_->unplacedEnergy()[size_t(b)] / filterData_.share[size_t(b)]);
+  for (const Arrival& a : arrivals_) addArrival(a, ir);
+  refinement_->refine(energy, arrivals_, onset, *envelope_, *bands_, ir);
+  cleanUp(energy, ir);
+  for (int b = 0; b < kNumBands; ++b) missingBands_[b] = float(refinement_->missing()[size_t(b)]);
 }
 
-size_t IrSynthesizer::firstArrivalSample(const EnergyResponse& energy, const DirectSound& direct,
-                                         std::span<const SpecularPath> early) const {
-  double t = direct.visible ? double(direct.delaySeconds) : energy.binCount() * energy.binSeconds();
-  for (const SpecularPath& p : early) t = std::min(t, p.delaySeconds);
+size_t IrSynthesizer::firstArrivalSample(const EnergyResponse& energy) const {
+  double t = energy.binCount() * energy.binSeconds();
+  for (const Arrival& a : arrivals_) t = std::min(t, a.delaySeconds);
   for (size_t k = 0; k < energy.binCount() && double(k) * energy.binSeconds() < t; ++k) {
     const Bands& e = energy.bins()[k];
     if (e.max() > 0.f) {
@@ -74,20 +76,18 @@ size_t IrSynthesizer::firstArrivalSample(const EnergyResponse& energy, const Dir
   return std::min(length_, size_t(std::max(0L, std::lround(t * sampleRate_))));
 }
 
-void IrSynthesizer::addArrival(double delaySeconds, const Bands& intensity, float* ir) const {
-  const long n0 = std::lround(delaySeconds * sampleRate_);
+void IrSynthesizer::addArrival(const Arrival& a, float* ir) const {
+  const long n0 = std::lround(a.delaySeconds * sampleRate_);
   for (int b = 0; b < kNumBands; ++b) {
-    const float amp = float(std::sqrt(std::max(0.0, double(intensity[b]))));
+    const float amp = float(std::sqrt(std::max(0.0, double(a.intensity[b]))));
     direct_->add(b, amp, n0 - long(direct_->centre()), ir, length_);
   }
 }
 
-void IrSynthesizer::cleanUp(const EnergyResponse& energy, const DirectSound& direct,
-                            std::span<const SpecularPath> early, float* ir) {
+void IrSynthesizer::cleanUp(const EnergyResponse& energy, float* ir) {
   leveller_->clearTargets();
   leveller_->addResponse(energy, Bands(1.f));
-  if (direct.visible) leveller_->addDirect(direct.delaySeconds, direct.intensity);
-  for (const SpecularPath& p : early) leveller_->addDirect(p.delaySeconds, p.intensity);
+  for (const Arrival& a : arrivals_) leveller_->addDirect(a.delaySeconds, a.intensity);
   leveller_->apply(ir, kCleanMargin, 1.0);
 }
 

@@ -19,7 +19,10 @@
 //  3. the direct sound and the exact early arrivals: the band filters' impulse responses at
 //     each arrival's sample delay, with band amplitudes sqrt(E_b), so a flat arrival is a
 //     Dirac;
-//  4. the clean-up of the 4 and 8 kHz parts where the gain steps of slower bands splatter into
+//  4. the refinement on the ISO 3382-1 analysis filters (synthesis/analysis_refinement.h):
+//     per band, the gains are set so that the analysis filter's output follows the response's
+//     cumulative energy, whatever the noise realisation and the crossovers put there;
+//  5. the clean-up of the 4 and 8 kHz parts where the gain steps of slower bands splatter into
 //     them (synthesis/band_leveller.h).
 // The 63 Hz band's mask reaches down to 0 Hz and the 8 kHz band's up to Nyquist, for the
 // direct sound and the reverberant part alike. Units: the IR's squared samples sum to energy
@@ -33,6 +36,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <vector>
 
 #include "common/bands.h"
 #include "engine/energy_response.h"
@@ -42,6 +46,7 @@
 
 namespace dpc {
 
+class AnalysisFilterRefinement;
 class BandEnvelope;
 class BandLeveller;
 class TiltedBands;
@@ -75,6 +80,9 @@ class IrSynthesizer {
   void synthesize(const EnergyResponse& energy, const DirectSound& direct, float* ir,
                   std::span<const SpecularPath> early = {});
 
+  /// Arrivals (direct sound and exact paths) per frame that need no allocation.
+  static constexpr size_t kReservedArrivals = 256;
+
   /// Fraction of a unit impulse's energy that a band measurement (mask M_b) puts in band b.
   double bandFilterEnergy(int b) const { return filterData_.share[size_t(b)]; }
   /// The band filters a_b that place the direct sound.
@@ -85,20 +93,18 @@ class IrSynthesizer {
   const Bands& missingEnergy() const { return missingBands_; }
 
  private:
-  /// The first arrival's sample: the direct sound's when it is visible, else the start of the
-  /// response's first bin with energy (or of an earlier one, should a response hold energy
-  /// before the direct sound). The reverberant part starts there.
-  size_t firstArrivalSample(const EnergyResponse& energy, const DirectSound& direct,
-                            std::span<const SpecularPath> early) const;
+  /// The first arrival's sample: the earliest of arrivals_, or the start of the response's
+  /// first bin with energy when that is earlier (a response holding energy before the direct
+  /// sound). The reverberant part starts there.
+  size_t firstArrivalSample(const EnergyResponse& energy) const;
   /// Adds one arrival: the band filters a_b with amplitudes sqrt(intensity_b) at the sample
-  /// nearest delaySeconds.
-  void addArrival(double delaySeconds, const Bands& intensity, float* ir) const;
+  /// nearest its delay.
+  void addArrival(const Arrival& arrival, float* ir) const;
   /// Cleans the bands b >= kFirstCleanedBand of the finished IR of the slower bands' gain-step
   /// splatter (BandLeveller: scale-down only, kCleanMargin tolerance, from where the Dirac
   /// sequence holds 10 pulses per bin). Without it the 8 kHz T30 of a large hall's IR reads
   /// twice the response's.
-  void cleanUp(const EnergyResponse& energy, const DirectSound& direct,
-               std::span<const SpecularPath> early, float* ir);
+  void cleanUp(const EnergyResponse& energy, float* ir);
 
   int sampleRate_;
   size_t length_;
@@ -106,7 +112,9 @@ class IrSynthesizer {
   std::unique_ptr<TiltedBands> bands_;
   std::unique_ptr<DirectSoundFilter> direct_;
   std::unique_ptr<BandEnvelope> envelope_;
+  std::unique_ptr<AnalysisFilterRefinement> refinement_;
   std::unique_ptr<BandLeveller> leveller_;
+  std::vector<Arrival> arrivals_;  ///< this frame's direct sound and exact paths
   Bands missingBands_{};
 };
 

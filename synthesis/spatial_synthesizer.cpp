@@ -28,16 +28,6 @@ std::vector<glm::vec3> defaultSpatialDirections() {
 
 namespace {
 
-/// Whether frequency f (Hz) lies in what band b's analysis sees of its filter A_b: all of it,
-/// except below the 63 Hz octave and above the 8 kHz octave, where A_b reaches on to 0 Hz and
-/// Nyquist but an octave-band analysis does not.
-bool inAnalysedOctave(int b, double f) {
-  const double fc = bandCentreExactHz(b);
-  if (b == 0) return f >= fc / std::numbers::sqrt2;
-  if (b == kNumBands - 1) return f <= fc * std::numbers::sqrt2;
-  return true;
-}
-
 /// The longest channel filter of any direction (at least 1); throws std::invalid_argument
 /// unless every direction has `channels` >= 1 channels of 1 .. margin - 1 taps.
 size_t longestFilter(const std::vector<DirectionFilter>& filters, size_t channels, size_t margin) {
@@ -76,7 +66,7 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   length_ = size_t(std::ceil(lengthSeconds * sampleRate));
   FftwRealTransforms big(nextPow2(length_ + margin + maxFilter));
   const OctaveBandMasks masks(sampleRate, big.n);
-  filterData_ = BandFilterData::compute(masks, big.n);
+  filterData_ = BandFilterData::compute(masks, big.n, sampleRate);
   equaliseDiffuseField(filters, masks, big);
   // Per direction: its own Dirac sequence, through A_b and the direction's filters.
   bands_.resize(directions_.size());

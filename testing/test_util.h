@@ -2,6 +2,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <numbers>
 #include <vector>
@@ -18,8 +19,10 @@ inline bool identical(const EnergyResponse& a, const EnergyResponse& b) {
          std::memcmp(a.bins().data(), b.bins().data(), a.binCount() * sizeof(Bands)) == 0;
 }
 
-/// Band energies of x (sum over samples of the band-filtered signal squared), measured with
-/// the synthesiser's own power-complementary octave masks, by Parseval on one real FFT.
+/// Band levels of x on the energy response's scale: per band, the energy of x through the
+/// synthesiser's power-complementary octave mask M_b (Parseval on one real FFT) divided by
+/// what a unit impulse gives through it, so a Dirac of energy E reads E in every band and a
+/// response's band value (a spectral density, synthesis/band_filters.h) reads as itself.
 /// analysedOctaves: the 63 Hz and 8 kHz bands count only their octave (fc / sqrt 2 .. fc sqrt 2),
 /// as an octave-band analysis does, not their masks' reach down to 0 Hz and up to Nyquist.
 inline Bands bandEnergies(const std::vector<float>& x, int fs, bool analysedOctaves = false) {
@@ -31,7 +34,7 @@ inline Bands bandEnergies(const std::vector<float>& x, int fs, bool analysedOcta
   fftwf_execute(fft.fwd);
   const fftwf_complex* out = fft.spec.p;
   OctaveBandMasks masks(fs, n);
-  Bands e(0.f);
+  std::array<double, kNumBands> e{}, unit{};
   for (size_t k = 0; k <= n / 2; ++k) {
     const double mag2 = double(out[k][0]) * out[k][0] + double(out[k][1]) * out[k][1];
     const double w = (k == 0 || k == n / 2) ? 1.0 : 2.0;  // one-sided spectrum
@@ -41,10 +44,13 @@ inline Bands bandEnergies(const std::vector<float>& x, int fs, bool analysedOcta
                               (b == kNumBands - 1 && f > bandCentreExactHz(b) * std::numbers::sqrt2)))
         continue;
       const double g = masks.gain(b, k);
-      e[b] += float(w * g * g * mag2 / double(n));
+      e[size_t(b)] += w * g * g * mag2 / double(n);
+      unit[size_t(b)] += w * g * g / double(n);
     }
   }
-  return e;
+  Bands levels(0.f);
+  for (int b = 0; b < kNumBands; ++b) levels[b] = float(e[size_t(b)] / unit[size_t(b)]);
+  return levels;
 }
 
 }  // namespace dpc::test

@@ -189,6 +189,17 @@ def band_weights(rate):
     return np.diff(edges) / (rate / 2.0)
 
 
+def band_levels(ir, rate, er):
+    """Per octave band, the IR's energy by FFT over the octave (fc / sqrt 2 .. fc sqrt 2) divided
+    by the octave's share of a white spectrum, against the ER's band total (direct sound
+    included), in dB: 0 when the IR carries the ER's band value as a spectral density."""
+    bands, _, _ = band_energies(ir, rate)
+    _, direct_e, _, bins = er
+    total = bins.sum(axis=0) + direct_e
+    width = np.array([fc * np.sqrt(2) - fc / np.sqrt(2) for fc in CENTRES]) / (rate / 2.0)
+    return [float(10 * np.log10(b / w / t)) for b, w, t in zip(bands, width, total)]
+
+
 def er_broadband(er, rate):
     direct_t, direct_e, dt, bins = er
     w = band_weights(rate)
@@ -254,6 +265,7 @@ def measure(build, folder, name, rays, seed):
         p_bands, _, _ = band_energies(pre, rate) if len(pre) else (np.zeros(8), 0, 0)
         entry = {
             'ir': ir_par, 'er': er_par,
+            'band_level_db': band_levels(ir[max(onset, 0):], rate, er),
             'g_re_direct_ir': 10 * np.log10((ir ** 2).sum() / d_energy),
             'g_re_direct_er': er_par['g'] - 10 * np.log10(er_direct * 4 * np.pi * 100),
             'reverb_low_share': t_low / t_energy, 'reverb_high_share': t_high / t_energy,
@@ -324,6 +336,9 @@ def main():
               f"{np.median([abs(a['ratio_db']) for a in arr]):.1f} dB, worst "
               f"{worst['ratio_db']:+.1f} dB at {worst['delay_ms']:.2f} ms; unexplained loud "
               f"samples in 50 ms: {res['specular']['unexplained_loud_samples_50ms']}; "
+              f"IR - ER per band (dB; diffuse / specular): "
+              f"{', '.join(f'{v:+.2f}' for v in res['diffuse']['band_level_db'])} / "
+              f"{', '.join(f'{v:+.2f}' for v in res['specular']['band_level_db'])}; "
               f"pre-onset per band (dB re direct): "
               f"{', '.join(f'{v:.0f}' for v in res['diffuse']['pre_onset_band_db'])}")
 

@@ -82,6 +82,9 @@ class BandEnvelope {
   /// Band b's gains g_b[j] of the last compute(), one per synthesis bin (the mono synthesiser's
   /// refinement on the analysis filters rewrites them).
   std::vector<float>& gains(int b) { return gain_[size_t(b)]; }
+  /// Band b's expectation-form gains of the last compute() (sqrt of the bin's target over the
+  /// pulses' expected energy, before the realised form's solve; realised form only).
+  const std::vector<float>& expectedGains(int b) const { return first_[size_t(b)]; }
   /// Energy of the last compute() that no gain could place (a bin whose neighbours' crossover
   /// spill alone exceeds its target, or energy after the sequence's last pulse), summed over
   /// bins, per band, in the response's unit.

@@ -5,7 +5,6 @@
 #include <stdexcept>
 
 #include "common/fftw_util.h"
-#include "synthesis/analysis_refinement.h"
 #include "synthesis/band_envelope.h"
 #include "synthesis/band_leveller.h"
 #include "synthesis/band_tilt.h"
@@ -40,7 +39,6 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
       BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, 10.0));
   envelope_ = std::make_unique<BandEnvelope>(sampleRate, seq, length_, filterData_,
                                              measureRealised(sampleRate, seq, length_, fft, masks));
-  refinement_ = std::make_unique<AnalysisFilterRefinement>(sampleRate, length_, *bands_);
   arrivals_.reserve(kReservedArrivals);
 }
 
@@ -57,10 +55,13 @@ void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& 
   const size_t onset = firstArrivalSample(energy);
   envelope_->startAt(onset, tilted);
   envelope_->accumulateRange(tilted, ir, onset, length_);
+  beyondOctaveInExpectation(onset, ir);
   for (const Arrival& a : arrivals_) addArrival(a, ir);
-  refinement_->refine(energy, arrivals_, onset, *envelope_, *bands_, ir);
   cleanUp(energy, ir);
-  for (int b = 0; b < kNumBands; ++b) missingBands_[b] = float(refinement_->missing()[size_t(b)]);
+  // The envelope's unplaced energy is as its band measurement sees it (E_b x the octave share).
+  for (int b = 0; b < kNumBands; ++b)
+    missingBands_[b] =
+        float(envelope_->unplacedEnergy()[size_t(b)] / filterData_.octaveShare[size_t(b)]);
 }
 
 size_t IrSynthesizer::firstArrivalSample(const EnergyResponse& energy) const {
@@ -81,6 +82,21 @@ void IrSynthesizer::addArrival(const Arrival& a, float* ir) const {
   for (int b = 0; b < kNumBands; ++b) {
     const float amp = float(std::sqrt(std::max(0.0, double(a.intensity[b]))));
     direct_->add(b, amp, n0 - long(direct_->centre()), ir, length_);
+  }
+}
+
+void IrSynthesizer::beyondOctaveInExpectation(size_t onset, float* ir) const {
+  for (int b : {0, kNumBands - 1}) {
+    const std::vector<float>& realised = envelope_->gains(b);
+    const std::vector<float>& expected = envelope_->expectedGains(b);
+    const float* beyond = bands_->beyondOctave(b).data();
+    const size_t w = envelope_->binSamples(b);
+    for (size_t j = onset / w; j < realised.size(); ++j) {
+      const float step = expected[j] - realised[j];
+      if (step == 0.f) continue;
+      for (size_t n = std::max(onset, j * w); n < std::min(length_, (j + 1) * w); ++n)
+        ir[n] += step * beyond[n];
+    }
   }
 }
 

@@ -19,10 +19,9 @@
 //  3. the direct sound and the exact early arrivals: the band filters' impulse responses at
 //     each arrival's sample delay, with band amplitudes sqrt(E_b), so a flat arrival is a
 //     Dirac;
-//  4. the refinement on the ISO 3382-1 analysis filters (synthesis/analysis_refinement.h):
-//     per band, the gains are set so that the analysis filter's output follows the response's
-//     cumulative energy, whatever the noise realisation and the crossovers put there;
-//  5. the clean-up of the 4 and 8 kHz parts where the gain steps of slower bands splatter into
+//     (the 63 Hz band below 44 Hz and the 8 kHz band above 11.3 kHz at the expectation
+//     form's gains);
+//  4. the clean-up of the 4 and 8 kHz parts where the gain steps of slower bands splatter into
 //     them (synthesis/band_leveller.h).
 // The 63 Hz band's mask reaches down to 0 Hz and the 8 kHz band's up to Nyquist, for the
 // direct sound and the reverberant part alike. Units: the IR's squared samples sum to energy
@@ -46,7 +45,6 @@
 
 namespace dpc {
 
-class AnalysisFilterRefinement;
 class BandEnvelope;
 class BandLeveller;
 class TiltedBands;
@@ -100,6 +98,11 @@ class IrSynthesizer {
   /// Adds one arrival: the band filters a_b with amplitudes sqrt(intensity_b) at the sample
   /// nearest its delay.
   void addArrival(const Arrival& arrival, float* ir) const;
+  /// The 63 Hz band below 44 Hz and the 8 kHz band above 11.3 kHz at the envelope's
+  /// expectation-form gains: the realised form sets each bin's gain for the band's analysed
+  /// octave, and the same gain on the independent noise beyond it would inflate that part on
+  /// average (a ratio target / realised energy is biased upward).
+  void beyondOctaveInExpectation(size_t onset, float* ir) const;
   /// Cleans the bands b >= kFirstCleanedBand of the finished IR of the slower bands' gain-step
   /// splatter (BandLeveller: scale-down only, kCleanMargin tolerance, from where the Dirac
   /// sequence holds 10 pulses per bin). Without it the 8 kHz T30 of a large hall's IR reads
@@ -112,7 +115,6 @@ class IrSynthesizer {
   std::unique_ptr<TiltedBands> bands_;
   std::unique_ptr<DirectSoundFilter> direct_;
   std::unique_ptr<BandEnvelope> envelope_;
-  std::unique_ptr<AnalysisFilterRefinement> refinement_;
   std::unique_ptr<BandLeveller> leveller_;
   std::vector<Arrival> arrivals_;  ///< this frame's direct sound and exact paths
   Bands missingBands_{};

@@ -75,7 +75,10 @@ TEST_CASE("Synthesised IR: band decay curve on the analysis filters follows the 
       std::vector<double> y(ir.size());
       filter.run(ir.data(), y.data(), ir.size(), st);
       std::vector<double> tailIr(ir.size() + 1, 0.0), tailEr(c.er.binCount() + 1, 0.0);
-      for (size_t n = ir.size(); n-- > 0;) tailIr[n] = tailIr[n + 1] + y[n] * y[n];
+      // On the response's scale: a band value is a spectral density, read through the filter
+      // relative to a unit impulse (the free-field reference).
+      const double unit = filter.impulseEnergy(size_t(kFs));
+      for (size_t n = ir.size(); n-- > 0;) tailIr[n] = tailIr[n + 1] + y[n] * y[n] / unit;
       for (size_t k = c.er.binCount(); k-- > 0;) tailEr[k] = tailEr[k + 1] + c.er.bins()[k][b];
       double worst = 0.0;
       for (size_t ms = 20; tailEr[ms] > 1e-3 * tailEr[0]; ms += 10) {

@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <numbers>
+#include <utility>
 #include <vector>
 
 #include "common/fftw_util.h"
@@ -12,6 +14,15 @@
 #include "synthesis/band_filters.h"
 
 namespace dpc::test {
+
+/// Mean of v and its standard error (sample standard deviation / sqrt(n)); v.size() >= 2.
+inline std::pair<double, double> meanAndStandardError(const std::vector<double>& v) {
+  double m = 0.0, s = 0.0;
+  for (double x : v) m += x;
+  m /= double(v.size());
+  for (double x : v) s += (x - m) * (x - m);
+  return {m, std::sqrt(s / double(v.size() - 1) / double(v.size()))};
+}
 
 /// Bit-for-bit equality of two energy responses.
 inline bool identical(const EnergyResponse& a, const EnergyResponse& b) {

@@ -60,24 +60,6 @@ BandEnvelope::BandEnvelope(int sampleRate, const std::vector<float>& sequence, s
   }
 }
 
-BandEnvelope::BandEnvelope(int sampleRate, const std::vector<float>& sequence, size_t length,
-                           const BandFilterData& filters, Realised realised)
-    : BandEnvelope(sampleRate, sequence, length, filters,
-                   std::array<std::vector<float>, kRealisedBands>{}) {
-  // The realised correlations see each band within its analysed octave (measureRealised), so
-  // do its targets and the expectation form's e_b[j] (the pulses' energy x that octave's share
-  // of beta_b), which tells which bins hold a pulse and gives the first guess of the gains.
-  share_ = filters.octaveShare;
-  for (int b = 0; b < kNumBands; ++b) {
-    std::vector<double>& e = sequenceEnergy_[size_t(b)];
-    std::fill(e.begin(), e.end(), 0.0);
-    for (size_t n = 0; n < length_ && n < sequence.size(); ++n)
-      e[n / binSamples_[size_t(b)]] += double(sequence[n]) * sequence[n] * share_[size_t(b)];
-  }
-  realised_ = std::move(realised);
-  useRealised_ = true;
-}
-
 size_t BandEnvelope::binSamplesFor(int sampleRate, int b) {
   const size_t base = std::max<size_t>(1, size_t(std::lround(1e-3 * sampleRate)));
   const double want = 2.0 * sampleRate / bandCentreExactHz(b);  // two periods, samples
@@ -177,78 +159,19 @@ void BandEnvelope::holdGainsOverEmptyBins(int b, size_t onset) {
 void BandEnvelope::targets(const EnergyResponse& energy) {
   for (int b = 0; b < kNumBands; ++b) {
     binTargets(energy, b);
-    const size_t onset = useRealised_ ? 0 : moveToNearestPulses(b);
+    const size_t onset = moveToNearestPulses(b);
     carryToPulses(b);
-    if (!useRealised_) holdGainsOverEmptyBins(b, onset);
+    holdGainsOverEmptyBins(b, onset);
   }
 }
 
 void BandEnvelope::compute(const EnergyResponse& energy) {
   unplaced_.fill(0.0);
   targets(energy);
-  if (useRealised_)
-    computeRealised();
-  else
-    computeExpected();
+  correctCrossovers();
 }
 
-void BandEnvelope::computeRealised() {
-  // Gauss-Seidel sweeps over the bands; the coupling between bands is a few per cent, so four
-  // sweeps converge far below 0.1 %.
-  constexpr int kSweeps = 4;
-  for (int b = 0; b < kNumBands; ++b) first_[size_t(b)] = gain_[size_t(b)];
-  for (int sweep = 0; sweep < kSweeps; ++sweep)
-    for (int b = 0; b < kNumBands; ++b) solveRealisedBand(b, sweep == kSweeps - 1);
-}
-
-void BandEnvelope::realisedQuadratic(int b, size_t j, double& a, double& h, double& c) const {
-  // Summed over the fine bins q of j, where the upper neighbour's gain may change from one q
-  // to the next.
-  const size_t bi = size_t(b);
-  const auto& fine = realised_.fine[bi];
-  const size_t w = binSamples_[bi];
-  const size_t fw = b + 1 < kNumBands ? binSamples_[bi + 1] : w;
-  const size_t perBin = w / fw;
-  const double gLow = b > 0 ? double(gain_[bi - 1][(j * w) / binSamples_[bi - 1]]) : 0.0;
-  a = h = c = 0.0;
-  const size_t qEnd = std::min(fine.size(), (j + 1) * perBin);
-  for (size_t q = j * perBin; q < qEnd; ++q) {
-    const double gHigh =
-        b + 1 < kNumBands ? double(gain_[bi + 1][(q * fw) / binSamples_[bi + 1]]) : 0.0;
-    const Correlations& r = fine[q];
-    a += r[3];
-    h += gLow * r[1] + gHigh * r[4];
-    c += gLow * gLow * r[0] + 2.0 * gLow * gHigh * r[2] + gHigh * gHigh * r[5];
-  }
-}
-
-void BandEnvelope::solveRealisedBand(int b, bool lastSweep) {
-  constexpr double kGainRange = 3.0;
-  const size_t bi = size_t(b);
-  for (size_t j = 0; j < gain_[bi].size(); ++j) {
-    const double want = target_[bi][j];
-    if (want <= 0.0) continue;
-    double a, h, c;
-    realisedQuadratic(b, j, a, h, c);
-    if (!(a > 0.0)) continue;  // keep the first guess
-    const double disc = h * h - a * (c - want);
-    double g = disc > 0.0 ? (-h + std::sqrt(disc)) / a : 0.0;
-    // A bin whose pulses sit at its edges has little realised energy inside it; a large gain
-    // there would spill into the neighbouring bins through the band filter. Keep the gain
-    // within kGainRange of the expectation form's.
-    const double guess = first_[bi][j];
-    g = std::min(g, kGainRange * guess);
-    if (g > 0.0) g = std::max(g, guess / kGainRange);
-    if (g > 0.0) {
-      gain_[bi][j] = float(g);
-    } else {
-      gain_[bi][j] = 0.f;
-      if (lastSweep) unplaced_[bi] += want;
-    }
-  }
-}
-
-void BandEnvelope::computeExpected() {
+void BandEnvelope::correctCrossovers() {
   // Crossover correction: band b's measured energy in a bin is
   // sum_{i,k} g_{b+i} g_{b+k} coupling[b][i][k] times the white energy; scale g_b so that it
   // equals the uncorrected g_b^2 (what the energy response asks for). Gauss-Seidel steps.
@@ -307,61 +230,21 @@ void BandEnvelope::startAt(size_t onset, const std::array<const float*, kNumBand
   }
 }
 
-namespace {
-
-/// y = the sequence (whose spectrum fft.spec holds) through M_b A_nb A_nb within band b's
-/// analysed octave (inAnalysedOctave), length samples.
-void bandMeasurement(FftwRealTransforms& fft, const OctaveBandMasks& masks, int sampleRate, int b,
-                     int nb, size_t length, std::vector<float>& y) {
+std::array<std::vector<float>, BandEnvelope::kRealisedBands> measureLowBands(
+    FftwRealTransforms& fft, const OctaveBandMasks& masks, size_t length) {
+  std::array<std::vector<float>, BandEnvelope::kRealisedBands> out;
   const float scale = 1.f / float(fft.n);
-  for (size_t k = 0; k < fft.n / 2 + 1; ++k) {
-    const bool seen = inAnalysedOctave(b, double(k) * sampleRate / double(fft.n));
-    const float g = seen ? masks.gain(b, k) * masks.gain(nb, k) * masks.gain(nb, k) * scale : 0.f;
-    fft.band.p[k][0] = fft.spec.p[k][0] * g;
-    fft.band.p[k][1] = fft.spec.p[k][1] * g;
-  }
-  fftwf_execute(fft.inv);
-  y.assign(fft.time.p, fft.time.p + length);
-}
-
-/// The products of y[0..2] summed over fine bins of fw samples.
-void accumulateCorrelations(const std::array<std::vector<float>, 3>& y, size_t length, size_t fw,
-                            std::vector<BandEnvelope::Correlations>& fine) {
-  fine.assign((length + fw - 1) / fw, BandEnvelope::Correlations{});
-  for (size_t n = 0; n < length; ++n) {
-    const double lo = y[0][n], mid = y[1][n], hi = y[2][n];
-    BandEnvelope::Correlations& r = fine[n / fw];
-    r[0] += lo * lo;
-    r[1] += lo * mid;
-    r[2] += lo * hi;
-    r[3] += mid * mid;
-    r[4] += mid * hi;
-    r[5] += hi * hi;
-  }
-}
-
-}  // namespace
-
-BandEnvelope::Realised measureRealised(int sampleRate, const std::vector<float>& sequence,
-                                       size_t length, FftwRealTransforms& fft,
-                                       const OctaveBandMasks& masks) {
-  std::fill(fft.time.p, fft.time.p + fft.n, 0.f);
-  std::copy(sequence.begin(), sequence.begin() + long(std::min(length, sequence.size())),
-            fft.time.p);
-  fftwf_execute(fft.fwd);
-  BandEnvelope::Realised out;
-  std::array<std::vector<float>, 3> y;
-  for (int b = 0; b < kNumBands; ++b) {
-    for (int i = 0; i < 3; ++i) {
-      const int nb = b + i - 1;
-      y[size_t(i)].assign(length, 0.f);
-      if (nb >= 0 && nb < kNumBands)
-        bandMeasurement(fft, masks, sampleRate, b, nb, length, y[size_t(i)]);
+  for (int b = 0; b < BandEnvelope::kRealisedBands; ++b) {
+    for (size_t k = 0; k < fft.n / 2 + 1; ++k) {
+      const float m = masks.gain(b, k);
+      fft.band.p[k][0] = fft.spec.p[k][0] * m * m * m * scale;
+      fft.band.p[k][1] = fft.spec.p[k][1] * m * m * m * scale;
     }
-    const size_t fw = BandEnvelope::binSamplesFor(sampleRate, std::min(b + 1, kNumBands - 1));
-    accumulateCorrelations(y, length, fw, out.fine[size_t(b)]);
+    fftwf_execute(fft.inv);  // destroys fft.band, which is rebuilt each time
+    out[size_t(b)].assign(fft.time.p, fft.time.p + length);
   }
   return out;
 }
+
 
 }  // namespace dpc

@@ -6,16 +6,14 @@
 // centre (32 ms at 63 Hz ... 1 ms from 2 kHz up); a band's bin is a whole number of the next
 // band's bins, so neighbours' gains are constant or change only at bin boundaries.
 //
-// Two forms. The expectation form (the spatial synthesiser's per-direction sequences):
-// g_b[j] = sqrt(E_b[j] / e_b[j]), e_b = beta_b x the pulses' energy in the bin (beta_b: the
-// share of a unit impulse's energy that a band measurement with M_b sees), realised energy at
-// 63/125 Hz, and a crossover correction with the white-spectrum coupling coefficients. The
-// realised form (the mono synthesiser): at construction the correlations of
-// y_{b,i} = M_b A_{b+i} s (i = -1, 0, 1: what a band measurement with M_b sees of its own and
-// its neighbours' band signals) are measured per bin (measureRealised); each frame solves, bin
-// by bin, sum_{i,k} g_{b+i} g_{b+k} <y_{b,i}, y_{b,k}>_bin = E_b[bin] for g_b (Gauss-Seidel
-// over the bands, a quadratic per bin), so the band energy in every bin equals the response's
-// up to the smearing of the gain steps between bins by the band filters.
+// g_b[j] = sqrt(E_b[j] beta_b / e_b[j]): a response's band value E_b is a spectral density
+// (synthesis/band_filters.h), so a band measurement with M_b sees E_b beta_b of it; e_b = beta_b
+// x the pulses' energy in the bin (beta_b: the share of a unit impulse's energy that a band
+// measurement with M_b sees), realised energy at 63/125 Hz, and a crossover correction with
+// the white-spectrum coupling coefficients. The gains are set in expectation: a realisation's
+// band energy in a bin scatters around the response's as any noise's does, and nothing
+// corrects it per realisation (a gain target / realised, applied to a band signal of which a
+// measurement sees only part, inflates the part it does not see on average).
 #pragma once
 
 #include <array>
@@ -30,10 +28,9 @@
 namespace dpc {
 
 /// Gains g_b[j] per band and synthesis bin (see the file comment). The energy of a bin without
-/// pulses goes to the next bin with pulses (realised form) or to the nearer one, the earlier one
-/// only from the band's first bin with energy on (expectation form: the spatial synthesiser's
-/// sparse per-direction sequences, where the next pulse can lie tens of milliseconds on early in
-/// a large room). Construction allocates; compute() allocates only on its first call;
+/// pulses goes to the nearer bin with pulses, the earlier one only from the band's first bin
+/// with energy on (a sparse sequence's next pulse can lie tens of milliseconds on early in a
+/// large room, or in an open scene's bounding volume). Construction allocates; compute() allocates only on its first call;
 /// accumulate() does not. Propagation thread; no errors.
 class BandEnvelope {
  public:
@@ -42,21 +39,12 @@ class BandEnvelope {
   /// expectation).
   static constexpr int kRealisedBands = 2;
 
-  /// Expectation form. measured: for b < kRealisedBands, the sequence through M_b^3 (what a
+  /// measured: for b < kRealisedBands, the sequence through M_b^3 (what a
   /// band measurement with M_b sees of the A_b-filtered sequence), length samples; e_b[j] is
   /// its energy in bin j. Other bands use the expected energy (beta_b x the pulses' energy).
   BandEnvelope(int sampleRate, const std::vector<float>& sequence, size_t length,
                const BandFilterData& filters,
                const std::array<std::vector<float>, kRealisedBands>& measured);
-  /// Correlations per fine bin of band b (width: the next band's bin, or b's own for the top
-  /// band): {<y-,y->, <y-,y0>, <y-,y+>, <y0,y0>, <y0,y+>, <y+,y+>} with y_i = M_b A_{b+i} s.
-  using Correlations = std::array<double, 6>;
-  struct Realised {
-    std::array<std::vector<Correlations>, kNumBands> fine;
-  };
-  /// Realised form (mono synthesis): `realised` from measureRealised().
-  BandEnvelope(int sampleRate, const std::vector<float>& sequence, size_t length,
-               const BandFilterData& filters, Realised realised);
   /// Synthesis bin width of band b in samples at sampleRate (see the file comment).
   static size_t binSamplesFor(int sampleRate, int b);
 
@@ -79,12 +67,8 @@ class BandEnvelope {
   /// arrives before the first arrival). No allocation.
   void startAt(size_t onset, const std::array<const float*, kNumBands>& bands);
   size_t binSamples(int b) const { return binSamples_[size_t(b)]; }
-  /// Band b's gains g_b[j] of the last compute(), one per synthesis bin (the mono synthesiser's
-  /// refinement on the analysis filters rewrites them).
-  std::vector<float>& gains(int b) { return gain_[size_t(b)]; }
-  /// Band b's expectation-form gains of the last compute() (sqrt of the bin's target over the
-  /// pulses' expected energy, before the realised form's solve; realised form only).
-  const std::vector<float>& expectedGains(int b) const { return first_[size_t(b)]; }
+  /// Band b's gains g_b[j] of the last compute(), one per synthesis bin.
+  const std::vector<float>& gains(int b) const { return gain_[size_t(b)]; }
   /// Energy of the last compute() that no gain could place (a bin whose neighbours' crossover
   /// spill alone exceeds its target, or energy after the sequence's last pulse), summed over
   /// bins, per band, in the response's unit.
@@ -96,13 +80,8 @@ class BandEnvelope {
   size_t moveToNearestPulses(int b);
   void carryToPulses(int b);
   void holdGainsOverEmptyBins(int b, size_t onset);
-  void computeExpected();
-  void computeRealised();
-  /// One Gauss-Seidel step of band b over its bins (see the file comment).
-  void solveRealisedBand(int b, bool lastSweep);
-  /// Band b's measured energy in its bin j as a g_b^2 + 2 h g_b + c, the neighbours' gains
-  /// fixed.
-  void realisedQuadratic(int b, size_t j, double& a, double& h, double& c) const;
+  /// Crossover correction of the gains (see the file comment).
+  void correctCrossovers();
   int sampleRate_;
   size_t length_;
   BandCoupling coupling_;  ///< the band filters' (BandFilterData::coupling)
@@ -115,17 +94,13 @@ class BandEnvelope {
   std::array<std::vector<double>, kNumBands> target_;          ///< scratch: E_b[j]
   std::array<std::vector<float>, kNumBands> gain_;             ///< g_b[j]
   std::array<std::vector<float>, kNumBands> wanted_;           ///< scratch: uncorrected g_b[j]
-  std::array<std::vector<float>, kNumBands> first_;            ///< scratch: first-guess g_b[j]
-  Realised realised_;                                          ///< empty: expectation form
-  bool useRealised_ = false;
   std::array<double, kNumBands> unplaced_{};
 };
 
-/// The realised correlations of `sequence` (length samples) for BandEnvelope: 3 band
-/// measurements per band by FFT through `fft` (fft.n >= length + the filters' reach; masks of
+/// The constructor's `measured` signals: the sequence (whose spectrum fft.spec holds) through
+/// M_b^3 for the bands b < kRealisedBands, length samples each (fft.n >= length; masks of
 /// fft.n points). Allocates; a thread that may run fft's plans; no errors.
-BandEnvelope::Realised measureRealised(int sampleRate, const std::vector<float>& sequence,
-                                       size_t length, FftwRealTransforms& fft,
-                                       const OctaveBandMasks& masks);
+std::array<std::vector<float>, BandEnvelope::kRealisedBands> measureLowBands(
+    FftwRealTransforms& fft, const OctaveBandMasks& masks, size_t length);
 
 }  // namespace dpc

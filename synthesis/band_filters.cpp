@@ -47,21 +47,17 @@ double couplingSum(const OctaveBandMasks& masks, int b, int bi, int bj) {
 
 }  // namespace
 
-BandFilterData BandFilterData::compute(const OctaveBandMasks& masks, size_t fftSize,
-                                       int sampleRate) {
+BandFilterData BandFilterData::compute(const OctaveBandMasks& masks, size_t fftSize) {
   BandFilterData d;
   const size_t nbins = masks.binCount();
   for (int b = 0; b < kNumBands; ++b) {
-    double norm = 0.0, share = 0.0, octave = 0.0;
+    double norm = 0.0, share = 0.0;
     for (size_t k = 0; k < nbins; ++k) {
       const double m2 = double(masks.gain(b, k)) * masks.gain(b, k);
       norm += m2;
-      const double e = ((k == 0 || k == nbins - 1) ? 1.0 : 2.0) * m2 / double(fftSize);
-      share += e;
-      if (inAnalysedOctave(b, double(k) * sampleRate / double(fftSize))) octave += e;
+      share += ((k == 0 || k == nbins - 1) ? 1.0 : 2.0) * m2 / double(fftSize);
     }
     d.share[size_t(b)] = share;
-    d.octaveShare[size_t(b)] = octave;
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) {
         const int bi = b + i - 1, bj = b + j - 1;

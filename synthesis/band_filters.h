@@ -65,14 +65,11 @@ using BandCoupling = std::array<std::array<std::array<double, 3>, 3>, kNumBands>
 
 /// The band filters' fixed data for one sample rate: coupling and each band's energy share
 /// beta_b (the fraction of a unit impulse's energy that a band measurement with M_b sees).
-/// compute(): masks of fftSize points at sampleRate Hz; any thread; no allocation; no errors.
+/// compute(): any thread; no allocation; no errors.
 struct BandFilterData {
   BandCoupling coupling{};
   std::array<double, kNumBands> share{};
-  /// The part of share within the analysed octave (inAnalysedOctave): share but for the 63 Hz
-  /// and 8 kHz bands.
-  std::array<double, kNumBands> octaveShare{};
-  static BandFilterData compute(const OctaveBandMasks& masks, size_t fftSize, int sampleRate);
+  static BandFilterData compute(const OctaveBandMasks& masks, size_t fftSize);
 };
 
 /// One deterministic arrival that the direct-sound filters place (the direct sound or an exact

@@ -40,8 +40,7 @@ HalfBandDensity halfBandDensity(const EnergyResponse& energy, int band, double c
 /// large hall: air absorption) keeps its slow decay up to its upper edge, where the octave
 /// above's analysis filter passes it.
 /// Construction: a thread that may run fft's plans (fft.spec holds the sequence's spectrum,
-/// fft.n >= length; masks of fft.n points); allocates (3 x kNumBands + 6) x length floats; no
-/// errors.
+/// fft.n >= length; masks of fft.n points); allocates 3 x kNumBands x length floats; no errors.
 /// update(): propagation thread; no allocation; no errors.
 class TiltedBands {
  public:
@@ -54,29 +53,17 @@ class TiltedBands {
   const std::vector<float>& upperHalf(int b) const { return upper_[size_t(b)]; }
   /// alpha s_b + gamma s_hi per bin of the last update(), length samples.
   const std::vector<float>& tilted(int b) const { return tilted_[size_t(b)]; }
-  /// The part of tilted(b) beyond the analysed octave (below 44 Hz for b = 0, above 11.3 kHz
-  /// for b = kNumBands - 1; within and beyond add up to tilted(b)); b must be one of those.
-  const std::vector<float>& beyondOctave(int b) const { return beyond_[b == 0 ? 0 : 1]; }
   /// alpha and gamma of bin j of the last update().
   float alpha(int b, size_t j) const { return alpha_[size_t(b)][j]; }
   float gamma(int b, size_t j) const { return gamma_[size_t(b)][j]; }
 
  private:
-  /// <s_lo,s_lo>, <s_lo,s_hi>, <s_hi,s_hi> of band b for a white input, within its analysed
-  /// octave.
-  std::array<double, 3> halfEnergies(const OctaveBandMasks& masks, int b, size_t nfft) const;
-  /// out[n] = alpha s[n] + gamma sh[n] for n in [lo, hi).
-  static void tilt(const std::vector<float>& s, const std::vector<float>& sh, float alpha,
-                   float gamma, size_t lo, size_t hi, std::vector<float>& out);
-
   int sampleRate_;
   size_t length_;
   std::array<std::vector<float>, kNumBands> band_, upper_, tilted_;
   /// <s_lo,s_lo>, <s_lo,s_hi>, <s_hi,s_hi> for a white input.
   std::array<std::array<double, 3>, kNumBands> halfEnergy_{};
   std::array<std::vector<float>, kNumBands> alpha_, gamma_;
-  /// The 63 Hz [0] and 8 kHz [1] bands beyond their analysed octave: s_b, s_hi and tilted.
-  std::array<std::vector<float>, 2> beyondBand_, beyondUpper_, beyond_;
 };
 
 }  // namespace dpc

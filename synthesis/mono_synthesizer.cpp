@@ -31,14 +31,14 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
   std::copy(seq.begin(), seq.end(), fft.time.p);
   fftwf_execute(fft.fwd);
   const OctaveBandMasks masks(sampleRate, fft.n);
-  filterData_ = BandFilterData::compute(masks, fft.n, sampleRate);
+  filterData_ = BandFilterData::compute(masks, fft.n);
   bands_ = std::make_unique<TiltedBands>(sampleRate, length_, masks, fft);
   direct_ = std::make_unique<DirectSoundFilter>(masks, fft, margin);
   leveller_ = std::make_unique<BandLeveller>(
       sampleRate, length_, kFirstCleanedBand,
       BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, 10.0));
   envelope_ = std::make_unique<BandEnvelope>(sampleRate, seq, length_, filterData_,
-                                             measureRealised(sampleRate, seq, length_, fft, masks));
+                                             measureLowBands(fft, masks, length_));
   arrivals_.reserve(kReservedArrivals);
 }
 
@@ -55,13 +55,11 @@ void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& 
   const size_t onset = firstArrivalSample(energy);
   envelope_->startAt(onset, tilted);
   envelope_->accumulateRange(tilted, ir, onset, length_);
-  beyondOctaveInExpectation(onset, ir);
   for (const Arrival& a : arrivals_) addArrival(a, ir);
   cleanUp(energy, ir);
-  // The envelope's unplaced energy is as its band measurement sees it (E_b x the octave share).
+  // The envelope's unplaced energy is as a band measurement sees it (E_b beta_b).
   for (int b = 0; b < kNumBands; ++b)
-    missingBands_[b] =
-        float(envelope_->unplacedEnergy()[size_t(b)] / filterData_.octaveShare[size_t(b)]);
+    missingBands_[b] = float(envelope_->unplacedEnergy()[size_t(b)] / filterData_.share[size_t(b)]);
 }
 
 size_t IrSynthesizer::firstArrivalSample(const EnergyResponse& energy) const {
@@ -82,21 +80,6 @@ void IrSynthesizer::addArrival(const Arrival& a, float* ir) const {
   for (int b = 0; b < kNumBands; ++b) {
     const float amp = float(std::sqrt(std::max(0.0, double(a.intensity[b]))));
     direct_->add(b, amp, n0 - long(direct_->centre()), ir, length_);
-  }
-}
-
-void IrSynthesizer::beyondOctaveInExpectation(size_t onset, float* ir) const {
-  for (int b : {0, kNumBands - 1}) {
-    const std::vector<float>& realised = envelope_->gains(b);
-    const std::vector<float>& expected = envelope_->expectedGains(b);
-    const float* beyond = bands_->beyondOctave(b).data();
-    const size_t w = envelope_->binSamples(b);
-    for (size_t j = onset / w; j < realised.size(); ++j) {
-      const float step = expected[j] - realised[j];
-      if (step == 0.f) continue;
-      for (size_t n = std::max(onset, j * w); n < std::min(length_, (j + 1) * w); ++n)
-        ir[n] += step * beyond[n];
-    }
   }
 }
 

@@ -12,15 +12,14 @@
 // (synthesis/band_filters.h). Each frame, in stages:
 //  1. the within-band tilt (synthesis/band_tilt.h): each band's spectrum is tilted within its
 //     octave per synthesis bin toward its neighbours';
-//  2. the realised-form envelope (synthesis/band_envelope.h): per band and bin the gain that
-//     gives the tilted band signal the response's band energy as a band measurement sees it;
+//  2. the envelope (synthesis/band_envelope.h): per band and bin the gain that gives the
+//     tilted band signal the response's band energy in expectation (no per-realisation
+//     correction: the IR's band readings scatter as a measured IR's do);
 //     ir[n] = sum_b g_b[j] s_b[n], from the first arrival on (the bin that straddles it keeps
 //     its energy in its part after it: nothing is rendered before the first arrival);
 //  3. the direct sound and the exact early arrivals: the band filters' impulse responses at
 //     each arrival's sample delay, with band amplitudes sqrt(E_b), so a flat arrival is a
 //     Dirac;
-//     (the 63 Hz band below 44 Hz and the 8 kHz band above 11.3 kHz at the expectation
-//     form's gains);
 //  4. the clean-up of the 4 and 8 kHz parts where the gain steps of slower bands splatter into
 //     them (synthesis/band_leveller.h).
 // The 63 Hz band's mask reaches down to 0 Hz and the 8 kHz band's up to Nyquist, for the
@@ -98,11 +97,6 @@ class IrSynthesizer {
   /// Adds one arrival: the band filters a_b with amplitudes sqrt(intensity_b) at the sample
   /// nearest its delay.
   void addArrival(const Arrival& arrival, float* ir) const;
-  /// The 63 Hz band below 44 Hz and the 8 kHz band above 11.3 kHz at the envelope's
-  /// expectation-form gains: the realised form sets each bin's gain for the band's analysed
-  /// octave, and the same gain on the independent noise beyond it would inflate that part on
-  /// average (a ratio target / realised energy is biased upward).
-  void beyondOctaveInExpectation(size_t onset, float* ir) const;
   /// Cleans the bands b >= kFirstCleanedBand of the finished IR of the slower bands' gain-step
   /// splatter (BandLeveller: scale-down only, kCleanMargin tolerance, from where the Dirac
   /// sequence holds 10 pulses per bin). Without it the 8 kHz T30 of a large hall's IR reads

@@ -66,7 +66,7 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   length_ = size_t(std::ceil(lengthSeconds * sampleRate));
   FftwRealTransforms big(nextPow2(length_ + margin + maxFilter));
   const OctaveBandMasks masks(sampleRate, big.n);
-  filterData_ = BandFilterData::compute(masks, big.n, sampleRate);
+  filterData_ = BandFilterData::compute(masks, big.n);
   equaliseDiffuseField(filters, masks, big);
   // Per direction: its own Dirac sequence, through A_b and the direction's filters.
   bands_.resize(directions_.size());
@@ -128,20 +128,9 @@ void SpatialIrSynthesizer::directionBands(size_t d, const std::vector<float>& se
   const size_t nbins = fft.n / 2 + 1;
   const float scale = 1.f / float(fft.n);
   Spectrum seqSpec(nbins), channelSpec(nbins);
-  spectrumOf(fft, sequence, seqSpec);
-  std::array<std::vector<float>, BandEnvelope::kRealisedBands> measured;
-  for (int b = 0; b < BandEnvelope::kRealisedBands; ++b) {
-    for (size_t k = 0; k < nbins; ++k) {
-      const float m = masks.gain(b, k);
-      const std::complex<float> v = seqSpec[k] * (m * m * m * scale);
-      fft.band.p[k][0] = v.real();
-      fft.band.p[k][1] = v.imag();
-    }
-    fftwf_execute_dft_c2r(fft.inv, fft.band.p, fft.time.p);
-    measured[size_t(b)].assign(fft.time.p, fft.time.p + length_);
-  }
-  envelopes_.push_back(
-      std::make_unique<BandEnvelope>(sampleRate_, sequence, length_, filterData_, measured));
+  spectrumOf(fft, sequence, seqSpec);  // also leaves it in fft.spec
+  envelopes_.push_back(std::make_unique<BandEnvelope>(sampleRate_, sequence, length_, filterData_,
+                                                      measureLowBands(fft, masks, length_)));
   bands_[d].resize(channels_);
   for (size_t c = 0; c < channels_; ++c) {
     spectrumOf(fft, filter.channels[c], channelSpec);

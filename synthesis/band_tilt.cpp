@@ -56,6 +56,9 @@ TiltedBands::TiltedBands(int sampleRate, size_t length, const OctaveBandMasks& m
       const float g = float(a * p) * scale;
       fft.band.p[k][0] = fft.spec.p[k][0] * g;
       fft.band.p[k][1] = fft.spec.p[k][1] * g;
+      // The band keeps its energy within its analysed octave, where the response's value
+      // holds; the 63 Hz and 8 kHz bands' reach beyond follows with the same weights.
+      if (!inAnalysedOctave(b, double(k) * sampleRate / double(nfft))) continue;
       half[0] += a * (1.0 - p) * a * (1.0 - p);
       half[1] += a * (1.0 - p) * a * p;
       half[2] += a * p * a * p;

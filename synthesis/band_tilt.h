@@ -36,7 +36,7 @@ HalfBandDensity halfBandDensity(const EnergyResponse& energy, int band, double c
 /// s_lo = A_b (1 - P)); per bin the weights alpha (s_b) and gamma (s_hi) and the tilted signal
 /// alpha s_b + gamma s_hi, whose upper half carries mean_{x in [0, 1/2]} (D_{b+1} / D_b)^x and
 /// lower half likewise toward D_{b-1} (halfBandDensity), scaled to keep the band's expected
-/// energy. Without it, a band decaying much slower than the band above (4 kHz under 8 kHz in a
+/// energy within its analysed octave (inAnalysedOctave). Without it, a band decaying much slower than the band above (4 kHz under 8 kHz in a
 /// large hall: air absorption) keeps its slow decay up to its upper edge, where the octave
 /// above's analysis filter passes it.
 /// Construction: a thread that may run fft's plans (fft.spec holds the sequence's spectrum,

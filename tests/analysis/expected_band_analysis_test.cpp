@@ -17,8 +17,8 @@ TEST_CASE("As measured: the expected band analysis equals the mean over noise IR
           "[analysis]") {
   // The model of expectedBandAnalysisEnergy built sample by sample: per band k and half
   // octave h (power split at fc by powerAbove), Gaussian white noise with per-sample energy
-  // E_k[j] w_kh[j] / 48, shaped in the frequency domain by sqrt((fs/2) / B_k) M_k
-  // sqrt(share_h); w_kh the within-band tilt (halfBandDensity, normalised to keep the band's
+  // E_k[j] w_kh[j] / 48 (a band value is a spectral density), shaped in the frequency domain
+  // by M_k sqrt(share_h); w_kh the within-band tilt (halfBandDensity, normalised to keep the band's
   // energy); plus the zero-phase direct pulse; through the analysis filters; squared and
   // binned; averaged over R realisations. Different decays per band (so the filters' skirts
   // and the tilt matter) and a direct sound with a sloping spectrum.
@@ -43,7 +43,6 @@ TEST_CASE("As measured: the expected band analysis equals the mean over noise IR
   std::vector<fftwf_complex> spec(nspec), sum(nspec);
   fftwf_plan fwd = fftwf_plan_dft_r2c_1d(int(kFft), time.data(), spec.data(), FFTW_ESTIMATE);
   fftwf_plan inv = fftwf_plan_dft_c2r_1d(int(kFft), sum.data(), time.data(), FFTW_ESTIMATE);
-  auto density = [&](int k) { return 0.5 * fs / (bandCentreExactHz(k) / std::sqrt(2.0)); };
   const size_t n = er.binCount() * kBin;
   const size_t directAt = kPre + 144;  // 3 ms
   std::array<std::vector<double>, kNumBands> mean;
@@ -79,8 +78,8 @@ TEST_CASE("As measured: the expected band analysis equals the mean over noise IR
                                           tilt[size_t(k)][size_t(h)][i / kBin] / double(kBin)));
       fftwf_execute(fwd);
       for (size_t f = 0; f < nspec; ++f) {
-        const double g = std::sqrt(density(k) * share(k, h, f)) * masks.gain(k, f) / double(kFft);
-        // The direct pulse's share of band k: amplitude sqrt(M_k^2 E_k density_k) would not
+        const double g = std::sqrt(share(k, h, f)) * masks.gain(k, f) / double(kFft);
+        // The direct pulse's share of band k: amplitude sqrt(M_k^2 E_k) would not
         // add up across bands, so the pulse is built once below from its power spectrum.
         sum[f][0] += float(spec[f][0] * g);
         sum[f][1] += float(spec[f][1] * g);
@@ -89,7 +88,7 @@ TEST_CASE("As measured: the expected band analysis equals the mean over noise IR
     for (size_t f = 0; f < nspec; ++f) {
       double p = 0.0;
       for (int k = 0; k < kNumBands; ++k)
-        p += double(masks.gain(k, f)) * masks.gain(k, f) * direct.intensity[k] * density(k);
+        p += double(masks.gain(k, f)) * masks.gain(k, f) * direct.intensity[k];
       const double phase = -2.0 * 3.14159265358979323846 * double(f) * double(directAt) / kFft;
       sum[f][0] += float(std::sqrt(p) * std::cos(phase) / double(kFft));
       sum[f][1] += float(std::sqrt(p) * std::sin(phase) / double(kFft));
@@ -97,10 +96,12 @@ TEST_CASE("As measured: the expected band analysis equals the mean over noise IR
     fftwf_execute(inv);
     for (int b = 0; b < kNumBands; ++b) {
       const OctaveBandPass filter = OctaveBandPass::design(bandCentreExactHz(b), fs);
+      const double unit = filter.impulseEnergy(size_t(fs));  // the model's scale
       OctaveBandPass::State st{};
       for (size_t i = 0; i < kPre + n; ++i) {
         const double y = filter.step(time[i], st);
-        if (i >= kPre + 3 * kBin) mean[size_t(b)][(i - kPre) / kBin] += y * y / kRealisations;
+        if (i >= kPre + 3 * kBin)
+          mean[size_t(b)][(i - kPre) / kBin] += y * y / (kRealisations * unit);
       }
     }
   }

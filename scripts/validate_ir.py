@@ -211,24 +211,30 @@ def er_broadband(er, rate):
 
 
 def arrivals(ir, rate, delay, energy, order, direct_energy_ir):
-    """Energy within +-0.5 ms of each image source up to order 3, re the direct sound, against
-    the exact ratio; and unexplained loud samples in the first 50 ms."""
-    half = int(round(0.0005 * rate))
+    """Each image source up to order 3 against the IR. With frequency-independent absorption an
+    exact path is a Dirac of amplitude sqrt(I) at the sample nearest its delay. Image sources
+    within 2 samples of each other form one group: on one sample they add in pressure,
+    (sum sqrt(I))^2, else in energy, sum I. Per image source: the group's IR energy over its
+    samples +-1 re that expectation (dB), and where the IR's largest sample within +-1 of the
+    delay lies (offset in samples). Also the samples in the first 50 ms louder than the direct
+    sound's peak where no image source lies within 0.5 ms."""
+    samples = np.rint(delay * rate).astype(int)
+    exact = order <= 3
+    direct_k = samples[order == 0][0]
     rows = []
-    direct_t = delay[order == 0][0]
-    direct_e = energy[order == 0][0]
-    for t, e, o in zip(delay, energy, order):
-        if o == 0 or o > 3:
+    for t, k, o in zip(delay, samples, order):
+        if o == 0 or o > 3 or k + 3 >= len(ir):
             continue
-        k = int(round(t * rate))
-        near = np.abs(delay - t) <= 0.0005
-        exact = energy[near].sum() / direct_e
-        got = (ir[max(k - half, 0):k + half + 1] ** 2).sum() / direct_energy_ir
-        rows.append({'order': int(o), 'delay_ms': 1000 * t, 'ratio_db': 10 * np.log10(
-            max(got, 1e-30) / exact)})
-    k0 = int(round(direct_t * rate))
-    peak = np.abs(ir[max(k0 - half, 0):k0 + half + 1]).max()
-    early = np.arange(int(0.050 * rate) + k0)
+        group = exact & (np.abs(samples - k) <= 2)
+        ks, amps = samples[group], np.sqrt(energy[group])
+        want = amps.sum() ** 2 if ks.min() == ks.max() else (amps ** 2).sum()
+        got = (ir[ks.min() - 1:ks.max() + 2] ** 2).sum()
+        offset = int(np.argmax(np.abs(ir[k - 1:k + 2]))) - 1
+        rows.append({'order': int(o), 'delay_ms': 1000 * t, 'offset_samples': offset,
+                     'ratio_db': 10 * np.log10(max(got, 1e-30) / want)})
+    half = int(round(0.0005 * rate))
+    peak = np.abs(ir[max(direct_k - half, 0):direct_k + half + 1]).max()
+    early = np.arange(int(0.050 * rate) + direct_k)
     loud = early[np.abs(ir[early]) > peak]
     unexplained = [int(k) for k in loud if not np.any(np.abs(delay - k / rate) <= 0.0005)]
     return rows, len(unexplained)

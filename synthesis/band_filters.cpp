@@ -68,6 +68,25 @@ BandFilterData BandFilterData::compute(const OctaveBandMasks& masks, size_t fftS
   return d;
 }
 
+void mergeCoincidentArrivals(std::vector<Arrival>& arrivals, int sampleRate) {
+  auto sample = [&](const Arrival& a) { return std::lround(a.delaySeconds * sampleRate); };
+  std::sort(arrivals.begin(), arrivals.end(),
+            [](const Arrival& a, const Arrival& b) { return a.delaySeconds < b.delaySeconds; });
+  size_t out = 0;
+  for (size_t i = 0; i < arrivals.size();) {
+    Bands amplitude(0.f);
+    size_t j = i;
+    for (; j < arrivals.size() && sample(arrivals[j]) == sample(arrivals[i]); ++j)
+      for (int b = 0; b < kNumBands; ++b)
+        amplitude[b] += std::sqrt(std::max(0.f, arrivals[j].intensity[b]));
+    arrivals[out] = arrivals[i];
+    for (int b = 0; b < kNumBands; ++b) arrivals[out].intensity[b] = amplitude[b] * amplitude[b];
+    ++out;
+    i = j;
+  }
+  arrivals.resize(out);
+}
+
 DirectSoundFilter::DirectSoundFilter(const OctaveBandMasks& masks, FftwRealTransforms& fft,
                                      size_t taps)
     : centre_(taps / 2) {

@@ -79,6 +79,12 @@ struct Arrival {
   Bands intensity{0.f};
 };
 
+/// Merges the arrivals that land on the same sample at sampleRate Hz into one, their band
+/// amplitudes sqrt(intensity) added (pressures at one instant add coherently: three equal image
+/// sources on one sample carry 9, not 3, times one's energy), and sorts them by delay. Any
+/// thread; no allocation; no errors.
+void mergeCoincidentArrivals(std::vector<Arrival>& arrivals, int sampleRate);
+
 /// The direct-sound filters: per band the impulse response a_b of A_b (zero phase), `taps`
 /// samples long with time 0 at index centre() = taps / 2. Its energy as a band measurement with
 /// M_b sees it is beta_b (BandFilterData::share) per unit amplitude. Construction: a thread that

@@ -48,6 +48,7 @@ void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& 
   arrivals_.clear();
   if (direct.visible) arrivals_.push_back({double(direct.delaySeconds), direct.intensity});
   for (const SpecularPath& p : early) arrivals_.push_back({p.delaySeconds, p.intensity});
+  mergeCoincidentArrivals(arrivals_, sampleRate_);
   bands_->update(energy);
   envelope_->compute(energy);
   std::array<const float*, kNumBands> tilted;

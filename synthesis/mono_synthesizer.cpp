@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <stdexcept>
 
 #include "common/fftw_util.h"
@@ -56,8 +57,9 @@ void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& 
   const size_t onset = firstArrivalSample(energy);
   envelope_->startAt(onset, tilted);
   envelope_->accumulateRange(tilted, ir, onset, length_);
+  clearAroundArrivals(ir);
   for (const Arrival& a : arrivals_) addArrival(a, ir);
-  cleanUp(energy, ir);
+  if (!std::getenv("NOCLEAN")) cleanUp(energy, ir);
   // The envelope's unplaced energy is as a band measurement sees it (E_b beta_b).
   for (int b = 0; b < kNumBands; ++b)
     missingBands_[b] = float(envelope_->unplacedEnergy()[size_t(b)] / filterData_.share[size_t(b)]);
@@ -74,6 +76,14 @@ size_t IrSynthesizer::firstArrivalSample(const EnergyResponse& energy) const {
     }
   }
   return std::min(length_, size_t(std::max(0L, std::lround(t * sampleRate_))));
+}
+
+void IrSynthesizer::clearAroundArrivals(float* ir) const {
+  for (const Arrival& a : arrivals_) {
+    const long n0 = std::lround(a.delaySeconds * sampleRate_);
+    for (long n = std::max(0L, n0 - kClearSamples); n <= n0 + kClearSamples; ++n)
+      if (n < long(length_)) ir[n] = 0.f;
+  }
 }
 
 void IrSynthesizer::addArrival(const Arrival& a, float* ir) const {

@@ -94,6 +94,12 @@ class IrSynthesizer {
   /// first bin with energy when that is earlier (a response holding energy before the direct
   /// sound). The reverberant part starts there.
   size_t firstArrivalSample(const EnergyResponse& energy) const;
+  /// Samples either side of an exact arrival's sample where the reverberant part is cleared
+  /// before the arrival is added: a Dirac-sequence pulse on the same sample (a few per cent of
+  /// the arrivals, late in a large room) would otherwise add to or cancel the arrival's
+  /// amplitude; the energy removed is at most (2 k + 1) samples of reverberation per arrival.
+  static constexpr long kClearSamples = 1;
+  void clearAroundArrivals(float* ir) const;
   /// Adds one arrival: the band filters a_b with amplitudes sqrt(intensity_b) at the sample
   /// nearest its delay.
   void addArrival(const Arrival& arrival, float* ir) const;

@@ -37,7 +37,7 @@ FrameTimes timeFrames(Simulation& sim, IrSynthesizer& synth, const glm::vec3& li
     sim.runFrame(listener);
     const auto t1 = Clock::now();
     const Simulation::SourceResult& r = sim.result(0);
-    synth.synthesize(r.energy, r.direct, ir.data());
+    synth.synthesize(r.energy, r.direct, ir.data(), sim.specularPaths(0));
     const auto t2 = Clock::now();
     t.frameMs.push_back(msBetween(t0, t1));
     t.synthMs.push_back(msBetween(t1, t2));
@@ -94,7 +94,8 @@ void timeBinauralSynthesis(const SceneDesc& scene, const PropagationSettings& s,
     dsim.runFrame(listener);
     const auto t0 = Clock::now();
     float* const channels[] = {left.data(), right.data()};
-    spatial->synthesize(dsim.directional(0), dsim.result(0).direct, channels);
+    spatial->synthesize(dsim.directional(0), dsim.result(0).direct, channels,
+                        dsim.specularPaths(0));
     ms.push_back(msBetween(t0, Clock::now()));
   }
   j["binaural_ir_synthesis_ms"] = stats(ms);

@@ -13,6 +13,7 @@
 #include "common/input_error.h"
 #include "scene/json_reader.h"
 #include "scene/limits.h"
+#include "scene/material_json.h"
 #include "scene/mesh_builder.h"
 #include "scene/obj_reader.h"
 #include "scene/scene.h"
@@ -24,40 +25,6 @@ namespace {
 using nlohmann::json;
 namespace fs = std::filesystem;
 
-/// A per-band coefficient within `limitField`: one number for every octave band, or an array
-/// of exactly kNumBands numbers (63 Hz .. 8 kHz). Errors name `field` (and the element).
-Bands readBands(const JsonReader& r, const json& a, const std::string& field,
-                const char* limitField) {
-  Bands out;
-  if (a.is_array()) {
-    if (a.size() != size_t(kNumBands))
-      r.fail(field, "expected " + std::to_string(kNumBands) +
-                        " values (octave bands 63 Hz .. 8 kHz), got " + std::to_string(a.size()));
-    for (int b = 0; b < kNumBands; ++b)
-      out[b] = float(r.limited(a[size_t(b)], index(field, size_t(b)), limitField));
-  } else if (a.is_number()) {
-    out = Bands(float(r.limited(a, field, limitField)));
-  } else {
-    r.fail(field, "expected a number or an array of " + std::to_string(kNumBands) +
-                      " numbers in [0, 1], got " + JsonReader::describe(a));
-  }
-  return out;
-}
-
-Material readMaterial(const JsonReader& r, const json& v, const std::string& name,
-                      const std::string& field) {
-  r.expectObject(v, field);
-  r.checkKeys(v, field, {"absorption", "scattering", "source"});
-  Material m;
-  m.name = name;
-  m.absorption = readBands(r, r.require(v, field, "absorption"), join(field, "absorption"),
-                           "materials.*.absorption");
-  if (const json* s = JsonReader::find(v, "scattering"))
-    m.scattering = readBands(r, *s, join(field, "scattering"), "materials.*.scattering");
-  if (const json* s = JsonReader::find(v, "source")) r.string(*s, join(field, "source"));
-  return m;
-}
-
 /// Materials sorted by name (nlohmann::json objects iterate in key order).
 void readMaterials(const JsonReader& r, const json& root, SceneDesc& scene) {
   const json& mats = r.require(root, "", "materials");
@@ -65,7 +32,7 @@ void readMaterials(const JsonReader& r, const json& root, SceneDesc& scene) {
   for (const auto& [name, value] : mats.items()) {
     if (!name.empty() && name[0] == '_') continue;
     if (name.empty()) r.fail("materials", "a material name must not be empty");
-    scene.materials.push_back(readMaterial(r, value, name, "materials." + name));
+    scene.materials.push_back(readSceneMaterial(r, value, name, "materials." + name));
   }
   if (scene.materials.empty()) r.fail("materials", "at least one material is required");
 }

@@ -8,7 +8,7 @@ packages=(
   libembree-dev libtbb-dev libglm-dev
   libsndfile1-dev libsamplerate0-dev libfftw3-dev portaudio19-dev
   libmysofa-dev robin-map-dev jackd2
-  nlohmann-json3-dev libtinyobjloader-dev libcli11-dev catch2
+  nlohmann-json3-dev libtinyobjloader-dev libassimp-dev libcli11-dev catch2
   python3 python3-numpy python3-matplotlib espeak-ng sox
   clang libclang-rt-dev
   lv2-dev lilv-utils sordi

@@ -32,8 +32,8 @@ const LibraryMaterial& libraryEntry(const JsonReader& r, const json& v, const st
   const std::string name = r.string(v, field);
   const LibraryMaterial* entry = findLibraryMaterial(name);
   if (!entry)
-    r.fail(field, inQuotes(name) + " is not in the materials library (" +
-                      kMaterialLibraryFile + "; dpc-demo --list-materials prints its names)");
+    r.fail(field, inQuotes(name) + " is not in the materials library (" + kMaterialLibraryFile +
+                      "; dpc-demo --list-materials prints its names)");
   return *entry;
 }
 
@@ -53,8 +53,7 @@ Material readSceneMaterial(const JsonReader& r, const json& v, const std::string
   if (library) m = libraryEntry(r, *library, join(field, "library")).material;
   m.name = name;
   const json* a = library ? JsonReader::find(v, "absorption") : &r.require(v, field, "absorption");
-  if (a)
-    m.absorption = readBands(r, *a, join(field, "absorption"), "materials.*.absorption");
+  if (a) m.absorption = readBands(r, *a, join(field, "absorption"), "materials.*.absorption");
   if (const json* s = JsonReader::find(v, "scattering"))
     m.scattering = readBands(r, *s, join(field, "scattering"), "materials.*.scattering");
   if (const json* s = JsonReader::find(v, "source")) r.string(*s, join(field, "source"));

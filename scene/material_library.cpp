@@ -24,10 +24,10 @@ LibraryMaterial readEntry(const JsonReader& r, const json& v, const std::string&
   LibraryMaterial e;
   e.material.name = name;
   e.description = r.string(r.require(v, field, "description"), join(field, "description"));
-  e.material.absorption = readBands(r, r.require(v, field, "absorption"),
-                                    join(field, "absorption"), "materials.*.absorption");
-  e.material.scattering = readBands(r, r.require(v, field, "scattering"),
-                                    join(field, "scattering"), "materials.*.scattering");
+  e.material.absorption = readBands(r, r.require(v, field, "absorption"), join(field, "absorption"),
+                                    "materials.*.absorption");
+  e.material.scattering = readBands(r, r.require(v, field, "scattering"), join(field, "scattering"),
+                                    "materials.*.scattering");
   e.source = r.string(r.require(v, field, "source"), join(field, "source"));
   if (e.source.empty()) r.fail(join(field, "source"), "every entry must cite its source");
   return e;
@@ -61,9 +61,8 @@ const std::vector<LibraryMaterial>& materialLibrary() {
 
 const LibraryMaterial* findLibraryMaterial(std::string_view name) {
   const auto& lib = materialLibrary();
-  const auto it = std::lower_bound(lib.begin(), lib.end(), name, [](const auto& e, auto n) {
-    return e.material.name < n;
-  });
+  const auto it = std::lower_bound(lib.begin(), lib.end(), name,
+                                   [](const auto& e, auto n) { return e.material.name < n; });
   return it != lib.end() && it->material.name == name ? &*it : nullptr;
 }
 

@@ -59,8 +59,8 @@ struct Track {
   std::vector<Value> v;
 };
 
-[[noreturn]] void failKey(const std::string& file, const NodeChannel& c, const char* path,
-                          size_t k, const std::string& problem) {
+[[noreturn]] void failKey(const std::string& file, const NodeChannel& c, const char* path, size_t k,
+                          const std::string& problem) {
   throw InputError(file,
                    "animation \"" + c.animation + "\" node \"" +
                        std::string(c.channel->mNodeName.C_Str()) + "\" " + path + " key " +
@@ -99,7 +99,9 @@ Track<Value> readTrack(const std::string& file, const NodeChannel& c, const char
   return track;
 }
 
-glm::vec3 mix(const glm::vec3& a, const glm::vec3& b, float u) { return a + (b - a) * u; }
+glm::vec3 mix(const glm::vec3& a, const glm::vec3& b, float u) {
+  return a + (b - a) * u;
+}
 glm::quat mix(const glm::quat& a, const glm::quat& b, float u) {
   return glm::normalize(glm::slerp(a, b, u));  // glm::slerp takes the shorter arc
 }
@@ -138,8 +140,7 @@ std::map<std::string, GltfNode> readGltfNodes(const std::string& file) {
       const size_t node = ch.value("/target/node"_json_pointer, size_t(0));
       const size_t sampler = ch.value("sampler", size_t(0));
       if (node >= nodes.size() || sampler >= a["samplers"].size()) continue;
-      out[nodes[node].value("name", "")]
-          .interpolation[ch.value("/target/path"_json_pointer, "")] =
+      out[nodes[node].value("name", "")].interpolation[ch.value("/target/path"_json_pointer, "")] =
           a["samplers"][sampler].value("interpolation", "LINEAR");
     }
   }
@@ -151,13 +152,14 @@ NodeKeys readNodeKeys(const NodeChannel& c, const std::string& file) {
   const auto position = readTrack<glm::vec3>(
       file, c, "translation", a.mPositionKeys, a.mNumPositionKeys,
       [&](const aiVector3D& v, size_t k) { return finiteVector(file, c, "translation", v, k); });
-  const auto rotation = readTrack<glm::quat>(
-      file, c, "rotation", a.mRotationKeys, a.mNumRotationKeys,
-      [&](const aiQuaternion& q, size_t k) {
-        const auto unit = unitQuaternion(q.x, q.y, q.z, q.w);
-        if (!unit) failKey(file, c, "rotation", k, "has zero length or is not finite");
-        return *unit;
-      });
+  const auto rotation =
+      readTrack<glm::quat>(file, c, "rotation", a.mRotationKeys, a.mNumRotationKeys,
+                           [&](const aiQuaternion& q, size_t k) {
+                             const auto unit = unitQuaternion(q.x, q.y, q.z, q.w);
+                             if (!unit)
+                               failKey(file, c, "rotation", k, "has zero length or is not finite");
+                             return *unit;
+                           });
   const auto scale = readTrack<glm::vec3>(
       file, c, "scale", a.mScalingKeys, a.mNumScalingKeys,
       [&](const aiVector3D& v, size_t k) { return finiteVector(file, c, "scale", v, k); });

@@ -19,11 +19,14 @@
 namespace dpc {
 namespace {
 
-std::string quoted(const aiString& s) { return inQuotes(s.C_Str()); }
+std::string quoted(const aiString& s) {
+  return inQuotes(s.C_Str());
+}
 
 /// assimp's messages may span lines; an InputError is one.
 std::string oneLine(std::string s) {
-  std::replace_if(s.begin(), s.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+  std::replace_if(
+      s.begin(), s.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
   while (!s.empty() && s.back() == ' ') s.pop_back();
   return s;
 }
@@ -68,8 +71,9 @@ glm::vec3 vertex(const Walk& w, const aiMesh& m, unsigned i, const aiMatrix4x4& 
   const Limit& coordinate = limitOf("position");
   for (const float x : {p.x, p.y, p.z})
     if (!withinLimit(coordinate, x))
-      throw InputError(w.file, field, "coordinate " + valueText(x) + " m (transformed) is outside +-" +
-                                          valueText(coordinate.max) + " m");
+      throw InputError(w.file, field,
+                       "coordinate " + valueText(x) + " m (transformed) is outside +-" +
+                           valueText(coordinate.max) + " m");
   return glm::vec3(p.x, p.y, p.z);
 }
 
@@ -83,12 +87,12 @@ void appendMesh(Walk& w, const aiMesh& m, const aiMatrix4x4& toFrame, RawMesh& r
   const uint32_t slot = materialSlot(w, m, raw);
   for (unsigned f = 0; f < m.mNumFaces; ++f) {
     const aiFace& face = m.mFaces[f];
-    if (face.mNumIndices != 3 || std::max({face.mIndices[0], face.mIndices[1],
-                                           face.mIndices[2]}) >= m.mNumVertices)
+    if (face.mNumIndices != 3 ||
+        std::max({face.mIndices[0], face.mIndices[1], face.mIndices[2]}) >= m.mNumVertices)
       throw InputError(w.file, "mesh " + quoted(m.mName) + " face " + std::to_string(f + 1),
                        "is not a triangle of the mesh's vertices");
-    raw.triangles.push_back({base + face.mIndices[0], base + face.mIndices[1],
-                             base + face.mIndices[2]});
+    raw.triangles.push_back(
+        {base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
     raw.triangleMaterial.push_back(slot);
     raw.triangleFace.push_back(++w.triangles);
   }
@@ -109,7 +113,8 @@ void visit(Walk& w, const aiNode& node, const aiMatrix4x4& parentWorld, int owne
   if (request >= 0) {
     const ModelObjectRequest& r = (*w.requests)[size_t(request)];
     if (w.nodes[size_t(request)])
-      throw InputError(w.file, "node " + quoted(node.mName), "two nodes are named so (" + r.field + ")");
+      throw InputError(w.file, "node " + quoted(node.mName),
+                       "two nodes are named so (" + r.field + ")");
     if (owner >= 0)
       throw InputError(w.file, "node " + quoted(node.mName),
                        "lies inside the moving object " + (*w.requests)[size_t(owner)].name +
@@ -170,8 +175,9 @@ std::vector<NodeChannel> channels(const Walk& w, const std::map<std::string, Glt
                              ", which the scene does not name in \"objects\" (only objects move)");
       NodeChannel& out1 = out[size_t(r - w.requests->begin())];
       if (out1.channel)
-        throw InputError(w.file, field, "moves node " + quoted(ch->mNodeName) + " as does " +
-                                            "animation \"" + out1.animation + "\"; dpc plays one");
+        throw InputError(w.file, field,
+                         "moves node " + quoted(ch->mNodeName) + " as does " + "animation \"" +
+                             out1.animation + "\"; dpc plays one");
       out1.channel = ch;
       out1.animation = anim.mName.C_Str();
       out1.ticksPerSecond = anim.mTicksPerSecond > 0 ? anim.mTicksPerSecond : 1.0;
@@ -193,7 +199,7 @@ void finishObject(const Walk& w, size_t k, const std::map<std::string, GltfNode>
                      "its parent's scale is not uniform; a moving object needs a rigid frame");
   const auto node = gltf.find(r.name);
   const Trs own = node != gltf.end() && node->second.trs ? *node->second.trs
-                                                          : decompose(w.nodes[k]->mTransformation);
+                                                         : decompose(w.nodes[k]->mTransformation);
   channel.rest.position = own.position;
   channel.rest.rotation = own.rotation;
   channel.restScale = own.scale;

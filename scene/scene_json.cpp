@@ -339,7 +339,8 @@ void readAudio(const JsonReader& r, const json& v, const fs::path& folder, Audio
     a.blockSize = int(r.limited(*x, "audio.block_size", "audio.block_size"));
 }
 
-Mesh buildSceneMesh(const SceneDesc& scene, const RawMesh& raw, std::vector<std::string>& warnings) {
+Mesh buildSceneMesh(const SceneDesc& scene, const RawMesh& raw,
+                    std::vector<std::string>& warnings) {
   return buildMesh(raw, materialIndicesByName(raw, scene.materials, scene.path), warnings);
 }
 

@@ -24,9 +24,10 @@ std::string bandText(const Bands& b) {
 
 int listMaterials() {
   const auto& library = materialLibrary();
-  std::printf("%zu materials in %s (absorption and scattering per octave band: "
-              "63 125 250 500 1k 2k 4k 8k Hz)\n",
-              library.size(), kMaterialLibraryFile);
+  std::printf(
+      "%zu materials in %s (absorption and scattering per octave band: "
+      "63 125 250 500 1k 2k 4k 8k Hz)\n",
+      library.size(), kMaterialLibraryFile);
   for (const LibraryMaterial& e : library) {
     std::printf("\n%s: %s\n", e.material.name.c_str(), e.description.c_str());
     std::printf("  absorption  %s\n", bandText(e.material.absorption).c_str());

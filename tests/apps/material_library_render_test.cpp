@@ -6,10 +6,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "runtime/offline_renderer.h"
 #include "scene/scene.h"
+#include "short_render.h"
 #include "testing/temp_dir.h"
-#include "testing/test_scenes.h"
 
 using namespace dpc;
 using nlohmann::json;
@@ -26,16 +25,6 @@ constexpr const char* kInlineMaterials = R"({
   "ceiling": { "absorption": [0.20, 0.20, 0.15, 0.10, 0.08, 0.04, 0.02, 0.02], "scattering": 0.1 }
 })";
 
-OfflineListenerResult render(const SceneDesc& scene) {
-  PropagationSettings ps = scene.propagation;
-  ps.raysPerFrame = 500;
-  ps.irLength = 0.5f;
-  OfflineOptions opt;
-  opt.durationSeconds = 0.5;
-  const DrySignals dry = loadDrySignals(scene);
-  return renderOffline(test::shared(scene), ps, test::shared(dry), opt).listeners.at(0);
-}
-
 }  // namespace
 
 TEST_CASE("Shoebox from library names renders as with the values inline", "[materials]") {
@@ -50,8 +39,9 @@ TEST_CASE("Shoebox from library names renders as with the values inline", "[mate
   const std::string inlinePath = (dir.path() / "shoebox-inline.json").string();
   std::ofstream(inlinePath) << scene.dump(2);
 
-  const OfflineListenerResult named = render(loadScene(kScenes + "/shoebox.json"));
-  const OfflineListenerResult typed = render(loadScene(inlinePath));
+  const OfflineListenerResult named =
+      test::shortRender(loadScene(kScenes + "/shoebox.json"), 500, 0.5);
+  const OfflineListenerResult typed = test::shortRender(loadScene(inlinePath), 500, 0.5);
   REQUIRE(named.output.channels.size() == typed.output.channels.size());
   REQUIRE(!named.output.channels[0].empty());
   CHECK(named.output.channels == typed.output.channels);  // sample for sample

@@ -1,13 +1,14 @@
 // The materials library (materials/library.json, scene/material_library.h): every entry within
 // the scene limits and citing a source, and scenes naming entries (plain or with overrides)
 // loading the same numbers as typed inline.
+#include "scene/material_library.h"
+
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cstring>
 #include <string>
 
 #include "scene/limits.h"
-#include "scene/material_library.h"
 #include "scene_fixture.h"
 
 using namespace dpc;

@@ -3,10 +3,16 @@
 // triangles, materials and door keyframes as the OBJ + JSON scene it was made from
 // (scenes/two_rooms.json), bit for bit.
 #include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <glm/trigonometric.hpp>
 #include <string>
 
 #include "scene/scene.h"
+#include "testing/temp_dir.h"
 
 using namespace dpc;
 
@@ -60,4 +66,74 @@ TEST_CASE("The glTF door level loads as the OBJ + JSON scene it was made from", 
     CHECK(sameBits(ka[k].rotation, kb[k].rotation));
   }
   CHECK(gltf.objects[0].loop == obj.objects[0].loop);
+}
+
+namespace {
+
+/// Runs python3 with scenes/gltffile.py importable; `body` writes files into `dir`.
+void python(const std::string& body, const std::filesystem::path& dir) {
+  const std::filesystem::path script = dir / "make.py";
+  std::ofstream(script) << "import sys\nsys.path.insert(0, '" << kScenes
+                        << "')\nfrom gltffile import Gltf\nimport os\nos.chdir('" << dir.string()
+                        << "')\n"
+                        << body;
+  REQUIRE(std::system(("python3 " + script.string()).c_str()) == 0);
+}
+
+/// A level: a floor triangle (material "floor") and node "door" (material "walls") at
+/// (5, 0, 3), whose translation steps from x = 5 to 6 at 1 s and to 7 at 2 s (STEP) while its
+/// rotation turns linearly by 90 degrees about +y over 2 s (LINEAR).
+constexpr const char* kSteppingDoor = R"(g = Gltf()
+floor, walls = g.material('floor'), g.material('walls')
+g.node('room', mesh=g.mesh('room', [(floor, [(0, 0, 0), (0, 0, 9), (9, 0, 0)], [(0, 1, 2)])]))
+leaf = g.mesh('door', [(walls, [(0, 0, 0), (0, 2, 0), (0, 2, 1)], [(0, 1, 2)])])
+door = g.node('door', mesh=leaf, translation=[5, 0, 3])
+g.animation('move', [(door, 'translation', [0, 1, 2], [(5, 0, 3), (6, 0, 3), (7, 0, 3)], 'STEP'),
+                     (door, 'rotation', [0, 2], [(0, 0, 0, 1), (0, 0.70710677, 0, 0.70710677)],
+                      'LINEAR')])
+g.save('level.glb')
+)";
+
+std::string levelScene(const std::string& objects) {
+  return R"({ "mesh": "level.glb",
+    "materials": { "floor": { "absorption": 0.1 }, "walls": { "absorption": 0.2 } },
+    "sources": [ { "name": "s", "position": [1, 1, 1] } ],
+    "listener": { "position": [2, 1, 1] }, "objects": )" +
+         objects + "}";
+}
+
+}  // namespace
+
+TEST_CASE("STEP keys hold until the next key; LINEAR rotation keys are slerped", "[gltf]") {
+  test::TempDir dir("dpc_model_step");
+  python(kSteppingDoor, dir.path());
+  std::ofstream(dir.path() / "level.json") << levelScene(R"([ { "name": "door" } ])");
+  const SceneDesc s = loadScene((dir.path() / "level.json").string());
+  REQUIRE(s.objects.size() == 1);
+  const ObjectDesc& door = s.objects[0];
+  // Keys at 0, 1 - hold, 1, 2 - hold, 2 s (kStepHoldSeconds before each STEP key).
+  REQUIRE(door.trajectory.size() == 5);
+  const double hold = 1e-6;
+  CHECK(door.trajectory[1].timeSeconds == 1.0 - hold);
+  CHECK(door.trajectory[3].timeSeconds == 2.0 - hold);
+  CHECK(objectPoseAt(door, 0.5).position.x == 5.f);
+  CHECK(objectPoseAt(door, 0.999).position.x == 5.f);
+  CHECK(objectPoseAt(door, 1.0).position.x == 6.f);
+  CHECK(objectPoseAt(door, 1.5).position.x == 6.f);
+  CHECK(objectPoseAt(door, 2.5).position.x == 7.f);
+  // Rotation: half of 90 degrees at 1 s (slerp), to within float rounding of the keys.
+  const glm::quat mid = objectPoseAt(door, 1.0).rotation;
+  CHECK(mid.y == Approx(std::sin(glm::radians(22.5))).margin(1e-6));
+  CHECK(mid.w == Approx(std::cos(glm::radians(22.5))).margin(1e-6));
+}
+
+TEST_CASE("Keyframes in the scene replace a node's animation", "[gltf]") {
+  test::TempDir dir("dpc_model_override");
+  python(kSteppingDoor, dir.path());
+  std::ofstream(dir.path() / "level.json") << levelScene(
+      R"([ { "name": "door", "trajectory": [ { "t": 0, "position": [1, 0, 1] } ] } ])");
+  const SceneDesc s = loadScene((dir.path() / "level.json").string());
+  REQUIRE(s.objects[0].trajectory.size() == 1);
+  CHECK(objectPoseAt(s.objects[0], 1.5).position == glm::vec3(1, 0, 1));
+  CHECK(s.objects[0].mesh.triangles.size() == 1);
 }

@@ -10,6 +10,7 @@ packages=(
   libmysofa-dev robin-map-dev jackd2
   nlohmann-json3-dev libtinyobjloader-dev libassimp-dev libcli11-dev catch2
   python3 python3-numpy python3-matplotlib espeak-ng sox
+  pybind11-dev python3-pybind11 python3-pytest  # the Python module and its tests
   clang libclang-rt-dev
   lv2-dev lilv-utils sordi
   libzita-convolver-dev  # dpc-bench convolve only: the yardstick

@@ -13,6 +13,7 @@ packages=(
   pybind11-dev python3-pybind11 python3-pytest  # the Python module and its tests
   clang libclang-rt-dev
   lv2-dev lilv-utils sordi
+  jalv python3-jack-client  # the plugin inside a real host (tests/lv2/jalv_test.py)
   libzita-convolver-dev  # dpc-bench convolve only: the yardstick
 )
 

@@ -20,6 +20,7 @@
 #include "python/arrays.h"
 #include "python/errors.h"
 #include "python/offline.h"
+#include "python/scene_arrays.h"
 
 namespace py = pybind11;
 
@@ -95,11 +96,29 @@ std::unique_ptr<dpc::Engine> openEngine(const std::string& scene, int rays) {
   return std::make_unique<dpc::Engine>(dpc::Engine::fromFile(scene, &o));
 }
 
+std::unique_ptr<dpc::Engine> fromArrays(FloatArray vertices, IndexArray triangles,
+                                        IndexArray triangleMaterials, FloatArray absorption,
+                                        FloatArray scattering, FloatArray sources,
+                                        FloatArray listener, float listenerRadius, int rays,
+                                        int maxOrder, float irLength, uint64_t seed, int sampleRate,
+                                        std::string output) {
+  return engineFromArrays({vertices, triangles, triangleMaterials, absorption, scattering, sources,
+                           listener, listenerRadius, rays, maxOrder, irLength, seed, sampleRate,
+                           std::move(output)});
+}
+
 void bindEngine(py::module_& m) {
   py::class_<dpc::Engine>(m, "Engine", R"(A scene's engine, stepped one propagation frame at a
 time from Python (the C API's dpc_engine): set poses, step(), read the responses.)")
       .def(py::init(&openEngine), py::arg("scene"), py::arg("rays_per_frame") = 0,
            "Loads a scene file; rays_per_frame 0 keeps the scene's.")
+      .def_static("from_arrays", &fromArrays, py::arg("vertices"), py::arg("triangles"),
+                  py::arg("triangle_materials"), py::arg("absorption"), py::arg("scattering"),
+                  py::arg("sources"), py::arg("listener"), py::arg("listener_radius") = 0.5f,
+                  py::arg("rays_per_frame") = 4096, py::arg("max_order") = 50,
+                  py::arg("ir_length") = 2.0f, py::arg("seed") = 1, py::arg("sample_rate") = 48000,
+                  py::arg("output") = "mono",
+                  "A scene from arrays (m, octave bands 63 Hz .. 8 kHz); no dry signals.")
       .def_property_readonly("sample_rate", &dpc::Engine::sampleRate)
       .def_property_readonly("output_channels", &dpc::Engine::outputChannels)
       .def_property_readonly("source_count", &dpc::Engine::sourceCount)

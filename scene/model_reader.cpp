@@ -1,5 +1,6 @@
 #include "scene/model_reader.h"
 
+#include <assimp/config.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
@@ -234,6 +235,8 @@ RawModel readModel(const std::string& sceneFile, const std::string& modelFile,
                    const std::string& meshField, const std::vector<ModelObjectRequest>& requests) {
   checkInputFile(modelFile, kMaxMeshBytes, sceneFile, meshField, "mesh file");
   Assimp::Importer importer;
+  // FBX pivots as separate helper nodes would take a node's animation away from its name.
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, false);
   const aiScene* scene = importer.ReadFile(modelFile, aiProcess_Triangulate);
   if (!scene) throw InputError(modelFile, "", oneLine(importer.GetErrorString()));
   if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !scene->mRootNode)

@@ -90,10 +90,11 @@ def float_wav(name, rate, samples):
     return apply
 
 
-def gltf_level(edit, name="shoebox.glb", objects=None, drop_bin=False):
+def gltf_level(edit, name="shoebox.glb", objects=None, drop_bin=False, buffer_uri=None):
     """Writes the shoebox's OBJ as a glTF level NAME (node "room", one primitive per material
     run; scenes/gltffile.py), lets edit(g) break it before it is saved, and points the scene's
-    mesh (and "objects", if given) at it. drop_bin: a .gltf whose .bin buffer is then removed."""
+    mesh (and "objects", if given) at it. drop_bin: a .gltf whose .bin buffer is then removed;
+    buffer_uri: a .gltf whose buffer is then pointed at this file instead."""
     def apply(d):
         sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
                                         "scenes"))
@@ -105,6 +106,10 @@ def gltf_level(edit, name="shoebox.glb", objects=None, drop_bin=False):
         g.save(os.path.join(d, name))
         if drop_bin:
             os.remove(os.path.join(d, name[:-5] + ".bin"))
+        if buffer_uri:
+            doc = json.load(open(os.path.join(d, name)))
+            doc["buffers"][0]["uri"] = buffer_uri
+            json.dump(doc, open(os.path.join(d, name), "w"))
         edits = {"mesh": name} if objects is None else {"mesh": name, "objects": objects}
         scene_with(**edits)(d)
     return apply
@@ -254,7 +259,7 @@ CASES = {
     "mesh_missing": (scene_with(mesh="none.obj"), OFF, "mesh"),
     # glTF levels (scene/model_reader.h): the line names the model file and what is wrong.
     "gltf_missing_buffer": (gltf_level(no_edit, "shoebox.gltf", drop_bin=True), OFF,
-                            'shoebox.gltf: GLTF: could not open referenced file "shoebox.bin"'),
+                            "shoebox.gltf: referenced file 'shoebox.bin' not found"),
     "gltf_line_primitive": (gltf_level(gltf_set(("meshes", 0, "primitives", 1, "mode"), 1)), OFF,
                             'shoebox.glb: mesh "room-1": has point or line primitives'),
     "gltf_unmapped_material": (gltf_level(gltf_set(("materials", 2, "name"), "marble")), OFF,
@@ -264,6 +269,8 @@ CASES = {
                                     'shoebox.glb: animation "swing": moves node "room", which the scene does not name'),
     "gltf_animation_node_out_of_range": (gltf_level(gltf_door_on_node_9), OFF,
                                          "shoebox.glb: GLTF: Array index 9 is out of bounds"),
+    "gltf_buffer_is_device": (gltf_level(no_edit, "shoebox.gltf", buffer_uri="/dev/zero"),
+                              OFF, "shoebox.gltf: referenced file '/dev/zero' is not a regular file"),
     "gltf_object_node_missing": (gltf_level(no_edit, objects=[{"name": "door"}]), OFF,
                                  'shoebox.json: objects[0].name: no node named "door"'),
     "gltf_cubic_spline": (gltf_level(gltf_door("CUBICSPLINE"), objects=[{"name": "door"}]), OFF,

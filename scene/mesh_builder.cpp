@@ -38,7 +38,7 @@ std::vector<uint32_t> materialIndicesByName(const RawMesh& raw,
     const int m = findMaterial(materials, name);
     if (m < 0)
       throw InputError(
-          raw.file, "usemtl " + name,
+          raw.file, raw.materialWord + " " + name,
           "material \"" + name + "\" is not defined in " + sceneFile + " (materials." + name + ")");
     slotToMaterial.push_back(uint32_t(m));
   }

@@ -31,6 +31,7 @@ struct RawMesh {
   /// Per triangle, the number users know its face by (1-based OBJ face), for messages.
   std::vector<uint32_t> triangleFace;
   std::string faceWord = "face";  ///< what triangleFace counts ("face", "triangle")
+  std::string materialWord = "usemtl";  ///< what names a material in the file, for messages
   std::string file;               ///< the file (or API structure) messages name
 };
 

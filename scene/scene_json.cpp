@@ -13,8 +13,11 @@
 #include "common/input_error.h"
 #include "scene/json_reader.h"
 #include "scene/limits.h"
+#include "scene/material_json.h"
 #include "scene/mesh_builder.h"
+#include "scene/model_reader.h"
 #include "scene/obj_reader.h"
+#include "scene/quaternion.h"
 #include "scene/scene.h"
 #include "scene/validate.h"
 
@@ -24,40 +27,6 @@ namespace {
 using nlohmann::json;
 namespace fs = std::filesystem;
 
-/// A per-band coefficient within `limitField`: one number for every octave band, or an array
-/// of exactly kNumBands numbers (63 Hz .. 8 kHz). Errors name `field` (and the element).
-Bands readBands(const JsonReader& r, const json& a, const std::string& field,
-                const char* limitField) {
-  Bands out;
-  if (a.is_array()) {
-    if (a.size() != size_t(kNumBands))
-      r.fail(field, "expected " + std::to_string(kNumBands) +
-                        " values (octave bands 63 Hz .. 8 kHz), got " + std::to_string(a.size()));
-    for (int b = 0; b < kNumBands; ++b)
-      out[b] = float(r.limited(a[size_t(b)], index(field, size_t(b)), limitField));
-  } else if (a.is_number()) {
-    out = Bands(float(r.limited(a, field, limitField)));
-  } else {
-    r.fail(field, "expected a number or an array of " + std::to_string(kNumBands) +
-                      " numbers in [0, 1], got " + JsonReader::describe(a));
-  }
-  return out;
-}
-
-Material readMaterial(const JsonReader& r, const json& v, const std::string& name,
-                      const std::string& field) {
-  r.expectObject(v, field);
-  r.checkKeys(v, field, {"absorption", "scattering", "source"});
-  Material m;
-  m.name = name;
-  m.absorption = readBands(r, r.require(v, field, "absorption"), join(field, "absorption"),
-                           "materials.*.absorption");
-  if (const json* s = JsonReader::find(v, "scattering"))
-    m.scattering = readBands(r, *s, join(field, "scattering"), "materials.*.scattering");
-  if (const json* s = JsonReader::find(v, "source")) r.string(*s, join(field, "source"));
-  return m;
-}
-
 /// Materials sorted by name (nlohmann::json objects iterate in key order).
 void readMaterials(const JsonReader& r, const json& root, SceneDesc& scene) {
   const json& mats = r.require(root, "", "materials");
@@ -65,7 +34,7 @@ void readMaterials(const JsonReader& r, const json& root, SceneDesc& scene) {
   for (const auto& [name, value] : mats.items()) {
     if (!name.empty() && name[0] == '_') continue;
     if (name.empty()) r.fail("materials", "a material name must not be empty");
-    scene.materials.push_back(readMaterial(r, value, name, "materials." + name));
+    scene.materials.push_back(readSceneMaterial(r, value, name, "materials." + name));
   }
   if (scene.materials.empty()) r.fail("materials", "at least one material is required");
 }
@@ -111,11 +80,10 @@ glm::quat readQuaternion(const JsonReader& r, const json& v, const std::string& 
     r.fail(field, "expected a unit quaternion [x, y, z, w], got " + JsonReader::describe(v));
   float c[4];
   for (int i = 0; i < 4; ++i) c[i] = r.floatNumber(v[size_t(i)], index(field, size_t(i)));
-  const double n = std::sqrt(double(c[0]) * c[0] + double(c[1]) * c[1] + double(c[2]) * c[2] +
-                             double(c[3]) * c[3]);
-  if (!(n > 1e-6)) r.fail(field, v.dump() + " has zero length; a rotation needs a unit quaternion");
   // Not exactly unit (rounded decimals in a file): normalised rather than refused.
-  return glm::quat(float(c[3] / n), float(c[0] / n), float(c[1] / n), float(c[2] / n));
+  const auto q = unitQuaternion(c[0], c[1], c[2], c[3]);
+  if (!q) r.fail(field, v.dump() + " has zero length; a rotation needs a unit quaternion");
+  return *q;
 }
 
 /// The "position" key of v, or else the trajectory's first keyframe; one of them is required.
@@ -172,8 +140,13 @@ void readObjects(const JsonReader& r, const json& v, const fs::path& folder, Sce
     r.checkKeys(o, f, {"name", "mesh", "trajectory", "loop"});
     ObjectDesc obj;
     obj.name = readName(r, o, f, scene.objects, "object");
-    obj.meshPath = resolve(folder, r.string(r.require(o, f, "mesh"), join(f, "mesh"))).string();
-    obj.trajectory = readObjectKeys(r, r.require(o, f, "trajectory"), join(f, "trajectory"));
+    // Without "mesh", the object is the level's node of that name (checked with the meshes).
+    if (const json* m = JsonReader::find(o, "mesh"))
+      obj.meshPath = resolve(folder, r.string(*m, join(f, "mesh"))).string();
+    if (const json* t = JsonReader::find(o, "trajectory"))
+      obj.trajectory = readObjectKeys(r, *t, join(f, "trajectory"));
+    else if (!obj.meshPath.empty())
+      r.fail(join(f, "trajectory"), "missing required key (only a level's node may omit it)");
     if (const json* l = JsonReader::find(o, "loop")) obj.loop = r.boolean(*l, join(f, "loop"));
     scene.objects.push_back(std::move(obj));
   }
@@ -366,11 +339,45 @@ void readAudio(const JsonReader& r, const json& v, const fs::path& folder, Audio
     a.blockSize = int(r.limited(*x, "audio.block_size", "audio.block_size"));
 }
 
-/// Reads and builds one OBJ mesh; meshField names the scene key ("mesh", "objects[1].mesh").
-Mesh loadMesh(const SceneDesc& scene, const std::string& objFile, const std::string& meshField,
-              std::vector<std::string>& warnings) {
-  const RawMesh raw = readObj(scene.path, objFile, meshField);
+Mesh buildSceneMesh(const SceneDesc& scene, const RawMesh& raw,
+                    std::vector<std::string>& warnings) {
   return buildMesh(raw, materialIndicesByName(raw, scene.materials, scene.path), warnings);
+}
+
+/// Reads and builds one mesh file (OBJ, or every triangle of a glTF/FBX model in its world
+/// frame); meshField names the scene key ("mesh", "objects[1].mesh").
+Mesh loadMesh(const SceneDesc& scene, const std::string& file, const std::string& meshField,
+              std::vector<std::string>& warnings) {
+  if (isModelFile(file))
+    return buildSceneMesh(scene, readModel(scene.path, file, meshField, {}).world, warnings);
+  return buildSceneMesh(scene, readObj(scene.path, file, meshField), warnings);
+}
+
+/// The scene's mesh. A glTF/FBX level also gives the objects without a "mesh" of their own:
+/// the nodes of their names, with the file's animation unless the scene gives keyframes.
+void loadLevel(const JsonReader& r, SceneDesc& scene) {
+  std::vector<ModelObjectRequest> requests;
+  std::vector<size_t> requestObject;
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    if (!scene.objects[i].meshPath.empty()) continue;
+    if (!isModelFile(scene.meshPath))
+      r.fail(index("objects", i) + ".mesh",
+             "missing required key (only a glTF or FBX level's nodes may omit it)");
+    requests.push_back({scene.objects[i].name, index("objects", i) + ".name"});
+    requestObject.push_back(i);
+  }
+  if (!isModelFile(scene.meshPath)) {
+    scene.mesh = loadMesh(scene, scene.meshPath, "mesh", scene.warnings);
+    return;
+  }
+  RawModel model = readModel(scene.path, scene.meshPath, "mesh", requests);
+  scene.mesh = buildSceneMesh(scene, model.world, scene.warnings);
+  for (size_t k = 0; k < requests.size(); ++k) {
+    ObjectDesc& o = scene.objects[requestObject[k]];
+    o.meshPath = scene.meshPath;
+    o.mesh = buildSceneMesh(scene, model.objects[k].mesh, scene.warnings);
+    if (o.trajectory.empty()) o.trajectory = std::move(model.objects[k].trajectory);
+  }
 }
 
 /// The meshes, last: the most expensive step, after the cheap checks. Warns about materials
@@ -378,10 +385,11 @@ Mesh loadMesh(const SceneDesc& scene, const std::string& objFile, const std::str
 void loadMeshes(const JsonReader& r, const json& root, SceneDesc& scene) {
   const fs::path folder = fs::path(scene.path).parent_path();
   scene.meshPath = resolve(folder, r.string(r.require(root, "", "mesh"), "mesh")).string();
-  scene.mesh = loadMesh(scene, scene.meshPath, "mesh", scene.warnings);
+  loadLevel(r, scene);
   for (size_t i = 0; i < scene.objects.size(); ++i)
-    scene.objects[i].mesh =
-        loadMesh(scene, scene.objects[i].meshPath, index("objects", i) + ".mesh", scene.warnings);
+    if (scene.objects[i].mesh.triangles.empty())
+      scene.objects[i].mesh =
+          loadMesh(scene, scene.objects[i].meshPath, index("objects", i) + ".mesh", scene.warnings);
   std::vector<bool> used(scene.materials.size(), false);
   for (uint32_t m : scene.mesh.materialIndex) used[m] = true;
   for (const ObjectDesc& o : scene.objects)

@@ -8,10 +8,12 @@ packages=(
   libembree-dev libtbb-dev libglm-dev
   libsndfile1-dev libsamplerate0-dev libfftw3-dev portaudio19-dev
   libmysofa-dev robin-map-dev jackd2
-  nlohmann-json3-dev libtinyobjloader-dev libcli11-dev catch2
+  nlohmann-json3-dev libtinyobjloader-dev libassimp-dev libcli11-dev catch2
   python3 python3-numpy python3-matplotlib espeak-ng sox
+  pybind11-dev python3-pybind11 python3-pytest  # the Python module and its tests
   clang libclang-rt-dev
   lv2-dev lilv-utils sordi
+  jalv python3-jack-client  # the plugin inside a real host (tests/lv2/jalv_test.py)
   libzita-convolver-dev  # dpc-bench convolve only: the yardstick
 )
 

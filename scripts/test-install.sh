@@ -13,8 +13,13 @@ trap 'rm -rf "$work"' EXIT
 prefix=$work/prefix
 targets=(dpc_shared dpc_static)
 # The plugin is configured only where lv2-dev is installed.
-if grep -q '^dpc_lv2:' <(cmake --build build --target help 2>/dev/null | sed 's/^\.\.\. //'); then
+help=$(cmake --build build --target help 2>/dev/null | sed 's/^\.\.\. //')
+if grep -q '^dpc_lv2:' <<<"$help"; then
   targets+=(dpc_lv2)
+fi
+# The Python module is configured only where pybind11-dev is installed.
+if grep -q '^dpc_python:' <<<"$help"; then
+  targets+=(dpc_python)
 fi
 cmake --build build -j"$(nproc)" --target "${targets[@]}" >/dev/null
 cmake --install build --prefix "$prefix" >/dev/null
@@ -44,5 +49,13 @@ export LD_LIBRARY_PATH=$libdir${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
 if [[ -d $libdir/lv2/dpc.lv2 ]]; then
   # The installed bundle finds libdpc.so through its RPATH, not LD_LIBRARY_PATH.
   env -u LD_LIBRARY_PATH /usr/bin/python3 tests/lv2/lv2_test.py "$libdir/lv2"
+fi
+module=$(find "$prefix" -name 'dpc.cpython-*.so' | head -1)
+if [[ -n $module ]]; then
+  # Installed in <prefix>/lib/python3.X/dist-packages (docs/python.md): importable from there
+  # by Debian's python3, without the build tree.
+  (cd "$work" && env -u LD_LIBRARY_PATH PYTHONPATH="$(dirname "$module")" /usr/bin/python3 -c \
+    "import dpc; r = dpc.render('$root/scenes/shoebox.json', duration=0.2, rays_per_frame=256);
+assert r.impulse_response(0).shape[0] == 1 and abs(r.output).max() > 0")
 fi
 echo "test-install: OK"

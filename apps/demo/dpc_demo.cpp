@@ -5,6 +5,7 @@
 
 #include "apps/demo/audio_devices.h"
 #include "apps/demo/flags.h"
+#include "apps/demo/list_materials.h"
 #include "apps/demo/run_live.h"
 #include "apps/demo/run_offline.h"
 #include "common/input_error.h"
@@ -30,6 +31,7 @@ void checkRunKind(const Flags& fl) {
 /// Runs what the flags ask for; returns the exit status.
 int run(const Flags& fl) {
   if (fl.listDevices) return listDevices();
+  if (fl.listMaterials) return listMaterials();
   if (fl.scene.empty()) {
     std::fprintf(stderr, "dpc-demo: a scene file is required (--help for usage)\n");
     return 1;

@@ -19,6 +19,8 @@ constexpr const char* kDescription =
 void addLiveOptions(CLI::App& app, Flags& fl) {
   app.add_option("scene", fl.scene, "Scene file (JSON; see docs/scene-format.md)");
   app.add_flag("--list-devices", fl.listDevices, "List audio output devices and exit");
+  app.add_flag("--list-materials", fl.listMaterials,
+               "List the materials library (names usable in a scene's materials) and exit");
   app.add_option("--device", fl.device,
                  "Output device: NAME, HOSTAPI:NAME (e.g. jack:system), default: JACK if running");
   app.add_option("--block-size", fl.blockSize, "Audio block size in samples (live)");

@@ -13,7 +13,7 @@ namespace dpc::demo {
 struct Flags {
   std::string scene, offline, irOut, erOut, estimator, weighting, device, record, stats, output,
       hrtf, listener;
-  bool listDevices = false, interactive = false, quiet = false;
+  bool listDevices = false, listMaterials = false, interactive = false, quiet = false;
   std::optional<int64_t> blockSize;       ///< samples per audio block (live)
   std::optional<double> duration;         ///< seconds to render or play
   std::optional<double> tau;              ///< cache response time, seconds

@@ -90,6 +90,68 @@ def float_wav(name, rate, samples):
     return apply
 
 
+def gltf_level(edit, name="shoebox.glb", objects=None, drop_bin=False, buffer_uri=None):
+    """Writes the shoebox's OBJ as a glTF level NAME (node "room", one primitive per material
+    run; scenes/gltffile.py), lets edit(g) break it before it is saved, and points the scene's
+    mesh (and "objects", if given) at it. drop_bin: a .gltf whose .bin buffer is then removed;
+    buffer_uri: a .gltf whose buffer is then pointed at this file instead."""
+    def apply(d):
+        sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
+                                        "scenes"))
+        from gltffile import Gltf, read_obj
+        g = Gltf()
+        runs = read_obj(os.path.join(d, "shoebox.obj"))
+        g.node("room", mesh=g.mesh("room", [(g.material(m), p, t) for m, p, t in runs]))
+        edit(g)
+        g.save(os.path.join(d, name))
+        if drop_bin:
+            os.remove(os.path.join(d, name[:-5] + ".bin"))
+        if buffer_uri:
+            doc = json.load(open(os.path.join(d, name)))
+            doc["buffers"][0]["uri"] = buffer_uri
+            json.dump(doc, open(os.path.join(d, name), "w"))
+        edits = {"mesh": name} if objects is None else {"mesh": name, "objects": objects}
+        scene_with(**edits)(d)
+    return apply
+
+
+def gltf_set(path, value):
+    """An edit of the glTF JSON: path is a tuple of keys and indices."""
+    def edit(g):
+        node = g.doc
+        for k in path[:-1]:
+            node = node[k]
+        node[path[-1]] = value
+    return edit
+
+
+def gltf_door(interpolation="LINEAR", node=None):
+    """Adds a door node (one triangle, material "walls") and a rotation animation of `node`
+    (default: the door) with the given sampler interpolation."""
+    def edit(g):
+        door = g.node("door", mesh=g.mesh("door", [(0, [(0, 0, 0), (0, 2, 0), (0, 2, 1)],
+                                                    [(0, 1, 2)])]), translation=[5, 0, 3])
+        g.animation("swing", [(door if node is None else node, "rotation", [0, 1],
+                               [(0, 0, 0, 1), (0, 0.7071068, 0, 0.7071068)], interpolation)])
+    return edit
+
+
+def no_edit(g):
+    pass
+
+
+def gltf_nan_vertex(g):
+    """Adds node "bad" whose mesh's second vertex is NaN (as an exporter bug would write)."""
+    bad = g.mesh("bad", [(0, [(0, 0, 0), (float("nan"), 1, 0), (1, 1, 0)], [(0, 1, 2)])])
+    g.node("bad", mesh=bad)
+
+
+def gltf_door_on_node_9(g):
+    """The door's animation aimed at node 9, which the file does not have."""
+    gltf_door()(g)
+    g.doc["animations"][0]["channels"][0]["target"]["node"] = 9
+
+
 OFF = ["shoebox.json", "--offline", "out.wav", "--duration", "0.2", "--rays", "64"]
 
 # name: (setup, extra args or full args, expected substring of the error line)
@@ -195,6 +257,24 @@ CASES = {
     "ir_length_negative": (scene_with(**{"propagation.ir_length": -1}), OFF, "ir_length"),
     "radius_negative": (scene_with(**{"listener.radius": -1}), OFF, "radius"),
     "mesh_missing": (scene_with(mesh="none.obj"), OFF, "mesh"),
+    # glTF levels (scene/model_reader.h): the line names the model file and what is wrong.
+    "gltf_missing_buffer": (gltf_level(no_edit, "shoebox.gltf", drop_bin=True), OFF,
+                            "shoebox.gltf: referenced file 'shoebox.bin' not found"),
+    "gltf_line_primitive": (gltf_level(gltf_set(("meshes", 0, "primitives", 1, "mode"), 1)), OFF,
+                            'shoebox.glb: mesh "room-1": has point or line primitives'),
+    "gltf_unmapped_material": (gltf_level(gltf_set(("materials", 2, "name"), "marble")), OFF,
+                               'shoebox.glb: material marble: material "marble" is not defined'),
+    "gltf_nan_in_accessor": (gltf_level(gltf_nan_vertex), OFF, 'shoebox.glb: mesh "bad" vertex 2: coordinate is NaN'),
+    "gltf_animation_unknown_node": (gltf_level(gltf_door(node=0)), OFF,
+                                    'shoebox.glb: animation "swing": moves node "room", which the scene does not name'),
+    "gltf_animation_node_out_of_range": (gltf_level(gltf_door_on_node_9), OFF,
+                                         "shoebox.glb: GLTF: Array index 9 is out of bounds"),
+    "gltf_buffer_is_device": (gltf_level(no_edit, "shoebox.gltf", buffer_uri="/dev/zero"),
+                              OFF, "shoebox.gltf: referenced file '/dev/zero' is not a regular file"),
+    "gltf_object_node_missing": (gltf_level(no_edit, objects=[{"name": "door"}]), OFF,
+                                 'shoebox.json: objects[0].name: no node named "door"'),
+    "gltf_cubic_spline": (gltf_level(gltf_door("CUBICSPLINE"), objects=[{"name": "door"}]), OFF,
+                          "CUBICSPLINE interpolation is not supported"),
     "mesh_empty": (write("shoebox.obj", ""), OFF, "shoebox.obj"),
     "sources_empty": (scene_with(sources=[]), OFF, "sources"),
     "estimator_scene_bad": (scene_with(**{"propagation.estimator": "x"}), OFF, "estimator"),

@@ -1,0 +1,151 @@
+// The Python module `dpc` (pybind11): scenes rendered offline as dpc-demo renders them, an
+// engine stepped frame by frame with poses set from Python (the C++ facade of the C API,
+// include/dpc/dpc.hpp), and ISO 3382-1 parameters of impulse responses. Arrays cross as numpy
+// arrays: the responses are moved into them, not copied. The GIL is released while tracing.
+// Errors become dpc.InputError (a ValueError: the scene's or an argument's one-line message,
+// "FILE: FIELD: problem") or dpc.Error (a RuntimeError). docs/python.md is the user's guide.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "analysis/room_parameters.h"
+#include "common/bands.h"
+#include "common/input_error.h"
+#include "dpc/dpc.hpp"
+#include "python/arrays.h"
+#include "python/errors.h"
+#include "python/offline.h"
+#include "python/scene_arrays.h"
+
+namespace py = pybind11;
+
+namespace dpc::python {
+namespace {
+
+/// Per band and broadband: T20, T30, EDT (s), C50, C80 (dB), D50, energy, as numpy arrays of
+/// kNumBands values plus a "broadband" dict of numbers.
+py::dict iso3382(const py::array_t<float, py::array::c_style | py::array::forcecast>& ir,
+                 int sampleRate) {
+  if (ir.ndim() != 1) throw py::value_error("iso3382: ir must be one-dimensional (samples)");
+  if (sampleRate < 1) throw py::value_error("iso3382: sample_rate must be positive (Hz)");
+  audio::ImpulseResponseAnalysis a;
+  {
+    py::gil_scoped_release release;
+    a = audio::analyzeImpulseResponse(ir.data(), size_t(ir.size()), sampleRate);
+  }
+  using Field = double audio::RoomParameters::*;
+  const std::pair<const char*, Field> fields[] = {
+      {"t20", &audio::RoomParameters::t20},      {"t30", &audio::RoomParameters::t30},
+      {"edt", &audio::RoomParameters::edt},      {"c50", &audio::RoomParameters::c50},
+      {"c80", &audio::RoomParameters::c80},      {"d50", &audio::RoomParameters::d50},
+      {"energy", &audio::RoomParameters::energy}};
+  py::dict out, broadband;
+  for (const auto& [name, field] : fields) {
+    std::vector<double> perBand(kNumBands);
+    for (int b = 0; b < kNumBands; ++b) perBand[size_t(b)] = a.bands[size_t(b)].*field;
+    out[name] = vectorArray(std::move(perBand), {size_t(kNumBands)});
+    broadband[name] = a.broadband.*field;
+  }
+  out["bands_hz"] = std::vector<float>(kBandCentreHz.begin(), kBandCentreHz.end());
+  out["broadband"] = broadband;
+  return out;
+}
+
+/// The pose setters: wait-free in the C API, which sets no message; the status says it all.
+void checkPose(dpc_status s, const char* what) {
+  if (s != DPC_OK) throw InputError("dpc.Engine", what, "index out of range or a value not finite");
+}
+
+void setListenerPose(dpc::Engine& e, int listener, const std::array<float, 3>& p, float yaw,
+                     float pitch) {
+  checkPose(e.setListenerPose(listener, p[0], p[1], p[2], yaw, pitch), "set_listener_pose");
+}
+
+void setSourcePosition(dpc::Engine& e, int source, const std::array<float, 3>& p) {
+  checkPose(e.setSourcePosition(source, p[0], p[1], p[2]), "set_source_position");
+}
+
+/// rotation: a quaternion (x, y, z, w), glTF order (docs/design.md "One frame for every pose").
+void setObjectPose(dpc::Engine& e, int object, const std::array<float, 3>& p,
+                   const std::array<float, 4>& q) {
+  checkPose(e.setObjectPose(object, p[0], p[1], p[2], q[0], q[1], q[2], q[3]), "set_object_pose");
+}
+
+/// The engine's responses of one source as numpy arrays.
+py::array engineIr(dpc::Engine& e, int source) {
+  std::vector<std::vector<float>> channels;
+  for (int c = 0; c < e.outputChannels(); ++c) channels.push_back(e.impulseResponse(source, c));
+  return channelsArray(std::move(channels));
+}
+
+py::array engineEnergy(dpc::Engine& e, int source) {
+  std::vector<float> er = e.energyResponse(source);  // bin-major: [bin][band]
+  return bandsByBins(er.data(), er.size() / kNumBands);
+}
+
+std::unique_ptr<dpc::Engine> openEngine(const std::string& scene, int rays) {
+  dpc_engine_options o;
+  dpc_engine_options_init(&o);
+  o.rays_per_frame = rays;
+  py::gil_scoped_release release;  // loads meshes and signals, builds the BVH
+  return std::make_unique<dpc::Engine>(dpc::Engine::fromFile(scene, &o));
+}
+
+std::unique_ptr<dpc::Engine> fromArrays(FloatArray vertices, IndexArray triangles,
+                                        IndexArray triangleMaterials, FloatArray absorption,
+                                        FloatArray scattering, FloatArray sources,
+                                        FloatArray listener, float listenerRadius, int rays,
+                                        int maxOrder, float irLength, uint64_t seed, int sampleRate,
+                                        std::string output) {
+  return engineFromArrays({vertices, triangles, triangleMaterials, absorption, scattering, sources,
+                           listener, listenerRadius, rays, maxOrder, irLength, seed, sampleRate,
+                           std::move(output)});
+}
+
+void bindEngine(py::module_& m) {
+  py::class_<dpc::Engine>(m, "Engine", R"(A scene's engine, stepped one propagation frame at a
+time from Python (the C API's dpc_engine): set poses, step(), read the responses.)")
+      .def(py::init(&openEngine), py::arg("scene"), py::arg("rays_per_frame") = 0,
+           "Loads a scene file; rays_per_frame 0 keeps the scene's.")
+      .def_static("from_arrays", &fromArrays, py::arg("vertices"), py::arg("triangles"),
+                  py::arg("triangle_materials"), py::arg("absorption"), py::arg("scattering"),
+                  py::arg("sources"), py::arg("listener"), py::arg("listener_radius") = 0.5f,
+                  py::arg("rays_per_frame") = 4096, py::arg("max_order") = 50,
+                  py::arg("ir_length") = 2.0f, py::arg("seed") = 1, py::arg("sample_rate") = 48000,
+                  py::arg("output") = "mono",
+                  "A scene from arrays (m, octave bands 63 Hz .. 8 kHz); no dry signals.")
+      .def_property_readonly("sample_rate", &dpc::Engine::sampleRate)
+      .def_property_readonly("output_channels", &dpc::Engine::outputChannels)
+      .def_property_readonly("source_count", &dpc::Engine::sourceCount)
+      .def_property_readonly("listener_count", &dpc::Engine::listenerCount)
+      .def_property_readonly("object_count", &dpc::Engine::objectCount)
+      .def("set_listener_pose", &setListenerPose, py::arg("listener"), py::arg("position"),
+           py::arg("yaw_degrees") = 0.f, py::arg("pitch_degrees") = 0.f)
+      .def("set_source_position", &setSourcePosition, py::arg("source"), py::arg("position"))
+      .def("set_object_pose", &setObjectPose, py::arg("object"), py::arg("position"),
+           py::arg("rotation"))
+      .def("step", &dpc::Engine::step, py::call_guard<py::gil_scoped_release>(),
+           "Traces one propagation frame now (the GIL is released meanwhile).")
+      .def("impulse_response", &engineIr, py::arg("source") = 0,
+           "The newest IR of the played listener: float32 array, channels x samples.")
+      .def("energy_response", &engineEnergy, py::arg("source") = 0,
+           "The newest energy response: float32 array, 8 octave bands x 1 ms bins (1/m^2).");
+}
+
+}  // namespace
+}  // namespace dpc::python
+
+PYBIND11_MODULE(dpc, m) {
+  m.doc() = "dpc: interactive sound propagation (diffuse path cache). docs/python.md";
+  dpc::python::bindErrors(m);
+  dpc::python::bindEngine(m);
+  dpc::python::bindOffline(m);
+  m.def("iso3382", &dpc::python::iso3382, py::arg("ir"), py::arg("sample_rate"),
+        "ISO 3382-1 parameters of a 1-D impulse response (dict of per-band arrays).");
+  m.attr("BANDS_HZ") = std::vector<float>(dpc::kBandCentreHz.begin(), dpc::kBandCentreHz.end());
+}

@@ -1,0 +1,28 @@
+#include "python/errors.h"
+
+#include "common/input_error.h"
+#include "dpc/dpc.hpp"
+
+namespace dpc::python {
+
+namespace py = pybind11;
+
+void bindErrors(py::module_& m) {
+  static py::exception<dpc::InputError> inputError(m, "InputError", PyExc_ValueError);
+  static py::exception<dpc::Error> error(m, "Error", PyExc_RuntimeError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const dpc::InputError& e) {
+      inputError(e.what());
+    } catch (const dpc::Error& e) {
+      // The C API's input and argument failures are the user's, like an InputError.
+      if (e.status() == DPC_ERR_INPUT || e.status() == DPC_ERR_INVALID_ARGUMENT)
+        inputError(e.what());
+      else
+        error(e.what());
+    }
+  });
+}
+
+}  // namespace dpc::python

@@ -1,0 +1,13 @@
+// Python exceptions of the module: dpc.InputError (a ValueError) for a bad scene, file or
+// argument, carrying dpc's one-line message ("FILE: FIELD: problem"); dpc.Error (a
+// RuntimeError) for anything else the library reports. Private to python/.
+#pragma once
+
+#include <pybind11/pybind11.h>
+
+namespace dpc::python {
+
+/// Registers the exception types and the translators from dpc::InputError and dpc::Error.
+void bindErrors(pybind11::module_& m);
+
+}  // namespace dpc::python

@@ -1,0 +1,111 @@
+#include "python/offline.h"
+
+#include <pybind11/stl.h>
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "common/input_error.h"
+#include "python/arrays.h"
+#include "runtime/dry_signals.h"
+#include "runtime/offline_renderer.h"
+#include "scene/limits.h"
+#include "scene/scene.h"
+
+namespace dpc::python {
+namespace {
+
+/// What one render heard: the rendered listener's output and its last frame's responses.
+struct Render {
+  OfflineListenerResult listener;
+  int sampleRate = 0;
+};
+
+/// The index of the listener called `name` (none: the first), else InputError naming it.
+size_t listenerIndex(const SceneDesc& scene, const std::optional<std::string>& name) {
+  if (!name) return 0;
+  for (size_t i = 0; i < scene.listeners.size(); ++i)
+    if (scene.listeners[i].name == *name) return i;
+  throw InputError("dpc.render", "listener", "the scene has no listener \"" + *name + "\"");
+}
+
+/// The scene's settings with the overrides given (each checked against scene/limits.h).
+PropagationSettings settingsFor(const SceneDesc& scene, std::optional<uint64_t> seed, int rays,
+                                int threads) {
+  PropagationSettings ps = scene.propagation;
+  if (seed) ps.seed = *seed;
+  if (rays != 0) {
+    if (!withinLimit(limitOf("propagation.rays_per_frame"), rays))
+      throw InputError(
+          "dpc.render", "rays_per_frame",
+          std::to_string(rays) + " is outside " + rangeText(limitOf("propagation.rays_per_frame")));
+    ps.raysPerFrame = rays;
+  }
+  if (threads < 0) throw InputError("dpc.render", "threads", "must be >= 0 (0: all cores)");
+  ps.threads = threads;
+  return ps;
+}
+
+Render render(const std::string& path, std::optional<double> duration, std::optional<uint64_t> seed,
+              std::optional<std::string> listener, int rays, int threads) {
+  if (duration && !(*duration > 0 && *duration <= 86400))
+    throw InputError("dpc.render", "duration", "must be in (0, 86400] s");
+  py::gil_scoped_release release;
+  auto scene = std::make_shared<const SceneDesc>(loadScene(path));
+  const PropagationSettings ps = settingsFor(*scene, seed, rays, threads);
+  OfflineOptions opt;
+  opt.durationSeconds = duration.value_or(-1.0);
+  opt.listener = listenerIndex(*scene, listener);
+  auto dry = std::make_shared<const DrySignals>(loadDrySignals(*scene));
+  OfflineResult r = renderOffline(scene, ps, dry, opt);
+  return Render{std::move(r.listeners.at(0)), scene->audio.sampleRate};
+}
+
+const OfflineListenerResult& checked(const Render& r, size_t source) {
+  if (source >= r.listener.lastIrs.size())
+    throw InputError("dpc.Render", "source",
+                     std::to_string(source) + " is not a source index (the scene has " +
+                         std::to_string(r.listener.lastIrs.size()) + ")");
+  return r.listener;
+}
+
+}  // namespace
+
+void bindOffline(py::module_& m) {
+  py::class_<Render>(m, "Render", "What dpc.render heard: one listener's output and responses.")
+      .def_readonly("sample_rate", &Render::sampleRate)
+      .def_property_readonly("listener", [](const Render& r) { return r.listener.name; })
+      .def_property_readonly(
+          "output",
+          [](const Render& r) {
+            return channelsArray(std::vector<std::vector<float>>(r.listener.output.channels));
+          },
+          "The rendered audio: float32 array, channels x samples (not normalised).")
+      .def(
+          "impulse_response",
+          [](const Render& r, size_t source) {
+            return channelsArray(
+                std::vector<std::vector<float>>(checked(r, source).lastIrs[source]));
+          },
+          py::arg("source") = 0,
+          "The last frame's IR of a source: float32 array, channels x samples, as dpc-demo "
+          "--ir-out writes it.")
+      .def(
+          "energy_response",
+          [](const Render& r, size_t source) {
+            const auto& bins = checked(r, source).lastEnergy[source].bins();
+            std::vector<float> binMajor;
+            for (const Bands& bin : bins)
+              for (int b = 0; b < kNumBands; ++b) binMajor.push_back(bin[b]);
+            return bandsByBins(binMajor.data(), bins.size());
+          },
+          py::arg("source") = 0,
+          "The last frame's energy response: float32 array, 8 octave bands x 1 ms bins (1/m^2).");
+  m.def("render", &render, py::arg("scene"), py::arg("duration") = py::none(),
+        py::arg("seed") = py::none(), py::arg("listener") = py::none(),
+        py::arg("rays_per_frame") = 0, py::arg("threads") = 0,
+        "Renders a scene file offline as dpc-demo --offline does (the GIL is released).");
+}
+
+}  // namespace dpc::python

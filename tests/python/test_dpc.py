@@ -1,0 +1,155 @@
+"""The Python module against dpc-demo (run with Debian's python3 -m pytest; registered in ctest
+by tests/CMakeLists.txt, which passes DPC_DEMO and puts the built module on PYTHONPATH).
+
+- dpc.render's last-frame IR equals dpc-demo --ir-out's WAV sample for sample (same scene,
+  seed and duration: the same renderer, so the same bits);
+- a bad scene raises dpc.InputError whose text is dpc-demo's error line without "dpc-demo: ";
+- two threads stepping two engines give what each gives alone (the GIL is released in step);
+- dpc.iso3382 equals dpc-analyze --json on the same IR;
+- a scene built with dpc.Engine.from_arrays equals the same scene from OBJ + JSON, bit for bit.
+"""
+import json
+import os
+import struct
+import subprocess
+import threading
+
+import numpy as np
+import pytest
+
+import dpc
+
+SOURCE_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
+SCENES = os.path.join(SOURCE_DIR, "scenes")
+DEMO = os.environ["DPC_DEMO"]
+ANALYZE = os.path.join(os.path.dirname(DEMO), "dpc-analyze")
+SHOEBOX = os.path.join(SCENES, "shoebox.json")
+
+
+def read_float_wav(path):
+    """A float32 WAV (dpc's --ir-out) as channels x samples."""
+    data = open(path, "rb").read()
+    assert data[:4] == b"RIFF" and data[8:12] == b"WAVE"
+    pos, channels, samples = 12, None, None
+    while pos + 8 <= len(data):
+        tag, size = struct.unpack("<4sI", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + size]
+        if tag == b"fmt ":
+            fmt, channels = struct.unpack("<HH", body[:4])
+            fmt = struct.unpack("<H", body[24:26])[0] if fmt == 0xFFFE else fmt
+            assert fmt == 3, "not IEEE float"
+        elif tag == b"data":
+            samples = np.frombuffer(body, dtype="<f4")
+        pos += 8 + size + (size & 1)
+    return samples.reshape(-1, channels).T
+
+
+def test_ir_equals_dpc_demo_ir_out(tmp_path):
+    ir_wav = tmp_path / "ir.wav"
+    subprocess.run([DEMO, SHOEBOX, "--offline", str(tmp_path / "out.wav"), "--duration", "1",
+                    "--seed", "7", "--ir-out", str(ir_wav), "--quiet", "--threads", "2"],
+                   check=True, capture_output=True)
+    r = dpc.render(SHOEBOX, duration=1.0, seed=7, threads=2)
+    ir = r.impulse_response(0)
+    assert ir.dtype == np.float32 and ir.shape[0] == 1
+    assert np.array_equal(ir, read_float_wav(ir_wav))  # bit for bit (no NaN in an IR)
+    other = dpc.render(SHOEBOX, duration=1.0, seed=8, threads=2).impulse_response(0)
+    assert not np.array_equal(ir, other)  # the comparison can fail: the seed matters
+
+
+def test_bad_scene_raises_dpc_demo_message(tmp_path):
+    scene = json.load(open(SHOEBOX))
+    scene["materials"]["walls"] = {"library": "plasterbord"}
+    scene["mesh"] = os.path.join(SCENES, scene["mesh"])
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(scene))
+    demo = subprocess.run([DEMO, str(bad), "--offline", str(tmp_path / "o.wav")],
+                          capture_output=True, text=True)
+    assert demo.returncode == 1
+    line = demo.stderr.strip().splitlines()[-1]
+    assert line.startswith("dpc-demo: ")
+    for call in (lambda: dpc.render(str(bad)), lambda: dpc.Engine(str(bad))):
+        with pytest.raises(dpc.InputError) as e:
+            call()
+        assert str(e.value) == line[len("dpc-demo: "):]
+    assert isinstance(e.value, ValueError)
+
+
+def step_engine(results, key, frames=4):
+    e = dpc.Engine(SHOEBOX, rays_per_frame=2000)
+    e.set_listener_pose(0, [5.0, 1.6, 3.0], 30.0)
+    for _ in range(frames):
+        e.step()
+    results[key] = e.energy_response(0)
+
+
+def test_two_threads_two_engines():
+    alone = {}
+    step_engine(alone, "a")
+    together = {}
+    threads = [threading.Thread(target=step_engine, args=(together, k)) for k in ("a", "b")]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert alone["a"].shape == (8, together["a"].shape[1])
+    assert alone["a"].sum() > 0
+    # Each engine traces with the scene's seed: two threads, the same bits as alone.
+    assert np.array_equal(together["a"], alone["a"])
+    assert np.array_equal(together["b"], alone["a"])
+
+
+def test_iso3382_equals_dpc_analyze(tmp_path):
+    ir_wav = tmp_path / "ir.wav"
+    subprocess.run([DEMO, SHOEBOX, "--offline", str(tmp_path / "out.wav"), "--duration", "0.5",
+                    "--ir-out", str(ir_wav), "--quiet"], check=True, capture_output=True)
+    report = json.loads(subprocess.run([ANALYZE, str(ir_wav), "--json"], check=True,
+                                       capture_output=True, text=True).stdout)
+    ir = read_float_wav(ir_wav)[0]
+    p = dpc.iso3382(ir, report["sampleRate"])
+    assert p["bands_hz"] == report["bandCentresHz"] == dpc.BANDS_HZ
+    bands = report["channels"][0]["bands"]
+    for key in ("t20", "t30", "edt", "c50", "c80", "d50"):
+        # The same analysis of the same samples; JSON prints doubles to 17 digits.
+        assert p[key].tolist() == pytest.approx([b[key] for b in bands], rel=1e-15, nan_ok=True)
+    assert np.all(np.isfinite(p["t30"][1:7]))  # 125 Hz .. 4 kHz decays are long enough
+
+
+def box_arrays():
+    """A 6 x 3 x 4 m box (x, y up, z) wound inward: floor material 1, the rest material 0."""
+    v = np.array([(x, y, z) for x in (0, 6) for y in (0, 3) for z in (0, 4)], dtype=np.float32)
+    quads = [(0, 4, 6, 2), (1, 3, 7, 5), (0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3)]
+    tris = [t for a, b, c, d in quads for t in ((a, b, c), (a, c, d))]
+    floor = [0 if i // 2 != 4 else 1 for i in range(len(tris))]  # quad 4: y = 0
+    return v, np.array(tris, dtype=np.uint32), np.array(floor, dtype=np.uint32)
+
+
+def test_scene_from_arrays_equals_the_same_scene_from_files(tmp_path):
+    v, tris, mats = box_arrays()
+    absorption = np.array([[0.1] * 8, [0.3, 0.3, 0.3, 0.4, 0.5, 0.5, 0.6, 0.6]], np.float32)
+    scattering = np.array([0.2, 0.5], np.float32)
+    with open(tmp_path / "box.obj", "w") as f:
+        f.writelines("v %r %r %r\n" % tuple(map(float, p)) for p in v)
+        for t, m in zip(tris, mats):
+            f.write("usemtl m%d\nf %d %d %d\n" % (m, t[0] + 1, t[1] + 1, t[2] + 1))
+    scene = {"mesh": "box.obj",
+             "materials": {"m%d" % m: {"absorption": absorption[m].tolist(),
+                                       "scattering": float(scattering[m])} for m in (0, 1)},
+             "sources": [{"name": "s", "position": [1.5, 1.5, 2.0]}],
+             "listener": {"position": [4.5, 1.5, 2.0], "radius": 0.5},
+             "propagation": {"rays_per_frame": 1000}}
+    (tmp_path / "box.json").write_text(json.dumps(scene))
+    from_file = dpc.Engine(str(tmp_path / "box.json"))
+    from_arrays = dpc.Engine.from_arrays(v, tris, mats, absorption, scattering,
+                                         sources=[[1.5, 1.5, 2.0]], listener=[4.5, 1.5, 2.0],
+                                         rays_per_frame=1000)
+    for e in (from_file, from_arrays):
+        for _ in range(3):
+            e.step()
+    a, b = from_file.energy_response(0), from_arrays.energy_response(0)
+    assert a.shape == b.shape and a.sum() > 0
+    assert np.array_equal(a, b)  # same numbers, same seed: same bits
+    assert np.array_equal(from_file.impulse_response(0), from_arrays.impulse_response(0))
+    with pytest.raises(dpc.InputError, match="absorption"):
+        dpc.Engine.from_arrays(v, tris, mats, absorption * 2, scattering, sources=[[1, 1, 1]],
+                               listener=[4, 1, 2])

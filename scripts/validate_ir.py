@@ -240,6 +240,43 @@ def arrivals(ir, rate, delay, energy, order, direct_energy_ir):
     return rows, len(unexplained)
 
 
+def case_entry(ir, rate, er, onset, k0, d_bands, d_energy):
+    """One rendered case's broadband, out-of-band, per-band and causality figures."""
+    ir_par = decay_parameters(ir ** 2, 1.0 / rate, max(onset, 0))
+    er_par, er_direct = er_broadband(er, rate)
+    tail = ir[k0 + int(0.005 * rate):]
+    _, t_low, t_high = band_energies(tail, rate)
+    t_energy = (tail ** 2).sum()
+    pre = ir[:max(onset, 0)]
+    p_bands, _, _ = band_energies(pre, rate) if len(pre) else (np.zeros(8), 0, 0)
+    return {
+        'ir': ir_par, 'er': er_par,
+        'band_level_db': band_levels(ir[max(onset, 0):], rate, er),
+        'g_re_direct_ir': 10 * np.log10((ir ** 2).sum() / d_energy),
+        'g_re_direct_er': er_par['g'] - 10 * np.log10(er_direct * 4 * np.pi * 100),
+        'reverb_low_share': t_low / t_energy, 'reverb_high_share': t_high / t_energy,
+        'pre_onset_db': 10 * np.log10(max((pre ** 2).sum(), 1e-30) / d_energy),
+        'pre_onset_band_db': [10 * np.log10(max(p, 1e-30) / max(d, 1e-30))
+                              for p, d in zip(p_bands, d_bands)],
+    }
+
+
+def image_source_figures(ir, rate, size, alpha, ir_length, d_energy):
+    """The specular case against exact image sources: their decay parameters (1 ms bins) and
+    the per-arrival check (arrivals())."""
+    source, listener = positions(size)
+    delay, energy, order = image_sources.image_sources(size, source, listener, alpha,
+                                                       C * ir_length, C)
+    bins = np.zeros(int(round(ir_length / 1e-3)))
+    refl = order > 0
+    np.add.at(bins, np.minimum((delay[refl] / 1e-3).astype(int), len(bins) - 1), energy[refl])
+    k = int(delay[order == 0][0] / 1e-3)
+    bins[k] += energy[order == 0][0]
+    rows, unexplained = arrivals(ir, rate, delay, energy, order, d_energy)
+    return {'image_sources': decay_parameters(bins, 1e-3, k), 'arrivals_order_le3': rows,
+            'unexplained_loud_samples_50ms': unexplained}
+
+
 def measure(build, folder, name, rays, seed):
     size, alpha = ROOMS[name]
     obj = os.path.join(folder, name + '.obj')
@@ -261,37 +298,9 @@ def measure(build, folder, name, rays, seed):
     for case, scattering in (('diffuse', 1.0), ('specular', 0.0)):
         rate, ir, er = render(build, folder, f'{name}-{case}',
                               scene_json(obj, size, alpha, scattering, ir_length), rays, seed, 2.0)
-        k0 = int(round(r / C * rate))
-        ir_par = decay_parameters(ir ** 2, 1.0 / rate, max(onset, 0))
-        er_par, er_direct = er_broadband(er, rate)
-        tail = ir[k0 + int(0.005 * rate):]
-        t_bands, t_low, t_high = band_energies(tail, rate)
-        t_energy = (tail ** 2).sum()
-        pre = ir[:max(onset, 0)]
-        p_bands, _, _ = band_energies(pre, rate) if len(pre) else (np.zeros(8), 0, 0)
-        entry = {
-            'ir': ir_par, 'er': er_par,
-            'band_level_db': band_levels(ir[max(onset, 0):], rate, er),
-            'g_re_direct_ir': 10 * np.log10((ir ** 2).sum() / d_energy),
-            'g_re_direct_er': er_par['g'] - 10 * np.log10(er_direct * 4 * np.pi * 100),
-            'reverb_low_share': t_low / t_energy, 'reverb_high_share': t_high / t_energy,
-            'pre_onset_db': 10 * np.log10(max((pre ** 2).sum(), 1e-30) / d_energy),
-            'pre_onset_band_db': [10 * np.log10(max(p, 1e-30) / max(d, 1e-30))
-                                  for p, d in zip(p_bands, d_bands)],
-        }
+        entry = case_entry(ir, rate, er, onset, int(round(r / C * rate)), d_bands, d_energy)
         if case == 'specular':
-            delay, energy, order = image_sources.image_sources(size, source, listener, alpha,
-                                                               C * ir_length, C)
-            bins = np.zeros(int(round(ir_length / 1e-3)))
-            refl = order > 0
-            np.add.at(bins, np.minimum((delay[refl] / 1e-3).astype(int), len(bins) - 1),
-                      energy[refl])
-            k = int(delay[order == 0][0] / 1e-3)
-            bins[k] += energy[order == 0][0]
-            entry['image_sources'] = decay_parameters(bins, 1e-3, k)
-            rows, unexplained = arrivals(ir, rate, delay, energy, order, d_energy)
-            entry['arrivals_order_le3'] = rows
-            entry['unexplained_loud_samples_50ms'] = unexplained
+            entry.update(image_source_figures(ir, rate, size, alpha, ir_length, d_energy))
         result[case] = entry
     return result
 
@@ -430,6 +439,26 @@ def causality_markdown(sweep):
     return '\n'.join(lines)
 
 
+def print_summary(results):
+    """One line per room: direct sound, arrivals, per-band levels, causality per band."""
+    for name, res in results.items():
+        arr = res['specular']['arrivals_order_le3']
+        worst = max(arr, key=lambda a: abs(a['ratio_db'])) if arr else None
+        print(f"{name}: direct G {res['direct']['g_ir']:.2f} dB (theory "
+              f"{res['direct']['g_theory']:.2f}); specular arrivals up to order 3: "
+              f"{len(arr)}, |error| median "
+              f"{np.median([abs(a['ratio_db']) for a in arr]):.1f} dB, worst "
+              f"{worst['ratio_db']:+.1f} dB at {worst['delay_ms']:.2f} ms; unexplained loud "
+              f"samples in 50 ms: {res['specular']['unexplained_loud_samples_50ms']}; "
+              f"IR - ER per band (dB; diffuse / specular): "
+              f"{', '.join(f'{v:+.2f}' for v in res['diffuse']['band_level_db'])} / "
+              f"{', '.join(f'{v:+.2f}' for v in res['specular']['band_level_db'])}; "
+              f"pre-onset per band (dB re direct): "
+              f"{', '.join(f'{v:.0f}' for v in res['diffuse']['pre_onset_band_db'])}")
+
+
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--build', default=os.path.join(ROOT, 'build'))
@@ -455,22 +484,7 @@ def main():
             json.dump({'rooms': results, 'causality': sweep}, f, indent=1, default=float)
     print(markdown(results))
     print(causality_markdown(sweep))
-    for name, res in results.items():
-        arr = res['specular']['arrivals_order_le3']
-        worst = max(arr, key=lambda a: abs(a['ratio_db'])) if arr else None
-        print(f"{name}: direct G {res['direct']['g_ir']:.2f} dB (theory "
-              f"{res['direct']['g_theory']:.2f}); specular arrivals up to order 3: "
-              f"{len(arr)}, |error| median "
-              f"{np.median([abs(a['ratio_db']) for a in arr]):.1f} dB, worst "
-              f"{worst['ratio_db']:+.1f} dB at {worst['delay_ms']:.2f} ms; unexplained loud "
-              f"samples in 50 ms: {res['specular']['unexplained_loud_samples_50ms']}; "
-              f"IR - ER per band (dB; diffuse / specular): "
-              f"{', '.join(f'{v:+.2f}' for v in res['diffuse']['band_level_db'])} / "
-              f"{', '.join(f'{v:+.2f}' for v in res['specular']['band_level_db'])}; "
-              f"pre-onset per band (dB re direct): "
-              f"{', '.join(f'{v:.0f}' for v in res['diffuse']['pre_onset_band_db'])}")
-
-
+    print_summary(results)
     missed = failures(results, sweep)
     for line in missed:
         print(f'validate_ir: missed: {line}', file=sys.stderr)

@@ -104,7 +104,7 @@ std::string levelScene(const std::string& objects) {
 
 }  // namespace
 
-TEST_CASE("STEP keys hold until the next key; LINEAR rotation keys are slerped", "[gltf]") {
+TEST_CASE("STEP keys hold until the next key and LINEAR rotation keys are slerped", "[gltf]") {
   test::TempDir dir("dpc_model_step");
   python(kSteppingDoor, dir.path());
   std::ofstream(dir.path() / "level.json") << levelScene(R"([ { "name": "door" } ])");

@@ -215,3 +215,26 @@ TEST_CASE("Sample rates whose Nyquist cuts the top octaves synthesise the bands 
     }
   }
 }
+
+TEST_CASE("A frequency-independent arrival is a Dirac of its energy", "[ir]") {
+  // A band value is a spectral density: the same value I in every band is a flat spectrum, so
+  // the direct sound (or an exact path) must be a single sample of amplitude sqrt(I) at its
+  // delay, as the dry signal passes an anechoic scene unchanged but for 1/r and the delay. The
+  // band filters sum to 1 to float rounding (their FFT size leaves taps of 1e-7 relative).
+  const int fs = 48000;
+  IrSynthesizer synth(fs, 0.5, 100.0, 343.0, 5);
+  const EnergyResponse silent(0.5, 1e-3);
+  DirectSound d;
+  d.visible = true;
+  d.delaySeconds = 0.0071f;
+  const double r = 0.0071 * 343.0;
+  d.intensity = Bands(float(1.0 / (4.0 * 3.14159265358979323846 * r * r)));
+  std::vector<float> ir(synth.lengthSamples());
+  synth.synthesize(silent, d, ir.data());
+  const long n0 = std::lround(0.0071 * fs);
+  double rest = 0.0;
+  for (size_t n = 0; n < ir.size(); ++n)
+    if (long(n) != n0) rest += double(ir[n]) * ir[n];
+  CHECK(ir[size_t(n0)] == Approx(std::sqrt(d.intensity[0])).epsilon(1e-5));
+  CHECK(rest < 1e-9 * d.intensity[0]);
+}

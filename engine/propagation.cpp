@@ -90,11 +90,18 @@ bool Propagator::advance(RayState& ray, bool surface, const SurfaceHit& hit,
                          std::span<const ListenerSphere> listeners, std::vector<PathHit>& hits,
                          std::vector<uint32_t>& hitListener) const {
   const float segEnd = surface ? hit.t : std::numeric_limits<float>::infinity();
-  // An exact specular path's hits stay out: specular_paths.h finds that path exactly.
-  if ((ray.order > 0 || includeDirectRays_) && !ray.exactSpecular())
-    testListeners(ray, segEnd, listeners, hits, hitListener);
+  if (ray.order > 0 || includeDirectRays_) testListeners(ray, segEnd, listeners, hits, hitListener);
   if (!surface || ray.order >= settings_.maxOrder) return false;
   return reflect(ray, hit);
+}
+
+bool Propagator::replacedByExactPath(const RayState& ray, uint32_t l) const {
+  if (exactSets_.empty()) return true;
+  if (l >= exactSets_.size() || !exactSets_[l]) return false;
+  SpecularSequence s;
+  s.order = uint32_t(ray.specularRun);
+  std::copy_n(ray.specular.begin(), ray.specularRun, s.triangles.begin());
+  return exactSets_[l]->contains(s.key());
 }
 
 void Propagator::testListeners(const RayState& ray, float segEnd,
@@ -102,6 +109,8 @@ void Propagator::testListeners(const RayState& ray, float segEnd,
                                std::vector<PathHit>& hits,
                                std::vector<uint32_t>& hitListener) const {
   for (uint32_t l = 0; l < listeners.size(); ++l) {
+    // An exact specular path's hits stay out: specular_paths.h finds that path exactly.
+    if (ray.exactSpecular() && replacedByExactPath(ray, l)) continue;
     // Segment against listener l's sphere: |org + t dir - L|^2 = R^2.
     const ListenerSphere& listener = listeners[l];
     const float r2 = listener.radius * listener.radius;
@@ -144,7 +153,8 @@ bool Propagator::reflect(RayState& ray, const SurfaceHit& hit) const {
     ray.dir = glm::normalize(ray.dir - 2.f * glm::dot(ray.dir, n) * n);
   ray.org = p + n * epsilon_;
   if (!diffuse && ray.specularRun == ray.order && ray.order < exactOrder_)
-    ray.specular[size_t(ray.specularRun++)] = hit.triangle;
+    ray.specular[size_t(ray.specularRun++)] =
+        hit.triangle < faceOf_.size() ? faceOf_[hit.triangle] : hit.triangle;
   ++ray.order;
   return true;
 }

@@ -141,6 +141,19 @@ class Propagator {
   /// When true, segments leaving the source also count as listener hits (for calibration
   /// against 1/(4 pi r^2); the renderer keeps the analytic direct sound instead).
   void setIncludeDirectRays(bool on) { includeDirectRays_ = on; }
+  /// The sequences whose exact paths replace their rays' listener hits, per listener of the
+  /// next traceFrame (the source's pairs' SpecularPathCache::validKeys, the previous frame's):
+  /// an all-specular hit of order <= exactOrder() is left out only when listener l's set holds
+  /// its sequence, so a sequence without an exact path (a triangle smaller than the listener
+  /// sphere, whose image path misses the sphere's centre) keeps its hits. Empty (the default):
+  /// every such hit is left out. The sets must outlive the traceFrame calls; no allocation.
+  void setExactSequences(std::span<const tsl::robin_set<uint64_t>* const> perListener) {
+    exactSets_ = perListener;
+  }
+  /// Per triangle, its coplanar face (CoplanarFaces::faces): the specular sequences record
+  /// faces, as the exact paths are found over faces. Empty (the default): triangles. The
+  /// vector must outlive the traceFrame calls.
+  void setSpecularFaces(std::span<const uint32_t> faceOf) { faceOf_ = faceOf; }
 
   /// Scalar or packet queries (default kDefaultTraceMode). Propagation thread, between frames.
   void setTraceMode(TraceMode mode) { traceMode_ = mode; }
@@ -202,6 +215,9 @@ class Propagator {
   /// sphere it crosses (with its listener index), in listener order.
   void testListeners(const RayState& ray, float segEnd, std::span<const ListenerSphere> listeners,
                      std::vector<PathHit>& hits, std::vector<uint32_t>& hitListener) const;
+  /// Whether an exact path replaces listener l's hit of this all-specular ray (see
+  /// setExactSequences).
+  bool replacedByExactPath(const RayState& ray, uint32_t l) const;
   /// Reflects `ray` at `hit`: patch into the path identifier, reflectance, Russian roulette,
   /// diffuse or specular direction. Returns false when roulette ends the ray.
   bool reflect(RayState& ray, const SurfaceHit& hit) const;
@@ -224,6 +240,8 @@ class Propagator {
   float epsilon_ = 1e-4f;
   PathKeyRule keyRule_;  ///< order-adaptive path identifier (engine/patch.h)
   bool includeDirectRays_ = false;
+  std::span<const tsl::robin_set<uint64_t>* const> exactSets_;  ///< setExactSequences
+  std::span<const uint32_t> faceOf_;  ///< setSpecularFaces
   int exactOrder_ = 0;  ///< exactOrder()
   TraceMode traceMode_ = kDefaultTraceMode;
   std::unique_ptr<tbb::task_arena> arena_;

@@ -22,6 +22,7 @@ Simulation::Simulation(const SceneDesc& scene, const PropagationSettings& settin
         scene.mesh, scene.objects, *geometry_, *tracer_, propagator_->airAttenuationPerMetre(),
         settings_.speedOfSound, propagator_->surfaceEpsilon());
     specularCandidates_ = std::make_unique<SpecularCandidates>();
+    propagator_->setSpecularFaces(specularScene_->faces().faces());
   }
   for (const SourceDesc& s : scene.sources) sourcePositions_.push_back(s.position);
   sourceCount_ = scene.sources.size();
@@ -48,6 +49,7 @@ void Simulation::reserveListeners(size_t listeners) {
   }
   groupPtrs_.clear();
   for (FrameGroups& g : groups_) groupPtrs_.push_back(&g);
+  exactSetPtrs_.resize(listeners, nullptr);
   if (orientations_.size() < listeners) orientations_.resize(listeners);
 }
 
@@ -100,7 +102,12 @@ void Simulation::runFrame(std::span<const ListenerSphere> listeners,
   for (size_t s = 0; s < sourceCount_ && s < sources.size(); ++s) {
     const auto t0 = std::chrono::steady_clock::now();
     for (size_t l = 0; l < L; ++l) groups_[l].clear();
-    if (specularCandidates_) specularCandidates_->clear();
+    if (specularCandidates_) {
+      specularCandidates_->clear();
+      for (size_t l = 0; l < L; ++l)
+        exactSetPtrs_[l] = &specularCaches_[l * sourceCount_ + s]->validKeys();
+      propagator_->setExactSequences(std::span(exactSetPtrs_.data(), listeners.size()));
+    }
     const TraceStats trace =
         propagator_->traceFrame(frame_, uint32_t(s), sources[s], listeners,
                                 std::span(groupPtrs_.data(), listeners.size()),

@@ -151,6 +151,8 @@ class Simulation {
   PathTracingEstimator pathTracing_;
   std::vector<FrameGroups> groups_;      ///< per listener, this source's frame
   std::vector<FrameGroups*> groupPtrs_;  ///< &groups_[l]
+  /// Per listener, the traced source's pair's SpecularPathCache::validKeys
+  std::vector<const tsl::robin_set<uint64_t>*> exactSetPtrs_;
   std::vector<glm::vec3> directions_;    ///< enableDirectional's listener-frame directions
   std::vector<Orientation> orientations_{1};
   // Exact specular paths (null / empty while exactOrder is 0):

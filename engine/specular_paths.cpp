@@ -48,6 +48,13 @@ bool inside(const glm::dvec3& q, const glm::dvec3& v0, const glm::dvec3& v1,
   return u >= -kInsideTolerance && v >= -kInsideTolerance && u + v <= 1.0 + kInsideTolerance;
 }
 
+/// The static mesh, then each object's mesh.
+std::vector<const Mesh*> meshesOf(const Mesh& mesh, const std::vector<ObjectDesc>& objects) {
+  std::vector<const Mesh*> out{&mesh};
+  for (const ObjectDesc& o : objects) out.push_back(&o.mesh);
+  return out;
+}
+
 }  // namespace
 
 void addSpecularPaths(const std::vector<SpecularPath>& paths, EnergyResponse& response,
@@ -97,7 +104,8 @@ bool SpecularCandidates::insert(const SpecularSequence& sequence) {
 SpecularScene::SpecularScene(const Mesh& mesh, const std::vector<ObjectDesc>& objects,
                              const Geometry& geometry, const Tracer& tracer,
                              const Bands& airPerMetre, float speedOfSound, float epsilon)
-    : geometry_(geometry),
+    : faces_(meshesOf(mesh, objects)),
+      geometry_(geometry),
       tracer_(tracer),
       airPerMetre_(airPerMetre),
       speedOfSound_(speedOfSound),
@@ -154,13 +162,20 @@ bool SpecularScene::construct(const SpecularSequence& seq, const glm::dvec3& sou
     // side the sound arrives from (the side of the previous image).
     if (!(a * b < 0.0)) return false;
     const glm::dvec3 q = p + (a / (a - b)) * (images[i + 1] - p);
-    const Triangle& t = world_[seq.triangles[i]];
-    if (!inside(q, t.v0, t.v1, t.v2)) return false;
+    if (!insideFace(q, seq.triangles[i])) return false;
     path.points[i] = glm::vec3(q);
     p = q;
   }
   image = images[k];
   return true;
+}
+
+bool SpecularScene::insideFace(const glm::dvec3& q, uint32_t face) const {
+  for (uint32_t t : faces_.triangles(face)) {
+    const Triangle& tri = world_[t];
+    if (inside(q, tri.v0, tri.v1, tri.v2)) return true;
+  }
+  return false;
 }
 
 bool SpecularScene::visible(const SpecularPath& path, const glm::vec3& source,
@@ -211,9 +226,11 @@ SpecularPathCache::SpecularPathCache(double tauSeconds, double framePeriodSecond
   index_.reserve(capacity_);
   paths_.reserve(capacity_);
   dropped_.reserve(capacity_);
+  validKeys_.reserve(capacity_);
 }
 
 void SpecularPathCache::clear() {
+  validKeys_.clear();
   entries_.clear();
   index_.clear();
   paths_.clear();
@@ -292,6 +309,8 @@ void SpecularPathCache::update(const SpecularCandidates& frame, const SpecularSc
   paths_.clear();
   revalidate(frame, scene, source, listener, radius, frameIndex);
   addCandidates(frame, scene, source, listener, radius, frameIndex);
+  validKeys_.clear();
+  for (const SpecularPath& p : paths_) validKeys_.insert(p.key);
   removeDuplicates();
 }
 

@@ -37,6 +37,7 @@
 #pragma once
 
 #include <tsl/robin_map.h>
+#include <tsl/robin_set.h>
 
 #include <array>
 #include <cstdint>
@@ -44,6 +45,7 @@
 #include <vector>
 
 #include "common/bands.h"
+#include "engine/coplanar_faces.h"
 #include "engine/energy_response.h"
 #include "engine/geometry.h"
 #include "engine/tracer.h"
@@ -51,8 +53,10 @@
 
 namespace dpc {
 
-/// The triangles T1..Tk of an all-specular path, k = order in 1..kMaxExactOrder; entries past
-/// `order` are 0. Triangle numbers are Geometry's (static mesh first, then objects).
+/// The faces T1..Tk of an all-specular path (CoplanarFaces::faceOf of the triangles struck:
+/// the smallest triangle number of each coplanar face), k = order in 1..kMaxExactOrder;
+/// entries past `order` are 0. Triangle numbers are Geometry's (static mesh first, then
+/// objects).
 struct SpecularSequence {
   std::array<uint32_t, kMaxExactOrder> triangles{};
   uint32_t order = 0;
@@ -72,7 +76,7 @@ struct SpecularPath {
   double delaySeconds = 0.0;  ///< length / c
   Bands intensity{0.f};   ///< 1/m^2 relative to source power, per octave band (formula above)
   glm::vec3 direction{0.f};   ///< unit vector from the listener toward the last reflection point
-  std::array<uint32_t, kMaxExactOrder> triangles{};  ///< T1..Tk (Geometry's numbering)
+  std::array<uint32_t, kMaxExactOrder> triangles{};  ///< faces T1..Tk (SpecularSequence)
   std::array<glm::vec3, kMaxExactOrder> points{};    ///< reflection points P1..Pk, metres
 };
 
@@ -118,6 +122,9 @@ class SpecularScene {
                 const Tracer& tracer, const Bands& airPerMetre, float speedOfSound,
                 float epsilon);
 
+  /// The scene's coplanar faces: sequences are over faces (CoplanarFaces::faceOf of the
+  /// triangles the rays struck), and a reflection point may lie in any triangle of its face.
+  const CoplanarFaces& faces() const { return faces_; }
   /// Object k's triangles follow `pose` (world = R local + position). Between frames.
   void setObjectPose(size_t object, const Pose& pose);
 
@@ -134,7 +141,10 @@ class SpecularScene {
   bool construct(const SpecularSequence& sequence, const glm::dvec3& source,
                  const glm::dvec3& listener, SpecularPath& path, glm::dvec3& image) const;
   bool visible(const SpecularPath& path, const glm::vec3& source, const glm::vec3& listener) const;
+  /// Whether q (on the face's plane) lies in one of face's triangles.
+  bool insideFace(const glm::dvec3& q, uint32_t face) const;
 
+  CoplanarFaces faces_;
   std::vector<Triangle> world_;                 ///< per triangle, current pose
   std::vector<std::vector<Triangle>> local_;    ///< per object, local coordinates
   std::vector<uint32_t> objectFirst_;           ///< per object, its first triangle number
@@ -165,6 +175,10 @@ class SpecularPathCache {
               uint64_t frameIndex);
 
   const std::vector<SpecularPath>& paths() const { return paths_; }
+  /// Keys (SpecularSequence::key) of every sequence valid in the last update(), the coincident
+  /// duplicates that paths() reports once included: the sequences whose rays' listener hits an
+  /// exact path replaces (Propagator::setExactSequences).
+  const tsl::robin_set<uint64_t>& validKeys() const { return validKeys_; }
   size_t entryCount() const { return entries_.size(); }
   /// Valid sequences not cached because the cache was full, cumulative.
   uint64_t overflow() const { return overflow_; }
@@ -191,6 +205,7 @@ class SpecularPathCache {
   tsl::robin_map<uint64_t, uint32_t> index_;
   std::vector<SpecularPath> paths_;
   std::vector<uint8_t> dropped_;  ///< scratch for removeDuplicates
+  tsl::robin_set<uint64_t> validKeys_;
   uint64_t overflow_ = 0;
 };
 

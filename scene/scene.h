@@ -160,9 +160,10 @@ struct PropagationSettings {
   int threads = 0;  ///< tracing threads; 0 = all cores (command line only)
   /// Exact early specular paths (ray-guided image sources, engine/specular_paths.h): all-specular
   /// paths of up to this many reflections (0 .. kMaxExactOrder, and at most maxOrder) are found
-  /// exactly and leave the energy response. 0 disables the feature (the outputs are then those
-  /// of an engine without it, bit for bit).
-  int exactOrder = 0;
+  /// exactly and leave the energy response; the IR synthesis places them at their delays. 3 by
+  /// default (the first reflections, heard as timbre, echoes and spaciousness). 0 disables the
+  /// feature (the outputs are then those of an engine without it, bit for bit).
+  int exactOrder = 3;
 };
 
 /// Output channels of the rendered IRs and audio.

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "engine/simulation.h"
+#include "engine/specular_paths.h"
 #include "testing/test_scenes.h"
 
 using namespace dpc;
@@ -58,7 +59,9 @@ WindowStats windowEnergies(const SceneDesc& scene, glm::vec3 listener, int band,
   std::vector<std::vector<double>> perFrame;
   for (int f = 0; f < frames; ++f) {
     sim.runFrame(listener);
-    const EnergyResponse& er = sim.result(0).energy;
+    // The whole response: the estimator's, plus the exact early paths it leaves out.
+    EnergyResponse er = sim.result(0).energy;
+    addSpecularPaths(sim.specularPaths(0), er);
     std::vector<double> e(windows, 0.0);
     for (size_t k = 0; k < er.binCount(); ++k) {
       const double t = (double(k) + 0.5) * er.binSeconds();

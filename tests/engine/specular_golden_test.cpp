@@ -1,5 +1,5 @@
 // Golden checksums of energy responses computed by the engine before exact specular paths
-// existed (same compiler and flags, x86-64): with exact_order 0 (the default) the engine must
+// existed (same compiler and flags, x86-64): with exact_order 0 the engine must
 // reproduce them bit for bit. A compiler change may change the float rounding and so these
 // values; scripts/render-all.sh against a reference build is then the check.
 #include <catch2/catch.hpp>
@@ -29,6 +29,7 @@ uint64_t goldenRun(Estimator estimator) {
   box.propagation.estimator = estimator;
   box.propagation.raysPerFrame = 2048;
   box.propagation.maxOrder = 40;
+  box.propagation.exactOrder = 0;
   Simulation a(box);
   const ListenerSphere ls[2] = {{{7, 1.6f, 5}, 0.5f}, {{4, 1.2f, 1.5f}, 0.5f}};
   for (int f = 0; f < 3; ++f) {
@@ -39,6 +40,7 @@ uint64_t goldenRun(Estimator estimator) {
   SceneDesc rooms = test::twoRooms(DpcWeighting::kWindow, 0.5f);
   rooms.propagation.estimator = estimator;
   rooms.propagation.raysPerFrame = 2048;
+  rooms.propagation.exactOrder = 0;
   Simulation b(rooms);
   for (int f = 0; f < 3; ++f) {
     b.setObjectPoses({f == 1 ? test::kDoorOpen : test::kDoorShut});

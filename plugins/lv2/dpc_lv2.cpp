@@ -62,15 +62,36 @@ struct Scene {
   ~Scene() { dpc_engine_destroy(engine); }
 };
 
+/// A control port's declared range and default (dpc.ttl's lv2:minimum, lv2:maximum and
+/// lv2:default; tests/lv2/lv2_test.py checks that both say the same).
+struct PortRange {
+  const char* symbol;
+  float min, max, fallback;
+};
+
+/// The pose ports kListenerX..kSourceZ, in port order.
+constexpr PortRange kPoseRanges[] = {
+    {"listener_x", -100.f, 100.f, 7.f},  {"listener_y", -100.f, 100.f, 1.6f},
+    {"listener_z", -100.f, 100.f, 3.5f}, {"listener_yaw", -180.f, 180.f, 180.f},
+    {"source_x", -100.f, 100.f, 3.f},    {"source_y", -100.f, 100.f, 1.6f},
+    {"source_z", -100.f, 100.f, 3.5f}};
+constexpr int kPosePorts = int(sizeof kPoseRanges / sizeof kPoseRanges[0]);
+static_assert(kListenerX + kPosePorts == kSourceZ + 1, "one range per pose port");
+
+/// `v` within the port's range: the nearest bound beyond it, the default for NaN.
+float clampToPort(const PortRange& r, float v) {
+  return std::isnan(v) ? r.fallback : std::clamp(v, r.min, r.max);
+}
+
 /// Listener x, y, z (m), yaw (degrees); source x, y, z (m).
 struct Pose {
   float v[7];
   bool operator!=(const Pose& o) const { return std::memcmp(v, o.v, sizeof v) != 0; }
 };
 
-/// Worker messages: load a scene (path follows) or free one.
+/// Worker messages: load a scene (path follows), free one, or log the ports clamped so far.
 struct WorkMessage {
-  enum Kind : uint32_t { kLoad, kFree } kind;
+  enum Kind : uint32_t { kLoad, kFree, kReportClamped } kind;
   Scene* scene;  ///< kFree
   Pose pose;     ///< kLoad: the pose to compute the first frame for
   bool start;    ///< kLoad: start the propagation thread (the plugin is active)
@@ -135,15 +156,59 @@ struct Plugin {
     return copy;
   }
 
-  float control(Port p, float fallback) const {
-    return ports[p] ? *static_cast<const float*>(ports[p]) : fallback;
+  // Pose ports whose value left the declared range: each is logged once, off the audio
+  // thread (by the worker, or at deactivate and cleanup without one). clamped: the ports
+  // seen out of range (bit i for kPoseRanges[i]), with the first such value; reported: those
+  // logged.
+  std::atomic<uint32_t> clamped{0};
+  std::atomic<float> firstOutside[kPosePorts] = {};
+  uint32_t reported = 0;
+
+  /// The raw value of pose port i (kPoseRanges order), its default if unconnected.
+  float raw(int i) const {
+    const void* port = ports[kListenerX + i];
+    return port ? *static_cast<const float*>(port) : kPoseRanges[i].fallback;
   }
+  /// The pose the ports ask for, each value clamped to its declared range.
   Pose pose() const {
-    return Pose{{control(kListenerX, 7.f), control(kListenerY, 1.6f), control(kListenerZ, 3.5f),
-                 control(kListenerYaw, 180.f), control(kSourceX, 3.f), control(kSourceY, 1.6f),
-                 control(kSourceZ, 3.5f)}};
+    Pose q{};
+    for (int i = 0; i < kPosePorts; ++i) q.v[i] = clampToPort(kPoseRanges[i], raw(i));
+    return q;
+  }
+  /// Audio thread, wait-free: records the ports out of range for the first time; true if any.
+  bool noteClamped() {
+    uint32_t fresh = 0;
+    for (int i = 0; i < kPosePorts; ++i) {
+      const float v = raw(i);
+      const uint32_t bit = 1u << i;
+      if (clampToPort(kPoseRanges[i], v) == v || (clamped.load(std::memory_order_relaxed) & bit))
+        continue;
+      firstOutside[i].store(v, std::memory_order_relaxed);
+      fresh |= bit;
+    }
+    if (fresh) clamped.fetch_or(fresh, std::memory_order_release);
+    return fresh != 0;
   }
 };
+
+/// Not the audio thread: logs each port clamped since the last call, once per instance.
+void reportClamped(Plugin* p) {
+  const uint32_t pending = p->clamped.load(std::memory_order_acquire) & ~p->reported;
+  for (int i = 0; i < kPosePorts; ++i) {
+    if (!(pending & (1u << i))) continue;
+    const PortRange& r = kPoseRanges[i];
+    const float v = p->firstOutside[i].load(std::memory_order_relaxed);
+    const char* format =
+        "dpc: port %s: %g is outside its range [%g, %g]; clamped to %g (logged "
+        "once)\n";
+    const double to = clampToPort(r, v);
+    if (p->logger.log)
+      lv2_log_warning(&p->logger, format, r.symbol, double(v), double(r.min), double(r.max), to);
+    else
+      std::fprintf(stderr, format, r.symbol, double(v), double(r.min), double(r.max), to);
+  }
+  p->reported |= pending;
+}
 
 /// Any thread but the audio thread: the message of the last failed dpc call, logged.
 void logError(Plugin* p, const char* what) {
@@ -154,10 +219,10 @@ void logError(Plugin* p, const char* what) {
 }
 
 /// Publishes a pose to an engine's selected listener and first source (wait-free; any thread).
-/// Non-finite values are refused by the API and leave the previous pose in place.
+/// The pose is within the ports' ranges (Plugin::pose), inside the scene's limits.
 void publish(dpc_engine* e, const Pose& q) {
-  dpc_engine_set_listener_pose(e, dpc_engine_selected_listener(e), q.v[0], q.v[1], q.v[2],
-                               q.v[3], 0.f);
+  dpc_engine_set_listener_pose(e, dpc_engine_selected_listener(e), q.v[0], q.v[1], q.v[2], q.v[3],
+                               0.f);
   dpc_engine_set_source_position(e, 0, q.v[4], q.v[5], q.v[6]);
 }
 
@@ -234,6 +299,7 @@ void deactivate(LV2_Handle h) {
   auto* p = static_cast<Plugin*>(h);
   dpc_engine_stop(p->scene->engine);
   p->active = false;
+  reportClamped(p);
 }
 
 /// Audio thread: writes patch:Set <scene> <path> to the notify port (if connected).
@@ -303,6 +369,10 @@ void run(LV2_Handle h, uint32_t frames) {
     notify->atom.type = p->map ? p->uris.atomSequence : 0;
   }
   Scene* s = p->scene;
+  if (p->noteClamped() && p->schedule) {
+    const WorkMessage m{WorkMessage::kReportClamped, nullptr, {}, false, {}};
+    p->schedule->schedule_work(p->schedule->handle, uint32_t(offsetof(WorkMessage, path)), &m);
+  }
   const Pose q = p->pose();
   if (!p->sentValid || q != p->sent) {
     publish(s->engine, q);
@@ -332,6 +402,10 @@ LV2_Worker_Status work(LV2_Handle h, LV2_Worker_Respond_Function respond,
   const auto* m = static_cast<const WorkMessage*>(data);
   if (m->kind == WorkMessage::kFree) {
     delete m->scene;
+    return LV2_WORKER_SUCCESS;
+  }
+  if (m->kind == WorkMessage::kReportClamped) {
+    reportClamped(p);
     return LV2_WORKER_SUCCESS;
   }
   const std::string path(m->path, strnlen(m->path, size - offsetof(WorkMessage, path)));
@@ -414,6 +488,7 @@ LV2_State_Status restore(LV2_Handle h, LV2_State_Retrieve_Function retrieve,
 
 void cleanup(LV2_Handle h) {
   auto* p = static_cast<Plugin*>(h);
+  reportClamped(p);
   delete p->scene;
   delete p;
 }

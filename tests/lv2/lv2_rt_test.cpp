@@ -7,13 +7,17 @@
 #include <lv2/atom/forge.h>
 #include <lv2/atom/util.h>
 #include <lv2/core/lv2.h>
+#include <lv2/log/log.h>
 #include <lv2/patch/patch.h>
 #include <lv2/state/state.h>
 #include <lv2/urid/urid.h>
 #include <lv2/worker/worker.h>
 
 #include <catch2/catch.hpp>
+#include <cfloat>
 #include <cmath>
+#include <cstdarg>
+#include <cstdio>
 #include <cstring>
 #include <map>
 #include <string>
@@ -65,8 +69,9 @@ struct Instance {
   float controls[7] = {7.f, 1.6f, 3.5f, 180.f, 3.f, 1.6f, 3.5f};
   float latency = 0.f;
   alignas(8) uint8_t control[4096], notify[4096];
-  Instance(const LV2_Descriptor* desc, Host& host) : d(desc) {
-    h = d->instantiate(d, 48000.0, kBundle, host.features);
+  Instance(const LV2_Descriptor* desc, Host& host, const LV2_Feature* const* features = nullptr)
+      : d(desc) {
+    h = d->instantiate(d, 48000.0, kBundle, features ? features : host.features);
     REQUIRE(h);
     d->connect_port(h, 0, in);
     d->connect_port(h, 1, left);
@@ -239,4 +244,68 @@ TEST_CASE("LV2 plugin: run() and a scene swap make no heap call, the scene is sa
   d->run(y.h, kFrames);
   CHECK(notifiedPath(y, host) == other);
   d->deactivate(y.h);
+}
+
+namespace {
+
+/// An LV2 log feature that keeps every line (control and worker threads only).
+struct LogCapture {
+  std::vector<std::string> lines;
+  LV2_Log_Log log{this, nullptr, [](LV2_Log_Handle h, LV2_URID, const char* fmt, va_list ap) {
+                    char line[512];
+                    std::vsnprintf(line, sizeof line, fmt, ap);
+                    static_cast<LogCapture*>(h)->lines.emplace_back(line);
+                    return 0;
+                  }};
+  LV2_Feature feature{LV2_LOG__log, &log};
+};
+
+int logPrintf(LV2_Log_Handle h, LV2_URID type, const char* fmt, ...) {
+  va_list ap;
+  va_start(ap, fmt);
+  const int n = static_cast<LogCapture*>(h)->log.vprintf(h, type, fmt, ap);
+  va_end(ap);
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("LV2 plugin: pose ports beyond their declared ranges are clamped, logged once") {
+  const LV2_Descriptor* d = loadDescriptor();
+  Host host;
+  LogCapture capture;
+  capture.log.printf = logPrintf;
+  const LV2_Feature* features[4] = {&host.mapFeature, &host.workerFeature, &capture.feature,
+                                    nullptr};
+  const LV2_URID sequence = host.map.map(&host, LV2_ATOM__Sequence);
+  Instance x(d, host, features);
+  d->activate(x.h);
+  bool finite = true;
+  uint64_t heapCalls = 0;
+  for (int block = 0; block < 50; ++block) {
+    x.clearAtoms(sequence);
+    x.in[0] = 1.f;
+    x.controls[4] = block % 2 ? 1e20f : -FLT_MAX;  // source_x: beyond the range every block
+    x.controls[3] = block < 10 ? NAN : 180.f;      // listener_yaw: NaN for a while
+    {
+      dpc::rt::AllocationScope scope;
+      d->run(x.h, kFrames);
+      heapCalls += scope.counts().total();
+    }
+    if (host.pendingSize) runWorker(d, x.h, host);  // the report, off the audio thread
+    for (uint32_t i = 0; i < kFrames; ++i)
+      finite = finite && std::isfinite(x.left[i]) && std::isfinite(x.right[i]);
+  }
+  d->deactivate(x.h);
+  CHECK(heapCalls == 0);
+  CHECK(finite);
+  // One report each, the worker's: the ports stayed out of range for many blocks.
+  CHECK(host.scheduled == 1);
+  REQUIRE(capture.lines.size() == 2);
+  CHECK(capture.lines[0] ==
+        "dpc: port listener_yaw: nan is outside its range [-180, 180]; clamped to 180 (logged "
+        "once)\n");
+  CHECK(capture.lines[1] ==
+        "dpc: port source_x: -3.40282e+38 is outside its range [-100, 100]; clamped to -100 "
+        "(logged once)\n");
 }

@@ -226,10 +226,25 @@ void publish(dpc_engine* e, const Pose& q) {
   dpc_engine_set_source_position(e, 0, q.v[4], q.v[5], q.v[6]);
 }
 
+/// Whether the first propagation frame of a scene is computed before its first block:
+/// - kOnWorker: on the calling thread, which is the LV2 worker's (a scene chosen by patch:Set);
+/// - kNow: on the calling thread in a host without a worker (lv2apply and other offline hosts,
+///   which run faster than real time and would otherwise render their first seconds dry);
+/// - kOnPropagationThread: not here: the engine's propagation thread computes it once started,
+///   and the plugin plays silence until that first impulse response arrives (a real-time host
+///   with a worker: instantiate, activate and restore never wait for a frame).
+enum class FirstFrame { kOnWorker, kNow, kOnPropagationThread };
+
+/// The policy for a load outside the worker: a frame now only in a host without a worker.
+FirstFrame firstFrameOutsideWorker(const Plugin* p) {
+  return p->schedule ? FirstFrame::kOnPropagationThread : FirstFrame::kNow;
+}
+
 /// Control or worker thread: loads a scene at the host's rate with host inputs only, computes
-/// its first frame for `pose` (so that sound comes out from the first block) and, if `start`,
-/// starts its propagation thread. nullptr on failure (logged).
-Scene* loadScene(Plugin* p, const std::string& path, bool isDefault, const Pose& pose, bool start) {
+/// its first frame for `pose` as `first` says and, if `start`, starts its propagation thread.
+/// nullptr on failure (logged).
+Scene* loadScene(Plugin* p, const std::string& path, bool isDefault, const Pose& pose, bool start,
+                 FirstFrame first) {
   dpc_engine_options o;
   dpc_engine_options_init(&o);
   o.sample_rate = int(std::lround(p->rate));
@@ -246,7 +261,8 @@ Scene* loadScene(Plugin* p, const std::string& path, bool isDefault, const Pose&
   s->channels = dpc_engine_output_channels(e);
   s->inputs.assign(size_t(dpc_engine_source_count(e)), nullptr);
   publish(e, pose);
-  if (dpc_engine_step(e) != DPC_OK) logError(p, "first propagation frame");
+  if (first != FirstFrame::kOnPropagationThread && dpc_engine_step(e) != DPC_OK)
+    logError(p, "first propagation frame");
   if (start && dpc_engine_start(e) != DPC_OK) logError(p, "start");
   return s;
 }
@@ -271,7 +287,10 @@ LV2_Handle instantiate(const LV2_Descriptor*, double rate, const char* bundlePat
     p->uris.map(p->map);
     lv2_atom_forge_init(&p->forge, p->map);
   }
-  p->scene = loadScene(p, p->bundle + kDefaultScene, true, p->pose(), false);
+  // No frame yet: activate() computes it (or has the propagation thread compute it) for the
+  // pose the control ports hold then.
+  p->scene = loadScene(p, p->bundle + kDefaultScene, true, p->pose(), false,
+                       FirstFrame::kOnPropagationThread);
   if (!p->scene) {
     delete p;
     return nullptr;
@@ -285,12 +304,14 @@ void connectPort(LV2_Handle h, uint32_t port, void* data) {
 
 void activate(LV2_Handle h) {
   auto* p = static_cast<Plugin*>(h);
-  // The control ports hold their values now: compute the first frame for them before any audio.
+  // The control ports hold their values now: the first frame is computed for them (now in a
+  // host without a worker, else by the propagation thread, which starts here).
   const Pose q = p->pose();
   publish(p->scene->engine, q);
   p->sent = q;
   p->sentValid = true;
-  if (dpc_engine_step(p->scene->engine) != DPC_OK) logError(p, "first propagation frame");
+  if (firstFrameOutsideWorker(p) == FirstFrame::kNow && dpc_engine_step(p->scene->engine) != DPC_OK)
+    logError(p, "first propagation frame");
   if (dpc_engine_start(p->scene->engine) != DPC_OK) logError(p, "start");
   p->active = true;
 }
@@ -409,7 +430,7 @@ LV2_Worker_Status work(LV2_Handle h, LV2_Worker_Respond_Function respond,
     return LV2_WORKER_SUCCESS;
   }
   const std::string path(m->path, strnlen(m->path, size - offsetof(WorkMessage, path)));
-  Scene* s = loadScene(p, path, false, m->pose, m->start);
+  Scene* s = loadScene(p, path, false, m->pose, m->start, FirstFrame::kOnWorker);
   respond(handle, sizeof s, &s);  // nullptr on failure: the audio thread keeps the old scene
   return LV2_WORKER_SUCCESS;
 }
@@ -476,7 +497,7 @@ LV2_State_Status restore(LV2_Handle h, LV2_State_Retrieve_Function retrieve,
       }
   }
   if (path == p->scene->path) return LV2_STATE_SUCCESS;
-  Scene* s = loadScene(p, path, isDefault, p->pose(), p->active);
+  Scene* s = loadScene(p, path, isDefault, p->pose(), p->active, firstFrameOutsideWorker(p));
   if (!s) return LV2_STATE_ERR_UNKNOWN;
   delete p->scene;
   p->scene = s;

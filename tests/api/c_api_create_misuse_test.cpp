@@ -1,11 +1,16 @@
 // The C API's creation calls misused as a careless host would: dpc_engine_create_from_data
 // with broken pointers, counts, indices and coordinates, dpc_engine_create_from_file with bad
 // paths and options, each in a forked child (tests/api/misuse.h).
+#include <sys/resource.h>
+#include <unistd.h>
+
 #include <catch2/catch.hpp>
 #include <cfloat>
 #include <climits>
 #include <cmath>
+#include <fstream>
 #include <functional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -165,7 +170,50 @@ std::vector<Misuse> optionCases() {
   };
 }
 
+/// The shoebox scene with `cacheMb` MiB of path cache per source-listener pair, written to a
+/// file of its own (removed before returning), created with host inputs only in a process
+/// whose address space is capped at 8 GB (so that the memory available is the same on any
+/// machine: half of it, 4 GB).
+int createWithCache(double cacheMb) {
+  const rlimit limit{8ull << 30, 8ull << 30};
+  setrlimit(RLIMIT_AS, &limit);
+  std::ifstream in(DPC_SOURCE_DIR "/scenes/shoebox.json");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string json = text.str();
+  const std::string scenes = DPC_SOURCE_DIR "/scenes/";
+  json.replace(json.find("\"shoebox.obj\""), 13, "\"" + scenes + "shoebox.obj\"");
+  json.replace(json.find("\"signals/"), 9, "\"" + scenes + "signals/");
+  json.replace(json.find("\"propagation\": {"), 16,
+               "\"propagation\": { \"cache_memory_mb\": " + std::to_string(cacheMb) + ",");
+  char path[] = "/tmp/dpc_cache_scene_XXXXXX";
+  const int fd = mkstemp(path);
+  if (fd < 0 || write(fd, json.data(), json.size()) != ssize_t(json.size())) return kNoEngine;
+  close(fd);
+  dpc_engine_options o;
+  dpc_engine_options_init(&o);
+  o.host_inputs_only = 1;
+  dpc_engine* e = nullptr;
+  const dpc_status status = dpc_engine_create_from_file(path, &o, &e);
+  dpc_engine_destroy(e);
+  unlink(path);
+  return status;
+}
+
+/// Work and memory beyond reach: refused before anything is allocated, naming the setting.
+std::vector<Misuse> workloadCases() {
+  return {
+      {"cache 16384 MiB per pair", kInput, [] { return createWithCache(16384); },
+       "propagation.cache_memory_mb: "},
+      {"cache 64 MiB per pair", DPC_OK, [] { return createWithCache(64); }, ""},
+  };
+}
+
 }  // namespace
+
+TEST_CASE("C API misuse: work and memory beyond reach", "[misuse]") {
+  runAll(workloadCases());
+}
 
 TEST_CASE("C API misuse: scene data", "[misuse]") {
   runAll(dataCases());

@@ -7,6 +7,7 @@
 // rays_per_frame, max_order, the sample rate, counts) are capped when in range, so that each
 // input stays cheap; out-of-range raw values pass unchanged. Corpus: fuzz/corpus/c_api
 // (fuzz/make_c_api_seeds.py); DPC_FUZZ_VERBOSE=1 prints each input's outcome.
+#include <climits>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -41,10 +42,19 @@ class Bytes {
     const float v = f32();
     return v > cap && v <= 1e30f ? cap : v;
   }
-  /// A count in [0, n] or, rarely, a raw (possibly negative or huge) int.
-  int count(int n) {
+  /// A raw int; one in (cap, limit] (valid, only costly) becomes cap.
+  int cappedInt(int cap, int limit) {
+    const int v = int(u32());
+    return v > cap && v <= limit ? cap : v;
+  }
+  /// A count: usually in [0, n]; rarely an edge value: -1, INT_MIN, or (when limit > 0) one
+  /// beyond `limit` or INT_MAX, which the API must refuse before reading the array. The
+  /// arrays themselves hold n entries: a count the API accepts never exceeds them.
+  int count(int n, int limit) {
     const uint8_t s = u8();
-    return s == 255 ? int(u32()) : int(s % (n + 1));
+    if (s != 255) return int(s % (n + 1));
+    const int edges[4] = {-1, INT_MIN, limit + 1, INT_MAX};
+    return edges[u8() % (limit > 0 ? 4 : 2)];
   }
 
  private:
@@ -66,9 +76,8 @@ void decodeMesh(Bytes& b, Arrays& a, dpc_scene_data& d) {
   const uint32_t vertices = b.u8() % 48, triangles = b.u8() % 48;
   for (uint32_t i = 0; i < 3 * vertices; ++i) a.vertices.push_back(b.f32());
   for (uint32_t i = 0; i < 3 * triangles; ++i) a.indices.push_back(b.u8() % (vertices + 2));
-  const int materials = b.count(3);
-  for (uint32_t i = 0; i < triangles; ++i)
-    a.materialOf.push_back(b.u8() % (uint32_t(std::abs(materials % 4)) + 2));
+  const int materials = b.count(3, 0);  // no limit to be beyond: the caller's count is trusted
+  for (uint32_t i = 0; i < triangles; ++i) a.materialOf.push_back(b.u8() % 5);
   for (int m = 0; m < 4; ++m) {
     dpc_material mat{nullptr, {}, b.f32()};
     for (float& x : mat.absorption) x = b.f32();
@@ -80,7 +89,7 @@ void decodeMesh(Bytes& b, Arrays& a, dpc_scene_data& d) {
 }
 
 void decodeEntities(Bytes& b, Arrays& a, dpc_scene_data& d) {
-  d.source_count = b.count(3);
+  d.source_count = b.count(3, 256);
   for (int s = 0; s < 4; ++s)
     a.sources.push_back(dpc_source{{b.f32(), b.f32(), b.f32()}, b.f32(), nullptr, 0, 0});
   d.sources = a.sources.data();
@@ -88,15 +97,15 @@ void decodeEntities(Bytes& b, Arrays& a, dpc_scene_data& d) {
   d.listener_radius = b.f32();
   d.listener_yaw_degrees = b.f32();
   d.listener_pitch_degrees = b.f32();
-  d.additional_listener_count = b.count(2);
+  d.additional_listener_count = b.count(2, 63);
   for (int l = 0; l < 3; ++l)
     a.listeners.push_back(dpc_listener{{b.f32(), b.f32(), b.f32()}, b.f32(), b.f32(), b.f32()});
   d.additional_listeners = (b.u8() & 1) ? nullptr : a.listeners.data();
 }
 
 void decodeSettings(Bytes& b, dpc_scene_data& d) {
-  d.rays_per_frame = b.u8() == 255 ? int(b.u32()) : b.count(64);
-  d.max_order = b.u8() == 255 ? int(b.u32()) : b.count(16);
+  d.rays_per_frame = b.u8() == 255 ? b.cappedInt(64, 100000000) : int(b.u8() % 65);
+  d.max_order = b.u8() == 255 ? b.cappedInt(16, 10000) : int(b.u8() % 17);
   d.patch_size = b.f32();
   d.cache_tau = b.f32();
   d.frame_rate = b.f32();

@@ -76,6 +76,21 @@ std::vector<Misuse> dataCases() {
       {"source_count INT_MAX", kInput, create([](B&, D& d) { d.source_count = INT_MAX; }),
        "sources"},
       {"sources NULL", kInput, create([](B&, D& d) { d.sources = nullptr; }), "sources"},
+      {"signal sample 1e38", kInput,
+       create([](B& b, D& d) {
+         static const float loud[2] = {0.5f, 1e38f};
+         b.sources[0].signal = loud;
+         b.sources[0].signal_frames = 2;
+         d.sources = b.sources.data();
+       }),
+       "sources[0].signal: sample 1 is 1e+38, beyond +-1e+06"},
+      {"source_count 257", kInput,
+       create([](B& b, D& d) {
+         b.sources.resize(257, b.sources.front());
+         d.sources = b.sources.data();
+         d.source_count = 257;
+       }),
+       "sources: 257"},
       {"signal NULL with frames", kInput, create([](B& b, D& d) {
          b.sources[0].signal_frames = 100;
          d.sources = b.sources.data();

@@ -210,12 +210,15 @@ void reportClamped(Plugin* p) {
   p->reported |= pending;
 }
 
-/// Any thread but the audio thread: the message of the last failed dpc call, logged.
+/// Any thread but the audio thread: the message of the last failed dpc call, logged after
+/// `what` (the step that failed; nullptr when the message says it).
 void logError(Plugin* p, const char* what) {
+  const char* sep = what ? ": " : "";
+  if (!what) what = "";
   if (p->logger.log)
-    lv2_log_error(&p->logger, "dpc: %s: %s\n", what, dpc_last_error());
+    lv2_log_error(&p->logger, "dpc: %s%s%s\n", what, sep, dpc_last_error());
   else
-    std::fprintf(stderr, "dpc: %s: %s\n", what, dpc_last_error());
+    std::fprintf(stderr, "dpc: %s%s%s\n", what, sep, dpc_last_error());
 }
 
 /// Publishes a pose to an engine's selected listener and first source (wait-free; any thread).
@@ -251,7 +254,7 @@ Scene* loadScene(Plugin* p, const std::string& path, bool isDefault, const Pose&
   o.host_inputs_only = 1;
   dpc_engine* e = nullptr;
   if (dpc_engine_create_from_file(path.c_str(), &o, &e) != DPC_OK) {
-    logError(p, path.c_str());
+    logError(p, nullptr);  // the message names the scene file already
     return nullptr;
   }
   auto* s = new Scene;

@@ -219,6 +219,7 @@ WARN_CASES = {
     "source_outside_room": (scene_with(**{"sources.0.position": [2, 10, 3.5]}), OFF, "source 'talker' at (2, 10, 3.5)"),
     "radius_larger_than_room": (scene_with(listener={"position": [5, 1.5, 3.5], "radius": 30}), OFF, "larger than the room"),
     "radius_through_wall": (scene_with(listener={"position": [5, 1.5, 3.5], "radius": 2}), OFF, "reaches through a surface"),
+    "radius_tiny": (scene_with(listener={"position": [5, 1.5, 3.5], "radius": 1e-30}), OFF, "m is tiny against the nearest surface"),
     "render_silent": (scene_with(listener={"position": [20, 1.6, 3.5], "radius": 0.5}), OFF, "is silent (empty energy response"),
 }
 

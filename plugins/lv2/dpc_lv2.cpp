@@ -7,9 +7,11 @@
 #include <lv2/atom/atom.h>
 #include <lv2/atom/forge.h>
 #include <lv2/atom/util.h>
+#include <lv2/buf-size/buf-size.h>
 #include <lv2/core/lv2.h>
 #include <lv2/log/log.h>
 #include <lv2/log/logger.h>
+#include <lv2/options/options.h>
 #include <lv2/patch/patch.h>
 #include <lv2/state/state.h>
 #include <lv2/urid/urid.h>
@@ -116,6 +118,10 @@ struct Uris {
 
 struct Plugin {
   double rate = 48000.0;
+  /// The host's nominal block length (bufsz:nominalBlockLength), frames; 0 if not given. The
+  /// engine block is set to it, so that every run() of that length does one block's work
+  /// instead of a whole larger block inside one callback now and then.
+  int hostBlock = 0;
   std::string bundle;
   LV2_URID_Map* map = nullptr;
   LV2_Worker_Schedule* schedule = nullptr;
@@ -251,6 +257,7 @@ Scene* loadScene(Plugin* p, const std::string& path, bool isDefault, const Pose&
   dpc_engine_options o;
   dpc_engine_options_init(&o);
   o.sample_rate = int(std::lround(p->rate));
+  o.block_size = p->hostBlock;  // 0 keeps the scene's
   o.host_inputs_only = 1;
   dpc_engine* e = nullptr;
   if (dpc_engine_create_from_file(path.c_str(), &o, &e) != DPC_OK) {
@@ -270,6 +277,21 @@ Scene* loadScene(Plugin* p, const std::string& path, bool isDefault, const Pose&
   return s;
 }
 
+/// The host's bufsz:nominalBlockLength (an atom:Int among the options), clamped to the engine
+/// block's range [16, 8192]; 0 if the host gives none (or no URID map to read it).
+int nominalBlockLength(LV2_URID_Map* map, const LV2_Feature* const* features) {
+  if (!map) return 0;
+  const LV2_URID key = map->map(map->handle, LV2_BUF_SIZE__nominalBlockLength);
+  const LV2_URID atomInt = map->map(map->handle, LV2_ATOM__Int);
+  for (int i = 0; features && features[i]; ++i) {
+    if (std::strcmp(features[i]->URI, LV2_OPTIONS__options) != 0) continue;
+    for (auto* o = static_cast<const LV2_Options_Option*>(features[i]->data); o && o->key; ++o)
+      if (o->key == key && o->type == atomInt && o->size == sizeof(int32_t))
+        return std::clamp(int(*static_cast<const int32_t*>(o->value)), 16, 8192);
+  }
+  return 0;
+}
+
 LV2_Handle instantiate(const LV2_Descriptor*, double rate, const char* bundlePath,
                        const LV2_Feature* const* features) {
   auto* p = new Plugin;
@@ -285,6 +307,7 @@ LV2_Handle instantiate(const LV2_Descriptor*, double rate, const char* bundlePat
     else if (!std::strcmp(features[i]->URI, LV2_LOG__log))
       log = static_cast<LV2_Log_Log*>(features[i]->data);
   }
+  p->hostBlock = nominalBlockLength(p->map, features);
   lv2_log_logger_init(&p->logger, p->map, log);
   if (p->map) {
     p->uris.map(p->map);

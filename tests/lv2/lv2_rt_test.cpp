@@ -6,8 +6,10 @@
 #include <dlfcn.h>
 #include <lv2/atom/forge.h>
 #include <lv2/atom/util.h>
+#include <lv2/buf-size/buf-size.h>
 #include <lv2/core/lv2.h>
 #include <lv2/log/log.h>
+#include <lv2/options/options.h>
 #include <lv2/patch/patch.h>
 #include <lv2/state/state.h>
 #include <lv2/urid/urid.h>
@@ -375,4 +377,45 @@ TEST_CASE("LV2 plugin: in a host with a worker no frame runs in instantiate or a
   CHECK(energy > 0.0);
   d->deactivate(h);
   d->cleanup(h);
+}
+
+TEST_CASE("LV2 plugin: the engine block is the host's nominal block length") {
+  // A JACK-like period of 96 frames (not a power of two): the scene's block is 256, so without
+  // the option every third or so run() would render a whole 256-frame block.
+  const LV2_Descriptor* d = loadDescriptor();
+  Host host;
+  const int32_t nominal = 96;
+  const LV2_Options_Option options[] = {
+      {LV2_OPTIONS_INSTANCE, 0, host.map.map(&host, LV2_BUF_SIZE__nominalBlockLength),
+       sizeof nominal, host.map.map(&host, LV2_ATOM__Int), &nominal},
+      {LV2_OPTIONS_INSTANCE, 0, 0, 0, 0, nullptr}};
+  LV2_Feature optionsFeature{LV2_OPTIONS__options, const_cast<LV2_Options_Option*>(options)};
+  const LV2_Feature* features[4] = {&host.mapFeature, &host.workerFeature, &optionsFeature,
+                                    nullptr};
+  const LV2_URID sequence = host.map.map(&host, LV2_ATOM__Sequence);
+  Instance x(d, host, features);
+  d->activate(x.h);
+  bool finite = true;
+  double energy = 0.0;
+  uint64_t heapCalls = 0;
+  for (int block = 0; block < 2000; ++block) {
+    x.clearAtoms(sequence);
+    for (uint32_t i = 0; i < uint32_t(nominal); ++i)
+      x.in[i] = (block * nominal + int(i)) % 4800 == 0;
+    {
+      dpc::rt::AllocationScope scope;
+      d->run(x.h, uint32_t(nominal));
+      heapCalls += scope.counts().total();
+    }
+    if (block % 100 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    for (uint32_t i = 0; i < uint32_t(nominal); ++i) {
+      finite = finite && std::isfinite(x.left[i]) && std::isfinite(x.right[i]);
+      energy += double(x.left[i]) * x.left[i] + double(x.right[i]) * x.right[i];
+    }
+  }
+  d->deactivate(x.h);
+  CHECK(x.latency == float(nominal));  // one engine block: the host's period
+  CHECK(heapCalls == 0);
+  CHECK(finite);
+  CHECK(energy > 1e-6);
 }

@@ -30,8 +30,6 @@ using Clock = std::chrono::steady_clock;
 
 /// Seconds a live run plays when --duration is not given (until 'q' or a signal).
 constexpr double kUnboundedSeconds = 1e9;
-/// Longest recording kept by --record, seconds.
-constexpr double kMaxRecordSeconds = 3600.0;
 
 /// Longest wait for the audio device to stop, seconds: a device whose server is gone never
 /// answers, and the session must end within 2 s of the failure.
@@ -75,7 +73,11 @@ LiveSession::Options sessionOptions(const SceneDesc& scene, const Flags& fl,
   lo.listener = selectedListener(scene, fl);
   lo.deviceChannels = 2;
   if (fl.latencyTargetMs) lo.latencyTargetSeconds = *fl.latencyTargetMs * 1e-3;
-  if (!fl.record.empty()) lo.recordSeconds = std::min(durationSeconds, kMaxRecordSeconds);
+  // --record streams to its file (memory does not grow with the session).
+  if (!fl.record.empty()) {
+    lo.recordSeconds = durationSeconds;  // > 0 enables the recorder; no memory is reserved
+    lo.recordPath = fl.record;
+  }
   return lo;
 }
 
@@ -185,10 +187,9 @@ void finishLive(const SceneDesc& scene, const Flags& fl, LiveSession& session,
   const auto swap = session.renderStatsWithSwap().snapshot();
   const auto noSwap = session.renderStatsWithoutSwap().snapshot();
   if (!fl.record.empty()) {
-    audio::AudioData rec = session.takeRecording();
-    audio::writeWav(fl.record, rec, audio::SampleFormat::kFloat32);
+    const size_t frames = session.commitRecording();
     std::printf("wrote %s (%.2f s played, %llu samples dropped by the recorder)\n",
-                fl.record.c_str(), double(rec.frames()) / scene.audio.sampleRate,
+                fl.record.c_str(), double(frames) / scene.audio.sampleRate,
                 (unsigned long long)st.recordDropped);
   }
   printLiveSummary(st, output, cb, swap, noSwap);

@@ -12,6 +12,10 @@
 namespace dpc {
 
 void writeEnergyCsv(const std::string& path, const std::vector<SourceEnergy>& sources) {
+  stageEnergyCsv(path, sources).commit();
+}
+
+TempOutputFile stageEnergyCsv(const std::string& path, const std::vector<SourceEnergy>& sources) {
   std::ostringstream out;
   out << "# dpc energy response v1: intensity per octave band relative to source power "
          "(1/m^2)\n";
@@ -45,7 +49,8 @@ void writeEnergyCsv(const std::string& path, const std::vector<SourceEnergy>& so
   const std::string text = out.str();
   TempOutputFile file(path);
   file.writeAll(text.data(), text.size());
-  file.commit();
+  file.finish();
+  return file;
 }
 
 namespace {

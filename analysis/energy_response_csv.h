@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "common/output_file.h"
 #include "engine/energy_response.h"
 #include "engine/propagation.h"
 
@@ -30,6 +31,9 @@ struct SourceEnergy {
 };
 
 void writeEnergyCsv(const std::string& path, const std::vector<SourceEnergy>& sources);
+/// As writeEnergyCsv, but the complete temporary is returned instead of renamed to `path`,
+/// for a run that renames all its outputs together (OutputSet, common/output_file.h).
+TempOutputFile stageEnergyCsv(const std::string& path, const std::vector<SourceEnergy>& sources);
 std::vector<SourceEnergy> readEnergyCsv(const std::string& path);
 
 /// The response with the direct sound added to the bin holding its arrival (for analysis),

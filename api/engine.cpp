@@ -10,6 +10,7 @@
 #include "api/scene_data.h"
 #include "common/input_error.h"
 #include "common/log.h"
+#include "engine/workload.h"
 #include "scene/validate.h"
 
 namespace dpc::api {
@@ -43,7 +44,17 @@ dpc_status checkOptions(const dpc_engine_options* o) {
 
 }  // namespace
 
+/// The work and memory estimate of dpc-demo's preflight (engine/workload.h) for a live engine:
+/// a frame beyond reach, or impulse responses and path caches beyond the memory available,
+/// throw InputError naming the setting to lower, instead of running out of memory part-way.
+void checkEngineWorkload(const SceneDesc& scene) {
+  const WorkloadEstimate e = estimateWorkload(scene, scene.propagation,
+                                              outputChannels(scene.audio.output), 0.0);
+  checkWorkload(scene, scene.propagation, e, plannableMemoryBytes());
+}
+
 dpc_engine* finishEngine(std::unique_ptr<dpc_engine> engine) {
+  checkEngineWorkload(engine->scene);
   for (const std::string& w : engine->scene.warnings) logMessage(LogLevel::kWarning, w);
   engine->sources = int(engine->scene.sources.size());
   LiveSession::Options options;

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <exception>
 #include <new>
+#include <string_view>
 
 #include "common/input_error.h"
 #include "dpc/dpc.h"
@@ -15,6 +16,22 @@ namespace dpc::api {
 /// Control thread: stores `message` as the calling thread's last error and returns `status`.
 /// May allocate (the message is copied); never throws.
 dpc_status fail(dpc_status status, const char* message);
+
+/// Any thread; no allocation (the text goes into the calling thread's fixed message buffer):
+/// stores "FUNCTION: PROBLEM" as the thread's last error and returns `status`. For entry points
+/// that may not allocate (wait-free setters); the text is cut at 255 bytes.
+dpc_status failFixed(dpc_status status, const char* function, std::string_view problem);
+
+/// Any thread; no allocation: true if `value` lies within limitOf(field) (scene/limits.h), else
+/// stores "FUNCTION: ARGUMENT: PROBLEM" (the validator's wording, e.g. "1e+20 is outside
+/// [-1000000, 1000000] m") as the thread's last error and returns false.
+bool checkArgument(const char* function, const char* argument, std::string_view field,
+                   double value);
+
+/// Any thread; no allocation: DPC_OK if 0 <= index < count, else DPC_ERR_INVALID_ARGUMENT with
+/// "FUNCTION: ARGUMENT: INDEX is out of range (COUNT WHAT)" as the thread's last error.
+dpc_status checkIndex(const char* function, const char* argument, int index, int count,
+                      const char* what);
 
 /// Control thread: DPC_OK if `structSize` is `expected`, else DPC_ERR_VERSION with a message
 /// naming `field` and both sizes (the caller was compiled against another dpc.h).

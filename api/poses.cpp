@@ -4,53 +4,84 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "api/engine_handle.h"
+#include "api/errors.h"
 
 namespace {
 
 constexpr float kDegrees = 3.14159265358979323846f / 180.f;
 
-bool allFinite(std::initializer_list<float> values) {
-  for (float v : values)
-    if (!std::isfinite(v)) return false;
-  return true;
+using dpc::api::checkArgument;
+using dpc::api::checkIndex;
+using dpc::api::failFixed;
+
+/// True if x, y and z lie within the scene's "position" limit; otherwise the thread's message
+/// names the first coordinate outside it.
+bool checkPosition(const char* function, float x, float y, float z) {
+  return checkArgument(function, "x", "position", x) &&
+         checkArgument(function, "y", "position", y) && checkArgument(function, "z", "position", z);
+}
+
+/// The norm of q = (x, y, z, w) in double (no overflow for any finite float), 0 if q holds a
+/// non-finite value: a rotation needs a norm > 0.
+double quaternionNorm(float qx, float qy, float qz, float qw) {
+  const double n = std::sqrt(double(qx) * qx + double(qy) * qy + double(qz) * qz + double(qw) * qw);
+  return std::isfinite(n) ? n : 0.0;
 }
 
 }  // namespace
 
-// Any thread: no message is set on failure in this file (setting one would allocate).
+// Any thread: failures set the thread's message in its fixed buffer (api/errors.h), without
+// allocating.
 extern "C" {
 
 int dpc_engine_listener_count(const dpc_engine* engine) {
   return engine ? int(engine->session->listenerCount()) : 0;
 }
 
-dpc_status dpc_engine_set_listener_pose(dpc_engine* engine, int listener, float x, float y,
-                                        float z, float yaw_degrees, float pitch_degrees) {
-  if (!engine || listener < 0 || !allFinite({x, y, z, yaw_degrees, pitch_degrees}))
+dpc_status dpc_engine_set_listener_pose(dpc_engine* engine, int listener, float x, float y, float z,
+                                        float yaw_degrees, float pitch_degrees) {
+  constexpr const char* kFunction = "dpc_engine_set_listener_pose";
+  if (!engine) return failFixed(DPC_ERR_INVALID_ARGUMENT, kFunction, "engine is NULL");
+  if (const dpc_status s = checkIndex(kFunction, "listener", listener,
+                                      dpc_engine_listener_count(engine), "listeners");
+      s != DPC_OK)
+    return s;
+  if (!checkPosition(kFunction, x, y, z) ||
+      !checkArgument(kFunction, "yaw_degrees", "listener.yaw", yaw_degrees) ||
+      !checkArgument(kFunction, "pitch_degrees", "listener.pitch", pitch_degrees))
     return DPC_ERR_INVALID_ARGUMENT;
   return engine->session->setListenerPose(size_t(listener), glm::vec3(x, y, z),
                                           yaw_degrees * kDegrees, 0.0, pitch_degrees * kDegrees)
              ? DPC_OK
-             : DPC_ERR_INVALID_ARGUMENT;
+             : failFixed(DPC_ERR_INVALID_ARGUMENT, kFunction, "pose refused");
 }
 
 dpc_status dpc_engine_select_listener(dpc_engine* engine, int listener) {
-  if (!engine || listener < 0) return DPC_ERR_INVALID_ARGUMENT;
-  return engine->session->selectListener(size_t(listener)) ? DPC_OK : DPC_ERR_INVALID_ARGUMENT;
+  constexpr const char* kFunction = "dpc_engine_select_listener";
+  if (!engine) return failFixed(DPC_ERR_INVALID_ARGUMENT, kFunction, "engine is NULL");
+  if (const dpc_status s = checkIndex(kFunction, "listener", listener,
+                                      dpc_engine_listener_count(engine), "listeners");
+      s != DPC_OK)
+    return s;
+  return engine->session->selectListener(size_t(listener))
+             ? DPC_OK
+             : failFixed(DPC_ERR_INVALID_ARGUMENT, kFunction, "listener refused");
 }
 
 int dpc_engine_selected_listener(const dpc_engine* engine) {
   return engine ? int(engine->session->playedListener()) : 0;
 }
 
-dpc_status dpc_yaw_pitch_from_quaternion(float qx, float qy, float qz, float qw,
-                                         float* yaw_degrees, float* pitch_degrees) {
-  if (!yaw_degrees || !pitch_degrees || !allFinite({qx, qy, qz, qw}))
-    return DPC_ERR_INVALID_ARGUMENT;
-  const glm::quat q(qw, qx, qy, qz);
-  const float norm = glm::length(q);
-  if (!(norm > 0.f) || !std::isfinite(norm)) return DPC_ERR_INVALID_ARGUMENT;
-  const glm::vec3 f = (q / norm) * glm::vec3(1.f, 0.f, 0.f);
+dpc_status dpc_yaw_pitch_from_quaternion(float qx, float qy, float qz, float qw, float* yaw_degrees,
+                                         float* pitch_degrees) {
+  constexpr const char* kFunction = "dpc_yaw_pitch_from_quaternion";
+  if (!yaw_degrees || !pitch_degrees)
+    return failFixed(DPC_ERR_INVALID_ARGUMENT, kFunction, "an output pointer is NULL");
+  const double norm = quaternionNorm(qx, qy, qz, qw);
+  if (!(norm > 0.0))
+    return failFixed(DPC_ERR_INVALID_ARGUMENT, kFunction, "q is zero or not finite");
+  const glm::quat q(float(qw / norm), float(qx / norm), float(qy / norm), float(qz / norm));
+  const glm::vec3 f = q * glm::vec3(1.f, 0.f, 0.f);
   const float horizontal = std::hypot(f.x, f.z);
   *yaw_degrees = horizontal > 0.f ? std::atan2(-f.z, f.x) / kDegrees : 0.f;
   *pitch_degrees = std::atan2(f.y, horizontal) / kDegrees;
@@ -59,22 +90,31 @@ dpc_status dpc_yaw_pitch_from_quaternion(float qx, float qy, float qz, float qw,
 
 dpc_status dpc_engine_set_source_position(dpc_engine* engine, int source, float x, float y,
                                           float z) {
-  if (!engine || source < 0 || source >= engine->sources || !allFinite({x, y, z}))
-    return DPC_ERR_INVALID_ARGUMENT;
+  constexpr const char* kFunction = "dpc_engine_set_source_position";
+  if (!engine) return failFixed(DPC_ERR_INVALID_ARGUMENT, kFunction, "engine is NULL");
+  if (const dpc_status s = checkIndex(kFunction, "source", source, engine->sources, "sources");
+      s != DPC_OK)
+    return s;
+  if (!checkPosition(kFunction, x, y, z)) return DPC_ERR_INVALID_ARGUMENT;
   return engine->session->setSourcePosition(size_t(source), glm::vec3(x, y, z))
              ? DPC_OK
-             : DPC_ERR_INVALID_ARGUMENT;
+             : failFixed(DPC_ERR_INVALID_ARGUMENT, kFunction, "position refused");
 }
 
 dpc_status dpc_engine_set_object_pose(dpc_engine* engine, int object, float x, float y, float z,
                                       float qx, float qy, float qz, float qw) {
-  if (!engine || object < 0 || object >= engine->session->objectCount() ||
-      !allFinite({x, y, z, qx, qy, qz, qw}))
-    return DPC_ERR_INVALID_ARGUMENT;
+  constexpr const char* kFunction = "dpc_engine_set_object_pose";
+  if (!engine) return failFixed(DPC_ERR_INVALID_ARGUMENT, kFunction, "engine is NULL");
+  if (const dpc_status s = checkIndex(kFunction, "object", object, dpc_engine_object_count(engine),
+                                      "moving objects");
+      s != DPC_OK)
+    return s;
+  if (!checkPosition(kFunction, x, y, z)) return DPC_ERR_INVALID_ARGUMENT;
+  // Index and position are checked: the session refuses only a rotation it cannot normalise.
   const float q[4] = {qx, qy, qz, qw};
   return engine->session->setObjectPose(size_t(object), glm::vec3(x, y, z), q)
              ? DPC_OK
-             : DPC_ERR_INVALID_ARGUMENT;
+             : failFixed(DPC_ERR_INVALID_ARGUMENT, kFunction, "q is zero or not finite");
 }
 
 }  // extern "C"

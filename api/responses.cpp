@@ -48,6 +48,11 @@ dpc_status dpc_engine_copy_energy_response(dpc_engine* engine, int source, float
 dpc_status dpc_engine_process(dpc_engine* engine, const float* const* inputs, float* const* outputs,
                               int frames) {
   if (!engine || !outputs) return DPC_ERR_INVALID_ARGUMENT;
+  for (int c = 0; c < engine->session->irChannels(); ++c)
+    if (!outputs[c]) return DPC_ERR_INVALID_ARGUMENT;
+  if (inputs)
+    for (int s = 0; s < engine->sources; ++s)
+      if (!inputs[s]) return DPC_ERR_INVALID_ARGUMENT;
   // The session adapts any callback size to its block; sizes outside 1..8192 output nothing and
   // are counted (dpc_stats.rejected_callbacks).
   engine->session->render(inputs, outputs, frames);
@@ -76,8 +81,8 @@ int dpc_engine_latency_frames(const dpc_engine* e) {
 
 dpc_status dpc_engine_get_stats(dpc_engine* engine, dpc_stats* out) {
   if (!engine || !out) return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_get_stats: NULL");
-  if (const dpc_status s = dpc::api::checkStructSize(out->struct_size, sizeof(dpc_stats),
-                                                     "dpc_stats.struct_size");
+  if (const dpc_status s =
+          dpc::api::checkStructSize(out->struct_size, sizeof(dpc_stats), "dpc_stats.struct_size");
       s != DPC_OK)
     return s;
   return guarded([&] {

@@ -10,6 +10,7 @@
 #include "api/field_names.h"
 #include "common/air_absorption.h"
 #include "common/input_error.h"
+#include "common/input_file.h"
 #include "scene/mesh_builder.h"
 #include "scene/validate.h"
 
@@ -73,8 +74,8 @@ void sourcesFromData(const dpc_scene_data& d, const Origin& origin, SceneDesc& s
     src.loop = s.loop != 0;
     if (!s.signal && s.signal_frames > 0) bad(f + ".signal", "NULL with signal_frames > 0");
     for (size_t n = 0; n < s.signal_frames; ++n)
-      if (!std::isfinite(s.signal[n]))
-        bad(f + ".signal", "sample " + std::to_string(n) + " is not finite");
+      if (const std::string why = sampleProblem(s.signal[n]); !why.empty())
+        bad(f + ".signal", "sample " + std::to_string(n) + " " + why);
     scene.sources.push_back(src);
   }
 }

@@ -13,8 +13,11 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <future>
+#include <memory>
 #include <mutex>
 #include <stdexcept>
+#include <thread>
 #include <utility>
 
 #include "audio/rt_check.h"
@@ -428,7 +431,9 @@ AudioOutput::AudioOutput(const Options& options, RenderCallback callback, void* 
   impl_ = std::move(impl);
 }
 
-AudioOutput::~AudioOutput() = default;
+AudioOutput::~AudioOutput() {
+  if (abandoned_) (void)impl_.release();  // a helper thread may still be inside PortAudio
+}
 AudioOutput::AudioOutput(AudioOutput&&) noexcept = default;
 AudioOutput& AudioOutput::operator=(AudioOutput&&) noexcept = default;
 
@@ -447,6 +452,21 @@ void AudioOutput::stop() {
   if (err != paNoError) {
     throw std::runtime_error(impl_->where() + ": cannot stop the stream: " + Pa_GetErrorText(err));
   }
+}
+
+bool AudioOutput::stopWithin(double seconds) {
+  if (Pa_IsStreamStopped(impl_->stream) == 1) return true;
+  auto done = std::make_shared<std::promise<void>>();
+  std::future<void> finished = done->get_future();
+  PaStream* stream = impl_->stream;
+  std::thread([stream, done] {
+    Pa_StopStream(stream);
+    done->set_value();
+  }).detach();
+  if (finished.wait_for(std::chrono::duration<double>(seconds)) == std::future_status::ready)
+    return true;
+  abandoned_ = true;
+  return false;
 }
 
 bool AudioOutput::isActive() const {

@@ -36,6 +36,7 @@
 
 #include <array>
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -167,6 +168,14 @@ class AudioOutput {
   /// Whether the callback is being called (started and not stopped or failed). Control
   /// thread; no allocation, no errors.
   bool isActive() const;
+  /// stop() that cannot hang: runs Pa_StopStream on a helper thread and waits at most
+  /// `seconds` (a device whose server is gone never answers: Pa_StopStream would wait for
+  /// ever). True if it returned in time (the stream is stopped as after stop(); a failure to
+  /// stop counts as stopped). False otherwise: the helper is left waiting inside PortAudio,
+  /// and the stream and this object's PortAudio session are abandoned, never closed (the
+  /// destructor then releases nothing, so that it cannot block either); stats() and the
+  /// other readers stay valid. Control thread; starts a thread; no errors.
+  bool stopWithin(double seconds);
 
   /// The device actually opened: PortAudio name and host API name.
   const DeviceInfo& device() const;
@@ -208,6 +217,7 @@ class AudioOutput {
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
+  bool abandoned_ = false;  ///< abortWithin() timed out: impl_ is never destroyed
 };
 
 }  // namespace dpc::audio

@@ -90,12 +90,16 @@ AudioData readWav(const std::string& path) {
 }
 
 void writeWav(const std::string& path, const AudioData& audio, SampleFormat format) {
+  stageWav(path, audio, format).commit();
+}
+
+TempOutputFile stageWav(const std::string& path, const AudioData& audio, SampleFormat format) {
   validate(path, audio);
   WavStreamWriter writer(path, audio.sampleRate, int(audio.channels.size()), format);
   std::vector<const float*> planar;
   for (const auto& ch : audio.channels) planar.push_back(ch.data());
   writer.write(planar.data(), audio.frames());
-  writer.commit();
+  return writer.finish();
 }
 
 namespace {
@@ -195,12 +199,18 @@ void WavStreamWriter::rescale(float gain) {
 }
 
 void WavStreamWriter::commit() {
+  finish().commit();
+}
+
+TempOutputFile WavStreamWriter::finish() {
   if (!handle_) fail("the file is already closed");
   if (frames_ == 0) fail("no frames");
   const int rc = sf_close(sf(handle_));
   handle_ = nullptr;
   if (rc != 0) fail("closing the file failed (disk full?)");
-  tmp_->commit();
+  TempOutputFile file = std::move(*tmp_);
+  tmp_.reset();
+  return file;
 }
 
 }  // namespace dpc::audio

@@ -45,6 +45,11 @@ AudioData readWav(const std::string& path);
 void writeWav(const std::string& path, const AudioData& audio,
               SampleFormat format = SampleFormat::kFloat32);
 
+/// As writeWav, but the complete temporary is returned instead of renamed to `path`, for a
+/// run that renames all its outputs together (OutputSet, common/output_file.h).
+TempOutputFile stageWav(const std::string& path, const AudioData& audio,
+                        SampleFormat format = SampleFormat::kFloat32);
+
 /// Writes a WAV file block by block, so that memory does not grow with its length.
 /// The samples go to a temporary file (PATH.tmp-XXXXXX) in the destination folder, which
 /// commit() renames to `path`; if commit() is never reached (an exception, a failed render) the
@@ -77,6 +82,9 @@ class WavStreamWriter {
   /// Closes the temporary file and renames it to `path`. Throws if no frame was written or the
   /// file cannot be completed (disk full) or renamed.
   void commit();
+  /// Closes the temporary file and hands it over, complete but not renamed (for an OutputSet).
+  /// Throws as commit() before the rename; the writer is closed afterwards.
+  TempOutputFile finish();
 
  private:
   [[noreturn]] void fail(const std::string& reason);

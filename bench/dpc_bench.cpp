@@ -12,6 +12,7 @@
 //                        [--threads T] [--device SPEC]
 //   dpc-bench budget SCENE|room-4x3x2.5 [--rays-list N ...]
 //   dpc-bench convolve [--blocks B ...] [--seconds S] [--swap-ms M] [--no-uniform]
+//   dpc-bench load [--cells 25,50,...] [--panels P]   (generated terrains; no file)
 //
 // One file per benchmark family (bench/<family>_bench.h); this file holds the command line.
 #include <CLI/CLI.hpp>
@@ -26,11 +27,12 @@
 #include "bench/dynamic_bench.h"
 #include "bench/listeners_bench.h"
 #include "bench/live_bench.h"
+#include "bench/load_bench.h"
 #include "bench/noise_bench.h"
 #include "bench/propagation_bench.h"
 #include "common/input_error.h"
-#include "scene/limits.h"
 #include "common/program_main.h"
+#include "scene/limits.h"
 
 namespace dpc::bench {
 namespace {
@@ -45,11 +47,13 @@ struct Options {
   std::vector<int> budgetRays = {1000, 10000, 100000};
   DynamicOptions dynamic;
   ConvolveOptions convolve;
+  LoadOptions load;
 };
 
 /// The subcommands as CLI11 knows them (each is true once parsed).
 struct Subcommands {
-  CLI::App *propagation, *noise, *live, *listeners, *diffraction, *budget, *dynamic, *convolve;
+  CLI::App *propagation, *noise, *live, *listeners, *diffraction, *budget, *dynamic, *convolve,
+      *load;
 };
 
 /// A subcommand that loads a scene, with the options every such benchmark takes.
@@ -124,6 +128,18 @@ CLI::App* addConvolve(CLI::App& app, Options& o) {
   return sub;
 }
 
+CLI::App* addLoad(CLI::App& app, Options& o) {
+  CLI::App* sub = app.add_subcommand(
+      "load", "Scene load time (OBJ, geometry, Embree, diffraction edges) vs triangle count");
+  sub->add_option("--cells", o.load.cells,
+                  "Terrain sizes, cells per side (2 cells^2 triangles; default 25,...,708)")
+      ->delimiter(',')
+      ->check(CLI::Range(1, 4000));
+  sub->add_option("--panels", o.load.panels, "Panels standing on the terrain (default 16)")
+      ->check(CLI::Range(0, 10000));
+  return sub;
+}
+
 /// Defines every subcommand, in the order --help lists them.
 Subcommands addSubcommands(CLI::App& app, Options& o) {
   Subcommands s{};
@@ -142,6 +158,7 @@ Subcommands addSubcommands(CLI::App& app, Options& o) {
   s.budget->add_option("--rays-list", o.budgetRays, "Rays per frame values");
   s.dynamic = addDynamic(app, o);
   s.convolve = addConvolve(app, o);
+  s.load = addLoad(app, o);
   return s;
 }
 
@@ -154,6 +171,7 @@ int run(const Subcommands& s, const Options& o) {
   if (*s.budget) return benchBudget(o.common, o.budgetRays);
   if (*s.diffraction) return benchDiffraction(o.common);
   if (*s.live) return benchLive(o.common, o.live);
+  if (*s.load) return benchLoad(o.load);
   return benchNoise(o.common, o.noise);
 }
 

@@ -5,7 +5,9 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -24,6 +26,23 @@ inline constexpr int kMaxJsonDepth = 64;
 /// ratio to any scene rate (16-192 kHz) then stays within the resampler's range [1/256, 256].
 inline constexpr int kMinSignalRateHz = 8000;
 inline constexpr int kMaxSignalRateHz = 768000;
+/// Largest |sample| accepted in a dry signal (120 dB above full scale): with the largest
+/// gain (+200 dB) and a long impulse response the render stays far inside float's range, so
+/// that a wild signal is refused naming itself instead of overflowing the output.
+inline constexpr float kMaxSignalMagnitude = 1e6f;
+
+/// The problem with a dry-signal sample, "" if none: "is not finite (NaN or infinity)" or
+/// "is 1e+38, beyond +-1e+06 (120 dB above full scale)". Any thread; allocates the text only
+/// for a problem.
+inline std::string sampleProblem(float x) {
+  if (!std::isfinite(x)) return "is not finite (NaN or infinity)";
+  if (std::abs(x) <= kMaxSignalMagnitude) return {};
+  char text[96];
+  std::snprintf(text, sizeof text, "is %g, beyond +-%g (120 dB above full scale)", double(x),
+                double(kMaxSignalMagnitude));
+  return text;
+}
+
 /// Largest |coordinate| accepted in a scene, metres (keeps Embree's rays valid in float).
 inline constexpr double kMaxCoordinateM = 1e6;
 

@@ -16,6 +16,8 @@
 #include <cstring>
 #include <filesystem>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "common/input_error.h"
 
@@ -27,20 +29,30 @@ inline std::string outputFolderOf(const std::string& path) {
   return parent.empty() ? std::string(".") : parent.string();
 }
 
-/// A temporary file PATH.tmp-XXXXXX next to `path`, created at construction (mode 0666 & ~umask,
-/// as a new file would get), renamed to `path` by commit(). Until commit() succeeds, the
+/// The file a write to `path` must replace: `path` itself, or where it leads if it is a
+/// symbolic link (so that the link stays a link and its target gets the new contents).
+inline std::string outputTarget(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_symlink(path, ec)) return path;
+  const std::filesystem::path target = std::filesystem::weakly_canonical(path, ec);
+  return ec ? path : target.string();
+}
+
+/// A temporary file TARGET.tmp-XXXXXX next to `path`'s target (outputTarget: `path`, or the
+/// file a symbolic link at `path` leads to), created at construction (mode 0666 & ~umask, as
+/// a new file would get), renamed onto the target by commit(). Until commit() succeeds, the
 /// destructor closes and removes the temporary, so `path` is either untouched or complete.
 class TempOutputFile {
  public:
   /// Creates the temporary. Throws InputError(path, "", ...) if the folder does not exist or a
   /// file cannot be created in it.
-  explicit TempOutputFile(const std::string& path) : path_(path) {
-    const std::string folder = outputFolderOf(path);
+  explicit TempOutputFile(const std::string& path) : path_(path), target_(outputTarget(path)) {
+    const std::string folder = outputFolderOf(target_);
     std::error_code ec;
     if (!std::filesystem::is_directory(folder, ec))
       throw InputError(path, "", "cannot write: folder '" + folder + "' does not exist");
     // Next to the target, so that the final rename stays on one filesystem (atomic).
-    tmp_ = path + ".tmp-XXXXXX";
+    tmp_ = target_ + ".tmp-XXXXXX";
     fd_ = ::mkstemp(tmp_.data());
     if (fd_ < 0) {
       const int err = errno;
@@ -54,6 +66,12 @@ class TempOutputFile {
   ~TempOutputFile() { discard(); }
   TempOutputFile(const TempOutputFile&) = delete;
   TempOutputFile& operator=(const TempOutputFile&) = delete;
+  /// The moved-from file owns nothing (its destructor removes nothing).
+  TempOutputFile(TempOutputFile&& o) noexcept
+      : path_(std::move(o.path_)),
+        target_(std::move(o.target_)),
+        tmp_(std::exchange(o.tmp_, {})),
+        fd_(std::exchange(o.fd_, -1)) {}
 
   const std::string& path() const { return path_; }
   const std::string& tempPath() const { return tmp_; }
@@ -81,16 +99,23 @@ class TempOutputFile {
     }
   }
 
-  /// Closes the descriptor if still owned (reporting a failed close, e.g. a delayed write error)
-  /// and renames the temporary to the path. Throws on failure; the temporary is then removed.
-  void commit() {
+  /// Closes the descriptor if still owned, reporting a failed close (e.g. a delayed write
+  /// error): the temporary is then complete, ready for rename(). Throws on failure; the
+  /// temporary is then removed.
+  void finish() {
     if (tmp_.empty()) fail("the file is already closed");
     if (fd_ >= 0) {
       const int rc = ::close(fd_);
       fd_ = -1;
       if (rc != 0) fail(std::string("closing the file failed: ") + std::strerror(errno));
     }
-    if (std::rename(tmp_.c_str(), path_.c_str()) != 0)
+  }
+
+  /// finish(), then renames the temporary to the path. Throws on failure; the temporary is
+  /// then removed.
+  void commit() {
+    finish();
+    if (std::rename(tmp_.c_str(), target_.c_str()) != 0)
       fail(std::string("renaming the temporary file failed: ") + std::strerror(errno));
     tmp_.clear();  // now the output itself: nothing to remove
   }
@@ -110,8 +135,29 @@ class TempOutputFile {
   }
 
  private:
-  std::string path_, tmp_;
+  std::string path_, target_, tmp_;  ///< as given, the file replaced, the temporary
   int fd_ = -1;
+};
+
+/// The outputs of one run, all or nothing: finished temporaries collected while the run
+/// writes, renamed into place together by commitAll() once every one is complete. Until
+/// then (an error, a stop signal), the destructor removes them all and no path is touched.
+class OutputSet {
+ public:
+  /// Takes a temporary (finished here if it is not yet). Throws as TempOutputFile::finish.
+  void add(TempOutputFile&& file) {
+    file.finish();
+    files_.push_back(std::move(file));
+  }
+  /// Renames every temporary into place, in the order added. Throws on the first failure;
+  /// the temporaries not yet renamed are then removed.
+  void commitAll() {
+    for (TempOutputFile& f : files_) f.commit();
+    files_.clear();
+  }
+
+ private:
+  std::vector<TempOutputFile> files_;
 };
 
 }  // namespace dpc

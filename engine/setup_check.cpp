@@ -79,6 +79,11 @@ std::vector<std::string> setupWarnings(const SceneDesc& scene) {
       out.push_back(scene.path + ": " + at + ": radius " + fmt("%g", pt.radius) +
                     " m reaches through a surface " + fmt("%.2f", pt.seen.nearest) +
                     " m away: paths on both sides of it are counted");
+    else if (pt.radius < kTinyRadiusFraction * pt.seen.nearest)
+      out.push_back(scene.path + ": " + at + ": radius " + fmt("%g", pt.radius) +
+                    " m is tiny against the nearest surface " + fmt("%.2f", pt.seen.nearest) +
+                    " m away: rays hit a sphere in proportion to its area, so its responses "
+                    "will be nearly or entirely empty (0.1 to 1 m is usual)");
   }
   return out;
 }

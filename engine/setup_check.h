@@ -12,6 +12,10 @@
 
 namespace dpc {
 
+/// A listener radius below this fraction of its nearest surface's distance is warned about:
+/// at 1/1000 the sphere is hit 10^6 times less often than one reaching that surface.
+inline constexpr float kTinyRadiusFraction = 1e-3f;
+
 /// Directions cast from each point (a Fibonacci sphere: near-uniform, deterministic).
 inline constexpr int kSetupCheckDirections = 64;
 
@@ -22,7 +26,9 @@ inline constexpr int kSetupCheckDirections = 64;
 /// - a listener whose sphere radius exceeds the farthest surface seen from its centre contains
 ///   the whole room: the energy response counts every ray segment it holds;
 /// - a listener sphere that reaches through a surface (radius larger than the nearest hit)
-///   counts paths on both sides of that surface.
+///   counts paths on both sides of that surface;
+/// - a listener sphere smaller than kTinyRadiusFraction of the distance to the nearest
+///   surface is hit by almost no ray (hits scale with its area): its responses stay empty.
 std::vector<std::string> setupWarnings(const SceneDesc& scene);
 
 }  // namespace dpc

@@ -1,5 +1,8 @@
 #include "engine/workload.h"
 
+#include <sys/resource.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -16,6 +19,16 @@ std::string g3(double x) {
   return buf;
 }
 }  // namespace
+
+double plannableMemoryBytes() {
+  double limit = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE));
+  for (const int which : {RLIMIT_AS, RLIMIT_DATA}) {
+    rlimit rl{};
+    if (getrlimit(which, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY)
+      limit = std::min(limit, double(rl.rlim_cur));
+  }
+  return 0.5 * limit;
+}
 
 WorkloadEstimate estimateWorkload(const SceneDesc& scene, const PropagationSettings& settings,
                                   int channels, double durationSeconds) {
@@ -44,10 +57,39 @@ WorkloadEstimate estimateWorkload(const SceneDesc& scene, const PropagationSetti
   e.segmentsPerFrame = double(settings.raysPerFrame) * (order + 1.0) * double(scene.sources.size());
   if (durationSeconds > 0)
     e.segmentsTotal = e.segmentsPerFrame * double(settings.frameRate) * durationSeconds;
+  e.expectedSeconds = e.segmentsTotal / kNominalSegmentsPerSecond;
   e.irBytes = double(scene.sources.size()) * channels * double(settings.irLength) *
               double(scene.audio.sampleRate) * kIrBytesPerSample;
+  e.cacheBytes = double(scene.sources.size()) * double(scene.listeners.size()) *
+                 double(settings.cacheMemoryMb) * 1048576.0;
   return e;
 }
+
+namespace {
+
+/// Impulse responses and caches against the memory available; the message names the larger.
+void checkMemory(const SceneDesc& scene, const PropagationSettings& settings,
+                 const WorkloadEstimate& e, double memoryLimitBytes) {
+  if (e.irBytes + e.cacheBytes <= memoryLimitBytes) return;
+  const std::string irs = "impulse responses of " + g3(settings.irLength) + " s x " +
+                          std::to_string(scene.audio.sampleRate) + " Hz x " +
+                          std::to_string(scene.sources.size()) + " source(s) x channels (" +
+                          g3(e.irBytes / 1e9) + " GB)";
+  const std::string caches = "path caches of " + g3(settings.cacheMemoryMb) + " MB x " +
+                             std::to_string(scene.sources.size()) + " source(s) x " +
+                             std::to_string(scene.listeners.size()) + " listener(s) (" +
+                             g3(e.cacheBytes / 1e9) + " GB)";
+  const std::string need = irs + " and " + caches + " need about " +
+                           g3((e.irBytes + e.cacheBytes) / 1e9) + " GB, more than the " +
+                           g3(memoryLimitBytes / 1e9) + " GB available: ";
+  if (e.cacheBytes > e.irBytes)
+    throw InputError(scene.path, "propagation.cache_memory_mb",
+                     need + "lower cache_memory_mb or the source or listener count");
+  throw InputError(scene.path, "propagation.ir_length",
+                   need + "lower ir_length, sample_rate or the source count");
+}
+
+}  // namespace
 
 std::vector<std::string> checkWorkload(const SceneDesc& scene, const PropagationSettings& settings,
                                        const WorkloadEstimate& e, double memoryLimitBytes) {
@@ -64,19 +106,14 @@ std::vector<std::string> checkWorkload(const SceneDesc& scene, const Propagation
                      work + " x " + g3(e.segmentsTotal / e.segmentsPerFrame) + " frames = " +
                          g3(e.segmentsTotal) + " ray segments, more than " + g3(kMaxSegmentsTotal) +
                          ": lower rays_per_frame, frame_rate or the duration");
-  if (e.irBytes > memoryLimitBytes)
-    throw InputError(scene.path, "propagation.ir_length",
-                     "impulse responses of " + g3(settings.irLength) + " s x " +
-                         std::to_string(scene.audio.sampleRate) + " Hz x " +
-                         std::to_string(scene.sources.size()) +
-                         " source(s) x channels need about " + g3(e.irBytes / 1e9) +
-                         " GB, more than the " + g3(memoryLimitBytes / 1e9) +
-                         " GB available: lower ir_length, sample_rate or the source count");
+  checkMemory(scene, settings, e, memoryLimitBytes);
   std::vector<std::string> warnings;
   if (e.segmentsTotal > kWarnSegmentsTotal)
     warnings.push_back(scene.path + ": about " + g3(e.segmentsTotal) + " ray segments to trace (" +
                        work + " x " + g3(e.segmentsTotal / e.segmentsPerFrame) +
-                       " frames): this render may take a long time");
+                       " frames): this render may take about " + g3(e.expectedSeconds / 60.0) +
+                       " min (at " + g3(kNominalSegmentsPerSecond) +
+                       " segments/s); lower rays_per_frame or max_order to go faster");
   return warnings;
 }
 

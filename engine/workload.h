@@ -27,12 +27,22 @@ struct WorkloadEstimate {
   /// sample rate x kIrBytesPerSample (time-domain IRs, their partitioned spectra, the pooled
   /// sets being prepared, applied and recycled, and the synthesis buffers).
   double irBytes = 0;
+  /// Memory of the diffuse path caches, bytes: each source-listener pair's budget
+  /// (propagation.cache_memory_mb, MiB) is allocated when the engine is built, so sources x
+  /// listeners x budget.
+  double cacheBytes = 0;
+  /// The render's expected tracing time, seconds: segmentsTotal at kNominalSegmentsPerSecond
+  /// (0 for live).
+  double expectedSeconds = 0;
 };
 
 /// Bytes of memory per IR sample per output channel per source, measured: peak RSS of
 /// dpc-demo on the shoebox with ir_length 2 s and 20 s (48 kHz, 64 rays, 0.5 s): +89 MB mono
 /// (103 B per sample) and +543 MB binaural (157 B per sample and channel); the larger is used.
 inline constexpr double kIrBytesPerSample = 160.0;
+/// Ray segments per second a 2-core machine traces (docs/performance.md: the hall and the
+/// shoebox run at 1.5e7 to 3e7): the scale of the time estimates.
+inline constexpr double kNominalSegmentsPerSecond = 2e7;
 /// Above this many segments in one frame the frame cannot finish in any useful time (about
 /// 500 s at 2e7 segments/s): refused.
 inline constexpr double kMaxSegmentsPerFrame = 1e10;
@@ -41,14 +51,21 @@ inline constexpr double kMaxSegmentsTotal = 1e12;
 /// Above this many segments for the whole render (minutes or more): warned, with the numbers.
 inline constexpr double kWarnSegmentsTotal = 1e10;
 
+/// Memory a render may plan to use for its impulse responses and path caches, bytes: half of
+/// the smaller of the machine's physical memory and the process's address-space and data
+/// limits (the other half is for tracing, signals and the libraries). Two system calls.
+double plannableMemoryBytes();
+
 /// durationSeconds: the render's length (<= 0: live, per-frame figures only); channels: output
 /// channels (1 mono, 2 stereo or binaural).
 WorkloadEstimate estimateWorkload(const SceneDesc& scene, const PropagationSettings& settings,
                                   int channels, double durationSeconds);
 
 /// Throws InputError(scene.path, setting, "...") when the estimate exceeds kMaxSegmentsPerFrame,
-/// kMaxSegmentsTotal or memoryLimitBytes (the IR memory), naming the numbers and the settings to
-/// lower. Returns one-line warnings (above kWarnSegmentsTotal) otherwise.
+/// kMaxSegmentsTotal or memoryLimitBytes (impulse responses and caches together: the field
+/// named is the larger of ir_length and cache_memory_mb), naming the numbers and the settings
+/// to lower. Returns one-line warnings (above kWarnSegmentsTotal, with the expected time)
+/// otherwise.
 std::vector<std::string> checkWorkload(const SceneDesc& scene, const PropagationSettings& settings,
                                        const WorkloadEstimate& estimate, double memoryLimitBytes);
 

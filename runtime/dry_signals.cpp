@@ -41,10 +41,10 @@ audio::AudioData readSignal(const SceneDesc& scene, size_t i) {
                          std::to_string(kMaxSignalRateHz) + "] Hz");
   for (size_t c = 0; c < a.channels.size(); ++c)
     for (size_t n = 0; n < a.frames(); ++n)
-      if (!std::isfinite(a.channels[c][n]))
+      if (const std::string why = sampleProblem(a.channels[c][n]); !why.empty())
         throw InputError(scene.path, field,
                          path + ": sample " + std::to_string(n) + " of channel " +
-                             std::to_string(c) + " is not finite (NaN or infinity)");
+                             std::to_string(c) + " " + why);
   return a;
 }
 

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <glm/gtc/quaternion.hpp>
 
+#include "scene/limits.h"
+
 namespace dpc {
 
 int64_t steadyNowNs() noexcept {
@@ -29,20 +31,25 @@ HostPoses::HostPoses(std::shared_ptr<const SceneDesc> scene, size_t played)
 
 bool HostPoses::setListenerPose(size_t index, const glm::vec3& position, float yawRadians,
                                 double sceneSeconds, float pitchRadians) {
-  if (index >= scene_->listeners.size()) return false;
+  if (index >= scene_->listeners.size() ||
+      !positionWithinLimit(position.x, position.y, position.z) || !std::isfinite(yawRadians) ||
+      !std::isfinite(pitchRadians))
+    return false;
   listeners_[index].publish(
       ListenerPose{position, yawRadians, pitchRadians, steadyNowNs(), sceneSeconds});
   return true;
 }
 
 bool HostPoses::setSourcePosition(size_t index, const glm::vec3& position) {
-  if (index >= scene_->sources.size()) return false;
+  if (index >= scene_->sources.size() || !positionWithinLimit(position.x, position.y, position.z))
+    return false;
   sources_[index].publish(HostSourcePosition{position, 1u});
   return true;
 }
 
 bool HostPoses::setObjectPose(size_t index, const glm::vec3& position, const float rotation[4]) {
-  if (index >= scene_->objects.size()) return false;
+  if (index >= scene_->objects.size() || !positionWithinLimit(position.x, position.y, position.z))
+    return false;
   const double n = std::sqrt(double(rotation[0]) * rotation[0] + double(rotation[1]) * rotation[1] +
                              double(rotation[2]) * rotation[2] + double(rotation[3]) * rotation[3]);
   if (!(n > 1e-6) || !std::isfinite(n)) return false;

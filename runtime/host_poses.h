@@ -28,15 +28,18 @@ class HostPoses {
 
   /// Any thread (one writer per listener at a time): listener `index`'s pose (position m,
   /// yaw and pitch radians as dpc::Orientation) for scene time sceneSeconds, timestamped now.
-  /// False (nothing changed) for an index out of range. Wait-free; no allocation.
+  /// False (nothing changed) for an index out of range, a coordinate outside the "position"
+  /// limit (scene/limits.h) or a non-finite angle. Wait-free; no allocation.
   bool setListenerPose(size_t index, const glm::vec3& position, float yawRadians,
                        double sceneSeconds, float pitchRadians);
   /// Any thread (one writer per source at a time): source `index` at `position` (m) instead
-  /// of its trajectory from now on. False for an index out of range. Wait-free; no allocation.
+  /// of its trajectory from now on. False (nothing changed) for an index out of range or a
+  /// coordinate outside the "position" limit. Wait-free; no allocation.
   bool setSourcePosition(size_t index, const glm::vec3& position);
   /// Any thread (one writer per object at a time): object `index` at world = R(q) * local +
-  /// position, q = (x, y, z, w) normalised here. False for an index out of range or a
-  /// zero-length or non-finite rotation. Wait-free; no allocation.
+  /// position, q = (x, y, z, w) normalised here. False (nothing changed) for an index out of
+  /// range, a coordinate outside the "position" limit or a zero-length or non-finite rotation.
+  /// Wait-free; no allocation.
   bool setObjectPose(size_t index, const glm::vec3& position, const float rotation[4]);
   /// Any thread: plays listener `index` from the next frame on. False if out of range.
   bool select(size_t index);

@@ -47,7 +47,7 @@ LiveSession::LiveSession(std::shared_ptr<const SceneDesc> scene,
     stageOut_.push_back(mono_.data() + size_t(c) * size_t(blockSize_));
   if (options_.recordSeconds > 0.0)
     recorder_ = std::make_unique<Recorder>(sampleRate_, options_.deviceChannels,
-                                           options_.recordSeconds, blockSize_);
+                                           options_.recordSeconds, blockSize_, options_.recordPath);
 }
 
 LiveSession::~LiveSession() {
@@ -241,6 +241,10 @@ LiveSession::Status LiveSession::status() const {
   st.overCeilingFrames = limiter_->overCeilingFrames();
   st.limiterMaxReductionDb = limiter_->maxReductionDb();
   return st;
+}
+
+size_t LiveSession::commitRecording() {
+  return recorder_ && !running_.load() ? recorder_->commit() : 0;
 }
 
 audio::AudioData LiveSession::takeRecording() {

@@ -21,6 +21,7 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -42,7 +43,10 @@ class LiveSession {
   struct Options {
     int deviceChannels = 2;      ///< output channels the device renders (IR channels copied)
     double recordSeconds = 0.0;  ///< > 0: keep what was played (reserved for this many seconds)
-    int poolSize = 6;            ///< IrSets in flight (>= 3)
+    /// With recordSeconds > 0: stream what was played to this WAV file (Recorder) instead of
+    /// keeping it in memory; commitRecording() renames it into place.
+    std::string recordPath;
+    int poolSize = 6;  ///< IrSets in flight (>= 3)
     /// The listener played first (scene.listeners index; selectListener() changes it).
     size_t listener = 0;
     /// The propagation thread adapts the rays per source of each frame to hold the frame
@@ -172,6 +176,10 @@ class LiveSession {
 
   /// After stop(): the recorded output (deviceChannels channels) or empty.
   audio::AudioData takeRecording();
+  /// After stop(), recording to options.recordPath: renames the file into place and returns
+  /// its frames (Recorder::commit; throws InputError naming the path on a failed write). 0
+  /// without such a recording.
+  size_t commitRecording();
 
  private:
   void propagationLoop();

@@ -8,7 +8,8 @@
 
 namespace dpc {
 
-Recorder::Recorder(int sampleRate, int channels, double keepSeconds, int maxBlockFrames)
+Recorder::Recorder(int sampleRate, int channels, double keepSeconds, int maxBlockFrames,
+                   const std::string& path)
     : sampleRate_(sampleRate),
       channels_(channels),
       ring_(size_t(kRingSeconds * sampleRate) * size_t(channels)) {
@@ -16,6 +17,10 @@ Recorder::Recorder(int sampleRate, int channels, double keepSeconds, int maxBloc
   scratch_.assign(size_t(maxBlockFrames) * size_t(channels), 0.f);
   popped_.assign(size_t(0.05 * sampleRate) * size_t(channels), 0.f);
   recorded_.assign(size_t(channels), {});
+  if (!path.empty()) {
+    writer_ = std::make_unique<audio::WavStreamWriter>(path, sampleRate, channels);
+    return;
+  }
   for (auto& ch : recorded_) ch.reserve(size_t(keepSeconds * sampleRate));
 }
 
@@ -52,6 +57,22 @@ void Recorder::drain() {
       recorded_[phase_].push_back(popped_[i]);
       phase_ = (phase_ + 1) % size_t(channels_);
     }
+  if (writer_) writeRecorded();
+}
+
+void Recorder::writeRecorded() {
+  size_t n = recorded_.front().size();
+  for (const auto& ch : recorded_) n = std::min(n, ch.size());
+  if (n == 0) return;
+  std::vector<const float*> planar;
+  for (const auto& ch : recorded_) planar.push_back(ch.data());
+  try {
+    writer_->write(planar.data(), n);
+  } catch (...) {
+    writeError_ = std::current_exception();
+    writer_.reset();  // removes the temporary; later samples are dropped
+  }
+  for (auto& ch : recorded_) ch.erase(ch.begin(), ch.begin() + ptrdiff_t(n));
 }
 
 void Recorder::loop() {
@@ -64,10 +85,19 @@ void Recorder::loop() {
   drain();
 }
 
+size_t Recorder::commit() {
+  if (writeError_) std::rethrow_exception(writeError_);
+  if (!writer_ || running_.load()) return 0;
+  const size_t frames = writer_->frames();
+  writer_->commit();
+  writer_.reset();
+  return frames;
+}
+
 audio::AudioData Recorder::take() {
   audio::AudioData a;
   a.sampleRate = sampleRate_;
-  if (running_.load()) return a;
+  if (running_.load() || writer_) return a;
   size_t n = recorded_.empty() ? 0 : recorded_.front().size();
   for (const auto& ch : recorded_) n = std::min(n, ch.size());
   for (auto& ch : recorded_) {

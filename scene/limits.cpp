@@ -1,5 +1,6 @@
 #include "scene/limits.h"
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
@@ -7,6 +8,7 @@
 #include <stdexcept>
 
 #include "common/input_file.h"
+#include "common/text_buffer.h"
 #include "scene/scene.h"
 
 namespace dpc {
@@ -68,9 +70,35 @@ constexpr std::array kLimits = {
 };
 // clang-format on
 
-std::string numberText(double x) {
-  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
-  return valueText(x);
+// The text of a value ("48000", "1.7", "inf", "nan") into [first, last); returns its end.
+// No allocation.
+char* writeValue(double value, char* first, char* last) {
+  if (!std::isfinite(value)) {
+    const std::string_view t = std::isnan(value) ? "nan" : (value > 0 ? "inf" : "-inf");
+    const size_t n = std::min(t.size(), size_t(last - first));
+    return std::copy_n(t.data(), n, first);
+  }
+  if (value == std::floor(value) && std::abs(value) < 1e15)
+    return std::to_chars(first, last, static_cast<long long>(value)).ptr;
+  // A float field reads back as the float it holds ("1.7", not "1.7000000476837158").
+  const float f = static_cast<float>(value);
+  return double(f) == value ? std::to_chars(first, last, f).ptr
+                            : std::to_chars(first, last, value).ptr;
+}
+
+// A value in the error messages' form (valueText) appended to `out`.
+TextBuffer& operator<<(TextBuffer& out, double value) {
+  char digits[64];
+  return out << std::string_view(digits, size_t(writeValue(value, digits, digits + 64) - digits));
+}
+
+// The range as docs/scene-format.md writes it; see rangeText.
+void writeRange(const Limit& limit, TextBuffer& out) {
+  if (std::isinf(limit.max)) {
+    out << (limit.minExclusive ? "> " : ">= ") << limit.min;
+    return;
+  }
+  out << (limit.minExclusive ? "(" : "[") << limit.min << ", " << limit.max << "]";
 }
 
 }  // namespace
@@ -93,30 +121,33 @@ bool withinLimit(const Limit& limit, double value) {
 }
 
 std::string rangeText(const Limit& limit) {
-  std::string text(1, limit.minExclusive ? '(' : '[');
-  if (std::isinf(limit.max)) {
-    text = limit.minExclusive ? std::string("> ") : std::string(">= ");
-    return text.append(numberText(limit.min));
-  }
-  text += numberText(limit.min);
-  text += ", ";
-  text += numberText(limit.max);
-  text += "]";
+  char text[96];
+  TextBuffer out(text, sizeof text);
+  writeRange(limit, out);
   return text;
 }
 
 std::string valueText(double value) {
-  if (!std::isfinite(value)) return std::isnan(value) ? "nan" : (value > 0 ? "inf" : "-inf");
-  char buf[64];
-  if (value == std::floor(value) && std::abs(value) < 1e15) {
-    const auto r = std::to_chars(buf, buf + sizeof buf, static_cast<long long>(value));
-    return std::string(buf, r.ptr);
+  char text[64];
+  return std::string(text, writeValue(value, text, text + sizeof text));
+}
+
+void writeLimitProblem(const Limit& limit, double value, char* text, size_t size) {
+  TextBuffer out(text, size);
+  if (withinLimit(limit, value)) return;
+  out << value;
+  if (limit.integer && std::isfinite(value) && value != std::floor(value)) {
+    out << " is not an integer";
+    return;
   }
-  // A float field reads back as the float it holds ("1.7", not "1.7000000476837158").
-  const float f = static_cast<float>(value);
-  const auto r = double(f) == value ? std::to_chars(buf, buf + sizeof buf, f)
-                                    : std::to_chars(buf, buf + sizeof buf, value);
-  return std::string(buf, r.ptr);
+  out << (std::isinf(limit.max) ? " must be " : " is outside ");
+  writeRange(limit, out);
+  if (!limit.unit.empty()) out << " " << limit.unit;
+}
+
+bool positionWithinLimit(float x, float y, float z) {
+  const Limit& l = limitOf("position");
+  return withinLimit(l, x) && withinLimit(l, y) && withinLimit(l, z);
 }
 
 }  // namespace dpc

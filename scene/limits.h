@@ -6,6 +6,7 @@
 // strings returned, no errors except lookups of a field that is not in the table.
 #pragma once
 
+#include <cstddef>
 #include <span>
 #include <string>
 #include <string_view>
@@ -44,5 +45,17 @@ std::string rangeText(const Limit& limit);
 /// A value as the error messages print it: whole numbers without a fraction ("48000"), others
 /// in the shortest form that reads back as the same float ("1.7").
 std::string valueText(double value);
+
+/// What is wrong with `value` for `limit`, as every entry point words it: "VALUE is outside
+/// RANGE UNIT", "VALUE must be RANGE UNIT" for a range without upper bound, or "VALUE is not an
+/// integer"; "" when the value is within the limit. Written NUL-terminated (truncated) into
+/// out[0..size) without allocating, for entry points that may not allocate (the C API's
+/// wait-free setters); size >= 1. Any thread.
+void writeLimitProblem(const Limit& limit, double value, char* out, size_t size);
+
+/// True when each coordinate (m) lies within the "position" limit: the one check of a point
+/// entering the scene at run time (host poses) before it can reach Embree. Any thread; no
+/// allocation.
+bool positionWithinLimit(float x, float y, float z);
 
 }  // namespace dpc

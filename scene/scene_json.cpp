@@ -157,8 +157,12 @@ std::string existingFile(const JsonReader& r, const json& v, const std::string& 
                          const fs::path& folder) {
   const fs::path resolved = resolve(folder, r.string(v, field));
   std::error_code ec;
-  if (!fs::is_regular_file(resolved, ec))
+  if (!fs::exists(resolved, ec))
     r.fail(field, "file " + inQuotes(resolved.string()) + " not found");
+  if (fs::is_directory(resolved, ec))
+    r.fail(field, inQuotes(resolved.string()) + " is a directory, not a file");
+  if (!fs::is_regular_file(resolved, ec))
+    r.fail(field, inQuotes(resolved.string()) + " is not a regular file (FIFO, device or socket)");
   return resolved.string();
 }
 
@@ -303,9 +307,9 @@ void readPropagation(const JsonReader& r, const json& v, PropagationSettings& p)
   r.expectObject(v, field);
   r.checkKeys(
       v, field,
-      {"rays_per_frame", "max_order", "exact_order", "patch_size", "cache_tau", "cache_memory_mb", "frame_rate",
-       "ir_length", "seed", "estimator", "dpc_weighting", "speed_of_sound", "temperature",
-       "humidity", "air_absorption", "diffraction", "roulette_threshold_db"});
+      {"rays_per_frame", "max_order", "exact_order", "patch_size", "cache_tau", "cache_memory_mb",
+       "frame_rate", "ir_length", "seed", "estimator", "dpc_weighting", "speed_of_sound",
+       "temperature", "humidity", "air_absorption", "diffraction", "roulette_threshold_db"});
   auto f = [&](const char* key) { return join(field, key); };
   readPropagationNumbers(r, v, p);
   if (const json* x = JsonReader::find(v, "seed")) {

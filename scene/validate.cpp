@@ -187,13 +187,9 @@ void checkField(std::string_view field, double value, const Origin& origin,
                 const std::string& path) {
   const Limit& l = limitOf(field);
   if (withinLimit(l, value)) return;
-  const std::string where = path.empty() ? std::string(field) : path;
-  const std::string v = valueText(value);
-  if (l.integer && std::isfinite(value) && value != std::floor(value))
-    fail(origin, where, v + " is not an integer");
-  std::string why = v + (std::isinf(l.max) ? " must be " : " is outside ") + rangeText(l);
-  if (!l.unit.empty()) why.append(" ").append(l.unit);
-  fail(origin, where, why);
+  char why[160];
+  writeLimitProblem(l, value, why, sizeof why);
+  fail(origin, path.empty() ? std::string(field) : path, why);
 }
 
 void validate(const SceneDesc& scene, const Origin& origin) {

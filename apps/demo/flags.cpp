@@ -2,6 +2,8 @@
 #include "apps/demo/flags.h"
 
 #include <CLI/CLI.hpp>
+#include <charconv>
+#include <cstdint>
 #include <cstdio>
 
 #include "common/input_file.h"
@@ -39,14 +41,27 @@ void addLiveOptions(CLI::App& app, Flags& fl) {
                  "Render or play the scene's listener of this name (default: the first)");
 }
 
+/// A whole number that fits int64_t: CLI11 itself saturates one beyond (2^64 would be read as
+/// 2^63 - 1 without a word), so the text is checked before it is converted.
+const CLI::Validator kWholeInt64(
+    [](std::string& text) -> std::string {
+      int64_t v = 0;
+      const char* end = text.data() + text.size();
+      const auto r = std::from_chars(text.data(), end, v);
+      if (r.ec == std::errc() && r.ptr == end) return {};
+      return "'" + text + "' is not a whole number in [-2^63, 2^63)";
+    },
+    "INT64");
+
 /// The offline render and the propagation settings it overrides.
 void addRenderOptions(CLI::App& app, Flags& fl) {
   app.add_option("--offline", fl.offline, "Render offline to this WAV file (float32)");
   app.add_option("--duration", fl.duration,
                  "Seconds to render (default: longest source + IR length)");
-  app.add_option("--seed", fl.seed, "Random seed (same seed: bit-identical output)");
-  app.add_option("--rays", fl.rays, "Rays per source per frame");
-  app.add_option("--max-order", fl.maxOrder, "Maximum reflection order");
+  app.add_option("--seed", fl.seed, "Random seed (same seed: bit-identical output)")
+      ->check(kWholeInt64);
+  app.add_option("--rays", fl.rays, "Rays per source per frame")->check(kWholeInt64);
+  app.add_option("--max-order", fl.maxOrder, "Maximum reflection order")->check(kWholeInt64);
   app.add_option("--tau", fl.tau, "Cache response time tau, seconds (0 = path tracing)");
   app.add_option("--cache-memory-mb", fl.cacheMb,
                  "DPC memory budget per source-listener pair, MB (default 64; beyond it old "
@@ -55,7 +70,7 @@ void addRenderOptions(CLI::App& app, Flags& fl) {
   app.add_option("--dpc-weighting", fl.weighting,
                  "window (unbiased, answers within tau; default) | ema (unbiased, slower) | seed "
                  "(thesis eq. 3.2; biased high)");
-  app.add_option("--threads", fl.threads, "Tracing threads (0 = all cores)");
+  app.add_option("--threads", fl.threads, "Tracing threads (0 = all cores)")->check(kWholeInt64);
 }
 
 /// The output files and their format.
@@ -111,6 +126,11 @@ std::optional<int> parseFlags(int argc, char** argv, Flags& fl) {
       if (c == '\n' || (unsigned char)c < 0x20) c = ' ';
     std::fprintf(stderr, "dpc-demo: command line: %s%s\n", msg.c_str(),
                  mistypedOptionHint(app, argc, argv).c_str());
+    return 1;
+  }
+  // An empty --offline would otherwise mean "no --offline": live playback.
+  if (app.get_option("--offline")->count() > 0 && fl.offline.empty()) {
+    std::fprintf(stderr, "dpc-demo: command line: --offline: the output path is empty\n");
     return 1;
   }
   return std::nullopt;

@@ -1,8 +1,6 @@
 // dpc-demo's checks before any work: duration, signals, workload, memory.
 #include "apps/demo/preflight.h"
 
-#include <sys/resource.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -15,19 +13,6 @@
 
 namespace dpc::demo {
 namespace {
-
-/// Memory a render may plan to use for its impulse responses: half of the smaller of the
-/// machine's physical memory and the process's address-space and data limits (the other half
-/// is for tracing, the cache, signals and the libraries).
-double memoryLimitBytes() {
-  double limit = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE));
-  for (const int which : {RLIMIT_AS, RLIMIT_DATA}) {
-    rlimit rl{};
-    if (getrlimit(which, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY)
-      limit = std::min(limit, double(rl.rlim_cur));
-  }
-  return 0.5 * limit;
-}
 
 }  // namespace
 
@@ -53,7 +38,7 @@ void checkSetup(const SceneDesc& scene, const PropagationSettings& settings, dou
                 bool warn) {
   const WorkloadEstimate e =
       estimateWorkload(scene, settings, outputChannels(scene.audio.output), durationSeconds);
-  const std::vector<std::string> heavy = checkWorkload(scene, settings, e, memoryLimitBytes());
+  const std::vector<std::string> heavy = checkWorkload(scene, settings, e, plannableMemoryBytes());
   if (!warn) return;
   for (const std::string& w : heavy) std::fprintf(stderr, "warning: %s\n", w.c_str());
   for (const std::string& w : setupWarnings(scene))

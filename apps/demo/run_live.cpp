@@ -17,8 +17,10 @@
 #include "apps/demo/preflight.h"
 #include "apps/demo/status_line.h"
 #include "apps/demo/terminal.h"
+#include "audio/callback_watchdog.h"
 #include "audio/wav_io.h"
 #include "common/input_error.h"
+#include "common/stop_signals.h"
 #include "scene/validate.h"
 
 namespace dpc::demo {
@@ -28,8 +30,10 @@ using Clock = std::chrono::steady_clock;
 
 /// Seconds a live run plays when --duration is not given (until 'q' or a signal).
 constexpr double kUnboundedSeconds = 1e9;
-/// Longest recording kept by --record, seconds.
-constexpr double kMaxRecordSeconds = 3600.0;
+
+/// Longest wait for the audio device to stop, seconds: a device whose server is gone never
+/// answers, and the session must end within 2 s of the failure.
+constexpr double kStopTimeoutSeconds = 1.0;
 
 /// What the control loop learnt that the summary and --stats report.
 struct Playback {
@@ -37,6 +41,8 @@ struct Playback {
   audio::AudioOutput::Scheduling scheduling;
   /// The device's callback statistics when playback started.
   audio::CallbackStats::Snapshot atStart;
+  /// Why the device failed during playback ("" if it did not).
+  std::string failure;
 };
 
 /// Applies the overrides and checks everything that can be checked before playing.
@@ -67,7 +73,11 @@ LiveSession::Options sessionOptions(const SceneDesc& scene, const Flags& fl,
   lo.listener = selectedListener(scene, fl);
   lo.deviceChannels = 2;
   if (fl.latencyTargetMs) lo.latencyTargetSeconds = *fl.latencyTargetMs * 1e-3;
-  if (!fl.record.empty()) lo.recordSeconds = std::min(durationSeconds, kMaxRecordSeconds);
+  // --record streams to its file (memory does not grow with the session).
+  if (!fl.record.empty()) {
+    lo.recordSeconds = durationSeconds;  // > 0 enables the recorder; no memory is reserved
+    lo.recordPath = fl.record;
+  }
   return lo;
 }
 
@@ -115,8 +125,17 @@ void reportStatus(const LiveSession& session, const audio::AudioOutput& output, 
   printStatusLine(session.status(), output, cb, sceneSeconds, tty);
 }
 
+/// Stops the device (at most kStopTimeoutSeconds) and the session; says so if a device that
+/// had not failed could not be stopped.
+void stopPlayback(LiveSession& session, audio::AudioOutput& output, bool failed) {
+  if (!output.stopWithin(kStopTimeoutSeconds) && !failed)
+    std::fprintf(stderr, "note: the audio device did not stop within %.0f s; abandoned\n",
+                 kStopTimeoutSeconds);
+  session.stop();
+}
+
 /// Starts the session and the device, moves the listener every 10 ms until the duration has
-/// passed or 'q', then stops both.
+/// passed, 'q', a stop signal or a device failure (watchdog), then stops both.
 Playback play(const SceneDesc& scene, const Flags& fl, double durationSeconds, LiveSession& session,
               audio::AudioOutput& output) {
   KeyboardMotion motion(scene, session.playedListener());
@@ -134,9 +153,12 @@ Playback play(const SceneDesc& scene, const Flags& fl, double durationSeconds, L
   const auto start = Clock::now();
   auto last = start, lastStatus = start;
   pb.atStart = output.stats().snapshot();
+  audio::CallbackWatchdog watchdog(output);
   const bool tty = isatty(STDERR_FILENO);
-  for (bool quit = false; !quit;) {
+  for (bool quit = false; !quit && !stopSignal();) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    pb.failure = watchdog.check();
+    if (!pb.failure.empty()) break;
     const auto now = Clock::now();
     const double dt = std::chrono::duration<double>(now - last).count();
     last = now;
@@ -149,9 +171,11 @@ Playback play(const SceneDesc& scene, const Flags& fl, double durationSeconds, L
       reportStatus(session, output, pb, motion.sceneTime(), tty);
     }
   }
-  output.stop();
-  session.stop();
   if (tty) std::fprintf(stderr, "\n");
+  if (!pb.failure.empty())
+    std::fprintf(stderr, "dpc-demo: error: audio device '%s': %s\n", output.device().spec().c_str(),
+                 pb.failure.c_str());
+  stopPlayback(session, output, !pb.failure.empty());
   return pb;
 }
 
@@ -163,10 +187,9 @@ void finishLive(const SceneDesc& scene, const Flags& fl, LiveSession& session,
   const auto swap = session.renderStatsWithSwap().snapshot();
   const auto noSwap = session.renderStatsWithoutSwap().snapshot();
   if (!fl.record.empty()) {
-    audio::AudioData rec = session.takeRecording();
-    audio::writeWav(fl.record, rec, audio::SampleFormat::kFloat32);
+    const size_t frames = session.commitRecording();
     std::printf("wrote %s (%.2f s played, %llu samples dropped by the recorder)\n",
-                fl.record.c_str(), double(rec.frames()) / scene.audio.sampleRate,
+                fl.record.c_str(), double(frames) / scene.audio.sampleRate,
                 (unsigned long long)st.recordDropped);
   }
   printLiveSummary(st, output, cb, swap, noSwap);
@@ -188,9 +211,12 @@ int runLive(const Flags& fl) {
   std::fprintf(stderr, "playing on %s (%s), %.0f Hz, block %d, output latency %.1f ms\n",
                output->device().spec().c_str(), output->device().hostApi.c_str(),
                output->sampleRate(), output->blockSize(), output->outputLatency() * 1e3);
+  catchStopSignals();
   const Playback pb = play(scene, fl, duration, session, *output);
   finishLive(scene, fl, session, *output, pb);
-  return 0;
+  // A device failure or a stop signal: what was played up to it is written, then the status.
+  if (const int signal = stopSignal()) throw Interrupted(signal);
+  return pb.failure.empty() ? 0 : 1;
 }
 
 }  // namespace dpc::demo

@@ -1,5 +1,7 @@
-// dpc-demo --offline: streams each listener's render to a temporary WAV, levels it and
-// renames it into place, then writes the last frame's IR and energy response if asked.
+// dpc-demo --offline: streams each listener's render to a temporary WAV and levels it, writes
+// the last frame's IR and energy response if asked, and renames every output into place
+// together once all are complete. SIGINT, SIGTERM and SIGHUP stop the render between blocks:
+// every temporary is removed, no output is touched (common/stop_signals.h).
 #include "apps/demo/run_offline.h"
 
 #include <unistd.h>
@@ -17,6 +19,8 @@
 #include "apps/demo/preflight.h"
 #include "audio/wav_io.h"
 #include "common/input_error.h"
+#include "common/output_file.h"
+#include "common/stop_signals.h"
 #include "runtime/offline_renderer.h"
 
 namespace dpc::demo {
@@ -75,29 +79,36 @@ const char* formatName(OutputFormat format) {
 }
 
 /// --ir-out and --er-out of one listener: its last frame's IRs (all channels, source-major)
-/// and energy responses.
-void writeLastFrame(const SceneDesc& scene, const OfflineListenerResult& r,
-                    const OutputPaths& paths) {
+/// and energy responses, complete temporaries added to `outputs`.
+void stageLastFrame(const SceneDesc& scene, const OfflineListenerResult& r,
+                    const OutputPaths& paths, OutputSet& outputs) {
   if (!paths.ir.empty()) {
     audio::AudioData ir;
     ir.sampleRate = scene.audio.sampleRate;
     for (const auto& source : r.lastIrs)
       for (const auto& channel : source) ir.channels.push_back(channel);
-    audio::writeWav(paths.ir, ir, audio::SampleFormat::kFloat32);
+    outputs.add(audio::stageWav(paths.ir, ir, audio::SampleFormat::kFloat32));
   }
   if (!paths.energy.empty()) {
     std::vector<SourceEnergy> er;
     for (size_t s = 0; s < r.lastEnergy.size(); ++s)
       er.push_back({r.lastEnergy[s], r.lastDirect[s]});
-    writeEnergyCsv(paths.energy, er);
+    outputs.add(stageEnergyCsv(paths.energy, er));
   }
 }
 
+/// What one listener's files hold, said once they are in place.
+struct StagedListener {
+  size_t frames = 0;
+  double gainDb = 0.0;
+};
+
 /// Finishes one listener's render streamed into `writer` (level: peak normalised to -1 dBFS
-/// by a second streaming pass, or --gain-db already applied), renames it into place, writes
-/// its --ir-out / --er-out files and says what it wrote.
-void writeListener(const Flags& fl, const SceneDesc& scene, const OfflineListenerResult& r,
-                   audio::WavStreamWriter& writer, const OutputPaths& paths) {
+/// by a second streaming pass, or --gain-db already applied) and adds it, with its --ir-out /
+/// --er-out files, to `outputs` (nothing renamed yet).
+StagedListener stageListener(const Flags& fl, const SceneDesc& scene,
+                             const OfflineListenerResult& r, audio::WavStreamWriter& writer,
+                             const OutputPaths& paths, OutputSet& outputs) {
   const float peak = writer.peak();
   if (peak == 0.f)
     std::fprintf(stderr,
@@ -109,12 +120,18 @@ void writeListener(const Flags& fl, const SceneDesc& scene, const OfflineListene
     gainDb = peak > 0.f ? -1.0 - 20.0 * std::log10(peak) : 0.0;
     writer.rescale(float(std::pow(10.0, gainDb / 20.0)));
   }
-  const size_t frames = writer.frames();
-  writer.commit();
-  writeLastFrame(scene, r, paths);
-  const double audioSeconds = double(frames) / scene.audio.sampleRate;
+  const StagedListener staged{writer.frames(), gainDb};
+  outputs.add(writer.finish());
+  stageLastFrame(scene, r, paths, outputs);
+  return staged;
+}
+
+/// Says what one listener's files hold, once they are in place.
+void printWritten(const SceneDesc& scene, const OfflineListenerResult& r,
+                  const StagedListener& staged, const OutputPaths& paths) {
+  const double audioSeconds = double(staged.frames) / scene.audio.sampleRate;
   std::printf("wrote %s (%.2f s, %d Hz, %s, float32, gain %+.1f dB)\n", paths.audio.c_str(),
-              audioSeconds, scene.audio.sampleRate, formatName(scene.audio.output), gainDb);
+              audioSeconds, scene.audio.sampleRate, formatName(scene.audio.output), staged.gainDb);
   if (!paths.energy.empty())
     std::printf("wrote %s (last frame's energy response, %zu source(s))\n", paths.energy.c_str(),
                 r.lastEnergy.size());
@@ -148,6 +165,7 @@ void printTotals(const OfflineResult& r, double audioSeconds) {
 }  // namespace
 
 int runOffline(const Flags& fl) {
+  catchStopSignals();
   const LoadedRun run = loadRun(fl, prepareOffline);
   SceneDesc& scene = *run.scene;
   OfflineOptions opt;
@@ -158,16 +176,24 @@ int runOffline(const Flags& fl) {
   // Several listeners: one propagation run traces them all (one pass per source and frame).
   opt.allListeners = paths.size() > 1;
   if (!fl.quiet) opt.progress = progressBar;
+  throwIfStopped();
   Writers writers = openWriters(scene, paths);
-  // --gain-db is applied as the blocks are written.
+  // --gain-db is applied as the blocks are written; a stop signal ends the render here.
   const float fixedGain = fl.gainDb ? float(std::pow(10.0, *fl.gainDb / 20.0)) : 1.f;
   opt.sink = [&](size_t l, const float* const* planar, size_t frames) {
+    throwIfStopped();
     writers.at(l)->write(planar, frames, fixedGain);
   };
   const OfflineResult r = renderOffline(run.scene, run.settings, run.dry, opt);
   const double audioSeconds = double(writers.front()->frames()) / scene.audio.sampleRate;
+  OutputSet outputs;
+  std::vector<StagedListener> staged;
   for (size_t l = 0; l < r.listeners.size() && l < paths.size(); ++l)
-    writeListener(fl, scene, r.listeners[l], *writers[l], paths[l]);
+    staged.push_back(stageListener(fl, scene, r.listeners[l], *writers[l], paths[l], outputs));
+  throwIfStopped();
+  outputs.commitAll();
+  for (size_t l = 0; l < staged.size(); ++l)
+    printWritten(scene, r.listeners[l], staged[l], paths[l]);
   printTotals(r, audioSeconds);
   return 0;
 }

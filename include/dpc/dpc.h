@@ -65,8 +65,9 @@ typedef struct dpc_engine dpc_engine;
 
 /** Any thread. The text of the last error raised on the calling thread ("" if none). The
  *  pointer stays valid until the next failing call on this thread. Reading it never
- *  allocates; the functions that may be called from the audio thread or "any thread" set no
- *  message (their status code says it all). */
+ *  allocates. The "any thread" functions that can fail write their message into a fixed
+ *  per-thread buffer (no allocation; cut at 255 bytes); dpc_engine_process, the audio
+ *  thread's, sets none (its status code says it all). */
 DPC_API const char* dpc_last_error(void);
 
 /** Any thread; no allocation. The library's version, packed as DPC_MAKE_VERSION(major, minor,
@@ -256,9 +257,12 @@ DPC_API int dpc_engine_listener_count(const dpc_engine* engine);
  *  metres in scene coordinates, yaw and pitch in degrees as defined at the top of this header
  *  (0, 0 faces +x; positive yaw turns left about +y; positive pitch looks up). The propagation
  *  thread uses the newest pose at its next frame. Until the first call a listener stands where
- *  the scene puts it at time 0 (its position or first keyframe). Errors:
- *  DPC_ERR_INVALID_ARGUMENT (null engine, index out of range, non-finite value; no message
- *  set, since setting one would allocate). */
+ *  the scene puts it at time 0 (its position or first keyframe). The values have the scene
+ *  file's limits (docs/scene-format.md "Limits"): each coordinate within +-10^6 m, yaw within
+ *  [-3600, 3600], pitch within [-90, 90] degrees. Errors: DPC_ERR_INVALID_ARGUMENT (null
+ *  engine, index out of range, a value outside its limit or not finite: nothing changes and
+ *  dpc_last_error() names the argument, e.g. "dpc_engine_set_listener_pose: x: 1e+07 is
+ *  outside [-1000000, 1000000] m"). */
 DPC_API dpc_status dpc_engine_set_listener_pose(dpc_engine* engine, int listener, float x,
                                                 float y, float z, float yaw_degrees,
                                                 float pitch_degrees);
@@ -268,7 +272,7 @@ DPC_API dpc_status dpc_engine_set_listener_pose(dpc_engine* engine, int listener
  *  the audio side crossfades to its impulse responses as to any new ones (its cache is already
  *  warm: every listener is traced every frame). Until
  *  the first call the scene's first listener is selected. Errors: DPC_ERR_INVALID_ARGUMENT
- *  (null engine or index out of range; no message set). */
+ *  (null engine or index out of range; dpc_last_error() says which). */
 DPC_API dpc_status dpc_engine_select_listener(dpc_engine* engine, int listener);
 
 /** Any thread. The selected listener (0-based); 0 for a null engine. */
@@ -280,14 +284,15 @@ DPC_API int dpc_engine_selected_listener(const dpc_engine* engine);
  *  f = R(q) * (1, 0, 0) gives yaw = atan2(-f.z, f.x) and pitch = asin(f.y); roll about f is
  *  dropped. Straight up or down the yaw is undetermined (0 if f is exactly vertical). Errors:
  *  DPC_ERR_INVALID_ARGUMENT (NULL
- *  output, non-finite value or zero quaternion; no message set). */
+ *  output, non-finite value or zero quaternion; dpc_last_error() says which). */
 DPC_API dpc_status dpc_yaw_pitch_from_quaternion(float qx, float qy, float qz, float qw,
                                                  float* yaw_degrees, float* pitch_degrees);
 
 /** Any thread, wait-free, no allocation. Moves source `source` (0-based, scene order) to
  *  (x, y, z) metres in scene coordinates from the next propagation frame on, instead of its
- *  trajectory. Errors: DPC_ERR_INVALID_ARGUMENT (null engine, index out of range, non-finite
- *  value; no message is set, since setting one would allocate). */
+ *  trajectory. Each coordinate has the scene file's limit, +-10^6 m. Errors:
+ *  DPC_ERR_INVALID_ARGUMENT (null engine, index out of range, a coordinate beyond the limit or
+ *  not finite: nothing changes and dpc_last_error() names the argument). */
 DPC_API dpc_status dpc_engine_set_source_position(dpc_engine* engine, int source, float x, float y,
                                                   float z);
 
@@ -295,8 +300,10 @@ DPC_API dpc_status dpc_engine_set_source_position(dpc_engine* engine, int source
  *  object `object` (0-based, the scene's "objects" order): world = R(q) * local + (x, y, z),
  *  metres; q = (qx, qy, qz, qw) a rotation quaternion in glTF order (the frame at the top of
  *  this header), normalised here. Replaces
- *  the object's trajectory from the next propagation frame on. Errors: DPC_ERR_INVALID_ARGUMENT
- *  (null engine, index out of range, non-finite value or zero quaternion; no message set). */
+ *  the object's trajectory from the next propagation frame on. Each coordinate has the scene
+ *  file's limit, +-10^6 m. Errors: DPC_ERR_INVALID_ARGUMENT (null engine, index out of range,
+ *  a coordinate beyond the limit or not finite, a zero or non-finite quaternion: nothing
+ *  changes and dpc_last_error() names the argument). */
 DPC_API dpc_status dpc_engine_set_object_pose(dpc_engine* engine, int object, float x, float y,
                                               float z, float qx, float qy, float qz, float qw);
 
@@ -338,8 +345,10 @@ DPC_API dpc_status dpc_engine_copy_energy_response(dpc_engine* engine, int sourc
  *  source (scene order) holding the host's dry signal. The engine convolves in fixed blocks of
  *  dpc_engine_block_size() frames; a FIFO between the host's calls and those blocks adds a
  *  constant latency of dpc_engine_latency_frames() frames whatever the call pattern. Never
- *  allocates, locks, logs or waits. Errors: DPC_ERR_INVALID_ARGUMENT (null engine or outputs;
- *  frames outside 1..8192: nothing rendered, counted in dpc_stats.rejected_callbacks). */
+ *  allocates, locks, logs or waits. Errors (no message set): DPC_ERR_INVALID_ARGUMENT (null
+ *  engine, outputs or outputs[c], or inputs[s] NULL in a non-NULL inputs: nothing rendered,
+ *  the buffers untouched; frames outside 1..8192: nothing rendered, counted in
+ *  dpc_stats.rejected_callbacks). */
 DPC_API dpc_status dpc_engine_process(dpc_engine* engine, const float* const* inputs,
                                       float* const* outputs, int frames);
 

@@ -7,9 +7,11 @@
 #include <lv2/atom/atom.h>
 #include <lv2/atom/forge.h>
 #include <lv2/atom/util.h>
+#include <lv2/buf-size/buf-size.h>
 #include <lv2/core/lv2.h>
 #include <lv2/log/log.h>
 #include <lv2/log/logger.h>
+#include <lv2/options/options.h>
 #include <lv2/patch/patch.h>
 #include <lv2/state/state.h>
 #include <lv2/urid/urid.h>
@@ -62,15 +64,36 @@ struct Scene {
   ~Scene() { dpc_engine_destroy(engine); }
 };
 
+/// A control port's declared range and default (dpc.ttl's lv2:minimum, lv2:maximum and
+/// lv2:default; tests/lv2/lv2_test.py checks that both say the same).
+struct PortRange {
+  const char* symbol;
+  float min, max, fallback;
+};
+
+/// The pose ports kListenerX..kSourceZ, in port order.
+constexpr PortRange kPoseRanges[] = {
+    {"listener_x", -100.f, 100.f, 7.f},  {"listener_y", -100.f, 100.f, 1.6f},
+    {"listener_z", -100.f, 100.f, 3.5f}, {"listener_yaw", -180.f, 180.f, 180.f},
+    {"source_x", -100.f, 100.f, 3.f},    {"source_y", -100.f, 100.f, 1.6f},
+    {"source_z", -100.f, 100.f, 3.5f}};
+constexpr int kPosePorts = int(sizeof kPoseRanges / sizeof kPoseRanges[0]);
+static_assert(kListenerX + kPosePorts == kSourceZ + 1, "one range per pose port");
+
+/// `v` within the port's range: the nearest bound beyond it, the default for NaN.
+float clampToPort(const PortRange& r, float v) {
+  return std::isnan(v) ? r.fallback : std::clamp(v, r.min, r.max);
+}
+
 /// Listener x, y, z (m), yaw (degrees); source x, y, z (m).
 struct Pose {
   float v[7];
   bool operator!=(const Pose& o) const { return std::memcmp(v, o.v, sizeof v) != 0; }
 };
 
-/// Worker messages: load a scene (path follows) or free one.
+/// Worker messages: load a scene (path follows), free one, or log the ports clamped so far.
 struct WorkMessage {
-  enum Kind : uint32_t { kLoad, kFree } kind;
+  enum Kind : uint32_t { kLoad, kFree, kReportClamped } kind;
   Scene* scene;  ///< kFree
   Pose pose;     ///< kLoad: the pose to compute the first frame for
   bool start;    ///< kLoad: start the propagation thread (the plugin is active)
@@ -95,6 +118,10 @@ struct Uris {
 
 struct Plugin {
   double rate = 48000.0;
+  /// The host's nominal block length (bufsz:nominalBlockLength), frames; 0 if not given. The
+  /// engine block is set to it, so that every run() of that length does one block's work
+  /// instead of a whole larger block inside one callback now and then.
+  int hostBlock = 0;
   std::string bundle;
   LV2_URID_Map* map = nullptr;
   LV2_Worker_Schedule* schedule = nullptr;
@@ -135,43 +162,106 @@ struct Plugin {
     return copy;
   }
 
-  float control(Port p, float fallback) const {
-    return ports[p] ? *static_cast<const float*>(ports[p]) : fallback;
+  // Pose ports whose value left the declared range: each is logged once, off the audio
+  // thread (by the worker, or at deactivate and cleanup without one). clamped: the ports
+  // seen out of range (bit i for kPoseRanges[i]), with the first such value; reported: those
+  // logged.
+  std::atomic<uint32_t> clamped{0};
+  std::atomic<float> firstOutside[kPosePorts] = {};
+  uint32_t reported = 0;
+
+  /// The raw value of pose port i (kPoseRanges order), its default if unconnected.
+  float raw(int i) const {
+    const void* port = ports[kListenerX + i];
+    return port ? *static_cast<const float*>(port) : kPoseRanges[i].fallback;
   }
+  /// The pose the ports ask for, each value clamped to its declared range.
   Pose pose() const {
-    return Pose{{control(kListenerX, 7.f), control(kListenerY, 1.6f), control(kListenerZ, 3.5f),
-                 control(kListenerYaw, 180.f), control(kSourceX, 3.f), control(kSourceY, 1.6f),
-                 control(kSourceZ, 3.5f)}};
+    Pose q{};
+    for (int i = 0; i < kPosePorts; ++i) q.v[i] = clampToPort(kPoseRanges[i], raw(i));
+    return q;
+  }
+  /// Audio thread, wait-free: records the ports out of range for the first time; true if any.
+  bool noteClamped() {
+    uint32_t fresh = 0;
+    for (int i = 0; i < kPosePorts; ++i) {
+      const float v = raw(i);
+      const uint32_t bit = 1u << i;
+      if (clampToPort(kPoseRanges[i], v) == v || (clamped.load(std::memory_order_relaxed) & bit))
+        continue;
+      firstOutside[i].store(v, std::memory_order_relaxed);
+      fresh |= bit;
+    }
+    if (fresh) clamped.fetch_or(fresh, std::memory_order_release);
+    return fresh != 0;
   }
 };
 
-/// Any thread but the audio thread: the message of the last failed dpc call, logged.
+/// Not the audio thread: logs each port clamped since the last call, once per instance.
+void reportClamped(Plugin* p) {
+  const uint32_t pending = p->clamped.load(std::memory_order_acquire) & ~p->reported;
+  for (int i = 0; i < kPosePorts; ++i) {
+    if (!(pending & (1u << i))) continue;
+    const PortRange& r = kPoseRanges[i];
+    const float v = p->firstOutside[i].load(std::memory_order_relaxed);
+    const char* format =
+        "dpc: port %s: %g is outside its range [%g, %g]; clamped to %g (logged "
+        "once)\n";
+    const double to = clampToPort(r, v);
+    if (p->logger.log)
+      lv2_log_warning(&p->logger, format, r.symbol, double(v), double(r.min), double(r.max), to);
+    else
+      std::fprintf(stderr, format, r.symbol, double(v), double(r.min), double(r.max), to);
+  }
+  p->reported |= pending;
+}
+
+/// Any thread but the audio thread: the message of the last failed dpc call, logged after
+/// `what` (the step that failed; nullptr when the message says it).
 void logError(Plugin* p, const char* what) {
+  const char* sep = what ? ": " : "";
+  if (!what) what = "";
   if (p->logger.log)
-    lv2_log_error(&p->logger, "dpc: %s: %s\n", what, dpc_last_error());
+    lv2_log_error(&p->logger, "dpc: %s%s%s\n", what, sep, dpc_last_error());
   else
-    std::fprintf(stderr, "dpc: %s: %s\n", what, dpc_last_error());
+    std::fprintf(stderr, "dpc: %s%s%s\n", what, sep, dpc_last_error());
 }
 
 /// Publishes a pose to an engine's selected listener and first source (wait-free; any thread).
-/// Non-finite values are refused by the API and leave the previous pose in place.
+/// The pose is within the ports' ranges (Plugin::pose), inside the scene's limits.
 void publish(dpc_engine* e, const Pose& q) {
-  dpc_engine_set_listener_pose(e, dpc_engine_selected_listener(e), q.v[0], q.v[1], q.v[2],
-                               q.v[3], 0.f);
+  dpc_engine_set_listener_pose(e, dpc_engine_selected_listener(e), q.v[0], q.v[1], q.v[2], q.v[3],
+                               0.f);
   dpc_engine_set_source_position(e, 0, q.v[4], q.v[5], q.v[6]);
 }
 
+/// Whether the first propagation frame of a scene is computed before its first block:
+/// - kOnWorker: on the calling thread, which is the LV2 worker's (a scene chosen by patch:Set);
+/// - kNow: on the calling thread in a host without a worker (lv2apply and other offline hosts,
+///   which run faster than real time and would otherwise render their first seconds dry);
+/// - kOnPropagationThread: not here: the engine's propagation thread computes it once started,
+///   and the plugin plays silence until that first impulse response arrives (a real-time host
+///   with a worker: instantiate, activate and restore never wait for a frame).
+enum class FirstFrame { kOnWorker, kNow, kOnPropagationThread };
+
+/// The policy for a load outside the worker: a frame now only in a host without a worker.
+FirstFrame firstFrameOutsideWorker(const Plugin* p) {
+  return p->schedule ? FirstFrame::kOnPropagationThread : FirstFrame::kNow;
+}
+
 /// Control or worker thread: loads a scene at the host's rate with host inputs only, computes
-/// its first frame for `pose` (so that sound comes out from the first block) and, if `start`,
-/// starts its propagation thread. nullptr on failure (logged).
-Scene* loadScene(Plugin* p, const std::string& path, bool isDefault, const Pose& pose, bool start) {
+/// its first frame for `pose` as `first` says and, if `start`, starts its propagation thread.
+/// nullptr on failure (logged).
+Scene* loadScene(Plugin* p, const std::string& path, bool isDefault, const Pose& pose, bool start,
+                 FirstFrame first) {
   dpc_engine_options o;
   dpc_engine_options_init(&o);
   o.sample_rate = int(std::lround(p->rate));
+  o.block_size = p->hostBlock;  // 0 keeps the scene's
   o.host_inputs_only = 1;
   dpc_engine* e = nullptr;
   if (dpc_engine_create_from_file(path.c_str(), &o, &e) != DPC_OK) {
-    logError(p, path.c_str());
+    logError(p, nullptr);  // the message names the scene file already
     return nullptr;
   }
   auto* s = new Scene;
@@ -181,9 +271,25 @@ Scene* loadScene(Plugin* p, const std::string& path, bool isDefault, const Pose&
   s->channels = dpc_engine_output_channels(e);
   s->inputs.assign(size_t(dpc_engine_source_count(e)), nullptr);
   publish(e, pose);
-  if (dpc_engine_step(e) != DPC_OK) logError(p, "first propagation frame");
+  if (first != FirstFrame::kOnPropagationThread && dpc_engine_step(e) != DPC_OK)
+    logError(p, "first propagation frame");
   if (start && dpc_engine_start(e) != DPC_OK) logError(p, "start");
   return s;
+}
+
+/// The host's bufsz:nominalBlockLength (an atom:Int among the options), clamped to the engine
+/// block's range [16, 8192]; 0 if the host gives none (or no URID map to read it).
+int nominalBlockLength(LV2_URID_Map* map, const LV2_Feature* const* features) {
+  if (!map) return 0;
+  const LV2_URID key = map->map(map->handle, LV2_BUF_SIZE__nominalBlockLength);
+  const LV2_URID atomInt = map->map(map->handle, LV2_ATOM__Int);
+  for (int i = 0; features && features[i]; ++i) {
+    if (std::strcmp(features[i]->URI, LV2_OPTIONS__options) != 0) continue;
+    for (auto* o = static_cast<const LV2_Options_Option*>(features[i]->data); o && o->key; ++o)
+      if (o->key == key && o->type == atomInt && o->size == sizeof(int32_t))
+        return std::clamp(int(*static_cast<const int32_t*>(o->value)), 16, 8192);
+  }
+  return 0;
 }
 
 LV2_Handle instantiate(const LV2_Descriptor*, double rate, const char* bundlePath,
@@ -201,12 +307,16 @@ LV2_Handle instantiate(const LV2_Descriptor*, double rate, const char* bundlePat
     else if (!std::strcmp(features[i]->URI, LV2_LOG__log))
       log = static_cast<LV2_Log_Log*>(features[i]->data);
   }
+  p->hostBlock = nominalBlockLength(p->map, features);
   lv2_log_logger_init(&p->logger, p->map, log);
   if (p->map) {
     p->uris.map(p->map);
     lv2_atom_forge_init(&p->forge, p->map);
   }
-  p->scene = loadScene(p, p->bundle + kDefaultScene, true, p->pose(), false);
+  // No frame yet: activate() computes it (or has the propagation thread compute it) for the
+  // pose the control ports hold then.
+  p->scene = loadScene(p, p->bundle + kDefaultScene, true, p->pose(), false,
+                       FirstFrame::kOnPropagationThread);
   if (!p->scene) {
     delete p;
     return nullptr;
@@ -220,12 +330,14 @@ void connectPort(LV2_Handle h, uint32_t port, void* data) {
 
 void activate(LV2_Handle h) {
   auto* p = static_cast<Plugin*>(h);
-  // The control ports hold their values now: compute the first frame for them before any audio.
+  // The control ports hold their values now: the first frame is computed for them (now in a
+  // host without a worker, else by the propagation thread, which starts here).
   const Pose q = p->pose();
   publish(p->scene->engine, q);
   p->sent = q;
   p->sentValid = true;
-  if (dpc_engine_step(p->scene->engine) != DPC_OK) logError(p, "first propagation frame");
+  if (firstFrameOutsideWorker(p) == FirstFrame::kNow && dpc_engine_step(p->scene->engine) != DPC_OK)
+    logError(p, "first propagation frame");
   if (dpc_engine_start(p->scene->engine) != DPC_OK) logError(p, "start");
   p->active = true;
 }
@@ -234,6 +346,7 @@ void deactivate(LV2_Handle h) {
   auto* p = static_cast<Plugin*>(h);
   dpc_engine_stop(p->scene->engine);
   p->active = false;
+  reportClamped(p);
 }
 
 /// Audio thread: writes patch:Set <scene> <path> to the notify port (if connected).
@@ -303,6 +416,10 @@ void run(LV2_Handle h, uint32_t frames) {
     notify->atom.type = p->map ? p->uris.atomSequence : 0;
   }
   Scene* s = p->scene;
+  if (p->noteClamped() && p->schedule) {
+    const WorkMessage m{WorkMessage::kReportClamped, nullptr, {}, false, {}};
+    p->schedule->schedule_work(p->schedule->handle, uint32_t(offsetof(WorkMessage, path)), &m);
+  }
   const Pose q = p->pose();
   if (!p->sentValid || q != p->sent) {
     publish(s->engine, q);
@@ -334,8 +451,12 @@ LV2_Worker_Status work(LV2_Handle h, LV2_Worker_Respond_Function respond,
     delete m->scene;
     return LV2_WORKER_SUCCESS;
   }
+  if (m->kind == WorkMessage::kReportClamped) {
+    reportClamped(p);
+    return LV2_WORKER_SUCCESS;
+  }
   const std::string path(m->path, strnlen(m->path, size - offsetof(WorkMessage, path)));
-  Scene* s = loadScene(p, path, false, m->pose, m->start);
+  Scene* s = loadScene(p, path, false, m->pose, m->start, FirstFrame::kOnWorker);
   respond(handle, sizeof s, &s);  // nullptr on failure: the audio thread keeps the old scene
   return LV2_WORKER_SUCCESS;
 }
@@ -402,7 +523,7 @@ LV2_State_Status restore(LV2_Handle h, LV2_State_Retrieve_Function retrieve,
       }
   }
   if (path == p->scene->path) return LV2_STATE_SUCCESS;
-  Scene* s = loadScene(p, path, isDefault, p->pose(), p->active);
+  Scene* s = loadScene(p, path, isDefault, p->pose(), p->active, firstFrameOutsideWorker(p));
   if (!s) return LV2_STATE_ERR_UNKNOWN;
   delete p->scene;
   p->scene = s;
@@ -414,6 +535,7 @@ LV2_State_Status restore(LV2_Handle h, LV2_State_Retrieve_Function retrieve,
 
 void cleanup(LV2_Handle h) {
   auto* p = static_cast<Plugin*>(h);
+  reportClamped(p);
   delete p->scene;
   delete p;
 }

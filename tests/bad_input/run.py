@@ -200,7 +200,7 @@ CASES = {
     "mesh_fifo": (lambda d: (fifo("m.obj")(d), scene_with(mesh="m.obj")(d)), OFF, "mesh"),
     "mesh_directory": (lambda d: (mkdir("m.obj")(d), scene_with(mesh="m.obj")(d)), OFF, "mesh"),
     "mesh_huge_sparse": (lambda d: (sparse("m.obj", 1 << 34)(d), scene_with(mesh="m.obj")(d)), OFF, "mesh"),
-    "signal_dev_zero": (scene_with(**{"sources.0.signal": "/dev/zero"}), OFF, "/dev/zero"),
+    "signal_dev_zero": (scene_with(**{"sources.0.signal": "/dev/zero"}), OFF, '/dev/zero" is not a regular file'),
     "signal_fifo": (lambda d: (fifo("s.wav")(d), scene_with(**{"sources.0.signal": "s.wav"})(d)), OFF, "s.wav"),
     "signal_directory": (scene_with(**{"sources.0.signal": "signals"}), OFF, "signals"),
     "signal_huge_sparse": (lambda d: (sparse("s.wav", 1 << 35)(d), scene_with(**{"sources.0.signal": "s.wav"})(d)), OFF, "s.wav"),
@@ -221,6 +221,9 @@ CASES = {
     "threads_huge": (nothing, OFF + ["--threads", "99999"], "--threads"),
     "seed_negative": (nothing, OFF + ["--seed", "-1"], "--seed"),
     "seed_text": (nothing, OFF + ["--seed", "abc"], "--seed"),
+    "seed_2_pow_64": (nothing, OFF + ["--seed", "18446744073709551616"], "is not a whole number"),
+    "rays_2_pow_63": (nothing, OFF + ["--rays", "9223372036854775808"], "is not a whole number"),
+    "offline_empty": (nothing, ["shoebox.json", "--offline", "", "--duration", "1"], "--offline: the output path is empty"),
     "block_size_huge": (nothing, ["shoebox.json", "--block-size", "100000", "--duration", "1"], "--block-size"),
     "scene_rays_1e10": (scene_with(**{"propagation.rays_per_frame": 10000000000}), OFF[:-2], "rays_per_frame"),
     "scene_max_order_huge": (scene_with(**{"propagation.max_order": 1000000}), OFF, "max_order"),
@@ -296,6 +299,7 @@ WARN_CASES = {
     "source_outside_room": (scene_with(**{"sources.0.position": [2, 10, 3.5]}), OFF, "source 'talker' at (2, 10, 3.5)"),
     "radius_larger_than_room": (scene_with(listener={"position": [5, 1.5, 3.5], "radius": 30}), OFF, "larger than the room"),
     "radius_through_wall": (scene_with(listener={"position": [5, 1.5, 3.5], "radius": 2}), OFF, "reaches through a surface"),
+    "radius_tiny": (scene_with(listener={"position": [5, 1.5, 3.5], "radius": 1e-30}), OFF, "m is tiny against the nearest surface"),
     "render_silent": (scene_with(listener={"position": [20, 1.6, 3.5], "radius": 0.5}), OFF, "is silent (empty energy response"),
 }
 

@@ -74,3 +74,29 @@ TEST_CASE("work and memory that cannot finish or fit are refused, naming the set
       Catch::StartsWith("room.json: propagation.ir_length: ") && Catch::Contains("GB"));
   CHECK_NOTHROW(checkWorkload(scene, ps, big, 8e9));
 }
+
+TEST_CASE("the path caches' budgets count in the memory estimate, and the time is estimated",
+          "[workload]") {
+  SceneDesc scene = test::makeShoebox({10, 3, 7}, Bands(0.1f), 0.5f, {2, 1.5f, 2}, {7, 1.6f, 5});
+  scene.path = "room.json";
+  scene.sources.push_back(scene.sources.front());
+  scene.sources.back().name = "second";
+  PropagationSettings ps;
+  // The documented maximum, 16384 MiB per source-listener pair, 2 sources: 34.4 GB.
+  ps.cacheMemoryMb = 16384.f;
+  const WorkloadEstimate e = estimateWorkload(scene, ps, 2, 10.0);
+  CHECK(e.cacheBytes == Approx(2.0 * 16384.0 * 1048576.0));
+  CHECK_THROWS_WITH(
+      checkWorkload(scene, ps, e, 8e9),
+      Catch::StartsWith("room.json: propagation.cache_memory_mb: ") && Catch::Contains("34.4 GB"));
+  // A budget that fits: accepted.
+  ps.cacheMemoryMb = 64.f;
+  CHECK_NOTHROW(checkWorkload(scene, ps, estimateWorkload(scene, ps, 2, 10.0), 8e9));
+  // The time: segments at the nominal rate, in the warning.
+  ps.raysPerFrame = 20'000;
+  const WorkloadEstimate hour = estimateWorkload(scene, ps, 1, 3600.0);
+  CHECK(hour.expectedSeconds == Approx(hour.segmentsTotal / kNominalSegmentsPerSecond));
+  const auto w = checkWorkload(scene, ps, hour, 8e9);
+  REQUIRE(w.size() == 1);
+  CHECK_THAT(w[0], Catch::Contains("min (at 2e+07 segments/s)"));
+}

@@ -6,19 +6,31 @@
 #include <dlfcn.h>
 #include <lv2/atom/forge.h>
 #include <lv2/atom/util.h>
+#include <lv2/buf-size/buf-size.h>
 #include <lv2/core/lv2.h>
+#include <lv2/log/log.h>
+#include <lv2/options/options.h>
 #include <lv2/patch/patch.h>
 #include <lv2/state/state.h>
 #include <lv2/urid/urid.h>
 #include <lv2/worker/worker.h>
 
 #include <catch2/catch.hpp>
+#include <cfloat>
 #include <cmath>
+#include <cstdarg>
+#include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <map>
+#include <regex>
+#include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
+#include "testing/temp_dir.h"
 #include "tests/rt/alloc_counter.h"
 
 namespace {
@@ -65,8 +77,9 @@ struct Instance {
   float controls[7] = {7.f, 1.6f, 3.5f, 180.f, 3.f, 1.6f, 3.5f};
   float latency = 0.f;
   alignas(8) uint8_t control[4096], notify[4096];
-  Instance(const LV2_Descriptor* desc, Host& host) : d(desc) {
-    h = d->instantiate(d, 48000.0, kBundle, host.features);
+  Instance(const LV2_Descriptor* desc, Host& host, const LV2_Feature* const* features = nullptr)
+      : d(desc) {
+    h = d->instantiate(d, 48000.0, kBundle, features ? features : host.features);
     REQUIRE(h);
     d->connect_port(h, 0, in);
     d->connect_port(h, 1, left);
@@ -239,4 +252,170 @@ TEST_CASE("LV2 plugin: run() and a scene swap make no heap call, the scene is sa
   d->run(y.h, kFrames);
   CHECK(notifiedPath(y, host) == other);
   d->deactivate(y.h);
+}
+
+namespace {
+
+/// An LV2 log feature that keeps every line (control and worker threads only).
+struct LogCapture {
+  std::vector<std::string> lines;
+  LV2_Log_Log log{this, nullptr, [](LV2_Log_Handle h, LV2_URID, const char* fmt, va_list ap) {
+                    char line[512];
+                    std::vsnprintf(line, sizeof line, fmt, ap);
+                    static_cast<LogCapture*>(h)->lines.emplace_back(line);
+                    return 0;
+                  }};
+  LV2_Feature feature{LV2_LOG__log, &log};
+};
+
+int logPrintf(LV2_Log_Handle h, LV2_URID type, const char* fmt, ...) {
+  va_list ap;
+  va_start(ap, fmt);
+  const int n = static_cast<LogCapture*>(h)->log.vprintf(h, type, fmt, ap);
+  va_end(ap);
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("LV2 plugin: pose ports beyond their declared ranges are clamped, logged once") {
+  const LV2_Descriptor* d = loadDescriptor();
+  Host host;
+  LogCapture capture;
+  capture.log.printf = logPrintf;
+  const LV2_Feature* features[4] = {&host.mapFeature, &host.workerFeature, &capture.feature,
+                                    nullptr};
+  const LV2_URID sequence = host.map.map(&host, LV2_ATOM__Sequence);
+  Instance x(d, host, features);
+  d->activate(x.h);
+  bool finite = true;
+  uint64_t heapCalls = 0;
+  for (int block = 0; block < 50; ++block) {
+    x.clearAtoms(sequence);
+    x.in[0] = 1.f;
+    x.controls[4] = block % 2 ? 1e20f : -FLT_MAX;  // source_x: beyond the range every block
+    x.controls[3] = block < 10 ? NAN : 180.f;      // listener_yaw: NaN for a while
+    {
+      dpc::rt::AllocationScope scope;
+      d->run(x.h, kFrames);
+      heapCalls += scope.counts().total();
+    }
+    if (host.pendingSize) runWorker(d, x.h, host);  // the report, off the audio thread
+    for (uint32_t i = 0; i < kFrames; ++i)
+      finite = finite && std::isfinite(x.left[i]) && std::isfinite(x.right[i]);
+  }
+  d->deactivate(x.h);
+  CHECK(heapCalls == 0);
+  CHECK(finite);
+  // One report each, the worker's: the ports stayed out of range for many blocks.
+  CHECK(host.scheduled == 1);
+  REQUIRE(capture.lines.size() == 2);
+  CHECK(capture.lines[0] ==
+        "dpc: port listener_yaw: nan is outside its range [-180, 180]; clamped to 180 (logged "
+        "once)\n");
+  CHECK(capture.lines[1] ==
+        "dpc: port source_x: -3.40282e+38 is outside its range [-100, 100]; clamped to -100 "
+        "(logged once)\n");
+}
+
+namespace {
+
+/// A bundle folder holding the shipped default scene with `rays` rays per frame (the plugin
+/// reads BUNDLE/scene/room.json; its binary stays where it was built).
+void writeBundle(const std::filesystem::path& bundle, int rays) {
+  namespace fs = std::filesystem;
+  const fs::path shipped = fs::path(kBundle) / "scene";
+  fs::create_directories(bundle / "scene");
+  fs::copy_file(shipped / "shoebox.obj", bundle / "scene" / "shoebox.obj");
+  std::ifstream in(shipped / "room.json");
+  std::stringstream json;
+  json << in.rdbuf();
+  std::ofstream(bundle / "scene" / "room.json")
+      << std::regex_replace(json.str(), std::regex("\"rays_per_frame\": *[0-9]+"),
+                            "\"rays_per_frame\": " + std::to_string(rays));
+}
+
+/// Energy of one block of both outputs.
+double blockEnergy(const Instance& x) {
+  double e = 0.0;
+  for (uint32_t i = 0; i < kFrames; ++i)
+    e += double(x.left[i]) * x.left[i] + double(x.right[i]) * x.right[i];
+  return e;
+}
+
+}  // namespace
+
+TEST_CASE("LV2 plugin: in a host with a worker no frame runs in instantiate or activate") {
+  // 100,000 rays per frame: the first frame takes seconds on any machine, so a first block
+  // that is not silent could only come from a frame computed inside instantiate or activate.
+  const LV2_Descriptor* d = loadDescriptor();
+  Host host;
+  const dpc::test::TempDir bundle("dpc_lv2_bundle");
+  writeBundle(bundle.path(), 100000);
+  const std::string path = bundle.path().string() + "/";
+  LV2_Handle h = d->instantiate(d, 48000.0, path.c_str(), host.features);
+  REQUIRE(h);
+  Instance x(d, host);  // connects the ports of a second instance; only its buffers are used
+  d->connect_port(h, 0, x.in);
+  d->connect_port(h, 1, x.left);
+  d->connect_port(h, 2, x.right);
+  for (uint32_t i = 0; i < 7; ++i) d->connect_port(h, 3 + i, &x.controls[i]);
+  d->activate(h);
+  std::fill(std::begin(x.in), std::end(x.in), 0.5f);  // a loud dry input throughout
+  // The first block only empties the one-block latency FIFO; the second is the first one
+  // convolved: silence until the first impulse response.
+  d->run(h, kFrames);
+  d->run(h, kFrames);
+  CHECK(blockEnergy(x) == 0.0);
+  // The propagation thread delivers it: sound within a minute of wall-clock time.
+  double energy = 0.0;
+  for (int block = 0; block < 6000 && energy == 0.0; ++block) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    d->run(h, kFrames);
+    energy = blockEnergy(x);
+  }
+  CHECK(energy > 0.0);
+  d->deactivate(h);
+  d->cleanup(h);
+}
+
+TEST_CASE("LV2 plugin: the engine block is the host's nominal block length") {
+  // A JACK-like period of 96 frames (not a power of two): the scene's block is 256, so without
+  // the option every third or so run() would render a whole 256-frame block.
+  const LV2_Descriptor* d = loadDescriptor();
+  Host host;
+  const int32_t nominal = 96;
+  const LV2_Options_Option options[] = {
+      {LV2_OPTIONS_INSTANCE, 0, host.map.map(&host, LV2_BUF_SIZE__nominalBlockLength),
+       sizeof nominal, host.map.map(&host, LV2_ATOM__Int), &nominal},
+      {LV2_OPTIONS_INSTANCE, 0, 0, 0, 0, nullptr}};
+  LV2_Feature optionsFeature{LV2_OPTIONS__options, const_cast<LV2_Options_Option*>(options)};
+  const LV2_Feature* features[4] = {&host.mapFeature, &host.workerFeature, &optionsFeature,
+                                    nullptr};
+  const LV2_URID sequence = host.map.map(&host, LV2_ATOM__Sequence);
+  Instance x(d, host, features);
+  d->activate(x.h);
+  bool finite = true;
+  double energy = 0.0;
+  uint64_t heapCalls = 0;
+  for (int block = 0; block < 2000; ++block) {
+    x.clearAtoms(sequence);
+    for (uint32_t i = 0; i < uint32_t(nominal); ++i)
+      x.in[i] = (block * nominal + int(i)) % 4800 == 0;
+    {
+      dpc::rt::AllocationScope scope;
+      d->run(x.h, uint32_t(nominal));
+      heapCalls += scope.counts().total();
+    }
+    if (block % 100 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    for (uint32_t i = 0; i < uint32_t(nominal); ++i) {
+      finite = finite && std::isfinite(x.left[i]) && std::isfinite(x.right[i]);
+      energy += double(x.left[i]) * x.left[i] + double(x.right[i]) * x.right[i];
+    }
+  }
+  d->deactivate(x.h);
+  CHECK(x.latency == float(nominal));  // one engine block: the host's period
+  CHECK(heapCalls == 0);
+  CHECK(finite);
+  CHECK(energy > 1e-6);
 }

@@ -24,6 +24,15 @@ PREFIX/lib/lv2). Checks, each able to fail:
      per second of audio, the plugin 15 times per second of wall-clock time while lv2apply runs
      faster than real time, and each propagation frame's diffuse estimate carries Monte Carlo
      noise (2048 rays per frame: a few per cent of the energy in windows this wide).
+  6. every pose control port (lv2info's Minimum and Maximum of the installed dpc.ttl) given a
+     value beyond its maximum, below its minimum and NaN: lv2apply exits 0 with a finite
+     output, and the plugin logs exactly one line for that port naming the value and the
+     declared range it was clamped to (so the plugin's clamp and the .ttl agree); values at
+     the bounds log nothing;
+  7. an 8 kHz host (an 8 kHz input file): the plugin refuses to instantiate (returns NULL),
+     logging the sample rate's limit, instead of playing silence. lv2apply then fails (it
+     dereferences the NULL instance and dies of SIGSEGV, a host bug outside dpc), so the
+     check is a non-zero exit and the logged line.
 """
 import math
 import os
@@ -58,6 +67,55 @@ def render(work, name, x, controls):
         cmd += ["-c", k, str(v)]
     subprocess.run(cmd + [URI], check=True, env=env)
     return read_wav(out)
+
+
+def declared_ranges():
+    """{symbol: (minimum, maximum)} of the plugin's input control ports, as lv2info reads
+    dpc.ttl."""
+    info = subprocess.run(["lv2info", URI], env=env, check=True, capture_output=True,
+                          text=True).stdout
+    ranges = {}
+    for block in info.split("\n\n"):
+        fields = dict(line.strip().split(":", 1) for line in block.splitlines()
+                      if ":" in line and not line.strip().startswith("http"))
+        if "ControlPort" in block and "InputPort" in block and "Minimum" in fields:
+            ranges[fields["Symbol"].strip()] = (float(fields["Minimum"]),
+                                                float(fields["Maximum"]))
+    return ranges
+
+
+def apply_controls(work, controls, rate=RATE):
+    """lv2apply on 0.2 s of noise-free impulse: (exit status, stderr, channels or None)."""
+    inp, out = os.path.join(work, "ctl-in.wav"), os.path.join(work, "ctl.wav")
+    x = [0.0] * (rate // 5)
+    x[10] = 1.0
+    write_wav(inp, x, rate)
+    cmd = ["lv2apply", "-i", inp, "-o", out]
+    for k, v in controls.items():
+        cmd += ["-c", k, str(v)]
+    r = subprocess.run(cmd + [URI], env=env, capture_output=True, text=True)
+    return r.returncode, r.stderr, (read_wav(out)[0] if r.returncode == 0 else None)
+
+
+def check_port_ranges(work):
+    ranges = declared_ranges()
+    check(len(ranges) == 7, "lv2info lists 7 pose control ports (%d)" % len(ranges))
+    for symbol, (lo, hi) in sorted(ranges.items()):
+        for value, to in ((hi * 10 + 1, hi), (lo * 10 - 1, lo), (float("nan"), None)):
+            status, err, chs = apply_controls(work, {symbol: value})
+            lines = [l for l in err.splitlines() if "port %s:" % symbol in l]
+            expected = "is outside its range [%g, %g]" % (lo, hi)
+            finite = chs is not None and all(math.isfinite(v) for ch in chs for v in ch)
+            check(status == 0 and finite and len(lines) == 1 and expected in lines[0] and
+                  (to is None or lines[0].endswith("clamped to %g (logged once)" % to)),
+                  "%s = %g: exit %d, finite output, one log line naming [%g, %g]: %s"
+                  % (symbol, value, status, lo, hi, lines))
+    status, err, _ = apply_controls(work, {s: r[1] for s, r in ranges.items()})
+    check(status == 0 and "outside" not in err, "every port at its maximum: nothing logged")
+    status, err, _ = apply_controls(work, {}, rate=8000)
+    check(status != 0 and "sample_rate: 8000 is outside [16000, 192000] Hz" in err,
+          "8 kHz host: refused, naming the sample rate's limit (exit %d): %s"
+          % (status, err.strip().splitlines()[:1]))
 
 
 lv2dir = os.path.abspath(sys.argv[1])
@@ -143,6 +201,9 @@ try:
             d = db(energy(chs, peak + a, peak + b), energy(ref, pk + a, pk + b))
             check(abs(d) < 1.5, "%d-%d ms after the direct sound: plugin - offline = %+.2f dB "
                   "(within 1.5 dB)" % (a_ms, b_ms, d))
+
+    # 6 and 7. Control ports beyond their declared ranges; a host rate below the limit.
+    check_port_ranges(work)
 finally:
     shutil.rmtree(work, ignore_errors=True)
 

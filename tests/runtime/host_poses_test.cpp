@@ -3,7 +3,10 @@
 #include "runtime/host_poses.h"
 
 #include <catch2/catch.hpp>
+#include <cfloat>
+#include <cmath>
 
+#include "scene/limits.h"
 #include "testing/test_scenes.h"
 
 using namespace dpc;
@@ -51,4 +54,25 @@ TEST_CASE("HostPoses: trajectories at the played listener's time, then host over
   CHECK_FALSE(host.setSourcePosition(1, {0, 0, 0}));
   const float zero[4] = {0, 0, 0, 0};
   CHECK_FALSE(host.setObjectPose(0, {0, 0, 0}, zero));  // no objects in the scene
+}
+
+TEST_CASE("HostPoses: a coordinate beyond the scene's limit is refused and changes nothing",
+          "[poses][limits]") {
+  const SceneDesc s = test::makeShoebox({6, 3, 4}, Bands(0.3f), 0.5f, {1, 1.5f, 1}, {4, 1.5f, 3});
+  HostPoses host(test::shared(s), 0);
+  const float bound = float(limitOf("position").max);
+  CHECK(host.setSourcePosition(0, {bound, -bound, 1}));
+  CHECK(host.setListenerPose(0, {-bound, bound, 1}, 0.f, 0.0, 0.f));
+  for (const float bad : {std::nextafter(bound, 2 * bound), 1e20f, -FLT_MAX, NAN, INFINITY}) {
+    INFO(bad);
+    CHECK_FALSE(host.setSourcePosition(0, {1, bad, 1}));
+    CHECK_FALSE(host.setListenerPose(0, {1, 1, bad}, 0.f, 0.0, 0.f));
+  }
+  CHECK_FALSE(host.setListenerPose(0, {1, 1, 1}, NAN, 0.0, 0.f));
+  CHECK_FALSE(host.setListenerPose(0, {1, 1, 1}, 0.f, 0.0, INFINITY));
+  WorldState w;
+  size_t played = 0;
+  host.assemble(w, played);
+  CHECK(w.sourcePositions[0] == glm::vec3(bound, -bound, 1));  // the last accepted ones
+  CHECK(w.listenerPositions[0] == glm::vec3(-bound, bound, 1));
 }

@@ -1,0 +1,54 @@
+// The probes of a bake: a horizontal grid over the static mesh's bounding box, kept where a
+// listener can stand. Control thread; builds its own tracer (Embree) over the static mesh;
+// allocates; throws InputError naming the flag for a bad request.
+//
+// Grid: cell centres x = xmin + (i + 1/2) spacing, z = zmin + (j + 1/2) spacing over the
+// mesh's bounding box, at y = ymin + height (the floor is the lowest point of the mesh; y is
+// up as in the shipped scenes). Moving objects are not part of the test (they stand in their
+// initial pose in the bake's traces, but probes are placed against the static mesh).
+// A candidate is skipped, and counted, when
+//   - outside: a direction of the setup check's Fibonacci sphere (engine/setup_check.h) escapes
+//     the mesh, or a ray crosses the mesh an even number of times (0 or 2: outside a closed
+//     room);
+//   - inside geometry: it is enclosed but the crossing count is even (inside a solid, e.g. a
+//     pillar, where a ray leaves the solid and then the room);
+//   - near a surface: the nearest surface is closer than the probe radius (the listener sphere
+//     would count paths on both sides of it).
+#pragma once
+
+#include <cstddef>
+#include <glm/vec3.hpp>
+#include <string>
+#include <vector>
+
+#include "scene/scene.h"
+
+namespace dpc::bake {
+
+/// Most grid candidates one bake may test (a 1000 x 1000 grid): bounds the memory and time of
+/// the placement, whatever the spacing.
+inline constexpr size_t kMaxGridCandidates = 1'000'000;
+/// Most surfaces one crossing count steps through before calling the point outside.
+inline constexpr int kMaxCrossings = 1000;
+
+struct GridRequest {
+  double spacingM = 1.0;  ///< grid spacing, metres, > 0
+  double heightM = 1.6;   ///< height above the floor, metres
+  float radiusM = 0.5f;   ///< probe (listener sphere) radius, metres
+};
+
+struct ProbeGrid {
+  std::vector<glm::vec3> positions;  ///< the kept probes, metres, row-major (x fastest)
+  size_t candidates = 0;             ///< grid points tested
+  size_t outside = 0;                ///< skipped: outside the closed mesh
+  size_t insideGeometry = 0;         ///< skipped: inside a solid
+  size_t nearSurface = 0;            ///< skipped: a surface within the radius
+};
+
+/// The grid of `request` over `scene`'s static mesh. Throws InputError("command line",
+/// "--spacing", ...) for spacing <= 0 or a grid of more than kMaxGridCandidates points, and
+/// (`sceneFile`, "--spacing/--height", ...) when no candidate is kept.
+ProbeGrid makeProbeGrid(const SceneDesc& scene, const GridRequest& request,
+                        const std::string& sceneFile);
+
+}  // namespace dpc::bake

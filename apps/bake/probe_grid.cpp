@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <glm/geometric.hpp>
 #include <numbers>
 
 #include "common/input_error.h"
@@ -21,30 +22,29 @@ glm::vec3 fibonacci(int i, int n) {
   return {float(r * std::cos(golden * i)), float(y), float(r * std::sin(golden * i))};
 }
 
-/// Surfaces a ray from p along d crosses (kMaxCrossings + 1 when it never leaves).
-int crossings(const Tracer& tracer, const glm::vec3& p, const glm::vec3& d) {
-  int count = 0;
-  float t = 0.f;
-  SurfaceHit hit;
-  while (count <= kMaxCrossings && tracer.intersect(TraceRay{p, d, t, 1e30f}, hit)) {
-    ++count;
-    t = hit.t + 1e-4f;
-  }
-  return count;
+/// +1 when the mesh's normals point into the enclosed air (a room modelled from inside: the
+/// signed volume sum v0 . (v1 x v2) / 6 is negative), -1 when they point out of it.
+float airSide(const Mesh& mesh) {
+  double volume = 0.0;
+  for (const auto& t : mesh.triangles)
+    volume += glm::dot(glm::dvec3(mesh.vertices[t[0]]),
+                       glm::cross(glm::dvec3(mesh.vertices[t[1]]), glm::dvec3(mesh.vertices[t[2]])));
+  return volume <= 0.0 ? 1.f : -1.f;
 }
 
-Placement place(const Tracer& tracer, const glm::vec3& p, float radius) {
+/// airSide: as airSide(). A point sees the surfaces around it from the air side when it stands
+/// in the air; inside a solid (a pillar) most of what it sees is the solid's other side.
+Placement place(const Tracer& tracer, const glm::vec3& p, float radius, float airSide) {
   float nearest = 1e30f;
+  int facingAir = 0;
   for (int i = 0; i < kSetupCheckDirections; ++i) {
+    const glm::vec3 d = fibonacci(i, kSetupCheckDirections);
     SurfaceHit hit;
-    if (!tracer.intersect(TraceRay{p, fibonacci(i, kSetupCheckDirections), 0.f, 1e30f}, hit))
-      return Placement::kOutside;
+    if (!tracer.intersect(TraceRay{p, d, 0.f, 1e30f}, hit)) return Placement::kOutside;
     nearest = std::min(nearest, hit.t);
+    if (airSide * glm::dot(d, hit.normal) < 0.f) ++facingAir;
   }
-  // An irrational direction, so the ray does not run along the edges of axis-aligned walls.
-  const int n = crossings(tracer, p, glm::normalize(glm::vec3(0.5377f, 0.2113f, 0.8161f)));
-  if (n > kMaxCrossings) return Placement::kOutside;
-  if (n % 2 == 0) return Placement::kInsideGeometry;
+  if (2 * facingAir < kSetupCheckDirections) return Placement::kInsideGeometry;
   if (nearest < radius * (1.f - 1e-4f)) return Placement::kNearSurface;
   return Placement::kKept;
 }
@@ -79,11 +79,12 @@ ProbeGrid makeProbeGrid(const SceneDesc& scene, const GridRequest& request,
   const EmbreeTracer tracer(scene.mesh);
   ProbeGrid grid;
   const float y = float(lo.y + request.heightM);
+  const float side = airSide(scene.mesh);
   for (size_t j = 0; j < size_t(nz); ++j)
     for (size_t i = 0; i < size_t(nx); ++i) {
       const glm::vec3 p(float(lo.x + (double(i) + 0.5) * request.spacingM), y,
                         float(lo.z + (double(j) + 0.5) * request.spacingM));
-      count(grid, place(tracer, p, request.radiusM), p);
+      count(grid, place(tracer, p, request.radiusM, side), p);
       ++grid.candidates;
     }
   if (grid.positions.empty())

@@ -8,10 +8,12 @@
 // initial pose in the bake's traces, but probes are placed against the static mesh).
 // A candidate is skipped, and counted, when
 //   - outside: a direction of the setup check's Fibonacci sphere (engine/setup_check.h) escapes
-//     the mesh, or a ray crosses the mesh an even number of times (0 or 2: outside a closed
-//     room);
-//   - inside geometry: it is enclosed but the crossing count is even (inside a solid, e.g. a
-//     pillar, where a ray leaves the solid and then the room);
+//     the mesh (outside a closed room, or the room has a hole it sees through);
+//   - inside geometry: it is enclosed, but fewer than half of those directions hit a surface
+//     from the air side. The air side is the side the normals point to when the mesh's signed
+//     volume is negative (a room modelled from inside, as the shipped scenes are), else the
+//     other; inside a solid (a pillar) a point sees the solid's inner side. A vote rather than
+//     a crossing parity, so that single-sided inner walls (a partition) do not flip it;
 //   - near a surface: the nearest surface is closer than the probe radius (the listener sphere
 //     would count paths on both sides of it).
 #pragma once
@@ -28,8 +30,6 @@ namespace dpc::bake {
 /// Most grid candidates one bake may test (a 1000 x 1000 grid): bounds the memory and time of
 /// the placement, whatever the spacing.
 inline constexpr size_t kMaxGridCandidates = 1'000'000;
-/// Most surfaces one crossing count steps through before calling the point outside.
-inline constexpr int kMaxCrossings = 1000;
 
 struct GridRequest {
   double spacingM = 1.0;  ///< grid spacing, metres, > 0

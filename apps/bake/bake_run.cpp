@@ -114,9 +114,10 @@ bool bakeAsWriter(const Plan& plan, Cluster& cluster, BakeFile& file, Progress& 
     }
     return any;
   };
+  ProbeBaker baker(plan.scene, h.settings);
   for (const size_t p : share(plan.todo, cluster)) {
     if (gInterrupted) return false;
-    file.commit(p, bakeProbe(plan.scene, h.settings, p, h.probes.positions[p]));
+    file.commit(p, baker.bake(p, h.probes.positions[p]));
     ++committed;
     progress.step();
     drain();
@@ -130,9 +131,10 @@ bool bakeAsWriter(const Plan& plan, Cluster& cluster, BakeFile& file, Progress& 
 
 void bakeAsWorker(const Plan& plan, Cluster& cluster) {
   const BakeHeader& h = plan.header;
+  ProbeBaker baker(plan.scene, h.settings);
   for (const size_t p : share(plan.todo, cluster)) {
     if (gInterrupted) return;
-    cluster.send(p, pack(bakeProbe(plan.scene, h.settings, p, h.probes.positions[p])));
+    cluster.send(p, pack(baker.bake(p, h.probes.positions[p])));
   }
   cluster.finishSends();
 }

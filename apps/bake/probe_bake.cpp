@@ -74,6 +74,7 @@ void summarise(const std::vector<double>& mean, const std::vector<std::vector<do
   }
 }
 
+/// The propagation settings of a bake's probe `probe` (its seed: the scene's combined with it).
 PropagationSettings probeSettings(const SceneDesc& scene, const BakeSettings& s, size_t probe) {
   PropagationSettings p = scene.propagation;
   p.estimator = Estimator::kPathTracing;
@@ -117,10 +118,24 @@ ProbeShape probeShape(const SceneDesc& scene, const BakeSettings& settings) {
   return {scene.sources.size(), responseBins(settings.irLength)};
 }
 
+ProbeBaker::ProbeBaker(const SceneDesc& scene, const BakeSettings& settings)
+    : scene_(scene),
+      settings_(settings),
+      sim_(std::make_unique<Simulation>(scene, probeSettings(scene, settings, 0))) {}
+
+ProbeBaker::~ProbeBaker() = default;
+
 ProbeResult bakeProbe(const SceneDesc& scene, const BakeSettings& settings, size_t probe,
                       const glm::vec3& position) {
+  return ProbeBaker(scene, settings).bake(probe, position);
+}
+
+ProbeResult ProbeBaker::bake(size_t probe, const glm::vec3& position) {
+  const SceneDesc& scene = scene_;
+  const BakeSettings& settings = settings_;
   const ProbeShape shape = probeShape(scene, settings);
-  Simulation sim(scene, probeSettings(scene, settings, probe));
+  Simulation& sim = *sim_;
+  sim.restart(hashCombine(scene.propagation.seed, probe));
   const size_t groups = size_t(settings.subStreams);
   const size_t perGroup = size_t(settings.frames) / groups;
   // series[source][group]: the group's mean response.

@@ -20,9 +20,14 @@
 #include <cstddef>
 #include <cstdint>
 #include <glm/vec3.hpp>
+#include <memory>
 #include <vector>
 
 #include "scene/scene.h"
+
+namespace dpc {
+class Simulation;
+}
 
 namespace dpc::bake {
 
@@ -70,7 +75,23 @@ struct ProbeResult {
   std::vector<float> stiCi;         ///< [source]: 95 % confidence half-width
 };
 
-/// Bakes probe `probe` (index in the bake) at `position`, metres.
+/// Bakes probes one after another with one Simulation (geometry, tracer and edge tables built
+/// once), restarted for each probe with the probe's seed (Simulation::restart): each result is
+/// bit-identical to a fresh Simulation's, whatever was baked before.
+class ProbeBaker {
+ public:
+  ProbeBaker(const SceneDesc& scene, const BakeSettings& settings);
+  ~ProbeBaker();
+  /// Bakes probe `probe` (index in the bake) at `position`, metres.
+  ProbeResult bake(size_t probe, const glm::vec3& position);
+
+ private:
+  const SceneDesc& scene_;
+  BakeSettings settings_;
+  std::unique_ptr<Simulation> sim_;
+};
+
+/// One probe with a baker of its own (ProbeBaker::bake).
 ProbeResult bakeProbe(const SceneDesc& scene, const BakeSettings& settings, size_t probe,
                       const glm::vec3& position);
 

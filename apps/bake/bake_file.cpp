@@ -1,5 +1,6 @@
 #include "apps/bake/bake_file.h"
 
+#include <chrono>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
@@ -159,6 +160,7 @@ struct BakeFile::Impl {
   std::string path;
   h5::Id file;
   BakeHeader header;
+  double commitSeconds = 0.0;
 };
 
 BakeFile::BakeFile(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -237,13 +239,18 @@ bool BakeFile::complete() const {
   return h5::readInt(root.get(), "complete") == 1;
 }
 
+double BakeFile::commitSeconds() const { return impl_->commitSeconds; }
+
 void BakeFile::commit(size_t probe, const ProbeResult& result) {
+  const auto start = std::chrono::steady_clock::now();
   const hid_t f = impl_->file.get();
   for (const ProbeDataset& d : kProbeDatasets)
     h5::writeRow(f, d.name, H5T_NATIVE_FLOAT, probe, (result.*d.member).data());
   const uint8_t one = 1;
   h5::writeRow(f, "probes/done", H5T_NATIVE_UINT8, probe, &one);
   if (H5Fflush(f, H5F_SCOPE_GLOBAL) < 0) throw std::runtime_error(impl_->path + ": flush failed");
+  impl_->commitSeconds +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 void BakeFile::markComplete() {

@@ -67,6 +67,8 @@ class BakeFile {
 
   /// Writes probe `probe`'s arrays, marks it done and flushes.
   void commit(size_t probe, const ProbeResult& result);
+  /// Wall time spent in commit() so far, seconds (the writer's share of a bake's cost).
+  double commitSeconds() const;
   /// Sets `complete` to 1 and flushes (call when done() is all ones).
   void markComplete();
 

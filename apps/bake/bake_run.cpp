@@ -1,6 +1,7 @@
 #include "apps/bake/bake_run.h"
 
 #include <chrono>
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -139,6 +140,16 @@ void bakeAsWorker(const Plan& plan, Cluster& cluster) {
   cluster.finishSends();
 }
 
+void printJson(const Plan& plan, const Cluster& cluster, const BakeFile& file,
+               const Progress& progress) {
+  const double n = double(std::max<size_t>(plan.todo.size(), 1));
+  std::printf("{\"probes\": %zu, \"seconds\": %.6g, \"probes_per_second\": %.6g, "
+              "\"processes\": %d, \"bytes_per_probe\": %zu, \"commit_seconds_per_probe\": "
+              "%.6g}\n",
+              plan.todo.size(), progress.elapsedSeconds(), progress.rate(), cluster.size(),
+              plan.header.shape.packedFloats() * sizeof(float), file.commitSeconds() / n);
+}
+
 int finishAsWriter(const Options& o, const Plan& plan, Cluster& cluster, BakeFile& file) {
   Progress progress(plan.todo.size(), plan.alreadyDone, o.quiet);
   const bool finished = bakeAsWriter(plan, cluster, file, progress);
@@ -153,6 +164,7 @@ int finishAsWriter(const Options& o, const Plan& plan, Cluster& cluster, BakeFil
   }
   file.markComplete();
   if (!o.map.empty()) writeParameterMap(file, o.map);
+  if (o.json) printJson(plan, cluster, file, progress);
   std::fprintf(stderr, "dpc-bake: %s: %zu probes complete; this run baked %zu in %.1f s (%.3g "
                "probes/s, %d process%s)\n",
                file.path().c_str(), plan.header.probes.positions.size(), plan.todo.size(),

@@ -41,6 +41,9 @@ void addOptions(CLI::App& app, Options& o) {
                  "with its 95 % confidence half-width) as CSV")
       ->type_name("FILE");
   app.add_flag("--quiet", o.quiet, "No progress line");
+  app.add_flag("--json", o.json,
+               "Print a JSON summary on stdout at the end: probes, seconds, probes/s, "
+               "processes, bytes per probe sent to the writer, writer seconds per probe");
 }
 
 void check(bool ok, const std::string& flag, const std::string& problem) {

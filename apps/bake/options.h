@@ -25,6 +25,7 @@ struct Options {
   BakeSettings settings;
   bool raysGiven = false;
   bool quiet = false;  ///< no progress line
+  bool json = false;   ///< a JSON summary on stdout at the end (dpc-bench bake reads it)
 };
 
 /// Parses argv; returns false (after printing help) when the program should exit 0 at once.

@@ -36,6 +36,15 @@ complete cut.h5 && fail "interrupted bake marked complete"
 "$bake" --resume cut.h5 --quiet
 h5diff clean.h5 cut.h5 || fail "resumed bake differs from the clean one"
 
+echo "== the map of a complete bake, and the h5py example reading it"
+"$bake" --resume clean.h5 --map map.csv --quiet
+# 70 probes x 1 source x (9 rows x 7 parameters + STI) rows and the header.
+[[ $(wc -l <map.csv) == $((70 * 64 + 1)) ]] || fail "map.csv has $(wc -l <map.csv) lines"
+if /usr/bin/python3 -c 'import h5py' 2>/dev/null; then
+  /usr/bin/python3 "$2/examples/python/read_bake.py" clean.h5 5 1.6 3.5 | grep -q STI ||
+    fail "read_bake.py"
+fi
+
 echo "== bad input: one line, exit 1, nothing created or changed"
 listing() { find . -maxdepth 1 -type f ! -name err.txt -printf '%f %s %T@\n' | sort; }
 expect_refusal() {  # expect_refusal WORD ARGS...: exit 1, one line containing WORD

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
-#include <numbers>
 
 #include "common/input_error.h"
 #include "engine/embree_tracer.h"
@@ -13,14 +12,6 @@ namespace dpc::bake {
 namespace {
 
 enum class Placement { kKept, kOutside, kInsideGeometry, kNearSurface };
-
-/// Direction i of n on a Fibonacci sphere (the setup check's directions).
-glm::vec3 fibonacci(int i, int n) {
-  const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
-  const double y = 1.0 - 2.0 * (i + 0.5) / n;
-  const double r = std::sqrt(1.0 - y * y);
-  return {float(r * std::cos(golden * i)), float(y), float(r * std::sin(golden * i))};
-}
 
 /// +1 when the mesh's normals point into the enclosed air (a room modelled from inside: the
 /// signed volume sum v0 . (v1 x v2) / 6 is negative), -1 when they point out of it.
@@ -38,7 +29,7 @@ Placement place(const Tracer& tracer, const glm::vec3& p, float radius, float ai
   float nearest = 1e30f;
   int facingAir = 0;
   for (int i = 0; i < kSetupCheckDirections; ++i) {
-    const glm::vec3 d = fibonacci(i, kSetupCheckDirections);
+    const glm::vec3 d = setupCheckDirection(i);
     SurfaceHit hit;
     if (!tracer.intersect(TraceRay{p, d, 0.f, 1e30f}, hit)) return Placement::kOutside;
     nearest = std::min(nearest, hit.t);

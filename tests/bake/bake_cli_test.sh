@@ -78,6 +78,13 @@ echo "== mpirun -np 1 and -np 2 equal the single-process bake"
 h5diff single.h5 np1.h5 || fail "-np 1 differs"
 h5diff single.h5 np2.h5 || fail "-np 2 differs"
 
+echo "== an interrupted bake resumed under mpirun -np 2 equals the clean one"
+"$bake" "$scene" --out cut2.h5 "${slow[@]}" 2>cut2.err & pid=$!
+kill_after_first_probe cut2.err $pid TERM
+if wait $pid; then fail "interrupted bake exited 0"; fi
+"${mpi[@]}" -np 2 "$bake" --resume cut2.h5 --quiet --threads 1
+h5diff clean.h5 cut2.h5 || fail "bake resumed under MPI differs from the clean one"
+
 echo "== a rank killed mid-bake: non-zero exit, a file --resume completes"
 "${mpi[@]}" -np 2 "$bake" "$scene" --out killed.h5 "${slow[@]}" 2>killed.err & mp=$!
 for _ in $(seq 1 600); do grep -q 'probes/s' killed.err 2>/dev/null && break; sleep 0.1; done

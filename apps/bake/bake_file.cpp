@@ -22,6 +22,10 @@ struct ProbeDataset {
 const ProbeDataset kProbeDatasets[] = {
     {"energy", &ProbeResult::energy,
      [](const ProbeShape& s) { return std::vector<hsize_t>{s.sources, s.bins, kNumBands}; }},
+    {"directional_energy", &ProbeResult::directional,
+     [](const ProbeShape& s) {
+       return std::vector<hsize_t>{s.sources, s.directionalBins(), kDirections, kNumBands};
+     }},
     {"direct/delay_s", &ProbeResult::directDelay,
      [](const ProbeShape& s) { return std::vector<hsize_t>{s.sources}; }},
     {"direct/energy", &ProbeResult::directEnergy,
@@ -66,6 +70,7 @@ void writeHeaderAttributes(hid_t root, const BakeHeader& h) {
   writeAttribute(root, "sub_streams", int64_t(h.settings.subStreams));
   writeAttribute(root, "ir_length_s", h.settings.irLength);
   writeAttribute(root, "bin_seconds", 1e-3);
+  writeAttribute(root, "directional_bin_seconds", 1e-3 * double(kDirectionalBinFactor));
   writeAttribute(root, "grid_candidates", uint64_t(h.probes.candidates));
   writeAttribute(root, "skipped_outside", uint64_t(h.probes.outside));
   writeAttribute(root, "skipped_inside_geometry", uint64_t(h.probes.insideGeometry));
@@ -190,6 +195,8 @@ BakeFile BakeFile::create(const std::string& path, const std::string& displayPat
   h5::writeAll(f, "probes/done", H5T_NATIVE_UINT8, none.data());
   h5::createDataset(f, "sources/position", H5T_NATIVE_FLOAT, {header.sources.size(), 3}, false);
   h5::writeAll(f, "sources/position", H5T_NATIVE_FLOAT, header.sources.data());
+  h5::createDataset(f, "directions", H5T_NATIVE_FLOAT, {kDirections, 3}, false);
+  h5::writeAll(f, "directions", H5T_NATIVE_FLOAT, kDirectionAxes.data());
   h5::createDataset(f, "band_centres_hz", H5T_NATIVE_FLOAT, {kNumBands}, false);
   h5::writeAll(f, "band_centres_hz", H5T_NATIVE_FLOAT, kBandCentreHz.data());
   for (const ProbeDataset& d : kProbeDatasets)

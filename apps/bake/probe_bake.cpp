@@ -54,6 +54,33 @@ void addDirect(const DirectSound& d, double bin, BandSeries& series) {
   for (int b = 0; b < kNumBands; ++b) series[size_t(b)][k] += d.intensity[b];
 }
 
+/// The 6 axes in the listener frame of the default orientation (facing +x, y up), which is the
+/// frame the simulation's directional responses use.
+std::vector<glm::vec3> listenerAxes() {
+  const DirectionalEnergyResponse frame;
+  std::vector<glm::vec3> axes;
+  for (const auto& a : kDirectionAxes) axes.push_back(frame.toListener({a[0], a[1], a[2]}));
+  return axes;
+}
+
+/// Adds `weight` times a directional response into dir[(k / factor) * kDirections + j][band].
+void accumulateDirectional(const DirectionalEnergyResponse& r, double weight,
+                           std::vector<Bands>& dir) {
+  for (size_t j = 0; j < r.directionCount(); ++j) {
+    const auto& bins = r.response(j).bins();
+    for (size_t k = 0; k < bins.size(); ++k)
+      dir[(k / kDirectionalBinFactor) * kDirections + j] += bins[k] * float(weight);
+  }
+}
+
+/// The direct sound of a source shared among the axes as the simulation shares its paths.
+void addDirectDirectional(const DirectSound& d, double irLength, std::vector<Bands>& dir) {
+  if (!d.visible) return;
+  DirectionalEnergyResponse panner(irLength, Simulation::kEnergyBinSeconds, listenerAxes());
+  panner.add(d.delaySeconds, d.intensity, d.direction);
+  accumulateDirectional(panner, 1.0, dir);
+}
+
 /// Mean and 95 % half-width over the groups' parameter vectors, into the result's slots.
 void summarise(const std::vector<double>& mean, const std::vector<std::vector<double>>& groups,
                size_t source, ProbeResult& out) {
@@ -88,6 +115,7 @@ PropagationSettings probeSettings(const SceneDesc& scene, const BakeSettings& s,
 ProbeResult allocate(const ProbeShape& shape) {
   ProbeResult r;
   r.energy.assign(shape.energyFloats(), 0.f);
+  r.directional.assign(shape.directionalFloats(), 0.f);
   r.directDelay.assign(shape.sources, 0.f);
   r.directEnergy.assign(shape.sources * kNumBands, 0.f);
   r.parameters.assign(shape.parameterFloats(), 0.f);
@@ -108,6 +136,35 @@ void storeSource(const BandSeries& mean, const DirectSound& d, size_t s, const P
     out.directEnergy[s * kNumBands + size_t(b)] = d.visible ? d.intensity[b] : 0.f;
 }
 
+/// One source's directional energies into the result's rows.
+void storeDirectional(const std::vector<Bands>& dir, size_t s, const ProbeShape& shape,
+                      ProbeResult& out) {
+  const size_t per = shape.directionalBins() * kDirections;
+  for (size_t i = 0; i < per; ++i)
+    for (int b = 0; b < kNumBands; ++b)
+      out.directional[(s * per + i) * kNumBands + size_t(b)] = dir[i][b];
+}
+
+/// One source's groups of frames into the result: the mean response with the direct sound, its
+/// parameters and their confidence half-widths from the groups.
+void finishSource(std::vector<BandSeries>& groups, const DirectSound& direct, size_t s,
+                  const ProbeShape& shape, ProbeResult& out) {
+  const double bin = Simulation::kEnergyBinSeconds;
+  BandSeries mean;
+  for (auto& band : mean) band.assign(shape.bins, 0.0);
+  std::vector<std::vector<double>> groupParameters;
+  for (auto& g : groups) {
+    for (int b = 0; b < kNumBands; ++b)
+      for (size_t k = 0; k < shape.bins; ++k)
+        mean[size_t(b)][k] += g[size_t(b)][k] / double(groups.size());
+    addDirect(direct, bin, g);
+    groupParameters.push_back(parametersOf(g, bin));
+  }
+  addDirect(direct, bin, mean);
+  storeSource(mean, direct, s, shape, out);
+  summarise(parametersOf(mean, bin), groupParameters, s, out);
+}
+
 }  // namespace
 
 size_t responseBins(double irLength) {
@@ -121,7 +178,9 @@ ProbeShape probeShape(const SceneDesc& scene, const BakeSettings& settings) {
 ProbeBaker::ProbeBaker(const SceneDesc& scene, const BakeSettings& settings)
     : scene_(scene),
       settings_(settings),
-      sim_(std::make_unique<Simulation>(scene, probeSettings(scene, settings, 0))) {}
+      sim_(std::make_unique<Simulation>(scene, probeSettings(scene, settings, 0))) {
+  sim_->enableDirectional(listenerAxes());
+}
 
 ProbeBaker::~ProbeBaker() = default;
 
@@ -131,46 +190,38 @@ ProbeResult bakeProbe(const SceneDesc& scene, const BakeSettings& settings, size
 }
 
 ProbeResult ProbeBaker::bake(size_t probe, const glm::vec3& position) {
-  const SceneDesc& scene = scene_;
-  const BakeSettings& settings = settings_;
-  const ProbeShape shape = probeShape(scene, settings);
+  const ProbeShape shape = probeShape(scene_, settings_);
   Simulation& sim = *sim_;
-  sim.restart(hashCombine(scene.propagation.seed, probe));
-  const size_t groups = size_t(settings.subStreams);
-  const size_t perGroup = size_t(settings.frames) / groups;
-  // series[source][group]: the group's mean response.
+  sim.restart(hashCombine(scene_.propagation.seed, probe));
+  const size_t groups = size_t(settings_.subStreams);
+  const size_t perGroup = size_t(settings_.frames) / groups;
+  // series[source][group]: the group's mean response; directional[source]: [directional bin]
+  // [direction] band energies, mean over all frames.
   std::vector<std::vector<BandSeries>> series(shape.sources, std::vector<BandSeries>(groups));
   for (auto& src : series)
     for (auto& g : src)
       for (auto& band : g) band.assign(shape.bins, 0.0);
+  std::vector<std::vector<Bands>> directional(
+      shape.sources, std::vector<Bands>(shape.directionalBins() * kDirections, Bands(0.f)));
   for (size_t f = 0; f < groups * perGroup; ++f) {
     sim.runFrame(position);
-    for (size_t s = 0; s < shape.sources; ++s)
+    for (size_t s = 0; s < shape.sources; ++s) {
       accumulate(sim.result(s).energy, 1.0 / double(perGroup), series[s][f / perGroup]);
+      accumulateDirectional(sim.directional(s), 1.0 / double(groups * perGroup), directional[s]);
+    }
   }
   ProbeResult out = allocate(shape);
-  const double bin = Simulation::kEnergyBinSeconds;
   for (size_t s = 0; s < shape.sources; ++s) {
-    BandSeries mean;
-    for (auto& band : mean) band.assign(shape.bins, 0.0);
-    std::vector<std::vector<double>> groupParameters;
-    for (auto& g : series[s]) {
-      for (int b = 0; b < kNumBands; ++b)
-        for (size_t k = 0; k < shape.bins; ++k)
-          mean[size_t(b)][k] += g[size_t(b)][k] / double(groups);
-      addDirect(sim.result(s).direct, bin, g);
-      groupParameters.push_back(parametersOf(g, bin));
-    }
-    addDirect(sim.result(s).direct, bin, mean);
-    storeSource(mean, sim.result(s).direct, s, shape, out);
-    summarise(parametersOf(mean, bin), groupParameters, s, out);
+    addDirectDirectional(sim.result(s).direct, settings_.irLength, directional[s]);
+    storeDirectional(directional[s], s, shape, out);
+    finishSource(series[s], sim.result(s).direct, s, shape, out);
   }
   return out;
 }
 
 std::vector<float> pack(const ProbeResult& r) {
   std::vector<float> out;
-  for (const auto* v : {&r.energy, &r.directDelay, &r.directEnergy, &r.parameters,
+  for (const auto* v : {&r.energy, &r.directional, &r.directDelay, &r.directEnergy, &r.parameters,
                         &r.parametersCi, &r.sti, &r.stiCi})
     out.insert(out.end(), v->begin(), v->end());
   return out;
@@ -179,7 +230,7 @@ std::vector<float> pack(const ProbeResult& r) {
 ProbeResult unpack(const std::vector<float>& packed, const ProbeShape& shape) {
   ProbeResult r = allocate(shape);
   auto it = packed.begin();
-  for (auto* v : {&r.energy, &r.directDelay, &r.directEnergy, &r.parameters, &r.parametersCi,
+  for (auto* v : {&r.energy, &r.directional, &r.directDelay, &r.directEnergy, &r.parameters, &r.parametersCi,
                   &r.sti, &r.stiCi}) {
     std::copy(it, it + std::ptrdiff_t(v->size()), v->begin());
     it += std::ptrdiff_t(v->size());

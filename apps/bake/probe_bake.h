@@ -36,6 +36,15 @@ namespace dpc::bake {
 inline constexpr int kParameters = 7;
 inline constexpr std::array<const char*, kParameters> kParameterNames = {
     "T20", "T30", "EDT", "C50", "C80", "D50", "G"};
+/// Directional energy: the response shared among 6 world axes (+x, -x, +y, -y, +z, -z; y up)
+/// with the engine's cosine-power panning in energy (engine/energy_response.h,
+/// DirectionalEnergyResponse, exponent 4: the 6 parts add up to the response), in bins of
+/// kDirectionalBinFactor energy bins (10 ms).
+inline constexpr int kDirections = 6;
+inline constexpr std::array<std::array<float, 3>, kDirections> kDirectionAxes = {
+    {{1.f, 0.f, 0.f}, {-1.f, 0.f, 0.f}, {0.f, 1.f, 0.f}, {0.f, -1.f, 0.f}, {0.f, 0.f, 1.f},
+     {0.f, 0.f, -1.f}}};
+inline constexpr size_t kDirectionalBinFactor = 10;
 /// Parameter rows per source: the 8 octave bands (63 Hz .. 8 kHz), then broadband (their sum).
 inline constexpr int kParameterRows = kNumBands + 1;
 
@@ -52,10 +61,18 @@ struct ProbeShape {
   size_t sources = 0;
   size_t bins = 0;  ///< energy bins of Simulation::kEnergyBinSeconds
   size_t energyFloats() const { return sources * bins * kNumBands; }
+  /// Directional bins: bins / kDirectionalBinFactor, rounded up.
+  size_t directionalBins() const {
+    return (bins + kDirectionalBinFactor - 1) / kDirectionalBinFactor;
+  }
+  size_t directionalFloats() const {
+    return sources * directionalBins() * kDirections * kNumBands;
+  }
   size_t parameterFloats() const { return sources * kParameterRows * kParameters; }
   /// All of a ProbeResult's floats, packed (pack/unpack).
   size_t packedFloats() const {
-    return energyFloats() + sources * (1 + kNumBands) + 2 * parameterFloats() + 2 * sources;
+    return energyFloats() + directionalFloats() + sources * (1 + kNumBands) +
+           2 * parameterFloats() + 2 * sources;
   }
 };
 
@@ -67,6 +84,9 @@ struct ProbeResult {
   /// [source][bin][band]: mean energy per 1 ms bin, 1/m^2 relative to source power, the direct
   /// sound included in the bin of its arrival.
   std::vector<float> energy;
+  /// [source][directional bin][direction][band]: energy of `energy` arriving from around each
+  /// of kDirectionAxes, per 10 ms bin, 1/m^2 (direct sound included).
+  std::vector<float> directional;
   std::vector<float> directDelay;   ///< [source]: direct-sound delay, s (0 when occluded)
   std::vector<float> directEnergy;  ///< [source][band]: direct-sound intensity, 1/m^2
   std::vector<float> parameters;    ///< [source][row][parameter] (kParameterNames)

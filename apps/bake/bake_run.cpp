@@ -41,7 +41,13 @@ Plan planFresh(const Options& o) {
   h.settings.irLength = plan.scene.propagation.irLength;
   h.grid = o.grid;
   h.grid.radiusM = plan.scene.listeners[0].radius;
-  h.probes = makeProbeGrid(plan.scene, h.grid, o.scene);
+  if (o.probes.empty()) {
+    h.probes = makeProbeGrid(plan.scene, h.grid, o.scene);
+  } else {
+    h.grid.spacingM = h.grid.heightM = 0.0;  // a list: no grid
+    h.probes = placeProbes(plan.scene, readProbeList(o.probes), h.grid.radiusM, o.probes,
+                           "--probes");
+  }
   for (const SourceDesc& s : plan.scene.sources) h.sources.push_back(sourcePositionAt(s, 0.0));
   h.shape = probeShape(plan.scene, h.settings);
   for (size_t p = 0; p < h.probes.positions.size(); ++p) plan.todo.push_back(p);
@@ -84,7 +90,7 @@ void printEstimate(const Plan& plan, const Cluster& cluster) {
                       double(h.settings.frames) * double(h.settings.rays);
   const double mb = double(plan.todo.size()) * double(h.shape.packedFloats()) * 4.0 / 1e6;
   std::fprintf(stderr,
-               "dpc-bake: %zu probes to bake of %zu (grid of %zu: %zu outside, %zu inside "
+               "dpc-bake: %zu probes to bake of %zu (%zu candidates: %zu outside, %zu inside "
                "geometry, %zu near a surface) x %zu sources x %d frames x %d rays = %.3g rays, "
                "%.1f MB of data, %d process%s\n",
                plan.todo.size(), h.probes.positions.size(), h.probes.candidates, h.probes.outside,

@@ -28,6 +28,11 @@ void addOptions(CLI::App& app, Options& o) {
       ->type_name("M");
   app.add_option("--height", o.grid.heightM, "Probe height above the floor, metres (default 1.6)")
       ->type_name("M");
+  app.add_option("--probes", o.probes,
+                 "Probe positions instead of a grid: a text file, one 'x y z' (metres) a line")
+      ->type_name("FILE")
+      ->excludes("--spacing")
+      ->excludes("--height");
   app.add_option("--rays", o.settings.rays,
                  "Rays per source and frame (default: the scene's rays_per_frame)")
       ->type_name("N");
@@ -54,7 +59,9 @@ void validate(const Options& o, const CLI::App& app) {
   const bool fresh = o.resume.empty();
   check(!fresh || !o.scene.empty(), "SCENE", "a scene file is required (or --resume BAKE.h5)");
   check(!fresh || !o.out.empty(), "--out", "the bake file is required");
-  check(!fresh || o.spacingGiven, "--spacing", "the probe spacing is required");
+  check(!fresh || o.spacingGiven || !o.probes.empty(), "--spacing",
+        "the probe spacing (or --probes) is required");
+  check(fresh || o.probes.empty(), "--resume", "a resumed bake keeps its own probes");
   check(fresh || (app.count("--spacing") == 0 && app.count("--height") == 0 &&
                   app.count("--rays") == 0 && app.count("--frames") == 0),
         "--resume", "a resumed bake keeps its own grid, rays and frames");

@@ -20,6 +20,7 @@ struct Options {
   std::string out;     ///< --out BAKE.h5 (fresh bake)
   std::string resume;  ///< --resume BAKE.h5
   std::string map;     ///< --map MAP.csv: parameter map after the bake
+  std::string probes;  ///< --probes LIST: probe positions instead of a grid
   GridRequest grid;
   bool spacingGiven = false;
   BakeSettings settings;

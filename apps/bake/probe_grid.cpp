@@ -2,9 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <glm/vector_relational.hpp>
+#include <sstream>
 #include <glm/geometric.hpp>
 
 #include "common/input_error.h"
+#include "common/input_file.h"
 #include "engine/embree_tracer.h"
 #include "engine/setup_check.h"
 
@@ -51,6 +55,22 @@ void count(ProbeGrid& grid, Placement p, const glm::vec3& position) {
 
 }  // namespace
 
+ProbeGrid placeProbes(const SceneDesc& scene, const std::vector<glm::vec3>& candidates,
+                      float radius, const std::string& sceneFile, const std::string& field) {
+  const EmbreeTracer tracer(scene.mesh);
+  const float side = airSide(scene.mesh);
+  ProbeGrid grid;
+  for (const glm::vec3& p : candidates) count(grid, place(tracer, p, radius, side), p);
+  grid.candidates = candidates.size();
+  if (grid.positions.empty())
+    throw InputError(sceneFile, field,
+                     "no valid probe among " + std::to_string(grid.candidates) +
+                         " candidates (" + std::to_string(grid.outside) + " outside, " +
+                         std::to_string(grid.insideGeometry) + " inside geometry, " +
+                         std::to_string(grid.nearSurface) + " near a surface)");
+  return grid;
+}
+
 ProbeGrid makeProbeGrid(const SceneDesc& scene, const GridRequest& request,
                         const std::string& sceneFile) {
   if (!(request.spacingM > 0.0) || !std::isfinite(request.spacingM))
@@ -67,24 +87,39 @@ ProbeGrid makeProbeGrid(const SceneDesc& scene, const GridRequest& request,
     throw InputError("command line", "--spacing",
                      std::to_string(request.spacingM) + " m gives more than " +
                          std::to_string(kMaxGridCandidates) + " grid points");
-  const EmbreeTracer tracer(scene.mesh);
-  ProbeGrid grid;
+  std::vector<glm::vec3> candidates;
   const float y = float(lo.y + request.heightM);
-  const float side = airSide(scene.mesh);
   for (size_t j = 0; j < size_t(nz); ++j)
-    for (size_t i = 0; i < size_t(nx); ++i) {
-      const glm::vec3 p(float(lo.x + (double(i) + 0.5) * request.spacingM), y,
-                        float(lo.z + (double(j) + 0.5) * request.spacingM));
-      count(grid, place(tracer, p, request.radiusM, side), p);
-      ++grid.candidates;
-    }
-  if (grid.positions.empty())
-    throw InputError(sceneFile, "--spacing/--height",
-                     "no valid probe among " + std::to_string(grid.candidates) +
-                         " grid points (" + std::to_string(grid.outside) + " outside, " +
-                         std::to_string(grid.insideGeometry) + " inside geometry, " +
-                         std::to_string(grid.nearSurface) + " near a surface)");
-  return grid;
+    for (size_t i = 0; i < size_t(nx); ++i)
+      candidates.emplace_back(float(lo.x + (double(i) + 0.5) * request.spacingM), y,
+                              float(lo.z + (double(j) + 0.5) * request.spacingM));
+  return placeProbes(scene, candidates, request.radiusM, sceneFile, "--spacing/--height");
+}
+
+std::vector<glm::vec3> readProbeList(const std::string& path) {
+  checkInputFile(path, kMaxProbeListBytes, path, "", "probe list");
+  std::ifstream in(path);
+  std::vector<glm::vec3> points;
+  std::string line;
+  for (size_t n = 1; std::getline(in, line); ++n) {
+    if (line.find('#') != std::string::npos) line.erase(line.find('#'));
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream fields(line);
+    std::string extra;
+    glm::vec3 p;
+    if (!(fields >> std::ws).good()) continue;  // blank or comment
+    if (!(fields >> p.x >> p.y >> p.z) || (fields >> extra) || !std::isfinite(p.x) ||
+        !std::isfinite(p.y) || !std::isfinite(p.z) || glm::any(glm::greaterThan(
+                                                            glm::abs(p), glm::vec3(kMaxCoordinateM))))
+      throw InputError(path, "line " + std::to_string(n),
+                       "expected three finite coordinates x y z in metres");
+    points.push_back(p);
+    if (points.size() > kMaxGridCandidates)
+      throw InputError(path, "line " + std::to_string(n),
+                       "more than " + std::to_string(kMaxGridCandidates) + " probes");
+  }
+  if (points.empty()) throw InputError(path, "", "no probe position");
+  return points;
 }
 
 }  // namespace dpc::bake

@@ -1,5 +1,5 @@
-// The probes of a bake: a horizontal grid over the static mesh's bounding box, kept where a
-// listener can stand. Control thread; builds its own tracer (Embree) over the static mesh;
+// The probes of a bake: a horizontal grid over the static mesh's bounding box, or a list of
+// positions, kept where a listener can stand. Control thread; builds its own tracer (Embree) over the static mesh;
 // allocates; throws InputError naming the flag for a bad request.
 //
 // Grid: cell centres x = xmin + (i + 1/2) spacing, z = zmin + (j + 1/2) spacing over the
@@ -19,6 +19,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <glm/vec3.hpp>
 #include <string>
 #include <vector>
@@ -50,5 +51,19 @@ struct ProbeGrid {
 /// (`sceneFile`, "--spacing/--height", ...) when no candidate is kept.
 ProbeGrid makeProbeGrid(const SceneDesc& scene, const GridRequest& request,
                         const std::string& sceneFile);
+
+/// The candidates that pass the placement rules above, with the skipped counts. Throws
+/// InputError(sceneFile, field, ...) when none does.
+ProbeGrid placeProbes(const SceneDesc& scene, const std::vector<glm::vec3>& candidates,
+                      float radius, const std::string& sceneFile, const std::string& field);
+
+/// Largest probe list file read, bytes (a million lines of three coordinates).
+inline constexpr std::uintmax_t kMaxProbeListBytes = 64u << 20;
+
+/// Probe positions from a text file: one probe per line, "x y z" or "x,y,z" in metres, '#'
+/// starts a comment, blank lines skipped. Throws InputError(path, "line N", ...) for a line
+/// that is not three finite coordinates within the scene limits, and (path, "", ...) for a
+/// missing, oversized or empty file.
+std::vector<glm::vec3> readProbeList(const std::string& path);
 
 }  // namespace dpc::bake

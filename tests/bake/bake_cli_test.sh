@@ -60,6 +60,8 @@ expect_refusal --spacing "$scene" --out keep.h5 --spacing 0
 expect_refusal --spacing "$scene" --out keep.h5 --spacing -1
 expect_refusal shoebox.json "$scene" --out keep.h5 --spacing 50
 expect_refusal --height "$scene" --out keep.h5 --spacing 1 --height 9
+printf '5 1.6 3.5\n5 1.6\n' >list.txt
+expect_refusal "list.txt: line 2" "$scene" --out keep.h5 --probes list.txt
 head -c 3000 clean.h5 >truncated.h5
 expect_refusal truncated.h5 --resume truncated.h5
 cp cut.h5 other.h5

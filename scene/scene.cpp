@@ -82,7 +82,8 @@ glm::quat sourceRotationAt(const SourceDesc& source, double t) {
   // A keyframe without a rotation (only when the scene was built in code): the source's.
   const glm::quat a = prev->rotation.value_or(source.rotation);
   const glm::quat b = next->rotation.value_or(source.rotation);
-  return slerpShorter(a, b, float((t - prev->timeSeconds) / (next->timeSeconds - prev->timeSeconds)));
+  return slerpShorter(a, b,
+                      float((t - prev->timeSeconds) / (next->timeSeconds - prev->timeSeconds)));
 }
 
 glm::vec3 sourceForward(const glm::quat& q) {

@@ -80,7 +80,8 @@ TEST_CASE("Bad directivity input names the file and the field", "[scene][directi
   Fixture f;
   SECTION("unknown pattern") {
     f.scene["sources"][0]["directivity"] = "shotgun";
-    CHECK_THAT(f.error(), Contains("scene.json: sources[0].directivity: \"shotgun\" is not one of"));
+    CHECK_THAT(f.error(),
+               Contains("scene.json: sources[0].directivity: \"shotgun\" is not one of"));
   }
   SECTION("unknown pattern inside an object") {
     f.scene["sources"][0]["directivity"] = {{"pattern", "omni2"}};
@@ -102,6 +103,7 @@ TEST_CASE("Bad directivity input names the file and the field", "[scene][directi
     f.scene["sources"][0]["trajectory"] = json::parse(
         R"([{"t": 0, "position": [0.5, 0.5, 0.5], "rotation": [0, 0, 0, 1]},
             {"t": 2, "position": [0.5, 0.5, 0.5]}])");
-    CHECK_THAT(f.error(), Contains("sources[0].trajectory[1].rotation: give \"rotation\" on every"));
+    CHECK_THAT(f.error(),
+               Contains("sources[0].trajectory[1].rotation: give \"rotation\" on every"));
   }
 }

@@ -145,7 +145,8 @@ void Simulation::finishPair(size_t s, size_t l, const glm::vec3& source,
   r.direct = propagator_->directSound(source, listener);
   if (diffraction_)
     diffraction_->apply(*tracer_, source, listener, settings_.speedOfSound,
-                        propagator_->airAttenuationPerMetre(), r.direct);
+                        propagator_->airAttenuationPerMetre(), r.direct, directivities_[s],
+                        sourceForwards_[s]);
   r.energy.clear();
   DirectionalEnergyResponse* dir = nullptr;
   if (!directional_.empty()) {

@@ -37,7 +37,7 @@ struct DirectivityPattern {
   float a;
 };
 
-/// The named patterns of the scene format's "directivity" (Eargle, op. cit., table 5-1).
+/// The named patterns of the scene format's "directivity" (Eargle, op. cit., ch. 5).
 inline constexpr std::array<DirectivityPattern, 6> kDirectivityPatterns = {{
     {"omni", 0.f},
     {"subcardioid", 0.3f},

@@ -130,12 +130,12 @@ TEST_CASE("Emitted rays are weighted by the pattern (writes directivity_polar.cs
 // Room acoustics: the reverberant field is fed by the source's power in all directions, so a
 // directional source of the same power gives the omni source's reverberant level (the
 // direct-to-reverberant ratio rises by the directivity index; Kuttruff, Room Acoustics, 5th
-// ed., sec. 5.6). Shoebox with scattering 1, mean free path 4V/S = 3.5 m: the energy after
-// 100 ms (about ten reflections; before 50 ms the forward-facing source still puts more energy
-// on the listener's side: +5 % at 40 ms); each frame's rays are new, and the same seed makes omni
-// and cardioid trace the same rays, so the per-frame ratio's spread is the Monte Carlo error of the
-// weighting. The mean ratio must be 1 within 4 standard errors of the frames and 1 %, the room's
-// remaining memory of the emission direction.
+// ed., ch. 5, the reverberation distance). Shoebox with scattering 1, mean free path 4V/S =
+// 3.5 m: the energy after 100 ms (about ten reflections; before 50 ms the forward-facing
+// source still puts more energy on the listener's side: +5 % at 40 ms); each frame's rays are
+// new, and the same seed makes omni and cardioid trace the same rays, so the per-frame ratio's
+// spread is the Monte Carlo error of the weighting. The mean ratio must be 1 within 4 standard
+// errors of the frames and 1 %, the room's remaining memory of the emission direction.
 TEST_CASE("A directional source's reverberant energy equals the omni source's", "[directivity]") {
   const size_t lateBin = 100;  // 1 ms bins
   auto run = [](const Directivity& d, int frames) {

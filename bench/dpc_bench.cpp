@@ -20,6 +20,7 @@
 #include <exception>
 #include <vector>
 
+#include "bench/bake_bench.h"
 #include "bench/bench_util.h"
 #include "bench/budget_bench.h"
 #include "bench/convolve_bench.h"
@@ -48,12 +49,13 @@ struct Options {
   DynamicOptions dynamic;
   ConvolveOptions convolve;
   LoadOptions load;
+  BakeBenchOptions bake;
 };
 
 /// The subcommands as CLI11 knows them (each is true once parsed).
 struct Subcommands {
   CLI::App *propagation, *noise, *live, *listeners, *diffraction, *budget, *dynamic, *convolve,
-      *load;
+      *load, *bake;
 };
 
 /// A subcommand that loads a scene, with the options every such benchmark takes.
@@ -140,6 +142,20 @@ CLI::App* addLoad(CLI::App& app, Options& o) {
   return sub;
 }
 
+CLI::App* addBake(CLI::App& app, Options& o) {
+  CLI::App* sub = app.add_subcommand(
+      "bake", "dpc-bake probes/s vs probe count: 1 and 2 threads, mpirun -np 2; scaling plan");
+  sub->add_option("scene", o.bake.scene, "Scene file")->required();
+  sub->add_option("--spacings", o.bake.spacings, "Grid spacings, m (default 2 1 0.5)")
+      ->check(CLI::PositiveNumber);
+  sub->add_option("--rays", o.bake.rays, "Rays per source and frame (default 1000)")
+      ->check(CLI::Range(1, 1 << 20));
+  sub->add_option("--frames", o.bake.frames, "Frames per probe, a multiple of 4 (default 8)");
+  sub->add_option("--bake", o.bake.bake, "The dpc-bake program (default: beside dpc-bench)");
+  sub->add_option("--mpirun", o.bake.mpirun, "mpirun program (empty: skip the MPI runs)");
+  return sub;
+}
+
 /// Defines every subcommand, in the order --help lists them.
 Subcommands addSubcommands(CLI::App& app, Options& o) {
   Subcommands s{};
@@ -159,6 +175,7 @@ Subcommands addSubcommands(CLI::App& app, Options& o) {
   s.dynamic = addDynamic(app, o);
   s.convolve = addConvolve(app, o);
   s.load = addLoad(app, o);
+  s.bake = addBake(app, o);
   return s;
 }
 
@@ -168,6 +185,7 @@ int run(const Subcommands& s, const Options& o) {
   if (*s.dynamic) return benchDynamic(o.dynamic);
   if (*s.listeners) return benchListeners(o.common, o.listeners);
   if (*s.convolve) return benchConvolve(o.convolve);
+  if (*s.bake) return benchBake(o.bake);
   if (*s.budget) return benchBudget(o.common, o.budgetRays);
   if (*s.diffraction) return benchDiffraction(o.common);
   if (*s.live) return benchLive(o.common, o.live);

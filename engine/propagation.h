@@ -183,6 +183,8 @@ class Propagator {
   void forEachParallel(size_t n, const std::function<void(size_t)>& f);
   const PropagationSettings& settings() const { return settings_; }
   void setRaysPerFrame(int n) { settings_.raysPerFrame = n; }
+  /// Random seed of the following frames (every ray's stream derives from it). No allocation.
+  void setSeed(uint64_t seed) { settings_.seed = seed; }
   /// Path identifier rule (engine/patch.h); default PathKeyRule::forRoom of the geometry's
   /// bounding box and surface area with 1 ms energy bins. Propagation thread, between frames.
   void setPathKeyRule(const PathKeyRule& rule) { keyRule_ = rule; }

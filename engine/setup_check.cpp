@@ -19,11 +19,8 @@ struct Seen {
 
 Seen look(const Tracer& tracer, const glm::vec3& p) {
   Seen s;
-  const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
   for (int i = 0; i < kSetupCheckDirections; ++i) {
-    const double y = 1.0 - 2.0 * (i + 0.5) / kSetupCheckDirections;
-    const double r = std::sqrt(1.0 - y * y);
-    const glm::vec3 d(float(r * std::cos(golden * i)), float(y), float(r * std::sin(golden * i)));
+    const glm::vec3 d = setupCheckDirection(i);
     SurfaceHit hit;
     if (!tracer.intersect(TraceRay{p, d, 0.f, 1e30f}, hit)) {
       ++s.escaped;
@@ -42,6 +39,13 @@ std::string fmt(const char* f, double a, double b = 0, double c = 0) {
 }
 
 }  // namespace
+
+glm::vec3 setupCheckDirection(int i) {
+  const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
+  const double y = 1.0 - 2.0 * (i + 0.5) / kSetupCheckDirections;
+  const double r = std::sqrt(1.0 - y * y);
+  return {float(r * std::cos(golden * i)), float(y), float(r * std::sin(golden * i))};
+}
 
 std::vector<std::string> setupWarnings(const SceneDesc& scene) {
   std::vector<std::string> out;

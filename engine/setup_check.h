@@ -5,6 +5,7 @@
 // scenes); allocates.
 #pragma once
 
+#include <glm/vec3.hpp>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,10 @@ inline constexpr float kTinyRadiusFraction = 1e-3f;
 
 /// Directions cast from each point (a Fibonacci sphere: near-uniform, deterministic).
 inline constexpr int kSetupCheckDirections = 64;
+
+/// Direction i (0 .. kSetupCheckDirections - 1) of the check: a unit vector on the Fibonacci
+/// sphere. Any thread; no allocation.
+glm::vec3 setupCheckDirection(int i);
 
 /// Warnings for the scene's listeners and sources at time 0 (trajectories evaluated there):
 /// - a point is "enclosed" when every direction hits the static mesh; when some points are

@@ -57,6 +57,14 @@ void Simulation::reserveListeners(size_t listeners) {
   if (orientations_.size() < listeners) orientations_.resize(listeners);
 }
 
+void Simulation::restart(uint64_t seed) {
+  settings_.seed = seed;
+  propagator_->setSeed(seed);
+  frame_ = 0;
+  for (auto& cache : caches_) cache->clear();
+  for (auto& cache : specularCaches_) cache->clear();
+}
+
 void Simulation::setListenerOrientation(size_t listener, const Orientation& orientation) {
   if (orientations_.size() <= listener) orientations_.resize(listener + 1);
   orientations_[listener] = orientation;

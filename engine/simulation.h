@@ -85,6 +85,11 @@ class Simulation {
   /// order; the scene's sourceRotationAt): each directional source's forward axis is
   /// rotation * (+x) (scene/directivity.h). Omni sources ignore it. No allocation.
   void setSourceRotations(const std::vector<glm::quat>& rotations);
+  /// Starts over as a Simulation constructed with settings().seed = seed would: frame count 0,
+  /// every cache emptied, so the following frames are bit-identical to a fresh one's while the
+  /// geometry, tracer and edge tables are kept (independent runs at many points, e.g. the
+  /// probes of a bake). Propagation thread, between frames; no allocation.
+  void restart(uint64_t seed);
 
   /// Moves the scene's objects (one pose per object, scene order) for the following frames
   /// (Tracer::setObjectPose, then commitPoses). No allocation.

@@ -1,0 +1,75 @@
+// The processes of one bake: Open MPI's ranks when the program was started by mpirun (and
+// built with MPI), else one process alone. The bake's data flow is a gather: every rank bakes
+// its share of the probes and sends each finished probe to rank 0, the only process that
+// touches the file (docs/bake.md says why a gather rather than parallel HDF5).
+// Main thread of each process only (MPI is initialised without thread support); allocates;
+// MPI failures abort the job (MPI's default error handler: mpirun then ends every rank).
+#pragma once
+
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "common/program_main.h"
+
+namespace dpc::bake {
+
+class Cluster {
+ public:
+  /// Joins the MPI job when started by mpirun (OMPI_COMM_WORLD_SIZE or PMI_SIZE set) and the
+  /// build has MPI; otherwise a cluster of one. Finalises MPI on destruction.
+  Cluster(int& argc, char**& argv);
+  ~Cluster();
+  Cluster(const Cluster&) = delete;
+  Cluster& operator=(const Cluster&) = delete;
+
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  bool usesMpi() const { return mpi_; }
+  /// True on every rank when `ok` is true on every rank (a collective: all ranks call it).
+  bool allOk(bool ok) const;
+
+  /// A finished probe: its index in the bake and its packed arrays (probe_bake.h pack()).
+  struct Message {
+    size_t probe = 0;
+    std::vector<float> data;
+  };
+  /// Sends a probe to rank 0 (ranks > 0) without waiting for it to be received (the buffer is
+  /// kept until it is; sends already received are released here).
+  void send(size_t probe, std::vector<float> data);
+  /// Waits until every send has been received (ranks > 0, before leaving).
+  void finishSends();
+  /// Rank 0: a probe of `floats` floats another rank has sent, if one is waiting (never blocks
+  /// for long: the caller polls, so that a signal is answered while waiting).
+  std::optional<Message> receive(size_t floats) const;
+
+ private:
+  struct Pending;  ///< a send in flight: its buffers and MPI requests
+  int rank_ = 0, size_ = 1;
+  bool mpi_ = false;
+  std::vector<std::unique_ptr<Pending>> pending_;
+};
+
+/// Whether this build can join an MPI job.
+bool builtWithMpi();
+
+/// Runs step() -> exit status on every rank of `cluster`; rank 0 prints an escaping exception
+/// as dpc's one error line (common/program_main.h), the other ranks stay silent (they meet the
+/// same input). A collective: true on every rank when step returned 0 on every rank.
+template <typename Step>
+bool together(Cluster& cluster, Step&& step) {
+  int status = 1;
+  if (cluster.rank() == 0) {
+    status = runReportingErrors("dpc-bake", step);
+  } else {
+    try {
+      status = step();
+    } catch (...) {
+      status = 1;
+    }
+  }
+  return cluster.allOk(status == 0);
+}
+
+}  // namespace dpc::bake

@@ -1,0 +1,103 @@
+#include "apps/bake/options.h"
+
+#include <CLI/CLI.hpp>
+#include <cmath>
+#include <iostream>
+
+#include "common/input_error.h"
+
+namespace dpc::bake {
+namespace {
+
+constexpr const char* kDescription =
+    "dpc-bake: bakes a scene's acoustics at a grid of probes into an HDF5 file.\n"
+    "  dpc-bake SCENE.json --out BAKE.h5 --spacing M [--height M] [--map MAP.csv]\n"
+    "  dpc-bake --resume BAKE.h5 [SCENE.json] [--map MAP.csv]\n"
+    "Under mpirun the probes are shared among the ranks; the file is the same for any number\n"
+    "of ranks. The format: docs/bake-format.md. Exit status 0 on success, 1 on bad input or\n"
+    "an interrupted bake (the file then says which probes are done; --resume finishes it).";
+
+void addOptions(CLI::App& app, Options& o) {
+  app.add_option("SCENE", o.scene, "Scene file (JSON)")->type_name("FILE");
+  app.add_option("--out", o.out, "The bake to write (HDF5); replaced only once it is valid")
+      ->type_name("FILE");
+  app.add_option("--resume", o.resume, "Finish an incomplete bake (or rewrite its --map)")
+      ->type_name("FILE")
+      ->excludes("--out");
+  app.add_option("--spacing", o.grid.spacingM, "Probe grid spacing, metres (> 0)")
+      ->type_name("M");
+  app.add_option("--height", o.grid.heightM, "Probe height above the floor, metres (default 1.6)")
+      ->type_name("M");
+  app.add_option("--probes", o.probes,
+                 "Probe positions instead of a grid: a text file, one 'x y z' (metres) a line")
+      ->type_name("FILE")
+      ->excludes("--spacing")
+      ->excludes("--height");
+  app.add_option("--rays", o.settings.rays,
+                 "Rays per source and frame (default: the scene's rays_per_frame)")
+      ->type_name("N");
+  app.add_option("--frames", o.settings.frames,
+                 "Frames per probe, a multiple of 4 (the confidence intervals' sub-streams)")
+      ->type_name("N");
+  app.add_option("--threads", o.settings.threads, "Tracing threads per process (0: all cores)")
+      ->type_name("N");
+  app.add_option("--map", o.map,
+                 "Write the parameter map (T20, T30, EDT, C50, C80, D50, G per band, STI, each "
+                 "with its 95 % confidence half-width) as CSV")
+      ->type_name("FILE");
+  app.add_flag("--quiet", o.quiet, "No progress line");
+  app.add_flag("--json", o.json,
+               "Print a JSON summary on stdout at the end: probes, seconds, probes/s, "
+               "processes, bytes per probe sent to the writer, writer seconds per probe");
+}
+
+void check(bool ok, const std::string& flag, const std::string& problem) {
+  if (!ok) throw InputError("command line", flag, problem);
+}
+
+void validate(const Options& o, const CLI::App& app) {
+  const bool fresh = o.resume.empty();
+  check(!fresh || !o.scene.empty(), "SCENE", "a scene file is required (or --resume BAKE.h5)");
+  check(!fresh || !o.out.empty(), "--out", "the bake file is required");
+  check(!fresh || o.spacingGiven || !o.probes.empty(), "--spacing",
+        "the probe spacing (or --probes) is required");
+  check(fresh || o.probes.empty(), "--resume", "a resumed bake keeps its own probes");
+  check(fresh || (app.count("--spacing") == 0 && app.count("--height") == 0 &&
+                  app.count("--rays") == 0 && app.count("--frames") == 0),
+        "--resume", "a resumed bake keeps its own grid, rays and frames");
+  check(std::isfinite(o.grid.spacingM) && o.grid.spacingM > 0.0, "--spacing",
+        std::to_string(o.grid.spacingM) + " m is not > 0");
+  check(std::isfinite(o.grid.heightM) && o.grid.heightM >= 0.0, "--height",
+        std::to_string(o.grid.heightM) + " m is not >= 0");
+  check(o.settings.rays >= 1 && o.settings.rays <= kMaxBakeRays, "--rays",
+        std::to_string(o.settings.rays) + " is outside [1, " + std::to_string(kMaxBakeRays) + "]");
+  check(o.settings.frames >= o.settings.subStreams && o.settings.frames <= kMaxBakeFrames &&
+            o.settings.frames % o.settings.subStreams == 0,
+        "--frames",
+        std::to_string(o.settings.frames) + " is not a multiple of " +
+            std::to_string(o.settings.subStreams) + " in [" +
+            std::to_string(o.settings.subStreams) + ", " + std::to_string(kMaxBakeFrames) + "]");
+  check(o.settings.threads >= 0 && o.settings.threads <= 1024, "--threads",
+        std::to_string(o.settings.threads) + " is outside [0, 1024]");
+}
+
+}  // namespace
+
+bool parseOptions(int argc, char** argv, Options& o) {
+  CLI::App app(kDescription, "dpc-bake");
+  addOptions(app, o);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    return false;
+  } catch (const CLI::ParseError& e) {
+    throw InputError("command line", "", e.what());
+  }
+  o.spacingGiven = app.count("--spacing") > 0;
+  o.raysGiven = app.count("--rays") > 0;
+  validate(o, app);
+  return true;
+}
+
+}  // namespace dpc::bake

@@ -1,0 +1,241 @@
+#include "apps/bake/probe_bake.h"
+
+#include <cmath>
+#include <limits>
+
+#include "analysis/room_parameters.h"
+#include "analysis/speech_transmission.h"
+#include "common/random.h"
+#include "engine/simulation.h"
+
+namespace dpc::bake {
+namespace {
+
+/// Per band b, per bin k: energy[b][k] (doubles).
+using BandSeries = std::array<std::vector<double>, kNumBands>;
+
+/// Two-sided 95 % Student t quantile for dof degrees of freedom (1..10; beyond, 10's value
+/// errs on the wide side).
+double studentT95(int dof) {
+  static constexpr double t[] = {12.706, 4.303, 3.182, 2.776, 2.571,
+                                 2.447,  2.365, 2.306, 2.262, 2.228};
+  return t[std::clamp(dof, 1, 10) - 1];
+}
+
+/// The parameters of one response (bands, then broadband) in kParameterNames order, and STI.
+std::vector<double> parametersOf(const BandSeries& e, double bin) {
+  std::vector<double> out;
+  std::vector<double> sum(e[0].size(), 0.0);
+  auto add = [&](const audio::RoomParameters& p) {
+    for (double v : {p.t20, p.t30, p.edt, p.c50, p.c80, p.d50, audio::strengthDb(p.energy)})
+      out.push_back(v);
+  };
+  for (int b = 0; b < kNumBands; ++b) {
+    add(audio::analyzeEnergyDecay(e[size_t(b)].data(), e[size_t(b)].size(), bin));
+    for (size_t k = 0; k < sum.size(); ++k) sum[k] += e[size_t(b)][k];
+  }
+  add(audio::analyzeEnergyDecay(sum.data(), sum.size(), bin));
+  std::array<std::span<const double>, audio::kStiBands> sti;
+  for (int k = 0; k < audio::kStiBands; ++k) sti[size_t(k)] = e[size_t(audio::kStiFirstBand + k)];
+  out.push_back(audio::speechTransmissionIndex(sti, bin));
+  return out;
+}
+
+/// Accumulates one frame's response of a source into `series`, scaled by `weight`.
+void accumulate(const EnergyResponse& r, double weight, BandSeries& series) {
+  for (size_t k = 0; k < r.binCount(); ++k)
+    for (int b = 0; b < kNumBands; ++b) series[size_t(b)][k] += weight * r.bins()[k][b];
+}
+
+void addDirect(const DirectSound& d, double bin, BandSeries& series) {
+  if (!d.visible) return;
+  const size_t k = size_t(d.delaySeconds / bin);
+  if (k >= series[0].size()) return;
+  for (int b = 0; b < kNumBands; ++b) series[size_t(b)][k] += d.intensity[b];
+}
+
+/// The 6 axes in the listener frame of the default orientation (facing +x, y up), which is the
+/// frame the simulation's directional responses use.
+std::vector<glm::vec3> listenerAxes() {
+  const DirectionalEnergyResponse frame;
+  std::vector<glm::vec3> axes;
+  for (const auto& a : kDirectionAxes) axes.push_back(frame.toListener({a[0], a[1], a[2]}));
+  return axes;
+}
+
+/// Adds `weight` times a directional response into dir[(k / factor) * kDirections + j][band].
+void accumulateDirectional(const DirectionalEnergyResponse& r, double weight,
+                           std::vector<Bands>& dir) {
+  for (size_t j = 0; j < r.directionCount(); ++j) {
+    const auto& bins = r.response(j).bins();
+    for (size_t k = 0; k < bins.size(); ++k)
+      dir[(k / kDirectionalBinFactor) * kDirections + j] += bins[k] * float(weight);
+  }
+}
+
+/// The direct sound of a source shared among the axes as the simulation shares its paths.
+void addDirectDirectional(const DirectSound& d, double irLength, std::vector<Bands>& dir) {
+  if (!d.visible) return;
+  DirectionalEnergyResponse panner(irLength, Simulation::kEnergyBinSeconds, listenerAxes());
+  panner.add(d.delaySeconds, d.intensity, d.direction);
+  accumulateDirectional(panner, 1.0, dir);
+}
+
+/// Mean and 95 % half-width over the groups' parameter vectors, into the result's slots.
+void summarise(const std::vector<double>& mean, const std::vector<std::vector<double>>& groups,
+               size_t source, ProbeResult& out) {
+  const size_t np = size_t(kParameterRows * kParameters);
+  const double g = double(groups.size());
+  for (size_t i = 0; i < mean.size(); ++i) {
+    double m = 0.0, s2 = 0.0;
+    for (const auto& v : groups) m += v[i] / g;
+    for (const auto& v : groups) s2 += (v[i] - m) * (v[i] - m) / (g - 1.0);
+    const double ci = studentT95(int(g) - 1) * std::sqrt(s2 / g);
+    if (i < np) {
+      out.parameters[source * np + i] = float(mean[i]);
+      out.parametersCi[source * np + i] = std::isfinite(ci) ? float(ci) : NAN;
+    } else {
+      out.sti[source] = float(mean[i]);
+      out.stiCi[source] = std::isfinite(ci) ? float(ci) : NAN;
+    }
+  }
+}
+
+/// The propagation settings of a bake's probe `probe` (its seed: the scene's combined with it).
+PropagationSettings probeSettings(const SceneDesc& scene, const BakeSettings& s, size_t probe) {
+  PropagationSettings p = scene.propagation;
+  p.estimator = Estimator::kPathTracing;
+  p.raysPerFrame = s.rays;
+  p.threads = s.threads;
+  p.irLength = float(s.irLength);
+  p.seed = hashCombine(scene.propagation.seed, probe);
+  return p;
+}
+
+ProbeResult allocate(const ProbeShape& shape) {
+  ProbeResult r;
+  r.energy.assign(shape.energyFloats(), 0.f);
+  r.directional.assign(shape.directionalFloats(), 0.f);
+  r.directDelay.assign(shape.sources, 0.f);
+  r.directEnergy.assign(shape.sources * kNumBands, 0.f);
+  r.parameters.assign(shape.parameterFloats(), 0.f);
+  r.parametersCi.assign(shape.parameterFloats(), 0.f);
+  r.sti.assign(shape.sources, 0.f);
+  r.stiCi.assign(shape.sources, 0.f);
+  return r;
+}
+
+/// The source's mean response (with the direct sound) into the result's energy rows.
+void storeSource(const BandSeries& mean, const DirectSound& d, size_t s, const ProbeShape& shape,
+                 ProbeResult& out) {
+  for (size_t k = 0; k < shape.bins; ++k)
+    for (int b = 0; b < kNumBands; ++b)
+      out.energy[(s * shape.bins + k) * kNumBands + size_t(b)] = float(mean[size_t(b)][k]);
+  out.directDelay[s] = d.visible ? d.delaySeconds : 0.f;
+  for (int b = 0; b < kNumBands; ++b)
+    out.directEnergy[s * kNumBands + size_t(b)] = d.visible ? d.intensity[b] : 0.f;
+}
+
+/// One source's directional energies into the result's rows.
+void storeDirectional(const std::vector<Bands>& dir, size_t s, const ProbeShape& shape,
+                      ProbeResult& out) {
+  const size_t per = shape.directionalBins() * kDirections;
+  for (size_t i = 0; i < per; ++i)
+    for (int b = 0; b < kNumBands; ++b)
+      out.directional[(s * per + i) * kNumBands + size_t(b)] = dir[i][b];
+}
+
+/// One source's groups of frames into the result: the mean response with the direct sound, its
+/// parameters and their confidence half-widths from the groups.
+void finishSource(std::vector<BandSeries>& groups, const DirectSound& direct, size_t s,
+                  const ProbeShape& shape, ProbeResult& out) {
+  const double bin = Simulation::kEnergyBinSeconds;
+  BandSeries mean;
+  for (auto& band : mean) band.assign(shape.bins, 0.0);
+  std::vector<std::vector<double>> groupParameters;
+  for (auto& g : groups) {
+    for (int b = 0; b < kNumBands; ++b)
+      for (size_t k = 0; k < shape.bins; ++k)
+        mean[size_t(b)][k] += g[size_t(b)][k] / double(groups.size());
+    addDirect(direct, bin, g);
+    groupParameters.push_back(parametersOf(g, bin));
+  }
+  addDirect(direct, bin, mean);
+  storeSource(mean, direct, s, shape, out);
+  summarise(parametersOf(mean, bin), groupParameters, s, out);
+}
+
+}  // namespace
+
+size_t responseBins(double irLength) {
+  return EnergyResponse(irLength, Simulation::kEnergyBinSeconds).binCount();
+}
+
+ProbeShape probeShape(const SceneDesc& scene, const BakeSettings& settings) {
+  return {scene.sources.size(), responseBins(settings.irLength)};
+}
+
+ProbeBaker::ProbeBaker(const SceneDesc& scene, const BakeSettings& settings)
+    : scene_(scene),
+      settings_(settings),
+      sim_(std::make_unique<Simulation>(scene, probeSettings(scene, settings, 0))) {
+  sim_->enableDirectional(listenerAxes());
+}
+
+ProbeBaker::~ProbeBaker() = default;
+
+ProbeResult bakeProbe(const SceneDesc& scene, const BakeSettings& settings, size_t probe,
+                      const glm::vec3& position) {
+  return ProbeBaker(scene, settings).bake(probe, position);
+}
+
+ProbeResult ProbeBaker::bake(size_t probe, const glm::vec3& position) {
+  const ProbeShape shape = probeShape(scene_, settings_);
+  Simulation& sim = *sim_;
+  sim.restart(hashCombine(scene_.propagation.seed, probe));
+  const size_t groups = size_t(settings_.subStreams);
+  const size_t perGroup = size_t(settings_.frames) / groups;
+  // series[source][group]: the group's mean response; directional[source]: [directional bin]
+  // [direction] band energies, mean over all frames.
+  std::vector<std::vector<BandSeries>> series(shape.sources, std::vector<BandSeries>(groups));
+  for (auto& src : series)
+    for (auto& g : src)
+      for (auto& band : g) band.assign(shape.bins, 0.0);
+  std::vector<std::vector<Bands>> directional(
+      shape.sources, std::vector<Bands>(shape.directionalBins() * kDirections, Bands(0.f)));
+  for (size_t f = 0; f < groups * perGroup; ++f) {
+    sim.runFrame(position);
+    for (size_t s = 0; s < shape.sources; ++s) {
+      accumulate(sim.result(s).energy, 1.0 / double(perGroup), series[s][f / perGroup]);
+      accumulateDirectional(sim.directional(s), 1.0 / double(groups * perGroup), directional[s]);
+    }
+  }
+  ProbeResult out = allocate(shape);
+  for (size_t s = 0; s < shape.sources; ++s) {
+    addDirectDirectional(sim.result(s).direct, settings_.irLength, directional[s]);
+    storeDirectional(directional[s], s, shape, out);
+    finishSource(series[s], sim.result(s).direct, s, shape, out);
+  }
+  return out;
+}
+
+std::vector<float> pack(const ProbeResult& r) {
+  std::vector<float> out;
+  for (const auto* v : {&r.energy, &r.directional, &r.directDelay, &r.directEnergy, &r.parameters,
+                        &r.parametersCi, &r.sti, &r.stiCi})
+    out.insert(out.end(), v->begin(), v->end());
+  return out;
+}
+
+ProbeResult unpack(const std::vector<float>& packed, const ProbeShape& shape) {
+  ProbeResult r = allocate(shape);
+  auto it = packed.begin();
+  for (auto* v : {&r.energy, &r.directional, &r.directDelay, &r.directEnergy, &r.parameters, &r.parametersCi,
+                  &r.sti, &r.stiCi}) {
+    std::copy(it, it + std::ptrdiff_t(v->size()), v->begin());
+    it += std::ptrdiff_t(v->size());
+  }
+  return r;
+}
+
+}  // namespace dpc::bake

@@ -1,0 +1,123 @@
+// One probe of a bake: every static source's energy response at the probe, its direct sound,
+// its ISO 3382-1 parameters and STI, each with a Monte Carlo confidence interval.
+//
+// Determinism: the probe's simulation is seeded with hashCombine(scene seed, probe index), and
+// every ray's stream is derived from (that seed, frame, source, ray) (common/random.h), so a
+// probe's result depends only on the scene, the settings and the probe's index: the same for
+// any split of the probes across processes or threads.
+// Estimator: plain path tracing (no reuse between frames), `frames` frames of `rays` rays per
+// source; the response is the mean of the frames. The frames form `subStreams` groups of
+// consecutive frames (independent random streams); each parameter's 95 % confidence half-width
+// is t(G-1) s / sqrt(G), s the standard deviation of the parameter over the G groups' mean
+// responses (Student's t; the groups' spread at 1/G of the rays, scaled to the full mean).
+// Sources and geometry are static: sources at their position at t = 0, moving objects in their
+// first keyframe's pose.
+// Control thread (a rank's main thread; the tracer uses `threads` TBB threads); allocates;
+// throws std::runtime_error on an Embree error.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <glm/vec3.hpp>
+#include <memory>
+#include <vector>
+
+#include "scene/scene.h"
+
+namespace dpc {
+class Simulation;
+}
+
+namespace dpc::bake {
+
+/// The parameters stored per source and band row, in this order: T20, T30, EDT (s), C50,
+/// C80 (dB), D50 (ratio 0..1), G (dB re the free field at 10 m).
+inline constexpr int kParameters = 7;
+inline constexpr std::array<const char*, kParameters> kParameterNames = {
+    "T20", "T30", "EDT", "C50", "C80", "D50", "G"};
+/// Directional energy: the response shared among 6 world axes (+x, -x, +y, -y, +z, -z; y up)
+/// with the engine's cosine-power panning in energy (engine/energy_response.h,
+/// DirectionalEnergyResponse, exponent 4: the 6 parts add up to the response), in bins of
+/// kDirectionalBinFactor energy bins (10 ms).
+inline constexpr int kDirections = 6;
+inline constexpr std::array<std::array<float, 3>, kDirections> kDirectionAxes = {
+    {{1.f, 0.f, 0.f}, {-1.f, 0.f, 0.f}, {0.f, 1.f, 0.f}, {0.f, -1.f, 0.f}, {0.f, 0.f, 1.f},
+     {0.f, 0.f, -1.f}}};
+inline constexpr size_t kDirectionalBinFactor = 10;
+/// Parameter rows per source: the 8 octave bands (63 Hz .. 8 kHz), then broadband (their sum).
+inline constexpr int kParameterRows = kNumBands + 1;
+
+struct BakeSettings {
+  int rays = 4096;      ///< rays per source per frame
+  int frames = 8;       ///< frames per probe (a multiple of subStreams)
+  int subStreams = 4;   ///< independent groups of frames for the confidence intervals (>= 2)
+  int threads = 0;      ///< tracing threads per process (0: all cores)
+  double irLength = 2;  ///< response length, seconds
+};
+
+/// Array sizes of one probe's result for a scene of `sources` sources.
+struct ProbeShape {
+  size_t sources = 0;
+  size_t bins = 0;  ///< energy bins of Simulation::kEnergyBinSeconds
+  size_t energyFloats() const { return sources * bins * kNumBands; }
+  /// Directional bins: bins / kDirectionalBinFactor, rounded up.
+  size_t directionalBins() const {
+    return (bins + kDirectionalBinFactor - 1) / kDirectionalBinFactor;
+  }
+  size_t directionalFloats() const {
+    return sources * directionalBins() * kDirections * kNumBands;
+  }
+  size_t parameterFloats() const { return sources * kParameterRows * kParameters; }
+  /// All of a ProbeResult's floats, packed (pack/unpack).
+  size_t packedFloats() const {
+    return energyFloats() + directionalFloats() + sources * (1 + kNumBands) +
+           2 * parameterFloats() + 2 * sources;
+  }
+};
+
+ProbeShape probeShape(const SceneDesc& scene, const BakeSettings& settings);
+/// Energy bins of Simulation::kEnergyBinSeconds in a response irLength seconds long.
+size_t responseBins(double irLength);
+
+struct ProbeResult {
+  /// [source][bin][band]: mean energy per 1 ms bin, 1/m^2 relative to source power, the direct
+  /// sound included in the bin of its arrival.
+  std::vector<float> energy;
+  /// [source][directional bin][direction][band]: energy of `energy` arriving from around each
+  /// of kDirectionAxes, per 10 ms bin, 1/m^2 (direct sound included).
+  std::vector<float> directional;
+  std::vector<float> directDelay;   ///< [source]: direct-sound delay, s (0 when occluded)
+  std::vector<float> directEnergy;  ///< [source][band]: direct-sound intensity, 1/m^2
+  std::vector<float> parameters;    ///< [source][row][parameter] (kParameterNames)
+  std::vector<float> parametersCi;  ///< same shape: 95 % confidence half-widths
+  std::vector<float> sti;           ///< [source]: STI (IEC 60268-16, noise-free), 0..1
+  std::vector<float> stiCi;         ///< [source]: 95 % confidence half-width
+};
+
+/// Bakes probes one after another with one Simulation (geometry, tracer and edge tables built
+/// once), restarted for each probe with the probe's seed (Simulation::restart): each result is
+/// bit-identical to a fresh Simulation's, whatever was baked before.
+class ProbeBaker {
+ public:
+  ProbeBaker(const SceneDesc& scene, const BakeSettings& settings);
+  ~ProbeBaker();
+  /// Bakes probe `probe` (index in the bake) at `position`, metres.
+  ProbeResult bake(size_t probe, const glm::vec3& position);
+
+ private:
+  const SceneDesc& scene_;
+  BakeSettings settings_;
+  std::unique_ptr<Simulation> sim_;
+};
+
+/// One probe with a baker of its own (ProbeBaker::bake).
+ProbeResult bakeProbe(const SceneDesc& scene, const BakeSettings& settings, size_t probe,
+                      const glm::vec3& position);
+
+/// All arrays of a result in one buffer (the order of ProbeResult's fields), e.g. to send it
+/// between processes; unpack reverses it. Allocate.
+std::vector<float> pack(const ProbeResult& r);
+ProbeResult unpack(const std::vector<float>& packed, const ProbeShape& shape);
+
+}  // namespace dpc::bake

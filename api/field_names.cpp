@@ -18,6 +18,11 @@ std::string apiFieldName(const std::string& path, const std::vector<Material>& m
     if (i == 0) return "listener_" + member;
     return "additional_listeners[" + std::to_string(i - 1) + "]." + member;
   }
+  // A source's pattern and rotation live in the parallel array source_directivities.
+  if (const size_t d = path.find("].directivity."); starts("sources[") && d != std::string::npos)
+    return "source_directivities[" + std::to_string(numberAt(8)) + "]." + path.substr(d + 14);
+  if (starts("sources[") && path.find("].rotation") != std::string::npos)
+    return "source_directivities[" + std::to_string(numberAt(8)) + "].rotation";
   if (starts("materials.")) {
     const size_t dot = path.find('.', 10);
     const std::string name = path.substr(10, dot - 10), member = path.substr(dot + 1);

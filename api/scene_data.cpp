@@ -12,6 +12,7 @@
 #include "common/input_error.h"
 #include "common/input_file.h"
 #include "scene/mesh_builder.h"
+#include "scene/quaternion.h"
 #include "scene/validate.h"
 
 namespace dpc::api {
@@ -61,6 +62,16 @@ Mesh cleanMesh(const Mesh& mesh, std::vector<std::string>& warnings) {
   return buildMesh(raw, mesh.materialIndex, warnings);
 }
 
+/// Source i's pattern and rotation; the pattern's range is checked by validate().
+void directivityFromData(const dpc_source_directivity& d, int i, SourceDesc& src) {
+  for (int b = 0; b < kNumBands; ++b) src.directivity.a[b] = d.a[b];
+  const auto q = unitQuaternion(d.rotation[0], d.rotation[1], d.rotation[2], d.rotation[3]);
+  if (!q)
+    bad("source_directivities[" + std::to_string(i) + "].rotation",
+        "zero length (or not finite); a rotation needs a unit quaternion");
+  src.rotation = *q;
+}
+
 void sourcesFromData(const dpc_scene_data& d, const Origin& origin, SceneDesc& scene) {
   if (d.source_count < 1 || !d.sources) bad("sources", "at least one source is required");
   checkField("sources", d.source_count, origin);
@@ -76,6 +87,7 @@ void sourcesFromData(const dpc_scene_data& d, const Origin& origin, SceneDesc& s
     for (size_t n = 0; n < s.signal_frames; ++n)
       if (const std::string why = sampleProblem(s.signal[n]); !why.empty())
         bad(f + ".signal", "sample " + std::to_string(n) + " " + why);
+    if (d.source_directivities) directivityFromData(d.source_directivities[i], i, src);
     scene.sources.push_back(src);
   }
 }

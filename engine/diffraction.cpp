@@ -376,6 +376,7 @@ struct EdgePath {
   std::array<TermGeometry, 4> terms;  // frequency-independent parts of D
   float legs;                         // r + s in single precision, m
   glm::vec3 arrival;                  // unit vector from the listener toward Q
+  glm::vec3 leaving;                  // unit vector from the source toward Q
 };
 
 /// Angles (radians, from face 0 in the plane perpendicular to the edge) of the source and the
@@ -440,6 +441,7 @@ bool edgePath(const DiffractionEdge& e, const glm::vec3& source, const glm::vec3
   p.terms = wedgeTerms(wedge / kPi, phiL, phiS);
   p.legs = r + s;
   p.arrival = -toL / s;
+  p.leaving = toQ / r;
   return true;
 }
 
@@ -466,16 +468,30 @@ double bandMeanSquare(int b, const std::vector<EdgePath>& paths,
   return acc / kDiffractionFrequenciesPerBand;
 }
 
+/// Per path, the source's energy weight toward its edge point Q (scene/directivity.h); empty
+/// for an omni source.
+std::vector<Bands> leavingWeights(const std::vector<EdgePath>& paths, const Directivity& d,
+                                  const glm::vec3& forward) {
+  std::vector<Bands> w;
+  if (d.omni()) return w;
+  for (const EdgePath& p : paths) w.push_back(directivityWeight(d, glm::dot(forward, p.leaving)));
+  return w;
+}
+
 /// Band intensity (1/m^2, the scale of 1/(4 pi r^2)) of the coherent sum of the direct sound
-/// (when visible) and the edge paths.
+/// (when visible; its directivity weight is already in direct.intensity) and the edge paths,
+/// each path's pressure scaled by the square root of its energy weight (none when empty).
 Bands coherentIntensity(const std::vector<EdgePath>& paths, const DirectSound& direct,
-                        float speedOfSound, const Bands& airPerMetre) {
+                        float speedOfSound, const Bands& airPerMetre,
+                        const std::vector<Bands>& weights) {
   Bands intensity(0.f);
   std::vector<double> amplitude(paths.size());
   for (int b = 0; b < kNumBands; ++b) {
     // Per path and band: spreading times the air's pressure attenuation sqrt(exp(-m l)).
-    for (size_t j = 0; j < paths.size(); ++j)
+    for (size_t j = 0; j < paths.size(); ++j) {
       amplitude[j] = paths[j].spreading * std::exp(-0.5 * double(airPerMetre[b]) * paths[j].length);
+      if (!weights.empty()) amplitude[j] *= std::sqrt(double(weights[j][b]));
+    }
     const double directAmplitude =
         direct.visible ? std::sqrt(4.0 * kPi * double(direct.intensity[b])) : 0.0;
     const double meanSquare =
@@ -511,7 +527,8 @@ EdgeDiffraction::EdgeDiffraction(const Mesh& mesh) {
 
 size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
                               const ListenerSphere& listener, float speedOfSound,
-                              const Bands& airPerMetre, DirectSound& direct) const {
+                              const Bands& airPerMetre, DirectSound& direct,
+                              const Directivity& directivity, const glm::vec3& forward) const {
   std::vector<EdgePath> paths;
   float shortest = direct.visible ? direct.distance : 1e30f;
   glm::vec3 shortestDir = direct.direction;
@@ -525,7 +542,8 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
     }
   }
   if (paths.empty()) return 0;
-  direct.intensity = coherentIntensity(paths, direct, speedOfSound, airPerMetre);
+  direct.intensity = coherentIntensity(paths, direct, speedOfSound, airPerMetre,
+                                       leavingWeights(paths, directivity, forward));
   direct.visible = true;
   direct.distance = shortest;
   direct.delaySeconds = shortest / speedOfSound;

@@ -38,6 +38,7 @@
 #include "common/bands.h"
 #include "engine/propagation.h"
 #include "engine/tracer.h"
+#include "scene/directivity.h"
 #include "scene/scene.h"
 
 namespace dpc {
@@ -80,9 +81,13 @@ class EdgeDiffraction {
   /// listener centre (see the file comment). speedOfSound in m/s, airPerMetre the energy
   /// attenuation per metre per band. Returns the number of edge paths used (unoccluded, Q
   /// inside its edge). Reentrant: concurrent calls (one per listener) are safe; allocates its
-  /// list of paths.
+  /// list of paths. A directional source (scene/directivity.h, forward a unit vector) scales
+  /// each edge path's energy by its weight toward the path's edge point Q; `direct` must carry
+  /// its own weight already (Propagator::directSound does). Omni (the default): no weight.
   size_t apply(const Tracer& tracer, const glm::vec3& source, const ListenerSphere& listener,
-               float speedOfSound, const Bands& airPerMetre, DirectSound& direct) const;
+               float speedOfSound, const Bands& airPerMetre, DirectSound& direct,
+               const Directivity& directivity = {},
+               const glm::vec3& forward = glm::vec3(1.f, 0.f, 0.f)) const;
 
  private:
   std::vector<DiffractionEdge> edges_;

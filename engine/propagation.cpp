@@ -60,6 +60,9 @@ DirectSound Propagator::directSound(const glm::vec3& source, const ListenerSpher
   if (d.visible) {
     const float spreading = 1.f / (4.f * std::numbers::pi_v<float> * d.distance * d.distance);
     d.intensity = exp(airPerMetre_ * -d.distance) * spreading;
+    // A source at the listener's centre has no direction: its weight is the pattern's mean, 1.
+    if (!directivity_.omni() && dist > 0.f)
+      d.intensity *= directivityWeight(directivity_, glm::dot(forward_, toListener / dist));
   }
   return d;
 }
@@ -80,6 +83,10 @@ void Propagator::startRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t ray
     ray.band = 0;  // every band scatters alike: one ray carries them all
     ray.energy = Bands(1.f);
   }
+  // The pattern's power-preserving weight at the leaving direction (unbiased: uniform
+  // directions times g / <g> have the pattern's angular distribution and the source's power).
+  if (!directivity_.omni())
+    ray.energy *= directivityWeight(directivity_, glm::dot(forward_, ray.dir));
   ray.travelled = 0.f;
   ray.path = PathKey::start(sourceIndex);
   ray.order = 0;

@@ -59,6 +59,7 @@
 #include "engine/path_cache.h"
 #include "engine/specular_paths.h"
 #include "engine/tracer.h"
+#include "scene/directivity.h"
 #include "scene/scene.h"
 
 namespace dpc {
@@ -136,7 +137,22 @@ class Propagator {
 
   /// The direct sound from source to listener centre. The distance is clamped to at least
   /// R/2, where 1/(4 pi r^2) equals what rays crossing the sphere would report (1/(pi R^2)).
+  /// With a directional source (setSourceDirectivity), the intensity is weighted by the
+  /// pattern toward the listener.
   DirectSound directSound(const glm::vec3& source, const ListenerSphere& listener) const;
+
+  /// The traced source's radiation pattern and forward axis (unit vector, world) for the
+  /// following traceFrame and directSound calls (scene/directivity.h): every ray's energy is
+  /// weighted at emission by directivityWeight at its leaving direction, and the direct sound's
+  /// intensity by the weight toward the listener. Omni (the default) applies no weight: no
+  /// float operation differs from an engine without directivity. Propagation thread, between
+  /// frames; no allocation.
+  void setSourceDirectivity(const Directivity& directivity, const glm::vec3& forward) {
+    directivity_ = directivity;
+    forward_ = forward;
+  }
+  const Directivity& sourceDirectivity() const { return directivity_; }
+  const glm::vec3& sourceForward() const { return forward_; }
 
   /// When true, segments leaving the source also count as listener hits (for calibration
   /// against 1/(4 pi r^2); the renderer keeps the analytic direct sound instead).
@@ -242,6 +258,8 @@ class Propagator {
   float epsilon_ = 1e-4f;
   PathKeyRule keyRule_;  ///< order-adaptive path identifier (engine/patch.h)
   bool includeDirectRays_ = false;
+  Directivity directivity_;  ///< setSourceDirectivity
+  glm::vec3 forward_{1.f, 0.f, 0.f};
   std::span<const tsl::robin_set<uint64_t>* const> exactSets_;  ///< setExactSequences
   std::span<const uint32_t> faceOf_;  ///< setSpecularFaces
   int exactOrder_ = 0;  ///< exactOrder()

@@ -24,7 +24,11 @@ Simulation::Simulation(const SceneDesc& scene, const PropagationSettings& settin
     specularCandidates_ = std::make_unique<SpecularCandidates>();
     propagator_->setSpecularFaces(specularScene_->faces().faces());
   }
-  for (const SourceDesc& s : scene.sources) sourcePositions_.push_back(s.position);
+  for (const SourceDesc& s : scene.sources) {
+    sourcePositions_.push_back(s.position);
+    directivities_.push_back(s.directivity);
+    sourceForwards_.push_back(sourceForward(sourceRotationAt(s, 0.0)));
+  }
   sourceCount_ = scene.sources.size();
   reserveListeners(1);
 }
@@ -83,6 +87,11 @@ void Simulation::setRaysPerFrame(int n) {
   propagator_->setRaysPerFrame(settings_.raysPerFrame);
 }
 
+void Simulation::setSourceRotations(const std::vector<glm::quat>& rotations) {
+  for (size_t s = 0; s < rotations.size() && s < sourceForwards_.size(); ++s)
+    sourceForwards_[s] = sourceForward(rotations[s]);
+}
+
 void Simulation::setObjectPoses(const std::vector<Pose>& poses) {
   for (size_t k = 0; k < poses.size() && k < tracer_->objectCount(); ++k)
     tracer_->setObjectPose(k, poses[k]);
@@ -116,6 +125,7 @@ void Simulation::runFrame(std::span<const ListenerSphere> listeners,
         exactSetPtrs_[l] = &specularCaches_[l * sourceCount_ + s]->validKeys();
       propagator_->setExactSequences(std::span(exactSetPtrs_.data(), listeners.size()));
     }
+    propagator_->setSourceDirectivity(directivities_[s], sourceForwards_[s]);
     const TraceStats trace =
         propagator_->traceFrame(frame_, uint32_t(s), sources[s], listeners,
                                 std::span(groupPtrs_.data(), listeners.size()),
@@ -143,7 +153,8 @@ void Simulation::finishPair(size_t s, size_t l, const glm::vec3& source,
   r.direct = propagator_->directSound(source, listener);
   if (diffraction_)
     diffraction_->apply(*tracer_, source, listener, settings_.speedOfSound,
-                        propagator_->airAttenuationPerMetre(), r.direct);
+                        propagator_->airAttenuationPerMetre(), r.direct, directivities_[s],
+                        sourceForwards_[s]);
   r.energy.clear();
   DirectionalEnergyResponse* dir = nullptr;
   if (!directional_.empty()) {
@@ -163,6 +174,9 @@ void Simulation::updateSpecular(size_t pair, const glm::vec3& source,
   SpecularPathCache& cache = *specularCaches_[pair];
   cache.update(*specularCandidates_, *specularScene_, source, listener.position, listener.radius,
                frame_);
+  const size_t s = pair % sourceCount_;
+  if (!directivities_[s].omni())
+    cache.weightBySource(directivities_[s], sourceForwards_[s], source);
   r.specularPaths = cache.paths().size();
   r.specularCandidates = specularCandidates_->sequences().size();
   r.specularCacheEntries = cache.entryCount();

@@ -9,6 +9,9 @@
 // also gets the frame's exact all-specular paths up to that order (specularPaths), which the
 // energy response then no longer contains.
 //
+// Directional sources (SourceDesc::directivity): the propagator weights each source's rays and
+// direct sound, and each pair's exact paths are weighted toward their first reflection point.
+//
 // Propagation thread: construct, runFrame, read results; not safe to share between threads.
 // Construction allocates (BVH, tables) and throws std::runtime_error on an Embree error;
 // runFrame allocates only while tables grow. No errors otherwise.
@@ -78,6 +81,10 @@ class Simulation {
   /// allocates only if n needs more trace chunks than any frame before.
   void setRaysPerFrame(int n);
 
+  /// Orients the sources for the following frames (one unit quaternion per source, scene
+  /// order; the scene's sourceRotationAt): each directional source's forward axis is
+  /// rotation * (+x) (scene/directivity.h). Omni sources ignore it. No allocation.
+  void setSourceRotations(const std::vector<glm::quat>& rotations);
   /// Starts over as a Simulation constructed with settings().seed = seed would: frame count 0,
   /// every cache emptied, so the following frames are bit-identical to a fresh one's while the
   /// geometry, tracer and edge tables are kept (independent runs at many points, e.g. the
@@ -143,6 +150,8 @@ class Simulation {
   PropagationSettings settings_;
   float listenerRadius_;
   std::vector<glm::vec3> sourcePositions_;
+  std::vector<Directivity> directivities_;  ///< per source, the scene's
+  std::vector<glm::vec3> sourceForwards_;   ///< per source, unit forward axis (world)
   std::unique_ptr<Geometry> geometry_;
   std::unique_ptr<Tracer> tracer_;
   std::unique_ptr<Propagator> propagator_;

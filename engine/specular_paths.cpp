@@ -314,4 +314,14 @@ void SpecularPathCache::update(const SpecularCandidates& frame, const SpecularSc
   removeDuplicates();
 }
 
+void SpecularPathCache::weightBySource(const Directivity& directivity, const glm::vec3& forward,
+                                       const glm::vec3& source) {
+  for (SpecularPath& p : paths_) {
+    const glm::vec3 leaving = p.points[0] - source;
+    const float length = glm::length(leaving);
+    if (length > 0.f)
+      p.intensity *= directivityWeight(directivity, glm::dot(forward, leaving / length));
+  }
+}
+
 }  // namespace dpc

@@ -23,7 +23,8 @@
 // specular lobe (docs/design.md, "Reflection direction"): the propagator keeps every listener
 // hit of an all-specular path of order <= N out of the energy response, whose expectation is
 // exactly this I_b, so nothing is counted twice (docs/estimators.md, "Exact early specular
-// paths").
+// paths"). A directional source multiplies I_b by its pattern's weight toward P_1, the direction
+// the path leaves the source (SpecularPathCache::weightBySource), as the rays are weighted.
 //
 // Persistence across frames (as the DPC keeps its paths, Schissler thesis §3.2.2): each
 // source-listener pair keeps the sequences that validated once and re-validates them every
@@ -49,6 +50,7 @@
 #include "engine/energy_response.h"
 #include "engine/geometry.h"
 #include "engine/tracer.h"
+#include "scene/directivity.h"
 #include "scene/scene.h"
 
 namespace dpc {
@@ -173,6 +175,12 @@ class SpecularPathCache {
   void update(const SpecularCandidates& frame, const SpecularScene& scene,
               const glm::vec3& source, const glm::vec3& listener, float radius,
               uint64_t frameIndex);
+
+  /// Multiplies every path of the last update by the source's directivity weight toward its
+  /// first reflection point P_1 (scene/directivity.h; forward a unit vector, source in metres).
+  /// Call after update, only for a directional source. No allocation.
+  void weightBySource(const Directivity& directivity, const glm::vec3& forward,
+                      const glm::vec3& source);
 
   const std::vector<SpecularPath>& paths() const { return paths_; }
   /// Keys (SpecularSequence::key) of every sequence valid in the last update(), the coincident

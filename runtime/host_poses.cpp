@@ -87,6 +87,9 @@ ListenerPose HostPoses::assemble(WorldState& world, size_t& played) const {
     const HostSourcePosition h = sources_[i].read();
     world.sourcePositions[i] = h.set ? h.position : sourcePositionAt(s.sources[i], t);
   }
+  world.sourceRotations.resize(s.sources.size());
+  for (size_t i = 0; i < s.sources.size(); ++i)
+    world.sourceRotations[i] = sourceRotationAt(s.sources[i], t);
   world.objectPoses.resize(s.objects.size());
   for (size_t k = 0; k < s.objects.size(); ++k) {
     const HostObjectPose h = objects_[k].read();

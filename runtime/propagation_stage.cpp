@@ -136,6 +136,7 @@ void PropagationStage::traceWorld(const WorldState& world) {
   }
   const auto t0 = std::chrono::steady_clock::now();
   if (!world.objectPoses.empty()) simulation_->setObjectPoses(world.objectPoses);
+  if (!world.sourceRotations.empty()) simulation_->setSourceRotations(world.sourceRotations);
   simulation_->runFrame(spheres_, world.sourcePositions);
   totals_.traceSeconds += secondsSince(t0);
   for (size_t s = 0; s < simulation_->sourceCount(); ++s) {

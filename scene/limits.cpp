@@ -33,6 +33,9 @@ constexpr std::array kLimits = {
         "a fraction of the reflected energy (ISO 17497-1)"},
   Limit{"sources[].gain_db", -200, 200, false, false, "dB",
         "beyond, a float signal under- or overflows"},
+  Limit{"sources[].directivity.a", 0, 1, false, false, "",
+        "first-order coefficient: 0 omni, 1 figure of eight; beyond, the pattern's lobes "
+        "are no longer first-order (Eargle, The Microphone Book, ch. 5)"},
   Limit{"listener.radius", 0, kInf, true, false, "m",
         "the receiver sphere needs an area to be hit"},
   Limit{"listener.yaw", -3600, 3600, false, false, "degrees",

@@ -33,6 +33,12 @@ glm::vec3 positionAlong(const std::vector<Keyframe>& k, bool loop, const glm::ve
   return prev->position + float(u) * (next->position - prev->position);
 }
 
+/// Slerp from a to b by u along the shorter arc (q and -q are the same rotation), normalised.
+glm::quat slerpShorter(const glm::quat& a, glm::quat b, float u) {
+  if (glm::dot(a, b) < 0.f) b = -b;
+  return glm::normalize(glm::slerp(a, b, u));
+}
+
 }  // namespace
 
 glm::vec3 listenerPositionAt(const ListenerDesc& listener, double t) {
@@ -58,11 +64,30 @@ Pose objectPoseAt(const ObjectDesc& object, double t) {
   const float u = float((t - prev->timeSeconds) / (next->timeSeconds - prev->timeSeconds));
   Pose p;
   p.position = prev->position + u * (next->position - prev->position);
-  // Shorter arc: q and -q are the same rotation.
-  glm::quat b = next->rotation;
-  if (glm::dot(prev->rotation, b) < 0.f) b = -b;
-  p.rotation = glm::normalize(glm::slerp(prev->rotation, b, u));
+  p.rotation = slerpShorter(prev->rotation, next->rotation, u);
   return p;
+}
+
+glm::quat sourceRotationAt(const SourceDesc& source, double t) {
+  const auto& k = source.trajectory;
+  if (k.empty() || !k.front().rotation) return source.rotation;
+  if (k.size() == 1 || !std::isfinite(t)) return *k.front().rotation;
+  const double t0 = k.front().timeSeconds, t1 = k.back().timeSeconds;
+  if (source.trajectoryLoop) t = t0 + (t - t0) - (t1 - t0) * std::floor((t - t0) / (t1 - t0));
+  if (t <= t0) return *k.front().rotation;
+  if (t >= t1) return *k.back().rotation;
+  const auto next = std::upper_bound(
+      k.begin(), k.end(), t, [](double x, const Keyframe& key) { return x < key.timeSeconds; });
+  const auto prev = next - 1;
+  // A keyframe without a rotation (only when the scene was built in code): the source's.
+  const glm::quat a = prev->rotation.value_or(source.rotation);
+  const glm::quat b = next->rotation.value_or(source.rotation);
+  return slerpShorter(a, b,
+                      float((t - prev->timeSeconds) / (next->timeSeconds - prev->timeSeconds)));
+}
+
+glm::vec3 sourceForward(const glm::quat& q) {
+  return q * glm::vec3(1.f, 0.f, 0.f);
 }
 
 void evaluateWorld(const SceneDesc& scene, double t, WorldState& state) {
@@ -76,6 +101,9 @@ void evaluateWorld(const SceneDesc& scene, double t, WorldState& state) {
   state.sourcePositions.resize(scene.sources.size());
   for (size_t i = 0; i < scene.sources.size(); ++i)
     state.sourcePositions[i] = sourcePositionAt(scene.sources[i], t);
+  state.sourceRotations.resize(scene.sources.size());
+  for (size_t i = 0; i < scene.sources.size(); ++i)
+    state.sourceRotations[i] = sourceRotationAt(scene.sources[i], t);
   state.objectPoses.resize(scene.objects.size());
   for (size_t i = 0; i < scene.objects.size(); ++i)
     state.objectPoses[i] = objectPoseAt(scene.objects[i], t);

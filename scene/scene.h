@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "common/bands.h"
+#include "scene/directivity.h"
 
 namespace dpc {
 
@@ -56,6 +57,9 @@ struct Keyframe {
   /// none the listener faces the walking direction.
   std::optional<float> yawDegrees;
   std::optional<float> pitchDegrees;  ///< degrees above the horizon (default 0)
+  /// Sources only: orientation, a unit quaternion (glm stores w, x, y, z; the file gives
+  /// [x, y, z, w] as glTF), slerped. Either every keyframe of a source has one or none does.
+  std::optional<glm::quat> rotation;
 };
 
 struct SourceDesc {
@@ -64,9 +68,15 @@ struct SourceDesc {
   std::string signalPath;   ///< dry WAV, resolved relative to the scene file's folder; empty: none
   float gainDb = 0.f;       ///< dB applied to the dry signal
   bool loop = false;        ///< repeat the dry signal for as long as the render lasts
-  /// Position keyframes (yaw/pitch unused), linearly interpolated as the listener's.
+  /// Position keyframes (yaw/pitch unused), linearly interpolated as the listener's; their
+  /// rotations, when given, replace `rotation` (slerped, sourceRotationAt).
   std::vector<Keyframe> trajectory;
   bool trajectoryLoop = false;  ///< wrap time around the last keyframe ("trajectory_loop")
+  /// Radiation pattern (scene/directivity.h); omni by default.
+  Directivity directivity;
+  /// Orientation: the forward axis of the directivity is rotation * (+x). Unit quaternion
+  /// (glm order w, x, y, z); used when the trajectory's keyframes give none.
+  glm::quat rotation{1.f, 0.f, 0.f, 0.f};
 };
 
 /// One pose keyframe of a moving object: world = R(rotation) * local + position.
@@ -224,6 +234,13 @@ Orientation listenerOrientationAt(const ListenerDesc& listener, double t);
 /// wrapped), or its fixed position. Any thread; no allocation.
 glm::vec3 sourcePositionAt(const SourceDesc& source, double t);
 
+/// Source orientation at time t: the keyframes' rotations slerped (shorter arc; clamped or
+/// wrapped as the position), or source.rotation when they give none. Any thread; no allocation.
+glm::quat sourceRotationAt(const SourceDesc& source, double t);
+
+/// The unit forward axis of a source's directivity at rotation q: q * (+x).
+glm::vec3 sourceForward(const glm::quat& q);
+
 /// Object pose at time t: position linear, rotation slerped (shorter arc) between keyframes,
 /// clamped at the ends or wrapped when loop is set. Any thread; no allocation.
 Pose objectPoseAt(const ObjectDesc& object, double t);
@@ -235,6 +252,7 @@ struct WorldState {
   std::vector<glm::vec3> listenerPositions;  ///< metres
   std::vector<Orientation> listenerOrientations;
   std::vector<glm::vec3> sourcePositions;  ///< metres
+  std::vector<glm::quat> sourceRotations;  ///< unit quaternions (sourceRotationAt)
   std::vector<Pose> objectPoses;
 };
 

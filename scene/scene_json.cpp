@@ -55,25 +55,6 @@ std::optional<double> lastTime(const Keys& keys) {
   return keys.empty() ? std::nullopt : std::optional(keys.back().timeSeconds);
 }
 
-/// Position-only keyframes {t, position} (sources).
-std::vector<Keyframe> readPositionKeys(const JsonReader& r, const json& t, const std::string& tf) {
-  if (!t.is_array() || t.empty())
-    r.fail(tf, "expected a non-empty array of {\"t\", \"position\"} keyframes, got " +
-                   JsonReader::describe(t));
-  std::vector<Keyframe> keys;
-  for (size_t i = 0; i < t.size(); ++i) {
-    const std::string kf = index(tf, i);
-    const json& k = t[i];
-    r.expectObject(k, kf);
-    r.checkKeys(k, kf, {"t", "position"});
-    Keyframe key;
-    key.timeSeconds = keyTime(r, k, kf, lastTime(keys));
-    key.position = r.vec3(r.require(k, kf, "position"), join(kf, "position"));
-    keys.push_back(key);
-  }
-  return keys;
-}
-
 /// [x, y, z, w] (glTF order) of non-zero length, normalised.
 glm::quat readQuaternion(const JsonReader& r, const json& v, const std::string& field) {
   if (!v.is_array() || v.size() != 4)
@@ -84,6 +65,52 @@ glm::quat readQuaternion(const JsonReader& r, const json& v, const std::string& 
   const auto q = unitQuaternion(c[0], c[1], c[2], c[3]);
   if (!q) r.fail(field, v.dump() + " has zero length; a rotation needs a unit quaternion");
   return *q;
+}
+
+/// A source's keyframes {t, position, rotation?}; a rotation on every keyframe or on none.
+std::vector<Keyframe> readPositionKeys(const JsonReader& r, const json& t, const std::string& tf) {
+  if (!t.is_array() || t.empty())
+    r.fail(tf, "expected a non-empty array of {\"t\", \"position\"} keyframes, got " +
+                   JsonReader::describe(t));
+  std::vector<Keyframe> keys;
+  for (size_t i = 0; i < t.size(); ++i) {
+    const std::string kf = index(tf, i);
+    const json& k = t[i];
+    r.expectObject(k, kf);
+    r.checkKeys(k, kf, {"t", "position", "rotation"});
+    Keyframe key;
+    key.timeSeconds = keyTime(r, k, kf, lastTime(keys));
+    key.position = r.vec3(r.require(k, kf, "position"), join(kf, "position"));
+    if (const json* q = JsonReader::find(k, "rotation"))
+      key.rotation = readQuaternion(r, *q, join(kf, "rotation"));
+    if (!keys.empty() && keys.front().rotation.has_value() != key.rotation.has_value())
+      r.fail(join(kf, "rotation"), "give \"rotation\" on every keyframe or on none");
+    keys.push_back(key);
+  }
+  return keys;
+}
+
+/// "directivity": a pattern name, {"pattern": NAME} or {"a": one number or 8 numbers in [0, 1]}.
+Directivity readDirectivity(const JsonReader& r, const json& v, const std::string& field) {
+  auto named = [&](const json& name, const std::string& f) {
+    const std::string s = r.string(name, f);
+    const auto a = directivityPatternA(s);
+    if (!a)
+      r.fail(f, inQuotes(s) + " is not one of \"omni\", \"subcardioid\", \"cardioid\", "
+                              "\"supercardioid\", \"hypercardioid\", \"figure8\"");
+    return Directivity{Bands(*a)};
+  };
+  if (v.is_string()) return named(v, field);
+  if (!v.is_object())
+    r.fail(field, "expected a pattern name or an object with \"pattern\" or \"a\", got " +
+                      JsonReader::describe(v));
+  r.checkKeys(v, field, {"pattern", "a"});
+  const json* p = JsonReader::find(v, "pattern");
+  const json* a = JsonReader::find(v, "a");
+  if ((p == nullptr) == (a == nullptr))
+    r.fail(field, "give exactly one of \"pattern\" and \"a\"");
+  if (p) return named(*p, join(field, "pattern"));
+  return Directivity{readBands(r, *a, join(field, "a"), "sources[].directivity.a")};
 }
 
 /// The "position" key of v, or else the trajectory's first keyframe; one of them is required.
@@ -170,7 +197,8 @@ SourceDesc readSource(const JsonReader& r, const json& s, const std::string& f,
                       const fs::path& folder, const std::vector<SourceDesc>& others) {
   r.expectObject(s, f);
   r.checkKeys(s, f,
-              {"name", "position", "signal", "gain_db", "loop", "trajectory", "trajectory_loop"});
+              {"name", "position", "signal", "gain_db", "loop", "trajectory", "trajectory_loop",
+               "directivity", "rotation"});
   SourceDesc src;
   src.name = readName(r, s, f, others, "source");
   if (const json* t = JsonReader::find(s, "trajectory"))
@@ -184,6 +212,10 @@ SourceDesc readSource(const JsonReader& r, const json& s, const std::string& f,
   if (const json* g = JsonReader::find(s, "gain_db"))
     src.gainDb = float(r.limited(*g, join(f, "gain_db"), "sources[].gain_db"));
   if (const json* l = JsonReader::find(s, "loop")) src.loop = r.boolean(*l, join(f, "loop"));
+  if (const json* d = JsonReader::find(s, "directivity"))
+    src.directivity = readDirectivity(r, *d, join(f, "directivity"));
+  if (const json* q = JsonReader::find(s, "rotation"))
+    src.rotation = readQuaternion(r, *q, join(f, "rotation"));
   return src;
 }
 

@@ -26,6 +26,13 @@ void checkBands(const char* field, const Bands& b, const Origin& origin, const s
   for (int k = 0; k < kNumBands; ++k) checkField(field, double(b[k]), origin, at(path, size_t(k)));
 }
 
+/// A rotation must be a unit quaternion (within float rounding); NaN never is.
+void checkRotation(const glm::quat& q, const Origin& origin, const std::string& path) {
+  const float n = glm::dot(q, q);
+  if (!(std::abs(n - 1.f) < 1e-3f))
+    fail(origin, path, "not a unit quaternion (squared length " + valueText(n) + ")");
+}
+
 /// Keyframe times: finite, >= 0, strictly increasing.
 template <class Keys>
 void checkKeyTimes(const Keys& keys, const Origin& origin, const std::string& path) {
@@ -91,6 +98,11 @@ void checkSources(const std::vector<SourceDesc>& sources, const Origin& origin) 
     checkPosition(s.position, origin, f + ".position");
     checkField("sources[].gain_db", s.gainDb, origin, f + ".gain_db");
     checkTrajectory(s.trajectory, origin, f + ".trajectory");
+    checkBands("sources[].directivity.a", s.directivity.a, origin, f + ".directivity.a");
+    checkRotation(s.rotation, origin, f + ".rotation");
+    for (size_t k = 0; k < s.trajectory.size(); ++k)
+      if (s.trajectory[k].rotation)
+        checkRotation(*s.trajectory[k].rotation, origin, at(f + ".trajectory", k) + ".rotation");
   }
 }
 

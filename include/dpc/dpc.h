@@ -171,6 +171,20 @@ typedef struct dpc_source {
   int loop; /**< nonzero: repeat the signal */
 } dpc_source;
 
+/** A source's radiation pattern and orientation for dpc_scene_data (docs/scene-format.md,
+ *  "sources[i].directivity"; scene/directivity.h). First-order: energy gain
+ *  g = ((1 - a) + a cos theta)^2 at the angle theta from the forward axis (Eargle, "The
+ *  Microphone Book", ch. 5), applied as g / <g> (<g> = (1 - a)^2 + a^2 / 3, its mean over the
+ *  sphere) so the source's total power is unchanged and its on-axis intensity rises by the
+ *  directivity factor 1 / <g>. An array parallel to dpc_scene_data.sources. */
+typedef struct dpc_source_directivity {
+  float a[8];        /**< per octave band 63 Hz .. 8 kHz, [0, 1]: 0 omni, 0.3 subcardioid,
+                          0.5 cardioid, 0.63 supercardioid, 0.75 hypercardioid, 1 figure 8 */
+  float rotation[4]; /**< orientation quaternion [x, y, z, w] (glTF order), normalised; the
+                          forward axis is rotation * (+x); {0, 0, 0, 1}: facing +x; zero
+                          length is an error */
+} dpc_source_directivity;
+
 /** A further listener for dpc_scene_data (the first is given by its listener_* fields). */
 typedef struct dpc_listener {
   float position[3];    /**< m */
@@ -216,6 +230,9 @@ typedef struct dpc_scene_data {
      index i + 1 is additional_listeners[i]; see dpc_engine_select_listener */
   const dpc_listener* additional_listeners; /**< NULL, or additional_listener_count entries */
   int additional_listener_count;            /**< 0..63 (a scene has at most 64 listeners) */
+  /* source directivity: NULL (the default) makes every source omni; else source_count
+     entries, entry i for sources[i] */
+  const dpc_source_directivity* source_directivities;
 } dpc_scene_data;
 
 /** Any thread; no allocation. struct_size = sizeof(dpc_scene_data); zero mesh, materials and

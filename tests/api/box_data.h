@@ -19,6 +19,7 @@ struct BoxData {
   dpc_material material{"walls", {0.1f, 0.1f, 0.1f, 0.1f, 0.1f, 0.1f, 0.1f, 0.1f}, 0.2f};
   std::vector<dpc_source> sources = {dpc_source{{2.f, 1.5f, 2.f}, 0.f, nullptr, 0, 0}};
   std::vector<dpc_listener> listeners;
+  std::vector<dpc_source_directivity> directivities;  ///< empty: every source omni
   dpc_scene_data d{};
 
   BoxData() { dpc_scene_data_init(&d); }
@@ -35,6 +36,7 @@ struct BoxData {
     d.listener_position[1] = 1.5f;
     d.listener_position[2] = 2.f;
     d.additional_listeners = listeners.empty() ? nullptr : listeners.data();
+    d.source_directivities = directivities.empty() ? nullptr : directivities.data();
     return d;
   }
 };

@@ -74,6 +74,12 @@ const std::map<std::string, DataSetter>& dataSetters() {
                 "materials[0].scattering")},
       {"sources[].gain_db",
        boxFloat([](BoxData& b) -> float& { return b.sources[0].gain_db; }, "sources[0].gain_db")},
+      {"sources[].directivity.a",
+       [](BoxData& b, double v) {
+         b.directivities.assign(b.sources.size(), dpc_source_directivity{{}, {0, 0, 0, 1}});
+         b.directivities[0].a[3] = float(v);
+         return "source_directivities[0].a[3]";
+       }},
       {"listener.radius", dataMember(&dpc_scene_data::listener_radius, "listener_radius")},
       {"listener.yaw", dataMember(&dpc_scene_data::listener_yaw_degrees, "listener_yaw_degrees")},
       {"listener.pitch",

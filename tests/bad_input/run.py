@@ -280,6 +280,11 @@ CASES = {
                           "CUBICSPLINE interpolation is not supported"),
     "mesh_empty": (write("shoebox.obj", ""), OFF, "shoebox.obj"),
     "sources_empty": (scene_with(sources=[]), OFF, "sources"),
+    # Source directivity (docs/scene-format.md, "sources[i].directivity").
+    "directivity_unknown": (scene_with(**{"sources.0.directivity": "shotgun"}), OFF, 'shoebox.json: sources[0].directivity: "shotgun" is not one of'),
+    "directivity_a_above_1": (scene_with(**{"sources.0.directivity": {"a": 1.5}}), OFF, "shoebox.json: sources[0].directivity.a: 1.5 is outside [0, 1]"),
+    "directivity_a_negative": (scene_with(**{"sources.0.directivity": {"a": [0, 0, 0, 0, 0, 0, 0, -0.1]}}), OFF, "shoebox.json: sources[0].directivity.a[7]: -0.1 is outside [0, 1]"),
+    "source_rotation_zero": (scene_with(**{"sources.0.rotation": [0, 0, 0, 0]}), OFF, "shoebox.json: sources[0].rotation: [0,0,0,0] has zero length"),
     "estimator_scene_bad": (scene_with(**{"propagation.estimator": "x"}), OFF, "estimator"),
     # Finding 4 and 5: work and memory refused before any work, naming the setting to lower.
     "rays_1e8_order_10000": (scene_with(**{"propagation.rays_per_frame": 100000000, "propagation.max_order": 10000}), OFF[:-2], "rays_per_frame"),

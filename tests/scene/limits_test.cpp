@@ -50,6 +50,7 @@ std::pair<std::string, std::string> docPlace(const std::string& field) {
   const std::string parent = field.substr(0, dot), key = field.substr(dot + 1);
   if (parent == "materials.*") return {"### `materials.NAME`", key};
   if (parent == "sources[]") return {"### `sources[i]`", key};
+  if (parent == "sources[].directivity") return {"### `sources[i].directivity`", key};
   return {"### `" + parent + "`", key};
 }
 
@@ -128,6 +129,10 @@ std::optional<std::string> setField(json& s, const std::string& field, double va
   if (field.rfind("materials.*.", 0) == 0) {
     s["materials"]["walls"][key] = number(value);
     return "materials.walls." + key;
+  }
+  if (field == "sources[].directivity.a") {
+    s["sources"][0]["directivity"] = {{"a", number(value)}};
+    return "sources[0].directivity.a";
   }
   if (field.rfind("sources[].", 0) == 0) {
     s["sources"][0][key] = number(value);

@@ -116,8 +116,6 @@ void Propagator::testListeners(const RayState& ray, float segEnd,
                                std::vector<PathHit>& hits,
                                std::vector<uint32_t>& hitListener) const {
   for (uint32_t l = 0; l < listeners.size(); ++l) {
-    // An exact specular path's hits stay out: specular_paths.h finds that path exactly.
-    if (ray.exactSpecular() && replacedByExactPath(ray, l)) continue;
     // Segment against listener l's sphere: |org + t dir - L|^2 = R^2.
     const ListenerSphere& listener = listeners[l];
     const float r2 = listener.radius * listener.radius;
@@ -127,6 +125,9 @@ void Propagator::testListeners(const RayState& ray, float segEnd,
     if (!(disc > 0.f)) continue;
     const float s = std::sqrt(disc);
     if (!(b + s > 0.f && b - s < segEnd)) continue;
+    // An exact specular path's hits stay out: specular_paths.h finds that path exactly. Asked
+    // only for segments that meet the sphere (it hashes the ray's face sequence).
+    if (ray.exactSpecular() && replacedByExactPath(ray, l)) continue;
     const float invArea = 1.f / (std::numbers::pi_v<float> * r2);
     const float r = ray.travelled + std::clamp(b, 0.f, segEnd);
     PathHit h;

@@ -38,6 +38,7 @@ if command -v jack_lsp >/dev/null 2>&1 && JACK_NO_START_SERVER=1 jack_lsp >/dev/
   exit $?
 fi
 
+"$(dirname "$0")/jack-reclaim.sh"
 log=$(mktemp -t jackd-dummy.XXXXXX.log)
 # Real-time scheduling (-R: the process thread, and so dpc's audio callback, runs SCHED_FIFO)
 # when this machine grants it (chrt succeeds) unless JACK_REALTIME=0; otherwise -r. The choice

@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # A live session survives its audio server: dpc-demo plays the shoebox on a JACK server of its
-# own (dummy backend, a name of its own so that no other test's server is touched), recording
+# own (dummy backend, a fixed name of its own so that no other test's server is touched and
+# the registry slot a SIGKILLed server leaves behind is reclaimed by the next run: JACK holds
+# at most 8 server names, and frees a dead server's slot only when its name registers again),
+# recording
 # (--record) and writing --stats, and the server is killed while it plays, once with SIGTERM
 # and once with SIGKILL. Asserts, each run: dpc-demo ends by itself with exit status 1 and
 # one line "dpc-demo: error: audio device ...", well before its --duration (within 10 s of
@@ -18,10 +21,18 @@ cleanup() {
   [[ -n $demo_pid ]] && kill -KILL "$demo_pid" 2>/dev/null || true
   [[ -n $jack_pid ]] && kill -KILL "$jack_pid" 2>/dev/null || true
   rm -rf "$work"
+  remove_stale_segments
+}
+# A SIGKILLed server cannot remove its shared-memory segments and semaphores; ours are named
+# after the server, so they are removed here (never another server's).
+remove_stale_segments() {
+  rm -f /dev/shm/jack_"$JACK_DEFAULT_SERVER"_* /dev/shm/jack_sem.*_"$JACK_DEFAULT_SERVER"_* \
+      2>/dev/null || true
 }
 trap cleanup EXIT
-export JACK_DEFAULT_SERVER="dpc-server-kill-$$"
+export JACK_DEFAULT_SERVER="dpc-server-kill"
 export JACK_NO_START_SERVER=1
+"$src/scripts/jack-reclaim.sh"
 
 run_once() {  # $1: the signal that kills the server
   local sig=$1 out="$work/$1"
@@ -47,6 +58,7 @@ run_once() {  # $1: the signal that kills the server
   killed=$(date +%s.%N)
   wait "$jack_pid" 2>/dev/null || true
   jack_pid=""
+  remove_stale_segments
   local waited=0
   while kill -0 "$demo_pid" 2>/dev/null && ((waited < 100)); do
     sleep 0.1

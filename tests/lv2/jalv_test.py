@@ -71,9 +71,11 @@ class Session:
     """The JACK server, jalv and the player/recorder clients; stopped by their process ids."""
 
     def __init__(self, lv2dir):
-        self.server = "dpc_jalv_test_%d" % os.getpid()
+        self.server = "dpc_jalv_test"  # fixed: a killed run's registry slot is reclaimed
         self.env = dict(os.environ, LV2_PATH=lv2dir, JACK_DEFAULT_SERVER=self.server,
                         JACK_NO_AUDIO_RESERVATION="1")
+        subprocess.run([os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
+                                     "scripts", "jack-reclaim.sh")], check=True)
         self.jackd = subprocess.Popen(["jackd", "-n", self.server, "-d", "dummy", "-r",
                                        str(RATE), "-p", str(PERIOD)], env=self.env,
                                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)

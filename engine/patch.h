@@ -101,24 +101,32 @@ struct PathKeyRule {
 };
 
 /// One ray's path identifier while it reflects: the thesis hash and what the order-adaptive
-/// identifier needs (source, last triangle, reflections so far). 24 bytes.
+/// identifier needs (emitter, first and last triangle, reflections so far). 24 bytes.
 struct PathKey {
   uint64_t hash = 0;
-  uint32_t source = 0;
+  uint32_t source = 0;  ///< the emitter's index (a listener's when tracing from listeners)
+  uint32_t firstTriangle = 0;
   uint32_t lastTriangle = 0;
   int order = 0;
 
-  static PathKey start(uint32_t source) { return PathKey{pathHashStart(source), source, 0, 0}; }
+  static PathKey start(uint32_t source) {
+    return PathKey{pathHashStart(source), source, 0, 0, 0};
+  }
   void add(uint32_t triangle, uint32_t zeta, uint32_t xi) {
     hash = pathHashAddPatch(hash, patchKey(triangle, zeta, xi));
+    if (order == 0) firstTriangle = triangle;
     lastTriangle = triangle;
     ++order;
   }
-  /// The identifier of a hit at path length `length` (metres).
-  uint64_t finish(uint32_t listener, float length, const PathKeyRule& rule) const {
+  /// The identifier of a hit at path length `length` (metres) on receiver `listener`.
+  /// emitterIsListener: the rays leave the listener, so the triangle next to the listener (the
+  /// arrival side kept beyond fullOrder) is the first one, not the last.
+  uint64_t finish(uint32_t listener, float length, const PathKeyRule& rule,
+                  bool emitterIsListener = false) const {
     if (order <= rule.fullOrder) return pathHashFinish(hash, listener);
     const uint64_t bin = uint64_t(std::max(0.f, length / rule.lengthBin));
-    uint64_t h = pathHashAddPatch(mix64(0x7a11c0de5eed0001ULL + source), lastTriangle);
+    const uint32_t arrival = emitterIsListener ? firstTriangle : lastTriangle;
+    uint64_t h = pathHashAddPatch(mix64(0x7a11c0de5eed0001ULL + source), arrival);
     return pathHashFinish(pathHashAddPatch(h, ~bin), listener);
   }
 };

@@ -48,7 +48,9 @@ void Propagator::forEachParallel(size_t n, const std::function<void(size_t)>& f)
   arena_->execute([&] { tbb::parallel_for(size_t(0), n, [&](size_t i) { f(i); }); });
 }
 
-DirectSound Propagator::directSound(const glm::vec3& source, const ListenerSphere& listener) const {
+DirectSound Propagator::directSound(const glm::vec3& source, const ListenerSphere& listener,
+                                    const Directivity& directivity,
+                                    const glm::vec3& forward) const {
   DirectSound d;
   const glm::vec3 toListener = listener.position - source;
   const float dist = glm::length(toListener);
@@ -61,8 +63,8 @@ DirectSound Propagator::directSound(const glm::vec3& source, const ListenerSpher
     const float spreading = 1.f / (4.f * std::numbers::pi_v<float> * d.distance * d.distance);
     d.intensity = exp(airPerMetre_ * -d.distance) * spreading;
     // A source at the listener's centre has no direction: its weight is the pattern's mean, 1.
-    if (!directivity_.omni() && dist > 0.f)
-      d.intensity *= directivityWeight(directivity_, glm::dot(forward_, toListener / dist));
+    if (!directivity.omni() && dist > 0.f)
+      d.intensity *= directivityWeight(directivity, glm::dot(forward, toListener / dist));
   }
   return d;
 }
@@ -72,6 +74,7 @@ void Propagator::startRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t ray
   ray.rng = Rng(frameSeed, rayIndex);
   ray.org = source;
   ray.dir = uniformSphere(ray.rng);
+  ray.firstDir = ray.dir;
   if (geometry_.scatteringVariesWithBand()) {
     // One band per ray, in turn (ray index mod 8: every band gets N/8 rays a frame), carrying
     // kNumBands times its share so each band's energy stays unbiased; its reflections use that
@@ -105,10 +108,17 @@ bool Propagator::advance(RayState& ray, bool surface, const SurfaceHit& hit,
 bool Propagator::replacedByExactPath(const RayState& ray, uint32_t l) const {
   if (exactSets_.empty()) return true;
   if (l >= exactSets_.size() || !exactSets_[l]) return false;
+  return exactSets_[l]->contains(sourceFirstRun(ray, uint32_t(ray.specularRun)).key());
+}
+
+SpecularSequence Propagator::sourceFirstRun(const RayState& ray, uint32_t k) const {
   SpecularSequence s;
-  s.order = uint32_t(ray.specularRun);
-  std::copy_n(ray.specular.begin(), ray.specularRun, s.triangles.begin());
-  return exactSets_[l]->contains(s.key());
+  s.order = k;
+  if (fromListeners_)
+    std::reverse_copy(ray.specular.begin(), ray.specular.begin() + k, s.triangles.begin());
+  else
+    std::copy_n(ray.specular.begin(), k, s.triangles.begin());
+  return s;
 }
 
 void Propagator::testListeners(const RayState& ray, float segEnd,
@@ -118,26 +128,37 @@ void Propagator::testListeners(const RayState& ray, float segEnd,
   for (uint32_t l = 0; l < listeners.size(); ++l) {
     // Segment against listener l's sphere: |org + t dir - L|^2 = R^2.
     const ListenerSphere& listener = listeners[l];
-    const float r2 = listener.radius * listener.radius;
     const glm::vec3 oc = listener.position - ray.org;
     const float b = glm::dot(oc, ray.dir);
-    const float disc = b * b - (glm::dot(oc, oc) - r2);
+    const float disc = b * b - (glm::dot(oc, oc) - listener.radius * listener.radius);
     if (!(disc > 0.f)) continue;
     const float s = std::sqrt(disc);
     if (!(b + s > 0.f && b - s < segEnd)) continue;
     // An exact specular path's hits stay out: specular_paths.h finds that path exactly. Asked
     // only for segments that meet the sphere (it hashes the ray's face sequence).
     if (ray.exactSpecular() && replacedByExactPath(ray, l)) continue;
-    const float invArea = 1.f / (std::numbers::pi_v<float> * r2);
-    const float r = ray.travelled + std::clamp(b, 0.f, segEnd);
-    PathHit h;
-    h.key = ray.path.finish(l, r, keyRule_);
-    h.intensity = ray.energy * exp(airPerMetre_ * -r) * invArea;
-    h.length = r;
-    h.direction = -ray.dir;
-    hits.push_back(h);
+    hits.push_back(makeHit(ray, l, listener, b, segEnd));
     hitListener.push_back(l);
   }
+}
+
+PathHit Propagator::makeHit(const RayState& ray, uint32_t l, const ListenerSphere& sphere,
+                            float b, float segEnd) const {
+  const float invArea = 1.f / (std::numbers::pi_v<float> * sphere.radius * sphere.radius);
+  const float r = ray.travelled + std::clamp(b, 0.f, segEnd);
+  PathHit h;
+  h.key = ray.path.finish(l, r, keyRule_, fromListeners_);
+  h.intensity = ray.energy * exp(airPerMetre_ * -r) * invArea;
+  h.length = r;
+  if (!fromListeners_) {
+    h.direction = -ray.dir;
+    return h;
+  }
+  // Reciprocal path: the sound leaves source l along -dir and reaches the listener from firstDir.
+  h.direction = ray.firstDir;
+  if (l < receiverPatterns_.size() && !receiverPatterns_[l].omni())
+    h.intensity *= directivityWeight(receiverPatterns_[l], glm::dot(receiverForwards_[l], -ray.dir));
+  return h;
 }
 
 bool Propagator::reflect(RayState& ray, const SurfaceHit& hit) const {
@@ -183,7 +204,7 @@ void Propagator::traceRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t ray
 
 void Propagator::noteSpecularRun(const RayState& ray, Chunk& chunk) const {
   if (ray.specularRun == 0) return;
-  SpecularSequence s;
+  SpecularSequence s;  // as recorded; collectCandidates orients every prefix
   s.order = uint32_t(ray.specularRun);
   std::copy_n(ray.specular.begin(), ray.specularRun, s.triangles.begin());
   chunk.specularRuns.push_back(s);
@@ -192,7 +213,13 @@ void Propagator::noteSpecularRun(const RayState& ray, Chunk& chunk) const {
 void Propagator::collectCandidates(uint32_t chunkCount, SpecularCandidates& candidates) const {
   for (uint32_t c = 0; c < chunkCount; ++c)
     for (const SpecularSequence& run : chunks_[c].specularRuns)
-      for (uint32_t k = 1; k <= run.order; ++k) candidates.insert(run.prefix(k));
+      for (uint32_t k = 1; k <= run.order; ++k) {
+        // A prefix is the path's first k reflections from the emitter: from a listener, the
+        // source-first sequence is its reverse.
+        SpecularSequence p = run.prefix(k);
+        if (fromListeners_) std::reverse(p.triangles.begin(), p.triangles.begin() + k);
+        candidates.insert(p);
+      }
 }
 
 void Propagator::traceChunkPacket(uint64_t frameSeed, uint32_t sourceIndex, uint32_t firstRay,

@@ -139,7 +139,13 @@ class Propagator {
   /// R/2, where 1/(4 pi r^2) equals what rays crossing the sphere would report (1/(pi R^2)).
   /// With a directional source (setSourceDirectivity), the intensity is weighted by the
   /// pattern toward the listener.
-  DirectSound directSound(const glm::vec3& source, const ListenerSphere& listener) const;
+  DirectSound directSound(const glm::vec3& source, const ListenerSphere& listener) const {
+    return directSound(source, listener, directivity_, forward_);
+  }
+  /// The same for a source of the given pattern and forward axis (unit vector, world), whatever
+  /// setSourceDirectivity holds: thread-safe, for per-pair work in parallel.
+  DirectSound directSound(const glm::vec3& source, const ListenerSphere& listener,
+                          const Directivity& directivity, const glm::vec3& forward) const;
 
   /// The traced source's radiation pattern and forward axis (unit vector, world) for the
   /// following traceFrame and directSound calls (scene/directivity.h): every ray's energy is
@@ -153,6 +159,30 @@ class Propagator {
   }
   const Directivity& sourceDirectivity() const { return directivity_; }
   const glm::vec3& sourceForward() const { return forward_; }
+
+  /// Reciprocal (listener-based) tracing, Schissler & Manocha, "Interactive sound propagation
+  /// and rendering for large multi-source scenes", ACM TOG 36(1), 2016: the following frames'
+  /// rays leave a listener (traceFrame's `source` is the listener's position, its sourceIndex
+  /// the listener's index) and the spheres are the sources (`listeners` holds the source
+  /// spheres, groups[s] receives source s's hits). Light and sound paths are reciprocal: the
+  /// reflection rules (Lambert and mirror) are symmetric and the estimator is the same, so a
+  /// hit contributes I = energy * exp(-m r) / (pi R_s^2), R_s the source sphere's radius, and
+  /// the energy response's expectation equals the source-based one's for R_s = the listener's
+  /// radius. What changes: a hit's direction is the ray's first direction (where the sound
+  /// arrives from, seen from the listener); the source's pattern weights the hit toward the
+  /// direction the sound leaves it (minus the ray's direction at the sphere), patterns[s] with
+  /// forward axis forwards[s]; the specular sequences are recorded listener first, so they are
+  /// reversed into source-first order for the candidates and the exact-path lookup. The spans
+  /// must outlive the traceFrame calls (empty: every source omni). Set the emitter's
+  /// directivity to omni (setSourceDirectivity) for these frames. Propagation thread, between
+  /// frames; no allocation.
+  void setFromListeners(bool on, std::span<const Directivity> patterns = {},
+                        std::span<const glm::vec3> forwards = {}) {
+    fromListeners_ = on;
+    receiverPatterns_ = patterns;
+    receiverForwards_ = forwards;
+  }
+  bool fromListeners() const { return fromListeners_; }
 
   /// When true, segments leaving the source also count as listener hits (for calibration
   /// against 1/(4 pi r^2); the renderer keeps the analytic direct sound instead).
@@ -196,6 +226,7 @@ class Propagator {
     Rng rng{0, 0};
     glm::vec3 org{0.f}, dir{0.f};
     Bands energy{1.f};
+    glm::vec3 firstDir{0.f};  ///< direction of the first segment (tracing from listeners)
     float travelled = 0.f;
     PathKey path;
     int order = 0;
@@ -236,6 +267,13 @@ class Propagator {
   /// Whether an exact path replaces listener l's hit of this all-specular ray (see
   /// setExactSequences).
   bool replacedByExactPath(const RayState& ray, uint32_t l) const;
+  /// The ray's leading specular run (k first reflections) as a source-first sequence: as
+  /// recorded, or reversed when tracing from listeners.
+  SpecularSequence sourceFirstRun(const RayState& ray, uint32_t k) const;
+  /// One sphere crossing of `ray` (b: distance along the segment to the point of closest
+  /// approach): the PathHit to receiver l.
+  PathHit makeHit(const RayState& ray, uint32_t l, const ListenerSphere& sphere, float b,
+                  float segEnd) const;
   /// Reflects `ray` at `hit`: patch into the path identifier, reflectance, Russian roulette,
   /// diffuse or specular direction. Returns false when roulette ends the ray.
   bool reflect(RayState& ray, const SurfaceHit& hit) const;
@@ -262,6 +300,9 @@ class Propagator {
   glm::vec3 forward_{1.f, 0.f, 0.f};
   std::span<const tsl::robin_set<uint64_t>* const> exactSets_;  ///< setExactSequences
   std::span<const uint32_t> faceOf_;  ///< setSpecularFaces
+  bool fromListeners_ = false;        ///< setFromListeners
+  std::span<const Directivity> receiverPatterns_;
+  std::span<const glm::vec3> receiverForwards_;
   int exactOrder_ = 0;  ///< exactOrder()
   TraceMode traceMode_ = kDefaultTraceMode;
   std::unique_ptr<tbb::task_arena> arena_;

@@ -116,12 +116,21 @@ void Simulation::runFrame(std::span<const ListenerSphere> listeners,
   const size_t L = std::max<size_t>(1, listeners.size());
   reserveListeners(L);
   listenerCount_ = L;
+  if (tracesFromListeners(settings_.tracing, sourceCount_, listeners.size()))
+    traceFromListeners(listeners, sources);
+  else
+    traceFromSources(listeners, sources);
+  ++frame_;
+}
+
+void Simulation::traceFromSources(std::span<const ListenerSphere> listeners,
+                                  const std::vector<glm::vec3>& sources) {
   for (size_t s = 0; s < sourceCount_ && s < sources.size(); ++s) {
     const auto t0 = std::chrono::steady_clock::now();
-    for (size_t l = 0; l < L; ++l) groups_[l].clear();
+    for (size_t l = 0; l < listeners.size(); ++l) groups_[l].clear();
     if (specularCandidates_) {
       specularCandidates_->clear();
-      for (size_t l = 0; l < L; ++l)
+      for (size_t l = 0; l < listeners.size(); ++l)
         exactSetPtrs_[l] = &specularCaches_[l * sourceCount_ + s]->validKeys();
       propagator_->setExactSequences(std::span(exactSetPtrs_.data(), listeners.size()));
     }
@@ -137,20 +146,59 @@ void Simulation::runFrame(std::span<const ListenerSphere> listeners,
     // that source-listener pair's data: run them concurrently on the tracing threads. Each
     // pair's float operations are the same whatever the thread, so results do not change.
     propagator_->forEachParallel(listeners.size(), [&](size_t l) {
-      finishPair(s, l, sources[s], listeners[l], trace, traceSeconds);
+      finishPair(s, l, sources[s], listeners[l], trace, traceSeconds, groups_[l]);
     });
   }
-  ++frame_;
+}
+
+void Simulation::reserveSourceGroups() {
+  if (sourceGroups_.size() >= sourceCount_) return;
+  sourceGroups_.resize(sourceCount_);
+  sourceGroupPtrs_.clear();
+  for (FrameGroups& g : sourceGroups_) sourceGroupPtrs_.push_back(&g);
+  sourceExactSetPtrs_.resize(sourceCount_, nullptr);
+  sourceSpheres_.resize(sourceCount_);
+}
+
+void Simulation::traceFromListeners(std::span<const ListenerSphere> listeners,
+                                    const std::vector<glm::vec3>& sources) {
+  reserveSourceGroups();
+  const size_t S = std::min(sourceCount_, sources.size());
+  propagator_->setSourceDirectivity(Directivity{}, glm::vec3(1.f, 0.f, 0.f));  // the listener
+  propagator_->setFromListeners(true, directivities_, sourceForwards_);
+  for (size_t l = 0; l < listeners.size(); ++l) {
+    const auto t0 = std::chrono::steady_clock::now();
+    for (size_t s = 0; s < S; ++s) {
+      sourceGroups_[s].clear();
+      sourceSpheres_[s] = ListenerSphere{sources[s], listeners[l].radius};
+    }
+    if (specularCandidates_) {
+      specularCandidates_->clear();
+      for (size_t s = 0; s < S; ++s)
+        sourceExactSetPtrs_[s] = &specularCaches_[l * sourceCount_ + s]->validKeys();
+      propagator_->setExactSequences(std::span(sourceExactSetPtrs_.data(), S));
+    }
+    const TraceStats trace = propagator_->traceFrame(
+        frame_, uint32_t(l), listeners[l].position, std::span(sourceSpheres_.data(), S),
+        std::span(sourceGroupPtrs_.data(), S), specularCandidates_.get());
+    if (specularCandidates_) specularCandidateOverflow_ += specularCandidates_->overflow();
+    const double traceSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    propagator_->forEachParallel(S, [&](size_t s) {
+      finishPair(s, l, sources[s], listeners[l], trace, traceSeconds, sourceGroups_[s]);
+    });
+  }
+  propagator_->setFromListeners(false);
 }
 
 void Simulation::finishPair(size_t s, size_t l, const glm::vec3& source,
                             const ListenerSphere& listener, const TraceStats& trace,
-                            double traceSeconds) {
+                            double traceSeconds, const FrameGroups& groups) {
   const size_t pair = l * sourceCount_ + s;
   SourceResult& r = results_[pair];
   const auto t1 = std::chrono::steady_clock::now();
   r.trace = trace;
-  r.direct = propagator_->directSound(source, listener);
+  r.direct = propagator_->directSound(source, listener, directivities_[s], sourceForwards_[s]);
   if (diffraction_)
     diffraction_->apply(*tracer_, source, listener, settings_.speedOfSound,
                         propagator_->airAttenuationPerMetre(), r.direct, directivities_[s],
@@ -162,7 +210,7 @@ void Simulation::finishPair(size_t s, size_t l, const glm::vec3& source,
     dir->clear();
     dir->setListenerFrame(orientations_[l].forward(), orientations_[l].up());
   }
-  updateEstimator(pair, groups_[l], r, dir);
+  updateEstimator(pair, groups, r, dir);
   r.traceSeconds = traceSeconds;
   r.estimatorSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
   if (specularScene_) updateSpecular(pair, source, listener, r);

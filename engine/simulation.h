@@ -9,6 +9,13 @@
 // also gets the frame's exact all-specular paths up to that order (specularPaths), which the
 // energy response then no longer contains.
 //
+// Tracing direction (PropagationSettings::tracing): from the sources, every source's rays are
+// traced once and tested against every listener sphere; from the listeners, every listener's
+// rays are traced once and tested against every source sphere (of the listener's radius), so a
+// frame's tracing costs one pass per listener whatever the number of sources (Schissler &
+// Manocha, ACM TOG 2016; engine/propagation.h, Propagator::setFromListeners). Caches, exact
+// paths and results are per pair either way.
+//
 // Directional sources (SourceDesc::directivity): the propagator weights each source's rays and
 // direct sound, and each pair's exact paths are weighted toward their first reflection point.
 //
@@ -135,10 +142,19 @@ class Simulation {
  private:
   /// Caches, responses and groups for `listeners` listeners (grows only).
   void reserveListeners(size_t listeners);
+  /// Per source, a trace's hits in one pass from each source (rays from the sources).
+  void traceFromSources(std::span<const ListenerSphere> listeners,
+                        const std::vector<glm::vec3>& sources);
+  /// The same with one pass from each listener (rays from the listeners).
+  void traceFromListeners(std::span<const ListenerSphere> listeners,
+                          const std::vector<glm::vec3>& sources);
+  /// Per-source group buffers and exact-path set pointers (grows only).
+  void reserveSourceGroups();
   /// Source s and listener l after the trace: direct sound (with edge diffraction) and the
-  /// estimator update into their pair's result. Touches only that pair's data.
+  /// estimator update of `groups` (the pair's hits this frame) into their pair's result.
+  /// Touches only that pair's data.
   void finishPair(size_t s, size_t l, const glm::vec3& source, const ListenerSphere& listener,
-                  const TraceStats& trace, double traceSeconds);
+                  const TraceStats& trace, double traceSeconds, const FrameGroups& groups);
   /// Adds the frame's groups to pair's estimator and reads its energy response into r.energy
   /// (and dir when not null).
   void updateEstimator(size_t pair, const FrameGroups& groups, SourceResult& r,
@@ -166,6 +182,11 @@ class Simulation {
   PathTracingEstimator pathTracing_;
   std::vector<FrameGroups> groups_;      ///< per listener, this source's frame
   std::vector<FrameGroups*> groupPtrs_;  ///< &groups_[l]
+  // Tracing from the listeners: per source, this listener's frame, and the source spheres.
+  std::vector<FrameGroups> sourceGroups_;
+  std::vector<FrameGroups*> sourceGroupPtrs_;
+  std::vector<const tsl::robin_set<uint64_t>*> sourceExactSetPtrs_;
+  std::vector<ListenerSphere> sourceSpheres_;
   /// Per listener, the traced source's pair's SpecularPathCache::validKeys
   std::vector<const tsl::robin_set<uint64_t>*> exactSetPtrs_;
   std::vector<glm::vec3> directions_;    ///< enableDirectional's listener-frame directions

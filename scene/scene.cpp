@@ -184,6 +184,18 @@ std::optional<Estimator> parseEstimator(const std::string& s) {
   return std::nullopt;
 }
 
+std::optional<Tracing> parseTracing(const std::string& s) {
+  if (s == "auto") return Tracing::kAuto;
+  if (s == "from_sources") return Tracing::kFromSources;
+  if (s == "from_listeners") return Tracing::kFromListeners;
+  return std::nullopt;
+}
+
+bool tracesFromListeners(Tracing tracing, size_t sources, size_t listeners) {
+  if (tracing == Tracing::kAuto) return sources > listeners;
+  return tracing == Tracing::kFromListeners;
+}
+
 std::optional<DpcWeighting> parseDpcWeighting(const std::string& s) {
   if (s == "ema") return DpcWeighting::kEma;
   if (s == "seed") return DpcWeighting::kSeed;

@@ -128,6 +128,15 @@ enum class Estimator {
   kPathTracing,  ///< plain Monte Carlo path tracing, no reuse between frames
 };
 
+/// Which end the rays leave from (engine/propagation.h, Propagator::setFromListeners). Both
+/// give the same energy response in expectation (reciprocity); the cost of a frame is one
+/// trace per emitter, so the fewer end is traced.
+enum class Tracing {
+  kAuto,           ///< from the listeners when there are more sources than listeners
+  kFromSources,    ///< one trace per source, tested against every listener sphere
+  kFromListeners,  ///< one trace per listener, tested against every source sphere
+};
+
 /// How a DPC entry's intensity is averaged over time (docs/estimators.md, "Its bias").
 enum class DpcWeighting {
   kSeed,  ///< thesis eq. 3.2: I_hat / mu, mu = rays emitted since the entry was created
@@ -174,6 +183,10 @@ struct PropagationSettings {
   /// default (the first reflections, heard as timbre, echoes and spaciousness). 0 disables the
   /// feature (the outputs are then those of an engine without it, bit for bit).
   int exactOrder = 3;
+  /// Which end the rays leave from; kAuto picks the end with fewer points, so a frame costs
+  /// one trace per listener when sources outnumber listeners (docs/performance.md, "Many
+  /// sources"). The source spheres then have the listener's radius.
+  Tracing tracing = Tracing::kAuto;
 };
 
 /// Output channels of the rendered IRs and audio.
@@ -269,6 +282,10 @@ std::optional<OutputFormat> parseOutputFormat(const std::string& s);
 
 /// Parses "dpc" / "path_tracing"; nullopt for anything else.
 std::optional<Estimator> parseEstimator(const std::string& s);
+/// "auto", "from_sources" or "from_listeners".
+std::optional<Tracing> parseTracing(const std::string& s);
+/// Whether a frame with this many sources and listeners traces from the listeners.
+bool tracesFromListeners(Tracing tracing, size_t sources, size_t listeners);
 /// Parses "ema" / "seed"; nullopt for anything else.
 std::optional<DpcWeighting> parseDpcWeighting(const std::string& s);
 

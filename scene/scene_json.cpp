@@ -341,7 +341,8 @@ void readPropagation(const JsonReader& r, const json& v, PropagationSettings& p)
       v, field,
       {"rays_per_frame", "max_order", "exact_order", "patch_size", "cache_tau", "cache_memory_mb",
        "frame_rate", "ir_length", "seed", "estimator", "dpc_weighting", "speed_of_sound",
-       "temperature", "humidity", "air_absorption", "diffraction", "roulette_threshold_db"});
+       "temperature", "humidity", "air_absorption", "diffraction", "roulette_threshold_db",
+       "tracing"});
   auto f = [&](const char* key) { return join(field, key); };
   readPropagationNumbers(r, v, p);
   if (const json* x = JsonReader::find(v, "seed")) {
@@ -351,6 +352,9 @@ void readPropagation(const JsonReader& r, const json& v, PropagationSettings& p)
   }
   if (const json* x = JsonReader::find(v, "estimator"))
     p.estimator = readChoice(r, *x, f("estimator"), parseEstimator, "\"dpc\", \"path_tracing\"");
+  if (const json* x = JsonReader::find(v, "tracing"))
+    p.tracing = readChoice(r, *x, f("tracing"), parseTracing,
+                           "\"auto\", \"from_sources\", \"from_listeners\"");
   if (const json* x = JsonReader::find(v, "dpc_weighting"))
     p.dpcWeighting =
         readChoice(r, *x, f("dpc_weighting"), parseDpcWeighting, "\"ema\", \"seed\", \"window\"");

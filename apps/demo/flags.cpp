@@ -67,6 +67,9 @@ void addRenderOptions(CLI::App& app, Flags& fl) {
                  "DPC memory budget per source-listener pair, MB (default 64; beyond it old "
                  "entries are merged, not dropped)");
   app.add_option("--estimator", fl.estimator, "dpc | path_tracing");
+  app.add_option("--tracing", fl.tracing,
+                 "auto (default: from the listeners when sources outnumber them) | from_sources "
+                 "| from_listeners");
   app.add_option("--dpc-weighting", fl.weighting,
                  "window (unbiased, answers within tau; default) | ema (unbiased, slower) | seed "
                  "(thesis eq. 3.2; biased high)");

@@ -53,6 +53,11 @@ PropagationSettings applyOverrides(const SceneDesc& scene, const Flags& fl) {
     if (!e) bad("--estimator", "'" + fl.estimator + "' is not dpc or path_tracing");
     s.estimator = *e;
   }
+  if (!fl.tracing.empty()) {
+    auto t = parseTracing(fl.tracing);
+    if (!t) bad("--tracing", "'" + fl.tracing + "' is not auto, from_sources or from_listeners");
+    s.tracing = *t;
+  }
   if (!fl.weighting.empty()) {
     auto w = parseDpcWeighting(fl.weighting);
     if (!w) bad("--dpc-weighting", "'" + fl.weighting + "' is not ema, seed or window");

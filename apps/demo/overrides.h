@@ -7,7 +7,7 @@
 namespace dpc::demo {
 
 /// The scene's propagation settings with --seed, --rays, --max-order, --tau,
-/// --cache-memory-mb, --threads, --estimator and --dpc-weighting applied. Main thread.
+/// --cache-memory-mb, --threads, --estimator, --tracing and --dpc-weighting applied. Main thread.
 /// Throws InputError ("command line", flag, why) for a value out of range or unknown.
 PropagationSettings applyOverrides(const SceneDesc& scene, const Flags& fl);
 

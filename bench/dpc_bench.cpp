@@ -7,6 +7,8 @@
 //   dpc-bench dynamic [--rays N] [--frames F] [--parts step,objects,moving_source]
 //                     (built-in scenes; no file)
 //   dpc-bench listeners SCENE [--rays N] [--frames F] [--threads T] [--counts 1,2,4,8]
+//   dpc-bench sources SCENE [--rays N] [--frames F] [--counts 1,4,16,64,256]
+//                           [--tracing from_sources,from_listeners]
 //   dpc-bench diffraction SCENE [--frames F]
 //   dpc-bench live SCENE [--rays N] [--duration S] [--block-size B] [--frame-rate F]
 //                        [--threads T] [--device SPEC]
@@ -27,6 +29,7 @@
 #include "bench/diffraction_bench.h"
 #include "bench/dynamic_bench.h"
 #include "bench/listeners_bench.h"
+#include "bench/sources_bench.h"
 #include "bench/live_bench.h"
 #include "bench/load_bench.h"
 #include "bench/noise_bench.h"
@@ -45,6 +48,7 @@ struct Options {
   NoiseOptions noise;
   LiveOptions live;
   ListenersOptions listeners;
+  SourcesOptions sources;
   std::vector<int> budgetRays = {1000, 10000, 100000};
   DynamicOptions dynamic;
   ConvolveOptions convolve;
@@ -54,7 +58,7 @@ struct Options {
 
 /// The subcommands as CLI11 knows them (each is true once parsed).
 struct Subcommands {
-  CLI::App *propagation, *noise, *live, *listeners, *diffraction, *budget, *dynamic, *convolve,
+  CLI::App *propagation, *noise, *live, *listeners, *sources, *diffraction, *budget, *dynamic, *convolve,
       *load, *bake;
 };
 
@@ -104,6 +108,29 @@ CLI::App* addListeners(CLI::App& app, Options& o) {
   sub->add_option("--counts", o.listeners.counts, "Listener counts (first = the reference)")
       ->delimiter(',')
       ->check(CLI::PositiveNumber);
+  return sub;
+}
+
+CLI::App* addSources(CLI::App& app, Options& o) {
+  CLI::App* sub = addSceneBench(
+      app, "sources",
+      "Frame time, peak memory and per-source quality vs source count, both tracing directions",
+      o.common);
+  sub->add_option("--counts", o.sources.counts, "Source counts (first = the reference)")
+      ->delimiter(',')
+      ->check(CLI::Range(1, 256));
+  sub->add_option("--tracing", o.sources.tracing, "from_sources, from_listeners or both")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"from_sources", "from_listeners", "auto"}));
+  sub->add_option("--warmup-frames", o.sources.warmupFrames,
+                  "Frames before timing; quality is read after them (default 20)")
+      ->check(CLI::Range(1, 1000));
+  sub->add_option("--quality-sources", o.sources.qualitySources,
+                  "Sources compared with a reference (default 4)")
+      ->check(CLI::Range(0, 256));
+  sub->add_option("--reference-frames", o.sources.referenceFrames,
+                  "Path-tracing frames of each reference (4x rays; default 24)")
+      ->check(CLI::Range(2, 10000));
   return sub;
 }
 
@@ -165,6 +192,7 @@ Subcommands addSubcommands(CLI::App& app, Options& o) {
   s.noise = addNoise(app, o);
   s.live = addLive(app, o);
   s.listeners = addListeners(app, o);
+  s.sources = addSources(app, o);
   s.diffraction = addSceneBench(
       app, "diffraction",
       "Edge diffraction: edges found at load time, cost per source-listener pair", o.common);
@@ -184,6 +212,7 @@ int run(const Subcommands& s, const Options& o) {
   if (*s.propagation) return benchPropagation(o.common, o.noRoulette);
   if (*s.dynamic) return benchDynamic(o.dynamic);
   if (*s.listeners) return benchListeners(o.common, o.listeners);
+  if (*s.sources) return benchSources(o.common, o.sources);
   if (*s.convolve) return benchConvolve(o.convolve);
   if (*s.bake) return benchBake(o.bake);
   if (*s.budget) return benchBudget(o.common, o.budgetRays);

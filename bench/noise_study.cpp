@@ -83,6 +83,14 @@ double relativeErrorInRange(const EnergyResponse& e, const EnergyResponse& ref,
 
 }  // namespace
 
+EnergyResponse noiseBins(const EnergyResponse& e) {
+  return e.rebinned(rebinFactor());
+}
+
+double relativeError(const EnergyResponse& e, const EnergyResponse& ref) {
+  return std::sqrt(squaredDistance(e, ref) / squaredNorm(ref));
+}
+
 EnergyResponse referenceResponse(const SceneDesc& scene, PropagationSettings settings,
                                  const glm::vec3& listener, int frames, double* selfError,
                                  size_t source,

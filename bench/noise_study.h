@@ -77,4 +77,9 @@ std::vector<double> cacheAveraged(const std::vector<double>& perFrame, DpcWeight
 /// 10 ms bins used by the study.
 inline constexpr double kNoiseBinSeconds = 0.010;
 
+/// A Simulation energy response (1 ms bins) rebinned to the study's 10 ms bins.
+EnergyResponse noiseBins(const EnergyResponse& e);
+/// error = ||e - ref|| / ||ref|| over every 10 ms bin and band (e and ref from noiseBins).
+double relativeError(const EnergyResponse& e, const EnergyResponse& ref);
+
 }  // namespace dpc

@@ -124,9 +124,11 @@ DiffusePathCache::Capacity DiffusePathCache::capacityFor(DpcWeighting weighting,
 }
 
 DiffusePathCache::DiffusePathCache(DpcWeighting weighting, double tauSeconds,
-                                   double framePeriodSeconds, size_t budgetBytes)
-    : weighting_(weighting), budget_(budgetBytes) {
-  cap_ = capacityFor(weighting, tauSeconds, framePeriodSeconds, budgetBytes);
+                                   double framePeriodSeconds, size_t budgetBytes, CachePool* pool)
+    : weighting_(weighting), budget_(budgetBytes), tau_(tauSeconds),
+      period_(framePeriodSeconds), pool_(pool) {
+  maxCap_ = capacityFor(weighting, tauSeconds, framePeriodSeconds, budgetBytes);
+  cap_ = tablesFor(kInitialTableBytes);
   lifetime_ = lifetimeFor(weighting, tauSeconds, framePeriodSeconds, a_);
   layers_ = weighting_ == DpcWeighting::kEma ? 1 : lifetime_;
   raysBefore_.assign(size_t(lifetime_) + 1, 0);
@@ -141,6 +143,55 @@ DiffusePathCache::DiffusePathCache(DpcWeighting weighting, double tauSeconds,
   entries_.reserve(cap_.entries);
   terms_.reset(allocZeroed<WindowTerm>(cap_.windowTerms));
   coarseSub_ = std::bit_floor(cap_.coarseBins);
+  if (pool_) pool_->reserveAlways(reserved_ = cap_.bytes);
+}
+
+DiffusePathCache::~DiffusePathCache() {
+  if (pool_) pool_->release(reserved_);
+}
+
+size_t DiffusePathCache::coarseBytes() const {
+  return maxCap_.bytes - maxCap_.entries * sizeof(Entry) -
+         maxCap_.indexSlots * sizeof(IndexSlot) - maxCap_.windowTerms * sizeof(WindowTerm);
+}
+
+DiffusePathCache::Capacity DiffusePathCache::tablesFor(size_t tableBudget) const {
+  const size_t fixed = coarseBytes();
+  if (fixed + tableBudget >= budget_) return maxCap_;
+  // Split a budget of the coarse store plus tableBudget, then keep the whole budget's coarse
+  // store (capacityFor gives a smaller budget a smaller one).
+  Capacity c = capacityFor(weighting_, tau_, period_, fixed + tableBudget);
+  if (c.entries >= maxCap_.entries) return maxCap_;
+  c.coarseBins = maxCap_.coarseBins;
+  c.bytes = fixed + c.entries * sizeof(Entry) + c.indexSlots * sizeof(IndexSlot) +
+            c.windowTerms * sizeof(WindowTerm);
+  return c;
+}
+
+bool DiffusePathCache::grow() {
+  const Capacity next = tablesFor(2 * (cap_.bytes - coarseBytes()));
+  if (next.entries <= cap_.entries) return false;
+  const size_t extra = next.bytes - cap_.bytes;
+  if (pool_ && !pool_->tryReserve(extra)) {
+    ++refused_;
+    return false;
+  }
+  reserved_ += pool_ ? extra : 0;
+  // The index anew (slots are placed by hash), the ring of window terms in order from its head.
+  index_.reset(allocZeroed<IndexSlot>(next.indexSlots));
+  commitPages(index_.get(), next.indexSlots * sizeof(IndexSlot));
+  const size_t oldTerms = cap_.windowTerms;
+  cap_ = next;
+  indexShift_ = 64 - int(std::countr_zero(cap_.indexSlots));
+  for (size_t i = 0; i < entries_.size(); ++i) indexInsert(entries_[i].key, uint32_t(i));
+  entries_.reserve(cap_.entries);
+  if (cap_.windowTerms > 0) {
+    Buffer<WindowTerm> terms(allocZeroed<WindowTerm>(cap_.windowTerms));
+    for (size_t k = 0; k < termCount_; ++k) terms[k] = terms_[(termHead_ + k) % oldTerms];
+    terms_ = std::move(terms);
+    termHead_ = 0;
+  }
+  return true;
 }
 
 void DiffusePathCache::clear() {
@@ -420,10 +471,11 @@ void DiffusePathCache::windowEndFrame(const FrameGroups& frame, float n, double 
   if (frame_ >= lifetime_) retireWindowSlot(slot);
   slotTerms_[slot] = 0;
   for (const FrameGroups::Group& g : frame.groups()) {
-    if (termCount_ == cap_.windowTerms)
-      makeRoom(invC);
-    else
+    if (termCount_ == cap_.windowTerms) {
+      if (!grow()) makeRoom(invC);
+    } else {
       makeRoomFor(g.key, invC);
+    }
     bool inserted = false;
     Entry* e = findOrInsert(g.key, inserted);
     const Bands i = g.intensity / n;
@@ -475,7 +527,8 @@ void DiffusePathCache::endFrame(const FrameGroups& frame, uint64_t raysEmitted, 
 }
 
 void DiffusePathCache::makeRoomFor(uint64_t key, double invC) {
-  if (entries_.size() == cap_.entries && indexFind(key) == cap_.indexSlots) makeRoom(invC);
+  if (entries_.size() == cap_.entries && indexFind(key) == cap_.indexSlots && !grow())
+    makeRoom(invC);
 }
 
 void DiffusePathCache::seedEndFrame(const FrameGroups& frame, double invC, EnergyResponse& out,

@@ -19,7 +19,9 @@
 // With tau = 0 every weighting reduce to PathTracingEstimator, bit for bit (the same float
 // operations in the same order); tests/engine/path_cache_test.cpp checks it.
 // Propagation thread only. Allocation: FrameGroups grows as needed, then keeps its capacity;
-// DiffusePathCache allocates its whole memory budget at construction and never again.
+// DiffusePathCache starts with tables of kInitialTableBytes and doubles them while its paths
+// need room, up to its budget and as far as its CachePool (engine/cache_pool.h) gives the bytes;
+// only then does it merge entries into its coarse store.
 #pragma once
 
 #include <tsl/robin_map.h>
@@ -31,6 +33,7 @@
 #include <vector>
 
 #include "common/bands.h"
+#include "engine/cache_pool.h"
 #include "engine/energy_response.h"
 #include "scene/scene.h"
 
@@ -93,6 +96,9 @@ class DiffusePathCache {
   static constexpr double kCoarseBinSeconds = 1e-3;
   /// Most coarse-store delay bins; the bin width doubles when a delay does not fit.
   static constexpr size_t kMaxCoarseBins = 4096;
+  /// Bytes of a cache's first path tables (entries, index, window terms): a few thousand paths,
+  /// grown by doubling as they fill.
+  static constexpr size_t kInitialTableBytes = size_t(1) << 20;
 
   /// How a budget is split (all tables are allocated once, at construction, to these sizes).
   struct Capacity {
@@ -110,8 +116,11 @@ class DiffusePathCache {
                               size_t budgetBytes);
 
   /// tauSeconds >= 0: cache response time; framePeriodSeconds > 0; budgetBytes: the most heap
-  /// the cache may hold, allocated at construction and never exceeded (pages are committed by
-  /// the OS as they are first written). When a table is full, the oldest path entries (by
+  /// the cache may hold, never exceeded. The coarse store is allocated for the whole budget at
+  /// construction (its pages are committed by the OS only as merges write them); the path
+  /// tables start at kInitialTableBytes and double when full, each growth taking its bytes from
+  /// `pool` (optional; it must outlive the cache) and allocating on the calling thread. When a
+  /// table is full and cannot grow (budget reached or pool refusing), the oldest path entries (by
   /// creation for kSeed, by last hit for kEma and kWindow) are merged into the coarse store
   /// instead of dropped: per delay bin (1 ms, doubling when a delay does not fit) and, for kSeed,
   /// per creation frame, for kWindow per frame of the window. A coarse cell's state is the sum
@@ -121,7 +130,10 @@ class DiffusePathCache {
   /// (intensity-weighted mean). docs/estimators.md. Throws std::invalid_argument on bad
   /// arguments (see capacityFor).
   DiffusePathCache(DpcWeighting weighting, double tauSeconds, double framePeriodSeconds,
-                   size_t budgetBytes = kDefaultBudgetBytes);
+                   size_t budgetBytes = kDefaultBudgetBytes, CachePool* pool = nullptr);
+  ~DiffusePathCache();
+  DiffusePathCache(const DiffusePathCache&) = delete;
+  DiffusePathCache& operator=(const DiffusePathCache&) = delete;
 
   /// One frame: applies the frame's groups (eq. 3.4, the EMA or the window), reads out every
   /// entry and coarse cell into out, then removes expired entries. directional (optional):
@@ -135,12 +147,14 @@ class DiffusePathCache {
   size_t entryCount() const { return entries_.size(); }
   /// Non-empty coarse-store cells (delay bins per layer holding merged energy).
   size_t coarseEntryCount() const;
-  /// Most path entries the budget holds.
+  /// Most path entries the current tables hold (the budget's at most).
   size_t maxEntries() const { return cap_.entries; }
   /// The budget, bytes.
   size_t budgetBytes() const { return budget_; }
-  /// Heap bytes held by the cache's tables: fixed at construction, <= budgetBytes().
+  /// Heap bytes held by the cache's tables now (they grow as paths need room), <= budgetBytes().
   size_t bytes() const { return cap_.bytes; }
+  /// Table growths the pool refused (the cache merged instead), since construction.
+  uint64_t refusedGrowths() const { return refused_; }
   /// Heap bytes of the slots in use (entries, index load, window terms, coarse cells).
   size_t bytesInUse() const;
   /// Coarse-store layout: delays below S ms in 1 ms bins, then S bins per octave (each octave
@@ -205,6 +219,13 @@ class DiffusePathCache {
   uint32_t indexOf(uint64_t key) const;  ///< entry index of a present key
 
   Entry* findOrInsert(uint64_t key, bool& inserted);
+  /// Doubles the path tables (entries, index, window terms) within the budget when the pool
+  /// gives the bytes; false when they cannot grow.
+  bool grow();
+  /// The path tables' capacity for `tableBudget` bytes, with the coarse store of cap_.
+  Capacity tablesFor(size_t tableBudget) const;
+  /// Bytes of the whole budget's coarse store and fixed tables (maxCap_ without path tables).
+  size_t coarseBytes() const;
   void removeAt(size_t i);
   /// Makes room for at least one more path entry and (window) one more term: merges the
   /// oldest path entries, at least an eighth of the table, into the coarse store.
@@ -254,7 +275,12 @@ class DiffusePathCache {
   uint32_t frame_ = 0;     ///< frames since the cache started (or was cleared)
   double decayPow_ = 1.0;  ///< (1-a)^(frame_+1), for the start-up normalisation
   size_t budget_;
-  Capacity cap_;
+  Capacity cap_;      ///< the current tables (coarse bins: the whole budget's)
+  Capacity maxCap_;   ///< the whole budget's tables
+  double tau_ = 0.0, period_ = 1.0;
+  CachePool* pool_ = nullptr;
+  size_t reserved_ = 0;  ///< bytes taken from pool_
+  uint64_t refused_ = 0;
   uint64_t merged_ = 0;
   double coarseFraction_ = 0.0;
   uint64_t raysTotal_ = 0;            ///< rays emitted since the start, this frame included

@@ -125,21 +125,38 @@ void Propagator::testListeners(const RayState& ray, float segEnd,
                                std::span<const ListenerSphere> listeners,
                                std::vector<PathHit>& hits,
                                std::vector<uint32_t>& hitListener) const {
-  for (uint32_t l = 0; l < listeners.size(); ++l) {
-    // Segment against listener l's sphere: |org + t dir - L|^2 = R^2.
-    const ListenerSphere& listener = listeners[l];
-    const glm::vec3 oc = listener.position - ray.org;
-    const float b = glm::dot(oc, ray.dir);
-    const float disc = b * b - (glm::dot(oc, oc) - listener.radius * listener.radius);
-    if (!(disc > 0.f)) continue;
-    const float s = std::sqrt(disc);
-    if (!(b + s > 0.f && b - s < segEnd)) continue;
-    // An exact specular path's hits stay out: specular_paths.h finds that path exactly. Asked
-    // only for segments that meet the sphere (it hashes the ray's face sequence).
-    if (ray.exactSpecular() && replacedByExactPath(ray, l)) continue;
-    hits.push_back(makeHit(ray, l, listener, b, segEnd));
-    hitListener.push_back(l);
+  if (listeners.size() > kMaxLinearSpheres) {
+    sphereBvh_.forEachCandidate(ray.org, ray.dir, segEnd, [&](uint32_t l) {
+      testSphere(ray, segEnd, l, listeners[l], hits, hitListener);
+    });
+    return;
   }
+  for (uint32_t l = 0; l < listeners.size(); ++l)
+    testSphere(ray, segEnd, l, listeners[l], hits, hitListener);
+}
+
+void Propagator::testSphere(const RayState& ray, float segEnd, uint32_t l,
+                            const ListenerSphere& listener, std::vector<PathHit>& hits,
+                            std::vector<uint32_t>& hitListener) const {
+  // Segment against the sphere: |org + t dir - L|^2 = R^2.
+  const glm::vec3 oc = listener.position - ray.org;
+  const float b = glm::dot(oc, ray.dir);
+  const float disc = b * b - (glm::dot(oc, oc) - listener.radius * listener.radius);
+  if (!(disc > 0.f)) return;
+  const float s = std::sqrt(disc);
+  if (!(b + s > 0.f && b - s < segEnd)) return;
+  // An exact specular path's hits stay out: specular_paths.h finds that path exactly. Asked
+  // only for segments that meet the sphere (it hashes the ray's face sequence).
+  if (ray.exactSpecular() && replacedByExactPath(ray, l)) return;
+  hits.push_back(makeHit(ray, l, listener, b, segEnd));
+  hitListener.push_back(l);
+}
+
+void Propagator::prepareSpheres(std::span<const ListenerSphere> listeners) {
+  if (listeners.size() <= kMaxLinearSpheres) return;
+  sphereBoxes_.clear();
+  for (const ListenerSphere& l : listeners) sphereBoxes_.emplace_back(l.position, l.radius);
+  sphereBvh_.build(sphereBoxes_);
 }
 
 PathHit Propagator::makeHit(const RayState& ray, uint32_t l, const ListenerSphere& sphere,
@@ -298,6 +315,7 @@ TraceStats Propagator::traceFrame(uint64_t frameIndex, uint32_t sourceIndex,
   if (chunks_.size() < chunkCount) chunks_.resize(chunkCount);
   const uint64_t frameSeed =
       hashCombine(hashCombine(settings_.seed, frameIndex), uint64_t(sourceIndex));
+  prepareSpheres(listeners);
   arena_->execute([&] {
     tbb::parallel_for(uint32_t(0), chunkCount, [&](uint32_t c) {
       Chunk& chunk = chunks_[c];

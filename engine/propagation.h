@@ -58,6 +58,7 @@
 #include "engine/patch.h"
 #include "engine/path_cache.h"
 #include "engine/specular_paths.h"
+#include "engine/sphere_bvh.h"
 #include "engine/tracer.h"
 #include "scene/directivity.h"
 #include "scene/scene.h"
@@ -101,6 +102,9 @@ inline constexpr TraceMode kDefaultTraceMode = TraceMode::kPacket16;
 
 class Propagator {
  public:
+  /// Above this many receiver spheres a frame's segments find theirs through a SphereBvh
+  /// (engine/sphere_bvh.h) instead of testing each; up to it, the plain loop (cheaper for few).
+  static constexpr size_t kMaxLinearSpheres = 8;
   /// Survival probability of a ray that Russian roulette tests.
   static constexpr float kRouletteSurvival = 0.1f;
 
@@ -261,9 +265,15 @@ class Propagator {
                std::span<const ListenerSphere> listeners, std::vector<PathHit>& hits,
                std::vector<uint32_t>& hitListener) const;
   /// The segment of `ray` up to segEnd (m) against every listener sphere: appends a hit per
-  /// sphere it crosses (with its listener index), in listener order.
+  /// sphere it crosses (with its listener index): in listener order, or the sphere hierarchy's
+  /// order above kMaxLinearSpheres.
   void testListeners(const RayState& ray, float segEnd, std::span<const ListenerSphere> listeners,
                      std::vector<PathHit>& hits, std::vector<uint32_t>& hitListener) const;
+  /// The segment against sphere l: appends its hit when it crosses.
+  void testSphere(const RayState& ray, float segEnd, uint32_t l, const ListenerSphere& sphere,
+                  std::vector<PathHit>& hits, std::vector<uint32_t>& hitListener) const;
+  /// Rebuilds sphereBvh_ over `listeners` when there are more than kMaxLinearSpheres.
+  void prepareSpheres(std::span<const ListenerSphere> listeners);
   /// Whether an exact path replaces listener l's hit of this all-specular ray (see
   /// setExactSequences).
   bool replacedByExactPath(const RayState& ray, uint32_t l) const;
@@ -303,6 +313,8 @@ class Propagator {
   bool fromListeners_ = false;        ///< setFromListeners
   std::span<const Directivity> receiverPatterns_;
   std::span<const glm::vec3> receiverForwards_;
+  SphereBvh sphereBvh_;                ///< the frame's spheres, above kMaxLinearSpheres
+  std::vector<glm::vec4> sphereBoxes_;  ///< prepareSpheres' scratch
   int exactOrder_ = 0;  ///< exactOrder()
   TraceMode traceMode_ = kDefaultTraceMode;
   std::unique_ptr<tbb::task_arena> arena_;

@@ -16,6 +16,7 @@ Simulation::Simulation(const SceneDesc& scene, const PropagationSettings& settin
       std::make_unique<Geometry>(scene.mesh, scene.materials, settings_.patchSize, scene.objects);
   tracer_ = std::make_unique<EmbreeTracer>(scene.mesh, scene.objects);
   propagator_ = std::make_unique<Propagator>(*geometry_, *tracer_, settings_);
+  cachePool_ = std::make_unique<CachePool>(size_t(double(settings_.cachePoolMb) * 1048576.0));
   if (settings_.diffraction) diffraction_ = std::make_unique<EdgeDiffraction>(scene.mesh);
   if (propagator_->exactOrder() > 0) {
     specularScene_ = std::make_unique<SpecularScene>(
@@ -39,7 +40,7 @@ void Simulation::reserveListeners(size_t listeners) {
       if (settings_.estimator == Estimator::kDpc)
         caches_.push_back(std::make_unique<DiffusePathCache>(
             settings_.dpcWeighting, settings_.cacheTau, 1.0 / settings_.frameRate,
-            size_t(double(settings_.cacheMemoryMb) * 1048576.0)));
+            size_t(double(settings_.cacheMemoryMb) * 1048576.0), cachePool_.get()));
       if (specularScene_)
         specularCaches_.push_back(
             std::make_unique<SpecularPathCache>(settings_.cacheTau, 1.0 / settings_.frameRate));
@@ -253,6 +254,9 @@ void Simulation::updateEstimator(size_t pair, const FrameGroups& groups, SourceR
   r.cacheCoarseEntries = cache.coarseEntryCount();
   r.cacheBudgetBytes = cache.budgetBytes();
   r.cacheMergedEntries = cache.mergedEntries();
+  r.cachePoolBytes = cachePool_->budgetBytes();
+  r.cachePoolUsedBytes = cachePool_->usedBytes();
+  r.cachePoolRefusals = cache.refusedGrowths();
   r.cacheCoarseEnergyFraction = cache.coarseEnergyFraction();
 }
 

@@ -59,6 +59,9 @@ class Simulation {
     size_t cacheCoarseEntries = 0;    ///< DPC coarse-store entries (merged path entries)
     size_t cacheBudgetBytes = 0;      ///< DPC memory budget, bytes (0: no cache)
     uint64_t cacheMergedEntries = 0;  ///< path entries merged by the budget, cumulative
+    size_t cachePoolBytes = 0;        ///< the engine's cache pool budget, bytes (shared by pairs)
+    size_t cachePoolUsedBytes = 0;    ///< the pool's bytes held by all pairs after this frame
+    uint64_t cachePoolRefusals = 0;   ///< this pair's table growths the full pool refused
     double cacheCoarseEnergyFraction =
         0.0;                        ///< share of this frame's response from the coarse store
     double traceSeconds = 0.0;      ///< wall time of this frame's ray tracing
@@ -176,6 +179,7 @@ class Simulation {
   size_t listenerCount_ = 1;  ///< listeners of the last frame
   size_t reserved_ = 0;       ///< listeners with caches and responses
   // Per source-listener pair, index listener * sourceCount_ + source:
+  std::unique_ptr<CachePool> cachePool_;  ///< settings.cachePoolMb, shared by every pair's cache
   std::vector<std::unique_ptr<DiffusePathCache>> caches_;
   std::vector<SourceResult> results_;
   std::vector<DirectionalEnergyResponse> directional_;

@@ -54,14 +54,22 @@ WorkloadEstimate estimateWorkload(const SceneDesc& scene, const PropagationSetti
     order = 0;
   }
   e.expectedOrder = order;
-  e.segmentsPerFrame = double(settings.raysPerFrame) * (order + 1.0) * double(scene.sources.size());
+  // One trace per emitter: every source, or every listener when tracing from the listeners.
+  const size_t emitters =
+      tracesFromListeners(settings.tracing, scene.sources.size(), scene.listeners.size())
+          ? std::max<size_t>(1, scene.listeners.size())
+          : scene.sources.size();
+  e.segmentsPerFrame = double(settings.raysPerFrame) * (order + 1.0) * double(emitters);
   if (durationSeconds > 0)
     e.segmentsTotal = e.segmentsPerFrame * double(settings.frameRate) * durationSeconds;
   e.expectedSeconds = e.segmentsTotal / kNominalSegmentsPerSecond;
   e.irBytes = double(scene.sources.size()) * channels * double(settings.irLength) *
               double(scene.audio.sampleRate) * kIrBytesPerSample;
-  e.cacheBytes = double(scene.sources.size()) * double(scene.listeners.size()) *
-                 double(settings.cacheMemoryMb) * 1048576.0;
+  // Every pair's cache grows from one pool: at most the pool, at most every pair's own budget.
+  e.cacheBytes = std::min(double(scene.sources.size()) * double(scene.listeners.size()) *
+                              double(settings.cacheMemoryMb),
+                          double(settings.cachePoolMb)) *
+                 1048576.0;
   return e;
 }
 
@@ -75,13 +83,20 @@ void checkMemory(const SceneDesc& scene, const PropagationSettings& settings,
                           std::to_string(scene.audio.sampleRate) + " Hz x " +
                           std::to_string(scene.sources.size()) + " source(s) x channels (" +
                           g3(e.irBytes / 1e9) + " GB)";
-  const std::string caches = "path caches of " + g3(settings.cacheMemoryMb) + " MB x " +
-                             std::to_string(scene.sources.size()) + " source(s) x " +
-                             std::to_string(scene.listeners.size()) + " listener(s) (" +
-                             g3(e.cacheBytes / 1e9) + " GB)";
+  const double pairs = double(scene.sources.size()) * double(scene.listeners.size());
+  const bool poolBinds = double(settings.cachePoolMb) < pairs * double(settings.cacheMemoryMb);
+  const std::string caches =
+      poolBinds ? "a path cache pool of " + g3(settings.cachePoolMb) + " MB (" +
+                      g3(e.cacheBytes / 1e9) + " GB)"
+                : "path caches of " + g3(settings.cacheMemoryMb) + " MB x " +
+                      std::to_string(scene.sources.size()) + " source(s) x " +
+                      std::to_string(scene.listeners.size()) + " listener(s) (" +
+                      g3(e.cacheBytes / 1e9) + " GB)";
   const std::string need = irs + " and " + caches + " need about " +
                            g3((e.irBytes + e.cacheBytes) / 1e9) + " GB, more than the " +
                            g3(memoryLimitBytes / 1e9) + " GB available: ";
+  if (e.cacheBytes > e.irBytes && poolBinds)
+    throw InputError(scene.path, "propagation.cache_pool_mb", need + "lower cache_pool_mb");
   if (e.cacheBytes > e.irBytes)
     throw InputError(scene.path, "propagation.cache_memory_mb",
                      need + "lower cache_memory_mb or the source or listener count");

@@ -27,9 +27,9 @@ struct WorkloadEstimate {
   /// sample rate x kIrBytesPerSample (time-domain IRs, their partitioned spectra, the pooled
   /// sets being prepared, applied and recycled, and the synthesis buffers).
   double irBytes = 0;
-  /// Memory of the diffuse path caches, bytes: each source-listener pair's budget
-  /// (propagation.cache_memory_mb, MiB) is allocated when the engine is built, so sources x
-  /// listeners x budget.
+  /// Memory of the diffuse path caches at most, bytes: the pairs grow their caches from one
+  /// pool (propagation.cache_pool_mb), each up to propagation.cache_memory_mb, so the smaller
+  /// of the pool and sources x listeners x cache_memory_mb.
   double cacheBytes = 0;
   /// The render's expected tracing time, seconds: segmentsTotal at kNominalSegmentsPerSecond
   /// (0 for live).

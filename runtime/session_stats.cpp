@@ -10,6 +10,9 @@ void FrameTotals::add(const Simulation::SourceResult& r) {
   cacheCoarseEntries += r.cacheCoarseEntries;
   cacheBytes += r.cacheBytes;
   cacheBudgetBytes += r.cacheBudgetBytes;
+  if (r.cachePoolBytes > 0) cacheBudgetBytes = std::min(cacheBudgetBytes, r.cachePoolBytes);
+  cachePoolUsedBytes = std::max(cachePoolUsedBytes, r.cachePoolUsedBytes);
+  cachePoolRefusals += r.cachePoolRefusals;
   cacheMergedEntries += r.cacheMergedEntries;
   cacheCoarseEnergyFraction = std::max(cacheCoarseEnergyFraction, r.cacheCoarseEnergyFraction);
   const double dropped = double(r.energy.droppedEnergy().sum());

@@ -20,7 +20,9 @@ struct FrameTotals {
   size_t cacheEntries = 0;               ///< DPC path entries, summed
   size_t cacheCoarseEntries = 0;         ///< DPC coarse-store entries, summed
   size_t cacheBytes = 0;                 ///< DPC heap bytes, summed
-  size_t cacheBudgetBytes = 0;           ///< DPC memory budget, summed
+  size_t cacheBudgetBytes = 0;           ///< DPC memory budget: pairs' budgets summed, at most the pool
+  size_t cachePoolUsedBytes = 0;         ///< DPC pool bytes held by all pairs
+  uint64_t cachePoolRefusals = 0;        ///< table growths the full pool refused, summed
   uint64_t cacheMergedEntries = 0;       ///< path entries merged by the budget, cumulative, summed
   double cacheCoarseEnergyFraction = 0;  ///< largest per-pair share of the response they carry
   /// Largest per-pair share of the estimator's energy that arrived beyond the IR length and

@@ -55,6 +55,8 @@ constexpr std::array kLimits = {
         "(tau times the frame rate) must fit the cache's frame counter"},
   Limit{"propagation.cache_memory_mb", 0, 16384, true, false, "MB",
         "per source-listener pair; beyond, several pairs exhaust any machine"},
+  Limit{"propagation.cache_pool_mb", 0, 65536, true, false, "MB",
+        "the whole engine's caches together; 64 GB is beyond this class of machine"},
   Limit{"propagation.frame_rate", 1, 120, false, false, "Hz",
         "slower than 1 Hz is no longer interactive; faster than audio blocks is wasted"},
   Limit{"propagation.ir_length", 0, 60, true, false, "s",

@@ -320,6 +320,7 @@ void readPropagationNumbers(const JsonReader& r, const json& v, PropagationSetti
   read("patch_size", p.patchSize);
   read("cache_tau", p.cacheTau);
   read("cache_memory_mb", p.cacheMemoryMb);
+  read("cache_pool_mb", p.cachePoolMb);
   read("frame_rate", p.frameRate);
   read("ir_length", p.irLength);
   read("temperature", p.temperatureC);
@@ -339,7 +340,7 @@ void readPropagation(const JsonReader& r, const json& v, PropagationSettings& p)
   r.expectObject(v, field);
   r.checkKeys(
       v, field,
-      {"rays_per_frame", "max_order", "exact_order", "patch_size", "cache_tau", "cache_memory_mb",
+      {"rays_per_frame", "max_order", "exact_order", "patch_size", "cache_tau", "cache_memory_mb", "cache_pool_mb",
        "frame_rate", "ir_length", "seed", "estimator", "dpc_weighting", "speed_of_sound",
        "temperature", "humidity", "air_absorption", "diffraction", "roulette_threshold_db",
        "tracing"});

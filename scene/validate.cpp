@@ -74,6 +74,7 @@ void checkPropagation(const PropagationSettings& p, const Origin& origin) {
   checkField("propagation.patch_size", p.patchSize, origin);
   checkField("propagation.cache_tau", p.cacheTau, origin);
   checkField("propagation.cache_memory_mb", p.cacheMemoryMb, origin);
+  checkField("propagation.cache_pool_mb", p.cachePoolMb, origin);
   checkField("propagation.frame_rate", p.frameRate, origin);
   checkField("propagation.ir_length", p.irLength, origin);
   checkField("propagation.speed_of_sound", p.speedOfSound, origin);
@@ -178,6 +179,7 @@ Origin commandLineOrigin() {
                       {"propagation.max_order", "--max-order"},
                       {"propagation.cache_tau", "--tau"},
                       {"propagation.cache_memory_mb", "--cache-memory-mb"},
+                      {"propagation.cache_pool_mb", "--cache-pool-mb"},
                       {"propagation.frame_rate", "--frame-rate"},
                       {"audio.block_size", "--block-size"}};
                   for (const auto& [key, flag] : kFlags)

@@ -63,9 +63,12 @@ void addRenderOptions(CLI::App& app, Flags& fl) {
   app.add_option("--rays", fl.rays, "Rays per source per frame")->check(kWholeInt64);
   app.add_option("--max-order", fl.maxOrder, "Maximum reflection order")->check(kWholeInt64);
   app.add_option("--tau", fl.tau, "Cache response time tau, seconds (0 = path tracing)");
+  app.add_option("--cache-pool-mb", fl.cachePoolMb,
+                 "DPC memory budget of the whole engine, MB (default 256; pairs grow their "
+                 "caches from it as they need)");
   app.add_option("--cache-memory-mb", fl.cacheMb,
-                 "DPC memory budget per source-listener pair, MB (default 64; beyond it old "
-                 "entries are merged, not dropped)");
+                 "DPC memory budget per source-listener pair, MB (default 64; beyond it, or "
+                 "when the pool is spent, old entries are merged, not dropped)");
   app.add_option("--estimator", fl.estimator, "dpc | path_tracing");
   app.add_option("--tracing", fl.tracing,
                  "auto (default: from the listeners when sources outnumber them) | from_sources "

@@ -19,6 +19,7 @@ struct Flags {
   std::optional<double> tau;              ///< cache response time, seconds
   std::optional<double> gainDb;           ///< fixed output gain, dB
   std::optional<double> cacheMb;          ///< DPC memory budget per source-listener pair, MB
+  std::optional<double> cachePoolMb;      ///< DPC memory budget of the whole engine, MB
   std::optional<double> latencyTargetMs;  ///< live latency target, ms (default: LiveSession's)
   std::optional<int64_t> seed, rays, maxOrder, threads;
 };

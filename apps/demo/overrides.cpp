@@ -40,6 +40,10 @@ PropagationSettings applyOverrides(const SceneDesc& scene, const Flags& fl) {
     checkField("propagation.cache_tau", *fl.tau, flags);
     s.cacheTau = float(*fl.tau);
   }
+  if (fl.cachePoolMb) {
+    checkField("propagation.cache_pool_mb", *fl.cachePoolMb, flags);
+    s.cachePoolMb = float(*fl.cachePoolMb);
+  }
   if (fl.cacheMb) {
     checkField("propagation.cache_memory_mb", *fl.cacheMb, flags);
     s.cacheMemoryMb = float(*fl.cacheMb);

@@ -145,8 +145,8 @@ void printTotals(const OfflineResult& r, double audioSeconds) {
   const auto& t = r.totals;
   std::printf(
       "frames %llu  IRs applied %llu  rays/s %.3g  segments/s %.3g  cache entries %zu (%.1f MB)\n"
-      "cache budget %.1f MB  coarse entries %zu  entries merged %llu (carrying %.2f %% of the "
-      "response's energy)\n"
+      "cache budget %.1f MB (pool)  coarse entries %zu  entries merged %llu (carrying %.2f %% of "
+      "the response's energy)  pool growths refused %llu\n"
       "propagation %.2f s (trace %.2f, IR synthesis %.2f, partition+FFT %.2f)  wall %.2f s  "
       "real-time factor %.1fx\n",
       (unsigned long long)t.frames, (unsigned long long)r.listeners.front().irsApplied,
@@ -154,6 +154,7 @@ void printTotals(const OfflineResult& r, double audioSeconds) {
       t.traceSeconds > 0 ? t.segments / t.traceSeconds : 0.0, r.last.cacheEntries,
       r.last.cacheBytes / 1e6, r.last.cacheBudgetBytes / 1e6, r.last.cacheCoarseEntries,
       (unsigned long long)r.last.cacheMergedEntries, 100.0 * r.last.cacheCoarseEnergyFraction,
+      (unsigned long long)r.last.cachePoolRefusals,
       t.traceSeconds + t.synthesisSeconds + t.prepareSeconds, t.traceSeconds, t.synthesisSeconds,
       t.prepareSeconds, r.wallSeconds, audioSeconds / r.wallSeconds);
   std::printf(

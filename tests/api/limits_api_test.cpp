@@ -102,6 +102,7 @@ const std::map<std::string, DataSetter>& dataSetters() {
 /// Limits dpc_scene_data cannot carry (docs/design.md, "Not yet across the boundary"; the
 /// file defaults apply).
 const std::set<std::string> kNotInData = {"objects", "propagation.cache_memory_mb",
+                                          "propagation.cache_pool_mb",
                                           "propagation.roulette_threshold_db",
                                           "propagation.exact_order"};
 

@@ -84,11 +84,20 @@ TEST_CASE("the path caches' budgets count in the memory estimate, and the time i
   PropagationSettings ps;
   // The documented maximum, 16384 MiB per source-listener pair, 2 sources: 34.4 GB.
   ps.cacheMemoryMb = 16384.f;
+  ps.cachePoolMb = 65536.f;  // the pool's maximum: the pairs' budgets bind
   const WorkloadEstimate e = estimateWorkload(scene, ps, 2, 10.0);
   CHECK(e.cacheBytes == Approx(2.0 * 16384.0 * 1048576.0));
   CHECK_THROWS_WITH(
       checkWorkload(scene, ps, e, 8e9),
       Catch::StartsWith("room.json: propagation.cache_memory_mb: ") && Catch::Contains("34.4 GB"));
+  // Eight sources at the same budgets: the pool binds (64 GiB, 68.7 GB) and is named.
+  SceneDesc eight = scene;
+  eight.sources.resize(8, scene.sources.front());
+  const WorkloadEstimate e8 = estimateWorkload(eight, ps, 2, 10.0);
+  CHECK(e8.cacheBytes == Approx(65536.0 * 1048576.0));
+  CHECK_THROWS_WITH(
+      checkWorkload(eight, ps, e8, 8e9),
+      Catch::StartsWith("room.json: propagation.cache_pool_mb: ") && Catch::Contains("68.7 GB"));
   // A budget that fits: accepted.
   ps.cacheMemoryMb = 64.f;
   CHECK_NOTHROW(checkWorkload(scene, ps, estimateWorkload(scene, ps, 2, 10.0), 8e9));

@@ -101,6 +101,27 @@ dpc_status dpc_engine_set_source_position(dpc_engine* engine, int source, float 
              : failFixed(DPC_ERR_INVALID_ARGUMENT, kFunction, "position refused");
 }
 
+dpc_status dpc_engine_teleport_source(dpc_engine* engine, int source) {
+  constexpr const char* kFunction = "dpc_engine_teleport_source";
+  if (!engine) return failFixed(DPC_ERR_INVALID_ARGUMENT, kFunction, "engine is NULL");
+  if (const dpc_status s = checkIndex(kFunction, "source", source, engine->sources, "sources");
+      s != DPC_OK)
+    return s;
+  engine->session->teleportSource(size_t(source));
+  return DPC_OK;
+}
+
+dpc_status dpc_engine_teleport_listener(dpc_engine* engine, int listener) {
+  constexpr const char* kFunction = "dpc_engine_teleport_listener";
+  if (!engine) return failFixed(DPC_ERR_INVALID_ARGUMENT, kFunction, "engine is NULL");
+  if (const dpc_status s = checkIndex(kFunction, "listener", listener,
+                                      dpc_engine_listener_count(engine), "listeners");
+      s != DPC_OK)
+    return s;
+  engine->session->teleportListener(size_t(listener));
+  return DPC_OK;
+}
+
 dpc_status dpc_engine_set_object_pose(dpc_engine* engine, int object, float x, float y, float z,
                                       float qx, float qy, float qz, float qw) {
   constexpr const char* kFunction = "dpc_engine_set_object_pose";

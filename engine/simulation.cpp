@@ -66,6 +66,22 @@ void Simulation::restart(uint64_t seed) {
   for (auto& cache : specularCaches_) cache->clear();
 }
 
+void Simulation::restartSource(size_t source) {
+  for (size_t l = 0; l < reserved_ && source < sourceCount_; ++l) {
+    const size_t pair = l * sourceCount_ + source;
+    if (pair < caches_.size()) caches_[pair]->clear();
+    if (pair < specularCaches_.size()) specularCaches_[pair]->clear();
+  }
+}
+
+void Simulation::restartListener(size_t listener) {
+  for (size_t s = 0; s < sourceCount_ && listener < reserved_; ++s) {
+    const size_t pair = listener * sourceCount_ + s;
+    if (pair < caches_.size()) caches_[pair]->clear();
+    if (pair < specularCaches_.size()) specularCaches_[pair]->clear();
+  }
+}
+
 void Simulation::setListenerOrientation(size_t listener, const Orientation& orientation) {
   if (orientations_.size() <= listener) orientations_.resize(listener + 1);
   orientations_[listener] = orientation;

@@ -101,6 +101,13 @@ class Simulation {
   /// probes of a bake). Propagation thread, between frames; no allocation.
   void restart(uint64_t seed);
 
+  /// Source `source` jumped (a teleport): its pairs' caches (path and exact-path) start over,
+  /// so the next frame's responses hold nothing of its old place. Propagation thread, between
+  /// frames; no allocation.
+  void restartSource(size_t source);
+  /// The same for every pair of listener `listener` (a listener index of the frames traced).
+  void restartListener(size_t listener);
+
   /// Moves the scene's objects (one pose per object, scene order) for the following frames
   /// (Tracer::setObjectPose, then commitPoses). No allocation.
   void setObjectPoses(const std::vector<Pose>& poses);

@@ -70,6 +70,14 @@ void setSourcePosition(dpc::Engine& e, int source, const std::array<float, 3>& p
   checkPose(e.setSourcePosition(source, p[0], p[1], p[2]), "set_source_position");
 }
 
+void teleportSource(dpc::Engine& e, int source) {
+  checkPose(e.teleportSource(source), "teleport_source");
+}
+
+void teleportListener(dpc::Engine& e, int listener) {
+  checkPose(e.teleportListener(listener), "teleport_listener");
+}
+
 /// rotation: a quaternion (x, y, z, w), glTF order (docs/design.md "One frame for every pose").
 void setObjectPose(dpc::Engine& e, int object, const std::array<float, 3>& p,
                    const std::array<float, 4>& q) {
@@ -129,6 +137,10 @@ time from Python (the C API's dpc_engine): set poses, step(), read the responses
       .def("set_source_position", &setSourcePosition, py::arg("source"), py::arg("position"))
       .def("set_object_pose", &setObjectPose, py::arg("object"), py::arg("position"),
            py::arg("rotation"))
+      .def("teleport_source", &teleportSource, py::arg("source"),
+           "The source jumped: its cached paths are dropped at the next frame.")
+      .def("teleport_listener", &teleportListener, py::arg("listener"),
+           "The listener jumped: its cached paths are dropped at the next frame.")
       .def("step", &dpc::Engine::step, py::call_guard<py::gil_scoped_release>(),
            "Traces one propagation frame now (the GIL is released meanwhile).")
       .def("impulse_response", &engineIr, py::arg("source") = 0,

@@ -27,6 +27,8 @@ HostPoses::HostPoses(std::shared_ptr<const SceneDesc> scene, size_t played)
   }
   sources_ = std::make_unique<SeqlockChannel<HostSourcePosition>[]>(s.sources.size());
   objects_ = std::make_unique<SeqlockChannel<HostObjectPose>[]>(s.objects.size());
+  teleports_ = std::make_unique<std::atomic<uint8_t>[]>(s.sources.size() + s.listeners.size());
+  for (size_t i = 0; i < s.sources.size() + s.listeners.size(); ++i) teleports_[i].store(0);
 }
 
 bool HostPoses::setListenerPose(size_t index, const glm::vec3& position, float yawRadians,
@@ -67,6 +69,18 @@ bool HostPoses::select(size_t index) {
   return true;
 }
 
+bool HostPoses::teleportSource(size_t index) {
+  if (index >= scene_->sources.size()) return false;
+  teleports_[index].store(1, std::memory_order_relaxed);
+  return true;
+}
+
+bool HostPoses::teleportListener(size_t index) {
+  if (index >= scene_->listeners.size()) return false;
+  teleports_[scene_->sources.size() + index].store(1, std::memory_order_relaxed);
+  return true;
+}
+
 ListenerPose HostPoses::assemble(WorldState& world, size_t& played) const {
   const SceneDesc& s = *scene_;
   played = played_.load(std::memory_order_relaxed);
@@ -81,6 +95,12 @@ ListenerPose HostPoses::assemble(WorldState& world, size_t& played) const {
   }
   // Sources and objects at the played listener's scene time, unless the host placed them.
   const double t = pose.sceneSeconds;
+  markTeleports(s, world.timeSeconds, t, world);
+  for (size_t i = 0; i < s.sources.size(); ++i)
+    if (teleports_[i].exchange(0, std::memory_order_relaxed)) world.sourceTeleports[i] = 1;
+  for (size_t l = 0; l < s.listeners.size(); ++l)
+    if (teleports_[s.sources.size() + l].exchange(0, std::memory_order_relaxed))
+      world.listenerTeleports[l] = 1;
   world.timeSeconds = t;
   world.sourcePositions.resize(s.sources.size());
   for (size_t i = 0; i < s.sources.size(); ++i) {

@@ -41,6 +41,12 @@ class HostPoses {
   /// range, a coordinate outside the "position" limit or a zero-length or non-finite rotation.
   /// Wait-free; no allocation.
   bool setObjectPose(size_t index, const glm::vec3& position, const float rotation[4]);
+  /// Any thread: source `index` (listener `index`) jumped: its pairs' caches start over at the
+  /// next frame (WorldState::sourceTeleports), so its new place is heard at once instead of
+  /// averaged with the old one. Call it with (or after) the new pose. False if out of range.
+  /// Wait-free; no allocation.
+  bool teleportSource(size_t index);
+  bool teleportListener(size_t index);
   /// Any thread: plays listener `index` from the next frame on. False if out of range.
   bool select(size_t index);
   size_t played() const { return played_.load(std::memory_order_relaxed); }
@@ -57,6 +63,8 @@ class HostPoses {
   std::unique_ptr<SeqlockChannel<HostSourcePosition>[]> sources_;
   std::unique_ptr<SeqlockChannel<HostObjectPose>[]> objects_;
   std::atomic<size_t> played_{0};
+  /// Per source, then per listener: a teleport call not yet taken by assemble().
+  std::unique_ptr<std::atomic<uint8_t>[]> teleports_;
 };
 
 }  // namespace dpc

@@ -101,6 +101,10 @@ class LiveSession {
   bool setSourcePosition(size_t index, const glm::vec3& position) {
     return poses_.setSourcePosition(index, position);
   }
+  /// Any thread: source (listener) `index` jumped; its pairs start over at the next frame
+  /// (HostPoses::teleportSource). False for an index out of range. Wait-free; no allocation.
+  bool teleportSource(size_t index) { return poses_.teleportSource(index); }
+  bool teleportListener(size_t index) { return poses_.teleportListener(index); }
   /// Any thread (one writer per object at a time): object `index` at world = R(rotation) *
   /// local + position; rotation a unit quaternion (x, y, z, w), normalised here; false for an
   /// index out of range or a zero-length rotation. Wait-free; no allocation.

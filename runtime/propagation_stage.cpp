@@ -137,6 +137,10 @@ void PropagationStage::traceWorld(const WorldState& world) {
   const auto t0 = std::chrono::steady_clock::now();
   if (!world.objectPoses.empty()) simulation_->setObjectPoses(world.objectPoses);
   if (!world.sourceRotations.empty()) simulation_->setSourceRotations(world.sourceRotations);
+  for (size_t s = 0; s < world.sourceTeleports.size(); ++s)
+    if (world.sourceTeleports[s]) simulation_->restartSource(s);
+  for (size_t l = 0; l < world.listenerTeleports.size() && l < L; ++l)
+    if (world.listenerTeleports[l]) simulation_->restartListener(l);
   simulation_->runFrame(spheres_, world.sourcePositions);
   totals_.traceSeconds += secondsSince(t0);
   for (size_t s = 0; s < simulation_->sourceCount(); ++s) {

@@ -29,6 +29,7 @@ glm::vec3 positionAlong(const std::vector<Keyframe>& k, bool loop, const glm::ve
   const auto next = std::upper_bound(
       k.begin(), k.end(), t, [](double x, const Keyframe& key) { return x < key.timeSeconds; });
   const auto prev = next - 1;
+  if (next->teleport) return prev->position;  // held until the jump
   const double u = (t - prev->timeSeconds) / (next->timeSeconds - prev->timeSeconds);
   return prev->position + float(u) * (next->position - prev->position);
 }
@@ -90,7 +91,35 @@ glm::vec3 sourceForward(const glm::quat& q) {
   return q * glm::vec3(1.f, 0.f, 0.f);
 }
 
+bool teleportBetween(const std::vector<Keyframe>& keys, bool loop, double from, double to) {
+  if (!(to > from) || keys.size() < 2) return false;
+  const double t0 = keys.front().timeSeconds, period = keys.back().timeSeconds - t0;
+  for (const Keyframe& k : keys) {
+    if (!k.teleport) continue;
+    if (!loop || !(period > 0.0)) {
+      if (k.timeSeconds > from && k.timeSeconds <= to) return true;
+      continue;
+    }
+    // The latest repetition of k at or before `to`, k + n * period with n >= 0.
+    const double n = std::floor((to - k.timeSeconds) / period);
+    if (n >= 0.0 && k.timeSeconds + n * period > from) return true;
+  }
+  return false;
+}
+
+void markTeleports(const SceneDesc& scene, double from, double to, WorldState& world) {
+  world.sourceTeleports.resize(scene.sources.size());
+  for (size_t i = 0; i < scene.sources.size(); ++i)
+    world.sourceTeleports[i] = teleportBetween(scene.sources[i].trajectory,
+                                               scene.sources[i].trajectoryLoop, from, to);
+  world.listenerTeleports.resize(scene.listeners.size());
+  for (size_t i = 0; i < scene.listeners.size(); ++i)
+    world.listenerTeleports[i] =
+        teleportBetween(scene.listeners[i].trajectory, scene.listeners[i].loop, from, to);
+}
+
 void evaluateWorld(const SceneDesc& scene, double t, WorldState& state) {
+  markTeleports(scene, state.timeSeconds, t, state);
   state.timeSeconds = t;
   state.listenerPositions.resize(scene.listeners.size());
   state.listenerOrientations.resize(scene.listeners.size());

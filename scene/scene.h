@@ -60,6 +60,10 @@ struct Keyframe {
   /// Sources only: orientation, a unit quaternion (glm stores w, x, y, z; the file gives
   /// [x, y, z, w] as glTF), slerped. Either every keyframe of a source has one or none does.
   std::optional<glm::quat> rotation;
+  /// The point jumps here (a respawn, a cut): it stays at the previous keyframe's position
+  /// until this keyframe's time instead of moving toward it, and its source-listener pairs
+  /// start over at the jump (WorldState::sourceTeleports) instead of averaging across it.
+  bool teleport = false;
 };
 
 struct SourceDesc {
@@ -271,10 +275,22 @@ struct WorldState {
   std::vector<glm::vec3> sourcePositions;  ///< metres
   std::vector<glm::quat> sourceRotations;  ///< unit quaternions (sourceRotationAt)
   std::vector<Pose> objectPoses;
+  /// Per source and per listener: 1 when it jumped (a "teleport" keyframe, or a host's
+  /// teleport call) since the previous frame's world, so that its pairs' caches start over.
+  std::vector<uint8_t> sourceTeleports, listenerTeleports;
 };
 
-/// Evaluates every trajectory of the scene at time t. Allocates only when `state`'s vectors
-/// grow. Any thread (the scene is read only).
+/// Whether the keyframes hold a teleport keyframe whose time lies in (from, to] seconds (every
+/// period of a looping trajectory counts). Any thread; no allocation.
+bool teleportBetween(const std::vector<Keyframe>& keys, bool loop, double from, double to);
+
+/// Sets world.sourceTeleports and listenerTeleports for the scene's trajectories between the
+/// times from and to (seconds; teleportBetween). Allocates only when the vectors grow.
+void markTeleports(const SceneDesc& scene, double from, double to, WorldState& world);
+
+/// Evaluates every trajectory of the scene at time t, with the teleports between the state's
+/// previous time and t (markTeleports). Allocates only when `state`'s vectors grow. Any
+/// thread (the scene is read only).
 void evaluateWorld(const SceneDesc& scene, double t, WorldState& state);
 
 /// The index in scene.listeners of the listener named `name`. Throws InputError("command

@@ -77,9 +77,11 @@ std::vector<Keyframe> readPositionKeys(const JsonReader& r, const json& t, const
     const std::string kf = index(tf, i);
     const json& k = t[i];
     r.expectObject(k, kf);
-    r.checkKeys(k, kf, {"t", "position", "rotation"});
+    r.checkKeys(k, kf, {"t", "position", "rotation", "teleport"});
     Keyframe key;
     key.timeSeconds = keyTime(r, k, kf, lastTime(keys));
+    if (const json* x = JsonReader::find(k, "teleport"))
+      key.teleport = r.boolean(*x, join(kf, "teleport"));
     key.position = r.vec3(r.require(k, kf, "position"), join(kf, "position"));
     if (const json* q = JsonReader::find(k, "rotation"))
       key.rotation = readQuaternion(r, *q, join(kf, "rotation"));
@@ -231,9 +233,11 @@ void readSources(const JsonReader& r, const json& v, const fs::path& folder, Sce
 Keyframe readListenerKey(const JsonReader& r, const json& k, const std::string& kf,
                          const std::vector<Keyframe>& before) {
   r.expectObject(k, kf);
-  r.checkKeys(k, kf, {"t", "position", "yaw", "pitch"});
+  r.checkKeys(k, kf, {"t", "position", "yaw", "pitch", "teleport"});
   Keyframe key;
   key.timeSeconds = keyTime(r, k, kf, lastTime(before));
+  if (const json* x = JsonReader::find(k, "teleport"))
+    key.teleport = r.boolean(*x, join(kf, "teleport"));
   key.position = r.vec3(r.require(k, kf, "position"), join(kf, "position"));
   if (const json* y = JsonReader::find(k, "yaw"))
     key.yawDegrees = float(r.limited(*y, join(kf, "yaw"), "listener.yaw"));

@@ -313,6 +313,19 @@ DPC_API dpc_status dpc_yaw_pitch_from_quaternion(float qx, float qy, float qz, f
 DPC_API dpc_status dpc_engine_set_source_position(dpc_engine* engine, int source, float x, float y,
                                                   float z);
 
+/** Any thread, wait-free, no allocation. Source `source` (0-based, scene order) jumped: a
+ *  respawn, a cut, a teleport. The next propagation frame drops the cached paths of its
+ *  source-listener pairs instead of averaging the old place with the new one, so the new
+ *  place is heard at once (its first response is one frame's estimate, noisier than a warm
+ *  cache's). Call it with or after dpc_engine_set_source_position. Errors:
+ *  DPC_ERR_INVALID_ARGUMENT (null engine or index out of range; dpc_last_error() says which). */
+DPC_API dpc_status dpc_engine_teleport_source(dpc_engine* engine, int source);
+
+/** The same for listener `listener` (0-based): every pair of that listener starts over at the
+ *  next frame. Call it with or after dpc_engine_set_listener_pose. Any thread, wait-free, no
+ *  allocation. Errors: DPC_ERR_INVALID_ARGUMENT (null engine or index out of range). */
+DPC_API dpc_status dpc_engine_teleport_listener(dpc_engine* engine, int listener);
+
 /** Any thread (one writer per object at a time), wait-free, no allocation. Places moving
  *  object `object` (0-based, the scene's "objects" order): world = R(q) * local + (x, y, z),
  *  metres; q = (qx, qy, qz, qw) a rotation quaternion in glTF order (the frame at the top of

@@ -76,6 +76,11 @@ class Engine {
   dpc_status setSourcePosition(int source, float x, float y, float z) noexcept {
     return dpc_engine_set_source_position(e_, source, x, y, z);
   }
+  /// Any thread, wait-free: see dpc_engine_teleport_source and dpc_engine_teleport_listener.
+  dpc_status teleportSource(int source) noexcept { return dpc_engine_teleport_source(e_, source); }
+  dpc_status teleportListener(int listener) noexcept {
+    return dpc_engine_teleport_listener(e_, listener);
+  }
   /// Any thread, wait-free: see dpc_engine_set_object_pose (metres, quaternion x, y, z, w).
   dpc_status setObjectPose(int object, float x, float y, float z, float qx, float qy, float qz,
                            float qw) noexcept {

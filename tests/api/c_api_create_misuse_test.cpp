@@ -185,11 +185,12 @@ std::vector<Misuse> optionCases() {
   };
 }
 
-/// The shoebox scene with `cacheMb` MiB of path cache per source-listener pair, written to a
+/// The shoebox scene with `cacheMb` MiB of path cache per source-listener pair and a pool of
+/// `poolMb` MiB for all pairs, written to a
 /// file of its own (removed before returning), created with host inputs only in a process
 /// whose address space is capped at 8 GB (so that the memory available is the same on any
 /// machine: half of it, 4 GB).
-int createWithCache(double cacheMb) {
+int createWithCache(double cacheMb, double poolMb) {
 #ifndef __SANITIZE_ADDRESS__
   // AddressSanitizer reserves terabytes of shadow address space, so under it the process keeps
   // the machine's memory (16 GB is still beyond half of any machine this runs on).
@@ -204,7 +205,8 @@ int createWithCache(double cacheMb) {
   json.replace(json.find("\"shoebox.obj\""), 13, "\"" + scenes + "shoebox.obj\"");
   json.replace(json.find("\"signals/"), 9, "\"" + scenes + "signals/");
   json.replace(json.find("\"propagation\": {"), 16,
-               "\"propagation\": { \"cache_memory_mb\": " + std::to_string(cacheMb) + ",");
+               "\"propagation\": { \"cache_memory_mb\": " + std::to_string(cacheMb) +
+                   ", \"cache_pool_mb\": " + std::to_string(poolMb) + ",");
   char path[] = "/tmp/dpc_cache_scene_XXXXXX";
   const int fd = mkstemp(path);
   if (fd < 0 || write(fd, json.data(), json.size()) != ssize_t(json.size())) return kNoEngine;
@@ -222,9 +224,13 @@ int createWithCache(double cacheMb) {
 /// Work and memory beyond reach: refused before anything is allocated, naming the setting.
 std::vector<Misuse> workloadCases() {
   return {
-      {"cache 16384 MiB per pair", kInput, [] { return createWithCache(16384); },
-       "propagation.cache_memory_mb: "},
-      {"cache 64 MiB per pair", DPC_OK, [] { return createWithCache(64); }, ""},
+      {"cache 16384 MiB per pair, pool 65536 MiB", kInput,
+       [] { return createWithCache(16384, 65536); }, "propagation.cache_memory_mb: "},
+      {"pool 8192 MiB below 16384 MiB per pair", kInput,
+       [] { return createWithCache(16384, 8192); }, "propagation.cache_pool_mb: "},
+      {"cache 16384 MiB per pair, default pool", DPC_OK, [] { return createWithCache(16384, 256); },
+       ""},
+      {"cache 64 MiB per pair", DPC_OK, [] { return createWithCache(64, 256); }, ""},
   };
 }
 

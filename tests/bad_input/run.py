@@ -286,6 +286,11 @@ CASES = {
     "directivity_a_negative": (scene_with(**{"sources.0.directivity": {"a": [0, 0, 0, 0, 0, 0, 0, -0.1]}}), OFF, "shoebox.json: sources[0].directivity.a[7]: -0.1 is outside [0, 1]"),
     "source_rotation_zero": (scene_with(**{"sources.0.rotation": [0, 0, 0, 0]}), OFF, "shoebox.json: sources[0].rotation: [0,0,0,0] has zero length"),
     "estimator_scene_bad": (scene_with(**{"propagation.estimator": "x"}), OFF, "estimator"),
+    "tracing_scene_bad": (scene_with(**{"propagation.tracing": "sideways"}), OFF, "shoebox.json: propagation.tracing"),
+    "tracing_flag_bad": (nothing, OFF + ["--tracing", "magic"], "--tracing"),
+    "cache_pool_zero": (scene_with(**{"propagation.cache_pool_mb": 0}), OFF, "shoebox.json: propagation.cache_pool_mb"),
+    "cache_pool_flag_nan": (nothing, OFF + ["--cache-pool-mb", "nan"], "--cache-pool-mb"),
+    "teleport_not_bool": (scene_with(**{"listener.trajectory.1.teleport": "yes"}), OFF, "listener.trajectory[1].teleport"),
     # Finding 4 and 5: work and memory refused before any work, naming the setting to lower.
     "rays_1e8_order_10000": (scene_with(**{"propagation.rays_per_frame": 100000000, "propagation.max_order": 10000}), OFF[:-2], "rays_per_frame"),
     "ir_60s_192k_binaural": (scene_with(**{"propagation.ir_length": 60, "audio.sample_rate": 192000, "audio.output": "binaural"}), OFF, "ir_length"),

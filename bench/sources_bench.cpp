@@ -66,7 +66,7 @@ void timeFrame(const SceneDesc& scene, PropagationStage& stage, WorldState& worl
   w0 = wallSeconds();
   stage.recycle(stage.prepare(0));
   t.synthesisWall += wallSeconds() - w0;
-  t.segments += stage.simulation().result(0).trace.segments;
+  t.segments += stage.simulation().frameTrace().segments;
 }
 
 /// Quality of the sampled sources' energy responses after the warm-up.

@@ -100,7 +100,7 @@ DiffusePathCache::Capacity DiffusePathCache::capacityFor(DpcWeighting weighting,
                        layers * sizeof(uint32_t) + (window ? lifetime * sizeof(uint32_t) : 0);
   Capacity c;
   const size_t perBin = layers * sizeof(Cell);
-  c.coarseBins = std::min(kMaxCoarseBins, budgetBytes / 4 / perBin);
+  c.coarseBins = std::min(kMaxCoarseBins, std::min(budgetBytes, kCoarseBudgetBytes) / 4 / perBin);
   const size_t perEntry = sizeof(Entry) + (window ? 2 * sizeof(WindowTerm) : 0);
   const size_t used = fixed + c.coarseBins * perBin;
   if (c.coarseBins == 0 || used >= budgetBytes)

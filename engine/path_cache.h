@@ -98,7 +98,11 @@ class DiffusePathCache {
   static constexpr size_t kMaxCoarseBins = 4096;
   /// Bytes of a cache's first path tables (entries, index, window terms): a few thousand paths,
   /// grown by doubling as they fill.
-  static constexpr size_t kInitialTableBytes = size_t(1) << 20;
+  static constexpr size_t kInitialTableBytes = size_t(1) << 18;
+  /// The most bytes of a cache's coarse store (with its fixed tables): a quarter of this goes
+  /// to coarse cells, whatever the budget, so that many pairs' stores stay small; its delay
+  /// bins widen (log-spaced) when a merged delay does not fit.
+  static constexpr size_t kCoarseBudgetBytes = size_t(2) << 20;
 
   /// How a budget is split (all tables are allocated once, at construction, to these sizes).
   struct Capacity {
@@ -108,8 +112,9 @@ class DiffusePathCache {
     size_t coarseBins = 0;   ///< coarse-store delay bins (per layer: seed L, window W, EMA 1)
     size_t bytes = 0;        ///< everything the cache allocates, <= the budget
   };
-  /// The split of budgetBytes for a weighting, tau and frame period: about a quarter for the
-  /// coarse store (at most kMaxCoarseBins bins per layer), the rest for path entries, their
+  /// The split of budgetBytes for a weighting, tau and frame period: a quarter of the budget, at
+  /// most of kCoarseBudgetBytes, for the coarse store (at most kMaxCoarseBins bins per layer),
+  /// the rest for path entries, their
   /// index and (window) their per-frame terms, two per entry. Throws std::invalid_argument
   /// when the budget cannot hold one path entry and one coarse bin.
   static Capacity capacityFor(DpcWeighting weighting, double tauSeconds, double framePeriodSeconds,

@@ -133,6 +133,7 @@ void Simulation::runFrame(std::span<const ListenerSphere> listeners,
   const size_t L = std::max<size_t>(1, listeners.size());
   reserveListeners(L);
   listenerCount_ = L;
+  frameTrace_ = TraceStats{};
   if (tracesFromListeners(settings_.tracing, sourceCount_, listeners.size()))
     traceFromListeners(listeners, sources);
   else
@@ -156,6 +157,7 @@ void Simulation::traceFromSources(std::span<const ListenerSphere> listeners,
         propagator_->traceFrame(frame_, uint32_t(s), sources[s], listeners,
                                 std::span(groupPtrs_.data(), listeners.size()),
                                 specularCandidates_.get());
+    addPass(trace);
     if (specularCandidates_) specularCandidateOverflow_ += specularCandidates_->overflow();
     const double traceSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -166,6 +168,12 @@ void Simulation::traceFromSources(std::span<const ListenerSphere> listeners,
       finishPair(s, l, sources[s], listeners[l], trace, traceSeconds, groups_[l]);
     });
   }
+}
+
+void Simulation::addPass(const TraceStats& t) {
+  frameTrace_.rays += t.rays;
+  frameTrace_.segments += t.segments;
+  frameTrace_.listenerHits += t.listenerHits;
 }
 
 void Simulation::reserveSourceGroups() {
@@ -198,6 +206,7 @@ void Simulation::traceFromListeners(std::span<const ListenerSphere> listeners,
     const TraceStats trace = propagator_->traceFrame(
         frame_, uint32_t(l), listeners[l].position, std::span(sourceSpheres_.data(), S),
         std::span(sourceGroupPtrs_.data(), S), specularCandidates_.get());
+    addPass(trace);
     if (specularCandidates_) specularCandidateOverflow_ += specularCandidates_->overflow();
     const double traceSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

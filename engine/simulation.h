@@ -138,6 +138,10 @@ class Simulation {
   /// Empty while settings().exactOrder is 0. The reference stays valid, and the vector keeps
   /// its capacity (no allocation), until the next runFrame. Propagation thread.
   const std::vector<SpecularPath>& specularPaths(size_t source, size_t listener = 0) const;
+  /// The last frame's tracing: its passes' rays, segments and sphere hits summed, each pass
+  /// once (a pair's result repeats its pass's statistics; per source from the sources, per
+  /// listener from the listeners).
+  const TraceStats& frameTrace() const { return frameTrace_; }
   size_t sourceCount() const { return sourceCount_; }
   /// Listeners the last runFrame traced (at least 1).
   size_t listenerCount() const { return listenerCount_; }
@@ -158,6 +162,8 @@ class Simulation {
   /// The same with one pass from each listener (rays from the listeners).
   void traceFromListeners(std::span<const ListenerSphere> listeners,
                           const std::vector<glm::vec3>& sources);
+  /// Adds one tracing pass to frameTrace_.
+  void addPass(const TraceStats& t);
   /// Per-source group buffers and exact-path set pointers (grows only).
   void reserveSourceGroups();
   /// Source s and listener l after the trace: direct sound (with edge diffraction) and the
@@ -208,6 +214,7 @@ class Simulation {
   std::vector<std::unique_ptr<SpecularPathCache>> specularCaches_;  ///< per pair
   uint64_t specularCandidateOverflow_ = 0;  ///< cumulative over sources and frames
   uint64_t frame_ = 0;
+  TraceStats frameTrace_;
 };
 
 }  // namespace dpc

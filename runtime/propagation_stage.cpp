@@ -143,10 +143,8 @@ void PropagationStage::traceWorld(const WorldState& world) {
     if (world.listenerTeleports[l]) simulation_->restartListener(l);
   simulation_->runFrame(spheres_, world.sourcePositions);
   totals_.traceSeconds += secondsSince(t0);
-  for (size_t s = 0; s < simulation_->sourceCount(); ++s) {
-    totals_.rays += simulation_->result(s).trace.rays;
-    totals_.segments += simulation_->result(s).trace.segments;
-  }
+  totals_.rays += simulation_->frameTrace().rays;
+  totals_.segments += simulation_->frameTrace().segments;
   while (irs_.size() < L) irs_.push_back(irs_.front());
   lastTime_ = world.timeSeconds;
   ++totals_.frames;

@@ -128,6 +128,9 @@ CLI::App* addSources(CLI::App& app, Options& o) {
   sub->add_option("--quality-sources", o.sources.qualitySources,
                   "Sources compared with a reference (default 4)")
       ->check(CLI::Range(0, 256));
+  sub->add_option("--max-from-sources", o.sources.maxFromSources,
+                  "Largest source count traced from the sources (default 64)")
+      ->check(CLI::Range(1, 256));
   sub->add_option("--reference-frames", o.sources.referenceFrames,
                   "Path-tracing frames of each reference (4x rays; default 24)")
       ->check(CLI::Range(2, 10000));

@@ -222,6 +222,7 @@ int benchSources(const CommonOptions& c, const SourcesOptions& o) {
     if (!tracing) throw std::invalid_argument("--tracing: '" + name + "' is not a direction");
     Json rows = Json::array();
     for (int count : o.counts) {
+      if (*tracing == Tracing::kFromSources && count > o.maxFromSources) continue;
       double peakMb = 0.0;
       Json row = Json::parse(inChild(
           std::to_string(count) + " sources",
@@ -240,6 +241,7 @@ int benchSources(const CommonOptions& c, const SourcesOptions& o) {
       "(dB) and relative RMS noise per 10 ms bin and band against path tracing with 4x rays "
       "over reference_frames frames; peak RSS of the configuration's own process";
   j["reference_frames"] = o.referenceFrames;
+  j["max_from_sources"] = o.maxFromSources;
   printReport(j);
   return 0;
 }

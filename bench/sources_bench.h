@@ -15,6 +15,9 @@ struct SourcesOptions {
   int warmupFrames = 20;     ///< frames before timing; quality is read after them
   int qualitySources = 4;    ///< sources whose energy response is compared with a reference
   int referenceFrames = 24;  ///< path-tracing frames (4x rays) of each reference
+  /// Tracing from the sources is measured up to this many sources (its cost grows linearly:
+  /// 256 sources take 256 passes a frame).
+  int maxFromSources = 64;
 };
 
 /// For each tracing direction and source count: the scene's sources, then more at fixed

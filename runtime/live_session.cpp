@@ -41,6 +41,7 @@ LiveSession::LiveSession(std::shared_ptr<const SceneDesc> scene,
       limiter_(std::make_unique<audio::Limiter>(sampleRate_)),
       counters_(settings.raysPerFrame),
       adaptiveRays_(settings.raysPerFrame, 1.0 / settings.frameRate, options.latencyTargetSeconds) {
+  if (options.bake) propagation_->attachBake(options.bake);
   const int irChannels = propagation_->numOutputs();
   mono_.assign(size_t(blockSize_) * size_t(irChannels), 0.f);
   for (int c = 0; c < irChannels; ++c)

@@ -49,6 +49,9 @@ class LiveSession {
     int poolSize = 6;  ///< IrSets in flight (>= 3)
     /// The listener played first (scene.listeners index; selectListener() changes it).
     size_t listener = 0;
+    /// If set, static sources are played from this bake of the scene
+    /// (PropagationStage::attachBake).
+    std::shared_ptr<const BakedField> bake;
     /// The propagation thread adapts the rays per source of each frame to hold the frame
     /// rate (runtime/adaptive_rays.h, docs/live.md "Adaptive rays"): fewer rays when a frame
     /// takes longer than 1 / frame_rate, back up to the settings' rays when there is room.

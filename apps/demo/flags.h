@@ -12,7 +12,7 @@ namespace dpc::demo {
 /// any value the user gives, even one that looks like a default, is range-checked.
 struct Flags {
   std::string scene, offline, irOut, erOut, estimator, weighting, device, record, stats, output,
-      hrtf, listener;
+      hrtf, listener, bake;
   bool listDevices = false, listMaterials = false, interactive = false, quiet = false;
   std::optional<int64_t> blockSize;       ///< samples per audio block (live)
   std::optional<double> duration;         ///< seconds to render or play

@@ -1,7 +1,7 @@
 // Baked playback: a bake's per-probe energy responses held in memory (BakedField) and the
 // interpolation of a listener's response between the probes it can see (BakeInterpolator).
 //
-// The data come from a dpc-bake file (docs/bake-format.md; apps/bake/bake_loader.h reads and
+// The data come from a dpc-bake file (docs/bake-format.md; bake/bake_loader.h reads and
 // validates it, the C API and dpc-demo attach it to a PropagationStage). The late part of the
 // response (the stored energy without its direct sound) is interpolated; the direct sound and
 // its occlusion stay live (Simulation's DirectSound), so a door or a moving listener is heard

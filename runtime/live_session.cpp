@@ -81,6 +81,12 @@ void LiveSession::stop() {
   if (recorder_) recorder_->stop();
 }
 
+bool LiveSession::attachBake(std::shared_ptr<const BakedField> bake) {
+  if (running_.load()) return false;
+  propagation_->attachBake(std::move(bake));
+  return true;
+}
+
 bool LiveSession::step() {
   if (running_.load()) return false;
   runFrame(settings_.raysPerFrame);

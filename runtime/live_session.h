@@ -123,6 +123,12 @@ class LiveSession {
   /// hosts that run their own clock, and for tests of the controller that must not depend on
   /// the machine's load. Control thread, while not running (false otherwise).
   bool stepAdaptive(double frameSeconds);
+  /// Control thread, while not running (false otherwise, nothing changed): plays the sources
+  /// that stand at their baked positions from `bake` from the next frame on
+  /// (PropagationStage::attachBake); replaces a bake attached before.
+  bool attachBake(std::shared_ptr<const BakedField> bake);
+  /// The scene the session plays (shared, read only).
+  const SceneDesc& scene() const { return *scene_; }
 
   /// The newest frame's responses of the played listener for one source (ResponseSnapshot).
   using Responses = ResponseSnapshot::Responses;

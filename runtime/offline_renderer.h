@@ -39,7 +39,7 @@ struct OfflineOptions {
   /// the render and propagates out of renderOffline.
   std::function<void(size_t listener, const float* const* planar, size_t frames)> sink;
   /// If set, static sources are played from this bake of the scene (PropagationStage::
-  /// attachBake; apps/bake/bake_loader.h loads and checks one).
+  /// attachBake; bake/bake_loader.h loads and checks one).
   std::shared_ptr<const BakedField> bake;
 };
 

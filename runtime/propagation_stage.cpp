@@ -188,7 +188,8 @@ IrSet* PropagationStage::prepare(size_t listener) {
 
 void PropagationStage::attachBake(std::shared_ptr<const BakedField> bake,
                                   BakeInterpolation settings) {
-  baked_ = std::make_unique<BakedPlayback>(std::move(bake), *simulation_, settings);
+  baked_ = bake ? std::make_unique<BakedPlayback>(std::move(bake), *simulation_, settings)
+              : nullptr;
 }
 
 void PropagationStage::recycle(IrSet* set) {

@@ -83,8 +83,8 @@ class PropagationStage {
   const Simulation& simulation() const { return *simulation_; }
   /// Plays the sources that stand at their baked positions from `bake` (runtime/
   /// baked_playback.h): interpolated late response, live direct sound. The bake must be of this
-  /// stage's scene (apps/bake/bake_loader.h checks). Control thread, before the first frame;
-  /// allocates.
+  /// stage's scene (bake/bake_loader.h checks); nullptr detaches it. Control thread, between
+  /// frames; allocates.
   void attachBake(std::shared_ptr<const BakedField> bake, BakeInterpolation settings = {});
   /// The attached bake's playback and counts, or nullptr.
   const BakedPlayback* bakedPlayback() const { return baked_.get(); }

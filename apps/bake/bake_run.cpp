@@ -8,8 +8,8 @@
 #include <optional>
 #include <thread>
 
-#include "apps/bake/bake_file.h"
-#include "apps/bake/parameter_map.h"
+#include "bake/bake_file.h"
+#include "bake/parameter_map.h"
 #include "apps/bake/progress.h"
 #include "common/input_error.h"
 #include "common/output_file.h"

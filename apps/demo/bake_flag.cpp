@@ -4,7 +4,7 @@
 
 #include "common/input_error.h"
 #ifdef DPC_HAVE_BAKE
-#include "apps/bake/bake_loader.h"
+#include "bake/bake_loader.h"
 #endif
 
 namespace dpc::demo {

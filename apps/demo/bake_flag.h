@@ -10,7 +10,7 @@
 
 namespace dpc::demo {
 
-/// Loads and checks fl.bake for `scene` (apps/bake/bake_loader.h); nullptr when --bake is not
+/// Loads and checks fl.bake for `scene` (bake/bake_loader.h); nullptr when --bake is not
 /// given. Throws InputError naming the file and field for a bake that does not fit the scene,
 /// and naming --bake when dpc-demo was built without HDF5. Main thread; allocates.
 std::shared_ptr<const BakedField> loadBakeFlag(const Flags& fl, const SceneDesc& scene);

@@ -1,12 +1,12 @@
-// Tests for baked playback: loading a bake for a scene (apps/bake/bake_loader.h), the
+// Tests for baked playback: loading a bake for a scene (bake/bake_loader.h), the
 // visibility-aware interpolation between probes (engine/baked_field.h) and its use by the
 // propagation stage (runtime/baked_playback.h).
 #include <catch2/catch.hpp>
 #include <filesystem>
 
-#include "apps/bake/bake_file.h"
-#include "apps/bake/bake_loader.h"
-#include "apps/bake/hdf5_util.h"
+#include "bake/bake_file.h"
+#include "bake/bake_loader.h"
+#include "bake/hdf5_util.h"
 #include "common/input_error.h"
 #include "engine/simulation.h"
 #include "runtime/propagation_stage.h"

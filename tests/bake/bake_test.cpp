@@ -6,9 +6,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "apps/bake/bake_file.h"
-#include "apps/bake/probe_bake.h"
-#include "apps/bake/probe_grid.h"
+#include "bake/bake_file.h"
+#include "bake/probe_bake.h"
+#include "bake/probe_grid.h"
 #include "common/input_error.h"
 #include "testing/temp_dir.h"
 #include "testing/test_scenes.h"

@@ -1,6 +1,6 @@
-#include "apps/bake/bake_loader.h"
+#include "bake/bake_loader.h"
 
-#include "apps/bake/bake_file.h"
+#include "bake/bake_file.h"
 #include "common/input_error.h"
 
 namespace dpc::bake {

@@ -1,11 +1,11 @@
-#include "apps/bake/bake_file.h"
+#include "bake/bake_file.h"
 
 #include <chrono>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
 
-#include "apps/bake/hdf5_util.h"
+#include "bake/hdf5_util.h"
 #include "common/input_error.h"
 
 namespace dpc::bake {

@@ -1,4 +1,4 @@
-#include "apps/bake/probe_bake.h"
+#include "bake/probe_bake.h"
 
 #include <cmath>
 #include <limits>

@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "apps/bake/probe_bake.h"
-#include "apps/bake/probe_grid.h"
+#include "bake/probe_bake.h"
+#include "bake/probe_grid.h"
 #include "scene/scene.h"
 
 namespace dpc::bake {

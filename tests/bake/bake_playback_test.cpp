@@ -198,3 +198,39 @@ TEST_CASE("Baked playback: another scene's, an incomplete, a truncated or anothe
   }
   CHECK(refusedField(v2, scene).find("version") != std::string::npos);
 }
+
+namespace {
+
+/// Energy of source 0's mono IR as the stage last synthesised it (sum of squared samples: the
+/// response's energy, docs/design.md "IR synthesis in stages"), after one traced frame.
+double irEnergy(PropagationStage& stage, const SceneDesc& scene) {
+  WorldState world;
+  evaluateWorld(scene, 0.0, world);
+  stage.traceWorld(world);
+  stage.recycle(stage.prepare(0));
+  double e = 0.0;
+  for (const float x : stage.lastIrs()[0][0]) e += double(x) * x;
+  return e;
+}
+
+}  // namespace
+
+TEST_CASE("Baked playback: the synthesised IR carries the energy of a live one", "[bake][playback]") {
+  test::TempDir dir("bake_play_ir");
+  auto scene = std::make_shared<SceneDesc>(shoebox());
+  scene->propagation.irLength = 0.5f;
+  scene->propagation.estimator = Estimator::kPathTracing;
+  scene->propagation.raysPerFrame = 20000;
+  const std::string path = (dir.path() / "b.h5").string();
+  writeBake(*scene, path, 2.5);
+  PropagationStage live(scene, scene->propagation);
+  PropagationStage baked(scene, scene->propagation);
+  baked.attachBake(loadBakedField(path, *scene));
+  const double eLive = irEnergy(live, *scene), eBaked = irEnergy(baked, *scene);
+  REQUIRE(baked.bakedPlayback()->stats().bakedResponses == 1);
+  // The listener (8, 1.6, 3.5) lies between probes 1.25 .. 2.8 m away; the late field of this
+  // diffuse box varies by a few tenths of a dB over that distance (dpc-bench bake-interp) and
+  // the bake's 2000 rays per probe add about 0.2 dB of Monte Carlo error: 1 dB is the
+  // issue's target and 5 times that spread. The direct sound is the same live one in both.
+  CHECK(10.0 * std::log10(eBaked / eLive) == Approx(0.0).margin(1.0));
+}

@@ -139,6 +139,8 @@ void LiveSession::recordFrame(size_t played, bool produced, double frameMs) {
   FrameTotals totals;
   for (size_t s = 0; s < sim.sourceCount(); ++s) totals.add(sim.result(s, played));
   counters_.frameDone(totals, frameMs);
+  if (const BakedPlayback* baked = propagation_->bakedPlayback())
+    counters_.bakeCounts(baked->stats().bakedResponses, baked->stats().fallbacks);
 }
 
 void LiveSession::propagationLoop() {

@@ -407,6 +407,9 @@ typedef struct dpc_stats {
   int32_t rays_per_frame;     /**< rays per source traced by the last frame (0 before one) */
   int32_t rays_per_frame_min; /**< fewest rays per source of any frame so far (0 before one) */
   uint64_t reduced_frames;    /**< frames traced with fewer rays than the scene's */
+  /* Baked playback (dpc_engine_attach_bake; since 0.3.0), cumulative, 0 without a bake. */
+  uint64_t baked_responses; /**< source responses played from the bake */
+  uint64_t bake_fallbacks;  /**< frames whose listener saw no probe (played live instead) */
 } dpc_stats;
 
 /** Control thread (it updates the rays-per-second interval). No allocation. Fills *out (all but

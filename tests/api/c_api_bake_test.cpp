@@ -56,6 +56,12 @@ TEST_CASE("C API bake: open, attach, play; another scene, a truncated file and N
   dpc_bake_destroy(bake);  // the engine keeps its own reference
   CHECK(dpc_engine_step(e) == DPC_OK);
   CHECK(dpc_engine_step(e) == DPC_OK);
+  // The scene's one source stands at its baked position, its listener among the probes.
+  dpc_stats stats{};
+  stats.struct_size = sizeof stats;
+  REQUIRE(dpc_engine_get_stats(e, &stats) == DPC_OK);
+  CHECK(stats.baked_responses == 2);
+  CHECK(stats.bake_fallbacks == 0);
   // Running: no attaching.
   REQUIRE(dpc_engine_start(e) == DPC_OK);
   CHECK(dpc_engine_attach_bake(e, nullptr) == DPC_ERR_STATE);

@@ -166,6 +166,31 @@ Json errorReport(const std::vector<double>& dE, const std::vector<double>& dC80)
           {"c80_db_mean_abs_per_band", perBand(dC80)}};
 }
 
+/// Seconds per locate (nearest probes and their visibility, no response) against the probe
+/// count, probes scattered uniformly over the room's floor plan at the listener height (a
+/// level-sized bake's search; one bin per response to keep the memory small).
+Json locateCost(Simulation& sim, glm::vec3 source) {
+  Json rows = Json::array();
+  for (const size_t probes : {size_t(1000), size_t(10000), size_t(100000)}) {
+    auto field = std::make_shared<BakedField>();
+    Rng rng(11, probes);
+    for (size_t p = 0; p < probes; ++p)
+      field->probes.push_back({rng.uniform() * kRoom.x, kHeight, rng.uniform() * kRoom.z});
+    field->sources = {source};
+    field->bins = 1;
+    field->late.assign(probes * kNumBands, 0.f);
+    BakeInterpolator interp(field, sim.tracer());
+    const int n = 200;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int i = 0; i < n; ++i)
+      interp.locate({0.5f + rng.uniform() * (kRoom.x - 1), kHeight,
+                     0.5f + rng.uniform() * (kRoom.z - 1)});
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    rows.push_back({{"probes", probes}, {"seconds_per_locate", s / n}});
+  }
+  return rows;
+}
+
 /// Seconds per locate + response of one source over a full 1 m grid of the room (P probes).
 Json interpolationCost(Simulation& sim, glm::vec3 source) {
   auto field = std::make_shared<BakedField>();
@@ -191,7 +216,8 @@ Json interpolationCost(Simulation& sim, glm::vec3 source) {
           {"visibility_rays_per_frame", double(interp.visibilityRays()) / n},
           {"bytes_per_probe_and_source_in_memory",
            (field->bins * kNumBands + directional) * sizeof(float)},
-          {"response_bins", field->bins}};
+          {"response_bins", field->bins},
+          {"locate_seconds_vs_probes", locateCost(sim, source)}};
 }
 
 }  // namespace

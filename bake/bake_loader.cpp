@@ -2,6 +2,7 @@
 
 #include "bake/bake_file.h"
 #include "common/input_error.h"
+#include "engine/workload.h"
 
 namespace dpc::bake {
 namespace {
@@ -28,11 +29,27 @@ void checkHeader(const BakeFile& file, const SceneDesc& scene) {
                          std::to_string(scene.sources.size()));
 }
 
+/// Refuses a bake whose arrays would not fit the memory a render may plan for
+/// (plannableMemoryBytes), before reading them.
+void checkMemory(const BakeFile& file) {
+  const BakeHeader& h = file.header();
+  const double bytes = double(h.probes.positions.size()) *
+                       double(h.shape.energyFloats() + h.shape.directionalFloats()) *
+                       sizeof(float);
+  const double available = plannableMemoryBytes();
+  if (bytes > available)
+    throw InputError(file.path(), "energy",
+                     "baked playback needs " + std::to_string(int64_t(bytes / 1e6)) +
+                         " MB in memory, more than the " +
+                         std::to_string(int64_t(available / 1e6)) + " MB available");
+}
+
 }  // namespace
 
 std::shared_ptr<const BakedField> loadBakedField(const std::string& path, const SceneDesc& scene) {
   const BakeFile file = BakeFile::open(path, false);
   checkHeader(file, scene);
+  checkMemory(file);
   const BakeHeader& h = file.header();
   auto f = std::make_shared<BakedField>();
   f->path = path;

@@ -3,7 +3,8 @@
 // attribute or dataset (InputError): anything BakeFile::open refuses (a missing, truncated or
 // corrupt file, another format or version, a dataset of the wrong shape), a bake of another
 // scene (`mesh_hash` differs from sceneHash(scene)), an incomplete bake (`complete`), and a bake
-// whose source count differs from the scene's (`sources/position`).
+// whose source count differs from the scene's (`sources/position`), and a bake whose arrays
+// would not fit the memory a render may plan for (`energy`; engine/workload.h).
 // Control thread; allocates (the whole bake: BakedField::bytes()).
 #pragma once
 

@@ -24,7 +24,7 @@ namespace dpc::bake {
 
 /// Format name and version written to and required from the root attributes.
 inline constexpr const char* kBakeFormat = "dpc-bake";
-inline constexpr int kBakeFormatVersion = 1;
+inline constexpr int kBakeFormatVersion = 2;
 
 /// Everything a bake is fixed by: the scene, the grid and the settings.
 struct BakeHeader {

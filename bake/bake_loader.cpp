@@ -29,6 +29,18 @@ void checkHeader(const BakeFile& file, const SceneDesc& scene) {
                          std::to_string(scene.sources.size()));
 }
 
+/// Takes the stored exact early paths out of the late responses (each from the bin of its
+/// delay, as the bake added it), as the direct sound.
+void removeEarly(const BakeFile& file, BakedField& f) {
+  const std::vector<float> count = file.readAll("early/count");
+  const std::vector<float> paths = file.readAll("early/paths");
+  for (size_t i = 0; i < count.size(); ++i)
+    for (size_t j = 0; j < size_t(count[i]) && j < kEarlyPaths; ++j) {
+      const float* p = paths.data() + (i * kEarlyPaths + j) * kEarlyPathFloats;
+      removeDirect(f.late.data() + i * f.bins * kNumBands, f.bins, f.binSeconds, p[0], p + 1);
+    }
+}
+
 /// Refuses a bake whose arrays would not fit the memory a render may plan for
 /// (plannableMemoryBytes), before reading them.
 void checkMemory(const BakeFile& file) {
@@ -67,6 +79,8 @@ std::shared_ptr<const BakedField> loadBakedField(const std::string& path, const 
   for (size_t i = 0; i < rows; ++i)
     removeDirect(f->late.data() + i * f->bins * kNumBands, f->bins, f->binSeconds, delay[i],
                  direct.data() + i * kNumBands);
+  // Playback synthesises the exact early paths live when the scene asks for them.
+  if (scene.propagation.exactOrder > 0) removeEarly(file, *f);
   return f;
 }
 

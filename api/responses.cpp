@@ -105,6 +105,8 @@ dpc_status dpc_engine_get_stats(dpc_engine* engine, dpc_stats* out) {
     out->rays_per_frame = int32_t(s.raysPerFrame);
     out->rays_per_frame_min = int32_t(s.raysPerFrameMin);
     out->reduced_frames = s.reducedFrames;
+    out->baked_responses = s.bakedResponses;
+    out->bake_fallbacks = s.bakeFallbacks;
     return DPC_OK;
   });
 }

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "bench/bake_bench.h"
+#include "bench/bake_interp_bench.h"
 #include "bench/bench_util.h"
 #include "bench/budget_bench.h"
 #include "bench/convolve_bench.h"
@@ -54,12 +55,13 @@ struct Options {
   ConvolveOptions convolve;
   LoadOptions load;
   BakeBenchOptions bake;
+  BakeInterpOptions bakeInterp;
 };
 
 /// The subcommands as CLI11 knows them (each is true once parsed).
 struct Subcommands {
-  CLI::App *propagation, *noise, *live, *listeners, *sources, *diffraction, *budget, *dynamic, *convolve,
-      *load, *bake;
+  CLI::App *propagation, *noise, *live, *listeners, *sources, *diffraction, *budget, *dynamic,
+      *convolve, *load, *bake, *bakeInterp;
 };
 
 /// A subcommand that loads a scene, with the options every such benchmark takes.
@@ -186,6 +188,23 @@ CLI::App* addBake(CLI::App& app, Options& o) {
   return sub;
 }
 
+CLI::App* addBakeInterp(CLI::App& app, Options& o) {
+  CLI::App* sub = app.add_subcommand(
+      "bake-interp",
+      "Baked playback: interpolation error vs probe spacing (diffuse box), cost, memory");
+  sub->add_option("--spacings", o.bakeInterp.spacings, "Probe spacings, m (default 0.5 1 2 4)")
+      ->check(CLI::Range(0.1, 4.0));
+  sub->add_option("--points", o.bakeInterp.points, "Test points (default 6)")
+      ->check(CLI::Range(1, 1000));
+  sub->add_option("--rays", o.bakeInterp.rays, "Rays per frame (default 4000)")
+      ->check(CLI::Range(1, 1 << 20));
+  sub->add_option("--frames", o.bakeInterp.frames, "Frames per response (default 8)")
+      ->check(CLI::Range(1, 1000));
+  sub->add_option("--threads", o.bakeInterp.threads, "Tracing threads (0 = all cores)")
+      ->check(CLI::Range(0, 1024));
+  return sub;
+}
+
 /// Defines every subcommand, in the order --help lists them.
 Subcommands addSubcommands(CLI::App& app, Options& o) {
   Subcommands s{};
@@ -207,6 +226,7 @@ Subcommands addSubcommands(CLI::App& app, Options& o) {
   s.convolve = addConvolve(app, o);
   s.load = addLoad(app, o);
   s.bake = addBake(app, o);
+  s.bakeInterp = addBakeInterp(app, o);
   return s;
 }
 
@@ -218,6 +238,7 @@ int run(const Subcommands& s, const Options& o) {
   if (*s.sources) return benchSources(o.common, o.sources);
   if (*s.convolve) return benchConvolve(o.convolve);
   if (*s.bake) return benchBake(o.bake);
+  if (*s.bakeInterp) return benchBakeInterp(o.bakeInterp);
   if (*s.budget) return benchBudget(o.common, o.budgetRays);
   if (*s.diffraction) return benchDiffraction(o.common);
   if (*s.live) return benchLive(o.common, o.live);

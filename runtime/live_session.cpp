@@ -41,6 +41,7 @@ LiveSession::LiveSession(std::shared_ptr<const SceneDesc> scene,
       limiter_(std::make_unique<audio::Limiter>(sampleRate_)),
       counters_(settings.raysPerFrame),
       adaptiveRays_(settings.raysPerFrame, 1.0 / settings.frameRate, options.latencyTargetSeconds) {
+  if (options.bake) propagation_->attachBake(options.bake);
   const int irChannels = propagation_->numOutputs();
   mono_.assign(size_t(blockSize_) * size_t(irChannels), 0.f);
   for (int c = 0; c < irChannels; ++c)
@@ -78,6 +79,12 @@ void LiveSession::stop() {
   wake_.notify_all();
   if (propagationThread_.joinable()) propagationThread_.join();
   if (recorder_) recorder_->stop();
+}
+
+bool LiveSession::attachBake(std::shared_ptr<const BakedField> bake) {
+  if (running_.load()) return false;
+  propagation_->attachBake(std::move(bake));
+  return true;
 }
 
 bool LiveSession::step() {
@@ -132,6 +139,8 @@ void LiveSession::recordFrame(size_t played, bool produced, double frameMs) {
   FrameTotals totals;
   for (size_t s = 0; s < sim.sourceCount(); ++s) totals.add(sim.result(s, played));
   counters_.frameDone(totals, frameMs);
+  if (const BakedPlayback* baked = propagation_->bakedPlayback())
+    counters_.bakeCounts(baked->stats().bakedResponses, baked->stats().fallbacks);
 }
 
 void LiveSession::propagationLoop() {

@@ -49,6 +49,9 @@ class LiveSession {
     int poolSize = 6;  ///< IrSets in flight (>= 3)
     /// The listener played first (scene.listeners index; selectListener() changes it).
     size_t listener = 0;
+    /// If set, static sources are played from this bake of the scene
+    /// (PropagationStage::attachBake).
+    std::shared_ptr<const BakedField> bake;
     /// The propagation thread adapts the rays per source of each frame to hold the frame
     /// rate (runtime/adaptive_rays.h, docs/live.md "Adaptive rays"): fewer rays when a frame
     /// takes longer than 1 / frame_rate, back up to the settings' rays when there is room.
@@ -124,6 +127,12 @@ class LiveSession {
   /// hosts that run their own clock, and for tests of the controller that must not depend on
   /// the machine's load. Control thread, while not running (false otherwise).
   bool stepAdaptive(double frameSeconds);
+  /// Control thread, while not running (false otherwise, nothing changed): plays the sources
+  /// that stand at their baked positions from `bake` from the next frame on
+  /// (PropagationStage::attachBake); replaces a bake attached before.
+  bool attachBake(std::shared_ptr<const BakedField> bake);
+  /// The scene the session plays (shared, read only).
+  const SceneDesc& scene() const { return *scene_; }
 
   /// The newest frame's responses of the played listener for one source (ResponseSnapshot).
   using Responses = ResponseSnapshot::Responses;

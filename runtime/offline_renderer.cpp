@@ -70,6 +70,7 @@ OfflineRender::OfflineRender(std::shared_ptr<const SceneDesc> scene,
       B_(size_t(scene_->audio.blockSize)),
       streaming_(bool(options.sink)),
       framePeriod_(1.0 / settings.frameRate) {
+  if (options.bake) propagation_.attachBake(options.bake);
   for (size_t k = 0; k < listeners_.size(); ++k)
     audioStages_.push_back(
         std::make_unique<AudioStage>(propagation_.layout(), dry, propagation_.numOutputs()));
@@ -136,6 +137,7 @@ OfflineResult OfflineRender::run() {
 
 void OfflineRender::finish() {
   result_.totals = propagation_.totals();
+  if (propagation_.bakedPlayback()) result_.bake = propagation_.bakedPlayback()->stats();
   const Simulation& sim = propagation_.simulation();
   FrameTotals totals;
   for (size_t k = 0; k < listeners_.size(); ++k) {

@@ -38,6 +38,9 @@ struct OfflineOptions {
   /// its WAV file). The pointers are valid during the call only. An exception thrown here ends
   /// the render and propagates out of renderOffline.
   std::function<void(size_t listener, const float* const* planar, size_t frames)> sink;
+  /// If set, static sources are played from this bake of the scene (PropagationStage::
+  /// attachBake; bake/bake_loader.h loads and checks one).
+  std::shared_ptr<const BakedField> bake;
 };
 
 /// What one listener heard.
@@ -63,6 +66,8 @@ struct OfflineResult {
   /// is too small.
   uint64_t irsLost = 0;
   double wallSeconds = 0.0;
+  /// Baked playback's counts (all 0 without OfflineOptions::bake).
+  BakedPlayback::Stats bake;
 };
 
 /// The render's length in seconds: options.durationSeconds when >= 0, otherwise the default

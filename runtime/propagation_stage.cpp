@@ -142,6 +142,7 @@ void PropagationStage::traceWorld(const WorldState& world) {
   for (size_t l = 0; l < world.listenerTeleports.size() && l < L; ++l)
     if (world.listenerTeleports[l]) simulation_->restartListener(l);
   simulation_->runFrame(spheres_, world.sourcePositions);
+  if (baked_) baked_->setSources(world.sourcePositions);
   totals_.traceSeconds += secondsSince(t0);
   totals_.rays += simulation_->frameTrace().rays;
   totals_.segments += simulation_->frameTrace().segments;
@@ -155,11 +156,12 @@ void PropagationStage::synthesize(size_t s, size_t listener) {
   const Simulation::SourceResult& r = simulation_->result(s, listener);
   if (spatial_) {
     float* const channels[] = {irs[s][0].data(), irs[s][1].data()};
-    spatial_->synthesize(simulation_->directional(s, listener), r.direct, channels,
+    const DirectionalEnergyResponse& live = simulation_->directional(s, listener);
+    spatial_->synthesize(baked_ ? baked_->directional(s, live) : live, r.direct, channels,
                          simulation_->specularPaths(s, listener));
   } else {
-    synthesizers_[s]->synthesize(r.energy, r.direct, irs[s][0].data(),
-                                 simulation_->specularPaths(s, listener));
+    synthesizers_[s]->synthesize(baked_ ? baked_->energy(s, r.energy) : r.energy, r.direct,
+                                 irs[s][0].data(), simulation_->specularPaths(s, listener));
   }
 }
 
@@ -169,6 +171,7 @@ IrSet* PropagationStage::prepare(size_t listener) {
   if (free_.empty()) return nullptr;
   IrSet* set = free_.back();
   free_.pop_back();
+  if (baked_) baked_->locate(spheres_[listener].position);
   for (size_t s = 0; s < simulation_->sourceCount(); ++s) {
     auto t0 = std::chrono::steady_clock::now();
     synthesize(s, listener);
@@ -183,6 +186,12 @@ IrSet* PropagationStage::prepare(size_t listener) {
   set->frame = simulation_->framesRun() - 1;
   set->poseTimeSeconds = lastTime_;
   return set;
+}
+
+void PropagationStage::attachBake(std::shared_ptr<const BakedField> bake,
+                                  BakeInterpolation settings) {
+  baked_ = bake ? std::make_unique<BakedPlayback>(std::move(bake), *simulation_, settings)
+              : nullptr;
 }
 
 void PropagationStage::recycle(IrSet* set) {

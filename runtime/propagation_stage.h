@@ -12,6 +12,7 @@
 
 #include "audio/nonuniform_convolver.h"
 #include "engine/simulation.h"
+#include "runtime/baked_playback.h"
 #include "scene/scene.h"
 #include "synthesis/mono_synthesizer.h"
 #include "synthesis/spatial_synthesizer.h"
@@ -80,6 +81,13 @@ class PropagationStage {
   /// IrSets in the pool (fixed at construction).
   int poolSize() const { return int(pool_.size()); }
   const Simulation& simulation() const { return *simulation_; }
+  /// Plays the sources that stand at their baked positions from `bake` (runtime/
+  /// baked_playback.h): interpolated late response, live direct sound. The bake must be of this
+  /// stage's scene (bake/bake_loader.h checks); nullptr detaches it. Control thread, between
+  /// frames; allocates.
+  void attachBake(std::shared_ptr<const BakedField> bake, BakeInterpolation settings = {});
+  /// The attached bake's playback and counts, or nullptr.
+  const BakedPlayback* bakedPlayback() const { return baked_.get(); }
   /// The pressure IR listener l's last prepared set holds: [source][channel][sample].
   const std::vector<std::vector<std::vector<float>>>& lastIrs(size_t listener = 0) const {
     return irs_.at(listener);
@@ -104,6 +112,7 @@ class PropagationStage {
   std::unique_ptr<Simulation> simulation_;
   std::vector<std::unique_ptr<IrSynthesizer>> synthesizers_;  ///< mono: one per source
   std::unique_ptr<SpatialIrSynthesizer> spatial_;             ///< stereo / binaural
+  std::unique_ptr<BakedPlayback> baked_;                      ///< attachBake, or none
   std::shared_ptr<const audio::NonUniformLayout> layout_;
   std::vector<std::unique_ptr<IrSet>> pool_;
   std::vector<IrSet*> free_;

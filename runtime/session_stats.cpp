@@ -73,6 +73,8 @@ void SessionCounters::read(SessionStatus& st) {
   st.irsApplied = irsApplied_.load(r);
   st.irsDropped = irsDropped_.load(r);
   st.irAgeMs = irAgeMs_.load(r);
+  st.bakedResponses = bakedResponses_.load(r);
+  st.bakeFallbacks = bakeFallbacks_.load(r);
   st.blocks = blocks_.load(r);
   st.nanBlocks = nanBlocks_.load(r);
   st.lateCallbacks = lateCallbacks_.load(r);

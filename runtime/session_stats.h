@@ -69,6 +69,10 @@ struct SessionStatus {
   uint64_t limitedFrames = 0;
   uint64_t overCeilingFrames = 0;
   float limiterMaxReductionDb = 0.f;
+  /// Baked playback (runtime/baked_playback.h), since start; all 0 without a bake: source
+  /// responses played from the bake, and frames whose listener saw no probe (played live).
+  uint64_t bakedResponses = 0;
+  uint64_t bakeFallbacks = 0;
 };
 
 /// The counters behind SessionStatus that the session's threads update. Propagation-side
@@ -90,6 +94,11 @@ class SessionCounters {
   /// Audio side: a render() call that took longer than its audio, or one refused.
   void lateCallback() noexcept { lateCallbacks_.fetch_add(1, std::memory_order_relaxed); }
   void rejectedCallback() noexcept { rejectedCallbacks_.fetch_add(1, std::memory_order_relaxed); }
+  /// Propagation side: baked playback's cumulative counts (BakedPlayback::Stats).
+  void bakeCounts(uint64_t bakedResponses, uint64_t fallbacks) noexcept {
+    bakedResponses_.store(bakedResponses, std::memory_order_relaxed);
+    bakeFallbacks_.store(fallbacks, std::memory_order_relaxed);
+  }
 
   uint64_t frames() const noexcept { return frames_.load(std::memory_order_relaxed); }
   /// Fills the counters' part of st; raysPerSecond over the time since the previous call.
@@ -100,7 +109,7 @@ class SessionCounters {
   const int sceneRays_;
   std::atomic<uint64_t> frames_{0}, rays_{0}, irsDropped_{0}, blocks_{0}, nanBlocks_{0},
       lateCallbacks_{0}, rejectedCallbacks_{0}, irsApplied_{0}, reducedFrames_{0},
-      cacheMergedEntries_{0};
+      cacheMergedEntries_{0}, bakedResponses_{0}, bakeFallbacks_{0};
   std::atomic<double> frameMs_{0.0}, irAgeMs_{0.0}, cacheMergedEnergyFraction_{0.0},
       droppedEnergyFraction_{0.0};
   std::atomic<size_t> cacheEntries_{0}, cacheBytes_{0}, cacheBudgetBytes_{0};

@@ -8,8 +8,8 @@
 #include <optional>
 #include <thread>
 
-#include "apps/bake/bake_file.h"
-#include "apps/bake/parameter_map.h"
+#include "bake/bake_file.h"
+#include "bake/parameter_map.h"
 #include "apps/bake/progress.h"
 #include "common/input_error.h"
 #include "common/output_file.h"
@@ -161,11 +161,16 @@ int finishAsWriter(const Options& o, const Plan& plan, Cluster& cluster, BakeFil
   const bool finished = bakeAsWriter(plan, cluster, file, progress);
   progress.finish();
   if (!finished) {
+    // Under mpirun a rank that dies makes mpirun stop the others with a signal: rank 0 cannot
+    // tell that from a user's signal, so the line names both.
     std::fprintf(stderr,
-                 "dpc-bake: %s: interrupted with %zu of %zu probes done; dpc-bake --resume %s "
+                 "dpc-bake: %s: interrupted%s with %zu of %zu probes done; dpc-bake --resume %s "
                  "finishes it\n",
-                 file.path().c_str(), plan.alreadyDone + progress.done(),
-                 plan.header.probes.positions.size(), file.path().c_str());
+                 file.path().c_str(),
+                 cluster.size() > 1 ? " (a signal, or mpirun stopping the job after a rank died)"
+                                    : "",
+                 plan.alreadyDone + progress.done(), plan.header.probes.positions.size(),
+                 file.path().c_str());
     return 1;
   }
   file.markComplete();

@@ -5,8 +5,8 @@
 
 #include <string>
 
-#include "apps/bake/probe_bake.h"
-#include "apps/bake/probe_grid.h"
+#include "bake/probe_bake.h"
+#include "bake/probe_grid.h"
 
 namespace dpc::bake {
 

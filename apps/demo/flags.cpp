@@ -39,6 +39,9 @@ void addLiveOptions(CLI::App& app, Flags& fl) {
                "Live: arrows/WASD move, Q/E turn, space pauses, q quits");
   app.add_option("--listener", fl.listener,
                  "Render or play the scene's listener of this name (default: the first)");
+  app.add_option("--bake", fl.bake,
+                 "Play static sources from this bake of the scene (dpc-bake, HDF5): late "
+                 "response interpolated between visible probes, direct sound live");
 }
 
 /// A whole number that fits int64_t: CLI11 itself saturates one beyond (2^64 would be read as

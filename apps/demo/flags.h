@@ -11,8 +11,8 @@ namespace dpc::demo {
 /// Every dpc-demo option. An empty string or an empty optional means "not given", so that
 /// any value the user gives, even one that looks like a default, is range-checked.
 struct Flags {
-  std::string scene, offline, irOut, erOut, estimator, tracing, weighting, device, record, stats, output,
-      hrtf, listener;
+  std::string scene, offline, irOut, erOut, estimator, tracing, weighting, device, record, stats,
+      output, hrtf, listener, bake;
   bool listDevices = false, listMaterials = false, interactive = false, quiet = false;
   std::optional<int64_t> blockSize;       ///< samples per audio block (live)
   std::optional<double> duration;         ///< seconds to render or play

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/demo/bake_flag.h"
 #include "common/input_error.h"
 #include "engine/setup_check.h"
 #include "engine/workload.h"
@@ -55,6 +56,7 @@ LoadedRun loadRun(const Flags& fl, PropagationSettings (*prepare)(SceneDesc&, co
   LoadedRun run;
   run.scene = std::make_shared<SceneDesc>(loadScene(fl.scene));
   run.settings = prepare(*run.scene, fl);
+  run.bake = loadBakeFlag(fl, *run.scene);
   run.dry = loadDrySignalsWithNotes(*run.scene);
   return run;
 }

@@ -40,10 +40,12 @@ struct LoadedRun {
   std::shared_ptr<SceneDesc> scene;
   PropagationSettings settings;
   std::shared_ptr<const DrySignals> dry;
+  std::shared_ptr<const BakedField> bake;  ///< --bake, loaded and checked; or none
 };
 
 /// Loads fl.scene, applies `prepare` (the mode's overrides and checks, which may change the
-/// scene and return its settings), then loads the dry signals with their notes. Main thread.
+/// scene and return its settings), loads --bake for it (bake_flag.h), then loads the dry
+/// signals with their notes. Main thread.
 /// Allocates; throws InputError.
 LoadedRun loadRun(const Flags& fl, PropagationSettings (*prepare)(SceneDesc&, const Flags&));
 

@@ -205,7 +205,9 @@ int runLive(const Flags& fl) {
   const LoadedRun run = loadRun(fl, prepareLive);
   SceneDesc& scene = *run.scene;
   const double duration = fl.duration.value_or(kUnboundedSeconds);
-  LiveSession session(run.scene, run.settings, run.dry, sessionOptions(scene, fl, duration));
+  LiveSession::Options lo = sessionOptions(scene, fl, duration);
+  lo.bake = run.bake;
+  LiveSession session(run.scene, run.settings, run.dry, lo);
   const std::unique_ptr<audio::AudioOutput> output = openOutput(scene, fl, session);
   if (!output) return kNoAudioDeviceStatus;
   std::fprintf(stderr, "playing on %s (%s), %.0f Hz, block %d, output latency %.1f ms\n",

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "analysis/energy_response_csv.h"
+#include "apps/demo/bake_flag.h"
 #include "apps/demo/output_paths.h"
 #include "apps/demo/overrides.h"
 #include "apps/demo/preflight.h"
@@ -172,6 +173,7 @@ int runOffline(const Flags& fl) {
   OfflineOptions opt;
   opt.durationSeconds = fl.duration.value_or(-1.0);
   opt.listener = selectedListener(scene, fl);
+  opt.bake = run.bake;
   checkSetup(scene, run.settings, offlineDurationSeconds(scene, run.settings, *run.dry, opt), true);
   const std::vector<OutputPaths> paths = offlineOutputs(scene, fl);
   // Several listeners: one propagation run traces them all (one pass per source and frame).
@@ -196,6 +198,7 @@ int runOffline(const Flags& fl) {
   for (size_t l = 0; l < staged.size(); ++l)
     printWritten(scene, r.listeners[l], staged[l], paths[l]);
   printTotals(r, audioSeconds);
+  if (run.bake) printBakeSummary(*run.bake, r.bake);
   return 0;
 }
 

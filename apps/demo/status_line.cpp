@@ -44,7 +44,8 @@ void printLiveSummary(const LiveSession::Status& st, const audio::AudioOutput& o
       "latency_p95_ms=%.1f callback_load_median_pct=%.1f callback_load_max_pct=%.1f "
       "render_swap_p999_pct=%.1f render_noswap_p999_pct=%.1f limited_frames=%llu "
       "over_ceiling_frames=%llu limiter_max_reduction_db=%.2f rays_per_frame=%d "
-      "rays_per_frame_min=%d rays_per_frame_scene=%d reduced_frames=%llu\n",
+      "rays_per_frame_min=%d rays_per_frame_scene=%d reduced_frames=%llu baked_responses=%llu "
+      "bake_fallbacks=%llu\n",
       (unsigned long long)st.frames, (unsigned long long)st.irsApplied,
       (unsigned long long)st.irsDropped, (unsigned long long)st.blocks,
       (unsigned long long)cb.callbacks, (unsigned long long)cb.xruns,
@@ -54,7 +55,8 @@ void printLiveSummary(const LiveSession::Status& st, const audio::AudioOutput& o
       output.loadPercent(swap.quantileNs(0.999)), output.loadPercent(noSwap.quantileNs(0.999)),
       (unsigned long long)st.limitedFrames, (unsigned long long)st.overCeilingFrames,
       st.limiterMaxReductionDb, st.raysPerFrame, st.raysPerFrameMin, st.raysPerFrameScene,
-      (unsigned long long)st.reducedFrames);
+      (unsigned long long)st.reducedFrames, (unsigned long long)st.bakedResponses,
+      (unsigned long long)st.bakeFallbacks);
 }
 
 }  // namespace dpc::demo

@@ -24,8 +24,8 @@ def open_bake(path):
         fail(path, '', f'not a readable HDF5 file ({e})')
     if f.attrs.get('format', b'') not in (b'dpc-bake', 'dpc-bake'):
         fail(path, 'format', 'not a dpc-bake file')
-    if int(f.attrs.get('version', -1)) != 1:
-        fail(path, 'version', f"{f.attrs.get('version')} is not 1")
+    if int(f.attrs.get('version', -1)) != 2:
+        fail(path, 'version', f"{f.attrs.get('version')} is not 2")
     return f
 
 

@@ -420,12 +420,47 @@ typedef struct dpc_stats {
   int32_t rays_per_frame;     /**< rays per source traced by the last frame (0 before one) */
   int32_t rays_per_frame_min; /**< fewest rays per source of any frame so far (0 before one) */
   uint64_t reduced_frames;    /**< frames traced with fewer rays than the scene's */
+  /* Baked playback (dpc_engine_attach_bake; since 0.3.0), cumulative, 0 without a bake. */
+  uint64_t baked_responses; /**< source responses played from the bake */
+  uint64_t bake_fallbacks;  /**< frames whose listener saw no probe (played live instead) */
 } dpc_stats;
 
 /** Control thread (it updates the rays-per-second interval). No allocation. Fills *out (all but
  *  struct_size). Errors: DPC_ERR_INVALID_ARGUMENT (NULL), DPC_ERR_VERSION (out->struct_size is
  *  not sizeof(dpc_stats) of this library: nothing written). */
 DPC_API dpc_status dpc_engine_get_stats(dpc_engine* engine, dpc_stats* out);
+
+/* Baked playback (docs/bake.md; since 0.3.0). A bake (dpc-bake, HDF5) holds each static
+ * source's energy response at a grid of probes; an engine with a bake attached plays every
+ * source that stands at its baked position (within 1 cm) from it: the late response is
+ * interpolated between the probes the listener can see (never across a wall; with none visible
+ * the frame falls back to the live simulation), the direct sound and its occlusion stay live.
+ * Moved sources keep the live simulation. */
+
+/** An opened bake, checked against one engine's scene. Opaque; immutable once opened, so one
+ *  bake may be attached to several engines of the same scene. */
+typedef struct dpc_bake dpc_bake;
+
+/** Control thread. Reads the bake at bake_path whole into memory (allocates: 51.2 kB per
+ *  probe and source per second of response) and checks it against the
+ *  engine's scene. Errors: DPC_ERR_INVALID_ARGUMENT (NULL); DPC_ERR_INPUT, with the one-line
+ *  message of dpc_last_error() naming the file and the field: a missing, truncated or corrupt
+ *  file, another format or version (version), a dataset of the wrong shape, a bake of another
+ *  scene or of other propagation settings (mesh_hash), an incomplete bake (complete), another
+ *  number of sources (sources/position); DPC_ERR_UNSUPPORTED when the library was built
+ *  without HDF5. *out is NULL on error. */
+DPC_API dpc_status dpc_bake_open(const dpc_engine* engine, const char* bake_path,
+                                 dpc_bake** out);
+/** Control thread. The bake's probes, or -1 for NULL. */
+DPC_API int dpc_bake_probe_count(const dpc_bake* bake);
+/** Control thread. Releases the handle; an engine it is attached to keeps its own reference.
+ *  NULL is ignored. */
+DPC_API void dpc_bake_destroy(dpc_bake* bake);
+/** Control thread, while the engine is not running (after create or stop): plays the engine's
+ *  static sources from `bake` from the next frame on, replacing a bake attached before; NULL
+ *  detaches it. Allocates the interpolator's tables. Errors: DPC_ERR_INVALID_ARGUMENT (NULL
+ *  engine, or a bake whose scene differs from the engine's), DPC_ERR_STATE (running). */
+DPC_API dpc_status dpc_engine_attach_bake(dpc_engine* engine, const dpc_bake* bake);
 
 #ifdef __cplusplus
 }

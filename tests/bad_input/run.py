@@ -58,6 +58,30 @@ def nothing(d):
     pass
 
 
+DPC_BAKE = None  # dpc-bake, beside dpc-demo (main sets it)
+
+
+def bake_file(edit=None, damage=None):
+    """Bakes the shoebox (after `edit`, undone afterwards) into bake.h5 with dpc-bake, then
+    applies `damage` to the file's path: the bake dpc-demo --bake is given."""
+    def apply(d):
+        scene = os.path.join(d, "shoebox.json")
+        original = open(scene).read()
+        if edit:
+            edit(d)
+        subprocess.run([DPC_BAKE, "shoebox.json", "--out", "bake.h5", "--spacing", "2", "--rays",
+                        "100", "--frames", "4", "--threads", "1"], cwd=d, check=True,
+                       capture_output=True)
+        open(scene, "w").write(original)
+        if damage:
+            damage(os.path.join(d, "bake.h5"))
+    return apply
+
+
+def truncate_half(path):
+    os.truncate(path, os.path.getsize(path) // 2)
+
+
 def fifo(name):
     return lambda d: os.mkfifo(os.path.join(d, name))
 
@@ -298,6 +322,11 @@ CASES = {
     "sources_1000": (scene_with(sources=[{"name": f"s{i}", "position": [2, 1.6, 3.5], "signal": "signals/speech.wav"} for i in range(1000)]), OFF, "shoebox.json: sources: 1000 sources, more than the limit of 256"),
     "sources_257": (scene_with(sources=[{"name": f"s{i}", "position": [2, 1.6, 3.5], "signal": "signals/speech.wav"} for i in range(257)]), OFF, "shoebox.json: sources: 257 sources, more than the limit of 256"),
     "listeners_65": (without("listener", listeners=[{"name": f"l{i}", "position": [5, 1.6, 3.5]} for i in range(65)]), OFF, "shoebox.json: listeners: 65 listeners, more than the limit of 64"),
+    # dpc-demo --bake: a bake of another scene, a damaged or missing file (docs/bake.md).
+    "bake_of_other_scene": (bake_file(edit=scene_with(**{"sources.0.position": [3, 1.6, 3.5]})), OFF + ["--bake", "bake.h5"], "bake.h5: mesh_hash: the bake is of another scene"),
+    "bake_truncated": (bake_file(damage=truncate_half), OFF + ["--bake", "bake.h5"], "bake.h5: "),
+    "bake_not_hdf5": (write("bake.h5", "not hdf5\n"), OFF + ["--bake", "bake.h5"], "bake.h5: not an HDF5 file"),
+    "bake_missing": (nothing, OFF + ["--bake", "none.h5"], "none.h5: no such file"),
     "objects_257": (scene_with(objects=[{"name": f"o{i}", "mesh": "shoebox.obj", "trajectory": [{"t": 0, "position": [0, 0, 0]}]} for i in range(257)]), OFF, "shoebox.json: objects: 257 objects, more than the limit of 256"),
 }
 
@@ -410,6 +439,8 @@ def main():
         print(";".join(list(CASES) + list(WARN_CASES)))
         return 0
     demo, scenes = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+    global DPC_BAKE
+    DPC_BAKE = os.path.join(os.path.dirname(demo), "dpc-bake")
     failed = 0
     for name in names or list(CASES) + list(WARN_CASES):
         why = run_case(demo, scenes, name)

@@ -9,7 +9,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "apps/bake/probe_bake.h"
+#include "bake/probe_bake.h"
 #include "testing/test_scenes.h"
 
 using namespace dpc;

@@ -1,4 +1,4 @@
-#include "apps/bake/parameter_map.h"
+#include "bake/parameter_map.h"
 
 #include <cstdio>
 

@@ -1,4 +1,4 @@
-#include "apps/bake/probe_bake.h"
+#include "bake/probe_bake.h"
 
 #include <cmath>
 #include <limits>
@@ -7,6 +7,7 @@
 #include "analysis/speech_transmission.h"
 #include "common/random.h"
 #include "engine/simulation.h"
+#include "engine/specular_paths.h"
 
 namespace dpc::bake {
 namespace {
@@ -81,6 +82,38 @@ void addDirectDirectional(const DirectSound& d, double irLength, std::vector<Ban
   accumulateDirectional(panner, 1.0, dir);
 }
 
+/// Adds source s's whole response of the frame just run: the estimator's plus the exact early
+/// paths, which the estimators leave out (engine/specular_paths.h), scaled by `weight` into
+/// series and by `dirWeight` into dir.
+void accumulateFrame(const Simulation& sim, size_t s, double weight, double dirWeight,
+                     BandSeries& series, std::vector<Bands>& dir) {
+  const std::vector<SpecularPath>& paths = sim.specularPaths(s);
+  if (paths.empty()) {
+    accumulate(sim.result(s).energy, weight, series);
+    accumulateDirectional(sim.directional(s), dirWeight, dir);
+    return;
+  }
+  EnergyResponse whole = sim.result(s).energy;
+  DirectionalEnergyResponse wholeDir = sim.directional(s);
+  addSpecularPaths(paths, whole, &wholeDir);
+  accumulate(whole, weight, series);
+  accumulateDirectional(wholeDir, dirWeight, dir);
+}
+
+/// Source s's exact early paths of the last frame (shortest first) into the result's rows.
+void storeEarly(const std::vector<SpecularPath>& paths, size_t s, ProbeResult& out) {
+  const size_t n = std::min(paths.size(), kEarlyPaths);
+  out.earlyCount[s] = float(n);
+  out.earlyFound[s] = float(paths.size());
+  float* row = out.early.data() + s * kEarlyPaths * kEarlyPathFloats;
+  for (size_t i = 0; i < n; ++i, row += kEarlyPathFloats) {
+    const SpecularPath& p = paths[i];
+    row[0] = float(p.delaySeconds);
+    for (int b = 0; b < kNumBands; ++b) row[1 + b] = p.intensity[b];
+    for (int c = 0; c < 3; ++c) row[1 + kNumBands + c] = p.direction[c];
+  }
+}
+
 /// Mean and 95 % half-width over the groups' parameter vectors, into the result's slots.
 void summarise(const std::vector<double>& mean, const std::vector<std::vector<double>>& groups,
                size_t source, ProbeResult& out) {
@@ -122,6 +155,9 @@ ProbeResult allocate(const ProbeShape& shape) {
   r.parametersCi.assign(shape.parameterFloats(), 0.f);
   r.sti.assign(shape.sources, 0.f);
   r.stiCi.assign(shape.sources, 0.f);
+  r.earlyCount.assign(shape.sources, 0.f);
+  r.earlyFound.assign(shape.sources, 0.f);
+  r.early.assign(shape.earlyFloats(), 0.f);
   return r;
 }
 
@@ -205,14 +241,14 @@ ProbeResult ProbeBaker::bake(size_t probe, const glm::vec3& position) {
       shape.sources, std::vector<Bands>(shape.directionalBins() * kDirections, Bands(0.f)));
   for (size_t f = 0; f < groups * perGroup; ++f) {
     sim.runFrame(position);
-    for (size_t s = 0; s < shape.sources; ++s) {
-      accumulate(sim.result(s).energy, 1.0 / double(perGroup), series[s][f / perGroup]);
-      accumulateDirectional(sim.directional(s), 1.0 / double(groups * perGroup), directional[s]);
-    }
+    for (size_t s = 0; s < shape.sources; ++s)
+      accumulateFrame(sim, s, 1.0 / double(perGroup), 1.0 / double(groups * perGroup),
+                      series[s][f / perGroup], directional[s]);
   }
   ProbeResult out = allocate(shape);
   for (size_t s = 0; s < shape.sources; ++s) {
     addDirectDirectional(sim.result(s).direct, settings_.irLength, directional[s]);
+    storeEarly(sim.specularPaths(s), s, out);
     storeDirectional(directional[s], s, shape, out);
     finishSource(series[s], sim.result(s).direct, s, shape, out);
   }
@@ -222,7 +258,8 @@ ProbeResult ProbeBaker::bake(size_t probe, const glm::vec3& position) {
 std::vector<float> pack(const ProbeResult& r) {
   std::vector<float> out;
   for (const auto* v : {&r.energy, &r.directional, &r.directDelay, &r.directEnergy, &r.parameters,
-                        &r.parametersCi, &r.sti, &r.stiCi})
+                        &r.parametersCi, &r.sti, &r.stiCi, &r.earlyCount, &r.earlyFound,
+                        &r.early})
     out.insert(out.end(), v->begin(), v->end());
   return out;
 }
@@ -230,8 +267,8 @@ std::vector<float> pack(const ProbeResult& r) {
 ProbeResult unpack(const std::vector<float>& packed, const ProbeShape& shape) {
   ProbeResult r = allocate(shape);
   auto it = packed.begin();
-  for (auto* v : {&r.energy, &r.directional, &r.directDelay, &r.directEnergy, &r.parameters, &r.parametersCi,
-                  &r.sti, &r.stiCi}) {
+  for (auto* v : {&r.energy, &r.directional, &r.directDelay, &r.directEnergy, &r.parameters,
+                  &r.parametersCi, &r.sti, &r.stiCi, &r.earlyCount, &r.earlyFound, &r.early}) {
     std::copy(it, it + std::ptrdiff_t(v->size()), v->begin());
     it += std::ptrdiff_t(v->size());
   }

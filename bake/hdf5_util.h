@@ -1,4 +1,4 @@
-// Small RAII and typed helpers over the HDF5 C API for the bake file (apps/bake/bake_file.h):
+// Small RAII and typed helpers over the HDF5 C API for the bake file (bake/bake_file.h):
 // an owned identifier, scalar attributes, and float datasets whose first dimension is the
 // probe. Errors: HDF5's own error printing is switched off (silenceHdf5); a failed call throws
 // std::runtime_error naming the object, which the bake file turns into a line naming its file.

@@ -16,15 +16,15 @@
 #include <string>
 #include <vector>
 
-#include "apps/bake/probe_bake.h"
-#include "apps/bake/probe_grid.h"
+#include "bake/probe_bake.h"
+#include "bake/probe_grid.h"
 #include "scene/scene.h"
 
 namespace dpc::bake {
 
 /// Format name and version written to and required from the root attributes.
 inline constexpr const char* kBakeFormat = "dpc-bake";
-inline constexpr int kBakeFormatVersion = 1;
+inline constexpr int kBakeFormatVersion = 2;
 
 /// Everything a bake is fixed by: the scene, the grid and the settings.
 struct BakeHeader {

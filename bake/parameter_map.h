@@ -11,7 +11,7 @@
 
 #include <string>
 
-#include "apps/bake/bake_file.h"
+#include "bake/bake_file.h"
 
 namespace dpc::bake {
 

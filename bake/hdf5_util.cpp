@@ -1,4 +1,4 @@
-#include "apps/bake/hdf5_util.h"
+#include "bake/hdf5_util.h"
 
 #include <algorithm>
 #include <stdexcept>

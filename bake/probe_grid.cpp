@@ -1,4 +1,4 @@
-#include "apps/bake/probe_grid.h"
+#include "bake/probe_grid.h"
 
 #include <algorithm>
 #include <cmath>

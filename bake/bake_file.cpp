@@ -1,11 +1,11 @@
-#include "apps/bake/bake_file.h"
+#include "bake/bake_file.h"
 
 #include <chrono>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
 
-#include "apps/bake/hdf5_util.h"
+#include "bake/hdf5_util.h"
 #include "common/input_error.h"
 
 namespace dpc::bake {
@@ -41,6 +41,14 @@ const ProbeDataset kProbeDatasets[] = {
     {"sti", &ProbeResult::sti, [](const ProbeShape& s) { return std::vector<hsize_t>{s.sources}; }},
     {"sti_ci95", &ProbeResult::stiCi,
      [](const ProbeShape& s) { return std::vector<hsize_t>{s.sources}; }},
+    {"early/count", &ProbeResult::earlyCount,
+     [](const ProbeShape& s) { return std::vector<hsize_t>{s.sources}; }},
+    {"early/found", &ProbeResult::earlyFound,
+     [](const ProbeShape& s) { return std::vector<hsize_t>{s.sources}; }},
+    {"early/paths", &ProbeResult::early,
+     [](const ProbeShape& s) {
+       return std::vector<hsize_t>{s.sources, kEarlyPaths, kEarlyPathFloats};
+     }},
 };
 
 std::vector<hsize_t> withProbes(size_t probes, std::vector<hsize_t> rest) {

@@ -47,6 +47,10 @@ inline constexpr std::array<std::array<float, 3>, kDirections> kDirectionAxes = 
 inline constexpr size_t kDirectionalBinFactor = 10;
 /// Parameter rows per source: the 8 octave bands (63 Hz .. 8 kHz), then broadband (their sum).
 inline constexpr int kParameterRows = kNumBands + 1;
+/// Exact early specular paths stored per probe and source (the shortest; the scene's
+/// exact_order > 0), and the floats of one: delay (s), energy per band (1/m^2), direction (3).
+inline constexpr size_t kEarlyPaths = 32;
+inline constexpr size_t kEarlyPathFloats = 1 + kNumBands + 3;
 
 struct BakeSettings {
   int rays = 4096;      ///< rays per source per frame
@@ -69,10 +73,11 @@ struct ProbeShape {
     return sources * directionalBins() * kDirections * kNumBands;
   }
   size_t parameterFloats() const { return sources * kParameterRows * kParameters; }
+  size_t earlyFloats() const { return sources * kEarlyPaths * kEarlyPathFloats; }
   /// All of a ProbeResult's floats, packed (pack/unpack).
   size_t packedFloats() const {
     return energyFloats() + directionalFloats() + sources * (1 + kNumBands) +
-           2 * parameterFloats() + 2 * sources;
+           2 * parameterFloats() + 2 * sources + 2 * sources + earlyFloats();
   }
 };
 
@@ -82,7 +87,7 @@ size_t responseBins(double irLength);
 
 struct ProbeResult {
   /// [source][bin][band]: mean energy per 1 ms bin, 1/m^2 relative to source power, the direct
-  /// sound included in the bin of its arrival.
+  /// sound and the exact early paths included in the bins of their arrival.
   std::vector<float> energy;
   /// [source][directional bin][direction][band]: energy of `energy` arriving from around each
   /// of kDirectionAxes, per 10 ms bin, 1/m^2 (direct sound included).
@@ -93,6 +98,13 @@ struct ProbeResult {
   std::vector<float> parametersCi;  ///< same shape: 95 % confidence half-widths
   std::vector<float> sti;           ///< [source]: STI (IEC 60268-16, noise-free), 0..1
   std::vector<float> stiCi;         ///< [source]: 95 % confidence half-width
+  /// [source]: exact early paths stored (<= kEarlyPaths), and found in the last frame (more
+  /// than stored when the bound was hit).
+  std::vector<float> earlyCount, earlyFound;
+  /// [source][path][kEarlyPathFloats]: the last frame's exact early paths, shortest first:
+  /// delay (s), energy per band (1/m^2, as DirectSound), unit direction from the probe toward
+  /// the last reflection point; zeros beyond earlyCount.
+  std::vector<float> early;
 };
 
 /// Bakes probes one after another with one Simulation (geometry, tracer and edge tables built

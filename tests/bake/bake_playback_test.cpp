@@ -1,0 +1,271 @@
+// Tests for baked playback: loading a bake for a scene (bake/bake_loader.h), the
+// visibility-aware interpolation between probes (engine/baked_field.h) and its use by the
+// propagation stage (runtime/baked_playback.h).
+#include <catch2/catch.hpp>
+#include <filesystem>
+
+#include "bake/bake_file.h"
+#include "bake/bake_loader.h"
+#include "bake/hdf5_util.h"
+#include "common/input_error.h"
+#include "engine/simulation.h"
+#include "runtime/propagation_stage.h"
+#include "testing/temp_dir.h"
+#include "testing/test_scenes.h"
+
+using namespace dpc;
+using namespace dpc::bake;
+
+namespace {
+
+SceneDesc shoebox() {
+  return test::makeShoebox({10.f, 3.f, 7.f}, Bands(0.2f), 0.5f, {2.f, 1.6f, 3.5f},
+                           {8.f, 1.6f, 3.5f});
+}
+
+BakeSettings quickSettings() {
+  BakeSettings s;
+  s.rays = 500;
+  s.frames = 4;
+  s.irLength = 0.5;
+  s.threads = 1;
+  return s;
+}
+
+/// A complete bake of `scene` on a grid of `spacing` metres at `path`; returns its header.
+BakeHeader writeBake(const SceneDesc& scene, const std::string& path, double spacing,
+                     bool complete = true) {
+  BakeHeader h;
+  h.scenePath = "/tmp/scene.json";
+  h.meshHash = sceneHash(scene);
+  h.settings = quickSettings();
+  h.grid.spacingM = spacing;
+  h.probes = makeProbeGrid(scene, h.grid, "scene.json");
+  h.sources = {scene.sources[0].position};
+  h.shape = probeShape(scene, h.settings);
+  BakeFile f = BakeFile::create(path, path, h);
+  ProbeBaker baker(scene, h.settings);
+  for (size_t p = 0; p < h.probes.positions.size(); ++p)
+    f.commit(p, baker.bake(p, h.probes.positions[p]));
+  if (complete) f.markComplete();
+  return h;
+}
+
+/// The InputError's field when loading `path` for `scene` (and that it names the file).
+std::string refusedField(const std::string& path, const SceneDesc& scene) {
+  try {
+    loadBakedField(path, scene);
+  } catch (const InputError& e) {
+    CHECK(e.file() == path);
+    CHECK(std::string(e.what()).find('\n') == std::string::npos);
+    return e.field().empty() ? std::string(e.what()) : e.field();
+  }
+  FAIL("no error");
+  return "";
+}
+
+/// A bake in memory with one source and `bins` bins, each probe's late energy its index + 1
+/// in every bin and band (so a blend reveals which probes it used).
+std::shared_ptr<BakedField> taggedField(const std::vector<glm::vec3>& probes, size_t bins) {
+  auto f = std::make_shared<BakedField>();
+  f->probes = probes;
+  f->sources = {glm::vec3(2, 1.2f, 1)};
+  f->bins = bins;
+  f->axes = {glm::vec3(1, 0, 0), glm::vec3(-1, 0, 0)};
+  for (size_t p = 0; p < probes.size(); ++p) f->late.insert(f->late.end(), bins * 8, float(p + 1));
+  f->directional.assign(probes.size() * f->directionalBins() * 2 * 8, 1.f);
+  return f;
+}
+
+}  // namespace
+
+TEST_CASE("Baked playback: at a probe the response is that probe's data, direct sound removed",
+          "[bake][playback]") {
+  test::TempDir dir("bake_play");
+  const SceneDesc scene = shoebox();
+  const std::string path = (dir.path() / "b.h5").string();
+  const BakeHeader h = writeBake(scene, path, 2.5);
+  const auto field = loadBakedField(path, scene);
+  REQUIRE(field->probes.size() == h.probes.positions.size());
+  Simulation sim(scene);
+  BakeInterpolator interp(field, sim.tracer());
+  const size_t p = 3;
+  REQUIRE(interp.locate(h.probes.positions[p]));
+  REQUIRE(interp.weights().size() == 1);
+  CHECK(interp.weights()[0].probe == p);
+  EnergyResponse out(h.settings.irLength, 1e-3);
+  interp.response(0, out);
+  // The stored response, with its direct sound and its exact early paths (exact_order 3, the
+  // default: synthesised live in playback) taken out of the bins of their arrival.
+  const ProbeResult r = bakeProbe(scene, h.settings, p, h.probes.positions[p]);
+  REQUIRE(r.earlyCount[0] > 0);
+  std::vector<float> late = r.energy;
+  removeDirect(late.data(), out.binCount(), 1e-3, r.directDelay[0], r.directEnergy.data());
+  for (size_t j = 0; j < size_t(r.earlyCount[0]); ++j)
+    removeDirect(late.data(), out.binCount(), 1e-3, r.early[j * kEarlyPathFloats],
+                 r.early.data() + j * kEarlyPathFloats + 1);
+  size_t changed = 0;
+  for (size_t k = 0; k < out.binCount(); ++k)
+    for (int b = 0; b < kNumBands; ++b) {
+      CHECK(out.bins()[k][b] == late[k * kNumBands + size_t(b)]);
+      changed += late[k * kNumBands + size_t(b)] != r.energy[k * kNumBands + size_t(b)];
+    }
+  // The direct sound's bin and at least one early path's bin, in every band.
+  CHECK(changed >= 2 * kNumBands);
+  // The directional split keeps the energy (the axis shares sum to 1): rounding only.
+  DirectionalEnergyResponse dirs(h.settings.irLength, 1e-3, defaultSpatialDirections());
+  interp.directional(0, dirs);
+  for (int b = 0; b < kNumBands; ++b) {
+    double sum = 0.0;
+    for (size_t j = 0; j < dirs.directionCount(); ++j) sum += dirs.response(j).total()[b];
+    CHECK(sum == Approx(out.total()[b]).epsilon(1e-4));
+  }
+}
+
+TEST_CASE("Baked playback: between probes the weights are inverse-distance, summing to 1",
+          "[bake][playback]") {
+  const SceneDesc scene = shoebox();
+  Simulation sim(scene);
+  BakeInterpolator interp(taggedField({{4, 1.6f, 3.5f}, {6, 1.6f, 3.5f}}, 10), sim.tracer());
+  REQUIRE(interp.locate({4.5f, 1.6f, 3.5f}));
+  REQUIRE(interp.weights().size() == 2);
+  // 1/0.25 : 1/2.25 = 9 : 1.
+  CHECK(interp.weights()[0].probe == 0);
+  CHECK(interp.weights()[0].weight == Approx(0.9));
+  CHECK(interp.weights()[1].weight == Approx(0.1));
+  EnergyResponse out(0.01, 1e-3);
+  interp.response(0, out);
+  CHECK(out.bins()[5][2] == Approx(0.9 * 1 + 0.1 * 2));
+}
+
+TEST_CASE("Baked playback: a listener next to a wall never uses a probe on its other side",
+          "[bake][playback]") {
+  const SceneDesc scene = test::twoRooms(DpcWeighting::kEma, 0.1f);
+  Simulation sim(scene);
+  // Room A is x < 5, room B x > 5; the wall's doorway is at z 3..4 (door shut).
+  const std::vector<glm::vec3> probes = {{5.3f, 1.2f, 1.f}, {5.4f, 1.2f, 2.f}, {2.f, 1.2f, 1.f},
+                                         {3.f, 1.2f, 2.f}};
+  BakeInterpolator interp(taggedField(probes, 10), sim.tracer());
+  for (const glm::vec3 listener : {glm::vec3(4.8f, 1.2f, 1.f), glm::vec3(4.9f, 1.5f, 2.f)}) {
+    REQUIRE(interp.locate(listener));
+    for (const ProbeWeight& w : interp.weights()) CHECK(probes[w.probe].x < 5.f);
+  }
+  // Only probes in room B: no visible probe, counted, and the caller plays live.
+  BakeInterpolator onlyB(taggedField({probes[0], probes[1]}, 10), sim.tracer());
+  CHECK_FALSE(onlyB.locate({4.8f, 1.2f, 1.f}));
+  CHECK(onlyB.fallbacks() == 1);
+  CHECK(onlyB.located() == 0);
+}
+
+TEST_CASE("Baked playback: the stage plays static sources from the bake, moved ones live",
+          "[bake][playback]") {
+  auto scene = std::make_shared<SceneDesc>(shoebox());
+  scene->propagation.raysPerFrame = 500;
+  scene->propagation.irLength = 0.5f;
+  PropagationStage stage(scene, scene->propagation);
+  auto field = taggedField({{8.f, 1.6f, 3.5f}}, 500);
+  field->sources = {scene->sources[0].position};
+  stage.attachBake(field);
+  WorldState world;
+  evaluateWorld(*scene, 0.0, world);
+  stage.traceWorld(world);
+  stage.recycle(stage.prepare(0));
+  REQUIRE(stage.bakedPlayback() != nullptr);
+  CHECK(stage.bakedPlayback()->stats().bakedResponses == 1);
+  world.sourcePositions[0].x += 0.5f;  // moved: no longer the baked source
+  stage.traceWorld(world);
+  stage.recycle(stage.prepare(0));
+  CHECK(stage.bakedPlayback()->stats().bakedResponses == 1);
+  CHECK(stage.bakedPlayback()->stats().liveResponses == 1);
+}
+
+TEST_CASE("Baked playback: another scene's, an incomplete, a truncated or another version's "
+          "bake is refused naming the file and field",
+          "[bake][playback]") {
+  test::TempDir dir("bake_play_bad");
+  const SceneDesc scene = shoebox();
+  const std::string path = (dir.path() / "b.h5").string();
+  writeBake(scene, path, 5.0);
+  SceneDesc other = scene;
+  other.mesh.vertices[7].x += 0.5f;
+  CHECK(refusedField(path, other) == "mesh_hash");
+  const std::string partial = (dir.path() / "partial.h5").string();
+  writeBake(scene, partial, 5.0, false);
+  CHECK(refusedField(partial, scene) == "complete");
+  const std::string cut = (dir.path() / "cut.h5").string();
+  std::filesystem::copy_file(path, cut);
+  std::filesystem::resize_file(cut, std::filesystem::file_size(path) / 2);
+  CHECK_FALSE(refusedField(cut, scene).empty());
+  const std::string v2 = (dir.path() / "v2.h5").string();
+  std::filesystem::copy_file(path, v2);
+  {
+    const h5::Id file(H5Fopen(v2.c_str(), H5F_ACC_RDWR, H5P_DEFAULT));
+    h5::writeAttribute(file.get(), "version", int64_t(kBakeFormatVersion + 1));
+  }
+  CHECK(refusedField(v2, scene).find("version") != std::string::npos);
+}
+
+namespace {
+
+/// Energy of source 0's mono IR as the stage last synthesised it (sum of squared samples: the
+/// response's energy, docs/design.md "IR synthesis in stages"), after one traced frame.
+double irEnergy(PropagationStage& stage, const SceneDesc& scene) {
+  WorldState world;
+  evaluateWorld(scene, 0.0, world);
+  stage.traceWorld(world);
+  stage.recycle(stage.prepare(0));
+  double e = 0.0;
+  for (const float x : stage.lastIrs()[0][0]) e += double(x) * x;
+  return e;
+}
+
+}  // namespace
+
+TEST_CASE("Baked playback: the synthesised IR carries the energy of a live one", "[bake][playback]") {
+  test::TempDir dir("bake_play_ir");
+  auto scene = std::make_shared<SceneDesc>(shoebox());
+  scene->propagation.irLength = 0.5f;
+  scene->propagation.estimator = Estimator::kPathTracing;
+  scene->propagation.raysPerFrame = 20000;
+  const std::string path = (dir.path() / "b.h5").string();
+  writeBake(*scene, path, 2.5);
+  PropagationStage live(scene, scene->propagation);
+  PropagationStage baked(scene, scene->propagation);
+  baked.attachBake(loadBakedField(path, *scene));
+  const double eLive = irEnergy(live, *scene), eBaked = irEnergy(baked, *scene);
+  REQUIRE(baked.bakedPlayback()->stats().bakedResponses == 1);
+  // The listener (8, 1.6, 3.5) lies between probes 1.25 .. 2.8 m away; the late field of this
+  // diffuse box varies by a few tenths of a dB over that distance (dpc-bench bake-interp) and
+  // the bake's 2000 rays per probe add about 0.2 dB of Monte Carlo error: 1 dB is the
+  // issue's target and 5 times that spread. The direct sound is the same live one in both.
+  CHECK(10.0 * std::log10(eBaked / eLive) == Approx(0.0).margin(1.0));
+}
+
+TEST_CASE("Baked playback: the spatial (stereo) synthesis plays the bake's directions too",
+          "[bake][playback]") {
+  test::TempDir dir("bake_play_stereo");
+  auto scene = std::make_shared<SceneDesc>(shoebox());
+  scene->propagation.irLength = 0.5f;
+  scene->propagation.estimator = Estimator::kPathTracing;
+  scene->propagation.raysPerFrame = 20000;
+  scene->audio.output = OutputFormat::kStereo;
+  const std::string path = (dir.path() / "b.h5").string();
+  writeBake(*scene, path, 2.5);
+  PropagationStage live(scene, scene->propagation), baked(scene, scene->propagation);
+  baked.attachBake(loadBakedField(path, *scene));
+  auto energy = [&](PropagationStage& stage) {
+    WorldState world;
+    evaluateWorld(*scene, 0.0, world);
+    stage.traceWorld(world);
+    stage.recycle(stage.prepare(0));
+    double e = 0.0;
+    for (const auto& channel : stage.lastIrs()[0])
+      for (const float x : channel) e += double(x) * x;
+    return e;
+  };
+  const double eLive = energy(live), eBaked = energy(baked);
+  REQUIRE(baked.bakedPlayback()->stats().bakedResponses == 1);
+  // As for mono: the late field's spread over the probes' distances plus the bake's Monte
+  // Carlo error stay well inside 1 dB; the panning keeps energy (constant-power gains).
+  CHECK(10.0 * std::log10(eBaked / eLive) == Approx(0.0).margin(1.0));
+}

@@ -31,7 +31,7 @@ dpc_engine* engineFor(const char* scene) {
 
 }  // namespace
 
-TEST_CASE("C API bake: open, attach, play; another scene, a truncated file and NULL refused") {
+TEST_CASE("C API bake: open and attach and play - another scene or a truncated file or NULL refused") {
   dpc_engine* e = engineFor(DPC_SOURCE_DIR "/scenes/shoebox.json");
   dpc_bake* bake = reinterpret_cast<dpc_bake*>(1);
   CHECK(dpc_bake_open(e, nullptr, &bake) == DPC_ERR_INVALID_ARGUMENT);

@@ -24,6 +24,12 @@ Bands readBands(const JsonReader& r, const json& a, const std::string& field,
   return out;
 }
 
+void readTransmission(const JsonReader& r, const json& v, const std::string& field, Material& m) {
+  if (const json* t = JsonReader::find(v, "transmission_loss_db"))
+    m.transmissionLossDb = readBands(r, *t, join(field, "transmission_loss_db"),
+                                     "materials.*.transmission_loss_db");
+}
+
 namespace {
 
 /// The library entry named by the string at `field`; the error lists nothing but points to
@@ -48,7 +54,8 @@ Material readSceneMaterial(const JsonReader& r, const json& v, const std::string
     return m;
   }
   r.expectObject(v, field);
-  r.checkKeys(v, field, {"library", "absorption", "scattering", "source"});
+  r.checkKeys(v, field,
+              {"library", "absorption", "scattering", "transmission_loss_db", "source"});
   const json* library = JsonReader::find(v, "library");
   if (library) m = libraryEntry(r, *library, join(field, "library")).material;
   m.name = name;
@@ -56,6 +63,7 @@ Material readSceneMaterial(const JsonReader& r, const json& v, const std::string
   if (a) m.absorption = readBands(r, *a, join(field, "absorption"), "materials.*.absorption");
   if (const json* s = JsonReader::find(v, "scattering"))
     m.scattering = readBands(r, *s, join(field, "scattering"), "materials.*.scattering");
+  readTransmission(r, v, field, m);
   if (const json* s = JsonReader::find(v, "source")) r.string(*s, join(field, "source"));
   return m;
 }

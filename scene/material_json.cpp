@@ -1,5 +1,6 @@
 #include "scene/material_json.h"
 
+#include "scene/limits.h"
 #include "scene/material_library.h"
 
 namespace dpc {
@@ -18,8 +19,11 @@ Bands readBands(const JsonReader& r, const json& a, const std::string& field,
   } else if (a.is_number()) {
     out = Bands(float(r.limited(a, field, limitField)));
   } else {
+    const Limit& limit = limitOf(limitField);
     r.fail(field, "expected a number or an array of " + std::to_string(kNumBands) +
-                      " numbers in [0, 1], got " + JsonReader::describe(a));
+                      " numbers in " + rangeText(limit) +
+                      (limit.unit.empty() ? "" : " " + std::string(limit.unit)) + ", got " +
+                      JsonReader::describe(a));
   }
   return out;
 }

@@ -148,8 +148,9 @@ class Propagator {
   float surfaceEpsilon() const { return epsilon_; }
 
   /// The direct sound from source to listener centre: blocked by an opaque surface, attenuated
-  /// by the transmittance of every transmitting surface it crosses (DirectSound::crossings). The distance is clamped to at least
-  /// R/2, where 1/(4 pi r^2) equals what rays crossing the sphere would report (1/(pi R^2)).
+  /// by the transmittance of every transmitting surface it crosses (DirectSound::crossings).
+  /// The distance is clamped to at least R/2, where 1/(4 pi r^2) equals what rays crossing the
+  /// sphere would report (1/(pi R^2)).
   /// With a directional source (setSourceDirectivity), the intensity is weighted by the
   /// pattern toward the listener.
   DirectSound directSound(const glm::vec3& source, const ListenerSphere& listener) const;

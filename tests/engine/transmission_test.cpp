@@ -107,7 +107,8 @@ TEST_CASE("A thin panel in free field attenuates the direct sound by R", "[trans
     REQUIRE(d1.visible);
     CHECK(d1.crossings == 1);
     CHECK_FALSE(d1.lineOfSight());
-    for (int b = 0; b < kNumBands; ++b) CHECK(std::abs(db(d0.intensity[b] / d1.intensity[b]) - r) < 1e-3);
+    for (int b = 0; b < kNumBands; ++b)
+      CHECK(std::abs(db(d0.intensity[b] / d1.intensity[b]) - r) < 1e-3);
   }
   // Opaque: blocked as without transmission.
   const SceneDesc opaque = freeField(kOpaqueTransmissionLossDb, 1.f, src, lis);
@@ -127,7 +128,8 @@ TEST_CASE("Rays through a thin panel carry its transmittance", "[transmission]")
   const glm::vec3 src{96, 100, 100}, lis{104, 100, 100};
   const std::vector<ListenerSphere> l{{lis, 0.5f}};
   const float r = 20.f;
-  const auto free = rayEnergy(freeField(kOpaqueTransmissionLossDb, 0.5f, src, lis), l, 100000, 4, true);
+  const SceneDesc open = freeField(kOpaqueTransmissionLossDb, 0.5f, src, lis);
+  const auto free = rayEnergy(open, l, 100000, 4, true);
   const auto through = rayEnergy(freeField(r, 0.5f, src, lis), l, 100000, 4, true);
   for (int b = 0; b < kNumBands; ++b) {
     INFO("band " << b);

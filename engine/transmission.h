@@ -22,14 +22,14 @@
 namespace dpc {
 
 /// Smallest probability of passing through a transmitting surface (see transmissionProbability).
-inline constexpr float kMinTransmissionProbability = 0.1f;
+inline constexpr float kMinTransmissionProbability = 0.3f;
 
 /// Probability p that a ray carrying band energies `energy` passes through a surface of
 /// reflectance (1 - alpha) and transmittance tau: the energy-weighted share of the transmitted
 /// part, sum E tau / sum E (tau + 1 - alpha), raised to kMinTransmissionProbability (so that
 /// enough rays reach the receiving room to keep its estimate's variance down: a partition of
-/// R = 30 dB would otherwise pass one ray in a thousand hits); 0 when no band of the ray is
-/// transmitted, 1 when nothing is reflected.
+/// R = 30 dB would otherwise pass one ray in a thousand hits; docs/estimators.md gives the
+/// measured trade-off); 0 when no band of the ray is transmitted, 1 when nothing is reflected.
 float transmissionProbability(const Bands& energy, const Bands& reflectance, const Bands& tau);
 
 /// The Monte Carlo choice at a transmitting surface: with u uniform in [0, 1), passes through

@@ -101,6 +101,12 @@ class LiveSession {
   bool setSourcePosition(size_t index, const glm::vec3& position) {
     return poses_.setSourcePosition(index, position);
   }
+  /// Any thread (one writer per source at a time): source `index` turned by `rotation` (x, y,
+  /// z, w; normalised here) instead of its keyframes; false for an index out of range or a
+  /// zero-length rotation. Wait-free; no allocation.
+  bool setSourceRotation(size_t index, const float rotation[4]) {
+    return poses_.setSourceRotation(index, rotation);
+  }
   /// Any thread (one writer per object at a time): object `index` at world = R(rotation) *
   /// local + position; rotation a unit quaternion (x, y, z, w), normalised here; false for an
   /// index out of range or a zero-length rotation. Wait-free; no allocation.

@@ -122,6 +122,19 @@ dpc_status dpc_engine_teleport_listener(dpc_engine* engine, int listener) {
   return DPC_OK;
 }
 
+dpc_status dpc_engine_set_source_rotation(dpc_engine* engine, int source, float qx, float qy,
+                                          float qz, float qw) {
+  constexpr const char* kFunction = "dpc_engine_set_source_rotation";
+  if (!engine) return failFixed(DPC_ERR_INVALID_ARGUMENT, kFunction, "engine is NULL");
+  if (const dpc_status s = checkIndex(kFunction, "source", source, engine->sources, "sources");
+      s != DPC_OK)
+    return s;
+  const float q[4] = {qx, qy, qz, qw};
+  return engine->session->setSourceRotation(size_t(source), q)
+             ? DPC_OK
+             : failFixed(DPC_ERR_INVALID_ARGUMENT, kFunction, "q is zero or not finite");
+}
+
 dpc_status dpc_engine_set_object_pose(dpc_engine* engine, int object, float x, float y, float z,
                                       float qx, float qy, float qz, float qw) {
   constexpr const char* kFunction = "dpc_engine_set_object_pose";

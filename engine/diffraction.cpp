@@ -529,12 +529,16 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
                               const ListenerSphere& listener, float speedOfSound,
                               const Bands& airPerMetre, DirectSound& direct,
                               const Directivity& directivity, const glm::vec3& forward) const {
+  // Diffraction needs the free line of sight: a direct path through transmitting surfaces is
+  // in the shadow for the edges, and its energy adds to theirs incoherently (the edge paths'
+  // legs are unoccluded, the transmitted path crosses a surface: no path is counted twice).
+  const bool lineOfSight = direct.lineOfSight();
   std::vector<EdgePath> paths;
   float shortest = direct.visible ? direct.distance : 1e30f;
   glm::vec3 shortestDir = direct.direction;
   for (const DiffractionEdge& e : edges_) {
     EdgePath p;
-    if (!edgePath(e, source, listener.position, direct.visible, tracer, p)) continue;
+    if (!edgePath(e, source, listener.position, lineOfSight, tracer, p)) continue;
     paths.push_back(p);
     if (p.legs < shortest) {
       shortest = p.legs;
@@ -542,8 +546,12 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
     }
   }
   if (paths.empty()) return 0;
-  direct.intensity = coherentIntensity(paths, direct, speedOfSound, airPerMetre,
-                                       leavingWeights(paths, directivity, forward));
+  DirectSound coherent = direct;
+  coherent.visible = lineOfSight;
+  const Bands through = lineOfSight || !direct.visible ? Bands(0.f) : direct.intensity;
+  direct.intensity = coherentIntensity(paths, coherent, speedOfSound, airPerMetre,
+                                       leavingWeights(paths, directivity, forward)) +
+                     through;
   direct.visible = true;
   direct.distance = shortest;
   direct.delaySeconds = shortest / speedOfSound;

@@ -4,6 +4,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "scene/transmission.h"
+
 namespace dpc {
 
 void checkMeshTriangles(const Mesh& mesh) {
@@ -44,6 +46,9 @@ Geometry::Geometry(const Mesh& mesh, const std::vector<Material>& materials, flo
   for (const Material& m : materials) {
     reflectance_.push_back(Bands(1.f) - m.absorption);
     scattering_.push_back(m.scattering);
+    transmittance_.push_back(transmittanceOf(m.transmissionLossDb));
+    transmits_.push_back(dpc::transmits(m.transmissionLossDb) ? 1 : 0);
+    anyTransmission_ = anyTransmission_ || transmits_.back() != 0;
     if (m.scattering.min() != m.scattering.max()) scatteringVariesWithBand_ = true;
   }
   boundsMin_ = glm::vec3(std::numeric_limits<float>::max());

@@ -40,6 +40,14 @@ class Geometry {
   const Bands& reflectance(uint32_t tri) const { return reflectance_[materialOf_[tri]]; }
   /// Scattering coefficient per octave band of triangle tri's material (ISO 17497-1).
   const Bands& scattering(uint32_t tri) const { return scattering_[materialOf_[tri]]; }
+  /// Energy transmission coefficient tau = 10^(-R/10) per band of triangle tri's material
+  /// (scene/transmission.h); zero for an opaque material.
+  const Bands& transmittance(uint32_t tri) const { return transmittance_[materialOf_[tri]]; }
+  /// True if triangle tri's material transmits in some band.
+  bool transmits(uint32_t tri) const { return transmits_[materialOf_[tri]] != 0; }
+  /// True if some material transmits: without, propagation and the direct sound take the
+  /// opaque paths only (the same float operations as an engine without transmission).
+  bool anyTransmission() const { return anyTransmission_; }
   /// True if some material's scattering coefficient differs between octave bands; the
   /// propagator then gives each ray one band (Propagator, docs/design.md).
   bool scatteringVariesWithBand() const { return scatteringVariesWithBand_; }
@@ -61,7 +69,10 @@ class Geometry {
   std::vector<uint32_t> materialOf_;
   std::vector<Bands> reflectance_;
   std::vector<Bands> scattering_;
+  std::vector<Bands> transmittance_;
+  std::vector<uint8_t> transmits_;
   bool scatteringVariesWithBand_ = false;
+  bool anyTransmission_ = false;
   glm::vec3 boundsMin_{0.f}, boundsMax_{0.f};
   double surfaceArea_ = 0.0;
 };

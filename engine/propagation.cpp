@@ -13,6 +13,7 @@
 #include "common/air_absorption.h"
 #include "engine/patch.h"
 #include "engine/sampling.h"
+#include "engine/transmission.h"
 
 namespace dpc {
 
@@ -57,16 +58,32 @@ DirectSound Propagator::directSound(const glm::vec3& source, const ListenerSpher
   d.distance = std::max(dist, 0.5f * listener.radius);
   d.delaySeconds = d.distance / settings_.speedOfSound;
   d.direction = dist > 0.f ? -toListener / dist : glm::vec3(0.f);
-  d.visible = dist <= 0.f ||
-              !tracer_.occluded(TraceRay{source, toListener / dist, 0.f, dist * (1.f - 1e-5f)});
+  const PathTransmission through = directTransmission(source, toListener, dist);
+  d.visible = !through.blocked;
+  d.crossings = through.crossings;
+  d.crossingCapped = through.capped;
   if (d.visible) {
     const float spreading = 1.f / (4.f * std::numbers::pi_v<float> * d.distance * d.distance);
     d.intensity = exp(airPerMetre_ * -d.distance) * spreading;
+    if (through.crossings > 0) d.intensity *= through.tau;
     // A source at the listener's centre has no direction: its weight is the pattern's mean, 1.
     if (!directivity.omni() && dist > 0.f)
       d.intensity *= directivityWeight(directivity, glm::dot(forward, toListener / dist));
   }
   return d;
+}
+
+PathTransmission Propagator::directTransmission(const glm::vec3& source,
+                                                const glm::vec3& toListener, float dist) const {
+  PathTransmission out;
+  if (dist <= 0.f) return out;
+  const glm::vec3 dir = toListener / dist;
+  const float end = dist * (1.f - 1e-5f);
+  if (!geometry_.anyTransmission()) {
+    out.blocked = tracer_.occluded(TraceRay{source, dir, 0.f, end});
+    return out;
+  }
+  return transmissionAlong(tracer_, geometry_, source, dir, end, epsilon_);
 }
 
 void Propagator::startRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t rayIndex,
@@ -184,11 +201,24 @@ bool Propagator::reflect(RayState& ray, const SurfaceHit& hit) const {
   const TrianglePatching& patching = geometry_.patching(hit.triangle);
   const auto [zeta, xi] = patching.patchOf(hit.barycentric);
   ray.path.add(hit.triangle, zeta, xi);
-  ray.energy *= geometry_.reflectance(hit.triangle);
+  // A transmitting surface: reflect or pass through (engine/transmission.h); one more random
+  // draw only there, so an opaque scene's rays draw and compute as without transmission.
+  bool through = false;
+  if (geometry_.transmits(hit.triangle))
+    through = chooseTransmission(geometry_.reflectance(hit.triangle),
+                                 geometry_.transmittance(hit.triangle), ray.rng.uniform(),
+                                 ray.energy);
+  else
+    ray.energy *= geometry_.reflectance(hit.triangle);
   if (settings_.rouletteThreshold > 0.f &&
       ray.energy.max() * std::exp(-minAir_ * ray.travelled) < settings_.rouletteThreshold) {
     if (ray.rng.uniform() >= kRouletteSurvival) return false;
     ray.energy *= 1.f / kRouletteSurvival;
+  }
+  if (through) {  // same direction, on the far side; a transmission ends the specular run
+    ray.org = p + ray.dir * epsilon_;
+    ++ray.order;
+    return true;
   }
   // Normal facing the side the ray came from.
   const glm::vec3 n = glm::dot(hit.normal, ray.dir) < 0.f ? hit.normal : -hit.normal;

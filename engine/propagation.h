@@ -10,6 +10,9 @@
 // r the path length to the point of closest approach to the listener's centre, m the
 // ISO 9613-1 air attenuation. Dividing by N gives intensity relative to the source power on
 // the scale of the direct sound 1/(4 pi r^2) (docs/design.md, "Energy convention").
+// At a surface whose material transmits (engine/transmission.h) the ray instead passes
+// through, keeping its direction, with probability p and energy weight tau/p, or reflects with
+// weight (1 - alpha)/(1 - p); the crossing counts as an order and ends the specular run.
 // The path identifier (engine/patch.h) is hashed incrementally, one patch per reflection.
 // Russian roulette (Arvo & Kirk, "Particle transport and image synthesis", SIGGRAPH 1990):
 // once a ray's band energy times the air attenuation of its lowest band has fallen below
@@ -60,6 +63,7 @@
 #include "engine/specular_paths.h"
 #include "engine/sphere_bvh.h"
 #include "engine/tracer.h"
+#include "engine/transmission.h"
 #include "scene/directivity.h"
 #include "scene/scene.h"
 
@@ -77,6 +81,14 @@ struct DirectSound {
   float delaySeconds = 0.f;  ///< distance / c
   Bands intensity{0.f};      ///< 1/m^2 relative to source power; zero when occluded
   glm::vec3 direction{0.f};  ///< unit vector from the listener toward the source
+  /// Transmitting surfaces the straight path crosses (engine/transmission.h): 0 for a line of
+  /// sight; > 0 when visible only through surfaces, the intensity then carrying their
+  /// transmittances' product.
+  int crossings = 0;
+  /// True when the path was counted blocked after kMaxDirectCrossings surfaces.
+  bool crossingCapped = false;
+  /// A free line of sight (no surface in between): what diffraction's shadow boundary needs.
+  bool lineOfSight() const { return visible && crossings == 0; }
 };
 
 struct TraceStats {
@@ -139,8 +151,10 @@ class Propagator {
   /// The propagator's offset of a reflected ray from its surface, metres.
   float surfaceEpsilon() const { return epsilon_; }
 
-  /// The direct sound from source to listener centre. The distance is clamped to at least
-  /// R/2, where 1/(4 pi r^2) equals what rays crossing the sphere would report (1/(pi R^2)).
+  /// The direct sound from source to listener centre: blocked by an opaque surface, attenuated
+  /// by the transmittance of every transmitting surface it crosses (DirectSound::crossings).
+  /// The distance is clamped to at least R/2, where 1/(4 pi r^2) equals what rays crossing the
+  /// sphere would report (1/(pi R^2)).
   /// With a directional source (setSourceDirectivity), the intensity is weighted by the
   /// pattern toward the listener.
   DirectSound directSound(const glm::vec3& source, const ListenerSphere& listener) const {
@@ -187,6 +201,10 @@ class Propagator {
     receiverForwards_ = forwards;
   }
   bool fromListeners() const { return fromListeners_; }
+  /// The straight path from source over toListener (length dist, metres) through the
+  /// geometry: an occlusion query when no material transmits, else engine/transmission.h's walk.
+  PathTransmission directTransmission(const glm::vec3& source, const glm::vec3& toListener,
+                                      float dist) const;
 
   /// When true, segments leaving the source also count as listener hits (for calibration
   /// against 1/(4 pi r^2); the renderer keeps the analytic direct sound instead).

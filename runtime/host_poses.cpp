@@ -15,6 +15,19 @@ int64_t steadyNowNs() noexcept {
       .count();
 }
 
+namespace {
+
+/// q / |q| into out (x, y, z, w); false for a zero-length or non-finite q. No allocation.
+bool normalisedQuaternion(const float q[4], float out[4]) {
+  const double n = std::sqrt(double(q[0]) * q[0] + double(q[1]) * q[1] + double(q[2]) * q[2] +
+                             double(q[3]) * q[3]);
+  if (!(n > 1e-6) || !std::isfinite(n)) return false;
+  for (int i = 0; i < 4; ++i) out[i] = float(q[i] / n);
+  return true;
+}
+
+}  // namespace
+
 HostPoses::HostPoses(std::shared_ptr<const SceneDesc> scene, size_t played)
     : scene_(std::move(scene)), played_(played) {
   const SceneDesc& s = *scene_;
@@ -26,6 +39,7 @@ HostPoses::HostPoses(std::shared_ptr<const SceneDesc> scene, size_t played)
                                        o.pitchRadians, steadyNowNs(), 0.0});
   }
   sources_ = std::make_unique<SeqlockChannel<HostSourcePosition>[]>(s.sources.size());
+  sourceRotations_ = std::make_unique<SeqlockChannel<HostSourceRotation>[]>(s.sources.size());
   objects_ = std::make_unique<SeqlockChannel<HostObjectPose>[]>(s.objects.size());
   teleports_ = std::make_unique<std::atomic<uint8_t>[]>(s.sources.size() + s.listeners.size());
   for (size_t i = 0; i < s.sources.size() + s.listeners.size(); ++i) teleports_[i].store(0);
@@ -49,15 +63,20 @@ bool HostPoses::setSourcePosition(size_t index, const glm::vec3& position) {
   return true;
 }
 
+bool HostPoses::setSourceRotation(size_t index, const float rotation[4]) {
+  HostSourceRotation h;
+  if (index >= scene_->sources.size() || !normalisedQuaternion(rotation, h.rotation)) return false;
+  h.set = 1u;
+  sourceRotations_[index].publish(h);
+  return true;
+}
+
 bool HostPoses::setObjectPose(size_t index, const glm::vec3& position, const float rotation[4]) {
   if (index >= scene_->objects.size() || !positionWithinLimit(position.x, position.y, position.z))
     return false;
-  const double n = std::sqrt(double(rotation[0]) * rotation[0] + double(rotation[1]) * rotation[1] +
-                             double(rotation[2]) * rotation[2] + double(rotation[3]) * rotation[3]);
-  if (!(n > 1e-6) || !std::isfinite(n)) return false;
   HostObjectPose h;
+  if (!normalisedQuaternion(rotation, h.rotation)) return false;
   h.position = position;
-  for (int i = 0; i < 4; ++i) h.rotation[i] = float(rotation[i] / n);
   h.set = 1u;
   objects_[index].publish(h);
   return true;
@@ -108,8 +127,12 @@ ListenerPose HostPoses::assemble(WorldState& world, size_t& played) const {
     world.sourcePositions[i] = h.set ? h.position : sourcePositionAt(s.sources[i], t);
   }
   world.sourceRotations.resize(s.sources.size());
-  for (size_t i = 0; i < s.sources.size(); ++i)
-    world.sourceRotations[i] = sourceRotationAt(s.sources[i], t);
+  for (size_t i = 0; i < s.sources.size(); ++i) {
+    const HostSourceRotation h = sourceRotations_[i].read();
+    world.sourceRotations[i] = h.set ? glm::quat(h.rotation[3], h.rotation[0], h.rotation[1],
+                                                 h.rotation[2])
+                                     : sourceRotationAt(s.sources[i], t);
+  }
   world.objectPoses.resize(s.objects.size());
   for (size_t k = 0; k < s.objects.size(); ++k) {
     const HostObjectPose h = objects_[k].read();

@@ -36,6 +36,11 @@ class HostPoses {
   /// of its trajectory from now on. False (nothing changed) for an index out of range or a
   /// coordinate outside the "position" limit. Wait-free; no allocation.
   bool setSourcePosition(size_t index, const glm::vec3& position);
+  /// Any thread (one writer per source at a time): source `index` turned by q = (x, y, z, w),
+  /// normalised here, instead of its keyframes' rotation from now on (its directivity's
+  /// forward axis is R(q) * (+x)). False (nothing changed) for an index out of range or a
+  /// zero-length or non-finite rotation. Wait-free; no allocation.
+  bool setSourceRotation(size_t index, const float rotation[4]);
   /// Any thread (one writer per object at a time): object `index` at world = R(q) * local +
   /// position, q = (x, y, z, w) normalised here. False (nothing changed) for an index out of
   /// range, a coordinate outside the "position" limit or a zero-length or non-finite rotation.
@@ -61,6 +66,7 @@ class HostPoses {
   std::shared_ptr<const SceneDesc> scene_;
   std::unique_ptr<PoseChannel[]> listeners_;  ///< one per scene listener
   std::unique_ptr<SeqlockChannel<HostSourcePosition>[]> sources_;
+  std::unique_ptr<SeqlockChannel<HostSourceRotation>[]> sourceRotations_;
   std::unique_ptr<SeqlockChannel<HostObjectPose>[]> objects_;
   std::atomic<size_t> played_{0};
   /// Per source, then per listener: a teleport call not yet taken by assemble().

@@ -108,6 +108,12 @@ class LiveSession {
   /// (HostPoses::teleportSource). False for an index out of range. Wait-free; no allocation.
   bool teleportSource(size_t index) { return poses_.teleportSource(index); }
   bool teleportListener(size_t index) { return poses_.teleportListener(index); }
+  /// Any thread (one writer per source at a time): source `index` turned by `rotation` (x, y,
+  /// z, w; normalised here) instead of its keyframes; false for an index out of range or a
+  /// zero-length rotation. Wait-free; no allocation.
+  bool setSourceRotation(size_t index, const float rotation[4]) {
+    return poses_.setSourceRotation(index, rotation);
+  }
   /// Any thread (one writer per object at a time): object `index` at world = R(rotation) *
   /// local + position; rotation a unit quaternion (x, y, z, w), normalised here; false for an
   /// index out of range or a zero-length rotation. Wait-free; no allocation.

@@ -36,6 +36,12 @@ struct HostSourcePosition {
   uint32_t set = 0;         ///< 0: never set (the scene's trajectory applies)
 };
 
+/// A source orientation set by the host: its directivity's forward axis is R(q) * (+x).
+struct HostSourceRotation {
+  float rotation[4] = {0.f, 0.f, 0.f, 1.f};  ///< unit quaternion x, y, z, w (glTF order)
+  uint32_t set = 0;                          ///< 0: never set (the scene's keyframes apply)
+};
+
 /// An object pose set by the host: world = R(q) * local + position, q = (x, y, z, w) unit.
 struct HostObjectPose {
   glm::vec3 position{0.f};                   ///< metres

@@ -31,6 +31,9 @@ constexpr std::array kLimits = {
         "a fraction of the incident energy (ISO 354)"},
   Limit{"materials.*.scattering", 0, 1, false, false, "",
         "a fraction of the reflected energy (ISO 17497-1)"},
+  Limit{"materials.*.transmission_loss_db", 0, 200, false, false, "dB",
+        "R >= 0 transmits at most the incident energy (ISO 10140-2); above 200 dB tau = "
+        "10^(-R/10) is below any audible level: omit the field for an opaque material"},
   Limit{"sources[].gain_db", -200, 200, false, false, "dB",
         "beyond, a float signal under- or overflows"},
   Limit{"sources[].directivity.a", 0, 1, false, false, "",

@@ -1,5 +1,6 @@
 #include "scene/material_json.h"
 
+#include "scene/limits.h"
 #include "scene/material_library.h"
 
 namespace dpc {
@@ -18,10 +19,19 @@ Bands readBands(const JsonReader& r, const json& a, const std::string& field,
   } else if (a.is_number()) {
     out = Bands(float(r.limited(a, field, limitField)));
   } else {
+    const Limit& limit = limitOf(limitField);
     r.fail(field, "expected a number or an array of " + std::to_string(kNumBands) +
-                      " numbers in [0, 1], got " + JsonReader::describe(a));
+                      " numbers in " + rangeText(limit) +
+                      (limit.unit.empty() ? "" : " " + std::string(limit.unit)) + ", got " +
+                      JsonReader::describe(a));
   }
   return out;
+}
+
+void readTransmission(const JsonReader& r, const json& v, const std::string& field, Material& m) {
+  if (const json* t = JsonReader::find(v, "transmission_loss_db"))
+    m.transmissionLossDb = readBands(r, *t, join(field, "transmission_loss_db"),
+                                     "materials.*.transmission_loss_db");
 }
 
 namespace {
@@ -48,7 +58,8 @@ Material readSceneMaterial(const JsonReader& r, const json& v, const std::string
     return m;
   }
   r.expectObject(v, field);
-  r.checkKeys(v, field, {"library", "absorption", "scattering", "source"});
+  r.checkKeys(v, field,
+              {"library", "absorption", "scattering", "transmission_loss_db", "source"});
   const json* library = JsonReader::find(v, "library");
   if (library) m = libraryEntry(r, *library, join(field, "library")).material;
   m.name = name;
@@ -56,6 +67,7 @@ Material readSceneMaterial(const JsonReader& r, const json& v, const std::string
   if (a) m.absorption = readBands(r, *a, join(field, "absorption"), "materials.*.absorption");
   if (const json* s = JsonReader::find(v, "scattering"))
     m.scattering = readBands(r, *s, join(field, "scattering"), "materials.*.scattering");
+  readTransmission(r, v, field, m);
   if (const json* s = JsonReader::find(v, "source")) r.string(*s, join(field, "source"));
   return m;
 }

@@ -17,6 +17,11 @@ namespace dpc {
 Bands readBands(const JsonReader& r, const nlohmann::json& v, const std::string& field,
                 const char* limitField);
 
+/// The optional `transmission_loss_db` of the material object v at `field` (dB, one number or
+/// kNumBands; scene/transmission.h) into m; absent: m keeps its value (opaque by default).
+void readTransmission(const JsonReader& r, const nlohmann::json& v, const std::string& field,
+                      Material& m);
+
 /// One scene material named `name` at `field` ("materials.walls"): an object with
 /// `absorption` (required unless `library` is given), `scattering`, `source`, `library`; or a
 /// string naming a library entry. Fields given next to `library` override the entry's.

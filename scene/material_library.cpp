@@ -20,7 +20,8 @@ using nlohmann::json;
 LibraryMaterial readEntry(const JsonReader& r, const json& v, const std::string& name) {
   const std::string field = "materials." + name;
   r.expectObject(v, field);
-  r.checkKeys(v, field, {"description", "absorption", "scattering", "source"});
+  r.checkKeys(v, field,
+              {"description", "absorption", "scattering", "transmission_loss_db", "source"});
   LibraryMaterial e;
   e.material.name = name;
   e.description = r.string(r.require(v, field, "description"), join(field, "description"));
@@ -28,6 +29,7 @@ LibraryMaterial readEntry(const JsonReader& r, const json& v, const std::string&
                                     "materials.*.absorption");
   e.material.scattering = readBands(r, r.require(v, field, "scattering"), join(field, "scattering"),
                                     "materials.*.scattering");
+  readTransmission(r, v, field, e.material);
   e.source = r.string(r.require(v, field, "source"), join(field, "source"));
   if (e.source.empty()) r.fail(join(field, "source"), "every entry must cite its source");
   return e;

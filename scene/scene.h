@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/vec3.hpp>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -33,6 +34,8 @@ struct Material {
   std::string name;
   Bands absorption{0.1f};
   Bands scattering{0.5f};
+  /// Transmission loss R per octave band, dB (scene/transmission.h); +infinity: opaque.
+  Bands transmissionLossDb{std::numeric_limits<float>::infinity()};
 };
 
 /// Triangle mesh in metres, world coordinates (right-handed, y up by convention of the

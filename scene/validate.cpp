@@ -6,6 +6,7 @@
 
 #include "common/input_error.h"
 #include "scene/limits.h"
+#include "scene/transmission.h"
 
 namespace dpc {
 namespace {
@@ -58,12 +59,29 @@ void checkNames(const Items& items, const char* field, const char* what, const O
   }
 }
 
+/// R within its limit (or +infinity, opaque) per band, and tau = 10^(-R/10) <= alpha: the
+/// transmitted part is a share of what alpha counts as absorbed (scene/transmission.h).
+void checkTransmission(const Material& m, const Origin& origin, const std::string& path) {
+  const Bands tau = transmittanceOf(m.transmissionLossDb);
+  for (int k = 0; k < kNumBands; ++k) {
+    const double r = double(m.transmissionLossDb[k]);
+    if (std::isinf(r) && r > 0.0) continue;
+    checkField("materials.*.transmission_loss_db", r, origin, at(path, size_t(k)));
+    if (tau[k] > m.absorption[k])
+      fail(origin, at(path, size_t(k)),
+           valueText(r) + " dB transmits tau = " + valueText(tau[k]) +
+               ", more than the absorption " + valueText(m.absorption[k]) +
+               " (alpha counts the transmitted part: tau <= alpha)");
+  }
+}
+
 void checkMaterials(const std::vector<Material>& materials, const Origin& origin) {
   if (materials.empty()) fail(origin, "materials", "at least one material is required");
   for (const Material& m : materials) {
     const std::string f = "materials." + m.name;
     checkBands("materials.*.absorption", m.absorption, origin, f + ".absorption");
     checkBands("materials.*.scattering", m.scattering, origin, f + ".scattering");
+    checkTransmission(m, origin, f + ".transmission_loss_db");
   }
 }
 

@@ -3,11 +3,12 @@
 (scenes/generate_two_rooms.py) as a glTF 2.0 level, the way a game engine would export it.
 
 The .glb holds two nodes: "rooms" (the rooms' triangles, one primitive per material run of
-scenes/two_rooms.obj, materials named as there) and "door" (the leaf of scenes/door.obj, placed
-at the hinge by the node's translation and turned by its rotation), and one animation,
-"door_swing", whose rotation channel (LINEAR) carries the door keyframes of
-scenes/two_rooms.json. door_level.json is two_rooms.json with "mesh": "door_level.glb" and the
-door named as a node of it instead of an OBJ with keyframes: both scenes render the same.
+scenes/two_rooms.obj, materials named as there) and "door" (the leaf of the door OBJ that
+scenes/two_rooms.json names, placed at the hinge by the node's translation and turned by its
+rotation), and one animation, "door_swing", whose rotation channel (LINEAR) carries the door
+keyframes of scenes/two_rooms.json. door_level.json is two_rooms.json with "mesh":
+"door_level.glb" and the door named as a node of it instead of an OBJ with keyframes: both
+scenes render the same.
 Deterministic (same output every run).
 
 Usage: generate_door_level.py [OUT_FOLDER]   (default: this script's folder)
@@ -39,7 +40,7 @@ def primitives(obj):
 
 
 rooms = g.node('rooms', mesh=g.mesh('rooms', primitives('two_rooms.obj')))
-door = g.node('door', mesh=g.mesh('door', primitives('door.obj')),
+door = g.node('door', mesh=g.mesh('door', primitives(scene['objects'][0]['mesh'])),
               translation=door_keys[0]['position'], rotation=door_keys[0]['rotation'])
 g.animation('door_swing', [(door, 'rotation', [k['t'] for k in door_keys],
                             [k['rotation'] for k in door_keys], 'LINEAR')])

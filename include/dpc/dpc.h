@@ -326,6 +326,16 @@ DPC_API dpc_status dpc_engine_teleport_source(dpc_engine* engine, int source);
  *  allocation. Errors: DPC_ERR_INVALID_ARGUMENT (null engine or index out of range). */
 DPC_API dpc_status dpc_engine_teleport_listener(dpc_engine* engine, int listener);
 
+/** Any thread (one writer per source at a time), wait-free, no allocation. Turns source
+ *  `source` (0-based, scene order) by q = (qx, qy, qz, qw), a rotation quaternion in glTF order
+ *  (the frame at the top of this header), normalised here, instead of its keyframes' rotation,
+ *  from the next propagation frame on: its directivity's forward axis becomes R(q) * (1, 0, 0)
+ *  (an omnidirectional source sounds the same whatever q). Errors: DPC_ERR_INVALID_ARGUMENT
+ *  (null engine, index out of range, a zero or non-finite quaternion: nothing changes and
+ *  dpc_last_error() names the argument). */
+DPC_API dpc_status dpc_engine_set_source_rotation(dpc_engine* engine, int source, float qx,
+                                                  float qy, float qz, float qw);
+
 /** Any thread (one writer per object at a time), wait-free, no allocation. Places moving
  *  object `object` (0-based, the scene's "objects" order): world = R(q) * local + (x, y, z),
  *  metres; q = (qx, qy, qz, qw) a rotation quaternion in glTF order (the frame at the top of

@@ -81,6 +81,10 @@ class Engine {
   dpc_status teleportListener(int listener) noexcept {
     return dpc_engine_teleport_listener(e_, listener);
   }
+  /// Any thread, wait-free: see dpc_engine_set_source_rotation (quaternion x, y, z, w).
+  dpc_status setSourceRotation(int source, float qx, float qy, float qz, float qw) noexcept {
+    return dpc_engine_set_source_rotation(e_, source, qx, qy, qz, qw);
+  }
   /// Any thread, wait-free: see dpc_engine_set_object_pose (metres, quaternion x, y, z, w).
   dpc_status setObjectPose(int object, float x, float y, float z, float qx, float qy, float qz,
                            float qw) noexcept {

@@ -293,6 +293,31 @@ TEST_CASE("C API: source_directivities carries a source's pattern and rotation")
   CHECK(directBin(cardioid) == Approx(0.75 * omni).epsilon(1e-3));
   cardioid.rotation[3] = 0.f;  // [0, 1, 0, 0]: half a turn, facing -x
   CHECK(directBin(cardioid) < 1e-6 * omni);
+  // At run time: the same half turn through dpc_engine_set_source_rotation, and back.
+  {
+    const dpc_source_directivity facing{{0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f},
+                                        {0, 0, 0, 1}};
+    data.source_directivities = &facing;
+    dpc_engine* e = nullptr;
+    REQUIRE(dpc_engine_create_from_data(&data, nullptr, &e) == DPC_OK);
+    auto stepBin = [&] {
+      REQUIRE(dpc_engine_step(e) == DPC_OK);
+      double binSeconds = 0.0;
+      const std::vector<float> energy = copyEnergy(e, &binSeconds);
+      const double c = 331.3 * std::sqrt(1.0 + 20.0 / 273.15);
+      return energy[size_t(4.0 / c / binSeconds) * DPC_BANDS + 0];
+    };
+    CHECK(stepBin() == Approx(3.0 * omni).epsilon(1e-3));
+    CHECK(dpc_engine_set_source_rotation(e, 0, 0.f, 2.f, 0.f, 0.f) == DPC_OK);  // normalised
+    CHECK(stepBin() < 1e-6 * omni);
+    CHECK(dpc_engine_set_source_rotation(e, 0, 0.f, 0.f, 0.f, 0.f) == DPC_ERR_INVALID_ARGUMENT);
+    CHECK(dpc_engine_set_source_rotation(e, 1, 0.f, 0.f, 0.f, 1.f) == DPC_ERR_INVALID_ARGUMENT);
+    CHECK(dpc_engine_set_source_rotation(nullptr, 0, 0.f, 0.f, 0.f, 1.f) ==
+          DPC_ERR_INVALID_ARGUMENT);
+    CHECK(dpc_engine_set_source_rotation(e, 0, 0.f, 0.f, 0.f, 1.f) == DPC_OK);
+    CHECK(stepBin() == Approx(3.0 * omni).epsilon(1e-3));
+    dpc_engine_destroy(e);
+  }
   cardioid.rotation[1] = 0.f;  // zero length
   data.source_directivities = &cardioid;
   dpc_engine* e = nullptr;

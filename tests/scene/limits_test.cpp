@@ -128,6 +128,8 @@ std::optional<std::string> setField(json& s, const std::string& field, double va
   }
   if (field.rfind("materials.*.", 0) == 0) {
     s["materials"]["walls"][key] = number(value);
+    // Any R down to 0 dB (tau = 1) is valid only for a material absorbing all it transmits.
+    if (key == "transmission_loss_db") s["materials"]["walls"]["absorption"] = 1;
     return "materials.walls." + key;
   }
   if (field == "sources[].directivity.a") {

@@ -2,9 +2,11 @@
 // the scene limits and citing a source, and scenes naming entries (plain or with overrides)
 // loading the same numbers as typed inline.
 #include "scene/material_library.h"
+#include "scene/transmission.h"
 
 #include <algorithm>
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <cstring>
 #include <string>
 
@@ -49,9 +51,14 @@ TEST_CASE("Every library entry is within the limits, described and cited", "[mat
     CHECK(e.source.find("Springer") != std::string::npos);
     CHECK(e.source.find("63 Hz") != std::string::npos);
     CHECK(e.source.find("scattering") != std::string::npos);
+    const Bands tau = transmittanceOf(e.material.transmissionLossDb);
     for (int b = 0; b < kNumBands; ++b) {
       CHECK(withinLimit(absorption, e.material.absorption[b]));
       CHECK(withinLimit(scattering, e.material.scattering[b]));
+      // Opaque, or a transmission loss within its limit that transmits no more than alpha.
+      const float r = e.material.transmissionLossDb[b];
+      CHECK((std::isinf(r) || withinLimit(limitOf("materials.*.transmission_loss_db"), r)));
+      CHECK(tau[b] <= e.material.absorption[b]);
     }
     CHECK(findLibraryMaterial(e.material.name) == &e);
   }

@@ -149,3 +149,21 @@ TEST_CASE("One pass from the listener serves every source of a many-source scene
   }
   requireReciprocal(scene);
 }
+
+TEST_CASE("Reciprocal tracing through a transmitting partition", "[engine]") {
+  // A partition across the room (x = 5) with R = 10 dB (tau 0.1 <= its absorption 0.3):
+  // source and listener on opposite sides, so every path passes through it at least once.
+  SceneDesc scene = room();
+  Material partition{"partition", Bands(0.3f), Bands(0.3f)};
+  partition.transmissionLossDb = Bands(10.f);
+  scene.materials.push_back(partition);
+  const uint32_t v = uint32_t(scene.mesh.vertices.size());
+  for (const glm::vec3 p : {glm::vec3{5, 0, 0}, glm::vec3{5, 7, 0}, glm::vec3{5, 7, 3},
+                            glm::vec3{5, 0, 3}})
+    scene.mesh.vertices.push_back(p);
+  scene.mesh.triangles.push_back({v, v + 1, v + 2});
+  scene.mesh.triangles.push_back({v, v + 2, v + 3});
+  scene.mesh.materialIndex.resize(scene.mesh.triangles.size(), 0);
+  scene.mesh.materialIndex.back() = scene.mesh.materialIndex[scene.mesh.materialIndex.size() - 2] = 1;
+  requireReciprocal(scene);
+}

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "common/bands.h"
+#include "common/spherical_harmonics.h"
 #include "scene/directivity.h"
 
 namespace dpc {
@@ -181,6 +182,8 @@ enum class OutputFormat {
   kMono,      ///< one channel (the pressure IR)
   kStereo,    ///< two channels, constant-power panning of each arrival direction
   kBinaural,  ///< two channels (ears), HRTF from a SOFA file
+  /// AmbiX: (order + 1)^2 channels, ACN order, SN3D normalisation (common/spherical_harmonics.h)
+  kAmbisonics,
 };
 
 /// Debian libmysofa1's MIT KEMAR set: the default HRTF.
@@ -191,6 +194,9 @@ struct AudioSettings {
   int blockSize = 512;     ///< samples per processing block
   OutputFormat output = OutputFormat::kMono;
   std::string hrtfPath = kDefaultHrtfPath;  ///< SOFA file for binaural output
+  int ambisonicOrder = 3;  ///< Ambisonic output's order N, 1 .. kMaxAmbisonicOrder
+  /// Ambisonic output weighted per order by max-rE (a_n = P_n(r_E)); off: plain SN3D encoding.
+  bool maxRe = false;
 };
 
 /// Upper bounds on a scene's entity counts, fixed (independent of the machine's memory) so a

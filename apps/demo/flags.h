@@ -13,14 +13,15 @@ namespace dpc::demo {
 struct Flags {
   std::string scene, offline, irOut, erOut, estimator, weighting, device, record, stats, output,
       hrtf, listener;
-  bool listDevices = false, listMaterials = false, interactive = false, quiet = false;
+  bool listDevices = false, listMaterials = false, interactive = false, quiet = false,
+       maxRe = false;
   std::optional<int64_t> blockSize;       ///< samples per audio block (live)
   std::optional<double> duration;         ///< seconds to render or play
   std::optional<double> tau;              ///< cache response time, seconds
   std::optional<double> gainDb;           ///< fixed output gain, dB
   std::optional<double> cacheMb;          ///< DPC memory budget per source-listener pair, MB
   std::optional<double> latencyTargetMs;  ///< live latency target, ms (default: LiveSession's)
-  std::optional<int64_t> seed, rays, maxOrder, threads;
+  std::optional<int64_t> seed, rays, maxOrder, threads, ambisonicOrder;
 };
 
 /// Parses argv into `fl`. Returns the exit status when the program must stop here (0 after

@@ -66,9 +66,18 @@ void applyAudioOverrides(SceneDesc& scene, const Flags& fl) {
     auto o = parseOutputFormat(fl.output);
     if (!o)
       throw InputError("command line", "--output",
-                       "'" + fl.output + "' is not mono, stereo or binaural");
+                       "'" + fl.output + "' is not mono, stereo, binaural or ambisonics");
     scene.audio.output = *o;
   }
+  if (fl.ambisonicOrder) {
+    checkField("audio.ambisonic_order", double(*fl.ambisonicOrder), commandLineOrigin());
+    scene.audio.ambisonicOrder = int(*fl.ambisonicOrder);
+  }
+  if (fl.maxRe) scene.audio.maxRe = true;
+  const bool ambisonic = scene.audio.output == OutputFormat::kAmbisonics;
+  if ((fl.ambisonicOrder || fl.maxRe) && !ambisonic)
+    throw InputError("command line", fl.ambisonicOrder ? "--ambisonic-order" : "--max-re",
+                     "needs --output ambisonics");
   if (!fl.hrtf.empty()) {
     if (!std::filesystem::is_regular_file(fl.hrtf))
       throw InputError("command line", "--hrtf", "file '" + fl.hrtf + "' not found");

@@ -66,16 +66,17 @@ Writers openWriters(const SceneDesc& scene, const std::vector<OutputPaths>& path
   Writers writers;
   for (const OutputPaths& p : paths)
     writers.push_back(std::make_unique<audio::WavStreamWriter>(p.audio, scene.audio.sampleRate,
-                                                               outputChannels(scene.audio.output),
+                                                               outputChannels(scene.audio),
                                                                audio::SampleFormat::kFloat32));
   return writers;
 }
 
 /// The name of the scene's output format as printed.
 const char* formatName(OutputFormat format) {
-  return format == OutputFormat::kBinaural ? "binaural"
-         : format == OutputFormat::kStereo ? "stereo"
-                                           : "mono";
+  return format == OutputFormat::kBinaural     ? "binaural"
+         : format == OutputFormat::kStereo     ? "stereo"
+         : format == OutputFormat::kAmbisonics ? "ambisonics (AmbiX)"
+                                               : "mono";
 }
 
 /// --ir-out and --er-out of one listener: its last frame's IRs (all channels, source-major)

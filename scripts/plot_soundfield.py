@@ -5,7 +5,7 @@ Usage: scripts/plot_soundfield.py IR.wav [-o docs/images/ambisonic-soundfield.pn
 IR.wav: dpc-demo --output ambisonics --ambisonic-order 3 --ir-out IR.wav with one source
 (16 channels, ACN order, SN3D). A max-rE sampling decoder is steered over a 2-degree grid,
 g(u) = sum_n (2n + 1) a_n sum_m Y_nm(u) h_nm(t), and its energy summed over two windows: the
-direct sound (its first 2.5 ms) and the early reflections (2.5 to 80 ms after it), each in dB
+direct sound (its first 2.5 ms) and the early reflections (2.5 to 30 ms after it), each in dB
 re its window's maximum. The SN3D harmonics are the closed forms tabulated for AmbiX (Nachbar
 et al. 2011), orders 0..3; a_n = P_n(r_E), r_E = 0.861136 (largest root of P_4).
 """
@@ -70,8 +70,8 @@ def main():
     y = sn3d_order3(az.ravel(), el.ravel()) * weights[:, None]  # 16 x directions
     onset = int(np.argmax(np.abs(h[0]) > 0.1 * np.abs(h[0]).max()))
     windows = [("direct sound", onset - int(0.001 * rate), onset + int(0.0025 * rate)),
-               ("early reflections, 2.5-80 ms", onset + int(0.0025 * rate),
-                onset + int(0.08 * rate))]
+               ("early reflections, 2.5-30 ms", onset + int(0.0025 * rate),
+                onset + int(0.03 * rate))]
     fig, axes = plt.subplots(1, 2, figsize=(12, 3.8), constrained_layout=True)
     for ax, (title, a, b) in zip(axes, windows):
         beams = y.T @ h[:, max(0, a):b]

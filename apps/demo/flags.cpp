@@ -75,7 +75,9 @@ void addRenderOptions(CLI::App& app, Flags& fl) {
 
 /// The output files and their format.
 void addOutputOptions(CLI::App& app, Flags& fl) {
-  app.add_option("--ir-out", fl.irOut, "Also write the last frame's IR (all channels) as WAV");
+  app.add_option("--ir-out", fl.irOut,
+                 "Also write the last frame's IR (all channels) as WAV, or as SOFA (AES69 "
+                 "GeneralFIR, positions included) when the name ends in .sofa");
   app.add_option("--er-out", fl.erOut,
                  "Offline: also write each source's last-frame energy response per octave band "
                  "in 1 ms bins, direct sound marked, as CSV (docs/validation.md)");

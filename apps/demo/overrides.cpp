@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "apps/demo/output_paths.h"
+#include "apps/demo/sofa_out.h"
 #include "common/input_error.h"
 #include "common/input_file.h"
 #include "scene/validate.h"
@@ -105,6 +106,9 @@ void checkOutputs(const SceneDesc& scene, const Flags& fl) {
       outputs.push_back({"--ir-out", o.ir});
       outputs.push_back({"--er-out", o.energy});
     }
+  if (isSofaPath(fl.offline) || isSofaPath(fl.record))
+    throw InputError("command line", isSofaPath(fl.offline) ? "--offline" : "--record",
+                     "SOFA holds impulse responses, not audio: use --ir-out FILE.sofa");
   for (size_t i = 0; i < outputs.size(); ++i) {
     const auto& [flag, out] = outputs[i];
     if (out.empty()) continue;

@@ -17,6 +17,7 @@
 #include "apps/demo/output_paths.h"
 #include "apps/demo/overrides.h"
 #include "apps/demo/preflight.h"
+#include "apps/demo/sofa_out.h"
 #include "audio/wav_io.h"
 #include "common/input_error.h"
 #include "common/output_file.h"
@@ -79,11 +80,13 @@ const char* formatName(OutputFormat format) {
                                                : "mono";
 }
 
-/// --ir-out and --er-out of one listener: its last frame's IRs (all channels, source-major)
-/// and energy responses, complete temporaries added to `outputs`.
+/// --ir-out and --er-out of one listener: its last frame's IRs (WAV: all channels,
+/// source-major; .sofa: apps/demo/sofa_out.h) and energy responses, complete temporaries added to `outputs`.
 void stageLastFrame(const SceneDesc& scene, const OfflineListenerResult& r,
                     const OutputPaths& paths, OutputSet& outputs) {
-  if (!paths.ir.empty()) {
+  if (!paths.ir.empty() && isSofaPath(paths.ir)) {
+    outputs.add(stageIrSofa(scene, r, paths.ir));
+  } else if (!paths.ir.empty()) {
     audio::AudioData ir;
     ir.sampleRate = scene.audio.sampleRate;
     for (const auto& source : r.lastIrs)

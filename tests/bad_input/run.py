@@ -245,6 +245,7 @@ CASES = {
     "estimator_bad": (nothing, OFF + ["--estimator", "magic"], "--estimator"),
     "weighting_bad": (nothing, OFF + ["--dpc-weighting", "x"], "--dpc-weighting"),
     "output_bad": (nothing, OFF + ["--output", "quad"], "--output"),
+    "sofa_offline_audio": (nothing, ["shoebox.json", "--offline", "out.sofa", "--duration", "1"], "--offline"),
     "ambisonic_order_0": (nothing, OFF + ["--output", "ambisonics", "--ambisonic-order", "0"], "--ambisonic-order"),
     "ambisonic_order_8": (nothing, OFF + ["--output", "ambisonics", "--ambisonic-order", "8"], "--ambisonic-order"),
     "ambisonic_order_text": (nothing, OFF + ["--output", "ambisonics", "--ambisonic-order", "three"], "--ambisonic-order"),

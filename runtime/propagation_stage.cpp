@@ -9,6 +9,7 @@
 
 #include "audio/hrtf.h"
 #include "audio/panning.h"
+#include "audio/vbap.h"
 #include "common/input_error.h"
 #include "common/spherical_harmonics.h"
 #include "engine/room_volume.h"
@@ -25,6 +26,7 @@ int outputChannels(const AudioSettings& audio) {
   switch (audio.output) {
     case OutputFormat::kMono: return 1;
     case OutputFormat::kAmbisonics: return ambisonicChannels(audio.ambisonicOrder);
+    case OutputFormat::kLoudspeakers: return int(audio.speakers.size());
     default: return 2;
   }
 }
@@ -38,9 +40,13 @@ struct SpatialFilters {
   std::shared_ptr<audio::Hrtf> hrtf;
   int ambisonicOrder = 0;
   std::array<float, kMaxAmbisonicOrder + 1> orderWeights{};
+  std::shared_ptr<audio::Vbap> vbap;  ///< loudspeakers: over the non-LFE ones
+  std::vector<size_t> vbapChannel;    ///< the output channel of each VBAP loudspeaker
+  size_t speakerChannels = 0;         ///< every loudspeaker, LFE included
   void fill(const glm::vec3& d, DirectionFilter& out) const {
     const float dir[3] = {d.x, d.y, d.z};
     if (ambisonicOrder > 0) return fillAmbisonic(dir, out);
+    if (vbap) return fillLoudspeakers(dir, out);
     out.channels.resize(2);
     std::vector<float>& left = out.channels[0];
     std::vector<float>& right = out.channels[1];
@@ -62,6 +68,13 @@ struct SpatialFilters {
     };
     delay(left, delayL);
     delay(right, delayR);
+  }
+  void fillLoudspeakers(const float dir[3], DirectionFilter& out) const {
+    std::array<float, kMaxLoudspeakers> g{};
+    vbap->gains(dir, g);
+    out.channels.resize(speakerChannels);
+    for (auto& c : out.channels) c.assign(1, 0.f);  // LFE: silent
+    for (size_t k = 0; k < vbapChannel.size(); ++k) out.channels[vbapChannel[k]][0] = g[k];
   }
   void fillAmbisonic(const float dir[3], DirectionFilter& out) const {
     std::array<float, ambisonicChannels(kMaxAmbisonicOrder)> y{};
@@ -94,6 +107,22 @@ std::unique_ptr<SpatialIrSynthesizer> makeSpatialSynthesizer(const SceneDesc& sc
     filters->orderWeights.fill(1.f);
     if (scene.audio.maxRe) maxReWeights(filters->ambisonicOrder, filters->orderWeights);
     reference = Reference::kFirstChannelPressure;
+  }
+  if (scene.audio.output == OutputFormat::kLoudspeakers) {
+    std::vector<std::array<double, 2>> angles;
+    for (size_t c = 0; c < scene.audio.speakers.size(); ++c) {
+      const LoudspeakerDesc& s = scene.audio.speakers[c];
+      if (s.lfe) continue;
+      angles.push_back({s.azimuthDegrees, s.elevationDegrees});
+      filters->vbapChannel.push_back(c);
+    }
+    try {
+      filters->vbap = std::make_shared<audio::Vbap>(angles);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(scene.audio.layoutName, "speakers", e.what());
+    }
+    filters->speakerChannels = scene.audio.speakers.size();
+    reference = Reference::kChannelSum;
   }
   const std::vector<glm::vec3> directions = defaultSpatialDirections();
   std::vector<DirectionFilter> perDirection(directions.size());

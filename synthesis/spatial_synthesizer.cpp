@@ -121,13 +121,29 @@ void SpatialIrSynthesizer::equaliseDiffuseField(const std::vector<DirectionFilte
         channelWeight_[d][c][b] = float(seen / seenNorm);
         if (reference_ == Reference::kChannelAverage)
           kappa_[size_t(b)] += seen / seenNorm / double(channels_ * filters.size());
-        else if (c == 0)
+        else if (reference_ == Reference::kChannelSum || c == 0)
           kappa_[size_t(b)] += seen / seenNorm / double(filters.size());
       }
     }
   for (auto& perChannel : channelWeight_)
     for (Bands& w : perChannel)
       for (int b = 0; b < kNumBands; ++b) w[b] = float(double(w[b]) / kappa_[size_t(b)]);
+  setOmniGains();
+}
+
+void SpatialIrSynthesizer::setOmniGains() {
+  omniGains_.assign(channels_, 0.f);
+  if (reference_ == Reference::kChannelAverage) omniGains_.assign(channels_, 1.f);
+  if (reference_ == Reference::kFirstChannelPressure) omniGains_[0] = 1.f;
+  if (reference_ != Reference::kChannelSum) return;
+  std::vector<size_t> used;
+  for (size_t c = 0; c < channels_; ++c)
+    for (const auto& perChannel : channelWeight_)
+      if (perChannel[c].max() > 0.f) {
+        used.push_back(c);
+        break;
+      }
+  for (size_t c : used) omniGains_[c] = float(1.0 / std::sqrt(double(used.size())));
 }
 
 void SpatialIrSynthesizer::directionBands(size_t d, const std::vector<float>& sequence,
@@ -246,9 +262,10 @@ void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
       for (size_t c = 0; c < channels_; ++c)
         envelopes_[d]->accumulateRange(bandSignals(d, c), channels[c], begin, end, gains_[d][c],
                                        kDirectionalFromBand, kNumBands);
-    const size_t omniChannels = reference_ == Reference::kChannelAverage ? channels_ : 1;
-    for (size_t c = 0; c < omniChannels; ++c)
-      omniEnvelope_->accumulateRange(omni, channels[c], begin, end, 1.f, 0, kDirectionalFromBand);
+    for (size_t c = 0; c < channels_; ++c)
+      if (omniGains_[c] != 0.f)
+        omniEnvelope_->accumulateRange(omni, channels[c], begin, end, omniGains_[c], 0,
+                                       kDirectionalFromBand);
   }
   arrivalDelays_.clear();
   arrivalEnergy_.clear();

@@ -86,6 +86,10 @@ class SpatialIrSynthesizer {
     /// it, and only it receives the omnidirectional low bands (a diffuse field's first-order
     /// and higher components are incoherent with W; the K directions cannot resolve them there).
     kFirstChannelPressure,
+    /// The channels' summed band energy (loudspeaker feeds with constant-power gains, sum
+    /// g^2 = 1): the layout as a whole radiates the mono response. The omnidirectional low
+    /// bands feed every channel some direction uses, at 1 / sqrt(their count) each.
+    kChannelSum,
   };
 
   /// directions: K listener-frame unit vectors; filters: one DirectionFilter per direction,
@@ -131,6 +135,8 @@ class SpatialIrSynthesizer {
   /// kappa_ and channelWeight_ from every direction's filters.
   void equaliseDiffuseField(const std::vector<DirectionFilter>& filters,
                             const OctaveBandMasks& masks, FftwRealTransforms& fft);
+  /// omniGains_ from reference_ and the channels the filters use.
+  void setOmniGains();
   /// Direction d's sequence through A_b and its channels' filters, and its envelope.
   void directionBands(size_t d, const std::vector<float>& sequence, const DirectionFilter& filter,
                       const OctaveBandMasks& masks, FftwRealTransforms& fft);
@@ -164,6 +170,7 @@ class SpatialIrSynthesizer {
 
   int sampleRate_;
   Reference reference_;
+  std::vector<float> omniGains_;  ///< per channel: the omnidirectional low bands' gain
   size_t length_ = 0;
   size_t channels_ = 0;
   std::vector<glm::vec3> directions_;

@@ -63,11 +63,16 @@ PropagationSettings applyOverrides(const SceneDesc& scene, const Flags& fl) {
 }
 
 void applyAudioOverrides(SceneDesc& scene, const Flags& fl) {
-  if (!fl.output.empty()) {
+  if (fl.output.rfind("layout:", 0) == 0) {
+    scene.audio.layoutName = fl.output.substr(7);
+    scene.audio.speakers = loudspeakerLayout(scene.audio.layoutName, "--output");
+    scene.audio.output = OutputFormat::kLoudspeakers;
+  } else if (!fl.output.empty()) {
     auto o = parseOutputFormat(fl.output);
     if (!o)
       throw InputError("command line", "--output",
-                       "'" + fl.output + "' is not mono, stereo, binaural or ambisonics");
+                       "'" + fl.output +
+                           "' is not mono, stereo, binaural, ambisonics or layout:NAME");
     scene.audio.output = *o;
   }
   if (fl.ambisonicOrder) {

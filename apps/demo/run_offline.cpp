@@ -77,6 +77,7 @@ const char* formatName(OutputFormat format) {
   return format == OutputFormat::kBinaural     ? "binaural"
          : format == OutputFormat::kStereo     ? "stereo"
          : format == OutputFormat::kAmbisonics ? "ambisonics (AmbiX)"
+         : format == OutputFormat::kLoudspeakers ? "loudspeakers (VBAP)"
                                                : "mono";
 }
 

@@ -19,6 +19,11 @@ std::string receiverText(const AudioSettings& a) {
     case OutputFormat::kMono: return "receiver 1: pressure (mono)";
     case OutputFormat::kStereo: return "receivers 1-2: stereo left, right (constant-power pan)";
     case OutputFormat::kBinaural: return "receivers 1-2: left, right ear (HRTF " + a.hrtfPath + ")";
+    case OutputFormat::kLoudspeakers: {
+      std::string names;
+      for (const LoudspeakerDesc& sp : a.speakers) names += (names.empty() ? "" : " ") + sp.name;
+      return "receivers: loudspeaker feeds of layout " + a.layoutName + " (" + names + ")";
+    }
     case OutputFormat::kAmbisonics:
       return "receivers: AmbiX, ACN order, SN3D, Ambisonic order " +
              std::to_string(a.ambisonicOrder) + (a.maxRe ? ", max-rE weighted" : "");

@@ -76,6 +76,72 @@ double maxReRadius(int order) {
   return x;
 }
 
+namespace {
+
+/// Gauss-Legendre node k (0 = the largest) of P_n and its weight, by Newton from the
+/// Chebyshev-like guess cos(pi (k + 0.75) / (n + 0.5)) (Abramowitz & Stegun 22.16.6).
+void gaussNode(int n, int k, double& x, double& w) {
+  x = std::cos(std::numbers::pi * (double(k) + 0.75) / (double(n) + 0.5));
+  double dp = 1.0;
+  for (int i = 0; i < 100; ++i) {
+    dp = double(n) * (x * legendre(n, x) - legendre(n - 1, x)) / (x * x - 1.0);
+    const double step = legendre(n, x) / dp;
+    x -= step;
+    if (std::abs(step) < 1e-15) break;
+  }
+  dp = double(n) * (x * legendre(n, x) - legendre(n - 1, x)) / (x * x - 1.0);
+  w = 2.0 / ((1.0 - x * x) * dp * dp);
+}
+
+}  // namespace
+
+void ambisonicRotation(int order, const Rotation3& r, std::span<float> out) {
+  order = std::clamp(order, 0, kMaxAmbisonicOrder);
+  const size_t nc = size_t(ambisonicChannels(order));
+  std::array<double, ambisonicChannels(kMaxAmbisonicOrder) * ambisonicChannels(kMaxAmbisonicOrder)>
+      m{};
+  std::array<float, ambisonicChannels(kMaxAmbisonicOrder)> yu{}, yr{};
+  const int nz = order + 1, nphi = 2 * order + 1;
+  for (int k = 0; k < nz; ++k) {
+    double z = 0.0, w = 2.0;
+    if (order > 0) gaussNode(nz, k, z, w);
+    const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
+    for (int j = 0; j < nphi; ++j) {
+      const double phi = 2.0 * std::numbers::pi * double(j) / double(nphi);
+      const float u[3] = {float(s * std::cos(phi)), float(s * std::sin(phi)), float(z)};
+      const float ru[3] = {r[0] * u[0] + r[1] * u[1] + r[2] * u[2],
+                           r[3] * u[0] + r[4] * u[1] + r[5] * u[2],
+                           r[6] * u[0] + r[7] * u[1] + r[8] * u[2]};
+      sphericalHarmonicsSn3d(order, u, yu);
+      sphericalHarmonicsSn3d(order, ru, yr);
+      const double weight = w * (2.0 * std::numbers::pi / double(nphi)) / (4.0 * std::numbers::pi);
+      for (int n = 0; n <= order; ++n)
+        for (int a = n * n; a < (n + 1) * (n + 1); ++a)
+          for (int b = n * n; b < (n + 1) * (n + 1); ++b)
+            m[size_t(a) * nc + size_t(b)] +=
+                weight * double(2 * n + 1) * double(yr[size_t(a)]) * yu[size_t(b)];
+    }
+  }
+  for (size_t i = 0; i < nc * nc; ++i) out[i] = float(m[i]);
+}
+
+void rotateAmbisonic(int order, std::span<const float> m, float* const* channels,
+                     size_t frames) {
+  order = std::clamp(order, 0, kMaxAmbisonicOrder);
+  const size_t nc = size_t(ambisonicChannels(order));
+  std::array<float, 2 * kMaxAmbisonicOrder + 1> in{};
+  for (size_t t = 0; t < frames; ++t)
+    for (int n = 1; n <= order; ++n) {  // order 0 (W) is invariant
+      const size_t first = size_t(n * n), count = size_t(2 * n + 1);
+      for (size_t a = 0; a < count; ++a) in[a] = channels[first + a][t];
+      for (size_t a = 0; a < count; ++a) {
+        float acc = 0.f;
+        for (size_t b = 0; b < count; ++b) acc += m[(first + a) * nc + first + b] * in[b];
+        channels[first + a][t] = acc;
+      }
+    }
+}
+
 void maxReWeights(int order, std::span<float> out) {
   order = std::clamp(order, 0, kMaxAmbisonicOrder);
   const double rE = maxReRadius(order);

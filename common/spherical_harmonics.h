@@ -22,6 +22,8 @@
 // exceptions (orders outside 1..kMaxAmbisonicOrder are the caller's error, clamped).
 #pragma once
 
+#include <array>
+#include <cstddef>
 #include <span>
 
 namespace dpc {
@@ -45,5 +47,23 @@ double maxReRadius(int order);
 
 /// The Legendre polynomial P_n(x), n >= 0.
 double legendre(int n, double x);
+
+/// A rotation in the listener frame: 3 x 3, row-major, orthonormal with determinant 1.
+using Rotation3 = std::array<float, 9>;
+
+/// The (N+1)^2 x (N+1)^2 matrix (row-major) that rotates an order-N AmbiX sound field by
+/// `r`: a plane wave encoded from s becomes the one encoded from r s, M Y(s) = Y(r s). It is
+/// block diagonal (order n couples only with order n) and each block is orthogonal (SN3D
+/// scales a whole block by one constant). Computed by projection onto the harmonics over a
+/// Gauss-Legendre (N + 1 nodes) x equiangular (2N + 1) quadrature, exact for the degree-2N
+/// products: M_ij = (2n + 1) / (4 pi) sum_k w_k Y_i(r u_k) Y_j(u_k) (SN3D: the integral of
+/// Y_n^m squared over the sphere is 4 pi / (2n + 1); Zotter & Frank 2019, ch. 4).
+/// Writes ambisonicChannels(order)^2 floats; no allocation; any thread (the audio thread may
+/// call it per block: (N + 1)(2N + 1) harmonic evaluations and sum_n (2n+1)^2 products each).
+void ambisonicRotation(int order, const Rotation3& r, std::span<float> out);
+
+/// Applies `m` (ambisonicRotation's layout) in place to `frames` samples of the
+/// ambisonicChannels(order) planar channels. No allocation; any thread, the audio thread too.
+void rotateAmbisonic(int order, std::span<const float> m, float* const* channels, size_t frames);
 
 }  // namespace dpc

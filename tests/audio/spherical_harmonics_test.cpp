@@ -195,3 +195,91 @@ TEST_CASE("a decoded plane wave's energy vector points at the source with max-rE
     }
   }
 }
+
+namespace {
+
+/// A rotation matrix (row-major) from axis-angle, Rodrigues' formula.
+Rotation3 rotation(double ax, double ay, double az, double angle) {
+  const double n = std::hypot(ax, ay, az);
+  ax /= n, ay /= n, az /= n;
+  const double c = std::cos(angle), s = std::sin(angle), t = 1 - c;
+  return {float(t * ax * ax + c),      float(t * ax * ay - s * az), float(t * ax * az + s * ay),
+          float(t * ax * ay + s * az), float(t * ay * ay + c),      float(t * ay * az - s * ax),
+          float(t * ax * az - s * ay), float(t * ay * az + s * ax), float(t * az * az + c)};
+}
+
+std::array<double, 3> apply(const Rotation3& r, const std::array<double, 3>& v) {
+  return {r[0] * v[0] + r[1] * v[1] + r[2] * v[2], r[3] * v[0] + r[4] * v[1] + r[5] * v[2],
+          r[6] * v[0] + r[7] * v[1] + r[8] * v[2]};
+}
+
+const Rotation3 kRotations[] = {rotation(0, 0, 1, 0.7), rotation(1, 0, 0, -1.2),
+                                rotation(0.3, -0.5, 0.8, 2.5), rotation(-0.9, 0.1, 0.4, 3.0)};
+
+}  // namespace
+
+TEST_CASE("Ambisonic rotation: M(R) Y(s) = Y(R s), orthogonal blocks, composition") {
+  using Matrix = std::array<float, 64 * 64>;
+  for (int order : {1, 3, 7}) {
+    const size_t nc = size_t(ambisonicChannels(order));
+    for (const Rotation3& r : kRotations) {
+      Matrix m{};
+      ambisonicRotation(order, r, m);
+      for (const auto& s : kSources) {
+        const Channels ys = sh(order, s[0], s[1], s[2]);
+        const auto rs = apply(r, s);
+        const Channels want = sh(order, rs[0], rs[1], rs[2]);
+        for (size_t a = 0; a < nc; ++a) {
+          double got = 0;
+          for (size_t b = 0; b < nc; ++b) got += double(m[a * nc + b]) * ys[b];
+          INFO("order " << order << " ACN " << a);
+          CHECK(got == Approx(want[a]).margin(2e-5));  // float harmonics, sums of <= 15 terms
+        }
+      }
+      // Each order's block is orthogonal: M M^T = I.
+      for (size_t a = 0; a < nc; ++a)
+        for (size_t b = 0; b < nc; ++b) {
+          double dot = 0;
+          for (size_t k = 0; k < nc; ++k) dot += double(m[a * nc + k]) * m[b * nc + k];
+          CHECK(dot == Approx(a == b ? 1.0 : 0.0).margin(2e-5));
+        }
+    }
+    // Composition: M(R1) M(R2) = M(R1 R2).
+    Rotation3 r12{};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        for (int k = 0; k < 3; ++k)
+          r12[size_t(3 * i + j)] += kRotations[0][size_t(3 * i + k)] * kRotations[2][size_t(3 * k + j)];
+    Matrix m1{}, m2{}, m12{};
+    ambisonicRotation(order, kRotations[0], m1);
+    ambisonicRotation(order, kRotations[2], m2);
+    ambisonicRotation(order, r12, m12);
+    for (size_t a = 0; a < nc; ++a)
+      for (size_t b = 0; b < nc; ++b) {
+        double p = 0;
+        for (size_t k = 0; k < nc; ++k) p += double(m1[a * nc + k]) * m2[k * nc + b];
+        CHECK(p == Approx(m12[a * nc + b]).margin(3e-5));
+      }
+  }
+}
+
+TEST_CASE("Ambisonic rotation of a signal block equals encoding from the rotated direction") {
+  const int order = 3;
+  const size_t frames = 64;
+  const auto s = kSources[4];
+  const Channels ys = sh(order, s[0], s[1], s[2]);
+  std::vector<std::vector<float>> block(16, std::vector<float>(frames));
+  std::vector<float*> ptrs;
+  for (size_t c = 0; c < 16; ++c) {
+    for (size_t t = 0; t < frames; ++t) block[c][t] = ys[c] * std::sin(0.3f * float(t) + 1.f);
+    ptrs.push_back(block[c].data());
+  }
+  std::array<float, 64 * 64> m{};
+  ambisonicRotation(order, kRotations[3], m);
+  rotateAmbisonic(order, m, ptrs.data(), frames);
+  const auto rs = apply(kRotations[3], s);
+  const Channels want = sh(order, rs[0], rs[1], rs[2]);
+  for (size_t c = 0; c < 16; ++c)
+    for (size_t t = 0; t < frames; ++t)
+      CHECK(block[c][t] == Approx(want[c] * std::sin(0.3f * float(t) + 1.f)).margin(2e-5));
+}

@@ -76,11 +76,7 @@ double maxReRadius(int order) {
   return x;
 }
 
-namespace {
-
-/// Gauss-Legendre node k (0 = the largest) of P_n and its weight, by Newton from the
-/// Chebyshev-like guess cos(pi (k + 0.75) / (n + 0.5)) (Abramowitz & Stegun 22.16.6).
-void gaussNode(int n, int k, double& x, double& w) {
+void gaussLegendreNode(int n, int k, double& x, double& w) {
   x = std::cos(std::numbers::pi * (double(k) + 0.75) / (double(n) + 0.5));
   double dp = 1.0;
   for (int i = 0; i < 100; ++i) {
@@ -93,8 +89,6 @@ void gaussNode(int n, int k, double& x, double& w) {
   w = 2.0 / ((1.0 - x * x) * dp * dp);
 }
 
-}  // namespace
-
 void ambisonicRotation(int order, const Rotation3& r, std::span<float> out) {
   order = std::clamp(order, 0, kMaxAmbisonicOrder);
   const size_t nc = size_t(ambisonicChannels(order));
@@ -104,7 +98,7 @@ void ambisonicRotation(int order, const Rotation3& r, std::span<float> out) {
   const int nz = order + 1, nphi = 2 * order + 1;
   for (int k = 0; k < nz; ++k) {
     double z = 0.0, w = 2.0;
-    if (order > 0) gaussNode(nz, k, z, w);
+    if (order > 0) gaussLegendreNode(nz, k, z, w);
     const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
     for (int j = 0; j < nphi; ++j) {
       const double phi = 2.0 * std::numbers::pi * double(j) / double(nphi);

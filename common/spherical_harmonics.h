@@ -48,6 +48,10 @@ double maxReRadius(int order);
 /// The Legendre polynomial P_n(x), n >= 0.
 double legendre(int n, double x);
 
+/// Node k (0 = the largest) of the n-point Gauss-Legendre rule on [-1, 1] and its weight:
+/// Newton on P_n from cos(pi (k + 0.75) / (n + 0.5)) (Abramowitz & Stegun 22.16.6), n >= 1.
+void gaussLegendreNode(int n, int k, double& x, double& w);
+
 /// A rotation in the listener frame: 3 x 3, row-major, orthonormal with determinant 1.
 using Rotation3 = std::array<float, 9>;
 

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "audio/ambisonic_binaural.h"
+#include "audio/hrtf.h"
 #include "common/spherical_harmonics.h"
 #include "engine/room_volume.h"
 #include "engine/simulation.h"
@@ -62,6 +64,29 @@ SceneDesc anechoic(glm::vec3 source, glm::vec3 listener) {
   s.propagation.irLength = 0.3f;
   s.propagation.estimator = Estimator::kPathTracing;
   return s;
+}
+
+/// x low-passed at 1.5 kHz (Hann-windowed sinc, 255 taps, zero phase): the band where the
+/// interaural time difference is the cue (Blauert, "Spatial Hearing", 1997, ch. 2) and
+/// where a broadband cross-correlation is not misled by high-frequency fine structure.
+std::vector<float> lowPass1500(const std::vector<float>& x) {
+  const int half = 127;
+  const double fc = 1500.0 / 48000.0;
+  std::vector<double> h(2 * half + 1);
+  for (int k = -half; k <= half; ++k) {
+    const double sinc = k == 0 ? 2 * fc : std::sin(2 * M_PI * fc * k) / (M_PI * k);
+    h[size_t(k + half)] = sinc * (0.5 + 0.5 * std::cos(M_PI * k / (half + 1)));
+  }
+  std::vector<float> y(x.size(), 0.f);
+  for (size_t i = 0; i < x.size(); ++i) {
+    double acc = 0;
+    for (int k = -half; k <= half; ++k) {
+      const long j = long(i) - k;
+      if (j >= 0 && j < long(x.size())) acc += h[size_t(k + half)] * x[size_t(j)];
+    }
+    y[i] = float(acc);
+  }
+  return y;
 }
 
 /// Least-squares gain of channel c on W over samples [0, end): h_c = g h_W for a plane wave.
@@ -195,5 +220,48 @@ TEST_CASE("Loudspeakers: a source at a loudspeaker puts >= 90 % of the direct en
       INFO("layout " << layout << " loudspeaker " << sp.name << ": " << mine / total);
       CHECK(mine / total >= 0.9);  // the issue's bound; VBAP at a loudspeaker gives 1
     }
+  }
+}
+
+TEST_CASE("Binaural from AmbiX order 3 against per-path binaural: ILD and ITD", "[ambisonics]") {
+  // Near-anechoic box, listener facing +x, source 3 m away on the horizon at 0, +-45, +-90
+  // degrees (left positive). The direct sound's first 20 ms, per ear: per-path binaural
+  // (the HRIR of the exact direction) against the order-3 AmbiX IR decoded through the same
+  // HRTF by the virtual-loudspeaker sampling decoder (audio/ambisonic_binaural.h).
+  const audio::Hrtf hrtf = audio::Hrtf::load(kDefaultHrtfPath, 48000);
+  const audio::AmbisonicBinauralDecoder decoder(3, hrtf);
+  for (double az : {0.0, 45.0, -45.0, 90.0, -90.0}) {
+    const double a = az * M_PI / 180;
+    SceneDesc scene = anechoic({float(20 + 3 * std::cos(a)), 20.f, float(20 - 3 * std::sin(a))},
+                               {20, 20, 20});
+    const Rendered amb = render(scene, 3, false, 0.f);
+    scene.audio.output = OutputFormat::kBinaural;
+    const Rendered bin = render(scene, 0.f);
+    const size_t end = amb.directSample + 960;
+    std::vector<const float*> ptrs;
+    for (const auto& ch : amb.channels) ptrs.push_back(ch.data());
+    std::vector<float> l(end, 0.f), r(end, 0.f);
+    decoder.decode(ptrs.data(), end, l.data(), r.data());
+    const std::vector<float> bl(bin.channels[0].begin(), bin.channels[0].begin() + long(end));
+    const std::vector<float> br(bin.channels[1].begin(), bin.channels[1].begin() + long(end));
+    const Bands el = test::bandEnergies(l, 48000), er = test::bandEnergies(r, 48000);
+    const Bands pl = test::bandEnergies(bl, 48000), pr = test::bandEnergies(br, 48000);
+    const double itdA = test::interauralDelay(lowPass1500(l), lowPass1500(r), 48000);
+    const double itdP = test::interauralDelay(lowPass1500(bl), lowPass1500(br), 48000);
+    for (int b = 2; b < kNumBands; ++b) {
+      const double ildA = 10 * std::log10(el[b] / er[b]), ildP = 10 * std::log10(pl[b] / pr[b]);
+      INFO("az " << az << " band " << b << ": ILD ambisonic " << ildA << " dB, per-path "
+                 << ildP << " dB");
+      // Up to 1 kHz (kr <= N = 3 up to 1.9 kHz for r = 8.75 cm): within 2 dB. Above, the
+      // order-3 sampling decoder's spatial band limit lowers the ILD (up to 5.6 dB at 8 kHz,
+      // docs/spatial.md); a MagLS decoder is what would close that gap.
+      if (b <= 4) CHECK(std::abs(ildA - ildP) <= 2.0);
+    }
+    const double wideA = 10 * std::log10(el.sum() / er.sum());
+    const double wideP = 10 * std::log10(pl.sum() / pr.sum());
+    INFO("az " << az << ": broadband ILD ambisonic " << wideA << " per-path " << wideP
+               << " dB; ITD ambisonic " << itdA * 1e3 << " per-path " << itdP * 1e3 << " ms");
+    CHECK(std::abs(itdA - itdP) <= 0.1e-3);  // the issue's bound, below 1.5 kHz
+    CHECK(std::abs(wideA - wideP) <= 2.0);   // the issue's bound, broadband ILD
   }
 }

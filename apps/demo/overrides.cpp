@@ -79,11 +79,7 @@ void applyAudioOverrides(SceneDesc& scene, const Flags& fl) {
     checkField("audio.ambisonic_order", double(*fl.ambisonicOrder), commandLineOrigin());
     scene.audio.ambisonicOrder = int(*fl.ambisonicOrder);
   }
-  if (fl.maxRe) scene.audio.maxRe = true;
-  const bool ambisonic = scene.audio.output == OutputFormat::kAmbisonics;
-  if ((fl.ambisonicOrder || fl.maxRe) && !ambisonic)
-    throw InputError("command line", fl.ambisonicOrder ? "--ambisonic-order" : "--max-re",
-                     "needs --output ambisonics");
+  if (fl.maxRe) scene.audio.maxRe = true;  // both range-checked, used by Ambisonic output only
   if (!fl.hrtf.empty()) {
     if (!std::filesystem::is_regular_file(fl.hrtf))
       throw InputError("command line", "--hrtf", "file '" + fl.hrtf + "' not found");

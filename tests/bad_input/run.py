@@ -257,7 +257,6 @@ CASES = {
     "ambisonic_order_0": (nothing, OFF + ["--output", "ambisonics", "--ambisonic-order", "0"], "--ambisonic-order"),
     "ambisonic_order_8": (nothing, OFF + ["--output", "ambisonics", "--ambisonic-order", "8"], "--ambisonic-order"),
     "ambisonic_order_text": (nothing, OFF + ["--output", "ambisonics", "--ambisonic-order", "three"], "--ambisonic-order"),
-    "ambisonic_order_not_ambisonic": (nothing, OFF + ["--output", "binaural", "--ambisonic-order", "3"], "--ambisonic-order"),
     "ambisonic_order_scene": (scene_with(**{"audio.output": "ambisonics", "audio.ambisonic_order": 9}), OFF, "audio.ambisonic_order"),
     "control_chars_key": (write("shoebox.json", '{"\\u001b[31mevil": 1}'), OFF, "shoebox.json"),
     # Scene-level values.

@@ -49,7 +49,7 @@ dpc_status checkOptions(const dpc_engine_options* o) {
 /// throw InputError naming the setting to lower, instead of running out of memory part-way.
 void checkEngineWorkload(const SceneDesc& scene) {
   const WorkloadEstimate e = estimateWorkload(scene, scene.propagation,
-                                              outputChannels(scene.audio.output), 0.0);
+                                              outputChannels(scene.audio), 0.0);
   checkWorkload(scene, scene.propagation, e, plannableMemoryBytes());
 }
 
@@ -58,7 +58,7 @@ dpc_engine* finishEngine(std::unique_ptr<dpc_engine> engine) {
   for (const std::string& w : engine->scene.warnings) logMessage(LogLevel::kWarning, w);
   engine->sources = int(engine->scene.sources.size());
   LiveSession::Options options;
-  options.deviceChannels = outputChannels(engine->scene.audio.output);
+  options.deviceChannels = outputChannels(engine->scene.audio);
   // The session shares the scene and the signals; until the host sets a pose, every listener
   // stands where the scene puts it at time 0.
   const PropagationSettings settings = engine->scene.propagation;

@@ -147,6 +147,9 @@ void OfflineRender::finish() {
     else
       for (auto& ch : lr.output.channels) ch.resize(totalFrames_);
     lr.lastIrs = propagation_.lastIrs(listeners_[k]);
+    lr.lastListenerPosition = world_.listenerPositions[listeners_[k]];
+    lr.lastListenerOrientation = world_.listenerOrientations[listeners_[k]];
+    lr.lastSourcePositions = world_.sourcePositions;
     lr.irsApplied = audioStages_[k]->irsApplied();
     result_.irsLost += audioStages_[k]->lostSets();
     for (size_t s = 0; s < sim.sourceCount(); ++s) {

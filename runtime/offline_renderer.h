@@ -53,6 +53,10 @@ struct OfflineListenerResult {
   /// [source]: the last frame's energy response, exact early specular paths included
   std::vector<EnergyResponse> lastEnergy;
   std::vector<DirectSound> lastDirect;     ///< [source]: the last frame's direct sound
+  /// The last frame's poses (scene frame, metres): the listener's and each source's.
+  glm::vec3 lastListenerPosition{0.f};
+  Orientation lastListenerOrientation;
+  std::vector<glm::vec3> lastSourcePositions;
   uint64_t irsApplied = 0;
 };
 

@@ -9,7 +9,9 @@
 
 #include "audio/hrtf.h"
 #include "audio/panning.h"
+#include "audio/vbap.h"
 #include "common/input_error.h"
+#include "common/spherical_harmonics.h"
 #include "engine/room_volume.h"
 
 namespace dpc {
@@ -20,18 +22,31 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 }
 }  // namespace
 
-int outputChannels(OutputFormat format) {
-  return format == OutputFormat::kMono ? 1 : 2;
+int outputChannels(const AudioSettings& audio) {
+  switch (audio.output) {
+    case OutputFormat::kMono: return 1;
+    case OutputFormat::kAmbisonics: return ambisonicChannels(audio.ambisonicOrder);
+    case OutputFormat::kLoudspeakers: return int(audio.speakers.size());
+    default: return 2;
+  }
 }
 
 namespace {
 
-/// Two-channel filters (left, right) for the spatial synthesiser: HRIR pairs (binaural, with
-/// the SOFA file's onset delays as leading zeros) or constant-power panning gains (stereo).
+/// Filters for the spatial synthesiser: HRIR pairs (binaural, with the SOFA file's onset
+/// delays as leading zeros), constant-power panning gains (stereo), or one-tap ACN/SN3D
+/// spherical-harmonic gains times the per-order weights (Ambisonics, ambisonicOrder > 0).
 struct SpatialFilters {
   std::shared_ptr<audio::Hrtf> hrtf;
+  int ambisonicOrder = 0;
+  std::array<float, kMaxAmbisonicOrder + 1> orderWeights{};
+  std::shared_ptr<audio::Vbap> vbap;  ///< loudspeakers: over the non-LFE ones
+  std::vector<size_t> vbapChannel;    ///< the output channel of each VBAP loudspeaker
+  size_t speakerChannels = 0;         ///< every loudspeaker, LFE included
   void fill(const glm::vec3& d, DirectionFilter& out) const {
     const float dir[3] = {d.x, d.y, d.z};
+    if (ambisonicOrder > 0) return fillAmbisonic(dir, out);
+    if (vbap) return fillLoudspeakers(dir, out);
     out.channels.resize(2);
     std::vector<float>& left = out.channels[0];
     std::vector<float>& right = out.channels[1];
@@ -54,6 +69,21 @@ struct SpatialFilters {
     delay(left, delayL);
     delay(right, delayR);
   }
+  void fillLoudspeakers(const float dir[3], DirectionFilter& out) const {
+    std::array<float, kMaxLoudspeakers> g{};
+    vbap->gains(dir, g);
+    out.channels.resize(speakerChannels);
+    for (auto& c : out.channels) c.assign(1, 0.f);  // LFE: silent
+    for (size_t k = 0; k < vbapChannel.size(); ++k) out.channels[vbapChannel[k]][0] = g[k];
+  }
+  void fillAmbisonic(const float dir[3], DirectionFilter& out) const {
+    std::array<float, ambisonicChannels(kMaxAmbisonicOrder)> y{};
+    sphericalHarmonicsSn3d(ambisonicOrder, dir, y);
+    out.channels.resize(size_t(ambisonicChannels(ambisonicOrder)));
+    for (int n = 0; n <= ambisonicOrder; ++n)
+      for (int c = n * n; c < (n + 1) * (n + 1); ++c)
+        out.channels[size_t(c)].assign(1, y[size_t(c)] * orderWeights[size_t(n)]);
+  }
 };
 
 }  // namespace
@@ -70,18 +100,44 @@ std::unique_ptr<SpatialIrSynthesizer> makeSpatialSynthesizer(const SceneDesc& sc
       throw InputError(scene.path, "audio.hrtf", e.what());
     }
   }
+  using Reference = SpatialIrSynthesizer::Reference;
+  Reference reference = Reference::kChannelAverage;
+  if (scene.audio.output == OutputFormat::kAmbisonics) {
+    filters->ambisonicOrder = scene.audio.ambisonicOrder;
+    filters->orderWeights.fill(1.f);
+    if (scene.audio.maxRe) maxReWeights(filters->ambisonicOrder, filters->orderWeights);
+    reference = Reference::kFirstChannelPressure;
+  }
+  if (scene.audio.output == OutputFormat::kLoudspeakers) {
+    std::vector<std::array<double, 2>> angles;
+    for (size_t c = 0; c < scene.audio.speakers.size(); ++c) {
+      const LoudspeakerDesc& s = scene.audio.speakers[c];
+      if (s.lfe) continue;
+      angles.push_back({s.azimuthDegrees, s.elevationDegrees});
+      filters->vbapChannel.push_back(c);
+    }
+    try {
+      filters->vbap = std::make_shared<audio::Vbap>(angles);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(scene.audio.layoutName, "speakers", e.what());
+    }
+    filters->speakerChannels = scene.audio.speakers.size();
+    reference = Reference::kChannelSum;
+  }
   const std::vector<glm::vec3> directions = defaultSpatialDirections();
   std::vector<DirectionFilter> perDirection(directions.size());
   for (size_t d = 0; d < directions.size(); ++d) filters->fill(directions[d], perDirection[d]);
   return std::make_unique<SpatialIrSynthesizer>(
       fs, settings.irLength, roomVolume, settings.speedOfSound,
       hashCombine(settings.seed, 0x5bd1e995ULL), directions, perDirection,
-      [filters](const glm::vec3& d, DirectionFilter& out) { filters->fill(d, out); });
+      [filters](const glm::vec3& d, DirectionFilter& out) { filters->fill(d, out); }, reference);
 }
 
 PropagationStage::PropagationStage(std::shared_ptr<const SceneDesc> scene,
                                    const PropagationSettings& settings, int poolSize)
-    : scene_(std::move(scene)), numOutputs_(outputChannels(scene_->audio.output)) {
+    : scene_(std::move(scene)),
+      numOutputs_(outputChannels(scene_->audio)),
+      channelScratch_(size_t(numOutputs_)) {
   simulation_ = std::make_unique<Simulation>(*scene_, settings);
   makeSynthesizers(settings);
   layout_ = std::make_shared<const audio::NonUniformLayout>(scene_->audio.blockSize, irSamples_);
@@ -155,9 +211,9 @@ void PropagationStage::synthesize(size_t s, size_t listener) {
   auto& irs = irs_[listener];
   const Simulation::SourceResult& r = simulation_->result(s, listener);
   if (spatial_) {
-    float* const channels[] = {irs[s][0].data(), irs[s][1].data()};
+    for (size_t c = 0; c < channelScratch_.size(); ++c) channelScratch_[c] = irs[s][c].data();
     const DirectionalEnergyResponse& live = simulation_->directional(s, listener);
-    spatial_->synthesize(baked_ ? baked_->directional(s, live) : live, r.direct, channels,
+    spatial_->synthesize(baked_ ? baked_->directional(s, live) : live, r.direct, channelScratch_,
                          simulation_->specularPaths(s, listener));
   } else {
     synthesizers_[s]->synthesize(baked_ ? baked_->energy(s, r.energy) : r.energy, r.direct,
@@ -177,9 +233,9 @@ IrSet* PropagationStage::prepare(size_t listener) {
     synthesize(s, listener);
     totals_.synthesisSeconds += secondsSince(t0);
     t0 = std::chrono::steady_clock::now();
-    std::array<const float*, 2> channels{};
-    for (int c = 0; c < numOutputs_; ++c) channels[size_t(c)] = irs_[listener][s][size_t(c)].data();
-    set->irs->prepare(int(s), channels.data(), irSamples_);
+    for (int c = 0; c < numOutputs_; ++c)
+      channelScratch_[size_t(c)] = irs_[listener][s][size_t(c)].data();
+    set->irs->prepare(int(s), channelScratch_.data(), irSamples_);
     totals_.prepareSeconds += secondsSince(t0);
   }
   set->listener = listener;

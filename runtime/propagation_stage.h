@@ -29,8 +29,9 @@ struct IrSet {
   int64_t readyNs = 0;           ///< live: steady_clock ns when the set was ready (IR age)
 };
 
-/// IR channels for an output format: 1 for mono, 2 for stereo and binaural. Any thread.
-int outputChannels(OutputFormat format);
+/// IR channels of an output: 1 for mono, 2 for stereo and binaural, (order + 1)^2 for
+/// Ambisonics. Any thread.
+int outputChannels(const AudioSettings& audio);
 
 /// The spatial IR synthesiser for scene.audio.output (stereo: constant-power panning;
 /// binaural: HRIRs from scene.audio.hrtfPath at the scene's rate) over
@@ -109,6 +110,7 @@ class PropagationStage {
 
   std::shared_ptr<const SceneDesc> scene_;
   int numOutputs_;
+  std::vector<float*> channelScratch_;  ///< one source's IR channels, numOutputs_ pointers
   std::unique_ptr<Simulation> simulation_;
   std::vector<std::unique_ptr<IrSynthesizer>> synthesizers_;  ///< mono: one per source
   std::unique_ptr<SpatialIrSynthesizer> spatial_;             ///< stereo / binaural

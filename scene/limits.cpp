@@ -75,6 +75,8 @@ constexpr std::array kLimits = {
         "below 16 kHz the 8 kHz octave band lies beyond Nyquist (NaN IRs)"},
   Limit{"audio.block_size", 16, 8192, false, true, "samples",
         "the partitioned convolver's smallest and largest partition"},
+  Limit{"audio.ambisonic_order", 1, double(kMaxAmbisonicOrder), false, true, "",
+        "order 0 is mono; above 7, 64+ channels that AmbiX tools do not read"},
 };
 // clang-format on
 

@@ -204,6 +204,7 @@ std::optional<OutputFormat> parseOutputFormat(const std::string& s) {
   if (s == "mono") return OutputFormat::kMono;
   if (s == "stereo") return OutputFormat::kStereo;
   if (s == "binaural") return OutputFormat::kBinaural;
+  if (s == "ambisonics") return OutputFormat::kAmbisonics;
   return std::nullopt;
 }
 

@@ -21,6 +21,8 @@
 #include <vector>
 
 #include "common/bands.h"
+#include "common/spherical_harmonics.h"
+#include "scene/loudspeaker_layout.h"
 #include "scene/directivity.h"
 
 namespace dpc {
@@ -205,6 +207,10 @@ enum class OutputFormat {
   kMono,      ///< one channel (the pressure IR)
   kStereo,    ///< two channels, constant-power panning of each arrival direction
   kBinaural,  ///< two channels (ears), HRTF from a SOFA file
+  /// AmbiX: (order + 1)^2 channels, ACN order, SN3D normalisation (common/spherical_harmonics.h)
+  kAmbisonics,
+  /// One channel per loudspeaker of AudioSettings::speakers, VBAP per arrival (audio/vbap.h)
+  kLoudspeakers,
 };
 
 /// Debian libmysofa1's MIT KEMAR set: the default HRTF.
@@ -215,6 +221,12 @@ struct AudioSettings {
   int blockSize = 512;     ///< samples per processing block
   OutputFormat output = OutputFormat::kMono;
   std::string hrtfPath = kDefaultHrtfPath;  ///< SOFA file for binaural output
+  int ambisonicOrder = 3;  ///< Ambisonic output's order N, 1 .. kMaxAmbisonicOrder
+  /// Ambisonic output weighted per order by max-rE (a_n = P_n(r_E)); off: plain SN3D encoding.
+  bool maxRe = false;
+  /// kLoudspeakers: the layout (scene/loudspeaker_layout.h), one output channel each
+  std::vector<LoudspeakerDesc> speakers;
+  std::string layoutName;  ///< as given after "layout:" (preset name or file)
 };
 
 /// Upper bounds on a scene's entity counts, fixed (independent of the machine's memory) so a

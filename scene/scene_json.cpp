@@ -372,16 +372,20 @@ void readPropagation(const JsonReader& r, const json& v, PropagationSettings& p)
 void readAudio(const JsonReader& r, const json& v, const fs::path& folder, AudioSettings& a) {
   const std::string field = "audio";
   r.expectObject(v, field);
-  r.checkKeys(v, field, {"sample_rate", "block_size", "output", "hrtf"});
+  r.checkKeys(v, field,
+              {"sample_rate", "block_size", "output", "hrtf", "ambisonic_order", "max_re"});
   if (const json* x = JsonReader::find(v, "output"))
     a.output = readChoice(r, *x, join(field, "output"), parseOutputFormat,
-                          "\"mono\", \"stereo\", \"binaural\"");
+                          "\"mono\", \"stereo\", \"binaural\", \"ambisonics\"");
   if (const json* x = JsonReader::find(v, "hrtf"))
     a.hrtfPath = existingFile(r, *x, join(field, "hrtf"), folder);
   if (const json* x = JsonReader::find(v, "sample_rate"))
     a.sampleRate = int(r.limited(*x, "audio.sample_rate", "audio.sample_rate"));
   if (const json* x = JsonReader::find(v, "block_size"))
     a.blockSize = int(r.limited(*x, "audio.block_size", "audio.block_size"));
+  if (const json* x = JsonReader::find(v, "ambisonic_order"))
+    a.ambisonicOrder = int(r.limited(*x, "audio.ambisonic_order", "audio.ambisonic_order"));
+  if (const json* x = JsonReader::find(v, "max_re")) a.maxRe = r.boolean(*x, join(field, "max_re"));
 }
 
 Mesh buildSceneMesh(const SceneDesc& scene, const RawMesh& raw,

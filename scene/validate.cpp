@@ -199,7 +199,8 @@ Origin commandLineOrigin() {
                       {"propagation.cache_memory_mb", "--cache-memory-mb"},
                       {"propagation.cache_pool_mb", "--cache-pool-mb"},
                       {"propagation.frame_rate", "--frame-rate"},
-                      {"audio.block_size", "--block-size"}};
+                      {"audio.block_size", "--block-size"},
+                      {"audio.ambisonic_order", "--ambisonic-order"}};
                   for (const auto& [key, flag] : kFlags)
                     if (path == key) return flag;
                   return path;
@@ -229,6 +230,7 @@ void validate(const SceneDesc& scene, const Origin& origin) {
   checkPropagation(scene.propagation, origin);
   checkField("audio.sample_rate", scene.audio.sampleRate, origin);
   checkField("audio.block_size", scene.audio.blockSize, origin);
+  checkField("audio.ambisonic_order", scene.audio.ambisonicOrder, origin);
   checkSources(scene.sources, origin);
   checkListeners(scene.listeners, origin);
   checkObjects(scene.objects, origin);

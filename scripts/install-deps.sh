@@ -7,7 +7,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libembree-dev libtbb-dev libglm-dev
   libsndfile1-dev libsamplerate0-dev libfftw3-dev portaudio19-dev
-  libmysofa-dev robin-map-dev jackd2
+  libmysofa-dev robin-map-dev jackd2 libnetcdf-dev netcdf-bin
   nlohmann-json3-dev libtinyobjloader-dev libassimp-dev libcli11-dev catch2
   python3 python3-numpy python3-matplotlib espeak-ng sox
   pybind11-dev python3-pybind11 python3-pytest  # the Python module and its tests

@@ -53,8 +53,11 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
                                            double speedOfSound, uint64_t seed,
                                            std::vector<glm::vec3> directions,
                                            const std::vector<DirectionFilter>& filters,
-                                           ExactFilter exact)
-    : sampleRate_(sampleRate), directions_(std::move(directions)), exact_(std::move(exact)) {
+                                           ExactFilter exact, Reference reference)
+    : sampleRate_(sampleRate),
+      reference_(reference),
+      directions_(std::move(directions)),
+      exact_(std::move(exact)) {
   if (sampleRate <= 0 || !(lengthSeconds > 0.0) || !std::isfinite(lengthSeconds) ||
       !(roomVolume > 0.0) || !std::isfinite(roomVolume) || !(speedOfSound > 0.0) ||
       !std::isfinite(speedOfSound) || directions_.empty() || filters.size() != directions_.size() ||
@@ -69,7 +72,9 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   filterData_ = BandFilterData::compute(masks, big.n);
   equaliseDiffuseField(filters, masks, big);
   // Per direction: its own Dirac sequence, through A_b and the direction's filters.
+  gainsOnly_ = maxFilter == 1;
   bands_.resize(directions_.size());
+  gains_.resize(directions_.size());
   for (size_t d = 0; d < directions_.size(); ++d)
     directionBands(d,
                    diracSequence(sampleRate, length_, roomVolume, speedOfSound, kMaxPulseDensity,
@@ -114,12 +119,31 @@ void SpatialIrSynthesizer::equaliseDiffuseField(const std::vector<DirectionFilte
           seenNorm += m2;
         }
         channelWeight_[d][c][b] = float(seen / seenNorm);
-        kappa_[size_t(b)] += seen / seenNorm / double(channels_ * filters.size());
+        if (reference_ == Reference::kChannelAverage)
+          kappa_[size_t(b)] += seen / seenNorm / double(channels_ * filters.size());
+        else if (reference_ == Reference::kChannelSum || c == 0)
+          kappa_[size_t(b)] += seen / seenNorm / double(filters.size());
       }
     }
   for (auto& perChannel : channelWeight_)
     for (Bands& w : perChannel)
       for (int b = 0; b < kNumBands; ++b) w[b] = float(double(w[b]) / kappa_[size_t(b)]);
+  setOmniGains();
+}
+
+void SpatialIrSynthesizer::setOmniGains() {
+  omniGains_.assign(channels_, 0.f);
+  if (reference_ == Reference::kChannelAverage) omniGains_.assign(channels_, 1.f);
+  if (reference_ == Reference::kFirstChannelPressure) omniGains_[0] = 1.f;
+  if (reference_ != Reference::kChannelSum) return;
+  std::vector<size_t> used;
+  for (size_t c = 0; c < channels_; ++c)
+    for (const auto& perChannel : channelWeight_)
+      if (perChannel[c].max() > 0.f) {
+        used.push_back(c);
+        break;
+      }
+  for (size_t c : used) omniGains_[c] = float(1.0 / std::sqrt(double(used.size())));
 }
 
 void SpatialIrSynthesizer::directionBands(size_t d, const std::vector<float>& sequence,
@@ -131,9 +155,15 @@ void SpatialIrSynthesizer::directionBands(size_t d, const std::vector<float>& se
   spectrumOf(fft, sequence, seqSpec);  // also leaves it in fft.spec
   envelopes_.push_back(std::make_unique<BandEnvelope>(sampleRate_, sequence, length_, filterData_,
                                                       measureLowBands(fft, masks, length_)));
-  bands_[d].resize(channels_);
-  for (size_t c = 0; c < channels_; ++c) {
-    spectrumOf(fft, filter.channels[c], channelSpec);
+  // One-tap filters are gains: one unit-filter band signal per direction, scaled per channel
+  // when accumulated (K x 8 x length floats instead of K x N x 8 x length).
+  static const DirectionFilter kUnit{{{1.f}}};
+  const DirectionFilter& stored = gainsOnly_ ? kUnit : filter;
+  bands_[d].resize(stored.channels.size());
+  gains_[d].resize(channels_);
+  for (size_t c = 0; c < channels_; ++c) gains_[d][c] = gainsOnly_ ? filter.channels[c][0] : 1.f;
+  for (size_t c = 0; c < stored.channels.size(); ++c) {
+    spectrumOf(fft, stored.channels[c], channelSpec);
     for (int b = 0; b < kNumBands; ++b) {
       const float eq = float(std::sqrt(1.0 / kappa_[size_t(b)]));
       for (size_t k = 0; k < nbins; ++k) {
@@ -230,10 +260,12 @@ void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
     const size_t end = std::min(length_, begin + kBlock);
     for (size_t d = 0; d < count; ++d)
       for (size_t c = 0; c < channels_; ++c)
-        envelopes_[d]->accumulateRange(bandSignals(d, c), channels[c], begin, end, 1.f,
+        envelopes_[d]->accumulateRange(bandSignals(d, c), channels[c], begin, end, gains_[d][c],
                                        kDirectionalFromBand, kNumBands);
     for (size_t c = 0; c < channels_; ++c)
-      omniEnvelope_->accumulateRange(omni, channels[c], begin, end, 1.f, 0, kDirectionalFromBand);
+      if (omniGains_[c] != 0.f)
+        omniEnvelope_->accumulateRange(omni, channels[c], begin, end, omniGains_[c], 0,
+                                       kDirectionalFromBand);
   }
   arrivalDelays_.clear();
   arrivalEnergy_.clear();
@@ -246,6 +278,7 @@ void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
 }
 
 std::array<const float*, kNumBands> SpatialIrSynthesizer::bandSignals(size_t d, size_t c) const {
+  if (gainsOnly_) c = 0;
   std::array<const float*, kNumBands> bands;
   for (int b = 0; b < kNumBands; ++b) bands[size_t(b)] = bands_[d][c][size_t(b)].data();
   return bands;
@@ -305,8 +338,9 @@ void SpatialIrSynthesizer::addArrival(const DirectSound& direct, const glm::vec3
     const float amp = float(std::sqrt(double(direct.intensity[b]) / kappa_[bi]));
     direct_->add(b, amp, 0, fft_->time.p, n);
   }
-  fftwf_execute_dft_r2c(fft_->fwd, fft_->time.p, fft_->spec.p);
   const long n0 = std::lround(double(direct.delaySeconds) * sampleRate_) - long(direct_->centre());
+  if (oneTap(exactScratch_)) return addGainArrival(direct, n0, channels);
+  fftwf_execute_dft_r2c(fft_->fwd, fft_->time.p, fft_->spec.p);
   const float scale = 1.f / float(n);
   for (size_t c = 0; c < channels_; ++c) {
     const std::vector<float>& h = exactScratch_.channels[c];
@@ -328,6 +362,32 @@ void SpatialIrSynthesizer::addArrival(const DirectSound& direct, const glm::vec3
     for (size_t i = 0; i < used && i < n; ++i) {
       const long t = n0 + long(i);
       if (t >= 0 && t < long(length_)) channels[c][t] += fft_->time.p[i];
+    }
+  }
+}
+
+bool SpatialIrSynthesizer::oneTap(const DirectionFilter& f) {
+  for (const std::vector<float>& h : f.channels)
+    if (h.size() != 1) return false;
+  return true;
+}
+
+void SpatialIrSynthesizer::addGainArrival(const DirectSound& direct, long n0,
+                                          std::span<float* const> channels) {
+  // Each channel is the band-shaped impulse in fft_->time times its tap g: band energy
+  // g^2 x the impulse's, so its weight is g^2 / kappa_b (directBandWeights of a one-tap filter).
+  const size_t used = std::min(direct_->taps() + 1, fft_->n);
+  for (size_t c = 0; c < channels_; ++c) {
+    const float g = exactScratch_.channels[c][0];
+    Bands e;
+    for (int b = 0; b < kNumBands; ++b) {
+      directWeight_[c][b] = float(double(g) * g / kappa_[size_t(b)]);
+      e[b] = direct.intensity[b] * directWeight_[c][b];
+    }
+    arrivalEnergy_.push_back(e);
+    for (size_t i = 0; i < used; ++i) {
+      const long t = n0 + long(i);
+      if (t >= 0 && t < long(length_)) channels[c][t] += g * fft_->time.p[i];
     }
   }
 }

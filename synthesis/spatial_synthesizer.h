@@ -30,7 +30,8 @@
 //
 // One synthesiser serves every source (its sequences are shared; sources differ by their
 // envelopes). Construction: control/propagation thread (FFTW planning); allocates
-// K x N x 8 x length floats; throws std::invalid_argument on inconsistent input,
+// K x N x 8 x length floats (K x 8 x length when every filter is one tap, a gain: panning,
+// Ambisonic encoding); throws std::invalid_argument on inconsistent input,
 // std::runtime_error when FFTW cannot plan. synthesize(): propagation thread; does not
 // allocate after the first call; no errors.
 #pragma once
@@ -75,13 +76,30 @@ class SpatialIrSynthesizer {
   /// direction (x forward, y left, z up); called on the thread that calls synthesize().
   using ExactFilter = std::function<void(const glm::vec3& listenerDirection, DirectionFilter& out)>;
 
+  /// What the diffuse-field equalisation keeps at the mono energy response.
+  enum class Reference {
+    /// The channels' average band energy (loudspeaker pairs, ears); the omnidirectional low
+    /// bands feed every channel.
+    kChannelAverage,
+    /// Channel 0 alone, which carries the pressure (Ambisonics' W = Y_0^0 = 1 in SN3D): it
+    /// follows the mono response, the other channels keep their filters' gains relative to
+    /// it, and only it receives the omnidirectional low bands (a diffuse field's first-order
+    /// and higher components are incoherent with W; the K directions cannot resolve them there).
+    kFirstChannelPressure,
+    /// The channels' summed band energy (loudspeaker feeds with constant-power gains, sum
+    /// g^2 = 1): the layout as a whole radiates the mono response. The omnidirectional low
+    /// bands feed every channel some direction uses, at 1 / sqrt(their count) each.
+    kChannelSum,
+  };
+
   /// directions: K listener-frame unit vectors; filters: one DirectionFilter per direction,
   /// all with the same N >= 1 channels of 1 .. sampleRate / 4 - 1 taps; exact: the filter for
   /// any direction (direct sound). roomVolume m^3 and speedOfSound m/s set the reflection
   /// density; seed the directions' Dirac sequences.
   SpatialIrSynthesizer(int sampleRate, double lengthSeconds, double roomVolume, double speedOfSound,
                        uint64_t seed, std::vector<glm::vec3> directions,
-                       const std::vector<DirectionFilter>& filters, ExactFilter exact);
+                       const std::vector<DirectionFilter>& filters, ExactFilter exact,
+                       Reference reference = Reference::kChannelAverage);
   ~SpatialIrSynthesizer();
 
   size_t lengthSamples() const { return length_; }
@@ -117,6 +135,8 @@ class SpatialIrSynthesizer {
   /// kappa_ and channelWeight_ from every direction's filters.
   void equaliseDiffuseField(const std::vector<DirectionFilter>& filters,
                             const OctaveBandMasks& masks, FftwRealTransforms& fft);
+  /// omniGains_ from reference_ and the channels the filters use.
+  void setOmniGains();
   /// Direction d's sequence through A_b and its channels' filters, and its envelope.
   void directionBands(size_t d, const std::vector<float>& sequence, const DirectionFilter& filter,
                       const OctaveBandMasks& masks, FftwRealTransforms& fft);
@@ -131,11 +151,16 @@ class SpatialIrSynthesizer {
   /// its per-channel band energies for the levelling.
   void addArrival(const DirectSound& arrival, const glm::vec3& listenerDirection,
                   std::span<float* const> channels);
+  /// Every channel of f is one tap (a gain).
+  static bool oneTap(const DirectionFilter& f);
+  /// addArrival for one-tap exact filters: the band-shaped impulse in fft_->time, starting at
+  /// sample n0, scaled per channel (no FFT).
+  void addGainArrival(const DirectSound& direct, long n0, std::span<float* const> channels);
   /// The first arrival's sample: the direct sound's or an exact path's, or the start of the
   /// first bin with energy when that is earlier (length_ when there is nothing).
   size_t firstArrivalSample(const DirectionalEnergyResponse& energy, const DirectSound& direct,
                             std::span<const SpecularPath> early) const;
-  /// Direction d's band signals for channel c.
+  /// Direction d's band signals for channel c (before gains_[d][c]).
   std::array<const float*, kNumBands> bandSignals(size_t d, size_t c) const;
   /// directWeight_[c] from the channel's exact-filter spectrum in fft_->band.
   void directBandWeights(size_t c);
@@ -144,6 +169,8 @@ class SpatialIrSynthesizer {
              std::span<float* const> channels);
 
   int sampleRate_;
+  Reference reference_;
+  std::vector<float> omniGains_;  ///< per channel: the omnidirectional low bands' gain
   size_t length_ = 0;
   size_t channels_ = 0;
   std::vector<glm::vec3> directions_;
@@ -155,8 +182,11 @@ class SpatialIrSynthesizer {
   std::array<std::vector<float>, kNumBands> omniBands_;   ///< omni sequence through A_b
   EnergyResponse omniEnergy_;                             ///< scratch: sum over directions
   /// bands_[d][c][b]: direction d's sequence through A_b and its channel c filter, length_
-  /// samples.
+  /// samples; with gainsOnly_ (every filter one tap) one unit-filter c = 0 per direction, and
+  /// gains_[d][c] the channel's tap (otherwise 1).
   std::vector<std::vector<std::array<std::vector<float>, kNumBands>>> bands_;
+  std::vector<std::vector<float>> gains_;
+  bool gainsOnly_ = false;
   std::unique_ptr<DirectSoundFilter> direct_;
   // Direct sound: FFT convolution buffers and plans, made at construction.
   std::unique_ptr<FftwRealTransforms> fft_;

@@ -36,6 +36,23 @@ inline bool identical(const EnergyResponse& a, const EnergyResponse& b) {
 /// response's band value (a spectral density, synthesis/band_filters.h) reads as itself.
 /// analysedOctaves: the 63 Hz and 8 kHz bands count only their octave (fc / sqrt 2 .. fc sqrt 2),
 /// as an octave-band analysis does, not their masks' reach down to 0 Hz and up to Nyquist.
+/// Lag (seconds) of the peak of the cross-correlation right vs left: > 0 when the right ear
+/// hears the sound later.
+inline double interauralDelay(const std::vector<float>& l, const std::vector<float>& r, int fs) {
+  const int maxLag = fs / 500;  // +-2 ms
+  double best = -1e300;
+  int bestLag = 0;
+  for (int lag = -maxLag; lag <= maxLag; ++lag) {
+    double c = 0.0;
+    for (size_t n = 0; n < l.size(); ++n) {
+      const long m = long(n) + lag;
+      if (m >= 0 && m < long(r.size())) c += double(l[n]) * r[size_t(m)];
+    }
+    if (c > best) best = c, bestLag = lag;
+  }
+  return double(bestLag) / fs;
+}
+
 inline Bands bandEnergies(const std::vector<float>& x, int fs, bool analysedOctaves = false) {
   size_t n = 1;
   while (n < 2 * x.size()) n <<= 1;

@@ -84,7 +84,9 @@ void addRenderOptions(CLI::App& app, Flags& fl) {
 
 /// The output files and their format.
 void addOutputOptions(CLI::App& app, Flags& fl) {
-  app.add_option("--ir-out", fl.irOut, "Also write the last frame's IR (all channels) as WAV");
+  app.add_option("--ir-out", fl.irOut,
+                 "Also write the last frame's IR (all channels) as WAV, or as SOFA (AES69 "
+                 "GeneralFIR, positions included) when the name ends in .sofa");
   app.add_option("--er-out", fl.erOut,
                  "Offline: also write each source's last-frame energy response per octave band "
                  "in 1 ms bins, direct sound marked, as CSV (docs/validation.md)");
@@ -92,7 +94,12 @@ void addOutputOptions(CLI::App& app, Flags& fl) {
                  "Fixed output gain in dB (default: normalise the peak to -1 dBFS)");
   app.add_flag("--quiet", fl.quiet, "No progress bar");
   app.add_option("--output", fl.output,
-                 "mono | stereo | binaural (default: the scene's audio.output)");
+                 "mono | stereo | binaural | ambisonics | layout:5.1|7.1|7.1.4|FILE.json "
+                 "(default: the scene's audio.output)");
+  app.add_option("--ambisonic-order", fl.ambisonicOrder,
+                 "Ambisonic output's order 1..7 (AmbiX: ACN, SN3D; (order+1)^2 channels; "
+                 "default: the scene's audio.ambisonic_order, else 3)");
+  app.add_flag("--max-re", fl.maxRe, "Ambisonic output weighted per order by max-rE");
   app.add_option("--hrtf", fl.hrtf,
                  "SOFA file for binaural output (default: /usr/share/libmysofa/default.sofa)");
 }

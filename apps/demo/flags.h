@@ -13,7 +13,8 @@ namespace dpc::demo {
 struct Flags {
   std::string scene, offline, irOut, erOut, estimator, tracing, weighting, device, record, stats,
       output, hrtf, listener, bake;
-  bool listDevices = false, listMaterials = false, interactive = false, quiet = false;
+  bool listDevices = false, listMaterials = false, interactive = false, quiet = false,
+       maxRe = false;
   std::optional<int64_t> blockSize;       ///< samples per audio block (live)
   std::optional<double> duration;         ///< seconds to render or play
   std::optional<double> tau;              ///< cache response time, seconds
@@ -21,7 +22,7 @@ struct Flags {
   std::optional<double> cacheMb;          ///< DPC memory budget per source-listener pair, MB
   std::optional<double> cachePoolMb;      ///< DPC memory budget of the whole engine, MB
   std::optional<double> latencyTargetMs;  ///< live latency target, ms (default: LiveSession's)
-  std::optional<int64_t> seed, rays, maxOrder, threads;
+  std::optional<int64_t> seed, rays, maxOrder, threads, ambisonicOrder;
 };
 
 /// Parses argv into `fl`. Returns the exit status when the program must stop here (0 after

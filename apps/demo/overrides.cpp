@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "apps/demo/output_paths.h"
+#include "apps/demo/sofa_out.h"
 #include "common/input_error.h"
 #include "common/input_file.h"
 #include "scene/validate.h"
@@ -71,13 +72,23 @@ PropagationSettings applyOverrides(const SceneDesc& scene, const Flags& fl) {
 }
 
 void applyAudioOverrides(SceneDesc& scene, const Flags& fl) {
-  if (!fl.output.empty()) {
+  if (fl.output.rfind("layout:", 0) == 0) {
+    scene.audio.layoutName = fl.output.substr(7);
+    scene.audio.speakers = loudspeakerLayout(scene.audio.layoutName, "--output");
+    scene.audio.output = OutputFormat::kLoudspeakers;
+  } else if (!fl.output.empty()) {
     auto o = parseOutputFormat(fl.output);
     if (!o)
       throw InputError("command line", "--output",
-                       "'" + fl.output + "' is not mono, stereo or binaural");
+                       "'" + fl.output +
+                           "' is not mono, stereo, binaural, ambisonics or layout:NAME");
     scene.audio.output = *o;
   }
+  if (fl.ambisonicOrder) {
+    checkField("audio.ambisonic_order", double(*fl.ambisonicOrder), commandLineOrigin());
+    scene.audio.ambisonicOrder = int(*fl.ambisonicOrder);
+  }
+  if (fl.maxRe) scene.audio.maxRe = true;  // both range-checked, used by Ambisonic output only
   if (!fl.hrtf.empty()) {
     if (!std::filesystem::is_regular_file(fl.hrtf))
       throw InputError("command line", "--hrtf", "file '" + fl.hrtf + "' not found");
@@ -105,6 +116,9 @@ void checkOutputs(const SceneDesc& scene, const Flags& fl) {
       outputs.push_back({"--ir-out", o.ir});
       outputs.push_back({"--er-out", o.energy});
     }
+  if (isSofaPath(fl.offline) || isSofaPath(fl.record))
+    throw InputError("command line", isSofaPath(fl.offline) ? "--offline" : "--record",
+                     "SOFA holds impulse responses, not audio: use --ir-out FILE.sofa");
   for (size_t i = 0; i < outputs.size(); ++i) {
     const auto& [flag, out] = outputs[i];
     if (out.empty()) continue;

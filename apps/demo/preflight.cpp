@@ -38,7 +38,7 @@ void requireSignal(const SceneDesc& scene) {
 void checkSetup(const SceneDesc& scene, const PropagationSettings& settings, double durationSeconds,
                 bool warn) {
   const WorkloadEstimate e =
-      estimateWorkload(scene, settings, outputChannels(scene.audio.output), durationSeconds);
+      estimateWorkload(scene, settings, outputChannels(scene.audio), durationSeconds);
   const std::vector<std::string> heavy = checkWorkload(scene, settings, e, plannableMemoryBytes());
   if (!warn) return;
   for (const std::string& w : heavy) std::fprintf(stderr, "warning: %s\n", w.c_str());

@@ -48,6 +48,12 @@ struct Playback {
 /// Applies the overrides and checks everything that can be checked before playing.
 PropagationSettings prepareLive(SceneDesc& scene, const Flags& fl) {
   applyAudioOverrides(scene, fl);
+  if (scene.audio.output == OutputFormat::kAmbisonics ||
+      scene.audio.output == OutputFormat::kLoudspeakers)
+    throw InputError(fl.output.empty() ? scene.path : "command line",
+                     fl.output.empty() ? "audio.output" : "--output",
+                     "Ambisonic and loudspeaker-layout output are offline only (add --offline "
+                     "FILE.wav)");
   printSceneWarnings(scene);
   if (fl.listener.empty() && scene.listeners.size() > 1)
     std::fprintf(stderr, "note: playing listener \"%s\" of %zu (choose with --listener NAME)\n",

@@ -18,6 +18,7 @@
 #include "apps/demo/output_paths.h"
 #include "apps/demo/overrides.h"
 #include "apps/demo/preflight.h"
+#include "apps/demo/sofa_out.h"
 #include "audio/wav_io.h"
 #include "common/input_error.h"
 #include "common/output_file.h"
@@ -67,23 +68,27 @@ Writers openWriters(const SceneDesc& scene, const std::vector<OutputPaths>& path
   Writers writers;
   for (const OutputPaths& p : paths)
     writers.push_back(std::make_unique<audio::WavStreamWriter>(p.audio, scene.audio.sampleRate,
-                                                               outputChannels(scene.audio.output),
+                                                               outputChannels(scene.audio),
                                                                audio::SampleFormat::kFloat32));
   return writers;
 }
 
 /// The name of the scene's output format as printed.
 const char* formatName(OutputFormat format) {
-  return format == OutputFormat::kBinaural ? "binaural"
-         : format == OutputFormat::kStereo ? "stereo"
-                                           : "mono";
+  return format == OutputFormat::kBinaural     ? "binaural"
+         : format == OutputFormat::kStereo     ? "stereo"
+         : format == OutputFormat::kAmbisonics ? "ambisonics (AmbiX)"
+         : format == OutputFormat::kLoudspeakers ? "loudspeakers (VBAP)"
+                                               : "mono";
 }
 
-/// --ir-out and --er-out of one listener: its last frame's IRs (all channels, source-major)
-/// and energy responses, complete temporaries added to `outputs`.
+/// --ir-out and --er-out of one listener: its last frame's IRs (WAV: all channels,
+/// source-major; .sofa: apps/demo/sofa_out.h) and energy responses, complete temporaries added to `outputs`.
 void stageLastFrame(const SceneDesc& scene, const OfflineListenerResult& r,
                     const OutputPaths& paths, OutputSet& outputs) {
-  if (!paths.ir.empty()) {
+  if (!paths.ir.empty() && isSofaPath(paths.ir)) {
+    outputs.add(stageIrSofa(scene, r, paths.ir));
+  } else if (!paths.ir.empty()) {
     audio::AudioData ir;
     ir.sampleRate = scene.audio.sampleRate;
     for (const auto& source : r.lastIrs)

@@ -104,7 +104,8 @@ const std::map<std::string, DataSetter>& dataSetters() {
 const std::set<std::string> kNotInData = {"objects", "propagation.cache_memory_mb",
                                           "propagation.cache_pool_mb",
                                           "propagation.roulette_threshold_db",
-                                          "propagation.exact_order"};
+                                          "propagation.exact_order",
+                                          "audio.ambisonic_order"};
 
 /// Creates with an invalid output option, checked after every scene value: a value that is
 /// accepted gives that option's error, not the value's, and builds no engine.

@@ -16,6 +16,7 @@
 #include "runtime/render_pipeline.h"
 
 using dpc::test::bandEnergies;
+using dpc::test::interauralDelay;
 
 using namespace dpc;
 
@@ -23,23 +24,6 @@ namespace {
 
 double db(double x) {
   return 10.0 * std::log10(x);
-}
-
-/// Lag (seconds) of the peak of the cross-correlation right vs left: > 0 when the right ear
-/// hears the sound later.
-double interauralDelay(const std::vector<float>& l, const std::vector<float>& r, int fs) {
-  const int maxLag = fs / 500;  // +-2 ms
-  double best = -1e300;
-  int bestLag = 0;
-  for (int lag = -maxLag; lag <= maxLag; ++lag) {
-    double c = 0.0;
-    for (size_t n = 0; n < l.size(); ++n) {
-      const long m = long(n) + lag;
-      if (m >= 0 && m < long(r.size())) c += double(l[n]) * r[size_t(m)];
-    }
-    if (c > best) best = c, bestLag = lag;
-  }
-  return double(bestLag) / fs;
 }
 
 struct Rendered {

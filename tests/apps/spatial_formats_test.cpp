@@ -1,0 +1,267 @@
+// Spatial formats from the spatial synthesiser: Ambisonic (AmbiX: ACN, SN3D) IRs, every
+// arrival encoded with its direction's real spherical harmonics, W carrying the pressure; and
+// loudspeaker layouts, every arrival panned by VBAP.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "audio/ambisonic_binaural.h"
+#include "audio/hrtf.h"
+#include "common/spherical_harmonics.h"
+#include "engine/room_volume.h"
+#include "engine/simulation.h"
+#include "runtime/propagation_stage.h"
+#include "testing/test_scenes.h"
+#include "testing/test_util.h"
+
+using namespace dpc;
+
+namespace {
+
+struct Rendered {
+  std::vector<std::vector<float>> channels;
+  Bands monoEnergy;  ///< the energy response's band totals, direct included
+  size_t directSample = 0;
+};
+
+/// One frame of `scene` in its output format with the listener facing yaw (degrees).
+Rendered render(const SceneDesc& scene, float yawDegrees, int frames = 1) {
+  PropagationSettings ps = scene.propagation;
+  Simulation sim(scene, ps);
+  sim.enableDirectional(defaultSpatialDirections());
+  Orientation o;
+  o.yawRadians = yawDegrees * float(M_PI / 180.0);
+  sim.setListenerOrientation(o);
+  for (int f = 0; f < frames; ++f) sim.runFrame(scene.listeners[0].position);
+  auto spatial = makeSpatialSynthesizer(scene, ps, roomVolume(scene.mesh));
+  REQUIRE(spatial->channelCount() == size_t(outputChannels(scene.audio)));
+  Rendered r;
+  r.channels.assign(spatial->channelCount(), std::vector<float>(spatial->lengthSamples()));
+  std::vector<float*> ptrs;
+  for (auto& c : r.channels) ptrs.push_back(c.data());
+  spatial->synthesize(sim.directional(0), sim.result(0).direct, ptrs);
+  r.monoEnergy = sim.result(0).energy.total() + sim.result(0).direct.intensity;
+  r.directSample = size_t(std::lround(sim.result(0).direct.delaySeconds * 48000.0));
+  return r;
+}
+
+/// One AmbiX frame of `scene` at `order`.
+Rendered render(SceneDesc scene, int order, bool maxRe, float yawDegrees, int frames = 1) {
+  scene.audio.output = OutputFormat::kAmbisonics;
+  scene.audio.ambisonicOrder = order;
+  scene.audio.maxRe = maxRe;
+  REQUIRE(outputChannels(scene.audio) == ambisonicChannels(order));
+  return render(scene, yawDegrees, frames);
+}
+
+/// A nearly anechoic box (absorption 0.99, 40 m): the first reflection arrives 100 ms after
+/// the direct sound, 42 dB below it.
+SceneDesc anechoic(glm::vec3 source, glm::vec3 listener) {
+  SceneDesc s = test::makeShoebox({40, 40, 40}, Bands(0.99f), 1.f, source, listener, 0.5f);
+  s.propagation.raysPerFrame = 256;
+  s.propagation.maxOrder = 3;
+  s.propagation.irLength = 0.3f;
+  s.propagation.estimator = Estimator::kPathTracing;
+  return s;
+}
+
+/// x low-passed at 1.5 kHz (Hann-windowed sinc, 255 taps, zero phase): the band where the
+/// interaural time difference is the cue (Blauert, "Spatial Hearing", 1997, ch. 2) and
+/// where a broadband cross-correlation is not misled by high-frequency fine structure.
+std::vector<float> lowPass1500(const std::vector<float>& x) {
+  const int half = 127;
+  const double fc = 1500.0 / 48000.0;
+  std::vector<double> h(2 * half + 1);
+  for (int k = -half; k <= half; ++k) {
+    const double sinc = k == 0 ? 2 * fc : std::sin(2 * M_PI * fc * k) / (M_PI * k);
+    h[size_t(k + half)] = sinc * (0.5 + 0.5 * std::cos(M_PI * k / (half + 1)));
+  }
+  std::vector<float> y(x.size(), 0.f);
+  for (size_t i = 0; i < x.size(); ++i) {
+    double acc = 0;
+    for (int k = -half; k <= half; ++k) {
+      const long j = long(i) - k;
+      if (j >= 0 && j < long(x.size())) acc += h[size_t(k + half)] * x[size_t(j)];
+    }
+    y[i] = float(acc);
+  }
+  return y;
+}
+
+/// Least-squares gain of channel c on W over samples [0, end): h_c = g h_W for a plane wave.
+double gainOnW(const Rendered& r, size_t c, size_t end) {
+  double cw = 0, ww = 0;
+  for (size_t i = 0; i < end; ++i) {
+    cw += double(r.channels[c][i]) * r.channels[0][i];
+    ww += double(r.channels[0][i]) * r.channels[0][i];
+  }
+  return cw / ww;
+}
+
+}  // namespace
+
+TEST_CASE("AmbiX: the direct sound is encoded with its direction's SN3D harmonics",
+          "[ambisonics]") {
+  // Listener facing +x (yaw 0) at the centre: left is -z, up is +y (scene/scene.h).
+  struct Case {
+    glm::vec3 source;
+    float yaw;
+    std::array<float, 3> listenerDir;  // x forward, y left, z up
+  };
+  const Case cases[] = {{{23, 20, 20}, 0.f, {1, 0, 0}},
+                        {{20, 20, 17}, 0.f, {0, 1, 0}},
+                        {{20, 23, 20}, 0.f, {0, 0, 1}},
+                        {{23, 20, 20}, 90.f, {0, -1, 0}},  // facing left: the source is right
+                        {{22, 22, 18}, 0.f, {0.57735f, 0.57735f, 0.57735f}}};
+  for (bool maxRe : {false, true})
+    for (const Case& k : cases) {
+      const int order = 3;
+      const Rendered r = render(anechoic(k.source, {20, 20, 20}), order, maxRe, k.yaw);
+      std::array<float, 16> y{};
+      sphericalHarmonicsSn3d(order, k.listenerDir.data(), y);
+      std::array<float, kMaxAmbisonicOrder + 1> a{};
+      a.fill(1.f);
+      if (maxRe) maxReWeights(order, a);
+      // Up to 20 ms after the direct sound: nothing but the direct sound has arrived.
+      const size_t end = r.directSample + 960;
+      for (int n = 0; n <= order; ++n)
+        for (int c = n * n; c < (n + 1) * (n + 1); ++c) {
+          INFO("max-rE " << maxRe << " source " << k.source.x << "," << k.source.y << ","
+                         << k.source.z << " yaw " << k.yaw << " ACN " << c);
+          // Every channel is the same band-shaped impulse times its gain; 1e-3: the leveller's
+          // per-channel band gains on the direct sound's window (synthesis/band_leveller.h).
+          CHECK(gainOnW(r, size_t(c), end) == Approx(y[size_t(c)] * a[size_t(n)]).margin(1e-3));
+        }
+    }
+}
+
+TEST_CASE("AmbiX: turning the listener by R equals rotating the scene's field by R^-1",
+          "[ambisonics]") {
+  // The direct sound of a source at 45 degrees left and 30 up, heard by a listener turned
+  // by yaw 70 degrees (R: 70 degrees about the up axis), against the yaw-0 render rotated in
+  // the SH domain by R^-1 (common/spherical_harmonics.h, ambisonicRotation).
+  const int order = 3;
+  const SceneDesc scene = anechoic({22.2f, 21.5f, 17.8f}, {20, 20, 20});
+  Rendered turned = render(scene, order, false, 70.f);
+  Rendered still = render(scene, order, false, 0.f);
+  const float c = std::cos(float(-70 * M_PI / 180)), s = std::sin(float(-70 * M_PI / 180));
+  const Rotation3 inverse = {c, -s, 0, s, c, 0, 0, 0, 1};  // about the listener's z (up)
+  std::array<float, 16 * 16> m{};
+  ambisonicRotation(order, inverse, m);
+  std::vector<float*> ptrs;
+  for (auto& ch : still.channels) ptrs.push_back(ch.data());
+  rotateAmbisonic(order, m, ptrs.data(), still.channels[0].size());
+  const size_t end = turned.directSample + 960;
+  for (size_t ch = 0; ch < 16; ++ch) {
+    INFO("ACN " << ch);
+    // Same band-shaped impulse in both renders; 1e-3 as for the encoding test (levelling).
+    CHECK(gainOnW(still, ch, end) == Approx(gainOnW(turned, ch, end)).margin(1e-3));
+  }
+}
+
+TEST_CASE("AmbiX: W carries the mono energy response within 2 dB", "[ambisonics]") {
+  // A reverberant shoebox, source 5 m away: the diffuse field carries most of the energy.
+  SceneDesc scene = test::makeShoebox({10, 3, 7}, Bands(0.15f), 0.7f, {2, 1.5f, 2}, {7, 1.6f, 5});
+  scene.propagation.raysPerFrame = 4096;
+  scene.propagation.maxOrder = 200;
+  scene.propagation.irLength = 1.5f;
+  const Rendered r = render(scene, 1, false, 30.f, 10);
+  const Bands w = test::bandEnergies(r.channels[0], 48000, true);
+  // SN3D: X^2 + Y^2 + Z^2 = W^2 for every plane wave, so for any field the first-order
+  // channels together carry W's energy. Each channel is levelled to its own expectation; the
+  // realisations' ratio fluctuates like the 2 dB above, within 1 dB summed over six bands.
+  double wSum = 0, xyzSum = 0;
+  for (int b = 0; b < kNumBands; ++b) {
+    INFO("band " << b << ": W " << 10 * std::log10(w[b]) << " dB, mono "
+                 << 10 * std::log10(r.monoEnergy[b]) << " dB");
+    // 2 dB as for binaural (spatial_test): one realisation's fluctuation at 63 Hz.
+    CHECK(std::abs(10 * std::log10(w[b] / r.monoEnergy[b])) < 2.0);
+    if (b < SpatialIrSynthesizer::kDirectionalFromBand) continue;
+    wSum += w[b];
+    for (size_t c = 1; c < 4; ++c) xyzSum += test::bandEnergies(r.channels[c], 48000, true)[b];
+  }
+  INFO("X+Y+Z over W, directional bands: " << xyzSum / wSum);
+  CHECK(std::abs(10 * std::log10(xyzSum / wSum)) < 1.0);
+}
+
+TEST_CASE("Loudspeakers: a source at a loudspeaker puts >= 90 % of the direct energy there",
+          "[loudspeakers]") {
+  // Listener at the centre facing +x; a source 3 m away at each loudspeaker's direction
+  // (azimuth left-positive, elevation up) in scene coordinates: (cos el cos az, sin el,
+  // -cos el sin az).
+  const std::string dome = std::string(DPC_SOURCE_DIR) + "/scenes/layouts/dome15.json";
+  for (const std::string& layout : std::vector<std::string>{"5.1", "7.1.4", dome}) {
+    SceneDesc base = anechoic({23, 20, 20}, {20, 20, 20});
+    base.audio.output = OutputFormat::kLoudspeakers;
+    base.audio.layoutName = layout;
+    base.audio.speakers = loudspeakerLayout(layout, "--output");
+    for (size_t s = 0; s < base.audio.speakers.size(); ++s) {
+      const LoudspeakerDesc& sp = base.audio.speakers[s];
+      if (sp.lfe) continue;
+      const double d = M_PI / 180, az = sp.azimuthDegrees * d, el = sp.elevationDegrees * d;
+      SceneDesc scene = base;
+      scene.sources[0].position = glm::vec3(20 + 3 * std::cos(el) * std::cos(az),
+                                            20 + 3 * std::sin(el), 20 - 3 * std::cos(el) * std::sin(az));
+      const Rendered r = render(scene, 0.f);
+      const size_t end = r.directSample + 960;  // 20 ms: the direct sound alone
+      double total = 0, mine = 0;
+      for (size_t c = 0; c < r.channels.size(); ++c) {
+        double e = 0;
+        for (size_t i = 0; i < end; ++i) e += double(r.channels[c][i]) * r.channels[c][i];
+        total += e;
+        if (c == s) mine = e;
+        if (base.audio.speakers[c].lfe) {
+          double all = 0;
+          for (float x : r.channels[c]) all += double(x) * x;
+          CHECK(all == 0.0);  // LFE silent
+        }
+      }
+      INFO("layout " << layout << " loudspeaker " << sp.name << ": " << mine / total);
+      CHECK(mine / total >= 0.9);  // the bound; VBAP at a loudspeaker gives 1
+    }
+  }
+}
+
+TEST_CASE("Binaural from AmbiX order 3 against per-path binaural: ILD and ITD", "[ambisonics]") {
+  // Near-anechoic box, listener facing +x, source 3 m away on the horizon at 0, +-45, +-90
+  // degrees (left positive). The direct sound's first 20 ms, per ear: per-path binaural
+  // (the HRIR of the exact direction) against the order-3 AmbiX IR decoded through the same
+  // HRTF by the virtual-loudspeaker sampling decoder (audio/ambisonic_binaural.h).
+  const audio::Hrtf hrtf = audio::Hrtf::load(kDefaultHrtfPath, 48000);
+  const audio::AmbisonicBinauralDecoder decoder(3, hrtf);
+  for (double az : {0.0, 45.0, -45.0, 90.0, -90.0}) {
+    const double a = az * M_PI / 180;
+    SceneDesc scene = anechoic({float(20 + 3 * std::cos(a)), 20.f, float(20 - 3 * std::sin(a))},
+                               {20, 20, 20});
+    const Rendered amb = render(scene, 3, false, 0.f);
+    scene.audio.output = OutputFormat::kBinaural;
+    const Rendered bin = render(scene, 0.f);
+    const size_t end = amb.directSample + 960;
+    std::vector<const float*> ptrs;
+    for (const auto& ch : amb.channels) ptrs.push_back(ch.data());
+    std::vector<float> l(end, 0.f), r(end, 0.f);
+    decoder.decode(ptrs.data(), end, l.data(), r.data());
+    const std::vector<float> bl(bin.channels[0].begin(), bin.channels[0].begin() + long(end));
+    const std::vector<float> br(bin.channels[1].begin(), bin.channels[1].begin() + long(end));
+    const Bands el = test::bandEnergies(l, 48000), er = test::bandEnergies(r, 48000);
+    const Bands pl = test::bandEnergies(bl, 48000), pr = test::bandEnergies(br, 48000);
+    const double itdA = test::interauralDelay(lowPass1500(l), lowPass1500(r), 48000);
+    const double itdP = test::interauralDelay(lowPass1500(bl), lowPass1500(br), 48000);
+    for (int b = 2; b < kNumBands; ++b) {
+      const double ildA = 10 * std::log10(el[b] / er[b]), ildP = 10 * std::log10(pl[b] / pr[b]);
+      INFO("az " << az << " band " << b << ": ILD ambisonic " << ildA << " dB, per-path "
+                 << ildP << " dB");
+      // Up to 1 kHz (kr <= N = 3 up to 1.9 kHz for r = 8.75 cm): within 2 dB. Above, the
+      // order-3 sampling decoder's spatial band limit lowers the ILD (up to 5.6 dB at 8 kHz,
+      // docs/spatial.md); a MagLS decoder is what would close that gap.
+      if (b <= 4) CHECK(std::abs(ildA - ildP) <= 2.0);
+    }
+    const double wideA = 10 * std::log10(el.sum() / er.sum());
+    const double wideP = 10 * std::log10(pl.sum() / pr.sum());
+    INFO("az " << az << ": broadband ILD ambisonic " << wideA << " per-path " << wideP
+               << " dB; ITD ambisonic " << itdA * 1e3 << " per-path " << itdP * 1e3 << " ms");
+    CHECK(std::abs(itdA - itdP) <= 0.1e-3);  // the bound, below 1.5 kHz
+    CHECK(std::abs(wideA - wideP) <= 2.0);   // the bound, broadband ILD
+  }
+}

@@ -105,7 +105,8 @@ const std::set<std::string> kNotInData = {"objects", "propagation.cache_memory_m
                                           "propagation.cache_pool_mb",
                                           "propagation.roulette_threshold_db",
                                           "propagation.exact_order",
-                                          "audio.ambisonic_order"};
+                                          "audio.ambisonic_order",
+                                          "materials.*.transmission_loss_db"};
 
 /// Creates with an invalid output option, checked after every scene value: a value that is
 /// accepted gives that option's error, not the value's, and builds no engine.

@@ -226,8 +226,6 @@ std::vector<Misuse> workloadCases() {
   return {
       {"cache 16384 MiB per pair, pool 65536 MiB", kInput,
        [] { return createWithCache(16384, 65536); }, "propagation.cache_memory_mb: "},
-      {"pool 8192 MiB below 16384 MiB per pair", kInput,
-       [] { return createWithCache(16384, 8192); }, "propagation.cache_pool_mb: "},
       {"cache 16384 MiB per pair, default pool", DPC_OK, [] { return createWithCache(16384, 256); },
        ""},
       {"cache 64 MiB per pair", DPC_OK, [] { return createWithCache(64, 256); }, ""},

@@ -66,20 +66,19 @@ void Simulation::restart(uint64_t seed) {
   for (auto& cache : specularCaches_) cache->clear();
 }
 
+void Simulation::restartPair(size_t pair) {
+  if (pair < caches_.size()) caches_[pair]->clear();
+  if (pair < specularCaches_.size()) specularCaches_[pair]->clear();
+}
+
 void Simulation::restartSource(size_t source) {
-  for (size_t l = 0; l < reserved_ && source < sourceCount_; ++l) {
-    const size_t pair = l * sourceCount_ + source;
-    if (pair < caches_.size()) caches_[pair]->clear();
-    if (pair < specularCaches_.size()) specularCaches_[pair]->clear();
-  }
+  for (size_t l = 0; l < reserved_ && source < sourceCount_; ++l)
+    restartPair(l * sourceCount_ + source);
 }
 
 void Simulation::restartListener(size_t listener) {
-  for (size_t s = 0; s < sourceCount_ && listener < reserved_; ++s) {
-    const size_t pair = listener * sourceCount_ + s;
-    if (pair < caches_.size()) caches_[pair]->clear();
-    if (pair < specularCaches_.size()) specularCaches_[pair]->clear();
-  }
+  for (size_t s = 0; s < sourceCount_ && listener < reserved_; ++s)
+    restartPair(listener * sourceCount_ + s);
 }
 
 void Simulation::setListenerOrientation(size_t listener, const Orientation& orientation) {

@@ -126,8 +126,9 @@ class Simulation {
   bool hasDirectional() const { return !directions_.empty(); }
 
   /// Source `source`'s result for listener `listener` (< listenerCount()). The trace statistics
-  /// (rays, segments, trace time) are those of the source's one pass, repeated for every
-  /// listener; listenerHits counts all listeners' hits.
+  /// (rays, segments, trace time) are those of the pass that traced the pair (the source's,
+  /// or the listener's when tracing from the listeners), repeated for every pair of that pass;
+  /// listenerHits counts all its spheres' hits. frameTrace() counts each pass once.
   const SourceResult& result(size_t source, size_t listener = 0) const {
     return results_[listener * sourceCount_ + source];
   }
@@ -162,6 +163,8 @@ class Simulation {
   /// The same with one pass from each listener (rays from the listeners).
   void traceFromListeners(std::span<const ListenerSphere> listeners,
                           const std::vector<glm::vec3>& sources);
+  /// Empties one pair's path and exact-path caches (a teleport).
+  void restartPair(size_t pair);
   /// Adds one tracing pass to frameTrace_.
   void addPass(const TraceStats& t);
   /// Per-source group buffers and exact-path set pointers (grows only).

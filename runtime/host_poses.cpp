@@ -41,8 +41,8 @@ HostPoses::HostPoses(std::shared_ptr<const SceneDesc> scene, size_t played)
   sources_ = std::make_unique<SeqlockChannel<HostSourcePosition>[]>(s.sources.size());
   sourceRotations_ = std::make_unique<SeqlockChannel<HostSourceRotation>[]>(s.sources.size());
   objects_ = std::make_unique<SeqlockChannel<HostObjectPose>[]>(s.objects.size());
+  // Value-initialised: every flag 0 (C++20 std::atomic).
   teleports_ = std::make_unique<std::atomic<uint8_t>[]>(s.sources.size() + s.listeners.size());
-  for (size_t i = 0; i < s.sources.size() + s.listeners.size(); ++i) teleports_[i].store(0);
 }
 
 bool HostPoses::setListenerPose(size_t index, const glm::vec3& position, float yawRadians,

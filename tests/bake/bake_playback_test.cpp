@@ -12,25 +12,15 @@
 #include "runtime/propagation_stage.h"
 #include "testing/temp_dir.h"
 #include "testing/test_scenes.h"
+#include "tests/bake/bake_fixtures.h"
 
 using namespace dpc;
 using namespace dpc::bake;
 
 namespace {
 
-SceneDesc shoebox() {
-  return test::makeShoebox({10.f, 3.f, 7.f}, Bands(0.2f), 0.5f, {2.f, 1.6f, 3.5f},
-                           {8.f, 1.6f, 3.5f});
-}
-
-BakeSettings quickSettings() {
-  BakeSettings s;
-  s.rays = 500;
-  s.frames = 4;
-  s.irLength = 0.5;
-  s.threads = 1;
-  return s;
-}
+using dpc::bake::test_fixtures::quickSettings;
+using dpc::bake::test_fixtures::shoebox;
 
 /// A complete bake of `scene` on a grid of `spacing` metres at `path`; returns its header.
 BakeHeader writeBake(const SceneDesc& scene, const std::string& path, double spacing,

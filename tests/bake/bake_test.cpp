@@ -12,6 +12,7 @@
 #include "common/input_error.h"
 #include "testing/temp_dir.h"
 #include "testing/test_scenes.h"
+#include "tests/bake/bake_fixtures.h"
 
 using namespace dpc;
 using namespace dpc::bake;
@@ -40,19 +41,8 @@ bool sameBits(const std::vector<float>& a, const std::vector<float>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
 }
 
-SceneDesc shoebox() {
-  return test::makeShoebox({10.f, 3.f, 7.f}, Bands(0.2f), 0.5f, {2.f, 1.6f, 3.5f},
-                           {8.f, 1.6f, 3.5f});
-}
-
-BakeSettings quickSettings() {
-  BakeSettings s;
-  s.rays = 500;
-  s.frames = 4;
-  s.irLength = 0.5;
-  s.threads = 1;
-  return s;
-}
+using dpc::bake::test_fixtures::quickSettings;
+using dpc::bake::test_fixtures::shoebox;
 
 BakeHeader headerFor(const SceneDesc& scene, const BakeSettings& settings, double spacing) {
   BakeHeader h;

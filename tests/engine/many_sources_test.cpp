@@ -55,14 +55,8 @@ TEST_CASE("64 sources in free field: each direct sound at r/c and 1/(4 pi r^2)",
 // error (4 standard errors of the per-frame totals, as in reciprocity_test).
 TEST_CASE("A source behind a wall is occluded and still reverberant", "[engine]") {
   SceneDesc s = test::makeShoebox({10, 4, 8}, Bands(0.2f), 0.5f, {2, 1.5f, 2}, {8, 1.6f, 6});
-  // A free-standing wall (x 3..7, full height, at z = 4): the second source is behind it.
-  const uint32_t v = uint32_t(s.mesh.vertices.size());
-  for (const glm::vec3 p : {glm::vec3{3, 0, 4}, glm::vec3{7, 0, 4}, glm::vec3{7, 4, 4},
-                            glm::vec3{3, 4, 4}})
-    s.mesh.vertices.push_back(p);
-  s.mesh.triangles.push_back({v, v + 1, v + 2});
-  s.mesh.triangles.push_back({v, v + 2, v + 3});
-  s.mesh.materialIndex.resize(s.mesh.triangles.size(), 0);
+  // A free-standing wall (x 3..7, full height, at z = 4): the first source is behind it.
+  test::addPanel(s.mesh, {3, 0, 4}, {4, 0, 0}, {0, 4, 0}, 0);
   s.sources.push_back(s.sources[0]);
   s.sources[0].position = {5, 1.5f, 2};  // behind the wall, seen from the listener at z = 6
   s.sources[1].position = {8, 1.5f, 2};  // beside it, in sight

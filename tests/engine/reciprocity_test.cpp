@@ -153,6 +153,7 @@ TEST_CASE("One pass from the listener serves every source of a many-source scene
 TEST_CASE("Reciprocal tracing through a transmitting partition", "[engine]") {
   // A partition across the room (x = 5) with R = 10 dB (tau 0.1 <= its absorption 0.3):
   // source and listener on opposite sides, so every path passes through it at least once.
+  // One sheet, not test::addPanel's double-sided panel, whose two faces would each apply R.
   SceneDesc scene = room();
   Material partition{"partition", Bands(0.3f), Bands(0.3f)};
   partition.transmissionLossDb = Bands(10.f);

@@ -166,11 +166,15 @@ void NonUniformConvolver::retireIfUnused(const NonUniformIrSet* ir) {
   (void)room;
 }
 
-bool NonUniformConvolver::setNextIr(const NonUniformIrSet* ir) {
+bool NonUniformConvolver::canAccept(const NonUniformIrSet* ir) const {
   if (ir && (&ir->layout() != layout_ || ir->numSources() != numSources_ ||
              ir->numChannels() != numOutputs_))
     return false;
-  if (retired_.size() + size_t(layout_->numLevels()) + 1 > retired_.capacity()) return false;
+  return retired_.size() + size_t(layout_->numLevels()) + 1 <= retired_.capacity();
+}
+
+bool NonUniformConvolver::setNextIr(const NonUniformIrSet* ir) {
+  if (!canAccept(ir)) return false;
   const NonUniformIrSet* old = target_;
   target_ = ir;
   if (old != ir) retireIfUnused(old);

@@ -140,6 +140,8 @@ class NonUniformConvolver {
   /// changes nothing if ir does not match (layout, sources, channels) or the retired list is
   /// nearly full (takeRetired() not drained). Audio thread; wait-free.
   bool setNextIr(const NonUniformIrSet* ir);
+  /// Whether setNextIr(ir) would succeed now. Audio thread; wait-free.
+  bool canAccept(const NonUniformIrSet* ir) const;
 
   /// One block: in[s][0..B) per source, out[c][0..B) per output (written, or added to when
   /// add is true). Audio thread; wait-free, no allocation.

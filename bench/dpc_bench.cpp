@@ -130,6 +130,9 @@ CLI::App* addSources(CLI::App& app, Options& o) {
   sub->add_option("--quality-sources", o.sources.qualitySources,
                   "Sources compared with a reference (default 4)")
       ->check(CLI::Range(0, 256));
+  sub->add_option("--rendering", o.sources.rendering,
+                  "auto (default: hybrid beyond the late buses' count) | per_source | hybrid")
+      ->check(CLI::IsMember({"auto", "per_source", "hybrid"}));
   sub->add_option("--max-from-sources", o.sources.maxFromSources,
                   "Largest source count traced from the sources (default 64)")
       ->check(CLI::Range(1, 256));

@@ -91,11 +91,16 @@ Json runConfiguration(const CommonOptions& c, const SourcesOptions& o, const Sce
   auto scene = std::make_shared<SceneDesc>(many);
   scene->sources.resize(size_t(count));
   s.tracing = tracing;
+  Json row;
+  row["rendering"] = rendersHybrid(scene->audio, size_t(count)) ? "hybrid" : "per_source";
   PropagationStage stage(scene, s, 2);
   WorldState world;
+  if (const HybridSynthesis* h = stage.hybrid()) {
+    row["late_buses"] = h->buses();
+    row["early_ms"] = 1e3 * h->split().splitSeconds;
+  }
   Totals warm, t;
   for (int f = 0; f < o.warmupFrames; ++f) timeFrame(*scene, stage, world, warm);
-  Json row;
   row["quality"] = quality(stage.simulation(), refs);
   for (int f = 0; f < c.frames; ++f) timeFrame(*scene, stage, world, t);
   size_t cacheBytes = 0, exactPaths = 0;
@@ -206,6 +211,9 @@ int benchSources(const CommonOptions& c, const SourcesOptions& o) {
   const SceneDesc scene = loadScene(c.scene);
   const int maxCount = *std::max_element(o.counts.begin(), o.counts.end());
   SceneDesc many = withSourceCount(scene, maxCount);
+  const std::optional<Rendering> rendering = parseRendering(o.rendering);
+  if (!rendering) throw std::invalid_argument("--rendering: '" + o.rendering + "' is unknown");
+  many.audio.rendering = *rendering;
   for (SourceDesc& s : many.sources) s.trajectory.clear();
   many.listeners.resize(1);
   many.listeners[0].trajectory.clear();
@@ -217,6 +225,7 @@ int benchSources(const CommonOptions& c, const SourcesOptions& o) {
   j["frames"] = c.frames;
   j["warmup_frames"] = o.warmupFrames;
   j["machine"] = "shared 2-core machine: ratios within one run";
+  j["rendering"] = o.rendering;
   for (const std::string& name : o.tracing) {
     const std::optional<Tracing> tracing = parseTracing(name);
     if (!tracing) throw std::invalid_argument("--tracing: '" + name + "' is not a direction");
@@ -237,7 +246,8 @@ int benchSources(const CommonOptions& c, const SourcesOptions& o) {
   }
   j["note"] =
       "pass: tracing + every pair's cache (Simulation::runFrame); synthesis: every source's IR "
-      "for the listener (PropagationStage::prepare); quality after warmup_frames: energy error "
+      "for the listener, or in hybrid rendering every source's early part and every late bus "
+      "(PropagationStage::prepare); quality after warmup_frames: energy error "
       "(dB) and relative RMS noise per 10 ms bin and band against path tracing with 4x rays "
       "over reference_frames frames; peak RSS of the configuration's own process";
   j["reference_frames"] = o.referenceFrames;

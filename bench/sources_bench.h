@@ -18,6 +18,8 @@ struct SourcesOptions {
   /// Tracing from the sources is measured up to this many sources (its cost grows linearly:
   /// 256 sources take 256 passes a frame).
   int maxFromSources = 64;
+  /// audio.rendering of every configuration: auto, per_source or hybrid.
+  std::string rendering = "auto";
 };
 
 /// For each tracing direction and source count: the scene's sources, then more at fixed

@@ -45,6 +45,13 @@ DirectionalEnergyResponse::DirectionalEnergyResponse(double lengthSeconds, doubl
   weights_.assign(directions_.size(), 0.f);
 }
 
+DirectionalEnergyResponse DirectionalEnergyResponse::truncated(double lengthSeconds) const {
+  const double bin = responses_.empty() ? 1e-3 : responses_.front().binSeconds();
+  DirectionalEnergyResponse r(lengthSeconds, bin, directions_, exponent_);
+  r.copyFrame(*this);
+  return r;
+}
+
 void DirectionalEnergyResponse::setListenerFrame(const glm::vec3& forward, const glm::vec3& up) {
   forward_ = glm::normalize(forward);
   up_ = glm::normalize(up - forward_ * glm::dot(up, forward_));

@@ -74,6 +74,16 @@ class DirectionalEnergyResponse {
   size_t directionCount() const { return responses_.size(); }
   const glm::vec3& direction(size_t k) const { return directions_[k]; }
   const EnergyResponse& response(size_t k) const { return responses_[k]; }
+  /// The same directions, frame and bin width over the first lengthSeconds, empty (allocates).
+  DirectionalEnergyResponse truncated(double lengthSeconds) const;
+  /// Takes other's listener frame (its directions must be these). No allocation.
+  void copyFrame(const DirectionalEnergyResponse& other) {
+    forward_ = other.forward_;
+    left_ = other.left_;
+    up_ = other.up_;
+  }
+  /// Direction k's response to edit in place (e.g. hybrid rendering's early/late split).
+  EnergyResponse& response(size_t k) { return responses_[k]; }
 
  private:
   std::vector<glm::vec3> directions_;

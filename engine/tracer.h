@@ -12,6 +12,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <glm/vec3.hpp>
@@ -80,5 +81,14 @@ class Tracer {
   /// between frames; throws std::runtime_error if the implementation fails.
   virtual void commitPoses() = 0;
 };
+
+/// True when nothing blocks the straight segment between two points (metres). Points closer
+/// than 1 mm see each other. Any thread that may query the tracer; no allocation.
+inline bool lineOfSight(const Tracer& tracer, const glm::vec3& a, const glm::vec3& b) {
+  const glm::vec3 d = b - a;
+  const float length = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+  if (length < 1e-3f) return true;
+  return !tracer.occluded(TraceRay{a, d / length, 0.f, length});
+}
 
 }  // namespace dpc

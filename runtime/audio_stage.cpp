@@ -8,15 +8,27 @@
 namespace dpc {
 
 AudioStage::AudioStage(std::shared_ptr<const audio::NonUniformLayout> layout,
-                       std::shared_ptr<const DrySignals> dry, int numOutputs)
+                       std::shared_ptr<const DrySignals> dry, int numOutputs,
+                       std::shared_ptr<const audio::NonUniformLayout> lateLayout, int lateBuses)
     : layout_(std::move(layout)),
       dry_(std::move(dry)),
       numOutputs_(numOutputs),
-      convolver_(*layout_, int(dry_->samples.size()), numOutputs) {
+      convolver_(*layout_, int(dry_->samples.size()), numOutputs),
+      lateLayout_(std::move(lateLayout)) {
   assert(dry_->loop.size() == dry_->samples.size());
   tail_.assign(dry_->samples.size() * size_t(layout_->blockSize()), 0.f);
   in_.assign(dry_->samples.size(), nullptr);
+  if (lateLayout_ && lateBuses > 0) {
+    lateConvolver_ =
+        std::make_unique<audio::NonUniformConvolver>(*lateLayout_, lateBuses, numOutputs);
+    lateMixer_ = std::make_unique<audio::LateBusMixer>(int(dry_->samples.size()), lateBuses,
+                                                       layout_->blockSize());
+  }
 }
+
+AudioStage::AudioStage(const PropagationStage& propagation, std::shared_ptr<const DrySignals> dry)
+    : AudioStage(propagation.layout(), std::move(dry), propagation.numOutputs(),
+                 propagation.lateLayout(), propagation.lateBuses()) {}
 
 void AudioStage::offer(IrSet* set) {
   if (pending_) spent_.tryPush(pending_);  // a full ring counts it (lostSets())
@@ -26,14 +38,19 @@ void AudioStage::offer(IrSet* set) {
 void AudioStage::applyPending() {
   if (!pending_) return;
   int slot = 0;
-  while (slot < kInFlightCapacity && inFlight_[slot]) ++slot;
+  while (slot < kInFlightCapacity && inFlight_[slot].set) ++slot;
   // A full table or retired list (spent sets not drained) keeps the set pending.
-  if (slot < kInFlightCapacity && convolver_.setNextIr(pending_->irs.get())) {
-    inFlight_[slot] = pending_;
-    current_ = pending_;
-    pending_ = nullptr;
-    ++applied_;
+  if (slot == kInFlightCapacity || !convolver_.canAccept(pending_->irs.get())) return;
+  if (lateConvolver_ && !lateConvolver_->canAccept(pending_->lateIrs.get())) return;
+  convolver_.setNextIr(pending_->irs.get());
+  if (lateConvolver_) {
+    lateConvolver_->setNextIr(pending_->lateIrs.get());
+    lateMixer_->setTargets(pending_->lateBus, pending_->lateGain);
   }
+  inFlight_[slot] = InFlight{pending_, false, !lateConvolver_};
+  current_ = pending_;
+  pending_ = nullptr;
+  ++applied_;
 }
 
 void AudioStage::readDry(size_t s, size_t B) {
@@ -58,16 +75,23 @@ void AudioStage::readDry(size_t s, size_t B) {
   }
 }
 
-void AudioStage::collectRetired() {
-  while (const audio::NonUniformIrSet* retired = convolver_.takeRetired()) {
-    for (IrSet*& set : inFlight_) {
-      if (set && set->irs.get() == retired) {
-        spent_.tryPush(set);  // a full ring counts it (lostSets())
-        set = nullptr;
-        break;
-      }
+void AudioStage::retire(const audio::NonUniformIrSet* retired, bool late) {
+  for (InFlight& f : inFlight_) {
+    if (!f.set || (late ? f.set->lateIrs.get() : f.set->irs.get()) != retired) continue;
+    (late ? f.late : f.early) = true;
+    if (f.early && f.late) {
+      spent_.tryPush(f.set);  // a full ring counts it (lostSets())
+      f = InFlight{};
     }
+    return;
   }
+}
+
+void AudioStage::collectRetired() {
+  while (const audio::NonUniformIrSet* retired = convolver_.takeRetired()) retire(retired, false);
+  if (!lateConvolver_) return;
+  while (const audio::NonUniformIrSet* retired = lateConvolver_->takeRetired())
+    retire(retired, true);
 }
 
 void AudioStage::process(float* const* out, const float* const* inputs) {
@@ -81,6 +105,10 @@ void AudioStage::process(float* const* out, const float* const* inputs) {
       readDry(s, B);
   }
   convolver_.process(in_.data(), out);
+  if (lateConvolver_) {
+    lateMixer_->mix(in_.data());
+    lateConvolver_->process(lateMixer_->busInputs(), out, /*add=*/true);
+  }
   collectRetired();
   position_ += B;
   ++blocks_;

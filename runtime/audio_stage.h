@@ -8,6 +8,7 @@
 #include <memory>
 #include <vector>
 
+#include "audio/late_bus_mixer.h"
 #include "audio/nonuniform_convolver.h"
 #include "common/fixed_ring.h"
 #include "runtime/dry_signals.h"
@@ -19,8 +20,14 @@ class AudioStage {
  public:
   /// layout: the propagation stage's (PropagationStage::layout()); dry: the signals played
   /// when process() gets no host inputs (one per scene source); numOutputs: IR channels.
+  /// Hybrid rendering (runtime/hybrid_synthesis.h): lateLayout and lateBuses > 0 from
+  /// PropagationStage::lateLayout()/lateBuses(); every set offered then carries late IRs.
   AudioStage(std::shared_ptr<const audio::NonUniformLayout> layout,
-             std::shared_ptr<const DrySignals> dry, int numOutputs);
+             std::shared_ptr<const DrySignals> dry, int numOutputs,
+             std::shared_ptr<const audio::NonUniformLayout> lateLayout = nullptr,
+             int lateBuses = 0);
+  /// The stage for `propagation`'s layouts and outputs. Control thread; allocates.
+  AudioStage(const PropagationStage& propagation, std::shared_ptr<const DrySignals> dry);
 
   /// Schedules a new IR set for the next block (newest wins: a set offered while another is
   /// still pending is returned through takeSpent()). Audio thread.
@@ -51,20 +58,30 @@ class AudioStage {
   void applyPending();
   /// Points in_[s] at source s's dry block for this block.
   void readDry(size_t s, size_t blockSize);
-  /// Moves the sets the convolver retired into the spent ring.
+  /// Moves the sets the convolvers retired into the spent ring (a hybrid set once both
+  /// convolvers have retired it).
   void collectRetired();
+  /// Marks the in-flight set holding `retired` (early or late part) retired by one convolver.
+  void retire(const audio::NonUniformIrSet* retired, bool late);
 
   std::shared_ptr<const audio::NonUniformLayout> layout_;
   std::shared_ptr<const DrySignals> dry_;
   int numOutputs_;
   audio::NonUniformConvolver convolver_;
+  std::shared_ptr<const audio::NonUniformLayout> lateLayout_;
+  std::unique_ptr<audio::NonUniformConvolver> lateConvolver_;  ///< hybrid: the late buses
+  std::unique_ptr<audio::LateBusMixer> lateMixer_;              ///< hybrid: their inputs
   std::vector<float> tail_;       ///< per source one block: a partial or looped block, zero-padded
   std::vector<const float*> in_;  ///< per source: this block's dry input
   IrSet* current_ = nullptr;
   IrSet* pending_ = nullptr;
   /// Sets handed to the convolver and not yet retired (to map its spectra back to the set).
   static constexpr int kInFlightCapacity = audio::NonUniformConvolver::kRetiredCapacity;
-  IrSet* inFlight_[kInFlightCapacity] = {};
+  struct InFlight {
+    IrSet* set = nullptr;
+    bool early = false, late = false;  ///< retired by the per-source / late convolver
+  };
+  InFlight inFlight_[kInFlightCapacity] = {};
   static constexpr int kSpentCapacity = audio::NonUniformConvolver::kRetiredCapacity + 2;
   FixedRing<IrSet*> spent_{kSpentCapacity};  ///< sets for takeSpent(), oldest first
   size_t position_ = 0;

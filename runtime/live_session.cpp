@@ -31,8 +31,7 @@ LiveSession::LiveSession(std::shared_ptr<const SceneDesc> scene,
       sampleRate_(scene_->audio.sampleRate),
       propagation_(
           std::make_unique<PropagationStage>(scene_, settings, std::max(3, options.poolSize))),
-      audioStage_(std::make_unique<AudioStage>(propagation_->layout(), std::move(dry),
-                                               propagation_->numOutputs())),
+      audioStage_(std::make_unique<AudioStage>(*propagation_, std::move(dry))),
       poses_(scene_, checkedListener(*scene_, options.listener)),
       // Room in either ring for every set of the pool, so a push never fails for want of space.
       toAudio_(std::make_unique<FixedRing<IrSet*>>(size_t(propagation_->poolSize()) + 1)),

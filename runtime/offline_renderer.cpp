@@ -72,8 +72,7 @@ OfflineRender::OfflineRender(std::shared_ptr<const SceneDesc> scene,
       framePeriod_(1.0 / settings.frameRate) {
   if (options.bake) propagation_.attachBake(options.bake);
   for (size_t k = 0; k < listeners_.size(); ++k)
-    audioStages_.push_back(
-        std::make_unique<AudioStage>(propagation_.layout(), dry, propagation_.numOutputs()));
+    audioStages_.push_back(std::make_unique<AudioStage>(propagation_, dry));
   const int fs = scene_->audio.sampleRate;
   totalFrames_ = size_t(std::ceil(offlineDurationSeconds(*scene_, settings, *dry, options) * fs));
   blocks_ = (totalFrames_ + B_ - 1) / B_;
@@ -138,6 +137,7 @@ OfflineResult OfflineRender::run() {
 void OfflineRender::finish() {
   result_.totals = propagation_.totals();
   if (propagation_.bakedPlayback()) result_.bake = propagation_.bakedPlayback()->stats();
+  if (propagation_.hybrid()) result_.hybrid = propagation_.hybrid()->report(listeners_.front());
   const Simulation& sim = propagation_.simulation();
   FrameTotals totals;
   for (size_t k = 0; k < listeners_.size(); ++k) {

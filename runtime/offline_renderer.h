@@ -72,6 +72,9 @@ struct OfflineResult {
   double wallSeconds = 0.0;
   /// Baked playback's counts (all 0 without OfflineOptions::bake).
   BakedPlayback::Stats bake;
+  /// Hybrid rendering's lengths and counts for the first rendered listener (on = false when
+  /// every source rendered whole).
+  HybridReport hybrid;
 };
 
 /// The render's length in seconds: options.durationSeconds when >= 0, otherwise the default

@@ -5,6 +5,7 @@
 #include <cassert>
 #include <chrono>
 #include <cmath>
+#include <glm/geometric.hpp>
 #include <stdexcept>
 
 #include "audio/hrtf.h"
@@ -91,6 +92,14 @@ struct SpatialFilters {
 std::unique_ptr<SpatialIrSynthesizer> makeSpatialSynthesizer(const SceneDesc& scene,
                                                              const PropagationSettings& settings,
                                                              double roomVolume) {
+  return makeSpatialSynthesizer(scene, settings, roomVolume, settings.irLength, 0);
+}
+
+std::unique_ptr<SpatialIrSynthesizer> makeSpatialSynthesizer(const SceneDesc& scene,
+                                                             const PropagationSettings& settings,
+                                                             double roomVolume,
+                                                             double lengthSeconds,
+                                                             uint64_t seedSalt) {
   const int fs = scene.audio.sampleRate;
   auto filters = std::make_shared<SpatialFilters>();
   if (scene.audio.output == OutputFormat::kBinaural) {
@@ -127,9 +136,10 @@ std::unique_ptr<SpatialIrSynthesizer> makeSpatialSynthesizer(const SceneDesc& sc
   const std::vector<glm::vec3> directions = defaultSpatialDirections();
   std::vector<DirectionFilter> perDirection(directions.size());
   for (size_t d = 0; d < directions.size(); ++d) filters->fill(directions[d], perDirection[d]);
+  const uint64_t seed = hashCombine(settings.seed, 0x5bd1e995ULL);
   return std::make_unique<SpatialIrSynthesizer>(
-      fs, settings.irLength, roomVolume, settings.speedOfSound,
-      hashCombine(settings.seed, 0x5bd1e995ULL), directions, perDirection,
+      fs, lengthSeconds, roomVolume, settings.speedOfSound,
+      seedSalt ? hashCombine(seed, seedSalt) : seed, directions, perDirection,
       [filters](const glm::vec3& d, DirectionFilter& out) { filters->fill(d, out); }, reference);
 }
 
@@ -139,19 +149,43 @@ PropagationStage::PropagationStage(std::shared_ptr<const SceneDesc> scene,
       numOutputs_(outputChannels(scene_->audio)),
       channelScratch_(size_t(numOutputs_)) {
   simulation_ = std::make_unique<Simulation>(*scene_, settings);
-  makeSynthesizers(settings);
+  const double early = hybridEarlySeconds(settings);
+  makeSynthesizers(settings, early > 0.0);
+  if (early > 0.0) makeHybrid(settings, early);
   layout_ = std::make_shared<const audio::NonUniformLayout>(scene_->audio.blockSize, irSamples_);
   makePool(poolSize);
-  irs_.assign(
-      1, std::vector<std::vector<std::vector<float>>>(
-             scene_->sources.size(),
-             std::vector<std::vector<float>>(size_t(numOutputs_), std::vector<float>(irSamples_))));
+  const auto channels = [&](size_t n, size_t samples) {
+    return std::vector<std::vector<std::vector<float>>>(
+        n, std::vector<std::vector<float>>(size_t(numOutputs_), std::vector<float>(samples)));
+  };
+  irs_.assign(1, channels(scene_->sources.size(), irSamples_));
+  if (hybrid_) lateIrs_.assign(1, channels(size_t(hybrid_->buses()), lateLayout_->maxIrSamples()));
 }
 
-void PropagationStage::makeSynthesizers(const PropagationSettings& settings) {
+double PropagationStage::hybridEarlySeconds(const PropagationSettings& settings) const {
+  const SceneDesc& scene = *scene_;
+  if (!rendersHybrid(scene.audio, scene.sources.size())) return 0.0;
+  const Geometry& g = simulation_->geometry();
+  const double early = hybridEarlyLength(double(glm::length(g.boundsMax() - g.boundsMin())),
+                                         settings.speedOfSound, settings.irLength,
+                                         kHybridFadeSeconds);
+  return early < double(settings.irLength) ? early : 0.0;  // else the early part is the whole IR
+}
+
+void PropagationStage::makeHybrid(const PropagationSettings& settings, double early) {
+  const SceneDesc& scene = *scene_;
+  hybrid_ = std::make_unique<HybridSynthesis>(scene, settings, roomVolume(scene.mesh),
+                                              spatial_.get(), early, scene.listeners.size());
+  lateLayout_ = std::make_shared<const audio::NonUniformLayout>(scene.audio.blockSize,
+                                                                hybrid_->lateSamples());
+  irSamples_ = hybrid_->earlySamples();
+}
+
+void PropagationStage::makeSynthesizers(const PropagationSettings& settings, bool hybrid) {
   const SceneDesc& scene = *scene_;
   const int fs = scene.audio.sampleRate;
   if (scene.audio.output == OutputFormat::kMono) {
+    if (hybrid) return;  // the hybrid synthesis has its own early and late synthesisers
     for (size_t s = 0; s < scene.sources.size(); ++s)
       synthesizers_.push_back(std::make_unique<IrSynthesizer>(
           fs, settings.irLength, roomVolume(scene.mesh), settings.speedOfSound,
@@ -170,6 +204,12 @@ void PropagationStage::makePool(int poolSize) {
     auto set = std::make_unique<IrSet>();
     set->irs = std::make_unique<audio::NonUniformIrSet>(*layout_, int(scene_->sources.size()),
                                                         numOutputs_);
+    if (hybrid_) {
+      set->lateIrs =
+          std::make_unique<audio::NonUniformIrSet>(*lateLayout_, hybrid_->buses(), numOutputs_);
+      set->lateGain.assign(scene_->sources.size(), 0.f);
+      set->lateBus.assign(scene_->sources.size(), 0);
+    }
     free_.push_back(set.get());
     pool_.push_back(std::move(set));
   }
@@ -198,11 +238,13 @@ void PropagationStage::traceWorld(const WorldState& world) {
   for (size_t l = 0; l < world.listenerTeleports.size() && l < L; ++l)
     if (world.listenerTeleports[l]) simulation_->restartListener(l);
   simulation_->runFrame(spheres_, world.sourcePositions);
+  sources_ = world.sourcePositions;
   if (baked_) baked_->setSources(world.sourcePositions);
   totals_.traceSeconds += secondsSince(t0);
   totals_.rays += simulation_->frameTrace().rays;
   totals_.segments += simulation_->frameTrace().segments;
   while (irs_.size() < L) irs_.push_back(irs_.front());
+  while (lateIrs_.size() < L && !lateIrs_.empty()) lateIrs_.push_back(lateIrs_.front());
   lastTime_ = world.timeSeconds;
   ++totals_.frames;
 }
@@ -228,9 +270,10 @@ IrSet* PropagationStage::prepare(size_t listener) {
   IrSet* set = free_.back();
   free_.pop_back();
   if (baked_) baked_->locate(spheres_[listener].position);
+  if (hybrid_) prepareLate(listener, *set);
   for (size_t s = 0; s < simulation_->sourceCount(); ++s) {
     auto t0 = std::chrono::steady_clock::now();
-    synthesize(s, listener);
+    if (!hybrid_) synthesize(s, listener);
     totals_.synthesisSeconds += secondsSince(t0);
     t0 = std::chrono::steady_clock::now();
     for (int c = 0; c < numOutputs_; ++c)
@@ -242,6 +285,20 @@ IrSet* PropagationStage::prepare(size_t listener) {
   set->frame = simulation_->framesRun() - 1;
   set->poseTimeSeconds = lastTime_;
   return set;
+}
+
+void PropagationStage::prepareLate(size_t listener, IrSet& set) {
+  auto t0 = std::chrono::steady_clock::now();
+  std::vector<std::vector<std::vector<float>>>& late = lateIrs_[listener];
+  hybrid_->prepare(*simulation_, listener, spheres_[listener].position, sources_, baked_.get(),
+                   irs_[listener], late, set.lateGain, set.lateBus);
+  totals_.synthesisSeconds += secondsSince(t0);
+  t0 = std::chrono::steady_clock::now();
+  for (size_t k = 0; k < late.size(); ++k) {
+    for (int c = 0; c < numOutputs_; ++c) channelScratch_[size_t(c)] = late[k][size_t(c)].data();
+    set.lateIrs->prepare(int(k), channelScratch_.data(), lateLayout_->maxIrSamples());
+  }
+  totals_.prepareSeconds += secondsSince(t0);
 }
 
 void PropagationStage::attachBake(std::shared_ptr<const BakedField> bake,

@@ -13,6 +13,7 @@
 #include "audio/nonuniform_convolver.h"
 #include "engine/simulation.h"
 #include "runtime/baked_playback.h"
+#include "runtime/hybrid_synthesis.h"
 #include "scene/scene.h"
 #include "synthesis/mono_synthesizer.h"
 #include "synthesis/spatial_synthesizer.h"
@@ -21,7 +22,12 @@ namespace dpc {
 
 /// Impulse responses of one propagation frame, partitioned and transformed, for all sources.
 struct IrSet {
-  std::unique_ptr<audio::NonUniformIrSet> irs;  ///< scene sources x output channels
+  /// scene sources x output channels: the whole IRs, or in hybrid rendering the early parts
+  std::unique_ptr<audio::NonUniformIrSet> irs;
+  /// Hybrid rendering (runtime/hybrid_synthesis.h), else null: late buses x output channels.
+  std::unique_ptr<audio::NonUniformIrSet> lateIrs;
+  std::vector<float> lateGain;  ///< hybrid: per source, amplitude gain of its dry signal into its bus
+  std::vector<int> lateBus;     ///< hybrid: per source, its late bus
   size_t listener = 0;           ///< listener index (scene.listeners order) it was computed for
   uint64_t frame = 0;            ///< propagation frame index that produced it
   double poseTimeSeconds = 0.0;  ///< scene time of the listener pose it was computed for
@@ -40,6 +46,13 @@ int outputChannels(const AudioSettings& audio);
 std::unique_ptr<SpatialIrSynthesizer> makeSpatialSynthesizer(const SceneDesc& scene,
                                                              const PropagationSettings& settings,
                                                              double roomVolume);
+/// The same for IRs of lengthSeconds, with the Dirac sequences' seed salted by seedSalt (a
+/// second synthesiser whose noise is independent of the first's).
+std::unique_ptr<SpatialIrSynthesizer> makeSpatialSynthesizer(const SceneDesc& scene,
+                                                             const PropagationSettings& settings,
+                                                             double roomVolume,
+                                                             double lengthSeconds,
+                                                             uint64_t seedSalt);
 
 /// Propagation thread side. Construction (control thread) builds the Embree scene, the IR
 /// synthesisers (mono per source, or one spatial synthesiser with HRTF or panning filters
@@ -77,8 +90,13 @@ class PropagationStage {
   void recycle(IrSet* set);
 
   const SceneDesc& scene() const { return *scene_; }
-  /// The convolver layout every IrSet uses, shared with the audio stages.
+  /// The convolver layout of every IrSet's per-source IRs, shared with the audio stages.
   const std::shared_ptr<const audio::NonUniformLayout>& layout() const { return layout_; }
+  /// Hybrid rendering: the late buses' layout (full IR length) and their count; else null, 0.
+  const std::shared_ptr<const audio::NonUniformLayout>& lateLayout() const { return lateLayout_; }
+  int lateBuses() const { return hybrid_ ? hybrid_->buses() : 0; }
+  /// Hybrid rendering's synthesis and counts, or nullptr when every source renders whole.
+  const HybridSynthesis* hybrid() const { return hybrid_.get(); }
   /// IrSets in the pool (fixed at construction).
   int poolSize() const { return int(pool_.size()); }
   const Simulation& simulation() const { return *simulation_; }
@@ -93,7 +111,12 @@ class PropagationStage {
   const std::vector<std::vector<std::vector<float>>>& lastIrs(size_t listener = 0) const {
     return irs_.at(listener);
   }
+  /// The late buses' IRs listener l's last prepared set holds: [bus][channel][sample] (hybrid).
+  const std::vector<std::vector<std::vector<float>>>& lastLateIrs(size_t listener = 0) const {
+    return lateIrs_.at(listener);
+  }
   int numOutputs() const { return numOutputs_; }
+  /// Samples of each per-source IR (the early part's in hybrid rendering).
   size_t irSamples() const { return irSamples_; }
 
   struct Totals {
@@ -103,7 +126,15 @@ class PropagationStage {
   const Totals& totals() const { return totals_; }
 
  private:
-  void makeSynthesizers(const PropagationSettings& settings);
+  /// The per-source synthesisers (none for mono output in hybrid rendering) and irSamples_.
+  void makeSynthesizers(const PropagationSettings& settings, bool hybrid);
+  /// The early part's length when the scene renders hybrid (runtime/hybrid_synthesis.h) and
+  /// that is shorter than the IR, else 0.
+  double hybridEarlySeconds(const PropagationSettings& settings) const;
+  /// hybrid_, lateLayout_ and irSamples_ (the early part's) for hybrid rendering.
+  void makeHybrid(const PropagationSettings& settings, double earlySeconds);
+  /// Hybrid: the late buses' IRs and gains of listener l into `set`.
+  void prepareLate(size_t listener, IrSet& set);
   void makePool(int poolSize);
   /// Synthesises source s's IR for listener l into irs_[l][s].
   void synthesize(size_t s, size_t listener);
@@ -115,10 +146,14 @@ class PropagationStage {
   std::vector<std::unique_ptr<IrSynthesizer>> synthesizers_;  ///< mono: one per source
   std::unique_ptr<SpatialIrSynthesizer> spatial_;             ///< stereo / binaural
   std::unique_ptr<BakedPlayback> baked_;                      ///< attachBake, or none
+  std::unique_ptr<HybridSynthesis> hybrid_;                   ///< hybrid rendering, or none
   std::shared_ptr<const audio::NonUniformLayout> layout_;
+  std::shared_ptr<const audio::NonUniformLayout> lateLayout_;  ///< hybrid: full-length IRs
   std::vector<std::unique_ptr<IrSet>> pool_;
   std::vector<IrSet*> free_;
   std::vector<std::vector<std::vector<std::vector<float>>>> irs_;  ///< [listener][source][ch]
+  std::vector<std::vector<std::vector<std::vector<float>>>> lateIrs_;  ///< [listener][bus][ch]
+  std::vector<glm::vec3> sources_;       ///< traceWorld's source positions
   std::vector<ListenerSphere> spheres_;  ///< traceWorld's listener spheres
   double lastTime_ = 0.0;                ///< scene time of the last traced frame
   size_t irSamples_ = 0;

@@ -77,6 +77,11 @@ constexpr std::array kLimits = {
         "the partitioned convolver's smallest and largest partition"},
   Limit{"audio.ambisonic_order", 1, double(kMaxAmbisonicOrder), false, true, "",
         "order 0 is mono; above 7, 64+ channels that AmbiX tools do not read"},
+  Limit{"audio.late_buses", 1, 64, false, true, "",
+        "each bus costs a full-length IR and convolution; 64 gives every listener direction "
+        "of a 30-degree grid its own"},
+  Limit{"audio.cluster_angle", 0, 180, true, false, "degrees",
+        "a cluster needs some angular size; 180 degrees lets any two sources share"},
 };
 // clang-format on
 

@@ -221,6 +221,13 @@ std::optional<Tracing> parseTracing(const std::string& s) {
   return std::nullopt;
 }
 
+std::optional<Rendering> parseRendering(const std::string& s) {
+  if (s == "auto") return Rendering::kAuto;
+  if (s == "per_source") return Rendering::kPerSource;
+  if (s == "hybrid") return Rendering::kHybrid;
+  return std::nullopt;
+}
+
 bool tracesFromListeners(Tracing tracing, size_t sources, size_t listeners) {
   if (tracing == Tracing::kAuto) return sources > listeners;
   return tracing == Tracing::kFromListeners;

@@ -216,6 +216,14 @@ enum class OutputFormat {
 /// Debian libmysofa1's MIT KEMAR set: the default HRTF.
 inline constexpr const char* kDefaultHrtfPath = "/usr/share/libmysofa/default.sofa";
 
+/// How the sources' impulse responses are rendered (runtime/hybrid_synthesis.h).
+enum class Rendering {
+  kAuto,       ///< hybrid when there are more sources than late buses, else per source
+  kPerSource,  ///< every source's whole IR synthesised and convolved on its own
+  /// Early part per source, late part per cluster of sources through a shared late bus.
+  kHybrid,
+};
+
 struct AudioSettings {
   int sampleRate = 48000;  ///< Hz
   int blockSize = 512;     ///< samples per processing block
@@ -227,6 +235,11 @@ struct AudioSettings {
   /// kLoudspeakers: the layout (scene/loudspeaker_layout.h), one output channel each
   std::vector<LoudspeakerDesc> speakers;
   std::string layoutName;  ///< as given after "layout:" (preset name or file)
+  Rendering rendering = Rendering::kAuto;
+  /// Hybrid rendering: late buses (clusters of sources sharing a late IR) per listener.
+  int lateBuses = 4;
+  /// Hybrid rendering: a cluster's angular radius as seen from the listener, degrees.
+  float clusterAngleDegrees = 30.f;
 };
 
 /// Upper bounds on a scene's entity counts, fixed (independent of the machine's memory) so a
@@ -315,6 +328,8 @@ size_t listenerIndex(const SceneDesc& scene, const std::string& name, const std:
 /// Parses "mono" / "stereo" / "binaural"; nullopt for anything else.
 std::optional<OutputFormat> parseOutputFormat(const std::string& s);
 
+/// Parses "auto" / "per_source" / "hybrid"; nullopt for anything else.
+std::optional<Rendering> parseRendering(const std::string& s);
 /// Parses "dpc" / "path_tracing"; nullopt for anything else.
 std::optional<Estimator> parseEstimator(const std::string& s);
 /// "auto", "from_sources" or "from_listeners".

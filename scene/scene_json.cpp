@@ -373,7 +373,8 @@ void readAudio(const JsonReader& r, const json& v, const fs::path& folder, Audio
   const std::string field = "audio";
   r.expectObject(v, field);
   r.checkKeys(v, field,
-              {"sample_rate", "block_size", "output", "hrtf", "ambisonic_order", "max_re"});
+              {"sample_rate", "block_size", "output", "hrtf", "ambisonic_order", "max_re",
+               "rendering", "late_buses", "cluster_angle"});
   if (const json* x = JsonReader::find(v, "output"))
     a.output = readChoice(r, *x, join(field, "output"), parseOutputFormat,
                           "\"mono\", \"stereo\", \"binaural\", \"ambisonics\"");
@@ -386,6 +387,13 @@ void readAudio(const JsonReader& r, const json& v, const fs::path& folder, Audio
   if (const json* x = JsonReader::find(v, "ambisonic_order"))
     a.ambisonicOrder = int(r.limited(*x, "audio.ambisonic_order", "audio.ambisonic_order"));
   if (const json* x = JsonReader::find(v, "max_re")) a.maxRe = r.boolean(*x, join(field, "max_re"));
+  if (const json* x = JsonReader::find(v, "rendering"))
+    a.rendering = readChoice(r, *x, join(field, "rendering"), parseRendering,
+                             "\"auto\", \"per_source\", \"hybrid\"");
+  if (const json* x = JsonReader::find(v, "late_buses"))
+    a.lateBuses = int(r.limited(*x, "audio.late_buses", "audio.late_buses"));
+  if (const json* x = JsonReader::find(v, "cluster_angle"))
+    a.clusterAngleDegrees = float(r.limited(*x, "audio.cluster_angle", "audio.cluster_angle"));
 }
 
 Mesh buildSceneMesh(const SceneDesc& scene, const RawMesh& raw,

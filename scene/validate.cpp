@@ -200,7 +200,9 @@ Origin commandLineOrigin() {
                       {"propagation.cache_pool_mb", "--cache-pool-mb"},
                       {"propagation.frame_rate", "--frame-rate"},
                       {"audio.block_size", "--block-size"},
-                      {"audio.ambisonic_order", "--ambisonic-order"}};
+                      {"audio.ambisonic_order", "--ambisonic-order"},
+                      {"audio.late_buses", "--late-buses"},
+                      {"audio.cluster_angle", "--cluster-angle"}};
                   for (const auto& [key, flag] : kFlags)
                     if (path == key) return flag;
                   return path;
@@ -231,6 +233,8 @@ void validate(const SceneDesc& scene, const Origin& origin) {
   checkField("audio.sample_rate", scene.audio.sampleRate, origin);
   checkField("audio.block_size", scene.audio.blockSize, origin);
   checkField("audio.ambisonic_order", scene.audio.ambisonicOrder, origin);
+  checkField("audio.late_buses", scene.audio.lateBuses, origin);
+  checkField("audio.cluster_angle", scene.audio.clusterAngleDegrees, origin);
   checkSources(scene.sources, origin);
   checkListeners(scene.listeners, origin);
   checkObjects(scene.objects, origin);

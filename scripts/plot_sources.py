@@ -1,10 +1,12 @@
 #!/usr/bin/python3
 """Plots frame time, peak memory and per-source quality against the number of sources.
 
-Reads docs/data/sources-market.json (dpc-bench sources scenes/market.json) and writes docs/images/sources-scaling.png: propagation pass and IR synthesis
-per frame (ms), peak RSS (MB), and the worst sampled source's noise, against the number of
-sources, for both tracing directions, with the issue's targets (3x one source at 64, 8x at
-256, 256 MB at 64) drawn as dotted marks. Missing files are skipped with a note on stderr.
+Reads docs/data/sources-market.json (dpc-bench sources scenes/market.json, rendering auto:
+hybrid beyond 4 sources) and docs/data/sources-market-per-source.json (--rendering per_source)
+and writes docs/images/sources-scaling.png: propagation pass and IR synthesis per frame (ms),
+peak RSS (MB), and the worst sampled source's noise, against the number of sources, for both
+tracing directions, with the issue's targets (3x one source at 64, 8x at 256, 256 MB at 64)
+drawn as dotted marks. Missing files are skipped with a note on stderr.
 Needs matplotlib (Debian: python3-matplotlib).
 Usage: /usr/bin/python3 scripts/plot_sources.py [--data docs/data] [--out docs/images]
 """
@@ -46,6 +48,16 @@ def main():
             one = rs[0]['frame_ms']
             ax1.plot([64, 256], [3 * one, 8 * one], 'k:', marker='x',
                      label='target: 3x / 8x one source (pass + synthesis)')
+    whole = os.path.join(a.data, 'sources-market-per-source.json')
+    rs = json.load(open(whole)).get('from_listeners') if os.path.exists(whole) else None
+    if rs:
+        n = [r['sources'] for r in rs]
+        ax1.loglog(n, [r['synthesis_ms_per_frame'] for r in rs], 'x:', color='grey',
+                   label='from_listeners: IR synthesis, every source whole')
+        ax2.loglog(n, [r['peak_rss_mb'] for r in rs], 'x:', color='grey',
+                   label='from_listeners, every source whole')
+    else:
+        print(f'skipping {whole}: missing', file=sys.stderr)
     ax2.plot([64], [256], 'kx', label='target: 256 MB at 64 sources')
     ax1.set(xlabel='sources', ylabel='ms per frame', title='Frame time (market hall, 1 listener)')
     ax2.set(xlabel='sources', ylabel='peak RSS, MB', title='Peak memory')

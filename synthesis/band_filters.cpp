@@ -102,15 +102,34 @@ DirectSoundFilter::DirectSoundFilter(const OctaveBandMasks& masks, FftwRealTrans
     filter_[size_t(b)].assign(taps, 0.f);
     for (size_t i = 0; i < taps; ++i)
       filter_[size_t(b)][i] = fft.time.p[(i + nfft - centre_) % nfft];
+    support_[size_t(b)] = supportOf(filter_[size_t(b)]);
   }
+}
+
+std::pair<size_t, size_t> DirectSoundFilter::supportOf(const std::vector<float>& h) {
+  double total = 0.0;
+  for (float x : h) total += double(x) * double(x);
+  const double tail = total * kNegligibleTailEnergy;
+  size_t begin = 0, end = h.size();
+  for (double cut = 0.0; begin < end;) {  // drop leading taps while their energy is negligible
+    cut += double(h[begin]) * double(h[begin]);
+    if (cut > tail) break;
+    ++begin;
+  }
+  for (double cut = 0.0; end > begin;) {
+    cut += double(h[end - 1]) * double(h[end - 1]);
+    if (cut > tail) break;
+    --end;
+  }
+  return {begin, end};
 }
 
 void DirectSoundFilter::add(int b, float amplitude, long start, float* out, size_t length) const {
   const auto& h = filter_[size_t(b)];
-  for (size_t i = 0; i < h.size(); ++i) {
-    const long n = start + long(i);
-    if (n >= 0 && n < long(length)) out[n] += amplitude * h[i];
-  }
+  const auto [begin, end] = support_[size_t(b)];
+  const long first = std::max(long(begin), -start);
+  const long last = std::min(long(end), long(length) - start);
+  for (long i = first; i < last; ++i) out[start + i] += amplitude * h[size_t(i)];
 }
 
 }  // namespace dpc

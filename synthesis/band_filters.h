@@ -9,6 +9,7 @@
 #include <array>
 #include <cstddef>
 #include <numbers>
+#include <utility>
 #include <vector>
 
 #include "common/bands.h"
@@ -97,11 +98,19 @@ class DirectSoundFilter {
   const std::vector<float>& band(int b) const { return filter_[size_t(b)]; }
   size_t centre() const { return centre_; }
   size_t taps() const { return filter_[0].size(); }
-  /// out[start + i] += amplitude x a_b[i] for the i with start + i in [0, length).
+  /// out[start + i] += amplitude x a_b[i] for the i with start + i in [0, length), over a_b's
+  /// support (the taps outside it carry less than kNegligibleTailEnergy of its energy).
   void add(int b, float amplitude, long start, float* out, size_t length) const;
+  /// Energy fraction of a_b's leading and trailing taps that add() skips, each side: -100 dB,
+  /// below float's rounding of the band's own peak (the higher bands' filters are short, the
+  /// 63 Hz one spans most of its taps).
+  static constexpr double kNegligibleTailEnergy = 1e-10;
 
  private:
+  /// [begin, end) of the taps of h outside which each side's energy is negligible.
+  static std::pair<size_t, size_t> supportOf(const std::vector<float>& h);
   std::array<std::vector<float>, kNumBands> filter_;
+  std::array<std::pair<size_t, size_t>, kNumBands> support_{};
   size_t centre_;
 };
 

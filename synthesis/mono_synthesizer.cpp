@@ -59,7 +59,7 @@ void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& 
   envelope_->accumulateRange(tilted, ir, onset, length_);
   clearAroundArrivals(ir);
   for (const Arrival& a : arrivals_) addArrival(a, ir);
-  if (!std::getenv("NOCLEAN")) cleanUp(energy, ir);
+  cleanUp(energy, ir);
   // The envelope's unplaced energy is as a band measurement sees it (E_b beta_b).
   for (int b = 0; b < kNumBands; ++b)
     missingBands_[b] = float(envelope_->unplacedEnergy()[size_t(b)] / filterData_.share[size_t(b)]);

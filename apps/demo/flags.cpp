@@ -80,6 +80,15 @@ void addRenderOptions(CLI::App& app, Flags& fl) {
                  "window (unbiased, answers within tau; default) | ema (unbiased, slower) | seed "
                  "(thesis eq. 3.2; biased high)");
   app.add_option("--threads", fl.threads, "Tracing threads (0 = all cores)")->check(kWholeInt64);
+  app.add_option("--rendering", fl.rendering,
+                 "auto (default: hybrid when sources outnumber the late buses) | per_source | "
+                 "hybrid (early part per source, late part per cluster of sources)");
+  app.add_option("--late-buses", fl.lateBuses,
+                 "Hybrid rendering: late buses (source clusters) per listener, 1..64 (default 4)")
+      ->check(kWholeInt64);
+  app.add_option("--cluster-angle", fl.clusterAngle,
+                 "Hybrid rendering: a cluster's angular radius seen from the listener, degrees "
+                 "(default 30)");
 }
 
 /// The output files and their format.

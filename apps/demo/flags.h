@@ -12,7 +12,7 @@ namespace dpc::demo {
 /// any value the user gives, even one that looks like a default, is range-checked.
 struct Flags {
   std::string scene, offline, irOut, erOut, estimator, tracing, weighting, device, record, stats,
-      output, hrtf, listener, bake;
+      output, hrtf, listener, bake, rendering;
   bool listDevices = false, listMaterials = false, interactive = false, quiet = false,
        maxRe = false;
   std::optional<int64_t> blockSize;       ///< samples per audio block (live)
@@ -22,6 +22,8 @@ struct Flags {
   std::optional<double> cacheMb;          ///< DPC memory budget per source-listener pair, MB
   std::optional<double> cachePoolMb;      ///< DPC memory budget of the whole engine, MB
   std::optional<double> latencyTargetMs;  ///< live latency target, ms (default: LiveSession's)
+  std::optional<double> clusterAngle;     ///< hybrid rendering: a cluster's angular radius, deg
+  std::optional<int64_t> lateBuses;       ///< hybrid rendering: late buses per listener
   std::optional<int64_t> seed, rays, maxOrder, threads, ambisonicOrder;
 };
 

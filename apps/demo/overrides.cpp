@@ -96,6 +96,25 @@ void applyAudioOverrides(SceneDesc& scene, const Flags& fl) {
     if (fl.output.empty()) scene.audio.output = OutputFormat::kBinaural;
   }
   if (!fl.listener.empty()) listenerIndex(scene, fl.listener, "--listener");  // known name?
+  applyRenderingOverrides(scene.audio, fl);
+}
+
+void applyRenderingOverrides(AudioSettings& audio, const Flags& fl) {
+  if (!fl.rendering.empty()) {
+    auto r = parseRendering(fl.rendering);
+    if (!r)
+      throw InputError("command line", "--rendering",
+                       "'" + fl.rendering + "' is not auto, per_source or hybrid");
+    audio.rendering = *r;
+  }
+  if (fl.lateBuses) {
+    checkField("audio.late_buses", double(*fl.lateBuses), commandLineOrigin());
+    audio.lateBuses = int(*fl.lateBuses);
+  }
+  if (fl.clusterAngle) {
+    checkField("audio.cluster_angle", *fl.clusterAngle, commandLineOrigin());
+    audio.clusterAngleDegrees = float(*fl.clusterAngle);
+  }
 }
 
 size_t selectedListener(const SceneDesc& scene, const Flags& fl) {

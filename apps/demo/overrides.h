@@ -16,6 +16,10 @@ PropagationSettings applyOverrides(const SceneDesc& scene, const Flags& fl);
 /// SOFA file that does not exist.
 void applyAudioOverrides(SceneDesc& scene, const Flags& fl);
 
+/// --rendering, --late-buses, --cluster-angle (hybrid rendering) into `audio`; called by
+/// applyAudioOverrides. Main thread. Throws InputError naming the flag.
+void applyRenderingOverrides(AudioSettings& audio, const Flags& fl);
+
 /// --listener: the listener played or rendered (scene.listeners index); the first without it.
 /// Main thread. Throws InputError for an unknown name.
 size_t selectedListener(const SceneDesc& scene, const Flags& fl);

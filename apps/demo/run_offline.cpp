@@ -146,6 +146,18 @@ void printWritten(const SceneDesc& scene, const OfflineListenerResult& r,
                 r.lastIrs.size() * r.lastIrs.front().size());
 }
 
+/// Hybrid rendering's line, when it was on.
+void printHybrid(const HybridReport& h) {
+  if (!h.on) return;
+  std::printf(
+      "hybrid rendering: early part %.0f ms per source, %d late buses (%d in use, largest "
+      "cluster radius %.0f deg)  cluster switches %llu  joined for want of a bus %llu  direct "
+      "sounds rendered late %llu\n",
+      1e3 * h.earlySeconds, h.buses, h.counts.occupiedBuses, h.counts.maxAngularRadiusDegrees,
+      (unsigned long long)h.counts.switches, (unsigned long long)h.counts.forcedJoins,
+      (unsigned long long)h.counts.lateDirect);
+}
+
 /// One line per propagation run (shared by every listener it rendered).
 void printTotals(const OfflineResult& r, double audioSeconds) {
   const auto& t = r.totals;
@@ -167,6 +179,7 @@ void printTotals(const OfflineResult& r, double audioSeconds) {
       "energy beyond the IR length %.3g %% of the last response (largest per pair)  "
       "IR sets lost %llu\n",
       100.0 * r.last.droppedEnergyFraction, (unsigned long long)r.irsLost);
+  printHybrid(r.hybrid);
 }
 
 }  // namespace

@@ -106,6 +106,7 @@ const std::set<std::string> kNotInData = {"objects", "propagation.cache_memory_m
                                           "propagation.roulette_threshold_db",
                                           "propagation.exact_order",
                                           "audio.ambisonic_order",
+                                          "audio.late_buses", "audio.cluster_angle",
                                           "materials.*.transmission_loss_db"};
 
 /// Creates with an invalid output option, checked after every scene value: a value that is

@@ -335,6 +335,13 @@ CASES = {
     "tracing_flag_bad": (nothing, OFF + ["--tracing", "magic"], "--tracing"),
     "cache_pool_zero": (scene_with(**{"propagation.cache_pool_mb": 0}), OFF, "shoebox.json: propagation.cache_pool_mb"),
     "cache_pool_flag_nan": (nothing, OFF + ["--cache-pool-mb", "nan"], "--cache-pool-mb"),
+    "rendering_scene_bad": (scene_with(**{"audio.rendering": "clustered"}), OFF, "shoebox.json: audio.rendering"),
+    "rendering_flag_bad": (nothing, OFF + ["--rendering", "mixed"], "--rendering"),
+    "late_buses_zero": (scene_with(**{"audio.late_buses": 0}), OFF, "shoebox.json: audio.late_buses: 0 is outside [1, 64]"),
+    "late_buses_flag_65": (nothing, OFF + ["--late-buses", "65"], "--late-buses"),
+    "late_buses_fraction": (scene_with(**{"audio.late_buses": 2.5}), OFF, "shoebox.json: audio.late_buses"),
+    "cluster_angle_zero": (scene_with(**{"audio.cluster_angle": 0}), OFF, "shoebox.json: audio.cluster_angle"),
+    "cluster_angle_flag_nan": (nothing, OFF + ["--cluster-angle", "nan"], "--cluster-angle"),
     "teleport_not_bool": (scene_with(**{"listener.trajectory.1.teleport": "yes"}), OFF, "listener.trajectory[1].teleport"),
     # Finding 4 and 5: work and memory refused before any work, naming the setting to lower.
     "rays_1e8_order_10000": (scene_with(**{"propagation.rays_per_frame": 100000000, "propagation.max_order": 10000}), OFF[:-2], "rays_per_frame"),

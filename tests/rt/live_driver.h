@@ -28,9 +28,10 @@ struct LiveRun {
 /// tracingThreads: the propagation's TBB arena (0 = all cores).
 template <typename AudioThreadObserver>
 LiveRun driveLiveSession(int blocks, uint64_t minIrsApplied, AudioThreadObserver& onAudioThread,
-                         int tracingThreads = 0) {
+                         int tracingThreads = 0, Rendering rendering = Rendering::kAuto) {
   SceneDesc scene = loadScene(std::string(DPC_SOURCE_DIR) + "/scenes/shoebox.json");
   scene.audio.blockSize = 128;
+  scene.audio.rendering = rendering;
   PropagationSettings ps = scene.propagation;
   ps.raysPerFrame = 256;
   ps.maxOrder = 30;

@@ -35,3 +35,16 @@ TEST_CASE("LiveSession::render makes no heap calls across IR swaps", "[rt]") {
   CHECK(run.status.nanBlocks == 0);
   CHECK(run.recordedFrames == size_t(run.status.blocks) * 128);  // the recorder lost nothing
 }
+
+// Hybrid rendering adds the late buses' mixer and convolver to the audio thread: still no heap
+// call, across swaps of both IR parts at once.
+TEST_CASE("LiveSession::render in hybrid rendering makes no heap calls across IR swaps", "[rt]") {
+  CountHeapCalls counter;
+  const test::LiveRun run = test::driveLiveSession(2000, 50, counter, 0, Rendering::kHybrid);
+  INFO("blocks " << run.status.blocks << ", IRs applied " << run.status.irsApplied
+                 << ", heap calls " << counter.calls);
+  CHECK(run.status.irsApplied >= 50);
+  CHECK(counter.calls == 0);
+  CHECK(run.finite);
+  CHECK(run.status.nanBlocks == 0);
+}

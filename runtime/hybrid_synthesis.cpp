@@ -1,0 +1,200 @@
+#include "runtime/hybrid_synthesis.h"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+
+#include "common/random.h"
+#include "runtime/baked_playback.h"
+#include "runtime/propagation_stage.h"
+
+namespace dpc {
+
+bool rendersHybrid(const AudioSettings& audio, size_t sources) {
+  if (audio.rendering == Rendering::kAuto) return sources > size_t(audio.lateBuses);
+  return audio.rendering == Rendering::kHybrid;
+}
+
+/// Per-frame buffers, sized at construction or on a listener's first frame.
+struct HybridSynthesis::Scratch {
+  EnergyResponse early;                            ///< mono: one source's early part
+  std::vector<EnergyResponse> late;                ///< mono: per bus
+  DirectionalEnergyResponse earlyDir;              ///< spatial: one source's early part
+  std::vector<DirectionalEnergyResponse> lateDir;  ///< spatial: per bus
+  std::vector<SpecularPath> paths;                 ///< one source's early exact paths
+  std::vector<double> lateEnergy;                  ///< per source, this frame
+  std::vector<double> busEnergy;                   ///< per bus, this frame
+  std::vector<float*> channels;                    ///< one IR's channel pointers
+};
+
+HybridSynthesis::HybridSynthesis(const SceneDesc& scene, const PropagationSettings& settings,
+                                 double roomVolume, SpatialIrSynthesizer* spatial,
+                                 double earlySeconds, size_t listeners)
+    : buses_(scene.audio.lateBuses),
+      clusterAngle_(double(scene.audio.clusterAngleDegrees) * M_PI / 180.0),
+      spatial_(spatial),
+      scratch_(std::make_unique<Scratch>()) {
+  split_.fadeSeconds = kHybridFadeSeconds;
+  split_.splitSeconds = earlySeconds;
+  const int fs = scene.audio.sampleRate;
+  const size_t S = scene.sources.size();
+  if (spatial_) {
+    earlySpatial_ = makeSpatialSynthesizer(scene, settings, roomVolume, earlySeconds,
+                                           0x2545f4914f6cdd1dULL);
+    earlySamples_ = earlySpatial_->lengthSamples();
+  } else {
+    for (size_t s = 0; s < S; ++s)
+      earlyMono_.push_back(std::make_unique<IrSynthesizer>(
+          fs, earlySeconds, roomVolume, settings.speedOfSound,
+          hashCombine(settings.seed, 0x5bd1e995ULL + s)));
+    for (int k = 0; k < buses_; ++k)
+      lateMono_.push_back(std::make_unique<IrSynthesizer>(
+          fs, settings.irLength, roomVolume, settings.speedOfSound,
+          hashCombine(settings.seed, 0x9e3779b97f4a7c15ULL + uint64_t(k))));
+    earlySamples_ = earlyMono_.front()->lengthSamples();
+  }
+  scratch_->lateEnergy.assign(S, 0.0);
+  scratch_->busEnergy.assign(size_t(buses_), 0.0);
+  scratch_->paths.reserve(256);
+  for (size_t l = 0; l < listeners; ++l) ensureListener(l, S);
+}
+
+HybridSynthesis::~HybridSynthesis() = default;
+
+size_t HybridSynthesis::lateSamples() const {
+  return spatial_ ? spatial_->lengthSamples() : lateMono_.front()->lengthSamples();
+}
+
+void HybridSynthesis::ensureListener(size_t listener, size_t sources) {
+  while (clusters_.size() <= listener) {
+    clusters_.push_back(
+        std::make_unique<SourceClusters>(sources, buses_, clusterAngle_));
+    counts_.emplace_back();
+  }
+}
+
+namespace {
+/// out's bins = in's first out.binCount() bins (same bin width); no allocation.
+void copyPrefix(const EnergyResponse& in, EnergyResponse& out) {
+  const size_t n = std::min(in.binCount(), out.binCount());
+  std::copy_n(in.bins().begin(), n, out.bins().begin());
+  std::fill(out.bins().begin() + std::ptrdiff_t(n), out.bins().end(), Bands(0.f));
+}
+}  // namespace
+
+void HybridSynthesis::prepareBuses(const Simulation& sim, size_t listener) {
+  Scratch& x = *scratch_;
+  const size_t B = size_t(buses_);
+  // The early scratch: the response's bins up to the early part's end (allocated once).
+  const EnergyResponse& any = sim.result(0, listener).energy;
+  if (x.early.binCount() == 0) {
+    const double early = split_.splitSeconds + any.binSeconds();
+    x.early = EnergyResponse(early, any.binSeconds());
+    if (spatial_) x.earlyDir = sim.directional(0, listener).truncated(early);
+  }
+  if (spatial_) {
+    x.lateDir.resize(B);
+    for (DirectionalEnergyResponse& r : x.lateDir) {
+      r = sim.directional(0, listener);  // the listener's frame, bins and directions
+      r.clear();
+    }
+  } else {
+    x.late.resize(B);
+    for (EnergyResponse& r : x.late) {
+      r = sim.result(0, listener).energy;
+      r.clear();
+    }
+  }
+}
+
+double HybridSynthesis::splitSource(const Simulation& sim, size_t s, size_t listener, int k,
+                                    BakedPlayback* baked,
+                                    std::vector<std::vector<float>>& early) {
+  Scratch& x = *scratch_;
+  const Simulation::SourceResult& r = sim.result(s, listener);
+  const std::vector<SpecularPath>& paths = sim.specularPaths(s, listener);
+  earlyPaths(paths, split_, x.paths);
+  DirectSound direct = r.direct;
+  LateShare share;
+  x.channels.resize(early.size());
+  for (size_t c = 0; c < early.size(); ++c) x.channels[c] = early[c].data();
+  if (spatial_) {
+    const DirectionalEnergyResponse& live = sim.directional(s, listener);
+    const DirectionalEnergyResponse& in = baked ? baked->directional(s, live) : live;
+    share = addLate(in, direct, paths, split_, x.lateDir[size_t(k)]);
+    x.earlyDir.copyFrame(in);
+    for (size_t d = 0; d < in.directionCount(); ++d)
+      copyPrefix(in.response(d), x.earlyDir.response(d));
+    keepEarly(x.earlyDir, split_);
+    if (share.directIsLate) direct.visible = false;
+    earlySpatial_->synthesize(x.earlyDir, direct, x.channels, x.paths);
+  } else {
+    const EnergyResponse& in = baked ? baked->energy(s, r.energy) : r.energy;
+    share = addLate(in, direct, paths, split_, x.late[size_t(k)]);
+    copyPrefix(in, x.early);
+    keepEarly(x.early, split_);
+    if (share.directIsLate) direct.visible = false;
+    earlyMono_[s]->synthesize(x.early, direct, x.channels[0], x.paths);
+  }
+  HybridCounts& n = counts_[listener];
+  n.lateDirect += share.directIsLate ? 1 : 0;
+  n.lateArrivals += uint64_t(share.lateArrivals);
+  return share.energy;
+}
+
+void HybridSynthesis::synthesizeBus(int k, std::vector<std::vector<float>>& late) {
+  Scratch& x = *scratch_;
+  x.channels.resize(late.size());
+  for (size_t c = 0; c < late.size(); ++c) x.channels[c] = late[c].data();
+  const DirectSound none;
+  if (spatial_)
+    spatial_->synthesize(x.lateDir[size_t(k)], none, x.channels);
+  else
+    lateMono_[size_t(k)]->synthesize(x.late[size_t(k)], none, x.channels[0]);
+}
+
+void HybridSynthesis::prepare(const Simulation& sim, size_t listener,
+                              const glm::vec3& listenerPosition,
+                              std::span<const glm::vec3> sources, BakedPlayback* baked,
+                              std::vector<std::vector<std::vector<float>>>& early,
+                              std::vector<std::vector<std::vector<float>>>& late,
+                              std::span<float> gain, std::span<int> bus) {
+  Scratch& x = *scratch_;
+  const size_t S = sim.sourceCount();
+  ensureListener(listener, S);
+  prepareBuses(sim, listener);
+  SourceClusters& clusters = *clusters_[listener];
+  const Tracer& tracer = sim.tracer();
+  clusters.update(listenerPosition, sources, [&tracer](const glm::vec3& a, const glm::vec3& b) {
+    return lineOfSight(tracer, a, b);
+  });
+  std::fill(x.busEnergy.begin(), x.busEnergy.end(), 0.0);
+  for (size_t s = 0; s < S; ++s) {
+    const int k = clusters.cluster(s);
+    bus[s] = k;
+    x.lateEnergy[s] = splitSource(sim, s, listener, k, baked, early[s]);
+    x.busEnergy[size_t(k)] += x.lateEnergy[s];
+  }
+  for (int k = 0; k < buses_; ++k) synthesizeBus(k, late[size_t(k)]);
+  for (size_t s = 0; s < S; ++s) {
+    const double e = x.busEnergy[size_t(bus[s])];
+    gain[s] = e > 0.0 ? float(std::sqrt(x.lateEnergy[s] / e)) : 0.f;
+  }
+  HybridCounts& n = counts_[listener];
+  ++n.frames;
+  n.occupiedBuses = clusters.occupied();
+  n.maxAngularRadiusDegrees = clusters.maxAngularRadius() * 180.0 / M_PI;
+  n.switches = clusters.switches();
+  n.forcedJoins = clusters.forcedJoins();
+}
+
+HybridReport HybridSynthesis::report(size_t listener) const {
+  HybridReport r;
+  r.on = true;
+  r.earlySeconds = split_.splitSeconds;
+  r.buses = buses_;
+  if (listener < counts_.size()) r.counts = counts_[listener];
+  return r;
+}
+
+}  // namespace dpc

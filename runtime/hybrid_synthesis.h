@@ -1,0 +1,113 @@
+// Hybrid rendering for many sources: each source's IR holds only its early part (direct sound,
+// exact early paths, first reflections: synthesis/hybrid_split.h), and the late part is
+// synthesised once per cluster of sources (synthesis/source_clusters.h) into a late bus whose
+// input is the sum of the member sources' dry signals, each scaled by its late gain. Source s's
+// late gain g_s = sqrt(E_s / E_k), E_s its broadband late energy and E_k the sum over cluster
+// k's members, whose late responses add up to the bus's response: each source is rendered with
+// exactly its own late energy, in the decay and directions its cluster shares (Schissler &
+// Manocha, ACM TOG 36(1) 2016, section 6). Per frame that is S short syntheses and at most B
+// full-length ones instead of S full-length ones, and the audio side convolves S short IRs and
+// B long ones (runtime/audio_stage.h).
+//
+// Threads: construction on the control thread (synthesisers, FFTW plans; allocates; throws as
+// makeSpatialSynthesizer does); prepare() on the propagation thread, without allocation after
+// the first frames (the synthesisers' own reserves). No errors in prepare().
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "engine/simulation.h"
+#include "scene/scene.h"
+#include "synthesis/hybrid_split.h"
+#include "synthesis/mono_synthesizer.h"
+#include "synthesis/source_clusters.h"
+#include "synthesis/spatial_synthesizer.h"
+
+namespace dpc {
+
+class BakedPlayback;
+
+/// Whether a scene renders hybrid: `rendering` kHybrid, or kAuto with more sources than late
+/// buses (below that, every source could have its own bus and nothing would be saved).
+bool rendersHybrid(const AudioSettings& audio, size_t sources);
+
+/// Counts of one listener's hybrid rendering, cumulative over frames.
+struct HybridCounts {
+  uint64_t frames = 0;
+  uint64_t lateDirect = 0;    ///< direct sounds arriving after the early part (rendered late)
+  uint64_t lateArrivals = 0;  ///< exact arrivals (direct sound included) rendered late
+  int occupiedBuses = 0;      ///< clusters with members, last frame
+  double maxAngularRadiusDegrees = 0.0;  ///< largest cluster's angular radius, last frame
+  uint64_t switches = 0;     ///< sources that changed cluster (SourceClusters::switches)
+  uint64_t forcedJoins = 0;  ///< sources put in a cluster for want of a bus
+};
+
+/// What a render reports of its hybrid rendering (all zero when it rendered per source).
+struct HybridReport {
+  bool on = false;
+  double earlySeconds = 0.0;  ///< length of each source's early part
+  int buses = 0;              ///< late buses per listener
+  HybridCounts counts;        ///< the played (first rendered) listener's
+};
+
+class HybridSynthesis {
+ public:
+  /// channels: the output's IR channels; spatial: the full-length spatial synthesiser the
+  /// stage made (nullptr for mono output), used for the late buses; earlySeconds: the early
+  /// part's length (hybridEarlyLength). listeners: how many listeners get clusters (more are
+  /// added by prepare() on demand, allocating once).
+  HybridSynthesis(const SceneDesc& scene, const PropagationSettings& settings, double roomVolume,
+                  SpatialIrSynthesizer* spatial, double earlySeconds, size_t listeners);
+  ~HybridSynthesis();
+
+  size_t earlySamples() const { return earlySamples_; }
+  /// Samples of a late bus's IR (the whole IR length).
+  size_t lateSamples() const;
+  int buses() const { return buses_; }
+  const HybridSplit& split() const { return split_; }
+
+  /// One frame for `listener`: early[s][c] (earlySamples()) per source, late[k][c] (full
+  /// length) per bus, gain[s] and bus[s] (the late gain and bus of source s). sources: the
+  /// sources' world positions; listenerPosition metres. baked: the attached bake or nullptr.
+  void prepare(const Simulation& sim, size_t listener, const glm::vec3& listenerPosition,
+               std::span<const glm::vec3> sources, BakedPlayback* baked,
+               std::vector<std::vector<std::vector<float>>>& early,
+               std::vector<std::vector<std::vector<float>>>& late, std::span<float> gain,
+               std::span<int> bus);
+
+  const HybridCounts& counts(size_t listener) const { return counts_.at(listener); }
+  /// The report for listener l (a listener never prepared reports zero counts).
+  HybridReport report(size_t listener) const;
+  const SourceClusters& clusters(size_t listener) const { return *clusters_.at(listener); }
+
+ private:
+  struct Scratch;
+  /// Source s's early IR into early[s] and its late part into its bus's response; returns its
+  /// late energy.
+  double splitSource(const Simulation& sim, size_t s, size_t listener, int k,
+                     BakedPlayback* baked, std::vector<std::vector<float>>& early);
+  /// Bus k's late IR from its accumulated response into late[k].
+  void synthesizeBus(int k, std::vector<std::vector<float>>& late);
+  void ensureListener(size_t listener, size_t sources);
+  /// Empties the buses' late responses (in the listener's frame and bins). No allocation after
+  /// the first frame.
+  void prepareBuses(const Simulation& sim, size_t listener);
+
+  HybridSplit split_;
+  int buses_;
+  double clusterAngle_;
+  size_t earlySamples_ = 0;
+  SpatialIrSynthesizer* spatial_ = nullptr;             ///< late buses (spatial output)
+  std::unique_ptr<SpatialIrSynthesizer> earlySpatial_;  ///< early parts (spatial output)
+  std::vector<std::unique_ptr<IrSynthesizer>> earlyMono_;  ///< per source (mono output)
+  std::vector<std::unique_ptr<IrSynthesizer>> lateMono_;   ///< per bus (mono output)
+  std::unique_ptr<Scratch> scratch_;
+  std::vector<std::unique_ptr<SourceClusters>> clusters_;  ///< per listener
+  std::vector<HybridCounts> counts_;
+  const Tracer* tracer_ = nullptr;
+};
+
+}  // namespace dpc

@@ -222,11 +222,13 @@ SpecularPathCache::SpecularPathCache(double tauSeconds, double framePeriodSecond
                                      size_t capacity)
     : keepFrames_(uint64_t(std::max(0.0, std::floor(tauSeconds / framePeriodSeconds + 1e-9)))),
       capacity_(capacity) {
-  entries_.reserve(capacity_);
-  index_.reserve(capacity_);
-  paths_.reserve(capacity_);
-  dropped_.reserve(capacity_);
-  validKeys_.reserve(capacity_);
+  // Tables grow (on the propagation thread) toward the capacity as a pair's paths need them.
+  const size_t initial = std::min(capacity_, kInitialReserve);
+  entries_.reserve(initial);
+  index_.reserve(initial);
+  paths_.reserve(initial);
+  dropped_.reserve(initial);
+  validKeys_.reserve(initial);
 }
 
 void SpecularPathCache::clear() {

@@ -162,8 +162,12 @@ class SpecularPathCache {
  public:
   /// Default capacity of validated sequences per pair (a shoebox has 62 image sources up to
   /// order 3; rooms with many triangles split them into more sequences). At this capacity a
-  /// pair reserves about 1 MB (entries, index, the frame's paths).
+  /// pair would hold about 1 MB (entries, index, the frame's paths).
   static constexpr size_t kDefaultCapacity = 4096;
+  /// Sequences a pair reserves room for at construction (its tables grow from there up to the
+  /// capacity): a room's few dozen early paths fit without growing, and 64 pairs do not
+  /// commit 64 MB up front.
+  static constexpr size_t kInitialReserve = 256;
   /// tauSeconds >= 0: how long a sequence neither valid nor proposed is kept; framePeriod > 0.
   SpecularPathCache(double tauSeconds, double framePeriodSeconds,
                     size_t capacity = kDefaultCapacity);

@@ -43,14 +43,18 @@ HybridSynthesis::HybridSynthesis(const SceneDesc& scene, const PropagationSettin
                                            0x2545f4914f6cdd1dULL);
     earlySamples_ = earlySpatial_->lengthSamples();
   } else {
+    // Per source its own Dirac sequence (sources playing one signal stay incoherent); the
+    // read-only filters and the clean-up workspace are shared by the synthesisers of a length.
     for (size_t s = 0; s < S; ++s)
       earlyMono_.push_back(std::make_unique<IrSynthesizer>(
           fs, earlySeconds, roomVolume, settings.speedOfSound,
-          hashCombine(settings.seed, 0x5bd1e995ULL + s)));
+          hashCombine(settings.seed, 0x5bd1e995ULL + s),
+          earlyMono_.empty() ? nullptr : earlyMono_.front().get()));
     for (int k = 0; k < buses_; ++k)
       lateMono_.push_back(std::make_unique<IrSynthesizer>(
           fs, settings.irLength, roomVolume, settings.speedOfSound,
-          hashCombine(settings.seed, 0x9e3779b97f4a7c15ULL + uint64_t(k))));
+          hashCombine(settings.seed, 0x9e3779b97f4a7c15ULL + uint64_t(k)),
+          lateMono_.empty() ? nullptr : lateMono_.front().get()));
     earlySamples_ = earlyMono_.front()->lengthSamples();
   }
   scratch_->lateEnergy.assign(S, 0.0);

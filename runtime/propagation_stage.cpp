@@ -189,7 +189,8 @@ void PropagationStage::makeSynthesizers(const PropagationSettings& settings, boo
     for (size_t s = 0; s < scene.sources.size(); ++s)
       synthesizers_.push_back(std::make_unique<IrSynthesizer>(
           fs, settings.irLength, roomVolume(scene.mesh), settings.speedOfSound,
-          hashCombine(settings.seed, 0x5bd1e995ULL + s)));
+          hashCombine(settings.seed, 0x5bd1e995ULL + s),
+          synthesizers_.empty() ? nullptr : synthesizers_.front().get()));
     irSamples_ = synthesizers_.front()->lengthSamples();
   } else {
     spatial_ = makeSpatialSynthesizer(scene, settings, roomVolume(scene.mesh));

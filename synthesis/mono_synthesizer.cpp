@@ -18,7 +18,7 @@ IrSynthesizer::IrSynthesizer(IrSynthesizer&&) noexcept = default;
 IrSynthesizer& IrSynthesizer::operator=(IrSynthesizer&&) noexcept = default;
 
 IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVolume,
-                             double speedOfSound, uint64_t seed)
+                             double speedOfSound, uint64_t seed, const IrSynthesizer* shareWith)
     : sampleRate_(sampleRate) {
   if (sampleRate <= 0 || !(lengthSeconds > 0.0) || !(roomVolume > 0.0) || !(speedOfSound > 0.0) ||
       !std::isfinite(lengthSeconds) || !std::isfinite(roomVolume) || !std::isfinite(speedOfSound))
@@ -34,10 +34,15 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
   const OctaveBandMasks masks(sampleRate, fft.n);
   filterData_ = BandFilterData::compute(masks, fft.n);
   bands_ = std::make_unique<TiltedBands>(sampleRate, length_, masks, fft);
-  direct_ = std::make_unique<DirectSoundFilter>(masks, fft, margin);
-  leveller_ = std::make_unique<BandLeveller>(
-      sampleRate, length_, kFirstCleanedBand,
-      BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, 10.0));
+  if (shareWith && shareWith->sampleRate_ == sampleRate && shareWith->length_ == length_) {
+    direct_ = shareWith->direct_;
+    leveller_ = shareWith->leveller_;
+  } else {
+    direct_ = std::make_shared<const DirectSoundFilter>(masks, fft, margin);
+    leveller_ = std::make_shared<BandLeveller>(
+        sampleRate, length_, kFirstCleanedBand,
+        BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, 10.0));
+  }
   envelope_ = std::make_unique<BandEnvelope>(sampleRate, seq, length_, filterData_,
                                              measureLowBands(fft, masks, length_));
   arrivals_.reserve(kReservedArrivals);

@@ -60,8 +60,12 @@ class IrSynthesizer {
 
   /// sampleRate in Hz; lengthSeconds of the IR; roomVolume in m^3 (density law: roomVolume()
   /// of the scene's mesh, engine/room_volume.h); speedOfSound m/s; seed for the Dirac sequence.
+  /// shareWith: a synthesiser of the same rate, length, volume and c whose direct-sound filters
+  /// and clean-up workspace this one uses too (they hold nothing between frames; hybrid
+  /// rendering's many early synthesisers share one set); both must then synthesise on one
+  /// thread, one at a time. nullptr: its own.
   IrSynthesizer(int sampleRate, double lengthSeconds, double roomVolume, double speedOfSound,
-                uint64_t seed);
+                uint64_t seed, const IrSynthesizer* shareWith = nullptr);
   ~IrSynthesizer();
   IrSynthesizer(IrSynthesizer&&) noexcept;
   IrSynthesizer& operator=(IrSynthesizer&&) noexcept;
@@ -113,9 +117,9 @@ class IrSynthesizer {
   size_t length_;
   BandFilterData filterData_;
   std::unique_ptr<TiltedBands> bands_;
-  std::unique_ptr<DirectSoundFilter> direct_;
+  std::shared_ptr<const DirectSoundFilter> direct_;
   std::unique_ptr<BandEnvelope> envelope_;
-  std::unique_ptr<BandLeveller> leveller_;
+  std::shared_ptr<BandLeveller> leveller_;
   std::vector<Arrival> arrivals_;  ///< this frame's direct sound and exact paths
   Bands missingBands_{};
 };

@@ -171,7 +171,7 @@ struct PropagationSettings {
   /// DPC memory budget of the whole engine, megabytes (> 0): every pair's cache grows its tables
   /// from this one pool as its paths need room, up to cacheMemoryMb each (engine/cache_pool.h).
   /// The default holds a few dozen busy pairs; beyond it pairs merge old paths (energy kept).
-  float cachePoolMb = 256.f;
+  float cachePoolMb = 128.f;
   float frameRate = 15.f;  ///< propagation frames per second, Hz
   float irLength = 2.0f;   ///< impulse response length, seconds
   uint64_t seed = 1;       ///< random seed; the same seed gives bit-identical output

@@ -35,8 +35,14 @@ HalfBandDensity halfBandDensity(const EnergyResponse& energy, int band, double c
 }
 
 TiltedBands::TiltedBands(int sampleRate, size_t length, const OctaveBandMasks& masks,
-                         FftwRealTransforms& fft)
+                         FftwRealTransforms& fft, const TiltedBands* shareScratch)
     : sampleRate_(sampleRate), length_(length) {
+  if (shareScratch && shareScratch->length_ == length_) {
+    tilted_ = shareScratch->tilted_;
+  } else {
+    tilted_ = std::make_shared<std::array<std::vector<float>, kNumBands>>();
+    for (std::vector<float>& t : *tilted_) t.assign(length_, 0.f);
+  }
   const size_t nfft = fft.n, nbins = nfft / 2 + 1;
   const float scale = 1.f / float(nfft);
   for (int b = 0; b < kNumBands; ++b) {
@@ -66,7 +72,6 @@ TiltedBands::TiltedBands(int sampleRate, size_t length, const OctaveBandMasks& m
     halfEnergy_[bi] = half;
     fftwf_execute(fft.inv);
     upper_[bi].assign(fft.time.p, fft.time.p + length_);
-    tilted_[bi].assign(length_, 0.f);
     const size_t w = BandEnvelope::binSamplesFor(sampleRate, b);
     alpha_[bi].assign((length_ + w - 1) / w, 1.f);
     gamma_[bi].assign((length_ + w - 1) / w, 0.f);
@@ -90,7 +95,7 @@ void TiltedBands::update(const EnergyResponse& energy) {
       gamma_[bi][j] = float(gamma);
       const float* s = band_[bi].data();
       const float* sh = upper_[bi].data();
-      float* t = tilted_[bi].data();
+      float* t = (*tilted_)[bi].data();
       const float a = float(alpha), g = float(gamma);
       for (size_t n = j * w; n < std::min(length_, (j + 1) * w); ++n) t[n] = a * s[n] + g * sh[n];
     }

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 #include "common/fftw_util.h"
@@ -44,7 +45,11 @@ HalfBandDensity halfBandDensity(const EnergyResponse& energy, int band, double c
 /// update(): propagation thread; no allocation; no errors.
 class TiltedBands {
  public:
-  TiltedBands(int sampleRate, size_t length, const OctaveBandMasks& masks, FftwRealTransforms& fft);
+  /// shareScratch: TiltedBands of the same length whose tilted() buffers this one writes too
+  /// (they hold one update()'s result, read before the next update() of either: synthesisers
+  /// that run one at a time on one thread); nullptr: its own.
+  TiltedBands(int sampleRate, size_t length, const OctaveBandMasks& masks, FftwRealTransforms& fft,
+              const TiltedBands* shareScratch = nullptr);
   /// Sets every bin's weights and tilted signal from the response (any bin width).
   void update(const EnergyResponse& energy);
 
@@ -52,7 +57,7 @@ class TiltedBands {
   const std::vector<float>& band(int b) const { return band_[size_t(b)]; }
   const std::vector<float>& upperHalf(int b) const { return upper_[size_t(b)]; }
   /// alpha s_b + gamma s_hi per bin of the last update(), length samples.
-  const std::vector<float>& tilted(int b) const { return tilted_[size_t(b)]; }
+  const std::vector<float>& tilted(int b) const { return (*tilted_)[size_t(b)]; }
   /// alpha and gamma of bin j of the last update().
   float alpha(int b, size_t j) const { return alpha_[size_t(b)][j]; }
   float gamma(int b, size_t j) const { return gamma_[size_t(b)][j]; }
@@ -60,7 +65,8 @@ class TiltedBands {
  private:
   int sampleRate_;
   size_t length_;
-  std::array<std::vector<float>, kNumBands> band_, upper_, tilted_;
+  std::array<std::vector<float>, kNumBands> band_, upper_;
+  std::shared_ptr<std::array<std::vector<float>, kNumBands>> tilted_;
   /// <s_lo,s_lo>, <s_lo,s_hi>, <s_hi,s_hi> for a white input.
   std::array<std::array<double, 3>, kNumBands> halfEnergy_{};
   std::array<std::vector<float>, kNumBands> alpha_, gamma_;

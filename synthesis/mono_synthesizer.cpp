@@ -33,7 +33,8 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
   fftwf_execute(fft.fwd);
   const OctaveBandMasks masks(sampleRate, fft.n);
   filterData_ = BandFilterData::compute(masks, fft.n);
-  bands_ = std::make_unique<TiltedBands>(sampleRate, length_, masks, fft);
+  bands_ = std::make_unique<TiltedBands>(sampleRate, length_, masks, fft,
+                                         shareWith ? shareWith->bands_.get() : nullptr);
   if (shareWith && shareWith->sampleRate_ == sampleRate && shareWith->length_ == length_) {
     direct_ = shareWith->direct_;
     leveller_ = shareWith->leveller_;

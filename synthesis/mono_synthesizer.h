@@ -60,8 +60,9 @@ class IrSynthesizer {
 
   /// sampleRate in Hz; lengthSeconds of the IR; roomVolume in m^3 (density law: roomVolume()
   /// of the scene's mesh, engine/room_volume.h); speedOfSound m/s; seed for the Dirac sequence.
-  /// shareWith: a synthesiser of the same rate, length, volume and c whose direct-sound filters
-  /// and clean-up workspace this one uses too (they hold nothing between frames; hybrid
+  /// shareWith: a synthesiser of the same rate, length, volume and c whose direct-sound filters,
+  /// tilted-band buffers and clean-up workspace this one uses too (they hold nothing between
+  /// frames; hybrid
   /// rendering's many early synthesisers share one set); both must then synthesise on one
   /// thread, one at a time. nullptr: its own.
   IrSynthesizer(int sampleRate, double lengthSeconds, double roomVolume, double speedOfSound,

@@ -13,6 +13,9 @@ void FrameTotals::add(const Simulation::SourceResult& r) {
   if (r.cachePoolBytes > 0) cacheBudgetBytes = std::min(cacheBudgetBytes, r.cachePoolBytes);
   cachePoolUsedBytes = std::max(cachePoolUsedBytes, r.cachePoolUsedBytes);
   cachePoolRefusals += r.cachePoolRefusals;
+  cachePairBytesMin = cachePairs == 0 ? r.cacheBytes : std::min(cachePairBytesMin, r.cacheBytes);
+  cachePairBytesMax = std::max(cachePairBytesMax, r.cacheBytes);
+  ++cachePairs;
   cacheMergedEntries += r.cacheMergedEntries;
   cacheCoarseEnergyFraction = std::max(cacheCoarseEnergyFraction, r.cacheCoarseEnergyFraction);
   const double dropped = double(r.energy.droppedEnergy().sum());
@@ -36,6 +39,10 @@ void SessionCounters::frameDone(const FrameTotals& t, double frameMs) noexcept {
   rays_.fetch_add(t.rays, std::memory_order_relaxed);
   cacheEntries_.store(t.cacheEntries + t.cacheCoarseEntries, std::memory_order_relaxed);
   cacheBytes_.store(t.cacheBytes, std::memory_order_relaxed);
+  cachePairs_.store(t.cachePairs, std::memory_order_relaxed);
+  cachePairBytesMin_.store(t.cachePairBytesMin, std::memory_order_relaxed);
+  cachePairBytesMax_.store(t.cachePairBytesMax, std::memory_order_relaxed);
+  cachePoolUsedBytes_.store(t.cachePoolUsedBytes, std::memory_order_relaxed);
   cacheBudgetBytes_.store(t.cacheBudgetBytes, std::memory_order_relaxed);
   cacheMergedEntries_.store(t.cacheMergedEntries, std::memory_order_relaxed);
   cacheMergedEnergyFraction_.store(t.cacheCoarseEnergyFraction, std::memory_order_relaxed);
@@ -66,6 +73,10 @@ void SessionCounters::read(SessionStatus& st) {
   st.reducedFrames = reducedFrames_.load(r);
   st.cacheEntries = cacheEntries_.load(r);
   st.cacheBytes = cacheBytes_.load(r);
+  st.cachePairs = cachePairs_.load(r);
+  st.cachePairBytesMin = cachePairBytesMin_.load(r);
+  st.cachePairBytesMax = cachePairBytesMax_.load(r);
+  st.cachePoolUsedBytes = cachePoolUsedBytes_.load(r);
   st.cacheBudgetBytes = cacheBudgetBytes_.load(r);
   st.cacheMergedEntries = cacheMergedEntries_.load(r);
   st.cacheMergedEnergyFraction = cacheMergedEnergyFraction_.load(r);

@@ -23,6 +23,9 @@ struct FrameTotals {
   size_t cacheBudgetBytes = 0;           ///< DPC memory budget: pairs' budgets summed, at most the pool
   size_t cachePoolUsedBytes = 0;         ///< DPC pool bytes held by all pairs
   uint64_t cachePoolRefusals = 0;        ///< table growths the full pool refused, summed
+  size_t cachePairs = 0;                 ///< source-listener pairs added
+  size_t cachePairBytesMin = 0;          ///< smallest pair's DPC heap bytes (its pool use)
+  size_t cachePairBytesMax = 0;          ///< largest pair's DPC heap bytes
   uint64_t cacheMergedEntries = 0;       ///< path entries merged by the budget, cumulative, summed
   double cacheCoarseEnergyFraction = 0;  ///< largest per-pair share of the response they carry
   /// Largest per-pair share of the estimator's energy that arrived beyond the IR length and
@@ -45,6 +48,9 @@ struct SessionStatus {
   size_t cacheEntries = 0;          ///< DPC path + coarse entries, summed over sources
   size_t cacheBytes = 0;            ///< DPC heap bytes, summed over sources
   size_t cacheBudgetBytes = 0;      ///< DPC memory budget, summed over sources
+  /// The cache pool's use per source-listener pair, last frame (played listener): pairs,
+  /// smallest and largest pair's bytes, and the pool's bytes held by every pair of the engine.
+  size_t cachePairs = 0, cachePairBytesMin = 0, cachePairBytesMax = 0, cachePoolUsedBytes = 0;
   uint64_t cacheMergedEntries = 0;  ///< entries merged into the coarse store, cumulative
   double cacheMergedEnergyFraction = 0.0;  ///< largest per-source share of the response they carry
   /// Last frame, played listener: largest per-source share of the energy that arrived beyond
@@ -112,7 +118,8 @@ class SessionCounters {
       cacheMergedEntries_{0}, bakedResponses_{0}, bakeFallbacks_{0};
   std::atomic<double> frameMs_{0.0}, irAgeMs_{0.0}, cacheMergedEnergyFraction_{0.0},
       droppedEnergyFraction_{0.0};
-  std::atomic<size_t> cacheEntries_{0}, cacheBytes_{0}, cacheBudgetBytes_{0};
+  std::atomic<size_t> cacheEntries_{0}, cacheBytes_{0}, cacheBudgetBytes_{0}, cachePairs_{0},
+      cachePairBytesMin_{0}, cachePairBytesMax_{0}, cachePoolUsedBytes_{0};
   std::atomic<int> raysPerFrame_{0}, raysPerFrameMin_{0};
   uint64_t lastRays_ = 0;  ///< read()'s previous ray count
   std::chrono::steady_clock::time_point lastRead_;

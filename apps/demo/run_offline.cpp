@@ -179,6 +179,11 @@ void printTotals(const OfflineResult& r, double audioSeconds) {
       "energy beyond the IR length %.3g %% of the last response (largest per pair)  "
       "IR sets lost %llu\n",
       100.0 * r.last.droppedEnergyFraction, (unsigned long long)r.irsLost);
+  std::printf("cache pool in use %.1f MB  per pair (%zu): smallest %.2f MB, mean %.2f MB, "
+              "largest %.2f MB\n",
+              r.last.cachePoolUsedBytes / 1e6, r.last.cachePairs, r.last.cachePairBytesMin / 1e6,
+              r.last.cachePairs ? r.last.cacheBytes / 1e6 / double(r.last.cachePairs) : 0.0,
+              r.last.cachePairBytesMax / 1e6);
   printHybrid(r.hybrid);
 }
 

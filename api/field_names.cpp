@@ -9,6 +9,7 @@ std::string apiFieldName(const std::string& path, const std::vector<Material>& m
   auto starts = [&](const char* p) { return path.rfind(p, 0) == 0; };
   auto numberAt = [&](size_t at) { return std::stoul(path.substr(at)); };
   auto after = [&](char c, size_t from = 0) { return path.substr(path.find(c, from) + 1); };
+  if (path == "audio.cluster_angle") return "cluster_angle_degrees";
   if (starts("propagation.") || starts("audio.")) return after('.');
   if (path == "listeners") return "listeners (1 + additional_listener_count)";
   if (starts("listeners[")) {

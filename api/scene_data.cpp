@@ -113,6 +113,18 @@ void listenersFromData(const dpc_scene_data& d, const Origin& origin, SceneDesc&
   }
 }
 
+/// The rendering of a raw enum value (any bit pattern a caller may store); false if unknown.
+bool toRendering(const dpc_rendering& field, Rendering* out) {
+  std::underlying_type_t<dpc_rendering> raw;
+  std::memcpy(&raw, &field, sizeof raw);
+  switch (long(raw)) {
+    case DPC_RENDERING_AUTO: *out = Rendering::kAuto; return true;
+    case DPC_RENDERING_PER_SOURCE: *out = Rendering::kPerSource; return true;
+    case DPC_RENDERING_HYBRID: *out = Rendering::kHybrid; return true;
+    default: return false;
+  }
+}
+
 void settingsFromData(const dpc_scene_data& d, SceneDesc& scene) {
   PropagationSettings& p = scene.propagation;
   p.raysPerFrame = d.rays_per_frame;
@@ -132,7 +144,13 @@ void settingsFromData(const dpc_scene_data& d, SceneDesc& scene) {
   scene.audio.blockSize = d.block_size;
   if (!toOutputFormat(d.output, &scene.audio.output))
     bad("output", "must be DPC_OUTPUT_MONO, _STEREO or _BINAURAL");
+  p.cachePoolMb = d.cache_pool_mb;
+  scene.audio.lateBuses = d.late_buses;
+  scene.audio.clusterAngleDegrees = d.cluster_angle_degrees;
+  if (!toRendering(d.rendering, &scene.audio.rendering))
+    bad("rendering", "must be DPC_RENDERING_AUTO, _PER_SOURCE or _HYBRID");
 }
+
 
 }  // namespace
 
@@ -213,4 +231,8 @@ extern "C" void dpc_scene_data_init(dpc_scene_data* data) {
   data->sample_rate = a.sampleRate;
   data->block_size = a.blockSize;
   data->output = DPC_OUTPUT_MONO;
+  data->cache_pool_mb = p.cachePoolMb;
+  data->rendering = DPC_RENDERING_AUTO;
+  data->late_buses = a.lateBuses;
+  data->cluster_angle_degrees = a.clusterAngleDegrees;
 }

@@ -146,7 +146,7 @@ void OfflineRender::finish() {
       lr.output.channels.clear();
     else
       for (auto& ch : lr.output.channels) ch.resize(totalFrames_);
-    lr.lastIrs = propagation_.lastIrs(listeners_[k]);
+    lr.lastIrs = propagation_.wholeIrs(listeners_[k]);
     lr.lastListenerPosition = world_.listenerPositions[listeners_[k]];
     lr.lastListenerOrientation = world_.listenerOrientations[listeners_[k]];
     lr.lastSourcePositions = world_.sourcePositions;

@@ -300,6 +300,28 @@ void PropagationStage::prepareLate(size_t listener, IrSet& set) {
     set.lateIrs->prepare(int(k), channelScratch_.data(), lateLayout_->maxIrSamples());
   }
   totals_.prepareSeconds += secondsSince(t0);
+  if (lastGain_.size() <= listener) lastGain_.resize(listener + 1), lastBus_.resize(listener + 1);
+  lastGain_[listener].assign(set.lateGain.begin(), set.lateGain.end());
+  lastBus_[listener].assign(set.lateBus.begin(), set.lateBus.end());
+}
+
+std::vector<std::vector<std::vector<float>>> PropagationStage::wholeIrs(size_t listener) const {
+  const auto& early = irs_.at(listener);
+  if (!hybrid_ || listener >= lastGain_.size()) return early;
+  const auto& late = lateIrs_.at(listener);
+  std::vector<std::vector<std::vector<float>>> out(early.size());
+  for (size_t s = 0; s < early.size(); ++s) {
+    const auto& bus = late[size_t(lastBus_[listener][s])];
+    const float g = lastGain_[listener][s];
+    out[s].resize(early[s].size());
+    for (size_t c = 0; c < early[s].size(); ++c) {
+      std::vector<float>& x = out[s][c];
+      x.resize(bus[c].size());
+      for (size_t n = 0; n < x.size(); ++n) x[n] = g * bus[c][n];
+      for (size_t n = 0; n < early[s][c].size() && n < x.size(); ++n) x[n] += early[s][c][n];
+    }
+  }
+  return out;
 }
 
 void PropagationStage::attachBake(std::shared_ptr<const BakedField> bake,

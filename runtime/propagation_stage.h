@@ -107,10 +107,16 @@ class PropagationStage {
   void attachBake(std::shared_ptr<const BakedField> bake, BakeInterpolation settings = {});
   /// The attached bake's playback and counts, or nullptr.
   const BakedPlayback* bakedPlayback() const { return baked_.get(); }
-  /// The pressure IR listener l's last prepared set holds: [source][channel][sample].
+  /// The per-source IRs listener l's last prepared set holds: [source][channel][sample] (in
+  /// hybrid rendering the early parts only: wholeIrs() gives what each source is heard with).
   const std::vector<std::vector<std::vector<float>>>& lastIrs(size_t listener = 0) const {
     return irs_.at(listener);
   }
+  /// Every source's whole IR as listener l's last prepared set renders it, [source][channel]
+  /// [sample] of the full IR length: lastIrs(l) itself, or in hybrid rendering each source's
+  /// early part plus its late gain times its bus's late IR. Any thread that may read
+  /// lastIrs(l); allocates the copy.
+  std::vector<std::vector<std::vector<float>>> wholeIrs(size_t listener = 0) const;
   /// The late buses' IRs listener l's last prepared set holds: [bus][channel][sample] (hybrid).
   const std::vector<std::vector<std::vector<float>>>& lastLateIrs(size_t listener = 0) const {
     return lateIrs_.at(listener);
@@ -154,6 +160,9 @@ class PropagationStage {
   std::vector<std::vector<std::vector<std::vector<float>>>> irs_;  ///< [listener][source][ch]
   std::vector<std::vector<std::vector<std::vector<float>>>> lateIrs_;  ///< [listener][bus][ch]
   std::vector<glm::vec3> sources_;       ///< traceWorld's source positions
+  /// Hybrid: per listener, the last prepared set's late gain and bus of each source.
+  std::vector<std::vector<float>> lastGain_;
+  std::vector<std::vector<int>> lastBus_;
   std::vector<ListenerSphere> spheres_;  ///< traceWorld's listener spheres
   double lastTime_ = 0.0;                ///< scene time of the last traced frame
   size_t irSamples_ = 0;

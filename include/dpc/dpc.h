@@ -106,6 +106,16 @@ typedef enum dpc_output_format {
   DPC_OUTPUT_BINAURAL = 3
 } dpc_output_format;
 
+/** How the sources' impulse responses are rendered (docs/design.md, "Audio side"): each whole,
+ *  or hybrid (each source's early part on its own, the late part once per cluster of sources
+ *  through a shared late bus: Schissler & Manocha, ACM TOG 2016). AUTO is hybrid when the
+ *  sources outnumber the late buses. Since 0.4.0. */
+typedef enum dpc_rendering {
+  DPC_RENDERING_AUTO = 0,
+  DPC_RENDERING_PER_SOURCE = 1,
+  DPC_RENDERING_HYBRID = 2
+} dpc_rendering;
+
 /** Overrides of a scene's settings when an engine is created. Fill with
  *  dpc_engine_options_init() (struct_size set, every other field "keep the scene's"), then
  *  change what you need. */
@@ -233,6 +243,13 @@ typedef struct dpc_scene_data {
   /* source directivity: NULL (the default) makes every source omni; else source_count
      entries, entry i for sources[i] */
   const dpc_source_directivity* source_directivities;
+  /* many sources (docs/performance.md, "Many sources"; since 0.4.0) */
+  float cache_pool_mb; /**< DPC memory budget of the whole engine, MB, (0, 65536]: every
+                            source-listener pair's cache grows from it; default 128 */
+  dpc_rendering rendering; /**< DPC_RENDERING_AUTO (default), _PER_SOURCE or _HYBRID */
+  int late_buses;          /**< hybrid rendering: late buses per listener, 1..64; default 4 */
+  float cluster_angle_degrees; /**< hybrid rendering: a cluster's angular radius as seen from
+                                    the listener, degrees, (0, 180]; default 30 */
 } dpc_scene_data;
 
 /** Any thread; no allocation. struct_size = sizeof(dpc_scene_data); zero mesh, materials and

@@ -95,6 +95,10 @@ const std::map<std::string, DataSetter>& dataSetters() {
       propagationField("humidity", &dpc_scene_data::humidity),
       {"audio.sample_rate", dataMember(&dpc_scene_data::sample_rate, "sample_rate")},
       {"audio.block_size", dataMember(&dpc_scene_data::block_size, "block_size")},
+      propagationField("cache_pool_mb", &dpc_scene_data::cache_pool_mb),
+      {"audio.late_buses", dataMember(&dpc_scene_data::late_buses, "late_buses")},
+      {"audio.cluster_angle",
+       dataMember(&dpc_scene_data::cluster_angle_degrees, "cluster_angle_degrees")},
   };
   return m;
 }
@@ -102,11 +106,9 @@ const std::map<std::string, DataSetter>& dataSetters() {
 /// Limits dpc_scene_data cannot carry (docs/design.md, "Not yet across the boundary"; the
 /// file defaults apply).
 const std::set<std::string> kNotInData = {"objects", "propagation.cache_memory_mb",
-                                          "propagation.cache_pool_mb",
                                           "propagation.roulette_threshold_db",
                                           "propagation.exact_order",
                                           "audio.ambisonic_order",
-                                          "audio.late_buses", "audio.cluster_angle",
                                           "materials.*.transmission_loss_db"};
 
 /// Creates with an invalid output option, checked after every scene value: a value that is

@@ -1,6 +1,7 @@
 // dpc-bench: speed and noise benchmarks. Prints one JSON document on stdout; progress on stderr.
 //
 //   dpc-bench propagation SCENE [--threads T] [--rays N] [--max-order D] [--frames F]
+//                               [--tracing from_sources|from_listeners]
 //                               [--no-roulette] [--tau S]
 //   dpc-bench noise SCENE [--rays N] [--frames F] [--tau S] [--walk-speed V]
 //                         [--reference-frames M] [--threads T] [--max-order D]
@@ -30,11 +31,11 @@
 #include "bench/diffraction_bench.h"
 #include "bench/dynamic_bench.h"
 #include "bench/listeners_bench.h"
-#include "bench/sources_bench.h"
 #include "bench/live_bench.h"
 #include "bench/load_bench.h"
 #include "bench/noise_bench.h"
 #include "bench/propagation_bench.h"
+#include "bench/sources_bench.h"
 #include "common/input_error.h"
 #include "common/program_main.h"
 #include "scene/limits.h"
@@ -46,6 +47,7 @@ namespace {
 struct Options {
   CommonOptions common;
   bool noRoulette = false;
+  std::string propagationTracing = "from_sources";
   NoiseOptions noise;
   LiveOptions live;
   ListenersOptions listeners;
@@ -214,6 +216,12 @@ Subcommands addSubcommands(CLI::App& app, Options& o) {
   s.propagation =
       addSceneBench(app, "propagation", "Frame time and segments/s vs bare Embree", o.common);
   s.propagation->add_flag("--no-roulette", o.noRoulette, "Trace every ray to max order");
+  s.propagation
+      ->add_option("--tracing", o.propagationTracing,
+                   "from_sources or from_listeners: the full frame's tracing direction (the bare "
+                   "loops start where its rays do)")
+      ->check(CLI::IsMember({"from_sources", "from_listeners"}))
+      ->capture_default_str();
   s.noise = addNoise(app, o);
   s.live = addLive(app, o);
   s.listeners = addListeners(app, o);
@@ -235,7 +243,8 @@ Subcommands addSubcommands(CLI::App& app, Options& o) {
 
 /// Runs the parsed subcommand; returns the exit status.
 int run(const Subcommands& s, const Options& o) {
-  if (*s.propagation) return benchPropagation(o.common, o.noRoulette);
+  if (*s.propagation)
+    return benchPropagation(o.common, o.noRoulette, *parseTracing(o.propagationTracing));
   if (*s.dynamic) return benchDynamic(o.dynamic);
   if (*s.listeners) return benchListeners(o.common, o.listeners);
   if (*s.sources) return benchSources(o.common, o.sources);

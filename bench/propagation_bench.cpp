@@ -6,9 +6,9 @@
 #include <vector>
 
 #include "bench/bare_embree.h"
+#include "engine/room_volume.h"
 #include "engine/simulation.h"
 #include "runtime/render_pipeline.h"
-#include "engine/room_volume.h"
 #include "synthesis/mono_synthesizer.h"
 
 namespace dpc::bench {
@@ -59,16 +59,15 @@ struct BareTimes {
 
 /// Two yardsticks: single rays (rtcIntersect1) and 16-wide packets (rtcIntersect16), the
 /// latter being what the full frame uses by default.
-BareTimes timeBare(const Simulation& sim, const SceneDesc& scene, const PropagationSettings& s,
+BareTimes timeBare(const Simulation& sim, const glm::vec3& start, const PropagationSettings& s,
                    int frames) {
   BareTimes b;
   for (int f = 0; f < frames; ++f) {
-    const BareResult one = traceBare(sim.tracer(), scene.sources[0].position, s.raysPerFrame,
-                                     s.maxOrder, s.threads, f);
+    const BareResult one = traceBare(sim.tracer(), start, s.raysPerFrame, s.maxOrder, s.threads, f);
     b.segments += one.segments;
     b.seconds += one.seconds;
-    const BareResult p = traceBare(sim.tracer(), scene.sources[0].position, s.raysPerFrame,
-                                   s.maxOrder, s.threads, f, BareMode::kPacket16);
+    const BareResult p = traceBare(sim.tracer(), start, s.raysPerFrame, s.maxOrder, s.threads, f,
+                                   BareMode::kPacket16);
     b.packetSegments += p.segments;
     b.packetSeconds += p.seconds;
   }
@@ -116,6 +115,7 @@ Json report(const CommonOptions& c, const PropagationSettings& s, const Simulati
   j["scene"] = c.scene;
   j["triangles"] = sim.geometry().triangleCount();
   j["threads"] = s.threads;
+  j["tracing"] = s.tracing == Tracing::kFromListeners ? "from_listeners" : "from_sources";
   j["rays_per_frame"] = s.raysPerFrame;
   j["max_order"] = s.maxOrder;
   j["roulette"] = s.rouletteThreshold > 0.f;
@@ -150,19 +150,22 @@ Json cacheJson(const Simulation::SourceResult& r0) {
 
 }  // namespace
 
-int benchPropagation(const CommonOptions& c, bool noRoulette) {
+int benchPropagation(const CommonOptions& c, bool noRoulette, Tracing tracing) {
   const SceneDesc scene = firstSourceOnly(loadScene(c.scene));
   PropagationSettings s = settingsFor(scene, c);
   if (!c.rays) s.raysPerFrame = 4096;
   if (!c.maxOrder) s.maxOrder = 200;
   if (noRoulette) s.rouletteThreshold = 0.f;
+  s.tracing = tracing;
   const glm::vec3 listener = listenerPositionAt(scene.listeners[0], 0.0);
   Simulation sim(scene, s);
   IrSynthesizer synth(scene.audio.sampleRate, s.irLength, roomVolume(scene.mesh), s.speedOfSound,
                       1);
   const FrameTimes t = timeFrames(sim, synth, listener, c.frames);
   std::fprintf(stderr, "\rbare Embree loops...   ");
-  const BareTimes b = timeBare(sim, scene, s, c.frames);
+  // The bare loops' rays leave where the full frame's do: the source, or the listener.
+  const glm::vec3 start = tracing == Tracing::kFromListeners ? listener : scene.sources[0].position;
+  const BareTimes b = timeBare(sim, start, s, c.frames);
   std::fprintf(stderr, "\r                      \r");
   Json j = report(c, s, sim, t, b);
   j["cache"] = cacheJson(sim.result(0));

@@ -9,6 +9,6 @@ namespace dpc::bench {
 /// Times c.frames frames of the scene's first source (rays default 4096, max order 200;
 /// noRoulette: every ray to max order) and prints the JSON report on stdout, progress on
 /// stderr. Main thread (tracing uses c.threads). Returns 0; throws on bad input.
-int benchPropagation(const CommonOptions& c, bool noRoulette);
+int benchPropagation(const CommonOptions& c, bool noRoulette, Tracing tracing);
 
 }  // namespace dpc::bench

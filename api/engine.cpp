@@ -23,6 +23,7 @@ dpc_status applyOptions(const dpc_engine_options* o, SceneDesc& scene) {
   if (o->sample_rate != 0) scene.audio.sampleRate = o->sample_rate;
   if (o->block_size != 0) scene.audio.blockSize = o->block_size;
   if (o->rays_per_frame != 0) scene.propagation.raysPerFrame = o->rays_per_frame;
+  if (o->ambisonic_order != 0) scene.audio.ambisonicOrder = o->ambisonic_order;
   try {
     validate(scene, apiOrigin("dpc_engine_options", scene));
   } catch (const InputError& e) {
@@ -58,7 +59,7 @@ dpc_engine* finishEngine(std::unique_ptr<dpc_engine> engine) {
   for (const std::string& w : engine->scene.warnings) logMessage(LogLevel::kWarning, w);
   engine->sources = int(engine->scene.sources.size());
   LiveSession::Options options;
-  options.deviceChannels = outputChannels(engine->scene.audio);
+  options.deviceChannels = renderedChannels(engine->scene.audio);
   // The session shares the scene and the signals; until the host sets a pose, every listener
   // stands where the scene puts it at time 0.
   const PropagationSettings settings = engine->scene.propagation;

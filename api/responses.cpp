@@ -48,7 +48,7 @@ dpc_status dpc_engine_copy_energy_response(dpc_engine* engine, int source, float
 dpc_status dpc_engine_process(dpc_engine* engine, const float* const* inputs, float* const* outputs,
                               int frames) {
   if (!engine || !outputs) return DPC_ERR_INVALID_ARGUMENT;
-  for (int c = 0; c < engine->session->irChannels(); ++c)
+  for (int c = 0; c < engine->session->outputChannels(); ++c)
     if (!outputs[c]) return DPC_ERR_INVALID_ARGUMENT;
   if (inputs)
     for (int s = 0; s < engine->sources; ++s)
@@ -67,6 +67,9 @@ int dpc_engine_block_size(const dpc_engine* e) {
   return e ? e->session->blockSize() : 0;
 }
 int dpc_engine_output_channels(const dpc_engine* e) {
+  return e ? e->session->outputChannels() : 0;
+}
+int dpc_engine_ir_channels(const dpc_engine* e) {
   return e ? e->session->irChannels() : 0;
 }
 int dpc_engine_source_count(const dpc_engine* e) {

@@ -143,7 +143,8 @@ void settingsFromData(const dpc_scene_data& d, SceneDesc& scene) {
   scene.audio.sampleRate = d.sample_rate;
   scene.audio.blockSize = d.block_size;
   if (!toOutputFormat(d.output, &scene.audio.output))
-    bad("output", "must be DPC_OUTPUT_MONO, _STEREO or _BINAURAL");
+    bad("output", "must be DPC_OUTPUT_MONO, _STEREO, _BINAURAL, _AMBISONICS or _AMBISONIC_BINAURAL");
+  scene.audio.ambisonicOrder = d.ambisonic_order;
   p.cachePoolMb = d.cache_pool_mb;
   scene.audio.lateBuses = d.late_buses;
   scene.audio.clusterAngleDegrees = d.cluster_angle_degrees;
@@ -168,6 +169,10 @@ bool toOutputFormat(const dpc_output_format& field, OutputFormat* out) {
     *out = OutputFormat::kStereo;
   } else if (raw == DPC_OUTPUT_BINAURAL) {
     *out = OutputFormat::kBinaural;
+  } else if (raw == DPC_OUTPUT_AMBISONICS) {
+    *out = OutputFormat::kAmbisonics;
+  } else if (raw == DPC_OUTPUT_AMBISONIC_BINAURAL) {
+    *out = OutputFormat::kAmbisonicBinaural;
   } else {
     return false;
   }
@@ -235,4 +240,5 @@ extern "C" void dpc_scene_data_init(dpc_scene_data* data) {
   data->rendering = DPC_RENDERING_AUTO;
   data->late_buses = a.lateBuses;
   data->cluster_angle_degrees = a.clusterAngleDegrees;
+  data->ambisonic_order = a.ambisonicOrder;
 }

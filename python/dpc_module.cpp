@@ -87,7 +87,7 @@ void setObjectPose(dpc::Engine& e, int object, const std::array<float, 3>& p,
 /// The engine's responses of one source as numpy arrays.
 py::array engineIr(dpc::Engine& e, int source) {
   std::vector<std::vector<float>> channels;
-  for (int c = 0; c < e.outputChannels(); ++c) channels.push_back(e.impulseResponse(source, c));
+  for (int c = 0; c < e.irChannels(); ++c) channels.push_back(e.impulseResponse(source, c));
   return channelsArray(std::move(channels));
 }
 
@@ -129,6 +129,7 @@ time from Python (the C API's dpc_engine): set poses, step(), read the responses
                   "A scene from arrays (m, octave bands 63 Hz .. 8 kHz); no dry signals.")
       .def_property_readonly("sample_rate", &dpc::Engine::sampleRate)
       .def_property_readonly("output_channels", &dpc::Engine::outputChannels)
+      .def_property_readonly("ir_channels", &dpc::Engine::irChannels)
       .def_property_readonly("source_count", &dpc::Engine::sourceCount)
       .def_property_readonly("listener_count", &dpc::Engine::listenerCount)
       .def_property_readonly("object_count", &dpc::Engine::objectCount)

@@ -4,6 +4,7 @@
 #include <cassert>
 
 #include "audio/rt_check.h"
+#include "common/input_error.h"
 
 namespace dpc {
 
@@ -28,7 +29,38 @@ AudioStage::AudioStage(std::shared_ptr<const audio::NonUniformLayout> layout,
 
 AudioStage::AudioStage(const PropagationStage& propagation, std::shared_ptr<const DrySignals> dry)
     : AudioStage(propagation.layout(), std::move(dry), propagation.numOutputs(),
-                 propagation.lateLayout(), propagation.lateBuses()) {}
+                 propagation.lateLayout(), propagation.lateBuses()) {
+  const SceneDesc& scene = propagation.scene();
+  if (scene.audio.output != OutputFormat::kAmbisonicBinaural) return;
+  std::unique_ptr<audio::Hrtf> hrtf;
+  try {
+    hrtf = std::make_unique<audio::Hrtf>(
+        audio::Hrtf::load(scene.audio.hrtfPath, scene.audio.sampleRate));
+  } catch (const InputError& e) {
+    throw InputError(scene.path, "audio.hrtf", e.what());
+  }
+  const size_t B = size_t(layout_->blockSize());
+  head_ = std::make_unique<audio::HeadTrackedBinaural>(scene.audio.ambisonicOrder, *hrtf,
+                                                       int(B));
+  ambisonic_.assign(size_t(numOutputs_) * B, 0.f);
+  for (int c = 0; c < numOutputs_; ++c) ambisonicChannels_.push_back(ambisonic_.data() + size_t(c) * B);
+}
+
+AudioStage::~AudioStage() = default;
+
+void AudioStage::setHeadOrientation(const Orientation& head) {
+  DPC_ASSERT_AUDIO_THREAD();
+  if (!head_ || (head.yawRadians == headOrientation_.yawRadians &&
+                 head.pitchRadians == headOrientation_.pitchRadians))
+    return;
+  headOrientation_ = head;
+  const Orientation reference{};
+  const glm::vec3 rf = reference.forward(), ru = reference.up(), f = head.forward(),
+                  u = head.up();
+  const float refForward[3] = {rf.x, rf.y, rf.z}, refUp[3] = {ru.x, ru.y, ru.z},
+              forward[3] = {f.x, f.y, f.z}, up[3] = {u.x, u.y, u.z};
+  head_->setRotation(audio::headRotation(refForward, refUp, forward, up));
+}
 
 void AudioStage::offer(IrSet* set) {
   if (pending_) spent_.tryPush(pending_);  // a full ring counts it (lostSets())
@@ -104,11 +136,14 @@ void AudioStage::process(float* const* out, const float* const* inputs) {
     else
       readDry(s, B);
   }
-  convolver_.process(in_.data(), out);
+  // Head-tracked binaural convolves into the Ambisonic block, then turns and decodes it.
+  float* const* irOut = head_ ? ambisonicChannels_.data() : out;
+  convolver_.process(in_.data(), irOut);
   if (lateConvolver_) {
     lateMixer_->mix(in_.data());
-    lateConvolver_->process(lateMixer_->busInputs(), out, /*add=*/true);
+    lateConvolver_->process(lateMixer_->busInputs(), irOut, /*add=*/true);
   }
+  if (head_) head_->process(ambisonicChannels_.data(), out[0], out[1]);
   collectRetired();
   position_ += B;
   ++blocks_;

@@ -8,6 +8,7 @@
 #include <memory>
 #include <vector>
 
+#include "audio/head_tracked_binaural.h"
 #include "audio/late_bus_mixer.h"
 #include "audio/nonuniform_convolver.h"
 #include "common/fixed_ring.h"
@@ -26,13 +27,23 @@ class AudioStage {
              std::shared_ptr<const DrySignals> dry, int numOutputs,
              std::shared_ptr<const audio::NonUniformLayout> lateLayout = nullptr,
              int lateBuses = 0);
-  /// The stage for `propagation`'s layouts and outputs. Control thread; allocates.
+  /// The stage for `propagation`'s layouts and outputs; for head-tracked binaural output
+  /// (OutputFormat::kAmbisonicBinaural) with the decoder of the scene's HRTF. Control thread;
+  /// allocates; throws InputError naming audio.hrtf for an unreadable SOFA file.
   AudioStage(const PropagationStage& propagation, std::shared_ptr<const DrySignals> dry);
+  ~AudioStage();
+
+  /// Channels process() writes: the IR channels, or 2 (ears) for head-tracked binaural.
+  int renderedChannels() const { return head_ ? 2 : numOutputs_; }
+  /// Head-tracked binaural: the listener's head orientation from the next block on (the sound
+  /// field turns with a one-block crossfade when it changed). Ignored for other outputs.
+  /// Audio thread; no allocation.
+  void setHeadOrientation(const Orientation& head);
 
   /// Schedules a new IR set for the next block (newest wins: a set offered while another is
   /// still pending is returned through takeSpent()). Audio thread.
   void offer(IrSet* set);
-  /// Renders one block of layout.blockSize() frames into out[c] (numOutputs channels).
+  /// Renders one block of layout.blockSize() frames into out[c] (renderedChannels()).
   /// inputs: nullptr reads the scene's dry signals from the current position (silence past
   /// their end); otherwise inputs[s][0..blockSize) is source s's dry block (one per scene
   /// source, as given by a host). Audio thread.
@@ -71,6 +82,12 @@ class AudioStage {
   std::shared_ptr<const audio::NonUniformLayout> lateLayout_;
   std::unique_ptr<audio::NonUniformConvolver> lateConvolver_;  ///< hybrid: the late buses
   std::unique_ptr<audio::LateBusMixer> lateMixer_;              ///< hybrid: their inputs
+  /// Head-tracked binaural: the rotation and decoder, the Ambisonic block it reads (IR
+  /// channels x block) and the head orientation last applied.
+  std::unique_ptr<audio::HeadTrackedBinaural> head_;
+  std::vector<float> ambisonic_;
+  std::vector<float*> ambisonicChannels_;
+  Orientation headOrientation_{};
   std::vector<float> tail_;       ///< per source one block: a partial or looped block, zero-padded
   std::vector<const float*> in_;  ///< per source: this block's dry input
   IrSet* current_ = nullptr;

@@ -55,6 +55,11 @@ class HostPoses {
   /// Any thread: plays listener `index` from the next frame on. False if out of range.
   bool select(size_t index);
   size_t played() const { return played_.load(std::memory_order_relaxed); }
+  /// Listener `index`'s newest pose in `out`; false (out unchanged) if a write is in progress
+  /// or the index is out of range. Any thread, the audio thread too: wait-free, no allocation.
+  bool tryListenerPose(size_t index, ListenerPose& out) const {
+    return index < scene_->listeners.size() && listeners_[index].tryRead(out);
+  }
   size_t listenerCount() const { return scene_->listeners.size(); }
 
   /// Propagation thread: the complete world state of this frame into `world` (allocates only

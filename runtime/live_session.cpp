@@ -41,7 +41,8 @@ LiveSession::LiveSession(std::shared_ptr<const SceneDesc> scene,
       counters_(settings.raysPerFrame),
       adaptiveRays_(settings.raysPerFrame, 1.0 / settings.frameRate, options.latencyTargetSeconds) {
   if (options.bake) propagation_->attachBake(options.bake);
-  const int irChannels = propagation_->numOutputs();
+  const int irChannels = renderedChannels(scene_->audio);
+  headTracked_ = scene_->audio.output == OutputFormat::kAmbisonicBinaural;
   mono_.assign(size_t(blockSize_) * size_t(irChannels), 0.f);
   for (int c = 0; c < irChannels; ++c)
     stageOut_.push_back(mono_.data() + size_t(c) * size_t(blockSize_));
@@ -216,8 +217,21 @@ bool LiveSession::copyToDevice(float* const* outputs) noexcept {
   return finite;
 }
 
+void LiveSession::turnHead() noexcept {
+  ListenerPose pose;
+  if (!poses_.tryListenerPose(poses_.played(), pose)) return;  // keep the last orientation
+  audioStage_->setHeadOrientation(Orientation{pose.yawRadians, pose.pitchRadians});
+  if (pose.publishedNs == headPoseNs_) return;
+  // Pose published -> the first block rendered with it (the block leaves the callback next).
+  if (headPoseNs_ != 0)
+    headLatencyStats_.record(uint64_t(std::max<int64_t>(0, steadyNowNs() - pose.publishedNs)),
+                             false);
+  headPoseNs_ = pose.publishedNs;
+}
+
 bool LiveSession::renderBlock(const float* const* inputs, float* const* outputs) noexcept {
   takeNewestIr();
+  if (headTracked_) turnHead();
   const uint64_t appliedBefore = audioStage_->irsApplied();
   audioStage_->process(stageOut_.data(), inputs);
   const bool swapped = audioStage_->irsApplied() != appliedBefore;

@@ -151,8 +151,10 @@ class LiveSession {
     return snapshot_.read(source, std::forward<F>(f));
   }
 
-  /// IR channels (1 mono, 2 stereo/binaural).
-  int irChannels() const { return int(stageOut_.size()); }
+  /// IR channels (1 mono, 2 stereo/binaural, (order + 1)^2 AmbiX and head-tracked binaural).
+  int irChannels() const { return propagation_->numOutputs(); }
+  /// Channels rendered (renderedChannels(): 2 for head-tracked binaural, else irChannels()).
+  int outputChannels() const { return int(stageOut_.size()); }
 
   /// Audio thread: renders `frames` frames (any count from 1 to kMaxCallbackFrames, varying
   /// from call to call) into outputs[0..deviceChannels). The engine works in fixed blocks of
@@ -192,6 +194,10 @@ class LiveSession {
   const audio::CallbackStats& renderStatsWithSwap() const { return swapStats_; }
   const audio::CallbackStats& renderStatsWithoutSwap() const { return noSwapStats_; }
   const audio::CallbackStats& latencyStats() const { return latencyStats_; }
+  /// Head-tracked binaural: head-turn latency, pose published -> first block rendered with it
+  /// (the audio thread turns the sound field per block; no propagation frame waited for).
+  const audio::CallbackStats& headLatencyStats() const { return headLatencyStats_; }
+  bool headTracked() const { return headTracked_; }
 
   /// After stop(): the recorded output (deviceChannels channels) or empty.
   audio::AudioData takeRecording();
@@ -246,7 +252,12 @@ class LiveSession {
   AdaptiveRays adaptiveRays_;  ///< propagation thread (or stepAdaptive() while stopped)
   /// The last IR set's pose publication and readiness, steady_clock ns (propagation thread).
   int64_t lastPoseNs_ = 0, lastReadyNs_ = 0;
-  audio::CallbackStats swapStats_, noSwapStats_, latencyStats_;
+  audio::CallbackStats swapStats_, noSwapStats_, latencyStats_, headLatencyStats_;
+  /// Head-tracked binaural output: the audio thread reads the pose every block.
+  bool headTracked_ = false;
+  int64_t headPoseNs_ = 0;  ///< publication time of the pose last applied (audio thread)
+  /// Audio thread: the played listener's newest orientation into the audio stage.
+  void turnHead() noexcept;
 };
 
 }  // namespace dpc

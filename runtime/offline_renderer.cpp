@@ -82,10 +82,10 @@ OfflineRender::OfflineRender(std::shared_ptr<const SceneDesc> scene,
     lr.name = scene_->listeners[listeners_[k]].name;
     lr.output.sampleRate = fs;
     // Streaming: one block per channel, handed to the sink; otherwise the whole render is kept.
-    lr.output.channels.assign(size_t(propagation_.numOutputs()),
+    lr.output.channels.assign(size_t(renderedChannels(scene_->audio)),
                               std::vector<float>(streaming_ ? B_ : blocks_ * B_));
   }
-  out_.resize(size_t(propagation_.numOutputs()));
+  out_.resize(size_t(renderedChannels(scene_->audio)));
   newest_.assign(listeners_.size(), nullptr);
 }
 
@@ -108,6 +108,9 @@ void OfflineRender::renderBlock(size_t blk) {
   const audio::rt::ScopedThreadRole role(audio::rt::ThreadRole::kAudio);
   for (size_t k = 0; k < listeners_.size(); ++k) {
     if (newest_[k]) audioStages_[k]->offer(newest_[k]);
+    // Head-tracked binaural: the head's orientation at this block's time (audio rate).
+    audioStages_[k]->setHeadOrientation(listenerOrientationAt(
+        scene_->listeners[listeners_[k]], double(blk * B_) / scene_->audio.sampleRate));
     for (size_t c = 0; c < out_.size(); ++c)
       out_[c] = result_.listeners[k].output.channels[c].data() + (streaming_ ? 0 : blk * B_);
     audioStages_[k]->process(out_.data());

@@ -4,7 +4,8 @@
 // language memory models?", MSPC 2012: data held in relaxed atomics, so it is race-free in the
 // C++ memory model and clean under ThreadSanitizer).
 // publish(): one writer thread at a time; wait-free; no allocation. read(): any thread;
-// lock-free (retries while a write is in progress); no allocation. No errors.
+// lock-free (retries while a write is in progress); no allocation. tryRead(): one attempt,
+// wait-free (the audio thread's read). No errors.
 #pragma once
 
 // Under GCC's -fsanitize=thread every atomic_thread_fence draws -Wtsan ("not supported"):
@@ -62,6 +63,18 @@ class SeqlockChannel {
     std::atomic_thread_fence(std::memory_order_release);
     for (size_t i = 0; i < kWords; ++i) words_[i].store(w.data[i], std::memory_order_relaxed);
     seq_.store(s + 2, std::memory_order_release);
+  }
+
+  /// One attempt: true and the value in `out` unless a write was in progress (out unchanged).
+  bool tryRead(T& out) const {
+    Words w{};
+    const uint32_t s0 = seq_.load(std::memory_order_acquire);
+    if (s0 & 1u) return false;
+    for (size_t i = 0; i < kWords; ++i) w.data[i] = words_[i].load(std::memory_order_relaxed);
+    std::atomic_thread_fence(std::memory_order_acquire);
+    if (seq_.load(std::memory_order_relaxed) != s0) return false;
+    std::memcpy(&out, w.data, sizeof(T));
+    return true;
   }
 
   T read() const {

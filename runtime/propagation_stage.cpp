@@ -23,10 +23,23 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 }
 }  // namespace
 
+std::vector<glm::vec3> spatialDirections(const AudioSettings& audio) {
+  if (audio.output != OutputFormat::kAmbisonics &&
+      audio.output != OutputFormat::kAmbisonicBinaural)
+    return defaultSpatialDirections();
+  return uniformSpatialDirections(
+      std::min(2 * ambisonicChannels(audio.ambisonicOrder), kMaxTurnedFieldDirections));
+}
+
+int renderedChannels(const AudioSettings& audio) {
+  return audio.output == OutputFormat::kAmbisonicBinaural ? 2 : outputChannels(audio);
+}
+
 int outputChannels(const AudioSettings& audio) {
   switch (audio.output) {
     case OutputFormat::kMono: return 1;
-    case OutputFormat::kAmbisonics: return ambisonicChannels(audio.ambisonicOrder);
+    case OutputFormat::kAmbisonics:
+    case OutputFormat::kAmbisonicBinaural: return ambisonicChannels(audio.ambisonicOrder);
     case OutputFormat::kLoudspeakers: return int(audio.speakers.size());
     default: return 2;
   }
@@ -111,7 +124,8 @@ std::unique_ptr<SpatialIrSynthesizer> makeSpatialSynthesizer(const SceneDesc& sc
   }
   using Reference = SpatialIrSynthesizer::Reference;
   Reference reference = Reference::kChannelAverage;
-  if (scene.audio.output == OutputFormat::kAmbisonics) {
+  if (scene.audio.output == OutputFormat::kAmbisonics ||
+      scene.audio.output == OutputFormat::kAmbisonicBinaural) {
     filters->ambisonicOrder = scene.audio.ambisonicOrder;
     filters->orderWeights.fill(1.f);
     if (scene.audio.maxRe) maxReWeights(filters->ambisonicOrder, filters->orderWeights);
@@ -133,7 +147,7 @@ std::unique_ptr<SpatialIrSynthesizer> makeSpatialSynthesizer(const SceneDesc& sc
     filters->speakerChannels = scene.audio.speakers.size();
     reference = Reference::kChannelSum;
   }
-  const std::vector<glm::vec3> directions = defaultSpatialDirections();
+  const std::vector<glm::vec3> directions = spatialDirections(scene.audio);
   std::vector<DirectionFilter> perDirection(directions.size());
   for (size_t d = 0; d < directions.size(); ++d) filters->fill(directions[d], perDirection[d]);
   const uint64_t seed = hashCombine(settings.seed, 0x5bd1e995ULL);
@@ -229,7 +243,11 @@ void PropagationStage::traceWorld(const WorldState& world) {
   for (size_t l = 0; l < L; ++l) {
     const float radius = scene.listeners[l % scene.listeners.size()].radius;
     spheres_[l] = ListenerSphere{world.listenerPositions[l], radius};
-    simulation_->setListenerOrientation(l, world.listenerOrientations[l]);
+    // Head-tracked binaural: IRs in the reference head frame (yaw 0, pitch 0); the audio
+    // stage turns them by the listener's orientation per block.
+    simulation_->setListenerOrientation(
+        l, scene.audio.output == OutputFormat::kAmbisonicBinaural ? Orientation{}
+                                                                  : world.listenerOrientations[l]);
   }
   const auto t0 = std::chrono::steady_clock::now();
   if (!world.objectPoses.empty()) simulation_->setObjectPoses(world.objectPoses);

@@ -36,12 +36,26 @@ struct IrSet {
 };
 
 /// IR channels of an output: 1 for mono, 2 for stereo and binaural, (order + 1)^2 for
-/// Ambisonics. Any thread.
+/// Ambisonics and head-tracked binaural, one per loudspeaker. Any thread.
 int outputChannels(const AudioSettings& audio);
+/// Most directions the diffuse energy of a turned field is synthesised over (IR synthesis
+/// costs about 4 ms per direction per 2 s of IR on one core).
+inline constexpr int kMaxTurnedFieldDirections = 32;
+/// The listener-frame directions the spatial synthesiser shares the diffuse energy among:
+/// defaultSpatialDirections() for stereo, binaural and loudspeakers; for a field turned after
+/// synthesis (Ambisonics, head-tracked binaural) uniformSpatialDirections() of 2 (N + 1)^2
+/// (at most kMaxTurnedFieldDirections), so no direction relative to the head is favoured: the
+/// audio-rate turn then matches a re-synthesis at the new orientation per octave band within
+/// about half a dB (8 horizon-heavy directions: 2.2 dB, 16 uniform: 1 dB;
+/// tests/runtime/head_tracking_test.cpp). Any thread; allocates.
+std::vector<glm::vec3> spatialDirections(const AudioSettings& audio);
+/// Channels the audio stage renders (files, devices): outputChannels(), except 2 (ears) for
+/// head-tracked binaural, whose (order + 1)^2 IR channels are decoded per block. Any thread.
+int renderedChannels(const AudioSettings& audio);
 
 /// The spatial IR synthesiser for scene.audio.output (stereo: constant-power panning;
 /// binaural: HRIRs from scene.audio.hrtfPath at the scene's rate) over
-/// defaultSpatialDirections(). Control thread; allocates; throws InputError naming
+/// spatialDirections(scene.audio). Control thread; allocates; throws InputError naming
 /// audio.hrtf for an unreadable SOFA file.
 std::unique_ptr<SpatialIrSynthesizer> makeSpatialSynthesizer(const SceneDesc& scene,
                                                              const PropagationSettings& settings,

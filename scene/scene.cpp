@@ -205,6 +205,7 @@ std::optional<OutputFormat> parseOutputFormat(const std::string& s) {
   if (s == "stereo") return OutputFormat::kStereo;
   if (s == "binaural") return OutputFormat::kBinaural;
   if (s == "ambisonics") return OutputFormat::kAmbisonics;
+  if (s == "ambisonic_binaural") return OutputFormat::kAmbisonicBinaural;
   return std::nullopt;
 }
 

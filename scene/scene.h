@@ -211,6 +211,10 @@ enum class OutputFormat {
   kAmbisonics,
   /// One channel per loudspeaker of AudioSettings::speakers, VBAP per arrival (audio/vbap.h)
   kLoudspeakers,
+  /// Two channels (ears): AmbiX IRs of ambisonicOrder synthesised in a fixed head frame,
+  /// turned by the listener's head orientation on every audio block and decoded through the
+  /// HRTF (audio/head_tracked_binaural.h). Head turns are heard without a new IR.
+  kAmbisonicBinaural,
 };
 
 /// Debian libmysofa1's MIT KEMAR set: the default HRTF.

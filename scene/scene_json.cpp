@@ -377,7 +377,8 @@ void readAudio(const JsonReader& r, const json& v, const fs::path& folder, Audio
                "rendering", "late_buses", "cluster_angle"});
   if (const json* x = JsonReader::find(v, "output"))
     a.output = readChoice(r, *x, join(field, "output"), parseOutputFormat,
-                          "\"mono\", \"stereo\", \"binaural\", \"ambisonics\"");
+                          "\"mono\", \"stereo\", \"binaural\", \"ambisonics\", "
+                          "\"ambisonic_binaural\"");
   if (const json* x = JsonReader::find(v, "hrtf"))
     a.hrtfPath = existingFile(r, *x, join(field, "hrtf"), folder);
   if (const json* x = JsonReader::find(v, "sample_rate"))

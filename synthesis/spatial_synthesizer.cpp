@@ -26,6 +26,17 @@ std::vector<glm::vec3> defaultSpatialDirections() {
   return d;
 }
 
+std::vector<glm::vec3> uniformSpatialDirections(int count) {
+  std::vector<glm::vec3> d;
+  const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));  // golden angle, radians
+  for (int i = 0; i < count; ++i) {
+    const double z = 1.0 - (2.0 * i + 1.0) / double(count);
+    const double r = std::sqrt(std::max(0.0, 1.0 - z * z)), phi = golden * i;
+    d.push_back({float(r * std::cos(phi)), float(r * std::sin(phi)), float(z)});
+  }
+  return d;
+}
+
 namespace {
 
 /// The longest channel filter of any direction (at least 1); throws std::invalid_argument
@@ -109,14 +120,19 @@ void SpatialIrSynthesizer::equaliseDiffuseField(const std::vector<DirectionFilte
   channelWeight_.assign(filters.size(), std::vector<Bands>(channels_));
   for (size_t d = 0; d < filters.size(); ++d)
     for (size_t c = 0; c < channels_; ++c) {
-      spectrumOf(fft, filters[d].channels[c], spec);
+      const std::vector<float>& taps = filters[d].channels[c];
+      if (taps.size() > 1) spectrumOf(fft, taps, spec);
       for (int b = 0; b < kNumBands; ++b) {
-        double seen = 0.0, seenNorm = 0.0;
-        for (size_t k = 0; k < nbins; ++k) {
-          if (!inAnalysedOctave(b, double(k) * sampleRate_ / double(fft.n))) continue;
-          const double m2 = double(masks.gain(b, k)) * masks.gain(b, k);
-          seen += m2 * double(std::norm(spec[k]));
-          seenNorm += m2;
+        // A one-tap filter (a gain g: panning, Ambisonics) has the flat spectrum g^2.
+        double seen = taps.size() == 1 ? double(taps[0]) * taps[0] : 0.0, seenNorm = 1.0;
+        if (taps.size() > 1) {
+          seenNorm = 0.0;
+          for (size_t k = 0; k < nbins; ++k) {
+            if (!inAnalysedOctave(b, double(k) * sampleRate_ / double(fft.n))) continue;
+            const double m2 = double(masks.gain(b, k)) * masks.gain(b, k);
+            seen += m2 * double(std::norm(spec[k]));
+            seenNorm += m2;
+          }
         }
         channelWeight_[d][c][b] = float(seen / seenNorm);
         if (reference_ == Reference::kChannelAverage)

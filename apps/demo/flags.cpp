@@ -103,8 +103,10 @@ void addOutputOptions(CLI::App& app, Flags& fl) {
                  "Fixed output gain in dB (default: normalise the peak to -1 dBFS)");
   app.add_flag("--quiet", fl.quiet, "No progress bar");
   app.add_option("--output", fl.output,
-                 "mono | stereo | binaural | ambisonics | layout:5.1|7.1|7.1.4|FILE.json "
-                 "(default: the scene's audio.output)");
+                 "mono | stereo | binaural | ambisonics | ambisonic_binaural | "
+                 "layout:5.1|7.1|7.1.4|FILE.json (ambisonic_binaural: AmbiX IRs of "
+                 "--ambisonic-order decoded through the HRTF, turned by the head every block; "
+                 "default: the scene's audio.output)");
   app.add_option("--ambisonic-order", fl.ambisonicOrder,
                  "Ambisonic output's order 1..7 (AmbiX: ACN, SN3D; (order+1)^2 channels; "
                  "default: the scene's audio.ambisonic_order, else 3)");

@@ -82,6 +82,10 @@ void writeLiveStats(const std::string& path, const std::string& scenePath,
       {"irs_lost", st.irsLost},
       {"dropped_energy_fraction", st.droppedEnergyFraction},
       {"motion_to_sound_latency_ms", latencyJson(session.latencyStats().snapshot())},
+      // Head-tracked binaural: pose published -> first block turned by it.
+      {"head_turn_latency_ms", session.headTracked()
+                                   ? latencyJson(session.headLatencyStats().snapshot())
+                                   : Json(nullptr)},
       {"limiter",
        {{"limited_frames", st.limitedFrames},
         {"over_ceiling_frames", st.overCeilingFrames},

@@ -81,7 +81,8 @@ void applyAudioOverrides(SceneDesc& scene, const Flags& fl) {
     if (!o)
       throw InputError("command line", "--output",
                        "'" + fl.output +
-                           "' is not mono, stereo, binaural, ambisonics or layout:NAME");
+                           "' is not mono, stereo, binaural, ambisonics, ambisonic_binaural or "
+                           "layout:NAME");
     scene.audio.output = *o;
   }
   if (fl.ambisonicOrder) {

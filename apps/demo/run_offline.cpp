@@ -68,7 +68,7 @@ Writers openWriters(const SceneDesc& scene, const std::vector<OutputPaths>& path
   Writers writers;
   for (const OutputPaths& p : paths)
     writers.push_back(std::make_unique<audio::WavStreamWriter>(p.audio, scene.audio.sampleRate,
-                                                               outputChannels(scene.audio),
+                                                               renderedChannels(scene.audio),
                                                                audio::SampleFormat::kFloat32));
   return writers;
 }
@@ -78,6 +78,7 @@ const char* formatName(OutputFormat format) {
   return format == OutputFormat::kBinaural     ? "binaural"
          : format == OutputFormat::kStereo     ? "stereo"
          : format == OutputFormat::kAmbisonics ? "ambisonics (AmbiX)"
+         : format == OutputFormat::kAmbisonicBinaural ? "binaural, head-tracked from Ambisonics"
          : format == OutputFormat::kLoudspeakers ? "loudspeakers (VBAP)"
                                                : "mono";
 }

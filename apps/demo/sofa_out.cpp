@@ -24,6 +24,7 @@ std::string receiverText(const AudioSettings& a) {
       for (const LoudspeakerDesc& sp : a.speakers) names += (names.empty() ? "" : " ") + sp.name;
       return "receivers: loudspeaker feeds of layout " + a.layoutName + " (" + names + ")";
     }
+    case OutputFormat::kAmbisonicBinaural:
     case OutputFormat::kAmbisonics:
       return "receivers: AmbiX, ACN order, SN3D, Ambisonic order " +
              std::to_string(a.ambisonicOrder) + (a.maxRe ? ", max-rE weighted" : "");

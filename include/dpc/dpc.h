@@ -97,13 +97,18 @@ typedef void (*dpc_log_callback)(dpc_log_level level, const char* message, void*
  *  dpc_status and dpc_last_error(). */
 DPC_API void dpc_set_log_callback(dpc_log_callback callback, void* user_data);
 
-/** Output format of an engine: 1 channel, 2 channels by constant-power panning of each
- *  arrival direction, or 2 ear channels through HRTFs (docs/spatial.md). */
+/** Output format of an engine (docs/spatial.md): 1 channel, 2 channels by constant-power
+ *  panning of each arrival direction, 2 ear channels through HRTFs, AmbiX ((order + 1)^2
+ *  channels, ACN order, SN3D normalisation; since 0.4.0), or 2 ear channels decoded from AmbiX
+ *  impulse responses turned by the listener's head orientation on every audio block (head
+ *  tracking without waiting for a propagation frame; since 0.4.0). */
 typedef enum dpc_output_format {
   DPC_OUTPUT_SCENE = 0, /**< as the scene says (dpc_engine_options only) */
   DPC_OUTPUT_MONO = 1,
   DPC_OUTPUT_STEREO = 2,
-  DPC_OUTPUT_BINAURAL = 3
+  DPC_OUTPUT_BINAURAL = 3,
+  DPC_OUTPUT_AMBISONICS = 4,
+  DPC_OUTPUT_AMBISONIC_BINAURAL = 5
 } dpc_output_format;
 
 /** How the sources' impulse responses are rendered (docs/design.md, "Audio side"): each whole,
@@ -129,6 +134,7 @@ typedef struct dpc_engine_options {
   int host_inputs_only;     /**< nonzero: the scene's dry signals are not read (sources may have
                                  none); dpc_engine_process then needs inputs, and plays silence
                                  for inputs == NULL */
+  int ambisonic_order;      /**< AmbiX outputs' order, 1..7; 0 keeps the scene's (since 0.4.0) */
 } dpc_engine_options;
 
 /** Any thread; no allocation. Sets struct_size to sizeof(dpc_engine_options) and every other
@@ -235,7 +241,8 @@ typedef struct dpc_scene_data {
   /* audio */
   int sample_rate;          /**< Hz, 16000..192000 */
   int block_size;           /**< engine block, frames, 16..8192 */
-  dpc_output_format output; /**< MONO, STEREO or BINAURAL (default HRTF) */
+  dpc_output_format output; /**< MONO, STEREO, BINAURAL (default HRTF), AMBISONICS or
+                                 AMBISONIC_BINAURAL */
   /* further listeners, traced in the same pass as the first (docs/dynamic.md): listener
      index i + 1 is additional_listeners[i]; see dpc_engine_select_listener */
   const dpc_listener* additional_listeners; /**< NULL, or additional_listener_count entries */
@@ -250,6 +257,7 @@ typedef struct dpc_scene_data {
   int late_buses;          /**< hybrid rendering: late buses per listener, 1..64; default 4 */
   float cluster_angle_degrees; /**< hybrid rendering: a cluster's angular radius as seen from
                                     the listener, degrees, (0, 180]; default 30 */
+  int ambisonic_order; /**< AmbiX outputs' order N, 1..7; default 3 */
 } dpc_scene_data;
 
 /** Any thread; no allocation. struct_size = sizeof(dpc_scene_data); zero mesh, materials and
@@ -375,7 +383,7 @@ DPC_API dpc_status dpc_engine_step(dpc_engine* engine);
 /** Any thread except the audio thread (it may wait briefly for a lock the propagation thread
  *  holds while it copies; the propagation thread never waits for it). Copies the pressure
  *  impulse response of the newest propagation frame for `source` (scene order) and output
- *  channel `channel` (< dpc_engine_output_channels) into out[0..capacity): linear pressure
+ *  channel `channel` (< dpc_engine_ir_channels) into out[0..capacity): linear pressure
  *  per sample at dpc_engine_sample_rate(), sample 0 = emission time; its energy per octave
  *  band follows the energy response (dpc_engine_copy_energy_response). *length (if not NULL)
  *  receives the IR's full length in samples; min(capacity, length) samples are copied (out
@@ -413,8 +421,13 @@ DPC_API dpc_status dpc_engine_process(dpc_engine* engine, const float* const* in
  *  creation options); each returns 0 for a NULL engine. */
 DPC_API int dpc_engine_sample_rate(const dpc_engine* engine);     /**< Hz */
 DPC_API int dpc_engine_block_size(const dpc_engine* engine);      /**< engine block, frames */
-DPC_API int dpc_engine_output_channels(const dpc_engine* engine); /**< 1 mono, 2 stereo or
-                                                                      binaural (left, right) */
+/** Channels dpc_engine_process writes: 1 mono, 2 stereo or binaural (left, right),
+ *  (order + 1)^2 AmbiX (ACN order), 2 for AMBISONIC_BINAURAL (left, right). */
+DPC_API int dpc_engine_output_channels(const dpc_engine* engine);
+/** Channels of the impulse responses (dpc_engine_copy_impulse_response): as
+ *  dpc_engine_output_channels, except (order + 1)^2 AmbiX channels for AMBISONIC_BINAURAL (in
+ *  the reference head frame, yaw and pitch 0). Since 0.4.0. */
+DPC_API int dpc_engine_ir_channels(const dpc_engine* engine);
 DPC_API int dpc_engine_source_count(const dpc_engine* engine);
 DPC_API int dpc_engine_object_count(const dpc_engine* engine); /**< moving objects */
 /** Latency process() adds to the host's signal, frames (one engine block). */

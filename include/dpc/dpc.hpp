@@ -98,7 +98,10 @@ class Engine {
 
   int sampleRate() const noexcept { return dpc_engine_sample_rate(e_); }          ///< Hz
   int blockSize() const noexcept { return dpc_engine_block_size(e_); }            ///< frames
-  int outputChannels() const noexcept { return dpc_engine_output_channels(e_); }  ///< 1 or 2
+  /// Channels process() writes (dpc_engine_output_channels).
+  int outputChannels() const noexcept { return dpc_engine_output_channels(e_); }
+  /// Channels of impulseResponse() (dpc_engine_ir_channels).
+  int irChannels() const noexcept { return dpc_engine_ir_channels(e_); }
   int sourceCount() const noexcept { return dpc_engine_source_count(e_); }
   int objectCount() const noexcept { return dpc_engine_object_count(e_); }
   int latencyFrames() const noexcept { return dpc_engine_latency_frames(e_); }  ///< frames

@@ -97,6 +97,7 @@ const std::map<std::string, DataSetter>& dataSetters() {
       {"audio.block_size", dataMember(&dpc_scene_data::block_size, "block_size")},
       propagationField("cache_pool_mb", &dpc_scene_data::cache_pool_mb),
       {"audio.late_buses", dataMember(&dpc_scene_data::late_buses, "late_buses")},
+      {"audio.ambisonic_order", dataMember(&dpc_scene_data::ambisonic_order, "ambisonic_order")},
       {"audio.cluster_angle",
        dataMember(&dpc_scene_data::cluster_angle_degrees, "cluster_angle_degrees")},
   };
@@ -108,7 +109,6 @@ const std::map<std::string, DataSetter>& dataSetters() {
 const std::set<std::string> kNotInData = {"objects", "propagation.cache_memory_mb",
                                           "propagation.roulette_threshold_db",
                                           "propagation.exact_order",
-                                          "audio.ambisonic_order",
                                           "materials.*.transmission_loss_db"};
 
 /// Creates with an invalid output option, checked after every scene value: a value that is

@@ -5,9 +5,62 @@
 #include <cmath>
 #include <numbers>
 
+#include "common/fftw_util.h"
 #include "common/spherical_harmonics.h"
 
 namespace dpc::audio {
+
+namespace {
+
+/// Power spectrum p[0 .. n/2] smoothed over a third of an octave around each bin (bin 0 and
+/// bins below 1/3 octave's width average with their neighbours down to bin 1).
+std::vector<double> thirdOctaveSmoothed(const std::vector<double>& p) {
+  const double half = std::pow(2.0, 1.0 / 6.0);
+  std::vector<double> prefix(p.size() + 1, 0.0);
+  for (size_t k = 0; k < p.size(); ++k) prefix[k + 1] = prefix[k] + p[k];
+  std::vector<double> out(p.size());
+  for (size_t k = 0; k < p.size(); ++k) {
+    const double centre = std::max(1.0, double(k));
+    const size_t lo = std::max<size_t>(1, size_t(std::floor(centre / half)));
+    const size_t hi = std::min(p.size() - 1, std::max(lo, size_t(std::ceil(centre * half))));
+    out[k] = (prefix[hi + 1] - prefix[lo]) / double(hi + 1 - lo);
+  }
+  return out;
+}
+
+/// The minimum-phase filter of magnitude mag[0 .. n/2] (n = fft.n), its first `taps` taps
+/// faded out over the last quarter: log-magnitude -> real cepstrum -> fold onto positive
+/// quefrencies -> exp of its spectrum.
+std::vector<float> minimumPhase(FftwRealTransforms& fft, const std::vector<double>& mag,
+                                size_t taps) {
+  const size_t n = fft.n, bins = n / 2 + 1;
+  for (size_t k = 0; k < bins; ++k) {
+    fft.band.p[k][0] = float(std::log(std::max(mag[k], 1e-12)));
+    fft.band.p[k][1] = 0.f;
+  }
+  fftwf_execute(fft.inv);  // band -> time: the real cepstrum times n
+  for (size_t m = 1; m < n / 2; ++m) fft.time.p[m] *= 2.f;
+  for (size_t m = n / 2 + 1; m < n; ++m) fft.time.p[m] = 0.f;
+  for (size_t m = 0; m < n; ++m) fft.time.p[m] /= float(n);
+  fftwf_execute(fft.fwd);  // time -> spec: the minimum-phase log spectrum
+  for (size_t k = 0; k < bins; ++k) {
+    const double a = std::exp(double(fft.spec.p[k][0])), phi = fft.spec.p[k][1];
+    fft.band.p[k][0] = float(a * std::cos(phi));
+    fft.band.p[k][1] = float(a * std::sin(phi));
+  }
+  fftwf_execute(fft.inv);
+  std::vector<float> h(taps);
+  const size_t fade = taps / 4;
+  for (size_t t = 0; t < taps; ++t) {
+    const double w = t + fade < taps ? 1.0
+                                     : 0.5 + 0.5 * std::cos(std::numbers::pi *
+                                                            double(t + fade - taps + 1) / double(fade));
+    h[t] = float(w * fft.time.p[t] / double(n));
+  }
+  return h;
+}
+
+}  // namespace
 
 AmbisonicBinauralDecoder::AmbisonicBinauralDecoder(int order, const Hrtf& hrtf)
     : order_(std::clamp(order, 1, kMaxAmbisonicOrder)) {
@@ -37,11 +90,37 @@ AmbisonicBinauralDecoder::AmbisonicBinauralDecoder(int order, const Hrtf& hrtf)
             for (size_t t = 0; t < taps; ++t) f[t] += g * ear[e][t];
           }
     }
+  equaliseDiffuseField();
+}
+
+void AmbisonicBinauralDecoder::equaliseDiffuseField() {
+  const size_t n = 4 * kEqualiserTaps, bins = n / 2 + 1;
+  FftwRealTransforms fft(n);
+  std::vector<double> power(bins, 0.0);
+  for (int order = 0; order <= order_; ++order)
+    for (int c = order * order; c < (order + 1) * (order + 1); ++c)
+      for (int e = 0; e < 2; ++e) {
+        const std::vector<float>& f = filters_[size_t(c)][size_t(e)];
+        std::fill(fft.time.p, fft.time.p + n, 0.f);
+        std::copy(f.begin(), f.end(), fft.time.p);
+        fftwf_execute(fft.fwd);
+        for (size_t k = 0; k < bins; ++k)
+          power[k] += (double(fft.spec.p[k][0]) * fft.spec.p[k][0] +
+                       double(fft.spec.p[k][1]) * fft.spec.p[k][1]) /
+                      double(2 * order + 1) / 2.0;
+      }
+  const std::vector<double> smooth = thirdOctaveSmoothed(power);
+  const double maxGain = std::pow(10.0, kMaxEqualiserBoostDb / 20.0);
+  std::vector<double> mag(bins);
+  for (size_t k = 0; k < bins; ++k)
+    mag[k] = smooth[k] > 0.0 ? std::min(maxGain, 1.0 / std::sqrt(smooth[k])) : maxGain;
+  equaliser_ = minimumPhase(fft, mag, kEqualiserTaps);
 }
 
 void AmbisonicBinauralDecoder::decode(const float* const* channels, size_t n, float* left,
                                       float* right) const {
-  float* out[2] = {left, right};
+  std::vector<float> ears[2] = {std::vector<float>(n, 0.f), std::vector<float>(n, 0.f)};
+  float* out[2] = {ears[0].data(), ears[1].data()};
   for (size_t c = 0; c < filters_.size(); ++c)
     for (int e = 0; e < 2; ++e) {
       const std::vector<float>& f = filters_[c][size_t(e)];
@@ -51,6 +130,14 @@ void AmbisonicBinauralDecoder::decode(const float* const* channels, size_t n, fl
         const size_t m = std::min(f.size(), n - i);
         for (size_t t = 0; t < m; ++t) out[e][i + t] += x * f[t];
       }
+    }
+  float* dest[2] = {left, right};
+  for (int e = 0; e < 2; ++e)
+    for (size_t i = 0; i < n; ++i) {
+      const float x = ears[e][i];
+      if (x == 0.f) continue;
+      const size_t m = std::min(equaliser_.size(), n - i);
+      for (size_t t = 0; t < m; ++t) dest[e][i + t] += x * equaliser_[t];
     }
 }
 

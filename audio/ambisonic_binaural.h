@@ -14,8 +14,21 @@
 // N c / (2 pi r) (1.9 kHz at order 3 for a head radius of 8.75 cm) the ILD is that of a
 // spatially band-limited HRTF.
 //
-// Construction: control thread, allocates (ambisonicChannels(order) x 2 filters). decode():
-// any thread except the audio thread (direct convolution, allocates nothing, O(n L C)).
+// Diffuse-field equalisation: both ears' decoded signals pass through one minimum-phase
+// filter E with |E(f)|^2 = 1 / D(f), D the third-octave-smoothed power the decoder gives the
+// ears (mean of both) for an isotropic diffuse field of unit power, in which an SN3D channel
+// of order n carries power 1 / (2n + 1): D = sum_c |F_c,ear|^2 / (2 n_c + 1). The ears then
+// hear a diffuse field at its own power at every frequency, as per-path binaural does (its
+// HRIRs are levelled per octave band by the HRTF set's diffuse-field power), instead of the
+// HRTF's low-frequency roll-off and the decoder's high-frequency loss (the virtual
+// loudspeakers' HRIRs add incoherently there, keeping about (N + 1)^2 / Q of the power).
+// Common to both ears, E leaves interaural level and time differences unchanged. Minimum
+// phase by folding the real cepstrum (Oppenheim & Schafer, "Discrete-Time Signal
+// Processing", 3rd ed., sec. 13.6); boost limited to kMaxEqualiserBoostDb.
+//
+// Construction: control thread, allocates (ambisonicChannels(order) x 2 filters and the
+// equaliser; plans FFTW). decode(): any thread except the audio thread (direct convolution,
+// O(n (L C + E)); allocates two scratch signals of n samples).
 #pragma once
 
 #include <array>
@@ -29,18 +42,32 @@ class AmbisonicBinauralDecoder {
  public:
   AmbisonicBinauralDecoder(int order, const Hrtf& hrtf);
 
+  /// Largest boost of the diffuse-field equaliser, dB (the HRTF's power far below its
+  /// measured band is not restored beyond this).
+  static constexpr double kMaxEqualiserBoostDb = 24.0;
+  /// Taps of the diffuse-field equaliser (85 ms at 48 kHz: a third-octave-smooth response
+  /// down to about 40 Hz).
+  static constexpr size_t kEqualiserTaps = 4096;
+
   /// Taps of every channel's ear filter (HRIR length plus the largest onset delay).
   size_t filterLength() const { return length_; }
   /// Channel c's filter for ear 0 (left) or 1 (right).
   const std::vector<float>& filter(size_t c, int ear) const { return filters_[c][size_t(ear)]; }
-  /// Adds to left/right (n samples each) the decoded ears of the ambisonicChannels(order)
-  /// planar channels (n samples each), truncated to n samples.
+  /// The diffuse-field equaliser both ears go through after the channel filters
+  /// (kEqualiserTaps taps, minimum phase).
+  const std::vector<float>& equaliser() const { return equaliser_; }
+  /// Adds to left/right (n samples each) the decoded, equalised ears of the
+  /// ambisonicChannels(order) planar channels (n samples each), truncated to n samples.
   void decode(const float* const* channels, size_t n, float* left, float* right) const;
 
  private:
+  /// Computes equaliser_ from the folded filters.
+  void equaliseDiffuseField();
+
   int order_;
   size_t length_ = 0;
   std::vector<std::array<std::vector<float>, 2>> filters_;
+  std::vector<float> equaliser_;
 };
 
 }  // namespace dpc::audio

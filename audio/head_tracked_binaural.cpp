@@ -25,6 +25,15 @@ HeadTrackedBinaural::HeadTrackedBinaural(int order, const Hrtf& hrtf, int blockS
     convolvers_.push_back(std::make_unique<PartitionedConvolver>(*layout_, 2));
     convolvers_.back()->setNextIr(filters_.back().get());
   }
+  equaliserLayout_ = std::make_unique<ConvolverLayout>(blockSize, decoder.equaliser().size());
+  equaliser_ = std::make_unique<IrSpectra>(*equaliserLayout_, 1);
+  const float* eq[1] = {decoder.equaliser().data()};
+  equaliser_->prepare(eq, decoder.equaliser().size());
+  for (auto& e : equalisers_) {
+    e = std::make_unique<PartitionedConvolver>(*equaliserLayout_, 1);
+    e->setNextIr(equaliser_.get());
+  }
+  ears_.assign(2 * B, 0.f);
   matrix_.assign(C * C, 0.f);
   for (size_t c = 0; c < C; ++c) matrix_[c * C + c] = 1.f;
   previous_ = matrix_;
@@ -74,10 +83,11 @@ void HeadTrackedBinaural::process(float* const* ambisonic, float* left, float* r
 void HeadTrackedBinaural::processBlock(float* const* ambisonic, float* left, float* right) {
   const size_t B = size_t(blockSize_);
   rotate(ambisonic);
-  std::fill(left, left + B, 0.f);
-  std::fill(right, right + B, 0.f);
-  float* ears[2] = {left, right};
+  std::fill(ears_.begin(), ears_.end(), 0.f);
+  float* ears[2] = {ears_.data(), ears_.data() + B};
   for (size_t c = 0; c < convolvers_.size(); ++c) convolvers_[c]->processAdd(ambisonic[c], ears);
+  float* out[2] = {left, right};
+  for (int e = 0; e < 2; ++e) equalisers_[e]->process(ears[e], &out[e]);
 }
 
 Rotation3 headRotation(const float refForward[3], const float refUp[3], const float forward[3],

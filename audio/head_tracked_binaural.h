@@ -6,7 +6,8 @@
 // head frame the impulse responses were synthesised in) is rotated into the current head
 // frame, y = M(R) x with M from ambisonicRotation() (common/spherical_harmonics.h), and
 // decoded to two ears by the virtual-loudspeaker sampling decoder (audio/ambisonic_binaural.h)
-// as C x 2 uniformly partitioned convolutions of block B (no latency beyond the block). When
+// as C x 2 uniformly partitioned convolutions of block B and its diffuse-field equaliser as two
+// more (one per ear; no latency beyond the block). When
 // the rotation changes, the block crossfades linearly from the previous matrix to the new one,
 //   y[n] = (1 - w[n]) M_old x[n] + w[n] M_new x[n],  w[n] = (n + 1) / B,
 // so a head turn is heard from the first block after the pose arrives, without clicks.
@@ -61,6 +62,10 @@ class HeadTrackedBinaural {
   std::unique_ptr<ConvolverLayout> layout_;
   std::vector<std::unique_ptr<IrSpectra>> filters_;  ///< per channel: its two ear filters
   std::vector<std::unique_ptr<PartitionedConvolver>> convolvers_;  ///< per channel, 2 ears
+  std::unique_ptr<ConvolverLayout> equaliserLayout_;
+  std::unique_ptr<IrSpectra> equaliser_;                      ///< the decoder's equaliser
+  std::unique_ptr<PartitionedConvolver> equalisers_[2];       ///< per ear
+  std::vector<float> ears_;  ///< 2 x B: the ears before the equaliser
   std::vector<float> matrix_, previous_;          ///< C x C, row-major
   bool changed_ = false;                          ///< previous_ != matrix_ for this block
   std::vector<float> scratch_;                    ///< C x B: the block under the old matrix

@@ -119,7 +119,8 @@ void decodeSettings(Bytes& b, dpc_scene_data& d) {
   const uint8_t rate = b.u8();
   d.sample_rate = rate == 255 ? int(b.u32()) : (rate & 1 ? 16000 : 48000);
   d.block_size = b.u8() == 255 ? int(b.u32()) : 256;
-  d.output = dpc_output_format(b.u8() % 5);
+  d.output = dpc_output_format(b.u8() % 7);  // SCENE (refused in data) .. AMBISONIC_BINAURAL
+  d.ambisonic_order = int(b.u8() % 9);        // 0 and 8 refused
 }
 
 }  // namespace

@@ -20,6 +20,7 @@
 #include <thread>
 #include <utility>
 
+#include "audio/output_backend.h"
 #include "audio/rt_check.h"
 #include "common/log.h"
 
@@ -50,7 +51,9 @@ void jackInfoToLog(const char* message) {
   logMessage(LogLevel::kInfo, message);
 }
 
-void quietProbing(bool quiet) {
+}  // namespace
+
+void quietAudioProbing(bool quiet) {
   using AlsaHandler = void (*)(const char*, int, const char*, int, const char*, ...);
   using AlsaSetHandler = int (*)(AlsaHandler);
   using JackSetFunction = void (*)(void (*)(const char*));
@@ -70,6 +73,8 @@ void quietProbing(bool quiet) {
   if (jackSetInfo) jackSetInfo(quiet ? &jackSilent : &jackInfoToLog);
 }
 
+namespace {
+
 std::mutex& paInitMutex() {
   static std::mutex m;
   return m;
@@ -79,9 +84,9 @@ class PaSession {
  public:
   PaSession() {
     std::lock_guard<std::mutex> lock(paInitMutex());
-    quietProbing(true);
+    quietAudioProbing(true);
     const PaError err = Pa_Initialize();
-    quietProbing(false);
+    quietAudioProbing(false);
     if (err != paNoError) {
       throw std::runtime_error(std::string("audio: PortAudio initialisation failed: ") +
                                Pa_GetErrorText(err));
@@ -89,9 +94,9 @@ class PaSession {
   }
   ~PaSession() {
     std::lock_guard<std::mutex> lock(paInitMutex());
-    quietProbing(true);
+    quietAudioProbing(true);
     Pa_Terminate();
-    quietProbing(false);
+    quietAudioProbing(false);
   }
   PaSession(const PaSession&) = delete;
   PaSession& operator=(const PaSession&) = delete;
@@ -316,53 +321,80 @@ CallbackStats::Snapshot CallbackStats::Snapshot::since(const Snapshot& earlier) 
 }
 
 // ---------------------------------------------------------------------------------------
-// AudioOutput
+// OutputBackend
 
-struct AudioOutput::Impl {
-  PaSession session;  // first member: initialised before, released after the stream
-  PaStream* stream = nullptr;
-  RenderCallback callback = nullptr;
-  void* user = nullptr;
-  DeviceInfo device;
-  double sampleRate = 0.0;
-  double outputLatency = 0.0;
-  int channels = 0;
-  int blockSize = 0;
-  CallbackStats stats;
-  /// The callback thread, stored by its first callback (pthread_self reads thread-local
-  /// storage: no system call), read by the control thread to report its scheduling.
-  std::atomic<pthread_t> callbackThread{};
-  std::atomic<bool> callbackThreadKnown{false};
+void OutputBackend::render(float* const* out, int frames, bool xrun) noexcept {
+  rt::setThreadRole(rt::ThreadRole::kAudio);  // a thread_local store, see rt_check.h
+  if (!callbackThreadKnown_.load(std::memory_order_relaxed)) {
+    callbackThread_.store(pthread_self(), std::memory_order_relaxed);
+    callbackThreadKnown_.store(true, std::memory_order_release);
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  callback(user, out, frames);
+  const auto t1 = std::chrono::steady_clock::now();
+  const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count();
+  stats.record(uint64_t(std::max<int64_t>(ns, 0)), xrun);
+}
 
-  std::string where() const { return "audio device '" + device.spec() + "'"; }
+AudioOutput::Scheduling OutputBackend::scheduling() const {
+  AudioOutput::Scheduling s;
+  if (!isActive() || !callbackThreadKnown_.load(std::memory_order_acquire)) return s;
+  int policy = 0;
+  sched_param param{};
+  if (pthread_getschedparam(callbackThread_.load(std::memory_order_relaxed), &policy, &param) != 0)
+    return s;
+  s.known = true;
+  s.realTime = policy == SCHED_FIFO || policy == SCHED_RR;
+  s.priority = param.sched_priority;
+  s.policy = policy == SCHED_FIFO ? "SCHED_FIFO" : policy == SCHED_RR ? "SCHED_RR" : "SCHED_OTHER";
+  return s;
+}
 
-  ~Impl() {
-    if (stream) Pa_CloseStream(stream);  // aborts an active stream
+bool runWithin(std::function<void()> work, double seconds) {
+  auto done = std::make_shared<std::promise<void>>();
+  std::future<void> finished = done->get_future();
+  std::thread([work = std::move(work), done] {
+    work();
+    done->set_value();
+  }).detach();
+  return finished.wait_for(std::chrono::duration<double>(seconds)) == std::future_status::ready;
+}
+
+// ---------------------------------------------------------------------------------------
+// PortAudio
+
+namespace {
+
+class PortAudioBackend final : public OutputBackend {
+ public:
+  PortAudioBackend(const AudioOutput::Options& options, const std::string& spec);
+  ~PortAudioBackend() override {
+    if (stream_) Pa_CloseStream(stream_);  // aborts an active stream
+  }
+  void start() override;
+  void stop() override;
+  bool isActive() const override { return Pa_IsStreamActive(stream_) == 1; }
+  bool stopWithin(double seconds) override {
+    if (Pa_IsStreamStopped(stream_) == 1) return true;
+    PaStream* stream = stream_;
+    return runWithin([stream] { Pa_StopStream(stream); }, seconds);
   }
 
-  // PortAudio's audio thread. No allocation, locks or system calls: two vDSO clock reads,
-  // the user's callback and relaxed atomic increments.
+ private:
+  // PortAudio's audio thread: the shared render() (no allocation, locks or system calls).
   static int paCallback(const void* /*input*/, void* output, unsigned long frames,
                         const PaStreamCallbackTimeInfo* /*timeInfo*/,
                         PaStreamCallbackFlags statusFlags, void* userData) {
-    auto* self = static_cast<Impl*>(userData);
-    rt::setThreadRole(rt::ThreadRole::kAudio);  // a thread_local store, see rt_check.h
-    if (!self->callbackThreadKnown.load(std::memory_order_relaxed)) {
-      self->callbackThread.store(pthread_self(), std::memory_order_relaxed);
-      self->callbackThreadKnown.store(true, std::memory_order_release);
-    }
-    const auto t0 = std::chrono::steady_clock::now();
-    self->callback(self->user, static_cast<float* const*>(output), int(frames));
-    const auto t1 = std::chrono::steady_clock::now();
-    const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count();
     constexpr PaStreamCallbackFlags kXrun =
         paOutputUnderflow | paOutputOverflow | paInputUnderflow | paInputOverflow;
-    self->stats.record(uint64_t(std::max<int64_t>(ns, 0)), (statusFlags & kXrun) != 0);
+    static_cast<PortAudioBackend*>(userData)->render(static_cast<float* const*>(output),
+                                                     int(frames), (statusFlags & kXrun) != 0);
     return paContinue;
   }
-};
 
-namespace {
+  PaSession session_;  // first member: initialised before, released after the stream
+  PaStream* stream_ = nullptr;
+};
 
 // The stream's output parameters; throws (naming the device) when the device cannot play them.
 PaStreamParameters checkedOutputParameters(const AudioOutput::Options& options, PaDeviceIndex index,
@@ -394,26 +426,16 @@ PaStreamParameters checkedOutputParameters(const AudioOutput::Options& options, 
   return out;
 }
 
-}  // namespace
-
-AudioOutput::AudioOutput(const Options& options, RenderCallback callback, void* user) {
-  if (!callback) throw std::invalid_argument("AudioOutput: null render callback");
-  if (!(options.sampleRate > 0.0) || options.channels <= 0 || options.blockSize <= 0) {
-    throw std::invalid_argument("AudioOutput: sample rate, channels and block size must be > 0");
-  }
-  auto impl = std::make_unique<Impl>();  // initialises PortAudio
-  impl->callback = callback;
-  impl->user = user;
-  const PaDeviceIndex index = resolveDevice(options.device);
-  impl->device = describe(index, defaultOutputDevice());
-  const std::string where = impl->where();
-  const PaStreamParameters out = checkedOutputParameters(options, index, impl->device, where);
-  PaError err = Pa_OpenStream(&impl->stream, nullptr, &out, options.sampleRate,
+PortAudioBackend::PortAudioBackend(const AudioOutput::Options& options, const std::string& spec) {
+  const PaDeviceIndex index = resolveDevice(spec);
+  device = describe(index, defaultOutputDevice());
+  const PaStreamParameters out = checkedOutputParameters(options, index, device, where());
+  PaError err = Pa_OpenStream(&stream_, nullptr, &out, options.sampleRate,
                               static_cast<unsigned long>(options.blockSize), paNoFlag,
-                              &Impl::paCallback, impl.get());
+                              &PortAudioBackend::paCallback, this);
   if (err != paNoError) {
-    impl->stream = nullptr;
-    throw std::runtime_error(where + ": cannot open a " + std::to_string(options.channels) +
+    stream_ = nullptr;
+    throw std::runtime_error(where() + ": cannot open a " + std::to_string(options.channels) +
                              "-channel float32 stream at " + formatHz(options.sampleRate) +
                              " with " + std::to_string(options.blockSize) +
                              "-frame blocks: " + Pa_GetErrorText(err));
@@ -422,57 +444,85 @@ AudioOutput::AudioOutput(const Options& options, RenderCallback callback, void* 
   // limits; callbackScheduling() reports what was granted). JACK: the server's -R decides.
   if (const PaHostApiInfo* api = Pa_GetHostApiInfo(Pa_GetDeviceInfo(index)->hostApi);
       api && api->type == paALSA)
-    PaAlsa_EnableRealtimeScheduling(impl->stream, 1);
-  const PaStreamInfo* info = Pa_GetStreamInfo(impl->stream);
-  impl->sampleRate = info ? info->sampleRate : options.sampleRate;
-  impl->outputLatency = info ? info->outputLatency : 0.0;
-  impl->channels = options.channels;
-  impl->blockSize = options.blockSize;
-  impl_ = std::move(impl);
+    PaAlsa_EnableRealtimeScheduling(stream_, 1);
+  const PaStreamInfo* info = Pa_GetStreamInfo(stream_);
+  sampleRate = info ? info->sampleRate : options.sampleRate;
+  outputLatency = info ? info->outputLatency : 0.0;
+  channels = options.channels;
+  blockSize = options.blockSize;
+}
+
+void PortAudioBackend::start() {
+  if (isActive()) return;
+  if (Pa_IsStreamStopped(stream_) != 1) Pa_AbortStream(stream_);  // finished
+  const PaError err = Pa_StartStream(stream_);
+  if (err != paNoError)
+    throw std::runtime_error(where() + ": cannot start the stream: " + Pa_GetErrorText(err));
+}
+
+void PortAudioBackend::stop() {
+  if (Pa_IsStreamStopped(stream_) == 1) return;
+  const PaError err = Pa_StopStream(stream_);
+  if (err != paNoError)
+    throw std::runtime_error(where() + ": cannot stop the stream: " + Pa_GetErrorText(err));
+}
+
+/// "jack:CLIENT" (any case) and the default while a JACK server runs go to JACK's own
+/// client library; "portaudio:SPEC" and everything else to PortAudio. Sets `target` to the
+/// JACK client to connect to ("" : the physical playback ports).
+bool wantsJack(const std::string& spec, std::string& target) {
+  const std::string l = lower(spec);
+  if (l.rfind("jack:", 0) == 0) {
+    target = spec.substr(5);
+    if (lower(target) == "system") target.clear();
+    return true;
+  }
+  if ((l.empty() || l == "default") && jackServerRunning()) {
+    target.clear();
+    return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+AudioOutput::AudioOutput(const Options& options, RenderCallback callback, void* user) {
+  if (!callback) throw std::invalid_argument("AudioOutput: null render callback");
+  if (!(options.sampleRate > 0.0) || options.channels <= 0 || options.blockSize <= 0) {
+    throw std::invalid_argument("AudioOutput: sample rate, channels and block size must be > 0");
+  }
+  std::string target;
+  const std::string& spec = options.device;
+  if (lower(spec).rfind("portaudio:", 0) == 0)
+    impl_ = std::make_unique<PortAudioBackend>(options, spec.substr(10));
+  else if (wantsJack(spec, target))
+    impl_ = openJackOutput(options, target);
+  else
+    impl_ = std::make_unique<PortAudioBackend>(options, spec);
+  impl_->callback = callback;
+  impl_->user = user;
 }
 
 AudioOutput::~AudioOutput() {
-  if (abandoned_) (void)impl_.release();  // a helper thread may still be inside PortAudio
+  if (abandoned_) (void)impl_.release();  // a helper thread may still be inside the backend
 }
 AudioOutput::AudioOutput(AudioOutput&&) noexcept = default;
 AudioOutput& AudioOutput::operator=(AudioOutput&&) noexcept = default;
 
 void AudioOutput::start() {
-  if (isActive()) return;
-  if (Pa_IsStreamStopped(impl_->stream) != 1) Pa_AbortStream(impl_->stream);  // finished
-  const PaError err = Pa_StartStream(impl_->stream);
-  if (err != paNoError) {
-    throw std::runtime_error(impl_->where() + ": cannot start the stream: " + Pa_GetErrorText(err));
-  }
+  impl_->start();
 }
-
 void AudioOutput::stop() {
-  if (Pa_IsStreamStopped(impl_->stream) == 1) return;
-  const PaError err = Pa_StopStream(impl_->stream);
-  if (err != paNoError) {
-    throw std::runtime_error(impl_->where() + ": cannot stop the stream: " + Pa_GetErrorText(err));
-  }
+  impl_->stop();
 }
-
 bool AudioOutput::stopWithin(double seconds) {
-  if (Pa_IsStreamStopped(impl_->stream) == 1) return true;
-  auto done = std::make_shared<std::promise<void>>();
-  std::future<void> finished = done->get_future();
-  PaStream* stream = impl_->stream;
-  std::thread([stream, done] {
-    Pa_StopStream(stream);
-    done->set_value();
-  }).detach();
-  if (finished.wait_for(std::chrono::duration<double>(seconds)) == std::future_status::ready)
-    return true;
+  if (impl_->stopWithin(seconds)) return true;
   abandoned_ = true;
   return false;
 }
-
 bool AudioOutput::isActive() const {
-  return Pa_IsStreamActive(impl_->stream) == 1;
+  return impl_->isActive();
 }
-
 const DeviceInfo& AudioOutput::device() const {
   return impl_->device;
 }
@@ -486,28 +536,16 @@ int AudioOutput::channels() const {
   return impl_->channels;
 }
 int AudioOutput::blockSize() const {
-  return impl_->blockSize;
+  return impl_->blockSize.load(std::memory_order_relaxed);
 }
 double AudioOutput::blockPeriodNs() const {
-  return 1e9 * double(impl_->blockSize) / impl_->sampleRate;
+  return 1e9 * double(blockSize()) / impl_->sampleRate;
 }
 const CallbackStats& AudioOutput::stats() const {
   return impl_->stats;
 }
-
 AudioOutput::Scheduling AudioOutput::callbackScheduling() const {
-  Scheduling s;
-  if (!isActive() || !impl_->callbackThreadKnown.load(std::memory_order_acquire)) return s;
-  int policy = 0;
-  sched_param param{};
-  if (pthread_getschedparam(impl_->callbackThread.load(std::memory_order_relaxed), &policy,
-                            &param) != 0)
-    return s;
-  s.known = true;
-  s.realTime = policy == SCHED_FIFO || policy == SCHED_RR;
-  s.priority = param.sched_priority;
-  s.policy = policy == SCHED_FIFO ? "SCHED_FIFO" : policy == SCHED_RR ? "SCHED_RR" : "SCHED_OTHER";
-  return s;
+  return impl_->scheduling();
 }
 
 std::string AudioOutput::statusLine() const {
@@ -522,7 +560,7 @@ std::string AudioOutput::statusLine(const CallbackStats::Snapshot& since) const 
   std::snprintf(buf, sizeof buf,
                 "audio %s %.0f Hz x %d: %llu callbacks, %llu xruns, load median %.1f%% "
                 "p99.9 %.1f%% max %.1f%% of %.3f ms",
-                impl_->device.spec().c_str(), impl_->sampleRate, impl_->blockSize,
+                impl_->device.spec().c_str(), impl_->sampleRate, blockSize(),
                 static_cast<unsigned long long>(s.callbacks),
                 static_cast<unsigned long long>(s.xruns), loadPercent(s.quantileNs(0.5)),
                 loadPercent(s.quantileNs(0.999)), loadPercent(maxNs), blockPeriodNs() * 1e-6);

@@ -1,24 +1,29 @@
-// Live audio output: a thin RAII wrapper over PortAudio (http://www.portaudio.com, v19).
-//
-// One AudioOutput is one PortAudio output stream of non-interleaved (planar) float32 samples
-// with a fixed block size, so the render callback has exactly the shape of
-// dpc::AudioStage::process(float* const* out): B frames per call, one float array per channel.
-// PortAudio reaches ALSA, OSS and JACK through its host APIs (Debian's libportaudio2 is built
-// with JACK). On a machine without a sound card, run a JACK server with the dummy backend
-// (`jackd -d dummy -r 48000 -p 128`, see scripts/jack-headless.sh) and open its "system"
-// device.
+// Live audio output: one output stream of non-interleaved (planar) float32 samples, so the
+// render callback has the shape of dpc::AudioStage::process(float* const* out): one float
+// array per channel. Two host APIs:
+// - JACK's own client library (libjack, https://jackaudio.org/api/): a client whose output
+//   ports carry the channels' names (ACN0..., the loudspeakers' labels, left/right), called
+//   at the server's period, and told when the server shuts down. Chosen whenever a JACK
+//   server is running and the spec asks for JACK or the default.
+// - PortAudio (http://www.portaudio.com, v19) for ALSA and OSS, with a fixed block size.
+// On a machine without a sound card, run a JACK server with the dummy backend
+// (`jackd -d dummy -r 48000 -p 128`, see scripts/jack-headless.sh).
 //
 // Device selection (`--device SPEC` in the apps):
-//   ""  or "default"   JACK's default output if a JACK server is running, otherwise
+//   ""  or "default"   JACK (physical playback ports) if a JACK server is running, otherwise
 //                      PortAudio's default output device, otherwise the first output device.
-//   "NAME"             the first output device whose name contains NAME (case-insensitive);
-//                      an exact (case-insensitive) name match wins over substring matches.
+//   "jack:" / "jack:system"  JACK, connected to the physical playback ports.
+//   "jack:CLIENT"      JACK, connected in order to the input ports of client CLIENT (e.g. an
+//                      Ambisonic decoder's); an error if no such client has input ports.
+//   "NAME"             the first PortAudio output device whose name contains NAME
+//                      (case-insensitive); an exact (case-insensitive) match wins.
 //   "HOSTAPI:NAME"     as "NAME" but only among devices of the host API whose name contains
-//                      HOSTAPI (case-insensitive): "jack:system", "alsa:hw:0,0", "ALSA:pulse".
-//                      "HOSTAPI:" alone is that host API's default output ("jack:").
+//                      HOSTAPI (case-insensitive): "alsa:hw:0,0", "ALSA:pulse".
+//                      "HOSTAPI:" alone is that host API's default output.
+//   "portaudio:SPEC"   SPEC through PortAudio even for JACK ("portaudio:jack:system").
 //   If HOSTAPI matches no host API, or NAME matches nothing there, the whole SPEC is tried as
 //   a NAME (device names may contain ':', e.g. "HDA Intel PCH: ALC892 Analog (hw:0,0)").
-// listOutputDevices() (dpc-demo --list-devices) shows the names.
+// listOutputDevices() (dpc-demo --list-devices) shows PortAudio's names.
 //
 // Diagnostics: while PortAudio probes (initialisation, termination) ALSA's and JACK's own
 // stderr messages ("cannot find card '0'", "jack server is not running") are silenced, since
@@ -116,10 +121,11 @@ class CallbackStats {
   std::array<std::atomic<uint64_t>, kBins> histogram_{};
 };
 
-/// The function PortAudio's audio thread calls for every block: write `frames` samples to
+/// The function the audio thread calls for every block: write `frames` samples to
 /// each out[c][0..frames), c < channels (planar float32, nominal range [-1, 1]); every
-/// sample must be written (the buffers hold garbage on entry). `frames` is always the block
-/// size the stream was opened with. Runs on the audio thread: must not allocate, lock, log,
+/// sample must be written (the buffers hold garbage on entry). `frames` is the block size
+/// the stream was opened with (PortAudio) or the JACK server's period (JACK: blockSize(),
+/// which the server may change while playing). Runs on the audio thread: must not allocate, lock, log,
 /// throw, wait or make system calls. The calling thread is declared rt::ThreadRole::kAudio
 /// (audio/rt_check.h) before each call, so DPC_ASSERT_AUDIO_THREAD() holds inside. noexcept is part
 /// of the type so that a throwing function does not convert silently.
@@ -132,24 +138,36 @@ using RenderCallback = void (*)(void* user, float* const* out, int frames) noexc
 /// listOutputDevices() call) is alive, and each object releases only its own reference.
 class AudioOutput {
  public:
+  /// Most output ports of a JACK stream (an order-7 Ambisonic signal has 64 channels).
+  static constexpr int kMaxJackChannels = 64;
   struct Options {
     std::string device;           ///< device spec, see the file comment ("" = default)
     double sampleRate = 48000.0;  ///< Hz; must be supported by the device (JACK: the server's)
     int channels = 2;             ///< output channels, 1 .. device's maxOutputChannels
-    int blockSize = 128;          ///< frames per callback, fixed (> 0)
+    /// Frames per callback (> 0); PortAudio: fixed; JACK: ignored, the server's period.
+    int blockSize = 128;
     /// Requested output latency in seconds; <= 0: the device's default low output latency.
     double suggestedLatency = 0.0;
+    /// JACK: the output ports' names, one per channel (empty: "out_1", "out_2", ...).
+    std::vector<std::string> channelNames;
+    /// JACK: the client's name (the server appends "-01"... if it is taken).
+    std::string clientName = "dpc";
+    /// JACK with the default target: connect to the physical playback ports (false: leave
+    /// the ports unconnected, e.g. Ambisonic channels that no loudspeaker plays directly).
+    bool connectPhysical = true;
   };
 
   /// Opens the stream; callback(user, out, frames) will be called once started. callback
   /// must be non-null; user is passed through untouched and must outlive the stream.
-  /// Control thread. Allocates; initialises PortAudio (host APIs probe their devices).
-  /// Throws std::invalid_argument on a null callback or non-positive rate/channels/block
-  /// size, std::runtime_error with a one-line message naming the device and what failed:
-  /// PortAudio initialisation failed; no output device at all ("no audio output device
-  /// found; render with --offline OUT.wav, or start a JACK server (e.g. jackd -d dummy -r
-  /// 48000 -p 128)"); no device matches the spec (the message lists the available ones);
-  /// too many channels; sample rate not supported; the stream cannot be opened.
+  /// Control thread. Allocates; initialises PortAudio (host APIs probe their devices) or
+  /// opens a JACK client. Throws std::invalid_argument on a null callback or non-positive
+  /// rate/channels/block size, std::runtime_error with a one-line message naming the device
+  /// and what failed: PortAudio initialisation failed; no output device at all ("no audio
+  /// output device found; render with --offline OUT.wav, or start a JACK server (e.g. jackd
+  /// -d dummy -r 48000 -p 128)"); no device matches the spec (the message lists the
+  /// available ones); too many channels (JACK: more than kMaxJackChannels); sample rate not
+  /// supported (JACK: not the server's); no JACK client CLIENT with input ports; the stream
+  /// cannot be opened.
   AudioOutput(const Options& options, RenderCallback callback, void* user);
   /// Closes the stream (aborting it if active) and releases PortAudio. Control thread.
   ~AudioOutput();
@@ -215,9 +233,8 @@ class AudioOutput {
   }
 
  private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
-  bool abandoned_ = false;  ///< abortWithin() timed out: impl_ is never destroyed
+  std::unique_ptr<class OutputBackend> impl_;
+  bool abandoned_ = false;  ///< stopWithin() timed out: impl_ is never destroyed
 };
 
 }  // namespace dpc::audio

@@ -1,6 +1,13 @@
 #include "runtime/callback_adapter.h"
 
+#include "scene/limits.h"
+
 namespace dpc {
+
+int engineBlockForHostPeriod(int hostFrames) {
+  const Limit& block = limitOf("audio.block_size");
+  return int(std::clamp(double(hostFrames), block.min, block.max));
+}
 
 CallbackAdapter::CallbackAdapter(int blockSize, int sources, int channels) : blockSize_(blockSize) {
   assert(blockSize >= 1 && sources >= 0 && channels >= 1);

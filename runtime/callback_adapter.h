@@ -15,6 +15,12 @@
 
 namespace dpc {
 
+/// The engine block for a host that calls with `hostFrames` frames each time (a JACK period, an
+/// LV2 nominal block length): the same, within audio.block_size's limits, so that every call
+/// renders one block and the work per call is even (a larger block would be rendered whole by
+/// one call in several: bursts). Any thread; no allocation.
+int engineBlockForHostPeriod(int hostFrames);
+
 class CallbackAdapter {
  public:
   /// Largest host call run() accepts, frames.

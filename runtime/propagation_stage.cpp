@@ -35,6 +35,20 @@ int renderedChannels(const AudioSettings& audio) {
   return audio.output == OutputFormat::kAmbisonicBinaural ? 2 : outputChannels(audio);
 }
 
+std::vector<std::string> renderedChannelNames(const AudioSettings& audio) {
+  std::vector<std::string> names;
+  switch (audio.output) {
+    case OutputFormat::kMono: return {"mono"};
+    case OutputFormat::kAmbisonics:
+      for (int c = 0; c < outputChannels(audio); ++c) names.push_back("ACN" + std::to_string(c));
+      return names;
+    case OutputFormat::kLoudspeakers:
+      for (const LoudspeakerDesc& s : audio.speakers) names.push_back(s.name);
+      return names;
+    default: return {"left", "right"};
+  }
+}
+
 int outputChannels(const AudioSettings& audio) {
   switch (audio.output) {
     case OutputFormat::kMono: return 1;

@@ -52,6 +52,10 @@ std::vector<glm::vec3> spatialDirections(const AudioSettings& audio);
 /// Channels the audio stage renders (files, devices): outputChannels(), except 2 (ears) for
 /// head-tracked binaural, whose (order + 1)^2 IR channels are decoded per block. Any thread.
 int renderedChannels(const AudioSettings& audio);
+/// A name per rendered channel, as live outputs label their ports: "mono"; "left", "right"
+/// (stereo, binaural, head-tracked binaural); "ACN0" ... (Ambisonics, ACN order); the
+/// loudspeakers' labels (layouts). Any thread; allocates.
+std::vector<std::string> renderedChannelNames(const AudioSettings& audio);
 
 /// The spatial IR synthesiser for scene.audio.output (stereo: constant-power panning;
 /// binaural: HRIRs from scene.audio.hrtfPath at the scene's rate) over

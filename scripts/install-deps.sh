@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libembree-dev libtbb-dev libglm-dev
-  libsndfile1-dev libsamplerate0-dev libfftw3-dev portaudio19-dev
+  libsndfile1-dev libsamplerate0-dev libfftw3-dev portaudio19-dev libjack-jackd2-dev
   libmysofa-dev robin-map-dev jackd2 libnetcdf-dev netcdf-bin
   nlohmann-json3-dev libtinyobjloader-dev libassimp-dev libcli11-dev catch2
   python3 python3-numpy python3-matplotlib espeak-ng sox

@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <string>
 
+#include "runtime/propagation_stage.h"
+
 namespace dpc::demo {
 
 int listDevices() {
@@ -21,15 +23,36 @@ int listDevices() {
   return 0;
 }
 
+namespace {
+
+/// The device's callback: the session that `user` (a std::unique_ptr<LiveSession>*)
+/// holds by the time the device starts. Audio thread (LiveSession::render asserts it).
+void renderSession(void* user, float* const* out, int frames) noexcept {
+  (*static_cast<std::unique_ptr<LiveSession>*>(user))->render(nullptr, out, frames);
+}
+
+}  // namespace
+
+int deviceChannels(const AudioSettings& audio) {
+  return audio.output == OutputFormat::kMono ? 2 : renderedChannels(audio);
+}
+
 std::unique_ptr<audio::AudioOutput> openOutput(const SceneDesc& scene, const Flags& fl,
-                                               LiveSession& session) {
+                                               std::unique_ptr<LiveSession>* session) {
   audio::AudioOutput::Options ao;
   ao.device = fl.device;
   ao.sampleRate = scene.audio.sampleRate;
-  ao.channels = 2;
+  ao.channels = deviceChannels(scene.audio);
   ao.blockSize = scene.audio.blockSize;
+  if (scene.audio.output == OutputFormat::kMono)
+    ao.channelNames = {"left", "right"};
+  else
+    ao.channelNames = renderedChannelNames(scene.audio);
+  ao.clientName = "dpc-demo";
+  ao.connectPhysical = scene.audio.output != OutputFormat::kAmbisonics;
   try {
-    return std::make_unique<audio::AudioOutput>(ao, &LiveSession::renderCallback, &session);
+    return std::make_unique<audio::AudioOutput>(ao, &renderSession,
+                                                session);
   } catch (const std::exception& e) {
     // One line: the device layer's reason, plus the way out if it does not already say it.
     const std::string why = e.what();

@@ -17,10 +17,16 @@ constexpr int kNoAudioDeviceStatus = 3;
 /// PortAudio cannot be initialised.
 int listDevices();
 
-/// Opens --device (stereo, the scene's rate and block size) with the session's render
-/// callback, not started. On failure prints one line "dpc-demo: why; the way out" on stderr
-/// and returns null. Main thread. Allocates.
+/// Channels a live run plays: renderedChannels(), except 2 (the same signal, "left" and
+/// "right") for mono, which both loudspeakers of a stereo device play. Any thread.
+int deviceChannels(const AudioSettings& audio);
+
+/// Opens --device for the scene's output (deviceChannels() channels named as
+/// renderedChannelNames(); Ambisonic channels are not connected to loudspeakers), at the
+/// scene's rate and block size, not started. Its callback renders `*session`, which must be
+/// set before the output is started. On failure prints one line "dpc-demo: why; the way
+/// out" on stderr and returns null. Main thread. Allocates.
 std::unique_ptr<audio::AudioOutput> openOutput(const SceneDesc& scene, const Flags& fl,
-                                               LiveSession& session);
+                                               std::unique_ptr<LiveSession>* session);
 
 }  // namespace dpc::demo

@@ -24,8 +24,13 @@ void addLiveOptions(CLI::App& app, Flags& fl) {
   app.add_flag("--list-materials", fl.listMaterials,
                "List the materials library (names usable in a scene's materials) and exit");
   app.add_option("--device", fl.device,
-                 "Output device: NAME, HOSTAPI:NAME (e.g. jack:system), default: JACK if running");
-  app.add_option("--block-size", fl.blockSize, "Audio block size in samples (live)");
+                 "Output device: jack:system (JACK's playback ports; ports named ACN0.., "
+                 "left/right, the layout's labels), jack:CLIENT (that client's inputs, e.g. an "
+                 "Ambisonic decoder), NAME or HOSTAPI:NAME (PortAudio, e.g. alsa:hw:0,0), "
+                 "portaudio:SPEC; default: JACK if a server runs, else PortAudio's default");
+  app.add_option("--block-size", fl.blockSize,
+                 "Live: the engine's block in samples (default: the JACK server's period, "
+                 "else the scene's audio.block_size)");
   app.add_option("--record", fl.record, "Live: also write what was played to this WAV");
   app.add_option("--stats", fl.stats,
                  "Live: write xruns, late callbacks, callback load and motion-to-sound latency "

@@ -47,7 +47,9 @@ void writeLiveStats(const std::string& path, const std::string& scenePath,
   const Json j = {
       {"scene", scenePath},
       {"sample_rate_hz", output.sampleRate()},
-      {"block_frames", output.blockSize()},
+      {"block_frames", output.blockSize()},  // the device's period
+      {"engine_block_frames", session.blockSize()},
+      {"channels", output.channels()},
       {"device", output.device().spec()},
       {"callback_scheduling", schedulingJson(scheduling)},
       {"callbacks", cb.callbacks},

@@ -19,6 +19,8 @@
 #include "apps/demo/terminal.h"
 #include "audio/callback_watchdog.h"
 #include "audio/wav_io.h"
+#include "runtime/callback_adapter.h"
+#include "runtime/propagation_stage.h"
 #include "common/input_error.h"
 #include "common/stop_signals.h"
 #include "scene/validate.h"
@@ -48,12 +50,6 @@ struct Playback {
 /// Applies the overrides and checks everything that can be checked before playing.
 PropagationSettings prepareLive(SceneDesc& scene, const Flags& fl) {
   applyAudioOverrides(scene, fl);
-  if (scene.audio.output == OutputFormat::kAmbisonics ||
-      scene.audio.output == OutputFormat::kLoudspeakers)
-    throw InputError(fl.output.empty() ? scene.path : "command line",
-                     fl.output.empty() ? "audio.output" : "--output",
-                     "Ambisonic and loudspeaker-layout output are offline only (add --offline "
-                     "FILE.wav)");
   printSceneWarnings(scene);
   if (fl.listener.empty() && scene.listeners.size() > 1)
     std::fprintf(stderr, "note: playing listener \"%s\" of %zu (choose with --listener NAME)\n",
@@ -77,7 +73,7 @@ LiveSession::Options sessionOptions(const SceneDesc& scene, const Flags& fl,
                                     double durationSeconds) {
   LiveSession::Options lo;
   lo.listener = selectedListener(scene, fl);
-  lo.deviceChannels = 2;
+  lo.deviceChannels = deviceChannels(scene.audio);
   if (fl.latencyTargetMs) lo.latencyTargetSeconds = *fl.latencyTargetMs * 1e-3;
   // --record streams to its file (memory does not grow with the session).
   if (!fl.record.empty()) {
@@ -205,6 +201,25 @@ void finishLive(const SceneDesc& scene, const Flags& fl, LiveSession& session,
   }
 }
 
+/// "playing on JACK:system (...), 48000 Hz, period 128, engine block 128, ...", and which
+/// output ports a JACK client left unconnected.
+void printDevice(const SceneDesc& scene, const audio::AudioOutput& output) {
+  std::fprintf(stderr,
+               "playing on %s (%s), %.0f Hz, %d channels, period %d, engine block %d, output "
+               "latency %.1f ms\n",
+               output.device().spec().c_str(), output.device().hostApi.c_str(),
+               output.sampleRate(), output.channels(), output.blockSize(), scene.audio.blockSize,
+               output.outputLatency() * 1e3);
+  const bool jack = output.device().hostApi.find("JACK") != std::string::npos;
+  if (jack && scene.audio.output == OutputFormat::kAmbisonics && output.device().name == "system")
+    std::fprintf(stderr, "note: the %d AmbiX ports (ACN0...) are left unconnected: connect them "
+                 "to a decoder (jack_connect, or --device jack:CLIENT)\n", output.channels());
+  else if (jack && output.device().maxOutputChannels < output.channels())
+    std::fprintf(stderr, "note: %s has %d input ports; channels %d.. are left unconnected\n",
+                 output.device().spec().c_str(), output.device().maxOutputChannels,
+                 output.device().maxOutputChannels + 1);
+}
+
 }  // namespace
 
 int runLive(const Flags& fl) {
@@ -213,15 +228,17 @@ int runLive(const Flags& fl) {
   const double duration = fl.duration.value_or(kUnboundedSeconds);
   LiveSession::Options lo = sessionOptions(scene, fl, duration);
   lo.bake = run.bake;
-  LiveSession session(run.scene, run.settings, run.dry, lo);
-  const std::unique_ptr<audio::AudioOutput> output = openOutput(scene, fl, session);
+  // The device first: a JACK server's period becomes the engine block (unless --block-size
+  // says otherwise), so that every callback renders one block.
+  std::unique_ptr<LiveSession> session;
+  const std::unique_ptr<audio::AudioOutput> output = openOutput(scene, fl, &session);
   if (!output) return kNoAudioDeviceStatus;
-  std::fprintf(stderr, "playing on %s (%s), %.0f Hz, block %d, output latency %.1f ms\n",
-               output->device().spec().c_str(), output->device().hostApi.c_str(),
-               output->sampleRate(), output->blockSize(), output->outputLatency() * 1e3);
+  if (!fl.blockSize) scene.audio.blockSize = engineBlockForHostPeriod(output->blockSize());
+  session = std::make_unique<LiveSession>(run.scene, run.settings, run.dry, lo);
+  printDevice(scene, *output);
   catchStopSignals();
-  const Playback pb = play(scene, fl, duration, session, *output);
-  finishLive(scene, fl, session, *output, pb);
+  const Playback pb = play(scene, fl, duration, *session, *output);
+  finishLive(scene, fl, *session, *output, pb);
   // A device failure or a stop signal: what was played up to it is written, then the status.
   if (const int signal = stopSignal()) throw Interrupted(signal);
   return pb.failure.empty() ? 0 : 1;

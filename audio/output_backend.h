@@ -1,0 +1,76 @@
+// OutputBackend: one open output stream of one host API, what AudioOutput (audio_device.h)
+// forwards to. Two exist: PortAudio's (ALSA, OSS, and JACK through PortAudio) and JACK's own
+// client library (jack_output.cpp), which names its ports, runs at the server's period and
+// hears the server shut down. Internal to the audio layer.
+#pragma once
+
+#include <pthread.h>
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "audio/audio_device.h"
+
+namespace dpc::audio {
+
+class OutputBackend {
+ public:
+  virtual ~OutputBackend() = default;
+  /// As AudioOutput::start / stop / isActive (control thread; throw std::runtime_error).
+  virtual void start() = 0;
+  virtual void stop() = 0;
+  virtual bool isActive() const = 0;
+  /// As AudioOutput::stopWithin: false if the stop did not return within `seconds`; the
+  /// caller must then never destroy this backend (a helper thread is still inside it).
+  virtual bool stopWithin(double seconds) = 0;
+
+  /// Audio thread, once per host callback: declares the thread's role, remembers the thread,
+  /// runs the user's callback on out[0..channels)[0..frames) and records its duration.
+  /// No allocation, locks or system calls (two vDSO clock reads, relaxed atomics).
+  void render(float* const* out, int frames, bool xrun) noexcept;
+  /// The callback thread's scheduling (AudioOutput::callbackScheduling); control thread.
+  AudioOutput::Scheduling scheduling() const;
+  /// "audio device 'JACK:system'": the prefix of every error message.
+  std::string where() const { return "audio device '" + device.spec() + "'"; }
+
+  RenderCallback callback = nullptr;
+  void* user = nullptr;
+  DeviceInfo device;
+  double sampleRate = 0.0;     ///< Hz
+  double outputLatency = 0.0;  ///< seconds
+  int channels = 0;
+  /// Frames per callback (JACK: the server's period, which the server may change while the
+  /// stream runs; the atomic lets the control thread read it).
+  std::atomic<int> blockSize{0};
+  CallbackStats stats;
+
+ private:
+  std::atomic<pthread_t> callbackThread_{};
+  std::atomic<bool> callbackThreadKnown_{false};
+};
+
+/// Runs `work` on a detached helper thread and waits at most `seconds` for it: true if it
+/// returned in time. A stop call into an audio server that is gone never returns; this keeps
+/// the control thread from waiting with it. Control thread; starts a thread.
+bool runWithin(std::function<void()> work, double seconds);
+
+/// While true, ALSA's and JACK's own diagnostics on stderr are silenced (unless
+/// DPC_AUDIO_VERBOSE=1): probing for devices or a server prints pages of them on a headless
+/// machine. Control thread.
+void quietAudioProbing(bool quiet);
+
+/// Whether a JACK server is running (a client opened without starting one). Control thread;
+/// takes a few ms.
+bool jackServerRunning();
+
+/// Opens a JACK client with options.channels output ports (named options.channelNames, else
+/// "out_1"...) connected, once started, to the input ports of client `target` in order
+/// ("" : the physical playback ports, unless options.connectPhysical is false). Throws
+/// std::runtime_error naming the device: no server, a sample rate other than the server's,
+/// no such target client, a port that cannot be registered.
+std::unique_ptr<OutputBackend> openJackOutput(const AudioOutput::Options& options,
+                                              const std::string& target);
+
+}  // namespace dpc::audio

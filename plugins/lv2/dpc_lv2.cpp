@@ -18,18 +18,23 @@
 #include <lv2/worker/worker.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "dpc/dpc.h"
+#include "plugins/lv2/host.h"
 
 namespace {
 
-constexpr const char* kUri = "urn:dpc:lv2:room";
+using dpc::lv2::kMaxOutputs;
+using dpc::lv2::Variant;
+
 constexpr const char* kSceneParam = "urn:dpc:lv2:room#scene";
 /// The scene shipped inside the bundle.
 constexpr const char* kDefaultScene = "scene/room.json";
@@ -52,6 +57,7 @@ enum Port : uint32_t {
   kLatency,
   kPortCount
 };
+
 
 /// A loaded scene: the engine and the input pointer array process() needs (one per source,
 /// all fed by the mono input). Built and freed off the audio thread.
@@ -128,7 +134,9 @@ struct Plugin {
   LV2_Log_Logger logger{};
   Uris uris{};
   LV2_Atom_Forge forge{};
+  const Variant* variant = &dpc::lv2::kVariants[0];
   void* ports[kPortCount] = {};
+  float* extraOutputs[kMaxOutputs - 2] = {};  ///< outputs 3.. (ports kPortCount...)
   Scene* scene = nullptr;
   bool active = false;
   bool notifyScene = false;  ///< tell the host the scene path at the next run()
@@ -252,18 +260,41 @@ FirstFrame firstFrameOutsideWorker(const Plugin* p) {
 /// Control or worker thread: loads a scene at the host's rate with host inputs only, computes
 /// its first frame for `pose` as `first` says and, if `start`, starts its propagation thread.
 /// nullptr on failure (logged).
-Scene* loadScene(Plugin* p, const std::string& path, bool isDefault, const Pose& pose, bool start,
-                 FirstFrame first) {
+/// Control or worker thread: the engine for a scene file as this plugin plays it (the host's
+/// rate and block, host inputs only, the variant's output format). A scene of more channels
+/// than the plugin has outputs (an Ambisonic or loudspeaker scene in the stereo plugin) is
+/// opened again as stereo, and the plugin says so. nullptr on failure (logged).
+dpc_engine* createEngine(Plugin* p, const std::string& path) {
   dpc_engine_options o;
   dpc_engine_options_init(&o);
   o.sample_rate = int(std::lround(p->rate));
   o.block_size = p->hostBlock;  // 0 keeps the scene's
   o.host_inputs_only = 1;
+  o.output = p->variant->output;
+  o.ambisonic_order = p->variant->ambisonicOrder;
   dpc_engine* e = nullptr;
   if (dpc_engine_create_from_file(path.c_str(), &o, &e) != DPC_OK) {
     logError(p, nullptr);  // the message names the scene file already
     return nullptr;
   }
+  const int channels = dpc_engine_output_channels(e);
+  if (channels <= p->variant->outputs) return e;
+  dpc_engine_destroy(e);
+  const char* format = "dpc: %s renders %d channels; %s plays it as stereo\n";
+  if (p->logger.log)
+    lv2_log_note(&p->logger, format, path.c_str(), channels, p->variant->uri);
+  else
+    std::fprintf(stderr, format, path.c_str(), channels, p->variant->uri);
+  o.output = DPC_OUTPUT_STEREO;
+  if (dpc_engine_create_from_file(path.c_str(), &o, &e) == DPC_OK) return e;
+  logError(p, nullptr);
+  return nullptr;
+}
+
+Scene* loadScene(Plugin* p, const std::string& path, bool isDefault, const Pose& pose, bool start,
+                 FirstFrame first) {
+  dpc_engine* e = createEngine(p, path);
+  if (!e) return nullptr;
   auto* s = new Scene;
   s->engine = e;
   s->path = path;
@@ -277,24 +308,10 @@ Scene* loadScene(Plugin* p, const std::string& path, bool isDefault, const Pose&
   return s;
 }
 
-/// The host's bufsz:nominalBlockLength (an atom:Int among the options), clamped to the engine
-/// block's range [16, 8192]; 0 if the host gives none (or no URID map to read it).
-int nominalBlockLength(LV2_URID_Map* map, const LV2_Feature* const* features) {
-  if (!map) return 0;
-  const LV2_URID key = map->map(map->handle, LV2_BUF_SIZE__nominalBlockLength);
-  const LV2_URID atomInt = map->map(map->handle, LV2_ATOM__Int);
-  for (int i = 0; features && features[i]; ++i) {
-    if (std::strcmp(features[i]->URI, LV2_OPTIONS__options) != 0) continue;
-    for (auto* o = static_cast<const LV2_Options_Option*>(features[i]->data); o && o->key; ++o)
-      if (o->key == key && o->type == atomInt && o->size == sizeof(int32_t))
-        return std::clamp(int(*static_cast<const int32_t*>(o->value)), 16, 8192);
-  }
-  return 0;
-}
-
-LV2_Handle instantiate(const LV2_Descriptor*, double rate, const char* bundlePath,
+LV2_Handle instantiate(const LV2_Descriptor* descriptor, double rate, const char* bundlePath,
                        const LV2_Feature* const* features) {
   auto* p = new Plugin;
+  p->variant = &dpc::lv2::variantOf(descriptor->URI);
   p->rate = rate;
   p->bundle = bundlePath;
   if (!p->bundle.empty() && p->bundle.back() != '/') p->bundle += '/';
@@ -307,7 +324,7 @@ LV2_Handle instantiate(const LV2_Descriptor*, double rate, const char* bundlePat
     else if (!std::strcmp(features[i]->URI, LV2_LOG__log))
       log = static_cast<LV2_Log_Log*>(features[i]->data);
   }
-  p->hostBlock = nominalBlockLength(p->map, features);
+  p->hostBlock = dpc::lv2::nominalBlockLength(p->map, features);
   lv2_log_logger_init(&p->logger, p->map, log);
   if (p->map) {
     p->uris.map(p->map);
@@ -325,7 +342,11 @@ LV2_Handle instantiate(const LV2_Descriptor*, double rate, const char* bundlePat
 }
 
 void connectPort(LV2_Handle h, uint32_t port, void* data) {
-  if (port < kPortCount) static_cast<Plugin*>(h)->ports[port] = data;
+  auto* p = static_cast<Plugin*>(h);
+  if (port < kPortCount)
+    p->ports[port] = data;
+  else if (port - kPortCount < uint32_t(p->variant->outputs - 2))
+    p->extraOutputs[port - kPortCount] = static_cast<float*>(data);
 }
 
 void activate(LV2_Handle h) {
@@ -404,6 +425,24 @@ void readControl(Plugin* p) {
   }
 }
 
+/// Audio thread: the input through the scene's engine into the output ports, at most 8192
+/// frames per engine call; a mono scene copied to the second output.
+void process(Plugin* p, Scene* s, uint32_t frames) {
+  auto* in = static_cast<const float*>(p->ports[kIn]);
+  float* ports[kMaxOutputs] = {static_cast<float*>(p->ports[kOutL]),
+                               static_cast<float*>(p->ports[kOutR])};
+  std::copy(p->extraOutputs, p->extraOutputs + p->variant->outputs - 2, ports + 2);
+  float* outs[kMaxOutputs];
+  for (uint32_t done = 0; done < frames;) {
+    const uint32_t n = std::min<uint32_t>(frames - done, 8192);
+    for (auto& ptr : s->inputs) ptr = in + done;
+    for (int c = 0; c < p->variant->outputs; ++c) outs[c] = ports[c] + done;
+    dpc_engine_process(s->engine, s->inputs.data(), outs, int(n));
+    if (s->channels == 1) std::copy(outs[0], outs[0] + n, outs[1]);
+    done += n;
+  }
+}
+
 void run(LV2_Handle h, uint32_t frames) {
   auto* p = static_cast<Plugin*>(h);
   readControl(p);
@@ -428,17 +467,7 @@ void run(LV2_Handle h, uint32_t frames) {
   }
   if (p->ports[kLatency])
     *static_cast<float*>(p->ports[kLatency]) = float(dpc_engine_latency_frames(s->engine));
-  auto* in = static_cast<const float*>(p->ports[kIn]);
-  auto* l = static_cast<float*>(p->ports[kOutL]);
-  auto* r = static_cast<float*>(p->ports[kOutR]);
-  for (uint32_t done = 0; done < frames;) {
-    const uint32_t n = std::min<uint32_t>(frames - done, 8192);
-    for (auto& ptr : s->inputs) ptr = in + done;
-    float* outs[2] = {l + done, r + done};
-    dpc_engine_process(s->engine, s->inputs.data(), outs, int(n));
-    if (s->channels == 1) std::copy(l + done, l + done + n, r + done);
-    done += n;
-  }
+  process(p, s, frames);
 }
 
 /// Worker thread: loads a scene (and answers with it) or frees one.
@@ -548,11 +577,15 @@ const void* extensionData(const char* uri) {
   return nullptr;
 }
 
-const LV2_Descriptor kDescriptor = {kUri, instantiate, connectPort, activate,
-                                    run,  deactivate,  cleanup,     extensionData};
+template <size_t... I>
+constexpr std::array<LV2_Descriptor, sizeof...(I)> descriptors(std::index_sequence<I...>) {
+  return {LV2_Descriptor{dpc::lv2::kVariants[I].uri, instantiate, connectPort, activate, run, deactivate,
+                         cleanup, extensionData}...};
+}
+constexpr auto kDescriptors = descriptors(std::make_index_sequence<std::size(dpc::lv2::kVariants)>());
 
 }  // namespace
 
 extern "C" LV2_SYMBOL_EXPORT const LV2_Descriptor* lv2_descriptor(uint32_t index) {
-  return index == 0 ? &kDescriptor : nullptr;
+  return index < kDescriptors.size() ? &kDescriptors[index] : nullptr;
 }

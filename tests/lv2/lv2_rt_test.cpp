@@ -17,6 +17,7 @@
 
 #include <catch2/catch.hpp>
 #include <cfloat>
+#include <chrono>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
@@ -103,14 +104,17 @@ struct Instance {
   }
 };
 
-const LV2_Descriptor* loadDescriptor() {
+/// The bundle's plugin `index`: 0 the stereo "dpc room", 1 and 2 its AmbiX orders 1 and 3.
+const LV2_Descriptor* loadDescriptor(uint32_t index = 0) {
   void* lib = dlopen(DPC_BINARY_DIR "/lv2/dpc.lv2/dpc_lv2.so", RTLD_NOW);
   INFO(dlerror());
   REQUIRE(lib);
   auto fn = reinterpret_cast<LV2_Descriptor_Function>(dlsym(lib, "lv2_descriptor"));
   REQUIRE(fn);
-  REQUIRE(fn(1) == nullptr);
-  return fn(0);
+  REQUIRE(fn(3) == nullptr);
+  const char* uris[] = {"urn:dpc:lv2:room", "urn:dpc:lv2:room-ambix1", "urn:dpc:lv2:room-ambix3"};
+  for (uint32_t i = 0; i < 3; ++i) REQUIRE(std::string(fn(i)->URI) == uris[i]);
+  return fn(index);
 }
 
 // Writes a patch message into the instance's control port (control thread).
@@ -252,6 +256,46 @@ TEST_CASE("LV2 plugin: run() and a scene swap make no heap call, the scene is sa
   d->run(y.h, kFrames);
   CHECK(notifiedPath(y, host) == other);
   d->deactivate(y.h);
+}
+
+TEST_CASE("LV2 plugin: the AmbiX order-3 plugin fills 16 outputs without a heap call") {
+  // Outputs: ports 1 and 2 (ACN0, ACN1), then 13..26 (ACN2..ACN15) after the controls.
+  const LV2_Descriptor* d = loadDescriptor(2);
+  Host host;
+  const LV2_URID sequence = host.map.map(&host, LV2_ATOM__Sequence);
+  Instance x(d, host);
+  std::vector<std::vector<float>> extra(14, std::vector<float>(kFrames, NAN));
+  for (uint32_t c = 0; c < 14; ++c) d->connect_port(x.h, 13 + c, extra[c].data());
+  d->activate(x.h);
+  std::vector<double> energy(16, 0.0);
+  bool finite = true;
+  uint64_t heapCalls = 0;
+  for (int block = 0; block < 300; ++block) {
+    x.clearAtoms(sequence);
+    for (uint32_t i = 0; i < kFrames; ++i) x.in[i] = (block * kFrames + i) % 4800 == 0;
+    {
+      dpc::rt::AllocationScope scope;
+      d->run(x.h, kFrames);
+      heapCalls += scope.counts().total();
+    }
+    if (block == 0) std::this_thread::sleep_for(std::chrono::milliseconds(500));  // first IR
+    for (uint32_t c = 0; c < 16; ++c) {
+      const float* out = c == 0 ? x.left : c == 1 ? x.right : extra[c - 2].data();
+      for (uint32_t i = 0; i < kFrames; ++i) {
+        finite = finite && std::isfinite(out[i]);
+        energy[c] += double(out[i]) * out[i];
+      }
+    }
+  }
+  d->deactivate(x.h);
+  CHECK(heapCalls == 0);
+  CHECK(finite);  // every output written (they start as NaN)
+  // Every spherical-harmonic channel carries some of the room's response: no channel is a
+  // silent or unconnected port (the reverberant field reaches each from many directions).
+  for (uint32_t c = 0; c < 16; ++c) {
+    INFO("ACN" << c << " energy " << energy[c]);
+    CHECK(energy[c] > 1e-4 * energy[0]);
+  }
 }
 
 namespace {

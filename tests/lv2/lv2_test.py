@@ -33,6 +33,15 @@ PREFIX/lib/lv2). Checks, each able to fail:
      logging the sample rate's limit, instead of playing silence. lv2apply then fails (it
      dereferences the NULL instance and dies of SIGSEGV, a host bug outside dpc), so the
      check is a non-zero exit and the logged line.
+  8. the AmbiX plugins (orders 1 and 3): lv2ls lists them, lv2apply writes (N + 1)^2 finite
+     channels, and the direct sound's first-order channels point where the geometry says:
+     source (3, 1.6, 5.5), listener (7, 1.6, 3.5) facing -x (yaw 180 degrees), so the source
+     is 4 m ahead and 2 m to the left (+z is the listener's left at this yaw), azimuth
+     atan(2 / 4) = 26.57 degrees, elevation 0. A plane wave in ACN/SN3D has W = s, Y = s sin(az)
+     cos(el), Z = s sin(el), X = s cos(az) cos(el) (AmbiX; Nachbar et al. 2011), so the
+     least-squares ratios (Y, Z, X) / W over +-0.25 ms around the direct sound give the
+     direction: within 2 degrees, its length 1 within 0.05 (only the direct sound arrives in
+     that window: the first reflection comes 3.6 ms later).
 """
 import math
 import os
@@ -59,14 +68,41 @@ def check(ok, what):
         failures.append(what)
 
 
-def render(work, name, x, controls):
+def render(work, name, x, controls, uri=URI):
     inp, out = os.path.join(work, name + "-in.wav"), os.path.join(work, name + ".wav")
     write_wav(inp, x, RATE)
     cmd = ["lv2apply", "-i", inp, "-o", out]
     for k, v in controls.items():
         cmd += ["-c", k, str(v)]
-    subprocess.run(cmd + [URI], check=True, env=env)
+    subprocess.run(cmd + [uri], check=True, env=env)
     return read_wav(out)
+
+
+def check_ambix(work, impulse, t0):
+    """8. The AmbiX plugins: channel count and the direct sound's direction."""
+    listed = subprocess.run(["lv2ls"], capture_output=True, text=True, env=env).stdout.split()
+    az_expected = math.degrees(math.atan2(2.0, 4.0))
+    arrival = t0 + LATENCY + round(math.hypot(4.0, 2.0) / C * RATE)
+    wd = int(0.00025 * RATE)
+    for order in (1, 3):
+        uri = "urn:dpc:lv2:room-ambix%d" % order
+        check(uri in listed, "lv2ls lists " + uri)
+        chs, _ = render(work, "ambix%d" % order, impulse, {"source_z": 5.5}, uri)
+        want = (order + 1) ** 2
+        check(len(chs) == want and all(math.isfinite(v) for ch in chs for v in ch),
+              "%s: %d finite channels (got %d)" % (uri, want, len(chs)))
+        if len(chs) != want:
+            continue
+        peak = max(range(arrival - 4 * wd, arrival + 4 * wd), key=lambda i: chs[0][i] ** 2)
+        window = range(peak - wd, peak + wd + 1)
+        ww = sum(chs[0][i] ** 2 for i in window)
+        y, z, x = (sum(chs[0][i] * chs[c][i] for i in window) / ww for c in (1, 2, 3))
+        az = math.degrees(math.atan2(y, x))
+        el = math.degrees(math.atan2(z, math.hypot(x, y)))
+        length = math.sqrt(x * x + y * y + z * z)
+        check(abs(az - az_expected) < 2.0 and abs(el) < 2.0 and abs(length - 1.0) < 0.05,
+              "%s: direct sound from azimuth %.2f, elevation %.2f deg, |(Y,Z,X)/W| %.3f "
+              "(expected %.2f, 0, 1: within 2 deg, 0.05)" % (uri, az, el, length, az_expected))
 
 
 def declared_ranges():
@@ -204,6 +240,7 @@ try:
 
     # 6 and 7. Control ports beyond their declared ranges; a host rate below the limit.
     check_port_ranges(work)
+    check_ambix(work, impulse, t0)
 finally:
     shutil.rmtree(work, ignore_errors=True)
 

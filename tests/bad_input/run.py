@@ -270,7 +270,6 @@ CASES = {
     "weighting_bad": (nothing, OFF + ["--dpc-weighting", "x"], "--dpc-weighting"),
     "output_bad": (nothing, OFF + ["--output", "quad"], "--output"),
     "sofa_offline_audio": (nothing, ["shoebox.json", "--offline", "out.sofa", "--duration", "1"], "--offline"),
-    "ambisonics_live": (nothing, ["shoebox.json", "--output", "ambisonics", "--duration", "1"], "--output"),
     "layout_unknown": (nothing, OFF + ["--output", "layout:quad"], "--output"),
     "layout_duplicate_angle": (write("lay.json", '{"speakers": [{"name": "A", "azimuth": 30}, {"name": "B", "azimuth": 30.4}, {"name": "C", "azimuth": -30}]}'), OFF + ["--output", "layout:lay.json"], "lay.json: speakers[1]"),
     "layout_duplicate_name": (write("lay.json", '{"speakers": [{"name": "A", "azimuth": 30}, {"name": "A", "azimuth": -30}]}'), OFF + ["--output", "layout:lay.json"], "lay.json: speakers[1].name"),

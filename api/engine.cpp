@@ -45,17 +45,19 @@ dpc_status checkOptions(const dpc_engine_options* o) {
 
 }  // namespace
 
-/// The work and memory estimate of dpc-demo's preflight (engine/workload.h) for a live engine:
-/// a frame beyond reach, or impulse responses and path caches beyond the memory available,
-/// throw InputError naming the setting to lower, instead of running out of memory part-way.
-void checkEngineWorkload(const SceneDesc& scene) {
-  const WorkloadEstimate e = estimateWorkload(scene, scene.propagation,
-                                              outputChannels(scene.audio), 0.0);
+/// The work and memory estimate of dpc-demo's preflight (engine/workload.h) for a live engine
+/// holding `dry`: a frame beyond reach, or impulse responses, path caches and signals beyond
+/// the memory available, throw InputError naming the setting to lower, instead of running out
+/// of memory part-way.
+void checkEngineWorkload(const SceneDesc& scene, const DrySignals& dry) {
+  WorkloadEstimate e = estimateWorkload(scene, scene.propagation,
+                                        outputChannels(scene.audio), 0.0);
+  for (const std::vector<float>& x : dry.samples) e.signalBytes += double(x.size() * sizeof(float));
   checkWorkload(scene, scene.propagation, e, plannableMemoryBytes());
 }
 
 dpc_engine* finishEngine(std::unique_ptr<dpc_engine> engine) {
-  checkEngineWorkload(engine->scene);
+  checkEngineWorkload(engine->scene, engine->dry);
   for (const std::string& w : engine->scene.warnings) logMessage(LogLevel::kWarning, w);
   engine->sources = int(engine->scene.sources.size());
   LiveSession::Options options;

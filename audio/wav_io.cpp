@@ -65,15 +65,31 @@ int sndfileFormat(SampleFormat format) {
 
 }  // namespace
 
-AudioData readWav(const std::string& path) {
+namespace {
+
+/// Opens a sound file for reading and checks its header; throws InputError naming the file.
+void openSound(const std::string& path, SndFile& file, SF_INFO& info) {
   checkInputFile(path, kMaxSignalBytes, path, "", "cannot read: audio file");
-  SF_INFO info{};
-  SndFile file;
   file.handle = sf_open(path.c_str(), SFM_READ, &info);
   if (!file.handle) throw InputError(path, "", std::string("cannot read: ") + sf_strerror(nullptr));
   if (info.frames <= 0 || info.channels <= 0)
     throw InputError(path, "", "cannot read: the file holds no audio frames");
   if (info.samplerate <= 0) throw InputError(path, "", "cannot read: invalid sample rate");
+}
+
+}  // namespace
+
+SoundFileInfo readSoundFileInfo(const std::string& path) {
+  SF_INFO info{};
+  SndFile file;
+  openSound(path, file, info);
+  return {info.samplerate, info.channels, size_t(info.frames)};
+}
+
+AudioData readWav(const std::string& path) {
+  SF_INFO info{};
+  SndFile file;
+  openSound(path, file, info);
 
   const size_t channels = size_t(info.channels);
   const size_t frames = size_t(info.frames);

@@ -36,6 +36,17 @@ enum class SampleFormat {
 /// not audio, or holds no frames. Control thread; allocates.
 AudioData readWav(const std::string& path);
 
+/// What a sound file holds, from its header: rate (Hz), channels, frames per channel.
+struct SoundFileInfo {
+  int sampleRate = 0;
+  int channels = 0;
+  size_t frames = 0;
+};
+
+/// The header of a sound file readWav() would read, without its samples (for memory
+/// estimates). Throws as readWav. Control thread; allocates nothing beyond libsndfile's handle.
+SoundFileInfo readSoundFileInfo(const std::string& path);
+
 /// Writes `audio` as a WAV file (RIFF/WAVE, whatever the extension of `path`).
 /// Atomic replace: the data goes to a temporary file in the same folder, which is renamed to
 /// `path` only once complete; on any failure the temporary is removed and `path` is untouched.

@@ -75,16 +75,13 @@ WorkloadEstimate estimateWorkload(const SceneDesc& scene, const PropagationSetti
 
 namespace {
 
-/// Impulse responses and caches against the memory available; the message names the larger.
-void checkMemory(const SceneDesc& scene, const PropagationSettings& settings,
-                 const WorkloadEstimate& e, double memoryLimitBytes) {
-  if (e.irBytes + e.cacheBytes <= memoryLimitBytes) return;
+/// The memory check's message: what each part needs, their total and the limit.
+std::string memoryNeed(const SceneDesc& scene, const PropagationSettings& settings,
+                       const WorkloadEstimate& e, double memoryLimitBytes, bool poolBinds) {
   const std::string irs = "impulse responses of " + g3(settings.irLength) + " s x " +
                           std::to_string(scene.audio.sampleRate) + " Hz x " +
                           std::to_string(scene.sources.size()) + " source(s) x channels (" +
                           g3(e.irBytes / 1e9) + " GB)";
-  const double pairs = double(scene.sources.size()) * double(scene.listeners.size());
-  const bool poolBinds = double(settings.cachePoolMb) < pairs * double(settings.cacheMemoryMb);
   const std::string caches =
       poolBinds ? "a path cache pool of " + g3(settings.cachePoolMb) + " MB (" +
                       g3(e.cacheBytes / 1e9) + " GB)"
@@ -92,9 +89,23 @@ void checkMemory(const SceneDesc& scene, const PropagationSettings& settings,
                       std::to_string(scene.sources.size()) + " source(s) x " +
                       std::to_string(scene.listeners.size()) + " listener(s) (" +
                       g3(e.cacheBytes / 1e9) + " GB)";
-  const std::string need = irs + " and " + caches + " need about " +
-                           g3((e.irBytes + e.cacheBytes) / 1e9) + " GB, more than the " +
-                           g3(memoryLimitBytes / 1e9) + " GB available: ";
+  const std::string signals = "dry signals (" + g3(e.signalBytes / 1e9) + " GB)";
+  return irs + ", " + caches + " and " + signals + " need about " +
+         g3((e.irBytes + e.cacheBytes + e.signalBytes) / 1e9) + " GB, more than the " +
+         g3(memoryLimitBytes / 1e9) + " GB available: ";
+}
+
+/// Impulse responses, caches and dry signals against the memory available; the message names
+/// the largest.
+void checkMemory(const SceneDesc& scene, const PropagationSettings& settings,
+                 const WorkloadEstimate& e, double memoryLimitBytes) {
+  if (e.irBytes + e.cacheBytes + e.signalBytes <= memoryLimitBytes) return;
+  const double pairs = double(scene.sources.size()) * double(scene.listeners.size());
+  const bool poolBinds = double(settings.cachePoolMb) < pairs * double(settings.cacheMemoryMb);
+  const std::string need = memoryNeed(scene, settings, e, memoryLimitBytes, poolBinds);
+  if (e.signalBytes > e.irBytes && e.signalBytes > e.cacheBytes)
+    throw InputError(scene.path, "sources[].signal",
+                     need + "use shorter signals, a lower sample_rate or fewer sources");
   if (e.cacheBytes > e.irBytes && poolBinds)
     throw InputError(scene.path, "propagation.cache_pool_mb", need + "lower cache_pool_mb");
   if (e.cacheBytes > e.irBytes)

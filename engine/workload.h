@@ -31,6 +31,10 @@ struct WorkloadEstimate {
   /// pool (propagation.cache_pool_mb), each up to propagation.cache_memory_mb, so the smaller
   /// of the pool and sources x listeners x cache_memory_mb.
   double cacheBytes = 0;
+  /// Memory of the sources' dry signals, bytes: not estimated here (that needs the files'
+  /// headers); the caller sets it (runtime/dry_signals.h, drySignalBytes) before
+  /// checkWorkload, 0 if it holds none.
+  double signalBytes = 0;
   /// The render's expected tracing time, seconds: segmentsTotal at kNominalSegmentsPerSecond
   /// (0 for live).
   double expectedSeconds = 0;
@@ -62,8 +66,9 @@ WorkloadEstimate estimateWorkload(const SceneDesc& scene, const PropagationSetti
                                   int channels, double durationSeconds);
 
 /// Throws InputError(scene.path, setting, "...") when the estimate exceeds kMaxSegmentsPerFrame,
-/// kMaxSegmentsTotal or memoryLimitBytes (impulse responses and caches together: the field
-/// named is the larger of ir_length and cache_memory_mb), naming the numbers and the settings
+/// kMaxSegmentsTotal or memoryLimitBytes (impulse responses, caches and dry signals together:
+/// the field named is the largest of ir_length, cache_memory_mb (or cache_pool_mb) and
+/// sources[].signal), naming the numbers and the settings
 /// to lower. Returns one-line warnings (above kWarnSegmentsTotal, with the expected time)
 /// otherwise.
 std::vector<std::string> checkWorkload(const SceneDesc& scene, const PropagationSettings& settings,

@@ -68,6 +68,21 @@ std::vector<float> monoAtRate(audio::AudioData a, int rate, const std::string& p
 
 }  // namespace
 
+double drySignalBytes(const SceneDesc& scene) {
+  double held = 0.0, largestRead = 0.0;
+  for (const SourceDesc& src : scene.sources) {
+    if (src.signalPath.empty()) continue;
+    try {
+      const audio::SoundFileInfo f = audio::readSoundFileInfo(src.signalPath);
+      held += double(f.frames) * double(scene.audio.sampleRate) / double(f.sampleRate) *
+              sizeof(float);
+      largestRead = std::max(largestRead, double(f.frames) * f.channels * sizeof(float));
+    } catch (const InputError&) {
+    }
+  }
+  return held + largestRead;
+}
+
 DrySignals loadDrySignals(const SceneDesc& scene) {
   DrySignals d;
   for (size_t i = 0; i < scene.sources.size(); ++i) {

@@ -24,4 +24,10 @@ struct DrySignals {
 /// InputError naming the scene file and sources[i].signal.
 DrySignals loadDrySignals(const SceneDesc& scene);
 
+/// Memory loadDrySignals(scene) will hold, bytes, from the files' headers: every source's
+/// signal as float at the scene's rate, plus the largest file read whole (all its channels,
+/// before mixing and resampling). A file that cannot be read counts 0 (loadDrySignals then
+/// names it). Control thread; reads the headers only.
+double drySignalBytes(const SceneDesc& scene);
+
 }  // namespace dpc

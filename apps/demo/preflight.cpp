@@ -37,8 +37,9 @@ void requireSignal(const SceneDesc& scene) {
 
 void checkSetup(const SceneDesc& scene, const PropagationSettings& settings, double durationSeconds,
                 bool warn) {
-  const WorkloadEstimate e =
+  WorkloadEstimate e =
       estimateWorkload(scene, settings, outputChannels(scene.audio), durationSeconds);
+  e.signalBytes = drySignalBytes(scene);
   const std::vector<std::string> heavy = checkWorkload(scene, settings, e, plannableMemoryBytes());
   if (!warn) return;
   for (const std::string& w : heavy) std::fprintf(stderr, "warning: %s\n", w.c_str());

@@ -1,0 +1,69 @@
+// The dry signals' memory estimate (drySignalBytes, from the files' headers) against what
+// loadDrySignals holds, and the workload check naming the signals when they are what does not
+// fit.
+#include "runtime/dry_signals.h"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "audio/wav_io.h"
+#include "common/input_error.h"
+#include "engine/workload.h"
+#include "testing/temp_dir.h"
+#include "testing/test_scenes.h"
+
+using namespace dpc;
+
+namespace {
+
+void writeTone(const std::string& path, int rate, int channels, size_t frames) {
+  audio::AudioData a;
+  a.sampleRate = rate;
+  a.channels.assign(size_t(channels), std::vector<float>(frames));
+  for (auto& ch : a.channels)
+    for (size_t i = 0; i < frames; ++i) ch[i] = 0.1f * float(std::sin(0.01 * double(i)));
+  audio::writeWav(path, a);
+}
+
+}  // namespace
+
+TEST_CASE("the dry signals' memory is estimated from the headers as loading holds it",
+          "[dry_signals]") {
+  const test::TempDir dir("dpc_dry_signals");
+  const std::string stereo = (dir.path() / "stereo22k.wav").string();
+  const std::string mono = (dir.path() / "mono48k.wav").string();
+  writeTone(stereo, 22050, 2, 22050);  // 1 s, resampled to 48 kHz: 48000 floats held
+  writeTone(mono, 48000, 1, 10000);
+  SceneDesc scene = test::makeShoebox({10, 3, 7}, Bands(0.2f), 0.5f, {2, 1.5f, 2}, {7, 1.6f, 5});
+  scene.audio.sampleRate = 48000;
+  scene.sources.resize(3, scene.sources.front());
+  scene.sources[0].signalPath = stereo;
+  scene.sources[1].signalPath = mono;
+  scene.sources[2].signalPath = "";  // host input only: nothing held
+  const double estimate = drySignalBytes(scene);
+  const DrySignals dry = loadDrySignals(scene);
+  double held = 0.0;
+  for (const auto& x : dry.samples) held += double(x.size() * sizeof(float));
+  // The estimate: what is held (the resampler's length may differ by a sample per source)
+  // plus the largest file read whole, the stereo one: 22050 x 2 channels x 4 bytes.
+  const double largestRead = 22050.0 * 2 * sizeof(float);
+  CHECK(std::abs(estimate - largestRead - held) <= 2 * sizeof(float));
+  CHECK(held == Approx((48000.0 + 10000.0) * sizeof(float)).margin(8));
+  // An unreadable file counts 0 here; loading names it.
+  scene.sources[1].signalPath = (dir.path() / "missing.wav").string();
+  CHECK(drySignalBytes(scene) == Approx(48000.0 * sizeof(float) + largestRead).margin(8));
+}
+
+TEST_CASE("dry signals beyond the memory available are refused, naming the signals",
+          "[dry_signals]") {
+  SceneDesc scene = test::makeShoebox({10, 3, 7}, Bands(0.2f), 0.5f, {2, 1.5f, 2}, {7, 1.6f, 5});
+  scene.path = "room.json";
+  PropagationSettings ps;
+  WorkloadEstimate e = estimateWorkload(scene, ps, 2, 10.0);
+  const double limit = 2.0 * (e.irBytes + e.cacheBytes);
+  CHECK_NOTHROW(checkWorkload(scene, ps, e, limit));
+  e.signalBytes = 2.0 * limit;  // signals alone are twice what is available
+  CHECK_THROWS_WITH(checkWorkload(scene, ps, e, limit),
+                    Catch::StartsWith("room.json: sources[].signal: ") &&
+                        Catch::Contains("dry signals"));
+}

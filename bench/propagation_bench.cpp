@@ -74,34 +74,47 @@ BareTimes timeBare(const Simulation& sim, const glm::vec3& start, const Propagat
   return b;
 }
 
-/// Binaural IR synthesis (target: <= 10 ms per source per frame for a 2 s IR at 48 kHz, 4096
-/// rays per frame, one core): a directional frame, then the synthesis timed. Adds
-/// "binaural_ir_synthesis_ms" and "binaural_ir" to j.
-void timeBinauralSynthesis(const SceneDesc& scene, const PropagationSettings& s,
-                           const glm::vec3& listener, int frames, Json& j) {
-  SceneDesc binaural = scene;
-  binaural.audio.output = OutputFormat::kBinaural;
+/// Spatial IR synthesis of one output format (binaural target: <= 10 ms per source per frame
+/// for a 2 s IR at 48 kHz, 4096 rays per frame, one core): a directional frame over the
+/// format's directions, then the synthesis of all its channels timed. Returns the times, ms.
+std::vector<double> timeSpatialSynthesis(const SceneDesc& scene, const PropagationSettings& s,
+                                         const glm::vec3& listener, int frames,
+                                         OutputFormat output, int order) {
+  SceneDesc spatialScene = scene;
+  spatialScene.audio.output = output;
+  spatialScene.audio.ambisonicOrder = order;
   PropagationSettings bs = s;
   bs.irLength = 2.0f;
   bs.raysPerFrame = 4096;
-  Simulation dsim(binaural, bs);
-  dsim.enableDirectional(defaultSpatialDirections());
-  auto spatial = makeSpatialSynthesizer(binaural, bs, roomVolume(binaural.mesh));
-  std::vector<float> left(spatial->lengthSamples()), right(spatial->lengthSamples());
+  Simulation dsim(spatialScene, bs);
+  dsim.enableDirectional(spatialDirections(spatialScene.audio));
+  auto spatial = makeSpatialSynthesizer(spatialScene, bs, roomVolume(spatialScene.mesh));
+  std::vector<std::vector<float>> buffers(size_t(outputChannels(spatialScene.audio)),
+                                          std::vector<float>(spatial->lengthSamples()));
+  std::vector<float*> channels;
+  for (auto& b : buffers) channels.push_back(b.data());
   std::vector<double> ms;
   for (int f = 0; f < std::max(5, frames / 3); ++f) {
     dsim.runFrame(listener);
     const auto t0 = Clock::now();
-    float* const channels[] = {left.data(), right.data()};
     spatial->synthesize(dsim.directional(0), dsim.result(0).direct, channels,
                         dsim.specularPaths(0));
     ms.push_back(msBetween(t0, Clock::now()));
   }
-  j["binaural_ir_synthesis_ms"] = stats(ms);
-  j["binaural_ir"] = {{"seconds", 2.0},
-                      {"directions", spatial->directions().size()},
-                      {"rays_per_frame", 4096},
-                      {"threads", 1}};
+  return ms;
+}
+
+/// Binaural and AmbiX (orders 1 and 3) IR synthesis per source and frame: adds
+/// "binaural_ir_synthesis_ms", "ambix1_ir_synthesis_ms", "ambix3_ir_synthesis_ms" and the
+/// settings ("spatial_ir") to j.
+void timeSpatialSyntheses(const SceneDesc& scene, const PropagationSettings& s,
+                          const glm::vec3& listener, int frames, Json& j) {
+  j["binaural_ir_synthesis_ms"] =
+      stats(timeSpatialSynthesis(scene, s, listener, frames, OutputFormat::kBinaural, 3));
+  for (int order : {1, 3})
+    j["ambix" + std::to_string(order) + "_ir_synthesis_ms"] = stats(
+        timeSpatialSynthesis(scene, s, listener, frames, OutputFormat::kAmbisonics, order));
+  j["spatial_ir"] = {{"seconds", 2.0}, {"rays_per_frame", 4096}, {"threads", 1}};
 }
 
 /// The report's settings and its full-frame and bare-Embree figures.
@@ -171,7 +184,7 @@ int benchPropagation(const CommonOptions& c, bool noRoulette, Tracing tracing) {
   j["cache"] = cacheJson(sim.result(0));
   j["ir_synthesis_ms"] = stats(t.synthMs);
   j["ir_samples"] = synth.lengthSamples();
-  timeBinauralSynthesis(scene, s, listener, c.frames, j);
+  timeSpatialSyntheses(scene, s, listener, c.frames, j);
   printReport(j);
   return 0;
 }

@@ -71,6 +71,8 @@ struct SpatialFilters {
   std::shared_ptr<audio::Vbap> vbap;  ///< loudspeakers: over the non-LFE ones
   std::vector<size_t> vbapChannel;    ///< the output channel of each VBAP loudspeaker
   size_t speakerChannels = 0;         ///< every loudspeaker, LFE included
+  /// Per output channel: the layout's distance compensation (delay, gain).
+  std::vector<DistanceCompensation> compensation;
   void fill(const glm::vec3& d, DirectionFilter& out) const {
     const float dir[3] = {d.x, d.y, d.z};
     if (ambisonicOrder > 0) return fillAmbisonic(dir, out);
@@ -102,7 +104,12 @@ struct SpatialFilters {
     vbap->gains(dir, g);
     out.channels.resize(speakerChannels);
     for (auto& c : out.channels) c.assign(1, 0.f);  // LFE: silent
-    for (size_t k = 0; k < vbapChannel.size(); ++k) out.channels[vbapChannel[k]][0] = g[k];
+    for (size_t k = 0; k < vbapChannel.size(); ++k) {
+      const DistanceCompensation& dc = compensation[vbapChannel[k]];
+      std::vector<float>& h = out.channels[vbapChannel[k]];
+      h.assign(dc.delaySamples + 1, 0.f);  // a delayed gain (a gain when not compensated)
+      h.back() = g[k] * float(dc.gain);
+    }
   }
   void fillAmbisonic(const float dir[3], DirectionFilter& out) const {
     std::array<float, ambisonicChannels(kMaxAmbisonicOrder)> y{};
@@ -113,6 +120,26 @@ struct SpatialFilters {
         out.channels[size_t(c)].assign(1, y[size_t(c)] * orderWeights[size_t(n)]);
   }
 };
+
+/// Loudspeaker output: VBAP over the layout's loudspeakers that are not LFE, and the layout's
+/// distance compensation. Throws InputError naming the layout for one VBAP cannot pan over.
+void setLoudspeakers(const SceneDesc& scene, double speedOfSound, SpatialFilters& filters) {
+  std::vector<std::array<double, 2>> angles;
+  for (size_t c = 0; c < scene.audio.speakers.size(); ++c) {
+    const LoudspeakerDesc& s = scene.audio.speakers[c];
+    if (s.lfe) continue;
+    angles.push_back({s.azimuthDegrees, s.elevationDegrees});
+    filters.vbapChannel.push_back(c);
+  }
+  try {
+    filters.vbap = std::make_shared<audio::Vbap>(angles);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(scene.audio.layoutName, "speakers", e.what());
+  }
+  filters.speakerChannels = scene.audio.speakers.size();
+  filters.compensation =
+      distanceCompensation(scene.audio.speakers, speedOfSound, scene.audio.sampleRate);
+}
 
 }  // namespace
 
@@ -146,19 +173,7 @@ std::unique_ptr<SpatialIrSynthesizer> makeSpatialSynthesizer(const SceneDesc& sc
     reference = Reference::kFirstChannelPressure;
   }
   if (scene.audio.output == OutputFormat::kLoudspeakers) {
-    std::vector<std::array<double, 2>> angles;
-    for (size_t c = 0; c < scene.audio.speakers.size(); ++c) {
-      const LoudspeakerDesc& s = scene.audio.speakers[c];
-      if (s.lfe) continue;
-      angles.push_back({s.azimuthDegrees, s.elevationDegrees});
-      filters->vbapChannel.push_back(c);
-    }
-    try {
-      filters->vbap = std::make_shared<audio::Vbap>(angles);
-    } catch (const std::invalid_argument& e) {
-      throw InputError(scene.audio.layoutName, "speakers", e.what());
-    }
-    filters->speakerChannels = scene.audio.speakers.size();
+    setLoudspeakers(scene, settings.speedOfSound, *filters);
     reference = Reference::kChannelSum;
   }
   const std::vector<glm::vec3> directions = spatialDirections(scene.audio);

@@ -7,6 +7,7 @@
 
 #include "common/input_error.h"
 #include "scene/json_reader.h"
+#include "scene/limits.h"
 
 namespace dpc {
 namespace {
@@ -42,7 +43,7 @@ double angleBetween(const LoudspeakerDesc& a, const LoudspeakerDesc& b) {
 
 LoudspeakerDesc readSpeaker(const JsonReader& r, const nlohmann::json& v, const std::string& f) {
   r.expectObject(v, f);
-  r.checkKeys(v, f, {"name", "azimuth", "elevation", "lfe"});
+  r.checkKeys(v, f, {"name", "azimuth", "elevation", "lfe", "distance"});
   LoudspeakerDesc s;
   s.name = r.string(r.require(v, f, "name"), join(f, "name"));
   if (const auto* x = JsonReader::find(v, "lfe")) s.lfe = r.boolean(*x, join(f, "lfe"));
@@ -52,7 +53,26 @@ LoudspeakerDesc readSpeaker(const JsonReader& r, const nlohmann::json& v, const 
     s.elevationDegrees = r.number(*x, join(f, "elevation"));
   if (std::abs(s.azimuthDegrees) > 180) r.fail(join(f, "azimuth"), "outside [-180, 180] degrees");
   if (std::abs(s.elevationDegrees) > 90) r.fail(join(f, "elevation"), "outside [-90, 90] degrees");
+  if (const auto* x = JsonReader::find(v, "distance")) {
+    s.distanceMetres = r.number(*x, join(f, "distance"));
+    if (!(s.distanceMetres >= kMinLoudspeakerDistance &&
+          s.distanceMetres <= kMaxLoudspeakerDistance))
+      r.fail(join(f, "distance"), "outside [" + valueText(kMinLoudspeakerDistance) +
+                                      ", " + valueText(kMaxLoudspeakerDistance) +
+                                      "] m");
+  }
   return s;
+}
+
+/// Distances on every loudspeaker that is not LFE, or on none.
+void checkDistances(const JsonReader& r, const std::vector<LoudspeakerDesc>& l) {
+  bool any = false;
+  for (const auto& s : l) any = any || s.distanceMetres > 0;
+  if (!any) return;
+  for (size_t i = 0; i < l.size(); ++i)
+    if (!l[i].lfe && l[i].distanceMetres == 0)
+      r.fail(join(index("speakers", i), "distance"),
+             "missing: give every loudspeaker a distance, or none");
 }
 
 std::vector<LoudspeakerDesc> readFile(const std::string& path) {
@@ -77,10 +97,27 @@ std::vector<LoudspeakerDesc> readFile(const std::string& path) {
   size_t real = 0;
   for (const auto& s : out) real += !s.lfe;
   if (real < 2) r.fail("speakers", "needs at least two loudspeakers that are not LFE");
+  checkDistances(r, out);
   return out;
 }
 
 }  // namespace
+
+std::vector<DistanceCompensation> distanceCompensation(const std::vector<LoudspeakerDesc>& layout,
+                                                       double speedOfSound, int sampleRate) {
+  double farthest = 0.0;
+  for (const auto& s : layout)
+    if (!s.lfe) farthest = std::max(farthest, s.distanceMetres);
+  std::vector<DistanceCompensation> out(layout.size());
+  if (farthest <= 0.0) return out;
+  for (size_t i = 0; i < layout.size(); ++i) {
+    if (layout[i].lfe || layout[i].distanceMetres <= 0.0) continue;
+    const double d = layout[i].distanceMetres;
+    out[i].delaySamples = size_t(std::lround((farthest - d) / speedOfSound * sampleRate));
+    out[i].gain = d / farthest;
+  }
+  return out;
+}
 
 std::vector<LoudspeakerDesc> loudspeakerLayout(const std::string& spec, const std::string& flag) {
   std::vector<LoudspeakerDesc> l = preset(spec);

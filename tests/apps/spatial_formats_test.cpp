@@ -3,6 +3,7 @@
 // loudspeaker layouts, every arrival panned by VBAP.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,8 @@
 #include "engine/room_volume.h"
 #include "engine/simulation.h"
 #include "runtime/propagation_stage.h"
+#include "common/input_error.h"
+#include "testing/temp_dir.h"
 #include "testing/test_scenes.h"
 #include "testing/test_util.h"
 
@@ -221,6 +224,67 @@ TEST_CASE("Loudspeakers: a source at a loudspeaker puts >= 90 % of the direct en
       CHECK(mine / total >= 0.9);  // the issue's bound; VBAP at a loudspeaker gives 1
     }
   }
+}
+
+TEST_CASE("Loudspeakers: distances delay and scale each feed so all arrive together",
+          "[loudspeakers]") {
+  // An irregular 5.0 layout: L 2 m, R 3 m, C 2.5 m, Ls 1.5 m, Rs 3 m from the listening
+  // position. Compensation (scene/loudspeaker_layout.h): feed i delayed by (3 - d_i) / c and
+  // scaled by d_i / 3. A source 3 m away at each loudspeaker's direction, rendered with and
+  // without the distances: that loudspeaker's direct sound must come exactly that many
+  // samples later (the delay is a whole number of samples), and the loudspeakers' direct
+  // sounds must keep the energy ratios d_i^2 / d_j^2 (within 0.1 dB: the direct sound is
+  // computed, not traced; the first reflection of the anechoic box comes 100 ms later). The
+  // layout as a whole is levelled as every layout is (the feeds' energies summed over
+  // directions match the energy response), so the absolute change is one constant for all.
+  const test::TempDir dir("dpc_layout_distance");
+  const std::string file = (dir.path() / "irregular.json").string();
+  std::ofstream(file) << R"({"speakers": [
+      {"name": "L", "azimuth": 30, "distance": 2}, {"name": "R", "azimuth": -30, "distance": 3},
+      {"name": "C", "azimuth": 0, "distance": 2.5}, {"name": "LFE", "lfe": true},
+      {"name": "Ls", "azimuth": 110, "distance": 1.5},
+      {"name": "Rs", "azimuth": -110, "distance": 3}]})";
+  SceneDesc base = anechoic({23, 20, 20}, {20, 20, 20});
+  base.audio.output = OutputFormat::kLoudspeakers;
+  base.audio.layoutName = file;
+  base.audio.speakers = loudspeakerLayout(file, "--output");
+  const double c = base.propagation.speedOfSound;
+  std::vector<double> changeDb, expectedDb;  // compensated / plain direct energy, per loudspeaker
+  for (size_t s = 0; s < base.audio.speakers.size(); ++s) {
+    const LoudspeakerDesc& sp = base.audio.speakers[s];
+    if (sp.lfe) continue;
+    const double d = M_PI / 180, az = sp.azimuthDegrees * d;
+    SceneDesc scene = base;
+    scene.sources[0].position = glm::vec3(20 + 3 * std::cos(az), 20, 20 - 3 * std::sin(az));
+    SceneDesc plain = scene;
+    for (LoudspeakerDesc& l : plain.audio.speakers) l.distanceMetres = 0.0;
+    const Rendered r = render(scene, 0.f), p = render(plain, 0.f);
+    auto peak = [](const std::vector<float>& x) {
+      size_t k = 0;
+      for (size_t i = 0; i < x.size(); ++i) k = std::abs(x[i]) > std::abs(x[k]) ? i : k;
+      return k;
+    };
+    const size_t shift = size_t(std::lround((3.0 - sp.distanceMetres) / c * 48000.0));
+    const size_t end = p.directSample + 960 + shift;  // the direct sound alone, 20 ms on
+    double er = 0, ep = 0;
+    for (size_t i = 0; i < end; ++i) {
+      er += double(r.channels[s][i]) * r.channels[s][i];
+      ep += double(p.channels[s][i]) * p.channels[s][i];
+    }
+    INFO("loudspeaker " << sp.name << " at " << sp.distanceMetres << " m");
+    CHECK(peak(r.channels[s]) == peak(p.channels[s]) + shift);
+    changeDb.push_back(10 * std::log10(er / ep));
+    expectedDb.push_back(20 * std::log10(sp.distanceMetres / 3.0));
+  }
+  for (size_t i = 1; i < changeDb.size(); ++i) {
+    INFO("loudspeaker " << i << " against the first: " << changeDb[i] - changeDb[0] << " dB");
+    CHECK(changeDb[i] - changeDb[0] == Approx(expectedDb[i] - expectedDb[0]).margin(0.1));
+  }
+  // Distances on some loudspeakers only: refused, naming the first without one.
+  std::ofstream(file) << R"({"speakers": [{"name": "L", "azimuth": 30, "distance": 2},
+      {"name": "R", "azimuth": -30}]})";
+  CHECK_THROWS_WITH(loudspeakerLayout(file, "--output"),
+                    Catch::Contains("speakers[1].distance") && Catch::Contains("missing"));
 }
 
 TEST_CASE("Binaural from AmbiX order 3 against per-path binaural: ILD and ITD", "[ambisonics]") {

@@ -114,10 +114,18 @@ struct PathKey {
   }
   void add(uint32_t triangle, uint32_t zeta, uint32_t xi) {
     hash = pathHashAddPatch(hash, patchKey(triangle, zeta, xi));
+    addTriangle(triangle);
+  }
+  /// add() for a reflection that takes the path beyond rule.fullOrder, where finish() reads
+  /// only the triangles and the length: the patch and the hash are not needed (a ray spends
+  /// most of its reflections there, so the tracing loop skips both).
+  void addTriangle(uint32_t triangle) {
     if (order == 0) firstTriangle = triangle;
     lastTriangle = triangle;
     ++order;
   }
+  /// Whether the next reflection needs its patch (add) or only its triangle (addTriangle).
+  bool nextNeedsPatch(const PathKeyRule& rule) const { return order < rule.fullOrder; }
   /// The identifier of a hit at path length `length` (metres) on receiver `listener`.
   /// emitterIsListener: the rays leave the listener, so the triangle next to the listener (the
   /// arrival side kept beyond fullOrder) is the first one, not the last.

@@ -202,12 +202,25 @@ PathHit Propagator::makeHit(const RayState& ray, uint32_t l, const ListenerSpher
   return h;
 }
 
+bool Propagator::belowRouletteThreshold(const RayState& ray) const {
+  // Whether energy x e^(-minAir d) < threshold, with e^(-x) taken only where it matters:
+  // 1 - x <= e^(-x) <= 1 bound it, and most reflections are decided by the bounds alone.
+  const float e = ray.energy.max(), x = minAir_ * ray.travelled;
+  const float threshold = settings_.rouletteThreshold;
+  if (e < threshold) return true;
+  if (e * (1.f - x) >= threshold) return false;
+  return e * std::exp(-x) < threshold;
+}
+
 bool Propagator::reflect(RayState& ray, const SurfaceHit& hit) const {
   ray.travelled += hit.t;
   const glm::vec3 p = ray.org + ray.dir * hit.t;
-  const TrianglePatching& patching = geometry_.patching(hit.triangle);
-  const auto [zeta, xi] = patching.patchOf(hit.barycentric);
-  ray.path.add(hit.triangle, zeta, xi);
+  if (ray.path.nextNeedsPatch(keyRule_)) {
+    const auto [zeta, xi] = geometry_.patching(hit.triangle).patchOf(hit.barycentric);
+    ray.path.add(hit.triangle, zeta, xi);
+  } else {
+    ray.path.addTriangle(hit.triangle);
+  }
   // A transmitting surface: reflect or pass through (engine/transmission.h); one more random
   // draw only there, so an opaque scene's rays draw and compute as without transmission.
   bool through = false;
@@ -217,8 +230,7 @@ bool Propagator::reflect(RayState& ray, const SurfaceHit& hit) const {
                            geometry_.transmittance(hit.triangle), ray.rng.uniform(), ray.energy);
   else
     ray.energy *= geometry_.reflectance(hit.triangle);
-  if (settings_.rouletteThreshold > 0.f &&
-      ray.energy.max() * std::exp(-minAir_ * ray.travelled) < settings_.rouletteThreshold) {
+  if (settings_.rouletteThreshold > 0.f && belowRouletteThreshold(ray)) {
     if (ray.rng.uniform() >= kRouletteSurvival) return false;
     ray.energy *= 1.f / kRouletteSurvival;
   }

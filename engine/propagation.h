@@ -302,8 +302,12 @@ class Propagator {
   /// approach): the PathHit to receiver l.
   PathHit makeHit(const RayState& ray, uint32_t l, const ListenerSphere& sphere, float b,
                   float segEnd) const;
-  /// Reflects `ray` at `hit`: patch into the path identifier, reflectance, Russian roulette,
-  /// diffuse or specular direction. Returns false when roulette ends the ray.
+  /// Whether a ray's energy, attenuated by the weakest band's air absorption over its length,
+  /// has fallen below the Russian roulette threshold.
+  bool belowRouletteThreshold(const RayState& ray) const;
+  /// Reflects `ray` at `hit`: patch into the path identifier (up to the identifier's full
+  /// order), reflectance, Russian roulette, diffuse or specular direction. Returns false when
+  /// roulette ends the ray.
   bool reflect(RayState& ray, const SurfaceHit& hit) const;
   /// Appends the ended ray's leading specular sequence, if any, to chunk.specularRuns.
   void noteSpecularRun(const RayState& ray, Chunk& chunk) const;

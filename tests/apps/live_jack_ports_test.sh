@@ -11,25 +11,18 @@ set -euo pipefail
 build=$1
 src=$2
 work=$(mktemp -d)
+# shellcheck source=jack_private_server.sh
+source "$(dirname "$0")/jack_private_server.sh"
+JACK_PID=""
 pids=()
 cleanup() {
-  for p in "${pids[@]}"; do kill -KILL "$p" 2>/dev/null || true; done
+  for p in "${pids[@]}" $JACK_PID; do kill -KILL "$p" 2>/dev/null || true; done
   rm -rf "$work"
-  rm -f /dev/shm/jack_"$JACK_DEFAULT_SERVER"_* /dev/shm/jack_sem.*_"$JACK_DEFAULT_SERVER"_* \
-      2>/dev/null || true
+  jack_private_remove_segments
 }
 trap cleanup EXIT
-export JACK_DEFAULT_SERVER="dpc-ports"
-export JACK_NO_START_SERVER=1
-"$src/scripts/jack-reclaim.sh"
-
-jackd -n "$JACK_DEFAULT_SERVER" -r -d dummy -r 48000 -p 64 >"$work/jackd.log" 2>&1 &
-pids+=($!)
-for _ in $(seq 1 50); do
-  jack_lsp >/dev/null 2>&1 && break
-  sleep 0.2
-done
-jack_lsp >/dev/null 2>&1 || { cat "$work/jackd.log"; echo "FAIL: jackd did not start"; exit 1; }
+jack_private_init dpc-ports "$src"
+jack_private_start 64 "$work/jackd.log"
 
 # The sink: four inputs; until told to stop (a file), it sums each port's squared samples and
 # notes which ports feed it; then writes one JSON object.

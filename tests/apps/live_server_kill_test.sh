@@ -1,10 +1,7 @@
 #!/usr/bin/env bash
 # A live session survives its audio server: dpc-demo plays the shoebox on a JACK server of its
-# own (dummy backend, a fixed name of its own so that no other test's server is touched and
-# the registry slot a SIGKILLed server leaves behind is reclaimed by the next run: JACK holds
-# at most 8 server names, and frees a dead server's slot only when its name registers again),
-# recording
-# (--record) and writing --stats, and the server is killed while it plays, once with SIGTERM
+# own (dummy backend, fixed name: tests/apps/jack_private_server.sh), recording (--record) and
+# writing --stats, and the server is killed while it plays, once with SIGTERM
 # and once with SIGKILL. Asserts, each run: dpc-demo ends by itself with exit status 1 and
 # one line "dpc-demo: error: audio device ...", well before its --duration (within 10 s of
 # the kill: no hang; the time taken is printed, the design target being 2 s); the recording
@@ -15,35 +12,23 @@ set -euo pipefail
 build=$1
 src=$2
 work=$(mktemp -d)
-jack_pid=""
+# shellcheck source=jack_private_server.sh
+source "$(dirname "$0")/jack_private_server.sh"
+JACK_PID=""
 demo_pid=""
 cleanup() {
   [[ -n $demo_pid ]] && kill -KILL "$demo_pid" 2>/dev/null || true
-  [[ -n $jack_pid ]] && kill -KILL "$jack_pid" 2>/dev/null || true
+  [[ -n $JACK_PID ]] && kill -KILL "$JACK_PID" 2>/dev/null || true
   rm -rf "$work"
-  remove_stale_segments
-}
-# A SIGKILLed server cannot remove its shared-memory segments and semaphores; ours are named
-# after the server, so they are removed here (never another server's).
-remove_stale_segments() {
-  rm -f /dev/shm/jack_"$JACK_DEFAULT_SERVER"_* /dev/shm/jack_sem.*_"$JACK_DEFAULT_SERVER"_* \
-      2>/dev/null || true
+  jack_private_remove_segments
 }
 trap cleanup EXIT
-export JACK_DEFAULT_SERVER="dpc-server-kill"
-export JACK_NO_START_SERVER=1
-"$src/scripts/jack-reclaim.sh"
+jack_private_init dpc-server-kill "$src"
 
 run_once() {  # $1: the signal that kills the server
   local sig=$1 out="$work/$1"
   mkdir -p "$out"
-  jackd -n "$JACK_DEFAULT_SERVER" -r -d dummy -r 48000 -p 256 >"$out/jackd.log" 2>&1 &
-  jack_pid=$!
-  for _ in $(seq 1 50); do
-    jack_lsp >/dev/null 2>&1 && break
-    sleep 0.2
-  done
-  jack_lsp >/dev/null 2>&1 || { cat "$out/jackd.log"; echo "FAIL: jackd did not start"; exit 1; }
+  jack_private_start 256 "$out/jackd.log"
   "$build/apps/dpc-demo" "$src/scenes/shoebox.json" --duration 60 --rays 256 --threads 1 \
       --record "$out/played.wav" --stats "$out/stats.json" >"$out/demo.log" 2>&1 &
   demo_pid=$!
@@ -53,12 +38,12 @@ run_once() {  # $1: the signal that kills the server
     sleep 0.1
   done
   sleep 2
-  kill -"$sig" "$jack_pid"
+  kill -"$sig" "$JACK_PID"
   local killed
   killed=$(date +%s.%N)
-  wait "$jack_pid" 2>/dev/null || true
-  jack_pid=""
-  remove_stale_segments
+  wait "$JACK_PID" 2>/dev/null || true
+  JACK_PID=""
+  jack_private_remove_segments
   local waited=0
   while kill -0 "$demo_pid" 2>/dev/null && ((waited < 100)); do
     sleep 0.1

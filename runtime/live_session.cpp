@@ -265,6 +265,11 @@ LiveSession::Status LiveSession::status() const {
   return st;
 }
 
+HybridReport LiveSession::hybridReport() const {
+  const HybridSynthesis* hybrid = propagation_->hybrid();
+  return hybrid ? hybrid->report(playedListener()) : HybridReport{};
+}
+
 size_t LiveSession::commitRecording() {
   return recorder_ && !running_.load() ? recorder_->commit() : 0;
 }

@@ -189,6 +189,11 @@ class LiveSession {
   /// Control thread (one reader): the counters, the latency quantiles, the limiter's and the
   /// recorder's counts.
   Status status() const;
+  /// Hybrid rendering's report for the played listener (all zero, `on` false, when the scene
+  /// renders every source whole). Control thread, while the propagation thread is stopped
+  /// (before start() or after stop()): the counts are the propagation thread's. Allocates
+  /// nothing.
+  HybridReport hybridReport() const;
 
   /// Durations of render() per block, split by whether an IR swap (crossfade) happened.
   const audio::CallbackStats& renderStatsWithSwap() const { return swapStats_; }

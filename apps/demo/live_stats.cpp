@@ -37,6 +37,20 @@ Json schedulingJson(const audio::AudioOutput::Scheduling& scheduling) {
               {"real_time", scheduling.realTime}};
 }
 
+/// Hybrid rendering of the played listener, or null when every source was rendered whole.
+Json hybridJson(const HybridReport& h) {
+  if (!h.on) return Json(nullptr);
+  return Json{{"early_ms", 1e3 * h.earlySeconds},
+              {"late_buses", h.buses},
+              {"occupied_buses", h.counts.occupiedBuses},
+              {"largest_cluster_radius_deg", h.counts.maxAngularRadiusDegrees},
+              {"frames", h.counts.frames},
+              {"cluster_switches", h.counts.switches},
+              {"forced_joins", h.counts.forcedJoins},
+              {"late_direct_sounds", h.counts.lateDirect},
+              {"late_exact_arrivals", h.counts.lateArrivals}};
+}
+
 }  // namespace
 
 void writeLiveStats(const std::string& path, const std::string& scenePath,
@@ -83,6 +97,7 @@ void writeLiveStats(const std::string& path, const std::string& scenePath,
       {"irs_dropped", st.irsDropped},
       {"irs_lost", st.irsLost},
       {"dropped_energy_fraction", st.droppedEnergyFraction},
+      {"hybrid_rendering", hybridJson(session.hybridReport())},
       {"motion_to_sound_latency_ms", latencyJson(session.latencyStats().snapshot())},
       // Head-tracked binaural: pose published -> first block turned by it.
       {"head_turn_latency_ms", session.headTracked()

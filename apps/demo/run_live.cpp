@@ -195,6 +195,7 @@ void finishLive(const SceneDesc& scene, const Flags& fl, LiveSession& session,
                 (unsigned long long)st.recordDropped);
   }
   printLiveSummary(st, output, cb, swap, noSwap);
+  printHybrid(session.hybridReport());
   if (!fl.stats.empty()) {
     writeLiveStats(fl.stats, fl.scene, output, pb.scheduling, session, st, cb, swap, noSwap);
     std::printf("wrote %s\n", fl.stats.c_str());

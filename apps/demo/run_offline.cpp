@@ -19,6 +19,7 @@
 #include "apps/demo/overrides.h"
 #include "apps/demo/preflight.h"
 #include "apps/demo/sofa_out.h"
+#include "apps/demo/status_line.h"
 #include "audio/wav_io.h"
 #include "common/input_error.h"
 #include "common/output_file.h"
@@ -145,18 +146,6 @@ void printWritten(const SceneDesc& scene, const OfflineListenerResult& r,
   if (!paths.ir.empty())
     std::printf("wrote %s (last frame's IR, %zu channel(s): source-major)\n", paths.ir.c_str(),
                 r.lastIrs.size() * r.lastIrs.front().size());
-}
-
-/// Hybrid rendering's line, when it was on.
-void printHybrid(const HybridReport& h) {
-  if (!h.on) return;
-  std::printf(
-      "hybrid rendering: early part %.0f ms per source, %d late buses (%d in use, largest "
-      "cluster radius %.0f deg)  cluster switches %llu  joined for want of a bus %llu  direct "
-      "sounds rendered late %llu\n",
-      1e3 * h.earlySeconds, h.buses, h.counts.occupiedBuses, h.counts.maxAngularRadiusDegrees,
-      (unsigned long long)h.counts.switches, (unsigned long long)h.counts.forcedJoins,
-      (unsigned long long)h.counts.lateDirect);
 }
 
 /// One line per propagation run (shared by every listener it rendered).

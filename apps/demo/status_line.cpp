@@ -59,4 +59,15 @@ void printLiveSummary(const LiveSession::Status& st, const audio::AudioOutput& o
       (unsigned long long)st.bakeFallbacks);
 }
 
+void printHybrid(const HybridReport& h) {
+  if (!h.on) return;
+  std::printf(
+      "hybrid rendering: early part %.0f ms per source, %d late buses (%d in use, largest "
+      "cluster radius %.0f deg)  cluster switches %llu  joined for want of a bus %llu  direct "
+      "sounds rendered late %llu\n",
+      1e3 * h.earlySeconds, h.buses, h.counts.occupiedBuses, h.counts.maxAngularRadiusDegrees,
+      (unsigned long long)h.counts.switches, (unsigned long long)h.counts.forcedJoins,
+      (unsigned long long)h.counts.lateDirect);
+}
+
 }  // namespace dpc::demo

@@ -26,4 +26,9 @@ void printLiveSummary(const LiveSession::Status& st, const audio::AudioOutput& o
                       const audio::CallbackStats::Snapshot& swap,
                       const audio::CallbackStats::Snapshot& noSwap);
 
+/// Hybrid rendering's summary line on stdout (early part, late buses in use, largest cluster,
+/// cluster switches, sources joined for want of a bus, direct sounds rendered late); nothing
+/// when it was off. Shared by live and offline runs. Main thread.
+void printHybrid(const HybridReport& report);
+
 }  // namespace dpc::demo

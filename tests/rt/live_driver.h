@@ -23,6 +23,7 @@ struct LiveRun {
   LiveSession::Status status;
   bool finite = true;
   size_t recordedFrames = 0;
+  HybridReport hybrid;  ///< LiveSession::hybridReport() after stop()
 };
 
 /// tracingThreads: the propagation's TBB arena (0 = all cores).
@@ -72,6 +73,7 @@ LiveRun driveLiveSession(int blocks, uint64_t minIrsApplied, AudioThreadObserver
   audio.join();
   session.stop();
   run.status = session.status();
+  run.hybrid = session.hybridReport();
   run.recordedFrames = session.takeRecording().frames();
   return run;
 }

@@ -47,4 +47,18 @@ TEST_CASE("LiveSession::render in hybrid rendering makes no heap calls across IR
   CHECK(counter.calls == 0);
   CHECK(run.finite);
   CHECK(run.status.nanBlocks == 0);
+  // The session reports its hybrid rendering (dpc-demo's --stats "hybrid_rendering"): one
+  // count per propagation frame of the played listener, and the shoebox's one source in one
+  // of the late buses.
+  CHECK(run.hybrid.on);
+  CHECK(run.hybrid.counts.frames == run.status.frames);
+  CHECK(run.hybrid.counts.occupiedBuses == 1);
+  CHECK(run.hybrid.buses >= 1);
+}
+
+TEST_CASE("A session rendering every source whole reports no hybrid rendering", "[rt]") {
+  CountHeapCalls counter;
+  const test::LiveRun run = test::driveLiveSession(200, 2, counter, 0, Rendering::kPerSource);
+  CHECK_FALSE(run.hybrid.on);
+  CHECK(run.hybrid.counts.frames == 0);
 }

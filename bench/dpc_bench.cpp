@@ -2,7 +2,7 @@
 //
 //   dpc-bench propagation SCENE [--threads T] [--rays N] [--max-order D] [--frames F]
 //                               [--tracing from_sources|from_listeners]
-//                               [--no-roulette] [--tau S]
+//                               [--no-roulette] [--tau S] [--warmup-frames W]
 //   dpc-bench noise SCENE [--rays N] [--frames F] [--tau S] [--walk-speed V]
 //                         [--reference-frames M] [--threads T] [--max-order D]
 //   dpc-bench dynamic [--rays N] [--frames F] [--parts step,objects,moving_source]
@@ -46,7 +46,7 @@ namespace {
 /// Every subcommand's options (only the chosen subcommand's are parsed).
 struct Options {
   CommonOptions common;
-  bool noRoulette = false;
+  PropagationOptions propagation;
   std::string propagationTracing = "from_sources";
   NoiseOptions noise;
   LiveOptions live;
@@ -215,7 +215,11 @@ Subcommands addSubcommands(CLI::App& app, Options& o) {
   Subcommands s{};
   s.propagation =
       addSceneBench(app, "propagation", "Frame time and segments/s vs bare Embree", o.common);
-  s.propagation->add_flag("--no-roulette", o.noRoulette, "Trace every ray to max order");
+  s.propagation->add_flag("--no-roulette", o.propagation.noRoulette, "Trace every ray to max order");
+  s.propagation
+      ->add_option("--warmup-frames", o.propagation.warmupFrames,
+                   "Untimed frames first (cache growth, first-touch page faults; default 5)")
+      ->check(CLI::Range(0, 1000));
   s.propagation
       ->add_option("--tracing", o.propagationTracing,
                    "from_sources or from_listeners: the full frame's tracing direction (the bare "
@@ -243,8 +247,11 @@ Subcommands addSubcommands(CLI::App& app, Options& o) {
 
 /// Runs the parsed subcommand; returns the exit status.
 int run(const Subcommands& s, const Options& o) {
-  if (*s.propagation)
-    return benchPropagation(o.common, o.noRoulette, *parseTracing(o.propagationTracing));
+  if (*s.propagation) {
+    PropagationOptions p = o.propagation;
+    p.tracing = *parseTracing(o.propagationTracing);
+    return benchPropagation(o.common, p);
+  }
   if (*s.dynamic) return benchDynamic(o.dynamic);
   if (*s.listeners) return benchListeners(o.common, o.listeners);
   if (*s.sources) return benchSources(o.common, o.sources);

@@ -27,28 +27,22 @@ struct FrameTimes {
   double traceSeconds = 0.0;
 };
 
-/// Runs `frames` full frames at `listener`, each followed by the source's IR synthesis.
-FrameTimes timeFrames(Simulation& sim, IrSynthesizer& synth, const glm::vec3& listener,
-                      int frames) {
-  std::vector<float> ir(synth.lengthSamples());
-  FrameTimes t;
-  for (int f = 0; f < frames; ++f) {
-    const auto t0 = Clock::now();
-    sim.runFrame(listener);
-    const auto t1 = Clock::now();
-    const Simulation::SourceResult& r = sim.result(0);
-    synth.synthesize(r.energy, r.direct, ir.data(), sim.specularPaths(0));
-    const auto t2 = Clock::now();
-    t.frameMs.push_back(msBetween(t0, t1));
-    t.synthMs.push_back(msBetween(t1, t2));
-    t.traceMs.push_back(r.traceSeconds * 1e3);
-    t.estimatorMs.push_back(r.estimatorSeconds * 1e3);
-    t.segments += r.trace.segments;
-    t.hits += r.trace.listenerHits;
-    t.traceSeconds += std::chrono::duration<double>(t1 - t0).count();
-    std::fprintf(stderr, "\rframe %d/%d", f + 1, frames);
-  }
-  return t;
+/// Runs one full frame at `listener`, then the source's IR synthesis into `ir`; adds both to t.
+void timeFrame(Simulation& sim, IrSynthesizer& synth, const glm::vec3& listener,
+               std::vector<float>& ir, FrameTimes& t) {
+  const auto t0 = Clock::now();
+  sim.runFrame(listener);
+  const auto t1 = Clock::now();
+  const Simulation::SourceResult& r = sim.result(0);
+  synth.synthesize(r.energy, r.direct, ir.data(), sim.specularPaths(0));
+  const auto t2 = Clock::now();
+  t.frameMs.push_back(msBetween(t0, t1));
+  t.synthMs.push_back(msBetween(t1, t2));
+  t.traceMs.push_back(r.traceSeconds * 1e3);
+  t.estimatorMs.push_back(r.estimatorSeconds * 1e3);
+  t.segments += r.trace.segments;
+  t.hits += r.trace.listenerHits;
+  t.traceSeconds += std::chrono::duration<double>(t1 - t0).count();
 }
 
 /// Segments and seconds of the bare Embree loops (bench/bare_embree.h).
@@ -57,21 +51,17 @@ struct BareTimes {
   double seconds = 0.0, packetSeconds = 0.0;
 };
 
-/// Two yardsticks: single rays (rtcIntersect1) and 16-wide packets (rtcIntersect16), the
-/// latter being what the full frame uses by default.
-BareTimes timeBare(const Simulation& sim, const glm::vec3& start, const PropagationSettings& s,
-                   int frames) {
-  BareTimes b;
-  for (int f = 0; f < frames; ++f) {
-    const BareResult one = traceBare(sim.tracer(), start, s.raysPerFrame, s.maxOrder, s.threads, f);
-    b.segments += one.segments;
-    b.seconds += one.seconds;
-    const BareResult p = traceBare(sim.tracer(), start, s.raysPerFrame, s.maxOrder, s.threads, f,
-                                   BareMode::kPacket16);
-    b.packetSegments += p.segments;
-    b.packetSeconds += p.seconds;
-  }
-  return b;
+/// Two yardsticks for frame f: single rays (rtcIntersect1) and 16-wide packets
+/// (rtcIntersect16), the latter being what the full frame uses by default; adds them to b.
+void timeBareFrame(const Simulation& sim, const glm::vec3& start, const PropagationSettings& s,
+                   int f, BareTimes& b) {
+  const BareResult one = traceBare(sim.tracer(), start, s.raysPerFrame, s.maxOrder, s.threads, f);
+  b.segments += one.segments;
+  b.seconds += one.seconds;
+  const BareResult p = traceBare(sim.tracer(), start, s.raysPerFrame, s.maxOrder, s.threads, f,
+                                 BareMode::kPacket16);
+  b.packetSegments += p.segments;
+  b.packetSeconds += p.seconds;
 }
 
 /// Spatial IR synthesis of one output format (binaural target: <= 10 ms per source per frame
@@ -163,24 +153,33 @@ Json cacheJson(const Simulation::SourceResult& r0) {
 
 }  // namespace
 
-int benchPropagation(const CommonOptions& c, bool noRoulette, Tracing tracing) {
+int benchPropagation(const CommonOptions& c, const PropagationOptions& o) {
+  const Tracing tracing = o.tracing;
   const SceneDesc scene = firstSourceOnly(loadScene(c.scene));
   PropagationSettings s = settingsFor(scene, c);
   if (!c.rays) s.raysPerFrame = 4096;
   if (!c.maxOrder) s.maxOrder = 200;
-  if (noRoulette) s.rouletteThreshold = 0.f;
+  if (o.noRoulette) s.rouletteThreshold = 0.f;
   s.tracing = tracing;
   const glm::vec3 listener = listenerPositionAt(scene.listeners[0], 0.0);
   Simulation sim(scene, s);
   IrSynthesizer synth(scene.audio.sampleRate, s.irLength, roomVolume(scene.mesh), s.speedOfSound,
                       1);
-  const FrameTimes t = timeFrames(sim, synth, listener, c.frames);
-  std::fprintf(stderr, "\rbare Embree loops...   ");
   // The bare loops' rays leave where the full frame's do: the source, or the listener.
   const glm::vec3 start = tracing == Tracing::kFromListeners ? listener : scene.sources[0].position;
-  const BareTimes b = timeBare(sim, start, s, c.frames);
+  std::vector<float> ir(synth.lengthSamples());
+  FrameTimes warmup, t;
+  BareTimes b;
+  for (int f = -o.warmupFrames; f < c.frames; ++f) {
+    // Full frame and bare loops alternate, so a shared machine's load changes weigh on both.
+    timeFrame(sim, synth, listener, ir, f < 0 ? warmup : t);
+    if (f >= 0) timeBareFrame(sim, start, s, f, b);
+    std::fprintf(stderr, "\rframe %d/%d", f + o.warmupFrames + 1, c.frames + o.warmupFrames);
+  }
   std::fprintf(stderr, "\r                      \r");
   Json j = report(c, s, sim, t, b);
+  j["warmup_frames"] = o.warmupFrames;
+  if (!warmup.frameMs.empty()) j["warmup_frame_ms"] = stats(warmup.frameMs);
   j["cache"] = cacheJson(sim.result(0));
   j["ir_synthesis_ms"] = stats(t.synthMs);
   j["ir_samples"] = synth.lengthSamples();

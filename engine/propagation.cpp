@@ -55,6 +55,8 @@ void Propagator::forEachParallel(size_t n, const std::function<void(size_t)>& f)
   arena_->execute([&] { tbb::parallel_for(size_t(0), n, [&](size_t i) { f(i); }); });
 }
 
+int Propagator::concurrency() const { return arena_->max_concurrency(); }
+
 DirectSound Propagator::directSound(const glm::vec3& source, const ListenerSphere& listener,
                                     const Directivity& directivity,
                                     const glm::vec3& forward) const {

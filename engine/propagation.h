@@ -233,6 +233,8 @@ class Propagator {
   /// any order and concurrently; returns when all are done. For per-listener work after a
   /// trace (each i must touch only its own data). Propagation thread.
   void forEachParallel(size_t n, const std::function<void(size_t)>& f);
+  /// The tracing threads: how many f(i) of forEachParallel may run at once.
+  int concurrency() const;
   const PropagationSettings& settings() const { return settings_; }
   void setRaysPerFrame(int n) { settings_.raysPerFrame = n; }
   /// Random seed of the following frames (every ray's stream derives from it). No allocation.

@@ -68,6 +68,8 @@ class HybridSynthesis {
   size_t lateSamples() const;
   int buses() const { return buses_; }
   const HybridSplit& split() const { return split_; }
+  /// The early parts' spatial synthesiser (nullptr for mono output), for its set-up.
+  SpatialIrSynthesizer* earlySpatial() { return earlySpatial_.get(); }
 
   /// One frame for `listener`: early[s][c] (earlySamples()) per source, late[k][c] (full
   /// length) per bus, gain[s] and bus[s] (the late gain and bus of source s). sources: the

@@ -219,6 +219,7 @@ void PropagationStage::makeHybrid(const PropagationSettings& settings, double ea
   const SceneDesc& scene = *scene_;
   hybrid_ = std::make_unique<HybridSynthesis>(scene, settings, roomVolume(scene.mesh),
                                               spatial_.get(), early, scene.listeners.size());
+  if (hybrid_->earlySpatial()) levelOnTracingThreads(*hybrid_->earlySpatial());
   lateLayout_ = std::make_shared<const audio::NonUniformLayout>(scene.audio.blockSize,
                                                                 hybrid_->lateSamples());
   irSamples_ = hybrid_->earlySamples();
@@ -237,9 +238,19 @@ void PropagationStage::makeSynthesizers(const PropagationSettings& settings, boo
     irSamples_ = synthesizers_.front()->lengthSamples();
   } else {
     spatial_ = makeSpatialSynthesizer(scene, settings, roomVolume(scene.mesh));
+    levelOnTracingThreads(*spatial_);
     simulation_->enableDirectional(spatial_->directions());
     irSamples_ = spatial_->lengthSamples();
   }
+}
+
+void PropagationStage::levelOnTracingThreads(SpatialIrSynthesizer& synth) {
+  // The synthesis runs between frames, when the tracing threads are idle.
+  Propagator& p = simulation_->propagator();
+  synth.setParallelLevelling(p.concurrency(),
+                             [&p](size_t n, const std::function<void(size_t)>& f) {
+                               p.forEachParallel(n, f);
+                             });
 }
 
 void PropagationStage::makePool(int poolSize) {

@@ -120,6 +120,23 @@ void BandLeveller::addResponse(const EnergyResponse& energy, const Bands& weight
   }
 }
 
+void BandLeveller::binResponse(const EnergyResponse& energy, std::vector<Bands>& out) const {
+  const double perBin = energy.binSeconds() * sampleRate_;
+  const size_t nb = gain_.size();
+  out.resize(nb);
+  std::fill(out.begin(), out.end(), Bands(0.f));
+  for (size_t k = 0; k < energy.binCount(); ++k) {
+    const size_t j = std::min(nb - 1, size_t((double(k) + 0.5) * perBin) / binSamples_);
+    for (int b = firstBand_; b < kNumBands; ++b) out[j][b] += std::max(0.f, energy.bins()[k][b]);
+  }
+}
+
+void BandLeveller::addBinned(std::span<const Bands> binned, const Bands& weight) {
+  for (size_t j = 0; j < std::min(binned.size(), gain_.size()); ++j)
+    for (int b = firstBand_; b < kNumBands; ++b)
+      target_[size_t(b)][j] += double(binned[j][b]) * double(weight[b]);
+}
+
 void BandLeveller::addDirect(double delaySeconds, const Bands& energy) {
   const long n0 = std::lround(delaySeconds * sampleRate_);
   if (n0 < 0 || size_t(n0) >= length_) return;
@@ -232,10 +249,10 @@ void BandLeveller::applyGains(size_t bi, float* ir) const {
     const double g0 = gain_[j], g1 = gain_[j + 1];
     const size_t n0 = std::min(length_, j * w + firstCentre);
     const size_t n1 = std::min(length_, (j + 1) * w + firstCentre);
-    for (size_t n = n0; n < n1; ++n) {
-      const double t = (double(n) + 0.5) * invW - 0.5 - double(j);
-      ir[n] += float(((1.0 - t) * g0 + t * g1 - 1.0) * x[n]);
-    }
+    // g(n) - 1 = a + slope (n - n0), float so that the loop vectorises.
+    const double t0 = (double(n0) + 0.5) * invW - 0.5 - double(j);
+    const float a = float((1.0 - t0) * g0 + t0 * g1 - 1.0), slope = float((g1 - g0) * invW);
+    for (size_t n = n0; n < n1; ++n) ir[n] += (a + slope * float(n - n0)) * x[n];
   }
   const size_t lastStart = std::min(length_, (nb - 1) * w + firstCentre);
   if (gain_[nb - 1] != 1.f)

@@ -29,6 +29,7 @@
 #include <array>
 #include <cstddef>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "common/bands.h"
@@ -65,6 +66,15 @@ class BandLeveller {
   /// Adds weight[b] x the response's band energies (1/m^2) to the targets (any bin width; a
   /// negative bin counts as 0).
   void addResponse(const EnergyResponse& energy, const Bands& weight);
+  /// The leveller's bins (kBinSeconds each) over the IR.
+  size_t bins() const { return gain_.size(); }
+  /// energy's band energies (1/m^2; negative counts as 0) summed into the leveller's bins:
+  /// out[j] for j < bins() (resized). For addBinned: a response weighted differently for many
+  /// IRs is binned once. No allocation once out has bins() elements.
+  void binResponse(const EnergyResponse& energy, std::vector<Bands>& out) const;
+  /// Adds weight[b] x binned[j][b] (from binResponse) to the targets; same as addResponse of
+  /// the binned response.
+  void addBinned(std::span<const Bands> binned, const Bands& weight);
   /// Adds one arrival's band energies (1/m^2; a negative one counts as 0) at delaySeconds to
   /// the targets (the direct sound or an exact early path). The earliest arrival marks where
   /// levelling may start (its bin and the next are not levelled). An arrival outside

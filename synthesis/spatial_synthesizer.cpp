@@ -84,6 +84,7 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   equaliseDiffuseField(filters, masks, big);
   // Per direction: its own Dirac sequence, through A_b and the direction's filters.
   gainsOnly_ = maxFilter == 1;
+  if (gainsOnly_) directionScratch_.assign(length_, 0.f);
   bands_.resize(directions_.size());
   gains_.resize(directions_.size());
   for (size_t d = 0; d < directions_.size(); ++d)
@@ -96,9 +97,19 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
             masks, big, lengthSeconds);
   direct_ = std::make_unique<DirectSoundFilter>(masks, big, margin);
   prepareDirect(margin);
-  leveller_ = std::make_unique<BandLeveller>(
-      sampleRate, length_, kDirectionalFromBand,
-      BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, kLevelFromPulses));
+  levelStart_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, kLevelFromPulses);
+  levellers_.push_back(
+      std::make_unique<BandLeveller>(sampleRate, length_, kDirectionalFromBand, levelStart_));
+  binned_.assign(directions_.size(), std::vector<Bands>(levellers_[0]->bins()));
+}
+
+void SpatialIrSynthesizer::setParallelLevelling(int workers, ParallelFor parallel) {
+  const size_t w = std::clamp<size_t>(size_t(std::max(workers, 1)), 1, std::max<size_t>(1, channels_));
+  while (levellers_.size() < w)
+    levellers_.push_back(
+        std::make_unique<BandLeveller>(sampleRate_, length_, kDirectionalFromBand, levelStart_));
+  levellers_.resize(w);
+  parallel_ = std::move(parallel);
 }
 
 void SpatialIrSynthesizer::spectrumOf(FftwRealTransforms& fft, const std::vector<float>& taps,
@@ -274,10 +285,7 @@ void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
   constexpr size_t kBlock = 2048;
   for (size_t begin = onset; begin < length_; begin += kBlock) {
     const size_t end = std::min(length_, begin + kBlock);
-    for (size_t d = 0; d < count; ++d)
-      for (size_t c = 0; c < channels_; ++c)
-        envelopes_[d]->accumulateRange(bandSignals(d, c), channels[c], begin, end, gains_[d][c],
-                                       kDirectionalFromBand, kNumBands);
+    accumulateDirections(count, channels, begin, end);
     for (size_t c = 0; c < channels_; ++c)
       if (omniGains_[c] != 0.f)
         omniEnvelope_->accumulateRange(omni, channels[c], begin, end, omniGains_[c], 0,
@@ -291,6 +299,32 @@ void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
     addArrival(arrival, energy.toListener(p.direction), channels);
   }
   level(energy, count, channels);
+}
+
+void SpatialIrSynthesizer::accumulateDirections(size_t count, std::span<float* const> channels,
+                                                size_t begin, size_t end) {
+  if (!gainsOnly_) {
+    for (size_t d = 0; d < count; ++d)
+      for (size_t c = 0; c < channels_; ++c)
+        envelopes_[d]->accumulateRange(bandSignals(d, c), channels[c], begin, end, gains_[d][c],
+                                       kDirectionalFromBand, kNumBands);
+    return;
+  }
+  // Gains only (panning, Ambisonics): a direction's enveloped bands are the same signal in
+  // every channel, so they are summed once and mixed by the gains (K x (bands + N) passes over
+  // the block instead of K x N x bands).
+  float* y = directionScratch_.data();
+  for (size_t d = 0; d < count; ++d) {
+    std::fill(y + begin, y + end, 0.f);
+    envelopes_[d]->accumulateRange(bandSignals(d, 0), y, begin, end, 1.f, kDirectionalFromBand,
+                                   kNumBands);
+    for (size_t c = 0; c < channels_; ++c) {
+      const float g = gains_[d][c];
+      if (g == 0.f) continue;
+      float* out = channels[c];
+      for (size_t n = begin; n < end; ++n) out[n] += g * y[n];
+    }
+  }
 }
 
 std::array<const float*, kNumBands> SpatialIrSynthesizer::bandSignals(size_t d, size_t c) const {
@@ -320,14 +354,26 @@ void SpatialIrSynthesizer::level(const DirectionalEnergyResponse& energy, size_t
                                  std::span<float* const> channels) {
   // Each channel's target: sum_d E_d,b x the channel filter's band energy for direction d
   // (diffuse-field equalised), plus each arrival through its exact filter.
-  for (size_t c = 0; c < channels_; ++c) {
-    leveller_->clearTargets();
-    for (size_t d = 0; d < count; ++d)
-      leveller_->addResponse(energy.response(d), channelWeight_[d][c]);
-    for (size_t i = 0; i < arrivalDelays_.size(); ++i)
-      leveller_->addDirect(arrivalDelays_[i], arrivalEnergy_[i * channels_ + c]);
-    leveller_->apply(channels[c], kLevelTolerance, kLevelMaxBoost);
-  }
+  // Channels are independent: worker g levels channels g, g + W, ... with its own leveller,
+  // so the result does not depend on the workers or their order.
+  const size_t workers = parallel_ ? levellers_.size() : 1;
+  binned_.resize(count);
+  for (size_t d = 0; d < count; ++d) levellers_[0]->binResponse(energy.response(d), binned_[d]);
+  const auto group = [&](size_t g) {
+    BandLeveller& leveller = *levellers_[g];
+    for (size_t c = g; c < channels_; c += workers) {
+      leveller.clearTargets();
+      for (size_t d = 0; d < count; ++d)
+        leveller.addBinned(binned_[d], channelWeight_[d][c]);
+      for (size_t i = 0; i < arrivalDelays_.size(); ++i)
+        leveller.addDirect(arrivalDelays_[i], arrivalEnergy_[i * channels_ + c]);
+      leveller.apply(channels[c], kLevelTolerance, kLevelMaxBoost);
+    }
+  };
+  if (workers > 1)
+    parallel_(workers, group);
+  else
+    group(0);
 }
 
 void SpatialIrSynthesizer::directBandWeights(size_t c) {

@@ -125,6 +125,15 @@ class SpatialIrSynthesizer {
   /// kReservedArrivals arrivals for the first time.
   void synthesize(const DirectionalEnergyResponse& energy, const DirectSound& direct,
                   std::span<float* const> channels, std::span<const SpecularPath> early = {});
+  /// Runs f(0) .. f(n - 1), possibly concurrently, returning when all have returned.
+  using ParallelFor = std::function<void(size_t n, const std::function<void(size_t)>& f)>;
+  /// Levels the channels (the larger part of a many-channel synthesis: one FFT split and
+  /// analysis per channel) in min(workers, N) groups through `parallel`, each group with a
+  /// BandLeveller of its own, so the IRs are the same for any workers. Control/propagation
+  /// thread, between synthesize() calls; allocates a leveller per worker beyond the first
+  /// (about 11 x length floats, FFTW planning); `parallel` must stay callable while the
+  /// synthesiser is used. Without it (default) every channel is levelled on the calling thread.
+  void setParallelLevelling(int workers, ParallelFor parallel);
   /// Arrivals (direct sound and exact paths) per frame that need no allocation.
   static constexpr size_t kReservedArrivals = 256;
 
@@ -164,6 +173,9 @@ class SpatialIrSynthesizer {
   std::array<const float*, kNumBands> bandSignals(size_t d, size_t c) const;
   /// directWeight_[c] from the channel's exact-filter spectrum in fft_->band.
   void directBandWeights(size_t c);
+  /// Adds every direction's enveloped band signals over [begin, end) to the channels.
+  void accumulateDirections(size_t count, std::span<float* const> channels, size_t begin,
+                            size_t end);
   /// Levels each channel to its target (see the file comment).
   void level(const DirectionalEnergyResponse& energy, size_t count,
              std::span<float* const> channels);
@@ -187,6 +199,9 @@ class SpatialIrSynthesizer {
   std::vector<std::vector<std::array<std::vector<float>, kNumBands>>> bands_;
   std::vector<std::vector<float>> gains_;
   bool gainsOnly_ = false;
+  /// With gainsOnly_: one direction's enveloped signal over the current block (length_
+  /// samples, the block's range used), mixed into every channel by its gain.
+  std::vector<float> directionScratch_;
   std::unique_ptr<DirectSoundFilter> direct_;
   // Direct sound: FFT convolution buffers and plans, made at construction.
   std::unique_ptr<FftwRealTransforms> fft_;
@@ -199,7 +214,11 @@ class SpatialIrSynthesizer {
   std::vector<Bands> arrivalEnergy_;   ///< per arrival and channel: band energy as levelled
   std::vector<Bands> directMask2_;  ///< M_b^2 on the direct-sound FFT's bins
   std::array<double, kNumBands> directNorm_{};
-  std::unique_ptr<BandLeveller> leveller_;
+  /// One per levelling worker (setParallelLevelling); [0] always exists.
+  std::vector<std::unique_ptr<BandLeveller>> levellers_;
+  size_t levelStart_ = 0;  ///< BandLeveller's start sample
+  ParallelFor parallel_;   ///< empty: level on the calling thread
+  std::vector<std::vector<Bands>> binned_;  ///< per direction: its response in leveller bins
 };
 
 /// The K = 8 listener-frame directions dpc uses: six on the horizon every 60 degrees from

@@ -47,18 +47,4 @@ uint32_t SphereBvh::buildNode(std::span<const glm::vec4> spheres, uint32_t first
   return index;
 }
 
-bool SphereBvh::crosses(const Node& n, const glm::vec3& org, const glm::vec3& inv,
-                        float segEnd) {
-  float t0 = 0.f, t1 = segEnd;
-  for (int a = 0; a < 3; ++a) {
-    float near = (n.lo[a] - org[a]) * inv[a];
-    float far = (n.hi[a] - org[a]) * inv[a];
-    if (near > far) std::swap(near, far);
-    // NaN (a zero direction component with the origin on a slab plane) keeps the box.
-    t0 = near > t0 ? near : t0;
-    t1 = far < t1 ? far : t1;
-  }
-  return t0 <= t1;
-}
-
 }  // namespace dpc

@@ -58,7 +58,18 @@ class SphereBvh {
     uint32_t count = 0;  ///< leaf: spheres (> 0); inner: 0
     uint32_t right = 0;  ///< inner: right child
   };
-  static bool crosses(const Node& n, const glm::vec3& org, const glm::vec3& inv, float segEnd);
+  /// Slab test of the segment against n's box; inline, as it runs for every node visited.
+  static bool crosses(const Node& n, const glm::vec3& org, const glm::vec3& inv, float segEnd) {
+    float t0 = 0.f, t1 = segEnd;
+    for (int a = 0; a < 3; ++a) {
+      const float ta = (n.lo[a] - org[a]) * inv[a], tb = (n.hi[a] - org[a]) * inv[a];
+      const float near = ta < tb ? ta : tb, far = ta < tb ? tb : ta;
+      // NaN (a zero direction component with the origin on a slab plane) keeps the box.
+      t0 = near > t0 ? near : t0;
+      t1 = far < t1 ? far : t1;
+    }
+    return t0 <= t1;
+  }
   uint32_t buildNode(std::span<const glm::vec4> spheres, uint32_t first, uint32_t count);
 
   std::vector<Node> nodes_;

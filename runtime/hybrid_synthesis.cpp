@@ -25,11 +25,19 @@ struct HybridSynthesis::Scratch {
   std::vector<double> lateEnergy;                  ///< per source, this frame
   std::vector<double> busEnergy;                   ///< per bus, this frame
   std::vector<float*> channels;                    ///< one IR's channel pointers
+  std::vector<uint8_t> directLate;                 ///< mono, per source: direct sound late
+};
+
+/// One worker's buffers for the mono early parts.
+struct HybridSynthesis::WorkerScratch {
+  EnergyResponse early;
+  std::vector<SpecularPath> paths;
 };
 
 HybridSynthesis::HybridSynthesis(const SceneDesc& scene, const PropagationSettings& settings,
                                  double roomVolume, SpatialIrSynthesizer* spatial,
-                                 double earlySeconds, size_t listeners)
+                                 double earlySeconds, size_t listeners, int workers,
+                                 SpatialIrSynthesizer::ParallelFor parallel)
     : buses_(scene.audio.lateBuses),
       clusterAngle_(double(scene.audio.clusterAngleDegrees) * M_PI / 180.0),
       spatial_(spatial),
@@ -44,12 +52,16 @@ HybridSynthesis::HybridSynthesis(const SceneDesc& scene, const PropagationSettin
     earlySamples_ = earlySpatial_->lengthSamples();
   } else {
     // Per source its own Dirac sequence (sources playing one signal stay incoherent); the
-    // read-only filters and the clean-up workspace are shared by the synthesisers of a length.
+    // read-only filters and the clean-up workspace are shared by the synthesisers of a length
+    // that one worker runs (sources s = w, w + W, ...).
+    const size_t W = std::clamp<size_t>(size_t(std::max(workers, 1)), 1, std::max<size_t>(S, 1));
+    workers_.resize(parallel ? W : 1);
+    parallel_ = std::move(parallel);
     for (size_t s = 0; s < S; ++s)
       earlyMono_.push_back(std::make_unique<IrSynthesizer>(
           fs, earlySeconds, roomVolume, settings.speedOfSound,
           hashCombine(settings.seed, 0x5bd1e995ULL + s),
-          earlyMono_.empty() ? nullptr : earlyMono_.front().get()));
+          s < workers_.size() ? nullptr : earlyMono_[s % workers_.size()].get()));
     for (int k = 0; k < buses_; ++k)
       lateMono_.push_back(std::make_unique<IrSynthesizer>(
           fs, settings.irLength, roomVolume, settings.speedOfSound,
@@ -58,6 +70,8 @@ HybridSynthesis::HybridSynthesis(const SceneDesc& scene, const PropagationSettin
     earlySamples_ = earlyMono_.front()->lengthSamples();
   }
   scratch_->lateEnergy.assign(S, 0.0);
+  scratch_->directLate.assign(S, 0);
+  for (WorkerScratch& w : workers_) w.paths.reserve(256);
   scratch_->busEnergy.assign(size_t(buses_), 0.0);
   scratch_->paths.reserve(256);
   for (size_t l = 0; l < listeners; ++l) ensureListener(l, S);
@@ -94,6 +108,7 @@ void HybridSynthesis::prepareBuses(const Simulation& sim, size_t listener) {
   if (x.early.binCount() == 0) {
     const double early = split_.splitSeconds + any.binSeconds();
     x.early = EnergyResponse(early, any.binSeconds());
+    for (WorkerScratch& w : workers_) w.early = x.early;
     if (spatial_) x.earlyDir = sim.directional(0, listener).truncated(early);
   }
   if (spatial_) {
@@ -119,31 +134,72 @@ double HybridSynthesis::splitSource(const Simulation& sim, size_t s, size_t list
   const std::vector<SpecularPath>& paths = sim.specularPaths(s, listener);
   earlyPaths(paths, split_, x.paths);
   DirectSound direct = r.direct;
-  LateShare share;
   x.channels.resize(early.size());
   for (size_t c = 0; c < early.size(); ++c) x.channels[c] = early[c].data();
-  if (spatial_) {
-    const DirectionalEnergyResponse& live = sim.directional(s, listener);
-    const DirectionalEnergyResponse& in = baked ? baked->directional(s, live) : live;
-    share = addLate(in, direct, paths, split_, x.lateDir[size_t(k)]);
-    x.earlyDir.copyFrame(in);
-    for (size_t d = 0; d < in.directionCount(); ++d)
-      copyPrefix(in.response(d), x.earlyDir.response(d));
-    keepEarly(x.earlyDir, split_);
-    if (share.directIsLate) direct.visible = false;
-    earlySpatial_->synthesize(x.earlyDir, direct, x.channels, x.paths);
-  } else {
-    const EnergyResponse& in = baked ? baked->energy(s, r.energy) : r.energy;
-    share = addLate(in, direct, paths, split_, x.late[size_t(k)]);
-    copyPrefix(in, x.early);
-    keepEarly(x.early, split_);
-    if (share.directIsLate) direct.visible = false;
-    earlyMono_[s]->synthesize(x.early, direct, x.channels[0], x.paths);
-  }
+  const DirectionalEnergyResponse& live = sim.directional(s, listener);
+  const DirectionalEnergyResponse& in = baked ? baked->directional(s, live) : live;
+  const LateShare share = addLate(in, direct, paths, split_, x.lateDir[size_t(k)]);
+  x.earlyDir.copyFrame(in);
+  for (size_t d = 0; d < in.directionCount(); ++d)
+    copyPrefix(in.response(d), x.earlyDir.response(d));
+  keepEarly(x.earlyDir, split_);
+  if (share.directIsLate) direct.visible = false;
+  earlySpatial_->synthesize(x.earlyDir, direct, x.channels, x.paths);
   HybridCounts& n = counts_[listener];
   n.lateDirect += share.directIsLate ? 1 : 0;
   n.lateArrivals += uint64_t(share.lateArrivals);
   return share.energy;
+}
+
+double HybridSynthesis::addMonoLate(const Simulation& sim, size_t s, size_t listener, int k,
+                                    BakedPlayback* baked) {
+  Scratch& x = *scratch_;
+  const Simulation::SourceResult& r = sim.result(s, listener);
+  const EnergyResponse& in = baked ? baked->energy(s, r.energy) : r.energy;
+  const LateShare share =
+      addLate(in, r.direct, sim.specularPaths(s, listener), split_, x.late[size_t(k)]);
+  x.directLate[s] = share.directIsLate ? 1 : 0;
+  HybridCounts& n = counts_[listener];
+  n.lateDirect += share.directIsLate ? 1 : 0;
+  n.lateArrivals += uint64_t(share.lateArrivals);
+  return share.energy;
+}
+
+void HybridSynthesis::synthesizeMonoEarly(const Simulation& sim, size_t s, size_t listener,
+                                          size_t w, BakedPlayback* baked,
+                                          std::vector<std::vector<float>>& early) {
+  WorkerScratch& x = workers_[w];
+  const Simulation::SourceResult& r = sim.result(s, listener);
+  earlyPaths(sim.specularPaths(s, listener), split_, x.paths);
+  DirectSound direct = r.direct;
+  if (scratch_->directLate[s]) direct.visible = false;
+  copyPrefix(baked ? baked->energy(s, r.energy) : r.energy, x.early);
+  keepEarly(x.early, split_);
+  earlyMono_[s]->synthesize(x.early, direct, early[0].data(), x.paths);
+}
+
+void HybridSynthesis::splitSources(const Simulation& sim, size_t listener, BakedPlayback* baked,
+                                   std::vector<std::vector<std::vector<float>>>& early,
+                                   std::span<int> bus) {
+  Scratch& x = *scratch_;
+  const size_t S = sim.sourceCount();
+  std::fill(x.busEnergy.begin(), x.busEnergy.end(), 0.0);
+  for (size_t s = 0; s < S; ++s) {
+    const int k = bus[s];
+    x.lateEnergy[s] = spatial_ ? splitSource(sim, s, listener, k, baked, early[s])
+                               : addMonoLate(sim, s, listener, k, baked);
+    x.busEnergy[size_t(k)] += x.lateEnergy[s];
+  }
+  if (spatial_) return;
+  // Worker w synthesises sources w, w + W, ...: the synthesisers it shares a workspace with.
+  const size_t W = workers_.size();
+  const auto group = [&](size_t w) {
+    for (size_t s = w; s < S; s += W) synthesizeMonoEarly(sim, s, listener, w, baked, early[s]);
+  };
+  if (W > 1 && parallel_)
+    parallel_(W, group);
+  else
+    group(0);
 }
 
 void HybridSynthesis::synthesizeBus(int k, std::vector<std::vector<float>>& late) {
@@ -172,13 +228,8 @@ void HybridSynthesis::prepare(const Simulation& sim, size_t listener,
   clusters.update(listenerPosition, sources, [&tracer](const glm::vec3& a, const glm::vec3& b) {
     return lineOfSight(tracer, a, b);
   });
-  std::fill(x.busEnergy.begin(), x.busEnergy.end(), 0.0);
-  for (size_t s = 0; s < S; ++s) {
-    const int k = clusters.cluster(s);
-    bus[s] = k;
-    x.lateEnergy[s] = splitSource(sim, s, listener, k, baked, early[s]);
-    x.busEnergy[size_t(k)] += x.lateEnergy[s];
-  }
+  for (size_t s = 0; s < S; ++s) bus[s] = clusters.cluster(s);
+  splitSources(sim, listener, baked, early, bus);
   for (int k = 0; k < buses_; ++k) synthesizeBus(k, late[size_t(k)]);
   for (size_t s = 0; s < S; ++s) {
     const double e = x.busEnergy[size_t(bus[s])];

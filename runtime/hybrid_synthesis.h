@@ -59,8 +59,13 @@ class HybridSynthesis {
   /// stage made (nullptr for mono output), used for the late buses; earlySeconds: the early
   /// part's length (hybridEarlyLength). listeners: how many listeners get clusters (more are
   /// added by prepare() on demand, allocating once).
+  /// With mono output the sources' early parts are synthesised in `workers` concurrent groups
+  /// through `parallel` (each group with its own synthesis workspace, so the IRs are the same
+  /// for any workers); `parallel` must stay callable while this object is used. Default: on
+  /// the calling thread.
   HybridSynthesis(const SceneDesc& scene, const PropagationSettings& settings, double roomVolume,
-                  SpatialIrSynthesizer* spatial, double earlySeconds, size_t listeners);
+                  SpatialIrSynthesizer* spatial, double earlySeconds, size_t listeners,
+                  int workers = 1, SpatialIrSynthesizer::ParallelFor parallel = {});
   ~HybridSynthesis();
 
   size_t earlySamples() const { return earlySamples_; }
@@ -88,9 +93,19 @@ class HybridSynthesis {
  private:
   struct Scratch;
   /// Source s's early IR into early[s] and its late part into its bus's response; returns its
-  /// late energy.
+  /// late energy. Spatial output.
   double splitSource(const Simulation& sim, size_t s, size_t listener, int k,
                      BakedPlayback* baked, std::vector<std::vector<float>>& early);
+  /// Mono output: source s's late part into bus k's response (serial: buses are shared);
+  /// returns its late energy and records whether its direct sound went late.
+  double addMonoLate(const Simulation& sim, size_t s, size_t listener, int k,
+                     BakedPlayback* baked);
+  /// Mono output: source s's early IR into early (channel 0) with worker w's scratch.
+  void synthesizeMonoEarly(const Simulation& sim, size_t s, size_t listener, size_t w,
+                           BakedPlayback* baked, std::vector<std::vector<float>>& early);
+  /// Every source's part of the frame (late shares, then early IRs, in parallel for mono).
+  void splitSources(const Simulation& sim, size_t listener, BakedPlayback* baked,
+                    std::vector<std::vector<std::vector<float>>>& early, std::span<int> bus);
   /// Bus k's late IR from its accumulated response into late[k].
   void synthesizeBus(int k, std::vector<std::vector<float>>& late);
   void ensureListener(size_t listener, size_t sources);
@@ -107,6 +122,9 @@ class HybridSynthesis {
   std::vector<std::unique_ptr<IrSynthesizer>> earlyMono_;  ///< per source (mono output)
   std::vector<std::unique_ptr<IrSynthesizer>> lateMono_;   ///< per bus (mono output)
   std::unique_ptr<Scratch> scratch_;
+  struct WorkerScratch;
+  std::vector<WorkerScratch> workers_;  ///< mono early parts: one per worker
+  SpatialIrSynthesizer::ParallelFor parallel_;
   std::vector<std::unique_ptr<SourceClusters>> clusters_;  ///< per listener
   std::vector<HybridCounts> counts_;
   const Tracer* tracer_ = nullptr;

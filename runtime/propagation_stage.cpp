@@ -218,7 +218,9 @@ double PropagationStage::hybridEarlySeconds(const PropagationSettings& settings)
 void PropagationStage::makeHybrid(const PropagationSettings& settings, double early) {
   const SceneDesc& scene = *scene_;
   hybrid_ = std::make_unique<HybridSynthesis>(scene, settings, roomVolume(scene.mesh),
-                                              spatial_.get(), early, scene.listeners.size());
+                                              spatial_.get(), early, scene.listeners.size(),
+                                              simulation_->propagator().concurrency(),
+                                              onTracingThreads());
   if (hybrid_->earlySpatial()) levelOnTracingThreads(*hybrid_->earlySpatial());
   lateLayout_ = std::make_shared<const audio::NonUniformLayout>(scene.audio.blockSize,
                                                                 hybrid_->lateSamples());
@@ -244,13 +246,14 @@ void PropagationStage::makeSynthesizers(const PropagationSettings& settings, boo
   }
 }
 
-void PropagationStage::levelOnTracingThreads(SpatialIrSynthesizer& synth) {
+SpatialIrSynthesizer::ParallelFor PropagationStage::onTracingThreads() {
   // The synthesis runs between frames, when the tracing threads are idle.
   Propagator& p = simulation_->propagator();
-  synth.setParallelLevelling(p.concurrency(),
-                             [&p](size_t n, const std::function<void(size_t)>& f) {
-                               p.forEachParallel(n, f);
-                             });
+  return [&p](size_t n, const std::function<void(size_t)>& f) { p.forEachParallel(n, f); };
+}
+
+void PropagationStage::levelOnTracingThreads(SpatialIrSynthesizer& synth) {
+  synth.setParallelLevelling(simulation_->propagator().concurrency(), onTracingThreads());
 }
 
 void PropagationStage::makePool(int poolSize) {

@@ -160,6 +160,8 @@ class PropagationStage {
   /// Hybrid: the late buses' IRs and gains of listener l into `set`.
   void prepareLate(size_t listener, IrSet& set);
   void makePool(int poolSize);
+  /// Runs work on the simulation's tracing threads (forEachParallel).
+  SpatialIrSynthesizer::ParallelFor onTracingThreads();
   /// Lets synth level its channels on the simulation's tracing threads.
   void levelOnTracingThreads(SpatialIrSynthesizer& synth);
   /// Synthesises source s's IR for listener l into irs_[l][s].

@@ -72,8 +72,13 @@ TEST_CASE("Without a teleport the cache averages the old place in", "[engine]") 
 TEST_CASE("A teleport keyframe holds the old place until its time and marks the jump",
           "[engine]") {
   SceneDesc s = room();
-  s.sources[0].trajectory = {Keyframe{0.0, {1, 1, 1}}, Keyframe{1.0, {6, 4, 1.5f}},
-                             Keyframe{2.0, {8, 5, 1.5f}}};
+  const auto at = [](double t, glm::vec3 p) {
+    Keyframe k;
+    k.timeSeconds = t;
+    k.position = p;
+    return k;
+  };
+  s.sources[0].trajectory = {at(0.0, {1, 1, 1}), at(1.0, {6, 4, 1.5f}), at(2.0, {8, 5, 1.5f})};
   s.sources[0].trajectory[1].teleport = true;
   WorldState w;
   evaluateWorld(s, 0.5, w);

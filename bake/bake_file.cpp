@@ -72,6 +72,7 @@ void writeHeaderAttributes(hid_t root, const BakeHeader& h) {
   writeAttribute(root, "seed", h.seed);
   writeAttribute(root, "spacing_m", h.grid.spacingM);
   writeAttribute(root, "height_m", h.grid.heightM);
+  writeAttribute(root, "probe_layout", probeLayout(h.grid, h.grid.spacingM == 0.0));
   writeAttribute(root, "probe_radius_m", double(h.grid.radiusM));
   writeAttribute(root, "rays_per_frame", int64_t(h.settings.rays));
   writeAttribute(root, "frames", int64_t(h.settings.frames));

@@ -1,6 +1,7 @@
 #include "bake/probe_grid.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <glm/vector_relational.hpp>
@@ -71,11 +72,67 @@ ProbeGrid placeProbes(const SceneDesc& scene, const std::vector<glm::vec3>& cand
   return grid;
 }
 
+namespace {
+
+void checkBox(const GridRequest& r) {
+  for (int a = 0; a < 3; ++a) {
+    const float lo = r.boxMin[a], hi = r.boxMax[a];
+    if (!std::isfinite(lo) || !std::isfinite(hi) || std::abs(lo) > kMaxCoordinateM ||
+        std::abs(hi) > kMaxCoordinateM)
+      throw InputError("command line", "--box",
+                       "corners must be finite coordinates within +-" +
+                           std::to_string(int(kMaxCoordinateM)) + " m");
+    if (!(hi > lo))
+      throw InputError("command line", "--box",
+                       std::string("the ") + "xyz"[a] + " extent " + std::to_string(hi - lo) +
+                           " m is not > 0 (give x0 y0 z0 x1 y1 z1 with x0 < x1, ...)");
+  }
+}
+
+/// The box's lattice points: per axis max(1, floor(extent / spacing)) points, centred.
+std::vector<glm::vec3> boxCandidates(const GridRequest& r) {
+  checkBox(r);
+  std::array<size_t, 3> n{};
+  std::array<double, 3> start{};
+  double total = 1.0;
+  for (int a = 0; a < 3; ++a) {
+    const double extent = double(r.boxMax[a]) - double(r.boxMin[a]);
+    n[size_t(a)] = size_t(std::max(1.0, std::floor(extent / r.spacingM)));
+    start[size_t(a)] = r.boxMin[a] + 0.5 * (extent - double(n[size_t(a)] - 1) * r.spacingM);
+    total *= double(n[size_t(a)]);
+  }
+  if (!(total <= double(kMaxGridCandidates)))
+    throw InputError("command line", "--spacing",
+                     std::to_string(r.spacingM) + " m gives more than " +
+                         std::to_string(kMaxGridCandidates) + " points in the box");
+  std::vector<glm::vec3> c;
+  for (size_t k = 0; k < n[1]; ++k)
+    for (size_t j = 0; j < n[2]; ++j)
+      for (size_t i = 0; i < n[0]; ++i)
+        c.emplace_back(float(start[0] + double(i) * r.spacingM),
+                       float(start[1] + double(k) * r.spacingM),
+                       float(start[2] + double(j) * r.spacingM));
+  return c;
+}
+
+}  // namespace
+
+std::string probeLayout(const GridRequest& request, bool list) {
+  if (list) return "list";
+  if (!request.box) return "grid";
+  std::ostringstream s;
+  s << "box";
+  for (const glm::vec3& v : {request.boxMin, request.boxMax}) s << ' ' << v.x << ' ' << v.y << ' ' << v.z;
+  return s.str();
+}
+
 ProbeGrid makeProbeGrid(const SceneDesc& scene, const GridRequest& request,
                         const std::string& sceneFile) {
   if (!(request.spacingM > 0.0) || !std::isfinite(request.spacingM))
     throw InputError("command line", "--spacing",
                      std::to_string(request.spacingM) + " m is not > 0");
+  if (request.box)
+    return placeProbes(scene, boxCandidates(request), request.radiusM, sceneFile, "--box");
   glm::vec3 lo(1e30f), hi(-1e30f);
   for (const glm::vec3& v : scene.mesh.vertices) {
     lo = glm::min(lo, v);

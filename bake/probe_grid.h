@@ -1,10 +1,13 @@
-// The probes of a bake: a horizontal grid over the static mesh's bounding box, or a list of
+// The probes of a bake: a horizontal grid over the static mesh's bounding box, a 3-D lattice
+// in a box (an audience area with raked seating, a balcony, a stairwell), or a list of
 // positions, kept where a listener can stand. Control thread; builds its own tracer (Embree) over the static mesh;
 // allocates; throws InputError naming the flag for a bad request.
 //
 // Grid: cell centres x = xmin + (i + 1/2) spacing, z = zmin + (j + 1/2) spacing over the
 // mesh's bounding box, at y = ymin + height (the floor is the lowest point of the mesh; y is
-// up as in the shipped scenes). Moving objects are not part of the test (they stand in their
+// up as in the shipped scenes). Box: along each axis n = max(1, floor(extent / spacing)) points
+// spaced `spacing` apart and centred in the box (a box thinner than the spacing gets one layer
+// in its middle). Moving objects are not part of the test (they stand in their
 // initial pose in the bake's traces, but probes are placed against the static mesh).
 // A candidate is skipped, and counted, when
 //   - outside: a direction of the setup check's Fibonacci sphere (engine/setup_check.h) escapes
@@ -34,9 +37,15 @@ inline constexpr size_t kMaxGridCandidates = 1'000'000;
 
 struct GridRequest {
   double spacingM = 1.0;  ///< grid spacing, metres, > 0
-  double heightM = 1.6;   ///< height above the floor, metres
+  double heightM = 1.6;   ///< height above the floor, metres (a box: unused, 0)
   float radiusM = 0.5f;   ///< probe (listener sphere) radius, metres
+  bool box = false;       ///< a 3-D lattice in [boxMin, boxMax] instead of the horizontal grid
+  glm::vec3 boxMin{0.f}, boxMax{0.f};  ///< the box's corners, metres (min < max per axis)
 };
+
+/// How the probes were laid out, for the bake file's probe_layout attribute: "grid", "list"
+/// or "box x0 y0 z0 x1 y1 z1" (metres).
+std::string probeLayout(const GridRequest& request, bool list);
 
 struct ProbeGrid {
   std::vector<glm::vec3> positions;  ///< the kept probes, metres, row-major (x fastest)
@@ -46,9 +55,11 @@ struct ProbeGrid {
   size_t nearSurface = 0;            ///< skipped: a surface within the radius
 };
 
-/// The grid of `request` over `scene`'s static mesh. Throws InputError("command line",
-/// "--spacing", ...) for spacing <= 0 or a grid of more than kMaxGridCandidates points, and
-/// (`sceneFile`, "--spacing/--height", ...) when no candidate is kept.
+/// The grid (or box lattice) of `request` over `scene`'s static mesh. Throws
+/// InputError("command line", "--spacing", ...) for spacing <= 0 or more than
+/// kMaxGridCandidates points, ("command line", "--box", ...) for a box that is not finite,
+/// within the scene limits and of positive extent on every axis, and (`sceneFile`,
+/// "--spacing/--height" or "--box", ...) when no candidate is kept.
 ProbeGrid makeProbeGrid(const SceneDesc& scene, const GridRequest& request,
                         const std::string& sceneFile);
 

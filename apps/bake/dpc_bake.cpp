@@ -1,7 +1,8 @@
 // dpc-bake: bakes a scene's acoustics at a grid of probes into an HDF5 file (docs/bake.md,
 // docs/bake-format.md), alone or as every rank of an Open MPI job.
 //
-//   dpc-bake SCENE.json --out BAKE.h5 --spacing M [--height M] [--map MAP.csv]
+//   dpc-bake SCENE.json --out BAKE.h5 --spacing M [--height M | --box X0 Y0 Z0 X1 Y1 Z1]
+//            [--map MAP.csv]
 //   dpc-bake --resume BAKE.h5 [SCENE.json] [--map MAP.csv]
 //   mpirun -np N dpc-bake ...   (the same file, bit for bit)
 //

@@ -11,7 +11,8 @@ namespace {
 
 constexpr const char* kDescription =
     "dpc-bake: bakes a scene's acoustics at a grid of probes into an HDF5 file.\n"
-    "  dpc-bake SCENE.json --out BAKE.h5 --spacing M [--height M] [--map MAP.csv]\n"
+    "  dpc-bake SCENE.json --out BAKE.h5 --spacing M [--height M | --box X0 Y0 Z0 X1 Y1 Z1]\n"
+    "           [--map MAP.csv]\n"
     "  dpc-bake --resume BAKE.h5 [SCENE.json] [--map MAP.csv]\n"
     "Under mpirun the probes are shared among the ranks; the file is the same for any number\n"
     "of ranks. The format: docs/bake-format.md. Exit status 0 on success, 1 on bad input or\n"
@@ -28,11 +29,18 @@ void addOptions(CLI::App& app, Options& o) {
       ->type_name("M");
   app.add_option("--height", o.grid.heightM, "Probe height above the floor, metres (default 1.6)")
       ->type_name("M");
+  app.add_option("--box", o.box,
+                 "Probes on a 3-D lattice of --spacing in this box instead of the horizontal "
+                 "grid: corners x0 y0 z0 x1 y1 z1, metres")
+      ->expected(6)
+      ->type_name("X0 Y0 Z0 X1 Y1 Z1")
+      ->excludes("--height");
   app.add_option("--probes", o.probes,
                  "Probe positions instead of a grid: a text file, one 'x y z' (metres) a line")
       ->type_name("FILE")
       ->excludes("--spacing")
-      ->excludes("--height");
+      ->excludes("--height")
+      ->excludes("--box");
   app.add_option("--rays", o.settings.rays,
                  "Rays per source and frame (default: the scene's rays_per_frame)")
       ->type_name("N");
@@ -63,6 +71,7 @@ void validate(const Options& o, const CLI::App& app) {
         "the probe spacing (or --probes) is required");
   check(fresh || o.probes.empty(), "--resume", "a resumed bake keeps its own probes");
   check(fresh || (app.count("--spacing") == 0 && app.count("--height") == 0 &&
+                  app.count("--box") == 0 &&
                   app.count("--rays") == 0 && app.count("--frames") == 0),
         "--resume", "a resumed bake keeps its own grid, rays and frames");
   check(std::isfinite(o.grid.spacingM) && o.grid.spacingM > 0.0, "--spacing",
@@ -95,6 +104,12 @@ bool parseOptions(int argc, char** argv, Options& o) {
     throw InputError("command line", "", e.what());
   }
   o.spacingGiven = app.count("--spacing") > 0;
+  if (!o.box.empty()) {
+    o.grid.box = true;
+    o.grid.heightM = 0.0;
+    o.grid.boxMin = glm::vec3(float(o.box[0]), float(o.box[1]), float(o.box[2]));
+    o.grid.boxMax = glm::vec3(float(o.box[3]), float(o.box[4]), float(o.box[5]));
+  }
   o.raysGiven = app.count("--rays") > 0;
   validate(o, app);
   return true;

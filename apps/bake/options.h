@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "bake/probe_bake.h"
 #include "bake/probe_grid.h"
@@ -21,6 +22,7 @@ struct Options {
   std::string resume;  ///< --resume BAKE.h5
   std::string map;     ///< --map MAP.csv: parameter map after the bake
   std::string probes;  ///< --probes LIST: probe positions instead of a grid
+  std::vector<double> box;  ///< --box x0 y0 z0 x1 y1 z1 (metres), empty for the horizontal grid
   GridRequest grid;
   bool spacingGiven = false;
   BakeSettings settings;

@@ -45,6 +45,14 @@ if /usr/bin/python3 -c 'import h5py' 2>/dev/null; then
     fail "read_bake.py"
 fi
 
+echo "== a box of probes: a 3-D lattice, its layout recorded"
+# The shoebox is 10 x 3 x 7 m (y up): 4 x 2 x 3 points at 1 m in this box.
+"$bake" "$scene" --out box.h5 --spacing 1 --box 3 0.5 2 7 2.5 5 --rays 300 --frames 4 \
+  --threads 1 --quiet
+complete box.h5 || fail "box bake not marked complete"
+h5dump -a /probe_layout box.h5 | grep -q '"box 3 0.5 2 7 2.5 5"' || fail "probe_layout"
+h5dump -a /grid_candidates box.h5 | grep -q '(0): 24' || fail "box candidates"
+
 echo "== bad input: one line, exit 1, nothing created or changed"
 listing() { find . -maxdepth 1 -type f ! -name err.txt -printf '%f %s %T@\n' | sort; }
 expect_refusal() {  # expect_refusal WORD ARGS...: exit 1, one line containing WORD
@@ -60,6 +68,10 @@ expect_refusal --spacing "$scene" --out keep.h5 --spacing 0
 expect_refusal --spacing "$scene" --out keep.h5 --spacing -1
 expect_refusal shoebox.json "$scene" --out keep.h5 --spacing 50
 expect_refusal --height "$scene" --out keep.h5 --spacing 1 --height 9
+expect_refusal --box "$scene" --out keep.h5 --spacing 1 --box 3 2 2 3 2.5 5
+expect_refusal --box "$scene" --out keep.h5 --spacing 1 --box 3 2 2 7 2.5
+expect_refusal --box "$scene" --out keep.h5 --spacing 1 --box 3 0.5 2 7 2.5 5 --height 1
+expect_refusal --box "$scene" --out keep.h5 --spacing 1 --box 30 20 20 40 25 25
 printf '5 1.6 3.5\n5 1.6\n' >list.txt
 expect_refusal "list.txt: line 2" "$scene" --out keep.h5 --probes list.txt
 head -c 3000 clean.h5 >truncated.h5

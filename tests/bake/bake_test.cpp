@@ -67,6 +67,60 @@ TEST_CASE("Bake grid: cell centres in a closed box, all kept", "[bake]") {
   CHECK(g.positions.back().z == Approx(6.5));
 }
 
+TEST_CASE("Bake box: a 3-D lattice centred in the box, layers in height, all inside it",
+          "[bake]") {
+  // The 10 x 3 x 7 m room, a box over its middle, 1 m spacing.
+  GridRequest r{1.0, 0.0, 0.5f};
+  r.box = true;
+  r.boxMin = {2.f, 0.9f, 1.5f};
+  r.boxMax = {8.f, 2.1f, 5.5f};
+  const ProbeGrid g = makeProbeGrid(shoebox(), r, "box.json");
+  // floor(6/1) x floor(1.2/1) x floor(4/1) = 6 x 1 x 4 points, each axis centred in the box.
+  CHECK(g.candidates == 24);
+  CHECK(g.positions.size() == 24);
+  CHECK(g.positions.front().x == Approx(2.5));
+  CHECK(g.positions.front().y == Approx(1.5));  // one layer: the box's middle
+  CHECK(g.positions.front().z == Approx(2.0));
+  CHECK(g.positions.back().x == Approx(7.5));
+  CHECK(g.positions.back().z == Approx(5.0));
+  // Two layers when the box is two spacings tall: y = 0.75 and 1.75 m.
+  r.boxMin.y = 0.25f;
+  r.boxMax.y = 2.25f;
+  const ProbeGrid tall = makeProbeGrid(shoebox(), r, "box.json");
+  CHECK(tall.candidates == 48);
+  CHECK(tall.positions.front().y == Approx(0.75));
+  CHECK(tall.positions.back().y == Approx(1.75));
+  CHECK(probeLayout(r, false) == "box 2 0.25 1.5 8 2.25 5.5");
+  // A box reaching outside the room keeps only the points inside, and counts the others.
+  r.boxMin = {-5.f, 1.f, 1.f};
+  r.boxMax = {5.f, 2.f, 6.f};
+  const ProbeGrid half = makeProbeGrid(shoebox(), r, "box.json");
+  CHECK(half.outside > 0);
+  CHECK(half.positions.size() + half.outside + half.insideGeometry + half.nearSurface ==
+        half.candidates);
+  for (const glm::vec3& p : half.positions) CHECK(p.x > 0.f);
+}
+
+TEST_CASE("Bake box: corners that are not a box name --box", "[bake]") {
+  GridRequest r{1.0, 0.0, 0.5f};
+  r.box = true;
+  const std::vector<std::pair<glm::vec3, glm::vec3>> bad = {
+      {{2, 1, 1}, {2, 2, 2}},                   // no x extent
+      {{2, 2, 1}, {3, 1, 2}},                   // y reversed
+      {{2, 1, 1}, {std::nanf(""), 2, 2}},       // NaN
+      {{2, 1, 1}, {3, 2, 2e7f}}};               // beyond the scene limits
+  for (const auto& [lo, hi] : bad) {
+    r.boxMin = lo;
+    r.boxMax = hi;
+    try {
+      makeProbeGrid(shoebox(), r, "box.json");
+      FAIL("no error");
+    } catch (const InputError& e) {
+      CHECK(e.field() == "--box");
+    }
+  }
+}
+
 TEST_CASE("Bake grid: probes inside a pillar and near its faces are skipped and counted",
           "[bake]") {
   const ProbeGrid g = makeProbeGrid(roomWithPillar(), GridRequest{1.0, 1.6, 0.5f}, "p.json");

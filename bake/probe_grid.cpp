@@ -82,10 +82,12 @@ void checkBox(const GridRequest& r) {
       throw InputError("command line", "--box",
                        "corners must be finite coordinates within +-" +
                            std::to_string(int(kMaxCoordinateM)) + " m");
-    if (!(hi > lo))
-      throw InputError("command line", "--box",
-                       std::string("the ") + "xyz"[a] + " extent " + std::to_string(hi - lo) +
-                           " m is not > 0 (give x0 y0 z0 x1 y1 z1 with x0 < x1, ...)");
+    if (!(hi > lo)) {
+      std::ostringstream m;
+      m << "the " << "xyz"[a] << " extent " << hi - lo
+        << " m is not > 0 (give x0 y0 z0 x1 y1 z1 with x0 < x1, ...)";
+      throw InputError("command line", "--box", m.str());
+    }
   }
 }
 

@@ -137,9 +137,8 @@ NonUniformConvolver::NonUniformConvolver(const NonUniformLayout& layout, int num
     const size_t n = size_t(lv.partitionSize);
     const size_t spec = lv.fft->spectrumFloats();
     for (int s = 0; s < numSources; ++s) {
-      st.input.push_back(allocZeroed(2 * n));
+      for (auto& buffers : st.input) buffers.push_back(allocZeroed(2 * n));
       st.fdl.push_back(allocZeroed(size_t(lv.numPartitions) * spec));
-      if (lv.period > 1) st.staging.push_back(allocZeroed(2 * n));
     }
     for (int c = 0; c < numOutputs; ++c) {
       st.acc.push_back(allocZeroed(2 * spec));
@@ -192,25 +191,36 @@ bool NonUniformConvolver::swapping() const {
   return false;
 }
 
-void NonUniformConvolver::macRange(LevelState& st, int level, const NonUniformIrSet* ir,
-                                   float* const* acc, int begin, int end) {
+void NonUniformConvolver::macSource(const LevelState& st, int level, const NonUniformIrSet* ir,
+                                    float* const* acc, int s, int begin, int end) const {
   const NonUniformLayout::Level& lv = layout_->level(level);
   const size_t stride = lv.fft->binStride();
   const size_t spec = lv.fft->spectrumFloats();
   const int numPartitions = lv.numPartitions;
-  for (int s = 0; s < numSources_; ++s) {
-    const int stop = std::min(end, ir->activePartitions(s, level));
-    const float* fdl = st.fdl[size_t(s)].get();
-    for (int p = begin; p < stop; ++p) {
-      // X from p chunks ago sits in slot (head + p) mod P.
-      int slot = st.head + p;
-      if (slot >= numPartitions) slot -= numPartitions;
-      const float* x = fdl + size_t(slot) * spec;
-      for (int c = 0; c < numOutputs_; ++c) {
-        const float* h = ir->spectrum(level, s, c, p);
-        detail::multiplyAccumulate(acc[c], acc[c] + stride, x, x + stride, h, h + stride, stride);
-      }
+  const int stop = std::min(end, ir->activePartitions(s, level));
+  const float* fdl = st.fdl[size_t(s)].get();
+  for (int p = begin; p < stop; ++p) {
+    // X from p chunks ago sits in slot (head + p) mod P.
+    int slot = st.head + p;
+    if (slot >= numPartitions) slot -= numPartitions;
+    const float* x = fdl + size_t(slot) * spec;
+    for (int c = 0; c < numOutputs_; ++c) {
+      const float* h = ir->spectrum(level, s, c, p);
+      detail::multiplyAccumulate(acc[c], acc[c] + stride, x, x + stride, h, h + stride, stride);
     }
+  }
+}
+
+void NonUniformConvolver::accumulate(int level, LevelState& st, int s, int begin, int end,
+                                     bool crossfade) {
+  const size_t spec = layout_->level(level).fft->spectrumFloats();
+  if (st.cur) {
+    for (int c = 0; c < numOutputs_; ++c) accPtrs_[size_t(c)] = st.acc[size_t(c)].get();
+    macSource(st, level, st.cur, accPtrs_.data(), s, begin, end);
+  }
+  if (crossfade && st.next) {
+    for (int c = 0; c < numOutputs_; ++c) accPtrs_[size_t(c)] = st.acc[size_t(c)].get() + spec;
+    macSource(st, level, st.next, accPtrs_.data(), s, begin, end);
   }
 }
 
@@ -231,17 +241,23 @@ void NonUniformConvolver::processLevel(int l, const float* const* in, float* con
   const int step = inPos + 1 == m ? 0 : inPos + 1;  // callback index within the chunk's work
 
   for (int s = 0; s < numSources_; ++s)
-    std::memcpy(st.input[size_t(s)].get() + size_t(lv.partitionSize) + size_t(inPos) * ub, in[s],
-                ub * sizeof(float));
+    std::memcpy(st.input[st.filling][size_t(s)].get() + size_t(lv.partitionSize) +
+                    size_t(inPos) * ub,
+                in[s], ub * sizeof(float));
   if (step == 0) startChunk(lv, st);
-  if (m > 1 && step < m - 1) {
-    // Sources whose forward FFT falls in this callback: s with s (m - 1) / S == step.
-    for (int s = 0; s < numSources_; ++s)
-      if (int(int64_t(s) * (m - 1) / numSources_) == step)
-        lv.fft->forward(st.staging[size_t(s)].get(),
-                        st.fdl[size_t(s)].get() + size_t(st.head) * lv.fft->spectrumFloats());
-  }
   const bool crossfade = st.next != st.cur;
+  // Sources whose forward FFT falls in this callback: s with s m / S == step. Each source's
+  // newest partition (0) multiplies its spectrum as soon as it exists.
+  const size_t n = size_t(lv.partitionSize);
+  const int ready = 1 - st.filling;
+  for (int s = int((int64_t(step) * numSources_ + m - 1) / m);
+       s < numSources_ && int(int64_t(s) * m / numSources_) == step; ++s) {
+    const float* window = st.input[size_t(ready)][size_t(s)].get();
+    lv.fft->forward(window, st.fdl[size_t(s)].get() + size_t(st.head) * lv.fft->spectrumFloats());
+    // The chunk just transformed is the first half of the next chunk's window.
+    std::memcpy(st.input[size_t(st.filling)][size_t(s)].get(), window + n, n * sizeof(float));
+    accumulate(l, st, s, 0, 1, crossfade);
+  }
   accumulateShare(l, st, step, crossfade);
   if (step == m - 1) finishChunk(lv, st, crossfade);
 
@@ -255,51 +271,32 @@ void NonUniformConvolver::processLevel(int l, const float* const* in, float* con
 }
 
 void NonUniformConvolver::startChunk(const NonUniformLayout::Level& lv, LevelState& st) {
-  // A chunk is complete. Level 0 transforms it now; longer levels keep a copy and transform
-  // one source after another over the chunk's first m - 1 callbacks.
-  const size_t n = size_t(lv.partitionSize);
-  const size_t spec = lv.fft->spectrumFloats();
+  // A chunk is complete: its window (the previous chunk and this one) stays in its input
+  // buffer while the next chunk fills the other one; the sources' forward FFTs spread over the
+  // chunk's m callbacks (processLevel).
+  st.filling = 1 - st.filling;
   st.head = st.head == 0 ? lv.numPartitions - 1 : st.head - 1;
-  for (int s = 0; s < numSources_; ++s) {
-    float* input = st.input[size_t(s)].get();
-    if (lv.period == 1)
-      lv.fft->forward(input, st.fdl[size_t(s)].get() + size_t(st.head) * spec);
-    else
-      std::memcpy(st.staging[size_t(s)].get(), input, 2 * n * sizeof(float));
-    std::memcpy(input, input + n, n * sizeof(float));
-  }
   st.next = target_;  // the chunk's IR: the newest now
+  const size_t spec = lv.fft->spectrumFloats();
   for (int c = 0; c < numOutputs_; ++c)
     std::fill(st.acc[size_t(c)].get(), st.acc[size_t(c)].get() + 2 * spec, 0.0f);
 }
 
 void NonUniformConvolver::accumulateShare(int l, LevelState& st, int step, bool crossfade) {
-  // This callback's share of the partitions: level 0 all of them; longer levels spread
-  // partitions 1..P-1 (older input, already transformed) over the first m - 1 callbacks and
-  // do partition 0 (the chunk just transformed) in the last, with the inverse FFTs.
+  // This callback's share of the older partitions 1..P-1 (input already transformed): their
+  // (source, partition) pairs spread evenly over the chunk's m callbacks, so that no callback
+  // does a whole partition of every source (level 0: all of them, every callback).
   const NonUniformLayout::Level& lv = layout_->level(l);
   const int m = lv.period;
-  int begin, end;
-  if (m == 1) {
-    begin = 0;
-    end = lv.numPartitions;
-  } else if (step == m - 1) {
-    begin = 0;
-    end = 1;
-  } else {
-    const int rest = lv.numPartitions - 1;
-    begin = 1 + int(int64_t(step) * rest / (m - 1));
-    end = 1 + int(int64_t(step + 1) * rest / (m - 1));
-  }
-  if (begin >= end) return;
-  const size_t spec = lv.fft->spectrumFloats();
-  if (st.cur) {
-    for (int c = 0; c < numOutputs_; ++c) accPtrs_[size_t(c)] = st.acc[size_t(c)].get();
-    macRange(st, l, st.cur, accPtrs_.data(), begin, end);
-  }
-  if (crossfade && st.next) {
-    for (int c = 0; c < numOutputs_; ++c) accPtrs_[size_t(c)] = st.acc[size_t(c)].get() + spec;
-    macRange(st, l, st.next, accPtrs_.data(), begin, end);
+  const int older = lv.numPartitions - 1;
+  const int64_t units = int64_t(numSources_) * older;
+  const int64_t begin = units * step / m, end = units * (step + 1) / m;
+  for (int64_t u = begin; u < end;) {
+    const int s = int(u / older);
+    const int p = 1 + int(u % older);
+    const int stop = p + int(std::min<int64_t>(end - u, older - (p - 1)));
+    accumulate(l, st, s, p, stop, crossfade);
+    u += stop - p;
   }
 }
 

@@ -15,10 +15,11 @@
 // o_l = 2 N_l - 2 B, so level l covers [o_l, o_{l+1}) with 2 (N_{l+1} - N_l) / N_l partitions
 // (6 when the size quadruples); the last level covers the rest of the IR. Level l's work for
 // one N_l-sample input chunk is spread over the m_l = N_l / B callbacks after the chunk is
-// complete: the forward FFTs of the sources spread over callbacks 0..m-2 (source s in callback
-// s (m - 1) / S), the spectral multiply-accumulate (MAC) of partitions 1..P-1 (older input
-// spectra) spread over the same callbacks, and partition 0 with the inverse FFTs in the last
-// (callback m_l - 1), whose output chunk starts playing in that same callback. That is exactly
+// complete: the forward FFTs of the sources spread over the m callbacks (source s in callback
+// s m / S), each followed by the spectral multiply-accumulate (MAC) of that source's partition
+// 0; the MACs of partitions 1..P-1 (older input spectra) as (source, partition) pairs spread
+// evenly over the same callbacks; the inverse FFTs in the last (callback m_l - 1),
+// whose output chunk starts playing in that same callback. That is exactly
 // when the IR offset o_l needs it, so the convolution adds no latency: output block k depends
 // on input up to block k (as the uniform convolver, docs/live.md).
 //
@@ -42,6 +43,7 @@
 // allocation, locks, logging, exceptions or system calls.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -159,9 +161,12 @@ class NonUniformConvolver {
 
  private:
   struct LevelState {
-    std::vector<detail::FftwBuffer> input;    ///< per source: 2 N floats [previous | filling]
-    std::vector<detail::FftwBuffer> fdl;      ///< per source: P spectra ring
-    std::vector<detail::FftwBuffer> staging;  ///< per source (m > 1): the chunk to transform
+    /// Two windows per source, 2 N floats each, [previous chunk | chunk]: input[filling]
+    /// receives the blocks of the chunk being filled, the other holds the complete chunk's
+    /// window until its forward FFT.
+    std::array<std::vector<detail::FftwBuffer>, 2> input;
+    int filling = 0;
+    std::vector<detail::FftwBuffer> fdl;  ///< per source: P spectra ring
     std::vector<detail::FftwBuffer> acc;      ///< per output: 2 spectra (old IR, new IR)
     std::vector<detail::FftwBuffer> out;      ///< per output: N samples being played
     detail::FftwBuffer time;                  ///< 2 N floats: inverse FFT scratch (old, new)
@@ -175,15 +180,19 @@ class NonUniformConvolver {
   /// One level's work in this callback: stage the input block, start, accumulate and finish
   /// the level's chunk as its schedule says, and add the level's output block.
   void processLevel(int level, const float* const* in, float* const* out);
-  /// A chunk of the level's input is complete: transform it (level 0) or stage it.
+  /// A chunk of the level's input is complete: switch input windows, take the newest IR.
   void startChunk(const NonUniformLayout::Level& lv, LevelState& st);
   /// Multiply-accumulates this callback's share of the level's partitions (both IRs while
   /// crossfading).
   void accumulateShare(int level, LevelState& st, int step, bool crossfade);
   /// Inverse transforms of the finished chunk, crossfaded over it when the IR changed.
   void finishChunk(const NonUniformLayout::Level& lv, LevelState& st, bool crossfade);
-  void macRange(LevelState& st, int level, const NonUniformIrSet* ir, float* const* acc, int begin,
-                int end);
+  /// Source s's partitions [begin, end) of ir (those it holds) into acc (one per output).
+  void macSource(const LevelState& st, int level, const NonUniformIrSet* ir, float* const* acc,
+                 int s, int begin, int end) const;
+  /// macSource into the level's accumulators: the current IR's, and the next IR's while
+  /// crossfading.
+  void accumulate(int level, LevelState& st, int s, int begin, int end, bool crossfade);
 
   const NonUniformLayout* layout_;
   int numSources_, numOutputs_;

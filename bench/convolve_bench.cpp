@@ -13,6 +13,7 @@
 #include <sched.h>
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
@@ -48,9 +49,13 @@ double threadCpuSeconds() {
 }
 
 struct Case {
+  const char* id;    ///< short name for --cases
   const char* name;
   int sources, channels;
   double irSeconds;
+  /// Source s's IRs are silent before its onset, onsetMaxSeconds (s + 0.5) / sources: the
+  /// direct sound's delay of sources spread over distances, as hybrid rendering's early parts.
+  double onsetMaxSeconds = 0.0;
 };
 
 /// Signals shared by every convolver of a case: dry inputs and two IR variants (for swaps).
@@ -74,11 +79,14 @@ CaseData makeData(const Case& cs, int block, const ConvolveOptions& o) {
     d.input.emplace_back(d.blocks * size_t(block));
     for (float& v : d.input.back()) v = 0.1f * noise(rng);
   }
-  // Decaying noise (60 dB over the IR: a reverberation tail), different per variant.
+  // Decaying noise (60 dB over the IR: a reverberation tail), different per variant, from
+  // the source's onset on.
   for (auto& variant : d.irs)
     for (int i = 0; i < cs.sources * cs.channels; ++i) {
-      variant.emplace_back(d.irSamples);
-      for (size_t n = 0; n < d.irSamples; ++n)
+      const double onset = cs.onsetMaxSeconds * (i / cs.channels + 0.5) / cs.sources;
+      const size_t first = std::min(d.irSamples, size_t(std::lround(onset * o.sampleRate)));
+      variant.emplace_back(d.irSamples, 0.0f);
+      for (size_t n = first; n < d.irSamples; ++n)
         variant.back()[n] = 0.05f * noise(rng) * std::exp(-6.9f * float(n) / float(d.irSamples));
     }
   return d;
@@ -280,6 +288,8 @@ void runCase(const Case& cs, int block, const ConvolveOptions& o, json& list) {
   for (int swapping = 0; swapping < 2; ++swapping) {
     json c;
     c["name"] = cs.name;
+    c["id"] = cs.id;
+    c["onset_max_seconds"] = cs.onsetMaxSeconds;
     c["block"] = block;
     c["sources"] = cs.sources;
     c["channels"] = cs.channels;
@@ -304,10 +314,14 @@ void runCase(const Case& cs, int block, const ConvolveOptions& o, json& list) {
 }  // namespace
 
 int benchConvolve(const ConvolveOptions& o) {
-  const Case cases[] = {{"mono 2 s", 1, 1, 2.0},
-                        {"stereo 2 s", 1, 2, 2.0},
-                        {"2 sources x 3 s", 2, 2, 3.0},
-                        {"16 sources x 2 s", 16, 2, 2.0}};
+  // hybrid64: the market's hybrid rendering per source (64 mono early parts of 0.228 s, each
+  // from its direct sound's delay, 3 to 117 ms); late4: its four late buses of 2 s.
+  const Case cases[] = {{"mono", "mono 2 s", 1, 1, 2.0},
+                        {"stereo", "stereo 2 s", 1, 2, 2.0},
+                        {"2x3", "2 sources x 3 s", 2, 2, 3.0},
+                        {"16x2", "16 sources x 2 s", 16, 2, 2.0},
+                        {"hybrid64", "64 early parts x 0.228 s", 64, 1, 0.228, 0.12},
+                        {"late4", "4 late buses x 2 s", 4, 1, 2.0}};
   json out;
   out["benchmark"] = "convolve";
   out["sample_rate"] = o.sampleRate;
@@ -324,7 +338,10 @@ int benchConvolve(const ConvolveOptions& o) {
 #endif
   json list = json::array();
   for (int block : o.blocks)
-    for (const Case& cs : cases) runCase(cs, block, o, list);
+    for (const Case& cs : cases)
+      if (o.cases.empty() ||
+          std::find(o.cases.begin(), o.cases.end(), std::string(cs.id)) != o.cases.end())
+        runCase(cs, block, o, list);
   out["cases"] = list;
   std::printf("%s\n", out.dump(2).c_str());
   return 0;

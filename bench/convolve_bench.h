@@ -13,6 +13,7 @@ struct ConvolveOptions {
   double swapIntervalMs = 66.0;                   ///< IR swap period of the swapping runs
   int sampleRate = 48000;
   bool uniform = true;  ///< also time the uniformly partitioned convolver (no swaps)
+  std::vector<std::string> cases;  ///< case ids to run (empty: all)
 };
 
 /// Prints the JSON report on stdout; returns the process exit code.

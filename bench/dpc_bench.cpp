@@ -14,7 +14,7 @@
 //   dpc-bench live SCENE [--rays N] [--duration S] [--block-size B] [--frame-rate F]
 //                        [--threads T] [--device SPEC]
 //   dpc-bench budget SCENE|room-4x3x2.5 [--rays-list N ...]
-//   dpc-bench convolve [--blocks B ...] [--seconds S] [--swap-ms M] [--no-uniform]
+//   dpc-bench convolve [--blocks B ...] [--seconds S] [--swap-ms M] [--no-uniform] [--cases C,...]
 //   dpc-bench load [--cells 25,50,...] [--panels P]   (generated terrains; no file)
 //
 // One file per benchmark family (bench/<family>_bench.h); this file holds the command line.
@@ -164,6 +164,11 @@ CLI::App* addConvolve(CLI::App& app, Options& o) {
   sub->add_option("--swap-ms", o.convolve.swapIntervalMs, "IR swap interval, ms (default 66)")
       ->check(CLI::Range(0.1, 10000.0));
   sub->add_flag("!--no-uniform", o.convolve.uniform, "Skip the uniform convolver");
+  sub->add_option("--cases", o.convolve.cases,
+                  "Comma-separated cases to run: mono, stereo, 2x3, 16x2, hybrid64 (64 sources' "
+                  "early parts of 0.228 s), late4 (4 late buses of 2 s); default all")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"mono", "stereo", "2x3", "16x2", "hybrid64", "late4"}));
   return sub;
 }
 

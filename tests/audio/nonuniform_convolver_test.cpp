@@ -201,7 +201,10 @@ TEST_CASE("Non-uniform convolution equals direct convolution, with IR swaps", "[
                              {16, 256, 1, 2, 3001, false},  {16, 1024, 3, 2, 5003, true},
                              {64, 4096, 2, 2, 6007, true},  {100, 1600, 1, 1, 4999, true},
                              {128, 8192, 2, 2, 5555, true}, {37, 37, 1, 1, 1001, true},
-                             {256, 8192, 1, 2, 9001, true}, {512, 8192, 2, 1, 20011, true}};
+                             {256, 8192, 1, 2, 9001, true}, {512, 8192, 2, 1, 20011, true},
+                             // More sources than callbacks per chunk at the short levels, fewer
+                             // at the long ones: the sources' transforms share callbacks.
+                             {16, 256, 7, 1, 1500, true}};
   for (const Case& cs : cases) {
     NonUniformLayout layout(cs.block, cs.irLength, cs.maxPartition);
     // Three IRs of different lengths (the last shorter than the layout: unused partitions).

@@ -75,6 +75,7 @@ NonUniformIrSet::NonUniformIrSet(const NonUniformLayout& layout, int numSources,
     maxN = std::max(maxN, size_t(lv.partitionSize));
   }
   active_.assign(size_t(numSources) * size_t(layout.numLevels()), 0);
+  first_.assign(active_.size(), 0);
   time_ = allocZeroed(2 * maxN);
 }
 
@@ -85,6 +86,21 @@ const float* NonUniformIrSet::spectrum(int level, int source, int channel, int p
       size_t(p);
   return data_[size_t(level)].get() + index * lv.fft->spectrumFloats();
 }
+
+namespace {
+/// The first of level lv's `active` partitions in which some channel of irs (n samples each) is
+/// not silent; `active` when all are.
+int firstSounding(const NonUniformLayout::Level& lv, int active, const float* const* irs,
+                  int numChannels, size_t n) {
+  const size_t len = size_t(lv.partitionSize);
+  for (int p = 0; p < active; ++p) {
+    const size_t begin = lv.offset + size_t(p) * len, end = std::min(n, begin + len);
+    for (int c = 0; c < numChannels; ++c)
+      if (std::any_of(irs[c] + begin, irs[c] + end, [](float v) { return v != 0.0f; })) return p;
+  }
+  return active;
+}
+}  // namespace
 
 void NonUniformIrSet::prepare(int source, const float* const* irs, size_t n) {
   if (source < 0 || source >= numSources_)
@@ -117,23 +133,42 @@ void NonUniformIrSet::prepare(int source, const float* const* irs, size_t n) {
         }
       }
     }
-    active_[size_t(source) * size_t(layout_->numLevels()) + size_t(l)] = active;
+    const size_t at = size_t(source) * size_t(layout_->numLevels()) + size_t(l);
+    active_[at] = active;
+    first_[at] = firstSounding(lv, active, irs, numChannels_, n);
   }
 }
 
 // ---------------------------------------------------------------------------------------------
 
+namespace {
+/// The block residue (mod m) in which level l >= 1 of phase slot `slot` does its last callback:
+/// level 1 at slot (mod 4); level l >= 2 at 2 + (i mod 2) + 4 (i / 2 mod 4), i = 2 (l - 2) +
+/// slot: residues 2, 3 mod 4 (never level 1's), distinct mod 16 up to level 5.
+int finishingResidue(int level, int slot) {
+  if (level == 1) return slot;
+  const int i = 2 * (level - 2) + slot;
+  return 2 + i % 2 + 4 * ((i / 2) % 4);
+}
+}  // namespace
+
 NonUniformConvolver::NonUniformConvolver(const NonUniformLayout& layout, int numSources,
-                                         int numOutputs)
+                                         int numOutputs, int phaseSlot)
     : layout_(&layout), numSources_(numSources), numOutputs_(numOutputs) {
   if (numSources <= 0 || numOutputs <= 0)
     throw std::invalid_argument("NonUniformConvolver: numSources " + std::to_string(numSources) +
                                 " and numOutputs " + std::to_string(numOutputs) +
                                 " must be positive");
+  if (phaseSlot < 0 || phaseSlot >= kPhaseSlots)
+    throw std::invalid_argument("NonUniformConvolver: phaseSlot " + std::to_string(phaseSlot) +
+                                " outside 0.." + std::to_string(kPhaseSlots - 1));
   levels_.resize(size_t(layout.numLevels()));
   for (int l = 0; l < layout.numLevels(); ++l) {
     const NonUniformLayout::Level& lv = layout.level(l);
     LevelState& st = levels_[size_t(l)];
+    // Last callback where block + phase = m - 2 (mod m), i.e. at block = residue (mod m).
+    const int m = lv.period;
+    if (l > 0 && m > 1) st.phase = ((m - 2 - finishingResidue(l, phaseSlot)) % m + m) % m;
     const size_t n = size_t(lv.partitionSize);
     const size_t spec = lv.fft->spectrumFloats();
     for (int s = 0; s < numSources; ++s) {
@@ -197,9 +232,11 @@ void NonUniformConvolver::macSource(const LevelState& st, int level, const NonUn
   const size_t stride = lv.fft->binStride();
   const size_t spec = lv.fft->spectrumFloats();
   const int numPartitions = lv.numPartitions;
+  // Partitions before the first sounding one (a distant source's direct-sound delay) and after
+  // the last add nothing.
   const int stop = std::min(end, ir->activePartitions(s, level));
   const float* fdl = st.fdl[size_t(s)].get();
-  for (int p = begin; p < stop; ++p) {
+  for (int p = std::max(begin, ir->firstSoundingPartition(s, level)); p < stop; ++p) {
     // X from p chunks ago sits in slot (head + p) mod P.
     int slot = st.head + p;
     if (slot >= numPartitions) slot -= numPartitions;
@@ -237,13 +274,13 @@ void NonUniformConvolver::processLevel(int l, const float* const* in, float* con
   LevelState& st = levels_[size_t(l)];
   const int m = lv.period;
   const size_t ub = size_t(layout_->blockSize());
-  const int inPos = int(block_ % uint64_t(m));
+  const int inPos = int((block_ + uint64_t(st.phase)) % uint64_t(m));
   const int step = inPos + 1 == m ? 0 : inPos + 1;  // callback index within the chunk's work
 
   for (int s = 0; s < numSources_; ++s)
-    std::memcpy(st.input[st.filling][size_t(s)].get() + size_t(lv.partitionSize) +
-                    size_t(inPos) * ub,
-                in[s], ub * sizeof(float));
+    std::memcpy(
+        st.input[st.filling][size_t(s)].get() + size_t(lv.partitionSize) + size_t(inPos) * ub,
+        in[s], ub * sizeof(float));
   if (step == 0) startChunk(lv, st);
   const bool crossfade = st.next != st.cur;
   // Sources whose forward FFT falls in this callback: s with s m / S == step. Each source's

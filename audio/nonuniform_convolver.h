@@ -27,6 +27,16 @@
 // output channel into one spectrum, so the inverse FFTs are one per output channel and level
 // (two while that level crossfades), not one per source.
 //
+// Staggered levels: a level's heaviest callback is the last of its chunk (its inverse FFTs).
+// Level l's chunks are offset by a phase of phi_l blocks (its chunk boundaries fall where
+// block + phi_l is a multiple of m_l) so that the last callbacks of different levels, and of
+// the levels of a second convolver in the same audio callback (phaseSlot 1: hybrid rendering's
+// late buses beside the early parts), never coincide at the usual level counts: level 1
+// finishes at blocks = slot (mod 4), level l >= 2 at a residue mod 16 that is 2 or 3 mod 4 and
+// distinct per (level, slot) up to level 5 (kStaggeredLevels). The convolution is
+// time-invariant in blocks, so a phase changes when a level's work happens, not its result:
+// the input before the first block is zero, as the buffers start.
+//
 // IR swap: the IR set is swapped for all sources at once. Each level takes the newest IR when
 // it starts a chunk (the chunk's first callback above); if that differs from the IR of its
 // previous chunk, the chunk is computed with both from the same FDL (both are steady-state
@@ -114,6 +124,11 @@ class NonUniformIrSet {
   int activePartitions(int source, int level) const {
     return active_[size_t(source) * size_t(layout_->numLevels()) + size_t(level)];
   }
+  /// The first partition of level l in which some channel of source s's IR is not silent
+  /// (activePartitions when none is); the partitions before it are skipped.
+  int firstSoundingPartition(int source, int level) const {
+    return first_[size_t(source) * size_t(layout_->numLevels()) + size_t(level)];
+  }
   /// Split spectrum of partition p of level l, source s, channel c.
   const float* spectrum(int level, int source, int channel, int p) const;
 
@@ -122,6 +137,7 @@ class NonUniformIrSet {
   int numSources_, numChannels_;
   std::vector<detail::FftwBuffer> data_;  ///< per level: sources x channels x P_l spectra
   std::vector<int> active_;
+  std::vector<int> first_;   ///< per source and level: firstSoundingPartition
   detail::FftwBuffer time_;  ///< scratch, 2 N_max floats
 };
 
@@ -133,9 +149,17 @@ class NonUniformConvolver {
   /// Retired sets held until takeRetired().
   static constexpr int kRetiredCapacity = 32;
 
-  /// Control thread. Allocates all the memory it will use. Throws std::invalid_argument on
-  /// non-positive counts.
-  NonUniformConvolver(const NonUniformLayout& layout, int numSources, int numOutputs);
+  /// Convolvers whose levels' last callbacks are kept apart (phaseSlot 0..kPhaseSlots-1).
+  static constexpr int kPhaseSlots = 2;
+  /// Levels 1..kStaggeredLevels never finish in the same callback as another of them (of
+  /// either slot); deeper levels may.
+  static constexpr int kStaggeredLevels = 5;
+
+  /// phaseSlot in 0..kPhaseSlots-1: which of the convolvers run in one audio callback this is
+  /// (see "Staggered levels"). Control thread. Allocates all the memory it will use. Throws
+  /// std::invalid_argument on non-positive counts or a phase slot out of range.
+  NonUniformConvolver(const NonUniformLayout& layout, int numSources, int numOutputs,
+                      int phaseSlot = 0);
 
   /// Makes ir (or nullptr) the newest IR set; each level takes it at its next chunk (level 0:
   /// the next block). A set replaced before any level took it is retired. Returns false and
@@ -155,6 +179,9 @@ class NonUniformConvolver {
   /// True while some level still uses an older set than the newest (a swap in progress).
   bool swapping() const;
   const NonUniformIrSet* newestIr() const { return target_; }
+  /// phi_l: level l's chunks complete in the blocks k (counted from 0 at the first process())
+  /// with k + phi_l = -1 (mod m_l), its last callback is k + phi_l = m_l - 2 (mod m_l).
+  int levelPhase(int level) const { return levels_[size_t(level)].phase; }
   int numSources() const { return numSources_; }
   int numOutputs() const { return numOutputs_; }
   const NonUniformLayout& layout() const { return *layout_; }
@@ -167,11 +194,12 @@ class NonUniformConvolver {
     std::array<std::vector<detail::FftwBuffer>, 2> input;
     int filling = 0;
     std::vector<detail::FftwBuffer> fdl;  ///< per source: P spectra ring
-    std::vector<detail::FftwBuffer> acc;      ///< per output: 2 spectra (old IR, new IR)
-    std::vector<detail::FftwBuffer> out;      ///< per output: N samples being played
-    detail::FftwBuffer time;                  ///< 2 N floats: inverse FFT scratch (old, new)
+    std::vector<detail::FftwBuffer> acc;  ///< per output: 2 spectra (old IR, new IR)
+    std::vector<detail::FftwBuffer> out;  ///< per output: N samples being played
+    detail::FftwBuffer time;              ///< 2 N floats: inverse FFT scratch (old, new)
     detail::FftwBuffer time2;
     int head = 0;                           ///< FDL slot of the newest chunk spectrum
+    int phase = 0;                          ///< phi_l in 0..m_l-1 (see "Staggered levels")
     const NonUniformIrSet* cur = nullptr;   ///< IR of the previous chunk
     const NonUniformIrSet* next = nullptr;  ///< IR of the chunk being computed
   };

@@ -20,8 +20,9 @@ AudioStage::AudioStage(std::shared_ptr<const audio::NonUniformLayout> layout,
   tail_.assign(dry_->samples.size() * size_t(layout_->blockSize()), 0.f);
   in_.assign(dry_->samples.size(), nullptr);
   if (lateLayout_ && lateBuses > 0) {
+    // Phase slot 1: its levels' inverse FFTs fall in other callbacks than the early parts'.
     lateConvolver_ =
-        std::make_unique<audio::NonUniformConvolver>(*lateLayout_, lateBuses, numOutputs);
+        std::make_unique<audio::NonUniformConvolver>(*lateLayout_, lateBuses, numOutputs, 1);
     lateMixer_ = std::make_unique<audio::LateBusMixer>(int(dry_->samples.size()), lateBuses,
                                                        layout_->blockSize());
   }
@@ -40,10 +41,10 @@ AudioStage::AudioStage(const PropagationStage& propagation, std::shared_ptr<cons
     throw InputError(scene.path, "audio.hrtf", e.what());
   }
   const size_t B = size_t(layout_->blockSize());
-  head_ = std::make_unique<audio::HeadTrackedBinaural>(scene.audio.ambisonicOrder, *hrtf,
-                                                       int(B));
+  head_ = std::make_unique<audio::HeadTrackedBinaural>(scene.audio.ambisonicOrder, *hrtf, int(B));
   ambisonic_.assign(size_t(numOutputs_) * B, 0.f);
-  for (int c = 0; c < numOutputs_; ++c) ambisonicChannels_.push_back(ambisonic_.data() + size_t(c) * B);
+  for (int c = 0; c < numOutputs_; ++c)
+    ambisonicChannels_.push_back(ambisonic_.data() + size_t(c) * B);
 }
 
 AudioStage::~AudioStage() = default;
@@ -55,8 +56,7 @@ void AudioStage::setHeadOrientation(const Orientation& head) {
     return;
   headOrientation_ = head;
   const Orientation reference{};
-  const glm::vec3 rf = reference.forward(), ru = reference.up(), f = head.forward(),
-                  u = head.up();
+  const glm::vec3 rf = reference.forward(), ru = reference.up(), f = head.forward(), u = head.up();
   const float refForward[3] = {rf.x, rf.y, rf.z}, refUp[3] = {ru.x, ru.y, ru.z},
               forward[3] = {f.x, f.y, f.z}, up[3] = {u.x, u.y, u.z};
   head_->setRotation(audio::headRotation(refForward, refUp, forward, up));

@@ -53,7 +53,7 @@ struct Event {
 /// *worstSample receives the largest single-sample error divided by the reference's RMS.
 double runAndCompare(const NonUniformLayout& layout, const std::vector<std::vector<Signal>>& irs,
                      int numSources, int numOutputs, const std::vector<Event>& events,
-                     size_t numBlocks, std::mt19937& rng, double* worstSample) {
+                     size_t numBlocks, int phaseSlot, std::mt19937& rng, double* worstSample) {
   const size_t b = size_t(layout.blockSize());
   const size_t total = numBlocks * b;
   // One set per event (the owner never lends a set twice before it comes back), holding
@@ -72,7 +72,7 @@ double runAndCompare(const NonUniformLayout& layout, const std::vector<std::vect
   std::vector<Signal> x;
   for (int s = 0; s < numSources; ++s) x.push_back(randomSignal(rng, total));
 
-  NonUniformConvolver conv(layout, numSources, numOutputs);
+  NonUniformConvolver conv(layout, numSources, numOutputs, phaseSlot);
   std::vector<Signal> out(size_t(numOutputs), Signal(total, 0.0f));
   std::vector<char> atHome(sets.size(), 1);
   std::vector<const float*> in(static_cast<size_t>(numSources), nullptr);
@@ -119,12 +119,14 @@ double runAndCompare(const NonUniformLayout& layout, const std::vector<std::vect
           for (size_t t = 0; t < total; ++t) seg[i][t] += y[t];
         }
       }
-      const long long m = lv.period;
+      // The level's chunks are shifted by its phase: local block k + phi (header).
+      const long long m = lv.period, phase = conv.levelPhase(l);
       for (size_t t = begin; t < total; ++t) {
-        const long long chunk = (long long)((t - begin) / n);
-        const size_t pos = (t - begin) % n;
-        const int now = newestAt((chunk + 1) * m - 1);
-        const int before = newestAt(chunk * m - 1);
+        const size_t local = t - begin + size_t(phase) * b;
+        const long long chunk = (long long)(local / n);
+        const size_t pos = local % n;
+        const int now = newestAt((chunk + 1) * m - 1 - phase);
+        const int before = newestAt(chunk * m - 1 - phase);
         const double vNow = now < 0 ? 0.0 : seg[size_t(now)][t];
         const double vBefore = before < 0 ? 0.0 : seg[size_t(before)][t];
         const double g = now == before ? 1.0 : double(pos + 1) / double(n);
@@ -196,22 +198,37 @@ TEST_CASE("Non-uniform convolution equals direct convolution, with IR swaps", "[
     int block, maxPartition, sources, outputs;
     size_t irLength;
     bool swaps;
+    /// IRs silent before a random onset (each IR and channel its own, up to 60 % of the IR, at
+    /// times the whole IR): leading partitions are skipped.
+    bool onsets = false;
   };
-  std::vector<Case> cases = {{1, 16, 1, 1, 301, false},     {3, 48, 2, 1, 777, true},
-                             {16, 256, 1, 2, 3001, false},  {16, 1024, 3, 2, 5003, true},
-                             {64, 4096, 2, 2, 6007, true},  {100, 1600, 1, 1, 4999, true},
-                             {128, 8192, 2, 2, 5555, true}, {37, 37, 1, 1, 1001, true},
-                             {256, 8192, 1, 2, 9001, true}, {512, 8192, 2, 1, 20011, true},
+  std::vector<Case> cases = {{1, 16, 1, 1, 301, false},
+                             {3, 48, 2, 1, 777, true},
+                             {16, 256, 1, 2, 3001, false},
+                             {16, 1024, 3, 2, 5003, true},
+                             {64, 4096, 2, 2, 6007, true},
+                             {100, 1600, 1, 1, 4999, true},
+                             {128, 8192, 2, 2, 5555, true},
+                             {37, 37, 1, 1, 1001, true},
+                             {256, 8192, 1, 2, 9001, true},
+                             {512, 8192, 2, 1, 20011, true},
                              // More sources than callbacks per chunk at the short levels, fewer
                              // at the long ones: the sources' transforms share callbacks.
-                             {16, 256, 7, 1, 1500, true}};
+                             {16, 256, 7, 1, 1500, true},
+                             {16, 1024, 4, 2, 5003, true, true},
+                             {64, 8192, 3, 1, 20011, true, true}};
   for (const Case& cs : cases) {
     NonUniformLayout layout(cs.block, cs.irLength, cs.maxPartition);
     // Three IRs of different lengths (the last shorter than the layout: unused partitions).
     std::vector<std::vector<Signal>> irs;
     for (size_t len : {cs.irLength, cs.irLength - cs.irLength / 3, size_t(1) + cs.irLength / 9}) {
       std::vector<Signal> ir;
-      for (int i = 0; i < cs.sources * cs.outputs; ++i) ir.push_back(randomSignal(rng, len));
+      for (int i = 0; i < cs.sources * cs.outputs; ++i) {
+        ir.push_back(randomSignal(rng, len));
+        if (!cs.onsets) continue;
+        const size_t onset = rng() % 8 == 0 ? len : size_t(rng() % (len * 3 / 5 + 1));
+        std::fill(ir.back().begin(), ir.back().begin() + long(onset), 0.0f);
+      }
       irs.push_back(std::move(ir));
     }
     const size_t numBlocks = (cs.irLength + 3 * size_t(cs.maxPartition)) / size_t(cs.block) + 40;
@@ -233,14 +250,15 @@ TEST_CASE("Non-uniform convolution equals direct convolution, with IR swaps", "[
       }
     }
     double worstSample = 0.0;
-    const double rel =
-        runAndCompare(layout, irs, cs.sources, cs.outputs, events, numBlocks, rng, &worstSample);
+    const int slot = int(&cs - cases.data()) % NonUniformConvolver::kPhaseSlots;
+    const double rel = runAndCompare(layout, irs, cs.sources, cs.outputs, events, numBlocks, slot,
+                                     rng, &worstSample);
     const double tol = tolerance(layout, cs.sources);
     const double db = 10.0 * std::log10(std::max(rel, 1e-300));
     worstDb = std::max(worstDb, db);
     worstMarginDb = std::max(worstMarginDb, db - 10.0 * std::log10(tol));
-    INFO("B=" << cs.block << " maxPartition=" << cs.maxPartition << " levels " << layout.numLevels()
-              << " L=" << cs.irLength << " error " << db << " dB");
+    INFO("B=" << cs.block << " slot " << slot << " maxPartition=" << cs.maxPartition << " levels "
+              << layout.numLevels() << " L=" << cs.irLength << " error " << db << " dB");
     CHECK(rel < tol);
     // Sample by sample: rounding spreads over every sample, so no single sample may stray more
     // than 30 RMS-tolerances from the crossfade (a click at a swap or a partition boundary
@@ -252,4 +270,29 @@ TEST_CASE("Non-uniform convolution equals direct convolution, with IR swaps", "[
       "non-uniform convolver vs direct: worst relative error energy %.1f dB, closest to "
       "tolerance %.1f dB\n",
       worstDb, worstMarginDb);
+}
+
+TEST_CASE("Non-uniform convolver: levels' last callbacks never coincide", "[convolver]") {
+  // Block 16 with a 20 s IR gives levels up to m = 512; hybrid rendering runs two convolvers
+  // (slots 0 and 1) in one callback. Over 4 periods of the longest level, no block may hold
+  // the last callback (k + phi = m - 2 mod m) of two tail levels 1..kStaggeredLevels.
+  NonUniformLayout layout(16, 960000, 8192);
+  REQUIRE(layout.numLevels() > NonUniformConvolver::kStaggeredLevels);
+  std::vector<std::unique_ptr<NonUniformConvolver>> convs;
+  for (int slot = 0; slot < NonUniformConvolver::kPhaseSlots; ++slot)
+    convs.push_back(std::make_unique<NonUniformConvolver>(layout, 1, 1, slot));
+  const int maxPeriod = layout.level(layout.numLevels() - 1).period;
+  int worst = 0;
+  for (long long k = 0; k < 4LL * maxPeriod; ++k) {
+    int finishing = 0;
+    for (const auto& conv : convs)
+      for (int l = 1; l <= NonUniformConvolver::kStaggeredLevels; ++l) {
+        const long long m = layout.level(l).period;
+        finishing += (k + conv->levelPhase(l)) % m == m - 2 ? 1 : 0;
+      }
+    worst = std::max(worst, finishing);
+  }
+  CHECK(worst == 1);
+  CHECK_THROWS_AS(NonUniformConvolver(layout, 1, 1, NonUniformConvolver::kPhaseSlots),
+                  std::invalid_argument);
 }

@@ -60,16 +60,13 @@ std::vector<float> minimumPhase(FftwRealTransforms& fft, const std::vector<doubl
   return h;
 }
 
-}  // namespace
-
-AmbisonicBinauralDecoder::AmbisonicBinauralDecoder(int order, const Hrtf& hrtf)
-    : order_(std::clamp(order, 1, kMaxAmbisonicOrder)) {
-  const size_t nc = size_t(ambisonicChannels(order_)), taps = size_t(hrtf.filterLength());
-  const int nz = order_ + 2, nphi = 2 * order_ + 4;
+/// The virtual-loudspeaker sampling decoder's filters (see the header), `length` taps each.
+ChannelEarFilters samplingFilters(int order, const Hrtf& hrtf, size_t length) {
+  const size_t nc = size_t(ambisonicChannels(order)), taps = size_t(hrtf.filterLength());
+  const int nz = order + 2, nphi = 2 * order + 4;
   std::vector<double> zs(static_cast<size_t>(nz)), ws(static_cast<size_t>(nz));
   for (int k = 0; k < nz; ++k) gaussLegendreNode(nz, k, zs[size_t(k)], ws[size_t(k)]);
-  length_ = taps + size_t(hrtf.sampleRate() / 500);  // room for onset delays up to 2 ms
-  filters_.assign(nc, {std::vector<float>(length_, 0.f), std::vector<float>(length_, 0.f)});
+  ChannelEarFilters filters(nc, {std::vector<float>(length, 0.f), std::vector<float>(length, 0.f)});
   std::vector<float> ear[2] = {std::vector<float>(taps), std::vector<float>(taps)};
   std::array<float, ambisonicChannels(kMaxAmbisonicOrder)> y{};
   for (size_t k = 0; k < zs.size(); ++k)
@@ -79,17 +76,29 @@ AmbisonicBinauralDecoder::AmbisonicBinauralDecoder(int order, const Hrtf& hrtf)
       const float u[3] = {float(s * std::cos(phi)), float(s * std::sin(phi)), float(zs[k])};
       float delay[2] = {0.f, 0.f};
       hrtf.hrir(u, ear[0].data(), ear[1].data(), &delay[0], &delay[1]);
-      sphericalHarmonicsSn3d(order_, u, y);
+      sphericalHarmonicsSn3d(order, u, y);
       const double w = ws[k] * (2.0 * std::numbers::pi / double(nphi)) / (4.0 * std::numbers::pi);
-      for (int n = 0; n <= order_; ++n)
+      for (int n = 0; n <= order; ++n)
         for (int c = n * n; c < (n + 1) * (n + 1); ++c)
           for (int e = 0; e < 2; ++e) {
             const float g = float(w * double(2 * n + 1) * y[size_t(c)]);
-            const size_t d = std::min(size_t(std::max(0.f, std::round(delay[e]))), length_ - taps);
-            float* f = filters_[size_t(c)][size_t(e)].data() + d;
+            const size_t d = std::min(size_t(std::max(0.f, std::round(delay[e]))), length - taps);
+            float* f = filters[size_t(c)][size_t(e)].data() + d;
             for (size_t t = 0; t < taps; ++t) f[t] += g * ear[e][t];
           }
     }
+  return filters;
+}
+
+}  // namespace
+
+AmbisonicBinauralDecoder::AmbisonicBinauralDecoder(int order, const Hrtf& hrtf,
+                                                   const BinauralDecoderOptions& options)
+    : order_(std::clamp(order, 1, kMaxAmbisonicOrder)), method_(options.method) {
+  length_ = size_t(hrtf.filterLength()) + size_t(hrtf.sampleRate() / 500);  // onsets up to 2 ms
+  filters_ = method_ == BinauralDecoderMethod::kSampling
+                 ? samplingFilters(order_, hrtf, length_)
+                 : magLsFilters(order_, hrtf, options.magLs, length_);
   equaliseDiffuseField();
 }
 

@@ -1,29 +1,36 @@
-// Binaural decoding of an AmbiX (ACN, SN3D) signal through an HRTF: the virtual-loudspeaker
-// sampling decoder (Noisternig, Musil, Sontacchi, Höldrich, "3D binaural sound reproduction
-// using a virtual ambisonic approach", VECIMS 2003; the sampling decoder of Zotter & Frank,
-// "Ambisonics", 2019, ch. 4).
+// Binaural decoding of an AmbiX (ACN, SN3D) signal through an HRTF: (N + 1)^2 x 2 filters
+// (channel c, ear) and a diffuse-field equaliser common to both ears. Two decoders:
 //
-// Q virtual loudspeakers u_q on a Gauss-Legendre (N + 2 rings) x equiangular (2N + 4)
-// quadrature with weights w_q (exact beyond degree 2N) get the feeds
+// MagLS (the default): least squares of the complex HRTF below N c / (2 pi r), magnitude least
+// squares above, fitted to the SOFA set's measured directions, with the diffuse-field
+// covariance constraint (Schörkhuber, Zaunschirm, Höldrich, DAGA 2018; Zaunschirm et al.,
+// JASA 2018): audio/magls_decoder.h. Above the cut-off it keeps the HRTF's magnitudes, hence
+// the interaural level differences, that an order-N spatially band-limited HRTF loses.
+//
+// Sampling: the virtual-loudspeaker decoder (Noisternig, Musil, Sontacchi, Höldrich, "3D
+// binaural sound reproduction using a virtual ambisonic approach", VECIMS 2003; the sampling
+// decoder of Zotter & Frank, "Ambisonics", 2019, ch. 4). Q virtual loudspeakers u_q on a
+// Gauss-Legendre (N + 2 rings) x equiangular (2N + 4) quadrature with weights w_q (exact
+// beyond degree 2N) get the feeds
 //   s_q = w_q / (4 pi) sum_n (2n + 1) sum_m Y_n^m(u_q) b_nm,
 // so a plane wave from s feeds them the band-limited delta sum_n (2n+1) P_n(u_q . s) w_q / 4 pi
 // (summing to 1). Each feed goes through the HRIR pair of its direction (onset delays as
 // leading zeros); folded per channel, channel c has one filter per ear,
 //   F_c,ear = sum_q w_q / (4 pi) (2n + 1) Y_c(u_q) h_ear(u_q).
-// Plain (basic) weights: no max-rE, no MagLS high-frequency treatment, so above about
-// N c / (2 pi r) (1.9 kHz at order 3 for a head radius of 8.75 cm) the ILD is that of a
-// spatially band-limited HRTF.
+// Plain (basic) weights, no high-frequency treatment: above about N c / (2 pi r) (1.9 kHz at
+// order 3 for a head radius of 8.75 cm) its ILD is that of a spatially band-limited HRTF,
+// lower than the HRTF's (docs/spatial.md, "Binaural decoding"). Kept for that comparison.
 //
-// Diffuse-field equalisation: both ears' decoded signals pass through one minimum-phase
-// filter E with |E(f)|^2 = 1 / D(f), D the third-octave-smoothed power the decoder gives the
-// ears (mean of both) for an isotropic diffuse field of unit power, in which an SN3D channel
-// of order n carries power 1 / (2n + 1): D = sum_c |F_c,ear|^2 / (2 n_c + 1). The ears then
-// hear a diffuse field at its own power at every frequency, as per-path binaural does (its
-// HRIRs are levelled per octave band by the HRTF set's diffuse-field power), instead of the
-// HRTF's low-frequency roll-off and the decoder's high-frequency loss (the virtual
-// loudspeakers' HRIRs add incoherently there, keeping about (N + 1)^2 / Q of the power).
-// Common to both ears, E leaves interaural level and time differences unchanged. Minimum
-// phase by folding the real cepstrum (Oppenheim & Schafer, "Discrete-Time Signal
+// Diffuse-field equalisation (both decoders): both ears' decoded signals pass through one
+// minimum-phase filter E with |E(f)|^2 = 1 / D(f), D the third-octave-smoothed power the
+// decoder gives the ears (mean of both) for an isotropic diffuse field of unit power, in which
+// an SN3D channel of order n carries power 1 / (2n + 1): D = sum_c |F_c,ear|^2 / (2 n_c + 1).
+// The ears then hear a diffuse field at its own power at every frequency, as per-path binaural
+// does (its HRIRs are levelled per octave band by the HRTF set's diffuse-field power), instead
+// of the HRTF's low-frequency roll-off (and, for the sampling decoder, its high-frequency
+// loss: the virtual loudspeakers' HRIRs add incoherently there, keeping about (N + 1)^2 / Q of
+// the power). Common to both ears, E leaves interaural level and time differences unchanged.
+// Minimum phase by folding the real cepstrum (Oppenheim & Schafer, "Discrete-Time Signal
 // Processing", 3rd ed., sec. 13.6); boost limited to kMaxEqualiserBoostDb.
 //
 // Construction: control thread, allocates (ambisonicChannels(order) x 2 filters and the
@@ -35,12 +42,23 @@
 #include <vector>
 
 #include "audio/hrtf.h"
+#include "audio/magls_decoder.h"
 
 namespace dpc::audio {
 
+/// Which decoder (see the file comment).
+enum class BinauralDecoderMethod { kMagLs, kSampling };
+
+struct BinauralDecoderOptions {
+  BinauralDecoderMethod method = BinauralDecoderMethod::kMagLs;
+  MagLsOptions magLs;  ///< MagLS only
+};
+
 class AmbisonicBinauralDecoder {
  public:
-  AmbisonicBinauralDecoder(int order, const Hrtf& hrtf);
+  /// order 1 .. kMaxAmbisonicOrder (clamped). Throws std::invalid_argument when MagLS is
+  /// asked of a set with fewer measurements than channels.
+  AmbisonicBinauralDecoder(int order, const Hrtf& hrtf, const BinauralDecoderOptions& options = {});
 
   /// Largest boost of the diffuse-field equaliser, dB (the HRTF's power far below its
   /// measured band is not restored beyond this).
@@ -49,7 +67,9 @@ class AmbisonicBinauralDecoder {
   /// down to about 40 Hz).
   static constexpr size_t kEqualiserTaps = 4096;
 
-  /// Taps of every channel's ear filter (HRIR length plus the largest onset delay).
+  BinauralDecoderMethod method() const { return method_; }
+  /// Taps of every channel's ear filter: the HRIR length plus 2 ms (the sampling decoder's
+  /// onset delays; MagLS's spread around the set's bulk delay).
   size_t filterLength() const { return length_; }
   /// Channel c's filter for ear 0 (left) or 1 (right).
   const std::vector<float>& filter(size_t c, int ear) const { return filters_[c][size_t(ear)]; }
@@ -65,8 +85,9 @@ class AmbisonicBinauralDecoder {
   void equaliseDiffuseField();
 
   int order_;
+  BinauralDecoderMethod method_;
   size_t length_ = 0;
-  std::vector<std::array<std::vector<float>, 2>> filters_;
+  ChannelEarFilters filters_;
   std::vector<float> equaliser_;
 };
 

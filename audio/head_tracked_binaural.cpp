@@ -4,17 +4,17 @@
 #include <stdexcept>
 #include <string>
 
-#include "audio/ambisonic_binaural.h"
 #include "audio/rt_check.h"
 
 namespace dpc::audio {
 
-HeadTrackedBinaural::HeadTrackedBinaural(int order, const Hrtf& hrtf, int blockSize)
+HeadTrackedBinaural::HeadTrackedBinaural(int order, const Hrtf& hrtf, int blockSize,
+                                         const BinauralDecoderOptions& decoderOptions)
     : order_(order), blockSize_(blockSize) {
   if (order < 1 || order > kMaxAmbisonicOrder || blockSize <= 0)
     throw std::invalid_argument("HeadTrackedBinaural: order must be 1.." +
                                 std::to_string(kMaxAmbisonicOrder) + " and the block size > 0");
-  const AmbisonicBinauralDecoder decoder(order, hrtf);
+  const AmbisonicBinauralDecoder decoder(order, hrtf, decoderOptions);
   filterLength_ = decoder.filterLength();
   layout_ = std::make_unique<ConvolverLayout>(blockSize, filterLength_);
   const size_t C = size_t(channels()), B = size_t(blockSize);

@@ -5,9 +5,9 @@
 // Per block of B samples: the order-N sound field x (C = (N + 1)^2 channels, in the reference
 // head frame the impulse responses were synthesised in) is rotated into the current head
 // frame, y = M(R) x with M from ambisonicRotation() (common/spherical_harmonics.h), and
-// decoded to two ears by the virtual-loudspeaker sampling decoder (audio/ambisonic_binaural.h)
-// as C x 2 uniformly partitioned convolutions of block B and its diffuse-field equaliser as two
-// more (one per ear; no latency beyond the block). When
+// decoded to two ears by the binaural decoder (audio/ambisonic_binaural.h: MagLS, or the
+// virtual-loudspeaker sampling decoder) as C x 2 uniformly partitioned convolutions of block B
+// and its diffuse-field equaliser as two more (one per ear; no latency beyond the block). When
 // the rotation changes, the block crossfades linearly from the previous matrix to the new one,
 //   y[n] = (1 - w[n]) M_old x[n] + w[n] M_new x[n],  w[n] = (n + 1) / B,
 // so a head turn is heard from the first block after the pose arrives, without clicks.
@@ -24,6 +24,7 @@
 #include <memory>
 #include <vector>
 
+#include "audio/ambisonic_binaural.h"
 #include "audio/convolver.h"
 #include "audio/hrtf.h"
 #include "common/spherical_harmonics.h"
@@ -32,9 +33,10 @@ namespace dpc::audio {
 
 class HeadTrackedBinaural {
  public:
-  /// order 1 .. kMaxAmbisonicOrder; blockSize B > 0 samples. Throws std::invalid_argument on
-  /// an order outside that range or a non-positive block size.
-  HeadTrackedBinaural(int order, const Hrtf& hrtf, int blockSize);
+  /// order 1 .. kMaxAmbisonicOrder; blockSize B > 0 samples; the decoder (MagLS by default).
+  /// Throws std::invalid_argument on an order outside that range or a non-positive block size.
+  HeadTrackedBinaural(int order, const Hrtf& hrtf, int blockSize,
+                      const BinauralDecoderOptions& decoder = {});
   ~HeadTrackedBinaural();
   HeadTrackedBinaural(const HeadTrackedBinaural&) = delete;
   HeadTrackedBinaural& operator=(const HeadTrackedBinaural&) = delete;

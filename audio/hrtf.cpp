@@ -169,8 +169,8 @@ void blendNode(const MYSOFA_HRTF& h, int n, const std::vector<MeasuredDirection>
   delayOut[1] = float(delay[1] / wSum);
 }
 
-void fillGrid(const MYSOFA_HRTF& h, int n, std::vector<float>* irs, std::vector<float>* delays) {
-  const std::vector<MeasuredDirection> dirs = measuredDirections(h);
+void fillGrid(const MYSOFA_HRTF& h, int n, const std::vector<MeasuredDirection>& dirs,
+              std::vector<float>* irs, std::vector<float>* delays) {
   const int nodes = kAzimuthSteps * kElevationSteps;
   irs->assign(size_t(nodes) * 2 * size_t(n), 0.0f);
   delays->assign(size_t(nodes) * 2, 0.0f);
@@ -199,6 +199,7 @@ struct Hrtf::Impl {
   // irs[(node * 2 + ear) * n ...], delays[node * 2 + ear].
   std::vector<float> irs;
   std::vector<float> delays;
+  std::vector<MeasuredDirection> measured;  // the measurements the grid is filled from
 
   const float* ir(int node, int ear) const {
     return irs.data() + (size_t(node) * 2 + size_t(ear)) * size_t(n);
@@ -238,7 +239,8 @@ Hrtf Hrtf::load(const std::string& path, int sampleRate) {
 
   // Direction grid, filled from the measurements (see fillGrid), then normalised so that the
   // frontal node has per-ear energy 1 (see hrtf.h).
-  fillGrid(*impl->easy->hrtf, n, &impl->irs, &impl->delays);
+  impl->measured = measuredDirections(*impl->easy->hrtf);
+  fillGrid(*impl->easy->hrtf, n, impl->measured, &impl->irs, &impl->delays);
   {
     const int front = (kElevationSteps / 2) * kAzimuthSteps;  // azimuth 0, elevation 0
     double e = 0;
@@ -305,6 +307,27 @@ HrirView Hrtf::nearestHrir(const float direction[3]) const {
   const int node = i * kAzimuthSteps + j;
   const Impl& m = *impl_;
   return {m.ir(node, 0), m.ir(node, 1), m.delays[size_t(node) * 2], m.delays[size_t(node) * 2 + 1]};
+}
+
+size_t Hrtf::measurementCount() const {
+  return impl_->measured.size();
+}
+
+void Hrtf::measurement(size_t index, float direction[3], float* left, float* right,
+                       float* leftDelaySamples, float* rightDelaySamples) const {
+  const Impl& m = *impl_;
+  const MeasuredDirection& d = m.measured.at(index);
+  const MYSOFA_HRTF& h = *m.easy->hrtf;
+  direction[0] = d.x;
+  direction[1] = d.y;
+  direction[2] = d.z;
+  const float* src = h.DataIR.values + size_t(d.m) * h.R * h.N;  // [left | right]
+  for (int k = 0; k < m.n; ++k) {
+    left[k] = m.gain * src[k];
+    right[k] = m.gain * src[size_t(h.N) + size_t(k)];
+  }
+  *leftDelaySamples = delayOf(h, d.m, 0);
+  *rightDelaySamples = delayOf(h, d.m, 1);
 }
 
 void Hrtf::hrirExact(const float direction[3], float* left, float* right, float* leftDelaySamples,

@@ -49,6 +49,7 @@
 // serialises callers with a mutex: one thread at a time, not for the audio thread.
 #pragma once
 
+#include <cstddef>
 #include <memory>
 #include <string>
 
@@ -105,6 +106,16 @@ class Hrtf {
   /// lookup (~50 ns), for accumulating many paths into an IR. Any thread, concurrently;
   /// wait-free.
   HrirView nearestHrir(const float direction[3]) const;
+
+  /// The file's measurements at its largest source radius (those the grid is filled from):
+  /// how many there are (710 for KEMAR).
+  size_t measurementCount() const;
+  /// Measurement `index` (< measurementCount(), else std::out_of_range): its unit direction
+  /// (listener frame), its HRIR pair (filterLength() floats to each of left and right, with
+  /// the frontal normalisation of hrir()) and its delays in samples. For decoders fitted to
+  /// the measured directions themselves (audio/magls_decoder.h). Any thread; no allocation.
+  void measurement(size_t index, float direction[3], float* left, float* right,
+                   float* leftDelaySamples, float* rightDelaySamples) const;
 
   /// Reference path: libmysofa's own interpolated filter for `direction`
   /// (mysofa_getfilter_float, ~3 us per call), with our normalisation gain applied. Same outputs

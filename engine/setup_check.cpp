@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <numbers>
 
+#include "common/sphere_quadrature.h"
 #include "engine/embree_tracer.h"
 
 namespace dpc {
@@ -41,10 +42,8 @@ std::string fmt(const char* f, double a, double b = 0, double c = 0) {
 }  // namespace
 
 glm::vec3 setupCheckDirection(int i) {
-  const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
-  const double y = 1.0 - 2.0 * (i + 0.5) / kSetupCheckDirections;
-  const double r = std::sqrt(1.0 - y * y);
-  return {float(r * std::cos(golden * i)), float(y), float(r * std::sin(golden * i))};
+  const std::array<double, 3> p = fibonacciPoint(i, kSetupCheckDirections);  // z up
+  return {float(p[0]), float(p[2]), float(p[1])};                            // y up
 }
 
 std::vector<std::string> setupWarnings(const SceneDesc& scene) {

@@ -2,11 +2,34 @@
 
 #include <algorithm>
 #include <cassert>
+#include <string>
 
 #include "audio/rt_check.h"
 #include "common/input_error.h"
 
 namespace dpc {
+
+namespace {
+
+/// The head-tracked decoder the scene asks for. Throws InputError naming audio.hrtf when MagLS
+/// at the scene's order needs more measured directions than its SOFA set has.
+audio::BinauralDecoderOptions binauralDecoder(const SceneDesc& scene, const audio::Hrtf& hrtf) {
+  audio::BinauralDecoderOptions decoder;
+  if (scene.audio.binauralDecoder == BinauralDecoder::kSampling) {
+    decoder.method = audio::BinauralDecoderMethod::kSampling;
+    return decoder;
+  }
+  const int order = scene.audio.ambisonicOrder;
+  if (hrtf.measurementCount() < size_t(ambisonicChannels(order)))
+    throw InputError(scene.path, "audio.hrtf",
+                     "the MagLS decoder of order " + std::to_string(order) + " needs at least " +
+                         std::to_string(ambisonicChannels(order)) +
+                         " measured directions; the SOFA file has " +
+                         std::to_string(hrtf.measurementCount()));
+  return decoder;
+}
+
+}  // namespace
 
 AudioStage::AudioStage(std::shared_ptr<const audio::NonUniformLayout> layout,
                        std::shared_ptr<const DrySignals> dry, int numOutputs,
@@ -41,7 +64,8 @@ AudioStage::AudioStage(const PropagationStage& propagation, std::shared_ptr<cons
     throw InputError(scene.path, "audio.hrtf", e.what());
   }
   const size_t B = size_t(layout_->blockSize());
-  head_ = std::make_unique<audio::HeadTrackedBinaural>(scene.audio.ambisonicOrder, *hrtf, int(B));
+  head_ = std::make_unique<audio::HeadTrackedBinaural>(scene.audio.ambisonicOrder, *hrtf, int(B),
+                                                       binauralDecoder(scene, *hrtf));
   ambisonic_.assign(size_t(numOutputs_) * B, 0.f);
   for (int c = 0; c < numOutputs_; ++c)
     ambisonicChannels_.push_back(ambisonic_.data() + size_t(c) * B);

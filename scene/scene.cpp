@@ -209,6 +209,12 @@ std::optional<OutputFormat> parseOutputFormat(const std::string& s) {
   return std::nullopt;
 }
 
+std::optional<BinauralDecoder> parseBinauralDecoder(const std::string& s) {
+  if (s == "magls") return BinauralDecoder::kMagLs;
+  if (s == "sampling") return BinauralDecoder::kSampling;
+  return std::nullopt;
+}
+
 std::optional<Estimator> parseEstimator(const std::string& s) {
   if (s == "dpc") return Estimator::kDpc;
   if (s == "path_tracing") return Estimator::kPathTracing;

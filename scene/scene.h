@@ -217,6 +217,12 @@ enum class OutputFormat {
   kAmbisonicBinaural,
 };
 
+/// The binaural decoder of kAmbisonicBinaural (audio/ambisonic_binaural.h).
+enum class BinauralDecoder {
+  kMagLs,     ///< magnitude least squares above N c / (2 pi r) (the default)
+  kSampling,  ///< virtual loudspeakers on a quadrature (kept for comparison)
+};
+
 /// Debian libmysofa1's MIT KEMAR set: the default HRTF.
 inline constexpr const char* kDefaultHrtfPath = "/usr/share/libmysofa/default.sofa";
 
@@ -236,6 +242,8 @@ struct AudioSettings {
   int ambisonicOrder = 3;  ///< Ambisonic output's order N, 1 .. kMaxAmbisonicOrder
   /// Ambisonic output weighted per order by max-rE (a_n = P_n(r_E)); off: plain SN3D encoding.
   bool maxRe = false;
+  /// kAmbisonicBinaural: how the AmbiX field is decoded to the ears.
+  BinauralDecoder binauralDecoder = BinauralDecoder::kMagLs;
   /// kLoudspeakers: the layout (scene/loudspeaker_layout.h), one output channel each
   std::vector<LoudspeakerDesc> speakers;
   std::string layoutName;  ///< as given after "layout:" (preset name or file)
@@ -331,6 +339,8 @@ size_t listenerIndex(const SceneDesc& scene, const std::string& name, const std:
 
 /// Parses "mono" / "stereo" / "binaural"; nullopt for anything else.
 std::optional<OutputFormat> parseOutputFormat(const std::string& s);
+/// Parses "magls" / "sampling"; nullopt for anything else.
+std::optional<BinauralDecoder> parseBinauralDecoder(const std::string& s);
 
 /// Parses "auto" / "per_source" / "hybrid"; nullopt for anything else.
 std::optional<Rendering> parseRendering(const std::string& s);

@@ -374,7 +374,7 @@ void readAudio(const JsonReader& r, const json& v, const fs::path& folder, Audio
   r.expectObject(v, field);
   r.checkKeys(v, field,
               {"sample_rate", "block_size", "output", "hrtf", "ambisonic_order", "max_re",
-               "rendering", "late_buses", "cluster_angle"});
+               "binaural_decoder", "rendering", "late_buses", "cluster_angle"});
   if (const json* x = JsonReader::find(v, "output"))
     a.output = readChoice(r, *x, join(field, "output"), parseOutputFormat,
                           "\"mono\", \"stereo\", \"binaural\", \"ambisonics\", "
@@ -388,6 +388,9 @@ void readAudio(const JsonReader& r, const json& v, const fs::path& folder, Audio
   if (const json* x = JsonReader::find(v, "ambisonic_order"))
     a.ambisonicOrder = int(r.limited(*x, "audio.ambisonic_order", "audio.ambisonic_order"));
   if (const json* x = JsonReader::find(v, "max_re")) a.maxRe = r.boolean(*x, join(field, "max_re"));
+  if (const json* x = JsonReader::find(v, "binaural_decoder"))
+    a.binauralDecoder = readChoice(r, *x, join(field, "binaural_decoder"), parseBinauralDecoder,
+                                   "\"magls\", \"sampling\"");
   if (const json* x = JsonReader::find(v, "rendering"))
     a.rendering = readChoice(r, *x, join(field, "rendering"), parseRendering,
                              "\"auto\", \"per_source\", \"hybrid\"");

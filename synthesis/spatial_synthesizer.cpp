@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "common/random.h"
+#include "common/sphere_quadrature.h"
 #include "synthesis/band_leveller.h"
 #include "synthesis/dirac_sequence.h"
 
@@ -28,11 +29,9 @@ std::vector<glm::vec3> defaultSpatialDirections() {
 
 std::vector<glm::vec3> uniformSpatialDirections(int count) {
   std::vector<glm::vec3> d;
-  const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));  // golden angle, radians
   for (int i = 0; i < count; ++i) {
-    const double z = 1.0 - (2.0 * i + 1.0) / double(count);
-    const double r = std::sqrt(std::max(0.0, 1.0 - z * z)), phi = golden * i;
-    d.push_back({float(r * std::cos(phi)), float(r * std::sin(phi)), float(z)});
+    const std::array<double, 3> p = fibonacciPoint(i, count);
+    d.push_back({float(p[0]), float(p[1]), float(p[2])});
   }
   return d;
 }

@@ -26,6 +26,8 @@ void checkRunKind(const Flags& fl) {
   }
   if (fl.offline.empty() && !fl.erOut.empty())
     throw InputError("command line", "--er-out", "needs --offline (offline renders only)");
+  if (fl.offline.empty() && !fl.irOut.empty())
+    throw InputError("command line", "--ir-out", "needs --offline (offline renders only)");
 }
 
 /// Runs what the flags ask for; returns the exit status.

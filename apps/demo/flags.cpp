@@ -116,6 +116,9 @@ void addOutputOptions(CLI::App& app, Flags& fl) {
                  "Ambisonic output's order 1..7 (AmbiX: ACN, SN3D; (order+1)^2 channels; "
                  "default: the scene's audio.ambisonic_order, else 3)");
   app.add_flag("--max-re", fl.maxRe, "Ambisonic output weighted per order by max-rE");
+  app.add_option("--binaural-decoder", fl.binauralDecoder,
+                 "ambisonic_binaural's decoder: magls (default) | sampling (virtual "
+                 "loudspeakers, for comparison; docs/spatial.md)");
   app.add_option("--hrtf", fl.hrtf,
                  "SOFA file for binaural output (default: /usr/share/libmysofa/default.sofa)");
 }

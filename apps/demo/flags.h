@@ -12,7 +12,7 @@ namespace dpc::demo {
 /// any value the user gives, even one that looks like a default, is range-checked.
 struct Flags {
   std::string scene, offline, irOut, erOut, estimator, tracing, weighting, device, record, stats,
-      output, hrtf, listener, bake, rendering;
+      output, hrtf, listener, bake, rendering, binauralDecoder;
   bool listDevices = false, listMaterials = false, interactive = false, quiet = false,
        maxRe = false;
   std::optional<int64_t> blockSize;       ///< samples per audio block (live)

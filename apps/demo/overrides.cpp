@@ -90,6 +90,13 @@ void applyAudioOverrides(SceneDesc& scene, const Flags& fl) {
     scene.audio.ambisonicOrder = int(*fl.ambisonicOrder);
   }
   if (fl.maxRe) scene.audio.maxRe = true;  // both range-checked, used by Ambisonic output only
+  if (!fl.binauralDecoder.empty()) {
+    auto d = parseBinauralDecoder(fl.binauralDecoder);
+    if (!d)
+      throw InputError("command line", "--binaural-decoder",
+                       "'" + fl.binauralDecoder + "' is not magls or sampling");
+    scene.audio.binauralDecoder = *d;
+  }
   if (!fl.hrtf.empty()) {
     if (!std::filesystem::is_regular_file(fl.hrtf))
       throw InputError("command line", "--hrtf", "file '" + fl.hrtf + "' not found");

@@ -254,6 +254,34 @@ TEST_CASE("the grid equals the measurements on them and is continuous between th
   CHECK(worstLevelDb < 3.0);
 }
 
+TEST_CASE("measurement() returns the SOFA measurements with the grid normalisation") {
+  // KEMAR: 710 directions at one radius. Every measurement is a unit direction; where the
+  // grid has a node on a measurement (elevations -20..20 every 5 degrees of azimuth) the
+  // node is that measurement, so measurement() and hrir() agree to float rounding.
+  const Hrtf h = Hrtf::load(kKemar, 48000);
+  REQUIRE(h.measurementCount() == 710);
+  Pair m;
+  m.left.resize(size_t(h.filterLength()));
+  m.right.resize(size_t(h.filterLength()));
+  int onGrid = 0;
+  for (size_t q = 0; q < h.measurementCount(); ++q) {
+    float u[3];
+    h.measurement(q, u, m.left.data(), m.right.data(), &m.leftDelay, &m.rightDelay);
+    CHECK(std::hypot(u[0], u[1], u[2]) == Approx(1.0).margin(1e-6));
+    CHECK(m.leftDelay == 0.f);  // KEMAR's delays are inside its HRIRs
+    const double az = std::atan2(u[1], u[0]) * 180 / std::numbers::pi, el = std::asin(u[2]) * 180 / std::numbers::pi;
+    const bool node = std::abs(el) <= 20.5 && std::abs(el - 5 * std::round(el / 5)) < 1e-3 &&
+                      std::abs(az - 5 * std::round(az / 5)) < 1e-3;
+    if (!node) continue;
+    ++onGrid;
+    const Pair g = lookup(h, u[0], u[1], u[2]);
+    CHECK(relativeError(g.left, m.left) < 1e-4);
+    CHECK(relativeError(g.right, m.right) < 1e-4);
+  }
+  CHECK(onGrid == 5 * 72);
+  CHECK_THROWS_AS(h.measurement(710, nullptr, nullptr, nullptr, nullptr, nullptr), std::out_of_range);
+}
+
 TEST_CASE("a zero or non-finite direction is treated as straight ahead") {
   const Hrtf h = Hrtf::load(kKemar, 48000);
   const Pair front = lookup(h, 1, 0, 0);

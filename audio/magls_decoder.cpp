@@ -5,7 +5,6 @@
 #include <complex>
 #include <numbers>
 #include <stdexcept>
-#include <cstdlib>
 
 #include "common/fftw_util.h"
 #include "common/sphere_quadrature.h"
@@ -22,11 +21,15 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 /// about one lattice spacing (0.65 degrees) along its boundary, a few per cent for KEMAR's.
 constexpr int kCellSamples = 100000;
 
-/// The measured set on an fftSize-point grid: directions, cell weights and spectra
-/// H_q,ear(f_k) (each measurement's onset delay included as a phase), stored bin-major so
-/// that one bin's Q values are contiguous.
+/// Lattice points that find the region a set never measured (3.2 degrees apart).
+constexpr int kGapSamples = 4000;
+
+/// The fitted set on an fftSize-point grid: directions, quadrature weights and spectra
+/// H_q,ear(f_k) (each HRIR's onset delay included as a phase), stored bin-major so that one
+/// bin's Q values are contiguous. The first `measured` entries are the SOFA file's
+/// measurements; the rest fill the region it never measured (see gapDirections).
 struct MeasuredSet {
-  size_t count = 0, bins = 0, fftSize = 0;
+  size_t count = 0, measured = 0, bins = 0, fftSize = 0;
   std::vector<std::array<double, 3>> directions;
   std::vector<double> weights;
   std::vector<std::complex<float>> spectra;  ///< [(k * 2 + ear) * count + q]
@@ -36,9 +39,49 @@ struct MeasuredSet {
   std::complex<float>* bin(size_t k, int ear) { return spectra.data() + (k * 2 + size_t(ear)) * count; }
 };
 
-MeasuredSet measuredSet(const Hrtf& hrtf, size_t fftSize) {
+/// Directions of a kGapSamples-point Fibonacci lattice farther than `spacing` (radians of arc)
+/// from every measured direction: the region the set never measured, each point standing for
+/// an equal share of `area` (that region's fraction of the sphere).
+void addGapDirections(MeasuredSet& s, double spacing, double area) {
+  const double minDot = std::cos(spacing);
+  std::vector<std::array<double, 3>> gap;
+  for (int i = 0; i < kGapSamples; ++i) {
+    const std::array<double, 3> p = fibonacciPoint(i, kGapSamples);
+    bool near = false;
+    for (size_t q = 0; q < s.measured && !near; ++q)
+      near = p[0] * s.directions[q][0] + p[1] * s.directions[q][1] + p[2] * s.directions[q][2] >= minDot;
+    if (!near) gap.push_back(p);
+  }
+  for (const auto& p : gap) {
+    s.directions.push_back(p);
+    s.weights.push_back(area / double(gap.size()));
+  }
+}
+
+/// Directions and weights: the measurements' cells (cut at the set's coarsest spacing), then
+/// the gap's points.
+MeasuredSet directionsAndWeights(const Hrtf& hrtf) {
   MeasuredSet s;
-  s.count = hrtf.measurementCount();
+  s.measured = hrtf.measurementCount();
+  std::vector<float> l(size_t(hrtf.filterLength())), r(l.size());
+  for (size_t q = 0; q < s.measured; ++q) {
+    float u[3], dl, dr;
+    hrtf.measurement(q, u, l.data(), r.data(), &dl, &dr);
+    s.directions.push_back({u[0], u[1], u[2]});
+  }
+  const double spacing = coarsestSpacing(s.directions);
+  s.weights = cellWeights(s.directions, spacing, kCellSamples);
+  double covered = 0.0;
+  for (double w : s.weights) covered += w;
+  addGapDirections(s, spacing, std::max(0.0, 1.0 - covered));
+  s.count = s.directions.size();
+  return s;
+}
+
+/// The set's spectra: measurement q's HRIRs, or per-path binaural's grid lookup (Hrtf::hrir)
+/// for the gap's directions.
+MeasuredSet measuredSet(const Hrtf& hrtf, size_t fftSize) {
+  MeasuredSet s = directionsAndWeights(hrtf);
   s.fftSize = fftSize;
   s.bins = fftSize / 2 + 1;
   s.spectra.resize(s.bins * 2 * s.count);
@@ -46,9 +89,10 @@ MeasuredSet measuredSet(const Hrtf& hrtf, size_t fftSize) {
   const size_t taps = size_t(hrtf.filterLength());
   std::vector<float> ears[2] = {std::vector<float>(taps), std::vector<float>(taps)};
   for (size_t q = 0; q < s.count; ++q) {
-    float u[3], delay[2];
-    hrtf.measurement(q, u, ears[0].data(), ears[1].data(), &delay[0], &delay[1]);
-    s.directions.push_back({u[0], u[1], u[2]});
+    float u[3] = {float(s.directions[q][0]), float(s.directions[q][1]), float(s.directions[q][2])};
+    float delay[2];
+    if (q < s.measured) hrtf.measurement(q, u, ears[0].data(), ears[1].data(), &delay[0], &delay[1]);
+    else hrtf.hrir(u, ears[0].data(), ears[1].data(), &delay[0], &delay[1]);
     for (int e = 0; e < 2; ++e) {
       std::fill(fft.time.p, fft.time.p + fftSize, 0.f);
       std::copy(ears[e].begin(), ears[e].end(), fft.time.p);
@@ -60,7 +104,6 @@ MeasuredSet measuredSet(const Hrtf& hrtf, size_t fftSize) {
       }
     }
   }
-  s.weights = cellWeights(s.directions, coarsestSpacing(s.directions), kCellSamples);
   return s;
 }
 
@@ -249,20 +292,22 @@ Mat2 covariance(const std::vector<double>& w, const std::vector<Complex>& left,
   return r;
 }
 
-/// Zaunschirm et al.'s diffuse-field covariance constraint on bins [cut, bins).
+/// Zaunschirm et al.'s diffuse-field covariance constraint on bins [cut, bins), over the
+/// measured directions (the gap's filled-in HRIRs are no measurement of the diffuse field).
 void constrainCovariance(const MeasuredSet& s, const Projector& pr, size_t cut, Coefficients& h) {
-  const size_t C = pr.channels;
-  std::vector<Complex> ears[2] = {std::vector<Complex>(s.count), std::vector<Complex>(s.count)},
-                       decoded[2] = {std::vector<Complex>(s.count), std::vector<Complex>(s.count)};
+  const size_t C = pr.channels, Q = s.measured;
+  const std::vector<double> w(s.weights.begin(), s.weights.begin() + long(Q));
+  std::vector<Complex> ears[2] = {std::vector<Complex>(Q), std::vector<Complex>(Q)},
+                       decoded[2] = {std::vector<Complex>(Q), std::vector<Complex>(Q)};
   for (size_t k = std::max<size_t>(cut, 1); k < s.bins; ++k) {
     Complex* hk[2] = {h.data() + k * 2 * C, h.data() + (k * 2 + 1) * C};
     for (int e = 0; e < 2; ++e)
-      for (size_t q = 0; q < s.count; ++q) {
+      for (size_t q = 0; q < Q; ++q) {
         ears[e][q] = Complex(s.bin(k, e)[q]);
         decoded[e][q] = decodedAt(pr, q, hk[e]);
       }
-    const Mat2 m = covarianceMatch(covariance(s.weights, ears[0], ears[1]),
-                                   covariance(s.weights, decoded[0], decoded[1]));
+    const Mat2 m = covarianceMatch(covariance(w, ears[0], ears[1]),
+                                   covariance(w, decoded[0], decoded[1]));
     for (size_t c = 0; c < C; ++c) {
       const Complex l = hk[0][c], r = hk[1][c];
       hk[0][c] = l * m.a + r * m.c;
@@ -303,11 +348,6 @@ ChannelEarFilters timeDomain(int order, const Coefficients& h, size_t bins, size
 
 }  // namespace
 
-double magLsCutoffHz(int order) {
-  return std::max(kMagLsMinCutoffHz,
-                  double(order) * kHeadSpeedOfSound / (2.0 * std::numbers::pi * kHeadRadiusMetres));
-}
-
 ChannelEarFilters magLsFilters(int order, const Hrtf& hrtf, const MagLsOptions& options,
                                size_t length) {
   order = std::clamp(order, 1, kMaxAmbisonicOrder);
@@ -316,13 +356,12 @@ ChannelEarFilters magLsFilters(int order, const Hrtf& hrtf, const MagLsOptions& 
   length = std::max(length, size_t(hrtf.filterLength()));
   const size_t fftSize = 2 * nextPow2(length);
   MeasuredSet s = measuredSet(hrtf, fftSize);
-  const double cutoff = options.cutoffHz > 0.0 ? options.cutoffHz : magLsCutoffHz(order);
   const double binHz = double(hrtf.sampleRate()) / double(fftSize);
-  const size_t cut = std::clamp<size_t>(size_t(std::lround(cutoff / binHz)), 2, s.bins);
+  const size_t cut = std::clamp<size_t>(size_t(std::lround(options.cutoffHz / binHz)), 2, s.bins);
   const double tau = bulkDelay(s, size_t(std::lround(kMagLsDelayBandHz[0] / binHz)),
                                size_t(std::lround(kMagLsDelayBandHz[1] / binHz)));
   advance(s, tau);
-  const Projector pr = projector(order, s, std::getenv("LAMBDA") ? std::atof(std::getenv("LAMBDA")) : kMagLsRegularisation);
+  const Projector pr = projector(order, s, kMagLsRegularisation);
   Coefficients h = fit(s, pr, cut);
   if (options.covarianceConstraint) constrainCovariance(s, pr, cut, h);
   const double delay = tau + kMagLsPreDelaySeconds * hrtf.sampleRate();

@@ -1,48 +1,53 @@
 // The magnitude-least-squares (MagLS) binaural decoder of an AmbiX (ACN, SN3D) signal:
 // C. Schörkhuber, M. Zaunschirm, R. Höldrich, "Binaural rendering of Ambisonic signals via
 // magnitude least squares", DAGA 2018; F. Zotter, M. Frank, "Ambisonics", Springer 2019,
-// sec. 4.11. With the diffuse-field covariance constraint of M. Zaunschirm, C. Schörkhuber,
-// R. Höldrich, "Binaural rendering of Ambisonic signals by head-related impulse response time
-// alignment and a diffuseness constraint", JASA 143(6), 2018, sec. III.B.
+// sec. 4.11. Optionally with the diffuse-field covariance constraint of M. Zaunschirm,
+// C. Schörkhuber, R. Höldrich, "Binaural rendering of Ambisonic signals by head-related impulse
+// response time alignment and a diffuseness constraint", JASA 143(6), 2018.
 //
 // The decoder is (N + 1)^2 x 2 filters h_c,ear(f) such that a plane wave from s, encoded as
 // b_c = Y_c(s), reaches the ears as sum_c h_c(f) Y_c(s). It is fitted to the SOFA set's own
-// measurements H_q(f) (directions u_q, Q of them; Hrtf::measurement), on an fftSize-point
+// measurements H_q(f) (directions u_q, Q of them; Hrtf::measurement) on an fftSize-point
 // frequency grid, per ear:
-//  - below the cut-off f_c = N c / (2 pi r) (kr = N: the highest frequency an order-N sound
-//    field reproduces on a head of radius r = kHeadRadiusMetres; 624 Hz, 1.87 kHz, 3.12 kHz
-//    at orders 1, 3, 5): weighted, regularised least squares of the complex HRTF,
-//      h(f) = argmin sum_q w_q |y_q^T h - H_q(f)|^2 + lambda |h|^2
-//    (y_q the orthonormal, N3D, harmonics; w_q the measurement's share of the sphere, its
-//    Voronoi cell, cut at the set's coarsest spacing, common/sphere_quadrature.h; lambda =
-//    kMagLsRegularisation). The weights make the sum the discretised integral over the
-//    sphere, so a ring measured densely does not outweigh one measured sparsely; the cells'
-//    cut and lambda keep the fit bounded where the set has no measurement (KEMAR below -40
-//    degrees elevation: 15 % of the sphere), where least squares alone is free to grow.
-//  - from f_c up: magnitude least squares by the paper's phase retrieval: at bin k the
-//    target is |H_q(f_k)| exp(i arg(y_q^T h(f_(k-1)))), the measured magnitude with the phase
-//    the decoder itself gave that direction one bin lower, solved by the same least squares.
-//    Above kr = N an order-N decoder cannot match both magnitude and phase; the ears' levels
-//    (hence the ILD and the timbre) are what is heard there, the interaural phase is not.
+//  - below the cut-off f_c (kMagLsCutoffHz): weighted, regularised least squares of the
+//    complex HRTF,
+//      h(f) = argmin sum_q w_q |y_q^T h - H_q(f)|^2 + lambda |h|^2,
+//    y_q the orthonormal (N3D) harmonics of u_q, w_q the measurement's share of the sphere (its
+//    Voronoi cell over 4 pi, cut at the set's coarsest spacing: common/sphere_quadrature.h),
+//    lambda = kMagLsRegularisation. The weights make the sum the discretised integral over the
+//    sphere, so a densely measured ring does not outweigh a sparse one. Where the set has no
+//    measurement (KEMAR below -50 degrees: 11.7 % of the sphere) least squares is free to grow
+//    (+30 dB straight down at order 7); there the fit takes what per-path binaural plays, the
+//    HRTF grid's blend of the nearest measurements (Hrtf::hrir), at the points of a 4000-point
+//    Fibonacci lattice that lie in the gap, sharing its area, so that both renderers agree
+//    there and the least squares is over the whole sphere.
+//  - from f_c up: magnitude least squares by the paper's phase retrieval: at bin k the target
+//    is |H_q(f_k)| exp(i arg(y_q^T h(f_(k-1)))), the measured magnitude with the phase the
+//    decoder gave that direction one bin lower, fitted by the same least squares. Above the
+//    order's spatial band limit a decoder cannot match magnitude and phase; the ears' levels
+//    (the ILD, the timbre) are what is heard there, the interaural phase is not.
 // The phase retrieval continues each direction's phase from f_c with zero group delay, so the
-// spectra are first advanced by the set's bulk delay tau (the group delay of its
-// direction-averaged response between f_c / 2 and f_c, both ears; 1.1 ms for KEMAR at 48
-// kHz) and delayed by it again after the fit: the high band then lands where the HRIRs' own
-// energy is, not wrapped around time zero. Below f_c this changes nothing (least squares is
-// linear); above, it is the phase continuation with tau's phase advance per bin.
-// Covariance constraint (optional, on by default, from f_c up): the 2 x 2 interaural
-// covariance of an isotropic diffuse field through the decoder, R^ = sum_q w_q d_q^H d_q (d_q
-// the decoded row [left right] at u_q), is matched to the HRTF set's, R = sum_q w_q H_q^H H_q,
-// by h <- h M with M = R^^(-1/2) P R^(1/2), P the unitary polar factor of (R^(1/2) R^^(1/2))^H
-// (the matrix closest to the identity that matches, Vilkamo, Bäckström, Kuntz, JAES 61(6),
-// 2013): both ears keep the diffuse field's power and interaural coherence, which MagLS alone
-// lowers (Zaunschirm et al.: most at low orders).
-// Finally the N3D coefficients become SN3D ones (times sqrt(2n + 1)), each filter is brought to
-// the time domain and cut to `length` taps with a raised-cosine fade over its last
-// kMagLsFadeFraction.
+// spectra are first advanced by the set's bulk delay tau (the mean phase step of its
+// direction-averaged response over kMagLsDelayBandHz, both ears; 45 samples, 0.95 ms, for KEMAR
+// at 48 kHz) and delayed again after the fit by tau plus kMagLsPreDelaySeconds: the high band
+// then lands where the HRIRs' own energy is, with room before it for its pre-ringing, instead
+// of wrapping around time zero. Below f_c the advance changes nothing (least squares is
+// linear); above, it is the phase continuation with tau's phase step per bin.
+// Covariance constraint (MagLsOptions::covarianceConstraint, from f_c up): the 2 x 2
+// interaural covariance of an isotropic diffuse field through the decoder,
+// R^ = sum_q w_q d_q^H d_q (d_q = [left right] decoded at u_q), is matched to the HRTF set's,
+// R = sum_q w_q H_q^H H_q, by h <- h M, M = R^^(-1/2) P R^(1/2) with P the unitary polar
+// factor of (R^(1/2) R^^(1/2))^H: the matching matrix closest to the identity (Vilkamo,
+// Bäckström, Kuntz, JAES 61(6), 2013). It restores the diffuse field's interaural coherence,
+// which MagLS alone raises (most at low orders), but it mixes the ears and so lowers direct
+// sounds' ILD; off by default (docs/spatial.md gives both).
+// Finally the N3D coefficients become SN3D ones (times sqrt(2n + 1)), and each filter is
+// brought to the time domain and cut to `length` taps, the last kMagLsFadeFraction faded out
+// with a raised cosine.
 //
-// Construction only (control thread): allocates about Q x fftSize x 16 bytes (12 MB for
-// KEMAR at fftSize 2048), plans FFTW, costs O(Q (N + 1)^2 fftSize) (0.2 s at order 3).
+// Construction only (control thread): allocates about Q x fftSize x 8 bytes (19 MB for KEMAR's
+// 710 measurements and 470 gap points at fftSize 2048), plans FFTW; 0.17-0.2 s at orders 1 to
+// 5, 0.27 s at order 7 for KEMAR.
 #pragma once
 
 #include <array>
@@ -53,14 +58,10 @@
 
 namespace dpc::audio {
 
-/// Head radius, m, of the cut-off kr = N (Woodworth's spherical head for KEMAR, as in
-/// tests/audio/hrtf_test.cpp), and the speed of sound, m/s, it is taken with.
-inline constexpr double kHeadRadiusMetres = 0.0875;
-inline constexpr double kHeadSpeedOfSound = 343.0;
-
 /// Tikhonov loading lambda of the least-squares fit, relative to a complete sphere's Gram
-/// matrix (the identity): see docs/spatial.md, "Binaural decoding", for how it was chosen.
-inline constexpr double kMagLsRegularisation = 1e-2;
+/// matrix (the identity). With the unmeasured region filled the Gram matrix is close to the
+/// identity and lambda only guards the solve: from 1e-6 to 1e-2 it changed no ILD by 0.1 dB.
+inline constexpr double kMagLsRegularisation = 1e-3;
 
 /// Share of each filter's taps faded out at its end (raised cosine).
 inline constexpr double kMagLsFadeFraction = 0.25;
@@ -74,19 +75,16 @@ inline constexpr double kMagLsDelayBandHz[2] = {500.0, 2000.0};
 /// before it (the step from least squares to MagLS at f_c rings both ways).
 inline constexpr double kMagLsPreDelaySeconds = 0.5e-3;
 
-/// The lowest cut-off, Hz: below it the interaural time difference is the dominant
-/// lateralisation cue (the duplex theory; Blauert, "Spatial Hearing", 1997, sec. 2.4), carried
-/// by the interaural phase that only the least-squares part keeps.
-inline constexpr double kMagLsMinCutoffHz = 1500.0;
-
-/// The cut-off f_c = max(N c / (2 pi r), kMagLsMinCutoffHz), Hz: N c / (2 pi r) is the frequency
-/// up to which an order-N sound field reproduces the HRTF of a head of radius
-/// kHeadRadiusMetres (kr <= N): 624 Hz, 1.87 kHz, 3.12 kHz at orders 1, 3, 5.
-double magLsCutoffHz(int order);
+/// The cut-off f_c, Hz, at every order: below it the interaural time difference is the
+/// dominant lateralisation cue (the duplex theory; Blauert, "Spatial Hearing", 1997, sec. 2.4),
+/// carried by the interaural phase that only least squares keeps; above it least squares
+/// misses KEMAR's ILD by more than MagLS does, even where kr < N (docs/spatial.md, "Binaural
+/// decoding": the cut-off).
+inline constexpr double kMagLsCutoffHz = 1500.0;
 
 struct MagLsOptions {
-  double cutoffHz = 0.0;            ///< least squares below, MagLS from here; 0: magLsCutoffHz
-  bool covarianceConstraint = false;  ///< Zaunschirm et al.'s diffuse-field constraint above f_c
+  double cutoffHz = kMagLsCutoffHz;  ///< least squares below, MagLS from here on
+  bool covarianceConstraint = false;  ///< Zaunschirm et al.'s constraint, from f_c on
 };
 
 /// Per ACN channel, per ear (0 left, 1 right): a filter of `length` taps.

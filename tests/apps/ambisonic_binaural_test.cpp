@@ -95,6 +95,69 @@ std::string row(const char* what, const std::array<double, kNumBands>& v) {
   return s.str();
 }
 
+/// The interaural coherence of an isotropic diffuse field over the HRTF's measured directions
+/// with their cell weights: per frequency bin |sum_q w_q L_q R_q*| / sqrt(sum_q w_q |L_q|^2
+/// sum_q w_q |R_q|^2), averaged over each octave band.
+struct DiffuseCoherence {
+  static constexpr size_t kFft = 2048;
+  std::vector<std::array<double, 3>> directions;
+  std::vector<Ears> measured;  ///< the measurements' HRIR pairs
+  std::vector<double> weights;
+
+  explicit DiffuseCoherence(const audio::Hrtf& hrtf) {
+    const size_t taps = size_t(hrtf.filterLength());
+    for (size_t q = 0; q < hrtf.measurementCount(); ++q) {
+      float u[3], dl, dr;
+      Ears e{std::vector<float>(taps), std::vector<float>(taps)};
+      hrtf.measurement(q, u, e[0].data(), e[1].data(), &dl, &dr);
+      directions.push_back({u[0], u[1], u[2]});
+      measured.push_back(std::move(e));
+    }
+    weights = cellWeights(directions, coarsestSpacing(directions), 100000);
+  }
+  std::array<float, 3> direction(size_t q) const {
+    return {float(directions[q][0]), float(directions[q][1]), float(directions[q][2])};
+  }
+  /// The coherence per band of the ears ears(q) gives for each measured direction q.
+  std::array<double, kNumBands> of(const std::function<Ears(size_t)>& ears) const {
+    FftwRealTransforms fft(kFft);
+    std::vector<double> ll(kFft / 2 + 1), rr(kFft / 2 + 1);
+    std::vector<std::complex<double>> lr(kFft / 2 + 1);
+    for (size_t q = 0; q < directions.size(); ++q) {
+      const Ears e = ears(q);
+      std::vector<std::complex<double>> x[2];
+      for (int k = 0; k < 2; ++k) {
+        std::fill(fft.time.p, fft.time.p + kFft, 0.f);
+        std::copy(e[size_t(k)].begin(), e[size_t(k)].end(), fft.time.p);
+        fftwf_execute(fft.fwd);
+        for (size_t f = 0; f <= kFft / 2; ++f) x[k].emplace_back(fft.spec.p[f][0], fft.spec.p[f][1]);
+      }
+      for (size_t f = 1; f <= kFft / 2; ++f) {
+        ll[f] += weights[q] * std::norm(x[0][f]);
+        rr[f] += weights[q] * std::norm(x[1][f]);
+        lr[f] += weights[q] * x[0][f] * std::conj(x[1][f]);
+      }
+    }
+    return bandMeans(ll, rr, lr);
+  }
+  static std::array<double, kNumBands> bandMeans(const std::vector<double>& ll,
+                                                 const std::vector<double>& rr,
+                                                 const std::vector<std::complex<double>>& lr) {
+    std::array<double, kNumBands> band{};
+    for (int b = 0; b < kNumBands; ++b) {
+      int count = 0;
+      for (size_t f = 1; f < ll.size(); ++f) {
+        const double hz = double(f) * kFs / double(kFft), fc = bandCentreExactHz(b);
+        if (hz < fc / M_SQRT2 || hz >= fc * M_SQRT2) continue;
+        band[size_t(b)] += std::abs(lr[f]) / std::sqrt(ll[f] * rr[f]);
+        ++count;
+      }
+      band[size_t(b)] /= count;
+    }
+    return band;
+  }
+};
+
 }  // namespace
 
 TEST_CASE(
@@ -121,7 +184,7 @@ TEST_CASE(
     double samplingWorst = 0.0;
     for (int b = kFirstBand; b < kNumBands; ++b) {
       INFO("order " << order << " band " << b);
-      if (bandCentreExactHz(b) < audio::magLsCutoffHz(order)) {
+      if (bandCentreExactHz(b) < audio::kMagLsCutoffHz) {
         CHECK(magLs[size_t(b)] <= sampling[size_t(b)] + 0.2);
         continue;
       }
@@ -134,73 +197,26 @@ TEST_CASE(
 
 TEST_CASE("MagLS: the covariance constraint restores the HRTF's diffuse-field coherence",
           "[ambisonics]") {
-  // The interaural coherence of an isotropic diffuse field, per frequency bin
-  // |sum_q w_q L_q R_q*| / sqrt(sum_q w_q |L_q|^2 sum_q w_q |R_q|^2) over the measured
-  // directions with their cell weights, averaged over each octave band. With Zaunschirm et
-  // al.'s constraint it equals the HRTF's from f_c up (to within 0.03: the filters' truncation
-  // to filterLength() taps and the float spectra); without it MagLS at order 1 leaves the ears
-  // far too coherent (the constraint's reason to exist), at order 3 only a little.
+  // With Zaunschirm et al.'s constraint the decoded diffuse field's interaural coherence
+  // equals the HRTF's from f_c up, to within 0.03 (the filters' truncation to filterLength()
+  // taps and the float spectra); without it MagLS at order 1 leaves the ears far too coherent
+  // (the constraint's reason to exist), at order 3 only a little.
   const audio::Hrtf hrtf = audio::Hrtf::load(kDefaultHrtfPath, kFs);
-  std::vector<std::array<double, 3>> dirs;
-  std::vector<Ears> measured;
-  const size_t taps = size_t(hrtf.filterLength());
-  for (size_t q = 0; q < hrtf.measurementCount(); ++q) {
-    float u[3], dl, dr;
-    Ears e{std::vector<float>(taps), std::vector<float>(taps)};
-    hrtf.measurement(q, u, e[0].data(), e[1].data(), &dl, &dr);
-    dirs.push_back({u[0], u[1], u[2]});
-    measured.push_back(std::move(e));
-  }
-  const std::vector<double> w = cellWeights(dirs, coarsestSpacing(dirs), 100000);
-  const size_t n = 2048;
-  FftwRealTransforms fft(n);
-  const auto coherence = [&](const std::function<Ears(size_t)>& ears) {
-    std::vector<double> ll(n / 2 + 1), rr(n / 2 + 1);
-    std::vector<std::complex<double>> lr(n / 2 + 1);
-    for (size_t q = 0; q < dirs.size(); ++q) {
-      std::vector<std::complex<double>> x[2];
-      const Ears e = ears(q);
-      for (int k = 0; k < 2; ++k) {
-        std::fill(fft.time.p, fft.time.p + n, 0.f);
-        std::copy(e[size_t(k)].begin(), e[size_t(k)].end(), fft.time.p);
-        fftwf_execute(fft.fwd);
-        for (size_t f = 0; f <= n / 2; ++f) x[k].emplace_back(fft.spec.p[f][0], fft.spec.p[f][1]);
-      }
-      for (size_t f = 1; f <= n / 2; ++f) {
-        ll[f] += w[q] * std::norm(x[0][f]);
-        rr[f] += w[q] * std::norm(x[1][f]);
-        lr[f] += w[q] * x[0][f] * std::conj(x[1][f]);
-      }
-    }
-    std::array<double, kNumBands> band{};
-    for (int b = 0; b < kNumBands; ++b) {
-      int count = 0;
-      for (size_t f = 1; f <= n / 2; ++f) {
-        const double hz = double(f) * kFs / double(n), fc = bandCentreExactHz(b);
-        if (hz < fc / M_SQRT2 || hz >= fc * M_SQRT2) continue;
-        band[size_t(b)] += std::abs(lr[f]) / std::sqrt(ll[f] * rr[f]);
-        ++count;
-      }
-      band[size_t(b)] /= count;
-    }
-    return band;
-  };
-  const auto target = coherence([&](size_t q) { return measured[q]; });
+  const DiffuseCoherence field(hrtf);
+  const auto target = field.of([&](size_t q) { return field.measured[q]; });
   for (int order : {1, 3}) {
     std::array<double, kNumBands> ic[2];
     for (bool constrained : {false, true}) {
       const AmbisonicBinauralDecoder d =
           decoder(order, hrtf, BinauralDecoderMethod::kMagLs, constrained);
-      ic[constrained] = coherence([&](size_t q) {
-        return planeWave(d, order, {float(dirs[q][0]), float(dirs[q][1]), float(dirs[q][2])});
-      });
+      ic[constrained] = field.of([&](size_t q) { return planeWave(d, order, field.direction(q)); });
     }
     WARN("order " << order << ", diffuse-field interaural coherence, 250 Hz .. 8 kHz:\n"
                   << row("  HRTF                ", target) << "\n"
                   << row("  MagLS               ", ic[0]) << "\n"
                   << row("  MagLS + covariance  ", ic[1]));
     for (int b = kFirstBand; b < kNumBands; ++b) {
-      if (bandCentreExactHz(b) < audio::magLsCutoffHz(order)) continue;
+      if (bandCentreExactHz(b) < audio::kMagLsCutoffHz) continue;
       INFO("order " << order << " band " << b);
       CHECK(std::abs(ic[1][size_t(b)] - target[size_t(b)]) <= 0.03);
     }
@@ -211,10 +227,14 @@ TEST_CASE("MagLS: the covariance constraint restores the HRTF's diffuse-field co
 TEST_CASE("MagLS: below the lowest measured ring the decoded level stays bounded",
           "[ambisonics]") {
   // KEMAR has no measurement below -40 degrees; least squares alone is free to grow there. The
-  // cells' cut and the regularisation (audio/magls_decoder.h) bound it. Reported per order: the
-  // decoded broadband energy of both ears over azimuth against per-path binaural's (the grid
-  // blends the lowest ring there), dB. Asserted: within 15 dB at every order up to 7 (a
-  // plain least-squares fit, lambda = 0, reaches +33 dB straight down at order 7).
+  // decoder fills the gap with what per-path binaural plays there (audio/magls_decoder.h).
+  // Reported per order: the decoded broadband energy of both ears over azimuth against
+  // per-path binaural's, dB. Asserted: within 1.5 dB from -30 to -75 degrees at every order up
+  // to 7, as in the measured region; straight down within 7 dB: per-path binaural plays there
+  // the time-domain blend of KEMAR's whole lowest ring (56 HRIRs of different delays, whose
+  // high frequencies cancel), which no smooth order-N pattern follows to a point. Fitted to the
+  // measurements alone the decoder gave +19 and +30 dB straight down at orders 5 and 7 (+5.5
+  // and +3.7 dB with Tikhonov regularisation, lambda = 1e-2, instead).
   const audio::Hrtf hrtf = audio::Hrtf::load(kDefaultHrtfPath, kFs);
   for (int order : {1, 3, 5, 7}) {
     const AmbisonicBinauralDecoder d = decoder(order, hrtf, BinauralDecoderMethod::kMagLs);
@@ -232,7 +252,7 @@ TEST_CASE("MagLS: below the lowest measured ring the decoded level stays bounded
       }
       const double db = 10 * std::log10(decoded / reference);
       line << " " << db;
-      CHECK(std::abs(db) <= 15.0);
+      CHECK(std::abs(db) <= (el > -90 ? 1.5 : 7.0));
     }
     WARN(line.str());
   }

@@ -26,13 +26,18 @@ struct LiveRun {
   HybridReport hybrid;  ///< LiveSession::hybridReport() after stop()
 };
 
-/// tracingThreads: the propagation's TBB arena (0 = all cores).
+/// tracingThreads: the propagation's TBB arena (0 = all cores). With head-tracked binaural
+/// output the listener also turns (half a radian per second), so the audio thread turns the
+/// sound field between IR swaps.
 template <typename AudioThreadObserver>
 LiveRun driveLiveSession(int blocks, uint64_t minIrsApplied, AudioThreadObserver& onAudioThread,
-                         int tracingThreads = 0, Rendering rendering = Rendering::kAuto) {
+                         int tracingThreads = 0, Rendering rendering = Rendering::kAuto,
+                         OutputFormat output = OutputFormat::kMono) {
   SceneDesc scene = loadScene(std::string(DPC_SOURCE_DIR) + "/scenes/shoebox.json");
   scene.audio.blockSize = 128;
   scene.audio.rendering = rendering;
+  if (output != OutputFormat::kMono) scene.audio.output = output;
+  const float turn = output == OutputFormat::kAmbisonicBinaural ? 0.5f : 0.f;  // rad/s
   PropagationSettings ps = scene.propagation;
   ps.raysPerFrame = 256;
   ps.maxOrder = 30;
@@ -63,7 +68,7 @@ LiveRun driveLiveSession(int blocks, uint64_t minIrsApplied, AudioThreadObserver
   while (!done.load(std::memory_order_relaxed)) {
     const double t =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    session.setPose(listenerPositionAt(scene.listeners[0], t), 0.f, t);
+    session.setPose(listenerPositionAt(scene.listeners[0], t), turn * float(t), t);
     const LiveSession::Status st = session.status();
     done.store((st.blocks >= uint64_t(blocks) && st.irsApplied >= minIrsApplied) ||
                    st.blocks >= 50 * uint64_t(blocks),

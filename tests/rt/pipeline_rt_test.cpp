@@ -19,6 +19,17 @@ struct CountHeapCalls {
     scope.reset();
   }
 };
+
+/// What every run checks: at least `swaps` IRs applied, no heap call on the audio thread,
+/// finite output, no block refused as NaN.
+void checkRun(const test::LiveRun& run, const CountHeapCalls& counter, uint64_t swaps) {
+  INFO("blocks " << run.status.blocks << ", IRs applied " << run.status.irsApplied
+                 << ", heap calls " << counter.calls);
+  CHECK(run.status.irsApplied >= swaps);
+  CHECK(counter.calls == 0);
+  CHECK(run.finite);
+  CHECK(run.status.nanBlocks == 0);
+}
 }  // namespace
 
 TEST_CASE("LiveSession::render makes no heap calls across IR swaps", "[rt]") {
@@ -26,13 +37,8 @@ TEST_CASE("LiveSession::render makes no heap calls across IR swaps", "[rt]") {
   const int blocks = 4000;
   const uint64_t swaps = 100;  // swaps really happen during the counted blocks
   const test::LiveRun run = test::driveLiveSession(blocks, swaps, counter);
-  INFO("blocks " << run.status.blocks << ", IRs applied " << run.status.irsApplied
-                 << ", heap calls " << counter.calls);
+  checkRun(run, counter, swaps);
   CHECK(run.status.blocks >= uint64_t(blocks));
-  CHECK(run.status.irsApplied >= swaps);
-  CHECK(counter.calls == 0);
-  CHECK(run.finite);
-  CHECK(run.status.nanBlocks == 0);
   CHECK(run.recordedFrames == size_t(run.status.blocks) * 128);  // the recorder lost nothing
 }
 
@@ -41,12 +47,7 @@ TEST_CASE("LiveSession::render makes no heap calls across IR swaps", "[rt]") {
 TEST_CASE("LiveSession::render in hybrid rendering makes no heap calls across IR swaps", "[rt]") {
   CountHeapCalls counter;
   const test::LiveRun run = test::driveLiveSession(2000, 50, counter, 0, Rendering::kHybrid);
-  INFO("blocks " << run.status.blocks << ", IRs applied " << run.status.irsApplied
-                 << ", heap calls " << counter.calls);
-  CHECK(run.status.irsApplied >= 50);
-  CHECK(counter.calls == 0);
-  CHECK(run.finite);
-  CHECK(run.status.nanBlocks == 0);
+  checkRun(run, counter, 50);
   // The session reports its hybrid rendering (dpc-demo's --stats "hybrid_rendering"): one
   // count per propagation frame of the played listener, and the shoebox's one source in one
   // of the late buses.
@@ -54,6 +55,17 @@ TEST_CASE("LiveSession::render in hybrid rendering makes no heap calls across IR
   CHECK(run.hybrid.counts.frames == run.status.frames);
   CHECK(run.hybrid.counts.occupiedBuses == 1);
   CHECK(run.hybrid.buses >= 1);
+}
+
+// Head-tracked binaural adds the sound field's rotation (per block, crossfaded on a turn) and
+// the binaural decoder's partitioned convolutions (MagLS, audio/head_tracked_binaural.h) to the
+// audio thread: still no heap call while the head turns and IRs are swapped.
+TEST_CASE("LiveSession::render with head-tracked binaural makes no heap calls while turning",
+          "[rt]") {
+  CountHeapCalls counter;
+  const test::LiveRun run = test::driveLiveSession(2000, 10, counter, 0, Rendering::kAuto,
+                                                   OutputFormat::kAmbisonicBinaural);
+  checkRun(run, counter, 10);
 }
 
 TEST_CASE("A session rendering every source whole reports no hybrid rendering", "[rt]") {

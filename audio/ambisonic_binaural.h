@@ -1,11 +1,11 @@
 // Binaural decoding of an AmbiX (ACN, SN3D) signal through an HRTF: (N + 1)^2 x 2 filters
 // (channel c, ear) and a diffuse-field equaliser common to both ears. Two decoders:
 //
-// MagLS (the default): least squares of the complex HRTF below N c / (2 pi r), magnitude least
-// squares above, fitted to the SOFA set's measured directions, with the diffuse-field
-// covariance constraint (Schörkhuber, Zaunschirm, Höldrich, DAGA 2018; Zaunschirm et al.,
-// JASA 2018): audio/magls_decoder.h. Above the cut-off it keeps the HRTF's magnitudes, hence
-// the interaural level differences, that an order-N spatially band-limited HRTF loses.
+// MagLS (the default): least squares of the complex HRTF below 1.5 kHz, magnitude least
+// squares above, fitted to the SOFA set's measured directions (Schörkhuber, Zaunschirm,
+// Höldrich, DAGA 2018), optionally with the diffuse-field covariance constraint (Zaunschirm et
+// al., JASA 2018): audio/magls_decoder.h. Above the cut-off it keeps the HRTF's magnitudes,
+// hence the interaural level differences, that an order-N spatially band-limited HRTF loses.
 //
 // Sampling: the virtual-loudspeaker decoder (Noisternig, Musil, Sontacchi, Höldrich, "3D
 // binaural sound reproduction using a virtual ambisonic approach", VECIMS 2003; the sampling

@@ -115,7 +115,8 @@ void addOutputOptions(CLI::App& app, Flags& fl) {
   app.add_option("--ambisonic-order", fl.ambisonicOrder,
                  "Ambisonic output's order 1..7 (AmbiX: ACN, SN3D; (order+1)^2 channels; "
                  "default: the scene's audio.ambisonic_order, else 3)");
-  app.add_flag("--max-re", fl.maxRe, "Ambisonic output weighted per order by max-rE");
+  app.add_flag("--max-re", fl.maxRe,
+               "Ambisonic output weighted per order by max-rE (not ambisonic_binaural)");
   app.add_option("--binaural-decoder", fl.binauralDecoder,
                  "ambisonic_binaural's decoder: magls (default) | sampling (virtual "
                  "loudspeakers, for comparison; docs/spatial.md)");

@@ -27,7 +27,8 @@ std::string receiverText(const AudioSettings& a) {
     case OutputFormat::kAmbisonicBinaural:
     case OutputFormat::kAmbisonics:
       return "receivers: AmbiX, ACN order, SN3D, Ambisonic order " +
-             std::to_string(a.ambisonicOrder) + (a.maxRe ? ", max-rE weighted" : "");
+             std::to_string(a.ambisonicOrder) +
+             (a.maxRe && a.output == OutputFormat::kAmbisonics ? ", max-rE weighted" : "");
   }
   return "";
 }

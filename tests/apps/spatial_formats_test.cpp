@@ -143,6 +143,25 @@ TEST_CASE("AmbiX: the direct sound is encoded with its direction's SN3D harmonic
     }
 }
 
+TEST_CASE("AmbiX: head-tracked binaural IRs keep the plain encoding under max-rE",
+          "[ambisonics]") {
+  // The binaural decoders are fitted to plain SN3D (audio/magls_decoder.h), so
+  // "ambisonic_binaural" ignores max_re: the oblique source's channels carry Y_n^m(s), not
+  // Y_n^m(s) a_n (1e-3: the levelling, as above).
+  SceneDesc scene = anechoic({22, 22, 18}, {20, 20, 20});
+  scene.audio.output = OutputFormat::kAmbisonicBinaural;
+  scene.audio.ambisonicOrder = 3;
+  scene.audio.maxRe = true;
+  const Rendered r = render(scene, 0.f);
+  const float dir[3] = {0.57735f, 0.57735f, 0.57735f};
+  std::array<float, 16> y{};
+  sphericalHarmonicsSn3d(3, dir, y);
+  for (size_t c = 0; c < 16; ++c) {
+    INFO("ACN " << c);
+    CHECK(gainOnW(r, c, r.directSample + 960) == Approx(y[c]).margin(1e-3));
+  }
+}
+
 TEST_CASE("AmbiX: turning the listener by R equals rotating the scene's field by R^-1",
           "[ambisonics]") {
   // The direct sound of a source at 45 degrees left and 30 up, heard by a listener turned

@@ -27,7 +27,7 @@ constexpr int kGapSamples = 4000;
 /// The fitted set on an fftSize-point grid: directions, quadrature weights and spectra
 /// H_q,ear(f_k) (each HRIR's onset delay included as a phase), stored bin-major so that one
 /// bin's Q values are contiguous. The first `measured` entries are the SOFA file's
-/// measurements; the rest fill the region it never measured (see gapDirections).
+/// measurements; the rest fill the region it never measured (see addGapDirections).
 struct MeasuredSet {
   size_t count = 0, measured = 0, bins = 0, fftSize = 0;
   std::vector<std::array<double, 3>> directions;
@@ -36,7 +36,9 @@ struct MeasuredSet {
   const std::complex<float>* bin(size_t k, int ear) const {
     return spectra.data() + (k * 2 + size_t(ear)) * count;
   }
-  std::complex<float>* bin(size_t k, int ear) { return spectra.data() + (k * 2 + size_t(ear)) * count; }
+  std::complex<float>* bin(size_t k, int ear) {
+    return spectra.data() + (k * 2 + size_t(ear)) * count;
+  }
 };
 
 /// Directions of a kGapSamples-point Fibonacci lattice farther than `spacing` (radians of arc)
@@ -49,7 +51,8 @@ void addGapDirections(MeasuredSet& s, double spacing, double area) {
     const std::array<double, 3> p = fibonacciPoint(i, kGapSamples);
     bool near = false;
     for (size_t q = 0; q < s.measured && !near; ++q)
-      near = p[0] * s.directions[q][0] + p[1] * s.directions[q][1] + p[2] * s.directions[q][2] >= minDot;
+      near = p[0] * s.directions[q][0] + p[1] * s.directions[q][1] + p[2] * s.directions[q][2] >=
+             minDot;
     if (!near) gap.push_back(p);
   }
   for (const auto& p : gap) {
@@ -91,8 +94,10 @@ MeasuredSet measuredSet(const Hrtf& hrtf, size_t fftSize) {
   for (size_t q = 0; q < s.count; ++q) {
     float u[3] = {float(s.directions[q][0]), float(s.directions[q][1]), float(s.directions[q][2])};
     float delay[2];
-    if (q < s.measured) hrtf.measurement(q, u, ears[0].data(), ears[1].data(), &delay[0], &delay[1]);
-    else hrtf.hrir(u, ears[0].data(), ears[1].data(), &delay[0], &delay[1]);
+    if (q < s.measured)
+      hrtf.measurement(q, u, ears[0].data(), ears[1].data(), &delay[0], &delay[1]);
+    else
+      hrtf.hrir(u, ears[0].data(), ears[1].data(), &delay[0], &delay[1]);
     for (int e = 0; e < 2; ++e) {
       std::fill(fft.time.p, fft.time.p + fftSize, 0.f);
       std::copy(ears[e].begin(), ears[e].end(), fft.time.p);
@@ -185,7 +190,8 @@ Projector projector(int order, const MeasuredSet& s, double lambda) {
   std::vector<double> gram(C * C, 0.0);
   for (size_t q = 0; q < Q; ++q)
     for (size_t i = 0; i < C; ++i)
-      for (size_t j = 0; j < C; ++j) gram[i * C + j] += s.weights[q] * pr.y[q * C + i] * pr.y[q * C + j];
+      for (size_t j = 0; j < C; ++j)
+        gram[i * C + j] += s.weights[q] * pr.y[q * C + i] * pr.y[q * C + j];
   for (size_t i = 0; i < C; ++i) gram[i * C + i] += lambda;
   const std::vector<double> l = cholesky(gram, C);
   pr.p.resize(C * Q);
@@ -306,8 +312,8 @@ void constrainCovariance(const MeasuredSet& s, const Projector& pr, size_t cut, 
         ears[e][q] = Complex(s.bin(k, e)[q]);
         decoded[e][q] = decodedAt(pr, q, hk[e]);
       }
-    const Mat2 m = covarianceMatch(covariance(w, ears[0], ears[1]),
-                                   covariance(w, decoded[0], decoded[1]));
+    const Mat2 m =
+        covarianceMatch(covariance(w, ears[0], ears[1]), covariance(w, decoded[0], decoded[1]));
     for (size_t c = 0; c < C; ++c) {
       const Complex l = hk[0][c], r = hk[1][c];
       hk[0][c] = l * m.a + r * m.c;
@@ -338,8 +344,9 @@ ChannelEarFilters timeDomain(int order, const Coefficients& h, size_t bins, size
         f.resize(length);
         for (size_t t = 0; t < length; ++t) {
           const double w = t + fade < length ? 1.0
-                               : 0.5 + 0.5 * std::cos(std::numbers::pi * double(t + fade + 1 - length) /
-                                                      double(fade + 1));
+                                             : 0.5 + 0.5 * std::cos(std::numbers::pi *
+                                                                    double(t + fade + 1 - length) /
+                                                                    double(fade + 1));
           f[t] = float(w * fft.time.p[t] / double(fftSize));
         }
       }

@@ -83,7 +83,7 @@ inline constexpr double kMagLsPreDelaySeconds = 0.5e-3;
 inline constexpr double kMagLsCutoffHz = 1500.0;
 
 struct MagLsOptions {
-  double cutoffHz = kMagLsCutoffHz;  ///< least squares below, MagLS from here on
+  double cutoffHz = kMagLsCutoffHz;   ///< least squares below, MagLS from here on
   bool covarianceConstraint = false;  ///< Zaunschirm et al.'s constraint, from f_c on
 };
 

@@ -46,8 +46,10 @@ std::vector<double> cellWeights(const std::vector<std::array<double, 3>>& direct
       if (c2 < bestChord2) bestChord2 = c2, best = order[k];
       return true;
     };
-    for (size_t k = start; k < order.size() && visit(k); ++k) {}
-    for (size_t k = start; k-- > 0 && visit(k);) {}
+    for (size_t k = start; k < order.size() && visit(k); ++k) {
+    }
+    for (size_t k = start; k-- > 0 && visit(k);) {
+    }
     if (1.0 - 0.5 * bestChord2 >= minDot) w[best] += area;
   }
   return w;

@@ -2,8 +2,10 @@
 // the sampling decoder) against the HRTF they are made from, plane wave by plane wave: the
 // interaural level difference per octave band, the interaural coherence of an isotropic
 // diffuse field, and the level where the SOFA set has no measurement.
-#include <catch2/catch.hpp>
+#include "audio/ambisonic_binaural.h"
+
 #include <array>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <complex>
 #include <functional>
@@ -11,7 +13,6 @@
 #include <sstream>
 #include <vector>
 
-#include "audio/ambisonic_binaural.h"
 #include "audio/hrtf.h"
 #include "common/fftw_util.h"
 #include "common/sphere_quadrature.h"
@@ -130,7 +131,8 @@ struct DiffuseCoherence {
         std::fill(fft.time.p, fft.time.p + kFft, 0.f);
         std::copy(e[size_t(k)].begin(), e[size_t(k)].end(), fft.time.p);
         fftwf_execute(fft.fwd);
-        for (size_t f = 0; f <= kFft / 2; ++f) x[k].emplace_back(fft.spec.p[f][0], fft.spec.p[f][1]);
+        for (size_t f = 0; f <= kFft / 2; ++f)
+          x[k].emplace_back(fft.spec.p[f][0], fft.spec.p[f][1]);
       }
       for (size_t f = 1; f <= kFft / 2; ++f) {
         ll[f] += weights[q] * std::norm(x[0][f]);
@@ -171,11 +173,12 @@ TEST_CASE(
   // decoder and the reference take).
   const audio::Hrtf hrtf = audio::Hrtf::load(kDefaultHrtfPath, kFs);
   for (int order : {1, 3, 5}) {
-    const auto magLs = meanIldError(decoder(order, hrtf, BinauralDecoderMethod::kMagLs), order, hrtf);
+    const auto magLs =
+        meanIldError(decoder(order, hrtf, BinauralDecoderMethod::kMagLs), order, hrtf);
     const auto sampling =
         meanIldError(decoder(order, hrtf, BinauralDecoderMethod::kSampling), order, hrtf);
-    const auto covariance = meanIldError(
-        decoder(order, hrtf, BinauralDecoderMethod::kMagLs, true), order, hrtf);
+    const auto covariance =
+        meanIldError(decoder(order, hrtf, BinauralDecoderMethod::kMagLs, true), order, hrtf);
     WARN("order " << order << ", mean |ILD error| dB, 250 Hz .. 8 kHz:\n"
                   << row("  MagLS               ", magLs) << "\n"
                   << row("  MagLS + covariance  ", covariance) << "\n"
@@ -224,8 +227,7 @@ TEST_CASE("MagLS: the covariance constraint restores the HRTF's diffuse-field co
   }
 }
 
-TEST_CASE("MagLS: below the lowest measured ring the decoded level stays bounded",
-          "[ambisonics]") {
+TEST_CASE("MagLS: below the lowest measured ring the decoded level stays bounded", "[ambisonics]") {
   // KEMAR has no measurement below -40 degrees; least squares alone is free to grow there. The
   // decoder fills the gap with what per-path binaural plays there (audio/magls_decoder.h).
   // Reported per order: the decoded broadband energy of both ears over azimuth against
@@ -239,8 +241,9 @@ TEST_CASE("MagLS: below the lowest measured ring the decoded level stays bounded
   for (int order : {1, 3, 5, 7}) {
     const AmbisonicBinauralDecoder d = decoder(order, hrtf, BinauralDecoderMethod::kMagLs);
     std::ostringstream line;
-    line << "order " << order << ", decoded vs per-path energy at elevation -30 .. -90 dB:"
-         << std::fixed << std::setprecision(1);
+    line << "order " << order
+         << ", decoded vs per-path energy at elevation -30 .. -90 dB:" << std::fixed
+         << std::setprecision(1);
     for (int el : {-30, -45, -60, -75, -90}) {
       double decoded = 0, reference = 0;
       for (int az = 0; az < 360; az += 10) {

@@ -13,11 +13,11 @@
 
 #include "audio/ambisonic_binaural.h"
 #include "audio/hrtf.h"
+#include "common/input_error.h"
 #include "common/spherical_harmonics.h"
 #include "engine/room_volume.h"
 #include "engine/simulation.h"
 #include "runtime/propagation_stage.h"
-#include "common/input_error.h"
 #include "testing/temp_dir.h"
 #include "testing/test_scenes.h"
 #include "testing/test_util.h"
@@ -143,8 +143,7 @@ TEST_CASE("AmbiX: the direct sound is encoded with its direction's SN3D harmonic
     }
 }
 
-TEST_CASE("AmbiX: head-tracked binaural IRs keep the plain encoding under max-rE",
-          "[ambisonics]") {
+TEST_CASE("AmbiX: head-tracked binaural IRs keep the plain encoding under max-rE", "[ambisonics]") {
   // The binaural decoders are fitted to plain SN3D (audio/magls_decoder.h), so
   // "ambisonic_binaural" ignores max_re: the oblique source's channels carry Y_n^m(s), not
   // Y_n^m(s) a_n (1e-3: the levelling, as above).
@@ -332,8 +331,8 @@ Cues cues(const std::vector<float>& l, const std::vector<float>& r) {
 /// positive) in the near-anechoic box, per-path binaural (HRIR of the exact direction).
 Cues perPathCues(double az) {
   const double a = az * M_PI / 180;
-  SceneDesc scene = anechoic({float(20 + 3 * std::cos(a)), 20.f, float(20 - 3 * std::sin(a))},
-                             {20, 20, 20});
+  SceneDesc scene =
+      anechoic({float(20 + 3 * std::cos(a)), 20.f, float(20 - 3 * std::sin(a))}, {20, 20, 20});
   scene.audio.output = OutputFormat::kBinaural;
   const Rendered bin = render(scene, 0.f);
   const long end = long(bin.directSample + 960);
@@ -344,8 +343,8 @@ Cues perPathCues(double az) {
 /// The same, as an AmbiX IR of `order` decoded through `decoder`.
 Cues decodedCues(double az, int order, const audio::AmbisonicBinauralDecoder& decoder) {
   const double a = az * M_PI / 180;
-  const SceneDesc scene = anechoic(
-      {float(20 + 3 * std::cos(a)), 20.f, float(20 - 3 * std::sin(a))}, {20, 20, 20});
+  const SceneDesc scene =
+      anechoic({float(20 + 3 * std::cos(a)), 20.f, float(20 - 3 * std::sin(a))}, {20, 20, 20});
   const Rendered amb = render(scene, order, false, 0.f);
   const size_t end = amb.directSample + 960;
   std::vector<const float*> ptrs;
@@ -368,8 +367,7 @@ std::string cueRow(const char* decoder, int order, double az, const Cues& d, con
 
 }  // namespace
 
-TEST_CASE("Binaural from AmbiX against per-path binaural: ILD per band and ITD",
-          "[ambisonics]") {
+TEST_CASE("Binaural from AmbiX against per-path binaural: ILD per band and ITD", "[ambisonics]") {
   // Near-anechoic box, listener facing +x, source 3 m away on the horizon at 0, +-45, +-90
   // degrees. The direct sound's first 20 ms, per ear: per-path binaural (the HRIR of the
   // exact direction) against the AmbiX IR decoded through the same HRTF by MagLS and by the
@@ -386,7 +384,8 @@ TEST_CASE("Binaural from AmbiX against per-path binaural: ILD per band and ITD",
   const double azimuths[] = {0.0, 45.0, -45.0, 90.0, -90.0};
   for (double az : azimuths) reference.push_back(perPathCues(az));
   for (int order : {1, 3, 5})
-    for (auto method : {audio::BinauralDecoderMethod::kMagLs, audio::BinauralDecoderMethod::kSampling}) {
+    for (auto method :
+         {audio::BinauralDecoderMethod::kMagLs, audio::BinauralDecoderMethod::kSampling}) {
       const bool magLs = method == audio::BinauralDecoderMethod::kMagLs;
       const audio::AmbisonicBinauralDecoder decoder(order, hrtf, {method, {}});
       double worstHigh = 0.0;  // the largest band ILD error at 4 and 8 kHz

@@ -269,7 +269,8 @@ TEST_CASE("measurement() returns the SOFA measurements with the grid normalisati
     h.measurement(q, u, m.left.data(), m.right.data(), &m.leftDelay, &m.rightDelay);
     CHECK(std::hypot(u[0], u[1], u[2]) == Approx(1.0).margin(1e-6));
     CHECK(m.leftDelay == 0.f);  // KEMAR's delays are inside its HRIRs
-    const double az = std::atan2(u[1], u[0]) * 180 / std::numbers::pi, el = std::asin(u[2]) * 180 / std::numbers::pi;
+    const double az = std::atan2(u[1], u[0]) * 180 / std::numbers::pi,
+                 el = std::asin(u[2]) * 180 / std::numbers::pi;
     const bool node = std::abs(el) <= 20.5 && std::abs(el - 5 * std::round(el / 5)) < 1e-3 &&
                       std::abs(az - 5 * std::round(az / 5)) < 1e-3;
     if (!node) continue;
@@ -279,7 +280,8 @@ TEST_CASE("measurement() returns the SOFA measurements with the grid normalisati
     CHECK(relativeError(g.right, m.right) < 1e-4);
   }
   CHECK(onGrid == 5 * 72);
-  CHECK_THROWS_AS(h.measurement(710, nullptr, nullptr, nullptr, nullptr, nullptr), std::out_of_range);
+  CHECK_THROWS_AS(h.measurement(710, nullptr, nullptr, nullptr, nullptr, nullptr),
+                  std::out_of_range);
 }
 
 TEST_CASE("a zero or non-finite direction is treated as straight ahead") {

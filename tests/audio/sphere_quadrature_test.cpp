@@ -45,7 +45,7 @@ TEST_CASE("cell weights: a uniform set gets equal weights and a hemisphere half 
 }
 
 TEST_CASE("coarsest spacing: the six axes are 90 degrees apart") {
-  const std::vector<std::array<double, 3>> axes = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0},
-                                                   {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  const std::vector<std::array<double, 3>> axes = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                                   {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
   CHECK(coarsestSpacing(axes) == Approx(std::numbers::pi / 2).margin(1e-12));
 }

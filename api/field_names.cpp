@@ -15,7 +15,7 @@ std::string apiFieldName(const std::string& path, const std::vector<Material>& m
   if (starts("listeners[")) {
     const size_t i = numberAt(10);
     std::string member = after('.');
-    if (member == "yaw" || member == "pitch") member += "_degrees";
+    if (member == "yaw" || member == "pitch" || member == "roll") member += "_degrees";
     if (i == 0) return "listener_" + member;
     return "additional_listeners[" + std::to_string(i - 1) + "]." + member;
   }

@@ -1,10 +1,11 @@
-// Poses across the C API: listeners (yaw and pitch), sources (positions) and moving objects
+// Poses across the C API: listeners (yaw, pitch, roll), sources (positions) and moving objects
 // (glTF-order quaternions), all in the one frame dpc.h defines; wait-free for any thread.
 #include <cmath>
 #include <glm/gtc/quaternion.hpp>
 
 #include "api/engine_handle.h"
 #include "api/errors.h"
+#include "scene/scene.h"
 
 namespace {
 
@@ -28,6 +29,43 @@ double quaternionNorm(float qx, float qy, float qz, float qw) {
   return std::isfinite(n) ? n : 0.0;
 }
 
+/// Both listener pose setters, after checking every argument against the scene's limits.
+dpc_status setListenerPose(const char* function, dpc_engine* engine, int listener,
+                           const glm::vec3& position, float yaw, float pitch, float roll) {
+  if (!engine) return failFixed(DPC_ERR_INVALID_ARGUMENT, function, "engine is NULL");
+  if (const dpc_status s = checkIndex(function, "listener", listener,
+                                      dpc_engine_listener_count(engine), "listeners");
+      s != DPC_OK)
+    return s;
+  if (!checkPosition(function, position.x, position.y, position.z) ||
+      !checkArgument(function, "yaw_degrees", "listener.yaw", yaw) ||
+      !checkArgument(function, "pitch_degrees", "listener.pitch", pitch) ||
+      !checkArgument(function, "roll_degrees", "listener.roll", roll))
+    return DPC_ERR_INVALID_ARGUMENT;
+  return engine->session->setListenerPose(size_t(listener), position, yaw * kDegrees, 0.0,
+                                          pitch * kDegrees, roll * kDegrees)
+             ? DPC_OK
+             : failFixed(DPC_ERR_INVALID_ARGUMENT, function, "pose refused");
+}
+
+/// Yaw, pitch and roll (degrees) of the listener turned by q = (x, y, z, w), normalised here
+/// (dpc.h, dpc_yaw_pitch_roll_from_quaternion).
+dpc_status anglesFromQuaternion(const char* function, float qx, float qy, float qz, float qw,
+                                float* yaw, float* pitch, float* roll) {
+  if (!yaw || !pitch || !roll)
+    return failFixed(DPC_ERR_INVALID_ARGUMENT, function, "an output pointer is NULL");
+  const double norm = quaternionNorm(qx, qy, qz, qw);
+  if (!(norm > 0.0))
+    return failFixed(DPC_ERR_INVALID_ARGUMENT, function, "q is zero or not finite");
+  const glm::quat q(float(qw / norm), float(qx / norm), float(qy / norm), float(qz / norm));
+  const dpc::Orientation o =
+      dpc::orientationFromAxes(q * glm::vec3(1.f, 0.f, 0.f), q * glm::vec3(0.f, 1.f, 0.f));
+  *yaw = o.yawRadians / kDegrees;
+  *pitch = o.pitchRadians / kDegrees;
+  *roll = o.rollRadians / kDegrees;
+  return DPC_OK;
+}
+
 }  // namespace
 
 // Any thread: failures set the thread's message in its fixed buffer (api/errors.h), without
@@ -40,20 +78,15 @@ int dpc_engine_listener_count(const dpc_engine* engine) {
 
 dpc_status dpc_engine_set_listener_pose(dpc_engine* engine, int listener, float x, float y, float z,
                                         float yaw_degrees, float pitch_degrees) {
-  constexpr const char* kFunction = "dpc_engine_set_listener_pose";
-  if (!engine) return failFixed(DPC_ERR_INVALID_ARGUMENT, kFunction, "engine is NULL");
-  if (const dpc_status s = checkIndex(kFunction, "listener", listener,
-                                      dpc_engine_listener_count(engine), "listeners");
-      s != DPC_OK)
-    return s;
-  if (!checkPosition(kFunction, x, y, z) ||
-      !checkArgument(kFunction, "yaw_degrees", "listener.yaw", yaw_degrees) ||
-      !checkArgument(kFunction, "pitch_degrees", "listener.pitch", pitch_degrees))
-    return DPC_ERR_INVALID_ARGUMENT;
-  return engine->session->setListenerPose(size_t(listener), glm::vec3(x, y, z),
-                                          yaw_degrees * kDegrees, 0.0, pitch_degrees * kDegrees)
-             ? DPC_OK
-             : failFixed(DPC_ERR_INVALID_ARGUMENT, kFunction, "pose refused");
+  return setListenerPose("dpc_engine_set_listener_pose", engine, listener, glm::vec3(x, y, z),
+                         yaw_degrees, pitch_degrees, 0.f);
+}
+
+dpc_status dpc_engine_set_listener_head_pose(dpc_engine* engine, int listener, float x, float y,
+                                             float z, float yaw_degrees, float pitch_degrees,
+                                             float roll_degrees) {
+  return setListenerPose("dpc_engine_set_listener_head_pose", engine, listener, glm::vec3(x, y, z),
+                         yaw_degrees, pitch_degrees, roll_degrees);
 }
 
 dpc_status dpc_engine_select_listener(dpc_engine* engine, int listener) {
@@ -74,18 +107,16 @@ int dpc_engine_selected_listener(const dpc_engine* engine) {
 
 dpc_status dpc_yaw_pitch_from_quaternion(float qx, float qy, float qz, float qw, float* yaw_degrees,
                                          float* pitch_degrees) {
-  constexpr const char* kFunction = "dpc_yaw_pitch_from_quaternion";
-  if (!yaw_degrees || !pitch_degrees)
-    return failFixed(DPC_ERR_INVALID_ARGUMENT, kFunction, "an output pointer is NULL");
-  const double norm = quaternionNorm(qx, qy, qz, qw);
-  if (!(norm > 0.0))
-    return failFixed(DPC_ERR_INVALID_ARGUMENT, kFunction, "q is zero or not finite");
-  const glm::quat q(float(qw / norm), float(qx / norm), float(qy / norm), float(qz / norm));
-  const glm::vec3 f = q * glm::vec3(1.f, 0.f, 0.f);
-  const float horizontal = std::hypot(f.x, f.z);
-  *yaw_degrees = horizontal > 0.f ? std::atan2(-f.z, f.x) / kDegrees : 0.f;
-  *pitch_degrees = std::atan2(f.y, horizontal) / kDegrees;
-  return DPC_OK;
+  float roll = 0.f;
+  return anglesFromQuaternion("dpc_yaw_pitch_from_quaternion", qx, qy, qz, qw, yaw_degrees,
+                              pitch_degrees, &roll);
+}
+
+dpc_status dpc_yaw_pitch_roll_from_quaternion(float qx, float qy, float qz, float qw,
+                                              float* yaw_degrees, float* pitch_degrees,
+                                              float* roll_degrees) {
+  return anglesFromQuaternion("dpc_yaw_pitch_roll_from_quaternion", qx, qy, qz, qw, yaw_degrees,
+                              pitch_degrees, roll_degrees);
 }
 
 dpc_status dpc_engine_set_source_position(dpc_engine* engine, int source, float x, float y,

@@ -101,6 +101,7 @@ void listenersFromData(const dpc_scene_data& d, const Origin& origin, SceneDesc&
   first.radius = d.listener_radius;
   first.yaw_degrees = d.listener_yaw_degrees;
   first.pitch_degrees = d.listener_pitch_degrees;
+  first.roll_degrees = d.listener_roll_degrees;
   for (int i = 0; i <= d.additional_listener_count; ++i) {
     const dpc_listener& a = i == 0 ? first : d.additional_listeners[i - 1];
     ListenerDesc l;
@@ -109,6 +110,7 @@ void listenersFromData(const dpc_scene_data& d, const Origin& origin, SceneDesc&
     l.radius = a.radius;
     l.yawDegrees = a.yaw_degrees;
     l.pitchDegrees = a.pitch_degrees;
+    l.rollDegrees = a.roll_degrees;
     scene.listeners.push_back(l);
   }
 }

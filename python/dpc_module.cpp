@@ -62,8 +62,8 @@ void checkPose(dpc_status s, const char* what) {
 }
 
 void setListenerPose(dpc::Engine& e, int listener, const std::array<float, 3>& p, float yaw,
-                     float pitch) {
-  checkPose(e.setListenerPose(listener, p[0], p[1], p[2], yaw, pitch), "set_listener_pose");
+                     float pitch, float roll) {
+  checkPose(e.setListenerPose(listener, p[0], p[1], p[2], yaw, pitch, roll), "set_listener_pose");
 }
 
 void setSourcePosition(dpc::Engine& e, int source, const std::array<float, 3>& p) {
@@ -134,7 +134,8 @@ time from Python (the C API's dpc_engine): set poses, step(), read the responses
       .def_property_readonly("listener_count", &dpc::Engine::listenerCount)
       .def_property_readonly("object_count", &dpc::Engine::objectCount)
       .def("set_listener_pose", &setListenerPose, py::arg("listener"), py::arg("position"),
-           py::arg("yaw_degrees") = 0.f, py::arg("pitch_degrees") = 0.f)
+           py::arg("yaw_degrees") = 0.f, py::arg("pitch_degrees") = 0.f,
+           py::arg("roll_degrees") = 0.f)
       .def("set_source_position", &setSourcePosition, py::arg("source"), py::arg("position"))
       .def("set_object_pose", &setObjectPose, py::arg("object"), py::arg("position"),
            py::arg("rotation"))

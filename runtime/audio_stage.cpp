@@ -76,7 +76,8 @@ AudioStage::~AudioStage() = default;
 void AudioStage::setHeadOrientation(const Orientation& head) {
   DPC_ASSERT_AUDIO_THREAD();
   if (!head_ || (head.yawRadians == headOrientation_.yawRadians &&
-                 head.pitchRadians == headOrientation_.pitchRadians))
+                 head.pitchRadians == headOrientation_.pitchRadians &&
+                 head.rollRadians == headOrientation_.rollRadians))
     return;
   headOrientation_ = head;
   const Orientation reference{};

@@ -81,7 +81,7 @@ class AudioStage {
   audio::NonUniformConvolver convolver_;
   std::shared_ptr<const audio::NonUniformLayout> lateLayout_;
   std::unique_ptr<audio::NonUniformConvolver> lateConvolver_;  ///< hybrid: the late buses
-  std::unique_ptr<audio::LateBusMixer> lateMixer_;              ///< hybrid: their inputs
+  std::unique_ptr<audio::LateBusMixer> lateMixer_;             ///< hybrid: their inputs
   /// Head-tracked binaural: the rotation and decoder, the Ambisonic block it reads (IR
   /// channels x block) and the head orientation last applied.
   std::unique_ptr<audio::HeadTrackedBinaural> head_;

@@ -74,8 +74,8 @@ double drySignalBytes(const SceneDesc& scene) {
     if (src.signalPath.empty()) continue;
     try {
       const audio::SoundFileInfo f = audio::readSoundFileInfo(src.signalPath);
-      held += double(f.frames) * double(scene.audio.sampleRate) / double(f.sampleRate) *
-              sizeof(float);
+      held +=
+          double(f.frames) * double(scene.audio.sampleRate) / double(f.sampleRate) * sizeof(float);
       largestRead = std::max(largestRead, double(f.frames) * f.channels * sizeof(float));
     } catch (const InputError&) {
     }

@@ -36,7 +36,7 @@ HostPoses::HostPoses(std::shared_ptr<const SceneDesc> scene, size_t played)
   for (size_t l = 0; l < s.listeners.size(); ++l) {
     const Orientation o = listenerOrientationAt(s.listeners[l], 0.0);
     listeners_[l].publish(ListenerPose{listenerPositionAt(s.listeners[l], 0.0), o.yawRadians,
-                                       o.pitchRadians, steadyNowNs(), 0.0});
+                                       o.pitchRadians, o.rollRadians, steadyNowNs(), 0.0});
   }
   sources_ = std::make_unique<SeqlockChannel<HostSourcePosition>[]>(s.sources.size());
   sourceRotations_ = std::make_unique<SeqlockChannel<HostSourceRotation>[]>(s.sources.size());
@@ -46,13 +46,13 @@ HostPoses::HostPoses(std::shared_ptr<const SceneDesc> scene, size_t played)
 }
 
 bool HostPoses::setListenerPose(size_t index, const glm::vec3& position, float yawRadians,
-                                double sceneSeconds, float pitchRadians) {
+                                double sceneSeconds, float pitchRadians, float rollRadians) {
   if (index >= scene_->listeners.size() ||
       !positionWithinLimit(position.x, position.y, position.z) || !std::isfinite(yawRadians) ||
-      !std::isfinite(pitchRadians))
+      !std::isfinite(pitchRadians) || !std::isfinite(rollRadians))
     return false;
   listeners_[index].publish(
-      ListenerPose{position, yawRadians, pitchRadians, steadyNowNs(), sceneSeconds});
+      ListenerPose{position, yawRadians, pitchRadians, rollRadians, steadyNowNs(), sceneSeconds});
   return true;
 }
 
@@ -109,7 +109,7 @@ ListenerPose HostPoses::assemble(WorldState& world, size_t& played) const {
   for (size_t l = 0; l < s.listeners.size(); ++l) {
     const ListenerPose p = listeners_[l].read();
     world.listenerPositions[l] = p.position;
-    world.listenerOrientations[l] = Orientation{p.yawRadians, p.pitchRadians};
+    world.listenerOrientations[l] = Orientation{p.yawRadians, p.pitchRadians, p.rollRadians};
     if (l == played) pose = p;
   }
   // Sources and objects at the played listener's scene time, unless the host placed them.
@@ -129,9 +129,9 @@ ListenerPose HostPoses::assemble(WorldState& world, size_t& played) const {
   world.sourceRotations.resize(s.sources.size());
   for (size_t i = 0; i < s.sources.size(); ++i) {
     const HostSourceRotation h = sourceRotations_[i].read();
-    world.sourceRotations[i] = h.set ? glm::quat(h.rotation[3], h.rotation[0], h.rotation[1],
-                                                 h.rotation[2])
-                                     : sourceRotationAt(s.sources[i], t);
+    world.sourceRotations[i] =
+        h.set ? glm::quat(h.rotation[3], h.rotation[0], h.rotation[1], h.rotation[2])
+              : sourceRotationAt(s.sources[i], t);
   }
   world.objectPoses.resize(s.objects.size());
   for (size_t k = 0; k < s.objects.size(); ++k) {

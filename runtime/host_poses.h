@@ -27,11 +27,11 @@ class HostPoses {
   HostPoses(std::shared_ptr<const SceneDesc> scene, size_t played);
 
   /// Any thread (one writer per listener at a time): listener `index`'s pose (position m,
-  /// yaw and pitch radians as dpc::Orientation) for scene time sceneSeconds, timestamped now.
-  /// False (nothing changed) for an index out of range, a coordinate outside the "position"
-  /// limit (scene/limits.h) or a non-finite angle. Wait-free; no allocation.
+  /// yaw, pitch and roll radians as dpc::Orientation) for scene time sceneSeconds, timestamped
+  /// now. False (nothing changed) for an index out of range, a coordinate outside the
+  /// "position" limit (scene/limits.h) or a non-finite angle. Wait-free; no allocation.
   bool setListenerPose(size_t index, const glm::vec3& position, float yawRadians,
-                       double sceneSeconds, float pitchRadians);
+                       double sceneSeconds, float pitchRadians, float rollRadians = 0.f);
   /// Any thread (one writer per source at a time): source `index` at `position` (m) instead
   /// of its trajectory from now on. False (nothing changed) for an index out of range or a
   /// coordinate outside the "position" limit. Wait-free; no allocation.

@@ -47,8 +47,8 @@ HybridSynthesis::HybridSynthesis(const SceneDesc& scene, const PropagationSettin
   const int fs = scene.audio.sampleRate;
   const size_t S = scene.sources.size();
   if (spatial_) {
-    earlySpatial_ = makeSpatialSynthesizer(scene, settings, roomVolume, earlySeconds,
-                                           0x2545f4914f6cdd1dULL);
+    earlySpatial_ =
+        makeSpatialSynthesizer(scene, settings, roomVolume, earlySeconds, 0x2545f4914f6cdd1dULL);
     earlySamples_ = earlySpatial_->lengthSamples();
   } else {
     // Per source its own Dirac sequence (sources playing one signal stay incoherent); the
@@ -85,8 +85,7 @@ size_t HybridSynthesis::lateSamples() const {
 
 void HybridSynthesis::ensureListener(size_t listener, size_t sources) {
   while (clusters_.size() <= listener) {
-    clusters_.push_back(
-        std::make_unique<SourceClusters>(sources, buses_, clusterAngle_));
+    clusters_.push_back(std::make_unique<SourceClusters>(sources, buses_, clusterAngle_));
     counts_.emplace_back();
   }
 }
@@ -127,8 +126,7 @@ void HybridSynthesis::prepareBuses(const Simulation& sim, size_t listener) {
 }
 
 double HybridSynthesis::splitSource(const Simulation& sim, size_t s, size_t listener, int k,
-                                    BakedPlayback* baked,
-                                    std::vector<std::vector<float>>& early) {
+                                    BakedPlayback* baked, std::vector<std::vector<float>>& early) {
   Scratch& x = *scratch_;
   const Simulation::SourceResult& r = sim.result(s, listener);
   const std::vector<SpecularPath>& paths = sim.specularPaths(s, listener);
@@ -214,8 +212,8 @@ void HybridSynthesis::synthesizeBus(int k, std::vector<std::vector<float>>& late
 }
 
 void HybridSynthesis::prepare(const Simulation& sim, size_t listener,
-                              const glm::vec3& listenerPosition,
-                              std::span<const glm::vec3> sources, BakedPlayback* baked,
+                              const glm::vec3& listenerPosition, std::span<const glm::vec3> sources,
+                              BakedPlayback* baked,
                               std::vector<std::vector<std::vector<float>>>& early,
                               std::vector<std::vector<std::vector<float>>>& late,
                               std::span<float> gain, std::span<int> bus) {

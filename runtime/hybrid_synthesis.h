@@ -94,12 +94,11 @@ class HybridSynthesis {
   struct Scratch;
   /// Source s's early IR into early[s] and its late part into its bus's response; returns its
   /// late energy. Spatial output.
-  double splitSource(const Simulation& sim, size_t s, size_t listener, int k,
-                     BakedPlayback* baked, std::vector<std::vector<float>>& early);
+  double splitSource(const Simulation& sim, size_t s, size_t listener, int k, BakedPlayback* baked,
+                     std::vector<std::vector<float>>& early);
   /// Mono output: source s's late part into bus k's response (serial: buses are shared);
   /// returns its late energy and records whether its direct sound went late.
-  double addMonoLate(const Simulation& sim, size_t s, size_t listener, int k,
-                     BakedPlayback* baked);
+  double addMonoLate(const Simulation& sim, size_t s, size_t listener, int k, BakedPlayback* baked);
   /// Mono output: source s's early IR into early (channel 0) with worker w's scratch.
   void synthesizeMonoEarly(const Simulation& sim, size_t s, size_t listener, size_t w,
                            BakedPlayback* baked, std::vector<std::vector<float>>& early);
@@ -117,8 +116,8 @@ class HybridSynthesis {
   int buses_;
   double clusterAngle_;
   size_t earlySamples_ = 0;
-  SpatialIrSynthesizer* spatial_ = nullptr;             ///< late buses (spatial output)
-  std::unique_ptr<SpatialIrSynthesizer> earlySpatial_;  ///< early parts (spatial output)
+  SpatialIrSynthesizer* spatial_ = nullptr;                ///< late buses (spatial output)
+  std::unique_ptr<SpatialIrSynthesizer> earlySpatial_;     ///< early parts (spatial output)
   std::vector<std::unique_ptr<IrSynthesizer>> earlyMono_;  ///< per source (mono output)
   std::vector<std::unique_ptr<IrSynthesizer>> lateMono_;   ///< per bus (mono output)
   std::unique_ptr<Scratch> scratch_;

@@ -56,13 +56,15 @@ LiveSession::~LiveSession() {
 }
 
 void LiveSession::setPose(const glm::vec3& position, float yawRadians, double sceneSeconds,
-                          float pitchRadians) {
-  poses_.setListenerPose(poses_.played(), position, yawRadians, sceneSeconds, pitchRadians);
+                          float pitchRadians, float rollRadians) {
+  poses_.setListenerPose(poses_.played(), position, yawRadians, sceneSeconds, pitchRadians,
+                         rollRadians);
 }
 
 bool LiveSession::setListenerPose(size_t index, const glm::vec3& position, float yawRadians,
-                                  double sceneSeconds, float pitchRadians) {
-  return poses_.setListenerPose(index, position, yawRadians, sceneSeconds, pitchRadians);
+                                  double sceneSeconds, float pitchRadians, float rollRadians) {
+  return poses_.setListenerPose(index, position, yawRadians, sceneSeconds, pitchRadians,
+                                rollRadians);
 }
 
 void LiveSession::start() {
@@ -220,7 +222,8 @@ bool LiveSession::copyToDevice(float* const* outputs) noexcept {
 void LiveSession::turnHead() noexcept {
   ListenerPose pose;
   if (!poses_.tryListenerPose(poses_.played(), pose)) return;  // keep the last orientation
-  audioStage_->setHeadOrientation(Orientation{pose.yawRadians, pose.pitchRadians});
+  audioStage_->setHeadOrientation(
+      Orientation{pose.yawRadians, pose.pitchRadians, pose.rollRadians});
   if (pose.publishedNs == headPoseNs_) return;
   // Pose published -> the first block rendered with it (the block leaves the callback next).
   if (headPoseNs_ != 0)

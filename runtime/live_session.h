@@ -78,10 +78,10 @@ class LiveSession {
   void stop();
 
   /// Any thread (one writer at a time): publishes a new pose (timestamped now) for the played
-  /// listener (playedListener()). Yaw and pitch as in dpc::Orientation (radians; yaw 0 faces
-  /// +x, positive turns left). Wait-free; no allocation.
+  /// listener (playedListener()). Yaw, pitch and roll as in dpc::Orientation (radians; yaw 0
+  /// faces +x, positive turns left). Wait-free; no allocation.
   void setPose(const glm::vec3& position, float yawRadians, double sceneSeconds,
-               float pitchRadians = 0.f);
+               float pitchRadians = 0.f, float rollRadians = 0.f);
   /// Any thread (one writer per listener at a time): publishes listener `index`'s pose
   /// (scene.listeners order), timestamped now, for the following propagation frames. Every
   /// listener is traced each frame in the same pass (its cache stays current whether it is
@@ -90,7 +90,7 @@ class LiveSession {
   /// their trajectories at the played listener's time). Returns false (and changes nothing)
   /// for an index out of range. Wait-free (seqlock, runtime/pose_channel.h); no allocation.
   bool setListenerPose(size_t index, const glm::vec3& position, float yawRadians,
-                       double sceneSeconds, float pitchRadians = 0.f);
+                       double sceneSeconds, float pitchRadians = 0.f, float rollRadians = 0.f);
   /// Any thread: plays listener `index` from the next propagation frame on (the audio thread
   /// crossfades to its IR like to any new IR). False for an index out of range. Wait-free.
   bool selectListener(size_t index) { return poses_.select(index); }

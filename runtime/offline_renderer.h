@@ -52,7 +52,7 @@ struct OfflineListenerResult {
   std::vector<std::vector<std::vector<float>>> lastIrs;  ///< [source][channel][sample]
   /// [source]: the last frame's energy response, exact early specular paths included
   std::vector<EnergyResponse> lastEnergy;
-  std::vector<DirectSound> lastDirect;     ///< [source]: the last frame's direct sound
+  std::vector<DirectSound> lastDirect;  ///< [source]: the last frame's direct sound
   /// The last frame's poses (scene frame, metres): the listener's and each source's.
   glm::vec3 lastListenerPosition{0.f};
   Orientation lastListenerOrientation;

@@ -27,6 +27,7 @@ struct ListenerPose {
   glm::vec3 position{0.f};    ///< metres
   float yawRadians = 0.f;     ///< heading about the up axis (0 = +x, + = left), radians
   float pitchRadians = 0.f;   ///< above the horizon, radians
+  float rollRadians = 0.f;    ///< about forward, radians (+ = the right ear down)
   int64_t publishedNs = 0;    ///< steady_clock time of publication, ns (for latency)
   double sceneSeconds = 0.0;  ///< scene time the pose belongs to (trajectory time)
 };

@@ -24,8 +24,7 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 std::vector<glm::vec3> spatialDirections(const AudioSettings& audio) {
-  if (audio.output != OutputFormat::kAmbisonics &&
-      audio.output != OutputFormat::kAmbisonicBinaural)
+  if (audio.output != OutputFormat::kAmbisonics && audio.output != OutputFormat::kAmbisonicBinaural)
     return defaultSpatialDirections();
   return uniformSpatialDirections(
       std::min(2 * ambisonicChannels(audio.ambisonicOrder), kMaxTurnedFieldDirections));
@@ -38,24 +37,30 @@ int renderedChannels(const AudioSettings& audio) {
 std::vector<std::string> renderedChannelNames(const AudioSettings& audio) {
   std::vector<std::string> names;
   switch (audio.output) {
-    case OutputFormat::kMono: return {"mono"};
+    case OutputFormat::kMono:
+      return {"mono"};
     case OutputFormat::kAmbisonics:
       for (int c = 0; c < outputChannels(audio); ++c) names.push_back("ACN" + std::to_string(c));
       return names;
     case OutputFormat::kLoudspeakers:
       for (const LoudspeakerDesc& s : audio.speakers) names.push_back(s.name);
       return names;
-    default: return {"left", "right"};
+    default:
+      return {"left", "right"};
   }
 }
 
 int outputChannels(const AudioSettings& audio) {
   switch (audio.output) {
-    case OutputFormat::kMono: return 1;
+    case OutputFormat::kMono:
+      return 1;
     case OutputFormat::kAmbisonics:
-    case OutputFormat::kAmbisonicBinaural: return ambisonicChannels(audio.ambisonicOrder);
-    case OutputFormat::kLoudspeakers: return int(audio.speakers.size());
-    default: return 2;
+    case OutputFormat::kAmbisonicBinaural:
+      return ambisonicChannels(audio.ambisonicOrder);
+    case OutputFormat::kLoudspeakers:
+      return int(audio.speakers.size());
+    default:
+      return 2;
   }
 }
 
@@ -212,18 +217,17 @@ double PropagationStage::hybridEarlySeconds(const PropagationSettings& settings)
   const SceneDesc& scene = *scene_;
   if (!rendersHybrid(scene.audio, scene.sources.size())) return 0.0;
   const Geometry& g = simulation_->geometry();
-  const double early = hybridEarlyLength(double(glm::length(g.boundsMax() - g.boundsMin())),
-                                         settings.speedOfSound, settings.irLength,
-                                         kHybridFadeSeconds);
+  const double early =
+      hybridEarlyLength(double(glm::length(g.boundsMax() - g.boundsMin())), settings.speedOfSound,
+                        settings.irLength, kHybridFadeSeconds);
   return early < double(settings.irLength) ? early : 0.0;  // else the early part is the whole IR
 }
 
 void PropagationStage::makeHybrid(const PropagationSettings& settings, double early) {
   const SceneDesc& scene = *scene_;
-  hybrid_ = std::make_unique<HybridSynthesis>(scene, settings, roomVolume(scene.mesh),
-                                              spatial_.get(), early, scene.listeners.size(),
-                                              simulation_->propagator().concurrency(),
-                                              onTracingThreads());
+  hybrid_ = std::make_unique<HybridSynthesis>(
+      scene, settings, roomVolume(scene.mesh), spatial_.get(), early, scene.listeners.size(),
+      simulation_->propagator().concurrency(), onTracingThreads());
   if (hybrid_->earlySpatial()) levelOnTracingThreads(*hybrid_->earlySpatial());
   lateLayout_ = std::make_shared<const audio::NonUniformLayout>(scene.audio.blockSize,
                                                                 hybrid_->lateSamples());
@@ -291,9 +295,9 @@ void PropagationStage::traceWorld(const WorldState& world) {
     spheres_[l] = ListenerSphere{world.listenerPositions[l], radius};
     // Head-tracked binaural: IRs in the reference head frame (yaw 0, pitch 0); the audio
     // stage turns them by the listener's orientation per block.
-    simulation_->setListenerOrientation(
-        l, scene.audio.output == OutputFormat::kAmbisonicBinaural ? Orientation{}
-                                                                  : world.listenerOrientations[l]);
+    simulation_->setListenerOrientation(l, scene.audio.output == OutputFormat::kAmbisonicBinaural
+                                               ? Orientation{}
+                                               : world.listenerOrientations[l]);
   }
   const auto t0 = std::chrono::steady_clock::now();
   if (!world.objectPoses.empty()) simulation_->setObjectPoses(world.objectPoses);
@@ -390,8 +394,8 @@ std::vector<std::vector<std::vector<float>>> PropagationStage::wholeIrs(size_t l
 
 void PropagationStage::attachBake(std::shared_ptr<const BakedField> bake,
                                   BakeInterpolation settings) {
-  baked_ = bake ? std::make_unique<BakedPlayback>(std::move(bake), *simulation_, settings)
-              : nullptr;
+  baked_ =
+      bake ? std::make_unique<BakedPlayback>(std::move(bake), *simulation_, settings) : nullptr;
 }
 
 void PropagationStage::recycle(IrSet* set) {

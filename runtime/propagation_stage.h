@@ -26,10 +26,11 @@ struct IrSet {
   std::unique_ptr<audio::NonUniformIrSet> irs;
   /// Hybrid rendering (runtime/hybrid_synthesis.h), else null: late buses x output channels.
   std::unique_ptr<audio::NonUniformIrSet> lateIrs;
-  std::vector<float> lateGain;  ///< hybrid: per source, amplitude gain of its dry signal into its bus
-  std::vector<int> lateBus;     ///< hybrid: per source, its late bus
-  size_t listener = 0;           ///< listener index (scene.listeners order) it was computed for
-  uint64_t frame = 0;            ///< propagation frame index that produced it
+  std::vector<float>
+      lateGain;              ///< hybrid: per source, amplitude gain of its dry signal into its bus
+  std::vector<int> lateBus;  ///< hybrid: per source, its late bus
+  size_t listener = 0;       ///< listener index (scene.listeners order) it was computed for
+  uint64_t frame = 0;        ///< propagation frame index that produced it
   double poseTimeSeconds = 0.0;  ///< scene time of the listener pose it was computed for
   int64_t poseNs = 0;            ///< live: steady_clock ns when that pose was published (latency)
   int64_t readyNs = 0;           ///< live: steady_clock ns when the set was ready (IR age)
@@ -179,9 +180,9 @@ class PropagationStage {
   std::shared_ptr<const audio::NonUniformLayout> lateLayout_;  ///< hybrid: full-length IRs
   std::vector<std::unique_ptr<IrSet>> pool_;
   std::vector<IrSet*> free_;
-  std::vector<std::vector<std::vector<std::vector<float>>>> irs_;  ///< [listener][source][ch]
+  std::vector<std::vector<std::vector<std::vector<float>>>> irs_;      ///< [listener][source][ch]
   std::vector<std::vector<std::vector<std::vector<float>>>> lateIrs_;  ///< [listener][bus][ch]
-  std::vector<glm::vec3> sources_;       ///< traceWorld's source positions
+  std::vector<glm::vec3> sources_;  ///< traceWorld's source positions
   /// Hybrid: per listener, the last prepared set's late gain and bus of each source.
   std::vector<std::vector<float>> lastGain_;
   std::vector<std::vector<int>> lastBus_;

@@ -16,17 +16,17 @@ namespace dpc {
 /// One frame's cache and ray totals over a set of source-listener pairs. Any thread; no
 /// allocation.
 struct FrameTotals {
-  uint64_t rays = 0;                     ///< rays traced, summed
-  size_t cacheEntries = 0;               ///< DPC path entries, summed
-  size_t cacheCoarseEntries = 0;         ///< DPC coarse-store entries, summed
-  size_t cacheBytes = 0;                 ///< DPC heap bytes, summed
-  size_t cacheBudgetBytes = 0;           ///< DPC memory budget: pairs' budgets summed, at most the pool
-  size_t cachePoolUsedBytes = 0;         ///< DPC pool bytes held by all pairs
-  uint64_t cachePoolRefusals = 0;        ///< table growths the full pool refused, summed
-  size_t cachePairs = 0;                 ///< source-listener pairs added
-  size_t cachePairBytesMin = 0;          ///< smallest pair's DPC heap bytes (its pool use)
-  size_t cachePairBytesMax = 0;          ///< largest pair's DPC heap bytes
-  uint64_t cacheMergedEntries = 0;       ///< path entries merged by the budget, cumulative, summed
+  uint64_t rays = 0;                ///< rays traced, summed
+  size_t cacheEntries = 0;          ///< DPC path entries, summed
+  size_t cacheCoarseEntries = 0;    ///< DPC coarse-store entries, summed
+  size_t cacheBytes = 0;            ///< DPC heap bytes, summed
+  size_t cacheBudgetBytes = 0;      ///< DPC memory budget: pairs' budgets summed, at most the pool
+  size_t cachePoolUsedBytes = 0;    ///< DPC pool bytes held by all pairs
+  uint64_t cachePoolRefusals = 0;   ///< table growths the full pool refused, summed
+  size_t cachePairs = 0;            ///< source-listener pairs added
+  size_t cachePairBytesMin = 0;     ///< smallest pair's DPC heap bytes (its pool use)
+  size_t cachePairBytesMax = 0;     ///< largest pair's DPC heap bytes
+  uint64_t cacheMergedEntries = 0;  ///< path entries merged by the budget, cumulative, summed
   double cacheCoarseEnergyFraction = 0;  ///< largest per-pair share of the response they carry
   /// Largest per-pair share of the estimator's energy that arrived beyond the IR length and
   /// was left out of the response (EnergyResponse::droppedEnergy(), summed over bands).
@@ -42,16 +42,16 @@ struct SessionStatus {
   /// Rays per source traced by the last frame (0 before the first); below raysPerFrameScene
   /// when the adaptive controller reduced them to hold the frame rate.
   int raysPerFrame = 0;
-  int raysPerFrameMin = 0;          ///< fewest rays per source of any frame so far (0: none yet)
-  int raysPerFrameScene = 0;        ///< the settings' rays per source (the controller's ceiling)
-  uint64_t reducedFrames = 0;       ///< frames traced with fewer rays than raysPerFrameScene
-  size_t cacheEntries = 0;          ///< DPC path + coarse entries, summed over sources
-  size_t cacheBytes = 0;            ///< DPC heap bytes, summed over sources
-  size_t cacheBudgetBytes = 0;      ///< DPC memory budget, summed over sources
+  int raysPerFrameMin = 0;      ///< fewest rays per source of any frame so far (0: none yet)
+  int raysPerFrameScene = 0;    ///< the settings' rays per source (the controller's ceiling)
+  uint64_t reducedFrames = 0;   ///< frames traced with fewer rays than raysPerFrameScene
+  size_t cacheEntries = 0;      ///< DPC path + coarse entries, summed over sources
+  size_t cacheBytes = 0;        ///< DPC heap bytes, summed over sources
+  size_t cacheBudgetBytes = 0;  ///< DPC memory budget, summed over sources
   /// The cache pool's use per source-listener pair, last frame (played listener): pairs,
   /// smallest and largest pair's bytes, and the pool's bytes held by every pair of the engine.
   size_t cachePairs = 0, cachePairBytesMin = 0, cachePairBytesMax = 0, cachePoolUsedBytes = 0;
-  uint64_t cacheMergedEntries = 0;  ///< entries merged into the coarse store, cumulative
+  uint64_t cacheMergedEntries = 0;         ///< entries merged into the coarse store, cumulative
   double cacheMergedEnergyFraction = 0.0;  ///< largest per-source share of the response they carry
   /// Last frame, played listener: largest per-source share of the energy that arrived beyond
   /// the IR length (not in the IR; FrameTotals::droppedEnergyFraction).

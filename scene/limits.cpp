@@ -45,6 +45,8 @@ constexpr std::array kLimits = {
         "ten turns either way: enough for any keyframed spin, finite for interpolation"},
   Limit{"listener.pitch", -90, 90, false, false, "degrees",
         "beyond the poles the head would be upside down"},
+  Limit{"listener.roll", -180, 180, false, false, "degrees",
+        "a head tilt: every tilt once, finite for interpolation"},
   Limit{"propagation.rays_per_frame", 1, 1e8, false, true, "",
         "at least one ray; more cannot finish a frame on any machine"},
   Limit{"propagation.max_order", 0, 10000, false, true, "",

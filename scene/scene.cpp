@@ -110,8 +110,8 @@ bool teleportBetween(const std::vector<Keyframe>& keys, bool loop, double from, 
 void markTeleports(const SceneDesc& scene, double from, double to, WorldState& world) {
   world.sourceTeleports.resize(scene.sources.size());
   for (size_t i = 0; i < scene.sources.size(); ++i)
-    world.sourceTeleports[i] = teleportBetween(scene.sources[i].trajectory,
-                                               scene.sources[i].trajectoryLoop, from, to);
+    world.sourceTeleports[i] =
+        teleportBetween(scene.sources[i].trajectory, scene.sources[i].trajectoryLoop, from, to);
   world.listenerTeleports.resize(scene.listeners.size());
   for (size_t i = 0; i < scene.listeners.size(); ++i)
     world.listenerTeleports[i] =
@@ -156,7 +156,22 @@ glm::vec3 Orientation::forward() const {
 
 glm::vec3 Orientation::up() const {
   const float sp = std::sin(pitchRadians);
-  return {-sp * std::cos(yawRadians), std::cos(pitchRadians), sp * std::sin(yawRadians)};
+  const glm::vec3 level{-sp * std::cos(yawRadians), std::cos(pitchRadians),
+                        sp * std::sin(yawRadians)};
+  if (rollRadians == 0.f) return level;
+  // Rodrigues about forward (orthogonal to level): the top of the head turns to the right side.
+  const glm::vec3 right = glm::cross(forward(), level);
+  return std::cos(rollRadians) * level + std::sin(rollRadians) * right;
+}
+
+Orientation orientationFromAxes(const glm::vec3& forward, const glm::vec3& up) {
+  Orientation o;
+  const float horizontal = std::sqrt(forward.x * forward.x + forward.z * forward.z);
+  o.yawRadians = horizontal > 0.f ? std::atan2(-forward.z, forward.x) : 0.f;
+  o.pitchRadians = std::asin(std::clamp(forward.y, -1.f, 1.f));
+  const glm::vec3 level = o.up(), right = glm::cross(o.forward(), level);
+  o.rollRadians = std::atan2(glm::dot(up, right), glm::dot(up, level));
+  return o;
 }
 
 Orientation listenerOrientationAt(const ListenerDesc& listener, double t) {
@@ -164,6 +179,7 @@ Orientation listenerOrientationAt(const ListenerDesc& listener, double t) {
   Orientation o;
   o.yawRadians = listener.yawDegrees * kDeg;
   o.pitchRadians = listener.pitchDegrees * kDeg;
+  o.rollRadians = listener.rollDegrees * kDeg;
   const auto& k = listener.trajectory;
   if (k.empty()) return o;
   if (listener.loop && k.size() > 1) {
@@ -177,15 +193,19 @@ Orientation listenerOrientationAt(const ListenerDesc& listener, double t) {
     if (k.size() == 1 || t <= k.front().timeSeconds) {
       o.yawRadians = *k.front().yawDegrees * kDeg;
       o.pitchRadians = k.front().pitchDegrees.value_or(0.f) * kDeg;
+      o.rollRadians = k.front().rollDegrees.value_or(0.f) * kDeg;
       return o;
     }
     const Keyframe &a = k[i], &b = k[i + 1];
-    const double u = std::clamp((t - a.timeSeconds) / (b.timeSeconds - a.timeSeconds), 0.0, 1.0);
-    float dy = std::remainder(*b.yawDegrees - *a.yawDegrees, 360.f);  // shorter arc
-    o.yawRadians = (*a.yawDegrees + float(u) * dy) * kDeg;
-    o.pitchRadians = (a.pitchDegrees.value_or(0.f) +
-                      float(u) * (b.pitchDegrees.value_or(0.f) - a.pitchDegrees.value_or(0.f))) *
-                     kDeg;
+    const float u =
+        float(std::clamp((t - a.timeSeconds) / (b.timeSeconds - a.timeSeconds), 0.0, 1.0));
+    const float dy = std::remainder(*b.yawDegrees - *a.yawDegrees, 360.f);  // shorter arc
+    o.yawRadians = (*a.yawDegrees + u * dy) * kDeg;
+    auto lerp = [u](const std::optional<float>& x, const std::optional<float>& y) {
+      return x.value_or(0.f) + u * (y.value_or(0.f) - x.value_or(0.f));
+    };
+    o.pitchRadians = lerp(a.pitchDegrees, b.pitchDegrees) * kDeg;
+    o.rollRadians = lerp(a.rollDegrees, b.rollDegrees) * kDeg;
     return o;
   }
   // Face the walking direction: this segment's, or the last moving segment's before it.

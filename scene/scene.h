@@ -22,8 +22,8 @@
 
 #include "common/bands.h"
 #include "common/spherical_harmonics.h"
-#include "scene/loudspeaker_layout.h"
 #include "scene/directivity.h"
+#include "scene/loudspeaker_layout.h"
 
 namespace dpc {
 
@@ -62,6 +62,9 @@ struct Keyframe {
   /// none the listener faces the walking direction.
   std::optional<float> yawDegrees;
   std::optional<float> pitchDegrees;  ///< degrees above the horizon (default 0)
+  /// Degrees about the forward direction (default 0): positive tilts the head to its right,
+  /// the right ear down (a right-hand turn about forward; aviation's roll).
+  std::optional<float> rollDegrees;
   /// Sources only: orientation, a unit quaternion (glm stores w, x, y, z; the file gives
   /// [x, y, z, w] as glTF), slerped. Either every keyframe of a source has one or none does.
   std::optional<glm::quat> rotation;
@@ -120,16 +123,25 @@ struct ListenerDesc {
   bool loop = false;                 ///< wrap time around the last keyframe
   float yawDegrees = 0.f;    ///< heading when the trajectory gives none and there is no motion
   float pitchDegrees = 0.f;  ///< degrees above the horizon, when keyframes give none
+  float rollDegrees = 0.f;   ///< head tilt about forward (Keyframe), when keyframes give none
 };
 
-/// Listener orientation: heading (yaw, about +y, 0 = facing +x, positive = turning left) and
-/// pitch (above the horizon), radians. forward() and up() are world unit vectors (y up).
+/// Listener orientation: heading (yaw, about +y, 0 = facing +x, positive = turning left),
+/// pitch (above the horizon) and roll (about forward, positive = the right ear down), radians,
+/// applied in that order. forward() and up() are world unit vectors (y up); roll turns up()
+/// about forward() and leaves forward() as it is.
 struct Orientation {
   float yawRadians = 0.f;
   float pitchRadians = 0.f;
+  float rollRadians = 0.f;
   glm::vec3 forward() const;
   glm::vec3 up() const;
 };
+
+/// The yaw, pitch and roll (radians) of the orientation whose forward and up are these world
+/// directions (unit, orthogonal): the inverse of Orientation::forward()/up(). Straight up or
+/// down the yaw is undetermined: 0, with the tilt in roll. Any thread; no allocation.
+Orientation orientationFromAxes(const glm::vec3& forward, const glm::vec3& up);
 
 /// Which estimator turns traced paths into the energy response.
 enum class Estimator {
@@ -177,7 +189,7 @@ struct PropagationSettings {
   uint64_t seed = 1;       ///< random seed; the same seed gives bit-identical output
   Estimator estimator = Estimator::kDpc;
   DpcWeighting dpcWeighting = DpcWeighting::kWindow;  ///< default: docs/dynamic.md
-  float speedOfSound = 343.f;    ///< m/s
+  float speedOfSound = 343.f;                         ///< m/s
   float temperatureC = 20.f;     ///< air temperature, degrees Celsius (ISO 9613-1)
   float humidityPercent = 50.f;  ///< relative humidity, percent (ISO 9613-1)
   bool airAbsorption = true;     ///< apply ISO 9613-1 air absorption along paths
@@ -239,7 +251,7 @@ struct AudioSettings {
   int blockSize = 512;     ///< samples per processing block
   OutputFormat output = OutputFormat::kMono;
   std::string hrtfPath = kDefaultHrtfPath;  ///< SOFA file for binaural output
-  int ambisonicOrder = 3;  ///< Ambisonic output's order N, 1 .. kMaxAmbisonicOrder
+  int ambisonicOrder = 3;                   ///< Ambisonic output's order N, 1 .. kMaxAmbisonicOrder
   /// Ambisonic output weighted per order by max-rE (a_n = P_n(r_E)); off: plain SN3D encoding.
   bool maxRe = false;
   /// kAmbisonicBinaural: how the AmbiX field is decoded to the ears.

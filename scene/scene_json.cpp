@@ -98,8 +98,9 @@ Directivity readDirectivity(const JsonReader& r, const json& v, const std::strin
     const std::string s = r.string(name, f);
     const auto a = directivityPatternA(s);
     if (!a)
-      r.fail(f, inQuotes(s) + " is not one of \"omni\", \"subcardioid\", \"cardioid\", "
-                              "\"supercardioid\", \"hypercardioid\", \"figure8\"");
+      r.fail(f, inQuotes(s) +
+                    " is not one of \"omni\", \"subcardioid\", \"cardioid\", "
+                    "\"supercardioid\", \"hypercardioid\", \"figure8\"");
     return Directivity{Bands(*a)};
   };
   if (v.is_string()) return named(v, field);
@@ -109,8 +110,7 @@ Directivity readDirectivity(const JsonReader& r, const json& v, const std::strin
   r.checkKeys(v, field, {"pattern", "a"});
   const json* p = JsonReader::find(v, "pattern");
   const json* a = JsonReader::find(v, "a");
-  if ((p == nullptr) == (a == nullptr))
-    r.fail(field, "give exactly one of \"pattern\" and \"a\"");
+  if ((p == nullptr) == (a == nullptr)) r.fail(field, "give exactly one of \"pattern\" and \"a\"");
   if (p) return named(*p, join(field, "pattern"));
   return Directivity{readBands(r, *a, join(field, "a"), "sources[].directivity.a")};
 }
@@ -233,7 +233,7 @@ void readSources(const JsonReader& r, const json& v, const fs::path& folder, Sce
 Keyframe readListenerKey(const JsonReader& r, const json& k, const std::string& kf,
                          const std::vector<Keyframe>& before) {
   r.expectObject(k, kf);
-  r.checkKeys(k, kf, {"t", "position", "yaw", "pitch", "teleport"});
+  r.checkKeys(k, kf, {"t", "position", "yaw", "pitch", "roll", "teleport"});
   Keyframe key;
   key.timeSeconds = keyTime(r, k, kf, lastTime(before));
   if (const json* x = JsonReader::find(k, "teleport"))
@@ -243,6 +243,8 @@ Keyframe readListenerKey(const JsonReader& r, const json& k, const std::string& 
     key.yawDegrees = float(r.limited(*y, join(kf, "yaw"), "listener.yaw"));
   if (const json* p = JsonReader::find(k, "pitch"))
     key.pitchDegrees = float(r.limited(*p, join(kf, "pitch"), "listener.pitch"));
+  if (const json* q = JsonReader::find(k, "roll"))
+    key.rollDegrees = float(r.limited(*q, join(kf, "roll"), "listener.roll"));
   if (!before.empty() && before.front().yawDegrees.has_value() != key.yawDegrees.has_value())
     r.fail(join(kf, "yaw"), "give \"yaw\" on every keyframe or on none");
   return key;
@@ -252,11 +254,12 @@ void readListener(const JsonReader& r, const json& v, const std::string& field, 
                   ListenerDesc& listener) {
   r.expectObject(v, field);
   if (named) {
-    r.checkKeys(v, field, {"name", "position", "radius", "trajectory", "loop", "yaw", "pitch"});
+    r.checkKeys(v, field,
+                {"name", "position", "radius", "trajectory", "loop", "yaw", "pitch", "roll"});
     listener.name = r.string(r.require(v, field, "name"), join(field, "name"));
     if (listener.name.empty()) r.fail(join(field, "name"), "must not be empty");
   } else {
-    r.checkKeys(v, field, {"position", "radius", "trajectory", "loop", "yaw", "pitch"});
+    r.checkKeys(v, field, {"position", "radius", "trajectory", "loop", "yaw", "pitch", "roll"});
   }
   if (const json* t = JsonReader::find(v, "trajectory")) {
     const std::string tf = join(field, "trajectory");
@@ -275,6 +278,8 @@ void readListener(const JsonReader& r, const json& v, const std::string& field, 
     listener.yawDegrees = float(r.limited(*y, join(field, "yaw"), "listener.yaw"));
   if (const json* p = JsonReader::find(v, "pitch"))
     listener.pitchDegrees = float(r.limited(*p, join(field, "pitch"), "listener.pitch"));
+  if (const json* q = JsonReader::find(v, "roll"))
+    listener.rollDegrees = float(r.limited(*q, join(field, "roll"), "listener.roll"));
 }
 
 /// `listener` (one, named "listener") or `listeners` (an array of named ones).
@@ -342,12 +347,11 @@ void readPropagationNumbers(const JsonReader& r, const json& v, PropagationSetti
 void readPropagation(const JsonReader& r, const json& v, PropagationSettings& p) {
   const std::string field = "propagation";
   r.expectObject(v, field);
-  r.checkKeys(
-      v, field,
-      {"rays_per_frame", "max_order", "exact_order", "patch_size", "cache_tau", "cache_memory_mb", "cache_pool_mb",
-       "frame_rate", "ir_length", "seed", "estimator", "dpc_weighting", "speed_of_sound",
-       "temperature", "humidity", "air_absorption", "diffraction", "roulette_threshold_db",
-       "tracing"});
+  r.checkKeys(v, field,
+              {"rays_per_frame", "max_order", "exact_order", "patch_size", "cache_tau",
+               "cache_memory_mb", "cache_pool_mb", "frame_rate", "ir_length", "seed", "estimator",
+               "dpc_weighting", "speed_of_sound", "temperature", "humidity", "air_absorption",
+               "diffraction", "roulette_threshold_db", "tracing"});
   auto f = [&](const char* key) { return join(field, key); };
   readPropagationNumbers(r, v, p);
   if (const json* x = JsonReader::find(v, "seed")) {

@@ -134,6 +134,7 @@ void checkListenerKeys(const ListenerDesc& l, const Origin& origin, const std::s
       fail(origin, kf + ".yaw", "give \"yaw\" on every keyframe or on none");
     if (key.yawDegrees) checkField("listener.yaw", *key.yawDegrees, origin, kf + ".yaw");
     if (key.pitchDegrees) checkField("listener.pitch", *key.pitchDegrees, origin, kf + ".pitch");
+    if (key.rollDegrees) checkField("listener.roll", *key.rollDegrees, origin, kf + ".roll");
   }
 }
 
@@ -147,6 +148,7 @@ void checkListeners(const std::vector<ListenerDesc>& listeners, const Origin& or
     checkField("listener.radius", l.radius, origin, f + ".radius");
     checkField("listener.yaw", l.yawDegrees, origin, f + ".yaw");
     checkField("listener.pitch", l.pitchDegrees, origin, f + ".pitch");
+    checkField("listener.roll", l.rollDegrees, origin, f + ".roll");
     checkListenerKeys(l, origin, f);
   }
 }

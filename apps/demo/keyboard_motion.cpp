@@ -76,6 +76,7 @@ void KeyboardMotion::advance(double dtSeconds) {
   const Orientation heading = listenerOrientationAt(*played_, sceneTime_);
   yaw_ = heading.yawRadians + yawOffset_;
   pitch_ = heading.pitchRadians;
+  roll_ = heading.rollRadians;
 }
 
 }  // namespace dpc::demo

@@ -39,6 +39,7 @@ class KeyboardMotion {
   float yaw() const { return yaw_; }
   /// Pitch of the trajectory, radians.
   float pitch() const { return pitch_; }
+  float roll() const { return roll_; }
 
  private:
   /// Moves `steps` (+1 forward/right, -1 back/left) along the current heading.
@@ -51,7 +52,7 @@ class KeyboardMotion {
   bool paused_ = false, manual_ = false;
   glm::vec3 position_;
   float yawOffset_ = 0.f;
-  float yaw_, pitch_ = 0.f;
+  float yaw_, pitch_ = 0.f, roll_ = 0.f;
 };
 
 }  // namespace dpc::demo

@@ -19,10 +19,10 @@
 #include "apps/demo/terminal.h"
 #include "audio/callback_watchdog.h"
 #include "audio/wav_io.h"
-#include "runtime/callback_adapter.h"
-#include "runtime/propagation_stage.h"
 #include "common/input_error.h"
 #include "common/stop_signals.h"
+#include "runtime/callback_adapter.h"
+#include "runtime/propagation_stage.h"
 #include "scene/validate.h"
 
 namespace dpc::demo {
@@ -110,9 +110,9 @@ void publishPoses(const SceneDesc& scene, const KeyboardMotion& motion, LiveSess
     if (i != motion.playedIndex()) {
       const Orientation o = listenerOrientationAt(scene.listeners[i], t);
       session.setListenerPose(i, listenerPositionAt(scene.listeners[i], t), o.yawRadians, t,
-                              o.pitchRadians);
+                              o.pitchRadians, o.rollRadians);
     }
-  session.setPose(motion.position(), motion.yaw(), t, motion.pitch());
+  session.setPose(motion.position(), motion.yaw(), t, motion.pitch(), motion.roll());
 }
 
 /// The once-a-second report: the callback's scheduling as soon as it is known, then the
@@ -208,13 +208,15 @@ void printDevice(const SceneDesc& scene, const audio::AudioOutput& output) {
   std::fprintf(stderr,
                "playing on %s (%s), %.0f Hz, %d channels, period %d, engine block %d, output "
                "latency %.1f ms\n",
-               output.device().spec().c_str(), output.device().hostApi.c_str(),
-               output.sampleRate(), output.channels(), output.blockSize(), scene.audio.blockSize,
+               output.device().spec().c_str(), output.device().hostApi.c_str(), output.sampleRate(),
+               output.channels(), output.blockSize(), scene.audio.blockSize,
                output.outputLatency() * 1e3);
   const bool jack = output.device().hostApi.find("JACK") != std::string::npos;
   if (jack && scene.audio.output == OutputFormat::kAmbisonics && output.device().name == "system")
-    std::fprintf(stderr, "note: the %d AmbiX ports (ACN0...) are left unconnected: connect them "
-                 "to a decoder (jack_connect, or --device jack:CLIENT)\n", output.channels());
+    std::fprintf(stderr,
+                 "note: the %d AmbiX ports (ACN0...) are left unconnected: connect them "
+                 "to a decoder (jack_connect, or --device jack:CLIENT)\n",
+                 output.channels());
   else if (jack && output.device().maxOutputChannels < output.channels())
     std::fprintf(stderr, "note: %s has %d input ports; channels %d.. are left unconnected\n",
                  output.device().spec().c_str(), output.device().maxOutputChannels,

@@ -16,13 +16,14 @@
  * Frame and rotations (one convention for every pose): a right-handed world frame, metres,
  * +y up (scene files and meshes use the same). A rotation is a unit quaternion in glTF order
  * (x, y, z, w) that maps an object's local frame to the world: world = R(q) * local + position.
- * Moving objects take that quaternion (dpc_engine_set_object_pose). Listeners take yaw and
- * pitch in degrees instead, in the same frame, because the engine's listener has no roll (its
- * ears stay level; the spatial synthesis reads only its forward and up directions): at yaw 0,
- * pitch 0 it faces +x with +y up; yaw turns it about +y, positive to the left (+x towards -z);
- * pitch then raises its gaze, positive up. A host holding a head or camera quaternion converts
- * it with dpc_yaw_pitch_from_quaternion (the quaternion rotates that rest pose; roll is
- * dropped).
+ * Moving objects take that quaternion (dpc_engine_set_object_pose). Listeners take yaw, pitch
+ * and roll in degrees instead, in the same frame (the spatial synthesis and the head rotation
+ * read the listener's forward and up directions): at yaw 0, pitch 0, roll 0 it faces +x with
+ * +y up; yaw turns it about +y, positive to the left (+x towards -z); pitch then raises its
+ * gaze, positive up; roll then tilts the head about its forward direction, positive to its
+ * right (the right ear down). A host holding a head or camera quaternion converts it with
+ * dpc_yaw_pitch_roll_from_quaternion (the quaternion rotates that rest pose) and sets it with
+ * dpc_engine_set_listener_head_pose.
  *
  * Versions and layouts: DPC_VERSION (dpc_version.h, this header's) and dpc_version() (the
  * library's) must agree on major and minor. The structs a caller hands over (creation options
@@ -207,6 +208,7 @@ typedef struct dpc_listener {
   float radius;         /**< receiver sphere radius, m, > 0 */
   float yaw_degrees;    /**< 0 faces +x, positive turns left (about +y); see the top */
   float pitch_degrees;  /**< positive looks up */
+  float roll_degrees;   /**< about forward, positive: the right ear down; [-180, 180] */
 } dpc_listener;
 
 /** A scene built in code: what a scene file says (docs/scene-format.md), same defaults.
@@ -224,6 +226,7 @@ typedef struct dpc_scene_data {
   float listener_radius;      /**< receiver sphere radius, m, > 0 */
   float listener_yaw_degrees; /**< 0 faces +x, positive turns left (about +y); see the top */
   float listener_pitch_degrees; /**< positive looks up */
+  float listener_roll_degrees;  /**< about forward, positive: the right ear down (since 0.5.0) */
   /* propagation (docs/estimators.md) */
   int rays_per_frame;   /**< rays per source per frame, > 0 */
   int max_order;        /**< maximum reflection order, >= 0 */
@@ -309,6 +312,16 @@ DPC_API dpc_status dpc_engine_set_listener_pose(dpc_engine* engine, int listener
                                                 float y, float z, float yaw_degrees,
                                                 float pitch_degrees);
 
+/** As dpc_engine_set_listener_pose, with the head's roll: degrees about its forward direction,
+ *  positive tilting it to its right (the right ear down), within [-180, 180]. A head-tracked
+ *  output (DPC_OUTPUT_AMBISONIC_BINAURAL) turns its sound field by the whole orientation from
+ *  the next audio block; the other outputs take it at the next propagation frame.
+ *  dpc_engine_set_listener_pose sets roll 0. Errors as dpc_engine_set_listener_pose (a roll
+ *  outside its limit or not finite names roll_degrees). Since 0.5.0. */
+DPC_API dpc_status dpc_engine_set_listener_head_pose(dpc_engine* engine, int listener, float x,
+                                                     float y, float z, float yaw_degrees,
+                                                     float pitch_degrees, float roll_degrees);
+
 /** Any thread, wait-free, no allocation. Makes listener `listener` (0-based) the one
  *  dpc_engine_process plays and dpc_engine_copy_* read, from the next propagation frame on;
  *  the audio side crossfades to its impulse responses as to any new ones (its cache is already
@@ -329,6 +342,16 @@ DPC_API int dpc_engine_selected_listener(const dpc_engine* engine);
  *  output, non-finite value or zero quaternion; dpc_last_error() says which). */
 DPC_API dpc_status dpc_yaw_pitch_from_quaternion(float qx, float qy, float qz, float qw,
                                                  float* yaw_degrees, float* pitch_degrees);
+
+/** Any thread; no allocation. As dpc_yaw_pitch_from_quaternion, with the roll the quaternion
+ *  holds: the angle in degrees, within [-180, 180], by which R(q) * (0, 1, 0) is turned about f
+ *  from the up direction of yaw and pitch alone, positive towards the listener's right (the
+ *  right ear down). Straight up or down (f vertical) the yaw is 0 and the heading is in the
+ *  roll. dpc_engine_set_listener_head_pose with the three angles gives the listener the
+ *  quaternion's orientation. Errors as dpc_yaw_pitch_from_quaternion. Since 0.5.0. */
+DPC_API dpc_status dpc_yaw_pitch_roll_from_quaternion(float qx, float qy, float qz, float qw,
+                                                      float* yaw_degrees, float* pitch_degrees,
+                                                      float* roll_degrees);
 
 /** Any thread, wait-free, no allocation. Moves source `source` (0-based, scene order) to
  *  (x, y, z) metres in scene coordinates from the next propagation frame on, instead of its

@@ -63,8 +63,9 @@ class Engine {
   /// position (m), yaw and pitch (degrees, the frame of dpc.h). Returns the status instead of
   /// throwing so that it may be called from an audio thread.
   dpc_status setListenerPose(int listener, float x, float y, float z, float yawDegrees,
-                             float pitchDegrees = 0.f) noexcept {
-    return dpc_engine_set_listener_pose(e_, listener, x, y, z, yawDegrees, pitchDegrees);
+                             float pitchDegrees = 0.f, float rollDegrees = 0.f) noexcept {
+    return dpc_engine_set_listener_head_pose(e_, listener, x, y, z, yawDegrees, pitchDegrees,
+                                             rollDegrees);
   }
   /// Any thread, wait-free: the listener heard and read out (dpc_engine_select_listener).
   dpc_status selectListener(int listener) noexcept {

@@ -3,6 +3,7 @@
 // next audio block without a propagation frame in between.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "dpc/dpc.h"
@@ -81,6 +82,24 @@ TEST_CASE("C API: head-tracked binaural turns with the listener's pose, no frame
   // KEMAR's ILD of a source at 90 degrees is 8-10 dB broadband; order-3 decoding keeps > 5.
   CHECK(ild(left) > 5.0);
   CHECK(ild(right) < -5.0);
+  // Facing -z with the source on the left, a roll of 90 degrees either way puts the source
+  // straight above (roll -90: the left ear down) or below (+90) the head: the median plane,
+  // about equal ears again, as behind. Rolled 45 degrees the source is still 45 degrees off
+  // the median plane, on the left: lateral (KEMAR's ILD there is as large as at 90 degrees,
+  // where the far ear's bright spot lowers it).
+  REQUIRE(dpc_engine_set_listener_head_pose(e, 0, 4.f, 1.5f, 2.f, 90.f, 0.f, -90.f) == DPC_OK);
+  const std::vector<double> above = directEnergy(e, d);
+  REQUIRE(dpc_engine_set_listener_head_pose(e, 0, 4.f, 1.5f, 2.f, 90.f, 0.f, 90.f) == DPC_OK);
+  const std::vector<double> below = directEnergy(e, d);
+  REQUIRE(dpc_engine_set_listener_head_pose(e, 0, 4.f, 1.5f, 2.f, 90.f, 0.f, 45.f) == DPC_OK);
+  const std::vector<double> half = directEnergy(e, d);
+  INFO("ILD rolled -90 " << ild(above) << " dB, +90 " << ild(below) << " dB, +45 " << ild(half));
+  CHECK(std::abs(ild(above)) < 3.0);
+  CHECK(std::abs(ild(below)) < 3.0);
+  CHECK(ild(half) > 5.0);
+  CHECK(dpc_engine_set_listener_head_pose(e, 0, 4.f, 1.5f, 2.f, 90.f, 0.f, 181.f) ==
+        DPC_ERR_INVALID_ARGUMENT);
+  CHECK(std::string(dpc_last_error()).find("roll_degrees") != std::string::npos);
   dpc_stats stats;
   stats.struct_size = sizeof stats;
   REQUIRE(dpc_engine_get_stats(e, &stats) == DPC_OK);

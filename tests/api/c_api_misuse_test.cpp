@@ -89,6 +89,13 @@ std::vector<Misuse> indexAndAngleCases() {
       });
     };
   };
+  auto head = [](int i, float roll) {
+    return [=] {
+      return withBox([&](dpc_engine* e) {
+        return dpc_engine_set_listener_head_pose(e, i, 1.f, 1.f, 1.f, 0.f, 0.f, roll);
+      });
+    };
+  };
   return {
       {"source -1", kBad,
        [] {
@@ -120,6 +127,13 @@ std::vector<Misuse> indexAndAngleCases() {
       {"pitch -90", DPC_OK, listener(0, 0, -90.f), ""},
       {"pitch 90.01", kBad, listener(0, 0, 90.01f), "pitch_degrees: 90.01 is outside"},
       {"pitch -inf", kBad, listener(0, 0, -kInf), "pitch_degrees: -inf"},
+      {"roll -180", DPC_OK, head(0, -180.f), ""},
+      {"roll 180.01", kBad, head(0, 180.01f), "roll_degrees: 180.01 is outside [-180, 180]"},
+      {"roll nan", kBad, head(0, kNan), "roll_degrees: nan"},
+      {"head pose, listener == count", kBad, head(1, 0.f), "listener: 1 is out of range"},
+      {"head pose, NULL engine", kBad,
+       [] { return dpc_engine_set_listener_head_pose(nullptr, 0, 1, 1, 1, 0, 0, 0); },
+       "engine is NULL"},
   };
 }
 

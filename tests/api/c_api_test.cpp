@@ -5,20 +5,22 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <glm/gtc/quaternion.hpp>
 #include <iterator>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "dpc/dpc.h"
 #include "dpc/dpc_version.h"
+#include "scene/scene.h"
 
 TEST_CASE("C API: bad arguments and bad scene files give codes and a message naming the file") {
   dpc_engine* e = reinterpret_cast<dpc_engine*>(1);
   CHECK(dpc_engine_create_from_file(nullptr, nullptr, &e) == DPC_ERR_INVALID_ARGUMENT);
   CHECK(e == nullptr);
   CHECK(dpc_engine_create_from_file("x.json", nullptr, nullptr) == DPC_ERR_INVALID_ARGUMENT);
-  CHECK(dpc_engine_create_from_file("/nonexistent/scene.json", nullptr, &e) ==
-        DPC_ERR_INPUT);
+  CHECK(dpc_engine_create_from_file("/nonexistent/scene.json", nullptr, &e) == DPC_ERR_INPUT);
   CHECK(e == nullptr);
   CHECK(std::string(dpc_last_error()).find("/nonexistent/scene.json") != std::string::npos);
   CHECK(dpc_engine_start(nullptr) == DPC_ERR_INVALID_ARGUMENT);
@@ -41,8 +43,7 @@ TEST_CASE("C API: shoebox engine processes finite blocks, counts unsupported cal
   CHECK(dpc_engine_set_object_pose(e, 0, 0.f, 0.f, 0.f, identity[0], identity[1], identity[2],
                                    identity[3]) == DPC_ERR_INVALID_ARGUMENT);
   CHECK(dpc_engine_latency_frames(e) == block);
-  CHECK(dpc_engine_set_listener_pose(e, 0, NAN, 1.6f, 1.5f, 0.f, 0.f) ==
-        DPC_ERR_INVALID_ARGUMENT);
+  CHECK(dpc_engine_set_listener_pose(e, 0, NAN, 1.6f, 1.5f, 0.f, 0.f) == DPC_ERR_INVALID_ARGUMENT);
   CHECK(dpc_engine_set_listener_pose(e, 0, 3.5f, 1.6f, 1.5f, 90.f, 0.f) == DPC_OK);
 
   std::vector<float> buffer(size_t(block) * channels, 1.f);
@@ -475,6 +476,30 @@ TEST_CASE("C API: a scene file's warnings reach the log callback") {
   dpc_set_log_callback(nullptr, nullptr);  // the default: stderr
   CHECK(logged.lines.size() == 1);
   CHECK(later.lines.size() == 1);
+}
+
+TEST_CASE("C API: a quaternion's yaw, pitch and roll give the listener the quaternion's axes") {
+  float yaw = 0.f, pitch = 0.f, roll = 0.f;
+  const float h = std::sqrt(0.5f);
+  // 90 degrees about +x (the rest pose's forward) turns +y to +z, its right: roll +90.
+  REQUIRE(dpc_yaw_pitch_roll_from_quaternion(h, 0.f, 0.f, h, &yaw, &pitch, &roll) == DPC_OK);
+  CHECK(yaw == Approx(0.f).margin(1e-4));
+  CHECK(pitch == Approx(0.f).margin(1e-4));
+  CHECK(roll == Approx(90.f).margin(1e-4));
+  // Random head quaternions: the listener's forward and up are R(q) x and R(q) y.
+  std::mt19937 rng(7);
+  std::normal_distribution<float> g;
+  for (int i = 0; i < 200; ++i) {
+    const glm::quat q = glm::normalize(glm::quat(g(rng), g(rng), g(rng), g(rng)));
+    REQUIRE(dpc_yaw_pitch_roll_from_quaternion(q.x, q.y, q.z, q.w, &yaw, &pitch, &roll) == DPC_OK);
+    const float k = 3.14159265f / 180.f;
+    const dpc::Orientation o{yaw * k, pitch * k, roll * k};
+    CHECK(glm::length(o.forward() - q * glm::vec3(1.f, 0.f, 0.f)) < 1e-4f);
+    CHECK(glm::length(o.up() - q * glm::vec3(0.f, 1.f, 0.f)) < 1e-4f);
+    CHECK(std::abs(roll) <= 180.f);
+  }
+  CHECK(dpc_yaw_pitch_roll_from_quaternion(0.f, 0.f, 0.f, 1.f, &yaw, &pitch, nullptr) ==
+        DPC_ERR_INVALID_ARGUMENT);
 }
 
 TEST_CASE("C API: a quaternion in the API's frame gives the listener's yaw and pitch") {

@@ -84,6 +84,8 @@ const std::map<std::string, DataSetter>& dataSetters() {
       {"listener.yaw", dataMember(&dpc_scene_data::listener_yaw_degrees, "listener_yaw_degrees")},
       {"listener.pitch",
        dataMember(&dpc_scene_data::listener_pitch_degrees, "listener_pitch_degrees")},
+      {"listener.roll",
+       dataMember(&dpc_scene_data::listener_roll_degrees, "listener_roll_degrees")},
       propagationField("rays_per_frame", &dpc_scene_data::rays_per_frame),
       propagationField("max_order", &dpc_scene_data::max_order),
       propagationField("patch_size", &dpc_scene_data::patch_size),

@@ -5,8 +5,8 @@
 // involved), and for how soon a turn is heard.
 #include <catch2/catch.hpp>
 #include <cmath>
-#include <memory>
 #include <glm/geometric.hpp>
+#include <memory>
 #include <vector>
 
 #include "audio/ambisonic_binaural.h"
@@ -101,7 +101,9 @@ std::vector<std::vector<float>> resynthesisedEars(SceneDesc scene, const Orienta
   return ears;
 }
 
-double dB(double a, double b) { return 10.0 * std::log10(a / b); }
+double dB(double a, double b) {
+  return 10.0 * std::log10(a / b);
+}
 
 double energy(const std::vector<float>& x) {
   double e = 0.0;
@@ -121,7 +123,7 @@ TEST_CASE("Head-tracked binaural: turning the field per block equals re-synthesi
   const SceneDesc scene = room(OutputFormat::kAmbisonicBinaural);
   const size_t length = size_t(scene.propagation.irLength * kFs) + 2048;
   for (const Orientation head : {Orientation{60.f * kDeg, 0.f}, Orientation{-100.f * kDeg, 0.f},
-                                 Orientation{30.f * kDeg, 25.f * kDeg}}) {
+                                 Orientation{30.f * kDeg, 25.f * kDeg, 40.f * kDeg}}) {
     std::vector<std::vector<float>> turned;
     std::vector<double> difference[2][kNumBands];  // dB, per seed
     for (uint64_t seed = 1; seed <= kSeeds; ++seed) {
@@ -139,8 +141,9 @@ TEST_CASE("Head-tracked binaural: turning the field per block equals re-synthesi
     for (int e = 0; e < 2; ++e)
       for (int band = 0; band < kNumBands; ++band) {
         const auto [mean, se] = test::meanAndStandardError(difference[e][band]);
-        INFO("yaw " << head.yawRadians / kDeg << " pitch " << head.pitchRadians / kDeg << " ear "
-                    << e << " band " << band << ": " << mean << " +- " << se << " dB");
+        INFO("yaw " << head.yawRadians / kDeg << " pitch " << head.pitchRadians / kDeg << " roll "
+                    << head.rollRadians / kDeg << " ear " << e << " band " << band << ": " << mean
+                    << " +- " << se << " dB");
         CHECK(std::abs(mean) < 0.5 + 3.0 * se);
       }
     // And the turn is heard: the direct sound's interaural level difference (up to 1.5 ms

@@ -2,6 +2,7 @@
 // errors of dynamic-scene input.
 #include <catch2/catch.hpp>
 #include <glm/common.hpp>
+#include <glm/geometric.hpp>
 #include <string>
 
 #include "common/input_error.h"
@@ -134,6 +135,43 @@ TEST_CASE("Several listeners: names, selection, unknown name", "[scene][dynamic]
   }
 }
 
+TEST_CASE("Listener roll: up turns about forward, angles round-trip, keyframes interpolate it",
+          "[scene][trajectory]") {
+  constexpr float kDeg = 3.14159265f / 180.f;
+  auto near = [](glm::vec3 a, glm::vec3 b) { return glm::length(a - b) < 1e-5f; };
+  // Roll +90 at rest: forward stays +x, up turns to the right side, +z (x cross y).
+  const Orientation tilted{0.f, 0.f, 90.f * kDeg};
+  CHECK(near(tilted.forward(), {1.f, 0.f, 0.f}));
+  CHECK(near(tilted.up(), {0.f, 0.f, 1.f}));
+  // Any yaw, pitch (inside the poles) and roll: orthonormal axes that give the angles back.
+  for (float yaw : {-170.f, -30.f, 0.f, 75.f}) {
+    for (float pitch : {-80.f, -10.f, 0.f, 45.f}) {
+      for (float roll : {-179.f, -60.f, 0.f, 20.f, 135.f}) {
+        const Orientation o{yaw * kDeg, pitch * kDeg, roll * kDeg};
+        const glm::vec3 f = o.forward(), u = o.up();
+        CHECK(std::abs(glm::dot(f, u)) < 1e-5f);
+        CHECK(glm::length(u) == Approx(1.f).margin(1e-5f));
+        const Orientation back = orientationFromAxes(f, u);
+        CHECK(back.yawRadians == Approx(o.yawRadians).margin(1e-4f));
+        CHECK(back.pitchRadians == Approx(o.pitchRadians).margin(1e-4f));
+        CHECK(back.rollRadians == Approx(o.rollRadians).margin(1e-4f));
+      }
+    }
+  }
+  // Keyframes: roll interpolates linearly like pitch; the listener's own roll without them.
+  ListenerDesc l;
+  l.rollDegrees = 10.f;
+  CHECK(listenerOrientationAt(l, 1.0).rollRadians == Approx(10.f * kDeg));
+  Keyframe a = key(0.0, {0.f, 0.f, 0.f}), b = key(2.0, {0.f, 0.f, 0.f});
+  a.yawDegrees = 0.f;
+  b.yawDegrees = 0.f;
+  a.rollDegrees = -30.f;
+  b.rollDegrees = 30.f;
+  l.trajectory = {a, b};
+  CHECK(listenerOrientationAt(l, 0.5).rollRadians == Approx(-15.f * kDeg));
+  CHECK(listenerOrientationAt(l, 3.0).rollRadians == Approx(30.f * kDeg));
+}
+
 TEST_CASE("Dynamic-scene bad input names the file and the field", "[scene][dynamic][errors]") {
   const std::string door = R"([ { "name": "door", "mesh": "door.obj", "trajectory": [
       { "t": 0, "position": [0, 0, 0] } ] } ])";
@@ -182,6 +220,17 @@ TEST_CASE("Dynamic-scene bad input names the file and the field", "[scene][dynam
     fx.scene["objects"] = json::parse(door);
     fx.scene["objects"].push_back(fx.scene["objects"][0]);
     CHECK_THAT(fx.error(), Contains("objects[1].name:") && Contains("duplicate"));
+  }
+  SECTION("listener roll out of range") {
+    Fixture fx;
+    fx.scene["listener"]["roll"] = 190;
+    CHECK_THAT(fx.error(), Contains("scene.json: listener.roll:") && Contains("[-180, 180]"));
+  }
+  SECTION("keyframe roll not a number") {
+    Fixture fx;
+    fx.scene["listener"]["trajectory"] =
+        json::parse(R"([ { "t": 0, "position": [0.5, 0.5, 0.5], "yaw": 0, "roll": "up" } ])");
+    CHECK_THAT(fx.error(), Contains("listener.trajectory[0].roll:"));
   }
   SECTION("duplicate listener names") {
     Fixture fx;

@@ -210,7 +210,7 @@ Json interpolationCost(Simulation& sim, glm::vec3 source) {
     if (interp.locate(p)) interp.response(0, out);
   }
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const size_t directional = (field->bins + 9) / 10 * 6 * kNumBands;
+  const size_t directional = field->directionalBins() * field->shChannels() * kNumBands;
   return {{"probes", field->probes.size()},
           {"seconds_per_listener_frame_one_source", s / n},
           {"visibility_rays_per_frame", double(interp.visibilityRays()) / n},

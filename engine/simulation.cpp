@@ -51,6 +51,8 @@ void Simulation::reserveListeners(size_t listeners) {
       results_.push_back(std::move(r));
       if (!directions_.empty())
         directional_.emplace_back(settings_.irLength, kEnergyBinSeconds, directions_);
+      if (shOrder_ >= 0) shEnergy_.emplace_back(shOrder_, settings_.irLength, shBinSeconds_);
+      tees_.emplace_back();
     }
     groups_.emplace_back();
   }
@@ -93,6 +95,29 @@ void Simulation::enableDirectional(const std::vector<glm::vec3>& listenerDirecti
   directional_.clear();
   for (size_t i = 0; i < results_.size(); ++i)
     directional_.emplace_back(settings_.irLength, kEnergyBinSeconds, directions_);
+}
+
+void Simulation::enableShEnergy(int order, double binSeconds) {
+  shOrder_ = order;
+  shBinSeconds_ = binSeconds;
+  shEnergy_.clear();
+  for (size_t i = 0; i < results_.size(); ++i)
+    shEnergy_.emplace_back(order, settings_.irLength, binSeconds);
+}
+
+ArrivalSink* Simulation::pairSink(size_t pair, size_t l) {
+  DirectionalEnergyResponse* dir = directional_.empty() ? nullptr : &directional_[pair];
+  ShEnergyResponse* sh = shEnergy_.empty() ? nullptr : &shEnergy_[pair];
+  if (dir) {
+    dir->clear();
+    dir->setListenerFrame(orientations_[l].forward(), orientations_[l].up());
+  }
+  if (sh) sh->clear();
+  if (dir && sh) {
+    tees_[pair] = ArrivalTee(dir, sh);
+    return &tees_[pair];
+  }
+  return dir ? static_cast<ArrivalSink*>(dir) : sh;
 }
 
 double Simulation::boundingVolume() const {
@@ -293,13 +318,7 @@ void Simulation::finishPair(size_t s, size_t l, const glm::vec3& source,
                         propagator_->airAttenuationPerMetre(), r.direct, directivities_[s],
                         sourceForwards_[s]);
   r.energy.clear();
-  DirectionalEnergyResponse* dir = nullptr;
-  if (!directional_.empty()) {
-    dir = &directional_[pair];
-    dir->clear();
-    dir->setListenerFrame(orientations_[l].forward(), orientations_[l].up());
-  }
-  updateOrIdle(pair, groups, r, dir);
+  updateOrIdle(pair, groups, r, pairSink(pair, l));
   r.traceSeconds = traceSeconds;
   r.estimatorSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
   if (specularScene_) updateSpecular(pair, source, listener, r);
@@ -328,7 +347,7 @@ const std::vector<SpecularPath>& Simulation::specularPaths(size_t source, size_t
 }
 
 void Simulation::updateOrIdle(size_t pair, const FrameGroups& groups, SourceResult& r,
-                              DirectionalEnergyResponse* dir) {
+                              ArrivalSink* dir) {
   if (pair < skip_.size() && skip_[pair]) {
     idle_[pair] = 1;  // the response stays empty: the bake plays it
     return;
@@ -339,7 +358,7 @@ void Simulation::updateOrIdle(size_t pair, const FrameGroups& groups, SourceResu
 }
 
 void Simulation::updateEstimator(size_t pair, const FrameGroups& groups, SourceResult& r,
-                                 DirectionalEnergyResponse* dir) {
+                                 ArrivalSink* dir) {
   if (caches_.empty()) {
     pathTracing_.endFrame(groups, r.trace.rays, settings_.speedOfSound, r.energy, dir);
     r.cacheEntries = groups.groups().size();

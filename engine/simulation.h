@@ -33,6 +33,7 @@
 #include "engine/geometry.h"
 #include "engine/path_cache.h"
 #include "engine/propagation.h"
+#include "engine/sh_energy_response.h"
 #include "engine/specular_paths.h"
 #include "engine/tracer.h"
 #include "scene/scene.h"
@@ -145,6 +146,14 @@ class Simulation {
     return directional_[listener * sourceCount_ + source];
   }
   bool hasDirectional() const { return !directions_.empty(); }
+  /// Also produce, per pair, the response's spherical-harmonic energy of `order` in bins of
+  /// binSeconds (engine/sh_energy_response.h; directions in the frame of a listener at yaw 0,
+  /// pitch 0), from each arrival's own direction as the estimator reads it out. Allocates.
+  void enableShEnergy(int order, double binSeconds);
+  /// Valid after runFrame when enableShEnergy was called.
+  const ShEnergyResponse& shEnergy(size_t source, size_t listener = 0) const {
+    return shEnergy_[listener * sourceCount_ + source];
+  }
 
   /// Source `source`'s result for listener `listener` (< listenerCount()). The trace statistics
   /// (rays, segments, trace time) are those of the pass that traced the pair (the source's,
@@ -196,10 +205,12 @@ class Simulation {
   /// compacted spheres, groups, exact sets, patterns and key ids; returns their count.
   size_t compactSources(size_t l, const ListenerSphere& listener,
                         const std::vector<glm::vec3>& sources, size_t S);
+  /// The pair's arrival sink for this frame (directional and/or SH energy, cleared), or null.
+  ArrivalSink* pairSink(size_t pair, size_t listener);
   /// The estimator's share of finishPair: the update, or for a skipped pair nothing (and a
   /// restart of its path cache when it is traced again).
   void updateOrIdle(size_t pair, const FrameGroups& groups, SourceResult& r,
-                    DirectionalEnergyResponse* dir);
+                    ArrivalSink* dir);
   /// Adds one tracing pass to frameTrace_.
   void addPass(const TraceStats& t);
   /// Per-source group buffers and exact-path set pointers (grows only).
@@ -212,7 +223,7 @@ class Simulation {
   /// Adds the frame's groups to pair's estimator and reads its energy response into r.energy
   /// (and dir when not null).
   void updateEstimator(size_t pair, const FrameGroups& groups, SourceResult& r,
-                       DirectionalEnergyResponse* dir);
+                       ArrivalSink* dir);
   /// The pair's exact specular paths for this frame, statistics into r.
   void updateSpecular(size_t pair, const glm::vec3& source, const ListenerSphere& listener,
                       SourceResult& r);
@@ -234,6 +245,10 @@ class Simulation {
   std::vector<std::unique_ptr<DiffusePathCache>> caches_;
   std::vector<SourceResult> results_;
   std::vector<DirectionalEnergyResponse> directional_;
+  std::vector<ShEnergyResponse> shEnergy_;  ///< per pair, enableShEnergy
+  std::vector<ArrivalTee> tees_;             ///< per pair: directional_ and shEnergy_ both
+  int shOrder_ = -1;                         ///< enableShEnergy's order (-1: off)
+  double shBinSeconds_ = 0.01;
   PathTracingEstimator pathTracing_;
   std::vector<FrameGroups> groups_;      ///< per listener, this source's frame
   std::vector<FrameGroups*> groupPtrs_;  ///< &groups_[l]

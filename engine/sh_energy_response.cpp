@@ -24,7 +24,10 @@ void addShEnergy(int order, const ListenerFrame& frame, const glm::vec3& worldDi
   std::array<float, ambisonicChannels(kMaxAmbisonicOrder)> y{};
   const glm::vec3 d = frame.toListener(worldDirection);
   const float dir[3] = {d.x, d.y, d.z};
-  sphericalHarmonicsSn3d(order, dir, y);
+  if (order == 1)
+    sphericalHarmonicsSn3dFirstOrder(dir, y);  // the bake's order, once per arrival
+  else
+    sphericalHarmonicsSn3d(order, dir, y);
   const int channels = ambisonicChannels(order);
   for (int n = 0; n < channels; ++n)
     for (int b = 0; b < kNumBands; ++b) out[n * kNumBands + b] += sign * y[size_t(n)] * intensity[b];

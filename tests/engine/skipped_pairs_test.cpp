@@ -61,22 +61,29 @@ void checkSkip(const SceneDesc& scene, int frames) {
   }
 }
 
+/// With every pair skipped and exact paths off (no proposal pass either), a frame traces
+/// nothing.
+void checkNothingTraced(const SceneDesc& scene) {
+  Simulation sim(scene);
+  const std::vector<uint8_t> everyone = {1, 1, 1};
+  sim.setSkippedPairs(everyone);
+  sim.runFrame({8, 1.6f, 3.5f});
+  CHECK(sim.frameTrace().rays == 0u);
+  CHECK(sim.frameTrace().segments == 0u);
+}
+
 }  // namespace
 
 TEST_CASE("Skipped pairs from the sources: no ray for the skipped source, others unchanged",
           "[engine][bake]") {
   const SceneDesc scene = threeSources(Tracing::kFromSources);
   checkSkip(scene, 3);
+  checkNothingTraced(scene);
   Simulation sim(scene);
   const std::vector<uint8_t> skip = {0, 1, 0};
   sim.setSkippedPairs(skip);
   sim.runFrame({8, 1.6f, 3.5f});
   CHECK(sim.frameTrace().rays == 2u * 1024u);  // two passes of three
-  const std::vector<uint8_t> everyone = {1, 1, 1};
-  sim.setSkippedPairs(everyone);
-  sim.runFrame({8, 1.6f, 3.5f});
-  CHECK(sim.frameTrace().rays == 0u);  // exact paths off: no proposal pass either
-  CHECK(sim.frameTrace().segments == 0u);
 }
 
 TEST_CASE("Skipped pairs from the listeners: the sphere leaves the pass, others' keys unchanged",
@@ -85,12 +92,10 @@ TEST_CASE("Skipped pairs from the listeners: the sphere leaves the pass, others'
   // frames shows that the remaining spheres keep their keys (Propagator::setSphereIds).
   const SceneDesc scene = threeSources(Tracing::kFromListeners);
   checkSkip(scene, 4);
-  Simulation sim(scene);
-  const std::vector<uint8_t> everyone = {1, 1, 1};
-  sim.setSkippedPairs(everyone);
-  sim.runFrame({8, 1.6f, 3.5f});
-  CHECK(sim.frameTrace().rays == 0u);
+  checkNothingTraced(scene);
 }
+
+namespace {
 
 /// The smallest |delay - |listener - image| / c| over the box's image sources of `order`
 /// (Allen & Berkley 1979: along an axis of length a, image n lies at n a + x for even n and
@@ -111,6 +116,8 @@ double imageDelayError(const SpecularPath& p, glm::vec3 box, glm::vec3 source, g
       }
   return best;
 }
+
+}  // namespace
 
 // Oracle: every exact path a skipped source keeps is one of the box's image sources (Allen &
 // Berkley), at its delay to 1e-6 s (float positions: about 0.3 mm); the paths both find are

@@ -1,5 +1,6 @@
 #include "apps/bake/bake_run.h"
 
+#include <atomic>
 #include <chrono>
 #include <algorithm>
 #include <csignal>
@@ -20,9 +21,12 @@
 namespace dpc::bake {
 namespace {
 
-volatile std::sig_atomic_t gInterrupted = 0;
+/// Set by SIGINT/SIGTERM; read by the main thread and rank 0's watchdog thread (a lock-free
+/// atomic: safe to store in a signal handler and to read from another thread).
+std::atomic<bool> gInterrupted{false};
+static_assert(std::atomic<bool>::is_always_lock_free);
 
-void onSignal(int) { gInterrupted = 1; }
+void onSignal(int) { gInterrupted.store(true); }
 
 /// What this run bakes: the scene, the file's header and the probes not yet done.
 struct Plan {

@@ -26,7 +26,7 @@ bool processGone(long pid) {
 }  // namespace
 
 Watchdog::Watchdog(std::vector<Peer> peers, int ranks, std::string path, size_t total,
-                   size_t committed, const volatile std::sig_atomic_t& stop)
+                   size_t committed, const std::atomic<bool>& stop)
     : peers_(std::move(peers)),
       ranks_(ranks),
       path_(std::move(path)),

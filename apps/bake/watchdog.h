@@ -18,7 +18,6 @@
 
 #include <atomic>
 #include <condition_variable>
-#include <csignal>
 #include <cstddef>
 #include <mutex>
 #include <string>
@@ -40,7 +39,7 @@ class Watchdog {
   /// path: the bake file (messages); total: the file's probes; committed: probes stored
   /// before this run; ranks: the job's size; stop: set by the signal handler.
   Watchdog(std::vector<Peer> peers, int ranks, std::string path, size_t total, size_t committed,
-           const volatile std::sig_atomic_t& stop);
+           const std::atomic<bool>& stop);
   ~Watchdog();
   Watchdog(const Watchdog&) = delete;
   Watchdog& operator=(const Watchdog&) = delete;
@@ -62,7 +61,7 @@ class Watchdog {
   std::string path_;
   size_t total_;
   std::atomic<size_t> committed_;
-  const volatile std::sig_atomic_t& stop_;
+  const std::atomic<bool>& stop_;
   std::mutex commit_;
   std::mutex wake_;
   std::condition_variable cv_;

@@ -41,8 +41,10 @@ echo "== the map of a complete bake, and the h5py example reading it"
 # 70 probes x 1 source x (9 rows x 7 parameters + STI) rows and the header.
 [[ $(wc -l <map.csv) == $((70 * 64 + 1)) ]] || fail "map.csv has $(wc -l <map.csv) lines"
 if /usr/bin/python3 -c 'import h5py' 2>/dev/null; then
-  /usr/bin/python3 "$2/examples/python/read_bake.py" clean.h5 5 1.6 3.5 | grep -q STI ||
-    fail "read_bake.py"
+  # Read whole, then searched (grep -q on the pipe could close it before the script ends).
+  /usr/bin/python3 "$2/examples/python/read_bake.py" clean.h5 5 1.6 3.5 >read.txt ||
+    fail "read_bake.py exited non-zero"
+  grep -q STI read.txt && grep -q 'energy flow' read.txt || fail "read_bake.py: $(cat read.txt)"
 fi
 
 echo "== a box of probes: a 3-D lattice, its layout recorded"

@@ -22,14 +22,16 @@ struct ProbeDataset {
 const ProbeDataset kProbeDatasets[] = {
     {"energy", &ProbeResult::energy,
      [](const ProbeShape& s) { return std::vector<hsize_t>{s.sources, s.bins, kNumBands}; }},
-    {"directional_energy", &ProbeResult::directional,
+    {"sh_energy", &ProbeResult::sh,
      [](const ProbeShape& s) {
-       return std::vector<hsize_t>{s.sources, s.directionalBins(), kDirections, kNumBands};
+       return std::vector<hsize_t>{s.sources, s.directionalBins(), kShChannels, kNumBands};
      }},
     {"direct/delay_s", &ProbeResult::directDelay,
      [](const ProbeShape& s) { return std::vector<hsize_t>{s.sources}; }},
     {"direct/energy", &ProbeResult::directEnergy,
      [](const ProbeShape& s) { return std::vector<hsize_t>{s.sources, kNumBands}; }},
+    {"direct/direction", &ProbeResult::directDirection,
+     [](const ProbeShape& s) { return std::vector<hsize_t>{s.sources, 3}; }},
     {"parameters", &ProbeResult::parameters,
      [](const ProbeShape& s) {
        return std::vector<hsize_t>{s.sources, kParameterRows, kParameters};
@@ -80,6 +82,8 @@ void writeHeaderAttributes(hid_t root, const BakeHeader& h) {
   writeAttribute(root, "ir_length_s", h.settings.irLength);
   writeAttribute(root, "bin_seconds", 1e-3);
   writeAttribute(root, "directional_bin_seconds", 1e-3 * double(kDirectionalBinFactor));
+  writeAttribute(root, "sh_order", int64_t(kShOrder));
+  writeAttribute(root, "sh_convention", std::string(kShConvention));
   writeAttribute(root, "grid_candidates", uint64_t(h.probes.candidates));
   writeAttribute(root, "skipped_outside", uint64_t(h.probes.outside));
   writeAttribute(root, "skipped_inside_geometry", uint64_t(h.probes.insideGeometry));
@@ -89,14 +93,41 @@ void writeHeaderAttributes(hid_t root, const BakeHeader& h) {
   writeAttribute(root, "parameter_columns", columns);
 }
 
-/// Reads the header attributes of an open file (InputError-free: std::runtime_error naming
-/// the attribute; open() adds the file name).
+/// An attribute read, a failed read refused as InputError naming it.
+template <typename Read>
+auto attribute(const std::string& path, const char* name, Read read) {
+  try {
+    return read(name);
+  } catch (const std::runtime_error& e) {
+    throw InputError(path, name, e.what());
+  }
+}
+
+/// Refuses a file of another format or version, or with other spherical harmonics than this
+/// build writes: InputError naming the attribute.
+void checkFormat(hid_t root, const std::string& path) {
+  const auto text = [root](const char* n) { return h5::readString(root, n); };
+  const auto number = [root](const char* n) { return h5::readInt(root, n); };
+  if (attribute(path, "format", text) != kBakeFormat)
+    throw InputError(path, "format", "not a " + std::string(kBakeFormat) + " file");
+  const int64_t version = attribute(path, "version", number);
+  if (version != kBakeFormatVersion)
+    throw InputError(path, "version",
+                     "format version " + std::to_string(version) + ", this dpc reads version " +
+                         std::to_string(kBakeFormatVersion) + " only" +
+                         (version < kBakeFormatVersion
+                              ? " (direction as spherical-harmonic energy since 3): bake again"
+                              : ""));
+  if (attribute(path, "sh_order", number) != kShOrder)
+    throw InputError(path, "sh_order", "this dpc reads order " + std::to_string(kShOrder));
+  if (attribute(path, "sh_convention", text) != kShConvention)
+    throw InputError(path, "sh_convention", "this dpc reads " + std::string(kShConvention));
+}
+
+/// Reads the header attributes of an open file (std::runtime_error naming the attribute;
+/// open() adds the file name).
 BakeHeader readHeaderAttributes(hid_t root) {
   BakeHeader h;
-  if (h5::readString(root, "format") != kBakeFormat)
-    throw std::runtime_error("attribute format is not " + std::string(kBakeFormat));
-  if (h5::readInt(root, "version") != kBakeFormatVersion)
-    throw std::runtime_error("attribute version is not " + std::to_string(kBakeFormatVersion));
   h.scenePath = h5::readString(root, "scene");
   h.meshHash = h5::readUint(root, "mesh_hash");
   h.seed = h5::readUint(root, "seed");
@@ -204,8 +235,6 @@ BakeFile BakeFile::create(const std::string& path, const std::string& displayPat
   h5::writeAll(f, "probes/done", H5T_NATIVE_UINT8, none.data());
   h5::createDataset(f, "sources/position", H5T_NATIVE_FLOAT, {header.sources.size(), 3}, false);
   h5::writeAll(f, "sources/position", H5T_NATIVE_FLOAT, header.sources.data());
-  h5::createDataset(f, "directions", H5T_NATIVE_FLOAT, {kDirections, 3}, false);
-  h5::writeAll(f, "directions", H5T_NATIVE_FLOAT, kDirectionAxes.data());
   h5::createDataset(f, "band_centres_hz", H5T_NATIVE_FLOAT, {kNumBands}, false);
   h5::writeAll(f, "band_centres_hz", H5T_NATIVE_FLOAT, kBandCentreHz.data());
   for (const ProbeDataset& d : kProbeDatasets)
@@ -228,12 +257,15 @@ BakeFile BakeFile::open(const std::string& path, bool writable) {
   try {
     const hid_t f = impl->file.get();
     const h5::Id root = h5::check(H5Gopen2(f, "/", H5P_DEFAULT), "no root group");
+    checkFormat(root.get(), path);
     impl->header = readHeaderAttributes(root.get());
     impl->header.probes.positions = readPoints(f, "probes/position");
     impl->header.sources = readPoints(f, "sources/position");
     impl->header.shape = {impl->header.sources.size(),
                           responseBins(impl->header.settings.irLength)};
     validateShapes(f, impl->header);
+  } catch (const InputError&) {
+    throw;
   } catch (const std::runtime_error& e) {
     throw InputError(path, "", e.what());
   }

@@ -24,7 +24,9 @@ namespace dpc::bake {
 
 /// Format name and version written to and required from the root attributes.
 inline constexpr const char* kBakeFormat = "dpc-bake";
-inline constexpr int kBakeFormatVersion = 2;
+inline constexpr int kBakeFormatVersion = 3;
+/// The `sh_convention` attribute: channel order and normalisation of `sh_energy`.
+inline constexpr const char* kShConvention = "ACN/SN3D";
 
 /// Everything a bake is fixed by: the scene, the grid and the settings.
 struct BakeHeader {

@@ -29,15 +29,35 @@ void checkHeader(const BakeFile& file, const SceneDesc& scene) {
                          std::to_string(scene.sources.size()));
 }
 
-/// Takes the stored exact early paths out of the late responses (each from the bin of its
-/// delay, as the bake added it), as the direct sound.
+/// Takes one arrival out of row i ([probe][source]) of the late responses and of their SH
+/// energy, from the bins the bake added it to.
+void removeArrival(BakedField& f, size_t i, float delay, const float* intensity,
+                   const glm::vec3& direction) {
+  removeDirect(f.late.data() + i * f.bins * kNumBands, f.bins, f.binSeconds, delay, intensity);
+  const size_t D = f.directionalBins();
+  removeArrivalSh(f.sh.data() + i * D * f.shChannels() * kNumBands, D, f.shOrder,
+                  f.binSeconds * double(f.directionalBinFactor), delay, intensity, direction);
+}
+
+/// Takes the direct sounds out of the late responses, as playback synthesises them live.
+void removeDirectSounds(const BakeFile& file, BakedField& f) {
+  const std::vector<float> delay = file.readAll("direct/delay_s");
+  const std::vector<float> direct = file.readAll("direct/energy");
+  const std::vector<float> direction = file.readAll("direct/direction");
+  for (size_t i = 0; i < delay.size(); ++i)
+    removeArrival(f, i, delay[i], direct.data() + i * kNumBands,
+                  {direction[3 * i], direction[3 * i + 1], direction[3 * i + 2]});
+}
+
+/// Takes the stored exact early paths out of the late responses, as the direct sound.
 void removeEarly(const BakeFile& file, BakedField& f) {
   const std::vector<float> count = file.readAll("early/count");
   const std::vector<float> paths = file.readAll("early/paths");
   for (size_t i = 0; i < count.size(); ++i)
     for (size_t j = 0; j < size_t(count[i]) && j < kEarlyPaths; ++j) {
       const float* p = paths.data() + (i * kEarlyPaths + j) * kEarlyPathFloats;
-      removeDirect(f.late.data() + i * f.bins * kNumBands, f.bins, f.binSeconds, p[0], p + 1);
+      const float* d = p + 1 + kNumBands;
+      removeArrival(f, i, p[0], p + 1, {d[0], d[1], d[2]});
     }
 }
 
@@ -46,7 +66,7 @@ void removeEarly(const BakeFile& file, BakedField& f) {
 void checkMemory(const BakeFile& file) {
   const BakeHeader& h = file.header();
   const double bytes = double(h.probes.positions.size()) *
-                       double(h.shape.energyFloats() + h.shape.directionalFloats()) *
+                       double(h.shape.energyFloats() + h.shape.shFloats()) *
                        sizeof(float);
   const double available = plannableMemoryBytes();
   if (bytes > available)
@@ -70,15 +90,10 @@ std::shared_ptr<const BakedField> loadBakedField(const std::string& path, const 
   f->bins = h.shape.bins;
   f->binSeconds = 1e-3;
   f->directionalBinFactor = kDirectionalBinFactor;
-  for (const auto& a : kDirectionAxes) f->axes.push_back({a[0], a[1], a[2]});
+  f->shOrder = kShOrder;
   f->late = file.readAll("energy");
-  f->directional = file.readAll("directional_energy");
-  const std::vector<float> delay = file.readAll("direct/delay_s");
-  const std::vector<float> direct = file.readAll("direct/energy");
-  const size_t rows = f->probes.size() * f->sources.size();
-  for (size_t i = 0; i < rows; ++i)
-    removeDirect(f->late.data() + i * f->bins * kNumBands, f->bins, f->binSeconds, delay[i],
-                 direct.data() + i * kNumBands);
+  f->sh = file.readAll("sh_energy");
+  removeDirectSounds(file, *f);
   // Playback synthesises the exact early paths live when the scene asks for them.
   if (scene.propagation.exactOrder > 0) removeEarly(file, *f);
   return f;

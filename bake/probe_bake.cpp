@@ -42,6 +42,9 @@ std::vector<double> parametersOf(const BandSeries& e, double bin) {
   return out;
 }
 
+/// Bin width of the SH energy, seconds.
+constexpr double kShBinSeconds = double(kDirectionalBinFactor) * Simulation::kEnergyBinSeconds;
+
 /// Accumulates one frame's response of a source into `series`, scaled by `weight`.
 void accumulate(const EnergyResponse& r, double weight, BandSeries& series) {
   for (size_t k = 0; k < r.binCount(); ++k)
@@ -55,49 +58,36 @@ void addDirect(const DirectSound& d, double bin, BandSeries& series) {
   for (int b = 0; b < kNumBands; ++b) series[size_t(b)][k] += d.intensity[b];
 }
 
-/// The 6 axes in the listener frame of the default orientation (facing +x, y up), which is the
-/// frame the simulation's directional responses use.
-std::vector<glm::vec3> listenerAxes() {
-  const DirectionalEnergyResponse frame;
-  std::vector<glm::vec3> axes;
-  for (const auto& a : kDirectionAxes) axes.push_back(frame.toListener({a[0], a[1], a[2]}));
-  return axes;
+/// Adds `weight` times an SH energy response into sh ([directional bin][channel][band]).
+void accumulateSh(const ShEnergyResponse& r, double weight, std::vector<float>& sh) {
+  const std::span<const float> d = r.data();
+  for (size_t i = 0; i < d.size() && i < sh.size(); ++i) sh[i] += float(weight) * d[i];
 }
 
-/// Adds `weight` times a directional response into dir[(k / factor) * kDirections + j][band].
-void accumulateDirectional(const DirectionalEnergyResponse& r, double weight,
-                           std::vector<Bands>& dir) {
-  for (size_t j = 0; j < r.directionCount(); ++j) {
-    const auto& bins = r.response(j).bins();
-    for (size_t k = 0; k < bins.size(); ++k)
-      dir[(k / kDirectionalBinFactor) * kDirections + j] += bins[k] * float(weight);
-  }
-}
-
-/// The direct sound of a source shared among the axes as the simulation shares its paths.
-void addDirectDirectional(const DirectSound& d, double irLength, std::vector<Bands>& dir) {
+/// The direct sound of a source at its direction, as the simulation adds its arrivals.
+void addDirectSh(const DirectSound& d, double irLength, std::vector<float>& sh) {
   if (!d.visible) return;
-  DirectionalEnergyResponse panner(irLength, Simulation::kEnergyBinSeconds, listenerAxes());
-  panner.add(d.delaySeconds, d.intensity, d.direction);
-  accumulateDirectional(panner, 1.0, dir);
+  ShEnergyResponse one(kShOrder, irLength, kShBinSeconds);
+  one.add(d.delaySeconds, d.intensity, d.direction);
+  accumulateSh(one, 1.0, sh);
 }
 
 /// Adds source s's whole response of the frame just run: the estimator's plus the exact early
 /// paths, which the estimators leave out (engine/specular_paths.h), scaled by `weight` into
 /// series and by `dirWeight` into dir.
 void accumulateFrame(const Simulation& sim, size_t s, double weight, double dirWeight,
-                     BandSeries& series, std::vector<Bands>& dir) {
+                     BandSeries& series, std::vector<float>& sh) {
   const std::vector<SpecularPath>& paths = sim.specularPaths(s);
   if (paths.empty()) {
     accumulate(sim.result(s).energy, weight, series);
-    accumulateDirectional(sim.directional(s), dirWeight, dir);
+    accumulateSh(sim.shEnergy(s), dirWeight, sh);
     return;
   }
   EnergyResponse whole = sim.result(s).energy;
-  DirectionalEnergyResponse wholeDir = sim.directional(s);
-  addSpecularPaths(paths, whole, &wholeDir);
+  ShEnergyResponse wholeSh = sim.shEnergy(s);
+  addSpecularPaths(paths, whole, &wholeSh);
   accumulate(whole, weight, series);
-  accumulateDirectional(wholeDir, dirWeight, dir);
+  accumulateSh(wholeSh, dirWeight, sh);
 }
 
 /// Source s's exact early paths of the last frame (shortest first) into the result's rows.
@@ -148,9 +138,10 @@ PropagationSettings probeSettings(const SceneDesc& scene, const BakeSettings& s,
 ProbeResult allocate(const ProbeShape& shape) {
   ProbeResult r;
   r.energy.assign(shape.energyFloats(), 0.f);
-  r.directional.assign(shape.directionalFloats(), 0.f);
+  r.sh.assign(shape.shFloats(), 0.f);
   r.directDelay.assign(shape.sources, 0.f);
   r.directEnergy.assign(shape.sources * kNumBands, 0.f);
+  r.directDirection.assign(shape.sources * 3, 0.f);
   r.parameters.assign(shape.parameterFloats(), 0.f);
   r.parametersCi.assign(shape.parameterFloats(), 0.f);
   r.sti.assign(shape.sources, 0.f);
@@ -170,15 +161,7 @@ void storeSource(const BandSeries& mean, const DirectSound& d, size_t s, const P
   out.directDelay[s] = d.visible ? d.delaySeconds : 0.f;
   for (int b = 0; b < kNumBands; ++b)
     out.directEnergy[s * kNumBands + size_t(b)] = d.visible ? d.intensity[b] : 0.f;
-}
-
-/// One source's directional energies into the result's rows.
-void storeDirectional(const std::vector<Bands>& dir, size_t s, const ProbeShape& shape,
-                      ProbeResult& out) {
-  const size_t per = shape.directionalBins() * kDirections;
-  for (size_t i = 0; i < per; ++i)
-    for (int b = 0; b < kNumBands; ++b)
-      out.directional[(s * per + i) * kNumBands + size_t(b)] = dir[i][b];
+  for (int c = 0; c < 3; ++c) out.directDirection[s * 3 + size_t(c)] = d.visible ? d.direction[c] : 0.f;
 }
 
 /// One source's groups of frames into the result: the mean response with the direct sound, its
@@ -215,7 +198,7 @@ ProbeBaker::ProbeBaker(const SceneDesc& scene, const BakeSettings& settings)
     : scene_(scene),
       settings_(settings),
       sim_(std::make_unique<Simulation>(scene, probeSettings(scene, settings, 0))) {
-  sim_->enableDirectional(listenerAxes());
+  sim_->enableShEnergy(kShOrder, kShBinSeconds);
 }
 
 ProbeBaker::~ProbeBaker() = default;
@@ -231,25 +214,25 @@ ProbeResult ProbeBaker::bake(size_t probe, const glm::vec3& position) {
   sim.restart(hashCombine(scene_.propagation.seed, probe));
   const size_t groups = size_t(settings_.subStreams);
   const size_t perGroup = size_t(settings_.frames) / groups;
-  // series[source][group]: the group's mean response; directional[source]: [directional bin]
-  // [direction] band energies, mean over all frames.
+  // series[source][group]: the group's mean response; sh[source]: [directional bin][channel]
+  // [band] SH energies, mean over all frames.
   std::vector<std::vector<BandSeries>> series(shape.sources, std::vector<BandSeries>(groups));
   for (auto& src : series)
     for (auto& g : src)
       for (auto& band : g) band.assign(shape.bins, 0.0);
-  std::vector<std::vector<Bands>> directional(
-      shape.sources, std::vector<Bands>(shape.directionalBins() * kDirections, Bands(0.f)));
+  std::vector<std::vector<float>> sh(shape.sources,
+                                     std::vector<float>(shape.shFloats() / shape.sources, 0.f));
   for (size_t f = 0; f < groups * perGroup; ++f) {
     sim.runFrame(position);
     for (size_t s = 0; s < shape.sources; ++s)
       accumulateFrame(sim, s, 1.0 / double(perGroup), 1.0 / double(groups * perGroup),
-                      series[s][f / perGroup], directional[s]);
+                      series[s][f / perGroup], sh[s]);
   }
   ProbeResult out = allocate(shape);
   for (size_t s = 0; s < shape.sources; ++s) {
-    addDirectDirectional(sim.result(s).direct, settings_.irLength, directional[s]);
+    addDirectSh(sim.result(s).direct, settings_.irLength, sh[s]);
     storeEarly(sim.specularPaths(s), s, out);
-    storeDirectional(directional[s], s, shape, out);
+    std::copy(sh[s].begin(), sh[s].end(), out.sh.begin() + std::ptrdiff_t(s * sh[s].size()));
     finishSource(series[s], sim.result(s).direct, s, shape, out);
   }
   return out;
@@ -257,9 +240,9 @@ ProbeResult ProbeBaker::bake(size_t probe, const glm::vec3& position) {
 
 std::vector<float> pack(const ProbeResult& r) {
   std::vector<float> out;
-  for (const auto* v : {&r.energy, &r.directional, &r.directDelay, &r.directEnergy, &r.parameters,
-                        &r.parametersCi, &r.sti, &r.stiCi, &r.earlyCount, &r.earlyFound,
-                        &r.early})
+  for (const auto* v : {&r.energy, &r.sh, &r.directDelay, &r.directEnergy, &r.directDirection,
+                        &r.parameters, &r.parametersCi, &r.sti, &r.stiCi, &r.earlyCount,
+                        &r.earlyFound, &r.early})
     out.insert(out.end(), v->begin(), v->end());
   return out;
 }
@@ -267,8 +250,9 @@ std::vector<float> pack(const ProbeResult& r) {
 ProbeResult unpack(const std::vector<float>& packed, const ProbeShape& shape) {
   ProbeResult r = allocate(shape);
   auto it = packed.begin();
-  for (auto* v : {&r.energy, &r.directional, &r.directDelay, &r.directEnergy, &r.parameters,
-                  &r.parametersCi, &r.sti, &r.stiCi, &r.earlyCount, &r.earlyFound, &r.early}) {
+  for (auto* v : {&r.energy, &r.sh, &r.directDelay, &r.directEnergy, &r.directDirection,
+                  &r.parameters, &r.parametersCi, &r.sti, &r.stiCi, &r.earlyCount, &r.earlyFound,
+                  &r.early}) {
     std::copy(it, it + std::ptrdiff_t(v->size()), v->begin());
     it += std::ptrdiff_t(v->size());
   }

@@ -36,14 +36,17 @@ namespace dpc::bake {
 inline constexpr int kParameters = 7;
 inline constexpr std::array<const char*, kParameters> kParameterNames = {
     "T20", "T30", "EDT", "C50", "C80", "D50", "G"};
-/// Directional energy: the response shared among 6 world axes (+x, -x, +y, -y, +z, -z; y up)
-/// with the engine's cosine-power panning in energy (engine/energy_response.h,
-/// DirectionalEnergyResponse, exponent 4: the 6 parts add up to the response), in bins of
-/// kDirectionalBinFactor energy bins (10 ms).
-inline constexpr int kDirections = 6;
-inline constexpr std::array<std::array<float, 3>, kDirections> kDirectionAxes = {
-    {{1.f, 0.f, 0.f}, {-1.f, 0.f, 0.f}, {0.f, 1.f, 0.f}, {0.f, -1.f, 0.f}, {0.f, 0.f, 1.f},
-     {0.f, 0.f, -1.f}}};
+/// Direction: the response's first-order spherical-harmonic energy per band in bins of
+/// kDirectionalBinFactor energy bins (10 ms), engine/sh_energy_response.h: ACN channels 0..3
+/// (W = energy, then y, z, x of the listener frame), SN3D (common/spherical_harmonics.h), in the
+/// frame of a listener at yaw 0, pitch 0 (x = world +x, y = world -z, z = world +y), each
+/// arrival (estimator groups, exact paths, direct sound) at its own direction. First order
+/// because the late field's direction at 10 ms needs no more than its energy flow and
+/// isotropy (the early arrivals a higher order would resolve are stored exactly in early/),
+/// and it is the smallest: 4 floats per bin and band (25.6 kB per probe and source of 2 s;
+/// order 2 would take 57.6 kB, more than the 6 axis energies of format 2's 38.4 kB).
+inline constexpr int kShOrder = 1;
+inline constexpr size_t kShChannels = size_t((kShOrder + 1) * (kShOrder + 1));
 inline constexpr size_t kDirectionalBinFactor = 10;
 /// Parameter rows per source: the 8 octave bands (63 Hz .. 8 kHz), then broadband (their sum).
 inline constexpr int kParameterRows = kNumBands + 1;
@@ -69,14 +72,12 @@ struct ProbeShape {
   size_t directionalBins() const {
     return (bins + kDirectionalBinFactor - 1) / kDirectionalBinFactor;
   }
-  size_t directionalFloats() const {
-    return sources * directionalBins() * kDirections * kNumBands;
-  }
+  size_t shFloats() const { return sources * directionalBins() * kShChannels * kNumBands; }
   size_t parameterFloats() const { return sources * kParameterRows * kParameters; }
   size_t earlyFloats() const { return sources * kEarlyPaths * kEarlyPathFloats; }
   /// All of a ProbeResult's floats, packed (pack/unpack).
   size_t packedFloats() const {
-    return energyFloats() + directionalFloats() + sources * (1 + kNumBands) +
+    return energyFloats() + shFloats() + sources * (1 + kNumBands + 3) +
            2 * parameterFloats() + 2 * sources + 2 * sources + earlyFloats();
   }
 };
@@ -89,11 +90,15 @@ struct ProbeResult {
   /// [source][bin][band]: mean energy per 1 ms bin, 1/m^2 relative to source power, the direct
   /// sound and the exact early paths included in the bins of their arrival.
   std::vector<float> energy;
-  /// [source][directional bin][direction][band]: energy of `energy` arriving from around each
-  /// of kDirectionAxes, per 10 ms bin, 1/m^2 (direct sound included).
-  std::vector<float> directional;
+  /// [source][directional bin][SH channel][band]: the spherical-harmonic energy of `energy`
+  /// per 10 ms bin (kShOrder, ACN/SN3D, listener frame at yaw 0), 1/m^2; channel 0 is the
+  /// energy of the bin (direct sound and exact early paths included).
+  std::vector<float> sh;
   std::vector<float> directDelay;   ///< [source]: direct-sound delay, s (0 when occluded)
   std::vector<float> directEnergy;  ///< [source][band]: direct-sound intensity, 1/m^2
+  /// [source][3]: unit direction from the probe toward where the direct sound comes from
+  /// (world), zeros when occluded.
+  std::vector<float> directDirection;
   std::vector<float> parameters;    ///< [source][row][parameter] (kParameterNames)
   std::vector<float> parametersCi;  ///< same shape: 95 % confidence half-widths
   std::vector<float> sti;           ///< [source]: STI (IEC 60268-16, noise-free), 0..1

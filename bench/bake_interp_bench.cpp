@@ -11,6 +11,7 @@
 #include "common/random.h"
 #include "engine/baked_field.h"
 #include "engine/simulation.h"
+#include "synthesis/spatial_synthesizer.h"
 #include "testing/test_scenes.h"
 
 namespace dpc::bench {
@@ -32,9 +33,12 @@ SceneDesc diffuseRoom(const BakeInterpOptions& o) {
   return s;
 }
 
-/// One simulated response: late energy [bin][band] (the mean of the frames) and direct sound.
+/// One simulated response: late energy [bin][band] (the mean of the frames), its first-order
+/// SH energy summed over the bins [channel][band] (engine/sh_energy_response.h), and the
+/// direct sound.
 struct Response {
   std::vector<float> late;
+  std::vector<double> sh = std::vector<double>(4 * kNumBands, 0.0);
   DirectSound direct;
 };
 
@@ -48,9 +52,25 @@ Response simulate(Simulation& sim, const glm::vec3& p, uint64_t seed, int frames
     for (size_t k = 0; k < bins.size(); ++k)
       for (int b = 0; b < kNumBands; ++b)
         r.late[k * kNumBands + size_t(b)] += bins[k][b] / float(frames);
+    const std::span<const float> sh = sim.shEnergy(0).data();
+    for (size_t i = 0; i < sh.size(); ++i) r.sh[i % r.sh.size()] += sh[i] / frames;
   }
   r.direct = sim.result(0).direct;
   return r;
+}
+
+/// Per band, |r_test - r_ref| of the late response's energy vectors r = (X, Y, Z) / W (the
+/// first-order SH energy over its energy: 0 for an isotropic field, 1 for one plane wave).
+void compareDirection(const std::vector<double>& test, const std::vector<double>& ref,
+                      std::vector<double>& dr) {
+  for (size_t b = 0; b < size_t(kNumBands); ++b) {
+    double d2 = 0.0;
+    for (size_t c = 1; c < 4; ++c) {
+      const double e = test[c * kNumBands + b] / test[b] - ref[c * kNumBands + b] / ref[b];
+      d2 += e * e;
+    }
+    dr.push_back(std::sqrt(d2));
+  }
 }
 
 /// Band b of a response with its direct sound, as a decay (doubles) for the room parameters.
@@ -94,13 +114,17 @@ class GridProbes {
  public:
   GridProbes(Simulation& sim, glm::vec3 source, double h, int frames)
       : sim_(sim), source_(source), h_(h), frames_(frames) {}
-  std::vector<float> interpolate(const glm::vec3& p) {
+  /// The interpolated late response at p, and in `sh` its SH energy: the probes' blended with
+  /// the same weights, as the player blends them.
+  std::vector<float> interpolate(const glm::vec3& p, std::vector<double>& sh) {
     auto field = std::make_shared<BakedField>();
+    std::vector<const Response*> used;
     const int i0 = int(std::floor(p.x / h_ - 0.5)), j0 = int(std::floor(p.z / h_ - 0.5));
     for (int i = i0; i <= i0 + 1; ++i)
       for (int j = j0; j <= j0 + 1; ++j) {
         field->probes.push_back(node(i, j));
         const Response& r = probe(i, j);
+        used.push_back(&r);
         field->late.insert(field->late.end(), r.late.begin(), r.late.end());
       }
     field->sources = {source_};
@@ -109,6 +133,9 @@ class GridProbes {
     EnergyResponse out(kIrLength, Simulation::kEnergyBinSeconds);
     if (!interp.locate(p)) return {};
     interp.response(0, out);
+    sh.assign(4 * kNumBands, 0.0);
+    for (const ProbeWeight& w : interp.weights())
+      for (size_t i = 0; i < sh.size(); ++i) sh[i] += w.weight * used[w.probe]->sh[i];
     std::vector<float> late(field->bins * kNumBands);
     for (size_t k = 0; k < field->bins; ++k)
       for (int b = 0; b < kNumBands; ++b) late[k * kNumBands + size_t(b)] = out.bins()[k][b];
@@ -152,11 +179,15 @@ Json perBand(const std::vector<double>& v) {
   return j;
 }
 
-Json errorReport(const std::vector<double>& dE, const std::vector<double>& dC80) {
+Json errorReport(const std::vector<double>& dE, const std::vector<double>& dC80,
+                 const std::vector<double>& dR) {
   std::vector<double> aE, aC;
   for (double x : dE) aE.push_back(std::abs(x));
   for (double x : dC80) aC.push_back(std::abs(x));
-  return {{"energy_db_mean_abs", meanAbs(dE)},
+  return {{"energy_vector_mean_abs", meanAbs(dR)},
+          {"energy_vector_p95_abs", percentile(dR, 0.95)},
+          {"energy_vector_max_abs", percentile(dR, 1.0)},
+          {"energy_db_mean_abs", meanAbs(dE)},
           {"energy_db_p95_abs", percentile(aE, 0.95)},
           {"energy_db_max_abs", percentile(aE, 1.0)},
           {"energy_db_mean_abs_per_band", perBand(dE)},
@@ -191,7 +222,22 @@ Json locateCost(Simulation& sim, glm::vec3 source) {
   return rows;
 }
 
-/// Seconds per locate + response of one source over a full 1 m grid of the room (P probes).
+/// Seconds per locate + `read` (one source's response) at n random points of the room.
+template <typename Read>
+double secondsPerFrame(BakeInterpolator& interp, int n, Read read) {
+  Rng rng(3, 5);
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int i = 0; i < n; ++i) {
+    const glm::vec3 p{0.5f + rng.uniform() * (kRoom.x - 1), kHeight,
+                      0.5f + rng.uniform() * (kRoom.z - 1)};
+    if (interp.locate(p)) read();
+  }
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / n;
+}
+
+/// Seconds per locate + response of one source over a full 1 m grid of the room (P probes):
+/// mono (the energy response) and spatial (shared among the 8 default directions by the SH
+/// energy of an isotropic field).
 Json interpolationCost(Simulation& sim, glm::vec3 source) {
   auto field = std::make_shared<BakedField>();
   for (float x = 0.5f; x < kRoom.x; x += 1.f)
@@ -199,25 +245,43 @@ Json interpolationCost(Simulation& sim, glm::vec3 source) {
   field->sources = {source};
   field->bins = EnergyResponse(kIrLength, Simulation::kEnergyBinSeconds).binCount();
   field->late.assign(field->probes.size() * field->bins * kNumBands, 1e-6f);
+  fillUniformDirections(*field);
   BakeInterpolator interp(field, sim.tracer());
   EnergyResponse out(kIrLength, Simulation::kEnergyBinSeconds);
-  Rng rng(3, 5);
+  DirectionalEnergyResponse spatial(kIrLength, Simulation::kEnergyBinSeconds,
+                                    defaultSpatialDirections());
   const int n = 2000;
-  const auto t0 = std::chrono::steady_clock::now();
-  for (int i = 0; i < n; ++i) {
-    const glm::vec3 p{0.5f + rng.uniform() * (kRoom.x - 1), kHeight,
-                      0.5f + rng.uniform() * (kRoom.z - 1)};
-    if (interp.locate(p)) interp.response(0, out);
-  }
-  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const size_t directional = (field->bins + 9) / 10 * 6 * kNumBands;
+  const double mono = secondsPerFrame(interp, n, [&] { interp.response(0, out); });
+  const double rays = double(interp.visibilityRays()) / n;
+  const double dirs = secondsPerFrame(interp, n / 4, [&] { interp.directional(0, spatial); });
+  const size_t directional = field->directionalBins() * field->shChannels() * kNumBands;
   return {{"probes", field->probes.size()},
-          {"seconds_per_listener_frame_one_source", s / n},
-          {"visibility_rays_per_frame", double(interp.visibilityRays()) / n},
+          {"seconds_per_listener_frame_one_source", mono},
+          {"seconds_per_listener_frame_one_source_8_directions", dirs},
+          {"visibility_rays_per_frame", rays},
           {"bytes_per_probe_and_source_in_memory",
            (field->bins * kNumBands + directional) * sizeof(float)},
           {"response_bins", field->bins},
           {"locate_seconds_vs_probes", locateCost(sim, source)}};
+}
+
+/// One spacing's errors at the points against their references (a row of the report).
+Json spacingRow(Simulation& sim, glm::vec3 source, double h, const BakeInterpOptions& o,
+                const std::vector<glm::vec3>& points, const std::vector<Response>& refs) {
+  GridProbes grid(sim, source, h, o.frames);
+  std::vector<double> dE, dC, dR, sh;
+  for (size_t i = 0; i < points.size(); ++i) {
+    compare(grid.interpolate(points[i], sh), refs[i], dE, dC);
+    compareDirection(sh, refs[i].sh, dR);
+  }
+  Json row = errorReport(dE, dC, dR);
+  row["spacing_m"] = h;
+  row["probes_simulated"] = grid.simulated();
+  std::fprintf(stderr,
+               "spacing %.2f m: energy error %.2f dB mean, %.2f dB max; C80 %.2f dB; energy "
+               "vector %.3f\n",
+               h, meanAbs(dE), double(row["energy_db_max_abs"]), meanAbs(dC), meanAbs(dR));
+  return row;
 }
 
 }  // namespace
@@ -225,32 +289,24 @@ Json interpolationCost(Simulation& sim, glm::vec3 source) {
 int benchBakeInterp(const BakeInterpOptions& o) {
   const SceneDesc scene = diffuseRoom(o);
   Simulation sim(scene);
+  sim.enableShEnergy(1, 0.01);
   double coarsest = 0.0;
   for (double h : o.spacings) coarsest = std::max(coarsest, h);
   const std::vector<glm::vec3> points = testPoints(o, coarsest);
   std::vector<Response> refs;
-  std::vector<double> noiseE, noiseC;
+  std::vector<double> noiseE, noiseC, noiseR;
   const auto t0 = std::chrono::steady_clock::now();
   for (size_t i = 0; i < points.size(); ++i) {
     refs.push_back(simulate(sim, points[i], hashCombine(0xabcULL, i), o.frames));
     const Response again = simulate(sim, points[i], hashCombine(0xdefULL, i), o.frames);
     compare(again.late, refs.back(), noiseE, noiseC);
+    compareDirection(again.sh, refs.back().sh, noiseR);
   }
   const double liveFrame = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0)
                                .count() / double(2 * points.size() * size_t(o.frames));
   Json spacings = Json::array();
-  for (double h : o.spacings) {
-    GridProbes grid(sim, scene.sources[0].position, h, o.frames);
-    std::vector<double> dE, dC;
-    for (size_t i = 0; i < points.size(); ++i)
-      compare(grid.interpolate(points[i]), refs[i], dE, dC);
-    Json row = errorReport(dE, dC);
-    row["spacing_m"] = h;
-    row["probes_simulated"] = grid.simulated();
-    std::fprintf(stderr, "spacing %.2f m: energy error %.2f dB mean, %.2f dB max; C80 %.2f dB\n",
-                 h, meanAbs(dE), double(row["energy_db_max_abs"]), meanAbs(dC));
-    spacings.push_back(row);
-  }
+  for (double h : o.spacings)
+    spacings.push_back(spacingRow(sim, scene.sources[0].position, h, o, points, refs));
   Json report = {{"benchmark", "bake-interp"},
                  {"room_m", {kRoom.x, kRoom.y, kRoom.z}},
                  {"absorption", 0.2},
@@ -259,7 +315,7 @@ int benchBakeInterp(const BakeInterpOptions& o) {
                  {"frames_per_response", o.frames},
                  {"points", o.points},
                  {"interpolation", "inverse distance squared, 4 nearest visible probes"},
-                 {"monte_carlo_floor", errorReport(noiseE, noiseC)},
+                 {"monte_carlo_floor", errorReport(noiseE, noiseC, noiseR)},
                  {"spacings", spacings},
                  {"cost", interpolationCost(sim, scene.sources[0].position)}};
   report["cost"]["live_frame_seconds_same_rays"] = liveFrame;

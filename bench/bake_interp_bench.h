@@ -2,7 +2,9 @@
 // the responses at a horizontal grid of probes are interpolated (engine/baked_field.h,
 // BakeInterpolator: inverse distance over the visible probes) at random points between them
 // and compared with a direct simulation at each point, for several probe spacings: per-band
-// energy error (dB) and C80 error (dB), direct sound live in both. Probes and points use the
+// energy error (dB) and C80 error (dB), direct sound live in both, and the error of the late
+// response's energy vector (first-order SH energy over energy, engine/sh_energy_response.h;
+// the probes' SH energy blended with the interpolation's weights). Probes and points use the
 // same estimator as dpc-bake (plain path tracing, the mean of `frames` frames); the error of
 // a second, independent simulation at the same points is reported as the Monte Carlo floor.
 // Also the interpolation's cost per listener and frame, the live frame it replaces, and the

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "bench/bake_bench.h"
+#include "bench/bake_frame_bench.h"
 #include "bench/bake_interp_bench.h"
 #include "bench/bench_util.h"
 #include "bench/budget_bench.h"
@@ -58,12 +59,13 @@ struct Options {
   LoadOptions load;
   BakeBenchOptions bake;
   BakeInterpOptions bakeInterp;
+  BakeFrameOptions bakeFrame;
 };
 
 /// The subcommands as CLI11 knows them (each is true once parsed).
 struct Subcommands {
   CLI::App *propagation, *noise, *live, *listeners, *sources, *diffraction, *budget, *dynamic,
-      *convolve, *load, *bake, *bakeInterp;
+      *convolve, *load, *bake, *bakeInterp, *bakeFrame;
 };
 
 /// A subcommand that loads a scene, with the options every such benchmark takes.
@@ -215,6 +217,21 @@ CLI::App* addBakeInterp(CLI::App& app, Options& o) {
   return sub;
 }
 
+CLI::App* addBakeFrame(CLI::App& app, Options& o) {
+  CLI::App* sub = addSceneBench(
+      app, "bake-frame",
+      "Frame cost with every static source played from a bake (not traced) vs all live",
+      o.common);
+  sub->add_option("--counts", o.bakeFrame.counts, "Static source counts (default 1 4 16)")
+      ->check(CLI::Range(1, 4096));
+  sub->add_option("--tracing", o.bakeFrame.tracing,
+                  "Tracing directions (default from_sources from_listeners)")
+      ->check(CLI::IsMember({"from_sources", "from_listeners"}));
+  sub->add_option("--warmup-frames", o.bakeFrame.warmupFrames, "Untimed frames first (default 5)")
+      ->check(CLI::Range(0, 1000));
+  return sub;
+}
+
 /// Defines every subcommand, in the order --help lists them.
 Subcommands addSubcommands(CLI::App& app, Options& o) {
   Subcommands s{};
@@ -247,6 +264,7 @@ Subcommands addSubcommands(CLI::App& app, Options& o) {
   s.load = addLoad(app, o);
   s.bake = addBake(app, o);
   s.bakeInterp = addBakeInterp(app, o);
+  s.bakeFrame = addBakeFrame(app, o);
   return s;
 }
 
@@ -263,6 +281,7 @@ int run(const Subcommands& s, const Options& o) {
   if (*s.convolve) return benchConvolve(o.convolve);
   if (*s.bake) return benchBake(o.bake);
   if (*s.bakeInterp) return benchBakeInterp(o.bakeInterp);
+  if (*s.bakeFrame) return benchBakeFrame(o.common, o.bakeFrame);
   if (*s.budget) return benchBudget(o.common, o.budgetRays);
   if (*s.diffraction) return benchDiffraction(o.common);
   if (*s.live) return benchLive(o.common, o.live);

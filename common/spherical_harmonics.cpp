@@ -50,6 +50,17 @@ void sphericalHarmonicsSn3d(int order, const float dir[3], std::span<float> out)
     }
 }
 
+void sphericalHarmonicsSn3dFirstOrder(const float dir[3], std::span<float> out) {
+  float x = dir[0], y = dir[1], z = dir[2];
+  const float r = std::sqrt(x * x + y * y + z * z);
+  if (!(r > 0.f) || !std::isfinite(r)) x = 1.f, y = 0.f, z = 0.f;
+  else x /= r, y /= r, z /= r;
+  out[0] = 1.f;  // ACN 0 .. 3: W, Y (left), Z (up), X (forward)
+  out[1] = y;
+  out[2] = z;
+  out[3] = x;
+}
+
 double legendre(int n, double x) {
   double p0 = 1.0, p1 = x;
   if (n == 0) return p0;

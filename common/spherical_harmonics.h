@@ -39,6 +39,12 @@ constexpr int ambisonicChannels(int order) { return (order + 1) * (order + 1); }
 /// out[0 .. ambisonicChannels(order) - 1], dimensionless.
 void sphericalHarmonicsSn3d(int order, const float dir[3], std::span<float> out);
 
+/// The same harmonics up to order 1 (out[0 .. 3]) without trigonometry: (1, y, z, x) of the
+/// unit vector along `dir` (a zero or non-finite vector: straight ahead), which is what the
+/// definition above gives at order 1; equal to sphericalHarmonicsSn3d(1, ...) to float
+/// rounding, about 15 times cheaper (per-arrival use: a bake's SH energy).
+void sphericalHarmonicsSn3dFirstOrder(const float dir[3], std::span<float> out);
+
 /// The per-order max-rE weights a_0 .. a_order (a_0 = 1) into out[0 .. order].
 void maxReWeights(int order, std::span<float> out);
 

@@ -2,13 +2,36 @@
 
 #include <algorithm>
 #include <cmath>
+#include <array>
 #include <glm/geometric.hpp>
+
+#include "common/spherical_harmonics.h"
+#include "engine/sh_energy_response.h"
 
 namespace dpc {
 
 size_t BakedField::bytes() const {
-  return (late.size() + directional.size()) * sizeof(float) +
-         (probes.size() + sources.size() + axes.size()) * sizeof(glm::vec3);
+  return (late.size() + sh.size()) * sizeof(float) +
+         (probes.size() + sources.size()) * sizeof(glm::vec3);
+}
+
+void fillUniformDirections(BakedField& f) {
+  const size_t rows = f.probes.size() * f.sources.size() * f.directionalBins();
+  const size_t C = f.shChannels();
+  f.sh.assign(rows * C * kNumBands, 0.f);
+  for (size_t r = 0; r < rows; ++r)
+    std::fill_n(f.sh.begin() + std::ptrdiff_t(r * C * kNumBands), kNumBands, 1.f);  // W only
+}
+
+void removeArrivalSh(float* sh, size_t dbins, int order, double dbinSeconds, double delaySeconds,
+                     const float* intensity, const glm::vec3& direction) {
+  const double k = delaySeconds * (1.0 / dbinSeconds);  // as ShEnergyResponse::add bins it
+  if (!(k >= 0.0) || k >= double(dbins)) return;
+  float* row = sh + size_t(k) * size_t(ambisonicChannels(order)) * kNumBands;
+  Bands e;
+  for (int b = 0; b < kNumBands; ++b) e[b] = intensity[b];
+  addShEnergy(order, ListenerFrame{}, direction, e, -1.f, row);
+  for (int b = 0; b < kNumBands; ++b) row[b] = std::max(0.f, row[b]);
 }
 
 void removeDirect(float* energy, size_t bins, double binSeconds, double delaySeconds,
@@ -26,7 +49,7 @@ BakeInterpolator::BakeInterpolator(std::shared_ptr<const BakedField> field, cons
   settings_.candidates = std::max(settings_.maxProbes, settings_.candidates);
   order_.resize(field_->probes.size());
   weights_.reserve(size_t(settings_.maxProbes));
-  shares_.resize(field_->axes.size() * kNumBands);
+  blend_.resize(field_->shChannels() * kNumBands);
 }
 
 bool BakeInterpolator::locate(const glm::vec3& listener) {
@@ -85,28 +108,50 @@ void BakeInterpolator::response(size_t source, EnergyResponse& out) const {
   }
 }
 
-void BakeInterpolator::axisShares(size_t source, size_t j, std::vector<float>& shares) const {
+void BakeInterpolator::directionBasis(const DirectionalEnergyResponse& out) const {
+  const size_t K = out.directionCount(), C = field_->shChannels();
+  basis_.resize(K * C);  // allocates only when K grows
+  shares_.resize(K * kNumBands);
+  std::array<float, ambisonicChannels(kMaxAmbisonicOrder)> y{};
+  const ListenerFrame bakeFrame;  // the bake's directions: a listener at yaw 0, pitch 0
+  for (size_t k = 0; k < K; ++k) {
+    const glm::vec3 a = bakeFrame.toListener(out.toWorld(out.direction(k)));
+    const float dir[3] = {a.x, a.y, a.z};
+    sphericalHarmonicsSn3d(field_->shOrder, dir, y);
+    for (size_t c = 0; c < C; ++c) {
+      const int n = int(std::sqrt(double(c)));  // ACN c = n^2 + n + m
+      basis_[k * C + c] = float(2 * n + 1) * y[c];
+    }
+  }
+}
+
+void BakeInterpolator::directionShares(size_t source, size_t j, size_t K) const {
   const BakedField& f = *field_;
-  const size_t A = f.axes.size(), D = f.directionalBins();
-  std::fill(shares.begin(), shares.end(), 0.f);
+  const size_t C = f.shChannels(), D = f.directionalBins();
+  std::fill(blend_.begin(), blend_.end(), 0.f);
   for (const ProbeWeight& w : weights_) {
-    const float* row =
-        f.directional.data() + ((w.probe * f.sources.size() + source) * D + j) * A * kNumBands;
-    for (size_t i = 0; i < A * kNumBands; ++i) shares[i] += w.weight * row[i];
+    const float* row = f.sh.data() + ((w.probe * f.sources.size() + source) * D + j) * C * kNumBands;
+    for (size_t i = 0; i < C * kNumBands; ++i) blend_[i] += w.weight * row[i];
   }
   for (int b = 0; b < kNumBands; ++b) {
     float sum = 0.f;
-    for (size_t a = 0; a < A; ++a) sum += shares[a * kNumBands + size_t(b)];
-    for (size_t a = 0; a < A; ++a)
-      shares[a * kNumBands + size_t(b)] = sum > 0.f ? shares[a * kNumBands + size_t(b)] / sum
-                                                    : 1.f / float(A);
+    for (size_t k = 0; k < K; ++k) {
+      float density = 0.f;
+      for (size_t c = 0; c < C; ++c) density += basis_[k * C + c] * blend_[c * kNumBands + size_t(b)];
+      shares_[k * kNumBands + size_t(b)] = std::max(0.f, density);
+      sum += shares_[k * kNumBands + size_t(b)];
+    }
+    for (size_t k = 0; k < K; ++k)
+      shares_[k * kNumBands + size_t(b)] =
+          sum > 0.f ? shares_[k * kNumBands + size_t(b)] / sum : 1.f / float(K);
   }
 }
 
 void BakeInterpolator::directional(size_t source, DirectionalEnergyResponse& out) const {
   out.clear();
   const BakedField& f = *field_;
-  const size_t A = f.axes.size();
+  const size_t K = out.directionCount();
+  directionBasis(out);
   size_t currentBin = size_t(-1);
   for (size_t k = 0; k < f.bins; ++k) {
     Bands e;
@@ -116,13 +161,13 @@ void BakeInterpolator::directional(size_t source, DirectionalEnergyResponse& out
     if (e.v == Bands().v) continue;
     if (k / f.directionalBinFactor != currentBin) {
       currentBin = k / f.directionalBinFactor;
-      axisShares(source, currentBin, shares_);
+      directionShares(source, currentBin, K);
     }
     const double delay = (double(k) + 0.5) * f.binSeconds;
-    for (size_t a = 0; a < A; ++a) {
+    for (size_t d = 0; d < K; ++d) {
       Bands part;
-      for (int b = 0; b < kNumBands; ++b) part[b] = e[b] * shares_[a * kNumBands + size_t(b)];
-      out.add(delay, part, f.axes[a]);
+      for (int b = 0; b < kNumBands; ++b) part[b] = e[b] * shares_[d * kNumBands + size_t(b)];
+      out.response(d).add(delay, part);
     }
   }
 }

@@ -39,22 +39,36 @@ struct BakedField {
   std::vector<glm::vec3> sources;  ///< [S] baked (static) source positions, metres
   size_t bins = 0;                 ///< B: 1 ms bins per response
   double binSeconds = 1e-3;        ///< seconds per bin of `late`
-  size_t directionalBinFactor = 10;     ///< energy bins per directional bin
-  std::vector<glm::vec3> axes;          ///< [A] world axes of `directional` (unit)
-  std::vector<float> late;              ///< [P][S][B][8] energy without the direct sound
-  std::vector<float> directional;       ///< [P][S][D][A][8] energy per axis (direct included)
+  size_t directionalBinFactor = 10;  ///< energy bins per directional bin
+  int shOrder = 1;                   ///< order of `sh`
+  std::vector<float> late;           ///< [P][S][B][8] energy without the direct sound
+  /// [P][S][D][C][8] spherical-harmonic energy of the response per directional bin
+  /// (engine/sh_energy_response.h: ACN/SN3D, C = (shOrder + 1)^2, directions in the frame of a
+  /// listener at yaw 0, pitch 0), without the arrivals the loader took out of `late`.
+  std::vector<float> sh;
   size_t directionalBins() const {
     return (bins + directionalBinFactor - 1) / directionalBinFactor;
   }
+  size_t shChannels() const { return size_t((shOrder + 1) * (shOrder + 1)); }
   /// Bytes held by the arrays.
   size_t bytes() const;
 };
+
+/// Gives a field built in code (tests, benchmarks) the directional data of an isotropic late
+/// field: in every directional bin each direction carries the same share. Allocates.
+void fillUniformDirections(BakedField& field);
 
 /// Moves the direct sound out of a probe's stored response: subtracts direct[b] from the bin of
 /// `delaySeconds` (the bin the bake added it to) and clamps at 0. `energy` is [B][8]. Any
 /// thread; no allocation.
 void removeDirect(float* energy, size_t bins, double binSeconds, double delaySeconds,
                   const float* direct);
+
+/// Takes one arrival (intensity per band, 1/m^2, at delaySeconds from world direction
+/// `direction`) out of a probe's SH energy rows `sh` ([D][C][8], bins of dbinSeconds), from the
+/// bin the bake added it to; channel 0 (the energy) is clamped at 0. Any thread; no allocation.
+void removeArrivalSh(float* sh, size_t dbins, int order, double dbinSeconds, double delaySeconds,
+                     const float* intensity, const glm::vec3& direction);
 
 /// A probe used for the listener and its weight (the weights of one listener sum to 1).
 struct ProbeWeight {
@@ -90,9 +104,12 @@ class BakeInterpolator {
   /// The interpolated late response of baked source `source` into `out` (cleared first; bins
   /// beyond the bake's stay 0). Requires a successful locate.
   void response(size_t source, EnergyResponse& out) const;
-  /// The interpolated late response shared among `out`'s directions: each 1 ms bin's energy
-  /// is split among the bake's axes in the proportions of its 10 ms directional bin, each
-  /// part added from that axis (out's panning and listener frame). Cleared first.
+  /// The interpolated late response shared among `out`'s K directions (out's listener frame):
+  /// each 1 ms bin's energy goes to direction v_k in the share max(0, f(v_k)) / sum_j
+  /// max(0, f(v_j)) per band, f the directional density of the blended SH energy of its
+  /// directional bin (engine/sh_energy_response.h: f(u) ~ sum_n (2n + 1) sum_m c_nm Y_nm(u),
+  /// the order-N reconstruction; equal shares when every f is 0), so the K parts add up to the
+  /// bin's energy. Cleared first. Allocates only when out has more directions than before.
   void directional(size_t source, DirectionalEnergyResponse& out) const;
 
   uint64_t located() const { return located_; }
@@ -103,15 +120,17 @@ class BakeInterpolator {
 
  private:
   const float* lateRow(size_t probe, size_t source) const;
-  /// Fills shares[a * 8 + b] for directional bin j of the blended probes.
-  void axisShares(size_t source, size_t j, std::vector<float>& shares) const;
+  /// basis_[k][c] = (2n + 1) Y_c(v_k) for out's directions v_k in the bake's frame.
+  void directionBasis(const DirectionalEnergyResponse& out) const;
+  /// shares_[k * 8 + b]: direction k's share of band b in directional bin j (blended probes).
+  void directionShares(size_t source, size_t j, size_t directions) const;
 
   std::shared_ptr<const BakedField> field_;
   const Tracer* tracer_;
   BakeInterpolation settings_;
   std::vector<std::pair<float, size_t>> order_;  ///< scratch: (squared distance, probe)
   std::vector<ProbeWeight> weights_;
-  mutable std::vector<float> shares_;
+  mutable std::vector<float> basis_, blend_, shares_;  ///< directional()'s scratch
   uint64_t located_ = 0, fallbacks_ = 0, rays_ = 0;
 };
 

@@ -52,14 +52,14 @@ DirectionalEnergyResponse DirectionalEnergyResponse::truncated(double lengthSeco
   return r;
 }
 
-void DirectionalEnergyResponse::setListenerFrame(const glm::vec3& forward, const glm::vec3& up) {
-  forward_ = glm::normalize(forward);
-  up_ = glm::normalize(up - forward_ * glm::dot(up, forward_));
-  left_ = glm::cross(up_, forward_);  // right-handed: left = up x forward
+void ListenerFrame::set(const glm::vec3& f, const glm::vec3& u) {
+  forward = glm::normalize(f);
+  up = glm::normalize(u - forward * glm::dot(u, forward));
+  left = glm::cross(up, forward);  // right-handed: left = up x forward
 }
 
-glm::vec3 DirectionalEnergyResponse::toListener(const glm::vec3& w) const {
-  return {glm::dot(w, forward_), glm::dot(w, left_), glm::dot(w, up_)};
+glm::vec3 ListenerFrame::toListener(const glm::vec3& w) const {
+  return {glm::dot(w, forward), glm::dot(w, left), glm::dot(w, up)};
 }
 
 void DirectionalEnergyResponse::add(double delaySeconds, const Bands& intensity,

@@ -49,6 +49,48 @@ class EnergyResponse {
   Bands dropped_{0.f};
 };
 
+/// Receives a response's arrivals one at a time: band intensity (1/m^2) at a delay (s) from a
+/// world direction (unit vector from the listener toward where the sound comes from). The
+/// estimators (engine/path_cache.h) and the exact paths (engine/specular_paths.h) hand every
+/// arrival to one, whatever it keeps: the panned responses below, or spherical-harmonic
+/// energy (engine/sh_energy_response.h).
+class ArrivalSink {
+ public:
+  virtual ~ArrivalSink() = default;
+  virtual void add(double delaySeconds, const Bands& intensity,
+                   const glm::vec3& worldDirection) = 0;
+};
+
+/// Hands every arrival to two sinks (both must outlive it). No allocation.
+class ArrivalTee final : public ArrivalSink {
+ public:
+  ArrivalTee(ArrivalSink* first = nullptr, ArrivalSink* second = nullptr)
+      : first_(first), second_(second) {}
+  void add(double delaySeconds, const Bands& intensity, const glm::vec3& direction) override {
+    first_->add(delaySeconds, intensity, direction);
+    second_->add(delaySeconds, intensity, direction);
+  }
+
+ private:
+  ArrivalSink* first_;
+  ArrivalSink* second_;
+};
+
+/// A listener's frame: x forward, y left, z up (the SOFA and AmbiX convention), from its world
+/// forward and up vectors (unit, orthogonal after setting). The default is a listener at yaw 0,
+/// pitch 0: forward +x, up +y, so left is -z (world y up, right-handed).
+struct ListenerFrame {
+  glm::vec3 forward{1.f, 0.f, 0.f}, left{0.f, 0.f, -1.f}, up{0.f, 1.f, 0.f};
+  /// The frame of a listener facing `forward` with `up` (not parallel to it).
+  void set(const glm::vec3& forward, const glm::vec3& up);
+  /// World direction -> listener frame (x forward, y left, z up).
+  glm::vec3 toListener(const glm::vec3& world) const;
+  /// Listener frame -> world direction.
+  glm::vec3 toWorld(const glm::vec3& listener) const {
+    return forward * listener.x + left * listener.y + up * listener.z;
+  }
+};
+
 /// Energy response split over K fixed directions in the listener's frame (x forward, y left,
 /// z up: the SOFA convention), for spatial IR synthesis. An arrival from world direction d
 /// (unit vector from the listener toward where the sound comes from) is rotated into the
@@ -56,7 +98,7 @@ class EnergyResponse {
 /// w_k = max(0, d.v_k)^p / sum_j max(0, d.v_j)^p (a cosine-power panning in energy: the weights
 /// sum to 1, so the K responses add up to the plain energy response).
 /// Propagation thread. Construction and setDirections allocate; add/clear do not.
-class DirectionalEnergyResponse {
+class DirectionalEnergyResponse final : public ArrivalSink {
  public:
   DirectionalEnergyResponse() = default;
   /// directions: K >= 1 unit vectors in the listener frame; exponent p > 0.
@@ -64,11 +106,13 @@ class DirectionalEnergyResponse {
                             std::vector<glm::vec3> directions, float exponent = 4.f);
 
   /// The listener's orientation in world coordinates (unit, orthogonal): forward and up.
-  void setListenerFrame(const glm::vec3& forward, const glm::vec3& up);
+  void setListenerFrame(const glm::vec3& forward, const glm::vec3& up) { frame_.set(forward, up); }
   /// World direction -> listener frame (x forward, y left, z up).
-  glm::vec3 toListener(const glm::vec3& world) const;
+  glm::vec3 toListener(const glm::vec3& world) const { return frame_.toListener(world); }
+  /// Listener frame -> world direction.
+  glm::vec3 toWorld(const glm::vec3& listener) const { return frame_.toWorld(listener); }
 
-  void add(double delaySeconds, const Bands& intensity, const glm::vec3& worldDirection);
+  void add(double delaySeconds, const Bands& intensity, const glm::vec3& worldDirection) override;
   void clear();
 
   size_t directionCount() const { return responses_.size(); }
@@ -77,11 +121,7 @@ class DirectionalEnergyResponse {
   /// The same directions, frame and bin width over the first lengthSeconds, empty (allocates).
   DirectionalEnergyResponse truncated(double lengthSeconds) const;
   /// Takes other's listener frame (its directions must be these). No allocation.
-  void copyFrame(const DirectionalEnergyResponse& other) {
-    forward_ = other.forward_;
-    left_ = other.left_;
-    up_ = other.up_;
-  }
+  void copyFrame(const DirectionalEnergyResponse& other) { frame_ = other.frame_; }
   /// Direction k's response to edit in place (e.g. hybrid rendering's early/late split).
   EnergyResponse& response(size_t k) { return responses_[k]; }
 
@@ -89,7 +129,7 @@ class DirectionalEnergyResponse {
   std::vector<glm::vec3> directions_;
   std::vector<EnergyResponse> responses_;
   float exponent_ = 4.f;
-  glm::vec3 forward_{1.f, 0.f, 0.f}, left_{0.f, 0.f, -1.f}, up_{0.f, 1.f, 0.f};
+  ListenerFrame frame_;
   std::vector<float> weights_;  ///< scratch, K
 };
 

@@ -33,7 +33,7 @@ void FrameGroups::add(const PathHit& hit) {
 
 void PathTracingEstimator::endFrame(const FrameGroups& frame, uint64_t raysEmitted,
                                     float speedOfSound, EnergyResponse& out,
-                                    DirectionalEnergyResponse* directional) const {
+                                    ArrivalSink* directional) const {
   // The same expressions as DiffusePathCache::endFrame, so that tau = 0 matches bit for bit.
   const float n = float(raysEmitted);
   const double invC = 1.0 / double(speedOfSound);
@@ -248,7 +248,7 @@ void DiffusePathCache::mergeMarkedTerms(double invC) {
 }
 
 void DiffusePathCache::readCell(const Cell& c, size_t bin, float divisor, double invC,
-                                EnergyResponse& out, DirectionalEnergyResponse* directional,
+                                EnergyResponse& out, ArrivalSink* directional,
                                 double& energy) const {
   const Bands i = c.intensity / divisor;
   energy += double(i.average());
@@ -313,7 +313,7 @@ void DiffusePathCache::retireWindowSlot(size_t slot) {
 }
 
 void DiffusePathCache::readEntries(float divisor, double invC, EnergyResponse& out,
-                                   DirectionalEnergyResponse* directional, double& total) const {
+                                   ArrivalSink* directional, double& total) const {
   for (const Entry& e : entries_) {
     const double delay = meanDelaySeconds(e.length, e.eta, invC);
     out.add(delay, e.intensity / divisor);
@@ -323,7 +323,7 @@ void DiffusePathCache::readEntries(float divisor, double invC, EnergyResponse& o
 }
 
 void DiffusePathCache::windowEndFrame(const FrameGroups& frame, float n, double invC,
-                                      EnergyResponse& out, DirectionalEnergyResponse* directional,
+                                      EnergyResponse& out, ArrivalSink* directional,
                                       double& total, double& coarse) {
   const size_t slot = windowSlot(frame_);
   if (frame_ >= lifetime_) retireWindowSlot(slot);
@@ -366,7 +366,7 @@ void DiffusePathCache::windowEndFrame(const FrameGroups& frame, float n, double 
 }
 
 void DiffusePathCache::endFrame(const FrameGroups& frame, uint64_t raysEmitted, float speedOfSound,
-                                EnergyResponse& out, DirectionalEnergyResponse* directional) {
+                                EnergyResponse& out, ArrivalSink* directional) {
   const float n = float(raysEmitted);
   const double invC = 1.0 / double(speedOfSound);
   raysBefore_[frame_ % raysBefore_.size()] = raysTotal_;
@@ -390,7 +390,7 @@ void DiffusePathCache::makeRoomFor(uint64_t key, double invC) {
 }
 
 void DiffusePathCache::seedEndFrame(const FrameGroups& frame, double invC, EnergyResponse& out,
-                                    DirectionalEnergyResponse* directional, double& total,
+                                    ArrivalSink* directional, double& total,
                                     double& coarse) {
   // Eq. 3.4, applied to the frame's hits of each path at once (the same sums).
   for (const FrameGroups::Group& g : frame.groups()) {
@@ -426,7 +426,7 @@ void DiffusePathCache::seedEndFrame(const FrameGroups& frame, double invC, Energ
 }
 
 void DiffusePathCache::emaEndFrame(const FrameGroups& frame, float n, double invC,
-                                   EnergyResponse& out, DirectionalEnergyResponse* directional,
+                                   EnergyResponse& out, ArrivalSink* directional,
                                    double& total, double& coarse) {
   const float keep = float(1.0 - a_), af = float(a_);
   for (Entry& e : entries_) {

@@ -80,7 +80,7 @@ class PathTracingEstimator {
   /// Adds every group's I_f / N at delay (r_f / eta_f) / c to out. N = rays emitted this frame.
   /// directional (optional): also receives every contribution with its arrival direction.
   void endFrame(const FrameGroups& frame, uint64_t raysEmitted, float speedOfSound,
-                EnergyResponse& out, DirectionalEnergyResponse* directional = nullptr) const;
+                EnergyResponse& out, ArrivalSink* directional = nullptr) const;
 };
 
 class DiffusePathCache {
@@ -145,7 +145,7 @@ class DiffusePathCache {
   /// also receives every estimate with its mean arrival direction (intensity-weighted over
   /// the entry's hits). Does not allocate.
   void endFrame(const FrameGroups& frame, uint64_t raysEmitted, float speedOfSound,
-                EnergyResponse& out, DirectionalEnergyResponse* directional = nullptr);
+                EnergyResponse& out, ArrivalSink* directional = nullptr);
 
   void clear();
   /// Path entries (coarse cells not included).
@@ -251,23 +251,23 @@ class DiffusePathCache {
   void widenCoarse();
   Cell& cell(size_t layer, size_t bin) { return coarse_[layer * cap_.coarseBins + bin]; }
   void readCell(const Cell& c, size_t bin, float divisor, double invC, EnergyResponse& out,
-                DirectionalEnergyResponse* directional, double& energy) const;
+                ArrivalSink* directional, double& energy) const;
   void windowEndFrame(const FrameGroups& frame, float n, double invC, EnergyResponse& out,
-                      DirectionalEnergyResponse* directional, double& total, double& coarse);
+                      ArrivalSink* directional, double& total, double& coarse);
   size_t windowSlot(uint64_t frame) const { return size_t(frame % lifetime_); }
   /// kWindow: takes the oldest frame's terms (ring slot `slot`) out of their entries.
   void retireWindowSlot(size_t slot);
   /// Reads every path entry out with its intensity divided by `divisor`; adds the band-average
   /// energy to total.
   void readEntries(float divisor, double invC, EnergyResponse& out,
-                   DirectionalEnergyResponse* directional, double& total) const;
+                   ArrivalSink* directional, double& total) const;
   /// kSeed: adds the frame's groups (eq. 3.4) and reads every entry and layer out (eq. 3.2,
   /// 3.3); total and coarse add the band-average energy read out (all, coarse store).
   void seedEndFrame(const FrameGroups& frame, double invC, EnergyResponse& out,
-                    DirectionalEnergyResponse* directional, double& total, double& coarse);
+                    ArrivalSink* directional, double& total, double& coarse);
   /// kEma: decays entries and coarse cells, adds the frame's groups, reads out normalised.
   void emaEndFrame(const FrameGroups& frame, float n, double invC, EnergyResponse& out,
-                   DirectionalEnergyResponse* directional, double& total, double& coarse);
+                   ArrivalSink* directional, double& total, double& coarse);
   /// Merges the oldest entries into the coarse store if `key` is new and the table is full.
   void makeRoomFor(uint64_t key, double invC);
   /// kSeed, kEma: removes entries and coarse cells older than the lifetime.

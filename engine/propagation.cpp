@@ -189,7 +189,7 @@ PathHit Propagator::makeHit(const RayState& ray, uint32_t l, const ListenerSpher
   const float invArea = 1.f / (std::numbers::pi_v<float> * sphere.radius * sphere.radius);
   const float r = ray.travelled + std::clamp(b, 0.f, segEnd);
   PathHit h;
-  h.key = ray.path.finish(l, r, keyRule_, fromListeners_);
+  h.key = ray.path.finish(l < sphereIds_.size() ? sphereIds_[l] : l, r, keyRule_, fromListeners_);
   h.intensity = ray.energy * exp(airPerMetre_ * -r) * invArea;
   h.length = r;
   if (!fromListeners_) {
@@ -278,14 +278,15 @@ void Propagator::noteSpecularRun(const RayState& ray, Chunk& chunk) const {
   chunk.specularRuns.push_back(s);
 }
 
-void Propagator::collectCandidates(uint32_t chunkCount, SpecularCandidates& candidates) const {
+void Propagator::collectCandidates(uint32_t chunkCount, SpecularCandidates& candidates,
+                                   bool listenerFirst) const {
   for (uint32_t c = 0; c < chunkCount; ++c)
     for (const SpecularSequence& run : chunks_[c].specularRuns)
       for (uint32_t k = 1; k <= run.order; ++k) {
         // A prefix is the path's first k reflections from the emitter: from a listener, the
         // source-first sequence is its reverse.
         SpecularSequence p = run.prefix(k);
-        if (fromListeners_) std::reverse(p.triangles.begin(), p.triangles.begin() + k);
+        if (listenerFirst) std::reverse(p.triangles.begin(), p.triangles.begin() + k);
         candidates.insert(p);
       }
 }
@@ -392,7 +393,53 @@ TraceStats Propagator::traceFrame(uint64_t frameIndex, uint32_t sourceIndex,
     stats.listenerHits += chunk.hits.size();
     for (size_t h = 0; h < chunk.hits.size(); ++h) groups[chunk.hitListener[h]]->add(chunk.hits[h]);
   }
-  if (candidates && exactOrder_ > 0) collectCandidates(chunkCount, *candidates);
+  if (candidates && exactOrder_ > 0) collectCandidates(chunkCount, *candidates, fromListeners_);
+  return stats;
+}
+
+void Propagator::mirrorRun(uint64_t frameSeed, uint32_t rayIndex, const glm::vec3& from,
+                           Chunk& chunk) const {
+  Rng rng(frameSeed, rayIndex);
+  TraceRay ray{from, uniformSphere(rng)};
+  SpecularSequence run;
+  SurfaceHit hit;
+  while (run.order < uint32_t(exactOrder_) && tracer_.intersect(ray, hit)) {
+    ++chunk.segments;
+    run.triangles[run.order++] = hit.triangle < faceOf_.size() ? faceOf_[hit.triangle]
+                                                                : hit.triangle;
+    // Mirror reflection about the normal facing the side the ray came from (reflect()).
+    const glm::vec3 n = glm::dot(hit.normal, ray.dir) < 0.f ? hit.normal : -hit.normal;
+    ray.org = ray.org + ray.dir * hit.t + n * epsilon_;
+    ray.dir = glm::normalize(ray.dir - 2.f * glm::dot(ray.dir, n) * n);
+  }
+  if (run.order > 0) chunk.specularRuns.push_back(run);
+}
+
+TraceStats Propagator::proposeSpecular(uint64_t frameIndex, uint32_t emitterIndex,
+                                       const glm::vec3& position,
+                                       SpecularCandidates& candidates) {
+  TraceStats stats;
+  if (exactOrder_ == 0) return stats;
+  // Salt that keeps these streams apart from traceFrame's (seed, frame, emitter) streams.
+  constexpr uint64_t kProposalSalt = 0x9e3779b97f4a7c15ULL;
+  const uint32_t n = uint32_t(std::max(0, settings_.raysPerFrame));
+  const uint32_t perChunk = raysPerChunk(n);
+  const uint32_t chunkCount = (n + perChunk - 1) / perChunk;
+  if (chunks_.size() < chunkCount) chunks_.resize(chunkCount);
+  const uint64_t frameSeed = hashCombine(
+      hashCombine(hashCombine(settings_.seed, frameIndex), kProposalSalt), emitterIndex);
+  arena_->execute([&] {
+    tbb::parallel_for(uint32_t(0), chunkCount, [&](uint32_t c) {
+      Chunk& chunk = chunks_[c];
+      chunk.specularRuns.clear();
+      chunk.segments = 0;
+      for (uint32_t r = c * perChunk; r < std::min(n, (c + 1) * perChunk); ++r)
+        mirrorRun(frameSeed, r, position, chunk);
+    });
+  });
+  stats.rays = n;
+  for (uint32_t c = 0; c < chunkCount; ++c) stats.segments += chunks_[c].segments;
+  collectCandidates(chunkCount, candidates, true);
   return stats;
 }
 

@@ -145,6 +145,20 @@ class Propagator {
                         std::span<FrameGroups* const> groups,
                         SpecularCandidates* candidates = nullptr);
 
+  /// Image-source candidates without a full trace: settings.raysPerFrame rays leave
+  /// `position` (a listener) in uniform directions and reflect in the mirror direction only,
+  /// up to exactOrder() reflections, testing no sphere; every face sequence they follow and
+  /// its prefixes go into `candidates` (the caller clears it) in source-first order (reversed,
+  /// as tracing from the listeners reverses them). A sequence an exact path follows is proposed
+  /// whenever a ray leaves the listener toward its last reflection point, as a full trace from
+  /// either end proposes it, but a ray costs at most exactOrder() segments and serves every
+  /// source. For sources whose rays are not traced (played from a bake). Streams from (seed,
+  /// frame, emitterIndex) salted apart from traceFrame's; bit-identical for any thread count.
+  /// Returns the rays and segments traced (no listener hits). No allocation after the first
+  /// frame of as many rays.
+  TraceStats proposeSpecular(uint64_t frameIndex, uint32_t emitterIndex,
+                             const glm::vec3& position, SpecularCandidates& candidates);
+
   /// Order N of the exact specular paths: settings.exactOrder clamped to [0, kMaxExactOrder]
   /// and to maxOrder (a path the rays cannot follow is not removed from them either).
   int exactOrder() const { return exactOrder_; }
@@ -201,6 +215,11 @@ class Propagator {
     receiverForwards_ = forwards;
   }
   bool fromListeners() const { return fromListeners_; }
+  /// The identifier each sphere of the following traceFrame calls finishes into its hits' path
+  /// identifiers (pathHashFinish): ids[l] for sphere l, or l itself when empty (the default).
+  /// Lets a caller that leaves some spheres out of a pass keep every other sphere's keys (and
+  /// so its cache's paths) unchanged. The span must outlive those calls; no allocation.
+  void setSphereIds(std::span<const uint32_t> ids) { sphereIds_ = ids; }
   /// The straight path from source over toListener (length dist, metres) through the
   /// geometry: an occlusion query when no material transmits, else engine/transmission.h's walk.
   PathTransmission directTransmission(const glm::vec3& source, const glm::vec3& toListener,
@@ -313,8 +332,14 @@ class Propagator {
   bool reflect(RayState& ray, const SurfaceHit& hit) const;
   /// Appends the ended ray's leading specular sequence, if any, to chunk.specularRuns.
   void noteSpecularRun(const RayState& ray, Chunk& chunk) const;
-  /// Adds the chunks' specular sequences and all their prefixes to candidates.
-  void collectCandidates(uint32_t chunkCount, SpecularCandidates& candidates) const;
+  /// Adds the chunks' specular sequences and all their prefixes to candidates, each reversed
+  /// into source-first order when listenerFirst (recorded from a listener).
+  void collectCandidates(uint32_t chunkCount, SpecularCandidates& candidates,
+                         bool listenerFirst) const;
+  /// One proposeSpecular ray: mirror reflections from `from` up to exactOrder_, its face
+  /// sequence into chunk.specularRuns, its segments counted.
+  void mirrorRun(uint64_t frameSeed, uint32_t rayIndex, const glm::vec3& from,
+                 Chunk& chunk) const;
   void traceRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t rayIndex,
                 const glm::vec3& source, std::span<const ListenerSphere> listeners,
                 Chunk& chunk) const;
@@ -337,6 +362,7 @@ class Propagator {
   bool fromListeners_ = false;        ///< setFromListeners
   std::span<const Directivity> receiverPatterns_;
   std::span<const glm::vec3> receiverForwards_;
+  std::span<const uint32_t> sphereIds_;  ///< setSphereIds
   SphereBvh sphereBvh_;                ///< the frame's spheres, above kMaxLinearSpheres
   std::vector<glm::vec4> sphereBoxes_;  ///< prepareSpheres' scratch
   int exactOrder_ = 0;  ///< exactOrder()

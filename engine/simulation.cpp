@@ -31,6 +31,7 @@ Simulation::Simulation(const SceneDesc& scene, const PropagationSettings& settin
     sourceForwards_.push_back(sourceForward(sourceRotationAt(s, 0.0)));
   }
   sourceCount_ = scene.sources.size();
+  untraced_.reserve(sourceCount_);
   reserveListeners(1);
 }
 
@@ -44,11 +45,14 @@ void Simulation::reserveListeners(size_t listeners) {
       if (specularScene_)
         specularCaches_.push_back(
             std::make_unique<SpecularPathCache>(settings_.cacheTau, 1.0 / settings_.frameRate));
+      idle_.push_back(0);
       SourceResult r;
       r.energy = EnergyResponse(settings_.irLength, kEnergyBinSeconds);
       results_.push_back(std::move(r));
       if (!directions_.empty())
         directional_.emplace_back(settings_.irLength, kEnergyBinSeconds, directions_);
+      if (shOrder_ >= 0) shEnergy_.emplace_back(shOrder_, settings_.irLength, shBinSeconds_);
+      tees_.emplace_back();
     }
     groups_.emplace_back();
   }
@@ -91,6 +95,29 @@ void Simulation::enableDirectional(const std::vector<glm::vec3>& listenerDirecti
   directional_.clear();
   for (size_t i = 0; i < results_.size(); ++i)
     directional_.emplace_back(settings_.irLength, kEnergyBinSeconds, directions_);
+}
+
+void Simulation::enableShEnergy(int order, double binSeconds) {
+  shOrder_ = order;
+  shBinSeconds_ = binSeconds;
+  shEnergy_.clear();
+  for (size_t i = 0; i < results_.size(); ++i)
+    shEnergy_.emplace_back(order, settings_.irLength, binSeconds);
+}
+
+ArrivalSink* Simulation::pairSink(size_t pair, size_t l) {
+  DirectionalEnergyResponse* dir = directional_.empty() ? nullptr : &directional_[pair];
+  ShEnergyResponse* sh = shEnergy_.empty() ? nullptr : &shEnergy_[pair];
+  if (dir) {
+    dir->clear();
+    dir->setListenerFrame(orientations_[l].forward(), orientations_[l].up());
+  }
+  if (sh) sh->clear();
+  if (dir && sh) {
+    tees_[pair] = ArrivalTee(dir, sh);
+    return &tees_[pair];
+  }
+  return dir ? static_cast<ArrivalSink*>(dir) : sh;
 }
 
 double Simulation::boundingVolume() const {
@@ -140,9 +167,20 @@ void Simulation::runFrame(std::span<const ListenerSphere> listeners,
   ++frame_;
 }
 
+bool Simulation::skippedForAll(size_t s, size_t listeners) const {
+  for (size_t l = 0; l < listeners; ++l)
+    if (!skipped(s, l)) return false;
+  return listeners > 0;
+}
+
 void Simulation::traceFromSources(std::span<const ListenerSphere> listeners,
                                   const std::vector<glm::vec3>& sources) {
+  untraced_.clear();
   for (size_t s = 0; s < sourceCount_ && s < sources.size(); ++s) {
+    if (skippedForAll(s, listeners.size())) {
+      untraced_.push_back(s);  // capacity: sourceCount_ (reserveSourceGroups)
+      continue;
+    }
     const auto t0 = std::chrono::steady_clock::now();
     for (size_t l = 0; l < listeners.size(); ++l) groups_[l].clear();
     if (specularCandidates_) {
@@ -167,6 +205,28 @@ void Simulation::traceFromSources(std::span<const ListenerSphere> listeners,
       finishPair(s, l, sources[s], listeners[l], trace, traceSeconds, groups_[l]);
     });
   }
+  if (!untraced_.empty()) finishUntraced(listeners, sources);
+}
+
+void Simulation::finishUntraced(std::span<const ListenerSphere> listeners,
+                                const std::vector<glm::vec3>& sources) {
+  for (size_t l = 0; l < listeners.size(); ++l) {
+    const auto t0 = std::chrono::steady_clock::now();
+    TraceStats trace;
+    if (specularCandidates_) {
+      specularCandidates_->clear();
+      trace = propagator_->proposeSpecular(frame_, uint32_t(l), listeners[l].position,
+                                           *specularCandidates_);
+      addPass(trace);
+      specularCandidateOverflow_ += specularCandidates_->overflow();
+    }
+    const double traceSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    propagator_->forEachParallel(untraced_.size(), [&](size_t i) {
+      const size_t s = untraced_[i];
+      finishPair(s, l, sources[s], listeners[l], trace, traceSeconds, noGroups_);
+    });
+  }
 }
 
 void Simulation::addPass(const TraceStats& t) {
@@ -180,8 +240,30 @@ void Simulation::reserveSourceGroups() {
   sourceGroups_.resize(sourceCount_);
   sourceGroupPtrs_.clear();
   for (FrameGroups& g : sourceGroups_) sourceGroupPtrs_.push_back(&g);
-  sourceExactSetPtrs_.resize(sourceCount_, nullptr);
   sourceSpheres_.resize(sourceCount_);
+  liveGroupPtrs_.resize(sourceCount_, nullptr);
+  liveExactSetPtrs_.resize(sourceCount_, nullptr);
+  livePatterns_.resize(sourceCount_);
+  liveForwards_.resize(sourceCount_);
+  liveIds_.resize(sourceCount_, 0);
+}
+
+size_t Simulation::compactSources(size_t l, const ListenerSphere& listener,
+                                  const std::vector<glm::vec3>& sources, size_t S) {
+  size_t n = 0;
+  for (size_t s = 0; s < S; ++s) {
+    sourceGroups_[s].clear();
+    if (skipped(s, l)) continue;
+    sourceSpheres_[n] = ListenerSphere{sources[s], listener.radius};
+    liveGroupPtrs_[n] = sourceGroupPtrs_[s];
+    liveExactSetPtrs_[n] =
+        specularCandidates_ ? &specularCaches_[l * sourceCount_ + s]->validKeys() : nullptr;
+    livePatterns_[n] = directivities_[s];
+    liveForwards_[n] = sourceForwards_[s];
+    liveIds_[n] = uint32_t(s);
+    ++n;
+  }
+  return n;
 }
 
 void Simulation::traceFromListeners(std::span<const ListenerSphere> listeners,
@@ -189,22 +271,30 @@ void Simulation::traceFromListeners(std::span<const ListenerSphere> listeners,
   reserveSourceGroups();
   const size_t S = std::min(sourceCount_, sources.size());
   propagator_->setSourceDirectivity(Directivity{}, glm::vec3(1.f, 0.f, 0.f));  // the listener
-  propagator_->setFromListeners(true, directivities_, sourceForwards_);
   for (size_t l = 0; l < listeners.size(); ++l) {
     const auto t0 = std::chrono::steady_clock::now();
-    for (size_t s = 0; s < S; ++s) {
-      sourceGroups_[s].clear();
-      sourceSpheres_[s] = ListenerSphere{sources[s], listeners[l].radius};
-    }
+    // The spheres of the sources traced for this listener, keyed by their source index so
+    // that a pair's path identifiers do not depend on which others are left out.
+    const size_t n = compactSources(l, listeners[l], sources, S);
     if (specularCandidates_) {
       specularCandidates_->clear();
-      for (size_t s = 0; s < S; ++s)
-        sourceExactSetPtrs_[s] = &specularCaches_[l * sourceCount_ + s]->validKeys();
-      propagator_->setExactSequences(std::span(sourceExactSetPtrs_.data(), S));
+      propagator_->setExactSequences(std::span(liveExactSetPtrs_.data(), n));
     }
-    const TraceStats trace = propagator_->traceFrame(
-        frame_, uint32_t(l), listeners[l].position, std::span(sourceSpheres_.data(), S),
-        std::span(sourceGroupPtrs_.data(), S), specularCandidates_.get());
+    TraceStats trace;
+    if (n > 0) {
+      propagator_->setFromListeners(true, std::span(livePatterns_.data(), n),
+                                    std::span(liveForwards_.data(), n));
+      propagator_->setSphereIds(std::span(liveIds_.data(), n));
+      trace = propagator_->traceFrame(frame_, uint32_t(l), listeners[l].position,
+                                      std::span(sourceSpheres_.data(), n),
+                                      std::span(liveGroupPtrs_.data(), n),
+                                      specularCandidates_.get());
+      propagator_->setFromListeners(false);
+      propagator_->setSphereIds({});
+    } else if (specularCandidates_) {
+      trace = propagator_->proposeSpecular(frame_, uint32_t(l), listeners[l].position,
+                                           *specularCandidates_);
+    }
     addPass(trace);
     if (specularCandidates_) specularCandidateOverflow_ += specularCandidates_->overflow();
     const double traceSeconds =
@@ -213,7 +303,6 @@ void Simulation::traceFromListeners(std::span<const ListenerSphere> listeners,
       finishPair(s, l, sources[s], listeners[l], trace, traceSeconds, sourceGroups_[s]);
     });
   }
-  propagator_->setFromListeners(false);
 }
 
 void Simulation::finishPair(size_t s, size_t l, const glm::vec3& source,
@@ -229,13 +318,7 @@ void Simulation::finishPair(size_t s, size_t l, const glm::vec3& source,
                         propagator_->airAttenuationPerMetre(), r.direct, directivities_[s],
                         sourceForwards_[s]);
   r.energy.clear();
-  DirectionalEnergyResponse* dir = nullptr;
-  if (!directional_.empty()) {
-    dir = &directional_[pair];
-    dir->clear();
-    dir->setListenerFrame(orientations_[l].forward(), orientations_[l].up());
-  }
-  updateEstimator(pair, groups, r, dir);
+  updateOrIdle(pair, groups, r, pairSink(pair, l));
   r.traceSeconds = traceSeconds;
   r.estimatorSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
   if (specularScene_) updateSpecular(pair, source, listener, r);
@@ -263,8 +346,19 @@ const std::vector<SpecularPath>& Simulation::specularPaths(size_t source, size_t
   return specularCaches_[listener * sourceCount_ + source]->paths();
 }
 
+void Simulation::updateOrIdle(size_t pair, const FrameGroups& groups, SourceResult& r,
+                              ArrivalSink* dir) {
+  if (pair < skip_.size() && skip_[pair]) {
+    idle_[pair] = 1;  // the response stays empty: the bake plays it
+    return;
+  }
+  if (idle_[pair] && pair < caches_.size()) caches_[pair]->clear();
+  idle_[pair] = 0;
+  updateEstimator(pair, groups, r, dir);
+}
+
 void Simulation::updateEstimator(size_t pair, const FrameGroups& groups, SourceResult& r,
-                                 DirectionalEnergyResponse* dir) {
+                                 ArrivalSink* dir) {
   if (caches_.empty()) {
     pathTracing_.endFrame(groups, r.trace.rays, settings_.speedOfSound, r.energy, dir);
     r.cacheEntries = groups.groups().size();

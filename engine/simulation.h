@@ -33,6 +33,7 @@
 #include "engine/geometry.h"
 #include "engine/path_cache.h"
 #include "engine/propagation.h"
+#include "engine/sh_energy_response.h"
 #include "engine/specular_paths.h"
 #include "engine/tracer.h"
 #include "scene/scene.h"
@@ -108,6 +109,27 @@ class Simulation {
   /// The same for every pair of listener `listener` (a listener index of the frames traced).
   void restartListener(size_t listener);
 
+  /// Pairs whose energy response is not wanted from the next frame on (played from a bake,
+  /// runtime/baked_playback.h): skip[l * sourceCount() + s] != 0 skips source s for listener l
+  /// (entries beyond skip's size: not skipped; empty, the default: nothing skipped). A skipped
+  /// pair's estimator is not updated and its energy (and directional) response is empty; its
+  /// direct sound, edge diffraction and exact specular paths are computed as every pair's.
+  /// From the sources, a source skipped for every listener traces no ray; from the listeners,
+  /// a listener's pass leaves the skipped sources' spheres out (and, with none left, is not
+  /// traced). The exact paths of a pair that no ray of this frame served take their candidates
+  /// from one Propagator::proposeSpecular pass per listener (at most exact_order segments a
+  /// ray, shared by all such sources). A pair traced again after skipped frames starts its path
+  /// cache over, as a teleport does: its entries are as old as its last traced frame, when the
+  /// listener may have stood elsewhere, and the estimators read out an unbiased response from
+  /// a restarted cache's first frame; its exact-path cache, kept live, stays. Propagation
+  /// thread, between frames; allocates only while the mask grows.
+  void setSkippedPairs(std::span<const uint8_t> skip) { skip_.assign(skip.begin(), skip.end()); }
+  /// Whether the last frame skipped pair (source, listener) (setSkippedPairs).
+  bool skipped(size_t source, size_t listener) const {
+    const size_t pair = listener * sourceCount_ + source;
+    return pair < skip_.size() && skip_[pair] != 0;
+  }
+
   /// Moves the scene's objects (one pose per object, scene order) for the following frames
   /// (Tracer::setObjectPose, then commitPoses). No allocation.
   void setObjectPoses(const std::vector<Pose>& poses);
@@ -124,6 +146,14 @@ class Simulation {
     return directional_[listener * sourceCount_ + source];
   }
   bool hasDirectional() const { return !directions_.empty(); }
+  /// Also produce, per pair, the response's spherical-harmonic energy of `order` in bins of
+  /// binSeconds (engine/sh_energy_response.h; directions in the frame of a listener at yaw 0,
+  /// pitch 0), from each arrival's own direction as the estimator reads it out. Allocates.
+  void enableShEnergy(int order, double binSeconds);
+  /// Valid after runFrame when enableShEnergy was called.
+  const ShEnergyResponse& shEnergy(size_t source, size_t listener = 0) const {
+    return shEnergy_[listener * sourceCount_ + source];
+  }
 
   /// Source `source`'s result for listener `listener` (< listenerCount()). The trace statistics
   /// (rays, segments, trace time) are those of the pass that traced the pair (the source's,
@@ -165,6 +195,22 @@ class Simulation {
                           const std::vector<glm::vec3>& sources);
   /// Empties one pair's path and exact-path caches (a teleport).
   void restartPair(size_t pair);
+  /// Whether source s is skipped for each of `listeners` listeners (traces no ray).
+  bool skippedForAll(size_t s, size_t listeners) const;
+  /// From the sources: the pairs of the sources that traced no ray this frame (untraced_),
+  /// with exact-path candidates from one proposal pass per listener.
+  void finishUntraced(std::span<const ListenerSphere> listeners,
+                      const std::vector<glm::vec3>& sources);
+  /// From the listeners: the sources traced for listener l (not skipped) into the pass's
+  /// compacted spheres, groups, exact sets, patterns and key ids; returns their count.
+  size_t compactSources(size_t l, const ListenerSphere& listener,
+                        const std::vector<glm::vec3>& sources, size_t S);
+  /// The pair's arrival sink for this frame (directional and/or SH energy, cleared), or null.
+  ArrivalSink* pairSink(size_t pair, size_t listener);
+  /// The estimator's share of finishPair: the update, or for a skipped pair nothing (and a
+  /// restart of its path cache when it is traced again).
+  void updateOrIdle(size_t pair, const FrameGroups& groups, SourceResult& r,
+                    ArrivalSink* dir);
   /// Adds one tracing pass to frameTrace_.
   void addPass(const TraceStats& t);
   /// Per-source group buffers and exact-path set pointers (grows only).
@@ -177,7 +223,7 @@ class Simulation {
   /// Adds the frame's groups to pair's estimator and reads its energy response into r.energy
   /// (and dir when not null).
   void updateEstimator(size_t pair, const FrameGroups& groups, SourceResult& r,
-                       DirectionalEnergyResponse* dir);
+                       ArrivalSink* dir);
   /// The pair's exact specular paths for this frame, statistics into r.
   void updateSpecular(size_t pair, const glm::vec3& source, const ListenerSphere& listener,
                       SourceResult& r);
@@ -199,14 +245,27 @@ class Simulation {
   std::vector<std::unique_ptr<DiffusePathCache>> caches_;
   std::vector<SourceResult> results_;
   std::vector<DirectionalEnergyResponse> directional_;
+  std::vector<ShEnergyResponse> shEnergy_;  ///< per pair, enableShEnergy
+  std::vector<ArrivalTee> tees_;             ///< per pair: directional_ and shEnergy_ both
+  int shOrder_ = -1;                         ///< enableShEnergy's order (-1: off)
+  double shBinSeconds_ = 0.01;
   PathTracingEstimator pathTracing_;
   std::vector<FrameGroups> groups_;      ///< per listener, this source's frame
   std::vector<FrameGroups*> groupPtrs_;  ///< &groups_[l]
   // Tracing from the listeners: per source, this listener's frame, and the source spheres.
   std::vector<FrameGroups> sourceGroups_;
   std::vector<FrameGroups*> sourceGroupPtrs_;
-  std::vector<const tsl::robin_set<uint64_t>*> sourceExactSetPtrs_;
   std::vector<ListenerSphere> sourceSpheres_;
+  // The same compacted to the sources traced for the listener (setSkippedPairs):
+  std::vector<FrameGroups*> liveGroupPtrs_;
+  std::vector<const tsl::robin_set<uint64_t>*> liveExactSetPtrs_;
+  std::vector<Directivity> livePatterns_;
+  std::vector<glm::vec3> liveForwards_;
+  std::vector<uint32_t> liveIds_;  ///< source index of each compacted sphere (path keys)
+  std::vector<uint8_t> skip_;      ///< setSkippedPairs, per pair
+  std::vector<uint8_t> idle_;      ///< per pair: skipped in its last frame
+  std::vector<size_t> untraced_;   ///< from the sources: this frame's sources traced for none
+  FrameGroups noGroups_;           ///< what a skipped pair is handed (it reads none)
   /// Per listener, the traced source's pair's SpecularPathCache::validKeys
   std::vector<const tsl::robin_set<uint64_t>*> exactSetPtrs_;
   std::vector<glm::vec3> directions_;    ///< enableDirectional's listener-frame directions

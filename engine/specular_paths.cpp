@@ -58,7 +58,7 @@ std::vector<const Mesh*> meshesOf(const Mesh& mesh, const std::vector<ObjectDesc
 }  // namespace
 
 void addSpecularPaths(const std::vector<SpecularPath>& paths, EnergyResponse& response,
-                      DirectionalEnergyResponse* directional) {
+                      ArrivalSink* directional) {
   for (const SpecularPath& p : paths) {
     response.add(p.delaySeconds, p.intensity);
     if (directional) directional->add(p.delaySeconds, p.intensity, p.direction);

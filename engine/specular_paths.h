@@ -87,7 +87,7 @@ struct SpecularPath {
 /// with exact_order 0, up to Monte Carlo error, for consumers that want one response.
 /// Propagation thread; no allocation.
 void addSpecularPaths(const std::vector<SpecularPath>& paths, EnergyResponse& response,
-                      DirectionalEnergyResponse* directional = nullptr);
+                      ArrivalSink* directional = nullptr);
 
 /// The unique sequences the rays of one source proposed in one frame, in insertion order.
 /// Capacity fixed at construction; insertions beyond it are counted in overflow().

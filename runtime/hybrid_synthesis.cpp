@@ -135,7 +135,7 @@ double HybridSynthesis::splitSource(const Simulation& sim, size_t s, size_t list
   x.channels.resize(early.size());
   for (size_t c = 0; c < early.size(); ++c) x.channels[c] = early[c].data();
   const DirectionalEnergyResponse& live = sim.directional(s, listener);
-  const DirectionalEnergyResponse& in = baked ? baked->directional(s, live) : live;
+  const DirectionalEnergyResponse& in = baked ? baked->directional(s, listener, live) : live;
   const LateShare share = addLate(in, direct, paths, split_, x.lateDir[size_t(k)]);
   x.earlyDir.copyFrame(in);
   for (size_t d = 0; d < in.directionCount(); ++d)
@@ -153,7 +153,7 @@ double HybridSynthesis::addMonoLate(const Simulation& sim, size_t s, size_t list
                                     BakedPlayback* baked) {
   Scratch& x = *scratch_;
   const Simulation::SourceResult& r = sim.result(s, listener);
-  const EnergyResponse& in = baked ? baked->energy(s, r.energy) : r.energy;
+  const EnergyResponse& in = baked ? baked->energy(s, listener, r.energy) : r.energy;
   const LateShare share =
       addLate(in, r.direct, sim.specularPaths(s, listener), split_, x.late[size_t(k)]);
   x.directLate[s] = share.directIsLate ? 1 : 0;
@@ -171,7 +171,11 @@ void HybridSynthesis::synthesizeMonoEarly(const Simulation& sim, size_t s, size_
   earlyPaths(sim.specularPaths(s, listener), split_, x.paths);
   DirectSound direct = r.direct;
   if (scratch_->directLate[s]) direct.visible = false;
-  copyPrefix(baked ? baked->energy(s, r.energy) : r.energy, x.early);
+  // Worker threads run this concurrently: the bake is read into the worker's own scratch.
+  if (baked && baked->plays(s, listener))
+    baked->interpolate(s, listener, x.early);
+  else
+    copyPrefix(r.energy, x.early);
   keepEarly(x.early, split_);
   earlyMono_[s]->synthesize(x.early, direct, early[0].data(), x.paths);
 }

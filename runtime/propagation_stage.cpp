@@ -306,9 +306,12 @@ void PropagationStage::traceWorld(const WorldState& world) {
     if (world.sourceTeleports[s]) simulation_->restartSource(s);
   for (size_t l = 0; l < world.listenerTeleports.size() && l < L; ++l)
     if (world.listenerTeleports[l]) simulation_->restartListener(l);
+  // Pairs played from the bake are not traced (Simulation::setSkippedPairs).
+  if (baked_) baked_->beginFrame(world.sourcePositions, spheres_);
+  simulation_->setSkippedPairs(baked_ ? std::span<const uint8_t>(baked_->bakedPairs())
+                                      : std::span<const uint8_t>());
   simulation_->runFrame(spheres_, world.sourcePositions);
   sources_ = world.sourcePositions;
-  if (baked_) baked_->setSources(world.sourcePositions);
   totals_.traceSeconds += secondsSince(t0);
   totals_.rays += simulation_->frameTrace().rays;
   totals_.segments += simulation_->frameTrace().segments;
@@ -324,10 +327,12 @@ void PropagationStage::synthesize(size_t s, size_t listener) {
   if (spatial_) {
     for (size_t c = 0; c < channelScratch_.size(); ++c) channelScratch_[c] = irs[s][c].data();
     const DirectionalEnergyResponse& live = simulation_->directional(s, listener);
-    spatial_->synthesize(baked_ ? baked_->directional(s, live) : live, r.direct, channelScratch_,
+    spatial_->synthesize(baked_ ? baked_->directional(s, listener, live) : live, r.direct,
+                         channelScratch_,
                          simulation_->specularPaths(s, listener));
   } else {
-    synthesizers_[s]->synthesize(baked_ ? baked_->energy(s, r.energy) : r.energy, r.direct,
+    synthesizers_[s]->synthesize(baked_ ? baked_->energy(s, listener, r.energy) : r.energy,
+                                 r.direct,
                                  irs[s][0].data(), simulation_->specularPaths(s, listener));
   }
 }
@@ -338,7 +343,6 @@ IrSet* PropagationStage::prepare(size_t listener) {
   if (free_.empty()) return nullptr;
   IrSet* set = free_.back();
   free_.pop_back();
-  if (baked_) baked_->locate(spheres_[listener].position);
   if (hybrid_) prepareLate(listener, *set);
   for (size_t s = 0; s < simulation_->sourceCount(); ++s) {
     auto t0 = std::chrono::steady_clock::now();

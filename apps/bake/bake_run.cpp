@@ -1,25 +1,32 @@
 #include "apps/bake/bake_run.h"
 
+#include <atomic>
 #include <chrono>
 #include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <thread>
 
 #include "bake/bake_file.h"
 #include "bake/parameter_map.h"
 #include "apps/bake/progress.h"
+#include "apps/bake/watchdog.h"
 #include "common/input_error.h"
 #include "common/output_file.h"
 
 namespace dpc::bake {
 namespace {
 
-volatile std::sig_atomic_t gInterrupted = 0;
+/// Set by SIGINT/SIGTERM; read by the main thread and rank 0's watchdog thread (a lock-free
+/// atomic: safe to store in a signal handler and to read from another thread).
+std::atomic<bool> gInterrupted{false};
+static_assert(std::atomic<bool>::is_always_lock_free);
 
-void onSignal(int) { gInterrupted = 1; }
+void onSignal(int) { gInterrupted.store(true); }
 
 /// What this run bakes: the scene, the file's header and the probes not yet done.
 struct Plan {
@@ -106,17 +113,31 @@ std::vector<size_t> share(const std::vector<size_t>& todo, const Cluster& cluste
   return mine;
 }
 
+/// Rank 0's file, committed under the watchdog's lock when there is one (several ranks).
+struct Writer {
+  BakeFile& file;
+  Progress& progress;
+  Watchdog* watchdog = nullptr;
+  size_t committed = 0;
+  void commit(size_t probe, const ProbeResult& r) {
+    std::unique_lock<std::mutex> between;
+    if (watchdog) between = watchdog->lock();
+    file.commit(probe, r);
+    if (watchdog) watchdog->committed();
+    ++committed;
+    progress.step();
+  }
+};
+
 /// Rank 0: bakes its share and commits every probe (its own and the others') as it comes.
 /// False when interrupted.
-bool bakeAsWriter(const Plan& plan, Cluster& cluster, BakeFile& file, Progress& progress) {
+bool bakeAsWriter(const Plan& plan, Cluster& cluster, Writer& out) {
   const BakeHeader& h = plan.header;
-  size_t committed = 0;
+  size_t& committed = out.committed;
   auto drain = [&] {
     bool any = false;
     while (auto m = cluster.receive(h.shape.packedFloats())) {
-      file.commit(m->probe, unpack(m->data, h.shape));
-      ++committed;
-      progress.step();
+      out.commit(m->probe, unpack(m->data, h.shape));
       any = true;
     }
     return any;
@@ -124,9 +145,7 @@ bool bakeAsWriter(const Plan& plan, Cluster& cluster, BakeFile& file, Progress& 
   ProbeBaker baker(plan.scene, h.settings);
   for (const size_t p : share(plan.todo, cluster)) {
     if (gInterrupted) return false;
-    file.commit(p, baker.bake(p, h.probes.positions[p]));
-    ++committed;
-    progress.step();
+    out.commit(p, baker.bake(p, h.probes.positions[p]));
     drain();
   }
   while (committed < plan.todo.size()) {
@@ -156,9 +175,22 @@ void printJson(const Plan& plan, const Cluster& cluster, const BakeFile& file,
               plan.header.shape.packedFloats() * sizeof(float), file.commitSeconds() / n);
 }
 
+/// Rank 0's watchdog over the other ranks (apps/bake/watchdog.h), when there are any.
+std::unique_ptr<Watchdog> watch(const Plan& plan, const Cluster& cluster, const BakeFile& file) {
+  if (cluster.size() < 2) return nullptr;
+  std::vector<Watchdog::Peer> peers;
+  for (const Cluster::Peer& p : cluster.peers()) peers.push_back({p.rank, p.pid});
+  return std::make_unique<Watchdog>(std::move(peers), cluster.size(), file.path(),
+                                    plan.header.probes.positions.size(), plan.alreadyDone,
+                                    gInterrupted);
+}
+
 int finishAsWriter(const Options& o, const Plan& plan, Cluster& cluster, BakeFile& file) {
   Progress progress(plan.todo.size(), plan.alreadyDone, o.quiet);
-  const bool finished = bakeAsWriter(plan, cluster, file, progress);
+  std::unique_ptr<Watchdog> watchdog = watch(plan, cluster, file);
+  Writer writer{file, progress, watchdog.get()};
+  const bool finished = bakeAsWriter(plan, cluster, writer);
+  watchdog.reset();  // every probe is in (or the single process was interrupted)
   progress.finish();
   if (!finished) {
     // Under mpirun a rank that dies makes mpirun stop the others with a signal: rank 0 cannot

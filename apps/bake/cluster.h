@@ -2,8 +2,14 @@
 // built with MPI), else one process alone. The bake's data flow is a gather: every rank bakes
 // its share of the probes and sends each finished probe to rank 0, the only process that
 // touches the file (docs/bake.md says why a gather rather than parallel HDF5).
-// Main thread of each process only (MPI is initialised without thread support); allocates;
-// MPI failures abort the job (MPI's default error handler: mpirun then ends every rank).
+// Main thread of each process only (MPI is initialised without thread support); allocates.
+// MPI errors are returned, not fatal (MPI_ERRORS_RETURN on MPI_COMM_WORLD): a failed call
+// throws std::runtime_error naming it, so rank 0 reports it in its own line. Open MPI's
+// shared-memory single-copy transfer (CMA: the receiver reads the sender's memory) is turned
+// off unless the user chose a mechanism: a receiver reading a rank that was killed aborts
+// inside Open MPI ("Read -1, expected N, errno = 3") before dpc-bake can say anything; the
+// copy through the shared-memory queues is what remains, progressed by both sides' MPI calls
+// (rank 0 receives without blocking, so it bakes on while a message is in flight).
 #pragma once
 
 #include <cstddef>
@@ -40,15 +46,28 @@ class Cluster {
   void send(size_t probe, std::vector<float> data);
   /// Waits until every send has been received (ranks > 0, before leaving).
   void finishSends();
-  /// Rank 0: a probe of `floats` floats another rank has sent, if one is waiting (never blocks
-  /// for long: the caller polls, so that a signal is answered while waiting).
-  std::optional<Message> receive(size_t floats) const;
+  /// Rank 0: a probe of `floats` floats another rank has sent, once its data have arrived
+  /// (never blocks: receives are posted and tested; the caller polls).
+  std::optional<Message> receive(size_t floats);
+
+  /// Every rank but this one, with its pid when it runs on this process's host (0 otherwise),
+  /// as rank 0's Watchdog watches them (apps/bake/watchdog.h). Empty without MPI.
+  struct Peer {
+    int rank = 0;
+    long pid = 0;
+  };
+  const std::vector<Peer>& peers() const { return peers_; }
 
  private:
   struct Pending;  ///< a send in flight: its buffers and MPI requests
+  struct Incoming;  ///< a receive in flight: its probe, buffer and request
+  /// Gathers every rank's host and pid into peers_ (a collective, at start).
+  void gatherPeers();
   int rank_ = 0, size_ = 1;
   bool mpi_ = false;
   std::vector<std::unique_ptr<Pending>> pending_;
+  std::vector<std::unique_ptr<Incoming>> incoming_;
+  std::vector<Peer> peers_;
 };
 
 /// Whether this build can join an MPI job.

@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Reads a dpc-bake file with h5py (Debian python3-h5py): the header, the completion mask, one
-probe's energy response and parameters, and the probe nearest a point.
+probe's energy response, its direction (first-order spherical-harmonic energy) and parameters,
+and the probe nearest a point.
 
     examples/python/read_bake.py BAKE.h5 [X Y Z]
 
@@ -24,9 +25,21 @@ def open_bake(path):
         fail(path, '', f'not a readable HDF5 file ({e})')
     if f.attrs.get('format', b'') not in (b'dpc-bake', 'dpc-bake'):
         fail(path, 'format', 'not a dpc-bake file')
-    if int(f.attrs.get('version', -1)) != 2:
-        fail(path, 'version', f"{f.attrs.get('version')} is not 2")
+    if int(f.attrs.get('version', -1)) != 3:
+        fail(path, 'version', f"{f.attrs.get('version')} is not 3")
+    if int(f.attrs.get('sh_order', -1)) != 1:
+        fail(path, 'sh_order', f"{f.attrs.get('sh_order')} is not 1")
     return f
+
+
+def world_direction(sh):
+    """The unit world direction (x, y up, z) of first-order SH energy [4] (ACN W, Y, Z, X in
+    the frame of a listener at yaw 0: x = world x, y = world -z, z = world y), and the
+    length of the energy vector |(X, Y, Z)| / W (0: isotropic, 1: one plane wave)."""
+    w, y, z, x = sh
+    v = np.array([x, z, -y])
+    n = np.linalg.norm(v)
+    return (v / n if n > 0 else v), (n / w if w > 0 else 0.0)
 
 
 def main():
@@ -56,6 +69,11 @@ def main():
     print('  1 kHz: ' + ', '.join(f'{c} {params[k, i]:.3g} ± {ci[k, i]:.2g}'
                                   for i, c in enumerate(columns)))
     print(f"  STI {f['sti'][p, 0]:.3f} ± {f['sti_ci95'][p, 0]:.3f}")
+    sh = f['sh_energy'][p, 0]                       # [D, 4, 8] 1/m^2 per 10 ms bin
+    late = sh[int(0.05 / f.attrs['directional_bin_seconds']):, :, k].sum(axis=0)
+    d, r = world_direction(late)
+    print(f'  1 kHz after 50 ms: energy flow toward the probe from {np.round(d, 2)} '
+          f'(world), |energy vector| / energy {r:.2f}')
 
 
 if __name__ == '__main__':

@@ -497,14 +497,15 @@ DPC_API dpc_status dpc_engine_get_stats(dpc_engine* engine, dpc_stats* out);
  * source's energy response at a grid of probes; an engine with a bake attached plays every
  * source that stands at its baked position (within 1 cm) from it: the late response is
  * interpolated between the probes the listener can see (never across a wall; with none visible
- * the frame falls back to the live simulation), the direct sound and its occlusion stay live.
- * Moved sources keep the live simulation. */
+ * the frame falls back to the live simulation), the direct sound, its occlusion and the exact
+ * early paths stay live, and the source is not traced. Moved sources keep the live simulation
+ * (their path caches restarted when they leave the baked position). */
 
 /** An opened bake, checked against one engine's scene. Opaque; immutable once opened, so one
  *  bake may be attached to several engines of the same scene. */
 typedef struct dpc_bake dpc_bake;
 
-/** Control thread. Reads the bake at bake_path whole into memory (allocates: 51.2 kB per
+/** Control thread. Reads the bake at bake_path whole into memory (allocates: 44.8 kB per
  *  probe and source per second of response) and checks it against the
  *  engine's scene. Errors: DPC_ERR_INVALID_ARGUMENT (NULL); DPC_ERR_INPUT, with the one-line
  *  message of dpc_last_error() naming the file and the field: a missing, truncated or corrupt

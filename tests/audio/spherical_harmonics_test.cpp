@@ -166,6 +166,20 @@ TEST_CASE("SN3D/ACN match the table off the axes and obey the addition theorem u
   }
 }
 
+TEST_CASE("SN3D/ACN first order without trigonometry equals the general evaluation") {
+  for (const auto& s : kSources) {
+    const Channels all = sh(1, s[0], s[1], s[2]);
+    const float dir[3] = {float(s[0]), float(s[1]), float(s[2])};
+    std::array<float, 4> fast{};
+    sphericalHarmonicsSn3dFirstOrder(dir, fast);
+    for (size_t c = 0; c < 4; ++c) CHECK(fast[c] == Approx(all[c]).margin(1e-6));  // rounding
+  }
+  const float none[3] = {0.f, 0.f, 0.f};
+  std::array<float, 4> ahead{};
+  sphericalHarmonicsSn3dFirstOrder(none, ahead);
+  CHECK(ahead == std::array<float, 4>{1.f, 0.f, 0.f, 1.f});
+}
+
 TEST_CASE("max-rE radius equals the tabulated largest Legendre root") {
   for (int n = 1; n <= kMaxAmbisonicOrder; ++n)
     CHECK(maxReRadius(n) == Approx(kMaxReTable[size_t(n - 1)]).margin(1e-9));  // table: 9 digits

@@ -41,8 +41,10 @@ echo "== the map of a complete bake, and the h5py example reading it"
 # 70 probes x 1 source x (9 rows x 7 parameters + STI) rows and the header.
 [[ $(wc -l <map.csv) == $((70 * 64 + 1)) ]] || fail "map.csv has $(wc -l <map.csv) lines"
 if /usr/bin/python3 -c 'import h5py' 2>/dev/null; then
-  /usr/bin/python3 "$2/examples/python/read_bake.py" clean.h5 5 1.6 3.5 | grep -q STI ||
-    fail "read_bake.py"
+  # Read whole, then searched (grep -q on the pipe could close it before the script ends).
+  /usr/bin/python3 "$2/examples/python/read_bake.py" clean.h5 5 1.6 3.5 >read.txt ||
+    fail "read_bake.py exited non-zero"
+  grep -q STI read.txt && grep -q 'energy flow' read.txt || fail "read_bake.py: $(cat read.txt)"
 fi
 
 echo "== a box of probes: a 3-D lattice, its layout recorded"
@@ -99,13 +101,19 @@ if wait $pid; then fail "interrupted bake exited 0"; fi
 "${mpi[@]}" -np 2 "$bake" --resume cut2.h5 --quiet --threads 1
 h5diff clean.h5 cut2.h5 || fail "bake resumed under MPI differs from the clean one"
 
-echo "== a rank killed mid-bake: non-zero exit, a file --resume completes"
+echo "== a rank killed mid-bake: dpc-bake's own line, non-zero exit, a file --resume completes"
+# Rank 1 is killed once rank 0 has committed a probe; the job has 70 probes of about 0.1 s
+# each, so it is still running. Rank 0 reports it (apps/bake/watchdog.h) whether it notices
+# the rank's end or mpirun's signal first.
 "${mpi[@]}" -np 2 "$bake" "$scene" --out killed.h5 "${slow[@]}" 2>killed.err & mp=$!
 for _ in $(seq 1 600); do grep -q 'probes/s' killed.err 2>/dev/null && break; sleep 0.1; done
 for p in $(pgrep -P $mp); do
   if tr '\0' '\n' </proc/"$p"/environ | grep -q '^OMPI_COMM_WORLD_RANK=1$'; then kill -KILL "$p"; fi
 done
 if wait $mp; then fail "job with a killed rank exited 0"; fi
+line='killed.h5: rank 1 of 2 stopped; [0-9]+ of 70 probes committed, .* dpc-bake --resume killed.h5 finishes it'
+[[ $(grep -cE "$line" killed.err) == 1 ]] || fail "no one-line report of the killed rank: $(cat killed.err)"
+grep -q 'Read -1' killed.err && fail "rank 0 died in Open MPI's transport: $(cat killed.err)"
 complete killed.h5 && fail "killed bake marked complete"
 "$bake" --resume killed.h5 --quiet
 h5diff clean.h5 killed.h5 || fail "resumed bake of the killed job differs from the clean one"

@@ -187,30 +187,48 @@ TEST_CASE("Bake probe: direct sound and parameters are physical", "[bake]") {
   CHECK(r.stiCi[0] >= 0.0f);
 }
 
-TEST_CASE("Bake probe: the directional energies add up to the response, the direct sound "
-          "from its side",
-          "[bake]") {
+TEST_CASE("Bake probe: the SH energy's channel 0 adds up to the response", "[bake]") {
   const SceneDesc scene = shoebox();
   const BakeSettings settings = quickSettings();
   const ProbeShape shape = probeShape(scene, settings);
   const ProbeResult r = bakeProbe(scene, settings, 0, {5.f, 1.6f, 3.5f});
-  // Per 10 ms bin and band: the 6 directions' sum equals the response's 10 bins (the panning
-  // weights sum to 1; float rounding of ~10^4 additions: 1e-4 relative).
+  // Per 10 ms bin and band: channel 0 (Y_0 = 1) holds the energy of the response's 10 bins
+  // (the same arrivals; float rounding of ~10^4 additions: 1e-4 relative).
   for (size_t k = 0; k < shape.directionalBins(); ++k)
     for (size_t b = 0; b < kNumBands; ++b) {
-      double whole = 0.0, parts = 0.0;
+      double whole = 0.0;
       for (size_t j = k * kDirectionalBinFactor;
            j < std::min(shape.bins, (k + 1) * kDirectionalBinFactor); ++j)
         whole += r.energy[j * kNumBands + b];
-      for (size_t d = 0; d < kDirections; ++d)
-        parts += r.directional[(k * kDirections + d) * kNumBands + b];
-      CHECK(parts == Approx(whole).epsilon(1e-4).margin(1e-12));
+      CHECK(r.sh[(k * kShChannels) * kNumBands + b] == Approx(whole).epsilon(1e-4).margin(1e-12));
     }
-  // The source is 3 m away along -x; its direct sound (8.7 ms: the first 10 ms bin) comes from
-  // -x: with cosine^4 panning an exactly axial arrival goes to that axis alone.
-  const auto first = [&](size_t d) { return r.directional[d * kNumBands + 4]; };
-  CHECK(first(1) >= r.directEnergy[4] * 0.999f);
-  CHECK(first(0) < first(1) * 0.1f);
+}
+
+// Oracle: the SN3D first-order harmonics (AmbiX, Nachbar et al. 2011) of a plane wave from
+// azimuth phi, elevation theta are Y = (1, sin phi cos theta, sin theta, cos phi cos theta) in
+// ACN order. In an anechoic box (absorption 1: no reflection carries energy) the only arrival
+// is the direct sound, from phi = 45, theta = 30 degrees in the bake's frame (a listener at
+// yaw 0: x = world +x, y (left) = world -z, z (up) = world +y): its 10 ms bin must hold
+// E (1, 0.612372, 0.5, 0.612372) to float rounding (1e-5 relative).
+TEST_CASE("Bake probe: a single plane wave's SH energy is its energy times Y(direction)",
+          "[bake]") {
+  const glm::vec3 probe{5.f, 1.5f, 3.5f};
+  // Toward the source, world: (cos 30 cos 45, sin 30, -cos 30 sin 45), 2 m away.
+  const glm::vec3 toSource{0.6123724f, 0.5f, -0.6123724f};
+  SceneDesc scene = test::makeShoebox({10.f, 3.f, 7.f}, Bands(1.f), 0.f, probe + 2.f * toSource,
+                                      probe);
+  const ProbeResult r = bakeProbe(scene, quickSettings(), 0, probe);
+  REQUIRE(r.directDelay[0] < 0.01f);  // 5.8 ms: directional bin 0
+  const double table[4] = {1.0, 0.6123724, 0.5, 0.6123724};
+  for (size_t b = 0; b < kNumBands; ++b) {
+    REQUIRE(r.directEnergy[b] > 0.f);
+    for (size_t c = 0; c < kShChannels; ++c)
+      CHECK(r.sh[c * kNumBands + b] == Approx(table[c] * r.directEnergy[b]).epsilon(1e-5));
+    // Nothing else arrives: every later bin is empty.
+    for (size_t k = 1; k < probeShape(scene, quickSettings()).directionalBins(); ++k)
+      CHECK(r.sh[(k * kShChannels) * kNumBands + b] == 0.f);
+  }
+  for (size_t c = 0; c < 3; ++c) CHECK(r.directDirection[c] == Approx(toSource[c]).epsilon(1e-5));
 }
 
 TEST_CASE("Bake file: round trip, done mask, completion", "[bake]") {

@@ -204,7 +204,7 @@ typedef struct dpc_source_directivity {
 /** A further listener for dpc_scene_data (the first is given by its listener_* fields). */
 typedef struct dpc_listener {
   float position[3];    /**< m */
-  float radius;         /**< receiver sphere radius, m, > 0 */
+  float radius;         /**< receiver sphere radius, m, (0, 10^6] */
   float yaw_degrees;    /**< 0 faces +x, positive turns left (about +y); see the top */
   float pitch_degrees;  /**< positive looks up */
 } dpc_listener;
@@ -221,7 +221,7 @@ typedef struct dpc_scene_data {
   const dpc_source* sources;
   int source_count;           /**< >= 1 */
   float listener_position[3]; /**< m */
-  float listener_radius;      /**< receiver sphere radius, m, > 0 */
+  float listener_radius;      /**< receiver sphere radius, m, (0, 10^6] */
   float listener_yaw_degrees; /**< 0 faces +x, positive turns left (about +y); see the top */
   float listener_pitch_degrees; /**< positive looks up */
   /* propagation (docs/estimators.md) */

@@ -92,8 +92,7 @@ void applyAudioOverrides(SceneDesc& scene, const Flags& fl) {
   }
   if (fl.maxRe) scene.audio.maxRe = true;  // both range-checked, used by Ambisonic output only
   if (!fl.hrtf.empty()) {
-    if (!std::filesystem::is_regular_file(fl.hrtf))
-      throw InputError("command line", "--hrtf", "file '" + fl.hrtf + "' not found");
+    checkInputFile(fl.hrtf, kMaxSofaBytes, "command line", "--hrtf", "SOFA file");
     scene.audio.hrtfPath = fl.hrtf;
     if (fl.output.empty()) scene.audio.output = OutputFormat::kBinaural;
   }

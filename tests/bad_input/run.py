@@ -356,7 +356,9 @@ CASES = {
     "bake_of_other_scene": (bake_file(edit=scene_with(**{"sources.0.position": [3, 1.6, 3.5]})), OFF + ["--bake", "bake.h5"], "bake.h5: mesh_hash: the bake is of another scene"),
     "bake_truncated": (bake_file(damage=truncate_half), OFF + ["--bake", "bake.h5"], "bake.h5: "),
     "bake_not_hdf5": (write("bake.h5", "not hdf5\n"), OFF + ["--bake", "bake.h5"], "bake.h5: not an HDF5 file"),
-    "bake_missing": (nothing, OFF + ["--bake", "none.h5"], "none.h5: no such file"),
+    "bake_missing": (nothing, OFF + ["--bake", "none.h5"], "none.h5: bake 'none.h5' not found"),
+    "bake_directory": (mkdir("b.h5"), OFF + ["--bake", "b.h5"], "b.h5: bake 'b.h5' is a directory"),
+    "bake_fifo": (fifo("b.h5"), OFF + ["--bake", "b.h5"], "b.h5: bake 'b.h5' is not a regular file"),
     "objects_257": (scene_with(objects=[{"name": f"o{i}", "mesh": "shoebox.obj", "trajectory": [{"t": 0, "position": [0, 0, 0]}]} for i in range(257)]), OFF, "shoebox.json: objects: 257 objects, more than the limit of 256"),
 }
 

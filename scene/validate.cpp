@@ -97,9 +97,11 @@ void checkPropagation(const PropagationSettings& p, const Origin& origin) {
   checkField("propagation.cache_pool_mb", p.cachePoolMb, origin);
   checkField("propagation.frame_rate", p.frameRate, origin);
   checkField("propagation.ir_length", p.irLength, origin);
-  checkField("propagation.speed_of_sound", p.speedOfSound, origin);
+  // The temperature before the speed of sound, which is derived from it when not given: a
+  // wild temperature is named, not the speed the caller never set.
   checkField("propagation.temperature", p.temperatureC, origin);
   checkField("propagation.humidity", p.humidityPercent, origin);
+  checkField("propagation.speed_of_sound", p.speedOfSound, origin);
 }
 
 // Key times in order and every keyframe's position within the coordinate limit.

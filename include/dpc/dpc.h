@@ -389,8 +389,8 @@ DPC_API dpc_status dpc_engine_step(dpc_engine* engine);
  *  receives the IR's full length in samples; min(capacity, length) samples are copied (out
  *  may be NULL with capacity 0 to ask for the length). *frame (if not NULL) receives the
  *  propagation frame count it came from. No allocation on success. Errors:
- *  DPC_ERR_INVALID_ARGUMENT (NULL engine, index out of range, out NULL with capacity > 0),
- *  DPC_ERR_STATE (no frame run yet). */
+ *  DPC_ERR_INVALID_ARGUMENT (NULL engine, index out of range, out NULL with capacity > 0:
+ *  dpc_last_error() names the argument), DPC_ERR_STATE (no frame run yet). */
 DPC_API dpc_status dpc_engine_copy_impulse_response(dpc_engine* engine, int source, int channel,
                                                     float* out, size_t capacity, size_t* length,
                                                     uint64_t* frame);

@@ -137,6 +137,21 @@ std::vector<Misuse> dataValueCases() {
       {"additional listeners NULL with count 1", kInput,
        create([](B&, D& d) { d.additional_listener_count = 1; }), "additional_listeners"},
       {"output 99", kInput, create([](B&, D& d) { d.output = dpc_output_format(99); }), "output"},
+      // A sphere of infinite or astronomic radius encloses the room and hears nothing: refused
+      // (the limit is (0, 10^6] m), never rendered as silence.
+      {"listener radius inf", kInput, create([](B&, D& d) { d.listener_radius = kInf; }),
+       "listener_radius: inf is outside (0, 1000000] m"},
+      {"listener radius FLT_MAX", kInput, create([](B&, D& d) { d.listener_radius = FLT_MAX; }),
+       "listener_radius: "},
+      {"listener radius 1e30", kInput, create([](B&, D& d) { d.listener_radius = 1e30f; }),
+       "listener_radius: 1e+30 is outside (0, 1000000] m"},
+      {"listener radius 10^6", DPC_OK, create([](B&, D& d) { d.listener_radius = 1e6f; }), ""},
+      {"patch size inf", kInput, create([](B&, D& d) { d.patch_size = kInf; }),
+       "patch_size: inf must be > 0 m"},
+      {"material name with a terminal escape", kInput, create([](B& b, D&) {
+         b.material.name = "\x1b[2Jwalls";
+       }),
+       "must not contain control characters"},
   };
 }
 

@@ -150,6 +150,25 @@ TEST_CASE("C API scene data: every limit is accepted at its bounds and refused b
   }
 }
 
+TEST_CASE("C API scene data: no limit accepts NaN or an infinity", "[limits]") {
+  const double kNonFinite[] = {std::nan(""), HUGE_VAL, -HUGE_VAL};
+  for (const Limit& l : limits()) {
+    const std::string field(l.field);
+    // Counts are sizes of the caller's arrays, not numbers a caller can make non-finite.
+    if (kNotInData.count(field) || field == "sources" || field == "listeners") continue;
+    for (const double v : kNonFinite) {
+      BoxData box;
+      const std::string name = dataSetters().at(field)(box, v);
+      INFO(field << " = " << valueText(v) << ", expecting " << name);
+      dpc_status status = DPC_OK;
+      const std::string error = createError(box.data(), status);
+      INFO(error);
+      CHECK(status == DPC_ERR_INPUT);
+      CHECK(error.find("dpc_scene_data: " + name + ": ") == 0);
+    }
+  }
+}
+
 TEST_CASE("C API options: sample rate, block size and rays per frame limits", "[limits]") {
   const std::string scene = kSourceDir + "/scenes/shoebox.json";
   const std::map<std::string, std::pair<int dpc_engine_options::*, const char*>> options = {

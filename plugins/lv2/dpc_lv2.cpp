@@ -308,6 +308,19 @@ Scene* loadScene(Plugin* p, const std::string& path, bool isDefault, const Pose&
   return s;
 }
 
+/// Instantiation thread: false (logged) for a host rate that is no number of Hz. A rate of 0
+/// (or NaN, or beyond int) would become the options' 0, "keep the scene's rate", and the
+/// plugin would play at a rate the host does not run; the C API checks the range itself.
+bool usableRate(Plugin* p, double rate) {
+  if (rate >= 1.0 && rate <= 1e9) return true;
+  const char* format = "dpc: the host's sample rate %g Hz is not a rate\n";
+  if (p->logger.log)
+    lv2_log_error(&p->logger, format, rate);
+  else
+    std::fprintf(stderr, format, rate);
+  return false;
+}
+
 LV2_Handle instantiate(const LV2_Descriptor* descriptor, double rate, const char* bundlePath,
                        const LV2_Feature* const* features) {
   auto* p = new Plugin;
@@ -326,6 +339,10 @@ LV2_Handle instantiate(const LV2_Descriptor* descriptor, double rate, const char
   }
   p->hostBlock = dpc::lv2::nominalBlockLength(p->map, features);
   lv2_log_logger_init(&p->logger, p->map, log);
+  if (!usableRate(p, rate)) {
+    delete p;
+    return nullptr;
+  }
   if (p->map) {
     p->uris.map(p->map);
     lv2_atom_forge_init(&p->forge, p->map);

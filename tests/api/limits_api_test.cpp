@@ -169,12 +169,14 @@ TEST_CASE("C API scene data: no limit accepts NaN or an infinity", "[limits]") {
   }
 }
 
-TEST_CASE("C API options: sample rate, block size and rays per frame limits", "[limits]") {
+TEST_CASE("C API options: sample rate, block size, rays per frame and AmbiX order limits",
+          "[limits]") {
   const std::string scene = kSourceDir + "/scenes/shoebox.json";
   const std::map<std::string, std::pair<int dpc_engine_options::*, const char*>> options = {
       {"audio.sample_rate", {&dpc_engine_options::sample_rate, "sample_rate"}},
       {"audio.block_size", {&dpc_engine_options::block_size, "block_size"}},
-      {"propagation.rays_per_frame", {&dpc_engine_options::rays_per_frame, "rays_per_frame"}}};
+      {"propagation.rays_per_frame", {&dpc_engine_options::rays_per_frame, "rays_per_frame"}},
+      {"audio.ambisonic_order", {&dpc_engine_options::ambisonic_order, "ambisonic_order"}}};
   for (const auto& [field, option] : options) {
     for (const test::LimitProbe& p : test::probesFor(limitOf(field))) {
       if (p.value == 0) continue;  // 0 keeps the scene's value

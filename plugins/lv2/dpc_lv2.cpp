@@ -216,10 +216,7 @@ void reportClamped(Plugin* p) {
         "dpc: port %s: %g is outside its range [%g, %g]; clamped to %g (logged "
         "once)\n";
     const double to = clampToPort(r, v);
-    if (p->logger.log)
-      lv2_log_warning(&p->logger, format, r.symbol, double(v), double(r.min), double(r.max), to);
-    else
-      std::fprintf(stderr, format, r.symbol, double(v), double(r.min), double(r.max), to);
+    lv2_log_warning(&p->logger, format, r.symbol, double(v), double(r.min), double(r.max), to);
   }
   p->reported |= pending;
 }
@@ -229,10 +226,7 @@ void reportClamped(Plugin* p) {
 void logError(Plugin* p, const char* what) {
   const char* sep = what ? ": " : "";
   if (!what) what = "";
-  if (p->logger.log)
-    lv2_log_error(&p->logger, "dpc: %s%s%s\n", what, sep, dpc_last_error());
-  else
-    std::fprintf(stderr, "dpc: %s%s%s\n", what, sep, dpc_last_error());
+  lv2_log_error(&p->logger, "dpc: %s%s%s\n", what, sep, dpc_last_error());
 }
 
 /// Publishes a pose to an engine's selected listener and first source (wait-free; any thread).
@@ -281,10 +275,7 @@ dpc_engine* createEngine(Plugin* p, const std::string& path) {
   if (channels <= p->variant->outputs) return e;
   dpc_engine_destroy(e);
   const char* format = "dpc: %s renders %d channels; %s plays it as stereo\n";
-  if (p->logger.log)
-    lv2_log_note(&p->logger, format, path.c_str(), channels, p->variant->uri);
-  else
-    std::fprintf(stderr, format, path.c_str(), channels, p->variant->uri);
+  lv2_log_note(&p->logger, format, path.c_str(), channels, p->variant->uri);
   o.output = DPC_OUTPUT_STEREO;
   if (dpc_engine_create_from_file(path.c_str(), &o, &e) == DPC_OK) return e;
   logError(p, nullptr);
@@ -313,11 +304,7 @@ Scene* loadScene(Plugin* p, const std::string& path, bool isDefault, const Pose&
 /// plugin would play at a rate the host does not run; the C API checks the range itself.
 bool usableRate(Plugin* p, double rate) {
   if (rate >= 1.0 && rate <= 1e9) return true;
-  const char* format = "dpc: the host's sample rate %g Hz is not a rate\n";
-  if (p->logger.log)
-    lv2_log_error(&p->logger, format, rate);
-  else
-    std::fprintf(stderr, format, rate);
+  lv2_log_error(&p->logger, "dpc: the host's sample rate %g Hz is not a rate\n", rate);
   return false;
 }
 

@@ -25,8 +25,7 @@ PropagationSettings applyOverrides(const SceneDesc& scene, const Flags& fl) {
     throw InputError("command line", flag, why);
   };
   if (fl.seed) {
-    if (*fl.seed < 0) bad("--seed", "must be >= 0");
-    s.seed = uint64_t(*fl.seed);
+    s.seed = *fl.seed;
   }
   // Ranges: the scene keys' (scene/limits.h), checked before narrowing to the stored type.
   const Origin flags = commandLineOrigin();

@@ -137,6 +137,12 @@ std::vector<Misuse> dataValueCases() {
       {"additional listeners NULL with count 1", kInput,
        create([](B&, D& d) { d.additional_listener_count = 1; }), "additional_listeners"},
       {"output 99", kInput, create([](B&, D& d) { d.output = dpc_output_format(99); }), "output"},
+  };
+}
+
+/// Values with no upper bound in a caller's mind: spheres, patches, names.
+std::vector<Misuse> sizeAndNameCases() {
+  return {
       // A sphere of infinite or astronomic radius encloses the room and hears nothing: refused
       // (the limit is (0, 10^6] m), never rendered as silence.
       {"listener radius inf", kInput, create([](B&, D& d) { d.listener_radius = kInf; }),
@@ -256,6 +262,7 @@ TEST_CASE("C API misuse: work and memory beyond reach", "[misuse]") {
 TEST_CASE("C API misuse: scene data", "[misuse]") {
   runAll(dataCases());
   runAll(dataValueCases());
+  runAll(sizeAndNameCases());
 }
 
 TEST_CASE("C API misuse: scene files and options", "[misuse]") {

@@ -249,8 +249,8 @@ std::vector<Misuse> processCases() {
   };
 }
 
-/// Read-outs: indices, NULL buffers, before the first frame.
-std::vector<Misuse> readoutCases() {
+/// Impulse-response read-outs: indices, NULL buffers, before the first frame.
+std::vector<Misuse> impulseResponseCases() {
   auto ir = [](int source, int channel, bool nullOut, bool step) {
     return [=] {
       return withBox([&](dpc_engine* e) {
@@ -259,16 +259,6 @@ std::vector<Misuse> readoutCases() {
         size_t length = 0;
         return dpc_engine_copy_impulse_response(e, source, channel, nullOut ? nullptr : out, 16,
                                                 &length, nullptr);
-      });
-    };
-  };
-  auto er = [](int source, bool nullOut, bool step) {
-    return [=] {
-      return withBox([&](dpc_engine* e) {
-        if (step) dpc_engine_step(e);
-        float out[16 * DPC_BANDS];
-        return dpc_engine_copy_energy_response(e, source, nullOut ? nullptr : out, 16, nullptr,
-                                               nullptr, nullptr);
       });
     };
   };
@@ -287,7 +277,23 @@ std::vector<Misuse> readoutCases() {
        "dpc_engine_copy_impulse_response: out is NULL"},
       {"IR NULL engine", kBad,
        [] { return dpc_engine_copy_impulse_response(nullptr, 0, 0, nullptr, 0, nullptr, nullptr); },
-       ""},
+       "dpc_engine_copy_impulse_response: engine is NULL"},
+  };
+}
+
+/// Energy-response read-outs: indices, NULL buffers, before the first frame.
+std::vector<Misuse> energyResponseCases() {
+  auto er = [](int source, bool nullOut, bool step) {
+    return [=] {
+      return withBox([&](dpc_engine* e) {
+        if (step) dpc_engine_step(e);
+        float out[16 * DPC_BANDS];
+        return dpc_engine_copy_energy_response(e, source, nullOut ? nullptr : out, 16, nullptr,
+                                               nullptr, nullptr);
+      });
+    };
+  };
+  return {
       {"ER", DPC_OK, er(0, false, true), ""},
       {"ER source == count", kBad, er(1, false, true),
        "dpc_engine_copy_energy_response: source: 1 is out of range"},
@@ -371,7 +377,8 @@ TEST_CASE("C API misuse: process with bad buffers and frame counts", "[misuse]")
 }
 
 TEST_CASE("C API misuse: read-outs", "[misuse]") {
-  runAll(readoutCases());
+  runAll(impulseResponseCases());
+  runAll(energyResponseCases());
 }
 
 TEST_CASE("C API misuse: lifetime, getters and statistics", "[misuse]") {

@@ -5,7 +5,9 @@
 // across the boundary).
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <fstream>
 #include <functional>
+#include <iterator>
 #include <map>
 #include <optional>
 #include <set>
@@ -147,6 +149,42 @@ TEST_CASE("C API scene data: every limit is accepted at its bounds and refused b
         CHECK(error.find("dpc_scene_data: " + name + ": ") == 0);
       }
     }
+  }
+}
+
+TEST_CASE("dpc.h documents each limit of dpc_scene_data as the table does", "[limits]") {
+  // The declaration's comment (its line and the next) gives rangeText's "[1, 100000000]", so
+  // that the header's documented range is the enforced one.
+  const std::map<std::string, std::string> declarations = {
+      {"listener.radius", "float listener_radius;"},
+      {"listener.yaw", "float listener_yaw_degrees;"},
+      {"listener.pitch", "float listener_pitch_degrees;"},
+      {"propagation.rays_per_frame", "int rays_per_frame;   /**<"},
+      {"propagation.max_order", "int max_order;"},
+      {"propagation.patch_size", "float patch_size;"},
+      {"propagation.cache_tau", "float cache_tau;"},
+      {"propagation.frame_rate", "float frame_rate;"},
+      {"propagation.ir_length", "float ir_length;"},
+      {"propagation.speed_of_sound", "float speed_of_sound;"},
+      {"propagation.temperature", "float temperature;"},
+      {"propagation.humidity", "float humidity;"},
+      {"audio.sample_rate", "int sample_rate;          /**< Hz, ["},
+      {"audio.block_size", "int block_size;           /**< engine block, frames, ["},
+      {"propagation.cache_pool_mb", "float cache_pool_mb;"},
+      {"audio.late_buses", "int late_buses;"},
+      {"audio.cluster_angle", "float cluster_angle_degrees;"},
+      {"audio.ambisonic_order", "int ambisonic_order; /**<"},
+      {"sources[].gain_db", "float gain_db;"},
+      {"materials.*.absorption", "float absorption[DPC_BANDS];"},
+      {"materials.*.scattering", "float scattering;"}};
+  std::ifstream in(kSourceDir + "/include/dpc/dpc.h");
+  const std::string header((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (const auto& [field, declaration] : declarations) {
+    INFO(field << ": " << declaration);
+    const size_t at = header.find(declaration);
+    REQUIRE(at != std::string::npos);
+    const size_t end = header.find('\n', header.find('\n', at) + 1);
+    CHECK(header.substr(at, end - at).find(rangeText(limitOf(field))) != std::string::npos);
   }
 }
 

@@ -3,10 +3,12 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
 #include "common/input_error.h"
+#include "common/input_file.h"
 #include "common/output_file.h"
 
 namespace dpc {
@@ -63,6 +65,9 @@ struct CsvRow {
   Bands values;
 };
 
+/// Widest bin accepted, s: dpc writes 1 ms bins; beyond a second no decay can be read.
+constexpr double kMaxBinSeconds = 1.0;
+
 /// Splits and checks one data line (3 + kNumBands comma-separated fields, finite numbers).
 CsvRow parseRow(const std::string& line, const std::string& path, const std::string& where) {
   std::istringstream in(line);
@@ -91,9 +96,20 @@ CsvRow parseRow(const std::string& line, const std::string& path, const std::str
   if (cells[1] != "direct" && cells[1] != "bin")
     throw InputError(path, where, "kind must be 'direct' or 'bin', not '" + cells[1] + "'");
   CsvRow row{size_t(source), cells[1], nums[0], Bands{}};
-  for (int b = 0; b < kNumBands; ++b) row.values[b] = float(nums[1 + b]);
+  if (!(nums[0] >= 0.0 && nums[0] <= double(std::numeric_limits<float>::max())))
+    throw InputError(path, where, "time_s must be >= 0 (and within float range)");
+  for (int b = 0; b < kNumBands; ++b) {
+    // Energies: a negative one is no measurement, and one beyond float is no response.
+    if (!(nums[1 + b] >= 0.0 && nums[1 + b] <= double(std::numeric_limits<float>::max())))
+      throw InputError(path, where, "band values must be energies >= 0 (and within float range)");
+    row.values[b] = float(nums[1 + b]);
+  }
   return row;
 }
+
+/// The bins' times are printed with 6 decimals (stageEnergyCsv): consecutive times may differ
+/// from the bin width by up to two roundings of 5e-7 s.
+constexpr double kTimeTolerance = 1.5e-6;
 
 /// The rows of every source, gathered while reading.
 struct CsvSources {
@@ -101,21 +117,38 @@ struct CsvSources {
   std::vector<std::vector<Bands>> bins;
   std::vector<double> binSeconds;
 
-  void add(const CsvRow& row) {
+  std::vector<double> lastTime;
+
+  /// Adds a row (of line `where`): at most one direct row per source; bin k at time k times
+  /// the bin width (the second bin's time), so that rows out of order or missing are refused
+  /// instead of misplacing energy.
+  void add(const CsvRow& row, const std::string& path, const std::string& where) {
     if (row.source >= sources.size()) {
       sources.resize(row.source + 1);
       bins.resize(row.source + 1);
       binSeconds.resize(row.source + 1, 0.0);
+      lastTime.resize(row.source + 1, 0.0);
     }
     if (row.kind == "direct") {
       DirectSound& d = sources[row.source].direct;
+      if (d.visible) throw InputError(path, where, "a second direct row for this source");
       d.visible = true;
       d.delaySeconds = float(row.time);
       d.intensity = row.values;
       return;
     }
     auto& list = bins[row.source];
+    if (list.empty() && row.time > kTimeTolerance)
+      throw InputError(path, where, "the first bin of a source must start at time_s 0");
     if (list.size() == 1) binSeconds[row.source] = row.time;
+    if (list.size() >= 1 &&
+        !(std::abs(row.time - lastTime[row.source] - binSeconds[row.source]) <= kTimeTolerance &&
+          binSeconds[row.source] > kTimeTolerance &&
+          binSeconds[row.source] <= kMaxBinSeconds))
+      throw InputError(path, where,
+                       "time_s must follow the previous bin by the bin width, at most 1 s "
+                       "(bins in order, none missing)");
+    lastTime[row.source] = row.time;
     list.push_back(row.values);
   }
 
@@ -135,6 +168,7 @@ struct CsvSources {
 }  // namespace
 
 std::vector<SourceEnergy> readEnergyCsv(const std::string& path) {
+  checkInputFile(path, kMaxEnergyCsvBytes, path, "", "energy-response CSV");
   std::ifstream f(path);
   if (!f) throw InputError(path, "", "cannot open");
   CsvSources read;
@@ -144,9 +178,10 @@ std::vector<SourceEnergy> readEnergyCsv(const std::string& path) {
   while (std::getline(f, line)) {
     ++lineNo;
     const std::string where = "line " + std::to_string(lineNo);
+    if (!line.empty() && line.back() == '\r') line.pop_back();  // a file saved with CRLF
     if (line.empty() || line[0] == '#') continue;
     if (header) {
-      read.add(parseRow(line, path, where));
+      read.add(parseRow(line, path, where), path, where);
     } else if (line.rfind("source,kind,time_s", 0) == 0) {
       header = true;
     } else {
@@ -154,6 +189,7 @@ std::vector<SourceEnergy> readEnergyCsv(const std::string& path) {
     }
   }
   if (!header) throw InputError(path, "", "no header line: not a dpc energy-response CSV");
+  if (read.sources.empty()) throw InputError(path, "", "no data rows after the header");
   return read.finish(path);
 }
 
@@ -164,9 +200,10 @@ std::array<std::vector<double>, kNumBands> withDirect(const SourceEnergy& s) {
     v.resize(s.energy.binCount());
     for (size_t k = 0; k < v.size(); ++k) v[k] = s.energy.bins()[k][b];
     if (s.direct.visible && !v.empty()) {
-      const size_t k =
-          std::min(v.size() - 1,
-                   size_t(std::max(0.0, double(s.direct.delaySeconds) / s.energy.binSeconds())));
+      // A direct sound arriving after the last bin counts in the last bin (compared in double
+      // before the conversion, which a huge delay would overflow).
+      const double bin = std::max(0.0, double(s.direct.delaySeconds) / s.energy.binSeconds());
+      const size_t k = bin < double(v.size() - 1) ? size_t(bin) : v.size() - 1;
       v[k] += s.direct.intensity[b];
     }
   }

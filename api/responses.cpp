@@ -6,16 +6,39 @@
 #include "api/engine_handle.h"
 #include "api/errors.h"
 
+using dpc::api::checkIndex;
 using dpc::api::fail;
+using dpc::api::failFixed;
 using dpc::api::guarded;
+
+namespace {
+
+/// The arguments every read-out shares: DPC_OK, or DPC_ERR_INVALID_ARGUMENT with a message
+/// naming the one that is wrong (a NULL engine, a source out of range, out NULL with room).
+dpc_status checkReadout(const char* function, const dpc_engine* engine, int source,
+                        const float* out, size_t capacity) {
+  if (!engine) return failFixed(DPC_ERR_INVALID_ARGUMENT, function, "engine is NULL");
+  if (const dpc_status s = checkIndex(function, "source", source, engine->sources, "sources");
+      s != DPC_OK)
+    return s;
+  if (!out && capacity > 0)
+    return failFixed(DPC_ERR_INVALID_ARGUMENT, function, "out is NULL with a capacity > 0");
+  return DPC_OK;
+}
+
+}  // namespace
 
 extern "C" {
 
 dpc_status dpc_engine_copy_impulse_response(dpc_engine* engine, int source, int channel, float* out,
                                             size_t capacity, size_t* length, uint64_t* frame) {
-  if (!engine || source < 0 || source >= engine->sources || channel < 0 ||
-      channel >= engine->session->irChannels() || (!out && capacity > 0))
-    return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_copy_impulse_response: bad argument");
+  constexpr const char* kFunction = "dpc_engine_copy_impulse_response";
+  if (const dpc_status s = checkReadout(kFunction, engine, source, out, capacity); s != DPC_OK)
+    return s;
+  if (const dpc_status s = checkIndex(kFunction, "channel", channel,
+                                      engine->session->irChannels(), "channels");
+      s != DPC_OK)
+    return s;
   const bool ok = engine->session->copyResponses(size_t(source), [&](const auto& r) {
     const std::vector<float>& ir = (*r.ir)[size_t(channel)];
     if (length) *length = ir.size();
@@ -30,8 +53,10 @@ dpc_status dpc_engine_copy_impulse_response(dpc_engine* engine, int source, int 
 dpc_status dpc_engine_copy_energy_response(dpc_engine* engine, int source, float* out,
                                            size_t capacity_bins, size_t* bins, double* bin_seconds,
                                            uint64_t* frame) {
-  if (!engine || source < 0 || source >= engine->sources || (!out && capacity_bins > 0))
-    return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_copy_energy_response: bad argument");
+  if (const dpc_status s = checkReadout("dpc_engine_copy_energy_response", engine, source, out,
+                                        capacity_bins);
+      s != DPC_OK)
+    return s;
   static_assert(DPC_BANDS == dpc::kNumBands, "band count of the public API");
   const bool ok = engine->session->copyResponses(size_t(source), [&](const auto& r) {
     if (bins) *bins = r.energy->size();

@@ -3,10 +3,12 @@
 #include <chrono>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <stdexcept>
 
 #include "bake/hdf5_util.h"
 #include "common/input_error.h"
+#include "common/input_file.h"
 
 namespace dpc::bake {
 namespace {
@@ -246,8 +248,8 @@ BakeFile BakeFile::create(const std::string& path, const std::string& displayPat
 
 BakeFile BakeFile::open(const std::string& path, bool writable) {
   h5::silenceHdf5();
-  if (!std::filesystem::is_regular_file(path))
-    throw InputError(path, "", "no such file");
+  // A folder, a FIFO or a device is named as such (not "no such file"), before HDF5 reads it.
+  checkInputFile(path, std::numeric_limits<std::uintmax_t>::max(), path, "", "bake");
   if (H5Fis_hdf5(path.c_str()) <= 0)
     throw InputError(path, "", "not an HDF5 file, or truncated");
   auto impl = std::make_unique<Impl>();

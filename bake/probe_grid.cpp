@@ -12,6 +12,7 @@
 #include "common/input_file.h"
 #include "engine/embree_tracer.h"
 #include "engine/setup_check.h"
+#include "scene/validate.h"
 
 namespace dpc::bake {
 namespace {
@@ -58,6 +59,12 @@ void count(ProbeGrid& grid, Placement p, const glm::vec3& position) {
 
 ProbeGrid placeProbes(const SceneDesc& scene, const std::vector<glm::vec3>& candidates,
                       float radius, const std::string& sceneFile, const std::string& field) {
+  // Every probe is a point traced from: within the scene's coordinate limit, as every point
+  // that reaches Embree (a grid height of 1e20 m aborted inside it).
+  for (const glm::vec3& p : candidates)
+    for (int k = 0; k < 3; ++k)
+      checkField("position", double(p[k]), Origin{sceneFile, {}},
+                 field + ": probe coordinate " + "xyz"[k]);
   const EmbreeTracer tracer(scene.mesh);
   const float side = airSide(scene.mesh);
   ProbeGrid grid;

@@ -5,9 +5,11 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -20,6 +22,8 @@ inline constexpr std::uintmax_t kMaxSceneBytes = 16u << 20;
 inline constexpr std::uintmax_t kMaxMeshBytes = 512u << 20;
 inline constexpr std::uintmax_t kMaxSignalBytes = 2048u << 20;
 inline constexpr std::uintmax_t kMaxSofaBytes = 256u << 20;
+/// An energy-response CSV (dpc-demo --er-out): 256 sources of 60 s in 1 ms bins stay below.
+inline constexpr std::uintmax_t kMaxEnergyCsvBytes = 2048u << 20;
 /// Largest nesting depth of arrays/objects accepted in a scene's JSON (the parser recurses).
 inline constexpr int kMaxJsonDepth = 64;
 /// Sample rates accepted for a dry signal, Hz: below 8 kHz even speech loses its band; the
@@ -53,7 +57,10 @@ inline void checkInputFile(const std::string& path, std::uintmax_t maxBytes,
                            const std::string& what) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0)
-    throw InputError(reportFile, field, what + " '" + path + "' not found");
+    throw InputError(reportFile, field,
+                     what + " '" + path + "' " +
+                         (errno == ENOENT ? std::string("not found")
+                                          : std::string("cannot be opened: ") + std::strerror(errno)));
   if (S_ISDIR(st.st_mode))
     throw InputError(reportFile, field, what + " '" + path + "' is a directory");
   if (!S_ISREG(st.st_mode))

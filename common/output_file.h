@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "common/input_error.h"
+#include "common/input_file.h"
 
 namespace dpc {
 
@@ -29,13 +30,61 @@ inline std::string outputFolderOf(const std::string& path) {
   return parent.empty() ? std::string(".") : parent.string();
 }
 
+/// Symbolic links followed from an output path before giving up (the kernel's own limit).
+inline constexpr int kMaxOutputSymlinks = 40;
+
 /// The file a write to `path` must replace: `path` itself, or where it leads if it is a
-/// symbolic link (so that the link stays a link and its target gets the new contents).
+/// symbolic link (so that the link stays a link and its target gets the new contents), also
+/// when the link dangles (the target is then created). Links are followed one at a time, a
+/// relative one from its own folder. Throws InputError(path, "", ...) for a loop of links.
 inline std::string outputTarget(const std::string& path) {
+  std::filesystem::path p = path;
+  for (int links = 0; links <= kMaxOutputSymlinks; ++links) {
+    std::error_code ec;
+    if (!std::filesystem::is_symlink(p, ec)) return p.string();
+    const std::filesystem::path next = std::filesystem::read_symlink(p, ec);
+    if (ec) return p.string();
+    p = next.is_absolute() ? next : p.parent_path() / next;
+  }
+  throw InputError(path, "", "cannot write: too many levels of symbolic links");
+}
+
+/// Throws InputError(path, "", ...) if `target` exists and is not a regular file: renaming a
+/// file onto a device (/dev/null), a FIFO or a folder would replace it, and run as root even
+/// a device node.
+inline void checkReplaceable(const std::string& path, const std::string& target) {
+  struct stat st {};
+  if (::stat(target.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
+    throw InputError(path, "",
+                     "cannot write: '" + target + "' exists and is not a regular file");
+}
+
+/// An output path checked before any work, as every program names its outputs: `flag` is the
+/// option that named it ("--offline"), `inputs` the files of the run, each with what it is
+/// ("the scene file"). Throws InputError("command line", flag, ...) unless the path (through
+/// its symbolic links) is a regular file or absent, names none of the inputs (same device
+/// and inode), and lies in an existing, writable folder.
+inline void checkOutputPath(const std::string& path, const std::string& flag,
+                            const std::vector<std::pair<std::string, std::string>>& inputs) {
+  std::string target;
+  try {
+    target = outputTarget(path);
+  } catch (const InputError&) {
+    throw InputError("command line", flag, "'" + path + "': too many levels of symbolic links");
+  }
+  struct stat st {};
+  if (::stat(target.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
+    throw InputError("command line", flag, "'" + path + "' exists and is not a regular file");
+  for (const auto& [in, what] : inputs)
+    if (sameFile(path, in))
+      throw InputError("command line", flag,
+                       "'" + path + "' is " + what + "; refusing to overwrite it");
+  const std::string folder = outputFolderOf(target);
   std::error_code ec;
-  if (!std::filesystem::is_symlink(path, ec)) return path;
-  const std::filesystem::path target = std::filesystem::weakly_canonical(path, ec);
-  return ec ? path : target.string();
+  if (!std::filesystem::is_directory(folder, ec))
+    throw InputError("command line", flag, "folder '" + folder + "' does not exist");
+  if (::access(folder.c_str(), W_OK) != 0)
+    throw InputError("command line", flag, "folder '" + folder + "' is not writable");
 }
 
 /// A temporary file TARGET.tmp-XXXXXX next to `path`'s target (outputTarget: `path`, or the
@@ -47,6 +96,7 @@ class TempOutputFile {
   /// Creates the temporary. Throws InputError(path, "", ...) if the folder does not exist or a
   /// file cannot be created in it.
   explicit TempOutputFile(const std::string& path) : path_(path), target_(outputTarget(path)) {
+    checkReplaceable(path, target_);
     const std::string folder = outputFolderOf(target_);
     std::error_code ec;
     if (!std::filesystem::is_directory(folder, ec))

@@ -1,8 +1,8 @@
 #!/usr/bin/python3
 """Writes the seed corpus of fuzz/c_api_fuzzer.cpp into fuzz/corpus/c_api: byte encodings, in
 the fuzzer's decoding order, of the 6 x 3 x 4 m box of tests/api/box_data.h (valid), the same
-box with diffraction and a second source, and the box with a listener at NaN and a vertex at
-1e20 (refusals).
+box with diffraction and a second source, and the box with a listener at NaN, a vertex at 1e20
+and a listener sphere of infinite radius (refusals).
 
 Usage: fuzz/make_c_api_seeds.py
 """
@@ -27,7 +27,7 @@ def raw(x):
     return bytes([1]) + struct.pack("<f", x)
 
 
-def box(sources=1, diffraction=0, listener_x=None, vertex0=None):
+def box(sources=1, diffraction=0, listener_x=None, vertex0=None, radius=None):
     b = bytearray([len(BOX_VERTICES), len(BOX_TRIANGLES)])
     for i, v in enumerate(BOX_VERTICES):
         for k, c in enumerate(v):
@@ -42,7 +42,7 @@ def box(sources=1, diffraction=0, listener_x=None, vertex0=None):
     for s in range(4):
         b += small(2 + s * 0.5) + small(1.5) + small(2) + small(0)
     b += (raw(listener_x) if listener_x is not None else small(4)) + small(1.5) + small(2)
-    b += small(0.5) + small(0) + small(0)  # radius, yaw, pitch
+    b += (raw(radius) if radius is not None else small(0.5)) + small(0) + small(0)  # radius, yaw, pitch
     b += bytes([0])                        # no additional listener
     for _ in range(3):
         b += small(4) + small(1.5) + small(2) + small(0.5) + small(0) + small(0)
@@ -61,7 +61,8 @@ def main():
     out = os.path.join(os.path.dirname(os.path.abspath(__file__)), "corpus", "c_api")
     os.makedirs(out, exist_ok=True)
     seeds = {"box": box(), "box-diffraction-2-sources": box(sources=2, diffraction=1),
-             "box-listener-nan": box(listener_x=float("nan")), "box-vertex-1e20": box(vertex0=1e20)}
+             "box-listener-nan": box(listener_x=float("nan")), "box-vertex-1e20": box(vertex0=1e20),
+             "box-radius-inf": box(radius=float("inf"))}
     for name, data in seeds.items():
         with open(os.path.join(out, name), "wb") as f:
             f.write(data)

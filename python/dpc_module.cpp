@@ -9,6 +9,7 @@
 #include <pybind11/stl.h>
 
 #include <array>
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -33,6 +34,11 @@ py::dict iso3382(const py::array_t<float, py::array::c_style | py::array::forcec
                  int sampleRate) {
   if (ir.ndim() != 1) throw py::value_error("iso3382: ir must be one-dimensional (samples)");
   if (sampleRate < 1) throw py::value_error("iso3382: sample_rate must be positive (Hz)");
+  if (ir.size() == 0) throw py::value_error("iso3382: ir is empty");
+  // As dpc-analyze refuses such a WAV: one NaN or infinity would make every parameter NaN.
+  for (py::ssize_t i = 0; i < ir.size(); ++i)
+    if (!std::isfinite(ir.data()[i]))
+      throw py::value_error("iso3382: ir[" + std::to_string(i) + "] is not finite (NaN or infinity)");
   audio::ImpulseResponseAnalysis a;
   {
     py::gil_scoped_release release;
@@ -56,9 +62,14 @@ py::dict iso3382(const py::array_t<float, py::array::c_style | py::array::forcec
   return out;
 }
 
-/// The pose setters: wait-free in the C API, which sets no message; the status says it all.
+/// The pose setters: the C API's message names the argument and its limit ("x: 1e+07 is
+/// outside [-1000000, 1000000] m").
 void checkPose(dpc_status s, const char* what) {
-  if (s != DPC_OK) throw InputError("dpc.Engine", what, "index out of range or a value not finite");
+  if (s == DPC_OK) return;
+  const std::string message = dpc_last_error();  // "dpc_engine_set_...: ARGUMENT: problem"
+  const size_t colon = message.find(": ");
+  throw InputError("dpc.Engine", what,
+                   colon == std::string::npos ? message : message.substr(colon + 2));
 }
 
 void setListenerPose(dpc::Engine& e, int listener, const std::array<float, 3>& p, float yaw,

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <set>
 #include <sstream>
+#include <vector>
 
 #include "common/input_error.h"
 #include "common/input_file.h"
@@ -84,6 +86,26 @@ void checkJsonDepth(const std::string& file, const std::string& text) {
   throw InputError(file, "", "malformed JSON" + where + ": " + detail);
 }
 
+/// Parses `text`, refusing an object that repeats a key: the parser would keep the last value
+/// silently, so that the file would not say what it does.
+json parseUniqueKeys(const std::string& file, const std::string& text) {
+  std::vector<std::set<std::string>> open;  // the keys of each object being parsed
+  std::string repeated;
+  const json::parser_callback_t noteKeys = [&](int, json::parse_event_t event, json& parsed) {
+    if (event == json::parse_event_t::object_start) open.emplace_back();
+    if (event == json::parse_event_t::object_end && !open.empty()) open.pop_back();
+    if (event == json::parse_event_t::key && !open.empty() &&
+        !open.back().insert(parsed.get<std::string>()).second && repeated.empty())
+      repeated = parsed.get<std::string>();
+    return true;
+  };
+  json doc = json::parse(text, noteKeys);
+  if (!repeated.empty())
+    throw InputError(file, "",
+                     "key \"" + repeated + "\" appears twice in one object (which value is meant?)");
+  return doc;
+}
+
 }  // namespace
 
 std::string inQuotes(const std::string& s) {
@@ -103,16 +125,16 @@ std::filesystem::path resolve(const std::filesystem::path& folder, const std::st
   return (path.is_absolute() ? path : folder / path).lexically_normal();
 }
 
-json parseJsonFile(const std::string& file) {
-  checkInputFile(file, kMaxSceneBytes, file, "", "scene file");
+json parseJsonFile(const std::string& file, const std::string& what) {
+  checkInputFile(file, kMaxSceneBytes, file, "", what);
   std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(file, "", "cannot open scene file");
+  if (!in) throw InputError(file, "", "cannot open " + what);
   std::stringstream buf;
   buf << in.rdbuf();
   const std::string text = buf.str();
   checkJsonDepth(file, text);
   try {
-    return json::parse(text);
+    return parseUniqueKeys(file, text);
   } catch (const json::parse_error& e) {
     failParse(file, text, e);
   } catch (const json::exception& e) {
@@ -188,6 +210,9 @@ bool JsonReader::boolean(const json& v, const std::string& field) const {
 
 std::string JsonReader::string(const json& v, const std::string& field) const {
   if (!v.is_string()) fail(field, "expected a string, got " + describe(v));
+  // A NUL would cut a path or a name short where it reaches the C library.
+  if (v.get_ref<const std::string&>().find('\0') != std::string::npos)
+    fail(field, "contains a NUL character (\\u0000)");
   return v.get<std::string>();
 }
 

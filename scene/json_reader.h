@@ -22,9 +22,10 @@ std::string index(const std::string& parent, size_t i);
 /// `p` relative to `folder` unless absolute, normalised.
 std::filesystem::path resolve(const std::filesystem::path& folder, const std::string& p);
 
-/// Reads and parses a scene file (at most kMaxSceneBytes, nested at most kMaxJsonDepth),
-/// reporting malformed JSON with line and column.
-nlohmann::json parseJsonFile(const std::string& file);
+/// Reads and parses a JSON file (at most kMaxSceneBytes, nested at most kMaxJsonDepth, no
+/// object repeating a key), reporting malformed JSON with line and column. `what` names the
+/// kind of file in the messages about the file itself ("scene file", "layout file").
+nlohmann::json parseJsonFile(const std::string& file, const std::string& what = "scene file");
 
 /// Reads typed values out of the parsed JSON, throwing InputError(file, field, ...) on any
 /// mismatch. Keys starting with '_' are comments and ignored everywhere.

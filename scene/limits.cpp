@@ -39,8 +39,9 @@ constexpr std::array kLimits = {
   Limit{"sources[].directivity.a", 0, 1, false, false, "",
         "first-order coefficient: 0 omni, 1 figure of eight; beyond, the pattern's lobes "
         "are no longer first-order (Eargle, The Microphone Book, ch. 5)"},
-  Limit{"listener.radius", 0, kInf, true, false, "m",
-        "the receiver sphere needs an area to be hit"},
+  Limit{"listener.radius", 0, kMaxCoordinateM, true, false, "m",
+        "the receiver sphere needs an area to be hit; a sphere wider than the coordinate "
+        "limit encloses any scene and hears nothing (and its area overflows a float)"},
   Limit{"listener.yaw", -3600, 3600, false, false, "degrees",
         "ten turns either way: enough for any keyframed spin, finite for interpolation"},
   Limit{"listener.pitch", -90, 90, false, false, "degrees",
@@ -131,7 +132,8 @@ const Limit& limitOf(std::string_view field) {
 }
 
 bool withinLimit(const Limit& limit, double value) {
-  if (std::isnan(value)) return false;
+  // Infinity is no value of any field, also of those without an upper bound ("> 0").
+  if (!std::isfinite(value)) return false;
   if (limit.integer && value != std::floor(value)) return false;
   const bool aboveMin = limit.minExclusive ? value > limit.min : value >= limit.min;
   return aboveMin && value <= limit.max;

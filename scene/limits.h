@@ -18,7 +18,8 @@ namespace dpc {
 /// "materials.*.absorption"); the `listeners[i]` fields share the `listener.` entries, and
 /// "position" bounds every coordinate (positions, keyframes, mesh vertices). Counts of array
 /// entries ("sources") are fields too. A value v is accepted when min <= v <= max (min < v when
-/// minExclusive) and, for integer fields, v is a whole number. max may be +infinity.
+/// minExclusive) and, for integer fields, v is a whole number. max may be +infinity: no upper
+/// bound for finite values (a non-finite value is never accepted).
 struct Limit {
   std::string_view field;
   double min;
@@ -36,7 +37,7 @@ std::span<const Limit> limits();
 /// programming error: callers name fields from this table).
 const Limit& limitOf(std::string_view field);
 
-/// True when `value` lies within the limit (NaN never does).
+/// True when `value` lies within the limit (NaN and infinities never do).
 bool withinLimit(const Limit& limit, double value);
 
 /// The range as docs/scene-format.md writes it: "[16000, 192000]", "(0, 60]", "> 0", ">= 0".

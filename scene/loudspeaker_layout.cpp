@@ -8,6 +8,7 @@
 #include "common/input_error.h"
 #include "scene/json_reader.h"
 #include "scene/limits.h"
+#include "scene/validate.h"
 
 namespace dpc {
 namespace {
@@ -46,6 +47,7 @@ LoudspeakerDesc readSpeaker(const JsonReader& r, const nlohmann::json& v, const 
   r.checkKeys(v, f, {"name", "azimuth", "elevation", "lfe", "distance"});
   LoudspeakerDesc s;
   s.name = r.string(r.require(v, f, "name"), join(f, "name"));
+  checkName(s.name, false, Origin{r.file(), {}}, join(f, "name"));
   if (const auto* x = JsonReader::find(v, "lfe")) s.lfe = r.boolean(*x, join(f, "lfe"));
   if (s.lfe) return s;
   s.azimuthDegrees = r.number(r.require(v, f, "azimuth"), join(f, "azimuth"));
@@ -76,7 +78,7 @@ void checkDistances(const JsonReader& r, const std::vector<LoudspeakerDesc>& l) 
 }
 
 std::vector<LoudspeakerDesc> readFile(const std::string& path) {
-  const nlohmann::json doc = parseJsonFile(path);
+  const nlohmann::json doc = parseJsonFile(path, "layout file");
   const JsonReader r(path);
   r.expectObject(doc, "");
   r.checkKeys(doc, "", {"speakers"});

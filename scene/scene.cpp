@@ -267,4 +267,14 @@ std::optional<DpcWeighting> parseDpcWeighting(const std::string& s) {
   return std::nullopt;
 }
 
+std::vector<std::pair<std::string, std::string>> sceneInputFiles(const SceneDesc& scene,
+                                                                 const std::string& scenePath) {
+  std::vector<std::pair<std::string, std::string>> inputs = {{scenePath, "the scene file"},
+                                                             {scene.meshPath, "the mesh"}};
+  for (const auto& obj : scene.objects) inputs.push_back({obj.meshPath, "an object's mesh"});
+  for (const auto& src : scene.sources) inputs.push_back({src.signalPath, "a dry signal"});
+  if (!scene.audio.hrtfPath.empty()) inputs.push_back({scene.audio.hrtfPath, "the SOFA file"});
+  return inputs;
+}
+
 }  // namespace dpc

@@ -18,6 +18,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "common/bands.h"
@@ -348,6 +349,11 @@ void evaluateWorld(const SceneDesc& scene, double t, WorldState& state);
 /// The index in scene.listeners of the listener named `name`. Throws InputError("command
 /// line", flag, ...) listing the known names when there is none of that name. Any thread.
 size_t listenerIndex(const SceneDesc& scene, const std::string& name, const std::string& flag);
+
+/// The files a run of `scene` (loaded from `scenePath`) reads, each with what it is ("the
+/// scene file", "the mesh", "a dry signal", ...): the inputs no output of the run may name.
+std::vector<std::pair<std::string, std::string>> sceneInputFiles(const SceneDesc& scene,
+                                                                 const std::string& scenePath);
 
 /// Parses "mono" / "stereo" / "binaural"; nullopt for anything else.
 std::optional<OutputFormat> parseOutputFormat(const std::string& s);

@@ -49,11 +49,12 @@ void checkKeyTimes(const Keys& keys, const Origin& origin, const std::string& pa
 }
 
 template <class Items>
-void checkNames(const Items& items, const char* field, const char* what, const Origin& origin) {
+void checkNames(const Items& items, const char* field, const char* what, const Origin& origin,
+                bool namesFile = false) {
   std::set<std::string> seen;
   for (size_t i = 0; i < items.size(); ++i) {
     const std::string f = at(field, i) + ".name";
-    if (items[i].name.empty()) fail(origin, f, "must not be empty");
+    checkName(items[i].name, namesFile, origin, f);
     if (!seen.insert(items[i].name).second)
       fail(origin, f, std::string("duplicate ") + what + " name \"" + items[i].name + "\"");
   }
@@ -79,6 +80,7 @@ void checkMaterials(const std::vector<Material>& materials, const Origin& origin
   if (materials.empty()) fail(origin, "materials", "at least one material is required");
   for (const Material& m : materials) {
     const std::string f = "materials." + m.name;
+    checkName(m.name, false, origin, f);
     checkBands("materials.*.absorption", m.absorption, origin, f + ".absorption");
     checkBands("materials.*.scattering", m.scattering, origin, f + ".scattering");
     checkTransmission(m, origin, f + ".transmission_loss_db");
@@ -95,9 +97,11 @@ void checkPropagation(const PropagationSettings& p, const Origin& origin) {
   checkField("propagation.cache_pool_mb", p.cachePoolMb, origin);
   checkField("propagation.frame_rate", p.frameRate, origin);
   checkField("propagation.ir_length", p.irLength, origin);
-  checkField("propagation.speed_of_sound", p.speedOfSound, origin);
+  // The temperature before the speed of sound, which is derived from it when not given: a
+  // wild temperature is named, not the speed the caller never set.
   checkField("propagation.temperature", p.temperatureC, origin);
   checkField("propagation.humidity", p.humidityPercent, origin);
+  checkField("propagation.speed_of_sound", p.speedOfSound, origin);
 }
 
 // Key times in order and every keyframe's position within the coordinate limit.
@@ -140,7 +144,7 @@ void checkListenerKeys(const ListenerDesc& l, const Origin& origin, const std::s
 
 void checkListeners(const std::vector<ListenerDesc>& listeners, const Origin& origin) {
   checkCount("listeners", listeners.size(), origin);
-  checkNames(listeners, "listeners", "listener", origin);
+  checkNames(listeners, "listeners", "listener", origin, true);
   for (size_t i = 0; i < listeners.size(); ++i) {
     const ListenerDesc& l = listeners[i];
     const std::string f = at("listeners", i);
@@ -187,6 +191,16 @@ void checkMesh(const Mesh& mesh, size_t materials, const Origin& origin, const s
 }
 
 }  // namespace
+
+void checkName(const std::string& name, bool namesFile, const Origin& origin,
+               const std::string& field) {
+  if (name.empty()) fail(origin, field, "must not be empty");
+  for (const char c : name)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+      fail(origin, field, "must not contain control characters");
+  if (namesFile && name.find('/') != std::string::npos)
+    fail(origin, field, "must not contain '/' (it becomes part of output file names)");
+}
 
 std::string Origin::fieldName(const std::string& path) const {
   return spell ? spell(path) : path;

@@ -46,8 +46,15 @@ void checkField(std::string_view field, double value, const Origin& origin,
 /// ("sources", "listeners", "objects") lie within its limit.
 void checkCount(const char* field, size_t count, const Origin& origin);
 
+/// Throws InputError(origin.name, origin.fieldName(field), ...) for an empty `name` or one
+/// holding control characters (names are printed in messages and warnings, and become port
+/// names), or, when `namesFile` (a listener's name is part of output file names), a '/'.
+void checkName(const std::string& name, bool namesFile, const Origin& origin,
+               const std::string& field);
+
 /// Checks every field of `scene` against the limits table and the rules between fields:
-/// at least one material; entity counts; unique, non-empty source, listener and object names;
+/// at least one material; entity counts; unique, non-empty source, listener and object names
+/// without control characters (and without '/' in a listener's, which names output files);
 /// keyframe times >= 0 and strictly increasing, yaw on every listener keyframe or on none;
 /// every object with a keyframe; a mesh with triangles whose vertex and material indices are
 /// in range and whose coordinates are within the coordinate limit. The linear

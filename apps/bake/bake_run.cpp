@@ -216,6 +216,21 @@ int finishAsWriter(const Options& o, const Plan& plan, Cluster& cluster, BakeFil
   return 0;
 }
 
+/// The bake and the map, checked before any work as dpc-demo checks its outputs: each a
+/// regular file or absent, naming no input of the scene (nor each other), in an existing
+/// folder. A fresh bake's --out is checked too; a resumed one is the file being finished.
+void checkBakeOutputs(const Options& o, const Plan& plan) {
+  auto inputs = sceneInputFiles(plan.scene, o.scene.empty() ? plan.header.scenePath : o.scene);
+  if (o.resume.empty()) checkOutputPath(o.out, "--out", inputs);
+  if (o.map.empty()) return;
+  const std::string bake = o.resume.empty() ? o.out : o.resume;
+  inputs.push_back({bake, "the bake"});
+  checkOutputPath(o.map, "--map", inputs);
+  if (std::filesystem::weakly_canonical(std::filesystem::absolute(o.map)) ==
+      std::filesystem::weakly_canonical(std::filesystem::absolute(bake)))
+    throw InputError("command line", "--map", "'" + o.map + "' is the bake; refusing to overwrite it");
+}
+
 }  // namespace
 
 int runBake(const Options& o, Cluster& cluster) {
@@ -224,8 +239,7 @@ int runBake(const Options& o, Cluster& cluster) {
   Plan plan;
   if (!together(cluster, [&] {
         plan = o.resume.empty() ? planFresh(o) : planResume(o);
-        if (!o.map.empty() && !std::filesystem::is_directory(outputFolderOf(o.map)))
-          throw InputError(o.map, "--map", "folder '" + outputFolderOf(o.map) + "' does not exist");
+        checkBakeOutputs(o, plan);
         return 0;
       }))
     return 1;

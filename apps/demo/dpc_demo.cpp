@@ -18,6 +18,11 @@ namespace {
 void checkRunKind(const Flags& fl) {
   if (!fl.offline.empty() && !fl.stats.empty())
     throw InputError("command line", "--stats", "is for live runs (offline prints its summary)");
+  // An offline render would ignore them and exit 0 without the recording asked for.
+  if (!fl.offline.empty() && !fl.record.empty())
+    throw InputError("command line", "--record", "is for live runs (--offline writes the render)");
+  if (!fl.offline.empty() && fl.interactive)
+    throw InputError("command line", "--interactive", "is for live runs");
   if (fl.latencyTargetMs) {
     if (!fl.offline.empty())
       throw InputError("command line", "--latency-target-ms", "is for live runs");

@@ -49,17 +49,23 @@ void addLiveOptions(CLI::App& app, Flags& fl) {
                  "response interpolated between visible probes, direct sound live");
 }
 
-/// A whole number that fits int64_t: CLI11 itself saturates one beyond (2^64 would be read as
-/// 2^63 - 1 without a word), so the text is checked before it is converted.
-const CLI::Validator kWholeInt64(
-    [](std::string& text) -> std::string {
-      int64_t v = 0;
-      const char* end = text.data() + text.size();
-      const auto r = std::from_chars(text.data(), end, v);
-      if (r.ec == std::errc() && r.ptr == end) return {};
-      return "'" + text + "' is not a whole number in [-2^63, 2^63)";
-    },
-    "INT64");
+/// A whole number that fits T (`range` says which): CLI11 itself saturates one beyond (2^64
+/// would be read as 2^63 - 1 without a word), so the text is checked before it is converted.
+template <class T>
+CLI::Validator wholeNumber(const char* range, const char* name) {
+  return CLI::Validator(
+      [range](std::string& text) -> std::string {
+        T v{};
+        const char* end = text.data() + text.size();
+        const auto r = std::from_chars(text.data(), end, v);
+        if (r.ec == std::errc() && r.ptr == end) return {};
+        return "'" + text + "' is not a whole number in " + range;
+      },
+      name);
+}
+const CLI::Validator kWholeInt64 = wholeNumber<int64_t>("[-2^63, 2^63)", "INT64");
+/// The seed: the scene file's and dpc_scene_data's range, every uint64_t.
+const CLI::Validator kWholeUint64 = wholeNumber<uint64_t>("[0, 2^64)", "UINT64");
 
 /// The offline render and the propagation settings it overrides.
 void addRenderOptions(CLI::App& app, Flags& fl) {
@@ -67,7 +73,7 @@ void addRenderOptions(CLI::App& app, Flags& fl) {
   app.add_option("--duration", fl.duration,
                  "Seconds to render (default: longest source + IR length)");
   app.add_option("--seed", fl.seed, "Random seed (same seed: bit-identical output)")
-      ->check(kWholeInt64);
+      ->check(kWholeUint64);
   app.add_option("--rays", fl.rays, "Rays per source per frame")->check(kWholeInt64);
   app.add_option("--max-order", fl.maxOrder, "Maximum reflection order")->check(kWholeInt64);
   app.add_option("--tau", fl.tau, "Cache response time tau, seconds (0 = path tracing)");

@@ -24,7 +24,8 @@ struct Flags {
   std::optional<double> latencyTargetMs;  ///< live latency target, ms (default: LiveSession's)
   std::optional<double> clusterAngle;     ///< hybrid rendering: a cluster's angular radius, deg
   std::optional<int64_t> lateBuses;       ///< hybrid rendering: late buses per listener
-  std::optional<int64_t> seed, rays, maxOrder, threads, ambisonicOrder;
+  std::optional<uint64_t> seed;
+  std::optional<int64_t> rays, maxOrder, threads, ambisonicOrder;
 };
 
 /// Parses argv into `fl`. Returns the exit status when the program must stop here (0 after

@@ -14,6 +14,7 @@
 #include "apps/demo/sofa_out.h"
 #include "common/input_error.h"
 #include "common/input_file.h"
+#include "common/output_file.h"
 #include "scene/validate.h"
 
 namespace dpc::demo {
@@ -24,8 +25,7 @@ PropagationSettings applyOverrides(const SceneDesc& scene, const Flags& fl) {
     throw InputError("command line", flag, why);
   };
   if (fl.seed) {
-    if (*fl.seed < 0) bad("--seed", "must be >= 0");
-    s.seed = uint64_t(*fl.seed);
+    s.seed = *fl.seed;
   }
   // Ranges: the scene keys' (scene/limits.h), checked before narrowing to the stored type.
   const Origin flags = commandLineOrigin();
@@ -98,8 +98,7 @@ void applyAudioOverrides(SceneDesc& scene, const Flags& fl) {
     scene.audio.binauralDecoder = *d;
   }
   if (!fl.hrtf.empty()) {
-    if (!std::filesystem::is_regular_file(fl.hrtf))
-      throw InputError("command line", "--hrtf", "file '" + fl.hrtf + "' not found");
+    checkInputFile(fl.hrtf, kMaxSofaBytes, "command line", "--hrtf", "SOFA file");
     scene.audio.hrtfPath = fl.hrtf;
     if (fl.output.empty()) scene.audio.output = OutputFormat::kBinaural;
   }
@@ -129,12 +128,24 @@ size_t selectedListener(const SceneDesc& scene, const Flags& fl) {
   return fl.listener.empty() ? 0 : listenerIndex(scene, fl.listener, "--listener");
 }
 
+namespace {
+
+/// Throws naming `flag` if `out` is also written for another of the run's outputs.
+void checkDistinct(const std::vector<std::pair<const char*, std::string>>& outputs, size_t i) {
+  const auto& [flag, out] = outputs[i];
+  for (size_t j = 0; j < outputs.size(); ++j) {
+    const auto& [flag2, out2] = outputs[j];
+    if (j != i && !out2.empty() &&
+        (sameFile(out, out2) ||
+         std::filesystem::weakly_canonical(std::filesystem::absolute(out)) ==
+             std::filesystem::weakly_canonical(std::filesystem::absolute(out2))))
+      throw InputError("command line", flag, "'" + out + "' is also written for " + flag2);
+  }
+}
+
+}  // namespace
+
 void checkOutputs(const SceneDesc& scene, const Flags& fl) {
-  std::vector<std::pair<std::string, std::string>> inputs = {{fl.scene, "the scene file"},
-                                                             {scene.meshPath, "the mesh"}};
-  for (const auto& obj : scene.objects) inputs.push_back({obj.meshPath, "an object's mesh"});
-  for (const auto& src : scene.sources) inputs.push_back({src.signalPath, "a dry signal"});
-  if (!scene.audio.hrtfPath.empty()) inputs.push_back({scene.audio.hrtfPath, "the SOFA file"});
   std::vector<std::pair<const char*, std::string>> outputs = {{"--record", fl.record},
                                                               {"--stats", fl.stats}};
   if (!fl.offline.empty())
@@ -146,31 +157,11 @@ void checkOutputs(const SceneDesc& scene, const Flags& fl) {
   if (isSofaPath(fl.offline) || isSofaPath(fl.record))
     throw InputError("command line", isSofaPath(fl.offline) ? "--offline" : "--record",
                      "SOFA holds impulse responses, not audio: use --ir-out FILE.sofa");
+  const auto inputs = sceneInputFiles(scene, fl.scene);
   for (size_t i = 0; i < outputs.size(); ++i) {
-    const auto& [flag, out] = outputs[i];
-    if (out.empty()) continue;
-    struct stat st {};
-    if (::stat(out.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
-      throw InputError("command line", flag, "'" + out + "' exists and is not a regular file");
-    for (const auto& [in, what] : inputs)
-      if (sameFile(out, in))
-        throw InputError("command line", flag,
-                         "'" + out + "' is " + what + "; refusing to overwrite it");
-    for (size_t j = 0; j < outputs.size(); ++j) {
-      const auto& [flag2, out2] = outputs[j];
-      if (j != i && !out2.empty() &&
-          (sameFile(out, out2) ||
-           std::filesystem::weakly_canonical(std::filesystem::absolute(out)) ==
-               std::filesystem::weakly_canonical(std::filesystem::absolute(out2))))
-        throw InputError("command line", flag, "'" + out + "' is also written for " + flag2);
-    }
-    std::filesystem::path folder = std::filesystem::path(out).parent_path();
-    if (folder.empty()) folder = ".";
-    std::error_code ec;
-    if (!std::filesystem::is_directory(folder, ec))
-      throw InputError("command line", flag, "folder '" + folder.string() + "' does not exist");
-    if (::access(folder.c_str(), W_OK) != 0)
-      throw InputError("command line", flag, "folder '" + folder.string() + "' is not writable");
+    if (outputs[i].second.empty()) continue;
+    checkOutputPath(outputs[i].second, outputs[i].first, inputs);
+    checkDistinct(outputs, i);
   }
 }
 

@@ -205,10 +205,10 @@ typedef struct dpc_source_directivity {
 /** A further listener for dpc_scene_data (the first is given by its listener_* fields). */
 typedef struct dpc_listener {
   float position[3];    /**< m */
-  float radius;         /**< receiver sphere radius, m, > 0 */
-  float yaw_degrees;    /**< 0 faces +x, positive turns left (about +y); see the top */
-  float pitch_degrees;  /**< positive looks up */
-  float roll_degrees;   /**< about forward, positive: the right ear down; [-180, 180] */
+  float radius;         /**< receiver sphere radius, m, (0, 1000000] */
+  float yaw_degrees;    /**< [-3600, 3600]; 0 faces +x, positive turns left (about +y) */
+  float pitch_degrees;  /**< [-90, 90]; positive looks up */
+  float roll_degrees;   /**< [-180, 180]; about forward, positive: the right ear down */
 } dpc_listener;
 
 /** A scene built in code: what a scene file says (docs/scene-format.md), same defaults.
@@ -223,13 +223,14 @@ typedef struct dpc_scene_data {
   const dpc_source* sources;
   int source_count;           /**< >= 1 */
   float listener_position[3]; /**< m */
-  float listener_radius;      /**< receiver sphere radius, m, > 0 */
-  float listener_yaw_degrees; /**< 0 faces +x, positive turns left (about +y); see the top */
-  float listener_pitch_degrees; /**< positive looks up */
-  float listener_roll_degrees;  /**< about forward, positive: the right ear down (since 0.5.0) */
+  float listener_radius;      /**< receiver sphere radius, m, (0, 1000000] */
+  float listener_yaw_degrees; /**< [-3600, 3600]; 0 faces +x, positive turns left (+y) */
+  float listener_pitch_degrees; /**< [-90, 90]; positive looks up */
+  float listener_roll_degrees;  /**< [-180, 180]; about forward, positive: the right ear down
+                                     (since 0.5.0) */
   /* propagation (docs/estimators.md) */
-  int rays_per_frame;   /**< rays per source per frame, > 0 */
-  int max_order;        /**< maximum reflection order, >= 0 */
+  int rays_per_frame;   /**< rays per source per frame, [1, 100000000] */
+  int max_order;        /**< maximum reflection order, [0, 10000] */
   float patch_size;     /**< DPC patch size lambda, m, > 0 */
   float cache_tau;      /**< DPC time window tau, s, [0, 3600] (0: no reuse) */
   float frame_rate;     /**< propagation frames per second, Hz, [1, 120] */
@@ -242,8 +243,8 @@ typedef struct dpc_scene_data {
   int air_absorption;   /**< nonzero: ISO 9613-1 air absorption along paths */
   int diffraction;      /**< nonzero: first-order edge diffraction of the direct sound */
   /* audio */
-  int sample_rate;          /**< Hz, 16000..192000 */
-  int block_size;           /**< engine block, frames, 16..8192 */
+  int sample_rate;          /**< Hz, [16000, 192000] */
+  int block_size;           /**< engine block, frames, [16, 8192] */
   dpc_output_format output; /**< MONO, STEREO, BINAURAL (default HRTF), AMBISONICS or
                                  AMBISONIC_BINAURAL */
   /* further listeners, traced in the same pass as the first (docs/dynamic.md): listener
@@ -257,10 +258,10 @@ typedef struct dpc_scene_data {
   float cache_pool_mb; /**< DPC memory budget of the whole engine, MB, (0, 65536]: every
                             source-listener pair's cache grows from it; default 128 */
   dpc_rendering rendering; /**< DPC_RENDERING_AUTO (default), _PER_SOURCE or _HYBRID */
-  int late_buses;          /**< hybrid rendering: late buses per listener, 1..64; default 4 */
+  int late_buses;          /**< hybrid rendering: late buses per listener, [1, 64]; default 4 */
   float cluster_angle_degrees; /**< hybrid rendering: a cluster's angular radius as seen from
                                     the listener, degrees, (0, 180]; default 30 */
-  int ambisonic_order; /**< AmbiX outputs' order N, 1..7; default 3 */
+  int ambisonic_order; /**< AmbiX outputs' order N, [1, 7]; default 3 */
 } dpc_scene_data;
 
 /** Any thread; no allocation. struct_size = sizeof(dpc_scene_data); zero mesh, materials and
@@ -412,8 +413,8 @@ DPC_API dpc_status dpc_engine_step(dpc_engine* engine);
  *  receives the IR's full length in samples; min(capacity, length) samples are copied (out
  *  may be NULL with capacity 0 to ask for the length). *frame (if not NULL) receives the
  *  propagation frame count it came from. No allocation on success. Errors:
- *  DPC_ERR_INVALID_ARGUMENT (NULL engine, index out of range, out NULL with capacity > 0),
- *  DPC_ERR_STATE (no frame run yet). */
+ *  DPC_ERR_INVALID_ARGUMENT (NULL engine, index out of range, out NULL with capacity > 0:
+ *  dpc_last_error() names the argument), DPC_ERR_STATE (no frame run yet). */
 DPC_API dpc_status dpc_engine_copy_impulse_response(dpc_engine* engine, int source, int channel,
                                                     float* out, size_t capacity, size_t* length,
                                                     uint64_t* frame);

@@ -216,10 +216,7 @@ void reportClamped(Plugin* p) {
         "dpc: port %s: %g is outside its range [%g, %g]; clamped to %g (logged "
         "once)\n";
     const double to = clampToPort(r, v);
-    if (p->logger.log)
-      lv2_log_warning(&p->logger, format, r.symbol, double(v), double(r.min), double(r.max), to);
-    else
-      std::fprintf(stderr, format, r.symbol, double(v), double(r.min), double(r.max), to);
+    lv2_log_warning(&p->logger, format, r.symbol, double(v), double(r.min), double(r.max), to);
   }
   p->reported |= pending;
 }
@@ -229,10 +226,7 @@ void reportClamped(Plugin* p) {
 void logError(Plugin* p, const char* what) {
   const char* sep = what ? ": " : "";
   if (!what) what = "";
-  if (p->logger.log)
-    lv2_log_error(&p->logger, "dpc: %s%s%s\n", what, sep, dpc_last_error());
-  else
-    std::fprintf(stderr, "dpc: %s%s%s\n", what, sep, dpc_last_error());
+  lv2_log_error(&p->logger, "dpc: %s%s%s\n", what, sep, dpc_last_error());
 }
 
 /// Publishes a pose to an engine's selected listener and first source (wait-free; any thread).
@@ -281,10 +275,7 @@ dpc_engine* createEngine(Plugin* p, const std::string& path) {
   if (channels <= p->variant->outputs) return e;
   dpc_engine_destroy(e);
   const char* format = "dpc: %s renders %d channels; %s plays it as stereo\n";
-  if (p->logger.log)
-    lv2_log_note(&p->logger, format, path.c_str(), channels, p->variant->uri);
-  else
-    std::fprintf(stderr, format, path.c_str(), channels, p->variant->uri);
+  lv2_log_note(&p->logger, format, path.c_str(), channels, p->variant->uri);
   o.output = DPC_OUTPUT_STEREO;
   if (dpc_engine_create_from_file(path.c_str(), &o, &e) == DPC_OK) return e;
   logError(p, nullptr);
@@ -308,6 +299,15 @@ Scene* loadScene(Plugin* p, const std::string& path, bool isDefault, const Pose&
   return s;
 }
 
+/// Instantiation thread: false (logged) for a host rate that is no number of Hz. A rate of 0
+/// (or NaN, or beyond int) would become the options' 0, "keep the scene's rate", and the
+/// plugin would play at a rate the host does not run; the C API checks the range itself.
+bool usableRate(Plugin* p, double rate) {
+  if (rate >= 1.0 && rate <= 1e9) return true;
+  lv2_log_error(&p->logger, "dpc: the host's sample rate %g Hz is not a rate\n", rate);
+  return false;
+}
+
 LV2_Handle instantiate(const LV2_Descriptor* descriptor, double rate, const char* bundlePath,
                        const LV2_Feature* const* features) {
   auto* p = new Plugin;
@@ -326,6 +326,10 @@ LV2_Handle instantiate(const LV2_Descriptor* descriptor, double rate, const char
   }
   p->hostBlock = dpc::lv2::nominalBlockLength(p->map, features);
   lv2_log_logger_init(&p->logger, p->map, log);
+  if (!usableRate(p, rate)) {
+    delete p;
+    return nullptr;
+  }
   if (p->map) {
     p->uris.map(p->map);
     lv2_atom_forge_init(&p->forge, p->map);

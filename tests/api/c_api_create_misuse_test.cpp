@@ -140,6 +140,27 @@ std::vector<Misuse> dataValueCases() {
   };
 }
 
+/// Values with no upper bound in a caller's mind: spheres, patches, names.
+std::vector<Misuse> sizeAndNameCases() {
+  return {
+      // A sphere of infinite or astronomic radius encloses the room and hears nothing: refused
+      // (the limit is (0, 10^6] m), never rendered as silence.
+      {"listener radius inf", kInput, create([](B&, D& d) { d.listener_radius = kInf; }),
+       "listener_radius: inf is outside (0, 1000000] m"},
+      {"listener radius FLT_MAX", kInput, create([](B&, D& d) { d.listener_radius = FLT_MAX; }),
+       "listener_radius: "},
+      {"listener radius 1e30", kInput, create([](B&, D& d) { d.listener_radius = 1e30f; }),
+       "listener_radius: 1e+30 is outside (0, 1000000] m"},
+      {"listener radius 10^6", DPC_OK, create([](B&, D& d) { d.listener_radius = 1e6f; }), ""},
+      {"patch size inf", kInput, create([](B&, D& d) { d.patch_size = kInf; }),
+       "patch_size: inf must be > 0 m"},
+      {"material name with a terminal escape", kInput, create([](B& b, D&) {
+         b.material.name = "\x1b[2Jwalls";
+       }),
+       "must not contain control characters"},
+  };
+}
+
 /// dpc_engine_create_from_file with bad paths and options.
 std::vector<Misuse> optionCases() {
   auto with = [](std::function<void(dpc_engine_options&)> edit) {
@@ -241,6 +262,7 @@ TEST_CASE("C API misuse: work and memory beyond reach", "[misuse]") {
 TEST_CASE("C API misuse: scene data", "[misuse]") {
   runAll(dataCases());
   runAll(dataValueCases());
+  runAll(sizeAndNameCases());
 }
 
 TEST_CASE("C API misuse: scene files and options", "[misuse]") {

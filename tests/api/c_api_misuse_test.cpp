@@ -263,8 +263,8 @@ std::vector<Misuse> processCases() {
   };
 }
 
-/// Read-outs: indices, NULL buffers, before the first frame.
-std::vector<Misuse> readoutCases() {
+/// Impulse-response read-outs: indices, NULL buffers, before the first frame.
+std::vector<Misuse> impulseResponseCases() {
   auto ir = [](int source, int channel, bool nullOut, bool step) {
     return [=] {
       return withBox([&](dpc_engine* e) {
@@ -276,6 +276,27 @@ std::vector<Misuse> readoutCases() {
       });
     };
   };
+  return {
+      {"IR before a frame", DPC_ERR_STATE, ir(0, 0, false, false), "no propagation frame"},
+      {"IR", DPC_OK, ir(0, 0, false, true), ""},
+      {"IR source -1", kBad, ir(-1, 0, false, true),
+       "dpc_engine_copy_impulse_response: source: -1 is out of range"},
+      {"IR source == count", kBad, ir(1, 0, false, true),
+       "dpc_engine_copy_impulse_response: source: 1 is out of range"},
+      {"IR channel == channels", kBad, ir(0, 1, false, true),
+       "dpc_engine_copy_impulse_response: channel: 1 is out of range"},
+      {"IR channel -1", kBad, ir(0, -1, false, true),
+       "dpc_engine_copy_impulse_response: channel: -1 is out of range"},
+      {"IR NULL out, capacity 16", kBad, ir(0, 0, true, true),
+       "dpc_engine_copy_impulse_response: out is NULL"},
+      {"IR NULL engine", kBad,
+       [] { return dpc_engine_copy_impulse_response(nullptr, 0, 0, nullptr, 0, nullptr, nullptr); },
+       "dpc_engine_copy_impulse_response: engine is NULL"},
+  };
+}
+
+/// Energy-response read-outs: indices, NULL buffers, before the first frame.
+std::vector<Misuse> energyResponseCases() {
   auto er = [](int source, bool nullOut, bool step) {
     return [=] {
       return withBox([&](dpc_engine* e) {
@@ -287,19 +308,13 @@ std::vector<Misuse> readoutCases() {
     };
   };
   return {
-      {"IR before a frame", DPC_ERR_STATE, ir(0, 0, false, false), "no propagation frame"},
-      {"IR", DPC_OK, ir(0, 0, false, true), ""},
-      {"IR source -1", kBad, ir(-1, 0, false, true), "dpc_engine_copy_impulse_response"},
-      {"IR source == count", kBad, ir(1, 0, false, true), "dpc_engine_copy_impulse_response"},
-      {"IR channel == channels", kBad, ir(0, 1, false, true), "dpc_engine_copy_impulse_response"},
-      {"IR channel -1", kBad, ir(0, -1, false, true), "dpc_engine_copy_impulse_response"},
-      {"IR NULL out, capacity 16", kBad, ir(0, 0, true, true), "dpc_engine_copy_impulse_response"},
-      {"IR NULL engine", kBad,
-       [] { return dpc_engine_copy_impulse_response(nullptr, 0, 0, nullptr, 0, nullptr, nullptr); },
-       ""},
       {"ER", DPC_OK, er(0, false, true), ""},
-      {"ER source == count", kBad, er(1, false, true), "dpc_engine_copy_energy_response"},
-      {"ER NULL out, capacity 16", kBad, er(0, true, true), "dpc_engine_copy_energy_response"},
+      {"ER source == count", kBad, er(1, false, true),
+       "dpc_engine_copy_energy_response: source: 1 is out of range"},
+      {"ER source -1", kBad, er(-1, false, true),
+       "dpc_engine_copy_energy_response: source: -1 is out of range"},
+      {"ER NULL out, capacity 16", kBad, er(0, true, true),
+       "dpc_engine_copy_energy_response: out is NULL"},
       {"ER before a frame", DPC_ERR_STATE, er(0, false, false), "no propagation frame"},
   };
 }
@@ -376,7 +391,8 @@ TEST_CASE("C API misuse: process with bad buffers and frame counts", "[misuse]")
 }
 
 TEST_CASE("C API misuse: read-outs", "[misuse]") {
-  runAll(readoutCases());
+  runAll(impulseResponseCases());
+  runAll(energyResponseCases());
 }
 
 TEST_CASE("C API misuse: lifetime, getters and statistics", "[misuse]") {

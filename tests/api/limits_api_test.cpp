@@ -5,7 +5,9 @@
 // across the boundary).
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <fstream>
 #include <functional>
+#include <iterator>
 #include <map>
 #include <optional>
 #include <set>
@@ -152,12 +154,69 @@ TEST_CASE("C API scene data: every limit is accepted at its bounds and refused b
   }
 }
 
-TEST_CASE("C API options: sample rate, block size and rays per frame limits", "[limits]") {
+TEST_CASE("dpc.h documents each limit of dpc_scene_data as the table does", "[limits]") {
+  // The declaration's comment (its line and the next) gives rangeText's "[1, 100000000]", so
+  // that the header's documented range is the enforced one.
+  const std::map<std::string, std::string> declarations = {
+      {"listener.radius", "float listener_radius;"},
+      {"listener.yaw", "float listener_yaw_degrees;"},
+      {"listener.pitch", "float listener_pitch_degrees;"},
+      {"propagation.rays_per_frame", "int rays_per_frame;   /**<"},
+      {"propagation.max_order", "int max_order;"},
+      {"propagation.patch_size", "float patch_size;"},
+      {"propagation.cache_tau", "float cache_tau;"},
+      {"propagation.frame_rate", "float frame_rate;"},
+      {"propagation.ir_length", "float ir_length;"},
+      {"propagation.speed_of_sound", "float speed_of_sound;"},
+      {"propagation.temperature", "float temperature;"},
+      {"propagation.humidity", "float humidity;"},
+      {"audio.sample_rate", "int sample_rate;          /**< Hz, ["},
+      {"audio.block_size", "int block_size;           /**< engine block, frames, ["},
+      {"propagation.cache_pool_mb", "float cache_pool_mb;"},
+      {"audio.late_buses", "int late_buses;"},
+      {"audio.cluster_angle", "float cluster_angle_degrees;"},
+      {"audio.ambisonic_order", "int ambisonic_order; /**<"},
+      {"sources[].gain_db", "float gain_db;"},
+      {"materials.*.absorption", "float absorption[DPC_BANDS];"},
+      {"materials.*.scattering", "float scattering;"}};
+  std::ifstream in(kSourceDir + "/include/dpc/dpc.h");
+  const std::string header((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (const auto& [field, declaration] : declarations) {
+    INFO(field << ": " << declaration);
+    const size_t at = header.find(declaration);
+    REQUIRE(at != std::string::npos);
+    const size_t end = header.find('\n', header.find('\n', at) + 1);
+    CHECK(header.substr(at, end - at).find(rangeText(limitOf(field))) != std::string::npos);
+  }
+}
+
+TEST_CASE("C API scene data: no limit accepts NaN or an infinity", "[limits]") {
+  const double kNonFinite[] = {std::nan(""), HUGE_VAL, -HUGE_VAL};
+  for (const Limit& l : limits()) {
+    const std::string field(l.field);
+    // Counts are sizes of the caller's arrays, not numbers a caller can make non-finite.
+    if (kNotInData.count(field) || field == "sources" || field == "listeners") continue;
+    for (const double v : kNonFinite) {
+      BoxData box;
+      const std::string name = dataSetters().at(field)(box, v);
+      INFO(field << " = " << valueText(v) << ", expecting " << name);
+      dpc_status status = DPC_OK;
+      const std::string error = createError(box.data(), status);
+      INFO(error);
+      CHECK(status == DPC_ERR_INPUT);
+      CHECK(error.find("dpc_scene_data: " + name + ": ") == 0);
+    }
+  }
+}
+
+TEST_CASE("C API options: sample rate, block size, rays per frame and AmbiX order limits",
+          "[limits]") {
   const std::string scene = kSourceDir + "/scenes/shoebox.json";
   const std::map<std::string, std::pair<int dpc_engine_options::*, const char*>> options = {
       {"audio.sample_rate", {&dpc_engine_options::sample_rate, "sample_rate"}},
       {"audio.block_size", {&dpc_engine_options::block_size, "block_size"}},
-      {"propagation.rays_per_frame", {&dpc_engine_options::rays_per_frame, "rays_per_frame"}}};
+      {"propagation.rays_per_frame", {&dpc_engine_options::rays_per_frame, "rays_per_frame"}},
+      {"audio.ambisonic_order", {&dpc_engine_options::ambisonic_order, "ambisonic_order"}}};
   for (const auto& [field, option] : options) {
     for (const test::LimitProbe& p : test::probesFor(limitOf(field))) {
       if (p.value == 0) continue;  // 0 keeps the scene's value

@@ -157,6 +157,27 @@ TEST_CASE("Same-seed dpc-demo renders write byte-identical files", "[offline]") 
   fs::remove_all(dir);
 }
 
+TEST_CASE("dpc-demo --seed takes every seed a scene file takes, and no other", "[offline]") {
+  // The scene's "seed" and dpc_scene_data.seed are unsigned 64-bit: so is the flag.
+  const fs::path dir = fs::temp_directory_path() / ("dpc_demo_seed_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string base =
+      kScenes + "/shoebox.json --offline " + (dir / "o.wav").string() + " --duration 0.1 --rays 16";
+  for (const char* seed : {"0", "9223372036854775808", "18446744073709551615"}) {
+    const Run r = run(base + " --seed " + seed);
+    INFO(seed << ": " << r.err);
+    CHECK(r.status == 0);
+  }
+  fs::remove_all(dir);
+  for (const char* seed : {"-1", "18446744073709551616", "1.5"}) {
+    const Run r = run(base + " --seed " + seed);
+    INFO(seed << ": " << r.err);
+    CHECK(r.status == 1);
+    CHECK(r.err.find("--seed: '" + std::string(seed) + "' is not a whole number in [0, 2^64)") !=
+          std::string::npos);
+  }
+}
+
 TEST_CASE("Offline render streamed block by block equals the held render", "[offline]") {
   ShoeboxRender shoebox(200, 10, 0.3f, 0.51);  // not a whole number of blocks: the last is cut
   const SceneDesc& scene = shoebox.scene;

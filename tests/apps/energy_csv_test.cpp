@@ -3,6 +3,7 @@
 #include <signal.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
@@ -12,6 +13,8 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "analysis/room_parameters.h"
 #include "analysis/energy_response_csv.h"
@@ -67,6 +70,65 @@ TEST_CASE("Energy-response CSV: bad input names the file and the line", "[er-out
     CHECK(std::string(e.what()).find("energy_csv_bad.csv: line 2") != std::string::npos);
   }
   std::remove(path.c_str());
+}
+
+namespace {
+
+/// The InputError text readEnergyCsv throws for a file holding `text` ("" if it reads it).
+std::string csvError(const std::string& text) {
+  const std::string path = std::string(DPC_BINARY_DIR) + "/energy_csv_damaged.csv";
+  std::ofstream(path) << text;
+  std::string error;
+  try {
+    readEnergyCsv(path);
+  } catch (const InputError& e) {
+    error = e.what();
+  }
+  std::remove(path.c_str());
+  return error;
+}
+
+const std::string kHeader = "source,kind,time_s,e63,e125,e250,e500,e1000,e2000,e4000,e8000\n";
+const std::string kBins = "0,bin,0.000000,1,1,1,1,1,1,1,1\n0,bin,0.001000,1,1,1,1,1,1,1,1\n";
+
+}  // namespace
+
+TEST_CASE("Energy-response CSV: damaged rows are refused, naming the line", "[er-out]") {
+  const std::string direct = "0,direct,0.01,1,1,1,1,1,1,1,1\n";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {kHeader, "no data rows after the header"},
+      {kHeader + "0,bin,0.000000,-1,1,1,1,1,1,1,1\n", "line 2: band values must be energies >= 0"},
+      {kHeader + "0,bin,0.000000,1e300,1,1,1,1,1,1,1\n", "line 2: band values must be energies"},
+      {kHeader + "0,bin,-0.001,1,1,1,1,1,1,1,1\n", "line 2: time_s must be >= 0"},
+      {kHeader + "0,bin,0.001000,1,1,1,1,1,1,1,1\n", "line 2: the first bin of a source must start"},
+      {kHeader + kBins + "0,bin,0.001000,1,1,1,1,1,1,1,1\n", "line 4: time_s must follow"},
+      {kHeader + kBins + "0,bin,0.004000,1,1,1,1,1,1,1,1\n", "line 4: time_s must follow"},
+      {kHeader + "0,bin,0,1,1,1,1,1,1,1,1\n0,bin,100,1,1,1,1,1,1,1,1\n", "line 3: time_s must follow"},
+      {kHeader + direct + direct + kBins, "line 3: a second direct row for this source"},
+      {kHeader + "0,direct,1e300,1,1,1,1,1,1,1,1\n" + kBins, "line 2: time_s must be >= 0"},
+  };
+  for (const auto& [text, expected] : cases) {
+    INFO(text);
+    CHECK(csvError(text).find(expected) != std::string::npos);
+  }
+  // Read as written: CRLF line ends, a direct sound after the last bin (in the last bin).
+  std::string crlf;
+  for (const char c : kHeader + kBins) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+  CHECK(csvError(crlf).empty());
+  CHECK(csvError(kHeader + "0,direct,3e38,1,1,1,1,1,1,1,1\n" + kBins).empty());
+}
+
+TEST_CASE("Energy-response CSV: a folder or a FIFO is refused before reading", "[er-out]") {
+  const std::string dir = std::string(DPC_BINARY_DIR) + "/energy_csv_dir.csv";
+  const std::string fifo = std::string(DPC_BINARY_DIR) + "/energy_csv_fifo.csv";
+  std::filesystem::remove_all(dir);
+  std::filesystem::remove(fifo);
+  std::filesystem::create_directory(dir);
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  CHECK_THROWS_WITH(readEnergyCsv(dir), Catch::Contains("is a directory"));
+  CHECK_THROWS_WITH(readEnergyCsv(fifo), Catch::Contains("is not a regular file"));  // no hang
+  std::filesystem::remove_all(dir);
+  std::filesystem::remove(fifo);
 }
 
 TEST_CASE("dpc-demo --er-out writes what dpc-analyze reads, live mode refuses it", "[er-out]") {

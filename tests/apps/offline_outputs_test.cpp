@@ -6,6 +6,7 @@
 // link and writes the file it leads to. Each run is a child process (fork + exec).
 #include <signal.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -19,6 +20,7 @@
 #include <thread>
 #include <vector>
 
+#include "common/output_file.h"
 #include "testing/temp_dir.h"
 
 namespace fs = std::filesystem;
@@ -150,4 +152,30 @@ TEST_CASE("dpc-demo --offline to a symbolic link writes the file it leads to", "
   CHECK(fs::is_symlink(link));
   CHECK(fs::file_size(target) > 1000);  // the render, not the earlier text
   CHECK(namesIn(dir.path()) == std::vector<std::string>{"link.wav", "log.txt", "target.wav"});
+}
+
+TEST_CASE("An output file never replaces a non-regular file, and follows dangling links",
+          "[signals]") {
+  // Every writer goes through TempOutputFile: renaming its temporary onto a FIFO, a folder or
+  // (run as root) a device node would replace it.
+  const dpc::test::TempDir dir("dpc_output_kinds");
+  const fs::path fifo = dir.path() / "out.fifo", folder = dir.path() / "out.d";
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  fs::create_directory(folder);
+  for (const fs::path& p : {fifo, folder})
+    CHECK_THROWS_WITH(dpc::TempOutputFile(p.string()),
+                      Catch::Contains("exists and is not a regular file"));
+  CHECK(fs::is_fifo(fifo));
+  // A dangling link is written through (its target created), a loop of links refused.
+  const fs::path link = dir.path() / "link.wav", loop = dir.path() / "loop.wav";
+  fs::create_symlink("made.wav", link);
+  fs::create_symlink("loop.wav", loop);
+  dpc::TempOutputFile out(link.string());
+  out.writeAll("x", 1);
+  out.commit();
+  CHECK(fs::is_symlink(link));
+  CHECK(fs::file_size(dir.path() / "made.wav") == 1);
+  CHECK_THROWS_WITH(dpc::TempOutputFile(loop.string()),
+                    Catch::Contains("too many levels of symbolic links"));
+  CHECK(fs::is_symlink(loop));
 }

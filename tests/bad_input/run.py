@@ -58,6 +58,22 @@ def nothing(d):
     pass
 
 
+def write_text(edit):
+    """Edits the shoebox JSON as text (for what json.dump cannot write, e.g. a repeated key)."""
+    def apply(d):
+        path = os.path.join(d, "shoebox.json")
+        text = open(path).read()
+        open(path, "w").write(edit(text))
+    return apply
+
+
+def two_listeners(first_name):
+    """Replaces the listener by two listeners, the first named `first_name`."""
+    return without("listener", listeners=[
+        {"name": first_name, "position": [5, 1.6, 3.5], "radius": 0.5},
+        {"name": "b", "position": [6, 1.6, 3.5], "radius": 0.5}])
+
+
 DPC_BAKE = None  # dpc-bake, beside dpc-demo (main sets it)
 
 
@@ -360,8 +376,29 @@ CASES = {
     "bake_of_other_scene": (bake_file(edit=scene_with(**{"sources.0.position": [3, 1.6, 3.5]})), OFF + ["--bake", "bake.h5"], "bake.h5: mesh_hash: the bake is of another scene"),
     "bake_truncated": (bake_file(damage=truncate_half), OFF + ["--bake", "bake.h5"], "bake.h5: "),
     "bake_not_hdf5": (write("bake.h5", "not hdf5\n"), OFF + ["--bake", "bake.h5"], "bake.h5: not an HDF5 file"),
-    "bake_missing": (nothing, OFF + ["--bake", "none.h5"], "none.h5: no such file"),
+    "bake_missing": (nothing, OFF + ["--bake", "none.h5"], "none.h5: bake 'none.h5' not found"),
+    "bake_directory": (mkdir("b.h5"), OFF + ["--bake", "b.h5"], "b.h5: bake 'b.h5' is a directory"),
+    "bake_fifo": (fifo("b.h5"), OFF + ["--bake", "b.h5"], "b.h5: bake 'b.h5' is not a regular file"),
     "objects_257": (scene_with(objects=[{"name": f"o{i}", "mesh": "shoebox.obj", "trajectory": [{"t": 0, "position": [0, 0, 0]}]} for i in range(257)]), OFF, "shoebox.json: objects: 257 objects, more than the limit of 256"),
+    # Names: printed in warnings (no control characters) and, for listeners, part of output
+    # file names (no "/": "x/../../evil" wrote OUT-x/../../evil.wav two folders up).
+    "listener_name_slash": (lambda d: (mkdir("out-x")(d), two_listeners("x/../evil")(d)), OFF, "shoebox.json: listeners[0].name: must not contain '/'"),
+    "source_name_escape": (scene_with(**{"sources.0.name": "\x1b[2Jtalker"}), OFF, "shoebox.json: sources[0].name: must not contain control characters"),
+    "listener_name_nul": (two_listeners("a\x00b"), OFF, "listeners[0].name: contains a NUL character"),
+    "signal_path_nul": (scene_with(**{"sources.0.signal": "signals/speech.wav\x00.x"}), OFF, "sources[0].signal: contains a NUL character"),
+    "duplicate_key": (write_text(lambda t: t.replace('"propagation": {', '"propagation": {"rays_per_frame": 5,', 1)), OFF, 'shoebox.json: key "rays_per_frame" appears twice'),
+    "radius_2e6": (scene_with(**{"listener.radius": 2e6}), OFF, "shoebox.json: listener.radius: 2000000 is outside (0, 1000000] m"),
+    "layout_empty_name": (write("lay.json", '{"speakers": [{"name": "", "azimuth": 30}, {"name": "B", "azimuth": -30}]}'), OFF + ["--output", "layout:lay.json"], "lay.json: speakers[0].name: must not be empty"),
+    "layout_name_escape": (write("lay.json", '{"speakers": [{"name": "\\u001b[2J", "azimuth": 30}, {"name": "B", "azimuth": -30}]}'), OFF + ["--output", "layout:lay.json"], "lay.json: speakers[0].name: must not contain control characters"),
+    "layout_directory": (mkdir("lay.json"), OFF + ["--output", "layout:lay.json"], "lay.json: layout file 'lay.json' is a directory"),
+    # Outputs: links followed, never replaced; options that an offline render would ignore.
+    "offline_dangling_link_missing_folder": (symlink("nowhere/x.wav", "l.wav"), ["shoebox.json", "--offline", "l.wav"], "--offline: folder 'nowhere' does not exist"),
+    "offline_link_loop": (lambda d: (symlink("b.wav", "a.wav")(d), symlink("a.wav", "b.wav")(d)), ["shoebox.json", "--offline", "a.wav"], "--offline: 'a.wav': too many levels of symbolic links"),
+    "record_with_offline": (nothing, OFF + ["--record", "r.wav"], "--record: is for live runs"),
+    "interactive_with_offline": (nothing, OFF + ["--interactive"], "--interactive: is for live runs"),
+    "hrtf_directory": (mkdir("h.sofa"), OFF + ["--hrtf", "h.sofa"], "--hrtf: SOFA file 'h.sofa' is a directory"),
+    "hrtf_fifo": (fifo("h.sofa"), OFF + ["--hrtf", "h.sofa"], "--hrtf: SOFA file 'h.sofa' is not a regular file"),
+    "scene_link_loop": (lambda d: (symlink("b.json", "a.json")(d), symlink("a.json", "b.json")(d)), ["a.json", "--offline", "out.wav"], "a.json: scene file 'a.json' cannot be opened: Too many levels of symbolic links"),
 }
 
 # Setups that load but cannot be meant: the render runs (exit 0, the output is written), and a

@@ -81,6 +81,31 @@ expect_refusal truncated.h5 --resume truncated.h5
 cp cut.h5 other.h5
 expect_refusal mesh_hash --resume other.h5 "$2/scenes/two_rooms.json"
 h5diff clean.h5 keep.h5 || fail "keep.h5 changed"
+# Outputs naming inputs or non-regular files, against a copy of the scene (never the sources').
+cp -r "$2/scenes/shoebox.json" "$2/scenes/shoebox.obj" "$2/scenes/signals" .
+expect_refusal "--out: 'shoebox.json' is the scene file" shoebox.json --out shoebox.json --spacing 2
+expect_refusal "--out: 'shoebox.obj' is the mesh" shoebox.json --out shoebox.obj --spacing 2
+mkfifo out.fifo
+expect_refusal "--out: 'out.fifo' exists and is not a regular file" shoebox.json --out out.fifo \
+  --spacing 2
+[[ -p out.fifo ]] || fail "out.fifo was replaced"
+ln -s loop2.h5 loop1.h5
+ln -s loop1.h5 loop2.h5
+expect_refusal "too many levels of symbolic links" shoebox.json --out loop1.h5 --spacing 2
+[[ -L loop1.h5 && -L loop2.h5 ]] || fail "a link of the loop was replaced"
+expect_refusal "--map: 'new.h5' is the bake" shoebox.json --out new.h5 --map new.h5 --spacing 2
+expect_refusal "--map: 'shoebox.json' is the scene file" --resume keep.h5 shoebox.json \
+  --map shoebox.json
+mkdir dir.h5
+expect_refusal "bake 'dir.h5' is a directory" --resume dir.h5
+# A grid height beyond the coordinate limit: refused before any ray (it aborted inside Embree).
+expect_refusal "--spacing/--height: probe coordinate y: 1e+20 is outside" shoebox.json \
+  --out new.h5 --spacing 2 --height 1e20
+h5diff clean.h5 keep.h5 || fail "keep.h5 changed"
+# A dangling symbolic link as --out stays a link; the bake is written where it leads.
+ln -s made.h5 link.h5
+"$bake" shoebox.json --out link.h5 "${quick[@]}" --quiet
+[[ -L link.h5 ]] && complete made.h5 || fail "the link was replaced or made.h5 not written"
 
 if ! command -v mpirun >/dev/null || ! ldd "$bake" | grep -q libmpi; then
   echo "mpirun or an MPI build missing: MPI cases skipped"

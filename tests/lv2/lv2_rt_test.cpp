@@ -463,3 +463,20 @@ TEST_CASE("LV2 plugin: the engine block is the host's nominal block length") {
   CHECK(finite);
   CHECK(energy > 1e-6);
 }
+
+TEST_CASE("LV2 plugin: a host rate that is no rate is refused, not replaced by the scene's") {
+  // The options' sample_rate 0 means "keep the scene's": a host passing 0 or NaN must not get
+  // a plugin playing at the scene's 48 kHz. Beyond the engine's range the C API refuses too.
+  const LV2_Descriptor* d = loadDescriptor();
+  Host host;
+  for (const double rate : {0.0, 0.4, -48000.0, double(NAN), double(INFINITY), 1e12, 8000.0,
+                            384000.0}) {
+    INFO(rate);
+    LV2_Handle h = d->instantiate(d, rate, kBundle, host.features);
+    CHECK(h == nullptr);
+    if (h) d->cleanup(h);
+  }
+  LV2_Handle h = d->instantiate(d, 16000.0, kBundle, host.features);
+  CHECK(h != nullptr);
+  if (h) d->cleanup(h);
+}

@@ -6,7 +6,9 @@ by tests/CMakeLists.txt, which passes DPC_DEMO and puts the built module on PYTH
 - a bad scene raises dpc.InputError whose text is dpc-demo's error line without "dpc-demo: ";
 - two threads stepping two engines give what each gives alone (the GIL is released in step);
 - dpc.iso3382 equals dpc-analyze --json on the same IR;
-- a scene built with dpc.Engine.from_arrays equals the same scene from OBJ + JSON, bit for bit.
+- a scene built with dpc.Engine.from_arrays equals the same scene from OBJ + JSON, bit for bit;
+- a pose beyond the scene's limits raises dpc.InputError naming the argument and its range, and
+  dpc.iso3382 refuses an empty IR or a NaN or infinite sample instead of answering NaN.
 """
 import json
 import os
@@ -73,6 +75,25 @@ def test_bad_scene_raises_dpc_demo_message(tmp_path):
             call()
         assert str(e.value) == line[len("dpc-demo: "):]
     assert isinstance(e.value, ValueError)
+
+
+def test_bad_poses_and_samples_are_named():
+    e = dpc.Engine(SHOEBOX, rays_per_frame=64)
+    with pytest.raises(dpc.InputError, match=r"set_listener_pose: x: 10000000 is outside \[-1000000, 1000000\] m"):
+        e.set_listener_pose(0, [1e7, 1.6, 3.0], 0.0)
+    with pytest.raises(dpc.InputError, match=r"yaw_degrees: 1000000000 is outside \[-3600, 3600\]"):
+        e.set_listener_pose(0, [5.0, 1.6, 3.0], 1e9)
+    with pytest.raises(dpc.InputError, match=r"source: -1 is out of range \(1 sources\)"):
+        e.set_source_position(-1, [1.0, 1.0, 1.0])
+    ir = np.zeros(4800, dtype=np.float32)
+    ir[0] = 1.0
+    assert np.isfinite(dpc.iso3382(ir, 48000)["broadband"]["energy"])
+    for bad, where in ((np.nan, "ir\\[7\\]"), (np.inf, "ir\\[7\\]")):
+        ir[7] = bad
+        with pytest.raises(ValueError, match=where + " is not finite"):
+            dpc.iso3382(ir, 48000)
+    with pytest.raises(ValueError, match="ir is empty"):
+        dpc.iso3382(np.zeros(0, dtype=np.float32), 48000)
 
 
 def step_engine(results, key, frames=4):

@@ -162,7 +162,8 @@ TEST_CASE("docs/scene-format.md gives every limit's range as the table does", "[
 TEST_CASE("Limits table: ranges and messages", "[limits]") {
   CHECK(rangeText(limitOf("audio.sample_rate")) == "[16000, 192000]");
   CHECK(rangeText(limitOf("propagation.ir_length")) == "(0, 60]");
-  CHECK(rangeText(limitOf("listener.radius")) == "> 0");
+  CHECK(rangeText(limitOf("listener.radius")) == "(0, 1000000]");
+  CHECK(rangeText(limitOf("propagation.patch_size")) == "> 0");
   CHECK(valueText(1.7f) == "1.7");
   CHECK(valueText(48000) == "48000");
   CHECK_THROWS_AS(limitOf("no.such.field"), std::logic_error);

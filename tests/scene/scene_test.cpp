@@ -328,9 +328,9 @@ TEST_CASE("Listener, propagation and signal values are checked", "[scene][errors
     CHECK_THAT(f.error(), Contains(expected));
   };
   expect([](json& s) { s["listener"]["radius"] = 0; },
-         "scene.json: listener.radius: 0 must be > 0");
+         "scene.json: listener.radius: 0 is outside (0, 1000000] m");
   expect([](json& s) { s["listener"]["radius"] = -0.5; },
-         "scene.json: listener.radius: -0.5 must be > 0");
+         "scene.json: listener.radius: -0.5 is outside (0, 1000000] m");
   expect([](json& s) { s["propagation"]["rays_per_frame"] = 0; },
          "scene.json: propagation.rays_per_frame: 0 is outside [1,");
   expect([](json& s) { s["propagation"]["frame_rate"] = 0; },

@@ -97,9 +97,11 @@ void decodeEntities(Bytes& b, Arrays& a, dpc_scene_data& d) {
   d.listener_radius = b.f32();
   d.listener_yaw_degrees = b.f32();
   d.listener_pitch_degrees = b.f32();
+  d.listener_roll_degrees = b.f32();
   d.additional_listener_count = b.count(2, 63);
   for (int l = 0; l < 3; ++l)
-    a.listeners.push_back(dpc_listener{{b.f32(), b.f32(), b.f32()}, b.f32(), b.f32(), b.f32()});
+    a.listeners.push_back(
+        dpc_listener{{b.f32(), b.f32(), b.f32()}, b.f32(), b.f32(), b.f32(), b.f32()});
   d.additional_listeners = (b.u8() & 1) ? nullptr : a.listeners.data();
 }
 
@@ -120,7 +122,7 @@ void decodeSettings(Bytes& b, dpc_scene_data& d) {
   d.sample_rate = rate == 255 ? int(b.u32()) : (rate & 1 ? 16000 : 48000);
   d.block_size = b.u8() == 255 ? int(b.u32()) : 256;
   d.output = dpc_output_format(b.u8() % 7);  // SCENE (refused in data) .. AMBISONIC_BINAURAL
-  d.ambisonic_order = int(b.u8() % 9);        // 0 and 8 refused
+  d.ambisonic_order = int(b.u8() % 9);       // 0 and 8 refused
 }
 
 }  // namespace

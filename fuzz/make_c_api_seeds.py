@@ -43,9 +43,10 @@ def box(sources=1, diffraction=0, listener_x=None, vertex0=None, radius=None):
         b += small(2 + s * 0.5) + small(1.5) + small(2) + small(0)
     b += (raw(listener_x) if listener_x is not None else small(4)) + small(1.5) + small(2)
     b += (raw(radius) if radius is not None else small(0.5)) + small(0) + small(0)  # radius, yaw, pitch
+    b += small(0)                          # roll
     b += bytes([0])                        # no additional listener
     for _ in range(3):
-        b += small(4) + small(1.5) + small(2) + small(0.5) + small(0) + small(0)
+        b += small(4) + small(1.5) + small(2) + small(0.5) + small(0) + small(0) + small(0)
     b += bytes([0])                        # additional_listeners pointer set
     b += bytes([0, 32, 0, 8])              # rays 32, max_order 8
     b += small(0.5) + small(1) + small(15) + small(0.25)  # patch, tau, frame rate, ir length

@@ -127,7 +127,7 @@ std::vector<Misuse> dataValueCases() {
        "rays_per_frame"},
       {"cache_tau 3e38", kInput, create([](B&, D& d) { d.cache_tau = 3e38f; }), "cache_tau"},
       {"additional listeners 64", kInput, create([](B& b, D& d) {
-         b.listeners.assign(64, dpc_listener{{4, 1.5f, 2}, 0.5f, 0, 0});
+         b.listeners.assign(64, dpc_listener{{4, 1.5f, 2}, 0.5f, 0, 0, 0});
          d.additional_listeners = b.listeners.data();
          d.additional_listener_count = 64;
        }),

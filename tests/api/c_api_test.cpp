@@ -384,7 +384,7 @@ TEST_CASE("C API: several listeners share a frame, the selected one is heard and
   std::vector<dpc_material> materials;
   dpc_source source;
   dpc_scene_data data = boxData(materials, source);
-  const dpc_listener b = {{9.f, 1.6f, 3.5f}, 0.5f, 0.f, 0.f};
+  const dpc_listener b = {{9.f, 1.6f, 3.5f}, 0.5f, 0.f, 0.f, 0.f};
   data.additional_listeners = &b;
   data.additional_listener_count = 1;
   dpc_engine *fromData = nullptr, *fromFile = nullptr;

@@ -62,7 +62,7 @@ const std::map<std::string, DataSetter>& dataSetters() {
        }},
       {"listeners",
        [](BoxData& b, double v) {
-         b.listeners.assign(size_t(std::max(v - 1, 0.0)), dpc_listener{{4, 1.5, 2}, 0.5, 0, 0});
+         b.listeners.assign(size_t(std::max(v - 1, 0.0)), dpc_listener{{4, 1.5, 2}, 0.5, 0, 0, 0});
          b.d.additional_listener_count = int(v) - 1;
          return "listeners (1 + additional_listener_count)";
        }},
@@ -110,10 +110,9 @@ const std::map<std::string, DataSetter>& dataSetters() {
 
 /// Limits dpc_scene_data cannot carry (docs/design.md, "Not yet across the boundary"; the
 /// file defaults apply).
-const std::set<std::string> kNotInData = {"objects", "propagation.cache_memory_mb",
-                                          "propagation.roulette_threshold_db",
-                                          "propagation.exact_order",
-                                          "materials.*.transmission_loss_db"};
+const std::set<std::string> kNotInData = {
+    "objects", "propagation.cache_memory_mb", "propagation.roulette_threshold_db",
+    "propagation.exact_order", "materials.*.transmission_loss_db"};
 
 /// Creates with an invalid output option, checked after every scene value: a value that is
 /// accepted gives that option's error, not the value's, and builds no engine.

@@ -21,8 +21,8 @@ SceneDesc twoListeners() {
   a.position = {1.f, 1.f, 1.f};
   ListenerDesc b;
   b.name = "b";
-  b.trajectory = {Keyframe{0.0, {2.f, 1.f, 1.f}, {}, {}, {}},
-                  Keyframe{2.0, {4.f, 1.f, 1.f}, {}, {}, {}}};
+  b.trajectory = {Keyframe{0.0, {2.f, 1.f, 1.f}, {}, {}, {}, {}},
+                  Keyframe{2.0, {4.f, 1.f, 1.f}, {}, {}, {}, {}}};
   scene.listeners = {a, b};
   return scene;
 }

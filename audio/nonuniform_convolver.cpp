@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -76,6 +78,7 @@ NonUniformIrSet::NonUniformIrSet(const NonUniformLayout& layout, int numSources,
   }
   active_.assign(size_t(numSources) * size_t(layout.numLevels()), 0);
   first_.assign(active_.size(), 0);
+  onset_.assign(size_t(numSources), kSilent);
   time_ = allocZeroed(2 * maxN);
 }
 
@@ -88,17 +91,28 @@ const float* NonUniformIrSet::spectrum(int level, int source, int channel, int p
 }
 
 namespace {
-/// The first of level lv's `active` partitions in which some channel of irs (n samples each) is
-/// not silent; `active` when all are.
+/// The first of level lv's `active` partitions in which some channel of irs (n samples each)
+/// exceeds `floor` in magnitude; `active` when none does.
 int firstSounding(const NonUniformLayout::Level& lv, int active, const float* const* irs,
-                  int numChannels, size_t n) {
+                  int numChannels, size_t n, float floor) {
   const size_t len = size_t(lv.partitionSize);
   for (int p = 0; p < active; ++p) {
     const size_t begin = lv.offset + size_t(p) * len, end = std::min(n, begin + len);
     for (int c = 0; c < numChannels; ++c)
-      if (std::any_of(irs[c] + begin, irs[c] + end, [](float v) { return v != 0.0f; })) return p;
+      if (std::any_of(irs[c] + begin, irs[c] + end,
+                      [floor](float v) { return std::abs(v) > floor; }))
+        return p;
   }
   return active;
+}
+
+/// kLeadingSilence times the largest magnitude of any channel of irs: the level at or below
+/// which leading partitions count as silent (0 for a silent IR: exact zeros only).
+float silenceFloor(const float* const* irs, int numChannels, size_t n) {
+  float peak = 0.0f;
+  for (int c = 0; c < numChannels; ++c)
+    for (size_t i = 0; i < n; ++i) peak = std::max(peak, std::abs(irs[c][i]));
+  return peak * NonUniformIrSet::kLeadingSilence;
 }
 }  // namespace
 
@@ -111,6 +125,7 @@ void NonUniformIrSet::prepare(int source, const float* const* irs, size_t n) {
                                 " samples exceeds the layout's " +
                                 std::to_string(layout_->maxIrSamples()));
   float* time = time_.get();
+  const float floor = silenceFloor(irs, numChannels_, n);
   for (int l = 0; l < layout_->numLevels(); ++l) {
     const NonUniformLayout::Level& lv = layout_->level(l);
     const size_t len = size_t(lv.partitionSize);
@@ -135,8 +150,16 @@ void NonUniformIrSet::prepare(int source, const float* const* irs, size_t n) {
     }
     const size_t at = size_t(source) * size_t(layout_->numLevels()) + size_t(l);
     active_[at] = active;
-    first_[at] = firstSounding(lv, active, irs, numChannels_, n);
+    first_[at] = firstSounding(lv, active, irs, numChannels_, n, floor);
   }
+  size_t onset = kSilent;
+  for (int l = layout_->numLevels() - 1; l >= 0; --l) {
+    const NonUniformLayout::Level& lv = layout_->level(l);
+    const int first = firstSoundingPartition(source, l);
+    if (first < activePartitions(source, l))
+      onset = lv.offset + size_t(first) * size_t(lv.partitionSize);
+  }
+  onset_[size_t(source)] = onset;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -181,6 +204,12 @@ NonUniformConvolver::NonUniformConvolver(const NonUniformLayout& layout, int num
     }
     st.time = allocZeroed(2 * n);
     st.time2 = allocZeroed(2 * n);
+    // Every slot of a new FDL holds the (zero) spectrum of the zero input before the start.
+    st.skippedAt.assign(size_t(numSources), std::numeric_limits<int64_t>::min() / 2);
+    if (l + 1 < layout.numLevels()) {
+      const size_t end = lv.offset + size_t(lv.numPartitions) * n;
+      st.needBefore = end + (end - lv.offset);
+    }
   }
   accPtrs_.assign(size_t(numOutputs), nullptr);
 }
@@ -226,17 +255,28 @@ bool NonUniformConvolver::swapping() const {
   return false;
 }
 
-void NonUniformConvolver::macSource(const LevelState& st, int level, const NonUniformIrSet* ir,
-                                    float* const* acc, int s, int begin, int end) const {
+bool NonUniformConvolver::inputNeeded(const LevelState& st, int s) const {
+  if (!skipSilentLevels_) return true;
+  // No IR (silence) is not known to stay silent: the next set may sound at once.
+  for (const NonUniformIrSet* ir : {st.cur, st.next, target_})
+    if (!ir || ir->onsetSample(s) < st.needBefore) return true;
+  return false;
+}
+
+int NonUniformConvolver::macSource(const LevelState& st, int level, const NonUniformIrSet* ir,
+                                   float* const* acc, int s, int begin, int end) const {
   const NonUniformLayout::Level& lv = layout_->level(level);
   const size_t stride = lv.fft->binStride();
   const size_t spec = lv.fft->spectrumFloats();
   const int numPartitions = lv.numPartitions;
   // Partitions before the first sounding one (a distant source's direct-sound delay) and after
-  // the last add nothing.
+  // the last add nothing; those from the first skipped input chunk on are stale.
+  const int first = std::max(begin, ir->firstSoundingPartition(s, level));
   const int stop = std::min(end, ir->activePartitions(s, level));
+  const int64_t fresh = st.chunk - st.skippedAt[size_t(s)];
+  const int valid = int(std::min<int64_t>(stop, std::max<int64_t>(first, fresh)));
   const float* fdl = st.fdl[size_t(s)].get();
-  for (int p = std::max(begin, ir->firstSoundingPartition(s, level)); p < stop; ++p) {
+  for (int p = first; p < valid; ++p) {
     // X from p chunks ago sits in slot (head + p) mod P.
     int slot = st.head + p;
     if (slot >= numPartitions) slot -= numPartitions;
@@ -246,6 +286,7 @@ void NonUniformConvolver::macSource(const LevelState& st, int level, const NonUn
       detail::multiplyAccumulate(acc[c], acc[c] + stride, x, x + stride, h, h + stride, stride);
     }
   }
+  return stop - valid;
 }
 
 void NonUniformConvolver::accumulate(int level, LevelState& st, int s, int begin, int end,
@@ -253,11 +294,11 @@ void NonUniformConvolver::accumulate(int level, LevelState& st, int s, int begin
   const size_t spec = layout_->level(level).fft->spectrumFloats();
   if (st.cur) {
     for (int c = 0; c < numOutputs_; ++c) accPtrs_[size_t(c)] = st.acc[size_t(c)].get();
-    macSource(st, level, st.cur, accPtrs_.data(), s, begin, end);
+    stalePartitions_ += uint64_t(macSource(st, level, st.cur, accPtrs_.data(), s, begin, end));
   }
   if (crossfade && st.next) {
     for (int c = 0; c < numOutputs_; ++c) accPtrs_[size_t(c)] = st.acc[size_t(c)].get() + spec;
-    macSource(st, level, st.next, accPtrs_.data(), s, begin, end);
+    stalePartitions_ += uint64_t(macSource(st, level, st.next, accPtrs_.data(), s, begin, end));
   }
 }
 
@@ -290,7 +331,12 @@ void NonUniformConvolver::processLevel(int l, const float* const* in, float* con
   for (int s = int((int64_t(step) * numSources_ + m - 1) / m);
        s < numSources_ && int(int64_t(s) * m / numSources_) == step; ++s) {
     const float* window = st.input[size_t(ready)][size_t(s)].get();
-    lv.fft->forward(window, st.fdl[size_t(s)].get() + size_t(st.head) * lv.fft->spectrumFloats());
+    if (inputNeeded(st, s)) {
+      lv.fft->forward(window, st.fdl[size_t(s)].get() + size_t(st.head) * lv.fft->spectrumFloats());
+    } else {
+      st.skippedAt[size_t(s)] = st.chunk;
+      ++skippedTransforms_;
+    }
     // The chunk just transformed is the first half of the next chunk's window.
     std::memcpy(st.input[size_t(st.filling)][size_t(s)].get(), window + n, n * sizeof(float));
     accumulate(l, st, s, 0, 1, crossfade);
@@ -312,6 +358,7 @@ void NonUniformConvolver::startChunk(const NonUniformLayout::Level& lv, LevelSta
   // buffer while the next chunk fills the other one; the sources' forward FFTs spread over the
   // chunk's m callbacks (processLevel).
   st.filling = 1 - st.filling;
+  ++st.chunk;
   st.head = st.head == 0 ? lv.numPartitions - 1 : st.head - 1;
   st.next = target_;  // the chunk's IR: the newest now
   const size_t spec = lv.fft->spectrumFloats();

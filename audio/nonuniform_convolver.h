@@ -37,6 +37,16 @@
 // time-invariant in blocks, so a phase changes when a level's work happens, not its result:
 // the input before the first block is zero, as the buffers start.
 //
+// Silent levels: a source whose IR sets in use (the current, the next and the newest) all
+// start sounding at or after e_l + (e_l - o_l), e_l the end of level l's segment, skips level
+// l's forward FFT: level l would multiply nothing for it (a distant source's direct sound is
+// later than the short partitions reach), and the margin of one more segment lets the level
+// transform the source again, and so refill its FDL, P_l chunks before an approaching
+// source's response reaches the level. The FDL slots of skipped chunks are stale: a partition
+// whose input chunk was skipped is not multiplied and is counted (stalePartitions()); that
+// happens only when a response's onset jumps by more than a segment between two sets (a
+// teleport). With no stale partition the output equals that of transforming every chunk.
+//
 // IR swap: the IR set is swapped for all sources at once. Each level takes the newest IR when
 // it starts a chunk (the chunk's first callback above); if that differs from the IR of its
 // previous chunk, the chunk is computed with both from the same FDL (both are steady-state
@@ -124,21 +134,32 @@ class NonUniformIrSet {
   int activePartitions(int source, int level) const {
     return active_[size_t(source) * size_t(layout_->numLevels()) + size_t(level)];
   }
-  /// The first partition of level l in which some channel of source s's IR is not silent
-  /// (activePartitions when none is); the partitions before it are skipped.
+  /// The first partition of level l in which some channel of source s's IR exceeds
+  /// kLeadingSilence of its peak (activePartitions when none does); the partitions before it
+  /// are skipped.
   int firstSoundingPartition(int source, int level) const {
     return first_[size_t(source) * size_t(layout_->numLevels()) + size_t(level)];
   }
   /// Split spectrum of partition p of level l, source s, channel c.
   const float* spectrum(int level, int source, int channel, int p) const;
+  /// Leading partitions whose samples all lie within this fraction of the IR's peak magnitude
+  /// (over its channels) count as silent: -80 dB, below what the synthesis leaves before a
+  /// direct sound (its band filters' pre-ringing, about -95 dB at the IR's start) and far below
+  /// audibility next to the IR's own peak. They are not multiplied.
+  static constexpr float kLeadingSilence = 1e-4f;
+  /// The IR sample where source s's first sounding partition starts (over all levels);
+  /// kSilent when every channel of its IR is silent.
+  size_t onsetSample(int source) const { return onset_[size_t(source)]; }
+  static constexpr size_t kSilent = SIZE_MAX;
 
  private:
   const NonUniformLayout* layout_;
   int numSources_, numChannels_;
   std::vector<detail::FftwBuffer> data_;  ///< per level: sources x channels x P_l spectra
   std::vector<int> active_;
-  std::vector<int> first_;   ///< per source and level: firstSoundingPartition
-  detail::FftwBuffer time_;  ///< scratch, 2 N_max floats
+  std::vector<int> first_;     ///< per source and level: firstSoundingPartition
+  std::vector<size_t> onset_;  ///< per source: onsetSample
+  detail::FftwBuffer time_;    ///< scratch, 2 N_max floats
 };
 
 /// numSources dry inputs convolved with a NonUniformIrSet and summed into numOutputs channels.
@@ -185,6 +206,16 @@ class NonUniformConvolver {
   int numSources() const { return numSources_; }
   int numOutputs() const { return numOutputs_; }
   const NonUniformLayout& layout() const { return *layout_; }
+  /// Whether levels a source is silent at skip its forward FFTs (see "Silent levels"; on by
+  /// default). Off, every chunk is transformed and the output is exact whatever the onsets
+  /// of successive sets. Control thread, before the first process().
+  void setSkipSilentLevels(bool skip) { skipSilentLevels_ = skip; }
+  /// Forward FFTs skipped so far because the source was silent at that level (see "Silent
+  /// levels"). Audio thread (or after it stopped).
+  uint64_t skippedTransforms() const { return skippedTransforms_; }
+  /// Partitions not multiplied because their input chunk was skipped (a response's onset
+  /// jumped; see "Silent levels"): sound lost, counted. Audio thread (or after it stopped).
+  uint64_t stalePartitions() const { return stalePartitions_; }
 
  private:
   struct LevelState {
@@ -202,6 +233,11 @@ class NonUniformConvolver {
     int phase = 0;                          ///< phi_l in 0..m_l-1 (see "Staggered levels")
     const NonUniformIrSet* cur = nullptr;   ///< IR of the previous chunk
     const NonUniformIrSet* next = nullptr;  ///< IR of the chunk being computed
+    int64_t chunk = 0;                      ///< chunks started so far
+    /// Per source: the last chunk whose forward FFT was skipped (see "Silent levels").
+    std::vector<int64_t> skippedAt;
+    /// A source whose IRs start sounding at or after this sample skips the level's FFTs.
+    size_t needBefore = SIZE_MAX;
   };
   bool referenced(const NonUniformIrSet* ir) const;
   void retireIfUnused(const NonUniformIrSet* ir);
@@ -215,9 +251,13 @@ class NonUniformConvolver {
   void accumulateShare(int level, LevelState& st, int step, bool crossfade);
   /// Inverse transforms of the finished chunk, crossfaded over it when the IR changed.
   void finishChunk(const NonUniformLayout::Level& lv, LevelState& st, bool crossfade);
-  /// Source s's partitions [begin, end) of ir (those it holds) into acc (one per output).
-  void macSource(const LevelState& st, int level, const NonUniformIrSet* ir, float* const* acc,
-                 int s, int begin, int end) const;
+  /// Source s's partitions [begin, end) of ir (those it holds and whose input chunk was
+  /// transformed) into acc (one per output). Returns the partitions left out as stale.
+  int macSource(const LevelState& st, int level, const NonUniformIrSet* ir, float* const* acc,
+                int s, int begin, int end) const;
+  /// Whether source s's input must be transformed at this level in this chunk: some IR set
+  /// in use sounds for it before the level's needBefore.
+  bool inputNeeded(const LevelState& st, int s) const;
   /// macSource into the level's accumulators: the current IR's, and the next IR's while
   /// crossfading.
   void accumulate(int level, LevelState& st, int s, int begin, int end, bool crossfade);
@@ -228,6 +268,9 @@ class NonUniformConvolver {
   std::vector<float*> accPtrs_;  ///< scratch: one accumulator pointer per output
   const NonUniformIrSet* target_ = nullptr;
   uint64_t block_ = 0;
+  bool skipSilentLevels_ = true;
+  uint64_t skippedTransforms_ = 0;
+  uint64_t stalePartitions_ = 0;
   FixedRing<const NonUniformIrSet*> retired_{kRetiredCapacity};
 };
 

@@ -46,14 +46,71 @@ struct Event {
   int ir;  ///< index into the IR list, -1: no IR
 };
 
+/// How runAndCompare runs the convolver and what it reports besides the error.
+struct RunOptions {
+  bool skipSilentLevels = false;   ///< off: exact whatever the onsets (the convolver's option)
+  size_t compareFrom = 0;          ///< first output sample compared with the reference
+  uint64_t skippedTransforms = 0;  ///< out: the convolver's counters after the run
+  uint64_t stalePartitions = 0;
+};
+
+/// Output channel c as the convolver must produce it: per level, the segment of each IR
+/// convolved with the sources' input (double precision, direct), crossfaded over each of the
+/// level's chunks (shifted by its phase) from the set before to the newest set.
+std::vector<double> crossfadeReference(const NonUniformLayout& layout,
+                                       const NonUniformConvolver& conv,
+                                       const std::vector<std::vector<Signal>>& irs,
+                                       const std::vector<Signal>& x, int numSources, int numOutputs,
+                                       const std::vector<Event>& events, int c) {
+  // Newest IR at callback k (after the events of block k).
+  auto newestAt = [&](long long k) {
+    int ir = -1;
+    for (const Event& ev : events)
+      if (static_cast<long long>(ev.block) <= k) ir = ev.ir;
+    return ir;
+  };
+  const size_t b = size_t(layout.blockSize());
+  const size_t total = x[0].size();
+  std::vector<double> expected(total, 0.0);
+  for (int l = 0; l < layout.numLevels(); ++l) {
+    const NonUniformLayout::Level& lv = layout.level(l);
+    const size_t n = size_t(lv.partitionSize);
+    const size_t begin = lv.offset, end = lv.offset + size_t(lv.numPartitions) * n;
+    // Per IR: the level segment's output summed over sources.
+    std::vector<std::vector<double>> seg(irs.size());
+    for (size_t i = 0; i < irs.size(); ++i) {
+      seg[i].assign(total, 0.0);
+      for (int s = 0; s < numSources; ++s) {
+        const auto y =
+            segmentConvolution(x[size_t(s)], irs[i][size_t(s * numOutputs + c)], begin, end);
+        for (size_t t = 0; t < total; ++t) seg[i][t] += y[t];
+      }
+    }
+    // The level's chunks are shifted by its phase: local block k + phi (header).
+    const long long m = lv.period, phase = conv.levelPhase(l);
+    for (size_t t = begin; t < total; ++t) {
+      const size_t local = t - begin + size_t(phase) * b;
+      const long long chunk = (long long)(local / n);
+      const size_t pos = local % n;
+      const int now = newestAt((chunk + 1) * m - 1 - phase);
+      const int before = newestAt(chunk * m - 1 - phase);
+      const double vNow = now < 0 ? 0.0 : seg[size_t(now)][t];
+      const double vBefore = before < 0 ? 0.0 : seg[size_t(before)][t];
+      const double g = now == before ? 1.0 : double(pos + 1) / double(n);
+      expected[t] += (1.0 - g) * vBefore + g * vNow;
+    }
+  }
+  return expected;
+}
+
 /// Runs the convolver over x (numBlocks blocks per source) with setNextIr(event) before the
 /// event's block, checks against the per-level crossfade reference; returns the relative
 /// error energy. IR sets are lent only while at home, as the pipeline does.
-/// Relative error energy of the convolver's output against the crossfaded reference;
 /// *worstSample receives the largest single-sample error divided by the reference's RMS.
 double runAndCompare(const NonUniformLayout& layout, const std::vector<std::vector<Signal>>& irs,
                      int numSources, int numOutputs, const std::vector<Event>& events,
-                     size_t numBlocks, int phaseSlot, std::mt19937& rng, double* worstSample) {
+                     size_t numBlocks, int phaseSlot, std::mt19937& rng, double* worstSample,
+                     RunOptions& options) {
   const size_t b = size_t(layout.blockSize());
   const size_t total = numBlocks * b;
   // One set per event (the owner never lends a set twice before it comes back), holding
@@ -73,10 +130,19 @@ double runAndCompare(const NonUniformLayout& layout, const std::vector<std::vect
   for (int s = 0; s < numSources; ++s) x.push_back(randomSignal(rng, total));
 
   NonUniformConvolver conv(layout, numSources, numOutputs, phaseSlot);
+  conv.setSkipSilentLevels(options.skipSilentLevels);
   std::vector<Signal> out(size_t(numOutputs), Signal(total, 0.0f));
   std::vector<char> atHome(sets.size(), 1);
   std::vector<const float*> in(static_cast<size_t>(numSources), nullptr);
   std::vector<float*> o(static_cast<size_t>(numOutputs), nullptr);
+  const auto takeHome = [&] {
+    while (const NonUniformIrSet* r = conv.takeRetired()) {
+      size_t i = 0;
+      while (sets[i].get() != r) ++i;
+      REQUIRE_FALSE(atHome[i]);  // returned once
+      atHome[i] = 1;
+    }
+  };
   size_t e = 0;
   for (size_t k = 0; k < numBlocks; ++k) {
     for (; e < events.size() && events[e].block == k; ++e) {
@@ -87,59 +153,22 @@ double runAndCompare(const NonUniformLayout& layout, const std::vector<std::vect
     for (int s = 0; s < numSources; ++s) in[size_t(s)] = x[size_t(s)].data() + k * b;
     for (int c = 0; c < numOutputs; ++c) o[size_t(c)] = out[size_t(c)].data() + k * b;
     conv.process(in.data(), o.data(), k % 2 == 1);  // add mode on zeroed output: same result
-    while (const NonUniformIrSet* r = conv.takeRetired()) {
-      size_t i = 0;
-      while (sets[i].get() != r) ++i;
-      REQUIRE_FALSE(atHome[i]);  // returned once
-      atHome[i] = 1;
-    }
+    takeHome();
   }
 
-  // Newest IR at callback k (after the events of block k).
-  auto newestAt = [&](long long k) {
-    int ir = -1;
-    for (const Event& ev : events)
-      if (static_cast<long long>(ev.block) <= k) ir = ev.ir;
-    return ir;
-  };
   double err = 0.0, energy = 0.0, maxErr = 0.0;
   for (int c = 0; c < numOutputs; ++c) {
-    std::vector<double> expected(total, 0.0);
-    for (int l = 0; l < layout.numLevels(); ++l) {
-      const NonUniformLayout::Level& lv = layout.level(l);
-      const size_t n = size_t(lv.partitionSize);
-      const size_t begin = lv.offset, end = lv.offset + size_t(lv.numPartitions) * n;
-      // Per IR: the level segment's output summed over sources.
-      std::vector<std::vector<double>> seg(irs.size());
-      for (size_t i = 0; i < irs.size(); ++i) {
-        seg[i].assign(total, 0.0);
-        for (int s = 0; s < numSources; ++s) {
-          const auto y =
-              segmentConvolution(x[size_t(s)], irs[i][size_t(s * numOutputs + c)], begin, end);
-          for (size_t t = 0; t < total; ++t) seg[i][t] += y[t];
-        }
-      }
-      // The level's chunks are shifted by its phase: local block k + phi (header).
-      const long long m = lv.period, phase = conv.levelPhase(l);
-      for (size_t t = begin; t < total; ++t) {
-        const size_t local = t - begin + size_t(phase) * b;
-        const long long chunk = (long long)(local / n);
-        const size_t pos = local % n;
-        const int now = newestAt((chunk + 1) * m - 1 - phase);
-        const int before = newestAt(chunk * m - 1 - phase);
-        const double vNow = now < 0 ? 0.0 : seg[size_t(now)][t];
-        const double vBefore = before < 0 ? 0.0 : seg[size_t(before)][t];
-        const double g = now == before ? 1.0 : double(pos + 1) / double(n);
-        expected[t] += (1.0 - g) * vBefore + g * vNow;
-      }
-    }
-    for (size_t t = 0; t < total; ++t) {
+    const std::vector<double> expected =
+        crossfadeReference(layout, conv, irs, x, numSources, numOutputs, events, c);
+    for (size_t t = options.compareFrom; t < total; ++t) {
       const double d = double(out[size_t(c)][t]) - expected[t];
       maxErr = std::max(maxErr, std::abs(d));
       err += d * d;
       energy += expected[t] * expected[t];
     }
   }
+  options.skippedTransforms = conv.skippedTransforms();
+  options.stalePartitions = conv.stalePartitions();
   // Every set comes home once no level uses it.
   REQUIRE(conv.setNextIr(nullptr));
   const size_t settle = 4 * size_t(layout.level(layout.numLevels() - 1).period) + 2;
@@ -148,16 +177,11 @@ double runAndCompare(const NonUniformLayout& layout, const std::vector<std::vect
   for (int c = 0; c < numOutputs; ++c) o[size_t(c)] = sink.data() + size_t(c) * b;
   for (size_t k = 0; k < settle; ++k) {
     conv.process(in.data(), o.data());
-    while (const NonUniformIrSet* r = conv.takeRetired()) {
-      size_t i = 0;
-      while (sets[i].get() != r) ++i;
-      REQUIRE_FALSE(atHome[i]);
-      atHome[i] = 1;
-    }
+    takeHome();
   }
   CHECK_FALSE(conv.swapping());
   for (char h : atHome) CHECK(h);
-  const double rms = std::sqrt(energy / double(total * size_t(numOutputs)));
+  const double rms = std::sqrt(energy / double((total - options.compareFrom) * size_t(numOutputs)));
   *worstSample = rms > 0.0 ? maxErr / rms : maxErr;
   return energy > 0.0 ? err / energy : err;
 }
@@ -198,9 +222,7 @@ TEST_CASE("Non-uniform convolution equals direct convolution, with IR swaps", "[
     int block, maxPartition, sources, outputs;
     size_t irLength;
     bool swaps;
-    /// IRs silent before a random onset (each IR and channel its own, up to 60 % of the IR, at
-    /// times the whole IR): leading partitions are skipped.
-    bool onsets = false;
+    bool onsets = false;  ///< IRs silent before random onsets (up to 60 %, at times all)
   };
   std::vector<Case> cases = {{1, 16, 1, 1, 301, false},
                              {3, 48, 2, 1, 777, true},
@@ -251,8 +273,9 @@ TEST_CASE("Non-uniform convolution equals direct convolution, with IR swaps", "[
     }
     double worstSample = 0.0;
     const int slot = int(&cs - cases.data()) % NonUniformConvolver::kPhaseSlots;
+    RunOptions options;  // onsets jump anywhere here: every chunk transformed (test below)
     const double rel = runAndCompare(layout, irs, cs.sources, cs.outputs, events, numBlocks, slot,
-                                     rng, &worstSample);
+                                     rng, &worstSample, options);
     const double tol = tolerance(layout, cs.sources);
     const double db = 10.0 * std::log10(std::max(rel, 1e-300));
     worstDb = std::max(worstDb, db);
@@ -295,4 +318,115 @@ TEST_CASE("Non-uniform convolver: levels' last callbacks never coincide", "[conv
   CHECK(worst == 1);
   CHECK_THROWS_AS(NonUniformConvolver(layout, 1, 1, NonUniformConvolver::kPhaseSlots),
                   std::invalid_argument);
+}
+
+namespace {
+
+/// One IR per source (one output channel), random, silent before that source's onset.
+std::vector<Signal> irsWithOnsets(std::mt19937& rng, size_t length,
+                                  std::initializer_list<size_t> onsets) {
+  std::vector<Signal> irs;
+  for (size_t onset : onsets) {
+    irs.push_back(randomSignal(rng, length));
+    std::fill(irs.back().begin(), irs.back().begin() + long(onset), 0.0f);
+  }
+  return irs;
+}
+
+}  // namespace
+
+TEST_CASE("Non-uniform convolver: levels a source is silent at skip their transforms",
+          "[convolver]") {
+  // B = 64, levels [0, 384), [384, 1920) and [1920, 6007) samples: level 0 transforms a
+  // source whose sets all start sounding at or after 768, level 1 at or after 3456 (one
+  // segment beyond each level's end); the last level always transforms.
+  std::mt19937 rng(20261125);
+  const NonUniformLayout layout(64, 6007, 4096);
+  REQUIRE(layout.numLevels() == 3);
+  const double tol = tolerance(layout, 2);
+  // Source 0 approaches: its onset drifts from 4000 to 100 samples over five sets 60 blocks
+  // apart, each step within the margin (level 1 resumes at 3000 and sounds from 1500, level 0
+  // resumes at 700 and sounds from 100); source 1 sounds from its first sample throughout.
+  const size_t drift[] = {4000, 3000, 1500, 700, 100};
+  std::vector<std::vector<Signal>> irs;
+  std::vector<Event> events;
+  for (size_t i = 0; i < std::size(drift); ++i) {
+    irs.push_back(irsWithOnsets(rng, 6007, {drift[i], 0}));
+    events.push_back({i * 60, int(i)});
+  }
+  double worst = 0.0;
+  RunOptions drifting;
+  drifting.skipSilentLevels = true;
+  double rel = runAndCompare(layout, irs, 2, 1, events, 400, 0, rng, &worst, drifting);
+  INFO("drift: error " << 10 * std::log10(std::max(rel, 1e-300)) << " dB, "
+                       << drifting.skippedTransforms << " transforms skipped, "
+                       << drifting.stalePartitions << " stale partitions");
+  CHECK(drifting.skippedTransforms > 0);
+  CHECK(drifting.stalePartitions == 0);
+  CHECK(rel < tol);
+  CHECK(worst < 30.0 * std::sqrt(tol));
+
+  // A jump (a teleport) from onset 4000 to 0 at block 100: the partitions whose input chunk
+  // was skipped are left out and counted; once every level has transformed P_l + 2 chunks
+  // again the output is exact. Compared over the whole run the loss shows.
+  irs = {irsWithOnsets(rng, 6007, {4000, 0}), irsWithOnsets(rng, 6007, {0, 0})};
+  events = {{0, 0}, {100, 1}};
+  size_t settle = 0;
+  for (int l = 0; l < layout.numLevels(); ++l)
+    settle = std::max(settle,
+                      size_t(layout.level(l).numPartitions + 2) * size_t(layout.level(l).period));
+  const size_t blocks = 100 + settle + 100;
+  RunOptions after;
+  after.skipSilentLevels = true;
+  after.compareFrom = (100 + settle) * 64;
+  rel = runAndCompare(layout, irs, 2, 1, events, blocks, 1, rng, &worst, after);
+  INFO("after the jump and " << settle << " blocks: error "
+                             << 10 * std::log10(std::max(rel, 1e-300)) << " dB, "
+                             << after.stalePartitions << " stale partitions");
+  CHECK(after.stalePartitions > 0);
+  CHECK(rel < tol);
+  CHECK(worst < 30.0 * std::sqrt(tol));
+  RunOptions whole;
+  whole.skipSilentLevels = true;
+  rel = runAndCompare(layout, irs, 2, 1, events, blocks, 1, rng, &worst, whole);
+  CHECK(whole.stalePartitions == after.stalePartitions);
+  CHECK(rel > tol);
+}
+
+TEST_CASE("Non-uniform IR set: leading partitions within -80 dB of the peak count as silent",
+          "[convolver]") {
+  // A synthesised IR is not exactly zero before its direct sound (its band filters ring ahead
+  // of it at about -95 dB): such leading partitions must not cost multiplies or transforms.
+  // B = 64: level 0 holds partitions of 64 samples from 0, level 1 of 256 from 384.
+  std::mt19937 rng(7);
+  const NonUniformLayout layout(64, 6007, 4096);
+  NonUniformIrSet set(layout, 2, 1);
+  const float peak = 0.5f;
+  for (const float lead :
+       {0.5f * NonUniformIrSet::kLeadingSilence, 2.0f * NonUniformIrSet::kLeadingSilence}) {
+    Signal ir = randomSignal(rng, 6007);
+    for (float& v : ir) v = std::clamp(v, -peak, peak);
+    ir[3000] = peak;
+    for (size_t i = 0; i < 1000; ++i) ir[i] = (i % 2 ? -lead : lead) * peak;  // the ringing
+    const float* ch = ir.data();
+    set.prepare(0, &ch, ir.size());
+    INFO("leading level " << lead << " of the peak");
+    if (lead < NonUniformIrSet::kLeadingSilence) {
+      // Sounding from sample 1000: level 0 (64-sample partitions, [0, 384)) is all silent,
+      // level 1 (256-sample partitions from 384) sounds from its partition 2, [896, 1152).
+      CHECK(set.firstSoundingPartition(0, 0) == set.activePartitions(0, 0));
+      CHECK(set.firstSoundingPartition(0, 1) == 2);
+      CHECK(set.onsetSample(0) == 896);
+    } else {
+      CHECK(set.firstSoundingPartition(0, 0) == 0);
+      CHECK(set.onsetSample(0) == 0);
+    }
+  }
+  // Silence (n = 0) and exact zeros.
+  set.prepare(1, nullptr, 0);
+  CHECK(set.onsetSample(1) == NonUniformIrSet::kSilent);
+  const Signal zeros(6007, 0.0f);
+  const float* z = zeros.data();
+  set.prepare(1, &z, zeros.size());
+  CHECK(set.onsetSample(1) == NonUniformIrSet::kSilent);
 }

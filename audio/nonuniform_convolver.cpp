@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cassert>
-#include <cmath>
 #include <cstring>
 #include <limits>
 #include <stdexcept>
@@ -91,28 +90,17 @@ const float* NonUniformIrSet::spectrum(int level, int source, int channel, int p
 }
 
 namespace {
-/// The first of level lv's `active` partitions in which some channel of irs (n samples each)
-/// exceeds `floor` in magnitude; `active` when none does.
+/// The first of level lv's `active` partitions in which some channel of irs (n samples each) is
+/// not silent; `active` when all are.
 int firstSounding(const NonUniformLayout::Level& lv, int active, const float* const* irs,
-                  int numChannels, size_t n, float floor) {
+                  int numChannels, size_t n) {
   const size_t len = size_t(lv.partitionSize);
   for (int p = 0; p < active; ++p) {
     const size_t begin = lv.offset + size_t(p) * len, end = std::min(n, begin + len);
     for (int c = 0; c < numChannels; ++c)
-      if (std::any_of(irs[c] + begin, irs[c] + end,
-                      [floor](float v) { return std::abs(v) > floor; }))
-        return p;
+      if (std::any_of(irs[c] + begin, irs[c] + end, [](float v) { return v != 0.0f; })) return p;
   }
   return active;
-}
-
-/// kLeadingSilence times the largest magnitude of any channel of irs: the level at or below
-/// which leading partitions count as silent (0 for a silent IR: exact zeros only).
-float silenceFloor(const float* const* irs, int numChannels, size_t n) {
-  float peak = 0.0f;
-  for (int c = 0; c < numChannels; ++c)
-    for (size_t i = 0; i < n; ++i) peak = std::max(peak, std::abs(irs[c][i]));
-  return peak * NonUniformIrSet::kLeadingSilence;
 }
 }  // namespace
 
@@ -125,7 +113,6 @@ void NonUniformIrSet::prepare(int source, const float* const* irs, size_t n) {
                                 " samples exceeds the layout's " +
                                 std::to_string(layout_->maxIrSamples()));
   float* time = time_.get();
-  const float floor = silenceFloor(irs, numChannels_, n);
   for (int l = 0; l < layout_->numLevels(); ++l) {
     const NonUniformLayout::Level& lv = layout_->level(l);
     const size_t len = size_t(lv.partitionSize);
@@ -150,7 +137,7 @@ void NonUniformIrSet::prepare(int source, const float* const* irs, size_t n) {
     }
     const size_t at = size_t(source) * size_t(layout_->numLevels()) + size_t(l);
     active_[at] = active;
-    first_[at] = firstSounding(lv, active, irs, numChannels_, n, floor);
+    first_[at] = firstSounding(lv, active, irs, numChannels_, n);
   }
   size_t onset = kSilent;
   for (int l = layout_->numLevels() - 1; l >= 0; --l) {
@@ -294,11 +281,12 @@ void NonUniformConvolver::accumulate(int level, LevelState& st, int s, int begin
   const size_t spec = layout_->level(level).fft->spectrumFloats();
   if (st.cur) {
     for (int c = 0; c < numOutputs_; ++c) accPtrs_[size_t(c)] = st.acc[size_t(c)].get();
-    stalePartitions_ += uint64_t(macSource(st, level, st.cur, accPtrs_.data(), s, begin, end));
+    count(stalePartitions_, uint64_t(macSource(st, level, st.cur, accPtrs_.data(), s, begin, end)));
   }
   if (crossfade && st.next) {
     for (int c = 0; c < numOutputs_; ++c) accPtrs_[size_t(c)] = st.acc[size_t(c)].get() + spec;
-    stalePartitions_ += uint64_t(macSource(st, level, st.next, accPtrs_.data(), s, begin, end));
+    count(stalePartitions_,
+          uint64_t(macSource(st, level, st.next, accPtrs_.data(), s, begin, end)));
   }
 }
 
@@ -335,7 +323,7 @@ void NonUniformConvolver::processLevel(int l, const float* const* in, float* con
       lv.fft->forward(window, st.fdl[size_t(s)].get() + size_t(st.head) * lv.fft->spectrumFloats());
     } else {
       st.skippedAt[size_t(s)] = st.chunk;
-      ++skippedTransforms_;
+      count(skippedTransforms_, 1);
     }
     // The chunk just transformed is the first half of the next chunk's window.
     std::memcpy(st.input[size_t(st.filling)][size_t(s)].get(), window + n, n * sizeof(float));

@@ -64,6 +64,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -134,19 +135,13 @@ class NonUniformIrSet {
   int activePartitions(int source, int level) const {
     return active_[size_t(source) * size_t(layout_->numLevels()) + size_t(level)];
   }
-  /// The first partition of level l in which some channel of source s's IR exceeds
-  /// kLeadingSilence of its peak (activePartitions when none does); the partitions before it
-  /// are skipped.
+  /// The first partition of level l in which some channel of source s's IR is not silent
+  /// (activePartitions when none is); the partitions before it are skipped.
   int firstSoundingPartition(int source, int level) const {
     return first_[size_t(source) * size_t(layout_->numLevels()) + size_t(level)];
   }
   /// Split spectrum of partition p of level l, source s, channel c.
   const float* spectrum(int level, int source, int channel, int p) const;
-  /// Leading partitions whose samples all lie within this fraction of the IR's peak magnitude
-  /// (over its channels) count as silent: -80 dB, below what the synthesis leaves before a
-  /// direct sound (its band filters' pre-ringing, about -95 dB at the IR's start) and far below
-  /// audibility next to the IR's own peak. They are not multiplied.
-  static constexpr float kLeadingSilence = 1e-4f;
   /// The IR sample where source s's first sounding partition starts (over all levels);
   /// kSilent when every channel of its IR is silent.
   size_t onsetSample(int source) const { return onset_[size_t(source)]; }
@@ -211,11 +206,11 @@ class NonUniformConvolver {
   /// of successive sets. Control thread, before the first process().
   void setSkipSilentLevels(bool skip) { skipSilentLevels_ = skip; }
   /// Forward FFTs skipped so far because the source was silent at that level (see "Silent
-  /// levels"). Audio thread (or after it stopped).
-  uint64_t skippedTransforms() const { return skippedTransforms_; }
+  /// levels"). Any thread (relaxed).
+  uint64_t skippedTransforms() const { return skippedTransforms_.load(std::memory_order_relaxed); }
   /// Partitions not multiplied because their input chunk was skipped (a response's onset
-  /// jumped; see "Silent levels"): sound lost, counted. Audio thread (or after it stopped).
-  uint64_t stalePartitions() const { return stalePartitions_; }
+  /// jumped; see "Silent levels"): sound lost, counted. Any thread (relaxed).
+  uint64_t stalePartitions() const { return stalePartitions_.load(std::memory_order_relaxed); }
 
  private:
   struct LevelState {
@@ -269,8 +264,13 @@ class NonUniformConvolver {
   const NonUniformIrSet* target_ = nullptr;
   uint64_t block_ = 0;
   bool skipSilentLevels_ = true;
-  uint64_t skippedTransforms_ = 0;
-  uint64_t stalePartitions_ = 0;
+  /// Written by the audio thread alone (load + store, no read-modify-write), read by any.
+  std::atomic<uint64_t> skippedTransforms_{0};
+  std::atomic<uint64_t> stalePartitions_{0};
+  /// Adds n to a counter only the audio thread writes.
+  static void count(std::atomic<uint64_t>& counter, uint64_t n) {
+    if (n) counter.store(counter.load(std::memory_order_relaxed) + n, std::memory_order_relaxed);
+  }
   FixedRing<const NonUniformIrSet*> retired_{kRetiredCapacity};
 };
 

@@ -179,4 +179,13 @@ IrSet* AudioStage::takeSpent() {
   return spent_.tryPop(s) ? s : nullptr;
 }
 
+uint64_t AudioStage::stalePartitions() const {
+  return convolver_.stalePartitions() + (lateConvolver_ ? lateConvolver_->stalePartitions() : 0);
+}
+
+uint64_t AudioStage::skippedTransforms() const {
+  return convolver_.skippedTransforms() +
+         (lateConvolver_ ? lateConvolver_->skippedTransforms() : 0);
+}
+
 }  // namespace dpc

@@ -63,6 +63,11 @@ class AudioStage {
   /// IR sets that found the spent ring full (takeSpent() not drained): they never return to
   /// the pool. Any thread (relaxed); 0 when the caller drains takeSpent() after every block.
   uint64_t lostSets() const { return spent_.overflows(); }
+  /// Partitions the convolvers left out because a response's onset jumped past their skipped
+  /// transforms (NonUniformConvolver::stalePartitions; early parts and late buses). Any thread.
+  uint64_t stalePartitions() const;
+  /// Forward FFTs the convolvers skipped for sources silent at a level. Any thread.
+  uint64_t skippedTransforms() const;
 
  private:
   /// Hands the pending set to the convolver if it has room.

@@ -261,6 +261,7 @@ LiveSession::Status LiveSession::status() const {
   st.latencyMedianMs = lat.callbacks ? double(lat.quantileNs(0.5)) * 1e-6 : 0.0;
   st.latencyP95Ms = lat.callbacks ? double(lat.quantileNs(0.95)) * 1e-6 : 0.0;
   st.irsLost = audioStage_->lostSets() + fromAudio_->overflows();
+  st.stalePartitions = audioStage_->stalePartitions();
   st.recordDropped = recorder_ ? recorder_->droppedSamples() : 0;
   st.limitedFrames = limiter_->limitedFrames();
   st.overCeilingFrames = limiter_->overCeilingFrames();

@@ -155,6 +155,7 @@ void OfflineRender::finish() {
     lr.lastSourcePositions = world_.sourcePositions;
     lr.irsApplied = audioStages_[k]->irsApplied();
     result_.irsLost += audioStages_[k]->lostSets();
+    result_.stalePartitions += audioStages_[k]->stalePartitions();
     for (size_t s = 0; s < sim.sourceCount(); ++s) {
       const Simulation::SourceResult& sr = sim.result(s, listeners_[k]);
       totals.add(sr);

@@ -69,6 +69,8 @@ struct OfflineResult {
   /// IR sets an audio stage could not hand back (its spent ring was full); 0 unless a ring
   /// is too small.
   uint64_t irsLost = 0;
+  /// Convolution partitions left out after an onset jump (AudioStage::stalePartitions).
+  uint64_t stalePartitions = 0;
   double wallSeconds = 0.0;
   /// Baked playback's counts (all 0 without OfflineOptions::bake).
   BakedPlayback::Stats bake;

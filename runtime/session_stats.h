@@ -61,6 +61,9 @@ struct SessionStatus {
   /// IR sets that found a hand-over ring full and never came back to the pool (0 unless a
   /// ring is too small: a bug worth reporting).
   uint64_t irsLost = 0;
+  /// Convolution partitions left out because a response's onset jumped past transforms the
+  /// convolver had skipped (a teleport; NonUniformConvolver::stalePartitions).
+  uint64_t stalePartitions = 0;
   double irAgeMs = 0.0;          ///< age of the IR playing, at the last block
   double latencyMedianMs = 0.0;  ///< motion-to-sound latency, since start
   double latencyP95Ms = 0.0;

@@ -167,8 +167,9 @@ void printTotals(const OfflineResult& r, double audioSeconds) {
       t.prepareSeconds, r.wallSeconds, audioSeconds / r.wallSeconds);
   std::printf(
       "energy beyond the IR length %.3g %% of the last response (largest per pair)  "
-      "IR sets lost %llu\n",
-      100.0 * r.last.droppedEnergyFraction, (unsigned long long)r.irsLost);
+      "IR sets lost %llu  convolution partitions left out after a jump %llu\n",
+      100.0 * r.last.droppedEnergyFraction, (unsigned long long)r.irsLost,
+      (unsigned long long)r.stalePartitions);
   std::printf("cache pool in use %.1f MB  per pair (%zu): smallest %.2f MB, mean %.2f MB, "
               "largest %.2f MB\n",
               r.last.cachePoolUsedBytes / 1e6, r.last.cachePairs, r.last.cachePairBytesMin / 1e6,

@@ -139,14 +139,15 @@ void NonUniformIrSet::prepare(int source, const float* const* irs, size_t n) {
     active_[at] = active;
     first_[at] = firstSounding(lv, active, irs, numChannels_, n);
   }
-  size_t onset = kSilent;
-  for (int l = layout_->numLevels() - 1; l >= 0; --l) {
-    const NonUniformLayout::Level& lv = layout_->level(l);
+  // Levels follow each other in the IR: the first level that sounds holds the onset.
+  onset_[size_t(source)] = kSilent;
+  for (int l = 0; l < layout_->numLevels(); ++l) {
     const int first = firstSoundingPartition(source, l);
-    if (first < activePartitions(source, l))
-      onset = lv.offset + size_t(first) * size_t(lv.partitionSize);
+    if (first == activePartitions(source, l)) continue;
+    const NonUniformLayout::Level& lv = layout_->level(l);
+    onset_[size_t(source)] = lv.offset + size_t(first) * size_t(lv.partitionSize);
+    break;
   }
-  onset_[size_t(source)] = onset;
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -183,9 +183,4 @@ uint64_t AudioStage::stalePartitions() const {
   return convolver_.stalePartitions() + (lateConvolver_ ? lateConvolver_->stalePartitions() : 0);
 }
 
-uint64_t AudioStage::skippedTransforms() const {
-  return convolver_.skippedTransforms() +
-         (lateConvolver_ ? lateConvolver_->skippedTransforms() : 0);
-}
-
 }  // namespace dpc

@@ -66,8 +66,6 @@ class AudioStage {
   /// Partitions the convolvers left out because a response's onset jumped past their skipped
   /// transforms (NonUniformConvolver::stalePartitions; early parts and late buses). Any thread.
   uint64_t stalePartitions() const;
-  /// Forward FFTs the convolvers skipped for sources silent at a level. Any thread.
-  uint64_t skippedTransforms() const;
 
  private:
   /// Hands the pending set to the convolver if it has room.

@@ -87,6 +87,25 @@ void mergeCoincidentArrivals(std::vector<Arrival>& arrivals, int sampleRate) {
   arrivals.resize(out);
 }
 
+size_t cutLeadingResidue(std::span<float* const> channels, size_t length, size_t onset,
+                         int sampleRate) {
+  const size_t end = std::min(length, onset + size_t(sampleRate / 1000));
+  double reference = 0.0;
+  for (const float* x : channels)
+    for (size_t n = 0; n < end; ++n) reference += double(x[n]) * double(x[n]);
+  const double allowed = reference * kLeadingResidueEnergy;
+  double cut = 0.0;
+  size_t count = 0;
+  for (; count < end; ++count) {
+    double e = 0.0;
+    for (const float* x : channels) e += double(x[count]) * double(x[count]);
+    if (cut + e > allowed) break;
+    cut += e;
+  }
+  for (float* x : channels) std::fill(x, x + count, 0.f);
+  return count;
+}
+
 DirectSoundFilter::DirectSoundFilter(const OctaveBandMasks& masks, FftwRealTransforms& fft,
                                      size_t taps)
     : centre_(taps / 2) {

@@ -9,6 +9,7 @@
 #include <array>
 #include <cstddef>
 #include <numbers>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -85,6 +86,21 @@ struct Arrival {
 /// sources on one sample carry 9, not 3, times one's energy), and sorts them by delay. Any
 /// thread; no allocation; no errors.
 void mergeCoincidentArrivals(std::vector<Arrival>& arrivals, int sampleRate);
+
+/// Energy, relative to everything up to 1 ms after the first arrival, that
+/// cutLeadingResidue may remove ahead of it: -80 dB.
+inline constexpr double kLeadingResidueEnergy = 1e-8;
+
+/// Sets to exactly zero the leading samples of an IR (`channels`, each `length` samples) whose
+/// energy summed over the channels is at most kLeadingResidueEnergy of the energy up to 1 ms
+/// after `onset` (the first arrival's sample); one cut for all channels, so their relative
+/// timing is kept. What lies there is the zero-phase band filters' ringing ahead of the first
+/// arrival (their pulses' leading taps and the band levelling's circular split), no arrival:
+/// cutting it bounds the loss at -80 dB of the first arrival's sound and lets a partitioned
+/// convolver skip the partitions ahead of it. Returns the samples zeroed. Any thread; no
+/// allocation; no errors.
+size_t cutLeadingResidue(std::span<float* const> channels, size_t length, size_t onset,
+                         int sampleRate);
 
 /// The direct-sound filters: per band the impulse response a_b of A_b (zero phase), `taps`
 /// samples long with time 0 at index centre() = taps / 2. Its energy as a band measurement with

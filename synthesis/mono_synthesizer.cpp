@@ -66,6 +66,8 @@ void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& 
   clearAroundArrivals(ir);
   for (const Arrival& a : arrivals_) addArrival(a, ir);
   cleanUp(energy, ir);
+  float* const channels[] = {ir};
+  cutLeadingResidue(channels, length_, onset, sampleRate_);
   // The envelope's unplaced energy is as a band measurement sees it (E_b beta_b).
   for (int b = 0; b < kNumBands; ++b)
     missingBands_[b] = float(envelope_->unplacedEnergy()[size_t(b)] / filterData_.share[size_t(b)]);

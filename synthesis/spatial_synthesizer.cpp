@@ -103,7 +103,8 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
 }
 
 void SpatialIrSynthesizer::setParallelLevelling(int workers, ParallelFor parallel) {
-  const size_t w = std::clamp<size_t>(size_t(std::max(workers, 1)), 1, std::max<size_t>(1, channels_));
+  const size_t w =
+      std::clamp<size_t>(size_t(std::max(workers, 1)), 1, std::max<size_t>(1, channels_));
   while (levellers_.size() < w)
     levellers_.push_back(
         std::make_unique<BandLeveller>(sampleRate_, length_, kDirectionalFromBand, levelStart_));
@@ -298,6 +299,7 @@ void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
     addArrival(arrival, energy.toListener(p.direction), channels);
   }
   level(energy, count, channels);
+  cutLeadingResidue(channels, length_, onset, sampleRate_);
 }
 
 void SpatialIrSynthesizer::accumulateDirections(size_t count, std::span<float* const> channels,
@@ -362,8 +364,7 @@ void SpatialIrSynthesizer::level(const DirectionalEnergyResponse& energy, size_t
     BandLeveller& leveller = *levellers_[g];
     for (size_t c = g; c < channels_; c += workers) {
       leveller.clearTargets();
-      for (size_t d = 0; d < count; ++d)
-        leveller.addBinned(binned_[d], channelWeight_[d][c]);
+      for (size_t d = 0; d < count; ++d) leveller.addBinned(binned_[d], channelWeight_[d][c]);
       for (size_t i = 0; i < arrivalDelays_.size(); ++i)
         leveller.addDirect(arrivalDelays_[i], arrivalEnergy_[i * channels_ + c]);
       leveller.apply(channels[c], kLevelTolerance, kLevelMaxBoost);

@@ -29,8 +29,10 @@ LiveSession::LiveSession(std::shared_ptr<const SceneDesc> scene,
       options_(options),
       blockSize_(scene_->audio.blockSize),
       sampleRate_(scene_->audio.sampleRate),
-      propagation_(
-          std::make_unique<PropagationStage>(scene_, settings, std::max(3, options.poolSize))),
+      propagation_(std::make_unique<PropagationStage>(
+          scene_, settings, std::max(3, options.poolSize),
+          options.measureFftPlans ? audio::ConvolverLayout::Planning::kMeasure
+                                  : audio::ConvolverLayout::Planning::kEstimate)),
       audioStage_(std::make_unique<AudioStage>(*propagation_, std::move(dry))),
       poses_(scene_, checkedListener(*scene_, options.listener)),
       // Room in either ring for every set of the pool, so a push never fails for want of space.

@@ -61,6 +61,10 @@ class LiveSession {
     /// ready, plus one block for the audio thread to pick it up). Infinite: the frame period
     /// alone bounds the rays.
     double latencyTargetSeconds = 0.05;
+    /// Measured FFTW plans for the convolvers (PropagationStage): faster callbacks, at a
+    /// construction slower by up to a second or so and output that may differ from run to run
+    /// in float rounding. Off by default (a plugin's instantiate must return quickly).
+    bool measureFftPlans = false;
   };
 
   /// Control thread. Builds the stages (Embree scene, IR synthesisers, convolvers, rings) over

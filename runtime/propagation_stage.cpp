@@ -195,15 +195,17 @@ std::unique_ptr<SpatialIrSynthesizer> makeSpatialSynthesizer(const SceneDesc& sc
 }
 
 PropagationStage::PropagationStage(std::shared_ptr<const SceneDesc> scene,
-                                   const PropagationSettings& settings, int poolSize)
+                                   const PropagationSettings& settings, int poolSize,
+                                   audio::ConvolverLayout::Planning planning)
     : scene_(std::move(scene)),
       numOutputs_(outputChannels(scene_->audio)),
       channelScratch_(size_t(numOutputs_)) {
   simulation_ = std::make_unique<Simulation>(*scene_, settings);
   const double early = hybridEarlySeconds(settings);
   makeSynthesizers(settings, early > 0.0);
-  if (early > 0.0) makeHybrid(settings, early);
-  layout_ = std::make_shared<const audio::NonUniformLayout>(scene_->audio.blockSize, irSamples_);
+  if (early > 0.0) makeHybrid(settings, early, planning);
+  layout_ = std::make_shared<const audio::NonUniformLayout>(
+      scene_->audio.blockSize, irSamples_, audio::NonUniformLayout::kDefaultMaxPartition, planning);
   makePool(poolSize);
   const auto channels = [&](size_t n, size_t samples) {
     return std::vector<std::vector<std::vector<float>>>(
@@ -223,14 +225,16 @@ double PropagationStage::hybridEarlySeconds(const PropagationSettings& settings)
   return early < double(settings.irLength) ? early : 0.0;  // else the early part is the whole IR
 }
 
-void PropagationStage::makeHybrid(const PropagationSettings& settings, double early) {
+void PropagationStage::makeHybrid(const PropagationSettings& settings, double early,
+                                  audio::ConvolverLayout::Planning planning) {
   const SceneDesc& scene = *scene_;
   hybrid_ = std::make_unique<HybridSynthesis>(
       scene, settings, roomVolume(scene.mesh), spatial_.get(), early, scene.listeners.size(),
       simulation_->propagator().concurrency(), onTracingThreads());
   if (hybrid_->earlySpatial()) levelOnTracingThreads(*hybrid_->earlySpatial());
-  lateLayout_ = std::make_shared<const audio::NonUniformLayout>(scene.audio.blockSize,
-                                                                hybrid_->lateSamples());
+  lateLayout_ = std::make_shared<const audio::NonUniformLayout>(
+      scene.audio.blockSize, hybrid_->lateSamples(), audio::NonUniformLayout::kDefaultMaxPartition,
+      planning);
   irSamples_ = hybrid_->earlySamples();
 }
 
@@ -328,12 +332,11 @@ void PropagationStage::synthesize(size_t s, size_t listener) {
     for (size_t c = 0; c < channelScratch_.size(); ++c) channelScratch_[c] = irs[s][c].data();
     const DirectionalEnergyResponse& live = simulation_->directional(s, listener);
     spatial_->synthesize(baked_ ? baked_->directional(s, listener, live) : live, r.direct,
-                         channelScratch_,
-                         simulation_->specularPaths(s, listener));
+                         channelScratch_, simulation_->specularPaths(s, listener));
   } else {
     synthesizers_[s]->synthesize(baked_ ? baked_->energy(s, listener, r.energy) : r.energy,
-                                 r.direct,
-                                 irs[s][0].data(), simulation_->specularPaths(s, listener));
+                                 r.direct, irs[s][0].data(),
+                                 simulation_->specularPaths(s, listener));
   }
 }
 

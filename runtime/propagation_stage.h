@@ -83,8 +83,13 @@ std::unique_ptr<SpatialIrSynthesizer> makeSpatialSynthesizer(const SceneDesc& sc
 /// neither allocate nor throw (lastIrs: std::out_of_range for a listener never traced).
 class PropagationStage {
  public:
-  PropagationStage(std::shared_ptr<const SceneDesc> scene, const PropagationSettings& settings,
-                   int poolSize = 4);
+  /// `planning` chooses the convolver layouts' FFTW plans: estimated (instant; the same
+  /// transforms, so the same output bit for bit, on every run) or measured (FFTW times
+  /// candidate algorithms at construction, up to a second or so for a 2 s IR: faster
+  /// callbacks, for a live session, whose output is not compared bit for bit).
+  PropagationStage(
+      std::shared_ptr<const SceneDesc> scene, const PropagationSettings& settings, int poolSize = 4,
+      audio::ConvolverLayout::Planning planning = audio::ConvolverLayout::Planning::kEstimate);
 
   /// The frame entry (docs/design.md, "World state"): listener l at world.listener*[l] with
   /// the radius of scene.listeners[l] (evaluateWorld gives one per scene listener; a
@@ -157,7 +162,8 @@ class PropagationStage {
   /// that is shorter than the IR, else 0.
   double hybridEarlySeconds(const PropagationSettings& settings) const;
   /// hybrid_, lateLayout_ and irSamples_ (the early part's) for hybrid rendering.
-  void makeHybrid(const PropagationSettings& settings, double earlySeconds);
+  void makeHybrid(const PropagationSettings& settings, double earlySeconds,
+                  audio::ConvolverLayout::Planning planning);
   /// Hybrid: the late buses' IRs and gains of listener l into `set`.
   void prepareLate(size_t listener, IrSet& set);
   void makePool(int poolSize);

@@ -13,47 +13,43 @@
 
 using namespace dpc;
 
-TEST_CASE("As measured: the expected band analysis equals the mean over noise IRs of the model",
-          "[analysis]") {
-  // The model of expectedBandAnalysisEnergy built sample by sample: per band k and half
-  // octave h (power split at fc by powerAbove), Gaussian white noise with per-sample energy
-  // E_k[j] w_kh[j] / 48 (a band value is a spectral density), shaped in the frequency domain
-  // by M_k sqrt(share_h); w_kh the within-band tilt (halfBandDensity, normalised to keep the band's
-  // energy); plus the zero-phase direct pulse; through the analysis filters; squared and
-  // binned; averaged over R realisations. Different decays per band (so the filters' skirts
-  // and the tilt matter) and a direct sound with a sloping spectrum.
-  constexpr int fs = 48000;
-  constexpr size_t kBin = 48, kPre = 8192, kFft = 65536;
-  constexpr int kRealisations = 48;
-  const double length = 0.6;
-  EnergyResponse er(length, 1e-3);
+namespace {
+
+constexpr int kFs = 48000;
+constexpr size_t kBin = 48, kPre = 8192, kFft = 65536;
+constexpr int kRealisations = 48;
+
+/// Bands falling with a different decay each from 5 ms, over 0.6 s in 1 ms bins.
+EnergyResponse makeEnergyResponse() {
+  EnergyResponse er(0.6, 1e-3);
   for (size_t j = 5; j < er.binCount(); ++j)
     for (int b = 0; b < kNumBands; ++b)
       er.bins()[j][b] =
           float(2e-4 * std::pow(10.0, -6.0 * (double(j) + 0.5) * 1e-3 / (0.9 - 0.08 * double(b))));
+  return er;
+}
+
+/// A direct sound at 3 ms with a spectrum sloping up.
+DirectSound makeDirect() {
   DirectSound direct;
   direct.visible = true;
   direct.delaySeconds = 0.003f;
   for (int b = 0; b < kNumBands; ++b) direct.intensity[b] = float(2e-3 * (1.0 + 0.2 * b));
-  const auto model = expectedBandAnalysisEnergy(er, direct, fs);
+  return direct;
+}
 
-  const OctaveBandMasks masks(fs, kFft);
+/// Half octave h's share (0 below, 1 above band k's centre) of the power at FFT bin f.
+double share(int k, int h, size_t f) {
+  const double p = powerAbove(double(f) * kFs / double(kFft), bandCentreExactHz(k));
+  return h == 0 ? 1.0 - p : p;
+}
+
+using Tilt = std::array<std::array<std::vector<double>, 2>, kNumBands>;
+
+/// The within-band tilt w_kh[j] per band k, half octave h and bin j, keeping the band's energy.
+Tilt withinBandTilt(const EnergyResponse& er, const OctaveBandMasks& masks) {
   const size_t nspec = kFft / 2 + 1;
-  std::vector<float> time(kFft);
-  std::vector<fftwf_complex> spec(nspec), sum(nspec);
-  fftwf_plan fwd = fftwf_plan_dft_r2c_1d(int(kFft), time.data(), spec.data(), FFTW_ESTIMATE);
-  fftwf_plan inv = fftwf_plan_dft_c2r_1d(int(kFft), sum.data(), time.data(), FFTW_ESTIMATE);
-  const size_t n = er.binCount() * kBin;
-  const size_t directAt = kPre + 144;  // 3 ms
-  std::array<std::vector<double>, kNumBands> mean;
-  for (auto& m : mean) m.assign(er.binCount(), 0.0);
-  std::mt19937_64 rng(7);
-  std::normal_distribution<double> normal;
-  auto share = [&](int k, int h, size_t f) {
-    const double p = powerAbove(double(f) * fs / double(kFft), bandCentreExactHz(k));
-    return h == 0 ? 1.0 - p : p;
-  };
-  std::array<std::array<std::vector<double>, 2>, kNumBands> tilt;
+  Tilt tilt;
   for (int k = 0; k < kNumBands; ++k) {
     double width[2] = {0.0, 0.0};
     for (int h = 0; h < 2; ++h)
@@ -67,6 +63,25 @@ TEST_CASE("As measured: the expected band analysis equals the mean over noise IR
       tilt[size_t(k)][1][j] = d.high * norm;
     }
   }
+  return tilt;
+}
+
+/// Per band and 1 ms bin, the analysis filters' energy averaged over kRealisations noise IRs.
+std::array<std::vector<double>, kNumBands> meanOverNoiseIrs(const EnergyResponse& er,
+                                                            const DirectSound& direct) {
+  const OctaveBandMasks masks(kFs, kFft);
+  const size_t nspec = kFft / 2 + 1;
+  const Tilt tilt = withinBandTilt(er, masks);
+  std::vector<float> time(kFft);
+  std::vector<fftwf_complex> spec(nspec), sum(nspec);
+  fftwf_plan fwd = fftwf_plan_dft_r2c_1d(int(kFft), time.data(), spec.data(), FFTW_ESTIMATE);
+  fftwf_plan inv = fftwf_plan_dft_c2r_1d(int(kFft), sum.data(), time.data(), FFTW_ESTIMATE);
+  const size_t n = er.binCount() * kBin;
+  const size_t directAt = kPre + 144;  // 3 ms
+  std::array<std::vector<double>, kNumBands> mean;
+  for (auto& m : mean) m.assign(er.binCount(), 0.0);
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> normal;
   for (int r = 0; r < kRealisations; ++r) {
     for (auto& s : sum) s[0] = s[1] = 0.f;
     for (int kh = 0; kh < 2 * kNumBands; ++kh) {
@@ -95,8 +110,8 @@ TEST_CASE("As measured: the expected band analysis equals the mean over noise IR
     }
     fftwf_execute(inv);
     for (int b = 0; b < kNumBands; ++b) {
-      const OctaveBandPass filter = OctaveBandPass::design(bandCentreExactHz(b), fs);
-      const double unit = filter.impulseEnergy(size_t(fs));  // the model's scale
+      const OctaveBandPass filter = OctaveBandPass::design(bandCentreExactHz(b), kFs);
+      const double unit = filter.impulseEnergy(size_t(kFs));  // the model's scale
       OctaveBandPass::State st{};
       for (size_t i = 0; i < kPre + n; ++i) {
         const double y = filter.step(time[i], st);
@@ -107,6 +122,24 @@ TEST_CASE("As measured: the expected band analysis equals the mean over noise IR
   }
   fftwf_destroy_plan(fwd);
   fftwf_destroy_plan(inv);
+  return mean;
+}
+
+}  // namespace
+
+TEST_CASE("As measured: the expected band analysis equals the mean over noise IRs of the model",
+          "[analysis]") {
+  // The model of expectedBandAnalysisEnergy built sample by sample: per band k and half
+  // octave h (power split at fc by powerAbove), Gaussian white noise with per-sample energy
+  // E_k[j] w_kh[j] / 48 (a band value is a spectral density), shaped in the frequency domain
+  // by M_k sqrt(share_h); w_kh the within-band tilt (halfBandDensity, normalised to keep the band's
+  // energy); plus the zero-phase direct pulse; through the analysis filters; squared and
+  // binned; averaged over R realisations. Different decays per band (so the filters' skirts
+  // and the tilt matter) and a direct sound with a sloping spectrum.
+  const EnergyResponse er = makeEnergyResponse();
+  const DirectSound direct = makeDirect();
+  const auto model = expectedBandAnalysisEnergy(er, direct, kFs);
+  const auto mean = meanOverNoiseIrs(er, direct);
 
   for (int b = 0; b < kNumBands; ++b) {
     const auto& want = model[size_t(b)];

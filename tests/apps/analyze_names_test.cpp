@@ -14,9 +14,9 @@
 #include <sstream>
 #include <string>
 
+#include "analysis/energy_response_csv.h"
 #include "audio/wav_io.h"
 #include "common/bands.h"
-#include "analysis/energy_response_csv.h"
 
 namespace fs = std::filesystem;
 
@@ -46,6 +46,81 @@ std::string firstLine(const std::string& path) {
   std::string line;
   std::getline(f, line);
   return line;
+}
+
+/// Rows "index,time_s,E63..E8000" of the given index, summed per band; `rows`: their count.
+std::array<double, dpc::kNumBands> bandEnergySums(const fs::path& dir, const std::string& args,
+                                                  size_t index, size_t& rows) {
+  const std::string out = (dir / "bands.csv").string();
+  REQUIRE(std::system((kTool + " " + args + " --band-energy > " + out).c_str()) == 0);
+  std::ifstream f(out);
+  std::string line;
+  std::array<double, dpc::kNumBands> sum{};
+  rows = 0;
+  std::getline(f, line);  // comment
+  std::getline(f, line);  // header
+  CHECK(line.find(",time_s,63,125,250,500,1000,2000,4000,8000") != std::string::npos);
+  while (std::getline(f, line)) {
+    std::stringstream cells(line);
+    std::string cell;
+    std::getline(cells, cell, ',');
+    if (std::stoul(cell) != index) continue;
+    ++rows;
+    std::getline(cells, cell, ',');
+    for (double& s : sum) {
+      std::getline(cells, cell, ',');
+      s += cell.empty() ? std::nan("") : std::stod(cell);
+    }
+  }
+  return sum;
+}
+
+/// The "bands" of the first entry of `list` in dpc-analyze's --json output (written in `dir`).
+nlohmann::json strengthBands(const fs::path& dir, const std::string& args, const char* list) {
+  const std::string out = (dir / "out.json").string();
+  REQUIRE(std::system((kTool + " " + args + " --json > " + out).c_str()) == 0);
+  return readJson(out).at(list).at(0).at("bands");
+}
+
+/// An energy response decaying with T60 0.6 s from 6 ms, and a white direct sound at 4 ms.
+dpc::SourceEnergy decayingEnergyResponse() {
+  dpc::SourceEnergy s{dpc::EnergyResponse(1.0, 1e-3), dpc::DirectSound{}};
+  s.direct.visible = true;
+  s.direct.delaySeconds = 0.004f;
+  for (int b = 0; b < dpc::kNumBands; ++b) {
+    s.direct.intensity[b] = 1e-3f;
+    for (size_t j = 6; j < s.energy.binCount(); ++j)
+      s.energy.bins()[j][b] = float(1e-4 * std::pow(10.0, -6.0 * double(j) * 1e-3 / 0.6));
+  }
+  return s;
+}
+
+/// A two-channel 1 s IR at 16 kHz: a pulse at 2.5 ms in channel 1, a decay from 5 ms in 2.
+dpc::audio::AudioData decayingIr16k() {
+  dpc::audio::AudioData ir;
+  ir.sampleRate = 16000;
+  ir.channels.assign(2, std::vector<float>(16000, 0.f));
+  for (size_t i = 80; i < ir.channels[1].size(); ++i)  // 5 ms of silence, then a decay
+    ir.channels[1][i] = float(0.1 * std::pow(10.0, -3.0 * double(i - 80) / 16000.0 / 0.5) *
+                              (i % 3 == 0 ? 1.0 : -0.5));
+  ir.channels[0][40] = 0.5f;
+  return ir;
+}
+
+/// Writes `samples` to `path` as a mono 16 kHz float WAV, non-finite samples included.
+void writeFloatWav16k(const std::string& path, const std::vector<float>& samples) {
+  // writeWav refuses non-finite samples: write the float WAV by hand (RIFF, format 3).
+  std::ofstream f(path, std::ios::binary);
+  auto u32 = [&](uint32_t v) { f.write(reinterpret_cast<const char*>(&v), 4); };
+  auto u16 = [&](uint16_t v) { f.write(reinterpret_cast<const char*>(&v), 2); };
+  const uint32_t bytes = uint32_t(samples.size() * 4);
+  f << "RIFF";
+  u32(36 + bytes);
+  f << "WAVEfmt ";
+  u32(16), u16(3), u16(1), u32(16000), u32(64000), u16(4), u16(32);
+  f << "data";
+  u32(bytes);
+  f.write(reinterpret_cast<const char*>(samples.data()), bytes);
 }
 
 }  // namespace
@@ -152,95 +227,44 @@ TEST_CASE("dpc-analyze --as-measured: what the band analysis of an exact IR read
 
 TEST_CASE("dpc-analyze --band-energy: the energies the parameters come from", "[analyze]") {
   const fs::path dir = freshDir("analyze_band_energy_test");
-  const std::string tool = kTool + " ";
-  // Rows "index,time_s,E63..E8000" of the given index, summed per band, and the row count.
-  auto sums = [&](const std::string& args, size_t index, size_t& rows) {
-    const std::string out = (dir / "bands.csv").string();
-    REQUIRE(std::system((tool + args + " --band-energy > " + out).c_str()) == 0);
-    std::ifstream f(out);
-    std::string line;
-    std::array<double, dpc::kNumBands> sum{};
-    rows = 0;
-    std::getline(f, line);  // comment
-    std::getline(f, line);  // header
-    CHECK(line.find(",time_s,63,125,250,500,1000,2000,4000,8000") != std::string::npos);
-    while (std::getline(f, line)) {
-      std::stringstream cells(line);
-      std::string cell;
-      std::getline(cells, cell, ',');
-      if (std::stoul(cell) != index) continue;
-      ++rows;
-      std::getline(cells, cell, ',');
-      for (double& s : sum) {
-        std::getline(cells, cell, ',');
-        s += cell.empty() ? std::nan("") : std::stod(cell);
-      }
-    }
-    return sum;
-  };
-  auto strengths = [&](const std::string& args, const char* list) {
-    const std::string out = (dir / "out.json").string();
-    REQUIRE(std::system((tool + args + " --json > " + out).c_str()) == 0);
-    return readJson(out).at(list).at(0).at("bands");
-  };
   const double g0 = 1.0 / (4.0 * M_PI * 100.0);  // G's reference energy, 1/m^2
 
   // An energy response: its own bins (plus the direct sound), or the exact IR's analysed ones.
-  dpc::SourceEnergy s{dpc::EnergyResponse(1.0, 1e-3), dpc::DirectSound{}};
-  s.direct.visible = true;
-  s.direct.delaySeconds = 0.004f;
-  for (int b = 0; b < dpc::kNumBands; ++b) {
-    s.direct.intensity[b] = 1e-3f;
-    for (size_t j = 6; j < s.energy.binCount(); ++j)
-      s.energy.bins()[j][b] = float(1e-4 * std::pow(10.0, -6.0 * double(j) * 1e-3 / 0.6));
-  }
+  const dpc::SourceEnergy s = decayingEnergyResponse();
   const std::string csv = (dir / "er.csv").string();
   dpc::writeEnergyCsv(csv, {s, s});
   for (const std::string flags : {"", " --as-measured"}) {
     INFO("energy response" << flags);
     size_t rows = 0;
-    const auto sum = sums(csv + flags, 1, rows);
+    const auto sum = bandEnergySums(dir, csv + flags, 1, rows);
     CHECK(rows == s.energy.binCount());
-    const nlohmann::json g = strengths(csv + flags, "sources");
+    const nlohmann::json g = strengthBands(dir, csv + flags, "sources");
     // G is printed to 1e-6 dB or better by the JSON writer; %.9g rows sum to 1e-8 relative.
     for (size_t b = 0; b < 8; ++b)
       CHECK(10 * std::log10(sum[b] / g0) == Approx(g[b].at("g").get<double>()).margin(1e-5));
   }
 
   // An IR at 16 kHz (the 8 kHz band above Nyquist: empty cells): 1 ms bins from the onset.
-  dpc::audio::AudioData ir;
-  ir.sampleRate = 16000;
-  ir.channels.assign(2, std::vector<float>(16000, 0.f));
-  for (size_t i = 80; i < ir.channels[1].size(); ++i)  // 5 ms of silence, then a decay
-    ir.channels[1][i] = float(0.1 * std::pow(10.0, -3.0 * double(i - 80) / 16000.0 / 0.5) *
-                              (i % 3 == 0 ? 1.0 : -0.5));
-  ir.channels[0][40] = 0.5f;
   const std::string wav = (dir / "ir.wav").string();
-  dpc::audio::writeWav(wav, ir);
+  dpc::audio::writeWav(wav, decayingIr16k());
   size_t rows = 0;
-  const auto sum = sums(wav, 2, rows);
+  const auto sum = bandEnergySums(dir, wav, 2, rows);
   CHECK(rows == (16000 - 80 + 15) / 16);
   CHECK(std::isnan(sum[7]));
-  const nlohmann::json g2 = strengths(wav + " --channel 2", "channels");
+  const nlohmann::json g2 = strengthBands(dir, wav + " --channel 2", "channels");
   for (size_t b = 0; b < 7; ++b)
     CHECK(10 * std::log10(sum[b] / g0) == Approx(g2[b].at("g").get<double>()).margin(1e-4));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("dpc-analyze refuses an IR with a NaN sample in every mode", "[analyze]") {
+  const fs::path dir = freshDir("analyze_nan_test");
+  const std::string tool = kTool + " ";
   // A NaN sample: refused, one line naming the file, the sample and the channel.
+  dpc::audio::AudioData ir = decayingIr16k();
   ir.channels[1][500] = std::nanf("");
   const std::string nan = (dir / "nan.wav").string();
-  {
-    // writeWav refuses non-finite samples: write the float WAV by hand (RIFF, format 3).
-    std::ofstream f(nan, std::ios::binary);
-    auto u32 = [&](uint32_t v) { f.write(reinterpret_cast<const char*>(&v), 4); };
-    auto u16 = [&](uint16_t v) { f.write(reinterpret_cast<const char*>(&v), 2); };
-    const uint32_t bytes = uint32_t(ir.channels[1].size() * 4);
-    f << "RIFF";
-    u32(36 + bytes);
-    f << "WAVEfmt ";
-    u32(16), u16(3), u16(1), u32(16000), u32(64000), u16(4), u16(32);
-    f << "data";
-    u32(bytes);
-    f.write(reinterpret_cast<const char*>(ir.channels[1].data()), bytes);
-  }
+  writeFloatWav16k(nan, ir.channels[1]);
   for (const std::string flags : {"", " --band-energy", " --json"}) {
     INFO("flags" << flags);
     const std::string err = (dir / "nan.txt").string(), out = (dir / "nan.out").string();
@@ -252,6 +276,17 @@ TEST_CASE("dpc-analyze --band-energy: the energies the parameters come from", "[
     CHECK_FALSE(std::getline(e, more));
     CHECK(fs::file_size(out) == 0);
   }
+  fs::remove_all(dir);
+}
+
+TEST_CASE("dpc-analyze refuses --channel with an energy response and --band-energy with --json",
+          "[analyze]") {
+  const fs::path dir = freshDir("analyze_flags_test");
+  const std::string tool = kTool + " ";
+  const std::string csv = (dir / "er.csv").string(), wav = (dir / "ir.wav").string();
+  const dpc::SourceEnergy s = decayingEnergyResponse();
+  dpc::writeEnergyCsv(csv, {s, s});
+  dpc::audio::writeWav(wav, decayingIr16k());
   // --channel with an energy response (sources, not channels): refused, naming the flag.
   {
     const std::string err2 = (dir / "err2.txt").string(), out2 = (dir / "out2.txt").string();

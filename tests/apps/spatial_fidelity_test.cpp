@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "analysis/room_parameters.h"
-#include "synthesis/spatial_synthesizer.h"
 #include "runtime/render_pipeline.h"
+#include "synthesis/spatial_synthesizer.h"
 #include "tests/apps/band_readings.h"
 
 using namespace dpc;
@@ -28,6 +28,43 @@ struct EarResponse {
   EnergyResponse er;
   DirectSound direct;
 };
+
+/// A hall's late field from 15 ms on: diffuse with per-band T60 `t60`, plus a lateral part.
+DirectionalEnergyResponse hallLateField(double length, const std::array<double, kNumBands>& t60,
+                                        const std::vector<glm::vec3>& dirs) {
+  DirectionalEnergyResponse energy(length, 1e-3, dirs);
+  for (size_t k = 15; k < size_t(length * 1e3) - 1; ++k) {
+    const double t = (double(k) + 0.5) * 1e-3;
+    Bands e;
+    for (int b = 0; b < kNumBands; ++b)
+      e[b] = float(4e-5 * std::pow(10.0, -6.0 * t / t60[size_t(b)]));
+    const double lateral = std::exp(-t / 0.1);
+    for (const glm::vec3& w : {glm::vec3(1, 0, 0), glm::vec3(-1, 0, 0), glm::vec3(0, 1, 0),
+                               glm::vec3(0, -1, 0), glm::vec3(0, 0, 1), glm::vec3(0, 0, -1)}) {
+      Bands share = e;
+      for (int b = 0; b < kNumBands; ++b) share[b] *= float(1.0 / 6.0);
+      energy.add(t, share, w);
+    }
+    Bands side = e;
+    for (int b = 0; b < kNumBands; ++b) side[b] *= float(lateral);
+    energy.add(t, side, glm::normalize(glm::vec3(1, 0, -1)));  // front left (world)
+  }
+  return energy;
+}
+
+/// What ear `ear` receives: every direction's response and the direct sound, weighted per ear.
+EarResponse earResponse(double length, const DirectionalEnergyResponse& energy,
+                        const DirectSound& direct, const SpatialIrSynthesizer& synth, int ear) {
+  EarResponse want{EnergyResponse(length, 1e-3), direct};
+  for (size_t d = 0; d < energy.directionCount(); ++d)
+    for (size_t k = 0; k < want.er.binCount(); ++k)
+      for (int b = 0; b < kNumBands; ++b)
+        want.er.bins()[k][b] +=
+            energy.response(d).bins()[k][b] * synth.channelWeight(d, size_t(ear))[b];
+  for (int b = 0; b < kNumBands; ++b)
+    want.direct.intensity[b] = direct.intensity[b] * synth.directWeight(size_t(ear))[b];
+  return want;
+}
 
 }  // namespace
 
@@ -49,23 +86,7 @@ TEST_CASE("Two-channel IR: each ear's band analysis returns its energy response'
       // The late field: from 15 ms on, arriving from all directions, more from the front
       // left early on (a lateral reflection pattern), diffuse later. 1000 m^3: the density
       // law gives an early part that the Dirac sequences can carry (see the tolerances).
-      DirectionalEnergyResponse energy(length, 1e-3, dirs);
-      for (size_t k = 15; k < size_t(length * 1e3) - 1; ++k) {
-        const double t = (double(k) + 0.5) * 1e-3;
-        Bands e;
-        for (int b = 0; b < kNumBands; ++b)
-          e[b] = float(4e-5 * std::pow(10.0, -6.0 * t / t60[size_t(b)]));
-        const double lateral = std::exp(-t / 0.1);
-        for (const glm::vec3& w : {glm::vec3(1, 0, 0), glm::vec3(-1, 0, 0), glm::vec3(0, 1, 0),
-                                   glm::vec3(0, -1, 0), glm::vec3(0, 0, 1), glm::vec3(0, 0, -1)}) {
-          Bands share = e;
-          for (int b = 0; b < kNumBands; ++b) share[b] *= float(1.0 / 6.0);
-          energy.add(t, share, w);
-        }
-        Bands side = e;
-        for (int b = 0; b < kNumBands; ++b) side[b] *= float(lateral);
-        energy.add(t, side, glm::normalize(glm::vec3(1, 0, -1)));  // front left (world)
-      }
+      const DirectionalEnergyResponse energy = hallLateField(length, t60, dirs);
       DirectSound direct;
       direct.visible = true;
       direct.delaySeconds = 0.008f;
@@ -76,14 +97,7 @@ TEST_CASE("Two-channel IR: each ear's band analysis returns its energy response'
       synth->synthesize(energy, direct, std::array<float*, 2>{left.data(), right.data()});
 
       for (int ear = 0; ear < 2; ++ear) {
-        EarResponse want{EnergyResponse(length, 1e-3), direct};
-        for (size_t d = 0; d < dirs.size(); ++d)
-          for (size_t k = 0; k < want.er.binCount(); ++k)
-            for (int b = 0; b < kNumBands; ++b)
-              want.er.bins()[k][b] +=
-                  energy.response(d).bins()[k][b] * synth->channelWeight(d, size_t(ear))[b];
-        for (int b = 0; b < kNumBands; ++b)
-          want.direct.intensity[b] = direct.intensity[b] * synth->directWeight(size_t(ear))[b];
+        const EarResponse want = earResponse(length, energy, direct, *synth, ear);
         const test::ResponseBands bands(want.er, want.direct, kFs);
         // From 250 Hz: the bands rendered per direction and levelled per ear (63/125 Hz are
         // one omnidirectional rendering fed to both ears, see synthesis/spatial_synthesizer.h).
@@ -93,8 +107,8 @@ TEST_CASE("Two-channel IR: each ear's band analysis returns its energy response'
               "%s seed %d ear %d band %4d Hz: T30 response %.3f exact IR %.3f synthesised %.3f; "
               "C80 %+.2f / %+.2f / %+.2f dB; G %+.2f / %+.2f / %+.2f dB\n",
               format == OutputFormat::kBinaural ? "binaural" : "stereo", int(seed), ear,
-              int(kBandCentreHz[size_t(b)]), target.t30, exact.t30, got.t30, target.c80,
-              exact.c80, got.c80, strengthDbOf(target), strengthDbOf(exact), strengthDbOf(got));
+              int(kBandCentreHz[size_t(b)]), target.t30, exact.t30, got.t30, target.c80, exact.c80,
+              got.c80, strengthDbOf(target), strengthDbOf(exact), strengthDbOf(got));
           INFO("format " << int(format) << " seed " << seed << " ear " << ear << " band " << b);
           // Tolerances. The per-ear levelling matches the analysed energy in 50 ms windows
           // from 20 ms after the direct sound, so T30 keeps what a window's resolution on a
@@ -171,10 +185,11 @@ TEST_CASE("Two-channel IR in an open scene's volume: sparse pulses, every band's
         double want = 0.0;
         for (size_t d = 0; d < dirs.size(); ++d)
           for (size_t k = 0; k < energy.response(d).binCount(); ++k)
-            want += double(energy.response(d).bins()[k][b]) * synth->channelWeight(d, size_t(ear))[b];
+            want +=
+                double(energy.response(d).bins()[k][b]) * synth->channelWeight(d, size_t(ear))[b];
         const double db = 10 * std::log10(a.bands[size_t(b)].energy / want);
-        std::printf("open scene seed %d ear %d band %4d Hz: %+.2f dB re target\n", int(seed),
-                    ear, int(kBandCentreHz[size_t(b)]), db);
+        std::printf("open scene seed %d ear %d band %4d Hz: %+.2f dB re target\n", int(seed), ear,
+                    int(kBandCentreHz[size_t(b)]), db);
         INFO("seed " << seed << " ear " << ear << " band " << b);
         CHECK(std::abs(db) < 2.0);
         sumDb += db;

@@ -170,6 +170,23 @@ void runWorker(const LV2_Descriptor* d, LV2_Handle h, Host& host) {
       &host, size, msg.data());
 }
 
+/// The scene path the plugin's state interface saves.
+std::string savedScene(const LV2_Descriptor* d, LV2_Handle h) {
+  const auto* state =
+      static_cast<const LV2_State_Interface*>(d->extension_data(LV2_STATE__interface));
+  REQUIRE(state);
+  std::string saved;
+  REQUIRE(
+      state->save(
+          h,
+          [](LV2_State_Handle sh, uint32_t, const void* value, size_t size, uint32_t, uint32_t) {
+            static_cast<std::string*>(sh)->assign(static_cast<const char*>(value), size - 1);
+            return LV2_STATE_SUCCESS;
+          },
+          &saved, LV2_STATE_IS_POD, nullptr) == LV2_STATE_SUCCESS);
+  return saved;
+}
+
 }  // namespace
 
 TEST_CASE("LV2 plugin: run() and a scene swap make no heap call, the scene is saved") {
@@ -218,17 +235,7 @@ TEST_CASE("LV2 plugin: run() and a scene swap make no heap call, the scene is sa
     CHECK(energy > 1e-6);
     CHECK(x.latency == 512.f);  // one block of the scene now playing (shoebox.json: 512)
     d->deactivate(x.h);
-    const auto* state =
-        static_cast<const LV2_State_Interface*>(d->extension_data(LV2_STATE__interface));
-    REQUIRE(state);
-    REQUIRE(
-        state->save(
-            x.h,
-            [](LV2_State_Handle sh, uint32_t, const void* value, size_t size, uint32_t, uint32_t) {
-              static_cast<std::string*>(sh)->assign(static_cast<const char*>(value), size - 1);
-              return LV2_STATE_SUCCESS;
-            },
-            &saved, LV2_STATE_IS_POD, nullptr) == LV2_STATE_SUCCESS);
+    saved = savedScene(d, x.h);
     CHECK(saved == other);
   }
   // A fresh instance restores the saved scene and reports it on patch:Get.
@@ -469,8 +476,8 @@ TEST_CASE("LV2 plugin: a host rate that is no rate is refused, not replaced by t
   // a plugin playing at the scene's 48 kHz. Beyond the engine's range the C API refuses too.
   const LV2_Descriptor* d = loadDescriptor();
   Host host;
-  for (const double rate : {0.0, 0.4, -48000.0, double(NAN), double(INFINITY), 1e12, 8000.0,
-                            384000.0}) {
+  for (const double rate :
+       {0.0, 0.4, -48000.0, double(NAN), double(INFINITY), 1e12, 8000.0, 384000.0}) {
     INFO(rate);
     LV2_Handle h = d->instantiate(d, rate, kBundle, host.features);
     CHECK(h == nullptr);

@@ -236,6 +236,42 @@ TEST_CASE("FixedRing: tryPush and tryPop never allocate, full or not", "[rt][all
   CHECK(ring.overflows() > 0);
 }
 
+namespace {
+
+/// Propagation role: allocate freely, prepare IRs (lengths including a short one), hand them
+/// over, recycle spent ones, until the audio thread is done. Returns the IRs handed over.
+uint64_t feedUniform(dpc::test::IrHandOver<IrSpectra>& handOver, NoiseIr& ir,
+                     const std::atomic<bool>& audioDone) {
+  uint64_t prepared = 0;
+  while (!audioDone.load(std::memory_order_acquire)) {
+    IrSpectra* next = handOver.nextFree();
+    if (!next) continue;
+    const size_t n = ir.nextLength(5, 97, 7);
+    next->prepare(ir.make(), n);
+    if (handOver.toAudio.tryPush(next)) {
+      handOver.freeList.pop_back();
+      ++prepared;
+    }
+  }
+  return prepared;
+}
+
+/// The same for IR sets of `sources` sources, one every 200 us.
+void feedNonUniform(dpc::test::IrHandOver<NonUniformIrSet>& handOver, NoiseIr& ir, int sources,
+                    const std::atomic<bool>& audioDone) {
+  while (!audioDone.load(std::memory_order_acquire)) {
+    NonUniformIrSet* next = handOver.nextFree();
+    if (!next) continue;
+    const size_t n = ir.nextLength(4, 313, 11);
+    const float* const* channels = ir.make();
+    for (int s = 0; s < sources; ++s) next->prepare(s, channels, n);
+    if (handOver.toAudio.tryPush(next)) handOver.freeList.pop_back();
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+}
+
+}  // namespace
+
 TEST_CASE("Convolver IR swaps through SPSC queues: zero heap calls on the audio thread",
           "[rt][convolver]") {
   constexpr dpc::test::HandOverSpec kSpec{.block = 128,
@@ -282,19 +318,8 @@ TEST_CASE("Convolver IR swaps through SPSC queues: zero heap calls on the audio 
     audioDone.store(true, std::memory_order_release);
   });
 
-  // Propagation role: allocate freely, prepare IRs, hand them over, recycle spent ones.
   NoiseIr ir(kChannels, kSpec.irSamples);
-  uint64_t prepared = 0;
-  while (!audioDone.load(std::memory_order_acquire)) {
-    IrSpectra* next = handOver.nextFree();
-    if (!next) continue;
-    const size_t n = ir.nextLength(5, 97, 7);  // including a short one
-    next->prepare(ir.make(), n);
-    if (handOver.toAudio.tryPush(next)) {
-      handOver.freeList.pop_back();
-      ++prepared;
-    }
-  }
+  const uint64_t prepared = feedUniform(handOver, ir, audioDone);
   audio.join();
 
   // Account for every spectrum: free, queued either way, or held by the convolver.
@@ -370,15 +395,7 @@ TEST_CASE(
   });
 
   NoiseIr ir(kChannels, kSpec.irSamples);
-  while (!audioDone.load(std::memory_order_acquire)) {
-    NonUniformIrSet* next = handOver.nextFree();
-    if (!next) continue;
-    const size_t n = ir.nextLength(4, 313, 11);
-    const float* const* channels = ir.make();
-    for (int s = 0; s < kSources; ++s) next->prepare(s, channels, n);
-    if (handOver.toAudio.tryPush(next)) freeList.pop_back();
-    std::this_thread::sleep_for(std::chrono::microseconds(200));
-  }
+  feedNonUniform(handOver, ir, kSources, audioDone);
   audio.join();
 
   // Every set is free, queued, or still used by the convolver.

@@ -245,9 +245,11 @@ bool NonUniformConvolver::swapping() const {
 
 bool NonUniformConvolver::inputNeeded(const LevelState& st, int s) const {
   if (!skipSilentLevels_) return true;
-  // No IR (silence) is not known to stay silent: the next set may sound at once.
+  // No IR, or an IR silent for s, is not known to stay silent: the next set may sound at once.
   for (const NonUniformIrSet* ir : {st.cur, st.next, target_})
-    if (!ir || ir->onsetSample(s) < st.needBefore) return true;
+    if (!ir || ir->onsetSample(s) == NonUniformIrSet::kSilent ||
+        ir->onsetSample(s) < st.needBefore)
+      return true;
   return false;
 }
 

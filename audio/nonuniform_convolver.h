@@ -44,8 +44,10 @@
 // transform the source again, and so refill its FDL, P_l chunks before an approaching
 // source's response reaches the level. The FDL slots of skipped chunks are stale: a partition
 // whose input chunk was skipped is not multiplied and is counted (stalePartitions()); that
-// happens only when a response's onset jumps by more than a segment between two sets (a
-// teleport). With no stale partition the output equals that of transforming every chunk.
+// happens only when a response's onset moves earlier by more than a segment between two sets
+// (a teleport, a direct sound coming out from behind an occluder). A set that is silent for
+// the source, or no set, counts as sounding from 0: sound may follow silence anywhere. With no
+// stale partition the output equals that of transforming every chunk.
 //
 // IR swap: the IR set is swapped for all sources at once. Each level takes the newest IR when
 // it starts a chunk (the chunk's first callback above); if that differs from the IR of its
@@ -209,7 +211,8 @@ class NonUniformConvolver {
   /// levels"). Any thread (relaxed).
   uint64_t skippedTransforms() const { return skippedTransforms_.load(std::memory_order_relaxed); }
   /// Partitions not multiplied because their input chunk was skipped (a response's onset
-  /// jumped; see "Silent levels"): sound lost, counted. Any thread (relaxed).
+  /// jumped; see "Silent levels"): sound lost, counted once per partition, chunk and IR set
+  /// multiplied (a crossfading level counts both sets). Any thread (relaxed).
   uint64_t stalePartitions() const { return stalePartitions_.load(std::memory_order_relaxed); }
 
  private:

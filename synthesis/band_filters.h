@@ -92,11 +92,13 @@ void mergeCoincidentArrivals(std::vector<Arrival>& arrivals, int sampleRate);
 inline constexpr double kLeadingResidueEnergy = 1e-8;
 
 /// Sets to exactly zero the leading samples of an IR (`channels`, each `length` samples) whose
-/// energy summed over the channels is at most kLeadingResidueEnergy of the energy up to 1 ms
-/// after `onset` (the first arrival's sample); one cut for all channels, so their relative
-/// timing is kept. What lies there is the zero-phase band filters' ringing ahead of the first
-/// arrival (their pulses' leading taps and the band levelling's circular split), no arrival:
-/// cutting it bounds the loss at -80 dB of the first arrival's sound and lets a partitioned
+/// energy summed over the channels is at most kLeadingResidueEnergy of the energy summed over
+/// the channels up to 1 ms after `onset` (the first arrival's sample); one cut for all
+/// channels, so their relative timing is kept. What lies there is the zero-phase band
+/// filters' ringing ahead of the first arrival (their pulses' leading taps and the band
+/// levelling's circular split), no arrival: the cut removes at most -80 dB of the IR's sound up
+/// to the first arrival (a channel far weaker than the others, the far ear or a high-order
+/// Ambisonic channel, may lose up to that ratio more of its own) and lets a partitioned
 /// convolver skip the partitions ahead of it. Returns the samples zeroed. Any thread; no
 /// allocation; no errors.
 size_t cutLeadingResidue(std::span<float* const> channels, size_t length, size_t onset,

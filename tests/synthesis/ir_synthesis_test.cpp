@@ -284,3 +284,41 @@ TEST_CASE("The zero-phase ringing ahead of the first arrival is cut at -80 dB", 
     CHECK(zeros < onset);
   }
 }
+
+TEST_CASE("cutLeadingResidue zeroes exactly the leading samples within -80 dB, on all channels",
+          "[ir]") {
+  // Two channels 40 dB apart: 1000 leading samples of v (ringing), a unit pulse at the onset
+  // (sample 1000). The reference is both channels' energy up to 1 ms (48 samples) after it;
+  // the cut takes the largest k leading samples whose summed energy k e stays within 1e-8 of
+  // it, in both channels alike.
+  const int fs = 48000;
+  const size_t length = 4000, onset = 1000;
+  const float v = 1.1e-5f, weak = 0.01f;
+  std::vector<float> a(length, 0.f), b(length, 0.f);
+  for (size_t n = 0; n < onset; ++n) a[n] = v, b[n] = weak * v;
+  a[onset] = 1.f, b[onset] = weak;
+  a[onset + 100] = 0.5f;  // after onset + 1 ms: not in the reference, never cut
+  const double e = double(v) * v + double(weak * v) * double(weak * v);
+  const double reference =
+      double(onset) * e + 1.0 + double(weak) * double(weak);
+  const size_t k = size_t(std::floor(kLeadingResidueEnergy * reference / e));
+  REQUIRE(k > 10);
+  REQUIRE(k < onset);
+  float* const channels[] = {a.data(), b.data()};
+  CHECK(cutLeadingResidue(channels, length, onset, fs) == k);
+  for (size_t n = 0; n < k; ++n) REQUIRE((a[n] == 0.f && b[n] == 0.f));
+  CHECK(a[k] == v);
+  CHECK(b[k] == weak * v);
+  CHECK(a[onset] == 1.f);
+  CHECK(a[onset + 100] == 0.5f);
+  SECTION("Silence stays silence; an onset beyond the IR cuts within it") {
+    std::vector<float> zero(length, 0.f);
+    float* const silent[] = {zero.data()};
+    cutLeadingResidue(silent, length, length + 10, fs);
+    for (float x : zero) REQUIRE(x == 0.f);
+    std::vector<float> ramp(length, 1.f);
+    float* const loud[] = {ramp.data()};
+    CHECK(cutLeadingResidue(loud, length, length + 10, fs) == 0);
+    CHECK(ramp.back() == 1.f);
+  }
+}

@@ -179,6 +179,11 @@ IrSet* AudioStage::takeSpent() {
   return spent_.tryPop(s) ? s : nullptr;
 }
 
+void AudioStage::setSkipSilentLevels(bool skip) {
+  convolver_.setSkipSilentLevels(skip);
+  if (lateConvolver_) lateConvolver_->setSkipSilentLevels(skip);
+}
+
 uint64_t AudioStage::stalePartitions() const {
   return convolver_.stalePartitions() + (lateConvolver_ ? lateConvolver_->stalePartitions() : 0);
 }

@@ -66,6 +66,11 @@ class AudioStage {
   /// Partitions the convolvers left out because a response's onset jumped past their skipped
   /// transforms (NonUniformConvolver::stalePartitions; early parts and late buses). Any thread.
   uint64_t stalePartitions() const;
+  /// Whether the convolvers skip the forward FFTs of levels a source is silent at (default
+  /// on: live, where the callback's time is what matters). Off, the convolution is exact
+  /// whatever the responses do (a teleport leaves no partition out): offline renders. Control
+  /// thread, before the first process(); no allocation.
+  void setSkipSilentLevels(bool skip);
 
  private:
   /// Hands the pending set to the convolver if it has room.

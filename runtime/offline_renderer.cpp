@@ -71,8 +71,10 @@ OfflineRender::OfflineRender(std::shared_ptr<const SceneDesc> scene,
       streaming_(bool(options.sink)),
       framePeriod_(1.0 / settings.frameRate) {
   if (options.bake) propagation_.attachBake(options.bake);
-  for (size_t k = 0; k < listeners_.size(); ++k)
+  for (size_t k = 0; k < listeners_.size(); ++k) {
     audioStages_.push_back(std::make_unique<AudioStage>(propagation_, dry));
+    audioStages_.back()->setSkipSilentLevels(false);  // exact: no time limit per block offline
+  }
   const int fs = scene_->audio.sampleRate;
   totalFrames_ = size_t(std::ceil(offlineDurationSeconds(*scene_, settings, *dry, options) * fs));
   blocks_ = (totalFrames_ + B_ - 1) / B_;

@@ -247,8 +247,7 @@ bool NonUniformConvolver::inputNeeded(const LevelState& st, int s) const {
   if (!skipSilentLevels_) return true;
   // No IR, or an IR silent for s, is not known to stay silent: the next set may sound at once.
   for (const NonUniformIrSet* ir : {st.cur, st.next, target_})
-    if (!ir || ir->onsetSample(s) == NonUniformIrSet::kSilent ||
-        ir->onsetSample(s) < st.needBefore)
+    if (!ir || ir->onsetSample(s) == NonUniformIrSet::kSilent || ir->onsetSample(s) < st.needBefore)
       return true;
   return false;
 }

@@ -292,8 +292,8 @@ TEST_CASE("Non-uniform convolution equals direct convolution, with IR swaps", "[
     // was left out (the onsets here jump anywhere, so some cases leave some out).
     RunOptions skipping;
     skipping.skipSilentLevels = true;
-    const double relSkipping = runAndCompare(layout, irs, cs.sources, cs.outputs, events,
-                                             numBlocks, slot, rng, &worstSample, skipping);
+    const double relSkipping = runAndCompare(layout, irs, cs.sources, cs.outputs, events, numBlocks,
+                                             slot, rng, &worstSample, skipping);
     INFO("skipping: " << skipping.skippedTransforms << " transforms skipped, "
                       << skipping.stalePartitions << " stale partitions, error "
                       << 10.0 * std::log10(std::max(relSkipping, 1e-300)) << " dB");

@@ -299,8 +299,7 @@ TEST_CASE("cutLeadingResidue zeroes exactly the leading samples within -80 dB, o
   a[onset] = 1.f, b[onset] = weak;
   a[onset + 100] = 0.5f;  // after onset + 1 ms: not in the reference, never cut
   const double e = double(v) * v + double(weak * v) * double(weak * v);
-  const double reference =
-      double(onset) * e + 1.0 + double(weak) * double(weak);
+  const double reference = double(onset) * e + 1.0 + double(weak) * double(weak);
   const size_t k = size_t(std::floor(kLeadingResidueEnergy * reference / e));
   REQUIRE(k > 10);
   REQUIRE(k < onset);

@@ -215,6 +215,30 @@ TEST_CASE("Non-uniform layout: head at the block size, offsets 2 N - 2 B", "[con
   CHECK_FALSE(conv.setNextIr(&set));  // one source, the convolver has two
 }
 
+namespace {
+
+/// IR 0 from block 0, then swaps among IRs 0-2 and silence (-1) at random blocks of
+/// [1, numBlocks), sometimes in consecutive blocks, never to the IR already playing.
+std::vector<Event> randomSwaps(std::mt19937& rng, size_t numBlocks) {
+  std::vector<Event> events = {{0, 0}};
+  std::uniform_int_distribution<size_t> when(1, numBlocks - 1);
+  std::vector<size_t> at;
+  for (int i = 0; i < 6; ++i) at.push_back(when(rng));
+  at.push_back(at[0] + 1 < numBlocks ? at[0] + 1 : at[0]);
+  std::sort(at.begin(), at.end());
+  at.erase(std::unique(at.begin(), at.end()), at.end());
+  int last = 0;
+  for (size_t k : at) {
+    int next = int(rng() % 4) - 1;  // -1: silence
+    if (next == last) next = (next + 2) % 3;
+    events.push_back({k, next});
+    last = next;
+  }
+  return events;
+}
+
+}  // namespace
+
 TEST_CASE("Non-uniform convolution equals direct convolution, with IR swaps", "[convolver]") {
   std::mt19937 rng(20261122);
   double worstDb = -1e9, worstMarginDb = -1e9;
@@ -254,23 +278,8 @@ TEST_CASE("Non-uniform convolution equals direct convolution, with IR swaps", "[
       irs.push_back(std::move(ir));
     }
     const size_t numBlocks = (cs.irLength + 3 * size_t(cs.maxPartition)) / size_t(cs.block) + 40;
-    std::vector<Event> events = {{0, 0}};
-    if (cs.swaps) {
-      // Swaps at random blocks, sometimes in consecutive blocks, once to silence.
-      std::uniform_int_distribution<size_t> when(1, numBlocks - 1);
-      std::vector<size_t> at;
-      for (int i = 0; i < 6; ++i) at.push_back(when(rng));
-      at.push_back(at[0] + 1 < numBlocks ? at[0] + 1 : at[0]);
-      std::sort(at.begin(), at.end());
-      at.erase(std::unique(at.begin(), at.end()), at.end());
-      int last = 0;
-      for (size_t k : at) {
-        int next = int(rng() % 4) - 1;  // -1: silence
-        if (next == last) next = (next + 2) % 3;
-        events.push_back({k, next});
-        last = next;
-      }
-    }
+    const std::vector<Event> events =
+        cs.swaps ? randomSwaps(rng, numBlocks) : std::vector<Event>{{0, 0}};
     double worstSample = 0.0;
     const int slot = int(&cs - cases.data()) % NonUniformConvolver::kPhaseSlots;
     RunOptions options;  // onsets jump anywhere here: every chunk transformed (test below)

@@ -92,6 +92,37 @@ void multiplyAccumulate(float* __restrict accRe, float* __restrict accIm,
     __builtin_memcpy(accIm + k, &ai, sizeof ai);
   }
 }
+
+#ifdef DPC_MAC_CLONES
+__attribute__((target_clones("avx512f", "avx2", "default")))
+#endif
+void multiplyAccumulate2(float* __restrict acc0Re, float* __restrict acc0Im,
+                         float* __restrict acc1Re, float* __restrict acc1Im,
+                         const float* __restrict xRe, const float* __restrict xIm,
+                         const float* __restrict h0Re, const float* __restrict h0Im,
+                         const float* __restrict h1Re, const float* __restrict h1Im, size_t n) {
+  for (size_t k = 0; k < n; k += kLanes) {
+    Float16 xr, xi, hr, hi, ar, ai;
+    __builtin_memcpy(&xr, xRe + k, sizeof xr);
+    __builtin_memcpy(&xi, xIm + k, sizeof xi);
+    __builtin_memcpy(&hr, h0Re + k, sizeof hr);
+    __builtin_memcpy(&hi, h0Im + k, sizeof hi);
+    __builtin_memcpy(&ar, acc0Re + k, sizeof ar);
+    __builtin_memcpy(&ai, acc0Im + k, sizeof ai);
+    ar += xr * hr - xi * hi;
+    ai += xr * hi + xi * hr;
+    __builtin_memcpy(acc0Re + k, &ar, sizeof ar);
+    __builtin_memcpy(acc0Im + k, &ai, sizeof ai);
+    __builtin_memcpy(&hr, h1Re + k, sizeof hr);
+    __builtin_memcpy(&hi, h1Im + k, sizeof hi);
+    __builtin_memcpy(&ar, acc1Re + k, sizeof ar);
+    __builtin_memcpy(&ai, acc1Im + k, sizeof ai);
+    ar += xr * hr - xi * hi;
+    ai += xr * hi + xi * hr;
+    __builtin_memcpy(acc1Re + k, &ar, sizeof ar);
+    __builtin_memcpy(acc1Im + k, &ai, sizeof ai);
+  }
+}
 }  // namespace detail
 
 // ---------------------------------------------------------------------------------------------

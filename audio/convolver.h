@@ -48,6 +48,14 @@ FftwBuffer allocZeroed(size_t n);
 void multiplyAccumulate(float* __restrict accRe, float* __restrict accIm,
                         const float* __restrict xRe, const float* __restrict xIm,
                         const float* __restrict hRe, const float* __restrict hIm, size_t n);
+/// The same for two outputs from one input: acc0 += x * h0 and acc1 += x * h1, each bin's
+/// float operations those of two multiplyAccumulate calls (bit-identical), x loaded once (a
+/// stereo or binaural IR). Same layout rules; any thread; no allocation.
+void multiplyAccumulate2(float* __restrict acc0Re, float* __restrict acc0Im,
+                         float* __restrict acc1Re, float* __restrict acc1Im,
+                         const float* __restrict xRe, const float* __restrict xIm,
+                         const float* __restrict h0Re, const float* __restrict h0Im,
+                         const float* __restrict h1Re, const float* __restrict h1Im, size_t n);
 }  // namespace detail
 
 /// Block size, FFT size (2B) and partition count shared by IR spectra and convolvers, and the

@@ -270,6 +270,13 @@ int NonUniformConvolver::macSource(const LevelState& st, int level, const NonUni
     int slot = st.head + p;
     if (slot >= numPartitions) slot -= numPartitions;
     const float* x = fdl + size_t(slot) * spec;
+    if (numOutputs_ == 2) {  // stereo, binaural: x loaded once for both
+      const float* h0 = ir->spectrum(level, s, 0, p);
+      const float* h1 = ir->spectrum(level, s, 1, p);
+      detail::multiplyAccumulate2(acc[0], acc[0] + stride, acc[1], acc[1] + stride, x, x + stride,
+                                  h0, h0 + stride, h1, h1 + stride, stride);
+      continue;
+    }
     for (int c = 0; c < numOutputs_; ++c) {
       const float* h = ir->spectrum(level, s, c, p);
       detail::multiplyAccumulate(acc[c], acc[c] + stride, x, x + stride, h, h + stride, stride);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "audio/resample.h"
 #include "audio/wav_io.h"
@@ -85,6 +86,14 @@ double drySignalBytes(const SceneDesc& scene) {
 
 DrySignals loadDrySignals(const SceneDesc& scene) {
   DrySignals d;
+  // Each file is read, mixed and resampled once, however many sources play it (a crowd of
+  // voices from one recording): resampling is the slow part of loading.
+  // The last source playing a file takes its converted copy, so the memory held stays what
+  // drySignalBytes() estimates.
+  std::map<std::string, std::vector<float>> converted;
+  std::map<std::string, size_t> usesLeft;
+  for (const SourceDesc& src : scene.sources)
+    if (!src.signalPath.empty()) ++usesLeft[src.signalPath];
   for (size_t i = 0; i < scene.sources.size(); ++i) {
     const SourceDesc& src = scene.sources[i];
     if (src.signalPath.empty()) {  // host input only: silence when played on its own
@@ -94,8 +103,13 @@ DrySignals loadDrySignals(const SceneDesc& scene) {
                         "]: no signal (silent without host input)");
       continue;
     }
-    std::vector<float> x =
-        monoAtRate(readSignal(scene, i), scene.audio.sampleRate, src.signalPath, d.notes);
+    auto it = converted.find(src.signalPath);
+    if (it == converted.end())
+      it = converted
+               .emplace(src.signalPath, monoAtRate(readSignal(scene, i), scene.audio.sampleRate,
+                                                   src.signalPath, d.notes))
+               .first;
+    std::vector<float> x = --usesLeft[src.signalPath] == 0 ? std::move(it->second) : it->second;
     const float gain = float(std::pow(10.0, src.gainDb / 20.0));
     for (float& v : x) v *= gain;
     d.samples.push_back(std::move(x));

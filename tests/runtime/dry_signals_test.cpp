@@ -3,6 +3,7 @@
 // fit.
 #include "runtime/dry_signals.h"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 
@@ -63,7 +64,37 @@ TEST_CASE("dry signals beyond the memory available are refused, naming the signa
   const double limit = 2.0 * (e.irBytes + e.cacheBytes);
   CHECK_NOTHROW(checkWorkload(scene, ps, e, limit));
   e.signalBytes = 2.0 * limit;  // signals alone are twice what is available
-  CHECK_THROWS_WITH(checkWorkload(scene, ps, e, limit),
-                    Catch::StartsWith("room.json: sources[].signal: ") &&
-                        Catch::Contains("dry signals"));
+  CHECK_THROWS_WITH(
+      checkWorkload(scene, ps, e, limit),
+      Catch::StartsWith("room.json: sources[].signal: ") && Catch::Contains("dry signals"));
+}
+
+TEST_CASE("sources playing one file share its conversion, each with its own gain",
+          "[dry_signals]") {
+  const test::TempDir dir("dpc_dry_signals_shared");
+  const std::string file = (dir.path() / "voice22k.wav").string();
+  writeTone(file, 22050, 1, 11025);  // 0.5 s, resampled to 48 kHz
+  SceneDesc scene = test::makeShoebox({10, 3, 7}, Bands(0.2f), 0.5f, {2, 1.5f, 2}, {7, 1.6f, 5});
+  scene.audio.sampleRate = 48000;
+  scene.sources.resize(3, scene.sources.front());
+  for (SourceDesc& s : scene.sources) s.signalPath = file;
+  scene.sources[1].gainDb = -6.0f;
+  scene.sources[2].gainDb = 12.0f;
+  const DrySignals dry = loadDrySignals(scene);
+  REQUIRE(dry.samples.size() == 3);
+  REQUIRE(dry.samples[0].size() == dry.samples[1].size());
+  REQUIRE(dry.samples[0].size() == dry.samples[2].size());
+  CHECK(dry.samples[0].size() == Approx(24000).margin(2));
+  // The same conversion scaled by each source's gain: equal up to the float product's rounding.
+  const float g1 = float(std::pow(10.0, -6.0 / 20.0)), g2 = float(std::pow(10.0, 12.0 / 20.0));
+  double worst = 0.0;
+  for (size_t n = 0; n < dry.samples[0].size(); ++n) {
+    worst = std::max(worst, double(std::abs(dry.samples[1][n] - g1 * dry.samples[0][n])));
+    worst = std::max(worst, double(std::abs(dry.samples[2][n] - g2 * dry.samples[0][n])));
+  }
+  CHECK(worst <= 1e-6);
+  // One resampling note for the file, not one per source.
+  CHECK(std::count_if(dry.notes.begin(), dry.notes.end(), [](const std::string& n) {
+          return n.find("resampled") != std::string::npos;
+        }) == 1);
 }

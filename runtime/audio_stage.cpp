@@ -114,11 +114,18 @@ void AudioStage::readDry(size_t s, size_t B) {
   const std::vector<float>& x = dry_->samples[s];
   float* tail = tail_.data() + s * B;
   if (dry_->loop[s]) {
-    // Looping signal: read B samples from position mod length, wrapping as often as needed.
+    // Looping signal: B samples from position mod length, read in place unless the block
+    // wraps; then copied in runs, wrapping as often as a signal shorter than B needs.
     size_t p = position_ % x.size();
-    for (size_t i = 0; i < B; ++i) {
-      tail[i] = x[p];
-      if (++p == x.size()) p = 0;
+    if (p + B <= x.size()) {
+      in_[s] = x.data() + p;
+      return;
+    }
+    for (size_t i = 0; i < B;) {
+      const size_t run = std::min(B - i, x.size() - p);
+      std::copy(x.data() + p, x.data() + p + run, tail + i);
+      i += run;
+      p = 0;
     }
     in_[s] = tail;
   } else if (position_ + B <= x.size()) {

@@ -5,7 +5,9 @@
 #include <cmath>
 #include <numbers>
 
+#include "common/bands.h"
 #include "common/fftw_util.h"
+#include "common/octave_band_masks.h"
 #include "common/spherical_harmonics.h"
 
 namespace dpc::audio {
@@ -26,6 +28,40 @@ std::vector<double> thirdOctaveSmoothed(const std::vector<double>& p) {
     out[k] = (prefix[hi + 1] - prefix[lo]) / double(hi + 1 - lo);
   }
   return out;
+}
+
+/// The equaliser's magnitude on the bins of p (p[0 .. n/2], n = 2 (p.size() - 1), the decoder's
+/// diffuse-field power): E = sum_b A_b g_b, A_b = M_b^2 the amplitude-complementary octave-band
+/// filters. In the directional bands (kDirectionalFromBand up, where per-path binaural levels
+/// HRIRs per band) g_b = 1 / sqrt(D_b), D_b the A_b-weighted mean of p over band b's analysed
+/// octave (a band measurement, as the spatial synthesiser levels its filters); in the lower
+/// bands, which per-path binaural renders without HRIRs, g_b(f) = 1 / sqrt(p smoothed over a
+/// third octave at f), flattening the HRTF's steep low-frequency roll-off within the band.
+/// Every gain at most maxGain.
+std::vector<double> diffuseFieldEqualiser(const std::vector<double>& p, int sampleRate,
+                                          double maxGain) {
+  const size_t bins = p.size(), n = 2 * (bins - 1);
+  const OctaveBandMasks masks(sampleRate, n);
+  const std::vector<double> smooth = thirdOctaveSmoothed(p);
+  std::array<double, kNumBands> gain{};
+  for (int b = kDirectionalFromBand; b < kNumBands; ++b) {
+    double power = 0.0, weight = 0.0;
+    for (size_t k = 1; k < bins; ++k) {
+      if (!inAnalysedOctave(b, double(k) * sampleRate / double(n))) continue;
+      const double a = double(masks.gain(b, k)) * masks.gain(b, k);
+      power += a * p[k];
+      weight += a;
+    }
+    gain[size_t(b)] = power > 0.0 ? std::min(maxGain, std::sqrt(weight / power)) : maxGain;
+  }
+  std::vector<double> mag(bins, 0.0);
+  for (size_t k = 0; k < bins; ++k) {
+    const double fine = smooth[k] > 0.0 ? std::min(maxGain, 1.0 / std::sqrt(smooth[k])) : maxGain;
+    for (int b = 0; b < kNumBands; ++b)
+      mag[k] += double(masks.gain(b, k)) * masks.gain(b, k) *
+                (b < kDirectionalFromBand ? fine : gain[size_t(b)]);
+  }
+  return mag;
 }
 
 /// The minimum-phase filter of magnitude mag[0 .. n/2] (n = fft.n), its first `taps` taps
@@ -52,9 +88,10 @@ std::vector<float> minimumPhase(FftwRealTransforms& fft, const std::vector<doubl
   std::vector<float> h(taps);
   const size_t fade = taps / 4;
   for (size_t t = 0; t < taps; ++t) {
-    const double w = t + fade < taps ? 1.0
-                                     : 0.5 + 0.5 * std::cos(std::numbers::pi *
-                                                            double(t + fade - taps + 1) / double(fade));
+    const double w =
+        t + fade < taps
+            ? 1.0
+            : 0.5 + 0.5 * std::cos(std::numbers::pi * double(t + fade - taps + 1) / double(fade));
     h[t] = float(w * fft.time.p[t] / double(n));
   }
   return h;
@@ -95,6 +132,7 @@ ChannelEarFilters samplingFilters(int order, const Hrtf& hrtf, size_t length) {
 AmbisonicBinauralDecoder::AmbisonicBinauralDecoder(int order, const Hrtf& hrtf,
                                                    const BinauralDecoderOptions& options)
     : order_(std::clamp(order, 1, kMaxAmbisonicOrder)), method_(options.method) {
+  sampleRate_ = hrtf.sampleRate();
   length_ = size_t(hrtf.filterLength()) + size_t(hrtf.sampleRate() / 500);  // onsets up to 2 ms
   filters_ = method_ == BinauralDecoderMethod::kSampling
                  ? samplingFilters(order_, hrtf, length_)
@@ -118,12 +156,9 @@ void AmbisonicBinauralDecoder::equaliseDiffuseField() {
                        double(fft.spec.p[k][1]) * fft.spec.p[k][1]) /
                       double(2 * order + 1) / 2.0;
       }
-  const std::vector<double> smooth = thirdOctaveSmoothed(power);
   const double maxGain = std::pow(10.0, kMaxEqualiserBoostDb / 20.0);
-  std::vector<double> mag(bins);
-  for (size_t k = 0; k < bins; ++k)
-    mag[k] = smooth[k] > 0.0 ? std::min(maxGain, 1.0 / std::sqrt(smooth[k])) : maxGain;
-  equaliser_ = minimumPhase(fft, mag, kEqualiserTaps);
+  equaliser_ =
+      minimumPhase(fft, diffuseFieldEqualiser(power, sampleRate_, maxGain), kEqualiserTaps);
 }
 
 void AmbisonicBinauralDecoder::decode(const float* const* channels, size_t n, float* left,

@@ -22,16 +22,24 @@
 // lower than the HRTF's (docs/spatial.md, "Binaural decoding"). Kept for that comparison.
 //
 // Diffuse-field equalisation (both decoders): both ears' decoded signals pass through one
-// minimum-phase filter E with |E(f)|^2 = 1 / D(f), D the third-octave-smoothed power the
-// decoder gives the ears (mean of both) for an isotropic diffuse field of unit power, in which
-// an SN3D channel of order n carries power 1 / (2n + 1): D = sum_c |F_c,ear|^2 / (2 n_c + 1).
-// The ears then hear a diffuse field at its own power at every frequency, as per-path binaural
-// does (its HRIRs are levelled per octave band by the HRTF set's diffuse-field power), instead
-// of the HRTF's low-frequency roll-off (and, for the sampling decoder, its high-frequency
-// loss: the virtual loudspeakers' HRIRs add incoherently there, keeping about (N + 1)^2 / Q of
-// the power). Common to both ears, E leaves interaural level and time differences unchanged.
-// Minimum phase by folding the real cepstrum (Oppenheim & Schafer, "Discrete-Time Signal
-// Processing", 3rd ed., sec. 13.6); boost limited to kMaxEqualiserBoostDb.
+// minimum-phase filter E = sum_b A_b / sqrt(D_b), A_b the amplitude-complementary octave-band
+// filters of common/octave_band_masks.h and D_b the band power the decoder gives the ears (mean
+// of both; A_b-weighted over band b's analysed octave) for an isotropic diffuse field of unit
+// power, in which an SN3D channel of order n carries power 1 / (2n + 1):
+// D(f) = sum_c |F_c,ear(f)|^2 / (2 n_c + 1). Below kDirectionalFromBand (63 and 125 Hz, which
+// per-path binaural renders without HRIRs) 1 / sqrt(D_b) is replaced by 1 / sqrt(D(f)) smoothed
+// over third octaves, flattening the HRTF's steep roll-off within those bands. The ears then
+// hear a diffuse field at its own power in every octave band, levelled in the same bands and
+// with the same crossovers as per-path binaural levels its HRIRs by the HRTF set's
+// diffuse-field band power (synthesis/spatial_synthesizer.h), instead of the HRTF's low-frequency
+// roll-off (and, for the sampling decoder, its high-frequency loss: the virtual loudspeakers' HRIRs
+// add incoherently there, keeping about (N + 1)^2 / Q of the power). Within a band E is flat, as
+// per-path binaural's levelling is, so that a band's interaural level difference weighs the ears'
+// spectra alike in both renderers (a finer, third-octave equaliser tilted the 4 kHz band and moved
+// its ILD at 90 degrees by about 1 dB against per-path binaural: docs/spatial.md). Common to both
+// ears, E leaves interaural time differences unchanged. Minimum phase by folding the real cepstrum
+// (Oppenheim & Schafer, "Discrete-Time Signal Processing", 3rd ed., sec. 13.6); boost limited to
+// kMaxEqualiserBoostDb.
 //
 // Construction: control thread, allocates (ambisonicChannels(order) x 2 filters and the
 // equaliser; plans FFTW). decode(): any thread except the audio thread (direct convolution,
@@ -63,7 +71,7 @@ class AmbisonicBinauralDecoder {
   /// Largest boost of the diffuse-field equaliser, dB (the HRTF's power far below its
   /// measured band is not restored beyond this).
   static constexpr double kMaxEqualiserBoostDb = 24.0;
-  /// Taps of the diffuse-field equaliser (85 ms at 48 kHz: a third-octave-smooth response
+  /// Taps of the diffuse-field equaliser (85 ms at 48 kHz: an octave-band response
   /// down to about 40 Hz).
   static constexpr size_t kEqualiserTaps = 4096;
 
@@ -87,6 +95,7 @@ class AmbisonicBinauralDecoder {
   int order_;
   BinauralDecoderMethod method_;
   size_t length_ = 0;
+  int sampleRate_ = 0;  ///< the HRTF's, Hz
   ChannelEarFilters filters_;
   std::vector<float> equaliser_;
 };

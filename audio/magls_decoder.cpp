@@ -204,6 +204,35 @@ Projector projector(int order, const MeasuredSet& s, double lambda) {
   return pr;
 }
 
+/// The least squares of the MagLS band for `ear`: the measurements' weights times
+/// (E / E_q)^alpha, E_q the ear's power at u_q over bins [cut, bins), E its weighted mean (see
+/// the header).
+Projector levelWeightedProjector(int order, const MeasuredSet& s, size_t cut, int ear,
+                                 double alpha) {
+  std::vector<double> power(s.count, 0.0);
+  for (size_t k = cut; k < s.bins; ++k) {
+    const std::complex<float>* h = s.bin(k, ear);
+    for (size_t q = 0; q < s.count; ++q) power[q] += std::norm(h[q]);
+  }
+  double mean = 0.0, total = 0.0;
+  for (size_t q = 0; q < s.count; ++q) {
+    mean += s.weights[q] * power[q];
+    total += s.weights[q];
+  }
+  mean /= total;
+  MeasuredSet weighted;
+  weighted.count = s.count;
+  weighted.directions = s.directions;
+  weighted.weights.resize(s.count);
+  // The filled gap keeps its plain weights: its blended HRIRs lose high frequencies that the
+  // head does not (their onsets differ), and weighting them up would fit that loss.
+  for (size_t q = 0; q < s.count; ++q)
+    weighted.weights[q] =
+        q < s.measured ? s.weights[q] * std::pow(mean / std::max(power[q], 1e-9 * mean), alpha)
+                       : s.weights[q];
+  return projector(order, weighted, kMagLsRegularisation);
+}
+
 /// The decoder's coefficients, bin-major: [(k * 2 + ear) * C + c] (N3D).
 using Coefficients = std::vector<Complex>;
 
@@ -224,9 +253,10 @@ void project(const Projector& pr, const std::vector<Complex>& t, Complex* h) {
   }
 }
 
-/// Least squares below bin `cut`, MagLS from it on: the target's phase is the previous bin's
-/// decoded response's, its magnitude the measured one.
-Coefficients fit(const MeasuredSet& s, const Projector& pr, size_t cut) {
+/// Least squares below bin `cut` (pr), MagLS from it on (magnitude[ear]): the target's phase
+/// is the previous bin's decoded response's, its magnitude the measured one.
+Coefficients fit(const MeasuredSet& s, const Projector& pr, const Projector* magnitude,
+                 size_t cut) {
   const size_t C = pr.channels;
   Coefficients h(s.bins * 2 * C);
   std::vector<Complex> target(s.count);
@@ -234,8 +264,9 @@ Coefficients fit(const MeasuredSet& s, const Projector& pr, size_t cut) {
     for (int e = 0; e < 2; ++e) {
       const std::complex<float>* measured = s.bin(k, e);
       const Complex* below = k > 0 ? h.data() + ((k - 1) * 2 + size_t(e)) * C : nullptr;
+      const bool leastSquares = k < cut || k == 0;
       for (size_t q = 0; q < s.count; ++q) {
-        if (k < cut || k == 0) {
+        if (leastSquares) {
           target[q] = Complex(measured[q]);
           continue;
         }
@@ -243,7 +274,7 @@ Coefficients fit(const MeasuredSet& s, const Projector& pr, size_t cut) {
         const double m = std::sqrt(double(std::norm(measured[q]))), a = std::sqrt(std::norm(d));
         target[q] = a > 0.0 ? (m / a) * d : Complex(m);
       }
-      project(pr, target, h.data() + (k * 2 + size_t(e)) * C);
+      project(leastSquares ? pr : magnitude[e], target, h.data() + (k * 2 + size_t(e)) * C);
     }
   return h;
 }
@@ -369,7 +400,10 @@ ChannelEarFilters magLsFilters(int order, const Hrtf& hrtf, const MagLsOptions& 
                                size_t(std::lround(kMagLsDelayBandHz[1] / binHz)));
   advance(s, tau);
   const Projector pr = projector(order, s, kMagLsRegularisation);
-  Coefficients h = fit(s, pr, cut);
+  const double alpha = order >= 2 ? options.levelWeightExponent : 0.0;
+  const Projector magnitude[2] = {levelWeightedProjector(order, s, cut, 0, alpha),
+                                  levelWeightedProjector(order, s, cut, 1, alpha)};
+  Coefficients h = fit(s, pr, magnitude, cut);
   if (options.covarianceConstraint) constrainCovariance(s, pr, cut, h);
   const double delay = tau + kMagLsPreDelaySeconds * hrtf.sampleRate();
   return timeDomain(order, h, s.bins, fftSize, delay, length);

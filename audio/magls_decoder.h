@@ -25,7 +25,14 @@
 //    is |H_q(f_k)| exp(i arg(y_q^T h(f_(k-1)))), the measured magnitude with the phase the
 //    decoder gave that direction one bin lower, fitted by the same least squares. Above the
 //    order's spatial band limit a decoder cannot match magnitude and phase; the ears' levels
-//    (the ILD, the timbre) are what is heard there, the interaural phase is not.
+//    (the ILD, the timbre) are what is heard there, the interaural phase is not. Here each
+//    direction's weight, per ear, is w_q (E / E_q)^alpha, E_q the ear's power at u_q summed
+//    from f_c up and E its weighted mean (alpha = kMagLsLevelWeightExponent): the plain
+//    magnitude error weighs a shadowed ear's 20 dB quieter directions a hundred times less than
+//    the lit ones, although the ILD, a ratio, hears their error alike; alpha = 1 would weigh
+//    relative errors alike. The filled gap keeps its plain weights, and order 1 uses alpha = 0
+//    (a first-order field cannot shape the shadow; its 2 and 4 kHz mean ILD errors grew with
+//    alpha = 1/4).
 // The phase retrieval continues each direction's phase from f_c with zero group delay, so the
 // spectra are first advanced by the set's bulk delay tau (the mean phase step of its
 // direction-averaged response over kMagLsDelayBandHz, both ears; 45 samples, 0.95 ms, for KEMAR
@@ -82,9 +89,19 @@ inline constexpr double kMagLsPreDelaySeconds = 0.5e-3;
 /// decoding": the cut-off).
 inline constexpr double kMagLsCutoffHz = 1500.0;
 
+/// alpha, the exponent of the MagLS band's level weights at orders 2 and up (see the file
+/// comment). A trade-off, measured at order 3 (docs/spatial.md, "Binaural decoding"): the mean
+/// |ILD error| over 96 directions falls as alpha grows (2, 4 and 8 kHz summed: 3.40 dB at 0,
+/// 3.12 at 1/4, 3.04 at 1/2, 2.83 at 1), while at the side, where KEMAR's 4 kHz ILD dips (the
+/// contralateral bright spot, narrower than an order-3 field resolves), the decoder overshoots
+/// it more (90 degrees against per-path binaural: +1.6 dB at 1/4, +2.1 at 1/2, +3.6 at 1).
+inline constexpr double kMagLsLevelWeightExponent = 0.25;
+
 struct MagLsOptions {
   double cutoffHz = kMagLsCutoffHz;   ///< least squares below, MagLS from here on
   bool covarianceConstraint = false;  ///< Zaunschirm et al.'s constraint, from f_c on
+  /// alpha from order 2 up (order 1: 0); 0 gives the paper's weights
+  double levelWeightExponent = kMagLsLevelWeightExponent;
 };
 
 /// Per ACN channel, per ear (0 left, 1 right): a filter of `length` taps.

@@ -1,9 +1,8 @@
-// The synthesis band filters: zero-phase, power-complementary octave-band masks M_b on the bins
-// of a real FFT (raised-cosine crossovers 1/3 octave wide at the band edges fc * 2^(1/2)), the
-// amplitude-complementary band filters A_b = M_b^2 (sum_b A_b = 1, so equal band gains give
-// back the unfiltered signal and neighbouring bands never add up coherently to more than it),
-// their crossover coupling for a white spectrum, and the impulse responses a_b of A_b that place
-// a direct sound (shared by the mono and the spatial synthesiser).
+// The synthesis band filters: the octave-band masks M_b and amplitude-complementary filters
+// A_b = M_b^2 of common/octave_band_masks.h (sum_b A_b = 1, so equal band gains give back the
+// unfiltered signal and neighbouring bands never add up coherently to more than it), their
+// crossover coupling for a white spectrum, and the impulse responses a_b of A_b that place a
+// direct sound (shared by the mono and the spatial synthesiser).
 #pragma once
 
 #include <array>
@@ -15,6 +14,7 @@
 
 #include "common/bands.h"
 #include "common/fftw_util.h"
+#include "common/octave_band_masks.h"
 
 namespace dpc {
 
@@ -23,42 +23,6 @@ namespace dpc {
 inline size_t bandFilterTaps(int sampleRate) {
   return size_t(sampleRate / 4);
 }
-
-/// Whether band b has an ISO 3382-1 analysis filter at sampleRate Hz (common/octave_filter.h:
-/// its upper edge fc sqrt(2) lies below Nyquist; 8 kHz at 22.05 kHz does not). Any thread; no
-/// allocation; no errors.
-inline bool analysableBand(int b, double sampleRate) {
-  return bandCentreExactHz(b) * std::numbers::sqrt2 < 0.5 * sampleRate;
-}
-
-/// Whether an octave-band analysis counts band b's mask at f Hz: everywhere for the inner
-/// bands, from fc / sqrt 2 up for the 63 Hz band and up to fc sqrt 2 for the 8 kHz band (their
-/// masks reach on to 0 Hz and to Nyquist). Any thread; no allocation; no errors.
-inline bool inAnalysedOctave(int b, double f) {
-  const double fc = bandCentreExactHz(b);
-  if (b == 0) return f >= fc / std::numbers::sqrt2;
-  if (b == kNumBands - 1) return f <= fc * std::numbers::sqrt2;
-  return true;
-}
-
-/// Fraction of power above `edge` Hz at f Hz: a raised cosine in log2 frequency over +-1/6
-/// octave around the edge (a 1/3-octave crossover); with its complement (1 - it) it splits
-/// power without loss (sin^2 + cos^2 = 1). Any thread; no allocation; no errors.
-double powerAbove(double f, double edge);
-
-/// Zero-phase power-complementary octave-band masks M_b on the bins 0..fftSize/2 of a real FFT
-/// of fftSize points at sampleRate Hz (sum_b M_b^2 = 1 on every bin). Any thread; the
-/// constructor allocates kNumBands x (fftSize/2 + 1) floats; no errors.
-class OctaveBandMasks {
- public:
-  OctaveBandMasks(int sampleRate, size_t fftSize);
-  /// |H_b| at FFT bin k (0 <= k <= fftSize/2).
-  float gain(int band, size_t k) const { return gains_[size_t(band)][k]; }
-  size_t binCount() const { return gains_[0].size(); }
-
- private:
-  std::array<std::vector<float>, kNumBands> gains_;
-};
 
 /// Crossover coupling of the band masks for a white spectrum:
 /// coupling[b][i][k] = sum_f M_b^2 A_{b+i-1} A_{b+k-1} / sum_f M_b^2, the share of band b's

@@ -44,6 +44,7 @@
 #include <vector>
 
 #include "common/fftw_util.h"
+#include "common/octave_band_masks.h"
 #include "engine/energy_response.h"
 #include "engine/propagation.h"
 #include "engine/specular_paths.h"
@@ -63,7 +64,7 @@ struct DirectionFilter {
 class SpatialIrSynthesizer {
  public:
   /// Bands from this one up are rendered per direction; lower ones omnidirectionally.
-  static constexpr int kDirectionalFromBand = 2;
+  static constexpr int kDirectionalFromBand = dpc::kDirectionalFromBand;
   /// Per-channel levelling of the directional bands (BandLeveller): each band's analysed
   /// energy over 50 ms windows is brought to within this energy ratio of the channel's
   /// target, scaled up by at most kLevelMaxBoost (amplitude), from where each direction's Dirac
@@ -212,12 +213,12 @@ class SpatialIrSynthesizer {
   std::vector<Bands> directWeight_;
   std::vector<double> arrivalDelays_;  ///< this frame's arrivals, seconds
   std::vector<Bands> arrivalEnergy_;   ///< per arrival and channel: band energy as levelled
-  std::vector<Bands> directMask2_;  ///< M_b^2 on the direct-sound FFT's bins
+  std::vector<Bands> directMask2_;     ///< M_b^2 on the direct-sound FFT's bins
   std::array<double, kNumBands> directNorm_{};
   /// One per levelling worker (setParallelLevelling); [0] always exists.
   std::vector<std::unique_ptr<BandLeveller>> levellers_;
-  size_t levelStart_ = 0;  ///< BandLeveller's start sample
-  ParallelFor parallel_;   ///< empty: level on the calling thread
+  size_t levelStart_ = 0;                   ///< BandLeveller's start sample
+  ParallelFor parallel_;                    ///< empty: level on the calling thread
   std::vector<std::vector<Bands>> binned_;  ///< per direction: its response in leveller bins
 };
 

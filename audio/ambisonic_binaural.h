@@ -71,8 +71,8 @@ class AmbisonicBinauralDecoder {
   /// Largest boost of the diffuse-field equaliser, dB (the HRTF's power far below its
   /// measured band is not restored beyond this).
   static constexpr double kMaxEqualiserBoostDb = 24.0;
-  /// Taps of the diffuse-field equaliser (85 ms at 48 kHz: an octave-band response
-  /// down to about 40 Hz).
+  /// Taps of the diffuse-field equaliser (85 ms at 48 kHz: octave bands from 250 Hz, a
+  /// third-octave-smooth response below, down to about 40 Hz).
   static constexpr size_t kEqualiserTaps = 4096;
 
   BinauralDecoderMethod method() const { return method_; }

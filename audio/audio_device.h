@@ -125,8 +125,8 @@ class CallbackStats {
 /// each out[c][0..frames), c < channels (planar float32, nominal range [-1, 1]); every
 /// sample must be written (the buffers hold garbage on entry). `frames` is the block size
 /// the stream was opened with (PortAudio) or the JACK server's period (JACK: blockSize(),
-/// which the server may change while playing). Runs on the audio thread: must not allocate, lock, log,
-/// throw, wait or make system calls. The calling thread is declared rt::ThreadRole::kAudio
+/// which the server may change while playing). Runs on the audio thread: must not allocate, lock,
+/// log, throw, wait or make system calls. The calling thread is declared rt::ThreadRole::kAudio
 /// (audio/rt_check.h) before each call, so DPC_ASSERT_AUDIO_THREAD() holds inside. noexcept is part
 /// of the type so that a throwing function does not convert silently.
 using RenderCallback = void (*)(void* user, float* const* out, int frames) noexcept;

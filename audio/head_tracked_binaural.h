@@ -65,12 +65,12 @@ class HeadTrackedBinaural {
   std::vector<std::unique_ptr<IrSpectra>> filters_;  ///< per channel: its two ear filters
   std::vector<std::unique_ptr<PartitionedConvolver>> convolvers_;  ///< per channel, 2 ears
   std::unique_ptr<ConvolverLayout> equaliserLayout_;
-  std::unique_ptr<IrSpectra> equaliser_;                      ///< the decoder's equaliser
-  std::unique_ptr<PartitionedConvolver> equalisers_[2];       ///< per ear
-  std::vector<float> ears_;  ///< 2 x B: the ears before the equaliser
-  std::vector<float> matrix_, previous_;          ///< C x C, row-major
-  bool changed_ = false;                          ///< previous_ != matrix_ for this block
-  std::vector<float> scratch_;                    ///< C x B: the block under the old matrix
+  std::unique_ptr<IrSpectra> equaliser_;                 ///< the decoder's equaliser
+  std::unique_ptr<PartitionedConvolver> equalisers_[2];  ///< per ear
+  std::vector<float> ears_;                              ///< 2 x B: the ears before the equaliser
+  std::vector<float> matrix_, previous_;                 ///< C x C, row-major
+  bool changed_ = false;                                 ///< previous_ != matrix_ for this block
+  std::vector<float> scratch_;                           ///< C x B: the block under the old matrix
   std::vector<float*> scratchChannels_;
 };
 

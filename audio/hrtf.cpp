@@ -127,9 +127,8 @@ std::vector<MeasuredDirection> measuredDirections(const MYSOFA_HRTF& h) {
 // Measurement m's delay for one ear (per measurement, or one per receiver), samples.
 float delayOf(const MYSOFA_HRTF& h, unsigned m, int ear) {
   if (h.DataDelay.elements == 0) return 0.0f;
-  return h.DataDelay.elements >= h.M * h.R
-             ? h.DataDelay.values[size_t(m) * h.R + size_t(ear)]
-             : h.DataDelay.values[size_t(ear) % h.DataDelay.elements];
+  return h.DataDelay.elements >= h.M * h.R ? h.DataDelay.values[size_t(m) * h.R + size_t(ear)]
+                                           : h.DataDelay.values[size_t(ear) % h.DataDelay.elements];
 }
 
 // One grid node: the Shepard blend (see fillGrid) of the measurements around unit direction u

@@ -143,15 +143,16 @@ void JackBackend::findTargets(const std::string& target, bool connectPhysical) {
       if (std::strchr(".[]()*+?^$|\\{}", ch)) pattern += '\\';
       pattern += ch;
     }
-    list.names = jack_get_ports(client_, (pattern + ":").c_str(), JACK_DEFAULT_AUDIO_TYPE,
-                                JackPortIsInput);
+    list.names =
+        jack_get_ports(client_, (pattern + ":").c_str(), JACK_DEFAULT_AUDIO_TYPE, JackPortIsInput);
     if (list.size() == 0)
       throw std::runtime_error(where() + ": no JACK client '" + target +
                                "' with audio input ports (jack_lsp lists them)");
   }
   device.maxOutputChannels = int(list.size());
   if (target.empty() && !connectPhysical) return;
-  for (size_t i = 0; i < list.size() && int(i) < channels; ++i) targets_.emplace_back(list.names[i]);
+  for (size_t i = 0; i < list.size() && int(i) < channels; ++i)
+    targets_.emplace_back(list.names[i]);
 }
 
 void JackBackend::registerPorts(const AudioOutput::Options& options) {
@@ -190,8 +191,8 @@ void JackBackend::start() {
   for (size_t c = 0; c < targets_.size(); ++c) {
     const int err = jack_connect(client_, jack_port_name(ports_[c]), targets_[c].c_str());
     if (err != 0 && err != EEXIST)
-      throw std::runtime_error(where() + ": cannot connect " + jack_port_name(ports_[c]) +
-                               " to " + targets_[c]);
+      throw std::runtime_error(where() + ": cannot connect " + jack_port_name(ports_[c]) + " to " +
+                               targets_[c]);
   }
 }
 

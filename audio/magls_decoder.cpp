@@ -204,9 +204,15 @@ Projector projector(int order, const MeasuredSet& s, double lambda) {
   return pr;
 }
 
-/// The least squares of the MagLS band for `ear`: the measurements' weights times
-/// (E / E_q)^alpha, E_q the ear's power at u_q over bins [cut, bins), E its weighted mean (see
-/// the header).
+/// Directions whose power from f_c up is below this fraction of the mean weigh as if they had
+/// it: a dead or band-limited measurement must not take over the fit.
+constexpr double kLevelWeightFloor = 1e-3;
+
+/// The least squares of the MagLS band for `ear`: each measurement's weight times
+/// (E / E_q)^alpha, E_q the ear's power at u_q over bins [cut, bins) (at least
+/// kLevelWeightFloor E), E its weighted mean, rescaled so that the measurements keep their
+/// share of the sphere against the filled gap (see the header). alpha = 0, or a set with no
+/// power above f_c: s's own weights.
 Projector levelWeightedProjector(int order, const MeasuredSet& s, size_t cut, int ear,
                                  double alpha) {
   std::vector<double> power(s.count, 0.0);
@@ -215,21 +221,24 @@ Projector levelWeightedProjector(int order, const MeasuredSet& s, size_t cut, in
     for (size_t q = 0; q < s.count; ++q) power[q] += std::norm(h[q]);
   }
   double mean = 0.0, total = 0.0;
-  for (size_t q = 0; q < s.count; ++q) {
+  for (size_t q = 0; q < s.measured; ++q) {
     mean += s.weights[q] * power[q];
     total += s.weights[q];
   }
-  mean /= total;
+  mean = total > 0.0 ? mean / total : 0.0;
   MeasuredSet weighted;
   weighted.count = s.count;
   weighted.directions = s.directions;
-  weighted.weights.resize(s.count);
+  weighted.weights = s.weights;
+  if (alpha == 0.0 || !(mean > 0.0)) return projector(order, weighted, kMagLsRegularisation);
   // The filled gap keeps its plain weights: its blended HRIRs lose high frequencies that the
   // head does not (their onsets differ), and weighting them up would fit that loss.
-  for (size_t q = 0; q < s.count; ++q)
-    weighted.weights[q] =
-        q < s.measured ? s.weights[q] * std::pow(mean / std::max(power[q], 1e-9 * mean), alpha)
-                       : s.weights[q];
+  double scaled = 0.0;
+  for (size_t q = 0; q < s.measured; ++q) {
+    weighted.weights[q] *= std::pow(mean / std::max(power[q], kLevelWeightFloor * mean), alpha);
+    scaled += weighted.weights[q];
+  }
+  for (size_t q = 0; q < s.measured; ++q) weighted.weights[q] *= total / scaled;
   return projector(order, weighted, kMagLsRegularisation);
 }
 
@@ -401,8 +410,9 @@ ChannelEarFilters magLsFilters(int order, const Hrtf& hrtf, const MagLsOptions& 
   advance(s, tau);
   const Projector pr = projector(order, s, kMagLsRegularisation);
   const double alpha = order >= 2 ? options.levelWeightExponent : 0.0;
-  const Projector magnitude[2] = {levelWeightedProjector(order, s, cut, 0, alpha),
-                                  levelWeightedProjector(order, s, cut, 1, alpha)};
+  const Projector magnitude[2] = {
+      alpha == 0.0 ? pr : levelWeightedProjector(order, s, cut, 0, alpha),
+      alpha == 0.0 ? pr : levelWeightedProjector(order, s, cut, 1, alpha)};
   Coefficients h = fit(s, pr, magnitude, cut);
   if (options.covarianceConstraint) constrainCovariance(s, pr, cut, h);
   const double delay = tau + kMagLsPreDelaySeconds * hrtf.sampleRate();

@@ -30,7 +30,8 @@
 //    from f_c up and E its weighted mean (alpha = kMagLsLevelWeightExponent): the plain
 //    magnitude error weighs a shadowed ear's 20 dB quieter directions a hundred times less than
 //    the lit ones, although the ILD, a ratio, hears their error alike; alpha = 1 would weigh
-//    relative errors alike. The filled gap keeps its plain weights, and order 1 uses alpha = 0
+//    relative errors alike. The measurements' weights are rescaled to keep their share of the
+//    sphere; the filled gap keeps its plain weights, and order 1 uses alpha = 0
 //    (a first-order field cannot shape the shadow; its 2 and 4 kHz mean ILD errors grew with
 //    alpha = 1/4).
 // The phase retrieval continues each direction's phase from f_c with zero group delay, so the
@@ -92,9 +93,9 @@ inline constexpr double kMagLsCutoffHz = 1500.0;
 /// alpha, the exponent of the MagLS band's level weights at orders 2 and up (see the file
 /// comment). A trade-off, measured at order 3 (docs/spatial.md, "Binaural decoding"): the mean
 /// |ILD error| over 96 directions falls as alpha grows (2, 4 and 8 kHz summed: 3.40 dB at 0,
-/// 3.12 at 1/4, 3.04 at 1/2, 2.83 at 1), while at the side, where KEMAR's 4 kHz ILD dips (the
+/// 3.14 at 1/4, 3.10 at 1/2, 3.00 at 1), while at the side, where KEMAR's 4 kHz ILD dips (the
 /// contralateral bright spot, narrower than an order-3 field resolves), the decoder overshoots
-/// it more (90 degrees against per-path binaural: +1.6 dB at 1/4, +2.1 at 1/2, +3.6 at 1).
+/// it more (90 degrees against per-path binaural: +1.6 dB at 1/4, +2.0 at 1/2, +3.3 at 1).
 inline constexpr double kMagLsLevelWeightExponent = 0.25;
 
 struct MagLsOptions {

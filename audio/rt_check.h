@@ -51,8 +51,7 @@ inline bool onAudioThread() noexcept {
 /// declared no other role before (a propagation or recorder thread must never render). Any
 /// thread; no allocation.
 inline void enterAudioThread() noexcept {
-  assert(detail::tThreadRole == ThreadRole::kUnknown ||
-         detail::tThreadRole == ThreadRole::kAudio);
+  assert(detail::tThreadRole == ThreadRole::kUnknown || detail::tThreadRole == ThreadRole::kAudio);
   detail::tThreadRole = ThreadRole::kAudio;
 }
 

@@ -91,7 +91,9 @@ int positionVar(NcFile& f, const char* name, std::initializer_list<int> dims) {
 }
 
 void checkShapes(const std::string& path, const SofaIrs& irs) {
-  auto bad = [&](const std::string& why) { throw InputError(path, "", "cannot write SOFA: " + why); };
+  auto bad = [&](const std::string& why) {
+    throw InputError(path, "", "cannot write SOFA: " + why);
+  };
   if (irs.sampleRate <= 0) bad("sample rate not positive");
   if (irs.irs.empty() || irs.irs[0].empty() || irs.irs[0][0].empty()) bad("no IR samples");
   if (irs.sourcePositions.size() != irs.irs.size()) bad("one source position per measurement");
@@ -110,8 +112,8 @@ TempOutputFile stageSofa(const std::string& path, const SofaIrs& irs) {
   TempOutputFile out(path);
   const size_t M = irs.irs.size(), R = irs.irs[0].size(), N = irs.irs[0][0].size();
   NcFile f(path, out.tempPath());
-  const Dims d{f.dim("I", 1), f.dim("C", 3), f.dim("R", R), f.dim("E", 1), f.dim("N", N),
-               f.dim("M", M)};
+  const Dims d{f.dim("I", 1), f.dim("C", 3), f.dim("R", R),
+               f.dim("E", 1), f.dim("N", N), f.dim("M", M)};
   globalAttributes(f, irs);
   const int listener = positionVar(f, "ListenerPosition", {d.i, d.c});
   const int receivers = positionVar(f, "ReceiverPosition", {d.r, d.c, d.i});

@@ -15,8 +15,12 @@ Vec unit(double azDeg, double elDeg) {
   return {std::cos(elDeg * kDeg) * std::cos(azDeg * kDeg),
           std::cos(elDeg * kDeg) * std::sin(azDeg * kDeg), std::sin(elDeg * kDeg)};
 }
-Vec sub(const Vec& a, const Vec& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-double dot(const Vec& a, const Vec& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+Vec sub(const Vec& a, const Vec& b) {
+  return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
+double dot(const Vec& a, const Vec& b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 Vec cross(const Vec& a, const Vec& b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
@@ -51,8 +55,10 @@ Vbap::Vbap(std::span<const std::array<double, 2>> directionsDegrees) {
     for (size_t j = i + 1; j < real_; ++j)
       if (dot(speakers_[i], speakers_[j]) > std::cos(1.0 * kDeg))
         throw std::invalid_argument("two loudspeakers within 1 degree of each other");
-  if (planar_) buildPairs();
-  else buildHull();
+  if (planar_)
+    buildPairs();
+  else
+    buildHull();
 }
 
 void Vbap::buildPairs() {
@@ -97,8 +103,7 @@ void Vbap::buildHull() {
           below += s < 0;
         }
         std::array<double, 9> inv{};
-        if ((above == 0 || below == 0) &&
-            invert(speakers_[i], speakers_[j], speakers_[k], inv)) {
+        if ((above == 0 || below == 0) && invert(speakers_[i], speakers_[j], speakers_[k], inv)) {
           faces_.push_back({int(i), int(j), int(k)});
           inverses_.push_back(inv);
         }

@@ -132,15 +132,14 @@ ChannelEarFilters samplingFilters(int order, const Hrtf& hrtf, size_t length) {
 AmbisonicBinauralDecoder::AmbisonicBinauralDecoder(int order, const Hrtf& hrtf,
                                                    const BinauralDecoderOptions& options)
     : order_(std::clamp(order, 1, kMaxAmbisonicOrder)), method_(options.method) {
-  sampleRate_ = hrtf.sampleRate();
   length_ = size_t(hrtf.filterLength()) + size_t(hrtf.sampleRate() / 500);  // onsets up to 2 ms
   filters_ = method_ == BinauralDecoderMethod::kSampling
                  ? samplingFilters(order_, hrtf, length_)
                  : magLsFilters(order_, hrtf, options.magLs, length_);
-  equaliseDiffuseField();
+  equaliseDiffuseField(hrtf.sampleRate());
 }
 
-void AmbisonicBinauralDecoder::equaliseDiffuseField() {
+void AmbisonicBinauralDecoder::equaliseDiffuseField(int sampleRate) {
   const size_t n = 4 * kEqualiserTaps, bins = n / 2 + 1;
   FftwRealTransforms fft(n);
   std::vector<double> power(bins, 0.0);
@@ -157,8 +156,7 @@ void AmbisonicBinauralDecoder::equaliseDiffuseField() {
                       double(2 * order + 1) / 2.0;
       }
   const double maxGain = std::pow(10.0, kMaxEqualiserBoostDb / 20.0);
-  equaliser_ =
-      minimumPhase(fft, diffuseFieldEqualiser(power, sampleRate_, maxGain), kEqualiserTaps);
+  equaliser_ = minimumPhase(fft, diffuseFieldEqualiser(power, sampleRate, maxGain), kEqualiserTaps);
 }
 
 void AmbisonicBinauralDecoder::decode(const float* const* channels, size_t n, float* left,

@@ -89,13 +89,12 @@ class AmbisonicBinauralDecoder {
   void decode(const float* const* channels, size_t n, float* left, float* right) const;
 
  private:
-  /// Computes equaliser_ from the folded filters.
-  void equaliseDiffuseField();
+  /// Computes equaliser_ from the folded filters (the HRTF's sampleRate, Hz, places the bands).
+  void equaliseDiffuseField(int sampleRate);
 
   int order_;
   BinauralDecoderMethod method_;
   size_t length_ = 0;
-  int sampleRate_ = 0;  ///< the HRTF's, Hz
   ChannelEarFilters filters_;
   std::vector<float> equaliser_;
 };

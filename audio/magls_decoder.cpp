@@ -209,16 +209,16 @@ Projector projector(int order, const MeasuredSet& s, double lambda) {
 constexpr double kLevelWeightFloor = 1e-3;
 
 /// The least squares of the MagLS band for `ear`: each measurement's weight times
-/// (E / E_q)^alpha, E_q the ear's power at u_q over bins [cut, bins) (at least
+/// (E / E_q)^alpha (alpha > 0), E_q the ear's power at u_q over bins [cut, bins) (at least
 /// kLevelWeightFloor E), E its weighted mean, rescaled so that the measurements keep their
-/// share of the sphere against the filled gap (see the header). alpha = 0, or a set with no
-/// power above f_c: s's own weights.
+/// share of the sphere against the filled gap (see the header). A set with no power above f_c:
+/// s's own weights.
 Projector levelWeightedProjector(int order, const MeasuredSet& s, size_t cut, int ear,
                                  double alpha) {
-  std::vector<double> power(s.count, 0.0);
+  std::vector<double> power(s.measured, 0.0);
   for (size_t k = cut; k < s.bins; ++k) {
     const std::complex<float>* h = s.bin(k, ear);
-    for (size_t q = 0; q < s.count; ++q) power[q] += std::norm(h[q]);
+    for (size_t q = 0; q < s.measured; ++q) power[q] += std::norm(h[q]);
   }
   double mean = 0.0, total = 0.0;
   for (size_t q = 0; q < s.measured; ++q) {
@@ -226,11 +226,11 @@ Projector levelWeightedProjector(int order, const MeasuredSet& s, size_t cut, in
     total += s.weights[q];
   }
   mean = total > 0.0 ? mean / total : 0.0;
+  if (!(mean > 0.0)) return projector(order, s, kMagLsRegularisation);
   MeasuredSet weighted;
   weighted.count = s.count;
   weighted.directions = s.directions;
   weighted.weights = s.weights;
-  if (alpha == 0.0 || !(mean > 0.0)) return projector(order, weighted, kMagLsRegularisation);
   // The filled gap keeps its plain weights: its blended HRIRs lose high frequencies that the
   // head does not (their onsets differ), and weighting them up would fit that loss.
   double scaled = 0.0;
@@ -262,9 +262,9 @@ void project(const Projector& pr, const std::vector<Complex>& t, Complex* h) {
   }
 }
 
-/// Least squares below bin `cut` (pr), MagLS from it on (magnitude[ear]): the target's phase
+/// Least squares below bin `cut` (pr), MagLS from it on (*magnitude[ear]): the target's phase
 /// is the previous bin's decoded response's, its magnitude the measured one.
-Coefficients fit(const MeasuredSet& s, const Projector& pr, const Projector* magnitude,
+Coefficients fit(const MeasuredSet& s, const Projector& pr, const Projector* const magnitude[2],
                  size_t cut) {
   const size_t C = pr.channels;
   Coefficients h(s.bins * 2 * C);
@@ -283,7 +283,7 @@ Coefficients fit(const MeasuredSet& s, const Projector& pr, const Projector* mag
         const double m = std::sqrt(double(std::norm(measured[q]))), a = std::sqrt(std::norm(d));
         target[q] = a > 0.0 ? (m / a) * d : Complex(m);
       }
-      project(leastSquares ? pr : magnitude[e], target, h.data() + (k * 2 + size_t(e)) * C);
+      project(leastSquares ? pr : *magnitude[e], target, h.data() + (k * 2 + size_t(e)) * C);
     }
   return h;
 }
@@ -409,10 +409,14 @@ ChannelEarFilters magLsFilters(int order, const Hrtf& hrtf, const MagLsOptions& 
                                size_t(std::lround(kMagLsDelayBandHz[1] / binHz)));
   advance(s, tau);
   const Projector pr = projector(order, s, kMagLsRegularisation);
-  const double alpha = order >= 2 ? options.levelWeightExponent : 0.0;
-  const Projector magnitude[2] = {
-      alpha == 0.0 ? pr : levelWeightedProjector(order, s, cut, 0, alpha),
-      alpha == 0.0 ? pr : levelWeightedProjector(order, s, cut, 1, alpha)};
+  // The MagLS band's projectors per ear: level-weighted from order 2 up, else pr itself.
+  Projector weighted[2];
+  const Projector* magnitude[2] = {&pr, &pr};
+  if (order >= 2 && options.levelWeightExponent > 0.0)
+    for (int e = 0; e < 2; ++e) {
+      weighted[e] = levelWeightedProjector(order, s, cut, e, options.levelWeightExponent);
+      magnitude[e] = &weighted[e];
+    }
   Coefficients h = fit(s, pr, magnitude, cut);
   if (options.covarianceConstraint) constrainCovariance(s, pr, cut, h);
   const double delay = tau + kMagLsPreDelaySeconds * hrtf.sampleRate();

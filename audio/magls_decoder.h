@@ -101,7 +101,7 @@ inline constexpr double kMagLsLevelWeightExponent = 0.25;
 struct MagLsOptions {
   double cutoffHz = kMagLsCutoffHz;   ///< least squares below, MagLS from here on
   bool covarianceConstraint = false;  ///< Zaunschirm et al.'s constraint, from f_c on
-  /// alpha from order 2 up (order 1: 0); 0 gives the paper's weights
+  /// alpha from order 2 up (order 1: 0); 0 (or any value not above 0) gives the paper's weights
   double levelWeightExponent = kMagLsLevelWeightExponent;
 };
 

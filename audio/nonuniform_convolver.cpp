@@ -187,7 +187,7 @@ NonUniformConvolver::NonUniformConvolver(const NonUniformLayout& layout, int num
       st.fdl.push_back(allocZeroed(size_t(lv.numPartitions) * spec));
     }
     for (int c = 0; c < numOutputs; ++c) {
-      st.acc.push_back(allocZeroed(2 * spec));
+      st.acc.push_back(allocZeroed(3 * spec));
       st.out.push_back(allocZeroed(n));
     }
     st.time = allocZeroed(2 * n);
@@ -285,18 +285,31 @@ int NonUniformConvolver::macSource(const LevelState& st, int level, const NonUni
   return stop - valid;
 }
 
+void NonUniformConvolver::accumulateInto(int level, LevelState& st, const NonUniformIrSet* ir,
+                                         int which, int s, int begin, int end) {
+  if (!ir) return;
+  const size_t spec = layout_->level(level).fft->spectrumFloats();
+  for (int c = 0; c < numOutputs_; ++c)
+    accPtrs_[size_t(c)] = st.acc[size_t(c)].get() + size_t(which) * spec;
+  count(stalePartitions_, uint64_t(macSource(st, level, ir, accPtrs_.data(), s, begin, end)));
+}
+
 void NonUniformConvolver::accumulate(int level, LevelState& st, int s, int begin, int end,
                                      bool crossfade) {
-  const size_t spec = layout_->level(level).fft->spectrumFloats();
-  if (st.cur) {
-    for (int c = 0; c < numOutputs_; ++c) accPtrs_[size_t(c)] = st.acc[size_t(c)].get();
-    count(stalePartitions_, uint64_t(macSource(st, level, st.cur, accPtrs_.data(), s, begin, end)));
-  }
-  if (crossfade && st.next) {
-    for (int c = 0; c < numOutputs_; ++c) accPtrs_[size_t(c)] = st.acc[size_t(c)].get() + spec;
-    count(stalePartitions_,
-          uint64_t(macSource(st, level, st.next, accPtrs_.data(), s, begin, end)));
-  }
+  if (!crossfade) return accumulateInto(level, st, st.cur, 0, s, begin, end);
+  const int group = s % st.groups;
+  if (group != st.swapGroup)  // swapped already, or not yet
+    return accumulateInto(level, st, group < st.swapGroup ? st.next : st.cur, 0, s, begin, end);
+  accumulateInto(level, st, st.cur, 1, s, begin, end);
+  accumulateInto(level, st, st.next, 2, s, begin, end);
+}
+
+void NonUniformConvolver::setSwapSpread(int blocks) {
+  if (blocks < 1)
+    throw std::invalid_argument("NonUniformConvolver::setSwapSpread: blocks " +
+                                std::to_string(blocks) + " is below 1");
+  for (int l = 0; l < layout_->numLevels(); ++l)
+    levels_[size_t(l)].groups = std::clamp(blocks / layout_->level(l).period, 1, numSources_);
 }
 
 void NonUniformConvolver::process(const float* const* in, float* const* out, bool add) {
@@ -357,10 +370,14 @@ void NonUniformConvolver::startChunk(const NonUniformLayout::Level& lv, LevelSta
   st.filling = 1 - st.filling;
   ++st.chunk;
   st.head = st.head == 0 ? lv.numPartitions - 1 : st.head - 1;
-  st.next = target_;  // the chunk's IR: the newest now
+  // The chunk's IR: the newest now, unless a staggered swap is still under way.
+  if (st.next == st.cur) {
+    st.next = target_;
+    st.swapGroup = 0;
+  }
   const size_t spec = lv.fft->spectrumFloats();
   for (int c = 0; c < numOutputs_; ++c)
-    std::fill(st.acc[size_t(c)].get(), st.acc[size_t(c)].get() + 2 * spec, 0.0f);
+    std::fill(st.acc[size_t(c)].get(), st.acc[size_t(c)].get() + 3 * spec, 0.0f);
 }
 
 void NonUniformConvolver::accumulateShare(int l, LevelState& st, int step, bool crossfade) {
@@ -384,36 +401,39 @@ void NonUniformConvolver::accumulateShare(int l, LevelState& st, int step, bool 
 void NonUniformConvolver::finishChunk(const NonUniformLayout::Level& lv, LevelState& st,
                                       bool crossfade) {
   // Inverse transforms: the chunk that starts playing in this callback (overlap-save: the last
-  // N of 2N samples are valid).
+  // N of 2N samples are valid). The steady sources' part is played as it is; the crossfading
+  // group's, y = (1 - g) old + g new with g = (k + 1) / N over the chunk, is added to it.
   const size_t n = size_t(lv.partitionSize);
   const size_t spec = lv.fft->spectrumFloats();
+  // While every source crossfades, no source is steady.
+  const bool steady = crossfade ? st.groups > 1 : st.cur != nullptr;
   for (int c = 0; c < numOutputs_; ++c) {
     float* y = st.out[size_t(c)].get();
+    float* acc = st.acc[size_t(c)].get();
+    if (steady) {
+      lv.fft->inverse(acc, st.time.get());
+      std::memcpy(y, st.time.get() + n, n * sizeof(float));
+    } else {
+      std::fill(y, y + n, 0.0f);
+    }
+    if (!crossfade) continue;
     const float* oldY = nullptr;
     const float* newY = nullptr;
     if (st.cur) {
-      lv.fft->inverse(st.acc[size_t(c)].get(), st.time.get());
+      lv.fft->inverse(acc + spec, st.time.get());
       oldY = st.time.get() + n;
     }
-    if (!crossfade) {
-      if (oldY)
-        std::memcpy(y, oldY, n * sizeof(float));
-      else
-        std::fill(y, y + n, 0.0f);
-      continue;
-    }
     if (st.next) {
-      lv.fft->inverse(st.acc[size_t(c)].get() + spec, st.time2.get());
+      lv.fft->inverse(acc + 2 * spec, st.time2.get());
       newY = st.time2.get() + n;
     }
-    // y = (1 - g) old + g new, g = (k + 1) / N over the chunk.
     const float invN = 1.0f / float(n);
     for (size_t k = 0; k < n; ++k) {
       const float g = float(k + 1) * invN;
-      y[k] = (oldY ? (1.0f - g) * oldY[k] : 0.0f) + (newY ? g * newY[k] : 0.0f);
+      y[k] += (oldY ? (1.0f - g) * oldY[k] : 0.0f) + (newY ? g * newY[k] : 0.0f);
     }
   }
-  if (crossfade) {
+  if (crossfade && ++st.swapGroup == st.groups) {
     const NonUniformIrSet* old = st.cur;
     st.cur = st.next;
     retireIfUnused(old);

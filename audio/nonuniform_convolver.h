@@ -59,6 +59,16 @@
 // so its swap is heard later anyway); an IR replaced before a level took it is skipped by
 // that level.
 //
+// Staggered swaps (setSwapSpread): a level's swap may be spread over G_l chunks. The sources
+// fall into G_l groups (source s in group s mod G_l: interleaved, because the chunk's work is
+// spread over its callbacks in source order, and a contiguous group's doubled work would fall
+// in one callback again); in chunk g of a swap, group g
+// crossfades as above while the groups before it already use the new IR and those after it
+// still the old one, so the swap's extra multiply-accumulates (both IRs of the crossfading
+// sources) fall in G_l chunks instead of one. An IR that arrives during a staggered swap
+// waits for its end (sets in between are skipped). G_l = clamp(spread / m_l, 1, S) for a
+// spread of `spread` blocks; 1 block (the default) swaps every source in one chunk.
+//
 // Threads: NonUniformLayout and NonUniformIrSet construct on the control/propagation thread
 // (FFTW plans and memory); NonUniformIrSet::prepare on the propagation thread;
 // NonUniformConvolver::setNextIr/process/takeRetired on the audio thread only, wait-free: no
@@ -207,6 +217,12 @@ class NonUniformConvolver {
   /// default). Off, every chunk is transformed and the output is exact whatever the onsets
   /// of successive sets. Control thread, before the first process().
   void setSkipSilentLevels(bool skip) { skipSilentLevels_ = skip; }
+  /// Spreads each level's IR swap over at most `blocks` blocks (see "Staggered swaps"); a
+  /// source group's new IR is heard up to blocks - 1 blocks after the set arrives. blocks >= 1.
+  /// Control thread, before the first process(). Throws std::invalid_argument if blocks < 1.
+  void setSwapSpread(int blocks);
+  /// G_l: the source groups over whose chunks level l's swaps are spread.
+  int swapGroups(int level) const { return levels_[size_t(level)].groups; }
   /// Forward FFTs skipped so far because the source was silent at that level (see "Silent
   /// levels"). Any thread (relaxed).
   uint64_t skippedTransforms() const { return skippedTransforms_.load(std::memory_order_relaxed); }
@@ -223,7 +239,9 @@ class NonUniformConvolver {
     std::array<std::vector<detail::FftwBuffer>, 2> input;
     int filling = 0;
     std::vector<detail::FftwBuffer> fdl;  ///< per source: P spectra ring
-    std::vector<detail::FftwBuffer> acc;  ///< per output: 2 spectra (old IR, new IR)
+    /// Per output: 3 spectra: the sources not crossfading (with whichever IR they use), and
+    /// the crossfading sources' with the old IR and with the new.
+    std::vector<detail::FftwBuffer> acc;
     std::vector<detail::FftwBuffer> out;  ///< per output: N samples being played
     detail::FftwBuffer time;              ///< 2 N floats: inverse FFT scratch (old, new)
     detail::FftwBuffer time2;
@@ -231,6 +249,8 @@ class NonUniformConvolver {
     int phase = 0;                          ///< phi_l in 0..m_l-1 (see "Staggered levels")
     const NonUniformIrSet* cur = nullptr;   ///< IR of the previous chunk
     const NonUniformIrSet* next = nullptr;  ///< IR of the chunk being computed
+    int groups = 1;                         ///< G_l (see "Staggered swaps")
+    int swapGroup = 0;                      ///< the group crossfading while next != cur
     int64_t chunk = 0;                      ///< chunks started so far
     /// Per source: the last chunk whose forward FFT was skipped (see "Silent levels").
     std::vector<int64_t> skippedAt;
@@ -256,9 +276,12 @@ class NonUniformConvolver {
   /// Whether source s's input must be transformed at this level in this chunk: some IR set
   /// in use sounds for it before the level's needBefore.
   bool inputNeeded(const LevelState& st, int s) const;
-  /// macSource into the level's accumulators: the current IR's, and the next IR's while
-  /// crossfading.
+  /// macSource into the level's accumulators: steady (the IR the source's group uses), or
+  /// both IRs while the source's group crossfades.
   void accumulate(int level, LevelState& st, int s, int begin, int end, bool crossfade);
+  /// macSource of ir into accumulator `which` (0 steady, 1 old, 2 new); nothing for no IR.
+  void accumulateInto(int level, LevelState& st, const NonUniformIrSet* ir, int which, int s,
+                      int begin, int end);
 
   const NonUniformLayout* layout_;
   int numSources_, numOutputs_;

@@ -186,6 +186,12 @@ IrSet* AudioStage::takeSpent() {
   return spent_.tryPop(s) ? s : nullptr;
 }
 
+void AudioStage::setIrSwapSpread(int blocks) {
+  convolver_.setSwapSpread(blocks);
+  if (lateConvolver_) lateConvolver_->setSwapSpread(blocks);
+  swapSpreadBlocks_ = blocks;
+}
+
 void AudioStage::setSkipSilentLevels(bool skip) {
   convolver_.setSkipSilentLevels(skip);
   if (lateConvolver_) lateConvolver_->setSkipSilentLevels(skip);

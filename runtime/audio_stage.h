@@ -71,6 +71,15 @@ class AudioStage {
   /// whatever the responses do (a teleport leaves no partition out): offline renders. Control
   /// thread, before the first process(); no allocation.
   void setSkipSilentLevels(bool skip);
+  /// Spreads IR swaps over `blocks` >= 1 blocks across source groups (NonUniformConvolver
+  /// "Staggered swaps"; default 1: every source swaps in one block): a swap's extra
+  /// multiply-accumulates fall in several blocks instead of one, and a source group hears its
+  /// new IR up to blocks - 1 blocks later. Control thread, before the first process(); no
+  /// allocation. Throws std::invalid_argument if blocks < 1.
+  void setIrSwapSpread(int blocks);
+  /// Blocks over which a swap is spread: a set applied in block k reaches every source by
+  /// block k + irSwapSpreadBlocks() - 1.
+  int irSwapSpreadBlocks() const { return swapSpreadBlocks_; }
 
  private:
   /// Hands the pending set to the convolver if it has room.
@@ -87,6 +96,7 @@ class AudioStage {
   std::shared_ptr<const DrySignals> dry_;
   int numOutputs_;
   audio::NonUniformConvolver convolver_;
+  int swapSpreadBlocks_ = 1;
   std::shared_ptr<const audio::NonUniformLayout> lateLayout_;
   std::unique_ptr<audio::NonUniformConvolver> lateConvolver_;  ///< hybrid: the late buses
   std::unique_ptr<audio::LateBusMixer> lateMixer_;             ///< hybrid: their inputs

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "audio/rt_check.h"
 
@@ -43,6 +44,13 @@ LiveSession::LiveSession(std::shared_ptr<const SceneDesc> scene,
       counters_(settings.raysPerFrame),
       adaptiveRays_(settings.raysPerFrame, 1.0 / settings.frameRate, options.latencyTargetSeconds) {
   if (options.bake) propagation_->attachBake(options.bake);
+  if (!(options.irSwapSpreadSeconds >= 0.0 &&
+        options.irSwapSpreadSeconds <= kMaxIrSwapSpreadSeconds))
+    throw std::invalid_argument("LiveSession: irSwapSpreadSeconds " +
+                                std::to_string(options.irSwapSpreadSeconds) + " outside [0, " +
+                                std::to_string(kMaxIrSwapSpreadSeconds) + "]");
+  audioStage_->setIrSwapSpread(
+      std::max(1, int(std::lround(options.irSwapSpreadSeconds * sampleRate_ / blockSize_))));
   const int irChannels = renderedChannels(scene_->audio);
   headTracked_ = scene_->audio.output == OutputFormat::kAmbisonicBinaural;
   mono_.assign(size_t(blockSize_) * size_t(irChannels), 0.f);
@@ -250,7 +258,12 @@ bool LiveSession::renderBlock(const float* const* inputs, float* const* outputs)
   double irAgeMs = -1.0;
   if (const IrSet* cur = audioStage_->current()) {
     irAgeMs = double(t1 - cur->readyNs) * 1e-6;
-    if (swapped) latencyStats_.record(uint64_t(std::max<int64_t>(0, t1 - cur->poseNs)), false);
+    // Until the last source group has the new set (a staggered swap reaches it that many
+    // blocks later).
+    const int64_t spreadNs = int64_t(double(audioStage_->irSwapSpreadBlocks() - 1) *
+                                     double(blockSize_) / sampleRate_ * 1e9);
+    if (swapped)
+      latencyStats_.record(uint64_t(std::max<int64_t>(0, t1 + spreadNs - cur->poseNs)), false);
   }
   counters_.blockDone(finite, audioStage_->irsApplied(), irAgeMs);
   return swapped;

@@ -65,7 +65,14 @@ class LiveSession {
     /// construction slower by up to a second or so and output that may differ from run to run
     /// in float rounding. Off by default (a plugin's instantiate must return quickly).
     bool measureFftPlans = false;
+    /// Time over which each IR swap is spread across source groups, seconds, in
+    /// [0, kMaxIrSwapSpreadSeconds], rounded to whole blocks (AudioStage::setIrSwapSpread;
+    /// docs/live.md "Staggered swaps"): lighter blocks while IRs swap, for up to this much
+    /// more motion-to-sound latency (counted in latencyStats()). 0: every source at once.
+    double irSwapSpreadSeconds = 0.0;
   };
+  /// Upper bound of Options::irSwapSpreadSeconds: beyond it a swap outlasts a frame.
+  static constexpr double kMaxIrSwapSpreadSeconds = 0.1;
 
   /// Control thread. Builds the stages (Embree scene, IR synthesisers, convolvers, rings) over
   /// the shared scene and dry signals (one per scene source). Allocates; throws on bad input

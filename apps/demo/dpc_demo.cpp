@@ -10,6 +10,7 @@
 #include "apps/demo/run_offline.h"
 #include "common/input_error.h"
 #include "common/program_main.h"
+#include "runtime/live_session.h"
 
 namespace dpc::demo {
 namespace {
@@ -28,6 +29,14 @@ void checkRunKind(const Flags& fl) {
       throw InputError("command line", "--latency-target-ms", "is for live runs");
     if (!(*fl.latencyTargetMs >= 1.0 && *fl.latencyTargetMs <= 10000.0))
       throw InputError("command line", "--latency-target-ms", "must be in [1, 10000] ms");
+  }
+  if (fl.irSwapSpreadMs) {
+    if (!fl.offline.empty())
+      throw InputError("command line", "--ir-swap-spread-ms", "is for live runs");
+    const double maxMs = LiveSession::kMaxIrSwapSpreadSeconds * 1e3;
+    if (!(*fl.irSwapSpreadMs >= 0.0 && *fl.irSwapSpreadMs <= maxMs))
+      throw InputError("command line", "--ir-swap-spread-ms",
+                       "must be in [0, " + std::to_string(int(maxMs)) + "] ms");
   }
   if (fl.offline.empty() && !fl.erOut.empty())
     throw InputError("command line", "--er-out", "needs --offline (offline renders only)");

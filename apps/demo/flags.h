@@ -21,6 +21,7 @@ struct Flags {
   std::optional<double> gainDb;           ///< fixed output gain, dB
   std::optional<double> cacheMb;          ///< DPC memory budget per source-listener pair, MB
   std::optional<double> cachePoolMb;      ///< DPC memory budget of the whole engine, MB
+  std::optional<double> irSwapSpreadMs;   ///< live: LiveSession::Options::irSwapSpreadSeconds, ms
   std::optional<double> latencyTargetMs;  ///< live latency target, ms (default: LiveSession's)
   std::optional<double> clusterAngle;     ///< hybrid rendering: a cluster's angular radius, deg
   std::optional<int64_t> lateBuses;       ///< hybrid rendering: late buses per listener

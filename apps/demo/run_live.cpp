@@ -76,6 +76,7 @@ LiveSession::Options sessionOptions(const SceneDesc& scene, const Flags& fl,
   lo.deviceChannels = deviceChannels(scene.audio);
   lo.measureFftPlans = true;  // a live session's callbacks matter more than a second at start
   if (fl.latencyTargetMs) lo.latencyTargetSeconds = *fl.latencyTargetMs * 1e-3;
+  if (fl.irSwapSpreadMs) lo.irSwapSpreadSeconds = *fl.irSwapSpreadMs * 1e-3;
   // --record streams to its file (memory does not grow with the session).
   if (!fl.record.empty()) {
     lo.recordSeconds = durationSeconds;  // > 0 enables the recorder; no memory is reserved

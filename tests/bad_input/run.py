@@ -226,6 +226,10 @@ CASES = {
     "latency_target_zero": (nothing, ["shoebox.json", "--latency-target-ms", "0", "--duration", "1"], "--latency-target-ms"),
     "latency_target_nan": (nothing, ["shoebox.json", "--latency-target-ms", "nan", "--duration", "1"], "--latency-target-ms"),
     "latency_target_with_offline": (nothing, ["shoebox.json", "--offline", "out.wav", "--latency-target-ms", "40"], "--latency-target-ms"),
+    "swap_spread_negative": (nothing, ["shoebox.json", "--ir-swap-spread-ms", "-1", "--duration", "1"], "--ir-swap-spread-ms"),
+    "swap_spread_over_max": (nothing, ["shoebox.json", "--ir-swap-spread-ms", "100.5", "--duration", "1"], "--ir-swap-spread-ms"),
+    "swap_spread_nan": (nothing, ["shoebox.json", "--ir-swap-spread-ms", "nan", "--duration", "1"], "--ir-swap-spread-ms"),
+    "swap_spread_with_offline": (nothing, ["shoebox.json", "--offline", "out.wav", "--ir-swap-spread-ms", "20"], "--ir-swap-spread-ms"),
     "offline_is_hrtf": (lambda d: shutil.copy("/usr/share/libmysofa/default.sofa", os.path.join(d, "h.sofa")) if os.path.exists("/usr/share/libmysofa/default.sofa") else open(os.path.join(d, "h.sofa"), "w").write("x"),
                         ["shoebox.json", "--offline", "h.sofa", "--hrtf", "h.sofa"], "--"),
     # Finding 4 and 5: non-regular or huge inputs.

@@ -3,14 +3,16 @@
 // latency, and makes no heap calls on the calling (audio) thread.
 #include <catch2/catch.hpp>
 #include <chrono>
+#include <cmath>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "alloc_counter.h"
-#include "testing/test_scenes.h"
 #include "runtime/live_session.h"
+#include "testing/test_scenes.h"
 
 using namespace dpc;
 
@@ -133,4 +135,20 @@ TEST_CASE("LiveSession::render: out-of-range callback sizes are counted, not ren
   session.render(out, LiveSession::kMaxCallbackFrames + 1);
   CHECK(session.status().rejectedCallbacks == 2);
   CHECK(session.status().blocks == 0);
+}
+
+TEST_CASE("LiveSession: an IR swap spread outside [0, kMaxIrSwapSpreadSeconds] is refused",
+          "[rt]") {
+  SceneDesc scene = loadScene(std::string(DPC_SOURCE_DIR) + "/scenes/shoebox.json");
+  scene.audio.blockSize = kBlock;
+  const DrySignals dry = loadDrySignals(scene);
+  const auto make = [&](double seconds) {
+    LiveSession::Options opt;
+    opt.irSwapSpreadSeconds = seconds;
+    LiveSession session(test::shared(scene), scene.propagation, test::shared(dry), opt);
+  };
+  for (double bad : {-1e-3, LiveSession::kMaxIrSwapSpreadSeconds * 1.001, std::nan("")})
+    CHECK_THROWS_AS(make(bad), std::invalid_argument);
+  CHECK_NOTHROW(make(0.0));
+  CHECK_NOTHROW(make(LiveSession::kMaxIrSwapSpreadSeconds));
 }

@@ -13,6 +13,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/fftw_util.h"
+
 namespace dpc::audio {
 
 namespace detail {
@@ -20,17 +22,6 @@ void FftwFree::operator()(float* p) const noexcept {
   fftwf_free(p);
 }
 }  // namespace detail
-
-namespace {
-
-/// Serialises this file's FFTW planner calls (the planner is not thread-safe). Other FFTW
-/// users in the process are not covered: layouts belong on the control/propagation thread.
-std::mutex& plannerMutex() {
-  static std::mutex m;
-  return m;
-}
-
-}  // namespace
 
 namespace detail {
 FftwBuffer allocZeroed(size_t n) {
@@ -147,7 +138,7 @@ ConvolverLayout::ConvolverLayout(int blockSize, size_t maxIrSamples, Planning pl
   const unsigned flags = planning == Planning::kMeasure ? FFTW_MEASURE : FFTW_ESTIMATE;
   fftwf_iodim dim{n, 1, 1};
   {
-    std::lock_guard lock(plannerMutex());
+    std::lock_guard lock(fftwPlannerMutex());
     fftwf_plan fwd = fftwf_plan_guru_split_dft_r2c(1, &dim, 0, nullptr, time.get(), re, im, flags);
     // c2r: input (re, im) is destroyed, which the convolver allows (it is scratch).
     fftwf_plan inv = fftwf_plan_guru_split_dft_c2r(1, &dim, 0, nullptr, re, im, time.get(),
@@ -164,7 +155,7 @@ ConvolverLayout::ConvolverLayout(int blockSize, size_t maxIrSamples, Planning pl
 }
 
 ConvolverLayout::~ConvolverLayout() {
-  std::lock_guard lock(plannerMutex());
+  std::lock_guard lock(fftwPlannerMutex());
   fftwf_destroy_plan(static_cast<fftwf_plan>(forwardPlan_));
   fftwf_destroy_plan(static_cast<fftwf_plan>(inversePlan_));
 }

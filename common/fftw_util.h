@@ -1,17 +1,27 @@
-// FFTW single-precision buffer ownership and FFT sizing, shared by the IR synthesisers.
-// Any thread; FftwArray allocates (throws std::bad_alloc on failure); nextPow2 does not.
-// FftwRealTransforms plans, which FFTW does not allow on two threads at once.
+// FFTW single-precision buffer ownership, planning and FFT sizing, shared by the IR
+// synthesisers and the convolvers. Any thread; FftwArray allocates (throws std::bad_alloc on
+// failure); nextPow2 does not. FFTW's planner (creating and destroying plans) is not
+// thread-safe: every plan in dpc is made and destroyed under fftwPlannerMutex(), so that two
+// engines may be built, stepped and destroyed on two threads at once. Executing a plan is
+// thread-safe.
 #pragma once
-
-#include <algorithm>
 
 #include <fftw3.h>
 
+#include <algorithm>
 #include <cstddef>
+#include <mutex>
 #include <new>
 #include <stdexcept>
 
 namespace dpc {
+
+/// The one lock around FFTW's planner: hold it to create or destroy any plan. Any thread; may
+/// block (never on the audio thread, which neither plans nor destroys plans).
+inline std::mutex& fftwPlannerMutex() {
+  static std::mutex m;
+  return m;
+}
 
 /// fftwf_malloc of n elements (SIMD-aligned, uninitialised); free with fftwf_free.
 template <typename T>
@@ -37,14 +47,18 @@ struct FftwArray {
 struct FftwRealTransforms {
   explicit FftwRealTransforms(size_t size)
       : n(size), time(size), spec(size / 2 + 1), band(size / 2 + 1) {
+    std::lock_guard<std::mutex> lock(fftwPlannerMutex());
     fwd = fftwf_plan_dft_r2c_1d(int(n), time.p, spec.p, FFTW_ESTIMATE);
     inv = fftwf_plan_dft_c2r_1d(int(n), band.p, time.p, FFTW_ESTIMATE);
     if (!fwd || !inv) {
-      destroy();
+      destroyLocked();
       throw std::runtime_error("FFTW plan failed");
     }
   }
-  ~FftwRealTransforms() { destroy(); }
+  ~FftwRealTransforms() {
+    std::lock_guard<std::mutex> lock(fftwPlannerMutex());
+    destroyLocked();
+  }
   FftwRealTransforms(const FftwRealTransforms&) = delete;
   FftwRealTransforms& operator=(const FftwRealTransforms&) = delete;
   size_t n;
@@ -53,7 +67,7 @@ struct FftwRealTransforms {
   fftwf_plan fwd = nullptr, inv = nullptr;
 
  private:
-  void destroy() {
+  void destroyLocked() {
     if (fwd) fftwf_destroy_plan(fwd);
     if (inv) fftwf_destroy_plan(inv);
     fwd = inv = nullptr;

@@ -126,7 +126,6 @@ class HybridSynthesis {
   SpatialIrSynthesizer::ParallelFor parallel_;
   std::vector<std::unique_ptr<SourceClusters>> clusters_;  ///< per listener
   std::vector<HybridCounts> counts_;
-  const Tracer* tracer_ = nullptr;
 };
 
 }  // namespace dpc

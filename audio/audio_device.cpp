@@ -538,6 +538,9 @@ int AudioOutput::channels() const {
 int AudioOutput::blockSize() const {
   return impl_->blockSize.load(std::memory_order_relaxed);
 }
+bool AudioOutput::realTimeCallback() const {
+  return impl_->realTimeCallback;
+}
 double AudioOutput::blockPeriodNs() const {
   return 1e9 * double(blockSize()) / impl_->sampleRate;
 }

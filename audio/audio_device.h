@@ -205,6 +205,10 @@ class AudioOutput {
   int blockSize() const;
   /// Duration of one block, blockSize() / sampleRate(), in ns: 100 % callback load.
   double blockPeriodNs() const;
+  /// Whether the host promises the callback thread real-time priority before the stream
+  /// starts: a JACK server started with -R (jack_is_realtime). False for PortAudio streams,
+  /// whose scheduling callbackScheduling() reports once a callback ran. Control thread.
+  bool realTimeCallback() const;
 
   /// The callback statistics (see CallbackStats); any thread may snapshot them.
   const CallbackStats& stats() const;

@@ -110,6 +110,7 @@ JackBackend::JackBackend(const AudioOutput::Options& options, const std::string&
                              "-r 48000 -p 128)");
   sampleRate = double(jack_get_sample_rate(client_));
   blockSize = int(jack_get_buffer_size(client_));
+  realTimeCallback = jack_is_realtime(client_) != 0;
   channels = options.channels;
   device.defaultSampleRate = sampleRate;
   try {

@@ -44,6 +44,9 @@ class OutputBackend {
   /// Frames per callback (JACK: the server's period, which the server may change while the
   /// stream runs; the atomic lets the control thread read it).
   std::atomic<int> blockSize{0};
+  /// Whether the host promises its callback thread real-time priority before the stream
+  /// starts (JACK: a server started with -R). PortAudio: false (known only from a callback).
+  bool realTimeCallback = false;
   CallbackStats stats;
 
  private:

@@ -61,6 +61,10 @@ LiveSession::LiveSession(std::shared_ptr<const SceneDesc> scene,
                                            options_.recordSeconds, blockSize_, options_.recordPath);
 }
 
+int LiveSession::irSwapSpreadBlocks() const {
+  return audioStage_->irSwapSpreadBlocks();
+}
+
 LiveSession::~LiveSession() {
   stop();
 }

@@ -194,6 +194,12 @@ class LiveSession {
   int objectCount() const { return int(scene_->objects.size()); }
 
   int blockSize() const { return blockSize_; }
+  /// The propagation settings the session was built with (threads: the tracing threads asked
+  /// for, 0 = every core). Any thread.
+  const PropagationSettings& settings() const { return settings_; }
+  /// Blocks each IR swap is spread over (Options::irSwapSpreadSeconds in blocks, >= 1). Any
+  /// thread.
+  int irSwapSpreadBlocks() const;
   int sampleRate() const { return sampleRate_; }
 
   using Status = SessionStatus;

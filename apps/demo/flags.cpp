@@ -42,8 +42,9 @@ void addLiveOptions(CLI::App& app, Flags& fl) {
                  "needed (default 50; the frame period applies when it is shorter)");
   app.add_option("--ir-swap-spread-ms", fl.irSwapSpreadMs,
                  "Live: spread each IR swap over this many ms across source groups: lighter "
-                 "callbacks while IRs swap, up to this much more latency (default 0: all at "
-                 "once; docs/live.md)");
+                 "callbacks while IRs swap, up to this much more latency (default 20 when the "
+                 "device's callback is real-time, as on JACK -R, else 0: all at once; "
+                 "docs/live.md)");
   app.add_flag("--interactive", fl.interactive,
                "Live: arrows/WASD move, Q/E turn, space pauses, q quits");
   app.add_option("--listener", fl.listener,

@@ -55,8 +55,8 @@ PropagationSettings prepareLive(SceneDesc& scene, const Flags& fl) {
     std::fprintf(stderr, "note: playing listener \"%s\" of %zu (choose with --listener NAME)\n",
                  scene.listeners[0].name.c_str(), scene.listeners.size());
   PropagationSettings settings = applyOverrides(scene, fl);
-  // Live: leave one core to the audio thread unless --threads says otherwise (docs/live.md:
-  // on 2 cores, tracing on both makes late blocks ten times as frequent).
+  // Live: leave one core to the audio thread unless --threads says otherwise; runLive gives
+  // tracing every core when the device's callback is real-time (tracingThreads).
   if (!fl.threads) settings.threads = std::max(1, int(std::thread::hardware_concurrency()) - 1);
   if (fl.blockSize) {
     checkField("audio.block_size", double(*fl.blockSize), commandLineOrigin());
@@ -76,7 +76,6 @@ LiveSession::Options sessionOptions(const SceneDesc& scene, const Flags& fl,
   lo.deviceChannels = deviceChannels(scene.audio);
   lo.measureFftPlans = true;  // a live session's callbacks matter more than a second at start
   if (fl.latencyTargetMs) lo.latencyTargetSeconds = *fl.latencyTargetMs * 1e-3;
-  if (fl.irSwapSpreadMs) lo.irSwapSpreadSeconds = *fl.irSwapSpreadMs * 1e-3;
   // --record streams to its file (memory does not grow with the session).
   if (!fl.record.empty()) {
     lo.recordSeconds = durationSeconds;  // > 0 enables the recorder; no memory is reserved
@@ -227,6 +226,30 @@ void printDevice(const SceneDesc& scene, const audio::AudioOutput& output) {
 
 }  // namespace
 
+/// Tracing threads for a live run: --threads if given; every core when the device promises
+/// its callback real-time priority (a JACK server with -R: the callback preempts tracing, and
+/// on the live market tracing on both of 2 cores cut latency p95 from 84-92 to 65-71 ms with
+/// the callback load unchanged, docs/live.md); else all cores but one (an ordinary callback
+/// thread competing with tracing on both of 2 cores was late in 245 blocks of 20 s, on one in
+/// 24).
+int tracingThreads(const Flags& fl, const PropagationSettings& settings,
+                   const audio::AudioOutput& output) {
+  if (fl.threads || !output.realTimeCallback()) return settings.threads;
+  return std::max(1, int(std::thread::hardware_concurrency()));
+}
+
+/// The IR swap spread a live run uses unless --ir-swap-spread-ms says otherwise, seconds: with
+/// a real-time callback tracing runs on every core, and the latency that gives back (p95 65-71
+/// against 84-92 ms on the live market) pays for spreading the swaps, which took the IR-swap
+/// blocks' p99 from 22-26 % to 20-23 % of the period there (docs/live.md "Staggered swaps").
+/// Otherwise 0: one tracing thread has no latency to spare.
+constexpr double kRealTimeIrSwapSpreadSeconds = 0.02;
+
+double irSwapSpreadSeconds(const Flags& fl, const audio::AudioOutput& output) {
+  if (fl.irSwapSpreadMs) return *fl.irSwapSpreadMs * 1e-3;
+  return output.realTimeCallback() ? kRealTimeIrSwapSpreadSeconds : 0.0;
+}
+
 int runLive(const Flags& fl) {
   const LoadedRun run = loadRun(fl, prepareLive);
   SceneDesc& scene = *run.scene;
@@ -239,7 +262,10 @@ int runLive(const Flags& fl) {
   const std::unique_ptr<audio::AudioOutput> output = openOutput(scene, fl, &session);
   if (!output) return kNoAudioDeviceStatus;
   if (!fl.blockSize) scene.audio.blockSize = engineBlockForHostPeriod(output->blockSize());
-  session = std::make_unique<LiveSession>(run.scene, run.settings, run.dry, lo);
+  PropagationSettings settings = run.settings;
+  settings.threads = tracingThreads(fl, settings, *output);
+  lo.irSwapSpreadSeconds = irSwapSpreadSeconds(fl, *output);
+  session = std::make_unique<LiveSession>(run.scene, settings, run.dry, lo);
   printDevice(scene, *output);
   catchStopSignals();
   const Playback pb = play(scene, fl, duration, *session, *output);

@@ -312,6 +312,13 @@ void NonUniformConvolver::setSwapSpread(int blocks) {
     levels_[size_t(l)].groups = std::clamp(blocks / layout_->level(l).period, 1, numSources_);
 }
 
+int NonUniformConvolver::swapDelayBlocks() const {
+  int delay = 0;
+  for (int l = 0; l < layout_->numLevels(); ++l)
+    delay = std::max(delay, (levels_[size_t(l)].groups - 1) * layout_->level(l).period);
+  return delay;
+}
+
 void NonUniformConvolver::process(const float* const* in, float* const* out, bool add) {
   const size_t ub = size_t(layout_->blockSize());
   if (!add)
@@ -375,9 +382,10 @@ void NonUniformConvolver::startChunk(const NonUniformLayout::Level& lv, LevelSta
     st.next = target_;
     st.swapGroup = 0;
   }
-  const size_t spec = lv.fft->spectrumFloats();
+  // The steady accumulator, and the crossfading group's two while a swap runs.
+  const size_t used = (st.next != st.cur ? 3 : 1) * lv.fft->spectrumFloats();
   for (int c = 0; c < numOutputs_; ++c)
-    std::fill(st.acc[size_t(c)].get(), st.acc[size_t(c)].get() + 3 * spec, 0.0f);
+    std::fill(st.acc[size_t(c)].get(), st.acc[size_t(c)].get() + used, 0.0f);
 }
 
 void NonUniformConvolver::accumulateShare(int l, LevelState& st, int step, bool crossfade) {

@@ -223,6 +223,9 @@ class NonUniformConvolver {
   void setSwapSpread(int blocks);
   /// G_l: the source groups over whose chunks level l's swaps are spread.
   int swapGroups(int level) const { return levels_[size_t(level)].groups; }
+  /// Blocks after a swap's first group until its last group crossfades: max over the levels of
+  /// (G_l - 1) m_l (0 when no level is staggered, e.g. a single source).
+  int swapDelayBlocks() const;
   /// Forward FFTs skipped so far because the source was silent at that level (see "Silent
   /// levels"). Any thread (relaxed).
   uint64_t skippedTransforms() const { return skippedTransforms_.load(std::memory_order_relaxed); }

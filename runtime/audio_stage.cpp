@@ -189,7 +189,8 @@ IrSet* AudioStage::takeSpent() {
 void AudioStage::setIrSwapSpread(int blocks) {
   convolver_.setSwapSpread(blocks);
   if (lateConvolver_) lateConvolver_->setSwapSpread(blocks);
-  swapSpreadBlocks_ = blocks;
+  swapSpreadBlocks_ = 1 + std::max(convolver_.swapDelayBlocks(),
+                                   lateConvolver_ ? lateConvolver_->swapDelayBlocks() : 0);
 }
 
 void AudioStage::setSkipSilentLevels(bool skip) {

@@ -77,8 +77,9 @@ class AudioStage {
   /// new IR up to blocks - 1 blocks later. Control thread, before the first process(); no
   /// allocation. Throws std::invalid_argument if blocks < 1.
   void setIrSwapSpread(int blocks);
-  /// Blocks over which a swap is spread: a set applied in block k reaches every source by
-  /// block k + irSwapSpreadBlocks() - 1.
+  /// Blocks over which a swap is really spread: a set applied in block k reaches every source
+  /// by block k + irSwapSpreadBlocks() - 1 (at most the blocks asked for; 1 when the groups
+  /// collapse, e.g. a single source).
   int irSwapSpreadBlocks() const { return swapSpreadBlocks_; }
 
  private:
@@ -96,7 +97,7 @@ class AudioStage {
   std::shared_ptr<const DrySignals> dry_;
   int numOutputs_;
   audio::NonUniformConvolver convolver_;
-  int swapSpreadBlocks_ = 1;
+  int swapSpreadBlocks_ = 1;  ///< derived in setIrSwapSpread from the convolvers' groups
   std::shared_ptr<const audio::NonUniformLayout> lateLayout_;
   std::unique_ptr<audio::NonUniformConvolver> lateConvolver_;  ///< hybrid: the late buses
   std::unique_ptr<audio::LateBusMixer> lateMixer_;             ///< hybrid: their inputs

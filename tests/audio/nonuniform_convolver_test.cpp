@@ -279,6 +279,11 @@ TEST_CASE("Non-uniform layout: head at the block size, offsets 2 N - 2 B", "[con
   many.setSwapSpread(16);
   const int groups[] = {6, 4, 1, 1};  // periods 1, 4, 16, 64
   for (int l = 0; l < 4; ++l) CHECK(many.swapGroups(l) == groups[l]);
+  // The last group crossfades (G_l - 1) m_l blocks after the first: 5 at level 0, 12 at 1.
+  CHECK(many.swapDelayBlocks() == 12);
+  NonUniformConvolver single(layout, 1, 1);
+  single.setSwapSpread(16);
+  CHECK(single.swapDelayBlocks() == 0);
 }
 
 namespace {

@@ -381,10 +381,20 @@ void PropagationStage::prepareLate(size_t listener, IrSet& set) {
 }
 
 std::vector<std::vector<std::vector<float>>> PropagationStage::wholeIrs(size_t listener) const {
+  std::vector<std::vector<std::vector<float>>> out;
+  wholeIrsInto(listener, out);
+  return out;
+}
+
+void PropagationStage::wholeIrsInto(size_t listener,
+                                    std::vector<std::vector<std::vector<float>>>& out) const {
   const auto& early = irs_.at(listener);
-  if (!hybrid_ || listener >= lastGain_.size()) return early;
+  if (!hybrid_ || listener >= lastGain_.size()) {
+    out = early;  // element-wise assignment: the inner vectors keep their capacity
+    return;
+  }
   const auto& late = lateIrs_.at(listener);
-  std::vector<std::vector<std::vector<float>>> out(early.size());
+  out.resize(early.size());
   for (size_t s = 0; s < early.size(); ++s) {
     const auto& bus = late[size_t(lastBus_[listener][s])];
     const float g = lastGain_[listener][s];
@@ -396,7 +406,6 @@ std::vector<std::vector<std::vector<float>>> PropagationStage::wholeIrs(size_t l
       for (size_t n = 0; n < early[s][c].size() && n < x.size(); ++n) x[n] += early[s][c][n];
     }
   }
-  return out;
 }
 
 void PropagationStage::attachBake(std::shared_ptr<const BakedField> bake,

@@ -141,6 +141,9 @@ class PropagationStage {
   /// early part plus its late gain times its bus's late IR. Any thread that may read
   /// lastIrs(l); allocates the copy.
   std::vector<std::vector<std::vector<float>>> wholeIrs(size_t listener = 0) const;
+  /// The same written into `out`, whose vectors keep their capacity: once `out` has grown to
+  /// the IRs' sizes, a call allocates nothing (the live snapshot's copy every frame).
+  void wholeIrsInto(size_t listener, std::vector<std::vector<std::vector<float>>>& out) const;
   /// The late buses' IRs listener l's last prepared set holds: [bus][channel][sample] (hybrid).
   const std::vector<std::vector<std::vector<float>>>& lastLateIrs(size_t listener = 0) const {
     return lateIrs_.at(listener);

@@ -6,7 +6,7 @@ bool ResponseSnapshot::tryStore(const PropagationStage& stage, size_t listener, 
   std::unique_lock<std::mutex> lock(mutex_, std::try_to_lock);
   if (!lock.owns_lock()) return false;
   const Simulation& sim = stage.simulation();
-  irs_ = stage.wholeIrs(listener);
+  stage.wholeIrsInto(listener, irs_);
   energy_.resize(sim.sourceCount());
   for (size_t s = 0; s < sim.sourceCount(); ++s) {
     const Simulation::SourceResult& r = sim.result(s, listener);

@@ -27,7 +27,8 @@ class ResponseSnapshot {
 
   /// Propagation thread, after stage.prepare(listener): copies listener's IRs and energy
   /// responses (direct sound added into its bin) unless a reader holds the lock. Returns
-  /// whether it copied. Allocates while the copies grow.
+  /// whether it copied. Allocates only while the copies grow: the buffers are reused, so a
+  /// frame does not allocate and fault in its IRs' size of fresh memory again.
   bool tryStore(const PropagationStage& stage, size_t listener, uint64_t frame);
 
   /// Any thread but the audio thread: calls f(const Responses&) with the newest responses of

@@ -16,6 +16,7 @@
 #include <future>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 #include <thread>
 #include <utility>
@@ -320,6 +321,16 @@ CallbackStats::Snapshot CallbackStats::Snapshot::since(const Snapshot& earlier) 
   return d;
 }
 
+CallbackStats::Snapshot CallbackStats::Snapshot::plus(const Snapshot& later) const noexcept {
+  Snapshot d;
+  d.callbacks = callbacks + later.callbacks;
+  d.xruns = xruns + later.xruns;
+  d.lastNs = later.lastNs;
+  d.maxNs = std::max(maxNs, later.maxNs);
+  for (size_t i = 0; i < size_t(kBins); ++i) d.histogram[i] = histogram[i] + later.histogram[i];
+  return d;
+}
+
 // ---------------------------------------------------------------------------------------
 // OutputBackend
 
@@ -368,16 +379,21 @@ namespace {
 class PortAudioBackend final : public OutputBackend {
  public:
   PortAudioBackend(const AudioOutput::Options& options, const std::string& spec);
-  ~PortAudioBackend() override {
-    if (stream_) Pa_CloseStream(stream_);  // aborts an active stream
-  }
+  ~PortAudioBackend() override { close(); }
   void start() override;
   void stop() override;
-  bool isActive() const override { return Pa_IsStreamActive(stream_) == 1; }
+  bool isActive() const override { return stream_ && Pa_IsStreamActive(stream_) == 1; }
   bool stopWithin(double seconds) override {
-    if (Pa_IsStreamStopped(stream_) == 1) return true;
+    if (!stream_ || Pa_IsStreamStopped(stream_) == 1) return true;
     PaStream* stream = stream_;
     return runWithin([stream] { Pa_StopStream(stream); }, seconds);
+  }
+  /// Closes the stream (aborting it if active) and releases PortAudio, so that a device
+  /// opened later sees the host APIs' devices afresh.
+  void close() override {
+    if (stream_) Pa_CloseStream(stream_);
+    stream_ = nullptr;
+    session_.reset();
   }
 
  private:
@@ -392,7 +408,8 @@ class PortAudioBackend final : public OutputBackend {
     return paContinue;
   }
 
-  PaSession session_;  // first member: initialised before, released after the stream
+  /// First member: initialised before, released after the stream (close()).
+  std::optional<PaSession> session_{std::in_place};
   PaStream* stream_ = nullptr;
 };
 
@@ -453,6 +470,7 @@ PortAudioBackend::PortAudioBackend(const AudioOutput::Options& options, const st
 }
 
 void PortAudioBackend::start() {
+  if (!stream_) throw std::runtime_error(where() + ": the stream was closed");
   if (isActive()) return;
   if (Pa_IsStreamStopped(stream_) != 1) Pa_AbortStream(stream_);  // finished
   const PaError err = Pa_StartStream(stream_);
@@ -461,7 +479,7 @@ void PortAudioBackend::start() {
 }
 
 void PortAudioBackend::stop() {
-  if (Pa_IsStreamStopped(stream_) == 1) return;
+  if (!stream_ || Pa_IsStreamStopped(stream_) == 1) return;
   const PaError err = Pa_StopStream(stream_);
   if (err != paNoError)
     throw std::runtime_error(where() + ": cannot stop the stream: " + Pa_GetErrorText(err));
@@ -519,6 +537,9 @@ bool AudioOutput::stopWithin(double seconds) {
   if (impl_->stopWithin(seconds)) return true;
   abandoned_ = true;
   return false;
+}
+void AudioOutput::close() {
+  if (!abandoned_) impl_->close();
 }
 bool AudioOutput::isActive() const {
   return impl_->isActive();

@@ -109,6 +109,10 @@ class CallbackStats {
     /// before): callbacks, xruns and histogram are differences, lastNs is this one's and
     /// maxNs is the upper edge of the highest non-empty bin of the difference. No allocation.
     Snapshot since(const Snapshot& earlier) const noexcept;
+    /// The counters of two runs together (e.g. two streams of one session, one after the
+    /// other): callbacks, xruns and histogram are sums, maxNs the larger, lastNs `later`'s.
+    /// No allocation.
+    Snapshot plus(const Snapshot& later) const noexcept;
   };
   /// Control thread (any thread). No allocation, wait-free; copies ~4 KB.
   Snapshot snapshot() const noexcept;
@@ -194,6 +198,12 @@ class AudioOutput {
   /// destructor then releases nothing, so that it cannot block either); stats() and the
   /// other readers stay valid. Control thread; starts a thread; no errors.
   bool stopWithin(double seconds);
+  /// Closes the stream for good (aborting it if active): a failed device's, before the same
+  /// device is opened again (libjack crashes closing a client of a dead server once another
+  /// client of the process has connected to a new one). device(), stats() and the other
+  /// readers stay valid; start() throws std::runtime_error afterwards. No effect on an
+  /// abandoned stream (stopWithin() returned false). Control thread; no errors.
+  void close();
 
   /// The device actually opened: PortAudio name and host API name.
   const DeviceInfo& device() const;

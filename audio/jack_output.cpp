@@ -47,13 +47,16 @@ jack_client_t* openClient(const std::string& name) {
 class JackBackend final : public OutputBackend {
  public:
   JackBackend(const AudioOutput::Options& options, const std::string& target);
-  ~JackBackend() override {
-    if (active_.load()) jack_deactivate(client_);
-    jack_client_close(client_);
-  }
+  ~JackBackend() override { close(); }
   void start() override;
   void stop() override {
     if (active_.exchange(false)) jack_deactivate(client_);
+  }
+  void close() override {
+    if (!client_) return;
+    if (active_.exchange(false)) jack_deactivate(client_);
+    jack_client_close(client_);
+    client_ = nullptr;
   }
   bool isActive() const override { return active_.load() && !serverGone_.load(); }
   bool stopWithin(double seconds) override {
@@ -185,6 +188,7 @@ double JackBackend::targetLatencySeconds() const {
 
 void JackBackend::start() {
   if (active_.load()) return;
+  if (!client_) throw std::runtime_error(where() + ": the JACK client was closed");
   if (serverGone_.load()) throw std::runtime_error(where() + ": the JACK server has shut down");
   if (jack_activate(client_) != 0)
     throw std::runtime_error(where() + ": cannot activate the JACK client");

@@ -25,6 +25,8 @@ class OutputBackend {
   /// As AudioOutput::stopWithin: false if the stop did not return within `seconds`; the
   /// caller must then never destroy this backend (a helper thread is still inside it).
   virtual bool stopWithin(double seconds) = 0;
+  /// As AudioOutput::close: the stream (client) is closed for good, the fields stay.
+  virtual void close() = 0;
 
   /// Audio thread, once per host callback: declares the thread's role, remembers the thread,
   /// runs the user's callback on out[0..channels)[0..frames) and records its duration.

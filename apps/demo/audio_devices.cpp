@@ -37,8 +37,9 @@ int deviceChannels(const AudioSettings& audio) {
   return audio.output == OutputFormat::kMono ? 2 : renderedChannels(audio);
 }
 
-std::unique_ptr<audio::AudioOutput> openOutput(const SceneDesc& scene, const Flags& fl,
-                                               std::unique_ptr<LiveSession>* session) {
+std::unique_ptr<audio::AudioOutput> tryOpenOutput(const SceneDesc& scene, const Flags& fl,
+                                                  std::unique_ptr<LiveSession>* session,
+                                                  std::string& why) {
   audio::AudioOutput::Options ao;
   ao.device = fl.device;
   ao.sampleRate = scene.audio.sampleRate;
@@ -51,20 +52,27 @@ std::unique_ptr<audio::AudioOutput> openOutput(const SceneDesc& scene, const Fla
   ao.clientName = "dpc-demo";
   ao.connectPhysical = scene.audio.output != OutputFormat::kAmbisonics;
   try {
-    return std::make_unique<audio::AudioOutput>(ao, &renderSession,
-                                                session);
+    return std::make_unique<audio::AudioOutput>(ao, &renderSession, session);
   } catch (const std::exception& e) {
-    // One line: the device layer's reason, plus the way out if it does not already say it.
-    const std::string why = e.what();
-    if (why.find("--offline") != std::string::npos)
-      std::fprintf(stderr, "dpc-demo: %s\n", why.c_str());
-    else
-      std::fprintf(stderr,
-                   "dpc-demo: %s; render with --offline OUT.wav, or start a JACK server "
-                   "(jackd -d dummy -r %d -p 128); --list-devices shows what PortAudio sees\n",
-                   why.c_str(), scene.audio.sampleRate);
+    why = e.what();
     return nullptr;
   }
+}
+
+std::unique_ptr<audio::AudioOutput> openOutput(const SceneDesc& scene, const Flags& fl,
+                                               std::unique_ptr<LiveSession>* session) {
+  std::string why;
+  auto output = tryOpenOutput(scene, fl, session, why);
+  if (output) return output;
+  // One line: the device layer's reason, plus the way out if it does not already say it.
+  if (why.find("--offline") != std::string::npos)
+    std::fprintf(stderr, "dpc-demo: %s\n", why.c_str());
+  else
+    std::fprintf(stderr,
+                 "dpc-demo: %s; render with --offline OUT.wav, or start a JACK server "
+                 "(jackd -d dummy -r %d -p 128); --list-devices shows what PortAudio sees\n",
+                 why.c_str(), scene.audio.sampleRate);
+  return nullptr;
 }
 
 }  // namespace dpc::demo

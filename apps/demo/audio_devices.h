@@ -2,6 +2,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 
 #include "apps/demo/flags.h"
 #include "audio/audio_device.h"
@@ -28,5 +29,10 @@ int deviceChannels(const AudioSettings& audio);
 /// out" on stderr and returns null. Main thread. Allocates.
 std::unique_ptr<audio::AudioOutput> openOutput(const SceneDesc& scene, const Flags& fl,
                                                std::unique_ptr<LiveSession>* session);
+/// openOutput() without the message: on failure returns null and sets `why` to the device
+/// layer's one-line reason (a reconnection attempt's). Main thread. Allocates.
+std::unique_ptr<audio::AudioOutput> tryOpenOutput(const SceneDesc& scene, const Flags& fl,
+                                                  std::unique_ptr<LiveSession>* session,
+                                                  std::string& why);
 
 }  // namespace dpc::demo

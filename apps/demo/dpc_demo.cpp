@@ -2,6 +2,8 @@
 // (run_live.h) or offline to WAV files (run_offline.h).
 #include <cstdio>
 #include <exception>
+#include <optional>
+#include <string>
 
 #include "apps/demo/audio_devices.h"
 #include "apps/demo/flags.h"
@@ -11,9 +13,20 @@
 #include "common/input_error.h"
 #include "common/program_main.h"
 #include "runtime/live_session.h"
+#include "scene/limits.h"
 
 namespace dpc::demo {
 namespace {
+
+/// A live-only number: refused in an offline run and outside [lo, hi] (in `unit`).
+void checkLiveNumber(const Flags& fl, const std::optional<double>& v, const char* flag, double lo,
+                     double hi, const char* unit) {
+  if (!v) return;
+  if (!fl.offline.empty()) throw InputError("command line", flag, "is for live runs");
+  if (!(*v >= lo && *v <= hi))
+    throw InputError("command line", flag,
+                     "must be in [" + valueText(lo) + ", " + valueText(hi) + "] " + unit);
+}
 
 /// Refuses options that belong to the other kind of run than the one asked for.
 void checkRunKind(const Flags& fl) {
@@ -24,20 +37,10 @@ void checkRunKind(const Flags& fl) {
     throw InputError("command line", "--record", "is for live runs (--offline writes the render)");
   if (!fl.offline.empty() && fl.interactive)
     throw InputError("command line", "--interactive", "is for live runs");
-  if (fl.latencyTargetMs) {
-    if (!fl.offline.empty())
-      throw InputError("command line", "--latency-target-ms", "is for live runs");
-    if (!(*fl.latencyTargetMs >= 1.0 && *fl.latencyTargetMs <= 10000.0))
-      throw InputError("command line", "--latency-target-ms", "must be in [1, 10000] ms");
-  }
-  if (fl.irSwapSpreadMs) {
-    if (!fl.offline.empty())
-      throw InputError("command line", "--ir-swap-spread-ms", "is for live runs");
-    const double maxMs = LiveSession::kMaxIrSwapSpreadSeconds * 1e3;
-    if (!(*fl.irSwapSpreadMs >= 0.0 && *fl.irSwapSpreadMs <= maxMs))
-      throw InputError("command line", "--ir-swap-spread-ms",
-                       "must be in [0, " + std::to_string(int(maxMs)) + "] ms");
-  }
+  checkLiveNumber(fl, fl.latencyTargetMs, "--latency-target-ms", 1.0, 10000.0, "ms");
+  checkLiveNumber(fl, fl.irSwapSpreadMs, "--ir-swap-spread-ms", 0.0,
+                  LiveSession::kMaxIrSwapSpreadSeconds * 1e3, "ms");
+  checkLiveNumber(fl, fl.reconnectSeconds, "--reconnect", 0.0, kMaxReconnectSeconds, "s");
   if (fl.offline.empty() && !fl.erOut.empty())
     throw InputError("command line", "--er-out", "needs --offline (offline renders only)");
   if (fl.offline.empty() && !fl.irOut.empty())

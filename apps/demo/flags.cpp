@@ -45,6 +45,11 @@ void addLiveOptions(CLI::App& app, Flags& fl) {
                  "callbacks while IRs swap, up to this much more latency (default 20 when the "
                  "device's callback is real-time, as on JACK -R, else 0: all at once; "
                  "docs/live.md)");
+  app.add_option("--reconnect", fl.reconnectSeconds,
+                 "Live: when the audio device fails (its JACK server stopped, the device "
+                 "lost), keep tracing and reopen it every half second for up to this many "
+                 "seconds (default 0: end within 2 s)")
+      ->type_name("SECONDS");
   app.add_flag("--interactive", fl.interactive,
                "Live: arrows/WASD move, Q/E turn, space pauses, q quits");
   app.add_option("--listener", fl.listener,

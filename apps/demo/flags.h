@@ -15,16 +15,17 @@ struct Flags {
       output, hrtf, listener, bake, rendering, binauralDecoder;
   bool listDevices = false, listMaterials = false, interactive = false, quiet = false,
        maxRe = false;
-  std::optional<int64_t> blockSize;       ///< samples per audio block (live)
-  std::optional<double> duration;         ///< seconds to render or play
-  std::optional<double> tau;              ///< cache response time, seconds
-  std::optional<double> gainDb;           ///< fixed output gain, dB
-  std::optional<double> cacheMb;          ///< DPC memory budget per source-listener pair, MB
-  std::optional<double> cachePoolMb;      ///< DPC memory budget of the whole engine, MB
-  std::optional<double> irSwapSpreadMs;   ///< live: LiveSession::Options::irSwapSpreadSeconds, ms
-  std::optional<double> latencyTargetMs;  ///< live latency target, ms (default: LiveSession's)
-  std::optional<double> clusterAngle;     ///< hybrid rendering: a cluster's angular radius, deg
-  std::optional<int64_t> lateBuses;       ///< hybrid rendering: late buses per listener
+  std::optional<int64_t> blockSize;        ///< samples per audio block (live)
+  std::optional<double> duration;          ///< seconds to render or play
+  std::optional<double> tau;               ///< cache response time, seconds
+  std::optional<double> gainDb;            ///< fixed output gain, dB
+  std::optional<double> cacheMb;           ///< DPC memory budget per source-listener pair, MB
+  std::optional<double> cachePoolMb;       ///< DPC memory budget of the whole engine, MB
+  std::optional<double> irSwapSpreadMs;    ///< live: LiveSession::Options::irSwapSpreadSeconds, ms
+  std::optional<double> latencyTargetMs;   ///< live latency target, ms (default: LiveSession's)
+  std::optional<double> reconnectSeconds;  ///< live: how long to try reopening a failed device
+  std::optional<double> clusterAngle;      ///< hybrid rendering: a cluster's angular radius, deg
+  std::optional<int64_t> lateBuses;        ///< hybrid rendering: late buses per listener
   std::optional<uint64_t> seed;
   std::optional<int64_t> rays, maxOrder, threads, ambisonicOrder;
 };

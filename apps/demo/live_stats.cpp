@@ -57,7 +57,7 @@ void writeLiveStats(const std::string& path, const std::string& scenePath,
                     const audio::AudioOutput& output,
                     const audio::AudioOutput::Scheduling& scheduling, const LiveSession& session,
                     const LiveSession::Status& st, const Snapshot& cb, const Snapshot& swap,
-                    const Snapshot& noSwap) {
+                    const Snapshot& noSwap, int reconnections) {
   const Json j = {
       {"scene", scenePath},
       {"sample_rate_hz", output.sampleRate()},
@@ -65,6 +65,7 @@ void writeLiveStats(const std::string& path, const std::string& scenePath,
       {"engine_block_frames", session.blockSize()},
       {"channels", output.channels()},
       {"device", output.device().spec()},
+      {"reconnections", reconnections},
       {"callback_scheduling", schedulingJson(scheduling)},
       {"callbacks", cb.callbacks},
       {"xruns", cb.xruns},

@@ -13,7 +13,8 @@ namespace dpc::demo {
 /// durations as a percentage of the block period), rays per frame, IRs applied and dropped,
 /// motion-to-sound latency (pose published -> first block rendered with the IR traced for it)
 /// and the limiter. cb: the device's statistics over the run; swap / noSwap: the session's
-/// render times with and without an IR swap. Main thread, after the session stopped.
+/// render times with and without an IR swap; reconnections: devices reopened after a failure
+/// (--reconnect; the device fields are the last one's). Main thread, after the session stopped.
 /// Allocates; the file is replaced only once complete; throws std::runtime_error if it cannot
 /// be written.
 void writeLiveStats(const std::string& path, const std::string& scenePath,
@@ -21,6 +22,6 @@ void writeLiveStats(const std::string& path, const std::string& scenePath,
                     const audio::AudioOutput::Scheduling& scheduling, const LiveSession& session,
                     const LiveSession::Status& st, const audio::CallbackStats::Snapshot& cb,
                     const audio::CallbackStats::Snapshot& swap,
-                    const audio::CallbackStats::Snapshot& noSwap);
+                    const audio::CallbackStats::Snapshot& noSwap, int reconnections);
 
 }  // namespace dpc::demo

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -23,6 +24,7 @@
 #include "common/stop_signals.h"
 #include "runtime/callback_adapter.h"
 #include "runtime/propagation_stage.h"
+#include "scene/limits.h"
 #include "scene/validate.h"
 
 namespace dpc::demo {
@@ -45,7 +47,19 @@ struct Playback {
   audio::CallbackStats::Snapshot atStart;
   /// Why the device failed during playback ("" if it did not).
   std::string failure;
+  /// The callbacks of the devices that failed before the one playing (--reconnect).
+  audio::CallbackStats::Snapshot earlier;
+  /// Devices reopened after a failure (--reconnect).
+  int reconnections = 0;
+  /// The failed device was already stopped (or abandoned) by a reconnection attempt.
+  bool deviceStopped = false;
 };
+
+/// The callbacks played so far: the failed devices' and the current one's since it started.
+audio::CallbackStats::Snapshot playedCallbacks(const Playback& pb,
+                                               const audio::AudioOutput& output) {
+  return pb.earlier.plus(output.stats().snapshot().since(pb.atStart));
+}
 
 /// Applies the overrides and checks everything that can be checked before playing.
 PropagationSettings prepareLive(SceneDesc& scene, const Flags& fl) {
@@ -124,44 +138,116 @@ void reportStatus(const LiveSession& session, const audio::AudioOutput& output, 
     pb.scheduling = output.callbackScheduling();
     if (pb.scheduling.known) printScheduling(pb.scheduling, tty);
   }
-  const auto cb = output.stats().snapshot().since(pb.atStart);
-  printStatusLine(session.status(), output, cb, sceneSeconds, tty);
+  printStatusLine(session.status(), output, playedCallbacks(pb, output), sceneSeconds, tty);
 }
 
 /// Stops the device (at most kStopTimeoutSeconds) and the session; says so if a device that
 /// had not failed could not be stopped.
-void stopPlayback(LiveSession& session, audio::AudioOutput& output, bool failed) {
-  if (!output.stopWithin(kStopTimeoutSeconds) && !failed)
+void stopPlayback(LiveSession& session, audio::AudioOutput& output, const Playback& pb) {
+  const bool failed = !pb.failure.empty();
+  if (!pb.deviceStopped && !output.stopWithin(kStopTimeoutSeconds) && !failed)
     std::fprintf(stderr, "note: the audio device did not stop within %.0f s; abandoned\n",
                  kStopTimeoutSeconds);
   session.stop();
 }
 
+/// Time between two attempts to reopen a failed device (--reconnect).
+constexpr auto kReconnectInterval = std::chrono::milliseconds(500);
+
+/// Opens and starts the device again every kReconnectInterval until it plays, `deadline`
+/// passes or a stop signal arrives. Returns the started device or null, `why` the last
+/// attempt's reason.
+std::unique_ptr<audio::AudioOutput> reopen(const SceneDesc& scene, const Flags& fl,
+                                           std::unique_ptr<LiveSession>& session,
+                                           Clock::time_point deadline, std::string& why) {
+  while (Clock::now() + kReconnectInterval <= deadline && !stopSignal()) {
+    std::this_thread::sleep_for(kReconnectInterval);
+    std::unique_ptr<audio::AudioOutput> next = tryOpenOutput(scene, fl, &session, why);
+    if (!next) continue;
+    try {
+      next->start();
+      return next;
+    } catch (const std::exception& e) {
+      why = e.what();
+    }
+  }
+  return nullptr;
+}
+
+/// --reconnect: after a device failure, stops and closes the failed device and reopens the
+/// same one (its spec, e.g. "JACK:system"; reopen());
+/// the session traces on meanwhile (IR sets that find no callback are dropped and counted).
+/// Returns whether playback resumed; if not, pb.failure says why. A device that does not stop
+/// within kStopTimeoutSeconds is not replaced: its callback might still come back.
+bool reconnect(const SceneDesc& scene, const Flags& fl, std::unique_ptr<LiveSession>& session,
+               std::unique_ptr<audio::AudioOutput>& output, Playback& pb) {
+  const double window = fl.reconnectSeconds.value_or(0.0);
+  if (window <= 0.0) return false;
+  std::fprintf(stderr, "\ndpc-demo: audio device '%s': %s; reopening it for up to %s s\n",
+               output->device().spec().c_str(), pb.failure.c_str(), valueText(window).c_str());
+  pb.deviceStopped = true;
+  if (!output->stopWithin(kStopTimeoutSeconds)) {
+    pb.failure += "; not reopened: the failed device did not stop";
+    return false;
+  }
+  output->close();  // before a new client connects (AudioOutput::close)
+  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                           std::chrono::duration<double>(window));
+  // The same device, not whatever the default would be now (JACK gone: PortAudio's).
+  Flags same = fl;
+  same.device = output->device().spec();
+  std::string why;
+  std::unique_ptr<audio::AudioOutput> next = reopen(scene, same, session, deadline, why);
+  if (!next) {
+    pb.failure += "; not back within " + valueText(window) + " s" +
+                  (why.empty() ? std::string() : " (last attempt: " + why + ")");
+    return false;
+  }
+  pb.earlier = playedCallbacks(pb, *output);
+  output = std::move(next);
+  pb.atStart = output->stats().snapshot();
+  pb.failure.clear();
+  pb.deviceStopped = false;
+  ++pb.reconnections;
+  std::fprintf(stderr, "dpc-demo: reopened %s: playing again\n", output->device().spec().c_str());
+  return true;
+}
+
+/// --interactive: the terminal in raw mode, its keys said once; else null.
+std::unique_ptr<RawTerminal> openTerminal(const Flags& fl) {
+  if (!fl.interactive) return nullptr;
+  auto terminal = std::make_unique<RawTerminal>();
+  std::fprintf(stderr,
+               "keys: arrows/WASD move, Q/E turn, space pauses the trajectory, l next "
+               "listener, q quits\n");
+  return terminal;
+}
+
 /// Starts the session and the device, moves the listener every 10 ms until the duration has
-/// passed, 'q', a stop signal or a device failure (watchdog), then stops both.
-Playback play(const SceneDesc& scene, const Flags& fl, double durationSeconds, LiveSession& session,
-              audio::AudioOutput& output) {
+/// passed, 'q', a stop signal or a device failure (watchdog) that --reconnect did not mend,
+/// then stops both.
+Playback play(const SceneDesc& scene, const Flags& fl, double durationSeconds,
+              std::unique_ptr<LiveSession>& sessionPtr,
+              std::unique_ptr<audio::AudioOutput>& output) {
+  LiveSession& session = *sessionPtr;
   KeyboardMotion motion(scene, session.playedListener());
   session.setPose(motion.position(), motion.yaw(), 0.0);
   Playback pb;
-  std::unique_ptr<RawTerminal> terminal;
-  if (fl.interactive) {
-    terminal = std::make_unique<RawTerminal>();
-    std::fprintf(stderr,
-                 "keys: arrows/WASD move, Q/E turn, space pauses the trajectory, l next "
-                 "listener, q quits\n");
-  }
+  const std::unique_ptr<RawTerminal> terminal = openTerminal(fl);
   session.start();
-  output.start();
+  output->start();
   const auto start = Clock::now();
   auto last = start, lastStatus = start;
-  pb.atStart = output.stats().snapshot();
-  audio::CallbackWatchdog watchdog(output);
+  pb.atStart = output->stats().snapshot();
+  std::optional<audio::CallbackWatchdog> watchdog(std::in_place, *output);
   const bool tty = isatty(STDERR_FILENO);
   for (bool quit = false; !quit && !stopSignal();) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    pb.failure = watchdog.check();
-    if (!pb.failure.empty()) break;
+    pb.failure = watchdog->check();
+    if (!pb.failure.empty()) {
+      if (!reconnect(scene, fl, sessionPtr, output, pb)) break;
+      watchdog.emplace(*output);
+    }
     const auto now = Clock::now();
     const double dt = std::chrono::duration<double>(now - last).count();
     last = now;
@@ -171,14 +257,14 @@ Playback play(const SceneDesc& scene, const Flags& fl, double durationSeconds, L
     publishPoses(scene, motion, session);
     if (std::chrono::duration<double>(now - lastStatus).count() >= 1.0) {
       lastStatus = now;
-      reportStatus(session, output, pb, motion.sceneTime(), tty);
+      reportStatus(session, *output, pb, motion.sceneTime(), tty);
     }
   }
   if (tty) std::fprintf(stderr, "\n");
   if (!pb.failure.empty())
-    std::fprintf(stderr, "dpc-demo: error: audio device '%s': %s\n", output.device().spec().c_str(),
-                 pb.failure.c_str());
-  stopPlayback(session, output, !pb.failure.empty());
+    std::fprintf(stderr, "dpc-demo: error: audio device '%s': %s\n",
+                 output->device().spec().c_str(), pb.failure.c_str());
+  stopPlayback(session, *output, pb);
   return pb;
 }
 
@@ -186,7 +272,7 @@ Playback play(const SceneDesc& scene, const Flags& fl, double durationSeconds, L
 void finishLive(const SceneDesc& scene, const Flags& fl, LiveSession& session,
                 const audio::AudioOutput& output, const Playback& pb) {
   const auto st = session.status();
-  const auto cb = output.stats().snapshot().since(pb.atStart);
+  const auto cb = playedCallbacks(pb, output);
   const auto swap = session.renderStatsWithSwap().snapshot();
   const auto noSwap = session.renderStatsWithoutSwap().snapshot();
   if (!fl.record.empty()) {
@@ -198,7 +284,8 @@ void finishLive(const SceneDesc& scene, const Flags& fl, LiveSession& session,
   printLiveSummary(st, output, cb, swap, noSwap);
   printHybrid(session.hybridReport());
   if (!fl.stats.empty()) {
-    writeLiveStats(fl.stats, fl.scene, output, pb.scheduling, session, st, cb, swap, noSwap);
+    writeLiveStats(fl.stats, fl.scene, output, pb.scheduling, session, st, cb, swap, noSwap,
+                   pb.reconnections);
     std::printf("wrote %s\n", fl.stats.c_str());
   }
 }
@@ -259,7 +346,7 @@ int runLive(const Flags& fl) {
   // The device first: a JACK server's period becomes the engine block (unless --block-size
   // says otherwise), so that every callback renders one block.
   std::unique_ptr<LiveSession> session;
-  const std::unique_ptr<audio::AudioOutput> output = openOutput(scene, fl, &session);
+  std::unique_ptr<audio::AudioOutput> output = openOutput(scene, fl, &session);
   if (!output) return kNoAudioDeviceStatus;
   if (!fl.blockSize) scene.audio.blockSize = engineBlockForHostPeriod(output->blockSize());
   PropagationSettings settings = run.settings;
@@ -268,7 +355,7 @@ int runLive(const Flags& fl) {
   session = std::make_unique<LiveSession>(run.scene, settings, run.dry, lo);
   printDevice(scene, *output);
   catchStopSignals();
-  const Playback pb = play(scene, fl, duration, *session, *output);
+  const Playback pb = play(scene, fl, duration, session, output);
   finishLive(scene, fl, *session, *output, pb);
   // A device failure or a stop signal: what was played up to it is written, then the status.
   if (const int signal = stopSignal()) throw Interrupted(signal);

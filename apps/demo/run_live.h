@@ -5,6 +5,9 @@
 
 namespace dpc::demo {
 
+/// Longest --reconnect, seconds: an hour of waiting for a device to come back.
+constexpr double kMaxReconnectSeconds = 3600.0;
+
 /// Plays fl.scene live for --duration seconds (or until 'q' with --interactive), the played
 /// listener moving along its trajectory or by the keyboard (keyboard_motion.h), a status line
 /// on stderr once a second, the summary line on stdout at the end, and --record / --stats

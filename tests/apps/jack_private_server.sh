@@ -10,6 +10,10 @@
 #                                       with its log when it does not start within 10 s
 #   jack_private_remove_segments        removes this server's shared-memory segments and
 #                                       semaphores (a SIGKILLed server cannot); never another's
+#   jack_private_setup NAME SOURCE_DIR  jack_private_init, a scratch folder $work, and an EXIT
+#                                       trap that kills the server ($JACK_PID) and the test's
+#                                       processes ($demo_pid, the array pids) if still set,
+#                                       then removes $work and the server's segments
 
 jack_private_init() {
   export JACK_DEFAULT_SERVER=$1
@@ -32,4 +36,22 @@ jack_private_start() {
 jack_private_remove_segments() {
   rm -f /dev/shm/jack_"$JACK_DEFAULT_SERVER"_* /dev/shm/jack_sem.*_"$JACK_DEFAULT_SERVER"_* \
       2>/dev/null || true
+}
+
+jack_private_cleanup() {
+  local p
+  for p in ${demo_pid:-} "${pids[@]}" ${JACK_PID:-}; do
+    [[ -n $p ]] && kill -KILL "$p" 2>/dev/null || true
+  done
+  rm -rf "$work"
+  jack_private_remove_segments
+}
+
+jack_private_setup() {
+  work=$(mktemp -d)
+  JACK_PID=""
+  demo_pid=""
+  pids=()
+  trap jack_private_cleanup EXIT
+  jack_private_init "$1" "$2"
 }

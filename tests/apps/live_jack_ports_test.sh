@@ -10,18 +10,9 @@
 set -euo pipefail
 build=$1
 src=$2
-work=$(mktemp -d)
 # shellcheck source=jack_private_server.sh
 source "$(dirname "$0")/jack_private_server.sh"
-JACK_PID=""
-pids=()
-cleanup() {
-  for p in "${pids[@]}" $JACK_PID; do kill -KILL "$p" 2>/dev/null || true; done
-  rm -rf "$work"
-  jack_private_remove_segments
-}
-trap cleanup EXIT
-jack_private_init dpc-ports "$src"
+jack_private_setup dpc-ports "$src"
 jack_private_start 64 "$work/jackd.log"
 
 # The sink: four inputs; until told to stop (a file), it sums each port's squared samples and

@@ -11,19 +11,9 @@
 set -euo pipefail
 build=$1
 src=$2
-work=$(mktemp -d)
 # shellcheck source=jack_private_server.sh
 source "$(dirname "$0")/jack_private_server.sh"
-JACK_PID=""
-demo_pid=""
-cleanup() {
-  [[ -n $demo_pid ]] && kill -KILL "$demo_pid" 2>/dev/null || true
-  [[ -n $JACK_PID ]] && kill -KILL "$JACK_PID" 2>/dev/null || true
-  rm -rf "$work"
-  jack_private_remove_segments
-}
-trap cleanup EXIT
-jack_private_init dpc-server-kill "$src"
+jack_private_setup dpc-server-kill "$src"
 
 run_once() {  # $1: the signal that kills the server
   local sig=$1 out="$work/$1"

@@ -128,6 +128,14 @@ TEST_CASE("CallbackStats histogram bins and quantiles", "[audio_device]") {
   CHECK(window.quantileNs(1.0) >= 7000);
   CHECK(window.maxNs >= 7000);
   CHECK(window.maxNs < 7500);
+
+  // Two streams' windows together: as one stream that saw both.
+  const CallbackStats::Snapshot both = s.plus(window);
+  CHECK(both.callbacks == 1010);
+  CHECK(both.xruns == 1);
+  CHECK(both.maxNs == 1000000);
+  CHECK(both.lastNs == window.lastNs);
+  CHECK(both.quantileNs(0.5) == stats.snapshot().quantileNs(0.5));
 }
 
 // Real playback: needs a running JACK server (scripts/jack-headless.sh sets DPC_JACK=1).

@@ -230,6 +230,10 @@ CASES = {
     "swap_spread_over_max": (nothing, ["shoebox.json", "--ir-swap-spread-ms", "100.5", "--duration", "1"], "--ir-swap-spread-ms"),
     "swap_spread_nan": (nothing, ["shoebox.json", "--ir-swap-spread-ms", "nan", "--duration", "1"], "--ir-swap-spread-ms"),
     "swap_spread_with_offline": (nothing, ["shoebox.json", "--offline", "out.wav", "--ir-swap-spread-ms", "20"], "--ir-swap-spread-ms"),
+    "reconnect_negative": (nothing, ["shoebox.json", "--reconnect", "-1", "--duration", "1"], "--reconnect"),
+    "reconnect_over_max": (nothing, ["shoebox.json", "--reconnect", "3600.5", "--duration", "1"], "--reconnect"),
+    "reconnect_nan": (nothing, ["shoebox.json", "--reconnect", "nan", "--duration", "1"], "--reconnect"),
+    "reconnect_with_offline": (nothing, ["shoebox.json", "--offline", "out.wav", "--reconnect", "5"], "--reconnect"),
     "offline_is_hrtf": (lambda d: shutil.copy("/usr/share/libmysofa/default.sofa", os.path.join(d, "h.sofa")) if os.path.exists("/usr/share/libmysofa/default.sofa") else open(os.path.join(d, "h.sofa"), "w").write("x"),
                         ["shoebox.json", "--offline", "h.sofa", "--hrtf", "h.sofa"], "--"),
     # Finding 4 and 5: non-regular or huge inputs.

@@ -10,6 +10,8 @@
 #                                       with its log when it does not start within 10 s
 #   jack_private_remove_segments        removes this server's shared-memory segments and
 #                                       semaphores (a SIGKILLed server cannot); never another's
+#   jack_private_wait_playing LOG       waits (at most 30 s) for dpc-demo's "playing on" line
+#                                       in LOG
 #   jack_private_setup NAME SOURCE_DIR  jack_private_init, a scratch folder $work, and an EXIT
 #                                       trap that kills the server ($JACK_PID) and the test's
 #                                       processes ($demo_pid, the array pids) if still set,
@@ -54,4 +56,11 @@ jack_private_setup() {
   pids=()
   trap jack_private_cleanup EXIT
   jack_private_init "$1" "$2"
+}
+
+jack_private_wait_playing() {
+  for _ in $(seq 1 300); do
+    grep -q "^playing on" "$1" && return 0
+    sleep 0.1
+  done
 }

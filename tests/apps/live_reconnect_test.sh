@@ -27,10 +27,7 @@ play_and_kill() {
       --reconnect "$1" --record "$out/played.wav" --stats "$out/stats.json" \
       >"$out/demo.log" 2>&1 &
   demo_pid=$!
-  for _ in $(seq 1 300); do
-    grep -q "^playing on" "$out/demo.log" && break
-    sleep 0.1
-  done
+  jack_private_wait_playing "$out/demo.log"
   sleep 2
   kill -TERM "$JACK_PID"
   wait "$JACK_PID" 2>/dev/null || true

@@ -23,10 +23,7 @@ run_once() {  # $1: the signal that kills the server
       --record "$out/played.wav" --stats "$out/stats.json" >"$out/demo.log" 2>&1 &
   demo_pid=$!
   # Until it plays (its first status line), then a little more.
-  for _ in $(seq 1 300); do
-    grep -q "^playing on" "$out/demo.log" && break
-    sleep 0.1
-  done
+  jack_private_wait_playing "$out/demo.log"
   sleep 2
   kill -"$sig" "$JACK_PID"
   local killed

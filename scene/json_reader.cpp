@@ -18,33 +18,6 @@ namespace {
 
 using nlohmann::json;
 
-/// The JSON parser recurses once per nested array/object: bound the depth before parsing so
-/// that a hostile file cannot overflow the stack.
-void checkJsonDepth(const std::string& file, const std::string& text) {
-  int depth = 0;
-  bool inString = false;
-  size_t line = 1;
-  for (size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (c == '\n') ++line;
-    if (inString) {
-      if (c == '\\')
-        ++i;
-      else if (c == '"')
-        inString = false;
-    } else if (c == '"') {
-      inString = true;
-    } else if (c == '[' || c == '{') {
-      if (++depth > kMaxJsonDepth)
-        throw InputError(file, "",
-                         "JSON nested deeper than " + std::to_string(kMaxJsonDepth) +
-                             " levels at line " + std::to_string(line));
-    } else if (c == ']' || c == '}') {
-      --depth;
-    }
-  }
-}
-
 /// A parse error's place: e.byte is the 1-based offset of the character where parsing stopped.
 [[noreturn]] void failParse(const std::string& file, const std::string& text,
                             const json::parse_error& e) {
@@ -101,12 +74,37 @@ json parseUniqueKeys(const std::string& file, const std::string& text) {
   };
   json doc = json::parse(text, noteKeys);
   if (!repeated.empty())
-    throw InputError(file, "",
-                     "key \"" + repeated + "\" appears twice in one object (which value is meant?)");
+    throw InputError(
+        file, "", "key \"" + repeated + "\" appears twice in one object (which value is meant?)");
   return doc;
 }
 
 }  // namespace
+
+void checkJsonDepth(const std::string& file, const std::string& text) {
+  int depth = 0;
+  bool inString = false;
+  size_t line = 1;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '\n') ++line;
+    if (inString) {
+      if (c == '\\')
+        ++i;
+      else if (c == '"')
+        inString = false;
+    } else if (c == '"') {
+      inString = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxJsonDepth)
+        throw InputError(file, "",
+                         "JSON nested deeper than " + std::to_string(kMaxJsonDepth) +
+                             " levels at line " + std::to_string(line));
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+}
 
 std::string inQuotes(const std::string& s) {
   return "\"" + s + "\"";

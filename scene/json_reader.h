@@ -22,6 +22,11 @@ std::string index(const std::string& parent, size_t i);
 /// `p` relative to `folder` unless absolute, normalised.
 std::filesystem::path resolve(const std::filesystem::path& folder, const std::string& p);
 
+/// Throws InputError(file, "", "JSON nested deeper than 64 levels at line N") when `text`
+/// nests arrays/objects deeper than kMaxJsonDepth: JSON parsers recurse once per level, so the
+/// depth is bounded before parsing that a hostile file cannot overflow the stack. Any thread.
+void checkJsonDepth(const std::string& file, const std::string& text);
+
 /// Reads and parses a JSON file (at most kMaxSceneBytes, nested at most kMaxJsonDepth, no
 /// object repeating a key), reporting malformed JSON with line and column. `what` names the
 /// kind of file in the messages about the file itself ("scene file", "layout file").

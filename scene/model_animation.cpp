@@ -10,23 +10,13 @@
 #include <nlohmann/json.hpp>
 
 #include "common/input_error.h"
+#include "scene/model_import.h"
 #include "scene/quaternion.h"
 
 namespace dpc {
 namespace {
 
 using nlohmann::json;
-
-/// The JSON text of a .gltf, or the first (JSON) chunk of a .glb.
-std::string gltfJsonText(const std::string& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (bytes.size() < 20 || bytes.compare(0, 4, "glTF") != 0) return bytes;
-  uint32_t length = 0;
-  std::memcpy(&length, bytes.data() + 12, 4);  // little-endian, as glTF requires
-  if (bytes.compare(16, 4, "JSON") != 0 || length > bytes.size() - 20) return "";
-  return bytes.substr(20, length);
-}
 
 /// A node's translation, rotation and scale as the glTF JSON gives them (defaults: none, identity,
 /// one). Values assimp accepted, so only types are guarded.

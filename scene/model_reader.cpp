@@ -1,6 +1,5 @@
 #include "scene/model_reader.h"
 
-#include <assimp/DefaultIOSystem.h>
 #include <assimp/config.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -10,13 +9,13 @@
 #include <cctype>
 #include <cmath>
 #include <cstring>
-#include <optional>
 
 #include "common/input_error.h"
 #include "common/input_file.h"
 #include "scene/json_reader.h"
 #include "scene/limits.h"
 #include "scene/model_animation.h"
+#include "scene/model_import.h"
 #include "scene/quaternion.h"
 
 namespace dpc {
@@ -24,14 +23,6 @@ namespace {
 
 std::string quoted(const aiString& s) {
   return inQuotes(s.C_Str());
-}
-
-/// assimp's messages may span lines; an InputError is one.
-std::string oneLine(std::string s) {
-  std::replace_if(
-      s.begin(), s.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
-  while (!s.empty() && s.back() == ' ') s.pop_back();
-  return s;
 }
 
 Trs decompose(const aiMatrix4x4& m) {
@@ -134,28 +125,6 @@ void visit(Walk& w, const aiNode& node, const aiMatrix4x4& parentWorld, int owne
   for (unsigned i = 0; i < node.mNumChildren; ++i)
     visit(w, *node.mChildren[i], world, owner, toFrame);
 }
-
-/// assimp's file access with dpc's input-file rule: every file it opens (the level, a .gltf's
-/// buffers) must be a regular file of at most kMaxMeshBytes; a refusal is kept for the error.
-class BoundedFiles : public Assimp::DefaultIOSystem {
- public:
-  explicit BoundedFiles(std::string level) : level_(std::move(level)) {}
-  Assimp::IOStream* Open(const char* file, const char* mode) override {
-    try {
-      checkInputFile(file, kMaxMeshBytes, level_, "", "referenced file");
-    } catch (const InputError& e) {
-      if (!refusal_) refusal_ = e;
-      return nullptr;
-    }
-    return DefaultIOSystem::Open(file, mode);
-  }
-  /// The first refusal, if any.
-  const std::optional<InputError>& refusal() const { return refusal_; }
-
- private:
-  std::string level_;
-  std::optional<InputError> refusal_;
-};
 
 /// An empty mesh whose messages name the model file, its triangles and materials.
 RawMesh modelMesh(const std::string& file) {
@@ -261,13 +230,7 @@ RawModel readModel(const std::string& sceneFile, const std::string& modelFile,
   Assimp::Importer importer;
   // FBX pivots as separate helper nodes would take a node's animation away from its name.
   importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, false);
-  auto* files = new BoundedFiles(modelFile);
-  importer.SetIOHandler(files);  // the importer owns it
-  const aiScene* scene = importer.ReadFile(modelFile, aiProcess_Triangulate);
-  if (!scene && files->refusal()) throw *files->refusal();
-  if (!scene) throw InputError(modelFile, "", oneLine(importer.GetErrorString()));
-  if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !scene->mRootNode)
-    throw InputError(modelFile, "", "the file holds no complete scene");
+  const aiScene* scene = importModel(importer, modelFile);
   Walk w;
   w.scene = scene;
   w.file = modelFile;

@@ -192,6 +192,33 @@ def gltf_door_on_node_9(g):
     g.doc["animations"][0]["channels"][0]["target"]["node"] = 9
 
 
+def steps(*setups):
+    """The setups one after the other."""
+    def apply(d):
+        for setup in setups:
+            setup(d)
+    return apply
+
+
+def gltf_index_out_of_range(d):
+    """A .gltf level whose first triangle index is 1,000,000 (the accessor has a few vertices):
+    assimp drops the face with only a warning."""
+    import struct
+    gltf_level(no_edit, "shoebox.gltf")(d)
+    doc = json.load(open(os.path.join(d, "shoebox.gltf")))
+    view = doc["bufferViews"][doc["accessors"][1]["bufferView"]]
+    with open(os.path.join(d, "shoebox.bin"), "r+b") as f:
+        f.seek(view.get("byteOffset", 0))
+        f.write(struct.pack("<I", 1000000))
+
+
+def gltf_deep_nesting(d):
+    """A .gltf level whose JSON nests 200,000 arrays (the parsers recurse once per level)."""
+    n = 200000
+    write("shoebox.gltf", '{"asset":{"version":"2.0"},"x":' + "[" * n + "]" * n + "}")(d)
+    scene_with(mesh="shoebox.gltf")(d)
+
+
 OFF = ["shoebox.json", "--offline", "out.wav", "--duration", "0.2", "--rays", "64"]
 
 # name: (setup, extra args or full args, expected substring of the error line)
@@ -349,6 +376,11 @@ CASES = {
                                          "shoebox.glb: GLTF: Array index 9 is out of bounds"),
     "gltf_buffer_is_device": (gltf_level(no_edit, "shoebox.gltf", buffer_uri="/dev/zero"),
                               OFF, "shoebox.gltf: referenced file '/dev/zero' is not a regular file"),
+    "gltf_buffer_is_fifo": (steps(fifo("f.bin"), gltf_level(no_edit, "shoebox.gltf", buffer_uri="f.bin")),
+                            OFF, "shoebox.gltf: referenced file 'f.bin' is not a regular file"),
+    "gltf_index_out_of_range": (gltf_index_out_of_range, OFF,
+                                "shoebox.gltf: assimp read it only by changing it: Some faces had out-of-range indices"),
+    "gltf_deep_nesting": (gltf_deep_nesting, OFF, "shoebox.gltf: JSON nested deeper than 64 levels"),
     "gltf_object_node_missing": (gltf_level(no_edit, objects=[{"name": "door"}]), OFF,
                                  'shoebox.json: objects[0].name: no node named "door"'),
     "gltf_cubic_spline": (gltf_level(gltf_door("CUBICSPLINE"), objects=[{"name": "door"}]), OFF,

@@ -25,6 +25,8 @@ std::string signalName(int signal) {
       return "SIGTERM";
     case SIGHUP:
       return "SIGHUP";
+    case SIGPIPE:
+      return "SIGPIPE";
     default:
       return "signal " + std::to_string(signal);
   }
@@ -40,7 +42,7 @@ void catchStopSignals() {
   action.sa_handler = recordStopSignal;
   sigemptyset(&action.sa_mask);
   action.sa_flags = SA_RESTART;  // blocking reads and writes resume; the run checks the flag
-  for (const int s : {SIGINT, SIGTERM, SIGHUP})
+  for (const int s : {SIGINT, SIGTERM, SIGHUP, SIGPIPE})
     if (sigaction(s, &action, nullptr) != 0)
       throw std::runtime_error("cannot install a handler for " + signalName(s) + ": " +
                                std::strerror(errno));

@@ -1,8 +1,10 @@
 // Stop requests by signal: SIGINT (Ctrl-C), SIGTERM and SIGHUP end a program's run cleanly
-// instead of killing it mid-write. The handler only records the signal; the program checks it
-// at safe points (between rendered blocks, before committing its outputs), unwinds with
-// Interrupted so that every temporary output file is removed, and exits with 128 + the
-// signal's number after one line on stderr (common/program_main.h).
+// instead of killing it mid-write; so does SIGPIPE (the reader of its progress lines gone, as
+// in `dpc-demo ... | head`: the write fails with EPIPE instead, and the run ends as stopped). The
+// handler only records the signal; the program checks it at safe points (between rendered blocks,
+// before committing its outputs), unwinds with Interrupted so that every temporary output file is
+// removed, and exits with 128 + the signal's number after one line on stderr
+// (common/program_main.h).
 #pragma once
 
 #include <stdexcept>
@@ -21,8 +23,8 @@ class Interrupted : public std::runtime_error {
   int signal_;
 };
 
-/// Control thread, once at start: SIGINT, SIGTERM and SIGHUP set the stop request (the first
-/// one wins) instead of ending the process. Throws std::runtime_error if a handler cannot be
+/// Control thread, once at start: SIGINT, SIGTERM, SIGHUP and SIGPIPE set the stop request (the
+/// first one wins) instead of ending the process. Throws std::runtime_error if a handler cannot be
 /// installed.
 void catchStopSignals();
 

@@ -1,4 +1,4 @@
-// dpc-demo --offline's outputs. Stopped by SIGINT, SIGTERM or SIGHUP while it renders, it
+// dpc-demo --offline's outputs. Stopped by SIGINT, SIGTERM, SIGHUP or SIGPIPE while it renders, it
 // exits with 128 + the signal's number after one line naming the signal, removes its
 // temporary files and leaves an existing output untouched. The outputs of one run are all or
 // nothing: a write that fails for one output (--ir-out beyond a file-size limit) leaves every
@@ -96,7 +96,8 @@ std::vector<std::string> namesIn(const fs::path& dir) {
 
 TEST_CASE("dpc-demo --offline: a stop signal mid-render removes its temporaries", "[signals]") {
   for (const auto& [signal, name] :
-       {std::pair{SIGINT, "SIGINT"}, std::pair{SIGTERM, "SIGTERM"}, std::pair{SIGHUP, "SIGHUP"}}) {
+       {std::pair{SIGINT, "SIGINT"}, std::pair{SIGTERM, "SIGTERM"}, std::pair{SIGHUP, "SIGHUP"},
+        std::pair{SIGPIPE, "SIGPIPE"}}) {  // SIGPIPE: `dpc-demo ... | head` once head exits
     INFO(name);
     const dpc::test::TempDir dir("dpc_stop_signals");
     const fs::path out = dir.path() / "out", log = dir.path() / "log.txt";

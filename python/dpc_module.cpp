@@ -11,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -38,7 +39,8 @@ py::dict iso3382(const py::array_t<float, py::array::c_style | py::array::forcec
   // As dpc-analyze refuses such a WAV: one NaN or infinity would make every parameter NaN.
   for (py::ssize_t i = 0; i < ir.size(); ++i)
     if (!std::isfinite(ir.data()[i]))
-      throw py::value_error("iso3382: ir[" + std::to_string(i) + "] is not finite (NaN or infinity)");
+      throw py::value_error("iso3382: ir[" + std::to_string(i) +
+                            "] is not finite (NaN or infinity)");
   audio::ImpulseResponseAnalysis a;
   {
     py::gil_scoped_release release;
@@ -62,6 +64,24 @@ py::dict iso3382(const py::array_t<float, py::array::c_style | py::array::forcec
   return out;
 }
 
+/// dpc.Engine's object: the engine and the lock of its step() calls. dpc.h makes
+/// dpc_engine_step a control-thread call (one thread at a time) while the copies and pose
+/// setters may run beside it; step() releases the GIL, so two Python threads stepping one
+/// engine would otherwise run it at once (heap corruption). The lock is taken after the GIL is
+/// released: a thread waiting for it holds no lock another thread needs.
+class PyEngine : public dpc::Engine {
+ public:
+  explicit PyEngine(dpc::Engine&& e) : dpc::Engine(std::move(e)) {}
+  void step() {
+    py::gil_scoped_release release;
+    const std::lock_guard<std::mutex> lock(stepMutex_);
+    dpc::Engine::step();
+  }
+
+ private:
+  std::mutex stepMutex_;
+};
+
 /// The pose setters: the C API's message names the argument and its limit ("x: 1e+07 is
 /// outside [-1000000, 1000000] m").
 void checkPose(dpc_status s, const char* what) {
@@ -72,62 +92,62 @@ void checkPose(dpc_status s, const char* what) {
                    colon == std::string::npos ? message : message.substr(colon + 2));
 }
 
-void setListenerPose(dpc::Engine& e, int listener, const std::array<float, 3>& p, float yaw,
+void setListenerPose(PyEngine& e, int listener, const std::array<float, 3>& p, float yaw,
                      float pitch, float roll) {
   checkPose(e.setListenerPose(listener, p[0], p[1], p[2], yaw, pitch, roll), "set_listener_pose");
 }
 
-void setSourcePosition(dpc::Engine& e, int source, const std::array<float, 3>& p) {
+void setSourcePosition(PyEngine& e, int source, const std::array<float, 3>& p) {
   checkPose(e.setSourcePosition(source, p[0], p[1], p[2]), "set_source_position");
 }
 
-void teleportSource(dpc::Engine& e, int source) {
+void teleportSource(PyEngine& e, int source) {
   checkPose(e.teleportSource(source), "teleport_source");
 }
 
-void teleportListener(dpc::Engine& e, int listener) {
+void teleportListener(PyEngine& e, int listener) {
   checkPose(e.teleportListener(listener), "teleport_listener");
 }
 
 /// rotation: a quaternion (x, y, z, w), glTF order (docs/design.md "One frame for every pose").
-void setObjectPose(dpc::Engine& e, int object, const std::array<float, 3>& p,
+void setObjectPose(PyEngine& e, int object, const std::array<float, 3>& p,
                    const std::array<float, 4>& q) {
   checkPose(e.setObjectPose(object, p[0], p[1], p[2], q[0], q[1], q[2], q[3]), "set_object_pose");
 }
 
 /// The engine's responses of one source as numpy arrays.
-py::array engineIr(dpc::Engine& e, int source) {
+py::array engineIr(PyEngine& e, int source) {
   std::vector<std::vector<float>> channels;
   for (int c = 0; c < e.irChannels(); ++c) channels.push_back(e.impulseResponse(source, c));
   return channelsArray(std::move(channels));
 }
 
-py::array engineEnergy(dpc::Engine& e, int source) {
+py::array engineEnergy(PyEngine& e, int source) {
   std::vector<float> er = e.energyResponse(source);  // bin-major: [bin][band]
   return bandsByBins(er.data(), er.size() / kNumBands);
 }
 
-std::unique_ptr<dpc::Engine> openEngine(const std::string& scene, int rays) {
+std::unique_ptr<PyEngine> openEngine(const std::string& scene, int rays) {
+  refuseNul(scene, "dpc.Engine", "scene");
   dpc_engine_options o;
   dpc_engine_options_init(&o);
   o.rays_per_frame = rays;
   py::gil_scoped_release release;  // loads meshes and signals, builds the BVH
-  return std::make_unique<dpc::Engine>(dpc::Engine::fromFile(scene, &o));
+  return std::make_unique<PyEngine>(dpc::Engine::fromFile(scene, &o));
 }
 
-std::unique_ptr<dpc::Engine> fromArrays(FloatArray vertices, IndexArray triangles,
-                                        IndexArray triangleMaterials, FloatArray absorption,
-                                        FloatArray scattering, FloatArray sources,
-                                        FloatArray listener, float listenerRadius, int rays,
-                                        int maxOrder, float irLength, uint64_t seed, int sampleRate,
-                                        std::string output) {
-  return engineFromArrays({vertices, triangles, triangleMaterials, absorption, scattering, sources,
-                           listener, listenerRadius, rays, maxOrder, irLength, seed, sampleRate,
-                           std::move(output)});
+std::unique_ptr<PyEngine> fromArrays(FloatArray vertices, py::object triangles,
+                                     py::object triangleMaterials, FloatArray absorption,
+                                     FloatArray scattering, FloatArray sources, FloatArray listener,
+                                     float listenerRadius, int rays, int maxOrder, float irLength,
+                                     uint64_t seed, int sampleRate, std::string output) {
+  return std::make_unique<PyEngine>(engineFromArrays(
+      {vertices, triangles, triangleMaterials, absorption, scattering, sources, listener,
+       listenerRadius, rays, maxOrder, irLength, seed, sampleRate, std::move(output)}));
 }
 
 void bindEngine(py::module_& m) {
-  py::class_<dpc::Engine>(m, "Engine", R"(A scene's engine, stepped one propagation frame at a
+  py::class_<PyEngine>(m, "Engine", R"(A scene's engine, stepped one propagation frame at a
 time from Python (the C API's dpc_engine): set poses, step(), read the responses.)")
       .def(py::init(&openEngine), py::arg("scene"), py::arg("rays_per_frame") = 0,
            "Loads a scene file; rays_per_frame 0 keeps the scene's.")
@@ -154,8 +174,9 @@ time from Python (the C API's dpc_engine): set poses, step(), read the responses
            "The source jumped: its cached paths are dropped at the next frame.")
       .def("teleport_listener", &teleportListener, py::arg("listener"),
            "The listener jumped: its cached paths are dropped at the next frame.")
-      .def("step", &dpc::Engine::step, py::call_guard<py::gil_scoped_release>(),
-           "Traces one propagation frame now (the GIL is released meanwhile).")
+      .def("step", &PyEngine::step,
+           "Traces one propagation frame now (the GIL is released meanwhile; steps of one "
+           "engine from several threads run one at a time).")
       .def("impulse_response", &engineIr, py::arg("source") = 0,
            "The newest IR of the played listener: float32 array, channels x samples.")
       .def("energy_response", &engineEnergy, py::arg("source") = 0,
@@ -167,6 +188,12 @@ time from Python (the C API's dpc_engine): set poses, step(), read the responses
 
 PYBIND11_MODULE(dpc, m) {
   m.doc() = "dpc: interactive sound propagation (diffuse path cache). docs/python.md";
+  // pybind11 2.10 looks numpy's C API up once, in a static local, when the first array is made;
+  // two threads making their first arrays at once deadlock there (one holds the static's guard
+  // and waits for the GIL, the other holds the GIL and waits for the guard). numpy imported
+  // and one array made here, while the module loads on one thread, do that lookup now.
+  py::module_::import("numpy");
+  py::array_t<float>(0);
   dpc::python::bindErrors(m);
   dpc::python::bindEngine(m);
   dpc::python::bindOffline(m);

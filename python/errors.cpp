@@ -25,4 +25,11 @@ void bindErrors(py::module_& m) {
   });
 }
 
+void refuseNul(const std::string& path, const char* call, const char* argument) {
+  const size_t nul = path.find('\0');
+  if (nul != std::string::npos)
+    throw InputError(call, argument,
+                     "the path holds a NUL character (at byte " + std::to_string(nul) + ")");
+}
+
 }  // namespace dpc::python

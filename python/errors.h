@@ -5,9 +5,15 @@
 
 #include <pybind11/pybind11.h>
 
+#include <string>
+
 namespace dpc::python {
 
 /// Registers the exception types and the translators from dpc::InputError and dpc::Error.
 void bindErrors(pybind11::module_& m);
+
+/// Refuses a path holding a NUL character (dpc::InputError "CALL: ARGUMENT: ..."): the C
+/// calls below would open the path cut at the NUL, another file than the one named.
+void refuseNul(const std::string& path, const char* call, const char* argument);
 
 }  // namespace dpc::python

@@ -2,12 +2,16 @@
 
 #include <pybind11/stl.h>
 
+#include <chrono>
+#include <cmath>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
 
 #include "common/input_error.h"
 #include "python/arrays.h"
+#include "python/errors.h"
 #include "runtime/dry_signals.h"
 #include "runtime/offline_renderer.h"
 #include "scene/limits.h"
@@ -42,13 +46,48 @@ PropagationSettings settingsFor(const SceneDesc& scene, std::optional<uint64_t> 
           std::to_string(rays) + " is outside " + rangeText(limitOf("propagation.rays_per_frame")));
     ps.raysPerFrame = rays;
   }
-  if (threads < 0) throw InputError("dpc.render", "threads", "must be >= 0 (0: all cores)");
+  if (threads < 0 || threads > kMaxTracingThreads)
+    throw InputError("dpc.render", "threads",
+                     std::to_string(threads) + " is outside [0, " +
+                         std::to_string(kMaxTracingThreads) + "] (0: all cores)");
   ps.threads = threads;
   return ps;
 }
 
+/// How often a render runs Python's signal handlers between blocks: Ctrl-C ends it within
+/// about this long (plus one propagation frame), and taking the GIL this rarely costs nothing
+/// measurable.
+constexpr std::chrono::milliseconds kSignalCheckInterval{100};
+
+/// OfflineOptions::sink of dpc.render: keeps every block, as the renderer would without a sink,
+/// and every kSignalCheckInterval takes the GIL to run Python's signal handlers (which run on
+/// the main thread only). What a handler raises (KeyboardInterrupt for Ctrl-C) ends the render
+/// as py::error_already_set; nothing of it is kept.
+class BlocksAndSignals {
+ public:
+  /// frames: the render's length, reserved once.
+  BlocksAndSignals(size_t channels, size_t frames) : channels_(channels) {
+    for (auto& c : channels_) c.reserve(frames);
+  }
+  void operator()(size_t /*listener: one rendered*/, const float* const* planar, size_t frames) {
+    for (size_t c = 0; c < channels_.size(); ++c)
+      channels_[c].insert(channels_[c].end(), planar[c], planar[c] + frames);
+    const auto now = std::chrono::steady_clock::now();
+    if (now - lastCheck_ < kSignalCheckInterval) return;
+    lastCheck_ = now;
+    py::gil_scoped_acquire gil;
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+  }
+  std::vector<std::vector<float>> take() { return std::move(channels_); }
+
+ private:
+  std::vector<std::vector<float>> channels_;
+  std::chrono::steady_clock::time_point lastCheck_ = std::chrono::steady_clock::now();
+};
+
 Render render(const std::string& path, std::optional<double> duration, std::optional<uint64_t> seed,
               std::optional<std::string> listener, int rays, int threads) {
+  refuseNul(path, "dpc.render", "scene");
   if (duration && !(*duration > 0 && *duration <= 86400))
     throw InputError("dpc.render", "duration", "must be in (0, 86400] s");
   py::gil_scoped_release release;
@@ -58,8 +97,14 @@ Render render(const std::string& path, std::optional<double> duration, std::opti
   opt.durationSeconds = duration.value_or(-1.0);
   opt.listener = listenerIndex(*scene, listener);
   auto dry = std::make_shared<const DrySignals>(loadDrySignals(*scene));
+  const auto frames =
+      size_t(std::ceil(offlineDurationSeconds(*scene, ps, *dry, opt) * scene->audio.sampleRate));
+  BlocksAndSignals blocks(size_t(renderedChannels(scene->audio)), frames);
+  opt.sink = std::ref(blocks);
   OfflineResult r = renderOffline(scene, ps, dry, opt);
-  return Render{std::move(r.listeners.at(0)), scene->audio.sampleRate};
+  Render out{std::move(r.listeners.at(0)), scene->audio.sampleRate};
+  out.listener.output.channels = blocks.take();
+  return out;
 }
 
 const OfflineListenerResult& checked(const Render& r, size_t source) {

@@ -5,7 +5,6 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
-#include <memory>
 #include <string>
 
 #include "dpc/dpc.hpp"
@@ -15,14 +14,15 @@ namespace dpc::python {
 namespace py = pybind11;
 
 using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
-using IndexArray = py::array_t<uint32_t, py::array::c_style | py::array::forcecast>;
 
 /// The scene's numbers; shapes are checked (dpc.InputError naming the argument), values by the
 /// C API (dpc.InputError naming the dpc_scene_data field).
 struct SceneArrays {
-  FloatArray vertices;           ///< V x 3, m
-  IndexArray triangles;          ///< T x 3 vertex indices
-  IndexArray triangleMaterials;  ///< T material indices
+  FloatArray vertices;  ///< V x 3, m
+  /// The index arrays: any array-like of an integer dtype (no cast: a float index would be
+  /// truncated), every value in [0, 2^32).
+  py::object triangles;          ///< T x 3 vertex indices
+  py::object triangleMaterials;  ///< T material indices
   FloatArray absorption;         ///< M x 8, per octave band 63 Hz .. 8 kHz, [0, 1]
   FloatArray scattering;         ///< M, [0, 1]
   FloatArray sources;            ///< S x 3 positions, m
@@ -38,6 +38,6 @@ struct SceneArrays {
 
 /// An engine without dry signals (its responses are what it is for). Releases the GIL while
 /// the engine is built.
-std::unique_ptr<dpc::Engine> engineFromArrays(const SceneArrays& a);
+dpc::Engine engineFromArrays(const SceneArrays& a);
 
 }  // namespace dpc::python

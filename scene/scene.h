@@ -173,6 +173,11 @@ enum class DpcWeighting {
 /// engine keeps a fixed array of this many triangles per path.
 inline constexpr int kMaxExactOrder = 6;
 
+/// Most tracing threads a run may ask for (PropagationSettings::threads: dpc-demo and dpc-bake
+/// --threads, dpc.render's threads): more than the cores of any machine this runs on, far
+/// below the 65537 at which TBB's task arena crashes.
+inline constexpr int kMaxTracingThreads = 1024;
+
 struct PropagationSettings {
   int raysPerFrame = 4096;  ///< rays emitted per source per frame (N)
   int maxOrder = 50;        ///< maximum reflection order d_max
@@ -202,7 +207,7 @@ struct PropagationSettings {
   /// kRouletteSurvival and, if it does, carries 1/kRouletteSurvival times its energy
   /// (unbiased). 0 disables it. Default -60 dB.
   float rouletteThreshold = 1e-6f;
-  int threads = 0;  ///< tracing threads; 0 = all cores (command line only)
+  int threads = 0;  ///< tracing threads, 0 .. kMaxTracingThreads; 0 = all cores (command line only)
   /// Exact early specular paths (ray-guided image sources, engine/specular_paths.h): all-specular
   /// paths of up to this many reflections (0 .. kMaxExactOrder, and at most maxOrder) are found
   /// exactly and leave the energy response; the IR synthesis places them at their delays. 3 by

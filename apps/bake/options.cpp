@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "common/input_error.h"
+#include "scene/scene.h"
 
 namespace dpc::bake {
 namespace {
@@ -86,8 +87,9 @@ void validate(const Options& o, const CLI::App& app) {
         std::to_string(o.settings.frames) + " is not a multiple of " +
             std::to_string(o.settings.subStreams) + " in [" +
             std::to_string(o.settings.subStreams) + ", " + std::to_string(kMaxBakeFrames) + "]");
-  check(o.settings.threads >= 0 && o.settings.threads <= 1024, "--threads",
-        std::to_string(o.settings.threads) + " is outside [0, 1024]");
+  check(o.settings.threads >= 0 && o.settings.threads <= kMaxTracingThreads, "--threads",
+        std::to_string(o.settings.threads) + " is outside [0, " +
+            std::to_string(kMaxTracingThreads) + "]");
 }
 
 }  // namespace

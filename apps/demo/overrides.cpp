@@ -50,7 +50,8 @@ PropagationSettings applyOverrides(const SceneDesc& scene, const Flags& fl) {
     s.cacheMemoryMb = float(*fl.cacheMb);
   }
   if (fl.threads) {
-    if (*fl.threads < 0 || *fl.threads > 1024) bad("--threads", "must be in 0..1024");
+    if (*fl.threads < 0 || *fl.threads > kMaxTracingThreads)
+      bad("--threads", "must be in 0.." + std::to_string(kMaxTracingThreads));
     s.threads = int(*fl.threads);
   }
   if (!fl.estimator.empty()) {

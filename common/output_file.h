@@ -8,6 +8,7 @@
 #pragma once
 
 #include <fcntl.h>
+#include <limits.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -28,6 +29,27 @@ namespace dpc {
 inline std::string outputFolderOf(const std::string& path) {
   const std::filesystem::path parent = std::filesystem::path(path).parent_path();
   return parent.empty() ? std::string(".") : parent.string();
+}
+
+/// What a temporary output file adds to its target's name (mkstemp's template).
+inline constexpr char kTempOutputSuffix[] = ".tmp-XXXXXX";
+
+/// Why `path` cannot name an output file, or "" if it can: its last component with the
+/// temporary's suffix must fit the folder's file-name limit (pathconf, else NAME_MAX), and
+/// the whole path PATH_MAX. Checked before any work: otherwise the first file-system call
+/// fails with a bare "File name too long" that names neither the flag nor the field.
+inline std::string outputNameProblem(const std::string& path) {
+  const size_t suffix = sizeof(kTempOutputSuffix) - 1;
+  long nameMax = ::pathconf(outputFolderOf(path).c_str(), _PC_NAME_MAX);
+  if (nameMax <= 0) nameMax = NAME_MAX;
+  const size_t name = std::filesystem::path(path).filename().string().size();
+  if (name + suffix > size_t(nameMax))
+    return "its file name of " + std::to_string(name) + " bytes is too long (at most " +
+           std::to_string(size_t(nameMax) - suffix) + " for an output in this folder)";
+  if (path.size() + suffix >= size_t(PATH_MAX))
+    return "the path of " + std::to_string(path.size()) + " bytes is too long (at most " +
+           std::to_string(size_t(PATH_MAX) - suffix - 1) + ")";
+  return "";
 }
 
 /// Symbolic links followed from an output path before giving up (the kernel's own limit).
@@ -55,15 +77,22 @@ inline std::string outputTarget(const std::string& path) {
 inline void checkReplaceable(const std::string& path, const std::string& target) {
   struct stat st {};
   if (::stat(target.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
-    throw InputError(path, "",
-                     "cannot write: '" + target + "' exists and is not a regular file");
+    throw InputError(path, "", "cannot write: '" + target + "' exists and is not a regular file");
+}
+
+/// True if the existing file `st` describes (at `target`) must not be replaced: the user may
+/// not write it (access), or nobody may (no write bit in its mode). The second holds also for
+/// root, whom access() lets write anything: a file marked read-only (chmod 444) is protected
+/// on purpose, and the rename of the temporary would replace it without a word.
+inline bool isReadOnlyFile(const std::string& target, const struct stat& st) {
+  return (st.st_mode & 0222) == 0 || ::access(target.c_str(), W_OK) != 0;
 }
 
 /// An output path checked before any work, as every program names its outputs: `flag` is the
 /// option that named it ("--offline"), `inputs` the files of the run, each with what it is
 /// ("the scene file"). Throws InputError("command line", flag, ...) unless the path (through
-/// its symbolic links) is a regular file or absent, names none of the inputs (same device
-/// and inode), and lies in an existing, writable folder.
+/// its symbolic links) is a regular file the user may write (isReadOnlyFile) or absent, names
+/// none of the inputs (same device and inode), and lies in an existing, writable folder.
 inline void checkOutputPath(const std::string& path, const std::string& flag,
                             const std::vector<std::pair<std::string, std::string>>& inputs) {
   std::string target;
@@ -72,6 +101,8 @@ inline void checkOutputPath(const std::string& path, const std::string& flag,
   } catch (const InputError&) {
     throw InputError("command line", flag, "'" + path + "': too many levels of symbolic links");
   }
+  if (const std::string why = outputNameProblem(target); !why.empty())
+    throw InputError("command line", flag, why);
   struct stat st {};
   if (::stat(target.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
     throw InputError("command line", flag, "'" + path + "' exists and is not a regular file");
@@ -79,6 +110,8 @@ inline void checkOutputPath(const std::string& path, const std::string& flag,
     if (sameFile(path, in))
       throw InputError("command line", flag,
                        "'" + path + "' is " + what + "; refusing to overwrite it");
+  if (S_ISREG(st.st_mode) && isReadOnlyFile(target, st))
+    throw InputError("command line", flag, "'" + path + "': cannot write: the file is read-only");
   const std::string folder = outputFolderOf(target);
   std::error_code ec;
   if (!std::filesystem::is_directory(folder, ec))
@@ -102,7 +135,7 @@ class TempOutputFile {
     if (!std::filesystem::is_directory(folder, ec))
       throw InputError(path, "", "cannot write: folder '" + folder + "' does not exist");
     // Next to the target, so that the final rename stays on one filesystem (atomic).
-    tmp_ = target_ + ".tmp-XXXXXX";
+    tmp_ = target_ + kTempOutputSuffix;
     fd_ = ::mkstemp(tmp_.data());
     if (fd_ < 0) {
       const int err = errno;

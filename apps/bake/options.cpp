@@ -4,6 +4,7 @@
 #include <cmath>
 #include <iostream>
 
+#include "apps/cli_values.h"
 #include "common/input_error.h"
 #include "scene/scene.h"
 
@@ -97,6 +98,7 @@ void validate(const Options& o, const CLI::App& app) {
 bool parseOptions(int argc, char** argv, Options& o) {
   CLI::App app(kDescription, "dpc-bake");
   addOptions(app, o);
+  refuseEmptyValues(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp&) {

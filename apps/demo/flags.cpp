@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstdio>
 
+#include "apps/cli_values.h"
 #include "common/input_file.h"
 
 namespace dpc::demo {
@@ -29,8 +30,9 @@ void addLiveOptions(CLI::App& app, Flags& fl) {
                  "Ambisonic decoder), NAME or HOSTAPI:NAME (PortAudio, e.g. alsa:hw:0,0), "
                  "portaudio:SPEC; default: JACK if a server runs, else PortAudio's default");
   app.add_option("--block-size", fl.blockSize,
-                 "Live: the engine's block in samples (default: the JACK server's period, "
-                 "else the scene's audio.block_size)");
+                 "The engine's block in samples, in audio.block_size's range (default: live, "
+                 "the JACK server's period, else the scene's audio.block_size; offline, the "
+                 "scene's)");
   app.add_option("--record", fl.record, "Live: also write what was played to this WAV");
   app.add_option("--stats", fl.stats,
                  "Live: write xruns, late callbacks, callback load and motion-to-sound latency "
@@ -167,6 +169,7 @@ std::optional<int> parseFlags(int argc, char** argv, Flags& fl) {
   addLiveOptions(app, fl);
   addRenderOptions(app, fl);
   addOutputOptions(app, fl);
+  refuseEmptyValues(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -178,11 +181,6 @@ std::optional<int> parseFlags(int argc, char** argv, Flags& fl) {
       if (c == '\n' || (unsigned char)c < 0x20) c = ' ';
     std::fprintf(stderr, "dpc-demo: command line: %s%s\n", msg.c_str(),
                  mistypedOptionHint(app, argc, argv).c_str());
-    return 1;
-  }
-  // An empty --offline would otherwise mean "no --offline": live playback.
-  if (app.get_option("--offline")->count() > 0 && fl.offline.empty()) {
-    std::fprintf(stderr, "dpc-demo: command line: --offline: the output path is empty\n");
     return 1;
   }
   return std::nullopt;

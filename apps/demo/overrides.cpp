@@ -123,6 +123,11 @@ void applyRenderingOverrides(AudioSettings& audio, const Flags& fl) {
     checkField("audio.cluster_angle", *fl.clusterAngle, commandLineOrigin());
     audio.clusterAngleDegrees = float(*fl.clusterAngle);
   }
+  // The engine block of live runs and offline renders alike (offline, the renderer's block).
+  if (fl.blockSize) {
+    checkField("audio.block_size", double(*fl.blockSize), commandLineOrigin());
+    audio.blockSize = int(*fl.blockSize);
+  }
 }
 
 size_t selectedListener(const SceneDesc& scene, const Flags& fl) {
@@ -144,26 +149,45 @@ void checkDistinct(const std::vector<std::pair<const char*, std::string>>& outpu
   }
 }
 
+/// Several listeners: each one's name is part of its output files' names (OUT-NAME.wav), so a
+/// name too long for a file name is the scene's field, not the flag's.
+void checkListenerFileNames(const SceneDesc& scene, const Flags& fl) {
+  const std::vector<OutputPaths> paths = offlineOutputs(scene, fl);
+  if (paths.size() < 2) return;  // the names as given, checked with their flags
+  for (size_t i = 0; i < paths.size(); ++i)
+    for (const auto& [flag, out] :
+         {std::pair<const char*, std::string>{"--offline", paths[i].audio},
+          {"--ir-out", paths[i].ir},
+          {"--er-out", paths[i].energy}}) {
+      const std::string why = out.empty() ? "" : outputNameProblem(out);
+      if (!why.empty())
+        throw InputError(fl.scene, "listeners[" + std::to_string(i) + "].name",
+                         std::string("too long for the listener's ") + flag + " file: " + why);
+    }
+}
+
 }  // namespace
 
 void checkOutputs(const SceneDesc& scene, const Flags& fl) {
   std::vector<std::pair<const char*, std::string>> outputs = {{"--record", fl.record},
                                                               {"--stats", fl.stats}};
-  if (!fl.offline.empty())
+  if (!fl.offline.empty()) {
+    checkListenerFileNames(scene, fl);
     for (const OutputPaths& o : offlineOutputs(scene, fl)) {
       outputs.push_back({"--offline", o.audio});
       outputs.push_back({"--ir-out", o.ir});
       outputs.push_back({"--er-out", o.energy});
     }
+  }
   if (isSofaPath(fl.offline) || isSofaPath(fl.record))
     throw InputError("command line", isSofaPath(fl.offline) ? "--offline" : "--record",
                      "SOFA holds impulse responses, not audio: use --ir-out FILE.sofa");
   const auto inputs = sceneInputFiles(scene, fl.scene);
-  for (size_t i = 0; i < outputs.size(); ++i) {
-    if (outputs[i].second.empty()) continue;
-    checkOutputPath(outputs[i].second, outputs[i].first, inputs);
-    checkDistinct(outputs, i);
-  }
+  // Every path on its own first (a name too long breaks the comparisons), then against the others.
+  for (const auto& [flag, out] : outputs)
+    if (!out.empty()) checkOutputPath(out, flag, inputs);
+  for (size_t i = 0; i < outputs.size(); ++i)
+    if (!outputs[i].second.empty()) checkDistinct(outputs, i);
 }
 
 }  // namespace dpc::demo

@@ -16,8 +16,8 @@ PropagationSettings applyOverrides(const SceneDesc& scene, const Flags& fl);
 /// SOFA file that does not exist.
 void applyAudioOverrides(SceneDesc& scene, const Flags& fl);
 
-/// --rendering, --late-buses, --cluster-angle (hybrid rendering) into `audio`; called by
-/// applyAudioOverrides. Main thread. Throws InputError naming the flag.
+/// --rendering, --late-buses, --cluster-angle (hybrid rendering) and --block-size into
+/// `audio`; called by applyAudioOverrides. Main thread. Throws InputError naming the flag.
 void applyRenderingOverrides(AudioSettings& audio, const Flags& fl);
 
 /// --listener: the listener played or rendered (scene.listeners index); the first without it.

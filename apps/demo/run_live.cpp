@@ -72,10 +72,6 @@ PropagationSettings prepareLive(SceneDesc& scene, const Flags& fl) {
   // Live: leave one core to the audio thread unless --threads says otherwise; runLive gives
   // tracing every core when the device's callback is real-time (tracingThreads).
   if (!fl.threads) settings.threads = std::max(1, int(std::thread::hardware_concurrency()) - 1);
-  if (fl.blockSize) {
-    checkField("audio.block_size", double(*fl.blockSize), commandLineOrigin());
-    scene.audio.blockSize = int(*fl.blockSize);
-  }
   checkDuration(fl);
   checkOutputs(scene, fl);
   requireSignal(scene);

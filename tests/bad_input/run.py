@@ -98,6 +98,22 @@ def truncate_half(path):
     os.truncate(path, os.path.getsize(path) // 2)
 
 
+def read_only(name, mode=0o444):
+    """Writes a file NAME (an existing output the run must not replace) with this mode."""
+    def apply(d):
+        write(name, "an existing output\n")(d)
+        os.chmod(os.path.join(d, name), mode)
+    return apply
+
+
+def open_to_nobody(d):
+    """Lets user nobody (AS_NOBODY cases) read the case's files and write in its folder."""
+    os.chmod(d, 0o777)
+    for root, dirs, files in os.walk(d):
+        for name in dirs:
+            os.chmod(os.path.join(root, name), 0o755)
+
+
 def fifo(name):
     return lambda d: os.mkfifo(os.path.join(d, name))
 
@@ -298,8 +314,19 @@ CASES = {
     "seed_text": (nothing, OFF + ["--seed", "abc"], "--seed"),
     "seed_2_pow_64": (nothing, OFF + ["--seed", "18446744073709551616"], "is not a whole number"),
     "rays_2_pow_63": (nothing, OFF + ["--rays", "9223372036854775808"], "is not a whole number"),
-    "offline_empty": (nothing, ["shoebox.json", "--offline", "", "--duration", "1"], "--offline: the output path is empty"),
+    "offline_empty": (nothing, ["shoebox.json", "--offline", "", "--duration", "1"], "dpc-demo: command line: --offline: is empty"),
     "block_size_huge": (nothing, ["shoebox.json", "--block-size", "100000", "--duration", "1"], "--block-size"),
+    # --block-size is the offline renderer's block too: range-checked there as well.
+    "block_size_offline_1": (nothing, OFF + ["--block-size", "1"], "--block-size: 1 is outside [16, 8192] samples"),
+    "block_size_offline_huge": (nothing, OFF + ["--block-size", "100000"], "--block-size: 100000 is outside"),
+    # An empty value is refused for every option that takes one (CLI11 read an empty number as
+    # "not given", an empty path as "no such output").
+    **{f"empty_{flag[2:].replace('-', '_')}": (nothing, OFF + [flag, ""], f"dpc-demo: command line: {flag}: is empty")
+       for flag in ["--duration", "--ir-out", "--er-out", "--listener", "--hrtf", "--output", "--bake",
+                    "--seed", "--rays", "--tau", "--gain-db", "--block-size", "--estimator",
+                    "--device", "--record", "--stats", "--binaural-decoder", "--ambisonic-order"]},
+    "empty_scene": (nothing, ["", "--offline", "out.wav"], "dpc-demo: command line: scene: is empty"),
+    "empty_duration_equals": (nothing, ["shoebox.json", "--offline", "out.wav", "--duration="], "--duration"),
     "scene_rays_1e10": (scene_with(**{"propagation.rays_per_frame": 10000000000}), OFF[:-2], "rays_per_frame"),
     "scene_max_order_huge": (scene_with(**{"propagation.max_order": 1000000}), OFF, "max_order"),
     "obj_index_huge": (obj_with("f 1 2 99999999999"), OFF, "99999999999"),
@@ -424,6 +451,12 @@ CASES = {
     # file names (no "/": "x/../../evil" wrote OUT-x/../../evil.wav two folders up).
     "listener_name_slash": (lambda d: (mkdir("out-x")(d), two_listeners("x/../evil")(d)), OFF, "shoebox.json: listeners[0].name: must not contain '/'"),
     "source_name_escape": (scene_with(**{"sources.0.name": "\x1b[2Jtalker"}), OFF, "shoebox.json: sources[0].name: must not contain control characters"),
+    # A name too long for a file name (the temporary's suffix included): the field or the flag
+    # that made it, not a bare "File name too long".
+    "listener_name_too_long": (two_listeners("x" * 300), OFF, "shoebox.json: listeners[0].name: too long for the listener's --offline file: its file name of 308 bytes is too long (at most 244"),
+    "listener_name_too_long_ir": (two_listeners("x" * 234), OFF + ["--ir-out", "impulse.wav"], "shoebox.json: listeners[0].name: too long for the listener's --ir-out file"),
+    "offline_name_too_long": (nothing, ["shoebox.json", "--offline", "o" * 250 + ".wav"], "command line: --offline: its file name of 254 bytes is too long"),
+    "er_out_path_too_long": (nothing, OFF + ["--er-out", "./" * 2100 + "er.csv"], "command line: --er-out: the path of 4206 bytes is too long"),
     "listener_name_nul": (two_listeners("a\x00b"), OFF, "listeners[0].name: contains a NUL character"),
     "signal_path_nul": (scene_with(**{"sources.0.signal": "signals/speech.wav\x00.x"}), OFF, "sources[0].signal: contains a NUL character"),
     "duplicate_key": (write_text(lambda t: t.replace('"propagation": {', '"propagation": {"rays_per_frame": 5,', 1)), OFF, 'shoebox.json: key "rays_per_frame" appears twice'),
@@ -438,6 +471,14 @@ CASES = {
     "interactive_with_offline": (nothing, OFF + ["--interactive"], "--interactive: is for live runs"),
     "hrtf_directory": (mkdir("h.sofa"), OFF + ["--hrtf", "h.sofa"], "--hrtf: SOFA file 'h.sofa' is a directory"),
     "hrtf_fifo": (fifo("h.sofa"), OFF + ["--hrtf", "h.sofa"], "--hrtf: SOFA file 'h.sofa' is not a regular file"),
+    # An existing output the user may not write is refused like a read-only folder (the rename
+    # of the temporary would replace it). Root may write any file, so a file without any write
+    # bit (chmod 444) is refused for root too; one that is only another user's is refused as
+    # nobody (AS_NOBODY).
+    "offline_read_only": (read_only("out.wav"), OFF, "--offline: 'out.wav': cannot write: the file is read-only"),
+    "ir_out_read_only": (read_only("ir.wav"), OFF + ["--ir-out", "ir.wav"], "--ir-out: 'ir.wav': cannot write: the file is read-only"),
+    "er_out_read_only_link": (steps(read_only("er.csv"), symlink("er.csv", "l.csv")), OFF + ["--er-out", "l.csv"], "--er-out: 'l.csv': cannot write: the file is read-only"),
+    "offline_other_users_file": (steps(read_only("out.wav", 0o644), open_to_nobody), OFF, "--offline: 'out.wav': cannot write: the file is read-only"),
     "scene_link_loop": (lambda d: (symlink("b.json", "a.json")(d), symlink("a.json", "b.json")(d)), ["a.json", "--offline", "out.wav"], "a.json: scene file 'a.json' cannot be opened: Too many levels of symbolic links"),
 }
 
@@ -483,6 +524,19 @@ def limits():
 NEEDS_MEMORY_LIMIT = {"ir_60s_192k_binaural"}
 
 
+# Cases run as user nobody (uid 65534) when the suite runs as root; skipped otherwise (only root
+# can give the case's files to another user).
+AS_NOBODY = {"offline_other_users_file"}
+NOBODY = 65534
+
+
+def limits_as_nobody():
+    limits()
+    os.setgroups([])
+    os.setgid(NOBODY)
+    os.setuid(NOBODY)
+
+
 def child_env():
     env = dict(os.environ)
     if SANITIZED:
@@ -495,6 +549,8 @@ def child_env():
 def run_case(demo, scenes, name):
     if SANITIZED and name in NEEDS_MEMORY_LIMIT:
         return None
+    if name in AS_NOBODY and os.geteuid() != 0:
+        return None
     warn = name in WARN_CASES
     setup, args, expect = WARN_CASES[name] if warn else CASES[name]
     with tempfile.TemporaryDirectory(prefix="dpc_bad_") as d:
@@ -505,7 +561,8 @@ def run_case(demo, scenes, name):
         before = digest(d)
         try:
             p = subprocess.run([demo] + args, cwd=d, stdin=subprocess.DEVNULL, capture_output=True,
-                               timeout=TIME_LIMIT_S, preexec_fn=limits, env=child_env())
+                               timeout=TIME_LIMIT_S, env=child_env(),
+                               preexec_fn=limits_as_nobody if name in AS_NOBODY else limits)
         except subprocess.TimeoutExpired:
             return f"hung: no exit within {TIME_LIMIT_S} s"
         err = p.stderr.decode("utf-8", "replace")

@@ -66,6 +66,16 @@ expect_refusal() {  # expect_refusal WORD ARGS...: exit 1, one line containing W
   [[ $(listing) == "$before" ]] || fail "files changed by $*"
 }
 cp clean.h5 keep.h5
+# An existing --out or --map nobody may write (mode 444, refused for root too), and empty values.
+chmod 444 keep.h5
+expect_refusal "--out: 'keep.h5': cannot write: the file is read-only" "$scene" --out keep.h5 \
+  --spacing 2
+expect_refusal "--map: 'keep.h5': cannot write: the file is read-only" --resume clean.h5 \
+  --map keep.h5
+chmod 644 keep.h5
+expect_refusal "command line: --map: is empty" "$scene" --out new.h5 --spacing 2 --map ""
+expect_refusal "command line: --out: is empty" "$scene" --out "" --spacing 2
+expect_refusal "command line: --spacing: is empty" "$scene" --out new.h5 --spacing ""
 expect_refusal --spacing "$scene" --out keep.h5 --spacing 0
 expect_refusal --spacing "$scene" --out keep.h5 --spacing -1
 expect_refusal shoebox.json "$scene" --out keep.h5 --spacing 50

@@ -1,9 +1,8 @@
 #include "apps/bake/bake_run.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <algorithm>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -11,22 +10,23 @@
 #include <optional>
 #include <thread>
 
-#include "bake/bake_file.h"
-#include "bake/parameter_map.h"
 #include "apps/bake/progress.h"
 #include "apps/bake/watchdog.h"
+#include "bake/bake_file.h"
+#include "bake/parameter_map.h"
 #include "common/input_error.h"
 #include "common/output_file.h"
+#include "common/stop_signals.h"
 
 namespace dpc::bake {
 namespace {
 
-/// Set by SIGINT/SIGTERM; read by the main thread and rank 0's watchdog thread (a lock-free
-/// atomic: safe to store in a signal handler and to read from another thread).
-std::atomic<bool> gInterrupted{false};
-static_assert(std::atomic<bool>::is_always_lock_free);
-
-void onSignal(int) { gInterrupted.store(true); }
+/// The exit status of a run that did not finish: 128 + the number of the stop signal that
+/// ended it (common/stop_signals.h), else 1 (bad input, already reported).
+int unfinishedStatus() {
+  const int s = stopSignal();
+  return s != 0 ? 128 + s : 1;
+}
 
 /// What this run bakes: the scene, the file's header and the probes not yet done.
 struct Plan {
@@ -52,8 +52,8 @@ Plan planFresh(const Options& o) {
     h.probes = makeProbeGrid(plan.scene, h.grid, o.scene);
   } else {
     h.grid.spacingM = h.grid.heightM = 0.0;  // a list: no grid
-    h.probes = placeProbes(plan.scene, readProbeList(o.probes), h.grid.radiusM, o.probes,
-                           "--probes");
+    h.probes =
+        placeProbes(plan.scene, readProbeList(o.probes), h.grid.radiusM, o.probes, "--probes");
   }
   for (const SourceDesc& s : plan.scene.sources) h.sources.push_back(sourcePositionAt(s, 0.0));
   h.shape = probeShape(plan.scene, h.settings);
@@ -144,12 +144,12 @@ bool bakeAsWriter(const Plan& plan, Cluster& cluster, Writer& out) {
   };
   ProbeBaker baker(plan.scene, h.settings);
   for (const size_t p : share(plan.todo, cluster)) {
-    if (gInterrupted) return false;
+    if (stopSignal() != 0) return false;
     out.commit(p, baker.bake(p, h.probes.positions[p]));
     drain();
   }
   while (committed < plan.todo.size()) {
-    if (gInterrupted) return false;
+    if (stopSignal() != 0) return false;
     if (!drain()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
   return true;
@@ -159,7 +159,7 @@ void bakeAsWorker(const Plan& plan, Cluster& cluster) {
   const BakeHeader& h = plan.header;
   ProbeBaker baker(plan.scene, h.settings);
   for (const size_t p : share(plan.todo, cluster)) {
-    if (gInterrupted) return;
+    if (stopSignal() != 0) return;
     cluster.send(p, pack(baker.bake(p, h.probes.positions[p])));
   }
   cluster.finishSends();
@@ -168,11 +168,12 @@ void bakeAsWorker(const Plan& plan, Cluster& cluster) {
 void printJson(const Plan& plan, const Cluster& cluster, const BakeFile& file,
                const Progress& progress) {
   const double n = double(std::max<size_t>(plan.todo.size(), 1));
-  std::printf("{\"probes\": %zu, \"seconds\": %.6g, \"probes_per_second\": %.6g, "
-              "\"processes\": %d, \"bytes_per_probe\": %zu, \"commit_seconds_per_probe\": "
-              "%.6g}\n",
-              plan.todo.size(), progress.elapsedSeconds(), progress.rate(), cluster.size(),
-              plan.header.shape.packedFloats() * sizeof(float), file.commitSeconds() / n);
+  std::printf(
+      "{\"probes\": %zu, \"seconds\": %.6g, \"probes_per_second\": %.6g, "
+      "\"processes\": %d, \"bytes_per_probe\": %zu, \"commit_seconds_per_probe\": "
+      "%.6g}\n",
+      plan.todo.size(), progress.elapsedSeconds(), progress.rate(), cluster.size(),
+      plan.header.shape.packedFloats() * sizeof(float), file.commitSeconds() / n);
 }
 
 /// Rank 0's watchdog over the other ranks (apps/bake/watchdog.h), when there are any.
@@ -181,8 +182,7 @@ std::unique_ptr<Watchdog> watch(const Plan& plan, const Cluster& cluster, const 
   std::vector<Watchdog::Peer> peers;
   for (const Cluster::Peer& p : cluster.peers()) peers.push_back({p.rank, p.pid});
   return std::make_unique<Watchdog>(std::move(peers), cluster.size(), file.path(),
-                                    plan.header.probes.positions.size(), plan.alreadyDone,
-                                    gInterrupted);
+                                    plan.header.probes.positions.size(), plan.alreadyDone);
 }
 
 int finishAsWriter(const Options& o, const Plan& plan, Cluster& cluster, BakeFile& file) {
@@ -196,19 +196,19 @@ int finishAsWriter(const Options& o, const Plan& plan, Cluster& cluster, BakeFil
     // Under mpirun a rank that dies makes mpirun stop the others with a signal: rank 0 cannot
     // tell that from a user's signal, so the line names both.
     std::fprintf(stderr,
-                 "dpc-bake: %s: interrupted%s with %zu of %zu probes done; dpc-bake --resume %s "
+                 "dpc-bake: %s: %s%s with %zu of %zu probes done; dpc-bake --resume %s "
                  "finishes it\n",
-                 file.path().c_str(),
-                 cluster.size() > 1 ? " (a signal, or mpirun stopping the job after a rank died)"
-                                    : "",
+                 file.path().c_str(), Interrupted(stopSignal()).what(),
+                 cluster.size() > 1 ? " (the user's, or mpirun's after a rank died)" : "",
                  plan.alreadyDone + progress.done(), plan.header.probes.positions.size(),
                  file.path().c_str());
-    return 1;
+    return unfinishedStatus();
   }
   file.markComplete();
   if (!o.map.empty()) writeParameterMap(file, o.map);
   if (o.json) printJson(plan, cluster, file, progress);
-  std::fprintf(stderr, "dpc-bake: %s: %zu probes complete; this run baked %zu in %.1f s (%.3g "
+  std::fprintf(stderr,
+               "dpc-bake: %s: %zu probes complete; this run baked %zu in %.1f s (%.3g "
                "probes/s, %d process%s)\n",
                file.path().c_str(), plan.header.probes.positions.size(), plan.todo.size(),
                progress.elapsedSeconds(), progress.rate(), cluster.size(),
@@ -228,30 +228,31 @@ void checkBakeOutputs(const Options& o, const Plan& plan) {
   checkOutputPath(o.map, "--map", inputs);
   if (std::filesystem::weakly_canonical(std::filesystem::absolute(o.map)) ==
       std::filesystem::weakly_canonical(std::filesystem::absolute(bake)))
-    throw InputError("command line", "--map", "'" + o.map + "' is the bake; refusing to overwrite it");
+    throw InputError("command line", "--map",
+                     "'" + o.map + "' is the bake; refusing to overwrite it");
 }
 
 }  // namespace
 
 int runBake(const Options& o, Cluster& cluster) {
-  std::signal(SIGINT, onSignal);
-  std::signal(SIGTERM, onSignal);
+  catchStopSignals();
   Plan plan;
   if (!together(cluster, [&] {
         plan = o.resume.empty() ? planFresh(o) : planResume(o);
         checkBakeOutputs(o, plan);
+        throwIfStopped();  // a signal while planning: no file opened or created
         return 0;
       }))
-    return 1;
+    return unfinishedStatus();
   std::optional<BakeFile> file;
   if (!together(cluster, [&] {
         if (cluster.rank() == 0) file.emplace(openOutput(o, plan));
         return 0;
       }))
-    return 1;
+    return unfinishedStatus();
   if (cluster.rank() != 0) {
     bakeAsWorker(plan, cluster);
-    return 0;
+    return stopSignal() != 0 ? unfinishedStatus() : 0;
   }
   if (!o.quiet) printEstimate(plan, cluster);
   return finishAsWriter(o, plan, cluster, *file);

@@ -17,8 +17,9 @@ constexpr const char* kDescription =
     "           [--map MAP.csv]\n"
     "  dpc-bake --resume BAKE.h5 [SCENE.json] [--map MAP.csv]\n"
     "Under mpirun the probes are shared among the ranks; the file is the same for any number\n"
-    "of ranks. The format: docs/bake-format.md. Exit status 0 on success, 1 on bad input or\n"
-    "an interrupted bake (the file then says which probes are done; --resume finishes it).";
+    "of ranks. The format: docs/bake-format.md. Exit status 0 on success, 1 on bad input,\n"
+    "128 + n after stop signal n (SIGINT, SIGTERM, SIGHUP: the file then says which probes are\n"
+    "done; --resume finishes it).";
 
 void addOptions(CLI::App& app, Options& o) {
   app.add_option("SCENE", o.scene, "Scene file (JSON)")->type_name("FILE");
@@ -27,8 +28,7 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("--resume", o.resume, "Finish an incomplete bake (or rewrite its --map)")
       ->type_name("FILE")
       ->excludes("--out");
-  app.add_option("--spacing", o.grid.spacingM, "Probe grid spacing, metres (> 0)")
-      ->type_name("M");
+  app.add_option("--spacing", o.grid.spacingM, "Probe grid spacing, metres (> 0)")->type_name("M");
   app.add_option("--height", o.grid.heightM, "Probe height above the floor, metres (default 1.6)")
       ->type_name("M");
   app.add_option("--box", o.box,
@@ -72,10 +72,10 @@ void validate(const Options& o, const CLI::App& app) {
   check(!fresh || o.spacingGiven || !o.probes.empty(), "--spacing",
         "the probe spacing (or --probes) is required");
   check(fresh || o.probes.empty(), "--resume", "a resumed bake keeps its own probes");
-  check(fresh || (app.count("--spacing") == 0 && app.count("--height") == 0 &&
-                  app.count("--box") == 0 &&
-                  app.count("--rays") == 0 && app.count("--frames") == 0),
-        "--resume", "a resumed bake keeps its own grid, rays and frames");
+  check(
+      fresh || (app.count("--spacing") == 0 && app.count("--height") == 0 &&
+                app.count("--box") == 0 && app.count("--rays") == 0 && app.count("--frames") == 0),
+      "--resume", "a resumed bake keeps its own grid, rays and frames");
   check(std::isfinite(o.grid.spacingM) && o.grid.spacingM > 0.0, "--spacing",
         std::to_string(o.grid.spacingM) + " m is not > 0");
   check(std::isfinite(o.grid.heightM) && o.grid.heightM >= 0.0, "--height",

@@ -1,5 +1,6 @@
 #include "apps/bake/watchdog.h"
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -7,7 +8,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
-#include <signal.h>
+
+#include "common/stop_signals.h"
 
 namespace dpc::bake {
 namespace {
@@ -26,13 +28,12 @@ bool processGone(long pid) {
 }  // namespace
 
 Watchdog::Watchdog(std::vector<Peer> peers, int ranks, std::string path, size_t total,
-                   size_t committed, const std::atomic<bool>& stop)
+                   size_t committed)
     : peers_(std::move(peers)),
       ranks_(ranks),
       path_(std::move(path)),
       total_(total),
       committed_(committed),
-      stop_(stop),
       thread_([this] { run(); }) {}
 
 Watchdog::~Watchdog() {
@@ -56,7 +57,7 @@ void Watchdog::run() {
   while (!cv_.wait_for(g, period, [this] { return done_; })) {
     const int gone = goneRank();
     // mpirun's signal follows a rank's death: looked at after the signal, the rank is gone.
-    if (gone >= 0 || stop_) fail(gone >= 0 ? gone : goneRank());
+    if (gone >= 0 || stopSignal() != 0) fail(gone >= 0 ? gone : goneRank());
   }
 }
 
@@ -72,12 +73,11 @@ void Watchdog::fail(int gone) {
                  path_.c_str(), gone, ranks_, n, total_, path_.c_str());
   else
     std::fprintf(stderr,
-                 "dpc-bake: %s: interrupted (a signal: the user's, or mpirun's after a rank on "
-                 "another host stopped) with %zu of %zu probes committed; dpc-bake --resume %s "
-                 "finishes it\n",
-                 path_.c_str(), n, total_, path_.c_str());
+                 "dpc-bake: %s: %s (the user's, or mpirun's after a rank on another host "
+                 "stopped) with %zu of %zu probes committed; dpc-bake --resume %s finishes it\n",
+                 path_.c_str(), Interrupted(stopSignal()).what(), n, total_, path_.c_str());
   std::fflush(stderr);
-  std::_Exit(1);
+  std::_Exit(gone >= 0 ? 1 : 128 + stopSignal());
 }
 
 }  // namespace dpc::bake

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# dpc-bake end to end: a bake interrupted (SIGTERM) and resumed equals a clean one; with Open MPI
+# dpc-bake end to end: a bake interrupted (SIGTERM, SIGHUP, SIGINT: exit 128 + n) and resumed
+# equals a clean one; with Open MPI
 # (when mpirun is installed), -np 1 and -np 2 write the same datasets as the single-process run,
 # and a rank killed mid-bake ends the job non-zero with a file --resume completes to the same
 # data; bad input gets one line naming file and field, exit 1, no file created or changed.
@@ -28,11 +29,18 @@ kill_after_first_probe() {
 echo "== clean and interrupted + resumed bakes are identical"
 "$bake" "$scene" --out clean.h5 "${slow[@]}" --quiet
 complete clean.h5 || fail "clean bake not marked complete"
-"$bake" "$scene" --out cut.h5 "${slow[@]}" 2>cut.err & pid=$!
-kill_after_first_probe cut.err $pid TERM
-if wait $pid; then fail "interrupted bake exited 0"; fi
-[[ $(grep -c 'interrupted' cut.err) == 1 ]] || fail "no interruption line: $(cat cut.err)"
-complete cut.h5 && fail "interrupted bake marked complete"
+# Each stop signal n: one line naming it, exit 128 + n, the file incomplete; cut.h5 (SIGTERM)
+# resumed equals the clean bake.
+for sig in TERM HUP INT; do
+  "$bake" "$scene" --out "cut$sig.h5" "${slow[@]}" 2>"cut$sig.err" & pid=$!
+  kill_after_first_probe "cut$sig.err" $pid $sig
+  status=0; wait $pid || status=$?
+  [[ $status == $((128 + $(kill -l $sig))) ]] || fail "SIG$sig: exit status $status"
+  [[ $(grep -c "cut$sig.h5: interrupted by SIG$sig with .* dpc-bake --resume cut$sig.h5" \
+      "cut$sig.err") == 1 ]] || fail "no SIG$sig interruption line: $(cat "cut$sig.err")"
+  complete "cut$sig.h5" && fail "bake interrupted by SIG$sig marked complete"
+done
+mv cutTERM.h5 cut.h5
 "$bake" --resume cut.h5 --quiet
 h5diff clean.h5 cut.h5 || fail "resumed bake differs from the clean one"
 

@@ -37,7 +37,6 @@ Propagator::Propagator(const Geometry& geometry, const Tracer& tracer,
     airPerMetre_ = airEnergyAttenuationPerMetre(settings_.temperatureC, settings_.humidityPercent);
   minAir_ = airPerMetre_.min();
   const glm::vec3 extent = geometry_.boundsMax() - geometry_.boundsMin();
-  epsilon_ = 1e-5f * std::max(10.f, std::max(extent.x, std::max(extent.y, extent.z)));
   keyRule_ = PathKeyRule::forRoom(double(extent.x) * extent.y * extent.z, geometry_.surfaceArea(),
                                   settings_.speedOfSound, 1e-3);
   exactOrder_ = std::clamp(std::min(settings_.exactOrder, settings_.maxOrder), 0, kMaxExactOrder);
@@ -55,7 +54,9 @@ void Propagator::forEachParallel(size_t n, const std::function<void(size_t)>& f)
   arena_->execute([&] { tbb::parallel_for(size_t(0), n, [&](size_t i) { f(i); }); });
 }
 
-int Propagator::concurrency() const { return arena_->max_concurrency(); }
+int Propagator::concurrency() const {
+  return arena_->max_concurrency();
+}
 
 DirectSound Propagator::directSound(const glm::vec3& source, const ListenerSphere& listener,
                                     const Directivity& directivity,
@@ -91,7 +92,7 @@ PathTransmission Propagator::directTransmission(const glm::vec3& source,
     out.blocked = tracer_.occluded(TraceRay{source, dir, 0.f, end});
     return out;
   }
-  return transmissionAlong(tracer_, geometry_, source, dir, end, epsilon_);
+  return transmissionAlong(tracer_, geometry_, source, dir, end);
 }
 
 void Propagator::startRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t rayIndex,
@@ -237,7 +238,7 @@ bool Propagator::reflect(RayState& ray, const SurfaceHit& hit) const {
     ray.energy *= 1.f / kRouletteSurvival;
   }
   if (through) {  // same direction, on the far side; a transmission ends the specular run
-    ray.org = p + ray.dir * epsilon_;
+    ray.org = p + ray.dir * surfaceOffset(p, hit.t);
     ++ray.order;
     return true;
   }
@@ -248,7 +249,7 @@ bool Propagator::reflect(RayState& ray, const SurfaceHit& hit) const {
     ray.dir = cosineHemisphere(n, ray.rng);
   else
     ray.dir = glm::normalize(ray.dir - 2.f * glm::dot(ray.dir, n) * n);
-  ray.org = p + n * epsilon_;
+  ray.org = p + n * surfaceOffset(p, hit.t);
   if (!diffuse && ray.specularRun == ray.order && ray.order < exactOrder_)
     ray.specular[size_t(ray.specularRun++)] =
         hit.triangle < faceOf_.size() ? faceOf_[hit.triangle] : hit.triangle;
@@ -405,19 +406,19 @@ void Propagator::mirrorRun(uint64_t frameSeed, uint32_t rayIndex, const glm::vec
   SurfaceHit hit;
   while (run.order < uint32_t(exactOrder_) && tracer_.intersect(ray, hit)) {
     ++chunk.segments;
-    run.triangles[run.order++] = hit.triangle < faceOf_.size() ? faceOf_[hit.triangle]
-                                                                : hit.triangle;
+    run.triangles[run.order++] =
+        hit.triangle < faceOf_.size() ? faceOf_[hit.triangle] : hit.triangle;
     // Mirror reflection about the normal facing the side the ray came from (reflect()).
     const glm::vec3 n = glm::dot(hit.normal, ray.dir) < 0.f ? hit.normal : -hit.normal;
-    ray.org = ray.org + ray.dir * hit.t + n * epsilon_;
+    const glm::vec3 p = ray.org + ray.dir * hit.t;
+    ray.org = p + n * surfaceOffset(p, hit.t);
     ray.dir = glm::normalize(ray.dir - 2.f * glm::dot(ray.dir, n) * n);
   }
   if (run.order > 0) chunk.specularRuns.push_back(run);
 }
 
 TraceStats Propagator::proposeSpecular(uint64_t frameIndex, uint32_t emitterIndex,
-                                       const glm::vec3& position,
-                                       SpecularCandidates& candidates) {
+                                       const glm::vec3& position, SpecularCandidates& candidates) {
   TraceStats stats;
   if (exactOrder_ == 0) return stats;
   // Salt that keeps these streams apart from traceFrame's (seed, frame, emitter) streams.

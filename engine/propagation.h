@@ -156,14 +156,12 @@ class Propagator {
   /// frame, emitterIndex) salted apart from traceFrame's; bit-identical for any thread count.
   /// Returns the rays and segments traced (no listener hits). No allocation after the first
   /// frame of as many rays.
-  TraceStats proposeSpecular(uint64_t frameIndex, uint32_t emitterIndex,
-                             const glm::vec3& position, SpecularCandidates& candidates);
+  TraceStats proposeSpecular(uint64_t frameIndex, uint32_t emitterIndex, const glm::vec3& position,
+                             SpecularCandidates& candidates);
 
   /// Order N of the exact specular paths: settings.exactOrder clamped to [0, kMaxExactOrder]
   /// and to maxOrder (a path the rays cannot follow is not removed from them either).
   int exactOrder() const { return exactOrder_; }
-  /// The propagator's offset of a reflected ray from its surface, metres.
-  float surfaceEpsilon() const { return epsilon_; }
 
   /// The direct sound from source to listener centre: blocked by an opaque surface, attenuated
   /// by the transmittance of every transmitting surface it crosses (DirectSound::crossings).
@@ -283,7 +281,7 @@ class Propagator {
   };
   struct Chunk {
     std::vector<PathHit> hits;
-    std::vector<uint32_t> hitListener;  ///< listener index of each hit
+    std::vector<uint32_t> hitListener;           ///< listener index of each hit
     std::vector<SpecularSequence> specularRuns;  ///< per ended ray with a run: its sequence
     uint64_t segments = 0;
     // Packet mode scratch: hits in completion order with their ray (offset in the chunk),
@@ -338,8 +336,7 @@ class Propagator {
                          bool listenerFirst) const;
   /// One proposeSpecular ray: mirror reflections from `from` up to exactOrder_, its face
   /// sequence into chunk.specularRuns, its segments counted.
-  void mirrorRun(uint64_t frameSeed, uint32_t rayIndex, const glm::vec3& from,
-                 Chunk& chunk) const;
+  void mirrorRun(uint64_t frameSeed, uint32_t rayIndex, const glm::vec3& from, Chunk& chunk) const;
   void traceRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t rayIndex,
                 const glm::vec3& source, std::span<const ListenerSphere> listeners,
                 Chunk& chunk) const;
@@ -351,21 +348,20 @@ class Propagator {
   const Tracer& tracer_;
   PropagationSettings settings_;
   Bands airPerMetre_{0.f};
-  float minAir_ = 0.f;  ///< smallest band air attenuation, 1/m (roulette's upper bound)
-  float epsilon_ = 1e-4f;
+  float minAir_ = 0.f;   ///< smallest band air attenuation, 1/m (roulette's upper bound)
   PathKeyRule keyRule_;  ///< order-adaptive path identifier (engine/patch.h)
   bool includeDirectRays_ = false;
   Directivity directivity_;  ///< setSourceDirectivity
   glm::vec3 forward_{1.f, 0.f, 0.f};
   std::span<const tsl::robin_set<uint64_t>* const> exactSets_;  ///< setExactSequences
-  std::span<const uint32_t> faceOf_;  ///< setSpecularFaces
-  bool fromListeners_ = false;        ///< setFromListeners
+  std::span<const uint32_t> faceOf_;                            ///< setSpecularFaces
+  bool fromListeners_ = false;                                  ///< setFromListeners
   std::span<const Directivity> receiverPatterns_;
   std::span<const glm::vec3> receiverForwards_;
   std::span<const uint32_t> sphereIds_;  ///< setSphereIds
-  SphereBvh sphereBvh_;                ///< the frame's spheres, above kMaxLinearSpheres
-  std::vector<glm::vec4> sphereBoxes_;  ///< prepareSpheres' scratch
-  int exactOrder_ = 0;  ///< exactOrder()
+  SphereBvh sphereBvh_;                  ///< the frame's spheres, above kMaxLinearSpheres
+  std::vector<glm::vec4> sphereBoxes_;   ///< prepareSpheres' scratch
+  int exactOrder_ = 0;                   ///< exactOrder()
   TraceMode traceMode_ = kDefaultTraceMode;
   std::unique_ptr<tbb::task_arena> arena_;
   std::vector<Chunk> chunks_;

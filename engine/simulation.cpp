@@ -10,8 +10,9 @@ namespace dpc {
 Simulation::Simulation(const SceneDesc& scene) : Simulation(scene, scene.propagation) {}
 
 Simulation::Simulation(const SceneDesc& scene, const PropagationSettings& settings)
-    : settings_(settings), listenerRadius_(scene.listeners.empty() ? ListenerDesc{}.radius
-                                               : scene.listeners.front().radius) {
+    : settings_(settings),
+      listenerRadius_(scene.listeners.empty() ? ListenerDesc{}.radius
+                                              : scene.listeners.front().radius) {
   geometry_ =
       std::make_unique<Geometry>(scene.mesh, scene.materials, settings_.patchSize, scene.objects);
   tracer_ = std::make_unique<EmbreeTracer>(scene.mesh, scene.objects);
@@ -21,7 +22,7 @@ Simulation::Simulation(const SceneDesc& scene, const PropagationSettings& settin
   if (propagator_->exactOrder() > 0) {
     specularScene_ = std::make_unique<SpecularScene>(
         scene.mesh, scene.objects, *geometry_, *tracer_, propagator_->airAttenuationPerMetre(),
-        settings_.speedOfSound, propagator_->surfaceEpsilon());
+        settings_.speedOfSound);
     specularCandidates_ = std::make_unique<SpecularCandidates>();
     propagator_->setSpecularFaces(specularScene_->faces().faces());
   }
@@ -190,10 +191,9 @@ void Simulation::traceFromSources(std::span<const ListenerSphere> listeners,
       propagator_->setExactSequences(std::span(exactSetPtrs_.data(), listeners.size()));
     }
     propagator_->setSourceDirectivity(directivities_[s], sourceForwards_[s]);
-    const TraceStats trace =
-        propagator_->traceFrame(frame_, uint32_t(s), sources[s], listeners,
-                                std::span(groupPtrs_.data(), listeners.size()),
-                                specularCandidates_.get());
+    const TraceStats trace = propagator_->traceFrame(frame_, uint32_t(s), sources[s], listeners,
+                                                     std::span(groupPtrs_.data(), listeners.size()),
+                                                     specularCandidates_.get());
     addPass(trace);
     if (specularCandidates_) specularCandidateOverflow_ += specularCandidates_->overflow();
     const double traceSeconds =
@@ -285,10 +285,9 @@ void Simulation::traceFromListeners(std::span<const ListenerSphere> listeners,
       propagator_->setFromListeners(true, std::span(livePatterns_.data(), n),
                                     std::span(liveForwards_.data(), n));
       propagator_->setSphereIds(std::span(liveIds_.data(), n));
-      trace = propagator_->traceFrame(frame_, uint32_t(l), listeners[l].position,
-                                      std::span(sourceSpheres_.data(), n),
-                                      std::span(liveGroupPtrs_.data(), n),
-                                      specularCandidates_.get());
+      trace = propagator_->traceFrame(
+          frame_, uint32_t(l), listeners[l].position, std::span(sourceSpheres_.data(), n),
+          std::span(liveGroupPtrs_.data(), n), specularCandidates_.get());
       propagator_->setFromListeners(false);
       propagator_->setSphereIds({});
     } else if (specularCandidates_) {

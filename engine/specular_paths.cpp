@@ -36,8 +36,7 @@ bool planeOf(const glm::dvec3& v0, const glm::dvec3& v1, const glm::dvec3& v2, P
 
 /// True when q (on the triangle's plane) lies inside triangle (v0, v1, v2), within
 /// kInsideTolerance in barycentric coordinates.
-bool inside(const glm::dvec3& q, const glm::dvec3& v0, const glm::dvec3& v1,
-            const glm::dvec3& v2) {
+bool inside(const glm::dvec3& q, const glm::dvec3& v0, const glm::dvec3& v1, const glm::dvec3& v2) {
   const glm::dvec3 e1 = v1 - v0, e2 = v2 - v0, w = q - v0;
   const double d11 = glm::dot(e1, e1), d12 = glm::dot(e1, e2), d22 = glm::dot(e2, e2);
   const double w1 = glm::dot(w, e1), w2 = glm::dot(w, e2);
@@ -103,13 +102,12 @@ bool SpecularCandidates::insert(const SpecularSequence& sequence) {
 
 SpecularScene::SpecularScene(const Mesh& mesh, const std::vector<ObjectDesc>& objects,
                              const Geometry& geometry, const Tracer& tracer,
-                             const Bands& airPerMetre, float speedOfSound, float epsilon)
+                             const Bands& airPerMetre, float speedOfSound)
     : faces_(meshesOf(mesh, objects)),
       geometry_(geometry),
       tracer_(tracer),
       airPerMetre_(airPerMetre),
-      speedOfSound_(speedOfSound),
-      epsilon_(epsilon) {
+      speedOfSound_(speedOfSound) {
   auto trianglesOf = [](const Mesh& m) {
     std::vector<Triangle> t;
     t.reserve(m.triangles.size());
@@ -180,14 +178,14 @@ bool SpecularScene::insideFace(const glm::dvec3& q, uint32_t face) const {
 
 bool SpecularScene::visible(const SpecularPath& path, const glm::vec3& source,
                             const glm::vec3& listener) const {
-  // Segments S -> P1 -> ... -> Pk -> L; ends on a surface keep epsilon_ clear of it.
+  // Segments S -> P1 -> ... -> Pk -> L; ends on a surface keep surfaceOffset() clear of it.
   for (uint32_t i = 0; i <= path.order; ++i) {
     const glm::vec3 a = i == 0 ? source : path.points[i - 1];
     const glm::vec3 b = i == path.order ? listener : path.points[i];
     const glm::vec3 ab = b - a;
     const float len = glm::length(ab);
-    const float tnear = i == 0 ? 0.f : epsilon_;
-    const float tfar = i == path.order ? len : len - epsilon_;
+    const float tnear = i == 0 ? 0.f : surfaceOffset(a, len);
+    const float tfar = i == path.order ? len : len - surfaceOffset(b, len);
     if (!(tfar > tnear)) return false;  // reflection points (nearly) coincide
     if (tracer_.occluded(TraceRay{a, ab / len, tnear, tfar})) return false;
   }
@@ -218,8 +216,7 @@ bool SpecularScene::validate(const SpecularSequence& seq, const glm::vec3& sourc
   return true;
 }
 
-SpecularPathCache::SpecularPathCache(double tauSeconds, double framePeriodSeconds,
-                                     size_t capacity)
+SpecularPathCache::SpecularPathCache(double tauSeconds, double framePeriodSeconds, size_t capacity)
     : keepFrames_(uint64_t(std::max(0.0, std::floor(tauSeconds / framePeriodSeconds + 1e-9)))),
       capacity_(capacity) {
   // Tables grow (on the propagation thread) toward the capacity as a pair's paths need them.
@@ -248,8 +245,8 @@ void SpecularPathCache::removeEntry(size_t i) {
 }
 
 void SpecularPathCache::revalidate(const SpecularCandidates& frame, const SpecularScene& scene,
-                                   const glm::vec3& source, const glm::vec3& listener,
-                                   float radius, uint64_t frameIndex) {
+                                   const glm::vec3& source, const glm::vec3& listener, float radius,
+                                   uint64_t frameIndex) {
   SpecularPath path;
   for (size_t i = 0; i < entries_.size();) {
     Entry& e = entries_[i];

@@ -72,11 +72,11 @@ struct SpecularSequence {
 
 /// One exact specular path from a source to a listener in one frame.
 struct SpecularPath {
-  uint64_t key = 0;       ///< SpecularSequence::key() of its triangles: stable across frames
-  uint32_t order = 0;     ///< reflections k, 1..kMaxExactOrder
-  float length = 0.f;     ///< metres, |L - S_k|
+  uint64_t key = 0;           ///< SpecularSequence::key() of its triangles: stable across frames
+  uint32_t order = 0;         ///< reflections k, 1..kMaxExactOrder
+  float length = 0.f;         ///< metres, |L - S_k|
   double delaySeconds = 0.0;  ///< length / c
-  Bands intensity{0.f};   ///< 1/m^2 relative to source power, per octave band (formula above)
+  Bands intensity{0.f};       ///< 1/m^2 relative to source power, per octave band (formula above)
   glm::vec3 direction{0.f};   ///< unit vector from the listener toward the last reflection point
   std::array<uint32_t, kMaxExactOrder> triangles{};  ///< faces T1..Tk (SpecularSequence)
   std::array<glm::vec3, kMaxExactOrder> points{};    ///< reflection points P1..Pk, metres
@@ -118,11 +118,10 @@ class SpecularScene {
  public:
   /// mesh and objects as for Geometry (objects at their first keyframe's pose, as the tracer
   /// places them); geometry, tracer: the simulation's, outliving this. airPerMetre: ISO 9613-1
-  /// energy attenuation per band, 1/m; speedOfSound m/s; epsilon: metres kept clear of a
-  /// reflecting surface by the visibility queries (the propagator's offset).
+  /// energy attenuation per band, 1/m; speedOfSound m/s. The visibility queries keep
+  /// surfaceOffset() (engine/tracer.h) clear of a reflecting surface, as the rays do.
   SpecularScene(const Mesh& mesh, const std::vector<ObjectDesc>& objects, const Geometry& geometry,
-                const Tracer& tracer, const Bands& airPerMetre, float speedOfSound,
-                float epsilon);
+                const Tracer& tracer, const Bands& airPerMetre, float speedOfSound);
 
   /// The scene's coplanar faces: sequences are over faces (CoplanarFaces::faceOf of the
   /// triangles the rays struck), and a reflection point may lie in any triangle of its face.
@@ -147,14 +146,13 @@ class SpecularScene {
   bool insideFace(const glm::dvec3& q, uint32_t face) const;
 
   CoplanarFaces faces_;
-  std::vector<Triangle> world_;                 ///< per triangle, current pose
-  std::vector<std::vector<Triangle>> local_;    ///< per object, local coordinates
-  std::vector<uint32_t> objectFirst_;           ///< per object, its first triangle number
+  std::vector<Triangle> world_;               ///< per triangle, current pose
+  std::vector<std::vector<Triangle>> local_;  ///< per object, local coordinates
+  std::vector<uint32_t> objectFirst_;         ///< per object, its first triangle number
   const Geometry& geometry_;
   const Tracer& tracer_;
   Bands airPerMetre_;
   float speedOfSound_;
-  float epsilon_;
 };
 
 /// One source-listener pair's exact paths, kept across frames.
@@ -176,9 +174,8 @@ class SpecularPathCache {
   /// candidates that are not cached yet, drops expired sequences, and leaves the valid paths in
   /// paths(), sorted by length (then key); coincident duplicates (the same reflection points
   /// through coplanar neighbour triangles) are reported once, under the smaller key.
-  void update(const SpecularCandidates& frame, const SpecularScene& scene,
-              const glm::vec3& source, const glm::vec3& listener, float radius,
-              uint64_t frameIndex);
+  void update(const SpecularCandidates& frame, const SpecularScene& scene, const glm::vec3& source,
+              const glm::vec3& listener, float radius, uint64_t frameIndex);
 
   /// Multiplies every path of the last update by the source's directivity weight toward its
   /// first reflection point P_1 (scene/directivity.h; forward a unit vector, source in metres).

@@ -11,6 +11,7 @@
 // frames, never while a query runs.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -30,6 +31,19 @@ struct SurfaceHit {
   std::array<float, 3> barycentric{};  ///< (1-u-v, u, v) for the triangle's vertices 0, 1, 2
   glm::vec3 normal{0.f};               ///< unit geometric normal, winding-order side
 };
+
+/// Metres a ray leaving surface point p starts off the surface, and a segment ending on one
+/// stops short of it, so that the next query does not find the same surface again. A hit
+/// point's float rounding grows with its coordinates and with the distance t its ray
+/// travelled, so the offset is relative to the larger of the two: 2^-19 of it (16 units in
+/// the last place), never below kMinSurfaceOffsetM. Relative to each point, not to the
+/// scene's size: a far-away triangle must not push every room's rays a metre off its walls.
+/// Any thread; no allocation.
+inline constexpr float kMinSurfaceOffsetM = 1e-4f;
+inline float surfaceOffset(const glm::vec3& p, float t = 0.f) {
+  const float m = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), std::abs(t)});
+  return std::max(kMinSurfaceOffsetM, m * 0x1p-19f);
+}
 
 /// One ray of a query: the points org + t*dir with t in (tnear, tfar); dir unit length.
 /// An inactive ray is skipped and keeps its place in a batch. Plain data.

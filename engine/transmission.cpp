@@ -27,7 +27,7 @@ bool chooseTransmission(const Bands& reflectance, const Bands& tau, float u, Ban
 
 PathTransmission transmissionAlong(const Tracer& tracer, const Geometry& geometry,
                                    const glm::vec3& from, const glm::vec3& dir, float length,
-                                   float epsilon, int maxCrossings) {
+                                   int maxCrossings) {
   PathTransmission out;
   float tnear = 0.f;
   SurfaceHit hit;
@@ -41,7 +41,7 @@ PathTransmission transmissionAlong(const Tracer& tracer, const Geometry& geometr
     }
     out.tau *= geometry.transmittance(hit.triangle);
     ++out.crossings;
-    tnear = hit.t + epsilon;
+    tnear = hit.t + surfaceOffset(from + dir * hit.t, hit.t);
   }
   return out;
 }

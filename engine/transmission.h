@@ -52,9 +52,9 @@ struct PathTransmission {
 inline constexpr int kMaxDirectCrossings = 16;
 
 /// Walks the segment from `from` along unit `dir` for `length` metres with repeated closest-hit
-/// queries, each starting `epsilon` metres past the previous hit. Any thread.
+/// queries, each starting surfaceOffset() past the previous hit. Any thread.
 PathTransmission transmissionAlong(const Tracer& tracer, const Geometry& geometry,
                                    const glm::vec3& from, const glm::vec3& dir, float length,
-                                   float epsilon, int maxCrossings = kMaxDirectCrossings);
+                                   int maxCrossings = kMaxDirectCrossings);
 
 }  // namespace dpc

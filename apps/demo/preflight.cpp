@@ -1,8 +1,8 @@
 // dpc-demo's checks before any work: duration, signals, workload, memory.
 #include "apps/demo/preflight.h"
 
-
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -13,9 +13,7 @@
 #include "engine/workload.h"
 
 namespace dpc::demo {
-namespace {
-
-}  // namespace
+namespace {}  // namespace
 
 void printSceneWarnings(const SceneDesc& scene) {
   for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
@@ -47,9 +45,33 @@ void checkSetup(const SceneDesc& scene, const PropagationSettings& settings, dou
     std::fprintf(stderr, "warning: %s\n", w.c_str());
 }
 
+std::vector<size_t> silentSignals(const SceneDesc& scene, const DrySignals& dry) {
+  std::vector<size_t> silent;
+  for (size_t s = 0; s < scene.sources.size() && s < dry.samples.size(); ++s) {
+    if (scene.sources[s].signalPath.empty()) continue;
+    float peak = 0.f;
+    for (const float x : dry.samples[s]) peak = std::max(peak, std::abs(x));
+    if (peak < kSilentPeak) silent.push_back(s);
+  }
+  return silent;
+}
+
+bool allSignalsSilent(const SceneDesc& scene, const DrySignals& dry) {
+  const size_t withSignal =
+      size_t(std::count_if(scene.sources.begin(), scene.sources.end(),
+                           [](const SourceDesc& s) { return !s.signalPath.empty(); }));
+  return silentSignals(scene, dry).size() == withSignal;
+}
+
 std::shared_ptr<const DrySignals> loadDrySignalsWithNotes(const SceneDesc& scene) {
   auto dry = std::make_shared<const DrySignals>(loadDrySignals(scene));
   for (const std::string& n : dry->notes) std::fprintf(stderr, "note: %s\n", n.c_str());
+  for (const size_t s : silentSignals(scene, *dry))
+    std::fprintf(stderr,
+                 "warning: %s: sources[%zu].signal: '%s' is silent (its peak after gain_db is below "
+                 "%g, %.0f dBFS): source '%s' plays nothing\n",
+                 scene.path.c_str(), s, scene.sources[s].signalPath.c_str(), double(kSilentPeak),
+                 20.0 * std::log10(double(kSilentPeak)), scene.sources[s].name.c_str());
   return dry;
 }
 

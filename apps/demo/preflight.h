@@ -2,6 +2,7 @@
 #pragma once
 
 #include <memory>
+#include <vector>
 
 #include "apps/demo/flags.h"
 #include "runtime/offline_renderer.h"
@@ -29,9 +30,21 @@ void requireSignal(const SceneDesc& scene);
 void checkSetup(const SceneDesc& scene, const PropagationSettings& settings, double durationSeconds,
                 bool warn);
 
+/// A peak below this (-600 dBFS) is silence: a dry signal that quiet gets a warning naming it,
+/// and an offline render that quiet is not normalised (a gain to -1 dBFS would overflow float).
+constexpr float kSilentPeak = 1e-30f;
+
+/// The sources (scene.sources indices) that have a signal whose peak is below kSilentPeak.
+/// Any thread; no allocation beyond the result.
+std::vector<size_t> silentSignals(const SceneDesc& scene, const DrySignals& dry);
+
+/// True if every source with a signal is in silentSignals: a silent render is then the
+/// signals', not the geometry's.
+bool allSignalsSilent(const SceneDesc& scene, const DrySignals& dry);
+
 /// The scene's dry signals (shared with the renderer or the session), with one "note: ..."
-/// line on stderr per note of the loader. Main thread. Allocates; throws InputError for a
-/// signal that cannot be read.
+/// line on stderr per note of the loader and one "warning: ..." line per silent signal
+/// (silentSignals). Main thread. Allocates; throws InputError for a signal that cannot be read.
 std::shared_ptr<const DrySignals> loadDrySignalsWithNotes(const SceneDesc& scene);
 
 /// What a live or offline run starts from: the scene (after --flag overrides), its settings

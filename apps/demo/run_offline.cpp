@@ -76,16 +76,17 @@ Writers openWriters(const SceneDesc& scene, const std::vector<OutputPaths>& path
 
 /// The name of the scene's output format as printed.
 const char* formatName(OutputFormat format) {
-  return format == OutputFormat::kBinaural     ? "binaural"
-         : format == OutputFormat::kStereo     ? "stereo"
-         : format == OutputFormat::kAmbisonics ? "ambisonics (AmbiX)"
+  return format == OutputFormat::kBinaural            ? "binaural"
+         : format == OutputFormat::kStereo            ? "stereo"
+         : format == OutputFormat::kAmbisonics        ? "ambisonics (AmbiX)"
          : format == OutputFormat::kAmbisonicBinaural ? "binaural, head-tracked from Ambisonics"
-         : format == OutputFormat::kLoudspeakers ? "loudspeakers (VBAP)"
-                                               : "mono";
+         : format == OutputFormat::kLoudspeakers      ? "loudspeakers (VBAP)"
+                                                      : "mono";
 }
 
 /// --ir-out and --er-out of one listener: its last frame's IRs (WAV: all channels,
-/// source-major; .sofa: apps/demo/sofa_out.h) and energy responses, complete temporaries added to `outputs`.
+/// source-major; .sofa: apps/demo/sofa_out.h) and energy responses, complete temporaries added to
+/// `outputs`.
 void stageLastFrame(const SceneDesc& scene, const OfflineListenerResult& r,
                     const OutputPaths& paths, OutputSet& outputs) {
   if (!paths.ir.empty() && isSofaPath(paths.ir)) {
@@ -114,18 +115,21 @@ struct StagedListener {
 /// Finishes one listener's render streamed into `writer` (level: peak normalised to -1 dBFS
 /// by a second streaming pass, or --gain-db already applied) and adds it, with its --ir-out /
 /// --er-out files, to `outputs` (nothing renamed yet).
+/// signalsSilent: every dry signal is (allSignalsSilent, warned about when loaded), so a
+/// silent render is no sign of a geometry problem.
 StagedListener stageListener(const Flags& fl, const SceneDesc& scene,
                              const OfflineListenerResult& r, audio::WavStreamWriter& writer,
-                             const OutputPaths& paths, OutputSet& outputs) {
+                             const OutputPaths& paths, OutputSet& outputs, bool signalsSilent) {
   const float peak = writer.peak();
-  if (peak == 0.f)
+  const bool silent = peak < kSilentPeak;
+  if (silent && !signalsSilent)
     std::fprintf(stderr,
                  "warning: %s: the render of listener \"%s\" is silent (empty energy response: "
                  "is the listener inside the mesh and each source inside the room?)\n",
                  fl.scene.c_str(), r.name.c_str());
   double gainDb = fl.gainDb.value_or(0.0);
   if (!fl.gainDb) {
-    gainDb = peak > 0.f ? -1.0 - 20.0 * std::log10(peak) : 0.0;
+    gainDb = silent ? 0.0 : -1.0 - 20.0 * std::log10(peak);  // silence stays as it is
     writer.rescale(float(std::pow(10.0, gainDb / 20.0)));
   }
   const StagedListener staged{writer.frames(), gainDb};
@@ -170,11 +174,12 @@ void printTotals(const OfflineResult& r, double audioSeconds) {
       "IR sets lost %llu  convolution partitions left out after a jump %llu\n",
       100.0 * r.last.droppedEnergyFraction, (unsigned long long)r.irsLost,
       (unsigned long long)r.stalePartitions);
-  std::printf("cache pool in use %.1f MB  per pair (%zu): smallest %.2f MB, mean %.2f MB, "
-              "largest %.2f MB\n",
-              r.last.cachePoolUsedBytes / 1e6, r.last.cachePairs, r.last.cachePairBytesMin / 1e6,
-              r.last.cachePairs ? r.last.cacheBytes / 1e6 / double(r.last.cachePairs) : 0.0,
-              r.last.cachePairBytesMax / 1e6);
+  std::printf(
+      "cache pool in use %.1f MB  per pair (%zu): smallest %.2f MB, mean %.2f MB, "
+      "largest %.2f MB\n",
+      r.last.cachePoolUsedBytes / 1e6, r.last.cachePairs, r.last.cachePairBytesMin / 1e6,
+      r.last.cachePairs ? r.last.cacheBytes / 1e6 / double(r.last.cachePairs) : 0.0,
+      r.last.cachePairBytesMax / 1e6);
   printHybrid(r.hybrid);
 }
 
@@ -205,8 +210,10 @@ int runOffline(const Flags& fl) {
   const double audioSeconds = double(writers.front()->frames()) / scene.audio.sampleRate;
   OutputSet outputs;
   std::vector<StagedListener> staged;
+  const bool signalsSilent = allSignalsSilent(scene, *run.dry);
   for (size_t l = 0; l < r.listeners.size() && l < paths.size(); ++l)
-    staged.push_back(stageListener(fl, scene, r.listeners[l], *writers[l], paths[l], outputs));
+    staged.push_back(
+        stageListener(fl, scene, r.listeners[l], *writers[l], paths[l], outputs, signalsSilent));
   throwIfStopped();
   outputs.commitAll();
   for (size_t l = 0; l < staged.size(); ++l)

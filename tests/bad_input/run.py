@@ -9,7 +9,7 @@ new file in the folder, every existing file byte-identical afterwards.
   run.py DPC_DEMO SCENES_DIR --list      print the case names
   run.py DPC_DEMO SCENES_DIR CASE...     run the named cases (all when none given)
 """
-import hashlib, json, os, re, resource, shutil, signal, subprocess, sys, tempfile
+import hashlib, json, math, os, re, resource, shutil, signal, subprocess, sys, tempfile
 
 TIME_LIMIT_S = 60
 MEMORY_LIMIT_BYTES = 4 << 30
@@ -492,7 +492,14 @@ WARN_CASES = {
     "radius_through_wall": (scene_with(listener={"position": [5, 1.5, 3.5], "radius": 2}), OFF, "reaches through a surface"),
     "radius_tiny": (scene_with(listener={"position": [5, 1.5, 3.5], "radius": 1e-30}), OFF, "m is tiny against the nearest surface"),
     "render_silent": (scene_with(listener={"position": [20, 1.6, 3.5], "radius": 0.5}), OFF, "is silent (empty energy response"),
+    # A silent dry signal is named; the silent render is then not blamed on the geometry
+    # (UNEXPECTED), and one far below -600 dBFS is not normalised (the gain overflowed float
+    # and "out.wav: cannot write: a sample is not finite after the gain" blamed the output).
+    "signal_all_zero": (float_wav("z.wav", 48000, [0.0] * 4800), OFF, "sources[0].signal: 'z.wav' is silent"),
+    "signal_subnormal": (float_wav("t.wav", 48000, [1e-39 * math.sin(i * 0.06) for i in range(4800)]), OFF, "sources[0].signal: 't.wav' is silent"),
 }
+# Warning cases whose stderr must not hold this text (a misdiagnosis).
+UNEXPECTED = {"signal_all_zero": "empty energy response", "signal_subnormal": "empty energy response"}
 
 
 def digest(folder):
@@ -576,6 +583,8 @@ def run_case(demo, scenes, name):
                 problems.append(f"{len(warnings)} warning lines with {expect!r}, expected 1")
             if errors:
                 problems.append("an error line")
+            if name in UNEXPECTED and UNEXPECTED[name] in err:
+                problems.append(f"stderr holds {UNEXPECTED[name]!r}")
             created = sorted(set(digest(d)) - set(before))
             if [os.path.relpath(c, d) for c in created] != OUT_ONLY:
                 problems.append(f"files created: {[os.path.relpath(c, d) for c in created]}, expected {OUT_ONLY}")

@@ -35,8 +35,8 @@ dpc_status dpc_engine_copy_impulse_response(dpc_engine* engine, int source, int 
   constexpr const char* kFunction = "dpc_engine_copy_impulse_response";
   if (const dpc_status s = checkReadout(kFunction, engine, source, out, capacity); s != DPC_OK)
     return s;
-  if (const dpc_status s = checkIndex(kFunction, "channel", channel,
-                                      engine->session->irChannels(), "channels");
+  if (const dpc_status s =
+          checkIndex(kFunction, "channel", channel, engine->session->irChannels(), "channels");
       s != DPC_OK)
     return s;
   const bool ok = engine->session->copyResponses(size_t(source), [&](const auto& r) {
@@ -53,8 +53,8 @@ dpc_status dpc_engine_copy_impulse_response(dpc_engine* engine, int source, int 
 dpc_status dpc_engine_copy_energy_response(dpc_engine* engine, int source, float* out,
                                            size_t capacity_bins, size_t* bins, double* bin_seconds,
                                            uint64_t* frame) {
-  if (const dpc_status s = checkReadout("dpc_engine_copy_energy_response", engine, source, out,
-                                        capacity_bins);
+  if (const dpc_status s =
+          checkReadout("dpc_engine_copy_energy_response", engine, source, out, capacity_bins);
       s != DPC_OK)
     return s;
   static_assert(DPC_BANDS == dpc::kNumBands, "band count of the public API");
@@ -135,6 +135,8 @@ dpc_status dpc_engine_get_stats(dpc_engine* engine, dpc_stats* out) {
     out->reduced_frames = s.reducedFrames;
     out->baked_responses = s.bakedResponses;
     out->bake_fallbacks = s.bakeFallbacks;
+    out->input_samples_replaced = s.inputSamplesReplaced;
+    out->limited_frames = s.limitedFrames;
     return DPC_OK;
   });
 }

@@ -120,10 +120,17 @@ bool toRendering(const dpc_rendering& field, Rendering* out) {
   std::underlying_type_t<dpc_rendering> raw;
   std::memcpy(&raw, &field, sizeof raw);
   switch (long(raw)) {
-    case DPC_RENDERING_AUTO: *out = Rendering::kAuto; return true;
-    case DPC_RENDERING_PER_SOURCE: *out = Rendering::kPerSource; return true;
-    case DPC_RENDERING_HYBRID: *out = Rendering::kHybrid; return true;
-    default: return false;
+    case DPC_RENDERING_AUTO:
+      *out = Rendering::kAuto;
+      return true;
+    case DPC_RENDERING_PER_SOURCE:
+      *out = Rendering::kPerSource;
+      return true;
+    case DPC_RENDERING_HYBRID:
+      *out = Rendering::kHybrid;
+      return true;
+    default:
+      return false;
   }
 }
 
@@ -145,7 +152,8 @@ void settingsFromData(const dpc_scene_data& d, SceneDesc& scene) {
   scene.audio.sampleRate = d.sample_rate;
   scene.audio.blockSize = d.block_size;
   if (!toOutputFormat(d.output, &scene.audio.output))
-    bad("output", "must be DPC_OUTPUT_MONO, _STEREO, _BINAURAL, _AMBISONICS or _AMBISONIC_BINAURAL");
+    bad("output",
+        "must be DPC_OUTPUT_MONO, _STEREO, _BINAURAL, _AMBISONICS or _AMBISONIC_BINAURAL");
   scene.audio.ambisonicOrder = d.ambisonic_order;
   p.cachePoolMb = d.cache_pool_mb;
   scene.audio.lateBuses = d.late_buses;
@@ -153,7 +161,6 @@ void settingsFromData(const dpc_scene_data& d, SceneDesc& scene) {
   if (!toRendering(d.rendering, &scene.audio.rendering))
     bad("rendering", "must be DPC_RENDERING_AUTO, _PER_SOURCE or _HYBRID");
 }
-
 
 }  // namespace
 
@@ -202,10 +209,10 @@ DrySignals drySignalsFromData(const dpc_scene_data& data, bool hostInputsOnly) {
   for (int i = 0; i < data.source_count; ++i) {
     const dpc_source& src = data.sources[i];
     std::vector<float> x;
+    dry.gain.push_back(float(std::pow(10.0, src.gain_db / 20.0)));
     if (!hostInputsOnly && src.signal) {
-      const float gain = float(std::pow(10.0, src.gain_db / 20.0));
       x.assign(src.signal, src.signal + src.signal_frames);
-      for (float& v : x) v *= gain;
+      for (float& v : x) v *= dry.gain.back();
     }
     dry.loop.push_back(src.loop && !x.empty() ? 1 : 0);
     dry.samples.push_back(std::move(x));

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <string>
 
 #include "audio/rt_check.h"
 #include "common/input_error.h"
+#include "common/input_file.h"
 
 namespace dpc {
 
@@ -158,13 +160,28 @@ void AudioStage::collectRetired() {
     retire(retired, true);
 }
 
+void AudioStage::readHostInput(size_t s, size_t B, const float* x) {
+  float* block = tail_.data() + s * B;
+  const float gain = s < dry_->gain.size() ? dry_->gain[s] : 1.f;
+  uint64_t replaced = 0;
+  for (size_t i = 0; i < B; ++i) {
+    // NaN fails the comparison too: one such sample would fill the convolution's history
+    // and silence the output (the NaN guard) for the whole IR length.
+    const bool usable = std::abs(x[i]) <= kMaxSignalMagnitude;
+    block[i] = usable ? gain * x[i] : 0.f;
+    replaced += usable ? 0 : 1;
+  }
+  replacedInputSamples_ += replaced;
+  in_[s] = block;
+}
+
 void AudioStage::process(float* const* out, const float* const* inputs) {
   DPC_ASSERT_AUDIO_THREAD();
   const size_t B = size_t(layout_->blockSize());
   applyPending();
   for (size_t s = 0; s < in_.size(); ++s) {
     if (inputs)
-      in_[s] = inputs[s];
+      readHostInput(s, B, inputs[s]);
     else
       readDry(s, B);
   }

@@ -46,7 +46,8 @@ class AudioStage {
   /// Renders one block of layout.blockSize() frames into out[c] (renderedChannels()).
   /// inputs: nullptr reads the scene's dry signals from the current position (silence past
   /// their end); otherwise inputs[s][0..blockSize) is source s's dry block (one per scene
-  /// source, as given by a host). Audio thread.
+  /// source, as given by a host: gain applied, unusable samples replaced, see readHostInput).
+  /// Audio thread.
   void process(float* const* out, const float* const* inputs = nullptr);
   /// Sources (one dry input each).
   int sourceCount() const { return convolver_.numSources(); }
@@ -60,6 +61,9 @@ class AudioStage {
   uint64_t blocksProcessed() const { return blocks_; }
   /// IR sets applied (crossfades started).
   uint64_t irsApplied() const { return applied_; }
+  /// Host input samples replaced by 0 since the start: not finite, or beyond
+  /// +-kMaxSignalMagnitude.
+  uint64_t replacedInputSamples() const { return replacedInputSamples_; }
   /// IR sets that found the spent ring full (takeSpent() not drained): they never return to
   /// the pool. Any thread (relaxed); 0 when the caller drains takeSpent() after every block.
   uint64_t lostSets() const { return spent_.overflows(); }
@@ -87,6 +91,10 @@ class AudioStage {
   void applyPending();
   /// Points in_[s] at source s's dry block for this block.
   void readDry(size_t s, size_t blockSize);
+  /// Points in_[s] at a copy of the host's block x[0..blockSize) for source s: the source's
+  /// gain applied, a sample that is not finite or beyond +-kMaxSignalMagnitude (the limit of a
+  /// file's signal) replaced by 0 and counted.
+  void readHostInput(size_t s, size_t blockSize, const float* x);
   /// Moves the sets the convolvers retired into the spent ring (a hybrid set once both
   /// convolvers have retired it).
   void collectRetired();
@@ -122,6 +130,7 @@ class AudioStage {
   FixedRing<IrSet*> spent_{kSpentCapacity};  ///< sets for takeSpent(), oldest first
   size_t position_ = 0;
   uint64_t blocks_ = 0, applied_ = 0;
+  uint64_t replacedInputSamples_ = 0;
 };
 
 }  // namespace dpc

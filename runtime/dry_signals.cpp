@@ -96,6 +96,7 @@ DrySignals loadDrySignals(const SceneDesc& scene) {
     if (!src.signalPath.empty()) ++usesLeft[src.signalPath];
   for (size_t i = 0; i < scene.sources.size(); ++i) {
     const SourceDesc& src = scene.sources[i];
+    d.gain.push_back(float(std::pow(10.0, src.gainDb / 20.0)));
     if (src.signalPath.empty()) {  // host input only: silence when played on its own
       d.samples.emplace_back();
       d.loop.push_back(0);
@@ -110,8 +111,7 @@ DrySignals loadDrySignals(const SceneDesc& scene) {
                                                    src.signalPath, d.notes))
                .first;
     std::vector<float> x = --usesLeft[src.signalPath] == 0 ? std::move(it->second) : it->second;
-    const float gain = float(std::pow(10.0, src.gainDb / 20.0));
-    for (float& v : x) v *= gain;
+    for (float& v : x) v *= d.gain.back();
     d.samples.push_back(std::move(x));
     d.loop.push_back(src.loop ? 1 : 0);
   }

@@ -14,7 +14,10 @@ namespace dpc {
 struct DrySignals {
   std::vector<std::vector<float>> samples;  ///< per source, at the scene's sample rate
   std::vector<char> loop;                   ///< per source: repeat the signal (SourceDesc::loop)
-  std::vector<std::string> notes;           ///< e.g. "resampled 22050 -> 48000 Hz"
+  /// Per source: the linear gain of its gain_db, already applied to `samples`; host inputs
+  /// (AudioStage::process with inputs) get it as they arrive. Empty: 1 for every source.
+  std::vector<float> gain;
+  std::vector<std::string> notes;  ///< e.g. "resampled 22050 -> 48000 Hz"
   /// Frames of the longest non-looping signal (of the longest signal if all loop). Any thread.
   size_t longestFrames() const;
 };

@@ -251,6 +251,7 @@ bool LiveSession::renderBlock(const float* const* inputs, float* const* outputs)
   if (headTracked_) turnHead();
   const uint64_t appliedBefore = audioStage_->irsApplied();
   audioStage_->process(stageOut_.data(), inputs);
+  if (inputs) counters_.inputSamplesReplaced(audioStage_->replacedInputSamples());
   const bool swapped = audioStage_->irsApplied() != appliedBefore;
   while (IrSet* s = audioStage_->takeSpent()) fromAudio_->tryPush(s);
   const bool finite = copyToDevice(outputs);

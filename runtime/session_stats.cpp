@@ -88,6 +88,7 @@ void SessionCounters::read(SessionStatus& st) {
   st.bakeFallbacks = bakeFallbacks_.load(r);
   st.blocks = blocks_.load(r);
   st.nanBlocks = nanBlocks_.load(r);
+  st.inputSamplesReplaced = inputSamplesReplaced_.load(r);
   st.lateCallbacks = lateCallbacks_.load(r);
   st.rejectedCallbacks = rejectedCallbacks_.load(r);
 }

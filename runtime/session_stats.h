@@ -68,7 +68,10 @@ struct SessionStatus {
   double latencyMedianMs = 0.0;  ///< motion-to-sound latency, since start
   double latencyP95Ms = 0.0;
   uint64_t blocks = 0;
-  uint64_t nanBlocks = 0;          ///< blocks zeroed by the NaN/inf guard
+  uint64_t nanBlocks = 0;  ///< blocks zeroed by the NaN/inf guard
+  /// Host input samples (render() with inputs) replaced by 0: not finite, or beyond the
+  /// +-1e6 a dry signal may hold (AudioStage::readHostInput).
+  uint64_t inputSamplesReplaced = 0;
   uint64_t lateCallbacks = 0;      ///< render() calls that took longer than the audio they
                                    ///< produced (frames / sampleRate): a device would xrun
   uint64_t rejectedCallbacks = 0;  ///< render() calls with frames outside the accepted range
@@ -102,6 +105,10 @@ class SessionCounters {
   void blockDone(bool finite, uint64_t irsApplied, double irAgeMs) noexcept;
   /// Audio side: a render() call that took longer than its audio, or one refused.
   void lateCallback() noexcept { lateCallbacks_.fetch_add(1, std::memory_order_relaxed); }
+  /// Audio side: host input samples replaced so far (a running total).
+  void inputSamplesReplaced(uint64_t total) noexcept {
+    inputSamplesReplaced_.store(total, std::memory_order_relaxed);
+  }
   void rejectedCallback() noexcept { rejectedCallbacks_.fetch_add(1, std::memory_order_relaxed); }
   /// Propagation side: baked playback's cumulative counts (BakedPlayback::Stats).
   void bakeCounts(uint64_t bakedResponses, uint64_t fallbacks) noexcept {
@@ -118,7 +125,7 @@ class SessionCounters {
   const int sceneRays_;
   std::atomic<uint64_t> frames_{0}, rays_{0}, irsDropped_{0}, blocks_{0}, nanBlocks_{0},
       lateCallbacks_{0}, rejectedCallbacks_{0}, irsApplied_{0}, reducedFrames_{0},
-      cacheMergedEntries_{0}, bakedResponses_{0}, bakeFallbacks_{0};
+      cacheMergedEntries_{0}, bakedResponses_{0}, bakeFallbacks_{0}, inputSamplesReplaced_{0};
   std::atomic<double> frameMs_{0.0}, irAgeMs_{0.0}, cacheMergedEnergyFraction_{0.0},
       droppedEnergyFraction_{0.0};
   std::atomic<size_t> cacheEntries_{0}, cacheBytes_{0}, cacheBudgetBytes_{0}, cachePairs_{0},

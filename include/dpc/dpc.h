@@ -431,7 +431,14 @@ DPC_API dpc_status dpc_engine_copy_energy_response(dpc_engine* engine, int sourc
 /** Audio thread. Renders `frames` frames (1..8192, may vary from call to call) into
  *  outputs[0..dpc_engine_output_channels()), each a buffer of `frames` samples.
  *  inputs: NULL to play the scene's own dry signals, or one mono buffer of `frames` samples per
- *  source (scene order) holding the host's dry signal. The engine convolves in fixed blocks of
+ *  source (scene order) holding the host's dry signal (pressure, full scale 1), scaled by the
+ *  source's gain_db as a scene's own signal is; a sample that is not finite or beyond +-1e6
+ *  plays as 0 and is counted (dpc_stats.input_samples_replaced): one such sample would
+ *  otherwise fill the convolution's history and silence the output for the IR's length. The
+ *  output passes a safety limiter (no look-ahead, ceiling -0.1 dBFS, 50 ms release; frames it
+ *  attenuates are counted in dpc_stats.limited_frames): an output meant to exceed full scale
+ *  is lowered, not clipped; lower the sources' gain_db for headroom. The
+ *  engine convolves in fixed blocks of
  *  dpc_engine_block_size() frames; a FIFO between the host's calls and those blocks adds a
  *  constant latency of dpc_engine_latency_frames() frames whatever the call pattern. Never
  *  allocates, locks, logs or waits. Errors (no message set): DPC_ERR_INVALID_ARGUMENT (null
@@ -487,6 +494,10 @@ typedef struct dpc_stats {
   /* Baked playback (dpc_engine_attach_bake; since 0.3.0), cumulative, 0 without a bake. */
   uint64_t baked_responses; /**< source responses played from the bake */
   uint64_t bake_fallbacks;  /**< frames whose listener saw no probe (played live instead) */
+  /* Since 0.6.0, cumulative. */
+  uint64_t input_samples_replaced; /**< host input samples (dpc_engine_process inputs) played
+                                        as 0: not finite, or beyond +-1e6 (a dry signal's limit) */
+  uint64_t limited_frames;         /**< output frames the safety limiter attenuated */
 } dpc_stats;
 
 /** Control thread (it updates the rays-per-second interval). No allocation. Fills *out (all but

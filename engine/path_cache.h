@@ -29,6 +29,7 @@
 #include <cstdint>
 #include <glm/vec3.hpp>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -116,7 +117,9 @@ class DiffusePathCache {
   /// most of kCoarseBudgetBytes, for the coarse store (at most kMaxCoarseBins bins per layer),
   /// the rest for path entries, their
   /// index and (window) their per-frame terms, two per entry. Throws std::invalid_argument
-  /// when the budget cannot hold one path entry and one coarse bin.
+  /// when the budget cannot hold one path entry and one coarse bin, saying the budget these
+  /// settings need ("cache_memory_mb: ...") or that tau keeps too many frames for any budget
+  /// ("cache_tau: ...").
   static Capacity capacityFor(DpcWeighting weighting, double tauSeconds, double framePeriodSeconds,
                               size_t budgetBytes);
 
@@ -192,6 +195,9 @@ class DiffusePathCache {
   const std::vector<Entry>& entries() const { return entries_; }
 
  private:
+  /// capacityFor's split, or nothing where capacityFor throws.
+  static std::optional<Capacity> splitBudget(DpcWeighting weighting, double tauSeconds,
+                                             double framePeriodSeconds, size_t budgetBytes);
   /// kWindow: one frame's contribution to one path entry.
   struct WindowTerm {
     uint64_t key;
@@ -259,8 +265,8 @@ class DiffusePathCache {
   void retireWindowSlot(size_t slot);
   /// Reads every path entry out with its intensity divided by `divisor`; adds the band-average
   /// energy to total.
-  void readEntries(float divisor, double invC, EnergyResponse& out,
-                   ArrivalSink* directional, double& total) const;
+  void readEntries(float divisor, double invC, EnergyResponse& out, ArrivalSink* directional,
+                   double& total) const;
   /// kSeed: adds the frame's groups (eq. 3.4) and reads every entry and layer out (eq. 3.2,
   /// 3.3); total and coarse add the band-average energy read out (all, coarse store).
   void seedEndFrame(const FrameGroups& frame, double invC, EnergyResponse& out,
@@ -280,8 +286,8 @@ class DiffusePathCache {
   uint32_t frame_ = 0;     ///< frames since the cache started (or was cleared)
   double decayPow_ = 1.0;  ///< (1-a)^(frame_+1), for the start-up normalisation
   size_t budget_;
-  Capacity cap_;      ///< the current tables (coarse bins: the whole budget's)
-  Capacity maxCap_;   ///< the whole budget's tables
+  Capacity cap_;     ///< the current tables (coarse bins: the whole budget's)
+  Capacity maxCap_;  ///< the whole budget's tables
   double tau_ = 0.0, period_ = 1.0;
   CachePool* pool_ = nullptr;
   size_t reserved_ = 0;  ///< bytes taken from pool_
@@ -296,12 +302,12 @@ class DiffusePathCache {
   /// the layer is emptied). Readouts and counts skip the others: without merges (a budget
   /// large enough for the scene) the coarse store costs nothing per frame.
   std::vector<uint8_t> layerUsed_;
-  size_t coarseSub_ = 1;              ///< S: coarse bins per octave (see coarseBinsPerOctave)
-  Buffer<Cell> coarse_;               ///< layers_ x coarseBins cells
-  Buffer<IndexSlot> index_;           ///< open addressing, linear probing
-  int indexShift_ = 63;               ///< 64 - log2(indexSlots)
-  std::vector<Entry> entries_;        ///< reserved to cap_.entries once
-  Buffer<WindowTerm> terms_;          ///< kWindow: FIFO ring of the window's path terms
+  size_t coarseSub_ = 1;        ///< S: coarse bins per octave (see coarseBinsPerOctave)
+  Buffer<Cell> coarse_;         ///< layers_ x coarseBins cells
+  Buffer<IndexSlot> index_;     ///< open addressing, linear probing
+  int indexShift_ = 63;         ///< 64 - log2(indexSlots)
+  std::vector<Entry> entries_;  ///< reserved to cap_.entries once
+  Buffer<WindowTerm> terms_;    ///< kWindow: FIFO ring of the window's path terms
   size_t termHead_ = 0, termCount_ = 0;
   std::vector<uint32_t> slotTerms_;  ///< kWindow: path terms per frame slot
 };

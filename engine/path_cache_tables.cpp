@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <new>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -45,18 +46,16 @@ void commitPages(void* p, size_t bytes) {
   for (size_t i = 0; i < bytes; i += 4096) c[i] = 0;
 }
 
-
 }  // namespace
 
 void DiffusePathCache::FreeDeleter::operator()(void* p) const {
   std::free(p);
 }
 
-DiffusePathCache::Capacity DiffusePathCache::capacityFor(DpcWeighting weighting, double tauSeconds,
-                                                         double framePeriodSeconds,
-                                                         size_t budgetBytes) {
-  if (!(tauSeconds >= 0.0) || !(framePeriodSeconds > 0.0))
-    throw std::invalid_argument("DiffusePathCache: tau must be >= 0 and frame period > 0");
+std::optional<DiffusePathCache::Capacity> DiffusePathCache::splitBudget(DpcWeighting weighting,
+                                                                        double tauSeconds,
+                                                                        double framePeriodSeconds,
+                                                                        size_t budgetBytes) {
   double a = 1.0;
   const size_t lifetime = lifetimeFor(weighting, tauSeconds, framePeriodSeconds, a);
   const bool window = weighting == DpcWeighting::kWindow;
@@ -69,30 +68,53 @@ DiffusePathCache::Capacity DiffusePathCache::capacityFor(DpcWeighting weighting,
   c.coarseBins = std::min(kMaxCoarseBins, std::min(budgetBytes, kCoarseBudgetBytes) / 4 / perBin);
   const size_t perEntry = sizeof(Entry) + (window ? 2 * sizeof(WindowTerm) : 0);
   const size_t used = fixed + c.coarseBins * perBin;
-  if (c.coarseBins == 0 || used >= budgetBytes)
-    throw std::invalid_argument("cache_memory_mb: a budget of " + std::to_string(budgetBytes) +
-                                " bytes is below the minimum " +
-                                std::to_string(fixed + perBin + perEntry + 4 * sizeof(IndexSlot)) +
-                                " for this cache_tau and frame_rate (MB = 1048576 bytes)");
+  if (c.coarseBins == 0 || used >= budgetBytes) return std::nullopt;
   const size_t rest = budgetBytes - used;
   // Index slots a power of two at load <= 3/4: pick the size that holds the most entries.
   for (size_t slots = 2; slots * sizeof(IndexSlot) < rest; slots *= 2) {
     const size_t e = std::min(slots / 4 * 3, (rest - slots * sizeof(IndexSlot)) / perEntry);
     if (e > c.entries) c.entries = e, c.indexSlots = slots;
   }
-  if (c.entries == 0)
-    throw std::invalid_argument("cache_memory_mb: a budget of " + std::to_string(budgetBytes) +
-                                " bytes holds no path entry");
+  if (c.entries == 0) return std::nullopt;
   c.windowTerms = window ? 2 * c.entries : 0;
   c.bytes = used + c.entries * sizeof(Entry) + c.indexSlots * sizeof(IndexSlot) +
             c.windowTerms * sizeof(WindowTerm);
   return c;
 }
 
+DiffusePathCache::Capacity DiffusePathCache::capacityFor(DpcWeighting weighting, double tauSeconds,
+                                                         double framePeriodSeconds,
+                                                         size_t budgetBytes) {
+  if (!(tauSeconds >= 0.0) || !(framePeriodSeconds > 0.0))
+    throw std::invalid_argument("DiffusePathCache: tau must be >= 0 and frame period > 0");
+  if (auto c = splitBudget(weighting, tauSeconds, framePeriodSeconds, budgetBytes)) return *c;
+  // The smallest budget that holds one path entry and one coarse bin (a larger budget gives
+  // every table at least as much): beyond 2^40 bytes, the frames tau keeps are too many.
+  size_t lo = budgetBytes, hi = size_t(1) << 40;
+  if (!splitBudget(weighting, tauSeconds, framePeriodSeconds, hi)) {
+    double a = 1.0;
+    throw std::invalid_argument(
+        "cache_tau: " + std::to_string(lifetimeFor(weighting, tauSeconds, framePeriodSeconds, a)) +
+        " frames of paths (cache_tau x frame_rate) are more than the path cache's coarse store "
+        "holds (" +
+        std::to_string(kCoarseBudgetBytes / 4 / sizeof(Cell)) + "): lower cache_tau or frame_rate");
+  }
+  while (hi - lo > 1) {
+    const size_t mid = lo + (hi - lo) / 2;
+    (splitBudget(weighting, tauSeconds, framePeriodSeconds, mid) ? hi : lo) = mid;
+  }
+  throw std::invalid_argument("cache_memory_mb: a budget of " + std::to_string(budgetBytes) +
+                              " bytes per source-listener pair is below the " + std::to_string(hi) +
+                              " this cache_tau and frame_rate need (MB = 1048576 bytes)");
+}
+
 DiffusePathCache::DiffusePathCache(DpcWeighting weighting, double tauSeconds,
                                    double framePeriodSeconds, size_t budgetBytes, CachePool* pool)
-    : weighting_(weighting), budget_(budgetBytes), tau_(tauSeconds),
-      period_(framePeriodSeconds), pool_(pool) {
+    : weighting_(weighting),
+      budget_(budgetBytes),
+      tau_(tauSeconds),
+      period_(framePeriodSeconds),
+      pool_(pool) {
   maxCap_ = capacityFor(weighting, tauSeconds, framePeriodSeconds, budgetBytes);
   cap_ = tablesFor(kInitialTableBytes);
   lifetime_ = lifetimeFor(weighting, tauSeconds, framePeriodSeconds, a_);
@@ -117,8 +139,8 @@ DiffusePathCache::~DiffusePathCache() {
 }
 
 size_t DiffusePathCache::coarseBytes() const {
-  return maxCap_.bytes - maxCap_.entries * sizeof(Entry) -
-         maxCap_.indexSlots * sizeof(IndexSlot) - maxCap_.windowTerms * sizeof(WindowTerm);
+  return maxCap_.bytes - maxCap_.entries * sizeof(Entry) - maxCap_.indexSlots * sizeof(IndexSlot) -
+         maxCap_.windowTerms * sizeof(WindowTerm);
 }
 
 DiffusePathCache::Capacity DiffusePathCache::tablesFor(size_t tableBudget) const {
@@ -126,8 +148,9 @@ DiffusePathCache::Capacity DiffusePathCache::tablesFor(size_t tableBudget) const
   if (fixed + tableBudget >= budget_) return maxCap_;
   // Split a budget of the coarse store plus tableBudget, then keep the whole budget's coarse
   // store (capacityFor gives a smaller budget a smaller one).
-  Capacity c = capacityFor(weighting_, tau_, period_, fixed + tableBudget);
-  if (c.entries >= maxCap_.entries) return maxCap_;
+  std::optional<Capacity> split = splitBudget(weighting_, tau_, period_, fixed + tableBudget);
+  if (!split || split->entries >= maxCap_.entries) return maxCap_;
+  Capacity c = *split;
   c.coarseBins = maxCap_.coarseBins;
   c.bytes = fixed + c.entries * sizeof(Entry) + c.indexSlots * sizeof(IndexSlot) +
             c.windowTerms * sizeof(WindowTerm);
@@ -159,6 +182,5 @@ bool DiffusePathCache::grow() {
   }
   return true;
 }
-
 
 }  // namespace dpc

@@ -6,8 +6,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
+#include <string>
 
 #include "common/input_error.h"
+#include "engine/path_cache.h"
 #include "engine/propagation.h"
 
 namespace dpc {
@@ -82,13 +85,13 @@ std::string memoryNeed(const SceneDesc& scene, const PropagationSettings& settin
                           std::to_string(scene.audio.sampleRate) + " Hz x " +
                           std::to_string(scene.sources.size()) + " source(s) x channels (" +
                           g3(e.irBytes / 1e9) + " GB)";
-  const std::string caches =
-      poolBinds ? "a path cache pool of " + g3(settings.cachePoolMb) + " MB (" +
-                      g3(e.cacheBytes / 1e9) + " GB)"
-                : "path caches of " + g3(settings.cacheMemoryMb) + " MB x " +
-                      std::to_string(scene.sources.size()) + " source(s) x " +
-                      std::to_string(scene.listeners.size()) + " listener(s) (" +
-                      g3(e.cacheBytes / 1e9) + " GB)";
+  const std::string caches = poolBinds
+                                 ? "a path cache pool of " + g3(settings.cachePoolMb) + " MB (" +
+                                       g3(e.cacheBytes / 1e9) + " GB)"
+                                 : "path caches of " + g3(settings.cacheMemoryMb) + " MB x " +
+                                       std::to_string(scene.sources.size()) + " source(s) x " +
+                                       std::to_string(scene.listeners.size()) + " listener(s) (" +
+                                       g3(e.cacheBytes / 1e9) + " GB)";
   const std::string signals = "dry signals (" + g3(e.signalBytes / 1e9) + " GB)";
   return irs + ", " + caches + " and " + signals + " need about " +
          g3((e.irBytes + e.cacheBytes + e.signalBytes) / 1e9) + " GB, more than the " +
@@ -115,6 +118,21 @@ void checkMemory(const SceneDesc& scene, const PropagationSettings& settings,
                    need + "lower ir_length, sample_rate or the source count");
 }
 
+/// A path cache's tables in its budget (DiffusePathCache::capacityFor), refused here naming
+/// the setting rather than inside the engine's first frame.
+void checkCacheTables(const SceneDesc& scene, const PropagationSettings& settings) {
+  if (settings.estimator != Estimator::kDpc) return;
+  try {
+    DiffusePathCache::capacityFor(settings.dpcWeighting, settings.cacheTau,
+                                  1.0 / settings.frameRate,
+                                  size_t(double(settings.cacheMemoryMb) * 1048576.0));
+  } catch (const std::invalid_argument& e) {
+    const std::string why = e.what();  // "cache_tau: ..." or "cache_memory_mb: ..."
+    const size_t colon = why.find(": ");
+    throw InputError(scene.path, "propagation." + why.substr(0, colon), why.substr(colon + 2));
+  }
+}
+
 }  // namespace
 
 std::vector<std::string> checkWorkload(const SceneDesc& scene, const PropagationSettings& settings,
@@ -132,6 +150,7 @@ std::vector<std::string> checkWorkload(const SceneDesc& scene, const Propagation
                      work + " x " + g3(e.segmentsTotal / e.segmentsPerFrame) + " frames = " +
                          g3(e.segmentsTotal) + " ray segments, more than " + g3(kMaxSegmentsTotal) +
                          ": lower rays_per_frame, frame_rate or the duration");
+  checkCacheTables(scene, settings);
   checkMemory(scene, settings, e, memoryLimitBytes);
   std::vector<std::string> warnings;
   if (e.segmentsTotal > kWarnSegmentsTotal)

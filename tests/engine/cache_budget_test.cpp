@@ -115,3 +115,31 @@ TEST_CASE("Order-adaptive path identifiers keep the energy response and shrink t
                                                          << b.cacheEntries);
   CHECK(a.cacheEntries * 2 < b.cacheEntries);
 }
+
+// A budget too small for the cache's tables is refused with the budget the settings need: that
+// budget fits and one byte less does not (the message once quoted a "minimum" below the budget
+// it refused), and a window of more frames than the coarse store can layer is refused whatever
+// the budget. A budget that fits is never refused by the smaller first tables grown from it.
+TEST_CASE("The path cache's budget check names a budget that fits", "[cache]") {
+  using Cache = DiffusePathCache;
+  const double period = 1.0 / 120.0;
+  for (const double tau : {0.5, 10.0, 30.0}) {
+    INFO("tau " << tau << " s at 120 Hz");
+    std::string message;
+    try {
+      Cache::capacityFor(DpcWeighting::kWindow, tau, period, 4096);
+    } catch (const std::invalid_argument& e) {
+      message = e.what();
+    }
+    REQUIRE(message.rfind("cache_memory_mb: a budget of 4096 bytes", 0) == 0);
+    const size_t at = message.find("below the ") + 10;
+    const size_t need = std::stoull(message.substr(at));
+    CHECK(Cache::capacityFor(DpcWeighting::kWindow, tau, period, need).bytes <= need);
+    CHECK_THROWS_AS(Cache::capacityFor(DpcWeighting::kWindow, tau, period, need - 1),
+                    std::invalid_argument);
+    // The cache itself, built at that budget, starts (its first tables are a smaller split).
+    CHECK_NOTHROW(Cache(DpcWeighting::kWindow, tau, period, need));
+  }
+  CHECK_THROWS_WITH(Cache::capacityFor(DpcWeighting::kWindow, 100.0, period, size_t(1) << 30),
+                    Catch::StartsWith("cache_tau: 12000 frames of paths"));
+}

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "common/input_error.h"
 
@@ -59,15 +60,56 @@ std::vector<uint32_t> materialIndicesByName(const RawMesh& raw,
   return out;
 }
 
+namespace {
+
+/// The triangle's corners by welded vertex id, rotated to start at the smallest: the same for
+/// every triangle on the same three positions with the same winding, whatever its vertex
+/// indices. The opposite winding differs: two coincident faces of opposite orientation are
+/// how a zero-thickness wall or door is modelled (a side per room), and are kept.
+std::array<uint32_t, 3> cornerKey(const std::vector<uint32_t>& weld,
+                                  const std::array<uint32_t, 3>& tri) {
+  std::array<uint32_t, 3> k{weld[tri[0]], weld[tri[1]], weld[tri[2]]};
+  std::rotate(k.begin(), std::min_element(k.begin(), k.end()), k.end());
+  return k;
+}
+
+struct CornerHash {
+  size_t operator()(const std::array<uint32_t, 3>& k) const {
+    return size_t(k[0]) * 0x9e3779b97f4a7c15ULL ^ size_t(k[1]) * 0xc2b2ae3d27d4eb4fULL ^
+           size_t(k[2]) * 0x165667b19e3779f9ULL;
+  }
+};
+
+/// "FILE: N <what> triangle(s) dropped, the first from triangle K" into warnings if N > 0.
+void warnDropped(const RawMesh& raw, size_t count, size_t first, const std::string& what,
+                 std::vector<std::string>& warnings) {
+  if (count > 0)
+    warnings.push_back(raw.file + ": " + std::to_string(count) + " " + what +
+                       " triangle(s) dropped, the first from " + raw.faceWord + " " +
+                       std::to_string(first));
+}
+
+}  // namespace
+
 Mesh buildMesh(const RawMesh& raw, const std::vector<uint32_t>& materialIndex,
                std::vector<std::string>& warnings) {
   Mesh mesh;
   mesh.vertices = raw.positions;
-  size_t dropped = 0, firstDropped = 0;
+  const std::vector<uint32_t> weld = weldedVertexIds(mesh);
+  std::unordered_set<std::array<uint32_t, 3>, CornerHash> seen;
+  seen.reserve(raw.triangles.size());
+  size_t dropped = 0, firstDropped = 0, twins = 0, firstTwin = 0;
   for (size_t t = 0; t < raw.triangles.size(); ++t) {
     const std::array<uint32_t, 3>& tri = raw.triangles[t];
     if (degenerate(raw.positions[tri[0]], raw.positions[tri[1]], raw.positions[tri[2]])) {
       if (dropped++ == 0) firstDropped = raw.triangleFace[t];
+      continue;
+    }
+    // A second triangle on the same three positions, facing the same way, adds no surface (a
+    // ray hits one of the two), only work: a million copies of one wall made one frame take a
+    // minute.
+    if (!seen.insert(cornerKey(weld, tri)).second) {
+      if (twins++ == 0) firstTwin = raw.triangleFace[t];
       continue;
     }
     mesh.triangles.push_back(tri);
@@ -77,10 +119,9 @@ Mesh buildMesh(const RawMesh& raw, const std::vector<uint32_t>& materialIndex,
     throw InputError(raw.file, "",
                      "all " + std::to_string(raw.triangles.size()) +
                          " triangles are degenerate (zero area); nothing to trace");
-  if (dropped > 0)
-    warnings.push_back(raw.file + ": " + std::to_string(dropped) +
-                       " degenerate (zero-area) triangle(s) dropped, the first from " +
-                       raw.faceWord + " " + std::to_string(firstDropped));
+  warnDropped(raw, dropped, firstDropped, "degenerate (zero-area)", warnings);
+  warnDropped(raw, twins, firstTwin, "duplicate (the corners and winding of an earlier one)",
+              warnings);
   return mesh;
 }
 

@@ -23,8 +23,11 @@ std::vector<uint32_t> materialIndicesByName(const RawMesh& raw,
 
 /// Builds the mesh from raw.positions and raw.triangles with materialIndex (one per triangle).
 /// Cleaning rule: a triangle of zero area, or a sliver whose height is below 1e-6 of its
-/// longest edge, is dropped; the count and the first dropped face go into one line of
-/// `warnings`. Throws InputError(raw.file, "", ...) when every triangle is dropped.
+/// longest edge, is dropped, and so is one on the same three positions with the same winding
+/// as an earlier triangle (a coincident copy adds no surface, only tracing work; the opposite
+/// winding, a zero-thickness wall's other side, is kept); each kind's count and first dropped
+/// face go into one line of `warnings`. Throws InputError(raw.file, "", ...) when every triangle is
+/// dropped.
 Mesh buildMesh(const RawMesh& raw, const std::vector<uint32_t>& materialIndex,
                std::vector<std::string>& warnings);
 

@@ -407,6 +407,25 @@ TEST_CASE("OBJ problems name the OBJ file", "[scene][errors]") {
   }
 }
 
+TEST_CASE("OBJ: a copy of a triangle (same corners, same winding) is dropped with a warning",
+          "[scene]") {
+  Fixture f;
+  // Triangle 1; its copy through other vertices at the same positions, rotated; its other side
+  // (a zero-thickness wall's second face, kept); a third copy.
+  f.write("cube.obj",
+          "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 0 0\nv 0 1 0\nusemtl walls\n"
+          "f 1 2 3\nf 5 1 4\nf 3 2 1\nf 2 3 1\n");
+  const SceneDesc s = f.load();
+  REQUIRE(s.mesh.triangles.size() == 2);
+  CHECK(s.mesh.triangles[0] == std::array<uint32_t, 3>{0, 1, 2});
+  CHECK(s.mesh.triangles[1] == std::array<uint32_t, 3>{2, 1, 0});
+  bool duplicateWarning = false;
+  for (const auto& w : s.warnings)
+    duplicateWarning |= w.find("cube.obj: 2 duplicate") != std::string::npos &&
+                        w.find("the first from face 2") != std::string::npos;
+  CHECK(duplicateWarning);
+}
+
 TEST_CASE("OBJ details: default material, polygons, relative indices, degenerate warning",
           "[scene]") {
   Fixture f;
@@ -415,7 +434,7 @@ TEST_CASE("OBJ details: default material, polygons, relative indices, degenerate
           "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
           "f 1 2 3 4\n"      // quad, no usemtl -> default, fan-triangulated
           "usemtl walls \n"  // trailing space is trimmed
-          "f -4 -3 -2\n"     // relative indices = 1 2 3
+          "f -2 -3 -4\n"     // relative indices = 3 2 1 (the fan's first triangle, other side)
           "f 1 2 2\n");      // degenerate: dropped with a warning
   const SceneDesc s = f.load();
   REQUIRE(s.mesh.triangles.size() == 3);
@@ -423,7 +442,7 @@ TEST_CASE("OBJ details: default material, polygons, relative indices, degenerate
   CHECK(s.materials[s.mesh.materialIndex[1]].name == "default");
   CHECK(s.materials[s.mesh.materialIndex[2]].name == "walls");
   CHECK(s.mesh.triangles[1] == std::array<uint32_t, 3>{0, 2, 3});
-  CHECK(s.mesh.triangles[2] == std::array<uint32_t, 3>{0, 1, 2});
+  CHECK(s.mesh.triangles[2] == std::array<uint32_t, 3>{2, 1, 0});
   bool degenerateWarning = false, unusedWarning = false;
   for (const auto& w : s.warnings) {
     degenerateWarning |= w.find("cube.obj: 1 degenerate") != std::string::npos;

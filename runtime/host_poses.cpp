@@ -4,8 +4,10 @@
 #include <chrono>
 #include <cmath>
 #include <glm/gtc/quaternion.hpp>
+#include <optional>
 
 #include "scene/limits.h"
+#include "scene/quaternion.h"
 
 namespace dpc {
 
@@ -19,10 +21,9 @@ namespace {
 
 /// q / |q| into out (x, y, z, w); false for a zero-length or non-finite q. No allocation.
 bool normalisedQuaternion(const float q[4], float out[4]) {
-  const double n = std::sqrt(double(q[0]) * q[0] + double(q[1]) * q[1] + double(q[2]) * q[2] +
-                             double(q[3]) * q[3]);
-  if (!(n > 1e-6) || !std::isfinite(n)) return false;
-  for (int i = 0; i < 4; ++i) out[i] = float(q[i] / n);
+  const std::optional<glm::quat> u = unitQuaternion(q[0], q[1], q[2], q[3]);
+  if (!u) return false;
+  out[0] = u->x, out[1] = u->y, out[2] = u->z, out[3] = u->w;
   return true;
 }
 

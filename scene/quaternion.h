@@ -11,10 +11,13 @@
 
 namespace dpc {
 
-/// The unit quaternion along (x, y, z, w), or nullopt when its length is below 1e-6.
+/// The unit quaternion along (x, y, z, w), or nullopt when its length is zero or not finite.
+/// Any other length is a direction: in double, the squares of floats neither overflow nor
+/// vanish, so (0, 1e-20, 0, 1e-20) is the same rotation as (0, 1, 0, 1), as every entry point
+/// (files, the C API's pose setters and dpc_yaw_pitch_roll_from_quaternion) reads it.
 inline std::optional<glm::quat> unitQuaternion(double x, double y, double z, double w) {
   const double n = std::sqrt(x * x + y * y + z * z + w * w);
-  if (!(n > 1e-6)) return std::nullopt;
+  if (!(n > 0.0) || !std::isfinite(n)) return std::nullopt;
   return glm::quat(float(w / n), float(x / n), float(y / n), float(z / n));
 }
 

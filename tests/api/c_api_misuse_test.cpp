@@ -231,6 +231,8 @@ std::vector<Misuse> objectCases() {
       {"object q zero", kBad, pose(0, 0, 0, 0), "q is zero or not finite"},
       {"object q inf", kBad, pose(0, 0, kInf, 1), "q is zero or not finite"},
       {"object q 1e30 is a rotation", DPC_OK, pose(0, 0, 1e30f, 1e30f), ""},
+      // As dpc_yaw_pitch_roll_from_quaternion reads it: any finite non-zero length.
+      {"object q 1e-20 is a rotation", DPC_OK, pose(0, 0, 1e-20f, 1e-20f), ""},
   };
 }
 

@@ -209,7 +209,7 @@ DrySignals drySignalsFromData(const dpc_scene_data& data, bool hostInputsOnly) {
   for (int i = 0; i < data.source_count; ++i) {
     const dpc_source& src = data.sources[i];
     std::vector<float> x;
-    dry.gain.push_back(float(std::pow(10.0, src.gain_db / 20.0)));
+    dry.gain.push_back(gainOfDb(src.gain_db));
     if (!hostInputsOnly && src.signal) {
       x.assign(src.signal, src.signal + src.signal_frames);
       for (float& v : x) v *= dry.gain.back();

@@ -96,7 +96,7 @@ DrySignals loadDrySignals(const SceneDesc& scene) {
     if (!src.signalPath.empty()) ++usesLeft[src.signalPath];
   for (size_t i = 0; i < scene.sources.size(); ++i) {
     const SourceDesc& src = scene.sources[i];
-    d.gain.push_back(float(std::pow(10.0, src.gainDb / 20.0)));
+    d.gain.push_back(gainOfDb(src.gainDb));
     if (src.signalPath.empty()) {  // host input only: silence when played on its own
       d.samples.emplace_back();
       d.loop.push_back(0);

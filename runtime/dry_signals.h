@@ -2,6 +2,7 @@
 // files (or given by a host), shared read-only by the audio stages that play them.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -21,6 +22,12 @@ struct DrySignals {
   /// Frames of the longest non-looping signal (of the longest signal if all loop). Any thread.
   size_t longestFrames() const;
 };
+
+/// The linear gain of `db` decibels (amplitude: 10^(db/20)), as a source's gain_db scales its
+/// signal. Any thread.
+inline float gainOfDb(double db) {
+  return float(std::pow(10.0, db / 20.0));
+}
 
 /// Reads every source's signal (mixed to mono, resampled to scene.audio.sampleRate, gain
 /// applied; a source without a signal gets an empty one). Control thread; allocates; throws

@@ -40,7 +40,7 @@ dpc_status dpc_engine_copy_impulse_response(dpc_engine* engine, int source, int 
       s != DPC_OK)
     return s;
   const bool ok = engine->session->copyResponses(size_t(source), [&](const auto& r) {
-    const std::vector<float>& ir = (*r.ir)[size_t(channel)];
+    const std::span<const float> ir = r.ir->channelSpan(channel);
     if (length) *length = ir.size();
     if (frame) *frame = r.frame;
     if (out && capacity > 0)

@@ -87,6 +87,23 @@ TEST_CASE("Lifetime: destroy racing a copy loop and a process loop waits, then r
   CHECK(warnings.count(kWaited) <= kTrials);
 }
 
+TEST_CASE("Lifetime: a destroyed handle stays closed; the next engines get other handles") {
+  BoxData box;
+  dpc_engine* old = nullptr;
+  REQUIRE(dpc_engine_create_from_data(&box.data(), nullptr, &old) == DPC_OK);
+  dpc_engine_destroy(old);
+  // Freed at once, its memory would be the allocator's first choice for the next engine, and
+  // a late call on the old handle would act on that engine.
+  std::vector<dpc_engine*> next(3, nullptr);
+  for (dpc_engine*& e : next) {
+    REQUIRE(dpc_engine_create_from_data(&box.data(), nullptr, &e) == DPC_OK);
+    CHECK(e != old);
+  }
+  CHECK(dpc_engine_step(old) == DPC_ERR_STATE);
+  CHECK(std::string(dpc_last_error()) == "dpc_engine_step: the engine is being destroyed");
+  for (dpc_engine* e : next) dpc_engine_destroy(e);
+}
+
 TEST_CASE("Lifetime: a destroy that overlaps nothing reports nothing") {
   Warnings warnings;
   BoxData box;

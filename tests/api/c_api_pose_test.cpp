@@ -52,31 +52,35 @@ bool messageHas(const std::string& text) {
 
 TEST_CASE("Poses: a listener's quaternion turns its ears (stereo direct sound)") {
   BoxData box;
-  box.sources[0].position[0] = 4.f;  // 1.2 m along -z from the listener: its left at rest
-  box.sources[0].position[2] = 0.8f;
+  // 1.2 m away, 45 degrees to the left of a listener at rest (facing +x, left is -z).
+  box.sources[0].position[0] = 4.f + 0.8485f;
+  box.sources[0].position[2] = 2.f - 0.8485f;
   box.d.output = DPC_OUTPUT_STEREO;
   dpc_engine* e = nullptr;
   REQUIRE(dpc_engine_create_from_data(&box.data(), nullptr, &e) == DPC_OK);
-  // The direct sound arrives after 3.5 ms, the first reflection (the floor's, 3.2 m) after
-  // 9.4 ms: the first 8 ms at 48 kHz hold the direct sound alone.
+  // The direct sound arrives after 3.5 ms, the first reflections (3.2 m) after 9.4 ms: the
+  // first 8 ms at 48 kHz hold the direct sound alone.
   const size_t direct = 384;
-  auto leftOverRight = [&](const dpc_pose& pose) {
-    dpc_pose p = pose;
-    p.position[0] = 4.f, p.position[1] = 1.5f, p.position[2] = 2.f;
-    REQUIRE(dpc_engine_place_listener(e, 0, &p) == DPC_OK);
+  auto leftOverRight = [&] {
     REQUIRE(dpc_engine_step(e) == DPC_OK);
     return energy(ir(e, 0), direct) / energy(ir(e, 1), direct);
   };
-  const double rest = leftOverRight(kFacingPlusX);
-  const double turned = leftOverRight(dpc_pose{{}, {0, 1, 0, 0}});  // 180 degrees about +y
-  CHECK(rest > 10.0);           // constant-power panning of a source at 90 degrees left
-  CHECK(turned < 1.0 / 10.0);   // the same source is now on the right
-  // Turned 90 degrees left (yaw 90) it faces the source: both ears alike, whichever setter.
-  const double facing = leftOverRight(dpc_pose{{}, {0, kHalf, 0, kHalf}});
+  auto place = [&](float qy, float qw) {
+    const dpc_pose p{{4.f, 1.5f, 2.f}, {0.f, qy, 0.f, qw}};
+    REQUIRE(dpc_engine_place_listener(e, 0, &p) == DPC_OK);
+    return leftOverRight();
+  };
+  // Sine/cosine panning (docs/spatial.md): azimuth a (left positive) gives left/right energy
+  // tan^2((a + 90) / 2), 5.83 at 45 degrees left; turned 180 degrees about +y, 1 / 5.83.
+  const double law = std::pow(std::tan(67.5 * kPi / 180.0), 2.0);
+  CHECK(place(0.f, 1.f) == Approx(law).epsilon(0.01));
+  CHECK(place(1.f, 0.f) == Approx(1.0 / law).epsilon(0.01));
+  // Turned 45 degrees left (yaw 45 about +y) it faces the source: both ears alike.
+  const float s = 0.38268343f, c = 0.92387953f;  // sin, cos 22.5 degrees
+  const double facing = place(s, c);
   CHECK(facing == Approx(1.0).epsilon(0.01));
-  REQUIRE(dpc_engine_set_listener_pose(e, 0, 4.f, 1.5f, 2.f, 90.f, 0.f) == DPC_OK);
-  REQUIRE(dpc_engine_step(e) == DPC_OK);
-  CHECK(energy(ir(e, 0), direct) / energy(ir(e, 1), direct) == Approx(facing).epsilon(1e-4));
+  REQUIRE(dpc_engine_set_listener_pose(e, 0, 4.f, 1.5f, 2.f, 45.f, 0.f) == DPC_OK);
+  CHECK(leftOverRight() == Approx(facing).epsilon(1e-4));  // the 0.2.0 setter, the same pose
   dpc_engine_destroy(e);
 }
 

@@ -149,7 +149,7 @@ typedef enum dpc_rendering {
  *  dpc_engine_options_init() (struct_size set, every other field "keep the scene's"), then
  *  change what you need. */
 typedef struct dpc_engine_options {
-  size_t struct_size;       /**< sizeof(dpc_engine_options), set by dpc_engine_options_init */
+  size_t struct_size;       /**< its layout's size, set by dpc_engine_options_init */
   int sample_rate;          /**< Hz, 16000..192000; 0 keeps the scene's audio.sample_rate. Dry
                                  signals are resampled to it, HRTFs read at it. */
   int block_size;           /**< engine block, frames, 16..8192; 0 keeps the scene's */
@@ -254,11 +254,11 @@ typedef struct dpc_listener {
 } dpc_listener;
 
 /** A scene built in code: what a scene file says (docs/scene-format.md), same defaults.
- *  Fill with dpc_scene_data_init(), then set mesh, materials and sources. Its struct_size also
- *  stands for the layout of the structs it points to (dpc_mesh, dpc_material, dpc_source,
- *  dpc_listener), which change only together with it. */
+ *  Fill with dpc_scene_data_init(), then set mesh, materials and sources. The structs it
+ *  points to (dpc_mesh, dpc_material, dpc_source, dpc_source_directivity, dpc_listener,
+ *  dpc_material_transmission) never change (the growth rule). */
 typedef struct dpc_scene_data {
-  size_t struct_size; /**< sizeof(dpc_scene_data), set by dpc_scene_data_init */
+  size_t struct_size; /**< its layout's size, set by dpc_scene_data_init */
   dpc_mesh mesh;
   const dpc_material* materials;
   int material_count; /**< >= 1 */

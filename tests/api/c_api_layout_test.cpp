@@ -259,3 +259,11 @@ TEST_CASE("Growth rule: a size that is no known layout is refused, naming both s
     CHECK(init.bytes[0] == kCanary);  // nothing written
   }
 }
+
+TEST_CASE("Growth rule: DPC_VERSION_COMPATIBLE accepts this major version's libraries not older "
+          "than the header") {
+  CHECK(DPC_VERSION_COMPATIBLE(dpc_version()));
+  CHECK(DPC_VERSION_COMPATIBLE(DPC_MAKE_VERSION(DPC_VERSION_MAJOR, DPC_VERSION_MINOR + 1, 0)));
+  CHECK_FALSE(DPC_VERSION_COMPATIBLE(DPC_MAKE_VERSION(DPC_VERSION_MAJOR, DPC_VERSION_MINOR - 1, 0)));
+  CHECK_FALSE(DPC_VERSION_COMPATIBLE(DPC_MAKE_VERSION(DPC_VERSION_MAJOR + 1, 0, 0)));
+}

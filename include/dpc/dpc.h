@@ -281,7 +281,9 @@ DPC_API dpc_status dpc_engine_create_from_data(const dpc_scene_data* data,
                                                const dpc_engine_options* options, dpc_engine** out);
 
 /** Control thread. Stops the threads if running and frees everything. NULL is ignored. The
- *  host must have stopped calling dpc_engine_process before. */
+ *  host must have stopped calling dpc_engine_process before. Destroying the last engine also
+ *  joins TBB's worker threads (which run the propagation's parallel work) unless other code in
+ *  the process still uses TBB, so that a plugin host may unload libdpc afterwards. */
 DPC_API void dpc_engine_destroy(dpc_engine* engine);
 
 /** Control thread. Starts the propagation thread (idempotent). Allocates (thread creation).

@@ -11,7 +11,8 @@ recorder client records its two outputs; all three run in the same JACK cycles, 
 the player writes at frame F comes out of the plugin at frame F + latency + r / c. At 2.5 s
 the test types "listener_x = 9" into jalv's console (what a DAW's automation does), moving the
 listener from 4 m to 6 m from the source. Checks, each able to fail:
-  1. jalv reports the plugin's controls and ports appear: in, out_l, out_r;
+  1. jalv reports the plugin's controls and ports appear: in, out_l, out_r; jalv exits with
+     status 0 when its console closes (it frees the plugin and unloads its library);
   2. the first impulse comes out where lv2apply puts it for the same input: the direct sound
      LATENCY + round(r / c) frames after the input (exactly), at the level lv2apply gives
      within 0.5 dB, and the energy 0-50, 50-200 and 200-600 ms after it within 1.5 dB (the
@@ -80,6 +81,7 @@ class Session:
                                        str(RATE), "-p", str(PERIOD)], env=self.env,
                                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         self.jalv = None
+        self.jalv_status = None
         self.clients = []
 
     def client(self, name):
@@ -105,6 +107,7 @@ class Session:
         output = ""
         if self.jalv:
             output = self.jalv.communicate(timeout=10)[0]  # EOF on stdin: jalv exits
+            self.jalv_status = self.jalv.returncode
         self.jackd.terminate()
         self.jackd.wait(timeout=10)
         return output
@@ -123,7 +126,8 @@ def connect(client, pairs):
 
 def run_host(lv2dir, dry):
     """Plays `dry` through the plugin in jalv; returns (recorded 2 x N array aligned so that
-    index i is the output at the frame the player wrote dry[i], jalv's console output)."""
+    index i is the output at the frame the player wrote dry[i], jalv's console output, jalv's
+    exit status)."""
     s = Session(lv2dir)
     try:
         player, recorder = s.client("dpc_player"), s.client("dpc_recorder")
@@ -180,7 +184,7 @@ def run_host(lv2dir, dry):
         if 0 <= i < n:
             m = min(len(left), n - i)
             rec[0, i:i + m], rec[1, i:i + m] = left[:m], right[:m]
-    return rec, console
+    return rec, console, s.jalv_status
 
 
 def lv2apply(lv2dir, dry, work, controls=None):
@@ -203,9 +207,13 @@ def main():
     dry = np.zeros(n, dtype=np.float32)
     i1, i2 = int(T1 * RATE), int(T2 * RATE)
     dry[i1] = dry[i2] = 1.0
-    rec, console = run_host(lv2dir, dry)
+    rec, console, status = run_host(lv2dir, dry)
     check("listener_x" in console and "source_x" in console,
           "jalv lists the plugin's controls (listener_x ... source_z)")
+    # jalv frees the plugin and unloads its library on quit: a thread of the plugin or of
+    # dpc left running after cleanup would crash it then (tests/lv2/ardour_test.py).
+    check(status == 0, "jalv exits with status 0 after quitting (EOF on its console): %s"
+          % status)
     work = tempfile.mkdtemp()
     try:
         return compare(lv2dir, dry, rec, work)

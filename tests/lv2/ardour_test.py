@@ -15,7 +15,8 @@ Checks, each able to fail:
      above -60 dBFS (measured about -31 dBFS; a plugin that stays silent gives -inf);
   3. a bundle whose scene cannot be loaded (its mesh file is missing) still gives a working
      session: Ardour prints the plugin's error, naming the scene file, the exports are silent
-     (RMS below -90 dBFS: the plugin plays silence, it does not pass its input through) and
+     (RMS below -80 dBFS, measured -94: the 16-bit export's dither alone; the plugin plays
+     silence, it does not pass its input through) and
      Ardour exits 0.
 Ardour's configuration and caches go to a temporary HOME; LV2_PATH holds only LV2_DIR.
 Runs take 10-60 s each (Ardour's start-up dominates; the script plays 2 x 3 s of real time).
@@ -39,6 +40,7 @@ def check(ok, what):
     print(("ok   " if ok else "FAIL ") + what, flush=True)
     if not ok:
         failures.append(what)
+    return ok
 
 
 def rms_db(wav, start, length):
@@ -91,25 +93,28 @@ def main():
         for i in range(runs):
             status, output, exports = run_ardour(lv2dir, home, work, "run%d" % i)
             steps = reached(output)
-            ok = status == 0 and steps == STEPS
-            clean += ok
-            check(ok, "run %d: exit status %s after %s" % (i + 1, status, steps[-1:] or "no step"))
-            if not ok:
-                print(output[-3000:])
+            exited = status == 0 and steps == STEPS
+            clean += exited
+            ok = check(exited, "run %d: exit status %s after %s"
+                       % (i + 1, status, steps[-1:] or "no step"))
             for name in ("created", "reloaded"):
                 wav = os.path.join(exports, name + ".wav")
                 level = rms_db(wav, 3, 1) if os.path.exists(wav) else float("-inf")
-                check(level > -60, "run %d, %s session: the plugin's output at %.1f dBFS RMS "
-                      "(above -60)" % (i + 1, name, level))
+                ok = check(level > -60, "run %d, %s session: the plugin's output at %.1f dBFS "
+                           "RMS (above -60)" % (i + 1, name, level)) and ok
+            if not ok:
+                print(output[-3000:])
         print("ardour_test: %d of %d runs exited 0 after every step" % (clean, runs))
         status, output, exports = run_ardour(broken_bundle(lv2dir, work), home, work, "broken")
         check(status == 0 and reached(output) == STEPS,
               "a scene that does not load: exit status %s after every step" % status)
-        check(re.search(r"\[ERROR\]: dpc: .*missing\.obj", output) is not None,
+        error = re.search(r"\[ERROR\]: dpc: .*missing\.obj.*", output)
+        print(error.group(0) if error else output[-3000:])
+        check(error is not None,
               "a scene that does not load: Ardour shows the plugin's error naming missing.obj")
         wav = os.path.join(exports, "created.wav")
         level = rms_db(wav, 0, 4) if os.path.exists(wav) else float("nan")
-        check(level < -90, "a scene that does not load: the plugin plays silence (%.1f dBFS)"
+        check(level < -80, "a scene that does not load: the plugin plays silence (%.1f dBFS)"
               % level)
     finally:
         shutil.rmtree(work, ignore_errors=True)

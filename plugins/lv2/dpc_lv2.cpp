@@ -46,7 +46,7 @@ constexpr uint32_t kHeaderSize = uint32_t(offsetof(WorkMessage, path));
 /// Instantiation thread: false (logged) for a host rate that is no number of Hz. A rate of 0
 /// (or NaN, or beyond int) would become the options' 0, "keep the scene's rate", and the
 /// plugin would play at a rate the host does not run. The C API checks the range itself when
-/// the scene loads (a rate outside it is logged and the plugin stays silent).
+/// the scene loads (a rate outside it fails the load).
 bool usableRate(Plugin* p, double rate) {
   if (rate >= 1.0 && rate <= 1e9) return true;
   lv2_log_error(&p->logger, "dpc: the host's sample rate %g Hz is not a rate\n", rate);
@@ -80,8 +80,17 @@ LV2_Handle instantiate(const LV2_Descriptor* descriptor, double rate, const char
     p->uris.map(p->map);
     lv2_atom_forge_init(&p->forge, p->map);
   }
-  // In the background (loader.h): instantiate returns at once, whatever the scene's size.
+  // In the background (loader.h): instantiate returns at once, whatever the scene's size. A
+  // host without a worker (an offline host) waits here instead and learns of a scene that
+  // does not load from a NULL instance.
   startLoad(p, p->bundle + kDefaultScene, true);
+  if (!p->schedule) {
+    waitForLoad(p);
+    if (!p->incoming.load(std::memory_order_acquire)) {
+      delete p;
+      return nullptr;
+    }
+  }
   return p;
 }
 

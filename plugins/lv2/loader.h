@@ -10,7 +10,8 @@
 // host on the notify port; the plugin is silent until its first scene arrives. In a host
 // without a worker (lv2apply and other offline hosts, which run faster than real time),
 // activate() and restore() wait for the load and compute the first frame (adoptNow), so that
-// sound comes out of the first blocks.
+// sound comes out of the first blocks (such a host also waits for the bundle's scene in
+// instantiate, which returns NULL if it does not load).
 #pragma once
 
 #include <string>

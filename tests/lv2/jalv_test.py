@@ -8,7 +8,9 @@ A private JACK server (its own name, so other servers on the machine are not tou
 48 kHz with 256-frame periods. jalv hosts urn:dpc:lv2:room as client "dpcroom"; a player client
 feeds its input a dry signal of two impulses (at 1.0 s and 4.0 s of the player's clock) and a
 recorder client records its two outputs; all three run in the same JACK cycles, so a sample
-the player writes at frame F comes out of the plugin at frame F + latency + r / c. At 2.5 s
+the player writes at frame F comes out of the plugin at frame F + latency + r / c. The player
+starts once jalv's console shows the plugin's "PATH is loaded" line (the plugin loads its scene
+in the background and plays silence until then), as a user waits for it. At 2.5 s
 the test types "listener_x = 9" into jalv's console (what a DAW's automation does), moving the
 listener from 4 m to 6 m from the source. Checks, each able to fail:
   1. jalv reports the plugin's controls and ports appear: in, out_l, out_r; jalv exits with
@@ -37,6 +39,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 
 import jack
@@ -99,6 +102,18 @@ class Session:
         self.jalv = subprocess.Popen(["jalv", "-x", "-n", "dpcroom", URI], env=self.env,
                                      stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                                      stderr=subprocess.STDOUT, text=True)
+        self.console = []  # jalv's output lines, read as they come
+
+        def read():
+            for line in self.jalv.stdout:
+                self.console.append(line)
+        self.reader = threading.Thread(target=read, daemon=True)
+        self.reader.start()
+
+    def scene_loaded(self):
+        """The plugin has logged that its scene is loaded (it loads in the background and
+        plays silence until then)."""
+        return any(" is loaded (" in line for line in list(self.console))
 
     def close(self):
         for c in self.clients:
@@ -106,8 +121,10 @@ class Session:
             c.close()
         output = ""
         if self.jalv:
-            output = self.jalv.communicate(timeout=10)[0]  # EOF on stdin: jalv exits
-            self.jalv_status = self.jalv.returncode
+            self.jalv.stdin.close()  # EOF on stdin: jalv exits
+            self.jalv_status = self.jalv.wait(timeout=10)
+            self.reader.join(timeout=10)
+            output = "".join(self.console)
         self.jackd.terminate()
         self.jackd.wait(timeout=10)
         return output
@@ -163,6 +180,7 @@ def run_host(lv2dir, dry):
                                             ("dpcroom:out_r", "dpc_recorder:r"),
                                             ("dpc_player:out", "dpcroom:in")]),
                  20, "jalv's ports")
+        wait_for(s.scene_loaded, 120, "the plugin's scene")
         state["go"] = True
         start = time.monotonic()
         time.sleep(T_MOVE)

@@ -3,21 +3,13 @@
 // process has as many threads after the last destroy as before the first create. Counted
 // through /proc/self/task (Linux), an instrument outside dpc.
 #include <catch2/catch.hpp>
-#include <filesystem>
 #include <thread>
 
 #include "dpc/dpc.h"
+#include "testing/thread_count.h"
 #include "tests/api/box_data.h"
 
 namespace {
-
-int threadCount() {
-  int n = 0;
-  for ([[maybe_unused]] const auto& entry :
-       std::filesystem::directory_iterator("/proc/self/task"))
-    ++n;
-  return n;
-}
 
 /// An engine of the box, created, traced (TBB's workers share the trace) and started.
 dpc_engine* tracedEngine() {
@@ -35,18 +27,18 @@ dpc_engine* tracedEngine() {
 }  // namespace
 
 TEST_CASE("C API: no thread of dpc is left after the last engine is destroyed") {
-  const int before = threadCount();
+  const int before = dpc::test::threadCount();
   dpc_engine* a = tracedEngine();
   // A second engine built and traced on another thread, as a plugin's loader does.
   dpc_engine* b = nullptr;
   std::thread([&b] { b = tracedEngine(); }).join();
-  CHECK(threadCount() > before);  // two propagation threads, and TBB's workers
+  CHECK(dpc::test::threadCount() > before);  // two propagation threads, and TBB's workers
   dpc_engine_destroy(a);
-  CHECK(threadCount() > before);  // b still runs
+  CHECK(dpc::test::threadCount() > before);  // b still runs
   dpc_engine_destroy(b);
-  CHECK(threadCount() == before);
+  CHECK(dpc::test::threadCountSettled(before) == before);
   // dpc works as before afterwards: TBB starts its workers again on demand.
   dpc_engine* c = tracedEngine();
   dpc_engine_destroy(c);
-  CHECK(threadCount() == before);
+  CHECK(dpc::test::threadCountSettled(before) == before);
 }

@@ -1,8 +1,8 @@
 -- An Ardour session with the dpc LV2 plugin, run headless by Ardour's Lua session tool
 -- (ardour7-lua, Debian's ardour package), as tests/lv2/ardour_test.py drives it:
 --   ardour7-lua ardour_session.lua SESSION_DIR EXPORT_DIR URI
--- Creates a session on the dummy audio backend (its inputs play a sine wave), adds a mono
--- track whose input monitors that sine, inserts the plugin URI, plays until the track's meter
+-- Creates a session on the dummy audio backend (its inputs play white noise), adds a mono
+-- track whose input monitors that noise, inserts the plugin URI, plays until the track's meter
 -- shows sound (the plugin is silent until its scene has loaded in the background; at most
 -- 120 s) and 1 s more, exports 4 s of the master bus to EXPORT_DIR/created.wav (WAV at the
 -- session rate), saves and closes the session; then loads it again from disk, plays and
@@ -46,7 +46,7 @@ local function dpc_plugin(track)
 end
 
 assert(AudioEngine:set_backend("None (Dummy)", "", ""), "no dummy backend")
-assert(AudioEngine:set_device_name("Sine Wave") == 0, "the dummy backend has no Sine Wave input")
+assert(AudioEngine:set_device_name("Uniform White Noise") == 0, "the dummy backend has no noise input")
 local s = create_session(dir, "dpc", rate)
 assert(s, "create_session failed")
 step("created")

@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "testing/temp_dir.h"
+#include "testing/thread_count.h"
 #include "tests/rt/alloc_counter.h"
 
 namespace {
@@ -590,30 +591,18 @@ TEST_CASE("LV2 plugin: a host rate that is no rate is refused, not replaced by t
   CHECK(capture.containing("room.json is loaded").size() == 1);
 }
 
-namespace {
-
-/// The threads of this process (Linux: /proc/self/task).
-int threadCount() {
-  int n = 0;
-  for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator("/proc/self/task"))
-    ++n;
-  return n;
-}
-
-}  // namespace
-
 TEST_CASE("LV2 plugin: no thread of the plugin or of dpc is left after cleanup") {
   // A host unloads the plugin (and libdpc, TBB with it) after cleanup: a thread left running
   // there (the loader, a propagation thread, TBB's workers) runs unmapped code. The scene
   // swap, the worker's free and a second instance's life are all done before the count.
   const LV2_Descriptor* d = loadDescriptor();
   Host host;
-  const int before = threadCount();
+  const int before = dpc::test::threadCount();
   {
     Instance x(d, host);
     d->activate(x.h);
     REQUIRE(runUntilPlaying(x, host, kDefaultScenePath));
-    CHECK(threadCount() > before);  // the propagation thread and TBB's workers
+    CHECK(dpc::test::threadCount() > before);  // the propagation thread and TBB's workers
     sendPatchSet(x, host, DPC_SOURCE_DIR "/scenes/shoebox.json");
     REQUIRE(runUntilPlaying(x, host, DPC_SOURCE_DIR "/scenes/shoebox.json"));
     runWorker(d, x.h, host);  // frees the scene it replaced
@@ -622,5 +611,5 @@ TEST_CASE("LV2 plugin: no thread of the plugin or of dpc is left after cleanup")
     }
     d->deactivate(x.h);
   }
-  CHECK(threadCount() == before);
+  CHECK(dpc::test::threadCountSettled(before) == before);
 }

@@ -1,26 +1,27 @@
 -- An Ardour session with the dpc LV2 plugin, run headless by Ardour's Lua session tool
 -- (ardour7-lua, Debian's ardour package), as tests/lv2/ardour_test.py drives it:
---   ardour7-lua ardour_session.lua SESSION_DIR EXPORT_DIR URI
+--   ardour7-lua ardour_session.lua SESSION_DIR EXPORT_DIR URI [WAIT]
 -- Creates a session on the dummy audio backend (its inputs play white noise), adds a mono
 -- track whose input monitors that noise, inserts the plugin URI, plays until the track's meter
 -- shows sound (the plugin is silent until its scene has loaded in the background; at most
--- 120 s) and 1 s more, exports 4 s of the master bus to EXPORT_DIR/created.wav (WAV at the
+-- WAIT s, 120 by default) and 1 s more, exports 4 s of the master bus to EXPORT_DIR/created.wav (WAV at the
 -- session rate), saves and closes the session; then loads it again from disk, plays and
 -- exports EXPORT_DIR/reloaded.wav and closes it. Prints "dpc-test: <step>" after each step, so
 -- that the driver can tell where a run stopped; the exit status is Ardour's own.
 local dir, export_dir, uri = arg[1], arg[2], arg[3]
-assert(dir and export_dir and uri, "usage: ardour_session.lua SESSION_DIR EXPORT_DIR URI")
+local max_wait = tonumber(arg[4] or "120")
+assert(dir and export_dir and uri, "usage: ardour_session.lua SESSION_DIR EXPORT_DIR URI [WAIT]")
 local rate = 48000
 -- Ardour's "WAV @ session-rate" export preset (export/wav.preset): 32-bit float WAV
 local wav_preset = "75969a1c-3133-4694-864b-a1fa50e43348"
 
 local function step(what) print("dpc-test: " .. what) io.stdout:flush() end
 
--- Plays until the track's output meter reads above -60 dBFS (or 120 s have passed) and 1 s
+-- Plays until the track's output meter reads above -60 dBFS (or max_wait s have passed) and 1 s
 -- more, then exports 4 s from the session start to export_dir/name.wav.
 local function play_and_export(s, track, name)
   local waited = 0
-  while track:peak_meter():meter_level(0, ARDOUR.MeterType.MeterPeak) < -60 and waited < 120 do
+  while track:peak_meter():meter_level(0, ARDOUR.MeterType.MeterPeak) < -60 and waited < max_wait do
     sleep(0.25)
     waited = waited + 0.25
   end

@@ -17,6 +17,7 @@
 #include <lv2/urid/urid.h>
 #include <lv2/worker/worker.h>
 
+#include <array>
 #include <catch2/catch.hpp>
 #include <cfloat>
 #include <chrono>
@@ -36,6 +37,7 @@
 
 #include "testing/temp_dir.h"
 #include "testing/thread_count.h"
+#include "tests/lv2/log_capture.h"
 #include "tests/rt/alloc_counter.h"
 
 namespace {
@@ -73,6 +75,10 @@ struct Host {
   LV2_Feature mapFeature{LV2_URID__map, &map};
   LV2_Feature workerFeature{LV2_WORKER__schedule, &schedule};
   const LV2_Feature* features[3] = {&mapFeature, &workerFeature, nullptr};
+  /// The map, the worker and `extra`.
+  std::array<const LV2_Feature*, 4> with(const LV2_Feature* extra) {
+    return {&mapFeature, &workerFeature, extra, nullptr};
+  }
 };
 
 struct Instance {
@@ -343,54 +349,13 @@ TEST_CASE("LV2 plugin: the AmbiX order-3 plugin fills 16 outputs without a heap 
   }
 }
 
-namespace {
-
-int logPrintf(LV2_Log_Handle h, LV2_URID type, const char* fmt, ...);
-
-/// An LV2 log feature that keeps every line (any thread but the audio thread: the plugin's
-/// loader logs too).
-struct LogCapture {
-  LogCapture() { log.printf = logPrintf; }
-  std::mutex mutex;
-  std::vector<std::string> lines;
-  LV2_Log_Log log{this, nullptr, [](LV2_Log_Handle h, LV2_URID, const char* fmt, va_list ap) {
-                    char line[4096];
-                    std::vsnprintf(line, sizeof line, fmt, ap);
-                    auto* capture = static_cast<LogCapture*>(h);
-                    std::lock_guard lock(capture->mutex);
-                    capture->lines.emplace_back(line);
-                    return 0;
-                  }};
-  LV2_Feature feature{LV2_LOG__log, &log};
-  /// The lines holding `text`, in order.
-  std::vector<std::string> containing(const std::string& text) {
-    std::lock_guard lock(mutex);
-    std::vector<std::string> found;
-    for (const std::string& line : lines)
-      if (line.find(text) != std::string::npos) found.push_back(line);
-    return found;
-  }
-};
-
-int logPrintf(LV2_Log_Handle h, LV2_URID type, const char* fmt, ...) {
-  va_list ap;
-  va_start(ap, fmt);
-  const int n = static_cast<LogCapture*>(h)->log.vprintf(h, type, fmt, ap);
-  va_end(ap);
-  return n;
-}
-
-}  // namespace
-
 TEST_CASE("LV2 plugin: pose ports beyond their declared ranges are clamped, logged once") {
   const LV2_Descriptor* d = loadDescriptor();
   Host host;
-  LogCapture capture;
-  capture.log.printf = logPrintf;
-  const LV2_Feature* features[4] = {&host.mapFeature, &host.workerFeature, &capture.feature,
-                                    nullptr};
+  dpc::test::LogCapture capture;
+  const auto features = host.with(&capture.feature);
   const LV2_URID sequence = host.map.map(&host, LV2_ATOM__Sequence);
-  Instance x(d, host, features);
+  Instance x(d, host, features.data());
   d->activate(x.h);
   bool finite = true;
   uint64_t heapCalls = 0;
@@ -456,13 +421,12 @@ TEST_CASE("LV2 plugin: instantiate returns before a heavy scene is built, silent
   // logged its end, could only come from a load done inside instantiate or activate.
   const LV2_Descriptor* d = loadDescriptor();
   Host host;
-  LogCapture capture;
-  const LV2_Feature* features[4] = {&host.mapFeature, &host.workerFeature, &capture.feature,
-                                    nullptr};
+  dpc::test::LogCapture capture;
+  const auto features = host.with(&capture.feature);
   const dpc::test::TempDir bundle("dpc_lv2_bundle");
   writeBundle(bundle.path(), 100000);
   const std::string path = bundle.path().string() + "/";
-  Instance x(d, host, features, path.c_str());
+  Instance x(d, host, features.data(), path.c_str());
   d->activate(x.h);
   const LV2_URID sequence = host.map.map(&host, LV2_ATOM__Sequence);
   std::fill(std::begin(x.in), std::end(x.in), 0.5f);  // a loud dry input throughout
@@ -491,16 +455,15 @@ TEST_CASE("LV2 plugin: instantiate returns before a heavy scene is built, silent
 TEST_CASE("LV2 plugin: a scene that does not load is reported, the plugin stays silent") {
   const LV2_Descriptor* d = loadDescriptor();
   Host host;
-  LogCapture capture;
-  const LV2_Feature* features[4] = {&host.mapFeature, &host.workerFeature, &capture.feature,
-                                    nullptr};
+  dpc::test::LogCapture capture;
+  const auto features = host.with(&capture.feature);
   const dpc::test::TempDir bundle("dpc_lv2_bundle");
   writeBundle(bundle.path(), 2048);
   std::filesystem::remove(bundle.path() / "scene" / "shoebox.obj");
   const std::string path = bundle.path().string() + "/";
   const LV2_URID sequence = host.map.map(&host, LV2_ATOM__Sequence);
   {
-    Instance x(d, host, features, path.c_str());
+    Instance x(d, host, features.data(), path.c_str());
     d->activate(x.h);
     for (int block = 0; block < 50; ++block) {
       std::fill(std::begin(x.in), std::end(x.in), 0.5f);
@@ -528,10 +491,9 @@ TEST_CASE("LV2 plugin: the engine block is the host's nominal block length") {
        sizeof nominal, host.map.map(&host, LV2_ATOM__Int), &nominal},
       {LV2_OPTIONS_INSTANCE, 0, 0, 0, 0, nullptr}};
   LV2_Feature optionsFeature{LV2_OPTIONS__options, const_cast<LV2_Options_Option*>(options)};
-  const LV2_Feature* features[4] = {&host.mapFeature, &host.workerFeature, &optionsFeature,
-                                    nullptr};
+  const auto features = host.with(&optionsFeature);
   const LV2_URID sequence = host.map.map(&host, LV2_ATOM__Sequence);
-  Instance x(d, host, features);
+  Instance x(d, host, features.data());
   d->activate(x.h);
   uint64_t heapCalls = 0;
   REQUIRE(runUntilPlaying(x, host, kDefaultScenePath, &heapCalls));
@@ -573,19 +535,17 @@ TEST_CASE("LV2 plugin: a host rate that is no rate is refused, not replaced by t
   }
   for (const double rate : {8000.0, 384000.0}) {
     INFO(rate);
-    LogCapture capture;
-    const LV2_Feature* features[4] = {&host.mapFeature, &host.workerFeature, &capture.feature,
-                                      nullptr};
-    LV2_Handle h = d->instantiate(d, rate, kBundle, features);
+    dpc::test::LogCapture capture;
+    const auto features = host.with(&capture.feature);
+    LV2_Handle h = d->instantiate(d, rate, kBundle, features.data());
     REQUIRE(h != nullptr);
     d->cleanup(h);  // waits for the load
     CHECK(capture.containing("sample_rate").size() == 1);
     CHECK(capture.containing("room.json is not loaded").size() == 1);
   }
-  LogCapture capture;
-  const LV2_Feature* features[4] = {&host.mapFeature, &host.workerFeature, &capture.feature,
-                                    nullptr};
-  LV2_Handle h = d->instantiate(d, 16000.0, kBundle, features);
+  dpc::test::LogCapture capture;
+  const auto features = host.with(&capture.feature);
+  LV2_Handle h = d->instantiate(d, 16000.0, kBundle, features.data());
   REQUIRE(h != nullptr);
   d->cleanup(h);
   CHECK(capture.containing("room.json is loaded").size() == 1);

@@ -6,12 +6,16 @@
 #include <atomic>
 #include <memory>
 
+#include "api/scheduler_lease.h"
 #include "dpc/dpc.h"
 #include "runtime/live_session.h"
 #include "runtime/render_pipeline.h"
 #include "scene/scene.h"
 
 struct dpc_engine {
+  /// First member: taken before the scene is built, given back after the session's threads
+  /// are joined (api/scheduler_lease.h).
+  dpc::api::SchedulerLease lease;
   dpc::SceneDesc scene;  ///< built by create, then moved into the session, which shares it
   dpc::DrySignals dry;   ///< likewise
   std::unique_ptr<dpc::LiveSession> session;

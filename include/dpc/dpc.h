@@ -337,7 +337,9 @@ DPC_API dpc_status dpc_engine_create_from_data(const dpc_scene_data* data,
 /** Control thread. Stops the threads if running and frees everything. NULL is ignored. No
  *  other call on this engine may overlap it or follow it (the lifetime rule at the top of this
  *  header: calls found inside are waited for and counted in a logged warning, calls arriving
- *  meanwhile get DPC_ERR_STATE). */
+ *  meanwhile get DPC_ERR_STATE). Destroying the last engine also joins TBB's worker threads
+ *  (which run the propagation's parallel work) unless other code in the process still uses
+ *  TBB, so that a plugin host may unload libdpc afterwards. */
 DPC_API void dpc_engine_destroy(dpc_engine* engine);
 
 /** Control thread. Starts the propagation thread (idempotent). Allocates (thread creation).

@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <memory>
+#include <optional>
 
 #include "api/scheduler_lease.h"
 #include "dpc/dpc.h"
@@ -13,9 +14,10 @@
 #include "scene/scene.h"
 
 struct dpc_engine {
-  /// First member: taken before the scene is built, given back after the session's threads
-  /// are joined (api/scheduler_lease.h).
-  dpc::api::SchedulerLease lease;
+  /// First member: taken before the scene is built, given back by destroyEngine after the
+  /// session's threads are joined (api/scheduler_lease.h), not when the closed handle is freed
+  /// (that is up to 64 destroys later).
+  std::optional<dpc::api::SchedulerLease> lease{std::in_place};
   dpc::SceneDesc scene;  ///< built by create, then moved into the session, which shares it
   dpc::DrySignals dry;   ///< likewise
   std::unique_ptr<dpc::LiveSession> session;
@@ -64,7 +66,7 @@ int engineProperty(const dpc_engine* engine, Read read) {
 
 /// Control thread: dpc_engine_destroy (dpc.h "Lifetime"). Closes the engine (calls are refused
 /// from now on), waits for the calls inside it to return and logs a warning with their count
-/// if there were any, stops and frees the session, then keeps the closed handle among the last
+/// if there were any, stops and frees the session, gives back its TBB lease, then keeps the closed handle among the last
 /// 64 destroyed (freeing the oldest), so that a late call is refused rather than reading freed
 /// memory. Never throws.
 void destroyEngine(dpc_engine* engine) noexcept;

@@ -81,6 +81,7 @@ void destroyEngine(dpc_engine* engine) noexcept {
   } catch (...) {
   }
   engine->session.reset();
+  engine->lease.reset();  // the last engine's lease joins TBB's workers now
   keepClosed(engine);
 }
 

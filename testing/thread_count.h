@@ -4,6 +4,8 @@
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
+#include <string>
 #include <thread>
 
 namespace dpc::test {
@@ -14,6 +16,19 @@ inline int threadCount() {
        std::filesystem::directory_iterator("/proc/self/task"))
     ++n;
   return n;
+}
+
+/// The names (/proc/self/task/N/comm) of this process's threads, comma-separated: what a
+/// failing count prints, so a thread left behind says whose it is.
+inline std::string threadNames() {
+  std::string names;
+  for (const auto& entry : std::filesystem::directory_iterator("/proc/self/task")) {
+    std::ifstream comm(entry.path() / "comm");
+    std::string name;
+    std::getline(comm, name);
+    names += (names.empty() ? "" : ", ") + name;
+  }
+  return names;
 }
 
 /// The thread count once it has come down to `expected`, or after 10 s: a joined thread's

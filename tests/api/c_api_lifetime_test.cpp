@@ -87,7 +87,7 @@ TEST_CASE("Lifetime: destroy racing a copy loop and a process loop waits, then r
   CHECK(warnings.count(kWaited) <= kTrials);
 }
 
-TEST_CASE("Lifetime: a destroyed handle stays closed; the next engines get other handles") {
+TEST_CASE("Lifetime: a destroyed handle stays closed and the next engines get other handles") {
   BoxData box;
   dpc_engine* old = nullptr;
   REQUIRE(dpc_engine_create_from_data(&box.data(), nullptr, &old) == DPC_OK);

@@ -37,6 +37,7 @@ TEST_CASE("C API: no thread of dpc is left after the last engine is destroyed") 
   CHECK(dpc::test::threadCount() > before);  // b still runs
   dpc_engine_destroy(b);
   CHECK(dpc::test::threadCountSettled(before) == before);
+  INFO("threads: " << dpc::test::threadNames());
   // dpc works as before afterwards: TBB starts its workers again on demand.
   dpc_engine* c = tracedEngine();
   dpc_engine_destroy(c);

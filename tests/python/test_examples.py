@@ -2,7 +2,7 @@
 their output is checked against physics computed here (run by ctest's python:pytest):
 
 - t30_grid.py: writes the plot and the JSON of 9 positions x 8 bands, and T30 at 250 Hz ..
-  1 kHz agrees with Sabine's reverberation time of the shoebox, computed here from its OBJ
+  2 kHz agrees with Sabine's reverberation time of the shoebox, computed here from its OBJ
   and the materials library;
 - read_bake.py on a one-probe bake made by dpc-bake: the probe it reports, its direct-sound
   delay (the probe's distance to the talker / c) and its refusal of a file that is not a bake.
@@ -27,7 +27,7 @@ BAKE = os.environ.get("DPC_BAKE", "")
 def run_example(args, cwd, check=True):
     """The example in a child interpreter (the one running the tests, its PYTHONPATH)."""
     return subprocess.run([sys.executable] + args, cwd=cwd, capture_output=True, text=True,
-                          timeout=120, check=check)
+                          timeout=900, check=check)  # a hang guard only
 
 
 def material_absorption(scene_path):
@@ -60,25 +60,26 @@ def obj_areas(path):
 def test_t30_grid_agrees_with_sabine(tmp_path):
     out = tmp_path / "grid.png"
     done = run_example([os.path.join(EXAMPLES, "t30_grid.py"), SHOEBOX, str(out), "--frames",
-                        "3", "--rays", "1024"], cwd=tmp_path)
+                        "4", "--rays", "2048"], cwd=tmp_path)
     assert done.stdout.strip() == f"wrote {out}"
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     result = json.load(open(tmp_path / "grid.json"))
-    assert (result["frames"], result["rays"]) == (3, 1024)
+    assert (result["frames"], result["rays"]) == (4, 2048)
     t30 = np.array(list(result["t30_s"].values()))
     assert t30.shape == (9, 8)
     # Sabine: T = 55.26 V / (c A), A = sum S_i a_i; the shoebox is 10 x 3 x 7 m. Air absorbs
-    # 4 m V < 3 % of A up to 1 kHz (ISO 9613-1), left out. The shoebox is not diffuse (a
-    # carpet floor under hard walls): its T30 runs 10 to 15 % above Sabine at these bands with
-    # the example's full settings (docs/python.md); 3 frames of 1024 rays add about 5 %.
+    # 4 m V < 3 % of A up to 2 kHz (ISO 9613-1), left out.
     areas = obj_areas(os.path.join(SCENES, "shoebox.obj"))
     alpha = material_absorption(SHOEBOX)
     assert sum(areas.values()) == pytest.approx(2 * (10 * 3 + 10 * 7 + 3 * 7))
     absorption_area = sum(areas[m] * alpha[m] for m in areas)
     sabine = 55.26 * 10 * 3 * 7 / (331.3 * math.sqrt(1 + 20 / 273.15) * absorption_area)
-    for band in (2, 3, 4):  # 250, 500, 1000 Hz
-        ratio = t30[:, band] / sabine[band]
-        assert np.all((ratio > 0.9) & (ratio < 1.35)), (band, sabine[band], t30[:, band])
+    # The shoebox is not diffuse (a carpet floor under hard walls): its T30 runs 5 to 25 %
+    # above Sabine at 250 Hz .. 2 kHz (docs/python.md). One position's Monte Carlo noise at
+    # 4 frames of 2048 rays is about 5 %, the grid mean's a third of that.
+    ratio = t30[:, 2:6] / sabine[2:6]
+    assert np.all((ratio.mean(axis=0) > 0.95) & (ratio.mean(axis=0) < 1.35)), ratio
+    assert np.all((ratio > 0.85) & (ratio < 1.45)), ratio
 
 
 @pytest.mark.skipif(not BAKE, reason="dpc-bake not built (DPC_BAKE unset)")
@@ -89,7 +90,7 @@ def test_read_bake_reports_the_probe(tmp_path):
     bake = tmp_path / "shoebox.h5"
     subprocess.run([BAKE, SHOEBOX, "--out", str(bake), "--probes", str(tmp_path / "probes.txt"),
                     "--rays", "256", "--frames", "4", "--quiet"], check=True,
-                   capture_output=True, timeout=120)
+                   capture_output=True, timeout=900)
     done = run_example([os.path.join(EXAMPLES, "read_bake.py"), str(bake)], cwd=tmp_path)
     assert "1 probes, 1 done, complete = " in done.stdout
     assert re.search(r"probe 0 at \[6\.? +1\.6 +3\.5\] m", done.stdout), done.stdout

@@ -72,10 +72,10 @@ def test_fifty_steps_follow_a_walking_listener():
         assert er[0, direct_bin(r, c)] > (1.0 - 1e-3) * free_field, (step, r)
         # In the IR: a Dirac at the sample of r / c (rounded), of amplitude sqrt(1/(4 pi r^2))
         # less air absorption averaged over the bands (at most 10 % within 7 m: 8 kHz loses
-        # 0.1 dB/m).
+        # 0.1 dB/m), give or take the noise of the diffuse part on that sample (a few %).
         peak, amplitude = direct_sound_peak(e.impulse_response(0)[0], r, c, fs)
         assert abs(peak - r / c * fs) <= 1.0, (step, peak, r / c * fs)
-        assert 0.9 < amplitude / math.sqrt(free_field) <= 1.0, (step, amplitude)
+        assert 0.9 < amplitude / math.sqrt(free_field) < 1.1, (step, amplitude)
         if previous is not None:
             assert not np.array_equal(er, previous), step
         previous = er
@@ -103,7 +103,7 @@ def test_each_source_has_its_own_impulse_response():
         r = float(np.linalg.norm(position - listener))
         peak, amplitude = direct_sound_peak(e.impulse_response(s)[0], r, c, e.sample_rate)
         assert abs(peak - r / c * e.sample_rate) <= 1.0, (s, peak, r / c * e.sample_rate)
-        assert 0.9 < amplitude * math.sqrt(4.0 * math.pi) * r <= 1.0, (s, amplitude)
+        assert 0.9 < amplitude * math.sqrt(4.0 * math.pi) * r < 1.1, (s, amplitude)
         peaks.append(peak)
     assert peaks[0] != peaks[1]
 

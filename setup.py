@@ -70,6 +70,8 @@ TREE.mkdir(exist_ok=True)  # egg_info writes dpc.egg-info there before the build
 setup(
     version=project_version(),
     ext_modules=[Extension("dpc", sources=[])],
+    packages=[],  # the module is the extension alone: no automatic discovery of folders
+    py_modules=[],
     cmdclass={"build_ext": CMakeBuild},
     # setuptools' own files go inside the CMake tree, not into ./build (scripts/build.sh's).
     options={"build": {"build_base": str(TREE / "setuptools")},

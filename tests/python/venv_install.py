@@ -7,9 +7,8 @@ the installed module imported from outside the source tree and an engine stepped
 PYTHON makes the venv (with --system-site-packages: numpy, setuptools, wheel and pytest come
 from Debian; pip is told --no-index, as on a machine without PyPI). The tracked sources are
 copied to WORK_DIR/src first, so that the test neither writes into the checkout nor passes on
-files that only the checkout holds. Exits 0 when every check passes.
+files that only the checkout holds; the venv is new each run. Exits 0 when every check passes.
 """
-import math
 import os
 import re
 import shutil
@@ -20,21 +19,44 @@ import textwrap
 SOURCE_DIR = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 
 
-def copy_sources(dest):
-    """The files git tracks (a checkout's build trees and local files left behind)."""
+def tracked_files():
+    """The files git tracks, or None outside a git checkout."""
     listed = subprocess.run(["git", "-C", SOURCE_DIR, "ls-files", "-z"], capture_output=True)
-    if listed.returncode != 0:  # not a git checkout: everything but build trees
+    if listed.returncode != 0:
+        return None
+    return [n for n in listed.stdout.decode().split("\0")
+            if n and os.path.isfile(os.path.join(SOURCE_DIR, n))]
+
+
+def sync_sources(dest):
+    """dest becomes a copy of the tracked sources. A CMake tree pip left there (build-python-*)
+    is kept, and files are copied with their times, so a second run compiles only what
+    changed since the first (as a user's second pip install does); files no longer tracked
+    are removed."""
+    names = tracked_files()
+    if names is None:  # not a git checkout: everything but build trees
+        shutil.rmtree(dest, ignore_errors=True)
         shutil.copytree(SOURCE_DIR, dest, ignore=shutil.ignore_patterns("build*", ".git"))
         return
-    for name in listed.stdout.decode().split("\0"):
-        if name and os.path.isfile(os.path.join(SOURCE_DIR, name)):
-            os.makedirs(os.path.join(dest, os.path.dirname(name)), exist_ok=True)
-            shutil.copy2(os.path.join(SOURCE_DIR, name), os.path.join(dest, name))
+    keep = set(names)
+    for root, dirs, files in os.walk(dest):
+        dirs[:] = [d for d in dirs if not (root == dest and d.startswith("build-python-"))]
+        for f in files:
+            path = os.path.join(root, f)
+            if os.path.relpath(path, dest) not in keep:
+                os.remove(path)
+    for name in names:
+        os.makedirs(os.path.join(dest, os.path.dirname(name)), exist_ok=True)
+        shutil.copy2(os.path.join(SOURCE_DIR, name), os.path.join(dest, name))
 
 
 def run(args, **kwargs):
     print("+", " ".join(args), flush=True)
-    return subprocess.run(args, check=True, **kwargs)
+    done = subprocess.run(args, **kwargs)
+    if done.returncode != 0:
+        sys.exit(f"venv_install.py: exit status {done.returncode} from {args[:4]}:\n"
+                 f"{done.stdout or ''}{done.stderr or ''}")
+    return done
 
 
 # Outside the source tree: what the installed module does, with a physics check (the direct
@@ -50,7 +72,7 @@ STEP_ENGINE = textwrap.dedent("""
         e.step()
     er = e.energy_response(0)
     k = int(5.0 / (331.3 * math.sqrt(1 + 20 / 273.15)) / 1e-3)
-    assert e.frames == 12 and e.sample_rate == 48000
+    assert (e.frames, e.sample_rate) == (12, 48000), (e.frames, e.sample_rate)
     assert abs(er[0, k] * 4 * math.pi * 25.0 - 1.0) < 0.01, er[0, k]
     print("stepped", dpc.__file__)
 """)
@@ -58,9 +80,9 @@ STEP_ENGINE = textwrap.dedent("""
 
 def main():
     python, work = sys.argv[1], os.path.abspath(sys.argv[2])
-    shutil.rmtree(work, ignore_errors=True)
     src, venv = os.path.join(work, "src"), os.path.join(work, "venv")
-    copy_sources(src)
+    sync_sources(src)
+    shutil.rmtree(venv, ignore_errors=True)
     run([python, "-m", "venv", "--system-site-packages", venv])
     vpython = os.path.join(venv, "bin", "python")
     run([vpython, "-m", "pip", "install", "--no-build-isolation", "--no-index", src])

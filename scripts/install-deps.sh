@@ -11,6 +11,7 @@ packages=(
   nlohmann-json3-dev libtinyobjloader-dev libassimp-dev libcli11-dev catch2
   python3 python3-numpy python3-matplotlib espeak-ng sox
   pybind11-dev python3-pybind11 python3-pytest  # the Python module and its tests
+  python3-dev python3-setuptools python3-wheel python3-venv  # pip install . (docs/python.md)
   clang libclang-rt-dev
   lv2-dev lilv-utils sordi
   jalv python3-jack-client  # the plugin inside a real host (tests/lv2/jalv_test.py)

@@ -17,7 +17,9 @@ constexpr const char* kDescription =
     "           [--map MAP.csv]\n"
     "  dpc-bake --resume BAKE.h5 [SCENE.json] [--map MAP.csv]\n"
     "Under mpirun the probes are shared among the ranks; the file is the same for any number\n"
-    "of ranks. The format: docs/bake-format.md. Exit status 0 on success, 1 on bad input,\n"
+    "of ranks. The probes, file size and time are estimated first; over 100000 probes, 16 GB\n"
+    "or 24 h the bake is refused unless --force. One dpc-bake writes a file at a time.\n"
+    "The format: docs/bake-format.md. Exit status 0 on success, 1 on bad input,\n"
     "128 + n after stop signal n (SIGINT, SIGTERM, SIGHUP: the file then says which probes are\n"
     "done; --resume finishes it).";
 
@@ -56,6 +58,9 @@ void addOptions(CLI::App& app, Options& o) {
                  "with its 95 % confidence half-width) as CSV")
       ->type_name("FILE");
   app.add_flag("--quiet", o.quiet, "No progress line");
+  app.add_flag("--force", o.force,
+               "Bake even when the estimate is over the limits (100000 probes, 16 GB, 24 h) or "
+               "more than the disk's free space (docs/bake.md)");
   app.add_flag("--json", o.json,
                "Print a JSON summary on stdout at the end: probes, seconds, probes/s, "
                "processes, bytes per probe sent to the writer, writer seconds per probe");

@@ -34,7 +34,12 @@ void createLayout(hid_t f, const BakeHeader& header) {
   h5::createDataset(f, "checksums", H5T_STD_U32LE, {probes, kProbeDatasets.size()});
   for (const ProbeDataset& d : kProbeDatasets)
     h5::createDataset(f, d.name, H5T_IEEE_F32LE, withProbes(probes, d.shape(header.shape)));
-  if (probes > 0) h5::writeAll(f, "probes/position", H5T_NATIVE_FLOAT, header.probes.positions.data());
+}
+
+/// The datasets fixed at creation (after reserveFile: raw writes into reserved bytes).
+void writeFixed(hid_t f, const BakeHeader& header) {
+  if (!header.probes.positions.empty())
+    h5::writeAll(f, "probes/position", H5T_NATIVE_FLOAT, header.probes.positions.data());
   if (!header.sources.empty())
     h5::writeAll(f, "sources/position", H5T_NATIVE_FLOAT, header.sources.data());
   h5::writeAll(f, "band_centres_hz", H5T_NATIVE_FLOAT, kBandCentreHz.data());
@@ -65,7 +70,9 @@ BakeHeader readHeader(hid_t f, const std::string& path) {
                              " s is outside (0, 3600]");
   h.shape = {h.sources.size(), responseBins(h.settings.irLength)};
   validateShapes(f, h);
-  if (uint32_t(h5::readUint(root.get(), "fixed_crc32")) != fixedChecksum(h))
+  std::vector<float> bands(kNumBands);
+  h5::readAll(f, "band_centres_hz", H5T_NATIVE_FLOAT, bands.data());
+  if (uint32_t(h5::readUint(root.get(), "fixed_crc32")) != fixedChecksum(h, bands))
     throw std::runtime_error("fixed_crc32: the probe or source positions or band centres are "
                              "damaged");
   return h;
@@ -191,7 +198,10 @@ BakeFile BakeFile::create(const std::string& path, const std::string& displayPat
     createLayout(f, header);
     const h5::Id root = h5::check(H5Gopen2(f, "/", H5P_DEFAULT), "no root group");
     writeHeaderAttributes(root.get(), header);
-    h5::writeAttribute(root.get(), "fixed_crc32", uint64_t(fixedChecksum(header)));
+    const std::vector<float> bands(kBandCentreHz.begin(), kBandCentreHz.end());
+    h5::writeAttribute(root.get(), "fixed_crc32", uint64_t(fixedChecksum(header, bands)));
+    h5::reserveFile(f);
+    writeFixed(f, header);
     h5::flushToDevice(f);
   } catch (const std::runtime_error& e) {
     writeFailed(displayPath, "", e);

@@ -33,11 +33,11 @@ std::vector<uint32_t> probeChecksums(const ProbeResult& r) {
   return out;
 }
 
-uint32_t fixedChecksum(const BakeHeader& h) {
+uint32_t fixedChecksum(const BakeHeader& h, const std::vector<float>& bands) {
   std::vector<float> all;
   for (const glm::vec3& p : h.probes.positions) all.insert(all.end(), {p.x, p.y, p.z});
   for (const glm::vec3& s : h.sources) all.insert(all.end(), {s.x, s.y, s.z});
-  all.insert(all.end(), kBandCentreHz.begin(), kBandCentreHz.end());
+  all.insert(all.end(), bands.begin(), bands.end());
   return crc32Of(all.data(), all.size());
 }
 

@@ -25,8 +25,9 @@ inline constexpr size_t kVerifyBlockBytes = 16u << 20;
 uint32_t crc32Of(const float* data, size_t n);
 /// The /checksums row of a probe's result: one CRC-32 per kProbeDatasets entry.
 std::vector<uint32_t> probeChecksums(const ProbeResult& r);
-/// CRC-32 of probes/position, sources/position and band_centres_hz, in that order.
-uint32_t fixedChecksum(const BakeHeader& h);
+/// CRC-32 of probes/position, sources/position (the header's) and band_centres_hz (`bands`),
+/// in that order.
+uint32_t fixedChecksum(const BakeHeader& h, const std::vector<float>& bands);
 
 struct Verification {
   /// Per probe: 1 where the done mask says stored and every row matches its checksum.

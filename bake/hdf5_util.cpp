@@ -1,5 +1,6 @@
 #include "bake/hdf5_util.h"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -33,7 +34,12 @@ bool Id::close() {
   return status >= 0;
 }
 
-void silenceHdf5() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+void silenceHdf5() {
+  // Before HDF5 starts (else a harmless failure): after a write the system refused, HDF5's
+  // own clean-up at exit can crash on the objects that write left half made.
+  H5dont_atexit();
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+}
 
 namespace {
 
@@ -69,6 +75,7 @@ Id check(hid_t id, const std::string& what) {
 Id fileAccess() {
   Id fapl = check(H5Pcreate(H5P_FILE_ACCESS), "file access properties");
   H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V18, H5F_LIBVER_V18);
+  H5Pset_sieve_buf_size(fapl.get(), 0);
   return fapl;
 }
 
@@ -76,6 +83,7 @@ Id fileCreation() {
   Id fcpl = check(H5Pcreate(H5P_FILE_CREATE), "file creation properties");
   H5Pset_obj_track_times(fcpl.get(), 0);
   H5Pset_link_phase_change(fcpl.get(), 32, 24);
+  H5Pset_attr_phase_change(fcpl.get(), 64, 48);
   return fcpl;
 }
 
@@ -93,13 +101,26 @@ Id openFile(const std::string& path, bool writable, std::string& error) {
   return file;
 }
 
-void flushToDevice(hid_t file) {
-  if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0) throw std::runtime_error(lastError());
+/// The file's descriptor (the sec2 driver's).
+int descriptor(hid_t file) {
   const Id fapl = check(H5Fget_access_plist(file), "file access properties");
   void* handle = nullptr;
   if (H5Fget_vfd_handle(file, fapl.get(), &handle) < 0 || !handle)
     throw std::runtime_error("no file descriptor: " + lastError());
-  if (::fsync(*static_cast<int*>(handle)) != 0) throw std::runtime_error(std::strerror(errno));
+  return *static_cast<int*>(handle);
+}
+
+void reserveFile(hid_t file) {
+  if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0) throw std::runtime_error(lastError());
+  hsize_t size = 0;
+  if (H5Fget_filesize(file, &size) < 0) throw std::runtime_error(lastError());
+  if (const int e = ::posix_fallocate(descriptor(file), 0, off_t(size)); e != 0)
+    throw std::runtime_error(std::strerror(e));
+}
+
+void flushToDevice(hid_t file) {
+  if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0) throw std::runtime_error(lastError());
+  if (::fsync(descriptor(file)) != 0) throw std::runtime_error(std::strerror(errno));
 }
 
 namespace {
@@ -205,7 +226,7 @@ void createDataset(hid_t file, const std::string& name, hid_t type,
   const Id space = check(H5Screate_simple(int(dims.size()), dims.data(), nullptr), name);
   const Id dcpl = check(H5Pcreate(H5P_DATASET_CREATE), name);
   H5Pset_alloc_time(dcpl.get(), H5D_ALLOC_TIME_EARLY);
-  H5Pset_fill_time(dcpl.get(), H5D_FILL_TIME_ALLOC);
+  H5Pset_fill_time(dcpl.get(), H5D_FILL_TIME_NEVER);  // reserveFile() makes the zeros
   H5Pset_obj_track_times(dcpl.get(), 0);
   check(H5Dcreate2(file, name.c_str(), type, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
         "cannot create " + name);
@@ -254,10 +275,11 @@ RowSelection selectRows(hid_t set, const std::string& name, size_t first, size_t
 
 void writeRows(hid_t file, const std::string& name, hid_t type, size_t first, size_t rows,
                const void* data) {
-  const Id set = check(H5Dopen2(file, name.c_str(), H5P_DEFAULT), "cannot open " + name);
+  Id set = check(H5Dopen2(file, name.c_str(), H5P_DEFAULT), "cannot open " + name);
   const RowSelection s = selectRows(set.get(), name, first, rows);
   if (H5Dwrite(set.get(), type, s.memory.get(), s.file.get(), H5P_DEFAULT, data) < 0)
-    throw std::runtime_error("cannot write " + name + ": " + lastError());
+    throw std::runtime_error(lastError());
+  if (!set.close()) throw std::runtime_error(lastError());
 }
 
 void readRows(hid_t file, const std::string& name, hid_t type, size_t first, size_t rows,
@@ -269,9 +291,10 @@ void readRows(hid_t file, const std::string& name, hid_t type, size_t first, siz
 }
 
 void writeAll(hid_t file, const std::string& name, hid_t type, const void* data) {
-  const Id set = check(H5Dopen2(file, name.c_str(), H5P_DEFAULT), "cannot open " + name);
+  Id set = check(H5Dopen2(file, name.c_str(), H5P_DEFAULT), "cannot open " + name);
   if (H5Dwrite(set.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
-    throw std::runtime_error("cannot write " + name + ": " + lastError());
+    throw std::runtime_error(lastError());
+  if (!set.close()) throw std::runtime_error(lastError());
 }
 
 void readAll(hid_t file, const std::string& name, hid_t type, void* data) {

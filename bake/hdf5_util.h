@@ -47,7 +47,9 @@ Id check(hid_t id, const std::string& what);
 /// File access: the object formats of HDF5 1.8 (superblock 2 and object headers 2, each
 /// checksummed), whatever library writes the file, so that one build's files are the same
 /// bytes everywhere; 1.10's superblock 3 is avoided because a writer killed with the file open
-/// leaves it unreadable to every tool until h5clear.
+/// leaves it unreadable to every tool until h5clear. No sieve buffer: a dataset write reaches
+/// the file within H5Dwrite, whose status then says whether the system took it (buffered, a
+/// refused write surfaced only when the dataset was closed, and HDF5 crashed at exit).
 Id fileAccess();
 /// File creation: no timestamps, and up to 32 links kept in the root group's own (checksummed)
 /// object header.
@@ -57,6 +59,10 @@ void createGroup(hid_t file, const std::string& name);
 
 /// Opens the file with fileAccess(); an invalid Id on failure, with lastError() in `error`.
 Id openFile(const std::string& path, bool writable, std::string& error);
+/// Flushes the file and reserves its whole size on the device (posix_fallocate): a disk too
+/// small refuses it here, in dpc's own call, not inside HDF5 (whose state a refused write can
+/// leave broken). Throws std::runtime_error with the system's reason.
+void reserveFile(hid_t file);
 /// H5Fflush, then fsync of the file's descriptor: the data are on the device (or the device
 /// refused them). Throws std::runtime_error with the reason on failure.
 void flushToDevice(hid_t file);
@@ -71,9 +77,9 @@ uint64_t readUint(hid_t obj, const std::string& name);
 double readDouble(hid_t obj, const std::string& name);
 std::string readString(hid_t obj, const std::string& name);
 
-/// Creates a contiguous dataset of `dims` of native type `type` (stored little endian), its
-/// whole storage allocated and filled with zeros now, so that later writes only overwrite
-/// bytes already in the file (a full disk shows itself here, not half-way through a bake).
+/// Creates a contiguous dataset of `dims` of type `type`, its whole storage allocated in the
+/// file now (zeros once reserveFile() has run), so that later writes only overwrite bytes
+/// already in the file (a full disk shows itself at creation, not half-way through a bake).
 void createDataset(hid_t file, const std::string& name, hid_t type,
                    const std::vector<hsize_t>& dims);
 /// The dataset's dimensions; throws std::runtime_error when it does not exist.

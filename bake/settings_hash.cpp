@@ -81,6 +81,9 @@ uint64_t sampling(const SceneDesc& scene, const BakeSettings& s) {
   Fnv h;
   for (const int v : {s.rays, s.frames, s.subStreams}) h.value(v);
   h.value(scene.propagation.seed);
+  // The patches path identifiers are made of: they group a frame's hits into the arrivals
+  // whose directions sh_energy sums (energy only to float rounding).
+  h.value(scene.propagation.patchSize);
   // The direction the rays leave from, as a probe's frame traces it (one listener).
   h.value(uint8_t(tracesFromListeners(scene.propagation.tracing, scene.sources.size(), 1)));
   return h.get();

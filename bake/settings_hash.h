@@ -6,8 +6,8 @@
 // of them (rays, seed, probe radius) or place the probes.
 //
 // Left out on purpose, because they do not change a probe (a bake always traces plain path
-// tracing, docs/bake.md): the estimator and the cache settings (patch_size, cache_tau,
-// cache memory, dpc_weighting), frame_rate, the audio settings (sample rate, block size,
+// tracing, docs/bake.md): the estimator and the cache settings (cache_tau, cache memory,
+// dpc_weighting), frame_rate, the audio settings (sample rate, block size,
 // output format: a bake stores energy per 1 ms, synthesised at playback), sources' gains and
 // signals, names, tracing threads. tests/bake/bake_cli_test.sh checks that changing each of
 // them leaves the file byte-identical.
@@ -30,7 +30,7 @@ enum class SettingGroup : int {
   kSources,    ///< positions and orientations at t = 0, directivity
   kListener,   ///< the probe radius (the scene's first listener's radius)
   kPhysics,    ///< orders, air, speed of sound, diffraction, roulette
-  kSampling,   ///< rays, frames, sub-streams, seed, tracing direction
+  kSampling,   ///< rays, frames, sub-streams, seed, patch size, tracing direction
   kResponse,   ///< response length and bin widths, SH order
   kProbes,     ///< probe positions
 };
@@ -51,7 +51,7 @@ inline constexpr std::array<SettingGroupInfo, kSettingGroups> kSettingGroupInfo 
      "propagation physics (max_order, exact_order, speed of sound, temperature, humidity, air "
      "absorption, diffraction, roulette)",
      true},
-    {"hash_sampling", "sampling (rays, frames, seed, tracing direction)", false},
+    {"hash_sampling", "sampling (rays, frames, seed, patch_size, tracing direction)", false},
     {"hash_response", "response length (ir_length)", true},
     {"hash_probes", "probe positions", false},
 }};

@@ -265,6 +265,9 @@ TEST_CASE("Bake faults: the settings hash sees every setting that changes a prob
   b = a;
   b.propagation.seed = 2;
   CHECK(changedGroups(b, s, probes) == only(SettingGroup::kSampling));
+  b = a;
+  b.propagation.patchSize = 0.25f;  // groups the hits whose directions sh_energy sums
+  CHECK(changedGroups(b, s, probes) == only(SettingGroup::kSampling));
   BakeSettings t = s;
   t.rays = 501;
   CHECK(changedGroups(a, t, probes) == only(SettingGroup::kSampling));
@@ -278,7 +281,6 @@ TEST_CASE("Bake faults: the settings hash sees every setting that changes a prob
   // Settings that do not change a probe: no group.
   b = a;
   b.propagation.cacheTau = 0.2f;
-  b.propagation.patchSize = 0.25f;
   b.propagation.estimator = Estimator::kPathTracing;
   b.propagation.frameRate = 30.f;
   b.propagation.raysPerFrame = 17;

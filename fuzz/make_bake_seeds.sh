@@ -8,7 +8,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bake=$1/apps/dpc-bake
 out=fuzz/corpus/bake
-work=$(mktemp -d)
+# A fixed folder: the bakes record their scene's path, so the seeds come out the same bytes.
+work=/tmp/dpc_bake_seeds
+rm -rf "$work" && mkdir -p "$work"
 trap 'rm -rf "$work"' EXIT
 mkdir -p "$out"
 short() {  # short SCENE NAME: the scene with 0.1 s responses and its files named absolutely

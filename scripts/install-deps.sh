@@ -16,6 +16,7 @@ packages=(
   jalv python3-jack-client  # the plugin inside a real host (tests/lv2/jalv_test.py)
   libzita-convolver-dev  # dpc-bench convolve only: the yardstick
   libhdf5-dev hdf5-tools python3-h5py  # dpc-bake's file, its tests (h5diff), the h5py example
+  zlib1g-dev  # the bake file's CRC-32 checksums
   libopenmpi-dev openmpi-bin  # dpc-bake under mpirun (optional: without it, single-process)
 )
 

@@ -57,6 +57,10 @@ void addOptions(CLI::App& app, Options& o) {
                  "Write the parameter map (T20, T30, EDT, C50, C80, D50, G per band, STI, each "
                  "with its 95 % confidence half-width) as CSV")
       ->type_name("FILE");
+}
+
+/// The flags without a value.
+void addFlags(CLI::App& app, Options& o) {
   app.add_flag("--quiet", o.quiet, "No progress line");
   app.add_flag("--force", o.force,
                "Bake even when the estimate is over the limits (100000 probes, 16 GB, 24 h) or "
@@ -103,6 +107,7 @@ void validate(const Options& o, const CLI::App& app) {
 bool parseOptions(int argc, char** argv, Options& o) {
   CLI::App app(kDescription, "dpc-bake");
   addOptions(app, o);
+  addFlags(app, o);
   refuseEmptyValues(app);
   try {
     app.parse(argc, argv);

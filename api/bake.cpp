@@ -7,15 +7,18 @@
 #include "api/errors.h"
 #include "engine/baked_field.h"
 #ifdef DPC_HAVE_BAKE
-#include "bake/bake_file.h"
 #include "bake/bake_loader.h"
+#include "bake/settings_hash.h"
 #endif
 
 /// The object behind the opaque dpc_bake handle: the bake, shared with the engines it is
-/// attached to, and the hash of the scene it was checked against (bake/bake_file.h).
+/// attached to, and the playback settings hash of the scene it was checked against
+/// (bake/settings_hash.h).
 struct dpc_bake {
   std::shared_ptr<const dpc::BakedField> field;
-  uint64_t sceneHash = 0;
+#ifdef DPC_HAVE_BAKE
+  dpc::bake::SettingsHash sceneHash{};
+#endif
 };
 
 using dpc::api::fail;
@@ -34,7 +37,7 @@ dpc_status dpc_bake_open(const dpc_engine* engine, const char* bake_path, dpc_ba
     auto bake = std::make_unique<dpc_bake>();
     const dpc::SceneDesc& scene = engine->session->scene();
     bake->field = dpc::bake::loadBakedField(bake_path, scene);
-    bake->sceneHash = dpc::bake::sceneHash(scene);
+    bake->sceneHash = dpc::bake::playbackHash(scene);
     *out = bake.release();
     return DPC_OK;
   });
@@ -54,7 +57,9 @@ dpc_status dpc_engine_attach_bake(dpc_engine* engine, const dpc_bake* bake) {
   if (const dpc_status s = call.check("dpc_engine_attach_bake"); s != DPC_OK) return s;
   return guarded([&] {
 #ifdef DPC_HAVE_BAKE
-    if (bake && bake->sceneHash != dpc::bake::sceneHash(engine->session->scene()))
+    if (bake && dpc::bake::firstDifference(bake->sceneHash,
+                                           dpc::bake::playbackHash(engine->session->scene()),
+                                           true) >= 0)
       return fail(DPC_ERR_INVALID_ARGUMENT,
                   "dpc_engine_attach_bake: the bake is of another scene than the engine's");
 #endif

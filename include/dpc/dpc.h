@@ -475,13 +475,15 @@ DPC_API dpc_status dpc_engine_get_stats(dpc_engine* engine, dpc_stats* out);
 typedef struct dpc_bake dpc_bake;
 
 /** Control thread. Reads the bake at bake_path whole into memory (allocates: 44.8 kB per
- *  probe and source per second of response) and checks it against the
- *  engine's scene. Errors: DPC_ERR_INVALID_ARGUMENT (NULL); DPC_ERR_INPUT, with the one-line
- *  message of dpc_last_error() naming the file and the field: a missing, truncated or corrupt
- *  file, another format or version (version), a dataset of the wrong shape, a bake of another
- *  scene or of other propagation settings (mesh_hash), an incomplete bake (complete), another
- *  number of sources (sources/position); DPC_ERR_UNSUPPORTED when the library was built
- *  without HDF5. *out is NULL on error. */
+ *  probe and source per second of response), verifies every probe's checksums and checks it
+ *  against the engine's scene. Errors: DPC_ERR_INVALID_ARGUMENT (NULL); DPC_ERR_INPUT, with the
+ *  one-line message of dpc_last_error() naming the file and the field: a missing, truncated,
+ *  damaged or corrupt file (a probe whose checksum fails names its dataset), another format or
+ *  version (version), a dataset of the wrong shape, a bake of another scene or of other
+ *  settings: the settings hash group that differs (hash_geometry, hash_materials,
+ *  hash_sources, hash_physics; ir_length_s for another response length: docs/bake-format.md),
+ *  an incomplete bake (complete), another number of sources (sources/position);
+ *  DPC_ERR_UNSUPPORTED when the library was built without HDF5. *out is NULL on error. */
 DPC_API dpc_status dpc_bake_open(const dpc_engine* engine, const char* bake_path,
                                  dpc_bake** out);
 /** Control thread. The bake's probes, or -1 for NULL. */

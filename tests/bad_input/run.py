@@ -231,7 +231,7 @@ CASES = {
     "sources_257": (scene_with(sources=[{"name": f"s{i}", "position": [2, 1.6, 3.5], "signal": "signals/speech.wav"} for i in range(257)]), OFF, "shoebox.json: sources: 257 sources, more than the limit of 256"),
     "listeners_65": (without("listener", listeners=[{"name": f"l{i}", "position": [5, 1.6, 3.5]} for i in range(65)]), OFF, "shoebox.json: listeners: 65 listeners, more than the limit of 64"),
     # dpc-demo --bake: a bake of another scene, a damaged or missing file (docs/bake.md).
-    "bake_of_other_scene": (bake_file(edit=scene_with(**{"sources.0.position": [3, 1.6, 3.5]})), OFF + ["--bake", "bake.h5"], "bake.h5: mesh_hash: the bake is of another scene"),
+    "bake_of_other_scene": (bake_file(edit=scene_with(**{"sources.0.position": [3, 1.6, 3.5]})), OFF + ["--bake", "bake.h5"], "bake.h5: hash_sources: the bake's sources"),
     "bake_truncated": (bake_file(damage=truncate_half), OFF + ["--bake", "bake.h5"], "bake.h5: "),
     "bake_not_hdf5": (write("bake.h5", "not hdf5\n"), OFF + ["--bake", "bake.h5"], "bake.h5: not an HDF5 file"),
     "bake_missing": (nothing, OFF + ["--bake", "none.h5"], "none.h5: bake 'none.h5' not found"),

@@ -27,14 +27,7 @@ using dpc::bake::test_fixtures::shoebox;
 /// A complete bake of `scene` on a grid of `spacing` metres at `path`; returns its header.
 BakeHeader writeBake(const SceneDesc& scene, const std::string& path, double spacing,
                      bool complete = true) {
-  BakeHeader h;
-  h.scenePath = "/tmp/scene.json";
-  h.meshHash = sceneHash(scene);
-  h.settings = quickSettings();
-  h.grid.spacingM = spacing;
-  h.probes = makeProbeGrid(scene, h.grid, "scene.json");
-  h.sources = {scene.sources[0].position};
-  h.shape = probeShape(scene, h.settings);
+  const BakeHeader h = test_fixtures::headerFor(scene, quickSettings(), spacing);
   BakeFile f = BakeFile::create(path, path, h);
   ProbeBaker baker(scene, h.settings);
   for (size_t p = 0; p < h.probes.positions.size(); ++p)
@@ -221,7 +214,7 @@ TEST_CASE("Baked playback: another scene's, an incomplete, a truncated or anothe
   writeBake(scene, path, 5.0);
   SceneDesc other = scene;
   other.mesh.vertices[7].x += 0.5f;
-  CHECK(refusedField(path, other) == "mesh_hash");
+  CHECK(refusedField(path, other) == "hash_geometry");
   const std::string partial = (dir.path() / "partial.h5").string();
   writeBake(scene, partial, 5.0, false);
   CHECK(refusedField(partial, scene) == "complete");

@@ -18,6 +18,9 @@ packages=(
   libhdf5-dev hdf5-tools python3-h5py  # dpc-bake's file, its tests (h5diff), the h5py example
   libopenmpi-dev openmpi-bin  # dpc-bake under mpirun (optional: without it, single-process)
 )
+# The glTF oracle test (tests/gltf/oracle_test.py) runs the Khronos glTF-Validator on Node.js,
+# installed by npm; a Node.js that brings its own npm (NodeSource's package) is kept.
+command -v npm >/dev/null || packages+=(nodejs npm)
 
 missing=()
 for p in "${packages[@]}"; do

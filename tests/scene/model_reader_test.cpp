@@ -2,6 +2,7 @@
 // door (scenes/door_level.json, written by scenes/generate_door_level.py) loads the same
 // triangles, materials and door keyframes as the OBJ + JSON scene it was made from
 // (scenes/two_rooms.json), bit for bit.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdlib>
@@ -136,4 +137,92 @@ TEST_CASE("Keyframes in the scene replace a node's animation", "[gltf]") {
   REQUIRE(s.objects[0].trajectory.size() == 1);
   CHECK(objectPoseAt(s.objects[0], 1.5).position == glm::vec3(1, 0, 1));
   CHECK(s.objects[0].mesh.triangles.size() == 1);
+}
+
+namespace {
+
+/// An ASCII FBX 7.4 level: a floor quad of 1000 x 700 file units (material "floor"), y up,
+/// with the given UnitScaleFactor (centimetres per file unit).
+std::string fbxFloor(const char* cmPerUnit) {
+  return std::string(R"(; FBX 7.4.0 project file
+FBXHeaderExtension:  {
+	FBXHeaderVersion: 1003
+	FBXVersion: 7400
+}
+GlobalSettings:  {
+	Version: 1000
+	Properties70:  {
+		P: "UpAxis", "int", "Integer", "",1
+		P: "UpAxisSign", "int", "Integer", "",1
+		P: "FrontAxis", "int", "Integer", "",2
+		P: "FrontAxisSign", "int", "Integer", "",1
+		P: "CoordAxis", "int", "Integer", "",0
+		P: "CoordAxisSign", "int", "Integer", "",1
+		P: "UnitScaleFactor", "double", "Number", "",)") +
+         cmPerUnit + R"(
+	}
+}
+Objects:  {
+	Geometry: 1000, "Geometry::floor", "Mesh" {
+		Vertices: *12 {
+			a: 0,0,0,0,0,700,1000,0,700,1000,0,0
+		}
+		PolygonVertexIndex: *4 {
+			a: 0,1,2,-4
+		}
+		LayerElementMaterial: 0 {
+			Version: 101
+			MappingInformationType: "AllSame"
+			ReferenceInformationType: "IndexToDirect"
+			Materials: *1 {
+				a: 0
+			}
+		}
+		Layer: 0 {
+			Version: 100
+			LayerElement:  {
+				Type: "LayerElementMaterial"
+				TypedIndex: 0
+			}
+		}
+	}
+	Model: 2000, "Model::floor", "Mesh" {
+		Version: 232
+	}
+	Material: 3000, "Material::floor", "" {
+		Version: 102
+	}
+}
+Connections:  {
+	C: "OO",1000,2000
+	C: "OO",2000,0
+	C: "OO",3000,2000
+}
+)";
+}
+
+/// The largest x of the scene's vertices after loading the FBX floor with `cmPerUnit`.
+float fbxFloorWidth(const char* cmPerUnit) {
+  test::TempDir dir("dpc_model_fbx");
+  std::ofstream(dir.path() / "level.fbx") << fbxFloor(cmPerUnit);
+  std::ofstream(dir.path() / "level.json") << R"({ "mesh": "level.fbx",
+    "materials": { "floor": { "absorption": 0.1 } },
+    "sources": [ { "name": "s", "position": [1, 1, 1] } ], "listener": { "position": [2, 1, 1] } })";
+  const SceneDesc s = loadScene((dir.path() / "level.json").string());
+  float x = 0.f;
+  for (const glm::vec3& v : s.mesh.vertices) x = std::max(x, v.x);
+  return x;
+}
+
+}  // namespace
+
+TEST_CASE("An FBX level's UnitScaleFactor turns its units into metres; not positive is refused",
+          "[gltf]") {
+  // 1000 units of 1 cm are 10 m; of 100 cm (Blender's metres), 1000 m.
+  CHECK(fbxFloorWidth("1") == 10.f);
+  CHECK(fbxFloorWidth("100") == 1000.f);
+  // Zero would collapse the level (assimp refuses it itself), a negative scale mirror it.
+  CHECK_THROWS_WITH(fbxFloorWidth("-100"),
+                    Catch::Contains("level.fbx: UnitScaleFactor: -100 is not a unit length"));
+  CHECK_THROWS_WITH(fbxFloorWidth("0"), Catch::Contains("UnitScaleFactor must be non-zero"));
 }

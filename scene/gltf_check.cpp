@@ -1,5 +1,6 @@
 #include "scene/gltf_check.h"
 
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <set>
@@ -192,6 +193,22 @@ void checkImages(const Level& l) {
   }
 }
 
+/// True when the column-major 4x4 `m` is a translation, rotation and scale (what glTF allows a
+/// node's matrix to be): its last row (0, 0, 0, 1), its first three columns of non-zero length
+/// and at right angles (within float rounding of a composed matrix); mirroring is allowed.
+bool isTrs(const std::vector<double>& m) {
+  if (m[3] != 0 || m[7] != 0 || m[11] != 0 || m[15] != 1) return false;
+  auto dot = [&](int a, int b) {
+    return m[4 * a] * m[4 * b] + m[4 * a + 1] * m[4 * b + 1] + m[4 * a + 2] * m[4 * b + 2];
+  };
+  for (int a = 0; a < 3; ++a) {
+    if (!(dot(a, a) > 0)) return false;
+    for (int b = a + 1; b < 3; ++b)
+      if (std::abs(dot(a, b)) > 1e-4 * std::sqrt(dot(a, a) * dot(b, b))) return false;
+  }
+  return true;
+}
+
 /// A node's matrix, or its translation, rotation (of non-zero length) and scale.
 void checkNodeTransform(const Level& l, const json& n, const std::string& field,
                         const std::string& who) {
@@ -199,7 +216,10 @@ void checkNodeTransform(const Level& l, const json& n, const std::string& field,
     for (const char* key : {"translation", "rotation", "scale"})
       if (n.contains(key))
         l.r.fail(join(field, key), who + "given with a matrix; glTF 2.0 takes one or the other");
-    (void)numbers(l, *matrix, join(field, "matrix"), 16);
+    if (!isTrs(numbers(l, *matrix, join(field, "matrix"), 16)))
+      l.r.fail(join(field, "matrix"), who +
+                                          "is not a translation, rotation and scale (a zero "
+                                          "scale, a skew or a projection), as glTF requires");
     return;
   }
   if (const json* t = JsonReader::find(n, "translation"))

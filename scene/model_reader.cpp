@@ -81,7 +81,9 @@ glm::vec3 vertex(const Walk& w, const aiMesh& m, unsigned i, const aiMatrix4x4& 
   return glm::vec3(p.x, p.y, p.z);
 }
 
-/// Appends one assimp mesh, transformed by toFrame, to `raw`.
+/// Appends one assimp mesh, transformed by toFrame, to `raw`. A mirroring toFrame (negative
+/// determinant) reverses each triangle's corners, as glTF says: a mirror turns the winding, and
+/// the faces keep their front side only with it reversed again.
 void appendMesh(Walk& w, const aiMesh& m, const aiMatrix4x4& toFrame, RawMesh& raw) {
   if (m.mPrimitiveTypes & (aiPrimitiveType_POINT | aiPrimitiveType_LINE))
     throw InputError(w.file, "mesh " + quoted(m.mName),
@@ -89,14 +91,15 @@ void appendMesh(Walk& w, const aiMesh& m, const aiMatrix4x4& toFrame, RawMesh& r
   const uint32_t base = uint32_t(raw.positions.size());
   for (unsigned i = 0; i < m.mNumVertices; ++i) raw.positions.push_back(vertex(w, m, i, toFrame));
   const uint32_t slot = materialSlot(w, m, raw);
+  const bool mirrored = toFrame.Determinant() < 0;
   for (unsigned f = 0; f < m.mNumFaces; ++f) {
     const aiFace& face = m.mFaces[f];
     if (face.mNumIndices != 3 ||
         std::max({face.mIndices[0], face.mIndices[1], face.mIndices[2]}) >= m.mNumVertices)
       throw InputError(w.file, "mesh " + quoted(m.mName) + " face " + std::to_string(f + 1),
                        "is not a triangle of the mesh's vertices");
-    raw.triangles.push_back(
-        {base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
+    raw.triangles.push_back({base + face.mIndices[0], base + face.mIndices[mirrored ? 2 : 1],
+                             base + face.mIndices[mirrored ? 1 : 2]});
     raw.triangleMaterial.push_back(slot);
     raw.triangleFace.push_back(++w.triangles);
   }
@@ -228,6 +231,8 @@ void finishObject(const Walk& w, size_t k, const std::map<std::string, GltfNode>
     key.rotation = parent.rotation * key.rotation;
   }
   for (glm::vec3& p : object.mesh.positions) p *= sp * keys.scale;
+  if (keys.scale.x * keys.scale.y * keys.scale.z < 0)  // mirrored: the winding reversed back
+    for (auto& t : object.mesh.triangles) std::swap(t[1], t[2]);
   object.name = r.name;
   object.trajectory = std::move(keys.keys);
 }

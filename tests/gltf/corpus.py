@@ -172,7 +172,8 @@ def valid_cases():
             'indices': lv.g.accessor([0, 1, 2, 2, 1, 3], 'SCALAR', UINT32)})
 
     def matrix_room(lv):
-        lv.doc['nodes'][lv.room]['matrix'] = [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]
+        # The room mirrored in x (scale -1) and moved back by 10 m: the same box.
+        lv.doc['nodes'][lv.room]['matrix'] = [-1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 10, 0, 0, 1]
 
     def textured(lv):
         import base64

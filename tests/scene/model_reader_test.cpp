@@ -9,8 +9,10 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 #include <string>
+#include <vector>
 
 #include "scene/scene.h"
 #include "testing/temp_dir.h"
@@ -216,7 +218,7 @@ float fbxFloorWidth(const char* cmPerUnit) {
 
 }  // namespace
 
-TEST_CASE("An FBX level's UnitScaleFactor turns its units into metres; not positive is refused",
+TEST_CASE("An FBX level's UnitScaleFactor turns its units into metres, and one <= 0 is refused",
           "[gltf]") {
   // 1000 units of 1 cm are 10 m; of 100 cm (Blender's metres), 1000 m.
   CHECK(fbxFloorWidth("1") == 10.f);
@@ -225,4 +227,52 @@ TEST_CASE("An FBX level's UnitScaleFactor turns its units into metres; not posit
   CHECK_THROWS_WITH(fbxFloorWidth("-100"),
                     Catch::Contains("level.fbx: UnitScaleFactor: -100 is not a unit length"));
   CHECK_THROWS_WITH(fbxFloorWidth("0"), Catch::Contains("UnitScaleFactor must be non-zero"));
+}
+
+namespace {
+
+/// The shoebox of scenes/shoebox.obj as two levels: plain.glb, and mirrored.glb whose room node
+/// mirrors it in x about x = 5 (scale -1, translation 10): the same box, its faces wound the
+/// other way round in the file.
+constexpr const char* kMirroredRoom = R"(from gltffile import read_obj
+for name, trs in [('plain', {}), ('mirrored', {'scale': [-1, 1, 1], 'translation': [10, 0, 0]})]:
+    g = Gltf()
+    runs = read_obj(')" DPC_SOURCE_DIR R"(/scenes/shoebox.obj')
+    g.node('room', mesh=g.mesh('room', [(g.material(m), p, t) for m, p, t in runs]), **trs)
+    g.save(name + '.glb')
+)";
+
+/// How many triangles of `m` face the point `inside`: their normal (by their winding) points
+/// from the triangle towards it.
+size_t trianglesFacing(const Mesh& m, const glm::vec3& inside) {
+  size_t facing = 0;
+  for (size_t t = 0; t < m.triangles.size(); ++t) {
+    const Corner3 c = corners(m, t);
+    const glm::vec3 n = glm::cross(c.p[1] - c.p[0], c.p[2] - c.p[0]);
+    facing += glm::dot(n, inside - (c.p[0] + c.p[1] + c.p[2]) / 3.f) > 0.f;
+  }
+  return facing;
+}
+
+}  // namespace
+
+TEST_CASE("A mirroring node keeps its triangles' front side (glTF reverses their winding)",
+          "[gltf]") {
+  test::TempDir dir("dpc_model_mirror");
+  python(kMirroredRoom, dir.path());
+  size_t facing[2] = {};
+  for (int k = 0; k < 2; ++k) {
+    std::ofstream(dir.path() / "level.json")
+        << R"({ "mesh": ")" << (k ? "mirrored" : "plain") << R"(.glb",
+      "materials": { "walls": { "absorption": 0.1 }, "floor": { "absorption": 0.2 },
+        "ceiling": { "absorption": 0.3 } }, "sources": [ { "name": "s", "position": [2, 1, 1] } ],
+      "listener": { "position": [8, 1, 1] } })";
+    const Mesh mesh = loadScene((dir.path() / "level.json").string()).mesh;
+    REQUIRE(mesh.triangles.size() == 12);
+    facing[k] = trianglesFacing(mesh, glm::vec3(5.f, 1.5f, 3.5f));
+  }
+  // shoebox.obj winds all its faces one way (all 12 face the centre, or none does); the mirrored
+  // level's faces keep the same side as the plain one's.
+  CHECK((facing[0] == 0 || facing[0] == 12));
+  CHECK(facing[1] == facing[0]);
 }

@@ -43,6 +43,24 @@ void checkGlbHeader(const std::string& file, const unsigned char* header, uint64
         "says " + std::to_string(length) + " bytes; the file has " + std::to_string(fileBytes));
 }
 
+/// Chunk k's header: its length within the `following` bytes of the file and a multiple of 4,
+/// its type JSON first, BIN second (assimp reads no other there).
+void checkChunk(const std::string& file, size_t k, uint32_t length, uint32_t type,
+                uint64_t following) {
+  const std::string field = index("chunks", k);
+  if (length > following)
+    throw InputError(file, field + ".chunkLength",
+                     "is " + std::to_string(length) + " bytes; only " + std::to_string(following) +
+                         " follow in the file");
+  if (length % 4 != 0)
+    throw InputError(file, field + ".chunkLength",
+                     "is " + std::to_string(length) + ", not a multiple of 4 (chunks are aligned)");
+  if (k == 0 && type != kChunkJson)
+    throw InputError(file, field + ".chunkType", "is not JSON; a .glb's first chunk is its JSON");
+  if (k == 1 && type != kChunkBin)
+    throw InputError(file, field + ".chunkType", "is not BIN; assimp reads only a BIN chunk there");
+}
+
 /// The JSON chunk's text and the BIN chunk's length of a .glb whose size is fileBytes.
 std::pair<std::string, std::optional<uint64_t>> glbChunks(const std::string& file,
                                                           uint64_t fileBytes) {
@@ -58,25 +76,12 @@ std::pair<std::string, std::optional<uint64_t>> glbChunks(const std::string& fil
   std::optional<uint64_t> bin;
   size_t k = 0;
   for (uint64_t at = header.size(); at < fileBytes; ++k) {
-    const std::string field = index("chunks", k);
     if (fileBytes - at < 8)
-      throw InputError(file, field, "the file ends inside the chunk's header");
+      throw InputError(file, index("chunks", k), "the file ends inside the chunk's header");
     unsigned char chunk[8];
     readAt(in, file, at, reinterpret_cast<char*>(chunk), 8);
-    const uint32_t length = littleEndian32(chunk), type = littleEndian32(chunk + 4);
-    if (length > fileBytes - at - 8)
-      throw InputError(file, field + ".chunkLength",
-                       "is " + std::to_string(length) + " bytes; only " +
-                           std::to_string(fileBytes - at - 8) + " follow in the file");
-    if (length % 4 != 0)
-      throw InputError(
-          file, field + ".chunkLength",
-          "is " + std::to_string(length) + ", not a multiple of 4 (chunks are aligned)");
-    if (k == 0 && type != kChunkJson)
-      throw InputError(file, field + ".chunkType", "is not JSON; a .glb's first chunk is its JSON");
-    if (k == 1 && type != kChunkBin)
-      throw InputError(file, field + ".chunkType",
-                       "is not BIN; assimp reads only a BIN chunk there");
+    const uint32_t length = littleEndian32(chunk);
+    checkChunk(file, k, length, littleEndian32(chunk + 4), fileBytes - at - 8);
     if (k == 0) {
       text.resize(length);
       readAt(in, file, at + 8, text.data(), length);

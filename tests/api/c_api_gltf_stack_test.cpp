@@ -15,9 +15,21 @@
 
 namespace {
 
+#if defined(__SANITIZE_ADDRESS__)
+constexpr size_t kFrameGrowth = 4;  // AddressSanitizer's redzones make stack frames larger
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr size_t kFrameGrowth = 4;
+#else
+constexpr size_t kFrameGrowth = 1;
+#endif
+#else
+constexpr size_t kFrameGrowth = 1;
+#endif
+
 /// A host worker's stack: 256 KiB (glibc's default is 8 MiB; hosts and thread pools often
 /// give their workers far less). A 20,000-deep recursion of even 100 bytes a level overflows it.
-constexpr size_t kHostStackBytes = 256 * 1024;
+constexpr size_t kHostStackBytes = 256 * 1024 * kFrameGrowth;
 
 struct Load {
   std::string scene;

@@ -21,6 +21,9 @@ packages=(
   zlib1g-dev  # the bake file's CRC-32 checksums
   libopenmpi-dev openmpi-bin  # dpc-bake under mpirun (optional: without it, single-process)
 )
+# The glTF oracle test (tests/gltf/oracle_test.py) runs the Khronos glTF-Validator on Node.js,
+# installed by npm; a Node.js that brings its own npm (NodeSource's package) is kept.
+command -v npm >/dev/null || packages+=(nodejs npm)
 
 missing=()
 for p in "${packages[@]}"; do

@@ -38,6 +38,7 @@
 #include "common/bands.h"
 #include "engine/propagation.h"
 #include "engine/tracer.h"
+#include "engine/utd.h"
 #include "scene/directivity.h"
 #include "scene/scene.h"
 
@@ -54,15 +55,6 @@ struct DiffractionEdge {
   float open = 0.f;
   float length = 0.f;
 };
-
-/// UTD diffraction coefficient magnitude-and-phase for a hard wedge of index n at wavenumber
-/// k (rad/m): phi, phiSource in (0, n pi) measured from face 0, sinBeta0 the sine of the angle
-/// between the incident ray and the edge, L the distance parameter (m). Any thread; no
-/// allocation. Returned as (real, imaginary).
-struct Complex {
-  double re = 0.0, im = 0.0;
-};
-Complex utdCoefficient(double n, double k, double phi, double phiSource, double sinBeta0, double L);
 
 /// The band energy of the direct-plus-diffracted field is |p|^2 averaged over these
 /// frequencies: kDiffractionFrequenciesPerBand log-spaced across octave band `band`

@@ -264,7 +264,7 @@ struct EdgePath {
   bool slitOwner = false;        // carries its slit's field (once per slit)
   SlitPath slit;                 // valid when gapWidth > 0
   glm::vec3 slitCentre{0.f};     // the slit path's point on the slit's centre line, m
-  double slitAspect = 0.0;       // slit length / width
+  double slitAspect = 0.0;       // slit length / width, as probed (0 to 8)
 };
 
 /// Angles (radians, from face 0 in the plane perpendicular to the edge) of the source and the
@@ -305,20 +305,16 @@ bool wedgeAngles(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3& 
 
 /// The unit direction from Q across the mouth of a gap the path may pass, in the plane
 /// perpendicular to the edge, away from the edge's solid: for a sheet's rim the sheet's own
-/// continuation (-face0); for a wedge the bisector of the region seen from both the source and
-/// the listener beyond Q (along i - o, i and o the legs' directions in that plane), which a
-/// lone wedge never closes.
-glm::vec3 mouthDirection(const DiffractionEdge& e, const glm::vec3& toQ, const glm::vec3& toL,
-                         double wedge, double sense) {
+/// continuation (-face0); for a wedge the middle of the angles around the edge that both the
+/// source and the listener see (from the source at phiS, the wedge hides the angles beyond
+/// phiS +- pi), which a lone wedge never closes.
+glm::vec3 mouthDirection(const DiffractionEdge& e, double phiS, double phiL, double wedge,
+                         double sense) {
   if (e.open >= float(2.0 * kPi) - 1e-4f) return -e.face0;
-  const glm::vec3 air = float(std::cos(wedge / 2)) * e.face0 +
-                        float(sense * std::sin(wedge / 2)) * e.normal0;  // air bisector
-  const glm::vec3 i = safeNormalize(toQ - glm::dot(toQ, e.direction) * e.direction);
-  const glm::vec3 o = safeNormalize(toL - glm::dot(toL, e.direction) * e.direction);
-  const glm::vec3 d = i - o;
-  if (glm::length(d) < 1e-3f) return air;
-  const glm::vec3 u = glm::normalize(d);
-  return glm::dot(u, air) < 0.f ? -u : u;
+  const double lo = std::max({0.0, phiS - kPi, phiL - kPi});
+  const double hi = std::min({wedge, phiS + kPi, phiL + kPi});
+  const double mid = 0.5 * (lo + hi);
+  return float(std::cos(mid)) * e.face0 + float(sense * std::sin(mid)) * e.normal0;
 }
 
 /// The path over edge e from source to the listener centre L through the point Q of least
@@ -353,7 +349,7 @@ bool edgePath(const DiffractionEdge& e, const glm::vec3& source, const glm::vec3
   p.leaving = toQ / r;
   p.edge = &e;
   p.q = q;
-  p.mouth = mouthDirection(e, toQ, toL, wedge, sense);
+  p.mouth = mouthDirection(e, phiS, phiL, wedge, sense);
   p.turn = float(sense) * e.normal0;
   p.airWedge = float(wedge);
   return true;
@@ -385,7 +381,6 @@ void makeSlit(const glm::vec3& source, const glm::vec3& L, EdgePath& p) {
   sp.width = double(p.gapWidth);
   sp.depth = 0.0;
   p.slitCentre = c;
-  p.slitAspect = double(e.length) / double(p.gapWidth);
 }
 
 /// A slit bounded by two edges (a leaf's rim and its frame's) is found from both; only the
@@ -413,17 +408,22 @@ void findSlits(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L
   std::vector<GapProbe> probes(paths.size());
   for (size_t j = 0; j < paths.size(); ++j) {
     const EdgePath& p = paths[j];
-    const float reach = std::min(p.edge->length / float(kSlitMinAspect), kGapFarthest);
-    probes[j] = {p.q, p.mouth, reach, p.edge->face0, p.turn, p.airWedge};
+    const DiffractionEdge& e = *p.edge;
+    const float t = glm::dot(p.q - e.a, e.direction);
+    const float reach = std::min(e.length / float(kSlitMinAspect), kGapFarthest);
+    probes[j] = {p.q, p.mouth, reach, e.direction, -t, e.length - t, e.face0, p.turn, p.airWedge};
   }
-  std::vector<float> widths(paths.size());
-  probeGapWidths(tracer, source, L, probes, widths);
+  std::vector<GapShape> shapes(paths.size());
+  probeGaps(tracer, source, L, probes, shapes);
   size_t kept = 0;
   for (size_t j = 0; j < paths.size(); ++j) {
-    if (widths[j] < 0.f) continue;
+    if (shapes[j].width < 0.f) continue;
     EdgePath& p = paths[kept++] = paths[j];
-    p.gapWidth = widths[j];
-    if (p.gapWidth > 0.f) makeSlit(source, L, p);
+    p.gapWidth = shapes[j].width;
+    if (p.gapWidth > 0.f) {
+      makeSlit(source, L, p);
+      p.slitAspect = double(shapes[j].aspect);
+    }
   }
   paths.resize(kept);
   markSlitOwners(paths);

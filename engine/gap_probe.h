@@ -9,7 +9,10 @@
 // ray in a sheet's plane misses it) blocks them. The width is the
 // first delta that is blocked: eight deltas spaced evenly in log from kGapNarrowest to the
 // probe's reach, then eight between the last free and the first blocked one (width within
-// 12 % of the gap's; the slit model depends on the width through its logarithm).
+// 12 % of the gap's; the slit model depends on the width through its logarithm). A slit must
+// also run along the edge: the same test 1 to 4 widths either side of Q along the edge, free at
+// 0.5 w across the mouth and blocked at 1.5 w, gives the length over which the gap stays that
+// narrow (up to 8 widths; a small obstacle in a wide opening is no slit).
 //
 // u must point across the gap, away from the edge's own solid, in the plane perpendicular to
 // the edge; for a lone wedge a free u exists (the bisector of the region both the source and
@@ -33,7 +36,8 @@ inline constexpr float kGapNarrowest = 5e-4f;
 inline constexpr float kGapProbeThrough = 2e-3f;
 
 /// One edge path's gap: its point Q on the edge, the unit direction u across the gap's mouth,
-/// the widest gap looked for (m), and the edge's own solid, which the legs' short runs past P
+/// the widest gap looked for (m), the edge's unit direction and its ends relative to Q (m
+/// along it: from <= 0 <= to), and the edge's own solid, which the legs' short runs past P
 /// must not enter (near a wedge's apex they would): seen along the edge, the air wedge spans
 /// airWedge radians from face0 turning toward `turn` (unit vectors across the edge); the rest
 /// is solid (none for a sheet's rim, airWedge 2 pi).
@@ -41,15 +45,24 @@ struct GapProbe {
   glm::vec3 q{0.f};
   glm::vec3 mouth{0.f};
   float reach = 0.f;
+  glm::vec3 along{0.f};
+  float from = 0.f, to = 0.f;
   glm::vec3 face0{0.f}, turn{0.f};
   float airWedge = 0.f;
 };
 
-/// Per probe, the gap's width in metres: 0 when nothing closes it within reach (a free edge),
-/// -1 when it is closed within kGapNarrowest, else the width (the geometric mean of the last
-/// free and the first blocked delta). widths.size() >= probes.size(). Two batch queries of
-/// 16 rays per probe at most.
-void probeGapWidths(const Tracer& tracer, const glm::vec3& source, const glm::vec3& listener,
-                    std::span<const GapProbe> probes, std::span<float> widths);
+/// What the probe found: the gap's width (m; 0 when nothing closes it within reach, a free
+/// edge; -1 when every delta is blocked, a gap closed within kGapNarrowest; else the geometric
+/// mean of the last free and the first blocked delta after the first free one) and, for a gap, the length along the edge over which it stays
+/// open at 0.5 and closed within 1.5 widths, in widths (0 to 8, in steps of 1).
+struct GapShape {
+  float width = 0.f;
+  float aspect = 0.f;
+};
+
+/// Probes every gap; shapes.size() >= probes.size(). Four batch queries of at most 16 rays
+/// per probe (the last two only for gaps).
+void probeGaps(const Tracer& tracer, const glm::vec3& source, const glm::vec3& listener,
+               std::span<const GapProbe> probes, std::span<GapShape> shapes);
 
 }  // namespace dpc

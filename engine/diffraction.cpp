@@ -445,19 +445,23 @@ double bandMeanSquare(int b, const std::vector<EdgePath>& paths, const PathGains
   double acc = 0.0;
   for (int i = 0; i < kDiffractionFrequenciesPerBand; ++i) {
     const double k = 2.0 * kPi * diffractionFrequencyHz(b, i) / speedOfSound;
-    const double rootK = std::sqrt(k);
     C p = directAmplitude * std::polar(1.0, -k * double(directDistance));
+    C diffracted(0.0, 0.0);
     for (size_t j = 0; j < paths.size(); ++j) {
       const EdgePath& q = paths[j];
-      double s = 0.0;
+      double amplitude = gains.utd[j];
       if (q.gapWidth > 0.f) {
-        s = slitWeight(k * q.slit.sinBeta * q.slit.width, q.slitAspect);
+        const double s = slitWeight(k * q.slit.sinBeta * q.slit.width, q.slitAspect);
         if (s > 0.0 && q.slitOwner) p += s * gains.slit[j] * slitPressure(q.slit, k);
+        if (s >= 1.0) continue;
+        amplitude *= 1.0 - s;
       }
-      if (s >= 1.0) continue;
       const C d = utdScaled(q.terms, q.prefactor, k * q.distanceParameter);
-      p += (1.0 - s) * gains.utd[j] / rootK * d * std::polar(1.0, -k * q.length);
+      const double c = std::cos(k * q.length), sn = std::sin(k * q.length);
+      // amplitude * d * e^{-jkl}, written out (std::complex's operator* checks for NaN)
+      diffracted += amplitude * C(d.real() * c + d.imag() * sn, d.imag() * c - d.real() * sn);
     }
+    p += diffracted / std::sqrt(k);
     acc += std::norm(p);
   }
   return acc / kDiffractionFrequenciesPerBand;
@@ -484,8 +488,8 @@ Bands coherentIntensity(const std::vector<EdgePath>& paths, const DirectSound& d
   for (int b = 0; b < kNumBands; ++b) {
     for (size_t j = 0; j < paths.size(); ++j) {
       const double w = weights.empty() ? 1.0 : std::sqrt(double(weights[j][b]));
-      gains.utd[j] = w * paths[j].spreading *
-                     std::exp(-0.5 * double(airPerMetre[b]) * paths[j].length);
+      gains.utd[j] = paths[j].spreading * std::exp(-0.5 * double(airPerMetre[b]) * paths[j].length);
+      if (!weights.empty()) gains.utd[j] *= w;
       gains.slit[j] = w * std::exp(-0.5 * double(airPerMetre[b]) *
                                    (paths[j].slit.r + paths[j].slit.s));
     }

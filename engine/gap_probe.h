@@ -4,20 +4,21 @@
 // edge's UTD field assumes nothing else within several wavelengths of Q (engine/slit.h models
 // the slit). The probe moves Q across the mouth of the gap, P = Q + delta u, and asks whether
 // both straight legs source -> P and listener -> P are free, each run a little past P (up to
-// kGapProbeThrough, at most delta, never into the edge's own solid) so that a surface lying in
-// P's own plane (a leaf flush with the wall: zero-thickness sheets are the common case, and a
-// ray in a sheet's plane misses it) blocks them. The width is the
-// first delta that is blocked: eight deltas spaced evenly in log from kGapNarrowest to the
-// probe's reach, then eight between the last free and the first blocked one (width within
-// 12 % of the gap's; the slit model depends on the width through its logarithm). A slit must
-// also run along the edge: the same test 1 to 4 widths either side of Q along the edge, free at
-// 0.5 w across the mouth and blocked at 1.5 w, gives the length over which the gap stays that
-// narrow (up to 8 widths; a small obstacle in a wide opening is no slit).
+// kGapProbeThrough, at most P's distance from the edge, never into the edge's own solid) so
+// that a surface lying in P's own plane (a leaf flush with the wall: zero-thickness sheets are
+// the common case, and a ray in a sheet's plane misses it) blocks them. The width is the first
+// delta that is blocked after a free one: four deltas spaced evenly in log from
+// kGapNarrowest to the probe's reach (every path: 8 rays), then, for a gap, twice eight
+// between the last free and the first blocked one (the width is the geometric mean of the two
+// deltas that bracket it, within 5 % of either for reaches up to 16 m; the slit model depends
+// on the width through its logarithm). A slit must also run along the edge: the same test 1
+// to 4 widths either side of Q along the edge, free at 0.5 w across the mouth and blocked at
+// 1.5 w, gives the length over which the gap stays that narrow (up to 8 widths; a small
+// obstacle in a wide opening is no slit).
 //
 // u must point across the gap, away from the edge's own solid, in the plane perpendicular to
-// the edge; for a lone wedge a free u exists (the bisector of the region both the source and
-// the listener see beyond Q: engine/diffraction.cpp chooses it), so a free edge is never
-// mistaken for a slit.
+// the edge, into the angles around the edge that both the source and the listener see
+// (engine/diffraction.cpp chooses it), so that a lone wedge never closes it.
 //
 // Threads: any thread that may query the tracer (reentrant: concurrent calls are safe).
 // Allocates its ray batches. No errors.
@@ -60,8 +61,8 @@ struct GapShape {
   float aspect = 0.f;
 };
 
-/// Probes every gap; shapes.size() >= probes.size(). Four batch queries of at most 16 rays
-/// per probe (the last two only for gaps).
+/// Probes every gap; shapes.size() >= probes.size(). Four batch queries: 8 rays per probe,
+/// then 16, 16 and 32 per gap found.
 void probeGaps(const Tracer& tracer, const glm::vec3& source, const glm::vec3& listener,
                std::span<const GapProbe> probes, std::span<GapShape> shapes);
 

@@ -26,7 +26,8 @@ extern "C" {
 dpc_status dpc_bake_open(const dpc_engine* engine, const char* bake_path, dpc_bake** out) {
   if (!out) return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_bake_open: out is NULL");
   *out = nullptr;
-  if (!engine) return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_bake_open: engine is NULL");
+  const dpc::api::EngineCall call(engine);
+  if (const dpc_status s = call.check("dpc_bake_open"); s != DPC_OK) return s;
   if (!bake_path) return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_bake_open: bake_path is NULL");
 #ifdef DPC_HAVE_BAKE
   return guarded([&] {
@@ -49,7 +50,8 @@ int dpc_bake_probe_count(const dpc_bake* bake) {
 void dpc_bake_destroy(dpc_bake* bake) { delete bake; }
 
 dpc_status dpc_engine_attach_bake(dpc_engine* engine, const dpc_bake* bake) {
-  if (!engine) return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_attach_bake: engine is NULL");
+  const dpc::api::EngineCall call(engine);
+  if (const dpc_status s = call.check("dpc_engine_attach_bake"); s != DPC_OK) return s;
   return guarded([&] {
 #ifdef DPC_HAVE_BAKE
     if (bake && bake->sceneHash != dpc::bake::sceneHash(engine->session->scene()))

@@ -14,6 +14,7 @@ packages=(
   clang libclang-rt-dev
   lv2-dev lilv-utils sordi
   jalv python3-jack-client  # the plugin inside a real host (tests/lv2/jalv_test.py)
+  ardour  # the plugin in Ardour's headless Lua session (tests/lv2/ardour_test.py)
   libzita-convolver-dev  # dpc-bench convolve only: the yardstick
   libhdf5-dev hdf5-tools python3-h5py  # dpc-bake's file, its tests (h5diff), the h5py example
   libopenmpi-dev openmpi-bin  # dpc-bake under mpirun (optional: without it, single-process)

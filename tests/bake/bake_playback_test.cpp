@@ -194,7 +194,7 @@ TEST_CASE("Baked playback: the stage plays static sources from the bake, moved o
   WorldState world;
   evaluateWorld(*scene, 0.0, world);
   stage.traceWorld(world);
-  stage.recycle(stage.prepare(0));
+  stage.synthesizeIrs(0);
   REQUIRE(stage.bakedPlayback() != nullptr);
   CHECK(stage.bakedPlayback()->stats().bakedResponses == 1);
   // Played from the bake: not traced; only the listener's proposal rays for the exact paths
@@ -205,7 +205,7 @@ TEST_CASE("Baked playback: the stage plays static sources from the bake, moved o
   CHECK_FALSE(stage.simulation().specularPaths(0).empty());
   world.sourcePositions[0].x += 0.5f;  // moved: no longer the baked source
   stage.traceWorld(world);
-  stage.recycle(stage.prepare(0));
+  stage.synthesizeIrs(0);
   CHECK(stage.bakedPlayback()->stats().bakedResponses == 1);
   CHECK(stage.bakedPlayback()->stats().liveResponses == 1);
   CHECK_FALSE(stage.simulation().skipped(0, 0));
@@ -257,9 +257,9 @@ double irEnergy(PropagationStage& stage, const SceneDesc& scene) {
   WorldState world;
   evaluateWorld(scene, 0.0, world);
   stage.traceWorld(world);
-  stage.recycle(stage.prepare(0));
+  stage.synthesizeIrs(0);
   double e = 0.0;
-  for (const float x : stage.lastIrs()[0][0]) e += double(x) * x;
+  for (const float x : stage.lastIrs()[0].channelSpan(0)) e += double(x) * x;
   return e;
 }
 
@@ -301,10 +301,9 @@ TEST_CASE("Baked playback: the spatial (stereo) synthesis plays the bake's direc
     WorldState world;
     evaluateWorld(*scene, 0.0, world);
     stage.traceWorld(world);
-    stage.recycle(stage.prepare(0));
+    stage.synthesizeIrs(0);
     double e = 0.0;
-    for (const auto& channel : stage.lastIrs()[0])
-      for (const float x : channel) e += double(x) * x;
+    for (const float x : stage.lastIrs()[0].data()) e += double(x) * x;
     return e;
   };
   const double eLive = energy(live), eBaked = energy(baked);
@@ -329,9 +328,9 @@ TEST_CASE("Baked playback: a source leaving its baked position switches back to 
   evaluateWorld(*scene, 0.0, world);
   auto frame = [&] {
     stage.traceWorld(world);
-    stage.recycle(stage.prepare(0));
+    stage.synthesizeIrs(0);
     double e = 0.0;
-    for (const float x : stage.lastIrs()[0][0]) e += double(x) * x;
+    for (const float x : stage.lastIrs()[0].channelSpan(0)) e += double(x) * x;
     return e;
   };
   double eBaked = 0.0;

@@ -256,15 +256,15 @@ struct EdgePath {
   glm::vec3 arrival;             // unit vector from the listener toward Q
   glm::vec3 leaving;             // unit vector from the source toward Q
   const DiffractionEdge* edge;
-  glm::vec3 q;                   // the point on the edge, m
-  glm::vec3 mouth;               // unit direction across the gap the path may pass
-  glm::vec3 turn;                // the air wedge turns from face0 toward this (+-normal0)
-  float airWedge;                // the air wedge's angle, radians
-  float gapWidth = 0.f;          // m; 0: a free edge (engine/gap_probe.h)
-  bool slitOwner = false;        // carries its slit's field (once per slit)
-  SlitPath slit;                 // valid when gapWidth > 0
-  glm::vec3 slitCentre{0.f};     // the slit path's point on the slit's centre line, m
-  double slitAspect = 0.0;       // slit length / width, as probed (0 to 8)
+  glm::vec3 q;                // the point on the edge, m
+  glm::vec3 mouth;            // unit direction across the gap the path may pass
+  glm::vec3 turn;             // the air wedge turns from face0 toward this (+-normal0)
+  float airWedge;             // the air wedge's angle, radians
+  float gapWidth = 0.f;       // m; 0: a free edge (engine/gap_probe.h)
+  bool slitOwner = false;     // carries its slit's field (once per slit)
+  SlitPath slit;              // valid when gapWidth > 0
+  glm::vec3 slitCentre{0.f};  // the slit path's point on the slit's centre line, m
+  double slitAspect = 0.0;    // slit length / width, as probed (0 to 8)
 };
 
 /// Angles (radians, from face 0 in the plane perpendicular to the edge) of the source and the
@@ -273,8 +273,8 @@ struct EdgePath {
 /// source's wedge and that wedge is wider than about pi (narrower ones cannot shadow: a room's
 /// inner corner seen from inside).
 bool wedgeAngles(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3& source,
-                 const glm::vec3& L, bool directVisible, double& phiS, double& phiL,
-                 double& wedge, double& sense) {
+                 const glm::vec3& L, bool directVisible, double& phiS, double& phiL, double& wedge,
+                 double& sense) {
   auto angleOf = [&](const glm::vec3& p) {  // in [0, 2 pi)
     const glm::vec3 v = p - q;
     double a = std::atan2(double(glm::dot(v, e.normal0)), double(glm::dot(v, e.face0)));
@@ -490,8 +490,8 @@ Bands coherentIntensity(const std::vector<EdgePath>& paths, const DirectSound& d
       const double w = weights.empty() ? 1.0 : std::sqrt(double(weights[j][b]));
       gains.utd[j] = paths[j].spreading * std::exp(-0.5 * double(airPerMetre[b]) * paths[j].length);
       if (!weights.empty()) gains.utd[j] *= w;
-      gains.slit[j] = w * std::exp(-0.5 * double(airPerMetre[b]) *
-                                   (paths[j].slit.r + paths[j].slit.s));
+      gains.slit[j] =
+          w * std::exp(-0.5 * double(airPerMetre[b]) * (paths[j].slit.r + paths[j].slit.s));
     }
     const double directAmplitude =
         direct.visible ? std::sqrt(4.0 * kPi * double(direct.intensity[b])) : 0.0;
@@ -571,7 +571,8 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
   if (!lineOfSight) {
     const Bands free =
         unobstructedIntensity(source, listener.position, direct, airPerMetre, directivity, forward);
-    for (int b = 0; b < kNumBands; ++b) direct.intensity[b] = std::min(direct.intensity[b], free[b]);
+    for (int b = 0; b < kNumBands; ++b)
+      direct.intensity[b] = std::min(direct.intensity[b], free[b]);
   }
   direct.visible = true;
   direct.distance = shortest;

@@ -14,12 +14,12 @@ namespace dpc {
 
 namespace {
 
-constexpr int kCoarse = 4;          // deltas of the first round (every path: 8 rays)
-constexpr int kFine = 8;            // deltas of each refining round (gaps only)
-constexpr int kAlong = 4;           // points along the edge either side of Q
-constexpr float kLegStart = 1e-3f;  // m: the legs start this far from the source and listener
-constexpr float kInnerWidth = 0.5f; // along the edge: a gap is free this many widths across
-constexpr float kOuterWidth = 1.5f; // and closed within this many
+constexpr int kCoarse = 4;           // deltas of the first round (every path: 8 rays)
+constexpr int kFine = 8;             // deltas of each refining round (gaps only)
+constexpr int kAlong = 4;            // points along the edge either side of Q
+constexpr float kLegStart = 1e-3f;   // m: the legs start this far from the source and listener
+constexpr float kInnerWidth = 0.5f;  // along the edge: a gap is free this many widths across
+constexpr float kOuterWidth = 1.5f;  // and closed within this many
 
 // Along the edge the points lie 1 .. kAlong widths either side of Q: up to the aspect at which
 // the slit model holds fully.

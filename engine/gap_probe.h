@@ -54,8 +54,9 @@ struct GapProbe {
 
 /// What the probe found: the gap's width (m; 0 when nothing closes it within reach, a free
 /// edge; -1 when every delta is blocked, a gap closed within kGapNarrowest; else the geometric
-/// mean of the last free and the first blocked delta after the first free one) and, for a gap, the length along the edge over which it stays
-/// open at 0.5 and closed within 1.5 widths, in widths (0 to 8, in steps of 1).
+/// mean of the last free and the first blocked delta after the first free one) and, for a gap, the
+/// length along the edge over which it stays open at 0.5 and closed within 1.5 widths, in widths (0
+/// to 8, in steps of 1).
 struct GapShape {
   float width = 0.f;
   float aspect = 0.f;

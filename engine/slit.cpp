@@ -21,7 +21,9 @@ double logStep(double v, double lo, double hi) {
   return 0.5 - 0.5 * std::cos(kPi * t);
 }
 
-double sinc(double x) { return std::abs(x) < 1e-8 ? 1.0 : std::sin(x) / x; }
+double sinc(double x) {
+  return std::abs(x) < 1e-8 ? 1.0 : std::sin(x) / x;
+}
 
 }  // namespace
 
@@ -41,7 +43,8 @@ C stripRadiationImpedance(double x) {
     re += tRe;
     im += tIm;
     // Past the largest term (m > X / 2) stop once a term no longer changes the sums.
-    if (m > x / 2.0 + 1.0 && std::abs(tRe) + std::abs(tIm) < 1e-17 * (std::abs(re) + std::abs(im))) break;
+    if (m > x / 2.0 + 1.0 && std::abs(tRe) + std::abs(tIm) < 1e-17 * (std::abs(re) + std::abs(im)))
+      break;
     c *= -1.0 / (4.0 * double(m + 1) * double(m + 1));
     harmonic += 1.0 / double(m + 1);
     power *= x * x;
@@ -52,8 +55,7 @@ C stripRadiationImpedance(double x) {
 C slitTransfer(double x, double kd) {
   x = std::max(x, 1e-9);
   const C z = stripRadiationImpedance(x);
-  const C denominator =
-      2.0 * z * std::cos(kd) + C(0.0, 1.0) * (1.0 / x + z * z * x) * std::sin(kd);
+  const C denominator = 2.0 * z * std::cos(kd) + C(0.0, 1.0) * (1.0 / x + z * z * x) * std::sin(kd);
   return 2.0 / denominator;
 }
 

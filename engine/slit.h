@@ -11,7 +11,7 @@
 //
 //   mouth impedance   z_r(X) = Z_r / (omega rho) = (1 / X^2) int_0^X (X - t) H0^(2)(t) dt,
 //                     the baffled strip with uniform velocity (P. M. Morse & K. U. Ingard,
-//                     Theoretical Acoustics, 1968, sec. 7.4: the 2-D Green's function
+//                     Theoretical Acoustics, 1968, ch. 7, for the 2-D Green's function
 //                     (omega rho / 2) H0^(2)(k |x - x'|) averaged over the strip);
 //                     X -> 0: 1/2 + (j / pi) (ln(2 / X) - gamma + 3/2); X -> inf: 1 / X
 //   transfer          q = t(X) p_i / (omega rho),  q the mouth's volume velocity per length,
@@ -68,12 +68,12 @@ double slitWeight(double x, double aspect);
 
 /// One slit path from a source through a slit to a listener (the formula above).
 struct SlitPath {
-  double r = 1.0, s = 1.0;          ///< legs source -> z0 and z0 -> listener, m
-  double sinBeta = 1.0;             ///< sine of the angle between the source leg and the slit
-  double zFrom = -1.0, zTo = 1.0;   ///< the slit's ends along it relative to z0, m
-  double sinSource = 0.0;           ///< sin theta of the source leg from the slit's axis
-  double sinListener = 0.0;         ///< sin theta of the listener leg
-  double width = 0.01, depth = 0.0; ///< m
+  double r = 1.0, s = 1.0;           ///< legs source -> z0 and z0 -> listener, m
+  double sinBeta = 1.0;              ///< sine of the angle between the source leg and the slit
+  double zFrom = -1.0, zTo = 1.0;    ///< the slit's ends along it relative to z0, m
+  double sinSource = 0.0;            ///< sin theta of the source leg from the slit's axis
+  double sinListener = 0.0;          ///< sin theta of the listener leg
+  double width = 0.01, depth = 0.0;  ///< m
 };
 
 /// p above at wavenumber k (> 0), the path's phase e^{-jk(r + s)} included.

@@ -84,13 +84,11 @@ Bands directLevel(const SceneDesc& scene) {
 }
 
 /// Gauss-Legendre, 8 points on [-1, 1].
-constexpr std::array<double, 8> kGlX = {-0.9602898564975363, -0.7966664774136267,
-                                        -0.5255324099163290, -0.1834346424956498,
-                                        0.1834346424956498,  0.5255324099163290,
-                                        0.7966664774136267,  0.9602898564975363};
-constexpr std::array<double, 8> kGlW = {0.1012285362903763, 0.2223810344533745,
-                                        0.3137066458778873, 0.3626837833783620,
-                                        0.3626837833783620, 0.3137066458778873,
+constexpr std::array<double, 8> kGlX = {
+    -0.9602898564975363, -0.7966664774136267, -0.5255324099163290, -0.1834346424956498,
+    0.1834346424956498,  0.5255324099163290,  0.7966664774136267,  0.9602898564975363};
+constexpr std::array<double, 8> kGlW = {0.1012285362903763, 0.2223810344533745, 0.3137066458778873,
+                                        0.3626837833783620, 0.3626837833783620, 0.3137066458778873,
                                         0.2223810344533745, 0.1012285362903763};
 
 /// The baffled strip's mouth impedance over omega rho per unit length, by quadrature of its
@@ -182,7 +180,8 @@ Bands modelLevels(double gap, const MouthImpedance& zr) {
 
 Bands decibels(const Bands& x) {
   Bands out;
-  for (int b = 0; b < kNumBands; ++b) out[b] = float(10 * std::log10(std::max(double(x[b]), 1e-30)));
+  for (int b = 0; b < kNumBands; ++b)
+    out[b] = float(10 * std::log10(std::max(double(x[b]), 1e-30)));
   return out;
 }
 
@@ -201,7 +200,8 @@ TEST_CASE("Door gaps: closed is never louder than open, and the gaps pass what t
   // Prints docs/validation.md's table of the gaps (the lines beginning with "|").
   const MouthImpedance zr;
   const Bands open = decibels(directLevel(doorScene(0.f, Leaf::kNone)));
-  std::printf("| gap | direct re free field (dB) | 63 Hz | 125 | 250 | 500 | 1k | 2k | 4k | 8k |\n");
+  std::printf(
+      "| gap | direct re free field (dB) | 63 Hz | 125 | 250 | 500 | 1k | 2k | 4k | 8k |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
   tableRow("-", "open doorway (UTD)", open);
   for (float gap : {0.f, 0.005f, 0.01f, 0.02f}) {
@@ -209,14 +209,15 @@ TEST_CASE("Door gaps: closed is never louder than open, and the gaps pass what t
     const std::string mm = std::to_string(int(std::lround(gap * 1e3f))) + " mm";
     for (Leaf leaf : {Leaf::kStatic, Leaf::kObject}) {
       const Bands closed = decibels(directLevel(doorScene(gap, leaf)));
-      tableRow(mm.c_str(), leaf == Leaf::kStatic ? "closed, leaf in the mesh" : "closed, leaf an object",
+      tableRow(mm.c_str(),
+               leaf == Leaf::kStatic ? "closed, leaf in the mesh" : "closed, leaf an object",
                closed);
       for (int b = 0; b < kNumBands; ++b) {
         // Closing the door adds no energy: below the open doorway and the free field.
         CHECK(closed[b] <= open[b]);
         CHECK(closed[b] <= 1e-4f);
         // The gap's level within 3 dB of the model per octave (dpc: the probed width, within
-        // 12 % of the gap's, and the paraxial line integral; the model: the exact geometry).
+        // 5 % of the gap's, and the paraxial line integral; the model: the exact geometry).
         if (gap > 0.f) CHECK(std::abs(closed[b] - model[b]) < 3.0);
       }
     }
@@ -302,10 +303,10 @@ TEST_CASE("Door gaps: an obstacle in a window never lifts the direct sound above
   SceneDesc s;
   s.materials.push_back(Material{"wall", Bands(0.1f), Bands(0.f)});
   const glm::vec3 y{0, 1, 0}, z{0, 0, 1};
-  test::addPanel(s.mesh, {6, -20, -20}, 40.f * z, 19.5f * y, 0);   // below the window
-  test::addPanel(s.mesh, {6, 0.5f, -20}, 40.f * z, 19.5f * y, 0);  // above
-  test::addPanel(s.mesh, {6, -0.5f, -20}, 19.5f * z, 1.f * y, 0);  // left
-  test::addPanel(s.mesh, {6, -0.5f, 0.5f}, 19.5f * z, 1.f * y, 0); // right
+  test::addPanel(s.mesh, {6, -20, -20}, 40.f * z, 19.5f * y, 0);    // below the window
+  test::addPanel(s.mesh, {6, 0.5f, -20}, 40.f * z, 19.5f * y, 0);   // above
+  test::addPanel(s.mesh, {6, -0.5f, -20}, 19.5f * z, 1.f * y, 0);   // left
+  test::addPanel(s.mesh, {6, -0.5f, 0.5f}, 19.5f * z, 1.f * y, 0);  // right
   ObjectDesc plate;
   plate.name = "plate";
   test::addPanel(plate.mesh, {0, -0.05f, -0.05f}, 0.1f * z, 0.1f * y, 0);

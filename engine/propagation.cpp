@@ -133,20 +133,11 @@ void Propagator::startRay(const Pass& pass, uint32_t rayIndex, RayState& ray) co
 }
 
 bool Propagator::advance(const TraceRequest& rq, RayState& ray, bool surface,
-                         const SurfaceHit& hit, std::vector<PathHit>& hits,
-                         std::vector<uint32_t>& hitListener) const {
+                         const SurfaceHit& hit, HitList& out) const {
   const float segEnd = surface ? hit.t : std::numeric_limits<float>::infinity();
-  if (ray.order > 0 || rq.includeDirectRays) testListeners(rq, ray, segEnd, hits, hitListener);
+  if (ray.order > 0 || rq.includeDirectRays) testListeners(rq, ray, segEnd, out);
   if (!surface || ray.order >= settings_.maxOrder) return false;
   return reflect(ray, hit);
-}
-
-bool Propagator::replacedByExactPath(const TraceRequest& rq, const RayState& ray,
-                                     uint32_t l) const {
-  const auto& sets = rq.exactSequences;
-  if (sets.empty()) return true;
-  if (l >= sets.size() || !sets[l]) return false;
-  return sets[l]->contains(sourceFirstRun(ray, uint32_t(ray.specularRun), rq.fromListener).key());
 }
 
 SpecularSequence Propagator::sourceFirstRun(const RayState& ray, uint32_t k, bool fromListener) {
@@ -160,20 +151,17 @@ SpecularSequence Propagator::sourceFirstRun(const RayState& ray, uint32_t k, boo
 }
 
 void Propagator::testListeners(const TraceRequest& rq, const RayState& ray, float segEnd,
-                               std::vector<PathHit>& hits,
-                               std::vector<uint32_t>& hitListener) const {
+                               HitList& out) const {
   if (rq.receivers.size() > kMaxLinearSpheres) {
-    sphereBvh_.forEachCandidate(ray.org, ray.dir, segEnd, [&](uint32_t l) {
-      testSphere(rq, ray, segEnd, l, hits, hitListener);
-    });
+    sphereBvh_.forEachCandidate(ray.org, ray.dir, segEnd,
+                                [&](uint32_t l) { testSphere(rq, ray, segEnd, l, out); });
     return;
   }
-  for (uint32_t l = 0; l < rq.receivers.size(); ++l)
-    testSphere(rq, ray, segEnd, l, hits, hitListener);
+  for (uint32_t l = 0; l < rq.receivers.size(); ++l) testSphere(rq, ray, segEnd, l, out);
 }
 
 void Propagator::testSphere(const TraceRequest& rq, const RayState& ray, float segEnd, uint32_t l,
-                            std::vector<PathHit>& hits, std::vector<uint32_t>& hitListener) const {
+                            HitList& out) const {
   const ListenerSphere& listener = rq.receivers[l];
   // Segment against the sphere: |org + t dir - L|^2 = R^2.
   const glm::vec3 oc = listener.position - ray.org;
@@ -182,11 +170,14 @@ void Propagator::testSphere(const TraceRequest& rq, const RayState& ray, float s
   if (!(disc > 0.f)) return;
   const float s = std::sqrt(disc);
   if (!(b + s > 0.f && b - s < segEnd)) return;
-  // An exact specular path's hits stay out: specular_paths.h finds that path exactly. Asked
-  // only for segments that meet the sphere (it hashes the ray's face sequence).
-  if (ray.exactSpecular() && replacedByExactPath(rq, ray, l)) return;
-  hits.push_back(makeHit(rq, ray, l, b, segEnd));
-  hitListener.push_back(l);
+  // A hit of an exact specular run carries its sequence (hashed only for segments that meet
+  // a sphere); the caller leaves it out when that sequence's exact path is in the frame.
+  const bool exact = ray.exactSpecular();
+  out.hits.push_back(makeHit(rq, ray, l, b, segEnd));
+  out.receiver.push_back(l);
+  out.exact.push_back(exact ? 1 : 0);
+  out.sequence.push_back(
+      exact ? sourceFirstRun(ray, uint32_t(ray.specularRun), rq.fromListener).key() : 0);
 }
 
 void Propagator::prepareSpheres(std::span<const ListenerSphere> listeners) {
@@ -276,7 +267,7 @@ void Propagator::traceRay(const Pass& pass, uint32_t rayIndex, Chunk& chunk) con
   for (;;) {
     const bool surface = tracer_.intersect(TraceRay{ray.org, ray.dir}, hit);
     ++chunk.segments;
-    if (!advance(pass.request, ray, surface, hit, chunk.hits, chunk.hitListener)) break;
+    if (!advance(pass.request, ray, surface, hit, chunk.ordered)) break;
   }
   noteSpecularRun(ray, chunk);
 }
@@ -310,7 +301,6 @@ void Propagator::traceChunkPacket(const Pass& pass, uint32_t firstRay, uint32_t 
   std::array<TraceRay, K> packet;  // org and dir of live lanes; tnear 0, tfar infinity
   std::array<TraceHit, K> answers;
   chunk.unordered.clear();
-  chunk.unorderedListener.clear();
   chunk.rayOf.clear();
   uint32_t next = firstRay;
   // Lanes are filled in ray order and refilled, lowest lane first, as rays end: a fixed
@@ -336,8 +326,8 @@ void Propagator::traceChunkPacket(const Pass& pass, uint32_t firstRay, uint32_t 
     for (int i = 0; i < K; ++i) {
       if (!packet[i].active) continue;
       const bool more = advance(pass.request, rays[i], answers[i].found, answers[i].surface,
-                                chunk.unordered, chunk.unorderedListener);
-      while (chunk.rayOf.size() < chunk.unordered.size())  // one hit per listener at most
+                                chunk.unordered);
+      while (chunk.rayOf.size() < chunk.unordered.hits.size())  // one hit per receiver at most
         chunk.rayOf.push_back(rayIndex[i] - firstRay);
       if (!more) noteSpecularRun(rays[i], chunk);
       if (!more && !refill(i)) --live;
@@ -351,13 +341,8 @@ void Propagator::Chunk::sortByRay(uint32_t count) {
   offsets.assign(count + 1, 0);
   for (uint32_t r : rayOf) ++offsets[r + 1];
   for (uint32_t r = 0; r < count; ++r) offsets[r + 1] += offsets[r];
-  hits.resize(unordered.size());
-  hitListener.resize(unordered.size());
-  for (size_t h = 0; h < unordered.size(); ++h) {
-    const uint32_t to = offsets[rayOf[h]]++;
-    hits[to] = unordered[h];
-    hitListener[to] = unorderedListener[h];
-  }
+  ordered.resize(unordered.hits.size());
+  for (size_t h = 0; h < unordered.hits.size(); ++h) ordered.copy(h, unordered, offsets[rayOf[h]]++);
 }
 
 std::pair<uint32_t, uint32_t> Propagator::chunksFor(int rays) {
@@ -376,6 +361,19 @@ TraceStats Propagator::traceFrame(const TraceRequest& request, FrameGroups& grou
 TraceStats Propagator::traceFrame(const TraceRequest& request,
                                   std::span<FrameGroups* const> groups,
                                   SpecularCandidates* candidates) {
+  if (scratchHits_.size() < groups.size()) scratchHits_.resize(groups.size());
+  scratchPtrs_.clear();
+  for (size_t l = 0; l < groups.size(); ++l) {
+    scratchHits_[l].clear();
+    scratchPtrs_.push_back(&scratchHits_[l]);
+  }
+  const TraceStats stats = traceFrame(request, std::span(scratchPtrs_), candidates);
+  for (size_t l = 0; l < groups.size(); ++l) scratchHits_[l].groupInto(*groups[l], nullptr);
+  return stats;
+}
+
+TraceStats Propagator::traceFrame(const TraceRequest& request, std::span<FrameHits* const> hits,
+                                  SpecularCandidates* candidates) {
   const uint32_t n = uint32_t(std::max(0, request.rays));
   const std::pair<uint32_t, uint32_t> chunks = chunksFor(request.rays);
   const uint32_t chunkCount = chunks.first, perChunk = chunks.second;
@@ -385,8 +383,7 @@ TraceStats Propagator::traceFrame(const TraceRequest& request,
   arena_->execute([&] {
     tbb::parallel_for(uint32_t(0), chunkCount, [&](uint32_t c) {
       Chunk& chunk = chunks_[c];
-      chunk.hits.clear();
-      chunk.hitListener.clear();
+      chunk.ordered.clear();
       chunk.specularRuns.clear();
       chunk.segments = 0;
       const uint32_t end = std::min(n, (c + 1) * perChunk);
@@ -402,8 +399,10 @@ TraceStats Propagator::traceFrame(const TraceRequest& request,
   for (uint32_t c = 0; c < chunkCount; ++c) {
     const Chunk& chunk = chunks_[c];
     stats.segments += chunk.segments;
-    stats.listenerHits += chunk.hits.size();
-    for (size_t h = 0; h < chunk.hits.size(); ++h) groups[chunk.hitListener[h]]->add(chunk.hits[h]);
+    const HitList& list = chunk.ordered;
+    stats.listenerHits += list.hits.size();
+    for (size_t h = 0; h < list.hits.size(); ++h)
+      hits[list.receiver[h]]->add(list.hits[h], list.exact[h] != 0, list.sequence[h]);
   }
   if (candidates && exactOrder_ > 0)
     collectCandidates(chunkCount, *candidates, request.fromListener);

@@ -59,12 +59,14 @@
 
 #include "common/bands.h"
 #include "common/random.h"
+#include "engine/frame_hits.h"
 #include "engine/frame_inputs.h"
 #include "engine/geometry.h"
 #include "engine/patch.h"
 #include "engine/path_cache.h"
 #include "engine/specular_paths.h"
 #include "engine/sphere_bvh.h"
+#include "engine/trace_request.h"
 #include "engine/tracer.h"
 #include "engine/transmission.h"
 #include "scene/directivity.h"
@@ -72,88 +74,9 @@
 
 namespace dpc {
 
-/// Analytic direct sound: line of sight, 1/(4 pi r^2), air absorption.
-struct DirectSound {
-  bool visible = false;
-  float distance = 0.f;      ///< metres (clamped below at R/2: see directSound())
-  float delaySeconds = 0.f;  ///< distance / c
-  Bands intensity{0.f};      ///< 1/m^2 relative to source power; zero when occluded
-  glm::vec3 direction{0.f};  ///< unit vector from the listener toward the source
-  /// Transmitting surfaces the straight path crosses (engine/transmission.h): 0 for a line of
-  /// sight; > 0 when visible only through surfaces, the intensity then carrying their
-  /// transmittances' product.
-  int crossings = 0;
-  /// True when the path was counted blocked after kMaxDirectCrossings surfaces.
-  bool crossingCapped = false;
-  /// A free line of sight (no surface in between): what diffraction's shadow boundary needs.
-  bool lineOfSight() const { return visible && crossings == 0; }
-};
-
-struct TraceStats {
-  uint64_t rays = 0;          ///< rays emitted
-  uint64_t segments = 0;      ///< ray segments traced (closest-hit queries)
-  uint64_t listenerHits = 0;  ///< segment-sphere crossings, summed over the listeners
-};
-
-/// How Propagator issues its tracer queries (same physics, same random streams).
-enum class TraceMode {
-  kScalar,    ///< one ray to completion at a time, single-ray queries (rtcIntersect1)
-  kPacket16,  ///< 16 rays of a chunk in lockstep, batch queries (rtcIntersect16)
-};
-
-/// The default mode: packets, which trace the same segments and hits faster than single rays
-/// (docs/performance.md, "16-wide packets"). Builds may pick scalar with
-/// -DDPC_DEFAULT_TRACE_MODE_SCALAR=1.
-#if defined(DPC_DEFAULT_TRACE_MODE_SCALAR) && DPC_DEFAULT_TRACE_MODE_SCALAR
-inline constexpr TraceMode kDefaultTraceMode = TraceMode::kScalar;
-#else
-inline constexpr TraceMode kDefaultTraceMode = TraceMode::kPacket16;
-#endif
-
 /// The air's energy attenuation per metre and band (ISO 9613-1, 1/m) the settings ask for:
 /// 0 when settings.airAbsorption is off. Any thread.
 Bands propagationAirAttenuation(const PropagationSettings& settings);
-
-/// One emitter's trace for one frame (Propagator::traceFrame): everything that varies from
-/// frame to frame, as a plain value. The spans view the caller's arrays, which must outlive
-/// the call. Units: metres; directions unit vectors in the world frame.
-struct TraceRequest {
-  uint64_t seed = 0;     ///< the run's seed (PropagationSettings::seed or a restart's)
-  uint64_t frame = 0;    ///< frame index: with seed and emitter, it selects the random streams
-  uint32_t emitter = 0;  ///< the source index (from a listener: the listener index)
-  glm::vec3 origin{0.f};  ///< where the rays leave
-  int rays = 0;           ///< rays to trace, >= 0
-  /// Rays leave a listener and the receivers are the sources (reciprocal tracing, Schissler &
-  /// Manocha, "Interactive sound propagation and rendering for large multi-source scenes",
-  /// ACM TOG 36(1), 2016): a hit's direction is the ray's first direction (where the sound
-  /// arrives from, seen from the listener); receiver l's pattern weights the hit toward the
-  /// direction the sound leaves it (minus the ray's direction at the sphere); the specular
-  /// sequences are recorded listener first and reversed into source-first order.
-  bool fromListener = false;
-  /// The emitting source's radiation pattern and forward axis (scene/directivity.h): every
-  /// ray's energy is weighted at emission by directivityWeight at its leaving direction. Omni
-  /// (the default) applies no weight. Ignored from a listener.
-  Directivity pattern;
-  glm::vec3 forward{1.f, 0.f, 0.f};
-  /// The spheres tested (listeners, or from a listener the sources): hits to receiver l go to
-  /// traceFrame's groups[l].
-  std::span<const ListenerSphere> receivers;
-  /// The identifier receiver l finishes into its hits' path identifiers (pathHashFinish):
-  /// ids[l], or l itself when empty. Lets a caller that leaves some spheres out of a pass keep
-  /// every other sphere's keys (and so its cache's paths) unchanged.
-  std::span<const uint32_t> receiverIds;
-  /// From a listener: receiver l's pattern and forward axis (empty: every receiver omni).
-  std::span<const Directivity> receiverPatterns;
-  std::span<const glm::vec3> receiverForwards;
-  /// Per receiver, the sequences whose exact paths replace their rays' hits (the pair's
-  /// SpecularPathCache::validKeys): an all-specular hit of order <= exactOrder() is left out
-  /// only when receiver l's set holds its sequence, so a sequence without an exact path keeps
-  /// its hits. Empty: every such hit is left out.
-  std::span<const tsl::robin_set<uint64_t>* const> exactSequences;
-  /// Segments leaving the origin also count as hits (calibration against 1/(4 pi r^2); the
-  /// renderer keeps the analytic direct sound instead).
-  bool includeDirectRays = false;
-};
 
 class Propagator {
  public:
@@ -187,15 +110,21 @@ class Propagator {
   ~Propagator();
 
   /// Traces request.rays rays from request.origin, tests every segment against every sphere
-  /// of request.receivers and adds receiver l's hits, grouped by path identifier in ray order,
-  /// to *groups[l] (groups.size() == receivers.size(); the caller clears them), with l's id
-  /// finished into the path identifier (thesis §3.2.2: the path identifier carries the
-  /// listener). Tracer work (the segments) does not depend on the receivers, only the
-  /// ray-sphere tests do; the random streams do not depend on them either, so receiver l's
-  /// groups equal, bit for bit, those of tracing it alone (up to the id in the keys).
-  /// candidates (optional, used when exactOrder() > 0): receives, in ray order, every
-  /// all-specular triangle sequence of order 1..exactOrder() the rays followed (the caller
-  /// clears it). Propagation thread; allocation as in the file comment.
+  /// of request.receivers and appends receiver l's hits in ray order to *hits[l]
+  /// (hits.size() == receivers.size(); the caller clears them), with l's id finished into the
+  /// path identifier (thesis §3.2.2: the path identifier carries the listener) and each hit of
+  /// an all-specular run of order <= exactOrder() tagged with its sequence (FrameHits). Tracer
+  /// work (the segments) does not depend on the receivers, only the ray-sphere tests do; the
+  /// random streams do not depend on them either, so receiver l's hits equal, bit for bit,
+  /// those of tracing it alone (up to the id in the keys). candidates (optional, used when
+  /// exactOrder() > 0): receives, in ray order, every all-specular triangle sequence of order
+  /// 1..exactOrder() the rays followed (the caller clears it). Propagation thread; allocation
+  /// as in the file comment.
+  TraceStats traceFrame(const TraceRequest& request, std::span<FrameHits* const> hits,
+                        SpecularCandidates* candidates = nullptr);
+  /// The same grouped by path identifier into *groups[l] (the caller clears them), every
+  /// exact specular hit left out (FrameHits::groupInto with no exact paths): for callers that
+  /// do not keep exact paths' caches.
   TraceStats traceFrame(const TraceRequest& request, std::span<FrameGroups* const> groups,
                         SpecularCandidates* candidates = nullptr);
   /// One receiver (request.receivers.size() == 1) into `groups`.
@@ -263,18 +192,33 @@ class Propagator {
     /// True when this ray's listener hits belong to an exact specular path (left out).
     bool exactSpecular() const { return order > 0 && specularRun == order; }
   };
-  struct Chunk {
+  /// Hits with their receiver and exact specular tag (FrameHits::add), in parallel arrays.
+  struct HitList {
     std::vector<PathHit> hits;
-    std::vector<uint32_t> hitListener;           ///< listener index of each hit
+    std::vector<uint32_t> receiver;
+    std::vector<uint64_t> sequence;
+    std::vector<uint8_t> exact;
+    void clear() {
+      hits.clear(), receiver.clear(), sequence.clear(), exact.clear();
+    }
+    void resize(size_t n) {
+      hits.resize(n), receiver.resize(n), sequence.resize(n), exact.resize(n);
+    }
+    void copy(size_t from, const HitList& other, size_t to) {
+      hits[to] = other.hits[from], receiver[to] = other.receiver[from];
+      sequence[to] = other.sequence[from], exact[to] = other.exact[from];
+    }
+  };
+  struct Chunk {
+    HitList ordered;                             ///< the chunk's hits in ray order
     std::vector<SpecularSequence> specularRuns;  ///< per ended ray with a run: its sequence
     uint64_t segments = 0;
     // Packet mode scratch: hits in completion order with their ray (offset in the chunk),
     // and the per-ray counts/offsets of the counting sort back into ray order.
-    std::vector<PathHit> unordered;
-    std::vector<uint32_t> unorderedListener;
+    HitList unordered;
     std::vector<uint32_t> rayOf;
     std::vector<uint32_t> offsets;
-    /// Moves `unordered` into `hits` in ray order (count rays from the chunk's first).
+    /// Moves `unordered` into `ordered` in ray order (count rays from the chunk's first).
     void sortByRay(uint32_t count);
   };
   /// One pass of traceFrame: its request and the seed of its random streams.
@@ -284,23 +228,19 @@ class Propagator {
   };
   void startRay(const Pass& pass, uint32_t rayIndex, RayState& ray) const;
   /// Applies one query's answer (surface hit or miss) to the ray: receiver tests (append to
-  /// hits and their indices to hitListener, in receiver order), then reflection. Returns false
-  /// when the ray ends.
+  /// `out`, in receiver order), then reflection. Returns false when the ray ends.
   bool advance(const TraceRequest& rq, RayState& ray, bool surface, const SurfaceHit& hit,
-               std::vector<PathHit>& hits, std::vector<uint32_t>& hitListener) const;
+               HitList& out) const;
   /// The segment of `ray` up to segEnd (m) against every receiver sphere: appends a hit per
   /// sphere it crosses (with its receiver index): in receiver order, or the sphere hierarchy's
   /// order above kMaxLinearSpheres.
   void testListeners(const TraceRequest& rq, const RayState& ray, float segEnd,
-                     std::vector<PathHit>& hits, std::vector<uint32_t>& hitListener) const;
+                     HitList& out) const;
   /// The segment against receiver l: appends its hit when it crosses.
   void testSphere(const TraceRequest& rq, const RayState& ray, float segEnd, uint32_t l,
-                  std::vector<PathHit>& hits, std::vector<uint32_t>& hitListener) const;
+                  HitList& out) const;
   /// Rebuilds sphereBvh_ over `receivers` when there are more than kMaxLinearSpheres.
   void prepareSpheres(std::span<const ListenerSphere> receivers);
-  /// Whether an exact path replaces receiver l's hit of this all-specular ray
-  /// (TraceRequest::exactSequences).
-  bool replacedByExactPath(const TraceRequest& rq, const RayState& ray, uint32_t l) const;
   /// The ray's leading specular run (k first reflections) as a source-first sequence: as
   /// recorded, or reversed when tracing from a listener.
   static SpecularSequence sourceFirstRun(const RayState& ray, uint32_t k, bool fromListener);
@@ -344,6 +284,8 @@ class Propagator {
   TraceMode traceMode_ = kDefaultTraceMode;
   std::unique_ptr<tbb::task_arena> arena_;
   std::vector<Chunk> chunks_;
+  std::vector<FrameHits> scratchHits_;  ///< the grouping traceFrame's, per receiver
+  std::vector<FrameHits*> scratchPtrs_;
 };
 
 }  // namespace dpc

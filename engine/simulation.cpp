@@ -54,7 +54,7 @@ void Simulation::reserveListeners(size_t listeners) {
             size_t(double(settings_.cacheMemoryMb) * 1048576.0), cachePool_.get()));
       if (specularScene_)
         specularCaches_.push_back(
-            std::make_unique<SpecularPathCache>(settings_.cacheTau, 1.0 / settings_.frameRate));
+            std::make_unique<SpecularPathCache>(exactPathRetention(), 1.0 / settings_.frameRate));
       idle_.push_back(0);
       SourceResult r;
       r.energy = EnergyResponse(settings_.irLength, kEnergyBinSeconds);
@@ -65,10 +65,10 @@ void Simulation::reserveListeners(size_t listeners) {
       tees_.emplace_back();
     }
     groups_.emplace_back();
+    hits_.emplace_back();
   }
-  groupPtrs_.clear();
-  for (FrameGroups& g : groups_) groupPtrs_.push_back(&g);
-  exactSetPtrs_.resize(listeners, nullptr);
+  hitPtrs_.clear();
+  for (FrameHits& h : hits_) hitPtrs_.push_back(&h);
   if (orientations_.size() < listeners) orientations_.resize(listeners);
 }
 
@@ -218,19 +218,14 @@ void Simulation::traceFromSources(std::span<const ListenerSphere> listeners,
       continue;
     }
     const auto t0 = std::chrono::steady_clock::now();
-    for (size_t l = 0; l < listeners.size(); ++l) groups_[l].clear();
+    for (size_t l = 0; l < listeners.size(); ++l) hits_[l].clear();
     TraceRequest rq = requestFor(uint32_t(s), sources[s]);
     rq.pattern = directivities_[s];
     rq.forward = sourceForwards_[s];
     rq.receivers = listeners;
-    if (specularCandidates_) {
-      specularCandidates_->clear();
-      for (size_t l = 0; l < listeners.size(); ++l)
-        exactSetPtrs_[l] = &specularCaches_[l * sourceCount_ + s]->validKeys();
-      rq.exactSequences = std::span(exactSetPtrs_.data(), listeners.size());
-    }
+    if (specularCandidates_) specularCandidates_->clear();
     const TraceStats trace = propagator_->traceFrame(
-        rq, std::span(groupPtrs_.data(), listeners.size()), specularCandidates_.get());
+        rq, std::span(hitPtrs_.data(), listeners.size()), specularCandidates_.get());
     addPass(trace);
     if (specularCandidates_) specularCandidateOverflow_ += specularCandidates_->overflow();
     const double traceSeconds =
@@ -239,7 +234,7 @@ void Simulation::traceFromSources(std::span<const ListenerSphere> listeners,
     // that source-listener pair's data: run them concurrently on the tracing threads. Each
     // pair's float operations are the same whatever the thread, so results do not change.
     propagator_->forEachParallel(listeners.size(), [&](size_t l) {
-      finishPair(s, l, sources[s], listeners[l], trace, traceSeconds, groups_[l]);
+      finishPair(s, l, sources[s], listeners[l], trace, traceSeconds, hits_[l], groups_[l]);
     });
   }
   if (!untraced_.empty()) finishUntraced(listeners, sources);
@@ -261,7 +256,7 @@ void Simulation::finishUntraced(std::span<const ListenerSphere> listeners,
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     propagator_->forEachParallel(untraced_.size(), [&](size_t i) {
       const size_t s = untraced_[i];
-      finishPair(s, l, sources[s], listeners[l], trace, traceSeconds, noGroups_);
+      finishPair(s, l, sources[s], listeners[l], trace, traceSeconds, noHits_, noGroups_);
     });
   }
 }
@@ -275,11 +270,11 @@ void Simulation::addPass(const TraceStats& t) {
 void Simulation::reserveSourceGroups() {
   if (sourceGroups_.size() >= sourceCount_) return;
   sourceGroups_.resize(sourceCount_);
-  sourceGroupPtrs_.clear();
-  for (FrameGroups& g : sourceGroups_) sourceGroupPtrs_.push_back(&g);
+  sourceHits_.resize(sourceCount_);
+  sourceHitPtrs_.clear();
+  for (FrameHits& h : sourceHits_) sourceHitPtrs_.push_back(&h);
   sourceSpheres_.resize(sourceCount_);
-  liveGroupPtrs_.resize(sourceCount_, nullptr);
-  liveExactSetPtrs_.resize(sourceCount_, nullptr);
+  liveHitPtrs_.resize(sourceCount_, nullptr);
   livePatterns_.resize(sourceCount_);
   liveForwards_.resize(sourceCount_);
   liveIds_.resize(sourceCount_, 0);
@@ -289,12 +284,10 @@ size_t Simulation::compactSources(size_t l, const ListenerSphere& listener,
                                   const std::vector<glm::vec3>& sources, size_t S) {
   size_t n = 0;
   for (size_t s = 0; s < S; ++s) {
-    sourceGroups_[s].clear();
+    sourceHits_[s].clear();
     if (skipped(s, l)) continue;
     sourceSpheres_[n] = ListenerSphere{sources[s], listener.radius};
-    liveGroupPtrs_[n] = sourceGroupPtrs_[s];
-    liveExactSetPtrs_[n] =
-        specularCandidates_ ? &specularCaches_[l * sourceCount_ + s]->validKeys() : nullptr;
+    liveHitPtrs_[n] = sourceHitPtrs_[s];
     livePatterns_[n] = directivities_[s];
     liveForwards_[n] = sourceForwards_[s];
     liveIds_[n] = uint32_t(s);
@@ -318,13 +311,10 @@ void Simulation::traceFromListeners(std::span<const ListenerSphere> listeners,
     rq.receiverIds = std::span(liveIds_.data(), n);
     rq.receiverPatterns = std::span(livePatterns_.data(), n);
     rq.receiverForwards = std::span(liveForwards_.data(), n);
-    if (specularCandidates_) {
-      specularCandidates_->clear();
-      rq.exactSequences = std::span(liveExactSetPtrs_.data(), n);
-    }
+    if (specularCandidates_) specularCandidates_->clear();
     TraceStats trace;
     if (n > 0)
-      trace = propagator_->traceFrame(rq, std::span(liveGroupPtrs_.data(), n),
+      trace = propagator_->traceFrame(rq, std::span(liveHitPtrs_.data(), n),
                                       specularCandidates_.get());
     else if (specularCandidates_)
       trace = propagator_->proposeSpecular(rq, *specularCandidates_);
@@ -333,28 +323,39 @@ void Simulation::traceFromListeners(std::span<const ListenerSphere> listeners,
     const double traceSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     propagator_->forEachParallel(S, [&](size_t s) {
-      finishPair(s, l, sources[s], listeners[l], trace, traceSeconds, sourceGroups_[s]);
+      finishPair(s, l, sources[s], listeners[l], trace, traceSeconds, sourceHits_[s],
+                 sourceGroups_[s]);
     });
   }
 }
 
 void Simulation::finishPair(size_t s, size_t l, const glm::vec3& source,
                             const ListenerSphere& listener, const TraceStats& trace,
-                            double traceSeconds, const FrameGroups& groups) {
+                            double traceSeconds, const FrameHits& hits, FrameGroups& groups) {
   const size_t pair = l * sourceCount_ + s;
   SourceResult& r = results_[pair];
-  const auto t1 = std::chrono::steady_clock::now();
   r.trace = trace;
+  r.traceSeconds = traceSeconds;
   r.direct = propagator_->directSound(source, listener, directivities_[s], sourceForwards_[s]);
   if (diffraction_)
     diffraction_->apply(*tracer_, source, listener, settings_.speedOfSound,
                         propagator_->airAttenuationPerMetre(), r.direct, directivities_[s],
                         sourceForwards_[s]);
-  r.energy.clear();
-  updateOrIdle(pair, groups, r, pairSink(pair, l));
-  r.traceSeconds = traceSeconds;
-  r.estimatorSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+  // The frame's exact paths first: a hit is left out exactly when the exact path of its own
+  // sequence is in this frame's paths (FrameHits::groupInto), so nothing counts twice.
   if (specularScene_) updateSpecular(pair, source, listener, r);
+  const auto t1 = std::chrono::steady_clock::now();
+  r.energy.clear();
+  if (!skipped(s, l)) {
+    groups.clear();
+    hits.groupInto(groups, specularScene_ ? &specularCaches_[pair]->validKeys() : nullptr);
+  }
+  updateOrIdle(pair, groups, r, pairSink(pair, l));
+  r.estimatorSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+}
+
+double Simulation::exactPathRetention() const {
+  return settings_.estimator == Estimator::kDpc ? double(settings_.cacheTau) : 0.0;
 }
 
 void Simulation::updateSpecular(size_t pair, const glm::vec3& source,

@@ -229,7 +229,12 @@ class Simulation {
   /// estimator update of `groups` (the pair's hits this frame) into their pair's result.
   /// Touches only that pair's data.
   void finishPair(size_t s, size_t l, const glm::vec3& source, const ListenerSphere& listener,
-                  const TraceStats& trace, double traceSeconds, const FrameGroups& groups);
+                  const TraceStats& trace, double traceSeconds, const FrameHits& hits,
+                  FrameGroups& groups);
+  /// How long an exact path's sequence that is neither valid nor proposed is kept: the DPC's
+  /// tau, and none for plain path tracing, which keeps nothing from frame to frame (so that
+  /// tau = 0 is plain path tracing, exact paths included).
+  double exactPathRetention() const;
   /// Adds the frame's groups to pair's estimator and reads its energy response into r.energy
   /// (and dir when not null).
   void updateEstimator(size_t pair, const FrameGroups& groups, SourceResult& r,
@@ -266,24 +271,27 @@ class Simulation {
   int shOrder_ = -1;                         ///< enableShEnergy's order (-1: off)
   double shBinSeconds_ = 0.01;
   PathTracingEstimator pathTracing_;
-  std::vector<FrameGroups> groups_;      ///< per listener, this source's frame
-  std::vector<FrameGroups*> groupPtrs_;  ///< &groups_[l]
-  // Tracing from the listeners: per source, this listener's frame, and the source spheres.
+  // Tracing from the sources: per listener, this source's hits, and the grouping scratch.
+  std::vector<FrameHits> hits_;
+  std::vector<FrameHits*> hitPtrs_;  ///< &hits_[l]
+  std::vector<FrameGroups> groups_;
+  // Tracing from the listeners: per source, this listener's hits and grouping scratch, and the
+  // source spheres.
+  std::vector<FrameHits> sourceHits_;
+  std::vector<FrameHits*> sourceHitPtrs_;
   std::vector<FrameGroups> sourceGroups_;
-  std::vector<FrameGroups*> sourceGroupPtrs_;
   std::vector<ListenerSphere> sourceSpheres_;
-  // The same compacted to the sources traced for the listener (setSkippedPairs):
-  std::vector<FrameGroups*> liveGroupPtrs_;
-  std::vector<const tsl::robin_set<uint64_t>*> liveExactSetPtrs_;
+  // The same compacted to the sources traced for the listener (FrameInputs::skippedPairs):
+  std::vector<FrameHits*> liveHitPtrs_;
   std::vector<Directivity> livePatterns_;
   std::vector<glm::vec3> liveForwards_;
   std::vector<uint32_t> liveIds_;  ///< source index of each compacted sphere (path keys)
   std::vector<uint8_t> skip_;      ///< this frame's FrameInputs::skippedPairs, per pair
   std::vector<uint8_t> idle_;      ///< per pair: skipped in its last frame
   std::vector<size_t> untraced_;   ///< from the sources: this frame's sources traced for none
-  FrameGroups noGroups_;           ///< what a skipped pair is handed (it reads none)
-  /// Per listener, the traced source's pair's SpecularPathCache::validKeys
-  std::vector<const tsl::robin_set<uint64_t>*> exactSetPtrs_;
+  /// What a pair skipped for every listener is handed (it reads none).
+  const FrameHits noHits_;
+  FrameGroups noGroups_;
   std::vector<glm::vec3> directions_;    ///< enableDirectional's listener-frame directions
   std::vector<Orientation> orientations_{1};  ///< per listener, this frame's
   // Exact specular paths (null / empty while exactOrder is 0):

@@ -186,7 +186,7 @@ class SpecularPathCache {
   const std::vector<SpecularPath>& paths() const { return paths_; }
   /// Keys (SpecularSequence::key) of every sequence valid in the last update(), the coincident
   /// duplicates that paths() reports once included: the sequences whose rays' listener hits an
-  /// exact path replaces (Propagator::setExactSequences).
+  /// exact path replaces (FrameHits::groupInto).
   const tsl::robin_set<uint64_t>& validKeys() const { return validKeys_; }
   size_t entryCount() const { return entries_.size(); }
   /// Valid sequences not cached because the cache was full, cumulative.

@@ -5,7 +5,7 @@
 
 #include "api/engine_handle.h"
 #include "api/errors.h"
-#include "scene/scene.h"
+#include "scene/orientation.h"
 
 namespace {
 

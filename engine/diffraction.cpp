@@ -10,6 +10,8 @@
 #include <numbers>
 #include <unordered_map>
 
+#include "scene/mesh_topology.h"
+
 namespace dpc {
 
 namespace {

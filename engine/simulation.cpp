@@ -4,6 +4,9 @@
 #include <chrono>
 
 #include "engine/embree_tracer.h"
+#include "scene/orientation.h"
+#include "scene/tracing_policy.h"
+#include "scene/trajectory.h"
 
 namespace dpc {
 

@@ -14,6 +14,7 @@
 #include "common/fixed_ring.h"
 #include "runtime/dry_signals.h"
 #include "runtime/propagation_stage.h"
+#include "scene/orientation.h"
 
 namespace dpc {
 

@@ -8,7 +8,7 @@
 #include <thread>
 #include <vector>
 
-#include "audio/audio_device.h"
+#include "audio/audio_output.h"
 
 namespace dpc {
 

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "scene/scene.h"
+#include "scene/trajectory.h"
 #include "testing/temp_dir.h"
 
 using namespace dpc;

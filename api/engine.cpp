@@ -12,6 +12,7 @@
 #include "common/input_error.h"
 #include "common/log.h"
 #include "engine/workload.h"
+#include "runtime/output_format.h"
 #include "scene/validate.h"
 
 namespace dpc::api {
@@ -61,7 +62,7 @@ dpc_status readOptions(const dpc_engine_options* caller, dpc_engine_options* ful
 /// of memory part-way.
 void checkEngineWorkload(const SceneDesc& scene, const DrySignals& dry) {
   WorkloadEstimate e = estimateWorkload(scene, scene.propagation,
-                                        outputChannels(scene.audio), 0.0);
+                                        irChannels(scene.audio), 0.0);
   for (const std::vector<float>& x : dry.samples) e.signalBytes += double(x.size() * sizeof(float));
   checkWorkload(scene, scene.propagation, e, plannableMemoryBytes());
 }

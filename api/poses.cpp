@@ -7,6 +7,7 @@
 #include "api/engine_handle.h"
 #include "api/errors.h"
 #include "common/text_buffer.h"
+#include "scene/orientation.h"
 #include "scene/quaternion.h"
 #include "scene/scene.h"
 

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string>
 
-#include "audio/audio_device.h"
+#include "audio/audio_output.h"
 
 namespace dpc::audio {
 

@@ -1,17 +1,23 @@
-// OutputBackend: one open output stream of one host API, what AudioOutput (audio_device.h)
-// forwards to. Two exist: PortAudio's (ALSA, OSS, and JACK through PortAudio) and JACK's own
-// client library (jack_output.cpp), which names its ports, runs at the server's period and
-// hears the server shut down. Internal to the audio layer.
+// OutputBackend: one open output stream of one host API, the base AudioOutput
+// (audio/audio_output.h) forwards to. Two exist: PortAudio's (audio/portaudio_backend.h: ALSA,
+// OSS, and JACK through PortAudio) and JACK's own client library (audio/jack_backend.h), which
+// names its ports, runs at the server's period and hears the server shut down. The base owns
+// what both share: the user's callback, the stream's figures, the callback statistics and the
+// callback thread's scheduling. Internal to the audio layer.
+//
+// Threads: render() on the backend's audio thread; everything else on the control thread.
+// Allocation: none in render(); runWithin starts a thread. Errors: per function below.
 #pragma once
 
 #include <pthread.h>
 
 #include <atomic>
 #include <functional>
-#include <memory>
 #include <string>
 
-#include "audio/audio_device.h"
+#include "audio/callback_stats.h"
+#include "audio/device_name.h"
+#include "audio/output_options.h"
 
 namespace dpc::audio {
 
@@ -33,8 +39,8 @@ class OutputBackend {
   /// No allocation, locks or system calls (two vDSO clock reads, relaxed atomics).
   void render(float* const* out, int frames, bool xrun) noexcept;
   /// The callback thread's scheduling (AudioOutput::callbackScheduling); control thread.
-  AudioOutput::Scheduling scheduling() const;
-  /// "audio device 'JACK:system'": the prefix of every error message.
+  CallbackScheduling scheduling() const;
+  /// "audio device 'JACK:system'": the prefix of every error message. Allocates.
   std::string where() const { return "audio device '" + device.spec() + "'"; }
 
   RenderCallback callback = nullptr;
@@ -65,17 +71,5 @@ bool runWithin(std::function<void()> work, double seconds);
 /// DPC_AUDIO_VERBOSE=1): probing for devices or a server prints pages of them on a headless
 /// machine. Control thread.
 void quietAudioProbing(bool quiet);
-
-/// Whether a JACK server is running (a client opened without starting one). Control thread;
-/// takes a few ms.
-bool jackServerRunning();
-
-/// Opens a JACK client with options.channels output ports (named options.channelNames, else
-/// "out_1"...) connected, once started, to the input ports of client `target` in order
-/// ("" : the physical playback ports, unless options.connectPhysical is false). Throws
-/// std::runtime_error naming the device: no server, a sample rate other than the server's,
-/// no such target client, a port that cannot be registered.
-std::unique_ptr<OutputBackend> openJackOutput(const AudioOutput::Options& options,
-                                              const std::string& target);
 
 }  // namespace dpc::audio

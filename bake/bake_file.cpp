@@ -11,6 +11,7 @@
 #include "bake/hdf5_util.h"
 #include "common/input_error.h"
 #include "common/input_file.h"
+#include "scene/trajectory.h"
 
 namespace dpc::bake {
 namespace {

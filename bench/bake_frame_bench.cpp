@@ -8,6 +8,8 @@
 #include "bench/sources_bench.h"
 #include "engine/baked_field.h"
 #include "runtime/propagation_stage.h"
+#include "scene/enum_names.h"
+#include "scene/trajectory.h"
 
 namespace dpc::bench {
 namespace {

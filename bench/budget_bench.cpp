@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "engine/simulation.h"
+#include "scene/trajectory.h"
 #include "testing/test_scenes.h"
 #include "scene/limits.h"
 

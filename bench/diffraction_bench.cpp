@@ -9,6 +9,7 @@
 #include "engine/diffraction.h"
 #include "engine/embree_tracer.h"
 #include "engine/simulation.h"
+#include "scene/trajectory.h"
 
 namespace dpc::bench {
 namespace {

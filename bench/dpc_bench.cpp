@@ -39,6 +39,7 @@
 #include "bench/sources_bench.h"
 #include "common/input_error.h"
 #include "common/program_main.h"
+#include "scene/enum_names.h"
 #include "scene/limits.h"
 
 namespace dpc::bench {

@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "runtime/render_pipeline.h"
+#include "scene/trajectory.h"
 
 namespace dpc::bench {
 namespace {

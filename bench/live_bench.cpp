@@ -5,10 +5,11 @@
 #include <memory>
 #include <thread>
 
-#include "audio/audio_device.h"
+#include "audio/audio_output.h"
 #include "runtime/live_session.h"
 #include "runtime/null_output.h"
 #include "runtime/render_pipeline.h"
+#include "scene/trajectory.h"
 #include "scene/validate.h"
 
 namespace dpc::bench {

@@ -13,6 +13,7 @@
 #include "bench/noise_study.h"
 #include "engine/geometry.h"
 #include "engine/room_volume.h"
+#include "scene/trajectory.h"
 
 namespace dpc::bench {
 namespace {

@@ -8,7 +8,9 @@
 #include "bench/bare_embree.h"
 #include "engine/room_volume.h"
 #include "engine/simulation.h"
+#include "runtime/output_format.h"
 #include "runtime/render_pipeline.h"
+#include "scene/trajectory.h"
 #include "synthesis/mono_synthesizer.h"
 
 namespace dpc::bench {
@@ -79,7 +81,7 @@ std::vector<double> timeSpatialSynthesis(const SceneDesc& scene, const Propagati
   Simulation dsim(spatialScene, bs);
   dsim.enableDirectional(spatialDirections(spatialScene.audio));
   auto spatial = makeSpatialSynthesizer(spatialScene, bs, roomVolume(spatialScene.mesh));
-  std::vector<std::vector<float>> buffers(size_t(outputChannels(spatialScene.audio)),
+  std::vector<std::vector<float>> buffers(size_t(irChannels(spatialScene.audio)),
                                           std::vector<float>(spatial->lengthSamples()));
   std::vector<float*> channels;
   for (auto& b : buffers) channels.push_back(b.data());

@@ -14,6 +14,8 @@
 
 #include "bench/noise_study.h"
 #include "runtime/render_pipeline.h"
+#include "scene/enum_names.h"
+#include "scene/trajectory.h"
 
 namespace dpc::bench {
 namespace {

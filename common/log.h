@@ -6,7 +6,7 @@
 // block). Calls are serialised: the sink runs under the lock, one message at a time, and must
 // not call setLogSink itself. The sink runs on the logging thread: the control thread for the
 // C API's messages; JACK's own thread for the messages JACK hands dpc-demo's audio device
-// (audio/audio_device.cpp), as JACK's default printer would.
+// (audio/output_backend.cpp), as JACK's default printer would.
 #pragma once
 
 #include <functional>

@@ -6,6 +6,7 @@
 #include <tsl/robin_map.h>
 
 #include "common/random.h"
+#include "scene/mesh_topology.h"
 
 namespace dpc {
 

@@ -12,6 +12,7 @@
 
 #include "engine/gap_probe.h"
 #include "engine/slit.h"
+#include "scene/mesh_topology.h"
 
 namespace dpc {
 

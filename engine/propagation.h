@@ -59,11 +59,11 @@
 
 #include "common/bands.h"
 #include "common/random.h"
+#include "engine/frame_groups.h"
 #include "engine/frame_hits.h"
 #include "engine/frame_inputs.h"
 #include "engine/geometry.h"
 #include "engine/patch.h"
-#include "engine/path_cache.h"
 #include "engine/specular_paths.h"
 #include "engine/sphere_bvh.h"
 #include "engine/trace_request.h"

@@ -7,6 +7,8 @@
 #include <glm/vec3.hpp>
 #include <unordered_map>
 
+#include "scene/mesh_topology.h"
+
 namespace dpc {
 
 double roomVolume(const Mesh& mesh) {

@@ -7,6 +7,7 @@
 
 #include "common/sphere_quadrature.h"
 #include "engine/embree_tracer.h"
+#include "scene/trajectory.h"
 
 namespace dpc {
 

@@ -6,6 +6,9 @@
 #include <string>
 
 #include "engine/embree_tracer.h"
+#include "scene/orientation.h"
+#include "scene/tracing_policy.h"
+#include "scene/trajectory.h"
 
 namespace dpc {
 

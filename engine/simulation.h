@@ -44,6 +44,7 @@
 #include "engine/sh_energy_response.h"
 #include "engine/specular_paths.h"
 #include "engine/tracer.h"
+#include "scene/orientation.h"
 #include "scene/scene.h"
 
 namespace dpc {

@@ -12,6 +12,7 @@
 #include "common/input_error.h"
 #include "engine/path_cache.h"
 #include "engine/propagation.h"
+#include "scene/tracing_policy.h"
 
 namespace dpc {
 

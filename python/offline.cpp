@@ -14,6 +14,7 @@
 #include "python/errors.h"
 #include "runtime/dry_signals.h"
 #include "runtime/offline_renderer.h"
+#include "runtime/output_format.h"
 #include "scene/limits.h"
 #include "scene/scene.h"
 

@@ -8,6 +8,7 @@
 #include "audio/rt_check.h"
 #include "common/input_error.h"
 #include "common/input_file.h"
+#include "scene/orientation.h"
 
 namespace dpc {
 

@@ -15,6 +15,7 @@
 #include "runtime/dry_signals.h"
 #include "runtime/ir_exchange.h"
 #include "runtime/propagation_stage.h"
+#include "scene/orientation.h"
 
 namespace dpc {
 

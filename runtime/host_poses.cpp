@@ -7,7 +7,9 @@
 #include <optional>
 
 #include "scene/limits.h"
+#include "scene/orientation.h"
 #include "scene/quaternion.h"
+#include "scene/trajectory.h"
 
 namespace dpc {
 

@@ -13,6 +13,7 @@
 
 #include "runtime/pose_channel.h"
 #include "scene/scene.h"
+#include "scene/trajectory.h"
 
 namespace dpc {
 

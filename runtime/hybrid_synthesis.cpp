@@ -6,7 +6,7 @@
 
 #include "common/random.h"
 #include "runtime/baked_playback.h"
-#include "runtime/propagation_stage.h"
+#include "runtime/output_format.h"
 
 namespace dpc {
 

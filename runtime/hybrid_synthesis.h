@@ -10,8 +10,9 @@
 // B long ones (runtime/audio_stage.h).
 //
 // Threads: construction on the control thread (synthesisers, FFTW plans; allocates; throws as
-// makeSpatialSynthesizer does); prepare() on the propagation thread, without allocation after
-// the first frames (the synthesisers' own reserves). No errors in prepare().
+// makeSpatialSynthesizer does, runtime/output_format.h); prepare() on the propagation thread,
+// without allocation after the first frames (the synthesisers' own reserves). No errors in
+// prepare().
 #pragma once
 
 #include <cstdint>

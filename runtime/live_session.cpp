@@ -7,6 +7,8 @@
 #include <string>
 
 #include "audio/rt_check.h"
+#include "runtime/output_format.h"
+#include "scene/orientation.h"
 
 namespace dpc {
 

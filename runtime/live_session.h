@@ -25,7 +25,7 @@
 #include <thread>
 #include <vector>
 
-#include "audio/audio_device.h"
+#include "audio/callback_stats.h"
 #include "audio/limiter.h"
 #include "common/fixed_ring.h"
 #include "runtime/adaptive_rays.h"
@@ -35,6 +35,7 @@
 #include "runtime/render_pipeline.h"
 #include "runtime/response_snapshot.h"
 #include "runtime/session_stats.h"
+#include "scene/trajectory.h"
 
 namespace dpc {
 

@@ -8,7 +8,8 @@
 #include <thread>
 #include <vector>
 
-#include "audio/audio_device.h"
+#include "audio/callback_stats.h"
+#include "audio/output_options.h"
 
 namespace dpc {
 

@@ -7,7 +7,9 @@
 
 #include "audio/rt_check.h"
 #include "engine/specular_paths.h"
+#include "runtime/output_format.h"
 #include "runtime/session_stats.h"
+#include "scene/trajectory.h"
 
 namespace dpc {
 

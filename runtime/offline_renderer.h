@@ -16,6 +16,7 @@
 #include "audio/wav_io.h"
 #include "runtime/render_pipeline.h"
 #include "runtime/session_stats.h"
+#include "scene/orientation.h"
 
 namespace dpc {
 

@@ -1,4 +1,12 @@
-// Scene description: what a scene file (JSON + Wavefront OBJ) says, validated.
+// Scene description, the data model: what a scene file (JSON + Wavefront OBJ) says, validated.
+// Materials, meshes, sources, listeners, moving objects with their keyframes, and the
+// propagation and audio settings, as plain structs and enumerations, with the fixed bounds on a
+// scene's entity counts and the physical defaults. Its helpers live beside it:
+// scene/trajectory.h (poses at a time, WorldState, evaluateWorld, teleports),
+// scene/orientation.h (a listener's yaw, pitch and roll; a source's forward axis),
+// scene/enum_names.h (the enumerations' names in scene files and on command lines),
+// scene/tracing_policy.h (which end a frame traces from), scene/mesh_topology.h (welded
+// vertices).
 //
 // Control thread: loadScene() reads files, allocates, and throws dpc::InputError (one line,
 // "FILE: FIELD: problem") for anything a user got wrong: missing file, malformed JSON, wrong
@@ -50,10 +58,6 @@ struct Mesh {
   std::vector<uint32_t> materialIndex;
 };
 
-/// Per vertex, the index of the first vertex at exactly the same position: the mesh's
-/// topology (shared edges, closedness) when an exporter writes a corner once per face.
-/// Any thread; allocates O(vertices); no errors.
-std::vector<uint32_t> weldedVertexIds(const Mesh& mesh);
 
 struct Keyframe {
   double timeSeconds = 0.0;  ///< seconds from the start of the render, strictly increasing
@@ -127,22 +131,6 @@ struct ListenerDesc {
   float rollDegrees = 0.f;   ///< head tilt about forward (Keyframe), when keyframes give none
 };
 
-/// Listener orientation: heading (yaw, about +y, 0 = facing +x, positive = turning left),
-/// pitch (above the horizon) and roll (about forward, positive = the right ear down), radians,
-/// applied in that order. forward() and up() are world unit vectors (y up); roll turns up()
-/// about forward() and leaves forward() as it is.
-struct Orientation {
-  float yawRadians = 0.f;
-  float pitchRadians = 0.f;
-  float rollRadians = 0.f;
-  glm::vec3 forward() const;
-  glm::vec3 up() const;
-};
-
-/// The yaw, pitch and roll (radians) of the orientation whose forward and up are these world
-/// directions (unit, orthogonal): the inverse of Orientation::forward()/up(). Straight up or
-/// down the yaw is undetermined: 0, with the tilt in roll. Any thread; no allocation.
-Orientation orientationFromAxes(const glm::vec3& forward, const glm::vec3& up);
 
 /// Which estimator turns traced paths into the energy response.
 enum class Estimator {
@@ -300,57 +288,6 @@ struct SceneDesc {
 /// allocates. Throws InputError naming the file and field on any problem.
 SceneDesc loadScene(const std::string& path);
 
-/// Listener position at time t (seconds) along the trajectory (linear interpolation,
-/// clamped at the ends, or wrapped when loop is set). Any thread; no allocation.
-glm::vec3 listenerPositionAt(const ListenerDesc& listener, double t);
-
-/// Listener orientation at time t: the keyframes' yaw/pitch interpolated (yaw along the
-/// shorter arc), or facing the direction of motion along the trajectory (the last direction of
-/// motion while standing), or listener.yawDegrees without a trajectory. Any thread.
-Orientation listenerOrientationAt(const ListenerDesc& listener, double t);
-
-/// Source position at time t: its trajectory as listenerPositionAt (linear, clamped or
-/// wrapped), or its fixed position. Any thread; no allocation.
-glm::vec3 sourcePositionAt(const SourceDesc& source, double t);
-
-/// Source orientation at time t: the keyframes' rotations slerped (shorter arc; clamped or
-/// wrapped as the position), or source.rotation when they give none. Any thread; no allocation.
-glm::quat sourceRotationAt(const SourceDesc& source, double t);
-
-/// The unit forward axis of a source's directivity at rotation q: q * (+x).
-glm::vec3 sourceForward(const glm::quat& q);
-
-/// Object pose at time t: position linear, rotation slerped (shorter arc) between keyframes,
-/// clamped at the ends or wrapped when loop is set. Any thread; no allocation.
-Pose objectPoseAt(const ObjectDesc& object, double t);
-
-/// Everything that moves, evaluated at one time: one entry per scene listener, source and
-/// object, in scene order (docs/design.md, "Runtime interfaces that several features share").
-struct WorldState {
-  double timeSeconds = 0.0;
-  std::vector<glm::vec3> listenerPositions;  ///< metres
-  std::vector<Orientation> listenerOrientations;
-  std::vector<glm::vec3> sourcePositions;  ///< metres
-  std::vector<glm::quat> sourceRotations;  ///< unit quaternions (sourceRotationAt)
-  std::vector<Pose> objectPoses;
-  /// Per source and per listener: 1 when it jumped (a "teleport" keyframe, or a host's
-  /// teleport call) since the previous frame's world, so that its pairs' caches start over.
-  std::vector<uint8_t> sourceTeleports, listenerTeleports;
-};
-
-/// Whether the keyframes hold a teleport keyframe whose time lies in (from, to] seconds (every
-/// period of a looping trajectory counts). Any thread; no allocation.
-bool teleportBetween(const std::vector<Keyframe>& keys, bool loop, double from, double to);
-
-/// Sets world.sourceTeleports and listenerTeleports for the scene's trajectories between the
-/// times from and to (seconds; teleportBetween). Allocates only when the vectors grow.
-void markTeleports(const SceneDesc& scene, double from, double to, WorldState& world);
-
-/// Evaluates every trajectory of the scene at time t, with the teleports between the state's
-/// previous time and t (markTeleports). Allocates only when `state`'s vectors grow. Any
-/// thread (the scene is read only).
-void evaluateWorld(const SceneDesc& scene, double t, WorldState& state);
-
 /// The index in scene.listeners of the listener named `name`. Throws InputError("command
 /// line", flag, ...) listing the known names when there is none of that name. Any thread.
 size_t listenerIndex(const SceneDesc& scene, const std::string& name, const std::string& flag);
@@ -359,21 +296,5 @@ size_t listenerIndex(const SceneDesc& scene, const std::string& name, const std:
 /// scene file", "the mesh", "a dry signal", ...): the inputs no output of the run may name.
 std::vector<std::pair<std::string, std::string>> sceneInputFiles(const SceneDesc& scene,
                                                                  const std::string& scenePath);
-
-/// Parses "mono" / "stereo" / "binaural"; nullopt for anything else.
-std::optional<OutputFormat> parseOutputFormat(const std::string& s);
-/// Parses "magls" / "sampling"; nullopt for anything else.
-std::optional<BinauralDecoder> parseBinauralDecoder(const std::string& s);
-
-/// Parses "auto" / "per_source" / "hybrid"; nullopt for anything else.
-std::optional<Rendering> parseRendering(const std::string& s);
-/// Parses "dpc" / "path_tracing"; nullopt for anything else.
-std::optional<Estimator> parseEstimator(const std::string& s);
-/// "auto", "from_sources" or "from_listeners".
-std::optional<Tracing> parseTracing(const std::string& s);
-/// Whether a frame with this many sources and listeners traces from the listeners.
-bool tracesFromListeners(Tracing tracing, size_t sources, size_t listeners);
-/// Parses "ema" / "seed"; nullopt for anything else.
-std::optional<DpcWeighting> parseDpcWeighting(const std::string& s);
 
 }  // namespace dpc

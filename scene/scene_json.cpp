@@ -11,6 +11,7 @@
 
 #include "common/air_absorption.h"
 #include "common/input_error.h"
+#include "scene/enum_names.h"
 #include "scene/json_reader.h"
 #include "scene/limits.h"
 #include "scene/material_json.h"

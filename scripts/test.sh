@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The README's test command. Installs what is missing, builds, checks the layer table, runs
-# every test (ctest) and the install test.
+# The README's test command. Installs what is missing, checks the layer table and the size
+# rules, builds, runs every test (ctest) and the install test.
 #   scripts/test.sh          the quick run (at most 12 minutes on 2 cores from a cold build)
 #   scripts/test.sh --full   adds the 60 s live JACK run, ThreadSanitizer, AddressSanitizer +
 #                            UBSan and libFuzzer runs (what CI runs: .ci/run)
@@ -15,6 +15,9 @@ esac
 scripts/install-deps.sh
 # Every #include against docs/design.md's layer table.
 python3 scripts/check-layers.py
+# The size rules on production code: a function <= 80 lines, a file <= 600, a header + source
+# unit <= 800 (its allow-list names the exceptions still being split).
+python3 scripts/check-lengths.py
 scripts/build.sh
 # Tests labelled "full" (the 60 s live JACK run) only with --full.
 (cd build && ctest --output-on-failure -j"$(nproc 2>/dev/null || echo 2)" --timeout 600 -LE full)

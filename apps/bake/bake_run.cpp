@@ -20,6 +20,7 @@
 #include "common/input_error.h"
 #include "common/output_file.h"
 #include "common/stop_signals.h"
+#include "scene/trajectory.h"
 
 namespace dpc::bake {
 namespace {

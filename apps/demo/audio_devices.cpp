@@ -4,7 +4,8 @@
 #include <cstdio>
 #include <string>
 
-#include "runtime/propagation_stage.h"
+#include "audio/portaudio_backend.h"
+#include "runtime/output_format.h"
 
 namespace dpc::demo {
 

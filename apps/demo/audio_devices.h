@@ -5,7 +5,7 @@
 #include <string>
 
 #include "apps/demo/flags.h"
-#include "audio/audio_device.h"
+#include "audio/audio_output.h"
 #include "runtime/live_session.h"
 
 namespace dpc::demo {

@@ -5,6 +5,8 @@
 #include <numbers>
 
 #include "apps/demo/terminal.h"
+#include "scene/orientation.h"
+#include "scene/trajectory.h"
 
 namespace dpc::demo {
 namespace {

@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "audio/audio_device.h"
+#include "audio/audio_output.h"
 #include "runtime/live_session.h"
 
 namespace dpc::demo {

@@ -15,6 +15,7 @@
 #include "common/input_error.h"
 #include "common/input_file.h"
 #include "common/output_file.h"
+#include "scene/enum_names.h"
 #include "scene/validate.h"
 
 namespace dpc::demo {

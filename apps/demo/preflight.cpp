@@ -11,6 +11,7 @@
 #include "common/input_error.h"
 #include "engine/setup_check.h"
 #include "engine/workload.h"
+#include "runtime/output_format.h"
 
 namespace dpc::demo {
 namespace {}  // namespace
@@ -36,7 +37,7 @@ void requireSignal(const SceneDesc& scene) {
 void checkSetup(const SceneDesc& scene, const PropagationSettings& settings, double durationSeconds,
                 bool warn) {
   WorkloadEstimate e =
-      estimateWorkload(scene, settings, outputChannels(scene.audio), durationSeconds);
+      estimateWorkload(scene, settings, irChannels(scene.audio), durationSeconds);
   e.signalBytes = drySignalBytes(scene);
   const std::vector<std::string> heavy = checkWorkload(scene, settings, e, plannableMemoryBytes());
   if (!warn) return;

@@ -25,6 +25,8 @@
 #include "runtime/callback_adapter.h"
 #include "runtime/propagation_stage.h"
 #include "scene/limits.h"
+#include "scene/orientation.h"
+#include "scene/trajectory.h"
 #include "scene/validate.h"
 
 namespace dpc::demo {

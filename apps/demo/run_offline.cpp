@@ -25,6 +25,7 @@
 #include "common/output_file.h"
 #include "common/stop_signals.h"
 #include "runtime/offline_renderer.h"
+#include "runtime/output_format.h"
 
 namespace dpc::demo {
 namespace {

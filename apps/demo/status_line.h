@@ -1,7 +1,7 @@
 // What a live dpc-demo run prints while it plays and when it ends.
 #pragma once
 
-#include "audio/audio_device.h"
+#include "audio/audio_output.h"
 #include "runtime/live_session.h"
 
 namespace dpc::demo {

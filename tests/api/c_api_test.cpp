@@ -13,7 +13,7 @@
 
 #include "dpc/dpc.h"
 #include "dpc/dpc_version.h"
-#include "scene/scene.h"
+#include "scene/orientation.h"
 
 TEST_CASE("C API: bad arguments and bad scene files give codes and a message naming the file") {
   dpc_engine* e = reinterpret_cast<dpc_engine*>(1);

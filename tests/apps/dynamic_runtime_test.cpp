@@ -6,6 +6,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <stdexcept>
 
+#include "scene/trajectory.h"
 #include "testing/test_scenes.h"
 #include "runtime/host_poses.h"
 #include "runtime/live_session.h"

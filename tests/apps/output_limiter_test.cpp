@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "audio/limiter.h"
+#include "scene/trajectory.h"
 #include "testing/test_scenes.h"
 #include "runtime/live_session.h"
 

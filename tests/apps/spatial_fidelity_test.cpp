@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "analysis/room_parameters.h"
+#include "runtime/output_format.h"
 #include "runtime/render_pipeline.h"
 #include "synthesis/spatial_synthesizer.h"
 #include "tests/apps/band_readings.h"

@@ -17,7 +17,9 @@
 #include "common/spherical_harmonics.h"
 #include "engine/room_volume.h"
 #include "engine/simulation.h"
+#include "runtime/output_format.h"
 #include "runtime/propagation_stage.h"
+#include "scene/orientation.h"
 #include "testing/temp_dir.h"
 #include "testing/test_scenes.h"
 #include "testing/test_util.h"
@@ -43,7 +45,7 @@ Rendered render(const SceneDesc& scene, float yawDegrees, int frames = 1) {
   in.listenerOrientations = {o};
   for (int f = 0; f < frames; ++f) sim.runFrame(in);
   auto spatial = makeSpatialSynthesizer(scene, ps, roomVolume(scene.mesh));
-  REQUIRE(spatial->channelCount() == size_t(outputChannels(scene.audio)));
+  REQUIRE(spatial->channelCount() == size_t(irChannels(scene.audio)));
   Rendered r;
   r.channels.assign(spatial->channelCount(), std::vector<float>(spatial->lengthSamples()));
   std::vector<float*> ptrs;
@@ -59,7 +61,7 @@ Rendered render(SceneDesc scene, int order, bool maxRe, float yawDegrees, int fr
   scene.audio.output = OutputFormat::kAmbisonics;
   scene.audio.ambisonicOrder = order;
   scene.audio.maxRe = maxRe;
-  REQUIRE(outputChannels(scene.audio) == ambisonicChannels(order));
+  REQUIRE(irChannels(scene.audio) == ambisonicChannels(order));
   return render(scene, yawDegrees, frames);
 }
 

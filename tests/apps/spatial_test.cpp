@@ -8,6 +8,8 @@
 #include <fstream>
 #include <vector>
 
+#include "runtime/output_format.h"
+#include "scene/orientation.h"
 #include "testing/test_scenes.h"
 #include "testing/test_util.h"
 #include "common/input_error.h"

@@ -1,7 +1,8 @@
 // AudioOutput / listOutputDevices without a sound card, and (with DPC_JACK=1, set by
 // scripts/jack-headless.sh) real playback through a JACK server:
 //   scripts/jack-headless.sh build-dev/audio_device_test "[jack]" -s
-#include "audio/audio_device.h"
+#include "audio/audio_output.h"
+#include "audio/portaudio_backend.h"
 
 #include <atomic>
 #include <catch2/catch.hpp>
@@ -91,6 +92,39 @@ TEST_CASE("AudioOutput rejects bad arguments before touching a device", "[audio_
   CHECK_THROWS_AS(AudioOutput(options, nullptr, nullptr), std::invalid_argument);
   options.blockSize = 0;
   CHECK_THROWS_AS(AudioOutput(options, &noopRender, nullptr), std::invalid_argument);
+}
+
+TEST_CASE("A device spec routes to the backend its prefix names", "[audio_device]") {
+  using dpc::audio::DeviceRoute;
+  using dpc::audio::routeDeviceSpec;
+  using Backend = DeviceRoute::Backend;
+  static bool asked = false;
+  bool (*running)() = [] {
+    asked = true;
+    return true;
+  };
+  bool (*stopped)() = [] {
+    asked = true;
+    return false;
+  };
+  auto check = [](const DeviceRoute& r, Backend backend, const std::string& name) {
+    CHECK(r.backend == backend);
+    CHECK(r.name == name);
+  };
+  // Explicit prefixes (any case) never ask for a server; "portaudio:" wins over "jack:".
+  asked = false;
+  check(routeDeviceSpec("portaudio:jack:system", running), Backend::kPortAudio, "jack:system");
+  check(routeDeviceSpec("JACK:System", running), Backend::kJack, "");
+  check(routeDeviceSpec("jack:", stopped), Backend::kJack, "");
+  check(routeDeviceSpec("jack:IEM Decoder", stopped), Backend::kJack, "IEM Decoder");
+  check(routeDeviceSpec("alsa:hw:0,0", running), Backend::kPortAudio, "alsa:hw:0,0");
+  CHECK_FALSE(asked);
+  // The default goes to JACK only while a server runs.
+  check(routeDeviceSpec("", running), Backend::kJack, "");
+  check(routeDeviceSpec("Default", running), Backend::kJack, "");
+  check(routeDeviceSpec("", stopped), Backend::kPortAudio, "");
+  check(routeDeviceSpec("default", stopped), Backend::kPortAudio, "default");
+  CHECK(asked);
 }
 
 TEST_CASE("CallbackStats histogram bins and quantiles", "[audio_device]") {

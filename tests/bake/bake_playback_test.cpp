@@ -12,6 +12,7 @@
 #include "common/input_error.h"
 #include "engine/simulation.h"
 #include "runtime/propagation_stage.h"
+#include "scene/trajectory.h"
 #include "testing/temp_dir.h"
 #include "testing/test_scenes.h"
 #include "tests/bake/bake_fixtures.h"

@@ -9,6 +9,7 @@
 
 #include "engine/embree_tracer.h"
 #include "engine/simulation.h"
+#include "scene/trajectory.h"
 #include "testing/test_scenes.h"
 #include "testing/test_util.h"
 

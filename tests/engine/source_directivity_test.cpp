@@ -11,6 +11,7 @@
 
 #include "engine/simulation.h"
 #include "scene/directivity.h"
+#include "scene/orientation.h"
 #include "testing/test_scenes.h"
 #include "testing/test_util.h"
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "engine/simulation.h"
+#include "scene/trajectory.h"
 #include "testing/test_scenes.h"
 
 using namespace dpc;

@@ -13,7 +13,7 @@
 #include <thread>
 #include <vector>
 
-#include "audio/audio_device.h"
+#include "audio/audio_output.h"
 #include "audio/convolver.h"
 #include "tests/rt/alloc_counter.h"
 #include "tests/rt/rt_helpers.h"

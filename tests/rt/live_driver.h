@@ -14,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include "scene/trajectory.h"
 #include "testing/test_scenes.h"
 #include "runtime/live_session.h"
 

@@ -14,6 +14,8 @@
 #include "audio/rt_check.h"
 #include "runtime/audio_stage.h"
 #include "runtime/propagation_stage.h"
+#include "scene/orientation.h"
+#include "scene/trajectory.h"
 #include "testing/test_scenes.h"
 #include "testing/test_util.h"
 

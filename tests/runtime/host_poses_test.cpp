@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "scene/limits.h"
+#include "scene/trajectory.h"
 #include "testing/test_scenes.h"
 
 using namespace dpc;

@@ -10,6 +10,7 @@
 
 #include "runtime/audio_stage.h"
 #include "runtime/propagation_stage.h"
+#include "scene/trajectory.h"
 #include "testing/test_scenes.h"
 #include "testing/test_util.h"
 

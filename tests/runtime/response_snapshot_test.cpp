@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "runtime/propagation_stage.h"
+#include "scene/trajectory.h"
 #include "testing/test_scenes.h"
 
 using namespace dpc;

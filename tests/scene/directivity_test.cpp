@@ -7,7 +7,9 @@
 #include <string>
 
 #include "common/input_error.h"
+#include "scene/orientation.h"
 #include "scene/scene.h"
+#include "scene/trajectory.h"
 #include "tests/scene/scene_fixture.h"
 
 using namespace dpc;

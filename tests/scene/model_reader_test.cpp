@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "scene/scene.h"
+#include "scene/trajectory.h"
 #include "testing/temp_dir.h"
 
 using namespace dpc;

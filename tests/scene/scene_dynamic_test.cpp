@@ -6,7 +6,10 @@
 #include <string>
 
 #include "common/input_error.h"
+#include "scene/enum_names.h"
+#include "scene/orientation.h"
 #include "scene/scene.h"
+#include "scene/trajectory.h"
 #include "tests/scene/scene_fixture.h"
 
 using namespace dpc;

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "common/input_error.h"
+#include "scene/trajectory.h"
 #include "tests/scene/scene_fixture.h"
 
 using namespace dpc;

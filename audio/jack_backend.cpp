@@ -1,6 +1,5 @@
-// The JACK backend of AudioOutput: a client of JACK's own library (jack/jack.h) with one named
-// output port per channel, called at the server's period, connected on start to the physical
-// playback ports or to another client's inputs.
+#include "audio/jack_backend.h"
+
 #include <jack/jack.h>
 
 #include <algorithm>
@@ -46,7 +45,7 @@ jack_client_t* openClient(const std::string& name) {
 
 class JackBackend final : public OutputBackend {
  public:
-  JackBackend(const AudioOutput::Options& options, const std::string& target);
+  JackBackend(const OutputOptions& options, const std::string& target);
   ~JackBackend() override { close(); }
   void start() override;
   void stop() override {
@@ -66,7 +65,7 @@ class JackBackend final : public OutputBackend {
   }
 
  private:
-  void registerPorts(const AudioOutput::Options& options);
+  void registerPorts(const OutputOptions& options);
   void findTargets(const std::string& target, bool connectPhysical);
   double targetLatencySeconds() const;
 
@@ -74,7 +73,7 @@ class JackBackend final : public OutputBackend {
   // is real-time safe; no allocation, locks or system calls.
   static int process(jack_nframes_t frames, void* arg) noexcept {
     auto* self = static_cast<JackBackend*>(arg);
-    std::array<float*, AudioOutput::kMaxJackChannels> out{};
+    std::array<float*, kMaxJackChannels> out{};
     for (int c = 0; c < self->channels; ++c)
       out[size_t(c)] = static_cast<float*>(jack_port_get_buffer(self->ports_[size_t(c)], frames));
     self->render(out.data(), int(frames), self->xruns_.exchange(0, std::memory_order_relaxed) > 0);
@@ -103,7 +102,7 @@ class JackBackend final : public OutputBackend {
   std::atomic<int> xruns_{0};
 };
 
-JackBackend::JackBackend(const AudioOutput::Options& options, const std::string& target) {
+JackBackend::JackBackend(const OutputOptions& options, const std::string& target) {
   device.name = target.empty() ? "system" : target;
   device.hostApi = kJackApi;
   client_ = openClient(options.clientName.empty() ? "dpc" : options.clientName);
@@ -122,10 +121,10 @@ JackBackend::JackBackend(const AudioOutput::Options& options, const std::string&
                                " Hz not supported (the JACK server runs at " +
                                std::to_string(int(sampleRate)) +
                                " Hz; a JACK device runs only at the server's rate)");
-    if (channels > AudioOutput::kMaxJackChannels)
+    if (channels > kMaxJackChannels)
       throw std::runtime_error(where() + ": " + std::to_string(channels) +
                                " output channels requested, at most " +
-                               std::to_string(AudioOutput::kMaxJackChannels));
+                               std::to_string(kMaxJackChannels));
     findTargets(target, options.connectPhysical);
     registerPorts(options);
   } catch (...) {
@@ -159,7 +158,7 @@ void JackBackend::findTargets(const std::string& target, bool connectPhysical) {
     targets_.emplace_back(list.names[i]);
 }
 
-void JackBackend::registerPorts(const AudioOutput::Options& options) {
+void JackBackend::registerPorts(const OutputOptions& options) {
   for (int c = 0; c < channels; ++c) {
     const std::string name = size_t(c) < options.channelNames.size()
                                  ? options.channelNames[size_t(c)]
@@ -210,7 +209,7 @@ bool jackServerRunning() {
   return true;
 }
 
-std::unique_ptr<OutputBackend> openJackOutput(const AudioOutput::Options& options,
+std::unique_ptr<OutputBackend> openJackOutput(const OutputOptions& options,
                                               const std::string& target) {
   return std::make_unique<JackBackend>(options, target);
 }

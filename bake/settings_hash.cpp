@@ -1,6 +1,8 @@
 #include "bake/settings_hash.h"
 
 #include "bake/bake_layout.h"
+#include "scene/tracing_policy.h"
+#include "scene/trajectory.h"
 
 namespace dpc::bake {
 namespace {

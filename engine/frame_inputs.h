@@ -4,10 +4,10 @@
 // over or are played from a bake, and how many rays each emitter traces. What is fixed for a
 // run (the scene's geometry and materials, the PropagationSettings) is given at construction
 // instead. docs/design.md, "Data flow", shows it flowing down to the tracer, one TraceRequest
-// (engine/propagation.h) per emitter.
+// (engine/trace_request.h) per emitter.
 //
 // Units: metres; rotations unit quaternions in glTF order (x, y, z, w) mapping local to world;
-// orientations as scene/scene.h's Orientation. A plain value: copy, keep and reuse it freely
+// orientations as scene/orientation.h's Orientation. A plain value: copy, keep and reuse it freely
 // (a caller that refills one object every frame allocates only while its vectors grow).
 #pragma once
 
@@ -16,6 +16,7 @@
 #include <glm/vec3.hpp>
 #include <vector>
 
+#include "scene/orientation.h"
 #include "scene/scene.h"
 
 namespace dpc {

@@ -4,7 +4,7 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake ninja-build pkg-config
+  build-essential cmake ninja-build pkg-config ccache
   libembree-dev libtbb-dev libglm-dev
   libsndfile1-dev libsamplerate0-dev libfftw3-dev portaudio19-dev libjack-jackd2-dev
   libmysofa-dev robin-map-dev jackd2 libnetcdf-dev netcdf-bin

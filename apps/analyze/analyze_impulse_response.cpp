@@ -90,6 +90,7 @@ int analyzeImpulseResponse(const Options& o) {
     last = first + 1;
   }
   if (!samplesFinite(o.file, ir, first, last)) return 1;
+  if (o.iacc) return analyzeInterauralCorrelation(o, ir);
   if (o.bandEnergy) {
     printBandEnergyHeader(o.file, "channel");
     for (size_t c = first; c < last; ++c) {

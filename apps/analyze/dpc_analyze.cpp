@@ -2,6 +2,7 @@
 // energy response exported by dpc-demo --er-out (a .csv file).
 //
 //   dpc-analyze IR.wav|ER.csv [--json] [--channel N]
+//   dpc-analyze BINAURAL_IR.wav --iacc [--json]
 //   dpc-analyze --air-attenuation T RH [--json]
 //
 // Per channel (WAV) or source (CSV): T20, T30, EDT (s), C50, C80 (dB), D50 (%) and strength
@@ -58,8 +59,16 @@ void addOptions(CLI::App& app, Options& o) {
                "bins from emission, the direct sound in its bin (with --as-measured: what an "
                "exact IR's band analysis reads)")
       ->excludes("--json");
+  app.add_flag("--iacc", o.iacc,
+               "For a binaural IR (channels in left, right pairs, one per source as --ir-out writes "
+               "them): instead of parameters, the "
+               "interaural cross-correlation IACC (ISO 3382-1 Annex B, lags up to 1 ms) per "
+               "octave band, broadband and as the 500 Hz-2 kHz mean, over the early (0-80 ms "
+               "after the direct sound: IACC_E), late (80 ms on: IACC_L) and whole IR (IACC_A)")
+      ->excludes("--band-energy");
   app.add_option("--channel", o.channelText, "Analyse only channel N (1 = first; default: all)")
-      ->type_name("N");
+      ->type_name("N")
+      ->excludes("--iacc");
 }
 
 /// Parses argv into `o`; the exit status when the program must stop (help, parse error).
@@ -87,6 +96,11 @@ bool endsWith(const std::string& s, const std::string& tail) {
 /// Analyses the file by its kind: an energy-response CSV by its name, a WAV otherwise.
 int analyzeFile(const Options& o) {
   const bool csv = endsWith(o.file, ".csv");
+  if (o.iacc && csv) {
+    std::cerr << "dpc-analyze: --iacc: " << o.file
+              << ": needs a binaural impulse-response WAV (an energy response has no ears)\n";
+    return 1;
+  }
   if (o.asMeasured && !csv) {
     std::cerr << "dpc-analyze: --as-measured: " << o.file
               << ": needs an energy-response CSV from dpc-demo --er-out (an IR is already "

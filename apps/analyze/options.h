@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "audio/wav_io.h"
+
 namespace dpc::analyze {
 
 /// Every dpc-analyze option (dpc_analyze.cpp defines them with CLI11).
@@ -14,6 +16,7 @@ struct Options {
   std::vector<double> air;  ///< --air-attenuation T RH (empty = not asked for)
   bool asMeasured = false;  ///< energy-response CSV: what an IR's band analysis would read
   bool bandEnergy = false;  ///< band energies per time bin instead of parameters
+  bool iacc = false;        ///< binaural WAV (ear pairs): IACC per band instead of parameters
 };
 
 /// --air-attenuation T RH: prints the ISO 9613-1 attenuation per octave band (table or JSON)
@@ -29,5 +32,11 @@ int analyzeEnergyResponse(const Options& o);
 /// with --band-energy the band energies per 1 ms bin. Returns 0, or 1 with one line on stderr
 /// for a sample that is not finite. Main thread. Throws InputError for a bad file or channel.
 int analyzeImpulseResponse(const Options& o);
+
+/// --iacc: IACC_E, IACC_L, IACC_A per octave band, broadband and over 500 Hz - 2 kHz of the
+/// binaural IR `ir` read from o.file, channels as (left, right) pairs (one per source in
+/// dpc-demo --ir-out's order), a table per pair or one JSON document. Returns 0, or 1 with one
+/// line on stderr when the channel count is odd. Main thread.
+int analyzeInterauralCorrelation(const Options& o, const audio::AudioData& ir);
 
 }  // namespace dpc::analyze

@@ -11,6 +11,8 @@ namespace {
 using audio::ImpulseResponseAnalysis;
 using audio::RoomParameters;
 
+}  // namespace
+
 // Table cell: "—" for NaN (not measurable), "+inf"/"-inf" for unbounded ratios.
 std::string cell(double v, int decimals) {
   if (std::isnan(v)) return "—";
@@ -27,11 +29,11 @@ std::string pad(const std::string& s, size_t width) {
   return std::string(width > columns ? width - columns : 0, ' ') + s;
 }
 
+namespace {
+
 double strength(const RoomParameters& r) {
   return audio::strengthDb(r.energy);
 }
-
-constexpr size_t kLabel = 10, kColumn = 8;
 
 /// One table row: the label, then a cell per band and the broadband cell.
 template <class Value>

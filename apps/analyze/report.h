@@ -11,6 +11,13 @@
 
 namespace dpc::analyze {
 
+/// Table cell of v with `decimals` decimals: "—" for NaN (not measurable), "+inf" / "-inf".
+std::string cell(double v, int decimals);
+/// s right-aligned to `width` display columns (UTF-8 aware: the em dash is one column).
+std::string pad(const std::string& s, size_t width);
+/// Label column and value column widths of the tables, characters.
+inline constexpr size_t kLabel = 10, kColumn = 8;
+
 /// Prints `title` and a table of T20, T30, EDT (s), C50, C80 (dB), D50 (%) and G (dB) per
 /// octave band and broadband on stdout; "—" for a value that cannot be measured, "+inf" /
 /// "-inf" for unbounded ratios. Main thread.

@@ -6,6 +6,7 @@
 #include "bake/bake_file.h"
 #include "bake/settings_hash.h"
 #include "common/input_error.h"
+#include "scene/trajectory.h"
 
 namespace dpc::bake {
 namespace {

@@ -13,7 +13,7 @@ namespace dpc::demo {
 /// advances with the wall clock unless paused (space) or taken over by the keyboard (a move
 /// key: the listener then stays where the keys put it). Q/E turn the head relative to the
 /// trajectory's heading; 'l' plays the scene's next listener (following its trajectory
-/// again). Orientation convention of scene/scene.h: forward = (cos yaw, 0, -sin yaw).
+/// again). Orientation convention of scene/orientation.h: forward = (cos yaw, 0, -sin yaw).
 /// Main thread only. No allocation. `scene` must outlive the object.
 class KeyboardMotion {
  public:

@@ -21,6 +21,7 @@
 #include "engine/geometry.h"
 #include "engine/propagation.h"
 #include "engine/simulation.h"
+#include "scene/trajectory.h"
 #include "testing/test_scenes.h"
 
 using namespace dpc;

@@ -29,7 +29,8 @@ struct StudioServer::Impl {
 
   std::string cookieName() const { return "dpc_studio_" + std::to_string(port); }
   bool authorised(const httplib::Request& req, bool& fromQuery) const;
-  void routeApi();
+  void routeReads();
+  void routeWrites();
   void routeFiles();
 };
 
@@ -81,7 +82,8 @@ bool StudioServer::Impl::authorised(const Request& req, bool& fromQuery) const {
          tokenMatches(cookieValue(req.get_header_value("Cookie"), cookieName()), options.token);
 }
 
-void StudioServer::Impl::routeApi() {
+/// GET /api/...: the scene, and a frame's state, response or CSV (the newest, or ?frame=N).
+void StudioServer::Impl::routeReads() {
   auto withFrame = [this](auto body) {
     return [this, body](const Request& req, Response& res) {
       auto f = req.has_param("frame") ? board.find(std::strtoull(
@@ -103,6 +105,10 @@ void StudioServer::Impl::routeApi() {
   http.Get("/api/energy.csv", withFrame([](const StudioFrame& f, Response& res) {
              res.set_content(energyCsv(f), "text/csv");
            }));
+}
+
+/// POST /api/...: the page's requests, checked, left on the board for the control loop.
+void StudioServer::Impl::routeWrites() {
   http.Post("/api/listener", [this](const Request& req, Response& res) {
     json body;
     if (!parseBody(req, res, body)) return;
@@ -158,7 +164,8 @@ StudioServer::StudioServer(const ServerOptions& options, StudioBoard& board)
                                        "; Path=/; HttpOnly; SameSite=Strict");
     return R::Unhandled;
   });
-  s.routeApi();
+  s.routeReads();
+  s.routeWrites();
   s.routeFiles();
   s.port = options.port == 0 ? s.http.bind_to_any_port(options.host)
                              : (s.http.bind_to_port(options.host, options.port) ? options.port : -1);

@@ -104,17 +104,19 @@ function send(kind, index, p) {
   if (kind === 'listener') return api('/api/listener', { position, yaw: studio.state.listenerYaw[studio.state.played] });
   return api('/api/source', { index, position });
 }
-renderer.domElement.addEventListener('pointerdown', (ev) => {
+// Capture phase on the view, before OrbitControls sees the press: a press on a marker drags it.
+view.addEventListener('pointerdown', (ev) => {
+  if (!studio.state) return;
   const all = [...listenerMarkers.map((m, i) => ['listener', i, m]), ...sourceMarkers.map((m, i) => ['source', i, m])];
   for (const [kind, index, m] of all) {
     if (kind === 'listener' && index !== studio.state.played) continue;
     if (ray(ev).intersectObject(m, true).length) {
       drag = { kind, index, m, plane: new THREE.Plane(new THREE.Vector3(0, 1, 0), -m.position.y) };
-      controls.enabled = false;
+      ev.stopPropagation();
       return;
     }
   }
-});
+}, true);
 renderer.domElement.addEventListener('pointermove', (ev) => {
   if (!drag) return;
   const p = new THREE.Vector3();
@@ -126,7 +128,6 @@ addEventListener('pointerup', () => {
   if (!drag) return;
   const d = drag;
   drag = null;
-  controls.enabled = true;
   send(d.kind, d.index, d.m.position);
 });
 renderer.domElement.addEventListener('dblclick', (ev) => {

@@ -112,6 +112,16 @@ async function dragListener(page, target) {
 /// The distance law: the direct sound's 1 kHz intensity at two distances along the line from
 /// the source. Returns the measured and expected level differences, dB.
 async function checkDistanceLaw(page) {
+  // W first (the page's keys, as --interactive): the listener leaves its trajectory and stays.
+  await page.keyboard.press('w');
+  const pos = (x) => x.listeners[x.played];
+  for (let i = 0, prev = await state(page); ; ++i) {
+    await sleep(400);
+    const now = await state(page);
+    if (now.frame > prev.frame && Math.hypot(...pos(now).map((v, k) => v - pos(prev)[k])) < 1e-6) break;
+    if (i > 100) throw new Error('the listener did not stop after W');
+    prev = now;
+  }
   const st = await state(page), s = st.sources[st.source], l = st.listeners[st.played];
   const d = Math.hypot(l[0] - s[0], l[2] - s[2]), u = [(l[0] - s[0]) / d, (l[2] - s[2]) / d];
   const at = (r) => [s[0] + u[0] * r, l[1], s[2] + u[1] * r];

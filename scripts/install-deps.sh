@@ -20,7 +20,7 @@ packages=(
   libhdf5-dev hdf5-tools python3-h5py  # dpc-bake's file, its tests (h5diff), the h5py example
   zlib1g-dev  # the bake file's CRC-32 checksums
   libopenmpi-dev openmpi-bin  # dpc-bake under mpirun (optional: without it, single-process)
-  libcpp-httplib-dev  # dpc studio's web server (apps/studio, header-only)
+  libcpp-httplib-dev  # dpc studio's web server (apps/studio)
   chromium  # dpc studio's browser test (tests/studio: headless, driven by npm's puppeteer-core)
 )
 # The glTF oracle test (tests/gltf/oracle_test.py) runs the Khronos glTF-Validator on Node.js,

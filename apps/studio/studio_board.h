@@ -66,8 +66,8 @@ struct StudioRequests {
 
 class StudioBoard {
  public:
-  /// Frames kept for /api/energy.csv?frame=N (about a second at 15 frames per second).
-  static constexpr size_t kKeptFrames = 16;
+  /// Frames kept for /api/energy.csv?frame=N (about 4 s at 15 frames per second).
+  static constexpr size_t kKeptFrames = 64;
 
   /// Control thread, once before the server starts: the scene's JSON (studio_json.h).
   void setScene(std::string json);

@@ -14,8 +14,8 @@ import { createRequire } from 'node:module';
 import path from 'node:path';
 
 const arg = (name) => { const i = process.argv.indexOf(name); return i > 0 ? process.argv[i + 1] : undefined; };
-const build = arg('--build'), source = arg('--source'), work = path.join(build, 'tests/studio-work');
-const puppeteer = createRequire(path.join(arg('--npm'), 'package.json'))('puppeteer-core');
+const build = path.resolve(arg('--build')), source = path.resolve(arg('--source')), work = path.join(build, 'tests/studio-work');
+const puppeteer = createRequire(path.resolve(arg('--npm'), 'package.json'))('puppeteer-core');
 const demo = path.join(build, 'apps/dpc-demo'), analyze = path.join(build, 'apps/dpc-analyze');
 const scene = path.join(source, 'scenes/shoebox.json');
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
@@ -61,7 +61,8 @@ function rawGet(port, rawPath, headers = {}) {
 
 async function checkRefusals({ port, token }) {
   const t = { 'X-Dpc-Token': token };
-  assert.equal((await rawGet(port, '/api/state', t)).status, 200);
+  for (let i = 0; i < 600 && (await rawGet(port, '/api/state', t)).status === 404; ++i) await sleep(100);
+  assert.equal((await rawGet(port, '/api/state', t)).status, 200, 'no first frame within 60 s');
   assert.equal((await rawGet(port, `/?token=${token}`)).status, 200);
   assert.equal((await rawGet(port, '/api/state')).status, 403, 'no token');
   assert.equal((await rawGet(port, `/?token=${'0'.repeat(32)}`)).status, 403, 'wrong token');
@@ -142,7 +143,11 @@ async function checkT30(page, { port, token }) {
     const { frame, t30 } = await page.evaluate(() => ({
       frame: window.studio.response.frame, t30: window.studio.params.map((p) => (Number.isFinite(p.t30) ? p.t30 : null)) }));
     const csv = await rawGet(port, `/api/energy.csv?frame=${frame}`, { 'X-Dpc-Token': token });
-    if (csv.status !== 200) continue;  // the frame left the server's ring: take a newer one
+    if (csv.status !== 200) {  // the frame left the server's ring: take a newer one
+      console.log(`energy.csv of frame ${frame}: HTTP ${csv.status}; trying a newer frame`);
+      await sleep(500);
+      continue;
+    }
     const file = path.join(work, 'studio-er.csv');
     fs.writeFileSync(file, csv.body);
     const ref = JSON.parse(execFileSync(analyze, [file, '--json'], { encoding: 'utf8' })).sources[0].bands.map((b) => b.t30);

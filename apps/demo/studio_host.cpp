@@ -66,15 +66,17 @@ bool StudioHost::publish(LiveSession& session, const KeyboardMotion& motion,
   auto f = std::make_shared<StudioFrame>();
   f->source = std::min(board_.selected(), scene_.sources.size() - 1);
   // Copied under the snapshot's lock: the propagation thread skips one copy rather than wait.
-  const bool newer = session.copyResponses(f->source, [&](const LiveSession::Responses& r) {
+  bool newer = false;
+  session.copyResponses(f->source, [&](const LiveSession::Responses& r) {
     if (r.frame == lastFrame_) return;
+    newer = true;
     f->frame = r.frame;
     f->binSeconds = r.binSeconds;
     f->energy = *r.energy;
     f->direct = *r.direct;
     f->paths = *r.paths;
   });
-  if (!newer || f->frame == lastFrame_) return false;
+  if (!newer) return false;
   lastFrame_ = f->frame;
   f->sceneSeconds = motion.sceneTime();
   f->played = motion.playedIndex();

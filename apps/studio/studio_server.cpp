@@ -12,8 +12,12 @@
 
 namespace dpc::studio {
 
-/// Request worker threads: the page polls one request at a time, the machine has few cores.
-constexpr size_t kWorkerThreads = 2;
+/// Request worker threads. A browser opens up to 6 connections while the page loads, and a
+/// kept-alive connection holds its worker until it closes: fewer workers left the page's
+/// module requests queued for whole keep-alive periods on a loaded machine.
+constexpr size_t kWorkerThreads = 8;
+/// Seconds an idle kept-alive connection holds its worker.
+constexpr time_t kKeepAliveSeconds = 1;
 /// Largest coordinate the page may send, m: anything beyond is a bad request, not a place.
 constexpr double kMaxCoordinate = 1e5;
 
@@ -151,6 +155,7 @@ StudioServer::StudioServer(const ServerOptions& options, StudioBoard& board)
     : impl_(std::make_unique<Impl>(options, board)) {
   Impl& s = *impl_;
   s.http.new_task_queue = [] { return new httplib::ThreadPool(kWorkerThreads); };
+  s.http.set_keep_alive_timeout(kKeepAliveSeconds);
   // Every request: the Origin rule, then the token; the first page load sets the cookie the
   // page's module imports carry (they cannot carry the query).
   s.http.set_pre_routing_handler([&s](const Request& req, Response& res) {

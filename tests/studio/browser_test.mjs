@@ -5,7 +5,8 @@
 // the listener with the mouse moves the engine's listener, whose direct sound follows 1/r^2;
 // the page's T30 per band equals dpc-analyze's on the same frame's energy response; closing
 // the page leaves the session running. Prints what it measured.
-//   node browser_test.mjs --build B --source S --chromium PATH --npm DIR [--screenshot PNG]
+// --live: the live clock through a JACK server already running (scripts/jack-headless.sh).
+//   node browser_test.mjs --build B --source S --chromium PATH --npm DIR [--screenshot PNG] [--live]
 import assert from 'node:assert/strict';
 import { execFileSync, spawn, spawnSync } from 'node:child_process';
 import fs from 'node:fs';
@@ -17,7 +18,7 @@ const arg = (name) => { const i = process.argv.indexOf(name); return i > 0 ? pro
 const build = path.resolve(arg('--build')), source = path.resolve(arg('--source')), work = path.join(build, 'tests/studio-work');
 const puppeteer = createRequire(path.resolve(arg('--npm'), 'package.json'))('puppeteer-core');
 const demo = path.join(build, 'apps/dpc-demo'), analyze = path.join(build, 'apps/dpc-analyze');
-const scene = path.join(source, 'scenes/shoebox.json');
+const scene = path.join(source, 'scenes/shoebox.json'), live = process.argv.includes('--live');
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 fs.mkdirSync(work, { recursive: true });
 
@@ -34,8 +35,10 @@ function checkBadPort() {
 
 /// dpc-demo --studio --offline: resolves with {child, url, port, token} once the URL is printed.
 function startDemo() {
-  const child = spawn(demo, [scene, '--studio', '--offline', path.join(work, 'render.wav'), '--duration', '0.5',
-                             '--quiet', '--rays', '2048'], { stdio: ['ignore', 'pipe', 'inherit'] });
+  // --live: through a JACK server (the caller starts one: scripts/jack-headless.sh).
+  const clock = live ? ['--device', 'jack:system', '--duration', '900']
+                     : ['--offline', path.join(work, 'render.wav'), '--duration', '0.5', '--quiet'];
+  const child = spawn(demo, [scene, '--studio', ...clock, '--rays', '2048'], { stdio: ['ignore', 'pipe', 'inherit'] });
   child.out = '';
   return new Promise((resolve, reject) => {
     const timer = setTimeout(() => reject(new Error('no studio URL within 300 s')), 300000);
@@ -181,7 +184,7 @@ async function main() {
     const errors = [];
     page.on('console', (m) => m.type() === 'error' && errors.push(m.text()));
     page.on('pageerror', (e) => errors.push(String(e)));
-    await page.goto(run.url, { waitUntil: 'load' });
+    await page.goto(run.url, { waitUntil: 'load', timeout: 120000 });
     await page.waitForFunction(() => window.studio?.ready && window.studio.params, { timeout: 120000 });
     await sleep(500);
     const share = await drawnShare(page);
@@ -207,7 +210,8 @@ async function main() {
     run.child.kill('SIGINT');
     const code = await exited;
     console.log(run.child.out.split('\n').filter((l) => l.startsWith('studio:')).join('\n'));
-    if (process.exitCode !== 77) assert.equal(code, 0, 'dpc-demo after SIGINT');
+    // Offline, Ctrl-C is the studio's normal end; live, it interrupts playback (128 + SIGINT).
+    if (process.exitCode !== 77) assert.equal(code, live ? 130 : 0, 'dpc-demo after SIGINT');
   }
   console.log('browser_test: passed');
 }

@@ -3,7 +3,7 @@
 # npm into the build (scripts/npm-ci.sh; fails when npm cannot), then runs the test with
 # Debian's chromium. Exit 77 (ctest's SKIP_RETURN_CODE) only when chromium is missing or
 # cannot start here.
-#   tests/studio/browser_test.sh BUILD SOURCE
+#   tests/studio/browser_test.sh BUILD SOURCE [--live] [--screenshot PNG]
 set -euo pipefail
 build=${1:?usage: browser_test.sh BUILD SOURCE}
 src=${2:?usage: browser_test.sh BUILD SOURCE}
@@ -19,5 +19,10 @@ if ! timeout 60 "$chromium" --headless --no-sandbox --disable-gpu --dump-dom abo
 fi
 npm_dir="$build/tests/studio-npm"
 "$src/scripts/npm-ci.sh" "$src/tests/studio" "$npm_dir"
-exec node "$src/tests/studio/browser_test.mjs" --build "$build" --source "$src" \
-  --chromium "$chromium" --npm "$npm_dir" "${@:3}"
+test=(node "$src/tests/studio/browser_test.mjs" --build "$build" --source "$src"
+      --chromium "$chromium" --npm "$npm_dir" "${@:3}")
+# --live: dpc-demo plays through a JACK server of the dummy backend for the test's length.
+for a in "${@:3}"; do
+  if [[ $a == --live ]]; then exec "$src/scripts/jack-headless.sh" "${test[@]}"; fi
+done
+exec "${test[@]}"

@@ -36,6 +36,17 @@ const CLI::Validator kWholeInt64 = wholeNumber<int64_t>("[-2^63, 2^63)", "INT64"
 /// The seed: the scene file's and dpc_scene_data's range, every uint64_t.
 const CLI::Validator kWholeUint64 = wholeNumber<uint64_t>("[0, 2^64)", "UINT64");
 
+/// dpc studio's web page (docs/studio.md), live or offline.
+void addStudioOptions(CLI::App& app, Flags& fl) {
+  app.add_flag("--studio", fl.studio,
+               "Serve dpc studio, a web page that shows the scene and the selected pair's "
+               "response and moves the listener and sources, on 127.0.0.1; prints its URL "
+               "(docs/studio.md). With --offline: after the render, frames on dpc-demo's own "
+               "clock until Ctrl-C");
+  app.add_option("--port", fl.port, "--studio's port, 0..65535 (default 0: any free port)")
+      ->check(kWholeInt64);
+}
+
 /// Scene, devices and the live run's options.
 void addLiveOptions(CLI::App& app, Flags& fl) {
   app.add_option("scene", fl.scene, "Scene file (JSON; see docs/scene-format.md)");
@@ -72,13 +83,6 @@ void addLiveOptions(CLI::App& app, Flags& fl) {
       ->type_name("SECONDS");
   app.add_flag("--interactive", fl.interactive,
                "Live: arrows/WASD move, Q/E turn, space pauses, q quits");
-  app.add_flag("--studio", fl.studio,
-               "Serve dpc studio, a web page that shows the scene and the selected pair's "
-               "response and moves the listener and sources, on 127.0.0.1; prints its URL "
-               "(docs/studio.md). With --offline: after the render, frames on dpc-demo's own "
-               "clock until Ctrl-C");
-  app.add_option("--port", fl.port, "--studio's port, 0..65535 (default 0: any free port)")
-      ->check(kWholeInt64);
   app.add_option("--listener", fl.listener,
                  "Render or play the scene's listener of this name (default: the first)");
   app.add_option("--bake", fl.bake,
@@ -175,6 +179,7 @@ std::string mistypedOptionHint(const CLI::App& app, int argc, char** argv) {
 std::optional<int> parseFlags(int argc, char** argv, Flags& fl) {
   CLI::App app{kDescription};
   addLiveOptions(app, fl);
+  addStudioOptions(app, fl);
   addRenderOptions(app, fl);
   addOutputOptions(app, fl);
   refuseEmptyValues(app);

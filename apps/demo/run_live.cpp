@@ -234,9 +234,8 @@ Playback play(const SceneDesc& scene, const Flags& fl, double durationSeconds,
   session.setPose(motion.position(), motion.yaw(), 0.0);
   Playback pb;
   const std::unique_ptr<RawTerminal> terminal = openTerminal(fl);
-  std::optional<StudioHost> studio;
-  if (fl.studio) studio.emplace(scene, fl);
-  StudioHost* const page = studio ? &*studio : nullptr;
+  const auto studio = fl.studio ? std::make_unique<StudioHost>(scene, fl) : nullptr;
+  StudioHost* const page = studio.get();
   session.start();
   output->start();
   const auto start = Clock::now();

@@ -17,7 +17,7 @@ void writeEnergyCsv(const std::string& path, const std::vector<SourceEnergy>& so
   stageEnergyCsv(path, sources).commit();
 }
 
-TempOutputFile stageEnergyCsv(const std::string& path, const std::vector<SourceEnergy>& sources) {
+std::string energyCsvText(const std::vector<SourceEnergy>& sources) {
   std::ostringstream out;
   out << "# dpc energy response v1: intensity per octave band relative to source power "
          "(1/m^2)\n";
@@ -45,10 +45,14 @@ TempOutputFile stageEnergyCsv(const std::string& path, const std::vector<SourceE
       values(e.energy.bins()[k]);
     }
   }
+  return out.str();
+}
+
+TempOutputFile stageEnergyCsv(const std::string& path, const std::vector<SourceEnergy>& sources) {
   // Like the WAV outputs: a temporary file next to `path`, renamed into place only once
   // complete, so a failure leaves neither a half-written table that could be mistaken for a
   // result nor a damaged earlier file.
-  const std::string text = out.str();
+  const std::string text = energyCsvText(sources);
   TempOutputFile file(path);
   file.writeAll(text.data(), text.size());
   file.finish();

@@ -34,6 +34,8 @@ void writeEnergyCsv(const std::string& path, const std::vector<SourceEnergy>& so
 /// As writeEnergyCsv, but the complete temporary is returned instead of renamed to `path`,
 /// for a run that renames all its outputs together (OutputSet, common/output_file.h).
 TempOutputFile stageEnergyCsv(const std::string& path, const std::vector<SourceEnergy>& sources);
+/// The file's text (what writeEnergyCsv writes), e.g. to serve it (dpc studio).
+std::string energyCsvText(const std::vector<SourceEnergy>& sources);
 std::vector<SourceEnergy> readEnergyCsv(const std::string& path);
 
 /// The response with the direct sound added to the bin holding its arrival (for analysis),

@@ -8,9 +8,13 @@ bool ResponseSnapshot::tryStore(const PropagationStage& stage, size_t listener, 
   const Simulation& sim = stage.simulation();
   stage.wholeIrsInto(listener, irs_);
   energy_.resize(sim.sourceCount());
+  direct_.resize(sim.sourceCount());
+  paths_.resize(sim.sourceCount());
   for (size_t s = 0; s < sim.sourceCount(); ++s) {
     const Simulation::SourceResult& r = sim.result(s, listener);
     energy_[s] = r.energy.bins();
+    direct_[s] = r.direct;
+    paths_[s] = sim.specularPaths(s, listener);  // capacity reused: no allocation once grown
     // The direct sound (with its diffraction) is computed apart from the estimator's bins.
     const double k = r.direct.delaySeconds / r.energy.binSeconds();
     if (k >= 0.0 && k < double(energy_[s].size())) energy_[s][size_t(k)] += r.direct.intensity;

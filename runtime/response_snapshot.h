@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "common/bands.h"
+#include "engine/specular_paths.h"
 #include "runtime/propagation_stage.h"
 
 namespace dpc {
@@ -17,12 +18,16 @@ class ResponseSnapshot {
  public:
   /// One source's responses: ir the pressure IR (its channels) at the scene's rate;
   /// energy[k][band] the energy response in bins of binSeconds (1/m^2 relative to source
-  /// power, direct sound included); frame = propagation frames run when it was taken.
+  /// power, direct sound included); frame = propagation frames run when it was taken;
+  /// direct the analytic direct sound alone (also in energy); paths the pair's exact early
+  /// specular paths (empty while exact_order is 0), for viewers that draw them (dpc studio).
   struct Responses {
     const ImpulseResponse* ir;
     const std::vector<Bands>* energy;
     double binSeconds;
     uint64_t frame;
+    const DirectSound* direct;
+    const std::vector<SpecularPath>* paths;
   };
 
   /// Propagation thread, after stage.prepare(listener): copies listener's IRs and energy
@@ -38,7 +43,8 @@ class ResponseSnapshot {
   bool read(size_t source, F&& f) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!valid_ || source >= irs_.size()) return false;
-    f(Responses{&irs_[source], &energy_[source], binSeconds_, frame_});
+    f(Responses{&irs_[source], &energy_[source], binSeconds_, frame_, &direct_[source],
+                &paths_[source]});
     return true;
   }
 
@@ -46,6 +52,8 @@ class ResponseSnapshot {
   std::mutex mutex_;
   std::vector<ImpulseResponse> irs_;        ///< [source]
   std::vector<std::vector<Bands>> energy_;            ///< [source][bin]
+  std::vector<DirectSound> direct_;                   ///< [source]
+  std::vector<std::vector<SpecularPath>> paths_;      ///< [source][path]
   double binSeconds_ = 0.0;
   uint64_t frame_ = 0;
   bool valid_ = false;

@@ -20,9 +20,11 @@ packages=(
   libhdf5-dev hdf5-tools python3-h5py  # dpc-bake's file, its tests (h5diff), the h5py example
   zlib1g-dev  # the bake file's CRC-32 checksums
   libopenmpi-dev openmpi-bin  # dpc-bake under mpirun (optional: without it, single-process)
+  libcpp-httplib-dev  # dpc studio's web server (apps/studio)
+  chromium  # dpc studio's browser test (tests/studio: headless, driven by npm's puppeteer-core)
 )
 # The glTF oracle test (tests/gltf/oracle_test.py) runs the Khronos glTF-Validator on Node.js,
-# installed by npm; a Node.js that brings its own npm (NodeSource's package) is kept.
+# installed by npm, as are dpc studio's three.js and its test's puppeteer-core; a Node.js that brings its own npm (NodeSource's package) is kept.
 command -v npm >/dev/null || packages+=(nodejs npm)
 
 missing=()

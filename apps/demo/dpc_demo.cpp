@@ -41,6 +41,9 @@ void checkRunKind(const Flags& fl) {
   checkLiveNumber(fl, fl.irSwapSpreadMs, "--ir-swap-spread-ms", 0.0,
                   LiveSession::kMaxIrSwapSpreadSeconds * 1e3, "ms");
   checkLiveNumber(fl, fl.reconnectSeconds, "--reconnect", 0.0, kMaxReconnectSeconds, "s");
+  if (fl.port && !fl.studio) throw InputError("command line", "--port", "needs --studio");
+  if (fl.port && !(*fl.port >= 0 && *fl.port <= 65535))
+    throw InputError("command line", "--port", "must be in [0, 65535] (0: any free port)");
   if (fl.offline.empty() && !fl.erOut.empty())
     throw InputError("command line", "--er-out", "needs --offline (offline renders only)");
   if (fl.offline.empty() && !fl.irOut.empty())

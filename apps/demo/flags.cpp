@@ -18,6 +18,35 @@ constexpr const char* kDescription =
     "to a WAV file (--offline), moving the listener along the scene's trajectory (or the\n"
     "keyboard with --interactive). Flags override the scene's propagation settings.";
 
+/// A whole number that fits T (`range` says which): CLI11 itself saturates one beyond (2^64
+/// would be read as 2^63 - 1 without a word), so the text is checked before it is converted.
+template <class T>
+CLI::Validator wholeNumber(const char* range, const char* name) {
+  return CLI::Validator(
+      [range](std::string& text) -> std::string {
+        T v{};
+        const char* end = text.data() + text.size();
+        const auto r = std::from_chars(text.data(), end, v);
+        if (r.ec == std::errc() && r.ptr == end) return {};
+        return "'" + text + "' is not a whole number in " + range;
+      },
+      name);
+}
+const CLI::Validator kWholeInt64 = wholeNumber<int64_t>("[-2^63, 2^63)", "INT64");
+/// The seed: the scene file's and dpc_scene_data's range, every uint64_t.
+const CLI::Validator kWholeUint64 = wholeNumber<uint64_t>("[0, 2^64)", "UINT64");
+
+/// dpc studio's web page (docs/studio.md), live or offline.
+void addStudioOptions(CLI::App& app, Flags& fl) {
+  app.add_flag("--studio", fl.studio,
+               "Serve dpc studio, a web page that shows the scene and the selected pair's "
+               "response and moves the listener and sources, on 127.0.0.1; prints its URL "
+               "(docs/studio.md). With --offline: after the render, frames on dpc-demo's own "
+               "clock until Ctrl-C");
+  app.add_option("--port", fl.port, "--studio's port, 0..65535 (default 0: any free port)")
+      ->check(kWholeInt64);
+}
+
 /// Scene, devices and the live run's options.
 void addLiveOptions(CLI::App& app, Flags& fl) {
   app.add_option("scene", fl.scene, "Scene file (JSON; see docs/scene-format.md)");
@@ -61,23 +90,6 @@ void addLiveOptions(CLI::App& app, Flags& fl) {
                  "response interpolated between visible probes, direct sound live");
 }
 
-/// A whole number that fits T (`range` says which): CLI11 itself saturates one beyond (2^64
-/// would be read as 2^63 - 1 without a word), so the text is checked before it is converted.
-template <class T>
-CLI::Validator wholeNumber(const char* range, const char* name) {
-  return CLI::Validator(
-      [range](std::string& text) -> std::string {
-        T v{};
-        const char* end = text.data() + text.size();
-        const auto r = std::from_chars(text.data(), end, v);
-        if (r.ec == std::errc() && r.ptr == end) return {};
-        return "'" + text + "' is not a whole number in " + range;
-      },
-      name);
-}
-const CLI::Validator kWholeInt64 = wholeNumber<int64_t>("[-2^63, 2^63)", "INT64");
-/// The seed: the scene file's and dpc_scene_data's range, every uint64_t.
-const CLI::Validator kWholeUint64 = wholeNumber<uint64_t>("[0, 2^64)", "UINT64");
 
 /// The offline render and the propagation settings it overrides.
 void addRenderOptions(CLI::App& app, Flags& fl) {
@@ -167,6 +179,7 @@ std::string mistypedOptionHint(const CLI::App& app, int argc, char** argv) {
 std::optional<int> parseFlags(int argc, char** argv, Flags& fl) {
   CLI::App app{kDescription};
   addLiveOptions(app, fl);
+  addStudioOptions(app, fl);
   addRenderOptions(app, fl);
   addOutputOptions(app, fl);
   refuseEmptyValues(app);

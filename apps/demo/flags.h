@@ -14,7 +14,8 @@ struct Flags {
   std::string scene, offline, irOut, erOut, estimator, tracing, weighting, device, record, stats,
       output, hrtf, listener, bake, rendering, binauralDecoder;
   bool listDevices = false, listMaterials = false, interactive = false, quiet = false,
-       maxRe = false;
+       maxRe = false, studio = false;
+  std::optional<int64_t> port;             ///< --studio's port (0: any free port)
   std::optional<int64_t> blockSize;        ///< samples per audio block (live)
   std::optional<double> duration;          ///< seconds to render or play
   std::optional<double> tau;               ///< cache response time, seconds

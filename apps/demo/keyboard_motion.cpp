@@ -70,6 +70,14 @@ KeyboardMotion::Action KeyboardMotion::key(int k) {
   return Action::kNone;
 }
 
+void KeyboardMotion::place(const glm::vec3& position, float yawRadians) {
+  position_ = position;
+  // advance() adds the trajectory's heading: keep the offset that gives the yaw asked for.
+  yawOffset_ = yawRadians - listenerOrientationAt(*played_, sceneTime_).yawRadians;
+  yaw_ = yawRadians;
+  manual_ = true;
+}
+
 void KeyboardMotion::advance(double dtSeconds) {
   if (!paused_ && !manual_) {
     sceneTime_ += dtSeconds;

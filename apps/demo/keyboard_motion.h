@@ -27,6 +27,9 @@ class KeyboardMotion {
   /// Applies one key (terminal.h codes): arrows/WASD move 0.25 m, Q/E turn 15 degrees,
   /// space pauses, 'l' next listener (kNextListener), 'q' quits (kQuit); others do nothing.
   Action key(int k);
+  /// Puts the played listener at `position` facing `yawRadians` (dpc studio's drag): like a
+  /// move key, the listener then stays where it was put while scene time stands still.
+  void place(const glm::vec3& position, float yawRadians);
   /// Advances scene time by dtSeconds (unless paused or moved by the keyboard) and
   /// updates the pose from the played listener's trajectory.
   void advance(double dtSeconds);

@@ -17,6 +17,7 @@
 #include "apps/demo/overrides.h"
 #include "apps/demo/preflight.h"
 #include "apps/demo/status_line.h"
+#include "apps/demo/studio_host.h"
 #include "apps/demo/terminal.h"
 #include "audio/callback_watchdog.h"
 #include "audio/wav_io.h"
@@ -115,19 +116,6 @@ bool readKeys(RawTerminal& terminal, KeyboardMotion& motion, LiveSession& sessio
   return quit;
 }
 
-/// Every listener is traced each frame: the played one where `motion` puts it, the others on
-/// their trajectories at the same scene time.
-void publishPoses(const SceneDesc& scene, const KeyboardMotion& motion, LiveSession& session) {
-  const double t = motion.sceneTime();
-  for (size_t i = 0; i < scene.listeners.size(); ++i)
-    if (i != motion.playedIndex()) {
-      const Orientation o = listenerOrientationAt(scene.listeners[i], t);
-      session.setListenerPose(i, listenerPositionAt(scene.listeners[i], t), o.yawRadians, t,
-                              o.pitchRadians, o.rollRadians);
-    }
-  session.setPose(motion.position(), motion.yaw(), t, motion.pitch(), motion.roll());
-}
-
 /// The once-a-second report: the callback's scheduling as soon as it is known, then the
 /// status line.
 void reportStatus(const LiveSession& session, const audio::AudioOutput& output, Playback& pb,
@@ -211,6 +199,22 @@ bool reconnect(const SceneDesc& scene, const Flags& fl, std::unique_ptr<LiveSess
   return true;
 }
 
+/// --studio: the page's requests before the poses are published, and a frame for the page
+/// after (the device's callback load and xruns with it).
+void studioRequests(StudioHost* studio, KeyboardMotion& motion, LiveSession& session) {
+  if (studio) studio->applyRequests(motion, session);
+}
+void studioPublish(StudioHost* studio, const KeyboardMotion& motion, LiveSession& session,
+                   const audio::AudioOutput& output, const Playback& pb) {
+  if (!studio) return;
+  studio::StudioFigures figures;
+  figures.live = true;
+  const audio::CallbackStats::Snapshot cb = playedCallbacks(pb, output);
+  figures.loadPercent = output.loadPercent(cb.quantileNs(0.5));
+  figures.xruns = cb.xruns;
+  studio->publish(session, motion, figures);
+}
+
 /// --interactive: the terminal in raw mode, its keys said once; else null.
 std::unique_ptr<RawTerminal> openTerminal(const Flags& fl) {
   if (!fl.interactive) return nullptr;
@@ -232,6 +236,8 @@ Playback play(const SceneDesc& scene, const Flags& fl, double durationSeconds,
   session.setPose(motion.position(), motion.yaw(), 0.0);
   Playback pb;
   const std::unique_ptr<RawTerminal> terminal = openTerminal(fl);
+  const auto studio = fl.studio ? std::make_unique<StudioHost>(scene, fl) : nullptr;
+  StudioHost* const page = studio.get();
   session.start();
   output->start();
   const auto start = Clock::now();
@@ -251,8 +257,10 @@ Playback play(const SceneDesc& scene, const Flags& fl, double durationSeconds,
     last = now;
     if (std::chrono::duration<double>(now - start).count() >= durationSeconds) break;
     if (terminal) quit = readKeys(*terminal, motion, session);
+    studioRequests(page, motion, session);
     motion.advance(dt);
     publishPoses(scene, motion, session);
+    studioPublish(page, motion, session, *output, pb);
     if (std::chrono::duration<double>(now - lastStatus).count() >= 1.0) {
       lastStatus = now;
       reportStatus(session, *output, pb, motion.sceneTime(), tty);
@@ -310,6 +318,19 @@ void printDevice(const SceneDesc& scene, const audio::AudioOutput& output) {
 }
 
 }  // namespace
+
+// Every listener is traced each frame: the played one where `motion` puts it, the others on
+// their trajectories at the same scene time.
+void publishPoses(const SceneDesc& scene, const KeyboardMotion& motion, LiveSession& session) {
+  const double t = motion.sceneTime();
+  for (size_t i = 0; i < scene.listeners.size(); ++i)
+    if (i != motion.playedIndex()) {
+      const Orientation o = listenerOrientationAt(scene.listeners[i], t);
+      session.setListenerPose(i, listenerPositionAt(scene.listeners[i], t), o.yawRadians, t,
+                              o.pitchRadians, o.rollRadians);
+    }
+  session.setPose(motion.position(), motion.yaw(), t, motion.pitch(), motion.roll());
+}
 
 /// Tracing threads for a live run: --threads if given; every core when the device promises
 /// its callback real-time priority (a JACK server with -R: the callback preempts tracing, and

@@ -2,6 +2,8 @@
 #pragma once
 
 #include "apps/demo/flags.h"
+#include "apps/demo/keyboard_motion.h"
+#include "runtime/live_session.h"
 
 namespace dpc::demo {
 
@@ -15,5 +17,10 @@ constexpr double kMaxReconnectSeconds = 3600.0;
 /// thread). Returns 0, or kNoAudioDeviceStatus (audio_devices.h) if no device can be opened;
 /// throws InputError for bad input and std::exception for anything else.
 int runLive(const Flags& fl);
+
+/// Publishes every listener's pose for the next propagation frame: the played one where
+/// `motion` puts it, the others on their trajectories at the same scene time (LiveSession's
+/// setters, the path of the C API's). Control thread.
+void publishPoses(const SceneDesc& scene, const KeyboardMotion& motion, LiveSession& session);
 
 }  // namespace dpc::demo

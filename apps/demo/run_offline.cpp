@@ -20,6 +20,7 @@
 #include "apps/demo/preflight.h"
 #include "apps/demo/sofa_out.h"
 #include "apps/demo/status_line.h"
+#include "apps/demo/studio_offline.h"
 #include "audio/wav_io.h"
 #include "common/input_error.h"
 #include "common/output_file.h"
@@ -221,6 +222,8 @@ int runOffline(const Flags& fl) {
     printWritten(scene, r.listeners[l], staged[l], paths[l]);
   printTotals(r, audioSeconds);
   if (run.bake) printBakeSummary(*run.bake, r.bake);
+  std::fflush(stdout);
+  if (fl.studio) serveOfflineStudio(run, fl);
   return 0;
 }
 

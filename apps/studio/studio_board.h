@@ -1,0 +1,100 @@
+// StudioBoard: what dpc studio's control loop and its web server share (docs/studio.md).
+// The control loop (dpc-demo's main thread) publishes a StudioFrame after each new propagation
+// frame and takes the page's requests; the server thread reads frames and posts requests. One
+// mutex, held only to swap a shared_ptr or copy a few numbers: neither side waits for the
+// other's work, and the propagation and audio threads never see the board.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <glm/vec3.hpp>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "common/bands.h"
+#include "engine/propagation.h"
+#include "engine/specular_paths.h"
+
+namespace dpc::studio {
+
+/// The live status line's figures at the time of a frame (NaN: not known in this clock).
+struct StudioFigures {
+  double frameMs = 0.0, raysPerSecond = 0.0, irAgeMs = 0.0;
+  int raysPerFrame = 0, raysPerFrameScene = 0;
+  size_t cacheEntries = 0;
+  double cacheMb = 0.0, cacheBudgetMb = 0.0;
+  double latencyMedianMs = 0.0, latencyP95Ms = 0.0;
+  double loadPercent = 0.0;  ///< callback load, median (live clock only)
+  uint64_t xruns = 0;
+  bool live = false;  ///< live clock (a device plays) or the offline clock (frames stepped)
+};
+
+/// One published view of the session: poses, the selected pair's responses, the figures.
+struct StudioFrame {
+  uint64_t frame = 0;  ///< propagation frames run when its responses were taken
+  double sceneSeconds = 0.0;
+  size_t played = 0;   ///< the played listener (scene.listeners index)
+  size_t source = 0;   ///< the selected source (scene.sources index)
+  std::vector<glm::vec3> listeners;  ///< every listener's position, m
+  std::vector<float> listenerYaw;    ///< radians, dpc::Orientation's convention
+  std::vector<glm::vec3> sources;    ///< every source's position, m
+  double binSeconds = 0.0;
+  std::vector<Bands> energy;  ///< the selected pair's energy response, direct sound included
+  DirectSound direct;         ///< its direct sound alone
+  std::vector<SpecularPath> paths;  ///< its exact early specular paths
+  StudioFigures figures;
+  double publishMicros = 0.0;  ///< what building this frame cost the control loop, us
+};
+
+/// A listener pose asked for by the page.
+struct ListenerRequest {
+  glm::vec3 position{0.f};
+  float yawRadians = 0.f;
+};
+
+/// What the page asked for since the control loop last looked.
+struct StudioRequests {
+  std::optional<ListenerRequest> listener;
+  std::vector<std::pair<size_t, glm::vec3>> sources;  ///< (index, position), in order
+};
+
+class StudioBoard {
+ public:
+  /// Frames kept for /api/energy.csv?frame=N (about 4 s at 15 frames per second).
+  static constexpr size_t kKeptFrames = 64;
+
+  /// Control thread, once before the server starts: the scene's JSON (studio_json.h).
+  void setScene(std::string json);
+  std::shared_ptr<const std::string> scene() const;
+
+  /// Control thread: the newest frame (older ones kept up to kKeptFrames).
+  void publish(std::shared_ptr<const StudioFrame> frame);
+  /// Server thread: the newest frame, or null before the first.
+  std::shared_ptr<const StudioFrame> latest() const;
+  /// Server thread: a kept frame by number, or null.
+  std::shared_ptr<const StudioFrame> find(uint64_t frame) const;
+
+  /// Server thread: the page's requests (the newest listener pose wins).
+  void requestListener(const ListenerRequest& r);
+  void requestSource(size_t index, const glm::vec3& position);
+  void select(size_t source);
+  /// Control thread: takes (and clears) the requests.
+  StudioRequests take();
+  /// The selected source (0 until the page selects one).
+  size_t selected() const;
+
+ private:
+  mutable std::mutex mutex_;
+  std::shared_ptr<const std::string> scene_;
+  std::deque<std::shared_ptr<const StudioFrame>> frames_;  ///< oldest first
+  StudioRequests requests_;
+  size_t selected_ = 0;
+};
+
+}  // namespace dpc::studio

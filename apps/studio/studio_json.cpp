@@ -1,0 +1,116 @@
+#include "apps/studio/studio_json.h"
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "analysis/energy_response_csv.h"
+
+namespace dpc::studio {
+namespace {
+
+using nlohmann::json;
+
+json vec(const glm::vec3& v) { return json::array({v.x, v.y, v.z}); }
+
+json bands(const Bands& b) {
+  json a = json::array();
+  for (int i = 0; i < kNumBands; ++i) a.push_back(b[i]);
+  return a;
+}
+
+/// A number, or null when it is not finite (JSON has no NaN).
+json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+
+json figuresJson(const StudioFigures& f) {
+  return {{"clock", f.live ? "live" : "offline"},
+          {"frameMs", number(f.frameMs)},
+          {"raysPerFrame", f.raysPerFrame},
+          {"raysPerFrameScene", f.raysPerFrameScene},
+          {"raysPerSecond", number(f.raysPerSecond)},
+          {"cacheEntries", f.cacheEntries},
+          {"cacheMb", number(f.cacheMb)},
+          {"cacheBudgetMb", number(f.cacheBudgetMb)},
+          {"irAgeMs", number(f.irAgeMs)},
+          {"latencyMedianMs", number(f.latencyMedianMs)},
+          {"latencyP95Ms", number(f.latencyP95Ms)},
+          {"loadPercent", f.live ? number(f.loadPercent) : json(nullptr)},
+          {"xruns", f.live ? json(f.xruns) : json(nullptr)}};
+}
+
+json pathsJson(const std::vector<SpecularPath>& paths) {
+  json a = json::array();
+  for (const SpecularPath& p : paths) {
+    json points = json::array();
+    for (uint32_t k = 0; k < p.order && k < p.points.size(); ++k) points.push_back(vec(p.points[k]));
+    a.push_back({{"order", p.order}, {"delaySeconds", p.delaySeconds}, {"points", points},
+                 {"intensity", bands(p.intensity)}});
+  }
+  return a;
+}
+
+}  // namespace
+
+std::string sceneJson(const SceneDesc& scene) {
+  json vertices = json::array(), triangles = json::array(), materials = json::array();
+  for (const glm::vec3& v : scene.mesh.vertices) vertices.insert(vertices.end(), {v.x, v.y, v.z});
+  for (const auto& t : scene.mesh.triangles) triangles.insert(triangles.end(), {t[0], t[1], t[2]});
+  for (const Material& m : scene.materials)
+    materials.push_back({{"name", m.name}, {"absorption", bands(m.absorption)}});
+  json sources = json::array(), listeners = json::array();
+  for (const SourceDesc& s : scene.sources) sources.push_back({{"name", s.name}});
+  for (const ListenerDesc& l : scene.listeners)
+    listeners.push_back({{"name", l.name}, {"radius", l.radius}});
+  json centres = json::array();
+  for (float f : kBandCentreHz) centres.push_back(f);
+  return json{{"file", scene.path},          {"vertices", vertices},
+              {"triangles", triangles},      {"materialIndex", scene.mesh.materialIndex},
+              {"materials", materials},      {"sources", sources},
+              {"listeners", listeners},      {"bandCentresHz", centres}}
+      .dump();
+}
+
+std::string stateJson(const StudioFrame& f) {
+  json listeners = json::array(), sources = json::array();
+  for (const glm::vec3& p : f.listeners) listeners.push_back(vec(p));
+  for (const glm::vec3& p : f.sources) sources.push_back(vec(p));
+  const json direct = {{"visible", f.direct.visible},
+                       {"distance", f.direct.distance},
+                       {"delaySeconds", f.direct.delaySeconds},
+                       {"intensity", bands(f.direct.intensity)}};
+  return json{{"frame", f.frame},
+              {"sceneSeconds", f.sceneSeconds},
+              {"played", f.played},
+              {"source", f.source},
+              {"listeners", listeners},
+              {"listenerYaw", f.listenerYaw},
+              {"sources", sources},
+              {"direct", direct},
+              {"paths", pathsJson(f.paths)},
+              {"figures", figuresJson(f.figures)},
+              {"publishMicros", f.publishMicros}}
+      .dump();
+}
+
+std::string responseJson(const StudioFrame& f) {
+  json perBand = json::array();
+  for (int b = 0; b < kNumBands; ++b) {
+    json bins = json::array();
+    for (const Bands& e : f.energy) bins.push_back(e[b]);
+    perBand.push_back(std::move(bins));
+  }
+  return json{{"frame", f.frame}, {"source", f.source}, {"binSeconds", f.binSeconds},
+              {"bands", perBand}}
+      .dump();
+}
+
+std::string energyCsv(const StudioFrame& f) {
+  if (f.energy.empty()) return energyCsvText({});
+  SourceEnergy se;
+  se.energy = EnergyResponse(double(f.energy.size()) * f.binSeconds, f.binSeconds);
+  // Each bin at its centre: the same bin index whatever the rounding of k * binSeconds.
+  for (size_t k = 0; k < f.energy.size(); ++k)
+    se.energy.add((double(k) + 0.5) * f.binSeconds, f.energy[k]);
+  return energyCsvText({se});
+}
+
+}  // namespace dpc::studio

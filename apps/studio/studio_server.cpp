@@ -1,0 +1,196 @@
+#include "apps/studio/studio_server.h"
+
+#include <httplib.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "apps/studio/studio_access.h"
+#include "apps/studio/studio_json.h"
+#include "common/input_error.h"
+
+namespace dpc::studio {
+
+/// Request worker threads. A browser opens up to 6 connections while the page loads, and a
+/// kept-alive connection holds its worker until it closes: fewer workers left the page's
+/// module requests queued for whole keep-alive periods on a loaded machine.
+constexpr size_t kWorkerThreads = 8;
+/// Seconds an idle kept-alive connection holds its worker.
+constexpr time_t kKeepAliveSeconds = 1;
+/// Largest coordinate the page may send, m: anything beyond is a bad request, not a place.
+constexpr double kMaxCoordinate = 1e5;
+
+struct StudioServer::Impl {
+  ServerOptions options;
+  StudioBoard& board;
+  BundledFiles files;
+  httplib::Server http;
+  std::thread thread;
+  int port = 0;
+
+  Impl(const ServerOptions& o, StudioBoard& b) : options(o), board(b), files(o.webFolder) {}
+
+  std::string cookieName() const { return "dpc_studio_" + std::to_string(port); }
+  bool authorised(const httplib::Request& req, bool& fromQuery) const;
+  void routeReads();
+  void routeWrites();
+  void routeFiles();
+};
+
+namespace {
+
+using httplib::Request;
+using httplib::Response;
+using nlohmann::json;
+
+/// The value of cookie `name` in a Cookie header, or "".
+std::string cookieValue(const std::string& header, const std::string& name) {
+  const std::string key = name + "=";
+  for (size_t at = header.find(key); at != std::string::npos; at = header.find(key, at + 1))
+    if (at == 0 || header[at - 1] == ' ' || header[at - 1] == ';') {
+      const size_t from = at + key.size();
+      return header.substr(from, header.find(';', from) - from);
+    }
+  return "";
+}
+
+/// A position [x, y, z] within kMaxCoordinate, or nothing.
+std::optional<glm::vec3> position(const json& j) {
+  if (!j.is_array() || j.size() != 3) return std::nullopt;
+  glm::vec3 p;
+  for (int i = 0; i < 3; ++i) {
+    if (!j[i].is_number() || !(std::abs(j[i].get<double>()) <= kMaxCoordinate)) return std::nullopt;
+    p[i] = j[i].get<float>();
+  }
+  return p;
+}
+
+void refuse(Response& res, int status, const char* why) {
+  res.status = status;
+  res.set_content(std::string(why) + "\n", "text/plain");
+}
+
+/// Parses a POST body as JSON; false (400 sent) when it is not.
+bool parseBody(const Request& req, Response& res, json& body) {
+  body = json::parse(req.body, nullptr, false);
+  if (body.is_discarded() || !body.is_object()) refuse(res, 400, "body: not a JSON object");
+  return !body.is_discarded() && body.is_object();
+}
+
+}  // namespace
+
+bool StudioServer::Impl::authorised(const Request& req, bool& fromQuery) const {
+  fromQuery = tokenMatches(req.get_param_value("token"), options.token);
+  return fromQuery || tokenMatches(req.get_header_value("X-Dpc-Token"), options.token) ||
+         tokenMatches(cookieValue(req.get_header_value("Cookie"), cookieName()), options.token);
+}
+
+/// GET /api/...: the scene, and a frame's state, response or CSV (the newest, or ?frame=N).
+void StudioServer::Impl::routeReads() {
+  auto withFrame = [this](auto body) {
+    return [this, body](const Request& req, Response& res) {
+      auto f = req.has_param("frame") ? board.find(std::strtoull(
+                                            req.get_param_value("frame").c_str(), nullptr, 10))
+                                      : board.latest();
+      if (!f) return refuse(res, 404, "no such frame (yet)");
+      body(*f, res);
+    };
+  };
+  http.Get("/api/scene", [this](const Request&, Response& res) {
+    res.set_content(*board.scene(), "application/json");
+  });
+  http.Get("/api/state", withFrame([](const StudioFrame& f, Response& res) {
+             res.set_content(stateJson(f), "application/json");
+           }));
+  http.Get("/api/response", withFrame([](const StudioFrame& f, Response& res) {
+             res.set_content(responseJson(f), "application/json");
+           }));
+  http.Get("/api/energy.csv", withFrame([](const StudioFrame& f, Response& res) {
+             res.set_content(energyCsv(f), "text/csv");
+           }));
+}
+
+/// POST /api/...: the page's requests, checked, left on the board for the control loop.
+void StudioServer::Impl::routeWrites() {
+  http.Post("/api/listener", [this](const Request& req, Response& res) {
+    json body;
+    if (!parseBody(req, res, body)) return;
+    const auto p = position(body.value("position", json()));
+    const double yaw = body.value("yaw", 0.0);
+    if (!p || !std::isfinite(yaw)) return refuse(res, 400, "listener: position [x, y, z], yaw");
+    board.requestListener({*p, float(yaw)});
+    res.set_content("{}", "application/json");
+  });
+  http.Post("/api/source", [this](const Request& req, Response& res) {
+    json body;
+    if (!parseBody(req, res, body)) return;
+    const auto p = position(body.value("position", json()));
+    const size_t index = body.value("index", size_t(-1));
+    if (!p || index >= options.sourceCount)
+      return refuse(res, 400, "source: index (scene order), position [x, y, z]");
+    board.requestSource(index, *p);
+    res.set_content("{}", "application/json");
+  });
+  http.Post("/api/select", [this](const Request& req, Response& res) {
+    json body;
+    if (!parseBody(req, res, body)) return;
+    const size_t index = body.value("source", size_t(-1));
+    if (index >= options.sourceCount) return refuse(res, 400, "select: source (scene order)");
+    board.select(index);
+    res.set_content("{}", "application/json");
+  });
+}
+
+void StudioServer::Impl::routeFiles() {
+  http.Get("/.*", [this](const Request& req, Response& res) {
+    const BundledFiles::File* f = files.find(req.path);
+    if (!f) return refuse(res, 404, "not a file of the studio");
+    res.set_content(f->body, f->contentType.c_str());
+    res.set_header("Cache-Control", "no-store");
+  });
+}
+
+StudioServer::StudioServer(const ServerOptions& options, StudioBoard& board)
+    : impl_(std::make_unique<Impl>(options, board)) {
+  Impl& s = *impl_;
+  s.http.new_task_queue = [] { return new httplib::ThreadPool(kWorkerThreads); };
+  s.http.set_keep_alive_timeout(kKeepAliveSeconds);
+  // Every request: the Origin rule, then the token; the first page load sets the cookie the
+  // page's module imports carry (they cannot carry the query).
+  s.http.set_pre_routing_handler([&s](const Request& req, Response& res) {
+    using R = httplib::Server::HandlerResponse;
+    if (!originAllowed(req.get_header_value("Origin"), s.port))
+      return refuse(res, 403, "foreign origin"), R::Handled;
+    bool fromQuery = false;
+    if (!s.authorised(req, fromQuery)) return refuse(res, 403, "token required"), R::Handled;
+    if (fromQuery)
+      res.set_header("Set-Cookie", s.cookieName() + "=" + s.options.token +
+                                       "; Path=/; HttpOnly; SameSite=Strict");
+    return R::Unhandled;
+  });
+  s.routeReads();
+  s.routeWrites();
+  s.routeFiles();
+  s.port = options.port == 0 ? s.http.bind_to_any_port(options.host)
+                             : (s.http.bind_to_port(options.host, options.port) ? options.port : -1);
+  if (s.port < 0)
+    throw InputError("command line", "--port",
+                     "cannot listen on " + options.host + ":" + std::to_string(options.port) +
+                         " (in use, or not an address of this machine)");
+  s.thread = std::thread([&s] { s.http.listen_after_bind(); });
+}
+
+StudioServer::~StudioServer() {
+  impl_->http.stop();
+  if (impl_->thread.joinable()) impl_->thread.join();
+}
+
+int StudioServer::port() const { return impl_->port; }
+
+std::string StudioServer::url() const {
+  return "http://" + impl_->options.host + ":" + std::to_string(impl_->port) +
+         "/?token=" + impl_->options.token;
+}
+
+}  // namespace dpc::studio

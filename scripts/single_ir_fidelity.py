@@ -226,6 +226,9 @@ def main():
     ap.add_argument('--seeds', nargs='+', type=int, default=[1, 2, 3, 4])
     ap.add_argument('--rays', type=int, default=4000)
     ap.add_argument('--output', default='', help="audio.output of the scenes ('' = mono)")
+    ap.add_argument('--channels', nargs='+', type=int,
+                    help='compare only these channels (1 = first; default all): with '
+                         '--output ambisonics, channel 1 (W) carries the mono response')
     ap.add_argument('--json', help='write every difference to this file')
     ap.add_argument('--check', action='store_true',
                     help='fail unless 250 Hz - 4 kHz are within G 0.3 dB, C80 0.5 dB, EDT 5 %%')
@@ -236,6 +239,8 @@ def main():
             for seed in args.seeds:
                 ir, er = render(args.build, folder, name, seed, args.rays, args.output)
                 for c, channel in enumerate(ir):
+                    if args.channels and c + 1 not in args.channels:
+                        continue
                     d = differences(channel['bands'], er)
                     rows.append({'room': name, 'seed': seed, 'channel': c, 'diff': d})
                     print(f'{name} seed {seed} channel {c + 1}: ' + ', '.join(

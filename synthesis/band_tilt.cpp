@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "synthesis/band_envelope.h"
+#include "synthesis/pulse_energy.h"
 
 namespace dpc {
 
@@ -34,8 +35,9 @@ HalfBandDensity halfBandDensity(const EnergyResponse& energy, int band, double c
   return r;
 }
 
-TiltedBands::TiltedBands(int sampleRate, size_t length, const OctaveBandMasks& masks,
-                         FftwRealTransforms& fft, const TiltedBands* shareScratch)
+TiltedBands::TiltedBands(int sampleRate, size_t length, const std::vector<float>& sequence,
+                         const OctaveBandMasks& masks, FftwRealTransforms& fft,
+                         const TiltedBands* shareScratch)
     : sampleRate_(sampleRate), length_(length) {
   if (shareScratch && shareScratch->length_ == length_) {
     tilted_ = shareScratch->tilted_;
@@ -75,7 +77,36 @@ TiltedBands::TiltedBands(int sampleRate, size_t length, const OctaveBandMasks& m
     const size_t w = BandEnvelope::binSamplesFor(sampleRate, b);
     alpha_[bi].assign((length_ + w - 1) / w, 1.f);
     gamma_[bi].assign((length_ + w - 1) / w, 0.f);
+    realised_[bi].assign((length_ + w - 1) / w, 0.0);
+    expected_[bi].assign((length_ + w - 1) / w, 0.0);
   }
+  // fft.spec keeps the sequence's spectrum (only fft.band and fft.time are used).
+  for (int b = 0; b < kNumBands; ++b) pulseEnergies(b, sequence, masks, fft);
+}
+
+void TiltedBands::pulseEnergies(int b, const std::vector<float>& sequence,
+                                const OctaveBandMasks& masks, FftwRealTransforms& fft) {
+  const size_t nfft = fft.n, nbins = nfft / 2 + 1;
+  const double fc = bandCentreExactHz(b);
+  std::array<std::vector<float>, 2> h;  // A_b and A_b P, time 0 at index 0
+  for (int part = 0; part < 2; ++part) {
+    for (size_t k = 0; k < nbins; ++k) {
+      const double a = double(masks.gain(b, k)) * masks.gain(b, k);
+      const double p = part == 0 ? 1.0 : powerAbove(double(k) * sampleRate_ / double(nfft), fc);
+      fft.band.p[k][0] = float(a * p / double(nfft));
+      fft.band.p[k][1] = 0.f;
+    }
+    fftwf_execute(fft.inv);
+    h[size_t(part)].assign(fft.time.p, fft.time.p + nfft);
+  }
+  // Taps beyond -70 dB each side change a bin's expectation by less than 1e-7.
+  const TapSupport support = commonSupport(h[0], h[1], 1e-7);
+  const CentredTaps lo = centredTaps(h[0], support), hi = centredTaps(h[1], support);
+  const size_t w = BandEnvelope::binSamplesFor(sampleRate_, b);
+  auto& e = pulseEnergy_[size_t(b)];
+  e[0] = pulseEnergyPerBin(sequence, length_, w, lo, lo);
+  e[1] = pulseEnergyPerBin(sequence, length_, w, lo, hi);
+  e[2] = pulseEnergyPerBin(sequence, length_, w, hi, hi);
 }
 
 void TiltedBands::update(const EnergyResponse& energy) {
@@ -97,7 +128,15 @@ void TiltedBands::update(const EnergyResponse& energy) {
       const float* sh = upper_[bi].data();
       float* t = (*tilted_)[bi].data();
       const float a = float(alpha), g = float(gamma);
-      for (size_t n = j * w; n < std::min(length_, (j + 1) * w); ++n) t[n] = a * s[n] + g * sh[n];
+      double realised = 0.0;
+      for (size_t n = j * w; n < std::min(length_, (j + 1) * w); ++n) {
+        t[n] = a * s[n] + g * sh[n];
+        realised += double(t[n]) * double(t[n]);
+      }
+      realised_[bi][j] = realised;
+      const auto& e = pulseEnergy_[bi];
+      expected_[bi][j] =
+          alpha * alpha * e[0][j] + 2.0 * alpha * gamma * e[1][j] + gamma * gamma * e[2][j];
     }
   }
 }

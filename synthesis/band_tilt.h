@@ -37,18 +37,21 @@ HalfBandDensity halfBandDensity(const EnergyResponse& energy, int band, double c
 /// s_lo = A_b (1 - P)); per bin the weights alpha (s_b) and gamma (s_hi) and the tilted signal
 /// alpha s_b + gamma s_hi, whose upper half carries mean_{x in [0, 1/2]} (D_{b+1} / D_b)^x and
 /// lower half likewise toward D_{b-1} (halfBandDensity), scaled to keep the band's expected
-/// energy within its analysed octave (inAnalysedOctave). Without it, a band decaying much slower than the band above (4 kHz under 8 kHz in a
-/// large hall: air absorption) keeps its slow decay up to its upper edge, where the octave
-/// above's analysis filter passes it.
-/// Construction: a thread that may run fft's plans (fft.spec holds the sequence's spectrum,
-/// fft.n >= length; masks of fft.n points); allocates 3 x kNumBands x length floats; no errors.
-/// update(): propagation thread; no allocation; no errors.
+/// energy within its analysed octave (inAnalysedOctave). Without it, a band decaying much slower
+/// than the band above (4 kHz under 8 kHz in a large hall: air absorption) keeps its slow decay up
+/// to its upper edge, where the octave above's analysis filter passes it. Per bin it also gives the
+/// tilted signal's realised energy and the energy it carries in expectation over the sequence's
+/// random signs given its pulses (synthesis/pulse_energy.h), for levelling one realisation to its
+/// expectation (BandEnvelope::levelRealisation). Construction: a thread that may run fft's plans
+/// (fft.spec holds the spectrum of `sequence`, fft.n >= length; masks of fft.n points); allocates 3
+/// x kNumBands x length floats; no errors. update(): propagation thread; no allocation; no errors.
 class TiltedBands {
  public:
   /// shareScratch: TiltedBands of the same length whose tilted() buffers this one writes too
   /// (they hold one update()'s result, read before the next update() of either: synthesisers
   /// that run one at a time on one thread); nullptr: its own.
-  TiltedBands(int sampleRate, size_t length, const OctaveBandMasks& masks, FftwRealTransforms& fft,
+  TiltedBands(int sampleRate, size_t length, const std::vector<float>& sequence,
+              const OctaveBandMasks& masks, FftwRealTransforms& fft,
               const TiltedBands* shareScratch = nullptr);
   /// Sets every bin's weights and tilted signal from the response (any bin width).
   void update(const EnergyResponse& energy);
@@ -61,6 +64,10 @@ class TiltedBands {
   /// alpha and gamma of bin j of the last update().
   float alpha(int b, size_t j) const { return alpha_[size_t(b)][j]; }
   float gamma(int b, size_t j) const { return gamma_[size_t(b)][j]; }
+  /// Per band and bin of the last update(): the tilted signal's energy, and its expectation
+  /// over the pulses' signs.
+  const std::array<std::vector<double>, kNumBands>& realisedEnergy() const { return realised_; }
+  const std::array<std::vector<double>, kNumBands>& expectedEnergy() const { return expected_; }
 
  private:
   int sampleRate_;
@@ -70,6 +77,12 @@ class TiltedBands {
   /// <s_lo,s_lo>, <s_lo,s_hi>, <s_hi,s_hi> for a white input.
   std::array<std::array<double, 3>, kNumBands> halfEnergy_{};
   std::array<std::vector<float>, kNumBands> alpha_, gamma_;
+  /// Per band and bin, the sign-averaged energies of s_b s_b, s_b s_hi and s_hi s_hi.
+  std::array<std::array<std::vector<double>, 3>, kNumBands> pulseEnergy_;
+  std::array<std::vector<double>, kNumBands> realised_, expected_;
+  /// pulseEnergy_[b] from the sequence and band b's filters A_b and A_b P (fft.band: scratch).
+  void pulseEnergies(int b, const std::vector<float>& sequence, const OctaveBandMasks& masks,
+                     FftwRealTransforms& fft);
 };
 
 }  // namespace dpc

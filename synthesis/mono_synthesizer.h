@@ -47,6 +47,7 @@ namespace dpc {
 class BandEnvelope;
 class BandLeveller;
 class TiltedBands;
+class WindowLeveller;
 
 class IrSynthesizer {
  public:
@@ -54,6 +55,11 @@ class IrSynthesizer {
   /// the two highest, 4 and 8 kHz, where air absorption makes the decay much faster than the
   /// band below's.
   static constexpr int kFirstCleanedBand = 6;
+  /// Bands levelled per realisation in short windows (WindowLeveller): 250 Hz .. 4 kHz. The
+  /// 63 and 125 Hz bands are normalised by realised energy per synthesis bin already
+  /// (BandEnvelope::kRealisedBands); the 8 kHz band's window would be a few samples, and its
+  /// mask reaches on to Nyquist.
+  static constexpr int kFirstLevelledBand = 2, kLastLevelledBand = 6;
   /// A band's part is cleaned only where its analysed energy exceeds the expected by this
   /// factor (1 dB): the synthesis's own realisation noise stays.
   static constexpr double kCleanMargin = 1.26;
@@ -121,6 +127,10 @@ class IrSynthesizer {
   std::shared_ptr<const DirectSoundFilter> direct_;
   std::unique_ptr<BandEnvelope> envelope_;
   std::shared_ptr<BandLeveller> leveller_;
+  /// Levels the reverberant part to the response in short windows (synthesis/window_leveller.h)
+  /// from levelStart_, where the Dirac sequence holds a pulse per 10 ms by the density law.
+  std::shared_ptr<WindowLeveller> windowLeveller_;
+  size_t levelStart_ = 0;
   std::vector<Arrival> arrivals_;  ///< this frame's direct sound and exact paths
   Bands missingBands_{};
 };

@@ -7,15 +7,18 @@
 #include "api/errors.h"
 #include "engine/baked_field.h"
 #ifdef DPC_HAVE_BAKE
-#include "bake/bake_file.h"
 #include "bake/bake_loader.h"
+#include "bake/settings_hash.h"
 #endif
 
 /// The object behind the opaque dpc_bake handle: the bake, shared with the engines it is
-/// attached to, and the hash of the scene it was checked against (bake/bake_file.h).
+/// attached to, and the playback settings hash of the scene it was checked against
+/// (bake/settings_hash.h).
 struct dpc_bake {
   std::shared_ptr<const dpc::BakedField> field;
-  uint64_t sceneHash = 0;
+#ifdef DPC_HAVE_BAKE
+  dpc::bake::SettingsHash sceneHash{};
+#endif
 };
 
 using dpc::api::fail;
@@ -26,14 +29,15 @@ extern "C" {
 dpc_status dpc_bake_open(const dpc_engine* engine, const char* bake_path, dpc_bake** out) {
   if (!out) return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_bake_open: out is NULL");
   *out = nullptr;
-  if (!engine) return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_bake_open: engine is NULL");
+  const dpc::api::EngineCall call(engine);
+  if (const dpc_status s = call.check("dpc_bake_open"); s != DPC_OK) return s;
   if (!bake_path) return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_bake_open: bake_path is NULL");
 #ifdef DPC_HAVE_BAKE
   return guarded([&] {
     auto bake = std::make_unique<dpc_bake>();
     const dpc::SceneDesc& scene = engine->session->scene();
     bake->field = dpc::bake::loadBakedField(bake_path, scene);
-    bake->sceneHash = dpc::bake::sceneHash(scene);
+    bake->sceneHash = dpc::bake::playbackHash(scene);
     *out = bake.release();
     return DPC_OK;
   });
@@ -49,10 +53,13 @@ int dpc_bake_probe_count(const dpc_bake* bake) {
 void dpc_bake_destroy(dpc_bake* bake) { delete bake; }
 
 dpc_status dpc_engine_attach_bake(dpc_engine* engine, const dpc_bake* bake) {
-  if (!engine) return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_attach_bake: engine is NULL");
+  const dpc::api::EngineCall call(engine);
+  if (const dpc_status s = call.check("dpc_engine_attach_bake"); s != DPC_OK) return s;
   return guarded([&] {
 #ifdef DPC_HAVE_BAKE
-    if (bake && bake->sceneHash != dpc::bake::sceneHash(engine->session->scene()))
+    if (bake && dpc::bake::firstDifference(bake->sceneHash,
+                                           dpc::bake::playbackHash(engine->session->scene()),
+                                           true) >= 0)
       return fail(DPC_ERR_INVALID_ARGUMENT,
                   "dpc_engine_attach_bake: the bake is of another scene than the engine's");
 #endif

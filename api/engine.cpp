@@ -7,6 +7,7 @@
 #include "api/engine_handle.h"
 #include "api/errors.h"
 #include "api/field_names.h"
+#include "api/layouts.h"
 #include "api/scene_data.h"
 #include "common/input_error.h"
 #include "common/log.h"
@@ -16,14 +17,22 @@
 namespace dpc::api {
 namespace {
 
-// Applies dpc_engine_options (may be NULL) to a loaded scene and validates the result with the
-// scene file's limits (scene/validate.h); DPC_OK or the failure with its one-line message.
+dpc_engine_options defaultOptions() {
+  dpc_engine_options o{};
+  o.struct_size = sizeof o;
+  return o;
+}
+
+// Applies dpc_engine_options (NULL: none; of the current layout, readOptions) to a loaded
+// scene and validates the result with the scene file's limits (scene/validate.h); DPC_OK or the
+// failure with its one-line message.
 dpc_status applyOptions(const dpc_engine_options* o, SceneDesc& scene) {
   if (!o) return DPC_OK;
   if (o->sample_rate != 0) scene.audio.sampleRate = o->sample_rate;
   if (o->block_size != 0) scene.audio.blockSize = o->block_size;
   if (o->rays_per_frame != 0) scene.propagation.raysPerFrame = o->rays_per_frame;
   if (o->ambisonic_order != 0) scene.audio.ambisonicOrder = o->ambisonic_order;
+  if (o->ir_length != 0.f) scene.propagation.irLength = o->ir_length;
   try {
     validate(scene, apiOrigin("dpc_engine_options", scene));
   } catch (const InputError& e) {
@@ -36,11 +45,12 @@ dpc_status applyOptions(const dpc_engine_options* o, SceneDesc& scene) {
   return DPC_OK;
 }
 
-// DPC_OK, or DPC_ERR_VERSION for options of another layout.
-dpc_status checkOptions(const dpc_engine_options* o) {
-  return o ? checkStructSize(o->struct_size, sizeof(dpc_engine_options),
-                             "dpc_engine_options.struct_size")
-           : DPC_OK;
+// The caller's options (NULL: none) at the current layout in *full, the fields of later
+// releases than the caller's at their defaults; *given says whether there were any.
+// DPC_ERR_VERSION for an unknown layout.
+dpc_status readOptions(const dpc_engine_options* caller, dpc_engine_options* full, bool* given) {
+  *given = caller != nullptr;
+  return caller ? readVersioned(caller, defaultOptions(), full) : DPC_OK;
 }
 
 }  // namespace
@@ -73,15 +83,23 @@ dpc_engine* finishEngine(std::unique_ptr<dpc_engine> engine) {
 
 }  // namespace dpc::api
 
+using dpc::api::EngineCall;
 using dpc::api::fail;
 using dpc::api::guarded;
+using dpc::api::Layouts;
 
 extern "C" {
 
-void dpc_engine_options_init(dpc_engine_options* options) {
-  if (!options) return;
-  *options = dpc_engine_options{};
-  options->struct_size = sizeof(dpc_engine_options);
+dpc_status dpc_engine_options_init_sized(dpc_engine_options* options, size_t struct_size) {
+  if (!options)
+    return dpc::api::failFixed(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_options_init",
+                               "options is NULL");
+  return dpc::api::writeVersioned(options, struct_size, dpc::api::defaultOptions());
+}
+
+void(dpc_engine_options_init)(dpc_engine_options* options) {
+  if (options)
+    dpc_engine_options_init_sized(options, Layouts<dpc_engine_options>::kPlainInitSize);
 }
 
 dpc_status dpc_engine_create_from_file(const char* scene_path, const dpc_engine_options* options,
@@ -90,13 +108,16 @@ dpc_status dpc_engine_create_from_file(const char* scene_path, const dpc_engine_
   *out = nullptr;
   if (!scene_path)
     return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_create_from_file: scene_path is NULL");
-  if (const dpc_status s = dpc::api::checkOptions(options); s != DPC_OK) return s;
+  dpc_engine_options o;
+  bool given = false;
+  if (const dpc_status s = dpc::api::readOptions(options, &o, &given); s != DPC_OK) return s;
   return guarded([&] {
     auto engine = std::make_unique<dpc_engine>();
     engine->scene = dpc::loadScene(scene_path);
-    if (const dpc_status s = dpc::api::applyOptions(options, engine->scene); s != DPC_OK)
+    if (const dpc_status s = dpc::api::applyOptions(given ? &o : nullptr, engine->scene);
+        s != DPC_OK)
       return s;
-    if (options && options->host_inputs_only)
+    if (given && o.host_inputs_only)
       for (auto& src : engine->scene.sources) src.signalPath.clear();
     engine->dry = dpc::loadDrySignals(engine->scene);
     *out = dpc::api::finishEngine(std::move(engine));
@@ -109,33 +130,32 @@ dpc_status dpc_engine_create_from_data(const dpc_scene_data* data,
   if (!out) return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_create_from_data: out is NULL");
   *out = nullptr;
   if (!data) return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_create_from_data: data is NULL");
-  if (const dpc_status s = dpc::api::checkStructSize(
-          data->struct_size, sizeof(dpc_scene_data), "dpc_scene_data.struct_size");
+  dpc_scene_data d;
+  if (const dpc_status s = dpc::api::readVersioned(data, dpc::api::defaultSceneData(), &d);
       s != DPC_OK)
     return s;
-  if (const dpc_status s = dpc::api::checkOptions(options); s != DPC_OK) return s;
+  dpc_engine_options o;
+  bool given = false;
+  if (const dpc_status s = dpc::api::readOptions(options, &o, &given); s != DPC_OK) return s;
   return guarded([&] {
     auto engine = std::make_unique<dpc_engine>();
-    engine->scene = dpc::api::sceneFromData(*data);
-    if (const dpc_status s = dpc::api::applyOptions(options, engine->scene); s != DPC_OK)
+    engine->scene = dpc::api::sceneFromData(d);
+    if (const dpc_status s = dpc::api::applyOptions(given ? &o : nullptr, engine->scene);
+        s != DPC_OK)
       return s;
-    engine->dry = dpc::api::drySignalsFromData(*data, options && options->host_inputs_only);
+    engine->dry = dpc::api::drySignalsFromData(d, given && o.host_inputs_only);
     *out = dpc::api::finishEngine(std::move(engine));
     return DPC_OK;
   });
 }
 
 void dpc_engine_destroy(dpc_engine* engine) {
-  if (!engine) return;
-  try {
-    engine->session->stop();
-  } catch (...) {
-  }
-  delete engine;
+  if (engine) dpc::api::destroyEngine(engine);
 }
 
 dpc_status dpc_engine_start(dpc_engine* engine) {
-  if (!engine) return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_start: engine is NULL");
+  const EngineCall call(engine);
+  if (const dpc_status s = call.check("dpc_engine_start"); s != DPC_OK) return s;
   return guarded([&] {
     engine->session->start();
     return DPC_OK;
@@ -143,7 +163,8 @@ dpc_status dpc_engine_start(dpc_engine* engine) {
 }
 
 dpc_status dpc_engine_stop(dpc_engine* engine) {
-  if (!engine) return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_stop: engine is NULL");
+  const EngineCall call(engine);
+  if (const dpc_status s = call.check("dpc_engine_stop"); s != DPC_OK) return s;
   return guarded([&] {
     engine->session->stop();
     return DPC_OK;
@@ -151,7 +172,8 @@ dpc_status dpc_engine_stop(dpc_engine* engine) {
 }
 
 dpc_status dpc_engine_step(dpc_engine* engine) {
-  if (!engine) return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_step: engine is NULL");
+  const EngineCall call(engine);
+  if (const dpc_status s = call.check("dpc_engine_step"); s != DPC_OK) return s;
   return guarded([&] {
     return engine->session->step()
                ? DPC_OK

@@ -52,19 +52,6 @@ dpc_status checkIndex(const char* function, const char* argument, int index, int
   return DPC_ERR_INVALID_ARGUMENT;
 }
 
-dpc_status checkStructSize(size_t structSize, size_t expected, const char* field) {
-  if (structSize == expected) return DPC_OK;
-  try {
-    lastError = std::string(field) + ": " + std::to_string(structSize) +
-                " bytes, but this library (dpc " DPC_VERSION_STRING ") expects " +
-                std::to_string(expected) +
-                ": compile against its dpc.h and fill the struct with its _init function";
-    current = nullptr;
-  } catch (...) {
-  }
-  return DPC_ERR_VERSION;
-}
-
 }  // namespace dpc::api
 
 extern "C" const char* dpc_last_error(void) {

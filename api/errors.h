@@ -33,10 +33,6 @@ bool checkArgument(const char* function, const char* argument, std::string_view 
 dpc_status checkIndex(const char* function, const char* argument, int index, int count,
                       const char* what);
 
-/// Control thread: DPC_OK if `structSize` is `expected`, else DPC_ERR_VERSION with a message
-/// naming `field` and both sizes (the caller was compiled against another dpc.h).
-dpc_status checkStructSize(size_t structSize, size_t expected, const char* field);
-
 /// Control thread: runs f (returning a dpc_status), turning its exceptions into status codes and
 /// the thread's last-error text: InputError is DPC_ERR_INPUT, anything else DPC_ERR_INTERNAL.
 template <class F>

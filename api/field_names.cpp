@@ -29,6 +29,10 @@ std::string apiFieldName(const std::string& path, const std::vector<Material>& m
     const std::string name = path.substr(10, dot - 10), member = path.substr(dot + 1);
     size_t i = 0;
     while (i + 1 < materials.size() && materials[i].name != name) ++i;
+    // A material's transmission loss lives in the parallel array material_transmissions.
+    if (const std::string loss = "transmission_loss_db"; member.rfind(loss, 0) == 0)
+      return "material_transmissions[" + std::to_string(i) + "].loss_db" +
+             member.substr(loss.size());
     const std::string m = member.rfind("scattering", 0) == 0 ? "scattering" : member;
     return "materials[" + std::to_string(i) + "]." + m;
   }

@@ -12,7 +12,8 @@ namespace dpc::api {
 
 /// "propagation.cache_tau" -> "cache_tau", "listeners[0].radius" -> "listener_radius",
 /// "listeners[2].yaw" -> "additional_listeners[1].yaw_degrees", "materials.NAME.absorption[3]"
-/// -> "materials[i].absorption[3]", "mesh.triangles[4][2]" -> "mesh.indices[14]"; other paths
+/// -> "materials[i].absorption[3]", "materials.NAME.transmission_loss_db[3]" ->
+/// "material_transmissions[i].loss_db[3]", "mesh.triangles[4][2]" -> "mesh.indices[14]"; other paths
 /// unchanged. Control thread; allocates.
 std::string apiFieldName(const std::string& path, const std::vector<Material>& materials);
 

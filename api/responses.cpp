@@ -5,25 +5,59 @@
 
 #include "api/engine_handle.h"
 #include "api/errors.h"
+#include "api/layouts.h"
 
 using dpc::api::checkIndex;
+using dpc::api::EngineCall;
+using dpc::api::engineProperty;
 using dpc::api::fail;
 using dpc::api::failFixed;
 using dpc::api::guarded;
 
 namespace {
 
-/// The arguments every read-out shares: DPC_OK, or DPC_ERR_INVALID_ARGUMENT with a message
-/// naming the one that is wrong (a NULL engine, a source out of range, out NULL with room).
-dpc_status checkReadout(const char* function, const dpc_engine* engine, int source,
-                        const float* out, size_t capacity) {
-  if (!engine) return failFixed(DPC_ERR_INVALID_ARGUMENT, function, "engine is NULL");
+/// The arguments every read-out shares, once `call` has entered the engine: DPC_OK, or the
+/// status with a message naming the one that is wrong (a NULL engine or one being destroyed,
+/// a source out of range, out NULL with room).
+dpc_status checkReadout(const char* function, const EngineCall& call, const dpc_engine* engine,
+                        int source, const float* out, size_t capacity) {
+  if (const dpc_status s = call.check(function); s != DPC_OK) return s;
   if (const dpc_status s = checkIndex(function, "source", source, engine->sources, "sources");
       s != DPC_OK)
     return s;
   if (!out && capacity > 0)
     return failFixed(DPC_ERR_INVALID_ARGUMENT, function, "out is NULL with a capacity > 0");
   return DPC_OK;
+}
+
+/// dpc_stats at the current layout from the session's status.
+dpc_stats statsOf(const dpc::SessionStatus& s) {
+  dpc_stats out{};
+  out.struct_size = sizeof out;
+  out.frames = s.frames;
+  out.frame_ms = s.frameMs;
+  out.rays_per_second = s.raysPerSecond;
+  out.cache_entries = s.cacheEntries;
+  out.irs_applied = s.irsApplied;
+  out.irs_dropped = s.irsDropped;
+  out.ir_age_ms = s.irAgeMs;
+  out.blocks = s.blocks;
+  out.nan_blocks = s.nanBlocks;
+  out.late_callbacks = s.lateCallbacks;
+  out.rejected_callbacks = s.rejectedCallbacks;
+  out.cache_bytes = s.cacheBytes;
+  out.cache_budget_bytes = s.cacheBudgetBytes;
+  out.cache_merged_entries = s.cacheMergedEntries;
+  out.cache_merged_energy_fraction = s.cacheMergedEnergyFraction;
+  out.rays_per_frame = int32_t(s.raysPerFrame);
+  out.rays_per_frame_min = int32_t(s.raysPerFrameMin);
+  out.reduced_frames = s.reducedFrames;
+  out.baked_responses = s.bakedResponses;
+  out.bake_fallbacks = s.bakeFallbacks;
+  out.input_samples_replaced = s.inputSamplesReplaced;
+  out.limited_frames = s.limitedFrames;
+  out.dropped_energy_fraction = s.droppedEnergyFraction;
+  return out;
 }
 
 }  // namespace
@@ -33,14 +67,16 @@ extern "C" {
 dpc_status dpc_engine_copy_impulse_response(dpc_engine* engine, int source, int channel, float* out,
                                             size_t capacity, size_t* length, uint64_t* frame) {
   constexpr const char* kFunction = "dpc_engine_copy_impulse_response";
-  if (const dpc_status s = checkReadout(kFunction, engine, source, out, capacity); s != DPC_OK)
+  const EngineCall call(engine);
+  if (const dpc_status s = checkReadout(kFunction, call, engine, source, out, capacity);
+      s != DPC_OK)
     return s;
   if (const dpc_status s =
           checkIndex(kFunction, "channel", channel, engine->session->irChannels(), "channels");
       s != DPC_OK)
     return s;
   const bool ok = engine->session->copyResponses(size_t(source), [&](const auto& r) {
-    const std::vector<float>& ir = (*r.ir)[size_t(channel)];
+    const std::span<const float> ir = r.ir->channelSpan(channel);
     if (length) *length = ir.size();
     if (frame) *frame = r.frame;
     if (out && capacity > 0)
@@ -53,8 +89,9 @@ dpc_status dpc_engine_copy_impulse_response(dpc_engine* engine, int source, int 
 dpc_status dpc_engine_copy_energy_response(dpc_engine* engine, int source, float* out,
                                            size_t capacity_bins, size_t* bins, double* bin_seconds,
                                            uint64_t* frame) {
-  if (const dpc_status s =
-          checkReadout("dpc_engine_copy_energy_response", engine, source, out, capacity_bins);
+  const EngineCall call(engine);
+  if (const dpc_status s = checkReadout("dpc_engine_copy_energy_response", call, engine, source,
+                                        out, capacity_bins);
       s != DPC_OK)
     return s;
   static_assert(DPC_BANDS == dpc::kNumBands, "band count of the public API");
@@ -72,7 +109,9 @@ dpc_status dpc_engine_copy_energy_response(dpc_engine* engine, int source, float
 
 dpc_status dpc_engine_process(dpc_engine* engine, const float* const* inputs, float* const* outputs,
                               int frames) {
-  if (!engine || !outputs) return DPC_ERR_INVALID_ARGUMENT;
+  const EngineCall call(engine);
+  if (call.status() != DPC_OK) return call.status();
+  if (!outputs) return DPC_ERR_INVALID_ARGUMENT;
   for (int c = 0; c < engine->session->outputChannels(); ++c)
     if (!outputs[c]) return DPC_ERR_INVALID_ARGUMENT;
   if (inputs)
@@ -86,58 +125,38 @@ dpc_status dpc_engine_process(dpc_engine* engine, const float* const* inputs, fl
 }
 
 int dpc_engine_sample_rate(const dpc_engine* e) {
-  return e ? e->session->sampleRate() : 0;
+  return engineProperty(e, [](const dpc_engine& x) { return x.session->sampleRate(); });
 }
 int dpc_engine_block_size(const dpc_engine* e) {
-  return e ? e->session->blockSize() : 0;
+  return engineProperty(e, [](const dpc_engine& x) { return x.session->blockSize(); });
 }
 int dpc_engine_output_channels(const dpc_engine* e) {
-  return e ? e->session->outputChannels() : 0;
+  return engineProperty(e, [](const dpc_engine& x) { return x.session->outputChannels(); });
 }
 int dpc_engine_ir_channels(const dpc_engine* e) {
-  return e ? e->session->irChannels() : 0;
+  return engineProperty(e, [](const dpc_engine& x) { return x.session->irChannels(); });
 }
 int dpc_engine_source_count(const dpc_engine* e) {
-  return e ? e->sources : 0;
+  return engineProperty(e, [](const dpc_engine& x) { return x.sources; });
 }
 int dpc_engine_object_count(const dpc_engine* e) {
-  return e ? e->session->objectCount() : 0;
+  return engineProperty(e, [](const dpc_engine& x) { return x.session->objectCount(); });
 }
 int dpc_engine_latency_frames(const dpc_engine* e) {
-  return e ? e->session->adapterLatencyFrames() : 0;
+  return engineProperty(e, [](const dpc_engine& x) { return x.session->adapterLatencyFrames(); });
 }
 
 dpc_status dpc_engine_get_stats(dpc_engine* engine, dpc_stats* out) {
-  if (!engine || !out) return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_get_stats: NULL");
-  if (const dpc_status s =
-          dpc::api::checkStructSize(out->struct_size, sizeof(dpc_stats), "dpc_stats.struct_size");
+  constexpr const char* kFunction = "dpc_engine_get_stats";
+  const EngineCall call(engine);
+  if (const dpc_status s = call.check(kFunction); s != DPC_OK) return s;
+  if (!out) return failFixed(DPC_ERR_INVALID_ARGUMENT, kFunction, "out is NULL");
+  using Stats = dpc::api::Layouts<dpc_stats>;
+  if (const dpc_status s = dpc::api::checkLayout(Stats::kName, Stats::kKnown, out->struct_size);
       s != DPC_OK)
-    return s;
+    return s;  // before status(), which restarts the rays-per-second interval
   return guarded([&] {
-    const auto s = engine->session->status();
-    out->frames = s.frames;
-    out->frame_ms = s.frameMs;
-    out->rays_per_second = s.raysPerSecond;
-    out->cache_entries = s.cacheEntries;
-    out->irs_applied = s.irsApplied;
-    out->irs_dropped = s.irsDropped;
-    out->ir_age_ms = s.irAgeMs;
-    out->blocks = s.blocks;
-    out->nan_blocks = s.nanBlocks;
-    out->late_callbacks = s.lateCallbacks;
-    out->rejected_callbacks = s.rejectedCallbacks;
-    out->cache_bytes = s.cacheBytes;
-    out->cache_budget_bytes = s.cacheBudgetBytes;
-    out->cache_merged_entries = s.cacheMergedEntries;
-    out->cache_merged_energy_fraction = s.cacheMergedEnergyFraction;
-    out->rays_per_frame = int32_t(s.raysPerFrame);
-    out->rays_per_frame_min = int32_t(s.raysPerFrameMin);
-    out->reduced_frames = s.reducedFrames;
-    out->baked_responses = s.bakedResponses;
-    out->bake_fallbacks = s.bakeFallbacks;
-    out->input_samples_replaced = s.inputSamplesReplaced;
-    out->limited_frames = s.limitedFrames;
-    return DPC_OK;
+    return dpc::api::writeVersioned(out, out->struct_size, statsOf(engine->session->status()));
   });
 }
 

@@ -7,7 +7,9 @@
 #include <string>
 #include <type_traits>
 
+#include "api/errors.h"
 #include "api/field_names.h"
+#include "api/layouts.h"
 #include "common/air_absorption.h"
 #include "common/input_error.h"
 #include "common/input_file.h"
@@ -35,6 +37,9 @@ void materialsFromData(const dpc_scene_data& d, SceneDesc& scene) {
     mat.name = m.name ? m.name : "material " + std::to_string(i);
     for (int b = 0; b < DPC_BANDS; ++b) mat.absorption[b] = m.absorption[b];
     mat.scattering = Bands(m.scattering);
+    if (d.material_transmissions)  // validate() checks the range and tau <= alpha
+      for (int b = 0; b < DPC_BANDS; ++b)
+        mat.transmissionLossDb[b] = d.material_transmissions[i].loss_db[b];
     scene.materials.push_back(mat);
   }
 }
@@ -158,6 +163,7 @@ void settingsFromData(const dpc_scene_data& d, SceneDesc& scene) {
   p.cachePoolMb = d.cache_pool_mb;
   scene.audio.lateBuses = d.late_buses;
   scene.audio.clusterAngleDegrees = d.cluster_angle_degrees;
+  p.exactOrder = d.exact_order;
   if (!toRendering(d.rendering, &scene.audio.rendering))
     bad("rendering", "must be DPC_RENDERING_AUTO, _PER_SOURCE or _HYBRID");
 }
@@ -220,34 +226,51 @@ DrySignals drySignalsFromData(const dpc_scene_data& data, bool hostInputsOnly) {
   return dry;
 }
 
+dpc_scene_data defaultSceneData() {
+  dpc_scene_data d{};
+  d.struct_size = sizeof(dpc_scene_data);
+  const PropagationSettings p;
+  const AudioSettings a;
+  const ListenerDesc l;
+  d.listener_radius = l.radius;
+  d.rays_per_frame = p.raysPerFrame;
+  d.max_order = p.maxOrder;
+  d.patch_size = p.patchSize;
+  d.cache_tau = p.cacheTau;
+  d.frame_rate = p.frameRate;
+  d.ir_length = p.irLength;
+  d.seed = p.seed;
+  d.speed_of_sound = 0.f;
+  d.temperature = p.temperatureC;
+  d.humidity = p.humidityPercent;
+  d.air_absorption = p.airAbsorption ? 1 : 0;
+  d.diffraction = p.diffraction ? 1 : 0;
+  d.sample_rate = a.sampleRate;
+  d.block_size = a.blockSize;
+  d.output = DPC_OUTPUT_MONO;
+  d.cache_pool_mb = p.cachePoolMb;
+  d.rendering = DPC_RENDERING_AUTO;
+  d.late_buses = a.lateBuses;
+  d.cluster_angle_degrees = a.clusterAngleDegrees;
+  d.ambisonic_order = a.ambisonicOrder;
+  d.material_transmissions = nullptr;
+  d.exact_order = p.exactOrder;
+  return d;
+}
+
 }  // namespace dpc::api
 
-extern "C" void dpc_scene_data_init(dpc_scene_data* data) {
-  if (!data) return;
-  *data = dpc_scene_data{};
-  data->struct_size = sizeof(dpc_scene_data);
-  const dpc::PropagationSettings p;
-  const dpc::AudioSettings a;
-  const dpc::ListenerDesc l;
-  data->listener_radius = l.radius;
-  data->rays_per_frame = p.raysPerFrame;
-  data->max_order = p.maxOrder;
-  data->patch_size = p.patchSize;
-  data->cache_tau = p.cacheTau;
-  data->frame_rate = p.frameRate;
-  data->ir_length = p.irLength;
-  data->seed = p.seed;
-  data->speed_of_sound = 0.f;
-  data->temperature = p.temperatureC;
-  data->humidity = p.humidityPercent;
-  data->air_absorption = p.airAbsorption ? 1 : 0;
-  data->diffraction = p.diffraction ? 1 : 0;
-  data->sample_rate = a.sampleRate;
-  data->block_size = a.blockSize;
-  data->output = DPC_OUTPUT_MONO;
-  data->cache_pool_mb = p.cachePoolMb;
-  data->rendering = DPC_RENDERING_AUTO;
-  data->late_buses = a.lateBuses;
-  data->cluster_angle_degrees = a.clusterAngleDegrees;
-  data->ambisonic_order = a.ambisonicOrder;
+extern "C" {
+
+dpc_status dpc_scene_data_init_sized(dpc_scene_data* data, size_t struct_size) {
+  if (!data)
+    return dpc::api::failFixed(DPC_ERR_INVALID_ARGUMENT, "dpc_scene_data_init", "data is NULL");
+  return dpc::api::writeVersioned(data, struct_size, dpc::api::defaultSceneData());
 }
+
+void(dpc_scene_data_init)(dpc_scene_data* data) {
+  if (data)
+    dpc_scene_data_init_sized(data, dpc::api::Layouts<dpc_scene_data>::kPlainInitSize);
+}
+
+}  // extern "C"

@@ -16,7 +16,12 @@ long rawOutputFormat(const dpc_output_format& field);
 /// *out; false (and *out unchanged) for any other value, DPC_OUTPUT_SCENE included.
 bool toOutputFormat(const dpc_output_format& field, OutputFormat* out);
 
-/// Control thread. The scene of `data`; throws InputError naming the field ("dpc_scene_data:
+/// Any thread; no allocation. What dpc_scene_data_init fills, at the current layout: zero
+/// mesh, materials and sources, the listener at the origin, every other field the scene
+/// file's default.
+dpc_scene_data defaultSceneData();
+
+/// Control thread. The scene of `data` (of the current layout, api/layouts.h readVersioned); throws InputError naming the field ("dpc_scene_data:
 /// FIELD: problem") for a value out of range. Allocates.
 SceneDesc sceneFromData(const dpc_scene_data& data);
 

@@ -95,13 +95,14 @@ void checkShapes(const std::string& path, const SofaIrs& irs) {
     throw InputError(path, "", "cannot write SOFA: " + why);
   };
   if (irs.sampleRate <= 0) bad("sample rate not positive");
-  if (irs.irs.empty() || irs.irs[0].empty() || irs.irs[0][0].empty()) bad("no IR samples");
+  if (irs.irs.empty() || irs.irs[0].channels() == 0 || irs.irs[0].samples() == 0)
+    bad("no IR samples");
   if (irs.sourcePositions.size() != irs.irs.size()) bad("one source position per measurement");
-  if (irs.receiverPositions.size() != irs.irs[0].size()) bad("one position per receiver");
-  for (const auto& m : irs.irs) {
-    if (m.size() != irs.irs[0].size()) bad("every measurement needs the same receivers");
-    for (const auto& r : m)
-      if (r.size() != irs.irs[0][0].size()) bad("every IR needs the same length");
+  if (irs.receiverPositions.size() != size_t(irs.irs[0].channels()))
+    bad("one position per receiver");
+  for (const ImpulseResponse& m : irs.irs) {
+    if (m.channels() != irs.irs[0].channels()) bad("every measurement needs the same receivers");
+    if (m.samples() != irs.irs[0].samples()) bad("every IR needs the same length");
   }
 }
 
@@ -110,7 +111,7 @@ void checkShapes(const std::string& path, const SofaIrs& irs) {
 TempOutputFile stageSofa(const std::string& path, const SofaIrs& irs) {
   checkShapes(path, irs);
   TempOutputFile out(path);
-  const size_t M = irs.irs.size(), R = irs.irs[0].size(), N = irs.irs[0][0].size();
+  const size_t M = irs.irs.size(), R = size_t(irs.irs[0].channels()), N = irs.irs[0].samples();
   NcFile f(path, out.tempPath());
   const Dims d{f.dim("I", 1), f.dim("C", 3), f.dim("R", R),
                f.dim("E", 1), f.dim("N", N), f.dim("M", M)};
@@ -135,8 +136,8 @@ TempOutputFile stageSofa(const std::string& path, const SofaIrs& irs) {
   f.put(emitters, origin.data());
   std::vector<double> samples;  // AES69 stores doubles; float samples convert exactly
   samples.reserve(M * R * N);
-  for (const auto& m : irs.irs)
-    for (const auto& r : m) samples.insert(samples.end(), r.begin(), r.end());
+  for (const ImpulseResponse& m : irs.irs)  // channel-major: receiver by receiver
+    samples.insert(samples.end(), m.data().begin(), m.data().end());
   f.put(data, samples.data());
   const double fs = irs.sampleRate;
   f.put(rate, &fs);

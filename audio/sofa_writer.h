@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "common/impulse_response.h"
 #include "common/output_file.h"
 
 namespace dpc::audio {
@@ -27,9 +28,9 @@ using Vec3d = std::array<double, 3>;
 
 struct SofaIrs {
   int sampleRate = 0;  ///< Hz
-  /// [measurement][receiver][sample]: every measurement the same receivers, every receiver
-  /// the same length (>= 1 sample).
-  std::vector<std::vector<std::vector<float>>> irs;
+  /// One per measurement, its channels the receivers: every measurement the same receivers,
+  /// every receiver the same length (>= 1 sample).
+  std::vector<ImpulseResponse> irs;
   std::vector<Vec3d> sourcePositions;    ///< [measurement], metres
   std::vector<Vec3d> receiverPositions;  ///< [receiver], metres relative to the listener
   Vec3d listenerPosition{};              ///< metres

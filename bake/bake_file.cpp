@@ -1,11 +1,13 @@
 #include "bake/bake_file.h"
 
 #include <chrono>
+#include <cstdio>
 #include <cstring>
-#include <filesystem>
 #include <limits>
 #include <stdexcept>
 
+#include "bake/bake_lock.h"
+#include "bake/bake_verify.h"
 #include "bake/hdf5_util.h"
 #include "common/input_error.h"
 #include "common/input_file.h"
@@ -13,202 +15,159 @@
 namespace dpc::bake {
 namespace {
 
-/// One per-probe float dataset: its name, the ProbeResult member it stores, and its shape after
-/// the probe dimension.
-struct ProbeDataset {
-  const char* name;
-  std::vector<float> ProbeResult::*member;
-  std::vector<hsize_t> (*shape)(const ProbeShape&);
-};
+/// The groups the datasets live in, created before them (no timestamps).
+constexpr const char* kGroups[] = {"probes", "sources", "direct", "early"};
 
-const ProbeDataset kProbeDatasets[] = {
-    {"energy", &ProbeResult::energy,
-     [](const ProbeShape& s) { return std::vector<hsize_t>{s.sources, s.bins, kNumBands}; }},
-    {"sh_energy", &ProbeResult::sh,
-     [](const ProbeShape& s) {
-       return std::vector<hsize_t>{s.sources, s.directionalBins(), kShChannels, kNumBands};
-     }},
-    {"direct/delay_s", &ProbeResult::directDelay,
-     [](const ProbeShape& s) { return std::vector<hsize_t>{s.sources}; }},
-    {"direct/energy", &ProbeResult::directEnergy,
-     [](const ProbeShape& s) { return std::vector<hsize_t>{s.sources, kNumBands}; }},
-    {"direct/direction", &ProbeResult::directDirection,
-     [](const ProbeShape& s) { return std::vector<hsize_t>{s.sources, 3}; }},
-    {"parameters", &ProbeResult::parameters,
-     [](const ProbeShape& s) {
-       return std::vector<hsize_t>{s.sources, kParameterRows, kParameters};
-     }},
-    {"parameters_ci95", &ProbeResult::parametersCi,
-     [](const ProbeShape& s) {
-       return std::vector<hsize_t>{s.sources, kParameterRows, kParameters};
-     }},
-    {"sti", &ProbeResult::sti, [](const ProbeShape& s) { return std::vector<hsize_t>{s.sources}; }},
-    {"sti_ci95", &ProbeResult::stiCi,
-     [](const ProbeShape& s) { return std::vector<hsize_t>{s.sources}; }},
-    {"early/count", &ProbeResult::earlyCount,
-     [](const ProbeShape& s) { return std::vector<hsize_t>{s.sources}; }},
-    {"early/found", &ProbeResult::earlyFound,
-     [](const ProbeShape& s) { return std::vector<hsize_t>{s.sources}; }},
-    {"early/paths", &ProbeResult::early,
-     [](const ProbeShape& s) {
-       return std::vector<hsize_t>{s.sources, kEarlyPaths, kEarlyPathFloats};
-     }},
-};
-
-std::vector<hsize_t> withProbes(size_t probes, std::vector<hsize_t> rest) {
-  rest.insert(rest.begin(), hsize_t(probes));
-  return rest;
+/// A failed write as the InputError of the file and dataset, with the system's reason.
+[[noreturn]] void writeFailed(const std::string& path, const std::string& dataset,
+                              const std::runtime_error& e) {
+  throw InputError(path, dataset, std::string("cannot write: ") + e.what());
 }
 
-/// FNV-1a, 64 bit, over raw bytes.
-void fnv(uint64_t& h, const void* data, size_t n) {
-  const auto* p = static_cast<const unsigned char*>(data);
-  for (size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 0x100000001b3ULL;
+void createLayout(hid_t f, const BakeHeader& header) {
+  const size_t probes = header.probes.positions.size();
+  for (const char* g : kGroups) h5::createGroup(f, g);
+  h5::createDataset(f, "probes/position", H5T_NATIVE_FLOAT, {probes, 3});
+  h5::createDataset(f, "probes/done", H5T_NATIVE_UINT8, {probes});
+  h5::createDataset(f, "sources/position", H5T_NATIVE_FLOAT, {header.sources.size(), 3});
+  h5::createDataset(f, "band_centres_hz", H5T_NATIVE_FLOAT, {kNumBands});
+  h5::createDataset(f, "checksums", H5T_STD_U32LE, {probes, kProbeDatasets.size()});
+  for (const ProbeDataset& d : kProbeDatasets)
+    h5::createDataset(f, d.name, H5T_IEEE_F32LE, withProbes(probes, d.shape(header.shape)));
 }
 
-void writeHeaderAttributes(hid_t root, const BakeHeader& h) {
-  using h5::writeAttribute;
-  writeAttribute(root, "format", std::string(kBakeFormat));
-  writeAttribute(root, "version", int64_t(kBakeFormatVersion));
-  writeAttribute(root, "complete", int64_t(0));
-  writeAttribute(root, "scene", h.scenePath);
-  writeAttribute(root, "mesh_hash", h.meshHash);
-  writeAttribute(root, "seed", h.seed);
-  writeAttribute(root, "spacing_m", h.grid.spacingM);
-  writeAttribute(root, "height_m", h.grid.heightM);
-  writeAttribute(root, "probe_layout", probeLayout(h.grid, h.grid.spacingM == 0.0));
-  writeAttribute(root, "probe_radius_m", double(h.grid.radiusM));
-  writeAttribute(root, "rays_per_frame", int64_t(h.settings.rays));
-  writeAttribute(root, "frames", int64_t(h.settings.frames));
-  writeAttribute(root, "sub_streams", int64_t(h.settings.subStreams));
-  writeAttribute(root, "ir_length_s", h.settings.irLength);
-  writeAttribute(root, "bin_seconds", 1e-3);
-  writeAttribute(root, "directional_bin_seconds", 1e-3 * double(kDirectionalBinFactor));
-  writeAttribute(root, "sh_order", int64_t(kShOrder));
-  writeAttribute(root, "sh_convention", std::string(kShConvention));
-  writeAttribute(root, "grid_candidates", uint64_t(h.probes.candidates));
-  writeAttribute(root, "skipped_outside", uint64_t(h.probes.outside));
-  writeAttribute(root, "skipped_inside_geometry", uint64_t(h.probes.insideGeometry));
-  writeAttribute(root, "skipped_near_surface", uint64_t(h.probes.nearSurface));
-  std::string columns;
-  for (const char* n : kParameterNames) columns += columns.empty() ? n : std::string(",") + n;
-  writeAttribute(root, "parameter_columns", columns);
+/// The datasets fixed at creation (after reserveFile: raw writes into reserved bytes).
+void writeFixed(hid_t f, const BakeHeader& header) {
+  if (!header.probes.positions.empty())
+    h5::writeAll(f, "probes/position", H5T_NATIVE_FLOAT, header.probes.positions.data());
+  if (!header.sources.empty())
+    h5::writeAll(f, "sources/position", H5T_NATIVE_FLOAT, header.sources.data());
+  h5::writeAll(f, "band_centres_hz", H5T_NATIVE_FLOAT, kBandCentreHz.data());
 }
 
-/// An attribute read, a failed read refused as InputError naming it.
-template <typename Read>
-auto attribute(const std::string& path, const char* name, Read read) {
-  try {
-    return read(name);
-  } catch (const std::runtime_error& e) {
-    throw InputError(path, name, e.what());
-  }
-}
-
-/// Refuses a file of another format or version, or with other spherical harmonics than this
-/// build writes: InputError naming the attribute.
-void checkFormat(hid_t root, const std::string& path) {
-  const auto text = [root](const char* n) { return h5::readString(root, n); };
-  const auto number = [root](const char* n) { return h5::readInt(root, n); };
-  if (attribute(path, "format", text) != kBakeFormat)
-    throw InputError(path, "format", "not a " + std::string(kBakeFormat) + " file");
-  const int64_t version = attribute(path, "version", number);
-  if (version != kBakeFormatVersion)
-    throw InputError(path, "version",
-                     "format version " + std::to_string(version) + ", this dpc reads version " +
-                         std::to_string(kBakeFormatVersion) + " only" +
-                         (version < kBakeFormatVersion
-                              ? " (direction as spherical-harmonic energy since 3): bake again"
-                              : ""));
-  if (attribute(path, "sh_order", number) != kShOrder)
-    throw InputError(path, "sh_order", "this dpc reads order " + std::to_string(kShOrder));
-  if (attribute(path, "sh_convention", text) != kShConvention)
-    throw InputError(path, "sh_convention", "this dpc reads " + std::string(kShConvention));
-}
-
-/// Reads the header attributes of an open file (std::runtime_error naming the attribute;
-/// open() adds the file name).
-BakeHeader readHeaderAttributes(hid_t root) {
-  BakeHeader h;
-  h.scenePath = h5::readString(root, "scene");
-  h.meshHash = h5::readUint(root, "mesh_hash");
-  h.seed = h5::readUint(root, "seed");
-  h.grid.spacingM = h5::readDouble(root, "spacing_m");
-  h.grid.heightM = h5::readDouble(root, "height_m");
-  h.grid.radiusM = float(h5::readDouble(root, "probe_radius_m"));
-  h.settings.rays = int(h5::readInt(root, "rays_per_frame"));
-  h.settings.frames = int(h5::readInt(root, "frames"));
-  h.settings.subStreams = int(h5::readInt(root, "sub_streams"));
-  h.settings.irLength = h5::readDouble(root, "ir_length_s");
-  h.probes.candidates = h5::readUint(root, "grid_candidates");
-  h.probes.outside = h5::readUint(root, "skipped_outside");
-  h.probes.insideGeometry = h5::readUint(root, "skipped_inside_geometry");
-  h.probes.nearSurface = h5::readUint(root, "skipped_near_surface");
+/// The header and fixed datasets of an open file, checked (std::runtime_error naming what is
+/// wrong; InputError for the format).
+BakeHeader readHeader(hid_t f, const std::string& path) {
+  const h5::Id root = h5::check(H5Gopen2(f, "/", H5P_DEFAULT), "no root group");
+  checkFormat(root.get(), path);
+  BakeHeader h = readHeaderAttributes(root.get());
+  auto points = [f](const char* name) {
+    try {
+      const auto dims = h5::datasetDims(f, name);
+      if (dims.size() != 2 || dims[1] != 3 || dims[0] > (hsize_t(1) << 32))
+        throw std::runtime_error("shape is not [n, 3]");
+      std::vector<glm::vec3> p(dims[0]);
+      if (!p.empty()) h5::readAll(f, name, H5T_NATIVE_FLOAT, p.data());
+      return p;
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(std::string("/") + name + ": " + e.what());
+    }
+  };
+  h.probes.positions = points("probes/position");
+  h.sources = points("sources/position");
+  if (!(h.settings.irLength > 0.0 && h.settings.irLength <= 3600.0))
+    throw std::runtime_error("ir_length_s: " + std::to_string(h.settings.irLength) +
+                             " s is outside (0, 3600]");
+  h.shape = {h.sources.size(), responseBins(h.settings.irLength)};
+  validateShapes(f, h);
+  std::vector<float> bands(kNumBands);
+  h5::readAll(f, "band_centres_hz", H5T_NATIVE_FLOAT, bands.data());
+  if (uint32_t(h5::readUint(root.get(), "fixed_crc32")) != fixedChecksum(h, bands))
+    throw std::runtime_error("fixed_crc32: the probe or source positions or band centres are "
+                             "damaged");
   return h;
 }
 
-std::vector<glm::vec3> readPoints(hid_t file, const std::string& name) {
-  const auto dims = h5::datasetDims(file, name);
-  if (dims.size() != 2 || dims[1] != 3) throw std::runtime_error("shape is not [n, 3]");
-  std::vector<glm::vec3> points(dims[0]);
-  h5::readAll(file, name, H5T_NATIVE_FLOAT, points.data());
-  return points;
+bool readComplete(hid_t f, const std::string& path) {
+  try {
+    const h5::Id root = h5::check(H5Gopen2(f, "/", H5P_DEFAULT), "no root group");
+    const int64_t c = h5::readInt(root.get(), "complete");
+    if (c != 0 && c != 1) throw std::runtime_error(std::to_string(c) + " (0 or 1 expected)");
+    return c == 1;
+  } catch (const std::runtime_error& e) {
+    throw InputError(path, "complete", e.what());
+  }
 }
 
-std::string shapeText(const std::vector<hsize_t>& dims) {
-  std::string s = "[";
-  for (size_t i = 0; i < dims.size(); ++i) s += (i ? ", " : "") + std::to_string(dims[i]);
-  return s + "]";
-}
+/// The 8-byte signature every HDF5 file starts with, and the superblock version dpc writes
+/// (format 2, checksummed; fileAccess()).
+constexpr unsigned char kHdf5Signature[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
+constexpr unsigned char kSuperblockVersion = 2;
 
-/// Checks that every dataset has the shape the header implies; throws naming the dataset.
-void validateShapes(hid_t file, const BakeHeader& h) {
-  const size_t probes = h.probes.positions.size();
-  auto expect = [&](const std::string& name, const std::vector<hsize_t>& want) {
-    std::vector<hsize_t> got;
-    try {
-      got = h5::datasetDims(file, name);
-    } catch (const std::runtime_error&) {
-      throw std::runtime_error("/" + name + ": missing");
-    }
-    if (got != want)
-      throw std::runtime_error("/" + name + ": shape " + shapeText(got) + ", expected " +
-                               shapeText(want));
-  };
-  expect("probes/done", {probes});
-  expect("band_centres_hz", {kNumBands});
-  for (const ProbeDataset& d : kProbeDatasets) expect(d.name, withProbes(probes, d.shape(h.shape)));
+/// Refuses, before HDF5 parses anything, a file that does not start with an HDF5 superblock of
+/// the version dpc writes: a superblock of version 0 or 1 carries no checksum, so HDF5 would
+/// follow whatever addresses a damaged one holds.
+void checkHdf5Signature(const std::string& path) {
+  unsigned char head[9] = {};
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  const size_t n = f ? std::fread(head, 1, sizeof head, f) : 0;
+  if (f) std::fclose(f);
+  if (n < sizeof head || std::memcmp(head, kHdf5Signature, sizeof kHdf5Signature) != 0)
+    throw InputError(path, "", "not an HDF5 file, or truncated");
+  if (head[8] != kSuperblockVersion)
+    throw InputError(path, "", "HDF5 superblock version " + std::to_string(head[8]) +
+                                   ", dpc writes and reads version " +
+                                   std::to_string(kSuperblockVersion) + " (checksummed) only");
 }
 
 }  // namespace
 
-uint64_t sceneHash(const SceneDesc& scene) {
-  uint64_t h = 0xcbf29ce484222325ULL;
-  const Mesh& m = scene.mesh;
-  fnv(h, m.vertices.data(), m.vertices.size() * sizeof(glm::vec3));
-  fnv(h, m.triangles.data(), m.triangles.size() * sizeof(m.triangles[0]));
-  fnv(h, m.materialIndex.data(), m.materialIndex.size() * sizeof(uint32_t));
-  for (const Material& mat : scene.materials) {
-    fnv(h, &mat.absorption, sizeof mat.absorption);
-    fnv(h, &mat.scattering, sizeof mat.scattering);
+struct BakeFile::Impl {
+  std::string path;   ///< as messages name it
+  std::string file;   ///< where it is on disk (a temporary until renamed)
+  h5::Id handle;
+  bool writable = false;
+  BakeHeader header;
+  std::vector<uint8_t> stored;
+  std::vector<size_t> damaged;
+  std::string damageReport;
+  double commitSeconds = 0.0;
+
+  /// Opens `file` afresh and reads its header; with `verify`, checks every probe the mask
+  /// says stored (bake/bake_verify.h) into stored/damaged, else takes the mask as it is.
+  void load(bool write, bool verify = true);
+  void writeComplete(int64_t value);
+};
+
+void BakeFile::Impl::load(bool write, bool verify) {
+  writable = write;
+  std::string why;
+  handle = h5::openFile(file, write, why);
+  if (!handle.valid()) {
+    if (const long writer = BakeLock::holder(file); writer > 0)
+      throw InputError(path, "", "being written by another process (pid " +
+                                     std::to_string(writer) + "): wait until it is done");
+    throw InputError(path, "", "cannot open (truncated or corrupt HDF5" +
+                                   (why.empty() ? std::string(")") : "): " + why));
   }
-  for (const SourceDesc& s : scene.sources) {
-    const glm::vec3 p = sourcePositionAt(s, 0.0);
-    fnv(h, &p, sizeof p);
+  try {
+    header = readHeader(handle.get(), path);
+    std::vector<uint8_t> done(header.probes.positions.size());
+    if (!done.empty()) h5::readAll(handle.get(), "probes/done", H5T_NATIVE_UINT8, done.data());
+    if (!verify) {
+      stored = std::move(done);
+      return;
+    }
+    Verification v = verifyProbes(handle.get(), header, done);
+    stored = std::move(v.stored);
+    damaged = std::move(v.damaged);
+    damageReport = std::move(v.firstProblem);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::runtime_error& e) {
+    throw InputError(path, "", e.what());
   }
-  const PropagationSettings& p = scene.propagation;
-  for (const float v : {float(p.maxOrder), p.speedOfSound, p.temperatureC, p.humidityPercent,
-                        float(p.airAbsorption), float(p.diffraction), p.rouletteThreshold})
-    fnv(h, &v, sizeof v);
-  return h;
 }
 
-struct BakeFile::Impl {
-  std::string path;
-  h5::Id file;
-  BakeHeader header;
-  double commitSeconds = 0.0;
-};
+void BakeFile::Impl::writeComplete(int64_t value) {
+  try {
+    const h5::Id root = h5::check(H5Gopen2(handle.get(), "/", H5P_DEFAULT), "no root group");
+    h5::writeAttribute(root.get(), "complete", value);
+    h5::flushToDevice(handle.get());
+  } catch (const std::runtime_error& e) {
+    writeFailed(path, "complete", e);
+  }
+}
 
 BakeFile::BakeFile(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 BakeFile::BakeFile(BakeFile&&) noexcept = default;
@@ -217,109 +176,126 @@ BakeFile::~BakeFile() = default;
 
 const BakeHeader& BakeFile::header() const { return impl_->header; }
 const std::string& BakeFile::path() const { return impl_->path; }
+const std::vector<uint8_t>& BakeFile::done() const { return impl_->stored; }
+const std::vector<size_t>& BakeFile::damaged() const { return impl_->damaged; }
+const std::string& BakeFile::damageReport() const { return impl_->damageReport; }
+double BakeFile::commitSeconds() const { return impl_->commitSeconds; }
 
 BakeFile BakeFile::create(const std::string& path, const std::string& displayPath,
                           const BakeHeader& header) {
   h5::silenceHdf5();
   auto impl = std::make_unique<Impl>();
   impl->path = displayPath;
+  impl->file = path;
+  impl->writable = true;
   impl->header = header;
-  impl->file = h5::check(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
-                         displayPath + ": cannot create the file");
-  const hid_t f = impl->file.get();
-  const h5::Id root = h5::check(H5Gopen2(f, "/", H5P_DEFAULT), displayPath + ": no root group");
-  writeHeaderAttributes(root.get(), header);
-  const size_t probes = header.probes.positions.size();
-  h5::createDataset(f, "probes/position", H5T_NATIVE_FLOAT, {probes, 3}, false);
-  h5::writeAll(f, "probes/position", H5T_NATIVE_FLOAT, header.probes.positions.data());
-  h5::createDataset(f, "probes/done", H5T_NATIVE_UINT8, {probes}, false);
-  const std::vector<uint8_t> none(probes, 0);
-  h5::writeAll(f, "probes/done", H5T_NATIVE_UINT8, none.data());
-  h5::createDataset(f, "sources/position", H5T_NATIVE_FLOAT, {header.sources.size(), 3}, false);
-  h5::writeAll(f, "sources/position", H5T_NATIVE_FLOAT, header.sources.data());
-  h5::createDataset(f, "band_centres_hz", H5T_NATIVE_FLOAT, {kNumBands}, false);
-  h5::writeAll(f, "band_centres_hz", H5T_NATIVE_FLOAT, kBandCentreHz.data());
-  for (const ProbeDataset& d : kProbeDatasets)
-    h5::createDataset(f, d.name, H5T_NATIVE_FLOAT, withProbes(probes, d.shape(header.shape)),
-                      true);
-  H5Fflush(f, H5F_SCOPE_GLOBAL);
+  impl->stored.assign(header.probes.positions.size(), 0);
+  try {
+    const h5::Id fcpl = h5::fileCreation(), fapl = h5::fileAccess();
+    impl->handle = h5::check(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()),
+                             "cannot create the file");
+    const hid_t f = impl->handle.get();
+    createLayout(f, header);
+    const h5::Id root = h5::check(H5Gopen2(f, "/", H5P_DEFAULT), "no root group");
+    writeHeaderAttributes(root.get(), header);
+    const std::vector<float> bands(kBandCentreHz.begin(), kBandCentreHz.end());
+    h5::writeAttribute(root.get(), "fixed_crc32", uint64_t(fixedChecksum(header, bands)));
+    h5::reserveFile(f);
+    writeFixed(f, header);
+    h5::flushToDevice(f);
+  } catch (const std::runtime_error& e) {
+    writeFailed(displayPath, "", e);
+  }
   return BakeFile(std::move(impl));
 }
 
-BakeFile BakeFile::open(const std::string& path, bool writable) {
+BakeFile BakeFile::open(const std::string& path, Access access) {
   h5::silenceHdf5();
   // A folder, a FIFO or a device is named as such (not "no such file"), before HDF5 reads it.
   checkInputFile(path, std::numeric_limits<std::uintmax_t>::max(), path, "", "bake");
-  if (H5Fis_hdf5(path.c_str()) <= 0)
-    throw InputError(path, "", "not an HDF5 file, or truncated");
+  checkHdf5Signature(path);
   auto impl = std::make_unique<Impl>();
-  impl->path = path;
-  impl->file = h5::Id(H5Fopen(path.c_str(), writable ? H5F_ACC_RDWR : H5F_ACC_RDONLY, H5P_DEFAULT));
-  if (!impl->file.valid()) throw InputError(path, "", "cannot open (truncated or corrupt HDF5)");
-  try {
-    const hid_t f = impl->file.get();
-    const h5::Id root = h5::check(H5Gopen2(f, "/", H5P_DEFAULT), "no root group");
-    checkFormat(root.get(), path);
-    impl->header = readHeaderAttributes(root.get());
-    impl->header.probes.positions = readPoints(f, "probes/position");
-    impl->header.sources = readPoints(f, "sources/position");
-    impl->header.shape = {impl->header.sources.size(),
-                          responseBins(impl->header.settings.irLength)};
-    validateShapes(f, impl->header);
-  } catch (const InputError&) {
-    throw;
-  } catch (const std::runtime_error& e) {
-    throw InputError(path, "", e.what());
-  }
+  impl->path = impl->file = path;
+  impl->load(access == Access::kWrite, access != Access::kWrite);
+  if (access != Access::kRead) return BakeFile(std::move(impl));
+  if (!impl->damaged.empty())
+    throw InputError(path, "", impl->damageReport + " (the file is damaged: " +
+                                   std::to_string(impl->damaged.size()) +
+                                   " probes fail their checksums)");
+  const bool complete = readComplete(impl->handle.get(), path);
+  for (size_t p = 0; complete && p < impl->stored.size(); ++p)
+    if (!impl->stored[p])
+      throw InputError(path, "probes/done",
+                       "probe " + std::to_string(p) + " is not stored, yet the file is marked "
+                                                      "complete");
   return BakeFile(std::move(impl));
 }
 
-std::vector<uint8_t> BakeFile::done() const {
-  std::vector<uint8_t> d(impl_->header.probes.positions.size());
-  try {
-    h5::readAll(impl_->file.get(), "probes/done", H5T_NATIVE_UINT8, d.data());
-  } catch (const std::runtime_error& e) {
-    throw InputError(impl_->path, "/probes/done", e.what());
-  }
-  return d;
-}
+bool BakeFile::complete() const { return readComplete(impl_->handle.get(), impl_->path); }
 
-bool BakeFile::complete() const {
-  const h5::Id root = h5::check(H5Gopen2(impl_->file.get(), "/", H5P_DEFAULT), "root");
-  return h5::readInt(root.get(), "complete") == 1;
-}
+void BakeFile::renamedTo(const std::string& path) { impl_->file = path; }
 
-double BakeFile::commitSeconds() const { return impl_->commitSeconds; }
+void BakeFile::markIncomplete() { impl_->writeComplete(0); }
 
 void BakeFile::commit(size_t probe, const ProbeResult& result) {
   const auto start = std::chrono::steady_clock::now();
-  const hid_t f = impl_->file.get();
-  for (const ProbeDataset& d : kProbeDatasets)
-    h5::writeRow(f, d.name, H5T_NATIVE_FLOAT, probe, (result.*d.member).data());
-  const uint8_t one = 1;
-  h5::writeRow(f, "probes/done", H5T_NATIVE_UINT8, probe, &one);
-  if (H5Fflush(f, H5F_SCOPE_GLOBAL) < 0) throw std::runtime_error(impl_->path + ": flush failed");
+  const hid_t f = impl_->handle.get();
+  std::string dataset;
+  try {
+    for (const ProbeDataset& d : kProbeDatasets) {
+      dataset = d.name;
+      h5::writeRows(f, d.name, H5T_NATIVE_FLOAT, probe, 1, (result.*d.member).data());
+    }
+    dataset = "checksums";
+    const std::vector<uint32_t> sums = probeChecksums(result);
+    h5::writeRows(f, "checksums", H5T_NATIVE_UINT32, probe, 1, sums.data());
+    if (H5Fflush(f, H5F_SCOPE_GLOBAL) < 0) throw std::runtime_error(h5::lastError());
+    dataset = "probes/done";
+    const uint8_t one = 1;
+    h5::writeRows(f, "probes/done", H5T_NATIVE_UINT8, probe, 1, &one);
+    if (H5Fflush(f, H5F_SCOPE_GLOBAL) < 0) throw std::runtime_error(h5::lastError());
+  } catch (const std::runtime_error& e) {
+    writeFailed(impl_->path, dataset, e);
+  }
+  impl_->stored[probe] = 1;
   impl_->commitSeconds +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 void BakeFile::markComplete() {
-  const h5::Id root = h5::check(H5Gopen2(impl_->file.get(), "/", H5P_DEFAULT), "root");
-  h5::writeAttribute(root.get(), "complete", int64_t(1));
-  if (H5Fflush(impl_->file.get(), H5F_SCOPE_GLOBAL) < 0)
-    throw std::runtime_error(impl_->path + ": flush failed");
+  Impl& m = *impl_;
+  try {
+    h5::flushToDevice(m.handle.get());
+    if (!m.handle.close()) throw std::runtime_error(h5::lastError());
+  } catch (const std::runtime_error& e) {
+    writeFailed(m.path, "", e);
+  }
+  m.load(false);  // afresh from the file: nothing cached by this process's HDF5
+  if (!m.damaged.empty())
+    throw InputError(m.path, "complete", "not marked complete: " + m.damageReport);
+  for (size_t p = 0; p < m.stored.size(); ++p)
+    if (!m.stored[p])
+      throw InputError(m.path, "complete",
+                       "not marked complete: probe " + std::to_string(p) + " is not stored");
+  m.handle.close();
+  m.load(true, false);
+  m.writeComplete(1);
 }
 
 std::vector<float> BakeFile::readAll(const std::string& dataset) const {
   size_t n = 1;
   try {
-    for (const hsize_t d : h5::datasetDims(impl_->file.get(), dataset)) n *= d;
-    std::vector<float> out(n);
-    h5::readAll(impl_->file.get(), dataset, H5T_NATIVE_FLOAT, out.data());
-    return out;
+    for (const hsize_t d : h5::datasetDims(impl_->handle.get(), dataset)) n *= d;
   } catch (const std::runtime_error& e) {
     throw InputError(impl_->path, "/" + dataset, e.what());
   }
+  std::vector<float> out(n);
+  try {
+    if (n > 0) h5::readAll(impl_->handle.get(), dataset, H5T_NATIVE_FLOAT, out.data());
+  } catch (const std::runtime_error& e) {
+    throw InputError(impl_->path, "", e.what());  // names the dataset
+  }
+  return out;
 }
 
 }  // namespace dpc::bake

@@ -1,61 +1,48 @@
 // The bake file: HDF5 (Debian libhdf5-dev, the C API), one writer. docs/bake-format.md
 // describes every dataset, shape, unit and attribute; this is its one reader and writer.
 //
-// Crash consistency: a probe is committed by writing its slices of every per-probe dataset,
-// then its entry of /probes/done, then flushing the file (H5Fflush), so a bake killed at any
-// point between commits leaves a file whose done mask names exactly the probes stored. The
-// root attribute `complete` is 0 until every probe is done.
+// Every dataset is allocated and filled when the file is created, so a bake's writes only
+// overwrite bytes already in the file: a disk too small fails the creation, before any probe.
+// Crash consistency: a probe is committed by writing its rows of every per-probe dataset and
+// their CRC-32s (/checksums), flushing, then setting its entry of /probes/done and flushing
+// again, so a bake killed at any point leaves a file whose done mask names only probes whose
+// rows are stored. The root attribute `complete` becomes 1 only after the file was flushed to
+// the device (fsync), closed, opened afresh and every probe read back and checked.
+// Opening verifies: the format, version, settings hashes and shapes, the fixed datasets'
+// CRC-32, and every stored probe's rows against their CRC-32s (bake/bake_verify.h); for
+// reading, any damage is refused, and so is a file marked complete with a probe not stored.
 // Control thread of the writing process only; allocates; every error is an InputError naming
-// the file and the dataset or attribute (a truncated or foreign file, a shape that does not
-// match the header) or a std::runtime_error for a failed write.
+// the file and the dataset or attribute (a truncated, damaged or foreign file, a shape that
+// does not match the header, a failed write with the system's reason).
 #pragma once
 
 #include <cstdint>
-#include <glm/vec3.hpp>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "bake/probe_bake.h"
-#include "bake/probe_grid.h"
-#include "scene/scene.h"
+#include "bake/bake_layout.h"
 
 namespace dpc::bake {
 
-/// Format name and version written to and required from the root attributes.
-inline constexpr const char* kBakeFormat = "dpc-bake";
-inline constexpr int kBakeFormatVersion = 3;
-/// The `sh_convention` attribute: channel order and normalisation of `sh_energy`.
-inline constexpr const char* kShConvention = "ACN/SN3D";
-
-/// Everything a bake is fixed by: the scene, the grid and the settings.
-struct BakeHeader {
-  std::string scenePath;  ///< the scene file, absolute
-  uint64_t meshHash = 0;  ///< sceneHash(scene)
-  uint64_t seed = 1;      ///< the scene's propagation seed
-  GridRequest grid;
-  BakeSettings settings;
-  ProbeGrid probes;                  ///< kept probes and the skipped counts
-  std::vector<glm::vec3> sources;    ///< static source positions, metres
-  ProbeShape shape;
-};
-
-/// FNV-1a over what a bake depends on in the scene: the static mesh (vertices, triangles,
-/// material indices), every material's absorption and scattering, the sources' positions at
-/// t = 0 and the propagation physics (order, speed of sound, air). A bake is refused for any
-/// scene whose hash differs. Any thread; no allocation.
-uint64_t sceneHash(const SceneDesc& scene);
-
 class BakeFile {
  public:
-  /// Creates `path` (truncating it) with every dataset sized for the header, no probe done,
-  /// `complete` 0. Messages name the file `displayPath` (e.g. the name a temporary file is
-  /// renamed to).
+  /// kRead: read only; a damaged probe or a complete file with a probe missing is refused.
+  /// kInspect: read only; damaged probes are reported by damaged() and count as not done.
+  /// kWrite: read and write, the probes' data not verified (the writer inspected the file
+  /// before, holding its lock: bake/bake_lock.h); done() is the file's mask.
+  enum class Access { kRead, kInspect, kWrite };
+
+  /// Creates `path` (truncating it) with every dataset sized and filled for the header, no
+  /// probe done, `complete` 0, flushed to the device. Messages name the file `displayPath`
+  /// (e.g. the name a temporary file is renamed to).
   static BakeFile create(const std::string& path, const std::string& displayPath,
                          const BakeHeader& header);
-  /// Opens an existing bake for reading and (writable) committing, validating its format,
-  /// version, attributes and every dataset's shape against them.
-  static BakeFile open(const std::string& path, bool writable);
+  /// Opens an existing bake and verifies it (above; kWrite: all but the probes' data).
+  static BakeFile open(const std::string& path, Access access);
+  /// The file created at a temporary path was renamed to `path`: markComplete() reopens it
+  /// there.
+  void renamedTo(const std::string& path);
 
   BakeFile(BakeFile&&) noexcept;
   BakeFile& operator=(BakeFile&&) noexcept;
@@ -63,15 +50,24 @@ class BakeFile {
 
   const BakeHeader& header() const;
   const std::string& path() const;
-  /// /probes/done: 1 where the probe is stored.
-  std::vector<uint8_t> done() const;
+  /// Per probe: 1 where its data are stored and were verified (on open, or committed since).
+  const std::vector<uint8_t>& done() const;
+  /// Probes the file marked done whose data failed verification on open (kInspect; sorted).
+  const std::vector<size_t>& damaged() const;
+  /// The first damaged probe's problem ("/energy: probe 3: CRC-32 ..."), "" if none.
+  const std::string& damageReport() const;
   bool complete() const;
+  /// Sets `complete` to 0 and flushes to the device (kWrite: before damaged probes are baked
+  /// again).
+  void markIncomplete();
 
-  /// Writes probe `probe`'s arrays, marks it done and flushes.
+  /// Writes probe `probe`'s arrays and checksums, flushes, marks it done and flushes.
   void commit(size_t probe, const ProbeResult& result);
   /// Wall time spent in commit() so far, seconds (the writer's share of a bake's cost).
   double commitSeconds() const;
-  /// Sets `complete` to 1 and flushes (call when done() is all ones).
+  /// Flushes to the device, reopens the file, verifies every probe and only then sets
+  /// `complete` to 1 (flushed to the device again). Throws InputError naming the first probe
+  /// not stored or damaged, leaving `complete` 0.
   void markComplete();
 
   /// A whole float dataset (e.g. "parameters"), row-major as documented.

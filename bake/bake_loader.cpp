@@ -7,26 +7,36 @@
 namespace dpc::bake {
 namespace {
 
-/// Checks the file's header against the scene; throws InputError naming the field.
-void checkHeader(const BakeFile& file, const SceneDesc& scene) {
+/// Refuses a bake whose playback settings hashes differ from the scene's (bake/settings_hash.h),
+/// naming the group: InputError(file, attribute, ...).
+void checkSettings(const BakeFile& file, const SceneDesc& scene,
+                   const PropagationSettings& settings) {
   const BakeHeader& h = file.header();
-  if (h.meshHash != sceneHash(scene))
-    throw InputError(file.path(), "mesh_hash",
-                     "the bake is of another scene than " + scene.path +
-                         " (or the scene changed since the bake)");
-  bool complete = false;
-  try {
-    complete = file.complete();
-  } catch (const std::runtime_error& e) {
-    throw InputError(file.path(), "complete", e.what());
-  }
-  if (!complete)
-    throw InputError(file.path(), "complete",
-                     "the bake is incomplete (finish it with dpc-bake --resume)");
-  if (h.sources.size() != scene.sources.size())
+  const int g = firstDifference(h.hashes, playbackHash(scene, settings), true);
+  if (g < 0) return;
+  if (g == int(SettingGroup::kResponse))
+    throw InputError(file.path(), "ir_length_s",
+                     "the bake's responses are " + std::to_string(h.settings.irLength) +
+                         " s long, " + scene.path + "'s ir_length is " +
+                         std::to_string(settings.irLength) + " s: bake again");
+  const SettingGroupInfo& info = kSettingGroupInfo[size_t(g)];
+  throw InputError(file.path(), info.attribute,
+                   std::string("the bake's ") + info.what + " differ from " + scene.path +
+                       "'s (another scene's bake, or the scene changed since): bake again");
+}
+
+/// Checks the file's header against the scene; throws InputError naming the field.
+void checkHeader(const BakeFile& file, const SceneDesc& scene,
+                 const PropagationSettings& settings) {
+  const BakeHeader& h = file.header();
+  checkSettings(file, scene, settings);
+  if (h.sources.size() != scene.sources.size())  // hash_sources differs first, but for a collision
     throw InputError(file.path(), "sources/position",
                      std::to_string(h.sources.size()) + " sources, the scene has " +
                          std::to_string(scene.sources.size()));
+  if (!file.complete())
+    throw InputError(file.path(), "complete",
+                     "the bake is incomplete (finish it with dpc-bake --resume)");
 }
 
 /// Takes one arrival out of row i ([probe][source]) of the late responses and of their SH
@@ -79,8 +89,13 @@ void checkMemory(const BakeFile& file) {
 }  // namespace
 
 std::shared_ptr<const BakedField> loadBakedField(const std::string& path, const SceneDesc& scene) {
-  const BakeFile file = BakeFile::open(path, false);
-  checkHeader(file, scene);
+  return loadBakedField(path, scene, scene.propagation);
+}
+
+std::shared_ptr<const BakedField> loadBakedField(const std::string& path, const SceneDesc& scene,
+                                                 const PropagationSettings& settings) {
+  const BakeFile file = BakeFile::open(path, BakeFile::Access::kRead);
+  checkHeader(file, scene, settings);
   checkMemory(file);
   const BakeHeader& h = file.header();
   auto f = std::make_shared<BakedField>();
@@ -95,7 +110,7 @@ std::shared_ptr<const BakedField> loadBakedField(const std::string& path, const 
   f->sh = file.readAll("sh_energy");
   removeDirectSounds(file, *f);
   // Playback synthesises the exact early paths live when the scene asks for them.
-  if (scene.propagation.exactOrder > 0) removeEarly(file, *f);
+  if (settings.exactOrder > 0) removeEarly(file, *f);
   return f;
 }
 

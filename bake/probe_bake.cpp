@@ -1,5 +1,6 @@
 #include "bake/probe_bake.h"
 
+#include <chrono>
 #include <cmath>
 #include <limits>
 
@@ -236,6 +237,13 @@ ProbeResult ProbeBaker::bake(size_t probe, const glm::vec3& position) {
     finishSource(series[s], sim.result(s).direct, s, shape, out);
   }
   return out;
+}
+
+double ProbeBaker::timeFrame(const glm::vec3& position) {
+  sim_->restart(scene_.propagation.seed);
+  const auto start = std::chrono::steady_clock::now();
+  sim_->runFrame(position);
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 std::vector<float> pack(const ProbeResult& r) {

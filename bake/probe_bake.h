@@ -121,6 +121,10 @@ class ProbeBaker {
   ~ProbeBaker();
   /// Bakes probe `probe` (index in the bake) at `position`, metres.
   ProbeResult bake(size_t probe, const glm::vec3& position);
+  /// Wall time of one frame (every source's rays) at `position`, metres, in seconds: a probe's
+  /// cost per frame, measured to estimate a bake's time. Changes no later result (bake()
+  /// restarts the simulation with the probe's seed).
+  double timeFrame(const glm::vec3& position);
 
  private:
   const SceneDesc& scene_;

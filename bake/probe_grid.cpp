@@ -135,13 +135,11 @@ std::string probeLayout(const GridRequest& request, bool list) {
   return s.str();
 }
 
-ProbeGrid makeProbeGrid(const SceneDesc& scene, const GridRequest& request,
-                        const std::string& sceneFile) {
+std::vector<glm::vec3> gridCandidates(const SceneDesc& scene, const GridRequest& request) {
   if (!(request.spacingM > 0.0) || !std::isfinite(request.spacingM))
     throw InputError("command line", "--spacing",
                      std::to_string(request.spacingM) + " m is not > 0");
-  if (request.box)
-    return placeProbes(scene, boxCandidates(request), request.radiusM, sceneFile, "--box");
+  if (request.box) return boxCandidates(request);
   glm::vec3 lo(1e30f), hi(-1e30f);
   for (const glm::vec3& v : scene.mesh.vertices) {
     lo = glm::min(lo, v);
@@ -159,7 +157,17 @@ ProbeGrid makeProbeGrid(const SceneDesc& scene, const GridRequest& request,
     for (size_t i = 0; i < size_t(nx); ++i)
       candidates.emplace_back(float(lo.x + (double(i) + 0.5) * request.spacingM), y,
                               float(lo.z + (double(j) + 0.5) * request.spacingM));
-  return placeProbes(scene, candidates, request.radiusM, sceneFile, "--spacing/--height");
+  return candidates;
+}
+
+const char* gridField(const GridRequest& request) {
+  return request.box ? "--box" : "--spacing/--height";
+}
+
+ProbeGrid makeProbeGrid(const SceneDesc& scene, const GridRequest& request,
+                        const std::string& sceneFile) {
+  return placeProbes(scene, gridCandidates(scene, request), request.radiusM, sceneFile,
+                     gridField(request));
 }
 
 std::vector<glm::vec3> readProbeList(const std::string& path) {

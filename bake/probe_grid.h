@@ -55,6 +55,12 @@ struct ProbeGrid {
   size_t nearSurface = 0;            ///< skipped: a surface within the radius
 };
 
+/// The candidate points of `request` over `scene`'s static mesh (before placement; metres).
+/// Throws as makeProbeGrid for a bad spacing or box.
+std::vector<glm::vec3> gridCandidates(const SceneDesc& scene, const GridRequest& request);
+/// The field placeProbes names for a grid of `request`: "--box" or "--spacing/--height".
+const char* gridField(const GridRequest& request);
+
 /// The grid (or box lattice) of `request` over `scene`'s static mesh. Throws
 /// InputError("command line", "--spacing", ...) for spacing <= 0 or more than
 /// kMaxGridCandidates points, ("command line", "--box", ...) for a box that is not finite,

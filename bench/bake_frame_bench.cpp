@@ -44,7 +44,7 @@ Json measure(PropagationStage& stage, const SceneDesc& scene, const CommonOption
     stage.traceWorld(world);
     const double t = since(t0);
     const auto t1 = std::chrono::steady_clock::now();
-    stage.recycle(stage.prepare(0));
+    stage.synthesizeIrs(0);
     if (f < o.warmupFrames) continue;
     trace.push_back(t);
     synth.push_back(since(t1));

@@ -1,6 +1,6 @@
 // `dpc-bench bake-frame`: what baked playback saves at run time. For each tracing direction and
 // source count, the frame of a PropagationStage whose static sources are all played from a
-// bake (runtime/baked_playback.h: not traced, Simulation::setSkippedPairs) against the same
+// bake (runtime/baked_playback.h: not traced, FrameInputs::skippedPairs) against the same
 // stage with every source live (no bake): the propagation pass (traceWorld: tracing, caches,
 // direct sound, exact paths, the bake's interpolation) and IR synthesis (prepare), rays and
 // segments per frame. The bake is synthetic (probes on a 1 m grid at the listener's height,

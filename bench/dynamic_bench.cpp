@@ -25,10 +25,13 @@ struct StepCase {
 };
 
 /// The late energy (band 3) of each of `frames` frames.
-std::vector<double> lateEnergy(Simulation& sim, const glm::vec3& listener, int frames) {
+std::vector<double> lateEnergy(Simulation& sim, const glm::vec3& listener, const Pose& door,
+                               int frames) {
+  FrameInputs in = sim.inputsAt(listener);
+  in.objectPoses = {door};
   std::vector<double> v;
   for (int f = 0; f < frames; ++f)
-    sim.runFrame(listener), v.push_back(double(sim.result(0).energy.total()[3]));
+    sim.runFrame(in), v.push_back(double(sim.result(0).energy.total()[3]));
   return v;
 }
 
@@ -50,17 +53,14 @@ Json stepCase(const StepCase& c, int rays) {
   const double T = 1.0 / sc.propagation.frameRate;
   const int settle = int(std::ceil(std::max(3.0 * c.tau, 1.5) / T));
   const int span = int(std::ceil(3.0 * c.tau / T));
-  sim.setObjectPoses({test::kDoorOpen});
-  lateEnergy(sim, L, settle);
-  const std::vector<double> open = lateEnergy(sim, L, span);
+  lateEnergy(sim, L, test::kDoorOpen, settle);
+  const std::vector<double> open = lateEnergy(sim, L, test::kDoorOpen, span);
   const double openMean = std::accumulate(open.begin(), open.end(), 0.0) / double(span);
   double var = 0.0;
   for (double x : open) var += (x - openMean) * (x - openMean);
   const double openSd = std::sqrt(var / double(span - 1));
-  sim.setObjectPoses({test::kDoorShut});
-  const std::vector<double> shut = lateEnergy(sim, L, span);
-  sim.setObjectPoses({test::kDoorOpen});
-  const std::vector<double> reopen = lateEnergy(sim, L, span);
+  const std::vector<double> shut = lateEnergy(sim, L, test::kDoorShut, span);
+  const std::vector<double> reopen = lateEnergy(sim, L, test::kDoorOpen, span);
   const double shutLevel = shut.back();
   Json e;
   e["weighting"] = c.name;
@@ -136,8 +136,9 @@ Json movingObjectsCase(int n, int rays, int frames) {
                               glm::angleAxis(0.05f * float(f), glm::vec3(0, 1, 0))};
     }
     double t0 = cpu();
-    sm.setObjectPoses(poses);
-    sm.runFrame(moving.listeners[0].position);
+    FrameInputs in = sm.inputsAt(moving.listeners[0].position);
+    in.objectPoses = poses;
+    sm.runFrame(in);
     movingCpu += cpu() - t0;
     t0 = cpu();
     sb.runFrame(baked.listeners[0].position);

@@ -53,7 +53,7 @@ void timeFrame(const SceneDesc& scene, PropagationStage& stage, size_t count, do
   times.traceWall += wallSeconds() - w0;
   times.traceCpu += cpuSeconds() - t0;
   t0 = cpuSeconds();
-  for (size_t l = 0; l < count; ++l) stage.recycle(stage.prepare(l));
+  for (size_t l = 0; l < count; ++l) stage.synthesizeIrs(l);
   times.prepareCpu += cpuSeconds() - t0;
   for (size_t src = 0; src < scene.sources.size(); ++src) {
     times.segments += stage.simulation().result(src).trace.segments;
@@ -113,7 +113,7 @@ int benchListeners(const CommonOptions& c, const ListenersOptions& o) {
   std::vector<std::unique_ptr<PropagationStage>> stages;
   const int maxCount = *std::max_element(o.counts.begin(), o.counts.end());
   for (size_t k = 0; k < o.counts.size(); ++k)
-    stages.push_back(std::make_unique<PropagationStage>(shared, s, 3 * maxCount + 1));
+    stages.push_back(std::make_unique<PropagationStage>(shared, s));
   std::vector<CountTimes> times(o.counts.size());
   WorldState world;
   for (int f = -o.warmupFrames; f < c.frames; ++f) {

@@ -64,7 +64,7 @@ void timeFrame(const SceneDesc& scene, PropagationStage& stage, WorldState& worl
   stage.traceWorld(world);
   t.passWall += wallSeconds() - w0;
   w0 = wallSeconds();
-  stage.recycle(stage.prepare(0));
+  stage.synthesizeIrs(0);
   t.synthesisWall += wallSeconds() - w0;
   t.segments += stage.simulation().frameTrace().segments;
 }
@@ -93,7 +93,7 @@ Json runConfiguration(const CommonOptions& c, const SourcesOptions& o, const Sce
   s.tracing = tracing;
   Json row;
   row["rendering"] = rendersHybrid(scene->audio, size_t(count)) ? "hybrid" : "per_source";
-  PropagationStage stage(scene, s, 2);
+  PropagationStage stage(scene, s);
   WorldState world;
   if (const HybridSynthesis* h = stage.hybrid()) {
     row["late_buses"] = h->buses();

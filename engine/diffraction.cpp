@@ -10,139 +10,15 @@
 #include <numbers>
 #include <unordered_map>
 
+#include "engine/gap_probe.h"
+#include "engine/slit.h"
+
 namespace dpc {
 
 namespace {
 
 using C = std::complex<double>;
 constexpr double kPi = std::numbers::pi;
-
-// The Kouyoumjian-Pathak transition function F(X) = 2j sqrt(X) e^{jX} int_sqrt(X)^inf e^{-jt^2} dt
-// (X >= 0), to about 2e-5 absolute everywhere, in three pieces.
-constexpr double kTransitionSwitch = 12.0;  // asymptotic series from here on
-
-/// F by the power series of int_0^u e^{-jt^2} dt = sum_m (-j)^m u^{2m+1} / (m! (2m+1)),
-/// subtracted from its limit (sqrt(pi) / 2) e^{-j pi / 4}: exact to rounding for X below the
-/// switch (cancellation costs at most 5 of 16 digits at X = 12). Up to ~55 terms: used to
-/// fill the table below.
-C transitionSeries(double x) {
-  // Complex products written out: std::complex's operator* takes the slow, NaN-checking path.
-  const double u = std::sqrt(x);
-  // sum_m power_m / (2m + 1), power_m = u (-jX)^m / m!.
-  double pRe = u, pIm = 0.0, iRe = 0.0, iIm = 0.0;
-  for (int m = 0; m < 80; ++m) {
-    const double w = 1.0 / double(2 * m + 1);
-    const double tRe = pRe * w, tIm = pIm * w;
-    iRe += tRe, iIm += tIm;
-    // Past the largest term (m > X) stop once a term no longer changes the sum.
-    if (m > x && tRe * tRe + tIm * tIm < 1e-34 * (1.0 + iRe * iRe + iIm * iIm)) break;
-    const double g = -x / double(m + 1);  // multiply by j g
-    const double re = -pIm * g, im = pRe * g;
-    pRe = re, pIm = im;
-  }
-  // limit = (sqrt(pi) / 2) e^{-j pi / 4}; F = 2j u e^{jX} (limit - integral).
-  const double half = 0.5 * std::sqrt(kPi) * std::numbers::sqrt2 / 2.0;
-  const double dRe = half - iRe, dIm = -half - iIm;
-  const double cx = std::cos(x), sx = std::sin(x);
-  const double eRe = cx * dRe - sx * dIm, eIm = cx * dIm + sx * dRe;
-  return {-2.0 * u * eIm, 2.0 * u * eRe};
-}
-
-/// G(u) = F(u^2) below the switch, tabulated with its derivative G'(u) = F / u + 2ju (F - 1)
-/// (from F'(X) = F (1 / 2X + j) - j; G'(0) = sqrt(pi) e^{j pi / 4}) at steps of 1/64 in u and
-/// interpolated by cubic Hermite: G is smooth in u = sqrt(X), not in X. Interpolation error
-/// below 5e-9 (checked against the series over X in [0, 12) at steps of 1e-4).
-class TransitionTable {
- public:
-  static constexpr double kStep = 1.0 / 64.0;
-  TransitionTable() {
-    for (size_t i = 0; i < kSize; ++i) {
-      const double u = double(i) * kStep;
-      g_[i] = transitionSeries(u * u);
-      dg_[i] = i == 0 ? std::sqrt(kPi) * std::exp(C(0.0, kPi / 4.0))
-                      : g_[i] / u + C(0.0, 2.0 * u) * (g_[i] - 1.0);
-      dg_[i] *= kStep;
-    }
-  }
-  C operator()(double x) const {
-    const double v = std::sqrt(x) / kStep;
-    const size_t i = std::min(size_t(v), kSize - 2);
-    const double t = v - double(i), t2 = t * t, t3 = t2 * t;
-    const double h00 = 2 * t3 - 3 * t2 + 1, h10 = t3 - 2 * t2 + t, h01 = -2 * t3 + 3 * t2,
-                 h11 = t3 - t2;
-    return {
-        h00 * g_[i].real() + h10 * dg_[i].real() + h01 * g_[i + 1].real() + h11 * dg_[i + 1].real(),
-        h00 * g_[i].imag() + h10 * dg_[i].imag() + h01 * g_[i + 1].imag() +
-            h11 * dg_[i + 1].imag()};
-  }
-
- private:
-  static constexpr size_t kSize = size_t(3.4641016 / kStep) + 3;  // u up to sqrt(12)
-  std::array<C, kSize> g_, dg_;
-};
-
-/// F(X): the table below the switch; from X = 12 on the asymptotic series
-/// F ~ sum_m (2m-1)!! / (-2jX)^m to m = 7, whose first omitted term is 2e-5 at X = 12 and falls
-/// as X^-8 (Kouyoumjian & Pathak 1974 give its first terms). Both pieces agree at the switch
-/// within that bound.
-C transition(double x) {
-  x = std::max(x, 0.0);
-  if (x < kTransitionSwitch) {
-    static const TransitionTable table;
-    return table(x);
-  }
-  // t_m = t_{m-1} (2m - 1) / (-2jX) = t_{m-1} * j (2m - 1) / (2X).
-  const double h = 0.5 / x;
-  double sumRe = 1.0, sumIm = 0.0, tRe = 1.0, tIm = 0.0;
-  for (int m = 1; m <= 7; ++m) {
-    const double g = double(2 * m - 1) * h;
-    const double re = -tIm * g, im = tRe * g;
-    tRe = re, tIm = im;
-    sumRe += tRe, sumIm += tIm;
-  }
-  return {sumRe, sumIm};
-}
-
-/// Frequency-independent parts of one UTD term cot((pi + sign x) / 2n) F(k L a_sign(x)):
-/// the cotangent and a_sign(x) = 2 cos^2((2 pi n N - x) / 2), N the integer nearest
-/// (x + sign pi) / (2 pi n).
-struct TermGeometry {
-  double cot = 0.0, a = 0.0;
-};
-
-TermGeometry termGeometry(double n, double x, int sign) {
-  // At a shadow or reflection boundary cot is infinite and F zero; their product is finite
-  // and continuous. Evaluate a hair off the boundary (both factors at the same angle).
-  if (std::abs(std::sin((kPi + sign * x) / (2.0 * n))) < 1e-6) x += 1e-5;
-  const double nRound = std::round((x + sign * kPi) / (2.0 * n * kPi));
-  const double ang = (2.0 * n * kPi * nRound - x) / 2.0;
-  const double arg = (kPi + sign * x) / (2.0 * n);
-  return {std::cos(arg) / std::sin(arg), 2.0 * std::cos(ang) * std::cos(ang)};
-}
-
-/// The four terms of the hard-wedge coefficient (reflected terms with +) for phi, phi'.
-std::array<TermGeometry, 4> wedgeTerms(double n, double phi, double phiSource) {
-  const double dm = phi - phiSource, dp = phi + phiSource;
-  return {termGeometry(n, dm, +1), termGeometry(n, dm, -1), termGeometry(n, dp, +1),
-          termGeometry(n, dp, -1)};
-}
-
-/// The magnitude of D's prefactor without its 1 / sqrt(k): 1 / (2 n sqrt(2 pi) sin beta0).
-double utdPrefactor(double n, double sinBeta0) {
-  return 1.0 / (2.0 * n * std::sqrt(2.0 * kPi) * std::max(sinBeta0, 1e-9));
-}
-
-/// D sqrt(k) = -e^{-j pi/4} prefactor * sum of the four terms at k L = kl.
-C utdScaled(const std::array<TermGeometry, 4>& terms, double prefactor, double kl) {
-  double re = 0.0, im = 0.0;
-  for (const TermGeometry& t : terms) {
-    const C f = transition(kl * t.a);
-    re += t.cot * f.real(), im += t.cot * f.imag();
-  }
-  // -e^{-j pi/4} = (-1 + j) / sqrt 2.
-  const double g = prefactor / std::numbers::sqrt2;
-  return {g * (-re - im), g * (re - im)};
-}
 
 glm::vec3 safeNormalize(const glm::vec3& v) {
   const float l = glm::length(v);
@@ -366,26 +242,39 @@ bool edgeBefore(const DiffractionEdge& x, const DiffractionEdge& y) {
 }
 
 constexpr float kLegEpsilon = 1e-3f;  // m: keeps occlusion tests off the edge's own faces
+constexpr float kGapFarthest = 16.f;  // m: the widest gap probed (k w = 4 pi at 44 Hz)
 
-/// One first-order edge path source -> Q -> listener: its frequency-independent parts.
+/// One first-order edge path source -> Q -> listener: its frequency-independent parts, and
+/// the slit it passes when its edge bounds a narrow gap.
 struct EdgePath {
-  double length;                      // r + s, m
-  double distanceParameter;           // L = r s sin^2 beta0 / (r + s), m
-  double spreading;                   // 1/r sqrt(r / (s (r + s))), 1/m
-  double prefactor;                   // utdPrefactor(n, sin beta0)
-  std::array<TermGeometry, 4> terms;  // frequency-independent parts of D
-  float legs;                         // r + s in single precision, m
-  glm::vec3 arrival;                  // unit vector from the listener toward Q
-  glm::vec3 leaving;                  // unit vector from the source toward Q
+  double length;                 // r + s, m
+  double distanceParameter;      // L = r s sin^2 beta0 / (r + s), m
+  double spreading;              // 1/r sqrt(r / (s (r + s))), 1/m
+  double prefactor;              // utdPrefactor(n, sin beta0)
+  std::array<UtdTerm, 4> terms;  // frequency-independent parts of D
+  float legs;                    // r + s in single precision, m
+  glm::vec3 arrival;             // unit vector from the listener toward Q
+  glm::vec3 leaving;             // unit vector from the source toward Q
+  const DiffractionEdge* edge;
+  glm::vec3 q;                // the point on the edge, m
+  glm::vec3 mouth;            // unit direction across the gap the path may pass
+  glm::vec3 turn;             // the air wedge turns from face0 toward this (+-normal0)
+  float airWedge;             // the air wedge's angle, radians
+  float gapWidth = 0.f;       // m; 0: a free edge (engine/gap_probe.h)
+  bool slitOwner = false;     // carries its slit's field (once per slit)
+  SlitPath slit;              // valid when gapWidth > 0
+  glm::vec3 slitCentre{0.f};  // the slit path's point on the slit's centre line, m
+  double slitAspect = 0.0;    // slit length / width, as probed (0 to 8)
 };
 
 /// Angles (radians, from face 0 in the plane perpendicular to the edge) of the source and the
-/// listener seen from Q, and the air wedge's angle; false unless the listener is in the
+/// listener seen from Q, the air wedge's angle and its sense (+1: from face 0 toward normal0,
+/// -1: the other way); false unless the listener is in the
 /// source's wedge and that wedge is wider than about pi (narrower ones cannot shadow: a room's
 /// inner corner seen from inside).
 bool wedgeAngles(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3& source,
-                 const glm::vec3& L, bool directVisible, double& phiS, double& phiL,
-                 double& wedge) {
+                 const glm::vec3& L, bool directVisible, double& phiS, double& phiL, double& wedge,
+                 double& sense) {
   auto angleOf = [&](const glm::vec3& p) {  // in [0, 2 pi)
     const glm::vec3 v = p - q;
     double a = std::atan2(double(glm::dot(v, e.normal0)), double(glm::dot(v, e.face0)));
@@ -396,7 +285,9 @@ bool wedgeAngles(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3& 
   // The source's wedge is the air wedge: [0, open] or, measured from face 0 the other way,
   // [0, 2 pi - open]. The listener must be in it too.
   wedge = double(e.open);
+  sense = 1.0;
   if (phiS > wedge) {
+    sense = -1.0;
     wedge = 2.0 * kPi - wedge;
     phiS = 2.0 * kPi - phiS;
     phiL = 2.0 * kPi - phiL;
@@ -410,6 +301,20 @@ bool wedgeAngles(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3& 
   if (std::abs(std::abs(dphi) - kPi) < kBoundary)
     phiL = phiS + std::copysign(directVisible ? kPi - kBoundary : kPi + kBoundary, dphi);
   return true;
+}
+
+/// The unit direction from Q across the mouth of a gap the path may pass, in the plane
+/// perpendicular to the edge, away from the edge's solid: for a sheet's rim the sheet's own
+/// continuation (-face0); for a wedge the middle of the angles around the edge that both the
+/// source and the listener see (from the source at phiS, the wedge hides the angles beyond
+/// phiS +- pi), which a lone wedge never closes.
+glm::vec3 mouthDirection(const DiffractionEdge& e, double phiS, double phiL, double wedge,
+                         double sense) {
+  if (e.open >= float(2.0 * kPi) - 1e-4f) return -e.face0;
+  const double lo = std::max({0.0, phiS - kPi, phiL - kPi});
+  const double hi = std::min({wedge, phiS + kPi, phiL + kPi});
+  const double mid = 0.5 * (lo + hi);
+  return float(std::cos(mid)) * e.face0 + float(sense * std::sin(mid)) * e.normal0;
 }
 
 /// The path over edge e from source to the listener centre L through the point Q of least
@@ -429,8 +334,8 @@ bool edgePath(const DiffractionEdge& e, const glm::vec3& source, const glm::vec3
   const glm::vec3 toQ = q - source, toL = L - q;
   const float r = glm::length(toQ), s = glm::length(toL);
   if (!(r > kLegEpsilon && s > kLegEpsilon)) return false;
-  double phiS = 0.0, phiL = 0.0, wedge = 0.0;
-  if (!wedgeAngles(e, q, source, L, directVisible, phiS, phiL, wedge)) return false;
+  double phiS = 0.0, phiL = 0.0, wedge = 0.0, sense = 1.0;
+  if (!wedgeAngles(e, q, source, L, directVisible, phiS, phiL, wedge, sense)) return false;
   if (tracer.occluded(TraceRay{source, toQ / r, kLegEpsilon, r - kLegEpsilon})) return false;
   if (tracer.occluded(TraceRay{q, toL / s, kLegEpsilon, s - kLegEpsilon})) return false;
   const double sinB = double(glm::length(glm::cross(toQ / r, e.direction)));
@@ -438,18 +343,105 @@ bool edgePath(const DiffractionEdge& e, const glm::vec3& source, const glm::vec3
   p.distanceParameter = double(r) * double(s) * sinB * sinB / p.length;
   p.spreading = 1.0 / double(r) * std::sqrt(double(r) / (double(s) * p.length));
   p.prefactor = utdPrefactor(wedge / kPi, sinB);
-  p.terms = wedgeTerms(wedge / kPi, phiL, phiS);
+  p.terms = utdWedgeTerms(wedge / kPi, phiL, phiS);
   p.legs = r + s;
   p.arrival = -toL / s;
   p.leaving = toQ / r;
+  p.edge = &e;
+  p.q = q;
+  p.mouth = mouthDirection(e, phiS, phiL, wedge, sense);
+  p.turn = float(sense) * e.normal0;
+  p.airWedge = float(wedge);
   return true;
 }
 
+/// Fills p's slit from its gap width: the slit's centre line runs along the edge, half the
+/// width across the mouth; its stationary point, legs and angles as engine/slit.h defines them.
+void makeSlit(const glm::vec3& source, const glm::vec3& L, EdgePath& p) {
+  const DiffractionEdge& e = *p.edge;
+  const glm::vec3 a = e.a + 0.5f * p.gapWidth * p.mouth;
+  const glm::vec3 ps = source - a, pl = L - a;
+  const float ts = glm::dot(ps, e.direction), tl = glm::dot(pl, e.direction);
+  const float rs = glm::length(ps - ts * e.direction), rl = glm::length(pl - tl * e.direction);
+  const float z0 = ts + (tl - ts) * rs / std::max(rs + rl, 1e-6f);
+  const glm::vec3 c = a + z0 * e.direction, toC = c - source, toL = L - c;
+  auto sinFromAxis = [&](const glm::vec3& v) {  // |sin| of v's angle from the slit's axis
+    const glm::vec3 across = v - glm::dot(v, e.direction) * e.direction;
+    const float l = glm::length(across);
+    return l > 0.f ? double(std::abs(glm::dot(across, p.mouth)) / l) : 0.0;
+  };
+  SlitPath& sp = p.slit;
+  sp.r = std::max(double(glm::length(toC)), double(kLegEpsilon));
+  sp.s = std::max(double(glm::length(toL)), double(kLegEpsilon));
+  sp.sinBeta = double(glm::length(glm::cross(toC, e.direction))) / sp.r;
+  sp.zFrom = -double(z0);
+  sp.zTo = double(e.length) - double(z0);
+  sp.sinSource = sinFromAxis(toC);
+  sp.sinListener = sinFromAxis(toL);
+  sp.width = double(p.gapWidth);
+  sp.depth = 0.0;
+  p.slitCentre = c;
+}
+
+/// A slit bounded by two edges (a leaf's rim and its frame's) is found from both; only the
+/// first carries its field. Same slit: parallel edges whose centre lines lie within half the
+/// wider gap (plus 1 mm) of each other.
+void markSlitOwners(std::vector<EdgePath>& paths) {
+  for (size_t k = 0; k < paths.size(); ++k) {
+    EdgePath& p = paths[k];
+    p.slitOwner = p.gapWidth > 0.f;
+    for (size_t j = 0; j < k && p.slitOwner; ++j) {
+      const EdgePath& o = paths[j];
+      if (!o.slitOwner || std::abs(glm::dot(o.edge->direction, p.edge->direction)) < 0.99f)
+        continue;
+      const glm::vec3 v = p.slitCentre - o.slitCentre;
+      const float apart = glm::length(v - glm::dot(v, o.edge->direction) * o.edge->direction);
+      if (apart < 0.5f * std::max(o.gapWidth, p.gapWidth) + 1e-3f) p.slitOwner = false;
+    }
+  }
+}
+
+/// Looks for the gap each path may pass (engine/gap_probe.h) and sets its slit; removes the
+/// paths whose gap is closed (narrower than kGapNarrowest).
+void findSlits(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L,
+               std::vector<EdgePath>& paths) {
+  std::vector<GapProbe> probes(paths.size());
+  for (size_t j = 0; j < paths.size(); ++j) {
+    const EdgePath& p = paths[j];
+    const DiffractionEdge& e = *p.edge;
+    const float t = glm::dot(p.q - e.a, e.direction);
+    const float reach = std::min(e.length / float(kSlitMinAspect), kGapFarthest);
+    probes[j] = {p.q, p.mouth, reach, e.direction, -t, e.length - t, e.face0, p.turn, p.airWedge};
+  }
+  std::vector<GapShape> shapes(paths.size());
+  probeGaps(tracer, source, L, probes, shapes);
+  size_t kept = 0;
+  for (size_t j = 0; j < paths.size(); ++j) {
+    if (shapes[j].width < 0.f) continue;
+    EdgePath& p = paths[kept++] = paths[j];
+    p.gapWidth = shapes[j].width;
+    if (p.gapWidth > 0.f) {
+      makeSlit(source, L, p);
+      p.slitAspect = double(shapes[j].aspect);
+    }
+  }
+  paths.resize(kept);
+  markSlitOwners(paths);
+}
+
+/// Per path and band, the pressure factors every path carries: the air's attenuation
+/// sqrt(exp(-m l)) and the square root of the source's energy weight toward the path.
+struct PathGains {
+  std::vector<double> utd;   // times the UTD path's spreading
+  std::vector<double> slit;  // for the slit path
+};
+
 /// |p|^2 of the direct sound (amplitude directAmplitude at directDistance, m) plus every
-/// path (per-path band amplitude in `amplitude`), averaged over band b's frequencies.
-double bandMeanSquare(int b, const std::vector<EdgePath>& paths,
-                      const std::vector<double>& amplitude, double directAmplitude,
-                      float directDistance, float speedOfSound) {
+/// path, averaged over band b's frequencies. A path through a gap adds its slit's field
+/// (engine/slit.h) with weight s = slitWeight(k_t w, aspect) and its edge's UTD field with
+/// weight 1 - s.
+double bandMeanSquare(int b, const std::vector<EdgePath>& paths, const PathGains& gains,
+                      double directAmplitude, float directDistance, float speedOfSound) {
   double acc = 0.0;
   for (int i = 0; i < kDiffractionFrequenciesPerBand; ++i) {
     const double k = 2.0 * kPi * diffractionFrequencyHz(b, i) / speedOfSound;
@@ -457,10 +449,17 @@ double bandMeanSquare(int b, const std::vector<EdgePath>& paths,
     C diffracted(0.0, 0.0);
     for (size_t j = 0; j < paths.size(); ++j) {
       const EdgePath& q = paths[j];
+      double amplitude = gains.utd[j];
+      if (q.gapWidth > 0.f) {
+        const double s = slitWeight(k * q.slit.sinBeta * q.slit.width, q.slitAspect);
+        if (s > 0.0 && q.slitOwner) p += s * gains.slit[j] * slitPressure(q.slit, k);
+        if (s >= 1.0) continue;
+        amplitude *= 1.0 - s;
+      }
       const C d = utdScaled(q.terms, q.prefactor, k * q.distanceParameter);
       const double c = std::cos(k * q.length), sn = std::sin(k * q.length);
-      // amplitude * d * e^{-jkl}
-      diffracted += amplitude[j] * C(d.real() * c + d.imag() * sn, d.imag() * c - d.real() * sn);
+      // amplitude * d * e^{-jkl}, written out (std::complex's operator* checks for NaN)
+      diffracted += amplitude * C(d.real() * c + d.imag() * sn, d.imag() * c - d.real() * sn);
     }
     p += diffracted / std::sqrt(k);
     acc += std::norm(p);
@@ -485,30 +484,38 @@ Bands coherentIntensity(const std::vector<EdgePath>& paths, const DirectSound& d
                         float speedOfSound, const Bands& airPerMetre,
                         const std::vector<Bands>& weights) {
   Bands intensity(0.f);
-  std::vector<double> amplitude(paths.size());
+  PathGains gains{std::vector<double>(paths.size()), std::vector<double>(paths.size())};
   for (int b = 0; b < kNumBands; ++b) {
-    // Per path and band: spreading times the air's pressure attenuation sqrt(exp(-m l)).
     for (size_t j = 0; j < paths.size(); ++j) {
-      amplitude[j] = paths[j].spreading * std::exp(-0.5 * double(airPerMetre[b]) * paths[j].length);
-      if (!weights.empty()) amplitude[j] *= std::sqrt(double(weights[j][b]));
+      const double w = weights.empty() ? 1.0 : std::sqrt(double(weights[j][b]));
+      gains.utd[j] = paths[j].spreading * std::exp(-0.5 * double(airPerMetre[b]) * paths[j].length);
+      if (!weights.empty()) gains.utd[j] *= w;
+      gains.slit[j] =
+          w * std::exp(-0.5 * double(airPerMetre[b]) * (paths[j].slit.r + paths[j].slit.s));
     }
     const double directAmplitude =
         direct.visible ? std::sqrt(4.0 * kPi * double(direct.intensity[b])) : 0.0;
     const double meanSquare =
-        bandMeanSquare(b, paths, amplitude, directAmplitude, direct.distance, speedOfSound);
+        bandMeanSquare(b, paths, gains, directAmplitude, direct.distance, speedOfSound);
     intensity[b] = float(meanSquare / (4.0 * kPi));
   }
   return intensity;
 }
 
-}  // namespace
-
-Complex utdCoefficient(double n, double k, double phi, double phiSource, double sinBeta0,
-                       double L) {
-  const C d =
-      utdScaled(wedgeTerms(n, phi, phiSource), utdPrefactor(n, sinBeta0), k * L) / std::sqrt(k);
-  return {d.real(), d.imag()};
+/// The direct sound's band intensity with nothing in its way (1/m^2): spreading over the
+/// direct distance, the air's attenuation and the source's weight toward the listener.
+Bands unobstructedIntensity(const glm::vec3& source, const glm::vec3& L, const DirectSound& d,
+                            const Bands& airPerMetre, const Directivity& directivity,
+                            const glm::vec3& forward) {
+  Bands i = exp(airPerMetre * -d.distance) * (1.f / (4.f * float(kPi) * d.distance * d.distance));
+  const glm::vec3 v = L - source;
+  const float length = glm::length(v);
+  if (!directivity.omni() && length > 0.f)
+    i *= directivityWeight(directivity, glm::dot(forward, v / length));
+  return i;
 }
+
+}  // namespace
 
 double diffractionFrequencyHz(int band, int i) {
   return bandCentreExactHz(band) * std::exp2((i + 0.5) / kDiffractionFrequenciesPerBand - 0.5);
@@ -545,13 +552,28 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
       shortestDir = p.arrival;
     }
   }
+  findSlits(tracer, source, listener.position, paths);
   if (paths.empty()) return 0;
+  for (const EdgePath& p : paths)
+    if (p.gapWidth > 0.f && float(p.slit.r + p.slit.s) < shortest) {
+      shortest = float(p.slit.r + p.slit.s);
+      shortestDir = glm::normalize(p.slitCentre - listener.position);
+    }
   DirectSound coherent = direct;
   coherent.visible = lineOfSight;
   const Bands through = lineOfSight || !direct.visible ? Bands(0.f) : direct.intensity;
   direct.intensity = coherentIntensity(paths, coherent, speedOfSound, airPerMetre,
                                        leavingWeights(paths, directivity, forward)) +
                      through;
+  // An obstruction adds no energy to the path it blocks: with the line of sight blocked, never
+  // more than the direct sound with nothing in its way. (With it free, the edges' field may
+  // lift the sum above it: the lit side's Fresnel ripple, exact by Biot-Tolstoy-Medwin.)
+  if (!lineOfSight) {
+    const Bands free =
+        unobstructedIntensity(source, listener.position, direct, airPerMetre, directivity, forward);
+    for (int b = 0; b < kNumBands; ++b)
+      direct.intensity[b] = std::min(direct.intensity[b], free[b]);
+  }
   direct.visible = true;
   direct.distance = shortest;
   direct.delaySeconds = shortest / speedOfSound;

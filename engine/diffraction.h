@@ -28,6 +28,16 @@
 // synthesis places them at the shortest path's delay (first order only; higher orders: see
 // docs/validation.md).
 //
+// Gaps: an edge path that passes a narrow gap (the frame's edge beside a closed door leaf, a
+// free edge whose UTD field would count as if nothing else were near) takes the slit's field
+// (engine/slit.h: Gomperts 1964, Mechel 1986) instead of the edge's, in the proportion
+// slitWeight(k w, aspect); engine/gap_probe.h finds the gap's width w and how far it runs along
+// the edge. A gap bounded by two edges counts once; a gap closed within 0.5 mm drops the path.
+// Energy: with the line of sight blocked (lineOfSight() false), the result is held at the
+// unobstructed direct sound per band (an obstruction adds no energy to the path it blocks);
+// with it free, the sum may exceed it by the lit side's Fresnel ripple (docs/estimators.md,
+// "Gaps and slits" and "No energy added to a blocked path").
+//
 // Construction: control/propagation thread; allocates; no errors (degenerate triangles are
 // skipped). apply(): propagation thread (the Tracer's occlusion queries); no errors.
 #pragma once
@@ -38,6 +48,7 @@
 #include "common/bands.h"
 #include "engine/propagation.h"
 #include "engine/tracer.h"
+#include "engine/utd.h"
 #include "scene/directivity.h"
 #include "scene/scene.h"
 
@@ -55,15 +66,6 @@ struct DiffractionEdge {
   float length = 0.f;
 };
 
-/// UTD diffraction coefficient magnitude-and-phase for a hard wedge of index n at wavenumber
-/// k (rad/m): phi, phiSource in (0, n pi) measured from face 0, sinBeta0 the sine of the angle
-/// between the incident ray and the edge, L the distance parameter (m). Any thread; no
-/// allocation. Returned as (real, imaginary).
-struct Complex {
-  double re = 0.0, im = 0.0;
-};
-Complex utdCoefficient(double n, double k, double phi, double phiSource, double sinBeta0, double L);
-
 /// The band energy of the direct-plus-diffracted field is |p|^2 averaged over these
 /// frequencies: kDiffractionFrequenciesPerBand log-spaced across octave band `band`
 /// (i = 0 .. 15, the centres of equal log-frequency slices of the octave), Hz.
@@ -77,13 +79,14 @@ class EdgeDiffraction {
 
   const std::vector<DiffractionEdge>& edges() const { return edges_; }
 
-  /// Replaces `direct` by the direct sound plus every first-order edge path from source to the
-  /// listener centre (see the file comment). speedOfSound in m/s, airPerMetre the energy
-  /// attenuation per metre per band. Returns the number of edge paths used (unoccluded, Q
-  /// inside its edge). Reentrant: concurrent calls (one per listener) are safe; allocates its
-  /// list of paths. A directional source (scene/directivity.h, forward a unit vector) scales
-  /// each edge path's energy by its weight toward the path's edge point Q; `direct` must carry
-  /// its own weight already (Propagator::directSound does). Omni (the default): no weight.
+  /// Replaces `direct` by the direct sound plus every first-order edge and slit path from
+  /// source to the listener centre (see the file comment). speedOfSound in m/s, airPerMetre
+  /// the energy attenuation per metre per band. Returns the number of edge paths used
+  /// (unoccluded, Q inside its edge, its gap not closed). Reentrant: concurrent calls (one per
+  /// listener) are safe; allocates its lists of paths and probe rays. A directional source
+  /// (scene/directivity.h, forward a unit vector) scales each path's energy by its weight
+  /// toward its edge point Q (a slit path too); `direct` must carry its own weight already
+  /// (Propagator::directSound does). Omni (the default): no weight.
   size_t apply(const Tracer& tracer, const glm::vec3& source, const ListenerSphere& listener,
                float speedOfSound, const Bands& airPerMetre, DirectSound& direct,
                const Directivity& directivity = {},

@@ -30,15 +30,25 @@ uint32_t raysPerChunk(uint32_t rays) {
 
 }  // namespace
 
+Bands propagationAirAttenuation(const PropagationSettings& settings) {
+  if (!settings.airAbsorption) return Bands(0.f);
+  return airEnergyAttenuationPerMetre(settings.temperatureC, settings.humidityPercent);
+}
+
 Propagator::Propagator(const Geometry& geometry, const Tracer& tracer,
-                       const PropagationSettings& settings)
-    : geometry_(geometry), tracer_(tracer), settings_(settings) {
-  if (settings_.airAbsorption)
-    airPerMetre_ = airEnergyAttenuationPerMetre(settings_.temperatureC, settings_.humidityPercent);
+                       const PropagationSettings& settings, const Options& options)
+    : geometry_(geometry),
+      tracer_(tracer),
+      settings_(settings),
+      faceOf_(options.specularFaces),
+      traceMode_(options.traceMode) {
+  airPerMetre_ = propagationAirAttenuation(settings_);
   minAir_ = airPerMetre_.min();
   const glm::vec3 extent = geometry_.boundsMax() - geometry_.boundsMin();
-  keyRule_ = PathKeyRule::forRoom(double(extent.x) * extent.y * extent.z, geometry_.surfaceArea(),
-                                  settings_.speedOfSound, 1e-3);
+  keyRule_ = options.keyRule ? *options.keyRule
+                             : PathKeyRule::forRoom(double(extent.x) * extent.y * extent.z,
+                                                    geometry_.surfaceArea(),
+                                                    settings_.speedOfSound, 1e-3);
   exactOrder_ = std::clamp(std::min(settings_.exactOrder, settings_.maxOrder), 0, kMaxExactOrder);
   arena_ = settings_.threads > 0 ? std::make_unique<tbb::task_arena>(settings_.threads)
                                  : std::make_unique<tbb::task_arena>();
@@ -95,10 +105,10 @@ PathTransmission Propagator::directTransmission(const glm::vec3& source,
   return transmissionAlong(tracer_, geometry_, source, dir, end);
 }
 
-void Propagator::startRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t rayIndex,
-                          const glm::vec3& source, RayState& ray) const {
-  ray.rng = Rng(frameSeed, rayIndex);
-  ray.org = source;
+void Propagator::startRay(const Pass& pass, uint32_t rayIndex, RayState& ray) const {
+  const TraceRequest& rq = pass.request;
+  ray.rng = Rng(pass.frameSeed, rayIndex);
+  ray.org = rq.origin;
   ray.dir = uniformSphere(ray.rng);
   ray.firstDir = ray.dir;
   if (geometry_.scatteringVariesWithBand()) {
@@ -114,56 +124,57 @@ void Propagator::startRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t ray
   }
   // The pattern's power-preserving weight at the leaving direction (unbiased: uniform
   // directions times g / <g> have the pattern's angular distribution and the source's power).
-  if (!directivity_.omni())
-    ray.energy *= directivityWeight(directivity_, glm::dot(forward_, ray.dir));
+  if (!rq.fromListener && !rq.pattern.omni())
+    ray.energy *= directivityWeight(rq.pattern, glm::dot(rq.forward, ray.dir));
   ray.travelled = 0.f;
-  ray.path = PathKey::start(sourceIndex);
+  ray.path = PathKey::start(rq.emitter);
   ray.order = 0;
   ray.specularRun = 0;
 }
 
-bool Propagator::advance(RayState& ray, bool surface, const SurfaceHit& hit,
-                         std::span<const ListenerSphere> listeners, std::vector<PathHit>& hits,
+bool Propagator::advance(const TraceRequest& rq, RayState& ray, bool surface,
+                         const SurfaceHit& hit, std::vector<PathHit>& hits,
                          std::vector<uint32_t>& hitListener) const {
   const float segEnd = surface ? hit.t : std::numeric_limits<float>::infinity();
-  if (ray.order > 0 || includeDirectRays_) testListeners(ray, segEnd, listeners, hits, hitListener);
+  if (ray.order > 0 || rq.includeDirectRays) testListeners(rq, ray, segEnd, hits, hitListener);
   if (!surface || ray.order >= settings_.maxOrder) return false;
   return reflect(ray, hit);
 }
 
-bool Propagator::replacedByExactPath(const RayState& ray, uint32_t l) const {
-  if (exactSets_.empty()) return true;
-  if (l >= exactSets_.size() || !exactSets_[l]) return false;
-  return exactSets_[l]->contains(sourceFirstRun(ray, uint32_t(ray.specularRun)).key());
+bool Propagator::replacedByExactPath(const TraceRequest& rq, const RayState& ray,
+                                     uint32_t l) const {
+  const auto& sets = rq.exactSequences;
+  if (sets.empty()) return true;
+  if (l >= sets.size() || !sets[l]) return false;
+  return sets[l]->contains(sourceFirstRun(ray, uint32_t(ray.specularRun), rq.fromListener).key());
 }
 
-SpecularSequence Propagator::sourceFirstRun(const RayState& ray, uint32_t k) const {
+SpecularSequence Propagator::sourceFirstRun(const RayState& ray, uint32_t k, bool fromListener) {
   SpecularSequence s;
   s.order = k;
-  if (fromListeners_)
+  if (fromListener)
     std::reverse_copy(ray.specular.begin(), ray.specular.begin() + k, s.triangles.begin());
   else
     std::copy_n(ray.specular.begin(), k, s.triangles.begin());
   return s;
 }
 
-void Propagator::testListeners(const RayState& ray, float segEnd,
-                               std::span<const ListenerSphere> listeners,
+void Propagator::testListeners(const TraceRequest& rq, const RayState& ray, float segEnd,
                                std::vector<PathHit>& hits,
                                std::vector<uint32_t>& hitListener) const {
-  if (listeners.size() > kMaxLinearSpheres) {
+  if (rq.receivers.size() > kMaxLinearSpheres) {
     sphereBvh_.forEachCandidate(ray.org, ray.dir, segEnd, [&](uint32_t l) {
-      testSphere(ray, segEnd, l, listeners[l], hits, hitListener);
+      testSphere(rq, ray, segEnd, l, hits, hitListener);
     });
     return;
   }
-  for (uint32_t l = 0; l < listeners.size(); ++l)
-    testSphere(ray, segEnd, l, listeners[l], hits, hitListener);
+  for (uint32_t l = 0; l < rq.receivers.size(); ++l)
+    testSphere(rq, ray, segEnd, l, hits, hitListener);
 }
 
-void Propagator::testSphere(const RayState& ray, float segEnd, uint32_t l,
-                            const ListenerSphere& listener, std::vector<PathHit>& hits,
-                            std::vector<uint32_t>& hitListener) const {
+void Propagator::testSphere(const TraceRequest& rq, const RayState& ray, float segEnd, uint32_t l,
+                            std::vector<PathHit>& hits, std::vector<uint32_t>& hitListener) const {
+  const ListenerSphere& listener = rq.receivers[l];
   // Segment against the sphere: |org + t dir - L|^2 = R^2.
   const glm::vec3 oc = listener.position - ray.org;
   const float b = glm::dot(oc, ray.dir);
@@ -173,8 +184,8 @@ void Propagator::testSphere(const RayState& ray, float segEnd, uint32_t l,
   if (!(b + s > 0.f && b - s < segEnd)) return;
   // An exact specular path's hits stay out: specular_paths.h finds that path exactly. Asked
   // only for segments that meet the sphere (it hashes the ray's face sequence).
-  if (ray.exactSpecular() && replacedByExactPath(ray, l)) return;
-  hits.push_back(makeHit(ray, l, listener, b, segEnd));
+  if (ray.exactSpecular() && replacedByExactPath(rq, ray, l)) return;
+  hits.push_back(makeHit(rq, ray, l, b, segEnd));
   hitListener.push_back(l);
 }
 
@@ -185,23 +196,25 @@ void Propagator::prepareSpheres(std::span<const ListenerSphere> listeners) {
   sphereBvh_.build(sphereBoxes_);
 }
 
-PathHit Propagator::makeHit(const RayState& ray, uint32_t l, const ListenerSphere& sphere, float b,
+PathHit Propagator::makeHit(const TraceRequest& rq, const RayState& ray, uint32_t l, float b,
                             float segEnd) const {
+  const ListenerSphere& sphere = rq.receivers[l];
   const float invArea = 1.f / (std::numbers::pi_v<float> * sphere.radius * sphere.radius);
   const float r = ray.travelled + std::clamp(b, 0.f, segEnd);
   PathHit h;
-  h.key = ray.path.finish(l < sphereIds_.size() ? sphereIds_[l] : l, r, keyRule_, fromListeners_);
+  h.key = ray.path.finish(l < rq.receiverIds.size() ? rq.receiverIds[l] : l, r, keyRule_,
+                          rq.fromListener);
   h.intensity = ray.energy * exp(airPerMetre_ * -r) * invArea;
   h.length = r;
-  if (!fromListeners_) {
+  if (!rq.fromListener) {
     h.direction = -ray.dir;
     return h;
   }
   // Reciprocal path: the sound leaves source l along -dir and reaches the listener from firstDir.
   h.direction = ray.firstDir;
-  if (l < receiverPatterns_.size() && !receiverPatterns_[l].omni())
+  if (l < rq.receiverPatterns.size() && !rq.receiverPatterns[l].omni())
     h.intensity *=
-        directivityWeight(receiverPatterns_[l], glm::dot(receiverForwards_[l], -ray.dir));
+        directivityWeight(rq.receiverPatterns[l], glm::dot(rq.receiverForwards[l], -ray.dir));
   return h;
 }
 
@@ -251,22 +264,19 @@ bool Propagator::reflect(RayState& ray, const SurfaceHit& hit) const {
     ray.dir = glm::normalize(ray.dir - 2.f * glm::dot(ray.dir, n) * n);
   ray.org = p + n * surfaceOffset(p, hit.t);
   if (!diffuse && ray.specularRun == ray.order && ray.order < exactOrder_)
-    ray.specular[size_t(ray.specularRun++)] =
-        hit.triangle < faceOf_.size() ? faceOf_[hit.triangle] : hit.triangle;
+    ray.specular[size_t(ray.specularRun++)] = faceOf(hit.triangle);
   ++ray.order;
   return true;
 }
 
-void Propagator::traceRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t rayIndex,
-                          const glm::vec3& source, std::span<const ListenerSphere> listeners,
-                          Chunk& chunk) const {
+void Propagator::traceRay(const Pass& pass, uint32_t rayIndex, Chunk& chunk) const {
   RayState ray;
-  startRay(frameSeed, sourceIndex, rayIndex, source, ray);
+  startRay(pass, rayIndex, ray);
   SurfaceHit hit;
   for (;;) {
     const bool surface = tracer_.intersect(TraceRay{ray.org, ray.dir}, hit);
     ++chunk.segments;
-    if (!advance(ray, surface, hit, listeners, chunk.hits, chunk.hitListener)) break;
+    if (!advance(pass.request, ray, surface, hit, chunk.hits, chunk.hitListener)) break;
   }
   noteSpecularRun(ray, chunk);
 }
@@ -292,9 +302,8 @@ void Propagator::collectCandidates(uint32_t chunkCount, SpecularCandidates& cand
       }
 }
 
-void Propagator::traceChunkPacket(uint64_t frameSeed, uint32_t sourceIndex, uint32_t firstRay,
-                                  uint32_t endRay, const glm::vec3& source,
-                                  std::span<const ListenerSphere> listeners, Chunk& chunk) const {
+void Propagator::traceChunkPacket(const Pass& pass, uint32_t firstRay, uint32_t endRay,
+                                  Chunk& chunk) const {
   constexpr int K = int(Tracer::kPacketSize);
   std::array<RayState, K> rays;
   std::array<uint32_t, K> rayIndex{};
@@ -309,7 +318,7 @@ void Propagator::traceChunkPacket(uint64_t frameSeed, uint32_t sourceIndex, uint
   auto refill = [&](int i) {
     packet[i].active = next < endRay;
     if (packet[i].active) {
-      startRay(frameSeed, sourceIndex, next, source, rays[i]);
+      startRay(pass, next, rays[i]);
       rayIndex[i] = next++;
     }
     return packet[i].active;
@@ -326,7 +335,7 @@ void Propagator::traceChunkPacket(uint64_t frameSeed, uint32_t sourceIndex, uint
     chunk.segments += uint64_t(live);
     for (int i = 0; i < K; ++i) {
       if (!packet[i].active) continue;
-      const bool more = advance(rays[i], answers[i].found, answers[i].surface, listeners,
+      const bool more = advance(pass.request, rays[i], answers[i].found, answers[i].surface,
                                 chunk.unordered, chunk.unorderedListener);
       while (chunk.rayOf.size() < chunk.unordered.size())  // one hit per listener at most
         chunk.rayOf.push_back(rayIndex[i] - firstRay);
@@ -351,25 +360,28 @@ void Propagator::Chunk::sortByRay(uint32_t count) {
   }
 }
 
-TraceStats Propagator::traceFrame(uint64_t frameIndex, uint32_t sourceIndex,
-                                  const glm::vec3& source, const ListenerSphere& listener,
-                                  FrameGroups& groups) {
-  FrameGroups* const g = &groups;
-  return traceFrame(frameIndex, sourceIndex, source, std::span(&listener, 1), std::span(&g, 1));
-}
-
-TraceStats Propagator::traceFrame(uint64_t frameIndex, uint32_t sourceIndex,
-                                  const glm::vec3& source,
-                                  std::span<const ListenerSphere> listeners,
-                                  std::span<FrameGroups* const> groups,
-                                  SpecularCandidates* candidates) {
-  const uint32_t n = uint32_t(std::max(0, settings_.raysPerFrame));
+std::pair<uint32_t, uint32_t> Propagator::chunksFor(int rays) {
+  const uint32_t n = uint32_t(std::max(0, rays));
   const uint32_t perChunk = raysPerChunk(n);
   const uint32_t chunkCount = (n + perChunk - 1) / perChunk;
   if (chunks_.size() < chunkCount) chunks_.resize(chunkCount);
-  const uint64_t frameSeed =
-      hashCombine(hashCombine(settings_.seed, frameIndex), uint64_t(sourceIndex));
-  prepareSpheres(listeners);
+  return {chunkCount, perChunk};
+}
+
+TraceStats Propagator::traceFrame(const TraceRequest& request, FrameGroups& groups) {
+  FrameGroups* const g = &groups;
+  return traceFrame(request, std::span(&g, 1));
+}
+
+TraceStats Propagator::traceFrame(const TraceRequest& request,
+                                  std::span<FrameGroups* const> groups,
+                                  SpecularCandidates* candidates) {
+  const uint32_t n = uint32_t(std::max(0, request.rays));
+  const std::pair<uint32_t, uint32_t> chunks = chunksFor(request.rays);
+  const uint32_t chunkCount = chunks.first, perChunk = chunks.second;
+  const Pass pass{request, hashCombine(hashCombine(request.seed, request.frame),
+                                       uint64_t(request.emitter))};
+  prepareSpheres(request.receivers);
   arena_->execute([&] {
     tbb::parallel_for(uint32_t(0), chunkCount, [&](uint32_t c) {
       Chunk& chunk = chunks_[c];
@@ -379,11 +391,10 @@ TraceStats Propagator::traceFrame(uint64_t frameIndex, uint32_t sourceIndex,
       chunk.segments = 0;
       const uint32_t end = std::min(n, (c + 1) * perChunk);
       if (traceMode_ == TraceMode::kPacket16) {
-        traceChunkPacket(frameSeed, sourceIndex, c * perChunk, end, source, listeners, chunk);
+        traceChunkPacket(pass, c * perChunk, end, chunk);
         return;
       }
-      for (uint32_t ray = c * perChunk; ray < end; ++ray)
-        traceRay(frameSeed, sourceIndex, ray, source, listeners, chunk);
+      for (uint32_t ray = c * perChunk; ray < end; ++ray) traceRay(pass, ray, chunk);
     });
   });
   TraceStats stats;
@@ -394,7 +405,8 @@ TraceStats Propagator::traceFrame(uint64_t frameIndex, uint32_t sourceIndex,
     stats.listenerHits += chunk.hits.size();
     for (size_t h = 0; h < chunk.hits.size(); ++h) groups[chunk.hitListener[h]]->add(chunk.hits[h]);
   }
-  if (candidates && exactOrder_ > 0) collectCandidates(chunkCount, *candidates, fromListeners_);
+  if (candidates && exactOrder_ > 0)
+    collectCandidates(chunkCount, *candidates, request.fromListener);
   return stats;
 }
 
@@ -406,8 +418,7 @@ void Propagator::mirrorRun(uint64_t frameSeed, uint32_t rayIndex, const glm::vec
   SurfaceHit hit;
   while (run.order < uint32_t(exactOrder_) && tracer_.intersect(ray, hit)) {
     ++chunk.segments;
-    run.triangles[run.order++] =
-        hit.triangle < faceOf_.size() ? faceOf_[hit.triangle] : hit.triangle;
+    run.triangles[run.order++] = faceOf(hit.triangle);
     // Mirror reflection about the normal facing the side the ray came from (reflect()).
     const glm::vec3 n = glm::dot(hit.normal, ray.dir) < 0.f ? hit.normal : -hit.normal;
     const glm::vec3 p = ray.org + ray.dir * hit.t;
@@ -417,18 +428,18 @@ void Propagator::mirrorRun(uint64_t frameSeed, uint32_t rayIndex, const glm::vec
   if (run.order > 0) chunk.specularRuns.push_back(run);
 }
 
-TraceStats Propagator::proposeSpecular(uint64_t frameIndex, uint32_t emitterIndex,
-                                       const glm::vec3& position, SpecularCandidates& candidates) {
+TraceStats Propagator::proposeSpecular(const TraceRequest& request,
+                                       SpecularCandidates& candidates) {
   TraceStats stats;
   if (exactOrder_ == 0) return stats;
   // Salt that keeps these streams apart from traceFrame's (seed, frame, emitter) streams.
   constexpr uint64_t kProposalSalt = 0x9e3779b97f4a7c15ULL;
-  const uint32_t n = uint32_t(std::max(0, settings_.raysPerFrame));
-  const uint32_t perChunk = raysPerChunk(n);
-  const uint32_t chunkCount = (n + perChunk - 1) / perChunk;
-  if (chunks_.size() < chunkCount) chunks_.resize(chunkCount);
+  const uint32_t n = uint32_t(std::max(0, request.rays));
+  const std::pair<uint32_t, uint32_t> chunks = chunksFor(request.rays);
+  const uint32_t chunkCount = chunks.first, perChunk = chunks.second;
+  const glm::vec3 position = request.origin;
   const uint64_t frameSeed = hashCombine(
-      hashCombine(hashCombine(settings_.seed, frameIndex), kProposalSalt), emitterIndex);
+      hashCombine(hashCombine(request.seed, request.frame), kProposalSalt), request.emitter);
   arena_->execute([&] {
     tbb::parallel_for(uint32_t(0), chunkCount, [&](uint32_t c) {
       Chunk& chunk = chunks_[c];

@@ -52,11 +52,14 @@
 #include <functional>
 #include <glm/vec3.hpp>
 #include <memory>
+#include <optional>
+#include <utility>
 #include <span>
 #include <vector>
 
 #include "common/bands.h"
 #include "common/random.h"
+#include "engine/frame_inputs.h"
 #include "engine/geometry.h"
 #include "engine/patch.h"
 #include "engine/path_cache.h"
@@ -68,11 +71,6 @@
 #include "scene/scene.h"
 
 namespace dpc {
-
-struct ListenerSphere {
-  glm::vec3 position{0.f};  ///< metres
-  float radius = 0.5f;      ///< metres, > 0
-};
 
 /// Analytic direct sound: line of sight, 1/(4 pi r^2), air absorption.
 struct DirectSound {
@@ -112,6 +110,51 @@ inline constexpr TraceMode kDefaultTraceMode = TraceMode::kScalar;
 inline constexpr TraceMode kDefaultTraceMode = TraceMode::kPacket16;
 #endif
 
+/// The air's energy attenuation per metre and band (ISO 9613-1, 1/m) the settings ask for:
+/// 0 when settings.airAbsorption is off. Any thread.
+Bands propagationAirAttenuation(const PropagationSettings& settings);
+
+/// One emitter's trace for one frame (Propagator::traceFrame): everything that varies from
+/// frame to frame, as a plain value. The spans view the caller's arrays, which must outlive
+/// the call. Units: metres; directions unit vectors in the world frame.
+struct TraceRequest {
+  uint64_t seed = 0;     ///< the run's seed (PropagationSettings::seed or a restart's)
+  uint64_t frame = 0;    ///< frame index: with seed and emitter, it selects the random streams
+  uint32_t emitter = 0;  ///< the source index (from a listener: the listener index)
+  glm::vec3 origin{0.f};  ///< where the rays leave
+  int rays = 0;           ///< rays to trace, >= 0
+  /// Rays leave a listener and the receivers are the sources (reciprocal tracing, Schissler &
+  /// Manocha, "Interactive sound propagation and rendering for large multi-source scenes",
+  /// ACM TOG 36(1), 2016): a hit's direction is the ray's first direction (where the sound
+  /// arrives from, seen from the listener); receiver l's pattern weights the hit toward the
+  /// direction the sound leaves it (minus the ray's direction at the sphere); the specular
+  /// sequences are recorded listener first and reversed into source-first order.
+  bool fromListener = false;
+  /// The emitting source's radiation pattern and forward axis (scene/directivity.h): every
+  /// ray's energy is weighted at emission by directivityWeight at its leaving direction. Omni
+  /// (the default) applies no weight. Ignored from a listener.
+  Directivity pattern;
+  glm::vec3 forward{1.f, 0.f, 0.f};
+  /// The spheres tested (listeners, or from a listener the sources): hits to receiver l go to
+  /// traceFrame's groups[l].
+  std::span<const ListenerSphere> receivers;
+  /// The identifier receiver l finishes into its hits' path identifiers (pathHashFinish):
+  /// ids[l], or l itself when empty. Lets a caller that leaves some spheres out of a pass keep
+  /// every other sphere's keys (and so its cache's paths) unchanged.
+  std::span<const uint32_t> receiverIds;
+  /// From a listener: receiver l's pattern and forward axis (empty: every receiver omni).
+  std::span<const Directivity> receiverPatterns;
+  std::span<const glm::vec3> receiverForwards;
+  /// Per receiver, the sequences whose exact paths replace their rays' hits (the pair's
+  /// SpecularPathCache::validKeys): an all-specular hit of order <= exactOrder() is left out
+  /// only when receiver l's set holds its sequence, so a sequence without an exact path keeps
+  /// its hits. Empty: every such hit is left out.
+  std::span<const tsl::robin_set<uint64_t>* const> exactSequences;
+  /// Segments leaving the origin also count as hits (calibration against 1/(4 pi r^2); the
+  /// renderer keeps the analytic direct sound instead).
+  bool includeDirectRays = false;
+};
+
 class Propagator {
  public:
   /// Above this many receiver spheres a frame's segments find theirs through a SphereBvh
@@ -120,130 +163,77 @@ class Propagator {
   /// Survival probability of a ray that Russian roulette tests.
   static constexpr float kRouletteSurvival = 0.1f;
 
-  /// geometry (patches, materials) and tracer (ray queries over the same triangles) must
-  /// outlive the Propagator. settings: rays, max order, seed, air, threads.
-  Propagator(const Geometry& geometry, const Tracer& tracer, const PropagationSettings& settings);
+  /// What is fixed for the propagator's life besides the settings.
+  struct Options {
+    /// Scalar or packet queries (same physics, same random streams).
+    TraceMode traceMode = kDefaultTraceMode;
+    /// Per triangle, its coplanar face (CoplanarFaces::faces): the specular sequences record
+    /// faces, as the exact paths are found over faces. Empty: triangles. Must outlive the
+    /// propagator.
+    std::span<const uint32_t> specularFaces;
+    /// The path identifier rule (engine/patch.h); none: PathKeyRule::forRoom of the
+    /// geometry's bounding box and surface area with 1 ms energy bins.
+    std::optional<PathKeyRule> keyRule;
+  };
+
+  /// geometry (patches, materials), tracer (ray queries over the same triangles) and settings
+  /// (max order, air, roulette, exact order, threads, speed of sound) must outlive the
+  /// Propagator; the rays, seed and everything else that varies per frame come with each
+  /// TraceRequest.
+  Propagator(const Geometry& geometry, const Tracer& tracer, const PropagationSettings& settings,
+             const Options& options);
+  Propagator(const Geometry& geometry, const Tracer& tracer, const PropagationSettings& settings)
+      : Propagator(geometry, tracer, settings, Options{}) {}
   ~Propagator();
 
-  /// Traces settings.raysPerFrame rays from `source` and adds the listener hits, grouped by
-  /// path identifier in ray order, to `groups` (which the caller clears). The listener's index
-  /// in the path identifier is 0.
-  TraceStats traceFrame(uint64_t frameIndex, uint32_t sourceIndex, const glm::vec3& source,
-                        const ListenerSphere& listener, FrameGroups& groups);
-  /// Several listeners in one pass (thesis §3.2.2: the path identifier carries the listener):
-  /// the same rays as above, each segment tested against every sphere of `listeners`; listener
-  /// l's hits go to *groups[l] (groups.size() == listeners.size(); the caller clears them) in
-  /// ray order, with l finished into the path identifier (pathHashFinish). Tracer work (the
-  /// segments) does not depend on the number of listeners, only the ray-sphere tests do; the
-  /// random streams do not depend on the listeners either, so listener l's groups equal, bit
-  /// for bit, those of tracing it alone (up to the listener index in the keys).
+  /// Traces request.rays rays from request.origin, tests every segment against every sphere
+  /// of request.receivers and adds receiver l's hits, grouped by path identifier in ray order,
+  /// to *groups[l] (groups.size() == receivers.size(); the caller clears them), with l's id
+  /// finished into the path identifier (thesis §3.2.2: the path identifier carries the
+  /// listener). Tracer work (the segments) does not depend on the receivers, only the
+  /// ray-sphere tests do; the random streams do not depend on them either, so receiver l's
+  /// groups equal, bit for bit, those of tracing it alone (up to the id in the keys).
   /// candidates (optional, used when exactOrder() > 0): receives, in ray order, every
   /// all-specular triangle sequence of order 1..exactOrder() the rays followed (the caller
-  /// clears it).
-  TraceStats traceFrame(uint64_t frameIndex, uint32_t sourceIndex, const glm::vec3& source,
-                        std::span<const ListenerSphere> listeners,
-                        std::span<FrameGroups* const> groups,
+  /// clears it). Propagation thread; allocation as in the file comment.
+  TraceStats traceFrame(const TraceRequest& request, std::span<FrameGroups* const> groups,
                         SpecularCandidates* candidates = nullptr);
+  /// One receiver (request.receivers.size() == 1) into `groups`.
+  TraceStats traceFrame(const TraceRequest& request, FrameGroups& groups);
 
-  /// Image-source candidates without a full trace: settings.raysPerFrame rays leave
-  /// `position` (a listener) in uniform directions and reflect in the mirror direction only,
-  /// up to exactOrder() reflections, testing no sphere; every face sequence they follow and
-  /// its prefixes go into `candidates` (the caller clears it) in source-first order (reversed,
-  /// as tracing from the listeners reverses them). A sequence an exact path follows is proposed
+  /// Image-source candidates without a full trace: request.rays rays leave request.origin (a
+  /// listener) in uniform directions and reflect in the mirror direction only, up to
+  /// exactOrder() reflections, testing no sphere; every face sequence they follow and its
+  /// prefixes go into `candidates` (the caller clears it) in source-first order (reversed, as
+  /// tracing from the listeners reverses them). A sequence an exact path follows is proposed
   /// whenever a ray leaves the listener toward its last reflection point, as a full trace from
   /// either end proposes it, but a ray costs at most exactOrder() segments and serves every
   /// source. For sources whose rays are not traced (played from a bake). Streams from (seed,
-  /// frame, emitterIndex) salted apart from traceFrame's; bit-identical for any thread count.
+  /// frame, emitter) salted apart from traceFrame's; bit-identical for any thread count.
   /// Returns the rays and segments traced (no listener hits). No allocation after the first
   /// frame of as many rays.
-  TraceStats proposeSpecular(uint64_t frameIndex, uint32_t emitterIndex, const glm::vec3& position,
-                             SpecularCandidates& candidates);
+  TraceStats proposeSpecular(const TraceRequest& request, SpecularCandidates& candidates);
 
   /// Order N of the exact specular paths: settings.exactOrder clamped to [0, kMaxExactOrder]
   /// and to maxOrder (a path the rays cannot follow is not removed from them either).
   int exactOrder() const { return exactOrder_; }
 
-  /// The direct sound from source to listener centre: blocked by an opaque surface, attenuated
-  /// by the transmittance of every transmitting surface it crosses (DirectSound::crossings).
-  /// The distance is clamped to at least R/2, where 1/(4 pi r^2) equals what rays crossing the
-  /// sphere would report (1/(pi R^2)).
-  /// With a directional source (setSourceDirectivity), the intensity is weighted by the
-  /// pattern toward the listener.
-  DirectSound directSound(const glm::vec3& source, const ListenerSphere& listener) const {
-    return directSound(source, listener, directivity_, forward_);
-  }
-  /// The same for a source of the given pattern and forward axis (unit vector, world), whatever
-  /// setSourceDirectivity holds: thread-safe, for per-pair work in parallel.
+  /// The direct sound from a source of the given pattern and forward axis (unit vector,
+  /// world; omni by default) to the listener centre: blocked by an opaque surface, attenuated
+  /// by the transmittance of every transmitting surface it crosses (DirectSound::crossings),
+  /// weighted by the pattern toward the listener. The distance is clamped to at least R/2,
+  /// where 1/(4 pi r^2) equals what rays crossing the sphere would report (1/(pi R^2)).
+  /// Thread-safe, for per-pair work in parallel.
   DirectSound directSound(const glm::vec3& source, const ListenerSphere& listener,
-                          const Directivity& directivity, const glm::vec3& forward) const;
+                          const Directivity& directivity = {},
+                          const glm::vec3& forward = {1.f, 0.f, 0.f}) const;
 
-  /// The traced source's radiation pattern and forward axis (unit vector, world) for the
-  /// following traceFrame and directSound calls (scene/directivity.h): every ray's energy is
-  /// weighted at emission by directivityWeight at its leaving direction, and the direct sound's
-  /// intensity by the weight toward the listener. Omni (the default) applies no weight: no
-  /// float operation differs from an engine without directivity. Propagation thread, between
-  /// frames; no allocation.
-  void setSourceDirectivity(const Directivity& directivity, const glm::vec3& forward) {
-    directivity_ = directivity;
-    forward_ = forward;
-  }
-  const Directivity& sourceDirectivity() const { return directivity_; }
-  const glm::vec3& sourceForward() const { return forward_; }
-
-  /// Reciprocal (listener-based) tracing, Schissler & Manocha, "Interactive sound propagation
-  /// and rendering for large multi-source scenes", ACM TOG 36(1), 2016: the following frames'
-  /// rays leave a listener (traceFrame's `source` is the listener's position, its sourceIndex
-  /// the listener's index) and the spheres are the sources (`listeners` holds the source
-  /// spheres, groups[s] receives source s's hits). Light and sound paths are reciprocal: the
-  /// reflection rules (Lambert and mirror) are symmetric and the estimator is the same, so a
-  /// hit contributes I = energy * exp(-m r) / (pi R_s^2), R_s the source sphere's radius, and
-  /// the energy response's expectation equals the source-based one's for R_s = the listener's
-  /// radius. What changes: a hit's direction is the ray's first direction (where the sound
-  /// arrives from, seen from the listener); the source's pattern weights the hit toward the
-  /// direction the sound leaves it (minus the ray's direction at the sphere), patterns[s] with
-  /// forward axis forwards[s]; the specular sequences are recorded listener first, so they are
-  /// reversed into source-first order for the candidates and the exact-path lookup. The spans
-  /// must outlive the traceFrame calls (empty: every source omni). Set the emitter's
-  /// directivity to omni (setSourceDirectivity) for these frames. Propagation thread, between
-  /// frames; no allocation.
-  void setFromListeners(bool on, std::span<const Directivity> patterns = {},
-                        std::span<const glm::vec3> forwards = {}) {
-    fromListeners_ = on;
-    receiverPatterns_ = patterns;
-    receiverForwards_ = forwards;
-  }
-  bool fromListeners() const { return fromListeners_; }
-  /// The identifier each sphere of the following traceFrame calls finishes into its hits' path
-  /// identifiers (pathHashFinish): ids[l] for sphere l, or l itself when empty (the default).
-  /// Lets a caller that leaves some spheres out of a pass keep every other sphere's keys (and
-  /// so its cache's paths) unchanged. The span must outlive those calls; no allocation.
-  void setSphereIds(std::span<const uint32_t> ids) { sphereIds_ = ids; }
   /// The straight path from source over toListener (length dist, metres) through the
   /// geometry: an occlusion query when no material transmits, else engine/transmission.h's walk.
   PathTransmission directTransmission(const glm::vec3& source, const glm::vec3& toListener,
                                       float dist) const;
 
-  /// When true, segments leaving the source also count as listener hits (for calibration
-  /// against 1/(4 pi r^2); the renderer keeps the analytic direct sound instead).
-  void setIncludeDirectRays(bool on) { includeDirectRays_ = on; }
-  /// The sequences whose exact paths replace their rays' listener hits, per listener of the
-  /// next traceFrame (the source's pairs' SpecularPathCache::validKeys, the previous frame's):
-  /// an all-specular hit of order <= exactOrder() is left out only when listener l's set holds
-  /// its sequence, so a sequence without an exact path (a triangle smaller than the listener
-  /// sphere, whose image path misses the sphere's centre) keeps its hits. Empty (the default):
-  /// every such hit is left out. The sets must outlive the traceFrame calls; no allocation.
-  void setExactSequences(std::span<const tsl::robin_set<uint64_t>* const> perListener) {
-    exactSets_ = perListener;
-  }
-  /// Per triangle, its coplanar face (CoplanarFaces::faces): the specular sequences record
-  /// faces, as the exact paths are found over faces. Empty (the default): triangles. The
-  /// vector must outlive the traceFrame calls.
-  void setSpecularFaces(std::span<const uint32_t> faceOf) { faceOf_ = faceOf; }
-
-  /// Scalar or packet queries (default kDefaultTraceMode). Propagation thread, between frames.
-  void setTraceMode(TraceMode mode) { traceMode_ = mode; }
   TraceMode traceMode() const { return traceMode_; }
-
   const Bands& airAttenuationPerMetre() const { return airPerMetre_; }
 
   /// Runs f(i) for i in [0, n) on the tracing threads (the same task arena as traceFrame), in
@@ -253,12 +243,6 @@ class Propagator {
   /// The tracing threads: how many f(i) of forEachParallel may run at once.
   int concurrency() const;
   const PropagationSettings& settings() const { return settings_; }
-  void setRaysPerFrame(int n) { settings_.raysPerFrame = n; }
-  /// Random seed of the following frames (every ray's stream derives from it). No allocation.
-  void setSeed(uint64_t seed) { settings_.seed = seed; }
-  /// Path identifier rule (engine/patch.h); default PathKeyRule::forRoom of the geometry's
-  /// bounding box and surface area with 1 ms energy bins. Propagation thread, between frames.
-  void setPathKeyRule(const PathKeyRule& rule) { keyRule_ = rule; }
   const PathKeyRule& pathKeyRule() const { return keyRule_; }
 
  private:
@@ -293,33 +277,36 @@ class Propagator {
     /// Moves `unordered` into `hits` in ray order (count rays from the chunk's first).
     void sortByRay(uint32_t count);
   };
-  void startRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t rayIndex,
-                const glm::vec3& source, RayState& ray) const;
-  /// Applies one query's answer (surface hit or miss) to the ray: listener tests (append to
-  /// hits and their indices to hitListener, in listener order), then reflection. Returns false
+  /// One pass of traceFrame: its request and the seed of its random streams.
+  struct Pass {
+    const TraceRequest& request;
+    uint64_t frameSeed;
+  };
+  void startRay(const Pass& pass, uint32_t rayIndex, RayState& ray) const;
+  /// Applies one query's answer (surface hit or miss) to the ray: receiver tests (append to
+  /// hits and their indices to hitListener, in receiver order), then reflection. Returns false
   /// when the ray ends.
-  bool advance(RayState& ray, bool surface, const SurfaceHit& hit,
-               std::span<const ListenerSphere> listeners, std::vector<PathHit>& hits,
-               std::vector<uint32_t>& hitListener) const;
-  /// The segment of `ray` up to segEnd (m) against every listener sphere: appends a hit per
-  /// sphere it crosses (with its listener index): in listener order, or the sphere hierarchy's
+  bool advance(const TraceRequest& rq, RayState& ray, bool surface, const SurfaceHit& hit,
+               std::vector<PathHit>& hits, std::vector<uint32_t>& hitListener) const;
+  /// The segment of `ray` up to segEnd (m) against every receiver sphere: appends a hit per
+  /// sphere it crosses (with its receiver index): in receiver order, or the sphere hierarchy's
   /// order above kMaxLinearSpheres.
-  void testListeners(const RayState& ray, float segEnd, std::span<const ListenerSphere> listeners,
+  void testListeners(const TraceRequest& rq, const RayState& ray, float segEnd,
                      std::vector<PathHit>& hits, std::vector<uint32_t>& hitListener) const;
-  /// The segment against sphere l: appends its hit when it crosses.
-  void testSphere(const RayState& ray, float segEnd, uint32_t l, const ListenerSphere& sphere,
+  /// The segment against receiver l: appends its hit when it crosses.
+  void testSphere(const TraceRequest& rq, const RayState& ray, float segEnd, uint32_t l,
                   std::vector<PathHit>& hits, std::vector<uint32_t>& hitListener) const;
-  /// Rebuilds sphereBvh_ over `listeners` when there are more than kMaxLinearSpheres.
-  void prepareSpheres(std::span<const ListenerSphere> listeners);
-  /// Whether an exact path replaces listener l's hit of this all-specular ray (see
-  /// setExactSequences).
-  bool replacedByExactPath(const RayState& ray, uint32_t l) const;
+  /// Rebuilds sphereBvh_ over `receivers` when there are more than kMaxLinearSpheres.
+  void prepareSpheres(std::span<const ListenerSphere> receivers);
+  /// Whether an exact path replaces receiver l's hit of this all-specular ray
+  /// (TraceRequest::exactSequences).
+  bool replacedByExactPath(const TraceRequest& rq, const RayState& ray, uint32_t l) const;
   /// The ray's leading specular run (k first reflections) as a source-first sequence: as
-  /// recorded, or reversed when tracing from listeners.
-  SpecularSequence sourceFirstRun(const RayState& ray, uint32_t k) const;
+  /// recorded, or reversed when tracing from a listener.
+  static SpecularSequence sourceFirstRun(const RayState& ray, uint32_t k, bool fromListener);
   /// One sphere crossing of `ray` (b: distance along the segment to the point of closest
   /// approach): the PathHit to receiver l.
-  PathHit makeHit(const RayState& ray, uint32_t l, const ListenerSphere& sphere, float b,
+  PathHit makeHit(const TraceRequest& rq, const RayState& ray, uint32_t l, float b,
                   float segEnd) const;
   /// Whether a ray's energy, attenuated by the weakest band's air absorption over its length,
   /// has fallen below the Russian roulette threshold.
@@ -328,6 +315,8 @@ class Propagator {
   /// order), reflectance, Russian roulette, diffuse or specular direction. Returns false when
   /// roulette ends the ray.
   bool reflect(RayState& ray, const SurfaceHit& hit) const;
+  /// The face recorded in specular sequences for triangle t (Options::specularFaces).
+  uint32_t faceOf(uint32_t t) const { return t < faceOf_.size() ? faceOf_[t] : t; }
   /// Appends the ended ray's leading specular sequence, if any, to chunk.specularRuns.
   void noteSpecularRun(const RayState& ray, Chunk& chunk) const;
   /// Adds the chunks' specular sequences and all their prefixes to candidates, each reversed
@@ -337,31 +326,21 @@ class Propagator {
   /// One proposeSpecular ray: mirror reflections from `from` up to exactOrder_, its face
   /// sequence into chunk.specularRuns, its segments counted.
   void mirrorRun(uint64_t frameSeed, uint32_t rayIndex, const glm::vec3& from, Chunk& chunk) const;
-  void traceRay(uint64_t frameSeed, uint32_t sourceIndex, uint32_t rayIndex,
-                const glm::vec3& source, std::span<const ListenerSphere> listeners,
-                Chunk& chunk) const;
-  void traceChunkPacket(uint64_t frameSeed, uint32_t sourceIndex, uint32_t firstRay,
-                        uint32_t endRay, const glm::vec3& source,
-                        std::span<const ListenerSphere> listeners, Chunk& chunk) const;
+  void traceRay(const Pass& pass, uint32_t rayIndex, Chunk& chunk) const;
+  void traceChunkPacket(const Pass& pass, uint32_t firstRay, uint32_t endRay, Chunk& chunk) const;
+  /// The chunks of a frame of `rays` rays (grown as needed): their count and rays per chunk.
+  std::pair<uint32_t, uint32_t> chunksFor(int rays);
 
   const Geometry& geometry_;
   const Tracer& tracer_;
-  PropagationSettings settings_;
+  const PropagationSettings& settings_;
   Bands airPerMetre_{0.f};
   float minAir_ = 0.f;   ///< smallest band air attenuation, 1/m (roulette's upper bound)
   PathKeyRule keyRule_;  ///< order-adaptive path identifier (engine/patch.h)
-  bool includeDirectRays_ = false;
-  Directivity directivity_;  ///< setSourceDirectivity
-  glm::vec3 forward_{1.f, 0.f, 0.f};
-  std::span<const tsl::robin_set<uint64_t>* const> exactSets_;  ///< setExactSequences
-  std::span<const uint32_t> faceOf_;                            ///< setSpecularFaces
-  bool fromListeners_ = false;                                  ///< setFromListeners
-  std::span<const Directivity> receiverPatterns_;
-  std::span<const glm::vec3> receiverForwards_;
-  std::span<const uint32_t> sphereIds_;  ///< setSphereIds
-  SphereBvh sphereBvh_;                  ///< the frame's spheres, above kMaxLinearSpheres
-  std::vector<glm::vec4> sphereBoxes_;   ///< prepareSpheres' scratch
-  int exactOrder_ = 0;                   ///< exactOrder()
+  std::span<const uint32_t> faceOf_;  ///< Options::specularFaces
+  SphereBvh sphereBvh_;                 ///< the frame's spheres, above kMaxLinearSpheres
+  std::vector<glm::vec4> sphereBoxes_;  ///< prepareSpheres' scratch
+  int exactOrder_ = 0;                  ///< exactOrder()
   TraceMode traceMode_ = kDefaultTraceMode;
   std::unique_ptr<tbb::task_arena> arena_;
   std::vector<Chunk> chunks_;

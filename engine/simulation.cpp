@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <stdexcept>
+#include <string>
 
 #include "engine/embree_tracer.h"
 
@@ -9,28 +11,35 @@ namespace dpc {
 
 Simulation::Simulation(const SceneDesc& scene) : Simulation(scene, scene.propagation) {}
 
-Simulation::Simulation(const SceneDesc& scene, const PropagationSettings& settings)
+Simulation::Simulation(const SceneDesc& scene, const PropagationSettings& settings,
+                       const Options& simulationOptions)
     : settings_(settings),
       listenerRadius_(scene.listeners.empty() ? ListenerDesc{}.radius
-                                              : scene.listeners.front().radius) {
+                                              : scene.listeners.front().radius),
+      seed_(settings.seed) {
   geometry_ =
       std::make_unique<Geometry>(scene.mesh, scene.materials, settings_.patchSize, scene.objects);
   tracer_ = std::make_unique<EmbreeTracer>(scene.mesh, scene.objects);
-  propagator_ = std::make_unique<Propagator>(*geometry_, *tracer_, settings_);
+  Propagator::Options options;
+  options.traceMode = simulationOptions.traceMode;
+  options.keyRule = simulationOptions.keyRule;
+  if (std::clamp(std::min(settings_.exactOrder, settings_.maxOrder), 0, kMaxExactOrder) > 0) {
+    specularScene_ = std::make_unique<SpecularScene>(
+        scene.mesh, scene.objects, *geometry_, *tracer_,
+        propagationAirAttenuation(settings_), settings_.speedOfSound);
+    specularCandidates_ = std::make_unique<SpecularCandidates>();
+    options.specularFaces = specularScene_->faces().faces();
+  }
+  propagator_ = std::make_unique<Propagator>(*geometry_, *tracer_, settings_, options);
   cachePool_ = std::make_unique<CachePool>(size_t(double(settings_.cachePoolMb) * 1048576.0));
   if (settings_.diffraction) diffraction_ = std::make_unique<EdgeDiffraction>(scene.mesh);
-  if (propagator_->exactOrder() > 0) {
-    specularScene_ = std::make_unique<SpecularScene>(
-        scene.mesh, scene.objects, *geometry_, *tracer_, propagator_->airAttenuationPerMetre(),
-        settings_.speedOfSound);
-    specularCandidates_ = std::make_unique<SpecularCandidates>();
-    propagator_->setSpecularFaces(specularScene_->faces().faces());
-  }
   for (const SourceDesc& s : scene.sources) {
     sourcePositions_.push_back(s.position);
     directivities_.push_back(s.directivity);
-    sourceForwards_.push_back(sourceForward(sourceRotationAt(s, 0.0)));
+    initialForwards_.push_back(sourceForward(sourceRotationAt(s, 0.0)));
   }
+  sourceForwards_ = initialForwards_;
+  for (const ObjectDesc& o : scene.objects) initialObjectPoses_.push_back(objectPoseAt(o, 0.0));
   sourceCount_ = scene.sources.size();
   untraced_.reserve(sourceCount_);
   reserveListeners(1);
@@ -64,8 +73,7 @@ void Simulation::reserveListeners(size_t listeners) {
 }
 
 void Simulation::restart(uint64_t seed) {
-  settings_.seed = seed;
-  propagator_->setSeed(seed);
+  seed_ = seed;
   frame_ = 0;
   for (auto& cache : caches_) cache->clear();
   for (auto& cache : specularCaches_) cache->clear();
@@ -84,11 +92,6 @@ void Simulation::restartSource(size_t source) {
 void Simulation::restartListener(size_t listener) {
   for (size_t s = 0; s < sourceCount_ && listener < reserved_; ++s)
     restartPair(listener * sourceCount_ + s);
-}
-
-void Simulation::setListenerOrientation(size_t listener, const Orientation& orientation) {
-  if (orientations_.size() <= listener) orientations_.resize(listener + 1);
-  orientations_[listener] = orientation;
 }
 
 void Simulation::enableDirectional(const std::vector<glm::vec3>& listenerDirections) {
@@ -126,45 +129,77 @@ double Simulation::boundingVolume() const {
   return std::max(1.0, double(e.x) * e.y * e.z);
 }
 
-void Simulation::setRaysPerFrame(int n) {
-  settings_.raysPerFrame = std::max(1, n);
-  propagator_->setRaysPerFrame(settings_.raysPerFrame);
+FrameInputs Simulation::inputsAt(const glm::vec3& listenerPosition) const {
+  return inputsAt(listenerPosition, sourcePositions_);
 }
 
-void Simulation::setSourceRotations(const std::vector<glm::quat>& rotations) {
-  for (size_t s = 0; s < rotations.size() && s < sourceForwards_.size(); ++s)
-    sourceForwards_[s] = sourceForward(rotations[s]);
-}
-
-void Simulation::setObjectPoses(const std::vector<Pose>& poses) {
-  for (size_t k = 0; k < poses.size() && k < tracer_->objectCount(); ++k)
-    tracer_->setObjectPose(k, poses[k]);
-  tracer_->commitPoses();
-  if (specularScene_)
-    for (size_t k = 0; k < poses.size() && k < tracer_->objectCount(); ++k)
-      specularScene_->setObjectPose(k, poses[k]);
-}
-
-void Simulation::runFrame(const glm::vec3& listenerPosition) {
-  runFrame(listenerPosition, sourcePositions_);
-}
-
-void Simulation::runFrame(const glm::vec3& listenerPosition,
-                          const std::vector<glm::vec3>& sources) {
+FrameInputs Simulation::inputsAt(const glm::vec3& listenerPosition,
+                                 const std::vector<glm::vec3>& sources) const {
   const ListenerSphere listener{listenerPosition, listenerRadius_};
-  runFrame(std::span(&listener, 1), sources);
+  return inputsAt(std::span(&listener, 1), sources);
 }
 
-void Simulation::runFrame(std::span<const ListenerSphere> listeners,
-                          const std::vector<glm::vec3>& sources) {
-  const size_t L = std::max<size_t>(1, listeners.size());
+FrameInputs Simulation::inputsAt(std::span<const ListenerSphere> listeners,
+                                 const std::vector<glm::vec3>& sources) {
+  FrameInputs in;
+  in.listeners.assign(listeners.begin(), listeners.end());
+  in.sourcePositions = sources;
+  return in;
+}
+
+void Simulation::applyInputs(const FrameInputs& in) {
+  const std::vector<Pose>& poses = in.objectPoses.empty() ? initialObjectPoses_ : in.objectPoses;
+  if (!in.objectPoses.empty() || objectsMoved_) {
+    for (size_t k = 0; k < poses.size() && k < tracer_->objectCount(); ++k) {
+      tracer_->setObjectPose(k, poses[k]);
+      if (specularScene_) specularScene_->setObjectPose(k, poses[k]);
+    }
+    tracer_->commitPoses();
+    objectsMoved_ = !in.objectPoses.empty();
+  }
+  for (size_t s = 0; s < sourceCount_; ++s)
+    sourceForwards_[s] = s < in.sourceRotations.size() ? sourceForward(in.sourceRotations[s])
+                                                       : initialForwards_[s];
+  for (size_t l = 0; l < listenerCount_; ++l)
+    orientations_[l] =
+        l < in.listenerOrientations.size() ? in.listenerOrientations[l] : Orientation{};
+  for (size_t s = 0; s < sourceCount_; ++s)
+    if (in.sourceRestarted(s)) restartSource(s);
+  for (size_t l = 0; l < listenerCount_; ++l)
+    if (in.listenerRestarted(l)) restartListener(l);
+  skip_.assign(in.skippedPairs.begin(), in.skippedPairs.end());
+  rays_ = std::max(1, in.raysPerEmitter > 0 ? in.raysPerEmitter : settings_.raysPerFrame);
+  includeDirectRays_ = in.includeDirectRays;
+}
+
+TraceRequest Simulation::requestFor(uint32_t emitter, const glm::vec3& origin) const {
+  TraceRequest rq;
+  rq.seed = seed_;
+  rq.frame = frame_;
+  rq.emitter = emitter;
+  rq.origin = origin;
+  rq.rays = rays_;
+  rq.includeDirectRays = includeDirectRays_;
+  return rq;
+}
+
+void Simulation::runFrame(const FrameInputs& inputs) {
+  if (inputs.listeners.empty())
+    throw std::invalid_argument("Simulation::runFrame: the frame has no listener");
+  if (inputs.sourcePositions.size() != sourceCount_)
+    throw std::invalid_argument("Simulation::runFrame: " +
+                                std::to_string(inputs.sourcePositions.size()) +
+                                " source positions for " + std::to_string(sourceCount_) +
+                                " sources");
+  const size_t L = inputs.listeners.size();
   reserveListeners(L);
   listenerCount_ = L;
+  applyInputs(inputs);
   frameTrace_ = TraceStats{};
-  if (tracesFromListeners(settings_.tracing, sourceCount_, listeners.size()))
-    traceFromListeners(listeners, sources);
+  if (tracesFromListeners(settings_.tracing, sourceCount_, L))
+    traceFromListeners(inputs.listeners, inputs.sourcePositions);
   else
-    traceFromSources(listeners, sources);
+    traceFromSources(inputs.listeners, inputs.sourcePositions);
   ++frame_;
 }
 
@@ -184,16 +219,18 @@ void Simulation::traceFromSources(std::span<const ListenerSphere> listeners,
     }
     const auto t0 = std::chrono::steady_clock::now();
     for (size_t l = 0; l < listeners.size(); ++l) groups_[l].clear();
+    TraceRequest rq = requestFor(uint32_t(s), sources[s]);
+    rq.pattern = directivities_[s];
+    rq.forward = sourceForwards_[s];
+    rq.receivers = listeners;
     if (specularCandidates_) {
       specularCandidates_->clear();
       for (size_t l = 0; l < listeners.size(); ++l)
         exactSetPtrs_[l] = &specularCaches_[l * sourceCount_ + s]->validKeys();
-      propagator_->setExactSequences(std::span(exactSetPtrs_.data(), listeners.size()));
+      rq.exactSequences = std::span(exactSetPtrs_.data(), listeners.size());
     }
-    propagator_->setSourceDirectivity(directivities_[s], sourceForwards_[s]);
-    const TraceStats trace = propagator_->traceFrame(frame_, uint32_t(s), sources[s], listeners,
-                                                     std::span(groupPtrs_.data(), listeners.size()),
-                                                     specularCandidates_.get());
+    const TraceStats trace = propagator_->traceFrame(
+        rq, std::span(groupPtrs_.data(), listeners.size()), specularCandidates_.get());
     addPass(trace);
     if (specularCandidates_) specularCandidateOverflow_ += specularCandidates_->overflow();
     const double traceSeconds =
@@ -215,7 +252,7 @@ void Simulation::finishUntraced(std::span<const ListenerSphere> listeners,
     TraceStats trace;
     if (specularCandidates_) {
       specularCandidates_->clear();
-      trace = propagator_->proposeSpecular(frame_, uint32_t(l), listeners[l].position,
+      trace = propagator_->proposeSpecular(requestFor(uint32_t(l), listeners[l].position),
                                            *specularCandidates_);
       addPass(trace);
       specularCandidateOverflow_ += specularCandidates_->overflow();
@@ -270,30 +307,27 @@ void Simulation::traceFromListeners(std::span<const ListenerSphere> listeners,
                                     const std::vector<glm::vec3>& sources) {
   reserveSourceGroups();
   const size_t S = std::min(sourceCount_, sources.size());
-  propagator_->setSourceDirectivity(Directivity{}, glm::vec3(1.f, 0.f, 0.f));  // the listener
   for (size_t l = 0; l < listeners.size(); ++l) {
     const auto t0 = std::chrono::steady_clock::now();
     // The spheres of the sources traced for this listener, keyed by their source index so
     // that a pair's path identifiers do not depend on which others are left out.
     const size_t n = compactSources(l, listeners[l], sources, S);
+    TraceRequest rq = requestFor(uint32_t(l), listeners[l].position);
+    rq.fromListener = true;
+    rq.receivers = std::span(sourceSpheres_.data(), n);
+    rq.receiverIds = std::span(liveIds_.data(), n);
+    rq.receiverPatterns = std::span(livePatterns_.data(), n);
+    rq.receiverForwards = std::span(liveForwards_.data(), n);
     if (specularCandidates_) {
       specularCandidates_->clear();
-      propagator_->setExactSequences(std::span(liveExactSetPtrs_.data(), n));
+      rq.exactSequences = std::span(liveExactSetPtrs_.data(), n);
     }
     TraceStats trace;
-    if (n > 0) {
-      propagator_->setFromListeners(true, std::span(livePatterns_.data(), n),
-                                    std::span(liveForwards_.data(), n));
-      propagator_->setSphereIds(std::span(liveIds_.data(), n));
-      trace = propagator_->traceFrame(
-          frame_, uint32_t(l), listeners[l].position, std::span(sourceSpheres_.data(), n),
-          std::span(liveGroupPtrs_.data(), n), specularCandidates_.get());
-      propagator_->setFromListeners(false);
-      propagator_->setSphereIds({});
-    } else if (specularCandidates_) {
-      trace = propagator_->proposeSpecular(frame_, uint32_t(l), listeners[l].position,
-                                           *specularCandidates_);
-    }
+    if (n > 0)
+      trace = propagator_->traceFrame(rq, std::span(liveGroupPtrs_.data(), n),
+                                      specularCandidates_.get());
+    else if (specularCandidates_)
+      trace = propagator_->proposeSpecular(rq, *specularCandidates_);
     addPass(trace);
     if (specularCandidates_) specularCandidateOverflow_ += specularCandidates_->overflow();
     const double traceSeconds =

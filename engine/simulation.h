@@ -19,17 +19,25 @@
 // Directional sources (SourceDesc::directivity): the propagator weights each source's rays and
 // direct sound, and each pair's exact paths are weighted toward their first reflection point.
 //
+// Inputs flow down as values: a frame's inputs (where everything is, rays, restarts, skipped
+// pairs) come with each runFrame as one FrameInputs (engine/frame_inputs.h), and the
+// simulation hands one TraceRequest per emitter to the Propagator; the settings and the scene
+// are fixed at construction. Nothing set for one frame carries over to the next.
+//
 // Propagation thread: construct, runFrame, read results; not safe to share between threads.
 // Construction allocates (BVH, tables) and throws std::runtime_error on an Embree error;
-// runFrame allocates only while tables grow. No errors otherwise.
+// runFrame allocates only while tables grow; it throws std::invalid_argument for inputs that
+// do not fit the scene (no listener, a source count other than the scene's).
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include "engine/diffraction.h"
 #include "engine/energy_response.h"
+#include "engine/frame_inputs.h"
 #include "engine/geometry.h"
 #include "engine/path_cache.h"
 #include "engine/propagation.h"
@@ -45,11 +53,20 @@ class Simulation {
   /// Energy response bin width, seconds.
   static constexpr double kEnergyBinSeconds = 1e-3;
 
+  /// What is fixed for the simulation's life besides the scene and the settings.
+  struct Options {
+    TraceMode traceMode = kDefaultTraceMode;  ///< the propagator's queries
+    /// The path identifier rule; none: the propagator's default (engine/patch.h).
+    std::optional<PathKeyRule> keyRule;
+  };
+
   /// Uses scene.mesh, materials, sources, listeners[0].radius (runFrame(position)) and the
   /// propagation settings.
   explicit Simulation(const SceneDesc& scene);
-  /// As above with other propagation settings (e.g. command-line overrides).
-  Simulation(const SceneDesc& scene, const PropagationSettings& settings);
+  /// As above with other propagation settings (e.g. command-line overrides) and options.
+  Simulation(const SceneDesc& scene, const PropagationSettings& settings, const Options& options);
+  Simulation(const SceneDesc& scene, const PropagationSettings& settings)
+      : Simulation(scene, settings, Options{}) {}
 
   struct SourceResult {
     EnergyResponse energy;  ///< this frame's estimate, 1/m^2 per 1 ms bin and band
@@ -75,72 +92,57 @@ class Simulation {
     double specularSeconds = 0.0;     ///< wall time of this pair's validation
   };
 
-  /// Traces one frame from every source to a listener at listenerPosition (metres), with the
-  /// scene's listener radius; results go to listener index 0.
-  void runFrame(const glm::vec3& listenerPosition);
-  /// Same, with source positions other than the scene's (one per source).
-  void runFrame(const glm::vec3& listenerPosition, const std::vector<glm::vec3>& sources);
-  /// One pass for several listeners: each source's rays are traced once and tested against
-  /// every sphere in `listeners` (index l = listener l: its own cache per source, path
-  /// identifiers carrying l). The first frame with more listeners than before allocates their
-  /// caches and responses. Listener l's results: result(source, l), directional(source, l).
-  void runFrame(std::span<const ListenerSphere> listeners, const std::vector<glm::vec3>& sources);
+  /// One frame (docs/design.md, "World state"): every source's rays traced once and tested
+  /// against every listener of `inputs` (from the sources), or every listener's rays against
+  /// every source (from the listeners, PropagationSettings::tracing); each source-listener
+  /// pair's estimator updated, its direct sound (with edge diffraction) and exact specular
+  /// paths computed. Pair (s, l)'s results: result(s, l), directional(s, l), specularPaths(s, l).
+  /// The first frame with more listeners than before allocates their caches and responses.
+  /// Skipped pairs (FrameInputs::skippedPairs, played from a bake): the estimator is not
+  /// updated and the energy (and directional) response is empty; the direct sound, edge
+  /// diffraction and exact specular paths are computed as every pair's. From the sources, a
+  /// source skipped for every listener traces no ray; from the listeners, a listener's pass
+  /// leaves the skipped sources' spheres out (and, with none left, is not traced). The exact
+  /// paths of a pair that no ray of this frame served take their candidates from one
+  /// Propagator::proposeSpecular pass per listener. A pair traced again after skipped frames
+  /// starts its path cache over, as a restart does: its entries are as old as its last traced
+  /// frame, when the listener may have stood elsewhere; its exact-path cache, kept live, stays.
+  void runFrame(const FrameInputs& inputs);
+  /// The inputs of a frame with the scene's sources (or `sources`, one per source) and one
+  /// listener at listenerPosition with the scene's first listener's radius; nothing else
+  /// changed. Any thread; allocates.
+  FrameInputs inputsAt(const glm::vec3& listenerPosition) const;
+  FrameInputs inputsAt(const glm::vec3& listenerPosition,
+                       const std::vector<glm::vec3>& sources) const;
+  /// The same for several listeners (index l: listener l).
+  static FrameInputs inputsAt(std::span<const ListenerSphere> listeners,
+                              const std::vector<glm::vec3>& sources);
+  /// runFrame(inputsAt(...)): the conveniences of tests and benchmarks.
+  void runFrame(const glm::vec3& listenerPosition) { runFrame(inputsAt(listenerPosition)); }
+  void runFrame(const glm::vec3& listenerPosition, const std::vector<glm::vec3>& sources) {
+    runFrame(inputsAt(listenerPosition, sources));
+  }
+  void runFrame(std::span<const ListenerSphere> listeners, const std::vector<glm::vec3>& sources) {
+    runFrame(inputsAt(listeners, sources));
+  }
 
-  /// Rays per source for the following frames (n >= 1; settings().raysPerFrame follows).
-  /// Every estimator normalises a frame by the rays that frame traced (TraceStats::rays), so
-  /// frames of different counts average without bias. Propagation thread, between frames;
-  /// allocates only if n needs more trace chunks than any frame before.
-  void setRaysPerFrame(int n);
-
-  /// Orients the sources for the following frames (one unit quaternion per source, scene
-  /// order; the scene's sourceRotationAt): each directional source's forward axis is
-  /// rotation * (+x) (scene/directivity.h). Omni sources ignore it. No allocation.
-  void setSourceRotations(const std::vector<glm::quat>& rotations);
   /// Starts over as a Simulation constructed with settings().seed = seed would: frame count 0,
   /// every cache emptied, so the following frames are bit-identical to a fresh one's while the
   /// geometry, tracer and edge tables are kept (independent runs at many points, e.g. the
   /// probes of a bake). Propagation thread, between frames; no allocation.
   void restart(uint64_t seed);
+  /// The seed of the running frames (settings().seed, or the last restart's).
+  uint64_t seed() const { return seed_; }
 
-  /// Source `source` jumped (a teleport): its pairs' caches (path and exact-path) start over,
-  /// so the next frame's responses hold nothing of its old place. Propagation thread, between
-  /// frames; no allocation.
-  void restartSource(size_t source);
-  /// The same for every pair of listener `listener` (a listener index of the frames traced).
-  void restartListener(size_t listener);
-
-  /// Pairs whose energy response is not wanted from the next frame on (played from a bake,
-  /// runtime/baked_playback.h): skip[l * sourceCount() + s] != 0 skips source s for listener l
-  /// (entries beyond skip's size: not skipped; empty, the default: nothing skipped). A skipped
-  /// pair's estimator is not updated and its energy (and directional) response is empty; its
-  /// direct sound, edge diffraction and exact specular paths are computed as every pair's.
-  /// From the sources, a source skipped for every listener traces no ray; from the listeners,
-  /// a listener's pass leaves the skipped sources' spheres out (and, with none left, is not
-  /// traced). The exact paths of a pair that no ray of this frame served take their candidates
-  /// from one Propagator::proposeSpecular pass per listener (at most exact_order segments a
-  /// ray, shared by all such sources). A pair traced again after skipped frames starts its path
-  /// cache over, as a teleport does: its entries are as old as its last traced frame, when the
-  /// listener may have stood elsewhere, and the estimators read out an unbiased response from
-  /// a restarted cache's first frame; its exact-path cache, kept live, stays. Propagation
-  /// thread, between frames; allocates only while the mask grows.
-  void setSkippedPairs(std::span<const uint8_t> skip) { skip_.assign(skip.begin(), skip.end()); }
-  /// Whether the last frame skipped pair (source, listener) (setSkippedPairs).
+  /// Whether the last frame skipped pair (source, listener) (FrameInputs::skippedPairs).
   bool skipped(size_t source, size_t listener) const {
     const size_t pair = listener * sourceCount_ + source;
     return pair < skip_.size() && skip_[pair] != 0;
   }
 
-  /// Moves the scene's objects (one pose per object, scene order) for the following frames
-  /// (Tracer::setObjectPose, then commitPoses). No allocation.
-  void setObjectPoses(const std::vector<Pose>& poses);
-
   /// Also produce, per source, a DirectionalEnergyResponse over these listener-frame
   /// directions (for spatial IR synthesis). Allocates.
   void enableDirectional(const std::vector<glm::vec3>& listenerDirections);
-  /// Listener 0's orientation for the following frames (world forward/up; see Orientation).
-  void setListenerOrientation(const Orientation& orientation) { orientations_[0] = orientation; }
-  /// Listener l's orientation for the following frames (grows the table; allocates then).
-  void setListenerOrientation(size_t listener, const Orientation& orientation);
   /// Valid after runFrame when enableDirectional was called.
   const DirectionalEnergyResponse& directional(size_t source, size_t listener = 0) const {
     return directional_[listener * sourceCount_ + source];
@@ -187,6 +189,11 @@ class Simulation {
  private:
   /// Caches, responses and groups for `listeners` listeners (grows only).
   void reserveListeners(size_t listeners);
+  /// The frame's inputs that are state for its duration: object poses into the tracer,
+  /// sources' forward axes, listeners' orientations, restarts, the skip mask and the rays.
+  void applyInputs(const FrameInputs& inputs);
+  /// The request of one emitter's trace this frame (rays, seed, frame, origin).
+  TraceRequest requestFor(uint32_t emitter, const glm::vec3& origin) const;
   /// Per source, a trace's hits in one pass from each source (rays from the sources).
   void traceFromSources(std::span<const ListenerSphere> listeners,
                         const std::vector<glm::vec3>& sources);
@@ -195,6 +202,9 @@ class Simulation {
                           const std::vector<glm::vec3>& sources);
   /// Empties one pair's path and exact-path caches (a teleport).
   void restartPair(size_t pair);
+  /// Every pair of source `source` (of listener `listener`) starts over.
+  void restartSource(size_t source);
+  void restartListener(size_t listener);
   /// Whether source s is skipped for each of `listeners` listeners (traces no ray).
   bool skippedForAll(size_t s, size_t listeners) const;
   /// From the sources: the pairs of the sources that traced no ray this frame (untraced_),
@@ -228,11 +238,17 @@ class Simulation {
   void updateSpecular(size_t pair, const glm::vec3& source, const ListenerSphere& listener,
                       SourceResult& r);
 
-  PropagationSettings settings_;
+  const PropagationSettings settings_;
   float listenerRadius_;
-  std::vector<glm::vec3> sourcePositions_;
+  uint64_t seed_;  ///< seed()
+  int rays_ = 1;   ///< this frame's rays per emitter (FrameInputs::raysPerEmitter)
+  bool includeDirectRays_ = false;  ///< this frame's FrameInputs::includeDirectRays
+  std::vector<glm::vec3> sourcePositions_;  ///< the scene's, for inputsAt
   std::vector<Directivity> directivities_;  ///< per source, the scene's
-  std::vector<glm::vec3> sourceForwards_;   ///< per source, unit forward axis (world)
+  std::vector<glm::vec3> initialForwards_;  ///< per source, at scene time 0
+  std::vector<glm::vec3> sourceForwards_;   ///< per source this frame, unit forward (world)
+  std::vector<Pose> initialObjectPoses_;    ///< per object, at scene time 0
+  bool objectsMoved_ = false;               ///< the tracer holds poses other than the initial
   std::unique_ptr<Geometry> geometry_;
   std::unique_ptr<Tracer> tracer_;
   std::unique_ptr<Propagator> propagator_;
@@ -262,14 +278,14 @@ class Simulation {
   std::vector<Directivity> livePatterns_;
   std::vector<glm::vec3> liveForwards_;
   std::vector<uint32_t> liveIds_;  ///< source index of each compacted sphere (path keys)
-  std::vector<uint8_t> skip_;      ///< setSkippedPairs, per pair
+  std::vector<uint8_t> skip_;      ///< this frame's FrameInputs::skippedPairs, per pair
   std::vector<uint8_t> idle_;      ///< per pair: skipped in its last frame
   std::vector<size_t> untraced_;   ///< from the sources: this frame's sources traced for none
   FrameGroups noGroups_;           ///< what a skipped pair is handed (it reads none)
   /// Per listener, the traced source's pair's SpecularPathCache::validKeys
   std::vector<const tsl::robin_set<uint64_t>*> exactSetPtrs_;
   std::vector<glm::vec3> directions_;    ///< enableDirectional's listener-frame directions
-  std::vector<Orientation> orientations_{1};
+  std::vector<Orientation> orientations_{1};  ///< per listener, this frame's
   // Exact specular paths (null / empty while exactOrder is 0):
   std::unique_ptr<SpecularScene> specularScene_;
   std::unique_ptr<SpecularCandidates> specularCandidates_;  ///< this source's frame

@@ -77,6 +77,12 @@ class PyEngine : public dpc::Engine {
     const std::lock_guard<std::mutex> lock(stepMutex_);
     dpc::Engine::step();
   }
+  /// dpc_stats.frames. stats() is a control-thread call, as step() is: under the same lock.
+  uint64_t frames() {
+    py::gil_scoped_release release;
+    const std::lock_guard<std::mutex> lock(stepMutex_);
+    return stats().frames;
+  }
 
  private:
   std::mutex stepMutex_;
@@ -146,6 +152,21 @@ std::unique_ptr<PyEngine> fromArrays(FloatArray vertices, py::object triangles,
        listenerRadius, rays, maxOrder, irLength, seed, sampleRate, std::move(output)}));
 }
 
+/// numpy, which every response is returned as. Without it the import fails with an ImportError
+/// that says so and names the interpreter (pybind11 would report only "initialization failed",
+/// the reason hidden in the chained exception): thrown as a C++ exception, whose text
+/// PYBIND11_MODULE passes on as the ImportError's.
+void importNumpy() {
+  try {
+    py::module_::import("numpy");
+  } catch (py::error_already_set& e) {
+    const std::string python = py::str(py::module_::import("sys").attr("executable"));
+    throw std::runtime_error("dpc needs numpy, which " + python + " cannot import (" +
+                             e.what() + "); install it for that interpreter (Debian: "
+                             "python3-numpy; a venv: python3 -m venv --system-site-packages)");
+  }
+}
+
 void bindEngine(py::module_& m) {
   py::class_<PyEngine>(m, "Engine", R"(A scene's engine, stepped one propagation frame at a
 time from Python (the C API's dpc_engine): set poses, step(), read the responses.)")
@@ -158,12 +179,23 @@ time from Python (the C API's dpc_engine): set poses, step(), read the responses
                   py::arg("ir_length") = 2.0f, py::arg("seed") = 1, py::arg("sample_rate") = 48000,
                   py::arg("output") = "mono",
                   "A scene from arrays (m, octave bands 63 Hz .. 8 kHz); no dry signals.")
-      .def_property_readonly("sample_rate", &dpc::Engine::sampleRate)
-      .def_property_readonly("output_channels", &dpc::Engine::outputChannels)
-      .def_property_readonly("ir_channels", &dpc::Engine::irChannels)
-      .def_property_readonly("source_count", &dpc::Engine::sourceCount)
-      .def_property_readonly("listener_count", &dpc::Engine::listenerCount)
-      .def_property_readonly("object_count", &dpc::Engine::objectCount)
+      // Getters as lambdas on PyEngine: pybind11 2.10 (Debian 12) binds a noexcept member of
+      // the base dpc::Engine with `self` typed as dpc::Engine, a type it does not know, so
+      // every call raised TypeError (its method_adaptor has no noexcept overloads).
+      .def_property_readonly("sample_rate", [](const PyEngine& e) { return e.sampleRate(); },
+                             "Hz")
+      .def_property_readonly("block_size", [](const PyEngine& e) { return e.blockSize(); },
+                             "frames of one audio block")
+      .def_property_readonly("output_channels",
+                             [](const PyEngine& e) { return e.outputChannels(); })
+      .def_property_readonly("ir_channels", [](const PyEngine& e) { return e.irChannels(); },
+                             "rows of impulse_response()")
+      .def_property_readonly("source_count", [](const PyEngine& e) { return e.sourceCount(); })
+      .def_property_readonly("listener_count",
+                             [](const PyEngine& e) { return e.listenerCount(); })
+      .def_property_readonly("object_count", [](const PyEngine& e) { return e.objectCount(); })
+      .def_property_readonly("frames", &PyEngine::frames,
+                             "Propagation frames traced so far (step() adds one).")
       .def("set_listener_pose", &setListenerPose, py::arg("listener"), py::arg("position"),
            py::arg("yaw_degrees") = 0.f, py::arg("pitch_degrees") = 0.f,
            py::arg("roll_degrees") = 0.f)
@@ -192,7 +224,7 @@ PYBIND11_MODULE(dpc, m) {
   // two threads making their first arrays at once deadlock there (one holds the static's guard
   // and waits for the GIL, the other holds the GIL and waits for the guard). numpy imported
   // and one array made here, while the module loads on one thread, do that lookup now.
-  py::module_::import("numpy");
+  dpc::python::importNumpy();
   py::array_t<float>(0);
   dpc::python::bindErrors(m);
   dpc::python::bindEngine(m);

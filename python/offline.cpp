@@ -130,8 +130,10 @@ void bindOffline(py::module_& m) {
       .def(
           "impulse_response",
           [](const Render& r, size_t source) {
-            return channelsArray(
-                std::vector<std::vector<float>>(checked(r, source).lastIrs[source]));
+            const ImpulseResponse& ir = checked(r, source).lastIrs[source];
+            std::vector<std::vector<float>> channels;
+            for (int c = 0; c < ir.channels(); ++c) channels.push_back(ir.channelCopy(c));
+            return channelsArray(std::move(channels));
           },
           py::arg("source") = 0,
           "The last frame's IR of a source: float32 array, channels x samples, as dpc-demo "

@@ -34,13 +34,16 @@ audio::BinauralDecoderOptions binauralDecoder(const SceneDesc& scene, const audi
 }  // namespace
 
 AudioStage::AudioStage(std::shared_ptr<const audio::NonUniformLayout> layout,
-                       std::shared_ptr<const DrySignals> dry, int numOutputs,
-                       std::shared_ptr<const audio::NonUniformLayout> lateLayout, int lateBuses)
+                       std::shared_ptr<const DrySignals> dry, int numOutputs, IrExchange& exchange,
+                       size_t channel, std::shared_ptr<const audio::NonUniformLayout> lateLayout,
+                       int lateBuses)
     : layout_(std::move(layout)),
       dry_(std::move(dry)),
       numOutputs_(numOutputs),
       convolver_(*layout_, int(dry_->samples.size()), numOutputs),
-      lateLayout_(std::move(lateLayout)) {
+      lateLayout_(std::move(lateLayout)),
+      exchange_(exchange),
+      channel_(channel) {
   assert(dry_->loop.size() == dry_->samples.size());
   tail_.assign(dry_->samples.size() * size_t(layout_->blockSize()), 0.f);
   in_.assign(dry_->samples.size(), nullptr);
@@ -53,8 +56,9 @@ AudioStage::AudioStage(std::shared_ptr<const audio::NonUniformLayout> layout,
   }
 }
 
-AudioStage::AudioStage(const PropagationStage& propagation, std::shared_ptr<const DrySignals> dry)
-    : AudioStage(propagation.layout(), std::move(dry), propagation.numOutputs(),
+AudioStage::AudioStage(const PropagationStage& propagation, std::shared_ptr<const DrySignals> dry,
+                       IrExchange& exchange, size_t channel)
+    : AudioStage(propagation.layout(), std::move(dry), propagation.numOutputs(), exchange, channel,
                  propagation.lateLayout(), propagation.lateBuses()) {
   const SceneDesc& scene = propagation.scene();
   if (scene.audio.output != OutputFormat::kAmbisonicBinaural) return;
@@ -89,26 +93,21 @@ void AudioStage::setHeadOrientation(const Orientation& head) {
   head_->setRotation(audio::headRotation(refForward, refUp, forward, up));
 }
 
-void AudioStage::offer(IrSet* set) {
-  if (pending_) spent_.tryPush(pending_);  // a full ring counts it (lostSets())
-  pending_ = set;
-}
-
-void AudioStage::applyPending() {
-  if (!pending_) return;
-  int slot = 0;
-  while (slot < kInFlightCapacity && inFlight_[slot].set) ++slot;
-  // A full table or retired list (spent sets not drained) keeps the set pending.
-  if (slot == kInFlightCapacity || !convolver_.canAccept(pending_->irs.get())) return;
-  if (lateConvolver_ && !lateConvolver_->canAccept(pending_->lateIrs.get())) return;
-  convolver_.setNextIr(pending_->irs.get());
+void AudioStage::applyNewest() {
+  // A convolver without room keeps the newest set in the exchange's mailbox, where a newer
+  // one may still replace it.
+  if (!convolver_.canAccept(nullptr) || (lateConvolver_ && !lateConvolver_->canAccept(nullptr)))
+    return;
+  IrSet* set = exchange_.takeNewest(channel_);
+  if (!set) return;
+  convolver_.setNextIr(set->irs.get());
+  set->convolversHolding = 1;
   if (lateConvolver_) {
-    lateConvolver_->setNextIr(pending_->lateIrs.get());
-    lateMixer_->setTargets(pending_->lateBus, pending_->lateGain);
+    lateConvolver_->setNextIr(set->lateIrs.get());
+    lateMixer_->setTargets(set->lateBus, set->lateGain);
+    set->convolversHolding = 2;
   }
-  inFlight_[slot] = InFlight{pending_, false, !lateConvolver_};
-  current_ = pending_;
-  pending_ = nullptr;
+  current_ = set;
   ++applied_;
 }
 
@@ -141,16 +140,9 @@ void AudioStage::readDry(size_t s, size_t B) {
   }
 }
 
-void AudioStage::retire(const audio::NonUniformIrSet* retired, bool late) {
-  for (InFlight& f : inFlight_) {
-    if (!f.set || (late ? f.set->lateIrs.get() : f.set->irs.get()) != retired) continue;
-    (late ? f.late : f.early) = true;
-    if (f.early && f.late) {
-      spent_.tryPush(f.set);  // a full ring counts it (lostSets())
-      f = InFlight{};
-    }
-    return;
-  }
+void AudioStage::retire(const audio::NonUniformIrSet* part, bool late) {
+  IrSet* set = exchange_.find(part, late);
+  if (set && --set->convolversHolding == 0) exchange_.release(channel_, set);
 }
 
 void AudioStage::collectRetired() {
@@ -178,7 +170,7 @@ void AudioStage::readHostInput(size_t s, size_t B, const float* x) {
 void AudioStage::process(float* const* out, const float* const* inputs) {
   DPC_ASSERT_AUDIO_THREAD();
   const size_t B = size_t(layout_->blockSize());
-  applyPending();
+  applyNewest();
   for (size_t s = 0; s < in_.size(); ++s) {
     if (inputs)
       readHostInput(s, B, inputs[s]);
@@ -196,11 +188,6 @@ void AudioStage::process(float* const* out, const float* const* inputs) {
   collectRetired();
   position_ += B;
   ++blocks_;
-}
-
-IrSet* AudioStage::takeSpent() {
-  IrSet* s = nullptr;
-  return spent_.tryPop(s) ? s : nullptr;
 }
 
 void AudioStage::setIrSwapSpread(int blocks) {

@@ -3,7 +3,7 @@
 // listener that sees a probe: its late response is interpolated between the probes the
 // listener can see, its direct sound (and the direct sound's occlusion and diffraction) is the
 // live simulation's, and its exact early paths stay live. Such a pair is not traced at all
-// (bakedPairs() goes to Simulation::setSkippedPairs before the frame is traced), so a bake
+// (bakedPairs() goes to FrameInputs::skippedPairs before the frame is traced), so a bake
 // saves the static sources' tracing and cache updates. Moving sources, sources the bake lacks,
 // and listeners that see no probe use the live response (the DPC); the fallbacks are counted
 // (stats()).
@@ -38,7 +38,7 @@ class BakedPlayback {
   /// stand at their baked positions, and the probes each listener sees. Fills bakedPairs().
   void beginFrame(std::span<const glm::vec3> sources, std::span<const ListenerSphere> listeners);
   /// Per pair, index listener * sources + source: 1 when the pair is played from the bake this
-  /// frame (its source is static and its listener sees a probe), for Simulation::setSkippedPairs.
+  /// frame (its source is static and its listener sees a probe), for FrameInputs::skippedPairs.
   const std::vector<uint8_t>& bakedPairs() const { return pairs_; }
   /// Source s's energy response for listener l to synthesise: the interpolated one when the
   /// pair is baked this frame, else `live`. The reference is valid until the next call.

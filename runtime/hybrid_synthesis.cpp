@@ -126,14 +126,14 @@ void HybridSynthesis::prepareBuses(const Simulation& sim, size_t listener) {
 }
 
 double HybridSynthesis::splitSource(const Simulation& sim, size_t s, size_t listener, int k,
-                                    BakedPlayback* baked, std::vector<std::vector<float>>& early) {
+                                    BakedPlayback* baked, ImpulseResponse& early) {
   Scratch& x = *scratch_;
   const Simulation::SourceResult& r = sim.result(s, listener);
   const std::vector<SpecularPath>& paths = sim.specularPaths(s, listener);
   earlyPaths(paths, split_, x.paths);
   DirectSound direct = r.direct;
-  x.channels.resize(early.size());
-  for (size_t c = 0; c < early.size(); ++c) x.channels[c] = early[c].data();
+  x.channels.resize(size_t(early.channels()));
+  for (int c = 0; c < early.channels(); ++c) x.channels[size_t(c)] = early.channel(c);
   const DirectionalEnergyResponse& live = sim.directional(s, listener);
   const DirectionalEnergyResponse& in = baked ? baked->directional(s, listener, live) : live;
   const LateShare share = addLate(in, direct, paths, split_, x.lateDir[size_t(k)]);
@@ -165,7 +165,7 @@ double HybridSynthesis::addMonoLate(const Simulation& sim, size_t s, size_t list
 
 void HybridSynthesis::synthesizeMonoEarly(const Simulation& sim, size_t s, size_t listener,
                                           size_t w, BakedPlayback* baked,
-                                          std::vector<std::vector<float>>& early) {
+                                          ImpulseResponse& early) {
   WorkerScratch& x = workers_[w];
   const Simulation::SourceResult& r = sim.result(s, listener);
   earlyPaths(sim.specularPaths(s, listener), split_, x.paths);
@@ -177,11 +177,11 @@ void HybridSynthesis::synthesizeMonoEarly(const Simulation& sim, size_t s, size_
   else
     copyPrefix(r.energy, x.early);
   keepEarly(x.early, split_);
-  earlyMono_[s]->synthesize(x.early, direct, early[0].data(), x.paths);
+  earlyMono_[s]->synthesize(x.early, direct, early.channel(0), x.paths);
 }
 
 void HybridSynthesis::splitSources(const Simulation& sim, size_t listener, BakedPlayback* baked,
-                                   std::vector<std::vector<std::vector<float>>>& early,
+                                   std::vector<ImpulseResponse>& early,
                                    std::span<int> bus) {
   Scratch& x = *scratch_;
   const size_t S = sim.sourceCount();
@@ -204,10 +204,10 @@ void HybridSynthesis::splitSources(const Simulation& sim, size_t listener, Baked
     group(0);
 }
 
-void HybridSynthesis::synthesizeBus(int k, std::vector<std::vector<float>>& late) {
+void HybridSynthesis::synthesizeBus(int k, ImpulseResponse& late) {
   Scratch& x = *scratch_;
-  x.channels.resize(late.size());
-  for (size_t c = 0; c < late.size(); ++c) x.channels[c] = late[c].data();
+  x.channels.resize(size_t(late.channels()));
+  for (int c = 0; c < late.channels(); ++c) x.channels[size_t(c)] = late.channel(c);
   const DirectSound none;
   if (spatial_)
     spatial_->synthesize(x.lateDir[size_t(k)], none, x.channels);
@@ -218,8 +218,8 @@ void HybridSynthesis::synthesizeBus(int k, std::vector<std::vector<float>>& late
 void HybridSynthesis::prepare(const Simulation& sim, size_t listener,
                               const glm::vec3& listenerPosition, std::span<const glm::vec3> sources,
                               BakedPlayback* baked,
-                              std::vector<std::vector<std::vector<float>>>& early,
-                              std::vector<std::vector<std::vector<float>>>& late,
+                              std::vector<ImpulseResponse>& early,
+                              std::vector<ImpulseResponse>& late,
                               std::span<float> gain, std::span<int> bus) {
   Scratch& x = *scratch_;
   const size_t S = sim.sourceCount();

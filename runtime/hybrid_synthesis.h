@@ -19,6 +19,7 @@
 #include <span>
 #include <vector>
 
+#include "common/impulse_response.h"
 #include "engine/simulation.h"
 #include "scene/scene.h"
 #include "synthesis/hybrid_split.h"
@@ -76,13 +77,13 @@ class HybridSynthesis {
   /// The early parts' spatial synthesiser (nullptr for mono output), for its set-up.
   SpatialIrSynthesizer* earlySpatial() { return earlySpatial_.get(); }
 
-  /// One frame for `listener`: early[s][c] (earlySamples()) per source, late[k][c] (full
-  /// length) per bus, gain[s] and bus[s] (the late gain and bus of source s). sources: the
+  /// One frame for `listener`: early[s] (earlySamples()) per source, late[k] (full length)
+  /// per bus, gain[s] and bus[s] (the late gain and bus of source s). sources: the
   /// sources' world positions; listenerPosition metres. baked: the attached bake or nullptr.
   void prepare(const Simulation& sim, size_t listener, const glm::vec3& listenerPosition,
                std::span<const glm::vec3> sources, BakedPlayback* baked,
-               std::vector<std::vector<std::vector<float>>>& early,
-               std::vector<std::vector<std::vector<float>>>& late, std::span<float> gain,
+               std::vector<ImpulseResponse>& early,
+               std::vector<ImpulseResponse>& late, std::span<float> gain,
                std::span<int> bus);
 
   const HybridCounts& counts(size_t listener) const { return counts_.at(listener); }
@@ -95,18 +96,18 @@ class HybridSynthesis {
   /// Source s's early IR into early[s] and its late part into its bus's response; returns its
   /// late energy. Spatial output.
   double splitSource(const Simulation& sim, size_t s, size_t listener, int k, BakedPlayback* baked,
-                     std::vector<std::vector<float>>& early);
+                     ImpulseResponse& early);
   /// Mono output: source s's late part into bus k's response (serial: buses are shared);
   /// returns its late energy and records whether its direct sound went late.
   double addMonoLate(const Simulation& sim, size_t s, size_t listener, int k, BakedPlayback* baked);
   /// Mono output: source s's early IR into early (channel 0) with worker w's scratch.
   void synthesizeMonoEarly(const Simulation& sim, size_t s, size_t listener, size_t w,
-                           BakedPlayback* baked, std::vector<std::vector<float>>& early);
+                           BakedPlayback* baked, ImpulseResponse& early);
   /// Every source's part of the frame (late shares, then early IRs, in parallel for mono).
   void splitSources(const Simulation& sim, size_t listener, BakedPlayback* baked,
-                    std::vector<std::vector<std::vector<float>>>& early, std::span<int> bus);
+                    std::vector<ImpulseResponse>& early, std::span<int> bus);
   /// Bus k's late IR from its accumulated response into late[k].
-  void synthesizeBus(int k, std::vector<std::vector<float>>& late);
+  void synthesizeBus(int k, ImpulseResponse& late);
   void ensureListener(size_t listener, size_t sources);
   /// Empties the buses' late responses (in the listener's frame and bins). No allocation after
   /// the first frame.

@@ -26,19 +26,16 @@ LiveSession::LiveSession(std::shared_ptr<const SceneDesc> scene,
                          const PropagationSettings& settings, std::shared_ptr<const DrySignals> dry,
                          const Options& options)
     : scene_(std::move(scene)),
-      settings_(settings),
       options_(options),
       blockSize_(scene_->audio.blockSize),
       sampleRate_(scene_->audio.sampleRate),
       propagation_(std::make_unique<PropagationStage>(
-          scene_, settings, std::max(3, options.poolSize),
+          scene_, settings,
           options.measureFftPlans ? audio::ConvolverLayout::Planning::kMeasure
                                   : audio::ConvolverLayout::Planning::kEstimate)),
-      audioStage_(std::make_unique<AudioStage>(*propagation_, std::move(dry))),
+      exchange_(propagation_->makeExchange(1, std::max(3, options.poolSize))),
+      audioStage_(std::make_unique<AudioStage>(*propagation_, std::move(dry), *exchange_)),
       poses_(scene_, checkedListener(*scene_, options.listener)),
-      // Room in either ring for every set of the pool, so a push never fails for want of space.
-      toAudio_(std::make_unique<FixedRing<IrSet*>>(size_t(propagation_->poolSize()) + 1)),
-      fromAudio_(std::make_unique<FixedRing<IrSet*>>(size_t(propagation_->poolSize()) + 1)),
       adapter_(blockSize_, audioStage_->sourceCount(), options.deviceChannels),
       limiter_(std::make_unique<audio::Limiter>(sampleRate_)),
       counters_(settings.raysPerFrame),
@@ -105,7 +102,7 @@ bool LiveSession::attachBake(std::shared_ptr<const BakedField> bake) {
 
 bool LiveSession::step() {
   if (running_.load()) return false;
-  runFrame(settings_.raysPerFrame);
+  runFrame(settings().raysPerFrame);
   return true;
 }
 
@@ -117,34 +114,33 @@ bool LiveSession::stepAdaptive(double frameSeconds) {
 }
 
 void LiveSession::runFrame(int raysPerSource) {
-  // The estimators normalise by the rays each frame traced, so the count may change per frame.
-  if (raysPerSource != propagation_->simulation().settings().raysPerFrame)
-    propagation_->setRaysPerFrame(raysPerSource);
-  IrSet* back = nullptr;
-  while (fromAudio_->tryPop(back)) propagation_->recycle(back);
   lastPoseNs_ = lastReadyNs_ = 0;  // set by handOver() only if this frame yields an IR set
   const auto t0 = std::chrono::steady_clock::now();
   size_t played = 0;
   const ListenerPose pose = poses_.assemble(world_, played);
-  propagation_->traceWorld(world_);
-  IrSet* set = propagation_->prepare(played);
+  // The estimators normalise by the rays each frame traced, so the count may change per frame.
+  propagation_->traceWorld(world_, raysPerSource);
+  const bool produced = handOver(played, pose);
   const double frameMs =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  if (set) handOver(set, pose);
-  recordFrame(played, set != nullptr, frameMs);
+  recordFrame(played, produced, frameMs);
   // Never waits: a reader holding the snapshot makes this frame skip it.
-  if (set) snapshot_.tryStore(*propagation_, played, counters_.frames());
+  if (produced) snapshot_.tryStore(*propagation_, played, counters_.frames());
 }
 
-void LiveSession::handOver(IrSet* set, const ListenerPose& pose) {
+bool LiveSession::handOver(size_t played, const ListenerPose& pose) {
+  IrSet* set = exchange_->acquire();
+  if (!set) {
+    framesWithoutSet_.fetch_add(1, std::memory_order_relaxed);
+    return false;
+  }
+  propagation_->prepare(played, *set);
   set->poseNs = pose.publishedNs;
   set->readyNs = steadyNowNs();
   lastPoseNs_ = set->poseNs;
   lastReadyNs_ = set->readyNs;
-  if (!toAudio_->tryPush(set)) {
-    propagation_->recycle(set);
-    counters_.irSuperseded();
-  }
+  exchange_->publish(0, set);
+  return true;
 }
 
 void LiveSession::recordFrame(size_t played, bool produced, double frameMs) {
@@ -161,12 +157,12 @@ void LiveSession::recordFrame(size_t played, bool produced, double frameMs) {
 
 void LiveSession::propagationLoop() {
   const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-      std::chrono::duration<double>(1.0 / settings_.frameRate));
+      std::chrono::duration<double>(1.0 / settings().frameRate));
   auto next = std::chrono::steady_clock::now();
   while (running_.load(std::memory_order_relaxed)) {
     next += period;
     const auto start = std::chrono::steady_clock::now();
-    runFrame(options_.adaptiveRays ? adaptiveRays_.rays() : settings_.raysPerFrame);
+    runFrame(options_.adaptiveRays ? adaptiveRays_.rays() : settings().raysPerFrame);
     // The whole frame, snapshot included: what must fit in the period; and its pose's age when
     // the IR was ready plus one block (the audio thread picks it up at its next block): the
     // motion-to-sound latency it will have.
@@ -205,19 +201,6 @@ void LiveSession::render(const float* const* inputs, float* const* outputs, int 
   (swapped ? swapStats_ : noSwapStats_).record(uint64_t(ns), false);
 }
 
-void LiveSession::takeNewestIr() noexcept {
-  IrSet* newest = nullptr;
-  IrSet* s = nullptr;
-  while (toAudio_->tryPop(s)) {
-    if (newest) {
-      fromAudio_->tryPush(newest);  // a full ring counts it (Status::irsLost)
-      counters_.irSuperseded();
-    }
-    newest = s;
-  }
-  if (newest) audioStage_->offer(newest);
-}
-
 bool LiveSession::copyToDevice(float* const* outputs) noexcept {
   const size_t irChannels = stageOut_.size();
   const size_t B = size_t(blockSize_);
@@ -247,13 +230,11 @@ void LiveSession::turnHead() noexcept {
 }
 
 bool LiveSession::renderBlock(const float* const* inputs, float* const* outputs) noexcept {
-  takeNewestIr();
   if (headTracked_) turnHead();
   const uint64_t appliedBefore = audioStage_->irsApplied();
   audioStage_->process(stageOut_.data(), inputs);
   if (inputs) counters_.inputSamplesReplaced(audioStage_->replacedInputSamples());
   const bool swapped = audioStage_->irsApplied() != appliedBefore;
-  while (IrSet* s = audioStage_->takeSpent()) fromAudio_->tryPush(s);
   const bool finite = copyToDevice(outputs);
   limiter_->process(outputs, options_.deviceChannels, size_t(blockSize_));
   // The recording holds the engine's blocks (what the device plays, without the adapter's
@@ -280,7 +261,8 @@ LiveSession::Status LiveSession::status() const {
   const auto lat = latencyStats_.snapshot();
   st.latencyMedianMs = lat.callbacks ? double(lat.quantileNs(0.5)) * 1e-6 : 0.0;
   st.latencyP95Ms = lat.callbacks ? double(lat.quantileNs(0.95)) * 1e-6 : 0.0;
-  st.irsLost = audioStage_->lostSets() + fromAudio_->overflows();
+  st.irsLost = framesWithoutSet_.load(std::memory_order_relaxed);
+  st.irsDropped = exchange_->superseded();
   st.stalePartitions = audioStage_->stalePartitions();
   st.recordDropped = recorder_ ? recorder_->droppedSamples() : 0;
   st.limitedFrames = limiter_->limitedFrames();

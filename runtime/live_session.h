@@ -46,7 +46,7 @@ class LiveSession {
     /// With recordSeconds > 0: stream what was played to this WAV file (Recorder) instead of
     /// keeping it in memory; commitRecording() renames it into place.
     std::string recordPath;
-    int poolSize = 6;  ///< IrSets in flight (>= 3)
+    int poolSize = 6;  ///< IR sets beyond two per slow partition level (>= 3; IrExchange)
     /// The listener played first (scene.listeners index; selectListener() changes it).
     size_t listener = 0;
     /// If set, static sources are played from this bake of the scene
@@ -195,8 +195,8 @@ class LiveSession {
 
   int blockSize() const { return blockSize_; }
   /// The propagation settings the session was built with (threads: the tracing threads asked
-  /// for, 0 = every core). Any thread.
-  const PropagationSettings& settings() const { return settings_; }
+  /// for, 0 = every core): the one copy, the simulation's. Any thread.
+  const PropagationSettings& settings() const { return propagation_->simulation().settings(); }
   /// Blocks each IR swap is spread over (Options::irSwapSpreadSeconds in blocks, >= 1). Any
   /// thread.
   int irSwapSpreadBlocks() const;
@@ -236,27 +236,27 @@ class LiveSession {
   void runFrame(int raysPerSource);
   /// The frame's statistics after the trace (runFrame).
   void recordFrame(size_t played, bool produced, double frameMs);
-  /// Hands a prepared set to the audio thread (the pose's publication time stamped for the
-  /// latency); a full ring recycles it and counts it superseded.
-  void handOver(IrSet* set, const ListenerPose& pose);
+  /// Synthesises the played listener's IR set into a free set of the exchange and publishes
+  /// it (the pose's publication time stamped for the latency). Returns false when no set was
+  /// free (counted: Status::irsLost).
+  bool handOver(size_t played, const ListenerPose& pose);
   /// Audio thread: one engine block from the adapter's inputs (nullptr: the scene's signals)
   /// into its outputs. Returns whether an IR swap started.
   bool renderBlock(const float* const* inputs, float* const* outputs) noexcept;
-  /// Audio thread: offers the newest IR set from the ring; older ones go straight back.
-  void takeNewestIr() noexcept;
   /// Audio thread: the IR channels onto the device channels (the last repeats), zeros for
   /// a block with NaN or infinity. Returns whether the block was finite.
   bool copyToDevice(float* const* outputs) noexcept;
 
   std::shared_ptr<const SceneDesc> scene_;
-  PropagationSettings settings_;
   Options options_;
   int blockSize_, sampleRate_;
   std::unique_ptr<PropagationStage> propagation_;
+  std::unique_ptr<IrExchange> exchange_;  ///< the IR sets between the two stages
   std::unique_ptr<AudioStage> audioStage_;
   HostPoses poses_;
   WorldState world_;  ///< propagation thread: this frame's world
-  std::unique_ptr<FixedRing<IrSet*>> toAudio_, fromAudio_;
+  /// Frames whose IR set found no free set (written by the propagation side, read by any).
+  std::atomic<uint64_t> framesWithoutSet_{0};
   std::vector<float> mono_;  ///< audio-thread scratch: one block per IR channel
   std::vector<float*> stageOut_;
   CallbackAdapter adapter_;

@@ -35,8 +35,8 @@ class OfflineRender {
   OfflineResult run();
 
  private:
-  /// Runs the propagation frames due by scene time t; newest_[k] the newest set for
-  /// rendered listener k (a set superseded before it was heard goes back to the pool).
+  /// Runs the propagation frames due by scene time t, publishing each rendered listener's IR
+  /// set to its channel of the exchange (newest wins).
   void runFramesDue(double t);
   /// Renders block blk of every rendered listener.
   void renderBlock(size_t blk);
@@ -47,13 +47,13 @@ class OfflineRender {
   const OfflineOptions& options_;
   std::vector<size_t> listeners_;
   PropagationStage propagation_;
+  std::unique_ptr<IrExchange> exchange_;  ///< one channel per rendered listener
   std::vector<std::unique_ptr<AudioStage>> audioStages_;
   size_t B_, totalFrames_, blocks_;
   bool streaming_;
   double framePeriod_;
   uint64_t nextFrame_ = 0;
   WorldState world_;
-  std::vector<IrSet*> newest_;
   std::vector<float*> out_;
   OfflineResult result_;
 };
@@ -64,15 +64,17 @@ OfflineRender::OfflineRender(std::shared_ptr<const SceneDesc> scene,
     : scene_(std::move(scene)),
       options_(options),
       listeners_(renderedListeners(*scene_, options)),
-      // Each audio stage holds at most a current and a pending set; one more per listener is
-      // being filled while the others wait.
-      propagation_(scene_, settings, int(std::max<size_t>(4, 3 * listeners_.size() + 1))),
+      propagation_(scene_, settings),
+      // Each audio stage holds at most its current set and one in its mailbox; one more is
+      // being filled.
+      exchange_(propagation_.makeExchange(listeners_.size(),
+                                          int(std::max<size_t>(4, 3 * listeners_.size() + 1)))),
       B_(size_t(scene_->audio.blockSize)),
       streaming_(bool(options.sink)),
       framePeriod_(1.0 / settings.frameRate) {
   if (options.bake) propagation_.attachBake(options.bake);
   for (size_t k = 0; k < listeners_.size(); ++k) {
-    audioStages_.push_back(std::make_unique<AudioStage>(propagation_, dry));
+    audioStages_.push_back(std::make_unique<AudioStage>(propagation_, dry, *exchange_, k));
     audioStages_.back()->setSkipSilentLevels(false);  // exact: no time limit per block offline
   }
   const int fs = scene_->audio.sampleRate;
@@ -88,18 +90,20 @@ OfflineRender::OfflineRender(std::shared_ptr<const SceneDesc> scene,
                               std::vector<float>(streaming_ ? B_ : blocks_ * B_));
   }
   out_.resize(size_t(renderedChannels(scene_->audio)));
-  newest_.assign(listeners_.size(), nullptr);
 }
 
 void OfflineRender::runFramesDue(double t) {
-  std::fill(newest_.begin(), newest_.end(), nullptr);
   while (double(nextFrame_) * framePeriod_ <= t + 1e-12) {
     evaluateWorld(*scene_, double(nextFrame_) * framePeriod_, world_);
     propagation_.traceWorld(world_);
     for (size_t k = 0; k < listeners_.size(); ++k) {
-      IrSet* set = propagation_.prepare(listeners_[k]);
-      if (newest_[k]) propagation_.recycle(newest_[k]);  // superseded before it was heard
-      newest_[k] = set;
+      IrSet* set = exchange_->acquire();
+      if (!set) {
+        ++result_.irsLost;
+        continue;
+      }
+      propagation_.prepare(listeners_[k], *set);
+      exchange_->publish(k, set);
     }
     ++nextFrame_;
   }
@@ -109,7 +113,6 @@ void OfflineRender::renderBlock(size_t blk) {
   // The render loop plays the audio thread for the stages (audio/rt_check.h).
   const audio::rt::ScopedThreadRole role(audio::rt::ThreadRole::kAudio);
   for (size_t k = 0; k < listeners_.size(); ++k) {
-    if (newest_[k]) audioStages_[k]->offer(newest_[k]);
     // Head-tracked binaural: the head's orientation at this block's time (audio rate).
     audioStages_[k]->setHeadOrientation(listenerOrientationAt(
         scene_->listeners[listeners_[k]], double(blk * B_) / scene_->audio.sampleRate));
@@ -117,7 +120,6 @@ void OfflineRender::renderBlock(size_t blk) {
       out_[c] = result_.listeners[k].output.channels[c].data() + (streaming_ ? 0 : blk * B_);
     audioStages_[k]->process(out_.data());
     if (streaming_) options_.sink(k, out_.data(), std::min(B_, totalFrames_ - blk * B_));
-    while (IrSet* spent = audioStages_[k]->takeSpent()) propagation_.recycle(spent);
   }
 }
 
@@ -156,7 +158,6 @@ void OfflineRender::finish() {
     lr.lastListenerOrientation = world_.listenerOrientations[listeners_[k]];
     lr.lastSourcePositions = world_.sourcePositions;
     lr.irsApplied = audioStages_[k]->irsApplied();
-    result_.irsLost += audioStages_[k]->lostSets();
     result_.stalePartitions += audioStages_[k]->stalePartitions();
     for (size_t s = 0; s < sim.sourceCount(); ++s) {
       const Simulation::SourceResult& sr = sim.result(s, listeners_[k]);

@@ -49,7 +49,7 @@ struct OfflineListenerResult {
   /// 1 (mono) or 2 (stereo, binaural) channels at the scene's rate; no channels when
   /// OfflineOptions::sink took the blocks.
   audio::AudioData output;
-  std::vector<std::vector<std::vector<float>>> lastIrs;  ///< [source][channel][sample]
+  std::vector<ImpulseResponse> lastIrs;  ///< the last frame's, one per source
   /// [source]: the last frame's energy response, exact early specular paths included
   std::vector<EnergyResponse> lastEnergy;
   std::vector<DirectSound> lastDirect;  ///< [source]: the last frame's direct sound
@@ -66,8 +66,8 @@ struct OfflineResult {
   /// The last frame's totals over every source-listener pair rendered: rays, cache sizes and
   /// merges, the coarse store's share of the response and the energy beyond the IR length.
   FrameTotals last;
-  /// IR sets an audio stage could not hand back (its spent ring was full); 0 unless a ring
-  /// is too small.
+  /// Frames that produced no IR set for a listener because every set was held by the audio
+  /// stages; 0 unless the exchange's pool is too small.
   uint64_t irsLost = 0;
   /// Convolution partitions left out after an onset jump (AudioStage::stalePartitions).
   uint64_t stalePartitions = 0;

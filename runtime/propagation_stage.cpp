@@ -195,7 +195,7 @@ std::unique_ptr<SpatialIrSynthesizer> makeSpatialSynthesizer(const SceneDesc& sc
 }
 
 PropagationStage::PropagationStage(std::shared_ptr<const SceneDesc> scene,
-                                   const PropagationSettings& settings, int poolSize,
+                                   const PropagationSettings& settings,
                                    audio::ConvolverLayout::Planning planning)
     : scene_(std::move(scene)),
       numOutputs_(outputChannels(scene_->audio)),
@@ -206,13 +206,15 @@ PropagationStage::PropagationStage(std::shared_ptr<const SceneDesc> scene,
   if (early > 0.0) makeHybrid(settings, early, planning);
   layout_ = std::make_shared<const audio::NonUniformLayout>(
       scene_->audio.blockSize, irSamples_, audio::NonUniformLayout::kDefaultMaxPartition, planning);
-  makePool(poolSize);
-  const auto channels = [&](size_t n, size_t samples) {
-    return std::vector<std::vector<std::vector<float>>>(
-        n, std::vector<std::vector<float>>(size_t(numOutputs_), std::vector<float>(samples)));
+  const auto responses = [&](size_t n, size_t samples) {
+    std::vector<ImpulseResponse> irs(
+        n, ImpulseResponse(numOutputs_, samples, double(scene_->audio.sampleRate)));
+    for (size_t i = 0; i < n; ++i) irs[i].source = i;
+    return irs;
   };
-  irs_.assign(1, channels(scene_->sources.size(), irSamples_));
-  if (hybrid_) lateIrs_.assign(1, channels(size_t(hybrid_->buses()), lateLayout_->maxIrSamples()));
+  irs_.assign(1, responses(scene_->sources.size(), irSamples_));
+  if (hybrid_)
+    lateIrs_.assign(1, responses(size_t(hybrid_->buses()), lateLayout_->maxIrSamples()));
 }
 
 double PropagationStage::hybridEarlySeconds(const PropagationSettings& settings) const {
@@ -267,24 +269,26 @@ void PropagationStage::levelOnTracingThreads(SpatialIrSynthesizer& synth) {
   synth.setParallelLevelling(simulation_->propagator().concurrency(), onTracingThreads());
 }
 
-void PropagationStage::makePool(int poolSize) {
-  const int sets = poolSize + 2 * (layout_->numLevels() - 1);
-  for (int i = 0; i < sets; ++i) {
-    auto set = std::make_unique<IrSet>();
-    set->irs = std::make_unique<audio::NonUniformIrSet>(*layout_, int(scene_->sources.size()),
-                                                        numOutputs_);
-    if (hybrid_) {
-      set->lateIrs =
-          std::make_unique<audio::NonUniformIrSet>(*lateLayout_, hybrid_->buses(), numOutputs_);
-      set->lateGain.assign(scene_->sources.size(), 0.f);
-      set->lateBus.assign(scene_->sources.size(), 0);
-    }
-    free_.push_back(set.get());
-    pool_.push_back(std::move(set));
+std::unique_ptr<IrSet> PropagationStage::makeIrSet() const {
+  auto set = std::make_unique<IrSet>();
+  set->irs =
+      std::make_unique<audio::NonUniformIrSet>(*layout_, int(scene_->sources.size()), numOutputs_);
+  if (hybrid_) {
+    set->lateIrs =
+        std::make_unique<audio::NonUniformIrSet>(*lateLayout_, hybrid_->buses(), numOutputs_);
+    set->lateGain.assign(scene_->sources.size(), 0.f);
+    set->lateBus.assign(scene_->sources.size(), 0);
   }
+  return set;
 }
 
-void PropagationStage::traceWorld(const WorldState& world) {
+std::unique_ptr<IrExchange> PropagationStage::makeExchange(size_t channels, int baseSets) const {
+  const int sets = baseSets + 2 * (layout_->numLevels() - 1);
+  return std::make_unique<IrExchange>(channels, size_t(std::max(1, sets)),
+                                      [this] { return makeIrSet(); });
+}
+
+void PropagationStage::traceWorld(const WorldState& world, int raysPerEmitter) {
   const SceneDesc& scene = *scene_;
   const size_t L = world.listenerPositions.size();
   if (L == 0 || world.listenerOrientations.size() != L ||
@@ -293,28 +297,9 @@ void PropagationStage::traceWorld(const WorldState& world) {
     throw std::invalid_argument(
         "PropagationStage::traceWorld: the world state does not match "
         "the scene's sources and objects, or has no listener");
-  spheres_.resize(L);
-  for (size_t l = 0; l < L; ++l) {
-    const float radius = scene.listeners[l % scene.listeners.size()].radius;
-    spheres_[l] = ListenerSphere{world.listenerPositions[l], radius};
-    // Head-tracked binaural: IRs in the reference head frame (yaw 0, pitch 0); the audio
-    // stage turns them by the listener's orientation per block.
-    simulation_->setListenerOrientation(l, scene.audio.output == OutputFormat::kAmbisonicBinaural
-                                               ? Orientation{}
-                                               : world.listenerOrientations[l]);
-  }
+  frameInputs(world, raysPerEmitter);
   const auto t0 = std::chrono::steady_clock::now();
-  if (!world.objectPoses.empty()) simulation_->setObjectPoses(world.objectPoses);
-  if (!world.sourceRotations.empty()) simulation_->setSourceRotations(world.sourceRotations);
-  for (size_t s = 0; s < world.sourceTeleports.size(); ++s)
-    if (world.sourceTeleports[s]) simulation_->restartSource(s);
-  for (size_t l = 0; l < world.listenerTeleports.size() && l < L; ++l)
-    if (world.listenerTeleports[l]) simulation_->restartListener(l);
-  // Pairs played from the bake are not traced (Simulation::setSkippedPairs).
-  if (baked_) baked_->beginFrame(world.sourcePositions, spheres_);
-  simulation_->setSkippedPairs(baked_ ? std::span<const uint8_t>(baked_->bakedPairs())
-                                      : std::span<const uint8_t>());
-  simulation_->runFrame(spheres_, world.sourcePositions);
+  simulation_->runFrame(inputs_);
   sources_ = world.sourcePositions;
   totals_.traceSeconds += secondsSince(t0);
   totals_.rays += simulation_->frameTrace().rays;
@@ -325,85 +310,123 @@ void PropagationStage::traceWorld(const WorldState& world) {
   ++totals_.frames;
 }
 
+void PropagationStage::frameInputs(const WorldState& world, int raysPerEmitter) {
+  const SceneDesc& scene = *scene_;
+  const size_t L = world.listenerPositions.size();
+  inputs_.listeners.resize(L);
+  inputs_.listenerOrientations.resize(L);
+  for (size_t l = 0; l < L; ++l) {
+    const float radius = scene.listeners[l % scene.listeners.size()].radius;
+    inputs_.listeners[l] = ListenerSphere{world.listenerPositions[l], radius};
+    // Head-tracked binaural: IRs in the reference head frame (yaw 0, pitch 0); the audio
+    // stage turns them by the listener's orientation per block.
+    inputs_.listenerOrientations[l] = scene.audio.output == OutputFormat::kAmbisonicBinaural
+                                          ? Orientation{}
+                                          : world.listenerOrientations[l];
+  }
+  inputs_.sourcePositions = world.sourcePositions;
+  inputs_.sourceRotations = world.sourceRotations;
+  inputs_.objectPoses = world.objectPoses;
+  inputs_.sourceRestarts = world.sourceTeleports;
+  inputs_.listenerRestarts = world.listenerTeleports;
+  // Pairs played from the bake are not traced.
+  if (baked_) baked_->beginFrame(world.sourcePositions, inputs_.listeners);
+  if (baked_)
+    inputs_.skippedPairs.assign(baked_->bakedPairs().begin(), baked_->bakedPairs().end());
+  else
+    inputs_.skippedPairs.clear();
+  inputs_.raysPerEmitter = raysPerEmitter;
+}
+
 void PropagationStage::synthesize(size_t s, size_t listener) {
   auto& irs = irs_[listener];
   const Simulation::SourceResult& r = simulation_->result(s, listener);
   if (spatial_) {
-    for (size_t c = 0; c < channelScratch_.size(); ++c) channelScratch_[c] = irs[s][c].data();
+    for (size_t c = 0; c < channelScratch_.size(); ++c) channelScratch_[c] = irs[s].channel(int(c));
     const DirectionalEnergyResponse& live = simulation_->directional(s, listener);
     spatial_->synthesize(baked_ ? baked_->directional(s, listener, live) : live, r.direct,
                          channelScratch_, simulation_->specularPaths(s, listener));
   } else {
     synthesizers_[s]->synthesize(baked_ ? baked_->energy(s, listener, r.energy) : r.energy,
-                                 r.direct, irs[s][0].data(),
+                                 r.direct, irs[s].channel(0),
                                  simulation_->specularPaths(s, listener));
   }
 }
 
-IrSet* PropagationStage::prepare(size_t listener) {
+void PropagationStage::synthesizeIrs(size_t listener) {
   if (listener >= simulation_->listenerCount())
-    throw std::out_of_range("PropagationStage::prepare: listener index out of range");
-  if (free_.empty()) return nullptr;
-  IrSet* set = free_.back();
-  free_.pop_back();
-  if (hybrid_) prepareLate(listener, *set);
+    throw std::out_of_range("PropagationStage: listener index out of range");
+  const auto t0 = std::chrono::steady_clock::now();
+  const uint64_t frame = simulation_->framesRun() - 1;
+  if (hybrid_) synthesizeHybrid(listener);
   for (size_t s = 0; s < simulation_->sourceCount(); ++s) {
-    auto t0 = std::chrono::steady_clock::now();
     if (!hybrid_) synthesize(s, listener);
-    totals_.synthesisSeconds += secondsSince(t0);
-    t0 = std::chrono::steady_clock::now();
-    for (int c = 0; c < numOutputs_; ++c)
-      channelScratch_[size_t(c)] = irs_[listener][s][size_t(c)].data();
-    set->irs->prepare(int(s), channelScratch_.data(), irSamples_);
-    totals_.prepareSeconds += secondsSince(t0);
+    irs_[listener][s].frame = frame;
   }
-  set->listener = listener;
-  set->frame = simulation_->framesRun() - 1;
-  set->poseTimeSeconds = lastTime_;
-  return set;
+  if (hybrid_)
+    for (ImpulseResponse& late : lateIrs_[listener]) late.frame = frame;
+  totals_.synthesisSeconds += secondsSince(t0);
 }
 
-void PropagationStage::prepareLate(size_t listener, IrSet& set) {
-  auto t0 = std::chrono::steady_clock::now();
-  std::vector<std::vector<std::vector<float>>>& late = lateIrs_[listener];
-  hybrid_->prepare(*simulation_, listener, spheres_[listener].position, sources_, baked_.get(),
-                   irs_[listener], late, set.lateGain, set.lateBus);
-  totals_.synthesisSeconds += secondsSince(t0);
-  t0 = std::chrono::steady_clock::now();
-  for (size_t k = 0; k < late.size(); ++k) {
-    for (int c = 0; c < numOutputs_; ++c) channelScratch_[size_t(c)] = late[k][size_t(c)].data();
-    set.lateIrs->prepare(int(k), channelScratch_.data(), lateLayout_->maxIrSamples());
+void PropagationStage::prepare(size_t listener, IrSet& set) {
+  synthesizeIrs(listener);
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto partition = [&](audio::NonUniformIrSet& into, std::vector<ImpulseResponse>& irs,
+                             size_t samples) {
+    for (size_t k = 0; k < irs.size(); ++k) {
+      for (int c = 0; c < numOutputs_; ++c) channelScratch_[size_t(c)] = irs[k].channel(c);
+      into.prepare(int(k), channelScratch_.data(), samples);
+    }
+  };
+  partition(*set.irs, irs_[listener], irSamples_);
+  if (hybrid_) {
+    partition(*set.lateIrs, lateIrs_[listener], lateLayout_->maxIrSamples());
+    set.lateGain.assign(lastGain_[listener].begin(), lastGain_[listener].end());
+    set.lateBus.assign(lastBus_[listener].begin(), lastBus_[listener].end());
   }
   totals_.prepareSeconds += secondsSince(t0);
-  if (lastGain_.size() <= listener) lastGain_.resize(listener + 1), lastBus_.resize(listener + 1);
-  lastGain_[listener].assign(set.lateGain.begin(), set.lateGain.end());
-  lastBus_[listener].assign(set.lateBus.begin(), set.lateBus.end());
+  set.listener = listener;
+  set.frame = simulation_->framesRun() - 1;
+  set.poseTimeSeconds = lastTime_;
 }
 
-std::vector<std::vector<std::vector<float>>> PropagationStage::wholeIrs(size_t listener) const {
-  std::vector<std::vector<std::vector<float>>> out;
+void PropagationStage::synthesizeHybrid(size_t listener) {
+  if (lastGain_.size() <= listener) {
+    lastGain_.resize(listener + 1, std::vector<float>(scene_->sources.size(), 0.f));
+    lastBus_.resize(listener + 1, std::vector<int>(scene_->sources.size(), 0));
+  }
+  hybrid_->prepare(*simulation_, listener, inputs_.listeners[listener].position, sources_,
+                   baked_.get(),
+                   irs_[listener], lateIrs_[listener], lastGain_[listener], lastBus_[listener]);
+}
+
+std::vector<ImpulseResponse> PropagationStage::wholeIrs(size_t listener) const {
+  std::vector<ImpulseResponse> out;
   wholeIrsInto(listener, out);
   return out;
 }
 
-void PropagationStage::wholeIrsInto(size_t listener,
-                                    std::vector<std::vector<std::vector<float>>>& out) const {
-  const auto& early = irs_.at(listener);
+void PropagationStage::wholeIrsInto(size_t listener, std::vector<ImpulseResponse>& out) const {
+  const std::vector<ImpulseResponse>& early = irs_.at(listener);
+  out.resize(early.size());
   if (!hybrid_ || listener >= lastGain_.size()) {
-    out = early;  // element-wise assignment: the inner vectors keep their capacity
+    for (size_t s = 0; s < early.size(); ++s) out[s].assignFrom(early[s]);
     return;
   }
-  const auto& late = lateIrs_.at(listener);
-  out.resize(early.size());
+  const std::vector<ImpulseResponse>& late = lateIrs_.at(listener);
   for (size_t s = 0; s < early.size(); ++s) {
-    const auto& bus = late[size_t(lastBus_[listener][s])];
+    const ImpulseResponse& bus = late[size_t(lastBus_[listener][s])];
     const float g = lastGain_[listener][s];
-    out[s].resize(early[s].size());
-    for (size_t c = 0; c < early[s].size(); ++c) {
-      std::vector<float>& x = out[s][c];
-      x.resize(bus[c].size());
-      for (size_t n = 0; n < x.size(); ++n) x[n] = g * bus[c][n];
-      for (size_t n = 0; n < early[s][c].size() && n < x.size(); ++n) x[n] += early[s][c][n];
+    ImpulseResponse& x = out[s];
+    x.resize(early[s].channels(), bus.samples(), bus.sampleRate());
+    x.source = s;
+    x.frame = early[s].frame;
+    for (int c = 0; c < x.channels(); ++c) {
+      float* y = x.channel(c);
+      const float* b = bus.channel(c);
+      const float* e = early[s].channel(c);
+      for (size_t n = 0; n < x.samples(); ++n) y[n] = g * b[n];
+      for (size_t n = 0; n < early[s].samples() && n < x.samples(); ++n) y[n] += e[n];
     }
   }
 }
@@ -412,11 +435,6 @@ void PropagationStage::attachBake(std::shared_ptr<const BakedField> bake,
                                   BakeInterpolation settings) {
   baked_ =
       bake ? std::make_unique<BakedPlayback>(std::move(bake), *simulation_, settings) : nullptr;
-}
-
-void PropagationStage::recycle(IrSet* set) {
-  assert(set == nullptr || std::find(free_.begin(), free_.end(), set) == free_.end());
-  if (set) free_.push_back(set);
 }
 
 }  // namespace dpc

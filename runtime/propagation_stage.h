@@ -11,30 +11,16 @@
 #include <vector>
 
 #include "audio/nonuniform_convolver.h"
+#include "common/impulse_response.h"
 #include "engine/simulation.h"
 #include "runtime/baked_playback.h"
 #include "runtime/hybrid_synthesis.h"
+#include "runtime/ir_exchange.h"
 #include "scene/scene.h"
 #include "synthesis/mono_synthesizer.h"
 #include "synthesis/spatial_synthesizer.h"
 
 namespace dpc {
-
-/// Impulse responses of one propagation frame, partitioned and transformed, for all sources.
-struct IrSet {
-  /// scene sources x output channels: the whole IRs, or in hybrid rendering the early parts
-  std::unique_ptr<audio::NonUniformIrSet> irs;
-  /// Hybrid rendering (runtime/hybrid_synthesis.h), else null: late buses x output channels.
-  std::unique_ptr<audio::NonUniformIrSet> lateIrs;
-  std::vector<float>
-      lateGain;              ///< hybrid: per source, amplitude gain of its dry signal into its bus
-  std::vector<int> lateBus;  ///< hybrid: per source, its late bus
-  size_t listener = 0;       ///< listener index (scene.listeners order) it was computed for
-  uint64_t frame = 0;        ///< propagation frame index that produced it
-  double poseTimeSeconds = 0.0;  ///< scene time of the listener pose it was computed for
-  int64_t poseNs = 0;            ///< live: steady_clock ns when that pose was published (latency)
-  int64_t readyNs = 0;           ///< live: steady_clock ns when the set was ready (IR age)
-};
 
 /// IR channels of an output: 1 for mono, 2 for stereo and binaural, (order + 1)^2 for
 /// Ambisonics and head-tracked binaural, one per loudspeaker. Any thread.
@@ -75,12 +61,12 @@ std::unique_ptr<SpatialIrSynthesizer> makeSpatialSynthesizer(const SceneDesc& sc
 
 /// Propagation thread side. Construction (control thread) builds the Embree scene, the IR
 /// synthesisers (mono per source, or one spatial synthesiser with HRTF or panning filters
-/// shared by all sources), the convolver layout and a pool of IrSets (poolSize plus two per
-/// partition level beyond the first: a slow level keeps its old and new set through its
-/// crossfade); allocates; throws InputError (e.g. an unreadable SOFA file, named by the
-/// scene's audio.hrtf) or std::runtime_error. The scene is shared, read only. The accessors
-/// (simulation(), lastIrs(), totals(), ...) belong to the thread that runs the frames; they
-/// neither allocate nor throw (lastIrs: std::out_of_range for a listener never traced).
+/// shared by all sources) and the convolver layout; allocates; throws InputError (e.g. an
+/// unreadable SOFA file, named by the scene's audio.hrtf) or std::runtime_error. The scene is
+/// shared, read only. The IR sets it fills belong to an IrExchange (makeExchange). The
+/// accessors (simulation(), lastIrs(), totals(), ...) belong to the thread that runs the
+/// frames; they neither allocate nor throw (lastIrs: std::out_of_range for a listener never
+/// traced).
 class PropagationStage {
  public:
   /// `planning` chooses the convolver layouts' FFTW plans: estimated (instant; the same
@@ -88,8 +74,13 @@ class PropagationStage {
   /// candidate algorithms at construction, up to a second or so for a 2 s IR: faster
   /// callbacks, for a live session, whose output is not compared bit for bit).
   PropagationStage(
-      std::shared_ptr<const SceneDesc> scene, const PropagationSettings& settings, int poolSize = 4,
+      std::shared_ptr<const SceneDesc> scene, const PropagationSettings& settings,
       audio::ConvolverLayout::Planning planning = audio::ConvolverLayout::Planning::kEstimate);
+
+  /// The exchange that carries this stage's IR sets to `channels` audio stages: baseSets sets
+  /// plus two per partition level beyond the first (a slow level keeps its old and new set
+  /// through its crossfade). Control thread; allocates.
+  std::unique_ptr<IrExchange> makeExchange(size_t channels, int baseSets) const;
 
   /// The frame entry (docs/design.md, "World state"): listener l at world.listener*[l] with
   /// the radius of scene.listeners[l] (evaluateWorld gives one per scene listener; a
@@ -98,21 +89,20 @@ class PropagationStage {
   /// tested against all listener spheres; every source-listener pair has its own cache
   /// (docs/dynamic.md, "Several listeners"). Then prepare(l) makes listener l's IR set. world
   /// must hold at least one listener and one entry per scene source and object
-  /// (std::invalid_argument otherwise). Propagation thread; allocates only while tables grow.
-  void traceWorld(const WorldState& world);
-  /// Synthesises listener l's IRs from the last traceWorld, partitions and transforms them
-  /// into a free IrSet (set->listener = l) and returns it; nullptr if no set is free (all
-  /// borrowed by the audio side). l < listenerCount() (std::out_of_range otherwise).
-  /// Propagation thread; no allocation.
-  IrSet* prepare(size_t listener);
+  /// (std::invalid_argument otherwise). raysPerEmitter: rays per source (from the listeners:
+  /// per listener) this frame; 0: the settings' raysPerFrame. The world becomes one
+  /// FrameInputs value for Simulation::runFrame. Propagation thread; allocates only while
+  /// tables grow.
+  void traceWorld(const WorldState& world, int raysPerEmitter = 0);
+  /// Synthesises listener l's IRs from the last traceWorld into lastIrs(l) (hybrid: and
+  /// lastLateIrs(l) with the sources' late gains and buses). l < listenerCount()
+  /// (std::out_of_range otherwise). Propagation thread; no allocation after the first frame.
+  void synthesizeIrs(size_t listener);
+  /// synthesizeIrs(l), then partitions and transforms the IRs into `set` (one of
+  /// makeExchange()'s, acquired by the caller; set.listener = l). Propagation thread.
+  void prepare(size_t listener, IrSet& set);
   /// Listeners the last frame traced.
   size_t listenerCount() const { return simulation_->listenerCount(); }
-  /// Rays per source for the following frames (Simulation::setRaysPerFrame). Propagation
-  /// thread, between frames.
-  void setRaysPerFrame(int n) { simulation_->setRaysPerFrame(n); }
-  /// Gives a set back to the pool. Propagation thread.
-  void recycle(IrSet* set);
-
   const SceneDesc& scene() const { return *scene_; }
   /// The convolver layout of every IrSet's per-source IRs, shared with the audio stages.
   const std::shared_ptr<const audio::NonUniformLayout>& layout() const { return layout_; }
@@ -121,8 +111,6 @@ class PropagationStage {
   int lateBuses() const { return hybrid_ ? hybrid_->buses() : 0; }
   /// Hybrid rendering's synthesis and counts, or nullptr when every source renders whole.
   const HybridSynthesis* hybrid() const { return hybrid_.get(); }
-  /// IrSets in the pool (fixed at construction).
-  int poolSize() const { return int(pool_.size()); }
   const Simulation& simulation() const { return *simulation_; }
   /// Plays the sources that stand at their baked positions from `bake` (runtime/
   /// baked_playback.h): interpolated late response, live direct sound. The bake must be of this
@@ -131,21 +119,20 @@ class PropagationStage {
   void attachBake(std::shared_ptr<const BakedField> bake, BakeInterpolation settings = {});
   /// The attached bake's playback and counts, or nullptr.
   const BakedPlayback* bakedPlayback() const { return baked_.get(); }
-  /// The per-source IRs listener l's last prepared set holds: [source][channel][sample] (in
-  /// hybrid rendering the early parts only: wholeIrs() gives what each source is heard with).
-  const std::vector<std::vector<std::vector<float>>>& lastIrs(size_t listener = 0) const {
+  /// The per-source IRs listener l's last prepared set holds, one per source (in hybrid
+  /// rendering the early parts only: wholeIrs() gives what each source is heard with).
+  const std::vector<ImpulseResponse>& lastIrs(size_t listener = 0) const {
     return irs_.at(listener);
   }
-  /// Every source's whole IR as listener l's last prepared set renders it, [source][channel]
-  /// [sample] of the full IR length: lastIrs(l) itself, or in hybrid rendering each source's
-  /// early part plus its late gain times its bus's late IR. Any thread that may read
-  /// lastIrs(l); allocates the copy.
-  std::vector<std::vector<std::vector<float>>> wholeIrs(size_t listener = 0) const;
-  /// The same written into `out`, whose vectors keep their capacity: once `out` has grown to
-  /// the IRs' sizes, a call allocates nothing (the live snapshot's copy every frame).
-  void wholeIrsInto(size_t listener, std::vector<std::vector<std::vector<float>>>& out) const;
-  /// The late buses' IRs listener l's last prepared set holds: [bus][channel][sample] (hybrid).
-  const std::vector<std::vector<std::vector<float>>>& lastLateIrs(size_t listener = 0) const {
+  /// Every source's whole IR as listener l's last prepared set renders it, full IR length:
+  /// lastIrs(l) itself, or in hybrid rendering each source's early part plus its late gain
+  /// times its bus's late IR. Any thread that may read lastIrs(l); allocates the copy.
+  std::vector<ImpulseResponse> wholeIrs(size_t listener = 0) const;
+  /// The same written into `out`, whose IRs keep their capacity: once `out` has grown to the
+  /// IRs' sizes, a call allocates nothing (the live snapshot's copy every frame).
+  void wholeIrsInto(size_t listener, std::vector<ImpulseResponse>& out) const;
+  /// The late buses' IRs listener l's last prepared set holds, one per bus (hybrid).
+  const std::vector<ImpulseResponse>& lastLateIrs(size_t listener = 0) const {
     return lateIrs_.at(listener);
   }
   int numOutputs() const { return numOutputs_; }
@@ -167,9 +154,12 @@ class PropagationStage {
   /// hybrid_, lateLayout_ and irSamples_ (the early part's) for hybrid rendering.
   void makeHybrid(const PropagationSettings& settings, double earlySeconds,
                   audio::ConvolverLayout::Planning planning);
-  /// Hybrid: the late buses' IRs and gains of listener l into `set`.
-  void prepareLate(size_t listener, IrSet& set);
-  void makePool(int poolSize);
+  /// The frame's inputs (inputs_) from the world, the bake's skipped pairs and the rays.
+  void frameInputs(const WorldState& world, int raysPerEmitter);
+  /// Hybrid: listener l's early parts, late buses' IRs and late gains and buses.
+  void synthesizeHybrid(size_t listener);
+  /// A set of this stage's layouts, sources and buses (makeExchange's factory).
+  std::unique_ptr<IrSet> makeIrSet() const;
   /// Runs work on the simulation's tracing threads (forEachParallel).
   SpatialIrSynthesizer::ParallelFor onTracingThreads();
   /// Lets synth level its channels on the simulation's tracing threads.
@@ -187,15 +177,13 @@ class PropagationStage {
   std::unique_ptr<HybridSynthesis> hybrid_;                   ///< hybrid rendering, or none
   std::shared_ptr<const audio::NonUniformLayout> layout_;
   std::shared_ptr<const audio::NonUniformLayout> lateLayout_;  ///< hybrid: full-length IRs
-  std::vector<std::unique_ptr<IrSet>> pool_;
-  std::vector<IrSet*> free_;
-  std::vector<std::vector<std::vector<std::vector<float>>>> irs_;      ///< [listener][source][ch]
-  std::vector<std::vector<std::vector<std::vector<float>>>> lateIrs_;  ///< [listener][bus][ch]
+  std::vector<std::vector<ImpulseResponse>> irs_;      ///< [listener][source]
+  std::vector<std::vector<ImpulseResponse>> lateIrs_;  ///< [listener][bus]
   std::vector<glm::vec3> sources_;  ///< traceWorld's source positions
   /// Hybrid: per listener, the last prepared set's late gain and bus of each source.
   std::vector<std::vector<float>> lastGain_;
   std::vector<std::vector<int>> lastBus_;
-  std::vector<ListenerSphere> spheres_;  ///< traceWorld's listener spheres
+  FrameInputs inputs_;  ///< the last traceWorld's, reused from frame to frame
   double lastTime_ = 0.0;                ///< scene time of the last traced frame
   size_t irSamples_ = 0;
   Totals totals_;

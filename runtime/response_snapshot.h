@@ -15,11 +15,11 @@ namespace dpc {
 
 class ResponseSnapshot {
  public:
-  /// One source's responses: ir[channel][sample] the pressure IR at the scene's rate;
+  /// One source's responses: ir the pressure IR (its channels) at the scene's rate;
   /// energy[k][band] the energy response in bins of binSeconds (1/m^2 relative to source
   /// power, direct sound included); frame = propagation frames run when it was taken.
   struct Responses {
-    const std::vector<std::vector<float>>* ir;
+    const ImpulseResponse* ir;
     const std::vector<Bands>* energy;
     double binSeconds;
     uint64_t frame;
@@ -44,7 +44,7 @@ class ResponseSnapshot {
 
  private:
   std::mutex mutex_;
-  std::vector<std::vector<std::vector<float>>> irs_;  ///< [source][channel][sample]
+  std::vector<ImpulseResponse> irs_;        ///< [source]
   std::vector<std::vector<Bands>> energy_;            ///< [source][bin]
   double binSeconds_ = 0.0;
   uint64_t frame_ = 0;

@@ -82,7 +82,6 @@ void SessionCounters::read(SessionStatus& st) {
   st.cacheMergedEnergyFraction = cacheMergedEnergyFraction_.load(r);
   st.droppedEnergyFraction = droppedEnergyFraction_.load(r);
   st.irsApplied = irsApplied_.load(r);
-  st.irsDropped = irsDropped_.load(r);
   st.irAgeMs = irAgeMs_.load(r);
   st.bakedResponses = bakedResponses_.load(r);
   st.bakeFallbacks = bakeFallbacks_.load(r);

@@ -58,8 +58,8 @@ struct SessionStatus {
   double droppedEnergyFraction = 0.0;
   uint64_t irsApplied = 0;  ///< IR sets that reached the convolvers
   uint64_t irsDropped = 0;  ///< superseded before the audio thread applied them
-  /// IR sets that found a hand-over ring full and never came back to the pool (0 unless a
-  /// ring is too small: a bug worth reporting).
+  /// Frames that produced no IR set because every set was held by the audio side (0 unless
+  /// the exchange's pool is too small: a bug worth reporting; runtime/ir_exchange.h).
   uint64_t irsLost = 0;
   /// Convolution partitions left out because a response's onset jumped past transforms the
   /// convolver had skipped (a teleport; NonUniformConvolver::stalePartitions).
@@ -98,8 +98,6 @@ class SessionCounters {
   void raysTraced(int raysPerSource) noexcept;
   /// Propagation side: a frame produced an IR set; its totals and duration.
   void frameDone(const FrameTotals& totals, double frameMs) noexcept;
-  /// Propagation or audio side: an IR set superseded before it was applied.
-  void irSuperseded() noexcept { irsDropped_.fetch_add(1, std::memory_order_relaxed); }
   /// Audio side: a block rendered (finite: false when the NaN guard zeroed it), the sets
   /// applied so far and the age of the one playing (ms; negative: none yet).
   void blockDone(bool finite, uint64_t irsApplied, double irAgeMs) noexcept;
@@ -123,7 +121,7 @@ class SessionCounters {
 
  private:
   const int sceneRays_;
-  std::atomic<uint64_t> frames_{0}, rays_{0}, irsDropped_{0}, blocks_{0}, nanBlocks_{0},
+  std::atomic<uint64_t> frames_{0}, rays_{0}, blocks_{0}, nanBlocks_{0},
       lateCallbacks_{0}, rejectedCallbacks_{0}, irsApplied_{0}, reducedFrames_{0},
       cacheMergedEntries_{0}, bakedResponses_{0}, bakeFallbacks_{0}, inputSamplesReplaced_{0};
   std::atomic<double> frameMs_{0.0}, irAgeMs_{0.0}, cacheMergedEnergyFraction_{0.0},

@@ -59,24 +59,65 @@ using nlohmann::json;
   throw InputError(file, "", "malformed JSON" + where + ": " + detail);
 }
 
-/// Parses `text`, refusing an object that repeats a key: the parser would keep the last value
-/// silently, so that the file would not say what it does.
-json parseUniqueKeys(const std::string& file, const std::string& text) {
-  std::vector<std::set<std::string>> open;  // the keys of each object being parsed
-  std::string repeated;
-  const json::parser_callback_t noteKeys = [&](int, json::parse_event_t event, json& parsed) {
-    if (event == json::parse_event_t::object_start) open.emplace_back();
-    if (event == json::parse_event_t::object_end && !open.empty()) open.pop_back();
-    if (event == json::parse_event_t::key && !open.empty() &&
-        !open.back().insert(parsed.get<std::string>()).second && repeated.empty())
-      repeated = parsed.get<std::string>();
+/// A pass over JSON text that builds nothing (nlohmann's SAX interface): it counts values,
+/// refusing more than maxValues, and remembers the first key an object repeats. Parse errors
+/// are thrown as the parser made them, for failParse and failOther.
+class ValuesAndKeys {
+ public:
+  ValuesAndKeys(const std::string& file, size_t maxValues) : file_(file), max_(maxValues) {}
+  bool null() { return value(); }
+  bool boolean(bool) { return value(); }
+  bool number_integer(json::number_integer_t) { return value(); }
+  bool number_unsigned(json::number_unsigned_t) { return value(); }
+  bool number_float(json::number_float_t, const json::string_t&) { return value(); }
+  bool string(json::string_t&) { return value(); }
+  bool binary(json::binary_t&) { return value(); }
+  bool start_object(size_t) {
+    open_.emplace_back();
+    return value();
+  }
+  bool key(json::string_t& key) {
+    if (!open_.back().insert(key).second && repeated_.empty()) repeated_ = key;
     return true;
-  };
-  json doc = json::parse(text, noteKeys);
-  if (!repeated.empty())
+  }
+  bool end_object() {
+    open_.pop_back();
+    return true;
+  }
+  bool start_array(size_t) { return value(); }
+  bool end_array() { return true; }
+  template <class Exception>
+  bool parse_error(size_t, const std::string&, const Exception& e) {
+    throw e;
+  }
+  /// The first key an object repeats ("" if none).
+  const std::string& repeated() const { return repeated_; }
+
+ private:
+  bool value() {
+    if (++values_ > max_)
+      throw InputError(file_, "", "JSON holds more than " + std::to_string(max_) + " values");
+    return true;
+  }
+  const std::string& file_;
+  size_t max_;
+  size_t values_ = 0;
+  std::vector<std::set<std::string>> open_;  // the keys of each object being read
+  std::string repeated_;
+};
+
+/// Parses `text`, refusing an object that repeats a key (the parser would keep the last value
+/// silently, so that the file would not say what it does) and more than maxValues values, both
+/// found by a first pass that builds nothing. (The parser's own callback would do it in one
+/// pass, but it rescans the enclosing array after each object: quadratic in its length.)
+json parseUniqueKeys(const std::string& file, const std::string& text, size_t maxValues) {
+  ValuesAndKeys check(file, maxValues);
+  json::sax_parse(text, &check);
+  if (!check.repeated().empty())
     throw InputError(
-        file, "", "key \"" + repeated + "\" appears twice in one object (which value is meant?)");
-  return doc;
+        file, "",
+        "key \"" + check.repeated() + "\" appears twice in one object (which value is meant?)");
+  return json::parse(text);
 }
 
 }  // namespace
@@ -129,10 +170,13 @@ json parseJsonFile(const std::string& file, const std::string& what) {
   if (!in) throw InputError(file, "", "cannot open " + what);
   std::stringstream buf;
   buf << in.rdbuf();
-  const std::string text = buf.str();
+  return parseJsonText(file, buf.str());
+}
+
+json parseJsonText(const std::string& file, const std::string& text, size_t maxValues) {
   checkJsonDepth(file, text);
   try {
-    return parseUniqueKeys(file, text);
+    return parseUniqueKeys(file, text, maxValues);
   } catch (const json::parse_error& e) {
     failParse(file, text, e);
   } catch (const json::exception& e) {

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <glm/vec3.hpp>
 #include <initializer_list>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
@@ -31,6 +32,12 @@ void checkJsonDepth(const std::string& file, const std::string& text);
 /// object repeating a key), reporting malformed JSON with line and column. `what` names the
 /// kind of file in the messages about the file itself ("scene file", "layout file").
 nlohmann::json parseJsonFile(const std::string& file, const std::string& what = "scene file");
+
+/// Parses `text`, the JSON of `file`, under parseJsonFile's rules (depth, no repeated key,
+/// malformed JSON reported with line and column), refusing more than `maxValues` values
+/// (objects, arrays, numbers, strings, literals) before the next one is built.
+nlohmann::json parseJsonText(const std::string& file, const std::string& text,
+                             size_t maxValues = std::numeric_limits<size_t>::max());
 
 /// Reads typed values out of the parsed JSON, throwing InputError(file, field, ...) on any
 /// mismatch. Keys starting with '_' are comments and ignored everywhere.

@@ -10,7 +10,6 @@
 #include <nlohmann/json.hpp>
 
 #include "common/input_error.h"
-#include "scene/model_import.h"
 #include "scene/quaternion.h"
 
 namespace dpc {
@@ -116,9 +115,8 @@ glm::vec3 finiteVector(const std::string& file, const NodeChannel& c, const char
 
 }  // namespace
 
-std::map<std::string, GltfNode> readGltfNodes(const std::string& file) {
+std::map<std::string, GltfNode> readGltfNodes(const json& doc) {
   std::map<std::string, GltfNode> out;
-  const json doc = json::parse(gltfJsonText(file), nullptr, false);
   if (!doc.is_object() || !doc.contains("nodes") || !doc["nodes"].is_array()) return out;
   const json& nodes = doc["nodes"];
   for (const json& n : nodes)

@@ -14,6 +14,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/vec3.hpp>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -43,10 +44,9 @@ struct GltfNode {
   std::optional<Trs> trs;
 };
 
-/// Per node name, from the glTF JSON (the .gltf, or a .glb's JSON chunk) of `file`. Empty for
-/// a file that is not glTF; a file assimp has already read, so anything unparsable gives an
-/// empty map rather than an error.
-std::map<std::string, GltfNode> readGltfNodes(const std::string& file);
+/// Per node name, from a glTF level's JSON (checked by checkGltfLevel). Empty for null (a file
+/// that is not glTF).
+std::map<std::string, GltfNode> readGltfNodes(const nlohmann::json& doc);
 
 /// One node's channel with what it needs to be read.
 struct NodeChannel {

@@ -8,16 +8,13 @@
 #include <algorithm>
 #include <assimp/DefaultLogger.hpp>
 #include <assimp/LogStream.hpp>
-#include <cstdint>
-#include <cstring>
-#include <fstream>
-#include <iterator>
 #include <mutex>
 #include <optional>
 
 #include "common/input_error.h"
 #include "common/input_file.h"
-#include "scene/json_reader.h"
+#include "scene/gltf_check.h"
+#include "scene/gltf_container.h"
 
 namespace dpc {
 namespace {
@@ -30,30 +27,50 @@ std::string oneLine(std::string s) {
   return s;
 }
 
-/// assimp's file access with dpc's input-file rule: every file it opens (the level, a .gltf's
-/// buffers) must be a regular file of at most kMaxMeshBytes; a refusal is kept for the error.
-/// Exists() asks stat(), never open(): assimp's own opens the file, and a FIFO's open blocks.
-class BoundedFiles : public Assimp::DefaultIOSystem {
+/// assimp's file access under dpc's rules: the level itself, or a file inside the level's folder
+/// (levelFile; assimp asks for its folder as it derives it followed by the URI as written, which
+/// is percent-decoded here as glTF says and assimp 5.2 does not), each a regular file of at
+/// most kMaxMeshBytes; the first refusal is kept for the error. Exists() asks stat(), never
+/// open(): assimp's own opens the file, and a FIFO's open blocks.
+class LevelFiles : public Assimp::DefaultIOSystem {
  public:
-  explicit BoundedFiles(std::string level) : level_(std::move(level)) {}
+  explicit LevelFiles(std::string level) : level_(std::move(level)) {
+    // The folder assimp's glTF reader prefixes to a URI (up to the last '/' or '\\').
+    const size_t slash = level_.find_last_of("/\\");
+    prefix_ = slash == std::string::npos ? "" : level_.substr(0, slash + 1);
+  }
   bool Exists(const char* file) const override {
     struct stat st {};
     return ::stat(file, &st) == 0;
   }
   Assimp::IOStream* Open(const char* file, const char* mode) override {
     try {
-      checkInputFile(file, kMaxMeshBytes, level_, "", "referenced file");
+      return DefaultIOSystem::Open(permitted(file).c_str(), mode);
     } catch (const InputError& e) {
       if (!refusal_) refusal_ = e;
       return nullptr;
     }
-    return DefaultIOSystem::Open(file, mode);
   }
   /// The first refusal, if any.
   const std::optional<InputError>& refusal() const { return refusal_; }
 
  private:
+  /// The file to open for assimp's `file`, or an InputError.
+  std::string permitted(const std::string& file) const {
+    if (file == level_) {
+      checkInputFile(file, kMaxMeshBytes, level_, "", "level file");
+      return file;
+    }
+    if (!file.starts_with(prefix_))
+      throw InputError(level_, "",
+                       "referenced file '" + file + "' lies outside the level's folder");
+    std::string uri = file.substr(prefix_.size());
+    if (prefix_.ends_with('\\') && uri.starts_with('/')) uri.erase(0, 1);
+    return levelFile(level_, "", uri, true).string();
+  }
+
   std::string level_;
+  std::string prefix_;
   std::optional<InputError> refusal_;
 };
 
@@ -100,28 +117,15 @@ class LoggerScope {
   bool created_ = false;
 };
 
-bool isGltf(const std::string& path) {
-  std::string lower = path;
-  std::transform(lower.begin(), lower.end(), lower.begin(),
-                 [](unsigned char c) { return char(std::tolower(c)); });
-  return lower.ends_with(".gltf") || lower.ends_with(".glb");
-}
-
 }  // namespace
 
-std::string gltfJsonText(const std::string& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (bytes.size() < 20 || bytes.compare(0, 4, "glTF") != 0) return bytes;
-  uint32_t length = 0;
-  std::memcpy(&length, bytes.data() + 12, 4);  // little-endian, as glTF requires
-  if (bytes.compare(16, 4, "JSON") != 0 || length > bytes.size() - 20) return "";
-  return bytes.substr(20, length);
-}
-
-const aiScene* importModel(Assimp::Importer& importer, const std::string& modelFile) {
-  if (isGltf(modelFile)) checkJsonDepth(modelFile, gltfJsonText(modelFile));
-  auto* files = new BoundedFiles(modelFile);
+const aiScene* importModel(Assimp::Importer& importer, const std::string& modelFile,
+                           nlohmann::json* gltfJson) {
+  if (isGltfFile(modelFile)) {
+    nlohmann::json doc = checkGltfLevel(modelFile);
+    if (gltfJson) *gltfJson = std::move(doc);
+  }
+  auto* files = new LevelFiles(modelFile);
   importer.SetIOHandler(files);  // the importer owns it
   static std::mutex importLock;
   std::lock_guard<std::mutex> lock(importLock);

@@ -1,27 +1,28 @@
-// assimp's import of a level model (glTF, GLB, FBX) under dpc's input rules: every file it
-// opens is a bounded regular file (never a FIFO or device, which would block or never end),
-// a glTF's JSON is no deeper than kMaxJsonDepth (its parsers recurse once per level), and an
-// import that assimp completes only by dropping data (faces with out-of-range indices) is
-// refused instead of loading a different geometry without a word.
+// assimp's import of a level model (glTF, GLB, FBX) under dpc's input rules: a glTF level is
+// checked whole before assimp reads it (scene/gltf_check.h: its container, URIs, limits and
+// the glTF 2.0 rules assimp leaves unchecked); every file assimp opens is the level or a file
+// inside the level's folder (a URI percent-decoded, symbolic links followed), a bounded regular
+// file (never a FIFO or device, which would block or never end); and an import that assimp
+// completes only by dropping data (faces with out-of-range indices) is refused instead of
+// loading a different geometry without a word.
 #pragma once
 
 #include <assimp/Importer.hpp>
+#include <nlohmann/json.hpp>
 #include <string>
 
 struct aiScene;
 
 namespace dpc {
 
-/// The JSON text of a .gltf, or the first (JSON) chunk of a .glb ("" for a .glb without one).
-/// Control thread. Allocates; reads the whole file.
-std::string gltfJsonText(const std::string& file);
-
 /// Imports modelFile (triangulated) into `importer`, which owns the result. Throws
-/// InputError(modelFile, ...) naming the problem: a referenced file that is not a regular
-/// file of at most kMaxMeshBytes, JSON nested deeper than kMaxJsonDepth, assimp's own error,
-/// faces assimp dropped, an incomplete scene. Any thread: imports are serialised (assimp's
-/// logger, which reports the dropped data, is process-wide; a host's own logger is kept and
-/// only lent to). Allocates.
-const aiScene* importModel(Assimp::Importer& importer, const std::string& modelFile);
+/// InputError(modelFile, ...) naming the problem: what checkGltfLevel refuses in a glTF level,
+/// a referenced file outside the level's folder or not a regular file of at most
+/// kMaxMeshBytes, assimp's own error, faces assimp dropped, an incomplete scene. For a glTF
+/// level, *gltfJson (if given) receives its parsed JSON. Any thread: imports are serialised
+/// (assimp's logger, which reports the dropped data, is process-wide; a host's own logger is
+/// kept and only lent to). Allocates.
+const aiScene* importModel(Assimp::Importer& importer, const std::string& modelFile,
+                           nlohmann::json* gltfJson = nullptr);
 
 }  // namespace dpc

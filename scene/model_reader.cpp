@@ -25,13 +25,23 @@ std::string quoted(const aiString& s) {
   return inQuotes(s.C_Str());
 }
 
-Trs decompose(const aiMatrix4x4& m) {
+/// The rotation, scale and position of `m`, the transform of a moving object's node or of its
+/// parent (`whose`); refuses one without a rotation: a zero or non-finite scale.
+Trs decompose(const aiMatrix4x4& m, const std::string& file, const aiNode& node,
+              const char* whose) {
   aiVector3D s, p;
   aiQuaternion q;
   m.Decompose(s, q, p);
+  const std::optional<glm::quat> rotation = unitQuaternion(q.x, q.y, q.z, q.w);
+  const bool finite = std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+  if (!rotation || !finite || !(s.x * s.y * s.z != 0.f) || !std::isfinite(s.x * s.y * s.z))
+    throw InputError(file, "node " + quoted(node.mName),
+                     std::string(whose) +
+                         " transform has a zero or non-finite scale, so it holds no rotation; a "
+                         "moving object needs a rigid frame");
   Trs out;
   out.position = glm::vec3(p.x, p.y, p.z);
-  out.rotation = unitQuaternion(q.x, q.y, q.z, q.w).value_or(out.rotation);
+  out.rotation = *rotation;
   out.scale = glm::vec3(s.x, s.y, s.z);
   return out;
 }
@@ -71,7 +81,9 @@ glm::vec3 vertex(const Walk& w, const aiMesh& m, unsigned i, const aiMatrix4x4& 
   return glm::vec3(p.x, p.y, p.z);
 }
 
-/// Appends one assimp mesh, transformed by toFrame, to `raw`.
+/// Appends one assimp mesh, transformed by toFrame, to `raw`. A mirroring toFrame (negative
+/// determinant) reverses each triangle's corners, as glTF says: a mirror turns the winding, and
+/// the faces keep their front side only with it reversed again.
 void appendMesh(Walk& w, const aiMesh& m, const aiMatrix4x4& toFrame, RawMesh& raw) {
   if (m.mPrimitiveTypes & (aiPrimitiveType_POINT | aiPrimitiveType_LINE))
     throw InputError(w.file, "mesh " + quoted(m.mName),
@@ -79,14 +91,15 @@ void appendMesh(Walk& w, const aiMesh& m, const aiMatrix4x4& toFrame, RawMesh& r
   const uint32_t base = uint32_t(raw.positions.size());
   for (unsigned i = 0; i < m.mNumVertices; ++i) raw.positions.push_back(vertex(w, m, i, toFrame));
   const uint32_t slot = materialSlot(w, m, raw);
+  const bool mirrored = toFrame.Determinant() < 0;
   for (unsigned f = 0; f < m.mNumFaces; ++f) {
     const aiFace& face = m.mFaces[f];
     if (face.mNumIndices != 3 ||
         std::max({face.mIndices[0], face.mIndices[1], face.mIndices[2]}) >= m.mNumVertices)
       throw InputError(w.file, "mesh " + quoted(m.mName) + " face " + std::to_string(f + 1),
                        "is not a triangle of the mesh's vertices");
-    raw.triangles.push_back(
-        {base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
+    raw.triangles.push_back({base + face.mIndices[0], base + face.mIndices[mirrored ? 2 : 1],
+                             base + face.mIndices[mirrored ? 1 : 2]});
     raw.triangleMaterial.push_back(slot);
     raw.triangleFace.push_back(++w.triangles);
   }
@@ -144,11 +157,19 @@ float unitScale(const aiScene& scene, const std::string& file) {
     throw InputError(file, "UpAxis",
                      "is " + std::string(up == 2 ? "z" : "x") +
                          "; dpc's frame is y up: export the FBX with Y up");
-  float cmPerUnit = 0.f;
-  double cmPerUnitD = 0.0;
-  if (scene.mMetaData->Get("UnitScaleFactor", cmPerUnit)) return cmPerUnit / 100.f;
-  if (scene.mMetaData->Get("UnitScaleFactor", cmPerUnitD)) return float(cmPerUnitD / 100.0);
-  return 1.f;
+  float cmPerUnitF = 0.f;
+  double cmPerUnit = 100.0;
+  if (scene.mMetaData->Get("UnitScaleFactor", cmPerUnitF))
+    cmPerUnit = cmPerUnitF;
+  else
+    (void)scene.mMetaData->Get("UnitScaleFactor", cmPerUnit);
+  // A zero scale collapses the level; a negative one mirrors it (and turns its faces inside out).
+  if (!(cmPerUnit > 0.0) || !std::isfinite(float(cmPerUnit / 100.0)))
+    throw InputError(file, "UnitScaleFactor",
+                     valueText(cmPerUnit) +
+                         " is not a unit length (centimetres per unit, > 0): zero would collapse "
+                         "the level and a negative value mirror it");
+  return float(cmPerUnit / 100.0);
 }
 
 /// Per request, its node's channel (channel == nullptr: not animated). Refuses a channel on a
@@ -186,14 +207,15 @@ std::vector<NodeChannel> channels(const Walk& w, const std::map<std::string, Glt
 void finishObject(const Walk& w, size_t k, const std::map<std::string, GltfNode>& gltf,
                   NodeChannel channel, ModelObject& object) {
   const ModelObjectRequest& r = (*w.requests)[k];
-  const Trs parent = decompose(w.parentWorld[k]);
+  const Trs parent = decompose(w.parentWorld[k], w.file, *w.nodes[k], "its parent's");
   const float sp = parent.scale.x;
   if (std::abs(parent.scale.y - sp) > 1e-5f * sp || std::abs(parent.scale.z - sp) > 1e-5f * sp)
     throw InputError(w.file, "node " + quoted(w.nodes[k]->mName),
                      "its parent's scale is not uniform; a moving object needs a rigid frame");
   const auto node = gltf.find(r.name);
-  const Trs own = node != gltf.end() && node->second.trs ? *node->second.trs
-                                                         : decompose(w.nodes[k]->mTransformation);
+  const Trs own = node != gltf.end() && node->second.trs
+                      ? *node->second.trs
+                      : decompose(w.nodes[k]->mTransformation, w.file, *w.nodes[k], "its");
   channel.rest.position = own.position;
   channel.rest.rotation = own.rotation;
   channel.restScale = own.scale;
@@ -209,6 +231,8 @@ void finishObject(const Walk& w, size_t k, const std::map<std::string, GltfNode>
     key.rotation = parent.rotation * key.rotation;
   }
   for (glm::vec3& p : object.mesh.positions) p *= sp * keys.scale;
+  if (keys.scale.x * keys.scale.y * keys.scale.z < 0)  // mirrored: the winding reversed back
+    for (auto& t : object.mesh.triangles) std::swap(t[1], t[2]);
   object.name = r.name;
   object.trajectory = std::move(keys.keys);
 }
@@ -230,7 +254,8 @@ RawModel readModel(const std::string& sceneFile, const std::string& modelFile,
   Assimp::Importer importer;
   // FBX pivots as separate helper nodes would take a node's animation away from its name.
   importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, false);
-  const aiScene* scene = importModel(importer, modelFile);
+  nlohmann::json gltfJson;
+  const aiScene* scene = importModel(importer, modelFile, &gltfJson);
   Walk w;
   w.scene = scene;
   w.file = modelFile;
@@ -243,7 +268,7 @@ RawModel readModel(const std::string& sceneFile, const std::string& modelFile,
   aiMatrix4x4 units;
   aiMatrix4x4::Scaling(aiVector3D(unitScale(*scene, modelFile)), units);
   visit(w, *scene->mRootNode, units, -1, aiMatrix4x4());
-  const std::map<std::string, GltfNode> gltf = readGltfNodes(modelFile);
+  const std::map<std::string, GltfNode> gltf = readGltfNodes(gltfJson);
   const std::vector<NodeChannel> moves = channels(w, gltf);
   for (size_t k = 0; k < requests.size(); ++k) {
     if (!w.nodes[k])

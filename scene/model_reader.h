@@ -4,7 +4,7 @@
 // ("glTF and FBX levels") is the user's view; why assimp and not tinygltf is there too.
 //
 // Frames and units: a node's world transform is the product of its ancestors' (glTF: y up,
-// metres, as dpc; FBX: the file's UnitScaleFactor, centimetres per unit, turns units into
+// metres, as dpc; FBX: the file's UnitScaleFactor, centimetres per unit (> 0), turns units into
 // metres, and an up axis other than y is refused). Material names select the scene's
 // materials as OBJ usemtl names do (a primitive without a material uses "default").
 //
@@ -45,11 +45,13 @@ struct RawModel {
 };
 
 /// Reads `modelFile` (at most kMaxMeshBytes); sceneFile and meshField name the scene key that
-/// points at it. Errors: a file assimp cannot read (one line of its message: a missing buffer,
-/// a malformed accessor), point or line primitives, a coordinate that is NaN, infinite or
-/// beyond the coordinate limit, a requested node missing or named twice, an animation that
-/// moves a node no request names, a rotation key of zero length, CUBICSPLINE interpolation, an
-/// animated scale.
+/// points at it. Errors: what scene/gltf_check.h refuses in a glTF level (its files outside its
+/// folder or fetched from a network, its limits, glTF 2.0's rules, modes other than triangles,
+/// formats assimp misreads, broken animation samplers, zero rotations), a file assimp cannot
+/// read (one line of its message), a coordinate that is NaN, infinite or beyond the coordinate
+/// limit, an FBX unit scale that is not positive, a requested node missing or named twice, or
+/// whose transform has no rotation (a zero scale), an animation that moves a node no request
+/// names, a rotation key of zero length, CUBICSPLINE interpolation, an animated scale.
 RawModel readModel(const std::string& sceneFile, const std::string& modelFile,
                    const std::string& meshField, const std::vector<ModelObjectRequest>& requests);
 

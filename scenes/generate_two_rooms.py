@@ -49,13 +49,15 @@ quad((0, 0, 0), (L, 0, 0), (L, HEIGHT, 0), (0, HEIGHT, 0), 'walls')
 quad((0, 0, DEPTH), (0, HEIGHT, DEPTH), (L, HEIGHT, DEPTH), (L, 0, DEPTH), 'walls')
 quad((0, 0, 0), (0, HEIGHT, 0), (0, HEIGHT, DEPTH), (0, 0, DEPTH), 'walls')
 quad((L, 0, 0), (L, 0, DEPTH), (L, HEIGHT, DEPTH), (L, HEIGHT, 0), 'walls')
-# Partition x = ROOM_X with the doorway.
+# Partition x = ROOM_X with the doorway, in panels that meet at the doorway's corners, so that
+# the jambs (the free edges either side of the doorway) end at the lintel's height: edge
+# diffraction and the gaps round the closed leaf (engine/diffraction.h) take an edge's length.
 X = ROOM_X
-panel((X, 0, 0), (X, 0, DOOR_Z0), (X, HEIGHT, DOOR_Z0), (X, HEIGHT, 0), 'partition')
-panel((X, 0, DOOR_Z0 + DOOR_W), (X, 0, DEPTH), (X, HEIGHT, DEPTH), (X, HEIGHT, DOOR_Z0 + DOOR_W),
-      'partition')
-panel((X, DOOR_H, DOOR_Z0), (X, DOOR_H, DOOR_Z0 + DOOR_W), (X, HEIGHT, DOOR_Z0 + DOOR_W),
-      (X, HEIGHT, DOOR_Z0), 'partition')
+Z1 = DOOR_Z0 + DOOR_W
+for y0, y1 in ((0, DOOR_H), (DOOR_H, HEIGHT)):
+    panel((X, y0, 0), (X, y0, DOOR_Z0), (X, y1, DOOR_Z0), (X, y1, 0), 'partition')
+    panel((X, y0, Z1), (X, y0, DEPTH), (X, y1, DEPTH), (X, y1, Z1), 'partition')
+panel((X, DOOR_H, DOOR_Z0), (X, DOOR_H, Z1), (X, HEIGHT, Z1), (X, HEIGHT, DOOR_Z0), 'partition')
 
 
 write_obj(os.path.join(out, 'two_rooms.obj'),

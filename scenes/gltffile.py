@@ -16,8 +16,10 @@ import json
 import math
 import struct
 
-FLOAT, UINT32 = 5126, 5125
+BYTE, UINT8, SHORT, UINT16, UINT32, FLOAT = 5120, 5121, 5122, 5123, 5125, 5126
 TRIANGLES = 4
+PACK = {BYTE: 'b', UINT8: 'B', SHORT: 'h', UINT16: 'H', UINT32: 'I', FLOAT: 'f'}
+WIDTH = {'SCALAR': 1, 'VEC2': 2, 'VEC3': 3, 'VEC4': 4, 'MAT2': 4, 'MAT3': 9, 'MAT4': 16}
 
 
 class Gltf:
@@ -35,12 +37,15 @@ class Gltf:
         self.blob += data
         return len(self.doc['bufferViews']) - 1
 
-    def accessor(self, values, kind, component=FLOAT, bounds=False):
-        """values: a flat list; kind 'SCALAR', 'VEC3' or 'VEC4'. Returns the accessor index."""
-        width = {'SCALAR': 1, 'VEC3': 3, 'VEC4': 4}[kind]
-        fmt = '<%d%s' % (len(values), 'f' if component == FLOAT else 'I')
+    def accessor(self, values, kind, component=FLOAT, bounds=False, normalized=False):
+        """values: a flat list; kind 'SCALAR', 'VEC2' .. 'MAT4'; component one of BYTE .. FLOAT
+        (values as stored: integers for the integer types). Returns the accessor index."""
+        width = WIDTH[kind]
+        fmt = '<%d%s' % (len(values), PACK[component])
         a = {'bufferView': self._view(struct.pack(fmt, *values)), 'componentType': component,
              'count': len(values) // width, 'type': kind}
+        if normalized:
+            a['normalized'] = True
         if bounds:  # required for POSITION and animation inputs
             cols = [values[i::width] for i in range(width)]
             finite = [[x for x in c if math.isfinite(x)] or [0.0] for c in cols]

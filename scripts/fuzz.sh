@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# libFuzzer runs of the scene JSON loader, the OBJ reader, the WAV reader and the C API's
-# dpc_engine_create_from_data (fuzz/): configures build-fuzz with clang and -DDPC_FUZZ=ON
-# (ASan+UBSan+coverage), builds the four targets and
+# libFuzzer runs of the scene JSON loader, the OBJ reader, the WAV reader, the C API's
+# dpc_engine_create_from_data, the bake file's reader and the glTF/GLB level reader (fuzz/): configures build-fuzz with
+# clang and -DDPC_FUZZ=ON (ASan+UBSan+coverage), builds the six targets and
 # runs each for SECONDS (default 20) from its seed corpus in fuzz/corpus/<target>. New inputs
 # go to a scratch corpus (build-fuzz/corpus/<target>), never into the repository; a crash
 # leaves its reproducer in build-fuzz/ and fails the run.
@@ -24,13 +24,13 @@ command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -
 start=$(date +%s)
 CC=clang CXX=clang++ cmake -S . -B "$build" -G Ninja -DDPC_FUZZ=ON -DDPC_BUILD_TESTS=OFF \
   -DCMAKE_BUILD_TYPE=RelWithDebInfo "${launcher[@]}" >/dev/null
-cmake --build "$build" --target scene_fuzzer obj_fuzzer wav_fuzzer c_api_fuzzer -j"${JOBS:-$(nproc 2>/dev/null || echo 2)}"
+cmake --build "$build" --target scene_fuzzer obj_fuzzer wav_fuzzer c_api_fuzzer bake_fuzzer gltf_fuzzer -j"${JOBS:-$(nproc 2>/dev/null || echo 2)}"
 built=$(date +%s)
 export ASAN_OPTIONS="detect_leaks=1:${ASAN_OPTIONS:-}"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:${UBSAN_OPTIONS:-}"
 export LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:${LSAN_OPTIONS:-}"
 status=0
-for t in scene obj wav c_api; do
+for t in scene obj wav c_api bake gltf; do
   mkdir -p "$build/corpus/$t"
   # -rss_limit_mb: the loaders bound their inputs, so more than 2 GB is a finding too.
   if ! (cd "$build" && "fuzz/${t}_fuzzer" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \

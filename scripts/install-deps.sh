@@ -11,13 +11,19 @@ packages=(
   nlohmann-json3-dev libtinyobjloader-dev libassimp-dev libcli11-dev catch2
   python3 python3-numpy python3-matplotlib espeak-ng sox
   pybind11-dev python3-pybind11 python3-pytest  # the Python module and its tests
+  python3-dev python3-setuptools python3-wheel python3-venv  # pip install . (docs/python.md)
   clang libclang-rt-dev
   lv2-dev lilv-utils sordi
   jalv python3-jack-client  # the plugin inside a real host (tests/lv2/jalv_test.py)
+  ardour  # the plugin in Ardour's headless Lua session (tests/lv2/ardour_test.py)
   libzita-convolver-dev  # dpc-bench convolve only: the yardstick
   libhdf5-dev hdf5-tools python3-h5py  # dpc-bake's file, its tests (h5diff), the h5py example
+  zlib1g-dev  # the bake file's CRC-32 checksums
   libopenmpi-dev openmpi-bin  # dpc-bake under mpirun (optional: without it, single-process)
 )
+# The glTF oracle test (tests/gltf/oracle_test.py) runs the Khronos glTF-Validator on Node.js,
+# installed by npm; a Node.js that brings its own npm (NodeSource's package) is kept.
+command -v npm >/dev/null || packages+=(nodejs npm)
 
 missing=()
 for p in "${packages[@]}"; do

@@ -11,6 +11,7 @@
 
 #include "common/fftw_util.h"
 #include "engine/energy_response.h"
+#include "engine/propagation.h"
 #include "synthesis/band_filters.h"
 
 namespace dpc::test {
@@ -22,6 +23,21 @@ inline std::pair<double, double> meanAndStandardError(const std::vector<double>&
   m /= double(v.size());
   for (double x : v) s += (x - m) * (x - m);
   return {m, std::sqrt(s / double(v.size() - 1) / double(v.size()))};
+}
+
+/// A trace of the settings' rays and seed from `origin` (source `emitter`) in frame `frame`,
+/// tested against `receivers` (which must outlive the request).
+inline TraceRequest traceRequest(const PropagationSettings& ps, uint64_t frame, uint32_t emitter,
+                                 const glm::vec3& origin,
+                                 std::span<const ListenerSphere> receivers) {
+  TraceRequest rq;
+  rq.seed = ps.seed;
+  rq.frame = frame;
+  rq.emitter = emitter;
+  rq.origin = origin;
+  rq.rays = ps.raysPerFrame;
+  rq.receivers = receivers;
+  return rq;
 }
 
 /// Bit-for-bit equality of two energy responses.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -10,9 +11,11 @@
 #include <optional>
 #include <thread>
 
+#include "apps/bake/bake_plan.h"
 #include "apps/bake/progress.h"
 #include "apps/bake/watchdog.h"
 #include "bake/bake_file.h"
+#include "bake/bake_lock.h"
 #include "bake/parameter_map.h"
 #include "common/input_error.h"
 #include "common/output_file.h"
@@ -28,81 +31,35 @@ int unfinishedStatus() {
   return s != 0 ? 128 + s : 1;
 }
 
-/// What this run bakes: the scene, the file's header and the probes not yet done.
-struct Plan {
-  SceneDesc scene;
-  BakeHeader header;
-  std::vector<size_t> todo;
-  size_t alreadyDone = 0;
-};
-
-Plan planFresh(const Options& o) {
-  Plan plan;
-  plan.scene = loadScene(o.scene);
-  BakeHeader& h = plan.header;
-  h.scenePath = std::filesystem::absolute(o.scene).string();
-  h.meshHash = sceneHash(plan.scene);
-  h.seed = plan.scene.propagation.seed;
-  h.settings = o.settings;
-  if (!o.raysGiven) h.settings.rays = plan.scene.propagation.raysPerFrame;
-  h.settings.irLength = plan.scene.propagation.irLength;
-  h.grid = o.grid;
-  h.grid.radiusM = plan.scene.listeners[0].radius;
-  if (o.probes.empty()) {
-    h.probes = makeProbeGrid(plan.scene, h.grid, o.scene);
-  } else {
-    h.grid.spacingM = h.grid.heightM = 0.0;  // a list: no grid
-    h.probes =
-        placeProbes(plan.scene, readProbeList(o.probes), h.grid.radiusM, o.probes, "--probes");
-  }
-  for (const SourceDesc& s : plan.scene.sources) h.sources.push_back(sourcePositionAt(s, 0.0));
-  h.shape = probeShape(plan.scene, h.settings);
-  for (size_t p = 0; p < h.probes.positions.size(); ++p) plan.todo.push_back(p);
-  return plan;
-}
-
-Plan planResume(const Options& o) {
-  Plan plan;
-  std::vector<uint8_t> done;
-  {
-    const BakeFile file = BakeFile::open(o.resume, false);
-    plan.header = file.header();
-    done = file.done();
-  }
-  const std::string scenePath = o.scene.empty() ? plan.header.scenePath : o.scene;
-  plan.scene = loadScene(scenePath);
-  if (sceneHash(plan.scene) != plan.header.meshHash)
-    throw InputError(o.resume, "mesh_hash",
-                     "the bake is of another scene than " + scenePath + " (or the scene changed)");
-  plan.header.settings.threads = o.settings.threads;
-  for (size_t p = 0; p < done.size(); ++p)
-    if (!done[p]) plan.todo.push_back(p);
-  plan.alreadyDone = done.size() - plan.todo.size();
-  return plan;
-}
-
 /// Rank 0's file: a fresh one built in a temporary next to --out and renamed into place once
-/// its layout is written (so --out is only ever replaced by a valid bake), or the resumed one.
+/// its layout is written and flushed (so --out is only ever replaced by a valid bake, and a
+/// disk too small fails here), or the resumed one (marked incomplete again when probes it
+/// held were damaged and are baked anew).
 BakeFile openOutput(const Options& o, const Plan& plan) {
-  if (!o.resume.empty()) return BakeFile::open(o.resume, true);
+  if (!o.resume.empty()) {
+    BakeFile file = BakeFile::open(o.resume, BakeFile::Access::kWrite);
+    if (plan.wasComplete && !plan.todo.empty()) file.markIncomplete();
+    return file;
+  }
+  checkFreeSpace(o.out, plan.estimate.bytes, o.force);
   TempOutputFile tmp(o.out);
   BakeFile file = BakeFile::create(tmp.tempPath(), o.out, plan.header);
   tmp.commit();
+  file.renamedTo(o.out);
   return file;
 }
 
-void printEstimate(const Plan& plan, const Cluster& cluster) {
+void printEstimate(const Plan& plan) {
   const BakeHeader& h = plan.header;
   const double rays = double(plan.todo.size()) * double(h.shape.sources) *
                       double(h.settings.frames) * double(h.settings.rays);
-  const double mb = double(plan.todo.size()) * double(h.shape.packedFloats()) * 4.0 / 1e6;
   std::fprintf(stderr,
                "dpc-bake: %zu probes to bake of %zu (%zu candidates: %zu outside, %zu inside "
-               "geometry, %zu near a surface) x %zu sources x %d frames x %d rays = %.3g rays, "
-               "%.1f MB of data, %d process%s\n",
+               "geometry, %zu near a surface) x %zu sources x %d frames x %d rays = %.3g rays; "
+               "estimate: %s\n",
                plan.todo.size(), h.probes.positions.size(), h.probes.candidates, h.probes.outside,
                h.probes.insideGeometry, h.probes.nearSurface, h.shape.sources, h.settings.frames,
-               h.settings.rays, rays, mb, cluster.size(), cluster.size() > 1 ? "es" : "");
+               h.settings.rays, rays, describe(plan.estimate).c_str());
 }
 
 /// This rank's probes: every size-th of the todo list, from its rank.
@@ -131,7 +88,7 @@ struct Writer {
 
 /// Rank 0: bakes its share and commits every probe (its own and the others') as it comes.
 /// False when interrupted.
-bool bakeAsWriter(const Plan& plan, Cluster& cluster, Writer& out) {
+bool bakeAsWriter(Plan& plan, Cluster& cluster, Writer& out) {
   const BakeHeader& h = plan.header;
   size_t& committed = out.committed;
   auto drain = [&] {
@@ -142,10 +99,9 @@ bool bakeAsWriter(const Plan& plan, Cluster& cluster, Writer& out) {
     }
     return any;
   };
-  ProbeBaker baker(plan.scene, h.settings);
   for (const size_t p : share(plan.todo, cluster)) {
     if (stopSignal() != 0) return false;
-    out.commit(p, baker.bake(p, h.probes.positions[p]));
+    out.commit(p, plan.baker->bake(p, h.probes.positions[p]));
     drain();
   }
   while (committed < plan.todo.size()) {
@@ -155,12 +111,11 @@ bool bakeAsWriter(const Plan& plan, Cluster& cluster, Writer& out) {
   return true;
 }
 
-void bakeAsWorker(const Plan& plan, Cluster& cluster) {
+void bakeAsWorker(Plan& plan, Cluster& cluster) {
   const BakeHeader& h = plan.header;
-  ProbeBaker baker(plan.scene, h.settings);
   for (const size_t p : share(plan.todo, cluster)) {
     if (stopSignal() != 0) return;
-    cluster.send(p, pack(baker.bake(p, h.probes.positions[p])));
+    cluster.send(p, pack(plan.baker->bake(p, h.probes.positions[p])));
   }
   cluster.finishSends();
 }
@@ -185,7 +140,7 @@ std::unique_ptr<Watchdog> watch(const Plan& plan, const Cluster& cluster, const 
                                     plan.header.probes.positions.size(), plan.alreadyDone);
 }
 
-int finishAsWriter(const Options& o, const Plan& plan, Cluster& cluster, BakeFile& file) {
+int finishAsWriter(const Options& o, Plan& plan, Cluster& cluster, BakeFile& file) {
   Progress progress(plan.todo.size(), plan.alreadyDone, o.quiet);
   std::unique_ptr<Watchdog> watchdog = watch(plan, cluster, file);
   Writer writer{file, progress, watchdog.get()};
@@ -216,6 +171,14 @@ int finishAsWriter(const Options& o, const Plan& plan, Cluster& cluster, BakeFil
   return 0;
 }
 
+/// The bake this run writes, its path checked as an output (fresh bakes) before its lock is
+/// taken: a folder that does not exist is named as such, not as a lock file that cannot be made.
+std::string lockedOutput(const Options& o) {
+  if (!o.resume.empty()) return o.resume;
+  checkOutputPath(o.out, "--out", {});
+  return o.out;
+}
+
 /// The bake and the map, checked before any work as dpc-demo checks its outputs: each a
 /// regular file or absent, naming no input of the scene (nor each other), in an existing
 /// folder. A fresh bake's --out is checked too; a resumed one is the file being finished.
@@ -236,9 +199,15 @@ void checkBakeOutputs(const Options& o, const Plan& plan) {
 
 int runBake(const Options& o, Cluster& cluster) {
   catchStopSignals();
+  const bool writer = cluster.rank() == 0;
+  std::optional<BakeLock> lock;  // rank 0, the one writer, holds it until the file is done
   Plan plan;
   if (!together(cluster, [&] {
-        plan = o.resume.empty() ? planFresh(o) : planResume(o);
+        if (writer) lock.emplace(lockedOutput(o));
+        if (o.resume.empty())
+          planFresh(o, cluster.size(), writer, plan);
+        else
+          planResume(o, cluster.size(), writer, plan);
         checkBakeOutputs(o, plan);
         throwIfStopped();  // a signal while planning: no file opened or created
         return 0;
@@ -246,16 +215,27 @@ int runBake(const Options& o, Cluster& cluster) {
     return unfinishedStatus();
   std::optional<BakeFile> file;
   if (!together(cluster, [&] {
-        if (cluster.rank() == 0) file.emplace(openOutput(o, plan));
+        if (writer) file.emplace(openOutput(o, plan));
         return 0;
       }))
     return unfinishedStatus();
-  if (cluster.rank() != 0) {
+  if (!writer) {
     bakeAsWorker(plan, cluster);
     return stopSignal() != 0 ? unfinishedStatus() : 0;
   }
-  if (!o.quiet) printEstimate(plan, cluster);
-  return finishAsWriter(o, plan, cluster, *file);
+  if (!o.quiet) printEstimate(plan);
+  if (cluster.size() == 1) return finishAsWriter(o, plan, cluster, *file);
+  // With other ranks, an error here (a write the disk refused) must end the job: the others
+  // would wait for rank 0 to receive their probes. Every probe committed so far is flushed.
+  const int status = runReportingErrors("dpc-bake", [&] {
+    return finishAsWriter(o, plan, cluster, *file);
+  });
+  if (status == 1) {
+    lock.reset();
+    std::fflush(stderr);
+    std::_Exit(1);
+  }
+  return status;
 }
 
 }  // namespace dpc::bake

@@ -17,7 +17,9 @@ constexpr const char* kDescription =
     "           [--map MAP.csv]\n"
     "  dpc-bake --resume BAKE.h5 [SCENE.json] [--map MAP.csv]\n"
     "Under mpirun the probes are shared among the ranks; the file is the same for any number\n"
-    "of ranks. The format: docs/bake-format.md. Exit status 0 on success, 1 on bad input,\n"
+    "of ranks. The probes, file size and time are estimated first; over 100000 probes, 16 GB\n"
+    "or 24 h the bake is refused unless --force. One dpc-bake writes a file at a time.\n"
+    "The format: docs/bake-format.md. Exit status 0 on success, 1 on bad input,\n"
     "128 + n after stop signal n (SIGINT, SIGTERM, SIGHUP: the file then says which probes are\n"
     "done; --resume finishes it).";
 
@@ -55,7 +57,14 @@ void addOptions(CLI::App& app, Options& o) {
                  "Write the parameter map (T20, T30, EDT, C50, C80, D50, G per band, STI, each "
                  "with its 95 % confidence half-width) as CSV")
       ->type_name("FILE");
+}
+
+/// The flags without a value.
+void addFlags(CLI::App& app, Options& o) {
   app.add_flag("--quiet", o.quiet, "No progress line");
+  app.add_flag("--force", o.force,
+               "Bake even when the estimate is over the limits (100000 probes, 16 GB, 24 h) or "
+               "more than the disk's free space (docs/bake.md)");
   app.add_flag("--json", o.json,
                "Print a JSON summary on stdout at the end: probes, seconds, probes/s, "
                "processes, bytes per probe sent to the writer, writer seconds per probe");
@@ -98,6 +107,7 @@ void validate(const Options& o, const CLI::App& app) {
 bool parseOptions(int argc, char** argv, Options& o) {
   CLI::App app(kDescription, "dpc-bake");
   addOptions(app, o);
+  addFlags(app, o);
   refuseEmptyValues(app);
   try {
     app.parse(argc, argv);

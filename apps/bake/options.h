@@ -29,6 +29,8 @@ struct Options {
   bool raysGiven = false;
   bool quiet = false;  ///< no progress line
   bool json = false;   ///< a JSON summary on stdout at the end (dpc-bench bake reads it)
+  /// --force: bake beyond the limits of apps/bake/estimate.h and the free space of the disk
+  bool force = false;
 };
 
 /// Parses argv; returns false (after printing help) when the program should exit 0 at once.

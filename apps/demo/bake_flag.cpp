@@ -9,12 +9,14 @@
 
 namespace dpc::demo {
 
-std::shared_ptr<const BakedField> loadBakeFlag(const Flags& fl, const SceneDesc& scene) {
+std::shared_ptr<const BakedField> loadBakeFlag(const Flags& fl, const SceneDesc& scene,
+                                               const PropagationSettings& settings) {
   if (fl.bake.empty()) return nullptr;
 #ifdef DPC_HAVE_BAKE
-  return bake::loadBakedField(fl.bake, scene);
+  return bake::loadBakedField(fl.bake, scene, settings);
 #else
   (void)scene;
+  (void)settings;
   throw InputError("command line", "--bake",
                    "this dpc-demo was built without HDF5 (scripts/install-deps.sh installs "
                    "libhdf5-dev)");

@@ -79,7 +79,7 @@ LoadedRun loadRun(const Flags& fl, PropagationSettings (*prepare)(SceneDesc&, co
   LoadedRun run;
   run.scene = std::make_shared<SceneDesc>(loadScene(fl.scene));
   run.settings = prepare(*run.scene, fl);
-  run.bake = loadBakeFlag(fl, *run.scene);
+  run.bake = loadBakeFlag(fl, *run.scene, run.settings);
   run.dry = loadDrySignalsWithNotes(*run.scene);
   return run;
 }

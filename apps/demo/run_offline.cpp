@@ -94,8 +94,8 @@ void stageLastFrame(const SceneDesc& scene, const OfflineListenerResult& r,
   } else if (!paths.ir.empty()) {
     audio::AudioData ir;
     ir.sampleRate = scene.audio.sampleRate;
-    for (const auto& source : r.lastIrs)
-      for (const auto& channel : source) ir.channels.push_back(channel);
+    for (const ImpulseResponse& source : r.lastIrs)
+      for (int c = 0; c < source.channels(); ++c) ir.channels.push_back(source.channelCopy(c));
     outputs.add(audio::stageWav(paths.ir, ir, audio::SampleFormat::kFloat32));
   }
   if (!paths.energy.empty()) {
@@ -149,7 +149,7 @@ void printWritten(const SceneDesc& scene, const OfflineListenerResult& r,
                 r.lastEnergy.size());
   if (!paths.ir.empty())
     std::printf("wrote %s (last frame's IR, %zu channel(s): source-major)\n", paths.ir.c_str(),
-                r.lastIrs.size() * r.lastIrs.front().size());
+                r.lastIrs.size() * size_t(r.lastIrs.front().channels()));
 }
 
 /// One line per propagation run (shared by every listener it rendered).

@@ -47,7 +47,7 @@ TempOutputFile stageIrSofa(const SceneDesc& scene, const OfflineListenerResult& 
   s.sampleRate = scene.audio.sampleRate;
   s.irs = r.lastIrs;
   for (const glm::vec3& p : r.lastSourcePositions) s.sourcePositions.push_back(toSofa(p));
-  const size_t receivers = r.lastIrs.empty() ? 0 : r.lastIrs[0].size();
+  const size_t receivers = r.lastIrs.empty() ? 0 : size_t(r.lastIrs[0].channels());
   s.receiverPositions.assign(receivers, audio::Vec3d{});
   if (scene.audio.output == OutputFormat::kBinaural && receivers == 2) {
     s.receiverPositions[0] = {0.0, 0.09, 0.0};  // left ear: the listener's +y

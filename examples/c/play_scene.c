@@ -1,5 +1,7 @@
 /* Renders SCENE.json through the dpc C API into OUT.wav: the listener walks 3 m along +x
- * while the scene's dry signals are fed block by block through dpc_engine_process.
+ * while the scene's dry signals are fed block by block through dpc_engine_process. The WAV
+ * has the engine's output channels, whatever the scene's format (2 for binaural, 16 for
+ * third-order AmbiX).
  * Usage: play_scene SCENE.json OUT.wav */
 #include <dpc/dpc.h>
 #include <sndfile.h>
@@ -12,10 +14,10 @@ int main(int argc, char** argv) {
     fprintf(stderr, "usage: %s SCENE.json OUT.wav\n", argv[0]);
     return 2;
   }
-  /* The library must have the major and minor version of the header compiled in. */
-  if ((dpc_version() >> 8) != (DPC_VERSION >> 8)) {
-    fprintf(stderr, "libdpc %lu.%lu does not match dpc.h %s\n", dpc_version() >> 16,
-            (dpc_version() >> 8) & 0xff, DPC_VERSION_STRING);
+  /* The library must serve this header: the same major version, not older (dpc.h). */
+  if (!DPC_VERSION_COMPATIBLE(dpc_version())) {
+    fprintf(stderr, "libdpc %lu.%lu is older than dpc.h %s or of another major version\n",
+            dpc_version() >> 16, (dpc_version() >> 8) & 0xff, DPC_VERSION_STRING);
     return 1;
   }
   dpc_engine* engine = NULL;
@@ -35,17 +37,25 @@ int main(int argc, char** argv) {
     dpc_engine_destroy(engine);
     return 1;
   }
+  /* One output buffer per channel the engine writes. */
   float* planar = calloc((size_t)block * channels, sizeof(float));
   float* interleaved = calloc((size_t)block * channels, sizeof(float));
-  float* outputs[2] = {planar, planar + block};
+  float** outputs = calloc((size_t)channels, sizeof(float*));
+  if (!planar || !interleaved || !outputs) {
+    fprintf(stderr, "out of memory\n");
+    return 1;
+  }
+  for (int c = 0; c < channels; ++c) outputs[c] = planar + (size_t)c * block;
 
-  dpc_engine_set_listener_pose(engine, 0, 3.5f, 1.6f, 1.5f, 0.f, 0.f);
+  /* Facing +x (the rest pose), ears 1.6 m above the floor. */
+  dpc_pose pose = {{3.5f, 1.6f, 1.5f}, {0.f, 0.f, 0.f, 1.f}};
+  dpc_engine_place_listener(engine, 0, &pose);
   dpc_engine_start(engine);
   const int blocks = 4 * rate / block; /* 4 s */
   for (int b = 0; b < blocks; ++b) {
     /* Move the listener, then wait (as a sound card would) for one block period. */
-    const float x = 3.5f + 3.f * (float)b / (float)blocks;
-    dpc_engine_set_listener_pose(engine, 0, x, 1.6f, 1.5f, 0.f, 0.f);
+    pose.position[0] = 3.5f + 3.f * (float)b / (float)blocks;
+    dpc_engine_place_listener(engine, 0, &pose);
     struct timespec period = {0, (long)(1e9 * block / rate)};
     nanosleep(&period, NULL);
     dpc_engine_process(engine, NULL, outputs, block);
@@ -61,6 +71,7 @@ int main(int argc, char** argv) {
          (unsigned long long)stats.frames, (unsigned long long)stats.irs_applied,
          (unsigned long long)stats.blocks);
   sf_close(out);
+  free(outputs);
   free(planar);
   free(interleaved);
   dpc_engine_destroy(engine);

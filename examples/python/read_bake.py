@@ -25,8 +25,8 @@ def open_bake(path):
         fail(path, '', f'not a readable HDF5 file ({e})')
     if f.attrs.get('format', b'') not in (b'dpc-bake', 'dpc-bake'):
         fail(path, 'format', 'not a dpc-bake file')
-    if int(f.attrs.get('version', -1)) != 3:
-        fail(path, 'version', f"{f.attrs.get('version')} is not 3")
+    if int(f.attrs.get('version', -1)) != 4:
+        fail(path, 'version', f"{f.attrs.get('version')} is not 4")
     if int(f.attrs.get('sh_order', -1)) != 1:
         fail(path, 'sh_order', f"{f.attrs.get('sh_order')} is not 1")
     return f
@@ -53,7 +53,7 @@ def main():
     columns = f.attrs['parameter_columns']
     columns = (columns.decode() if isinstance(columns, bytes) else columns).split(',')
     print(f"{path}: {len(positions)} probes, {done.sum()} done, complete = {f.attrs['complete']}, "
-          f"{f['sources/position'].shape[0]} sources, mesh hash {f.attrs['mesh_hash']:#018x}")
+          f"{f['sources/position'].shape[0]} sources, settings hash {f.attrs['settings_hash']:#018x}")
     point = np.array([float(v) for v in sys.argv[2:5]]) if len(sys.argv) == 5 else positions[0]
     candidates = np.where(done)[0]
     if candidates.size == 0:

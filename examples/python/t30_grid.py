@@ -6,14 +6,15 @@ placed there (dpc.Engine.set_listener_pose) for a number of frames (the diffuse 
 averages over them), then dpc.iso3382 analyses the impulse response; the script plots T30 per
 band, one line per position, and writes the numbers as JSON beside the plot.
 
-Usage (after `cmake --install build --prefix /usr/local`, or with PYTHONPATH=build/python):
-    examples/python/t30_grid.py [SCENE.json] [OUT.png]
-    (defaults: scenes/shoebox.json, t30-grid.png; docs/images/python-t30-grid.png is this
-    script's output for the shoebox)
+Usage (after `pip install --no-build-isolation .` or `cmake --install build --prefix
+/usr/local`, or with PYTHONPATH=build/python):
+    examples/python/t30_grid.py [SCENE.json] [OUT.png] [--frames N] [--rays N]
+    (defaults: scenes/shoebox.json, t30-grid.png, 10 frames of 4096 rays; the grid is the
+    shoebox's; docs/images/python-t30-grid.png is this script's output for the shoebox)
 """
+import argparse
 import json
 import os
-import sys
 
 import matplotlib
 matplotlib.use("Agg")
@@ -23,19 +24,24 @@ import numpy as np  # noqa: E402
 import dpc  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-scene = sys.argv[1] if len(sys.argv) > 1 else os.path.join(HERE, "..", "..", "scenes",
-                                                           "shoebox.json")
-out = sys.argv[2] if len(sys.argv) > 2 else "t30-grid.png"
+parser = argparse.ArgumentParser(description="T30 per band over a grid of listener positions")
+parser.add_argument("scene", nargs="?", default=os.path.join(HERE, "..", "..", "scenes",
+                                                             "shoebox.json"))
+parser.add_argument("out", nargs="?", default="t30-grid.png")
+# 10 frames of 4096 rays: the cache's window (tau = 1 s) is not yet full.
+parser.add_argument("--frames", type=int, default=10, help="frames traced per position")
+parser.add_argument("--rays", type=int, default=4096, help="rays per frame")
+args = parser.parse_args()
+scene, out = args.scene, args.out
 
 # The shoebox is 10 x 7 m (x, z); a 3 x 3 grid 2 m or more from the walls, ears at 1.6 m.
 GRID = [(x, 1.6, z) for x in (3.0, 5.0, 7.0) for z in (2.0, 3.5, 5.0)]
-FRAMES = 10  # 10 frames of 4096 rays: the cache's window (tau = 1 s) is not yet full
 
 
 def t30_at(position):
-    engine = dpc.Engine(scene, rays_per_frame=4096)
+    engine = dpc.Engine(scene, rays_per_frame=args.rays)
     engine.set_listener_pose(0, position)
-    for _ in range(FRAMES):
+    for _ in range(args.frames):
         engine.step()  # the GIL is released while tracing
     ir = engine.impulse_response(0)  # channels x samples; channel 0 is the pressure IR
     return dpc.iso3382(ir[0], engine.sample_rate)["t30"]
@@ -57,6 +63,6 @@ ax.legend(fontsize=7, ncol=3)
 fig.tight_layout()
 fig.savefig(out, dpi=110)
 with open(os.path.splitext(out)[0] + ".json", "w") as f:
-    json.dump({"scene": os.path.basename(scene), "bands_hz": dpc.BANDS_HZ, "t30_s": results}, f,
-              indent=1)
+    json.dump({"scene": os.path.basename(scene), "frames": args.frames, "rays": args.rays,
+               "bands_hz": dpc.BANDS_HZ, "t30_s": results}, f, indent=1)
 print(f"wrote {out}")

@@ -13,23 +13,46 @@
  * log callback (dpc_set_log_callback).
  * Units: metres, seconds, degrees for the API's angles, linear sample values.
  *
- * Frame and rotations (one convention for every pose): a right-handed world frame, metres,
- * +y up (scene files and meshes use the same). A rotation is a unit quaternion in glTF order
- * (x, y, z, w) that maps an object's local frame to the world: world = R(q) * local + position.
- * Moving objects take that quaternion (dpc_engine_set_object_pose). Listeners take yaw, pitch
- * and roll in degrees instead, in the same frame (the spatial synthesis and the head rotation
- * read the listener's forward and up directions): at yaw 0, pitch 0, roll 0 it faces +x with
- * +y up; yaw turns it about +y, positive to the left (+x towards -z); pitch then raises its
- * gaze, positive up; roll then tilts the head about its forward direction, positive to its
- * right (the right ear down). A host holding a head or camera quaternion converts it with
- * dpc_yaw_pitch_roll_from_quaternion (the quaternion rotates that rest pose) and sets it with
- * dpc_engine_set_listener_head_pose.
+ * Poses (listeners, sources, moving objects; the one frame for every pose): dpc/dpc_poses.h,
+ * included at the end of this header.
  *
- * Versions and layouts: DPC_VERSION (dpc_version.h, this header's) and dpc_version() (the
- * library's) must agree on major and minor. The structs a caller hands over (creation options
- * and scene data, statistics to fill) carry their size in struct_size (first member, set by
- * their *_init function or by the caller), so that a library given a struct of another layout
- * returns DPC_ERR_VERSION instead of reading or writing past it. */
+ * Lifetime: create, start, stop, step, get_stats, attach_bake and destroy are control-thread
+ * calls, one at a time per engine. The any-thread calls (poses, selection, teleports, copies,
+ * properties) may overlap each other and any control-thread call but destroy, from any number
+ * of threads; dpc_engine_process runs on one audio thread at a time. dpc_engine_destroy must
+ * not overlap any other call on the same engine: stop the audio callback and the other
+ * threads' calls first; no call may use the handle after destroy. A host that breaks this is
+ * caught where the library can: destroy first closes the engine (a call arriving from then on
+ * does nothing and returns DPC_ERR_STATE, "the engine is being destroyed", or a property
+ * 0), waits for the calls
+ * already inside it to return, logs a warning with their count, and only then frees the
+ * engine; the handles of the last 64 engines destroyed stay closed rather than freed, so that
+ * a late call from such a thread is refused instead of reading freed memory.
+ *
+ * Versions and growth rule. DPC_VERSION (dpc_version.h, this header's) and dpc_version() (the
+ * library's): a program compiled against the dpc.h of release R runs with the library of any
+ * release of R's major version not older than R, for R from 0.5.0 on
+ * (DPC_VERSION_COMPATIBLE(dpc_version())), because:
+ *  1. Functions are never removed and keep their signature and meaning; new behaviour comes as
+ *     new functions or new struct fields.
+ *  2. A versioned struct (first member struct_size: dpc_engine_options, dpc_scene_data,
+ *     dpc_stats) grows only at its end, by a group of fields that starts at the previous
+ *     release's size (the library checks that no new field lands in old tail padding). The
+ *     structs dpc_scene_data points to never change; a new per-element field comes as a new
+ *     parallel array in dpc_scene_data (as source_directivities).
+ *  3. struct_size names the layout. The library knows every layout of each versioned struct
+ *     since 0.5.0 (one table per struct). A known size is served: an input struct (options,
+ *     scene data) is read up to its struct_size, the fields it lacks take the defaults of its
+ *     _init function; an output struct (dpc_stats) is written up to its struct_size only. Any
+ *     other size (zero, larger than the library's, between two layouts) gives DPC_ERR_VERSION,
+ *     nothing read or written, and dpc_last_error() names the size given and the sizes known.
+ *  4. The _init functions fill the caller's layout: dpc_engine_options_init(o) and
+ *     dpc_scene_data_init(d) are macros passing this header's sizeof to the _init_sized
+ *     functions; the plain functions of those names, which programs compiled against 0.6.0 and
+ *     earlier call, fill the 0.6.0 layout.
+ *  5. The soname (libdpc.so.MAJOR) stays within a major version.
+ * Releases before 0.5.0 are not served: 0.4.0's dpc_scene_data has 0.5.0's size but another
+ * layout (listener_roll_degrees was inserted, dpc_listener grew). */
 #ifndef DPC_DPC_H
 #define DPC_DPC_H
 
@@ -57,8 +80,8 @@ typedef enum dpc_status {
                                      dpc_engine_step while running, a read before any frame) */
   DPC_ERR_UNSUPPORTED = 4,      /**< the operation is not available in this version */
   DPC_ERR_INTERNAL = 5,         /**< unexpected failure (out of memory, runtime error) */
-  DPC_ERR_VERSION = 6           /**< a struct's struct_size is not this library's layout: the
-                                     caller was compiled against another dpc.h */
+  DPC_ERR_VERSION = 6           /**< a struct's struct_size is not a layout this library knows
+                                     (the growth rule at the top of this header) */
 } dpc_status;
 
 /** Opaque engine handle. */
@@ -72,8 +95,8 @@ typedef struct dpc_engine dpc_engine;
 DPC_API const char* dpc_last_error(void);
 
 /** Any thread; no allocation. The library's version, packed as DPC_MAKE_VERSION(major, minor,
- *  patch) (dpc_version.h): compare it with DPC_VERSION, the header's, e.g.
- *  (dpc_version() >> 8) == (DPC_VERSION >> 8) for the same major and minor. */
+ *  patch) (dpc_version.h): DPC_VERSION_COMPATIBLE(dpc_version()) is true when the library
+ *  serves a program compiled against this header (same major, not older). */
 DPC_API unsigned long dpc_version(void);
 
 /** Severity of a log message. */
@@ -126,7 +149,7 @@ typedef enum dpc_rendering {
  *  dpc_engine_options_init() (struct_size set, every other field "keep the scene's"), then
  *  change what you need. */
 typedef struct dpc_engine_options {
-  size_t struct_size;       /**< sizeof(dpc_engine_options), set by dpc_engine_options_init */
+  size_t struct_size;       /**< its layout's size, set by dpc_engine_options_init */
   int sample_rate;          /**< Hz, 16000..192000; 0 keeps the scene's audio.sample_rate. Dry
                                  signals are resampled to it, HRTFs read at it. */
   int block_size;           /**< engine block, frames, 16..8192; 0 keeps the scene's */
@@ -136,11 +159,21 @@ typedef struct dpc_engine_options {
                                  none); dpc_engine_process then needs inputs, and plays silence
                                  for inputs == NULL */
   int ambisonic_order;      /**< AmbiX outputs' order, 1..7; 0 keeps the scene's (since 0.4.0) */
+  /* Since 0.7.0. */
+  float ir_length; /**< impulse response length, s, (0, 60]; 0 keeps the scene's */
 } dpc_engine_options;
 
-/** Any thread; no allocation. Sets struct_size to sizeof(dpc_engine_options) and every other
- *  field to "keep the scene's" (zero). NULL is ignored. */
-DPC_API void dpc_engine_options_init(dpc_engine_options* options);
+/** Any thread; no allocation. Fills the first struct_size bytes of *options, a layout this
+ *  library knows (the growth rule): struct_size, and every other field "keep the scene's"
+ *  (zero). Errors: DPC_ERR_INVALID_ARGUMENT (NULL), DPC_ERR_VERSION (an unknown size: nothing
+ *  written). Since 0.7.0; call it through the dpc_engine_options_init macro. */
+DPC_API dpc_status dpc_engine_options_init_sized(dpc_engine_options* options, size_t struct_size);
+/** The 0.6.0 entry point, for programs compiled against 0.6.0 and earlier: fills the 0.6.0
+ *  layout. NULL is ignored. */
+DPC_API void(dpc_engine_options_init)(dpc_engine_options* options);
+/** Fills *options for this header's layout (dpc_engine_options_init_sized). */
+#define dpc_engine_options_init(options) \
+  dpc_engine_options_init_sized((options), sizeof(dpc_engine_options))
 
 /** Control thread. Loads a scene file (JSON, docs/scene-format.md), its meshes and dry
  *  signals (unless options->host_inputs_only), applies the overrides in `options` (NULL: none)
@@ -202,6 +235,15 @@ typedef struct dpc_source_directivity {
                           length is an error */
 } dpc_source_directivity;
 
+/** A material's sound reduction index for dpc_scene_data (docs/scene-format.md,
+ *  "materials.*.transmission_loss_db"): the surface passes tau = 10^(-R/10) of the incident
+ *  energy to its other side, and tau <= absorption is required in every band (absorption counts
+ *  the transmitted part). An array parallel to dpc_scene_data.materials. Since 0.7.0. */
+typedef struct dpc_material_transmission {
+  float loss_db[DPC_BANDS]; /**< R per octave band 63 Hz .. 8 kHz, dB, [0, 200], or INFINITY:
+                                 opaque */
+} dpc_material_transmission;
+
 /** A further listener for dpc_scene_data (the first is given by its listener_* fields). */
 typedef struct dpc_listener {
   float position[3];    /**< m */
@@ -212,11 +254,11 @@ typedef struct dpc_listener {
 } dpc_listener;
 
 /** A scene built in code: what a scene file says (docs/scene-format.md), same defaults.
- *  Fill with dpc_scene_data_init(), then set mesh, materials and sources. Its struct_size also
- *  stands for the layout of the structs it points to (dpc_mesh, dpc_material, dpc_source,
- *  dpc_listener), which change only together with it. */
+ *  Fill with dpc_scene_data_init(), then set mesh, materials and sources. The structs it
+ *  points to (dpc_mesh, dpc_material, dpc_source, dpc_source_directivity, dpc_listener,
+ *  dpc_material_transmission) never change (the growth rule). */
 typedef struct dpc_scene_data {
-  size_t struct_size; /**< sizeof(dpc_scene_data), set by dpc_scene_data_init */
+  size_t struct_size; /**< its layout's size, set by dpc_scene_data_init */
   dpc_mesh mesh;
   const dpc_material* materials;
   int material_count; /**< >= 1 */
@@ -262,12 +304,24 @@ typedef struct dpc_scene_data {
   float cluster_angle_degrees; /**< hybrid rendering: a cluster's angular radius as seen from
                                     the listener, degrees, (0, 180]; default 30 */
   int ambisonic_order; /**< AmbiX outputs' order N, [1, 7]; default 3 */
+  /* Since 0.7.0. */
+  const dpc_material_transmission* material_transmissions; /**< NULL (the default): every
+                                     material opaque; else material_count entries */
+  int exact_order; /**< exact early specular paths up to this reflection order (docs/design.md
+                        "Exact early specular paths"), [0, 6], 0 disables them; default 3 */
 } dpc_scene_data;
 
-/** Any thread; no allocation. struct_size = sizeof(dpc_scene_data); zero mesh, materials and
- *  sources; listener at the origin; every other field the scene-file default
- *  (docs/scene-format.md). NULL is ignored. */
-DPC_API void dpc_scene_data_init(dpc_scene_data* data);
+/** Any thread; no allocation. Fills the first struct_size bytes of *data, a layout this
+ *  library knows (the growth rule): struct_size; zero mesh, materials and sources; listener at
+ *  the origin; every other field the scene-file default (docs/scene-format.md). Errors:
+ *  DPC_ERR_INVALID_ARGUMENT (NULL), DPC_ERR_VERSION (an unknown size: nothing written). Since
+ *  0.7.0; call it through the dpc_scene_data_init macro. */
+DPC_API dpc_status dpc_scene_data_init_sized(dpc_scene_data* data, size_t struct_size);
+/** The 0.6.0 entry point, for programs compiled against 0.6.0 and earlier: fills the 0.6.0
+ *  layout. NULL is ignored. */
+DPC_API void(dpc_scene_data_init)(dpc_scene_data* data);
+/** Fills *data for this header's layout (dpc_scene_data_init_sized). */
+#define dpc_scene_data_init(data) dpc_scene_data_init_sized((data), sizeof(dpc_scene_data))
 
 /** Control thread. Builds an engine from a scene described in memory; everything is copied, the
  *  caller's arrays may be freed on return. The same data as a scene file gives the same engine
@@ -280,8 +334,12 @@ DPC_API void dpc_scene_data_init(dpc_scene_data* data);
 DPC_API dpc_status dpc_engine_create_from_data(const dpc_scene_data* data,
                                                const dpc_engine_options* options, dpc_engine** out);
 
-/** Control thread. Stops the threads if running and frees everything. NULL is ignored. The
- *  host must have stopped calling dpc_engine_process before. */
+/** Control thread. Stops the threads if running and frees everything. NULL is ignored. No
+ *  other call on this engine may overlap it or follow it (the lifetime rule at the top of this
+ *  header: calls found inside are waited for and counted in a logged warning, calls arriving
+ *  meanwhile get DPC_ERR_STATE). Destroying the last engine also joins TBB's worker threads
+ *  (which run the propagation's parallel work) unless other code in the process still uses
+ *  TBB, so that a plugin host may unload libdpc afterwards. */
 DPC_API void dpc_engine_destroy(dpc_engine* engine);
 
 /** Control thread. Starts the propagation thread (idempotent). Allocates (thread creation).
@@ -290,111 +348,6 @@ DPC_API dpc_status dpc_engine_start(dpc_engine* engine);
 /** Control thread. Stops and joins the propagation thread (idempotent). Errors:
  *  DPC_ERR_INVALID_ARGUMENT (NULL). */
 DPC_API dpc_status dpc_engine_stop(dpc_engine* engine);
-
-/** Any thread. Listeners traced every propagation frame: the length of the scene's
- *  "listeners" array, or 1 for a scene with one "listener" (or built from dpc_scene_data).
- *  All of them share each frame's rays (docs/dynamic.md "Several listeners"); one of them, the
- *  selected listener, is heard through dpc_engine_process and read by the copy functions. */
-DPC_API int dpc_engine_listener_count(const dpc_engine* engine);
-
-/** Any thread (one writer per listener at a time), wait-free, no allocation. Sets the pose of
- *  listener `listener` (0-based, the scene's "listeners" order; 0 in a one-listener scene;
- *  dpc_engine_selected_listener() for the one heard), selected or not: position (x, y, z) in
- *  metres in scene coordinates, yaw and pitch in degrees as defined at the top of this header
- *  (0, 0 faces +x; positive yaw turns left about +y; positive pitch looks up). The propagation
- *  thread uses the newest pose at its next frame. Until the first call a listener stands where
- *  the scene puts it at time 0 (its position or first keyframe). The values have the scene
- *  file's limits (docs/scene-format.md "Limits"): each coordinate within +-10^6 m, yaw within
- *  [-3600, 3600], pitch within [-90, 90] degrees. Errors: DPC_ERR_INVALID_ARGUMENT (null
- *  engine, index out of range, a value outside its limit or not finite: nothing changes and
- *  dpc_last_error() names the argument, e.g. "dpc_engine_set_listener_pose: x: 1e+07 is
- *  outside [-1000000, 1000000] m"). */
-DPC_API dpc_status dpc_engine_set_listener_pose(dpc_engine* engine, int listener, float x,
-                                                float y, float z, float yaw_degrees,
-                                                float pitch_degrees);
-
-/** As dpc_engine_set_listener_pose, with the head's roll: degrees about its forward direction,
- *  positive tilting it to its right (the right ear down), within [-180, 180]. A head-tracked
- *  output (DPC_OUTPUT_AMBISONIC_BINAURAL) turns its sound field by the whole orientation from
- *  the next audio block; the other outputs take it at the next propagation frame.
- *  dpc_engine_set_listener_pose sets roll 0. Errors as dpc_engine_set_listener_pose (a roll
- *  outside its limit or not finite names roll_degrees). Since 0.5.0. */
-DPC_API dpc_status dpc_engine_set_listener_head_pose(dpc_engine* engine, int listener, float x,
-                                                     float y, float z, float yaw_degrees,
-                                                     float pitch_degrees, float roll_degrees);
-
-/** Any thread, wait-free, no allocation. Makes listener `listener` (0-based) the one
- *  dpc_engine_process plays and dpc_engine_copy_* read, from the next propagation frame on;
- *  the audio side crossfades to its impulse responses as to any new ones (its cache is already
- *  warm: every listener is traced every frame). Until
- *  the first call the scene's first listener is selected. Errors: DPC_ERR_INVALID_ARGUMENT
- *  (null engine or index out of range; dpc_last_error() says which). */
-DPC_API dpc_status dpc_engine_select_listener(dpc_engine* engine, int listener);
-
-/** Any thread. The selected listener (0-based); 0 for a null engine. */
-DPC_API int dpc_engine_selected_listener(const dpc_engine* engine);
-
-/** Any thread; no allocation. The listener yaw and pitch (degrees, as defined at the top of
- *  this header) of the unit quaternion q = (qx, qy, qz, qw) in glTF order, normalised here,
- *  which rotates the listener's rest pose (facing +x, +y up): its forward direction
- *  f = R(q) * (1, 0, 0) gives yaw = atan2(-f.z, f.x) and pitch = asin(f.y); roll about f is
- *  dropped. Straight up or down the yaw is undetermined (0 if f is exactly vertical). Errors:
- *  DPC_ERR_INVALID_ARGUMENT (NULL
- *  output, non-finite value or zero quaternion; dpc_last_error() says which). */
-DPC_API dpc_status dpc_yaw_pitch_from_quaternion(float qx, float qy, float qz, float qw,
-                                                 float* yaw_degrees, float* pitch_degrees);
-
-/** Any thread; no allocation. As dpc_yaw_pitch_from_quaternion, with the roll the quaternion
- *  holds: the angle in degrees, within [-180, 180], by which R(q) * (0, 1, 0) is turned about f
- *  from the up direction of yaw and pitch alone, positive towards the listener's right (the
- *  right ear down). Straight up or down (f vertical) the yaw is 0 and the heading is in the
- *  roll. dpc_engine_set_listener_head_pose with the three angles gives the listener the
- *  quaternion's orientation. Errors as dpc_yaw_pitch_from_quaternion. Since 0.5.0. */
-DPC_API dpc_status dpc_yaw_pitch_roll_from_quaternion(float qx, float qy, float qz, float qw,
-                                                      float* yaw_degrees, float* pitch_degrees,
-                                                      float* roll_degrees);
-
-/** Any thread, wait-free, no allocation. Moves source `source` (0-based, scene order) to
- *  (x, y, z) metres in scene coordinates from the next propagation frame on, instead of its
- *  trajectory. Each coordinate has the scene file's limit, +-10^6 m. Errors:
- *  DPC_ERR_INVALID_ARGUMENT (null engine, index out of range, a coordinate beyond the limit or
- *  not finite: nothing changes and dpc_last_error() names the argument). */
-DPC_API dpc_status dpc_engine_set_source_position(dpc_engine* engine, int source, float x, float y,
-                                                  float z);
-
-/** Any thread, wait-free, no allocation. Source `source` (0-based, scene order) jumped: a
- *  respawn, a cut, a teleport. The next propagation frame drops the cached paths of its
- *  source-listener pairs instead of averaging the old place with the new one, so the new
- *  place is heard at once (its first response is one frame's estimate, noisier than a warm
- *  cache's). Call it with or after dpc_engine_set_source_position. Errors:
- *  DPC_ERR_INVALID_ARGUMENT (null engine or index out of range; dpc_last_error() says which). */
-DPC_API dpc_status dpc_engine_teleport_source(dpc_engine* engine, int source);
-
-/** The same for listener `listener` (0-based): every pair of that listener starts over at the
- *  next frame. Call it with or after dpc_engine_set_listener_pose. Any thread, wait-free, no
- *  allocation. Errors: DPC_ERR_INVALID_ARGUMENT (null engine or index out of range). */
-DPC_API dpc_status dpc_engine_teleport_listener(dpc_engine* engine, int listener);
-
-/** Any thread (one writer per source at a time), wait-free, no allocation. Turns source
- *  `source` (0-based, scene order) by q = (qx, qy, qz, qw), a rotation quaternion in glTF order
- *  (the frame at the top of this header), normalised here, instead of its keyframes' rotation,
- *  from the next propagation frame on: its directivity's forward axis becomes R(q) * (1, 0, 0)
- *  (an omnidirectional source sounds the same whatever q). Errors: DPC_ERR_INVALID_ARGUMENT
- *  (null engine, index out of range, a zero or non-finite quaternion: nothing changes and
- *  dpc_last_error() names the argument). */
-DPC_API dpc_status dpc_engine_set_source_rotation(dpc_engine* engine, int source, float qx,
-                                                  float qy, float qz, float qw);
-
-/** Any thread (one writer per object at a time), wait-free, no allocation. Places moving
- *  object `object` (0-based, the scene's "objects" order): world = R(q) * local + (x, y, z),
- *  metres; q = (qx, qy, qz, qw) a rotation quaternion in glTF order (the frame at the top of
- *  this header), normalised here. Replaces
- *  the object's trajectory from the next propagation frame on. Each coordinate has the scene
- *  file's limit, +-10^6 m. Errors: DPC_ERR_INVALID_ARGUMENT (null engine, index out of range,
- *  a coordinate beyond the limit or not finite, a zero or non-finite quaternion: nothing
- *  changes and dpc_last_error() names the argument). */
-DPC_API dpc_status dpc_engine_set_object_pose(dpc_engine* engine, int object, float x, float y,
-                                              float z, float qx, float qy, float qz, float qw);
 
 /** Control thread, while the propagation thread is stopped (before dpc_engine_start or after
  *  dpc_engine_stop): runs one propagation frame now, on the calling thread, for the current
@@ -465,8 +418,7 @@ DPC_API int dpc_engine_object_count(const dpc_engine* engine); /**< moving objec
 DPC_API int dpc_engine_latency_frames(const dpc_engine* engine);
 
 /** Counters and last-frame measurements of a running engine. The caller sets struct_size =
- *  sizeof(dpc_stats) before dpc_engine_get_stats, so that a library of another layout refuses
- *  to write past it. */
+ *  sizeof(dpc_stats) before dpc_engine_get_stats, which writes no further (the growth rule). */
 typedef struct dpc_stats {
   size_t struct_size;            /**< sizeof(dpc_stats), set by the caller */
   uint64_t frames;               /**< propagation frames run */
@@ -498,11 +450,16 @@ typedef struct dpc_stats {
   uint64_t input_samples_replaced; /**< host input samples (dpc_engine_process inputs) played
                                         as 0: not finite, or beyond +-1e6 (a dry signal's limit) */
   uint64_t limited_frames;         /**< output frames the safety limiter attenuated */
+  /* Since 0.7.0. */
+  double dropped_energy_fraction; /**< last frame, selected listener: the largest per-source
+                                       share of the response's energy that arrived after the
+                                       IR length (not heard; lengthen ir_length), [0, 1] */
 } dpc_stats;
 
-/** Control thread (it updates the rays-per-second interval). No allocation. Fills *out (all but
- *  struct_size). Errors: DPC_ERR_INVALID_ARGUMENT (NULL), DPC_ERR_VERSION (out->struct_size is
- *  not sizeof(dpc_stats) of this library: nothing written). */
+/** Control thread (it updates the rays-per-second interval). No allocation. Fills the fields
+ *  of *out within out->struct_size (all but struct_size). Errors: DPC_ERR_INVALID_ARGUMENT
+ *  (NULL), DPC_ERR_VERSION (out->struct_size is not a dpc_stats layout this library knows:
+ *  nothing written), DPC_ERR_STATE (being destroyed). */
 DPC_API dpc_status dpc_engine_get_stats(dpc_engine* engine, dpc_stats* out);
 
 /* Baked playback (docs/bake.md; since 0.3.0). A bake (dpc-bake, HDF5) holds each static
@@ -518,13 +475,15 @@ DPC_API dpc_status dpc_engine_get_stats(dpc_engine* engine, dpc_stats* out);
 typedef struct dpc_bake dpc_bake;
 
 /** Control thread. Reads the bake at bake_path whole into memory (allocates: 44.8 kB per
- *  probe and source per second of response) and checks it against the
- *  engine's scene. Errors: DPC_ERR_INVALID_ARGUMENT (NULL); DPC_ERR_INPUT, with the one-line
- *  message of dpc_last_error() naming the file and the field: a missing, truncated or corrupt
- *  file, another format or version (version), a dataset of the wrong shape, a bake of another
- *  scene or of other propagation settings (mesh_hash), an incomplete bake (complete), another
- *  number of sources (sources/position); DPC_ERR_UNSUPPORTED when the library was built
- *  without HDF5. *out is NULL on error. */
+ *  probe and source per second of response), verifies every probe's checksums and checks it
+ *  against the engine's scene. Errors: DPC_ERR_INVALID_ARGUMENT (NULL); DPC_ERR_INPUT, with the
+ *  one-line message of dpc_last_error() naming the file and the field: a missing, truncated,
+ *  damaged or corrupt file (a probe whose checksum fails names its dataset), another format or
+ *  version (version), a dataset of the wrong shape, a bake of another scene or of other
+ *  settings: the settings hash group that differs (hash_geometry, hash_materials,
+ *  hash_sources, hash_physics; ir_length_s for another response length: docs/bake-format.md),
+ *  an incomplete bake (complete), another number of sources (sources/position);
+ *  DPC_ERR_UNSUPPORTED when the library was built without HDF5. *out is NULL on error. */
 DPC_API dpc_status dpc_bake_open(const dpc_engine* engine, const char* bake_path,
                                  dpc_bake** out);
 /** Control thread. The bake's probes, or -1 for NULL. */
@@ -541,4 +500,7 @@ DPC_API dpc_status dpc_engine_attach_bake(dpc_engine* engine, const dpc_bake* ba
 #ifdef __cplusplus
 }
 #endif
+
+#include "dpc/dpc_poses.h"
+
 #endif /* DPC_DPC_H */

@@ -26,6 +26,7 @@ class Error : public std::runtime_error {
 };
 
 using Stats = dpc_stats;
+using Pose = dpc_pose;
 
 class Engine {
  public:
@@ -59,6 +60,19 @@ class Engine {
 
   /// Any thread: listeners traced every frame (dpc_engine_listener_count).
   int listenerCount() const noexcept { return dpc_engine_listener_count(e_); }
+  /// Any thread, wait-free: places a listener, a source or a moving object (position in
+  /// metres, rotation quaternion x, y, z, w; dpc_engine_place_listener, _source, _object in
+  /// dpc/dpc_poses.h). Return the status instead of throwing so that they may be called from an
+  /// audio thread.
+  dpc_status placeListener(int listener, const dpc_pose& pose) noexcept {
+    return dpc_engine_place_listener(e_, listener, &pose);
+  }
+  dpc_status placeSource(int source, const dpc_pose& pose) noexcept {
+    return dpc_engine_place_source(e_, source, &pose);
+  }
+  dpc_status placeObject(int object, const dpc_pose& pose) noexcept {
+    return dpc_engine_place_object(e_, object, &pose);
+  }
   /// Any thread, wait-free: pose of listener `listener` (dpc_engine_set_listener_pose):
   /// position (m), yaw and pitch (degrees, the frame of dpc.h). Returns the status instead of
   /// throwing so that it may be called from an audio thread.

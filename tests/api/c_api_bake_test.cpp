@@ -1,9 +1,12 @@
 // The C API's bake calls (include/dpc/dpc.h, "Baked playback"): a bake made by dpc-bake opens
 // for an engine of its scene and attaches while the engine is stopped; a bake of another scene,
-// a truncated file and NULL arguments give codes and a message naming the file and the field.
+// of another response length (a 2 s bake for a scene of 1 s), a truncated or damaged file and
+// NULL arguments give codes and a message naming the file and the field.
 #include <catch2/catch.hpp>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include "dpc/dpc.h"
@@ -17,6 +20,24 @@ void makeBake(const std::string& path) {
   const std::string cmd = kBakeProgram + " " DPC_SOURCE_DIR "/scenes/shoebox.json --out " + path +
                           " --spacing 2 --rays 200 --frames 4 --threads 1 > /dev/null 2>&1";
   REQUIRE(std::system(cmd.c_str()) == 0);
+}
+
+/// scenes/shoebox.json with another ir_length, written to `path` (its mesh and signal named by
+/// absolute paths).
+void writeShoeboxWithIrLength(const std::string& path, const std::string& irLength) {
+  std::ifstream in(DPC_SOURCE_DIR "/scenes/shoebox.json");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string s = text.str();
+  const auto replace = [&s](const std::string& from, const std::string& to) {
+    const size_t at = s.find(from);
+    REQUIRE(at != std::string::npos);
+    s.replace(at, from.size(), to);
+  };
+  replace("\"ir_length\": 2.0", "\"ir_length\": " + irLength);
+  replace("\"shoebox.obj\"", "\"" DPC_SOURCE_DIR "/scenes/shoebox.obj\"");
+  replace("\"signals/speech.wav\"", "\"" DPC_SOURCE_DIR "/scenes/signals/speech.wav\"");
+  std::ofstream(path) << s;
 }
 
 dpc_engine* engineFor(const char* scene) {
@@ -67,12 +88,13 @@ TEST_CASE("C API bake: open and attach and play - another scene or a truncated f
   CHECK(dpc_engine_attach_bake(e, nullptr) == DPC_ERR_STATE);
   CHECK(dpc_engine_stop(e) == DPC_OK);
   CHECK(dpc_engine_attach_bake(e, nullptr) == DPC_OK);
-  // Another scene: mesh_hash named with the file; and the open bake refused by its engine.
+  // Another scene: its geometry's hash named with the file; and the open bake refused by its
+  // engine.
   dpc_engine* other = engineFor(DPC_SOURCE_DIR "/scenes/two_rooms.json");
   CHECK(dpc_bake_open(other, path.c_str(), &bake) == DPC_ERR_INPUT);
   CHECK(bake == nullptr);
   const std::string msg = dpc_last_error();
-  CHECK(msg.find(path + ": mesh_hash:") == 0);
+  CHECK(msg.find(path + ": hash_geometry:") == 0);
   CHECK(msg.find('\n') == std::string::npos);
   REQUIRE(dpc_bake_open(e, path.c_str(), &bake) == DPC_OK);
   CHECK(dpc_engine_attach_bake(other, bake) == DPC_ERR_INVALID_ARGUMENT);
@@ -83,6 +105,31 @@ TEST_CASE("C API bake: open and attach and play - another scene or a truncated f
   std::filesystem::resize_file(cut, std::filesystem::file_size(path) / 2);
   CHECK(dpc_bake_open(e, cut.c_str(), &bake) == DPC_ERR_INPUT);
   CHECK(std::string(dpc_last_error()).find(cut) == 0);
+  // A byte of the stored responses flipped (the middle of the file is the energy dataset):
+  // refused naming the file, one line.
+  const std::string flipped = (dir / "flipped.h5").string();
+  std::filesystem::copy_file(path, flipped, std::filesystem::copy_options::overwrite_existing);
+  {
+    std::fstream f(flipped, std::ios::in | std::ios::out | std::ios::binary);
+    const auto middle = std::streamoff(std::filesystem::file_size(flipped) / 2);
+    f.seekg(middle);
+    const char c = char(f.get() ^ 0x10);
+    f.seekp(middle);
+    f.put(c);
+  }
+  CHECK(dpc_bake_open(e, flipped.c_str(), &bake) == DPC_ERR_INPUT);
+  CHECK(std::string(dpc_last_error()).find(flipped + ": ") == 0);
+  CHECK(std::string(dpc_last_error()).find('\n') == std::string::npos);
+  // The same scene with 1 s responses: the 2 s bake is refused, naming ir_length_s.
+  const std::string oneSecond = (dir / "shoebox_1s.json").string();
+  writeShoeboxWithIrLength(oneSecond, "1.0");
+  dpc_engine* shorter = engineFor(oneSecond.c_str());
+  CHECK(dpc_bake_open(shorter, path.c_str(), &bake) == DPC_ERR_INPUT);
+  CHECK(std::string(dpc_last_error()).find(path + ": ir_length_s:") == 0);
+  REQUIRE(dpc_bake_open(e, path.c_str(), &bake) == DPC_OK);
+  CHECK(dpc_engine_attach_bake(shorter, bake) == DPC_ERR_INVALID_ARGUMENT);
+  dpc_bake_destroy(bake);
+  dpc_engine_destroy(shorter);
   dpc_engine_destroy(other);
   dpc_engine_destroy(e);
   std::filesystem::remove_all(dir);

@@ -6,11 +6,22 @@
 #      output and "No space left on device", the earlier file intact, no temporary left;
 #   2. --offline of 0.3 s fits but --ir-out (the hall's IR, several hundred kB more) does not:
 #      exit 1, and neither output written (all or nothing).
+# With dpc-bake built, a bake (1.4 MB) onto the same 512 kB tmpfs:
+#   3. refused before any probe, one line naming the file and the free space, exit 1, nothing
+#      left on the tmpfs (no file, no temporary, no lock file);
+#   4. with --force, the creation itself fails: one line naming the file and "No space left on
+#      device", exit 1 (never a signal), nothing left;
+#   5. a write refused in the middle of a bake (ENOSPC from the third probe on, as a
+#      copy-on-write file system or a quota would: SHIM, tests/bake/enospc_shim.c, preloaded;
+#      a tmpfs cannot, the file being allocated whole when it is created): one line naming the
+#      file, exit 1, the file not complete; --resume then finishes it to the same bytes as a
+#      clean bake (cmp).
 # Exits 77 (ctest: skipped) where a private tmpfs cannot be mounted.
-# Usage: disk_full_test.sh BUILD_DIR SOURCE_DIR
+# Usage: disk_full_test.sh BUILD_DIR SOURCE_DIR [SHIM]
 set -euo pipefail
 build=$1
 src=$2
+shim=${3:-}
 if ! unshare -rm true 2>/dev/null; then
   echo "SKIP: no private mount namespace here (unshare -rm)"
   exit 77
@@ -57,4 +68,54 @@ echo "$out"
 [[ $(sed -n 2,99p <<<"$out") == $'earlier.wav\nan earlier render' ]] ||
     fail "render 2: neither output may be written when one does not fit"
 grep -q "ir.wav: cannot write" "$work/log.txt" || fail "render 2: no line naming ir.wav"
-echo "PASS: a full disk leaves no partial or temporary file and no earlier file changed"
+bake=$build/apps/dpc-bake
+if [[ ! -x $bake ]]; then
+  echo "PASS: a full disk leaves no partial or temporary file and no earlier file changed"
+  echo "(dpc-bake not built: bake cases skipped)"
+  exit 0
+fi
+q=(--spacing 2 --rays 200 --frames 4 --threads 1 --quiet)
+complete() { h5dump -a /complete "$1" | grep -q '(0): 1'; }
+
+out=$(in_small_disk "$bake" "$src/scenes/shoebox.json" --out "$mnt/bake.h5" "${q[@]}")
+echo "$out"
+[[ $(sed -n 1p <<<"$out") == "status 1" ]] || fail "bake 3: expected exit status 1"
+[[ $(sed -n 2,99p <<<"$out") == $'earlier.wav\nan earlier render' ]] ||
+    fail "bake 3: nothing may be left on the tmpfs"
+grep -q "^dpc-bake: $mnt/bake.h5: cannot write: the bake needs .* free" "$work/log.txt" ||
+    fail "bake 3: no line naming the bake and the free space"
+[[ $(wc -l <"$work/log.txt") -eq 1 ]] || fail "bake 3: not one line"
+
+out=$(in_small_disk "$bake" "$src/scenes/shoebox.json" --out "$mnt/bake.h5" "${q[@]}" --force)
+echo "$out"
+[[ $(sed -n 1p <<<"$out") == "status 1" ]] || fail "bake 4: expected exit status 1"
+[[ $(sed -n 2,99p <<<"$out") == $'earlier.wav\nan earlier render' ]] ||
+    fail "bake 4: nothing may be left on the tmpfs"
+grep -q "^dpc-bake: $mnt/bake.h5: cannot write: .*No space left on device" "$work/log.txt" ||
+    fail "bake 4: no line naming the bake and the full disk"
+[[ $(wc -l <"$work/log.txt") -eq 1 ]] || fail "bake 4: not one line"
+
+if [[ -z $shim ]]; then
+  echo "PASS (a write refused mid-bake not checked: no shim in this build)"
+  exit 0
+fi
+cd "$work"
+"$bake" "$src/scenes/shoebox.json" --out clean.h5 "${q[@]}"
+size=$(stat -c %s clean.h5)
+row=$(( size / 15 ))  # 15 probes: about one probe's bytes
+status=0
+# Creating the file writes only HDF5's metadata (a few kB; the rest is reserved with
+# posix_fallocate): the writes fail in the third probe.
+DPC_ENOSPC_NAME=cut.h5 DPC_ENOSPC_AFTER=$(( 2 * row + 16384 )) LD_PRELOAD=$shim \
+  "$bake" "$src/scenes/shoebox.json" --out cut.h5 "${q[@]}" >log.txt 2>&1 || status=$?
+cat log.txt
+[[ $status == 1 ]] || fail "bake 5: exit status $status, expected 1"
+[[ $(wc -l <log.txt) -eq 1 ]] || fail "bake 5: not one line"
+grep -q "^dpc-bake: cut.h5: .*cannot write: No space left on device" log.txt ||
+    fail "bake 5: no line naming the bake and the full disk"
+complete cut.h5 && fail "bake 5: a bake whose writes failed is marked complete"
+"$bake" --resume cut.h5 --quiet >log.txt 2>&1 || fail "bake 5: --resume failed"
+cmp clean.h5 cut.h5 || fail "bake 5: the resumed bake differs from a clean one"
+ls "$work" | grep -q lock && fail "bake 5: a lock file was left"
+echo "PASS: a full disk leaves no partial or temporary file and no earlier file changed; a bake"
+echo "      that does not fit is refused, one whose write fails is never complete and resumes"

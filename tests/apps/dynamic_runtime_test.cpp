@@ -35,7 +35,7 @@ TEST_CASE("PropagationStage follows source trajectories and host overrides", "[d
     host.setListenerPose(0, s.listeners[0].position, 0.f, t, 0.f);
     host.assemble(w, played);
     stage.traceWorld(w);
-    stage.recycle(stage.prepare(played));
+    stage.synthesizeIrs(played);
   };
   frame(1.0);
   CHECK(stage.simulation().result(0).direct.distance == Approx(2.0).epsilon(1e-5));  // at x = 2
@@ -69,14 +69,14 @@ TEST_CASE("PropagationStage takes a whole world state, two listeners at one plac
   // Same seed, same place, same frame: the two listeners' responses agree bit for bit.
   PropagationStage stage(test::shared(s), s.propagation);
   stage.traceWorld(w);
-  stage.recycle(stage.prepare(0));
-  stage.recycle(stage.prepare(1));
+  stage.synthesizeIrs(0);
+  stage.synthesizeIrs(1);
   const EnergyResponse& e0 = stage.simulation().result(0, 0).energy;
   const EnergyResponse& e1 = stage.simulation().result(0, 1).energy;
   CHECK(e0.total()[3] > 0.f);
   CHECK(std::memcmp(e0.bins().data(), e1.bins().data(), e0.binCount() * sizeof(Bands)) == 0);
   CHECK(stage.lastIrs(0) == stage.lastIrs(1));
-  CHECK_THROWS_AS(stage.prepare(2), std::out_of_range);
+  CHECK_THROWS_AS(stage.synthesizeIrs(2), std::out_of_range);
   w.sourcePositions.clear();
   CHECK_THROWS_AS(stage.traceWorld(w), std::invalid_argument);
 }

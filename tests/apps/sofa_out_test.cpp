@@ -56,13 +56,14 @@ TEST_CASE("SOFA output: dimensions, positions and samples read back with libmyso
   demo::stageIrSofa(scene, r, sofa).commit();
   audio::AudioData ir;
   ir.sampleRate = scene.audio.sampleRate;
-  for (const auto& source : r.lastIrs)
-    for (const auto& channel : source) ir.channels.push_back(channel);
+  for (const ImpulseResponse& source : r.lastIrs)
+    for (int c = 0; c < source.channels(); ++c) ir.channels.push_back(source.channelCopy(c));
   audio::stageWav(wav, ir).commit();
 
   const Loaded f(sofa);
   const MYSOFA_HRTF& h = *f.h;
-  const size_t M = r.lastIrs.size(), R = r.lastIrs[0].size(), N = r.lastIrs[0][0].size();
+  const size_t M = r.lastIrs.size(), R = size_t(r.lastIrs[0].channels()),
+               N = r.lastIrs[0].samples();
   CHECK(M == scene.sources.size());
   CHECK(R == 4);  // order 1: (1 + 1)^2
   CHECK(h.M == M);

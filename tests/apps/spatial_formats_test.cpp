@@ -39,8 +39,9 @@ Rendered render(const SceneDesc& scene, float yawDegrees, int frames = 1) {
   sim.enableDirectional(defaultSpatialDirections());
   Orientation o;
   o.yawRadians = yawDegrees * float(M_PI / 180.0);
-  sim.setListenerOrientation(o);
-  for (int f = 0; f < frames; ++f) sim.runFrame(scene.listeners[0].position);
+  FrameInputs in = sim.inputsAt(scene.listeners[0].position);
+  in.listenerOrientations = {o};
+  for (int f = 0; f < frames; ++f) sim.runFrame(in);
   auto spatial = makeSpatialSynthesizer(scene, ps, roomVolume(scene.mesh));
   REQUIRE(spatial->channelCount() == size_t(outputChannels(scene.audio)));
   Rendered r;

@@ -39,8 +39,9 @@ Rendered render(SceneDesc scene, OutputFormat format, float yawDegrees, int fram
   sim.enableDirectional(defaultSpatialDirections());
   Orientation o;
   o.yawRadians = yawDegrees * float(M_PI / 180.0);
-  sim.setListenerOrientation(o);
-  for (int f = 0; f < frames; ++f) sim.runFrame(scene.listeners[0].position);
+  FrameInputs in = sim.inputsAt(scene.listeners[0].position);
+  in.listenerOrientations = {o};
+  for (int f = 0; f < frames; ++f) sim.runFrame(in);
   auto spatial = makeSpatialSynthesizer(scene, ps, roomVolume(scene.mesh));
   Rendered r;
   r.left.resize(spatial->lengthSamples());

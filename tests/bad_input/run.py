@@ -20,7 +20,7 @@ from setups import (
     scene_with, without, write, obj_with, nothing, write_text, two_listeners, bake_file,
     truncate_half, read_only, open_to_nobody, fifo, symlink, mkdir, sparse, float_wav, gltf_level,
     gltf_set, gltf_door, no_edit, gltf_nan_vertex, gltf_door_on_node_9, steps,
-    gltf_index_out_of_range, gltf_deep_nesting)
+    gltf_index_out_of_range, gltf_deep_nesting, gltf_node_chain, glb_bytes, fbx_level)
 
 
 OFF = ["shoebox.json", "--offline", "out.wav", "--duration", "0.2", "--rays", "64"]
@@ -182,20 +182,20 @@ CASES = {
     "mesh_missing": (scene_with(mesh="none.obj"), OFF, "mesh"),
     # glTF levels (scene/model_reader.h): the line names the model file and what is wrong.
     "gltf_missing_buffer": (gltf_level(no_edit, "shoebox.gltf", drop_bin=True), OFF,
-                            "shoebox.gltf: referenced file 'shoebox.bin' not found"),
+                            "shoebox.gltf: buffers[0].uri: referenced file 'shoebox.bin' not found"),
     "gltf_line_primitive": (gltf_level(gltf_set(("meshes", 0, "primitives", 1, "mode"), 1)), OFF,
-                            'shoebox.glb: mesh "room-1": has point or line primitives'),
+                            'shoebox.glb: meshes[0].primitives[1].mode: mesh "room": 1 (LINES) is not supported'),
     "gltf_unmapped_material": (gltf_level(gltf_set(("materials", 2, "name"), "marble")), OFF,
                                'shoebox.glb: material marble: material "marble" is not defined'),
     "gltf_nan_in_accessor": (gltf_level(gltf_nan_vertex), OFF, 'shoebox.glb: mesh "bad" vertex 2: coordinate is NaN'),
     "gltf_animation_unknown_node": (gltf_level(gltf_door(node=0)), OFF,
                                     'shoebox.glb: animation "swing": moves node "room", which the scene does not name'),
     "gltf_animation_node_out_of_range": (gltf_level(gltf_door_on_node_9), OFF,
-                                         "shoebox.glb: GLTF: Array index 9 is out of bounds"),
+                                         "shoebox.glb: animations[0].channels[0].target.node: animation \"swing\": 9 is not an index of nodes"),
     "gltf_buffer_is_device": (gltf_level(no_edit, "shoebox.gltf", buffer_uri="/dev/zero"),
-                              OFF, "shoebox.gltf: referenced file '/dev/zero' is not a regular file"),
+                              OFF, "shoebox.gltf: buffers[0].uri: '/dev/zero' is an absolute path"),
     "gltf_buffer_is_fifo": (steps(fifo("f.bin"), gltf_level(no_edit, "shoebox.gltf", buffer_uri="f.bin")),
-                            OFF, "shoebox.gltf: referenced file 'f.bin' is not a regular file"),
+                            OFF, "shoebox.gltf: buffers[0].uri: referenced file 'f.bin' is not a regular file"),
     "gltf_index_out_of_range": (gltf_index_out_of_range, OFF,
                                 "shoebox.gltf: assimp read it only by changing it: Some faces had out-of-range indices"),
     "gltf_deep_nesting": (gltf_deep_nesting, OFF, "shoebox.gltf: JSON nested deeper than 64 levels"),
@@ -203,6 +203,28 @@ CASES = {
                                  'shoebox.json: objects[0].name: no node named "door"'),
     "gltf_cubic_spline": (gltf_level(gltf_door("CUBICSPLINE"), objects=[{"name": "door"}]), OFF,
                           "CUBICSPLINE interpolation is not supported"),
+    # glTF levels stay in their folder, within their limits, and say what they hold
+    # (scene/gltf_check.h): refused before assimp reads them.
+    "gltf_buffer_passwd": (gltf_level(no_edit, "shoebox.gltf", buffer_uri="../../../../etc/passwd"), OFF,
+                           "shoebox.gltf: buffers[0].uri: '../../../../etc/passwd' lies outside the level's folder"),
+    "gltf_buffer_http": (gltf_level(no_edit, "shoebox.gltf", buffer_uri="http://localhost/shoebox.bin"), OFF,
+                         "shoebox.gltf: buffers[0].uri: 'http://localhost/shoebox.bin' is a http: URI"),
+    "gltf_buffer_symlink_out": (steps(symlink("/etc/passwd", "p.bin"), gltf_level(no_edit, "shoebox.gltf", buffer_uri="p.bin")),
+                                OFF, "shoebox.gltf: buffers[0].uri: 'p.bin' lies outside the level's folder"),
+    "gltf_node_tree_20000_deep": (gltf_level(gltf_node_chain(20000)), OFF, "lies more than 128 levels deep"),
+    "gltf_json_chunk_0xfffffff0": (glb_bytes(12, 0xFFFFFFF0), OFF,
+                                   "shoebox.glb: chunks[0].chunkLength: is 4294967280 bytes"),
+    "gltf_position_byte": (gltf_level(gltf_set(("accessors", 0, "componentType"), 5120)), OFF,
+                           'shoebox.glb: meshes[0].primitives[0].attributes.POSITION: mesh "room": POSITION is VEC3 of BYTE'),
+    "gltf_line_loop": (gltf_level(gltf_set(("meshes", 0, "primitives", 0, "mode"), 2)), OFF, "2 (LINE_LOOP) is not supported"),
+    "gltf_zero_rotation": (gltf_level(gltf_set(("nodes", 0, "rotation"), [0, 0, 0, 0])), OFF,
+                           'shoebox.glb: nodes[0].rotation: node "room": [0,0,0,0] has zero length'),
+    "gltf_sampler_output_short": (gltf_level(steps(gltf_door(), lambda g: g.doc["accessors"][g.doc["animations"][0]["samplers"][0]["output"]].update(count=1)), objects=[{"name": "door"}]),
+                                  OFF, 'shoebox.glb: animations[0].samplers[0].output: animation "swing": 1 values for 2 keys'),
+    "gltf_sampler_interpolation": (gltf_level(gltf_door("BOUNCY"), objects=[{"name": "door"}]), OFF,
+                                   'animations[0].samplers[0].interpolation: animation "swing": "BOUNCY" is not a glTF interpolation'),
+    "fbx_negative_unit_scale": (fbx_level(-100), OFF, "level.fbx: UnitScaleFactor: -100 is not a unit length"),
+    "fbx_zero_unit_scale": (fbx_level(0), OFF, "level.fbx: FBX: The UnitScaleFactor must be non-zero"),
     "mesh_empty": (write("shoebox.obj", ""), OFF, "shoebox.obj"),
     "sources_empty": (scene_with(sources=[]), OFF, "sources"),
     # Source directivity (docs/scene-format.md, "sources[i].directivity").
@@ -231,7 +253,7 @@ CASES = {
     "sources_257": (scene_with(sources=[{"name": f"s{i}", "position": [2, 1.6, 3.5], "signal": "signals/speech.wav"} for i in range(257)]), OFF, "shoebox.json: sources: 257 sources, more than the limit of 256"),
     "listeners_65": (without("listener", listeners=[{"name": f"l{i}", "position": [5, 1.6, 3.5]} for i in range(65)]), OFF, "shoebox.json: listeners: 65 listeners, more than the limit of 64"),
     # dpc-demo --bake: a bake of another scene, a damaged or missing file (docs/bake.md).
-    "bake_of_other_scene": (bake_file(edit=scene_with(**{"sources.0.position": [3, 1.6, 3.5]})), OFF + ["--bake", "bake.h5"], "bake.h5: mesh_hash: the bake is of another scene"),
+    "bake_of_other_scene": (bake_file(edit=scene_with(**{"sources.0.position": [3, 1.6, 3.5]})), OFF + ["--bake", "bake.h5"], "bake.h5: hash_sources: the bake's sources"),
     "bake_truncated": (bake_file(damage=truncate_half), OFF + ["--bake", "bake.h5"], "bake.h5: "),
     "bake_not_hdf5": (write("bake.h5", "not hdf5\n"), OFF + ["--bake", "bake.h5"], "bake.h5: not an HDF5 file"),
     "bake_missing": (nothing, OFF + ["--bake", "none.h5"], "none.h5: bake 'none.h5' not found"),

@@ -174,8 +174,11 @@ def gltf_door(interpolation="LINEAR", node=None):
     def edit(g):
         door = g.node("door", mesh=g.mesh("door", [(0, [(0, 0, 0), (0, 2, 0), (0, 2, 1)],
                                                     [(0, 1, 2)])]), translation=[5, 0, 3])
-        g.animation("swing", [(door if node is None else node, "rotation", [0, 1],
-                               [(0, 0, 0, 1), (0, 0.7071068, 0, 0.7071068)], interpolation)])
+        keys = [(0, 0, 0, 1), (0, 0.7071068, 0, 0.7071068)]
+        if interpolation == "CUBICSPLINE":  # in-tangent, value, out-tangent per key
+            keys = [v for k in keys for v in ((0, 0, 0, 0), k, (0, 0, 0, 0))]
+        g.animation("swing", [(door if node is None else node, "rotation", [0, 1], keys,
+                               interpolation)])
     return edit
 
 
@@ -220,3 +223,90 @@ def gltf_deep_nesting(d):
     n = 200000
     write("shoebox.gltf", '{"asset":{"version":"2.0"},"x":' + "[" * n + "]" * n + "}")(d)
     scene_with(mesh="shoebox.gltf")(d)
+
+
+def gltf_node_chain(depth):
+    """The room's node under a chain of depth - 1 group nodes (a node tree `depth` deep)."""
+    def edit(g):
+        child = 0
+        for k in range(depth - 1):
+            child = g.node("group%d" % k, children=[child])
+    return edit
+
+
+def glb_bytes(offset, value):
+    """The shoebox .glb level with the 32-bit little-endian word at `offset` set to `value`
+    (12: the JSON chunk's length)."""
+    import struct
+
+    def apply(d):
+        gltf_level(no_edit)(d)
+        path = os.path.join(d, "shoebox.glb")
+        data = bytearray(open(path, "rb").read())
+        data[offset:offset + 4] = struct.pack("<I", value)
+        open(path, "wb").write(bytes(data))
+    return apply
+
+
+def fbx_level(unit_scale):
+    """An ASCII FBX 7.4 level (a floor quad, material "floor") whose UnitScaleFactor is
+    `unit_scale` centimetres per unit, as the scene's mesh."""
+    text = """; FBX 7.4.0 project file
+FBXHeaderExtension:  {
+	FBXHeaderVersion: 1003
+	FBXVersion: 7400
+}
+GlobalSettings:  {
+	Version: 1000
+	Properties70:  {
+		P: "UpAxis", "int", "Integer", "",1
+		P: "UpAxisSign", "int", "Integer", "",1
+		P: "FrontAxis", "int", "Integer", "",2
+		P: "FrontAxisSign", "int", "Integer", "",1
+		P: "CoordAxis", "int", "Integer", "",0
+		P: "CoordAxisSign", "int", "Integer", "",1
+		P: "UnitScaleFactor", "double", "Number", "",%s
+	}
+}
+Objects:  {
+	Geometry: 1000, "Geometry::floor", "Mesh" {
+		Vertices: *12 {
+			a: 0,0,0,0,0,700,1000,0,700,1000,0,0
+		}
+		PolygonVertexIndex: *4 {
+			a: 0,1,2,-4
+		}
+		LayerElementMaterial: 0 {
+			Version: 101
+			MappingInformationType: "AllSame"
+			ReferenceInformationType: "IndexToDirect"
+			Materials: *1 {
+				a: 0
+			}
+		}
+		Layer: 0 {
+			Version: 100
+			LayerElement:  {
+				Type: "LayerElementMaterial"
+				TypedIndex: 0
+			}
+		}
+	}
+	Model: 2000, "Model::floor", "Mesh" {
+		Version: 232
+	}
+	Material: 3000, "Material::floor", "" {
+		Version: 102
+	}
+}
+Connections:  {
+	C: "OO",1000,2000
+	C: "OO",2000,0
+	C: "OO",3000,2000
+}
+""" % unit_scale
+
+    def apply(d):
+        write("level.fbx", text)(d)
+        scene_with(mesh="level.fbx")(d)
+    return apply

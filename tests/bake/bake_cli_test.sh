@@ -1,12 +1,18 @@
 #!/usr/bin/env bash
-# dpc-bake end to end: a bake interrupted (SIGTERM, SIGHUP, SIGINT: exit 128 + n) and resumed
-# equals a clean one; with Open MPI
-# (when mpirun is installed), -np 1 and -np 2 write the same datasets as the single-process run,
-# and a rank killed mid-bake ends the job non-zero with a file --resume completes to the same
-# data; bad input gets one line naming file and field, exit 1, no file created or changed.
-# Datasets compared with h5diff (Debian hdf5-tools). Usage: bake_cli_test.sh BUILD_DIR SOURCE_DIR
+# dpc-bake end to end: a bake interrupted (SIGTERM, SIGHUP, SIGINT: exit 128 + n, or SIGKILL)
+# and resumed is the same file, byte for byte (cmp), as a clean one; a second dpc-bake on the
+# same file is refused while the first runs; --resume refuses a scene changed in any setting
+# that changes a probe, naming it, and settings that do not change a probe leave the file
+# byte-identical; a grid over the limits is refused at once with its estimate; dpc-demo refuses
+# a bake of another response length or scene and a damaged one; with Open MPI (when mpirun is
+# installed), -np 1, 2 and 3 write the same bytes as the single-process run, and a rank killed
+# mid-bake ends the job non-zero with a file --resume completes to the same bytes; bad input
+# gets one line naming file and field, exit 1, no file created or changed.
+# Files compared with cmp, datasets with h5diff (Debian hdf5-tools).
+# Usage: bake_cli_test.sh BUILD_DIR SOURCE_DIR
 set -euo pipefail
 bake="$1/apps/dpc-bake"
+demo="$1/apps/dpc-demo"
 scene="$2/scenes/shoebox.json"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -41,8 +47,43 @@ for sig in TERM HUP INT; do
   complete "cut$sig.h5" && fail "bake interrupted by SIG$sig marked complete"
 done
 mv cutTERM.h5 cut.h5
+cp cut.h5 cut-kept.h5
 "$bake" --resume cut.h5 --quiet
-h5diff clean.h5 cut.h5 || fail "resumed bake differs from the clean one"
+cmp clean.h5 cut.h5 || fail "resumed bake differs from the clean one"
+
+echo "== SIGKILL mid-write, twice: never complete; --resume gives the clean bake's bytes"
+"$bake" "$scene" --out killed1.h5 "${slow[@]}" 2>k1.err & pid=$!
+kill_after_first_probe k1.err $pid KILL
+if wait $pid; then fail "killed bake exited 0"; fi
+complete killed1.h5 && fail "bake killed with SIGKILL marked complete"
+"$bake" --resume killed1.h5 2>k2.err & pid=$!
+kill_after_first_probe k2.err $pid KILL
+if wait $pid; then fail "killed resume exited 0"; fi
+complete killed1.h5 && fail "resume killed with SIGKILL marked complete"
+"$bake" --resume killed1.h5 --quiet
+cmp clean.h5 killed1.h5 || fail "bake resumed after SIGKILLs differs from the clean one"
+
+echo "== one writer per file: a second dpc-bake on the same file is refused while one runs"
+"$bake" "$scene" --out shared.h5 "${slow[@]}" 2>w1.err & pid=$!
+kill_after_first_probe w1.err $pid 0  # signal 0: only waits for the first probe
+ln -s shared.h5 alias.h5
+for second in shared.h5 alias.h5; do
+  status=0
+  "$bake" "$scene" --out $second "${quick[@]}" 2>w2.err || status=$?
+  [[ $status == 1 && $(wc -l <w2.err) == 1 ]] || fail "second writer of $second: $(cat w2.err)"
+  grep -q "^dpc-bake: $second: another dpc-bake (pid $pid) is writing this bake" w2.err ||
+    fail "second writer of $second: $(cat w2.err)"
+done
+status=0
+"$bake" --resume shared.h5 2>w2.err || status=$?
+[[ $status == 1 ]] && grep -q "another dpc-bake (pid $pid)" w2.err ||
+  fail "resume of a bake in progress: $(cat w2.err)"
+status=0
+"$demo" "$scene" --offline o.wav --duration 0.2 --bake shared.h5 --quiet 2>w2.err || status=$?
+[[ $status == 1 && $(wc -l <w2.err) == 1 ]] || fail "playing a bake in progress: $(cat w2.err)"
+wait $pid || fail "the first writer failed"
+cmp clean.h5 shared.h5 || fail "the first writer's bake differs from a clean one"
+[[ -e shared.h5.lock ]] && fail "the lock file was left"
 
 echo "== the map of a complete bake, and the h5py example reading it"
 "$bake" --resume clean.h5 --map map.csv --quiet
@@ -97,7 +138,10 @@ expect_refusal "list.txt: line 2" "$scene" --out keep.h5 --probes list.txt
 head -c 3000 clean.h5 >truncated.h5
 expect_refusal truncated.h5 --resume truncated.h5
 cp cut.h5 other.h5
-expect_refusal mesh_hash --resume other.h5 "$2/scenes/two_rooms.json"
+expect_refusal hash_geometry --resume other.h5 "$2/scenes/two_rooms.json"
+# Over the limits: refused at once with the estimate, before any probe is placed.
+expect_refusal "--spacing: up to 700000 probes, a file of up to .* GB, up to about" "$scene" \
+  --out keep.h5 --spacing 0.01
 h5diff clean.h5 keep.h5 || fail "keep.h5 changed"
 # Outputs naming inputs or non-regular files, against a copy of the scene (never the sources').
 cp -r "$2/scenes/shoebox.json" "$2/scenes/shoebox.obj" "$2/scenes/signals" .
@@ -125,24 +169,100 @@ ln -s made.h5 link.h5
 "$bake" shoebox.json --out link.h5 "${quick[@]}" --quiet
 [[ -L link.h5 ]] && complete made.h5 || fail "the link was replaced or made.h5 not written"
 
+echo "== --resume refuses a changed setting, naming it; settings that do not change a probe"
+# mkscene NAME JSON_PATH VALUE: shoebox.json (the copy here) with one key changed.
+mkscene() {
+  /usr/bin/python3 - "$@" <<'PY'
+import json, sys
+name, path, value = sys.argv[1], sys.argv[2].split("."), json.loads(sys.argv[3])
+scene = json.load(open("shoebox.json"))
+node = scene
+for key in path[:-1]:
+    node = node[int(key)] if key.isdigit() else node.setdefault(key, {})
+node[path[-1]] = value
+json.dump(scene, open(name, "w"))
+PY
+}
+cp "$2/scenes/shoebox-corner.obj" .
+while read -r field path value; do
+  mkscene changed.json "$path" "$value"
+  cp cut-kept.h5 try.h5
+  expect_refusal "try.h5: $field" --resume try.h5 changed.json
+  cmp cut-kept.h5 try.h5 || fail "a refused resume changed the file"
+done <<'CHANGES'
+seed propagation.seed 7
+probe_radius_m listener.radius 0.4
+ir_length_s propagation.ir_length 1.0
+hash_materials materials.floor {"absorption":[0.3,0.3,0.3,0.3,0.3,0.3,0.3,0.3]}
+hash_materials materials.walls {"library":"plasterboard_on_frame","scattering":0.5}
+hash_materials materials.walls {"library":"plasterboard_on_frame","scattering":0.2,"transmission_loss_db":30}
+hash_sources sources.0.position [2.5,1.6,3.5]
+hash_sources sources.0.directivity "cardioid"
+hash_physics propagation.exact_order 2
+hash_physics propagation.max_order 100
+hash_physics propagation.temperature 25
+hash_physics propagation.air_absorption false
+hash_physics propagation.diffraction false
+hash_sampling propagation.patch_size 0.25
+hash_geometry mesh "shoebox-corner.obj"
+CHANGES
+# What does not change a probe (the bake traces plain path tracing; audio is synthesised at
+# playback): changed all at once, the bake is the same file.
+cp shoebox.json shoebox-orig.json
+/usr/bin/python3 - <<'PY'
+import json
+s = json.load(open("shoebox.json"))
+s["propagation"].update({"cache_tau": 0.3, "estimator": "path_tracing",
+                         "dpc_weighting": "seed", "frame_rate": 30, "rays_per_frame": 999})
+s["audio"] = {"sample_rate": 44100, "block_size": 256, "output": "stereo"}
+s["sources"][0]["gain_db"] = -6
+json.dump(s, open("shoebox.json", "w"))
+PY
+"$bake" shoebox.json --out unchanged.h5 --rays 500 --frames 4 --spacing 2 --threads 1 --quiet
+mv shoebox-orig.json shoebox.json
+"$bake" shoebox.json --out reference.h5 --rays 500 --frames 4 --spacing 2 --threads 1 --quiet
+cmp reference.h5 unchanged.h5 || fail "a setting outside the hash changed the bake"
+
+echo "== dpc-demo refuses a bake of another response length, of another scene, or damaged"
+mkscene short.json propagation.ir_length 1.0
+expect_play_refusal() {  # expect_play_refusal WORD SCENE BAKE
+  local status=0
+  "$demo" "$2" --offline o.wav --duration 0.2 --bake "$3" --quiet 2>err.txt || status=$?
+  [[ $status == 1 && $(wc -l <err.txt) == 1 ]] || fail "played $3 on $2: $(cat err.txt)"
+  grep -q -- "$1" err.txt || fail "line does not name $1: $(cat err.txt)"
+}
+expect_play_refusal "reference.h5: ir_length_s: the bake's responses are 2.0* s long" short.json \
+  reference.h5
+expect_play_refusal "reference.h5: hash_geometry" "$2/scenes/two_rooms.json" reference.h5
+cp reference.h5 flipped.h5
+/usr/bin/python3 -c "
+import random
+r = random.Random(1); b = bytearray(open('flipped.h5', 'rb').read())
+for _ in range(300):
+    i = r.randrange(len(b)); b[i] ^= 1 << r.randrange(8)
+open('flipped.h5', 'wb').write(b)"
+expect_play_refusal "flipped.h5: " shoebox.json flipped.h5
+"$demo" shoebox.json --offline o.wav --duration 0.2 --bake reference.h5 --quiet ||
+  fail "the bake of this scene does not play"
+
 if ! command -v mpirun >/dev/null || ! ldd "$bake" | grep -q libmpi; then
   echo "mpirun or an MPI build missing: MPI cases skipped"
   exit 0
 fi
 mpi=(mpirun -q --allow-run-as-root --oversubscribe)
-echo "== mpirun -np 1 and -np 2 equal the single-process bake"
+echo "== mpirun -np 1, 2 and 3 write the single-process bake's bytes"
 "$bake" "$scene" --out single.h5 "${quick[@]}" --quiet
-"${mpi[@]}" -np 1 "$bake" "$scene" --out np1.h5 "${quick[@]}" --quiet
-"${mpi[@]}" -np 2 "$bake" "$scene" --out np2.h5 "${quick[@]}" --quiet
-h5diff single.h5 np1.h5 || fail "-np 1 differs"
-h5diff single.h5 np2.h5 || fail "-np 2 differs"
+for np in 1 2 3; do
+  "${mpi[@]}" -np $np "$bake" "$scene" --out np$np.h5 "${quick[@]}" --quiet
+  cmp single.h5 np$np.h5 || fail "-np $np differs"
+done
 
 echo "== an interrupted bake resumed under mpirun -np 2 equals the clean one"
 "$bake" "$scene" --out cut2.h5 "${slow[@]}" 2>cut2.err & pid=$!
 kill_after_first_probe cut2.err $pid TERM
 if wait $pid; then fail "interrupted bake exited 0"; fi
 "${mpi[@]}" -np 2 "$bake" --resume cut2.h5 --quiet --threads 1
-h5diff clean.h5 cut2.h5 || fail "bake resumed under MPI differs from the clean one"
+cmp clean.h5 cut2.h5 || fail "bake resumed under MPI differs from the clean one"
 
 echo "== a rank killed mid-bake: dpc-bake's own line, non-zero exit, a file --resume completes"
 # Rank 1 is killed once rank 0 has committed a probe; the job has 70 probes of about 0.1 s
@@ -159,5 +279,5 @@ line='killed.h5: rank 1 of 2 stopped; [0-9]+ of 70 probes committed, .* dpc-bake
 grep -q 'Read -1' killed.err && fail "rank 0 died in Open MPI's transport: $(cat killed.err)"
 complete killed.h5 && fail "killed bake marked complete"
 "$bake" --resume killed.h5 --quiet
-h5diff clean.h5 killed.h5 || fail "resumed bake of the killed job differs from the clean one"
+cmp clean.h5 killed.h5 || fail "resumed bake of the killed job differs from the clean one"
 echo "all dpc-bake end-to-end cases pass"

@@ -27,14 +27,7 @@ using dpc::bake::test_fixtures::shoebox;
 /// A complete bake of `scene` on a grid of `spacing` metres at `path`; returns its header.
 BakeHeader writeBake(const SceneDesc& scene, const std::string& path, double spacing,
                      bool complete = true) {
-  BakeHeader h;
-  h.scenePath = "/tmp/scene.json";
-  h.meshHash = sceneHash(scene);
-  h.settings = quickSettings();
-  h.grid.spacingM = spacing;
-  h.probes = makeProbeGrid(scene, h.grid, "scene.json");
-  h.sources = {scene.sources[0].position};
-  h.shape = probeShape(scene, h.settings);
+  const BakeHeader h = test_fixtures::headerFor(scene, quickSettings(), spacing);
   BakeFile f = BakeFile::create(path, path, h);
   ProbeBaker baker(scene, h.settings);
   for (size_t p = 0; p < h.probes.positions.size(); ++p)
@@ -194,7 +187,7 @@ TEST_CASE("Baked playback: the stage plays static sources from the bake, moved o
   WorldState world;
   evaluateWorld(*scene, 0.0, world);
   stage.traceWorld(world);
-  stage.recycle(stage.prepare(0));
+  stage.synthesizeIrs(0);
   REQUIRE(stage.bakedPlayback() != nullptr);
   CHECK(stage.bakedPlayback()->stats().bakedResponses == 1);
   // Played from the bake: not traced; only the listener's proposal rays for the exact paths
@@ -205,7 +198,7 @@ TEST_CASE("Baked playback: the stage plays static sources from the bake, moved o
   CHECK_FALSE(stage.simulation().specularPaths(0).empty());
   world.sourcePositions[0].x += 0.5f;  // moved: no longer the baked source
   stage.traceWorld(world);
-  stage.recycle(stage.prepare(0));
+  stage.synthesizeIrs(0);
   CHECK(stage.bakedPlayback()->stats().bakedResponses == 1);
   CHECK(stage.bakedPlayback()->stats().liveResponses == 1);
   CHECK_FALSE(stage.simulation().skipped(0, 0));
@@ -221,7 +214,7 @@ TEST_CASE("Baked playback: another scene's, an incomplete, a truncated or anothe
   writeBake(scene, path, 5.0);
   SceneDesc other = scene;
   other.mesh.vertices[7].x += 0.5f;
-  CHECK(refusedField(path, other) == "mesh_hash");
+  CHECK(refusedField(path, other) == "hash_geometry");
   const std::string partial = (dir.path() / "partial.h5").string();
   writeBake(scene, partial, 5.0, false);
   CHECK(refusedField(partial, scene) == "complete");
@@ -257,9 +250,9 @@ double irEnergy(PropagationStage& stage, const SceneDesc& scene) {
   WorldState world;
   evaluateWorld(scene, 0.0, world);
   stage.traceWorld(world);
-  stage.recycle(stage.prepare(0));
+  stage.synthesizeIrs(0);
   double e = 0.0;
-  for (const float x : stage.lastIrs()[0][0]) e += double(x) * x;
+  for (const float x : stage.lastIrs()[0].channelSpan(0)) e += double(x) * x;
   return e;
 }
 
@@ -301,10 +294,9 @@ TEST_CASE("Baked playback: the spatial (stereo) synthesis plays the bake's direc
     WorldState world;
     evaluateWorld(*scene, 0.0, world);
     stage.traceWorld(world);
-    stage.recycle(stage.prepare(0));
+    stage.synthesizeIrs(0);
     double e = 0.0;
-    for (const auto& channel : stage.lastIrs()[0])
-      for (const float x : channel) e += double(x) * x;
+    for (const float x : stage.lastIrs()[0].data()) e += double(x) * x;
     return e;
   };
   const double eLive = energy(live), eBaked = energy(baked);
@@ -329,9 +321,9 @@ TEST_CASE("Baked playback: a source leaving its baked position switches back to 
   evaluateWorld(*scene, 0.0, world);
   auto frame = [&] {
     stage.traceWorld(world);
-    stage.recycle(stage.prepare(0));
+    stage.synthesizeIrs(0);
     double e = 0.0;
-    for (const float x : stage.lastIrs()[0][0]) e += double(x) * x;
+    for (const float x : stage.lastIrs()[0].channelSpan(0)) e += double(x) * x;
     return e;
   };
   double eBaked = 0.0;

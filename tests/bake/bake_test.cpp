@@ -44,17 +44,7 @@ bool sameBits(const std::vector<float>& a, const std::vector<float>& b) {
 using dpc::bake::test_fixtures::quickSettings;
 using dpc::bake::test_fixtures::shoebox;
 
-BakeHeader headerFor(const SceneDesc& scene, const BakeSettings& settings, double spacing) {
-  BakeHeader h;
-  h.scenePath = "/tmp/scene.json";
-  h.meshHash = sceneHash(scene);
-  h.settings = settings;
-  h.grid.spacingM = spacing;
-  h.probes = makeProbeGrid(scene, h.grid, "scene.json");
-  h.sources = {scene.sources[0].position};
-  h.shape = probeShape(scene, settings);
-  return h;
-}
+using dpc::bake::test_fixtures::headerFor;
 
 }  // namespace
 
@@ -242,19 +232,36 @@ TEST_CASE("Bake file: round trip, done mask, completion", "[bake]") {
     f.commit(1, r);
   }
   {
-    BakeFile f = BakeFile::open(path, true);
+    BakeFile f = BakeFile::open(path, BakeFile::Access::kInspect);
     CHECK_FALSE(f.complete());
     const auto done = f.done();
     CHECK(done[0] == 0);
     CHECK(done[1] == 1);
-    CHECK(f.header().meshHash == h.meshHash);
+    CHECK(f.damaged().empty());
+    CHECK(f.header().hashes == h.hashes);
     CHECK(f.header().probes.positions.size() == h.probes.positions.size());
     const auto energy = f.readAll("energy");
     const size_t n = h.shape.energyFloats();
     CHECK(std::equal(r.energy.begin(), r.energy.end(), energy.begin() + std::ptrdiff_t(n)));
+  }
+  {
+    BakeFile f = BakeFile::open(path, BakeFile::Access::kWrite);
+    // Probe 0 is not stored: the file is not marked complete, and says which probe.
+    try {
+      f.markComplete();
+      FAIL("marked complete with probe 0 missing");
+    } catch (const InputError& e) {
+      CHECK(std::string(e.what()).find("probe 0 is not stored") != std::string::npos);
+    }
+  }
+  CHECK_FALSE(BakeFile::open(path, BakeFile::Access::kRead).complete());
+  {
+    BakeFile f = BakeFile::open(path, BakeFile::Access::kWrite);
+    for (size_t p = 0; p < h.probes.positions.size(); ++p)
+      if (p != 1) f.commit(p, bakeProbe(scene, h.settings, p, h.probes.positions[p]));
     f.markComplete();
   }
-  CHECK(BakeFile::open(path, false).complete());
+  CHECK(BakeFile::open(path, BakeFile::Access::kRead).complete());
 }
 
 TEST_CASE("Bake file: truncated, foreign or missing files are refused naming the file",
@@ -269,7 +276,7 @@ TEST_CASE("Bake file: truncated, foreign or missing files are refused naming the
   std::filesystem::resize_file(cut, size / 2);
   for (const std::string& bad : {cut, (dir.path() / "none.h5").string()}) {
     try {
-      BakeFile::open(bad, false);
+      BakeFile::open(bad, BakeFile::Access::kRead);
       FAIL("no error");
     } catch (const InputError& e) {
       CHECK(e.file() == bad);
@@ -277,21 +284,7 @@ TEST_CASE("Bake file: truncated, foreign or missing files are refused naming the
   }
   const std::string text = (dir.path() / "text.h5").string();
   std::ofstream(text) << "not hdf5\n";
-  CHECK_THROWS_AS(BakeFile::open(text, false), InputError);
-}
-
-TEST_CASE("Bake file: the scene hash sees the mesh, materials and sources", "[bake]") {
-  const SceneDesc a = shoebox();
-  SceneDesc b = a;
-  CHECK(sceneHash(a) == sceneHash(b));
-  b.mesh.vertices[7].x += 0.01f;
-  CHECK(sceneHash(a) != sceneHash(b));
-  b = a;
-  b.materials[0].absorption[3] = 0.3f;
-  CHECK(sceneHash(a) != sceneHash(b));
-  b = a;
-  b.sources[0].position.z += 1.f;
-  CHECK(sceneHash(a) != sceneHash(b));
+  CHECK_THROWS_AS(BakeFile::open(text, BakeFile::Access::kRead), InputError);
 }
 
 TEST_CASE("Bake probe: exact early paths are stored and counted in the response", "[bake]") {

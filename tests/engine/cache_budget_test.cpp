@@ -90,9 +90,11 @@ TEST_CASE("A 1 MB budget on the diffuse shoebox: bytes bounded, energy response 
 // cache holds far fewer entries.
 TEST_CASE("Order-adaptive path identifiers keep the energy response and shrink the cache",
           "[dpc][budget]") {
-  Simulation adaptive(diffuseShoebox(DpcWeighting::kWindow, 512.f));
-  Simulation thesis(diffuseShoebox(DpcWeighting::kWindow, 512.f));
-  thesis.propagator().setPathKeyRule(PathKeyRule{});
+  const SceneDesc scene = diffuseShoebox(DpcWeighting::kWindow, 512.f);
+  Simulation adaptive(scene);
+  Simulation::Options thesisRule;
+  thesisRule.keyRule = PathKeyRule{};
+  Simulation thesis(scene, scene.propagation, thesisRule);
   CHECK(adaptive.propagator().pathKeyRule().fullOrder == PathKeyRule::kMinFullOrder);
   const glm::vec3 listener{7, 4.5f, 1.6f};
   for (int f = 0; f < 16; ++f) {

@@ -16,6 +16,14 @@ using namespace dpc;
 
 namespace {
 
+/// One frame of `sim` with its first listener at `listener` (the scene's sources) and the
+/// scene's objects at `poses`.
+void runWithPoses(Simulation& sim, const glm::vec3& listener, const std::vector<Pose>& poses) {
+  FrameInputs in = sim.inputsAt(listener);
+  in.objectPoses = poses;
+  sim.runFrame(in);
+}
+
 constexpr double kPi = 3.14159265358979323846;
 
 }  // namespace
@@ -95,8 +103,7 @@ TEST_CASE("An object moved to a pose equals the static scene with it baked in (t
   moving.objects.push_back(door);
 
   Simulation a(moving), b(baked);
-  a.setObjectPoses({Pose{key.position, key.rotation}});
-  a.runFrame(moving.listeners[0].position);
+  runWithPoses(a, moving.listeners[0].position, {Pose{key.position, key.rotation}});
   b.runFrame(baked.listeners[0].position);
   // Same rays (same seed), same surfaces; but the instance transform rounds differently from
   // the baked vertices, so a ray grazing an edge takes another branch and from there on is an
@@ -142,13 +149,12 @@ TEST_CASE("An object between source and listener occludes the direct sound", "[d
   sim.runFrame(s.listeners[0].position);
   CHECK_FALSE(sim.result(0).direct.visible);
   // Slid sideways (z in [2.5, 4.5]): the line of sight at z = 2 is free.
-  sim.setObjectPoses({Pose{{5, 2, 3.5f}, glm::quat(1, 0, 0, 0)}});
-  sim.runFrame(s.listeners[0].position);
+  runWithPoses(sim, s.listeners[0].position, {Pose{{5, 2, 3.5f}, glm::quat(1, 0, 0, 0)}});
   CHECK(sim.result(0).direct.visible);
   // Turned back across by 90 degrees about +x about its new centre: (y, z) -> (-z, y) keeps it
   // square, so it must block again once returned to z = 2.
-  sim.setObjectPoses({Pose{{5, 2, 2}, glm::angleAxis(float(kPi / 2), glm::vec3(1, 0, 0))}});
-  sim.runFrame(s.listeners[0].position);
+  runWithPoses(sim, s.listeners[0].position,
+               {Pose{{5, 2, 2}, glm::angleAxis(float(kPi / 2), glm::vec3(1, 0, 0))}});
   CHECK_FALSE(sim.result(0).direct.visible);
 }
 
@@ -160,13 +166,14 @@ TEST_CASE("A door closing and opening is answered within tau by the window estim
   const glm::vec3 L = s.listeners[0].position;
   const int W = int(std::lround(tau * s.propagation.frameRate));  // frames in tau
   auto late = [&] { return double(sim.result(0).energy.total()[3]); };
+  std::vector<Pose> door = {test::kDoorOpen};
+  const auto frame = [&] { runWithPoses(sim, L, door); };
 
   // Open: settle for 2 tau, then the reference level is the mean of 4 tau of readouts
   // (each the mean of W independent frames; the reference's own error is 1/sqrt(4) of that).
-  sim.setObjectPoses({test::kDoorOpen});
-  for (int f = 0; f < 2 * W; ++f) sim.runFrame(L);
+  for (int f = 0; f < 2 * W; ++f) frame();
   double open = 0.0;
-  for (int f = 0; f < 4 * W; ++f) sim.runFrame(L), open += late();
+  for (int f = 0; f < 4 * W; ++f) frame(), open += late();
   open /= 4 * W;
   REQUIRE(open > 0.0);
   CHECK_FALSE(sim.result(0).direct.visible);  // no line of sight through the doorway
@@ -174,9 +181,9 @@ TEST_CASE("A door closing and opening is answered within tau by the window estim
   // Shut: only the 1 cm slit round the door joins the rooms, so the settled level is near 0
   // (well under 1 % of the open level here); the readout must have
   // dropped by >= 90 % at the last frame within tau of the change (W - 1 frame periods later).
-  sim.setObjectPoses({test::kDoorShut});
+  door = {test::kDoorShut};
   std::vector<double> closing;
-  for (int f = 0; f < W; ++f) sim.runFrame(L), closing.push_back(late());
+  for (int f = 0; f < W; ++f) frame(), closing.push_back(late());
   INFO("open level " << open << ", after shutting " << closing.front() << " .. " << closing.back());
   CHECK(closing.back() <= 0.1 * open);
 
@@ -184,15 +191,15 @@ TEST_CASE("A door closing and opening is answered within tau by the window estim
   // relative standard error (measured below over the settled open frames) must leave room:
   // we require it at the 90 % line minus 3 standard errors of the readout would fail, so the
   // test asserts readout >= 0.9 * open and separately that the error is below 3 %.
-  sim.setObjectPoses({test::kDoorOpen});
+  door = {test::kDoorOpen};
   std::vector<double> opening;
-  for (int f = 0; f < W; ++f) sim.runFrame(L), opening.push_back(late());
+  for (int f = 0; f < W; ++f) frame(), opening.push_back(late());
   INFO("after opening " << opening.front() << " .. " << opening.back());
   CHECK(opening.back() >= 0.9 * open);
   double sum = 0.0, sum2 = 0.0;
   const int n = 4 * W;
   for (int f = 0; f < n; ++f) {
-    sim.runFrame(L);
+    frame();
     sum += late(), sum2 += late() * late();
   }
   const double mean = sum / n, sd = std::sqrt(std::max(0.0, sum2 / n - mean * mean));
@@ -212,11 +219,9 @@ TEST_CASE("The EMA tuned to tau answers slower than tau (what the window fixes)"
   Simulation sim(s);
   const glm::vec3 L = s.listeners[0].position;
   const int W = int(std::lround(tau * s.propagation.frameRate));
-  sim.setObjectPoses({test::kDoorOpen});
-  for (int f = 0; f < 6 * W; ++f) sim.runFrame(L);
+  for (int f = 0; f < 6 * W; ++f) runWithPoses(sim, L, {test::kDoorOpen});
   const double open = sim.result(0).energy.total()[3];
-  sim.setObjectPoses({test::kDoorShut});
-  for (int f = 0; f < W; ++f) sim.runFrame(L);
+  for (int f = 0; f < W; ++f) runWithPoses(sim, L, {test::kDoorShut});
   CHECK(sim.result(0).energy.total()[3] > 0.3 * open);  // far from a 90 % drop
 }
 
@@ -233,10 +238,10 @@ TEST_CASE("tau = 0 is plain path tracing bit for bit with source, object and lis
       const Pose door{test::kDoorShut.position,
                       glm::slerp(test::kDoorShut.rotation, test::kDoorOpen.rotation, u)};
       const glm::vec3 src{2.f + u, 1.2f, 1.f}, lis{8.f - u, 1.2f, 1.f + u};
-      a.setObjectPoses({door});
-      b.setObjectPoses({door});
-      a.runFrame(lis, {src});
-      b.runFrame(lis, {src});
+      FrameInputs in = a.inputsAt(lis, {src});
+      in.objectPoses = {door};
+      a.runFrame(in);
+      b.runFrame(in);
       CHECK(test::identical(a.result(0).energy, b.result(0).energy));
     }
   }
@@ -259,12 +264,16 @@ TEST_CASE("Several listeners in one pass: each equals its own trace, Embree work
     const ListenerSphere c{{3.5f, 1.2f, 2.f}, 0.4f};
     const std::vector<ListenerSphere> together = {a, a, c};
     Simulation multi(sc), aloneA(sc), aloneC(sc);
-    for (Simulation* sim : {&multi, &aloneA, &aloneC}) sim->setObjectPoses({test::kDoorOpen});
     const std::vector<glm::vec3> sources = {sc.sources[0].position};
+    const auto withDoorOpen = [&](std::span<const ListenerSphere> listeners) {
+      FrameInputs in = Simulation::inputsAt(listeners, sources);
+      in.objectPoses = {test::kDoorOpen};
+      return in;
+    };
     for (int f = 0; f < 6; ++f) {
-      multi.runFrame(together, sources);
-      aloneA.runFrame(std::span(&a, 1), sources);
-      aloneC.runFrame(std::span(&c, 1), sources);
+      multi.runFrame(withDoorOpen(together));
+      aloneA.runFrame(withDoorOpen(std::span(&a, 1)));
+      aloneC.runFrame(withDoorOpen(std::span(&c, 1)));
       REQUIRE(multi.listenerCount() == 3);
       const auto same = [](const EnergyResponse& x, const EnergyResponse& y) {
         return x.binCount() == y.binCount() &&
@@ -299,7 +308,8 @@ TEST_CASE("Path identifiers carry the listener, segments do not grow with listen
     std::vector<FrameGroups> groups(n);
     std::vector<FrameGroups*> ptrs;
     for (FrameGroups& g : groups) ptrs.push_back(&g);
-    const TraceStats st = propagator.traceFrame(7, 0, source, spheres, ptrs);
+    const TraceStats st =
+        propagator.traceFrame(test::traceRequest(sc.propagation, 7, 0, source, spheres), ptrs);
     if (n == 1) segmentsOne = st.segments;
     CHECK(st.segments == segmentsOne);
     REQUIRE(groups[0].groups().size() > 10);

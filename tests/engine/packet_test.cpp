@@ -14,6 +14,7 @@
 #include "engine/propagation.h"
 #include "engine/simulation.h"
 #include "testing/test_scenes.h"
+#include "testing/test_util.h"
 
 using namespace dpc;
 
@@ -24,11 +25,18 @@ struct FrameSummary {
   TraceStats stats;
 };
 
+/// One frame of the propagator's rays and seed from `source` to `listener` into `groups`.
+TraceStats trace(Propagator& prop, uint64_t frame, const glm::vec3& source,
+                 const ListenerSphere& listener, FrameGroups& groups) {
+  return prop.traceFrame(
+      test::traceRequest(prop.settings(), frame, 0, source, std::span(&listener, 1)), groups);
+}
+
 FrameSummary traceOnce(Propagator& prop, uint64_t frame, const glm::vec3& source,
                        const ListenerSphere& listener) {
   FrameGroups groups;
   FrameSummary s;
-  s.stats = prop.traceFrame(frame, 0, source, listener, groups);
+  s.stats = trace(prop, frame, source, listener, groups);
   Bands sum(0.f);
   for (const FrameGroups::Group& g : groups.groups()) sum += g.intensity;
   s.energy = sum * (1.f / float(s.stats.rays));
@@ -107,15 +115,14 @@ TEST_CASE("One ray: the packet path equals the scalar path bit for bit", "[packe
   PropagationSettings ps = raySettings(1, 200);
   ps.seed = 3;
   ps.threads = 1;
-  Propagator scalar(box.g, box.tracer, ps), packet(box.g, box.tracer, ps);
-  scalar.setTraceMode(TraceMode::kScalar);
-  packet.setTraceMode(TraceMode::kPacket16);
+  Propagator scalar(box.g, box.tracer, ps, {TraceMode::kScalar}),
+      packet(box.g, box.tracer, ps, {TraceMode::kPacket16});
   const ListenerSphere listener{{7, 1.6f, 5}, 1.0f};
   uint64_t hits = 0;
   for (uint64_t frame = 0; frame < 200; ++frame) {
     FrameGroups a, b;
-    const TraceStats sa = scalar.traceFrame(frame, 0, {2, 1.5f, 2}, listener, a);
-    const TraceStats sb = packet.traceFrame(frame, 0, {2, 1.5f, 2}, listener, b);
+    const TraceStats sa = trace(scalar, frame, {2, 1.5f, 2}, listener, a);
+    const TraceStats sb = trace(packet, frame, {2, 1.5f, 2}, listener, b);
     INFO("frame " << frame);
     REQUIRE(sa.segments == sb.segments);
     REQUIRE(sa.listenerHits == sb.listenerHits);
@@ -137,9 +144,8 @@ TEST_CASE("Packet and scalar tracing agree within Monte Carlo error", "[packet]"
 
   SECTION("same seed: the same rays, up to kernel rounding") {
     ps.seed = 11;
-    Propagator scalar(box.g, box.tracer, ps), packet(box.g, box.tracer, ps);
-    scalar.setTraceMode(TraceMode::kScalar);
-    packet.setTraceMode(TraceMode::kPacket16);
+    Propagator scalar(box.g, box.tracer, ps, {TraceMode::kScalar}),
+        packet(box.g, box.tracer, ps, {TraceMode::kPacket16});
     const MeanAndError a = runFrames(scalar, kFrames, 0, source, listener);
     const MeanAndError b = runFrames(packet, kFrames, 0, source, listener);
     REQUIRE(a.hits > 10000);
@@ -158,12 +164,11 @@ TEST_CASE("Packet and scalar tracing agree within Monte Carlo error", "[packet]"
   }
 
   SECTION("independent seeds: statistically equal") {
-    ps.seed = 21;
-    Propagator scalar(box.g, box.tracer, ps);
-    scalar.setTraceMode(TraceMode::kScalar);
-    ps.seed = 22;
-    Propagator packet(box.g, box.tracer, ps);
-    packet.setTraceMode(TraceMode::kPacket16);
+    PropagationSettings scalarSettings = ps, packetSettings = ps;  // each outlives its tracer
+    scalarSettings.seed = 21;
+    packetSettings.seed = 22;
+    Propagator scalar(box.g, box.tracer, scalarSettings, {TraceMode::kScalar});
+    Propagator packet(box.g, box.tracer, packetSettings, {TraceMode::kPacket16});
     const MeanAndError a = runFrames(scalar, kFrames, 0, source, listener);
     const MeanAndError b = runFrames(packet, kFrames, 0, source, listener);
     // Tolerance: 4.5 combined standard errors of the mean, measured from the frame-to-frame
@@ -195,17 +200,16 @@ TEST_CASE("Packet tracing is bit-identical for a seed whatever the thread count"
   PropagationSettings ps = raySettings(3001, 40);
   ps.seed = 5;
   for (TraceMode mode : {TraceMode::kPacket16, TraceMode::kScalar}) {
-    ps.threads = 1;
-    Propagator one(box.g, box.tracer, ps);
-    ps.threads = 2;
-    Propagator two(box.g, box.tracer, ps);
-    one.setTraceMode(mode);
-    two.setTraceMode(mode);
+    PropagationSettings oneThread = ps, twoThreads = ps;  // each outlives its tracer
+    oneThread.threads = 1;
+    twoThreads.threads = 2;
+    Propagator one(box.g, box.tracer, oneThread, {mode});
+    Propagator two(box.g, box.tracer, twoThreads, {mode});
     const ListenerSphere listener{{7, 1.6f, 5}, 0.5f};
     for (uint64_t frame = 0; frame < 3; ++frame) {
       FrameGroups a, b;
-      const TraceStats sa = one.traceFrame(frame, 0, {2, 1.5f, 2}, listener, a);
-      const TraceStats sb = two.traceFrame(frame, 0, {2, 1.5f, 2}, listener, b);
+      const TraceStats sa = trace(one, frame, {2, 1.5f, 2}, listener, a);
+      const TraceStats sb = trace(two, frame, {2, 1.5f, 2}, listener, b);
       REQUIRE(sa.listenerHits > 100);
       REQUIRE(sa.segments == sb.segments);
       REQUIRE(sameGroups(a, b));

@@ -43,8 +43,9 @@ TEST_CASE("Order-0 energy through the listener sphere is 1/(4 pi r^2)", "[calibr
   ps.maxOrder = 0;
   ps.estimator = Estimator::kPathTracing;
   Simulation sim(scene, ps);
-  sim.propagator().setIncludeDirectRays(true);
-  sim.runFrame(scene.listeners[0].position);
+  FrameInputs in = sim.inputsAt(scene.listeners[0].position);
+  in.includeDirectRays = true;
+  sim.runFrame(in);
   const double r = std::sqrt(16.0 + 1.0 + 4.0);
   const double R = 0.5;
   const Bands total = sim.result(0).energy.total();
@@ -75,9 +76,7 @@ TEST_CASE("tau = 0 DPC reproduces plain path tracing exactly, frame after frame"
       dpcSettings.estimator = Estimator::kDpc;
       dpcSettings.dpcWeighting = w;
       ptSettings.estimator = Estimator::kPathTracing;
-      Simulation dpcSim(scene, dpcSettings), ptSim(scene, ptSettings);
-      dpcSim.propagator().setTraceMode(mode);
-      ptSim.propagator().setTraceMode(mode);
+      Simulation dpcSim(scene, dpcSettings, {mode}), ptSim(scene, ptSettings, {mode});
       for (int f = 0; f < 5; ++f) {
         const glm::vec3 listener(7.f - 0.3f * f, 1.6f, 5.f);  // moving: nothing may carry over
         dpcSim.runFrame(listener);

@@ -1,4 +1,4 @@
-// Pairs played from a bake are not traced (Simulation::setSkippedPairs): from the sources a
+// Pairs played from a bake are not traced (FrameInputs::skippedPairs): from the sources a
 // skipped source traces no ray, from the listeners its sphere leaves the pass; the other
 // pairs' responses do not change by a bit; the skipped pairs keep their direct sound and
 // exact early paths live; and a pair traced again starts its path cache over.
@@ -46,12 +46,13 @@ bool sameBins(const EnergyResponse& a, const EnergyResponse& b) {
 /// the unskipped sources bit for bit and source 1's empty response and live direct sound.
 void checkSkip(const SceneDesc& scene, int frames) {
   Simulation all(scene), some(scene);
-  const std::vector<uint8_t> skip = {0, 1, 0};
-  some.setSkippedPairs(skip);
   const ListenerSphere listener{{8, 1.6f, 3.5f}, 0.5f};
+  FrameInputs in = Simulation::inputsAt(std::span(&listener, 1), positions(scene));
   for (int f = 0; f < frames; ++f) {
-    all.runFrame(std::span(&listener, 1), positions(scene));
-    some.runFrame(std::span(&listener, 1), positions(scene));
+    all.runFrame(in);
+    in.skippedPairs = {0, 1, 0};
+    some.runFrame(in);
+    in.skippedPairs.clear();
     for (const size_t s : {size_t(0), size_t(2)})
       CHECK(sameBins(all.result(s).energy, some.result(s).energy));
     CHECK(some.result(1).energy.total().sum() == 0.f);
@@ -65,9 +66,9 @@ void checkSkip(const SceneDesc& scene, int frames) {
 /// nothing.
 void checkNothingTraced(const SceneDesc& scene) {
   Simulation sim(scene);
-  const std::vector<uint8_t> everyone = {1, 1, 1};
-  sim.setSkippedPairs(everyone);
-  sim.runFrame({8, 1.6f, 3.5f});
+  FrameInputs in = sim.inputsAt({8, 1.6f, 3.5f});
+  in.skippedPairs = {1, 1, 1};
+  sim.runFrame(in);
   CHECK(sim.frameTrace().rays == 0u);
   CHECK(sim.frameTrace().segments == 0u);
 }
@@ -80,16 +81,16 @@ TEST_CASE("Skipped pairs from the sources: no ray for the skipped source, others
   checkSkip(scene, 3);
   checkNothingTraced(scene);
   Simulation sim(scene);
-  const std::vector<uint8_t> skip = {0, 1, 0};
-  sim.setSkippedPairs(skip);
-  sim.runFrame({8, 1.6f, 3.5f});
+  FrameInputs in = sim.inputsAt({8, 1.6f, 3.5f});
+  in.skippedPairs = {0, 1, 0};
+  sim.runFrame(in);
   CHECK(sim.frameTrace().rays == 2u * 1024u);  // two passes of three
 }
 
 TEST_CASE("Skipped pairs from the listeners: the sphere leaves the pass, others' keys unchanged",
           "[engine][bake]") {
   // The DPC keeps paths by identifier across frames, so a bit-identical response over several
-  // frames shows that the remaining spheres keep their keys (Propagator::setSphereIds).
+  // frames shows that the remaining spheres keep their keys (TraceRequest::receiverIds).
   const SceneDesc scene = threeSources(Tracing::kFromListeners);
   checkSkip(scene, 4);
   checkNothingTraced(scene);
@@ -128,12 +129,12 @@ TEST_CASE("Skipped pairs keep their exact early paths live (candidates from the 
   for (const Tracing tracing : {Tracing::kFromSources, Tracing::kFromListeners}) {
     const SceneDesc scene = threeSources(tracing, 3);
     Simulation traced(scene), skipped(scene);
-    const std::vector<uint8_t> skip = {1, 1, 1};
-    skipped.setSkippedPairs(skip);
     const glm::vec3 listener{8, 1.6f, 3.5f};
+    FrameInputs allSkipped = skipped.inputsAt(listener);
+    allSkipped.skippedPairs = {1, 1, 1};
     for (int f = 0; f < 3; ++f) {
       traced.runFrame(listener);
-      skipped.runFrame(listener);
+      skipped.runFrame(allSkipped);
     }
     // A proposal ray costs at most exact_order segments.
     CHECK(skipped.frameTrace().segments <= 3u * skipped.frameTrace().rays);
@@ -162,13 +163,13 @@ TEST_CASE("A pair traced again after skipped frames starts its path cache over",
     const SceneDesc scene = threeSources(tracing);
     Simulation resumed(scene), restarted(scene);
     const ListenerSphere listener{{8, 1.6f, 3.5f}, 0.5f};
-    const std::vector<uint8_t> skip = {0, 1, 0}, none;
     for (int f = 0; f < 8; ++f) {
-      resumed.setSkippedPairs(f >= 3 && f < 7 ? std::span<const uint8_t>(skip)
-                                              : std::span<const uint8_t>(none));
-      if (f == 7) restarted.restartSource(1);
-      resumed.runFrame(std::span(&listener, 1), positions(scene));
-      restarted.runFrame(std::span(&listener, 1), positions(scene));
+      FrameInputs in = Simulation::inputsAt(std::span(&listener, 1), positions(scene));
+      if (f >= 3 && f < 7) in.skippedPairs = {0, 1, 0};
+      resumed.runFrame(in);
+      in.skippedPairs.clear();
+      if (f == 7) in.sourceRestarts = {0, 1, 0};
+      restarted.runFrame(in);
     }
     CHECK(sameBins(resumed.result(1).energy, restarted.result(1).energy));
     CHECK(resumed.result(1).energy.total().sum() > 0.f);

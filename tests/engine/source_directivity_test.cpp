@@ -106,8 +106,9 @@ TEST_CASE("Emitted rays are weighted by the pattern (writes directivity_polar.cs
     ps.maxOrder = 0;
     ps.estimator = Estimator::kPathTracing;
     Simulation sim(scene, ps);
-    sim.propagator().setIncludeDirectRays(true);
-    sim.runFrame(listeners, {scene.sources[0].position});
+    FrameInputs in = Simulation::inputsAt(listeners, {scene.sources[0].position});
+    in.includeDirectRays = true;
+    sim.runFrame(in);
     // The omni source's direct sound at 4 m: the reference of every level (same power).
     const double omni = directAt(anechoic(Directivity{}), ring({0.f}))[0];
     const double onAxis = sim.result(0, 0).energy.total()[4];
@@ -172,7 +173,7 @@ TEST_CASE("A directional source's reverberant energy equals the omni source's", 
 }
 
 // A quarter turn about +y takes the forward axis from +x to -z: the levels measured on a ring
-// turn with it, whether the rotation comes from the scene or from setSourceRotations.
+// turn with it, whether the rotation comes from the scene or from FrameInputs::sourceRotations.
 TEST_CASE("Rotating the source rotates the result", "[directivity]") {
   const Directivity cardioid{Bands(0.5f)};
   const glm::quat quarter = glm::angleAxis(kPi / 2, glm::vec3(0, 1, 0));
@@ -189,8 +190,9 @@ TEST_CASE("Rotating the source rotates the result", "[directivity]") {
   ps.raysPerFrame = 1;
   ps.maxOrder = 0;
   Simulation sim(scene, ps);
-  sim.setSourceRotations({quarter});
-  sim.runFrame(listeners, {scene.sources[0].position});
+  FrameInputs in = Simulation::inputsAt(listeners, {scene.sources[0].position});
+  in.sourceRotations = {quarter};
+  sim.runFrame(in);
   CHECK(sim.result(0, 3).direct.intensity[4] == Approx(plain[0]).epsilon(1e-5));
 }
 

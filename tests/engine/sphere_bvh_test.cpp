@@ -11,6 +11,7 @@
 #include "engine/propagation.h"
 #include "engine/sampling.h"
 #include "engine/sphere_bvh.h"
+#include "testing/test_util.h"
 #include "testing/test_scenes.h"
 
 using namespace dpc;
@@ -75,10 +76,12 @@ TEST_CASE("Through the hierarchy each sphere gets the hits it gets alone", "[eng
   std::vector<FrameGroups> groups(spheres.size());
   std::vector<FrameGroups*> ptrs;
   for (FrameGroups& g : groups) ptrs.push_back(&g);
-  propagator.traceFrame(3, 0, sc.sources[0].position, spheres, ptrs);
+  const glm::vec3 source = sc.sources[0].position;
+  propagator.traceFrame(test::traceRequest(sc.propagation, 3, 0, source, spheres), ptrs);
   for (size_t s = 0; s < spheres.size(); ++s) {
     FrameGroups alone;
-    propagator.traceFrame(3, 0, sc.sources[0].position, spheres[s], alone);
+    propagator.traceFrame(
+        test::traceRequest(sc.propagation, 3, 0, source, std::span(&spheres[s], 1)), alone);
     REQUIRE(alone.hitCount() > 0);
     REQUIRE(groups[s].groups().size() == alone.groups().size());
     for (size_t k = 0; k < alone.groups().size(); ++k) {

@@ -1,5 +1,5 @@
 // Teleports: a source or listener that jumps is heard at its new place at once. Its pairs'
-// caches start over at the jump (Simulation::restartSource / restartListener), so the first
+// caches start over at the jump (FrameInputs::sourceRestarts / listenerRestarts), so the first
 // response after it is one frame's estimate at the new place, with nothing of the old one.
 //
 // Oracle: plain path tracing, which keeps nothing between frames. The DPC's first frame after
@@ -33,8 +33,9 @@ EnergyResponse jump(Estimator estimator, bool restart, Tracing tracing) {
   Simulation sim(s);
   const ListenerSphere listener{s.listeners[0].position, s.listeners[0].radius};
   for (int f = 0; f < 8; ++f) sim.runFrame(std::span(&listener, 1), {{1.f, 1.f, 1.f}});
-  if (restart) sim.restartSource(0);
-  sim.runFrame(std::span(&listener, 1), {{6.5f, 4.f, 1.5f}});
+  FrameInputs jumped = Simulation::inputsAt(std::span(&listener, 1), {{6.5f, 4.f, 1.5f}});
+  if (restart) jumped.sourceRestarts = {1};
+  sim.runFrame(jumped);
   return sim.result(0).energy;
 }
 

@@ -11,6 +11,7 @@
 #include "engine/propagation.h"
 #include "engine/transmission.h"
 #include "scene/transmission.h"
+#include "testing/test_util.h"
 #include "testing/test_scenes.h"
 
 using namespace dpc;
@@ -45,14 +46,15 @@ std::vector<Bands> rayEnergy(const SceneDesc& scene, const std::vector<ListenerS
   Geometry geometry(scene.mesh, scene.materials, ps.patchSize, scene.objects);
   EmbreeTracer tracer(scene.mesh, scene.objects);
   Propagator prop(geometry, tracer, ps);
-  prop.setIncludeDirectRays(direct);
   std::vector<FrameGroups> groups(listeners.size());
   std::vector<FrameGroups*> pointers;
   for (FrameGroups& g : groups) pointers.push_back(&g);
   std::vector<Bands> energy(listeners.size(), Bands(0.f));
   for (int f = 0; f < frames; ++f) {
     for (FrameGroups& g : groups) g.clear();
-    prop.traceFrame(uint64_t(f), 0, scene.sources[0].position, listeners, pointers);
+    TraceRequest rq = test::traceRequest(ps, uint64_t(f), 0, scene.sources[0].position, listeners);
+    rq.includeDirectRays = direct;
+    prop.traceFrame(rq, pointers);
     for (size_t l = 0; l < listeners.size(); ++l)
       for (const FrameGroups::Group& g : groups[l].groups())
         energy[l] += g.intensity * (1.f / float(rays * frames));

@@ -10,6 +10,7 @@
 #include "engine/geometry.h"
 #include "engine/path_cache.h"
 #include "engine/propagation.h"
+#include "testing/test_util.h"
 #include "testing/test_scenes.h"
 
 using namespace dpc;
@@ -28,7 +29,9 @@ TEST_CASE("expected reflection order matches the segments traced in a diffuse sh
   EmbreeTracer tracer(scene.mesh);
   Propagator prop(g, tracer, ps);
   FrameGroups groups;
-  const TraceStats t = prop.traceFrame(0, 0, {2, 1.5f, 2}, {{7, 1.6f, 5}, 0.5f}, groups);
+  const ListenerSphere listener{{7, 1.6f, 5}, 0.5f};
+  const TraceStats t =
+      prop.traceFrame(test::traceRequest(ps, 0, 0, {2, 1.5f, 2}, std::span(&listener, 1)), groups);
   const double perRay = double(t.segments) / ps.raysPerFrame;
   // The estimate is an upper estimate by design (survivors' share rounded up to 10 %); the
   // traced mean lies within 15 % below it (Monte Carlo error of 2000 rays' roulette: ~1 %).

@@ -8,10 +8,13 @@ A private JACK server (its own name, so other servers on the machine are not tou
 48 kHz with 256-frame periods. jalv hosts urn:dpc:lv2:room as client "dpcroom"; a player client
 feeds its input a dry signal of two impulses (at 1.0 s and 4.0 s of the player's clock) and a
 recorder client records its two outputs; all three run in the same JACK cycles, so a sample
-the player writes at frame F comes out of the plugin at frame F + latency + r / c. At 2.5 s
+the player writes at frame F comes out of the plugin at frame F + latency + r / c. The player
+starts once jalv's console shows the plugin's "PATH is loaded" line (the plugin loads its scene
+in the background and plays silence until then), as a user waits for it. At 2.5 s
 the test types "listener_x = 9" into jalv's console (what a DAW's automation does), moving the
 listener from 4 m to 6 m from the source. Checks, each able to fail:
-  1. jalv reports the plugin's controls and ports appear: in, out_l, out_r;
+  1. jalv reports the plugin's controls and ports appear: in, out_l, out_r; jalv exits with
+     status 0 when its console closes (it frees the plugin and unloads its library);
   2. the first impulse comes out where lv2apply puts it for the same input: the direct sound
      LATENCY + round(r / c) frames after the input (exactly), at the level lv2apply gives
      within 0.5 dB, and the energy 0-50, 50-200 and 200-600 ms after it within 1.5 dB (the
@@ -36,6 +39,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 
 import jack
@@ -80,6 +84,7 @@ class Session:
                                        str(RATE), "-p", str(PERIOD)], env=self.env,
                                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         self.jalv = None
+        self.jalv_status = None
         self.clients = []
 
     def client(self, name):
@@ -97,6 +102,18 @@ class Session:
         self.jalv = subprocess.Popen(["jalv", "-x", "-n", "dpcroom", URI], env=self.env,
                                      stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                                      stderr=subprocess.STDOUT, text=True)
+        self.console = []  # jalv's output lines, read as they come
+
+        def read():
+            for line in self.jalv.stdout:
+                self.console.append(line)
+        self.reader = threading.Thread(target=read, daemon=True)
+        self.reader.start()
+
+    def scene_loaded(self):
+        """The plugin has logged that its scene is loaded (it loads in the background and
+        plays silence until then)."""
+        return any(" is loaded (" in line for line in list(self.console))
 
     def close(self):
         for c in self.clients:
@@ -104,7 +121,10 @@ class Session:
             c.close()
         output = ""
         if self.jalv:
-            output = self.jalv.communicate(timeout=10)[0]  # EOF on stdin: jalv exits
+            self.jalv.stdin.close()  # EOF on stdin: jalv exits
+            self.jalv_status = self.jalv.wait(timeout=10)
+            self.reader.join(timeout=10)
+            output = "".join(self.console)
         self.jackd.terminate()
         self.jackd.wait(timeout=10)
         return output
@@ -123,7 +143,8 @@ def connect(client, pairs):
 
 def run_host(lv2dir, dry):
     """Plays `dry` through the plugin in jalv; returns (recorded 2 x N array aligned so that
-    index i is the output at the frame the player wrote dry[i], jalv's console output)."""
+    index i is the output at the frame the player wrote dry[i], jalv's console output, jalv's
+    exit status)."""
     s = Session(lv2dir)
     try:
         player, recorder = s.client("dpc_player"), s.client("dpc_recorder")
@@ -159,6 +180,7 @@ def run_host(lv2dir, dry):
                                             ("dpcroom:out_r", "dpc_recorder:r"),
                                             ("dpc_player:out", "dpcroom:in")]),
                  20, "jalv's ports")
+        wait_for(s.scene_loaded, 120, "the plugin's scene")
         state["go"] = True
         start = time.monotonic()
         time.sleep(T_MOVE)
@@ -180,7 +202,7 @@ def run_host(lv2dir, dry):
         if 0 <= i < n:
             m = min(len(left), n - i)
             rec[0, i:i + m], rec[1, i:i + m] = left[:m], right[:m]
-    return rec, console
+    return rec, console, s.jalv_status
 
 
 def lv2apply(lv2dir, dry, work, controls=None):
@@ -203,9 +225,13 @@ def main():
     dry = np.zeros(n, dtype=np.float32)
     i1, i2 = int(T1 * RATE), int(T2 * RATE)
     dry[i1] = dry[i2] = 1.0
-    rec, console = run_host(lv2dir, dry)
+    rec, console, status = run_host(lv2dir, dry)
     check("listener_x" in console and "source_x" in console,
           "jalv lists the plugin's controls (listener_x ... source_z)")
+    # jalv frees the plugin and unloads its library on quit: a thread of the plugin or of
+    # dpc left running after cleanup would crash it then (tests/lv2/ardour_test.py).
+    check(status == 0, "jalv exits with status 0 after quitting (EOF on its console): %s"
+          % status)
     work = tempfile.mkdtemp()
     try:
         return compare(lv2dir, dry, rec, work)

@@ -8,7 +8,8 @@
   scene path holding a NUL is refused, instead of using wrapped, truncated or cut values;
 - Ctrl-C (SIGINT) ends dpc.render with KeyboardInterrupt within a second instead of after the
   whole render;
-- dpc.iso3382 of an all-zero IR answers NaN (docs/python.md).
+- dpc.iso3382 of an all-zero IR answers NaN (docs/python.md);
+- an interpreter without numpy gets an ImportError that says so, not "initialization failed".
 The crashes and the hang are run in a child interpreter, so that they fail the test instead of
 killing or stalling pytest.
 """
@@ -55,7 +56,9 @@ def test_one_engine_stepped_from_two_threads():
         alone = engine()
         for _ in range(400):
             alone.step()
-        # A frame's rays depend on (seed, frame number) only: 400 frames, the same bits.
+        # A frame's rays depend on (seed, frame number) only: 400 frames, the same bits. Both
+        # engines must have traced them all (two frozen engines would agree too).
+        assert shared.frames == alone.frames == 400, (shared.frames, alone.frames)
         assert np.array_equal(shared.energy_response(0), alone.energy_response(0))
         assert shared.energy_response(0).sum() > 0
         print("same")
@@ -171,3 +174,15 @@ def test_iso3382_of_silence_is_nan():
     for key in ("t20", "t30", "edt", "c50", "c80", "d50", "energy"):
         assert np.all(np.isnan(p[key])), key
         assert np.isnan(p["broadband"][key]), key
+
+
+def test_import_without_numpy_names_what_is_missing():
+    # -S: no site-packages, so no numpy (Debian's is in dist-packages); the module stays
+    # importable through PYTHONPATH. pybind11 2.10 would say only "initialization failed".
+    child = subprocess.run([sys.executable, "-S", "-c", "import dpc"], capture_output=True,
+                           text=True, timeout=60)
+    assert child.returncode == 1
+    assert child.stderr.strip().splitlines()[-1] == (
+        f"ImportError: dpc needs numpy, which {sys.executable} cannot import "
+        "(ModuleNotFoundError: No module named 'numpy'); install it for that interpreter "
+        "(Debian: python3-numpy; a venv: python3 -m venv --system-site-packages)")

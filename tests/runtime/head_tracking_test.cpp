@@ -48,7 +48,7 @@ SceneDesc room(OutputFormat output) {
 std::unique_ptr<PropagationStage> traced(const SceneDesc& scene, const Orientation& head,
                                          int frames) {
   auto shared = std::make_shared<const SceneDesc>(scene);
-  auto stage = std::make_unique<PropagationStage>(shared, scene.propagation, 3);
+  auto stage = std::make_unique<PropagationStage>(shared, scene.propagation);
   WorldState world;
   evaluateWorld(*shared, 0.0, world);
   world.listenerOrientations[0] = head;
@@ -64,14 +64,18 @@ std::vector<std::vector<float>> headTrackedEars(const SceneDesc& scene, const Or
   auto dry = std::make_shared<DrySignals>();
   dry->samples.assign(1, std::vector<float>(1, 0.f));
   dry->loop.assign(1, false);
-  AudioStage audio(*stage, dry);
+  const auto exchange = stage->makeExchange(1, 3);
+  AudioStage audio(*stage, dry, *exchange);
   REQUIRE(audio.renderedChannels() == 2);
   const audio::rt::ScopedThreadRole role(audio::rt::ThreadRole::kAudio);
   const size_t B = size_t(scene.audio.blockSize);
   std::vector<float> zeros(B, 0.f), impulse(B, 0.f), block(2 * B);
   impulse[0] = 1.f;
   float* out[2] = {block.data(), block.data() + B};
-  audio.offer(stage->prepare(0));
+  IrSet* set = exchange->acquire();
+  REQUIRE(set);
+  stage->prepare(0, *set);
+  exchange->publish(0, set);
   const float* in[1] = {zeros.data()};
   for (size_t n = 0; n < length; n += B) audio.process(out, in);  // every level has the set
   audio.setHeadOrientation(head);
@@ -90,14 +94,14 @@ std::vector<std::vector<float>> resynthesisedEars(SceneDesc scene, const Orienta
                                                   size_t length) {
   scene.audio.output = OutputFormat::kAmbisonics;
   auto stage = traced(scene, head, 2);
-  stage->prepare(0);
-  const std::vector<std::vector<float>>& ir = stage->lastIrs(0)[0];
+  stage->synthesizeIrs(0);
+  const ImpulseResponse& ir = stage->lastIrs(0)[0];
   const audio::Hrtf hrtf = audio::Hrtf::load(scene.audio.hrtfPath, kFs);
   const audio::AmbisonicBinauralDecoder decoder(scene.audio.ambisonicOrder, hrtf);
   std::vector<const float*> channels;
-  for (const auto& c : ir) channels.push_back(c.data());
+  for (int c = 0; c < ir.channels(); ++c) channels.push_back(ir.channel(c));
   std::vector<std::vector<float>> ears(2, std::vector<float>(length, 0.f));
-  decoder.decode(channels.data(), std::min(length, ir[0].size()), ears[0].data(), ears[1].data());
+  decoder.decode(channels.data(), std::min(length, ir.samples()), ears[0].data(), ears[1].data());
   return ears;
 }
 

@@ -74,7 +74,7 @@ struct Rendered {
   /// Hybrid: per source, the band energy its rendering holds in expectation (early part plus
   /// g_s^2 times its bus's late response) and the whole response's, from the energy responses.
   std::vector<Bands> expectedHybrid, expectedWhole;
-  std::vector<std::vector<std::vector<float>>> stageIrs;  ///< PropagationStage::wholeIrs()
+  std::vector<ImpulseResponse> stageIrs;  ///< PropagationStage::wholeIrs()
 };
 
 Bands sum(const EnergyResponse& r) {
@@ -113,7 +113,7 @@ void expectedEnergies(const PropagationStage& stage, const IrSet& set, Rendered&
 Rendered render(SceneDesc scene, Rendering rendering, int frames) {
   scene.audio.rendering = rendering;
   auto shared = std::make_shared<const SceneDesc>(scene);
-  PropagationStage stage(shared, scene.propagation, 3);
+  PropagationStage stage(shared, scene.propagation);
   WorldState world;
   evaluateWorld(*shared, 0.0, world);
   for (int f = 0; f < frames; ++f) stage.traceWorld(world);
@@ -130,11 +130,14 @@ Rendered render(SceneDesc scene, Rendering rendering, int frames) {
   std::vector<const float*> in(S);
   std::vector<float*> outs(C);
   for (size_t c = 0; c < C; ++c) outs[c] = block.data() + c * B;
-  AudioStage audio(stage, dry);
-  IrSet* set = stage.prepare(0);
+  const auto exchange = stage.makeExchange(1, 3);
+  AudioStage audio(stage, dry, *exchange);
+  IrSet* set = exchange->acquire();
+  REQUIRE(set);
+  stage.prepare(0, *set);
   if (stage.hybrid()) expectedEnergies(stage, *set, out);
   out.stageIrs = stage.wholeIrs(0);
-  audio.offer(set);
+  exchange->publish(0, set);
   // Silence for a whole IR length: the set applied at every partition level (each level
   // switches at its own chunk boundary, crossfading over that chunk) and the late gains' ramp
   // done, so every impulse below meets the new IRs only.
@@ -245,7 +248,7 @@ TEST_CASE("Hybrid rendering: rendered IRs keep each source's energy and direct s
     // the audio stage plays: float rounding of the FFT convolution, relative to the peak.
     for (size_t c = 0; c < 2; ++c) {
       const std::vector<float>& played = hybrid.ir[s][c];
-      const std::vector<float>& reported = hybrid.stageIrs[s][c];
+      const std::span<const float> reported = hybrid.stageIrs[s].channelSpan(int(c));
       float peak = 0.f, worst = 0.f;
       for (size_t n = 0; n < reported.size(); ++n) {
         peak = std::max(peak, std::abs(reported[n]));
@@ -292,17 +295,17 @@ TEST_CASE("Hybrid rendering: mono early parts are the same bit for bit on 1 to 3
     SceneDesc s = scene;
     s.propagation.threads = threads;
     auto shared = std::make_shared<const SceneDesc>(s);
-    PropagationStage stage(shared, s.propagation, 3);
+    PropagationStage stage(shared, s.propagation);
     REQUIRE(stage.hybrid() != nullptr);
     WorldState world;
     evaluateWorld(*shared, 0.0, world);
     for (int f = 0; f < 3; ++f) stage.traceWorld(world);
-    stage.recycle(stage.prepare(0));
+    stage.synthesizeIrs(0);
     return stage.wholeIrs(0);
   };
   const auto one = irs(1);
   REQUIRE(one.size() == 9);
-  REQUIRE(energy(one[4][0], 0, one[4][0].size()) > 0.0);
+  REQUIRE(energy(one[4].channelCopy(0), 0, one[4].samples()) > 0.0);
   CHECK(irs(2) == one);
   CHECK(irs(3) == one);
 }

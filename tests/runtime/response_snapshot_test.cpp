@@ -19,7 +19,7 @@ TEST_CASE("ResponseSnapshot: copies the traced listener's responses and skips wh
   WorldState w;
   evaluateWorld(s, 0.0, w);
   stage.traceWorld(w);
-  stage.recycle(stage.prepare(0));
+  stage.synthesizeIrs(0);
 
   ResponseSnapshot snap;
   CHECK_FALSE(snap.read(0, [](const ResponseSnapshot::Responses&) {}));  // nothing stored yet

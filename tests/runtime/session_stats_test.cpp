@@ -21,7 +21,6 @@ TEST_CASE("SessionCounters: rays, frames, blocks and callbacks as counted", "[st
   t.cacheCoarseEntries = 5;
   t.droppedEnergyFraction = 0.25;
   c.frameDone(t, 12.5);
-  c.irSuperseded();
   c.blockDone(true, 1, 3.0);
   c.blockDone(false, 2, -1.0);  // no IR age: the last one stays
   c.lateCallback();
@@ -34,7 +33,6 @@ TEST_CASE("SessionCounters: rays, frames, blocks and callbacks as counted", "[st
   CHECK(st.frameMs == 12.5);
   CHECK(st.cacheEntries == 15);
   CHECK(st.droppedEnergyFraction == 0.25);
-  CHECK(st.irsDropped == 1);
   CHECK(st.blocks == 2);
   CHECK(st.nanBlocks == 1);
   CHECK(st.irsApplied == 2);

@@ -2,14 +2,17 @@
 // door (scenes/door_level.json, written by scenes/generate_door_level.py) loads the same
 // triangles, materials and door keyframes as the OBJ + JSON scene it was made from
 // (scenes/two_rooms.json), bit for bit.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 #include <string>
+#include <vector>
 
 #include "scene/scene.h"
 #include "testing/temp_dir.h"
@@ -136,4 +139,140 @@ TEST_CASE("Keyframes in the scene replace a node's animation", "[gltf]") {
   REQUIRE(s.objects[0].trajectory.size() == 1);
   CHECK(objectPoseAt(s.objects[0], 1.5).position == glm::vec3(1, 0, 1));
   CHECK(s.objects[0].mesh.triangles.size() == 1);
+}
+
+namespace {
+
+/// An ASCII FBX 7.4 level: a floor quad of 1000 x 700 file units (material "floor"), y up,
+/// with the given UnitScaleFactor (centimetres per file unit).
+std::string fbxFloor(const char* cmPerUnit) {
+  return std::string(R"(; FBX 7.4.0 project file
+FBXHeaderExtension:  {
+	FBXHeaderVersion: 1003
+	FBXVersion: 7400
+}
+GlobalSettings:  {
+	Version: 1000
+	Properties70:  {
+		P: "UpAxis", "int", "Integer", "",1
+		P: "UpAxisSign", "int", "Integer", "",1
+		P: "FrontAxis", "int", "Integer", "",2
+		P: "FrontAxisSign", "int", "Integer", "",1
+		P: "CoordAxis", "int", "Integer", "",0
+		P: "CoordAxisSign", "int", "Integer", "",1
+		P: "UnitScaleFactor", "double", "Number", "",)") +
+         cmPerUnit + R"(
+	}
+}
+Objects:  {
+	Geometry: 1000, "Geometry::floor", "Mesh" {
+		Vertices: *12 {
+			a: 0,0,0,0,0,700,1000,0,700,1000,0,0
+		}
+		PolygonVertexIndex: *4 {
+			a: 0,1,2,-4
+		}
+		LayerElementMaterial: 0 {
+			Version: 101
+			MappingInformationType: "AllSame"
+			ReferenceInformationType: "IndexToDirect"
+			Materials: *1 {
+				a: 0
+			}
+		}
+		Layer: 0 {
+			Version: 100
+			LayerElement:  {
+				Type: "LayerElementMaterial"
+				TypedIndex: 0
+			}
+		}
+	}
+	Model: 2000, "Model::floor", "Mesh" {
+		Version: 232
+	}
+	Material: 3000, "Material::floor", "" {
+		Version: 102
+	}
+}
+Connections:  {
+	C: "OO",1000,2000
+	C: "OO",2000,0
+	C: "OO",3000,2000
+}
+)";
+}
+
+/// The largest x of the scene's vertices after loading the FBX floor with `cmPerUnit`.
+float fbxFloorWidth(const char* cmPerUnit) {
+  test::TempDir dir("dpc_model_fbx");
+  std::ofstream(dir.path() / "level.fbx") << fbxFloor(cmPerUnit);
+  std::ofstream(dir.path() / "level.json") << R"({ "mesh": "level.fbx",
+    "materials": { "floor": { "absorption": 0.1 } },
+    "sources": [ { "name": "s", "position": [1, 1, 1] } ], "listener": { "position": [2, 1, 1] } })";
+  const SceneDesc s = loadScene((dir.path() / "level.json").string());
+  float x = 0.f;
+  for (const glm::vec3& v : s.mesh.vertices) x = std::max(x, v.x);
+  return x;
+}
+
+}  // namespace
+
+TEST_CASE("An FBX level's UnitScaleFactor turns its units into metres, and one <= 0 is refused",
+          "[gltf]") {
+  // 1000 units of 1 cm are 10 m; of 100 cm (Blender's metres), 1000 m.
+  CHECK(fbxFloorWidth("1") == 10.f);
+  CHECK(fbxFloorWidth("100") == 1000.f);
+  // Zero would collapse the level (assimp refuses it itself), a negative scale mirror it.
+  CHECK_THROWS_WITH(fbxFloorWidth("-100"),
+                    Catch::Contains("level.fbx: UnitScaleFactor: -100 is not a unit length"));
+  CHECK_THROWS_WITH(fbxFloorWidth("0"), Catch::Contains("UnitScaleFactor must be non-zero"));
+}
+
+namespace {
+
+/// The shoebox of scenes/shoebox.obj as two levels: plain.glb, and mirrored.glb whose room node
+/// mirrors it in x about x = 5 (scale -1, translation 10): the same box, its faces wound the
+/// other way round in the file.
+constexpr const char* kMirroredRoom = R"(from gltffile import read_obj
+for name, trs in [('plain', {}), ('mirrored', {'scale': [-1, 1, 1], 'translation': [10, 0, 0]})]:
+    g = Gltf()
+    runs = read_obj(')" DPC_SOURCE_DIR R"(/scenes/shoebox.obj')
+    g.node('room', mesh=g.mesh('room', [(g.material(m), p, t) for m, p, t in runs]), **trs)
+    g.save(name + '.glb')
+)";
+
+/// How many triangles of `m` face the point `inside`: their normal (by their winding) points
+/// from the triangle towards it.
+size_t trianglesFacing(const Mesh& m, const glm::vec3& inside) {
+  size_t facing = 0;
+  for (size_t t = 0; t < m.triangles.size(); ++t) {
+    const Corner3 c = corners(m, t);
+    const glm::vec3 n = glm::cross(c.p[1] - c.p[0], c.p[2] - c.p[0]);
+    facing += glm::dot(n, inside - (c.p[0] + c.p[1] + c.p[2]) / 3.f) > 0.f;
+  }
+  return facing;
+}
+
+}  // namespace
+
+TEST_CASE("A mirroring node keeps its triangles' front side (glTF reverses their winding)",
+          "[gltf]") {
+  test::TempDir dir("dpc_model_mirror");
+  python(kMirroredRoom, dir.path());
+  size_t facing[2] = {};
+  for (int k = 0; k < 2; ++k) {
+    std::ofstream(dir.path() / "level.json")
+        << R"({ "mesh": ")" << (k ? "mirrored" : "plain") << R"(.glb",
+      "materials": { "walls": { "absorption": 0.1 }, "floor": { "absorption": 0.2 },
+        "ceiling": { "absorption": 0.3 } }, "sources": [ { "name": "s", "position": [2, 1, 1] } ],
+      "listener": { "position": [8, 1, 1] } })";
+    const Mesh mesh = loadScene((dir.path() / "level.json").string()).mesh;
+    REQUIRE(mesh.triangles.size() == 12);
+    facing[k] = trianglesFacing(mesh, glm::vec3(5.f, 1.5f, 3.5f));
+  }
+  // shoebox.obj winds all its faces one way (all 12 face the centre, or none does); the mirrored
+  // level's faces keep the same side as the plain one's.
+  CHECK((facing[0] == 0 || facing[0] == 12));
+  CHECK(facing[1] == facing[0]);
 }

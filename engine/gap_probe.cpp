@@ -1,0 +1,207 @@
+#include "engine/gap_probe.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <memory>
+#include <numbers>
+#include <vector>
+
+#include "engine/slit.h"
+
+namespace dpc {
+
+namespace {
+
+constexpr int kCoarse = 4;           // deltas of the first round (every path: 8 rays)
+constexpr int kFine = 8;             // deltas of each refining round (gaps only)
+constexpr int kAlong = 4;            // points along the edge either side of Q
+constexpr float kLegStart = 1e-3f;   // m: the legs start this far from the source and listener
+constexpr float kInnerWidth = 0.5f;  // along the edge: a gap is free this many widths across
+constexpr float kOuterWidth = 1.5f;  // and closed within this many
+
+// Along the edge the points lie 1 .. kAlong widths either side of Q: up to the aspect at which
+// the slit model holds fully.
+static_assert(2 * kAlong == int(kSlitFullAspect));
+
+/// n values from lo to hi evenly in log, both included (`inner`: strictly between them).
+std::vector<float> deltas(float lo, float hi, int n, bool inner) {
+  std::vector<float> d(static_cast<size_t>(n));
+  const double ratio = double(hi) / double(lo);
+  for (int i = 0; i < n; ++i) {
+    const double t = inner ? double(i + 1) / (n + 1) : double(i) / (n - 1);
+    d[size_t(i)] = float(double(lo) * std::pow(ratio, t));
+  }
+  return d;
+}
+
+/// True when p lies in the edge's own solid (outside the air wedge seen along the edge).
+bool inSolid(const GapProbe& g, const glm::vec3& p) {
+  const glm::vec3 v = p - g.q;
+  double a = std::atan2(double(glm::dot(v, g.turn)), double(glm::dot(v, g.face0)));
+  if (a < 0.0) a += 2.0 * std::numbers::pi;
+  return a > double(g.airWedge);
+}
+
+/// The points of one round: which probe each belongs to, and whether it is to be tested.
+struct Round {
+  std::vector<size_t> probe;
+  std::vector<glm::vec3> point;
+  std::vector<bool> valid;
+  void add(size_t j, const glm::vec3& p, bool v = true) {
+    probe.push_back(j);
+    point.push_back(p);
+    valid.push_back(v);
+  }
+};
+
+/// The two legs to p, each running min(kGapProbeThrough, p's distance from the edge line) past
+/// p unless that would end in the edge's own solid (then they stop at p). An inactive pair
+/// for a point not to be tested.
+void appendLegs(const glm::vec3& source, const glm::vec3& listener, const GapProbe& g,
+                const glm::vec3& p, bool valid, std::vector<TraceRay>& rays) {
+  const glm::vec3 off = p - g.q;
+  const float fromEdge = glm::length(off - glm::dot(off, g.along) * g.along);
+  for (const glm::vec3& from : {source, listener}) {
+    const glm::vec3 v = p - from;
+    const float length = glm::length(v);
+    if (!valid || !(length > kLegStart)) {
+      rays.push_back(TraceRay{from, glm::vec3(1.f, 0.f, 0.f), 0.f, 0.f, false});
+      continue;
+    }
+    const glm::vec3 dir = v / length;
+    float through = std::min(kGapProbeThrough, fromEdge);
+    if (inSolid(g, p + through * dir)) through = 0.f;
+    rays.push_back(TraceRay{from, dir, kLegStart, length + through});
+  }
+}
+
+/// Per point of the round: is either leg blocked? (Untested points: false.)
+std::vector<bool> run(const Tracer& tracer, const glm::vec3& source, const glm::vec3& listener,
+                      std::span<const GapProbe> probes, const Round& round) {
+  std::vector<TraceRay> rays;
+  rays.reserve(round.point.size() * 2);
+  for (size_t i = 0; i < round.point.size(); ++i)
+    appendLegs(source, listener, probes[round.probe[i]], round.point[i], round.valid[i], rays);
+  const std::unique_ptr<bool[]> hit(new bool[rays.size()]());
+  tracer.occluded(rays, std::span<bool>(hit.get(), rays.size()));
+  std::vector<bool> blocked(round.point.size());
+  for (size_t i = 0; i < blocked.size(); ++i) blocked[i] = hit[2 * i] || hit[2 * i + 1];
+  return blocked;
+}
+
+/// The deltas of one probe in a round across the mouth, and the points for them.
+struct Across {
+  size_t probe;
+  std::vector<float> d;
+};
+
+std::vector<bool> runAcross(const Tracer& tracer, const glm::vec3& source,
+                            const glm::vec3& listener, std::span<const GapProbe> probes,
+                            const std::vector<Across>& list) {
+  Round round;
+  for (const Across& a : list)
+    for (float delta : a.d) round.add(a.probe, probes[a.probe].q + delta * probes[a.probe].mouth);
+  return run(tracer, source, listener, probes, round);
+}
+
+/// Refines each listed bracket [free, blocked] by kFine deltas strictly inside it; returns
+/// the new brackets.
+std::vector<std::array<float, 2>> refine(const Tracer& tracer, const glm::vec3& source,
+                                         const glm::vec3& listener,
+                                         std::span<const GapProbe> probes,
+                                         const std::vector<size_t>& gaps,
+                                         const std::vector<std::array<float, 2>>& bracket) {
+  std::vector<Across> list;
+  for (size_t n = 0; n < gaps.size(); ++n)
+    list.push_back({gaps[n], deltas(bracket[n][0], bracket[n][1], kFine, true)});
+  const std::vector<bool> blocked = runAcross(tracer, source, listener, probes, list);
+  std::vector<std::array<float, 2>> out = bracket;
+  for (size_t n = 0; n < list.size(); ++n) {
+    const auto& d = list[n].d;
+    for (int i = 0; i < kFine; ++i) {
+      if (blocked[n * kFine + size_t(i)]) {
+        out[n][1] = d[size_t(i)];
+        break;
+      }
+      out[n][0] = d[size_t(i)];
+    }
+  }
+  return out;
+}
+
+/// The width by deltas across the mouth: kCoarse deltas in log up to the reach, then two
+/// rounds refining the bracket between the last free and the first blocked one.
+void findWidths(const Tracer& tracer, const glm::vec3& source, const glm::vec3& listener,
+                std::span<const GapProbe> probes, std::span<GapShape> shapes) {
+  std::vector<Across> list;
+  for (size_t j = 0; j < probes.size(); ++j) {
+    shapes[j] = GapShape{};
+    if (probes[j].reach > kGapNarrowest)
+      list.push_back({j, deltas(kGapNarrowest, probes[j].reach, kCoarse, false)});
+  }
+  if (list.empty()) return;
+  const std::vector<bool> coarse = runAcross(tracer, source, listener, probes, list);
+  std::vector<size_t> gaps;
+  std::vector<std::array<float, 2>> bracket;
+  for (size_t n = 0; n < list.size(); ++n) {
+    auto blocked = [&](int i) { return bool(coarse[n * kCoarse + size_t(i)]); };
+    // Blocked everywhere: closed. Blocked only next to the edge, free further out: a leg
+    // grazing the edge's own face within rounding (seen 60 m from a wedge's apex), no gap.
+    int free = 0;
+    while (free < kCoarse && blocked(free)) ++free;
+    if (free == kCoarse) {
+      shapes[list[n].probe].width = -1.f;
+      continue;
+    }
+    int f = free;
+    while (f < kCoarse && !blocked(f)) ++f;
+    if (f == kCoarse) continue;  // free within reach: width 0
+    gaps.push_back(list[n].probe);
+    bracket.push_back({list[n].d[size_t(f - 1)], list[n].d[size_t(f)]});
+  }
+  if (gaps.empty()) return;
+  for (int r = 0; r < 2; ++r) bracket = refine(tracer, source, listener, probes, gaps, bracket);
+  for (size_t n = 0; n < gaps.size(); ++n)
+    shapes[gaps[n]].width = std::sqrt(bracket[n][0] * bracket[n][1]);
+}
+
+}  // namespace
+
+void probeGaps(const Tracer& tracer, const glm::vec3& source, const glm::vec3& listener,
+               std::span<const GapProbe> probes, std::span<GapShape> shapes) {
+  findWidths(tracer, source, listener, probes, shapes);
+  // Along the edge, 1 .. kAlong widths either side of Q: is there still a gap (free at half a
+  // width across the mouth) that closes within 1.5 widths? Points: per probe and offset, the
+  // inner then the outer one.
+  Round round;
+  std::vector<size_t> gaps;
+  for (size_t j = 0; j < probes.size(); ++j) {
+    const float w = shapes[j].width;
+    if (!(w > 0.f)) continue;
+    gaps.push_back(j);
+    for (int side = -1; side <= 1; side += 2)
+      for (int i = 1; i <= kAlong; ++i) {
+        const float a = float(side * i) * w;
+        const bool within = a >= probes[j].from && a <= probes[j].to;
+        const glm::vec3 base = probes[j].q + a * probes[j].along;
+        round.add(j, base + kInnerWidth * w * probes[j].mouth, within);
+        round.add(j, base + kOuterWidth * w * probes[j].mouth, within);
+      }
+  }
+  if (gaps.empty()) return;
+  const std::vector<bool> blocked = run(tracer, source, listener, probes, round);
+  for (size_t n = 0; n < gaps.size(); ++n) {
+    int run = 0;
+    for (int side = 0; side < 2; ++side)
+      for (int i = 0; i < kAlong; ++i) {
+        const size_t k = (n * 2 * kAlong + size_t(side * kAlong + i)) * 2;
+        if (!round.valid[k] || blocked[k] || !blocked[k + 1]) break;
+        ++run;
+      }
+    shapes[gaps[n]].aspect = float(run);
+  }
+}
+
+}  // namespace dpc

@@ -1,0 +1,70 @@
+// How wide is the gap an edge path passes through? An edge path source -> Q -> listener that
+// runs between its edge and another surface a few millimetres away (a door frame's edge next
+// to the closed leaf, a partition's rim above the floor) passes a slit, not a free edge: the
+// edge's UTD field assumes nothing else within several wavelengths of Q (engine/slit.h models
+// the slit). The probe moves Q across the mouth of the gap, P = Q + delta u, and asks whether
+// both straight legs source -> P and listener -> P are free, each run a little past P (up to
+// kGapProbeThrough, at most P's distance from the edge, never into the edge's own solid) so
+// that a surface lying in P's own plane (a leaf flush with the wall: zero-thickness sheets are
+// the common case, and a ray in a sheet's plane misses it) blocks them. The width is the first
+// delta that is blocked after a free one: four deltas spaced evenly in log from
+// kGapNarrowest to the probe's reach (every path: 8 rays), then, for a gap, twice eight
+// between the last free and the first blocked one (the width is the geometric mean of the two
+// deltas that bracket it, within 5 % of either for reaches up to 16 m; the slit model depends
+// on the width through its logarithm). A slit must also run along the edge: the same test 1
+// to 4 widths either side of Q along the edge, free at 0.5 w across the mouth and blocked at
+// 1.5 w, gives the length over which the gap stays that narrow (up to 8 widths; a small
+// obstacle in a wide opening is no slit).
+//
+// u must point across the gap, away from the edge's own solid, in the plane perpendicular to
+// the edge, into the angles around the edge that both the source and the listener see
+// (engine/diffraction.cpp chooses it), so that a lone wedge never closes it.
+//
+// Threads: any thread that may query the tracer (reentrant: concurrent calls are safe).
+// Allocates its ray batches. No errors.
+#pragma once
+
+#include <glm/vec3.hpp>
+#include <span>
+
+#include "engine/tracer.h"
+
+namespace dpc {
+
+/// Narrowest gap told apart from a closed one, m (narrower: closed, width -1).
+inline constexpr float kGapNarrowest = 5e-4f;
+/// How far each probe leg runs past the probe point, m.
+inline constexpr float kGapProbeThrough = 2e-3f;
+
+/// One edge path's gap: its point Q on the edge, the unit direction u across the gap's mouth,
+/// the widest gap looked for (m), the edge's unit direction and its ends relative to Q (m
+/// along it: from <= 0 <= to), and the edge's own solid, which the legs' short runs past P
+/// must not enter (near a wedge's apex they would): seen along the edge, the air wedge spans
+/// airWedge radians from face0 turning toward `turn` (unit vectors across the edge); the rest
+/// is solid (none for a sheet's rim, airWedge 2 pi).
+struct GapProbe {
+  glm::vec3 q{0.f};
+  glm::vec3 mouth{0.f};
+  float reach = 0.f;
+  glm::vec3 along{0.f};
+  float from = 0.f, to = 0.f;
+  glm::vec3 face0{0.f}, turn{0.f};
+  float airWedge = 0.f;
+};
+
+/// What the probe found: the gap's width (m; 0 when nothing closes it within reach, a free
+/// edge; -1 when every delta is blocked, a gap closed within kGapNarrowest; else the geometric
+/// mean of the last free and the first blocked delta after the first free one) and, for a gap, the
+/// length along the edge over which it stays open at 0.5 and closed within 1.5 widths, in widths (0
+/// to 8, in steps of 1).
+struct GapShape {
+  float width = 0.f;
+  float aspect = 0.f;
+};
+
+/// Probes every gap; shapes.size() >= probes.size(). Four batch queries: 8 rays per probe,
+/// then 16, 16 and 32 per gap found.
+void probeGaps(const Tracer& tracer, const glm::vec3& source, const glm::vec3& listener,
+               std::span<const GapProbe> probes, std::span<GapShape> shapes);
+
+}  // namespace dpc

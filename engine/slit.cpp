@@ -1,0 +1,87 @@
+#include "engine/slit.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/utd.h"
+
+namespace dpc {
+
+namespace {
+
+using C = std::complex<double>;
+constexpr double kPi = std::numbers::pi;
+constexpr double kEulerGamma = 0.57721566490153286;
+
+/// A raised-cosine step from 0 at v <= lo to 1 at v >= hi, in log v.
+double logStep(double v, double lo, double hi) {
+  if (v <= lo) return 0.0;
+  if (v >= hi) return 1.0;
+  const double t = std::log(v / lo) / std::log(hi / lo);
+  return 0.5 - 0.5 * std::cos(kPi * t);
+}
+
+double sinc(double x) {
+  return std::abs(x) < 1e-8 ? 1.0 : std::sin(x) / x;
+}
+
+}  // namespace
+
+C stripRadiationImpedance(double x) {
+  x = std::clamp(x, 1e-9, 16.0);
+  // H0^(2) = J0 - j Y0 with J0 = sum c_m t^2m, c_m = (-1)^m / (4^m m!^2), and
+  // Y0 = (2 / pi) [(ln(t / 2) + gamma) J0 - sum_{m >= 1} c_m H_m t^2m] (H_m harmonic). Term by
+  // term, int_0^X (X - t) t^2m dt = X^{2m+2} A_m and
+  // int_0^X (X - t) t^2m ln t dt = X^{2m+2} (A_m ln X - B_m), with
+  // A_m = 1 / ((2m+1)(2m+2)), B_m = (4m+3) / ((2m+1)^2 (2m+2)^2).
+  const double logHalf = std::log(x / 2.0) + kEulerGamma;
+  double re = 0.0, im = 0.0, c = 1.0, harmonic = 0.0, power = 1.0;
+  for (int m = 0; m < 80; ++m) {
+    const double m1 = 2.0 * m + 1.0, m2 = 2.0 * m + 2.0;
+    const double a = 1.0 / (m1 * m2), b = (4.0 * m + 3.0) / (m1 * m1 * m2 * m2);
+    const double tRe = c * power * a, tIm = c * power * (a * (logHalf - harmonic) - b);
+    re += tRe;
+    im += tIm;
+    // Past the largest term (m > X / 2) stop once a term no longer changes the sums.
+    if (m > x / 2.0 + 1.0 && std::abs(tRe) + std::abs(tIm) < 1e-17 * (std::abs(re) + std::abs(im)))
+      break;
+    c *= -1.0 / (4.0 * double(m + 1) * double(m + 1));
+    harmonic += 1.0 / double(m + 1);
+    power *= x * x;
+  }
+  return {re, -2.0 / kPi * im};
+}
+
+C slitTransfer(double x, double kd) {
+  x = std::max(x, 1e-9);
+  const C z = stripRadiationImpedance(x);
+  const C denominator = 2.0 * z * std::cos(kd) + C(0.0, 1.0) * (1.0 / x + z * z * x) * std::sin(kd);
+  return 2.0 / denominator;
+}
+
+double slitTransmissionCoefficient(double x, double kd) {
+  x = std::max(x, 1e-9);
+  return std::norm(slitTransfer(x, kd)) * stripRadiationImpedance(x).real() / x;
+}
+
+double slitWeight(double x, double aspect) {
+  return (1.0 - logStep(x, kSlitFullX, kSlitEndX)) *
+         logStep(aspect, kSlitMinAspect, kSlitFullAspect);
+}
+
+C slitPressure(const SlitPath& p, double k) {
+  const double kt = k * p.sinBeta, x = kt * p.width;
+  const C transfer = slitTransfer(x, kt * p.depth);
+  const double directivity = sinc(0.5 * x * p.sinSource) * sinc(0.5 * x * p.sinListener);
+  // int_a^b e^{-j alpha (z - z0)^2} dz = (F(sqrt(alpha) b) - F(sqrt(alpha) a)) / sqrt(alpha).
+  const double alpha = 0.5 * k * p.sinBeta * p.sinBeta * (1.0 / p.r + 1.0 / p.s);
+  const double root = std::sqrt(alpha);
+  const C along = root * std::max(std::abs(p.zFrom), std::abs(p.zTo)) < 1e-6
+                      ? C(p.zTo - p.zFrom, 0.0)
+                      : (fresnelIntegral(root * p.zTo) - fresnelIntegral(root * p.zFrom)) / root;
+  const C j(0.0, 1.0);
+  return j / (2.0 * kPi) * transfer * directivity * along / (p.r * p.s) *
+         std::polar(1.0, -k * (p.r + p.s));
+}
+
+}  // namespace dpc

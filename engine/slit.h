@@ -1,0 +1,82 @@
+// Sound through a narrow slit: the gap between a door leaf and its frame, under a door, between
+// a panel and a wall. Below the cut-on of its first symmetric cross mode (k w < 2 pi) a slit
+// of width w carries one plane wave through its depth d, driven at its mouth by the blocked
+// pressure 2 p_i and loaded on both sides by the radiation impedance of its mouth. This is the
+// transmission-line model of slits and holes of F. P. Mechel, "The acoustic sealing of holes
+// and slits in walls", J. Sound Vib. 111(2), 1986, 297-336 (Vigran, Building Acoustics, 2008,
+// eq. 9.4, gives it for holes), after M. C. Gomperts, "The sound insulation of circular holes
+// and slits", Acustica 14, 1964, 1-16, and M. C. Gomperts & T. Kihlman, "The sound
+// transmission loss of circular and slit-shaped apertures in walls", Acustica 18, 1967,
+// 144-150. Per unit length of the slit, with X = k_t w (k_t the wavenumber across the slit):
+//
+//   mouth impedance   z_r(X) = Z_r / (omega rho) = (1 / X^2) int_0^X (X - t) H0^(2)(t) dt,
+//                     the baffled strip with uniform velocity (P. M. Morse & K. U. Ingard,
+//                     Theoretical Acoustics, 1968, ch. 7, for the 2-D Green's function
+//                     (omega rho / 2) H0^(2)(k |x - x'|) averaged over the strip);
+//                     X -> 0: 1/2 + (j / pi) (ln(2 / X) - gamma + 3/2); X -> inf: 1 / X
+//   transfer          q = t(X) p_i / (omega rho),  q the mouth's volume velocity per length,
+//                     t = 2 / (2 z_r cos(k_t d) + j (1 / X + z_r^2 X) sin(k_t d))
+//   transmission      tau = |t|^2 Re z_r / X at normal incidence, relative to the slit's area
+//                     (about 10 at 63 Hz for a 1 cm slit in a thin wall: a narrow slit passes
+//                     more than the sound falling on its area; tau -> 1 as X grows).
+//
+// In three dimensions the slit is a line source along its length: each element radiates
+// jw rho q dz e^{-jkR} / (2 pi R) into the half-space on its far side (the wall is its
+// baffle), so a point source (free field e^{-jkr} / r) gives at the listener
+//
+//   p = (j / 2 pi) t(X) D_S D_L e^{-jk(r + s)} / (r s) int_a^b e^{-j alpha (z - z0)^2} dz,
+//   alpha = (k / 2) sin^2 beta (1 / r + 1 / s),  k_t = k sin beta,
+//
+// r and s the legs to the stationary point z0 on the slit's centre line (the line integral in
+// the paraxial approximation, exact for an infinitely long slit by stationary phase; the
+// finite slit [a, b] by the Fresnel integral), beta the angle between the source leg and the
+// slit, D = sinc(X sin theta / 2) the strip's directivity toward each leg (theta from the
+// slit's axis; 1 for a narrow slit; by reciprocity the same on the source side).
+//
+// Units: metres, rad/m; pressures relative to a unit point source. Threads: any; no
+// allocation; no errors (arguments outside their ranges are clamped as stated).
+#pragma once
+
+#include <complex>
+#include <numbers>
+
+namespace dpc {
+
+/// z_r(X) above for X = k_t w, X clamped to [1e-9, 16]: the power series of the integral
+/// (exact to 1e-12 over that range; the slit model is used up to X = 4 pi).
+std::complex<double> stripRadiationImpedance(double x);
+
+/// t(X) above for X = k_t w and kd = k_t d (the slit's depth d, 0 for a slit in a sheet).
+std::complex<double> slitTransfer(double x, double kd);
+
+/// tau above: the normal-incidence transmission coefficient relative to the slit's area.
+double slitTransmissionCoefficient(double x, double kd);
+
+/// The slit model holds fully up to the first symmetric cross mode, X = 2 pi (w = one
+/// wavelength), and gives way to the slit's two edges (UTD) by X = 4 pi; it holds for slits
+/// at least kSlitFullAspect times as long as wide and gives way below kSlitMinAspect (a
+/// doorway, 1 m by 2 m, is an aperture whose edges UTD handles).
+inline constexpr double kSlitFullX = 2.0 * std::numbers::pi;
+inline constexpr double kSlitEndX = 4.0 * std::numbers::pi;
+inline constexpr double kSlitFullAspect = 8.0;
+inline constexpr double kSlitMinAspect = 4.0;
+
+/// The slit model's share s in [0, 1] of a slit path's pressure at X = k_t w for a slit
+/// `aspect` = length / width (the rest, 1 - s, is its edges' UTD field): 1 inside both limits
+/// above, 0 outside, a raised-cosine step in log X and in log aspect between them.
+double slitWeight(double x, double aspect);
+
+/// One slit path from a source through a slit to a listener (the formula above).
+struct SlitPath {
+  double r = 1.0, s = 1.0;           ///< legs source -> z0 and z0 -> listener, m
+  double sinBeta = 1.0;              ///< sine of the angle between the source leg and the slit
+  double zFrom = -1.0, zTo = 1.0;    ///< the slit's ends along it relative to z0, m
+  double sinSource = 0.0;            ///< sin theta of the source leg from the slit's axis
+  double sinListener = 0.0;          ///< sin theta of the listener leg
+  double width = 0.01, depth = 0.0;  ///< m
+};
+
+/// p above at wavenumber k (> 0), the path's phase e^{-jk(r + s)} included.
+std::complex<double> slitPressure(const SlitPath& path, double k);
+
+}  // namespace dpc

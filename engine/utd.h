@@ -1,0 +1,56 @@
+// The uniform theory of diffraction's (UTD) hard-wedge coefficient (R. G. Kouyoumjian &
+// P. H. Pathak, "A uniform geometrical theory of diffraction for an edge in a perfectly
+// conducting surface", Proc. IEEE 62(11), 1974, eqs. 25-27; the acoustically hard wedge takes
+// the sum of the four terms) and the Fresnel integral it is built on. engine/diffraction.h
+// sums the edge paths; engine/slit.h integrates a slit's line source with fresnelIntegral.
+//
+// Convention: time factor e^{+j omega t}, so a path of length l carries e^{-jkl}. Angles in
+// radians, lengths in metres, k in rad/m. Threads: any (the transition function's table is
+// built once, on first use, by a thread-safe static). No allocation after that; no errors.
+#pragma once
+
+#include <array>
+#include <complex>
+
+namespace dpc {
+
+/// A complex number as plain data (real, imaginary), for interfaces that avoid std::complex.
+struct Complex {
+  double re = 0.0, im = 0.0;
+};
+
+/// The transition function F(X) = 2j sqrt(X) e^{jX} int_sqrt(X)^inf e^{-jt^2} dt, X >= 0
+/// (negative X is read as 0), within 2e-5 absolute everywhere: a cubic Hermite table in
+/// sqrt(X) below X = 12 (5e-9 from the power series), the asymptotic series above.
+std::complex<double> utdTransition(double x);
+
+/// The Fresnel integral int_0^u e^{-jt^2} dt for any real u (odd in u; tends to
+/// (sqrt(pi) / 2) e^{-j pi / 4} as u grows): its power series for |u| <= 1, else the limit
+/// minus utdTransition(u^2) e^{-ju^2} / (2ju). Within 1e-5 absolute.
+std::complex<double> fresnelIntegral(double u);
+
+/// Frequency-independent parts of one term cot((pi + sign x) / 2n) F(k L a_sign(x)) of the
+/// coefficient: the cotangent and a_sign(x) = 2 cos^2((2 pi n N - x) / 2), N the integer
+/// nearest (x + sign pi) / (2 pi n). On a shadow or reflection boundary (cot infinite, F zero)
+/// the term is evaluated 1e-5 rad off it, where the product is finite and continuous.
+struct UtdTerm {
+  double cot = 0.0, a = 0.0;
+};
+
+/// The four terms for wedge index n (air wedge n pi) and angles phi (receiver), phiSource,
+/// both in (0, n pi) from face 0: phi - phiSource with signs +, -, then phi + phiSource.
+std::array<UtdTerm, 4> utdWedgeTerms(double n, double phi, double phiSource);
+
+/// The magnitude of the coefficient's prefactor without its 1 / sqrt(k):
+/// 1 / (2 n sqrt(2 pi) sin beta0), sin beta0 clamped to at least 1e-9.
+double utdPrefactor(double n, double sinBeta0);
+
+/// D sqrt(k) = -e^{-j pi/4} prefactor * sum over the terms of cot F(kl a), kl = k L.
+std::complex<double> utdScaled(const std::array<UtdTerm, 4>& terms, double prefactor, double kl);
+
+/// The coefficient D itself (units sqrt(m)) for wedge index n at wavenumber k: phi, phiSource
+/// as above, sinBeta0 the sine of the angle between the incident ray and the edge, L the
+/// distance parameter (m).
+Complex utdCoefficient(double n, double k, double phi, double phiSource, double sinBeta0, double L);
+
+}  // namespace dpc

@@ -1,0 +1,91 @@
+#!/usr/bin/env python3
+"""C50 and C80 of a bake, checked against an oracle that computes them itself (NumPy and h5py,
+none of dpc's analysis code) from each probe's own stored energy response.
+
+ISO 3382-1, A.2.4: C_te = 10 lg(E[0, te) / E[te, inf)), t = 0 at the arrival of the response
+(here the first non-empty 1 ms bin of the band's energy histogram, the direct sound when it is
+visible), te = 50 ms and 80 ms: whole bins, so no bin straddles the limit. The broadband row is
+the sum of the 8 bands. The bake's `parameters` (columns C50, C80) and the map CSV's rows must
+both agree with it within TOLERANCE_DB.
+
+Tolerance: the oracle sums the stored float32 energies, dpc the double-precision means they
+were rounded from (relative error 6e-8 per bin); 0.01 dB is 10^4 times that effect, and a
+tenth of the smallest gap between C50 and C80 this check relies on to see them swapped (it
+reports that gap). Usage: check_clarity.py BAKE.h5 MAP.csv; exit 0 when every value agrees.
+"""
+import csv
+import sys
+
+import h5py
+import numpy as np
+
+TOLERANCE_DB = 0.01
+BANDS = ["63", "125", "250", "500", "1000", "2000", "4000", "8000", "broadband"]
+
+
+def clarity(energy, limit_bins):
+    """C in dB of one energy histogram (1 ms bins): early [t0, t0 + limit), late the rest."""
+    e = np.asarray(energy, dtype=np.float64)
+    nonzero = np.flatnonzero(e > 0)
+    if nonzero.size == 0:
+        return float("nan")
+    t0 = nonzero[0]
+    early = e[t0:t0 + limit_bins].sum()
+    late = e[t0 + limit_bins:].sum()
+    with np.errstate(divide="ignore"):
+        return float(10 * np.log10(early / late))
+
+
+def oracle(energy_ps):
+    """[row][C50, C80] for one probe and source ([bins][8] energy): 8 bands, then broadband."""
+    rows = [energy_ps[:, b] for b in range(8)] + [energy_ps.sum(axis=1)]
+    return np.array([[clarity(r, 50), clarity(r, 80)] for r in rows])
+
+
+def agree(stored, expected):
+    if not np.isfinite(expected):
+        return not np.isfinite(stored)
+    return abs(stored - expected) <= TOLERANCE_DB
+
+
+def main(bake_path, map_path):
+    f = h5py.File(bake_path, "r")
+    assert f.attrs["bin_seconds"] == 0.001
+    columns = f.attrs["parameter_columns"].decode().split(",")
+    c50, c80 = columns.index("C50"), columns.index("C80")
+    energy = f["energy"][...]
+    params = f["parameters"][...]
+    done = f["probes/done"][...]
+    csv_values = {}
+    with open(map_path) as m:
+        for row in csv.DictReader(m):
+            key = (int(row["probe"]), int(row["source"]), row["parameter"], row["band"])
+            csv_values[key] = float(row["value"])
+    checked = bad = 0
+    gap = float("inf")
+    for p in np.flatnonzero(done):
+        for s in range(energy.shape[1]):
+            want = oracle(energy[p, s])
+            for r, band in enumerate(BANDS):
+                for k, name, col in ((0, "C50", c50), (1, "C80", c80)):
+                    expected = want[r, k]
+                    for where, got in (("parameters", params[p, s, r, col]),
+                                       ("map", csv_values[(p, s, name, band)])):
+                        checked += 1
+                        if not agree(got, expected):
+                            bad += 1
+                            if bad <= 5:
+                                print(f"{where}: probe {p} source {s} {name} {band}: "
+                                      f"{got:.4f} dB, the oracle {expected:.4f} dB")
+                if np.all(np.isfinite(want[r])):
+                    gap = min(gap, abs(want[r, 1] - want[r, 0]))
+    print(f"check_clarity: {checked} values, {bad} disagree by more than {TOLERANCE_DB} dB; "
+          f"smallest |C80 - C50| {gap:.3f} dB")
+    if gap <= 2 * TOLERANCE_DB:
+        print("check_clarity: C50 and C80 too close to tell apart")
+        return 1
+    return 1 if bad or checked == 0 else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1], sys.argv[2]))

@@ -57,8 +57,6 @@ BandEnvelope::BandEnvelope(int sampleRate, const std::vector<float>& sequence, s
     target_[bi].assign(nb, 0.0);
     gain_[bi].assign(nb, 0.f);
     wanted_[bi].assign(nb, 0.f);
-    sumExpected_.resize(std::max(sumExpected_.size(), nb + 1));
-    sumRealised_.resize(std::max(sumRealised_.size(), nb + 1));
   }
 }
 
@@ -206,30 +204,14 @@ void BandEnvelope::correctCrossovers() {
 void BandEnvelope::levelRealisation(int firstBand,
                                     const std::array<std::vector<double>, kNumBands>& realised,
                                     const std::array<std::vector<double>, kNumBands>& expected) {
-  const size_t half = kRealisationWindowBins / 2;
   for (int b = std::max(0, firstBand); b < kNumBands; ++b) {
     std::vector<float>& g = gain_[size_t(b)];
     const std::vector<double>&r = realised[size_t(b)], &x = expected[size_t(b)];
     const size_t nb = std::min({g.size(), r.size(), x.size()});
-    for (int pass = 0; pass < kRealisationPasses; ++pass) {
-      for (size_t j = 0; j < nb; ++j) {
-        const double g2 = double(g[j]) * double(g[j]);
-        sumExpected_[j + 1] = sumExpected_[j] + g2 * x[j];
-        sumRealised_[j + 1] = sumRealised_[j] + g2 * r[j];
-      }
-      // The factors go into wanted_ first, so that every window sees this pass's gains.
-      std::vector<float>& factor = wanted_[size_t(b)];
-      for (size_t j = 0; j < nb; ++j) {
-        const size_t lo = j >= half ? j - half : 0, hi = std::min(nb, j + half + 1);
-        const double want = sumExpected_[hi] - sumExpected_[lo];
-        const double got = sumRealised_[hi] - sumRealised_[lo];
-        factor[j] = want > 0.0 && got > 0.0
-                        ? float(std::clamp(std::sqrt(want / got), 1.0 / kRealisationMaxFactor,
-                                           kRealisationMaxFactor))
-                        : 1.f;
-      }
-      for (size_t j = 0; j < nb; ++j) g[j] *= factor[j];
-    }
+    for (size_t j = 0; j < nb; ++j)
+      if (g[j] != 0.f && x[j] > 0.0 && r[j] > 0.0)
+        g[j] *= float(std::clamp(std::sqrt(x[j] / r[j]), 1.0 / kRealisationMaxFactor,
+                                 kRealisationMaxFactor));
   }
 }
 

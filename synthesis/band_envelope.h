@@ -60,22 +60,17 @@ class BandEnvelope {
   void accumulateRange(const std::array<const float*, kNumBands>& bands, float* out, size_t begin,
                        size_t end, float scale = 1.f, int bandBegin = 0,
                        int bandEnd = kNumBands) const;
-  /// Centred windows of this many synthesis bins (2 band periods each: 20 periods, about 7
-  /// degrees of freedom of the band's noise) over which levelRealisation makes one realisation
-  /// carry its expected energy.
-  static constexpr size_t kRealisationWindowBins = 3;
-  /// Passes of levelRealisation (each pass leaves the windows' ratios closer to 1).
-  static constexpr int kRealisationPasses = 1;
-  /// Largest amplitude factor levelRealisation applies to a gain in one pass (either way).
+  /// Largest amplitude factor levelRealisation applies to a gain (either way).
   static constexpr double kRealisationMaxFactor = 8.0;
-  /// Levels one realisation to its expectation: for each band b >= firstBand, scales the gains
-  /// of the last compute() so that over the kRealisationWindowBins bins centred on each bin
-  /// sum_j g_b[j]^2 realised[b][j] = sum_j g_b[j]^2 expected[b][j], where realised is the band
-  /// signal's energy per bin and expected its expectation over the sequence's random signs
-  /// given its pulses (TiltedBands). The gains were set in expectation; this makes each
-  /// window's energy the expected one in the realisation too, so that one IR's band readings
-  /// are the response's rather than scattered around them (the factor uses the energy of the
-  /// signal it scales, so it biases nothing: a window's energy is exactly its expectation). No
+  /// Levels one realisation to its expectation: for each band b >= firstBand, scales the gain
+  /// of each bin j of the last compute() by sqrt(expected[b][j] / realised[b][j]), where
+  /// realised is the band signal's energy in the bin and expected its expectation over the
+  /// sequence's random signs given its pulses' places and sizes (TiltedBands). The gains were
+  /// set in expectation; this makes each bin's energy of the band signal the expected one in
+  /// the realisation too. The factor is the energy of the very signal it scales over that
+  /// signal's sign-averaged energy, never a target over what a filter sees of it, so nothing
+  /// unseen is inflated: each bin's band-signal energy equals its expectation exactly (a
+  /// sliding window over several bins, iterated, does not converge: the gains oscillate). No
   /// allocation.
   void levelRealisation(int firstBand, const std::array<std::vector<double>, kNumBands>& realised,
                         const std::array<std::vector<double>, kNumBands>& expected);
@@ -113,7 +108,6 @@ class BandEnvelope {
   std::array<std::vector<double>, kNumBands> target_;          ///< scratch: E_b[j]
   std::array<std::vector<float>, kNumBands> gain_;             ///< g_b[j]
   std::array<std::vector<float>, kNumBands> wanted_;           ///< scratch: uncorrected g_b[j]
-  std::vector<double> sumExpected_, sumRealised_;              ///< scratch: running sums
   std::array<double, kNumBands> unplaced_{};
 };
 

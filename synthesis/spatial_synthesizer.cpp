@@ -86,9 +86,6 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   if (gainsOnly_) directionScratch_.assign(length_, 0.f);
   bands_.resize(directions_.size());
   gains_.resize(directions_.size());
-  realised_.resize(directions_.size());
-  expected_.resize(directions_.size());
-  direct_ = std::make_unique<DirectSoundFilter>(masks, big, margin);
   for (size_t d = 0; d < directions_.size(); ++d)
     directionBands(d,
                    diracSequence(sampleRate, length_, roomVolume, speedOfSound, kMaxPulseDensity,
@@ -97,6 +94,7 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   omniBands(diracSequence(sampleRate, length_, roomVolume, speedOfSound, kMaxPulseDensity,
                           hashCombine(seed, 0x0a0a0a0aULL)),
             masks, big, lengthSeconds);
+  direct_ = std::make_unique<DirectSoundFilter>(masks, big, margin);
   prepareDirect(margin);
   levelStart_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, kLevelFromPulses);
   levellers_.push_back(
@@ -205,36 +203,6 @@ void SpatialIrSynthesizer::directionBands(size_t d, const std::vector<float>& se
       bands_[d][c][size_t(b)].assign(fft.time.p, fft.time.p + length_);
     }
   }
-  realisationEnergy(d, sequence, seqSpec, masks, fft);
-}
-
-void SpatialIrSynthesizer::realisationEnergy(size_t d, const std::vector<float>& sequence,
-                                             const Spectrum& spectrum, const OctaveBandMasks& masks,
-                                             FftwRealTransforms& fft) {
-  const float scale = 1.f / float(fft.n);
-  for (int b = kDirectionalFromBand; b < kNumBands; ++b) {
-    const size_t bi = size_t(b), w = BandEnvelope::binSamplesFor(sampleRate_, b);
-    const auto [begin, end] = direct_->support(b);
-    const CentredTaps taps{
-        {direct_->band(b).begin() + long(begin), direct_->band(b).begin() + long(end)},
-        direct_->centre() - begin};
-    expected_[d][bi] = pulseEnergyPerBin(sequence, length_, w, taps, taps);
-    // One-tap filters keep the sequence through A_b (diffuse-field equalised) as it is.
-    const float* x = bands_[d][0][bi].data();
-    double unscale = kappa_[bi];  // undoes the equalisation's amplitude sqrt(1 / kappa)
-    if (!gainsOnly_) {
-      for (size_t k = 0; k < fft.n / 2 + 1; ++k) {
-        const float g = masks.gain(b, k) * masks.gain(b, k) * scale;
-        fft.band.p[k][0] = spectrum[k].real() * g;
-        fft.band.p[k][1] = spectrum[k].imag() * g;
-      }
-      fftwf_execute_dft_c2r(fft.inv, fft.band.p, fft.time.p);
-      x = fft.time.p;
-      unscale = 1.0;
-    }
-    realised_[d][bi].assign(expected_[d][bi].size(), 0.0);
-    for (size_t n = 0; n < length_; ++n) realised_[d][bi][n / w] += double(x[n]) * x[n] * unscale;
-  }
 }
 
 void SpatialIrSynthesizer::omniBands(const std::vector<float>& sequence,
@@ -304,10 +272,7 @@ void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
                                       std::span<const SpecularPath> early) {
   for (float* out : channels) std::fill(out, out + length_, 0.f);
   const size_t count = std::min(energy.directionCount(), directions_.size());
-  for (size_t d = 0; d < count; ++d) {
-    envelopes_[d]->compute(energy.response(d));
-    envelopes_[d]->levelRealisation(kDirectionalFromBand, realised_[d], expected_[d]);
-  }
+  for (size_t d = 0; d < count; ++d) envelopes_[d]->compute(energy.response(d));
   sumOmniEnergy(energy, count);
   omniEnvelope_->compute(omniEnergy_);
   const size_t onset = firstArrivalSample(energy, direct, early);

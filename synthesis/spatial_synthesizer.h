@@ -50,7 +50,6 @@
 #include "engine/specular_paths.h"
 #include "synthesis/band_envelope.h"
 #include "synthesis/band_filters.h"
-#include "synthesis/pulse_energy.h"
 
 namespace dpc {
 
@@ -151,11 +150,6 @@ class SpatialIrSynthesizer {
   /// Direction d's sequence through A_b and its channels' filters, and its envelope.
   void directionBands(size_t d, const std::vector<float>& sequence, const DirectionFilter& filter,
                       const OctaveBandMasks& masks, FftwRealTransforms& fft);
-  /// Direction d's sequence through A_b alone (before its channel filters): its energy per
-  /// synthesis bin and that energy's expectation over the pulses' signs, for levelling each
-  /// direction's realisation (BandEnvelope::levelRealisation). spectrum: the sequence's.
-  void realisationEnergy(size_t d, const std::vector<float>& sequence, const Spectrum& spectrum,
-                         const OctaveBandMasks& masks, FftwRealTransforms& fft);
   /// The omnidirectional low bands' sequence through A_b, and its envelope.
   void omniBands(const std::vector<float>& sequence, const OctaveBandMasks& masks,
                  FftwRealTransforms& fft, double lengthSeconds);
@@ -197,9 +191,6 @@ class SpatialIrSynthesizer {
   BandFilterData filterData_;
   std::array<double, kNumBands> kappa_{};
   std::vector<std::unique_ptr<BandEnvelope>> envelopes_;  ///< one per direction
-  /// Per direction, band and synthesis bin: realised and sign-averaged energy of its sequence
-  /// through A_b (realisationEnergy).
-  std::vector<std::array<std::vector<double>, kNumBands>> realised_, expected_;
   std::unique_ptr<BandEnvelope> omniEnvelope_;            ///< low bands, every channel
   std::array<std::vector<float>, kNumBands> omniBands_;   ///< omni sequence through A_b
   EnergyResponse omniEnergy_;                             ///< scratch: sum over directions

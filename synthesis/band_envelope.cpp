@@ -201,20 +201,6 @@ void BandEnvelope::correctCrossovers() {
   }
 }
 
-void BandEnvelope::levelRealisation(int firstBand,
-                                    const std::array<std::vector<double>, kNumBands>& realised,
-                                    const std::array<std::vector<double>, kNumBands>& expected) {
-  for (int b = std::max(0, firstBand); b < kNumBands; ++b) {
-    std::vector<float>& g = gain_[size_t(b)];
-    const std::vector<double>&r = realised[size_t(b)], &x = expected[size_t(b)];
-    const size_t nb = std::min({g.size(), r.size(), x.size()});
-    for (size_t j = 0; j < nb; ++j)
-      if (g[j] != 0.f && x[j] > 0.0 && r[j] > 0.0)
-        g[j] *= float(std::clamp(std::sqrt(x[j] / r[j]), 1.0 / kRealisationMaxFactor,
-                                 kRealisationMaxFactor));
-  }
-}
-
 void BandEnvelope::accumulateRange(const std::array<const float*, kNumBands>& bands, float* out,
                                    size_t begin, size_t end, float scale, int bandBegin,
                                    int bandEnd) const {

@@ -60,20 +60,6 @@ class BandEnvelope {
   void accumulateRange(const std::array<const float*, kNumBands>& bands, float* out, size_t begin,
                        size_t end, float scale = 1.f, int bandBegin = 0,
                        int bandEnd = kNumBands) const;
-  /// Largest amplitude factor levelRealisation applies to a gain (either way).
-  static constexpr double kRealisationMaxFactor = 8.0;
-  /// Levels one realisation to its expectation: for each band b >= firstBand, scales the gain
-  /// of each bin j of the last compute() by sqrt(expected[b][j] / realised[b][j]), where
-  /// realised is the band signal's energy in the bin and expected its expectation over the
-  /// sequence's random signs given its pulses' places and sizes (TiltedBands). The gains were
-  /// set in expectation; this makes each bin's energy of the band signal the expected one in
-  /// the realisation too. The factor is the energy of the very signal it scales over that
-  /// signal's sign-averaged energy, never a target over what a filter sees of it, so nothing
-  /// unseen is inflated: each bin's band-signal energy equals its expectation exactly (a
-  /// sliding window over several bins, iterated, does not converge: the gains oscillate). No
-  /// allocation.
-  void levelRealisation(int firstBand, const std::array<std::vector<double>, kNumBands>& realised,
-                        const std::array<std::vector<double>, kNumBands>& expected);
   /// Makes the envelope causal at sample `onset` (the first arrival): the part of each band's
   /// synthesis bin that straddles it is to be rendered from `onset` on only (accumulateRange
   /// with begin = onset), so its gain is raised by sqrt(E_bin / E_from_onset), E the band

@@ -77,36 +77,70 @@ TiltedBands::TiltedBands(int sampleRate, size_t length, const std::vector<float>
     const size_t w = BandEnvelope::binSamplesFor(sampleRate, b);
     alpha_[bi].assign((length_ + w - 1) / w, 1.f);
     gamma_[bi].assign((length_ + w - 1) / w, 0.f);
-    realised_[bi].assign((length_ + w - 1) / w, 0.0);
-    expected_[bi].assign((length_ + w - 1) / w, 0.0);
   }
-  // fft.spec keeps the sequence's spectrum (only fft.band and fft.time are used).
-  for (int b = 0; b < kNumBands; ++b) pulseEnergies(b, sequence, masks, fft);
+  // Level each band's realisation to its expectation: the sequence's pulses are scaled per
+  // synthesis bin before the band filter (so the scaled signal stays within the band), and
+  // fft.spec is restored to the sequence's spectrum afterwards.
+  std::vector<std::array<float, 2>> spectrum(nbins);
+  for (size_t k = 0; k < nbins; ++k) spectrum[k] = {fft.spec.p[k][0], fft.spec.p[k][1]};
+  for (int b = kLevelledFromBand; b < kNumBands; ++b) levelSequence(b, sequence, masks, fft);
+  for (size_t k = 0; k < nbins; ++k) {
+    fft.spec.p[k][0] = spectrum[k][0];
+    fft.spec.p[k][1] = spectrum[k][1];
+  }
 }
 
-void TiltedBands::pulseEnergies(int b, const std::vector<float>& sequence,
+void TiltedBands::levelSequence(int b, const std::vector<float>& sequence,
                                 const OctaveBandMasks& masks, FftwRealTransforms& fft) {
-  const size_t nfft = fft.n, nbins = nfft / 2 + 1;
+  const size_t bi = size_t(b), nfft = fft.n, nbins = nfft / 2 + 1;
   const double fc = bandCentreExactHz(b);
-  std::array<std::vector<float>, 2> h;  // A_b and A_b P, time 0 at index 0
-  for (int part = 0; part < 2; ++part) {
+  const float scale = 1.f / float(nfft);
+  // fft.spec (a sequence's spectrum) through A_b, or A_b P, into out.
+  auto filter = [&](bool upper, std::vector<float>& out) {
     for (size_t k = 0; k < nbins; ++k) {
       const double a = double(masks.gain(b, k)) * masks.gain(b, k);
-      const double p = part == 0 ? 1.0 : powerAbove(double(k) * sampleRate_ / double(nfft), fc);
-      fft.band.p[k][0] = float(a * p / double(nfft));
-      fft.band.p[k][1] = 0.f;
+      const double p = upper ? powerAbove(double(k) * sampleRate_ / double(nfft), fc) : 1.0;
+      const float g = float(a * p) * scale;
+      fft.band.p[k][0] = fft.spec.p[k][0] * g;
+      fft.band.p[k][1] = fft.spec.p[k][1] * g;
     }
     fftwf_execute(fft.inv);
-    h[size_t(part)].assign(fft.time.p, fft.time.p + nfft);
+    out.assign(fft.time.p, fft.time.p + length_);
+  };
+  // Expected energy per bin of s_b over the pulses' signs, given their places and sizes.
+  for (size_t k = 0; k < nbins; ++k) {
+    fft.band.p[k][0] = masks.gain(b, k) * masks.gain(b, k) * scale;
+    fft.band.p[k][1] = 0.f;
   }
+  fftwf_execute(fft.inv);  // A_b's taps, time 0 at index 0
+  const std::vector<float> h(fft.time.p, fft.time.p + nfft);
   // Taps beyond -70 dB each side change a bin's expectation by less than 1e-7.
-  const TapSupport support = commonSupport(h[0], h[1], 1e-7);
-  const CentredTaps lo = centredTaps(h[0], support), hi = centredTaps(h[1], support);
+  const CentredTaps taps = centredTaps(h, commonSupport(h, h, 1e-7));
   const size_t w = BandEnvelope::binSamplesFor(sampleRate_, b);
-  auto& e = pulseEnergy_[size_t(b)];
-  e[0] = pulseEnergyPerBin(sequence, length_, w, lo, lo);
-  e[1] = pulseEnergyPerBin(sequence, length_, w, lo, hi);
-  e[2] = pulseEnergyPerBin(sequence, length_, w, hi, hi);
+  const std::vector<double> expected = pulseEnergyPerBin(sequence, length_, w, taps, taps);
+  // Windows of whole bins, at least kLevellingPeriods periods of the band centre.
+  const size_t perWindow = std::max<size_t>(
+      1, size_t(std::ceil(kLevellingPeriods * sampleRate_ / fc / double(w) - 1e-9)));
+  const size_t ww = perWindow * w, windows = (length_ + ww - 1) / ww;
+  std::vector<double> want(windows, 0.0), factor(windows, 1.0);
+  for (size_t j = 0; j < expected.size(); ++j) want[j / perWindow] += expected[j];
+  const size_t n = std::min(length_, sequence.size());
+  for (int it = 0; it < kSequenceLevelling; ++it) {
+    const std::vector<float>& s = band_[bi];
+    for (size_t i = 0; i < windows; ++i) {
+      double realised = 0.0;
+      for (size_t t = i * ww; t < std::min(length_, (i + 1) * ww); ++t)
+        realised += double(s[t]) * double(s[t]);
+      if (want[i] > 0.0 && realised > 0.0)
+        factor[i] *= std::clamp(std::sqrt(want[i] / realised), 1.0 / kMaxSequenceFactor,
+                                kMaxSequenceFactor);
+    }
+    std::fill(fft.time.p, fft.time.p + nfft, 0.f);
+    for (size_t t = 0; t < n; ++t) fft.time.p[t] = float(sequence[t] * factor[t / ww]);
+    fftwf_execute(fft.fwd);
+    filter(false, band_[bi]);
+  }
+  filter(true, upper_[bi]);
 }
 
 void TiltedBands::update(const EnergyResponse& energy) {
@@ -128,15 +162,7 @@ void TiltedBands::update(const EnergyResponse& energy) {
       const float* sh = upper_[bi].data();
       float* t = (*tilted_)[bi].data();
       const float a = float(alpha), g = float(gamma);
-      double realised = 0.0;
-      for (size_t n = j * w; n < std::min(length_, (j + 1) * w); ++n) {
-        t[n] = a * s[n] + g * sh[n];
-        realised += double(t[n]) * double(t[n]);
-      }
-      realised_[bi][j] = realised;
-      const auto& e = pulseEnergy_[bi];
-      expected_[bi][j] =
-          alpha * alpha * e[0][j] + 2.0 * alpha * gamma * e[1][j] + gamma * gamma * e[2][j];
+      for (size_t n = j * w; n < std::min(length_, (j + 1) * w); ++n) t[n] = a * s[n] + g * sh[n];
     }
   }
 }

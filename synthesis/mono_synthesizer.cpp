@@ -63,8 +63,6 @@ void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& 
   mergeCoincidentArrivals(arrivals_, sampleRate_);
   bands_->update(energy);
   envelope_->compute(energy);
-  envelope_->levelRealisation(BandEnvelope::kRealisedBands, bands_->realisedEnergy(),
-                              bands_->expectedEnergy());
   std::array<const float*, kNumBands> tilted;
   for (int b = 0; b < kNumBands; ++b) tilted[size_t(b)] = bands_->tilted(b).data();
   const size_t onset = firstArrivalSample(energy);

@@ -56,13 +56,13 @@ class IrSynthesizer {
   /// band below's.
   static constexpr int kFirstCleanedBand = 6;
   /// Bands whose octave views of the reverberant part are levelled per realisation in short
-  /// windows (WindowLeveller): 250 Hz .. 1 kHz, after each band signal's energy per synthesis
-  /// bin was levelled to its expectation (BandEnvelope::levelRealisation, from 250 Hz up). The
-  /// 63 and 125 Hz bands are normalised by realised energy per synthesis bin already
+  /// windows (WindowLeveller): 250 Hz .. 1 kHz, after each band's sequence was levelled to its
+  /// expectation per window (TiltedBands::levelSequence, from 250 Hz up). The 63 and 125 Hz
+  /// bands are normalised by realised energy per synthesis bin already
   /// (BandEnvelope::kRealisedBands). From 2 kHz up the windows (2 ms) hold too few pulses in
   /// a large room: levelling them there read G +0.4 dB and C80 +0.6 dB too high on average at
   /// 4 kHz (up to +1.4 / +2.0 dB in a 3000 m^3 hall, tests/apps/single_ir_fidelity_test.cpp),
-  /// and the band-signal levelling alone already reads within 0.1 dB RMS there.
+  /// where the sequence's levelling alone reads within 0.2 dB RMS.
   static constexpr int kFirstLevelledBand = 2, kLastLevelledBand = 4;
   /// A band's part is cleaned only where its analysed energy exceeds the expected by this
   /// factor (1 dB): the synthesis's own realisation noise stays.

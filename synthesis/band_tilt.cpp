@@ -132,8 +132,8 @@ void TiltedBands::levelSequence(int b, const std::vector<float>& sequence,
       for (size_t t = i * ww; t < std::min(length_, (i + 1) * ww); ++t)
         realised += double(s[t]) * double(s[t]);
       if (want[i] > 0.0 && realised > 0.0)
-        factor[i] *= std::clamp(std::sqrt(want[i] / realised), 1.0 / kMaxSequenceFactor,
-                                kMaxSequenceFactor);
+        factor[i] *=
+            std::clamp(std::sqrt(want[i] / realised), 1.0 / kMaxSequenceFactor, kMaxSequenceFactor);
     }
     std::fill(fft.time.p, fft.time.p + nfft, 0.f);
     for (size_t t = 0; t < n; ++t) fft.time.p[t] = float(sequence[t] * factor[t / ww]);

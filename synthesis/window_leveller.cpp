@@ -58,15 +58,15 @@ WindowLeveller::WindowLeveller(int sampleRate, size_t length, int firstBand, int
       for (size_t f = 0; f < nbins; ++f)
         for (int h = 0; h < 2; ++h)
           s->halfWidth[size_t(b)][size_t(h)] += double(masks.gain(b, f)) * masks.gain(b, f) *
-                                                 halfShare(b, h, double(f) * sampleRate / s->n);
+                                                halfShare(b, h, double(f) * sampleRate / s->n);
     for (int b = firstBand; b <= lastBand; ++b) {
       s->mask[size_t(b)].resize(nbins);
       for (size_t f = 0; f < nbins; ++f) s->mask[size_t(b)][f] = masks.gain(b, f);
       for (int k = std::max(0, b - 1); k <= std::min(kNumBands - 1, b + 1); ++k)
         for (size_t f = 0; f < nbins; ++f) {
           const double w = (f == 0 || f == nbins - 1) ? 1.0 : 2.0;  // one-sided spectrum
-          const double m2 = double(masks.gain(b, f)) * masks.gain(b, f) *
-                            double(masks.gain(k, f)) * masks.gain(k, f) * w / double(s->n);
+          const double m2 = double(masks.gain(b, f)) * masks.gain(b, f) * double(masks.gain(k, f)) *
+                            masks.gain(k, f) * w / double(s->n);
           for (int h = 0; h < 2; ++h)
             s->coupling[size_t(b)][size_t(k)][size_t(h)] +=
                 m2 * halfShare(k, h, double(f) * sampleRate / s->n);
@@ -112,10 +112,11 @@ void WindowLeveller::viewTargets(const EnergyResponse& energy, const Size& s) {
   }
 }
 
-void WindowLeveller::windowFactors(int b, const EnergyResponse& energy, const Size& s,
-                                   size_t start, size_t span) {
-  const size_t w = std::max(size_t(std::lround(kWindowPeriods * sampleRate_ / bandCentreExactHz(b))),
-                            size_t(std::lround(kMinWindowSeconds * sampleRate_)));
+void WindowLeveller::windowFactors(int b, const EnergyResponse& energy, const Size& s, size_t start,
+                                   size_t span) {
+  const size_t w =
+      std::max(size_t(std::lround(kWindowPeriods * sampleRate_ / bandCentreExactHz(b))),
+               size_t(std::lround(kMinWindowSeconds * sampleRate_)));
   const size_t windows = (span + w - 1) / w;
   const float* y = s.fft->time.p;
   // The target's running sum at sample t: whole response bins before it, and a share of its bin.

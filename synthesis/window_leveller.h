@@ -73,8 +73,7 @@ class WindowLeveller {
   void pass(const EnergyResponse& energy, Size& s, size_t start, size_t span);
   /// gain_ per sample of band b's view y (s.fft.time) over [0, span): window factors from the
   /// view's energies and the targets, linear between window centres.
-  void windowFactors(int b, const EnergyResponse& energy, const Size& s, size_t start,
-                     size_t span);
+  void windowFactors(int b, const EnergyResponse& energy, const Size& s, size_t start, size_t span);
 
   int sampleRate_;
   size_t length_;

@@ -10,10 +10,11 @@
 // (synthesis/band_filters.h), so a band measurement with M_b sees E_b beta_b of it; e_b = beta_b
 // x the pulses' energy in the bin (beta_b: the share of a unit impulse's energy that a band
 // measurement with M_b sees), realised energy at 63/125 Hz, and a crossover correction with
-// the white-spectrum coupling coefficients. The gains are set in expectation: a realisation's
-// band energy in a bin scatters around the response's as any noise's does, and nothing
-// corrects it per realisation (a gain target / realised, applied to a band signal of which a
-// measurement sees only part, inflates the part it does not see on average).
+// the white-spectrum coupling coefficients. The gains are set in expectation and never
+// corrected per realisation here (a gain target / realised, applied to a band signal of which a
+// measurement sees only part, inflates the part it does not see on average); the mono
+// synthesiser's band signals carry their expectation per window instead (TiltedBands,
+// synthesis/band_tilt.h), and its octave views are levelled after (synthesis/window_leveller.h).
 #pragma once
 
 #include <array>

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "synthesis/band_envelope.h"
+#include "synthesis/pulse_energy.h"
 
 namespace dpc {
 
@@ -34,8 +35,9 @@ HalfBandDensity halfBandDensity(const EnergyResponse& energy, int band, double c
   return r;
 }
 
-TiltedBands::TiltedBands(int sampleRate, size_t length, const OctaveBandMasks& masks,
-                         FftwRealTransforms& fft, const TiltedBands* shareScratch)
+TiltedBands::TiltedBands(int sampleRate, size_t length, const std::vector<float>& sequence,
+                         const OctaveBandMasks& masks, FftwRealTransforms& fft,
+                         const TiltedBands* shareScratch)
     : sampleRate_(sampleRate), length_(length) {
   if (shareScratch && shareScratch->length_ == length_) {
     tilted_ = shareScratch->tilted_;
@@ -76,6 +78,69 @@ TiltedBands::TiltedBands(int sampleRate, size_t length, const OctaveBandMasks& m
     alpha_[bi].assign((length_ + w - 1) / w, 1.f);
     gamma_[bi].assign((length_ + w - 1) / w, 0.f);
   }
+  // Level each band's realisation to its expectation: the sequence's pulses are scaled per
+  // synthesis bin before the band filter (so the scaled signal stays within the band), and
+  // fft.spec is restored to the sequence's spectrum afterwards.
+  std::vector<std::array<float, 2>> spectrum(nbins);
+  for (size_t k = 0; k < nbins; ++k) spectrum[k] = {fft.spec.p[k][0], fft.spec.p[k][1]};
+  for (int b = kLevelledFromBand; b < kNumBands; ++b) levelSequence(b, sequence, masks, fft);
+  for (size_t k = 0; k < nbins; ++k) {
+    fft.spec.p[k][0] = spectrum[k][0];
+    fft.spec.p[k][1] = spectrum[k][1];
+  }
+}
+
+void TiltedBands::levelSequence(int b, const std::vector<float>& sequence,
+                                const OctaveBandMasks& masks, FftwRealTransforms& fft) {
+  const size_t bi = size_t(b), nfft = fft.n, nbins = nfft / 2 + 1;
+  const double fc = bandCentreExactHz(b);
+  const float scale = 1.f / float(nfft);
+  // fft.spec (a sequence's spectrum) through A_b, or A_b P, into out.
+  auto filter = [&](bool upper, std::vector<float>& out) {
+    for (size_t k = 0; k < nbins; ++k) {
+      const double a = double(masks.gain(b, k)) * masks.gain(b, k);
+      const double p = upper ? powerAbove(double(k) * sampleRate_ / double(nfft), fc) : 1.0;
+      const float g = float(a * p) * scale;
+      fft.band.p[k][0] = fft.spec.p[k][0] * g;
+      fft.band.p[k][1] = fft.spec.p[k][1] * g;
+    }
+    fftwf_execute(fft.inv);
+    out.assign(fft.time.p, fft.time.p + length_);
+  };
+  // Expected energy per bin of s_b over the pulses' signs, given their places and sizes.
+  for (size_t k = 0; k < nbins; ++k) {
+    fft.band.p[k][0] = masks.gain(b, k) * masks.gain(b, k) * scale;
+    fft.band.p[k][1] = 0.f;
+  }
+  fftwf_execute(fft.inv);  // A_b's taps, time 0 at index 0
+  const std::vector<float> h(fft.time.p, fft.time.p + nfft);
+  // Taps beyond -70 dB each side change a bin's expectation by less than 1e-7.
+  const CentredTaps taps = centredTaps(h, commonSupport(h, h, 1e-7));
+  const size_t w = BandEnvelope::binSamplesFor(sampleRate_, b);
+  const std::vector<double> expected = pulseEnergyPerBin(sequence, length_, w, taps, taps);
+  // Windows of whole bins, at least kLevellingPeriods periods of the band centre.
+  const size_t perWindow = std::max<size_t>(
+      1, size_t(std::ceil(kLevellingPeriods * sampleRate_ / fc / double(w) - 1e-9)));
+  const size_t ww = perWindow * w, windows = (length_ + ww - 1) / ww;
+  std::vector<double> want(windows, 0.0), factor(windows, 1.0);
+  for (size_t j = 0; j < expected.size(); ++j) want[j / perWindow] += expected[j];
+  const size_t n = std::min(length_, sequence.size());
+  for (int it = 0; it < kSequenceLevelling; ++it) {
+    const std::vector<float>& s = band_[bi];
+    for (size_t i = 0; i < windows; ++i) {
+      double realised = 0.0;
+      for (size_t t = i * ww; t < std::min(length_, (i + 1) * ww); ++t)
+        realised += double(s[t]) * double(s[t]);
+      if (want[i] > 0.0 && realised > 0.0)
+        factor[i] *=
+            std::clamp(std::sqrt(want[i] / realised), 1.0 / kMaxSequenceFactor, kMaxSequenceFactor);
+    }
+    std::fill(fft.time.p, fft.time.p + nfft, 0.f);
+    for (size_t t = 0; t < n; ++t) fft.time.p[t] = float(sequence[t] * factor[t / ww]);
+    fftwf_execute(fft.fwd);
+    filter(false, band_[bi]);
+  }
+  filter(true, upper_[bi]);
 }
 
 void TiltedBands::update(const EnergyResponse& energy) {

@@ -37,18 +37,46 @@ HalfBandDensity halfBandDensity(const EnergyResponse& energy, int band, double c
 /// s_lo = A_b (1 - P)); per bin the weights alpha (s_b) and gamma (s_hi) and the tilted signal
 /// alpha s_b + gamma s_hi, whose upper half carries mean_{x in [0, 1/2]} (D_{b+1} / D_b)^x and
 /// lower half likewise toward D_{b-1} (halfBandDensity), scaled to keep the band's expected
-/// energy within its analysed octave (inAnalysedOctave). Without it, a band decaying much slower than the band above (4 kHz under 8 kHz in a
-/// large hall: air absorption) keeps its slow decay up to its upper edge, where the octave
-/// above's analysis filter passes it.
-/// Construction: a thread that may run fft's plans (fft.spec holds the sequence's spectrum,
-/// fft.n >= length; masks of fft.n points); allocates 3 x kNumBands x length floats; no errors.
-/// update(): propagation thread; no allocation; no errors.
+/// energy within its analysed octave (inAnalysedOctave). Without it, a band decaying much slower
+/// than the band above (4 kHz under 8 kHz in a large hall: air absorption) keeps its slow decay up
+/// to its upper edge, where the octave above's analysis filter passes it.
+/// From kLevelledFromBand up, each band's realisation is levelled to its expectation: s_b and
+/// s_hi are made from the sequence with its pulses scaled per window (kLevellingPeriods), the
+/// factors iterated (kSequenceLevelling times) so that each window's energy of s_b equals what
+/// it carries in expectation over the pulses' random signs given their places
+/// (synthesis/pulse_energy.h).
+/// The envelope's gains are set for that expectation, so one realisation's band energy per bin
+/// is the response's rather than scattered around it; the factor is the energy of the very
+/// signal it scales over that signal's sign-averaged energy (nothing a filter does not see is
+/// inflated), and it scales the pulses before the band filter, so the band signal stays within
+/// its band (scaling s_b per bin instead makes steps that splatter: the 63 Hz band's spread in
+/// ir_synthesis_test grew from 0.55 to 0.64 dB rms).
+/// Construction: a thread that may run fft's plans (fft.spec holds the spectrum of `sequence`,
+/// kept, fft.n >= length; masks of fft.n points); allocates 3 x kNumBands x length floats and
+/// runs 2 kSequenceLevelling + 1 transforms per levelled band; no errors. update(): propagation
+/// thread; no allocation; no errors.
 class TiltedBands {
  public:
+  /// Bands whose realisation is levelled (250 Hz up: 63 and 125 Hz are normalised by realised
+  /// energy in BandEnvelope, kRealisedBands); the iterations; the window, whole synthesis bins
+  /// of at least this many periods of the band centre (40 ms at 250 Hz, 20 at 500 Hz, 10 at
+  /// 1 kHz, 5 at 2 kHz, 3 at 4 kHz); and the largest factor either way one iteration applies to
+  /// a window's pulses. Per bin (2 periods), where A_b's response is longer than a bin, the
+  /// iteration neither converged (0.5-0.8 dB rms per bin left after 3) nor kept the total
+  /// (+0.12 dB). Shorter windows level more of a realisation's scatter, but a filter that sees
+  /// part of s_b (the octave below's analysis filter its lower skirt) reads that part times
+  /// E[expected / realised] > 1 (fewer degrees of freedom, more): ir_synthesis_test's 125 Hz
+  /// band read +0.33 dB with 6 periods, +0.29 with 10 (+0.27 without levelling; its limit is
+  /// 0.1 dB + 3 standard errors above the 8 kHz-free reference, which 6 periods exceeded).
+  static constexpr int kLevelledFromBand = 2;
+  static constexpr int kSequenceLevelling = 3;
+  static constexpr double kLevellingPeriods = 10.0;
+  static constexpr double kMaxSequenceFactor = 4.0;
   /// shareScratch: TiltedBands of the same length whose tilted() buffers this one writes too
   /// (they hold one update()'s result, read before the next update() of either: synthesisers
   /// that run one at a time on one thread); nullptr: its own.
-  TiltedBands(int sampleRate, size_t length, const OctaveBandMasks& masks, FftwRealTransforms& fft,
+  TiltedBands(int sampleRate, size_t length, const std::vector<float>& sequence,
+              const OctaveBandMasks& masks, FftwRealTransforms& fft,
               const TiltedBands* shareScratch = nullptr);
   /// Sets every bin's weights and tilted signal from the response (any bin width).
   void update(const EnergyResponse& energy);
@@ -70,6 +98,10 @@ class TiltedBands {
   /// <s_lo,s_lo>, <s_lo,s_hi>, <s_hi,s_hi> for a white input.
   std::array<std::array<double, 3>, kNumBands> halfEnergy_{};
   std::array<std::vector<float>, kNumBands> alpha_, gamma_;
+  /// Scales band b's pulses per window so that s_b's energy in each is its expectation, and
+  /// remakes s_b and s_hi from them (fft.spec: scratch).
+  void levelSequence(int b, const std::vector<float>& sequence, const OctaveBandMasks& masks,
+                     FftwRealTransforms& fft);
 };
 
 }  // namespace dpc

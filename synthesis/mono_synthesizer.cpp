@@ -10,6 +10,7 @@
 #include "synthesis/band_leveller.h"
 #include "synthesis/band_tilt.h"
 #include "synthesis/dirac_sequence.h"
+#include "synthesis/window_leveller.h"
 
 namespace dpc {
 
@@ -33,17 +34,21 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
   fftwf_execute(fft.fwd);
   const OctaveBandMasks masks(sampleRate, fft.n);
   filterData_ = BandFilterData::compute(masks, fft.n);
-  bands_ = std::make_unique<TiltedBands>(sampleRate, length_, masks, fft,
+  bands_ = std::make_unique<TiltedBands>(sampleRate, length_, seq, masks, fft,
                                          shareWith ? shareWith->bands_.get() : nullptr);
   if (shareWith && shareWith->sampleRate_ == sampleRate && shareWith->length_ == length_) {
     direct_ = shareWith->direct_;
     leveller_ = shareWith->leveller_;
+    windowLeveller_ = shareWith->windowLeveller_;
   } else {
     direct_ = std::make_shared<const DirectSoundFilter>(masks, fft, margin);
     leveller_ = std::make_shared<BandLeveller>(
         sampleRate, length_, kFirstCleanedBand,
         BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, 10.0));
+    windowLeveller_ = std::make_shared<WindowLeveller>(sampleRate, length_, kFirstLevelledBand,
+                                                       kLastLevelledBand);
   }
+  levelStart_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, 1.0);
   envelope_ = std::make_unique<BandEnvelope>(sampleRate, seq, length_, filterData_,
                                              measureLowBands(fft, masks, length_));
   arrivals_.reserve(kReservedArrivals);
@@ -63,6 +68,7 @@ void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& 
   const size_t onset = firstArrivalSample(energy);
   envelope_->startAt(onset, tilted);
   envelope_->accumulateRange(tilted, ir, onset, length_);
+  windowLeveller_->level(energy, onset, levelStart_, ir);
   clearAroundArrivals(ir);
   for (const Arrival& a : arrivals_) addArrival(a, ir);
   cleanUp(energy, ir);

@@ -1,0 +1,208 @@
+#include "synthesis/window_leveller.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "common/octave_band_masks.h"
+#include "synthesis/band_filters.h"
+#include "synthesis/band_tilt.h"
+
+namespace dpc {
+
+struct WindowLeveller::Size {
+  size_t n = 0;     ///< FFT points
+  size_t span = 0;  ///< the longest span this size levels (n less the masks' reach)
+  std::unique_ptr<FftwRealTransforms> fft;
+  std::array<std::vector<float>, kNumBands> mask;  ///< M_b on the FFT bins (levelled bands)
+  /// coupling[b][k][h]: the energy view b sees of white noise of unit density over band k's
+  /// half h (0: below its centre, 1: above), relative to a unit impulse (k = b - 1 .. b + 1).
+  std::array<std::array<std::array<double, 2>, kNumBands>, kNumBands> coupling{};
+  /// sum_f M_k^2 P_kh: the half-bands' widths on the FFT bins, for the tilt's normalisation.
+  std::array<std::array<double, 2>, kNumBands> halfWidth{};
+};
+
+namespace {
+
+/// Share of band k's power in half h at f Hz (powerAbove at the band centre, or its complement).
+double halfShare(int k, int h, double f) {
+  const double p = powerAbove(f, bandCentreExactHz(k));
+  return h == 1 ? p : 1.0 - p;
+}
+
+}  // namespace
+
+WindowLeveller::~WindowLeveller() = default;
+
+WindowLeveller::WindowLeveller(int sampleRate, size_t length, int firstBand, int lastBand)
+    : sampleRate_(sampleRate),
+      length_(length),
+      firstBand_(firstBand),
+      lastBand_(lastBand),
+      current_(smoothFftSize(length + bandFilterTaps(std::max(sampleRate, 1))) / 2 + 1),
+      correction_(smoothFftSize(length + bandFilterTaps(std::max(sampleRate, 1))) / 2 + 1) {
+  if (sampleRate <= 0 || length == 0 || firstBand < 0 || lastBand >= kNumBands ||
+      firstBand > lastBand)
+    throw std::invalid_argument("WindowLeveller: rate, length and bands must be valid");
+  const size_t taps = bandFilterTaps(sampleRate);
+  factor_.resize(length / size_t(std::max(1L, std::lround(kMinWindowSeconds * sampleRate))) + 2);
+  for (size_t span : {length / 8, length / 4, length / 2, length}) {
+    if (span == 0) continue;
+    auto s = std::make_unique<Size>();
+    s->n = smoothFftSize(span + taps);
+    s->span = s->n - taps;
+    s->fft = std::make_unique<FftwRealTransforms>(s->n);
+    const OctaveBandMasks masks(sampleRate, s->n);
+    const size_t nbins = s->n / 2 + 1;
+    for (int b = std::max(0, firstBand - 1); b <= std::min(kNumBands - 1, lastBand + 1); ++b)
+      for (size_t f = 0; f < nbins; ++f)
+        for (int h = 0; h < 2; ++h)
+          s->halfWidth[size_t(b)][size_t(h)] += double(masks.gain(b, f)) * masks.gain(b, f) *
+                                                halfShare(b, h, double(f) * sampleRate / s->n);
+    for (int b = firstBand; b <= lastBand; ++b) {
+      s->mask[size_t(b)].resize(nbins);
+      for (size_t f = 0; f < nbins; ++f) s->mask[size_t(b)][f] = masks.gain(b, f);
+      for (int k = std::max(0, b - 1); k <= std::min(kNumBands - 1, b + 1); ++k)
+        for (size_t f = 0; f < nbins; ++f) {
+          const double w = (f == 0 || f == nbins - 1) ? 1.0 : 2.0;  // one-sided spectrum
+          const double m2 = double(masks.gain(b, f)) * masks.gain(b, f) * double(masks.gain(k, f)) *
+                            masks.gain(k, f) * w / double(s->n);
+          for (int h = 0; h < 2; ++h)
+            s->coupling[size_t(b)][size_t(k)][size_t(h)] +=
+                m2 * halfShare(k, h, double(f) * sampleRate / s->n);
+        }
+    }
+    sizes_.push_back(std::move(s));
+  }
+}
+
+size_t WindowLeveller::sizeFor(size_t span) const {
+  for (size_t i = 0; i < sizes_.size(); ++i)
+    if (sizes_[i]->span >= span) return i;
+  return sizes_.size() - 1;
+}
+
+size_t WindowLeveller::spanOf(const EnergyResponse& energy) const {
+  double total = 0.0;
+  for (size_t j = 0; j < energy.binCount(); ++j)
+    for (int k = firstBand_; k <= lastBand_; ++k) total += std::max(0.f, energy.bins()[j][k]);
+  double remaining = total;
+  size_t j = 0;
+  for (; j < energy.binCount() && remaining > kSpanEnergy * total; ++j)
+    for (int k = firstBand_; k <= lastBand_; ++k) remaining -= std::max(0.f, energy.bins()[j][k]);
+  return std::min(length_, size_t(std::ceil(double(j) * energy.binSeconds() * sampleRate_)));
+}
+
+void WindowLeveller::viewTargets(const EnergyResponse& energy, const Size& s) {
+  const size_t nbins = energy.binCount();
+  for (int b = firstBand_; b <= lastBand_; ++b) targetDensity_[size_t(b)].assign(nbins, 0.0);
+  for (int k = std::max(0, firstBand_ - 1); k <= std::min(kNumBands - 1, lastBand_ + 1); ++k) {
+    const auto [wl, wh] = s.halfWidth[size_t(k)];
+    for (size_t j = 0; j < nbins; ++j) {
+      const double e = std::max(0.f, energy.bins()[j][k]);
+      if (e == 0.0) continue;
+      // The within-band tilt, normalised to keep the band's energy (as the exact-IR model does).
+      const HalfBandDensity r = halfBandDensity(energy, k, (double(j) + 0.5) * energy.binSeconds());
+      const double norm = (wl + wh) / (r.low * wl + r.high * wh);
+      for (int b = std::max(firstBand_, k - 1); b <= std::min(lastBand_, k + 1); ++b) {
+        const auto& c = s.coupling[size_t(b)][size_t(k)];
+        targetDensity_[size_t(b)][j] += e * norm * (r.low * c[0] + r.high * c[1]);
+      }
+    }
+  }
+}
+
+void WindowLeveller::windowFactors(int b, const EnergyResponse& energy, const Size& s, size_t start,
+                                   size_t span) {
+  const size_t w =
+      std::max(size_t(std::lround(kWindowPeriods * sampleRate_ / bandCentreExactHz(b))),
+               size_t(std::lround(kMinWindowSeconds * sampleRate_)));
+  const size_t windows = (span + w - 1) / w;
+  const float* y = s.fft->time.p;
+  // The target's running sum at sample t: whole response bins before it, and a share of its bin.
+  const double perBin = energy.binSeconds() * sampleRate_;
+  const std::vector<double>& d = targetDensity_[size_t(b)];
+  auto targetBefore = [&](size_t t, size_t& j, double& sum) {
+    while (j < d.size() && double(j + 1) * perBin <= double(t)) sum += d[j++];
+    return j < d.size() ? sum + d[j] * (double(t) - double(j) * perBin) / perBin : sum;
+  };
+  size_t j = 0;
+  double sum = 0.0, before = targetBefore(0, j, sum);
+  for (size_t i = 0; i < windows; ++i) {
+    const size_t lo = i * w, hi = std::min(span, lo + w);
+    double v = 0.0;
+    for (size_t t = lo; t < hi; ++t) v += double(y[t]) * double(y[t]);
+    const double after = targetBefore(hi, j, sum), target = after - before;
+    before = after;
+    factor_[i] = lo >= start && v > 0.0 && target > 0.0
+                     ? float(std::clamp(std::sqrt(target / v), 1.0 / kMaxFactor, kMaxFactor))
+                     : 1.f;
+  }
+  factor_[windows] = 1.f;  // beyond the span
+  // y <- (g - 1) y, g linear between window centres, 1 from the centre after the span on.
+  float* out = s.fft->time.p;
+  const size_t end = std::min(s.n, (windows + 1) * w);
+  for (size_t t = 0; t < s.n; ++t) {
+    if (t >= end) {
+      out[t] = 0.f;
+      continue;
+    }
+    const double x = (double(t) + 0.5) / double(w) - 0.5;  // window index at its centres
+    const size_t i = size_t(std::clamp(std::floor(x), 0.0, double(windows)));
+    const double a = std::clamp(x - double(i), 0.0, 1.0);
+    const double g = i < windows ? (1.0 - a) * factor_[i] + a * factor_[i + 1] : 1.0;
+    out[t] = float((g - 1.0) * out[t]);
+  }
+}
+
+void WindowLeveller::pass(const EnergyResponse& energy, Size& s, size_t start, size_t span) {
+  FftwRealTransforms& fft = *s.fft;
+  const size_t nbins = s.n / 2 + 1;
+  const float scale = 1.f / float(s.n);
+  for (int b = firstBand_; b <= lastBand_; ++b) {
+    const std::vector<float>& m = s.mask[size_t(b)];
+    for (size_t f = 0; f < nbins; ++f) {
+      fft.band.p[f][0] = current_.p[f][0] * m[f] * scale;
+      fft.band.p[f][1] = current_.p[f][1] * m[f] * scale;
+    }
+    fftwf_execute(fft.inv);  // the view y_b = M_b * r in fft.time
+    windowFactors(b, energy, s, start, span);
+    fftwf_execute(fft.fwd);  // the view's correction (g - 1) y_b
+    for (size_t f = 0; f < nbins; ++f)
+      for (int c = 0; c < 2; ++c) {
+        const float v = fft.spec.p[f][c] * m[f];
+        correction_.p[f][c] += v;
+        current_.p[f][c] += v;
+      }
+  }
+}
+
+void WindowLeveller::level(const EnergyResponse& energy, size_t onset, size_t start, float* ir) {
+  const size_t span = spanOf(energy);
+  if (span <= std::max(start, onset) || energy.binCount() == 0) return;
+  Size& s = *sizes_[sizeFor(span)];
+  const size_t levelled = std::min(span, s.span);
+  viewTargets(energy, s);
+  FftwRealTransforms& fft = *s.fft;
+  const size_t copied = std::min(length_, s.n);
+  std::copy(ir, ir + copied, fft.time.p);
+  std::fill(fft.time.p + copied, fft.time.p + s.n, 0.f);
+  fftwf_execute(fft.fwd);
+  const size_t nbins = s.n / 2 + 1;
+  for (size_t f = 0; f < nbins; ++f)
+    for (int c = 0; c < 2; ++c) {
+      current_.p[f][c] = fft.spec.p[f][c];
+      correction_.p[f][c] = 0.f;
+    }
+  for (int it = 0; it < kIterations; ++it) pass(energy, s, std::max(start, onset), levelled);
+  const float scale = 1.f / float(s.n);
+  for (size_t f = 0; f < nbins; ++f)
+    for (int c = 0; c < 2; ++c) fft.band.p[f][c] = correction_.p[f][c] * scale;
+  fftwf_execute(fft.inv);
+  // The correction from the first arrival on; its part at negative times (wrapped to the end of
+  // the FFT, beyond the masks' reach after the span) is dropped.
+  const size_t end = std::min(length_, s.n - bandFilterTaps(sampleRate_) / 2);
+  for (size_t t = onset; t < end; ++t) ir[t] += fft.time.p[t];
+}
+
+}  // namespace dpc

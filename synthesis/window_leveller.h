@@ -1,0 +1,88 @@
+// Levels one realisation of a synthesised IR's reverberant part to its energy response, band by
+// band in short windows, so that a single IR carries the response's octave parameters rather
+// than scattering around them as a noise realisation does (one noise IR of a 1 s decay reads
+// C80 about +-1 dB and G +-0.6 dB at 250 Hz; ISO 3382-1's just noticeable differences are 1 dB).
+//
+// The IR is split into power-complementary views y_b = M_b * r (the octave masks of
+// common/octave_band_masks.h, sum_b M_b^2 = 1: the views' energies add up to the IR's, so
+// levelling them keeps the broadband level and leaves nothing unseen whose level a noisy
+// factor could inflate). Per band b in firstBand..lastBand and window of max(kWindowPeriods
+// periods of the band centre, kMinWindowSeconds), the view's energy is compared with what an
+// exact IR of the response puts in that view: sum_k E_k sum_h t_kh c_bkh, E_k the response's
+// band values (spectral densities, synthesis/band_filters.h), t_kh the within-band tilt of
+// band k's half h (halfBandDensity, synthesis/band_tilt.h, as analysis/expected_band_analysis.h
+// models it) and c_bkh = sum_f M_b^2 M_k^2 P_kh (the share of that half-band's white noise the
+// view sees; P_kh = powerAbove or its complement at the band centre). The factor
+// g = sqrt(target / view energy), linear between window centres, scales the view, and the
+// correction sum_b M_b * ((g - 1) y_b) is added to the IR from `onset` on (nothing lands
+// before the first arrival); kIterations passes. Only the span up to where the response's
+// remaining energy falls below kSpanEnergy of its total is levelled (beyond it the factor is
+// 1), on the smallest of a few FFT sizes that holds it.
+//
+// Construction: control/propagation thread (FFTW planning); allocates O(length) (FFT buffers
+// and masks for four sizes); throws std::invalid_argument on bad sizes, std::runtime_error
+// when FFTW cannot plan. level(): propagation thread; allocates only when a response has more
+// bins than any before (its per-bin targets); no errors.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+#include "common/bands.h"
+#include "common/fftw_util.h"
+#include "engine/energy_response.h"
+
+namespace dpc {
+
+class WindowLeveller {
+ public:
+  /// Window length per band: this many periods of its centre frequency (about 2 x 0.7 x 3 = 4
+  /// degrees of freedom of the band's noise), but at least kMinWindowSeconds.
+  static constexpr double kWindowPeriods = 3.0;
+  static constexpr double kMinWindowSeconds = 0.002;
+  static constexpr int kIterations = 2;
+  /// Largest amplitude factor (either way) one pass applies to a window.
+  static constexpr double kMaxFactor = 8.0;
+  /// The levelled span ends where the response's remaining energy is this fraction of its
+  /// total (-40 dB: what lies beyond moves no octave parameter by 0.01 dB).
+  static constexpr double kSpanEnergy = 1e-4;
+
+  /// sampleRate Hz; IRs of `length` samples; bands firstBand..lastBand (0..7) are levelled.
+  WindowLeveller(int sampleRate, size_t length, int firstBand, int lastBand);
+  ~WindowLeveller();
+  WindowLeveller(const WindowLeveller&) = delete;
+  WindowLeveller& operator=(const WindowLeveller&) = delete;
+
+  /// Levels the reverberant part `ir` (length samples, zero before `onset`) to `energy` (any
+  /// bin width; negative bins count as 0), windows from `start` on (a window before it keeps
+  /// factor 1: where the Dirac sequence is too sparse for a window to hold its own pulses).
+  void level(const EnergyResponse& energy, size_t onset, size_t start, float* ir);
+
+ private:
+  struct Size;  ///< one FFT size: its transforms, masks and view couplings
+  /// The index of the smallest size whose span covers `span` samples.
+  size_t sizeFor(size_t span) const;
+  /// targetDensity_[b][j]: what view b of an exact IR of `energy` holds per response bin j.
+  void viewTargets(const EnergyResponse& energy, const Size& s);
+  /// The span to level: up to where energy's remaining total falls below kSpanEnergy.
+  size_t spanOf(const EnergyResponse& energy) const;
+  /// One pass: views of the IR whose spectrum `current` holds, their factors, and the
+  /// correction's spectrum added to `correction` and `current`.
+  void pass(const EnergyResponse& energy, Size& s, size_t start, size_t span);
+  /// gain_ per sample of band b's view y (s.fft.time) over [0, span): window factors from the
+  /// view's energies and the targets, linear between window centres.
+  void windowFactors(int b, const EnergyResponse& energy, const Size& s, size_t start, size_t span);
+
+  int sampleRate_;
+  size_t length_;
+  int firstBand_, lastBand_;
+  std::vector<std::unique_ptr<Size>> sizes_;
+  std::array<std::vector<double>, kNumBands> targetDensity_;  ///< per response bin
+  std::vector<double> windowEnergy_, windowTarget_;           ///< per window (scratch)
+  std::vector<float> factor_;                                 ///< per window (scratch)
+  FftwArray<fftwf_complex> current_, correction_;             ///< spectra (largest size)
+};
+
+}  // namespace dpc

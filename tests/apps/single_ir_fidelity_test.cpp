@@ -1,0 +1,257 @@
+// One synthesised IR, not an ensemble, carries its energy response's octave parameters: the
+// ISO 3382-1 band analysis of a single IR (analyzeImpulseResponse) reads the G, C80 and EDT
+// that the same analysis reads from an exact IR of the response (expectedBandAnalysisEnergy,
+// dpc-analyze --as-measured), 250 Hz - 4 kHz, in three room-like responses (a direct sound,
+// early reflections, a diffuse decay per band with air absorption, and the bin-to-bin scatter
+// of a traced response) for 4 seeds each.
+//
+// Tolerances, from the Monte Carlo scatter of the band noise: without the per-realisation
+// levelling (main before issue 46; the noise alone) one IR scatters around the exact IR's
+// reading by G 0.62 / 0.47 / 0.31 / 0.27 / 0.13 dB RMS, C80 1.25 / 0.84 / 0.56 / 0.54 / 0.34 dB
+// and EDT 14 / 12 / 4.8 / 7.6 / 4.9 % at 250 Hz .. 4 kHz over these 12 IRs. The test asks, per
+// band over the 12, for an RMS within the issue's tolerances (G 0.3 dB, C80 0.5 dB, EDT 5 %:
+// a third, a half and one of ISO 3382-1's just noticeable differences), which the noise alone
+// fails at 250 Hz - 2 kHz, for every single IR within twice them, and for no bias: the
+// mean over the 12 within 3 standard errors or a third of the tolerance of 0, whichever is
+// larger.
+//
+// The spatial case (hidden: [.spatial]) measures the same per channel of binaural, stereo and
+// first-order ambisonic output; the spatial synthesiser does not level its realisations yet.
+#include <algorithm>
+#include <array>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "analysis/room_parameters.h"
+#include "runtime/propagation_stage.h"
+#include "synthesis/mono_synthesizer.h"
+#include "synthesis/spatial_synthesizer.h"
+#include "tests/apps/band_readings.h"
+
+using namespace dpc;
+using test::strengthDbOf;
+
+namespace {
+
+constexpr int kFs = 48000;
+constexpr double kLength = 2.0;
+
+/// The tolerances of one IR against an exact IR's reading (ISO 3382-1 annex A's just
+/// noticeable differences are 1 dB, 1 dB and 5 %; these ask for a third, a half and one).
+constexpr double kG = 0.3, kC80 = 0.5, kEdt = 0.05;
+
+/// A room: volume (m^3), T60 per band (s), source distance (m), reverberant level re the
+/// direct sound, first reflection delay after the direct sound (s).
+struct Room {
+  const char* name;
+  double volume;
+  std::array<double, kNumBands> t60;
+  double distance, reverberant, firstReflection;
+};
+
+const Room kRooms[] = {
+    {"small", 60.0, {0.7, 0.6, 0.5, 0.45, 0.45, 0.45, 0.4, 0.35}, 2.5, 1.5, 0.002},
+    {"classroom", 300.0, {1.1, 1.0, 0.9, 0.8, 0.8, 0.75, 0.7, 0.55}, 6.0, 3.0, 0.004},
+    {"hall", 3000.0, {2.2, 2.0, 1.9, 1.8, 1.7, 1.5, 1.2, 0.8}, 12.0, 4.0, 0.008},
+};
+
+/// Per band: the late field's energy per 1 ms bin from the first reflection on, decaying with
+/// T60, its bins scattered as a traced response's are (each bin times a gamma variate of mean 1,
+/// shape 8: a few dozen paths per bin), plus six early reflections of 3..12 % of the direct
+/// sound each within 40 ms. Filled into `add(k, bands)` (k the bin).
+template <class Add>
+void roomResponse(const Room& room, const DirectSound& direct, Add add) {
+  std::mt19937 rng(7);
+  std::gamma_distribution<double> scatter(8.0, 1.0 / 8.0);
+  const size_t k0 = size_t(direct.delaySeconds / 1e-3 + room.firstReflection / 1e-3);
+  const double directEnergy = direct.intensity[4];
+  for (size_t k = k0; k < size_t(kLength * 1e3) - 1; ++k) {
+    const double t = double(k - k0) * 1e-3;
+    const double s = scatter(rng);
+    Bands e;
+    for (int b = 0; b < kNumBands; ++b) {
+      const double t60 = room.t60[size_t(b)];
+      // The late field's total is `reverberant` x the direct sound: E0 T60 / (6 ln 10 x 1 ms).
+      const double e0 = room.reverberant * directEnergy * 1e-3 * 6.0 * std::log(10.0) / t60;
+      e[b] = float(e0 * s * std::pow(10.0, -6.0 * t / t60));
+    }
+    add(k, e);
+  }
+  std::uniform_real_distribution<double> when(0.0, 0.04), share(0.03, 0.12);
+  for (int i = 0; i < 6; ++i) {
+    const size_t k = k0 + size_t(when(rng) / 1e-3);
+    add(k, Bands(float(share(rng) * directEnergy)));
+  }
+}
+
+DirectSound directFor(const Room& room) {
+  DirectSound d;
+  d.visible = true;
+  d.distance = float(room.distance);
+  d.delaySeconds = float(room.distance / 343.0);
+  d.intensity = Bands(float(1.0 / (4.0 * std::numbers::pi * room.distance * room.distance)));
+  d.direction = glm::normalize(glm::vec3(1.f, 0.3f, -0.4f));
+  return d;
+}
+
+/// One band of one IR against the exact IR's reading: G and C80 differences (dB) and the EDT
+/// ratio - 1; printed.
+struct Difference {
+  double g, c80, edt;
+};
+
+Difference differenceOf(const char* what, const test::BandReading& r) {
+  const Difference d{strengthDbOf(r.ir) - strengthDbOf(r.exactIr), r.ir.c80 - r.exactIr.c80,
+                     r.ir.edt / r.exactIr.edt - 1.0};
+  std::printf("%s band %4d Hz: G %+.2f dB, C80 %+.2f dB, EDT %+.1f %%\n", what,
+              int(kBandCentreHz[size_t(r.band)]), d.g, d.c80, 100 * d.edt);
+  return d;
+}
+
+/// Whether one band of one IR reads as the exact IR does, within the tolerances; prints it.
+bool within(const char* what, const test::BandReading& r) {
+  const Difference d = differenceOf(what, r);
+  return std::abs(d.g) <= kG && std::abs(d.c80) <= kC80 && std::abs(d.edt) <= kEdt;
+}
+
+/// Checks one band's differences over rooms and seeds: RMS within (kG, kC80, kEdt), each
+/// within twice that, the mean within 3 standard errors (or a third of the tolerance) of 0.
+void checkBand(int band, const std::vector<Difference>& v) {
+  const double n = double(v.size());
+  auto stats = [&](double Difference::*m, double tolerance, const char* name) {
+    double sum = 0.0, sum2 = 0.0, largest = 0.0;
+    for (const Difference& d : v) {
+      sum += d.*m;
+      sum2 += d.*m * d.*m;
+      largest = std::max(largest, std::abs(d.*m));
+    }
+    const double mean = sum / n, rms = std::sqrt(sum2 / n);
+    const double se = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / (n - 1.0));
+    std::printf("band %4d Hz %s: RMS %.3f, mean %+.3f +- %.3f, largest %.3f (n %d)\n",
+                int(kBandCentreHz[size_t(band)]), name, rms, mean, se, largest, int(n));
+    INFO("band " << kBandCentreHz[size_t(band)] << " Hz " << name << ": RMS " << rms << " mean "
+                 << mean << " +- " << se << " largest " << largest);
+    CHECK(rms <= tolerance);
+    CHECK(largest <= 2.0 * tolerance);
+    CHECK(std::abs(mean) <= std::max(3.0 * se, tolerance / 3.0));
+  };
+  stats(&Difference::g, kG, "G (dB)");
+  stats(&Difference::c80, kC80, "C80 (dB)");
+  stats(&Difference::edt, kEdt, "EDT (ratio - 1)");
+}
+
+/// Bands checked: 250 Hz .. 4 kHz.
+constexpr int kFirstBand = 2, kLastBand = 6;
+
+}  // namespace
+
+TEST_CASE("One mono IR reads its response's octave G, C80 and EDT, for every seed",
+          "[synthesis][single_ir]") {
+  std::array<std::vector<Difference>, kNumBands> diffs;
+  for (const Room& room : kRooms) {
+    const DirectSound direct = directFor(room);
+    EnergyResponse er(kLength, 1e-3);
+    roomResponse(room, direct, [&](size_t k, const Bands& e) { er.bins()[k] += e; });
+    const test::ResponseBands bands(er, direct, kFs);
+    for (uint64_t seed : {1u, 2u, 3u, 4u}) {
+      IrSynthesizer synth(kFs, kLength, room.volume, 343.0, seed);
+      std::vector<float> ir(synth.lengthSamples());
+      synth.synthesize(er, direct, ir.data());
+      for (const test::BandReading& r : bands.read(ir, kFirstBand)) {
+        if (r.band > kLastBand) continue;
+        char what[64];
+        std::snprintf(what, sizeof what, "mono %s seed %d", room.name, int(seed));
+        diffs[size_t(r.band)].push_back(differenceOf(what, r));
+      }
+    }
+  }
+  for (int b = kFirstBand; b <= kLastBand; ++b) checkBand(b, diffs[size_t(b)]);
+}
+
+namespace {
+
+/// The room's response spread over the synthesiser's directions: the direct sound's direction
+/// takes a third of the early reflections, the late field is diffuse (each bin's energy split
+/// over the directions with random shares, as a traced response's few paths per bin are).
+DirectionalEnergyResponse directionalResponse(const Room& room, const DirectSound& direct,
+                                              const std::vector<glm::vec3>& dirs) {
+  DirectionalEnergyResponse energy(kLength, 1e-3, dirs);
+  std::mt19937 rng(11);
+  std::gamma_distribution<double> share(4.0, 1.0);
+  roomResponse(room, direct, [&](size_t k, const Bands& e) {
+    std::vector<double> w(dirs.size());
+    double sum = 0.0;
+    for (double& x : w) sum += x = share(rng);
+    for (size_t d = 0; d < dirs.size(); ++d)
+      for (int b = 0; b < kNumBands; ++b)
+        energy.response(d).bins()[k][b] += float(double(e[b]) * w[d] / sum);
+  });
+  return energy;
+}
+
+/// Channel c's response: every direction's weighted by the channel's filter, and the direct
+/// sound through its exact filter (what the per-channel levelling aims at).
+std::pair<EnergyResponse, DirectSound> channelResponse(const DirectionalEnergyResponse& energy,
+                                                       const DirectSound& direct,
+                                                       const SpatialIrSynthesizer& synth,
+                                                       size_t c) {
+  EnergyResponse er(kLength, 1e-3);
+  for (size_t d = 0; d < energy.directionCount(); ++d)
+    for (size_t k = 0; k < er.binCount(); ++k)
+      for (int b = 0; b < kNumBands; ++b)
+        er.bins()[k][b] += energy.response(d).bins()[k][b] * synth.channelWeight(d, c)[b];
+  DirectSound d = direct;
+  for (int b = 0; b < kNumBands; ++b)
+    d.intensity[b] = direct.intensity[b] * synth.directWeight(c)[b];
+  return {er, d};
+}
+
+}  // namespace
+
+TEST_CASE("One spatial IR: every channel reads its response's octave G, C80 and EDT",
+          "[.spatial][synthesis][single_ir]") {
+  struct Format {
+    const char* name;
+    OutputFormat output;
+    int order;
+  };
+  for (const Format f :
+       {Format{"binaural", OutputFormat::kBinaural, 0}, Format{"stereo", OutputFormat::kStereo, 0},
+        Format{"ambisonics-1", OutputFormat::kAmbisonics, 1}}) {
+    SceneDesc scene;
+    scene.audio.output = f.output;
+    if (f.order > 0) scene.audio.ambisonicOrder = f.order;
+    PropagationSettings ps;
+    ps.irLength = float(kLength);
+    for (const Room& room : kRooms) {
+      const DirectSound direct = directFor(room);
+      for (uint64_t seed : {1u, 2u, 3u, 4u}) {
+        ps.seed = seed;
+        auto synth = makeSpatialSynthesizer(scene, ps, room.volume);
+        const DirectionalEnergyResponse energy =
+            directionalResponse(room, direct, synth->directions());
+        std::vector<std::vector<float>> out(synth->channelCount(),
+                                            std::vector<float>(synth->lengthSamples()));
+        std::vector<float*> ptrs;
+        for (auto& o : out) ptrs.push_back(o.data());
+        synth->synthesize(energy, direct, ptrs);
+        for (size_t c = 0; c < synth->channelCount(); ++c) {
+          const auto [er, d] = channelResponse(energy, direct, *synth, c);
+          const test::ResponseBands bands(er, d, kFs);
+          for (const test::BandReading& r : bands.read(out[c], kFirstBand)) {
+            if (r.band > kLastBand) continue;
+            char what[96];
+            std::snprintf(what, sizeof what, "%s %s seed %d channel %d", f.name, room.name,
+                          int(seed), int(c));
+            INFO(what << " band " << r.band);
+            CHECK(within(what, r));
+          }
+        }
+      }
+    }
+  }
+}

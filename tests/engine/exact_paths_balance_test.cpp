@@ -20,7 +20,7 @@ using namespace dpc;
 namespace {
 
 constexpr int kBand = 4;  // 1 kHz
-constexpr int kSeeds = 12;
+constexpr int kSeeds = 8;
 
 struct Reading {
   double total = 0.0;  ///< the response's 1 kHz energy, exact paths included (direct excluded)
@@ -30,7 +30,7 @@ struct Reading {
 SceneDesc room(float scattering, Estimator estimator, int exactOrder) {
   SceneDesc s = test::makeShoebox({10, 3, 7}, Bands(0.1f), scattering, {2, 1.5f, 2},
                                   {7, 1.6f, 5});
-  s.propagation.raysPerFrame = 4096;
+  s.propagation.raysPerFrame = 2048;
   s.propagation.estimator = estimator;
   s.propagation.exactOrder = exactOrder;
   s.propagation.irLength = 0.6f;
@@ -88,8 +88,9 @@ TEST_CASE("Exact paths and their rays' hits never both count, from the first fra
                            << " dB, C80 " << 10 * std::log10(exact.c80 / plain.c80) << " dB");
         // Independent seeds: the difference's standard error is the two errors combined; 4 of
         // them bound a chance failure below 1e-4 per comparison. Counting the early specular
-        // energy twice moves G by +1.7 dB and C80 by +1.9 dB in the specular room, tens of
-        // standard errors.
+        // energy twice moves G by +1.7 dB (+48 %) and C80 by +1.9 dB in the specular room, many
+        // standard errors even at 8 seeds of 2048 rays (the G differences of a correct render
+        // read within 0.07 dB, 1.6 %, at 12 seeds of 4096).
         CHECK(std::abs(exact.g - plain.g) < 4.0 * std::hypot(exact.gError, plain.gError));
         CHECK(std::abs(exact.c80 - plain.c80) < 4.0 * std::hypot(exact.c80Error, plain.c80Error));
       }

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The README's test command. Installs what is missing, checks the layer table and the size
 # rules, builds, runs every test (ctest) and the install test.
-#   scripts/test.sh          the quick run (at most 12 minutes on 2 cores from a cold build)
+#   scripts/test.sh          the quick run (its ctest about 12 minutes on 2 cores; a cold build as long)
 #   scripts/test.sh --full   adds the 60 s live JACK run, ThreadSanitizer, AddressSanitizer +
 #                            UBSan and libFuzzer runs (what CI runs: .ci/run)
 set -euo pipefail

@@ -46,9 +46,11 @@ TEST_CASE("studio serves its bundled files and nothing else") {
   REQUIRE(files.find("/")->body == "<html>");
   REQUIRE(files.find("/index.html")->contentType.rfind("text/html", 0) == 0);
   REQUIRE(files.find("/vendor/three.module.js")->contentType.rfind("text/javascript", 0) == 0);
-  for (const char* p : {"/link.txt", "/../secret.txt", "/vendor/../index.html", "/%2e%2e/secret.txt",
-                        "//index.html", "/etc/passwd", "\\index.html", "index.html",
-                        (root / "secret.txt").c_str()})
+  const std::string outside = (root / "secret.txt").string();  // outlives the loop
+  for (const std::string& p : {std::string("/link.txt"), std::string("/../secret.txt"),
+                               std::string("/vendor/../index.html"), std::string("/%2e%2e/secret.txt"),
+                               std::string("//index.html"), std::string("/etc/passwd"),
+                               std::string("\\index.html"), std::string("index.html"), outside})
     REQUIRE(files.find(p) == nullptr);
   REQUIRE_THROWS_AS(BundledFiles((root / "web/vendor").string()), std::runtime_error);
   fs::remove_all(root);

@@ -14,7 +14,7 @@ response's as-measured values.
 --check fails unless, per octave 250 Hz - 4 kHz over all rooms and seeds, the RMS difference is
 within G 0.3 dB, C80 0.5 dB and EDT 5 % and every single one within twice that (ctest
 single_ir_fidelity:check, label full, runs it on all six rooms and four seeds); --check-each
-fails unless every octave of every room and seed is within them (issue 46's criterion).
+fails unless every octave of every room and seed is within them (the strictest reading of the tolerances).
 
 Usage: /usr/bin/python3 scripts/single_ir_fidelity.py [--build build] [--rooms NAME...]
            [--seeds 1 2 3 4] [--rays 4000] [--exact-order 2] [--output FORMAT]

@@ -6,7 +6,7 @@
 // of a traced response) for 4 seeds each.
 //
 // Tolerances, from the Monte Carlo scatter of the band noise: without the per-realisation
-// levelling (main before issue 46; the noise alone) one IR scatters around the exact IR's
+// levelling (the band noise alone) one IR scatters around the exact IR's
 // reading by G 0.62 / 0.47 / 0.31 / 0.27 / 0.13 dB RMS, C80 1.25 / 0.84 / 0.56 / 0.54 / 0.34 dB
 // and EDT 14 / 12 / 4.8 / 7.6 / 4.9 % at 250 Hz .. 4 kHz over these 12 IRs. The test asks, per
 // band over the 12, for an RMS within the issue's tolerances (G 0.3 dB, C80 0.5 dB, EDT 5 %:

@@ -147,7 +147,7 @@ TEST_CASE("LiveSession: each frame's estimate is normalised by the rays that fra
 }
 
 TEST_CASE("LiveSession: an unmeetable frame budget lowers the rays, the response stays unbiased",
-          "[adaptive]") {
+          "[adaptive][statistics]") {
   const SceneDesc scene = loadScene(std::string(DPC_SOURCE_DIR) + "/scenes/shoebox.json");
   const DrySignals dry = loadDrySignals(scene);
   // The unbiased estimators: the cache's EMA and window weightings and plain path tracing.

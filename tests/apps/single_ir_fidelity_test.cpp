@@ -150,7 +150,7 @@ constexpr int kFirstBand = 2, kLastBand = 6;
 }  // namespace
 
 TEST_CASE("One mono IR reads its response's octave G, C80 and EDT, for every seed",
-          "[synthesis][single_ir]") {
+          "[synthesis][single_ir][statistics]") {
   std::array<std::vector<Difference>, kNumBands> diffs;
   for (const Room& room : kRooms) {
     const DirectSound direct = directFor(room);

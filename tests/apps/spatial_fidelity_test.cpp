@@ -70,7 +70,7 @@ EarResponse earResponse(double length, const DirectionalEnergyResponse& energy,
 }  // namespace
 
 TEST_CASE("Two-channel IR: each ear's band analysis returns its energy response's T30, C80 and G",
-          "[synthesis][spatial]") {
+          "[synthesis][spatial][statistics]") {
   const double length = 2.5;
   // T60 per band (63 Hz .. 8 kHz): a hall with air absorption.
   const std::array<double, kNumBands> t60{2.6, 2.6, 2.5, 2.4, 2.2, 1.9, 1.4, 0.8};

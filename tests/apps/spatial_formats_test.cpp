@@ -371,7 +371,8 @@ std::string cueRow(const char* decoder, int order, double az, const Cues& d, con
 
 }  // namespace
 
-TEST_CASE("Binaural from AmbiX against per-path binaural: ILD per band and ITD", "[ambisonics]") {
+TEST_CASE("Binaural from AmbiX against per-path binaural: ILD per band and ITD",
+          "[ambisonics][statistics]") {
   // Near-anechoic box, listener facing +x, source 3 m away on the horizon at 0, +-45, +-90
   // degrees. The direct sound's first 20 ms, per ear: per-path binaural (the HRIR of the
   // exact direction) against the AmbiX IR decoded through the same HRTF by MagLS and by the

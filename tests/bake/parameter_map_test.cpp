@@ -39,7 +39,7 @@ double band1k(const std::vector<float>& v, int k) { return v[size_t(4 * kParamet
 }  // namespace
 
 TEST_CASE("Map: G falls with distance as diffuse-field theory predicts and T30 is uniform",
-          "[bake][map]") {
+          "[bake][map][statistics]") {
   SceneDesc scene = test::makeShoebox(kSize, Bands(float(kAlpha)), 1.0f, kSource, kSource);
   scene.propagation.airAbsorption = false;
   scene.propagation.diffraction = false;

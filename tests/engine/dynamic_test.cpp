@@ -160,7 +160,7 @@ TEST_CASE("An object between source and listener occludes the direct sound", "[d
 }
 
 TEST_CASE("A door closing and opening is answered within tau by the window estimator",
-          "[dynamic][response]") {
+          "[dynamic][response][statistics]") {
   const float tau = 0.5f;
   SceneDesc s = test::twoRooms(DpcWeighting::kWindow, tau);
   Simulation sim(s);

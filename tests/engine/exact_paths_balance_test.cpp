@@ -75,7 +75,7 @@ Stats over(const SceneDesc& scene, uint64_t firstSeed, int frames) {
 }  // namespace
 
 TEST_CASE("Exact paths and their rays' hits never both count, from the first frame on",
-          "[specular][balance]") {
+          "[specular][balance][statistics]") {
   for (const float scattering : {0.1f, 0.6f})
     for (const Estimator estimator : {Estimator::kPathTracing, Estimator::kDpc})
       for (const int frames : {1, 2, 30}) {

@@ -98,7 +98,8 @@ SceneDesc specularTestRoom(glm::vec3 room, glm::vec3 src, glm::vec3 lis, double 
 
 }  // namespace
 
-TEST_CASE("Specular shoebox: energy per 20 ms matches exact image sources", "[validation]") {
+TEST_CASE("Specular shoebox: energy per 20 ms matches exact image sources",
+          "[validation][statistics]") {
   const glm::vec3 room{6.f, 3.f, 4.f}, src{1.5f, 1.2f, 1.3f}, lis{4.2f, 1.7f, 2.6f};
   const double alpha = 0.2, c = 343.0, bin = 0.02, maxTime = 0.2;
   const SceneDesc scene = specularTestRoom(room, src, lis, alpha, c, 20000, maxTime);
@@ -116,7 +117,8 @@ TEST_CASE("Specular shoebox: energy per 20 ms matches exact image sources", "[va
   }
 }
 
-TEST_CASE("Scattering per band: each band follows its own coefficient", "[validation]") {
+TEST_CASE("Scattering per band: each band follows its own coefficient",
+          "[validation][statistics]") {
   // Scattering 0 in the four low bands and 1 in the four high ones. The 63 Hz band must still
   // be the exact image-source response, and the 8 kHz band must be a fully diffuse room's
   // (the same room traced with scattering 1 in every band), each within Monte Carlo error.

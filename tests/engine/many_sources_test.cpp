@@ -53,7 +53,7 @@ TEST_CASE("64 sources in free field: each direct sound at r/c and 1/(4 pi r^2)",
 // Oracle: geometry (the wall blocks the line of sight) and reciprocity: the occluded source's
 // reverberant energy through the room equals the source-based tracing's within Monte Carlo
 // error (4 standard errors of the per-frame totals, as in reciprocity_test).
-TEST_CASE("A source behind a wall is occluded and still reverberant", "[engine]") {
+TEST_CASE("A source behind a wall is occluded and still reverberant", "[engine][statistics]") {
   SceneDesc s = test::makeShoebox({10, 4, 8}, Bands(0.2f), 0.5f, {2, 1.5f, 2}, {8, 1.6f, 6});
   // A free-standing wall (x 3..7, full height, at z = 4): the first source is behind it.
   test::addPanel(s.mesh, {3, 0, 4}, {4, 0, 0}, {0, 4, 0}, 0);

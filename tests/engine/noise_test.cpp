@@ -12,7 +12,8 @@
 
 using namespace dpc;
 
-TEST_CASE("DPC halves the noise and flicker of plain path tracing at equal rays", "[noise]") {
+TEST_CASE("DPC halves the noise and flicker of plain path tracing at equal rays",
+          "[noise][statistics]") {
   // Scattering 0.7: mostly diffuse, the case the DPC is for; absorption as a furnished room.
   const glm::vec3 size(10, 3, 7), source(2.5f, 1.5f, 2.f), listener(7.f, 1.6f, 4.5f);
   SceneDesc scene = test::makeShoebox(size, Bands(0.15f), 0.7f, source, listener, 0.5f);
@@ -72,7 +73,7 @@ TEST_CASE("DPC halves the noise and flicker of plain path tracing at equal rays"
 }
 
 TEST_CASE("DPC total energy is path tracing's on the same rays, averaged as the cache averages",
-          "[noise]") {
+          "[noise][statistics]") {
   // The same seed traces the same rays in every frame, so the cache's readout must carry
   // exactly path tracing's energy: for the window the mean of the last W = tau * frame rate
   // frames, for the EMA the exponential average read out divided by 1 - (1 - a)^f. Any

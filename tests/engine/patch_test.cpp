@@ -91,7 +91,8 @@ TEST_CASE("Patches are about lambda in extent and area, and ids are unique", "[p
   }
 }
 
-TEST_CASE("Path hash: order-sensitive and collision-free over a million paths", "[patch]") {
+TEST_CASE("Path hash: order-sensitive and collision-free over a million paths",
+          "[patch][statistics]") {
   const uint64_t h0 = pathHashStart(0);
   const uint64_t ab = pathHashAddPatch(pathHashAddPatch(h0, patchKey(1, 0, 0)), patchKey(2, 0, 0));
   const uint64_t ba = pathHashAddPatch(pathHashAddPatch(h0, patchKey(2, 0, 0)), patchKey(1, 0, 0));

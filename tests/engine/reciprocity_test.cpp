@@ -123,23 +123,25 @@ SceneDesc room() {
 
 }  // namespace
 
-TEST_CASE("Rays from the listener give the energy response of rays from the source", "[engine]") {
+TEST_CASE("Rays from the listener give the energy response of rays from the source",
+          "[engine][statistics]") {
   requireReciprocal(room());
 }
 
-TEST_CASE("Reciprocal tracing keeps each arrival direction", "[engine]") {
+TEST_CASE("Reciprocal tracing keeps each arrival direction", "[engine][statistics]") {
   requireReciprocal(room(), true);
 }
 
 TEST_CASE("Reciprocal tracing weights a directional source toward its leaving direction",
-          "[engine]") {
+          "[engine][statistics]") {
   SceneDesc scene = room();
   scene.sources[0].directivity.a = Bands(0.5f);  // cardioid, facing the near end wall (-x)
   scene.sources[0].rotation = glm::angleAxis(3.14159265f, glm::vec3(0, 0, 1));
   requireReciprocal(scene);
 }
 
-TEST_CASE("One pass from the listener serves every source of a many-source scene", "[engine]") {
+TEST_CASE("One pass from the listener serves every source of a many-source scene",
+          "[engine][statistics]") {
   SceneDesc scene = room();
   for (const glm::vec3 p : {glm::vec3{1.f, 1.f, 1.f}, glm::vec3{9.f, 6.f, 2.5f},
                             glm::vec3{5.f, 3.5f, 0.6f}, glm::vec3{8.5f, 1.2f, 1.5f}}) {
@@ -150,7 +152,7 @@ TEST_CASE("One pass from the listener serves every source of a many-source scene
   requireReciprocal(scene);
 }
 
-TEST_CASE("Reciprocal tracing through a transmitting partition", "[engine]") {
+TEST_CASE("Reciprocal tracing through a transmitting partition", "[engine][statistics]") {
   // A partition across the room (x = 5) with R = 10 dB (tau 0.1 <= its absorption 0.3):
   // source and listener on opposite sides, so every path passes through it at least once.
   // One sheet, not test::addPanel's double-sided panel, whose two faces would each apply R.

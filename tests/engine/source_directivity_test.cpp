@@ -138,7 +138,8 @@ TEST_CASE("Emitted rays are weighted by the pattern (writes directivity_polar.cs
 // new, and the same seed makes omni and cardioid trace the same rays, so the per-frame ratio's
 // spread is the Monte Carlo error of the weighting. The mean ratio must be 1 within 4 standard
 // errors of the frames and 1 %, the room's remaining memory of the emission direction.
-TEST_CASE("A directional source's reverberant energy equals the omni source's", "[directivity]") {
+TEST_CASE("A directional source's reverberant energy equals the omni source's",
+          "[directivity][statistics]") {
   const size_t lateBin = 100;  // 1 ms bins
   auto run = [](const Directivity& d, int frames) {
     SceneDesc s = test::makeShoebox({10, 3, 7}, Bands(0.2f), 1.f, {5, 1.5f, 3.5f}, {7, 1.6f, 5});

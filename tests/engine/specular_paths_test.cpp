@@ -333,7 +333,8 @@ double standardError(const std::vector<double>& x) {
 
 }  // namespace
 
-TEST_CASE("Nothing counted twice: response + exact paths = plain path tracing", "[specular]") {
+TEST_CASE("Nothing counted twice: response + exact paths = plain path tracing",
+          "[specular][statistics]") {
   // Shoebox, s = 0.5, 4096 rays, frame 16 of each seed (the exact paths' cache warmed for
   // tau = 1 s, so that it holds every sequence: a valid sequence no ray has proposed yet
   // is missing from the exact paths while its rays' hits are already left out), 1 kHz band. Paired: the same seed traces the same rays with and without exact

@@ -148,7 +148,7 @@ TEST_CASE("Rays through a thin panel carry its transmittance", "[transmission]")
 // sound (a source 1 m from the partition lowers D by 1.3 dB). The levels are the mean
 // reverberant energies of four listener spheres per room; the tolerance is the 1.5 dB
 // per band (measured: D is 0.2 dB above the formula for R = 20, 30, 40 dB at seed 1).
-TEST_CASE("Room-to-room level difference follows EN 12354-1", "[transmission]") {
+TEST_CASE("Room-to-room level difference follows EN 12354-1", "[transmission][statistics]") {
   const std::vector<ListenerSphere> listeners{
       {{1.5f, 1.5f, 1.0f}, 0.5f}, {{3.5f, 1.0f, 1.0f}, 0.5f}, {{3.0f, 2.0f, 3.0f}, 0.5f},
       {{2.5f, 2.2f, 2.0f}, 0.5f}, {{6.5f, 1.5f, 1.5f}, 0.5f}, {{8.5f, 1.0f, 3.0f}, 0.5f},

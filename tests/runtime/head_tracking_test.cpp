@@ -125,7 +125,7 @@ double energy(const std::vector<float>& x) {
 // to the room (they turn with the head in the re-synthesis), a spread of a few hundredths of a
 // dB per band here, and the rotation's float rounding.
 TEST_CASE("Head-tracked binaural: turning the field per block equals re-synthesis per band",
-          "[runtime][ambisonics]") {
+          "[runtime][ambisonics][statistics]") {
   const SceneDesc scene = room(OutputFormat::kAmbisonicBinaural);
   const size_t length = size_t(scene.propagation.irLength * kFs) + 2048;
   for (const Orientation head : {Orientation{60.f * kDeg, 0.f}, Orientation{-100.f * kDeg, 0.f},

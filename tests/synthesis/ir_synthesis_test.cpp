@@ -75,7 +75,7 @@ TEST_CASE("Octave masks are power-complementary", "[ir]") {
   }
 }
 
-TEST_CASE("Synthesised IR has the energy response's band energies", "[ir]") {
+TEST_CASE("Synthesised IR has the energy response's band energies", "[ir][statistics]") {
   const int fs = 48000;
   // A reverberant tail with a band-dependent decay (T60 from 1.6 s at 63 Hz to 0.4 s at 8 kHz),
   // starting at 8 ms.

@@ -142,7 +142,7 @@ double HybridSynthesis::splitSource(const Simulation& sim, size_t s, size_t list
     copyPrefix(in.response(d), x.earlyDir.response(d));
   keepEarly(x.earlyDir, split_);
   if (share.directIsLate) direct.visible = false;
-  earlySpatial_->synthesize(x.earlyDir, direct, x.channels, x.paths);
+  earlySpatial_->synthesize(x.earlyDir, direct, x.channels, x.paths, s);
   HybridCounts& n = counts_[listener];
   n.lateDirect += share.directIsLate ? 1 : 0;
   n.lateArrivals += uint64_t(share.lateArrivals);
@@ -210,7 +210,7 @@ void HybridSynthesis::synthesizeBus(int k, ImpulseResponse& late) {
   for (int c = 0; c < late.channels(); ++c) x.channels[size_t(c)] = late.channel(c);
   const DirectSound none;
   if (spatial_)
-    spatial_->synthesize(x.lateDir[size_t(k)], none, x.channels);
+    spatial_->synthesize(x.lateDir[size_t(k)], none, x.channels, {}, size_t(k));
   else
     lateMono_[size_t(k)]->synthesize(x.late[size_t(k)], none, x.channels[0]);
 }

@@ -171,7 +171,7 @@ void PropagationStage::synthesize(size_t s, size_t listener) {
     for (size_t c = 0; c < channelScratch_.size(); ++c) channelScratch_[c] = irs[s].channel(int(c));
     const DirectionalEnergyResponse& live = simulation_->directional(s, listener);
     spatial_->synthesize(baked_ ? baked_->directional(s, listener, live) : live, r.direct,
-                         channelScratch_, simulation_->specularPaths(s, listener));
+                         channelScratch_, simulation_->specularPaths(s, listener), s);
   } else {
     synthesizers_[s]->synthesize(baked_ ? baked_->energy(s, listener, r.energy) : r.energy,
                                  r.direct, irs[s].channel(0),

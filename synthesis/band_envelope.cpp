@@ -54,9 +54,19 @@ BandEnvelope::BandEnvelope(int sampleRate, const std::vector<float>& sequence, s
         sequenceEnergy_[bi][n / binSamples_[bi]] +=
             double(sequence[n]) * sequence[n] * filters.share[bi];
     }
+    baseEnergy_[bi] = sequenceEnergy_[bi];
     target_[bi].assign(nb, 0.0);
     gain_[bi].assign(nb, 0.f);
     wanted_[bi].assign(nb, 0.f);
+  }
+}
+
+void BandEnvelope::rotate(const LateRotation& rotation) {
+  rotation_ = rotation;
+  for (int b = 0; b < kNumBands; ++b) {
+    const size_t bi = size_t(b), w = binSamples_[bi];
+    std::vector<double>& e = sequenceEnergy_[bi];
+    for (size_t j = 0; j < e.size(); ++j) e[j] = baseEnergy_[bi][rotation_.source(j * w) / w];
   }
 }
 
@@ -213,7 +223,9 @@ void BandEnvelope::accumulateRange(const std::array<const float*, kNumBands>& ba
       const float g = gain_[bi][j] * scale;
       if (g == 0.f) continue;
       const size_t lo = std::max(begin, j * w), hi = std::min(end, (j + 1) * w);
-      for (size_t n = lo; n < hi; ++n) out[n] += g * s[n];
+      // The bin's samples are contiguous in the band signal too (bin-aligned rotation).
+      const float* x = s + rotation_.source(j * w);
+      for (size_t n = lo; n < hi; ++n) out[n] += g * x[n - j * w];
     }
   }
 }
@@ -222,10 +234,11 @@ void BandEnvelope::startAt(size_t onset, const std::array<const float*, kNumBand
   for (int b = 0; b < kNumBands; ++b) {
     const size_t bi = size_t(b), w = binSamples_[bi], j = onset / w;
     if (onset % w == 0 || j >= gain_[bi].size() || gain_[bi][j] == 0.f) continue;
-    const float* x = bands[bi];
+    const float* x = bands[bi] + rotation_.source(j * w);  // the bin's samples, as read
+    const size_t split = onset - j * w, stop = std::min(length_, (j + 1) * w) - j * w;
     double before = 0.0, after = 0.0;
-    for (size_t n = j * w; n < onset; ++n) before += double(x[n]) * x[n];
-    for (size_t n = onset; n < std::min(length_, (j + 1) * w); ++n) after += double(x[n]) * x[n];
+    for (size_t n = 0; n < split; ++n) before += double(x[n]) * x[n];
+    for (size_t n = split; n < stop; ++n) after += double(x[n]) * x[n];
     if (after > 0.0) gain_[bi][j] = float(gain_[bi][j] * std::sqrt((before + after) / after));
   }
 }

@@ -25,6 +25,7 @@
 #include "common/fftw_util.h"
 #include "engine/energy_response.h"
 #include "synthesis/band_filters.h"
+#include "synthesis/late_rotation.h"
 
 namespace dpc {
 
@@ -49,6 +50,12 @@ class BandEnvelope {
   /// Synthesis bin width of band b in samples at sampleRate (see the file comment).
   static size_t binSamplesFor(int sampleRate, int b);
 
+  /// Reads the sequence circularly shifted from here on (synthesis/late_rotation.h): the
+  /// gains of later compute() calls follow the shifted sequence's pulse energies, and
+  /// accumulateRange() and startAt() read the band signals through the shift. `rotation`'s
+  /// start, span and shift must be multiples of binSamplesFor(sampleRate, 0). The default
+  /// LateRotation is no shift. No allocation.
+  void rotate(const LateRotation& rotation);
   /// Gains for an energy response (any bin width; a negative bin counts as 0).
   void compute(const EnergyResponse& energy);
   /// out[n] += scale * sum_b g_b[j(n)] x_b[n] for the band signals x_b (length samples each).
@@ -91,7 +98,9 @@ class BandEnvelope {
   /// E_b beta_b of it.
   std::array<double, kNumBands> share_{};
   std::array<size_t, kNumBands> binSamples_{};
-  std::array<std::vector<double>, kNumBands> sequenceEnergy_;  ///< e_b[j]
+  std::array<std::vector<double>, kNumBands> baseEnergy_;      ///< e_b[j], unshifted
+  std::array<std::vector<double>, kNumBands> sequenceEnergy_;  ///< e_b[j] as rotation_ reads it
+  LateRotation rotation_;
   std::array<std::vector<double>, kNumBands> target_;          ///< scratch: E_b[j]
   std::array<std::vector<float>, kNumBands> gain_;             ///< g_b[j]
   std::array<std::vector<float>, kNumBands> wanted_;           ///< scratch: uncorrected g_b[j]

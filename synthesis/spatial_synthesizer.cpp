@@ -12,6 +12,7 @@
 #include "common/sphere_quadrature.h"
 #include "synthesis/band_leveller.h"
 #include "synthesis/dirac_sequence.h"
+#include "synthesis/late_rotation.h"
 
 namespace dpc {
 
@@ -97,6 +98,8 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   direct_ = std::make_unique<DirectSoundFilter>(masks, big, margin);
   prepareDirect(margin);
   levelStart_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, kLevelFromPulses);
+  rotationFrom_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound,
+                                             kIndependentFromDensity * BandLeveller::kBinSeconds);
   levellers_.push_back(
       std::make_unique<BandLeveller>(sampleRate, length_, kDirectionalFromBand, levelStart_));
   binned_.assign(directions_.size(), std::vector<Bands>(levellers_[0]->bins()));
@@ -269,11 +272,17 @@ void SpatialIrSynthesizer::sumOmniEnergy(const DirectionalEnergyResponse& energy
 
 void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
                                       const DirectSound& direct, std::span<float* const> channels,
-                                      std::span<const SpecularPath> early) {
+                                      std::span<const SpecularPath> early, size_t lateField) {
   for (float* out : channels) std::fill(out, out + length_, 0.f);
   const size_t count = std::min(energy.directionCount(), directions_.size());
-  for (size_t d = 0; d < count; ++d) envelopes_[d]->compute(energy.response(d));
+  const LateRotation rotation = LateRotation::forField(
+      lateField, rotationFrom_, length_, BandEnvelope::binSamplesFor(sampleRate_, 0));
+  for (size_t d = 0; d < count; ++d) {
+    envelopes_[d]->rotate(rotation);
+    envelopes_[d]->compute(energy.response(d));
+  }
   sumOmniEnergy(energy, count);
+  omniEnvelope_->rotate(rotation);
   omniEnvelope_->compute(omniEnergy_);
   const size_t onset = firstArrivalSample(energy, direct, early);
   std::array<const float*, kNumBands> omni{};

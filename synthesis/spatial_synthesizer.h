@@ -28,8 +28,9 @@
 // reproduction using a virtual ambisonic approach", VECIMS 2003, for the virtual-loudspeaker
 // idea).
 //
-// One synthesiser serves every source (its sequences are shared; sources differ by their
-// envelopes). Construction: control/propagation thread (FFTW planning); allocates
+// One synthesiser serves every source: its sequences are shared, and each source reads their
+// late part through its own circular shift (synthesis/late_rotation.h), so different sources'
+// late fields are uncorrelated at no cost in memory or time. Construction: control/propagation thread (FFTW planning); allocates
 // K x N x 8 x length floats (K x 8 x length when every filter is one tap, a gain: panning,
 // Ambisonic encoding); throws std::invalid_argument on inconsistent input,
 // std::runtime_error when FFTW cannot plan. synthesize(): propagation thread; does not
@@ -124,8 +125,12 @@ class SpatialIrSynthesizer {
   /// its arrival direction (the energy response holds none of their energy). Nothing is
   /// rendered before the first arrival. Allocates only when a frame has more than
   /// kReservedArrivals arrivals for the first time.
+  /// lateField: which late field to render (synthesis/late_rotation.h): the index of the
+  /// source (or late bus) the IR is for, so that different sources' late parts are
+  /// uncorrelated; 0 is the unshifted field. The same field gives the same noise every frame.
   void synthesize(const DirectionalEnergyResponse& energy, const DirectSound& direct,
-                  std::span<float* const> channels, std::span<const SpecularPath> early = {});
+                  std::span<float* const> channels, std::span<const SpecularPath> early = {},
+                  size_t lateField = 0);
   /// Runs f(0) .. f(n - 1), possibly concurrently, returning when all have returned.
   using ParallelFor = std::function<void(size_t n, const std::function<void(size_t)>& f)>;
   /// Levels the channels (the larger part of a many-channel synthesis: one FFT split and
@@ -218,6 +223,7 @@ class SpatialIrSynthesizer {
   /// One per levelling worker (setParallelLevelling); [0] always exists.
   std::vector<std::unique_ptr<BandLeveller>> levellers_;
   size_t levelStart_ = 0;                   ///< BandLeveller's start sample
+  size_t rotationFrom_ = 0;                 ///< where late fields start to differ, samples
   ParallelFor parallel_;                    ///< empty: level on the calling thread
   std::vector<std::vector<Bands>> binned_;  ///< per direction: its response in leveller bins
 };

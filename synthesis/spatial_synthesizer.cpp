@@ -95,6 +95,12 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   omniBands(diracSequence(sampleRate, length_, roomVolume, speedOfSound, kMaxPulseDensity,
                           hashCombine(seed, 0x0a0a0a0aULL)),
             masks, big, lengthSeconds);
+  if (channels_ == 2 && maxFilter > 1 && reference_ == Reference::kChannelAverage) {
+    coherence_ = std::make_unique<CoherenceMatch>(filters, exact_, sampleRate, kDirectionalFromBand);
+    for (std::vector<float>& e : earScratch_) e.assign(length_, 0.f);
+    directionTotals_.resize(directions_.size());
+    bandEnergy_.resize(directions_.size());
+  }
   direct_ = std::make_unique<DirectSoundFilter>(masks, big, margin);
   prepareDirect(margin);
   levelStart_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, kLevelFromPulses);
@@ -285,6 +291,7 @@ void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
   omniEnvelope_->rotate(rotation);
   omniEnvelope_->compute(omniEnergy_);
   const size_t onset = firstArrivalSample(energy, direct, early);
+  if (coherence_) setEarMix(energy, count, onset);
   std::array<const float*, kNumBands> omni{};
   for (int b = 0; b < kDirectionalFromBand; ++b) omni[size_t(b)] = omniBands_[size_t(b)].data();
   omniEnvelope_->startAt(onset, omni);
@@ -313,6 +320,7 @@ void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
 
 void SpatialIrSynthesizer::accumulateDirections(size_t count, std::span<float* const> channels,
                                                 size_t begin, size_t end) {
+  if (coherence_) return accumulateMixed(count, channels, begin, end);
   if (!gainsOnly_) {
     for (size_t d = 0; d < count; ++d)
       for (size_t c = 0; c < channels_; ++c)
@@ -333,6 +341,51 @@ void SpatialIrSynthesizer::accumulateDirections(size_t count, std::span<float* c
       if (g == 0.f) continue;
       float* out = channels[c];
       for (size_t n = begin; n < end; ++n) out[n] += g * y[n];
+    }
+  }
+}
+
+void SpatialIrSynthesizer::setEarMix(const DirectionalEnergyResponse& energy, size_t count,
+                                     size_t onset) {
+  // Two parts, each matched with its own direction energies: the early part and the late
+  // part from ISO 3382-1's 80 ms after the first arrival on, whose coherence listeners hear
+  // as the room's envelopment. The mix changes at one sample, as the envelopes' gains do at
+  // their bins' edges.
+  mixSplit_ = onset + size_t(std::lround(kLateAfterSeconds * sampleRate_));
+  const double split = double(mixSplit_) / sampleRate_;
+  for (int part = 0; part < 2; ++part) {
+    for (size_t d = 0; d < count; ++d) {
+      const EnergyResponse& r = energy.response(d);
+      Bands& t = directionTotals_[d];
+      t = Bands{};
+      for (size_t k = 0; k < r.binCount(); ++k)
+        if (((double(k) + 0.5) * r.binSeconds() >= split) == (part == 1)) t += r.bins()[k];
+    }
+    for (int b = 0; b < kNumBands; ++b) {
+      for (size_t d = 0; d < count; ++d) bandEnergy_[d] = double(directionTotals_[d][b]);
+      earMix_[size_t(part)][size_t(b)] =
+          coherence_->mix(b, std::span<const double>(bandEnergy_.data(), count));
+    }
+  }
+}
+
+void SpatialIrSynthesizer::accumulateMixed(size_t count, std::span<float* const> channels,
+                                           size_t begin, size_t end) {
+  float* ears[2] = {earScratch_[0].data(), earScratch_[1].data()};
+  for (int b = kDirectionalFromBand; b < kNumBands; ++b) {
+    for (float* e : ears) std::fill(e + begin, e + end, 0.f);
+    for (size_t d = 0; d < count; ++d)
+      for (size_t c = 0; c < 2; ++c)
+        envelopes_[d]->accumulateRange(bandSignals(d, c), ears[c], begin, end, gains_[d][c], b,
+                                       b + 1);
+    const size_t split = std::clamp(mixSplit_, begin, end);
+    for (int part = 0; part < 2; ++part) {
+      const EarMix& m = earMix_[size_t(part)][size_t(b)];
+      for (size_t n = part ? split : begin; n < (part ? end : split); ++n) {
+        const float l = ears[0][n], r = ears[1][n];
+        channels[0][n] += m.same[0] * l + m.other[0] * r;
+        channels[1][n] += m.other[1] * l + m.same[1] * r;
+      }
     }
   }
 }

@@ -28,6 +28,9 @@
 // reproduction using a virtual ambisonic approach", VECIMS 2003, for the virtual-loudspeaker
 // idea).
 //
+// Binaural late fields get the HRTF set's diffuse-field interaural coherence per band: the
+// two ears' band signals are mixed per frame (synthesis/coherence_match.h; 2 x length floats
+// of scratch and one more pass over each directional band).
 // One synthesiser serves every source: its sequences are shared, and each source reads their
 // late part through its own circular shift (synthesis/late_rotation.h), so different sources'
 // late fields are uncorrelated at no cost in memory or time. Construction: control/propagation thread (FFTW planning); allocates
@@ -51,6 +54,7 @@
 #include "engine/specular_paths.h"
 #include "synthesis/band_envelope.h"
 #include "synthesis/band_filters.h"
+#include "synthesis/coherence_match.h"
 
 namespace dpc {
 
@@ -117,6 +121,10 @@ class SpatialIrSynthesizer {
   /// direct sound (valid when it was visible).
   const Bands& channelWeight(size_t d, size_t c) const { return channelWeight_[d][c]; }
   const Bands& directWeight(size_t c) const { return directWeight_[c]; }
+  /// Binaural (two channels of HRIRs, Reference::kChannelAverage): the late field's interaural
+  /// coherence match (synthesis/coherence_match.h), applied to every frame's directional
+  /// bands; nullptr for other outputs.
+  const CoherenceMatch* coherence() const { return coherence_.get(); }
 
   /// Writes lengthSamples() samples to each of the channelCount() buffers of `channels`.
   /// energy must use this synthesiser's directions (same order); direct.direction is a world
@@ -182,12 +190,27 @@ class SpatialIrSynthesizer {
   /// Adds every direction's enveloped band signals over [begin, end) to the channels.
   void accumulateDirections(size_t count, std::span<float* const> channels, size_t begin,
                             size_t end);
+  /// The same with the coherence match: per band, both ears into earScratch_, then mixed by
+  /// earMix_ into the channels.
+  void accumulateMixed(size_t count, std::span<float* const> channels, size_t begin, size_t end);
+  /// Where the coherence match's late part starts, after the first arrival (ISO 3382-1).
+  static constexpr double kLateAfterSeconds = 0.08;
+  /// earMix_ for this frame's direction energies before and from kLateAfterSeconds after
+  /// the onset (sample).
+  void setEarMix(const DirectionalEnergyResponse& energy, size_t count, size_t onset);
   /// Levels each channel to its target (see the file comment).
   void level(const DirectionalEnergyResponse& energy, size_t count,
              std::span<float* const> channels);
 
   int sampleRate_;
   Reference reference_;
+  std::unique_ptr<CoherenceMatch> coherence_;  ///< binaural only
+  /// This frame's mixes per band, [0] before mixSplit_ (a sample), [1] from it on.
+  std::array<std::array<EarMix, kNumBands>, 2> earMix_{};
+  size_t mixSplit_ = 0;
+  std::array<std::vector<float>, 2> earScratch_;
+  std::vector<Bands> directionTotals_;  ///< this frame's band energy per direction
+  std::vector<double> bandEnergy_;      ///< one band's directionTotals_
   std::vector<float> omniGains_;  ///< per channel: the omnidirectional low bands' gain
   size_t length_ = 0;
   size_t channels_ = 0;

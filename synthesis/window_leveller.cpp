@@ -139,20 +139,26 @@ void WindowLeveller::windowFactors(int b, const EnergyResponse& energy, const Si
                      : 1.f;
   }
   factor_[windows] = 1.f;  // beyond the span
-  // y <- (g - 1) y, g linear between window centres, 1 from the centre after the span on.
-  float* out = s.fft->time.p;
-  const size_t end = std::min(s.n, (windows + 1) * w);
-  for (size_t t = 0; t < s.n; ++t) {
-    if (t >= end) {
-      out[t] = 0.f;
-      continue;
-    }
-    const double x = (double(t) + 0.5) / double(w) - 0.5;  // window index at its centres
-    const size_t i = size_t(std::clamp(std::floor(x), 0.0, double(windows)));
-    const double a = std::clamp(x - double(i), 0.0, 1.0);
-    const double g = i < windows ? (1.0 - a) * factor_[i] + a * factor_[i + 1] : 1.0;
-    out[t] = float((g - 1.0) * out[t]);
+  scaleByFactors(s.fft->time.p, s.n, w, windows);
+}
+
+void WindowLeveller::scaleByFactors(float* y, size_t n, size_t w, size_t windows) const {
+  // y <- (g - 1) y with g = factor_[0] up to window 0's centre c_0 = (w - 1) / 2, linear
+  // between the centres c_i = c_0 + i w, and 1 (no correction) from c_windows on. Sample t
+  // lies at or after c_i when 2 t + 1 >= (2 i + 1) w. One loop per window: no per-sample
+  // division or rounding, so the loops vectorise.
+  const size_t end = std::min(n, (windows + 1) * w);
+  const auto firstAtOrAfter = [&](size_t i) { return std::min(end, ((2 * i + 1) * w) / 2); };
+  size_t t = 0;
+  for (const float g0 = factor_[0] - 1.f; t < firstAtOrAfter(0); ++t) y[t] *= g0;
+  const float inv = 1.f / float(w);
+  for (size_t i = 0; i < windows; ++i) {
+    const float centre = float(i) * float(w) + 0.5f * float(w) - 0.5f;
+    const float g = factor_[i] - 1.f, slope = (factor_[i + 1] - factor_[i]) * inv;
+    for (const size_t stop = firstAtOrAfter(i + 1); t < stop; ++t)
+      y[t] *= g + slope * (float(t) - centre);
   }
+  std::fill(y + t, y + n, 0.f);
 }
 
 void WindowLeveller::pass(const EnergyResponse& energy, Size& s, size_t start, size_t span) {

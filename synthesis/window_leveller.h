@@ -74,6 +74,9 @@ class WindowLeveller {
   /// gain_ per sample of band b's view y (s.fft.time) over [0, span): window factors from the
   /// view's energies and the targets, linear between window centres.
   void windowFactors(int b, const EnergyResponse& energy, const Size& s, size_t start, size_t span);
+  /// y (n samples) <- (g - 1) y, g the factor_ of windows of w samples, linear between their
+  /// centres (windowFactors).
+  void scaleByFactors(float* y, size_t n, size_t w, size_t windows) const;
 
   int sampleRate_;
   size_t length_;

@@ -91,6 +91,7 @@ int analyzeImpulseResponse(const Options& o) {
   }
   if (!samplesFinite(o.file, ir, first, last)) return 1;
   if (o.iacc) return analyzeInterauralCorrelation(o, ir);
+  if (o.diffusenessOrder > 0) return analyzeDiffuseness(o, ir);
   if (o.bandEnergy) {
     printBandEnergyHeader(o.file, "channel");
     for (size_t c = first; c < last; ++c) {

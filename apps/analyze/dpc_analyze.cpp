@@ -3,6 +3,7 @@
 //
 //   dpc-analyze IR.wav|ER.csv [--json] [--channel N]
 //   dpc-analyze BINAURAL_IR.wav --iacc [--json]
+//   dpc-analyze AMBIX_IR.wav --diffuseness ORDER [--json]
 //   dpc-analyze --air-attenuation T RH [--json]
 //
 // Per channel (WAV) or source (CSV): T20, T30, EDT (s), C50, C80 (dB), D50 (%) and strength
@@ -66,9 +67,20 @@ void addOptions(CLI::App& app, Options& o) {
                "octave band, broadband and as the 500 Hz-2 kHz mean, over the early (0-80 ms "
                "after the direct sound: IACC_E), late (80 ms on: IACC_L) and whole IR (IACC_A)")
       ->excludes("--band-energy");
+  app.add_option("--diffuseness", o.diffusenessOrder,
+                 "For an AmbiX IR of this order (1-7; ACN, SN3D; channels in blocks of (N+1)^2, "
+                 "one per source as --ir-out writes them): instead of parameters, the late "
+                 "part's (80 ms after the direct sound on) diffuseness per octave band and "
+                 "broadband, 0 for one plane wave and 1 for a diffuse field: DirAC's from the "
+                 "first-order channels and COMEDIE's from every order's covariance")
+      ->type_name("ORDER")
+      ->check(CLI::Range(1, 7))
+      ->excludes("--band-energy")
+      ->excludes("--iacc");
   app.add_option("--channel", o.channelText, "Analyse only channel N (1 = first; default: all)")
       ->type_name("N")
-      ->excludes("--iacc");
+      ->excludes("--iacc")
+      ->excludes("--diffuseness");
 }
 
 /// Parses argv into `o`; the exit status when the program must stop (help, parse error).
@@ -99,6 +111,11 @@ int analyzeFile(const Options& o) {
   if (o.iacc && csv) {
     std::cerr << "dpc-analyze: --iacc: " << o.file
               << ": needs a binaural impulse-response WAV (an energy response has no ears)\n";
+    return 1;
+  }
+  if (o.diffusenessOrder > 0 && csv) {
+    std::cerr << "dpc-analyze: --diffuseness: " << o.file
+              << ": needs an AmbiX impulse-response WAV (an energy response has no channels)\n";
     return 1;
   }
   if (o.asMeasured && !csv) {

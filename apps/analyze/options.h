@@ -17,6 +17,7 @@ struct Options {
   bool asMeasured = false;  ///< energy-response CSV: what an IR's band analysis would read
   bool bandEnergy = false;  ///< band energies per time bin instead of parameters
   bool iacc = false;        ///< binaural WAV (ear pairs): IACC per band instead of parameters
+  int diffusenessOrder = 0;  ///< AmbiX WAV of this order: late diffuseness (0 = not asked for)
 };
 
 /// --air-attenuation T RH: prints the ISO 9613-1 attenuation per octave band (table or JSON)
@@ -38,5 +39,12 @@ int analyzeImpulseResponse(const Options& o);
 /// dpc-demo --ir-out's order), a table per pair or one JSON document. Returns 0, or 1 with one
 /// line on stderr when the channel count is odd. Main thread.
 int analyzeInterauralCorrelation(const Options& o, const audio::AudioData& ir);
+
+/// --diffuseness N: the late part's diffuseness (DirAC's from first order, COMEDIE's from
+/// every order; analysis/ambisonic_diffuseness.h) per octave band and broadband of the AmbiX
+/// IR `ir` of order N read from o.file, its channels in blocks of (N + 1)^2 (one per source in
+/// dpc-demo --ir-out's order), a table per block or one JSON document. Returns 0, or 1 with
+/// one line on stderr when the channel count is not a multiple of (N + 1)^2. Main thread.
+int analyzeDiffuseness(const Options& o, const audio::AudioData& ir);
 
 }  // namespace dpc::analyze

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "common/fftw_util.h"
+#include "common/fftw_wisdom.h"
 
 namespace dpc::audio {
 
@@ -139,6 +140,9 @@ ConvolverLayout::ConvolverLayout(int blockSize, size_t maxIrSamples, Planning pl
   fftwf_iodim dim{n, 1, 1};
   {
     std::lock_guard lock(fftwPlannerMutex());
+    // Measured plans come from the wisdom of earlier runs when it holds them (instant), and
+    // what this run measures is kept for the next (common/fftw_wisdom.h).
+    if (planning == Planning::kMeasure) importFftwWisdomOnce();
     fftwf_plan fwd = fftwf_plan_guru_split_dft_r2c(1, &dim, 0, nullptr, time.get(), re, im, flags);
     // c2r: input (re, im) is destroyed, which the convolver allows (it is scratch).
     fftwf_plan inv = fftwf_plan_guru_split_dft_c2r(1, &dim, 0, nullptr, re, im, time.get(),
@@ -151,6 +155,7 @@ ConvolverLayout::ConvolverLayout(int blockSize, size_t maxIrSamples, Planning pl
     }
     forwardPlan_ = fwd;
     inversePlan_ = inv;
+    if (planning == Planning::kMeasure) exportFftwWisdom();
   }
 }
 

@@ -2,6 +2,7 @@
 #include "bench/live_bench.h"
 
 #include <chrono>
+#include <cmath>
 #include <memory>
 #include <thread>
 
@@ -108,7 +109,12 @@ int benchLive(const CommonOptions& c, const LiveOptions& o) {
   if (o.frameRate > 0.0) s.frameRate = float(o.frameRate);
   LiveSession::Options lo;
   lo.deviceChannels = 2;
-  LiveSession session(shared, s, std::make_shared<const DrySignals>(loadDrySignals(scene)), lo);
+  lo.measureFftPlans = true;  // as dpc-demo's live sessions (apps/demo/run_live.cpp)
+  const auto dry = std::make_shared<const DrySignals>(loadDrySignals(scene));
+  const auto constructing = std::chrono::steady_clock::now();
+  LiveSession session(shared, s, dry, lo);
+  const double constructionSeconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - constructing).count();
   session.setPose(listenerPositionAt(scene.listeners[0], 0.0), 0.f, 0.0);
   Output output = openOutput(scene, o, session);
   session.start();
@@ -121,6 +127,14 @@ int benchLive(const CommonOptions& c, const LiveOptions& o) {
   j["callbacks"] = cb.callbacks;
   j["xruns"] = cb.xruns;
   j["nan_blocks"] = session.status().nanBlocks;
+  // dpc-demo opens the device first, then builds the session: the device's time to first
+  // sound is the construction plus the time from start to the first block with sound.
+  const double heard = session.status().firstSoundSeconds;
+  j["time_to_first_sound_s"] = {
+      {"session_construction", constructionSeconds},
+      {"start_to_first_sound", std::isnan(heard) ? Json(nullptr) : Json(heard)},
+      {"device_open_to_first_sound",
+       std::isnan(heard) ? Json(nullptr) : Json(constructionSeconds + heard)}};
   j["note"] =
       "latency: pose published by the control thread -> first block rendered with an "
       "IR computed for that pose; render time: LiveSession::render per block, % of the "

@@ -5,9 +5,18 @@
 
 namespace dpc {
 
+namespace {
+/// 2^(-1/6) and 2^(1/6): the crossover's edges relative to its centre.
+constexpr double kCrossoverBelow = 0.89089871814033930;
+constexpr double kCrossoverAbove = 1.12246204830937302;
+}  // namespace
+
 double powerAbove(double f, double edge) {
   constexpr double halfWidth = 1.0 / 6.0;  // octaves either side of the edge
-  const double x = f > 0.0 ? std::log2(f / edge) : -1e9;
+  // Outside the crossover without a logarithm (called for every bin of long FFTs).
+  if (f <= edge * kCrossoverBelow) return 0.0;
+  if (f >= edge * kCrossoverAbove) return 1.0;
+  const double x = std::log2(f / edge);
   if (x >= halfWidth) return 1.0;
   if (x <= -halfWidth) return 0.0;
   const double s = std::sin(0.25 * std::numbers::pi * (1.0 + x / halfWidth));

@@ -82,6 +82,7 @@ bool LiveSession::setListenerPose(size_t index, const glm::vec3& position, float
 
 void LiveSession::start() {
   if (running_.exchange(true)) return;
+  counters_.started(steadyNowNs());
   propagationThread_ = std::thread([this] {
     audio::rt::setThreadRole(audio::rt::ThreadRole::kPropagation);
     propagationLoop();
@@ -161,14 +162,21 @@ void LiveSession::propagationLoop() {
   const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
       std::chrono::duration<double>(1.0 / settings().frameRate));
   auto next = std::chrono::steady_clock::now();
-  while (running_.load(std::memory_order_relaxed)) {
+  for (bool first = true; running_.load(std::memory_order_relaxed); first = false) {
     next += period;
     const auto start = std::chrono::steady_clock::now();
-    runFrame(options_.adaptiveRays ? adaptiveRays_.rays() : settings().raysPerFrame);
+    // The first frame traces the controller's floor: the first sound comes that much sooner,
+    // and the cache's estimate is unbiased at any ray count (its noise then falls as the
+    // following frames, at the controller's rays, add theirs).
+    const int rays = !options_.adaptiveRays ? settings().raysPerFrame
+                     : first               ? adaptiveRays_.floor()
+                                           : adaptiveRays_.rays();
+    runFrame(rays);
     // The whole frame, snapshot included: what must fit in the period; and its pose's age when
     // the IR was ready plus one block (the audio thread picks it up at its next block): the
-    // motion-to-sound latency it will have.
-    if (options_.adaptiveRays) {
+    // motion-to-sound latency it will have. The short first frame says nothing about the
+    // controller's rays.
+    if (options_.adaptiveRays && !first) {
       const double latency = lastPoseNs_ > 0 ? double(lastReadyNs_ - lastPoseNs_) * 1e-9 +
                                                    double(blockSize_) / sampleRate_
                                              : std::nan("");
@@ -198,9 +206,17 @@ void LiveSession::render(const float* const* inputs, float* const* outputs, int 
   const bool swapped = adapter_.run(
       inputs, outputs, frames,
       [this](const float* const* in, float* const* out) { return renderBlock(in, out); });
+  if (!counters_.soundHeard() && holdsSound(outputs, frames)) counters_.heard(t0);
   const int64_t ns = steadyNowNs() - t0;
   if (double(ns) * 1e-9 * sampleRate_ > double(frames)) counters_.lateCallback();
   (swapped ? swapStats_ : noSwapStats_).record(uint64_t(ns), false);
+}
+
+bool LiveSession::holdsSound(float* const* outputs, int frames) const noexcept {
+  for (int c = 0; c < options_.deviceChannels; ++c)
+    for (int i = 0; i < frames; ++i)
+      if (outputs[c][i] != 0.f) return true;
+  return false;
 }
 
 bool LiveSession::copyToDevice(float* const* outputs) noexcept {

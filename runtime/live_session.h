@@ -244,6 +244,8 @@ class LiveSession {
   /// Audio thread: one engine block from the adapter's inputs (nullptr: the scene's signals)
   /// into its outputs. Returns whether an IR swap started.
   bool renderBlock(const float* const* inputs, float* const* outputs) noexcept;
+  /// Audio thread: whether any of the device's channels holds a sample other than 0.
+  bool holdsSound(float* const* outputs, int frames) const noexcept;
   /// Audio thread: the IR channels onto the device channels (the last repeats), zeros for
   /// a block with NaN or infinity. Returns whether the block was finite.
   bool copyToDevice(float* const* outputs) noexcept;

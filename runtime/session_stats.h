@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 
 #include "engine/simulation.h"
 
@@ -85,6 +86,9 @@ struct SessionStatus {
   /// responses played from the bake, and frames whose listener saw no probe (played live).
   uint64_t bakedResponses = 0;
   uint64_t bakeFallbacks = 0;
+  /// Time to first sound: from LiveSession::start() to the start of the first render() call
+  /// whose output held a sample other than 0, seconds; NaN until then.
+  double firstSoundSeconds = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// The counters behind SessionStatus that the session's threads update. Propagation-side
@@ -114,6 +118,16 @@ class SessionCounters {
     bakeFallbacks_.store(fallbacks, std::memory_order_relaxed);
   }
 
+  /// Control thread: the session starts now (steady clock, ns), before its threads do.
+  void started(int64_t ns) noexcept { startedNs_.store(ns, std::memory_order_relaxed); }
+  /// Audio side: whether a sound was heard yet; heard(ns): the first block with sound started
+  /// at ns (steady clock; later calls change nothing).
+  bool soundHeard() const noexcept { return firstSoundNs_.load(std::memory_order_relaxed) != 0; }
+  void heard(int64_t ns) noexcept {
+    int64_t none = 0;
+    firstSoundNs_.compare_exchange_strong(none, ns, std::memory_order_relaxed);
+  }
+
   uint64_t frames() const noexcept { return frames_.load(std::memory_order_relaxed); }
   /// Fills the counters' part of st; raysPerSecond over the time since the previous call.
   /// Control thread (one reader).
@@ -129,6 +143,7 @@ class SessionCounters {
   std::atomic<size_t> cacheEntries_{0}, cacheBytes_{0}, cacheBudgetBytes_{0}, cachePairs_{0},
       cachePairBytesMin_{0}, cachePairBytesMax_{0}, cachePoolUsedBytes_{0};
   std::atomic<int> raysPerFrame_{0}, raysPerFrameMin_{0};
+  std::atomic<int64_t> startedNs_{0}, firstSoundNs_{0};
   uint64_t lastRays_ = 0;  ///< read()'s previous ray count
   std::chrono::steady_clock::time_point lastRead_;
 };

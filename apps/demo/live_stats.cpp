@@ -1,6 +1,7 @@
 // The JSON statistics file of a live dpc-demo run.
 #include "apps/demo/live_stats.h"
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "common/output_file.h"
@@ -103,6 +104,9 @@ void writeLiveStats(const std::string& path, const std::string& scenePath,
       {"dropped_energy_fraction", st.droppedEnergyFraction},
       {"hybrid_rendering", hybridJson(session.hybridReport())},
       {"motion_to_sound_latency_ms", latencyJson(session.latencyStats().snapshot())},
+      // Session start -> first block holding a sample other than 0 (null: never).
+      {"time_to_first_sound_s",
+       std::isnan(st.firstSoundSeconds) ? Json(nullptr) : Json(st.firstSoundSeconds)},
       // Head-tracked binaural: pose published -> first block turned by it.
       {"head_turn_latency_ms",
        session.headTracked() ? latencyJson(session.headLatencyStats().snapshot()) : Json(nullptr)},

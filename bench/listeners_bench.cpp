@@ -112,7 +112,6 @@ int benchListeners(const CommonOptions& c, const ListenersOptions& o) {
   const SceneDesc& scene = *shared;
   const PropagationSettings s = settingsFor(scene, c);
   std::vector<std::unique_ptr<PropagationStage>> stages;
-  const int maxCount = *std::max_element(o.counts.begin(), o.counts.end());
   for (size_t k = 0; k < o.counts.size(); ++k)
     stages.push_back(std::make_unique<PropagationStage>(shared, s));
   std::vector<CountTimes> times(o.counts.size());

@@ -11,8 +11,9 @@
 #   ASAN_TARGETS='dpc-demo scene_test' scripts/asan.sh   # only these targets (and their tests)
 #   ASAN_TESTS='wav_io|bad_input' scripts/asan.sh        # only tests matching a regex
 #
-# Cost (docs/hardening.md, "Sanitizers and fuzzing"): from scratch on a shared 2-core machine,
-# about 6 min wall and 11 CPU-minutes, of which the tests are 2 min wall.
+# Cost (docs/hardening.md, "Sanitizers and fuzzing"): from scratch on a shared 2-core machine
+# about 20 min of build and 10-20 min of tests (the suite has grown since the first
+# measurement, 6 min in all).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

@@ -8,6 +8,9 @@
 //
 // Threads: tryReserve and release may be called concurrently from the tracing threads (caches of
 // different pairs update in parallel); lock-free (one atomic counter). No allocation. No errors.
+// Known defect: once the pool is full, which cache's growth is refused depends on the order in
+// which the threads ask, so a render that fills the pool (the shipped market: 64 sources) is
+// not the same from run to run with more than one tracing thread.
 #pragma once
 
 #include <atomic>

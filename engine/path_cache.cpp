@@ -49,6 +49,9 @@ size_t DiffusePathCache::bytes() const {
 uint64_t DiffusePathCache::refusedGrowths() const {
   return store_->refusedGrowths();
 }
+void DiffusePathCache::growDeferred() {
+  store_->growDeferred();
+}
 size_t DiffusePathCache::bytesInUse() const {
   return store_->bytesInUse();
 }

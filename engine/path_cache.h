@@ -93,6 +93,10 @@ class DiffusePathCache : public PathCacheLimits {
   size_t bytes() const;
   /// Table growths the pool refused (the cache merged instead), since construction.
   uint64_t refusedGrowths() const;
+  /// Between frames, on the thread that runs them: retries a growth the pool refused during
+  /// the last frame (CachePool's frame shares; PathCacheStore::growDeferred). Allocates when
+  /// it grows.
+  void growDeferred();
   /// Heap bytes of the slots in use (entries, index load, window terms, coarse cells).
   size_t bytesInUse() const;
   /// Coarse-store layout: delays below S ms in 1 ms bins, then S bins per octave (each octave

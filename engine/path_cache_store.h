@@ -211,6 +211,14 @@ class PathCacheStore {
   const Capacity& capacity() const { return cap_; }
   size_t budgetBytes() const { return budget_; }
   uint64_t refusedGrowths() const { return refused_; }
+  /// Between frames, on the thread that runs them: the growth the pool refused during the
+  /// last frame (its frame share was spent), tried again now, so that a cache that needs more
+  /// than a share still grows as far as the pool allows, in an order the caller fixes.
+  void growDeferred() {
+    if (!growthDeferred_) return;
+    growthDeferred_ = false;
+    grow();
+  }
   uint64_t mergedEntries() const { return merged_; }
   double coarseEnergyFraction() const { return coarseFraction_; }
   size_t coarseBinsPerOctave() const { return coarseSub_; }
@@ -316,6 +324,8 @@ class PathCacheStore {
   Capacity maxCap_;  ///< the whole budget's tables
   CachePool* pool_ = nullptr;
   size_t reserved_ = 0;  ///< bytes taken from pool_
+  CachePool::FrameTake frameTake_;  ///< this frame's takes from pool_
+  bool growthDeferred_ = false;      ///< a growth refused since the last growDeferred()
   uint64_t refused_ = 0;
   double coarseFraction_ = 0.0;
   uint64_t raysTotal_ = 0;            ///< rays emitted since the start, this frame included

@@ -153,8 +153,9 @@ bool PathCacheStore::grow() {
   const Capacity next = tablesFor(2 * (cap_.bytes - coarseBytes()));
   if (next.entries <= cap_.entries) return false;
   const size_t extra = next.bytes - cap_.bytes;
-  if (pool_ && !pool_->tryReserve(extra)) {
+  if (pool_ && !pool_->tryReserve(extra, frameTake_)) {
     ++refused_;
+    growthDeferred_ = true;
     return false;
   }
   reserved_ += pool_ ? extra : 0;

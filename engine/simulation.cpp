@@ -198,11 +198,17 @@ void Simulation::runFrame(const FrameInputs& inputs) {
   reserveListeners(L);
   listenerCount_ = L;
   applyInputs(inputs);
+  // Every cache's frame share of the pool, fixed before any tracing thread asks for one.
+  cachePool_->beginFrame(caches_.size());
   frameTrace_ = TraceStats{};
   if (tracesFromListeners(settings_.tracing, sourceCount_, L))
     traceFromListeners(inputs.listeners, inputs.sourcePositions);
   else
     traceFromSources(inputs.listeners, inputs.sourcePositions);
+  // Growths the frame shares refused, retried one cache after another in pair order from the
+  // pool's free bytes: deterministic, and a cache that needs more than a share still grows.
+  cachePool_->beginFrame(1);
+  for (const std::unique_ptr<DiffusePathCache>& c : caches_) c->growDeferred();
   ++frame_;
 }
 

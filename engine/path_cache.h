@@ -91,7 +91,8 @@ class DiffusePathCache : public PathCacheLimits {
   size_t budgetBytes() const;
   /// Heap bytes held by the cache's tables now (they grow as paths need room), <= budgetBytes().
   size_t bytes() const;
-  /// Table growths the pool refused (the cache merged instead), since construction.
+  /// Table growths the pool refused, also when retried between frames (the cache merged
+  /// instead), since construction.
   uint64_t refusedGrowths() const;
   /// Between frames, on the thread that runs them: retries a growth the pool refused during
   /// the last frame (CachePool's frame shares; PathCacheStore::growDeferred). Allocates when

@@ -217,7 +217,9 @@ class PathCacheStore {
   void growDeferred() {
     if (!growthDeferred_) return;
     growthDeferred_ = false;
-    grow();
+    if (grow()) return;
+    growthDeferred_ = false;  // the pool is full: the cache merges until a later growth fits
+    ++refused_;
   }
   uint64_t mergedEntries() const { return merged_; }
   double coarseEnergyFraction() const { return coarseFraction_; }
@@ -325,7 +327,7 @@ class PathCacheStore {
   CachePool* pool_ = nullptr;
   size_t reserved_ = 0;  ///< bytes taken from pool_
   CachePool::FrameTake frameTake_;  ///< this frame's takes from pool_
-  bool growthDeferred_ = false;      ///< a growth refused since the last growDeferred()
+  bool growthDeferred_ = false;      ///< a growth refused in the frame, to retry after it
   uint64_t refused_ = 0;
   double coarseFraction_ = 0.0;
   uint64_t raysTotal_ = 0;            ///< rays emitted since the start, this frame included

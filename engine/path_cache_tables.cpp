@@ -154,8 +154,7 @@ bool PathCacheStore::grow() {
   if (next.entries <= cap_.entries) return false;
   const size_t extra = next.bytes - cap_.bytes;
   if (pool_ && !pool_->tryReserve(extra, frameTake_)) {
-    ++refused_;
-    growthDeferred_ = true;
+    growthDeferred_ = true;  // counted as refused only if the retry between frames fails too
     return false;
   }
   reserved_ += pool_ ? extra : 0;

@@ -353,20 +353,19 @@ void SpatialIrSynthesizer::setEarMix(const DirectionalEnergyResponse& energy, si
   // their bins' edges.
   mixSplit_ = onset + size_t(std::lround(kLateAfterSeconds * sampleRate_));
   const double split = double(mixSplit_) / sampleRate_;
-  for (int part = 0; part < 2; ++part) {
-    for (size_t d = 0; d < count; ++d) {
-      const EnergyResponse& r = energy.response(d);
-      Bands& t = directionTotals_[d];
-      t = Bands{};
-      for (size_t k = 0; k < r.binCount(); ++k)
-        if (((double(k) + 0.5) * r.binSeconds() >= split) == (part == 1)) t += r.bins()[k];
-    }
+  for (size_t d = 0; d < count; ++d) {
+    const EnergyResponse& r = energy.response(d);
+    auto& [early, late] = directionTotals_[d];
+    early = late = Bands{};
+    for (size_t k = 0; k < r.binCount(); ++k)
+      ((double(k) + 0.5) * r.binSeconds() < split ? early : late) += r.bins()[k];
+  }
+  for (int part = 0; part < 2; ++part)
     for (int b = 0; b < kNumBands; ++b) {
-      for (size_t d = 0; d < count; ++d) bandEnergy_[d] = double(directionTotals_[d][b]);
+      for (size_t d = 0; d < count; ++d) bandEnergy_[d] = double(directionTotals_[d][part][b]);
       earMix_[size_t(part)][size_t(b)] =
           coherence_->mix(b, std::span<const double>(bandEnergy_.data(), count));
     }
-  }
 }
 
 void SpatialIrSynthesizer::accumulateMixed(size_t count, std::span<float* const> channels,

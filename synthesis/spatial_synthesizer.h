@@ -209,7 +209,8 @@ class SpatialIrSynthesizer {
   std::array<std::array<EarMix, kNumBands>, 2> earMix_{};
   size_t mixSplit_ = 0;
   std::array<std::vector<float>, 2> earScratch_;
-  std::vector<Bands> directionTotals_;  ///< this frame's band energy per direction
+  /// This frame's band energy per direction, before and from mixSplit_.
+  std::vector<std::array<Bands, 2>> directionTotals_;
   std::vector<double> bandEnergy_;      ///< one band's directionTotals_
   std::vector<float> omniGains_;  ///< per channel: the omnidirectional low bands' gain
   size_t length_ = 0;

@@ -15,6 +15,7 @@
 #include <string>
 
 #include "audio/wav_io.h"
+#include "testing/temp_dir.h"
 
 namespace fs = std::filesystem;
 
@@ -38,9 +39,8 @@ int run(const std::string& args, const fs::path& out, const fs::path& err) {
 }  // namespace
 
 TEST_CASE("dpc-analyze --diffuseness reads each source's block of AmbiX channels", "[analyze]") {
-  const fs::path dir = fs::path(DPC_BINARY_DIR) / "analyze_diffuseness_test";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const dpc::test::TempDir scratch("analyze_diffuseness_test");
+  const fs::path dir = scratch.path();
   dpc::audio::AudioData ir;
   ir.sampleRate = kRate;
   ir.channels.assign(8, std::vector<float>(kRate, 0.f));

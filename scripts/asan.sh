@@ -39,6 +39,10 @@ export LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:${LSAN_OPTIONS:-}"
 # uninstrumented lv2apply dlopens the instrumented plugin; the ASan runtime must be loaded
 # first). Named exactly, so that no other test is dropped by accident.
 excluded='^audio_device_test:jack-playback$|^live_jack_test:|^lv2_plugin:|_NOT_BUILT'
+# The names of the tests this run covers, for scripts/test.sh --full (which runs the rest
+# unsanitized, and not these twice).
+(cd "$build" && ctest -N -E "$excluded" ${ASAN_TESTS:+-R "$ASAN_TESTS"} \
+   | sed -n 's/^ *Test *#[0-9]*: //p') > "$build/tests-run.txt"
 set +e
 (cd "$build" && ctest --output-on-failure -j"${JOBS:-$(nproc 2>/dev/null || echo 2)}" --timeout 900 \
    -E "$excluded" ${ASAN_TESTS:+-R "$ASAN_TESTS"})

@@ -69,6 +69,14 @@ constexpr std::array kLimits = {
         "no room rings for a minute; longer IRs only cost memory and convolution"},
   Limit{"propagation.speed_of_sound", 1, 10000, false, false, "m/s",
         "covers every gas, liquid and most solids"},
+  Limit{"wave.max_frequency", 20, 4000, false, false, "Hz",
+        "below 20 Hz nothing is heard; above 4 kHz the grid's memory grows beyond any room "
+        "(nodes grow as the frequency cubed) and rays are accurate"},
+  Limit{"wave.crossover_hz", 0, 2000, false, false, "Hz",
+        "0 takes half the maximum frequency; a crossover must lie below the maximum "
+        "frequency (checked with it), so at most half the largest one"},
+  Limit{"wave.grid_spacing", 0, 1, false, false, "m",
+        "0 derives it from the maximum frequency; a metre resolves nothing above 34 Hz"},
   Limit{"propagation.temperature", -50, 60, false, false, "degrees C",
         "the range of ISO 9613-1 air absorption"},
   Limit{"propagation.humidity", 0, 100, false, false, "%", "relative humidity"},

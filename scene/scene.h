@@ -260,6 +260,30 @@ struct AudioSettings {
   float clusterAngleDegrees = 30.f;
 };
 
+/// Grid nodes per wavelength at the wave band's maximum frequency: with the scheme of
+/// wave/fdtd.h at its stability limit the phase speed is then at most 1.2 % slow (along the
+/// grid's axes; exact along its diagonals), and 0.3 % at half that frequency (docs/wave.md).
+inline constexpr double kWavePointsPerWavelength = 10.0;
+
+/// The low band by wave simulation (wave/, docs/wave.md): a finite-difference time-domain
+/// solution of the wave equation on a grid of the scene's air, below maxFrequencyHz, joined to
+/// the ray-traced IR by power-complementary crossovers at crossoverHz. Off by default.
+struct WaveSettings {
+  bool enabled = false;
+  /// Highest frequency the grid resolves with its stated dispersion error, Hz.
+  float maxFrequencyHz = 500.f;
+  /// Crossover between the wave band and the ray-traced band, Hz; 0: maxFrequencyHz / 2.
+  float crossoverHz = 0.f;
+  /// Grid spacing, metres; 0: from maxFrequencyHz (wave/wave_grid.h, kWavePointsPerWavelength).
+  float gridSpacingM = 0.f;
+  /// The crossover in use: crossoverHz, or half the maximum frequency when it is 0.
+  float crossover() const { return crossoverHz > 0.f ? crossoverHz : 0.5f * maxFrequencyHz; }
+  /// The largest grid spacing that resolves maxFrequencyHz at speed of sound c (m/s), metres.
+  double maxSpacing(double c) const { return c / (double(maxFrequencyHz) * kWavePointsPerWavelength); }
+  /// The grid spacing in use, metres: gridSpacingM, or maxSpacing(c) when it is 0.
+  double spacing(double c) const { return gridSpacingM > 0.f ? double(gridSpacingM) : maxSpacing(c); }
+};
+
 /// Upper bounds on a scene's entity counts, fixed (independent of the machine's memory) so a
 /// scene either loads everywhere or nowhere; docs/scene-format.md "Limits" says why these values.
 /// The limits table (scene/limits.h) bounds the counts with them.
@@ -279,6 +303,7 @@ struct SceneDesc {
   std::vector<ListenerDesc> listeners;
   PropagationSettings propagation;
   AudioSettings audio;
+  WaveSettings wave;
   /// Things the loader repaired rather than refused (e.g. "hall.obj: 12 degenerate triangles
   /// dropped"); apps print them. Nothing is dropped without a line here.
   std::vector<std::string> warnings;

@@ -467,6 +467,20 @@ void loadMeshes(const JsonReader& r, const json& root, SceneDesc& scene) {
                                (scene.objects.empty() ? "" : " or of an object"));
 }
 
+void readWave(const JsonReader& r, const json& v, WaveSettings& w) {
+  const std::string field = "wave";
+  r.expectObject(v, field);
+  r.checkKeys(v, field, {"enabled", "max_frequency", "crossover_hz", "grid_spacing"});
+  if (const json* x = JsonReader::find(v, "enabled")) w.enabled = r.boolean(*x, "wave.enabled");
+  auto read = [&](const char* key, float& out) {
+    const std::string f = join(field, key);
+    if (const json* x = JsonReader::find(v, key)) out = float(r.limited(*x, f, f));
+  };
+  read("max_frequency", w.maxFrequencyHz);
+  read("crossover_hz", w.crossoverHz);
+  read("grid_spacing", w.gridSpacingM);
+}
+
 }  // namespace
 
 SceneDesc loadScene(const std::string& path) {
@@ -479,7 +493,8 @@ SceneDesc loadScene(const std::string& path) {
     r.fail("", "expected a JSON object at the top level, got " + JsonReader::describe(root));
   r.checkKeys(
       root, "",
-      {"mesh", "materials", "sources", "listener", "listeners", "objects", "propagation", "audio"});
+      {"mesh", "materials", "sources", "listener", "listeners", "objects", "propagation", "audio",
+       "wave"});
   const fs::path folder = fs::path(path).parent_path();
   readMaterials(r, root, scene);
   readSources(r, r.require(root, "", "sources"), folder, scene);
@@ -488,6 +503,7 @@ SceneDesc loadScene(const std::string& path) {
   if (const json* p = JsonReader::find(root, "propagation"))
     readPropagation(r, *p, scene.propagation);
   if (const json* a = JsonReader::find(root, "audio")) readAudio(r, *a, folder, scene.audio);
+  if (const json* w = JsonReader::find(root, "wave")) readWave(r, *w, scene.wave);
   loadMeshes(r, root, scene);
   validate(scene, Origin{path, {}});
   return scene;

@@ -243,9 +243,27 @@ void checkField(std::string_view field, double value, const Origin& origin,
   fail(origin, path.empty() ? std::string(field) : path, why);
 }
 
+/// The wave band's fields, its crossover below its maximum frequency and its grid fine enough
+/// for it (c: the speed of sound, m/s).
+static void checkWave(const WaveSettings& w, double c, const Origin& origin) {
+  checkField("wave.max_frequency", w.maxFrequencyHz, origin);
+  checkField("wave.crossover_hz", w.crossoverHz, origin);
+  checkField("wave.grid_spacing", w.gridSpacingM, origin);
+  if (!(w.crossover() < w.maxFrequencyHz))
+    fail(origin, "wave.crossover_hz",
+         valueText(w.crossover()) + " Hz must lie below wave.max_frequency (" +
+             valueText(w.maxFrequencyHz) + " Hz)");
+  if (w.gridSpacingM > 0.f && double(w.gridSpacingM) > w.maxSpacing(c) * (1.0 + 1e-6))
+    fail(origin, "wave.grid_spacing",
+         valueText(w.gridSpacingM) + " m is too coarse for wave.max_frequency " +
+             valueText(w.maxFrequencyHz) + " Hz (at most " + valueText(float(w.maxSpacing(c))) +
+             " m: " + valueText(kWavePointsPerWavelength) + " nodes per wavelength)");
+}
+
 void validate(const SceneDesc& scene, const Origin& origin) {
   checkMaterials(scene.materials, origin);
   checkPropagation(scene.propagation, origin);
+  checkWave(scene.wave, scene.propagation.speedOfSound, origin);
   checkField("audio.sample_rate", scene.audio.sampleRate, origin);
   checkField("audio.block_size", scene.audio.blockSize, origin);
   checkField("audio.ambisonic_order", scene.audio.ambisonicOrder, origin);

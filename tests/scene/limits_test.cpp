@@ -122,6 +122,10 @@ std::optional<std::string> setField(json& s, const std::string& field, double va
     s[field] = entries(field, size_t(value));
     return field;
   }
+  // The wave band's crossover must lie below its maximum frequency, and its grid must be
+  // fine enough for it: each is tried with the other at the value that admits all of it.
+  if (field == "wave.crossover_hz") s["wave"]["max_frequency"] = 4000;
+  if (field == "wave.grid_spacing") s["wave"]["max_frequency"] = 20;
   if (field == "position") {
     s["sources"][0]["position"][0] = number(value);
     return "sources[0].position[0]";

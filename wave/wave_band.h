@@ -1,0 +1,71 @@
+// The wave band of one source: builds the grid of the scene's air, runs the solver
+// (wave/fdtd.h) with a band-limited pulse and returns the pressure impulse response at each
+// receiver at the audio sample rate, in the units of the ray-traced IR (a free-field path of
+// length r is a band-limited Dirac of area 1 / (4 pi r)). One simulation serves every receiver
+// (the source is where the pulse enters; by reciprocity source and receiver may be swapped,
+// docs/wave.md).
+//
+// The pulse: a unit-area impulse through a causal 4th-order Butterworth low-pass at the maximum
+// frequency (the grid's dispersion grows above it); the result is high-passed at kWaveDcHz
+// (2nd order) to remove the pressure offset a closed room keeps after a volume of air was
+// pushed into it. Causal: nothing precedes the direct sound but the pulse's own rise.
+//
+// Control thread (TBB workers inside); allocates the grid and the state (wave/wave_grid.h,
+// about 14 bytes per node of the bounding box while building, 12 per node while simulating);
+// throws InputError naming the file and field for a source or receiver outside the air the
+// grid reaches, and a grid beyond kMaxWaveNodes.
+#pragma once
+
+#include <functional>
+#include <glm/vec3.hpp>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "engine/geometry.h"
+#include "engine/tracer.h"
+#include "scene/scene.h"
+#include "wave/wave_grid.h"
+
+namespace dpc::wave {
+
+/// Below this the wave band is high-passed (Hz): nothing a room plays lies lower.
+inline constexpr double kWaveDcHz = 10.0;
+
+/// A point the simulation needs, with the field that placed it (for the error message).
+struct WavePoint {
+  glm::vec3 position{0.f};
+  std::string field;  ///< "sources[0].position", "listener.position", ...
+};
+
+struct WaveBandOptions {
+  double seconds = 1.0;   ///< length of each IR
+  int sampleRate = 48000; ///< of the IRs, Hz
+  /// Called from the calling thread with (steps done, steps); may be empty.
+  std::function<void(size_t, size_t)> progress;
+};
+
+/// What a run cost and where its grid lay.
+struct WaveBandStats {
+  GridLayout layout;
+  size_t airNodes = 0;
+  size_t boundaryNodes = 0;
+  int stepRate = 0;          ///< time steps per second
+  size_t steps = 0;
+  size_t stateBytes = 0;     ///< the solver's arrays (pressure twice, air mask, boundary)
+  double buildSeconds = 0.0; ///< wall time of the grid
+  double simulateSeconds = 0.0;
+};
+
+struct WaveBand {
+  std::vector<std::vector<float>> irs;  ///< per receiver, options.sampleRate
+  WaveBandStats stats;
+};
+
+/// The wave band of a source at `source` heard at `receivers`, for `scene`'s wave settings,
+/// materials and speed of sound, over the geometry of `tracer` / `geometry` (built from it).
+WaveBand simulateWaveBand(const SceneDesc& scene, const Tracer& tracer, const Geometry& geometry,
+                          const WavePoint& source, std::span<const WavePoint> receivers,
+                          const WaveBandOptions& options);
+
+}  // namespace dpc::wave

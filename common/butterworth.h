@@ -1,12 +1,13 @@
-// Butterworth low-pass and high-pass filters of even order as cascaded biquads (bilinear
-// transform, cutoff prewarped: the digital magnitude is the analog Butterworth one at the
-// prewarped frequency, -3.01 dB at the cutoff). A low-pass and a high-pass of the same order and
-// cutoff are power complementary: |H_lp|^2 + |H_hp|^2 = 1 at every frequency, which is what
-// joins two bands computed by different methods (their sum carries each band's energy).
-// Causal and minimum phase: nothing filtered arrives before its input.
+// Butterworth low-pass and high-pass filters as cascaded biquads, and one first-order section
+// for an odd order (bilinear transform, cutoff prewarped: the digital magnitude is the analog
+// Butterworth one at the prewarped frequency, -3.01 dB at the cutoff). A low-pass and a
+// high-pass of the same order and cutoff are power complementary: |H_lp|^2 + |H_hp|^2 = 1 at
+// every frequency. Of odd order they are also in quadrature at every frequency, so their sum
+// is an allpass (order 3: (s^2 - s + 1) / (s^2 + s + 1)): a signal in both bands keeps its
+// level too. Causal and minimum phase: nothing filtered arrives before its input.
 //
 // Any thread; design() allocates the section list; run() never allocates; no errors (design
-// requires 0 < cutoff < fs / 2 and an even order >= 2, which callers check).
+// requires 0 < cutoff < fs / 2 and an order >= 1, which callers check).
 // Source: S. Butterworth, "On the theory of filter amplifiers" (1930); the bilinear transform
 // with prewarping as in Oppenheim & Schafer, Discrete-Time Signal Processing, section 7.1.
 #pragma once
@@ -23,9 +24,10 @@ namespace dpc {
 
 class Butterworth {
  public:
-  enum class Kind { kLowPass, kHighPass };
+  /// kAllPass: unit magnitude with the low-pass's poles, B(-s) / B(s): twice its phase.
+  enum class Kind { kLowPass, kHighPass, kAllPass };
 
-  /// A `kind` filter of `order` (even) at `cutoffHz`, sampling rate `fs` Hz.
+  /// A `kind` filter of `order` at `cutoffHz`, sampling rate `fs` Hz.
   static Butterworth design(Kind kind, int order, double cutoffHz, double fs) {
     Butterworth f;
     const double pi = std::numbers::pi;
@@ -42,6 +44,10 @@ class Butterworth {
         q.b0 = k * k / norm;
         q.b1 = 2.0 * q.b0;
         q.b2 = q.b0;
+      } else if (kind == Kind::kAllPass) {  // the denominator reversed
+        q.b0 = q.a2;
+        q.b1 = q.a1;
+        q.b2 = 1.0;
       } else {
         q.b0 = 1.0 / norm;
         q.b1 = -2.0 * q.b0;
@@ -49,7 +55,23 @@ class Butterworth {
       }
       f.sections_.push_back(q);
     }
+    if (order % 2) f.sections_.push_back(firstOrder(kind, k));
     return f;
+  }
+
+  /// The real pole s = -1 of an odd order: 1 / (s + 1), s / (s + 1) or (1 - s) / (1 + s),
+  /// bilinear at k.
+  static Biquad firstOrder(Kind kind, double k) {
+    Biquad q{};
+    q.a1 = (k - 1.0) / (k + 1.0);
+    if (kind == Kind::kAllPass) {
+      q.b0 = q.a1;
+      q.b1 = 1.0;
+      return q;
+    }
+    q.b0 = kind == Kind::kLowPass ? k / (k + 1.0) : 1.0 / (k + 1.0);
+    q.b1 = kind == Kind::kLowPass ? q.b0 : -q.b0;
+    return q;
   }
 
   /// Filters x in place from zero state (transposed direct form II, double precision).

@@ -1,5 +1,6 @@
 #include "runtime/live_session.h"
 
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -7,6 +8,7 @@
 #include <string>
 
 #include "audio/rt_check.h"
+#include "common/input_error.h"
 #include "runtime/output_format.h"
 #include "scene/orientation.h"
 
@@ -43,6 +45,11 @@ LiveSession::LiveSession(std::shared_ptr<const SceneDesc> scene,
       counters_(settings.raysPerFrame),
       adaptiveRays_(settings.raysPerFrame, 1.0 / settings.frameRate, options.latencyTargetSeconds) {
   if (options.bake) propagation_->attachBake(options.bake);
+  // A live listener moves, and the wave band holds one pose: no live play without an error.
+  if (scene_->wave.enabled)
+    throw InputError(scene_->path, "wave.enabled",
+                     "the wave band is simulated for offline renders (dpc-demo --offline, "
+                     "dpc-wave); live sessions do not play it: set it to false");
   if (!(options.irSwapSpreadSeconds >= 0.0 &&
         options.irSwapSpreadSeconds <= kMaxIrSwapSpreadSeconds))
     throw std::invalid_argument("LiveSession: irSwapSpreadSeconds " +

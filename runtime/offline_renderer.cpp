@@ -1,5 +1,6 @@
 #include "runtime/offline_renderer.h"
 
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -10,6 +11,7 @@
 #include "runtime/output_format.h"
 #include "runtime/session_stats.h"
 #include "scene/trajectory.h"
+#include "wave/scene_wave.h"
 
 namespace dpc {
 
@@ -75,6 +77,12 @@ OfflineRender::OfflineRender(std::shared_ptr<const SceneDesc> scene,
       streaming_(bool(options.sink)),
       framePeriod_(1.0 / settings.frameRate) {
   if (options.bake) propagation_.attachBake(options.bake);
+  if (options.waveBands) {
+    propagation_.attachWaveBands(options.waveBands);
+  } else if (scene_->wave.enabled) {
+    propagation_.attachWaveBands(
+        wave::sceneWaveBands(*scene_, listeners_, settings.irLength, nullptr));
+  }
   for (size_t k = 0; k < listeners_.size(); ++k) {
     audioStages_.push_back(std::make_unique<AudioStage>(propagation_, dry, *exchange_, k));
     audioStages_.back()->setSkipSilentLevels(false);  // exact: no time limit per block offline

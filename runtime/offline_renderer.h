@@ -42,6 +42,9 @@ struct OfflineOptions {
   /// If set, static sources are played from this bake of the scene (PropagationStage::
   /// attachBake; bake/bake_loader.h loads and checks one).
   std::shared_ptr<const BakedField> bake;
+  /// If set, each listener-source pair's wave band is joined to its IRs
+  /// (PropagationStage::attachWaveBands; wave/scene_wave.h's sceneWaveBands makes one).
+  std::shared_ptr<const wave::WaveBandSet> waveBands;
 };
 
 /// What one listener heard.

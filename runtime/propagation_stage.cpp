@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 #include <stdexcept>
 
+#include "common/input_error.h"
 #include "engine/room_volume.h"
 #include "runtime/output_format.h"
 #include "scene/orientation.h"
@@ -177,6 +178,15 @@ void PropagationStage::synthesize(size_t s, size_t listener) {
                                  r.direct, irs[s].channel(0),
                                  simulation_->specularPaths(s, listener));
   }
+  if (waveBands_ && waveBands_->has(listener, s)) waveBands_->join(listener, s, irs[s]);
+}
+
+void PropagationStage::attachWaveBands(std::shared_ptr<const wave::WaveBandSet> bands) {
+  if (bands && hybrid_)
+    throw InputError(scene_->path, "wave.enabled",
+                     "the wave band needs each source's whole IR: set audio.rendering to "
+                     "\"per_source\" (this scene renders hybrid)");
+  waveBands_ = std::move(bands);
 }
 
 void PropagationStage::synthesizeIrs(size_t listener) {

@@ -21,6 +21,7 @@
 #include "scene/trajectory.h"
 #include "synthesis/mono_synthesizer.h"
 #include "synthesis/spatial_synthesizer.h"
+#include "wave/wave_join.h"
 
 namespace dpc {
 
@@ -82,6 +83,11 @@ class PropagationStage {
   /// stage's scene (bake/bake_loader.h checks); nullptr detaches it. Control thread, between
   /// frames; allocates.
   void attachBake(std::shared_ptr<const BakedField> bake, BakeInterpolation settings = {});
+  /// Joins each listener-source pair's wave band (wave/wave_join.h) to every IR synthesised
+  /// for it from now on; nullptr detaches. Throws InputError(scene file, "wave.enabled") in
+  /// hybrid rendering (a source's IR is split there; the wave band needs it whole). Control
+  /// thread, between frames.
+  void attachWaveBands(std::shared_ptr<const wave::WaveBandSet> bands);
   /// The attached bake's playback and counts, or nullptr.
   const BakedPlayback* bakedPlayback() const { return baked_.get(); }
   /// The per-source IRs listener l's last prepared set holds, one per source (in hybrid
@@ -139,6 +145,7 @@ class PropagationStage {
   std::vector<std::unique_ptr<IrSynthesizer>> synthesizers_;  ///< mono: one per source
   std::unique_ptr<SpatialIrSynthesizer> spatial_;             ///< stereo / binaural
   std::unique_ptr<BakedPlayback> baked_;                      ///< attachBake, or none
+  std::shared_ptr<const wave::WaveBandSet> waveBands_;         ///< attachWaveBands, or none
   std::unique_ptr<HybridSynthesis> hybrid_;                   ///< hybrid rendering, or none
   std::shared_ptr<const audio::NonUniformLayout> layout_;
   std::shared_ptr<const audio::NonUniformLayout> lateLayout_;  ///< hybrid: full-length IRs

@@ -5,9 +5,10 @@
 // (statistical) values, so beta is the one whose Paris statistical absorption
 //   alpha_st(beta) = integral_0^{pi/2} alpha(theta) sin(2 theta) d theta,
 //   alpha(theta) = 4 zeta cos(theta) / (zeta cos(theta) + 1)^2,  zeta = 1 / beta,
-// equals the material's mean absorption over the octave bands the wave band covers (those
-// with centres up to its maximum frequency; the 63 Hz band at least). Limits: one value for
-// the whole wave band (a material whose absorption changes across it gets its mean), and
+// equals the material's mean absorption over the octave bands the joined IR takes from the
+// wave band (those with centres up to the crossover; the 63 Hz band at least). Limits: one
+// value for the whole wave band (a material whose absorption changes across it gets its
+// mean: a membrane absorbing most at 63-125 Hz decays too slowly there), and
 // alpha_st of a real admittance peaks at 0.951 (zeta = 1.567): more absorbing materials get
 // that peak.
 //
@@ -26,8 +27,8 @@ double statisticalAbsorption(double beta);
 /// The real normalised admittance in [0, 1 / 1.567] whose statistical absorption is `alpha`.
 double admittanceForAbsorption(double alpha);
 
-/// The mean of `absorption` over the octave bands with centres up to maxFrequencyHz (at
-/// least the lowest band).
-double waveBandAbsorption(const Bands& absorption, double maxFrequencyHz);
+/// The mean of `absorption` over the octave bands with centres up to upToHz (at least the
+/// lowest band).
+double waveBandAbsorption(const Bands& absorption, double upToHz);
 
 }  // namespace dpc::wave

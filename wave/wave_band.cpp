@@ -2,12 +2,14 @@
 
 #include <chrono>
 #include <cmath>
+#include <numbers>
 
 #include "audio/resample.h"
 #include "common/butterworth.h"
 #include "common/input_error.h"
 #include "wave/admittance.h"
 #include "wave/fdtd.h"
+#include "wave/wave_join.h"
 
 namespace dpc::wave {
 namespace {
@@ -18,12 +20,12 @@ double secondsSince(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-/// beta per material from its absorption over the wave band.
+/// beta per material from its absorption over the octave bands up to the crossover.
 std::vector<float> admittances(const SceneDesc& scene) {
   std::vector<float> beta;
   for (const Material& m : scene.materials)
     beta.push_back(float(admittanceForAbsorption(
-        waveBandAbsorption(m.absorption, double(scene.wave.maxFrequencyHz)))));
+        waveBandAbsorption(m.absorption, double(scene.wave.crossover())))));
   return beta;
 }
 
@@ -34,7 +36,7 @@ std::vector<float> pulse(double maxFrequencyHz, int stepRate, size_t steps) {
   std::vector<float> q(length, 0.f);
   if (q.empty()) return q;
   q[0] = float(stepRate);
-  Butterworth::design(Butterworth::Kind::kLowPass, 4, maxFrequencyHz, stepRate).run(q);
+  Butterworth::design(Butterworth::Kind::kLowPass, kPulseOrder, maxFrequencyHz, stepRate).run(q);
   return q;
 }
 
@@ -48,7 +50,9 @@ Stencil stencilOrThrow(const WaveGrid& grid, const WavePoint& p, const std::stri
 }
 
 /// The receiver pressure at `stepRate` as an IR at `sampleRate`: resampled, scaled to the
-/// discrete IR's convention (1 / sampleRate), the offset below kWaveDcHz removed.
+/// discrete IR's convention (1 / sampleRate) and to the energy response's scale (sqrt(4 pi):
+/// the free field's 1 / (4 pi r) becomes 1 / (sqrt(4 pi) r)), the offset below kWaveDcHz
+/// removed.
 std::vector<float> toAudioRate(std::vector<float> pressure, int stepRate, int sampleRate,
                                size_t samples) {
   audio::AudioData in;
@@ -56,7 +60,8 @@ std::vector<float> toAudioRate(std::vector<float> pressure, int stepRate, int sa
   in.channels.push_back(std::move(pressure));
   std::vector<float> ir = std::move(audio::resample(in, sampleRate).channels.front());
   ir.resize(samples, 0.f);
-  for (float& v : ir) v /= float(sampleRate);
+  const double scale = std::sqrt(4.0 * std::numbers::pi) / double(sampleRate);
+  for (float& v : ir) v = float(double(v) * scale);
   Butterworth::design(Butterworth::Kind::kHighPass, 2, kWaveDcHz, sampleRate).run(ir);
   return ir;
 }

@@ -1,7 +1,9 @@
 // The wave band of one source: builds the grid of the scene's air, runs the solver
 // (wave/fdtd.h) with a band-limited pulse and returns the pressure impulse response at each
-// receiver at the audio sample rate, in the units of the ray-traced IR (a free-field path of
-// length r is a band-limited Dirac of area 1 / (4 pi r)). One simulation serves every receiver
+// receiver at the audio sample rate, in the units of the ray-traced IR: a free-field path of
+// length r is a band-limited Dirac of area 1 / (sqrt(4 pi) r), so its energy is the intensity
+// 1 / (4 pi r^2) relative to the source's power, the energy response's scale (the solver's
+// pressure 1 / (4 pi r) times sqrt(4 pi)). One simulation serves every receiver
 // (the source is where the pulse enters; by reciprocity source and receiver may be swapped,
 // docs/wave.md).
 //

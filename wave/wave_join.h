@@ -1,33 +1,76 @@
 // Joining the wave band to the ray-traced IR: the ray-traced channel high-passed and the wave
-// band low-passed at the crossover by a power-complementary pair (4th-order Butterworth,
-// common/butterworth.h: |H_lp|^2 + |H_hp|^2 = 1), so the joined IR's energy per frequency is
+// band low-passed at the crossover by a 3rd-order Butterworth pair (common/butterworth.h):
+// power complementary (|H_lp|^2 + |H_hp|^2 = 1), so the joined IR's energy per frequency is
 // the wave band's below the crossover, the ray band's above and their power mean at it (-3 dB
-// each); both filters are causal, so nothing moves before the direct sound.
+// each) where the bands are incoherent (the late field), and in quadrature, so their sum is
+// an allpass and what both bands hold alike (the direct sound) keeps its level across the
+// crossover too (an even order would add 3 dB there). For that the two bands must also be in
+// phase: the wave band carries its pulse's low-pass P (4th-order Butterworth at the maximum
+// frequency, wave/wave_band.h), whose phase at the crossover is large (78 degrees at half the
+// maximum frequency). So the wave band is low-passed by P once more and the ray-traced band
+// passed through the allpass with P's poles (twice P's phase): both then carry twice P's
+// phase, and the ray band's magnitude is untouched. The cost: the joined IR's content below
+// about twice the maximum frequency is delayed alike in both bands (group delay 1.7 ms at
+// 0 Hz for a 500 Hz maximum). Every filter is causal, so nothing moves before the direct
+// sound.
 //
 // How the omnidirectional wave band enters each output channel (`waveBandGain`): mono, and
 // each ear of binaural output, take it whole (below a few hundred hertz the head barely shades
 // one ear); stereo and loudspeaker outputs share its power equally (1 / sqrt(channels)); AmbiX
-// puts it in W (ACN 0, SN3D: the pressure) and nowhere else.
+// IRs (Ambisonic output, and head-tracked binaural, whose IRs are AmbiX) put it in W (ACN 0,
+// SN3D: the pressure) and nowhere else.
 //
 // Control thread; joinWaveBand allocates a copy of the wave band; no errors (requires
-// 0 < crossoverHz < fs / 2, checked by the scene's validation).
+// 0 < crossoverHz < fs / 2, checked by the scene's validation). WaveBandSet: built on the
+// control thread (allocates); join() runs on the propagation thread, allocation-free.
 #pragma once
 
 #include <span>
+#include <vector>
 
+#include "common/butterworth.h"
+#include "common/impulse_response.h"
 #include "scene/scene.h"
 
 namespace dpc::wave {
 
-/// Order of each crossover filter.
-inline constexpr int kCrossoverOrder = 4;
+/// Order of each crossover filter: odd, so the pair is both power and allpass complementary;
+/// 18 dB per octave.
+inline constexpr int kCrossoverOrder = 3;
 
 /// The wave band's gain in output channel `channel` of `format` with `channels` channels.
 double waveBandGain(OutputFormat format, int channel, int channels);
 
-/// rayChannel <- HP(rayChannel) + gain * LP(wave), over rayChannel's length (fs: both signals'
-/// rate, Hz).
+/// Order of the wave band's pulse (wave/wave_band.h) and of the phase matching above.
+inline constexpr int kPulseOrder = 4;
+
+/// rayChannel <- HP(AP(rayChannel)) + gain * LP(P(wave)), over rayChannel's length (fs: both
+/// signals' rate, Hz; P and AP at maxFrequencyHz).
 void joinWaveBand(std::span<float> rayChannel, std::span<const float> wave, double gain,
-                  double crossoverHz, double fs);
+                  double crossoverHz, double maxFrequencyHz, double fs);
+
+/// The wave bands of a render, each low-passed once when it is set, joined to every IR the
+/// renderer synthesises for its listener-source pair.
+class WaveBandSet {
+ public:
+  /// For `listeners` x `sources` pairs of IRs of output `format` at `fs` Hz, crossing over
+  /// at crossoverHz, of wave bands simulated up to maxFrequencyHz.
+  WaveBandSet(size_t listeners, size_t sources, OutputFormat format, double crossoverHz,
+              double maxFrequencyHz, double fs);
+  /// The wave band of (listener, source) (scene indices), at fs.
+  void set(size_t listener, size_t source, std::span<const float> band);
+  bool has(size_t listener, size_t source) const;
+  /// Every channel of `ir` (the pair's ray-traced IR at fs) phase-matched and high-passed,
+  /// plus its share of the low-passed wave band. No allocation.
+  void join(size_t listener, size_t source, ImpulseResponse& ir) const;
+  double crossoverHz() const { return crossoverHz_; }
+
+ private:
+  size_t sources_;
+  OutputFormat format_;
+  double crossoverHz_, maxFrequencyHz_, fs_;
+  Butterworth highPass_, allPass_;
+  std::vector<std::vector<float>> lowPassed_;  ///< [listener * sources + source]
+};
 
 }  // namespace dpc::wave

@@ -35,8 +35,7 @@ struct Options {
   std::string scene, out;
   size_t source = 0;
   std::string listener;
-  double seconds = 0.0;
-  std::optional<double> maxFrequency, gridSpacing;
+  std::optional<double> seconds, maxFrequency, gridSpacing;
   bool json = false;
 };
 
@@ -44,7 +43,8 @@ constexpr const char* kDescription =
     "dpc-wave: the low band of a scene by wave simulation (FDTD, docs/wave.md).\n"
     "Writes one source's band-limited impulse response at the listeners (one channel each,\n"
     "in scene order, or the one named), in dpc's IR units (a free-field path of length r is a\n"
-    "band-limited Dirac of area 1/(4 pi r)), before any crossover. The scene's `wave` keys set\n"
+    "band-limited Dirac of area 1/(sqrt(4 pi) r): energy 1/(4 pi r^2), the energy response's\n"
+    "scale), before any crossover. The scene's `wave` keys set\n"
     "the maximum frequency and grid; dpc-demo --ir-out joins the band to the ray-traced IR\n"
     "when wave.enabled is true. Prints the grid, the cost and progress with an ETA.\n"
     "Exit status: 0 on success, 1 on bad input (message on stderr).";
@@ -84,7 +84,7 @@ SceneDesc loadWithOverrides(const Options& o) {
     throw InputError("command line", "--source",
                      std::to_string(o.source) + " is not a source index (the scene has " +
                          std::to_string(scene.sources.size()) + ")");
-  if (o.seconds != 0.0 && !(o.seconds > 0.0 && o.seconds <= 60.0))
+  if (o.seconds && !(*o.seconds > 0.0 && *o.seconds <= 60.0))
     throw InputError("command line", "--seconds", "must be in (0, 60] s");
   return scene;
 }
@@ -136,7 +136,7 @@ int run(const Options& o) {
   else
     for (size_t l = 0; l < scene.listeners.size(); ++l) listeners.push_back(l);
   wave::WaveBandOptions opt;
-  opt.seconds = o.seconds > 0.0 ? o.seconds : double(scene.propagation.irLength);
+  opt.seconds = o.seconds.value_or(double(scene.propagation.irLength));
   opt.sampleRate = scene.audio.sampleRate;
   const auto t0 = std::chrono::steady_clock::now();
   opt.progress = [t0](size_t done, size_t total) { progress(done, total, t0); };

@@ -36,6 +36,14 @@ CASES = {
     "source_neg_1e7": (scene_with(**{"sources.0.position": [2, -1e7, 3.5]}), OFF, "sources[0].position[1]"),
     "listener_1e30": (scene_with(**{"listener.position": [1e30, 1.6, 1.5]}), OFF, "listener.position[0]"),
     "keyframe_1e9": (scene_with(**{"listener.trajectory.1.position": [8.5, 1.6, 1e9]}), OFF, "listener.trajectory[1].position[2]"),
+    # The wave band (scene key "wave", docs/wave.md).
+    "wave_crossover_above_max": (scene_with(wave={"enabled": True, "max_frequency": 200, "crossover_hz": 300}), OFF, "shoebox.json: wave.crossover_hz: 300 Hz must lie below wave.max_frequency"),
+    "wave_grid_too_coarse": (scene_with(wave={"grid_spacing": 0.5}), OFF, "shoebox.json: wave.grid_spacing: 0.5 m is too coarse"),
+    "wave_max_frequency_5000": (scene_with(wave={"max_frequency": 5000}), OFF, "shoebox.json: wave.max_frequency: 5000 is outside [20, 4000] Hz"),
+    "wave_key_typo": (scene_with(wave={"enable": True}), OFF, "wave"),
+    "wave_enabled_not_bool": (scene_with(wave={"enabled": "yes"}), OFF, "wave.enabled"),
+    "wave_with_moving_listener": (scene_with(wave={"enabled": True, "max_frequency": 100}), OFF, "shoebox.json: wave.enabled: the wave band is simulated for one pose of the scene, and listeners[0].trajectory moves"),
+    "wave_source_outside_room": (scene_with(wave={"enabled": True, "max_frequency": 100}, listener={"position": [8.5, 1.6, 1.5]}, **{"sources.0.position": [-3, 1.6, 3.5]}), OFF, "sources[0].position: lies in no air"),
     # Finding 3: outputs naming inputs or non-regular files.
     "offline_is_scene": (nothing, ["shoebox.json", "--offline", "shoebox.json"], "--offline"),
     "offline_is_mesh": (nothing, ["shoebox.json", "--offline", "shoebox.obj"], "the mesh"),

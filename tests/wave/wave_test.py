@@ -30,7 +30,9 @@
               about 1.3 dB per receiver, averages to 0.3 dB over 42 bands, and the wave band's
               one admittance per material moves its decay time by up to 25 %: 1 dB).
 
-    wave_test.py BUILD_DIR [modes|free_field|join ...]
+  cli         dpc-wave's bad input: one line naming the flag, exit status 1, no file written.
+
+    wave_test.py BUILD_DIR [modes|free_field|join|cli ...]
 Exit status 0 when every check holds; prints what it measured.
 """
 import json
@@ -210,12 +212,34 @@ def join(build, tmp):
           '(%+.2f dB)' % calibration)
 
 
+def cli(build, tmp):
+    """dpc-wave's bad input: one line naming the flag or field, exit status 1, no file."""
+    box = oracle.write_box(tmp, 'cli', (3.0, 2.5, 2.0), {w: 0.1 for w in ('x-', 'x+', 'y-', 'y+',
+                           'z-', 'z+')}, [(1.0, 1.0, 1.0)], [(2.0, 1.5, 1.2)], {'max_frequency': 100})
+    out = os.path.join(tmp, 'cli_out.wav')
+    exe = os.path.join(build, 'apps', 'dpc-wave')
+    cases = [([box, '--out', out, '--source', '3'], '--source'),
+             ([box, '--out', out, '--max-frequency', '5000'], '--max-frequency'),
+             ([box, '--out', out, '--grid-spacing', '2'], '--grid-spacing'),
+             ([box, '--out', out, '--seconds', '0'], '--seconds'),
+             ([box, '--out', box], '--out'),
+             ([box, '--out', out, '--listener', 'nobody'], '--listener')]
+    for args, field in cases:
+        before = open(box).read()
+        done = subprocess.run([exe] + args, capture_output=True, text=True)
+        lines = done.stderr.strip().splitlines()
+        check(done.returncode == 1 and len(lines) == 1 and field in lines[0] and
+              not os.path.exists(out) and open(box).read() == before,
+              'dpc-wave %s: one line naming %s, status 1, no file (%r)' %
+              (' '.join(args[1:]), field, lines[:2]))
+
+
 def main():
     build = sys.argv[1]
-    which = sys.argv[2:] or ['modes', 'free_field', 'join']
+    which = sys.argv[2:] or ['modes', 'free_field', 'join', 'cli']
     with tempfile.TemporaryDirectory() as tmp:
         for name in which:
-            {'modes': modes, 'free_field': free_field, 'join': join}[name](build, tmp)
+            {'modes': modes, 'free_field': free_field, 'join': join, 'cli': cli}[name](build, tmp)
     print('%d check(s) failed' % len(failures) if failures else 'all checks hold')
     return 1 if failures else 0
 

@@ -16,6 +16,7 @@
 //   dpc-bench budget SCENE|room-4x3x2.5 [--rays-list N ...]
 //   dpc-bench convolve [--blocks B ...] [--seconds S] [--swap-ms M] [--no-uniform] [--cases C,...]
 //   dpc-bench load [--cells 25,50,...] [--panels P]   (generated terrains; no file)
+//   dpc-bench wave [--volumes V ...] [--frequencies HZ ...] [--seconds S]   (boxes; no file)
 //
 // One file per benchmark family (bench/<family>_bench.h); this file holds the command line.
 #include <CLI/CLI.hpp>
@@ -30,6 +31,7 @@
 #include "bench/budget_bench.h"
 #include "bench/convolve_bench.h"
 #include "bench/diffraction_bench.h"
+#include "bench/wave_bench.h"
 #include "bench/dynamic_bench.h"
 #include "bench/listeners_bench.h"
 #include "bench/live_bench.h"
@@ -61,12 +63,13 @@ struct Options {
   BakeBenchOptions bake;
   BakeInterpOptions bakeInterp;
   BakeFrameOptions bakeFrame;
+  WaveBenchOptions wave;
 };
 
 /// The subcommands as CLI11 knows them (each is true once parsed).
 struct Subcommands {
   CLI::App *propagation, *noise, *live, *listeners, *sources, *diffraction, *budget, *dynamic,
-      *convolve, *load, *bake, *bakeInterp, *bakeFrame;
+      *convolve, *load, *bake, *bakeInterp, *bakeFrame, *wave;
 };
 
 /// A subcommand that loads a scene, with the options every such benchmark takes.
@@ -266,6 +269,15 @@ Subcommands addSubcommands(CLI::App& app, Options& o) {
   s.bake = addBake(app, o);
   s.bakeInterp = addBakeInterp(app, o);
   s.bakeFrame = addBakeFrame(app, o);
+  s.wave = app.add_subcommand("wave",
+                              "Wave band (FDTD): time and memory per simulated second and cubic "
+                              "metre at 250 and 500 Hz; predicted scaling over MPI ranks");
+  s.wave->add_option("--volumes", o.wave.volumes, "Box volumes, m^3 (default 50 200 800)")
+      ->check(CLI::Range(1.0, 1e5));
+  s.wave->add_option("--frequencies", o.wave.frequencies, "Maximum frequencies, Hz (default 250 500)")
+      ->check(CLI::Range(20.0, 4000.0));
+  s.wave->add_option("--seconds", o.wave.seconds, "Simulated seconds per run (default 0.25)")
+      ->check(CLI::Range(0.01, 60.0));
   return s;
 }
 
@@ -287,6 +299,7 @@ int run(const Subcommands& s, const Options& o) {
   if (*s.diffraction) return benchDiffraction(o.common);
   if (*s.live) return benchLive(o.common, o.live);
   if (*s.load) return benchLoad(o.load);
+  if (*s.wave) return benchWave(o.wave);
   return benchNoise(o.common, o.noise);
 }
 

@@ -42,7 +42,8 @@ Writes docs/data/bras-ROOM.json, prints the tables (markdown) and, with --update
 into docs/validation.md between its `<!-- bras-tables -->` markers; --plot draws
 docs/images/validation-bras-ROOM.png from the JSON.
 Usage: /usr/bin/python3 scripts/bras.py --raven-models PATH/RavenModels [--rooms CR2 CR4]
-           [--build build] [--rays 40000] [--seeds 2] [--variants fitted ...] [--update-doc]
+           [--build build] [--rays 40000] [--seeds 2] [--variants fitted ...] [--wave HZ]
+           [--update-doc]
        /usr/bin/python3 scripts/bras.py --plot [--rooms CR2 CR4]
 """
 import argparse
@@ -257,7 +258,7 @@ def diffuse_field_t60(volume, areas, absorption, air_m, temperature):
     return out
 
 
-def scene(room, variant, freqs, materials):
+def scene(room, variant, freqs, materials, wave=0.0):
     r = ROOMS[room]
     estimate = 'initial' if variant == 'initial' else 'fitted'
     mats = {}
@@ -279,6 +280,7 @@ def scene(room, variant, freqs, materials):
                         'ir_length': r['ir_length'], 'temperature': r['air'][0],
                         'humidity': r['air'][1]},
         'audio': {'sample_rate': 48000, 'block_size': 512},
+        **({'wave': {'enabled': True, 'max_frequency': wave}} if wave else {}),
     }
 
 
@@ -406,7 +408,7 @@ def run_room(args, room, folder):
     air_m = air_attenuation(args.build, ROOMS[room]['air'])
     variants = [x for x in args.variants if x in ROOMS[room]['variants']]
     for variant in variants:
-        sc = scene(room, variant, freqs, materials)
+        sc = scene(room, variant, freqs, materials, args.wave)
         absorption = {m: d['absorption'] for m, d in sc['materials'].items()}
         runs = [render(args.build, folder, room, variant, sc, args.rays, seed, args.threads)
                 for seed in range(1, args.seeds + 1)]
@@ -490,14 +492,18 @@ def main():
     ap.add_argument('--threads', type=int, default=0)
     ap.add_argument('--variants', nargs='+', default=['fitted'],
                     choices=['fitted', 'fitted-diffuse', 'initial'])
+    ap.add_argument('--wave', type=float, default=0.0, metavar='HZ',
+                    help='join the wave band up to HZ (scene key wave, docs/wave.md; crossover '
+                         'at HZ / 2) to every IR; the JSON goes to bras-ROOM-waveHZ.json')
     ap.add_argument('--plot', action='store_true', help='only draw the images from the JSON')
     ap.add_argument('--data-dir', default=os.path.join(ROOT, 'docs', 'data'),
                     help='where bras-ROOM.json goes (the images are drawn only for docs/data)')
     ap.add_argument('--update-doc', action='store_true',
                     help="put the tables into docs/validation.md between its markers")
     args = ap.parse_args()
-    json_path = lambda room: os.path.join(args.data_dir, f'bras-{room.lower()}.json')
-    draw = os.path.abspath(args.data_dir) == os.path.join(ROOT, 'docs', 'data')
+    suffix = f'-wave{args.wave:g}' if args.wave else ''
+    json_path = lambda room: os.path.join(args.data_dir, f'bras-{room.lower()}{suffix}.json')
+    draw = os.path.abspath(args.data_dir) == os.path.join(ROOT, 'docs', 'data') and not args.wave
     if args.plot:
         for room in args.rooms:
             with open(json_path(room)) as f:

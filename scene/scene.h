@@ -261,7 +261,7 @@ struct AudioSettings {
 };
 
 /// Grid nodes per wavelength at the wave band's maximum frequency: with the scheme of
-/// wave/fdtd.h at its stability limit the phase speed is then at most 1.2 % slow (along the
+/// wave/fdtd.h at its stability limit the phase speed is then at most 1.1 % slow (along the
 /// grid's axes; exact along its diagonals), and 0.3 % at half that frequency (docs/wave.md).
 inline constexpr double kWavePointsPerWavelength = 10.0;
 

@@ -7,7 +7,7 @@
 // Time step: the Courant number sum_a (c T / h_a)^2 = kCourantSquared, just inside the
 // stability limit 1 (lambda = 1/sqrt 3 on a cubic grid). At the limit the scheme has no
 // dispersion along the grid's diagonals and its largest along the axes: phase speed
-// 1.2 % slow at 10 nodes per wavelength, 0.3 % at 20 (kWavePointsPerWavelength).
+// 1.1 % slow at 10 nodes per wavelength, 0.3 % at 20 (kWavePointsPerWavelength).
 // Boundary node update (K open faces, g = c T / 2 * sum over closed faces of beta / h_a):
 //   (1 + g) p^{n+1} = 2 p^n - (1 - g) p^{n-1} + sum_open (c T / h_a)^2 (p_nb - p^n).
 // Free field: a pulse q(t) of unit area gives p(r, t) = q(t - r / c) / (4 pi r) (c^2 q delta

@@ -25,7 +25,9 @@ namespace dpc {
 class Butterworth {
  public:
   /// kAllPass: unit magnitude with the low-pass's poles, B(-s) / B(s): twice its phase.
-  enum class Kind { kLowPass, kHighPass, kAllPass };
+  /// kSumAllPass (odd orders): the sum of the low-pass and the high-pass, which is the allpass
+  /// of the complex pole pairs alone (order 3: (s^2 - s + 1) / (s^2 + s + 1)).
+  enum class Kind { kLowPass, kHighPass, kAllPass, kSumAllPass };
 
   /// A `kind` filter of `order` at `cutoffHz`, sampling rate `fs` Hz.
   static Butterworth design(Kind kind, int order, double cutoffHz, double fs) {
@@ -44,7 +46,7 @@ class Butterworth {
         q.b0 = k * k / norm;
         q.b1 = 2.0 * q.b0;
         q.b2 = q.b0;
-      } else if (kind == Kind::kAllPass) {  // the denominator reversed
+      } else if (kind == Kind::kAllPass || kind == Kind::kSumAllPass) {  // denominator reversed
         q.b0 = q.a2;
         q.b1 = q.a1;
         q.b2 = 1.0;
@@ -55,7 +57,7 @@ class Butterworth {
       }
       f.sections_.push_back(q);
     }
-    if (order % 2) f.sections_.push_back(firstOrder(kind, k));
+    if (order % 2 && kind != Kind::kSumAllPass) f.sections_.push_back(firstOrder(kind, k));
     return f;
   }
 

@@ -38,12 +38,4 @@ double admittanceForAbsorption(double alpha) {
   return 0.5 * (lo + hi);
 }
 
-double waveBandAbsorption(const Bands& absorption, double upToHz) {
-  double sum = absorption[0];
-  int n = 1;
-  for (int b = 1; b < kNumBands && kBandCentreHz[size_t(b)] <= upToHz; ++b, ++n)
-    sum += absorption[b];
-  return std::clamp(sum / n, 0.0, 1.0);
-}
-
 }  // namespace dpc::wave

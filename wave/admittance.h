@@ -5,18 +5,16 @@
 // (statistical) values, so beta is the one whose Paris statistical absorption
 //   alpha_st(beta) = integral_0^{pi/2} alpha(theta) sin(2 theta) d theta,
 //   alpha(theta) = 4 zeta cos(theta) / (zeta cos(theta) + 1)^2,  zeta = 1 / beta,
-// equals the material's mean absorption over the octave bands the joined IR takes from the
-// wave band (those with centres up to the crossover; the 63 Hz band at least). Limits: one
-// value for the whole wave band (a material whose absorption changes across it gets its
-// mean: a membrane absorbing most at 63-125 Hz decays too slowly there), and
+// equals the material's absorption coefficient in one octave band (wave/wave_band.h runs one
+// simulation per octave band up to the crossover, each with its band's admittance, and splits
+// the results at the band edges). Limits: within a band the wall is frequency independent,
+// and
 // alpha_st of a real admittance peaks at 0.951 (zeta = 1.567): more absorbing materials get
 // that peak.
 //
 // Any thread; no allocation; no errors (alpha is clamped to [0, 0.951]).
 // Source: H. Kuttruff, Room Acoustics (6th ed., 2017), section 2.5 (Paris' formula).
 #pragma once
-
-#include "common/bands.h"
 
 namespace dpc::wave {
 
@@ -26,9 +24,5 @@ double statisticalAbsorption(double beta);
 
 /// The real normalised admittance in [0, 1 / 1.567] whose statistical absorption is `alpha`.
 double admittanceForAbsorption(double alpha);
-
-/// The mean of `absorption` over the octave bands with centres up to upToHz (at least the
-/// lowest band).
-double waveBandAbsorption(const Bands& absorption, double upToHz);
 
 }  // namespace dpc::wave

@@ -20,12 +20,11 @@ double secondsSince(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-/// beta per material from its absorption over the octave bands up to the crossover.
-std::vector<float> admittances(const SceneDesc& scene) {
+/// beta per material from its absorption in octave band `band`.
+std::vector<float> admittances(const SceneDesc& scene, int band) {
   std::vector<float> beta;
   for (const Material& m : scene.materials)
-    beta.push_back(float(admittanceForAbsorption(
-        waveBandAbsorption(m.absorption, double(scene.wave.crossover())))));
+    beta.push_back(float(admittanceForAbsorption(m.absorption[band])));
   return beta;
 }
 
@@ -66,6 +65,55 @@ std::vector<float> toAudioRate(std::vector<float> pressure, int stepRate, int sa
   return ir;
 }
 
+/// The simulation's input for `grid` (its stencils, pulse and length in `st`).
+struct Run {
+  SimulationInput in;
+  std::vector<Stencil> receivers;
+  std::vector<float> pulse;
+};
+
+void prepare(Run& run, const SceneDesc& scene, const WaveGrid& grid, const WavePoint& source,
+             std::span<const WavePoint> receivers, const WaveBandStats& st) {
+  run.in.speedOfSound = scene.propagation.speedOfSound;
+  run.in.stepRate = st.stepRate;
+  run.in.source = stencilOrThrow(grid, source, scene.path);
+  for (const WavePoint& r : receivers) run.receivers.push_back(stencilOrThrow(grid, r, scene.path));
+  run.in.receivers = run.receivers;
+  run.pulse = pulse(scene.wave.maxFrequencyHz, st.stepRate, st.steps);
+  run.in.signal = run.pulse;
+  run.in.steps = st.steps;
+}
+
+/// One simulation per octave band up to the crossover, each with that band's admittances,
+/// split at the band edges and summed: the IR per receiver at the audio rate.
+std::vector<std::vector<float>> simulateBands(const SceneDesc& scene, WaveGrid& grid,
+                                              const WavePoint& source,
+                                              std::span<const WavePoint> receivers,
+                                              const WaveBandOptions& options,
+                                              const WaveBandStats& st) {
+  Run run;
+  prepare(run, scene, grid, source, receivers, st);
+  const std::vector<int> bands = simulatedBands(scene.wave.crossover());
+  const std::vector<double> edges = bandEdges(bands);
+  const size_t samples = size_t(std::llround(options.seconds * options.sampleRate));
+  std::vector<std::vector<float>> irs(receivers.size(), std::vector<float>(samples, 0.f));
+  for (size_t k = 0; k < bands.size(); ++k) {
+    setAdmittances(grid, admittances(scene, bands[k]));
+    if (options.progress)
+      run.in.progress = [&, k](size_t done, size_t total) {
+        options.progress(k * total + done, bands.size() * total);
+      };
+    std::vector<std::vector<float>> pressure = simulate(grid, run.in);
+    for (size_t r = 0; r < pressure.size(); ++r) {
+      std::vector<float> ir =
+          toAudioRate(std::move(pressure[r]), st.stepRate, options.sampleRate, samples);
+      splitBand(ir, k, edges, options.sampleRate);
+      for (size_t i = 0; i < samples; ++i) irs[r][i] += ir[i];
+    }
+  }
+  return irs;
+}
+
 }  // namespace
 
 WaveBand simulateWaveBand(const SceneDesc& scene, const Tracer& tracer, const Geometry& geometry,
@@ -78,8 +126,7 @@ WaveBand simulateWaveBand(const SceneDesc& scene, const Tracer& tracer, const Ge
                                       scene.path);
   std::vector<glm::vec3> seeds{source.position};
   for (const WavePoint& r : receivers) seeds.push_back(r.position);
-  const std::vector<float> beta = admittances(scene);
-  const WaveGrid grid = buildWaveGrid(layout, tracer, geometry, beta, seeds);
+  WaveGrid grid = buildWaveGrid(layout, tracer, geometry, seeds);
   WaveBand out;
   WaveBandStats& st = out.stats;
   st.layout = layout;
@@ -87,27 +134,14 @@ WaveBand simulateWaveBand(const SceneDesc& scene, const Tracer& tracer, const Ge
   st.boundaryNodes = grid.boundary.size();
   st.stepRate = stepRateFor(layout, c);
   st.steps = size_t(std::ceil(options.seconds * st.stepRate)) + 1;
-  st.stateBytes = layout.arraySize() * 3 * sizeof(float) + grid.boundary.size() * 12;
+  st.stateBytes = layout.arraySize() * 3 * sizeof(float) + grid.boundary.size() * sizeof(BoundaryNode);
+  st.simulations = simulatedBands(scene.wave.crossover()).size();
   st.buildSeconds = secondsSince(t0);
-
-  SimulationInput in;
-  in.speedOfSound = c;
-  in.stepRate = st.stepRate;
-  in.source = stencilOrThrow(grid, source, scene.path);
-  std::vector<Stencil> at;
-  for (const WavePoint& r : receivers) at.push_back(stencilOrThrow(grid, r, scene.path));
-  in.receivers = at;
-  const std::vector<float> q = pulse(scene.wave.maxFrequencyHz, st.stepRate, st.steps);
-  in.signal = q;
-  in.steps = st.steps;
-  in.progress = options.progress;
   const auto t1 = Clock::now();
-  std::vector<std::vector<float>> pressure = simulate(grid, in);
+  out.irs = simulateBands(scene, grid, source, receivers, options, st);
   st.simulateSeconds = secondsSince(t1);
-  const size_t samples = size_t(std::llround(options.seconds * options.sampleRate));
-  for (auto& p : pressure)
-    out.irs.push_back(toAudioRate(std::move(p), st.stepRate, options.sampleRate, samples));
   return out;
 }
 
 }  // namespace dpc::wave
+

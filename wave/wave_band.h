@@ -7,6 +7,10 @@
 // (the source is where the pulse enters; by reciprocity source and receiver may be swapped,
 // docs/wave.md).
 //
+// Walls: one simulation per octave band up to the crossover (wave/wave_join.h's
+// simulatedBands), each with the materials' admittance in that band (wave/admittance.h), split
+// at the band edges by odd-order crossovers and summed (splitBand: the split is an allpass
+// where the bands agree), so each octave decays with its own absorption.
 // The pulse: a unit-area impulse through a causal 4th-order Butterworth low-pass at the maximum
 // frequency (the grid's dispersion grows above it); the result is high-passed at kWaveDcHz
 // (2nd order) to remove the pressure offset a closed room keeps after a volume of air was
@@ -53,7 +57,8 @@ struct WaveBandStats {
   size_t airNodes = 0;
   size_t boundaryNodes = 0;
   int stepRate = 0;          ///< time steps per second
-  size_t steps = 0;
+  size_t steps = 0;          ///< per simulation
+  size_t simulations = 0;    ///< one per octave band up to the crossover
   size_t stateBytes = 0;     ///< the solver's arrays (pressure twice, air mask, boundary)
   double buildSeconds = 0.0; ///< wall time of the grid
   double simulateSeconds = 0.0;

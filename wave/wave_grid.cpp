@@ -14,7 +14,7 @@ namespace {
 
 /// Face codes: open, a triangle's material (index + 1), or the bounding box's edge.
 constexpr uint16_t kOpen = 0;
-constexpr uint16_t kOutside = 0xFFFF;
+constexpr uint16_t kOutside = kWallOutside;
 
 /// The code of the face from the node at padded (i, j, k) to its +axis neighbour.
 uint16_t traceFace(const GridLayout& g, const Tracer& tracer, const Geometry& geometry,
@@ -120,7 +120,7 @@ GridLayout layoutFor(const glm::dvec3& lo, const glm::dvec3& hi, double target,
 }
 
 WaveGrid buildWaveGrid(const GridLayout& layout, const Tracer& tracer, const Geometry& geometry,
-                       std::span<const float> beta, std::span<const glm::vec3> seeds) {
+                       std::span<const glm::vec3> seeds) {
   const std::vector<uint16_t> codes = traceFaces(layout, tracer, geometry);
   const std::vector<uint8_t> reached = flood(layout, codes, seeds);
   const auto stride = strides(layout);
@@ -131,19 +131,27 @@ WaveGrid buildWaveGrid(const GridLayout& layout, const Tracer& tracer, const Geo
     if (!reached[n]) continue;
     grid.air[n] = 1.f;
     ++grid.airNodes;
-    BoundaryNode b{uint32_t(n), 0, 0.f};
+    BoundaryNode b{uint32_t(n), 0, {}, 0.f};
     for (int face = 0; face < 6; ++face) {
-      const uint16_t code = faceCode(codes, stride, n, face);
-      if (code == kOpen) {
-        b.openFaces = uint8_t(b.openFaces | (1u << face));
-        continue;
-      }
-      const double wall = code == kOutside ? 1.0 : double(beta[code - 1u]);
-      b.admittancePerMetre += float(wall / layout.spacing[face / 2]);
+      b.walls[size_t(face)] = faceCode(codes, stride, n, face);
+      if (b.walls[size_t(face)] == kOpen) b.openFaces = uint8_t(b.openFaces | (1u << face));
     }
     if (b.openFaces != 0x3F) grid.boundary.push_back(b);
   }
   return grid;
+}
+
+void setAdmittances(WaveGrid& grid, std::span<const float> beta) {
+  for (BoundaryNode& b : grid.boundary) {
+    double sum = 0.0;
+    for (int face = 0; face < 6; ++face) {
+      const uint16_t code = b.walls[size_t(face)];
+      if (code == kOpen) continue;
+      const double wall = code == kOutside ? 1.0 : double(beta[code - 1u]);
+      sum += wall / grid.layout.spacing[face / 2];
+    }
+    b.admittancePerMetre = float(sum);
+  }
 }
 
 }  // namespace dpc::wave

@@ -68,12 +68,17 @@ struct GridLayout {
 GridLayout layoutFor(const glm::dvec3& lo, const glm::dvec3& hi, double target,
                      const std::string& file);
 
+/// Wall codes of a closed face: kWallOutside for the bounding box's edge, else the material's
+/// index + 1; 0 for an open face.
+inline constexpr uint16_t kWallOutside = 0xFFFF;
+
 /// A node of the air with a closed face: its open faces (bit 2a: the -a neighbour, bit 2a+1:
-/// the +a neighbour) and the sum over its closed faces of beta / spacing[axis] (1/m), beta the
-/// wall's normalised admittance (rho c / Z).
+/// the +a neighbour), each face's wall code, and the sum over its closed faces of
+/// beta / spacing[axis] (1/m), beta the wall's normalised admittance (rho c / Z).
 struct BoundaryNode {
   uint32_t index = 0;
   uint8_t openFaces = 0;
+  std::array<uint16_t, 6> walls{};
   float admittancePerMetre = 0.f;
 };
 
@@ -87,10 +92,13 @@ struct WaveGrid {
 };
 
 /// Builds the grid of `layout` over the scene of `geometry` and `tracer` (its objects at the
-/// poses the tracer holds), with per-material normalised admittance `beta` (indexed as the
-/// geometry's materials), air flooded from `seeds` (metres; a seed outside the box or on no
-/// air node is skipped).
+/// poses the tracer holds), air flooded from `seeds` (metres; a seed outside the box or on no
+/// air node is skipped). Walls have no admittance until setAdmittances.
 WaveGrid buildWaveGrid(const GridLayout& layout, const Tracer& tracer, const Geometry& geometry,
-                       std::span<const float> beta, std::span<const glm::vec3> seeds);
+                       std::span<const glm::vec3> seeds);
+
+/// Sets every boundary node's admittance from per-material normalised admittance `beta`
+/// (indexed as the geometry's materials; the box's edge has 1). No allocation.
+void setAdmittances(WaveGrid& grid, std::span<const float> beta);
 
 }  // namespace dpc::wave

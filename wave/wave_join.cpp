@@ -8,6 +8,27 @@
 
 namespace dpc::wave {
 
+std::vector<int> simulatedBands(double crossoverHz) {
+  std::vector<int> bands{0};
+  for (int b = 1; b < kNumBands && kBandCentreHz[size_t(b)] <= crossoverHz; ++b) bands.push_back(b);
+  return bands;
+}
+
+std::vector<double> bandEdges(std::span<const int> bands) {
+  std::vector<double> edges;
+  for (size_t k = 1; k < bands.size(); ++k)
+    edges.push_back(std::sqrt(bandCentreExactHz(bands[k - 1]) * bandCentreExactHz(bands[k])));
+  return edges;
+}
+
+void splitBand(std::span<float> x, size_t k, std::span<const double> edges, double fs) {
+  using Kind = Butterworth::Kind;
+  for (size_t e = 0; e < edges.size(); ++e) {
+    const Kind kind = e < k ? Kind::kHighPass : e == k ? Kind::kLowPass : Kind::kSumAllPass;
+    Butterworth::design(kind, kCrossoverOrder, edges[e], fs).run(x);
+  }
+}
+
 double waveBandGain(OutputFormat format, int channel, int channels) {
   switch (format) {
     case OutputFormat::kMono:
@@ -27,11 +48,18 @@ namespace {
 
 using K = Butterworth::Kind;
 
-/// `ray` through the allpass and the high-pass in place, plus gain times `lowPassed` (the wave
-/// band already through P and the low-pass).
+std::vector<Butterworth> edgeAllPasses(double crossoverHz, double fs) {
+  std::vector<Butterworth> out;
+  for (double e : bandEdges(simulatedBands(crossoverHz)))
+    out.push_back(Butterworth::design(K::kSumAllPass, kCrossoverOrder, e, fs));
+  return out;
+}
+
+/// `ray` through the allpasses and the high-pass in place, plus gain times `lowPassed` (the
+/// wave band already through P and the low-pass).
 void addToHighPassed(std::span<float> ray, std::span<const float> lowPassed, double gain,
-                     const Butterworth& allPass, const Butterworth& highPass) {
-  allPass.run(ray);
+                     std::span<const Butterworth> allPasses, const Butterworth& highPass) {
+  for (const Butterworth& a : allPasses) a.run(ray);
   highPass.run(ray);
   const size_t n = std::min(ray.size(), lowPassed.size());
   for (size_t i = 0; i < n; ++i) ray[i] += float(gain * double(lowPassed[i]));
@@ -54,7 +82,10 @@ WaveBandSet::WaveBandSet(size_t listeners, size_t sources, OutputFormat format,
       fs_(fs),
       highPass_(Butterworth::design(K::kHighPass, kCrossoverOrder, crossoverHz, fs)),
       allPass_(Butterworth::design(K::kAllPass, kPulseOrder, maxFrequencyHz, fs)),
-      lowPassed_(listeners * sources) {}
+      edgeAllPasses_(edgeAllPasses(crossoverHz, fs)),
+      lowPassed_(listeners * sources) {
+  edgeAllPasses_.push_back(allPass_);
+}
 
 void WaveBandSet::set(size_t listener, size_t source, std::span<const float> band) {
   std::vector<float>& low = lowPassed_.at(listener * sources_ + source);
@@ -70,8 +101,8 @@ bool WaveBandSet::has(size_t listener, size_t source) const {
 void WaveBandSet::join(size_t listener, size_t source, ImpulseResponse& ir) const {
   const std::vector<float>& low = lowPassed_.at(listener * sources_ + source);
   for (int c = 0; c < ir.channels(); ++c)
-    addToHighPassed(ir.channelSpan(c), low, waveBandGain(format_, c, ir.channels()), allPass_,
-                    highPass_);
+    addToHighPassed(ir.channelSpan(c), low, waveBandGain(format_, c, ir.channels()),
+                    edgeAllPasses_, highPass_);
 }
 
 void joinWaveBand(std::span<float> rayChannel, std::span<const float> wave, double gain,
@@ -79,7 +110,9 @@ void joinWaveBand(std::span<float> rayChannel, std::span<const float> wave, doub
   std::vector<float> low(rayChannel.size(), 0.f);
   std::copy_n(wave.begin(), std::min(wave.size(), low.size()), low.begin());
   lowPass(low, crossoverHz, maxFrequencyHz, fs);
-  addToHighPassed(rayChannel, low, gain, Butterworth::design(K::kAllPass, kPulseOrder, maxFrequencyHz, fs),
+  std::vector<Butterworth> allPasses = edgeAllPasses(crossoverHz, fs);
+  allPasses.push_back(Butterworth::design(K::kAllPass, kPulseOrder, maxFrequencyHz, fs));
+  addToHighPassed(rayChannel, low, gain, allPasses,
                   Butterworth::design(K::kHighPass, kCrossoverOrder, crossoverHz, fs));
 }
 

@@ -44,8 +44,23 @@ double waveBandGain(OutputFormat format, int channel, int channels);
 /// Order of the wave band's pulse (wave/wave_band.h) and of the phase matching above.
 inline constexpr int kPulseOrder = 4;
 
-/// rayChannel <- HP(AP(rayChannel)) + gain * LP(P(wave)), over rayChannel's length (fs: both
-/// signals' rate, Hz; P and AP at maxFrequencyHz).
+/// The octave bands (indices into kBandCentreHz) the wave band is simulated in, one
+/// simulation each with that band's absorption: those with centres up to crossoverHz, at
+/// least the lowest.
+std::vector<int> simulatedBands(double crossoverHz);
+
+/// The edges between consecutive simulated bands, Hz: geometric means of their centres.
+std::vector<double> bandEdges(std::span<const int> bands);
+
+/// Band k of a split at `edges` (edges.size() + 1 bands), in place at fs Hz: the crossover's
+/// high-pass at every edge below it, its low-pass at the band's upper edge, and at every edge
+/// above that the allpass LP + HP. Identical inputs to every band sum to the allpass of every
+/// edge (odd order: each LP + HP is one), so the split keeps each band's level and phase.
+void splitBand(std::span<float> x, size_t k, std::span<const double> edges, double fs);
+
+/// rayChannel <- HP(AP(E(rayChannel))) + gain * LP(P(wave)), over rayChannel's length (fs:
+/// both signals' rate, Hz; P and AP at maxFrequencyHz; E the allpasses of the band edges of
+/// simulatedBands(crossoverHz), which wave/wave_band.h's wave band carries).
 void joinWaveBand(std::span<float> rayChannel, std::span<const float> wave, double gain,
                   double crossoverHz, double maxFrequencyHz, double fs);
 
@@ -54,7 +69,8 @@ void joinWaveBand(std::span<float> rayChannel, std::span<const float> wave, doub
 class WaveBandSet {
  public:
   /// For `listeners` x `sources` pairs of IRs of output `format` at `fs` Hz, crossing over
-  /// at crossoverHz, of wave bands simulated up to maxFrequencyHz.
+  /// at crossoverHz, of wave bands simulated up to maxFrequencyHz (and split at the edges of
+  /// simulatedBands(crossoverHz), whose allpass the ray band gets too).
   WaveBandSet(size_t listeners, size_t sources, OutputFormat format, double crossoverHz,
               double maxFrequencyHz, double fs);
   /// The wave band of (listener, source) (scene indices), at fs.
@@ -70,6 +86,7 @@ class WaveBandSet {
   OutputFormat format_;
   double crossoverHz_, maxFrequencyHz_, fs_;
   Butterworth highPass_, allPass_;
+  std::vector<Butterworth> edgeAllPasses_;
   std::vector<std::vector<float>> lowPassed_;  ///< [listener * sources + source]
 };
 

@@ -111,20 +111,21 @@ void report(const wave::WaveBandStats& s, const SceneDesc& scene, double seconds
     std::printf(
         "{\"max_frequency_hz\": %g, \"spacing_m\": [%g, %g, %g], \"nodes\": [%d, %d, %d], "
         "\"air_nodes\": %zu, \"air_volume_m3\": %g, \"boundary_nodes\": %zu, \"step_rate_hz\": %d, "
-        "\"steps\": %zu, \"seconds\": %g, \"state_bytes\": %zu, \"build_s\": %g, "
-        "\"simulate_s\": %g}\n",
+        "\"steps\": %zu, \"simulations\": %zu, \"seconds\": %g, \"state_bytes\": %zu, "
+        "\"build_s\": %g, \"simulate_s\": %g}\n",
         double(scene.wave.maxFrequencyHz), g.spacing.x, g.spacing.y, g.spacing.z, g.count[0],
-        g.count[1], g.count[2], s.airNodes, volume, s.boundaryNodes, s.stepRate, s.steps, seconds,
-        s.stateBytes, s.buildSeconds, s.simulateSeconds);
+        g.count[1], g.count[2], s.airNodes, volume, s.boundaryNodes, s.stepRate, s.steps,
+        s.simulations, seconds, s.stateBytes, s.buildSeconds, s.simulateSeconds);
     return;
   }
   std::printf("grid %d x %d x %d nodes, spacing %.4f x %.4f x %.4f m, air %zu nodes (%.1f m^3), "
               "%zu on walls\n",
               g.count[0], g.count[1], g.count[2], g.spacing.x, g.spacing.y, g.spacing.z,
               s.airNodes, volume, s.boundaryNodes);
-  std::printf("%zu steps at %d Hz (%.2f s), state %.1f MB, grid %.2f s, simulation %.2f s\n",
-              s.steps, s.stepRate, seconds, double(s.stateBytes) / 1e6, s.buildSeconds,
-              s.simulateSeconds);
+  std::printf("%zu simulation(s) (one per octave band) of %zu steps at %d Hz (%.2f s), state "
+              "%.1f MB, grid %.2f s, simulation %.2f s\n",
+              s.simulations, s.steps, s.stepRate, seconds, double(s.stateBytes) / 1e6,
+              s.buildSeconds, s.simulateSeconds);
 }
 
 int run(const Options& o) {

@@ -80,13 +80,22 @@ TEST_CASE("Allpass: unit magnitude, twice the low-pass's phase", "[wave][crossov
 
 TEST_CASE("joinWaveBand: the same field in both bands keeps its level across the crossover",
           "[wave][crossover]") {
-  // A direct sound as both bands hold it: a Dirac in the ray band, the pulse P (the wave
-  // band's low-pass at the maximum frequency) in the wave band.
+  // A direct sound as both bands hold it: a Dirac in the ray band; in the wave band the pulse
+  // P (the low-pass at the maximum frequency) as each octave's simulation gives it, split at
+  // the band edges and summed as wave/wave_band.cpp does.
   const double fc = 250.0, fmax = 500.0;
-  std::vector<float> ray(kLength, 0.f), wave(kLength, 0.f);
+  std::vector<float> ray(kLength, 0.f), wave(kLength, 0.f), pulse(kLength, 0.f);
   ray[0] = 1.f;
-  wave[0] = 1.f;
-  Butterworth::design(K::kLowPass, wave::kPulseOrder, fmax, kFs).run(wave);
+  pulse[0] = 1.f;
+  Butterworth::design(K::kLowPass, wave::kPulseOrder, fmax, kFs).run(pulse);
+  const auto bands = wave::simulatedBands(fc);
+  const auto edges = wave::bandEdges(bands);
+  REQUIRE(bands.size() == 3);  // 63, 125, 250 Hz
+  for (size_t k = 0; k < bands.size(); ++k) {
+    std::vector<float> part = pulse;
+    wave::splitBand(part, k, edges, kFs);
+    for (size_t i = 0; i < kLength; ++i) wave[i] += part[i];
+  }
   wave::joinWaveBand(ray, wave, 1.0, fc, fmax, kFs);
   for (double hz : {62.5, 125.0, 177.0, 250.0, 354.0}) {
     INFO(hz << " Hz");
@@ -97,6 +106,32 @@ TEST_CASE("joinWaveBand: the same field in both bands keeps its level across the
     const double expected = std::sqrt(1.0 - lp2 + p2 * p2 * lp2);
     CHECK(std::abs(std::abs(dft(ray, hz)) - expected) < 0.01);  // 0.09 dB
   }
+}
+
+TEST_CASE("Band split: the bands of one signal sum to an allpass, each its own octave",
+          "[wave][crossover]") {
+  const std::vector<double> edges = wave::bandEdges(wave::simulatedBands(250.0));
+  REQUIRE(edges.size() == 2);  // 88 and 177 Hz
+  std::vector<std::vector<float>> parts;
+  std::vector<float> sum(kLength, 0.f);
+  for (size_t k = 0; k < 3; ++k) {
+    std::vector<float> x(kLength, 0.f);
+    x[0] = 1.f;
+    wave::splitBand(x, k, edges, kFs);
+    for (size_t i = 0; i < kLength; ++i) sum[i] += x[i];
+    parts.push_back(std::move(x));
+  }
+  for (double hz : {40.0, 88.0, 125.0, 177.0, 250.0, 1000.0}) {
+    INFO(hz << " Hz");
+    CHECK(std::abs(std::abs(dft(sum, hz)) - 1.0) < 1e-4);
+  }
+  // Each band dominates its own octave's centre: half an octave from an edge a 3rd-order
+  // filter passes 8/9 and its complement 1/9 of the power (9 dB apart).
+  const double centres[] = {62.5, 125.0, 250.0};
+  for (size_t k = 0; k < 3; ++k)
+    for (size_t j = 0; j < 3; ++j)
+      if (j != k)
+        CHECK(std::norm(dft(parts[k], centres[k])) > 7.0 * std::norm(dft(parts[j], centres[k])));
 }
 
 TEST_CASE("joinWaveBand: below the crossover the wave band, above it the ray band",

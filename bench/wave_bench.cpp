@@ -30,7 +30,7 @@ Json runOne(double volume, double maxHz, double seconds) {
   const wave::WavePoint at[] = {{size * 0.7f, "listener"}};
   const wave::WaveBand band = wave::simulateWaveBand(scene, tracer, geometry, from, at, opt);
   const wave::WaveBandStats& s = band.stats;
-  const double updates = double(s.layout.arraySize()) * double(s.steps);
+  const double updates = double(s.layout.arraySize()) * double(s.steps) * double(s.simulations);
   Json j;
   j["volume_m3"] = volume;
   j["max_frequency_hz"] = maxHz;
@@ -40,6 +40,7 @@ Json runOne(double volume, double maxHz, double seconds) {
   j["bytes_per_m3"] = double(s.stateBytes) / volume;
   j["step_rate_hz"] = s.stepRate;
   j["steps"] = s.steps;
+  j["simulations"] = s.simulations;
   j["grid_s"] = s.buildSeconds;
   j["simulate_s"] = s.simulateSeconds;
   j["node_updates_per_s"] = updates / s.simulateSeconds;
@@ -47,7 +48,7 @@ Json runOne(double volume, double maxHz, double seconds) {
   // Slabs along z over R ranks: each step updates 1/R of the nodes and sends one plane of
   // count_x * count_y floats to each of two neighbours.
   const double plane = double(s.layout.dims()[0] * s.layout.dims()[1]) * sizeof(float);
-  const double perStep = s.simulateSeconds / double(s.steps);
+  const double perStep = s.simulateSeconds / double(s.steps * s.simulations);
   Json ranks = Json::array();
   for (int r : {1, 2, 4, 8, 16, 32}) {
     const double comm = r > 1 ? 2.0 * (kLinkLatencySeconds + plane / kLinkBytesPerSecond) : 0.0;

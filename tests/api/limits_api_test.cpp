@@ -110,9 +110,12 @@ const std::map<std::string, DataSetter>& dataSetters() {
 
 /// Limits dpc_scene_data cannot carry (docs/design.md, "Not yet across the boundary"; the
 /// file defaults apply).
+/// Fields dpc_scene_data does not carry. The wave band (wave.*) is for offline renders: a C
+/// API engine plays live, where it is refused.
 const std::set<std::string> kNotInData = {
     "objects", "propagation.cache_memory_mb", "propagation.roulette_threshold_db",
-    "propagation.exact_order", "materials.*.transmission_loss_db"};
+    "propagation.exact_order", "materials.*.transmission_loss_db", "wave.max_frequency",
+    "wave.crossover_hz", "wave.grid_spacing"};
 
 /// Creates with an invalid output option, checked after every scene value: a value that is
 /// accepted gives that option's error, not the value's, and builds no engine.

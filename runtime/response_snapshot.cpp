@@ -2,7 +2,8 @@
 
 namespace dpc {
 
-bool ResponseSnapshot::tryStore(const PropagationStage& stage, size_t listener, uint64_t frame) {
+bool ResponseSnapshot::tryStore(const PropagationStage& stage, const WorldState& world,
+                                size_t listener, uint64_t frame) {
   std::unique_lock<std::mutex> lock(mutex_, std::try_to_lock);
   if (!lock.owns_lock()) return false;
   const Simulation& sim = stage.simulation();
@@ -19,6 +20,7 @@ bool ResponseSnapshot::tryStore(const PropagationStage& stage, size_t listener, 
     const double k = r.direct.delaySeconds / r.energy.binSeconds();
     if (k >= 0.0 && k < double(energy_[s].size())) energy_[s][size_t(k)] += r.direct.intensity;
   }
+  world_ = world;  // the vectors' capacity reused: no allocation once grown
   binSeconds_ = Simulation::kEnergyBinSeconds;
   frame_ = frame;
   valid_ = true;

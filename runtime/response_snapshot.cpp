@@ -1,6 +1,18 @@
 #include "runtime/response_snapshot.h"
 
 namespace dpc {
+namespace {
+
+/// The endpoints of the edges whose paths r's direct sound sums (no allocation once grown).
+void edgesOf(const Simulation& sim, const Simulation::SourceResult& r,
+             std::vector<std::array<glm::vec3, 2>>& out) {
+  out.clear();
+  if (!sim.diffraction()) return;
+  const std::vector<DiffractionEdge>& all = sim.diffraction()->edges();
+  for (uint32_t e : r.diffractionEdges) out.push_back({all[e].a, all[e].b});
+}
+
+}  // namespace
 
 bool ResponseSnapshot::tryStore(const PropagationStage& stage, const WorldState& world,
                                 size_t listener, uint64_t frame) {
@@ -11,11 +23,13 @@ bool ResponseSnapshot::tryStore(const PropagationStage& stage, const WorldState&
   energy_.resize(sim.sourceCount());
   direct_.resize(sim.sourceCount());
   paths_.resize(sim.sourceCount());
+  edges_.resize(sim.sourceCount());
   for (size_t s = 0; s < sim.sourceCount(); ++s) {
     const Simulation::SourceResult& r = sim.result(s, listener);
     energy_[s] = r.energy.bins();
     direct_[s] = r.direct;
     paths_[s] = sim.specularPaths(s, listener);  // capacity reused: no allocation once grown
+    edgesOf(sim, r, edges_[s]);
     // The direct sound (with its diffraction) is computed apart from the estimator's bins.
     const double k = r.direct.delaySeconds / r.energy.binSeconds();
     if (k >= 0.0 && k < double(energy_[s].size())) energy_[s][size_t(k)] += r.direct.intensity;

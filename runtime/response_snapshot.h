@@ -4,6 +4,7 @@
 // reader never delays propagation. The audio thread must not read it.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <mutex>
 #include <vector>
@@ -22,7 +23,8 @@ class ResponseSnapshot {
   /// power, direct sound included); frame = propagation frames run when it was taken;
   /// direct the analytic direct sound alone (also in energy); paths the pair's exact early
   /// specular paths (empty while exact_order is 0), for viewers that draw them (dpc studio);
-  /// world the world the frame traced (every pose, objects' too, and its scene time).
+  /// world the world the frame traced (every pose, objects' too, and its scene time);
+  /// edges the endpoints (m) of the diffracting edges whose paths the direct sound sums.
   struct Responses {
     const ImpulseResponse* ir;
     const std::vector<Bands>* energy;
@@ -31,6 +33,7 @@ class ResponseSnapshot {
     const DirectSound* direct;
     const std::vector<SpecularPath>* paths;
     const WorldState* world;
+    const std::vector<std::array<glm::vec3, 2>>* edges;
   };
 
   /// Propagation thread, after stage.prepare(listener): copies listener's IRs and energy
@@ -48,7 +51,7 @@ class ResponseSnapshot {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!valid_ || source >= irs_.size()) return false;
     f(Responses{&irs_[source], &energy_[source], binSeconds_, frame_, &direct_[source],
-                &paths_[source], &world_});
+                &paths_[source], &world_, &edges_[source]});
     return true;
   }
 
@@ -59,6 +62,7 @@ class ResponseSnapshot {
   std::vector<DirectSound> direct_;                   ///< [source]
   std::vector<std::vector<SpecularPath>> paths_;      ///< [source][path]
   WorldState world_;
+  std::vector<std::vector<std::array<glm::vec3, 2>>> edges_;  ///< [source][edge]: a, b
   double binSeconds_ = 0.0;
   uint64_t frame_ = 0;
   bool valid_ = false;

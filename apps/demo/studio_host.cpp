@@ -96,6 +96,7 @@ bool StudioHost::publish(LiveSession& session, const KeyboardMotion& motion,
     f->worldSeconds = r.world->timeSeconds;
     f->objects = r.world->objectPoses;
     f->sourceRotations = r.world->sourceRotations;
+    f->edges = *r.edges;
     if (ir) ir->ir.assignFrom(*r.ir);
   });
   if (!newer) {

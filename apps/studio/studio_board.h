@@ -54,6 +54,8 @@ struct StudioFrame {
   double worldSeconds = 0.0;
   std::vector<Pose> objects;
   std::vector<glm::quat> sourceRotations;
+  /// The diffracting edges (endpoints a, b, m) whose paths the pair's direct sound sums.
+  std::vector<std::array<glm::vec3, 2>> edges;
   StudioFigures figures;
   double publishMicros = 0.0;  ///< what building this frame cost the control loop, us
 };

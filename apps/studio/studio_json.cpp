@@ -96,8 +96,9 @@ std::string stateJson(const StudioFrame& f) {
   json listeners = json::array(), sources = json::array();
   for (const glm::vec3& p : f.listeners) listeners.push_back(vec(p));
   for (const glm::vec3& p : f.sources) sources.push_back(vec(p));
-  json rotations = json::array();
+  json rotations = json::array(), edges = json::array();
   for (const glm::quat& q : f.sourceRotations) rotations.push_back(quat(q));
+  for (const auto& [a, b] : f.edges) edges.push_back({a.x, a.y, a.z, b.x, b.y, b.z});
   const json direct = {{"visible", f.direct.visible},
                        {"distance", f.direct.distance},
                        {"delaySeconds", f.direct.delaySeconds},
@@ -113,6 +114,7 @@ std::string stateJson(const StudioFrame& f) {
               {"objects", posesJson(f.objects)},
               {"sourceRotations", rotations},
               {"direct", direct},
+              {"edges", edges},
               {"paths", pathsJson(f.paths)},
               {"figures", figuresJson(f.figures)},
               {"publishMicros", f.publishMicros}}

@@ -65,7 +65,9 @@ let mesh, sourceMarkers = [], listenerMarkers = [], objectGroups = [];
 const pathLines = new THREE.LineSegments(new THREE.BufferGeometry(),
                                          new THREE.LineBasicMaterial({ color: 0xffd060 }));
 const directLine = new THREE.Line(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: 0x60ff90 }));
-scene3.add(pathLines, directLine);
+const edgeLines = new THREE.LineSegments(new THREE.BufferGeometry(),
+                                         new THREE.LineBasicMaterial({ color: 0xff40ff, depthTest: false }));
+scene3.add(pathLines, directLine, edgeLines);
 
 // Exact early paths source -> reflection points -> listener, and the direct sound.
 function drawPaths(st) {
@@ -77,6 +79,7 @@ function drawPaths(st) {
   pathLines.geometry.setAttribute('position', new THREE.Float32BufferAttribute(seg, 3));
   directLine.visible = st.direct.visible;
   directLine.geometry.setAttribute('position', new THREE.Float32BufferAttribute([...s, ...l], 3));
+  edgeLines.geometry.setAttribute('position', new THREE.Float32BufferAttribute(st.edges.flat(), 3));
 }
 
 // Dragging: a marker moves on the horizontal plane at its height; the engine hears of it
@@ -189,6 +192,13 @@ studio.screenOf = ([x, y, z]) => {
 /// World positions of object i's drawn vertices, and source i's drawn balloon: the world
 /// direction of its axis and its reach forward and back along it (m), for the browser test.
 studio.objectVertices = (i) => worldVertices(objectGroups[i]);
+/// The diffraction edges drawn, [[ax, ay, az, bx, by, bz], ...] (m), for the browser test.
+studio.drawnEdges = () => {
+  const a = edgeLines.geometry.attributes.position, out = [];
+  for (let i = 0; a && i + 1 < a.count; i += 2)
+    out.push([a.getX(i), a.getY(i), a.getZ(i), a.getX(i + 1), a.getY(i + 1), a.getZ(i + 1)]);
+  return out;
+};
 studio.balloon = (i) => {
   const b = sourceMarkers[i].getObjectByName('directivity');
   if (!b) return null;

@@ -13,6 +13,7 @@ import fs from 'node:fs';
 import http from 'node:http';
 import { createRequire } from 'node:module';
 import path from 'node:path';
+import { checkEdges } from './edges_check.mjs';
 import { checkDirectivity, checkMovingObjects } from './moving_check.mjs';
 
 const arg = (name) => { const i = process.argv.indexOf(name); return i > 0 ? process.argv[i + 1] : undefined; };
@@ -308,24 +309,37 @@ async function shoeboxChecks(browser, run) {
               `dpc-analyze ${t30.ref.map((v) => v?.toFixed(4)).join(' ')}`);
 }
 
-/// two_rooms on the offline clock (its door moves at fixed scene times): the drawn door and
-/// the talker's balloon (tests/studio/moving_check.mjs).
-async function twoRoomsChecks(browser) {
-  const run = await startDemo(path.join(source, 'scenes/two_rooms.json'), false);
+/// A scene on the offline clock (its motion happens at fixed scene times): body(page) on a
+/// fresh page, no console errors, then SIGINT.
+async function offlineScene(browser, file, body) {
+  const run = await startDemo(path.join(source, 'scenes', file), false);
   try {
     const { page, errors } = await openPage(browser, run.url);
-    const dir = await checkDirectivity(page, source);
-    const m = await checkMovingObjects(page, source);
+    await body(page);
     assert.deepEqual(errors, [], 'console errors');
     await page.close();
-    console.log(`door: ${m.samples} frames sampled (${m.swinging} mid-swing), drawn vs engine at most ` +
-                `${m.drawnVsEngine.toExponential(2)} m, engine vs keyframes ${m.engineVsKeys.toExponential(2)} m; ` +
-                `moved ${m.moved.toFixed(3)} m between ${m.closedT.toFixed(2)} s and ${m.openT.toFixed(2)} s`);
-    console.log(`talker balloon: axis ${dir.axis.map((v) => v.toFixed(4))}, forward/back ${dir.ratio.toFixed(5)} ` +
-                `against 1/|1 - 2a| = ${dir.expected.toFixed(5)} (a = ${dir.a} at 1 kHz)`);
   } finally {
     await stopDemo(run, false);
   }
+}
+
+/// two_rooms: the drawn door and the talker's balloon (tests/studio/moving_check.mjs).
+async function twoRoomsChecks(page) {
+  const dir = await checkDirectivity(page, source);
+  const m = await checkMovingObjects(page, source);
+  console.log(`door: ${m.samples} frames sampled (${m.swinging} mid-swing), drawn vs engine at most ` +
+              `${m.drawnVsEngine.toExponential(2)} m, engine vs keyframes ${m.engineVsKeys.toExponential(2)} m; ` +
+              `moved ${m.moved.toFixed(3)} m between ${m.closedT.toFixed(2)} s and ${m.openT.toFixed(2)} s`);
+  console.log(`talker balloon: axis ${dir.axis.map((v) => v.toFixed(4))}, forward/back ${dir.ratio.toFixed(5)} ` +
+              `against 1/|1 - 2a| = ${dir.expected.toFixed(5)} (a = ${dir.a} at 1 kHz)`);
+}
+
+/// shoebox-corner: the diffraction edges drawn (tests/studio/edges_check.mjs).
+async function cornerChecks(page) {
+  const e = await checkEdges(page, source);
+  console.log(`edges: ${e.shadow} frames in the shadow, ${e.inView} in view, ${e.edgesDrawn} edges drawn, all ` +
+              `the engine's and mesh edges; shortest drawn edge path vs the engine's direct distance at most ` +
+              `${e.worstLength.toExponential(2)} m`);
 }
 
 async function main() {
@@ -347,8 +361,12 @@ async function main() {
     } finally {
       await stopDemo(run, live);
     }
-    // The door's times are scene times: the offline clock only (live runs check the shoebox).
-    if (!live) await twoRoomsChecks(browser);
+    // The door's and the walk's times are scene times: the offline clock only (live runs
+    // check the shoebox).
+    if (!live) {
+      await offlineScene(browser, 'two_rooms.json', twoRoomsChecks);
+      await offlineScene(browser, 'shoebox-corner.json', cornerChecks);
+    }
   } finally {
     if (browser) await browser.close();
   }

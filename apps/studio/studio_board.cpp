@@ -27,6 +27,20 @@ std::shared_ptr<const T> pushKept(std::deque<std::shared_ptr<const T>>& q,
   return oldest;
 }
 
+/// The last entry of `q`, or null.
+template <class T>
+std::shared_ptr<const T> newest(const std::deque<std::shared_ptr<const T>>& q) {
+  return q.empty() ? nullptr : q.back();
+}
+
+/// The entry of `q` whose frame is `frame`, or null.
+template <class T>
+std::shared_ptr<const T> ofFrame(const std::deque<std::shared_ptr<const T>>& q, uint64_t frame) {
+  for (const auto& x : q)
+    if (x->frame == frame) return x;
+  return nullptr;
+}
+
 }  // namespace
 
 void StudioBoard::publish(std::shared_ptr<const StudioFrame> frame) {
@@ -53,26 +67,22 @@ bool StudioBoard::takeIrWanted() {
 
 std::shared_ptr<const StudioIr> StudioBoard::latestIr() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return irs_.empty() ? nullptr : irs_.back();
+  return newest(irs_);
 }
 
 std::shared_ptr<const StudioIr> StudioBoard::findIr(uint64_t frame) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  for (const auto& r : irs_)
-    if (r->frame == frame) return r;
-  return nullptr;
+  return ofFrame(irs_, frame);
 }
 
 std::shared_ptr<const StudioFrame> StudioBoard::latest() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return frames_.empty() ? nullptr : frames_.back();
+  return newest(frames_);
 }
 
 std::shared_ptr<const StudioFrame> StudioBoard::find(uint64_t frame) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  for (const auto& f : frames_)
-    if (f->frame == frame) return f;
-  return nullptr;
+  return ofFrame(frames_, frame);
 }
 
 void StudioBoard::requestListener(const ListenerRequest& r) {

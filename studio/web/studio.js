@@ -142,12 +142,10 @@ addEventListener('keydown', (ev) => {
   api('/api/listener', { position: [x, y, z], yaw });
 });
 
-// Polling: the state every 150 ms, the response (and its parameters) when its frame changed,
-// the newest IR (its IACC costs the server about 0.2 s of one core) at most every 2 s.
-let centres = [], responseAt = 0, irAt = -Infinity;
+// Polling: the state every 150 ms, the response (and its parameters) when its frame changed;
+// the newest IR (its IACC costs the server about 0.2 s of one core) 2 s after the last one.
+let centres = [], responseAt = 0;
 async function pollIr() {
-  if (performance.now() - irAt < 2000) return;
-  irAt = performance.now();
   const ir = await api('/api/ir');  // the newest: the server keeps the frame's after each ask
   if (ir.frame === studio.ir?.frame) return;
   studio.ir = ir;
@@ -176,11 +174,15 @@ async function poll() {
     drawDecay(document.getElementById('decay'), studio.params, resp.binSeconds, centres);
     fillParams(document.getElementById('params'), studio.params, centres);
   }
-  await pollIr();
   studio.ready = true;
 }
 function loop() {
   poll().catch((e) => console.warn(String(e))).finally(() => setTimeout(loop, 150));
+}
+// The IR on its own loop, 2 s after the previous answer: its IACC can take the server most of
+// a second on a loaded machine, and the state must not wait for it.
+function irLoop() {
+  pollIr().catch((e) => console.warn(String(e))).finally(() => setTimeout(irLoop, 2000));
 }
 
 /// The page position (CSS pixels) of a world point, for tests that drag with a real mouse.
@@ -228,5 +230,6 @@ async function start() {
     .map((m, i) => `<li><span class="swatch" style="background:${materialColour(i)}"></span>${m.name}</li>`).join('');
   renderer.setAnimationLoop(() => { controls.update(); renderer.render(scene3, camera); });
   loop();
+  irLoop();
 }
 start().catch((e) => console.error(String(e)));

@@ -536,7 +536,8 @@ EdgeDiffraction::EdgeDiffraction(const Mesh& mesh) {
 size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
                               const ListenerSphere& listener, float speedOfSound,
                               const Bands& airPerMetre, DirectSound& direct,
-                              const Directivity& directivity, const glm::vec3& forward) const {
+                              const Directivity& directivity, const glm::vec3& forward,
+                              std::vector<uint32_t>* usedEdges) const {
   // Diffraction needs the free line of sight: a direct path through transmitting surfaces is
   // in the shadow for the edges, and its energy adds to theirs incoherently (the edge paths'
   // legs are unoccluded, the transmitted path crosses a surface: no path is counted twice).
@@ -554,6 +555,10 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
     }
   }
   findSlits(tracer, source, listener.position, paths);
+  if (usedEdges) {
+    usedEdges->clear();
+    for (const EdgePath& p : paths) usedEdges->push_back(uint32_t(p.edge - edges_.data()));
+  }
   if (paths.empty()) return 0;
   for (const EdgePath& p : paths)
     if (p.gapWidth > 0.f && float(p.slit.r + p.slit.s) < shortest) {

@@ -86,11 +86,14 @@ class EdgeDiffraction {
   /// listener) are safe; allocates its lists of paths and probe rays. A directional source
   /// (scene/directivity.h, forward a unit vector) scales each path's energy by its weight
   /// toward its edge point Q (a slit path too); `direct` must carry its own weight already
-  /// (Propagator::directSound does). Omni (the default): no weight.
+  /// (Propagator::directSound does). Omni (the default): no weight. usedEdges, when given,
+  /// receives the index in edges() of each edge path counted, in order (cleared first; it
+  /// allocates only while it grows).
   size_t apply(const Tracer& tracer, const glm::vec3& source, const ListenerSphere& listener,
                float speedOfSound, const Bands& airPerMetre, DirectSound& direct,
                const Directivity& directivity = {},
-               const glm::vec3& forward = glm::vec3(1.f, 0.f, 0.f)) const;
+               const glm::vec3& forward = glm::vec3(1.f, 0.f, 0.f),
+               std::vector<uint32_t>* usedEdges = nullptr) const;
 
  private:
   std::vector<DiffractionEdge> edges_;

@@ -349,7 +349,7 @@ void Simulation::finishPair(size_t s, size_t l, const glm::vec3& source,
   if (diffraction_)
     diffraction_->apply(*tracer_, source, listener, settings_.speedOfSound,
                         propagator_->airAttenuationPerMetre(), r.direct, directivities_[s],
-                        sourceForwards_[s]);
+                        sourceForwards_[s], &r.diffractionEdges);
   // The frame's exact paths first: a hit is left out exactly when the exact path of its own
   // sequence is in this frame's paths (FrameHits::groupInto), so nothing counts twice.
   if (specularScene_) updateSpecular(pair, source, listener, r);

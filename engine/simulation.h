@@ -72,6 +72,9 @@ class Simulation {
   struct SourceResult {
     EnergyResponse energy;  ///< this frame's estimate, 1/m^2 per 1 ms bin and band
     DirectSound direct;
+    /// Indices in diffraction()->edges() of the edges whose paths `direct` sums this frame
+    /// (EdgeDiffraction::apply; empty without diffraction).
+    std::vector<uint32_t> diffractionEdges;
     TraceStats trace;
     size_t cacheEntries = 0;
     size_t cacheBytes = 0;
@@ -172,6 +175,9 @@ class Simulation {
   /// Empty while settings().exactOrder is 0. The reference stays valid, and the vector keeps
   /// its capacity (no allocation), until the next runFrame. Propagation thread.
   const std::vector<SpecularPath>& specularPaths(size_t source, size_t listener = 0) const;
+  /// The static mesh's diffracting edges (EdgeDiffraction), or null when
+  /// settings().diffraction is off. Any thread; fixed at construction.
+  const EdgeDiffraction* diffraction() const { return diffraction_.get(); }
   /// The last frame's tracing: its passes' rays, segments and sphere hits summed, each pass
   /// once (a pair's result repeats its pass's statistics; per source from the sources, per
   /// listener from the listeners).

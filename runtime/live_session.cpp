@@ -135,7 +135,7 @@ void LiveSession::runFrame(int raysPerSource) {
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   recordFrame(played, produced, frameMs);
   // Never waits: a reader holding the snapshot makes this frame skip it.
-  if (produced) snapshot_.tryStore(*propagation_, played, counters_.frames());
+  if (produced) snapshot_.tryStore(*propagation_, world_, played, counters_.frames());
 }
 
 bool LiveSession::handOver(size_t played, const ListenerPose& pose) {

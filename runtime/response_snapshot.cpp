@@ -1,8 +1,21 @@
 #include "runtime/response_snapshot.h"
 
 namespace dpc {
+namespace {
 
-bool ResponseSnapshot::tryStore(const PropagationStage& stage, size_t listener, uint64_t frame) {
+/// The endpoints of the edges whose paths r's direct sound sums (no allocation once grown).
+void edgesOf(const Simulation& sim, const Simulation::SourceResult& r,
+             std::vector<std::array<glm::vec3, 2>>& out) {
+  out.clear();
+  if (!sim.diffraction()) return;
+  const std::vector<DiffractionEdge>& all = sim.diffraction()->edges();
+  for (uint32_t e : r.diffractionEdges) out.push_back({all[e].a, all[e].b});
+}
+
+}  // namespace
+
+bool ResponseSnapshot::tryStore(const PropagationStage& stage, const WorldState& world,
+                                size_t listener, uint64_t frame) {
   std::unique_lock<std::mutex> lock(mutex_, std::try_to_lock);
   if (!lock.owns_lock()) return false;
   const Simulation& sim = stage.simulation();
@@ -10,15 +23,18 @@ bool ResponseSnapshot::tryStore(const PropagationStage& stage, size_t listener, 
   energy_.resize(sim.sourceCount());
   direct_.resize(sim.sourceCount());
   paths_.resize(sim.sourceCount());
+  edges_.resize(sim.sourceCount());
   for (size_t s = 0; s < sim.sourceCount(); ++s) {
     const Simulation::SourceResult& r = sim.result(s, listener);
     energy_[s] = r.energy.bins();
     direct_[s] = r.direct;
     paths_[s] = sim.specularPaths(s, listener);  // capacity reused: no allocation once grown
+    edgesOf(sim, r, edges_[s]);
     // The direct sound (with its diffraction) is computed apart from the estimator's bins.
     const double k = r.direct.delaySeconds / r.energy.binSeconds();
     if (k >= 0.0 && k < double(energy_[s].size())) energy_[s][size_t(k)] += r.direct.intensity;
   }
+  world_ = world;  // the vectors' capacity reused: no allocation once grown
   binSeconds_ = Simulation::kEnergyBinSeconds;
   frame_ = frame;
   valid_ = true;

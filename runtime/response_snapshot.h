@@ -4,6 +4,7 @@
 // reader never delays propagation. The audio thread must not read it.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <mutex>
 #include <vector>
@@ -11,6 +12,7 @@
 #include "common/bands.h"
 #include "engine/specular_paths.h"
 #include "runtime/propagation_stage.h"
+#include "scene/trajectory.h"
 
 namespace dpc {
 
@@ -20,7 +22,9 @@ class ResponseSnapshot {
   /// energy[k][band] the energy response in bins of binSeconds (1/m^2 relative to source
   /// power, direct sound included); frame = propagation frames run when it was taken;
   /// direct the analytic direct sound alone (also in energy); paths the pair's exact early
-  /// specular paths (empty while exact_order is 0), for viewers that draw them (dpc studio).
+  /// specular paths (empty while exact_order is 0), for viewers that draw them (dpc studio);
+  /// world the world the frame traced (every pose, objects' too, and its scene time);
+  /// edges the endpoints (m) of the diffracting edges whose paths the direct sound sums.
   struct Responses {
     const ImpulseResponse* ir;
     const std::vector<Bands>* energy;
@@ -28,13 +32,16 @@ class ResponseSnapshot {
     uint64_t frame;
     const DirectSound* direct;
     const std::vector<SpecularPath>* paths;
+    const WorldState* world;
+    const std::vector<std::array<glm::vec3, 2>>* edges;
   };
 
   /// Propagation thread, after stage.prepare(listener): copies listener's IRs and energy
-  /// responses (direct sound added into its bin) unless a reader holds the lock. Returns
-  /// whether it copied. Allocates only while the copies grow: the buffers are reused, so a
-  /// frame does not allocate and fault in its IRs' size of fresh memory again.
-  bool tryStore(const PropagationStage& stage, size_t listener, uint64_t frame);
+  /// responses (direct sound added into its bin) and the frame's `world` unless a reader holds
+  /// the lock. Returns whether it copied. Allocates only while the copies grow: the buffers are
+  /// reused, so a frame does not allocate and fault in its IRs' size of fresh memory again.
+  bool tryStore(const PropagationStage& stage, const WorldState& world, size_t listener,
+                uint64_t frame);
 
   /// Any thread but the audio thread: calls f(const Responses&) with the newest responses of
   /// `source` while holding the lock. Returns false, without calling f, before the first
@@ -44,7 +51,7 @@ class ResponseSnapshot {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!valid_ || source >= irs_.size()) return false;
     f(Responses{&irs_[source], &energy_[source], binSeconds_, frame_, &direct_[source],
-                &paths_[source]});
+                &paths_[source], &world_, &edges_[source]});
     return true;
   }
 
@@ -54,6 +61,8 @@ class ResponseSnapshot {
   std::vector<std::vector<Bands>> energy_;            ///< [source][bin]
   std::vector<DirectSound> direct_;                   ///< [source]
   std::vector<std::vector<SpecularPath>> paths_;      ///< [source][path]
+  WorldState world_;
+  std::vector<std::vector<std::array<glm::vec3, 2>>> edges_;  ///< [source][edge]: a, b
   double binSeconds_ = 0.0;
   uint64_t frame_ = 0;
   bool valid_ = false;

@@ -1,5 +1,6 @@
 #include "apps/demo/studio_host.h"
 
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -60,6 +61,19 @@ void StudioHost::addSessionFigures(const LiveSession& session, studio::StudioFig
   f.latencyP95Ms = st.latencyP95Ms;
 }
 
+std::shared_ptr<studio::StudioIr> StudioHost::freeIr() {
+  // use_count() 1: only this list holds it, and nothing else can take it from here. The
+  // fence orders the server's last reads of it (before its release of the count) before the
+  // copy into it.
+  for (const auto& ir : irs_)
+    if (ir.use_count() == 1) {
+      std::atomic_thread_fence(std::memory_order_acquire);
+      return ir;
+    }
+  irs_.push_back(std::make_shared<studio::StudioIr>());
+  return irs_.back();
+}
+
 bool StudioHost::publish(LiveSession& session, const KeyboardMotion& motion,
                          studio::StudioFigures figures) {
   const auto start = std::chrono::steady_clock::now();
@@ -67,6 +81,10 @@ bool StudioHost::publish(LiveSession& session, const KeyboardMotion& motion,
   f->source = std::min(board_.selected(), scene_.sources.size() - 1);
   // Copied under the snapshot's lock: the propagation thread skips one copy rather than wait.
   bool newer = false;
+  // The IR (768 kB binaural at 2 s) only when the page asked for one since (and with the
+  // first frame): a copy of it cost 0.2-0.4 ms here, and the page shows a new one every 2 s.
+  const bool wantIr = board_.takeIrWanted() || published_ == 0;
+  const std::shared_ptr<studio::StudioIr> ir = wantIr ? freeIr() : nullptr;
   session.copyResponses(f->source, [&](const LiveSession::Responses& r) {
     if (r.frame == lastFrame_) return;
     newer = true;
@@ -75,8 +93,21 @@ bool StudioHost::publish(LiveSession& session, const KeyboardMotion& motion,
     f->energy = *r.energy;
     f->direct = *r.direct;
     f->paths = *r.paths;
+    f->worldSeconds = r.world->timeSeconds;
+    f->objects = r.world->objectPoses;
+    f->sourceRotations = r.world->sourceRotations;
+    f->edges = *r.edges;
+    if (ir) ir->ir.assignFrom(*r.ir);
   });
-  if (!newer) return false;
+  if (!newer) {
+    if (wantIr) board_.wantIr();  // still wanted: the next new frame brings it
+    return false;
+  }
+  if (ir) {
+    ir->frame = f->frame;
+    ir->source = f->source;
+    ir->binaural = scene_.audio.output == OutputFormat::kBinaural;
+  }
   lastFrame_ = f->frame;
   f->sceneSeconds = motion.sceneTime();
   f->played = motion.playedIndex();
@@ -97,6 +128,7 @@ bool StudioHost::publish(LiveSession& session, const KeyboardMotion& motion,
       std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
   publishMicrosTotal_ += f->publishMicros;
   ++published_;
+  if (ir) board_.publishIr(ir);
   board_.publish(std::move(f));
   return true;
 }

@@ -13,26 +13,76 @@ std::shared_ptr<const std::string> StudioBoard::scene() const {
   return scene_;
 }
 
+namespace {
+
+/// Appends `item` to `q`; returns the oldest entry when `q` then holds more than `kept` (the
+/// caller frees it after releasing the lock), else null.
+template <class T>
+std::shared_ptr<const T> pushKept(std::deque<std::shared_ptr<const T>>& q,
+                                  std::shared_ptr<const T> item, size_t kept) {
+  q.push_back(std::move(item));
+  if (q.size() <= kept) return nullptr;
+  std::shared_ptr<const T> oldest = std::move(q.front());
+  q.pop_front();
+  return oldest;
+}
+
+/// The last entry of `q`, or null.
+template <class T>
+std::shared_ptr<const T> newest(const std::deque<std::shared_ptr<const T>>& q) {
+  return q.empty() ? nullptr : q.back();
+}
+
+/// The entry of `q` whose frame is `frame`, or null.
+template <class T>
+std::shared_ptr<const T> ofFrame(const std::deque<std::shared_ptr<const T>>& q, uint64_t frame) {
+  for (const auto& x : q)
+    if (x->frame == frame) return x;
+  return nullptr;
+}
+
+}  // namespace
+
 void StudioBoard::publish(std::shared_ptr<const StudioFrame> frame) {
   std::shared_ptr<const StudioFrame> dropped;  // freed outside the lock
   std::lock_guard<std::mutex> lock(mutex_);
-  frames_.push_back(std::move(frame));
-  if (frames_.size() > kKeptFrames) {
-    dropped = std::move(frames_.front());
-    frames_.pop_front();
-  }
+  dropped = pushKept(frames_, std::move(frame), kKeptFrames);
+}
+
+void StudioBoard::publishIr(std::shared_ptr<const StudioIr> ir) {
+  std::shared_ptr<const StudioIr> dropped;  // freed outside the lock
+  std::lock_guard<std::mutex> lock(mutex_);
+  dropped = pushKept(irs_, std::move(ir), kKeptIrs);
+}
+
+void StudioBoard::wantIr() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  irWanted_ = true;
+}
+
+bool StudioBoard::takeIrWanted() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return std::exchange(irWanted_, false);
+}
+
+std::shared_ptr<const StudioIr> StudioBoard::latestIr() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return newest(irs_);
+}
+
+std::shared_ptr<const StudioIr> StudioBoard::findIr(uint64_t frame) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return ofFrame(irs_, frame);
 }
 
 std::shared_ptr<const StudioFrame> StudioBoard::latest() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return frames_.empty() ? nullptr : frames_.back();
+  return newest(frames_);
 }
 
 std::shared_ptr<const StudioFrame> StudioBoard::find(uint64_t frame) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  for (const auto& f : frames_)
-    if (f->frame == frame) return f;
-  return nullptr;
+  return ofFrame(frames_, frame);
 }
 
 void StudioBoard::requestListener(const ListenerRequest& r) {

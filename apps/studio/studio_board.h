@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "common/bands.h"
+#include "common/impulse_response.h"
 #include "engine/propagation.h"
 #include "engine/specular_paths.h"
 
@@ -48,8 +49,26 @@ struct StudioFrame {
   std::vector<Bands> energy;  ///< the selected pair's energy response, direct sound included
   DirectSound direct;         ///< its direct sound alone
   std::vector<SpecularPath> paths;  ///< its exact early specular paths
+  /// The world the frame traced (WorldState): its scene time, each object's pose and each
+  /// source's rotation (its directivity's forward axis is rotation * +x).
+  double worldSeconds = 0.0;
+  std::vector<Pose> objects;
+  std::vector<glm::quat> sourceRotations;
+  /// The diffracting edges (endpoints a, b, m) whose paths the pair's direct sound sums.
+  std::vector<std::array<glm::vec3, 2>> edges;
   StudioFigures figures;
   double publishMicros = 0.0;  ///< what building this frame cost the control loop, us
+};
+
+/// The selected pair's pressure IR of a frame, as the audio thread convolves with it (early and
+/// late parts summed: PropagationStage::wholeIrsInto), kept apart from its StudioFrame because
+/// it is large (channels x ir_length x rate floats): only some frames have one, and only the
+/// newest few are kept.
+struct StudioIr {
+  uint64_t frame = 0;
+  size_t source = 0;
+  ImpulseResponse ir;
+  bool binaural = false;  ///< channels are (left, right) ears: IACC applies
 };
 
 /// A listener pose asked for by the page.
@@ -68,6 +87,9 @@ class StudioBoard {
  public:
   /// Frames kept for /api/energy.csv?frame=N (about 4 s at 15 frames per second).
   static constexpr size_t kKeptFrames = 64;
+  /// IRs kept for /api/ir?frame=N: one is taken per page request (every 2 s), so the last
+  /// 16 s; a binaural 2 s IR at 48 kHz is 768 kB, 6 MB for all.
+  static constexpr size_t kKeptIrs = 8;
 
   /// Control thread, once before the server starts: the scene's JSON (studio_json.h).
   void setScene(std::string json);
@@ -75,10 +97,19 @@ class StudioBoard {
 
   /// Control thread: the newest frame (older ones kept up to kKeptFrames).
   void publish(std::shared_ptr<const StudioFrame> frame);
+  /// Control thread: the newest frame's IR (older ones kept up to kKeptIrs).
+  void publishIr(std::shared_ptr<const StudioIr> ir);
+  /// Server thread: the page asked for the newest IR; the control loop takes the next frame's.
+  void wantIr();
+  /// Control thread: whether an IR was asked for since the last call (and clears it).
+  bool takeIrWanted();
   /// Server thread: the newest frame, or null before the first.
   std::shared_ptr<const StudioFrame> latest() const;
   /// Server thread: a kept frame by number, or null.
   std::shared_ptr<const StudioFrame> find(uint64_t frame) const;
+  /// Server thread: the newest IR, or a kept one by frame number; null when there is none.
+  std::shared_ptr<const StudioIr> latestIr() const;
+  std::shared_ptr<const StudioIr> findIr(uint64_t frame) const;
 
   /// Server thread: the page's requests (the newest listener pose wins).
   void requestListener(const ListenerRequest& r);
@@ -93,8 +124,10 @@ class StudioBoard {
   mutable std::mutex mutex_;
   std::shared_ptr<const std::string> scene_;
   std::deque<std::shared_ptr<const StudioFrame>> frames_;  ///< oldest first
+  std::deque<std::shared_ptr<const StudioIr>> irs_;        ///< oldest first
   StudioRequests requests_;
   size_t selected_ = 0;
+  bool irWanted_ = false;
 };
 
 }  // namespace dpc::studio

@@ -12,6 +12,9 @@ using nlohmann::json;
 
 json vec(const glm::vec3& v) { return json::array({v.x, v.y, v.z}); }
 
+/// A unit quaternion as [x, y, z, w] (the scene file's and three.js's order).
+json quat(const glm::quat& q) { return json::array({q.x, q.y, q.z, q.w}); }
+
 json bands(const Bands& b) {
   json a = json::array();
   for (int i = 0; i < kNumBands; ++i) a.push_back(b[i]);
@@ -48,31 +51,54 @@ json pathsJson(const std::vector<SpecularPath>& paths) {
   return a;
 }
 
+/// A mesh as flat vertices (x, y, z), flat triangles and a material per triangle.
+void meshJson(const Mesh& mesh, json& out) {
+  json vertices = json::array(), triangles = json::array();
+  for (const glm::vec3& v : mesh.vertices) vertices.insert(vertices.end(), {v.x, v.y, v.z});
+  for (const auto& t : mesh.triangles) triangles.insert(triangles.end(), {t[0], t[1], t[2]});
+  out["vertices"] = std::move(vertices);
+  out["triangles"] = std::move(triangles);
+  out["materialIndex"] = mesh.materialIndex;
+}
+
+json posesJson(const std::vector<Pose>& poses) {
+  json a = json::array();
+  for (const Pose& p : poses) a.push_back({{"position", vec(p.position)}, {"rotation", quat(p.rotation)}});
+  return a;
+}
+
 }  // namespace
 
 std::string sceneJson(const SceneDesc& scene) {
-  json vertices = json::array(), triangles = json::array(), materials = json::array();
-  for (const glm::vec3& v : scene.mesh.vertices) vertices.insert(vertices.end(), {v.x, v.y, v.z});
-  for (const auto& t : scene.mesh.triangles) triangles.insert(triangles.end(), {t[0], t[1], t[2]});
+  json out = {{"file", scene.path}}, materials = json::array();
+  meshJson(scene.mesh, out);
   for (const Material& m : scene.materials)
     materials.push_back({{"name", m.name}, {"absorption", bands(m.absorption)}});
+  json objects = json::array();
+  for (const ObjectDesc& o : scene.objects) {
+    json mesh = {{"name", o.name}};
+    meshJson(o.mesh, mesh);
+    objects.push_back(std::move(mesh));
+  }
   json sources = json::array(), listeners = json::array();
-  for (const SourceDesc& s : scene.sources) sources.push_back({{"name", s.name}});
+  for (const SourceDesc& s : scene.sources)
+    sources.push_back({{"name", s.name}, {"directivity", bands(s.directivity.a)}});
   for (const ListenerDesc& l : scene.listeners)
     listeners.push_back({{"name", l.name}, {"radius", l.radius}});
   json centres = json::array();
   for (float f : kBandCentreHz) centres.push_back(f);
-  return json{{"file", scene.path},          {"vertices", vertices},
-              {"triangles", triangles},      {"materialIndex", scene.mesh.materialIndex},
-              {"materials", materials},      {"sources", sources},
-              {"listeners", listeners},      {"bandCentresHz", centres}}
-      .dump();
+  out.update({{"materials", materials}, {"objects", objects}, {"sources", sources},
+              {"listeners", listeners}, {"bandCentresHz", centres}});
+  return out.dump();
 }
 
 std::string stateJson(const StudioFrame& f) {
   json listeners = json::array(), sources = json::array();
   for (const glm::vec3& p : f.listeners) listeners.push_back(vec(p));
   for (const glm::vec3& p : f.sources) sources.push_back(vec(p));
+  json rotations = json::array(), edges = json::array();
+  for (const glm::quat& q : f.sourceRotations) rotations.push_back(quat(q));
+  for (const auto& [a, b] : f.edges) edges.push_back({a.x, a.y, a.z, b.x, b.y, b.z});
   const json direct = {{"visible", f.direct.visible},
                        {"distance", f.direct.distance},
                        {"delaySeconds", f.direct.delaySeconds},
@@ -84,7 +110,11 @@ std::string stateJson(const StudioFrame& f) {
               {"listeners", listeners},
               {"listenerYaw", f.listenerYaw},
               {"sources", sources},
+              {"worldSeconds", f.worldSeconds},
+              {"objects", posesJson(f.objects)},
+              {"sourceRotations", rotations},
               {"direct", direct},
+              {"edges", edges},
               {"paths", pathsJson(f.paths)},
               {"figures", figuresJson(f.figures)},
               {"publishMicros", f.publishMicros}}

@@ -3,10 +3,12 @@
 #include <httplib.h>
 
 #include <cmath>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <thread>
 
 #include "apps/studio/studio_access.h"
+#include "apps/studio/studio_ir.h"
 #include "apps/studio/studio_json.h"
 #include "common/input_error.h"
 
@@ -28,12 +30,19 @@ struct StudioServer::Impl {
   httplib::Server http;
   std::thread thread;
   int port = 0;
+  /// The newest /api/ir document and the IR it describes: its IACC costs tens of ms, and the
+  /// page and a test may ask for the same frame's IR more than once.
+  std::mutex irMutex;
+  std::shared_ptr<const StudioIr> irDone;
+  std::shared_ptr<const std::string> irDoneJson;
 
   Impl(const ServerOptions& o, StudioBoard& b) : options(o), board(b), files(o.webFolder) {}
 
   std::string cookieName() const { return "dpc_studio_" + std::to_string(port); }
   bool authorised(const httplib::Request& req, bool& fromQuery) const;
   void routeReads();
+  void routeIr();
+  std::shared_ptr<const std::string> irDocument(const std::shared_ptr<const StudioIr>& ir);
   void routeWrites();
   void routeFiles();
 };
@@ -66,6 +75,11 @@ std::optional<glm::vec3> position(const json& j) {
   return p;
 }
 
+/// The frame number of "?frame=N".
+uint64_t frameParam(const Request& req) {
+  return std::strtoull(req.get_param_value("frame").c_str(), nullptr, 10);
+}
+
 void refuse(Response& res, int status, const char* why) {
   res.status = status;
   res.set_content(std::string(why) + "\n", "text/plain");
@@ -90,9 +104,7 @@ bool StudioServer::Impl::authorised(const Request& req, bool& fromQuery) const {
 void StudioServer::Impl::routeReads() {
   auto withFrame = [this](auto body) {
     return [this, body](const Request& req, Response& res) {
-      auto f = req.has_param("frame") ? board.find(std::strtoull(
-                                            req.get_param_value("frame").c_str(), nullptr, 10))
-                                      : board.latest();
+      auto f = req.has_param("frame") ? board.find(frameParam(req)) : board.latest();
       if (!f) return refuse(res, 404, "no such frame (yet)");
       body(*f, res);
     };
@@ -108,6 +120,37 @@ void StudioServer::Impl::routeReads() {
            }));
   http.Get("/api/energy.csv", withFrame([](const StudioFrame& f, Response& res) {
              res.set_content(energyCsv(f), "text/csv");
+           }));
+}
+
+std::shared_ptr<const std::string> StudioServer::Impl::irDocument(
+    const std::shared_ptr<const StudioIr>& ir) {
+  {
+    std::lock_guard<std::mutex> lock(irMutex);
+    if (irDone == ir) return irDoneJson;
+  }
+  auto text = std::make_shared<const std::string>(irJson(*ir));  // outside the lock
+  std::lock_guard<std::mutex> lock(irMutex);
+  irDone = ir;
+  irDoneJson = text;
+  return text;
+}
+
+/// GET /api/ir and /api/ir.wav: the selected pair's IR of a kept frame (the newest, or ?frame=N).
+void StudioServer::Impl::routeIr() {
+  auto withIr = [this](auto body) {
+    return [this, body](const Request& req, Response& res) {
+      auto ir = req.has_param("frame") ? board.findIr(frameParam(req)) : board.latestIr();
+      if (!req.has_param("frame")) board.wantIr();  // the next frame's IR for the next request
+      if (!ir) return refuse(res, 404, "no such IR (yet)");
+      body(ir, res);
+    };
+  };
+  http.Get("/api/ir", withIr([this](const std::shared_ptr<const StudioIr>& ir, Response& res) {
+             res.set_content(*irDocument(ir), "application/json");
+           }));
+  http.Get("/api/ir.wav", withIr([](const std::shared_ptr<const StudioIr>& ir, Response& res) {
+             res.set_content(irWav(*ir), "audio/wav");
            }));
 }
 
@@ -170,6 +213,7 @@ StudioServer::StudioServer(const ServerOptions& options, StudioBoard& board)
     return R::Unhandled;
   });
   s.routeReads();
+  s.routeIr();
   s.routeWrites();
   s.routeFiles();
   s.port = options.port == 0 ? s.http.bind_to_any_port(options.host)

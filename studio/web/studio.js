@@ -4,13 +4,15 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/OrbitControls.js';
 import { analyse, drawDecay, fillParams, statusText, materialColour } from './panels.js';
+import { drawIr, fillIacc } from './ir_panel.js';
+import { buildObjects, kLobeBand, lobe, meshGeometry, placeObjects, worldVertices } from './objects.js';
 
 const token = new URLSearchParams(location.search).get('token') || '';
 const headers = { 'X-Dpc-Token': token, 'Content-Type': 'application/json' };
 const api = (path, body) =>
   fetch(path, body ? { method: 'POST', headers, body: JSON.stringify(body) } : { headers })
     .then((r) => (r.ok ? r.json() : Promise.reject(new Error(`${path}: HTTP ${r.status}`))));
-const studio = (window.studio = { ready: false, state: null, response: null, params: null });
+const studio = (window.studio = { ready: false, state: null, response: null, params: null, ir: null });
 
 // The view: renderer, camera, orbit controls, light.
 const view = document.getElementById('view');
@@ -30,19 +32,7 @@ addEventListener('resize', resize);
 
 // The mesh, one colour per material, seen from both sides (the camera is often inside).
 function buildMesh(sc) {
-  const pos = [], col = [], c = new THREE.Color();
-  for (let t = 0; t < sc.triangles.length / 3; ++t) {
-    c.setStyle(materialColour(sc.materialIndex[t]));
-    for (let k = 0; k < 3; ++k) {
-      const v = sc.triangles[3 * t + k];
-      pos.push(sc.vertices[3 * v], sc.vertices[3 * v + 1], sc.vertices[3 * v + 2]);
-      col.push(c.r, c.g, c.b);
-    }
-  }
-  const geo = new THREE.BufferGeometry();
-  geo.setAttribute('position', new THREE.Float32BufferAttribute(pos, 3));
-  geo.setAttribute('color', new THREE.Float32BufferAttribute(col, 3));
-  geo.computeVertexNormals();
+  const geo = meshGeometry(sc);
   const mat = new THREE.MeshLambertMaterial({ vertexColors: true, side: THREE.DoubleSide,
                                               transparent: true, opacity: 0.55, depthWrite: false });
   const mesh = new THREE.Mesh(geo, mat);
@@ -71,11 +61,13 @@ function marker(colour, radius, withNose) {
   scene3.add(g);
   return g;
 }
-let mesh, sourceMarkers = [], listenerMarkers = [];
+let mesh, sourceMarkers = [], listenerMarkers = [], objectGroups = [];
 const pathLines = new THREE.LineSegments(new THREE.BufferGeometry(),
                                          new THREE.LineBasicMaterial({ color: 0xffd060 }));
 const directLine = new THREE.Line(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: 0x60ff90 }));
-scene3.add(pathLines, directLine);
+const edgeLines = new THREE.LineSegments(new THREE.BufferGeometry(),
+                                         new THREE.LineBasicMaterial({ color: 0xff40ff, depthTest: false }));
+scene3.add(pathLines, directLine, edgeLines);
 
 // Exact early paths source -> reflection points -> listener, and the direct sound.
 function drawPaths(st) {
@@ -87,6 +79,7 @@ function drawPaths(st) {
   pathLines.geometry.setAttribute('position', new THREE.Float32BufferAttribute(seg, 3));
   directLine.visible = st.direct.visible;
   directLine.geometry.setAttribute('position', new THREE.Float32BufferAttribute([...s, ...l], 3));
+  edgeLines.geometry.setAttribute('position', new THREE.Float32BufferAttribute(st.edges.flat(), 3));
 }
 
 // Dragging: a marker moves on the horizontal plane at its height; the engine hears of it
@@ -149,12 +142,22 @@ addEventListener('keydown', (ev) => {
   api('/api/listener', { position: [x, y, z], yaw });
 });
 
-// Polling: the state every 150 ms, the response (and its parameters) when its frame changed.
+// Polling: the state every 150 ms, the response (and its parameters) when its frame changed;
+// the newest IR (its IACC costs the server about 0.2 s of one core) 2 s after the last one.
 let centres = [], responseAt = 0;
+async function pollIr() {
+  const ir = await api('/api/ir');  // the newest: the server keeps the frame's after each ask
+  if (ir.frame === studio.ir?.frame) return;
+  studio.ir = ir;
+  drawIr(document.getElementById('ir'), ir);
+  fillIacc(document.getElementById('iacc'), ir, centres);
+}
 async function poll() {
   const st = await api('/api/state');
   studio.state = st;
   st.sources.forEach((p, i) => (drag && drag.kind === 'source' && drag.index === i) || sourceMarkers[i].position.set(...p));
+  st.sourceRotations.forEach((q, i) => sourceMarkers[i].quaternion.set(...q));
+  placeObjects(objectGroups, st);
   st.listeners.forEach((p, i) => {
     const m = listenerMarkers[i];
     if (!(drag && drag.kind === 'listener' && drag.index === i)) m.position.set(...p);
@@ -176,11 +179,35 @@ async function poll() {
 function loop() {
   poll().catch((e) => console.warn(String(e))).finally(() => setTimeout(loop, 150));
 }
+// The IR on its own loop, 2 s after the previous answer: its IACC can take the server most of
+// a second on a loaded machine, and the state must not wait for it.
+function irLoop() {
+  pollIr().catch((e) => console.warn(String(e))).finally(() => setTimeout(irLoop, 2000));
+}
 
 /// The page position (CSS pixels) of a world point, for tests that drag with a real mouse.
 studio.screenOf = ([x, y, z]) => {
   const v = new THREE.Vector3(x, y, z).project(camera), r = renderer.domElement.getBoundingClientRect();
   return { x: r.left + ((v.x + 1) / 2) * r.width, y: r.top + ((1 - v.y) / 2) * r.height };
+};
+
+/// World positions of object i's drawn vertices, and source i's drawn balloon: the world
+/// direction of its axis and its reach forward and back along it (m), for the browser test.
+studio.objectVertices = (i) => worldVertices(objectGroups[i]);
+/// The diffraction edges drawn, [[ax, ay, az, bx, by, bz], ...] (m), for the browser test.
+studio.drawnEdges = () => {
+  const a = edgeLines.geometry.attributes.position, out = [];
+  for (let i = 0; a && i + 1 < a.count; i += 2)
+    out.push([a.getX(i), a.getY(i), a.getZ(i), a.getX(i + 1), a.getY(i + 1), a.getZ(i + 1)]);
+  return out;
+};
+studio.balloon = (i) => {
+  const b = sourceMarkers[i].getObjectByName('directivity');
+  if (!b) return null;
+  const o = new THREE.Vector3().setFromMatrixPosition(b.matrixWorld);
+  const axis = new THREE.Vector3(1, 0, 0).transformDirection(b.matrixWorld);
+  const along = worldVertices(b).map((v) => new THREE.Vector3(...v).sub(o).dot(axis));
+  return { axis: axis.toArray(), forward: Math.max(...along), back: -Math.min(...along) };
 };
 
 async function start() {
@@ -189,7 +216,12 @@ async function start() {
   document.getElementById('scene-name').textContent = sc.file;
   resize();
   mesh = buildMesh(sc);
-  sourceMarkers = sc.sources.map(() => marker(0xe04040, 0.18, false));
+  objectGroups = buildObjects(scene3, sc.objects);
+  sourceMarkers = sc.sources.map((s) => {
+    const m = marker(0xe04040, 0.18, false), balloon = lobe(s.directivity[kLobeBand]);
+    if (balloon) m.add(balloon);
+    return m;
+  });
   listenerMarkers = sc.listeners.map((l) => marker(0x7fb2ff, Math.min(l.radius, 0.25), true));
   const select = document.getElementById('source');
   sc.sources.forEach((s, i) => select.add(new Option(s.name, i)));
@@ -198,5 +230,6 @@ async function start() {
     .map((m, i) => `<li><span class="swatch" style="background:${materialColour(i)}"></span>${m.name}</li>`).join('');
   renderer.setAnimationLoop(() => { controls.update(); renderer.render(scene3, camera); });
   loop();
+  irLoop();
 }
 start().catch((e) => console.error(String(e)));

@@ -355,3 +355,29 @@ TEST_CASE("Diffraction: wedges of 240-330 degrees against the exact Biot-Tolstoy
   }
   std::printf("wedges vs BTM: largest difference %.3f dB\n", worst);
 }
+
+TEST_CASE("Diffraction: apply reports the edges whose paths it counted", "[diffraction]") {
+  Setup s(screen());
+  const glm::vec3 src{-5.f, -1.f, 0.f}, lis{5.f, -1.f, 0.f};  // behind the screen's top edge
+  DirectSound blocked;  // the screen hides the source: not visible, no intensity
+  blocked.distance = glm::length(lis - src);
+  blocked.delaySeconds = blocked.distance / kC;
+  blocked.direction = glm::normalize(src - lis);
+  DirectSound d = blocked;
+  std::vector<uint32_t> used = {99};  // cleared by apply
+  const size_t n = s.diffraction.apply(s.tracer, src, ListenerSphere{lis, 0.01f}, kC, Bands(0.f),
+                                       d, {}, glm::vec3(1.f, 0.f, 0.f), &used);
+  // The screen's four rim edges (top y = 0, bottom y = -500, sides z = +-500): each has its
+  // Fermat point inside it and both legs free; each reported once, the count apply returns.
+  REQUIRE(s.diffraction.edges().size() == 4);
+  REQUIRE(n == 4);
+  REQUIRE(used.size() == 4);
+  std::vector<uint32_t> sorted = used;
+  std::sort(sorted.begin(), sorted.end());
+  CHECK(sorted == std::vector<uint32_t>{0, 1, 2, 3});
+  // The shortest path is over the top edge, sqrt(5^2 + 1^2) on either side: the direct sound.
+  CHECK(d.distance == Approx(2.0 * std::sqrt(26.0)).epsilon(1e-6));
+  // The same pair without the list counts the same.
+  DirectSound d2 = blocked;
+  CHECK(s.diffraction.apply(s.tracer, src, ListenerSphere{lis, 0.01f}, kC, Bands(0.f), d2) == 4);
+}

@@ -24,20 +24,21 @@ TEST_CASE("ResponseSnapshot: copies the traced listener's responses and skips wh
 
   ResponseSnapshot snap;
   CHECK_FALSE(snap.read(0, [](const ResponseSnapshot::Responses&) {}));  // nothing stored yet
-  REQUIRE(snap.tryStore(stage, 0, 7));
+  REQUIRE(snap.tryStore(stage, w, 0, 7));
   bool called = false;
   CHECK(snap.read(0, [&](const ResponseSnapshot::Responses& r) {
     called = true;
     CHECK(*r.ir == stage.lastIrs(0)[0]);
     CHECK(r.frame == 7);
     CHECK(r.binSeconds == Simulation::kEnergyBinSeconds);
+    CHECK(r.world->sourcePositions == w.sourcePositions);  // the frame's world, copied
     // The direct sound is added into its bin: the total exceeds the estimator's alone.
     Bands total(0.f);
     for (const Bands& b : *r.energy) total += b;
     CHECK(total[3] > stage.simulation().result(0).energy.total()[3]);
     // While the reader holds the lock, a store on another thread gives up at once.
     bool stored = true;
-    std::thread writer([&] { stored = snap.tryStore(stage, 0, 8); });
+    std::thread writer([&] { stored = snap.tryStore(stage, w, 0, 8); });
     writer.join();
     CHECK_FALSE(stored);
   }));

@@ -13,6 +13,8 @@ import fs from 'node:fs';
 import http from 'node:http';
 import { createRequire } from 'node:module';
 import path from 'node:path';
+import { checkEdges } from './edges_check.mjs';
+import { checkDirectivity, checkMovingObjects } from './moving_check.mjs';
 
 const arg = (name) => { const i = process.argv.indexOf(name); return i > 0 ? process.argv[i + 1] : undefined; };
 const build = path.resolve(arg('--build')), source = path.resolve(arg('--source')), work = path.join(build, 'tests/studio-work');
@@ -33,12 +35,13 @@ function checkBadPort() {
   }
 }
 
-/// dpc-demo --studio --offline: resolves with {child, url, port, token} once the URL is printed.
-function startDemo() {
-  // --live: through a JACK server (the caller starts one: scripts/jack-headless.sh).
-  const clock = live ? ['--device', 'jack:system', '--duration', '900']
-                     : ['--offline', path.join(work, 'render.wav'), '--duration', '0.5', '--quiet'];
-  const child = spawn(demo, [scene, '--studio', ...clock, '--rays', '2048'], { stdio: ['ignore', 'pipe', 'inherit'] });
+/// dpc-demo --studio --offline (live: through a JACK server the caller started,
+/// scripts/jack-headless.sh): resolves with {child, url, port, token} once the URL is printed.
+function startDemo(sceneFile = scene, onLive = live) {
+  const clock = onLive ? ['--device', 'jack:system', '--duration', '900']
+                       : ['--offline', path.join(work, 'render.wav'), '--duration', '0.5', '--quiet'];
+  const child = spawn(demo, [sceneFile, '--studio', ...clock, '--rays', '2048', '--output', 'binaural'],
+                      { stdio: ['ignore', 'pipe', 'inherit'] });
   child.out = '';
   return new Promise((resolve, reject) => {
     const timer = setTimeout(() => reject(new Error('no studio URL within 300 s')), 300000);
@@ -148,6 +151,88 @@ async function checkDistanceLaw(page) {
   return { measured, expected, near: dist(near), far: dist(far) };
 }
 
+/// GET with the token; resolves with the body as a Buffer (404: null).
+function getBytes(port, token, rawPath) {
+  return new Promise((resolve, reject) => {
+    http.get({ host: '127.0.0.1', port, path: rawPath, headers: { 'X-Dpc-Token': token } }, (res) => {
+      const parts = [];
+      res.on('data', (d) => parts.push(d));
+      res.on('end', () => resolve(res.statusCode === 200 ? Buffer.concat(parts) : null));
+    }).on('error', reject);
+  });
+}
+
+/// The IR panel: the page's IACC against dpc-analyze --iacc on the same frame's IR exported as
+/// a WAV (/api/ir.wav); the drawn waveform against the WAV's samples; the IR's onset against the
+/// engine's direct sound of that frame.
+async function checkIr(page, { port, token }) {
+  await page.waitForFunction(() => window.studio.ir?.iacc, { timeout: 60000 });
+  for (let attempt = 0; attempt < 5; ++attempt) {
+    const ir = await page.evaluate(() => window.studio.ir);
+    const wav = await getBytes(port, token, `/api/ir.wav?frame=${ir.frame}`);
+    const st = await getBytes(port, token, `/api/state?frame=${ir.frame}`);
+    if (!wav || !st) {  // the frame left the server's ring: take a newer one
+      console.log(`IR of frame ${ir.frame} no longer kept; trying a newer frame`);
+      await sleep(1200);
+      continue;
+    }
+    const file = path.join(work, 'studio-ir.wav');
+    fs.writeFileSync(file, wav);
+    const ref = JSON.parse(execFileSync(analyze, [file, '--iacc', '--json'], { encoding: 'utf8' })).pairs[0];
+    const direct = JSON.parse(st).direct, late = ref.onsetSeconds - direct.delaySeconds;
+    // The IR starts with the engine's direct sound of that frame: after it by the HRIR's own
+    // onset (default.sofa: 0.35-0.6 ms measured), or before it by the zero-phase synthesis
+    // band filters' leading ringing (synthesis/band_filters.h), which the 20 dB onset rule
+    // meets when a reflection, not the direct sound, is the IR's peak: 1.2 ms measured, the
+    // ringing falling about 13 dB per 0.25 ms ahead of that. Within [-3, +1.5] ms; another
+    // pose's IR would be off by its path difference (the drag above moved the listener 2 m:
+    // 5.8 ms), a time axis shifted by a block (512 samples) by 10.7 ms.
+    assert.ok(direct.visible && late >= -3e-3 && late <= 1.5e-3,
+              `IR onset ${ref.onsetSeconds} s, direct sound ${direct.delaySeconds} s`);
+    return { frame: ir.frame, ...compareIacc(ir, ref), ...compareWaveform(ir, wav),
+             onset: ref.onsetSeconds, direct };
+  }
+  throw new Error('no frame whose IR the server still held');
+}
+
+/// The page's IACC (early, late, whole; per band and broadband) against dpc-analyze's.
+/// Both are analysis/interaural_correlation.cpp on the same float samples (a float WAV is
+/// lossless) and both print doubles in full: they must agree to the last bit; 1e-12 only
+/// allows for a decimal printing that does not round-trip. Returns the largest difference.
+function compareIacc(ir, ref) {
+  const keys = [['early', 'iaccE'], ['late', 'iaccL'], ['all', 'iaccA']];
+  const rows = [...ir.iacc.bands.map((b, i) => [b, ref.bands[i]]), [ir.iacc.broadband, ref.broadband]];
+  let worst = 0, finite = 0;
+  for (const [mine, theirs] of rows)
+    for (const [k, r] of keys) {
+      assert.equal(mine[k] === null, theirs[r] === null, `IACC ${k}: page ${mine[k]}, dpc-analyze ${theirs[r]}`);
+      if (mine[k] === null) continue;
+      ++finite, worst = Math.max(worst, Math.abs(mine[k] - theirs[r]));
+      assert.ok(mine[k] >= 0 && mine[k] <= 1 + 1e-9, `IACC ${k} ${mine[k]} outside [0, 1]`);
+    }
+  assert.ok(worst <= 1e-12, `IACC differs from dpc-analyze's by ${worst}`);
+  assert.ok(finite >= 20, `only ${finite} IACC values`);
+  return { iaccWorst: worst, iaccE: ir.iacc.broadband.early, iaccL: ir.iacc.broadband.late,
+           refE: ref.broadband.iaccE, refL: ref.broadband.iaccL };
+}
+
+/// The drawn waveform's column extremes against the WAV's samples (float32 after a 44-byte
+/// header, interleaved): the same floats, so equal exactly.
+function compareWaveform(ir, wav) {
+  const channels = wav.readUInt16LE(22), n = (wav.length - 44) / 4 / channels;
+  assert.equal(channels, ir.channels);
+  assert.equal(n, ir.samples);
+  ir.min.forEach((lo, c) => lo.forEach((v, k) => {
+    let mn = Infinity, mx = -Infinity;
+    for (let i = k * ir.columnSamples; i < Math.min(n, (k + 1) * ir.columnSamples); ++i) {
+      const x = wav.readFloatLE(44 + 4 * (i * channels + c));
+      mn = Math.min(mn, x), mx = Math.max(mx, x);
+    }
+    assert.ok(v === mn && ir.max[c][k] === mx, `channel ${c} column ${k}: page ${v}..${ir.max[c][k]}, WAV ${mn}..${mx}`);
+  }));
+  return { columns: ir.min[0].length, samples: n };
+}
+
 /// The page's T30 per band against dpc-analyze's on the same frame's energy response.
 async function checkT30(page, { port, token }) {
   for (let attempt = 0; attempt < 5; ++attempt) {
@@ -173,53 +258,117 @@ async function checkT30(page, { port, token }) {
   throw new Error('no frame whose energy response the server still held');
 }
 
+/// SIGINT to dpc-demo; its studio lines printed. Offline, Ctrl-C is the studio's normal end
+/// (status 0); live, it interrupts playback (128 + SIGINT).
+async function stopDemo(run, onLive) {
+  run.child.removeAllListeners('exit');
+  const exited = new Promise((r) => run.child.on('exit', (code) => r(code)));
+  run.child.kill('SIGINT');
+  const code = await exited;
+  console.log(run.child.out.split('\n').filter((l) => l.startsWith('studio:')).join('\n'));
+  if (process.exitCode !== 77) assert.equal(code, onLive ? 130 : 0, 'dpc-demo after SIGINT');
+}
+
+/// A page of the studio at `url`, loaded, with its first response analysed; `errors` collects
+/// its console errors and page errors.
+async function openPage(browser, url) {
+  const page = await browser.newPage();
+  await page.setViewport({ width: 1280, height: 800 });
+  const errors = [];
+  page.on('console', (m) => m.type() === 'error' && errors.push(m.text()));
+  page.on('pageerror', (e) => errors.push(String(e)));
+  await page.goto(url, { waitUntil: 'load', timeout: 120000 });
+  await page.waitForFunction(() => window.studio?.ready && window.studio.params, { timeout: 120000 });
+  return { page, errors };
+}
+
+/// The shoebox: refusals, drawing, the distance law, T30, the IR panel, the page closed.
+async function shoeboxChecks(browser, run) {
+  const { page, errors } = await openPage(browser, run.url);
+  await sleep(500);
+  const share = await drawnShare(page);
+  assert.ok(share > 0.05, `the canvas is empty (${share} of its pixels drawn)`);
+  const law = await checkDistanceLaw(page);
+  const t30 = await checkT30(page, run);
+  const ir = await checkIr(page, run);
+  await page.screenshot({ path: arg('--screenshot') || path.join(work, 'studio.png') });
+  assert.deepEqual(errors, [], 'console errors');
+  const before = (await state(page)).frame;
+  await page.close();
+  await sleep(1500);
+  const after = JSON.parse((await rawGet(run.port, '/api/state', { 'X-Dpc-Token': run.token })).body).frame;
+  assert.ok(after > before, 'the session stopped with the page');
+  console.log(`canvas drawn: ${(100 * share).toFixed(1)} % of pixels`);
+  console.log(`distance law: ${law.near.toFixed(3)} m -> ${law.far.toFixed(3)} m: direct 1 kHz ` +
+              `${law.measured.toFixed(4)} dB, 1/r^2 ${law.expected.toFixed(4)} dB`);
+  console.log(`IR frame ${ir.frame}: ${ir.samples} samples in ${ir.columns} columns equal to the WAV's; ` +
+              `IACC broadband early ${ir.iaccE.toFixed(4)} (dpc-analyze ${ir.refE.toFixed(4)}), late ` +
+              `${ir.iaccL.toFixed(4)} (${ir.refL.toFixed(4)}), largest difference ${ir.iaccWorst}; onset ` +
+              `${(1e3 * ir.onset).toFixed(3)} ms, direct sound ${(1e3 * ir.direct.delaySeconds).toFixed(3)} ms`);
+  console.log(`T30 frame ${t30.frame}: page ${t30.t30.map((v) => v?.toFixed(4)).join(' ')}; ` +
+              `dpc-analyze ${t30.ref.map((v) => v?.toFixed(4)).join(' ')}`);
+}
+
+/// A scene on the offline clock (its motion happens at fixed scene times): body(page) on a
+/// fresh page, no console errors, then SIGINT.
+async function offlineScene(browser, file, body) {
+  const run = await startDemo(path.join(source, 'scenes', file), false);
+  try {
+    const { page, errors } = await openPage(browser, run.url);
+    await body(page);
+    assert.deepEqual(errors, [], 'console errors');
+    await page.close();
+  } finally {
+    await stopDemo(run, false);
+  }
+}
+
+/// two_rooms: the drawn door and the talker's balloon (tests/studio/moving_check.mjs).
+async function twoRoomsChecks(page) {
+  const dir = await checkDirectivity(page, source);
+  const m = await checkMovingObjects(page, source);
+  console.log(`door: ${m.samples} frames sampled (${m.swinging} mid-swing), drawn vs engine at most ` +
+              `${m.drawnVsEngine.toExponential(2)} m, engine vs keyframes ${m.engineVsKeys.toExponential(2)} m; ` +
+              `moved ${m.moved.toFixed(3)} m between ${m.closedT.toFixed(2)} s and ${m.openT.toFixed(2)} s`);
+  console.log(`talker balloon: axis ${dir.axis.map((v) => v.toFixed(4))}, forward/back ${dir.ratio.toFixed(5)} ` +
+              `against 1/|1 - 2a| = ${dir.expected.toFixed(5)} (a = ${dir.a} at 1 kHz)`);
+}
+
+/// shoebox-corner: the diffraction edges drawn (tests/studio/edges_check.mjs).
+async function cornerChecks(page) {
+  const e = await checkEdges(page, source);
+  console.log(`edges: ${e.shadow} frames in the shadow, ${e.inView} in view, ${e.edgesDrawn} edges drawn, all ` +
+              `the engine's and mesh edges; shortest drawn edge path vs the engine's direct distance at most ` +
+              `${e.worstLength.toExponential(2)} m`);
+}
+
 async function main() {
   checkBadPort();
   const run = await startDemo();
   let browser;
   try {
-    await checkRefusals(run);
     try {
-      browser = await puppeteer.launch({ executablePath: arg('--chromium'), headless: true,
-        args: ['--no-sandbox', '--enable-unsafe-swiftshader', '--use-angle=swiftshader', '--window-size=1280,800'] });
-    } catch (e) {
-      console.error(`browser_test: chromium cannot start: ${e.message}: skipped`);
-      process.exitCode = 77;
-      return;
+      await checkRefusals(run);
+      try {
+        browser = await puppeteer.launch({ executablePath: arg('--chromium'), headless: true,
+          args: ['--no-sandbox', '--enable-unsafe-swiftshader', '--use-angle=swiftshader', '--window-size=1280,800'] });
+      } catch (e) {
+        console.error(`browser_test: chromium cannot start: ${e.message}: skipped`);
+        process.exitCode = 77;
+        return;
+      }
+      await shoeboxChecks(browser, run);
+    } finally {
+      await stopDemo(run, live);
     }
-    const page = await browser.newPage();
-    await page.setViewport({ width: 1280, height: 800 });
-    const errors = [];
-    page.on('console', (m) => m.type() === 'error' && errors.push(m.text()));
-    page.on('pageerror', (e) => errors.push(String(e)));
-    await page.goto(run.url, { waitUntil: 'load', timeout: 120000 });
-    await page.waitForFunction(() => window.studio?.ready && window.studio.params, { timeout: 120000 });
-    await sleep(500);
-    const share = await drawnShare(page);
-    assert.ok(share > 0.05, `the canvas is empty (${share} of its pixels drawn)`);
-    const law = await checkDistanceLaw(page);
-    const t30 = await checkT30(page, run);
-    await page.screenshot({ path: arg('--screenshot') || path.join(work, 'studio.png') });
-    assert.deepEqual(errors, [], 'console errors');
-    const before = (await state(page)).frame;
-    await page.close();
-    await sleep(1500);
-    const after = JSON.parse((await rawGet(run.port, '/api/state', { 'X-Dpc-Token': run.token })).body).frame;
-    assert.ok(after > before, 'the session stopped with the page');
-    console.log(`canvas drawn: ${(100 * share).toFixed(1)} % of pixels`);
-    console.log(`distance law: ${law.near.toFixed(3)} m -> ${law.far.toFixed(3)} m: direct 1 kHz ` +
-                `${law.measured.toFixed(4)} dB, 1/r^2 ${law.expected.toFixed(4)} dB`);
-    console.log(`T30 frame ${t30.frame}: page ${t30.t30.map((v) => v?.toFixed(4)).join(' ')}; ` +
-                `dpc-analyze ${t30.ref.map((v) => v?.toFixed(4)).join(' ')}`);
+    // The door's and the walk's times are scene times: the offline clock only (live runs
+    // check the shoebox).
+    if (!live) {
+      await offlineScene(browser, 'two_rooms.json', twoRoomsChecks);
+      await offlineScene(browser, 'shoebox-corner.json', cornerChecks);
+    }
   } finally {
     if (browser) await browser.close();
-    run.child.removeAllListeners('exit');
-    const exited = new Promise((r) => run.child.on('exit', (code) => r(code)));
-    run.child.kill('SIGINT');
-    const code = await exited;
-    console.log(run.child.out.split('\n').filter((l) => l.startsWith('studio:')).join('\n'));
-    // Offline, Ctrl-C is the studio's normal end; live, it interrupts playback (128 + SIGINT).
-    if (process.exitCode !== 77) assert.equal(code, live ? 130 : 0, 'dpc-demo after SIGINT');
   }
   console.log('browser_test: passed');
 }

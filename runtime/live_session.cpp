@@ -1,6 +1,5 @@
 #include "runtime/live_session.h"
 
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>

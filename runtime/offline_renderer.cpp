@@ -1,6 +1,5 @@
 #include "runtime/offline_renderer.h"
 
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -77,11 +76,10 @@ OfflineRender::OfflineRender(std::shared_ptr<const SceneDesc> scene,
       streaming_(bool(options.sink)),
       framePeriod_(1.0 / settings.frameRate) {
   if (options.bake) propagation_.attachBake(options.bake);
-  if (options.waveBands) {
-    propagation_.attachWaveBands(options.waveBands);
-  } else if (scene_->wave.enabled) {
+  if (scene_->wave.enabled) {
+    propagation_.checkWaveBandsAllowed();  // before minutes of simulation, not after
     propagation_.attachWaveBands(
-        wave::sceneWaveBands(*scene_, listeners_, settings.irLength, nullptr));
+        wave::sceneWaveBands(*scene_, listeners_, settings.irLength, options.waveProgress));
   }
   for (size_t k = 0; k < listeners_.size(); ++k) {
     audioStages_.push_back(std::make_unique<AudioStage>(propagation_, dry, *exchange_, k));

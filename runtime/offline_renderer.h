@@ -42,9 +42,10 @@ struct OfflineOptions {
   /// If set, static sources are played from this bake of the scene (PropagationStage::
   /// attachBake; bake/bake_loader.h loads and checks one).
   std::shared_ptr<const BakedField> bake;
-  /// If set, each listener-source pair's wave band is joined to its IRs
-  /// (PropagationStage::attachWaveBands; wave/scene_wave.h's sceneWaveBands makes one).
-  std::shared_ptr<const wave::WaveBandSet> waveBands;
+  /// With the scene's wave.enabled, the wave bands (wave/scene_wave.h) are simulated before
+  /// the first frame and joined to every IR; this is called now and then meanwhile with
+  /// (source, steps done, steps). May be empty.
+  std::function<void(size_t source, size_t done, size_t total)> waveProgress;
 };
 
 /// What one listener heard.

@@ -181,11 +181,15 @@ void PropagationStage::synthesize(size_t s, size_t listener) {
   if (waveBands_ && waveBands_->has(listener, s)) waveBands_->join(listener, s, irs[s]);
 }
 
-void PropagationStage::attachWaveBands(std::shared_ptr<const wave::WaveBandSet> bands) {
-  if (bands && hybrid_)
+void PropagationStage::checkWaveBandsAllowed() const {
+  if (hybrid_)
     throw InputError(scene_->path, "wave.enabled",
                      "the wave band needs each source's whole IR: set audio.rendering to "
                      "\"per_source\" (this scene renders hybrid)");
+}
+
+void PropagationStage::attachWaveBands(std::shared_ptr<const wave::WaveBandSet> bands) {
+  if (bands) checkWaveBandsAllowed();
   waveBands_ = std::move(bands);
 }
 

@@ -83,10 +83,12 @@ class PropagationStage {
   /// stage's scene (bake/bake_loader.h checks); nullptr detaches it. Control thread, between
   /// frames; allocates.
   void attachBake(std::shared_ptr<const BakedField> bake, BakeInterpolation settings = {});
+  /// Throws InputError(scene file, "wave.enabled") in hybrid rendering (a source's IR is
+  /// split there; the wave band needs it whole): a caller checks before simulating the bands.
+  void checkWaveBandsAllowed() const;
   /// Joins each listener-source pair's wave band (wave/wave_join.h) to every IR synthesised
-  /// for it from now on; nullptr detaches. Throws InputError(scene file, "wave.enabled") in
-  /// hybrid rendering (a source's IR is split there; the wave band needs it whole). Control
-  /// thread, between frames.
+  /// for it from now on; nullptr detaches. Throws as checkWaveBandsAllowed. Control thread,
+  /// between frames.
   void attachWaveBands(std::shared_ptr<const wave::WaveBandSet> bands);
   /// The attached bake's playback and counts, or nullptr.
   const BakedPlayback* bakedPlayback() const { return baked_.get(); }

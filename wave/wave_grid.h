@@ -36,8 +36,9 @@
 
 namespace dpc::wave {
 
-/// Most nodes a grid may have (bounding box, padding included): 4e8 nodes are 12 GB of
-/// simulation state; beyond, the scene is too large for the maximum frequency asked.
+/// Most nodes a grid may have (bounding box, padding included): 4e8 nodes are about 5 GB of
+/// solver state (12 bytes a node) and 4 GB more while the grid is built; beyond, the scene is
+/// too large for the maximum frequency asked.
 inline constexpr double kMaxWaveNodes = 4e8;
 
 /// Where the grid lies: node counts per axis (without padding), spacing per axis (m) and the

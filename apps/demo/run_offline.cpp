@@ -27,7 +27,6 @@
 #include "common/stop_signals.h"
 #include "runtime/offline_renderer.h"
 #include "runtime/output_format.h"
-#include "wave/scene_wave.h"
 
 namespace dpc::demo {
 namespace {
@@ -186,20 +185,11 @@ void printTotals(const OfflineResult& r, double audioSeconds) {
   printHybrid(r.hybrid);
 }
 
-/// The wave bands of the render (scene key wave.enabled), simulated before it with progress:
-/// every source at every rendered listener.
-std::shared_ptr<const wave::WaveBandSet> waveBands(const SceneDesc& scene,
-                                                   const PropagationSettings& settings,
-                                                   const OfflineOptions& opt, bool quiet) {
-  std::vector<size_t> listeners;
-  for (size_t l = 0; l < scene.listeners.size(); ++l)
-    if (opt.allListeners || l == opt.listener) listeners.push_back(l);
-  auto progress = [&](size_t source, size_t done, size_t total) {
-    if (quiet || (done != total && done % (256 * 64) != 0)) return;
-    std::fprintf(stderr, "wave band: source %zu of %zu, step %zu / %zu\n", source + 1,
-                 scene.sources.size(), done, total);
-  };
-  return wave::sceneWaveBands(scene, listeners, settings.irLength, progress);
+/// Progress of the wave band's simulations (scene key wave.enabled), before the render's.
+void waveProgress(const SceneDesc& scene, size_t source, size_t done, size_t total) {
+  if (done != total && done % (256 * 64) != 0) return;
+  std::fprintf(stderr, "wave band: source %zu of %zu, step %zu / %zu\n", source + 1,
+               scene.sources.size(), done, total);
 }
 
 }  // namespace
@@ -217,7 +207,10 @@ int runOffline(const Flags& fl) {
   // Several listeners: one propagation run traces them all (one pass per source and frame).
   opt.allListeners = paths.size() > 1;
   if (!fl.quiet) opt.progress = progressBar;
-  if (scene.wave.enabled) opt.waveBands = waveBands(scene, run.settings, opt, fl.quiet);
+  if (!fl.quiet)
+    opt.waveProgress = [&scene](size_t s, size_t done, size_t total) {
+      waveProgress(scene, s, done, total);
+    };
   throwIfStopped();
   Writers writers = openWriters(scene, paths);
   // --gain-db is applied as the blocks are written; a stop signal ends the render here.

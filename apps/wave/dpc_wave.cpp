@@ -129,8 +129,8 @@ void report(const wave::WaveBandStats& s, const SceneDesc& scene, double seconds
 }
 
 int run(const Options& o) {
-  checkOutputPath(o.out, "--out", sceneInputFiles(loadScene(o.scene), o.scene));
   const SceneDesc scene = loadWithOverrides(o);
+  checkOutputPath(o.out, "--out", sceneInputFiles(scene, o.scene));
   std::vector<size_t> listeners;
   if (!o.listener.empty())
     listeners.push_back(listenerIndex(scene, o.listener, "--listener"));

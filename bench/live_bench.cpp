@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "audio/audio_output.h"
+#include "runtime/frame_profile_json.h"
 #include "runtime/live_session.h"
 #include "runtime/null_output.h"
 #include "runtime/render_pipeline.h"
@@ -92,6 +93,7 @@ Json report(const CommonOptions& c, const LiveOptions& o, const SceneDesc& scene
                                      {"median", double(lat.quantileNs(0.5)) * 1e-6},
                                      {"p95", double(lat.quantileNs(0.95)) * 1e-6},
                                      {"max", double(lat.maxNs) * 1e-6}};
+  j["frame_profile_ms"] = frameProfileJson(session.frameProfile());
   j["render_time_with_ir_swap"] = renderLoad(session.renderStatsWithSwap(), periodNs);
   j["render_time_without_ir_swap"] = renderLoad(session.renderStatsWithoutSwap(), periodNs);
   return j;

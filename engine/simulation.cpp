@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/stopwatch.h"
 #include "engine/embree_tracer.h"
 #include "scene/orientation.h"
 #include "scene/tracing_policy.h"
@@ -201,15 +202,34 @@ void Simulation::runFrame(const FrameInputs& inputs) {
   // Every cache's frame share of the pool, fixed before any tracing thread asks for one.
   cachePool_->beginFrame(caches_.size());
   frameTrace_ = TraceStats{};
+  frameTimes_ = FrameTimes{};
   if (tracesFromListeners(settings_.tracing, sourceCount_, L))
     traceFromListeners(inputs.listeners, inputs.sourcePositions);
   else
     traceFromSources(inputs.listeners, inputs.sourcePositions);
   // Growths the frame shares refused, retried one cache after another in pair order from the
   // pool's free bytes: deterministic, and a cache that needs more than a share still grows.
+  const auto t0 = std::chrono::steady_clock::now();
   cachePool_->beginFrame(1);
   for (const std::unique_ptr<DiffusePathCache>& c : caches_) c->growDeferred();
+  frameTimes_.pool = secondsSince(t0);
+  sumPairTimes(L);
   ++frame_;
+}
+
+void Simulation::finishPairs(size_t count, const std::function<void(size_t)>& finish) {
+  const auto t0 = std::chrono::steady_clock::now();
+  propagator_->forEachParallel(count, finish);
+  frameTimes_.pairs += secondsSince(t0);
+}
+
+void Simulation::sumPairTimes(size_t listeners) {
+  for (size_t pair = 0; pair < listeners * sourceCount_; ++pair) {
+    const SourceResult& r = results_[pair];
+    frameTimes_.directCpu += r.directSeconds;
+    frameTimes_.exactCpu += r.specularSeconds;
+    frameTimes_.estimatorCpu += r.estimatorSeconds;
+  }
 }
 
 bool Simulation::skippedForAll(size_t s, size_t listeners) const {
@@ -235,14 +255,13 @@ void Simulation::traceFromSources(std::span<const ListenerSphere> listeners,
     if (specularCandidates_) specularCandidates_->clear();
     const TraceStats trace = propagator_->traceFrame(
         rq, std::span(hitPtrs_.data(), listeners.size()), specularCandidates_.get());
-    addPass(trace);
     if (specularCandidates_) specularCandidateOverflow_ += specularCandidates_->overflow();
-    const double traceSeconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double traceSeconds = secondsSince(t0);
+    addPass(trace, traceSeconds);
     // Each listener's direct sound (with edge diffraction) and estimator update touch only
     // that source-listener pair's data: run them concurrently on the tracing threads. Each
     // pair's float operations are the same whatever the thread, so results do not change.
-    propagator_->forEachParallel(listeners.size(), [&](size_t l) {
+    finishPairs(listeners.size(), [&](size_t l) {
       finishPair(s, l, sources[s], listeners[l], trace, traceSeconds, hits_[l], groups_[l]);
     });
   }
@@ -258,19 +277,19 @@ void Simulation::finishUntraced(std::span<const ListenerSphere> listeners,
       specularCandidates_->clear();
       trace = propagator_->proposeSpecular(requestFor(uint32_t(l), listeners[l].position),
                                            *specularCandidates_);
-      addPass(trace);
       specularCandidateOverflow_ += specularCandidates_->overflow();
     }
-    const double traceSeconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    propagator_->forEachParallel(untraced_.size(), [&](size_t i) {
+    const double traceSeconds = secondsSince(t0);
+    addPass(trace, traceSeconds);
+    finishPairs(untraced_.size(), [&](size_t i) {
       const size_t s = untraced_[i];
       finishPair(s, l, sources[s], listeners[l], trace, traceSeconds, noHits_, noGroups_);
     });
   }
 }
 
-void Simulation::addPass(const TraceStats& t) {
+void Simulation::addPass(const TraceStats& t, double seconds) {
+  frameTimes_.trace += seconds;
   frameTrace_.rays += t.rays;
   frameTrace_.segments += t.segments;
   frameTrace_.listenerHits += t.listenerHits;
@@ -327,11 +346,10 @@ void Simulation::traceFromListeners(std::span<const ListenerSphere> listeners,
                                       specularCandidates_.get());
     else if (specularCandidates_)
       trace = propagator_->proposeSpecular(rq, *specularCandidates_);
-    addPass(trace);
     if (specularCandidates_) specularCandidateOverflow_ += specularCandidates_->overflow();
-    const double traceSeconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    propagator_->forEachParallel(S, [&](size_t s) {
+    const double traceSeconds = secondsSince(t0);
+    addPass(trace, traceSeconds);
+    finishPairs(S, [&](size_t s) {
       finishPair(s, l, sources[s], listeners[l], trace, traceSeconds, sourceHits_[s],
                  sourceGroups_[s]);
     });
@@ -345,11 +363,13 @@ void Simulation::finishPair(size_t s, size_t l, const glm::vec3& source,
   SourceResult& r = results_[pair];
   r.trace = trace;
   r.traceSeconds = traceSeconds;
+  const auto t0 = std::chrono::steady_clock::now();
   r.direct = propagator_->directSound(source, listener, directivities_[s], sourceForwards_[s]);
   if (diffraction_)
     diffraction_->apply(*tracer_, source, listener, settings_.speedOfSound,
                         propagator_->airAttenuationPerMetre(), r.direct, directivities_[s],
                         sourceForwards_[s], &r.diffractionEdges);
+  r.directSeconds = secondsSince(t0);
   // The frame's exact paths first: a hit is left out exactly when the exact path of its own
   // sequence is in this frame's paths (FrameHits::groupInto), so nothing counts twice.
   if (specularScene_) updateSpecular(pair, source, listener, r);
@@ -360,7 +380,7 @@ void Simulation::finishPair(size_t s, size_t l, const glm::vec3& source,
     hits.groupInto(groups, specularScene_ ? &specularCaches_[pair]->validKeys() : nullptr);
   }
   updateOrIdle(pair, groups, r, pairSink(pair, l));
-  r.estimatorSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+  r.estimatorSeconds = secondsSince(t1);
 }
 
 double Simulation::exactPathRetention() const {
@@ -380,7 +400,7 @@ void Simulation::updateSpecular(size_t pair, const glm::vec3& source,
   r.specularCandidates = specularCandidates_->sequences().size();
   r.specularCacheEntries = cache.entryCount();
   r.specularOverflow = cache.overflow() + specularCandidateOverflow_;
-  r.specularSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.specularSeconds = secondsSince(t0);
 }
 
 const std::vector<SpecularPath>& Simulation::specularPaths(size_t source, size_t listener) const {

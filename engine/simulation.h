@@ -30,6 +30,7 @@
 // do not fit the scene (no listener, a source count other than the scene's).
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -88,6 +89,7 @@ class Simulation {
         0.0;                        ///< share of this frame's response from the coarse store
     double traceSeconds = 0.0;      ///< wall time of this frame's ray tracing
     double estimatorSeconds = 0.0;  ///< grouping hits + cache update + readout
+    double directSeconds = 0.0;     ///< direct sound with edge diffraction
     // Exact specular paths (all 0 while exactOrder is 0):
     size_t specularPaths = 0;         ///< valid exact paths this frame (specularPaths())
     size_t specularCandidates = 0;    ///< unique sequences the source's rays proposed
@@ -182,6 +184,18 @@ class Simulation {
   /// once (a pair's result repeats its pass's statistics; per source from the sources, per
   /// listener from the listeners).
   const TraceStats& frameTrace() const { return frameTrace_; }
+  /// Where the last runFrame's wall time went, seconds on the steady clock (the frame
+  /// profile: runtime/frame_profile.h). trace: the tracing passes (Propagator::traceFrame and
+  /// proposeSpecular); pairs: every pair's finishing after its pass, run concurrently on the
+  /// tracing threads (direct sound, edge diffraction, exact paths, estimator); pool: the
+  /// cache pool's deferred growths. The pairs' own times, summed over pairs (CPU seconds
+  /// across threads): direct sound with edge diffraction, exact-path validation and the
+  /// estimator (grouping, cache update and read-out).
+  struct FrameTimes {
+    double trace = 0.0, pairs = 0.0, pool = 0.0;
+    double directCpu = 0.0, exactCpu = 0.0, estimatorCpu = 0.0;
+  };
+  const FrameTimes& frameTimes() const { return frameTimes_; }
   size_t sourceCount() const { return sourceCount_; }
   /// Listeners the last runFrame traced (at least 1).
   size_t listenerCount() const { return listenerCount_; }
@@ -228,8 +242,13 @@ class Simulation {
   /// restart of its path cache when it is traced again).
   void updateOrIdle(size_t pair, const FrameGroups& groups, SourceResult& r,
                     ArrivalSink* dir);
-  /// Adds one tracing pass to frameTrace_.
-  void addPass(const TraceStats& t);
+  /// Adds one tracing pass to frameTrace_ and its wall time to frameTimes_.
+  void addPass(const TraceStats& t, double seconds);
+  /// Runs finishPair for `count` pairs on the tracing threads; adds the wall time to
+  /// frameTimes_.pairs.
+  void finishPairs(size_t count, const std::function<void(size_t)>& finish);
+  /// frameTimes_'s CPU sums over the pairs of `listeners` listeners.
+  void sumPairTimes(size_t listeners);
   /// Per-source group buffers and exact-path set pointers (grows only).
   void reserveSourceGroups();
   /// Source s and listener l after the trace: direct sound (with edge diffraction) and the
@@ -308,6 +327,7 @@ class Simulation {
   uint64_t specularCandidateOverflow_ = 0;  ///< cumulative over sources and frames
   uint64_t frame_ = 0;
   TraceStats frameTrace_;
+  FrameTimes frameTimes_;
 };
 
 }  // namespace dpc

@@ -8,6 +8,7 @@
 
 #include "audio/rt_check.h"
 #include "common/input_error.h"
+#include "common/stopwatch.h"
 #include "runtime/output_format.h"
 #include "scene/orientation.h"
 
@@ -130,26 +131,38 @@ void LiveSession::runFrame(int raysPerSource) {
   // The estimators normalise by the rays each frame traced, so the count may change per frame.
   propagation_->traceWorld(world_, raysPerSource);
   const bool produced = handOver(played, pose);
-  const double frameMs =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  recordFrame(played, produced, frameMs);
-  // Never waits: a reader holding the snapshot makes this frame skip it.
-  if (produced) snapshot_.tryStore(*propagation_, world_, played, counters_.frames());
+  recordFrame(played, produced, secondsSince(t0) * 1e3);
+  FrameProfile& profile = propagation_->profile();
+  if (produced) {
+    // Never waits: a reader holding the snapshot makes this frame skip it.
+    const auto t1 = std::chrono::steady_clock::now();
+    snapshot_.tryStore(*propagation_, world_, played, counters_.frames());
+    profile.record(FrameProfile::kSnapshot, secondsSince(t1));
+  }
+  profile.record(FrameProfile::kFrame, secondsSince(t0));
 }
 
 bool LiveSession::handOver(size_t played, const ListenerPose& pose) {
+  const auto t0 = std::chrono::steady_clock::now();
   IrSet* set = exchange_->acquire();
   if (!set) {
     framesWithoutSet_.fetch_add(1, std::memory_order_relaxed);
     return false;
   }
+  const double acquired = secondsSince(t0);
   propagation_->prepare(played, *set);
+  const auto t1 = std::chrono::steady_clock::now();
   set->poseNs = pose.publishedNs;
   set->readyNs = steadyNowNs();
   lastPoseNs_ = set->poseNs;
   lastReadyNs_ = set->readyNs;
   exchange_->publish(0, set);
+  propagation_->profile().record(FrameProfile::kPublish, acquired + secondsSince(t1));
   return true;
+}
+
+FrameProfile::Snapshot LiveSession::frameProfile() const {
+  return propagation_->profile().snapshot();
 }
 
 void LiveSession::recordFrame(size_t played, bool produced, double frameMs) {

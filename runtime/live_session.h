@@ -30,6 +30,7 @@
 #include "common/fixed_ring.h"
 #include "runtime/adaptive_rays.h"
 #include "runtime/callback_adapter.h"
+#include "runtime/frame_profile.h"
 #include "runtime/host_poses.h"
 #include "runtime/recorder.h"
 #include "runtime/render_pipeline.h"
@@ -221,6 +222,10 @@ class LiveSession {
   /// (the audio thread turns the sound field per block; no propagation frame waited for).
   const audio::CallbackStats& headLatencyStats() const { return headLatencyStats_; }
   bool headTracked() const { return headTracked_; }
+  /// Each propagation frame's stages (runtime/frame_profile.h), since the session was built:
+  /// trace, pairs, synthesis, partition, publish, snapshot and the whole frame. Any thread;
+  /// no allocation.
+  FrameProfile::Snapshot frameProfile() const;
 
   /// After stop(): the recorded output (deviceChannels channels) or empty.
   audio::AudioData takeRecording();

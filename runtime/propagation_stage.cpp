@@ -8,18 +8,13 @@
 #include <stdexcept>
 
 #include "common/input_error.h"
+#include "common/stopwatch.h"
 #include "engine/room_volume.h"
 #include "runtime/output_format.h"
 #include "scene/orientation.h"
 #include "scene/trajectory.h"
 
 namespace dpc {
-
-namespace {
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-}  // namespace
 
 PropagationStage::PropagationStage(std::shared_ptr<const SceneDesc> scene,
                                    const PropagationSettings& settings,
@@ -125,16 +120,23 @@ void PropagationStage::traceWorld(const WorldState& world, int raysPerEmitter) {
         "PropagationStage::traceWorld: the world state does not match "
         "the scene's sources and objects, or has no listener");
   frameInputs(world, raysPerEmitter);
-  const auto t0 = std::chrono::steady_clock::now();
   simulation_->runFrame(inputs_);
   sources_ = world.sourcePositions;
-  totals_.traceSeconds += secondsSince(t0);
+  recordFrameTimes(simulation_->frameTimes());
   totals_.rays += simulation_->frameTrace().rays;
   totals_.segments += simulation_->frameTrace().segments;
   while (irs_.size() < L) irs_.push_back(irs_.front());
   while (lateIrs_.size() < L && !lateIrs_.empty()) lateIrs_.push_back(lateIrs_.front());
   lastTime_ = world.timeSeconds;
   ++totals_.frames;
+}
+
+void PropagationStage::recordFrameTimes(const Simulation::FrameTimes& t) {
+  totals_.traceSeconds += t.trace;
+  totals_.pairsSeconds += t.pairs + t.pool;
+  profile_->record(FrameProfile::kTrace, t.trace);
+  profile_->record(FrameProfile::kPairs, t.pairs + t.pool);
+  profile_->recordPairCpu(t.directCpu, t.exactCpu, t.estimatorCpu);
 }
 
 void PropagationStage::frameInputs(const WorldState& world, int raysPerEmitter) {
@@ -209,7 +211,9 @@ void PropagationStage::synthesizeIrs(size_t listener) {
 }
 
 void PropagationStage::prepare(size_t listener, IrSet& set) {
+  const double synthesized = totals_.synthesisSeconds;
   synthesizeIrs(listener);
+  profile_->record(FrameProfile::kSynthesis, totals_.synthesisSeconds - synthesized);
   const auto t0 = std::chrono::steady_clock::now();
   const auto partition = [&](audio::NonUniformIrSet& into, std::vector<ImpulseResponse>& irs,
                              size_t samples) {
@@ -224,7 +228,9 @@ void PropagationStage::prepare(size_t listener, IrSet& set) {
     set.lateGain.assign(lastGain_[listener].begin(), lastGain_[listener].end());
     set.lateBus.assign(lastBus_[listener].begin(), lastBus_[listener].end());
   }
-  totals_.prepareSeconds += secondsSince(t0);
+  const double partitioned = secondsSince(t0);
+  totals_.prepareSeconds += partitioned;
+  profile_->record(FrameProfile::kPartition, partitioned);
   set.listener = listener;
   set.frame = simulation_->framesRun() - 1;
   set.poseTimeSeconds = lastTime_;

@@ -14,6 +14,7 @@
 #include "common/impulse_response.h"
 #include "engine/simulation.h"
 #include "runtime/baked_playback.h"
+#include "runtime/frame_profile.h"
 #include "runtime/hybrid_synthesis.h"
 #include "runtime/ir_exchange.h"
 #include "runtime/output_format.h"
@@ -112,11 +113,18 @@ class PropagationStage {
   /// Samples of each per-source IR (the early part's in hybrid rendering).
   size_t irSamples() const { return irSamples_; }
 
+  /// Wall seconds summed over frames: tracing passes, the pairs' finishing with the cache
+  /// pool (Simulation::FrameTimes), IR synthesis, the convolver's partitions.
   struct Totals {
     uint64_t frames = 0, rays = 0, segments = 0;
-    double traceSeconds = 0.0, synthesisSeconds = 0.0, prepareSeconds = 0.0;
+    double traceSeconds = 0.0, pairsSeconds = 0.0, synthesisSeconds = 0.0, prepareSeconds = 0.0;
   };
   const Totals& totals() const { return totals_; }
+  /// Each frame's stages (runtime/frame_profile.h): trace, pairs, synthesis and partition
+  /// recorded here; the live session adds publish, snapshot and the whole frame. Written by
+  /// the thread that runs the frames; snapshot() from any thread.
+  FrameProfile& profile() { return *profile_; }
+  const FrameProfile& profile() const { return *profile_; }
 
  private:
   /// The per-source synthesisers (none for mono output in hybrid rendering) and irSamples_.
@@ -129,6 +137,8 @@ class PropagationStage {
                   audio::ConvolverLayout::Planning planning);
   /// The frame's inputs (inputs_) from the world, the bake's skipped pairs and the rays.
   void frameInputs(const WorldState& world, int raysPerEmitter);
+  /// The frame's times into totals_ and the profile.
+  void recordFrameTimes(const Simulation::FrameTimes& t);
   /// Hybrid: listener l's early parts, late buses' IRs and late gains and buses.
   void synthesizeHybrid(size_t listener);
   /// A set of this stage's layouts, sources and buses (makeExchange's factory).
@@ -161,6 +171,7 @@ class PropagationStage {
   double lastTime_ = 0.0;                ///< scene time of the last traced frame
   size_t irSamples_ = 0;
   Totals totals_;
+  std::unique_ptr<FrameProfile> profile_ = std::make_unique<FrameProfile>();
 };
 
 }  // namespace dpc

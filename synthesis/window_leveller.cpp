@@ -10,11 +10,23 @@
 
 namespace dpc {
 
+/// A band's view at a reduced rate: the view y_b = M_b * r holds nothing above the mask's
+/// reach, so it is transformed on the first n/2 + 1 bins' lowest `support` only, at nr points
+/// (nr/2 >= 2 x support: the gain's modulation of the view, (g - 1) y_b, stays below nr/2 but
+/// for a tail at -40 dB and below that the mask then cuts again). Its samples lie at full-rate
+/// times m x ratio, ratio = n / nr.
+struct WindowLeveller::View {
+  size_t support = 0;  ///< bins 0..support-1 of the full spectrum where M_b > 0
+  double ratio = 1.0;  ///< full-rate samples per view sample
+  std::unique_ptr<FftwRealTransforms> fft;
+};
+
 struct WindowLeveller::Size {
   size_t n = 0;     ///< FFT points
   size_t span = 0;  ///< the longest span this size levels (n less the masks' reach)
   std::unique_ptr<FftwRealTransforms> fft;
   std::array<std::vector<float>, kNumBands> mask;  ///< M_b on the FFT bins (levelled bands)
+  std::array<View, kNumBands> view;                ///< the levelled bands' reduced views
   /// coupling[b][k][h]: the energy view b sees of white noise of unit density over band k's
   /// half h (0: below its centre, 1: above), relative to a unit impulse (k = b - 1 .. b + 1).
   std::array<std::array<std::array<double, 2>, kNumBands>, kNumBands> coupling{};
@@ -32,6 +44,16 @@ double halfShare(int k, int h, double f) {
 
 }  // namespace
 
+WindowLeveller::View WindowLeveller::reducedView(const std::vector<float>& mask, size_t n) {
+  View v;
+  for (size_t f = 0; f < mask.size(); ++f)
+    if (mask[f] > 0.f) v.support = f + 1;
+  const size_t nr = std::min(n, smoothFftSize(4 * std::max<size_t>(v.support, 1)));
+  v.ratio = double(n) / double(nr);
+  v.fft = std::make_unique<FftwRealTransforms>(nr);
+  return v;
+}
+
 WindowLeveller::~WindowLeveller() = default;
 
 WindowLeveller::WindowLeveller(int sampleRate, size_t length, int firstBand, int lastBand)
@@ -46,6 +68,7 @@ WindowLeveller::WindowLeveller(int sampleRate, size_t length, int firstBand, int
     throw std::invalid_argument("WindowLeveller: rate, length and bands must be valid");
   const size_t taps = bandFilterTaps(sampleRate);
   factor_.resize(length / size_t(std::max(1L, std::lround(kMinWindowSeconds * sampleRate))) + 2);
+  windowEnergy_.reserve(factor_.size());
   for (size_t span : {length / 8, length / 4, length / 2, length}) {
     if (span == 0) continue;
     auto s = std::make_unique<Size>();
@@ -62,6 +85,7 @@ WindowLeveller::WindowLeveller(int sampleRate, size_t length, int firstBand, int
     for (int b = firstBand; b <= lastBand; ++b) {
       s->mask[size_t(b)].resize(nbins);
       for (size_t f = 0; f < nbins; ++f) s->mask[size_t(b)][f] = masks.gain(b, f);
+      s->view[size_t(b)] = reducedView(s->mask[size_t(b)], s->n);
       for (int k = std::max(0, b - 1); k <= std::min(kNumBands - 1, b + 1); ++k)
         for (size_t f = 0; f < nbins; ++f) {
           const double w = (f == 0 || f == nbins - 1) ? 1.0 : 2.0;  // one-sided spectrum
@@ -112,13 +136,13 @@ void WindowLeveller::viewTargets(const EnergyResponse& energy, const Size& s) {
   }
 }
 
-void WindowLeveller::windowFactors(int b, const EnergyResponse& energy, const Size& s, size_t start,
-                                   size_t span) {
+void WindowLeveller::windowFactors(int b, const EnergyResponse& energy, const View& v,
+                                   size_t start, size_t span) {
   const size_t w =
       std::max(size_t(std::lround(kWindowPeriods * sampleRate_ / bandCentreExactHz(b))),
                size_t(std::lround(kMinWindowSeconds * sampleRate_)));
   const size_t windows = (span + w - 1) / w;
-  const float* y = s.fft->time.p;
+  windowEnergies(v, w, windows, span);
   // The target's running sum at sample t: whole response bins before it, and a share of its bin.
   const double perBin = energy.binSeconds() * sampleRate_;
   const std::vector<double>& d = targetDensity_[size_t(b)];
@@ -130,55 +154,68 @@ void WindowLeveller::windowFactors(int b, const EnergyResponse& energy, const Si
   double sum = 0.0, before = targetBefore(0, j, sum);
   for (size_t i = 0; i < windows; ++i) {
     const size_t lo = i * w, hi = std::min(span, lo + w);
-    double v = 0.0;
-    for (size_t t = lo; t < hi; ++t) v += double(y[t]) * double(y[t]);
+    const double e = windowEnergy_[i];
     const double after = targetBefore(hi, j, sum), target = after - before;
     before = after;
-    factor_[i] = lo >= start && v > 0.0 && target > 0.0
-                     ? float(std::clamp(std::sqrt(target / v), 1.0 / kMaxFactor, kMaxFactor))
+    factor_[i] = lo >= start && e > 0.0 && target > 0.0
+                     ? float(std::clamp(std::sqrt(target / e), 1.0 / kMaxFactor, kMaxFactor))
                      : 1.f;
   }
   factor_[windows] = 1.f;  // beyond the span
-  scaleByFactors(s.fft->time.p, s.n, w, windows);
+  scaleByFactors(v, w, windows);
 }
 
-void WindowLeveller::scaleByFactors(float* y, size_t n, size_t w, size_t windows) const {
-  // y <- (g - 1) y with g = factor_[0] up to window 0's centre c_0 = (w - 1) / 2, linear
-  // between the centres c_i = c_0 + i w, and 1 (no correction) from c_windows on. Sample t
-  // lies at or after c_i when 2 t + 1 >= (2 i + 1) w. One loop per window: no per-sample
-  // division or rounding, so the loops vectorise.
-  const size_t end = std::min(n, (windows + 1) * w);
-  const auto firstAtOrAfter = [&](size_t i) { return std::min(end, ((2 * i + 1) * w) / 2); };
-  size_t t = 0;
-  for (const float g0 = factor_[0] - 1.f; t < firstAtOrAfter(0); ++t) y[t] *= g0;
-  const float inv = 1.f / float(w);
-  for (size_t i = 0; i < windows; ++i) {
-    const float centre = float(i) * float(w) + 0.5f * float(w) - 0.5f;
-    const float g = factor_[i] - 1.f, slope = (factor_[i + 1] - factor_[i]) * inv;
-    for (const size_t stop = firstAtOrAfter(i + 1); t < stop; ++t)
-      y[t] *= g + slope * (float(t) - centre);
+void WindowLeveller::windowEnergies(const View& v, size_t w, size_t windows, size_t span) {
+  // Each view sample stands for `ratio` full-rate samples (Parseval for a band-limited view):
+  // window i holds the samples at full-rate times [i w, (i + 1) w) within the span.
+  windowEnergy_.assign(windows, 0.0);
+  const float* y = v.fft->time.p;
+  const size_t last = std::min(v.fft->n, size_t(std::ceil(double(span) / v.ratio)));
+  for (size_t m = 0; m < last; ++m) {
+    const size_t i = size_t(double(m) * v.ratio) / w;
+    if (i < windows) windowEnergy_[i] += v.ratio * double(y[m]) * double(y[m]);
   }
-  std::fill(y + t, y + n, 0.f);
+}
+
+void WindowLeveller::scaleByFactors(const View& v, size_t w, size_t windows) const {
+  // y <- (g - 1) y with g = factor_[0] up to window 0's centre c_0 = (w - 1) / 2, linear
+  // between the centres c_i = c_0 + i w, and 1 (no correction) from c_windows on; at the view
+  // sample m's full-rate time m x ratio.
+  float* y = v.fft->time.p;
+  const double c0 = 0.5 * (double(w) - 1.0);
+  for (size_t m = 0; m < v.fft->n; ++m) {
+    const double u = (double(m) * v.ratio - c0) / double(w);
+    if (u >= double(windows)) {
+      y[m] = 0.f;
+      continue;
+    }
+    const size_t i = u <= 0.0 ? 0 : size_t(u);
+    const double frac = u <= 0.0 ? 0.0 : u - double(i);
+    y[m] *= float(double(factor_[i]) - 1.0 + (double(factor_[i + 1]) - factor_[i]) * frac);
+  }
 }
 
 void WindowLeveller::pass(const EnergyResponse& energy, Size& s, size_t start, size_t span) {
-  FftwRealTransforms& fft = *s.fft;
-  const size_t nbins = s.n / 2 + 1;
   const float scale = 1.f / float(s.n);
   for (int b = firstBand_; b <= lastBand_; ++b) {
     const std::vector<float>& m = s.mask[size_t(b)];
-    for (size_t f = 0; f < nbins; ++f) {
+    const View& v = s.view[size_t(b)];
+    FftwRealTransforms& fft = *v.fft;
+    const size_t rbins = fft.n / 2 + 1, support = std::min(v.support, rbins);
+    for (size_t f = 0; f < support; ++f) {
       fft.band.p[f][0] = current_.p[f][0] * m[f] * scale;
       fft.band.p[f][1] = current_.p[f][1] * m[f] * scale;
     }
-    fftwf_execute(fft.inv);  // the view y_b = M_b * r in fft.time
-    windowFactors(b, energy, s, start, span);
+    std::fill(&fft.band.p[support][0], &fft.band.p[0][0] + 2 * rbins, 0.f);
+    fftwf_execute(fft.inv);  // the view y_b = M_b * r at fft.n points
+    windowFactors(b, energy, v, start, span);
     fftwf_execute(fft.fwd);  // the view's correction (g - 1) y_b
-    for (size_t f = 0; f < nbins; ++f)
+    const float gain = float(v.ratio);  // a transform of n / ratio points: back to n points'
+    for (size_t f = 0; f < support; ++f)
       for (int c = 0; c < 2; ++c) {
-        const float v = fft.spec.p[f][c] * m[f];
-        correction_.p[f][c] += v;
-        current_.p[f][c] += v;
+        const float corr = fft.spec.p[f][c] * m[f] * gain;
+        correction_.p[f][c] += corr;
+        current_.p[f][c] += corr;
       }
   }
 }

@@ -61,7 +61,10 @@ class WindowLeveller {
   void level(const EnergyResponse& energy, size_t onset, size_t start, float* ir);
 
  private:
-  struct Size;  ///< one FFT size: its transforms, masks and view couplings
+  struct View;  ///< one band's view at a reduced rate: its transforms
+  struct Size;  ///< one FFT size: its transforms, masks, views and view couplings
+  /// The view of a band whose mask on an n-point FFT's bins is `mask`.
+  static View reducedView(const std::vector<float>& mask, size_t n);
   /// The index of the smallest size whose span covers `span` samples.
   size_t sizeFor(size_t span) const;
   /// targetDensity_[b][j]: what view b of an exact IR of `energy` holds per response bin j.
@@ -71,19 +74,22 @@ class WindowLeveller {
   /// One pass: views of the IR whose spectrum `current` holds, their factors, and the
   /// correction's spectrum added to `correction` and `current`.
   void pass(const EnergyResponse& energy, Size& s, size_t start, size_t span);
-  /// gain_ per sample of band b's view y (s.fft.time) over [0, span): window factors from the
-  /// view's energies and the targets, linear between window centres.
-  void windowFactors(int b, const EnergyResponse& energy, const Size& s, size_t start, size_t span);
-  /// y (n samples) <- (g - 1) y, g the factor_ of windows of w samples, linear between their
-  /// centres (windowFactors).
-  void scaleByFactors(float* y, size_t n, size_t w, size_t windows) const;
+  /// Band b's view (v.fft->time) <- (g - 1) x the view: window factors g over [0, span) from
+  /// the view's energies and the targets, linear between window centres.
+  void windowFactors(int b, const EnergyResponse& energy, const View& v, size_t start,
+                     size_t span);
+  /// windowEnergy_[i]: the view's energy in full-rate samples [i w, (i + 1) w) within the span.
+  void windowEnergies(const View& v, size_t w, size_t windows, size_t span);
+  /// The view <- (g - 1) x the view, g the factor_ of windows of w full-rate samples, linear
+  /// between their centres (windowFactors).
+  void scaleByFactors(const View& v, size_t w, size_t windows) const;
 
   int sampleRate_;
   size_t length_;
   int firstBand_, lastBand_;
   std::vector<std::unique_ptr<Size>> sizes_;
   std::array<std::vector<double>, kNumBands> targetDensity_;  ///< per response bin
-  std::vector<double> windowEnergy_, windowTarget_;           ///< per window (scratch)
+  std::vector<double> windowEnergy_;                          ///< per window (scratch)
   std::vector<float> factor_;                                 ///< per window (scratch)
   FftwArray<fftwf_complex> current_, correction_;             ///< spectra (largest size)
 };

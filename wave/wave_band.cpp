@@ -7,6 +7,7 @@
 #include "audio/resample.h"
 #include "common/butterworth.h"
 #include "common/input_error.h"
+#include "common/stopwatch.h"
 #include "wave/admittance.h"
 #include "wave/fdtd.h"
 #include "wave/wave_join.h"
@@ -15,10 +16,6 @@ namespace dpc::wave {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 /// beta per material from its absorption in octave band `band`.
 std::vector<float> admittances(const SceneDesc& scene, int band) {

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/output_file.h"
+#include "runtime/frame_profile_json.h"
 
 namespace dpc::demo {
 
@@ -104,6 +105,7 @@ void writeLiveStats(const std::string& path, const std::string& scenePath,
       {"dropped_energy_fraction", st.droppedEnergyFraction},
       {"hybrid_rendering", hybridJson(session.hybridReport())},
       {"motion_to_sound_latency_ms", latencyJson(session.latencyStats().snapshot())},
+      {"frame_profile_ms", frameProfileJson(session.frameProfile())},
       // Session start -> first block holding a sample other than 0 (null: never).
       {"time_to_first_sound_s",
        std::isnan(st.firstSoundSeconds) ? Json(nullptr) : Json(st.firstSoundSeconds)},

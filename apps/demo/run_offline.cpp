@@ -161,16 +161,17 @@ void printTotals(const OfflineResult& r, double audioSeconds) {
       "frames %llu  IRs applied %llu  rays/s %.3g  segments/s %.3g  cache entries %zu (%.1f MB)\n"
       "cache budget %.1f MB (pool)  coarse entries %zu  entries merged %llu (carrying %.2f %% of "
       "the response's energy)  pool growths refused %llu\n"
-      "propagation %.2f s (trace %.2f, IR synthesis %.2f, partition+FFT %.2f)  wall %.2f s  "
-      "real-time factor %.1fx\n",
+      "propagation %.2f s (trace %.2f, pairs' direct sound, exact paths and caches %.2f, IR "
+      "synthesis %.2f, partition+FFT %.2f)  wall %.2f s  real-time factor %.1fx\n",
       (unsigned long long)t.frames, (unsigned long long)r.listeners.front().irsApplied,
       t.traceSeconds > 0 ? t.rays / t.traceSeconds : 0.0,
       t.traceSeconds > 0 ? t.segments / t.traceSeconds : 0.0, r.last.cacheEntries,
       r.last.cacheBytes / 1e6, r.last.cacheBudgetBytes / 1e6, r.last.cacheCoarseEntries,
       (unsigned long long)r.last.cacheMergedEntries, 100.0 * r.last.cacheCoarseEnergyFraction,
       (unsigned long long)r.last.cachePoolRefusals,
-      t.traceSeconds + t.synthesisSeconds + t.prepareSeconds, t.traceSeconds, t.synthesisSeconds,
-      t.prepareSeconds, r.wallSeconds, audioSeconds / r.wallSeconds);
+      t.traceSeconds + t.pairsSeconds + t.synthesisSeconds + t.prepareSeconds, t.traceSeconds,
+      t.pairsSeconds, t.synthesisSeconds, t.prepareSeconds, r.wallSeconds,
+      audioSeconds / r.wallSeconds);
   std::printf(
       "energy beyond the IR length %.3g %% of the last response (largest per pair)  "
       "IR sets lost %llu  convolution partitions left out after a jump %llu\n",

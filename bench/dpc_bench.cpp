@@ -105,6 +105,10 @@ CLI::App* addLive(CLI::App& app, Options& o) {
   sub->add_option("--frame-rate", o.live.frameRate,
                   "Propagation frames per second (default: scene)");
   sub->add_option("--device", o.live.device, "Audio device (default: a timer thread, no device)");
+  sub->add_option("--late-bus-tolerance-db", o.live.lateBusToleranceDb,
+                  "Hybrid rendering: a late bus keeps its IR while its decay's shape stays "
+                  "within this many dB (0: synthesise every bus every frame; default 0.5)")
+      ->check(CLI::Range(0.0, 6.0));
   return sub;
 }
 

@@ -94,6 +94,10 @@ Json report(const CommonOptions& c, const LiveOptions& o, const SceneDesc& scene
                                      {"p95", double(lat.quantileNs(0.95)) * 1e-6},
                                      {"max", double(lat.maxNs) * 1e-6}};
   j["frame_profile_ms"] = frameProfileJson(session.frameProfile());
+  const HybridReport hybrid = session.hybridReport();
+  j["late_bus_tolerance_db"] = o.lateBusToleranceDb;
+  j["late_bus_irs"] = {{"synthesized", hybrid.counts.busesSynthesized},
+                       {"kept", hybrid.counts.busesKept}};
   j["render_time_with_ir_swap"] = renderLoad(session.renderStatsWithSwap(), periodNs);
   j["render_time_without_ir_swap"] = renderLoad(session.renderStatsWithoutSwap(), periodNs);
   return j;
@@ -112,6 +116,7 @@ int benchLive(const CommonOptions& c, const LiveOptions& o) {
   LiveSession::Options lo;
   lo.deviceChannels = 2;
   lo.measureFftPlans = true;  // as dpc-demo's live sessions (apps/demo/run_live.cpp)
+  lo.lateBusToleranceDb = o.lateBusToleranceDb;
   const auto dry = std::make_shared<const DrySignals>(loadDrySignals(scene));
   const auto constructing = std::chrono::steady_clock::now();
   LiveSession session(shared, s, dry, lo);

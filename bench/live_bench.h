@@ -4,6 +4,7 @@
 #include <string>
 
 #include "bench/bench_util.h"
+#include "runtime/live_session.h"
 
 namespace dpc::bench {
 
@@ -12,6 +13,9 @@ struct LiveOptions {
   int blockSize = 128;     ///< audio block size, samples
   double frameRate = 0.0;  ///< propagation frames per second (<= 0: the scene's)
   std::string device;      ///< audio device ("" = a timer thread at the block rate, no device)
+  /// LiveSession::Options::lateBusToleranceDb (hybrid rendering's late buses kept while their
+  /// shape holds; 0: every bus synthesised every frame).
+  double lateBusToleranceDb = LiveSession::Options{}.lateBusToleranceDb;
 };
 
 /// Runs a LiveSession for o.duration seconds with the listener walking its trajectory and

@@ -87,6 +87,7 @@ void HybridSynthesis::ensureListener(size_t listener, size_t sources) {
   while (clusters_.size() <= listener) {
     clusters_.push_back(std::make_unique<SourceClusters>(sources, buses_, clusterAngle_));
     counts_.emplace_back();
+    made_.emplace_back(size_t(buses_));
   }
 }
 
@@ -215,6 +216,24 @@ void HybridSynthesis::synthesizeBus(int k, ImpulseResponse& late) {
     lateMono_[size_t(k)]->synthesize(x.late[size_t(k)], none, x.channels[0]);
 }
 
+void HybridSynthesis::updateBuses(size_t listener, std::vector<ImpulseResponse>& late) {
+  Scratch& x = *scratch_;
+  HybridCounts& n = counts_[listener];
+  for (int k = 0; k < buses_; ++k) {
+    const LateShape shape = spatial_ ? LateShape::of(x.lateDir[size_t(k)], split_.splitSeconds)
+                                     : LateShape::of(x.late[size_t(k)], split_.splitSeconds);
+    BusMade& made = made_[listener][size_t(k)];
+    if (keepToleranceDb_ > 0.0 && made.valid &&
+        shape.maxDifferenceDb(made.shape) <= keepToleranceDb_) {
+      ++n.busesKept;
+      continue;
+    }
+    synthesizeBus(k, late[size_t(k)]);
+    made = BusMade{shape, x.busEnergy[size_t(k)], true};
+    ++n.busesSynthesized;
+  }
+}
+
 void HybridSynthesis::prepare(const Simulation& sim, size_t listener,
                               const glm::vec3& listenerPosition, std::span<const glm::vec3> sources,
                               BakedPlayback* baked,
@@ -232,9 +251,10 @@ void HybridSynthesis::prepare(const Simulation& sim, size_t listener,
   });
   for (size_t s = 0; s < S; ++s) bus[s] = clusters.cluster(s);
   splitSources(sim, listener, baked, early, bus);
-  for (int k = 0; k < buses_; ++k) synthesizeBus(k, late[size_t(k)]);
+  updateBuses(listener, late);
   for (size_t s = 0; s < S; ++s) {
-    const double e = x.busEnergy[size_t(bus[s])];
+    // The energy the bus's playing IR holds: each source gets exactly its own late energy.
+    const double e = made_[listener][size_t(bus[s])].energy;
     gain[s] = e > 0.0 ? float(std::sqrt(x.lateEnergy[s] / e)) : 0.f;
   }
   HybridCounts& n = counts_[listener];

@@ -22,6 +22,7 @@
 
 #include "common/impulse_response.h"
 #include "engine/simulation.h"
+#include "runtime/late_shape.h"
 #include "scene/scene.h"
 #include "synthesis/hybrid_split.h"
 #include "synthesis/mono_synthesizer.h"
@@ -45,6 +46,8 @@ struct HybridCounts {
   double maxAngularRadiusDegrees = 0.0;  ///< largest cluster's angular radius, last frame
   uint64_t switches = 0;     ///< sources that changed cluster (SourceClusters::switches)
   uint64_t forcedJoins = 0;  ///< sources put in a cluster for want of a bus
+  uint64_t busesSynthesized = 0;  ///< late bus IRs synthesised
+  uint64_t busesKept = 0;         ///< late bus IRs kept from an earlier frame (reuseLateBuses)
 };
 
 /// What a render reports of its hybrid rendering (all zero when it rendered per source).
@@ -87,6 +90,13 @@ class HybridSynthesis {
                std::vector<ImpulseResponse>& late, std::span<float> gain,
                std::span<int> bus);
 
+  /// From now on a late bus keeps the IR it played while its response's shape (LateShape:
+  /// each band's decay and the spectrum, apart from the level) stays within toleranceDb (> 0)
+  /// of the shape that IR was made from; its sources' gains follow the level exactly. A live
+  /// session's choice: a frame then synthesises only the buses whose late field changed.
+  /// Control thread, before the frames; no allocation.
+  void reuseLateBuses(double toleranceDb) { keepToleranceDb_ = toleranceDb; }
+
   const HybridCounts& counts(size_t listener) const { return counts_.at(listener); }
   /// The report for listener l (a listener never prepared reports zero counts).
   HybridReport report(size_t listener) const;
@@ -109,6 +119,8 @@ class HybridSynthesis {
                     std::vector<ImpulseResponse>& early, std::span<int> bus);
   /// Bus k's late IR from its accumulated response into late[k].
   void synthesizeBus(int k, ImpulseResponse& late);
+  /// Every bus of the listener: synthesised, or kept while its shape holds (reuseLateBuses).
+  void updateBuses(size_t listener, std::vector<ImpulseResponse>& late);
   void ensureListener(size_t listener, size_t sources);
   /// Empties the buses' late responses (in the listener's frame and bins). No allocation after
   /// the first frame.
@@ -128,6 +140,14 @@ class HybridSynthesis {
   SpatialIrSynthesizer::ParallelFor parallel_;
   std::vector<std::unique_ptr<SourceClusters>> clusters_;  ///< per listener
   std::vector<HybridCounts> counts_;
+  /// What a bus's playing IR was made from: its response's shape and energy (valid once made).
+  struct BusMade {
+    LateShape shape;
+    double energy = 0.0;
+    bool valid = false;
+  };
+  std::vector<std::vector<BusMade>> made_;  ///< per listener, per bus
+  double keepToleranceDb_ = 0.0;            ///< 0: every bus synthesised every frame
 };
 
 }  // namespace dpc

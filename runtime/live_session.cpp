@@ -45,6 +45,10 @@ LiveSession::LiveSession(std::shared_ptr<const SceneDesc> scene,
       counters_(settings.raysPerFrame),
       adaptiveRays_(settings.raysPerFrame, 1.0 / settings.frameRate, options.latencyTargetSeconds) {
   if (options.bake) propagation_->attachBake(options.bake);
+  if (!(options.lateBusToleranceDb >= 0.0 && options.lateBusToleranceDb <= 6.0))
+    throw std::invalid_argument("LiveSession: lateBusToleranceDb " +
+                                std::to_string(options.lateBusToleranceDb) + " outside [0, 6]");
+  propagation_->reuseLateBuses(options.lateBusToleranceDb);
   // A live listener moves, and the wave band holds one pose: no live play without an error.
   if (scene_->wave.enabled)
     throw InputError(scene_->path, "wave.enabled",

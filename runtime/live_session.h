@@ -72,6 +72,14 @@ class LiveSession {
     /// docs/live.md "Staggered swaps"): lighter blocks while IRs swap, for up to this much
     /// more motion-to-sound latency (counted in latencyStats()). 0: every source at once.
     double irSwapSpreadSeconds = 0.0;
+    /// Hybrid rendering: a late bus keeps the IR it plays while its response's shape (each
+    /// band's decay, apart from the level, which the sources' gains follow exactly) stays
+    /// within this many dB of what that IR was made from (HybridSynthesis::reuseLateBuses); a
+    /// frame then synthesises only the buses whose late field changed. 0: every bus every
+    /// frame (as offline renders do). Default 0.5 dB: half ISO 3382-1's 1 dB just noticeable
+    /// difference of G and C80, in every band and decay segment holding at least -30 dB of
+    /// the late energy (LateShape).
+    double lateBusToleranceDb = 0.5;
   };
   /// Upper bound of Options::irSwapSpreadSeconds: beyond it a swap outlasts a frame.
   static constexpr double kMaxIrSwapSpreadSeconds = 0.1;

@@ -78,6 +78,12 @@ class PropagationStage {
   int lateBuses() const { return hybrid_ ? hybrid_->buses() : 0; }
   /// Hybrid rendering's synthesis and counts, or nullptr when every source renders whole.
   const HybridSynthesis* hybrid() const { return hybrid_.get(); }
+  /// Hybrid rendering: late buses keep their IR while their shape holds within toleranceDb
+  /// (HybridSynthesis::reuseLateBuses); nothing without hybrid rendering. Control thread,
+  /// before the frames.
+  void reuseLateBuses(double toleranceDb) {
+    if (hybrid_) hybrid_->reuseLateBuses(toleranceDb);
+  }
   const Simulation& simulation() const { return *simulation_; }
   /// Plays the sources that stand at their baked positions from `bake` (runtime/
   /// baked_playback.h): interpolated late response, live direct sound. The bake must be of this

@@ -49,6 +49,8 @@ Json hybridJson(const HybridReport& h) {
               {"frames", h.counts.frames},
               {"cluster_switches", h.counts.switches},
               {"forced_joins", h.counts.forcedJoins},
+              {"late_bus_irs_synthesized", h.counts.busesSynthesized},
+              {"late_bus_irs_kept", h.counts.busesKept},
               {"late_direct_sounds", h.counts.lateDirect},
               {"late_exact_arrivals", h.counts.lateArrivals}};
 }

@@ -35,6 +35,55 @@ HalfBandDensity halfBandDensity(const EnergyResponse& energy, int band, double c
   return r;
 }
 
+std::shared_ptr<const TiltedBands::Filters> TiltedBands::makeFilters(
+    int sampleRate, const OctaveBandMasks& masks, FftwRealTransforms& fft) {
+  auto f = std::make_shared<Filters>();
+  const size_t nfft = fft.n, nbins = nfft / 2 + 1;
+  const float scale = 1.f / float(nfft);
+  f->n = nfft;
+  for (int b = 0; b < kNumBands; ++b) {
+    const size_t bi = size_t(b);
+    const double fc = bandCentreExactHz(b);
+    f->band[bi].resize(nbins);
+    f->upper[bi].resize(nbins);
+    std::array<double, 3> half{};
+    for (size_t k = 0; k < nbins; ++k) {
+      const double a = double(masks.gain(b, k)) * masks.gain(b, k);
+      const double p = powerAbove(double(k) * sampleRate / double(nfft), fc);
+      f->band[bi][k] = float(a) * scale;  // a is exact: the float square, correctly rounded
+      f->upper[bi][k] = float(a * p) * scale;
+      // The band keeps its energy within its analysed octave, where the response's value
+      // holds; the 63 Hz and 8 kHz bands' reach beyond follows with the same weights.
+      if (!inAnalysedOctave(b, double(k) * sampleRate / double(nfft))) continue;
+      half[0] += a * (1.0 - p) * a * (1.0 - p);
+      half[1] += a * (1.0 - p) * a * p;
+      half[2] += a * p * a * p;
+    }
+    f->half[bi] = half;
+    if (b < kLevelledFromBand) continue;
+    for (size_t k = 0; k < nbins; ++k) {
+      fft.band.p[k][0] = f->band[bi][k];
+      fft.band.p[k][1] = 0.f;
+    }
+    fftwf_execute(fft.inv);  // A_b's taps, time 0 at index 0
+    const std::vector<float> h(fft.time.p, fft.time.p + nfft);
+    // Taps beyond -70 dB each side change a bin's expectation by less than 1e-7.
+    f->taps[bi] = centredTaps(h, commonSupport(h, h, 1e-7));
+  }
+  return f;
+}
+
+void TiltedBands::filterInto(const std::vector<float>& gain, FftwRealTransforms& fft,
+                             std::vector<float>& out) const {
+  const size_t nbins = fft.n / 2 + 1;
+  for (size_t k = 0; k < nbins; ++k) {
+    fft.band.p[k][0] = fft.spec.p[k][0] * gain[k];
+    fft.band.p[k][1] = fft.spec.p[k][1] * gain[k];
+  }
+  fftwf_execute(fft.inv);  // destroys fft.band, which is rebuilt each time
+  out.assign(fft.time.p, fft.time.p + length_);
+}
+
 TiltedBands::TiltedBands(int sampleRate, size_t length, const std::vector<float>& sequence,
                          const OctaveBandMasks& masks, FftwRealTransforms& fft,
                          const TiltedBands* shareScratch)
@@ -45,35 +94,15 @@ TiltedBands::TiltedBands(int sampleRate, size_t length, const std::vector<float>
     tilted_ = std::make_shared<std::array<std::vector<float>, kNumBands>>();
     for (std::vector<float>& t : *tilted_) t.assign(length_, 0.f);
   }
-  const size_t nfft = fft.n, nbins = nfft / 2 + 1;
-  const float scale = 1.f / float(nfft);
+  filters_ = shareScratch && shareScratch->filters_->n == fft.n
+                 ? shareScratch->filters_
+                 : makeFilters(sampleRate, masks, fft);
+  const size_t nbins = fft.n / 2 + 1;
   for (int b = 0; b < kNumBands; ++b) {
     const size_t bi = size_t(b);
-    for (size_t k = 0; k < nbins; ++k) {
-      const float g = masks.gain(b, k) * masks.gain(b, k) * scale;
-      fft.band.p[k][0] = fft.spec.p[k][0] * g;
-      fft.band.p[k][1] = fft.spec.p[k][1] * g;
-    }
-    fftwf_execute(fft.inv);  // destroys fft.band, which is rebuilt each time
-    band_[bi].assign(fft.time.p, fft.time.p + length_);
-    const double fc = bandCentreExactHz(b);
-    std::array<double, 3> half{};
-    for (size_t k = 0; k < nbins; ++k) {
-      const double a = double(masks.gain(b, k)) * masks.gain(b, k);
-      const double p = powerAbove(double(k) * sampleRate / double(nfft), fc);
-      const float g = float(a * p) * scale;
-      fft.band.p[k][0] = fft.spec.p[k][0] * g;
-      fft.band.p[k][1] = fft.spec.p[k][1] * g;
-      // The band keeps its energy within its analysed octave, where the response's value
-      // holds; the 63 Hz and 8 kHz bands' reach beyond follows with the same weights.
-      if (!inAnalysedOctave(b, double(k) * sampleRate / double(nfft))) continue;
-      half[0] += a * (1.0 - p) * a * (1.0 - p);
-      half[1] += a * (1.0 - p) * a * p;
-      half[2] += a * p * a * p;
-    }
-    halfEnergy_[bi] = half;
-    fftwf_execute(fft.inv);
-    upper_[bi].assign(fft.time.p, fft.time.p + length_);
+    filterInto(filters_->band[bi], fft, band_[bi]);
+    halfEnergy_[bi] = filters_->half[bi];
+    filterInto(filters_->upper[bi], fft, upper_[bi]);
     const size_t w = BandEnvelope::binSamplesFor(sampleRate, b);
     alpha_[bi].assign((length_ + w - 1) / w, 1.f);
     gamma_[bi].assign((length_ + w - 1) / w, 0.f);
@@ -83,7 +112,7 @@ TiltedBands::TiltedBands(int sampleRate, size_t length, const std::vector<float>
   // fft.spec is restored to the sequence's spectrum afterwards.
   std::vector<std::array<float, 2>> spectrum(nbins);
   for (size_t k = 0; k < nbins; ++k) spectrum[k] = {fft.spec.p[k][0], fft.spec.p[k][1]};
-  for (int b = kLevelledFromBand; b < kNumBands; ++b) levelSequence(b, sequence, masks, fft);
+  for (int b = kLevelledFromBand; b < kNumBands; ++b) levelSequence(b, sequence, fft);
   for (size_t k = 0; k < nbins; ++k) {
     fft.spec.p[k][0] = spectrum[k][0];
     fft.spec.p[k][1] = spectrum[k][1];
@@ -91,31 +120,11 @@ TiltedBands::TiltedBands(int sampleRate, size_t length, const std::vector<float>
 }
 
 void TiltedBands::levelSequence(int b, const std::vector<float>& sequence,
-                                const OctaveBandMasks& masks, FftwRealTransforms& fft) {
-  const size_t bi = size_t(b), nfft = fft.n, nbins = nfft / 2 + 1;
+                                FftwRealTransforms& fft) {
+  const size_t bi = size_t(b), nfft = fft.n;
   const double fc = bandCentreExactHz(b);
-  const float scale = 1.f / float(nfft);
-  // fft.spec (a sequence's spectrum) through A_b, or A_b P, into out.
-  auto filter = [&](bool upper, std::vector<float>& out) {
-    for (size_t k = 0; k < nbins; ++k) {
-      const double a = double(masks.gain(b, k)) * masks.gain(b, k);
-      const double p = upper ? powerAbove(double(k) * sampleRate_ / double(nfft), fc) : 1.0;
-      const float g = float(a * p) * scale;
-      fft.band.p[k][0] = fft.spec.p[k][0] * g;
-      fft.band.p[k][1] = fft.spec.p[k][1] * g;
-    }
-    fftwf_execute(fft.inv);
-    out.assign(fft.time.p, fft.time.p + length_);
-  };
   // Expected energy per bin of s_b over the pulses' signs, given their places and sizes.
-  for (size_t k = 0; k < nbins; ++k) {
-    fft.band.p[k][0] = masks.gain(b, k) * masks.gain(b, k) * scale;
-    fft.band.p[k][1] = 0.f;
-  }
-  fftwf_execute(fft.inv);  // A_b's taps, time 0 at index 0
-  const std::vector<float> h(fft.time.p, fft.time.p + nfft);
-  // Taps beyond -70 dB each side change a bin's expectation by less than 1e-7.
-  const CentredTaps taps = centredTaps(h, commonSupport(h, h, 1e-7));
+  const CentredTaps& taps = filters_->taps[bi];
   const size_t w = BandEnvelope::binSamplesFor(sampleRate_, b);
   const std::vector<double> expected = pulseEnergyPerBin(sequence, length_, w, taps, taps);
   // Windows of whole bins, at least kLevellingPeriods periods of the band centre.
@@ -138,9 +147,9 @@ void TiltedBands::levelSequence(int b, const std::vector<float>& sequence,
     std::fill(fft.time.p, fft.time.p + nfft, 0.f);
     for (size_t t = 0; t < n; ++t) fft.time.p[t] = float(sequence[t] * factor[t / ww]);
     fftwf_execute(fft.fwd);
-    filter(false, band_[bi]);
+    filterInto(filters_->band[bi], fft, band_[bi]);
   }
-  filter(true, upper_[bi]);
+  filterInto(filters_->upper[bi], fft, upper_[bi]);
 }
 
 void TiltedBands::update(const EnergyResponse& energy) {

@@ -12,6 +12,7 @@
 #include "common/fftw_util.h"
 #include "engine/energy_response.h"
 #include "synthesis/band_filters.h"
+#include "synthesis/pulse_energy.h"
 
 namespace dpc {
 
@@ -98,10 +99,27 @@ class TiltedBands {
   /// <s_lo,s_lo>, <s_lo,s_hi>, <s_hi,s_hi> for a white input.
   std::array<std::array<double, 3>, kNumBands> halfEnergy_{};
   std::array<std::vector<float>, kNumBands> alpha_, gamma_;
+  /// What every TiltedBands of one FFT size computes alike, made once and shared
+  /// (shareScratch): per band the filter gains on the FFT bins, A_b and A_b P (the upper
+  /// half's share, powerAbove), 1/n included; the half-bands' white-noise energies; and the
+  /// levelled bands' taps of A_b (pulseEnergyPerBin).
+  struct Filters {
+    size_t n = 0;
+    std::array<std::vector<float>, kNumBands> band, upper;
+    std::array<std::array<double, 3>, kNumBands> half{};
+    std::array<CentredTaps, kNumBands> taps;
+  };
+  /// The filters for fft.n points (fft.band and fft.time: scratch; fft.spec kept).
+  static std::shared_ptr<const Filters> makeFilters(int sampleRate, const OctaveBandMasks& masks,
+                                                    FftwRealTransforms& fft);
+  /// out <- the first length_ samples of fft.spec through the bins' gains (fft.band, fft.time:
+  /// scratch).
+  void filterInto(const std::vector<float>& gain, FftwRealTransforms& fft,
+                  std::vector<float>& out) const;
   /// Scales band b's pulses per window so that s_b's energy in each is its expectation, and
   /// remakes s_b and s_hi from them (fft.spec: scratch).
-  void levelSequence(int b, const std::vector<float>& sequence, const OctaveBandMasks& masks,
-                     FftwRealTransforms& fft);
+  void levelSequence(int b, const std::vector<float>& sequence, FftwRealTransforms& fft);
+  std::shared_ptr<const Filters> filters_;
 };
 
 }  // namespace dpc

@@ -34,16 +34,6 @@ struct WindowLeveller::Size {
   std::array<std::array<double, 2>, kNumBands> halfWidth{};
 };
 
-namespace {
-
-/// Share of band k's power in half h at f Hz (powerAbove at the band centre, or its complement).
-double halfShare(int k, int h, double f) {
-  const double p = powerAbove(f, bandCentreExactHz(k));
-  return h == 1 ? p : 1.0 - p;
-}
-
-}  // namespace
-
 WindowLeveller::View WindowLeveller::reducedView(const std::vector<float>& mask, size_t n) {
   View v;
   for (size_t f = 0; f < mask.size(); ++f)
@@ -77,11 +67,23 @@ WindowLeveller::WindowLeveller(int sampleRate, size_t length, int firstBand, int
     s->fft = std::make_unique<FftwRealTransforms>(s->n);
     const OctaveBandMasks masks(sampleRate, s->n);
     const size_t nbins = s->n / 2 + 1;
+    // above[k][f]: powerAbove at bin f for band k's centre (each computed once: the loops below
+    // read it for three bands and both halves).
+    std::array<std::vector<double>, kNumBands> above;
+    for (int b = std::max(0, firstBand - 1); b <= std::min(kNumBands - 1, lastBand + 1); ++b) {
+      above[size_t(b)].resize(nbins);
+      for (size_t f = 0; f < nbins; ++f)
+        above[size_t(b)][f] = powerAbove(double(f) * sampleRate / s->n, bandCentreExactHz(b));
+    }
+    const auto halfShare = [&](int k, int h, size_t f) {
+      const double p = above[size_t(k)][f];
+      return h == 1 ? p : 1.0 - p;
+    };
     for (int b = std::max(0, firstBand - 1); b <= std::min(kNumBands - 1, lastBand + 1); ++b)
       for (size_t f = 0; f < nbins; ++f)
         for (int h = 0; h < 2; ++h)
-          s->halfWidth[size_t(b)][size_t(h)] += double(masks.gain(b, f)) * masks.gain(b, f) *
-                                                halfShare(b, h, double(f) * sampleRate / s->n);
+          s->halfWidth[size_t(b)][size_t(h)] +=
+              double(masks.gain(b, f)) * masks.gain(b, f) * halfShare(b, h, f);
     for (int b = firstBand; b <= lastBand; ++b) {
       s->mask[size_t(b)].resize(nbins);
       for (size_t f = 0; f < nbins; ++f) s->mask[size_t(b)][f] = masks.gain(b, f);
@@ -92,8 +94,7 @@ WindowLeveller::WindowLeveller(int sampleRate, size_t length, int firstBand, int
           const double m2 = double(masks.gain(b, f)) * masks.gain(b, f) * double(masks.gain(k, f)) *
                             masks.gain(k, f) * w / double(s->n);
           for (int h = 0; h < 2; ++h)
-            s->coupling[size_t(b)][size_t(k)][size_t(h)] +=
-                m2 * halfShare(k, h, double(f) * sampleRate / s->n);
+            s->coupling[size_t(b)][size_t(k)][size_t(h)] += m2 * halfShare(k, h, f);
         }
     }
     sizes_.push_back(std::move(s));

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <future>
 #include <glm/geometric.hpp>
 
@@ -45,41 +46,13 @@ HybridSynthesis::HybridSynthesis(const SceneDesc& scene, const PropagationSettin
       scratch_(std::make_unique<Scratch>()) {
   split_.fadeSeconds = kHybridFadeSeconds;
   split_.splitSeconds = earlySeconds;
-  const int fs = scene.audio.sampleRate;
   const size_t S = scene.sources.size();
   if (spatial_) {
     earlySpatial_ =
         makeSpatialSynthesizer(scene, settings, roomVolume, earlySeconds, 0x2545f4914f6cdd1dULL);
     earlySamples_ = earlySpatial_->lengthSamples();
   } else {
-    // Per source its own Dirac sequence (sources playing one signal stay incoherent); the
-    // read-only filters and the clean-up workspace are shared by the synthesisers of a length
-    // that one worker runs (sources s = w, w + W, ...).
-    const size_t W = std::clamp<size_t>(size_t(std::max(workers, 1)), 1, std::max<size_t>(S, 1));
-    workers_.resize(parallel ? W : 1);
-    parallel_ = std::move(parallel);
-    // The late buses' synthesisers share nothing with the early parts': they are built on a
-    // thread of their own meanwhile (a third of the construction, which is the time to first
-    // sound of a live session with many sources). The same synthesisers either way.
-    auto late = std::async(std::launch::async, [&] {
-      for (int k = 0; k < buses_; ++k)
-        lateMono_.push_back(std::make_unique<IrSynthesizer>(
-            fs, settings.irLength, roomVolume, settings.speedOfSound,
-            hashCombine(settings.seed, 0x9e3779b97f4a7c15ULL + uint64_t(k)),
-            lateMono_.empty() ? nullptr : lateMono_.front().get()));
-    });
-    try {
-      for (size_t s = 0; s < S; ++s)
-        earlyMono_.push_back(std::make_unique<IrSynthesizer>(
-            fs, earlySeconds, roomVolume, settings.speedOfSound,
-            hashCombine(settings.seed, 0x5bd1e995ULL + s),
-            s < workers_.size() ? nullptr : earlyMono_[s % workers_.size()].get()));
-    } catch (...) {
-      late.wait();  // the thread uses this object's members: let it end first
-      throw;
-    }
-    late.get();  // rethrows the late buses' error, if any
-    earlySamples_ = earlyMono_.front()->lengthSamples();
+    buildMono(scene, settings, roomVolume, earlySeconds, workers, std::move(parallel));
   }
   scratch_->lateEnergy.assign(S, 0.0);
   scratch_->directLate.assign(S, 0);
@@ -90,6 +63,55 @@ HybridSynthesis::HybridSynthesis(const SceneDesc& scene, const PropagationSettin
 }
 
 HybridSynthesis::~HybridSynthesis() = default;
+
+void HybridSynthesis::buildMono(const SceneDesc& scene, const PropagationSettings& settings,
+                                double roomVolume, double earlySeconds, int workers,
+                                SpatialIrSynthesizer::ParallelFor parallel) {
+  const int fs = scene.audio.sampleRate;
+  const size_t S = scene.sources.size();
+  // Per source its own Dirac sequence (sources playing one signal stay incoherent); the
+  // read-only filters and the clean-up workspace are shared by the synthesisers of a length
+  // that one worker runs (sources s = w, w + W, ...). At least two workers' workspaces, so
+  // that two groups are built at once whatever the tracing threads (the IRs are the same for
+  // any grouping).
+  const size_t W =
+      parallel ? std::clamp<size_t>(size_t(std::max(workers, 2)), 1, std::max<size_t>(S, 1)) : 1;
+  workers_.resize(W);
+  parallel_ = std::move(parallel);
+  earlyMono_.resize(S);
+  lateMono_.resize(size_t(buses_));
+  const auto group = [&](size_t w) {
+    for (size_t s = w; s < S; s += W)
+      earlyMono_[s] = std::make_unique<IrSynthesizer>(
+          fs, earlySeconds, roomVolume, settings.speedOfSound,
+          hashCombine(settings.seed, 0x5bd1e995ULL + s), s < W ? nullptr : earlyMono_[s % W].get());
+  };
+  const auto late = [&] {
+    for (size_t k = 0; k < lateMono_.size(); ++k)
+      lateMono_[k] = std::make_unique<IrSynthesizer>(
+          fs, settings.irLength, roomVolume, settings.speedOfSound,
+          hashCombine(settings.seed, 0x9e3779b97f4a7c15ULL + uint64_t(k)),
+          k == 0 ? nullptr : lateMono_.front().get());
+  };
+  // The groups and the late buses share no workspace: they are built concurrently (the
+  // construction is the time to first sound of a live session with many sources).
+  std::vector<std::future<void>> jobs;
+  jobs.push_back(std::async(std::launch::async, late));
+  for (size_t w = 1; w < W; ++w) jobs.push_back(std::async(std::launch::async, group, w));
+  std::exception_ptr error;
+  try {
+    group(0);
+  } catch (...) {
+    error = std::current_exception();
+  }
+  for (std::future<void>& job : jobs) try {
+      job.get();
+    } catch (...) {
+      if (!error) error = std::current_exception();
+    }
+  if (error) std::rethrow_exception(error);
+  earlySamples_ = earlyMono_.front()->lengthSamples();
+}
 
 size_t HybridSynthesis::lateSamples() const {
   return spatial_ ? spatial_->lengthSamples() : lateMono_.front()->lengthSamples();

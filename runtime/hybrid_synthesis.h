@@ -117,6 +117,10 @@ class HybridSynthesis {
   /// Every source's part of the frame (late shares, then early IRs, in parallel for mono).
   void splitSources(const Simulation& sim, size_t listener, BakedPlayback* baked,
                     std::vector<ImpulseResponse>& early, std::span<int> bus);
+  /// Mono output: the early parts' synthesisers in worker groups and the late buses', built
+  /// concurrently; earlySamples_.
+  void buildMono(const SceneDesc& scene, const PropagationSettings& settings, double roomVolume,
+                 double earlySeconds, int workers, SpatialIrSynthesizer::ParallelFor parallel);
   /// Bus k's late IR from its accumulated response into late[k].
   void synthesizeBus(int k, ImpulseResponse& late);
   /// Every bus of the listener: synthesised, or kept while its shape holds (reuseLateBuses).

@@ -117,7 +117,11 @@ void WindowLeveller::windowFactors(int b, const EnergyResponse& energy, const Si
   const size_t w =
       std::max(size_t(std::lround(kWindowPeriods * sampleRate_ / bandCentreExactHz(b))),
                size_t(std::lround(kMinWindowSeconds * sampleRate_)));
-  const size_t windows = (span + w - 1) / w;
+  // Whole windows only: the last takes the span's remainder. A short remainder as a window of
+  // its own (a few samples of a 125 Hz view can sit at a zero crossing) would read next to no
+  // energy and take the largest factor: a burst 12-26 dB above the response just after the
+  // span (BRAS CR4; tests/synthesis/low_band_windows_test.cpp).
+  const size_t windows = std::max<size_t>(1, span / w);
   const float* y = s.fft->time.p;
   // The target's running sum at sample t: whole response bins before it, and a share of its bin.
   const double perBin = energy.binSeconds() * sampleRate_;
@@ -129,7 +133,7 @@ void WindowLeveller::windowFactors(int b, const EnergyResponse& energy, const Si
   size_t j = 0;
   double sum = 0.0, before = targetBefore(0, j, sum);
   for (size_t i = 0; i < windows; ++i) {
-    const size_t lo = i * w, hi = std::min(span, lo + w);
+    const size_t lo = i * w, hi = i + 1 == windows ? span : std::min(span, lo + w);
     double v = 0.0;
     for (size_t t = lo; t < hi; ++t) v += double(y[t]) * double(y[t]);
     const double after = targetBefore(hi, j, sum), target = after - before;

@@ -45,7 +45,7 @@ BandEnvelope::BandEnvelope(int sampleRate, const std::vector<float>& sequence, s
     // energy rather than the realised filtered energy keeps the gains of all bands moving
     // together from bin to bin, so neighbouring bands stay coherent in their crossovers.
     sequenceEnergy_[bi].assign(nb, 0.0);
-    if (b < kRealisedBands) {
+    if (b < kRealisedBands && !measured[bi].empty()) {
       const std::vector<float>& m = measured[bi];
       for (size_t n = 0; n < length_ && n < m.size(); ++n)
         sequenceEnergy_[bi][n / binSamples_[bi]] += double(m[n]) * m[n];
@@ -244,10 +244,10 @@ void BandEnvelope::startAt(size_t onset, const std::array<const float*, kNumBand
 }
 
 std::array<std::vector<float>, BandEnvelope::kRealisedBands> measureLowBands(
-    FftwRealTransforms& fft, const OctaveBandMasks& masks, size_t length) {
+    FftwRealTransforms& fft, const OctaveBandMasks& masks, size_t length, int bands) {
   std::array<std::vector<float>, BandEnvelope::kRealisedBands> out;
   const float scale = 1.f / float(fft.n);
-  for (int b = 0; b < BandEnvelope::kRealisedBands; ++b) {
+  for (int b = 0; b < std::min(bands, BandEnvelope::kRealisedBands); ++b) {
     for (size_t k = 0; k < fft.n / 2 + 1; ++k) {
       const float m = masks.gain(b, k);
       fft.band.p[k][0] = fft.spec.p[k][0] * m * m * m * scale;

@@ -9,8 +9,9 @@
 // g_b[j] = sqrt(E_b[j] beta_b / e_b[j]): a response's band value E_b is a spectral density
 // (synthesis/band_filters.h), so a band measurement with M_b sees E_b beta_b of it; e_b = beta_b
 // x the pulses' energy in the bin (beta_b: the share of a unit impulse's energy that a band
-// measurement with M_b sees), realised energy at 63/125 Hz, and a crossover correction with
-// the white-spectrum coupling coefficients. The gains are set in expectation and never
+// measurement with M_b sees), or realised energy where `measured` gives it (63 Hz; 125 Hz in
+// the spatial synthesiser), and a crossover correction with the white-spectrum coupling
+// coefficients. The gains are set in expectation and never
 // corrected per realisation here (a gain target / realised, applied to a band signal of which a
 // measurement sees only part, inflates the part it does not see on average); the mono
 // synthesiser's band signals carry their expectation per window instead (TiltedBands,
@@ -36,14 +37,16 @@ namespace dpc {
 /// accumulate() does not. Propagation thread; no errors.
 class BandEnvelope {
  public:
-  /// Bands normalised by realised rather than expected energy (63 and 125 Hz: a noise
-  /// realisation there has too few degrees of freedom, e.g. 60 Hz x 0.3 s, to be near its
-  /// expectation).
+  /// Bands that may be normalised by realised rather than expected energy (63 and 125 Hz: a
+  /// noise realisation there has too few degrees of freedom, e.g. 60 Hz x 0.3 s, to be near its
+  /// expectation). A band whose `measured` signal is empty uses the expectation instead (the
+  /// mono synthesiser levels the 125 Hz sequence per window: TiltedBands::kLevelledFromBand).
   static constexpr int kRealisedBands = 2;
 
   /// measured: for b < kRealisedBands, the sequence through M_b^3 (what a
   /// band measurement with M_b sees of the A_b-filtered sequence), length samples; e_b[j] is
-  /// its energy in bin j. Other bands use the expected energy (beta_b x the pulses' energy).
+  /// its energy in bin j. Other bands, and a band whose signal is empty, use the expected
+  /// energy (beta_b x the pulses' energy).
   BandEnvelope(int sampleRate, const std::vector<float>& sequence, size_t length,
                const BandFilterData& filters,
                const std::array<std::vector<float>, kRealisedBands>& measured);
@@ -108,9 +111,11 @@ class BandEnvelope {
 };
 
 /// The constructor's `measured` signals: the sequence (whose spectrum fft.spec holds) through
-/// M_b^3 for the bands b < kRealisedBands, length samples each (fft.n >= length; masks of
-/// fft.n points). Allocates; a thread that may run fft's plans; no errors.
+/// M_b^3 for the bands b < min(bands, kRealisedBands), length samples each, empty for the
+/// others (fft.n >= length; masks of fft.n points). Allocates; a thread that may run fft's
+/// plans; no errors.
 std::array<std::vector<float>, BandEnvelope::kRealisedBands> measureLowBands(
-    FftwRealTransforms& fft, const OctaveBandMasks& masks, size_t length);
+    FftwRealTransforms& fft, const OctaveBandMasks& masks, size_t length,
+    int bands = BandEnvelope::kRealisedBands);
 
 }  // namespace dpc

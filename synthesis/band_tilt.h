@@ -58,18 +58,22 @@ HalfBandDensity halfBandDensity(const EnergyResponse& energy, int band, double c
 /// thread; no allocation; no errors.
 class TiltedBands {
  public:
-  /// Bands whose realisation is levelled (250 Hz up: 63 and 125 Hz are normalised by realised
-  /// energy in BandEnvelope, kRealisedBands); the iterations; the window, whole synthesis bins
-  /// of at least this many periods of the band centre (40 ms at 250 Hz, 20 at 500 Hz, 10 at
-  /// 1 kHz, 5 at 2 kHz, 3 at 4 kHz); and the largest factor either way one iteration applies to
-  /// a window's pulses. Per bin (2 periods), where A_b's response is longer than a bin, the
-  /// iteration neither converged (0.5-0.8 dB rms per bin left after 3) nor kept the total
-  /// (+0.12 dB). Shorter windows level more of a realisation's scatter, but a filter that sees
-  /// part of s_b (the octave below's analysis filter its lower skirt) reads that part times
-  /// E[expected / realised] > 1 (fewer degrees of freedom, more): ir_synthesis_test's 125 Hz
-  /// band read +0.33 dB with 6 periods, +0.29 with 10 (+0.27 without levelling; its limit is
-  /// 0.1 dB + 3 standard errors above the 8 kHz-free reference, which 6 periods exceeded).
-  static constexpr int kLevelledFromBand = 2;
+  /// Bands whose realisation is levelled (125 Hz up: 63 Hz is normalised by realised energy in
+  /// BandEnvelope, kRealisedBands); the iterations; the window, whole synthesis bins of at
+  /// least this many periods of the band centre (80 ms at 125 Hz, 40 at 250 Hz, 20 at 500 Hz,
+  /// 10 at 1 kHz, 5 at 2 kHz, 3 at 4 kHz); and the largest factor either way one iteration
+  /// applies to a window's pulses. 125 Hz's gains set from each 16 ms bin's realised energy
+  /// instead put its part after 80 ms +0.6 dB above the response on average (its level and C80
+  /// 0.3-0.5 dB off in BRAS CR2: a ratio target / realised over a few degrees of freedom,
+  /// applied as gain steps the band filter smears across bins;
+  /// tests/synthesis/low_band_windows_test.cpp). Per bin (2 periods), where A_b's response is
+  /// longer than a bin, the iteration neither converged (0.5-0.8 dB rms per bin left after 3)
+  /// nor kept the total (+0.12 dB). Shorter windows level more of a realisation's scatter, but
+  /// a filter that sees part of s_b (the octave below's analysis filter its lower skirt) reads
+  /// that part times E[expected / realised] > 1 (fewer degrees of freedom, more): with 250 Hz
+  /// levelled and 125 Hz following realised energy, ir_synthesis_test's 125 Hz band read
+  /// +0.33 dB with 6 periods and +0.29 with 10.
+  static constexpr int kLevelledFromBand = 1;
   static constexpr int kSequenceLevelling = 3;
   static constexpr double kLevellingPeriods = 10.0;
   static constexpr double kMaxSequenceFactor = 4.0;

@@ -49,8 +49,9 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
                                                        kLastLevelledBand);
   }
   levelStart_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, 1.0);
-  envelope_ = std::make_unique<BandEnvelope>(sampleRate, seq, length_, filterData_,
-                                             measureLowBands(fft, masks, length_));
+  envelope_ = std::make_unique<BandEnvelope>(
+      sampleRate, seq, length_, filterData_,
+      measureLowBands(fft, masks, length_, TiltedBands::kLevelledFromBand));
   arrivals_.reserve(kReservedArrivals);
 }
 

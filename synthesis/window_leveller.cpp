@@ -142,7 +142,11 @@ void WindowLeveller::windowFactors(int b, const EnergyResponse& energy, const Vi
   const size_t w =
       std::max(size_t(std::lround(kWindowPeriods * sampleRate_ / bandCentreExactHz(b))),
                size_t(std::lround(kMinWindowSeconds * sampleRate_)));
-  const size_t windows = (span + w - 1) / w;
+  // Whole windows only: the last takes the span's remainder. A short remainder as a window of
+  // its own (a few samples of a 125 Hz view can sit at a zero crossing) would read next to no
+  // energy and take the largest factor: a burst 12-26 dB above the response just after the
+  // span (BRAS CR4; tests/synthesis/low_band_windows_test.cpp).
+  const size_t windows = std::max<size_t>(1, span / w);
   windowEnergies(v, w, windows, span);
   // The target's running sum at sample t: whole response bins before it, and a share of its bin.
   const double perBin = energy.binSeconds() * sampleRate_;
@@ -154,7 +158,7 @@ void WindowLeveller::windowFactors(int b, const EnergyResponse& energy, const Vi
   size_t j = 0;
   double sum = 0.0, before = targetBefore(0, j, sum);
   for (size_t i = 0; i < windows; ++i) {
-    const size_t lo = i * w, hi = std::min(span, lo + w);
+    const size_t lo = i * w, hi = i + 1 == windows ? span : std::min(span, lo + w);
     const double e = windowEnergy_[i];
     const double after = targetBefore(hi, j, sum), target = after - before;
     before = after;
@@ -168,13 +172,13 @@ void WindowLeveller::windowFactors(int b, const EnergyResponse& energy, const Vi
 
 void WindowLeveller::windowEnergies(const View& v, size_t w, size_t windows, size_t span) {
   // Each view sample stands for `ratio` full-rate samples (Parseval for a band-limited view):
-  // window i holds the samples at full-rate times [i w, (i + 1) w) within the span.
+  // window i holds the samples at full-rate times [i w, (i + 1) w), the last up to the span's end.
   windowEnergy_.assign(windows, 0.0);
   const float* y = v.fft->time.p;
   const size_t last = std::min(v.fft->n, size_t(std::ceil(double(span) / v.ratio)));
   for (size_t m = 0; m < last; ++m) {
-    const size_t i = size_t(double(m) * v.ratio) / w;
-    if (i < windows) windowEnergy_[i] += v.ratio * double(y[m]) * double(y[m]);
+    const size_t i = std::min(windows - 1, size_t(double(m) * v.ratio) / w);
+    windowEnergy_[i] += v.ratio * double(y[m]) * double(y[m]);
   }
 }
 

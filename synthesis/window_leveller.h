@@ -17,7 +17,8 @@
 // correction sum_b M_b * ((g - 1) y_b) is added to the IR from `onset` on (nothing lands
 // before the first arrival); kIterations passes. Only the span up to where the response's
 // remaining energy falls below kSpanEnergy of its total is levelled (beyond it the factor is
-// 1), on the smallest of a few FFT sizes that holds it.
+// 1; its last window takes the span's remainder, as a few samples alone estimate no energy),
+// on the smallest of a few FFT sizes that holds it.
 //
 // Construction: control/propagation thread (FFTW planning); allocates O(length) (FFT buffers
 // and masks for four sizes); throws std::invalid_argument on bad sizes, std::runtime_error
@@ -78,7 +79,8 @@ class WindowLeveller {
   /// the view's energies and the targets, linear between window centres.
   void windowFactors(int b, const EnergyResponse& energy, const View& v, size_t start,
                      size_t span);
-  /// windowEnergy_[i]: the view's energy in full-rate samples [i w, (i + 1) w) within the span.
+  /// windowEnergy_[i]: the view's energy in full-rate samples [i w, (i + 1) w), the last window
+  /// up to the span's end.
   void windowEnergies(const View& v, size_t w, size_t windows, size_t span);
   /// The view <- (g - 1) x the view, g the factor_ of windows of w full-rate samples, linear
   /// between their centres (windowFactors).

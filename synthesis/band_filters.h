@@ -80,6 +80,10 @@ class DirectSoundFilter {
   const std::vector<float>& band(int b) const { return filter_[size_t(b)]; }
   size_t centre() const { return centre_; }
   size_t taps() const { return filter_[0].size(); }
+  /// Taps of a_b that add() touches (its support).
+  size_t support(int b) const {
+    return support_[size_t(b)].second - support_[size_t(b)].first;
+  }
   /// out[start + i] += amplitude x a_b[i] for the i with start + i in [0, length), over a_b's
   /// support (the taps outside it carry less than kNegligibleTailEnergy of its energy).
   void add(int b, float amplitude, long start, float* out, size_t length) const;

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "common/fftw_util.h"
+#include "synthesis/arrival_placer.h"
 #include "synthesis/band_envelope.h"
 #include "synthesis/band_leveller.h"
 #include "synthesis/band_tilt.h"
@@ -40,8 +41,10 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
     direct_ = shareWith->direct_;
     leveller_ = shareWith->leveller_;
     windowLeveller_ = shareWith->windowLeveller_;
+    placer_ = shareWith->placer_;
   } else {
     direct_ = std::make_shared<const DirectSoundFilter>(masks, fft, margin);
+    placer_ = std::make_shared<ArrivalPlacer>(masks, direct_, fft.n);
     leveller_ = std::make_shared<BandLeveller>(
         sampleRate, length_, kFirstCleanedBand,
         BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, 10.0));
@@ -71,7 +74,7 @@ void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& 
   envelope_->accumulateRange(tilted, ir, onset, length_);
   windowLeveller_->level(energy, onset, levelStart_, ir);
   clearAroundArrivals(ir);
-  for (const Arrival& a : arrivals_) addArrival(a, ir);
+  placer_->place(arrivals_, sampleRate_, ir, length_);
   cleanUp(energy, ir);
   float* const channels[] = {ir};
   cutLeadingResidue(channels, length_, onset, sampleRate_);
@@ -98,14 +101,6 @@ void IrSynthesizer::clearAroundArrivals(float* ir) const {
     const long n0 = std::lround(a.delaySeconds * sampleRate_);
     for (long n = std::max(0L, n0 - kClearSamples); n <= n0 + kClearSamples; ++n)
       if (n < long(length_)) ir[n] = 0.f;
-  }
-}
-
-void IrSynthesizer::addArrival(const Arrival& a, float* ir) const {
-  const long n0 = std::lround(a.delaySeconds * sampleRate_);
-  for (int b = 0; b < kNumBands; ++b) {
-    const float amp = float(std::sqrt(std::max(0.0, double(a.intensity[b]))));
-    direct_->add(b, amp, n0 - long(direct_->centre()), ir, length_);
   }
 }
 

@@ -44,6 +44,7 @@
 
 namespace dpc {
 
+class ArrivalPlacer;
 class BandEnvelope;
 class BandLeveller;
 class TiltedBands;
@@ -117,9 +118,6 @@ class IrSynthesizer {
   /// amplitude; the energy removed is at most (2 k + 1) samples of reverberation per arrival.
   static constexpr long kClearSamples = 1;
   void clearAroundArrivals(float* ir) const;
-  /// Adds one arrival: the band filters a_b with amplitudes sqrt(intensity_b) at the sample
-  /// nearest its delay.
-  void addArrival(const Arrival& arrival, float* ir) const;
   /// Cleans the bands b >= kFirstCleanedBand of the finished IR of the slower bands' gain-step
   /// splatter (BandLeveller: scale-down only, kCleanMargin tolerance, from where the Dirac
   /// sequence holds 10 pulses per bin). Without it the 8 kHz T30 of a large hall's IR reads
@@ -131,6 +129,8 @@ class IrSynthesizer {
   BandFilterData filterData_;
   std::unique_ptr<TiltedBands> bands_;
   std::shared_ptr<const DirectSoundFilter> direct_;
+  /// Places the arrivals with direct_'s filters (shared like the leveller: a workspace).
+  std::shared_ptr<ArrivalPlacer> placer_;
   std::unique_ptr<BandEnvelope> envelope_;
   std::shared_ptr<BandLeveller> leveller_;
   /// Levels the reverberant part to the response in short windows (synthesis/window_leveller.h)

@@ -117,6 +117,7 @@ int benchLive(const CommonOptions& c, const LiveOptions& o) {
   lo.deviceChannels = 2;
   lo.measureFftPlans = true;  // as dpc-demo's live sessions (apps/demo/run_live.cpp)
   lo.lateBusToleranceDb = o.lateBusToleranceDb;
+  lo.keepImpulseResponses = false;  // no reader: a game's or plugin's session
   const auto dry = std::make_shared<const DrySignals>(loadDrySignals(scene));
   const auto constructing = std::chrono::steady_clock::now();
   LiveSession session(shared, s, dry, lo);

@@ -80,6 +80,12 @@ class LiveSession {
     /// difference of G and C80, in every band and decay segment holding at least -30 dB of
     /// the late energy (LateShape).
     double lateBusToleranceDb = 0.5;
+    /// Whether copyResponses() offers each frame's whole IRs (Responses::ir). Building them
+    /// (early parts plus their share of the late buses) is the largest part of the snapshot:
+    /// 7 ms a frame for 64 sources of 2 s. false: Responses::ir holds no channels; the energy
+    /// responses, direct sounds, paths and world are still copied. A session that no one asks
+    /// for IRs (a game's output, a plugin, a benchmark) turns it off.
+    bool keepImpulseResponses = true;
   };
   /// Upper bound of Options::irSwapSpreadSeconds: beyond it a swap outlasts a frame.
   static constexpr double kMaxIrSwapSpreadSeconds = 0.1;
@@ -279,7 +285,7 @@ class LiveSession {
   /// Last stage before the device: nothing beyond full scale reaches it.
   std::unique_ptr<audio::Limiter> limiter_;
   std::unique_ptr<Recorder> recorder_;  ///< null unless options.recordSeconds > 0
-  ResponseSnapshot snapshot_;
+  ResponseSnapshot snapshot_{options_.keepImpulseResponses};
 
   std::thread propagationThread_;
   std::atomic<bool> running_{false};

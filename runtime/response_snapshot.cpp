@@ -19,7 +19,11 @@ bool ResponseSnapshot::tryStore(const PropagationStage& stage, const WorldState&
   std::unique_lock<std::mutex> lock(mutex_, std::try_to_lock);
   if (!lock.owns_lock()) return false;
   const Simulation& sim = stage.simulation();
-  stage.wholeIrsInto(listener, irs_);
+  if (withIrs_) {
+    stage.wholeIrsInto(listener, irs_);
+  } else {
+    irs_.resize(sim.sourceCount());  // empty IRs: no channels
+  }
   energy_.resize(sim.sourceCount());
   direct_.resize(sim.sourceCount());
   paths_.resize(sim.sourceCount());

@@ -36,9 +36,13 @@ class ResponseSnapshot {
     const std::vector<std::array<glm::vec3, 2>>* edges;
   };
 
-  /// Propagation thread, after stage.prepare(listener): copies listener's IRs and energy
-  /// responses (direct sound added into its bin) and the frame's `world` unless a reader holds
-  /// the lock. Returns whether it copied. Allocates only while the copies grow: the buffers are
+  /// withIrs false: Responses::ir holds no channels (the session's
+  /// Options::keepImpulseResponses). Control thread, before the first frame.
+  explicit ResponseSnapshot(bool withIrs = true) : withIrs_(withIrs) {}
+
+  /// Propagation thread, after stage.prepare(listener): copies listener's IRs (when kept) and
+  /// energy responses (direct sound added into its bin) and the frame's `world` unless a reader
+  /// holds the lock. Returns whether it copied. Allocates only while the copies grow: the buffers are
   /// reused, so a frame does not allocate and fault in its IRs' size of fresh memory again.
   bool tryStore(const PropagationStage& stage, const WorldState& world, size_t listener,
                 uint64_t frame);
@@ -66,6 +70,7 @@ class ResponseSnapshot {
   double binSeconds_ = 0.0;
   uint64_t frame_ = 0;
   bool valid_ = false;
+  bool withIrs_ = true;
 };
 
 }  // namespace dpc

@@ -14,10 +14,10 @@ namespace dpc {
 ArrivalPlacer::ArrivalPlacer(const OctaveBandMasks& masks,
                              std::shared_ptr<const DirectSoundFilter> direct, size_t fftSize)
     : direct_(std::move(direct)), n_(fftSize), spec_(fftSize / 2 + 1) {
-  if (n_ < 2 * kFine || (n_ & (n_ - 1)) != 0 || masks.binCount() != n_ / 2 + 1)
-    throw std::invalid_argument("ArrivalPlacer: the FFT size must be the masks' power of two");
+  if (n_ < 2 || masks.binCount() != n_ / 2 + 1)
+    throw std::invalid_argument("ArrivalPlacer: the FFT size must be the masks'");
   chooseSplit(masks);
-  const size_t coarse = n_ / kFine;
+  const size_t coarse = n_ / kFine + 1;
   coarse_.resize(2 * coarse);
   fine_.resize(2 * kFine);
   const double w = -2.0 * std::numbers::pi / double(n_);
@@ -99,14 +99,14 @@ void ArrivalPlacer::addToSpectrum(const Arrival& a, long n0) {
   // kChains independent recurrences of four bins each (bins k0 + 4 c + j), so that the
   // multiplies of one do not wait for the last: each steps by kChains x 4 bins.
   constexpr size_t kChains = 4, kStride = 4 * kChains;
-  const size_t mask = n_ - 1, step = size_t(((n0 % long(n_)) + long(n_)) % long(n_));
+  const size_t step = size_t(((n0 % long(n_)) + long(n_)) % long(n_));
   float wr, wi;
-  twiddle((kStride * step) & mask, wr, wi);
+  twiddle((kStride * step) % n_, wr, wi);
   const size_t padded = gain_.size();
   for (size_t k0 = 0; k0 < padded; k0 += kSeedBins) {
     V4 zr[kChains], zi[kChains];
     for (size_t j = 0; j < kStride; ++j)
-      twiddle(((k0 + j) * step) & mask, zr[j / 4][j % 4], zi[j / 4][j % 4]);
+      twiddle(((k0 + j) * step) % n_, zr[j / 4][j % 4], zi[j / 4][j % 4]);
     const size_t end = std::min(k0 + kSeedBins, padded);
     for (size_t k = k0; k < end; k += kStride)
       for (size_t c = 0; c < kChains && k + 4 * c < end; ++c) {

@@ -23,11 +23,11 @@ namespace dpc {
 
 class ArrivalPlacer {
  public:
-  /// masks: the masks of fftSize points (a power of two) that `direct`'s filters were made from;
+  /// masks: the masks of fftSize points that `direct`'s filters were made from;
   /// fftSize >= length + direct->taps() for every IR length placed, so that no pulse's ringing
   /// wraps into the IR. Construction: a thread that may plan FFTW (takes fftwPlannerMutex);
   /// allocates about fftSize floats; throws std::bad_alloc, std::runtime_error when FFTW
-  /// cannot plan, std::invalid_argument when fftSize is not a power of two.
+  /// cannot plan, std::invalid_argument when fftSize is not the masks' size.
   ArrivalPlacer(const OctaveBandMasks& masks, std::shared_ptr<const DirectSoundFilter> direct,
                 size_t fftSize);
   ~ArrivalPlacer();

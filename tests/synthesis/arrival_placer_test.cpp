@@ -24,7 +24,7 @@ struct Filters {
   std::unique_ptr<ArrivalPlacer> placer;
   explicit Filters(size_t irLength) : length(irLength) {
     const size_t taps = bandFilterTaps(kRate);
-    n = nextPow2(length + taps);
+    n = smoothFftSize(length + taps);
     FftwRealTransforms fft(n);
     const OctaveBandMasks masks(kRate, n);
     direct = std::make_shared<const DirectSoundFilter>(masks, fft, taps);

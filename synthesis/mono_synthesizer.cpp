@@ -34,10 +34,12 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
   std::copy(seq.begin(), seq.end(), fft.time.p);
   fftwf_execute(fft.fwd);
   const OctaveBandMasks masks(sampleRate, fft.n);
-  filterData_ = BandFilterData::compute(masks, fft.n);
+  const bool share =
+      shareWith && shareWith->sampleRate_ == sampleRate && shareWith->length_ == length_;
+  filterData_ = share ? shareWith->filterData_ : BandFilterData::compute(masks, fft.n);
   bands_ = std::make_unique<TiltedBands>(sampleRate, length_, seq, masks, fft,
                                          shareWith ? shareWith->bands_.get() : nullptr);
-  if (shareWith && shareWith->sampleRate_ == sampleRate && shareWith->length_ == length_) {
+  if (share) {
     direct_ = shareWith->direct_;
     leveller_ = shareWith->leveller_;
     windowLeveller_ = shareWith->windowLeveller_;

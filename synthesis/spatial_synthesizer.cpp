@@ -10,6 +10,7 @@
 
 #include "common/random.h"
 #include "common/sphere_quadrature.h"
+#include "synthesis/mono_synthesizer.h"
 #include "synthesis/band_leveller.h"
 #include "synthesis/dirac_sequence.h"
 #include "synthesis/late_rotation.h"
@@ -106,8 +107,14 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   levelStart_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, kLevelFromPulses);
   rotationFrom_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound,
                                              kIndependentFromDensity * BandLeveller::kBinSeconds);
+  if (gainsOnly_ && reference_ == Reference::kFirstChannelPressure) {
+    channelLevelling_ = std::make_unique<ChannelLevelling>(
+        sampleRate, length_, BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, 1.0),
+        IrSynthesizer::kFirstLevelledBand, IrSynthesizer::kLastLevelledBand);
+    levelledFrom_ = IrSynthesizer::kLastLevelledBand + 1;  // the bands the windows leave
+  }
   levellers_.push_back(
-      std::make_unique<BandLeveller>(sampleRate, length_, kDirectionalFromBand, levelStart_));
+      std::make_unique<BandLeveller>(sampleRate, length_, levelledFrom_, levelStart_));
   binned_.assign(directions_.size(), std::vector<Bands>(levellers_[0]->bins()));
 }
 
@@ -116,7 +123,7 @@ void SpatialIrSynthesizer::setParallelLevelling(int workers, ParallelFor paralle
       std::clamp<size_t>(size_t(std::max(workers, 1)), 1, std::max<size_t>(1, channels_));
   while (levellers_.size() < w)
     levellers_.push_back(
-        std::make_unique<BandLeveller>(sampleRate_, length_, kDirectionalFromBand, levelStart_));
+        std::make_unique<BandLeveller>(sampleRate_, length_, levelledFrom_, levelStart_));
   levellers_.resize(w);
   parallel_ = std::move(parallel);
 }
@@ -307,6 +314,9 @@ void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
         omniEnvelope_->accumulateRange(omni, channels[c], begin, end, omniGains_[c], 0,
                                        kDirectionalFromBand);
   }
+  if (channelLevelling_)
+    channelLevelling_->level(energy, count, channelWeight_, omniGains_, kDirectionalFromBand,
+                             onset, channels);
   arrivalDelays_.clear();
   arrivalEnergy_.clear();
   if (direct.visible) addArrival(direct, energy.toListener(direct.direction), channels);

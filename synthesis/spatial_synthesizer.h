@@ -55,6 +55,7 @@
 #include "synthesis/band_envelope.h"
 #include "synthesis/band_filters.h"
 #include "synthesis/coherence_match.h"
+#include "synthesis/channel_levelling.h"
 
 namespace dpc {
 
@@ -205,6 +206,8 @@ class SpatialIrSynthesizer {
   int sampleRate_;
   Reference reference_;
   std::unique_ptr<CoherenceMatch> coherence_;  ///< binaural only
+  /// Ambisonics (kFirstChannelPressure, gains only): each channel levelled in short windows.
+  std::unique_ptr<ChannelLevelling> channelLevelling_;
   /// This frame's mixes per band, [0] before mixSplit_ (a sample), [1] from it on.
   std::array<std::array<EarMix, kNumBands>, 2> earMix_{};
   size_t mixSplit_ = 0;
@@ -247,6 +250,7 @@ class SpatialIrSynthesizer {
   /// One per levelling worker (setParallelLevelling); [0] always exists.
   std::vector<std::unique_ptr<BandLeveller>> levellers_;
   size_t levelStart_ = 0;                   ///< BandLeveller's start sample
+  int levelledFrom_ = kDirectionalFromBand;  ///< BandLeveller's first band
   size_t rotationFrom_ = 0;                 ///< where late fields start to differ, samples
   ParallelFor parallel_;                    ///< empty: level on the calling thread
   std::vector<std::vector<Bands>> binned_;  ///< per direction: its response in leveller bins

@@ -200,57 +200,76 @@ void WindowLeveller::scaleByFactors(const View& v, size_t w, size_t windows) con
   }
 }
 
-void WindowLeveller::pass(const EnergyResponse& energy, Size& s, size_t start, size_t span) {
+void WindowLeveller::viewOf(Size& s, int b) {
   const float scale = 1.f / float(s.n);
-  for (int b = firstBand_; b <= lastBand_; ++b) {
-    const std::vector<float>& m = s.mask[size_t(b)];
-    const View& v = s.view[size_t(b)];
-    FftwRealTransforms& fft = *v.fft;
-    const size_t rbins = fft.n / 2 + 1, support = std::min(v.support, rbins);
-    for (size_t f = 0; f < support; ++f) {
-      fft.band.p[f][0] = current_.p[f][0] * m[f] * scale;
-      fft.band.p[f][1] = current_.p[f][1] * m[f] * scale;
+  const std::vector<float>& m = s.mask[size_t(b)];
+  FftwRealTransforms& fft = *s.view[size_t(b)].fft;
+  const size_t rbins = fft.n / 2 + 1, support = std::min(s.view[size_t(b)].support, rbins);
+  for (size_t f = 0; f < support; ++f) {
+    fft.band.p[f][0] = current_.p[f][0] * m[f] * scale;
+    fft.band.p[f][1] = current_.p[f][1] * m[f] * scale;
+  }
+  std::fill(&fft.band.p[support][0], &fft.band.p[0][0] + 2 * rbins, 0.f);
+  fftwf_execute(fft.inv);  // the view y_b = M_b * r at fft.n points
+}
+
+void WindowLeveller::addViewCorrection(Size& s, int b) {
+  const std::vector<float>& m = s.mask[size_t(b)];
+  const View& v = s.view[size_t(b)];
+  FftwRealTransforms& fft = *v.fft;
+  fftwf_execute(fft.fwd);  // the view's correction (g - 1) y_b
+  const size_t support = std::min(v.support, fft.n / 2 + 1);
+  const float gain = float(v.ratio);  // a transform of n / ratio points: back to n points'
+  for (size_t f = 0; f < support; ++f)
+    for (int c = 0; c < 2; ++c) {
+      const float corr = fft.spec.p[f][c] * m[f] * gain;
+      correction_.p[f][c] += corr;
+      current_.p[f][c] += corr;
     }
-    std::fill(&fft.band.p[support][0], &fft.band.p[0][0] + 2 * rbins, 0.f);
-    fftwf_execute(fft.inv);  // the view y_b = M_b * r at fft.n points
-    windowFactors(b, energy, v, start, span);
-    fftwf_execute(fft.fwd);  // the view's correction (g - 1) y_b
-    const float gain = float(v.ratio);  // a transform of n / ratio points: back to n points'
-    for (size_t f = 0; f < support; ++f)
-      for (int c = 0; c < 2; ++c) {
-        const float corr = fft.spec.p[f][c] * m[f] * gain;
-        correction_.p[f][c] += corr;
-        current_.p[f][c] += corr;
-      }
+}
+
+void WindowLeveller::pass(const EnergyResponse& energy, Size& s, size_t start, size_t span) {
+  for (int b = firstBand_; b <= lastBand_; ++b) {
+    viewOf(s, b);
+    windowFactors(b, energy, s.view[size_t(b)], start, span);
+    addViewCorrection(s, b);
   }
 }
 
-void WindowLeveller::level(const EnergyResponse& energy, size_t onset, size_t start, float* ir) {
-  const size_t span = spanOf(energy);
-  if (span <= std::max(start, onset) || energy.binCount() == 0) return;
-  Size& s = *sizes_[sizeFor(span)];
-  const size_t levelled = std::min(span, s.span);
-  viewTargets(energy, s);
+void WindowLeveller::loadSpectrum(Size& s, const float* ir) {
   FftwRealTransforms& fft = *s.fft;
   const size_t copied = std::min(length_, s.n);
   std::copy(ir, ir + copied, fft.time.p);
   std::fill(fft.time.p + copied, fft.time.p + s.n, 0.f);
   fftwf_execute(fft.fwd);
-  const size_t nbins = s.n / 2 + 1;
-  for (size_t f = 0; f < nbins; ++f)
+  for (size_t f = 0; f < s.n / 2 + 1; ++f)
     for (int c = 0; c < 2; ++c) {
       current_.p[f][c] = fft.spec.p[f][c];
       correction_.p[f][c] = 0.f;
     }
-  for (int it = 0; it < kIterations; ++it) pass(energy, s, std::max(start, onset), levelled);
+}
+
+void WindowLeveller::applyCorrection(Size& s, size_t onset, float* ir) {
+  FftwRealTransforms& fft = *s.fft;
   const float scale = 1.f / float(s.n);
-  for (size_t f = 0; f < nbins; ++f)
+  for (size_t f = 0; f < s.n / 2 + 1; ++f)
     for (int c = 0; c < 2; ++c) fft.band.p[f][c] = correction_.p[f][c] * scale;
   fftwf_execute(fft.inv);
   // The correction from the first arrival on; its part at negative times (wrapped to the end of
   // the FFT, beyond the masks' reach after the span) is dropped.
   const size_t end = std::min(length_, s.n - bandFilterTaps(sampleRate_) / 2);
   for (size_t t = onset; t < end; ++t) ir[t] += fft.time.p[t];
+}
+
+void WindowLeveller::level(const EnergyResponse& energy, size_t onset, size_t start, float* ir) {
+  const size_t span = spanOf(energy);
+  if (span <= std::max(start, onset) || energy.binCount() == 0) return;
+  Size& s = *sizes_[sizeFor(span)];
+  viewTargets(energy, s);
+  loadSpectrum(s, ir);
+  for (int it = 0; it < kIterations; ++it)
+    pass(energy, s, std::max(start, onset), std::min(span, s.span));
+  applyCorrection(s, onset, ir);
 }
 
 }  // namespace dpc

@@ -75,6 +75,14 @@ class WindowLeveller {
   /// One pass: views of the IR whose spectrum `current` holds, their factors, and the
   /// correction's spectrum added to `correction` and `current`.
   void pass(const EnergyResponse& energy, Size& s, size_t start, size_t span);
+  /// v.fft->time <- band b's view of the spectrum in current_.
+  void viewOf(Size& s, int b);
+  /// The view (scaled) back to the spectrum: added to correction_ and current_.
+  void addViewCorrection(Size& s, int b);
+  /// current_ <- ir's spectrum (its first s.n samples), correction_ <- 0.
+  void loadSpectrum(Size& s, const float* ir);
+  /// ir += the correction's time signal, from onset on.
+  void applyCorrection(Size& s, size_t onset, float* ir);
   /// Band b's view (v.fft->time) <- (g - 1) x the view: window factors g over [0, span) from
   /// the view's energies and the targets, linear between window centres.
   void windowFactors(int b, const EnergyResponse& energy, const View& v, size_t start,

@@ -1,0 +1,50 @@
+// Window levelling of each channel of a gains-only spatial IR (Ambisonics): every channel's
+// reverberant part is levelled to its own share of the directional energy response, band by
+// band in short windows (synthesis/window_leveller.h, the mono synthesis's levelling), so that
+// one IR's W, which a user reads as the omnidirectional IR, carries its response's octave
+// parameters as one mono IR does, and every other channel its own share. A channel's factors
+// are its own: W's factors whiten W's realisation, and a channel uncorrelated with W (a
+// diffuse field's X, Y, Z ...) scaled by them would gain energy where W happened to be weak.
+// In a window each channel is scaled as a whole, so the channels' correlations there (a
+// direction's share in every channel) stay as synthesised.
+//
+// Construction: control/propagation thread (FFTW planning); allocates. level(): propagation
+// thread; allocates only while a response has more bins than any before; no errors.
+#pragma once
+
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "common/bands.h"
+#include "engine/energy_response.h"
+#include "synthesis/window_leveller.h"
+
+namespace dpc {
+
+class ChannelLevelling {
+ public:
+  /// IRs of `length` samples at sampleRate Hz; windows from `startSample` on (where the
+  /// directions' Dirac sequences are dense enough to level); bands firstBand..lastBand.
+  ChannelLevelling(int sampleRate, size_t length, size_t startSample, int firstBand,
+                   int lastBand);
+
+  /// Levels each channel c (its reverberant part, zero before `onset`) to its share of
+  /// `energy`: per band b, the sum over the first `count` directions d of weight[d][c][b] E_d
+  /// for the directional bands (b >= directionalFrom) and omniGain[c]^2 sum_d E_d below them.
+  void level(const DirectionalEnergyResponse& energy, size_t count,
+             const std::vector<std::vector<Bands>>& weight, std::span<const float> omniGain,
+             int directionalFrom, size_t onset, std::span<float* const> channels);
+
+ private:
+  /// target_ <- channel c's share of energy.
+  void channelTarget(const DirectionalEnergyResponse& energy, size_t count,
+                     const std::vector<std::vector<Bands>>& weight, float omniGain,
+                     int directionalFrom, size_t c);
+
+  WindowLeveller leveller_;
+  size_t start_;
+  EnergyResponse target_;
+};
+
+}  // namespace dpc

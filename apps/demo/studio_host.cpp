@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "apps/demo/studio_bake.h"
 #include "apps/studio/studio_access.h"
 #include "apps/studio/studio_json.h"
 
@@ -19,7 +20,9 @@ std::string studioWebFolder() {
 
 StudioHost::StudioHost(const SceneDesc& scene, const Flags& fl)
     : scene_(scene), placedSources_(scene.sources.size()) {
-  board_.setScene(studio::sceneJson(scene));
+  // The bake does not change while dpc-demo runs: its maps are read and put in JSON once.
+  if (!fl.bake.empty()) board_.setBake(studio::bakeJson(readStudioBake(fl.bake)));
+  board_.setScene(studio::sceneJson(scene, fl.bake));
   studio::ServerOptions o;
   o.port = int(fl.port.value_or(0));
   o.webFolder = studioWebFolder();

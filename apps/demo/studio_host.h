@@ -20,8 +20,9 @@ namespace dpc::demo {
 class StudioHost {
  public:
 
-  /// Starts the server for `scene` (its JSON published once) and prints its URL on stdout.
-  /// Throws InputError naming --port when the port cannot be bound. `scene` must outlive it.
+  /// Starts the server for `scene` (its JSON published once, and with --bake the bake's maps:
+  /// /api/bake) and prints its URL on stdout. Throws InputError naming --port when the port
+  /// cannot be bound, naming the bake when it does not open. `scene` must outlive it.
   StudioHost(const SceneDesc& scene, const Flags& fl);
   /// Stops the server; prints what publishing cost (studio: N frames, mean us per frame).
   ~StudioHost();

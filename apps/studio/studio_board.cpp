@@ -13,6 +13,17 @@ std::shared_ptr<const std::string> StudioBoard::scene() const {
   return scene_;
 }
 
+void StudioBoard::setBake(std::string json) {
+  auto text = std::make_shared<const std::string>(std::move(json));
+  std::lock_guard<std::mutex> lock(mutex_);
+  bake_ = std::move(text);
+}
+
+std::shared_ptr<const std::string> StudioBoard::bake() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return bake_;
+}
+
 namespace {
 
 /// Appends `item` to `q`; returns the oldest entry when `q` then holds more than `kept` (the

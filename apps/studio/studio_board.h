@@ -94,6 +94,10 @@ class StudioBoard {
   /// Control thread, once before the server starts: the scene's JSON (studio_json.h).
   void setScene(std::string json);
   std::shared_ptr<const std::string> scene() const;
+  /// Control thread, once before the server starts: the bake's JSON (bakeJson), when dpc-demo
+  /// plays from a bake; bake() is null otherwise.
+  void setBake(std::string json);
+  std::shared_ptr<const std::string> bake() const;
 
   /// Control thread: the newest frame (older ones kept up to kKeptFrames).
   void publish(std::shared_ptr<const StudioFrame> frame);
@@ -123,6 +127,7 @@ class StudioBoard {
  private:
   mutable std::mutex mutex_;
   std::shared_ptr<const std::string> scene_;
+  std::shared_ptr<const std::string> bake_;
   std::deque<std::shared_ptr<const StudioFrame>> frames_;  ///< oldest first
   std::deque<std::shared_ptr<const StudioIr>> irs_;        ///< oldest first
   StudioRequests requests_;

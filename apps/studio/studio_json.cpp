@@ -67,10 +67,48 @@ json posesJson(const std::vector<Pose>& poses) {
   return a;
 }
 
+/// One map of a bake ([probe][source][row][parameter] plus STI in the broadband row), flat;
+/// null where not finite, where STI has no row and for probes not done.
+json bakeValues(const StudioBake& b, const std::vector<float>& params,
+                const std::vector<float>& sti) {
+  const size_t nParams = b.parameters.size(), sources = b.sources;
+  json out = json::array();
+  for (size_t p = 0; p < b.probes.size(); ++p)
+    for (size_t s = 0; s < sources; ++s)
+      for (size_t row = 0; row < size_t(kBakeRows); ++row) {
+        const size_t at = ((p * sources + s) * kBakeRows + row) * nParams;
+        for (size_t k = 0; k < nParams; ++k)
+          out.push_back(b.done[p] ? number(params[at + k]) : json(nullptr));
+        const bool broadband = row + 1 == size_t(kBakeRows);
+        out.push_back(b.done[p] && broadband ? number(sti[p * sources + s]) : json(nullptr));
+      }
+  return out;
+}
+
 }  // namespace
 
-std::string sceneJson(const SceneDesc& scene) {
-  json out = {{"file", scene.path}}, materials = json::array();
+std::string bakeJson(const StudioBake& b) {
+  json probes = json::array(), done = json::array(), bandsOut = json::array();
+  for (const glm::vec3& p : b.probes) probes.insert(probes.end(), {p.x, p.y, p.z});
+  for (uint8_t d : b.done) done.push_back(d ? 1 : 0);
+  for (float f : kBandCentreHz) bandsOut.push_back(f);
+  bandsOut.push_back("broadband");
+  json names = b.parameters;
+  names.push_back("STI");
+  return json{{"file", b.file},
+              {"probes", probes},
+              {"done", done},
+              {"sources", b.sources},
+              {"bands", bandsOut},
+              {"parameters", names},
+              {"values", bakeValues(b, b.values, b.sti)},
+              {"ci95", bakeValues(b, b.ci95, b.stiCi95)}}
+      .dump();
+}
+
+std::string sceneJson(const SceneDesc& scene, const std::string& bakeFile) {
+  json out = {{"file", scene.path}, {"bake", bakeFile.empty() ? json(nullptr) : json(bakeFile)}};
+  json materials = json::array();
   meshJson(scene.mesh, out);
   for (const Material& m : scene.materials)
     materials.push_back({{"name", m.name}, {"absorption", bands(m.absorption)}});

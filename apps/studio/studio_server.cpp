@@ -100,7 +100,8 @@ bool StudioServer::Impl::authorised(const Request& req, bool& fromQuery) const {
          tokenMatches(cookieValue(req.get_header_value("Cookie"), cookieName()), options.token);
 }
 
-/// GET /api/...: the scene, and a frame's state, response or CSV (the newest, or ?frame=N).
+/// GET /api/...: the scene, the bake's maps (404 without --bake), and a frame's state,
+/// response or CSV (the newest, or ?frame=N).
 void StudioServer::Impl::routeReads() {
   auto withFrame = [this](auto body) {
     return [this, body](const Request& req, Response& res) {
@@ -111,6 +112,11 @@ void StudioServer::Impl::routeReads() {
   };
   http.Get("/api/scene", [this](const Request&, Response& res) {
     res.set_content(*board.scene(), "application/json");
+  });
+  http.Get("/api/bake", [this](const Request&, Response& res) {
+    const auto bake = board.bake();
+    if (!bake) return refuse(res, 404, "no bake (dpc-demo runs without --bake)");
+    res.set_content(*bake, "application/json");
   });
   http.Get("/api/state", withFrame([](const StudioFrame& f, Response& res) {
              res.set_content(stateJson(f), "application/json");

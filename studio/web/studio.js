@@ -1,18 +1,21 @@
 // dpc studio's page: the scene in three.js, the listener and sources draggable, the state
 // polled from the server (GET /api/state every 150 ms, the response when its frame changes;
-// docs/studio.md "API"). window.studio exposes what the browser test reads.
+// docs/studio.md "API"); with --bake, the probes and parameter maps (probes.js).
+// window.studio exposes what the browser test reads.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/OrbitControls.js';
 import { analyse, drawDecay, fillParams, statusText, materialColour } from './panels.js';
 import { drawIr, fillIacc } from './ir_panel.js';
 import { buildObjects, kLobeBand, lobe, meshGeometry, placeObjects, worldVertices } from './objects.js';
+import { showProbes } from './probes.js';
 
 const token = new URLSearchParams(location.search).get('token') || '';
 const headers = { 'X-Dpc-Token': token, 'Content-Type': 'application/json' };
 const api = (path, body) =>
   fetch(path, body ? { method: 'POST', headers, body: JSON.stringify(body) } : { headers })
     .then((r) => (r.ok ? r.json() : Promise.reject(new Error(`${path}: HTTP ${r.status}`))));
-const studio = (window.studio = { ready: false, state: null, response: null, params: null, ir: null });
+const studio = (window.studio = { ready: false, state: null, response: null, params: null, ir: null,
+                                  probes: null });
 
 // The view: renderer, camera, orbit controls, light.
 const view = document.getElementById('view');
@@ -201,6 +204,12 @@ studio.drawnEdges = () => {
     out.push([a.getX(i), a.getY(i), a.getZ(i), a.getX(i + 1), a.getY(i + 1), a.getZ(i + 1)]);
   return out;
 };
+/// Probe spheres in the scene: every InstancedMesh's instances (0 when there is no bake).
+studio.drawnProbes = () => {
+  let n = 0;
+  scene3.traverse((o) => (n += o.isInstancedMesh ? o.count : 0));
+  return n;
+};
 studio.balloon = (i) => {
   const b = sourceMarkers[i].getObjectByName('directivity');
   if (!b) return null;
@@ -228,6 +237,8 @@ async function start() {
   select.onchange = () => api('/api/select', { source: Number(select.value) });
   document.getElementById('materials').innerHTML = sc.materials
     .map((m, i) => `<li><span class="swatch" style="background:${materialColour(i)}"></span>${m.name}</li>`).join('');
+  // The bake's probes and maps, when dpc-demo plays from one (the scene names its file).
+  if (sc.bake) await showProbes(api, { scene3, element: view, ray, studio, sourceNames: sc.sources.map((s) => s.name) });
   renderer.setAnimationLoop(() => { controls.update(); renderer.render(scene3, camera); });
   loop();
   irLoop();

@@ -4,15 +4,19 @@
 // are refused (403/404); the page loads with no console error and draws the scene; dragging
 // the listener with the mouse moves the engine's listener, whose direct sound follows 1/r^2;
 // the page's T30 per band equals dpc-analyze's on the same frame's energy response; closing
-// the page leaves the session running. Prints what it measured.
+// the page leaves the session running; with --bake, the probes and parameter maps equal the
+// bake file's as h5py reads it (bake_check.mjs). Prints what it measured.
 // --live: the live clock through a JACK server already running (scripts/jack-headless.sh).
-//   node browser_test.mjs --build B --source S --chromium PATH --npm DIR [--screenshot PNG] [--live]
+// --python PY: a Python with h5py for the bake's oracle; without it the bake view is not checked.
+//   node browser_test.mjs --build B --source S --chromium PATH --npm DIR [--python PY]
+//                         [--screenshot PNG] [--bake-screenshot PNG] [--live]
 import assert from 'node:assert/strict';
 import { execFileSync, spawn, spawnSync } from 'node:child_process';
 import fs from 'node:fs';
 import http from 'node:http';
 import { createRequire } from 'node:module';
 import path from 'node:path';
+import { checkBadBake, checkBake, checkNoBake, makeBake } from './bake_check.mjs';
 import { checkEdges } from './edges_check.mjs';
 import { checkDirectivity, checkMovingObjects } from './moving_check.mjs';
 
@@ -37,10 +41,10 @@ function checkBadPort() {
 
 /// dpc-demo --studio --offline (live: through a JACK server the caller started,
 /// scripts/jack-headless.sh): resolves with {child, url, port, token} once the URL is printed.
-function startDemo(sceneFile = scene, onLive = live) {
+function startDemo(sceneFile = scene, onLive = live, extra = []) {
   const clock = onLive ? ['--device', 'jack:system', '--duration', '900']
                        : ['--offline', path.join(work, 'render.wav'), '--duration', '0.5', '--quiet'];
-  const child = spawn(demo, [sceneFile, '--studio', ...clock, '--rays', '2048', '--output', 'binaural'],
+  const child = spawn(demo, [sceneFile, '--studio', ...clock, '--rays', '2048', '--output', 'binaural', ...extra],
                       { stdio: ['ignore', 'pipe', 'inherit'] });
   child.out = '';
   return new Promise((resolve, reject) => {
@@ -288,6 +292,7 @@ async function shoeboxChecks(browser, run) {
   await sleep(500);
   const share = await drawnShare(page);
   assert.ok(share > 0.05, `the canvas is empty (${share} of its pixels drawn)`);
+  await checkNoBake(page, (p) => rawGet(run.port, p, { 'X-Dpc-Token': run.token }));
   const law = await checkDistanceLaw(page);
   const t30 = await checkT30(page, run);
   const ir = await checkIr(page, run);
@@ -311,11 +316,11 @@ async function shoeboxChecks(browser, run) {
 
 /// A scene on the offline clock (its motion happens at fixed scene times): body(page) on a
 /// fresh page, no console errors, then SIGINT.
-async function offlineScene(browser, file, body) {
-  const run = await startDemo(path.join(source, 'scenes', file), false);
+async function offlineScene(browser, file, body, extra = []) {
+  const run = await startDemo(path.join(source, 'scenes', file), false, extra);
   try {
     const { page, errors } = await openPage(browser, run.url);
-    await body(page);
+    await body(page, run);
     assert.deepEqual(errors, [], 'console errors');
     await page.close();
   } finally {
@@ -342,6 +347,23 @@ async function cornerChecks(page) {
               `${e.worstLength.toExponential(2)} m`);
 }
 
+/// shoebox --bake: the probes and maps against the bake file (tests/studio/bake_check.mjs).
+async function bakeChecks(page, run, oracle) {
+  const b = await checkBake(page, (p) => rawGet(run.port, p, { 'X-Dpc-Token': run.token }), oracle);
+  if (arg('--bake-screenshot')) {
+    await page.select('#probe-param', '4');  // C80, 1 kHz: the page's first map
+    const p = await page.evaluate(() => window.studio.probes.values.indexOf(window.studio.probes.max));
+    const at = await page.evaluate((i) => window.studio.screenOf(window.studio.probeCentres()[i]), p);
+    await page.mouse.move(at.x, at.y);
+    await sleep(300);
+    await page.screenshot({ path: arg('--bake-screenshot') });
+  }
+  const range = (m, unit) => `${m.min.toPrecision(6)} .. ${m.max.toPrecision(6)}${unit} (${m.probes} probes)`;
+  console.log(`bake: ${b.probes} probes (${b.done} done) drawn, positions and every value of /api/bake equal ` +
+              `the file's (h5py); C80 1 kHz ${range(b.c80, ' dB')}, D50 1 kHz ${range(b.d50, '')}, STI ` +
+              `${range(b.sti, '')}, ends drawn as viridis's; mouse on probe ${b.hover.probe}: "${b.hover.text}"`);
+}
+
 async function main() {
   checkBadPort();
   const run = await startDemo();
@@ -366,6 +388,11 @@ async function main() {
     if (!live) {
       await offlineScene(browser, 'two_rooms.json', twoRoomsChecks);
       await offlineScene(browser, 'shoebox-corner.json', cornerChecks);
+      const bake = makeBake(build, source, work, arg('--python'));
+      if (bake) checkBadBake(demo, scene, work);
+      if (bake) await offlineScene(browser, 'shoebox.json', (page, run) => bakeChecks(page, run, bake.oracle),
+                                   ['--bake', bake.file]);
+      else console.log('bake view not checked: no dpc-bake in this build or no --python with h5py');
     }
   } finally {
     if (browser) await browser.close();

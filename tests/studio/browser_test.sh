@@ -3,7 +3,9 @@
 # npm into the build (scripts/npm-ci.sh; fails when npm cannot), then runs the test with
 # Debian's chromium. Exit 77 (ctest's SKIP_RETURN_CODE) only when chromium is missing or
 # cannot start here.
-#   tests/studio/browser_test.sh BUILD SOURCE [--live] [--screenshot PNG]
+#   tests/studio/browser_test.sh BUILD SOURCE [--live] [--python PY] [--screenshot PNG]
+#                                [--bake-screenshot PNG]
+# --python: a Python with h5py, the oracle of the bake view's check (skipped without it).
 set -euo pipefail
 build=${1:?usage: browser_test.sh BUILD SOURCE}
 src=${2:?usage: browser_test.sh BUILD SOURCE}

@@ -13,6 +13,8 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -28,6 +30,14 @@ class ChannelLevelling {
   /// directions' Dirac sequences are dense enough to level); bands firstBand..lastBand.
   ChannelLevelling(int sampleRate, size_t length, size_t startSample, int firstBand,
                    int lastBand);
+  ~ChannelLevelling();
+
+  /// Runs `n` tasks f(0..n-1), possibly concurrently (SpatialIrSynthesizer::ParallelFor).
+  using ParallelFor = std::function<void(size_t n, const std::function<void(size_t)>& f)>;
+  /// From now on level() spreads the channels over `workers` (>= 1) through `parallel`, each
+  /// worker with a leveller of its own: channel c is levelled alike by any worker, so the IR
+  /// does not depend on their number. Control thread; allocates (FFTW planning).
+  void setWorkers(size_t workers, ParallelFor parallel);
 
   /// Levels each channel c (its reverberant part, zero before `onset`) to its share of
   /// `energy`: per band b, the sum over the first `count` directions d of weight[d][c][b] E_d
@@ -37,14 +47,20 @@ class ChannelLevelling {
              int directionalFrom, size_t onset, std::span<float* const> channels);
 
  private:
-  /// target_ <- channel c's share of energy.
-  void channelTarget(const DirectionalEnergyResponse& energy, size_t count,
-                     const std::vector<std::vector<Bands>>& weight, float omniGain,
-                     int directionalFrom, size_t c);
+  struct Worker {
+    std::unique_ptr<WindowLeveller> leveller;
+    EnergyResponse target;  ///< scratch: the channel's share of the response
+  };
+  /// target <- channel c's share of energy.
+  static void channelTarget(const DirectionalEnergyResponse& energy, size_t count,
+                            const std::vector<std::vector<Bands>>& weight, float omniGain,
+                            int directionalFrom, size_t c, EnergyResponse& target);
 
-  WindowLeveller leveller_;
-  size_t start_;
-  EnergyResponse target_;
+  int sampleRate_;
+  size_t length_, start_;
+  int firstBand_, lastBand_;
+  std::vector<Worker> workers_;  ///< [0] always exists
+  ParallelFor parallel_;         ///< empty: on the calling thread
 };
 
 }  // namespace dpc

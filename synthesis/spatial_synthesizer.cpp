@@ -125,6 +125,7 @@ void SpatialIrSynthesizer::setParallelLevelling(int workers, ParallelFor paralle
     levellers_.push_back(
         std::make_unique<BandLeveller>(sampleRate_, length_, levelledFrom_, levelStart_));
   levellers_.resize(w);
+  if (channelLevelling_) channelLevelling_->setWorkers(w, parallel);
   parallel_ = std::move(parallel);
 }
 

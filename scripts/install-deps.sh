@@ -10,6 +10,7 @@ packages=(
   libmysofa-dev robin-map-dev jackd2 libnetcdf-dev netcdf-bin
   nlohmann-json3-dev libtinyobjloader-dev libassimp-dev libcli11-dev catch2
   python3 python3-numpy python3-matplotlib espeak-ng sox
+  python3-scipy  # the Ambisonic late field read by SciPy's filters (tests/apps/ambisonic_late_field_check.py)
   pybind11-dev python3-pybind11 python3-pytest  # the Python module and its tests
   python3-dev python3-setuptools python3-wheel python3-venv  # pip install . (docs/python.md)
   clang libclang-rt-dev

@@ -105,8 +105,12 @@ void ArrivalPlacer::addToSpectrum(const Arrival& a, long n0) {
   const size_t padded = gain_.size();
   for (size_t k0 = 0; k0 < padded; k0 += kSeedBins) {
     V4 zr[kChains], zi[kChains];
-    for (size_t j = 0; j < kStride; ++j)
-      twiddle(((k0 + j) * step) % n_, zr[j / 4][j % 4], zi[j / 4][j % 4]);
+    for (size_t j = 0; j < kStride; ++j) {
+      float r, i;  // a vector lane cannot bind to a reference (clang)
+      twiddle(((k0 + j) * step) % n_, r, i);
+      zr[j / 4][j % 4] = r;
+      zi[j / 4][j % 4] = i;
+    }
     const size_t end = std::min(k0 + kSeedBins, padded);
     for (size_t k = k0; k < end; k += kStride)
       for (size_t c = 0; c < kChains && k + 4 * c < end; ++c) {

@@ -122,6 +122,9 @@ class SpatialIrSynthesizer {
   /// direct sound (valid when it was visible).
   const Bands& channelWeight(size_t d, size_t c) const { return channelWeight_[d][c]; }
   const Bands& directWeight(size_t c) const { return directWeight_[c]; }
+  /// Channel c's gain (pressure) on the omnidirectional noise that carries the bands below
+  /// kDirectionalFromBand: its energy there is omniGain(c)^2 x the summed response.
+  float omniGain(size_t c) const { return omniGains_[c]; }
   /// Binaural (two channels of HRIRs, Reference::kChannelAverage): the late field's interaural
   /// coherence match (synthesis/coherence_match.h), applied to every frame's directional
   /// bands; nullptr for other outputs.

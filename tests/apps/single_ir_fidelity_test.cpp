@@ -15,8 +15,9 @@
 // mean over the 12 within 3 standard errors or a third of the tolerance of 0, whichever is
 // larger.
 //
-// The spatial case (hidden: [.spatial]) measures the same per channel of binaural, stereo and
-// first-order ambisonic output; the spatial synthesiser does not level its realisations yet.
+// A first-order AmbiX IR is checked alike per channel in its window-levelled bands (250 Hz -
+// 1 kHz). The spatial case (hidden: [.spatial]) measures every band per channel of binaural,
+// stereo and first-order ambisonic output; binaural and stereo are not window-levelled.
 #include <algorithm>
 #include <array>
 #include <catch2/catch.hpp>
@@ -119,8 +120,9 @@ bool within(const char* what, const test::BandReading& r) {
 }
 
 /// Checks one band's differences over rooms and seeds: RMS within (kG, kC80, kEdt), each
-/// within twice that, the mean within 3 standard errors (or a third of the tolerance) of 0.
-void checkBand(int band, const std::vector<Difference>& v) {
+/// within `largest` times that, the mean within 3 standard errors (or a third of the
+/// tolerance) of 0.
+void checkBand(int band, const std::vector<Difference>& v, double largestFactor = 2.0) {
   const double n = double(v.size());
   auto stats = [&](double Difference::*m, double tolerance, const char* name) {
     double sum = 0.0, sum2 = 0.0, largest = 0.0;
@@ -136,7 +138,7 @@ void checkBand(int band, const std::vector<Difference>& v) {
     INFO("band " << kBandCentreHz[size_t(band)] << " Hz " << name << ": RMS " << rms << " mean "
                  << mean << " +- " << se << " largest " << largest);
     CHECK(rms <= tolerance);
-    CHECK(largest <= 2.0 * tolerance);
+    CHECK(largest <= largestFactor * tolerance);
     CHECK(std::abs(mean) <= std::max(3.0 * se, tolerance / 3.0));
   };
   stats(&Difference::g, kG, "G (dB)");
@@ -193,8 +195,10 @@ DirectionalEnergyResponse directionalResponse(const Room& room, const DirectSoun
   return energy;
 }
 
-/// Channel c's response: every direction's weighted by the channel's filter, and the direct
-/// sound through its exact filter (what the per-channel levelling aims at).
+/// Channel c's response: every direction's weighted by the channel's filter (below
+/// kDirectionalFromBand by the omnidirectional noise's gain, as the synthesiser renders those
+/// bands), and the direct sound through its exact filter (what the per-channel levelling aims
+/// at).
 std::pair<EnergyResponse, DirectSound> channelResponse(const DirectionalEnergyResponse& energy,
                                                        const DirectSound& direct,
                                                        const SpatialIrSynthesizer& synth,
@@ -203,7 +207,9 @@ std::pair<EnergyResponse, DirectSound> channelResponse(const DirectionalEnergyRe
   for (size_t d = 0; d < energy.directionCount(); ++d)
     for (size_t k = 0; k < er.binCount(); ++k)
       for (int b = 0; b < kNumBands; ++b)
-        er.bins()[k][b] += energy.response(d).bins()[k][b] * synth.channelWeight(d, c)[b];
+        er.bins()[k][b] += energy.response(d).bins()[k][b] *
+                           (b < kDirectionalFromBand ? synth.omniGain(c) * synth.omniGain(c)
+                                                     : synth.channelWeight(d, c)[b]);
   DirectSound d = direct;
   for (int b = 0; b < kNumBands; ++b)
     d.intensity[b] = direct.intensity[b] * synth.directWeight(c)[b];
@@ -254,4 +260,48 @@ TEST_CASE("One spatial IR: every channel reads its response's octave G, C80 and 
       }
     }
   }
+}
+
+TEST_CASE("One first-order AmbiX IR: each channel reads its own share's octave parameters",
+          "[synthesis][single_ir][statistics]") {
+  // The window-levelled bands of an Ambisonic IR (125 Hz - 1 kHz, each channel against its own
+  // share of the directional response), checked as the mono case is over the 12 IRs x 4
+  // channels; 250 Hz - 1 kHz (the 125 Hz band's C80 and EDT read too few periods per window).
+  // Each single channel-IR within 2.5x the tolerance: the largest of 48 normal draws lies
+  // about sqrt(2 ln 48) = 2.8 standard deviations out against 2.2 for the mono case's 12, so
+  // its 2x scales to 2.5x. Without the per-channel levelling this fails at every band (C80
+  // RMS 0.79 / 0.43 / 0.35 dB, G up to 1.6 dB, EDT RMS 9.5 % at 250 Hz).
+  SceneDesc scene;
+  scene.audio.output = OutputFormat::kAmbisonics;
+  scene.audio.ambisonicOrder = 1;
+  PropagationSettings ps;
+  ps.irLength = float(kLength);
+  std::array<std::vector<Difference>, kNumBands> diffs;
+  for (const Room& room : kRooms) {
+    const DirectSound direct = directFor(room);
+    for (uint64_t seed : {1u, 2u, 3u, 4u}) {
+      ps.seed = seed;
+      auto synth = makeSpatialSynthesizer(scene, ps, room.volume);
+      const DirectionalEnergyResponse energy =
+          directionalResponse(room, direct, synth->directions());
+      std::vector<std::vector<float>> out(synth->channelCount(),
+                                          std::vector<float>(synth->lengthSamples()));
+      std::vector<float*> ptrs;
+      for (auto& o : out) ptrs.push_back(o.data());
+      synth->synthesize(energy, direct, ptrs);
+      for (size_t c = 0; c < synth->channelCount(); ++c) {
+        const auto [er, d] = channelResponse(energy, direct, *synth, c);
+        const test::ResponseBands bands(er, d, kFs);
+        for (const test::BandReading& r : bands.read(out[c], kFirstBand)) {
+          if (r.band > IrSynthesizer::kLastLevelledBand) continue;
+          char what[96];
+          std::snprintf(what, sizeof what, "ambix %s seed %d channel %d", room.name, int(seed),
+                        int(c));
+          diffs[size_t(r.band)].push_back(differenceOf(what, r));
+        }
+      }
+    }
+  }
+  for (int b = kFirstBand; b <= IrSynthesizer::kLastLevelledBand; ++b)
+    checkBand(b, diffs[size_t(b)], 2.5);
 }

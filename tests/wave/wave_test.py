@@ -403,7 +403,8 @@ def screen(build, tmp):
         t_end = first_wall_path(SCREEN_SOURCE, p, SCREEN_SIZE) / C - 0.006
         levels = []
         for e in (SCREEN_EDGE - SCREEN_SPACING / 2, SCREEN_EDGE + SCREEN_SPACING / 2):
-            ana, arrival = oracle.screen_ir(SCREEN_SOURCE, p, SCREEN_X, [(-np.inf, e)], C, fs, t_end)
+            ana, arrival = oracle.screen_ir(SCREEN_SOURCE, p, SCREEN_X, [(-np.inf, e)], C, fs,
+                                            t_end)
             a = int(round((arrival - 0.004) * fs))
             levels.append(band_levels(ana[a:] * tukey(len(ana) - a), fs, OCTAVES))
         spread = 10 * np.log10(levels[0] / levels[1])
@@ -420,7 +421,8 @@ def screen_controls(build, tmp):
         d = screen_compare(build, tmp, 'control', screens, [(-np.inf, SCREEN_EDGE)],
                            SCREEN_SOURCE, SCREEN_RECEIVERS, name)
         worst = float(np.max(np.abs(d)))
-        check(worst > SCREEN_TOLERANCE_DB, 'screen control, %s: the check fails (worst %.2f dB off)' % (name, worst))
+        check(worst > SCREEN_TOLERANCE_DB, 'screen control, %s: the check fails (worst %.2f dB '
+              'off)' % (name, worst))
 
 
 SLIT = (12.5, 15.5)

@@ -30,9 +30,23 @@
               about 1.3 dB per receiver, averages to 0.3 dB over 42 bands, and the wave band's
               one admittance per material moves its decay time by up to 25 %: 1 dB).
 
+  screen      a thin rigid half-plane (one wall of zero thickness, in a plane between node
+              layers, its edge too) in a 24 m cube whose faces absorb, maximum 250 Hz: at seven
+              receivers (shadow, lit, source side) the 63 and 125 Hz octave levels in a window
+              that ends before any path touching the cube's faces can arrive are those of the
+              exact solution, Biot-Tolstoy's edge diffraction plus the direct sound and the
+              reflection where they exist (tests/wave/wave_oracle.py screen_ir, the same
+              pulse and window), within 1 dB (the issue asks 2). The oracle checks itself
+              first: its field is continuous across the shadow and reflection boundaries.
+  slit        a 3 m slit (two half-planes in one plane) the same way, against the two edges'
+              first-order diffraction plus the geometric terms, within 1 dB.
+  screen_controls  the screen check must be able to fail: without the screen, and with its
+              edge 4 spacings (0.5 m) low, against the oracle of the screen as placed, some
+              octave lies more than 1 dB off.
+
   cli         dpc-wave's bad input: one line naming the flag, exit status 1, no file written.
 
-    wave_test.py BUILD_DIR [modes|free_field|join|cli ...]
+    wave_test.py BUILD_DIR [modes|free_field|join|screen|slit|screen_controls|cli ...]
 Exit status 0 when every check holds; prints what it measured.
 """
 import json
@@ -212,6 +226,228 @@ def join(build, tmp):
           '(%+.2f dB)' % calibration)
 
 
+# The screen and slit checks (docs/wave.md, "Accuracy, measured"): a 24 m cube whose faces are
+# the grid's absorbing edge, a thin rigid screen in the plane x = 12 m from the floor to the
+# edge at y = 14 m, across the whole cube along z (so its other edges lie in the absorbing
+# faces); the grid spacing 0.125 m puts the screen and its edge on planes between nodes.
+SCREEN_SIZE = 24.0
+SCREEN_X = 12.0
+SCREEN_EDGE = 14.0
+SCREEN_SPACING = 0.125
+SCREEN_FMAX = 250.0
+SCREEN_SOURCE = (9.0, 13.0, 12.0)
+SCREEN_RECEIVERS = [  # (position, what it hears)
+    ((15.0, 13.5, 12.0), 'shadow, 0.5 m below the edge'),
+    ((15.0, 12.0, 12.0), 'shadow, 2 m below'),
+    ((15.0, 10.0, 12.0), 'shadow, 4 m below'),
+    ((17.0, 12.5, 12.0), 'shadow, 5 m behind'),
+    ((14.0, 11.0, 14.5), 'shadow, 2.5 m along the edge'),
+    ((15.0, 17.5, 12.0), 'lit behind the screen'),
+    ((10.5, 11.0, 12.0), 'source side: direct and reflection'),
+]
+OCTAVES = (63.0, 125.0)
+# The issue's target is 2 dB per band; the check holds 1 dB, as a 2 dB check would not notice
+# the edge 4 spacings (0.5 m) off (screen_controls: 1.9 dB at worst). What the voxels leave
+# open is the edge's position within its cell: the oracle with the edge half a spacing up
+# against half down differs by up to 0.8 dB (screen prints it): +-0.4 dB about the nominal edge.
+SCREEN_TOLERANCE_DB = 1.0
+
+
+def marker_quads(size):
+    """Two 1 cm quads in the cube's corners that make the mesh's bounding box the cube."""
+    e = 0.01
+    return [((0, size, 0), (e, size, 0), (e, size - e, 0), (0, size - e, 0)),
+            ((size, 0, size), (size - e, 0, size), (size - e, e, size), (size, e, size))]
+
+
+def screen_scene(tmp, name, screens, source, receivers):
+    """The cube with rigid screens in the plane x = SCREEN_X, each (y_low, y_high) across z."""
+    s = SCREEN_SIZE
+    quads = {'screen': [((SCREEN_X, lo, 0), (SCREEN_X, hi, 0), (SCREEN_X, hi, s), (SCREEN_X, lo, s))
+                        for lo, hi in screens],
+             'marker': marker_quads(s)}
+    if not screens:
+        quads.pop('screen')
+    return oracle.write_mesh(tmp, name, quads, {'screen': 0.0, 'marker': 1.0}, [source],
+                             receivers, {'max_frequency': SCREEN_FMAX, 'crossover_hz': 100,
+                                         'grid_spacing': SCREEN_SPACING}, ir_length=0.1)
+
+
+def first_wall_path(source, receiver, size):
+    """The shortest path from source to receiver that touches a face of the cube [0, size]^3:
+    the distance to the receiver from the nearest of the source's images in the faces (every
+    wall reflection, and the diffraction by the screen's ends in the faces, arrives no
+    earlier)."""
+    best = np.inf
+    for a in range(3):
+        for plane in (0.0, size):
+            image = np.array(source, float)
+            image[a] = 2 * plane - image[a]
+            best = min(best, float(np.linalg.norm(image - np.asarray(receiver))))
+    return best
+
+
+def tukey(n, share=0.2):
+    w = np.ones(n)
+    taper = int(share / 2 * n)
+    w[:taper] = 0.5 - 0.5 * np.cos(np.pi * np.arange(taper) / taper)
+    w[n - taper:] = w[:taper][::-1]
+    return w
+
+
+def band_levels(x, fs, centres, fraction=1):
+    """Energy of x in the bands of 1/fraction octave at `centres` (rectangular bands of a
+    zero-padded FFT, edges at the centre times 2^(+-1/(2 fraction)))."""
+    half = 2 ** (1 / (2 * fraction))
+    return np.array([band_energy(x, fs, f / half, f * half) for f in centres])
+
+
+def pulse_filtered(ir, fs, step_rate):
+    """ir (1/R convention) as dpc-wave's output: scaled to 1/(sqrt(4 pi) R), through the
+    documented pulse (4th-order Butterworth low-pass at the maximum frequency, at the grid's
+    step rate) and the 10 Hz 2nd-order high-pass, nothing above half the step rate (the grid
+    holds nothing there). Both filters are causal, so the FFT's wrap is kept off by padding."""
+    n = 4 * len(ir)
+    spectrum = np.fft.rfft(ir, n) / np.sqrt(4 * np.pi)
+    f = np.fft.rfftfreq(n, 1 / fs)
+    response = np.array([oracle.butterworth_response('low', 4, SCREEN_FMAX, step_rate, x) *
+                         oracle.butterworth_response('high', 2, 10.0, fs, x)
+                         if 0 < x < step_rate / 2 else 0.0 for x in f])
+    return np.fft.irfft(spectrum * response, n)[:len(ir)]
+
+
+def screen_compare(build, tmp, name, screens, oracle_screens, source, receivers, label,
+                   details=None):
+    """Simulates the cube with `screens` ((y_low, y_high) strips in the plane x = SCREEN_X)
+    and compares each receiver's octave levels in a window with those of the oracle for
+    `oracle_screens` (oracle.screen_ir) in the same window: from 4 ms before the first arrival
+    to 6 ms before the first path that touches a face of the cube can arrive. Returns the
+    differences (dB) per receiver and octave; appends each receiver's numbers and windowed
+    signals to `details` when given (scripts/plot_wave_diffraction.py)."""
+    points = [p for p, _ in receivers]
+    scene = screen_scene(tmp, name, screens, source, points)
+    fs, ir, stats = run_wave(build, scene, os.path.join(tmp, name + '.wav'), 0.08)
+    print('%s: grid %s nodes, spacing %s m, step rate %d Hz, simulated in %.1f s' %
+          (label, stats['nodes'], SCREEN_SPACING, stats['step_rate_hz'], stats['simulate_s']))
+    out = []
+    for k, (p, what) in enumerate(receivers):
+        t_end = first_wall_path(source, p, SCREEN_SIZE) / C - 0.006
+        ana, arrival = oracle.screen_ir(source, p, SCREEN_X, oracle_screens, C, fs, t_end)
+        ana = pulse_filtered(ana, fs, stats['step_rate_hz'])
+        distance = float(np.linalg.norm(np.subtract(p, source)))
+        free = pulse_filtered(oracle.dirac_ir(distance / C, 1 / distance, fs, t_end), fs,
+                              stats['step_rate_hz'])
+        a, b = int(round((arrival - 0.004) * fs)), int(round(t_end * fs))
+        a = max(a, 0)
+        w = tukey(b - a)
+        sim, ref = band_levels(ir[a:b, k] * w, fs, OCTAVES), band_levels(ana[a:b] * w, fs, OCTAVES)
+        d = 10 * np.log10(sim / ref)
+        # The screen's effect in the oracle: its level over the free field's at that distance
+        # (the direct sound alone, in a window as long from 4 ms before it).
+        f0 = max(int(round((distance / C - 0.004) * fs)), 0)
+        effect = 10 * np.log10(ref / band_levels(free[f0:f0 + b - a] * w, fs, OCTAVES))
+        print('%s %-38s window %4.1f-%4.1f ms: oracle %+6.1f %+6.1f dB re free field, '
+              'simulated - oracle %+.2f %+.2f dB (63, 125 Hz octaves)'
+              % (label, what, 1e3 * a / fs, 1e3 * b / fs, effect[0], effect[1], d[0], d[1]))
+        out.append(d)
+        if details is not None:
+            details.append({'receiver': p, 'what': what, 'window_s': [a / fs, b / fs],
+                            'oracle_re_free_db': effect.tolist(), 'difference_db': d.tolist(),
+                            'simulated': ir[a:b, k] * w, 'oracle': ana[a:b] * w, 'fs': fs})
+    return np.array(out)
+
+
+def screen_oracle_check():
+    """The oracle's own consistency: across the shadow boundary of the half-plane (the
+    direct sound appears) and across the reflection boundary (the screen's reflection
+    appears) the total field is continuous, so the diffraction term jumps by the geometric
+    term exactly (its sign and scale): each side's field extrapolated to the boundary, 63-250
+    Hz, within 0.5 % (a wrong scale or sign of the diffraction leaves a jump of 50 % or more)."""
+    fs = 48000
+    source = np.array(SCREEN_SOURCE)
+    edge = np.array([SCREEN_X, SCREEN_EDGE, source[2]])
+    screens = [(-np.inf, SCREEN_EDGE)]
+    image = source.copy()
+    image[0] = 2 * SCREEN_X - source[0]
+    for name, start in (('shadow boundary', source), ('reflection boundary', image)):
+        # The boundary: the line from the source (or its image in the screen) past the edge,
+        # 6 m beyond it.
+        direction = (edge - start) / np.linalg.norm(edge - start)
+        on = edge + 6.0 * direction
+        normal = np.array([-direction[1], direction[0], 0.0])
+        # Each side's field extrapolated linearly to the boundary from 1 and 2 cm off it (the
+        # geometric terms' own gradient cancels).
+        irs = {side: oracle.screen_ir(source, on + side * 0.01 * normal, SCREEN_X, screens, C,
+                                      fs, 0.1)[0] for side in (-2, -1, 1, 2)}
+        for f in (63.0, 125.0, 250.0):
+            kernel = np.exp(-2j * np.pi * f * np.arange(int(0.1 * fs)) / fs)
+            spectrum = {side: np.sum(ir * kernel[:len(ir)]) for side, ir in irs.items()}
+            h = [2 * spectrum[1] - spectrum[2], 2 * spectrum[-1] - spectrum[-2]]
+            jump = abs(h[0] - h[1]) / abs(h[0])
+            check(jump <= 0.005, 'oracle: half-plane field continuous across the %s at %.0f Hz '
+                  '(%.2f %%)' % (name, f, 100 * jump))
+
+
+def screen(build, tmp):
+    """A thin rigid half-plane: the oracle exact (screen_ir for one edge)."""
+    screen_oracle_check()
+    d = screen_compare(build, tmp, 'screen', [(0.0, SCREEN_EDGE)], [(-np.inf, SCREEN_EDGE)],
+                       SCREEN_SOURCE, SCREEN_RECEIVERS, 'screen')
+    for (p, what), row in zip(SCREEN_RECEIVERS, d):
+        for f, x in zip(OCTAVES, row):
+            check(abs(x) <= SCREEN_TOLERANCE_DB, 'screen %s: %.0f Hz octave as the half-plane '
+                  '(%+.2f dB)' % (what, f, x))
+    # The voxel edge's uncertainty: the oracle with its edge half a spacing up and down.
+    fs = 48000
+    for (p, what) in SCREEN_RECEIVERS:
+        t_end = first_wall_path(SCREEN_SOURCE, p, SCREEN_SIZE) / C - 0.006
+        levels = []
+        for e in (SCREEN_EDGE - SCREEN_SPACING / 2, SCREEN_EDGE + SCREEN_SPACING / 2):
+            ana, arrival = oracle.screen_ir(SCREEN_SOURCE, p, SCREEN_X, [(-np.inf, e)], C, fs,
+                                            t_end)
+            a = int(round((arrival - 0.004) * fs))
+            levels.append(band_levels(ana[a:] * tukey(len(ana) - a), fs, OCTAVES))
+        spread = 10 * np.log10(levels[0] / levels[1])
+        print('screen %-38s oracle with the edge 1/2 spacing down over up: %+.2f %+.2f dB' %
+              (what, spread[0], spread[1]))
+
+
+def screen_controls(build, tmp):
+    """The screen check must be able to fail: the simulation without the screen, and with
+    its edge 4 spacings (0.5 m) lower, each against the oracle of the screen as it should be:
+    some receiver's octave must then lie more than SCREEN_TOLERANCE_DB off."""
+    for name, screens in (('no screen', []), ('edge 0.5 m lower',
+                                              [(0.0, SCREEN_EDGE - 4 * SCREEN_SPACING)])):
+        d = screen_compare(build, tmp, 'control', screens, [(-np.inf, SCREEN_EDGE)],
+                           SCREEN_SOURCE, SCREEN_RECEIVERS, name)
+        worst = float(np.max(np.abs(d)))
+        check(worst > SCREEN_TOLERANCE_DB, 'screen control, %s: the check fails (worst %.2f dB '
+              'off)' % (name, worst))
+
+
+SLIT = (12.5, 15.5)
+SLIT_SOURCE = (9.0, 14.0, 12.0)
+SLIT_RECEIVERS = [
+    ((15.0, 14.0, 12.0), 'through the slit, on its axis'),
+    ((15.0, 16.5, 12.0), 'through the slit, 2.5 m off axis'),
+    ((15.0, 10.5, 12.0), 'shadow of the lower screen'),
+    ((15.0, 19.0, 12.0), 'shadow of the upper screen'),
+    ((16.0, 8.5, 13.5), 'deep shadow, off the plane'),
+    ((10.5, 12.0, 12.0), 'source side: direct and reflection'),
+]
+
+
+def slit(build, tmp):
+    """A 3 m slit (two half-planes in one plane, edges at y = 12.5 and 15.5 m) against the
+    sum of the two edges' first-order diffraction (Biot-Tolstoy) and the geometric terms."""
+    lo, hi = SLIT
+    d = screen_compare(build, tmp, 'slit', [(0.0, lo), (hi, SCREEN_SIZE)],
+                       [(-np.inf, lo), (hi, np.inf)], SLIT_SOURCE, SLIT_RECEIVERS, 'slit')
+    for (p, what), row in zip(SLIT_RECEIVERS, d):
+        for f, x in zip(OCTAVES, row):
+            check(abs(x) <= SCREEN_TOLERANCE_DB, 'slit %s: %.0f Hz octave as first-order BTM '
+                  '(%+.2f dB)' % (what, f, x))
+
 def cli(build, tmp):
     """dpc-wave's bad input: one line naming the flag or field, exit status 1, no file."""
     box = oracle.write_box(tmp, 'cli', (3.0, 2.5, 2.0), {w: 0.1 for w in ('x-', 'x+', 'y-', 'y+',
@@ -239,7 +475,8 @@ def main():
     which = sys.argv[2:] or ['modes', 'free_field', 'join', 'cli']
     with tempfile.TemporaryDirectory() as tmp:
         for name in which:
-            {'modes': modes, 'free_field': free_field, 'join': join, 'cli': cli}[name](build, tmp)
+            {'modes': modes, 'free_field': free_field, 'join': join, 'cli': cli,
+             'screen': screen, 'screen_controls': screen_controls, 'slit': slit}[name](build, tmp)
     print('%d check(s) failed' % len(failures) if failures else 'all checks hold')
     return 1 if failures else 0
 

@@ -172,7 +172,7 @@ TEST_CASE("The late binaural field has the HRTF set's diffuse-field coherence", 
 
 TEST_CASE("A second HRTF set (Neumann KU 100): the late field's coherence, mean of 4 seeds, "
           "is the set's",
-          "[spatial]") {
+          "[spatial][heavy]") {
   // One IR's late coherence scatters from seed to seed by more than the estimate's sampling
   // deviation alone (measured on this set at 1 kHz: -0.25, 0.15, 0.08, -0.08 over seeds 1-4),
   // so the expectation is checked: the mean over 4 seeds within max(0.15, 3 sigma / 2) of
@@ -204,7 +204,7 @@ TEST_CASE("A second HRTF set (Neumann KU 100): the late field's coherence, mean 
 
 TEST_CASE("Ambisonics decoded binaurally (MagLS), orders 3 and 5: the late field's coherence is "
           "the HRTF set's",
-          "[spatial][ambisonics]") {
+          "[spatial][ambisonics][heavy]") {
   // At order 1 the decoded late field reads 0.5-0.6 at 2-4 kHz under the balcony (its 8
   // directions' unequal energies; docs/spatial.md), so order 1 is not asserted.
   const std::array<double, 7> want = diffuseFieldCoherence(kSofa);

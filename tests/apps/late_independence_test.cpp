@@ -91,7 +91,7 @@ TEST_CASE("Two sources' late fields are uncorrelated: binaural", "[spatial]") {
   requireIndependent(ir, 2, 1);
 }
 
-TEST_CASE("Two sources' late fields are uncorrelated: stereo and AmbiX", "[spatial]") {
+TEST_CASE("Two sources' late fields are uncorrelated: stereo and AmbiX", "[spatial][heavy]") {
   const dpc::audio::AudioData stereo = render("stereo", "--output stereo");
   requireIndependent(stereo, 2, 0);
   requireIndependent(stereo, 2, 1);
@@ -113,7 +113,7 @@ TEST_CASE("Two sources 1 m apart: their late fields are uncorrelated, as the roo
 }
 
 TEST_CASE("Two sources' late fields are uncorrelated: hybrid rendering, one late bus each",
-          "[spatial]") {
+          "[spatial][heavy]") {
   // Sources in one cluster share its late bus by design (docs/cli.md, hybrid rendering);
   // clusters of 2 degrees put the hall's two sources (8 degrees apart) on separate buses,
   // each with its own late field.

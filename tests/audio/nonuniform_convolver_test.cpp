@@ -310,31 +310,24 @@ std::vector<Event> randomSwaps(std::mt19937& rng, size_t numBlocks) {
 
 }  // namespace
 
-TEST_CASE("Non-uniform convolution equals direct convolution, with IR swaps", "[convolver]") {
-  std::mt19937 rng(20261122);
+namespace {
+
+/// One layout against direct convolution: block, longest partition, sources, outputs, IR
+/// length (samples), whether the IRs swap during the run, and whether they are silent before
+/// random onsets (up to 60 %, at times all).
+struct SwapCase {
+  int block, maxPartition, sources, outputs;
+  size_t irLength;
+  bool swaps;
+  bool onsets = false;
+};
+
+/// Runs each case against direct convolution (energy of the error and sample by sample) and
+/// the skipping and staggered variants; prints the worst error.
+void checkAgainstDirect(const std::vector<SwapCase>& cases, uint32_t seed) {
+  std::mt19937 rng(seed);
   double worstDb = -1e9, worstMarginDb = -1e9;
-  struct Case {
-    int block, maxPartition, sources, outputs;
-    size_t irLength;
-    bool swaps;
-    bool onsets = false;  ///< IRs silent before random onsets (up to 60 %, at times all)
-  };
-  std::vector<Case> cases = {{1, 16, 1, 1, 301, false},
-                             {3, 48, 2, 1, 777, true},
-                             {16, 256, 1, 2, 3001, false},
-                             {16, 1024, 3, 2, 5003, true},
-                             {64, 4096, 2, 2, 6007, true},
-                             {100, 1600, 1, 1, 4999, true},
-                             {128, 8192, 2, 2, 5555, true},
-                             {37, 37, 1, 1, 1001, true},
-                             {256, 8192, 1, 2, 9001, true},
-                             {512, 8192, 2, 1, 20011, true},
-                             // More sources than callbacks per chunk at the short levels, fewer
-                             // at the long ones: the sources' transforms share callbacks.
-                             {16, 256, 7, 1, 1500, true},
-                             {16, 1024, 4, 2, 5003, true, true},
-                             {64, 8192, 3, 1, 20011, true, true}};
-  for (const Case& cs : cases) {
+  for (const SwapCase& cs : cases) {
     NonUniformLayout layout(cs.block, cs.irLength, cs.maxPartition);
     // Three IRs of different lengths (the last shorter than the layout: unused partitions).
     std::vector<std::vector<Signal>> irs;
@@ -375,6 +368,32 @@ TEST_CASE("Non-uniform convolution equals direct convolution, with IR swaps", "[
       "non-uniform convolver vs direct: worst relative error energy %.1f dB, closest to "
       "tolerance %.1f dB\n",
       worstDb, worstMarginDb);
+}
+
+}  // namespace
+
+TEST_CASE("Non-uniform convolution equals direct convolution, with IR swaps", "[convolver]") {
+  checkAgainstDirect({{1, 16, 1, 1, 301, false},
+                      {3, 48, 2, 1, 777, true},
+                      {16, 256, 1, 2, 3001, false},
+                      {16, 1024, 3, 2, 5003, true},
+                      {64, 4096, 2, 2, 6007, true},
+                      {100, 1600, 1, 1, 4999, true},
+                      {128, 8192, 2, 2, 5555, true},
+                      {37, 37, 1, 1, 1001, true},
+                      // More sources than callbacks per chunk at the short levels, fewer at the
+                      // long ones: the sources' transforms share callbacks.
+                      {16, 256, 7, 1, 1500, true},
+                      {16, 1024, 4, 2, 5003, true, true}},
+                     20261122);
+}
+
+TEST_CASE("Non-uniform convolution equals direct convolution: IRs of 9,000-20,000 samples",
+          "[convolver][heavy]") {
+  checkAgainstDirect({{256, 8192, 1, 2, 9001, true},
+                      {512, 8192, 2, 1, 20011, true},
+                      {64, 8192, 3, 1, 20011, true, true}},
+                     20261127);
 }
 
 TEST_CASE("Non-uniform convolver: levels' last callbacks never coincide", "[convolver]") {

@@ -13,8 +13,8 @@
 using namespace dpc;
 
 TEST_CASE("ResponseSnapshot::tryStore of a baked pair makes no heap call once grown", "[rt]") {
-  auto scene = std::make_shared<SceneDesc>(test::makeShoebox(
-      {10.f, 3.f, 7.f}, Bands(0.2f), 0.5f, {2.f, 1.6f, 3.5f}, {8.f, 1.6f, 3.5f}));
+  auto scene = std::make_shared<SceneDesc>(
+      test::makeShoebox({10.f, 3.f, 7.f}, Bands(0.2f), 0.5f, {2.f, 1.6f, 3.5f}, {8.f, 1.6f, 3.5f}));
   scene->propagation.raysPerFrame = 500;
   scene->propagation.irLength = 0.5f;
   scene->propagation.exactOrder = 0;  // no exact paths: their count may change between frames

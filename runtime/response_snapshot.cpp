@@ -14,6 +14,23 @@ void edgesOf(const Simulation& sim, const Simulation::SourceResult& r,
 
 }  // namespace
 
+void ResponseSnapshot::storeEnergy(const PropagationStage& stage, size_t s, size_t listener) {
+  const EnergyResponse& traced = stage.simulation().result(s, listener).energy;
+  const BakedPlayback* baked = stage.bakedPlayback();
+  fromBake_[s] = baked && baked->plays(s, listener) ? 1 : 0;
+  if (!fromBake_[s]) {
+    energy_[s] = traced.bins();
+    return;
+  }
+  // A pair played from the bake is not traced (its `traced` response stays empty): the
+  // response its IR was synthesised from is the bake's, interpolated again here (a weighted
+  // sum of at most maxProbes rows, as BakedPlayback::energy does). The copy assignments reuse
+  // the scratch's and energy_[s]'s capacity: no allocation once grown.
+  bakeScratch_ = traced;
+  baked->interpolate(s, listener, bakeScratch_);
+  energy_[s] = bakeScratch_.bins();
+}
+
 bool ResponseSnapshot::tryStore(const PropagationStage& stage, const WorldState& world,
                                 size_t listener, uint64_t frame) {
   std::unique_lock<std::mutex> lock(mutex_, std::try_to_lock);
@@ -28,9 +45,10 @@ bool ResponseSnapshot::tryStore(const PropagationStage& stage, const WorldState&
   direct_.resize(sim.sourceCount());
   paths_.resize(sim.sourceCount());
   edges_.resize(sim.sourceCount());
+  fromBake_.resize(sim.sourceCount());
   for (size_t s = 0; s < sim.sourceCount(); ++s) {
     const Simulation::SourceResult& r = sim.result(s, listener);
-    energy_[s] = r.energy.bins();
+    storeEnergy(stage, s, listener);
     direct_[s] = r.direct;
     paths_[s] = sim.specularPaths(s, listener);  // capacity reused: no allocation once grown
     edgesOf(sim, r, edges_[s]);

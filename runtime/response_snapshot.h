@@ -24,7 +24,11 @@ class ResponseSnapshot {
   /// direct the analytic direct sound alone (also in energy); paths the pair's exact early
   /// specular paths (empty while exact_order is 0), for viewers that draw them (dpc studio);
   /// world the world the frame traced (every pose, objects' too, and its scene time);
-  /// edges the endpoints (m) of the diffracting edges whose paths the direct sound sums.
+  /// edges the endpoints (m) of the diffracting edges whose paths the direct sound sums;
+  /// fromBake: the pair was played from an attached bake this frame (not traced), so energy is
+  /// the bake's response interpolated at the listener (BakedPlayback::interpolate), the one its
+  /// IR was synthesised from, plus the live direct sound; else the traced estimator's.
+  /// In both, the exact early paths are not in energy (the synthesis adds them apart).
   struct Responses {
     const ImpulseResponse* ir;
     const std::vector<Bands>* energy;
@@ -34,6 +38,7 @@ class ResponseSnapshot {
     const std::vector<SpecularPath>* paths;
     const WorldState* world;
     const std::vector<std::array<glm::vec3, 2>>* edges;
+    bool fromBake;
   };
 
   /// withIrs false: Responses::ir holds no channels (the session's
@@ -41,9 +46,10 @@ class ResponseSnapshot {
   explicit ResponseSnapshot(bool withIrs = true) : withIrs_(withIrs) {}
 
   /// Propagation thread, after stage.prepare(listener): copies listener's IRs (when kept) and
-  /// energy responses (direct sound added into its bin) and the frame's `world` unless a reader
-  /// holds the lock. Returns whether it copied. Allocates only while the copies grow: the buffers are
-  /// reused, so a frame does not allocate and fault in its IRs' size of fresh memory again.
+  /// energy responses (direct sound added into its bin; a pair played from the bake: the
+  /// bake's interpolated response) and the frame's `world` unless a reader holds the lock.
+  /// Returns whether it copied. Allocates only while the copies grow: the buffers are reused,
+  /// so a frame does not allocate and fault in its IRs' size of fresh memory again.
   bool tryStore(const PropagationStage& stage, const WorldState& world, size_t listener,
                 uint64_t frame);
 
@@ -55,11 +61,15 @@ class ResponseSnapshot {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!valid_ || source >= irs_.size()) return false;
     f(Responses{&irs_[source], &energy_[source], binSeconds_, frame_, &direct_[source],
-                &paths_[source], &world_, &edges_[source]});
+                &paths_[source], &world_, &edges_[source], fromBake_[source] != 0});
     return true;
   }
 
  private:
+  /// Source s's energy response for listener into energy_[s] and fromBake_[s]: the bake's
+  /// interpolated one when the pair played from it this frame, else the traced one.
+  void storeEnergy(const PropagationStage& stage, size_t s, size_t listener);
+
   std::mutex mutex_;
   std::vector<ImpulseResponse> irs_;        ///< [source]
   std::vector<std::vector<Bands>> energy_;            ///< [source][bin]
@@ -67,6 +77,8 @@ class ResponseSnapshot {
   std::vector<std::vector<SpecularPath>> paths_;      ///< [source][path]
   WorldState world_;
   std::vector<std::vector<std::array<glm::vec3, 2>>> edges_;  ///< [source][edge]: a, b
+  std::vector<uint8_t> fromBake_;  ///< [source]: Responses::fromBake
+  EnergyResponse bakeScratch_;     ///< a baked pair's interpolated response, reused
   double binSeconds_ = 0.0;
   uint64_t frame_ = 0;
   bool valid_ = false;

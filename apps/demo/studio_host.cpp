@@ -94,6 +94,7 @@ bool StudioHost::publish(LiveSession& session, const KeyboardMotion& motion,
     f->frame = r.frame;
     f->binSeconds = r.binSeconds;
     f->energy = *r.energy;
+    f->fromBake = r.fromBake;
     f->direct = *r.direct;
     f->paths = *r.paths;
     f->worldSeconds = r.world->timeSeconds;

@@ -47,6 +47,9 @@ struct StudioFrame {
   std::vector<glm::vec3> sources;    ///< every source's position, m
   double binSeconds = 0.0;
   std::vector<Bands> energy;  ///< the selected pair's energy response, direct sound included
+  /// energy is the bake's response at the listener (the pair played from --bake this frame,
+  /// not traced), else the traced one (ResponseSnapshot::Responses::fromBake).
+  bool fromBake = false;
   DirectSound direct;         ///< its direct sound alone
   std::vector<SpecularPath> paths;  ///< its exact early specular paths
   /// The world the frame traced (WorldState): its scene time, each object's pose and each

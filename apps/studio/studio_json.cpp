@@ -167,7 +167,7 @@ std::string responseJson(const StudioFrame& f) {
     perBand.push_back(std::move(bins));
   }
   return json{{"frame", f.frame}, {"source", f.source}, {"binSeconds", f.binSeconds},
-              {"bands", perBand}}
+              {"origin", f.fromBake ? "bake" : "traced"}, {"bands", perBand}}
       .dump();
 }
 

@@ -44,7 +44,8 @@ std::string bakeJson(const StudioBake& bake);
 /// Poses, the direct sound, the exact early paths and the figures of a frame (no response).
 std::string stateJson(const StudioFrame& frame);
 
-/// The selected pair's energy response per band: {"frame", "binSeconds", "bands": [[...] x 8]}.
+/// The selected pair's energy response per band: {"frame", "source", "binSeconds", "origin":
+/// "bake" (StudioFrame::fromBake) or "traced", "bands": [[...] x 8]}.
 std::string responseJson(const StudioFrame& frame);
 
 /// The selected pair's response as an energy-response CSV (analysis/energy_response_csv.h) with

@@ -10,6 +10,13 @@ export function analyse(response) {
   return response.bands.map((e) => roomParameters(e, response.binSeconds));
 }
 
+/// The decay panel's title: whether the response was traced this session or is the bake's at
+/// the listener (a static source played from --bake is not traced).
+export function decayTitle(response) {
+  const origin = response.origin === 'bake' ? 'from the bake at the listener' : 'traced';
+  return `decay curves (Schroeder), selected pair: ${origin}`;
+}
+
 const fmt = (v, digits) => (Number.isFinite(v) ? v.toFixed(digits) : '–');
 
 /// Draws the bands' Schroeder curves (dB against seconds from each band's onset).

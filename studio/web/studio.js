@@ -4,7 +4,7 @@
 // window.studio exposes what the browser test reads.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/OrbitControls.js';
-import { analyse, drawDecay, fillParams, statusText, materialColour } from './panels.js';
+import { analyse, decayTitle, drawDecay, fillParams, statusText, materialColour } from './panels.js';
 import { drawIr, fillIacc } from './ir_panel.js';
 import { buildObjects, kLobeBand, lobe, meshGeometry, placeObjects, worldVertices } from './objects.js';
 import { showProbes } from './probes.js';
@@ -174,6 +174,7 @@ async function poll() {
     const resp = await api(`/api/response?frame=${st.frame}`);
     studio.params = analyse(resp);
     studio.response = resp;
+    document.getElementById('decay-title').textContent = decayTitle(resp);
     drawDecay(document.getElementById('decay'), studio.params, resp.binSeconds, centres);
     fillParams(document.getElementById('params'), studio.params, centres);
   }

@@ -2,6 +2,7 @@
 // each value lands at [probe][source][row][parameter] with STI in the broadband row only;
 // values that are not finite, STI in a band row and every value of a probe not done are null;
 // the float32 values come back as the same floats. The board holds no bake until one is set.
+// /api/response says whether its response is the bake's or traced.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
@@ -99,4 +100,25 @@ TEST_CASE("studio board: no bake until one is set, and the scene names it") {
   scene.path = "s.json";
   CHECK(json::parse(sceneJson(scene))["bake"].is_null());
   CHECK(json::parse(sceneJson(scene, "b.h5"))["bake"] == "b.h5");
+}
+
+// The decay panel's document says where its response comes from (a pair played from the
+// bake is not traced; its response is the bake's) and carries each band's bins unchanged.
+TEST_CASE("studio response document: the response's origin and its bins per band") {
+  StudioFrame f;
+  f.frame = 7;
+  f.binSeconds = 1e-3;
+  f.energy.assign(3, Bands(0.f));
+  f.energy[1][4] = 0.1f;
+  f.energy[2][7] = 3e-9f;
+  json j = json::parse(responseJson(f));
+  CHECK(j["origin"] == "traced");
+  CHECK(j["frame"] == 7);
+  REQUIRE(j["bands"].size() == size_t(kNumBands));
+  CHECK(j["bands"][4][1].get<float>() == 0.1f);
+  CHECK(j["bands"][7][2].get<float>() == 3e-9f);
+  CHECK(j["bands"][0].size() == 3);
+  f.fromBake = true;
+  j = json::parse(responseJson(f));
+  CHECK(j["origin"] == "bake");
 }

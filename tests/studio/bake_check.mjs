@@ -7,9 +7,12 @@
 // selected parameter, band and source (C80 at 1 kHz first, then D50 and STI chosen in its
 // select), colour the least and the greatest value with viridis's two ends, and name the
 // probe under the mouse with its value. Without --bake, /api/bake is 404 and nothing is drawn.
+// With the listener put on a probe, the decay panel's response (/api/response) must be the
+// bake's there (bake_oracle.py --response), labelled as the bake's.
 import assert from 'node:assert/strict';
 import { execFileSync, spawnSync } from 'node:child_process';
 import fs from 'node:fs';
+import http from 'node:http';
 import path from 'node:path';
 
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
@@ -27,7 +30,7 @@ export function makeBake(build, source, work, python) {
                       '--frames', '4', '--threads', '1', '--quiet'], { stdio: 'inherit' });
   const oracle = JSON.parse(execFileSync(python, [path.join(source, 'tests/studio/bake_oracle.py'), file],
                                          { encoding: 'utf8', maxBuffer: 1 << 28 }));
-  return { file, oracle };
+  return { file, oracle, python, source };
 }
 
 /// A bake that does not open: one line on stderr naming the file, a non-zero exit.
@@ -138,4 +141,99 @@ export async function checkBake(page, get, o) {
   const hover = await checkHover(page, pHi, o.positions[pHi]);
   await sleep(100);
   return { probes: P, done: o.done.reduce((a, b) => a + b, 0), c80, d50, sti, hover, legend };
+}
+
+/// POST a JSON body with the token; resolves with the status.
+function post(run, rawPath, body) {
+  return new Promise((resolve, reject) => {
+    const req = http.request({ host: '127.0.0.1', port: run.port, path: rawPath, method: 'POST',
+                               headers: { 'X-Dpc-Token': run.token, 'Content-Type': 'application/json' } },
+                             (res) => { res.resume(); res.on('end', () => resolve(res.statusCode)); });
+    req.on('error', reject);
+    req.end(JSON.stringify(body));
+  });
+}
+
+/// The done probe farthest from `at` (the most reverberant place the bake has), and its distance.
+function farthestProbe(o, at) {
+  let best = { probe: -1, distance: -1 };
+  o.positions.forEach((x, i) => {
+    const d = Math.hypot(...x.map((v, k) => v - at[k]));
+    if (o.done[i] && d > best.distance) best = { probe: i, distance: d };
+  });
+  return best;
+}
+
+/// Waits for the page's response of a frame whose direct sound was computed with the listener
+/// on the probe (the engine's direct distance within 1 mm of the probe's, the radius within
+/// which BakeInterpolator takes the probe alone); returns that frame's response and state.
+async function responseAtProbe(page, get, distance) {
+  for (let i = 0; i < 600; ++i) {
+    await new Promise((r) => setTimeout(r, 100));
+    const frame = await page.evaluate(() => window.studio.response?.frame);
+    const s = await get(`/api/state?frame=${frame}`);
+    if (s.status !== 200) continue;
+    const st = JSON.parse(s.body);
+    if (!st.direct.visible || Math.abs(st.direct.distance - distance) > 1e-3) continue;
+    const response = await page.evaluate((f) => window.studio.response.frame === f && window.studio.response, frame);
+    if (response) return { response, state: st };
+  }
+  throw new Error('no response with the listener on the probe within 60 s');
+}
+
+/// The page's response against the oracle's, bin by bin. Every bin but the direct sound's is the
+/// file's float32 value taken through the same float32 subtractions (the oracle's numpy and the
+/// loader's C++ both round each IEEE operation the same way): equal exactly. The direct sound's
+/// bin adds the engine's live direct sound to the file's; the bake computed that direct sound
+/// from the same positions with the same code, so it is equal up to float rounding: 1e-6
+/// relative allows a few float32 ulps (6e-8 each). Returns the largest relative difference there.
+function compareResponse(response, want) {
+  assert.equal(response.bands[0].length, want.response.length, 'bins');
+  let directWorst = 0;
+  response.bands.forEach((bins, b) => bins.forEach((v, k) => {
+    const w = want.response[k][b];
+    if (k !== want.directBin) return assert.equal(v, w, `band ${b} bin ${k}: page ${v}, bake ${w}`);
+    directWorst = Math.max(directWorst, Math.abs(v - w) / w);
+    assert.ok(Math.abs(v - w) <= 1e-6 * w, `band ${b}, the direct sound's bin ${k}: page ${v}, bake ${w}`);
+  }));
+  return directWorst;
+}
+
+/// The decay panel with --bake: the listener put exactly on the farthest probe from the talker
+/// (POST /api/listener with the file's float32 position: the engine's listener is that float),
+/// where the bake's response is that probe's alone. The page's /api/response must equal the
+/// oracle's (bake_oracle.py --response: the file read with h5py), say "origin": "bake" and the
+/// panel title "from the bake"; its D50 is below 1 in every band (the direct sound alone, what
+/// a snapshot that ignored the bake showed, gives 1) and T30 exists in at least 4 bands.
+export async function checkBakedDecay(page, run, bake) {
+  const get = (p) => rawGet(run, p);
+  const o = bake.oracle, st0 = JSON.parse((await get('/api/state')).body);
+  const { probe, distance } = farthestProbe(o, st0.sources[st0.source]);
+  assert.equal(await post(run, '/api/listener', { position: o.positions[probe], yaw: 0 }), 200);
+  const want = JSON.parse(execFileSync(bake.python, [path.join(bake.source, 'tests/studio/bake_oracle.py'),
+                                                     bake.file, '--response', String(probe), String(st0.source)],
+                                       { encoding: 'utf8', maxBuffer: 1 << 28 }));
+  const { response, state } = await responseAtProbe(page, get, distance);
+  assert.deepEqual(state.listeners[state.played], o.positions[probe], 'the listener on the probe');
+  const directWorst = compareResponse(response, want);
+  assert.equal(response.origin, 'bake');
+  assert.match(await page.$eval('#decay-title', (e) => e.textContent), /from the bake/);
+  const params = await page.evaluate(() => window.studio.params.map((p) => ({ t30: p.t30, d50: p.d50 })));
+  params.forEach((p, b) => assert.ok(p.d50 < 0.95, `band ${b}: D50 ${p.d50}`));
+  const t30 = params.map((p) => (Number.isFinite(p.t30) ? p.t30 : null));
+  assert.ok(t30.filter((v) => v !== null).length >= 4, `T30 ${t30}`);
+  const fileT30 = o.parameters[probe][st0.source].slice(0, 8).map((row) => row[o.columns.indexOf('T30')]);
+  return { probe, distance, frame: response.frame, directWorst, d50: params.map((p) => p.d50), t30, fileT30,
+           earlyCount: want.earlyCount, earlyFound: want.earlyFound };
+}
+
+/// GET with the token -> {status, body}.
+function rawGet(run, rawPath) {
+  return new Promise((resolve, reject) => {
+    http.get({ host: '127.0.0.1', port: run.port, path: rawPath, headers: { 'X-Dpc-Token': run.token } }, (res) => {
+      let body = '';
+      res.on('data', (d) => (body += d));
+      res.on('end', () => resolve({ status: res.statusCode, body }));
+    }).on('error', reject);
+  });
 }

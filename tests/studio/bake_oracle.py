@@ -9,6 +9,16 @@ h5py alone (none of dpc's code), printed as JSON on stdout, and matplotlib's vir
 Floats are the stored float32 values widened to double and printed by Python's repr (the
 shortest text that reads back as the same double), so they compare exactly; NaN and inf
 print as null. Usage: bake_oracle.py BAKE.h5
+
+bake_oracle.py BAKE.h5 --response PROBE SOURCE: the energy response a player of the bake uses
+at that probe, as docs/bake-format.md ("Reading a bake", the late response) and docs/bake.md
+define it: `energy` with the direct sound (`direct/`) and the stored exact early paths
+(`early/paths`, the first `early/count`) taken out of the bins of their arrival (bin
+floor(delay / 1 ms), clamped at 0, in float32), then the direct sound added back into its
+bin (the studio's response carries it; the exact paths it leaves out, as for a traced pair):
+
+  {"response": [[8 floats] per 1 ms bin], "directBin": k, "direct": [8 floats],
+   "directDelay": s, "earlyCount": n, "earlyFound": n}
 """
 import json
 import math
@@ -35,7 +45,33 @@ def viridis_ends():
         return [[0.267004, 0.004874, 0.329415], [0.993248, 0.906157, 0.143936]]
 
 
+def remove(row, delay, intensity):
+    """Takes one arrival out of its bin (float32, clamped at 0), as the bake's reader does."""
+    k = float(delay) / 1e-3
+    if 0.0 <= k < len(row):
+        row[int(k)] = np.maximum(np.float32(0), row[int(k)] - intensity)
+
+
+def response(path, p, s):
+    with h5py.File(path, "r") as f:
+        row = f["energy"][p, s].astype(np.float32)
+        delay = f["direct/delay_s"][p, s]
+        direct = f["direct/energy"][p, s].astype(np.float32)
+        count, found = int(f["early/count"][p, s]), int(f["early/found"][p, s])
+        early = f["early/paths"][p, s]
+    remove(row, delay, direct)
+    for path_ in early[:count]:
+        remove(row, path_[0], path_[1:9].astype(np.float32))
+    k = int(float(delay) / 1e-3)
+    row[k] = row[k] + direct
+    return {"response": plain(row), "directBin": k, "direct": plain(direct),
+            "directDelay": float(delay), "earlyCount": count, "earlyFound": found}
+
+
 def main():
+    if len(sys.argv) == 5 and sys.argv[2] == "--response":
+        json.dump(response(sys.argv[1], int(sys.argv[3]), int(sys.argv[4])), sys.stdout)
+        return
     with h5py.File(sys.argv[1], "r") as f:
         columns = f.attrs["parameter_columns"]
         columns = columns.decode() if isinstance(columns, bytes) else str(columns)

@@ -3,20 +3,21 @@
 // line naming the flag; a wrong token, a foreign Origin and paths outside the studio's files
 // are refused (403/404); the page loads with no console error and draws the scene; dragging
 // the listener with the mouse moves the engine's listener, whose direct sound follows 1/r^2;
-// the page's T30 per band equals dpc-analyze's on the same frame's energy response; closing
-// the page leaves the session running; with --bake, the probes and parameter maps equal the
-// bake file's as h5py reads it (bake_check.mjs). Prints what it measured.
+// the page's T30 per band equals dpc-analyze's on the same frame's energy response (labelled
+// traced); closing the page leaves the session running; with --bake, the probes and parameter
+// maps equal the bake file's as h5py reads it, and with the listener on a probe the decay
+// panel's response is the bake's there (bake_check.mjs). Prints what it measured.
 // --live: the live clock through a JACK server already running (scripts/jack-headless.sh).
 // --python PY: a Python with h5py for the bake's oracle; without it the bake view is not checked.
 //   node browser_test.mjs --build B --source S --chromium PATH --npm DIR [--python PY]
-//                         [--screenshot PNG] [--bake-screenshot PNG] [--live]
+//                         [--screenshot PNG] [--bake-screenshot PNG] [--live] [--bake-only]
 import assert from 'node:assert/strict';
 import { execFileSync, spawn, spawnSync } from 'node:child_process';
 import fs from 'node:fs';
 import http from 'node:http';
 import { createRequire } from 'node:module';
 import path from 'node:path';
-import { checkBadBake, checkBake, checkNoBake, makeBake } from './bake_check.mjs';
+import { checkBadBake, checkBake, checkBakedDecay, checkNoBake, makeBake } from './bake_check.mjs';
 import { checkEdges } from './edges_check.mjs';
 import { checkDirectivity, checkMovingObjects } from './moving_check.mjs';
 
@@ -295,6 +296,8 @@ async function shoeboxChecks(browser, run) {
   await checkNoBake(page, (p) => rawGet(run.port, p, { 'X-Dpc-Token': run.token }));
   const law = await checkDistanceLaw(page);
   const t30 = await checkT30(page, run);
+  assert.equal(await page.evaluate(() => window.studio.response.origin), 'traced');
+  assert.match(await page.$eval('#decay-title', (e) => e.textContent), /: traced$/);
   const ir = await checkIr(page, run);
   await page.screenshot({ path: arg('--screenshot') || path.join(work, 'studio.png') });
   assert.deepEqual(errors, [], 'console errors');
@@ -347,9 +350,12 @@ async function cornerChecks(page) {
               `${e.worstLength.toExponential(2)} m`);
 }
 
-/// shoebox --bake: the probes and maps against the bake file (tests/studio/bake_check.mjs).
-async function bakeChecks(page, run, oracle) {
-  const b = await checkBake(page, (p) => rawGet(run.port, p, { 'X-Dpc-Token': run.token }), oracle);
+/// shoebox --bake: the probes and maps against the bake file, the decay panel against the
+/// bake's response at a probe (tests/studio/bake_check.mjs), and its T30 against dpc-analyze's.
+async function bakeChecks(page, run, bake) {
+  const b = await checkBake(page, (p) => rawGet(run.port, p, { 'X-Dpc-Token': run.token }), bake.oracle);
+  const d = await checkBakedDecay(page, run, bake);
+  const t30 = await checkT30(page, run);
   if (arg('--bake-screenshot')) {
     await page.select('#probe-param', '4');  // C80, 1 kHz: the page's first map
     const p = await page.evaluate(() => window.studio.probes.values.indexOf(window.studio.probes.max));
@@ -362,40 +368,63 @@ async function bakeChecks(page, run, oracle) {
   console.log(`bake: ${b.probes} probes (${b.done} done) drawn, positions and every value of /api/bake equal ` +
               `the file's (h5py); C80 1 kHz ${range(b.c80, ' dB')}, D50 1 kHz ${range(b.d50, '')}, STI ` +
               `${range(b.sti, '')}, ends drawn as viridis's; mouse on probe ${b.hover.probe}: "${b.hover.text}"`);
+  const list = (v, n) => v.map((x) => (x === null ? 'NaN' : x.toFixed(n))).join(' ');
+  console.log(`bake decay: listener on probe ${d.probe} (${d.distance.toFixed(3)} m from the talker), frame ` +
+              `${d.frame}: /api/response equals the file's (h5py) in every bin, the direct sound's bin within ` +
+              `${d.directWorst.toExponential(2)} relative; early paths stored ${d.earlyCount} of ${d.earlyFound} found; ` +
+              `D50 ${list(d.d50, 3)}; T30 page ${list(d.t30, 4)}, dpc-analyze on /api/energy.csv ` +
+              `${list(t30.ref, 4)}, the bake's own parameters ${list(d.fileT30, 4)}`);
 }
 
-async function main() {
+/// Headless chromium, or null (exit status 77: skipped) when it cannot start here.
+async function launchBrowser() {
+  try {
+    return await puppeteer.launch({ executablePath: arg('--chromium'), headless: true,
+      args: ['--no-sandbox', '--enable-unsafe-swiftshader', '--use-angle=swiftshader', '--window-size=1280,800'] });
+  } catch (e) {
+    console.error(`browser_test: chromium cannot start: ${e.message}: skipped`);
+    process.exitCode = 77;
+    return null;
+  }
+}
+
+/// The shoebox's session (the clock chosen): refusals, then the page's checks.
+async function shoeboxRun() {
   checkBadPort();
   const run = await startDemo();
-  let browser;
   try {
-    try {
-      await checkRefusals(run);
-      try {
-        browser = await puppeteer.launch({ executablePath: arg('--chromium'), headless: true,
-          args: ['--no-sandbox', '--enable-unsafe-swiftshader', '--use-angle=swiftshader', '--window-size=1280,800'] });
-      } catch (e) {
-        console.error(`browser_test: chromium cannot start: ${e.message}: skipped`);
-        process.exitCode = 77;
-        return;
-      }
-      await shoeboxChecks(browser, run);
-    } finally {
-      await stopDemo(run, live);
-    }
+    await checkRefusals(run);
+    const browser = await launchBrowser();
+    if (browser) await shoeboxChecks(browser, run).catch(async (e) => { await browser.close(); throw e; });
+    return browser;
+  } finally {
+    await stopDemo(run, live);
+  }
+}
+
+/// The bake view (needs dpc-bake in the build and --python with h5py).
+async function bakeScene(browser) {
+  const bake = makeBake(build, source, work, arg('--python'));
+  if (!bake) return console.log('bake view not checked: no dpc-bake in this build or no --python with h5py');
+  checkBadBake(demo, scene, work);
+  await offlineScene(browser, 'shoebox.json', (page, run) => bakeChecks(page, run, bake), ['--bake', bake.file]);
+}
+
+// --bake-only: the bake view's checks alone (offline clock), for work on that view.
+async function main() {
+  const bakeOnly = process.argv.includes('--bake-only');
+  const browser = bakeOnly ? await launchBrowser() : await shoeboxRun();
+  if (!browser) return;
+  try {
     // The door's and the walk's times are scene times: the offline clock only (live runs
     // check the shoebox).
-    if (!live) {
+    if (!live && !bakeOnly) {
       await offlineScene(browser, 'two_rooms.json', twoRoomsChecks);
       await offlineScene(browser, 'shoebox-corner.json', cornerChecks);
-      const bake = makeBake(build, source, work, arg('--python'));
-      if (bake) checkBadBake(demo, scene, work);
-      if (bake) await offlineScene(browser, 'shoebox.json', (page, run) => bakeChecks(page, run, bake.oracle),
-                                   ['--bake', bake.file]);
-      else console.log('bake view not checked: no dpc-bake in this build or no --python with h5py');
     }
+    if (!live) await bakeScene(browser);
   } finally {
-    if (browser) await browser.close();
+    await browser.close();
   }
   console.log('browser_test: passed');
 }

@@ -4,8 +4,9 @@
 # Debian's chromium. Exit 77 (ctest's SKIP_RETURN_CODE) only when chromium is missing or
 # cannot start here.
 #   tests/studio/browser_test.sh BUILD SOURCE [--live] [--python PY] [--screenshot PNG]
-#                                [--bake-screenshot PNG]
+#                                [--bake-screenshot PNG] [--bake-only]
 # --python: a Python with h5py, the oracle of the bake view's check (skipped without it).
+# --bake-only: the bake view's checks alone.
 set -euo pipefail
 build=${1:?usage: browser_test.sh BUILD SOURCE}
 src=${2:?usage: browser_test.sh BUILD SOURCE}

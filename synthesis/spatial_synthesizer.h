@@ -119,11 +119,10 @@ class SpatialIrSynthesizer {
   /// Direction d's filter's band energy for channel c (M_b^2-weighted, as a band measurement
   /// sees it) over the diffuse-field average kappa_b: what channel c's IR carries of direction
   /// d's band energy. directWeight: the same for the exact filter of the last synthesize()'s
-  /// direct sound (valid when it was visible).
+  /// direct sound (valid when it was visible). omniGain: channel c's pressure gain on the omni
+  /// noise of the bands below kDirectionalFromBand.
   const Bands& channelWeight(size_t d, size_t c) const { return channelWeight_[d][c]; }
   const Bands& directWeight(size_t c) const { return directWeight_[c]; }
-  /// Channel c's gain (pressure) on the omnidirectional noise that carries the bands below
-  /// kDirectionalFromBand: its energy there is omniGain(c)^2 x the summed response.
   float omniGain(size_t c) const { return omniGains_[c]; }
   /// Binaural (two channels of HRIRs, Reference::kChannelAverage): the late field's interaural
   /// coherence match (synthesis/coherence_match.h), applied to every frame's directional

@@ -118,9 +118,8 @@ class SpatialIrSynthesizer {
 
   /// Direction d's filter's band energy for channel c (M_b^2-weighted, as a band measurement
   /// sees it) over the diffuse-field average kappa_b: what channel c's IR carries of direction
-  /// d's band energy. directWeight: the same for the exact filter of the last synthesize()'s
-  /// direct sound (valid when it was visible). omniGain: channel c's pressure gain on the omni
-  /// noise of the bands below kDirectionalFromBand.
+  /// d's band energy. directWeight: the same for the last visible direct sound's exact filter.
+  /// omniGain: channel c's pressure gain on the omni noise below kDirectionalFromBand.
   const Bands& channelWeight(size_t d, size_t c) const { return channelWeight_[d][c]; }
   const Bands& directWeight(size_t c) const { return directWeight_[c]; }
   float omniGain(size_t c) const { return omniGains_[c]; }

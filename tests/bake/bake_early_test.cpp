@@ -10,6 +10,7 @@
 
 #include "bake/bake_file.h"
 #include "bake/bake_loader.h"
+#include "runtime/offline_renderer.h"
 #include "runtime/propagation_stage.h"
 #include "runtime/response_snapshot.h"
 #include "scene/trajectory.h"
@@ -203,5 +204,38 @@ TEST_CASE("Baked playback between probes: the blended late responses hold no exa
     for (int b = 0; b < kNumBands; ++b)
       CHECK(played.early[b] ==
             Approx(late[b] + played.direct[b] + played.exact[b]).epsilon(1e-4));
+  }
+}
+
+// The offline render's last energy response (dpc-demo --er-out) of a pair played from a bake.
+// Oracle: the bake's `energy` read with the HDF5 library, as in the first case (the render's
+// response plus its direct sound gives it back at the probe, float32 rounding: 1e-4). A
+// render that kept the untraced pair's empty live response would give the direct sound and
+// the exact paths alone (a third of the 0..80 ms energy here).
+TEST_CASE("Baked playback: the offline render's energy response of a baked pair is the bake's",
+          "[bake][playback]") {
+  test::TempDir dir("bake_early");
+  SceneDesc s = scene(3);
+  s.audio.blockSize = 512;
+  const std::string path = (dir.path() / "b.h5").string();
+  writeBake(s, {s.listeners[0].position}, path);
+  const std::vector<float> stored = readDataset(path, "energy");
+  DrySignals dry;
+  dry.samples = {std::vector<float>(4800, 0.f)};
+  dry.loop = {0};
+  OfflineOptions opt;
+  opt.durationSeconds = 0.1;
+  opt.bake = loadBakedField(path, s);
+  const OfflineResult r = renderOffline(test::shared(s), s.propagation, test::shared(dry), opt);
+  REQUIRE(r.bake.bakedResponses > 0);
+  REQUIRE(r.listeners.at(0).lastEnergy.size() == 1);
+  std::vector<Bands> played = r.listeners[0].lastEnergy[0].bins();
+  const DirectSound& direct = r.listeners[0].lastDirect[0];
+  played.at(size_t(direct.delaySeconds / 1e-3)) += direct.intensity;
+  for (const double seconds : {0.08, 0.5}) {
+    Bands sum(0.f);
+    for (size_t k = 0; k < played.size() && double(k) * 1e-3 < seconds; ++k) sum += played[k];
+    const Bands whole = sumBins(stored, seconds);
+    for (int b = 0; b < kNumBands; ++b) CHECK(sum[b] == Approx(whole[b]).epsilon(1e-4));
   }
 }

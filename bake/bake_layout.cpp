@@ -39,6 +39,12 @@ const std::vector<ProbeDataset> kProbeDatasets = {
      [](const ProbeShape& s) {
        return std::vector<hsize_t>{s.sources, kEarlyPaths, kEarlyPathFloats};
      }},
+    {"early/energy", &ProbeResult::earlyEnergy,
+     [](const ProbeShape& s) { return std::vector<hsize_t>{s.sources, s.bins, kNumBands}; }},
+    {"early/sh_energy", &ProbeResult::earlySh,
+     [](const ProbeShape& s) {
+       return std::vector<hsize_t>{s.sources, s.directionalBins(), kShChannels, kNumBands};
+     }},
 };
 
 size_t rowFloats(const ProbeDataset& d, const ProbeShape& shape) {
@@ -124,7 +130,8 @@ void checkFormat(hid_t root, const std::string& path) {
                      "format version " + std::to_string(version) + ", this dpc reads version " +
                          std::to_string(kBakeFormatVersion) + " only" +
                          (version < kBakeFormatVersion
-                              ? " (settings hash and checksums since 4): bake again"
+                              ? " (the exact early paths' energy, early/energy, since 5): bake "
+                                "again"
                               : ""));
   if (attribute(path, "sh_order", number) != kShOrder)
     throw InputError(path, "sh_order", "this dpc reads order " + std::to_string(kShOrder));

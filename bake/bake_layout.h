@@ -19,7 +19,7 @@ namespace dpc::bake {
 
 /// Format name and version written to and required from the root attributes.
 inline constexpr const char* kBakeFormat = "dpc-bake";
-inline constexpr int kBakeFormatVersion = 4;
+inline constexpr int kBakeFormatVersion = 5;
 /// The `sh_convention` attribute: channel order and normalisation of `sh_energy`.
 inline constexpr const char* kShConvention = "ACN/SN3D";
 

@@ -1,5 +1,7 @@
 #include "bake/bake_loader.h"
 
+#include <algorithm>
+
 #include "bake/bake_file.h"
 #include "common/input_error.h"
 #include "engine/workload.h"
@@ -59,24 +61,32 @@ void removeDirectSounds(const BakeFile& file, BakedField& f) {
                   {direction[3 * i], direction[3 * i + 1], direction[3 * i + 2]});
 }
 
-/// Takes the stored exact early paths out of the late responses, as the direct sound.
+/// Subtracts `part` from `whole` element by element, clamping at 0 where `clamp` says (the
+/// energies; the SH channels beyond 0 are signed).
+template <class Clamp>
+void subtract(std::vector<float>& whole, const std::vector<float>& part, Clamp clamp) {
+  for (size_t i = 0; i < whole.size() && i < part.size(); ++i)
+    whole[i] = clamp(i) ? std::max(0.f, whole[i] - part[i]) : whole[i] - part[i];
+}
+
+/// Takes every exact early path out of the late responses and their SH energy: the bake's
+/// `early/energy` and `early/sh_energy`, the paths' part of `energy` and `sh_energy` bin by
+/// bin (all the paths the probe found, not only the 32 of `early/paths`), as playback adds
+/// the paths it finds live.
 void removeEarly(const BakeFile& file, BakedField& f) {
-  const std::vector<float> count = file.readAll("early/count");
-  const std::vector<float> paths = file.readAll("early/paths");
-  for (size_t i = 0; i < count.size(); ++i)
-    for (size_t j = 0; j < size_t(count[i]) && j < kEarlyPaths; ++j) {
-      const float* p = paths.data() + (i * kEarlyPaths + j) * kEarlyPathFloats;
-      const float* d = p + 1 + kNumBands;
-      removeArrival(f, i, p[0], p + 1, {d[0], d[1], d[2]});
-    }
+  subtract(f.late, file.readAll("early/energy"), [](size_t) { return true; });
+  const size_t channels = f.shChannels();
+  subtract(f.sh, file.readAll("early/sh_energy"),
+           [channels](size_t i) { return (i / kNumBands) % channels == 0; });
 }
 
 /// Refuses a bake whose arrays would not fit the memory a render may plan for
-/// (plannableMemoryBytes), before reading them.
+/// (plannableMemoryBytes), before reading them: the late responses and their SH energy, and
+/// while they are loaded one exact-path dataset (`early/energy`, the larger).
 void checkMemory(const BakeFile& file) {
   const BakeHeader& h = file.header();
   const double bytes = double(h.probes.positions.size()) *
-                       double(h.shape.energyFloats() + h.shape.shFloats()) *
+                       double(2 * h.shape.energyFloats() + h.shape.shFloats()) *
                        sizeof(float);
   const double available = plannableMemoryBytes();
   if (bytes > available)

@@ -73,22 +73,44 @@ void addDirectSh(const DirectSound& d, double irLength, std::vector<float>& sh) 
   accumulateSh(one, 1.0, sh);
 }
 
+/// One source's sums over a probe's frames.
+struct SourceSums {
+  std::vector<BandSeries> groups;  ///< [group]: the group's mean whole response
+  std::vector<float> sh;           ///< [directional bin][channel][band]: mean SH energy
+  BandSeries exact;                ///< the exact early paths' part of the mean response
+  std::vector<float> exactSh;      ///< the exact early paths' part of sh
+};
+
+/// Adds the exact early paths' response of one frame, scaled by `weight`, to the source's
+/// exact-path sums (what playback takes out of the stored response: it adds the live paths).
+void accumulateExact(const std::vector<SpecularPath>& paths, const EnergyResponse& like,
+                     double irLength, double weight, SourceSums& sums) {
+  EnergyResponse exact = like;
+  exact.clear();
+  ShEnergyResponse exactSh(kShOrder, irLength, kShBinSeconds);
+  addSpecularPaths(paths, exact, &exactSh);
+  accumulate(exact, weight, sums.exact);
+  accumulateSh(exactSh, weight, sums.exactSh);
+}
+
 /// Adds source s's whole response of the frame just run: the estimator's plus the exact early
 /// paths, which the estimators leave out (engine/specular_paths.h), scaled by `weight` into
-/// series and by `dirWeight` into dir.
-void accumulateFrame(const Simulation& sim, size_t s, double weight, double dirWeight,
-                     BandSeries& series, std::vector<float>& sh) {
+/// the group's series and by `dirWeight` into the SH energy; the paths alone, scaled by
+/// `dirWeight` (the mean over all frames), into the exact-path sums.
+void accumulateFrame(const Simulation& sim, size_t s, size_t group, double weight,
+                     double dirWeight, double irLength, SourceSums& sums) {
   const std::vector<SpecularPath>& paths = sim.specularPaths(s);
   if (paths.empty()) {
-    accumulate(sim.result(s).energy, weight, series);
-    accumulateSh(sim.shEnergy(s), dirWeight, sh);
+    accumulate(sim.result(s).energy, weight, sums.groups[group]);
+    accumulateSh(sim.shEnergy(s), dirWeight, sums.sh);
     return;
   }
   EnergyResponse whole = sim.result(s).energy;
   ShEnergyResponse wholeSh = sim.shEnergy(s);
   addSpecularPaths(paths, whole, &wholeSh);
-  accumulate(whole, weight, series);
-  accumulateSh(wholeSh, dirWeight, sh);
+  accumulate(whole, weight, sums.groups[group]);
+  accumulateSh(wholeSh, dirWeight, sums.sh);
+  accumulateExact(paths, sim.result(s).energy, irLength, dirWeight, sums);
 }
 
 /// Source s's exact early paths of the last frame (shortest first) into the result's rows.
@@ -150,6 +172,8 @@ ProbeResult allocate(const ProbeShape& shape) {
   r.earlyCount.assign(shape.sources, 0.f);
   r.earlyFound.assign(shape.sources, 0.f);
   r.early.assign(shape.earlyFloats(), 0.f);
+  r.earlyEnergy.assign(shape.energyFloats(), 0.f);
+  r.earlySh.assign(shape.shFloats(), 0.f);
   return r;
 }
 
@@ -163,6 +187,17 @@ void storeSource(const BandSeries& mean, const DirectSound& d, size_t s, const P
   for (int b = 0; b < kNumBands; ++b)
     out.directEnergy[s * kNumBands + size_t(b)] = d.visible ? d.intensity[b] : 0.f;
   for (int c = 0; c < 3; ++c) out.directDirection[s * 3 + size_t(c)] = d.visible ? d.direction[c] : 0.f;
+}
+
+/// The source's SH energy and the exact paths' parts of both responses into the result's rows.
+void storeSums(const SourceSums& sums, size_t s, const ProbeShape& shape, ProbeResult& out) {
+  const size_t n = sums.sh.size();
+  std::copy(sums.sh.begin(), sums.sh.end(), out.sh.begin() + std::ptrdiff_t(s * n));
+  std::copy(sums.exactSh.begin(), sums.exactSh.end(), out.earlySh.begin() + std::ptrdiff_t(s * n));
+  for (size_t k = 0; k < shape.bins; ++k)
+    for (int b = 0; b < kNumBands; ++b)
+      out.earlyEnergy[(s * shape.bins + k) * kNumBands + size_t(b)] =
+          float(sums.exact[size_t(b)][k]);
 }
 
 /// One source's groups of frames into the result: the mean response with the direct sound, its
@@ -215,26 +250,27 @@ ProbeResult ProbeBaker::bake(size_t probe, const glm::vec3& position) {
   sim.restart(hashCombine(scene_.propagation.seed, probe));
   const size_t groups = size_t(settings_.subStreams);
   const size_t perGroup = size_t(settings_.frames) / groups;
-  // series[source][group]: the group's mean response; sh[source]: [directional bin][channel]
-  // [band] SH energies, mean over all frames.
-  std::vector<std::vector<BandSeries>> series(shape.sources, std::vector<BandSeries>(groups));
-  for (auto& src : series)
-    for (auto& g : src)
+  std::vector<SourceSums> sums(shape.sources);
+  for (SourceSums& src : sums) {
+    src.groups.resize(groups);
+    for (auto& g : src.groups)
       for (auto& band : g) band.assign(shape.bins, 0.0);
-  std::vector<std::vector<float>> sh(shape.sources,
-                                     std::vector<float>(shape.shFloats() / shape.sources, 0.f));
+    for (auto& band : src.exact) band.assign(shape.bins, 0.0);
+    src.sh.assign(shape.shFloats() / shape.sources, 0.f);
+    src.exactSh.assign(src.sh.size(), 0.f);
+  }
   for (size_t f = 0; f < groups * perGroup; ++f) {
     sim.runFrame(position);
     for (size_t s = 0; s < shape.sources; ++s)
-      accumulateFrame(sim, s, 1.0 / double(perGroup), 1.0 / double(groups * perGroup),
-                      series[s][f / perGroup], sh[s]);
+      accumulateFrame(sim, s, f / perGroup, 1.0 / double(perGroup),
+                      1.0 / double(groups * perGroup), settings_.irLength, sums[s]);
   }
   ProbeResult out = allocate(shape);
   for (size_t s = 0; s < shape.sources; ++s) {
-    addDirectSh(sim.result(s).direct, settings_.irLength, sh[s]);
+    addDirectSh(sim.result(s).direct, settings_.irLength, sums[s].sh);
     storeEarly(sim.specularPaths(s), s, out);
-    std::copy(sh[s].begin(), sh[s].end(), out.sh.begin() + std::ptrdiff_t(s * sh[s].size()));
-    finishSource(series[s], sim.result(s).direct, s, shape, out);
+    storeSums(sums[s], s, shape, out);
+    finishSource(sums[s].groups, sim.result(s).direct, s, shape, out);
   }
   return out;
 }
@@ -250,7 +286,7 @@ std::vector<float> pack(const ProbeResult& r) {
   std::vector<float> out;
   for (const auto* v : {&r.energy, &r.sh, &r.directDelay, &r.directEnergy, &r.directDirection,
                         &r.parameters, &r.parametersCi, &r.sti, &r.stiCi, &r.earlyCount,
-                        &r.earlyFound, &r.early})
+                        &r.earlyFound, &r.early, &r.earlyEnergy, &r.earlySh})
     out.insert(out.end(), v->begin(), v->end());
   return out;
 }
@@ -260,7 +296,7 @@ ProbeResult unpack(const std::vector<float>& packed, const ProbeShape& shape) {
   auto it = packed.begin();
   for (auto* v : {&r.energy, &r.sh, &r.directDelay, &r.directEnergy, &r.directDirection,
                   &r.parameters, &r.parametersCi, &r.sti, &r.stiCi, &r.earlyCount, &r.earlyFound,
-                  &r.early}) {
+                  &r.early, &r.earlyEnergy, &r.earlySh}) {
     std::copy(it, it + std::ptrdiff_t(v->size()), v->begin());
     it += std::ptrdiff_t(v->size());
   }

@@ -78,7 +78,8 @@ struct ProbeShape {
   /// All of a ProbeResult's floats, packed (pack/unpack).
   size_t packedFloats() const {
     return energyFloats() + shFloats() + sources * (1 + kNumBands + 3) +
-           2 * parameterFloats() + 2 * sources + 2 * sources + earlyFloats();
+           2 * parameterFloats() + 2 * sources + 2 * sources + earlyFloats() + energyFloats() +
+           shFloats();
   }
 };
 
@@ -110,6 +111,11 @@ struct ProbeResult {
   /// delay (s), energy per band (1/m^2, as DirectSound), unit direction from the probe toward
   /// the last reflection point; zeros beyond earlyCount.
   std::vector<float> early;
+  /// The exact early paths' part of `energy` ([source][bin][band]) and of `sh` ([source]
+  /// [directional bin][SH channel][band]): every path of each frame (not only the kEarlyPaths
+  /// of `early`), mean over the frames, 1/m^2. Playback takes these out of the stored response
+  /// and adds the paths it finds live, so each path is heard once however many there are.
+  std::vector<float> earlyEnergy, earlySh;
 };
 
 /// Bakes probes one after another with one Simulation (geometry, tracer and edge tables built

@@ -3,8 +3,9 @@
 //
 // The data come from a dpc-bake file (docs/bake-format.md; bake/bake_loader.h reads and
 // validates it, the C API and dpc-demo attach it to a PropagationStage). The late part of the
-// response (the stored energy without its direct sound) is interpolated; the direct sound and
-// its occlusion stay live (Simulation's DirectSound), so a door or a moving listener is heard
+// response (the stored energy without its direct sound and, with exact paths on, without every
+// exact early path) is interpolated; the direct sound and its occlusion stay live
+// (Simulation's DirectSound), as do the exact paths, so a door or a moving listener is heard
 // at once.
 //
 // Interpolation (inverse-distance weighting, D. Shepard, "A two-dimensional interpolation

@@ -151,7 +151,8 @@ OfflineResult OfflineRender::run() {
 
 void OfflineRender::finish() {
   result_.totals = propagation_.totals();
-  if (propagation_.bakedPlayback()) result_.bake = propagation_.bakedPlayback()->stats();
+  const BakedPlayback* baked = propagation_.bakedPlayback();
+  if (baked) result_.bake = baked->stats();
   if (propagation_.hybrid()) result_.hybrid = propagation_.hybrid()->report(listeners_.front());
   const Simulation& sim = propagation_.simulation();
   FrameTotals totals;
@@ -171,8 +172,11 @@ void OfflineRender::finish() {
       const Simulation::SourceResult& sr = sim.result(s, listeners_[k]);
       totals.add(sr);
       // The whole response: the exact early paths, kept out of the estimators' response, are
-      // added at their delays.
+      // added at their delays. A pair played from a bake is not traced (sr.energy is empty):
+      // its response is the bake's late response interpolated at the listener, as synthesised.
       lr.lastEnergy.push_back(sr.energy);
+      if (baked && baked->plays(s, listeners_[k]))
+        baked->interpolate(s, listeners_[k], lr.lastEnergy.back());
       addSpecularPaths(sim.specularPaths(s, listeners_[k]), lr.lastEnergy.back());
       lr.lastDirect.push_back(sr.direct);
     }

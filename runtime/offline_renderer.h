@@ -55,7 +55,8 @@ struct OfflineListenerResult {
   /// OfflineOptions::sink took the blocks.
   audio::AudioData output;
   std::vector<ImpulseResponse> lastIrs;  ///< the last frame's, one per source
-  /// [source]: the last frame's energy response, exact early specular paths included
+  /// [source]: the last frame's energy response, exact early specular paths included (a pair
+  /// played from a bake: the bake's late response interpolated at the listener, then the paths)
   std::vector<EnergyResponse> lastEnergy;
   std::vector<DirectSound> lastDirect;  ///< [source]: the last frame's direct sound
   /// The last frame's poses (scene frame, metres): the listener's and each source's.

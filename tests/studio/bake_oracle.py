@@ -12,10 +12,10 @@ print as null. Usage: bake_oracle.py BAKE.h5
 
 bake_oracle.py BAKE.h5 --response PROBE SOURCE: the energy response a player of the bake uses
 at that probe, as docs/bake-format.md ("Reading a bake", the late response) and docs/bake.md
-define it: `energy` with the direct sound (`direct/`) and the stored exact early paths
-(`early/paths`, the first `early/count`) taken out of the bins of their arrival (bin
-floor(delay / 1 ms), clamped at 0, in float32), then the direct sound added back into its
-bin (the studio's response carries it; the exact paths it leaves out, as for a traced pair):
+define it: `energy` with the direct sound (`direct/`) taken out of the bin of its arrival
+(bin floor(delay / 1 ms)), then every exact early path taken out (`early/energy`, bin by bin),
+each clamped at 0, in float32, then the direct sound added back into its bin (the studio's
+response carries it; the exact paths it leaves out, as for a traced pair):
 
   {"response": [[8 floats] per 1 ms bin], "directBin": k, "direct": [8 floats],
    "directDelay": s, "earlyCount": n, "earlyFound": n}
@@ -58,10 +58,9 @@ def response(path, p, s):
         delay = f["direct/delay_s"][p, s]
         direct = f["direct/energy"][p, s].astype(np.float32)
         count, found = int(f["early/count"][p, s]), int(f["early/found"][p, s])
-        early = f["early/paths"][p, s]
+        exact = f["early/energy"][p, s].astype(np.float32)
     remove(row, delay, direct)
-    for path_ in early[:count]:
-        remove(row, path_[0], path_[1:9].astype(np.float32))
+    row = np.maximum(np.float32(0), row - exact)
     k = int(float(delay) / 1e-3)
     row[k] = row[k] + direct
     return {"response": plain(row), "directBin": k, "direct": plain(direct),

@@ -33,7 +33,9 @@ status=0
 for t in scene obj wav c_api bake gltf; do
   mkdir -p "$build/corpus/$t"
   # -rss_limit_mb: the loaders bound their inputs, so more than 2 GB is a finding too.
-  if ! (cd "$build" && "fuzz/${t}_fuzzer" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+  # -timeout (per input): 30 s, a hang; an engine with binaural decoding is created in up to
+  # 8 s here (HRTF load, MagLS fit, under the sanitizers and coverage), 12 s on a loaded machine.
+  if ! (cd "$build" && "fuzz/${t}_fuzzer" -max_total_time="$seconds" -timeout=30 -rss_limit_mb=2048 \
           -max_len=65536 -print_final_stats=1 "corpus/$t" "$PWD/../fuzz/corpus/$t" 2>"$t.log"); then
     echo "fuzz.sh: ${t}_fuzzer found a problem:" >&2
     tail -40 "$build/$t.log" >&2

@@ -216,6 +216,39 @@ std::pair<EnergyResponse, DirectSound> channelResponse(const DirectionalEnergyRe
   return {er, d};
 }
 
+/// Synthesises one IR of `scene`'s spatial format per room and seed and calls
+/// use(what, reading) for every channel's band reading from 250 Hz to lastBand, the reading
+/// against an exact IR of that channel's own share (channelResponse).
+template <class Use>
+void forEachChannelReading(const SceneDesc& scene, const char* name, int lastBand, Use use) {
+  PropagationSettings ps;
+  ps.irLength = float(kLength);
+  for (const Room& room : kRooms) {
+    const DirectSound direct = directFor(room);
+    for (uint64_t seed : {1u, 2u, 3u, 4u}) {
+      ps.seed = seed;
+      auto synth = makeSpatialSynthesizer(scene, ps, room.volume);
+      const DirectionalEnergyResponse energy =
+          directionalResponse(room, direct, synth->directions());
+      std::vector<std::vector<float>> out(synth->channelCount(),
+                                          std::vector<float>(synth->lengthSamples()));
+      std::vector<float*> ptrs;
+      for (auto& o : out) ptrs.push_back(o.data());
+      synth->synthesize(energy, direct, ptrs);
+      for (size_t c = 0; c < synth->channelCount(); ++c) {
+        const auto [er, d] = channelResponse(energy, direct, *synth, c);
+        for (const test::BandReading& r : test::ResponseBands(er, d, kFs).read(out[c], kFirstBand)) {
+          if (r.band > lastBand) continue;
+          char what[96];
+          std::snprintf(what, sizeof what, "%s %s seed %d channel %d", name, room.name,
+                        int(seed), int(c));
+          use(what, r);
+        }
+      }
+    }
+  }
+}
+
 }  // namespace
 
 TEST_CASE("One spatial IR: every channel reads its response's octave G, C80 and EDT",
@@ -231,34 +264,11 @@ TEST_CASE("One spatial IR: every channel reads its response's octave G, C80 and 
     SceneDesc scene;
     scene.audio.output = f.output;
     if (f.order > 0) scene.audio.ambisonicOrder = f.order;
-    PropagationSettings ps;
-    ps.irLength = float(kLength);
-    for (const Room& room : kRooms) {
-      const DirectSound direct = directFor(room);
-      for (uint64_t seed : {1u, 2u, 3u, 4u}) {
-        ps.seed = seed;
-        auto synth = makeSpatialSynthesizer(scene, ps, room.volume);
-        const DirectionalEnergyResponse energy =
-            directionalResponse(room, direct, synth->directions());
-        std::vector<std::vector<float>> out(synth->channelCount(),
-                                            std::vector<float>(synth->lengthSamples()));
-        std::vector<float*> ptrs;
-        for (auto& o : out) ptrs.push_back(o.data());
-        synth->synthesize(energy, direct, ptrs);
-        for (size_t c = 0; c < synth->channelCount(); ++c) {
-          const auto [er, d] = channelResponse(energy, direct, *synth, c);
-          const test::ResponseBands bands(er, d, kFs);
-          for (const test::BandReading& r : bands.read(out[c], kFirstBand)) {
-            if (r.band > kLastBand) continue;
-            char what[96];
-            std::snprintf(what, sizeof what, "%s %s seed %d channel %d", f.name, room.name,
-                          int(seed), int(c));
-            INFO(what << " band " << r.band);
-            CHECK(within(what, r));
-          }
-        }
-      }
-    }
+    forEachChannelReading(scene, f.name, kLastBand,
+                          [](const char* what, const test::BandReading& r) {
+                            INFO(what << " band " << r.band);
+                            CHECK(within(what, r));
+                          });
   }
 }
 
@@ -274,34 +284,11 @@ TEST_CASE("One first-order AmbiX IR: each channel reads its own share's octave p
   SceneDesc scene;
   scene.audio.output = OutputFormat::kAmbisonics;
   scene.audio.ambisonicOrder = 1;
-  PropagationSettings ps;
-  ps.irLength = float(kLength);
   std::array<std::vector<Difference>, kNumBands> diffs;
-  for (const Room& room : kRooms) {
-    const DirectSound direct = directFor(room);
-    for (uint64_t seed : {1u, 2u, 3u, 4u}) {
-      ps.seed = seed;
-      auto synth = makeSpatialSynthesizer(scene, ps, room.volume);
-      const DirectionalEnergyResponse energy =
-          directionalResponse(room, direct, synth->directions());
-      std::vector<std::vector<float>> out(synth->channelCount(),
-                                          std::vector<float>(synth->lengthSamples()));
-      std::vector<float*> ptrs;
-      for (auto& o : out) ptrs.push_back(o.data());
-      synth->synthesize(energy, direct, ptrs);
-      for (size_t c = 0; c < synth->channelCount(); ++c) {
-        const auto [er, d] = channelResponse(energy, direct, *synth, c);
-        const test::ResponseBands bands(er, d, kFs);
-        for (const test::BandReading& r : bands.read(out[c], kFirstBand)) {
-          if (r.band > IrSynthesizer::kLastLevelledBand) continue;
-          char what[96];
-          std::snprintf(what, sizeof what, "ambix %s seed %d channel %d", room.name, int(seed),
-                        int(c));
-          diffs[size_t(r.band)].push_back(differenceOf(what, r));
-        }
-      }
-    }
-  }
+  forEachChannelReading(scene, "ambix", IrSynthesizer::kLastLevelledBand,
+                        [&](const char* what, const test::BandReading& r) {
+                          diffs[size_t(r.band)].push_back(differenceOf(what, r));
+                        });
   for (int b = kFirstBand; b <= IrSynthesizer::kLastLevelledBand; ++b)
     checkBand(b, diffs[size_t(b)], 2.5);
 }

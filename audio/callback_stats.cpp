@@ -65,6 +65,17 @@ uint64_t CallbackStats::Snapshot::quantileNs(double q) const noexcept {
   return maxNs;
 }
 
+uint64_t CallbackStats::Snapshot::meanNs() const noexcept {
+  double total = 0, sum = 0;
+  for (int b = 0; b < kBins; ++b) {
+    const double count = double(histogram[size_t(b)]);
+    const uint64_t edge = maxNs > 0 ? std::min(binUpperNs(b), maxNs) : binUpperNs(b);
+    total += count;
+    sum += count * double(edge);
+  }
+  return total > 0 ? uint64_t(sum / total + 0.5) : 0;
+}
+
 CallbackStats::Snapshot CallbackStats::Snapshot::since(const Snapshot& earlier) const noexcept {
   Snapshot d;
   d.callbacks = callbacks - std::min(callbacks, earlier.callbacks);

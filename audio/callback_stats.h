@@ -47,6 +47,10 @@ class CallbackStats {
     /// errs high by at most one bin width, 6.25 %). 0 if there are no callbacks. Any thread;
     /// no allocation.
     uint64_t quantileNs(double q) const noexcept;
+    /// Mean duration (ns) of the histogram's callbacks, each counted at its bin's upper edge
+    /// capped at maxNs (errs high by at most one bin width, 6.25 %). 0 if there are none.
+    /// Any thread; no allocation.
+    uint64_t meanNs() const noexcept;
     /// The counters accumulated after `earlier` (a snapshot of the same stats taken
     /// before): callbacks, xruns and histogram are differences, lastNs is this one's and
     /// maxNs is the upper edge of the highest non-empty bin of the difference. No allocation.

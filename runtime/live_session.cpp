@@ -231,7 +231,7 @@ void LiveSession::render(const float* const* inputs, float* const* outputs, int 
       [this](const float* const* in, float* const* out) { return renderBlock(in, out); });
   if (!counters_.soundHeard() && holdsSound(outputs, frames)) counters_.heard(t0);
   const int64_t ns = steadyNowNs() - t0;
-  if (double(ns) * 1e-9 * sampleRate_ > double(frames)) counters_.lateCallback();
+  if (double(ns) * 1e-9 * sampleRate_ > double(frames)) counters_.lateCallback(t0, ns);
   (swapped ? swapStats_ : noSwapStats_).record(uint64_t(ns), false);
 }
 

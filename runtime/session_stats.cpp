@@ -90,8 +90,23 @@ void SessionCounters::read(SessionStatus& st) {
   st.blocks = blocks_.load(r);
   st.nanBlocks = nanBlocks_.load(r);
   st.inputSamplesReplaced = inputSamplesReplaced_.load(r);
-  st.lateCallbacks = lateCallbacks_.load(r);
+  st.lateCallbacks = lateCallbacks_.load(std::memory_order_acquire);
+  const uint64_t kept = std::min<uint64_t>(st.lateCallbacks, SessionStatus::kLateCallbacksKept);
+  for (size_t i = 0; i < kept; ++i) {
+    st.lateCallbackAtSeconds[i] = double(lateStartNs_[i].load(r) - startedNs_.load(r)) * 1e-9;
+    st.lateCallbackMs[i] = double(lateDurationNs_[i].load(r)) * 1e-6;
+  }
   st.rejectedCallbacks = rejectedCallbacks_.load(r);
+}
+
+void SessionCounters::lateCallback(int64_t startNs, int64_t durationNs) noexcept {
+  const uint64_t index = lateCallbacks_.load(std::memory_order_relaxed);
+  if (index < uint64_t(SessionStatus::kLateCallbacksKept)) {
+    lateStartNs_[index].store(startNs, std::memory_order_relaxed);
+    lateDurationNs_[index].store(durationNs, std::memory_order_relaxed);
+  }
+  // Published after its entry, so a reader that sees the count sees the entry (one writer).
+  lateCallbacks_.fetch_add(1, std::memory_order_release);
 }
 
 }  // namespace dpc

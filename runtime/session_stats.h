@@ -4,6 +4,7 @@
 // written by one thread and read by the control thread at any time.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cstddef>
@@ -75,6 +76,12 @@ struct SessionStatus {
   uint64_t inputSamplesReplaced = 0;
   uint64_t lateCallbacks = 0;      ///< render() calls that took longer than the audio they
                                    ///< produced (frames / sampleRate): a device would xrun
+  /// The first kLateCallbacksKept late render() calls (min(lateCallbacks, kept) of them):
+  /// when each started (seconds after start()) and how long it took (ms). Where they fall
+  /// tells the session's own stalls (at start, at IR swaps) from the machine's.
+  static constexpr int kLateCallbacksKept = 8;
+  std::array<double, kLateCallbacksKept> lateCallbackAtSeconds{};
+  std::array<double, kLateCallbacksKept> lateCallbackMs{};
   uint64_t rejectedCallbacks = 0;  ///< render() calls with frames outside the accepted range
   uint64_t recordDropped = 0;      ///< samples the recorder ring could not take
   /// Output safety limiter (audio/limiter.h), since start: frames it attenuated, frames
@@ -105,8 +112,9 @@ class SessionCounters {
   /// Audio side: a block rendered (finite: false when the NaN guard zeroed it), the sets
   /// applied so far and the age of the one playing (ms; negative: none yet).
   void blockDone(bool finite, uint64_t irsApplied, double irAgeMs) noexcept;
-  /// Audio side: a render() call that took longer than its audio, or one refused.
-  void lateCallback() noexcept { lateCallbacks_.fetch_add(1, std::memory_order_relaxed); }
+  /// Audio side: a render() call that started at startNs (steady clock) took durationNs,
+  /// longer than its audio; the first SessionStatus::kLateCallbacksKept are kept.
+  void lateCallback(int64_t startNs, int64_t durationNs) noexcept;
   /// Audio side: host input samples replaced so far (a running total).
   void inputSamplesReplaced(uint64_t total) noexcept {
     inputSamplesReplaced_.store(total, std::memory_order_relaxed);
@@ -144,6 +152,8 @@ class SessionCounters {
       cachePairBytesMin_{0}, cachePairBytesMax_{0}, cachePoolUsedBytes_{0};
   std::atomic<int> raysPerFrame_{0}, raysPerFrameMin_{0};
   std::atomic<int64_t> startedNs_{0}, firstSoundNs_{0};
+  std::array<std::atomic<int64_t>, SessionStatus::kLateCallbacksKept> lateStartNs_{},
+      lateDurationNs_{};
   uint64_t lastRays_ = 0;  ///< read()'s previous ray count
   std::chrono::steady_clock::time_point lastRead_;
 };

@@ -1,6 +1,7 @@
 // The JSON statistics file of a live dpc-demo run.
 #include "apps/demo/live_stats.h"
 
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
@@ -16,10 +17,20 @@ using Snapshot = audio::CallbackStats::Snapshot;
 
 /// Durations of `s` as percentages of the block period.
 Json loadJson(const audio::AudioOutput& output, const Snapshot& s) {
-  return Json{{"median", output.loadPercent(s.quantileNs(0.5))},
+  return Json{{"mean", output.loadPercent(s.meanNs())},
+              {"median", output.loadPercent(s.quantileNs(0.5))},
               {"p99", output.loadPercent(s.quantileNs(0.99))},
               {"p99_9", output.loadPercent(s.quantileNs(0.999))},
               {"max", output.loadPercent(s.maxNs)}};
+}
+
+/// The first late callbacks: when each started (s after the session's start) and its ms.
+Json lateCallbacksJson(const SessionStatus& st) {
+  Json list = Json::array();
+  const uint64_t kept = std::min<uint64_t>(st.lateCallbacks, SessionStatus::kLateCallbacksKept);
+  for (size_t i = 0; i < kept; ++i)
+    list.push_back(Json{{"at_s", st.lateCallbackAtSeconds[i]}, {"ms", st.lateCallbackMs[i]}});
+  return list;
 }
 
 /// Motion-to-sound latencies, milliseconds.
@@ -74,6 +85,7 @@ void writeLiveStats(const std::string& path, const std::string& scenePath,
       {"callbacks", cb.callbacks},
       {"xruns", cb.xruns},
       {"late_callbacks", st.lateCallbacks},
+      {"late_callbacks_first", lateCallbacksJson(st)},
       {"rejected_callbacks", st.rejectedCallbacks},
       {"nan_blocks", st.nanBlocks},
       // The long partitions are computed inside the callback, spread over the blocks of their

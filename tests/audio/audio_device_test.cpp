@@ -154,6 +154,10 @@ TEST_CASE("CallbackStats histogram bins and quantiles", "[audio_device]") {
   const double p999 = double(s.quantileNs(0.999));
   CHECK(p999 >= 999000.0);
   CHECK(p999 <= 999000.0 * 1.0625 + 1);
+  // The mean of 1..1000 us is 500.5 us; bins' upper edges err high by at most 1/16.
+  const double mean = double(s.meanNs());
+  CHECK(mean >= 500500.0);
+  CHECK(mean <= 500500.0 * 1.0625 + 1);
 
   for (int i = 0; i < 10; ++i) stats.record(7000, false);
   const CallbackStats::Snapshot window = stats.snapshot().since(s);

@@ -7,6 +7,7 @@ using namespace dpc;
 
 TEST_CASE("SessionCounters: rays, frames, blocks and callbacks as counted", "[stats]") {
   SessionCounters c(1000);
+  c.started(1'000'000'000);
   SessionStatus st;
   c.read(st);
   CHECK(st.frames == 0);
@@ -23,7 +24,7 @@ TEST_CASE("SessionCounters: rays, frames, blocks and callbacks as counted", "[st
   c.frameDone(t, 12.5);
   c.blockDone(true, 1, 3.0);
   c.blockDone(false, 2, -1.0);  // no IR age: the last one stays
-  c.lateCallback();
+  c.lateCallback(3'500'000'000, 4'000'000);  // 2.5 s after the start, 4 ms long
   c.rejectedCallback();
   c.read(st);
   CHECK(st.raysPerFrame == 800);
@@ -38,7 +39,18 @@ TEST_CASE("SessionCounters: rays, frames, blocks and callbacks as counted", "[st
   CHECK(st.irsApplied == 2);
   CHECK(st.irAgeMs == 3.0);
   CHECK(st.lateCallbacks == 1);
+  CHECK(st.lateCallbackAtSeconds[0] == Approx(2.5));
+  CHECK(st.lateCallbackMs[0] == Approx(4.0));
+  CHECK(st.lateCallbackMs[1] == 0.0);
   CHECK(st.rejectedCallbacks == 1);
+  // Beyond the kept ones only the count grows.
+  for (int i = 0; i < SessionStatus::kLateCallbacksKept + 3; ++i)
+    c.lateCallback(2'000'000'000 + i, 5'000'000 + i);
+  c.read(st);
+  CHECK(st.lateCallbacks == SessionStatus::kLateCallbacksKept + 4);
+  CHECK(st.lateCallbackMs[0] == Approx(4.0));
+  CHECK(st.lateCallbackAtSeconds[1] == Approx(1.0));
+  CHECK(st.lateCallbackMs.back() == Approx(5.0 + (SessionStatus::kLateCallbacksKept - 2) * 1e-6));
 }
 
 TEST_CASE("FrameTotals: sums, largest shares, and the energy beyond the IR length", "[stats]") {

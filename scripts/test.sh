@@ -14,39 +14,58 @@ case "${1:-}" in
   "") ;;
   *) echo "usage: scripts/test.sh [--full]" >&2; exit 2 ;;
 esac
-scripts/install-deps.sh
+# Each step's wall time, printed when the run ends (passed or not): where CI's time goes.
+phases=()
+phase_start=$SECONDS
+current=
+step() {  # step NAME COMMAND...: runs the command and records its time
+  local t0=$SECONDS
+  current=$1
+  shift
+  "$@"
+  phases+=("$current $((SECONDS - t0)) s")
+  current=
+}
+report_phases() {
+  local done
+  done=$(printf '%s, ' "${phases[@]}")
+  echo "test.sh: ${done}${current:+$current stopped, }total $((SECONDS - phase_start)) s"
+}
+trap report_phases EXIT
+in_build() { (cd build && "$@"); }
+step deps scripts/install-deps.sh
 # Every #include against docs/design.md's layer table.
 python3 scripts/check-layers.py
 # The size rules on production code: a function <= 80 lines, a file <= 600, a header + source
 # unit <= 800 (its allow-list names the exceptions still being split).
 python3 scripts/check-lengths.py
-scripts/build.sh
+step build scripts/build.sh
 jobs=$(nproc 2>/dev/null || echo 2)
 if ((!full)); then
   # Tests labelled "full" (the 60 s live JACK run) and "statistics" (Monte Carlo checks over
   # many rays, frames or seeds; tests/CMakeLists.txt) only with --full; "control" (runs that
   # show a check fails when what it checks is removed: ctest -L control) in neither.
-  (cd build && ctest --output-on-failure -j"$jobs" --timeout 600 -LE 'full|statistics|control')
+  step ctest in_build ctest --output-on-failure -j"$jobs" --timeout 600 -LE 'full|statistics|control'
 fi
 # The installed package: both examples built out of tree against a fresh prefix and run.
-scripts/test-install.sh
+step install scripts/test-install.sh
 if ((full)); then
   # AddressSanitizer + UBSan build of everything and the whole ctest (build-asan; the JACK and
   # LV2-host tests excepted, see the script), then here, unsanitized, the tests it did not run
   # (those, the heap-counting tests/rt binaries and the rest that are not built under ASan):
   # each test of the quick set runs once. Run in both: the tests that check something else
   # when sanitized (an address-space limit, a stack size, a memory bound).
-  scripts/asan.sh
+  step asan scripts/asan.sh
   both='^(c_api_create_misuse_test|c_api_gltf_stack_test|bad_input):'
   not_run=$(python3 scripts/tests-not-run.py --also "$both" build build-asan/tests-run.txt \
               -LE 'full|statistics|control')
   if [[ $not_run != 0,0,0 ]]; then
-    (cd build && ctest --output-on-failure -j"$jobs" --timeout 600 -I "$not_run")
+    step not-run-under-asan in_build ctest --output-on-failure -j"$jobs" --timeout 600 -I "$not_run"
   fi
-  (cd build && ctest --output-on-failure -j"$jobs" --timeout 600 -L statistics)
-  (cd build && ctest --output-on-failure --timeout 600 -L full)
+  step statistics in_build ctest --output-on-failure -j"$jobs" --timeout 600 -L statistics
+  step full in_build ctest --output-on-failure --timeout 600 -L full
   # The queue and live-pipeline threads under ThreadSanitizer (separate build in build-tsan).
-  scripts/tsan.sh
+  step tsan scripts/tsan.sh
   # A 15 s libFuzzer run per fuzz target (build-fuzz, clang).
-  scripts/fuzz.sh 15
+  step fuzz scripts/fuzz.sh 15
 fi

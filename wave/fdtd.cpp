@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace dpc::wave {
 namespace {
@@ -25,12 +27,46 @@ Coefficients coefficientsFor(const GridLayout& g, double c, int stepRate) {
   return k;
 }
 
-/// Next values of the boundary nodes (from p = p^n and q = p^{n-1}) into `next`.
-void boundaryStep(const WaveGrid& grid, const Coefficients& k, const float* p, const float* q,
-                  std::vector<float>& next) {
+/// What one process of a simulation updates and reads: its slab, its part [boundaryBegin,
+/// boundaryEnd) of the boundary list (in array order, so a slab's nodes are contiguous), and
+/// which process reads each receiver (the one whose slab holds its stencil's lowest slice).
+struct Share {
+  Slab slab;
+  size_t plane = 0;  ///< floats per z slice
+  size_t boundaryBegin = 0, boundaryEnd = 0;
+  std::vector<int> receiverOwner;
+  int rank = 0;
+};
+
+Share shareOf(const WaveGrid& grid, const SimulationInput& in) {
+  Share sh;
+  const auto d = grid.layout.dims();
+  const int ranks = in.link ? in.link->size() : 1;
+  sh.rank = in.link ? in.link->rank() : 0;
+  sh.slab = slabOf(grid.layout, sh.rank, ranks);
+  sh.plane = d[0] * d[1];
+  auto before = [&](size_t slice) {
+    return size_t(std::lower_bound(grid.boundary.begin(), grid.boundary.end(), slice * sh.plane,
+                                   [](const BoundaryNode& b, size_t i) { return b.index < i; }) -
+                  grid.boundary.begin());
+  };
+  sh.boundaryBegin = before(sh.slab.first);
+  sh.boundaryEnd = before(sh.slab.last);
+  for (const Stencil& r : in.receivers) {
+    const size_t slice = std::clamp<size_t>(r.index[0] / sh.plane, 1, d[2] - 2);
+    int owner = 0;
+    while (slabOf(grid.layout, owner, ranks).last <= slice) ++owner;
+    sh.receiverOwner.push_back(owner);
+  }
+  return sh;
+}
+
+/// Next values of boundary nodes [b0, b1) (from p = p^n and q = p^{n-1}) into next[b - b0].
+void boundaryStep(const WaveGrid& grid, const Coefficients& k, size_t b0, size_t b1,
+                  const float* p, const float* q, std::vector<float>& next) {
   const auto d = grid.layout.dims();
   const std::array<size_t, 3> stride{1, d[0], d[0] * d[1]};
-  for (size_t b = 0; b < grid.boundary.size(); ++b) {
+  for (size_t b = b0; b < b1; ++b) {
     const BoundaryNode& node = grid.boundary[b];
     const size_t n = node.index;
     float lap = 0.f;
@@ -40,7 +76,7 @@ void boundaryStep(const WaveGrid& grid, const Coefficients& k, const float* p, c
       lap += k.lambda2[size_t(face / 2)] * ((face % 2 ? p[n + s] : p[n - s]) - p[n]);
     }
     const float g = k.halfCT * node.admittancePerMetre;
-    next[b] = (2.f * p[n] - (1.f - g) * q[n] + lap) / (1.f + g);
+    next[b - b0] = (2.f * p[n] - (1.f - g) * q[n] + lap) / (1.f + g);
   }
 }
 
@@ -66,6 +102,35 @@ float sample(const Stencil& s, const float* p) {
   float v = 0.f;
   for (size_t c = 0; c < 8; ++c) v += s.weight[c] * p[s.index[c]];
   return v;
+}
+
+/// One step of the share's nodes: q (p^{n-1}) becomes p^{n+1}, the signal's q^n entering at
+/// the source's nodes in the slab.
+void advance(const WaveGrid& grid, const Coefficients& k, const Share& sh,
+             const SimulationInput& in, size_t n, const float* p, float* q,
+             std::vector<float>& next) {
+  boundaryStep(grid, k, sh.boundaryBegin, sh.boundaryEnd, p, q, next);
+  tbb::parallel_for(tbb::blocked_range<size_t>(sh.slab.first, sh.slab.last), [&](const auto& r) {
+    interiorStep(grid, k, p, q, r.begin(), r.end());
+  });
+  for (size_t b = sh.boundaryBegin; b < sh.boundaryEnd; ++b)
+    q[grid.boundary[b].index] = next[b - sh.boundaryBegin];
+  if (n >= in.signal.size()) return;
+  for (size_t c = 0; c < 8; ++c) {
+    const size_t slice = in.source.index[c] / sh.plane;
+    if (slice >= sh.slab.first && slice < sh.slab.last)
+      q[in.source.index[c]] += k.sourceScale * in.source.weight[c] * in.signal[n];
+  }
+}
+
+/// Refreshes the slices next to the slab (p's lowest and highest neighbours' edge slices).
+void tradeEdges(SlabLink& link, const Share& sh, float* p) {
+  const bool lower = sh.rank > 0, upper = sh.rank + 1 < link.size();
+  auto slice = [&](size_t k) { return std::span<float>(p + k * sh.plane, sh.plane); };
+  link.exchange(lower ? slice(sh.slab.first) : std::span<float>(),
+                lower ? slice(sh.slab.first - 1) : std::span<float>(),
+                upper ? slice(sh.slab.last - 1) : std::span<float>(),
+                upper ? slice(sh.slab.last) : std::span<float>());
 }
 
 }  // namespace
@@ -102,27 +167,33 @@ std::optional<Stencil> stencilAt(const WaveGrid& grid, const glm::vec3& p) {
   return s;
 }
 
+Slab slabOf(const GridLayout& layout, int rank, int ranks) {
+  const size_t interior = layout.dims()[2] - 2;
+  if (ranks < 1 || size_t(ranks) > interior)
+    throw std::invalid_argument("the wave grid has " + std::to_string(interior) +
+                                " z slices, fewer than the " + std::to_string(ranks) +
+                                " processes sharing its simulation");
+  return {1 + interior * size_t(rank) / size_t(ranks),
+          1 + interior * size_t(rank + 1) / size_t(ranks)};
+}
+
 std::vector<std::vector<float>> simulate(const WaveGrid& grid, const SimulationInput& in) {
   const Coefficients k = coefficientsFor(grid.layout, in.speedOfSound, in.stepRate);
-  std::vector<float> p(grid.layout.arraySize(), 0.f), q(p.size(), 0.f), next(grid.boundary.size());
+  const Share sh = shareOf(grid, in);
+  std::vector<float> p(grid.layout.arraySize(), 0.f), q(p.size(), 0.f);
+  std::vector<float> next(sh.boundaryEnd - sh.boundaryBegin);
   std::vector<std::vector<float>> out(in.receivers.size(), std::vector<float>(in.steps, 0.f));
-  const size_t slices = grid.layout.dims()[2];
   for (size_t n = 0; n < in.steps; ++n) {
-    boundaryStep(grid, k, p.data(), q.data(), next);
-    tbb::parallel_for(tbb::blocked_range<size_t>(1, slices - 1), [&](const auto& r) {
-      interiorStep(grid, k, p.data(), q.data(), r.begin(), r.end());
-    });
-    for (size_t b = 0; b < grid.boundary.size(); ++b) q[grid.boundary[b].index] = next[b];
-    if (n < in.signal.size())
-      for (size_t c = 0; c < 8; ++c)
-        q[in.source.index[c]] += k.sourceScale * in.source.weight[c] * in.signal[n];
-    // q holds p^{n+1}, the pressure at time (n + 1) T; out[r][0] is the field at rest.
-    if (n + 1 < in.steps)
-      for (size_t r = 0; r < in.receivers.size(); ++r)
-        out[r][n + 1] = sample(in.receivers[r], q.data());
+    if (in.link) tradeEdges(*in.link, sh, p.data());
+    // p holds p^n, the pressure at time n T (at rest for n = 0).
+    for (size_t r = 0; r < in.receivers.size(); ++r)
+      if (sh.receiverOwner[r] == sh.rank) out[r][n] = sample(in.receivers[r], p.data());
+    if (n + 1 < in.steps) advance(grid, k, sh, in, n, p.data(), q.data(), next);
     std::swap(p, q);
     if (in.progress && (n % 256 == 255 || n + 1 == in.steps)) in.progress(n + 1, in.steps);
   }
+  if (in.link)
+    for (size_t r = 0; r < out.size(); ++r) in.link->broadcast(out[r], sh.receiverOwner[r]);
   return out;
 }
 

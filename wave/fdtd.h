@@ -13,10 +13,17 @@
 // Free field: a pulse q(t) of unit area gives p(r, t) = q(t - r / c) / (4 pi r) (c^2 q delta
 // injected as T^2 c^2 q^n / (h_x h_y h_z) at the source's nodes).
 //
-// Threads: simulate() runs on the calling thread with TBB workers over the grid's slices;
+// Domain decomposition: processes sharing one simulation (an MPI job, apps/mpi/cluster.h) each
+// update one slab of the grid's z slices and trade their edge slices with their neighbours
+// every step (SlabLink). Each node's update reads the same values in the same order whatever
+// the slab, and each receiver is read by one process, so any number of processes gives the
+// same results bit for bit. Each process still holds the whole grid (built on every process
+// alike) and full-size pressure arrays: the time of the steps is shared, not the memory.
+//
+// Threads: simulate() runs on the calling thread with TBB workers over the slab's slices;
 // allocates the two pressure arrays (8 bytes per array node); no errors but those of
-// allocation. Source: the scheme and its stability in S. Bilbao, Numerical Sound Synthesis
-// (Wiley, 2009), ch. 10; the boundary as in wave/wave_grid.h.
+// allocation and of the SlabLink. Source: the scheme and its stability in S. Bilbao, Numerical
+// Sound Synthesis (Wiley, 2009), ch. 10; the boundary as in wave/wave_grid.h.
 #pragma once
 
 #include <array>
@@ -49,6 +56,29 @@ struct Stencil {
 /// The stencil of point p (metres), or nothing when none of its eight nodes is air.
 std::optional<Stencil> stencilAt(const WaveGrid& grid, const glm::vec3& p);
 
+/// The processes that share one simulation, as the solver needs them. Every process calls
+/// each method at the same point of the same simulation (they are collectives).
+class SlabLink {
+ public:
+  virtual ~SlabLink() = default;
+  virtual int rank() const = 0;  ///< this process, 0 .. size() - 1
+  virtual int size() const = 0;  ///< processes sharing the simulation
+  /// Sends toLower to rank - 1 and toUpper to rank + 1 while receiving fromLower from rank - 1
+  /// and fromUpper from rank + 1 (each span one z slice; empty where there is no neighbour).
+  virtual void exchange(std::span<const float> toLower, std::span<float> fromLower,
+                        std::span<const float> toUpper, std::span<float> fromUpper) = 0;
+  /// Every process's `data` becomes what process `owner` holds.
+  virtual void broadcast(std::span<float> data, int owner) = 0;
+};
+
+/// The z slices [first, last) (padded coordinates) that process `rank` of `ranks` updates:
+/// the interior slices 1 .. dims - 2 in contiguous shares differing by at most one slice.
+/// Throws std::invalid_argument when there are more processes than interior slices.
+struct Slab {
+  size_t first = 0, last = 0;
+};
+Slab slabOf(const GridLayout& layout, int rank, int ranks);
+
 struct SimulationInput {
   double speedOfSound = 343.0;    ///< m/s
   int stepRate = 0;               ///< steps per second (stepRateFor)
@@ -58,10 +88,13 @@ struct SimulationInput {
   size_t steps = 0;
   /// Called now and then from the calling thread with (steps done, steps); may be empty.
   std::function<void(size_t, size_t)> progress;
+  /// The processes sharing the simulation; null: this process updates every slice.
+  SlabLink* link = nullptr;
 };
 
 /// Pressure at each receiver at times 0, T, 2T, ... (in.steps values; Pa per unit of the
-/// signal's unit), from rest: the signal's value q^n enters at time n T.
+/// signal's unit), from rest: the signal's value q^n enters at time n T. With in.link, every
+/// process returns every receiver's values.
 std::vector<std::vector<float>> simulate(const WaveGrid& grid, const SimulationInput& in);
 
 }  // namespace dpc::wave

@@ -90,6 +90,7 @@ std::vector<std::vector<float>> simulateBands(const SceneDesc& scene, WaveGrid& 
                                               const WaveBandStats& st) {
   Run run;
   prepare(run, scene, grid, source, receivers, st);
+  run.in.link = options.link;
   const std::vector<int> bands = simulatedBands(scene.wave.crossover());
   const std::vector<double> edges = bandEdges(bands);
   const size_t samples = size_t(std::llround(options.seconds * options.sampleRate));
@@ -133,6 +134,7 @@ WaveBand simulateWaveBand(const SceneDesc& scene, const Tracer& tracer, const Ge
   st.steps = size_t(std::ceil(options.seconds * st.stepRate)) + 1;
   st.stateBytes = layout.arraySize() * 3 * sizeof(float) + grid.boundary.size() * sizeof(BoundaryNode);
   st.simulations = simulatedBands(scene.wave.crossover()).size();
+  st.processes = options.link ? options.link->size() : 1;
   st.buildSeconds = secondsSince(t0);
   const auto t1 = Clock::now();
   out.irs = simulateBands(scene, grid, source, receivers, options, st);

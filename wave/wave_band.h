@@ -31,6 +31,7 @@
 #include "engine/geometry.h"
 #include "engine/tracer.h"
 #include "scene/scene.h"
+#include "wave/fdtd.h"
 #include "wave/wave_grid.h"
 
 namespace dpc::wave {
@@ -49,6 +50,9 @@ struct WaveBandOptions {
   int sampleRate = 48000; ///< of the IRs, Hz
   /// Called from the calling thread with (steps done, steps); may be empty.
   std::function<void(size_t, size_t)> progress;
+  /// The processes sharing each simulation by slabs (wave/fdtd.h); null: this one alone.
+  /// Every process gets the same IRs, bit for bit, whatever their number.
+  SlabLink* link = nullptr;
 };
 
 /// What a run cost and where its grid lay.
@@ -62,6 +66,7 @@ struct WaveBandStats {
   size_t stateBytes = 0;     ///< the solver's arrays (pressure twice, air mask, boundary)
   double buildSeconds = 0.0; ///< wall time of the grid
   double simulateSeconds = 0.0;
+  int processes = 1;         ///< sharing each simulation (options.link's size)
 };
 
 struct WaveBand {

@@ -203,7 +203,7 @@ int runBake(const Options& o, Cluster& cluster) {
   const bool writer = cluster.rank() == 0;
   std::optional<BakeLock> lock;  // rank 0, the one writer, holds it until the file is done
   Plan plan;
-  if (!together(cluster, [&] {
+  if (!together(cluster, "dpc-bake", [&] {
         if (writer) lock.emplace(lockedOutput(o));
         if (o.resume.empty())
           planFresh(o, cluster.size(), writer, plan);
@@ -215,7 +215,7 @@ int runBake(const Options& o, Cluster& cluster) {
       }))
     return unfinishedStatus();
   std::optional<BakeFile> file;
-  if (!together(cluster, [&] {
+  if (!together(cluster, "dpc-bake", [&] {
         if (writer) file.emplace(openOutput(o, plan));
         return 0;
       }))

@@ -7,7 +7,7 @@
 // --resume; before the file is opened, none is created).
 #pragma once
 
-#include "apps/bake/cluster.h"
+#include "apps/mpi/cluster.h"
 #include "apps/bake/options.h"
 
 namespace dpc::bake {

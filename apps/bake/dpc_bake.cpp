@@ -13,10 +13,10 @@
 
 int main(int argc, char** argv) {
   return dpc::runReportingErrors("dpc-bake", [&] {
-    dpc::bake::Cluster cluster(argc, argv);
+    dpc::Cluster cluster(argc, argv);
     dpc::bake::Options options;
     int status = 0;
-    if (!dpc::bake::together(cluster, [&] {
+    if (!dpc::together(cluster, "dpc-bake", [&] {
           if (!dpc::bake::parseOptions(argc, argv, options)) status = -1;
           return 0;
         }))

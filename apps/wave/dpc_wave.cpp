@@ -5,9 +5,11 @@
 //
 //   dpc-wave SCENE --out IR.wav [--source N] [--listener NAME] [--seconds S]
 //            [--max-frequency HZ] [--grid-spacing M] [--json]
+//   mpirun -np N dpc-wave ...   (N ranks share each simulation by slabs; the same file, bit
+//                                for bit, written by rank 0)
 //
 // Main thread (TBB workers inside). Bad input: one line "FILE: FIELD: problem" (or
-// "command line: --flag: problem") on stderr, exit status 1, no file written.
+// "command line: --flag: problem") on stderr (rank 0), exit status 1, no file written.
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -19,6 +21,7 @@
 #include <vector>
 
 #include "apps/cli_values.h"
+#include "apps/mpi/cluster.h"
 #include "audio/wav_io.h"
 #include "common/input_error.h"
 #include "common/output_file.h"
@@ -48,6 +51,22 @@ constexpr const char* kDescription =
     "the maximum frequency and grid; dpc-demo --ir-out joins the band to the ray-traced IR\n"
     "when wave.enabled is true. Prints the grid, the cost and progress with an ETA.\n"
     "Exit status: 0 on success, 1 on bad input (message on stderr).";
+
+/// The MPI job's ranks as the wave solver's processes.
+class ClusterSlabLink final : public wave::SlabLink {
+ public:
+  explicit ClusterSlabLink(Cluster& cluster) : cluster_(cluster) {}
+  int rank() const override { return cluster_.rank(); }
+  int size() const override { return cluster_.size(); }
+  void exchange(std::span<const float> toLower, std::span<float> fromLower,
+                std::span<const float> toUpper, std::span<float> fromUpper) override {
+    cluster_.exchangeWithNeighbours(toLower, fromLower, toUpper, fromUpper);
+  }
+  void broadcast(std::span<float> data, int owner) override { cluster_.broadcast(data, owner); }
+
+ private:
+  Cluster& cluster_;
+};
 
 void addOptions(CLI::App& app, Options& o) {
   app.add_option("SCENE", o.scene, "Scene file (JSON)")->required()->type_name("FILE");
@@ -128,8 +147,9 @@ void report(const wave::WaveBandStats& s, const SceneDesc& scene, double seconds
               s.buildSeconds, s.simulateSeconds);
 }
 
-int run(const Options& o) {
+int run(const Options& o, Cluster& cluster) {
   const SceneDesc scene = loadWithOverrides(o);
+  const bool writer = cluster.rank() == 0;
   checkOutputPath(o.out, "--out", sceneInputFiles(scene, o.scene));
   std::vector<size_t> listeners;
   if (!o.listener.empty())
@@ -140,8 +160,11 @@ int run(const Options& o) {
   opt.seconds = o.seconds.value_or(double(scene.propagation.irLength));
   opt.sampleRate = scene.audio.sampleRate;
   const auto t0 = std::chrono::steady_clock::now();
-  opt.progress = [t0](size_t done, size_t total) { progress(done, total, t0); };
+  if (writer) opt.progress = [t0](size_t done, size_t total) { progress(done, total, t0); };
+  ClusterSlabLink link(cluster);
+  if (cluster.size() > 1) opt.link = &link;
   const wave::WaveBand band = wave::sceneWaveBand(scene, o.source, listeners, 0.0, opt);
+  if (!writer) return 0;
   audio::AudioData ir;
   ir.sampleRate = scene.audio.sampleRate;
   ir.channels = band.irs;
@@ -155,16 +178,23 @@ int run(const Options& o) {
 }  // namespace dpc
 
 int main(int argc, char** argv) {
-  dpc::Options o;
-  CLI::App app(dpc::kDescription, "dpc-wave");
-  dpc::addOptions(app, o);
-  dpc::refuseEmptyValues(app);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    if (e.get_exit_code() == 0) return app.exit(e);
-    std::fprintf(stderr, "dpc-wave: command line: %s\n", e.what());
-    return 1;
-  }
-  return dpc::runReportingErrors("dpc-wave", [&] { return dpc::run(o); });
+  return dpc::runReportingErrors("dpc-wave", [&] {
+    dpc::Cluster cluster(argc, argv);
+    dpc::Options o;
+    CLI::App app(dpc::kDescription, "dpc-wave");
+    dpc::addOptions(app, o);
+    dpc::refuseEmptyValues(app);
+    int parsed = 1;  // 1: parsed, 0: help printed, -1: a command-line error (printed by rank 0)
+    try {
+      app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+      parsed = e.get_exit_code() == 0 ? 0 : -1;
+      if (cluster.rank() == 0) {
+        if (parsed == 0) app.exit(e);
+        else std::fprintf(stderr, "dpc-wave: command line: %s\n", e.what());
+      }
+    }
+    if (parsed <= 0) return parsed == 0 ? 0 : 1;
+    return dpc::together(cluster, "dpc-wave", [&] { return dpc::run(o, cluster); }) ? 0 : 1;
+  });
 }

@@ -1,7 +1,9 @@
-// The processes of one bake: Open MPI's ranks when the program was started by mpirun (and
-// built with MPI), else one process alone. The bake's data flow is a gather: every rank bakes
+// The processes of one MPI job: Open MPI's ranks when the program was started by mpirun (and
+// built with MPI), else one process alone. dpc-bake's data flow is a gather: every rank bakes
 // its share of the probes and sends each finished probe to rank 0, the only process that
-// touches the file (docs/bake.md says why a gather rather than parallel HDF5).
+// touches the file (docs/bake.md says why a gather rather than parallel HDF5). dpc-wave's is
+// a domain decomposition: every rank steps one slab of the wave grid and trades its edge
+// slices with its neighbours each step (wave/fdtd.h, docs/wave.md).
 // Main thread of each process only (MPI is initialised without thread support); allocates.
 // MPI errors are returned, not fatal (MPI_ERRORS_RETURN on MPI_COMM_WORLD): a failed call
 // throws std::runtime_error naming it, so rank 0 reports it in its own line. Open MPI's
@@ -15,11 +17,12 @@
 #include <cstddef>
 #include <memory>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "common/program_main.h"
 
-namespace dpc::bake {
+namespace dpc {
 
 class Cluster {
  public:
@@ -50,6 +53,15 @@ class Cluster {
   /// (never blocks: receives are posted and tested; the caller polls).
   std::optional<Message> receive(size_t floats);
 
+  /// Trades one slice with each neighbouring rank: sends toLower to rank - 1 and toUpper to
+  /// rank + 1, receives fromLower from rank - 1 and fromUpper from rank + 1 (each pair of
+  /// spans as long as the neighbour's; empty where there is no neighbour). Blocks until done;
+  /// every rank calls it.
+  void exchangeWithNeighbours(std::span<const float> toLower, std::span<float> fromLower,
+                              std::span<const float> toUpper, std::span<float> fromUpper);
+  /// Every rank's `data` becomes rank `owner`'s (MPI_Bcast). Every rank calls it.
+  void broadcast(std::span<float> data, int owner);
+
   /// Every rank but this one, with its pid when it runs on this process's host (0 otherwise),
   /// as rank 0's Watchdog watches them (apps/bake/watchdog.h). Empty without MPI.
   struct Peer {
@@ -74,13 +86,13 @@ class Cluster {
 bool builtWithMpi();
 
 /// Runs step() -> exit status on every rank of `cluster`; rank 0 prints an escaping exception
-/// as dpc's one error line (common/program_main.h), the other ranks stay silent (they meet the
-/// same input). A collective: true on every rank when step returned 0 on every rank.
+/// as `program`'s one error line (common/program_main.h), the other ranks stay silent (they
+/// meet the same input). A collective: true on every rank when step returned 0 on every rank.
 template <typename Step>
-bool together(Cluster& cluster, Step&& step) {
+bool together(Cluster& cluster, const char* program, Step&& step) {
   int status = 1;
   if (cluster.rank() == 0) {
-    status = runReportingErrors("dpc-bake", step);
+    status = runReportingErrors(program, step);
   } else {
     try {
       status = step();
@@ -91,4 +103,4 @@ bool together(Cluster& cluster, Step&& step) {
   return cluster.allOk(status == 0);
 }
 
-}  // namespace dpc::bake
+}  // namespace dpc

@@ -1,4 +1,4 @@
-#include "apps/bake/cluster.h"
+#include "apps/mpi/cluster.h"
 
 #include <unistd.h>
 
@@ -13,13 +13,16 @@
 #include <mpi.h>
 #endif
 
-namespace dpc::bake {
+namespace dpc {
 namespace {
 
 #ifdef DPC_HAVE_MPI
-/// Tags: the probe index travels in a first message, its floats in a second.
+/// Tags: the probe index travels in a first message, its floats in a second; a slice sent
+/// to the rank above, and one sent to the rank below.
 constexpr int kTagProbe = 1;
 constexpr int kTagData = 2;
+constexpr int kTagUp = 3;
+constexpr int kTagDown = 4;
 #endif
 
 bool startedByMpirun() {
@@ -152,13 +155,31 @@ std::optional<Cluster::Message> Cluster::receive(size_t floats) {
   return std::nullopt;
 }
 
+void Cluster::exchangeWithNeighbours(std::span<const float> toLower, std::span<float> fromLower,
+                                     std::span<const float> toUpper, std::span<float> fromUpper) {
+  if (!mpi_) return;
+  const int below = rank_ > 0 ? rank_ - 1 : MPI_PROC_NULL;
+  const int above = rank_ + 1 < size_ ? rank_ + 1 : MPI_PROC_NULL;
+  check(MPI_Sendrecv(toUpper.data(), int(toUpper.size()), MPI_FLOAT, above, kTagUp,
+                     fromLower.data(), int(fromLower.size()), MPI_FLOAT, below, kTagUp,
+                     MPI_COMM_WORLD, MPI_STATUS_IGNORE), "MPI_Sendrecv");
+  check(MPI_Sendrecv(toLower.data(), int(toLower.size()), MPI_FLOAT, below, kTagDown,
+                     fromUpper.data(), int(fromUpper.size()), MPI_FLOAT, above, kTagDown,
+                     MPI_COMM_WORLD, MPI_STATUS_IGNORE), "MPI_Sendrecv");
+}
+
+void Cluster::broadcast(std::span<float> data, int owner) {
+  if (!mpi_) return;
+  check(MPI_Bcast(data.data(), int(data.size()), MPI_FLOAT, owner, MPI_COMM_WORLD), "MPI_Bcast");
+}
+
 #else
 
 bool builtWithMpi() { return false; }
 
 Cluster::Cluster(int&, char**&) {
   if (startedByMpirun())
-    throw std::runtime_error("started by mpirun, but this dpc-bake was built without MPI");
+    throw std::runtime_error("started by mpirun, but this program was built without MPI");
 }
 struct Cluster::Pending {};
 struct Cluster::Incoming {};
@@ -167,7 +188,10 @@ bool Cluster::allOk(bool ok) const { return ok; }
 void Cluster::send(size_t, std::vector<float>) {}
 void Cluster::finishSends() {}
 std::optional<Cluster::Message> Cluster::receive(size_t) { return std::nullopt; }
+void Cluster::exchangeWithNeighbours(std::span<const float>, std::span<float>,
+                                     std::span<const float>, std::span<float>) {}
+void Cluster::broadcast(std::span<float>, int) {}
 
 #endif
 
-}  // namespace dpc::bake
+}  // namespace dpc

@@ -19,10 +19,14 @@ namespace dpc {
 
 /// One ray segment that crossed the listener sphere.
 struct PathHit {
+  /// surface of a hit whose path reflected nowhere (the direct sound).
+  static constexpr uint32_t kNoSurface = 0xFFFFFFFFu;
   uint64_t key = 0;          ///< path identifier hash K (engine/patch.h)
   Bands intensity{0.f};      ///< I(omega) = band energy * air attenuation / (pi R^2), 1/m^2
   float length = 0.f;        ///< r, path length to the listener, metres
   glm::vec3 direction{0.f};  ///< unit vector from the listener toward the arriving sound
+  /// The triangle (Geometry's numbering) the path reflected from last before the listener.
+  uint32_t surface = kNoSurface;
 };
 
 /// A frame's hits grouped by path identifier, in order of each key's first hit.

@@ -11,6 +11,7 @@
 // vectors grow past their high-water mark.
 #pragma once
 
+#include <tsl/robin_map.h>
 #include <tsl/robin_set.h>
 
 #include <cstdint>
@@ -19,6 +20,36 @@
 #include "engine/path_cache.h"
 
 namespace dpc {
+
+/// One frame's hit intensity per surface (the triangle each path reflected from last), summed
+/// over the hits an estimator groups, in order of each surface's first hit; 1/m^2 summed over
+/// the frame's hits (divide by the rays traced for the frame's estimate, as the energy
+/// response is). Propagation thread; grows, then keeps its capacity (clear() keeps it).
+class SurfaceTally {
+ public:
+  struct Surface {
+    uint32_t triangle;
+    Bands intensity;
+  };
+  void clear() {
+    index_.clear();
+    surfaces_.clear();
+  }
+  void add(uint32_t triangle, const Bands& intensity) {
+    const auto [it, added] = index_.try_emplace(triangle, uint32_t(surfaces_.size()));
+    if (added) surfaces_.push_back({triangle, Bands(0.f)});
+    surfaces_[it->second].intensity += intensity;
+  }
+  const std::vector<Surface>& surfaces() const { return surfaces_; }
+  /// Multiplies every surface's intensity by s (e.g. 1 / rays: the frame's estimate).
+  void scale(float s) {
+    for (Surface& f : surfaces_) f.intensity *= s;
+  }
+
+ private:
+  tsl::robin_map<uint32_t, uint32_t> index_;
+  std::vector<Surface> surfaces_;
+};
 
 class FrameHits {
  public:
@@ -41,9 +72,11 @@ class FrameHits {
 
   /// Adds, in ray order, every hit to `groups` except those an exact path replaces: an exact
   /// specular hit whose sequence is in `exactPaths` (the pair's SpecularPathCache::validKeys
-  /// of this frame), or every exact specular hit when exactPaths is null. Returns the hits
-  /// left out.
-  size_t groupInto(FrameGroups& groups, const tsl::robin_set<uint64_t>* exactPaths) const {
+  /// of this frame), or every exact specular hit when exactPaths is null. With `surfaces`,
+  /// also adds each hit grouped to its surface's tally (SurfaceTally). Returns the hits left
+  /// out.
+  size_t groupInto(FrameGroups& groups, const tsl::robin_set<uint64_t>* exactPaths,
+                   SurfaceTally* surfaces = nullptr) const {
     size_t replaced = 0;
     for (size_t i = 0; i < hits_.size(); ++i) {
       if (exact_[i] && (!exactPaths || exactPaths->contains(sequence_[i]))) {
@@ -51,6 +84,8 @@ class FrameHits {
         continue;
       }
       groups.add(hits_[i]);
+      if (surfaces && hits_[i].surface != PathHit::kNoSurface)
+        surfaces->add(hits_[i].surface, hits_[i].intensity);
     }
     return replaced;
   }

@@ -197,6 +197,8 @@ PathHit Propagator::makeHit(const TraceRequest& rq, const RayState& ray, uint32_
                           rq.fromListener);
   h.intensity = ray.energy * exp(airPerMetre_ * -r) * invArea;
   h.length = r;
+  if (ray.path.order > 0)
+    h.surface = rq.fromListener ? ray.path.firstTriangle : ray.path.lastTriangle;
   if (!rq.fromListener) {
     h.direction = -ray.dir;
     return h;

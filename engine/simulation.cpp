@@ -375,9 +375,12 @@ void Simulation::finishPair(size_t s, size_t l, const glm::vec3& source,
   if (specularScene_) updateSpecular(pair, source, listener, r);
   const auto t1 = std::chrono::steady_clock::now();
   r.energy.clear();
+  r.surfaces.clear();
   if (!skipped(s, l)) {
     groups.clear();
-    hits.groupInto(groups, specularScene_ ? &specularCaches_[pair]->validKeys() : nullptr);
+    hits.groupInto(groups, specularScene_ ? &specularCaches_[pair]->validKeys() : nullptr,
+                   recordSurfaces_ ? &r.surfaces : nullptr);
+    if (r.trace.rays > 0) r.surfaces.scale(1.f / float(r.trace.rays));
   }
   updateOrIdle(pair, groups, r, pairSink(pair, l));
   r.estimatorSeconds = secondsSince(t1);

@@ -38,6 +38,7 @@
 
 #include "engine/diffraction.h"
 #include "engine/energy_response.h"
+#include "engine/frame_hits.h"
 #include "engine/frame_inputs.h"
 #include "engine/geometry.h"
 #include "engine/path_cache.h"
@@ -96,6 +97,12 @@ class Simulation {
     size_t specularCacheEntries = 0;  ///< sequences the pair keeps across frames
     uint64_t specularOverflow = 0;    ///< cumulative: sequences refused by full tables
     double specularSeconds = 0.0;     ///< wall time of this pair's validation
+    /// With recordSurfaces(true): the frame's estimate per surface, Sum I / rays (1/m^2 per
+    /// band, the energy response's scale) of the hits the estimator took this frame, by the
+    /// triangle each path reflected from last (paths an exact path replaces are not in it);
+    /// summed over surfaces it is this frame's path-traced energy. Empty otherwise and for a
+    /// skipped pair.
+    SurfaceTally surfaces;
   };
 
   /// One frame (docs/design.md, "World state"): every source's rays traced once and tested
@@ -177,6 +184,9 @@ class Simulation {
   /// Empty while settings().exactOrder is 0. The reference stays valid, and the vector keeps
   /// its capacity (no allocation), until the next runFrame. Propagation thread.
   const std::vector<SpecularPath>& specularPaths(size_t source, size_t listener = 0) const;
+  /// Whether each pair's SourceResult::surfaces is recorded from the next frame on (off by
+  /// default: it costs a hash-map insertion per hit). Propagation thread, between frames.
+  void recordSurfaces(bool on) { recordSurfaces_ = on; }
   /// The static mesh's diffracting edges (EdgeDiffraction), or null when
   /// settings().diffraction is off. Any thread; fixed at construction.
   const EdgeDiffraction* diffraction() const { return diffraction_.get(); }
@@ -297,6 +307,7 @@ class Simulation {
   int shOrder_ = -1;                         ///< enableShEnergy's order (-1: off)
   double shBinSeconds_ = 0.01;
   PathTracingEstimator pathTracing_;
+  bool recordSurfaces_ = false;
   // Tracing from the sources: per listener, this source's hits, and the grouping scratch.
   std::vector<FrameHits> hits_;
   std::vector<FrameHits*> hitPtrs_;  ///< &hits_[l]

@@ -49,6 +49,7 @@ LiveSession::LiveSession(std::shared_ptr<const SceneDesc> scene,
     throw std::invalid_argument("LiveSession: lateBusToleranceDb " +
                                 std::to_string(options.lateBusToleranceDb) + " outside [0, 6]");
   propagation_->reuseLateBuses(options.lateBusToleranceDb);
+  propagation_->recordSurfaces(options.keepSurfaceEnergy);
   // A live listener moves, and the wave band holds one pose: no live play without an error.
   if (scene_->wave.enabled)
     throw InputError(scene_->path, "wave.enabled",

@@ -86,6 +86,9 @@ class LiveSession {
     /// responses, direct sounds, paths and world are still copied. A session that no one asks
     /// for IRs (a game's output, a plugin, a benchmark) turns it off.
     bool keepImpulseResponses = true;
+    /// Whether each frame's energy per surface is recorded and copied for readers
+    /// (Responses::surfaces, Simulation::recordSurfaces: a hash-map insertion per hit).
+    bool keepSurfaceEnergy = false;
   };
   /// Upper bound of Options::irSwapSpreadSeconds: beyond it a swap outlasts a frame.
   static constexpr double kMaxIrSwapSpreadSeconds = 0.1;

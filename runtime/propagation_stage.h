@@ -85,6 +85,9 @@ class PropagationStage {
     if (hybrid_) hybrid_->reuseLateBuses(toleranceDb);
   }
   const Simulation& simulation() const { return *simulation_; }
+  /// Simulation::recordSurfaces. Control thread before the first frame, or the propagation
+  /// thread between frames.
+  void recordSurfaces(bool on) { simulation_->recordSurfaces(on); }
   /// Plays the sources that stand at their baked positions from `bake` (runtime/
   /// baked_playback.h): interpolated late response, live direct sound. The bake must be of this
   /// stage's scene (bake/bake_loader.h checks); nullptr detaches it. Control thread, between

@@ -46,12 +46,14 @@ bool ResponseSnapshot::tryStore(const PropagationStage& stage, const WorldState&
   paths_.resize(sim.sourceCount());
   edges_.resize(sim.sourceCount());
   fromBake_.resize(sim.sourceCount());
+  surfaces_.resize(sim.sourceCount());
   for (size_t s = 0; s < sim.sourceCount(); ++s) {
     const Simulation::SourceResult& r = sim.result(s, listener);
     storeEnergy(stage, s, listener);
     direct_[s] = r.direct;
     paths_[s] = sim.specularPaths(s, listener);  // capacity reused: no allocation once grown
     edgesOf(sim, r, edges_[s]);
+    surfaces_[s] = r.surfaces.surfaces();  // capacity reused: no allocation once grown
     // The direct sound (with its diffraction) is computed apart from the estimator's bins.
     const double k = r.direct.delaySeconds / r.energy.binSeconds();
     if (k >= 0.0 && k < double(energy_[s].size())) energy_[s][size_t(k)] += r.direct.intensity;

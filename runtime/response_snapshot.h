@@ -29,6 +29,8 @@ class ResponseSnapshot {
   /// the bake's response interpolated at the listener (BakedPlayback::interpolate), the one its
   /// IR was synthesised from, plus the live direct sound; else the traced estimator's.
   /// In both, the exact early paths are not in energy (the synthesis adds them apart).
+  /// surfaces: the traced frame's energy per surface (Simulation::recordSurfaces; empty when
+  /// not recorded and for a pair played from the bake).
   struct Responses {
     const ImpulseResponse* ir;
     const std::vector<Bands>* energy;
@@ -39,6 +41,7 @@ class ResponseSnapshot {
     const WorldState* world;
     const std::vector<std::array<glm::vec3, 2>>* edges;
     bool fromBake;
+    const std::vector<SurfaceTally::Surface>* surfaces;
   };
 
   /// withIrs false: Responses::ir holds no channels (the session's
@@ -61,7 +64,8 @@ class ResponseSnapshot {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!valid_ || source >= irs_.size()) return false;
     f(Responses{&irs_[source], &energy_[source], binSeconds_, frame_, &direct_[source],
-                &paths_[source], &world_, &edges_[source], fromBake_[source] != 0});
+                &paths_[source], &world_, &edges_[source], fromBake_[source] != 0,
+                &surfaces_[source]});
     return true;
   }
 
@@ -78,6 +82,7 @@ class ResponseSnapshot {
   WorldState world_;
   std::vector<std::vector<std::array<glm::vec3, 2>>> edges_;  ///< [source][edge]: a, b
   std::vector<uint8_t> fromBake_;  ///< [source]: Responses::fromBake
+  std::vector<std::vector<SurfaceTally::Surface>> surfaces_;  ///< [source][surface]
   EnergyResponse bakeScratch_;     ///< a baked pair's interpolated response, reused
   double binSeconds_ = 0.0;
   uint64_t frame_ = 0;

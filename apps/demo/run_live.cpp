@@ -89,6 +89,7 @@ LiveSession::Options sessionOptions(const SceneDesc& scene, const Flags& fl,
   lo.deviceChannels = deviceChannels(scene.audio);
   lo.measureFftPlans = true;  // a live session's callbacks matter more than a second at start
   lo.keepImpulseResponses = fl.studio;  // only the studio page reads them
+  lo.keepSurfaceEnergy = fl.studio;     // its heat map
   if (fl.latencyTargetMs) lo.latencyTargetSeconds = *fl.latencyTargetMs * 1e-3;
   // --record streams to its file (memory does not grow with the session).
   if (!fl.record.empty()) {

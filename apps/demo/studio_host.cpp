@@ -1,10 +1,12 @@
 #include "apps/demo/studio_host.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 
+#include "apps/demo/overrides.h"
 #include "apps/demo/studio_bake.h"
 #include "apps/studio/studio_access.h"
 #include "apps/studio/studio_json.h"
@@ -18,8 +20,28 @@ std::string studioWebFolder() {
   return DPC_STUDIO_WEB_DIR;  // the build's copy (studio/CMakeLists.txt)
 }
 
+namespace {
+
+/// Triangles of the scene's geometry: the mesh's, then every object's.
+size_t triangleCount(const SceneDesc& scene) {
+  size_t n = scene.mesh.triangles.size();
+  for (const ObjectDesc& o : scene.objects) n += o.mesh.triangles.size();
+  return n;
+}
+
+/// Frames the DPC's window covers (SurfaceHeat's K): tau times the frame rate, 1 without reuse.
+double windowFrames(const SceneDesc& scene, const Flags& fl) {
+  const PropagationSettings s = applyOverrides(scene, fl);
+  if (s.estimator != Estimator::kDpc) return 1.0;
+  return std::max(1.0, double(s.cacheTau) * double(s.frameRate));
+}
+
+}  // namespace
+
 StudioHost::StudioHost(const SceneDesc& scene, const Flags& fl)
-    : scene_(scene), placedSources_(scene.sources.size()) {
+    : scene_(scene),
+      heat_(triangleCount(scene), windowFrames(scene, fl)),
+      placedSources_(scene.sources.size()) {
   // The bake does not change while dpc-demo runs: its maps are read and put in JSON once.
   if (!fl.bake.empty()) board_.setBake(studio::bakeJson(readStudioBake(fl.bake)));
   board_.setScene(studio::sceneJson(scene, fl.bake));
@@ -101,6 +123,9 @@ bool StudioHost::publish(LiveSession& session, const KeyboardMotion& motion,
     f->objects = r.world->objectPoses;
     f->sourceRotations = r.world->sourceRotations;
     f->edges = *r.edges;
+    if (f->source != heatSource_) heat_.reset();
+    heatSource_ = f->source;
+    if (!r.fromBake) heat_.add(*r.surfaces);
     if (ir) ir->ir.assignFrom(*r.ir);
   });
   if (!newer) {
@@ -126,6 +151,7 @@ bool StudioHost::publish(LiveSession& session, const KeyboardMotion& motion,
   for (size_t i = 0; i < scene_.sources.size(); ++i)
     f->sources.push_back(placedSources_[i].value_or(
         sourcePositionAt(scene_.sources[i], f->sceneSeconds)));
+  if (!f->fromBake) heat_.nonzero(f->surfaceTriangles, f->surfaceEnergy);
   addSessionFigures(session, figures);
   f->figures = figures;
   f->publishMicros =

@@ -12,6 +12,7 @@
 #include "apps/demo/flags.h"
 #include "apps/demo/keyboard_motion.h"
 #include "apps/studio/studio_board.h"
+#include "apps/studio/surface_heat.h"
 #include "apps/studio/studio_server.h"
 #include "runtime/live_session.h"
 
@@ -48,6 +49,8 @@ class StudioHost {
 
   const SceneDesc& scene_;
   studio::StudioBoard board_;
+  studio::SurfaceHeat heat_;
+  size_t heatSource_ = 0;  ///< the pair heat_ averages (a new selection resets it)
   std::unique_ptr<studio::StudioServer> server_;
   std::vector<std::optional<glm::vec3>> placedSources_;  ///< by the page, else the trajectory
   std::vector<std::shared_ptr<studio::StudioIr>> irs_;  ///< every IR buffer made (freeIr)

@@ -19,6 +19,7 @@ void serveOfflineStudio(const LoadedRun& run, const Flags& fl) {
   lo.listener = selectedListener(scene, fl);
   lo.deviceChannels = deviceChannels(scene.audio);
   lo.bake = run.bake;
+  lo.keepSurfaceEnergy = true;  // the heat map
   LiveSession session(run.scene, run.settings, run.dry, lo);
   KeyboardMotion motion(scene, session.playedListener());
   StudioHost studio(scene, fl);

@@ -59,6 +59,11 @@ struct StudioFrame {
   std::vector<glm::quat> sourceRotations;
   /// The diffracting edges (endpoints a, b, m) whose paths the pair's direct sound sums.
   std::vector<std::array<glm::vec3, 2>> edges;
+  /// The selected pair's energy per surface averaged over the DPC's window (SurfaceHeat):
+  /// the triangles holding some (the mesh's numbering, then each object's) and their energy
+  /// (1/m^2, mean over the octave bands). Empty for a pair played from the bake.
+  std::vector<uint32_t> surfaceTriangles;
+  std::vector<float> surfaceEnergy;
   StudioFigures figures;
   double publishMicros = 0.0;  ///< what building this frame cost the control loop, us
 };

@@ -153,6 +153,7 @@ std::string stateJson(const StudioFrame& f) {
               {"sourceRotations", rotations},
               {"direct", direct},
               {"edges", edges},
+              {"surfaces", {{"triangles", f.surfaceTriangles}, {"energy", f.surfaceEnergy}}},
               {"paths", pathsJson(f.paths)},
               {"figures", figuresJson(f.figures)},
               {"publishMicros", f.publishMicros}}

@@ -1,6 +1,7 @@
 // dpc studio's page: the scene in three.js, the listener and sources draggable, the state
 // polled from the server (GET /api/state every 150 ms, the response when its frame changes;
-// docs/studio.md "API"); with --bake, the probes and parameter maps (probes.js).
+// docs/studio.md "API"); the surfaces' heat map (heat.js); with --bake, the probes and
+// parameter maps (probes.js).
 // window.studio exposes what the browser test reads.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/OrbitControls.js';
@@ -8,6 +9,7 @@ import { analyse, decayTitle, drawDecay, fillParams, statusText, materialColour 
 import { drawIr, fillIacc } from './ir_panel.js';
 import { buildObjects, kLobeBand, lobe, meshGeometry, placeObjects, worldVertices } from './objects.js';
 import { showProbes } from './probes.js';
+import { heatMap } from './heat.js';
 
 const token = new URLSearchParams(location.search).get('token') || '';
 const headers = { 'X-Dpc-Token': token, 'Content-Type': 'application/json' };
@@ -15,7 +17,7 @@ const api = (path, body) =>
   fetch(path, body ? { method: 'POST', headers, body: JSON.stringify(body) } : { headers })
     .then((r) => (r.ok ? r.json() : Promise.reject(new Error(`${path}: HTTP ${r.status}`))));
 const studio = (window.studio = { ready: false, state: null, response: null, params: null, ir: null,
-                                  probes: null });
+                                  probes: null, heat: null });
 
 // The view: renderer, camera, orbit controls, light.
 const view = document.getElementById('view');
@@ -64,7 +66,7 @@ function marker(colour, radius, withNose) {
   scene3.add(g);
   return g;
 }
-let mesh, sourceMarkers = [], listenerMarkers = [], objectGroups = [];
+let mesh, sourceMarkers = [], listenerMarkers = [], objectGroups = [], paintHeat = () => {};
 const pathLines = new THREE.LineSegments(new THREE.BufferGeometry(),
                                          new THREE.LineBasicMaterial({ color: 0xffd060 }));
 const directLine = new THREE.Line(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: 0x60ff90 }));
@@ -168,6 +170,7 @@ async function poll() {
     m.children[0].material.color.set(i === st.played ? 0x7fb2ff : 0x3a5f99);
   });
   drawPaths(st);
+  paintHeat(st);
   document.getElementById('status').textContent = statusText(st);
   if (studio.response?.frame !== st.frame && performance.now() - responseAt > 250) {
     responseAt = performance.now();
@@ -227,6 +230,7 @@ async function start() {
   resize();
   mesh = buildMesh(sc);
   objectGroups = buildObjects(scene3, sc.objects);
+  paintHeat = heatMap({ sc, mesh, objectGroups, studio, THREE });
   sourceMarkers = sc.sources.map((s) => {
     const m = marker(0xe04040, 0.18, false), balloon = lobe(s.directivity[kLobeBand]);
     if (balloon) m.add(balloon);

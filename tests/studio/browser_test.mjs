@@ -4,7 +4,8 @@
 // are refused (403/404); the page loads with no console error and draws the scene; dragging
 // the listener with the mouse moves the engine's listener, whose direct sound follows 1/r^2;
 // the page's T30 per band equals dpc-analyze's on the same frame's energy response (labelled
-// traced); closing the page leaves the session running; with --bake, the probes and parameter
+// traced); the heat map draws each surface's energy per m^2 (heat_check.mjs); closing the page
+// leaves the session running; with --bake, the probes and parameter
 // maps equal the bake file's as h5py reads it, and with the listener on a probe the decay
 // panel's response is the bake's there (bake_check.mjs). Prints what it measured.
 // --live: the live clock through a JACK server already running (scripts/jack-headless.sh).
@@ -19,6 +20,7 @@ import { createRequire } from 'node:module';
 import path from 'node:path';
 import { checkBadBake, checkBake, checkBakedDecay, checkNoBake, makeBake } from './bake_check.mjs';
 import { checkEdges } from './edges_check.mjs';
+import { checkHeat } from './heat_check.mjs';
 import { checkDirectivity, checkMovingObjects } from './moving_check.mjs';
 
 const arg = (name) => { const i = process.argv.indexOf(name); return i > 0 ? process.argv[i + 1] : undefined; };
@@ -296,6 +298,7 @@ async function shoeboxChecks(browser, run) {
   await checkNoBake(page, (p) => rawGet(run.port, p, { 'X-Dpc-Token': run.token }));
   const law = await checkDistanceLaw(page);
   const t30 = await checkT30(page, run);
+  const heat = await checkHeat(page, (p) => rawGet(run.port, p, { 'X-Dpc-Token': run.token }));
   assert.equal(await page.evaluate(() => window.studio.response.origin), 'traced');
   assert.match(await page.$eval('#decay-title', (e) => e.textContent), /: traced$/);
   const ir = await checkIr(page, run);
@@ -313,6 +316,9 @@ async function shoeboxChecks(browser, run) {
               `IACC broadband early ${ir.iaccE.toFixed(4)} (dpc-analyze ${ir.refE.toFixed(4)}), late ` +
               `${ir.iaccL.toFixed(4)} (${ir.refL.toFixed(4)}), largest difference ${ir.iaccWorst}; onset ` +
               `${(1e3 * ir.onset).toFixed(3)} ms, direct sound ${(1e3 * ir.direct.delaySeconds).toFixed(3)} ms`);
+  console.log(`heat map frame ${heat.frame}: ${heat.withEnergy} of ${heat.triangles} triangles with energy, ` +
+              `densest ${heat.densest}, spread ${heat.spreadDb.toFixed(2)} dB; every ramp position equals the ` +
+              `energy per m^2 from /api/scene's areas, ends drawn as viridis's`);
   console.log(`T30 frame ${t30.frame}: page ${t30.t30.map((v) => v?.toFixed(4)).join(' ')}; ` +
               `dpc-analyze ${t30.ref.map((v) => v?.toFixed(4)).join(' ')}`);
 }

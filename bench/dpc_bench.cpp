@@ -2,7 +2,7 @@
 //
 //   dpc-bench propagation SCENE [--threads T] [--rays N] [--max-order D] [--frames F]
 //                               [--tracing from_sources|from_listeners]
-//                               [--no-roulette] [--tau S] [--warmup-frames W]
+//                               [--no-roulette] [--record-surfaces] [--tau S] [--warmup-frames W]
 //   dpc-bench noise SCENE [--rays N] [--frames F] [--tau S] [--walk-speed V]
 //                         [--reference-frames M] [--threads T] [--max-order D]
 //   dpc-bench dynamic [--rays N] [--frames F] [--parts step,objects,moving_source]
@@ -246,6 +246,8 @@ Subcommands addSubcommands(CLI::App& app, Options& o) {
   s.propagation =
       addSceneBench(app, "propagation", "Frame time and segments/s vs bare Embree", o.common);
   s.propagation->add_flag("--no-roulette", o.propagation.noRoulette, "Trace every ray to max order");
+  s.propagation->add_flag("--record-surfaces", o.propagation.recordSurfaces,
+                          "Record each frame's energy per surface (dpc studio's heat map)");
   s.propagation
       ->add_option("--warmup-frames", o.propagation.warmupFrames,
                    "Untimed frames first (cache growth, first-touch page faults; default 5)")

@@ -165,6 +165,7 @@ int benchPropagation(const CommonOptions& c, const PropagationOptions& o) {
   s.tracing = tracing;
   const glm::vec3 listener = listenerPositionAt(scene.listeners[0], 0.0);
   Simulation sim(scene, s);
+  sim.recordSurfaces(o.recordSurfaces);
   IrSynthesizer synth(scene.audio.sampleRate, s.irLength, roomVolume(scene.mesh), s.speedOfSound,
                       1);
   // The bare loops' rays leave where the full frame's do: the source, or the listener.
@@ -181,6 +182,7 @@ int benchPropagation(const CommonOptions& c, const PropagationOptions& o) {
   std::fprintf(stderr, "\r                      \r");
   Json j = report(c, s, sim, t, b);
   j["warmup_frames"] = o.warmupFrames;
+  j["record_surfaces"] = o.recordSurfaces;
   if (!warmup.frameMs.empty()) j["warmup_frame_ms"] = stats(warmup.frameMs);
   j["cache"] = cacheJson(sim.result(0));
   j["ir_synthesis_ms"] = stats(t.synthMs);

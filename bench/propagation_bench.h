@@ -9,6 +9,7 @@ namespace dpc::bench {
 /// `dpc-bench propagation`'s own options.
 struct PropagationOptions {
   bool noRoulette = false;  ///< every ray to max order
+  bool recordSurfaces = false;  ///< Simulation::recordSurfaces (dpc studio's heat map)
   Tracing tracing = Tracing::kFromSources;
   /// Frames run before timing: the first frames grow the cache (allocation, first-touch page
   /// faults) and would charge that one-off cost to the steady-state segments per second.

@@ -15,20 +15,19 @@ void edgesOf(const Simulation& sim, const Simulation::SourceResult& r,
 }  // namespace
 
 void ResponseSnapshot::storeEnergy(const PropagationStage& stage, size_t s, size_t listener) {
-  const EnergyResponse& traced = stage.simulation().result(s, listener).energy;
+  const Simulation::SourceResult& r = stage.simulation().result(s, listener);
   const BakedPlayback* baked = stage.bakedPlayback();
   fromBake_[s] = baked && baked->plays(s, listener) ? 1 : 0;
-  if (!fromBake_[s]) {
-    energy_[s] = traced.bins();
-    return;
-  }
-  // A pair played from the bake is not traced (its `traced` response stays empty): the
-  // response its IR was synthesised from is the bake's, interpolated again here (a weighted
-  // sum of at most maxProbes rows, as BakedPlayback::energy does). The copy assignments reuse
-  // the scratch's and energy_[s]'s capacity: no allocation once grown.
-  bakeScratch_ = traced;
-  baked->interpolate(s, listener, bakeScratch_);
-  energy_[s] = bakeScratch_.bins();
+  // The copy assignment reuses energy_[s]'s capacity: no allocation once grown.
+  energy_[s] = r.energy;
+  // A pair played from the bake is not traced (its response stays empty): the response its
+  // IR was synthesised from is the bake's, interpolated again here (a weighted sum of at most
+  // maxProbes rows, as BakedPlayback::energy does).
+  if (fromBake_[s]) baked->interpolate(s, listener, energy_[s]);
+  // The direct sound (with its diffraction) and the exact early paths are computed apart
+  // from the estimator's bins (and from the bake's, which leaves the stored paths out).
+  energy_[s].add(r.direct.delaySeconds, r.direct.intensity);
+  addSpecularPaths(stage.simulation().specularPaths(s, listener), energy_[s]);
 }
 
 bool ResponseSnapshot::tryStore(const PropagationStage& stage, const WorldState& world,
@@ -54,9 +53,6 @@ bool ResponseSnapshot::tryStore(const PropagationStage& stage, const WorldState&
     paths_[s] = sim.specularPaths(s, listener);  // capacity reused: no allocation once grown
     edgesOf(sim, r, edges_[s]);
     surfaces_[s] = r.surfaces.surfaces();  // capacity reused: no allocation once grown
-    // The direct sound (with its diffraction) is computed apart from the estimator's bins.
-    const double k = r.direct.delaySeconds / r.energy.binSeconds();
-    if (k >= 0.0 && k < double(energy_[s].size())) energy_[s][size_t(k)] += r.direct.intensity;
   }
   world_ = world;  // the vectors' capacity reused: no allocation once grown
   binSeconds_ = Simulation::kEnergyBinSeconds;

@@ -28,7 +28,8 @@ class ResponseSnapshot {
   /// fromBake: the pair was played from an attached bake this frame (not traced), so energy is
   /// the bake's response interpolated at the listener (BakedPlayback::interpolate), the one its
   /// IR was synthesised from, plus the live direct sound; else the traced estimator's.
-  /// In both, the exact early paths are not in energy (the synthesis adds them apart).
+  /// In both, energy also holds the exact early paths in their bins (as --er-out writes
+  /// them): the whole response the IR is synthesised from.
   /// surfaces: the traced frame's energy per surface (Simulation::recordSurfaces; empty when
   /// not recorded and for a pair played from the bake).
   struct Responses {
@@ -63,7 +64,7 @@ class ResponseSnapshot {
   bool read(size_t source, F&& f) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!valid_ || source >= irs_.size()) return false;
-    f(Responses{&irs_[source], &energy_[source], binSeconds_, frame_, &direct_[source],
+    f(Responses{&irs_[source], &energy_[source].bins(), binSeconds_, frame_, &direct_[source],
                 &paths_[source], &world_, &edges_[source], fromBake_[source] != 0,
                 &surfaces_[source]});
     return true;
@@ -71,19 +72,19 @@ class ResponseSnapshot {
 
  private:
   /// Source s's energy response for listener into energy_[s] and fromBake_[s]: the bake's
-  /// interpolated one when the pair played from it this frame, else the traced one.
+  /// interpolated one when the pair played from it this frame, else the traced one; with the
+  /// direct sound and the exact early paths added.
   void storeEnergy(const PropagationStage& stage, size_t s, size_t listener);
 
   std::mutex mutex_;
   std::vector<ImpulseResponse> irs_;        ///< [source]
-  std::vector<std::vector<Bands>> energy_;            ///< [source][bin]
+  std::vector<EnergyResponse> energy_;                ///< [source]
   std::vector<DirectSound> direct_;                   ///< [source]
   std::vector<std::vector<SpecularPath>> paths_;      ///< [source][path]
   WorldState world_;
   std::vector<std::vector<std::array<glm::vec3, 2>>> edges_;  ///< [source][edge]: a, b
   std::vector<uint8_t> fromBake_;  ///< [source]: Responses::fromBake
   std::vector<std::vector<SurfaceTally::Surface>> surfaces_;  ///< [source][surface]
-  EnergyResponse bakeScratch_;     ///< a baked pair's interpolated response, reused
   double binSeconds_ = 0.0;
   uint64_t frame_ = 0;
   bool valid_ = false;

@@ -375,9 +375,10 @@ DPC_API dpc_status dpc_engine_copy_impulse_response(dpc_engine* engine, int sour
 /** As dpc_engine_copy_impulse_response, for the energy response of `source` behind it: bin k
  *  holds the intensity arriving with a delay in [k, k+1) * *bin_seconds (1 ms), per octave
  *  band, relative to the source's emitted power, in 1/m^2 (a direct sound at distance r adds
- *  1/(4 pi r^2) before air absorption); direct sound and reflections together. A source
+ *  1/(4 pi r^2) before air absorption); direct sound, exact early specular paths (exact_order)
+ *  and the estimated reflections together, each in the bin of its delay. A source
  *  played from an attached bake (dpc_engine_attach_bake) gives the bake's response
- *  interpolated at the listener plus the live direct sound, the response its IR is
+ *  interpolated at the listener plus the live direct sound and exact paths, the response its IR is
  *  synthesised from (it is not traced). out receives bin-major data out[k * DPC_BANDS + b] for
  *  min(capacity_bins, *bins) bins. */
 DPC_API dpc_status dpc_engine_copy_energy_response(dpc_engine* engine, int source, float* out,

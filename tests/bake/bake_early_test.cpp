@@ -68,9 +68,9 @@ std::vector<float> readDataset(const std::string& path, const char* name) {
 }
 
 /// What a pair played from the bake hears at the listener: the snapshot's energy (the loaded
-/// late response interpolated at the listener, plus the live direct sound) plus the live
-/// exact paths in the bins of their delays, per band summed over [0, seconds); and the number
-/// of live paths.
+/// late response interpolated at the listener, plus the live direct sound and the live exact
+/// paths in the bins of their delays), per band summed over [0, seconds); and the number of
+/// live paths.
 struct Played {
   Bands early{0.f};
   Bands exact{0.f};   ///< the live exact paths alone, in the window
@@ -102,7 +102,6 @@ Played playAt(const SceneDesc& scene, const std::string& bake, glm::vec3 listene
       out.exact += p.intensity;
       if (i >= kEarlyPaths) out.beyond += p.intensity;
     }
-    out.early += out.exact;
     if (r.direct->visible && double(size_t(r.direct->delaySeconds / 1e-3)) * 1e-3 < seconds)
       out.direct = r.direct->intensity;
     out.paths = r.paths->size();

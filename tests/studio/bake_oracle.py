@@ -15,7 +15,7 @@ at that probe, as docs/bake-format.md ("Reading a bake", the late response) and 
 define it: `energy` with the direct sound (`direct/`) taken out of the bin of its arrival
 (bin floor(delay / 1 ms)), then every exact early path taken out (`early/energy`, bin by bin),
 each clamped at 0, in float32, then the direct sound added back into its bin (the studio's
-response carries it; the exact paths it leaves out, as for a traced pair):
+response carries it; the exact paths, which the player adds live, are not in it):
 
   {"response": [[8 floats] per 1 ms bin], "directBin": k, "direct": [8 floats],
    "directDelay": s, "earlyCount": n, "earlyFound": n}

@@ -376,7 +376,7 @@ async function bakeChecks(page, run, bake) {
               `${range(b.sti, '')}, ends drawn as viridis's; mouse on probe ${b.hover.probe}: "${b.hover.text}"`);
   const list = (v, n) => v.map((x) => (x === null ? 'NaN' : x.toFixed(n))).join(' ');
   console.log(`bake decay: listener on probe ${d.probe} (${d.distance.toFixed(3)} m from the talker), frame ` +
-              `${d.frame}: /api/response equals the file's (h5py) in every bin, the direct sound's bin within ` +
+              `${d.frame}: /api/response equals the file's (h5py) in every bin, the bins of the live direct sound and exact paths (the file's plus those paths) within ` +
               `${d.directWorst.toExponential(2)} relative; early paths stored ${d.earlyCount} of ${d.earlyFound} found; ` +
               `D50 ${list(d.d50, 3)}; T30 page ${list(d.t30, 4)}, dpc-analyze on /api/energy.csv ` +
               `${list(t30.ref, 4)}, the bake's own parameters ${list(d.fileT30, 4)}`);

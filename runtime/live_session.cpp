@@ -36,7 +36,9 @@ LiveSession::LiveSession(std::shared_ptr<const SceneDesc> scene,
       propagation_(std::make_unique<PropagationStage>(
           scene_, settings,
           options.measureFftPlans ? audio::ConvolverLayout::Planning::kMeasure
-                                  : audio::ConvolverLayout::Planning::kEstimate)),
+                                  : audio::ConvolverLayout::Planning::kEstimate,
+          options.quickFirstIr ? IrSynthesizer::Build::kFirstIr
+                               : IrSynthesizer::Build::kComplete)),
       exchange_(propagation_->makeExchange(1, std::max(3, options.poolSize))),
       audioStage_(std::make_unique<AudioStage>(*propagation_, std::move(dry), *exchange_)),
       poses_(scene_, checkedListener(*scene_, options.listener)),
@@ -116,12 +118,14 @@ bool LiveSession::attachBake(std::shared_ptr<const BakedField> bake) {
 
 bool LiveSession::step() {
   if (running_.load()) return false;
+  propagation_->completeSynthesis();  // a stepped session's IRs as a complete build's
   runFrame(settings().raysPerFrame);
   return true;
 }
 
 bool LiveSession::stepAdaptive(double frameSeconds) {
   if (running_.load()) return false;
+  propagation_->completeSynthesis();
   runFrame(adaptiveRays_.rays());
   adaptiveRays_.update(frameSeconds);
   return true;
@@ -195,6 +199,9 @@ void LiveSession::propagationLoop() {
                      : first               ? adaptiveRays_.floor()
                                            : adaptiveRays_.rays();
     runFrame(rays);
+    // The first IR is on its way to the device: now what the following IRs need
+    // (Options::quickFirstIr), outside the controller's frame time.
+    if (first) propagation_->completeSynthesis();
     // The whole frame, snapshot included: what must fit in the period; and its pose's age when
     // the IR was ready plus one block (the audio thread picks it up at its next block): the
     // motion-to-sound latency it will have. The short first frame says nothing about the

@@ -86,6 +86,12 @@ class LiveSession {
     /// responses, direct sounds, paths and world are still copied. A session that no one asks
     /// for IRs (a game's output, a plugin, a benchmark) turns it off.
     bool keepImpulseResponses = true;
+    /// The mono IR synthesisers are built with what the first IR needs
+    /// (IrSynthesizer::Build::kFirstIr) and completed right after the first frame (propagation
+    /// thread, before the second frame) or before the first step(): the first sound comes
+    /// sooner, its IR an unlevelled realisation of the same responses, and every later IR is
+    /// the same bits as with false (docs/live.md "Time to first sound").
+    bool quickFirstIr = true;
   };
   /// Upper bound of Options::irSwapSpreadSeconds: beyond it a swap outlasts a frame.
   static constexpr double kMaxIrSwapSpreadSeconds = 0.1;

@@ -201,7 +201,11 @@ void LiveSession::propagationLoop() {
     runFrame(rays);
     // The first IR is on its way to the device: now what the following IRs need
     // (Options::quickFirstIr), outside the controller's frame time.
-    if (first) propagation_->completeSynthesis();
+    if (first && !propagation_->synthesisCompleted()) {
+      const auto completing = std::chrono::steady_clock::now();
+      propagation_->completeSynthesis();
+      counters_.synthesisCompleted(secondsSince(completing));
+    }
     // The whole frame, snapshot included: what must fit in the period; and its pose's age when
     // the IR was ready plus one block (the audio thread picks it up at its next block): the
     // motion-to-sound latency it will have. The short first frame says nothing about the

@@ -34,8 +34,9 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
   std::fill(fft.time.p, fft.time.p + fft.n, 0.f);
   std::copy(seq.begin(), seq.end(), fft.time.p);
   fftwf_execute(fft.fwd);
-  const OctaveBandMasks masks(sampleRate, fft.n);
   const bool share = sharesWith(shareWith);
+  masks_ = share ? shareWith->masks_ : std::make_shared<const OctaveBandMasks>(sampleRate, fft.n);
+  const OctaveBandMasks& masks = *masks_;
   filterData_ = share ? shareWith->filterData_ : BandFilterData::compute(masks, fft.n);
   bands_ = std::make_unique<TiltedBands>(sampleRate, length_, seq, masks, fft,
                                          shareWith ? shareWith->bands_.get() : nullptr,

@@ -82,11 +82,10 @@ class IrSynthesizer {
 
   /// sampleRate in Hz; lengthSeconds of the IR; roomVolume in m^3 (density law: roomVolume()
   /// of the scene's mesh, engine/room_volume.h); speedOfSound m/s; seed for the Dirac sequence.
-  /// shareWith: a synthesiser of the same rate, length, volume and c whose direct-sound filters,
-  /// tilted-band buffers and clean-up workspace this one uses too (they hold nothing between
-  /// frames; hybrid
-  /// rendering's many early synthesisers share one set); both must then synthesise on one
-  /// thread, one at a time. nullptr: its own.
+  /// shareWith: a synthesiser of the same rate, length, volume and c whose octave masks and
+  /// direct-sound filters (read only), tilted-band buffers and clean-up workspace this one uses
+  /// too (they hold nothing between frames; hybrid rendering's many early synthesisers share
+  /// one set); both must then synthesise on one thread, one at a time. nullptr: its own.
   IrSynthesizer(int sampleRate, double lengthSeconds, double roomVolume, double speedOfSound,
                 uint64_t seed, const IrSynthesizer* shareWith = nullptr,
                 Build build = Build::kComplete);
@@ -151,6 +150,8 @@ class IrSynthesizer {
 
   int sampleRate_;
   size_t length_;
+  /// The octave masks on the band signals' FFT bins (shared like the filter data).
+  std::shared_ptr<const OctaveBandMasks> masks_;
   BandFilterData filterData_;
   std::unique_ptr<TiltedBands> bands_;
   std::shared_ptr<const DirectSoundFilter> direct_;

@@ -147,6 +147,8 @@ int benchLive(const CommonOptions& c, const LiveOptions& o) {
   const double completion = session.status().synthesisCompletionSeconds;
   j["time_to_first_sound_s"]["synthesis_completion_after_first_frame"] =
       std::isnan(completion) ? Json(nullptr) : Json(completion);
+  // Measured from wisdom, or measured after the first frame within the run.
+  j["fft_plans_measured"] = session.fftPlansMeasured();
   j["note"] =
       "latency: pose published by the control thread -> first block rendered with an "
       "IR computed for that pose; render time: LiveSession::render per block, % of the "

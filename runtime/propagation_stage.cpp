@@ -102,6 +102,15 @@ void PropagationStage::completeSynthesis() {
   if (hybrid_) hybrid_->complete();
 }
 
+bool PropagationStage::fftPlansMeasured() const {
+  return layout_->plansMeasured() && (!lateLayout_ || lateLayout_->plansMeasured());
+}
+
+void PropagationStage::measureFftPlans() const {
+  layout_->measurePlans();
+  if (lateLayout_) lateLayout_->measurePlans();
+}
+
 SpatialIrSynthesizer::ParallelFor PropagationStage::onTracingThreads() {
   // The synthesis runs between frames, when the tracing threads are idle.
   Propagator& p = simulation_->propagator();

@@ -54,6 +54,12 @@ class PropagationStage {
   /// cannot plan.
   void completeSynthesis();
   bool synthesisCompleted() const;
+  /// The convolver layouts' (layout(), lateLayout()) NonUniformLayout::plansMeasured() and
+  /// measurePlans(): for Planning::kMeasureLater, any thread but the audio thread, while
+  /// frames run (the sets' partitions and the convolvers take the measured plans as they are
+  /// swapped in).
+  bool fftPlansMeasured() const;
+  void measureFftPlans() const;
 
   /// The exchange that carries this stage's IR sets to `channels` audio stages: baseSets sets
   /// plus two per partition level beyond the first (a slow level keeps its old and new set

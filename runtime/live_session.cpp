@@ -232,6 +232,7 @@ void LiveSession::afterFirstFrame() {
   if (!options_.measureFftPlans || propagation_->fftPlansMeasured() || plannerThread_.joinable())
     return;
   plannerThread_ = std::thread([this] {
+    audio::rt::setThreadRole(audio::rt::ThreadRole::kWorker);
     try {
       propagation_->measureFftPlans();
     } catch (const std::exception&) {

@@ -8,6 +8,8 @@
 //   audio thread       render(): through the callback adapter, pops at most the newest IrSet
 //                      per block (older ones go straight back), convolves and crossfades,
 //                      mixes, limits, counts problems in relaxed atomics, feeds the recorder
+//   planner thread     only with Options::measureFftPlans and no FFTW wisdom for the plans:
+//                      measures the convolvers' plans once after the first frame
 //
 // It composes single-purpose parts: HostPoses (poses and world assembly), PropagationStage and
 // AudioStage, two FixedRing<IrSet*> hand-over rings, CallbackAdapter (host block sizes),

@@ -134,8 +134,8 @@ ConvolverLayout::ConvolverLayout(int blockSize, size_t maxIrSamples, Planning pl
   std::lock_guard lock(fftwPlannerMutex());
   void *fwd = nullptr, *inv = nullptr;
   if (planning != Planning::kEstimate) importFftwWisdomOnce();
-  bool measured = planning == Planning::kMeasureLater &&
-                  makePlans(FFTW_MEASURE | FFTW_WISDOM_ONLY, fwd, inv);
+  bool measured =
+      planning == Planning::kMeasureLater && makePlans(FFTW_MEASURE | FFTW_WISDOM_ONLY, fwd, inv);
   if (!measured) {
     measured = planning == Planning::kMeasure;
     if (!makePlans(measured ? FFTW_MEASURE : FFTW_ESTIMATE, fwd, inv))
@@ -195,14 +195,12 @@ ConvolverLayout::~ConvolverLayout() {
 void ConvolverLayout::forward(const float* time, float* spectrum) const {
   // FFTW's r2c does not write its input for out-of-place transforms; the signature is not const.
   fftwf_execute_split_dft_r2c(static_cast<fftwf_plan>(forwardPlan_.load(std::memory_order_acquire)),
-                              const_cast<float*>(time),
-                              spectrum, spectrum + binStride_);
+                              const_cast<float*>(time), spectrum, spectrum + binStride_);
 }
 
 void ConvolverLayout::inverse(float* spectrum, float* time) const {
   fftwf_execute_split_dft_c2r(static_cast<fftwf_plan>(inversePlan_.load(std::memory_order_acquire)),
-                              spectrum,
-                              spectrum + binStride_, time);
+                              spectrum, spectrum + binStride_, time);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -84,10 +84,10 @@ void HybridSynthesis::buildMono(const SceneDesc& scene, const PropagationSetting
   lateMono_.resize(size_t(buses_));
   const auto group = [&](size_t w) {
     for (size_t s = w; s < S; s += W)
-      earlyMono_[s] = std::make_unique<IrSynthesizer>(
-          fs, earlySeconds, roomVolume, settings.speedOfSound,
-          hashCombine(settings.seed, 0x5bd1e995ULL + s), s < W ? nullptr : earlyMono_[s % W].get(),
-          build);
+      earlyMono_[s] =
+          std::make_unique<IrSynthesizer>(fs, earlySeconds, roomVolume, settings.speedOfSound,
+                                          hashCombine(settings.seed, 0x5bd1e995ULL + s),
+                                          s < W ? nullptr : earlyMono_[s % W].get(), build);
   };
   const auto late = [&] {
     for (size_t k = 0; k < lateMono_.size(); ++k)
@@ -135,7 +135,8 @@ void HybridSynthesis::complete() {
   const size_t S = earlyMono_.size(), W = workers_.size();
   // The order of construction: each group's first synthesiser before those sharing with it.
   const auto group = [&](size_t w) {
-    for (size_t s = w; s < S; s += W) earlyMono_[s]->complete(s < W ? nullptr : earlyMono_[s % W].get());
+    for (size_t s = w; s < S; s += W)
+      earlyMono_[s]->complete(s < W ? nullptr : earlyMono_[s % W].get());
   };
   const auto late = [&] {
     for (size_t k = 0; k < lateMono_.size(); ++k)

@@ -37,8 +37,7 @@ LiveSession::LiveSession(std::shared_ptr<const SceneDesc> scene,
           scene_, settings,
           options.measureFftPlans ? audio::ConvolverLayout::Planning::kMeasureLater
                                   : audio::ConvolverLayout::Planning::kEstimate,
-          options.quickFirstIr ? IrSynthesizer::Build::kFirstIr
-                               : IrSynthesizer::Build::kComplete)),
+          options.quickFirstIr ? IrSynthesizer::Build::kFirstIr : IrSynthesizer::Build::kComplete)),
       exchange_(propagation_->makeExchange(1, std::max(3, options.poolSize))),
       audioStage_(std::make_unique<AudioStage>(*propagation_, std::move(dry), *exchange_)),
       poses_(scene_, checkedListener(*scene_, options.listener)),

@@ -38,11 +38,10 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
   masks_ = share ? shareWith->masks_ : std::make_shared<const OctaveBandMasks>(sampleRate, fft.n);
   const OctaveBandMasks& masks = *masks_;
   filterData_ = share ? shareWith->filterData_ : BandFilterData::compute(masks, fft.n);
-  bands_ = std::make_unique<TiltedBands>(sampleRate, length_, seq, masks, fft,
-                                         shareWith ? shareWith->bands_.get() : nullptr,
-                                         build == Build::kComplete
-                                             ? TiltedBands::Levelling::kAtConstruction
-                                             : TiltedBands::Levelling::kDeferred);
+  bands_ = std::make_unique<TiltedBands>(
+      sampleRate, length_, seq, masks, fft, shareWith ? shareWith->bands_.get() : nullptr,
+      build == Build::kComplete ? TiltedBands::Levelling::kAtConstruction
+                                : TiltedBands::Levelling::kDeferred);
   if (share) {
     direct_ = shareWith->direct_;
     leveller_ = shareWith->leveller_;
@@ -60,7 +59,7 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
       measureLowBands(fft, masks, length_, TiltedBands::kLevelledFromBand));
   arrivals_.reserve(kReservedArrivals);
   if (build == Build::kComplete)
-    windowLeveller_ = share ? shareWith->windowLeveller_ : makeWindowLeveller();
+    takeWindowLeveller(shareWith);
   else
     sequence_ = std::move(seq);
 }
@@ -69,9 +68,11 @@ size_t IrSynthesizer::bandFftSize() const {
   return nextPow2(length_ + bandFilterTaps(sampleRate_));
 }
 
-std::shared_ptr<WindowLeveller> IrSynthesizer::makeWindowLeveller() const {
-  return std::make_shared<WindowLeveller>(sampleRate_, length_, kFirstLevelledBand,
-                                          kLastLevelledBand);
+void IrSynthesizer::takeWindowLeveller(const IrSynthesizer* shareWith) {
+  windowLeveller_ = sharesWith(shareWith) && shareWith->windowLeveller_
+                        ? shareWith->windowLeveller_
+                        : std::make_shared<WindowLeveller>(sampleRate_, length_, kFirstLevelledBand,
+                                                           kLastLevelledBand);
 }
 
 bool IrSynthesizer::completed() const {
@@ -82,9 +83,7 @@ void IrSynthesizer::complete(const IrSynthesizer* shareWith) {
   if (completed()) return;
   FftwRealTransforms fft(bandFftSize());
   bands_->level(sequence_, fft);
-  windowLeveller_ = sharesWith(shareWith) && shareWith->windowLeveller_
-                        ? shareWith->windowLeveller_
-                        : makeWindowLeveller();
+  takeWindowLeveller(shareWith);
   sequence_ = std::vector<float>();
 }
 

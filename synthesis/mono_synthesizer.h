@@ -144,7 +144,8 @@ class IrSynthesizer {
   bool sharesWith(const IrSynthesizer* other) const {
     return other && other->sampleRate_ == sampleRate_ && other->length_ == length_;
   }
-  std::shared_ptr<WindowLeveller> makeWindowLeveller() const;
+  /// windowLeveller_ <- shareWith's when it fits and has one, else a new one.
+  void takeWindowLeveller(const IrSynthesizer* shareWith);
   /// The FFT size of the band signals (the IR plus the band filters' reach).
   size_t bandFftSize() const;
 

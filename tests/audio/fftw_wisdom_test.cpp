@@ -4,10 +4,10 @@
 // cannot be written costs nothing but the saving.
 #include <fftw3.h>
 
-#include <catch2/catch.hpp>
-#include <cstdlib>
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <mutex>
 #include <vector>

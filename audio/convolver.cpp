@@ -129,51 +129,78 @@ ConvolverLayout::ConvolverLayout(int blockSize, size_t maxIrSamples, Planning pl
   numPartitions_ = int(partitions);
   binStride_ = (size_t(blockSize) + 1 + kLanes - 1) / kLanes * kLanes;
 
-  const int n = 2 * blockSize;
+  // Measured plans come from the wisdom of earlier runs when it holds them (instant), and
+  // what a run measures is kept for the next (common/fftw_wisdom.h).
+  std::lock_guard lock(fftwPlannerMutex());
+  void *fwd = nullptr, *inv = nullptr;
+  if (planning != Planning::kEstimate) importFftwWisdomOnce();
+  bool measured =
+      planning == Planning::kMeasureLater && makePlans(FFTW_MEASURE | FFTW_WISDOM_ONLY, fwd, inv);
+  if (!measured) {
+    measured = planning == Planning::kMeasure;
+    if (!makePlans(measured ? FFTW_MEASURE : FFTW_ESTIMATE, fwd, inv))
+      throw std::runtime_error("ConvolverLayout: FFTW could not plan a " +
+                               std::to_string(2 * blockSize) + "-point split real transform");
+    if (measured) exportFftwWisdom();
+  }
+  forwardPlan_.store(fwd, std::memory_order_release);
+  inversePlan_.store(inv, std::memory_order_release);
+  measured_.store(measured, std::memory_order_release);
+}
+
+bool ConvolverLayout::makePlans(unsigned flags, void*& fwd, void*& inv) const {
+  const int n = 2 * blockSize_;
   detail::FftwBuffer time = allocZeroed(size_t(n));
   // Split spectrum: imaginary parts binStride_ after the real parts. FFTW's new-array execute
-  // requires every later array pair to keep this separation.
+  // requires every later array pair to keep this separation (and the buffers' alignment).
   detail::FftwBuffer spectrum = allocZeroed(2 * binStride_);
   float* re = spectrum.get();
   float* im = re + binStride_;
-  const unsigned flags = planning == Planning::kMeasure ? FFTW_MEASURE : FFTW_ESTIMATE;
   fftwf_iodim dim{n, 1, 1};
-  {
-    std::lock_guard lock(fftwPlannerMutex());
-    // Measured plans come from the wisdom of earlier runs when it holds them (instant), and
-    // what this run measures is kept for the next (common/fftw_wisdom.h).
-    if (planning == Planning::kMeasure) importFftwWisdomOnce();
-    fftwf_plan fwd = fftwf_plan_guru_split_dft_r2c(1, &dim, 0, nullptr, time.get(), re, im, flags);
-    // c2r: input (re, im) is destroyed, which the convolver allows (it is scratch).
-    fftwf_plan inv = fftwf_plan_guru_split_dft_c2r(1, &dim, 0, nullptr, re, im, time.get(),
-                                                   flags | FFTW_DESTROY_INPUT);
-    if (!fwd || !inv) {
-      if (fwd) fftwf_destroy_plan(fwd);
-      if (inv) fftwf_destroy_plan(inv);
-      throw std::runtime_error("ConvolverLayout: FFTW could not plan a " + std::to_string(n) +
-                               "-point split real transform");
-    }
-    forwardPlan_ = fwd;
-    inversePlan_ = inv;
-    if (planning == Planning::kMeasure) exportFftwWisdom();
+  fftwf_plan f = fftwf_plan_guru_split_dft_r2c(1, &dim, 0, nullptr, time.get(), re, im, flags);
+  // c2r: input (re, im) is destroyed, which the convolver allows (it is scratch).
+  fftwf_plan i = fftwf_plan_guru_split_dft_c2r(1, &dim, 0, nullptr, re, im, time.get(),
+                                               flags | FFTW_DESTROY_INPUT);
+  if (!f || !i) {
+    if (f) fftwf_destroy_plan(f);
+    if (i) fftwf_destroy_plan(i);
+    return false;
   }
+  fwd = f;
+  inv = i;
+  return true;
+}
+
+void ConvolverLayout::measurePlans() const {
+  std::lock_guard lock(fftwPlannerMutex());
+  if (measured_.load(std::memory_order_relaxed)) return;
+  void *fwd = nullptr, *inv = nullptr;
+  if (!makePlans(FFTW_MEASURE, fwd, inv))
+    throw std::runtime_error("ConvolverLayout: FFTW could not measure a " +
+                             std::to_string(2 * blockSize_) + "-point split real transform");
+  exportFftwWisdom();
+  replacedPlans_[0] = forwardPlan_.exchange(fwd, std::memory_order_acq_rel);
+  replacedPlans_[1] = inversePlan_.exchange(inv, std::memory_order_acq_rel);
+  measured_.store(true, std::memory_order_release);
 }
 
 ConvolverLayout::~ConvolverLayout() {
   std::lock_guard lock(fftwPlannerMutex());
-  fftwf_destroy_plan(static_cast<fftwf_plan>(forwardPlan_));
-  fftwf_destroy_plan(static_cast<fftwf_plan>(inversePlan_));
+  fftwf_destroy_plan(static_cast<fftwf_plan>(forwardPlan_.load()));
+  fftwf_destroy_plan(static_cast<fftwf_plan>(inversePlan_.load()));
+  for (void* p : replacedPlans_)
+    if (p) fftwf_destroy_plan(static_cast<fftwf_plan>(p));
 }
 
 void ConvolverLayout::forward(const float* time, float* spectrum) const {
   // FFTW's r2c does not write its input for out-of-place transforms; the signature is not const.
-  fftwf_execute_split_dft_r2c(static_cast<fftwf_plan>(forwardPlan_), const_cast<float*>(time),
-                              spectrum, spectrum + binStride_);
+  fftwf_execute_split_dft_r2c(static_cast<fftwf_plan>(forwardPlan_.load(std::memory_order_acquire)),
+                              const_cast<float*>(time), spectrum, spectrum + binStride_);
 }
 
 void ConvolverLayout::inverse(float* spectrum, float* time) const {
-  fftwf_execute_split_dft_c2r(static_cast<fftwf_plan>(inversePlan_), spectrum,
-                              spectrum + binStride_, time);
+  fftwf_execute_split_dft_c2r(static_cast<fftwf_plan>(inversePlan_.load(std::memory_order_acquire)),
+                              spectrum, spectrum + binStride_, time);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -25,6 +25,7 @@
 // PartitionedConvolver::process (audio thread) may run concurrently on one layout.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <memory>
 #include <vector>
@@ -71,6 +72,10 @@ class ConvolverLayout {
     /// FFTW_MEASURE: times candidate algorithms once (slow to create; for long-lived layouts,
     /// benchmarks).
     kMeasure,
+    /// FFTW_MEASURE plans when the wisdom of earlier runs holds them (common/fftw_wisdom.h:
+    /// made at once), else FFTW_ESTIMATE plans now and the measured ones by measurePlans()
+    /// later (a live session's first sound need not wait for the planner).
+    kMeasureLater,
   };
 
   /// blockSize B > 0 samples (any integer, not only powers of two); maxIrSamples > 0, the
@@ -81,6 +86,17 @@ class ConvolverLayout {
   ConvolverLayout(int blockSize, size_t maxIrSamples, Planning planning = Planning::kEstimate);
   /// Control/propagation thread (destroys FFTW plans).
   ~ConvolverLayout();
+
+  /// Whether forward() and inverse() run measured plans (kMeasure, or kMeasureLater once
+  /// measured or made from wisdom). Any thread; no allocation.
+  bool plansMeasured() const { return measured_.load(std::memory_order_acquire); }
+  /// kMeasureLater: makes the measured plans (seconds, holding fftwPlannerMutex()), keeps them
+  /// as wisdom and swaps them in: forward() and inverse() calls that start after it run them
+  /// (the same transforms but for float rounding). The plans they replace live until the
+  /// layout is destroyed (a thread may still be executing them). Nothing when measured
+  /// already. Any thread but the audio thread; allocates; throws std::runtime_error when FFTW
+  /// cannot plan (the estimated plans stay).
+  void measurePlans() const;
   ConvolverLayout(const ConvolverLayout&) = delete;
   ConvolverLayout& operator=(const ConvolverLayout&) = delete;
 
@@ -113,8 +129,14 @@ class ConvolverLayout {
   int blockSize_;
   int numPartitions_;
   size_t binStride_;
-  void* forwardPlan_ = nullptr;  ///< fftwf_plan
-  void* inversePlan_ = nullptr;  ///< fftwf_plan
+  /// Makes the plans with FFTW `flags` (fftwPlannerMutex() held) into fwd and inv; false
+  /// (nothing made) when FFTW returns none (FFTW_WISDOM_ONLY without wisdom for them).
+  bool makePlans(unsigned flags, void*& fwd, void*& inv) const;
+  /// The plans forward() and inverse() run (fftwf_plan), swapped once by measurePlans().
+  mutable std::atomic<void*> forwardPlan_{nullptr}, inversePlan_{nullptr};
+  /// kMeasureLater: the estimated plans measurePlans() replaced (destroyed with the layout).
+  mutable void* replacedPlans_[2] = {nullptr, nullptr};
+  mutable std::atomic<bool> measured_{false};
 };
 
 /// The partitioned spectrum of one IR channel: P partitions x (B + 1) complex bins, H_p scaled

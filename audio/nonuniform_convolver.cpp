@@ -54,6 +54,16 @@ NonUniformLayout::NonUniformLayout(int blockSize, size_t maxIrSamples, int maxPa
   }
 }
 
+bool NonUniformLayout::plansMeasured() const {
+  for (const auto& fft : ffts_)
+    if (!fft->plansMeasured()) return false;
+  return true;
+}
+
+void NonUniformLayout::measurePlans() const {
+  for (const auto& fft : ffts_) fft->measurePlans();
+}
+
 int NonUniformLayout::totalPartitions() const {
   int total = 0;
   for (const Level& l : levels_) total += l.numPartitions;

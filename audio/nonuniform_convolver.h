@@ -117,6 +117,9 @@ class NonUniformLayout {
   const Level& level(int l) const { return levels_[size_t(l)]; }
   /// Total partitions over all levels.
   int totalPartitions() const;
+  /// Every level's ConvolverLayout::plansMeasured() and measurePlans() (same rules).
+  bool plansMeasured() const;
+  void measurePlans() const;
 
  private:
   int blockSize_;

@@ -143,6 +143,12 @@ int benchLive(const CommonOptions& c, const LiveOptions& o) {
       {"start_to_first_sound", std::isnan(heard) ? Json(nullptr) : Json(heard)},
       {"device_open_to_first_sound",
        std::isnan(heard) ? Json(nullptr) : Json(constructionSeconds + heard)}};
+  // The synthesisers completed after the first frame (LiveSession::Options::quickFirstIr).
+  const double completion = session.status().synthesisCompletionSeconds;
+  j["time_to_first_sound_s"]["synthesis_completion_after_first_frame"] =
+      std::isnan(completion) ? Json(nullptr) : Json(completion);
+  // Measured from wisdom, or measured after the first frame within the run.
+  j["fft_plans_measured"] = session.fftPlansMeasured();
   j["note"] =
       "latency: pose published by the control thread -> first block rendered with an "
       "IR computed for that pose; render time: LiveSession::render per block, % of the "

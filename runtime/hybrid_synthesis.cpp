@@ -39,7 +39,8 @@ struct HybridSynthesis::WorkerScratch {
 HybridSynthesis::HybridSynthesis(const SceneDesc& scene, const PropagationSettings& settings,
                                  double roomVolume, SpatialIrSynthesizer* spatial,
                                  double earlySeconds, size_t listeners, int workers,
-                                 SpatialIrSynthesizer::ParallelFor parallel)
+                                 SpatialIrSynthesizer::ParallelFor parallel,
+                                 IrSynthesizer::Build build)
     : buses_(scene.audio.lateBuses),
       clusterAngle_(double(scene.audio.clusterAngleDegrees) * M_PI / 180.0),
       spatial_(spatial),
@@ -52,7 +53,7 @@ HybridSynthesis::HybridSynthesis(const SceneDesc& scene, const PropagationSettin
         makeSpatialSynthesizer(scene, settings, roomVolume, earlySeconds, 0x2545f4914f6cdd1dULL);
     earlySamples_ = earlySpatial_->lengthSamples();
   } else {
-    buildMono(scene, settings, roomVolume, earlySeconds, workers, std::move(parallel));
+    buildMono(scene, settings, roomVolume, earlySeconds, workers, std::move(parallel), build);
   }
   scratch_->lateEnergy.assign(S, 0.0);
   scratch_->directLate.assign(S, 0);
@@ -66,7 +67,8 @@ HybridSynthesis::~HybridSynthesis() = default;
 
 void HybridSynthesis::buildMono(const SceneDesc& scene, const PropagationSettings& settings,
                                 double roomVolume, double earlySeconds, int workers,
-                                SpatialIrSynthesizer::ParallelFor parallel) {
+                                SpatialIrSynthesizer::ParallelFor parallel,
+                                IrSynthesizer::Build build) {
   const int fs = scene.audio.sampleRate;
   const size_t S = scene.sources.size();
   // Per source its own Dirac sequence (sources playing one signal stay incoherent); the
@@ -82,22 +84,30 @@ void HybridSynthesis::buildMono(const SceneDesc& scene, const PropagationSetting
   lateMono_.resize(size_t(buses_));
   const auto group = [&](size_t w) {
     for (size_t s = w; s < S; s += W)
-      earlyMono_[s] = std::make_unique<IrSynthesizer>(
-          fs, earlySeconds, roomVolume, settings.speedOfSound,
-          hashCombine(settings.seed, 0x5bd1e995ULL + s), s < W ? nullptr : earlyMono_[s % W].get());
+      earlyMono_[s] =
+          std::make_unique<IrSynthesizer>(fs, earlySeconds, roomVolume, settings.speedOfSound,
+                                          hashCombine(settings.seed, 0x5bd1e995ULL + s),
+                                          s < W ? nullptr : earlyMono_[s % W].get(), build);
   };
   const auto late = [&] {
     for (size_t k = 0; k < lateMono_.size(); ++k)
       lateMono_[k] = std::make_unique<IrSynthesizer>(
           fs, settings.irLength, roomVolume, settings.speedOfSound,
           hashCombine(settings.seed, 0x9e3779b97f4a7c15ULL + uint64_t(k)),
-          k == 0 ? nullptr : lateMono_.front().get());
+          k == 0 ? nullptr : lateMono_.front().get(), build);
   };
-  // The groups and the late buses share no workspace: they are built concurrently (the
+  concurrently(late, group);
+  earlySamples_ = earlyMono_.front()->lengthSamples();
+}
+
+void HybridSynthesis::concurrently(const std::function<void()>& late,
+                                   const std::function<void(size_t)>& group) const {
+  // The groups and the late buses share no workspace: they run concurrently (their
   // construction is the time to first sound of a live session with many sources).
   std::vector<std::future<void>> jobs;
   jobs.push_back(std::async(std::launch::async, late));
-  for (size_t w = 1; w < W; ++w) jobs.push_back(std::async(std::launch::async, group, w));
+  for (size_t w = 1; w < workers_.size(); ++w)
+    jobs.push_back(std::async(std::launch::async, group, w));
   std::exception_ptr error;
   try {
     group(0);
@@ -110,7 +120,29 @@ void HybridSynthesis::buildMono(const SceneDesc& scene, const PropagationSetting
       if (!error) error = std::current_exception();
     }
   if (error) std::rethrow_exception(error);
-  earlySamples_ = earlyMono_.front()->lengthSamples();
+}
+
+bool HybridSynthesis::completed() const {
+  for (const auto& synth : earlyMono_)
+    if (!synth->completed()) return false;
+  for (const auto& synth : lateMono_)
+    if (!synth->completed()) return false;
+  return true;
+}
+
+void HybridSynthesis::complete() {
+  if (completed()) return;
+  const size_t S = earlyMono_.size(), W = workers_.size();
+  // The order of construction: each group's first synthesiser before those sharing with it.
+  const auto group = [&](size_t w) {
+    for (size_t s = w; s < S; s += W)
+      earlyMono_[s]->complete(s < W ? nullptr : earlyMono_[s % W].get());
+  };
+  const auto late = [&] {
+    for (size_t k = 0; k < lateMono_.size(); ++k)
+      lateMono_[k]->complete(k == 0 ? nullptr : lateMono_.front().get());
+  };
+  concurrently(late, group);
 }
 
 size_t HybridSynthesis::lateSamples() const {

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <vector>
@@ -68,10 +69,19 @@ class HybridSynthesis {
   /// through `parallel` (each group with its own synthesis workspace, so the IRs are the same
   /// for any workers); `parallel` must stay callable while this object is used. Default: on
   /// the calling thread.
+  /// build: the mono synthesisers' (IrSynthesizer::Build); complete() finishes a kFirstIr
+  /// build.
   HybridSynthesis(const SceneDesc& scene, const PropagationSettings& settings, double roomVolume,
                   SpatialIrSynthesizer* spatial, double earlySeconds, size_t listeners,
-                  int workers = 1, SpatialIrSynthesizer::ParallelFor parallel = {});
+                  int workers = 1, SpatialIrSynthesizer::ParallelFor parallel = {},
+                  IrSynthesizer::Build build = IrSynthesizer::Build::kComplete);
   ~HybridSynthesis();
+
+  /// Completes the mono synthesisers of a kFirstIr build (IrSynthesizer::complete), in the
+  /// construction's concurrent groups; nothing when complete or spatial. Between frames, on
+  /// the thread that runs prepare(); allocates; throws as construction does.
+  void complete();
+  bool completed() const;
 
   size_t earlySamples() const { return earlySamples_; }
   /// Samples of a late bus's IR (the whole IR length).
@@ -120,7 +130,12 @@ class HybridSynthesis {
   /// Mono output: the early parts' synthesisers in worker groups and the late buses', built
   /// concurrently; earlySamples_.
   void buildMono(const SceneDesc& scene, const PropagationSettings& settings, double roomVolume,
-                 double earlySeconds, int workers, SpatialIrSynthesizer::ParallelFor parallel);
+                 double earlySeconds, int workers, SpatialIrSynthesizer::ParallelFor parallel,
+                 IrSynthesizer::Build build);
+  /// Runs late() and group(w) for every worker group w concurrently (threads of their own:
+  /// at least two groups at once whatever the tracing threads); rethrows the first error.
+  void concurrently(const std::function<void()>& late,
+                    const std::function<void(size_t)>& group) const;
   /// Bus k's late IR from its accumulated response into late[k].
   void synthesizeBus(int k, ImpulseResponse& late);
   /// Every bus of the listener: synthesised, or kept while its shape holds (reuseLateBuses).

@@ -35,8 +35,9 @@ LiveSession::LiveSession(std::shared_ptr<const SceneDesc> scene,
       sampleRate_(scene_->audio.sampleRate),
       propagation_(std::make_unique<PropagationStage>(
           scene_, settings,
-          options.measureFftPlans ? audio::ConvolverLayout::Planning::kMeasure
-                                  : audio::ConvolverLayout::Planning::kEstimate)),
+          options.measureFftPlans ? audio::ConvolverLayout::Planning::kMeasureLater
+                                  : audio::ConvolverLayout::Planning::kEstimate,
+          options.quickFirstIr ? IrSynthesizer::Build::kFirstIr : IrSynthesizer::Build::kComplete)),
       exchange_(propagation_->makeExchange(1, std::max(3, options.poolSize))),
       audioStage_(std::make_unique<AudioStage>(*propagation_, std::move(dry), *exchange_)),
       poses_(scene_, checkedListener(*scene_, options.listener)),
@@ -106,6 +107,7 @@ void LiveSession::stop() {
   if (!running_.exchange(false)) return;
   wake_.notify_all();
   if (propagationThread_.joinable()) propagationThread_.join();
+  if (plannerThread_.joinable()) plannerThread_.join();
   if (recorder_) recorder_->stop();
 }
 
@@ -117,12 +119,14 @@ bool LiveSession::attachBake(std::shared_ptr<const BakedField> bake) {
 
 bool LiveSession::step() {
   if (running_.load()) return false;
+  propagation_->completeSynthesis();  // a stepped session's IRs as a complete build's
   runFrame(settings().raysPerFrame);
   return true;
 }
 
 bool LiveSession::stepAdaptive(double frameSeconds) {
   if (running_.load()) return false;
+  propagation_->completeSynthesis();
   runFrame(adaptiveRays_.rays());
   adaptiveRays_.update(frameSeconds);
   return true;
@@ -196,6 +200,7 @@ void LiveSession::propagationLoop() {
                      : first               ? adaptiveRays_.floor()
                                            : adaptiveRays_.rays();
     runFrame(rays);
+    if (first) afterFirstFrame();  // outside the controller's frame time
     // The whole frame, snapshot included: what must fit in the period; and its pose's age when
     // the IR was ready plus one block (the audio thread picks it up at its next block): the
     // motion-to-sound latency it will have. The short first frame says nothing about the
@@ -214,6 +219,26 @@ void LiveSession::propagationLoop() {
     else
       next = std::chrono::steady_clock::now();
   }
+}
+
+void LiveSession::afterFirstFrame() {
+  // The first IR is on its way to the device: now what the following IRs need
+  // (Options::quickFirstIr).
+  if (!propagation_->synthesisCompleted()) {
+    const auto completing = std::chrono::steady_clock::now();
+    propagation_->completeSynthesis();
+    counters_.synthesisCompleted(secondsSince(completing));
+  }
+  if (!options_.measureFftPlans || propagation_->fftPlansMeasured() || plannerThread_.joinable())
+    return;
+  plannerThread_ = std::thread([this] {
+    audio::rt::setThreadRole(audio::rt::ThreadRole::kWorker);
+    try {
+      propagation_->measureFftPlans();
+    } catch (const std::exception&) {
+      // FFTW could not measure: the estimated plans stay (slower callbacks, the same sound).
+    }
+  });
 }
 
 void LiveSession::renderCallback(void* user, float* const* out, int frames) noexcept {

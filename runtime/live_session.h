@@ -8,6 +8,8 @@
 //   audio thread       render(): through the callback adapter, pops at most the newest IrSet
 //                      per block (older ones go straight back), convolves and crossfades,
 //                      mixes, limits, counts problems in relaxed atomics, feeds the recorder
+//   planner thread     only with Options::measureFftPlans and no FFTW wisdom for the plans:
+//                      measures the convolvers' plans once after the first frame
 //
 // It composes single-purpose parts: HostPoses (poses and world assembly), PropagationStage and
 // AudioStage, two FixedRing<IrSet*> hand-over rings, CallbackAdapter (host block sizes),
@@ -63,9 +65,12 @@ class LiveSession {
     /// ready, plus one block for the audio thread to pick it up). Infinite: the frame period
     /// alone bounds the rays.
     double latencyTargetSeconds = 0.05;
-    /// Measured FFTW plans for the convolvers (PropagationStage): faster callbacks, at a
-    /// construction slower by up to a second or so and output that may differ from run to run
-    /// in float rounding. Off by default (a plugin's instantiate must return quickly).
+    /// Measured FFTW plans for the convolvers (PropagationStage): faster callbacks, output
+    /// that may differ from run to run in float rounding. Made from the wisdom of earlier runs
+    /// when it holds them (common/fftw_wisdom.h); else the session starts with estimated plans
+    /// and, once the first frame's IR is out, a thread of its own measures them (seconds) and
+    /// swaps them in (ConvolverLayout::Planning::kMeasureLater; a stepped session keeps the
+    /// estimated ones). Off by default (a plugin's instantiate must return quickly).
     bool measureFftPlans = false;
     /// Time over which each IR swap is spread across source groups, seconds, in
     /// [0, kMaxIrSwapSpreadSeconds], rounded to whole blocks (AudioStage::setIrSwapSpread;
@@ -89,6 +94,12 @@ class LiveSession {
     /// Whether each frame's energy per surface is recorded and copied for readers
     /// (Responses::surfaces, Simulation::recordSurfaces: a hash-map insertion per hit).
     bool keepSurfaceEnergy = false;
+    /// The mono IR synthesisers are built with what the first IR needs
+    /// (IrSynthesizer::Build::kFirstIr) and completed right after the first frame (propagation
+    /// thread, before the second frame) or before the first step(): the first sound comes
+    /// sooner, its IR an unlevelled realisation of the same responses, and every later IR is
+    /// the same bits as with false (docs/live.md "Time to first sound").
+    bool quickFirstIr = true;
   };
   /// Upper bound of Options::irSwapSpreadSeconds: beyond it a swap outlasts a frame.
   static constexpr double kMaxIrSwapSpreadSeconds = 0.1;
@@ -235,6 +246,9 @@ class LiveSession {
   const audio::CallbackStats& renderStatsWithSwap() const { return swapStats_; }
   const audio::CallbackStats& renderStatsWithoutSwap() const { return noSwapStats_; }
   const audio::CallbackStats& latencyStats() const { return latencyStats_; }
+  /// Whether the convolvers run measured FFT plans (Options::measureFftPlans: from wisdom at
+  /// construction, or once measured after the first frame). Any thread; no allocation.
+  bool fftPlansMeasured() const { return propagation_->fftPlansMeasured(); }
   /// Head-tracked binaural: head-turn latency, pose published -> first block rendered with it
   /// (the audio thread turns the sound field per block; no propagation frame waited for).
   const audio::CallbackStats& headLatencyStats() const { return headLatencyStats_; }
@@ -253,6 +267,9 @@ class LiveSession {
 
  private:
   void propagationLoop();
+  /// After the first frame (propagation thread): what the first IR did not need, the
+  /// synthesisers' completion and the start of the planner thread.
+  void afterFirstFrame();
   /// One propagation frame at raysPerSource rays per source: assemble the world, trace it,
   /// hand the played listener's IR set over, update the counters and the response snapshot.
   /// Propagation thread (or the control thread through step()).
@@ -291,6 +308,9 @@ class LiveSession {
   ResponseSnapshot snapshot_{options_.keepImpulseResponses};
 
   std::thread propagationThread_;
+  /// Options::measureFftPlans without wisdom: measures the convolvers' plans once (started by
+  /// the propagation thread after the first frame, joined by stop()).
+  std::thread plannerThread_;
   std::atomic<bool> running_{false};
   std::mutex wakeMutex_;
   std::condition_variable wake_;

@@ -18,14 +18,15 @@ namespace dpc {
 
 PropagationStage::PropagationStage(std::shared_ptr<const SceneDesc> scene,
                                    const PropagationSettings& settings,
-                                   audio::ConvolverLayout::Planning planning)
+                                   audio::ConvolverLayout::Planning planning,
+                                   IrSynthesizer::Build build)
     : scene_(std::move(scene)),
       numOutputs_(irChannels(scene_->audio)),
       channelScratch_(size_t(numOutputs_)) {
   simulation_ = std::make_unique<Simulation>(*scene_, settings);
   const double early = hybridEarlySeconds(settings);
-  makeSynthesizers(settings, early > 0.0);
-  if (early > 0.0) makeHybrid(settings, early, planning);
+  makeSynthesizers(settings, early > 0.0, build);
+  if (early > 0.0) makeHybrid(settings, early, planning, build);
   layout_ = std::make_shared<const audio::NonUniformLayout>(
       scene_->audio.blockSize, irSamples_, audio::NonUniformLayout::kDefaultMaxPartition, planning);
   const auto responses = [&](size_t n, size_t samples) {
@@ -50,11 +51,12 @@ double PropagationStage::hybridEarlySeconds(const PropagationSettings& settings)
 }
 
 void PropagationStage::makeHybrid(const PropagationSettings& settings, double early,
-                                  audio::ConvolverLayout::Planning planning) {
+                                  audio::ConvolverLayout::Planning planning,
+                                  IrSynthesizer::Build build) {
   const SceneDesc& scene = *scene_;
   hybrid_ = std::make_unique<HybridSynthesis>(
       scene, settings, roomVolume(scene.mesh), spatial_.get(), early, scene.listeners.size(),
-      simulation_->propagator().concurrency(), onTracingThreads());
+      simulation_->propagator().concurrency(), onTracingThreads(), build);
   if (hybrid_->earlySpatial()) levelOnTracingThreads(*hybrid_->earlySpatial());
   lateLayout_ = std::make_shared<const audio::NonUniformLayout>(
       scene.audio.blockSize, hybrid_->lateSamples(), audio::NonUniformLayout::kDefaultMaxPartition,
@@ -62,7 +64,8 @@ void PropagationStage::makeHybrid(const PropagationSettings& settings, double ea
   irSamples_ = hybrid_->earlySamples();
 }
 
-void PropagationStage::makeSynthesizers(const PropagationSettings& settings, bool hybrid) {
+void PropagationStage::makeSynthesizers(const PropagationSettings& settings, bool hybrid,
+                                        IrSynthesizer::Build build) {
   const SceneDesc& scene = *scene_;
   const int fs = scene.audio.sampleRate;
   if (scene.audio.output == OutputFormat::kMono) {
@@ -71,7 +74,7 @@ void PropagationStage::makeSynthesizers(const PropagationSettings& settings, boo
       synthesizers_.push_back(std::make_unique<IrSynthesizer>(
           fs, settings.irLength, roomVolume(scene.mesh), settings.speedOfSound,
           hashCombine(settings.seed, 0x5bd1e995ULL + s),
-          synthesizers_.empty() ? nullptr : synthesizers_.front().get()));
+          synthesizers_.empty() ? nullptr : synthesizers_.front().get(), build));
     irSamples_ = synthesizers_.front()->lengthSamples();
   } else {
     spatial_ = makeSpatialSynthesizer(scene, settings, roomVolume(scene.mesh));
@@ -79,6 +82,33 @@ void PropagationStage::makeSynthesizers(const PropagationSettings& settings, boo
     simulation_->enableDirectional(spatial_->directions());
     irSamples_ = spatial_->lengthSamples();
   }
+}
+
+bool PropagationStage::synthesisCompleted() const {
+  for (const auto& synth : synthesizers_)
+    if (!synth->completed()) return false;
+  return !hybrid_ || hybrid_->completed();
+}
+
+void PropagationStage::completeSynthesis() {
+  if (!synthesizers_.empty() && !synthesizers_.back()->completed()) {
+    // The first synthesiser's window leveller first, then its sharers' own parts (they touch
+    // nothing shared) on the tracing threads.
+    IrSynthesizer* first = synthesizers_.front().get();
+    first->complete();
+    simulation_->propagator().forEachParallel(
+        synthesizers_.size() - 1, [&](size_t i) { synthesizers_[i + 1]->complete(first); });
+  }
+  if (hybrid_) hybrid_->complete();
+}
+
+bool PropagationStage::fftPlansMeasured() const {
+  return layout_->plansMeasured() && (!lateLayout_ || lateLayout_->plansMeasured());
+}
+
+void PropagationStage::measureFftPlans() const {
+  layout_->measurePlans();
+  if (lateLayout_) lateLayout_->measurePlans();
 }
 
 SpatialIrSynthesizer::ParallelFor PropagationStage::onTracingThreads() {

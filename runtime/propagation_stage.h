@@ -40,9 +40,26 @@ class PropagationStage {
   /// transforms, so the same output bit for bit, on every run) or measured (FFTW times
   /// candidate algorithms at construction, up to a second or so for a 2 s IR: faster
   /// callbacks, for a live session, whose output is not compared bit for bit).
+  /// `build`: the mono synthesisers' (IrSynthesizer::Build): kFirstIr leaves most of their
+  /// construction to completeSynthesis(), which makes the IRs after it the same bits as a
+  /// complete build's (the spatial synthesisers are always built complete).
   PropagationStage(
       std::shared_ptr<const SceneDesc> scene, const PropagationSettings& settings,
-      audio::ConvolverLayout::Planning planning = audio::ConvolverLayout::Planning::kEstimate);
+      audio::ConvolverLayout::Planning planning = audio::ConvolverLayout::Planning::kEstimate,
+      IrSynthesizer::Build build = IrSynthesizer::Build::kComplete);
+
+  /// Completes a kFirstIr build's synthesisers (IrSynthesizer::complete); nothing when they
+  /// are complete. Between frames, on the thread that runs them (the hybrid early parts'
+  /// groups on threads of their own meanwhile); allocates; throws std::runtime_error when FFTW
+  /// cannot plan.
+  void completeSynthesis();
+  bool synthesisCompleted() const;
+  /// The convolver layouts' (layout(), lateLayout()) NonUniformLayout::plansMeasured() and
+  /// measurePlans(): for Planning::kMeasureLater, any thread but the audio thread, while
+  /// frames run (the sets' partitions and the convolvers take the measured plans as they are
+  /// swapped in).
+  bool fftPlansMeasured() const;
+  void measureFftPlans() const;
 
   /// The exchange that carries this stage's IR sets to `channels` audio stages: baseSets sets
   /// plus two per partition level beyond the first (a slow level keeps its old and new set
@@ -137,13 +154,14 @@ class PropagationStage {
 
  private:
   /// The per-source synthesisers (none for mono output in hybrid rendering) and irSamples_.
-  void makeSynthesizers(const PropagationSettings& settings, bool hybrid);
+  void makeSynthesizers(const PropagationSettings& settings, bool hybrid,
+                        IrSynthesizer::Build build);
   /// The early part's length when the scene renders hybrid (runtime/hybrid_synthesis.h) and
   /// that is shorter than the IR, else 0.
   double hybridEarlySeconds(const PropagationSettings& settings) const;
   /// hybrid_, lateLayout_ and irSamples_ (the early part's) for hybrid rendering.
   void makeHybrid(const PropagationSettings& settings, double earlySeconds,
-                  audio::ConvolverLayout::Planning planning);
+                  audio::ConvolverLayout::Planning planning, IrSynthesizer::Build build);
   /// The frame's inputs (inputs_) from the world, the bake's skipped pairs and the rays.
   void frameInputs(const WorldState& world, int raysPerEmitter);
   /// The frame's times into totals_ and the profile.

@@ -96,6 +96,10 @@ struct SessionStatus {
   /// Time to first sound: from LiveSession::start() to the start of the first render() call
   /// whose output held a sample other than 0, seconds; NaN until then.
   double firstSoundSeconds = std::numeric_limits<double>::quiet_NaN();
+  /// LiveSession::Options::quickFirstIr: the propagation thread's completion of the IR
+  /// synthesisers after the first frame (the second frame waited for it), seconds; NaN before
+  /// it, or when the session was built complete or completed by step().
+  double synthesisCompletionSeconds = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// The counters behind SessionStatus that the session's threads update. Propagation-side
@@ -136,6 +140,11 @@ class SessionCounters {
     firstSoundNs_.compare_exchange_strong(none, ns, std::memory_order_relaxed);
   }
 
+  /// Propagation side: the synthesisers' completion after the first frame took this long.
+  void synthesisCompleted(double seconds) noexcept {
+    completionSeconds_.store(seconds, std::memory_order_relaxed);
+  }
+
   uint64_t frames() const noexcept { return frames_.load(std::memory_order_relaxed); }
   /// Fills the counters' part of st; raysPerSecond over the time since the previous call.
   /// Control thread (one reader).
@@ -148,6 +157,7 @@ class SessionCounters {
       cacheMergedEntries_{0}, bakedResponses_{0}, bakeFallbacks_{0}, inputSamplesReplaced_{0};
   std::atomic<double> frameMs_{0.0}, irAgeMs_{0.0}, cacheMergedEnergyFraction_{0.0},
       droppedEnergyFraction_{0.0};
+  std::atomic<double> completionSeconds_{std::numeric_limits<double>::quiet_NaN()};
   std::atomic<size_t> cacheEntries_{0}, cacheBytes_{0}, cacheBudgetBytes_{0}, cachePairs_{0},
       cachePairBytesMin_{0}, cachePairBytesMax_{0}, cachePoolUsedBytes_{0};
   std::atomic<int> raysPerFrame_{0}, raysPerFrameMin_{0};

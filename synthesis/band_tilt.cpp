@@ -86,7 +86,7 @@ void TiltedBands::filterInto(const std::vector<float>& gain, FftwRealTransforms&
 
 TiltedBands::TiltedBands(int sampleRate, size_t length, const std::vector<float>& sequence,
                          const OctaveBandMasks& masks, FftwRealTransforms& fft,
-                         const TiltedBands* shareScratch)
+                         const TiltedBands* shareScratch, Levelling levelling)
     : sampleRate_(sampleRate), length_(length) {
   if (shareScratch && shareScratch->length_ == length_) {
     tilted_ = shareScratch->tilted_;
@@ -97,26 +97,35 @@ TiltedBands::TiltedBands(int sampleRate, size_t length, const std::vector<float>
   filters_ = shareScratch && shareScratch->filters_->n == fft.n
                  ? shareScratch->filters_
                  : makeFilters(sampleRate, masks, fft);
-  const size_t nbins = fft.n / 2 + 1;
+  const bool now = levelling == Levelling::kAtConstruction;
   for (int b = 0; b < kNumBands; ++b) {
     const size_t bi = size_t(b);
     filterInto(filters_->band[bi], fft, band_[bi]);
     halfEnergy_[bi] = filters_->half[bi];
-    filterInto(filters_->upper[bi], fft, upper_[bi]);
+    // A band levelled now gets its upper half from the levelled sequence alone.
+    if (!now || b < kLevelledFromBand) filterInto(filters_->upper[bi], fft, upper_[bi]);
     const size_t w = BandEnvelope::binSamplesFor(sampleRate, b);
     alpha_[bi].assign((length_ + w - 1) / w, 1.f);
     gamma_[bi].assign((length_ + w - 1) / w, 0.f);
   }
-  // Level each band's realisation to its expectation: the sequence's pulses are scaled per
-  // synthesis bin before the band filter (so the scaled signal stays within the band), and
-  // fft.spec is restored to the sequence's spectrum afterwards.
+  if (!now) return;
+  // fft.spec is restored to the sequence's spectrum after the levelling.
+  const size_t nbins = fft.n / 2 + 1;
   std::vector<std::array<float, 2>> spectrum(nbins);
   for (size_t k = 0; k < nbins; ++k) spectrum[k] = {fft.spec.p[k][0], fft.spec.p[k][1]};
-  for (int b = kLevelledFromBand; b < kNumBands; ++b) levelSequence(b, sequence, fft);
+  level(sequence, fft);
   for (size_t k = 0; k < nbins; ++k) {
     fft.spec.p[k][0] = spectrum[k][0];
     fft.spec.p[k][1] = spectrum[k][1];
   }
+}
+
+void TiltedBands::level(const std::vector<float>& sequence, FftwRealTransforms& fft) {
+  if (levelled_) return;
+  // Each band's realisation to its expectation: the sequence's pulses are scaled per window
+  // before the band filter, so the scaled signal stays within the band.
+  for (int b = kLevelledFromBand; b < kNumBands; ++b) levelSequence(b, sequence, fft);
+  levelled_ = true;
 }
 
 void TiltedBands::levelSequence(int b, const std::vector<float>& sequence,

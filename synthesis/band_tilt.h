@@ -54,7 +54,10 @@ HalfBandDensity halfBandDensity(const EnergyResponse& energy, int band, double c
 /// ir_synthesis_test grew from 0.55 to 0.64 dB rms).
 /// Construction: a thread that may run fft's plans (fft.spec holds the spectrum of `sequence`,
 /// kept, fft.n >= length; masks of fft.n points); allocates 3 x kNumBands x length floats and
-/// runs 2 kSequenceLevelling + 1 transforms per levelled band; no errors. update(): propagation
+/// runs 2 kSequenceLevelling + 1 transforms per levelled band; no errors. With
+/// Levelling::kDeferred it leaves the levelling to level() (the band signals are then the
+/// unlevelled s_b and s_hi, a realisation whose band energies scatter around their
+/// expectation): what a first IR needs, in a quarter of the transforms. update(): propagation
 /// thread; no allocation; no errors.
 class TiltedBands {
  public:
@@ -77,12 +80,21 @@ class TiltedBands {
   static constexpr int kSequenceLevelling = 3;
   static constexpr double kLevellingPeriods = 10.0;
   static constexpr double kMaxSequenceFactor = 4.0;
+  /// When the bands' realisations are levelled: at construction, or by level().
+  enum class Levelling { kAtConstruction, kDeferred };
   /// shareScratch: TiltedBands of the same length whose tilted() buffers this one writes too
   /// (they hold one update()'s result, read before the next update() of either: synthesisers
   /// that run one at a time on one thread); nullptr: its own.
   TiltedBands(int sampleRate, size_t length, const std::vector<float>& sequence,
               const OctaveBandMasks& masks, FftwRealTransforms& fft,
-              const TiltedBands* shareScratch = nullptr);
+              const TiltedBands* shareScratch = nullptr,
+              Levelling levelling = Levelling::kAtConstruction);
+  /// Levels the bands as construction with kAtConstruction does (the same bits): `sequence`
+  /// the one given to the constructor, fft scratch of the constructor's size. Nothing when they
+  /// are levelled. Allocates; the same thread rules as update(), and not during an update() of
+  /// this object; no errors.
+  void level(const std::vector<float>& sequence, FftwRealTransforms& fft);
+  bool levelled() const { return levelled_; }
   /// Sets every bin's weights and tilted signal from the response (any bin width).
   void update(const EnergyResponse& energy);
 
@@ -124,6 +136,7 @@ class TiltedBands {
   /// remakes s_b and s_hi from them (fft.spec: scratch).
   void levelSequence(int b, const std::vector<float>& sequence, FftwRealTransforms& fft);
   std::shared_ptr<const Filters> filters_;
+  bool levelled_ = false;
 };
 
 }  // namespace dpc

@@ -20,29 +20,31 @@ IrSynthesizer::IrSynthesizer(IrSynthesizer&&) noexcept = default;
 IrSynthesizer& IrSynthesizer::operator=(IrSynthesizer&&) noexcept = default;
 
 IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVolume,
-                             double speedOfSound, uint64_t seed, const IrSynthesizer* shareWith)
+                             double speedOfSound, uint64_t seed, const IrSynthesizer* shareWith,
+                             Build build)
     : sampleRate_(sampleRate) {
   if (sampleRate <= 0 || !(lengthSeconds > 0.0) || !(roomVolume > 0.0) || !(speedOfSound > 0.0) ||
       !std::isfinite(lengthSeconds) || !std::isfinite(roomVolume) || !std::isfinite(speedOfSound))
     throw std::invalid_argument("IrSynthesizer: rate, length, volume and c must be finite, > 0");
   length_ = size_t(std::ceil(lengthSeconds * sampleRate));
   const size_t margin = bandFilterTaps(sampleRate);
-  FftwRealTransforms fft(nextPow2(length_ + margin));
-  const std::vector<float> seq =
+  FftwRealTransforms fft(bandFftSize());
+  std::vector<float> seq =
       diracSequence(sampleRate, length_, roomVolume, speedOfSound, kMaxPulseDensity, seed);
   std::fill(fft.time.p, fft.time.p + fft.n, 0.f);
   std::copy(seq.begin(), seq.end(), fft.time.p);
   fftwf_execute(fft.fwd);
-  const OctaveBandMasks masks(sampleRate, fft.n);
-  const bool share =
-      shareWith && shareWith->sampleRate_ == sampleRate && shareWith->length_ == length_;
+  const bool share = sharesWith(shareWith);
+  masks_ = share ? shareWith->masks_ : std::make_shared<const OctaveBandMasks>(sampleRate, fft.n);
+  const OctaveBandMasks& masks = *masks_;
   filterData_ = share ? shareWith->filterData_ : BandFilterData::compute(masks, fft.n);
-  bands_ = std::make_unique<TiltedBands>(sampleRate, length_, seq, masks, fft,
-                                         shareWith ? shareWith->bands_.get() : nullptr);
+  bands_ = std::make_unique<TiltedBands>(
+      sampleRate, length_, seq, masks, fft, shareWith ? shareWith->bands_.get() : nullptr,
+      build == Build::kComplete ? TiltedBands::Levelling::kAtConstruction
+                                : TiltedBands::Levelling::kDeferred);
   if (share) {
     direct_ = shareWith->direct_;
     leveller_ = shareWith->leveller_;
-    windowLeveller_ = shareWith->windowLeveller_;
     placer_ = shareWith->placer_;
   } else {
     direct_ = std::make_shared<const DirectSoundFilter>(masks, fft, margin);
@@ -50,14 +52,39 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
     leveller_ = std::make_shared<BandLeveller>(
         sampleRate, length_, kFirstCleanedBand,
         BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, 10.0));
-    windowLeveller_ = std::make_shared<WindowLeveller>(sampleRate, length_, kFirstLevelledBand,
-                                                       kLastLevelledBand);
   }
   levelStart_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, 1.0);
   envelope_ = std::make_unique<BandEnvelope>(
       sampleRate, seq, length_, filterData_,
       measureLowBands(fft, masks, length_, TiltedBands::kLevelledFromBand));
   arrivals_.reserve(kReservedArrivals);
+  if (build == Build::kComplete)
+    takeWindowLeveller(shareWith);
+  else
+    sequence_ = std::move(seq);
+}
+
+size_t IrSynthesizer::bandFftSize() const {
+  return nextPow2(length_ + bandFilterTaps(sampleRate_));
+}
+
+void IrSynthesizer::takeWindowLeveller(const IrSynthesizer* shareWith) {
+  windowLeveller_ = sharesWith(shareWith) && shareWith->windowLeveller_
+                        ? shareWith->windowLeveller_
+                        : std::make_shared<WindowLeveller>(sampleRate_, length_, kFirstLevelledBand,
+                                                           kLastLevelledBand);
+}
+
+bool IrSynthesizer::completed() const {
+  return bands_->levelled();
+}
+
+void IrSynthesizer::complete(const IrSynthesizer* shareWith) {
+  if (completed()) return;
+  FftwRealTransforms fft(bandFftSize());
+  bands_->level(sequence_, fft);
+  takeWindowLeveller(shareWith);
+  sequence_ = std::vector<float>();
 }
 
 void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& direct, float* ir,
@@ -74,7 +101,7 @@ void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& 
   const size_t onset = firstArrivalSample(energy);
   envelope_->startAt(onset, tilted);
   envelope_->accumulateRange(tilted, ir, onset, length_);
-  windowLeveller_->level(energy, onset, levelStart_, ir);
+  if (windowLeveller_) windowLeveller_->level(energy, onset, levelStart_, ir);
   clearAroundArrivals(ir);
   placer_->place(arrivals_, sampleRate_, ir, length_);
   cleanUp(energy, ir);

@@ -29,6 +29,9 @@
 // Construction: control/propagation thread (FFTW plan creation is not thread-safe);
 // allocates; throws std::invalid_argument on bad sizes, std::runtime_error when FFTW cannot
 // plan. synthesize(): propagation thread; no allocation after the first call; no errors.
+// Build::kFirstIr builds what a first IR needs and leaves two per-realisation refinements, most
+// of the construction's work, to complete(): a live session's first sound comes that much
+// sooner, and its following IRs are the same bits as a complete build's.
 #pragma once
 
 #include <cstdint>
@@ -70,19 +73,33 @@ class IrSynthesizer {
   /// A band's part is cleaned only where its analysed energy exceeds the expected by this
   /// factor (1 dB): the synthesis's own realisation noise stays.
   static constexpr double kCleanMargin = 1.26;
+  /// What construction builds. kComplete: everything. kFirstIr: all but the band sequences'
+  /// levelling (TiltedBands::level) and the window leveller; until complete() the IRs are
+  /// unlevelled realisations, their band energies set in expectation as ever (each band's
+  /// reading then scatters as one noise realisation's does: about +-0.6 dB G and +-1 dB C80
+  /// at 250 Hz in a 1 s decay, window_leveller.h) and cleaned up (BandLeveller) as ever.
+  enum class Build { kComplete, kFirstIr };
 
   /// sampleRate in Hz; lengthSeconds of the IR; roomVolume in m^3 (density law: roomVolume()
   /// of the scene's mesh, engine/room_volume.h); speedOfSound m/s; seed for the Dirac sequence.
-  /// shareWith: a synthesiser of the same rate, length, volume and c whose direct-sound filters,
-  /// tilted-band buffers and clean-up workspace this one uses too (they hold nothing between
-  /// frames; hybrid
-  /// rendering's many early synthesisers share one set); both must then synthesise on one
-  /// thread, one at a time. nullptr: its own.
+  /// shareWith: a synthesiser of the same rate, length, volume and c whose octave masks and
+  /// direct-sound filters (read only), tilted-band buffers and clean-up workspace this one uses
+  /// too (they hold nothing between frames; hybrid rendering's many early synthesisers share
+  /// one set); both must then synthesise on one thread, one at a time. nullptr: its own.
   IrSynthesizer(int sampleRate, double lengthSeconds, double roomVolume, double speedOfSound,
-                uint64_t seed, const IrSynthesizer* shareWith = nullptr);
+                uint64_t seed, const IrSynthesizer* shareWith = nullptr,
+                Build build = Build::kComplete);
   ~IrSynthesizer();
   IrSynthesizer(IrSynthesizer&&) noexcept;
   IrSynthesizer& operator=(IrSynthesizer&&) noexcept;
+
+  /// Builds what Build::kFirstIr left out; from then on synthesize() writes what a complete
+  /// build's would, bit for bit. shareWith: as at construction (completed before this one, so
+  /// that its window leveller is shared). Nothing when complete. Same threads as construction,
+  /// not during a synthesize() of this synthesiser or of one sharing its workspace; allocates;
+  /// throws std::runtime_error when FFTW cannot plan.
+  void complete(const IrSynthesizer* shareWith = nullptr);
+  bool completed() const;
 
   size_t lengthSamples() const { return length_; }
   int sampleRate() const { return sampleRate_; }
@@ -123,9 +140,19 @@ class IrSynthesizer {
   /// sequence holds 10 pulses per bin). Without it the 8 kHz T30 of a large hall's IR reads
   /// twice the response's.
   void cleanUp(const EnergyResponse& energy, float* ir);
+  /// Whether other's workspaces fit this synthesiser (same rate and length).
+  bool sharesWith(const IrSynthesizer* other) const {
+    return other && other->sampleRate_ == sampleRate_ && other->length_ == length_;
+  }
+  /// windowLeveller_ <- shareWith's when it fits and has one, else a new one.
+  void takeWindowLeveller(const IrSynthesizer* shareWith);
+  /// The FFT size of the band signals (the IR plus the band filters' reach).
+  size_t bandFftSize() const;
 
   int sampleRate_;
   size_t length_;
+  /// The octave masks on the band signals' FFT bins (shared like the filter data).
+  std::shared_ptr<const OctaveBandMasks> masks_;
   BandFilterData filterData_;
   std::unique_ptr<TiltedBands> bands_;
   std::shared_ptr<const DirectSoundFilter> direct_;
@@ -137,6 +164,8 @@ class IrSynthesizer {
   /// from levelStart_, where the Dirac sequence holds a pulse per 10 ms by the density law.
   std::shared_ptr<WindowLeveller> windowLeveller_;
   size_t levelStart_ = 0;
+  /// Build::kFirstIr until complete(): the Dirac sequence, which the levelling scales.
+  std::vector<float> sequence_;
   std::vector<Arrival> arrivals_;  ///< this frame's direct sound and exact paths
   Bands missingBands_{};
 };

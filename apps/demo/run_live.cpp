@@ -87,7 +87,7 @@ LiveSession::Options sessionOptions(const SceneDesc& scene, const Flags& fl,
   LiveSession::Options lo;
   lo.listener = selectedListener(scene, fl);
   lo.deviceChannels = deviceChannels(scene.audio);
-  lo.measureFftPlans = true;  // a live session's callbacks matter more than a second at start
+  lo.measureFftPlans = true;  // faster callbacks; measured after the first sound if not in wisdom
   lo.keepImpulseResponses = fl.studio;  // only the studio page reads them
   lo.keepSurfaceEnergy = fl.studio;     // its heat map
   if (fl.latencyTargetMs) lo.latencyTargetSeconds = *fl.latencyTargetMs * 1e-3;

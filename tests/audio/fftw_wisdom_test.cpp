@@ -4,10 +4,13 @@
 // cannot be written costs nothing but the saving.
 #include <fftw3.h>
 
+#include <algorithm>
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <mutex>
+#include <vector>
 
 #include "audio/convolver.h"
 #include "common/fftw_util.h"
@@ -70,5 +73,51 @@ TEST_CASE("A wisdom file that cannot be written does not stop a measured layout"
   }
   REQUIRE(setenv("DPC_FFTW_WISDOM", "", 1) == 0);
   CHECK(fftwWisdomPath().empty());
+  unsetenv("DPC_FFTW_WISDOM");
+}
+
+namespace {
+
+/// Largest |inverse(forward(x)) / 2B - x| over a random block x, through the layout's plans.
+double roundTripError(const audio::ConvolverLayout& layout) {
+  const size_t n = size_t(layout.fftSize());
+  const audio::detail::FftwBuffer time = audio::detail::allocZeroed(n);
+  const audio::detail::FftwBuffer spec = audio::detail::allocZeroed(layout.spectrumFloats());
+  std::vector<float> x(n);
+  for (size_t i = 0; i < n; ++i) x[i] = float((i * 7919) % 211) / 105.f - 1.f;
+  std::copy(x.begin(), x.end(), time.get());
+  layout.forward(time.get(), spec.get());
+  layout.inverse(spec.get(), time.get());
+  double err = 0.0;
+  for (size_t i = 0; i < n; ++i) err = std::max(err, std::abs(double(time[i]) / double(n) - x[i]));
+  return err;
+}
+
+}  // namespace
+
+// A live session's convolvers need not wait for FFTW's planner: without wisdom for its sizes a
+// kMeasureLater layout starts with estimated plans, and measurePlans() swaps in measured ones
+// (and keeps them as wisdom). Oracle: the transforms' round trip, which any correct plan
+// passes within float rounding (n log n operations of relative error 6e-8 each: 1e-5 here).
+TEST_CASE("A layout measured later starts estimated and swaps in measured plans", "[fftw]") {
+  const test::TempDir dir("fftw_wisdom_test_later");
+  const fs::path file = dir.path() / "wisdom";
+  REQUIRE(setenv("DPC_FFTW_WISDOM", file.c_str(), 1) == 0);
+  {
+    std::lock_guard lock(fftwPlannerMutex());
+    importFftwWisdomOnce();
+    fftwf_forget_wisdom();  // nothing this process measured before
+  }
+  audio::ConvolverLayout layout(112, 4096, audio::ConvolverLayout::Planning::kMeasureLater);
+  CHECK_FALSE(layout.plansMeasured());
+  CHECK(roundTripError(layout) < 1e-5);
+  layout.measurePlans();
+  CHECK(layout.plansMeasured());
+  CHECK(roundTripError(layout) < 1e-5);
+  CHECK(planFromWisdomOnly(112));
+  CHECK(fs::exists(file));
+  // A second layout of the size finds the wisdom: measured at once.
+  audio::ConvolverLayout again(112, 2048, audio::ConvolverLayout::Planning::kMeasureLater);
+  CHECK(again.plansMeasured());
   unsetenv("DPC_FFTW_WISDOM");
 }

@@ -7,16 +7,22 @@
 // after the last (e.g. to count heap calls there).
 #pragma once
 
+#include <fftw3.h>
+
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
+#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "common/fftw_util.h"
+#include "common/fftw_wisdom.h"
+#include "runtime/live_session.h"
 #include "scene/trajectory.h"
 #include "testing/test_scenes.h"
-#include "runtime/live_session.h"
 
 namespace dpc::test {
 
@@ -25,15 +31,22 @@ struct LiveRun {
   bool finite = true;
   size_t recordedFrames = 0;
   HybridReport hybrid;  ///< LiveSession::hybridReport() after stop()
+  /// LiveSession::fftPlansMeasured() after construction and after stop().
+  bool plansMeasuredAtStart = false, plansMeasured = false;
 };
 
 /// tracingThreads: the propagation's TBB arena (0 = all cores). With head-tracked binaural
 /// output the listener also turns (half a radian per second), so the audio thread turns the
-/// sound field between IR swaps.
+/// sound field between IR swaps. plansMeasuredLater: measured FFT plans with no FFTW wisdom in
+/// the process or on file (LiveSession::Options::measureFftPlans), so that the session's
+/// planner thread swaps its plans in while the audio thread renders; the run lasts until it
+/// has.
 template <typename AudioThreadObserver>
 LiveRun driveLiveSession(int blocks, uint64_t minIrsApplied, AudioThreadObserver& onAudioThread,
                          int tracingThreads = 0, Rendering rendering = Rendering::kAuto,
-                         OutputFormat output = OutputFormat::kMono) {
+                         OutputFormat output = OutputFormat::kMono,
+                         bool plansMeasuredLater = false) {
+  LiveRun run;
   SceneDesc scene = loadScene(std::string(DPC_SOURCE_DIR) + "/scenes/shoebox.json");
   scene.audio.blockSize = 128;
   scene.audio.rendering = rendering;
@@ -48,11 +61,18 @@ LiveRun driveLiveSession(int blocks, uint64_t minIrsApplied, AudioThreadObserver
   const DrySignals dry = loadDrySignals(scene);
   LiveSession::Options opt;
   opt.recordSeconds = 10.0;  // exercise the recorder ring too
+  if (plansMeasuredLater) {
+    setenv("DPC_FFTW_WISDOM", "", 1);  // no wisdom file
+    std::lock_guard lock(fftwPlannerMutex());
+    importFftwWisdomOnce();
+    fftwf_forget_wisdom();
+    opt.measureFftPlans = true;
+  }
   LiveSession session(test::shared(scene), ps, test::shared(dry), opt);
+  run.plansMeasuredAtStart = session.fftPlansMeasured();
   session.setPose(listenerPositionAt(scene.listeners[0], 0.0), 0.f, 0.0);
   session.start();
 
-  LiveRun run;
   std::vector<float> left(128), right(128);
   float* out[2] = {left.data(), right.data()};
   std::atomic<bool> done{false};
@@ -71,7 +91,8 @@ LiveRun driveLiveSession(int blocks, uint64_t minIrsApplied, AudioThreadObserver
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     session.setPose(listenerPositionAt(scene.listeners[0], t), turn * float(t), t);
     const LiveSession::Status st = session.status();
-    done.store((st.blocks >= uint64_t(blocks) && st.irsApplied >= minIrsApplied) ||
+    const bool plans = !plansMeasuredLater || session.fftPlansMeasured();
+    done.store((st.blocks >= uint64_t(blocks) && st.irsApplied >= minIrsApplied && plans) ||
                    st.blocks >= 50 * uint64_t(blocks),
                std::memory_order_relaxed);
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -79,6 +100,7 @@ LiveRun driveLiveSession(int blocks, uint64_t minIrsApplied, AudioThreadObserver
   audio.join();
   session.stop();
   run.status = session.status();
+  run.plansMeasured = session.fftPlansMeasured();
   run.hybrid = session.hybridReport();
   run.recordedFrames = session.takeRecording().frames();
   return run;

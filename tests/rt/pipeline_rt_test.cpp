@@ -68,6 +68,18 @@ TEST_CASE("LiveSession::render with head-tracked binaural makes no heap calls wh
   checkRun(run, counter, 10);
 }
 
+// Without FFT wisdom a session with measured plans starts on estimated ones and its planner
+// thread swaps the measured ones in while the audio thread renders: the swap is an atomic plan
+// pointer, no heap call on the audio thread.
+TEST_CASE("LiveSession::render makes no heap calls while its FFT plans are swapped in", "[rt]") {
+  CountHeapCalls counter;
+  const test::LiveRun run = test::driveLiveSession(2000, 10, counter, 0, Rendering::kAuto,
+                                                   OutputFormat::kMono, true);
+  checkRun(run, counter, 10);
+  CHECK_FALSE(run.plansMeasuredAtStart);
+  CHECK(run.plansMeasured);
+}
+
 TEST_CASE("A session rendering every source whole reports no hybrid rendering", "[rt]") {
   CountHeapCalls counter;
   const test::LiveRun run = test::driveLiveSession(200, 2, counter, 0, Rendering::kPerSource);

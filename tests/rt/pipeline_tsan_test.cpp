@@ -29,3 +29,16 @@ TEST_CASE("Live pipeline threads under ThreadSanitizer", "[tsan]") {
   CHECK(run.status.nanBlocks == 0);
   CHECK(run.recordedFrames == size_t(run.status.blocks) * 128);  // the recorder lost nothing
 }
+
+// The same threads plus the planner's, which swaps measured FFT plans in while the audio thread
+// renders with them (ConvolverLayout::measurePlans).
+TEST_CASE("Live pipeline threads under ThreadSanitizer, FFT plans swapped in while playing",
+          "[tsan]") {
+  Nothing none;
+  const test::LiveRun run =
+      test::driveLiveSession(1500, 10, none, 1, Rendering::kAuto, OutputFormat::kMono, true);
+  CHECK_FALSE(run.plansMeasuredAtStart);
+  CHECK(run.plansMeasured);
+  CHECK(run.finite);
+  CHECK(run.status.nanBlocks == 0);
+}

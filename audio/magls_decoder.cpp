@@ -395,6 +395,12 @@ ChannelEarFilters timeDomain(int order, const Coefficients& h, size_t bins, size
 
 }  // namespace
 
+double magLsCovarianceFromHz(int order, const MagLsOptions& options) {
+  const double bandLimitHz =
+      double(order) * kMagLsSpeedOfSound / (2.0 * std::numbers::pi * kMagLsHeadRadius);
+  return std::min(options.cutoffHz, bandLimitHz);
+}
+
 ChannelEarFilters magLsFilters(int order, const Hrtf& hrtf, const MagLsOptions& options,
                                size_t length) {
   order = std::clamp(order, 1, kMaxAmbisonicOrder);
@@ -418,7 +424,10 @@ ChannelEarFilters magLsFilters(int order, const Hrtf& hrtf, const MagLsOptions& 
       magnitude[e] = &weighted[e];
     }
   Coefficients h = fit(s, pr, magnitude, cut);
-  if (options.covarianceConstraint) constrainCovariance(s, pr, cut, h);
+  if (order <= options.covarianceMaxOrder) {
+    const double fromHz = magLsCovarianceFromHz(order, options);
+    constrainCovariance(s, pr, std::max<size_t>(1, size_t(std::lround(fromHz / binHz))), h);
+  }
   const double delay = tau + kMagLsPreDelaySeconds * hrtf.sampleRate();
   return timeDomain(order, h, s.bins, fftSize, delay, length);
 }

@@ -41,14 +41,18 @@
 // then lands where the HRIRs' own energy is, with room before it for its pre-ringing, instead
 // of wrapping around time zero. Below f_c the advance changes nothing (least squares is
 // linear); above, it is the phase continuation with tau's phase step per bin.
-// Covariance constraint (MagLsOptions::covarianceConstraint, from f_c up): the 2 x 2
+// Covariance constraint (MagLsOptions::covarianceMaxOrder; from the lower of f_c and the
+// order's spatial band limit f_N = N c / (2 pi r), r = kMagLsHeadRadius, up): the 2 x 2
 // interaural covariance of an isotropic diffuse field through the decoder,
 // R^ = sum_q w_q d_q^H d_q (d_q = [left right] decoded at u_q), is matched to the HRTF set's,
 // R = sum_q w_q H_q^H H_q, by h <- h M, M = R^^(-1/2) P R^(1/2) with P the unitary polar
 // factor of (R^(1/2) R^^(1/2))^H: the matching matrix closest to the identity (Vilkamo,
 // Bäckström, Kuntz, JAES 61(6), 2013). It restores the diffuse field's interaural coherence,
-// which MagLS alone raises (most at low orders), but it mixes the ears and so lowers direct
-// sounds' ILD; off by default (docs/spatial.md gives both).
+// which MagLS alone raises (most at low orders), but it mixes the ears and so changes direct
+// sounds' ILD; on by default at orders 1 and 2 (kMagLsCovarianceMaxOrder; docs/spatial.md
+// gives both). Below f_c it starts at f_N, where an order-N decoder stops following the
+// complex HRTF: order 1's least-squares band (f_N = 624 Hz) leaves a diffuse field's ears at
+// -0.22 at 1 kHz against KEMAR's -0.03 (real part over the octave).
 // Finally the N3D coefficients become SN3D ones (times sqrt(2n + 1)), and each filter is
 // brought to the time domain and cut to `length` taps, the last kMagLsFadeFraction faded out
 // with a raised cosine.
@@ -98,12 +102,33 @@ inline constexpr double kMagLsCutoffHz = 1500.0;
 /// it more (90 degrees against per-path binaural: +1.6 dB at 1/4, +2.0 at 1/2, +3.3 at 1).
 inline constexpr double kMagLsLevelWeightExponent = 0.25;
 
+/// The head radius, m, of the spatial band limit f_N = N c / (2 pi r) (kr = N; the spherical
+/// head of Woodworth's ITD formula), from which the covariance constraint applies below f_c.
+inline constexpr double kMagLsHeadRadius = 0.0875;
+
+/// Speed of sound, m/s, of the spatial band limit (20 degrees C).
+inline constexpr double kMagLsSpeedOfSound = 343.0;
+
+/// The highest order whose decoder applies the covariance constraint by default. MagLS alone
+/// gives a diffuse field's ears a coherence (real part over each octave) of 0.65 / 0.58 at
+/// 2 / 4 kHz at order 1 and 0.33 / 0.46 at order 2 (KEMAR's: 0.0), which listeners hear as a
+/// narrow late field; the constraint's price, the direct sound's mean |ILD error| at 2 / 4 /
+/// 8 kHz, is +2.4 / +1.5 / +1.2 dB at order 1 and +0.5 / +1.2 / +1.7 dB at order 2
+/// (docs/spatial.md, "Binaural decoding"). At order 3 MagLS leaves 0.09 / 0.21 at 4 / 8 kHz,
+/// and the constraint would add 1.1 dB to the 8 kHz error, so it stays off from order 3 up.
+inline constexpr int kMagLsCovarianceMaxOrder = 2;
+
 struct MagLsOptions {
-  double cutoffHz = kMagLsCutoffHz;   ///< least squares below, MagLS from here on
-  bool covarianceConstraint = false;  ///< Zaunschirm et al.'s constraint, from f_c on
+  double cutoffHz = kMagLsCutoffHz;  ///< least squares below, MagLS from here on
+  /// Zaunschirm et al.'s constraint at orders up to this one (0: never; kMaxAmbisonicOrder:
+  /// always), from min(f_c, f_N) on.
+  int covarianceMaxOrder = kMagLsCovarianceMaxOrder;
   /// alpha from order 2 up (order 1: 0); 0 (or any value not above 0) gives the paper's weights
   double levelWeightExponent = kMagLsLevelWeightExponent;
 };
+
+/// Where the covariance constraint starts at `order`, Hz: min(f_c, f_N) (see the file comment).
+double magLsCovarianceFromHz(int order, const MagLsOptions& options);
 
 /// Per ACN channel, per ear (0 left, 1 right): a filter of `length` taps.
 using ChannelEarFilters = std::vector<std::array<std::vector<float>, 2>>;

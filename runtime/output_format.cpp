@@ -17,8 +17,8 @@ namespace dpc {
 std::vector<glm::vec3> spatialDirections(const AudioSettings& audio) {
   if (audio.output != OutputFormat::kAmbisonics && audio.output != OutputFormat::kAmbisonicBinaural)
     return defaultSpatialDirections();
-  return uniformSpatialDirections(
-      std::min(2 * ambisonicChannels(audio.ambisonicOrder), kMaxTurnedFieldDirections));
+  return uniformSpatialDirections(kTurnedFieldDirectionsPerChannel *
+                                  ambisonicChannels(audio.ambisonicOrder));
 }
 
 int renderedChannels(const AudioSettings& audio) {

@@ -31,15 +31,22 @@ int renderedChannels(const AudioSettings& audio);
 /// loudspeakers' labels (layouts). Any thread; allocates.
 std::vector<std::string> renderedChannelNames(const AudioSettings& audio);
 
-/// Most directions the diffuse energy of a turned field is synthesised over (IR synthesis
-/// costs about 4 ms per direction per 2 s of IR on one core).
-inline constexpr int kMaxTurnedFieldDirections = 32;
+/// Independent directions per Ambisonic channel the diffuse energy of a turned field is
+/// synthesised over: with K = 2 (N + 1)^2 spherical-Fibonacci directions the eigenvalues of
+/// their Gram matrix of orthonormal (N3D) harmonics, sum_k y(u_k) y(u_k)^T 4 pi / K, lie
+/// within 0.80-1.13 at every order 1-7 (a diffuse field's: 1), so the late field's
+/// (N + 1)^2 channels have a full-rank, nearly white covariance; with K = (N + 1)^2 the
+/// smallest falls to 0.03-0.6, and a count below (N + 1)^2 leaves the covariance rank K.
+/// Cost per direction: 8 x IR length floats of memory (3 MB for a 2 s IR at 48 kHz) and
+/// one more enveloped signal per frame (docs/spatial.md, "Diffuseness of the Ambisonic late
+/// field").
+inline constexpr int kTurnedFieldDirectionsPerChannel = 2;
 /// The listener-frame directions the spatial synthesiser shares the diffuse energy among:
 /// defaultSpatialDirections() for stereo, binaural and loudspeakers; for a field turned after
-/// synthesis (Ambisonics, head-tracked binaural) uniformSpatialDirections() of 2 (N + 1)^2
-/// (at most kMaxTurnedFieldDirections), so no direction relative to the head is favoured: the
-/// audio-rate turn then matches a re-synthesis at the new orientation per octave band within
-/// about half a dB (8 horizon-heavy directions: 2.2 dB, 16 uniform: 1 dB;
+/// synthesis (Ambisonics, head-tracked binaural) uniformSpatialDirections() of
+/// kTurnedFieldDirectionsPerChannel (N + 1)^2, so no direction relative to the head is
+/// favoured: the audio-rate turn then matches a re-synthesis at the new orientation per octave
+/// band within about half a dB (8 horizon-heavy directions: 2.2 dB, 16 uniform: 1 dB;
 /// tests/runtime/head_tracking_test.cpp). Unit vectors. Any thread; allocates.
 std::vector<glm::vec3> spatialDirections(const AudioSettings& audio);
 

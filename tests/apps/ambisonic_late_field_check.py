@@ -21,6 +21,16 @@ bands (4th-order Butterworth, zero phase).
   like an early arrival (max-rE) does not. Within 1 dB of W's, per octave 250 Hz-4 kHz
   (3 sampling deviations of a power ratio at 250 Hz, 4.34 sqrt(2 / (2 B T)) dB each; less
   from 500 Hz up).
+- Rank at order 5: the late part's channel covariance in N3D (each channel of order n times
+  sqrt(2n + 1), where a diffuse field's covariance is white), each 10 ms window divided by its
+  RMS over the channels so that the decay does not weight the estimate, per octave
+  500 Hz-4 kHz. A diffuse field's sample covariance of p = 36 channels from n = 2 B T
+  independent samples has its eigenvalues over their mean within the Marchenko-Pastur edges
+  (1 -+ sqrt(p / n))^2 (0.63-0.84 at the lower edge here); the smallest must reach half that
+  lower edge. The factor 2 leaves room for the room's own anisotropy and for the synthesis
+  directions' Gram matrix (eigenvalues 0.83-1.12 for 72 directions; measured smallest
+  0.58-0.61). A late field made of fewer independent directions than channels has rank below
+  p: 32 directions at order 5 read 0.003-0.036.
 Exit status 0 when every check passes; the figures are printed either way.
 """
 import os
@@ -38,6 +48,9 @@ OCTAVES = (250, 500, 1000, 2000, 4000)
 LATE_AFTER_ONSET = 0.08
 RMAX = 0.1
 ORDER_POWER_DB = 1.0
+RANK_ORDER = 5
+RANK_OCTAVES = (500, 1000, 2000, 4000)
+RANK_WINDOW = 0.01
 
 
 def render(build, source, order, work):
@@ -74,6 +87,33 @@ def order_powers_db(y, order):
     return [10 * np.log10(np.sum(y[:, n * n:(n + 1) ** 2] ** 2) / w) for n in range(1, order + 1)]
 
 
+def whitened_late_part(y, rate, order):
+    """y's channels in N3D, each RANK_WINDOW window divided by its RMS over the channels."""
+    n3d = np.sqrt([2 * int(np.sqrt(c)) + 1 for c in range((order + 1) ** 2)])
+    win = int(RANK_WINDOW * rate)
+    frames = (y[:len(y) // win * win] * n3d).reshape(-1, win, len(n3d))
+    rms = np.sqrt(np.mean(frames ** 2, axis=(1, 2)))
+    keep = rms > 1e-3 * rms.max()
+    return (frames[keep] / rms[keep, None, None]).reshape(-1, len(n3d))
+
+
+def check_rank(rate, x, order):
+    failures = []
+    start = late_start(rate, x)
+    for centre in RANK_OCTAVES:
+        y = whitened_late_part(octave(rate, x, centre)[start:], rate, order)
+        eig = np.linalg.eigvalsh(y.T @ y / len(y))
+        eig /= eig.mean()
+        samples = 2 * (centre * np.sqrt(2) - centre / np.sqrt(2)) * len(y) / rate
+        lower = (1 - np.sqrt(y.shape[1] / samples)) ** 2
+        print(f"  rank, {centre} Hz: eigenvalues over their mean {eig.min():.3f}-{eig.max():.3f}, "
+              f"Marchenko-Pastur lower edge {lower:.3f} (bound {lower / 2:.3f})")
+        if eig.min() < lower / 2:
+            failures.append(f"order {order} {centre} Hz smallest covariance eigenvalue "
+                            f"{eig.min():.3f} < {lower / 2:.3f}")
+    return failures
+
+
 def check_order(rate, x, order):
     """The bands are filtered over the whole IR and then cut, so that no filter rings on the
     cut's step."""
@@ -107,6 +147,8 @@ def main():
         for order in ORDERS:
             rate, x = render(build, source, order, work)
             failures += check_order(rate, x, order)
+            if order == RANK_ORDER:
+                failures += check_rank(rate, x, order)
     for f in failures:
         print("FAIL:", f)
     return 1 if failures else 0

@@ -161,6 +161,34 @@ void requireDiffuseCoherence(const dpc::audio::AudioData& ir, const std::array<d
   }
 }
 
+/// Click renders at the balcony with `flags` and --seed 1..kSeeds: the mean of their late
+/// coherence per band within max(0.15, 3 sigma / 2) of `want` (0.2 at 250 Hz), sigma each
+/// seed's sampling deviation (scaled as in requireDiffuseCoherence), averaged over the seeds.
+void requireSeedMeanCoherence(const std::string& name, const std::string& flags,
+                              const std::array<double, 7>& want) {
+  constexpr int kSeeds = 4;
+  std::array<double, 7> mean{}, sigma{};
+  for (int seed = 1; seed <= kSeeds; ++seed) {
+    const dpc::audio::AudioData ir = renderClickAt(name + "_" + std::to_string(seed),
+                                                   {28.5, 1.6, 10.0},
+                                                   flags + " --seed " + std::to_string(seed));
+    const size_t begin = size_t(0.15 * ir.sampleRate), end = size_t(0.8 * ir.sampleRate);
+    const Spectrum l = dpc::test::spectrum(ir.channels[0], begin, end);
+    const Spectrum r = dpc::test::spectrum(ir.channels[1], begin, end);
+    for (size_t b = 1; b < kCentres.size(); ++b) {
+      const dpc::test::Correlation c =
+          dpc::test::octaveCorrelation(l, r, int(end - begin), ir.sampleRate, kCentres[b]);
+      mean[b] += c.value / kSeeds;
+      sigma[b] += c.sigma * (1.0 - want[b] * want[b]) / kSeeds;
+    }
+  }
+  for (size_t b = 1; b < kCentres.size(); ++b) {
+    const double bound = std::max(b == 1 ? 0.2 : 0.15, 3.0 * sigma[b] / std::sqrt(double(kSeeds)));
+    INFO(kCentres[b] << " Hz: mean " << mean[b] << ", HRTF " << want[b] << ", bound " << bound);
+    CHECK(std::abs(mean[b] - want[b]) <= bound);
+  }
+}
+
 }  // namespace
 
 TEST_CASE("The late binaural field has the HRTF set's diffuse-field coherence", "[spatial]") {
@@ -178,41 +206,31 @@ TEST_CASE("A second HRTF set (Neumann KU 100): the late field's coherence, mean 
   // so the expectation is checked: the mean over 4 seeds within max(0.15, 3 sigma / 2) of
   // the set's diffuse field, sigma each seed's sampling deviation.
   const std::string sofa = std::string(DPC_SOURCE_DIR) + "/tests/data/FHK_HRIR_L2354.sofa";
-  const std::array<double, 7> want = diffuseFieldCoherence(sofa);
-  std::array<double, 7> mean{}, sigma{};
-  constexpr int kSeeds = 4;
-  for (int seed = 1; seed <= kSeeds; ++seed) {
-    const dpc::audio::AudioData ir =
-        renderClickAt("ku100_" + std::to_string(seed), {28.5, 1.6, 10.0},
-                      "--output binaural --hrtf " + sofa + " --seed " + std::to_string(seed));
-    const size_t begin = size_t(0.15 * ir.sampleRate), end = size_t(0.8 * ir.sampleRate);
-    const Spectrum l = dpc::test::spectrum(ir.channels[0], begin, end);
-    const Spectrum r = dpc::test::spectrum(ir.channels[1], begin, end);
-    for (size_t b = 1; b < kCentres.size(); ++b) {
-      const dpc::test::Correlation c =
-          dpc::test::octaveCorrelation(l, r, int(end - begin), ir.sampleRate, kCentres[b]);
-      mean[b] += c.value / kSeeds;
-      sigma[b] += c.sigma * (1.0 - want[b] * want[b]) / kSeeds;
-    }
-  }
-  for (size_t b = 1; b < kCentres.size(); ++b) {
-    const double bound = std::max(b == 1 ? 0.2 : 0.15, 3.0 * sigma[b] / std::sqrt(double(kSeeds)));
-    INFO(kCentres[b] << " Hz: mean " << mean[b] << ", KU 100 " << want[b] << ", bound " << bound);
-    CHECK(std::abs(mean[b] - want[b]) <= bound);
-  }
+  requireSeedMeanCoherence("ku100", "--output binaural --hrtf " + sofa, diffuseFieldCoherence(sofa));
 }
 
-TEST_CASE("Ambisonics decoded binaurally (MagLS), orders 3 and 5: the late field's coherence is "
-          "the HRTF set's",
+TEST_CASE("Ambisonics decoded binaurally (MagLS), orders 2, 3 and 5: the late field's coherence "
+          "is the HRTF set's",
           "[spatial][ambisonics][heavy]") {
-  // At order 1 the decoded late field reads 0.5-0.6 at 2-4 kHz under the balcony (its 8
-  // directions' unequal energies; docs/spatial.md), so order 1 is not asserted.
   const std::array<double, 7> want = diffuseFieldCoherence(kSofa);
-  for (int order : {3, 5}) {
+  for (int order : {2, 3, 5}) {
     INFO("order " << order);
     requireDiffuseCoherence(
         renderClickAt("ambix" + std::to_string(order), {28.5, 1.6, 10.0},
                       "--output ambisonic_binaural --ambisonic-order " + std::to_string(order)),
         want);
   }
+}
+
+TEST_CASE("Ambisonics decoded binaurally (MagLS), order 1: the late field's coherence, mean of 4 "
+          "seeds, is the HRTF set's",
+          "[spatial][ambisonics][heavy]") {
+  // Order 1's late field comes from 8 directions, and one IR's decoded coherence at 8 kHz
+  // scatters from seed to seed (the seed also moves the rays, hence the directions' energies)
+  // by more than its sampling deviation: -0.18, 0.01, -0.10, 0.01, -0.14, -0.06, 0.03, -0.13
+  // over seeds 1-8 (KEMAR's diffuse field: -0.01), so, as for the KU 100 above, the mean over
+  // 4 seeds is checked. Without the decoder's covariance constraint every seed reads about
+  // 0.6 / 0.5 at 2 / 4 kHz (MagLS alone leaves a diffuse first-order field that coherent).
+  requireSeedMeanCoherence("ambix1", "--output ambisonic_binaural --ambisonic-order 1",
+                           diffuseFieldCoherence(kSofa));
 }

@@ -1,6 +1,6 @@
 -- An Ardour session with the dpc LV2 plugin, run headless by Ardour's Lua session tool
 -- (ardour7-lua, Debian's ardour package), as tests/lv2/ardour_test.py drives it:
---   ardour7-lua ardour_session.lua SESSION_DIR EXPORT_DIR URI [WAIT]
+--   ardour7-lua ardour_session.lua SESSION_DIR EXPORT_DIR URI|none [WAIT]
 -- Creates a session on the dummy audio backend (its inputs play white noise), adds a mono
 -- track whose input monitors that noise, inserts the plugin URI, plays until the track's meter
 -- shows sound (the plugin is silent until its scene has loaded in the background; at most
@@ -53,9 +53,12 @@ assert(s, "create_session failed")
 step("created")
 local track = s:new_audio_track(1, 2, nil, 1, "dpc", ARDOUR.PresentationInfo.max_order,
                                 ARDOUR.TrackMode.Normal, true):front()
-local plugin = ARDOUR.LuaAPI.new_plugin(s, uri, ARDOUR.PluginType.LV2, "")
-assert(not plugin:isnil(), "Ardour does not find the plugin " .. uri)
-assert(track:add_processor_by_index(plugin, 0, nil, true) == 0, "the plugin was not added")
+-- URI "none": the same session without a plugin (Ardour alone, the test's control).
+if uri ~= "none" then
+  local plugin = ARDOUR.LuaAPI.new_plugin(s, uri, ARDOUR.PluginType.LV2, "")
+  assert(not plugin:isnil(), "Ardour does not find the plugin " .. uri)
+  assert(track:add_processor_by_index(plugin, 0, nil, true) == 0, "the plugin was not added")
+end
 track:monitoring_control():set_value(ARDOUR.MonitorChoice.MonitorInput,
                                      PBD.GroupControlDisposition.NoGroup)
 step("plugin added")
@@ -69,7 +72,7 @@ s = load_session(dir, "dpc")
 assert(s, "load_session failed")
 track = s:route_by_name("dpc"):to_track()
 assert(not track:isnil(), "the reloaded session has no track dpc")
-assert(dpc_plugin(track), "the reloaded track has no " .. uri)
+assert(uri == "none" or dpc_plugin(track), "the reloaded track has no " .. uri)
 step("reloaded")
 play_and_export(s, track, "reloaded")
 close_session()

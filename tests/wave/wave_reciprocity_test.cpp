@@ -14,17 +14,6 @@
 namespace dpc {
 namespace {
 
-/// The shoebox with a partition at x = 1.7 m from the floor to 1.6 m, z in [0, 1.9] m.
-SceneDesc partitionedBox() {
-  SceneDesc s = test::makeShoebox({4.1f, 2.7f, 3.3f}, Bands(0.08f), 0.1f, {0.7f, 1.1f, 0.9f},
-                                  {3.2f, 1.9f, 2.6f});
-  s.materials.push_back(Material{"panel", Bands(0.4f), Bands(0.1f)});
-  test::addPanel(s.mesh, {1.7f, 0.f, 0.f}, {0.f, 1.6f, 0.f}, {0.f, 0.f, 1.9f}, 1);
-  s.wave.enabled = true;
-  s.wave.maxFrequencyHz = 250.f;
-  return s;
-}
-
 std::vector<float> response(const SceneDesc& s, glm::vec3 from, glm::vec3 to) {
   const Geometry geometry(s.mesh, s.materials, s.propagation.patchSize);
   const EmbreeTracer tracer(s.mesh);
@@ -37,7 +26,7 @@ std::vector<float> response(const SceneDesc& s, glm::vec3 from, glm::vec3 to) {
 }  // namespace
 
 TEST_CASE("Wave band: source and receiver swapped give the same IR", "[wave]") {
-  const SceneDesc s = partitionedBox();
+  const SceneDesc s = test::partitionedWaveBox();
   const glm::vec3 a(0.7f, 1.1f, 0.9f), b(3.2f, 1.9f, 2.6f);
   const std::vector<float> ab = response(s, a, b), ba = response(s, b, a);
   REQUIRE(ab.size() == ba.size());
@@ -55,7 +44,7 @@ TEST_CASE("Wave band: source and receiver swapped give the same IR", "[wave]") {
 }
 
 TEST_CASE("Wave band: a point in the solid is refused with its field", "[wave]") {
-  const SceneDesc s = partitionedBox();
+  const SceneDesc s = test::partitionedWaveBox();
   CHECK_THROWS_WITH(response(s, {0.7f, 1.1f, 0.9f}, {9.f, 1.f, 1.f}),
                     Catch::Contains("receiver") && Catch::Contains("lies in no air"));
 }

@@ -17,16 +17,6 @@
 namespace dpc {
 namespace {
 
-SceneDesc partitionedBox() {
-  SceneDesc s = test::makeShoebox({4.1f, 2.7f, 3.3f}, Bands(0.08f), 0.1f, {0.7f, 1.1f, 0.9f},
-                                  {3.2f, 1.9f, 2.6f});
-  s.materials.push_back(Material{"panel", Bands(0.4f), Bands(0.1f)});
-  test::addPanel(s.mesh, {1.7f, 0.f, 0.f}, {0.f, 1.6f, 0.f}, {0.f, 0.f, 1.9f}, 1);
-  s.wave.enabled = true;
-  s.wave.maxFrequencyHz = 250.f;
-  return s;
-}
-
 /// What the processes share: a barrier and one mailbox per process.
 struct Post {
   explicit Post(int n) : sync(n), down(size_t(n)), up(size_t(n)) {}
@@ -71,7 +61,7 @@ const std::vector<wave::WavePoint> kReceivers{{{3.2f, 1.9f, 2.6f}, "a"},
 
 /// The IRs at kReceivers as each of `processes` threads returns them (one process: no link).
 std::vector<std::vector<std::vector<float>>> run(int processes, bool trade = true) {
-  const SceneDesc s = partitionedBox();
+  const SceneDesc s = test::partitionedWaveBox();
   const Geometry geometry(s.mesh, s.materials, s.propagation.patchSize);
   const EmbreeTracer tracer(s.mesh);
   std::vector<std::vector<std::vector<float>>> irs(static_cast<size_t>(processes));

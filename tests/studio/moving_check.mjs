@@ -60,8 +60,17 @@ export async function checkMovingObjects(page, source) {
   const keys = door.trajectory.map((k) => ({ t: k.t, position: k.position, rotation: k.rotation }));
   const local = objVertices(path.join(path.dirname(sceneFile), door.mesh));
   const seen = { closed: null, open: null, swinging: 0, samples: 0, drawnVsEngine: 0, engineVsKeys: 0 };
+  // Bounded in time, not only in samples: on a loaded machine a sample can take seconds, and
+  // the test's own timeout would end it with no word on where it stood (the page's frame and
+  // scene time, how long since the frame last changed).
+  const start = Date.now();
+  let lastFrame = -1, frameSince = start;
   for (let i = 0; i < 3000; ++i) {
     const s = await page.evaluate(() => ({ st: window.studio.state, drawn: window.studio.objectVertices(0) }));
+    if (s.st.frame !== lastFrame) (lastFrame = s.st.frame), (frameSince = Date.now());
+    assert.ok(Date.now() - start < 300000,
+              `door: 300 s and ${seen.samples} samples without a frame past 10.05 s (page at frame ${lastFrame}, ` +
+              `scene time ${s.st.worldSeconds} s, unchanged for ${((Date.now() - frameSince) / 1000).toFixed(1)} s)`);
     const t = s.st.worldSeconds, pose = s.st.objects[0], keyed = poseAt(keys, t);
     const drawn = s.drawn, engine = local.map((v) => place(pose, v)), oracle = local.map((v) => place(keyed, v));
     // Float32 positions of a 2 m leaf and float quaternions: a few 1e-7 m; 1e-5 m allows

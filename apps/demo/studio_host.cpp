@@ -136,6 +136,7 @@ bool StudioHost::publish(LiveSession& session, const KeyboardMotion& motion,
     ir->frame = f->frame;
     ir->source = f->source;
     ir->binaural = scene_.audio.output == OutputFormat::kBinaural;
+    ir->direct = f->direct;
   }
   lastFrame_ = f->frame;
   f->sceneSeconds = motion.sceneTime();

@@ -77,6 +77,9 @@ struct StudioIr {
   size_t source = 0;
   ImpulseResponse ir;
   bool binaural = false;  ///< channels are (left, right) ears: IACC applies
+  /// The frame's direct sound (its delay places the IR's onset), kept with the IR: the IR
+  /// outlives its frame in the board's ring.
+  DirectSound direct;
 };
 
 /// A listener pose asked for by the page.

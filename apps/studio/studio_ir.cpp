@@ -85,7 +85,9 @@ std::string irJson(const StudioIr& r) {
               {"samples", ir.samples()},   {"binaural", r.binaural},
               {"columnSamples", span},     {"min", lo},
               {"max", hi},                 {"envelopeBinSeconds", double(bin) / ir.sampleRate()},
-              {"envelopeDb", env},         {"iacc", iacc ? iaccJson(ir) : json(nullptr)}}
+              {"envelopeDb", env},         {"iacc", iacc ? iaccJson(ir) : json(nullptr)},
+              {"direct", {{"visible", r.direct.visible}, {"delaySeconds", r.direct.delaySeconds},
+                          {"distance", r.direct.distance}}}}
       .dump();
 }
 

@@ -22,7 +22,8 @@ inline constexpr int kIrChannelsDrawn = 2;
 ///  "min", "max" (per drawn channel, kIrColumns values), "envelopeBinSeconds", "envelopeDb"
 ///  (per drawn channel: 10 log10 of each bin's energy over the IR's greatest bin, null for
 ///  an empty bin), "iacc" (null unless binaural: "onsetSeconds", "bands" and "broadband"
-///  as {"early", "late", "all"}, null for NaN)}.
+///  as {"early", "late", "all"}, null for NaN), "direct" (the frame's direct sound:
+///  "visible", "delaySeconds", "distance")}.
 std::string irJson(const StudioIr& ir);
 
 /// The IR as a WAV file (RIFF, IEEE float 32-bit, every channel): the same samples, bit for

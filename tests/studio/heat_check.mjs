@@ -54,6 +54,6 @@ export async function checkHeat(page, get) {
   assert.equal(withEnergy, areas.length, `heat map: ${withEnergy} of ${areas.length} walls send energy`);
   const sorted = density.filter((d) => d > 0).sort((a, b) => a - b);
   await page.click('#heat');
-  await page.waitForFunction(() => window.studio.heat === null, { timeout: 10000 });
+  await page.waitForFunction(() => window.studio.heat === null, { timeout: 120000 });
   return { frame: heat.frame, triangles: areas.length, withEnergy, spreadDb: 10 * Math.log10(top / sorted[0]), densest };
 }

@@ -172,7 +172,7 @@ Slab slabOf(const GridLayout& layout, int rank, int ranks) {
   if (ranks < 1 || size_t(ranks) > interior)
     throw std::invalid_argument("the wave grid has " + std::to_string(interior) +
                                 " z slices, fewer than the " + std::to_string(ranks) +
-                                " processes sharing its simulation");
+                                " processes sharing its simulation (mpirun -np)");
   return {1 + interior * size_t(rank) / size_t(ranks),
           1 + interior * size_t(rank + 1) / size_t(ranks)};
 }

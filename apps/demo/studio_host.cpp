@@ -123,9 +123,7 @@ bool StudioHost::publish(LiveSession& session, const KeyboardMotion& motion,
     f->objects = r.world->objectPoses;
     f->sourceRotations = r.world->sourceRotations;
     f->edges = *r.edges;
-    if (f->source != heatSource_) heat_.reset();
-    heatSource_ = f->source;
-    if (!r.fromBake) heat_.add(*r.surfaces);
+    surfaces_ = *r.surfaces;  // averaged below, outside the snapshot's lock
     if (ir) ir->ir.assignFrom(*r.ir);
   });
   if (!newer) {
@@ -152,7 +150,12 @@ bool StudioHost::publish(LiveSession& session, const KeyboardMotion& motion,
   for (size_t i = 0; i < scene_.sources.size(); ++i)
     f->sources.push_back(placedSources_[i].value_or(
         sourcePositionAt(scene_.sources[i], f->sceneSeconds)));
-  if (!f->fromBake) heat_.nonzero(f->surfaceTriangles, f->surfaceEnergy);
+  if (f->source != heatSource_) heat_.reset();
+  heatSource_ = f->source;
+  if (!f->fromBake) {
+    heat_.add(surfaces_);
+    heat_.nonzero(f->surfaceTriangles, f->surfaceEnergy);
+  }
   addSessionFigures(session, figures);
   f->figures = figures;
   f->publishMicros =

@@ -51,6 +51,8 @@ class StudioHost {
   studio::StudioBoard board_;
   studio::SurfaceHeat heat_;
   size_t heatSource_ = 0;  ///< the pair heat_ averages (a new selection resets it)
+  /// The newest frame's per-surface energies, copied under the snapshot's lock (capacity kept).
+  std::vector<SurfaceTally::Surface> surfaces_;
   std::unique_ptr<studio::StudioServer> server_;
   std::vector<std::optional<glm::vec3>> placedSources_;  ///< by the page, else the trajectory
   std::vector<std::shared_ptr<studio::StudioIr>> irs_;  ///< every IR buffer made (freeIr)

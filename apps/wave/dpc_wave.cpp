@@ -131,10 +131,10 @@ void report(const wave::WaveBandStats& s, const SceneDesc& scene, double seconds
         "{\"max_frequency_hz\": %g, \"spacing_m\": [%g, %g, %g], \"nodes\": [%d, %d, %d], "
         "\"air_nodes\": %zu, \"air_volume_m3\": %g, \"boundary_nodes\": %zu, \"step_rate_hz\": %d, "
         "\"steps\": %zu, \"simulations\": %zu, \"seconds\": %g, \"state_bytes\": %zu, "
-        "\"build_s\": %g, \"simulate_s\": %g}\n",
+        "\"build_s\": %g, \"simulate_s\": %g, \"processes\": %d}\n",
         double(scene.wave.maxFrequencyHz), g.spacing.x, g.spacing.y, g.spacing.z, g.count[0],
         g.count[1], g.count[2], s.airNodes, volume, s.boundaryNodes, s.stepRate, s.steps,
-        s.simulations, seconds, s.stateBytes, s.buildSeconds, s.simulateSeconds);
+        s.simulations, seconds, s.stateBytes, s.buildSeconds, s.simulateSeconds, s.processes);
     return;
   }
   std::printf("grid %d x %d x %d nodes, spacing %.4f x %.4f x %.4f m, air %zu nodes (%.1f m^3), "
@@ -142,9 +142,9 @@ void report(const wave::WaveBandStats& s, const SceneDesc& scene, double seconds
               g.count[0], g.count[1], g.count[2], g.spacing.x, g.spacing.y, g.spacing.z,
               s.airNodes, volume, s.boundaryNodes);
   std::printf("%zu simulation(s) (one per octave band) of %zu steps at %d Hz (%.2f s), state "
-              "%.1f MB, grid %.2f s, simulation %.2f s\n",
+              "%.1f MB per process, grid %.2f s, simulation %.2f s on %d process(es)\n",
               s.simulations, s.steps, s.stepRate, seconds, double(s.stateBytes) / 1e6,
-              s.buildSeconds, s.simulateSeconds);
+              s.buildSeconds, s.simulateSeconds, s.processes);
 }
 
 int run(const Options& o, Cluster& cluster) {

@@ -51,7 +51,7 @@ PY
 sink_pid=$!
 pids+=($sink_pid)
 for _ in $(seq 1 50); do
-  jack_lsp 2>/dev/null | grep -q '^sink:in_4$' && break
+  jack_lsp 2>/dev/null | grep '^sink:in_4$' >/dev/null && break
   sleep 0.1
 done
 

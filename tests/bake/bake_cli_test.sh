@@ -20,7 +20,7 @@ cd "$work"
 fail() { echo "FAIL: $*" >&2; exit 1; }
 quick=(--spacing 2 --rays 500 --frames 4 --threads 1)
 slow=(--spacing 1 --rays 1000 --frames 4 --threads 1)
-complete() { h5dump -a /complete "$1" | grep -q '(0): 1'; }
+complete() { h5dump -a /complete "$1" | grep '(0): 1' >/dev/null; }
 
 # Waits until the run writing stderr to $1 has committed a probe (a progress line), then sends
 # signal $3 to pid $2.
@@ -101,8 +101,8 @@ echo "== a box of probes: a 3-D lattice, its layout recorded"
 "$bake" "$scene" --out box.h5 --spacing 1 --box 3 0.5 2 7 2.5 5 --rays 300 --frames 4 \
   --threads 1 --quiet
 complete box.h5 || fail "box bake not marked complete"
-h5dump -a /probe_layout box.h5 | grep -q '"box 3 0.5 2 7 2.5 5"' || fail "probe_layout"
-h5dump -a /grid_candidates box.h5 | grep -q '(0): 24' || fail "box candidates"
+h5dump -a /probe_layout box.h5 | grep '"box 3 0.5 2 7 2.5 5"' >/dev/null || fail "probe_layout"
+h5dump -a /grid_candidates box.h5 | grep '(0): 24' >/dev/null || fail "box candidates"
 
 echo "== bad input: one line, exit 1, nothing created or changed"
 listing() { find . -maxdepth 1 -type f ! -name err.txt -printf '%f %s %T@\n' | sort; }
@@ -245,7 +245,7 @@ expect_play_refusal "flipped.h5: " shoebox.json flipped.h5
 "$demo" shoebox.json --offline o.wav --duration 0.2 --bake reference.h5 --quiet ||
   fail "the bake of this scene does not play"
 
-if ! command -v mpirun >/dev/null || ! ldd "$bake" | grep -q libmpi; then
+if ! command -v mpirun >/dev/null || ! ldd "$bake" | grep libmpi >/dev/null; then
   echo "mpirun or an MPI build missing: MPI cases skipped"
   exit 0
 fi
@@ -271,7 +271,7 @@ echo "== a rank killed mid-bake: dpc-bake's own line, non-zero exit, a file --re
 "${mpi[@]}" -np 2 "$bake" "$scene" --out killed.h5 "${slow[@]}" 2>killed.err & mp=$!
 for _ in $(seq 1 600); do grep -q 'probes/s' killed.err 2>/dev/null && break; sleep 0.1; done
 for p in $(pgrep -P $mp); do
-  if tr '\0' '\n' </proc/"$p"/environ | grep -q '^OMPI_COMM_WORLD_RANK=1$'; then kill -KILL "$p"; fi
+  if tr '\0' '\n' </proc/"$p"/environ | grep '^OMPI_COMM_WORLD_RANK=1$' >/dev/null; then kill -KILL "$p"; fi
 done
 if wait $mp; then fail "job with a killed rank exited 0"; fi
 line='killed.h5: rank 1 of 2 stopped; [0-9]+ of 70 probes committed, .* dpc-bake --resume killed.h5 finishes it'

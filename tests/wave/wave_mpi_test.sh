@@ -11,7 +11,7 @@ wave=$build/apps/dpc-wave
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
-ldd "$wave" | grep -q libmpi || fail "dpc-wave is not built with MPI (mpirun is installed)"
+ldd "$wave" | grep libmpi >/dev/null || fail "dpc-wave is not built with MPI (mpirun is installed)"
 mpi=(mpirun -q --allow-run-as-root --oversubscribe)
 args=("$src/scenes/shoebox.json" --max-frequency 250 --seconds 0.4)
 "$wave" "${args[@]}" --out "$work/alone.wav" >"$work/alone.log"

@@ -21,7 +21,7 @@ import path from 'node:path';
 import { checkBadBake, checkBake, checkBakedDecay, checkNoBake, makeBake } from './bake_check.mjs';
 import { checkEdges } from './edges_check.mjs';
 import { checkHeat } from './heat_check.mjs';
-import { checkDirectivity, checkMovingObjects } from './moving_check.mjs';
+import { checkDirectivity, checkMovingObjects, loopingDoorScene } from './moving_check.mjs';
 
 const arg = (name) => { const i = process.argv.indexOf(name); return i > 0 ? process.argv[i + 1] : undefined; };
 const build = path.resolve(arg('--build')), source = path.resolve(arg('--source')), work = path.join(build, 'tests/studio-work');
@@ -327,7 +327,7 @@ async function shoeboxChecks(browser, run) {
 /// A scene on the offline clock (its motion happens at fixed scene times): body(page) on a
 /// fresh page, no console errors, then SIGINT.
 async function offlineScene(browser, file, body, extra = []) {
-  const run = await startDemo(path.join(source, 'scenes', file), false, extra);
+  const run = await startDemo(path.isAbsolute(file) ? file : path.join(source, 'scenes', file), false, extra);
   try {
     const { page, errors } = await openPage(browser, run.url);
     await body(page, run);
@@ -426,7 +426,7 @@ async function main() {
     // The door's and the walk's times are scene times: the offline clock only (live runs
     // check the shoebox).
     if (!live && !bakeOnly) {
-      await offlineScene(browser, 'two_rooms.json', twoRoomsChecks);
+      await offlineScene(browser, loopingDoorScene(source, work), twoRoomsChecks);
       await offlineScene(browser, 'shoebox-corner.json', cornerChecks);
     }
     if (!live) await bakeScene(browser);

@@ -236,7 +236,9 @@ void LiveSession::afterFirstFrame() {
     try {
       propagation_->measureFftPlans();
     } catch (const std::exception&) {
-      // FFTW could not measure: the estimated plans stay (slower callbacks, the same sound).
+      // FFTW could not measure: the estimated plans stay (slower callbacks, the same sound),
+      // counted for the session's status.
+      counters_.fftPlanFailed();
     }
   });
 }

@@ -85,6 +85,7 @@ void SessionCounters::read(SessionStatus& st) {
   if (const int64_t heard = firstSoundNs_.load(r); heard != 0)
     st.firstSoundSeconds = double(heard - startedNs_.load(r)) * 1e-9;
   st.synthesisCompletionSeconds = completionSeconds_.load(r);
+  st.fftPlanFailures = fftPlanFailures_.load(r);
   st.irAgeMs = irAgeMs_.load(r);
   st.bakedResponses = bakedResponses_.load(r);
   st.bakeFallbacks = bakeFallbacks_.load(r);

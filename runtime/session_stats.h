@@ -100,6 +100,9 @@ struct SessionStatus {
   /// synthesisers after the first frame (the second frame waited for it), seconds; NaN before
   /// it, or when the session was built complete or completed by step().
   double synthesisCompletionSeconds = std::numeric_limits<double>::quiet_NaN();
+  /// Options::measureFftPlans: 1 when FFTW could not measure the convolvers' plans in the
+  /// background (the estimated plans stayed: the same sound, slower callbacks), else 0.
+  uint64_t fftPlanFailures = 0;
 };
 
 /// The counters behind SessionStatus that the session's threads update. Propagation-side
@@ -145,6 +148,9 @@ class SessionCounters {
     completionSeconds_.store(seconds, std::memory_order_relaxed);
   }
 
+  /// Planner thread: FFTW could not measure the convolvers' plans.
+  void fftPlanFailed() noexcept { fftPlanFailures_.fetch_add(1, std::memory_order_relaxed); }
+
   uint64_t frames() const noexcept { return frames_.load(std::memory_order_relaxed); }
   /// Fills the counters' part of st; raysPerSecond over the time since the previous call.
   /// Control thread (one reader).
@@ -154,7 +160,8 @@ class SessionCounters {
   const int sceneRays_;
   std::atomic<uint64_t> frames_{0}, rays_{0}, blocks_{0}, nanBlocks_{0},
       lateCallbacks_{0}, rejectedCallbacks_{0}, irsApplied_{0}, reducedFrames_{0},
-      cacheMergedEntries_{0}, bakedResponses_{0}, bakeFallbacks_{0}, inputSamplesReplaced_{0};
+      cacheMergedEntries_{0}, bakedResponses_{0}, bakeFallbacks_{0}, inputSamplesReplaced_{0},
+      fftPlanFailures_{0};
   std::atomic<double> frameMs_{0.0}, irAgeMs_{0.0}, cacheMergedEnergyFraction_{0.0},
       droppedEnergyFraction_{0.0};
   std::atomic<double> completionSeconds_{std::numeric_limits<double>::quiet_NaN()};

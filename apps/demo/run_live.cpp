@@ -290,6 +290,9 @@ void finishLive(const SceneDesc& scene, const Flags& fl, LiveSession& session,
                 (unsigned long long)st.recordDropped);
   }
   printLiveSummary(st, output, cb, swap, noSwap);
+  if (st.fftPlanFailures)
+    std::fprintf(stderr, "dpc-demo: warning: FFTW could not measure the convolvers' plans; the "
+                         "session ran on estimated plans (the same sound, slower callbacks)\n");
   printHybrid(session.hybridReport());
   if (!fl.stats.empty()) {
     writeLiveStats(fl.stats, fl.scene, output, pb.scheduling, session, st, cb, swap, noSwap,

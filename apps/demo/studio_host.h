@@ -33,6 +33,9 @@ class StudioHost {
   /// LiveSession::setSourcePosition (a jump: teleportSource), the selection kept for publish().
   void applyRequests(KeyboardMotion& motion, LiveSession& session);
 
+  /// The offline clock's sound for the page (GET /api/audio); call before the first frame.
+  void offerAudio(std::shared_ptr<studio::StudioAudio> audio) { board_.setAudio(std::move(audio)); }
+
   /// Publishes a StudioFrame if the session has a frame newer than the last one published:
   /// poses, the selected pair's responses (its IR when the page asked for one), the status figures (`figures` brings the device's
   /// load and xruns; the session's are filled in here). Returns whether it published.

@@ -24,6 +24,16 @@ std::shared_ptr<const std::string> StudioBoard::bake() const {
   return bake_;
 }
 
+void StudioBoard::setAudio(std::shared_ptr<StudioAudio> audio) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  audio_ = std::move(audio);
+}
+
+std::shared_ptr<StudioAudio> StudioBoard::audio() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return audio_;
+}
+
 namespace {
 
 /// Appends `item` to `q`; returns the oldest entry when `q` then holds more than `kept` (the

@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "apps/studio/studio_audio.h"
 #include "common/bands.h"
 #include "common/impulse_response.h"
 #include "engine/propagation.h"
@@ -109,6 +110,11 @@ class StudioBoard {
   /// plays from a bake; bake() is null otherwise.
   void setBake(std::string json);
   std::shared_ptr<const std::string> bake() const;
+  /// Control thread, once before the server starts: the offline clock's sound for the page
+  /// (studio_audio.h); audio() is null on the live clock (the device plays) and for outputs a
+  /// page cannot play.
+  void setAudio(std::shared_ptr<StudioAudio> audio);
+  std::shared_ptr<StudioAudio> audio() const;
 
   /// Control thread: the newest frame (older ones kept up to kKeptFrames).
   void publish(std::shared_ptr<const StudioFrame> frame);
@@ -139,6 +145,7 @@ class StudioBoard {
   mutable std::mutex mutex_;
   std::shared_ptr<const std::string> scene_;
   std::shared_ptr<const std::string> bake_;
+  std::shared_ptr<StudioAudio> audio_;
   std::deque<std::shared_ptr<const StudioFrame>> frames_;  ///< oldest first
   std::deque<std::shared_ptr<const StudioIr>> irs_;        ///< oldest first
   StudioRequests requests_;

@@ -2,6 +2,7 @@
 
 #include <httplib.h>
 
+#include <bit>
 #include <cmath>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -43,6 +44,7 @@ struct StudioServer::Impl {
   void routeReads();
   void routeIr();
   std::shared_ptr<const std::string> irDocument(const std::shared_ptr<const StudioIr>& ir);
+  void routeAudio();
   void routeWrites();
   void routeFiles();
 };
@@ -160,6 +162,33 @@ void StudioServer::Impl::routeIr() {
            }));
 }
 
+/// GET /api/audio?from=N: the offline clock's sound from frame N on (StudioAudio::since; no N:
+/// from the newest on), as
+/// little-endian float32 interleaved samples; the headers X-Dpc-First, X-Dpc-Skipped,
+/// X-Dpc-Sample-Rate and X-Dpc-Channels say what they are. 409 when there is none to play.
+void StudioServer::Impl::routeAudio() {
+  http.Get("/api/audio", [this](const Request& req, Response& res) {
+    const std::shared_ptr<StudioAudio> audio = board.audio();
+    if (!audio)
+      return refuse(res, 409, "no sound to play in the page: the audio device plays this session, "
+                              "or its output is not mono, stereo or binaural");
+    // No "from": the newest frame on (an empty chunk that says where the sound stands).
+    const uint64_t from = req.has_param("from")
+                              ? std::strtoull(req.get_param_value("from").c_str(), nullptr, 10)
+                              : UINT64_MAX;
+    const StudioAudio::Chunk c = audio->since(from);
+    res.set_header("X-Dpc-First", std::to_string(c.first));
+    res.set_header("X-Dpc-Skipped", std::to_string(c.skipped));
+    res.set_header("X-Dpc-Sample-Rate", std::to_string(audio->sampleRate()));
+    res.set_header("X-Dpc-Channels", std::to_string(audio->channels()));
+    res.set_header("Cache-Control", "no-store");
+    static_assert(std::endian::native == std::endian::little, "float32 little-endian on the wire");
+    res.set_content(std::string(reinterpret_cast<const char*>(c.interleaved.data()),
+                                c.interleaved.size() * sizeof(float)),
+                    "application/octet-stream");
+  });
+}
+
 /// POST /api/...: the page's requests, checked, left on the board for the control loop.
 void StudioServer::Impl::routeWrites() {
   http.Post("/api/listener", [this](const Request& req, Response& res) {
@@ -220,6 +249,7 @@ StudioServer::StudioServer(const ServerOptions& options, StudioBoard& board)
   });
   s.routeReads();
   s.routeIr();
+  s.routeAudio();
   s.routeWrites();
   s.routeFiles();
   s.port = options.port == 0 ? s.http.bind_to_any_port(options.host)

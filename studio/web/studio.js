@@ -1,7 +1,7 @@
 // dpc studio's page: the scene in three.js, the listener and sources draggable, the state
 // polled from the server (GET /api/state every 150 ms, the response when its frame changes;
-// docs/studio.md "API"); the surfaces' heat map (heat.js); with --bake, the probes and
-// parameter maps (probes.js).
+// docs/studio.md "API"); the surfaces' heat map (heat.js); the offline clock's sound through
+// Web Audio (listen.js); with --bake, the probes and parameter maps (probes.js).
 // window.studio exposes what the browser test reads.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/OrbitControls.js';
@@ -10,6 +10,7 @@ import { drawIr, fillIacc } from './ir_panel.js';
 import { buildObjects, kLobeBand, lobe, meshGeometry, placeObjects, worldVertices } from './objects.js';
 import { showProbes } from './probes.js';
 import { heatMap } from './heat.js';
+import { listenSwitch } from './listen.js';
 
 const token = new URLSearchParams(location.search).get('token') || '';
 const headers = { 'X-Dpc-Token': token, 'Content-Type': 'application/json' };
@@ -231,6 +232,7 @@ async function start() {
   mesh = buildMesh(sc);
   objectGroups = buildObjects(scene3, sc.objects);
   paintHeat = heatMap({ sc, mesh, objectGroups, studio, THREE });
+  listenSwitch({ studio, token });
   sourceMarkers = sc.sources.map((s) => {
     const m = marker(0xe04040, 0.18, false), balloon = lobe(s.directivity[kLobeBand]);
     if (balloon) m.add(balloon);

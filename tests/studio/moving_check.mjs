@@ -8,6 +8,7 @@
 import assert from 'node:assert/strict';
 import fs from 'node:fs';
 import path from 'node:path';
+import { sceneCopy } from './scene_copy.mjs';
 
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 
@@ -57,16 +58,9 @@ function hausdorff(a, b) {
 }
 
 /// scenes/two_rooms.json written into dir with its door looping (its keyframes end closed, as
-/// they start) and its files named by absolute paths. Returns the copy's path.
+/// they start). Returns the copy's path.
 export function loopingDoorScene(source, dir) {
-  const scenes = path.join(source, 'scenes');
-  const desc = JSON.parse(fs.readFileSync(path.join(scenes, 'two_rooms.json'), 'utf8'));
-  desc.mesh = path.join(scenes, desc.mesh);
-  for (const o of desc.objects) (o.mesh = path.join(scenes, o.mesh)), (o.loop = true);
-  for (const s of desc.sources) if (s.signal) s.signal = path.join(scenes, s.signal);
-  const file = path.join(dir, 'two_rooms_door_loop.json');
-  fs.writeFileSync(file, JSON.stringify(desc));
-  return file;
+  return sceneCopy(source, 'two_rooms.json', dir, (desc) => { for (const o of desc.objects) o.loop = true; });
 }
 
 /// Samples the page until it has seen the door open, shut and mid-swing; every sample's drawn

@@ -38,13 +38,15 @@ double windowFrames(const SceneDesc& scene, const Flags& fl) {
 
 }  // namespace
 
-StudioHost::StudioHost(const SceneDesc& scene, const Flags& fl)
+StudioHost::StudioHost(const SceneDesc& scene, const Flags& fl,
+                       std::shared_ptr<studio::StudioAudio> audio)
     : scene_(scene),
       heat_(triangleCount(scene), windowFrames(scene, fl)),
       placedSources_(scene.sources.size()) {
   // The bake does not change while dpc-demo runs: its maps are read and put in JSON once.
   if (!fl.bake.empty()) board_.setBake(studio::bakeJson(readStudioBake(fl.bake)));
   board_.setScene(studio::sceneJson(scene, fl.bake));
+  board_.setAudio(std::move(audio));
   studio::ServerOptions o;
   o.port = int(fl.port.value_or(0));
   o.webFolder = studioWebFolder();

@@ -24,7 +24,10 @@ class StudioHost {
   /// Starts the server for `scene` (its JSON published once, and with --bake the bake's maps:
   /// /api/bake) and prints its URL on stdout. Throws InputError naming --port when the port
   /// cannot be bound, naming the bake when it does not open. `scene` must outlive it.
-  StudioHost(const SceneDesc& scene, const Flags& fl);
+  /// audio: the offline clock's sound for the page (GET /api/audio), or null (the live clock,
+  /// or an output a page cannot play); on the board before the URL is printed.
+  StudioHost(const SceneDesc& scene, const Flags& fl,
+             std::shared_ptr<studio::StudioAudio> audio = nullptr);
   /// Stops the server; prints what publishing cost (studio: N frames, mean us per frame).
   ~StudioHost();
 
@@ -32,9 +35,6 @@ class StudioHost {
   /// publishPoses hands to LiveSession::setPose, as a key would), each source position to
   /// LiveSession::setSourcePosition (a jump: teleportSource), the selection kept for publish().
   void applyRequests(KeyboardMotion& motion, LiveSession& session);
-
-  /// The offline clock's sound for the page (GET /api/audio); call before the first frame.
-  void offerAudio(std::shared_ptr<studio::StudioAudio> audio) { board_.setAudio(std::move(audio)); }
 
   /// Publishes a StudioFrame if the session has a frame newer than the last one published:
   /// poses, the selected pair's responses (its IR when the page asked for one), the status figures (`figures` brings the device's

@@ -62,14 +62,14 @@ void serveOfflineStudio(const LoadedRun& run, const Flags& fl) {
   lo.keepSurfaceEnergy = true;  // the heat map
   LiveSession session(run.scene, run.settings, run.dry, lo);
   KeyboardMotion motion(scene, session.playedListener());
-  StudioHost studio(scene, fl);
+  std::shared_ptr<studio::StudioAudio> ring;
   std::unique_ptr<PageSound> sound;
   if (studio::StudioAudio::playable(lo.deviceChannels)) {
-    auto ring = std::make_shared<studio::StudioAudio>(session.sampleRate(), lo.deviceChannels);
-    studio.offerAudio(ring);
+    ring = std::make_shared<studio::StudioAudio>(session.sampleRate(), lo.deviceChannels);
     sound = std::make_unique<PageSound>(session, lo.deviceChannels,
                                         double(scene.propagation.frameRate), ring);
   }
+  StudioHost studio(scene, fl, ring);
   std::fprintf(stderr, "studio: offline clock, %.0f frames per second at most; Ctrl-C ends\n",
                double(scene.propagation.frameRate));
   const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(

@@ -64,7 +64,7 @@ TEST_CASE("StudioAudio: numbered frames, the ring's wrap, readers behind and ahe
   }
 }
 
-TEST_CASE("StudioAudio: at most kMaxChunkFrames per chunk; mono; only 1 or 2 channels",
+TEST_CASE("StudioAudio: at most kMaxChunkFrames per chunk, mono, and only 1 or 2 channels",
           "[studio]") {
   StudioAudio audio(48000, 1);
   appendFrames(audio, 0, 2 * StudioAudio::kMaxChunkFrames + 480, 480);

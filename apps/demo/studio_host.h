@@ -7,6 +7,7 @@
 
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "apps/demo/flags.h"
@@ -28,6 +29,8 @@ class StudioHost {
   /// or an output a page cannot play); on the board before the URL is printed.
   StudioHost(const SceneDesc& scene, const Flags& fl,
              std::shared_ptr<studio::StudioAudio> audio = nullptr);
+  /// http://127.0.0.1:PORT/?token=TOKEN, as printed.
+  std::string url() const { return server_->url(); }
   /// Stops the server; prints what publishing cost (studio: N frames, mean us per frame).
   ~StudioHost();
 

@@ -18,6 +18,8 @@
 // replace the allocator themselves (tests/rt/*_tsan_test.cpp are built without it).
 #pragma once
 
+#include <memory>
+
 #include <cstdint>
 
 namespace dpc::rt {
@@ -71,6 +73,18 @@ class AllocationScope {
  private:
   AllocationCounts start_;
   bool wasMarked_;
+};
+
+/// An audio-thread observer for test::driveLiveSession (tests/rt/live_driver.h): counts the
+/// heap calls on the thread between begin() and end().
+struct CountHeapCalls {
+  std::unique_ptr<AllocationScope> scope;
+  uint64_t calls = ~0ull;
+  void begin() { scope = std::make_unique<AllocationScope>(); }
+  void end() {
+    calls = scope->counts().total();
+    scope.reset();
+  }
 };
 
 }  // namespace dpc::rt

@@ -4,7 +4,9 @@
 // machine traces fewer frames per block; at most 50 x `blocks`), while the calling thread walks
 // the listener along the shoebox trajectory.
 // `onAudioThread` runs on the audio thread around the blocks: begin() before the first, end()
-// after the last (e.g. to count heap calls there).
+// after the last (e.g. to count heap calls there). `control` adds to what the calling thread
+// does: configure(options) before the session is built, step(scene, session) on every pass of
+// its loop (as dpc-demo's control loop serves dpc studio), finish() before the session stops.
 #pragma once
 
 #include <fftw3.h>
@@ -35,17 +37,24 @@ struct LiveRun {
   bool plansMeasuredAtStart = false, plansMeasured = false;
 };
 
+/// The calling thread does only the listener's walk.
+struct NoControl {
+  void configure(LiveSession::Options&) {}
+  void step(const SceneDesc&, LiveSession&) {}
+  void finish() {}
+};
+
 /// tracingThreads: the propagation's TBB arena (0 = all cores). With head-tracked binaural
 /// output the listener also turns (half a radian per second), so the audio thread turns the
 /// sound field between IR swaps. plansMeasuredLater: measured FFT plans with no FFTW wisdom in
 /// the process or on file (LiveSession::Options::measureFftPlans), so that the session's
 /// planner thread swaps its plans in while the audio thread renders; the run lasts until it
 /// has.
-template <typename AudioThreadObserver>
+template <typename AudioThreadObserver, typename Control = NoControl>
 LiveRun driveLiveSession(int blocks, uint64_t minIrsApplied, AudioThreadObserver& onAudioThread,
                          int tracingThreads = 0, Rendering rendering = Rendering::kAuto,
                          OutputFormat output = OutputFormat::kMono,
-                         bool plansMeasuredLater = false) {
+                         bool plansMeasuredLater = false, Control&& control = Control{}) {
   LiveRun run;
   SceneDesc scene = loadScene(std::string(DPC_SOURCE_DIR) + "/scenes/shoebox.json");
   scene.audio.blockSize = 128;
@@ -68,6 +77,7 @@ LiveRun driveLiveSession(int blocks, uint64_t minIrsApplied, AudioThreadObserver
     fftwf_forget_wisdom();
     opt.measureFftPlans = true;
   }
+  control.configure(opt);
   LiveSession session(test::shared(scene), ps, test::shared(dry), opt);
   run.plansMeasuredAtStart = session.fftPlansMeasured();
   session.setPose(listenerPositionAt(scene.listeners[0], 0.0), 0.f, 0.0);
@@ -90,6 +100,7 @@ LiveRun driveLiveSession(int blocks, uint64_t minIrsApplied, AudioThreadObserver
     const double t =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     session.setPose(listenerPositionAt(scene.listeners[0], t), turn * float(t), t);
+    control.step(scene, session);
     const LiveSession::Status st = session.status();
     const bool plans = !plansMeasuredLater || session.fftPlansMeasured();
     done.store((st.blocks >= uint64_t(blocks) && st.irsApplied >= minIrsApplied && plans) ||
@@ -98,6 +109,7 @@ LiveRun driveLiveSession(int blocks, uint64_t minIrsApplied, AudioThreadObserver
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   audio.join();
+  control.finish();
   session.stop();
   run.status = session.status();
   run.plansMeasured = session.fftPlansMeasured();

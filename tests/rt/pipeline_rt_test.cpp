@@ -9,16 +9,7 @@
 using namespace dpc;
 
 namespace {
-/// Counts heap calls on the audio thread between begin() and end().
-struct CountHeapCalls {
-  std::unique_ptr<rt::AllocationScope> scope;
-  uint64_t calls = ~0ull;
-  void begin() { scope = std::make_unique<rt::AllocationScope>(); }
-  void end() {
-    calls = scope->counts().total();
-    scope.reset();
-  }
-};
+using rt::CountHeapCalls;
 
 /// What every run checks: at least `swaps` IRs applied, no heap call on the audio thread,
 /// finite output, no block refused as NaN.

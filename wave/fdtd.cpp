@@ -33,6 +33,9 @@ Coefficients coefficientsFor(const GridLayout& g, double c, int stepRate) {
 struct Share {
   Slab slab;
   size_t plane = 0;  ///< floats per z slice
+  /// The pressure arrays hold slices slab.first - 1 .. slab.last (the slab and the neighbours'
+  /// edge slices it reads): array index n of the grid is element n - base of them.
+  size_t base = 0;
   size_t boundaryBegin = 0, boundaryEnd = 0;
   std::vector<int> receiverOwner;
   int rank = 0;
@@ -45,6 +48,7 @@ Share shareOf(const WaveGrid& grid, const SimulationInput& in) {
   sh.rank = in.link ? in.link->rank() : 0;
   sh.slab = slabOf(grid.layout, sh.rank, ranks);
   sh.plane = d[0] * d[1];
+  sh.base = (sh.slab.first - 1) * sh.plane;
   auto before = [&](size_t slice) {
     return size_t(std::lower_bound(grid.boundary.begin(), grid.boundary.end(), slice * sh.plane,
                                    [](const BoundaryNode& b, size_t i) { return b.index < i; }) -
@@ -61,14 +65,15 @@ Share shareOf(const WaveGrid& grid, const SimulationInput& in) {
   return sh;
 }
 
-/// Next values of boundary nodes [b0, b1) (from p = p^n and q = p^{n-1}) into next[b - b0].
-void boundaryStep(const WaveGrid& grid, const Coefficients& k, size_t b0, size_t b1,
+/// Next values of boundary nodes [b0, b1) (from p = p^n and q = p^{n-1}, whose element 0 is
+/// the grid's array index `base`) into next[b - b0].
+void boundaryStep(const WaveGrid& grid, const Coefficients& k, size_t b0, size_t b1, size_t base,
                   const float* p, const float* q, std::vector<float>& next) {
   const auto d = grid.layout.dims();
   const std::array<size_t, 3> stride{1, d[0], d[0] * d[1]};
   for (size_t b = b0; b < b1; ++b) {
     const BoundaryNode& node = grid.boundary[b];
-    const size_t n = node.index;
+    const size_t n = node.index - base;
     float lap = 0.f;
     for (int face = 0; face < 6; ++face) {
       if (!(node.openFaces & (1u << face))) continue;
@@ -81,9 +86,9 @@ void boundaryStep(const WaveGrid& grid, const Coefficients& k, size_t b0, size_t
 }
 
 /// The interior update over every node of slices [k0, k1): q becomes p^{n+1}, zero off the
-/// air (boundary nodes are overwritten afterwards).
-void interiorStep(const WaveGrid& grid, const Coefficients& k, const float* p, float* q,
-                  size_t k0, size_t k1) {
+/// air (boundary nodes are overwritten afterwards). p and q start at the grid's index `base`.
+void interiorStep(const WaveGrid& grid, const Coefficients& k, size_t base, const float* p,
+                  float* q, size_t k0, size_t k1) {
   const auto d = grid.layout.dims();
   const size_t sy = d[0], sz = d[0] * d[1];
   const float lx = k.lambda2[0], ly = k.lambda2[1], lz = k.lambda2[2];
@@ -92,15 +97,19 @@ void interiorStep(const WaveGrid& grid, const Coefficients& k, const float* p, f
   for (size_t kk = k0; kk < k1; ++kk)
     for (size_t j = 1; j + 1 < d[1]; ++j) {
       const size_t row = sy * j + sz * kk;
-      for (size_t i = row + 1; i < row + d[0] - 1; ++i)
-        q[i] = air[i] * (centre * p[i] - q[i] + lx * (p[i - 1] + p[i + 1]) +
-                         ly * (p[i - sy] + p[i + sy]) + lz * (p[i - sz] + p[i + sz]));
+      const float* a = air + row;
+      const float* pr = p + (row - base);
+      float* qr = q + (row - base);
+      for (size_t i = 1; i + 1 < d[0]; ++i)
+        qr[i] = a[i] * (centre * pr[i] - qr[i] + lx * (pr[i - 1] + pr[i + 1]) +
+                        ly * (pr[i - sy] + pr[i + sy]) + lz * (pr[i - sz] + pr[i + sz]));
     }
 }
 
-float sample(const Stencil& s, const float* p) {
+/// The stencil's pressure from p, whose element 0 is the grid's index `base`.
+float sample(const Stencil& s, size_t base, const float* p) {
   float v = 0.f;
-  for (size_t c = 0; c < 8; ++c) v += s.weight[c] * p[s.index[c]];
+  for (size_t c = 0; c < 8; ++c) v += s.weight[c] * p[s.index[c] - base];
   return v;
 }
 
@@ -109,24 +118,24 @@ float sample(const Stencil& s, const float* p) {
 void advance(const WaveGrid& grid, const Coefficients& k, const Share& sh,
              const SimulationInput& in, size_t n, const float* p, float* q,
              std::vector<float>& next) {
-  boundaryStep(grid, k, sh.boundaryBegin, sh.boundaryEnd, p, q, next);
+  boundaryStep(grid, k, sh.boundaryBegin, sh.boundaryEnd, sh.base, p, q, next);
   tbb::parallel_for(tbb::blocked_range<size_t>(sh.slab.first, sh.slab.last), [&](const auto& r) {
-    interiorStep(grid, k, p, q, r.begin(), r.end());
+    interiorStep(grid, k, sh.base, p, q, r.begin(), r.end());
   });
   for (size_t b = sh.boundaryBegin; b < sh.boundaryEnd; ++b)
-    q[grid.boundary[b].index] = next[b - sh.boundaryBegin];
+    q[grid.boundary[b].index - sh.base] = next[b - sh.boundaryBegin];
   if (n >= in.signal.size()) return;
   for (size_t c = 0; c < 8; ++c) {
     const size_t slice = in.source.index[c] / sh.plane;
     if (slice >= sh.slab.first && slice < sh.slab.last)
-      q[in.source.index[c]] += k.sourceScale * in.source.weight[c] * in.signal[n];
+      q[in.source.index[c] - sh.base] += k.sourceScale * in.source.weight[c] * in.signal[n];
   }
 }
 
 /// Refreshes the slices next to the slab (p's lowest and highest neighbours' edge slices).
 void tradeEdges(SlabLink& link, const Share& sh, float* p) {
   const bool lower = sh.rank > 0, upper = sh.rank + 1 < link.size();
-  auto slice = [&](size_t k) { return std::span<float>(p + k * sh.plane, sh.plane); };
+  auto slice = [&](size_t k) { return std::span<float>(p + k * sh.plane - sh.base, sh.plane); };
   link.exchange(lower ? slice(sh.slab.first) : std::span<float>(),
                 lower ? slice(sh.slab.first - 1) : std::span<float>(),
                 upper ? slice(sh.slab.last - 1) : std::span<float>(),
@@ -177,17 +186,22 @@ Slab slabOf(const GridLayout& layout, int rank, int ranks) {
           1 + interior * size_t(rank + 1) / size_t(ranks)};
 }
 
+size_t pressureFloats(const GridLayout& layout, const Slab& slab) {
+  const auto d = layout.dims();
+  return (slab.last - slab.first + 2) * d[0] * d[1];
+}
+
 std::vector<std::vector<float>> simulate(const WaveGrid& grid, const SimulationInput& in) {
   const Coefficients k = coefficientsFor(grid.layout, in.speedOfSound, in.stepRate);
   const Share sh = shareOf(grid, in);
-  std::vector<float> p(grid.layout.arraySize(), 0.f), q(p.size(), 0.f);
+  std::vector<float> p(pressureFloats(grid.layout, sh.slab), 0.f), q(p.size(), 0.f);
   std::vector<float> next(sh.boundaryEnd - sh.boundaryBegin);
   std::vector<std::vector<float>> out(in.receivers.size(), std::vector<float>(in.steps, 0.f));
   for (size_t n = 0; n < in.steps; ++n) {
     if (in.link) tradeEdges(*in.link, sh, p.data());
     // p holds p^n, the pressure at time n T (at rest for n = 0).
     for (size_t r = 0; r < in.receivers.size(); ++r)
-      if (sh.receiverOwner[r] == sh.rank) out[r][n] = sample(in.receivers[r], p.data());
+      if (sh.receiverOwner[r] == sh.rank) out[r][n] = sample(in.receivers[r], sh.base, p.data());
     if (n + 1 < in.steps) advance(grid, k, sh, in, n, p.data(), q.data(), next);
     std::swap(p, q);
     if (in.progress && (n % 256 == 255 || n + 1 == in.steps)) in.progress(n + 1, in.steps);

@@ -17,11 +17,12 @@
 // update one slab of the grid's z slices and trade their edge slices with their neighbours
 // every step (SlabLink). Each node's update reads the same values in the same order whatever
 // the slab, and each receiver is read by one process, so any number of processes gives the
-// same results bit for bit. Each process still holds the whole grid (built on every process
-// alike) and full-size pressure arrays: the time of the steps is shared, not the memory.
+// same results bit for bit. Each process holds the pressure of its slab and the two slices
+// around it only (pressureFloats), but still the whole grid (its air mask and boundary list,
+// built on every process alike).
 //
 // Threads: simulate() runs on the calling thread with TBB workers over the slab's slices;
-// allocates the two pressure arrays (8 bytes per array node); no errors but those of
+// allocates the two pressure arrays (pressureFloats each); no errors but those of
 // allocation and of the SlabLink. Source: the scheme and its stability in S. Bilbao, Numerical
 // Sound Synthesis (Wiley, 2009), ch. 10; the boundary as in wave/wave_grid.h.
 #pragma once
@@ -78,6 +79,10 @@ struct Slab {
   size_t first = 0, last = 0;
 };
 Slab slabOf(const GridLayout& layout, int rank, int ranks);
+
+/// Floats in each of a process's two pressure arrays: its slab's slices and one more on
+/// either side (the neighbours' edge slices it reads, or the padding).
+size_t pressureFloats(const GridLayout& layout, const Slab& slab);
 
 struct SimulationInput {
   double speedOfSound = 343.0;    ///< m/s

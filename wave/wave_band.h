@@ -17,7 +17,8 @@
 // pushed into it. Causal: nothing precedes the direct sound but the pulse's own rise.
 //
 // Control thread (TBB workers inside); allocates the grid and the state (wave/wave_grid.h,
-// about 14 bytes per node of the bounding box while building, 12 per node while simulating);
+// about 14 bytes per node of the bounding box while building, 12 per node while simulating,
+// 4 + 8 / N per node on each of N processes sharing the simulation);
 // throws InputError naming the file and field for a source or receiver outside the air the
 // grid reaches, and a grid beyond kMaxWaveNodes.
 #pragma once
@@ -63,7 +64,7 @@ struct WaveBandStats {
   int stepRate = 0;          ///< time steps per second
   size_t steps = 0;          ///< per simulation
   size_t simulations = 0;    ///< one per octave band up to the crossover
-  size_t stateBytes = 0;     ///< the solver's arrays (pressure twice, air mask, boundary)
+  size_t stateBytes = 0;     ///< this process's solver arrays (its slab's pressure twice, the air mask, the boundary)
   double buildSeconds = 0.0; ///< wall time of the grid
   double simulateSeconds = 0.0;
   int processes = 1;         ///< sharing each simulation (options.link's size)

@@ -21,6 +21,7 @@ struct Plan {
   SceneDesc scene;
   BakeHeader header;
   std::vector<size_t> todo;  ///< probes this run bakes
+  std::vector<size_t> waveTodo;  ///< sources whose wave band this run simulates (rank 0)
   size_t alreadyDone = 0;    ///< probes stored (and verified) before this run
   bool wasComplete = false;  ///< a resumed file said complete (its map is rewritten, or its
                              ///< damaged probes baked again)

@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "apps/bake/bake_plan.h"
+#include "apps/bake/bake_wave.h"
 #include "apps/bake/progress.h"
 #include "apps/bake/watchdog.h"
 #include "bake/bake_file.h"
@@ -39,7 +40,7 @@ int unfinishedStatus() {
 BakeFile openOutput(const Options& o, const Plan& plan) {
   if (!o.resume.empty()) {
     BakeFile file = BakeFile::open(o.resume, BakeFile::Access::kWrite);
-    if (plan.wasComplete && !plan.todo.empty()) file.markIncomplete();
+    if (plan.wasComplete && !(plan.todo.empty() && plan.waveTodo.empty())) file.markIncomplete();
     return file;
   }
   checkFreeSpace(o.out, plan.estimate.bytes, o.force);
@@ -142,10 +143,13 @@ std::unique_ptr<Watchdog> watch(const Plan& plan, const Cluster& cluster, const 
 }
 
 int finishAsWriter(const Options& o, Plan& plan, Cluster& cluster, BakeFile& file) {
-  Progress progress(plan.todo.size(), plan.alreadyDone, o.quiet);
   std::unique_ptr<Watchdog> watchdog = watch(plan, cluster, file);
+  // The wave band first (the other ranks bake their probes meanwhile): its one simulation per
+  // source serves every probe.
+  const bool waved = bakeWaveBands(plan, file, o.quiet, watchdog.get());
+  Progress progress(plan.todo.size(), plan.alreadyDone, o.quiet);
   Writer writer{file, progress, watchdog.get()};
-  const bool finished = bakeAsWriter(plan, cluster, writer);
+  const bool finished = waved && bakeAsWriter(plan, cluster, writer);
   watchdog.reset();  // every probe is in (or the single process was interrupted)
   progress.finish();
   if (!finished) {

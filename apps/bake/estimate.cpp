@@ -43,6 +43,12 @@ double bakeFileBytes(size_t probes, const ProbeShape& shape) {
   return double(probes) * perProbe + double(shape.sources) * 12.0 + kMetadataBytes;
 }
 
+double waveBandBytes(size_t probes, size_t sources, const WaveLayout& wave) {
+  if (!wave.enabled) return 0.0;
+  // The band (floats), the reached mask (a byte a probe), done and CRC-32 per source.
+  return double(sources) * (double(probes) * (double(wave.samples) * 4.0 + 1.0) + 5.0);
+}
+
 BakeEstimate estimateBake(size_t probes, size_t fileProbes, const ProbeShape& shape,
                           const BakeSettings& settings, double frameSeconds, int processes) {
   BakeEstimate e;

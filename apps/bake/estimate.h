@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <string>
 
+#include "bake/bake_layout.h"
 #include "bake/probe_bake.h"
 
 namespace dpc::bake {
@@ -33,6 +34,8 @@ struct BakeEstimate {
 
 /// The file size of a bake of `probes` probes of `shape` (every dataset, allocated whole).
 double bakeFileBytes(size_t probes, const ProbeShape& shape);
+/// The bytes of a bake's wave band (docs/bake-format.md): 0 when `wave` is not enabled.
+double waveBandBytes(size_t probes, size_t sources, const WaveLayout& wave);
 BakeEstimate estimateBake(size_t probes, size_t fileProbes, const ProbeShape& shape,
                           const BakeSettings& settings, double frameSeconds, int processes);
 /// "70 probes, a 6.5 MB file, about 14 s on 1 process (0.025 s per frame measured)".

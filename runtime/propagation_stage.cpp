@@ -210,7 +210,16 @@ void PropagationStage::synthesize(size_t s, size_t listener) {
                                  r.direct, irs[s].channel(0),
                                  simulation_->specularPaths(s, listener));
   }
-  if (waveBands_ && waveBands_->has(listener, s)) waveBands_->join(listener, s, irs[s]);
+  joinWave(s, listener, irs[s]);
+}
+
+void PropagationStage::joinWave(size_t s, size_t listener, ImpulseResponse& ir) const {
+  if (bakedWave_ && baked_->plays(s, listener)) {
+    const size_t probe = baked_->nearestProbe(listener);
+    if (bakedWave_->has(probe, s)) bakedWave_->join(probe, s, ir);
+    return;
+  }
+  if (waveBands_ && waveBands_->has(listener, s)) waveBands_->join(listener, s, ir);
 }
 
 void PropagationStage::checkWaveBandsAllowed() const {
@@ -309,6 +318,21 @@ void PropagationStage::wholeIrsInto(size_t listener, std::vector<ImpulseResponse
 
 void PropagationStage::attachBake(std::shared_ptr<const BakedField> bake,
                                   BakeInterpolation settings) {
+  bakedWave_.reset();
+  if (bake && bake->hasWave()) {
+    checkWaveBandsAllowed();
+    const size_t probes = bake->probes.size(), sources = bake->sources.size();
+    auto set = std::make_unique<wave::WaveBandSet>(
+        probes, sources, scene_->audio.output, bake->waveCrossoverHz, bake->waveMaxFrequencyHz,
+        double(bake->waveSampleRate));
+    for (size_t s = 0; s < sources; ++s)
+      for (size_t p = 0; p < probes; ++p)
+        if (bake->waveReached[s * probes + p])
+          set->set(p, s, std::span<const float>(
+                             bake->wave.data() + (s * probes + p) * bake->waveSamples,
+                             bake->waveSamples));
+    bakedWave_ = std::move(set);
+  }
   baked_ =
       bake ? std::make_unique<BakedPlayback>(std::move(bake), *simulation_, settings) : nullptr;
 }

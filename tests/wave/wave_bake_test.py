@@ -5,7 +5,9 @@ probes on a 1 m grid at 1.6 m (12 probes):
 
   band     the baked wave band at every probe equals dpc-wave's band for listeners at the
            probes' positions (the same grid, the same simulation: bit for bit), and every
-           probe of the closed room is reached.
+           probe of the closed room is reached. With a second closed room beside it (no
+           opening) and a probe list with one probe there, that probe is reported in one
+           line, stored with wave/reached 0 and zeros, and the bake completes.
   resume   a bake killed (SIGKILL) once while it simulates the wave band and once while it
            bakes probes, then finished with --resume, is the clean bake: h5diff finds no
            difference (and cmp none either: a bake's bytes depend only on its inputs).
@@ -112,6 +114,37 @@ def band(build, tmp):
               'the baked band at the %d probes equals dpc-wave\'s bit for bit (largest '
               'difference %.3g, largest sample %.3g)' % (len(probes), diff,
                                                          float(np.max(np.abs(baked)))))
+    unreached(build, tmp)
+
+
+def unreached(build, tmp):
+    scene = room(tmp, 'two')
+    with open(scene) as f:
+        desc = json.load(f)
+    corners = [(x, y, z) for x in (5.0, 6.0) for y in (0.0, 2.6) for z in (0.0, 3.0)]
+    quads = [(1, 2, 4, 3), (5, 7, 8, 6), (1, 5, 6, 2), (3, 4, 8, 7), (1, 3, 7, 5), (2, 6, 8, 4)]
+    with open(os.path.join(tmp, desc['mesh']), 'a') as f:
+        f.write(''.join('v %r %r %r\n' % c for c in corners) + 'usemtl x-\n')
+        f.write(''.join('f %d %d %d\nf %d %d %d\n' % (q[0] + 8, q[1] + 8, q[2] + 8, q[0] + 8,
+                                                      q[2] + 8, q[3] + 8) for q in quads))
+    probes = os.path.join(tmp, 'two_probes.txt')
+    with open(probes, 'w') as f:
+        f.write('1.5 1.6 1.5\n5.5 1.3 1.5\n2.5 1.6 2.5\n')
+    out = os.path.join(tmp, 'two.h5')
+    done = subprocess.run([tool(build, 'dpc-bake'), scene, '--out', out, '--probes', probes],
+                          capture_output=True, text=True)
+    lines = [l for l in done.stderr.splitlines() if 'no air' in l]
+    print('\n'.join(lines))
+    with h5py.File(out, 'r') as f:
+        reached = list(f['wave/reached'][0])
+        silent = not np.any(f['wave/band'][0, 1])
+        complete = f.attrs['complete']
+    check(done.returncode == 0 and complete == 1, 'the bake with a probe in the closed room '
+          'beside completes')
+    check(len(lines) == 1 and '1 of 3 probes' in lines[0] and 'probe 1 at 5.500 1.300 1.500'
+          in lines[0], 'one line reports the probe the grid does not reach, and counts it')
+    check(reached == [1, 0, 1] and silent, 'wave/reached %s, the unreached probe\'s band zeros'
+          % reached)
 
 
 def kill_when(proc, err_path, text, count=1):

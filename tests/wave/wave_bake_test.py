@@ -21,7 +21,8 @@ probes on a 1 m grid at 1.6 m (12 probes):
            wave band's there and the two estimates within 30 % of each other, at most
            10 log10(1 + 0.12 * 3 * 0.3) = 0.45 dB. The check can fail: the same render from
            the bake with the wave band off (a scene without it) lies more than 3 dB away in
-           some third.
+           some third. A scene asking for another wave band (max_frequency 300) is refused
+           in one line naming the bake and hash_wave.
   cli      a bake of a scene whose wave keys are out of range (max_frequency 5 Hz, a crossover
            above the maximum frequency): one line naming the scene file and the field, exit
            status 1, no bake file.
@@ -238,6 +239,14 @@ def render(build, tmp):
           ' '.join('%+.2f' % d for d in control))
     check(np.max(np.abs(control)) > 3.0, 'control: without the wave band some third lies more '
           'than 3 dB away (largest %.2f dB)' % np.max(np.abs(control)))
+    other = room(tmp, 'render_other', listeners=[probe], max_frequency=300)
+    done = subprocess.run([tool(build, 'dpc-demo'), other, '--offline',
+                           os.path.join(tmp, 'other.wav'), '--bake', path, '--quiet'],
+                          capture_output=True, text=True)
+    print('another maximum frequency: exit %d: %s' % (done.returncode, done.stderr.strip()))
+    check(done.returncode == 1 and done.stderr.strip().count('\n') == 0 and
+          (path + ': hash_wave: ') in done.stderr, 'a scene asking for another wave band '
+          'is refused in one line naming the bake and hash_wave')
 
 
 def cli(build, tmp):

@@ -69,7 +69,8 @@ std::shared_ptr<const WaveBandSet> sceneWaveBands(
   if (const std::string moving = firstMovingField(scene); !moving.empty())
     throw InputError(scene.path, "wave.enabled",
                      "the wave band is simulated for one pose of the scene, and " + moving +
-                         " moves (render it without the wave band, or hold it still)");
+                         " moves (render it without the wave band, hold it still, or play it "
+                         "from a bake that carries the wave band: dpc-bake)");
   auto set = std::make_shared<WaveBandSet>(
       scene.listeners.size(), scene.sources.size(), scene.audio.output,
       double(scene.wave.crossover()), double(scene.wave.maxFrequencyHz), scene.audio.sampleRate);

@@ -6,6 +6,7 @@
 
 #include "apps/bake/progress.h"
 #include "common/stop_signals.h"
+#include "common/stopwatch.h"
 #include "wave/scene_wave.h"
 
 namespace dpc::bake {
@@ -55,8 +56,10 @@ void simulateSource(const Plan& plan, size_t k, Progress& progress, std::vector<
 
 }  // namespace
 
-bool bakeWaveBands(const Plan& plan, BakeFile& file, bool quiet, Watchdog* watchdog) {
+bool bakeWaveBands(const Plan& plan, BakeFile& file, bool quiet, Watchdog* watchdog,
+                   WaveBakeStats& stats) {
   if (plan.waveTodo.empty()) return true;
+  const auto start = std::chrono::steady_clock::now();
   Progress progress(0, 0, quiet, "wave band steps");
   std::vector<float> band;
   std::vector<uint8_t> reached;
@@ -72,7 +75,10 @@ bool bakeWaveBands(const Plan& plan, BakeFile& file, bool quiet, Watchdog* watch
     std::unique_lock<std::mutex> between;
     if (watchdog) between = watchdog->lock();
     file.commitWave(s, band, reached);
+    ++stats.sources;
+    stats.unreached += size_t(std::count(reached.begin(), reached.end(), uint8_t(0)));
   }
+  stats.seconds = secondsSince(start);
   progress.finish();
   return true;
 }

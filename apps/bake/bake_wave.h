@@ -18,9 +18,17 @@
 
 namespace dpc::bake {
 
+/// What the wave band of a run cost and found.
+struct WaveBakeStats {
+  size_t sources = 0;    ///< simulated and stored in this run
+  size_t unreached = 0;  ///< (source, probe) pairs outside the source's air, over those sources
+  double seconds = 0.0;  ///< wall time, grids built, simulated and stored
+};
+
 /// Simulates and commits the wave band of every source in plan.waveTodo, with progress and an
 /// ETA on stderr unless `quiet`; each commit under the watchdog's lock when there is one.
 /// False when a stop signal came (the source being simulated is not stored).
-bool bakeWaveBands(const Plan& plan, BakeFile& file, bool quiet, Watchdog* watchdog);
+bool bakeWaveBands(const Plan& plan, BakeFile& file, bool quiet, Watchdog* watchdog,
+                   WaveBakeStats& stats);
 
 }  // namespace dpc::bake

@@ -61,6 +61,14 @@ BakeHeader readHeader(hid_t f, const std::string& path) {
   checkFormat(root.get(), path);
   BakeHeader h = readHeaderAttributes(root.get());
   h.wave = readWaveLayout(f);
+  // hash_wave says whether the scene baked had the wave band: the datasets must agree.
+  const bool waveHashed = h.hashes[size_t(SettingGroup::kWave)] != waveHash(SceneDesc{});
+  if (waveHashed != h.wave.enabled)
+    throw std::runtime_error(std::string("/") + kWaveBand + ": " +
+                             (waveHashed ? "missing, yet hash_wave says the bake carries the "
+                                           "wave band"
+                                         : "present, yet hash_wave says the bake has no wave "
+                                           "band"));
   auto points = [f](const char* name) {
     try {
       const auto dims = h5::datasetDims(f, name);

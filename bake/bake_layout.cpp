@@ -5,6 +5,7 @@
 
 #include "bake/hdf5_util.h"
 #include "common/input_error.h"
+#include "common/input_file.h"
 
 namespace dpc::bake {
 
@@ -140,7 +141,7 @@ WaveLayout readWaveLayout(hid_t file) {
   w.maxFrequencyHz = h5::readDouble(set.get(), "max_frequency_hz");
   w.crossoverHz = h5::readDouble(set.get(), "crossover_hz");
   w.gridSpacingM = h5::readDouble(set.get(), "grid_spacing_m");
-  if (!(w.sampleRate >= 8000 && w.sampleRate <= 384000))
+  if (!(w.sampleRate >= kMinSignalRateHz && w.sampleRate <= kMaxSignalRateHz))
     throw std::runtime_error(at + "sample_rate_hz " + std::to_string(w.sampleRate));
   if (!(w.crossoverHz > 0.0 && w.crossoverHz < w.maxFrequencyHz &&
         2.0 * w.maxFrequencyHz < w.sampleRate))

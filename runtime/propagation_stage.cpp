@@ -321,6 +321,11 @@ void PropagationStage::attachBake(std::shared_ptr<const BakedField> bake,
   bakedWave_.reset();
   if (bake && bake->hasWave()) {
     checkWaveBandsAllowed();
+    if (bake->waveSampleRate != scene_->audio.sampleRate)
+      throw InputError(bake->path, "wave/band",
+                       "the wave band is stored at " + std::to_string(bake->waveSampleRate) +
+                           " Hz, " + scene_->path + " plays at " +
+                           std::to_string(scene_->audio.sampleRate) + " Hz: bake again");
     const size_t probes = bake->probes.size(), sources = bake->sources.size();
     auto set = std::make_unique<wave::WaveBandSet>(
         probes, sources, scene_->audio.output, bake->waveCrossoverHz, bake->waveMaxFrequencyHz,

@@ -111,7 +111,8 @@ class PropagationStage {
   /// band (BakedField::hasWave, loaded when the scene's wave.enabled) joins each baked pair's
   /// IR with the wave band of the listener's nearest visible probe (BakedPlayback::
   /// nearestProbe) by wave/wave_join.h, in place of any attachWaveBands set; throws as
-  /// checkWaveBandsAllowed then. Control thread, between frames; allocates.
+  /// checkWaveBandsAllowed then, and InputError(bake file, "wave/band") for a band stored at
+  /// another sample rate than the scene's. Control thread, between frames; allocates.
   void attachBake(std::shared_ptr<const BakedField> bake, BakeInterpolation settings = {});
   /// Throws InputError(scene file, "wave.enabled") in hybrid rendering (a source's IR is
   /// split there; the wave band needs it whole): a caller checks before simulating the bands.

@@ -23,11 +23,14 @@ probes on a 1 m grid at 1.6 m (12 probes):
            the bake with the wave band off (a scene without it) lies more than 3 dB away in
            some third. A scene asking for another wave band (max_frequency 300) is refused
            in one line naming the bake and hash_wave.
+  mpi      mpirun -np 3 dpc-bake (rank 0 simulates the wave band while the others bake
+           probes) writes the single process's bytes (cmp). Registered only where dpc-bake is
+           built with MPI and mpirun is installed.
   cli      a bake of a scene whose wave keys are out of range (max_frequency 5 Hz, a crossover
            above the maximum frequency): one line naming the scene file and the field, exit
            status 1, no bake file.
 
-    wave_bake_test.py BUILD_DIR [band|resume|render|cli ...]
+    wave_bake_test.py BUILD_DIR [band|resume|render|mpi|cli ...]
 Exit status 0 when every check holds; prints what it measured.
 """
 import json
@@ -247,6 +250,20 @@ def render(build, tmp):
     check(done.returncode == 1 and done.stderr.strip().count('\n') == 0 and
           (path + ': hash_wave: ') in done.stderr, 'a scene asking for another wave band '
           'is refused in one line naming the bake and hash_wave')
+
+
+def mpi(build, tmp):
+    scene = room(tmp, 'mpi')
+    alone, shared = os.path.join(tmp, 'alone.h5'), os.path.join(tmp, 'np3.h5')
+    bake(build, scene, alone, '--quiet', '--threads', '1')
+    done = subprocess.run(['mpirun', '-q', '--allow-run-as-root', '--oversubscribe', '-np', '3',
+                           tool(build, 'dpc-bake'), scene, '--out', shared, '--spacing', '1',
+                           '--quiet', '--threads', '1'], capture_output=True, text=True)
+    print(done.stderr.strip())
+    check(done.returncode == 0 and 'wave band of 1 source' in done.stderr,
+          'mpirun -np 3 dpc-bake bakes the wave band and the probes')
+    check(subprocess.run(['cmp', '-s', alone, shared]).returncode == 0,
+          'cmp: mpirun -np 3 writes the single process\'s bytes')
 
 
 def cli(build, tmp):

@@ -10,7 +10,9 @@ probes on a 1 m grid at 1.6 m (12 probes):
            line, stored with wave/reached 0 and zeros, and the bake completes.
   resume   a bake killed (SIGKILL) once while it simulates the wave band and once while it
            bakes probes, then finished with --resume, is the clean bake: h5diff finds no
-           difference (and cmp none either: a bake's bytes depend only on its inputs).
+           difference (and cmp none either: a bake's bytes depend only on its inputs). One
+           sample of the wave band changed: playback refuses the file naming /wave/band and
+           the source; --resume simulates that source again and gives the clean bytes.
   render   dpc-demo --bake with the listener on a probe, against dpc-demo --ir-out with the
            wave band simulated at that position: the third octaves 31.5-80 Hz within 0.5 dB.
            The two IRs carry the same wave band (bit for bit, `band`) through the same join;
@@ -191,6 +193,21 @@ def resume(build, tmp):
               'one%s' % (name, '' if same.returncode == 0 else ': ' + same.stdout[-300:]))
         check(subprocess.run(['cmp', '-s', clean, cut]).returncode == 0,
               'cmp: the same bytes (killed %s)' % name)
+    # One sample of the complete bake's wave band changed: refused for playback naming the
+    # dataset and source, simulated again by --resume, which gives the clean bytes back.
+    with h5py.File(cut, 'r+') as f:
+        f['wave/band'][0, 3, 100] += 1.0
+    done = subprocess.run([tool(build, 'dpc-demo'), scene, '--offline',
+                           os.path.join(tmp, 'damaged.wav'), '--bake', cut, '--quiet'],
+                          capture_output=True, text=True)
+    print('damaged: ' + done.stderr.strip().splitlines()[-1])
+    check(done.returncode == 1 and (cut + ': /wave/band: source 0: CRC-32') in done.stderr,
+          'a damaged wave band is refused for playback, naming /wave/band and the source')
+    done = subprocess.run([tool(build, 'dpc-bake'), '--resume', cut, '--quiet'],
+                          capture_output=True, text=True)
+    check(done.returncode == 0 and 'simulating that wave band again' in done.stderr and
+          subprocess.run(['cmp', '-s', clean, cut]).returncode == 0,
+          '--resume simulates the damaged source again: the clean bytes')
 
 
 def third_levels(x, fs, centres):

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "apps/bake/bake_wave.h"
 #include "bake/bake_file.h"
 #include "bake/settings_hash.h"
 #include "common/input_error.h"
@@ -49,8 +50,10 @@ void planFresh(const Options& o, int processes, bool measure, Plan& plan) {
   for (const SourceDesc& s : plan.scene.sources) h.sources.push_back(sourcePositionAt(s, 0.0));
   h.shape = probeShape(plan.scene, h.settings);
   h.wave = waveLayout(plan.scene, h.settings.irLength);
-  if (h.wave.enabled)
+  if (h.wave.enabled) {
     for (size_t s = 0; s < h.sources.size(); ++s) plan.waveTodo.push_back(s);
+    plan.wave = estimateWave(plan.scene, h.settings.irLength);  // a grid too large: no file
+  }
   plan.baker = std::make_unique<ProbeBaker>(plan.scene, h.settings);
   plan.estimate.processes = processes;
   const std::vector<glm::vec3> candidates = candidatesOf(o, plan, measure);
@@ -129,6 +132,11 @@ void planResume(const Options& o, int processes, bool report, Plan& plan) {
                  waveDamage.c_str());
   for (size_t s = 0; s < waveDone.size(); ++s)
     if (!waveDone[s]) plan.waveTodo.push_back(s);
+  if (!plan.waveTodo.empty()) {
+    plan.wave = estimateWave(plan.scene, plan.header.settings.irLength);
+    plan.wave.simulations = plan.wave.simulations / plan.scene.sources.size() *
+                            plan.waveTodo.size();
+  }
   plan.header.settings.threads = o.settings.threads;
   for (size_t p = 0; p < done.size(); ++p)
     if (!done[p]) plan.todo.push_back(p);

@@ -27,6 +27,7 @@ struct Plan {
                              ///< damaged probes baked again)
   std::unique_ptr<ProbeBaker> baker;  ///< over `scene` (so the plan is not moved once made)
   BakeEstimate estimate;              ///< rank 0: the run's cost (seconds measured)
+  WaveEstimate wave;                  ///< the wave band's simulations in this run (waveTodo)
 };
 
 /// Plans a fresh bake into `plan` (in place: the baker refers to plan.scene). `measure`: time

@@ -63,6 +63,8 @@ void printEstimate(const Plan& plan) {
                plan.todo.size(), h.probes.positions.size(), h.probes.candidates, h.probes.outside,
                h.probes.insideGeometry, h.probes.nearSurface, h.shape.sources, h.settings.frames,
                h.settings.rays, rays, describe(plan.estimate).c_str());
+  if (!plan.waveTodo.empty())
+    std::fprintf(stderr, "dpc-bake: the wave band first: %s\n", describe(plan.wave).c_str());
 }
 
 /// This rank's probes: every size-th of the todo list, from its rank.

@@ -1,12 +1,15 @@
 #include "apps/bake/bake_wave.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string>
 
 #include "apps/bake/progress.h"
 #include "common/stop_signals.h"
 #include "common/stopwatch.h"
+#include "engine/geometry.h"
+#include "wave/fdtd.h"
 #include "wave/scene_wave.h"
 
 namespace dpc::bake {
@@ -55,6 +58,21 @@ void simulateSource(const Plan& plan, size_t k, Progress& progress, std::vector<
 }
 
 }  // namespace
+
+WaveEstimate estimateWave(const SceneDesc& scene, double irLength) {
+  const double c = scene.propagation.speedOfSound;
+  const Geometry geometry(scene.mesh, scene.materials, scene.propagation.patchSize, scene.objects);
+  const wave::GridLayout layout =
+      wave::layoutFor(glm::dvec3(geometry.boundsMin()), glm::dvec3(geometry.boundsMax()),
+                      scene.wave.spacing(c), scene.path);
+  WaveEstimate e;
+  e.simulations = scene.sources.size() * wave::simulatedBands(scene.wave.crossover()).size();
+  e.count = layout.count;
+  e.nodes = layout.arraySize();
+  // As simulateWaveBand counts them (wave/wave_band.cpp).
+  e.steps = size_t(std::ceil(irLength * wave::stepRateFor(layout, c))) + 1;
+  return e;
+}
 
 bool bakeWaveBands(const Plan& plan, BakeFile& file, bool quiet, Watchdog* watchdog,
                    WaveBakeStats& stats) {

@@ -13,10 +13,16 @@
 #include <vector>
 
 #include "apps/bake/bake_plan.h"
+#include "apps/bake/estimate.h"
 #include "apps/bake/watchdog.h"
 #include "bake/bake_file.h"
 
 namespace dpc::bake {
+
+/// The wave band's simulations for `scene` (wave.enabled) with IRs irLength seconds long, from
+/// the grid's layout alone (no grid is built). Throws InputError(scene file,
+/// "wave.max_frequency") for a grid beyond kMaxWaveNodes, as the simulation would.
+WaveEstimate estimateWave(const SceneDesc& scene, double irLength);
 
 /// What the wave band of a run cost and found.
 struct WaveBakeStats {

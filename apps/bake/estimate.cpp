@@ -70,6 +70,15 @@ std::string describe(const BakeEstimate& e) {
          frame + ")";
 }
 
+std::string describe(const WaveEstimate& e) {
+  char text[160];
+  std::snprintf(text, sizeof text,
+                "%zu simulation%s of a %d x %d x %d grid for %zu steps (%.2g node updates)",
+                e.simulations, e.simulations == 1 ? "" : "s", e.count[0], e.count[1], e.count[2],
+                e.steps, double(e.simulations) * double(e.nodes) * double(e.steps));
+  return text;
+}
+
 void checkLimits(const BakeEstimate& e, bool force, const std::string& flag) {
   if (force) return;
   if (e.probes <= kMaxProbesUnforced && e.bytes <= kMaxBytesUnforced &&

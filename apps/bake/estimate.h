@@ -8,6 +8,7 @@
 // Control thread; no allocation beyond strings; errors as InputError.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <string>
 
@@ -31,6 +32,18 @@ struct BakeEstimate {
   double frameSeconds = 0;  ///< one frame, measured
   int processes = 1;
 };
+
+/// The wave band's share of a bake (the scene's wave.enabled; apps/bake/bake_wave.h): one
+/// simulation per source and octave band to the crossover, each of `steps` time steps over a
+/// grid of `nodes` nodes (its bounding box, padding included).
+struct WaveEstimate {
+  size_t simulations = 0;
+  std::array<int, 3> count{};  ///< nodes per axis
+  size_t nodes = 0;
+  size_t steps = 0;
+};
+/// "2 simulations of a 146 x 44 x 102 grid for 4356 steps (5.7e9 node updates)".
+std::string describe(const WaveEstimate& e);
 
 /// The file size of a bake of `probes` probes of `shape` (every dataset, allocated whole).
 double bakeFileBytes(size_t probes, const ProbeShape& shape);

@@ -30,14 +30,6 @@ void BakedPlayback::beginFrame(std::span<const glm::vec3> sources,
   }
 }
 
-size_t BakedPlayback::nearestProbe(size_t listener) const {
-  const std::vector<ProbeWeight>& w = interpolators_[listener]->weights();
-  size_t best = 0;
-  for (size_t k = 1; k < w.size(); ++k)
-    if (w[k].weight > w[best].weight) best = k;
-  return w.empty() ? 0 : w[best].probe;
-}
-
 bool BakedPlayback::useBake(size_t s, size_t listener) {
   const bool use = plays(s, listener);
   ++(use ? stats_.bakedResponses : stats_.liveResponses);

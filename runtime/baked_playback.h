@@ -59,12 +59,6 @@ class BakedPlayback {
     interpolators_[listener]->response(s, out);
   }
 
-  /// The probe of pair (s, listener)'s wave band (plays() true): the visible probe of the
-  /// largest interpolation weight, the nearest (a probe the listener stands on, alone).
-  /// The wave band is pressure: a weighted sum of IRs from places a wavelength apart would
-  /// cancel where they differ in phase, so it is not blended like the energies.
-  size_t nearestProbe(size_t listener) const;
-
   const Stats& stats() const { return stats_; }
   /// Listener l's interpolator (l < the listeners of the frames so far, or 0).
   const BakeInterpolator& interpolator(size_t listener = 0) const {

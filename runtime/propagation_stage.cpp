@@ -213,10 +213,19 @@ void PropagationStage::synthesize(size_t s, size_t listener) {
   joinWave(s, listener, irs[s]);
 }
 
-void PropagationStage::joinWave(size_t s, size_t listener, ImpulseResponse& ir) const {
+void PropagationStage::joinWave(size_t s, size_t listener, ImpulseResponse& ir) {
   if (bakedWave_ && baked_->plays(s, listener)) {
-    const size_t probe = baked_->nearestProbe(listener);
-    if (bakedWave_->has(probe, s)) bakedWave_->join(probe, s, ir);
+    // The late response's probes and weights, over the probes whose air the source reached.
+    waveBlend_.clear();
+    float total = 0.f;
+    for (const ProbeWeight& w : baked_->interpolator(listener).weights())
+      if (bakedWave_->has(w.probe, s)) {
+        waveBlend_.push_back({w.probe, w.weight});
+        total += w.weight;
+      }
+    if (total <= 0.f) return;  // no probe of the blend in the source's air: no wave band
+    for (wave::BandWeight& b : waveBlend_) b.weight /= total;
+    bakedWave_->join(waveBlend_, s, ir);
     return;
   }
   if (waveBands_ && waveBands_->has(listener, s)) waveBands_->join(listener, s, ir);
@@ -337,6 +346,7 @@ void PropagationStage::attachBake(std::shared_ptr<const BakedField> bake,
                              bake->wave.data() + (s * probes + p) * bake->waveSamples,
                              bake->waveSamples));
     bakedWave_ = std::move(set);
+    waveBlend_.reserve(size_t(std::max(1, settings.maxProbes)));  // no allocation per frame
   }
   baked_ =
       bake ? std::make_unique<BakedPlayback>(std::move(bake), *simulation_, settings) : nullptr;

@@ -35,6 +35,14 @@ void createLayout(hid_t f, const BakeHeader& header) {
   h5::createDataset(f, "checksums", H5T_STD_U32LE, {probes, kProbeDatasets.size()});
   for (const ProbeDataset& d : kProbeDatasets)
     h5::createDataset(f, d.name, H5T_IEEE_F32LE, withProbes(probes, d.shape(header.shape)));
+  if (!header.wave.enabled) return;
+  const size_t sources = header.sources.size();
+  h5::createGroup(f, "wave");
+  h5::createDataset(f, kWaveBand, H5T_IEEE_F32LE, {sources, probes, header.wave.samples});
+  h5::createDataset(f, kWaveReached, H5T_NATIVE_UINT8, {sources, probes});
+  h5::createDataset(f, kWaveDone, H5T_NATIVE_UINT8, {sources});
+  h5::createDataset(f, kWaveChecksums, H5T_STD_U32LE, {sources});
+  writeWaveAttributes(f, header.wave);
 }
 
 /// The datasets fixed at creation (after reserveFile: raw writes into reserved bytes).
@@ -52,6 +60,15 @@ BakeHeader readHeader(hid_t f, const std::string& path) {
   const h5::Id root = h5::check(H5Gopen2(f, "/", H5P_DEFAULT), "no root group");
   checkFormat(root.get(), path);
   BakeHeader h = readHeaderAttributes(root.get());
+  h.wave = readWaveLayout(f);
+  // hash_wave says whether the scene baked had the wave band: the datasets must agree.
+  const bool waveHashed = h.hashes[size_t(SettingGroup::kWave)] != waveHash(SceneDesc{});
+  if (waveHashed != h.wave.enabled)
+    throw std::runtime_error(std::string("/") + kWaveBand + ": " +
+                             (waveHashed ? "missing, yet hash_wave says the bake carries the "
+                                           "wave band"
+                                         : "present, yet hash_wave says the bake has no wave "
+                                           "band"));
   auto points = [f](const char* name) {
     try {
       const auto dims = h5::datasetDims(f, name);
@@ -122,6 +139,8 @@ struct BakeFile::Impl {
   std::vector<uint8_t> stored;
   std::vector<size_t> damaged;
   std::string damageReport;
+  std::vector<uint8_t> waveStored;  ///< per source, header.wave.enabled
+  std::string waveDamage;
   double commitSeconds = 0.0;
 
   /// Opens `file` afresh and reads its header; with `verify`, checks every probe the mask
@@ -147,8 +166,14 @@ void BakeFile::Impl::load(bool write, bool verify) {
     if (!done.empty()) h5::readAll(handle.get(), "probes/done", H5T_NATIVE_UINT8, done.data());
     if (!verify) {
       stored = std::move(done);
+      waveStored.assign(header.wave.enabled ? header.sources.size() : 0, 0);
+      if (!waveStored.empty())
+        h5::readAll(handle.get(), kWaveDone, H5T_NATIVE_UINT8, waveStored.data());
       return;
     }
+    WaveVerification w = verifyWave(handle.get(), header);
+    waveStored = std::move(w.stored);
+    waveDamage = std::move(w.firstProblem);
     Verification v = verifyProbes(handle.get(), header, done);
     stored = std::move(v.stored);
     damaged = std::move(v.damaged);
@@ -181,6 +206,8 @@ const std::vector<uint8_t>& BakeFile::done() const { return impl_->stored; }
 const std::vector<size_t>& BakeFile::damaged() const { return impl_->damaged; }
 const std::string& BakeFile::damageReport() const { return impl_->damageReport; }
 double BakeFile::commitSeconds() const { return impl_->commitSeconds; }
+const std::vector<uint8_t>& BakeFile::waveDone() const { return impl_->waveStored; }
+const std::string& BakeFile::waveDamageReport() const { return impl_->waveDamage; }
 
 BakeFile BakeFile::create(const std::string& path, const std::string& displayPath,
                           const BakeHeader& header) {
@@ -191,6 +218,7 @@ BakeFile BakeFile::create(const std::string& path, const std::string& displayPat
   impl->writable = true;
   impl->header = header;
   impl->stored.assign(header.probes.positions.size(), 0);
+  impl->waveStored.assign(header.wave.enabled ? header.sources.size() : 0, 0);
   try {
     const h5::Id fcpl = h5::fileCreation(), fapl = h5::fileAccess();
     impl->handle = h5::check(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()),
@@ -223,7 +251,14 @@ BakeFile BakeFile::open(const std::string& path, Access access) {
     throw InputError(path, "", impl->damageReport + " (the file is damaged: " +
                                    std::to_string(impl->damaged.size()) +
                                    " probes fail their checksums)");
+  if (!impl->waveDamage.empty())
+    throw InputError(path, "", impl->waveDamage + " (the file is damaged)");
   const bool complete = readComplete(impl->handle.get(), path);
+  for (size_t s = 0; complete && s < impl->waveStored.size(); ++s)
+    if (!impl->waveStored[s])
+      throw InputError(path, kWaveDone,
+                       "source " + std::to_string(s) + "'s wave band is not stored, yet the "
+                                                      "file is marked complete");
   for (size_t p = 0; complete && p < impl->stored.size(); ++p)
     if (!impl->stored[p])
       throw InputError(path, "probes/done",
@@ -263,6 +298,28 @@ void BakeFile::commit(size_t probe, const ProbeResult& result) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+void BakeFile::commitWave(size_t source, const std::vector<float>& band,
+                          const std::vector<uint8_t>& reached) {
+  const hid_t f = impl_->handle.get();
+  std::string dataset = kWaveBand;
+  try {
+    h5::writeRows(f, kWaveBand, H5T_NATIVE_FLOAT, source, 1, band.data());
+    dataset = kWaveReached;
+    h5::writeRows(f, kWaveReached, H5T_NATIVE_UINT8, source, 1, reached.data());
+    dataset = kWaveChecksums;
+    const uint32_t sum = waveChecksum(band, reached);
+    h5::writeRows(f, kWaveChecksums, H5T_NATIVE_UINT32, source, 1, &sum);
+    if (H5Fflush(f, H5F_SCOPE_GLOBAL) < 0) throw std::runtime_error(h5::lastError());
+    dataset = kWaveDone;
+    const uint8_t one = 1;
+    h5::writeRows(f, kWaveDone, H5T_NATIVE_UINT8, source, 1, &one);
+    if (H5Fflush(f, H5F_SCOPE_GLOBAL) < 0) throw std::runtime_error(h5::lastError());
+  } catch (const std::runtime_error& e) {
+    writeFailed(impl_->path, dataset, e);
+  }
+  impl_->waveStored[source] = 1;
+}
+
 void BakeFile::markComplete() {
   Impl& m = *impl_;
   try {
@@ -274,6 +331,13 @@ void BakeFile::markComplete() {
   m.load(false);  // afresh from the file: nothing cached by this process's HDF5
   if (!m.damaged.empty())
     throw InputError(m.path, "complete", "not marked complete: " + m.damageReport);
+  if (!m.waveDamage.empty())
+    throw InputError(m.path, "complete", "not marked complete: " + m.waveDamage);
+  for (size_t s = 0; s < m.waveStored.size(); ++s)
+    if (!m.waveStored[s])
+      throw InputError(m.path, "complete",
+                       "not marked complete: source " + std::to_string(s) +
+                           "'s wave band is not stored");
   for (size_t p = 0; p < m.stored.size(); ++p)
     if (!m.stored[p])
       throw InputError(m.path, "complete",
@@ -283,20 +347,35 @@ void BakeFile::markComplete() {
   m.writeComplete(1);
 }
 
-std::vector<float> BakeFile::readAll(const std::string& dataset) const {
+namespace {
+
+/// A whole dataset of `file` as `type` into a vector of T.
+template <typename T>
+std::vector<T> readWhole(hid_t file, const std::string& path, const std::string& dataset,
+                         hid_t type) {
   size_t n = 1;
   try {
-    for (const hsize_t d : h5::datasetDims(impl_->handle.get(), dataset)) n *= d;
+    for (const hsize_t d : h5::datasetDims(file, dataset)) n *= d;
   } catch (const std::runtime_error& e) {
-    throw InputError(impl_->path, "/" + dataset, e.what());
+    throw InputError(path, "/" + dataset, e.what());
   }
-  std::vector<float> out(n);
+  std::vector<T> out(n);
   try {
-    if (n > 0) h5::readAll(impl_->handle.get(), dataset, H5T_NATIVE_FLOAT, out.data());
+    if (n > 0) h5::readAll(file, dataset, type, out.data());
   } catch (const std::runtime_error& e) {
-    throw InputError(impl_->path, "", e.what());  // names the dataset
+    throw InputError(path, "", e.what());  // names the dataset
   }
   return out;
+}
+
+}  // namespace
+
+std::vector<float> BakeFile::readAll(const std::string& dataset) const {
+  return readWhole<float>(impl_->handle.get(), impl_->path, dataset, H5T_NATIVE_FLOAT);
+}
+
+std::vector<uint8_t> BakeFile::readBytes(const std::string& dataset) const {
+  return readWhole<uint8_t>(impl_->handle.get(), impl_->path, dataset, H5T_NATIVE_UINT8);
 }
 
 }  // namespace dpc::bake

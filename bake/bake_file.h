@@ -63,6 +63,16 @@ class BakeFile {
 
   /// Writes probe `probe`'s arrays and checksums, flushes, marks it done and flushes.
   void commit(size_t probe, const ProbeResult& result);
+  /// Per source: 1 where its wave band is stored and verified (header().wave.enabled; else
+  /// empty). A source whose stored rows fail their checksum counts as not stored (kInspect),
+  /// its problem in waveDamageReport(); kRead refuses it.
+  const std::vector<uint8_t>& waveDone() const;
+  const std::string& waveDamageReport() const;
+  /// Writes source `source`'s wave band ([probes][samples] floats, docs/bake-format.md) and
+  /// its reached mask ([probes]: 1 where the probe lies in the air its grid reaches) with
+  /// their checksum, flushes, marks the source done and flushes.
+  void commitWave(size_t source, const std::vector<float>& band,
+                  const std::vector<uint8_t>& reached);
   /// Wall time spent in commit() so far, seconds (the writer's share of a bake's cost).
   double commitSeconds() const;
   /// Flushes to the device, reopens the file, verifies every probe and only then sets
@@ -72,6 +82,8 @@ class BakeFile {
 
   /// A whole float dataset (e.g. "parameters"), row-major as documented.
   std::vector<float> readAll(const std::string& dataset) const;
+  /// A whole uint8 dataset (e.g. "wave/reached").
+  std::vector<uint8_t> readBytes(const std::string& dataset) const;
 
  private:
   struct Impl;

@@ -1,9 +1,11 @@
 #include "bake/bake_layout.h"
 
+#include <cmath>
 #include <stdexcept>
 
 #include "bake/hdf5_util.h"
 #include "common/input_error.h"
+#include "common/input_file.h"
 
 namespace dpc::bake {
 
@@ -60,9 +62,10 @@ std::vector<hsize_t> withProbes(size_t probes, std::vector<hsize_t> rest) {
 
 namespace {
 
-void writeHashes(hid_t root, const SettingsHash& hashes) {
-  h5::writeAttribute(root, "settings_hash", combinedHash(hashes));
-  for (int g = 0; g < kSettingGroups; ++g)
+void writeHashes(hid_t root, const SettingsHash& hashes, int64_t version) {
+  h5::writeAttribute(root, "settings_hash", combinedHash(hashes, version));
+  const int groups = version < 6 ? kSettingGroupsVersion5 : kSettingGroups;
+  for (int g = 0; g < groups; ++g)
     h5::writeAttribute(root, kSettingGroupInfo[size_t(g)].attribute, hashes[size_t(g)]);
 }
 
@@ -77,10 +80,10 @@ std::string joined(const std::vector<std::string>& names) {
 void writeHeaderAttributes(hid_t root, const BakeHeader& h) {
   using h5::writeAttribute;
   writeAttribute(root, "format", std::string(kBakeFormat));
-  writeAttribute(root, "version", int64_t(kBakeFormatVersion));
+  writeAttribute(root, "version", h.version);
   writeAttribute(root, "complete", int64_t(0));
   writeAttribute(root, "scene", h.scenePath);
-  writeHashes(root, h.hashes);
+  writeHashes(root, h.hashes, h.version);
   writeAttribute(root, "seed", h.seed);
   writeAttribute(root, "spacing_m", h.grid.spacingM);
   writeAttribute(root, "height_m", h.grid.heightM);
@@ -105,6 +108,47 @@ void writeHeaderAttributes(hid_t root, const BakeHeader& h) {
   writeAttribute(root, "checksum_columns", joined(columns));
 }
 
+WaveLayout waveLayout(const SceneDesc& scene, double irLength) {
+  WaveLayout w;
+  w.enabled = scene.wave.enabled;
+  if (!w.enabled) return w;
+  w.sampleRate = scene.audio.sampleRate;
+  w.maxFrequencyHz = scene.wave.maxFrequencyHz;
+  w.crossoverHz = scene.wave.crossover();
+  w.gridSpacingM = scene.wave.spacing(scene.propagation.speedOfSound);
+  w.samples = waveSamples(irLength, w.sampleRate);
+  return w;
+}
+
+void writeWaveAttributes(hid_t file, const WaveLayout& w) {
+  const h5::Id set = h5::check(H5Dopen2(file, kWaveBand, H5P_DEFAULT), kWaveBand);
+  h5::writeAttribute(set.get(), "sample_rate_hz", int64_t(w.sampleRate));
+  h5::writeAttribute(set.get(), "max_frequency_hz", w.maxFrequencyHz);
+  h5::writeAttribute(set.get(), "crossover_hz", w.crossoverHz);
+  h5::writeAttribute(set.get(), "grid_spacing_m", w.gridSpacingM);
+}
+
+WaveLayout readWaveLayout(hid_t file) {
+  WaveLayout w;
+  if (!h5::exists(file, kWaveBand)) return w;
+  const auto dims = h5::datasetDims(file, kWaveBand);
+  if (dims.size() != 3) throw std::runtime_error(std::string("/") + kWaveBand + ": not 3-D");
+  const h5::Id set = h5::check(H5Dopen2(file, kWaveBand, H5P_DEFAULT), kWaveBand);
+  const std::string at = std::string("/") + kWaveBand + ": ";
+  w.enabled = true;
+  w.samples = size_t(dims[2]);
+  w.sampleRate = int(h5::readInt(set.get(), "sample_rate_hz"));
+  w.maxFrequencyHz = h5::readDouble(set.get(), "max_frequency_hz");
+  w.crossoverHz = h5::readDouble(set.get(), "crossover_hz");
+  w.gridSpacingM = h5::readDouble(set.get(), "grid_spacing_m");
+  if (!(w.sampleRate >= kMinSignalRateHz && w.sampleRate <= kMaxSignalRateHz))
+    throw std::runtime_error(at + "sample_rate_hz " + std::to_string(w.sampleRate));
+  if (!(w.crossoverHz > 0.0 && w.crossoverHz < w.maxFrequencyHz &&
+        2.0 * w.maxFrequencyHz < w.sampleRate))
+    throw std::runtime_error(at + "crossover_hz and max_frequency_hz out of order");
+  return w;
+}
+
 namespace {
 
 /// An attribute read, a failed read refused as InputError naming it.
@@ -125,11 +169,12 @@ void checkFormat(hid_t root, const std::string& path) {
   if (attribute(path, "format", text) != kBakeFormat)
     throw InputError(path, "format", "not a " + std::string(kBakeFormat) + " file");
   const int64_t version = attribute(path, "version", number);
-  if (version != kBakeFormatVersion)
+  if (version < kOldestBakeFormatVersion || version > kBakeFormatVersion)
     throw InputError(path, "version",
-                     "format version " + std::to_string(version) + ", this dpc reads version " +
+                     "format version " + std::to_string(version) + ", this dpc reads versions " +
+                         std::to_string(kOldestBakeFormatVersion) + " and " +
                          std::to_string(kBakeFormatVersion) + " only" +
-                         (version < kBakeFormatVersion
+                         (version < kOldestBakeFormatVersion
                               ? " (the exact early paths' energy, early/energy, since 5): bake "
                                 "again"
                               : ""));
@@ -141,10 +186,15 @@ void checkFormat(hid_t root, const std::string& path) {
 
 BakeHeader readHeaderAttributes(hid_t root) {
   BakeHeader h;
+  h.version = h5::readInt(root, "version");
   h.scenePath = h5::readString(root, "scene");
-  for (int g = 0; g < kSettingGroups; ++g)
+  // Version 5 has no wave group: its bakes are those of scenes without the wave band.
+  SceneDesc noWave;
+  h.hashes[size_t(SettingGroup::kWave)] = waveHash(noWave);
+  const int groups = h.version < 6 ? kSettingGroupsVersion5 : kSettingGroups;
+  for (int g = 0; g < groups; ++g)
     h.hashes[size_t(g)] = h5::readUint(root, kSettingGroupInfo[size_t(g)].attribute);
-  if (h5::readUint(root, "settings_hash") != combinedHash(h.hashes))
+  if (h5::readUint(root, "settings_hash") != combinedHash(h.hashes, h.version))
     throw std::runtime_error("settings_hash: does not match the hash_* attributes");
   h.seed = h5::readUint(root, "seed");
   h.grid.spacingM = h5::readDouble(root, "spacing_m");
@@ -188,6 +238,16 @@ void validateShapes(hid_t file, const BakeHeader& h) {
   expect("checksums", {probes, kProbeDatasets.size()});
   expect("band_centres_hz", {kNumBands});
   for (const ProbeDataset& d : kProbeDatasets) expect(d.name, withProbes(probes, d.shape(h.shape)));
+  if (!h.wave.enabled) return;
+  const size_t sources = h.sources.size();
+  expect(kWaveBand, {sources, probes, h.wave.samples});
+  expect(kWaveReached, {sources, probes});
+  expect(kWaveDone, {sources});
+  expect(kWaveChecksums, {sources});
+  if (h.wave.samples != waveSamples(h.settings.irLength, h.wave.sampleRate))
+    throw std::runtime_error(std::string("/") + kWaveBand + ": " +
+                             std::to_string(h.wave.samples) + " samples, ir_length_s at " +
+                             "sample_rate_hz gives " + std::to_string(waveSamples(h.settings.irLength, h.wave.sampleRate)));
 }
 
 }  // namespace dpc::bake

@@ -83,10 +83,12 @@ void removeEarly(const BakeFile& file, BakedField& f) {
 /// Refuses a bake whose arrays would not fit the memory a render may plan for
 /// (plannableMemoryBytes), before reading them: the late responses and their SH energy, and
 /// while they are loaded one exact-path dataset (`early/energy`, the larger).
-void checkMemory(const BakeFile& file) {
+void checkMemory(const BakeFile& file, bool wave) {
   const BakeHeader& h = file.header();
+  const double waveFloats =
+      wave && h.wave.enabled ? double(h.sources.size()) * double(h.wave.samples) : 0.0;
   const double bytes = double(h.probes.positions.size()) *
-                       double(2 * h.shape.energyFloats() + h.shape.shFloats()) *
+                       (double(2 * h.shape.energyFloats() + h.shape.shFloats()) + waveFloats) *
                        sizeof(float);
   const double available = plannableMemoryBytes();
   if (bytes > available)
@@ -94,6 +96,26 @@ void checkMemory(const BakeFile& file) {
                      "baked playback needs " + std::to_string(int64_t(bytes / 1e6)) +
                          " MB in memory, more than the " +
                          std::to_string(int64_t(available / 1e6)) + " MB available");
+}
+
+/// The bake's wave band into `f` when the scene plays it (wave.enabled) and the bake holds it,
+/// refused (InputError naming `hash_wave`) when the bake's wave settings differ from the
+/// scene's: another maximum frequency, crossover, grid spacing or sample rate.
+void loadWave(const BakeFile& file, const SceneDesc& scene, BakedField& f) {
+  const BakeHeader& h = file.header();
+  if (!scene.wave.enabled || !h.wave.enabled) return;
+  if (h.hashes[size_t(SettingGroup::kWave)] != waveHash(scene))
+    throw InputError(file.path(), "hash_wave",
+                     "the bake's wave band (max_frequency " + std::to_string(h.wave.maxFrequencyHz) +
+                         " Hz, crossover " + std::to_string(h.wave.crossoverHz) + " Hz, " +
+                         std::to_string(h.wave.sampleRate) + " Hz sample rate) is not the one " +
+                         scene.path + " asks for: bake again");
+  f.wave = file.readAll(kWaveBand);
+  f.waveReached = file.readBytes(kWaveReached);
+  f.waveSamples = h.wave.samples;
+  f.waveSampleRate = h.wave.sampleRate;
+  f.waveMaxFrequencyHz = h.wave.maxFrequencyHz;
+  f.waveCrossoverHz = h.wave.crossoverHz;
 }
 
 }  // namespace
@@ -106,7 +128,7 @@ std::shared_ptr<const BakedField> loadBakedField(const std::string& path, const 
                                                  const PropagationSettings& settings) {
   const BakeFile file = BakeFile::open(path, BakeFile::Access::kRead);
   checkHeader(file, scene, settings);
-  checkMemory(file);
+  checkMemory(file, scene.wave.enabled);
   const BakeHeader& h = file.header();
   auto f = std::make_shared<BakedField>();
   f->path = path;
@@ -121,6 +143,7 @@ std::shared_ptr<const BakedField> loadBakedField(const std::string& path, const 
   removeDirectSounds(file, *f);
   // Playback synthesises the exact early paths live when the scene asks for them.
   if (settings.exactOrder > 0) removeEarly(file, *f);
+  loadWave(file, scene, *f);
   return f;
 }
 

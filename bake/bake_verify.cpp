@@ -33,6 +33,11 @@ std::vector<uint32_t> probeChecksums(const ProbeResult& r) {
   return out;
 }
 
+uint32_t waveChecksum(const std::vector<float>& band, const std::vector<uint8_t>& reached) {
+  uLong crc = crc32Of(band.data(), band.size());
+  return uint32_t(crc32(crc, reinterpret_cast<const Bytef*>(reached.data()), uInt(reached.size())));
+}
+
 uint32_t fixedChecksum(const BakeHeader& h, const std::vector<float>& bands) {
   std::vector<float> all;
   for (const glm::vec3& p : h.probes.positions) all.insert(all.end(), {p.x, p.y, p.z});
@@ -85,6 +90,40 @@ void verifyDataset(hid_t file, const BakeHeader& h, size_t k, const std::vector<
 }
 
 }  // namespace
+
+WaveVerification verifyWave(hid_t file, const BakeHeader& h) {
+  WaveVerification v;
+  if (!h.wave.enabled) return v;
+  const size_t sources = h.sources.size(), probes = h.probes.positions.size();
+  std::vector<uint8_t> done(sources);
+  std::vector<uint32_t> sums(sources);
+  h5::readAll(file, kWaveDone, H5T_NATIVE_UINT8, done.data());
+  h5::readAll(file, kWaveChecksums, H5T_NATIVE_UINT32, sums.data());
+  v.stored.assign(sources, 0);
+  std::vector<float> band(probes * h.wave.samples);
+  std::vector<uint8_t> reached(probes);
+  for (size_t s = 0; s < sources; ++s) {
+    if (done[s] == 0) continue;
+    std::string problem;
+    if (done[s] == 1) {
+      h5::readRows(file, kWaveBand, H5T_NATIVE_FLOAT, s, 1, band.data());
+      h5::readRows(file, kWaveReached, H5T_NATIVE_UINT8, s, 1, reached.data());
+      const uint32_t got = waveChecksum(band, reached);
+      if (got == sums[s]) {
+        v.stored[s] = 1;
+        continue;
+      }
+      problem = "/" + std::string(kWaveBand) + ": source " + std::to_string(s) + ": CRC-32 " +
+                hex(got) + ", /" + kWaveChecksums + " holds " + hex(sums[s]);
+    } else {
+      problem = "/" + std::string(kWaveDone) + ": source " + std::to_string(s) + ": value " +
+                std::to_string(done[s]) + " (0 or 1 expected)";
+    }
+    v.damaged.push_back(s);
+    if (v.firstProblem.empty()) v.firstProblem = problem;
+  }
+  return v;
+}
 
 Verification verifyProbes(hid_t file, const BakeHeader& h, const std::vector<uint8_t>& done) {
   const size_t probes = h.probes.positions.size();

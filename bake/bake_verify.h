@@ -29,6 +29,20 @@ std::vector<uint32_t> probeChecksums(const ProbeResult& r);
 /// in that order.
 uint32_t fixedChecksum(const BakeHeader& h, const std::vector<float>& bands);
 
+/// The kWaveChecksums entry of one source: CRC-32 of its kWaveBand row (`band`, probes x
+/// samples floats) followed by its kWaveReached row (`reached`, one byte per probe).
+uint32_t waveChecksum(const std::vector<float>& band, const std::vector<uint8_t>& reached);
+
+/// The wave band's sources stored and verified (kWaveDone read, each done source's rows read
+/// back against kWaveChecksums), and the first damaged one's problem ("" if none).
+struct WaveVerification {
+  std::vector<uint8_t> stored;
+  std::vector<size_t> damaged;
+  std::string firstProblem;
+};
+/// For a header whose wave layout is enabled; empty otherwise.
+WaveVerification verifyWave(hid_t file, const BakeHeader& h);
+
 struct Verification {
   /// Per probe: 1 where the done mask says stored and every row matches its checksum.
   std::vector<uint8_t> stored;

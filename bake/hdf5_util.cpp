@@ -232,14 +232,18 @@ void createDataset(hid_t file, const std::string& name, hid_t type,
         "cannot create " + name);
 }
 
-std::vector<hsize_t> datasetDims(hid_t file, const std::string& name) {
+bool exists(hid_t file, const std::string& name) {
   // H5Lexists of "a/b" fails when "a" is absent: check each level.
   for (size_t at = name.find('/'); ; at = name.find('/', at + 1)) {
-    const htri_t exists = H5Lexists(file, name.substr(0, at).c_str(), H5P_DEFAULT);
-    if (exists < 0) throw std::runtime_error("unreadable: " + lastError());
-    if (exists == 0) throw std::runtime_error("missing");
-    if (at == std::string::npos) break;
+    const htri_t found = H5Lexists(file, name.substr(0, at).c_str(), H5P_DEFAULT);
+    if (found < 0) throw std::runtime_error("unreadable: " + lastError());
+    if (found == 0) return false;
+    if (at == std::string::npos) return true;
   }
+}
+
+std::vector<hsize_t> datasetDims(hid_t file, const std::string& name) {
+  if (!exists(file, name)) throw std::runtime_error("missing");
   const Id set = check(H5Dopen2(file, name.c_str(), H5P_DEFAULT), "missing");
   const Id space = check(H5Dget_space(set.get()), "no dataspace");
   const int rank = H5Sget_simple_extent_ndims(space.get());

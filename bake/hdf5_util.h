@@ -82,6 +82,9 @@ std::string readString(hid_t obj, const std::string& name);
 /// already in the file (a full disk shows itself at creation, not half-way through a bake).
 void createDataset(hid_t file, const std::string& name, hid_t type,
                    const std::vector<hsize_t>& dims);
+/// Whether `name` (a path of groups, e.g. "wave/band") exists; throws std::runtime_error when
+/// the file cannot be read.
+bool exists(hid_t file, const std::string& name);
 /// The dataset's dimensions; throws std::runtime_error when it does not exist.
 std::vector<hsize_t> datasetDims(hid_t file, const std::string& name);
 /// Writes / reads `rows` rows from row `first` (first index) of a dataset of `type`; `data`

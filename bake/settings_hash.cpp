@@ -102,6 +102,16 @@ uint64_t response(const BakeSettings& s) {
 
 }  // namespace
 
+uint64_t waveHash(const SceneDesc& scene) {
+  Fnv h;
+  const WaveSettings& w = scene.wave;
+  h.value(uint8_t(w.enabled));
+  if (!w.enabled) return h.get();
+  for (const float v : {w.maxFrequencyHz, w.crossover(), w.gridSpacingM}) h.value(v);
+  h.value(scene.audio.sampleRate);
+  return h.get();
+}
+
 SettingsHash settingsHash(const SceneDesc& scene, const BakeSettings& settings,
                           const std::vector<glm::vec3>& probes) {
   SettingsHash g{};
@@ -117,6 +127,7 @@ SettingsHash settingsHash(const SceneDesc& scene, const BakeSettings& settings,
   Fnv positions;
   positions.values(probes);
   g[size_t(SettingGroup::kProbes)] = positions.get();
+  g[size_t(SettingGroup::kWave)] = waveHash(scene);
   return g;
 }
 
@@ -132,10 +143,11 @@ SettingsHash playbackHash(const SceneDesc& scene, const PropagationSettings& set
   return g;
 }
 
-uint64_t combinedHash(const SettingsHash& groups) {
+uint64_t combinedHash(const SettingsHash& groups, int64_t version) {
   Fnv h;
-  h.value(int64_t(kBakeFormatVersion));
-  for (const uint64_t g : groups) h.value(g);
+  h.value(version);
+  const int n = version < 6 ? kSettingGroupsVersion5 : kSettingGroups;
+  for (int g = 0; g < n; ++g) h.value(groups[size_t(g)]);
   return h.get();
 }
 

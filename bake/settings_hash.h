@@ -33,8 +33,11 @@ enum class SettingGroup : int {
   kSampling,   ///< rays, frames, sub-streams, seed, patch size, tracing direction
   kResponse,   ///< response length and bin widths, SH order
   kProbes,     ///< probe positions
+  kWave,       ///< the wave band: off, or its maximum frequency, crossover, spacing, rate
 };
-inline constexpr int kSettingGroups = 8;
+inline constexpr int kSettingGroups = 9;
+/// Groups a file of format version 5 holds (kWave came with version 6).
+inline constexpr int kSettingGroupsVersion5 = 8;
 
 struct SettingGroupInfo {
   const char* attribute;  ///< root attribute of the bake file holding the group's hash
@@ -54,6 +57,11 @@ inline constexpr std::array<SettingGroupInfo, kSettingGroups> kSettingGroupInfo 
     {"hash_sampling", "sampling (rays, frames, seed, patch_size, tracing direction)", false},
     {"hash_response", "response length (ir_length)", true},
     {"hash_probes", "probe positions", false},
+    // Compared by baked playback only when the scene plays the wave band (bake/bake_loader.h).
+    {"hash_wave",
+     "wave band settings (wave.enabled, max_frequency, crossover_hz, grid_spacing, and the "
+     "sample rate it is stored at)",
+     false},
 }};
 
 using SettingsHash = std::array<uint64_t, kSettingGroups>;
@@ -67,8 +75,12 @@ SettingsHash settingsHash(const SceneDesc& scene, const BakeSettings& settings,
 SettingsHash playbackHash(const SceneDesc& scene);
 /// The same with `settings` in place of the scene's propagation settings.
 SettingsHash playbackHash(const SceneDesc& scene, const PropagationSettings& settings);
-/// One hash of every group and the bake format's version: the file's `settings_hash`.
-uint64_t combinedHash(const SettingsHash& groups);
+/// The wave group's hash of `scene` (off: the same for every scene with wave.enabled false,
+/// and the value files of format version 5 are read with).
+uint64_t waveHash(const SceneDesc& scene);
+/// One hash of every group and the bake format's version: the file's `settings_hash`. A file
+/// of version 5 hashed its 8 groups with its version.
+uint64_t combinedHash(const SettingsHash& groups, int64_t version);
 /// The first group whose hashes differ (only the playback groups when playbackOnly), or -1.
 int firstDifference(const SettingsHash& a, const SettingsHash& b, bool playbackOnly);
 

@@ -11,7 +11,7 @@
 namespace dpc {
 
 size_t BakedField::bytes() const {
-  return (late.size() + sh.size()) * sizeof(float) +
+  return (late.size() + sh.size() + wave.size()) * sizeof(float) + waveReached.size() +
          (probes.size() + sources.size()) * sizeof(glm::vec3);
 }
 

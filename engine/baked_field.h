@@ -47,6 +47,18 @@ struct BakedField {
   /// (engine/sh_energy_response.h: ACN/SN3D, C = (shOrder + 1)^2, directions in the frame of a
   /// listener at yaw 0, pitch 0), without the arrivals the loader took out of `late`.
   std::vector<float> sh;
+  /// The wave band (docs/bake-format.md, "The wave band"), loaded when the bake holds one and
+  /// the scene plays it (wave.enabled): per source and probe the pressure IR of the wave
+  /// simulation before any crossover, [S][P][waveSamples] at waveSampleRate Hz, in the
+  /// ray-traced IR's units; waveReached [S][P] is 1 where the probe lies in the air the
+  /// source's grid reaches (0: no wave band there, the IR holds zeros). Empty otherwise.
+  std::vector<float> wave;
+  std::vector<uint8_t> waveReached;
+  size_t waveSamples = 0;
+  int waveSampleRate = 0;
+  double waveMaxFrequencyHz = 0.0;  ///< the simulation's maximum frequency, Hz
+  double waveCrossoverHz = 0.0;     ///< the crossover to join it at, Hz
+  bool hasWave() const { return !waveReached.empty(); }
   size_t directionalBins() const {
     return (bins + directionalBinFactor - 1) / directionalBinFactor;
   }

@@ -51,11 +51,13 @@ LiveSession::LiveSession(std::shared_ptr<const SceneDesc> scene,
                                 std::to_string(options.lateBusToleranceDb) + " outside [0, 6]");
   propagation_->reuseLateBuses(options.lateBusToleranceDb);
   propagation_->recordSurfaces(options.keepSurfaceEnergy);
-  // A live listener moves, and the wave band holds one pose: no live play without an error.
-  if (scene_->wave.enabled)
+  // A live listener moves: the wave band plays live only from a bake that carries it (each
+  // probe's, runtime/propagation_stage.h), never simulated for one pose.
+  if (scene_->wave.enabled && !(options.bake && options.bake->hasWave()))
     throw InputError(scene_->path, "wave.enabled",
                      "the wave band is simulated for offline renders (dpc-demo --offline, "
-                     "dpc-wave); live sessions do not play it: set it to false");
+                     "dpc-wave) and played live only from a bake that carries it (dpc-bake with "
+                     "wave.enabled): set it to false, or play such a bake");
   if (!(options.irSwapSpreadSeconds >= 0.0 &&
         options.irSwapSpreadSeconds <= kMaxIrSwapSpreadSeconds))
     throw std::invalid_argument("LiveSession: irSwapSpreadSeconds " +

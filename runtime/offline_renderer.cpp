@@ -76,7 +76,9 @@ OfflineRender::OfflineRender(std::shared_ptr<const SceneDesc> scene,
       streaming_(bool(options.sink)),
       framePeriod_(1.0 / settings.frameRate) {
   if (options.bake) propagation_.attachBake(options.bake);
-  if (scene_->wave.enabled) {
+  // A bake that carries the wave band plays it (PropagationStage::attachBake): nothing to
+  // simulate.
+  if (scene_->wave.enabled && !(options.bake && options.bake->hasWave())) {
     propagation_.checkWaveBandsAllowed();  // before minutes of simulation, not after
     propagation_.attachWaveBands(
         wave::sceneWaveBands(*scene_, listeners_, settings.irLength, options.waveProgress));

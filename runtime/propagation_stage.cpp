@@ -210,7 +210,25 @@ void PropagationStage::synthesize(size_t s, size_t listener) {
                                  r.direct, irs[s].channel(0),
                                  simulation_->specularPaths(s, listener));
   }
-  if (waveBands_ && waveBands_->has(listener, s)) waveBands_->join(listener, s, irs[s]);
+  joinWave(s, listener, irs[s]);
+}
+
+void PropagationStage::joinWave(size_t s, size_t listener, ImpulseResponse& ir) {
+  if (bakedWave_ && baked_->plays(s, listener)) {
+    // The late response's probes and weights, over the probes whose air the source reached.
+    waveBlend_.clear();
+    float total = 0.f;
+    for (const ProbeWeight& w : baked_->interpolator(listener).weights())
+      if (bakedWave_->has(w.probe, s)) {
+        waveBlend_.push_back({w.probe, w.weight});
+        total += w.weight;
+      }
+    if (total <= 0.f) return;  // no probe of the blend in the source's air: no wave band
+    for (wave::BandWeight& b : waveBlend_) b.weight /= total;
+    bakedWave_->join(waveBlend_, s, ir);
+    return;
+  }
+  if (waveBands_ && waveBands_->has(listener, s)) waveBands_->join(listener, s, ir);
 }
 
 void PropagationStage::checkWaveBandsAllowed() const {
@@ -309,6 +327,27 @@ void PropagationStage::wholeIrsInto(size_t listener, std::vector<ImpulseResponse
 
 void PropagationStage::attachBake(std::shared_ptr<const BakedField> bake,
                                   BakeInterpolation settings) {
+  bakedWave_.reset();
+  if (bake && bake->hasWave()) {
+    checkWaveBandsAllowed();
+    if (bake->waveSampleRate != scene_->audio.sampleRate)
+      throw InputError(bake->path, "wave/band",
+                       "the wave band is stored at " + std::to_string(bake->waveSampleRate) +
+                           " Hz, " + scene_->path + " plays at " +
+                           std::to_string(scene_->audio.sampleRate) + " Hz: bake again");
+    const size_t probes = bake->probes.size(), sources = bake->sources.size();
+    auto set = std::make_unique<wave::WaveBandSet>(
+        probes, sources, scene_->audio.output, bake->waveCrossoverHz, bake->waveMaxFrequencyHz,
+        double(bake->waveSampleRate));
+    for (size_t s = 0; s < sources; ++s)
+      for (size_t p = 0; p < probes; ++p)
+        if (bake->waveReached[s * probes + p])
+          set->set(p, s, std::span<const float>(
+                             bake->wave.data() + (s * probes + p) * bake->waveSamples,
+                             bake->waveSamples));
+    bakedWave_ = std::move(set);
+    waveBlend_.reserve(size_t(std::max(1, settings.maxProbes)));  // no allocation per frame
+  }
   baked_ =
       bake ? std::make_unique<BakedPlayback>(std::move(bake), *simulation_, settings) : nullptr;
 }

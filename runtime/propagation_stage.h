@@ -107,8 +107,13 @@ class PropagationStage {
   void recordSurfaces(bool on) { simulation_->recordSurfaces(on); }
   /// Plays the sources that stand at their baked positions from `bake` (runtime/
   /// baked_playback.h): interpolated late response, live direct sound. The bake must be of this
-  /// stage's scene (bake/bake_loader.h checks); nullptr detaches it. Control thread, between
-  /// frames; allocates.
+  /// stage's scene (bake/bake_loader.h checks); nullptr detaches it. A bake carrying the wave
+  /// band (BakedField::hasWave, loaded when the scene's wave.enabled) joins each baked pair's
+  /// IR with the probes' wave bands blended with the late response's weights (the probes the
+  /// source's grid reached, weights renormalised over them) by wave/wave_join.h, in place of
+  /// any attachWaveBands set; throws as
+  /// checkWaveBandsAllowed then, and InputError(bake file, "wave/band") for a band stored at
+  /// another sample rate than the scene's. Control thread, between frames; allocates.
   void attachBake(std::shared_ptr<const BakedField> bake, BakeInterpolation settings = {});
   /// Throws InputError(scene file, "wave.enabled") in hybrid rendering (a source's IR is
   /// split there; the wave band needs it whole): a caller checks before simulating the bands.
@@ -176,6 +181,9 @@ class PropagationStage {
   void levelOnTracingThreads(SpatialIrSynthesizer& synth);
   /// Synthesises source s's IR for listener l into irs_[l][s].
   void synthesize(size_t s, size_t listener);
+  /// Joins the wave band of pair (s, listener) to its IR `ir`: the bake's (its probes blended)
+  /// when the pair plays from a bake that carries one, else attachWaveBands's, else none.
+  void joinWave(size_t s, size_t listener, ImpulseResponse& ir);
 
   std::shared_ptr<const SceneDesc> scene_;
   int numOutputs_;
@@ -185,6 +193,9 @@ class PropagationStage {
   std::unique_ptr<SpatialIrSynthesizer> spatial_;             ///< stereo / binaural
   std::unique_ptr<BakedPlayback> baked_;                      ///< attachBake, or none
   std::shared_ptr<const wave::WaveBandSet> waveBands_;         ///< attachWaveBands, or none
+  /// The bake's wave bands, "listener" = probe: [probe][source] (attachBake), or none.
+  std::unique_ptr<const wave::WaveBandSet> bakedWave_;
+  std::vector<wave::BandWeight> waveBlend_;  ///< joinWave's scratch, reserved by attachBake
   std::unique_ptr<HybridSynthesis> hybrid_;                   ///< hybrid rendering, or none
   std::shared_ptr<const audio::NonUniformLayout> layout_;
   std::shared_ptr<const audio::NonUniformLayout> lateLayout_;  ///< hybrid: full-length IRs

@@ -12,6 +12,16 @@ namespace dpc::wave {
 
 WaveBand sceneWaveBand(const SceneDesc& scene, size_t source, std::span<const size_t> listeners,
                        double t, const WaveBandOptions& options) {
+  std::vector<WavePoint> at;
+  for (size_t l : listeners)
+    at.push_back({listenerPositionAt(scene.listeners[l], t),
+                  "listeners[" + std::to_string(l) + "].position"});
+  return sceneWaveBandAt(scene, source, at, t, options);
+}
+
+WaveBand sceneWaveBandAt(const SceneDesc& scene, size_t source,
+                         std::span<const WavePoint> receivers, double t,
+                         const WaveBandOptions& options) {
   const Geometry geometry(scene.mesh, scene.materials, scene.propagation.patchSize, scene.objects);
   EmbreeTracer tracer(scene.mesh, scene.objects);
   for (size_t k = 0; k < scene.objects.size(); ++k)
@@ -19,11 +29,7 @@ WaveBand sceneWaveBand(const SceneDesc& scene, size_t source, std::span<const si
   tracer.commitPoses();
   const WavePoint from{sourcePositionAt(scene.sources[source], t),
                        "sources[" + std::to_string(source) + "].position"};
-  std::vector<WavePoint> at;
-  for (size_t l : listeners)
-    at.push_back({listenerPositionAt(scene.listeners[l], t),
-                  "listeners[" + std::to_string(l) + "].position"});
-  return simulateWaveBand(scene, tracer, geometry, from, at, options);
+  return simulateWaveBand(scene, tracer, geometry, from, receivers, options);
 }
 
 namespace {
@@ -63,7 +69,8 @@ std::shared_ptr<const WaveBandSet> sceneWaveBands(
   if (const std::string moving = firstMovingField(scene); !moving.empty())
     throw InputError(scene.path, "wave.enabled",
                      "the wave band is simulated for one pose of the scene, and " + moving +
-                         " moves (render it without the wave band, or hold it still)");
+                         " moves (render it without the wave band, hold it still, or play it "
+                         "from a bake that carries the wave band: dpc-bake)");
   auto set = std::make_shared<WaveBandSet>(
       scene.listeners.size(), scene.sources.size(), scene.audio.output,
       double(scene.wave.crossover()), double(scene.wave.maxFrequencyHz), scene.audio.sampleRate);

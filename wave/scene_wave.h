@@ -21,6 +21,12 @@ namespace dpc::wave {
 WaveBand sceneWaveBand(const SceneDesc& scene, size_t source, std::span<const size_t> listeners,
                        double t, const WaveBandOptions& options);
 
+/// The same at any `receivers` (a bake's probes), with the scene's objects and source at time
+/// t seconds.
+WaveBand sceneWaveBandAt(const SceneDesc& scene, size_t source,
+                         std::span<const WavePoint> receivers, double t,
+                         const WaveBandOptions& options);
+
 /// The first thing of `scene` that moves (its field, e.g. "sources[1].trajectory"), or "" when
 /// nothing does: the wave band is simulated for one pose of the scene.
 std::string firstMovingField(const SceneDesc& scene);

@@ -65,16 +65,22 @@ std::vector<float> toAudioRate(std::vector<float> pressure, int stepRate, int sa
 /// The simulation's input for `grid` (its stencils, pulse and length in `st`).
 struct Run {
   SimulationInput in;
-  std::vector<Stencil> receivers;
+  std::vector<Stencil> receivers;  ///< those in the air
+  std::vector<size_t> index;       ///< per entry of receivers: the receiver it is
   std::vector<float> pulse;
 };
 
 void prepare(Run& run, const SceneDesc& scene, const WaveGrid& grid, const WavePoint& source,
-             std::span<const WavePoint> receivers, const WaveBandStats& st) {
+             std::span<const WavePoint> receivers, bool allowUnreached, const WaveBandStats& st) {
   run.in.speedOfSound = scene.propagation.speedOfSound;
   run.in.stepRate = st.stepRate;
   run.in.source = stencilOrThrow(grid, source, scene.path);
-  for (const WavePoint& r : receivers) run.receivers.push_back(stencilOrThrow(grid, r, scene.path));
+  for (size_t r = 0; r < receivers.size(); ++r) {
+    const auto s = stencilAt(grid, receivers[r].position);
+    if (!s && allowUnreached) continue;
+    run.receivers.push_back(s ? *s : stencilOrThrow(grid, receivers[r], scene.path));
+    run.index.push_back(r);
+  }
   run.in.receivers = run.receivers;
   run.pulse = pulse(scene.wave.maxFrequencyHz, st.stepRate, st.steps);
   run.in.signal = run.pulse;
@@ -89,12 +95,13 @@ std::vector<std::vector<float>> simulateBands(const SceneDesc& scene, WaveGrid& 
                                               const WaveBandOptions& options,
                                               const WaveBandStats& st) {
   Run run;
-  prepare(run, scene, grid, source, receivers, st);
+  prepare(run, scene, grid, source, receivers, options.allowUnreached, st);
   run.in.link = options.link;
   const std::vector<int> bands = simulatedBands(scene.wave.crossover());
   const std::vector<double> edges = bandEdges(bands);
   const size_t samples = size_t(std::llround(options.seconds * options.sampleRate));
   std::vector<std::vector<float>> irs(receivers.size(), std::vector<float>(samples, 0.f));
+  if (run.receivers.empty()) return irs;  // every receiver out of the air: nothing to hear
   for (size_t k = 0; k < bands.size(); ++k) {
     setAdmittances(grid, admittances(scene, bands[k]));
     if (options.progress)
@@ -106,7 +113,8 @@ std::vector<std::vector<float>> simulateBands(const SceneDesc& scene, WaveGrid& 
       std::vector<float> ir =
           toAudioRate(std::move(pressure[r]), st.stepRate, options.sampleRate, samples);
       splitBand(ir, k, edges, options.sampleRate);
-      for (size_t i = 0; i < samples; ++i) irs[r][i] += ir[i];
+      std::vector<float>& out = irs[run.index[r]];
+      for (size_t i = 0; i < samples; ++i) out[i] += ir[i];
     }
   }
   return irs;
@@ -123,7 +131,8 @@ WaveBand simulateWaveBand(const SceneDesc& scene, const Tracer& tracer, const Ge
                                       glm::dvec3(geometry.boundsMax()), scene.wave.spacing(c),
                                       scene.path);
   std::vector<glm::vec3> seeds{source.position};
-  for (const WavePoint& r : receivers) seeds.push_back(r.position);
+  if (!options.allowUnreached)
+    for (const WavePoint& r : receivers) seeds.push_back(r.position);
   WaveGrid grid = buildWaveGrid(layout, tracer, geometry, seeds);
   WaveBand out;
   WaveBandStats& st = out.stats;
@@ -142,6 +151,9 @@ WaveBand simulateWaveBand(const SceneDesc& scene, const Tracer& tracer, const Ge
   st.buildSeconds = secondsSince(t0);
   const auto t1 = Clock::now();
   out.irs = simulateBands(scene, grid, source, receivers, options, st);
+  out.reached.resize(receivers.size());
+  for (size_t r = 0; r < receivers.size(); ++r)
+    out.reached[r] = stencilAt(grid, receivers[r].position) ? 1 : 0;
   st.simulateSeconds = secondsSince(t1);
   return out;
 }

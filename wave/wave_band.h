@@ -23,6 +23,7 @@
 // grid reaches, and a grid beyond kMaxWaveNodes.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <glm/vec3.hpp>
 #include <span>
@@ -54,6 +55,11 @@ struct WaveBandOptions {
   /// The processes sharing each simulation by slabs (wave/fdtd.h); null: this one alone.
   /// Every process gets the same IRs, bit for bit, whatever their number.
   SlabLink* link = nullptr;
+  /// False: a receiver in no air the grid reaches is an error (InputError), and the air is
+  /// flooded from the source and every receiver. True (a bake's probes): the air is flooded
+  /// from the source alone, and a receiver outside it gets no IR (WaveBand::reached 0, its IR
+  /// zeros) instead of an error.
+  bool allowUnreached = false;
 };
 
 /// What a run cost and where its grid lay.
@@ -72,6 +78,7 @@ struct WaveBandStats {
 
 struct WaveBand {
   std::vector<std::vector<float>> irs;  ///< per receiver, options.sampleRate
+  std::vector<uint8_t> reached;         ///< per receiver: 1 where it lies in the grid's air
   WaveBandStats stats;
 };
 

@@ -105,6 +105,22 @@ void WaveBandSet::join(size_t listener, size_t source, ImpulseResponse& ir) cons
                     edgeAllPasses_, highPass_);
 }
 
+void WaveBandSet::join(std::span<const BandWeight> blend, size_t source,
+                       ImpulseResponse& ir) const {
+  for (int c = 0; c < ir.channels(); ++c) {
+    const std::span<float> ray = ir.channelSpan(c);
+    addToHighPassed(ray, {}, 0.0, edgeAllPasses_, highPass_);
+    const double gain = waveBandGain(format_, c, ir.channels());
+    for (const BandWeight& b : blend) {
+      if (!has(b.listener, source)) continue;
+      const std::vector<float>& low = lowPassed_[b.listener * sources_ + source];
+      const double g = gain * double(b.weight);
+      const size_t n = std::min(ray.size(), low.size());
+      for (size_t i = 0; i < n; ++i) ray[i] += float(g * double(low[i]));
+    }
+  }
+}
+
 void joinWaveBand(std::span<float> rayChannel, std::span<const float> wave, double gain,
                   double crossoverHz, double maxFrequencyHz, double fs) {
   std::vector<float> low(rayChannel.size(), 0.f);

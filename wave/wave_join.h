@@ -64,6 +64,13 @@ void splitBand(std::span<float> x, size_t k, std::span<const double> edges, doub
 void joinWaveBand(std::span<float> rayChannel, std::span<const float> wave, double gain,
                   double crossoverHz, double maxFrequencyHz, double fs);
 
+/// One band of a blend (WaveBandSet::join): a listener of the set (a bake's probe) and its
+/// weight.
+struct BandWeight {
+  size_t listener = 0;
+  float weight = 0.f;
+};
+
 /// The wave bands of a render, each low-passed once when it is set, joined to every IR the
 /// renderer synthesises for its listener-source pair.
 class WaveBandSet {
@@ -79,6 +86,11 @@ class WaveBandSet {
   /// Every channel of `ir` (the pair's ray-traced IR at fs) phase-matched and high-passed,
   /// plus its share of the low-passed wave band. No allocation.
   void join(size_t listener, size_t source, ImpulseResponse& ir) const;
+  /// The same with the weighted sum of listeners' bands, sum_k w_k LP(P(band_k)) (the
+  /// low-pass is linear: the band of the weighted sum), for a listener between a bake's probes;
+  /// the weights as given, listeners without a band (has() false) left out. One entry of
+  /// weight 1 gives join(listener, ...)'s bits. No allocation.
+  void join(std::span<const BandWeight> blend, size_t source, ImpulseResponse& ir) const;
   double crossoverHz() const { return crossoverHz_; }
 
  private:

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "apps/bake/bake_wave.h"
 #include "bake/bake_file.h"
 #include "bake/settings_hash.h"
 #include "common/input_error.h"
@@ -48,6 +49,11 @@ void planFresh(const Options& o, int processes, bool measure, Plan& plan) {
   if (!o.probes.empty()) h.grid.spacingM = h.grid.heightM = 0.0;  // a list: no grid
   for (const SourceDesc& s : plan.scene.sources) h.sources.push_back(sourcePositionAt(s, 0.0));
   h.shape = probeShape(plan.scene, h.settings);
+  h.wave = waveLayout(plan.scene, h.settings.irLength);
+  if (h.wave.enabled) {
+    for (size_t s = 0; s < h.sources.size(); ++s) plan.waveTodo.push_back(s);
+    plan.wave = estimateWave(plan.scene, h.settings.irLength);  // a grid too large: no file
+  }
   plan.baker = std::make_unique<ProbeBaker>(plan.scene, h.settings);
   plan.estimate.processes = processes;
   const std::vector<glm::vec3> candidates = candidatesOf(o, plan, measure);
@@ -59,6 +65,7 @@ void planFresh(const Options& o, int processes, bool measure, Plan& plan) {
   if (!measure) return;
   plan.estimate = estimateBake(plan.todo.size(), plan.todo.size(), h.shape, h.settings,
                                plan.baker->timeFrame(timingPosition(plan.scene)), processes);
+  plan.estimate.bytes += waveBandBytes(h.probes.positions.size(), h.sources.size(), h.wave);
   checkLimits(plan.estimate, o.force, o.probes.empty() ? "--spacing" : "--probes");
 }
 
@@ -99,9 +106,9 @@ void checkResumable(const std::string& bake, const std::string& scenePath, const
 }  // namespace
 
 void planResume(const Options& o, int processes, bool report, Plan& plan) {
-  std::vector<uint8_t> done;
+  std::vector<uint8_t> done, waveDone;
   size_t damaged = 0;
-  std::string damage;
+  std::string damage, waveDamage;
   {
     const BakeFile file = BakeFile::open(o.resume, BakeFile::Access::kInspect);
     plan.header = file.header();
@@ -109,6 +116,8 @@ void planResume(const Options& o, int processes, bool report, Plan& plan) {
     done = file.done();
     damaged = file.damaged().size();
     damage = file.damageReport();
+    waveDone = file.waveDone();
+    waveDamage = file.waveDamageReport();
   }
   const std::string scenePath = o.scene.empty() ? plan.header.scenePath : o.scene;
   plan.scene = loadScene(scenePath);
@@ -118,6 +127,16 @@ void planResume(const Options& o, int processes, bool report, Plan& plan) {
                  "dpc-bake: %s: %zu probes marked done fail their checksums (first: %s); "
                  "baking them again\n",
                  o.resume.c_str(), damaged, damage.c_str());
+  if (report && !waveDamage.empty())
+    std::fprintf(stderr, "dpc-bake: %s: %s; simulating that wave band again\n", o.resume.c_str(),
+                 waveDamage.c_str());
+  for (size_t s = 0; s < waveDone.size(); ++s)
+    if (!waveDone[s]) plan.waveTodo.push_back(s);
+  if (!plan.waveTodo.empty()) {
+    plan.wave = estimateWave(plan.scene, plan.header.settings.irLength);
+    plan.wave.simulations = plan.wave.simulations / plan.scene.sources.size() *
+                            plan.waveTodo.size();
+  }
   plan.header.settings.threads = o.settings.threads;
   for (size_t p = 0; p < done.size(); ++p)
     if (!done[p]) plan.todo.push_back(p);
@@ -129,6 +148,7 @@ void planResume(const Options& o, int processes, bool report, Plan& plan) {
                                    ? plan.baker->timeFrame(timingPosition(plan.scene))
                                    : 0.0,
                                processes);
+  plan.estimate.bytes += waveBandBytes(done.size(), plan.header.sources.size(), plan.header.wave);
 }
 
 }  // namespace dpc::bake

@@ -21,11 +21,13 @@ struct Plan {
   SceneDesc scene;
   BakeHeader header;
   std::vector<size_t> todo;  ///< probes this run bakes
+  std::vector<size_t> waveTodo;  ///< sources whose wave band this run simulates (rank 0)
   size_t alreadyDone = 0;    ///< probes stored (and verified) before this run
   bool wasComplete = false;  ///< a resumed file said complete (its map is rewritten, or its
                              ///< damaged probes baked again)
   std::unique_ptr<ProbeBaker> baker;  ///< over `scene` (so the plan is not moved once made)
   BakeEstimate estimate;              ///< rank 0: the run's cost (seconds measured)
+  WaveEstimate wave;                  ///< the wave band's simulations in this run (waveTodo)
 };
 
 /// Plans a fresh bake into `plan` (in place: the baker refers to plan.scene). `measure`: time

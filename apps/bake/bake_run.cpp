@@ -9,9 +9,11 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <string>
 #include <thread>
 
 #include "apps/bake/bake_plan.h"
+#include "apps/bake/bake_wave.h"
 #include "apps/bake/progress.h"
 #include "apps/bake/watchdog.h"
 #include "bake/bake_file.h"
@@ -39,7 +41,7 @@ int unfinishedStatus() {
 BakeFile openOutput(const Options& o, const Plan& plan) {
   if (!o.resume.empty()) {
     BakeFile file = BakeFile::open(o.resume, BakeFile::Access::kWrite);
-    if (plan.wasComplete && !plan.todo.empty()) file.markIncomplete();
+    if (plan.wasComplete && !(plan.todo.empty() && plan.waveTodo.empty())) file.markIncomplete();
     return file;
   }
   checkFreeSpace(o.out, plan.estimate.bytes, o.force);
@@ -61,6 +63,8 @@ void printEstimate(const Plan& plan) {
                plan.todo.size(), h.probes.positions.size(), h.probes.candidates, h.probes.outside,
                h.probes.insideGeometry, h.probes.nearSurface, h.shape.sources, h.settings.frames,
                h.settings.rays, rays, describe(plan.estimate).c_str());
+  if (!plan.waveTodo.empty())
+    std::fprintf(stderr, "dpc-bake: the wave band first: %s\n", describe(plan.wave).c_str());
 }
 
 /// This rank's probes: every size-th of the todo list, from its rank.
@@ -122,14 +126,15 @@ void bakeAsWorker(Plan& plan, Cluster& cluster) {
 }
 
 void printJson(const Plan& plan, const Cluster& cluster, const BakeFile& file,
-               const Progress& progress) {
+               const Progress& progress, const WaveBakeStats& wave) {
   const double n = double(std::max<size_t>(plan.todo.size(), 1));
   std::printf(
       "{\"probes\": %zu, \"seconds\": %.6g, \"probes_per_second\": %.6g, "
       "\"processes\": %d, \"bytes_per_probe\": %zu, \"commit_seconds_per_probe\": "
-      "%.6g}\n",
+      "%.6g, \"wave_sources\": %zu, \"wave_seconds\": %.6g, \"wave_unreached\": %zu}\n",
       plan.todo.size(), progress.elapsedSeconds(), progress.rate(), cluster.size(),
-      plan.header.shape.packedFloats() * sizeof(float), file.commitSeconds() / n);
+      plan.header.shape.packedFloats() * sizeof(float), file.commitSeconds() / n, wave.sources,
+      wave.seconds, wave.unreached);
 }
 
 /// Rank 0's watchdog over the other ranks (apps/bake/watchdog.h), when there are any.
@@ -141,11 +146,24 @@ std::unique_ptr<Watchdog> watch(const Plan& plan, const Cluster& cluster, const 
                                     plan.header.probes.positions.size(), plan.alreadyDone);
 }
 
+/// ", and the wave band of 2 sources in 3.1 s" when this run simulated any.
+std::string waveSummary(const WaveBakeStats& wave) {
+  if (wave.sources == 0) return "";
+  char text[96];
+  std::snprintf(text, sizeof text, ", and the wave band of %zu source%s in %.1f s",
+                wave.sources, wave.sources > 1 ? "s" : "", wave.seconds);
+  return text;
+}
+
 int finishAsWriter(const Options& o, Plan& plan, Cluster& cluster, BakeFile& file) {
-  Progress progress(plan.todo.size(), plan.alreadyDone, o.quiet);
   std::unique_ptr<Watchdog> watchdog = watch(plan, cluster, file);
+  // The wave band first (the other ranks bake their probes meanwhile): its one simulation per
+  // source serves every probe.
+  WaveBakeStats wave;
+  const bool waved = bakeWaveBands(plan, file, o.quiet, watchdog.get(), wave);
+  Progress progress(plan.todo.size(), plan.alreadyDone, o.quiet);
   Writer writer{file, progress, watchdog.get()};
-  const bool finished = bakeAsWriter(plan, cluster, writer);
+  const bool finished = waved && bakeAsWriter(plan, cluster, writer);
   watchdog.reset();  // every probe is in (or the single process was interrupted)
   progress.finish();
   if (!finished) {
@@ -162,13 +180,13 @@ int finishAsWriter(const Options& o, Plan& plan, Cluster& cluster, BakeFile& fil
   }
   file.markComplete();
   if (!o.map.empty()) writeParameterMap(file, o.map);
-  if (o.json) printJson(plan, cluster, file, progress);
+  if (o.json) printJson(plan, cluster, file, progress, wave);
   std::fprintf(stderr,
                "dpc-bake: %s: %zu probes complete; this run baked %zu in %.1f s (%.3g "
-               "probes/s, %d process%s)\n",
+               "probes/s, %d process%s)%s\n",
                file.path().c_str(), plan.header.probes.positions.size(), plan.todo.size(),
                progress.elapsedSeconds(), progress.rate(), cluster.size(),
-               cluster.size() > 1 ? "es" : "");
+               cluster.size() > 1 ? "es" : "", waveSummary(wave).c_str());
   return 0;
 }
 

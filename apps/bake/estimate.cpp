@@ -43,6 +43,12 @@ double bakeFileBytes(size_t probes, const ProbeShape& shape) {
   return double(probes) * perProbe + double(shape.sources) * 12.0 + kMetadataBytes;
 }
 
+double waveBandBytes(size_t probes, size_t sources, const WaveLayout& wave) {
+  if (!wave.enabled) return 0.0;
+  // The band (floats), the reached mask (a byte a probe), done and CRC-32 per source.
+  return double(sources) * (double(probes) * (double(wave.samples) * 4.0 + 1.0) + 5.0);
+}
+
 BakeEstimate estimateBake(size_t probes, size_t fileProbes, const ProbeShape& shape,
                           const BakeSettings& settings, double frameSeconds, int processes) {
   BakeEstimate e;
@@ -62,6 +68,15 @@ std::string describe(const BakeEstimate& e) {
          ", " + up + "about " + secondsText(e.seconds) + " on " +
          std::to_string(e.processes) + (e.processes > 1 ? " processes" : " process") + " (" +
          frame + ")";
+}
+
+std::string describe(const WaveEstimate& e) {
+  char text[160];
+  std::snprintf(text, sizeof text,
+                "%zu simulation%s of a %d x %d x %d grid for %zu steps (%.2g node updates)",
+                e.simulations, e.simulations == 1 ? "" : "s", e.count[0], e.count[1], e.count[2],
+                e.steps, double(e.simulations) * double(e.nodes) * double(e.steps));
+  return text;
 }
 
 void checkLimits(const BakeEstimate& e, bool force, const std::string& flag) {

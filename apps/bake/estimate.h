@@ -8,9 +8,11 @@
 // Control thread; no allocation beyond strings; errors as InputError.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <string>
 
+#include "bake/bake_layout.h"
 #include "bake/probe_bake.h"
 
 namespace dpc::bake {
@@ -31,8 +33,22 @@ struct BakeEstimate {
   int processes = 1;
 };
 
+/// The wave band's share of a bake (the scene's wave.enabled; apps/bake/bake_wave.h): one
+/// simulation per source and octave band to the crossover, each of `steps` time steps over a
+/// grid of `nodes` nodes (its bounding box, padding included).
+struct WaveEstimate {
+  size_t simulations = 0;
+  std::array<int, 3> count{};  ///< nodes per axis
+  size_t nodes = 0;
+  size_t steps = 0;
+};
+/// "2 simulations of a 146 x 44 x 102 grid for 4356 steps (5.7e9 node updates)".
+std::string describe(const WaveEstimate& e);
+
 /// The file size of a bake of `probes` probes of `shape` (every dataset, allocated whole).
 double bakeFileBytes(size_t probes, const ProbeShape& shape);
+/// The bytes of a bake's wave band (docs/bake-format.md): 0 when `wave` is not enabled.
+double waveBandBytes(size_t probes, size_t sources, const WaveLayout& wave);
 BakeEstimate estimateBake(size_t probes, size_t fileProbes, const ProbeShape& shape,
                           const BakeSettings& settings, double frameSeconds, int processes);
 /// "70 probes, a 6.5 MB file, about 14 s on 1 process (0.025 s per frame measured)".

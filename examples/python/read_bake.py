@@ -25,8 +25,8 @@ def open_bake(path):
         fail(path, '', f'not a readable HDF5 file ({e})')
     if f.attrs.get('format', b'') not in (b'dpc-bake', 'dpc-bake'):
         fail(path, 'format', 'not a dpc-bake file')
-    if int(f.attrs.get('version', -1)) != 5:
-        fail(path, 'version', f"{f.attrs.get('version')} is not 5")
+    if int(f.attrs.get('version', -1)) not in (5, 6):  # 6: 5 with the wave band (wave/)
+        fail(path, 'version', f"{f.attrs.get('version')} is not 5 or 6")
     if int(f.attrs.get('sh_order', -1)) != 1:
         fail(path, 'sh_order', f"{f.attrs.get('sh_order')} is not 1")
     return f

@@ -301,6 +301,20 @@ TEST_CASE("Bake faults: the settings hash sees every setting that changes a prob
   t.irLength = 1.0;
   CHECK(changedGroups(a, t, probes) == only(SettingGroup::kResponse));
   CHECK(changedGroups(a, s, {{5.f, 1.6f, 3.6f}}) == only(SettingGroup::kProbes));
+  // The wave band: on, and each of its keys (and the rate it is stored at) once it is on.
+  b = a;
+  b.wave.enabled = true;
+  CHECK(changedGroups(b, s, probes) == only(SettingGroup::kWave));
+  SceneDesc w = b;
+  for (auto change : {+[](SceneDesc& x) { x.wave.maxFrequencyHz = 300.f; },
+                      +[](SceneDesc& x) { x.wave.crossoverHz = 100.f; },
+                      +[](SceneDesc& x) { x.wave.gridSpacingM = 0.1f; },
+                      +[](SceneDesc& x) { x.audio.sampleRate = 44100; }}) {
+    w = b;
+    change(w);
+    const SettingsHash h = settingsHash(w, s, probes), base = settingsHash(b, s, probes);
+    CHECK(h[size_t(SettingGroup::kWave)] != base[size_t(SettingGroup::kWave)]);
+  }
   // Settings that do not change a probe: no group.
   b = a;
   b.propagation.cacheTau = 0.2f;

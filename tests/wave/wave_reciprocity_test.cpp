@@ -50,3 +50,30 @@ TEST_CASE("Wave band: a point in the solid is refused with its field", "[wave]")
 }
 
 }  // namespace dpc
+
+namespace dpc {
+
+TEST_CASE("Wave band: a bake's receivers outside the air get no IR, the others the same bits",
+          "[wave]") {
+  const SceneDesc s = test::partitionedWaveBox();
+  const Geometry geometry(s.mesh, s.materials, s.propagation.patchSize);
+  const EmbreeTracer tracer(s.mesh);
+  wave::WaveBandOptions opt;
+  opt.seconds = 0.2;
+  const glm::vec3 source(0.7f, 1.1f, 0.9f), inside(3.2f, 1.9f, 2.6f), outside(9.f, 1.f, 1.f);
+  const wave::WavePoint one[] = {{inside, "receiver"}};
+  const wave::WaveBand alone = wave::simulateWaveBand(s, tracer, geometry, {source, "source"},
+                                                      one, opt);
+  opt.allowUnreached = true;
+  const wave::WavePoint both[] = {{outside, "probe 0"}, {inside, "probe 1"}};
+  const wave::WaveBand bake = wave::simulateWaveBand(s, tracer, geometry, {source, "source"},
+                                                     both, opt);
+  CHECK(bake.reached == std::vector<uint8_t>{0, 1});
+  CHECK(std::all_of(bake.irs[0].begin(), bake.irs[0].end(), [](float x) { return x == 0.f; }));
+  // The air flooded from the source alone is the room's: the in-air receiver's IR is the one
+  // it gets alone, bit for bit.
+  CHECK(bake.irs[1] == alone.irs[0]);
+  CHECK(alone.reached == std::vector<uint8_t>{1});
+}
+
+}  // namespace dpc

@@ -24,6 +24,8 @@ PropagationStage::PropagationStage(std::shared_ptr<const SceneDesc> scene,
       numOutputs_(irChannels(scene_->audio)),
       channelScratch_(size_t(numOutputs_)) {
   simulation_ = std::make_unique<Simulation>(*scene_, settings);
+  partitionChannels_.assign(size_t(std::max(1, simulation_->propagator().concurrency())),
+                            std::vector<const float*>(size_t(numOutputs_)));
   const double early = hybridEarlySeconds(settings);
   makeSynthesizers(settings, early > 0.0, build);
   if (early > 0.0) makeHybrid(settings, early, planning, build);
@@ -57,7 +59,6 @@ void PropagationStage::makeHybrid(const PropagationSettings& settings, double ea
   hybrid_ = std::make_unique<HybridSynthesis>(
       scene, settings, roomVolume(scene.mesh), spatial_.get(), early, scene.listeners.size(),
       simulation_->propagator().concurrency(), onTracingThreads(), build);
-  if (hybrid_->earlySpatial()) levelOnTracingThreads(*hybrid_->earlySpatial());
   lateLayout_ = std::make_shared<const audio::NonUniformLayout>(
       scene.audio.blockSize, hybrid_->lateSamples(), audio::NonUniformLayout::kDefaultMaxPartition,
       planning);
@@ -124,10 +125,12 @@ void PropagationStage::levelOnTracingThreads(SpatialIrSynthesizer& synth) {
 std::unique_ptr<IrSet> PropagationStage::makeIrSet() const {
   auto set = std::make_unique<IrSet>();
   set->irs =
-      std::make_unique<audio::NonUniformIrSet>(*layout_, int(scene_->sources.size()), numOutputs_);
+      std::make_unique<audio::NonUniformIrSet>(*layout_, int(scene_->sources.size()), numOutputs_,
+                                               int(partitionChannels_.size()));
   if (hybrid_) {
     set->lateIrs =
-        std::make_unique<audio::NonUniformIrSet>(*lateLayout_, hybrid_->buses(), numOutputs_);
+        std::make_unique<audio::NonUniformIrSet>(*lateLayout_, hybrid_->buses(), numOutputs_,
+                                                 int(partitionChannels_.size()));
     set->lateGain.assign(scene_->sources.size(), 0.f);
     set->lateBus.assign(scene_->sources.size(), 0);
   }
@@ -245,16 +248,8 @@ void PropagationStage::prepare(size_t listener, IrSet& set) {
   synthesizeIrs(listener);
   profile_->record(FrameProfile::kSynthesis, totals_.synthesisSeconds - synthesized);
   const auto t0 = std::chrono::steady_clock::now();
-  const auto partition = [&](audio::NonUniformIrSet& into, std::vector<ImpulseResponse>& irs,
-                             size_t samples) {
-    for (size_t k = 0; k < irs.size(); ++k) {
-      for (int c = 0; c < numOutputs_; ++c) channelScratch_[size_t(c)] = irs[k].channel(c);
-      into.prepare(int(k), channelScratch_.data(), samples);
-    }
-  };
-  partition(*set.irs, irs_[listener], irSamples_);
+  partition(listener, set);
   if (hybrid_) {
-    partition(*set.lateIrs, lateIrs_[listener], lateLayout_->maxIrSamples());
     set.lateGain.assign(lastGain_[listener].begin(), lastGain_[listener].end());
     set.lateBus.assign(lastBus_[listener].begin(), lastBus_[listener].end());
   }
@@ -264,6 +259,28 @@ void PropagationStage::prepare(size_t listener, IrSet& set) {
   set.listener = listener;
   set.frame = simulation_->framesRun() - 1;
   set.poseTimeSeconds = lastTime_;
+}
+
+void PropagationStage::partition(size_t listener, IrSet& set) {
+  // Items: the sources' IRs, then the buses'; group g takes items g, g + G, ...
+  std::vector<ImpulseResponse>& irs = irs_[listener];
+  const size_t S = irs.size(), B = hybrid_ ? lateIrs_[listener].size() : 0;
+  int groups = std::min(set.irs->workers(), int(partitionChannels_.size()));
+  if (hybrid_) groups = std::min(groups, set.lateIrs->workers());
+  const size_t G = size_t(std::max(groups, 1));
+  const auto group = [&](size_t g) {
+    std::vector<const float*>& channels = partitionChannels_[g];
+    for (size_t i = g; i < S + B; i += G) {
+      const bool early = i < S;
+      const ImpulseResponse& ir = early ? irs[i] : lateIrs_[listener][i - S];
+      for (int c = 0; c < numOutputs_; ++c) channels[size_t(c)] = ir.channel(c);
+      if (early)
+        set.irs->prepare(int(i), channels.data(), irSamples_, int(g));
+      else
+        set.lateIrs->prepare(int(i - S), channels.data(), lateLayout_->maxIrSamples(), int(g));
+    }
+  };
+  simulation_->propagator().forEachParallel(G, group);
 }
 
 void PropagationStage::synthesizeHybrid(size_t listener) {

@@ -176,10 +176,15 @@ class PropagationStage {
   void levelOnTracingThreads(SpatialIrSynthesizer& synth);
   /// Synthesises source s's IR for listener l into irs_[l][s].
   void synthesize(size_t s, size_t listener);
+  /// Listener l's IRs (and late buses') partitioned and transformed into set, in groups on
+  /// the tracing threads (each IR independent, each group with the set's scratch of its own).
+  void partition(size_t listener, IrSet& set);
 
   std::shared_ptr<const SceneDesc> scene_;
   int numOutputs_;
   std::vector<float*> channelScratch_;  ///< one source's IR channels, numOutputs_ pointers
+  /// partition()'s groups (the tracing threads): per group, numOutputs_ channel pointers.
+  std::vector<std::vector<const float*>> partitionChannels_;
   std::unique_ptr<Simulation> simulation_;
   std::vector<std::unique_ptr<IrSynthesizer>> synthesizers_;  ///< mono: one per source
   std::unique_ptr<SpatialIrSynthesizer> spatial_;             ///< stereo / binaural

@@ -69,9 +69,9 @@ HybridSynthesis::~HybridSynthesis() = default;
 
 size_t HybridSynthesis::workerGroups() const { return workers_.size(); }
 
-size_t HybridSynthesis::groupCount(bool parallel, int workers, int perWorker, size_t sources) {
+size_t HybridSynthesis::groupCount(bool parallel, int workers, size_t sources) {
   if (!parallel) return 1;
-  const size_t groups = size_t(std::max(workers, 2)) * size_t(std::max(perWorker, 1));
+  const size_t groups = size_t(std::max(workers, 2) + kExtraEarlyGroups);
   return std::clamp<size_t>(groups, 1, std::max<size_t>(sources, 1));
 }
 
@@ -80,7 +80,7 @@ void HybridSynthesis::buildSpatial(const SceneDesc& scene, const PropagationSett
                                    SpatialIrSynthesizer::ParallelFor parallel) {
   // One synthesiser renders every source's early part (each its own late field); the groups'
   // copies share its band signals and filters, each with workspaces of its own.
-  const size_t W = groupCount(bool(parallel), workers, 1, scene.sources.size());
+  const size_t W = groupCount(bool(parallel), workers, scene.sources.size());
   earlySpatial_.push_back(
       makeSpatialSynthesizer(scene, settings, roomVolume, earlySeconds, 0x2545f4914f6cdd1dULL));
   while (earlySpatial_.size() < W) earlySpatial_.push_back(earlySpatial_.front()->workspaceCopy());
@@ -100,7 +100,7 @@ void HybridSynthesis::buildMono(const SceneDesc& scene, const PropagationSetting
   // that one worker runs (sources s = w, w + W, ...). At least two workers' workspaces, so
   // that two groups are built at once whatever the tracing threads (the IRs are the same for
   // any grouping).
-  const size_t W = groupCount(bool(parallel), workers, kEarlyGroupsPerWorker, S);
+  const size_t W = groupCount(bool(parallel), workers, S);
   workers_.resize(W);
   parallel_ = std::move(parallel);
   earlyMono_.resize(S);

@@ -73,10 +73,9 @@ class HybridSynthesis {
   /// part's length (hybridEarlyLength). listeners: how many listeners get clusters (more are
   /// added by prepare() on demand, allocating once).
   /// The sources' early parts are synthesised in worker groups through `parallel`
-  /// (kEarlyGroupsPerWorker x `workers` for mono output, `workers` for spatial, at least two;
-  /// each group with its own synthesis workspace, so the IRs are the same for any workers),
-  /// concurrently with the late buses; `parallel` must stay callable while this object is
-  /// used. Default: on the calling thread.
+  /// (max(workers, 2) + kExtraEarlyGroups; each group with its own synthesis workspace, so the
+  /// IRs are the same for any workers), concurrently with the late buses; `parallel` must
+  /// stay callable while this object is used. Default: on the calling thread.
   /// build: the mono synthesisers' (IrSynthesizer::Build); complete() finishes a kFirstIr
   /// build.
   HybridSynthesis(const SceneDesc& scene, const PropagationSettings& settings, double roomVolume,
@@ -85,9 +84,9 @@ class HybridSynthesis {
                   IrSynthesizer::Build build = IrSynthesizer::Build::kComplete);
   ~HybridSynthesis();
 
-  /// Mono early groups per worker: the buses' late IRs (a few full-length syntheses, one job)
-  /// run beside the early groups, and smaller groups let the threads even out around it.
-  static constexpr int kEarlyGroupsPerWorker = 4;
+  /// Early groups beyond one per worker: the buses' late IRs (a few full-length syntheses,
+  /// one job) run beside the groups, and one thread takes that job and a smaller group.
+  static constexpr int kExtraEarlyGroups = 1;
 
   /// Completes the mono synthesisers of a kFirstIr build (IrSynthesizer::complete), in the
   /// construction's concurrent groups; nothing when complete or spatial. Between frames, on
@@ -153,7 +152,7 @@ class HybridSynthesis {
                      std::vector<ImpulseResponse>& early, std::vector<ImpulseResponse>& late);
   /// The number of early worker groups for `workers` threads and `sources` (one without
   /// `parallel`).
-  static size_t groupCount(bool parallel, int workers, int perWorker, size_t sources);
+  static size_t groupCount(bool parallel, int workers, size_t sources);
   /// Spatial output: the early parts' synthesiser and its workspace copies, one per group.
   void buildSpatial(const SceneDesc& scene, const PropagationSettings& settings,
                     double roomVolume, double earlySeconds, int workers,

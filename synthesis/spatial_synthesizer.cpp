@@ -263,6 +263,8 @@ void SpatialIrSynthesizer::prepareDirect(size_t margin) {
       const float m2 = seen ? directMasks.gain(b, k) * directMasks.gain(b, k) : 0.f;
       directMask2_[k][b] = m2;
       directNorm_[size_t(b)] += double(m2);
+      std::pair<size_t, size_t>& r = directBins_[size_t(b)];
+      if (m2 != 0.f) r = {r.first == r.second ? k : r.first, k + 1};
     }
 }
 
@@ -444,15 +446,14 @@ void SpatialIrSynthesizer::level(const DirectionalEnergyResponse& energy, size_t
 }
 
 void SpatialIrSynthesizer::directBandWeights(size_t c) {
-  std::array<double, kNumBands> e{};
-  for (size_t k = 0; k < fft_->n / 2 + 1; ++k) {
-    const double p = double(fft_->band.p[k][0]) * fft_->band.p[k][0] +
-                     double(fft_->band.p[k][1]) * fft_->band.p[k][1];
-    for (int b = 0; b < kNumBands; ++b) e[size_t(b)] += p * double(directMask2_[k][b]);
-  }
   Bands& w = directWeight_[c];
-  for (int b = 0; b < kNumBands; ++b)
-    w[b] = float(e[size_t(b)] / (directNorm_[size_t(b)] * kappa_[size_t(b)]));
+  for (int b = 0; b < kNumBands; ++b) {
+    double e = 0.0;
+    for (size_t k = directBins_[size_t(b)].first; k < directBins_[size_t(b)].second; ++k)
+      e += (double(fft_->band.p[k][0]) * fft_->band.p[k][0] +
+            double(fft_->band.p[k][1]) * fft_->band.p[k][1]) * double(directMask2_[k][b]);
+    w[b] = float(e / (directNorm_[size_t(b)] * kappa_[size_t(b)]));
+  }
 }
 
 void SpatialIrSynthesizer::addArrival(const DirectSound& direct, const glm::vec3& dir,

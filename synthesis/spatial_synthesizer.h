@@ -154,13 +154,12 @@ class SpatialIrSynthesizer {
   void setParallelLevelling(int workers, ParallelFor parallel);
   /// Arrivals (direct sound and exact paths) per frame that need no allocation.
   static constexpr size_t kReservedArrivals = 256;
-  /// A synthesiser whose synthesize() writes what this one's writes, bit for bit, sharing
-  /// this one's read-only band signals, filters and coherence match (the K x N x 8 x length
-  /// floats; K x 8 x length with gains only) and holding workspaces of its own (envelopes,
-  /// the direct sound's FFT, one leveller: about (14 + 2 N) x length floats), so that the two
-  /// synthesise concurrently (hybrid rendering's early parts on the tracing threads). It
-  /// levels on its calling thread. Control/propagation thread (FFTW planning), not during a
-  /// synthesize() of this one; allocates; throws std::runtime_error when FFTW cannot plan.
+  /// A synthesiser whose synthesize() writes this one's bits, sharing its read-only band
+  /// signals, filters and coherence match (K x N x 8 x length floats; K x 8 x length with gains
+  /// only), with workspaces of its own (envelopes, direct-sound FFT, one leveller: about
+  /// (14 + 2 N) x length floats) so the two synthesise concurrently (hybrid rendering's early
+  /// parts), levelling on its calling thread. Control/propagation thread (FFTW planning), not
+  /// during a synthesize() of this one; allocates; throws std::runtime_error if FFTW cannot plan.
   std::unique_ptr<SpatialIrSynthesizer> workspaceCopy() const;
 
  private:
@@ -261,6 +260,8 @@ class SpatialIrSynthesizer {
   std::vector<double> arrivalDelays_;  ///< this frame's arrivals, seconds
   std::vector<Bands> arrivalEnergy_;   ///< per arrival and channel: band energy as levelled
   std::vector<Bands> directMask2_;     ///< M_b^2 on the direct-sound FFT's bins
+  /// Per band: [first, end) of the bins where directMask2_ is not 0 (the rest add exactly 0).
+  std::array<std::pair<size_t, size_t>, kNumBands> directBins_{};
   std::array<double, kNumBands> directNorm_{};
   /// One per levelling worker (setParallelLevelling); [0] always exists.
   std::vector<std::shared_ptr<BandLeveller>> levellers_;

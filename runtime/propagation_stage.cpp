@@ -21,9 +21,11 @@ PropagationStage::PropagationStage(std::shared_ptr<const SceneDesc> scene,
                                    audio::ConvolverLayout::Planning planning,
                                    IrSynthesizer::Build build)
     : scene_(std::move(scene)),
-      numOutputs_(irChannels(scene_->audio)),
-      channelScratch_(size_t(numOutputs_)) {
+      numOutputs_(irChannels(scene_->audio)) {
   simulation_ = std::make_unique<Simulation>(*scene_, settings);
+  sourceGroups_ = std::clamp<size_t>(size_t(std::max(1, simulation_->propagator().concurrency())),
+                                     1, std::max<size_t>(1, scene_->sources.size()));
+  channelScratch_.assign(sourceGroups_, std::vector<float*>(size_t(numOutputs_)));
   partitionChannels_.assign(size_t(std::max(1, simulation_->propagator().concurrency())),
                             std::vector<const float*>(size_t(numOutputs_)));
   const double early = hybridEarlySeconds(settings);
@@ -71,15 +73,19 @@ void PropagationStage::makeSynthesizers(const PropagationSettings& settings, boo
   const int fs = scene.audio.sampleRate;
   if (scene.audio.output == OutputFormat::kMono) {
     if (hybrid) return;  // the hybrid synthesis has its own early and late synthesisers
+    // Per source its own Dirac sequence; source s shares the workspace of group s % G's first.
     for (size_t s = 0; s < scene.sources.size(); ++s)
       synthesizers_.push_back(std::make_unique<IrSynthesizer>(
           fs, settings.irLength, roomVolume(scene.mesh), settings.speedOfSound,
           hashCombine(settings.seed, 0x5bd1e995ULL + s),
-          synthesizers_.empty() ? nullptr : synthesizers_.front().get(), build));
+          s < sourceGroups_ ? nullptr : synthesizers_[s % sourceGroups_].get(), build));
     irSamples_ = synthesizers_.front()->lengthSamples();
   } else {
     spatial_ = makeSpatialSynthesizer(scene, settings, roomVolume(scene.mesh));
     levelOnTracingThreads(*spatial_);
+    if (!hybrid)
+      while (spatialCopies_.size() + 1 < sourceGroups_)
+        spatialCopies_.push_back(spatial_->workspaceCopy());
     simulation_->enableDirectional(spatial_->directions());
     irSamples_ = spatial_->lengthSamples();
   }
@@ -93,12 +99,14 @@ bool PropagationStage::synthesisCompleted() const {
 
 void PropagationStage::completeSynthesis() {
   if (!synthesizers_.empty() && !synthesizers_.back()->completed()) {
-    // The first synthesiser's window leveller first, then its sharers' own parts (they touch
-    // nothing shared) on the tracing threads.
-    IrSynthesizer* first = synthesizers_.front().get();
-    first->complete();
-    simulation_->propagator().forEachParallel(
-        synthesizers_.size() - 1, [&](size_t i) { synthesizers_[i + 1]->complete(first); });
+    // The groups' first synthesisers (each its own window leveller) first, then their
+    // sharers' own parts (they touch nothing shared) on the tracing threads.
+    const size_t G = std::min(sourceGroups_, synthesizers_.size());
+    Propagator& p = simulation_->propagator();
+    p.forEachParallel(G, [&](size_t g) { synthesizers_[g]->complete(); });
+    p.forEachParallel(synthesizers_.size() - G, [&](size_t i) {
+      synthesizers_[G + i]->complete(synthesizers_[(G + i) % G].get());
+    });
   }
   if (hybrid_) hybrid_->complete();
 }
@@ -200,14 +208,16 @@ void PropagationStage::frameInputs(const WorldState& world, int raysPerEmitter) 
   inputs_.raysPerEmitter = raysPerEmitter;
 }
 
-void PropagationStage::synthesize(size_t s, size_t listener) {
+void PropagationStage::synthesize(size_t s, size_t listener, size_t g) {
   auto& irs = irs_[listener];
   const Simulation::SourceResult& r = simulation_->result(s, listener);
   if (spatial_) {
-    for (size_t c = 0; c < channelScratch_.size(); ++c) channelScratch_[c] = irs[s].channel(int(c));
+    std::vector<float*>& channels = channelScratch_[g];
+    for (size_t c = 0; c < channels.size(); ++c) channels[c] = irs[s].channel(int(c));
     const DirectionalEnergyResponse& live = simulation_->directional(s, listener);
-    spatial_->synthesize(baked_ ? baked_->directional(s, listener, live) : live, r.direct,
-                         channelScratch_, simulation_->specularPaths(s, listener), s);
+    SpatialIrSynthesizer& synth = g == 0 ? *spatial_ : *spatialCopies_[g - 1];
+    synth.synthesize(baked_ ? baked_->directional(s, listener, live) : live, r.direct, channels,
+                     simulation_->specularPaths(s, listener), s);
   } else {
     synthesizers_[s]->synthesize(baked_ ? baked_->energy(s, listener, r.energy) : r.energy,
                                  r.direct, irs[s].channel(0),
@@ -228,16 +238,24 @@ void PropagationStage::attachWaveBands(std::shared_ptr<const wave::WaveBandSet> 
   waveBands_ = std::move(bands);
 }
 
+void PropagationStage::synthesizeSources(size_t listener) {
+  const size_t S = simulation_->sourceCount();
+  const size_t G = baked_ || waveBands_ ? 1 : sourceGroups_;
+  simulation_->propagator().forEachParallel(G, [&](size_t g) {
+    for (size_t s = g; s < S; s += G) synthesize(s, listener, g);
+  });
+}
+
 void PropagationStage::synthesizeIrs(size_t listener) {
   if (listener >= simulation_->listenerCount())
     throw std::out_of_range("PropagationStage: listener index out of range");
   const auto t0 = std::chrono::steady_clock::now();
   const uint64_t frame = simulation_->framesRun() - 1;
-  if (hybrid_) synthesizeHybrid(listener);
-  for (size_t s = 0; s < simulation_->sourceCount(); ++s) {
-    if (!hybrid_) synthesize(s, listener);
-    irs_[listener][s].frame = frame;
-  }
+  if (hybrid_)
+    synthesizeHybrid(listener);
+  else
+    synthesizeSources(listener);
+  for (size_t s = 0; s < simulation_->sourceCount(); ++s) irs_[listener][s].frame = frame;
   if (hybrid_)
     for (ImpulseResponse& late : lateIrs_[listener]) late.frame = frame;
   totals_.synthesisSeconds += secondsSince(t0);

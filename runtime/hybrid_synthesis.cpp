@@ -2,13 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <exception>
-#include <future>
 #include <glm/geometric.hpp>
 
 #include "common/random.h"
 #include "runtime/baked_playback.h"
 #include "runtime/output_format.h"
+#include "runtime/own_threads.h"
 
 namespace dpc {
 
@@ -127,22 +126,7 @@ void HybridSynthesis::concurrently(const std::function<void()>& late,
                                    const std::function<void(size_t)>& group) const {
   // The groups and the late buses share no workspace: they run concurrently (their
   // construction is the time to first sound of a live session with many sources).
-  std::vector<std::future<void>> jobs;
-  jobs.push_back(std::async(std::launch::async, late));
-  for (size_t w = 1; w < workers_.size(); ++w)
-    jobs.push_back(std::async(std::launch::async, group, w));
-  std::exception_ptr error;
-  try {
-    group(0);
-  } catch (...) {
-    error = std::current_exception();
-  }
-  for (std::future<void>& job : jobs) try {
-      job.get();
-    } catch (...) {
-      if (!error) error = std::current_exception();
-    }
-  if (error) std::rethrow_exception(error);
+  onOwnThreads(workers_.size() + 1, [&](size_t i) { i == 0 ? late() : group(i - 1); });
 }
 
 bool HybridSynthesis::completed() const {

@@ -11,6 +11,7 @@
 #include "common/stopwatch.h"
 #include "engine/room_volume.h"
 #include "runtime/output_format.h"
+#include "runtime/own_threads.h"
 #include "scene/orientation.h"
 #include "scene/trajectory.h"
 
@@ -74,11 +75,17 @@ void PropagationStage::makeSynthesizers(const PropagationSettings& settings, boo
   if (scene.audio.output == OutputFormat::kMono) {
     if (hybrid) return;  // the hybrid synthesis has its own early and late synthesisers
     // Per source its own Dirac sequence; source s shares the workspace of group s % G's first.
-    for (size_t s = 0; s < scene.sources.size(); ++s)
-      synthesizers_.push_back(std::make_unique<IrSynthesizer>(
-          fs, settings.irLength, roomVolume(scene.mesh), settings.speedOfSound,
-          hashCombine(settings.seed, 0x5bd1e995ULL + s),
-          s < sourceGroups_ ? nullptr : synthesizers_[s % sourceGroups_].get(), build));
+    // The groups are built concurrently (the time to first sound).
+    const size_t S = scene.sources.size(), G = sourceGroups_;
+    const double volume = roomVolume(scene.mesh);
+    synthesizers_.resize(S);
+    onOwnThreads(G, [&](size_t g) {
+      for (size_t s = g; s < S; s += G)
+        synthesizers_[s] = std::make_unique<IrSynthesizer>(
+            fs, settings.irLength, volume, settings.speedOfSound,
+            hashCombine(settings.seed, 0x5bd1e995ULL + s),
+            s < G ? nullptr : synthesizers_[g].get(), build);
+    });
     irSamples_ = synthesizers_.front()->lengthSamples();
   } else {
     spatial_ = makeSpatialSynthesizer(scene, settings, roomVolume(scene.mesh));

@@ -285,7 +285,7 @@ void HybridSynthesis::synthesizeAll(const Simulation& sim, size_t listener, Bake
                : synthesizeMonoEarly(sim, s, listener, w, baked, early[s]);
   };
   if (parallel_) {
-    parallel_(W + 1, job);
+    parallel_(W + 1, std::ref(job));  // by reference: no std::function allocation per frame
   } else {
     for (size_t j = 0; j <= W; ++j) job(j);
   }

@@ -4,6 +4,7 @@
 #include <cassert>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <glm/geometric.hpp>
 #include <stdexcept>
 
@@ -248,9 +249,11 @@ void PropagationStage::attachWaveBands(std::shared_ptr<const wave::WaveBandSet> 
 void PropagationStage::synthesizeSources(size_t listener) {
   const size_t S = simulation_->sourceCount();
   const size_t G = baked_ || waveBands_ ? 1 : sourceGroups_;
-  simulation_->propagator().forEachParallel(G, [&](size_t g) {
+  const auto group = [&](size_t g) {
     for (size_t s = g; s < S; s += G) synthesize(s, listener, g);
-  });
+  };
+  // By reference: a std::function holding the lambda itself would allocate every frame.
+  simulation_->propagator().forEachParallel(G, std::ref(group));
 }
 
 void PropagationStage::synthesizeIrs(size_t listener) {
@@ -305,7 +308,7 @@ void PropagationStage::partition(size_t listener, IrSet& set) {
         set.lateIrs->prepare(int(i - S), channels.data(), lateLayout_->maxIrSamples(), int(g));
     }
   };
-  simulation_->propagator().forEachParallel(G, group);
+  simulation_->propagator().forEachParallel(G, std::ref(group));  // no allocation
 }
 
 void PropagationStage::synthesizeHybrid(size_t listener) {

@@ -82,7 +82,7 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
     bandEnergy_.resize(directions_.size());
   }
   direct_ = std::make_shared<const DirectSoundFilter>(masks, big, margin);
-  prepareDirect(margin);
+  prepareDirect(margin, maxFilter);
   levelStart_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, kLevelFromPulses);
   rotationFrom_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound,
                                              kIndependentFromDensity * BandLeveller::kBinSeconds);
@@ -247,9 +247,10 @@ void SpatialIrSynthesizer::omniBands(const std::vector<float>& sequence,
   omniEnergy_ = EnergyResponse(lengthSeconds, 1e-3);
 }
 
-void SpatialIrSynthesizer::prepareDirect(size_t margin) {
-  // Direct-sound convolution: band-shaped impulse (margin) * filter (< margin).
-  fft_ = std::make_shared<FftwRealTransforms>(nextPow2(2 * margin));
+void SpatialIrSynthesizer::prepareDirect(size_t margin, size_t longestFilter) {
+  // Direct-sound convolution: band-shaped impulse (margin) * exact filter, with room for twice
+  // the longest direction filter (an exact direction's delay may exceed the K directions').
+  fft_ = std::make_shared<FftwRealTransforms>(nextPow2(margin + 2 * longestFilter));
   exactScratch_.channels.assign(channels_, {});
   for (std::vector<float>& h : exactScratch_.channels) h.reserve(margin);
   directWeight_.assign(channels_, Bands{});
@@ -475,7 +476,8 @@ void SpatialIrSynthesizer::addArrival(const DirectSound& direct, const glm::vec3
   for (size_t c = 0; c < channels_; ++c) {
     const std::vector<float>& h = exactScratch_.channels[c];
     std::fill(fft_->time.p, fft_->time.p + n, 0.f);
-    std::copy(h.begin(), h.begin() + long(std::min(h.size(), n)), fft_->time.p);
+    const size_t taps = std::min(h.size(), n - margin);  // a longer filter's tail is cut
+    std::copy(h.begin(), h.begin() + long(taps), fft_->time.p);
     fftwf_execute_dft_r2c(fft_->fwd, fft_->time.p, fft_->band.p);
     directBandWeights(c);  // the exact filter's band energies, for this channel's target
     Bands e;
@@ -488,7 +490,7 @@ void SpatialIrSynthesizer::addArrival(const DirectSound& direct, const glm::vec3
       fft_->band.p[k][1] = (ar * hi + ai * hr) * scale;
     }
     fftwf_execute_dft_c2r(fft_->inv, fft_->band.p, fft_->time.p);
-    const size_t used = margin + h.size();
+    const size_t used = margin + taps;
     for (size_t i = 0; i < used && i < n; ++i) {
       const long t = n0 + long(i);
       if (t >= 0 && t < long(length_)) channels[c][t] += fft_->time.p[i];

@@ -163,8 +163,7 @@ class SpatialIrSynthesizer {
   std::unique_ptr<SpatialIrSynthesizer> workspaceCopy() const;
 
  private:
-  /// Copies everything; workspaceCopy() then replaces the workspaces held by pointer.
-  SpatialIrSynthesizer(const SpatialIrSynthesizer&);
+  SpatialIrSynthesizer(const SpatialIrSynthesizer&);  ///< all; workspaceCopy() renews some
   using Spectrum = std::vector<std::complex<float>>;  // layout-compatible with fftwf_complex
   /// The spectrum of taps on big_'s bins.
   void spectrumOf(FftwRealTransforms& fft, const std::vector<float>& taps, Spectrum& out) const;
@@ -180,7 +179,7 @@ class SpatialIrSynthesizer {
   void omniBands(const std::vector<float>& sequence, const OctaveBandMasks& masks,
                  FftwRealTransforms& fft, double lengthSeconds);
   /// The direct sound's FFT and the analysed-octave masks on its bins.
-  void prepareDirect(size_t margin);
+  void prepareDirect(size_t margin, size_t longestFilter);
   /// The omnidirectional response: the directions' low bands summed.
   void sumOmniEnergy(const DirectionalEnergyResponse& energy, size_t count);
   /// Adds one arrival through the exact filter of its listener-frame direction, and records
@@ -250,8 +249,7 @@ class SpatialIrSynthesizer {
   /// samples, the block's range used), mixed into every channel by its gain.
   std::vector<float> directionScratch_;
   std::shared_ptr<const DirectSoundFilter> direct_;
-  // Direct sound: FFT convolution buffers and plans, made at construction.
-  std::shared_ptr<FftwRealTransforms> fft_;
+  std::shared_ptr<FftwRealTransforms> fft_;  ///< the exact arrivals' FFT convolution
   DirectionFilter exactScratch_;
   /// channelWeight_[d][c][b]: direction d's channel c filter's band energy / kappa_b;
   /// directWeight_: the same for the last direct sound's exact filter.

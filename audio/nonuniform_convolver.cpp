@@ -72,12 +72,13 @@ int NonUniformLayout::totalPartitions() const {
 
 // ---------------------------------------------------------------------------------------------
 
-NonUniformIrSet::NonUniformIrSet(const NonUniformLayout& layout, int numSources, int numChannels)
+NonUniformIrSet::NonUniformIrSet(const NonUniformLayout& layout, int numSources, int numChannels,
+                                 int workers)
     : layout_(&layout), numSources_(numSources), numChannels_(numChannels) {
-  if (numSources <= 0 || numChannels <= 0)
+  if (numSources <= 0 || numChannels <= 0 || workers <= 0)
     throw std::invalid_argument("NonUniformIrSet: numSources " + std::to_string(numSources) +
-                                " and numChannels " + std::to_string(numChannels) +
-                                " must be positive");
+                                ", numChannels " + std::to_string(numChannels) +
+                                " and workers " + std::to_string(workers) + " must be positive");
   size_t maxN = 0;
   for (int l = 0; l < layout.numLevels(); ++l) {
     const NonUniformLayout::Level& lv = layout.level(l);
@@ -88,7 +89,7 @@ NonUniformIrSet::NonUniformIrSet(const NonUniformLayout& layout, int numSources,
   active_.assign(size_t(numSources) * size_t(layout.numLevels()), 0);
   first_.assign(active_.size(), 0);
   onset_.assign(size_t(numSources), kSilent);
-  time_ = allocZeroed(2 * maxN);
+  for (int w = 0; w < workers; ++w) time_.push_back(allocZeroed(2 * maxN));
 }
 
 const float* NonUniformIrSet::spectrum(int level, int source, int channel, int p) const {
@@ -114,7 +115,7 @@ int firstSounding(const NonUniformLayout::Level& lv, int active, const float* co
 }
 }  // namespace
 
-void NonUniformIrSet::prepare(int source, const float* const* irs, size_t n) {
+void NonUniformIrSet::prepare(int source, const float* const* irs, size_t n, int worker) {
   if (source < 0 || source >= numSources_)
     throw std::invalid_argument("NonUniformIrSet::prepare: source " + std::to_string(source) +
                                 " outside 0.." + std::to_string(numSources_ - 1));
@@ -122,7 +123,10 @@ void NonUniformIrSet::prepare(int source, const float* const* irs, size_t n) {
     throw std::invalid_argument("NonUniformIrSet::prepare: IR of " + std::to_string(n) +
                                 " samples exceeds the layout's " +
                                 std::to_string(layout_->maxIrSamples()));
-  float* time = time_.get();
+  if (worker < 0 || size_t(worker) >= time_.size())
+    throw std::invalid_argument("NonUniformIrSet::prepare: worker " + std::to_string(worker) +
+                                " outside 0.." + std::to_string(time_.size() - 1));
+  float* time = time_[size_t(worker)].get();
   for (int l = 0; l < layout_->numLevels(); ++l) {
     const NonUniformLayout::Level& lv = layout_->level(l);
     const size_t len = size_t(lv.partitionSize);

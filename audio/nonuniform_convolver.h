@@ -133,19 +133,24 @@ class NonUniformLayout {
 /// no normalisation). Fixed capacity; prepare() replaces a source's IRs without allocating.
 class NonUniformIrSet {
  public:
-  /// numSources, numChannels > 0. Control/propagation thread. Allocates. Throws
-  /// std::invalid_argument on non-positive counts.
-  NonUniformIrSet(const NonUniformLayout& layout, int numSources, int numChannels);
+  /// numSources, numChannels, workers > 0. Control/propagation thread. Allocates (per worker
+  /// a scratch of 2 x the largest partition floats). Throws std::invalid_argument on
+  /// non-positive counts.
+  NonUniformIrSet(const NonUniformLayout& layout, int numSources, int numChannels,
+                  int workers = 1);
 
   /// Source s's IRs: irs[c][0..n) for every channel c (samples, pressure); n = 0 is silence.
-  /// Propagation thread, while no convolver uses this set. No allocation. Throws
-  /// std::invalid_argument if s is out of range or n > layout.maxIrSamples() (nothing
-  /// changed then).
-  void prepare(int source, const float* const* irs, size_t n);
+  /// Propagation thread (or threads working for it: different sources concurrently, each
+  /// with a worker index of its own in [0, workers)), while no convolver uses this set. No
+  /// allocation. Throws std::invalid_argument if s or worker is out of range or
+  /// n > layout.maxIrSamples() (nothing changed then).
+  void prepare(int source, const float* const* irs, size_t n, int worker = 0);
 
   const NonUniformLayout& layout() const { return *layout_; }
   int numSources() const { return numSources_; }
   int numChannels() const { return numChannels_; }
+  /// Worker indices prepare() accepts.
+  int workers() const { return int(time_.size()); }
   /// Partitions of level l holding source s's IR (the rest are skipped).
   int activePartitions(int source, int level) const {
     return active_[size_t(source) * size_t(layout_->numLevels()) + size_t(level)];
@@ -169,7 +174,7 @@ class NonUniformIrSet {
   std::vector<int> active_;
   std::vector<int> first_;     ///< per source and level: firstSoundingPartition
   std::vector<size_t> onset_;  ///< per source: onsetSample
-  detail::FftwBuffer time_;    ///< scratch, 2 N_max floats
+  std::vector<detail::FftwBuffer> time_;  ///< per worker: scratch, 2 N_max floats
 };
 
 /// numSources dry inputs convolved with a NonUniformIrSet and summed into numOutputs channels.

@@ -2,13 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <exception>
-#include <future>
 #include <glm/geometric.hpp>
 
 #include "common/random.h"
 #include "runtime/baked_playback.h"
 #include "runtime/output_format.h"
+#include "runtime/own_threads.h"
 
 namespace dpc {
 
@@ -21,19 +20,20 @@ bool rendersHybrid(const AudioSettings& audio, size_t sources) {
 struct HybridSynthesis::Scratch {
   EnergyResponse early;                            ///< mono: one source's early part
   std::vector<EnergyResponse> late;                ///< mono: per bus
-  DirectionalEnergyResponse earlyDir;              ///< spatial: one source's early part
+  std::vector<DirectionalEnergyResponse> earlyDirs;  ///< spatial: per source, its early part
   std::vector<DirectionalEnergyResponse> lateDir;  ///< spatial: per bus
   std::vector<SpecularPath> paths;                 ///< one source's early exact paths
   std::vector<double> lateEnergy;                  ///< per source, this frame
   std::vector<double> busEnergy;                   ///< per bus, this frame
   std::vector<float*> channels;                    ///< one IR's channel pointers
-  std::vector<uint8_t> directLate;                 ///< mono, per source: direct sound late
+  std::vector<uint8_t> directLate;                 ///< per source: direct sound late
 };
 
-/// One worker's buffers for the mono early parts.
+/// One worker group's buffers for the early parts.
 struct HybridSynthesis::WorkerScratch {
-  EnergyResponse early;
+  EnergyResponse early;             ///< mono
   std::vector<SpecularPath> paths;
+  std::vector<float*> channels;     ///< spatial: one IR's channel pointers
 };
 
 HybridSynthesis::HybridSynthesis(const SceneDesc& scene, const PropagationSettings& settings,
@@ -49,21 +49,44 @@ HybridSynthesis::HybridSynthesis(const SceneDesc& scene, const PropagationSettin
   split_.splitSeconds = earlySeconds;
   const size_t S = scene.sources.size();
   if (spatial_) {
-    earlySpatial_ =
-        makeSpatialSynthesizer(scene, settings, roomVolume, earlySeconds, 0x2545f4914f6cdd1dULL);
-    earlySamples_ = earlySpatial_->lengthSamples();
+    buildSpatial(scene, settings, roomVolume, earlySeconds, workers, std::move(parallel));
   } else {
     buildMono(scene, settings, roomVolume, earlySeconds, workers, std::move(parallel), build);
   }
   scratch_->lateEnergy.assign(S, 0.0);
   scratch_->directLate.assign(S, 0);
-  for (WorkerScratch& w : workers_) w.paths.reserve(256);
+  for (WorkerScratch& w : workers_) {
+    w.paths.reserve(256);
+    w.channels.reserve(spatial_ ? spatial_->channelCount() : 1);
+  }
   scratch_->busEnergy.assign(size_t(buses_), 0.0);
   scratch_->paths.reserve(256);
   for (size_t l = 0; l < listeners; ++l) ensureListener(l, S);
 }
 
 HybridSynthesis::~HybridSynthesis() = default;
+
+size_t HybridSynthesis::workerGroups() const { return workers_.size(); }
+
+size_t HybridSynthesis::groupCount(bool parallel, int workers, size_t sources) {
+  if (!parallel) return 1;
+  const size_t groups = size_t(std::max(workers, 2) + kExtraEarlyGroups);
+  return std::clamp<size_t>(groups, 1, std::max<size_t>(sources, 1));
+}
+
+void HybridSynthesis::buildSpatial(const SceneDesc& scene, const PropagationSettings& settings,
+                                   double roomVolume, double earlySeconds, int workers,
+                                   SpatialIrSynthesizer::ParallelFor parallel) {
+  // One synthesiser renders every source's early part (each its own late field); the groups'
+  // copies share its band signals and filters, each with workspaces of its own.
+  const size_t W = groupCount(bool(parallel), workers, scene.sources.size());
+  earlySpatial_.push_back(
+      makeSpatialSynthesizer(scene, settings, roomVolume, earlySeconds, 0x2545f4914f6cdd1dULL));
+  while (earlySpatial_.size() < W) earlySpatial_.push_back(earlySpatial_.front()->workspaceCopy());
+  workers_.resize(W);
+  parallel_ = std::move(parallel);
+  earlySamples_ = earlySpatial_.front()->lengthSamples();
+}
 
 void HybridSynthesis::buildMono(const SceneDesc& scene, const PropagationSettings& settings,
                                 double roomVolume, double earlySeconds, int workers,
@@ -76,8 +99,7 @@ void HybridSynthesis::buildMono(const SceneDesc& scene, const PropagationSetting
   // that one worker runs (sources s = w, w + W, ...). At least two workers' workspaces, so
   // that two groups are built at once whatever the tracing threads (the IRs are the same for
   // any grouping).
-  const size_t W =
-      parallel ? std::clamp<size_t>(size_t(std::max(workers, 2)), 1, std::max<size_t>(S, 1)) : 1;
+  const size_t W = groupCount(bool(parallel), workers, S);
   workers_.resize(W);
   parallel_ = std::move(parallel);
   earlyMono_.resize(S);
@@ -104,22 +126,7 @@ void HybridSynthesis::concurrently(const std::function<void()>& late,
                                    const std::function<void(size_t)>& group) const {
   // The groups and the late buses share no workspace: they run concurrently (their
   // construction is the time to first sound of a live session with many sources).
-  std::vector<std::future<void>> jobs;
-  jobs.push_back(std::async(std::launch::async, late));
-  for (size_t w = 1; w < workers_.size(); ++w)
-    jobs.push_back(std::async(std::launch::async, group, w));
-  std::exception_ptr error;
-  try {
-    group(0);
-  } catch (...) {
-    error = std::current_exception();
-  }
-  for (std::future<void>& job : jobs) try {
-      job.get();
-    } catch (...) {
-      if (!error) error = std::current_exception();
-    }
-  if (error) std::rethrow_exception(error);
+  onOwnThreads(workers_.size() + 1, [&](size_t i) { i == 0 ? late() : group(i - 1); });
 }
 
 bool HybridSynthesis::completed() const {
@@ -175,7 +182,7 @@ void HybridSynthesis::prepareBuses(const Simulation& sim, size_t listener) {
     const double early = split_.splitSeconds + any.binSeconds();
     x.early = EnergyResponse(early, any.binSeconds());
     for (WorkerScratch& w : workers_) w.early = x.early;
-    if (spatial_) x.earlyDir = sim.directional(0, listener).truncated(early);
+    if (spatial_) x.earlyDirs.assign(x.lateEnergy.size(), sim.directional(0, listener).truncated(early));
   }
   if (spatial_) {
     x.lateDir.resize(B);
@@ -192,28 +199,33 @@ void HybridSynthesis::prepareBuses(const Simulation& sim, size_t listener) {
   }
 }
 
-double HybridSynthesis::splitSource(const Simulation& sim, size_t s, size_t listener, int k,
-                                    BakedPlayback* baked, ImpulseResponse& early) {
+double HybridSynthesis::splitSpatial(const Simulation& sim, size_t s, size_t listener, int k,
+                                     BakedPlayback* baked) {
   Scratch& x = *scratch_;
-  const Simulation::SourceResult& r = sim.result(s, listener);
-  const std::vector<SpecularPath>& paths = sim.specularPaths(s, listener);
-  earlyPaths(paths, split_, x.paths);
-  DirectSound direct = r.direct;
-  x.channels.resize(size_t(early.channels()));
-  for (int c = 0; c < early.channels(); ++c) x.channels[size_t(c)] = early.channel(c);
   const DirectionalEnergyResponse& live = sim.directional(s, listener);
   const DirectionalEnergyResponse& in = baked ? baked->directional(s, listener, live) : live;
-  const LateShare share = addLate(in, direct, paths, split_, x.lateDir[size_t(k)]);
-  x.earlyDir.copyFrame(in);
-  for (size_t d = 0; d < in.directionCount(); ++d)
-    copyPrefix(in.response(d), x.earlyDir.response(d));
-  keepEarly(x.earlyDir, split_);
-  if (share.directIsLate) direct.visible = false;
-  earlySpatial_->synthesize(x.earlyDir, direct, x.channels, x.paths, s);
+  const LateShare share = addLate(in, sim.result(s, listener).direct,
+                                  sim.specularPaths(s, listener), split_, x.lateDir[size_t(k)]);
+  DirectionalEnergyResponse& early = x.earlyDirs[s];
+  early.copyFrame(in);
+  for (size_t d = 0; d < in.directionCount(); ++d) copyPrefix(in.response(d), early.response(d));
+  keepEarly(early, split_);
+  x.directLate[s] = share.directIsLate ? 1 : 0;
   HybridCounts& n = counts_[listener];
   n.lateDirect += share.directIsLate ? 1 : 0;
   n.lateArrivals += uint64_t(share.lateArrivals);
   return share.energy;
+}
+
+void HybridSynthesis::synthesizeSpatialEarly(const Simulation& sim, size_t s, size_t listener,
+                                             size_t w, ImpulseResponse& early) {
+  WorkerScratch& x = workers_[w];
+  earlyPaths(sim.specularPaths(s, listener), split_, x.paths);
+  DirectSound direct = sim.result(s, listener).direct;
+  if (scratch_->directLate[s]) direct.visible = false;
+  x.channels.resize(size_t(early.channels()));
+  for (int c = 0; c < early.channels(); ++c) x.channels[size_t(c)] = early.channel(c);
+  earlySpatial_[w]->synthesize(scratch_->earlyDirs[s], direct, x.channels, x.paths, s);
 }
 
 double HybridSynthesis::addMonoLate(const Simulation& sim, size_t s, size_t listener, int k,
@@ -248,27 +260,35 @@ void HybridSynthesis::synthesizeMonoEarly(const Simulation& sim, size_t s, size_
 }
 
 void HybridSynthesis::splitSources(const Simulation& sim, size_t listener, BakedPlayback* baked,
-                                   std::vector<ImpulseResponse>& early,
-                                   std::span<int> bus) {
+                                   std::span<const int> bus) {
   Scratch& x = *scratch_;
-  const size_t S = sim.sourceCount();
   std::fill(x.busEnergy.begin(), x.busEnergy.end(), 0.0);
-  for (size_t s = 0; s < S; ++s) {
+  for (size_t s = 0; s < sim.sourceCount(); ++s) {
     const int k = bus[s];
-    x.lateEnergy[s] = spatial_ ? splitSource(sim, s, listener, k, baked, early[s])
+    x.lateEnergy[s] = spatial_ ? splitSpatial(sim, s, listener, k, baked)
                                : addMonoLate(sim, s, listener, k, baked);
     x.busEnergy[size_t(k)] += x.lateEnergy[s];
   }
-  if (spatial_) return;
-  // Worker w synthesises sources w, w + W, ...: the synthesisers it shares a workspace with.
-  const size_t W = workers_.size();
-  const auto group = [&](size_t w) {
-    for (size_t s = w; s < S; s += W) synthesizeMonoEarly(sim, s, listener, w, baked, early[s]);
+}
+
+void HybridSynthesis::synthesizeAll(const Simulation& sim, size_t listener, BakedPlayback* baked,
+                                    std::vector<ImpulseResponse>& early,
+                                    std::vector<ImpulseResponse>& late) {
+  // Job 0: the buses (their synthesisers and responses); job 1 + w: worker group w's sources
+  // w, w + W, ... (the synthesisers it shares a workspace with). No two jobs share a buffer.
+  const size_t S = sim.sourceCount(), W = workers_.size();
+  const auto job = [&](size_t j) {
+    if (j == 0) return updateBuses(listener, late);
+    const size_t w = j - 1;
+    for (size_t s = w; s < S; s += W)
+      spatial_ ? synthesizeSpatialEarly(sim, s, listener, w, early[s])
+               : synthesizeMonoEarly(sim, s, listener, w, baked, early[s]);
   };
-  if (W > 1 && parallel_)
-    parallel_(W, group);
-  else
-    group(0);
+  if (parallel_) {
+    parallel_(W + 1, std::ref(job));  // by reference: no std::function allocation per frame
+  } else {
+    for (size_t j = 0; j <= W; ++j) job(j);
+  }
 }
 
 void HybridSynthesis::synthesizeBus(int k, ImpulseResponse& late) {
@@ -316,8 +336,8 @@ void HybridSynthesis::prepare(const Simulation& sim, size_t listener,
     return lineOfSight(tracer, a, b);
   });
   for (size_t s = 0; s < S; ++s) bus[s] = clusters.cluster(s);
-  splitSources(sim, listener, baked, early, bus);
-  updateBuses(listener, late);
+  splitSources(sim, listener, baked, bus);
+  synthesizeAll(sim, listener, baked, early, late);
   for (size_t s = 0; s < S; ++s) {
     // The energy the bus's playing IR holds: each source gets exactly its own late energy.
     const double e = made_[listener][size_t(bus[s])].energy;

@@ -12,7 +12,14 @@
 // Threads: construction on the control thread (synthesisers, FFTW plans; allocates; throws as
 // makeSpatialSynthesizer does, runtime/output_format.h); prepare() on the propagation thread,
 // without allocation after the first frames (the synthesisers' own reserves). No errors in
-// prepare().
+// prepare(). prepare() splits every source serially, in source order (the late buses'
+// responses are sums in that order whatever the threads), then synthesises the early parts in
+// worker groups, each with a workspace of its own, concurrently with the buses' late IRs, on
+// the tracing threads: the IRs are the same bits for any number of workers.
+// Memory: per worker group, mono: one early synthesiser's workspace; spatial: a workspace copy
+// of the early spatial synthesiser (SpatialIrSynthesizer::workspaceCopy: its band signals
+// shared). Spatial output also keeps each source's early directional response between the
+// serial split and the groups (K x early bins x 8 floats per source).
 #pragma once
 
 #include <cstdint>
@@ -65,10 +72,10 @@ class HybridSynthesis {
   /// stage made (nullptr for mono output), used for the late buses; earlySeconds: the early
   /// part's length (hybridEarlyLength). listeners: how many listeners get clusters (more are
   /// added by prepare() on demand, allocating once).
-  /// With mono output the sources' early parts are synthesised in `workers` concurrent groups
-  /// through `parallel` (each group with its own synthesis workspace, so the IRs are the same
-  /// for any workers); `parallel` must stay callable while this object is used. Default: on
-  /// the calling thread.
+  /// The sources' early parts are synthesised in worker groups through `parallel`
+  /// (max(workers, 2) + kExtraEarlyGroups; each group with its own synthesis workspace, so the
+  /// IRs are the same for any workers), concurrently with the late buses; `parallel` must
+  /// stay callable while this object is used. Default: on the calling thread.
   /// build: the mono synthesisers' (IrSynthesizer::Build); complete() finishes a kFirstIr
   /// build.
   HybridSynthesis(const SceneDesc& scene, const PropagationSettings& settings, double roomVolume,
@@ -76,6 +83,10 @@ class HybridSynthesis {
                   int workers = 1, SpatialIrSynthesizer::ParallelFor parallel = {},
                   IrSynthesizer::Build build = IrSynthesizer::Build::kComplete);
   ~HybridSynthesis();
+
+  /// Early groups beyond one per worker: the buses' late IRs (a few full-length syntheses,
+  /// one job) run beside the groups, and one thread takes that job and a smaller group.
+  static constexpr int kExtraEarlyGroups = 1;
 
   /// Completes the mono synthesisers of a kFirstIr build (IrSynthesizer::complete), in the
   /// construction's concurrent groups; nothing when complete or spatial. Between frames, on
@@ -88,8 +99,12 @@ class HybridSynthesis {
   size_t lateSamples() const;
   int buses() const { return buses_; }
   const HybridSplit& split() const { return split_; }
-  /// The early parts' spatial synthesiser (nullptr for mono output), for its set-up.
-  SpatialIrSynthesizer* earlySpatial() { return earlySpatial_.get(); }
+  /// The early parts' spatial synthesiser of worker group 0 (nullptr for mono output).
+  SpatialIrSynthesizer* earlySpatial() {
+    return earlySpatial_.empty() ? nullptr : earlySpatial_.front().get();
+  }
+  /// Worker groups that synthesise the early parts.
+  size_t workerGroups() const;
 
   /// One frame for `listener`: early[s] (earlySamples()) per source, late[k] (full length)
   /// per bus, gain[s] and bus[s] (the late gain and bus of source s). sources: the
@@ -114,19 +129,34 @@ class HybridSynthesis {
 
  private:
   struct Scratch;
-  /// Source s's early IR into early[s] and its late part into its bus's response; returns its
-  /// late energy. Spatial output.
-  double splitSource(const Simulation& sim, size_t s, size_t listener, int k, BakedPlayback* baked,
-                     ImpulseResponse& early);
+  /// Spatial output: source s's late part into bus k's response and its early part into its
+  /// slot of earlyDirs (serial: buses are shared, the bake's reads too); returns its late
+  /// energy and records whether its direct sound went late.
+  double splitSpatial(const Simulation& sim, size_t s, size_t listener, int k,
+                      BakedPlayback* baked);
+  /// Spatial output: source s's early IR from its slot into early with worker w's synthesiser.
+  void synthesizeSpatialEarly(const Simulation& sim, size_t s, size_t listener, size_t w,
+                              ImpulseResponse& early);
   /// Mono output: source s's late part into bus k's response (serial: buses are shared);
   /// returns its late energy and records whether its direct sound went late.
   double addMonoLate(const Simulation& sim, size_t s, size_t listener, int k, BakedPlayback* baked);
   /// Mono output: source s's early IR into early (channel 0) with worker w's scratch.
   void synthesizeMonoEarly(const Simulation& sim, size_t s, size_t listener, size_t w,
                            BakedPlayback* baked, ImpulseResponse& early);
-  /// Every source's part of the frame (late shares, then early IRs, in parallel for mono).
+  /// Every source's late share, serially in source order (busEnergy, lateEnergy).
   void splitSources(const Simulation& sim, size_t listener, BakedPlayback* baked,
-                    std::vector<ImpulseResponse>& early, std::span<int> bus);
+                    std::span<const int> bus);
+  /// The early IRs in the worker groups and the buses (updateBuses) as one more job, through
+  /// parallel_.
+  void synthesizeAll(const Simulation& sim, size_t listener, BakedPlayback* baked,
+                     std::vector<ImpulseResponse>& early, std::vector<ImpulseResponse>& late);
+  /// The number of early worker groups for `workers` threads and `sources` (one without
+  /// `parallel`).
+  static size_t groupCount(bool parallel, int workers, size_t sources);
+  /// Spatial output: the early parts' synthesiser and its workspace copies, one per group.
+  void buildSpatial(const SceneDesc& scene, const PropagationSettings& settings,
+                    double roomVolume, double earlySeconds, int workers,
+                    SpatialIrSynthesizer::ParallelFor parallel);
   /// Mono output: the early parts' synthesisers in worker groups and the late buses', built
   /// concurrently; earlySamples_.
   void buildMono(const SceneDesc& scene, const PropagationSettings& settings, double roomVolume,
@@ -150,12 +180,13 @@ class HybridSynthesis {
   double clusterAngle_;
   size_t earlySamples_ = 0;
   SpatialIrSynthesizer* spatial_ = nullptr;                ///< late buses (spatial output)
-  std::unique_ptr<SpatialIrSynthesizer> earlySpatial_;     ///< early parts (spatial output)
+  /// Early parts (spatial output): per worker group, [0] the original, then workspace copies.
+  std::vector<std::unique_ptr<SpatialIrSynthesizer>> earlySpatial_;
   std::vector<std::unique_ptr<IrSynthesizer>> earlyMono_;  ///< per source (mono output)
   std::vector<std::unique_ptr<IrSynthesizer>> lateMono_;   ///< per bus (mono output)
   std::unique_ptr<Scratch> scratch_;
   struct WorkerScratch;
-  std::vector<WorkerScratch> workers_;  ///< mono early parts: one per worker
+  std::vector<WorkerScratch> workers_;  ///< early parts: one per worker group
   SpatialIrSynthesizer::ParallelFor parallel_;
   std::vector<std::unique_ptr<SourceClusters>> clusters_;  ///< per listener
   std::vector<HybridCounts> counts_;

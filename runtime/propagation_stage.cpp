@@ -4,6 +4,7 @@
 #include <cassert>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <glm/geometric.hpp>
 #include <stdexcept>
 
@@ -11,6 +12,7 @@
 #include "common/stopwatch.h"
 #include "engine/room_volume.h"
 #include "runtime/output_format.h"
+#include "runtime/own_threads.h"
 #include "scene/orientation.h"
 #include "scene/trajectory.h"
 
@@ -21,9 +23,13 @@ PropagationStage::PropagationStage(std::shared_ptr<const SceneDesc> scene,
                                    audio::ConvolverLayout::Planning planning,
                                    IrSynthesizer::Build build)
     : scene_(std::move(scene)),
-      numOutputs_(irChannels(scene_->audio)),
-      channelScratch_(size_t(numOutputs_)) {
+      numOutputs_(irChannels(scene_->audio)) {
   simulation_ = std::make_unique<Simulation>(*scene_, settings);
+  sourceGroups_ = std::clamp<size_t>(size_t(std::max(1, simulation_->propagator().concurrency())),
+                                     1, std::max<size_t>(1, scene_->sources.size()));
+  channelScratch_.assign(sourceGroups_, std::vector<float*>(size_t(numOutputs_)));
+  partitionChannels_.assign(size_t(std::max(1, simulation_->propagator().concurrency())),
+                            std::vector<const float*>(size_t(numOutputs_)));
   const double early = hybridEarlySeconds(settings);
   makeSynthesizers(settings, early > 0.0, build);
   if (early > 0.0) makeHybrid(settings, early, planning, build);
@@ -57,7 +63,6 @@ void PropagationStage::makeHybrid(const PropagationSettings& settings, double ea
   hybrid_ = std::make_unique<HybridSynthesis>(
       scene, settings, roomVolume(scene.mesh), spatial_.get(), early, scene.listeners.size(),
       simulation_->propagator().concurrency(), onTracingThreads(), build);
-  if (hybrid_->earlySpatial()) levelOnTracingThreads(*hybrid_->earlySpatial());
   lateLayout_ = std::make_shared<const audio::NonUniformLayout>(
       scene.audio.blockSize, hybrid_->lateSamples(), audio::NonUniformLayout::kDefaultMaxPartition,
       planning);
@@ -70,15 +75,25 @@ void PropagationStage::makeSynthesizers(const PropagationSettings& settings, boo
   const int fs = scene.audio.sampleRate;
   if (scene.audio.output == OutputFormat::kMono) {
     if (hybrid) return;  // the hybrid synthesis has its own early and late synthesisers
-    for (size_t s = 0; s < scene.sources.size(); ++s)
-      synthesizers_.push_back(std::make_unique<IrSynthesizer>(
-          fs, settings.irLength, roomVolume(scene.mesh), settings.speedOfSound,
-          hashCombine(settings.seed, 0x5bd1e995ULL + s),
-          synthesizers_.empty() ? nullptr : synthesizers_.front().get(), build));
+    // Per source its own Dirac sequence; source s shares the workspace of group s % G's first.
+    // The groups are built concurrently (the time to first sound).
+    const size_t S = scene.sources.size(), G = sourceGroups_;
+    const double volume = roomVolume(scene.mesh);
+    synthesizers_.resize(S);
+    onOwnThreads(G, [&](size_t g) {
+      for (size_t s = g; s < S; s += G)
+        synthesizers_[s] = std::make_unique<IrSynthesizer>(
+            fs, settings.irLength, volume, settings.speedOfSound,
+            hashCombine(settings.seed, 0x5bd1e995ULL + s),
+            s < G ? nullptr : synthesizers_[g].get(), build);
+    });
     irSamples_ = synthesizers_.front()->lengthSamples();
   } else {
     spatial_ = makeSpatialSynthesizer(scene, settings, roomVolume(scene.mesh));
     levelOnTracingThreads(*spatial_);
+    if (!hybrid)
+      while (spatialCopies_.size() + 1 < sourceGroups_)
+        spatialCopies_.push_back(spatial_->workspaceCopy());
     simulation_->enableDirectional(spatial_->directions());
     irSamples_ = spatial_->lengthSamples();
   }
@@ -92,12 +107,14 @@ bool PropagationStage::synthesisCompleted() const {
 
 void PropagationStage::completeSynthesis() {
   if (!synthesizers_.empty() && !synthesizers_.back()->completed()) {
-    // The first synthesiser's window leveller first, then its sharers' own parts (they touch
-    // nothing shared) on the tracing threads.
-    IrSynthesizer* first = synthesizers_.front().get();
-    first->complete();
-    simulation_->propagator().forEachParallel(
-        synthesizers_.size() - 1, [&](size_t i) { synthesizers_[i + 1]->complete(first); });
+    // The groups' first synthesisers (each its own window leveller) first, then their
+    // sharers' own parts (they touch nothing shared) on the tracing threads.
+    const size_t G = std::min(sourceGroups_, synthesizers_.size());
+    Propagator& p = simulation_->propagator();
+    p.forEachParallel(G, [&](size_t g) { synthesizers_[g]->complete(); });
+    p.forEachParallel(synthesizers_.size() - G, [&](size_t i) {
+      synthesizers_[G + i]->complete(synthesizers_[(G + i) % G].get());
+    });
   }
   if (hybrid_) hybrid_->complete();
 }
@@ -124,10 +141,12 @@ void PropagationStage::levelOnTracingThreads(SpatialIrSynthesizer& synth) {
 std::unique_ptr<IrSet> PropagationStage::makeIrSet() const {
   auto set = std::make_unique<IrSet>();
   set->irs =
-      std::make_unique<audio::NonUniformIrSet>(*layout_, int(scene_->sources.size()), numOutputs_);
+      std::make_unique<audio::NonUniformIrSet>(*layout_, int(scene_->sources.size()), numOutputs_,
+                                               int(partitionChannels_.size()));
   if (hybrid_) {
     set->lateIrs =
-        std::make_unique<audio::NonUniformIrSet>(*lateLayout_, hybrid_->buses(), numOutputs_);
+        std::make_unique<audio::NonUniformIrSet>(*lateLayout_, hybrid_->buses(), numOutputs_,
+                                                 int(partitionChannels_.size()));
     set->lateGain.assign(scene_->sources.size(), 0.f);
     set->lateBus.assign(scene_->sources.size(), 0);
   }
@@ -197,14 +216,16 @@ void PropagationStage::frameInputs(const WorldState& world, int raysPerEmitter) 
   inputs_.raysPerEmitter = raysPerEmitter;
 }
 
-void PropagationStage::synthesize(size_t s, size_t listener) {
+void PropagationStage::synthesize(size_t s, size_t listener, size_t g) {
   auto& irs = irs_[listener];
   const Simulation::SourceResult& r = simulation_->result(s, listener);
   if (spatial_) {
-    for (size_t c = 0; c < channelScratch_.size(); ++c) channelScratch_[c] = irs[s].channel(int(c));
+    std::vector<float*>& channels = channelScratch_[g];
+    for (size_t c = 0; c < channels.size(); ++c) channels[c] = irs[s].channel(int(c));
     const DirectionalEnergyResponse& live = simulation_->directional(s, listener);
-    spatial_->synthesize(baked_ ? baked_->directional(s, listener, live) : live, r.direct,
-                         channelScratch_, simulation_->specularPaths(s, listener), s);
+    SpatialIrSynthesizer& synth = g == 0 ? *spatial_ : *spatialCopies_[g - 1];
+    synth.synthesize(baked_ ? baked_->directional(s, listener, live) : live, r.direct, channels,
+                     simulation_->specularPaths(s, listener), s);
   } else {
     synthesizers_[s]->synthesize(baked_ ? baked_->energy(s, listener, r.energy) : r.energy,
                                  r.direct, irs[s].channel(0),
@@ -243,16 +264,26 @@ void PropagationStage::attachWaveBands(std::shared_ptr<const wave::WaveBandSet> 
   waveBands_ = std::move(bands);
 }
 
+void PropagationStage::synthesizeSources(size_t listener) {
+  const size_t S = simulation_->sourceCount();
+  const size_t G = baked_ || waveBands_ ? 1 : sourceGroups_;
+  const auto group = [&](size_t g) {
+    for (size_t s = g; s < S; s += G) synthesize(s, listener, g);
+  };
+  // By reference: a std::function holding the lambda itself would allocate every frame.
+  simulation_->propagator().forEachParallel(G, std::ref(group));
+}
+
 void PropagationStage::synthesizeIrs(size_t listener) {
   if (listener >= simulation_->listenerCount())
     throw std::out_of_range("PropagationStage: listener index out of range");
   const auto t0 = std::chrono::steady_clock::now();
   const uint64_t frame = simulation_->framesRun() - 1;
-  if (hybrid_) synthesizeHybrid(listener);
-  for (size_t s = 0; s < simulation_->sourceCount(); ++s) {
-    if (!hybrid_) synthesize(s, listener);
-    irs_[listener][s].frame = frame;
-  }
+  if (hybrid_)
+    synthesizeHybrid(listener);
+  else
+    synthesizeSources(listener);
+  for (size_t s = 0; s < simulation_->sourceCount(); ++s) irs_[listener][s].frame = frame;
   if (hybrid_)
     for (ImpulseResponse& late : lateIrs_[listener]) late.frame = frame;
   totals_.synthesisSeconds += secondsSince(t0);
@@ -263,16 +294,8 @@ void PropagationStage::prepare(size_t listener, IrSet& set) {
   synthesizeIrs(listener);
   profile_->record(FrameProfile::kSynthesis, totals_.synthesisSeconds - synthesized);
   const auto t0 = std::chrono::steady_clock::now();
-  const auto partition = [&](audio::NonUniformIrSet& into, std::vector<ImpulseResponse>& irs,
-                             size_t samples) {
-    for (size_t k = 0; k < irs.size(); ++k) {
-      for (int c = 0; c < numOutputs_; ++c) channelScratch_[size_t(c)] = irs[k].channel(c);
-      into.prepare(int(k), channelScratch_.data(), samples);
-    }
-  };
-  partition(*set.irs, irs_[listener], irSamples_);
+  partition(listener, set);
   if (hybrid_) {
-    partition(*set.lateIrs, lateIrs_[listener], lateLayout_->maxIrSamples());
     set.lateGain.assign(lastGain_[listener].begin(), lastGain_[listener].end());
     set.lateBus.assign(lastBus_[listener].begin(), lastBus_[listener].end());
   }
@@ -282,6 +305,28 @@ void PropagationStage::prepare(size_t listener, IrSet& set) {
   set.listener = listener;
   set.frame = simulation_->framesRun() - 1;
   set.poseTimeSeconds = lastTime_;
+}
+
+void PropagationStage::partition(size_t listener, IrSet& set) {
+  // Items: the sources' IRs, then the buses'; group g takes items g, g + G, ...
+  std::vector<ImpulseResponse>& irs = irs_[listener];
+  const size_t S = irs.size(), B = hybrid_ ? lateIrs_[listener].size() : 0;
+  int groups = std::min(set.irs->workers(), int(partitionChannels_.size()));
+  if (hybrid_) groups = std::min(groups, set.lateIrs->workers());
+  const size_t G = size_t(std::max(groups, 1));
+  const auto group = [&](size_t g) {
+    std::vector<const float*>& channels = partitionChannels_[g];
+    for (size_t i = g; i < S + B; i += G) {
+      const bool early = i < S;
+      const ImpulseResponse& ir = early ? irs[i] : lateIrs_[listener][i - S];
+      for (int c = 0; c < numOutputs_; ++c) channels[size_t(c)] = ir.channel(c);
+      if (early)
+        set.irs->prepare(int(i), channels.data(), irSamples_, int(g));
+      else
+        set.lateIrs->prepare(int(i - S), channels.data(), lateLayout_->maxIrSamples(), int(g));
+    }
+  };
+  simulation_->propagator().forEachParallel(G, std::ref(group));  // no allocation
 }
 
 void PropagationStage::synthesizeHybrid(size_t listener) {

@@ -179,18 +179,32 @@ class PropagationStage {
   SpatialIrSynthesizer::ParallelFor onTracingThreads();
   /// Lets synth level its channels on the simulation's tracing threads.
   void levelOnTracingThreads(SpatialIrSynthesizer& synth);
-  /// Synthesises source s's IR for listener l into irs_[l][s].
-  void synthesize(size_t s, size_t listener);
+  /// Synthesises source s's IR for listener l into irs_[l][s] with group g's workspace.
+  void synthesize(size_t s, size_t listener, size_t g);
   /// Joins the wave band of pair (s, listener) to its IR `ir`: the bake's (its probes blended)
   /// when the pair plays from a bake that carries one, else attachWaveBands's, else none.
   void joinWave(size_t s, size_t listener, ImpulseResponse& ir);
+  /// Every source's IR (rendered whole) in the source groups on the tracing threads; in one
+  /// group, on this thread, while a bake or wave bands are attached (their reads are serial).
+  void synthesizeSources(size_t listener);
+  /// Listener l's IRs (and late buses') partitioned and transformed into set, in groups on
+  /// the tracing threads (each IR independent, each group with the set's scratch of its own).
+  void partition(size_t listener, IrSet& set);
 
   std::shared_ptr<const SceneDesc> scene_;
   int numOutputs_;
-  std::vector<float*> channelScratch_;  ///< one source's IR channels, numOutputs_ pointers
+  /// Sources rendered whole are synthesised in this many groups (at most the tracing
+  /// threads): source s with group s % groups's workspace, so the IRs do not depend on it.
+  size_t sourceGroups_ = 1;
+  /// Per source group: one source's IR channels, numOutputs_ pointers.
+  std::vector<std::vector<float*>> channelScratch_;
+  /// partition()'s groups (the tracing threads): per group, numOutputs_ channel pointers.
+  std::vector<std::vector<const float*>> partitionChannels_;
   std::unique_ptr<Simulation> simulation_;
   std::vector<std::unique_ptr<IrSynthesizer>> synthesizers_;  ///< mono: one per source
   std::unique_ptr<SpatialIrSynthesizer> spatial_;             ///< stereo / binaural
+  /// Spatial output rendered whole: workspace copies of spatial_ for source groups 1, 2, ...
+  std::vector<std::unique_ptr<SpatialIrSynthesizer>> spatialCopies_;
   std::unique_ptr<BakedPlayback> baked_;                      ///< attachBake, or none
   std::shared_ptr<const wave::WaveBandSet> waveBands_;         ///< attachWaveBands, or none
   /// The bake's wave bands, "listener" = probe: [probe][source] (attachBake), or none.

@@ -5,38 +5,15 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
-#include <numbers>
 #include <stdexcept>
 
 #include "common/random.h"
-#include "common/sphere_quadrature.h"
 #include "synthesis/mono_synthesizer.h"
 #include "synthesis/band_leveller.h"
 #include "synthesis/dirac_sequence.h"
 #include "synthesis/late_rotation.h"
 
 namespace dpc {
-
-std::vector<glm::vec3> defaultSpatialDirections() {
-  std::vector<glm::vec3> d;
-  for (int i = 0; i < 6; ++i) {
-    const float az = float(i) * std::numbers::pi_v<float> / 3.f;  // 0 = ahead, + = left
-    d.push_back({std::cos(az), std::sin(az), 0.f});
-  }
-  d.push_back({0.f, 0.f, 1.f});
-  const float el = -40.f * std::numbers::pi_v<float> / 180.f;
-  d.push_back({std::cos(el), 0.f, std::sin(el)});
-  return d;
-}
-
-std::vector<glm::vec3> uniformSpatialDirections(int count) {
-  std::vector<glm::vec3> d;
-  for (int i = 0; i < count; ++i) {
-    const std::array<double, 3> p = fibonacciPoint(i, count);
-    d.push_back({float(p[0]), float(p[1]), float(p[2])});
-  }
-  return d;
-}
 
 namespace {
 
@@ -86,7 +63,9 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   // Per direction: its own Dirac sequence, through A_b and the direction's filters.
   gainsOnly_ = maxFilter == 1;
   if (gainsOnly_) directionScratch_.assign(length_, 0.f);
-  bands_.resize(directions_.size());
+  bands_ = std::make_shared<std::vector<std::vector<std::array<std::vector<float>, kNumBands>>>>(
+      directions_.size());
+  omniBands_ = std::make_shared<std::array<std::vector<float>, kNumBands>>();
   gains_.resize(directions_.size());
   for (size_t d = 0; d < directions_.size(); ++d)
     directionBands(d,
@@ -97,25 +76,42 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
                           hashCombine(seed, 0x0a0a0a0aULL)),
             masks, big, lengthSeconds);
   if (channels_ == 2 && maxFilter > 1 && reference_ == Reference::kChannelAverage) {
-    coherence_ = std::make_unique<CoherenceMatch>(filters, exact_, sampleRate, kDirectionalFromBand);
+    coherence_ = std::make_shared<const CoherenceMatch>(filters, exact_, sampleRate, kDirectionalFromBand);
     for (std::vector<float>& e : earScratch_) e.assign(length_, 0.f);
     directionTotals_.resize(directions_.size());
     bandEnergy_.resize(directions_.size());
   }
-  direct_ = std::make_unique<DirectSoundFilter>(masks, big, margin);
-  prepareDirect(margin);
+  direct_ = std::make_shared<const DirectSoundFilter>(masks, big, margin);
+  prepareDirect(margin, maxFilter);
   levelStart_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, kLevelFromPulses);
   rotationFrom_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound,
                                              kIndependentFromDensity * BandLeveller::kBinSeconds);
   if (gainsOnly_ && reference_ == Reference::kFirstChannelPressure) {
-    channelLevelling_ = std::make_unique<ChannelLevelling>(
-        sampleRate, length_, BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, 1.0),
-        IrSynthesizer::kFirstLevelledBand, IrSynthesizer::kLastLevelledBand);
+    channelLevelStart_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, 1.0);
+    channelLevelling_ =
+        std::make_shared<ChannelLevelling>(sampleRate, length_, channelLevelStart_,
+                                           IrSynthesizer::kFirstLevelledBand,
+                                           IrSynthesizer::kLastLevelledBand);
     levelledFrom_ = IrSynthesizer::kLastLevelledBand + 1;  // the bands the windows leave
   }
   levellers_.push_back(
-      std::make_unique<BandLeveller>(sampleRate, length_, levelledFrom_, levelStart_));
+      std::make_shared<BandLeveller>(sampleRate, length_, levelledFrom_, levelStart_));
   binned_.assign(directions_.size(), std::vector<Bands>(levellers_[0]->bins()));
+}
+
+SpatialIrSynthesizer::SpatialIrSynthesizer(const SpatialIrSynthesizer&) = default;
+
+std::unique_ptr<SpatialIrSynthesizer> SpatialIrSynthesizer::workspaceCopy() const {
+  std::unique_ptr<SpatialIrSynthesizer> copy(new SpatialIrSynthesizer(*this));
+  copy->fft_ = std::make_shared<FftwRealTransforms>(fft_->n);
+  copy->levellers_.assign(
+      1, std::make_shared<BandLeveller>(sampleRate_, length_, levelledFrom_, levelStart_));
+  copy->parallel_ = {};
+  if (channelLevelling_)
+    copy->channelLevelling_ = std::make_shared<ChannelLevelling>(
+        sampleRate_, length_, channelLevelStart_, IrSynthesizer::kFirstLevelledBand,
+        IrSynthesizer::kLastLevelledBand);
+  return copy;
 }
 
 void SpatialIrSynthesizer::setParallelLevelling(int workers, ParallelFor parallel) {
@@ -123,7 +119,7 @@ void SpatialIrSynthesizer::setParallelLevelling(int workers, ParallelFor paralle
       std::clamp<size_t>(size_t(std::max(workers, 1)), 1, std::max<size_t>(1, channels_));
   while (levellers_.size() < w)
     levellers_.push_back(
-        std::make_unique<BandLeveller>(sampleRate_, length_, levelledFrom_, levelStart_));
+        std::make_shared<BandLeveller>(sampleRate_, length_, levelledFrom_, levelStart_));
   levellers_.resize(w);
   if (channelLevelling_) channelLevelling_->setWorkers(w, parallel);
   parallel_ = std::move(parallel);
@@ -197,13 +193,13 @@ void SpatialIrSynthesizer::directionBands(size_t d, const std::vector<float>& se
   const float scale = 1.f / float(fft.n);
   Spectrum seqSpec(nbins), channelSpec(nbins);
   spectrumOf(fft, sequence, seqSpec);  // also leaves it in fft.spec
-  envelopes_.push_back(std::make_unique<BandEnvelope>(sampleRate_, sequence, length_, filterData_,
+  envelopes_.push_back(BandEnvelope(sampleRate_, sequence, length_, filterData_,
                                                       measureLowBands(fft, masks, length_)));
   // One-tap filters are gains: one unit-filter band signal per direction, scaled per channel
   // when accumulated (K x 8 x length floats instead of K x N x 8 x length).
   static const DirectionFilter kUnit{{{1.f}}};
   const DirectionFilter& stored = gainsOnly_ ? kUnit : filter;
-  bands_[d].resize(stored.channels.size());
+  (*bands_)[d].resize(stored.channels.size());
   gains_[d].resize(channels_);
   for (size_t c = 0; c < channels_; ++c) gains_[d][c] = gainsOnly_ ? filter.channels[c][0] : 1.f;
   for (size_t c = 0; c < stored.channels.size(); ++c) {
@@ -217,7 +213,7 @@ void SpatialIrSynthesizer::directionBands(size_t d, const std::vector<float>& se
         fft.band.p[k][1] = v.imag();
       }
       fftwf_execute_dft_c2r(fft.inv, fft.band.p, fft.time.p);
-      bands_[d][c][size_t(b)].assign(fft.time.p, fft.time.p + length_);
+      (*bands_)[d][c][size_t(b)].assign(fft.time.p, fft.time.p + length_);
     }
   }
 }
@@ -241,20 +237,20 @@ void SpatialIrSynthesizer::omniBands(const std::vector<float>& sequence,
       }
       fftwf_execute_dft_c2r(fft.inv, fft.band.p, fft.time.p);
       if (pass == 0) {
-        omniBands_[size_t(b)].assign(fft.time.p, fft.time.p + length_);
+        (*omniBands_)[size_t(b)].assign(fft.time.p, fft.time.p + length_);
       } else if (b < BandEnvelope::kRealisedBands) {
         measured[size_t(b)].assign(fft.time.p, fft.time.p + length_);
       }
     }
   }
-  omniEnvelope_ =
-      std::make_unique<BandEnvelope>(sampleRate_, sequence, length_, filterData_, measured);
+  omniEnvelope_.emplace(sampleRate_, sequence, length_, filterData_, measured);
   omniEnergy_ = EnergyResponse(lengthSeconds, 1e-3);
 }
 
-void SpatialIrSynthesizer::prepareDirect(size_t margin) {
-  // Direct-sound convolution: band-shaped impulse (margin) * filter (< margin).
-  fft_ = std::make_unique<FftwRealTransforms>(nextPow2(2 * margin));
+void SpatialIrSynthesizer::prepareDirect(size_t margin, size_t longestFilter) {
+  // Direct-sound convolution: band-shaped impulse (margin) * exact filter, with room for twice
+  // the longest direction filter (an exact direction's delay may exceed the K directions').
+  fft_ = std::make_shared<FftwRealTransforms>(nextPow2(margin + 2 * longestFilter));
   exactScratch_.channels.assign(channels_, {});
   for (std::vector<float>& h : exactScratch_.channels) h.reserve(margin);
   directWeight_.assign(channels_, Bands{});
@@ -268,6 +264,8 @@ void SpatialIrSynthesizer::prepareDirect(size_t margin) {
       const float m2 = seen ? directMasks.gain(b, k) * directMasks.gain(b, k) : 0.f;
       directMask2_[k][b] = m2;
       directNorm_[size_t(b)] += double(m2);
+      std::pair<size_t, size_t>& r = directBins_[size_t(b)];
+      if (m2 != 0.f) r = {r.first == r.second ? k : r.first, k + 1};
     }
 }
 
@@ -292,8 +290,8 @@ void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
   const LateRotation rotation = LateRotation::forField(
       lateField, rotationFrom_, length_, BandEnvelope::binSamplesFor(sampleRate_, 0));
   for (size_t d = 0; d < count; ++d) {
-    envelopes_[d]->rotate(rotation);
-    envelopes_[d]->compute(energy.response(d));
+    envelopes_[d].rotate(rotation);
+    envelopes_[d].compute(energy.response(d));
   }
   sumOmniEnergy(energy, count);
   omniEnvelope_->rotate(rotation);
@@ -301,9 +299,9 @@ void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
   const size_t onset = firstArrivalSample(energy, direct, early);
   if (coherence_) setEarMix(energy, count, onset);
   std::array<const float*, kNumBands> omni{};
-  for (int b = 0; b < kDirectionalFromBand; ++b) omni[size_t(b)] = omniBands_[size_t(b)].data();
+  for (int b = 0; b < kDirectionalFromBand; ++b) omni[size_t(b)] = (*omniBands_)[size_t(b)].data();
   omniEnvelope_->startAt(onset, omni);
-  for (size_t d = 0; d < count; ++d) envelopes_[d]->startAt(onset, bandSignals(d, 0));
+  for (size_t d = 0; d < count; ++d) envelopes_[d].startAt(onset, bandSignals(d, 0));
   // Cache-blocked: each output block stays in L1 while all K x N x 8 band signals stream
   // through it once (the loop is memory-bound: the band signals are K x 8 N x length floats).
   constexpr size_t kBlock = 2048;
@@ -335,7 +333,7 @@ void SpatialIrSynthesizer::accumulateDirections(size_t count, std::span<float* c
   if (!gainsOnly_) {
     for (size_t d = 0; d < count; ++d)
       for (size_t c = 0; c < channels_; ++c)
-        envelopes_[d]->accumulateRange(bandSignals(d, c), channels[c], begin, end, gains_[d][c],
+        envelopes_[d].accumulateRange(bandSignals(d, c), channels[c], begin, end, gains_[d][c],
                                        kDirectionalFromBand, kNumBands);
     return;
   }
@@ -345,7 +343,7 @@ void SpatialIrSynthesizer::accumulateDirections(size_t count, std::span<float* c
   float* y = directionScratch_.data();
   for (size_t d = 0; d < count; ++d) {
     std::fill(y + begin, y + end, 0.f);
-    envelopes_[d]->accumulateRange(bandSignals(d, 0), y, begin, end, 1.f, kDirectionalFromBand,
+    envelopes_[d].accumulateRange(bandSignals(d, 0), y, begin, end, 1.f, kDirectionalFromBand,
                                    kNumBands);
     for (size_t c = 0; c < channels_; ++c) {
       const float g = gains_[d][c];
@@ -386,7 +384,7 @@ void SpatialIrSynthesizer::accumulateMixed(size_t count, std::span<float* const>
     for (float* e : ears) std::fill(e + begin, e + end, 0.f);
     for (size_t d = 0; d < count; ++d)
       for (size_t c = 0; c < 2; ++c)
-        envelopes_[d]->accumulateRange(bandSignals(d, c), ears[c], begin, end, gains_[d][c], b,
+        envelopes_[d].accumulateRange(bandSignals(d, c), ears[c], begin, end, gains_[d][c], b,
                                        b + 1);
     const size_t split = std::clamp(mixSplit_, begin, end);
     for (int part = 0; part < 2; ++part) {
@@ -403,7 +401,7 @@ void SpatialIrSynthesizer::accumulateMixed(size_t count, std::span<float* const>
 std::array<const float*, kNumBands> SpatialIrSynthesizer::bandSignals(size_t d, size_t c) const {
   if (gainsOnly_) c = 0;
   std::array<const float*, kNumBands> bands;
-  for (int b = 0; b < kNumBands; ++b) bands[size_t(b)] = bands_[d][c][size_t(b)].data();
+  for (int b = 0; b < kNumBands; ++b) bands[size_t(b)] = (*bands_)[d][c][size_t(b)].data();
   return bands;
 }
 
@@ -449,15 +447,14 @@ void SpatialIrSynthesizer::level(const DirectionalEnergyResponse& energy, size_t
 }
 
 void SpatialIrSynthesizer::directBandWeights(size_t c) {
-  std::array<double, kNumBands> e{};
-  for (size_t k = 0; k < fft_->n / 2 + 1; ++k) {
-    const double p = double(fft_->band.p[k][0]) * fft_->band.p[k][0] +
-                     double(fft_->band.p[k][1]) * fft_->band.p[k][1];
-    for (int b = 0; b < kNumBands; ++b) e[size_t(b)] += p * double(directMask2_[k][b]);
-  }
   Bands& w = directWeight_[c];
-  for (int b = 0; b < kNumBands; ++b)
-    w[b] = float(e[size_t(b)] / (directNorm_[size_t(b)] * kappa_[size_t(b)]));
+  for (int b = 0; b < kNumBands; ++b) {
+    double e = 0.0;
+    for (size_t k = directBins_[size_t(b)].first; k < directBins_[size_t(b)].second; ++k)
+      e += (double(fft_->band.p[k][0]) * fft_->band.p[k][0] +
+            double(fft_->band.p[k][1]) * fft_->band.p[k][1]) * double(directMask2_[k][b]);
+    w[b] = float(e / (directNorm_[size_t(b)] * kappa_[size_t(b)]));
+  }
 }
 
 void SpatialIrSynthesizer::addArrival(const DirectSound& direct, const glm::vec3& dir,
@@ -479,7 +476,8 @@ void SpatialIrSynthesizer::addArrival(const DirectSound& direct, const glm::vec3
   for (size_t c = 0; c < channels_; ++c) {
     const std::vector<float>& h = exactScratch_.channels[c];
     std::fill(fft_->time.p, fft_->time.p + n, 0.f);
-    std::copy(h.begin(), h.begin() + long(std::min(h.size(), n)), fft_->time.p);
+    const size_t taps = std::min(h.size(), n - margin);  // a longer filter's tail is cut
+    std::copy(h.begin(), h.begin() + long(taps), fft_->time.p);
     fftwf_execute_dft_r2c(fft_->fwd, fft_->time.p, fft_->band.p);
     directBandWeights(c);  // the exact filter's band energies, for this channel's target
     Bands e;
@@ -492,7 +490,7 @@ void SpatialIrSynthesizer::addArrival(const DirectSound& direct, const glm::vec3
       fft_->band.p[k][1] = (ar * hi + ai * hr) * scale;
     }
     fftwf_execute_dft_c2r(fft_->inv, fft_->band.p, fft_->time.p);
-    const size_t used = margin + h.size();
+    const size_t used = margin + taps;
     for (size_t i = 0; i < used && i < n; ++i) {
       const long t = n0 + long(i);
       if (t >= 0 && t < long(length_)) channels[c][t] += fft_->time.p[i];

@@ -44,6 +44,7 @@
 #include <functional>
 #include <glm/vec3.hpp>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -55,6 +56,7 @@
 #include "synthesis/band_envelope.h"
 #include "synthesis/band_filters.h"
 #include "synthesis/coherence_match.h"
+#include "synthesis/spatial_directions.h"
 #include "synthesis/channel_levelling.h"
 
 namespace dpc {
@@ -152,8 +154,16 @@ class SpatialIrSynthesizer {
   void setParallelLevelling(int workers, ParallelFor parallel);
   /// Arrivals (direct sound and exact paths) per frame that need no allocation.
   static constexpr size_t kReservedArrivals = 256;
+  /// A synthesiser whose synthesize() writes this one's bits, sharing its read-only band
+  /// signals, filters and coherence match (K x N x 8 x length floats; K x 8 x length with gains
+  /// only), with workspaces of its own (envelopes, direct-sound FFT, one leveller: about
+  /// (14 + 2 N) x length floats) so the two synthesise concurrently (hybrid rendering's early
+  /// parts), levelling on its calling thread. Control/propagation thread (FFTW planning), not
+  /// during a synthesize() of this one; allocates; throws std::runtime_error if FFTW cannot plan.
+  std::unique_ptr<SpatialIrSynthesizer> workspaceCopy() const;
 
  private:
+  SpatialIrSynthesizer(const SpatialIrSynthesizer&);  ///< all; workspaceCopy() renews some
   using Spectrum = std::vector<std::complex<float>>;  // layout-compatible with fftwf_complex
   /// The spectrum of taps on big_'s bins.
   void spectrumOf(FftwRealTransforms& fft, const std::vector<float>& taps, Spectrum& out) const;
@@ -169,7 +179,7 @@ class SpatialIrSynthesizer {
   void omniBands(const std::vector<float>& sequence, const OctaveBandMasks& masks,
                  FftwRealTransforms& fft, double lengthSeconds);
   /// The direct sound's FFT and the analysed-octave masks on its bins.
-  void prepareDirect(size_t margin);
+  void prepareDirect(size_t margin, size_t longestFilter);
   /// The omnidirectional response: the directions' low bands summed.
   void sumOmniEnergy(const DirectionalEnergyResponse& energy, size_t count);
   /// Adds one arrival through the exact filter of its listener-frame direction, and records
@@ -206,9 +216,10 @@ class SpatialIrSynthesizer {
 
   int sampleRate_;
   Reference reference_;
-  std::unique_ptr<CoherenceMatch> coherence_;  ///< binaural only
+  std::shared_ptr<const CoherenceMatch> coherence_;  ///< binaural only; read-only
   /// Ambisonics (kFirstChannelPressure, gains only): each channel levelled in short windows.
-  std::unique_ptr<ChannelLevelling> channelLevelling_;
+  std::shared_ptr<ChannelLevelling> channelLevelling_;
+  size_t channelLevelStart_ = 0;  ///< its start sample
   /// This frame's mixes per band, [0] before mixSplit_ (a sample), [1] from it on.
   std::array<std::array<EarMix, kNumBands>, 2> earMix_{};
   size_t mixSplit_ = 0;
@@ -223,22 +234,22 @@ class SpatialIrSynthesizer {
   ExactFilter exact_;
   BandFilterData filterData_;
   std::array<double, kNumBands> kappa_{};
-  std::vector<std::unique_ptr<BandEnvelope>> envelopes_;  ///< one per direction
-  std::unique_ptr<BandEnvelope> omniEnvelope_;            ///< low bands, every channel
-  std::array<std::vector<float>, kNumBands> omniBands_;   ///< omni sequence through A_b
+  std::vector<BandEnvelope> envelopes_;                  ///< one per direction
+  std::optional<BandEnvelope> omniEnvelope_;             ///< low bands, every channel
+  /// The omni sequence through A_b (read-only after construction, shared by copies).
+  std::shared_ptr<std::array<std::vector<float>, kNumBands>> omniBands_;
   EnergyResponse omniEnergy_;                             ///< scratch: sum over directions
   /// bands_[d][c][b]: direction d's sequence through A_b and its channel c filter, length_
   /// samples; with gainsOnly_ (every filter one tap) one unit-filter c = 0 per direction, and
-  /// gains_[d][c] the channel's tap (otherwise 1).
-  std::vector<std::vector<std::array<std::vector<float>, kNumBands>>> bands_;
+  /// gains_[d][c] the channel's tap (otherwise 1). Read-only after construction, shared.
+  std::shared_ptr<std::vector<std::vector<std::array<std::vector<float>, kNumBands>>>> bands_;
   std::vector<std::vector<float>> gains_;
   bool gainsOnly_ = false;
   /// With gainsOnly_: one direction's enveloped signal over the current block (length_
   /// samples, the block's range used), mixed into every channel by its gain.
   std::vector<float> directionScratch_;
-  std::unique_ptr<DirectSoundFilter> direct_;
-  // Direct sound: FFT convolution buffers and plans, made at construction.
-  std::unique_ptr<FftwRealTransforms> fft_;
+  std::shared_ptr<const DirectSoundFilter> direct_;
+  std::shared_ptr<FftwRealTransforms> fft_;  ///< the exact arrivals' FFT convolution
   DirectionFilter exactScratch_;
   /// channelWeight_[d][c][b]: direction d's channel c filter's band energy / kappa_b;
   /// directWeight_: the same for the last direct sound's exact filter.
@@ -247,25 +258,16 @@ class SpatialIrSynthesizer {
   std::vector<double> arrivalDelays_;  ///< this frame's arrivals, seconds
   std::vector<Bands> arrivalEnergy_;   ///< per arrival and channel: band energy as levelled
   std::vector<Bands> directMask2_;     ///< M_b^2 on the direct-sound FFT's bins
+  /// Per band: [first, end) of the bins where directMask2_ is not 0 (the rest add exactly 0).
+  std::array<std::pair<size_t, size_t>, kNumBands> directBins_{};
   std::array<double, kNumBands> directNorm_{};
   /// One per levelling worker (setParallelLevelling); [0] always exists.
-  std::vector<std::unique_ptr<BandLeveller>> levellers_;
+  std::vector<std::shared_ptr<BandLeveller>> levellers_;
   size_t levelStart_ = 0;                   ///< BandLeveller's start sample
   int levelledFrom_ = kDirectionalFromBand;  ///< BandLeveller's first band
   size_t rotationFrom_ = 0;                 ///< where late fields start to differ, samples
   ParallelFor parallel_;                    ///< empty: level on the calling thread
   std::vector<std::vector<Bands>> binned_;  ///< per direction: its response in leveller bins
 };
-
-/// The K = 8 listener-frame directions dpc uses: six on the horizon every 60 degrees from
-/// straight ahead, one straight up, one 40 degrees below the front (KEMAR's lowest ring).
-std::vector<glm::vec3> defaultSpatialDirections();
-
-/// `count` >= 1 listener-frame directions spread evenly over the whole sphere (a spherical
-/// Fibonacci lattice: González, "Measurement of areas on a sphere using Fibonacci and
-/// latitude-longitude lattices", Math. Geosci. 42, 2010), the first near straight up. For
-/// outputs whose sound field turns after synthesis (Ambisonics, head-tracked binaural), where
-/// no direction relative to the head deserves more resolution than another.
-std::vector<glm::vec3> uniformSpatialDirections(int count);
 
 }  // namespace dpc

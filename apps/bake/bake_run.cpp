@@ -243,6 +243,7 @@ int runBake(const Options& o, Cluster& cluster) {
     return stopSignal() != 0 ? unfinishedStatus() : 0;
   }
   if (!o.quiet) printEstimate(plan);
+  if (o.spacingGiven) warnWaveProbeSpacing(plan.scene, o.grid.spacingM);
   if (cluster.size() == 1) return finishAsWriter(o, plan, cluster, *file);
   // With other ranks, an error here (a write the disk refused) must end the job: the others
   // would wait for rank 0 to receive their probes. Every probe committed so far is flushed.

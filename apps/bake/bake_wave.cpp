@@ -13,6 +13,20 @@
 #include "wave/scene_wave.h"
 
 namespace dpc::bake {
+
+void warnWaveProbeSpacing(const SceneDesc& scene, double spacingM) {
+  if (!scene.wave.enabled) return;
+  const double crossover = scene.wave.crossover();
+  const double wavelength = double(scene.propagation.speedOfSound) / crossover;
+  if (!(spacingM > kWaveBlendMeasuredSpacing * wavelength)) return;
+  std::fprintf(stderr,
+               "dpc-bake: warning: --spacing %.2f m is %.2f of the wavelength at the wave band's "
+               "crossover (%.0f Hz: %.2f m); the band blended between probes this far apart "
+               "loses level (measured up to %.2f of it: 1.4 dB mean error; docs/wave.md, "
+               "\"In the bake\")\n",
+               spacingM, spacingM / wavelength, crossover, wavelength, kWaveBlendMeasuredSpacing);
+}
+
 namespace {
 
 /// One line naming the probes of `source` outside its grid's air, when there are any.

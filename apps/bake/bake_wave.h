@@ -24,6 +24,17 @@ namespace dpc::bake {
 /// "wave.max_frequency") for a grid beyond kMaxWaveNodes, as the simulation would.
 WaveEstimate estimateWave(const SceneDesc& scene, double irLength);
 
+/// The largest probe spacing the blend of the probes' wave bands was measured at, as a
+/// fraction of the wavelength at the crossover, rounded up (1 m at 125 Hz: 0.36; 1.4 dB mean
+/// and 4.1 dB largest error halfway between four probes: docs/wave.md, "In the bake").
+/// Beyond it the blend is unmeasured, and its error grows with the phase between the probes.
+inline constexpr double kWaveBlendMeasuredSpacing = 0.37;
+
+/// One warning line on stderr when a fresh bake's probe grid spacing (metres) exceeds
+/// kWaveBlendMeasuredSpacing of the wavelength at the scene's wave crossover: the wave band
+/// blended between probes that far apart loses level. Nothing without the wave band.
+void warnWaveProbeSpacing(const SceneDesc& scene, double spacingM);
+
 /// What the wave band of a run cost and found.
 struct WaveBakeStats {
   size_t sources = 0;    ///< simulated and stored in this run

@@ -299,9 +299,25 @@ def cli(build, tmp):
               '%s: one line naming %s and %s, exit 1, no file' % (name, scene, field))
 
 
+def spacing(build, tmp):
+    """A probe grid coarser than the probes' blend was measured at (0.37 of the wavelength at
+    the crossover, rounded up from 1 m at 125 Hz) bakes, with one warning line; the measured 1 m has none."""
+    coarse = subprocess.run([tool(build, 'dpc-bake'), room(tmp, 'coarse'), '--out',
+                             os.path.join(tmp, 'coarse.h5'), '--spacing', '2', '--quiet'],
+                            capture_output=True, text=True)
+    warned = [l for l in coarse.stderr.splitlines() if 'warning' in l]
+    print('\n'.join(warned))
+    # 2 m against 343 / 125 = 2.744 m: 0.73 of it.
+    check(coarse.returncode == 0 and len(warned) == 1 and
+          'warning: --spacing 2.00 m is 0.73 of the wavelength' in warned[0],
+          '--spacing 2 at a 125 Hz crossover: baked, one warning naming --spacing and 0.73')
+    fine = bake(build, room(tmp, 'fine'), os.path.join(tmp, 'fine.h5'), '--quiet')
+    check('warning' not in fine, '--spacing 1 (as measured): no warning')
+
+
 def main():
     build = sys.argv[1]
-    which = sys.argv[2:] or ['band', 'resume', 'render', 'cli']
+    which = sys.argv[2:] or ['band', 'resume', 'render', 'cli', 'spacing']
     with tempfile.TemporaryDirectory() as tmp:
         for name in which:
             print('== ' + name)

@@ -21,7 +21,8 @@ Checks, each able to fail:
   2. sound came out: every export a run wrote (created and reloaded) carries the plugin's
      output, measured by sox (an instrument independent of dpc): the RMS level of its last
      second above -60 dBFS (measured about -31 dBFS; a plugin that stays silent gives -inf),
-     and at least one run wrote both;
+     and at least one run wrote both (up to EXTRA_RUNS more runs are made until one does, since
+     Ardour alone fails some; they count in check 1's runs);
   3. a bundle whose scene cannot be loaded (its mesh file is missing) still gives a working
      session: Ardour prints the plugin's error, naming the scene file, the exports are silent
      (RMS below -80 dBFS, measured -94: the 16-bit export's dither alone; the plugin plays
@@ -92,11 +93,18 @@ def broken_bundle(lv2dir, work):
     return os.path.dirname(dst)
 
 
+# Runs with the plugin added when none of the first ones exported both sessions: Debian's
+# Ardour alone fails up to 3 runs in 10 here, so one run alone misses 3 times in 10, and 1 + 4
+# runs all miss at that rate 2 times in 1,000 (the control below still bounds the failures).
+EXTRA_RUNS = 4
+
+
 def plugin_runs(lv2dir, home, work, runs):
-    """`runs` sessions with the plugin (check 2); returns how many did not exit 0 after every
-    step (check 1 is the caller's, against the control)."""
-    failed, both = 0, 0
-    for i in range(runs):
+    """`runs` sessions with the plugin, and up to EXTRA_RUNS more until one exports both
+    sessions (check 2); returns how many did not exit 0 after every step and how many ran
+    (check 1 is the caller's, against the control)."""
+    failed, both, i = 0, 0, 0
+    while i < runs or (both == 0 and i < runs + EXTRA_RUNS):
         status, output, exports = run_ardour(lv2dir, home, work, "run%d" % i)
         steps = reached(output)
         exited = status == 0 and steps == STEPS
@@ -115,9 +123,10 @@ def plugin_runs(lv2dir, home, work, runs):
         both += wrote == 2
         if not exited:
             print(output[-3000:])
-    print("ardour_test: %d of %d runs exited 0 after every step" % (runs - failed, runs))
+        i += 1
+    print("ardour_test: %d of %d runs exited 0 after every step" % (i - failed, i))
     check(both > 0, "at least one run exported both sessions (%d did)" % both)
-    return failed
+    return failed, i
 
 
 def control(lv2dir, home, work, runs, failed):
@@ -144,7 +153,7 @@ def main():
     home = os.path.join(work, "home")
     os.makedirs(home)
     try:
-        failed = plugin_runs(lv2dir, home, work, runs)
+        failed, runs = plugin_runs(lv2dir, home, work, runs)
         status, output, exports = run_ardour(broken_bundle(lv2dir, work), home, work, "broken",
                                              wait=0)
         exited = status == 0 and reached(output) == STEPS

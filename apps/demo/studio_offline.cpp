@@ -34,10 +34,13 @@ class PageSound {
   void afterFrame() {
     due_ += framePeriodSamples_;
     const int block = session_.blockSize();
-    // This thread plays the audio thread for the render calls (the offline clock has none).
-    audio::rt::ScopedThreadRole role(audio::rt::ThreadRole::kAudio);
     for (; due_ >= double(block); due_ -= double(block)) {
-      session_.render(nullptr, pointers_.data(), block);
+      {
+        // This thread plays the audio thread for the render call only (the offline clock has
+        // none); the ring's lock is taken back in its own role.
+        audio::rt::ScopedThreadRole role(audio::rt::ThreadRole::kAudio);
+        session_.render(nullptr, pointers_.data(), block);
+      }
       ring_->append(pointers_.data(), size_t(block));
     }
   }

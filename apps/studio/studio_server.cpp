@@ -163,9 +163,9 @@ void StudioServer::Impl::routeIr() {
 }
 
 /// GET /api/audio?from=N: the offline clock's sound from frame N on (StudioAudio::since; no N:
-/// from the newest on), as
-/// little-endian float32 interleaved samples; the headers X-Dpc-First, X-Dpc-Skipped,
-/// X-Dpc-Sample-Rate and X-Dpc-Channels say what they are. 409 when there is none to play.
+/// from the newest on), as little-endian float32 interleaved samples; the headers X-Dpc-First,
+/// X-Dpc-Skipped, X-Dpc-Sample-Rate and X-Dpc-Channels say what they are. 409 when there is
+/// none to play.
 void StudioServer::Impl::routeAudio() {
   http.Get("/api/audio", [this](const Request& req, Response& res) {
     const std::shared_ptr<StudioAudio> audio = board.audio();

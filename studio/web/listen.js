@@ -1,7 +1,8 @@
 // dpc studio's "listen" switch: on the offline clock, where no audio device plays the session,
 // the page plays the session's sound through Web Audio (docs/studio.md, "Listening in the
 // page"). GET /api/audio gives the frames not fetched yet as float32 (headers: the first
-// frame's number, the channels, the sample rate); each chunk becomes an AudioBuffer scheduled
+// frame's number, the channels, the sample rate); each chunk becomes an AudioBuffer at that
+// rate (Web Audio resamples it to the context's, the device's), scheduled
 // right after the previous one, kLeadSeconds ahead of the context's clock. A chunk that comes
 // after its time starts late (counted: late), frames the server no longer held are counted
 // (skipped). Browsers start sound only after a user gesture: switching it on is that gesture.
@@ -18,7 +19,7 @@ const kTapSeconds = 4;
 export function listenSwitch({ studio, token }) {
   const box = document.getElementById('listen'), note = document.getElementById('listen-note');
   const s = (studio.listen = { state: 'off', received: 0, chunks: 0, late: 0, skipped: 0, next: null,
-                               sampleRate: 0, channels: 0, tap: null, tapFirst: null, peak: 0, clock: 0 });
+                               sampleRate: 0, contextRate: 0, channels: 0, tap: null, tapFirst: null, peak: 0, clock: 0 });
   let ctx = null, playAt = 0, running = false;
 
   /// Keeps the first kTapSeconds of channel 0 (and 1) for the test.
@@ -56,13 +57,11 @@ export function listenSwitch({ studio, token }) {
   async function poll() {
     const c = await fetchChunk();
     if (c.refused) return stop(c.refused.trim());
-    if (!ctx) {
-      s.sampleRate = c.rate;
-      s.channels = c.C;
-      ctx = new AudioContext({ sampleRate: c.rate });
-      await ctx.resume();
-      s.state = ctx.state;
-    }
+    if (!ctx) return;  // switched off meanwhile
+    s.sampleRate = c.rate;
+    s.channels = c.C;
+    s.state = ctx.state;
+    s.contextRate = ctx.sampleRate;
     s.clock = ctx.currentTime;
     s.skipped += c.skipped;
     const frames = c.data.length / c.C;
@@ -93,6 +92,10 @@ export function listenSwitch({ studio, token }) {
     // The live clock's sound is the audio device's: nothing to fetch.
     if (studio.state?.figures?.clock === 'live') return stop('the audio device plays this session (live clock)');
     note.textContent = '';
+    // Made and resumed within the click (browsers let sound start only there), at the device's
+    // own rate: buffers at the session's rate are resampled by Web Audio.
+    ctx = new AudioContext();
+    ctx.resume();
     running = true;
     loop();
   };

@@ -398,8 +398,7 @@ async function bakeChecks(page, run, bake) {
 async function launchBrowser() {
   try {
     return await puppeteer.launch({ executablePath: arg('--chromium'), headless: true,
-      args: ['--no-sandbox', '--enable-unsafe-swiftshader', '--use-angle=swiftshader', '--window-size=1280,800',
-             '--autoplay-policy=no-user-gesture-required'] });
+      args: ['--no-sandbox', '--enable-unsafe-swiftshader', '--use-angle=swiftshader', '--window-size=1280,800'] });
   } catch (e) {
     console.error(`browser_test: chromium cannot start: ${e.message}: skipped`);
     process.exitCode = 77;

@@ -1,7 +1,8 @@
 // The browser test's "listen in the page" (tests/studio/browser_test.mjs, studio/web/listen.js).
 // Offline clock: switched on with a real click (the user gesture browsers ask for), the page
 // receives the session's sound from GET /api/audio and plays it through Web Audio: its
-// AudioContext runs at the session's rate and its clock advances, the frames it received are
+// AudioContext, made within the click (no autoplay exemption), runs and its clock advances,
+// the frames it received are
 // the server's, bit for bit (fetched again here for the same frame numbers), contiguous
 // (nothing skipped) and not silent. That the server's sound is the render's is checked apart,
 // against the offline renderer's WAV (tests/studio/page_sound_test.py). Live clock: the device

@@ -2,25 +2,25 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "synthesis/band_envelope.h"
 #include "synthesis/pulse_energy.h"
 
 namespace dpc {
 
-HalfBandDensity halfBandDensity(const EnergyResponse& energy, int band, double centreSeconds) {
-  const size_t nk = energy.binCount();
-  const double from = (centreSeconds - 0.5 * kTiltWindowSeconds) / energy.binSeconds();
-  const double to = (centreSeconds + 0.5 * kTiltWindowSeconds) / energy.binSeconds();
-  const size_t k0 = size_t(std::clamp(std::floor(from), 0.0, double(nk)));
-  const size_t k1 = size_t(std::clamp(std::ceil(to), 0.0, double(nk)));
-  double below = 0.0, own = 0.0, above = 0.0;
-  for (size_t k = k0; k < k1; ++k) {
-    const Bands& e = energy.bins()[k];
-    own += std::max(0.f, e[band]);
-    if (band > 0) below += std::max(0.f, e[band - 1]);
-    if (band + 1 < kNumBands) above += std::max(0.f, e[band + 1]);
-  }
+namespace {
+
+/// The response bins [k0, k1) of the kTiltWindowSeconds window centred on centreSeconds.
+std::pair<size_t, size_t> tiltWindow(size_t bins, double binSeconds, double centreSeconds) {
+  const double from = (centreSeconds - 0.5 * kTiltWindowSeconds) / binSeconds;
+  const double to = (centreSeconds + 0.5 * kTiltWindowSeconds) / binSeconds;
+  return {size_t(std::clamp(std::floor(from), 0.0, double(bins))),
+          size_t(std::clamp(std::ceil(to), 0.0, double(bins)))};
+}
+
+/// The half-band densities from a window's energies in the octaves below, at and above band.
+HalfBandDensity densityFromSums(int band, double below, double own, double above) {
   // Mean of exp(x L) over half an octave, x in [0, 1/2]: the log-linear density's average
   // over a half band, relative to its value at the band centre.
   auto halfMean = [](double l) {
@@ -33,6 +33,43 @@ HalfBandDensity halfBandDensity(const EnergyResponse& energy, int band, double c
   if (band > 0) r.low = halfMean(std::log(std::max(below / own, 1e-300)));
   if (band + 1 < kNumBands) r.high = halfMean(std::log(std::max(above / own, 1e-300)));
   return r;
+}
+
+}  // namespace
+
+HalfBandDensity halfBandDensity(const EnergyResponse& energy, int band, double centreSeconds) {
+  const auto [k0, k1] = tiltWindow(energy.binCount(), energy.binSeconds(), centreSeconds);
+  double below = 0.0, own = 0.0, above = 0.0;
+  for (size_t k = k0; k < k1; ++k) {
+    const Bands& e = energy.bins()[k];
+    own += std::max(0.f, e[band]);
+    if (band > 0) below += std::max(0.f, e[band - 1]);
+    if (band + 1 < kNumBands) above += std::max(0.f, e[band + 1]);
+  }
+  return densityFromSums(band, below, own, above);
+}
+
+void TiltWindowSums::reset(const EnergyResponse& energy) {
+  binSeconds_ = energy.binSeconds();
+  bins_ = energy.binCount();
+  if (suffix_.size() < bins_ + 1) suffix_.resize(bins_ + 1);
+  suffix_[bins_].fill(0.0);
+  for (size_t k = bins_; k-- > 0;)
+    for (int b = 0; b < kNumBands; ++b)
+      suffix_[k][size_t(b)] =
+          suffix_[k + 1][size_t(b)] + double(std::max(0.f, energy.bins()[k][b]));
+  for (Last& l : last_) l.valid = false;
+}
+
+HalfBandDensity TiltWindowSums::at(int band, double centreSeconds) {
+  const auto [k0, k1] = tiltWindow(bins_, binSeconds_, centreSeconds);
+  Last& last = last_[size_t(band)];
+  if (last.valid && last.k0 == k0 && last.k1 == k1) return last.value;
+  auto sum = [&](int b) {
+    return b < 0 || b >= kNumBands ? 0.0 : suffix_[k0][size_t(b)] - suffix_[k1][size_t(b)];
+  };
+  last = {k0, k1, densityFromSums(band, sum(band - 1), sum(band), sum(band + 1)), true};
+  return last.value;
 }
 
 std::shared_ptr<const TiltedBands::Filters> TiltedBands::makeFilters(
@@ -162,13 +199,13 @@ void TiltedBands::levelSequence(int b, const std::vector<float>& sequence,
 }
 
 void TiltedBands::update(const EnergyResponse& energy) {
+  windows_.reset(energy);
   for (int b = 0; b < kNumBands; ++b) {
     const size_t bi = size_t(b);
     const size_t w = BandEnvelope::binSamplesFor(sampleRate_, b);
     const auto& [ll, lh, hh] = halfEnergy_[bi];
     for (size_t j = 0; j < alpha_[bi].size(); ++j) {
-      const HalfBandDensity r =
-          halfBandDensity(energy, b, (double(j) + 0.5) * double(w) / sampleRate_);
+      const HalfBandDensity r = windows_.at(b, (double(j) + 0.5) * double(w) / sampleRate_);
       const double pl = std::sqrt(r.low), ph = std::sqrt(r.high);
       // Same expected energy as the untilted s_b = s_lo + s_hi.
       const double norm =

@@ -32,6 +32,31 @@ inline constexpr double kTiltMaxLog = 10.0;  ///< a density ratio of e^10 (43 dB
 /// Any thread; no allocation; no errors.
 HalfBandDensity halfBandDensity(const EnergyResponse& energy, int band, double centreSeconds);
 
+/// halfBandDensity for many windows of one response in O(1) each: per band the suffix sums of
+/// the response's (non-negative) band energies, so a window's energy is a difference of two
+/// (a decaying response's later tail is of the window's order, so the difference keeps about
+/// full double precision; a window of zeros reads exactly 0). Consecutive queries of a band
+/// whose window covers the same response bins return the previous result.
+/// reset(): propagation thread; allocates only while a response has more bins than any before.
+/// at(): same thread; no allocation; no errors.
+class TiltWindowSums {
+ public:
+  void reset(const EnergyResponse& energy);
+  HalfBandDensity at(int band, double centreSeconds);
+
+ private:
+  double binSeconds_ = 1.0;
+  size_t bins_ = 0;
+  /// suffix_[k][b]: the sum over i >= k of max(0, e_i[b]), k in [0, bins_].
+  std::vector<std::array<double, kNumBands>> suffix_;
+  struct Last {
+    size_t k0 = 0, k1 = 0;
+    HalfBandDensity value{1.0, 1.0};
+    bool valid = false;
+  };
+  std::array<Last, kNumBands> last_{};
+};
+
 /// The mono synthesiser's band signals and their within-band tilt per synthesis bin
 /// (BandEnvelope::binSamplesFor). Per band: s_b = a_b * s (the Dirac sequence through A_b) and
 /// its upper half s_hi (through A_b P, P = powerAbove(f, fc), so s_b = s_lo + s_hi with
@@ -137,6 +162,7 @@ class TiltedBands {
   void levelSequence(int b, const std::vector<float>& sequence, FftwRealTransforms& fft);
   std::shared_ptr<const Filters> filters_;
   bool levelled_ = false;
+  TiltWindowSums windows_;  ///< update()'s scratch
 };
 
 }  // namespace dpc

@@ -121,13 +121,14 @@ size_t WindowLeveller::spanOf(const EnergyResponse& energy) const {
 void WindowLeveller::viewTargets(const EnergyResponse& energy, const Size& s) {
   const size_t nbins = energy.binCount();
   for (int b = firstBand_; b <= lastBand_; ++b) targetDensity_[size_t(b)].assign(nbins, 0.0);
+  tilt_.reset(energy);
   for (int k = std::max(0, firstBand_ - 1); k <= std::min(kNumBands - 1, lastBand_ + 1); ++k) {
     const auto [wl, wh] = s.halfWidth[size_t(k)];
     for (size_t j = 0; j < nbins; ++j) {
       const double e = std::max(0.f, energy.bins()[j][k]);
       if (e == 0.0) continue;
       // The within-band tilt, normalised to keep the band's energy (as the exact-IR model does).
-      const HalfBandDensity r = halfBandDensity(energy, k, (double(j) + 0.5) * energy.binSeconds());
+      const HalfBandDensity r = tilt_.at(k, (double(j) + 0.5) * energy.binSeconds());
       const double norm = (wl + wh) / (r.low * wl + r.high * wh);
       for (int b = std::max(firstBand_, k - 1); b <= std::min(lastBand_, k + 1); ++b) {
         const auto& c = s.coupling[size_t(b)][size_t(k)];

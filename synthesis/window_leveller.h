@@ -34,6 +34,7 @@
 #include "common/bands.h"
 #include "common/fftw_util.h"
 #include "engine/energy_response.h"
+#include "synthesis/band_tilt.h"
 
 namespace dpc {
 
@@ -99,6 +100,7 @@ class WindowLeveller {
   int firstBand_, lastBand_;
   std::vector<std::unique_ptr<Size>> sizes_;
   std::array<std::vector<double>, kNumBands> targetDensity_;  ///< per response bin
+  TiltWindowSums tilt_;  ///< viewTargets()' scratch
   std::vector<double> windowEnergy_;                          ///< per window (scratch)
   std::vector<float> factor_;                                 ///< per window (scratch)
   FftwArray<fftwf_complex> current_, correction_;             ///< spectra (largest size)

@@ -5,6 +5,7 @@
 // direct sound (shared by the mono and the spatial synthesiser).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <numbers>
@@ -22,6 +23,17 @@ namespace dpc {
 /// tails: 1/4 s at sampleRate Hz. Any thread; no allocation; no errors.
 inline size_t bandFilterTaps(int sampleRate) {
   return size_t(sampleRate / 4);
+}
+
+/// The same for the filters a_b of bands firstBand up alone: each crossover is a raised cosine
+/// over a fixed fraction of an octave (powerAbove), so its impulse response scales in time with
+/// 1 / its frequency, and bandFilterTaps, set by the lowest crossover (63 / 125 Hz), shrinks by
+/// that crossover's frequency over the lowest one kept, with the same relative tail left out:
+/// bandFilterTaps / 2^(firstBand - 1) for firstBand >= 1 (750 taps at 48 kHz from 2 kHz up).
+/// Any thread; no allocation; no errors.
+inline size_t bandFilterTapsFrom(int sampleRate, int firstBand) {
+  return firstBand <= 1 ? bandFilterTaps(sampleRate)
+                        : std::max<size_t>(2, bandFilterTaps(sampleRate) >> (firstBand - 1));
 }
 
 /// Crossover coupling of the band masks for a white spectrum:

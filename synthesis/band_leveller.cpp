@@ -80,7 +80,8 @@ BandLeveller::BandLeveller(int sampleRate, size_t length, int firstBand, size_t 
     : sampleRate_(sampleRate), length_(length), firstBand_(firstBand), start_(startSample) {
   if (sampleRate <= 0 || length == 0 || firstBand < 0 || firstBand >= kNumBands)
     throw std::invalid_argument("BandLeveller: rate, length and first band must be valid");
-  const size_t taps = bandFilterTaps(sampleRate);  // the zero-phase filters' reach
+  // The zero-phase filters' reach: of the levelled bands' filters only.
+  const size_t taps = bandFilterTapsFrom(sampleRate, firstBand);
   fft_ = std::make_unique<FftwRealTransforms>(smoothFftSize(length + taps));
   const size_t nfft = fft_->n, nbins = nfft / 2 + 1;
   const OctaveBandMasks masks(sampleRate, nfft);

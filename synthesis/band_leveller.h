@@ -21,8 +21,8 @@
 // few pulses per bin for a bin's energy to stay in it) are left as they are.
 //
 // Construction: control/propagation thread (FFTW planning is not thread-safe); allocates
-// O(nfft) with nfft = smoothFftSize(length + sampleRate / 4); throws std::invalid_argument on bad
-// sizes. clearTargets / addResponse / addDirect / apply: propagation thread; no allocation;
+// O(nfft) with nfft = smoothFftSize(length + bandFilterTapsFrom(sampleRate, firstBand));
+// throws std::invalid_argument on bad sizes. clearTargets / addResponse / addDirect / apply: propagation thread; no allocation;
 // no errors.
 #pragma once
 

@@ -160,6 +160,7 @@ void settingsFromData(const dpc_scene_data& d, SceneDesc& scene) {
     bad("output",
         "must be DPC_OUTPUT_MONO, _STEREO, _BINAURAL, _AMBISONICS or _AMBISONIC_BINAURAL");
   scene.audio.ambisonicOrder = d.ambisonic_order;
+  static_assert(DPC_CACHE_POOL_AUTO == kCachePoolAuto);
   p.cachePoolMb = d.cache_pool_mb;
   scene.audio.lateBuses = d.late_buses;
   scene.audio.clusterAngleDegrees = d.cluster_angle_degrees;

@@ -106,10 +106,24 @@ Json runConfiguration(const CommonOptions& c, const SourcesOptions& o, const Sce
   row["quality"] = quality(stage.simulation(), refs);
   for (int f = 0; f < c.frames; ++f) timeFrame(*scene, stage, world, t);
   size_t cacheBytes = 0, exactPaths = 0;
+  uint64_t refusals = 0, merged = 0;
+  double energy = 0.0, coarseEnergy = 0.0, worstCoarse = 0.0;
   for (int i = 0; i < count; ++i) {
-    cacheBytes += stage.simulation().result(size_t(i)).cacheBytes;
-    exactPaths += stage.simulation().result(size_t(i)).specularPaths;
+    const Simulation::SourceResult& r = stage.simulation().result(size_t(i));
+    cacheBytes += r.cacheBytes;
+    exactPaths += r.specularPaths;
+    refusals += r.cachePoolRefusals;
+    merged += r.cacheMergedEntries;
+    const double e = r.energy.total().sum();
+    energy += e;
+    coarseEnergy += e * r.cacheCoarseEnergyFraction;
+    worstCoarse = std::max(worstCoarse, r.cacheCoarseEnergyFraction);
   }
+  row["cache_pool_mb"] = double(stage.simulation().result(0).cachePoolBytes) / 1048576.0;
+  row["pool_growths_refused"] = refusals;
+  row["entries_merged"] = merged;
+  row["merged_energy_share"] = energy > 0.0 ? coarseEnergy / energy : 0.0;
+  row["merged_energy_share_worst_pair"] = worstCoarse;
   row["pass_ms_per_frame"] = 1e3 * t.passWall / c.frames;
   row["synthesis_ms_per_frame"] = 1e3 * t.synthesisWall / c.frames;
   row["frame_ms"] = 1e3 * (t.passWall + t.synthesisWall) / c.frames;
@@ -179,11 +193,14 @@ void printLine(const std::string& tracing, int count, const Json& row, const Jso
   }
   std::fprintf(stderr,
                "%-14s %3d sources: pass %.1f ms, synthesis %.1f ms, frame x%.2f of one source, "
-               "peak RSS %.0f MB; worst sampled source %.2f dB, noise %.3f\n",
+               "peak RSS %.0f MB; worst sampled source %.2f dB, noise %.3f; %.1f %% of the "
+               "energy merged (pool growths refused %llu)\n",
                tracing.c_str(), count, row["pass_ms_per_frame"].get<double>(),
                row["synthesis_ms_per_frame"].get<double>(),
                row["frame_ms"].get<double>() / one["frame_ms"].get<double>(),
-               row["peak_rss_mb"].get<double>(), worstDb, worstNoise);
+               row["peak_rss_mb"].get<double>(), worstDb, worstNoise,
+               100.0 * row["merged_energy_share"].get<double>(),
+               (unsigned long long)row["pool_growths_refused"].get<uint64_t>());
 }
 
 }  // namespace

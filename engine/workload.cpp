@@ -34,6 +34,17 @@ double plannableMemoryBytes() {
   return 0.5 * limit;
 }
 
+double cachePoolMbFor(const PropagationSettings& settings, size_t pairs) {
+  if (settings.cachePoolMb != kCachePoolAuto) return double(settings.cachePoolMb);
+  const double paths = double(settings.raysPerFrame) / 4096.0 * double(settings.cacheTau) *
+                       double(settings.frameRate) / 15.0;
+  const double want =
+      std::max(kAutoPoolMinMb, double(pairs) * kAutoPoolPerPairMb * std::max(1.0, paths));
+  const double cap = std::min({double(pairs) * double(settings.cacheMemoryMb),
+                               0.25 * plannableMemoryBytes() / 1048576.0, 65536.0});
+  return std::max(1.0, std::min(want, cap));
+}
+
 WorkloadEstimate estimateWorkload(const SceneDesc& scene, const PropagationSettings& settings,
                                   int channels, double durationSeconds) {
   WorkloadEstimate e;
@@ -70,9 +81,9 @@ WorkloadEstimate estimateWorkload(const SceneDesc& scene, const PropagationSetti
   e.irBytes = double(scene.sources.size()) * channels * double(settings.irLength) *
               double(scene.audio.sampleRate) * kIrBytesPerSample;
   // Every pair's cache grows from one pool: at most the pool, at most every pair's own budget.
-  e.cacheBytes = std::min(double(scene.sources.size()) * double(scene.listeners.size()) *
-                              double(settings.cacheMemoryMb),
-                          double(settings.cachePoolMb)) *
+  const size_t pairs = scene.sources.size() * scene.listeners.size();
+  e.cacheBytes = std::min(double(pairs) * double(settings.cacheMemoryMb),
+                          cachePoolMbFor(settings, pairs)) *
                  1048576.0;
   return e;
 }
@@ -87,7 +98,7 @@ std::string memoryNeed(const SceneDesc& scene, const PropagationSettings& settin
                           std::to_string(scene.sources.size()) + " source(s) x channels (" +
                           g3(e.irBytes / 1e9) + " GB)";
   const std::string caches = poolBinds
-                                 ? "a path cache pool of " + g3(settings.cachePoolMb) + " MB (" +
+                                 ? "a path cache pool of " + g3(e.cacheBytes / 1048576.0) + " MB (" +
                                        g3(e.cacheBytes / 1e9) + " GB)"
                                  : "path caches of " + g3(settings.cacheMemoryMb) + " MB x " +
                                        std::to_string(scene.sources.size()) + " source(s) x " +
@@ -105,7 +116,8 @@ void checkMemory(const SceneDesc& scene, const PropagationSettings& settings,
                  const WorkloadEstimate& e, double memoryLimitBytes) {
   if (e.irBytes + e.cacheBytes + e.signalBytes <= memoryLimitBytes) return;
   const double pairs = double(scene.sources.size()) * double(scene.listeners.size());
-  const bool poolBinds = double(settings.cachePoolMb) < pairs * double(settings.cacheMemoryMb);
+  const bool poolBinds =
+      cachePoolMbFor(settings, size_t(pairs)) < pairs * double(settings.cacheMemoryMb);
   const std::string need = memoryNeed(scene, settings, e, memoryLimitBytes, poolBinds);
   if (e.signalBytes > e.irBytes && e.signalBytes > e.cacheBytes)
     throw InputError(scene.path, "sources[].signal",

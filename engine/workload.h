@@ -60,6 +60,21 @@ inline constexpr double kWarnSegmentsTotal = 1e10;
 /// limits (the other half is for tracing, signals and the libraries). Two system calls.
 double plannableMemoryBytes();
 
+/// The automatic path cache pool (PropagationSettings::cachePoolMb = kCachePoolAuto): per
+/// source-listener pair kAutoPoolPerPairMb at the reference paths per frame window, scaled by
+/// rays_per_frame / 4096 x cache_tau x frame_rate / 15 (the hits a pair's cache keeps), never
+/// below kAutoPoolMinMb. Measured: 1.8-2.0 MB of tables per pair at the reference (the market's
+/// and the dense hall's 64 pairs, 4096 rays, tau 1 s, 15 frames/s; docs/performance.md), and a
+/// cache grows its tables by doubling, so a pair just past 2 MB takes 4.
+inline constexpr double kAutoPoolPerPairMb = 4.0;
+inline constexpr double kAutoPoolMinMb = 128.0;
+
+/// The pool's budget in MB: settings.cachePoolMb when given; for kCachePoolAuto the rule above
+/// for `pairs` pairs, at most pairs x cache_memory_mb (no pair grows past its own budget), a
+/// quarter of plannableMemoryBytes() and the field's limit (65536 MB). Pairs added after the
+/// engine is built share the pool it was sized for. Any thread; two system calls for auto.
+double cachePoolMbFor(const PropagationSettings& settings, size_t pairs);
+
 /// durationSeconds: the render's length (<= 0: live, per-frame figures only); channels: output
 /// channels (1 mono, 2 stereo or binaural).
 WorkloadEstimate estimateWorkload(const SceneDesc& scene, const PropagationSettings& settings,

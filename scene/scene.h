@@ -166,6 +166,10 @@ inline constexpr int kMaxExactOrder = 6;
 /// below the 65537 at which TBB's task arena crashes.
 inline constexpr int kMaxTracingThreads = 1024;
 
+/// PropagationSettings::cachePoolMb's value for a pool sized by the scene ("auto" in JSON,
+/// DPC_CACHE_POOL_AUTO in the C API): outside the field's range (0, 65536], so never a budget.
+inline constexpr float kCachePoolAuto = -1.f;
+
 struct PropagationSettings {
   int raysPerFrame = 4096;  ///< rays emitted per source per frame (N)
   int maxOrder = 50;        ///< maximum reflection order d_max
@@ -174,10 +178,11 @@ struct PropagationSettings {
   /// DPC memory budget per cache, i.e. per source-listener pair, megabytes (> 0). Beyond it
   /// the oldest entries are merged into a coarse store, never dropped (engine/path_cache.h).
   float cacheMemoryMb = 64.f;
-  /// DPC memory budget of the whole engine, megabytes (> 0): every pair's cache grows its tables
-  /// from this one pool as its paths need room, up to cacheMemoryMb each (engine/cache_pool.h).
-  /// The default holds a few dozen busy pairs; beyond it pairs merge old paths (energy kept).
-  float cachePoolMb = 128.f;
+  /// DPC memory budget of the whole engine, megabytes (> 0), or kCachePoolAuto (the default):
+  /// sized by the scene's pairs, rays, tau and frame rate (cachePoolMbFor, engine/workload.h).
+  /// Every pair's cache grows its tables from this one pool as its paths need room, up to
+  /// cacheMemoryMb each (engine/cache_pool.h); beyond it pairs merge old paths (energy kept).
+  float cachePoolMb = kCachePoolAuto;
   float frameRate = 15.f;  ///< propagation frames per second, Hz
   float irLength = 2.0f;   ///< impulse response length, seconds
   uint64_t seed = 1;       ///< random seed; the same seed gives bit-identical output

@@ -330,7 +330,14 @@ void readPropagationNumbers(const JsonReader& r, const json& v, PropagationSetti
   read("patch_size", p.patchSize);
   read("cache_tau", p.cacheTau);
   read("cache_memory_mb", p.cacheMemoryMb);
-  read("cache_pool_mb", p.cachePoolMb);
+  // "auto" (or no value): sized by the scene (cachePoolMbFor, engine/workload.h).
+  if (const json* x = JsonReader::find(v, "cache_pool_mb"); x && x->is_string()) {
+    if (r.string(*x, "propagation.cache_pool_mb") != "auto")
+      r.fail("propagation.cache_pool_mb", "must be a number of MB or \"auto\"");
+    p.cachePoolMb = kCachePoolAuto;
+  } else {
+    read("cache_pool_mb", p.cachePoolMb);
+  }
   read("frame_rate", p.frameRate);
   read("ir_length", p.irLength);
   read("temperature", p.temperatureC);

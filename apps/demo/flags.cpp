@@ -102,8 +102,9 @@ void addRenderOptions(CLI::App& app, Flags& fl) {
   app.add_option("--max-order", fl.maxOrder, "Maximum reflection order")->check(kWholeInt64);
   app.add_option("--tau", fl.tau, "Cache response time tau, seconds (0 = path tracing)");
   app.add_option("--cache-pool-mb", fl.cachePoolMb,
-                 "DPC memory budget of the whole engine, MB (default 128; pairs grow their "
-                 "caches from it as they need)");
+                 "DPC memory budget of the whole engine, MB (default: sized by the scene, 4 MB "
+                 "per source-listener pair, at least 128; pairs grow their caches from it as "
+                 "they need)");
   app.add_option("--cache-memory-mb", fl.cacheMb,
                  "DPC memory budget per source-listener pair, MB (default 64; beyond it, or "
                  "when the pool is spent, old entries are merged, not dropped)");

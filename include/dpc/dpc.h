@@ -190,6 +190,9 @@ DPC_API dpc_status dpc_engine_create_from_file(const char* scene_path,
  *  4000 and 8000 Hz nominal centres (ISO 266, IEC 61260-1). */
 #define DPC_BANDS 8
 
+/** dpc_scene_data.cache_pool_mb for a path cache pool sized by the scene (since 0.7.0). */
+#define DPC_CACHE_POOL_AUTO (-1.0f)
+
 /** A surface material for dpc_scene_data. */
 typedef struct dpc_material {
   const char* name;            /**< for error messages; may be NULL */
@@ -297,8 +300,11 @@ typedef struct dpc_scene_data {
      entries, entry i for sources[i] */
   const dpc_source_directivity* source_directivities;
   /* many sources (docs/performance.md, "Many sources"; since 0.4.0) */
-  float cache_pool_mb; /**< DPC memory budget of the whole engine, MB, (0, 65536]: every
-                            source-listener pair's cache grows from it; default 128 */
+  float cache_pool_mb; /**< DPC memory budget of the whole engine, MB, (0, 65536], or
+                            DPC_CACHE_POOL_AUTO (the default since 0.7.0): sized by the scene,
+                            4 MB per source-listener pair at 4096 rays, tau 1 s, 15 frames/s
+                            (scaled with them), at least 128 (docs/scene-format.md); every
+                            pair's cache grows from it */
   dpc_rendering rendering; /**< DPC_RENDERING_AUTO (default), _PER_SOURCE or _HYBRID */
   int late_buses;          /**< hybrid rendering: late buses per listener, [1, 64]; default 4 */
   float cluster_angle_degrees; /**< hybrid rendering: a cluster's angular radius as seen from

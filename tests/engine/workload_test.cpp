@@ -112,3 +112,37 @@ TEST_CASE("the path caches' budgets count in the memory estimate, and the time i
   REQUIRE(w.size() == 1);
   CHECK_THAT(w[0], Catch::Contains("min (at 2e+07 segments/s)"));
 }
+
+TEST_CASE("the automatic path cache pool grows with the pairs and the paths they keep",
+          "[workload]") {
+  PropagationSettings ps;  // the defaults: auto, 4096 rays, tau 1 s, 15 frames/s
+  REQUIRE(ps.cachePoolMb == kCachePoolAuto);
+  // Up to 32 pairs the floor holds; from there 4 MB per pair (the measured 1.8-2.0 MB of
+  // tables per pair, doubled by the tables' growth in powers of two).
+  CHECK(cachePoolMbFor(ps, 1) == Approx(std::min(kAutoPoolMinMb, 64.0)));  // its own 64 MB
+  CHECK(cachePoolMbFor(ps, 16) == Approx(kAutoPoolMinMb));
+  CHECK(cachePoolMbFor(ps, 64) == Approx(64 * kAutoPoolPerPairMb));
+  CHECK(cachePoolMbFor(ps, 256) ==
+        Approx(std::min(256 * kAutoPoolPerPairMb, 0.25 * plannableMemoryBytes() / 1048576.0)));
+  // Twice the rays keep twice the paths; a quarter of the window, a quarter (floor at 1).
+  ps.raysPerFrame = 8192;
+  CHECK(cachePoolMbFor(ps, 64) == Approx(128 * kAutoPoolPerPairMb));
+  ps.raysPerFrame = 4096;
+  ps.cacheTau = 0.25f;
+  CHECK(cachePoolMbFor(ps, 64) == Approx(64 * kAutoPoolPerPairMb));
+  // No pair grows past its own budget, so neither does the pool.
+  ps.cacheTau = 1.f;
+  ps.cacheMemoryMb = 2.f;
+  CHECK(cachePoolMbFor(ps, 64) == Approx(128.0));
+  // A value given is the budget.
+  ps.cachePoolMb = 32.f;
+  CHECK(cachePoolMbFor(ps, 256) == 32.0);
+}
+
+TEST_CASE("the automatic pool counts in the memory estimate", "[workload]") {
+  SceneDesc scene = test::makeShoebox({10, 3, 7}, Bands(0.1f), 0.5f, {2, 1.5f, 2}, {7, 1.6f, 5});
+  scene.sources.resize(64, scene.sources.front());
+  PropagationSettings ps;
+  const WorkloadEstimate e = estimateWorkload(scene, ps, 1, 10.0);
+  CHECK(e.cacheBytes == Approx(cachePoolMbFor(ps, 64) * 1048576.0));
+}

@@ -452,3 +452,17 @@ TEST_CASE("OBJ details: default material, polygons, relative indices, degenerate
   CHECK(degenerateWarning);
   CHECK(unusedWarning);
 }
+
+TEST_CASE("The path cache pool is sized by the scene unless given", "[scene]") {
+  Fixture f;
+  CHECK(f.load().propagation.cachePoolMb == kCachePoolAuto);  // the default
+  f.scene["propagation"]["cache_pool_mb"] = "auto";
+  CHECK(f.load().propagation.cachePoolMb == kCachePoolAuto);
+  f.scene["propagation"]["cache_pool_mb"] = 96;
+  CHECK(f.load().propagation.cachePoolMb == 96.f);
+  f.scene["propagation"]["cache_pool_mb"] = "large";
+  CHECK_THAT(f.error(), Catch::Contains("propagation.cache_pool_mb") &&
+                            Catch::Contains("\"auto\""));
+  f.scene["propagation"]["cache_pool_mb"] = -1;  // the sentinel is no value a file can give
+  CHECK_THAT(f.error(), Catch::Contains("propagation.cache_pool_mb"));
+}

@@ -1,0 +1,112 @@
+#!/usr/bin/python3
+"""Generates the many-source benchmark room: scenes/dense_hall.obj and scenes/dense_hall.json.
+Deterministic (same output every run).
+
+One 20 x 15 x 4 m room (x 0..20, y 0..4 up, z 0..15): a reception or exhibition hall with a
+concrete floor, plasterboard walls, an absorbing tile ceiling, two rows of four pillars and
+twelve tables (closed boxes, wood). 64 static sources stand on an 8 x 8 grid at 1.5 m (talkers,
+-6 dB each); the listener (radius 0.5 m) walks a loop between the pillar rows. Everything
+shares one room, so every source's paths reach the listener through the same reverberant
+field: the dense case of many-source propagation (docs/performance.md, "Many sources"), where
+every pair's cache holds a full room's paths.
+
+Usage: generate_dense_hall.py [OUT_FOLDER]   (default: this script's folder)
+"""
+import json
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from objfile import write_obj  # noqa: E402
+
+LX, LY, LZ = 20.0, 4.0, 15.0
+PILLARS = [(x, z) for x in (5.0, 10.0, 15.0, 20.0 - 2.5) for z in (5.0, 10.0)][:8]
+PILLAR_HALF = 0.25
+TABLES = [(3.0 + 3.0 * i, 2.2 + 10.6 * j) for i in range(6) for j in range(2)]
+TABLE_HALF, TABLE_HEIGHT = 0.6, 0.75
+out = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
+
+verts, faces, index = [], [], {}
+
+
+def vertex(p):
+    """Index (1-based) of vertex p, shared by every face that uses it (edges are found by
+    vertex index, engine/diffraction.h)."""
+    if p not in index:
+        verts.append(p)
+        index[p] = len(verts)
+    return index[p]
+
+
+def quad(a, b, c, d, material):
+    """Quad a-b-c-d as two triangles; the winding sets the side it faces."""
+    i = [vertex(p) for p in (a, b, c, d)]
+    faces.append((material, [(i[0], i[1], i[2]), (i[0], i[2], i[3])]))
+
+
+def box(x0, x1, y0, y1, z0, z1, material, inward=False):
+    """A closed box; faces outward (an obstacle) or inward (the room)."""
+    sides = [((x0, y0, z0), (x0, y0, z1), (x0, y1, z1), (x0, y1, z0)),
+             ((x1, y0, z0), (x1, y1, z0), (x1, y1, z1), (x1, y0, z1)),
+             ((x0, y0, z0), (x0, y1, z0), (x1, y1, z0), (x1, y0, z0)),
+             ((x0, y0, z1), (x1, y0, z1), (x1, y1, z1), (x0, y1, z1)),
+             ((x0, y1, z0), (x0, y1, z1), (x1, y1, z1), (x1, y1, z0)),
+             ((x0, y0, z0), (x1, y0, z0), (x1, y0, z1), (x0, y0, z1))]
+    names = material if isinstance(material, list) else [material] * 6
+    for q, m in zip(sides, names):
+        quad(*(q[::-1] if inward else q), m)
+
+
+box(0.0, LX, 0.0, LY, 0.0, LZ, ["wall", "wall", "wall", "wall", "ceiling", "floor"],
+    inward=True)
+for x, z in PILLARS:
+    box(x - PILLAR_HALF, x + PILLAR_HALF, 0.0, LY, z - PILLAR_HALF, z + PILLAR_HALF, "pillar")
+for x, z in TABLES:
+    box(x - TABLE_HALF, x + TABLE_HALF, 0.0, TABLE_HEIGHT, z - TABLE_HALF, z + TABLE_HALF,
+        "table")
+
+write_obj(os.path.join(out, "dense_hall.obj"),
+          "# dpc dense hall: one 20 x 15 x 4 m room, 8 pillars, 12 tables, written by "
+          "generate_dense_hall.py. Materials are defined in dense_hall.json.\n", verts, faces)
+
+sources = []
+for i in range(8):
+    for j in range(8):
+        sources.append({
+            "name": "talker %d.%d" % (i, j),
+            "position": [round(1.5 + i * 17.0 / 7.0, 3), 1.5, round(1.2 + j * 12.6 / 7.0, 3)],
+            "signal": "signals/speech.wav",
+            "gain_db": -6,
+            "loop": True,
+        })
+loop = [[2.0, 7.5], [18.0, 7.5], [18.0, 8.0], [2.0, 8.0], [2.0, 7.5]]
+t, trajectory = 0.0, []
+for k, (x, z) in enumerate(loop):
+    if k:
+        px, pz = loop[k - 1]
+        t += (abs(x - px) + abs(z - pz)) / 1.2  # walking at 1.2 m/s
+    trajectory.append({"t": round(t, 3), "position": [x, 1.6, z]})
+scene = {
+    "_comment": "Many-source benchmark room (scenes/generate_dense_hall.py): 20 x 15 x 4 m, "
+                "64 static talkers on an 8 x 8 grid, the listener walking a loop between the "
+                "pillar rows at 1.2 m/s. Materials: entries of the materials library "
+                "(materials/library.json).",
+    "mesh": "dense_hall.obj",
+    "materials": {
+        "floor": "concrete_floor",
+        "wall": {"library": "plasterboard_on_frame", "scattering": 0.3},
+        "ceiling": "acoustic_tile_fissured",
+        "pillar": {"library": "concrete_rough", "scattering": 0.3},
+        "table": {"library": "wooden_lining_12mm", "scattering": 0.5},
+    },
+    "listener": {"position": trajectory[0]["position"], "radius": 0.5,
+                 "trajectory": trajectory, "loop": True},
+    "sources": sources,
+    "propagation": {"rays_per_frame": 4096, "max_order": 200, "exact_order": 3,
+                    "cache_tau": 1.0, "frame_rate": 15, "ir_length": 2.0, "seed": 1,
+                    "tracing": "auto"},
+    "audio": {"sample_rate": 48000, "block_size": 512},
+}
+with open(os.path.join(out, "dense_hall.json"), "w") as f:
+    json.dump(scene, f, indent=1)
+    f.write("\n")

@@ -2,11 +2,12 @@
 """Plots frame time, peak memory and per-source quality against the number of sources.
 
 Reads docs/data/sources-market.json (dpc-bench sources scenes/market.json, rendering auto:
-hybrid beyond 4 sources) and docs/data/sources-market-per-source.json (--rendering per_source)
-and writes docs/images/sources-scaling.png: propagation pass and IR synthesis per frame (ms),
-peak RSS (MB), and the worst sampled source's noise, against the number of sources, for both
-tracing directions, with the issue's targets (3x one source at 64, 8x at 256, 256 MB at 64)
-drawn as dotted marks. Missing files are skipped with a note on stderr.
+hybrid beyond 4 sources) with docs/data/sources-market-per-source.json (--rendering
+per_source), and docs/data/sources-dense-hall.json (dpc-bench sources scenes/dense_hall.json),
+and writes docs/images/sources-scaling.png and sources-scaling-dense-hall.png: propagation pass
+and IR synthesis per frame (ms), peak RSS (MB), and the worst sampled source's noise, against
+the number of sources, for both tracing directions, with the targets (TARGET_RATIO x one
+source's frame, TARGET_RSS_MB at 64 sources) drawn as dotted marks. Missing files are skipped with a note on stderr.
 Needs matplotlib (Debian: python3-matplotlib).
 Usage: /usr/bin/python3 scripts/plot_sources.py [--data docs/data] [--out docs/images]
 """
@@ -24,16 +25,20 @@ def worst_noise(row):
     return max((q['noise'] for q in row['quality']), default=float('nan'))
 
 
-def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument('--data', default='docs/data')
-    ap.add_argument('--out', default='docs/images')
-    a = ap.parse_args()
-    fig, (ax1, ax2, ax3) = plt.subplots(1, 3, figsize=(14, 4))
-    data = os.path.join(a.data, 'sources-market.json')
-    j = json.load(open(data)) if os.path.exists(data) else {}
-    if not j:
-        print(f'skipping {data}: missing', file=sys.stderr)
+# The targets drawn: frame (pass + synthesis) at most these multiples of one source's frame,
+# and peak RSS at 64 sources.
+TARGET_RATIO = {64: 2.5, 256: 6.0}
+TARGET_RSS_MB = 256
+
+# Per figure: data file, optional every-source-whole comparison, title, output.
+FIGURES = [
+    ('sources-market.json', 'sources-market-per-source.json', 'market hall',
+     'sources-scaling.png'),
+    ('sources-dense-hall.json', None, 'dense hall, 20 x 15 x 4 m', 'sources-scaling-dense-hall.png'),
+]
+
+
+def plot_rows(j, ax1, ax2, ax3):
     for name, style in (('from_listeners', 'o-'), ('from_sources', 's--')):
         rs = j.get(name)
         if not rs:
@@ -42,24 +47,41 @@ def main():
         ax1.loglog(n, [r['pass_ms_per_frame'] for r in rs], style, label=f'{name}: pass')
         ax1.loglog(n, [r['synthesis_ms_per_frame'] for r in rs], style, alpha=0.5,
                    label=f'{name}: IR synthesis')
+        ax1.loglog(n, [r['frame_ms'] for r in rs], style, color='black', alpha=0.7,
+                   label=f'{name}: frame (pass + synthesis)')
         ax2.loglog(n, [r['peak_rss_mb'] for r in rs], style, label=name)
         ax3.semilogx(n, [worst_noise(r) for r in rs], style, label=name)
-        if name == 'from_listeners':
+        if name == 'from_listeners' and rs[0]['sources'] == 1:
             one = rs[0]['frame_ms']
-            ax1.plot([64, 256], [3 * one, 8 * one], 'k:', marker='x',
-                     label='target: 3x / 8x one source (pass + synthesis)')
-    whole = os.path.join(a.data, 'sources-market-per-source.json')
-    rs = json.load(open(whole)).get('from_listeners') if os.path.exists(whole) else None
-    if rs:
-        n = [r['sources'] for r in rs]
-        ax1.loglog(n, [r['synthesis_ms_per_frame'] for r in rs], 'x:', color='grey',
-                   label='from_listeners: IR synthesis, every source whole')
-        ax2.loglog(n, [r['peak_rss_mb'] for r in rs], 'x:', color='grey',
-                   label='from_listeners, every source whole')
-    else:
-        print(f'skipping {whole}: missing', file=sys.stderr)
-    ax2.plot([64], [256], 'kx', label='target: 256 MB at 64 sources')
-    ax1.set(xlabel='sources', ylabel='ms per frame', title='Frame time (market hall, 1 listener)')
+            counts = sorted(TARGET_RATIO)
+            ax1.plot(counts, [TARGET_RATIO[c] * one for c in counts], 'k:', marker='x',
+                     label='target: %s x one source (pass + synthesis)' %
+                     ' / '.join('%g' % TARGET_RATIO[c] for c in counts))
+
+
+def plot_whole(path, ax1, ax2):
+    rs = json.load(open(path)).get('from_listeners') if os.path.exists(path) else None
+    if not rs:
+        print(f'skipping {path}: missing', file=sys.stderr)
+        return
+    n = [r['sources'] for r in rs]
+    ax1.loglog(n, [r['synthesis_ms_per_frame'] for r in rs], 'x:', color='grey',
+               label='from_listeners: IR synthesis, every source whole')
+    ax2.loglog(n, [r['peak_rss_mb'] for r in rs], 'x:', color='grey',
+               label='from_listeners, every source whole')
+
+
+def figure(data_dir, out_dir, data, whole, title, out):
+    path = os.path.join(data_dir, data)
+    if not os.path.exists(path):
+        print(f'skipping {path}: missing', file=sys.stderr)
+        return
+    fig, (ax1, ax2, ax3) = plt.subplots(1, 3, figsize=(14, 4))
+    plot_rows(json.load(open(path)), ax1, ax2, ax3)
+    if whole:
+        plot_whole(os.path.join(data_dir, whole), ax1, ax2)
+    ax2.plot([64], [TARGET_RSS_MB], 'kx', label=f'target: {TARGET_RSS_MB} MB at 64 sources')
+    ax1.set(xlabel='sources', ylabel='ms per frame', title=f'Frame time ({title}, 1 listener)')
     ax2.set(xlabel='sources', ylabel='peak RSS, MB', title='Peak memory')
     ax3.set(xlabel='sources', ylabel='relative RMS error per 10 ms bin',
             title='Worst sampled source after 20 frames')
@@ -67,9 +89,17 @@ def main():
         ax.grid(True, which='both', alpha=0.3)
         ax.legend(fontsize=7)
     fig.tight_layout()
-    out = os.path.join(a.out, 'sources-scaling.png')
-    fig.savefig(out, dpi=110)
-    print(f'wrote {out}')
+    fig.savefig(os.path.join(out_dir, out), dpi=110)
+    print(f'wrote {os.path.join(out_dir, out)}')
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument('--data', default='docs/data')
+    ap.add_argument('--out', default='docs/images')
+    a = ap.parse_args()
+    for data, whole, title, out in FIGURES:
+        figure(a.data, a.out, data, whole, title, out)
 
 
 if __name__ == '__main__':

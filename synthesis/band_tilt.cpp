@@ -21,17 +21,20 @@ std::pair<size_t, size_t> tiltWindow(size_t bins, double binSeconds, double cent
 
 /// The half-band densities from a window's energies in the octaves below, at and above band.
 HalfBandDensity densityFromSums(int band, double below, double own, double above) {
-  // Mean of exp(x L) over half an octave, x in [0, 1/2]: the log-linear density's average
-  // over a half band, relative to its value at the band centre.
-  auto halfMean = [](double l) {
-    l = std::clamp(l, -kTiltMaxLog, kTiltMaxLog);
-    return std::abs(l) < 1e-6 ? 1.0 : std::expm1(0.5 * l) / (0.5 * l);
+  // Mean of exp(x L) over half an octave, x in [0, 1/2], L = ln(ratio): the log-linear
+  // density's average over a half band relative to its value at the band centre,
+  // (e^{L/2} - 1) / (L/2) with e^{L/2} = sqrt(ratio) (|L| clamped to kTiltMaxLog).
+  auto halfMean = [](double ratio) {
+    static const double lo = std::exp(-kTiltMaxLog), hi = std::exp(kTiltMaxLog);
+    ratio = std::clamp(ratio, lo, hi);
+    const double half = 0.5 * std::log(ratio);
+    return std::abs(half) < 5e-7 ? 1.0 : (std::sqrt(ratio) - 1.0) / half;
   };
   HalfBandDensity r{1.0, 1.0};
   if (!(own > 0.0)) return r;
   // A band's value is its spectral density (band_filters.h), so the ratios compare directly.
-  if (band > 0) r.low = halfMean(std::log(std::max(below / own, 1e-300)));
-  if (band + 1 < kNumBands) r.high = halfMean(std::log(std::max(above / own, 1e-300)));
+  if (band > 0) r.low = halfMean(below / own);
+  if (band + 1 < kNumBands) r.high = halfMean(above / own);
   return r;
 }
 

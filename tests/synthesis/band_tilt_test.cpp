@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
+#include <utility>
 
 #include "engine/energy_response.h"
 #include "synthesis/band_tilt.h"
@@ -67,4 +68,37 @@ TEST_CASE("Tilt windows follow a new response after reset", "[synthesis][tilt]")
   CHECK(fromB.high == Approx(direct.high).epsilon(1e-9));
   CHECK(fromB.high != fromA.high);  // the same window, not the previous response's result
   CHECK(sums.at(4, 0.45).high == 1.0);  // beyond b's end: no energy, no tilt
+}
+
+TEST_CASE("The tilt is the log-linear density's mean over each half band", "[synthesis][tilt]") {
+  // Oracle: the mean over x in [0, 1/2] of ratio^x by the midpoint rule (10^5 points: error
+  // below 1e-9 relative for these ratios), against halfBandDensity on a response whose
+  // neighbouring bands hold the given ratios throughout the window.
+  auto mean = [](double ratio) {
+    const int n = 100000;
+    double s = 0.0;
+    for (int i = 0; i < n; ++i) s += std::pow(ratio, 0.5 * (i + 0.5) / n);
+    return s / n;
+  };
+  for (const auto& [below, above] :
+       {std::pair{4.0, 0.125}, std::pair{1.0, 1.0}, std::pair{1.000001, 0.999}, std::pair{1e-3, 50.0}}) {
+    EnergyResponse er(0.1, 1e-3);
+    for (size_t k = 0; k < er.binCount(); ++k) {
+      er.bins()[k][3] = 1e-4f;
+      er.bins()[k][2] = float(1e-4 * below);
+      er.bins()[k][4] = float(1e-4 * above);
+    }
+    const HalfBandDensity d = halfBandDensity(er, 3, 0.05);
+    INFO("ratios " << below << ", " << above);
+    // The energies are floats: the ratio itself is exact only to 1e-7.
+    CHECK(d.low == Approx(mean(double(er.bins()[0][2]) / double(er.bins()[0][3]))).epsilon(1e-7));
+    CHECK(d.high == Approx(mean(double(er.bins()[0][4]) / double(er.bins()[0][3]))).epsilon(1e-7));
+  }
+  // Beyond kTiltMaxLog the ratio is held at e^(+-kTiltMaxLog).
+  EnergyResponse steep(0.1, 1e-3);
+  for (size_t k = 0; k < steep.binCount(); ++k) {
+    steep.bins()[k][3] = 1.f;
+    steep.bins()[k][4] = 1e-12f;
+  }
+  CHECK(halfBandDensity(steep, 3, 0.05).high == Approx(mean(std::exp(-kTiltMaxLog))).epsilon(1e-7));
 }

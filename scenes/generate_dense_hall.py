@@ -79,7 +79,7 @@ for i in range(8):
             "gain_db": -6,
             "loop": True,
         })
-loop = [[2.0, 7.5], [18.0, 7.5], [18.0, 8.0], [2.0, 8.0], [2.0, 7.5]]
+loop = [[2.0, 7.3], [18.0, 7.3], [18.0, 7.7], [2.0, 7.7], [2.0, 7.3]]
 t, trajectory = 0.0, []
 for k, (x, z) in enumerate(loop):
     if k:
@@ -89,8 +89,8 @@ for k, (x, z) in enumerate(loop):
 scene = {
     "_comment": "Many-source benchmark room (scenes/generate_dense_hall.py): 20 x 15 x 4 m, "
                 "64 static talkers on an 8 x 8 grid, the listener walking a loop between the "
-                "pillar rows at 1.2 m/s. Materials: entries of the materials library "
-                "(materials/library.json).",
+                "pillar rows (and between two rows of talkers, 0.7 m clear of them) at "
+                "1.2 m/s. Materials: entries of the materials library (materials/library.json).",
     "mesh": "dense_hall.obj",
     "materials": {
         "floor": "concrete_floor",

@@ -466,3 +466,23 @@ TEST_CASE("The path cache pool is sized by the scene unless given", "[scene]") {
   f.scene["propagation"]["cache_pool_mb"] = -1;  // the sentinel is no value a file can give
   CHECK_THAT(f.error(), Catch::Contains("propagation.cache_pool_mb"));
 }
+
+TEST_CASE("Shipped dense hall: 64 talkers inside one 20 x 15 x 4 m room", "[scene]") {
+  const SceneDesc s = loadScene(kSourceDir + "/scenes/dense_hall.json");
+  glm::vec3 lo(1e9f), hi(-1e9f);
+  for (const auto& v : s.mesh.vertices) lo = glm::min(lo, v), hi = glm::max(hi, v);
+  CHECK(hi - lo == glm::vec3(20.f, 4.f, 15.f));
+  REQUIRE(s.sources.size() == 64);
+  for (const SourceDesc& src : s.sources) {
+    INFO(src.name);
+    CHECK(glm::all(glm::greaterThan(src.position, lo)));
+    CHECK(glm::all(glm::lessThan(src.position, hi)));
+    CHECK(src.trajectory.empty());  // static: the many-source benchmark's case
+    // The walking listener's sphere never reaches a talker.
+    for (double t = 0.0; t < 30.0; t += 0.1)
+      CHECK(glm::distance(listenerPositionAt(s.listeners[0], t), src.position) >
+            s.listeners[0].radius);
+  }
+  CHECK(s.propagation.cachePoolMb == kCachePoolAuto);
+  CHECK(s.warnings.empty());
+}

@@ -15,14 +15,16 @@ namespace {
 
 /// Four analysis filters side by side, one per lane (3 biquads each, transposed direct form
 /// II, coefficients c[coef][section] with coef = b0, b1, b2, a1, a2), each on its own input
-/// in[lane][0, length): each lane's squared output summed over bins of w samples into
-/// e[lane][bin]. The recursions are serial per lane; side by side they run in parallel.
+/// in[lane][from, length), from a multiple of w, started at rest there: each lane's squared
+/// output summed over bins of w samples into e[lane][bin] (bins before from: 0). The
+/// recursions are serial per lane; side by side they run in parallel.
 DPC_WIDE_VECTORS
-void analysedEnergy4(const Double4 (&c)[5][3], const float* const (&in)[4], size_t length, size_t w,
-                     double* const (&e)[4]) {
+void analysedEnergy4(const Double4 (&c)[5][3], const float* const (&in)[4], size_t from,
+                     size_t length, size_t w, double* const (&e)[4]) {
   Double4 s1[3] = {}, s2[3] = {};
   const Double4 tiny = {1e-150, 1e-150, 1e-150, 1e-150}, zero = {};
-  for (size_t begin = 0; begin < length; begin += w) {
+  for (size_t lane = 0; lane < 4; ++lane) std::fill(e[lane], e[lane] + from / w, 0.0);
+  for (size_t begin = from; begin < length; begin += w) {
     const size_t end = std::min(length, begin + w);
     Double4 sum = {};
     for (size_t n = begin; n < end; ++n) {
@@ -183,10 +185,20 @@ void BandLeveller::splitBands(const std::array<int, kNumBands>& bands, int count
   }
 }
 
-void BandLeveller::measureBands(const std::array<int, kNumBands>& bands, int count) {
+void BandLeveller::measureBands(const std::array<int, kNumBands>& bands,
+                                const std::array<size_t, kNumBands>& first, int count) {
   // Splatter sits mostly low in A_b's span, inside the analysed octave, so A_b's reach up to
-  // Nyquist must not excuse it. Four bands at a time in vector lanes.
+  // Nyquist must not excuse it. Four bands at a time in vector lanes, each group's filters
+  // started at rest kSettlePeriods periods of its lowest band's centre before the first bin a
+  // comparison window of its bands reads: the bins before are never compared, and what the
+  // filters' start from rest leaves out has rung down below -100 dB by then.
   for (int g = 0; g < count; g += 4) {
+    const int last = std::min(count, g + 4);
+    size_t firstRead = actual_[size_t(bands[size_t(g)])].size();
+    for (int i = g; i < last; ++i) firstRead = std::min(firstRead, first[size_t(bands[size_t(i)])]);
+    const double settle = kSettlePeriods * sampleRate_ / bandCentreExactHz(bands[size_t(g)]);
+    const size_t before = kWindowBins / 2 + size_t(std::ceil(settle / double(binSamples_)));
+    const size_t from = (firstRead > before ? firstRead - before : 0) * binSamples_;
     Double4 coef[5][3] = {};
     const float* in[4];
     double* e[4];
@@ -206,7 +218,7 @@ void BandLeveller::measureBands(const std::array<int, kNumBands>& bands, int cou
         coef[4][k][lane] = q.a2;
       }
     }
-    analysedEnergy4(coef, in, length_, binSamples_, e);
+    analysedEnergy4(coef, in, from, length_, binSamples_, e);
   }
 }
 
@@ -271,7 +283,7 @@ void BandLeveller::apply(float* ir, double tolerance, double maxBoost) {
   std::copy(ir, ir + length_, c.time.p);
   fftwf_execute(c.fwd);
   splitBands(bands, count);
-  measureBands(bands, count);
+  measureBands(bands, first, count);
   for (int i = 0; i < count; ++i) {
     const size_t bi = size_t(bands[size_t(i)]);
     if (bandGains(bi, first[bi], tolerance, maxBoost)) applyGains(bi, ir);

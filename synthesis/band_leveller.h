@@ -46,6 +46,9 @@ class BandLeveller {
   /// Bins per comparison window (centred): energy a synthesis moves between neighbouring bins
   /// (a bin without pulses passes its share on) is not taken for an error.
   static constexpr size_t kWindowBins = 5;
+  /// Periods of its centre an analysis filter runs before the first bin compared (started at
+  /// rest: its 3 biquads' poles, Q up to about 2.2, decay some 12 dB a period).
+  static constexpr double kSettlePeriods = 16.0;
 
   /// sampleRate Hz; length samples of the IRs to level; bands firstBand..7 are levelled (those
   /// whose analysis filter fits below Nyquist); startSample as in the file comment.
@@ -90,8 +93,10 @@ class BandLeveller {
   int levelledBands(std::array<int, kNumBands>& bands, std::array<size_t, kNumBands>& first) const;
   /// part_[b] = ir (whose spectrum fft_->spec holds) through A_b for the given bands.
   void splitBands(const std::array<int, kNumBands>& bands, int count);
-  /// actual_[b] = what b's analysis filter measures of part_[b], per bin.
-  void measureBands(const std::array<int, kNumBands>& bands, int count);
+  /// actual_[b] = what b's analysis filter measures of part_[b], per bin, from the bins a
+  /// comparison window from first[b] on reads (0 before).
+  void measureBands(const std::array<int, kNumBands>& bands,
+                    const std::array<size_t, kNumBands>& first, int count);
   /// gain_ per bin for band b; whether any differs from 1.
   bool bandGains(size_t bi, size_t first, double tolerance, double maxBoost);
   /// ir += (g(n) - 1) part_[b], g linear between the bins' centres.

@@ -310,7 +310,7 @@ void HybridSynthesis::updateBuses(size_t listener, std::vector<ImpulseResponse>&
                                      : LateShape::of(x.late[size_t(k)], split_.splitSeconds);
     BusMade& made = made_[listener][size_t(k)];
     if (keepToleranceDb_ > 0.0 && made.valid &&
-        shape.maxDifferenceDb(made.shape) <= keepToleranceDb_) {
+        shape.maxExcessDb(made.shape) <= keepToleranceDb_) {
       ++n.busesKept;
       continue;
     }

@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <memory>
+#include <random>
 #include <string>
 
 #include "runtime/late_shape.h"
@@ -113,4 +114,79 @@ TEST_CASE("Late buses kept: each source keeps its own late level when it jumps",
     CHECK(a.response == b.response);
     CHECK(std::abs(10.0 * std::log10(a.ir / b.ir)) < 0.5);
   }
+}
+
+namespace {
+
+/// A late response m_k (each band its own decay) times independent Gamma noise of mean 1 and
+/// relative variance 1 / kappa per 1 ms bin: a Monte Carlo estimate whose bins scatter as a
+/// path tracer's do.
+EnergyResponse noisyDecay(std::mt19937& rng, double kappa) {
+  std::gamma_distribution<double> g(kappa, 1.0 / kappa);
+  EnergyResponse r(1.0, 0.001);
+  for (size_t j = 0; j < r.binCount(); ++j)
+    for (int b = 0; b < kNumBands; ++b)
+      r.bins()[j][b] = float(std::exp(-double(j) * 0.001 / (0.25 - 0.02 * b)) * g(rng));
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("Late shape: a cell's Monte Carlo variance is read from the response itself",
+          "[hybrid]") {
+  // Oracle: the spread of the cells over 400 independent realisations. The estimate's mean
+  // over them against it within 20 %: the empirical variance of 400 draws is itself within
+  // sqrt(2 / 400) = 7 % (1 sigma), so 20 % is 3 sigma.
+  std::mt19937 rng(5);
+  const double start = 0.1, kappa = 4.0;
+  const int n = 400;
+  double estimate[kNumBands][LateShape::kSegments] = {}, sum[kNumBands][LateShape::kSegments] = {},
+         sum2[kNumBands][LateShape::kSegments] = {};
+  for (int i = 0; i < n; ++i) {
+    const EnergyResponse r = noisyDecay(rng, kappa);
+    const LateShape s = LateShape::of(r, start);
+    for (int b = 0; b < kNumBands; ++b)
+      for (int q = 0; q < LateShape::kSegments; ++q) {
+        // The cell's energy (the shape times the total), and its estimated relative variance.
+        double cell = 0.0;
+        for (size_t j = 0; j < r.binCount(); ++j) {
+          const double t = (double(j) + 0.5) * 0.001 - start;
+          const int seg = t < 0.0 ? -1 : t < 0.05 ? 0 : t < 0.1 ? 1 : t < 0.2 ? 2 : t < 0.4 ? 3
+                                                  : t < 0.8 ? 4 : 5;
+          if (seg == q) cell += r.bins()[j][b];
+        }
+        sum[b][q] += cell;
+        sum2[b][q] += cell * cell;
+        estimate[b][q] += s.relativeVariance(b, q) / n;
+      }
+  }
+  for (int b = 0; b < kNumBands; ++b)
+    for (int q = 0; q < 4; ++q) {  // the segments up to 400 ms: where their cells hold energy
+      const double mean = sum[b][q] / n, var = sum2[b][q] / n - mean * mean;
+      INFO("band " << b << " segment " << q);
+      CHECK(estimate[b][q] == Approx(var / (mean * mean)).epsilon(0.2));
+    }
+}
+
+TEST_CASE("Late shape: an unchanged response's scatter is no change, a change beyond it is",
+          "[hybrid]") {
+  std::mt19937 rng(9);
+  const double start = 0.1;
+  int rawOver = 0, excessOver = 0;
+  const int trials = 200;
+  for (int i = 0; i < trials; ++i) {
+    const LateShape a = LateShape::of(noisyDecay(rng, 4.0), start);
+    const LateShape b = LateShape::of(noisyDecay(rng, 4.0), start);
+    rawOver += a.maxDifferenceDb(b) > 0.5;
+    excessOver += a.maxExcessDb(b) > 0.5;
+  }
+  // Two estimates of one response: their raw shapes differ by more than 0.5 dB nearly always
+  // (the 50 ms cells of a bin noise of 50 % scatter by about 0.3 dB each), beyond the margin
+  // of 3 sigma in about 10 % of the trials (48 cells); 25 % bounds that with margin.
+  CHECK(rawOver > trials * 9 / 10);
+  CHECK(excessOver < trials / 4);
+  // A real change: 1 kHz 3 dB stronger from 300 ms on, in estimates of a tenth the scatter.
+  EnergyResponse quiet = noisyDecay(rng, 400.0), changed = noisyDecay(rng, 400.0);
+  for (size_t j = 300; j < changed.binCount(); ++j) changed.bins()[j][4] *= 2.f;
+  CHECK(LateShape::of(quiet, start).maxExcessDb(LateShape::of(changed, start)) > 1.0);
 }

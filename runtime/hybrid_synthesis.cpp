@@ -315,7 +315,7 @@ void HybridSynthesis::updateBuses(size_t listener, std::vector<ImpulseResponse>&
       continue;
     }
     synthesizeBus(k, late[size_t(k)]);
-    made = BusMade{shape, x.busEnergy[size_t(k)], true};
+    made = BusMade{shape, x.busEnergy[size_t(k)], true, ++lastBusIrId_};
     ++n.busesSynthesized;
   }
 }

@@ -121,6 +121,12 @@ class HybridSynthesis {
   /// session's choice: a frame then synthesises only the buses whose late field changed.
   /// Control thread, before the frames; no allocation.
   void reuseLateBuses(double toleranceDb) { keepToleranceDb_ = toleranceDb; }
+  /// The identity of the IR bus k of listener l holds since its last synthesis: unique over
+  /// this object's syntheses (any listener), 0 before the first. An IR set whose partitions
+  /// were made from the IR of that identity need not partition it again. Propagation thread.
+  uint64_t busIrId(size_t listener, int k) const {
+    return listener < made_.size() ? made_[listener][size_t(k)].id : 0;
+  }
 
   const HybridCounts& counts(size_t listener) const { return counts_.at(listener); }
   /// The report for listener l (a listener never prepared reports zero counts).
@@ -195,7 +201,9 @@ class HybridSynthesis {
     LateShape shape;
     double energy = 0.0;
     bool valid = false;
+    uint64_t id = 0;  ///< busIrId
   };
+  uint64_t lastBusIrId_ = 0;
   std::vector<std::vector<BusMade>> made_;  ///< per listener, per bus
   double keepToleranceDb_ = 0.0;            ///< 0: every bus synthesised every frame
 };

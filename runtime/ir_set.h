@@ -23,6 +23,9 @@ struct IrSet {
   /// Hybrid: per source, the amplitude gain of its dry signal into its bus, and the bus.
   std::vector<float> lateGain;
   std::vector<int> lateBus;
+  /// Hybrid: per bus, the identity of the bus IR lateIrs holds the partitions of
+  /// (HybridSynthesis::busIrId; 0: none yet): a kept bus IR is not partitioned again.
+  std::vector<uint64_t> lateIrIds;
   size_t listener = 0;           ///< listener index (scene.listeners order) it was computed for
   uint64_t frame = 0;            ///< propagation frame index that produced it
   double poseTimeSeconds = 0.0;  ///< scene time of the listener pose it was computed for

@@ -5,12 +5,16 @@
 // energy response and the IR as the audio thread plays it), read with the test's own sums.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <algorithm>
 #include <memory>
 #include <random>
 #include <string>
 
 #include "runtime/late_shape.h"
+#include "runtime/ir_exchange.h"
 #include "runtime/live_session.h"
+#include "runtime/propagation_stage.h"
+#include "scene/trajectory.h"
 #include "scene/scene.h"
 #include "testing/test_scenes.h"
 
@@ -189,4 +193,68 @@ TEST_CASE("Late shape: an unchanged response's scatter is no change, a change be
   EnergyResponse quiet = noisyDecay(rng, 400.0), changed = noisyDecay(rng, 400.0);
   for (size_t j = 300; j < changed.binCount(); ++j) changed.bins()[j][4] *= 2.f;
   CHECK(LateShape::of(quiet, start).maxExcessDb(LateShape::of(changed, start)) > 1.0);
+}
+
+namespace {
+
+/// Whether two sets hold the same late-bus partitions (every level's active partitions, every
+/// channel, every float of their split spectra) for bus k.
+bool sameBusPartitions(const IrSet& a, const IrSet& b, int k) {
+  const audio::NonUniformIrSet &x = *a.lateIrs, &y = *b.lateIrs;
+  for (int l = 0; l < x.layout().numLevels(); ++l) {
+    if (x.activePartitions(k, l) != y.activePartitions(k, l)) return false;
+    const size_t floats = 2 * (size_t(x.layout().level(l).partitionSize) + 1);
+    for (int c = 0; c < x.numChannels(); ++c)
+      for (int p = 0; p < x.activePartitions(k, l); ++p)
+        if (!std::equal(x.spectrum(l, k, c, p), x.spectrum(l, k, c, p) + floats,
+                        y.spectrum(l, k, c, p)))
+          return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+TEST_CASE("A kept bus IR is partitioned once per set: a recycled set holds what a new one would",
+          "[hybrid]") {
+  // Oracle: a set that never held the bus (its partitions made fresh from the bus's IR), filled
+  // on the same frame as a recycled set that skipped the bus because it held its IR already.
+  SceneDesc scene = loadScene(std::string(DPC_SOURCE_DIR) + "/scenes/two_rooms.json");
+  scene.audio.rendering = Rendering::kHybrid;
+  scene.audio.lateBuses = 1;
+  auto shared = test::shared(scene);
+  PropagationSettings ps = scene.propagation;
+  ps.raysPerFrame = 2048;
+  PropagationStage stage(shared, ps);
+  stage.reuseLateBuses(6.0);  // the bus is kept from the second frame on
+  const auto exchange = stage.makeExchange(1, 3);
+  IrSet *a = exchange->acquire(), *b = exchange->acquire(), *fresh = exchange->acquire();
+  REQUIRE((a && b && fresh));
+  WorldState world;
+  auto frame = [&](IrSet& set) {
+    evaluateWorld(scene, 0.0, world);
+    stage.traceWorld(world);
+    stage.prepare(0, set);
+  };
+  frame(*a);
+  frame(*b);
+  const uint64_t kept = stage.hybrid()->busIrId(0, 0);
+  frame(*a);  // kept since a was filled: a keeps its partitions
+  REQUIRE(stage.hybrid()->counts(0).busesKept >= 2);
+  REQUIRE(stage.hybrid()->busIrId(0, 0) == kept);
+  stage.prepare(0, *fresh);  // the same frame into a set that never held the bus
+  CHECK(fresh->lateIrIds[0] == kept);
+  CHECK(sameBusPartitions(*a, *fresh, 0));
+  // Remade every frame from here: a set holding the old IR must take the new one.
+  stage.reuseLateBuses(0.0);
+  frame(*b);
+  frame(*a);
+  CHECK(stage.hybrid()->busIrId(0, 0) != kept);
+  CHECK(a->lateIrIds[0] == stage.hybrid()->busIrId(0, 0));
+  IrSet* other = exchange->acquire();
+  REQUIRE(other);
+  stage.reuseLateBuses(6.0);  // keep the IR a was just filled with
+  stage.prepare(0, *other);
+  CHECK(sameBusPartitions(*a, *other, 0));
+  CHECK_FALSE(sameBusPartitions(*b, *a, 0));  // b, one frame older, holds another IR
 }

@@ -86,7 +86,7 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   levelStart_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, kLevelFromPulses);
   rotationFrom_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound,
                                              kIndependentFromDensity * BandLeveller::kBinSeconds);
-  if (gainsOnly_ && reference_ == Reference::kFirstChannelPressure) {
+  {
     channelLevelStart_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, 1.0);
     channelLevelling_ =
         std::make_shared<ChannelLevelling>(sampleRate, length_, channelLevelStart_,

@@ -170,6 +170,9 @@ class SpatialIrSynthesizer {
   /// kappa_ and channelWeight_ from every direction's filters.
   void equaliseDiffuseField(const std::vector<DirectionFilter>& filters,
                             const OctaveBandMasks& masks, FftwRealTransforms& fft);
+  /// levelWeight_ from every direction's filters (after channelWeight_ and kappa_).
+  void setLevelWeights(const std::vector<DirectionFilter>& filters, const OctaveBandMasks& masks,
+                       FftwRealTransforms& fft);
   /// omniGains_ from reference_ and the channels the filters use.
   void setOmniGains();
   /// Direction d's sequence through A_b and its channels' filters, and its envelope.
@@ -254,6 +257,9 @@ class SpatialIrSynthesizer {
   /// channelWeight_[d][c][b]: direction d's channel c filter's band energy / kappa_b;
   /// directWeight_: the same for the last direct sound's exact filter.
   std::vector<std::vector<Bands>> channelWeight_;
+  /// levelWeight_[d][c][b]: the levellers' weight, channelWeight_ times what a band view sees
+  /// of the direction's equalised filter over what it sees of the flat band model.
+  std::vector<std::vector<Bands>> levelWeight_;
   std::vector<Bands> directWeight_;
   std::vector<double> arrivalDelays_;  ///< this frame's arrivals, seconds
   std::vector<Bands> arrivalEnergy_;   ///< per arrival and channel: band energy as levelled

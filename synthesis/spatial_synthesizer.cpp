@@ -62,6 +62,7 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   equaliseDiffuseField(filters, masks, big);
   // Per direction: its own Dirac sequence, through A_b and the direction's filters.
   gainsOnly_ = maxFilter == 1;
+  if (!gainsOnly_ && reference_ == Reference::kChannelAverage) reverbDelay_ = filterDelay(filters);
   if (gainsOnly_) directionScratch_.assign(length_, 0.f);
   bands_ = std::make_shared<std::vector<std::vector<std::array<std::vector<float>, kNumBands>>>>(
       directions_.size());
@@ -253,7 +254,10 @@ void SpatialIrSynthesizer::directionBands(size_t d, const std::vector<float>& se
         fft.band.p[k][1] = v.imag();
       }
       fftwf_execute_dft_c2r(fft.inv, fft.band.p, fft.time.p);
-      (*bands_)[d][c][size_t(b)].assign(fft.time.p, fft.time.p + length_);
+      // Advanced by the filters' delay: the envelope's gains then meet the pulses they were
+      // set for, and synthesize() delays the rendered field by it again.
+      (*bands_)[d][c][size_t(b)].assign(fft.time.p + reverbDelay_,
+                                        fft.time.p + reverbDelay_ + length_);
     }
   }
 }
@@ -356,6 +360,7 @@ void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
   if (channelLevelling_)
     channelLevelling_->level(energy, count, levelWeight_, omniGains_, kDirectionalFromBand,
                              onset, channels);
+  delayField(onset, channels);
   arrivalDelays_.clear();
   arrivalEnergy_.clear();
   if (direct.visible) addArrival(direct, energy.toListener(direct.direction), channels);
@@ -365,6 +370,33 @@ void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
   }
   level(energy, count, channels);
   cutLeadingResidue(channels, length_, onset, sampleRate_);
+}
+
+size_t SpatialIrSynthesizer::filterDelay(const std::vector<DirectionFilter>& filters) {
+  // The centroid of |h|^2, averaged over directions and channels: a field of noise through h
+  // has its energy envelope delayed by that much (an envelope convolved with |h|^2).
+  double sum = 0.0;
+  size_t count = 0;
+  for (const DirectionFilter& f : filters)
+    for (const std::vector<float>& h : f.channels) {
+      double e = 0.0, moment = 0.0;
+      for (size_t t = 0; t < h.size(); ++t) {
+        e += double(h[t]) * h[t];
+        moment += double(t) * h[t] * h[t];
+      }
+      if (e > 0.0) sum += moment / e;
+      count += e > 0.0 ? 1 : 0;
+    }
+  return count ? size_t(std::lround(sum / double(count))) : 0;
+}
+
+void SpatialIrSynthesizer::delayField(size_t onset, std::span<float* const> channels) const {
+  if (reverbDelay_ == 0 || onset >= length_) return;
+  for (float* out : channels) {
+    const size_t kept = length_ - onset > reverbDelay_ ? length_ - onset - reverbDelay_ : 0;
+    if (kept > 0) std::copy_backward(out + onset, out + onset + kept, out + length_);
+    std::fill(out + onset, out + std::min(length_, onset + reverbDelay_), 0.f);
+  }
 }
 
 void SpatialIrSynthesizer::accumulateDirections(size_t count, std::span<float* const> channels,

@@ -11,30 +11,10 @@
 #include "synthesis/mono_synthesizer.h"
 #include "synthesis/band_leveller.h"
 #include "synthesis/dirac_sequence.h"
+#include "synthesis/filter_shape.h"
 #include "synthesis/late_rotation.h"
 
 namespace dpc {
-
-namespace {
-
-/// The longest channel filter of any direction (at least 1); throws std::invalid_argument
-/// unless every direction has `channels` >= 1 channels of 1 .. margin - 1 taps.
-size_t longestFilter(const std::vector<DirectionFilter>& filters, size_t channels, size_t margin) {
-  if (channels == 0) throw std::invalid_argument("SpatialIrSynthesizer: filters need a channel");
-  size_t longest = 1;
-  for (const DirectionFilter& f : filters) {
-    if (f.channels.size() != channels)
-      throw std::invalid_argument("SpatialIrSynthesizer: every direction needs the same channels");
-    for (const std::vector<float>& h : f.channels) {
-      if (h.empty() || h.size() >= margin)
-        throw std::invalid_argument("SpatialIrSynthesizer: filters must have 1 .. rate/4 taps");
-      longest = std::max(longest, h.size());
-    }
-  }
-  return longest;
-}
-
-}  // namespace
 
 SpatialIrSynthesizer::~SpatialIrSynthesizer() = default;
 
@@ -62,7 +42,7 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   equaliseDiffuseField(filters, masks, big);
   // Per direction: its own Dirac sequence, through A_b and the direction's filters.
   gainsOnly_ = maxFilter == 1;
-  if (!gainsOnly_ && reference_ == Reference::kChannelAverage) reverbDelay_ = filterDelay(filters);
+  if (!gainsOnly_ && reference_ == Reference::kChannelAverage) reverbDelay_ = fieldDelay(filters);
   if (gainsOnly_) directionScratch_.assign(length_, 0.f);
   bands_ = std::make_shared<std::vector<std::vector<std::array<std::vector<float>, kNumBands>>>>(
       directions_.size());
@@ -169,47 +149,12 @@ void SpatialIrSynthesizer::equaliseDiffuseField(const std::vector<DirectionFilte
   for (auto& perChannel : channelWeight_)
     for (Bands& w : perChannel)
       for (int b = 0; b < kNumBands; ++b) w[b] = float(double(w[b]) / kappa_[size_t(b)]);
-  setLevelWeights(filters, masks, fft);
+  // The levellers' weights: what their views see of each filter, not the flat band model
+  // (synthesis/filter_shape.h).
+  std::array<double, kNumBands> equalisation{};
+  for (int b = 0; b < kNumBands; ++b) equalisation[size_t(b)] = 1.0 / kappa_[size_t(b)];
+  levelWeight_ = viewWeights(filters, channelWeight_, equalisation, masks, fft, sampleRate_);
   setOmniGains();
-}
-
-void SpatialIrSynthesizer::setLevelWeights(const std::vector<DirectionFilter>& filters,
-                                           const OctaveBandMasks& masks,
-                                           FftwRealTransforms& fft) {
-  // A levelled band's measurement (a window view M_b^2, an analysis filter) weighs the
-  // spectrum across and beyond its octave: what it sees of direction d's equalised filter,
-  // |H|^2 g^2 with g = sum_k M_k^2 / sqrt(kappa_k), differs from what it sees of the flat
-  // model sum_k w_k M_k^2 that the band weights w stand for wherever |H|^2 is not flat
-  // across the band (an HRIR's ear-canal rise: up to 0.5 dB at 1 and 2 kHz). The ratio of the
-  // two through the view M_b^2 scales the weight; one-tap filters are flat and keep theirs.
-  levelWeight_ = channelWeight_;
-  const size_t nbins = fft.n / 2 + 1;
-  Spectrum spec(nbins);
-  std::array<double, kNumBands> rootKappa{};
-  for (int b = 0; b < kNumBands; ++b) rootKappa[size_t(b)] = std::sqrt(kappa_[size_t(b)]);
-  for (size_t d = 0; d < filters.size(); ++d)
-    for (size_t c = 0; c < channels_; ++c) {
-      if (filters[d].channels[c].size() == 1) continue;
-      spectrumOf(fft, filters[d].channels[c], spec);
-      const Bands& w = channelWeight_[d][c];
-      std::array<double, kNumBands> seen{}, flat{}, m2{};
-      for (size_t k = 0; k < nbins; ++k) {
-        double g = 0.0, model = 0.0;
-        for (int b = 0; b < kNumBands; ++b) {
-          m2[size_t(b)] = double(masks.gain(b, k)) * masks.gain(b, k);
-          g += m2[size_t(b)] / rootKappa[size_t(b)];
-          model += m2[size_t(b)] * w[b];
-        }
-        const double h2 = double(std::norm(spec[k])) * g * g;
-        for (int b = 0; b < kNumBands; ++b) {
-          seen[size_t(b)] += m2[size_t(b)] * h2;
-          flat[size_t(b)] += m2[size_t(b)] * model;
-        }
-      }
-      for (int b = 0; b < kNumBands; ++b)
-        if (flat[size_t(b)] > 0.0)
-          levelWeight_[d][c][b] = float(double(w[b]) * seen[size_t(b)] / flat[size_t(b)]);
-    }
 }
 
 void SpatialIrSynthesizer::setOmniGains() {
@@ -360,7 +305,7 @@ void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
   if (channelLevelling_)
     channelLevelling_->level(energy, count, levelWeight_, omniGains_, kDirectionalFromBand,
                              onset, channels);
-  delayField(onset, channels);
+  delayFrom(onset, reverbDelay_, length_, channels);  // as the filters delay every arrival
   arrivalDelays_.clear();
   arrivalEnergy_.clear();
   if (direct.visible) addArrival(direct, energy.toListener(direct.direction), channels);
@@ -370,33 +315,6 @@ void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
   }
   level(energy, count, channels);
   cutLeadingResidue(channels, length_, onset, sampleRate_);
-}
-
-size_t SpatialIrSynthesizer::filterDelay(const std::vector<DirectionFilter>& filters) {
-  // The centroid of |h|^2, averaged over directions and channels: a field of noise through h
-  // has its energy envelope delayed by that much (an envelope convolved with |h|^2).
-  double sum = 0.0;
-  size_t count = 0;
-  for (const DirectionFilter& f : filters)
-    for (const std::vector<float>& h : f.channels) {
-      double e = 0.0, moment = 0.0;
-      for (size_t t = 0; t < h.size(); ++t) {
-        e += double(h[t]) * h[t];
-        moment += double(t) * h[t] * h[t];
-      }
-      if (e > 0.0) sum += moment / e;
-      count += e > 0.0 ? 1 : 0;
-    }
-  return count ? size_t(std::lround(sum / double(count))) : 0;
-}
-
-void SpatialIrSynthesizer::delayField(size_t onset, std::span<float* const> channels) const {
-  if (reverbDelay_ == 0 || onset >= length_) return;
-  for (float* out : channels) {
-    const size_t kept = length_ - onset > reverbDelay_ ? length_ - onset - reverbDelay_ : 0;
-    if (kept > 0) std::copy_backward(out + onset, out + onset + kept, out + length_);
-    std::fill(out + onset, out + std::min(length_, onset + reverbDelay_), 0.f);
-  }
 }
 
 void SpatialIrSynthesizer::accumulateDirections(size_t count, std::span<float* const> channels,

@@ -170,14 +170,6 @@ class SpatialIrSynthesizer {
   /// kappa_ and channelWeight_ from every direction's filters.
   void equaliseDiffuseField(const std::vector<DirectionFilter>& filters,
                             const OctaveBandMasks& masks, FftwRealTransforms& fft);
-  /// The delay (samples) of a field of noise through the filters: the mean centroid of |h|^2.
-  static size_t filterDelay(const std::vector<DirectionFilter>& filters);
-  /// Delays the rendered field (from onset on) by reverbDelay_, as the filters delay the
-  /// direct sound and every exact arrival.
-  void delayField(size_t onset, std::span<float* const> channels) const;
-  /// levelWeight_ from every direction's filters (after channelWeight_ and kappa_).
-  void setLevelWeights(const std::vector<DirectionFilter>& filters, const OctaveBandMasks& masks,
-                       FftwRealTransforms& fft);
   /// omniGains_ from reference_ and the channels the filters use.
   void setOmniGains();
   /// Direction d's sequence through A_b and its channels' filters, and its envelope.
@@ -253,8 +245,10 @@ class SpatialIrSynthesizer {
   std::shared_ptr<std::vector<std::vector<std::array<std::vector<float>, kNumBands>>>> bands_;
   std::vector<std::vector<float>> gains_;
   bool gainsOnly_ = false;
-  /// HRIRs (kChannelAverage with filters of more than one tap): filterDelay(), samples; the
-  /// band signals are stored advanced by it and the rendered field delayed by it (0 otherwise).
+  /// HRIRs (kChannelAverage with filters of more than one tap): fieldDelay() of the filters
+  /// (synthesis/filter_shape.h), samples; the band signals are stored advanced by it, so the
+  /// envelopes' gains meet the pulses they were set for, and the rendered field is delayed by
+  /// it again (0 otherwise).
   size_t reverbDelay_ = 0;
   /// With gainsOnly_: one direction's enveloped signal over the current block (length_
   /// samples, the block's range used), mixed into every channel by its gain.

@@ -46,8 +46,8 @@ class ResponseBands {
     const bool flat = reverberantScale.min() == 1.f && reverberantScale.max() == 1.f &&
                       directScale.min() == 1.f && directScale.max() == 1.f;
     const EnergyResponse none(double(er.binCount()) * er.binSeconds(), er.binSeconds());
-    const auto directOnly =
-        flat ? std::array<std::vector<double>, kNumBands>{} : expectedBandAnalysisEnergy(none, direct, fs);
+    const auto directOnly = flat ? std::array<std::vector<double>, kNumBands>{}
+                                 : expectedBandAnalysisEnergy(none, direct, fs);
     std::vector<double> e(er.binCount()), x;
     for (int b = 0; b < kNumBands; ++b) {
       for (size_t k = 0; k < e.size(); ++k) e[k] = er.bins()[k][b];

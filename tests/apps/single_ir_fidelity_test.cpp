@@ -16,8 +16,8 @@
 // larger.
 //
 // A first-order AmbiX IR is checked alike per channel in its window-levelled bands (250 Hz -
-// 1 kHz). The spatial case (hidden: [.spatial]) measures every band per channel of binaural,
-// stereo and first-order ambisonic output; binaural and stereo are not window-levelled.
+// 1 kHz), a stereo IR per channel at 250 Hz - 4 kHz. The binaural case (hidden: [.spatial])
+// checks each ear at 250 Hz - 4 kHz against an exact IR through the HRIRs.
 #include <algorithm>
 #include <array>
 #include <catch2/catch.hpp>
@@ -115,12 +115,6 @@ Difference differenceOf(const char* what, const test::BandReading& r) {
   std::printf("%s band %4d Hz: G %+.2f dB, C80 %+.2f dB, EDT %+.1f %%\n", what,
               int(kBandCentreHz[size_t(r.band)]), d.g, d.c80, 100 * d.edt);
   return d;
-}
-
-/// Whether one band of one IR reads as the exact IR does, within the tolerances; prints it.
-bool within(const char* what, const test::BandReading& r) {
-  const Difference d = differenceOf(what, r);
-  return std::abs(d.g) <= kG && std::abs(d.c80) <= kC80 && std::abs(d.edt) <= kEdt;
 }
 
 /// Checks one band's differences over rooms and seeds: RMS within (kG, kC80, kEdt), each
@@ -343,25 +337,41 @@ void forEachChannelReading(const SceneDesc& scene, const char* name, int lastBan
 
 }  // namespace
 
-TEST_CASE("One spatial IR: every channel reads its response's octave G, C80 and EDT",
-          "[.spatial][synthesis][single_ir]") {
-  struct Format {
-    const char* name;
-    OutputFormat output;
-    int order;
-  };
-  for (const Format f :
-       {Format{"binaural", OutputFormat::kBinaural, 0}, Format{"stereo", OutputFormat::kStereo, 0},
-        Format{"ambisonics-1", OutputFormat::kAmbisonics, 1}}) {
-    SceneDesc scene;
-    scene.audio.output = f.output;
-    if (f.order > 0) scene.audio.ambisonicOrder = f.order;
-    forEachChannelReading(scene, f.name, kLastBand,
-                          [](const char* what, const test::BandReading& r) {
-                            INFO(what << " band " << r.band);
-                            CHECK(within(what, r));
-                          });
+namespace {
+
+/// Every channel of one `output` IR per room and seed, 250 Hz - 4 kHz, checked as the mono case
+/// is (checkBand) over the 12 IRs x 2 channels; each single channel-IR within 2.3x the
+/// tolerance: the largest of 24 normal draws lies about sqrt(2 ln 24) = 2.5 standard
+/// deviations out against 2.2 for the mono case's 12, so its 2x scales to 2.3x.
+void checkTwoChannelFormat(OutputFormat output, const char* name) {
+  SceneDesc scene;
+  scene.audio.output = output;
+  std::array<std::vector<Difference>, kNumBands> diffs;
+  forEachChannelReading(scene, name, kLastBand, [&](const char* what, const test::BandReading& r) {
+    diffs[size_t(r.band)].push_back(differenceOf(what, r));
+  });
+  for (int b = kFirstBand; b <= kLastBand; ++b) {
+    INFO(name);
+    checkBand(b, diffs[size_t(b)], 2.3);
   }
+}
+
+}  // namespace
+
+TEST_CASE("One stereo IR: each channel reads its own share's octave G, C80 and EDT",
+          "[synthesis][single_ir][statistics]") {
+  // Window-levelled per channel at 125 Hz - 1 kHz (synthesis/channel_levelling.h), the band
+  // leveller above. Without the window levelling the 250 Hz band fails (G RMS 0.47 dB, C80 RMS
+  // 0.71 dB, EDT RMS 7.4 %, largest 21 %).
+  checkTwoChannelFormat(OutputFormat::kStereo, "stereo");
+}
+
+TEST_CASE("One binaural IR: each ear reads its own share's octave G, C80 and EDT",
+          "[.spatial][synthesis][single_ir]") {
+  // Each ear against an exact IR through the HRIRs (channelResponse: the flat band model
+  // scaled by filterShapeRatio). Hidden: see docs/validation.md ("One IR against its
+  // response", binaural) for the bands still short.
+  checkTwoChannelFormat(OutputFormat::kBinaural, "binaural");
 }
 
 TEST_CASE("One first-order AmbiX IR: each channel reads its own share's octave parameters",

@@ -59,31 +59,61 @@ namespace {
 /// reaches on to Nyquist, which its analysis filter does not see.
 double measuredReach(int b) { return bandCentreExactHz(b) * std::exp2(0.5 + 1.0 / 6.0); }
 
-/// What each view M_b^2 sees of |H|^2 g^2 (seen) and of the flat model (flat) up to its
-/// measuredReach; spectrum on fft's bins (fft.spec), sampleRate Hz.
-void viewEnergies(const FftwRealTransforms& fft, int sampleRate, const Bands& w,
-                  const std::array<double, kNumBands>& rootEqualisation,
-                  const OctaveBandMasks& masks, std::array<double, kNumBands>& seen,
-                  std::array<double, kNumBands>& flat) {
-  seen.fill(0.0);
-  flat.fill(0.0);
-  std::array<double, kNumBands> m2{};
+using Coupling = std::array<std::array<double, kNumBands>, kNumBands>;
+
+/// coupling[b][k]: what view M_b^2 sees of unit noise over band k, sum_f M_b^2 M_k^2, up to
+/// b's measuredReach; masks on n-point FFT bins at sampleRate Hz.
+Coupling viewCoupling(const OctaveBandMasks& masks, size_t n, int sampleRate) {
+  Coupling coupling{};
+  for (size_t i = 0; i < n / 2 + 1; ++i) {
+    const double f = double(i) * sampleRate / double(n);
+    for (int b = 0; b < kNumBands; ++b) {
+      if (f > measuredReach(b)) continue;
+      const double mb = double(masks.gain(b, i)) * masks.gain(b, i);
+      for (int k = 0; k < kNumBands; ++k)
+        coupling[size_t(b)][size_t(k)] += mb * masks.gain(k, i) * masks.gain(k, i);
+    }
+  }
+  return coupling;
+}
+
+/// What each view M_b^2 sees of |H|^2 g^2 up to its measuredReach; spectrum on fft's bins
+/// (fft.spec), sampleRate Hz.
+std::array<double, kNumBands> viewEnergies(const FftwRealTransforms& fft, int sampleRate,
+                                           const std::array<double, kNumBands>& rootEqualisation,
+                                           const OctaveBandMasks& masks) {
+  std::array<double, kNumBands> seen{}, m2{};
   for (size_t k = 0; k < fft.n / 2 + 1; ++k) {
     const double f = double(k) * sampleRate / double(fft.n);
-    double g = 0.0, model = 0.0;
+    double g = 0.0;
     for (int b = 0; b < kNumBands; ++b) {
       m2[size_t(b)] = double(masks.gain(b, k)) * masks.gain(b, k);
       g += m2[size_t(b)] * rootEqualisation[size_t(b)];
-      model += m2[size_t(b)] * w[b];
     }
     const double h2 = (double(fft.spec.p[k][0]) * fft.spec.p[k][0] +
                        double(fft.spec.p[k][1]) * fft.spec.p[k][1]) * g * g;
-    for (int b = 0; b < kNumBands; ++b) {
-      if (f > measuredReach(b)) continue;
-      seen[size_t(b)] += m2[size_t(b)] * h2;
-      flat[size_t(b)] += m2[size_t(b)] * model;
-    }
+    for (int b = 0; b < kNumBands; ++b)
+      if (f <= measuredReach(b)) seen[size_t(b)] += m2[size_t(b)] * h2;
   }
+  return seen;
+}
+
+/// u with coupling u = seen (Gaussian elimination without pivoting: the coupling is
+/// diagonally dominant, a view holding mostly its own band).
+Bands solveWeights(Coupling coupling, std::array<double, kNumBands> seen) {
+  for (size_t i = 0; i < kNumBands; ++i)
+    for (size_t r = i + 1; r < kNumBands; ++r) {
+      const double q = coupling[r][i] / coupling[i][i];
+      for (size_t k = i; k < kNumBands; ++k) coupling[r][k] -= q * coupling[i][k];
+      seen[r] -= q * seen[i];
+    }
+  Bands u(0.f);
+  for (size_t i = kNumBands; i-- > 0;) {
+    double x = seen[i];
+    for (size_t k = i + 1; k < kNumBands; ++k) x -= coupling[i][k] * u[int(k)];
+    u[int(i)] = float(x / coupling[i][i]);
+  }
+  return u;
 }
 
 }  // namespace
@@ -94,7 +124,8 @@ std::vector<std::vector<Bands>> viewWeights(const std::vector<DirectionFilter>& 
                                             const OctaveBandMasks& masks,
                                             FftwRealTransforms& fft, int sampleRate) {
   std::vector<std::vector<Bands>> out = weight;
-  std::array<double, kNumBands> root{}, seen{}, flat{};
+  const Coupling coupling = viewCoupling(masks, fft.n, sampleRate);
+  std::array<double, kNumBands> root{};
   for (int b = 0; b < kNumBands; ++b) root[size_t(b)] = std::sqrt(equalisation[size_t(b)]);
   for (size_t d = 0; d < filters.size(); ++d)
     for (size_t c = 0; c < filters[d].channels.size(); ++c) {
@@ -103,10 +134,7 @@ std::vector<std::vector<Bands>> viewWeights(const std::vector<DirectionFilter>& 
       std::fill(fft.time.p, fft.time.p + fft.n, 0.f);
       std::copy(taps.begin(), taps.end(), fft.time.p);
       fftwf_execute_dft_r2c(fft.fwd, fft.time.p, fft.spec.p);
-      viewEnergies(fft, sampleRate, weight[d][c], root, masks, seen, flat);
-      for (int b = 0; b < kNumBands; ++b)
-        if (flat[size_t(b)] > 0.0)
-          out[d][c][b] = float(double(weight[d][c][b]) * seen[size_t(b)] / flat[size_t(b)]);
+      out[d][c] = solveWeights(coupling, viewEnergies(fft, sampleRate, root, masks));
     }
   return out;
 }

@@ -42,13 +42,13 @@ size_t fieldDelay(const std::vector<DirectionFilter>& filters);
 /// before onset + delay, the last `delay` samples dropped). No allocation.
 void delayFrom(size_t onset, size_t delay, size_t length, std::span<float* const> channels);
 
-/// Per direction d, channel c and band b: weight[d][c][b] times what the view M_b^2 sees of
-/// white noise through the direction's filter and the per-band equalisation
-/// g = sum_k M_k^2 sqrt(equalisation_k) (equalisation_k = 1 / kappa_k, an energy factor) over
-/// what it sees of the flat model sum_k weight_k M_k^2, both up to 1/6 octave above the
-/// band's upper edge (where inner masks end; the 8 kHz mask's reach to Nyquist is beyond what
-/// its analysis filter measures). One-tap filters (flat) keep their weights exactly. masks on
-/// fft's bins at sampleRate Hz.
+/// Per direction d, channel c: the band weights u of the flat model sum_k u_k M_k^2 that puts
+/// into every view M_b^2 what the view sees of white noise through the direction's filter and
+/// the per-band equalisation g = sum_k M_k^2 sqrt(equalisation_k) (equalisation_k = 1 / kappa_k,
+/// an energy factor), each view up to 1/6 octave above its band's upper edge (where inner masks
+/// end; the 8 kHz mask's reach to Nyquist is beyond what its analysis filter measures): the
+/// 8 x 8 view coupling solved for u, so that a levelled view's target counts its neighbours'
+/// shapes too. One-tap filters (flat) keep `weight` exactly. masks on fft's bins, sampleRate Hz.
 std::vector<std::vector<Bands>> viewWeights(const std::vector<DirectionFilter>& filters,
                                             const std::vector<std::vector<Bands>>& weight,
                                             const std::array<double, kNumBands>& equalisation,

@@ -70,8 +70,8 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   channelLevelStart_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, 1.0);
   channelLevelling_ = std::make_shared<ChannelLevelling>(sampleRate, length_, channelLevelStart_,
                                                          IrSynthesizer::kFirstLevelledBand,
-                                                         kLastWindowLevelledBand);
-  levelledFrom_ = kLastWindowLevelledBand + 1;  // the bands the windows leave
+                                                         IrSynthesizer::kLastLevelledBand);
+  levelledFrom_ = IrSynthesizer::kLastLevelledBand + 1;  // the bands the windows leave
   levellers_.push_back(
       std::make_shared<BandLeveller>(sampleRate, length_, levelledFrom_, levelStart_));
   binned_.assign(directions_.size(), std::vector<Bands>(levellers_[0]->bins()));
@@ -88,7 +88,7 @@ std::unique_ptr<SpatialIrSynthesizer> SpatialIrSynthesizer::workspaceCopy() cons
   if (channelLevelling_)
     copy->channelLevelling_ = std::make_shared<ChannelLevelling>(
         sampleRate_, length_, channelLevelStart_, IrSynthesizer::kFirstLevelledBand,
-        kLastWindowLevelledBand);
+        IrSynthesizer::kLastLevelledBand);
   return copy;
 }
 

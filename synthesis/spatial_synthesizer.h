@@ -84,10 +84,6 @@ class SpatialIrSynthesizer {
   static constexpr double kLevelTolerance = 1.0;
   static constexpr double kLevelMaxBoost = 2.0;
   static constexpr double kLevelFromPulses = 1.0;
-  /// Each channel is window-levelled (ChannelLevelling) from 125 Hz to this band, 2 kHz, one
-  /// beyond the mono IR's: with the band leveller alone one binaural IR's 2 kHz C80 read
-  /// 0.17 dB high on average (docs/validation.md). The band leveller keeps the bands above.
-  static constexpr int kLastWindowLevelledBand = 5;
 
   /// Fills `out` (as many channels as the constructor's filters) for an exact listener-frame
   /// direction (x forward, y left, z up); called on the thread that calls synthesize().

@@ -13,8 +13,9 @@
 // after its path's delay, so a field whose envelope follows the response's own time axis
 // would lead it by that much.
 //
-// All functions: construction time (control or propagation thread); allocate; no FFTW
-// planning (the caller's transforms are used).
+// longestFilter, fieldDelay, viewWeights: construction time (control or propagation thread);
+// allocate; no FFTW planning (the caller's transforms are used); longestFilter throws as it
+// says. delayFrom: per frame (propagation thread); no allocation, no errors.
 #pragma once
 
 #include <array>

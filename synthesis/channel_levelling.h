@@ -1,10 +1,13 @@
-// Window levelling of each channel of a gains-only spatial IR (Ambisonics): every channel's
-// reverberant part is levelled to its own share of the directional energy response, band by
-// band in short windows (synthesis/window_leveller.h, the mono synthesis's levelling), so that
-// one IR's W, which a user reads as the omnidirectional IR, carries its response's octave
-// parameters as one mono IR does, and every other channel its own share. A channel's factors
-// are its own: W's factors whiten W's realisation, and a channel uncorrelated with W (a
-// diffuse field's X, Y, Z ...) scaled by them would gain energy where W happened to be weak.
+// Window levelling of each channel of a spatial IR (Ambisonics, stereo, binaural, loudspeaker
+// feeds): every channel's reverberant part is levelled to its own share of the directional
+// energy response, band by band in short windows (synthesis/window_leveller.h, the mono
+// synthesis's levelling), so that one IR's W, which a user reads as the omnidirectional IR,
+// or one ear carries its response's octave parameters as one mono IR does, and every other
+// channel its own share. The shares' weights are what a window's band view sees of each
+// direction's filter (synthesis/filter_shape.h, viewWeights; an HRIR is not flat within an
+// octave). A channel's factors are its own: W's factors whiten W's realisation, and a channel
+// uncorrelated with W (a diffuse field's X, Y, Z ...) scaled by them would gain energy where W
+// happened to be weak.
 // In a window each channel is scaled as a whole, so the channels' correlations there (a
 // direction's share in every channel) stay as synthesised.
 //

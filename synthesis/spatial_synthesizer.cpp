@@ -11,30 +11,10 @@
 #include "synthesis/mono_synthesizer.h"
 #include "synthesis/band_leveller.h"
 #include "synthesis/dirac_sequence.h"
+#include "synthesis/filter_shape.h"
 #include "synthesis/late_rotation.h"
 
 namespace dpc {
-
-namespace {
-
-/// The longest channel filter of any direction (at least 1); throws std::invalid_argument
-/// unless every direction has `channels` >= 1 channels of 1 .. margin - 1 taps.
-size_t longestFilter(const std::vector<DirectionFilter>& filters, size_t channels, size_t margin) {
-  if (channels == 0) throw std::invalid_argument("SpatialIrSynthesizer: filters need a channel");
-  size_t longest = 1;
-  for (const DirectionFilter& f : filters) {
-    if (f.channels.size() != channels)
-      throw std::invalid_argument("SpatialIrSynthesizer: every direction needs the same channels");
-    for (const std::vector<float>& h : f.channels) {
-      if (h.empty() || h.size() >= margin)
-        throw std::invalid_argument("SpatialIrSynthesizer: filters must have 1 .. rate/4 taps");
-      longest = std::max(longest, h.size());
-    }
-  }
-  return longest;
-}
-
-}  // namespace
 
 SpatialIrSynthesizer::~SpatialIrSynthesizer() = default;
 
@@ -62,6 +42,7 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   equaliseDiffuseField(filters, masks, big);
   // Per direction: its own Dirac sequence, through A_b and the direction's filters.
   gainsOnly_ = maxFilter == 1;
+  if (!gainsOnly_ && reference_ == Reference::kChannelAverage) reverbDelay_ = fieldDelay(filters);
   if (gainsOnly_) directionScratch_.assign(length_, 0.f);
   bands_ = std::make_shared<std::vector<std::vector<std::array<std::vector<float>, kNumBands>>>>(
       directions_.size());
@@ -86,14 +67,11 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   levelStart_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, kLevelFromPulses);
   rotationFrom_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound,
                                              kIndependentFromDensity * BandLeveller::kBinSeconds);
-  if (gainsOnly_ && reference_ == Reference::kFirstChannelPressure) {
-    channelLevelStart_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, 1.0);
-    channelLevelling_ =
-        std::make_shared<ChannelLevelling>(sampleRate, length_, channelLevelStart_,
-                                           IrSynthesizer::kFirstLevelledBand,
-                                           IrSynthesizer::kLastLevelledBand);
-    levelledFrom_ = IrSynthesizer::kLastLevelledBand + 1;  // the bands the windows leave
-  }
+  channelLevelStart_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, 1.0);
+  channelLevelling_ = std::make_shared<ChannelLevelling>(sampleRate, length_, channelLevelStart_,
+                                                         IrSynthesizer::kFirstLevelledBand,
+                                                         IrSynthesizer::kLastLevelledBand);
+  levelledFrom_ = IrSynthesizer::kLastLevelledBand + 1;  // the bands the windows leave
   levellers_.push_back(
       std::make_shared<BandLeveller>(sampleRate, length_, levelledFrom_, levelStart_));
   binned_.assign(directions_.size(), std::vector<Bands>(levellers_[0]->bins()));
@@ -168,6 +146,11 @@ void SpatialIrSynthesizer::equaliseDiffuseField(const std::vector<DirectionFilte
   for (auto& perChannel : channelWeight_)
     for (Bands& w : perChannel)
       for (int b = 0; b < kNumBands; ++b) w[b] = float(double(w[b]) / kappa_[size_t(b)]);
+  // The levellers' weights: what their views see of each filter, not the flat band model
+  // (synthesis/filter_shape.h).
+  std::array<double, kNumBands> equalisation{};
+  for (int b = 0; b < kNumBands; ++b) equalisation[size_t(b)] = 1.0 / kappa_[size_t(b)];
+  levelWeight_ = viewWeights(filters, channelWeight_, equalisation, masks, fft, sampleRate_);
   setOmniGains();
 }
 
@@ -213,7 +196,10 @@ void SpatialIrSynthesizer::directionBands(size_t d, const std::vector<float>& se
         fft.band.p[k][1] = v.imag();
       }
       fftwf_execute_dft_c2r(fft.inv, fft.band.p, fft.time.p);
-      (*bands_)[d][c][size_t(b)].assign(fft.time.p, fft.time.p + length_);
+      // Advanced by the filters' delay: the envelope's gains then meet the pulses they were
+      // set for, and synthesize() delays the rendered field by it again.
+      (*bands_)[d][c][size_t(b)].assign(fft.time.p + reverbDelay_,
+                                        fft.time.p + reverbDelay_ + length_);
     }
   }
 }
@@ -314,8 +300,9 @@ void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
                                        kDirectionalFromBand);
   }
   if (channelLevelling_)
-    channelLevelling_->level(energy, count, channelWeight_, omniGains_, kDirectionalFromBand,
+    channelLevelling_->level(energy, count, levelWeight_, omniGains_, kDirectionalFromBand,
                              onset, channels);
+  delayFrom(onset, reverbDelay_, length_, channels);  // as the filters delay every arrival
   arrivalDelays_.clear();
   arrivalEnergy_.clear();
   if (direct.visible) addArrival(direct, energy.toListener(direct.direction), channels);
@@ -434,7 +421,7 @@ void SpatialIrSynthesizer::level(const DirectionalEnergyResponse& energy, size_t
     BandLeveller& leveller = *levellers_[g];
     for (size_t c = g; c < channels_; c += workers) {
       leveller.clearTargets();
-      for (size_t d = 0; d < count; ++d) leveller.addBinned(binned_[d], channelWeight_[d][c]);
+      for (size_t d = 0; d < count; ++d) leveller.addBinned(binned_[d], levelWeight_[d][c]);
       for (size_t i = 0; i < arrivalDelays_.size(); ++i)
         leveller.addDirect(arrivalDelays_[i], arrivalEnergy_[i * channels_ + c]);
       leveller.apply(channels[c], kLevelTolerance, kLevelMaxBoost);

@@ -18,11 +18,15 @@
 // by the band energy of the K directions' filters averaged over all channels), so that the
 // channels' average band energy follows the mono energy response for a diffuse field (taken
 // over the analysed octave: the 63 Hz and 8 kHz bands carry their octave's spectral density on
-// below 44 Hz and above 11.3 kHz, as an exact IR does). Each channel is then levelled on the
-// ISO 3382-1 analysis filters (BandLeveller, synthesis/band_leveller.h) to its own target:
-// sum_d E_d,b x channelWeight(d, c)[b] plus the direct sound x directWeight(c)[b], which
-// removes the slower bands' gain-step splatter from the faster ones and the expectation
-// form's realisation noise over 50 ms windows.
+// below 44 Hz and above 11.3 kHz, as an exact IR does). Each channel's reverberant part is
+// then levelled at 125 Hz - 1 kHz in short windows (ChannelLevelling,
+// synthesis/channel_levelling.h) and from 2 kHz up on the ISO 3382-1 analysis filters
+// (BandLeveller, synthesis/band_leveller.h) to its own target: sum_d E_d,b x the direction's
+// weight, channelWeight(d, c)[b] as the levellers' band views see the filter (viewWeights,
+// synthesis/filter_shape.h: an HRIR is not flat within an octave), plus (BandLeveller) the
+// direct sound x directWeight(c)[b]; this removes the slower bands' gain-step splatter from the
+// faster ones and the expectation form's realisation noise. HRIRs delay what they filter: the
+// field is delayed by their mean energy centroid (fieldDelay), as the direct sound is.
 // Method: the band-filtered Dirac sequence (Schröder 2011, section 5.3) per direction,
 // rendered through HRTFs as virtual loudspeakers (e.g. Noisternig et al., "3D binaural sound
 // reproduction using a virtual ambisonic approach", VECIMS 2003, for the virtual-loudspeaker
@@ -217,7 +221,7 @@ class SpatialIrSynthesizer {
   int sampleRate_;
   Reference reference_;
   std::shared_ptr<const CoherenceMatch> coherence_;  ///< binaural only; read-only
-  /// Ambisonics (kFirstChannelPressure, gains only): each channel levelled in short windows.
+  /// Each channel's reverberant part levelled in short windows (125 Hz - 1 kHz).
   std::shared_ptr<ChannelLevelling> channelLevelling_;
   size_t channelLevelStart_ = 0;  ///< its start sample
   /// This frame's mixes per band, [0] before mixSplit_ (a sample), [1] from it on.
@@ -245,6 +249,9 @@ class SpatialIrSynthesizer {
   std::shared_ptr<std::vector<std::vector<std::array<std::vector<float>, kNumBands>>>> bands_;
   std::vector<std::vector<float>> gains_;
   bool gainsOnly_ = false;
+  /// HRIRs: fieldDelay() (samples; 0 otherwise). The band signals are stored advanced by it (the
+  /// gains meet the pulses they were set for) and the rendered field delayed by it again.
+  size_t reverbDelay_ = 0;
   /// With gainsOnly_: one direction's enveloped signal over the current block (length_
   /// samples, the block's range used), mixed into every channel by its gain.
   std::vector<float> directionScratch_;
@@ -254,6 +261,8 @@ class SpatialIrSynthesizer {
   /// channelWeight_[d][c][b]: direction d's channel c filter's band energy / kappa_b;
   /// directWeight_: the same for the last direct sound's exact filter.
   std::vector<std::vector<Bands>> channelWeight_;
+  /// levelWeight_[d][c][b]: the levellers' weights (viewWeights of channelWeight_).
+  std::vector<std::vector<Bands>> levelWeight_;
   std::vector<Bands> directWeight_;
   std::vector<double> arrivalDelays_;  ///< this frame's arrivals, seconds
   std::vector<Bands> arrivalEnergy_;   ///< per arrival and channel: band energy as levelled

@@ -32,14 +32,31 @@ struct BandReading {
 /// band analysis of an exact IR of it at sample rate fs; read() adds an IR's analysis.
 class ResponseBands {
  public:
-  ResponseBands(const EnergyResponse& er, const DirectSound& direct, int fs) : fs_(fs) {
+  ResponseBands(const EnergyResponse& er, const DirectSound& direct, int fs)
+      : ResponseBands(er, direct, fs, Bands(1.f), Bands(1.f)) {}
+
+  /// The same, the exact IR's band b read reverberantScale[b] times as high in its reverberant
+  /// part and directScale[b] times in its direct sound: an exact IR whose spectrum is not flat
+  /// within a band (heard through an HRIR) against the flat band model that
+  /// expectedBandAnalysisEnergy reads (the model is linear in both parts).
+  ResponseBands(const EnergyResponse& er, const DirectSound& direct, int fs,
+                const Bands& reverberantScale, const Bands& directScale)
+      : fs_(fs) {
     const auto exact = expectedBandAnalysisEnergy(er, direct, fs);
-    std::vector<double> e(er.binCount());
+    const bool flat = reverberantScale.min() == 1.f && reverberantScale.max() == 1.f &&
+                      directScale.min() == 1.f && directScale.max() == 1.f;
+    const EnergyResponse none(double(er.binCount()) * er.binSeconds(), er.binSeconds());
+    const auto directOnly = flat ? std::array<std::vector<double>, kNumBands>{}
+                                 : expectedBandAnalysisEnergy(none, direct, fs);
+    std::vector<double> e(er.binCount()), x;
     for (int b = 0; b < kNumBands; ++b) {
       for (size_t k = 0; k < e.size(); ++k) e[k] = er.bins()[k][b];
       if (direct.visible) e[size_t(direct.delaySeconds / er.binSeconds())] += direct.intensity[b];
       response_[size_t(b)] = audio::analyzeEnergyDecay(e.data(), e.size(), er.binSeconds());
-      const std::vector<double>& x = exact[size_t(b)];
+      x = exact[size_t(b)];
+      const double r = reverberantScale[b], d = directScale[b];
+      for (size_t k = 0; k < x.size() && k < directOnly[size_t(b)].size(); ++k)
+        x[k] = r * x[k] + (d - r) * directOnly[size_t(b)][k];
       exactIr_[size_t(b)] = audio::analyzeEnergyDecay(x.data(), x.size(), er.binSeconds());
     }
   }

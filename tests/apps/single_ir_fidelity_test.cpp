@@ -16,8 +16,8 @@
 // larger.
 //
 // A first-order AmbiX IR is checked alike per channel in its window-levelled bands (250 Hz -
-// 1 kHz). The spatial case (hidden: [.spatial]) measures every band per channel of binaural,
-// stereo and first-order ambisonic output; binaural and stereo are not window-levelled.
+// 1 kHz), a stereo IR per channel at 250 Hz - 4 kHz. The binaural case (hidden: [.spatial])
+// checks each ear at 250 Hz - 4 kHz against an exact IR through the HRIRs.
 #include <algorithm>
 #include <array>
 #include <catch2/catch.hpp>
@@ -28,6 +28,10 @@
 #include <vector>
 
 #include "analysis/room_parameters.h"
+#include "audio/hrtf.h"
+#include "common/fftw_util.h"
+#include "common/octave_band_masks.h"
+#include "common/octave_filter.h"
 #include "runtime/propagation_stage.h"
 #include "synthesis/mono_synthesizer.h"
 #include "synthesis/spatial_synthesizer.h"
@@ -113,12 +117,6 @@ Difference differenceOf(const char* what, const test::BandReading& r) {
   return d;
 }
 
-/// Whether one band of one IR reads as the exact IR does, within the tolerances; prints it.
-bool within(const char* what, const test::BandReading& r) {
-  const Difference d = differenceOf(what, r);
-  return std::abs(d.g) <= kG && std::abs(d.c80) <= kC80 && std::abs(d.edt) <= kEdt;
-}
-
 /// Checks one band's differences over rooms and seeds: RMS within (kG, kC80, kEdt), each
 /// within `largest` times that, the mean within 3 standard errors (or a third of the
 /// tolerance) of 0.
@@ -195,25 +193,107 @@ DirectionalEnergyResponse directionalResponse(const Room& room, const DirectSoun
   return energy;
 }
 
+/// What the ISO 3382-1 octave filters (common/octave_filter.h, those of
+/// analyzeImpulseResponse) read of white noise through a direction's filter `taps` and the
+/// synthesiser's per-band diffuse-field equalisation (sum_k M_k^2 sqrt(diffuseFieldGain(k)), M_k
+/// the band masks of common/octave_band_masks.h), over what they read of the flat band model
+/// that the band weights w stand for (density sum_k w_k M_k^2, as expectedBandAnalysisEnergy
+/// models a response). An HRIR is not flat within an octave (KEMAR's ear-canal rise puts the
+/// 2 kHz band's reading 0.7 dB above the model, the 1 kHz band's 0.5 dB below, averaged over
+/// the 8 directions), so an exact binaural IR of a response reads this much off the model.
+/// Both read as impulse responses: a deterministic signal's band energy is white noise's
+/// expected one through the same filter.
+Bands filterShapeRatio(const std::vector<float>& taps, const Bands& w,
+                       const SpatialIrSynthesizer& synth) {
+  constexpr size_t n = 32768;  // the zero-phase equaliser's ringing and the HRIR fit in n / 2
+  static FftwRealTransforms fft(n);
+  static const OctaveBandMasks masks(kFs, n);
+  const auto read = [&](bool shaped) {
+    std::fill(fft.time.p, fft.time.p + n, 0.f);
+    std::copy(taps.begin(), taps.end(), fft.time.p);
+    fftwf_execute(fft.fwd);
+    for (size_t k = 0; k < n / 2 + 1; ++k) {
+      double eq = 0.0, model = 0.0;
+      for (int b = 0; b < kNumBands; ++b) {
+        const double m2 = double(masks.gain(b, k)) * masks.gain(b, k);
+        eq += m2 * std::sqrt(synth.diffuseFieldGain(b));
+        model += m2 * w[b];
+      }
+      for (int i = 0; i < 2; ++i)
+        fft.band.p[k][i] = shaped ? float(fft.spec.p[k][i] * eq / n)
+                                  : float(i == 0 ? std::sqrt(model) / n : 0.0);
+    }
+    fftwf_execute(fft.inv);
+    std::vector<double> x(2 * n, 0.0);  // centred (zero-phase parts at negative times), rung out
+    for (size_t t = 0; t < n; ++t) x[(t + n / 2) % n] = fft.time.p[t];
+    Bands e(0.f);
+    for (int b = 0; b < kNumBands; ++b) {
+      std::vector<double> y(x.size());
+      OctaveBandPass::State state{};
+      OctaveBandPass::design(bandCentreExactHz(b), kFs).run(x.data(), y.data(), x.size(), state);
+      double sum = 0.0;
+      for (double v : y) sum += v * v;
+      e[b] = float(sum);
+    }
+    return e;
+  };
+  const Bands shaped = read(true), flat = read(false);
+  Bands ratio(1.f);
+  for (int b = 0; b < kNumBands; ++b) ratio[b] = flat[b] > 0.f ? shaped[b] / flat[b] : 1.f;
+  return ratio;
+}
+
+/// A direction's HRIR for one ear (c: 0 left, 1 right), as the binaural output fills it.
+std::vector<float> hrirOf(const audio::Hrtf& hrtf, const glm::vec3& v, size_t c) {
+  const float dir[3] = {v.x, v.y, v.z};
+  std::vector<float> l(size_t(hrtf.filterLength())), r(l.size());
+  float dl = 0.f, dr = 0.f;
+  hrtf.hrir(dir, l.data(), r.data(), &dl, &dr);
+  return c == 0 ? l : r;
+}
+
 /// Channel c's response: every direction's weighted by the channel's filter (below
 /// kDirectionalFromBand by the omnidirectional noise's gain, as the synthesiser renders those
 /// bands), and the direct sound through its exact filter (what the per-channel levelling aims
-/// at).
-std::pair<EnergyResponse, DirectSound> channelResponse(const DirectionalEnergyResponse& energy,
-                                                       const DirectSound& direct,
-                                                       const SpatialIrSynthesizer& synth,
-                                                       size_t c) {
-  EnergyResponse er(kLength, 1e-3);
-  for (size_t d = 0; d < energy.directionCount(); ++d)
-    for (size_t k = 0; k < er.binCount(); ++k)
-      for (int b = 0; b < kNumBands; ++b)
-        er.bins()[k][b] += energy.response(d).bins()[k][b] *
-                           (b < kDirectionalFromBand ? synth.omniGain(c) * synth.omniGain(c)
-                                                     : synth.channelWeight(d, c)[b]);
-  DirectSound d = direct;
+/// at); with an HRTF, besides, how much an exact IR through those filters reads off the flat
+/// band model per band (filterShapeRatio): of the reverberant part, averaged over the
+/// directions by their band energy in the channel, and of the direct sound.
+struct ChannelResponse {
+  EnergyResponse er;
+  DirectSound direct;
+  Bands reverberantScale{1.f}, directScale{1.f};
+};
+
+ChannelResponse channelResponse(const DirectionalEnergyResponse& energy, const DirectSound& direct,
+                                const SpatialIrSynthesizer& synth, size_t c,
+                                const audio::Hrtf* hrtf) {
+  ChannelResponse out{EnergyResponse(kLength, 1e-3), direct};
+  Bands weighted(0.f), total(0.f);
+  for (size_t d = 0; d < energy.directionCount(); ++d) {
+    Bands band(0.f);
+    for (size_t k = 0; k < out.er.binCount(); ++k)
+      for (int b = 0; b < kNumBands; ++b) {
+        const float w = b < kDirectionalFromBand ? synth.omniGain(c) * synth.omniGain(c)
+                                                 : synth.channelWeight(d, c)[b];
+        out.er.bins()[k][b] += energy.response(d).bins()[k][b] * w;
+        band[b] += energy.response(d).bins()[k][b] * w;
+      }
+    if (!hrtf) continue;
+    const Bands r = filterShapeRatio(hrirOf(*hrtf, synth.directions()[d], c),
+                                     synth.channelWeight(d, c), synth);
+    for (int b = kDirectionalFromBand; b < kNumBands; ++b) {
+      weighted[b] += r[b] * band[b];
+      total[b] += band[b];
+    }
+  }
   for (int b = 0; b < kNumBands; ++b)
-    d.intensity[b] = direct.intensity[b] * synth.directWeight(c)[b];
-  return {er, d};
+    out.direct.intensity[b] = direct.intensity[b] * synth.directWeight(c)[b];
+  if (!hrtf) return out;
+  for (int b = kDirectionalFromBand; b < kNumBands; ++b)
+    if (total[b] > 0.f) out.reverberantScale[b] = weighted[b] / total[b];
+  out.directScale = filterShapeRatio(hrirOf(*hrtf, energy.toListener(direct.direction), c),
+                                     synth.directWeight(c), synth);
+  return out;
 }
 
 /// Synthesises one IR of `scene`'s spatial format per room and seed and calls
@@ -223,6 +303,10 @@ template <class Use>
 void forEachChannelReading(const SceneDesc& scene, const char* name, int lastBand, Use use) {
   PropagationSettings ps;
   ps.irLength = float(kLength);
+  const std::unique_ptr<audio::Hrtf> hrtf =
+      scene.audio.output == OutputFormat::kBinaural
+          ? std::make_unique<audio::Hrtf>(audio::Hrtf::load(scene.audio.hrtfPath, kFs))
+          : nullptr;
   for (const Room& room : kRooms) {
     const DirectSound direct = directFor(room);
     for (uint64_t seed : {1u, 2u, 3u, 4u}) {
@@ -236,8 +320,10 @@ void forEachChannelReading(const SceneDesc& scene, const char* name, int lastBan
       for (auto& o : out) ptrs.push_back(o.data());
       synth->synthesize(energy, direct, ptrs);
       for (size_t c = 0; c < synth->channelCount(); ++c) {
-        const auto [er, d] = channelResponse(energy, direct, *synth, c);
-        for (const test::BandReading& r : test::ResponseBands(er, d, kFs).read(out[c], kFirstBand)) {
+        const ChannelResponse cr = channelResponse(energy, direct, *synth, c, hrtf.get());
+        const test::ResponseBands bands(cr.er, cr.direct, kFs, cr.reverberantScale,
+                                        cr.directScale);
+        for (const test::BandReading& r : bands.read(out[c], kFirstBand)) {
           if (r.band > lastBand) continue;
           char what[96];
           std::snprintf(what, sizeof what, "%s %s seed %d channel %d", name, room.name,
@@ -251,25 +337,41 @@ void forEachChannelReading(const SceneDesc& scene, const char* name, int lastBan
 
 }  // namespace
 
-TEST_CASE("One spatial IR: every channel reads its response's octave G, C80 and EDT",
-          "[.spatial][synthesis][single_ir]") {
-  struct Format {
-    const char* name;
-    OutputFormat output;
-    int order;
-  };
-  for (const Format f :
-       {Format{"binaural", OutputFormat::kBinaural, 0}, Format{"stereo", OutputFormat::kStereo, 0},
-        Format{"ambisonics-1", OutputFormat::kAmbisonics, 1}}) {
-    SceneDesc scene;
-    scene.audio.output = f.output;
-    if (f.order > 0) scene.audio.ambisonicOrder = f.order;
-    forEachChannelReading(scene, f.name, kLastBand,
-                          [](const char* what, const test::BandReading& r) {
-                            INFO(what << " band " << r.band);
-                            CHECK(within(what, r));
-                          });
+namespace {
+
+/// Every channel of one `output` IR per room and seed, 250 Hz - 4 kHz, checked as the mono case
+/// is (checkBand) over the 12 IRs x 2 channels; each single channel-IR within 2.3x the
+/// tolerance: the largest of 24 normal draws lies about sqrt(2 ln 24) = 2.5 standard
+/// deviations out against 2.2 for the mono case's 12, so its 2x scales to 2.3x.
+void checkTwoChannelFormat(OutputFormat output, const char* name) {
+  SceneDesc scene;
+  scene.audio.output = output;
+  std::array<std::vector<Difference>, kNumBands> diffs;
+  forEachChannelReading(scene, name, kLastBand, [&](const char* what, const test::BandReading& r) {
+    diffs[size_t(r.band)].push_back(differenceOf(what, r));
+  });
+  for (int b = kFirstBand; b <= kLastBand; ++b) {
+    INFO(name);
+    checkBand(b, diffs[size_t(b)], 2.3);
   }
+}
+
+}  // namespace
+
+TEST_CASE("One stereo IR: each channel reads its own share's octave G, C80 and EDT",
+          "[synthesis][single_ir][statistics]") {
+  // Window-levelled per channel at 125 Hz - 1 kHz (synthesis/channel_levelling.h), the band
+  // leveller above. Without the window levelling the 250 Hz band fails (G RMS 0.47 dB, C80 RMS
+  // 0.71 dB, EDT RMS 7.4 %, largest 21 %).
+  checkTwoChannelFormat(OutputFormat::kStereo, "stereo");
+}
+
+TEST_CASE("One binaural IR: each ear reads its own share's octave G, C80 and EDT",
+          "[.spatial][synthesis][single_ir]") {
+  // Each ear against an exact IR through the HRIRs (channelResponse: the flat band model
+  // scaled by filterShapeRatio). Hidden: see docs/validation.md ("One IR against its
+  // response", binaural) for the bands still short.
+  checkTwoChannelFormat(OutputFormat::kBinaural, "binaural");
 }
 
 TEST_CASE("One first-order AmbiX IR: each channel reads its own share's octave parameters",
@@ -292,3 +394,4 @@ TEST_CASE("One first-order AmbiX IR: each channel reads its own share's octave p
   for (int b = kFirstBand; b <= IrSynthesizer::kLastLevelledBand; ++b)
     checkBand(b, diffs[size_t(b)], 2.5);
 }
+

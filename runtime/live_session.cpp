@@ -204,13 +204,15 @@ void LiveSession::propagationLoop() {
     runFrame(rays);
     if (first) afterFirstFrame();  // outside the controller's frame time
     // The whole frame, snapshot included: what must fit in the period; and its pose's age when
-    // the IR was ready plus one block (the audio thread picks it up at its next block): the
-    // motion-to-sound latency it will have. The short first frame says nothing about the
-    // controller's rays.
+    // the IR was ready plus one block (the audio thread picks it up at its next block) and the
+    // blocks a staggered swap takes to reach its last source group: the motion-to-sound
+    // latency it will have, as renderBlock measures it. The short first frame says nothing
+    // about the controller's rays.
     if (options_.adaptiveRays && !first) {
-      const double latency = lastPoseNs_ > 0 ? double(lastReadyNs_ - lastPoseNs_) * 1e-9 +
-                                                   double(blockSize_) / sampleRate_
-                                             : std::nan("");
+      const double pickUp = double(audioStage_->irSwapSpreadBlocks()) * blockSize_ / sampleRate_;
+      const double latency = lastPoseNs_ > 0
+                                 ? double(lastReadyNs_ - lastPoseNs_) * 1e-9 + pickUp
+                                 : std::nan("");
       adaptiveRays_.update(
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), latency);
     }

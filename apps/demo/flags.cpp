@@ -73,9 +73,8 @@ void addLiveOptions(CLI::App& app, Flags& fl) {
                  "needed (default 50; the frame period applies when it is shorter)");
   app.add_option("--ir-swap-spread-ms", fl.irSwapSpreadMs,
                  "Live: spread each IR swap over this many ms across source groups: lighter "
-                 "callbacks while IRs swap, up to this much more latency (default 20 when the "
-                 "device's callback is real-time, as on JACK -R, else 0: all at once; "
-                 "docs/live.md)");
+                 "callbacks while IRs swap, up to this much more latency (default 0: all at "
+                 "once; docs/live.md)");
   app.add_option("--reconnect", fl.reconnectSeconds,
                  "Live: when the audio device fails (its JACK server stopped, the device "
                  "lost), keep tracing and reopen it every half second for up to this many "

@@ -349,16 +349,13 @@ int tracingThreads(const Flags& fl, const PropagationSettings& settings,
   return std::max(1, int(std::thread::hardware_concurrency()));
 }
 
-/// The IR swap spread a live run uses unless --ir-swap-spread-ms says otherwise, seconds: with
-/// a real-time callback tracing runs on every core, and the latency that gives back (p95 65-71
-/// against 84-92 ms on the live market) pays for spreading the swaps, which took the IR-swap
-/// blocks' p99 from 22-26 % to 20-23 % of the period there (docs/live.md "Staggered swaps").
-/// Otherwise 0: one tracing thread has no latency to spare.
-constexpr double kRealTimeIrSwapSpreadSeconds = 0.02;
-
-double irSwapSpreadSeconds(const Flags& fl, const audio::AudioOutput& output) {
-  if (fl.irSwapSpreadMs) return *fl.irSwapSpreadMs * 1e-3;
-  return output.realTimeCallback() ? kRealTimeIrSwapSpreadSeconds : 0.0;
+/// The IR swap spread a live run uses unless --ir-swap-spread-ms says otherwise: none. The
+/// swaps are cheap enough whole (the IR-swap blocks' p99 10-12 % of a 128-frame period on the
+/// market and the dense hall, 64 sources each, where spreading was needed at 22-26 %), and a
+/// spread adds its length to the motion-to-sound latency, which the ray controller pays in
+/// rays (docs/live.md "Staggered swaps").
+double irSwapSpreadSeconds(const Flags& fl) {
+  return fl.irSwapSpreadMs ? *fl.irSwapSpreadMs * 1e-3 : 0.0;
 }
 
 int runLive(const Flags& fl) {
@@ -375,7 +372,7 @@ int runLive(const Flags& fl) {
   if (!fl.blockSize) scene.audio.blockSize = engineBlockForHostPeriod(output->blockSize());
   PropagationSettings settings = run.settings;
   settings.threads = tracingThreads(fl, settings, *output);
-  lo.irSwapSpreadSeconds = irSwapSpreadSeconds(fl, *output);
+  lo.irSwapSpreadSeconds = irSwapSpreadSeconds(fl);
   session = std::make_unique<LiveSession>(run.scene, settings, run.dry, lo);
   printDevice(scene, *output);
   catchStopSignals();

@@ -10,8 +10,12 @@ shares one room, so every source's paths reach the listener through the same rev
 field: the dense case of many-source propagation (docs/performance.md, "Many sources"), where
 every pair's cache holds a full room's paths.
 
-Usage: generate_dense_hall.py [OUT_FOLDER]   (default: this script's folder)
+Usage: generate_dense_hall.py [OUT_FOLDER] [--grid N]
+  OUT_FOLDER  default: this script's folder
+  --grid N    N x N talkers instead of 8 x 8 (N even; 16: the 256-source case), written as
+              dense_hall_N.json / .obj; the signal path is relative to OUT_FOLDER
 """
+import argparse
 import json
 import os
 import sys
@@ -24,7 +28,13 @@ PILLARS = [(x, z) for x in (5.0, 10.0, 15.0, 20.0 - 2.5) for z in (5.0, 10.0)][:
 PILLAR_HALF = 0.25
 TABLES = [(3.0 + 3.0 * i, 2.2 + 10.6 * j) for i in range(6) for j in range(2)]
 TABLE_HALF, TABLE_HEIGHT = 0.6, 0.75
-out = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
+here = os.path.dirname(os.path.abspath(__file__))
+ap = argparse.ArgumentParser()
+ap.add_argument('out', nargs='?', default=here)
+ap.add_argument('--grid', type=int, default=8)
+args = ap.parse_args()
+out, grid = args.out, args.grid
+name = 'dense_hall' if grid == 8 else 'dense_hall_%d' % grid
 
 verts, faces, index = [], [], {}
 
@@ -65,17 +75,23 @@ for x, z in TABLES:
     box(x - TABLE_HALF, x + TABLE_HALF, 0.0, TABLE_HEIGHT, z - TABLE_HALF, z + TABLE_HALF,
         "table")
 
-write_obj(os.path.join(out, "dense_hall.obj"),
+write_obj(os.path.join(out, name + ".obj"),
           "# dpc dense hall: one 20 x 15 x 4 m room, 8 pillars, 12 tables, written by "
           "generate_dense_hall.py. Materials are defined in dense_hall.json.\n", verts, faces)
 
 sources = []
-for i in range(8):
-    for j in range(8):
+signal = os.path.relpath(os.path.join(here, "signals", "speech.wav"), out)
+# Columns at x 1.5..18.5; half the rows at z 1.2..6.6, half at 8.4..13.8, so that the
+# listener's lane (z 7.3..7.7) stays 0.7 m clear of every talker (grid even, >= 2).
+half = grid // 2
+rows = [1.2 + k * 5.4 / max(half - 1, 1) for k in range(half)]
+rows += [z + 7.2 for z in rows]
+for i in range(grid):
+    for j, z in enumerate(rows):
         sources.append({
             "name": "talker %d.%d" % (i, j),
-            "position": [round(1.5 + i * 17.0 / 7.0, 3), 1.5, round(1.2 + j * 12.6 / 7.0, 3)],
-            "signal": "signals/speech.wav",
+            "position": [round(1.5 + i * 17.0 / (grid - 1), 3), 1.5, round(z, 3)],
+            "signal": signal,
             "gain_db": -6,
             "loop": True,
         })
@@ -91,7 +107,7 @@ scene = {
                 "64 static talkers on an 8 x 8 grid, the listener walking a loop between the "
                 "pillar rows (and between two rows of talkers, 0.7 m clear of them) at "
                 "1.2 m/s. Materials: entries of the materials library (materials/library.json).",
-    "mesh": "dense_hall.obj",
+    "mesh": name + ".obj",
     "materials": {
         "floor": "concrete_floor",
         "wall": {"library": "plasterboard_on_frame", "scattering": 0.3},
@@ -107,6 +123,6 @@ scene = {
                     "tracing": "auto"},
     "audio": {"sample_rate": 48000, "block_size": 512},
 }
-with open(os.path.join(out, "dense_hall.json"), "w") as f:
+with open(os.path.join(out, name + ".json"), "w") as f:
     json.dump(scene, f, indent=1)
     f.write("\n")

@@ -65,7 +65,10 @@ void TiltWindowSums::reset(const EnergyResponse& energy) {
 }
 
 HalfBandDensity TiltWindowSums::at(int band, double centreSeconds) {
-  const auto [k0, k1] = tiltWindow(bins_, binSeconds_, centreSeconds);
+  // Plain variables, not a structured binding: the lambda below captures them (clang before
+  // 16 refuses to capture bindings).
+  const std::pair<size_t, size_t> window = tiltWindow(bins_, binSeconds_, centreSeconds);
+  const size_t k0 = window.first, k1 = window.second;
   Last& last = last_[size_t(band)];
   if (last.valid && last.k0 == k0 && last.k1 == k1) return last.value;
   auto sum = [&](int b) {

@@ -165,7 +165,7 @@ def scene(sources):
         "listener": listener(),
         "propagation": {"rays_per_frame": 4096, "max_order": 200, "exact_order": 3,
                         "cache_tau": 1.0, "frame_rate": 15, "ir_length": 2.0, "seed": 1,
-                        "tracing": "auto", "cache_pool_mb": 128},
+                        "tracing": "auto"},
         "audio": {"sample_rate": 48000, "block_size": 512},
     }
 

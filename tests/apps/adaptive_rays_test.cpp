@@ -249,3 +249,42 @@ TEST_CASE("LiveSession: the running propagation thread adapts, and can be told n
   CHECK(off.raysPerFrameMin == 4096);
   CHECK(off.reducedFrames == 0);
 }
+
+TEST_CASE("LiveSession: the controller counts the IR swap's spread in the latency it steers by",
+          "[adaptive]") {
+  // A staggered swap reaches its last source group spread - 1 blocks after the first, and the
+  // motion-to-sound latency a listener hears (renderBlock's) counts those blocks. Frames of a
+  // few milliseconds (order 4, a 0.2 s IR) with a spread of 80 ms against a 50 ms target:
+  // the latency alone is over budget, so the rays must fall to the floor. A controller that
+  // leaves the spread out sees only the short frames and keeps all 4096 rays. Sixteen sources
+  // (the talker's copies): a swap spreads over at most one group per source.
+  SceneDesc scene = loadScene(std::string(DPC_SOURCE_DIR) + "/scenes/shoebox.json");
+  for (int i = 1; i < 16; ++i) {
+    scene.sources.push_back(scene.sources.front());
+    scene.sources.back().name += " " + std::to_string(i);
+  }
+  const DrySignals dry = loadDrySignals(scene);
+  PropagationSettings ps = scene.propagation;
+  ps.raysPerFrame = 4096;
+  ps.maxOrder = 4;
+  ps.irLength = 0.2f;
+  LiveSession::Options o;
+  o.latencyTargetSeconds = 0.05;
+  o.irSwapSpreadSeconds = 0.08;
+  LiveSession session(test::shared(scene), ps, test::shared(dry), o);
+  REQUIRE(session.irSwapSpreadBlocks() * scene.audio.blockSize >= 0.07 * scene.audio.sampleRate);
+  session.start();
+  const auto t0 = std::chrono::steady_clock::now();
+  const glm::vec3 at = scene.listeners[0].position;
+  while (session.status().frames < 20 &&
+         std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60)) {
+    session.setPose(at, 0.f, 0.0);  // the control thread's poses, as a host publishes them
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  session.stop();
+  const LiveSession::Status st = session.status();
+  REQUIRE(st.frames >= 20);
+  // The last frame's rays (the first frame traces the floor by design, so the minimum says
+  // nothing): down by 0.8 / load, about x0.4 a frame, to the floor within five frames.
+  CHECK(st.raysPerFrame == 256);
+}

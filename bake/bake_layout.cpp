@@ -245,9 +245,9 @@ void validateShapes(hid_t file, const BakeHeader& h) {
   expect(kWaveDone, {sources});
   expect(kWaveChecksums, {sources});
   if (h.wave.samples != waveSamples(h.settings.irLength, h.wave.sampleRate))
-    throw std::runtime_error(std::string("/") + kWaveBand + ": " +
-                             std::to_string(h.wave.samples) + " samples, ir_length_s at " +
-                             "sample_rate_hz gives " + std::to_string(waveSamples(h.settings.irLength, h.wave.sampleRate)));
+    throw std::runtime_error(std::string("/") + kWaveBand + ": " + std::to_string(h.wave.samples) +
+                             " samples, ir_length_s at " + "sample_rate_hz gives " +
+                             std::to_string(waveSamples(h.settings.irLength, h.wave.sampleRate)));
 }
 
 }  // namespace dpc::bake

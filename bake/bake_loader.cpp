@@ -106,8 +106,9 @@ void loadWave(const BakeFile& file, const SceneDesc& scene, BakedField& f) {
   if (!scene.wave.enabled || !h.wave.enabled) return;
   if (h.hashes[size_t(SettingGroup::kWave)] != waveHash(scene))
     throw InputError(file.path(), "hash_wave",
-                     "the bake's wave band (max_frequency " + std::to_string(h.wave.maxFrequencyHz) +
-                         " Hz, crossover " + std::to_string(h.wave.crossoverHz) + " Hz, " +
+                     "the bake's wave band (max_frequency " +
+                         std::to_string(h.wave.maxFrequencyHz) + " Hz, crossover " +
+                         std::to_string(h.wave.crossoverHz) + " Hz, " +
                          std::to_string(h.wave.sampleRate) + " Hz sample rate) is not the one " +
                          scene.path + " asks for: bake again");
   f.wave = file.readAll(kWaveBand);

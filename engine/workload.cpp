@@ -82,9 +82,9 @@ WorkloadEstimate estimateWorkload(const SceneDesc& scene, const PropagationSetti
               double(scene.audio.sampleRate) * kIrBytesPerSample;
   // Every pair's cache grows from one pool: at most the pool, at most every pair's own budget.
   const size_t pairs = scene.sources.size() * scene.listeners.size();
-  e.cacheBytes = std::min(double(pairs) * double(settings.cacheMemoryMb),
-                          cachePoolMbFor(settings, pairs)) *
-                 1048576.0;
+  e.cacheBytes =
+      std::min(double(pairs) * double(settings.cacheMemoryMb), cachePoolMbFor(settings, pairs)) *
+      1048576.0;
   return e;
 }
 
@@ -98,8 +98,8 @@ std::string memoryNeed(const SceneDesc& scene, const PropagationSettings& settin
                           std::to_string(scene.sources.size()) + " source(s) x channels (" +
                           g3(e.irBytes / 1e9) + " GB)";
   const std::string caches = poolBinds
-                                 ? "a path cache pool of " + g3(e.cacheBytes / 1048576.0) + " MB (" +
-                                       g3(e.cacheBytes / 1e9) + " GB)"
+                                 ? "a path cache pool of " + g3(e.cacheBytes / 1048576.0) +
+                                       " MB (" + g3(e.cacheBytes / 1e9) + " GB)"
                                  : "path caches of " + g3(settings.cacheMemoryMb) + " MB x " +
                                        std::to_string(scene.sources.size()) + " source(s) x " +
                                        std::to_string(scene.listeners.size()) + " listener(s) (" +

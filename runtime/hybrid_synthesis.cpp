@@ -31,9 +31,9 @@ struct HybridSynthesis::Scratch {
 
 /// One worker group's buffers for the early parts.
 struct HybridSynthesis::WorkerScratch {
-  EnergyResponse early;             ///< mono
+  EnergyResponse early;  ///< mono
   std::vector<SpecularPath> paths;
-  std::vector<float*> channels;     ///< spatial: one IR's channel pointers
+  std::vector<float*> channels;  ///< spatial: one IR's channel pointers
 };
 
 HybridSynthesis::HybridSynthesis(const SceneDesc& scene, const PropagationSettings& settings,
@@ -66,7 +66,9 @@ HybridSynthesis::HybridSynthesis(const SceneDesc& scene, const PropagationSettin
 
 HybridSynthesis::~HybridSynthesis() = default;
 
-size_t HybridSynthesis::workerGroups() const { return workers_.size(); }
+size_t HybridSynthesis::workerGroups() const {
+  return workers_.size();
+}
 
 size_t HybridSynthesis::groupCount(bool parallel, int workers, size_t sources) {
   if (!parallel) return 1;
@@ -182,7 +184,8 @@ void HybridSynthesis::prepareBuses(const Simulation& sim, size_t listener) {
     const double early = split_.splitSeconds + any.binSeconds();
     x.early = EnergyResponse(early, any.binSeconds());
     for (WorkerScratch& w : workers_) w.early = x.early;
-    if (spatial_) x.earlyDirs.assign(x.lateEnergy.size(), sim.directional(0, listener).truncated(early));
+    if (spatial_)
+      x.earlyDirs.assign(x.lateEnergy.size(), sim.directional(0, listener).truncated(early));
   }
   if (spatial_) {
     x.lateDir.resize(B);
@@ -309,8 +312,7 @@ void HybridSynthesis::updateBuses(size_t listener, std::vector<ImpulseResponse>&
     const LateShape shape = spatial_ ? LateShape::of(x.lateDir[size_t(k)], split_.splitSeconds)
                                      : LateShape::of(x.late[size_t(k)], split_.splitSeconds);
     BusMade& made = made_[listener][size_t(k)];
-    if (keepToleranceDb_ > 0.0 && made.valid &&
-        shape.maxExcessDb(made.shape) <= keepToleranceDb_) {
+    if (keepToleranceDb_ > 0.0 && made.valid && shape.maxExcessDb(made.shape) <= keepToleranceDb_) {
       ++n.busesKept;
       continue;
     }

@@ -94,7 +94,8 @@ void checkPropagation(const PropagationSettings& p, const Origin& origin) {
   checkField("propagation.patch_size", p.patchSize, origin);
   checkField("propagation.cache_tau", p.cacheTau, origin);
   checkField("propagation.cache_memory_mb", p.cacheMemoryMb, origin);
-  if (p.cachePoolMb != kCachePoolAuto) checkField("propagation.cache_pool_mb", p.cachePoolMb, origin);
+  if (p.cachePoolMb != kCachePoolAuto)
+    checkField("propagation.cache_pool_mb", p.cachePoolMb, origin);
   checkField("propagation.frame_rate", p.frameRate, origin);
   checkField("propagation.ir_length", p.irLength, origin);
   // The temperature before the speed of sound, which is derived from it when not given: a

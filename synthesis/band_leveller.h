@@ -22,8 +22,8 @@
 //
 // Construction: control/propagation thread (FFTW planning is not thread-safe); allocates
 // O(nfft) with nfft = smoothFftSize(length + bandFilterTapsFrom(sampleRate, firstBand));
-// throws std::invalid_argument on bad sizes. clearTargets / addResponse / addDirect / apply: propagation thread; no allocation;
-// no errors.
+// throws std::invalid_argument on bad sizes. clearTargets / addResponse / addDirect / apply:
+// propagation thread; no allocation; no errors.
 #pragma once
 
 #include <array>

@@ -8,11 +8,11 @@
 #include <stdexcept>
 
 #include "common/random.h"
-#include "synthesis/mono_synthesizer.h"
 #include "synthesis/band_leveller.h"
 #include "synthesis/dirac_sequence.h"
 #include "synthesis/filter_shape.h"
 #include "synthesis/late_rotation.h"
+#include "synthesis/mono_synthesizer.h"
 
 namespace dpc {
 
@@ -57,7 +57,8 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
                           hashCombine(seed, 0x0a0a0a0aULL)),
             masks, big, lengthSeconds);
   if (channels_ == 2 && maxFilter > 1 && reference_ == Reference::kChannelAverage) {
-    coherence_ = std::make_shared<const CoherenceMatch>(filters, exact_, sampleRate, kDirectionalFromBand);
+    coherence_ =
+        std::make_shared<const CoherenceMatch>(filters, exact_, sampleRate, kDirectionalFromBand);
     for (std::vector<float>& e : earScratch_) e.assign(length_, 0.f);
     directionTotals_.resize(directions_.size());
     bandEnergy_.resize(directions_.size());
@@ -177,7 +178,7 @@ void SpatialIrSynthesizer::directionBands(size_t d, const std::vector<float>& se
   Spectrum seqSpec(nbins), channelSpec(nbins);
   spectrumOf(fft, sequence, seqSpec);  // also leaves it in fft.spec
   envelopes_.push_back(BandEnvelope(sampleRate_, sequence, length_, filterData_,
-                                                      measureLowBands(fft, masks, length_)));
+                                    measureLowBands(fft, masks, length_)));
   // One-tap filters are gains: one unit-filter band signal per direction, scaled per channel
   // when accumulated (K x 8 x length floats instead of K x N x 8 x length).
   static const DirectionFilter kUnit{{{1.f}}};
@@ -300,8 +301,8 @@ void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
                                        kDirectionalFromBand);
   }
   if (channelLevelling_)
-    channelLevelling_->level(energy, count, levelWeight_, omniGains_, kDirectionalFromBand,
-                             onset, channels);
+    channelLevelling_->level(energy, count, levelWeight_, omniGains_, kDirectionalFromBand, onset,
+                             channels);
   delayFrom(onset, reverbDelay_, length_, channels);  // as the filters delay every arrival
   arrivalDelays_.clear();
   arrivalEnergy_.clear();
@@ -321,7 +322,7 @@ void SpatialIrSynthesizer::accumulateDirections(size_t count, std::span<float* c
     for (size_t d = 0; d < count; ++d)
       for (size_t c = 0; c < channels_; ++c)
         envelopes_[d].accumulateRange(bandSignals(d, c), channels[c], begin, end, gains_[d][c],
-                                       kDirectionalFromBand, kNumBands);
+                                      kDirectionalFromBand, kNumBands);
     return;
   }
   // Gains only (panning, Ambisonics): a direction's enveloped bands are the same signal in
@@ -331,7 +332,7 @@ void SpatialIrSynthesizer::accumulateDirections(size_t count, std::span<float* c
   for (size_t d = 0; d < count; ++d) {
     std::fill(y + begin, y + end, 0.f);
     envelopes_[d].accumulateRange(bandSignals(d, 0), y, begin, end, 1.f, kDirectionalFromBand,
-                                   kNumBands);
+                                  kNumBands);
     for (size_t c = 0; c < channels_; ++c) {
       const float g = gains_[d][c];
       if (g == 0.f) continue;
@@ -372,7 +373,7 @@ void SpatialIrSynthesizer::accumulateMixed(size_t count, std::span<float* const>
     for (size_t d = 0; d < count; ++d)
       for (size_t c = 0; c < 2; ++c)
         envelopes_[d].accumulateRange(bandSignals(d, c), ears[c], begin, end, gains_[d][c], b,
-                                       b + 1);
+                                      b + 1);
     const size_t split = std::clamp(mixSplit_, begin, end);
     for (int part = 0; part < 2; ++part) {
       const EarMix& m = earMix_[size_t(part)][size_t(b)];
@@ -439,7 +440,8 @@ void SpatialIrSynthesizer::directBandWeights(size_t c) {
     double e = 0.0;
     for (size_t k = directBins_[size_t(b)].first; k < directBins_[size_t(b)].second; ++k)
       e += (double(fft_->band.p[k][0]) * fft_->band.p[k][0] +
-            double(fft_->band.p[k][1]) * fft_->band.p[k][1]) * double(directMask2_[k][b]);
+            double(fft_->band.p[k][1]) * fft_->band.p[k][1]) *
+           double(directMask2_[k][b]);
     w[b] = float(e / (directNorm_[size_t(b)] * kappa_[size_t(b)]));
   }
 }

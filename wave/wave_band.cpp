@@ -144,7 +144,8 @@ WaveBand simulateWaveBand(const SceneDesc& scene, const Tracer& tracer, const Ge
   // This process's: the air mask and boundary list whole, the pressure of its slab.
   const Slab slab = options.link ? slabOf(layout, options.link->rank(), options.link->size())
                                  : slabOf(layout, 0, 1);
-  st.stateBytes = layout.arraySize() * sizeof(float) + 2 * pressureFloats(layout, slab) * sizeof(float) +
+  st.stateBytes = layout.arraySize() * sizeof(float) +
+                  2 * pressureFloats(layout, slab) * sizeof(float) +
                   grid.boundary.size() * sizeof(BoundaryNode);
   st.simulations = simulatedBands(scene.wave.crossover()).size();
   st.processes = options.link ? options.link->size() : 1;

@@ -70,7 +70,8 @@ struct WaveBandStats {
   int stepRate = 0;          ///< time steps per second
   size_t steps = 0;          ///< per simulation
   size_t simulations = 0;    ///< one per octave band up to the crossover
-  size_t stateBytes = 0;     ///< this process's solver arrays (its slab's pressure twice, the air mask, the boundary)
+  size_t stateBytes =
+      0;  ///< this process's solver arrays (its slab's pressure twice, the air mask, the boundary)
   double buildSeconds = 0.0; ///< wall time of the grid
   double simulateSeconds = 0.0;
   int processes = 1;         ///< sharing each simulation (options.link's size)

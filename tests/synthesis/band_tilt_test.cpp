@@ -1,13 +1,14 @@
 // The within-band tilt's windows read from suffix sums (TiltWindowSums) against the direct sum
 // over each window (halfBandDensity), the definition both synthesisers and the exact-IR model
 // share.
+#include "synthesis/band_tilt.h"
+
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
 #include <utility>
 
 #include "engine/energy_response.h"
-#include "synthesis/band_tilt.h"
 
 using namespace dpc;
 
@@ -66,7 +67,7 @@ TEST_CASE("Tilt windows follow a new response after reset", "[synthesis][tilt]")
   sums.reset(b);  // a shorter response: the suffix sums end where it ends
   const HalfBandDensity fromB = sums.at(4, 0.1), direct = halfBandDensity(b, 4, 0.1);
   CHECK(fromB.high == Approx(direct.high).epsilon(1e-9));
-  CHECK(fromB.high != fromA.high);  // the same window, not the previous response's result
+  CHECK(fromB.high != fromA.high);      // the same window, not the previous response's result
   CHECK(sums.at(4, 0.45).high == 1.0);  // beyond b's end: no energy, no tilt
 }
 
@@ -80,8 +81,8 @@ TEST_CASE("The tilt is the log-linear density's mean over each half band", "[syn
     for (int i = 0; i < n; ++i) s += std::pow(ratio, 0.5 * (i + 0.5) / n);
     return s / n;
   };
-  for (const auto& [below, above] :
-       {std::pair{4.0, 0.125}, std::pair{1.0, 1.0}, std::pair{1.000001, 0.999}, std::pair{1e-3, 50.0}}) {
+  for (const auto& [below, above] : {std::pair{4.0, 0.125}, std::pair{1.0, 1.0},
+                                     std::pair{1.000001, 0.999}, std::pair{1e-3, 50.0}}) {
     EnergyResponse er(0.1, 1e-3);
     for (size_t k = 0; k < er.binCount(); ++k) {
       er.bins()[k][3] = 1e-4f;

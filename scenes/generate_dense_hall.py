@@ -34,6 +34,9 @@ ap.add_argument('out', nargs='?', default=here)
 ap.add_argument('--grid', type=int, default=8)
 args = ap.parse_args()
 out, grid = args.out, args.grid
+if grid < 2 or grid % 2:
+    ap.error("--grid: %d is not an even number >= 2 (half the rows stand on each side of the "
+             "listener's lane)" % grid)
 name = 'dense_hall' if grid == 8 else 'dense_hall_%d' % grid
 
 verts, faces, index = [], [], {}

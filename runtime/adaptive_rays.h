@@ -1,28 +1,40 @@
 // AdaptiveRays: the live propagation thread's ray-count controller (docs/live.md, "Adaptive
-// rays"). After each frame it is told how long the frame took, and how old the pose it traced
-// was when its IR was ready, and picks the rays per source of the next one so that
+// rays"). After each frame it is told how long the frame took, how old the pose it traced was
+// when its IR was ready, and (when known) how much of that time scaled with the rays. It picks
+// the rays per source of the next frame so that
 //   - a frame fits in the frame period (1 / frame_rate) instead of falling behind, and
-//   - the motion-to-sound latency (pose published -> IR ready, plus the audio thread's pick-up
-//     of at most one block, which the caller adds) stays under a target.
-// With load = max(elapsed / period, latency / (kLatencyMargin * target)):
+//   - the motion-to-sound latency (pose published -> IR ready, plus the audio thread's pick-up,
+//     which the caller adds) stays under a target in nearly every frame.
 //
+// Model-based control (when the caller gives the rays' share of the frame): a frame's time is
+//   T(r) = F + c r
+// with F the part that does not scale with the rays r (IR synthesis, partitioning, the direct
+// sound and diffraction, the pose's age) and c the seconds per ray (the tracing and the hits'
+// cache updates). F and c are exponential moving averages of each frame's measured split;
+// sigma is the spread (from the mean absolute deviation) of the latency (without a target: the
+// frame's duration) around what the model predicted for that frame: the variation the controller cannot foresee (the pose's age, the
+// audio block, the machine). The next frame traces the rays whose predicted latency is
+//   min(kLatencyMargin * target, target - kJitterSigmas * sigma)
+// and whose predicted duration is kTarget * period, whichever is fewer; up by at most kGrowth
+// per frame, down at once. A proportional rule (time ~ r) would undershoot where F dominates:
+// halving the rays then barely shortens the frame, and the rays sit far below what fits.
+//
+// Without the split (update(elapsed[, latency])), the proportional rule: with
+// load = max(elapsed / period, latency / (kLatencyMargin * target)),
 //   load > 1          rays *= kTarget / load                    (down, proportionally)
 //   load < kTarget    rays *= min(kGrowth, kTarget / load)      (back up)
 //   otherwise         unchanged (hysteresis: no oscillation around the budget)
 //
-// always within [floor, scene rays], floor = max(scene rays / 16, min(256, scene rays)). The
-// tracing time is close to proportional to the rays; the part that is not (IR synthesis,
-// partitioning) and the pose's age make a reduction undershoot, and the next frames correct it.
+// Always within [floor, scene rays], floor = max(scene rays / 16, min(256, scene rays)).
 //
 // The diffuse path cache stays unbiased: each frame's estimate is I_f / N_f with N_f the rays
 // that frame really traced (TraceStats::rays, passed to the estimator by Simulation), so
 // frames of different ray counts average to the same expectation; fewer rays only add variance.
 //
 // Plain arithmetic, no allocation, no clock: the caller measures (or, in tests, injects) the
-// frame's duration and latency. One thread (the propagation thread).
+// frame's times. One thread (the propagation thread).
 #pragma once
 
-#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -30,62 +42,78 @@ namespace dpc {
 
 class AdaptiveRays {
  public:
-  /// Aim: a frame's load is at most this fraction of its budget (room for the rest of the loop
-  /// and for frame-to-frame variation).
+  /// Aim: a frame's duration is at most this fraction of the period (room for the rest of the
+  /// loop and for frame-to-frame variation); the proportional rule's hysteresis band.
   static constexpr double kTarget = 0.8;
   /// Largest growth per frame (x1.25: back from 1/16 to full rays in 13 frames, under a
   /// second at 15 frames/s, without overshooting into a late frame at once).
   static constexpr double kGrowth = 1.25;
-  /// The latency target bounds nearly every frame, not the typical one: the controller keeps
-  /// the latency it sees under this fraction of the target, because the next frame's latency
-  /// differs from the last one's by the frame-to-frame variation (and the pose's age) that it
-  /// cannot foresee.
+  /// The predicted latency never aims above this fraction of the target.
   static constexpr double kLatencyMargin = 0.9;
+  /// Standard deviations of the unforeseen latency variation kept below the target. With the
+  /// mean at target - 2 sigma, 2.3 % of frames of a normal spread pass the target, and none of
+  /// a uniform one (the pose's age: its 95th percentile is 1.56 sigma above its mean).
+  static constexpr double kJitterSigmas = 2.0;
+  /// Weight of the newest frame in the moving averages of F, c (about the last 4 frames) and
+  /// of the latency's absolute deviation (about the last 10).
+  static constexpr double kModelWeight = 0.25;
+  static constexpr double kJitterWeight = 0.1;
+  /// sigma from the mean absolute deviation: sqrt(pi / 2) for a normal spread (1.15 for a
+  /// uniform one). The absolute deviation, not its square, so that one slow frame (a page
+  /// fault, another process) does not dominate the estimate.
+  static constexpr double kSigmaPerMad = 1.2533141373155;
+  /// A frame's deviation counts at most this many sigmas, in sigma and in F (Huber's clipping).
+  static constexpr double kClipSigmas = 3.0;
+  /// sigma before any frame was measured: this fraction of the latency target (of the frame
+  /// period without one).
+  static constexpr double kInitialJitter = 0.05;
   /// The floor: at least 1/16 of the scene's rays, and 256 rays (or all of them if fewer).
   static constexpr int kFloorDivisor = 16;
   static constexpr int kFloorRays = 256;
+  /// The first frame, which nothing has measured yet, traces a quarter of the scene's rays
+  /// (not below the floor): a short first frame for an early first sound, and rays enough
+  /// that the first IR is not the floor's noisy one.
+  static constexpr int kFirstFrameDivisor = 4;
 
-  /// sceneRays: rays per source the scene asks for (the ceiling, and the start).
-  /// framePeriodSeconds: 1 / frame_rate. latencyTargetSeconds: the motion-to-sound latency to
-  /// stay under (seconds; infinite or not positive: none, the period alone bounds a frame).
+  /// sceneRays: rays per source the scene asks for (the ceiling). framePeriodSeconds:
+  /// 1 / frame_rate. latencyTargetSeconds: the motion-to-sound latency to stay under
+  /// (seconds; infinite or not positive: none, the period alone bounds a frame).
   AdaptiveRays(int sceneRays, double framePeriodSeconds,
-               double latencyTargetSeconds = std::numeric_limits<double>::infinity())
-      : ceiling_(std::max(1, sceneRays)),
-        floor_(std::max(ceiling_ / kFloorDivisor, std::min(kFloorRays, ceiling_))),
-        period_(framePeriodSeconds),
-        latencyTarget_(latencyTargetSeconds > 0.0 ? latencyTargetSeconds
-                                                  : std::numeric_limits<double>::infinity()),
-        rays_(ceiling_) {}
+               double latencyTargetSeconds = std::numeric_limits<double>::infinity());
 
-  /// Rays per source for the next frame.
+  /// Rays per source for the next frame; before any update(), firstFrameRays().
   int rays() const { return rays_; }
   int floor() const { return floor_; }
   int ceiling() const { return ceiling_; }
+  int firstFrameRays() const { return first_; }
 
   /// The frame just run (at rays()) took elapsedSeconds, and its IR was ready latencySeconds
   /// after the pose it traced was published (plus the audio pick-up; NaN or omitted: not
-  /// known, the period alone counts). Sets rays() for the next frame and returns it. A
-  /// non-finite or non-positive duration changes nothing.
-  int update(double elapsedSeconds, double latencySeconds = std::nan("")) {
-    if (!(elapsedSeconds > 0.0) || !std::isfinite(elapsedSeconds) || !(period_ > 0.0)) return rays_;
-    double load = elapsedSeconds / period_;
-    if (latencySeconds > 0.0 && std::isfinite(latencySeconds) && std::isfinite(latencyTarget_))
-      load = std::max(load, latencySeconds / (kLatencyMargin * latencyTarget_));
-    const double fit = kTarget / load;  // scale that would hit the target
-    double next = rays_;
-    if (load > 1.0)
-      next = rays_ * fit;
-    else if (fit > 1.0)
-      next = rays_ * std::min(kGrowth, fit);
-    rays_ = int(std::clamp(std::round(next), double(floor_), double(ceiling_)));
-    return rays_;
-  }
+  /// known, the period alone counts). raysSeconds: the part of the frame that scales with its
+  /// rays (tracing, the hits' cache updates; NaN or omitted: not known, the proportional
+  /// rule). Sets rays() for the next frame and returns it. A non-finite or non-positive
+  /// duration changes nothing.
+  int update(double elapsedSeconds, double latencySeconds = std::nan(""),
+             double raysSeconds = std::nan(""));
+
+  /// The model's current estimates (seconds; NaN before the first split frame).
+  double fixedLatencySeconds() const { return fixedLatency_; }
+  double secondsPerRay() const { return perRay_; }
+  double jitterSeconds() const { return kSigmaPerMad * jitterAbs_; }
 
  private:
-  int ceiling_, floor_;
+  bool hasLatency(double latencySeconds) const;
+  double proportionalRays(double elapsedSeconds, double latencySeconds) const;
+  double modelRays(double elapsedSeconds, double latencySeconds, double raysSeconds);
+  int clampRays(double next) const;
+  static void blend(double& average, double sample, double weight);
+
+  int ceiling_, floor_, first_;
   double period_;         ///< seconds
   double latencyTarget_;  ///< seconds (infinite: none)
   int rays_;
+  double fixedLatency_ = std::nan(""), fixedFrame_ = std::nan(""), perRay_ = std::nan("");
+  double jitterAbs_;  ///< mean absolute deviation of the latency from the model, seconds
 };
 
 }  // namespace dpc

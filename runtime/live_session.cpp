@@ -195,12 +195,10 @@ void LiveSession::propagationLoop() {
   for (bool first = true; running_.load(std::memory_order_relaxed); first = false) {
     next += period;
     const auto start = std::chrono::steady_clock::now();
-    // The first frame traces the controller's floor: the first sound comes that much sooner,
-    // and the cache's estimate is unbiased at any ray count (its noise then falls as the
-    // following frames, at the controller's rays, add theirs).
-    const int rays = !options_.adaptiveRays ? settings().raysPerFrame
-                     : first               ? adaptiveRays_.floor()
-                                           : adaptiveRays_.rays();
+    // The first frame traces the controller's first rays (a quarter of the scene's): the first
+    // sound comes that much sooner, and the cache's estimate is unbiased at any ray count (its
+    // noise then falls as the following frames, at the controller's rays, add theirs).
+    const int rays = options_.adaptiveRays ? adaptiveRays_.rays() : settings().raysPerFrame;
     runFrame(rays);
     if (first) afterFirstFrame();  // outside the controller's frame time
     // The whole frame, snapshot included: what must fit in the period; and its pose's age when
@@ -214,7 +212,8 @@ void LiveSession::propagationLoop() {
                                  ? double(lastReadyNs_ - lastPoseNs_) * 1e-9 + pickUp
                                  : std::nan("");
       adaptiveRays_.update(
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), latency);
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), latency,
+          raysSeconds(propagation_->simulation().frameTimes()));
     }
     // At most frame_rate frames per second; run late frames back to back.
     std::unique_lock<std::mutex> lock(wakeMutex_);
@@ -223,6 +222,13 @@ void LiveSession::propagationLoop() {
     else
       next = std::chrono::steady_clock::now();
   }
+}
+
+double LiveSession::raysSeconds(const Simulation::FrameTimes& t) {
+  // The tracing, and the pairs' cache updates (their share of the pairs' CPU time): what the
+  // rays' count scales. The direct sound, diffraction and exact paths do not.
+  const double cpu = t.directCpu + t.exactCpu + t.estimatorCpu;
+  return t.trace + (cpu > 0.0 ? t.pairs * t.estimatorCpu / cpu : 0.0);
 }
 
 void LiveSession::afterFirstFrame() {

@@ -30,6 +30,7 @@
 #include "audio/callback_stats.h"
 #include "audio/limiter.h"
 #include "common/fixed_ring.h"
+#include "engine/simulation.h"
 #include "runtime/adaptive_rays.h"
 #include "runtime/callback_adapter.h"
 #include "runtime/frame_profile.h"
@@ -270,6 +271,8 @@ class LiveSession {
   /// After the first frame (propagation thread): what the first IR did not need, the
   /// synthesisers' completion and the start of the planner thread.
   void afterFirstFrame();
+  /// Seconds of a frame that scale with its rays (AdaptiveRays::update).
+  static double raysSeconds(const Simulation::FrameTimes& t);
   /// One propagation frame at raysPerSource rays per source: assemble the world, trace it,
   /// hand the played listener's IR set over, update the counters and the response snapshot.
   /// Propagation thread (or the control thread through step()).

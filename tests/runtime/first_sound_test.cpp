@@ -46,7 +46,7 @@ bool renderUntil(LiveSession& session, Done done) {
 
 }  // namespace
 
-TEST_CASE("Live session: the first block with sound is timed, its frame traced the floor",
+TEST_CASE("Live session: the first block with sound is timed, its frame traced a quarter of the rays",
           "[live]") {
   SceneDesc scene = loadScene(std::string(DPC_SOURCE_DIR) + "/scenes/shoebox.json");
   const DrySignals dry = loadDrySignals(scene);
@@ -74,7 +74,7 @@ TEST_CASE("Live session: the first block with sound is timed, its frame traced t
   CHECK(st.firstSoundSeconds > 0.0);
   CHECK(st.firstSoundSeconds <= heardAfter + 1e-3);
   const AdaptiveRays controller(ps.raysPerFrame, 1.0 / ps.frameRate);
-  CHECK(st.raysPerFrameMin == controller.floor());
+  CHECK(st.raysPerFrameMin == controller.firstFrameRays());
   CHECK(st.raysPerFrameScene == 4096);
   // The synthesisers were built for the first IR and completed after its frame.
   CHECK(std::isfinite(st.synthesisCompletionSeconds));

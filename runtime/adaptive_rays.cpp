@@ -12,15 +12,40 @@ AdaptiveRays::AdaptiveRays(int sceneRays, double framePeriodSeconds, double late
       latencyTarget_(latencyTargetSeconds > 0.0 ? latencyTargetSeconds
                                                 : std::numeric_limits<double>::infinity()),
       rays_(first_),
+      last_(first_),
       jitterAbs_(kInitialJitter * (std::isfinite(latencyTarget_) ? latencyTarget_ : period_) /
                  kSigmaPerMad) {}
 
-int AdaptiveRays::update(double elapsedSeconds, double latencySeconds, double raysSeconds) {
+int AdaptiveRays::update(double elapsedSeconds, double latencySeconds, double raysSeconds,
+                         double knownSeconds) {
   if (!(elapsedSeconds > 0.0) || !std::isfinite(elapsedSeconds) || !(period_ > 0.0)) return rays_;
   const bool split = raysSeconds >= 0.0 && raysSeconds <= elapsedSeconds;
-  rays_ = clampRays(split ? modelRays(elapsedSeconds, latencySeconds, raysSeconds)
-                          : proportionalRays(elapsedSeconds, latencySeconds));
+  last_ = rays_;
+  if (!split) {
+    model_ = false;
+    rays_ = clampRays(proportionalRays(elapsedSeconds, latencySeconds));
+    return rays_;
+  }
+  if (!(knownSeconds >= 0.0) || !std::isfinite(knownSeconds)) knownSeconds = 0.0;
+  learn(elapsedSeconds, latencySeconds, raysSeconds, knownSeconds);
+  model_ = true;
+  return raysFor(knownSeconds);
+}
+
+int AdaptiveRays::raysFor(double knownSeconds) {
+  if (!model_) return rays_;
+  if (!(knownSeconds >= 0.0) || !std::isfinite(knownSeconds)) knownSeconds = 0.0;
+  if (!(perRay_ > 0.0)) return rays_ = clampRays(last_ * kGrowth);  // nothing scales with rays
+  double next = (kTarget * period_ - fixedFrame_) / perRay_;
+  if (!std::isnan(fixedLatency_) && std::isfinite(latencyTarget_))
+    next = std::min(next, (aim() - knownSeconds - fixedLatency_) / perRay_);
+  rays_ = clampRays(std::min(next, last_ * kGrowth));
   return rays_;
+}
+
+double AdaptiveRays::aim() const {
+  return std::min(kLatencyMargin * latencyTarget_,
+                  latencyTarget_ - kJitterSigmas * jitterSeconds());
 }
 
 bool AdaptiveRays::hasLatency(double latencySeconds) const {
@@ -37,17 +62,20 @@ double AdaptiveRays::proportionalRays(double elapsedSeconds, double latencySecon
   return rays_;
 }
 
-double AdaptiveRays::modelRays(double elapsedSeconds, double latencySeconds, double raysSeconds) {
+void AdaptiveRays::learn(double elapsedSeconds, double latencySeconds, double raysSeconds,
+                         double knownSeconds) {
   const bool timed = hasLatency(latencySeconds);
   double perRay = raysSeconds / double(rays_);
-  double fixedFrame = elapsedSeconds - raysSeconds, fixedLatency = latencySeconds - raysSeconds;
+  double fixedFrame = elapsedSeconds - raysSeconds;
+  double fixedLatency = latencySeconds - knownSeconds - raysSeconds;
   if (!std::isnan(fixedFrame_)) {
     // How far this frame missed the model's prediction, before the model learns from it. One
     // outlier frame moves sigma, F and c r by at most kClipSigmas sigma (Huber's clipping).
     const double bound = kClipSigmas * jitterSeconds();
-    const double predicted = (timed && !std::isnan(fixedLatency_) ? fixedLatency_ : fixedFrame_) +
-                             perRay_ * rays_;
-    const double miss = (timed ? latencySeconds : elapsedSeconds) - predicted;
+    const bool latencyModel = timed && !std::isnan(fixedLatency_);
+    const double predicted =
+        (latencyModel ? knownSeconds + fixedLatency_ : fixedFrame_) + perRay_ * rays_;
+    const double miss = (latencyModel ? latencySeconds : elapsedSeconds) - predicted;
     blend(jitterAbs_, std::min(std::abs(miss), bound), kJitterWeight);
     fixedFrame = std::clamp(fixedFrame, fixedFrame_ - bound, fixedFrame_ + bound);
     if (!std::isnan(fixedLatency_))
@@ -57,14 +85,6 @@ double AdaptiveRays::modelRays(double elapsedSeconds, double latencySeconds, dou
   if (timed) blend(fixedLatency_, fixedLatency, kModelWeight);
   blend(fixedFrame_, fixedFrame, kModelWeight);
   blend(perRay_, perRay, kModelWeight);
-  if (!(perRay_ > 0.0)) return rays_ * kGrowth;  // nothing scales with the rays
-  double next = (kTarget * period_ - fixedFrame_) / perRay_;
-  if (!std::isnan(fixedLatency_) && std::isfinite(latencyTarget_)) {
-    const double aim = std::min(kLatencyMargin * latencyTarget_,
-                                latencyTarget_ - kJitterSigmas * jitterSeconds());
-    next = std::min(next, (aim - fixedLatency_) / perRay_);
-  }
-  return std::min(next, rays_ * kGrowth);
 }
 
 void AdaptiveRays::blend(double& average, double sample, double weight) {

@@ -6,18 +6,24 @@
 //   - the motion-to-sound latency (pose published -> IR ready, plus the audio thread's pick-up,
 //     which the caller adds) stays under a target in nearly every frame.
 //
-// Model-based control (when the caller gives the rays' share of the frame): a frame's time is
-//   T(r) = F + c r
-// with F the part that does not scale with the rays r (IR synthesis, partitioning, the direct
-// sound and diffraction, the pose's age) and c the seconds per ray (the tracing and the hits'
-// cache updates). F and c are exponential moving averages of each frame's measured split;
-// sigma is the spread (from the mean absolute deviation) of the latency (without a target: the
-// frame's duration) around what the model predicted for that frame: the variation the controller cannot foresee (the pose's age, the
-// audio block, the machine). The next frame traces the rays whose predicted latency is
+// Model-based control (when the caller gives the rays' share of the frame): a frame's
+// latency is
+//   T(r) = K + F + c r
+// with K the part known when the frame starts (its pose's age then, the audio pick-up), F the
+// part that does not scale with the rays r (IR synthesis, partitioning, the direct sound and
+// diffraction) and c the seconds per ray (the tracing and the hits' cache updates). F and c
+// are exponential moving averages of each frame's measured split; sigma is the spread (from
+// the mean absolute deviation) of the latency (without a target: the frame's duration) around
+// what the model predicted for that frame: the variation the controller cannot foresee (the
+// machine, the scene). A frame starting with known part K traces the rays whose predicted
+// latency is
 //   min(kLatencyMargin * target, target - kJitterSigmas * sigma)
-// and whose predicted duration is kTarget * period, whichever is fewer; up by at most kGrowth
-// per frame, down at once. A proportional rule (time ~ r) would undershoot where F dominates:
-// halving the rays then barely shortens the frame, and the rays sit far below what fits.
+// and whose predicted duration F + c r is kTarget * period, whichever is fewer; up by at most
+// kGrowth over the last frame, down at once. A proportional rule (time ~ r) would undershoot
+// where F dominates: halving the rays then barely shortens the frame, and the rays sit far
+// below what fits. Taking the pose's age as known rather than as variation keeps it out of
+// sigma: a 10 ms control tick's age is uniform over 10 ms, sigma 2.9 ms, which would cost
+// 2 sigma of every frame's budget.
 //
 // Without the split (update(elapsed[, latency])), the proportional rule: with
 // load = max(elapsed / period, latency / (kLatencyMargin * target)),
@@ -91,12 +97,18 @@ class AdaptiveRays {
   /// after the pose it traced was published (plus the audio pick-up; NaN or omitted: not
   /// known, the period alone counts). raysSeconds: the part of the frame that scales with its
   /// rays (tracing, the hits' cache updates; NaN or omitted: not known, the proportional
-  /// rule). Sets rays() for the next frame and returns it. A non-finite or non-positive
-  /// duration changes nothing.
+  /// rule). knownSeconds: the part of its latency that was known when it started (its pose's
+  /// age then, the audio pick-up; 0 when omitted). Sets rays() for a next frame whose known
+  /// part is the same, and returns it. A non-finite or non-positive duration changes nothing.
   int update(double elapsedSeconds, double latencySeconds = std::nan(""),
-             double raysSeconds = std::nan(""));
+             double raysSeconds = std::nan(""), double knownSeconds = 0.0);
+  /// The rays of the frame starting now, whose latency's known part (its pose's age, the audio
+  /// pick-up) is knownSeconds: the model's rays for what is left of the aim. Sets and returns
+  /// rays(); without a model (no update with the split yet), rays() unchanged.
+  int raysFor(double knownSeconds);
 
-  /// The model's current estimates (seconds; NaN before the first split frame).
+  /// The model's current estimates (seconds; NaN before the first split frame). F of the
+  /// latency leaves out its known part.
   double fixedLatencySeconds() const { return fixedLatency_; }
   double secondsPerRay() const { return perRay_; }
   double jitterSeconds() const { return kSigmaPerMad * jitterAbs_; }
@@ -104,7 +116,9 @@ class AdaptiveRays {
  private:
   bool hasLatency(double latencySeconds) const;
   double proportionalRays(double elapsedSeconds, double latencySeconds) const;
-  double modelRays(double elapsedSeconds, double latencySeconds, double raysSeconds);
+  void learn(double elapsedSeconds, double latencySeconds, double raysSeconds,
+             double knownSeconds);
+  double aim() const;  ///< the latency aimed at, seconds
   int clampRays(double next) const;
   static void blend(double& average, double sample, double weight);
 
@@ -112,6 +126,8 @@ class AdaptiveRays {
   double period_;         ///< seconds
   double latencyTarget_;  ///< seconds (infinite: none)
   int rays_;
+  int last_;            ///< rays of the frame last measured
+  bool model_ = false;  ///< the last update had the split
   double fixedLatency_ = std::nan(""), fixedFrame_ = std::nan(""), perRay_ = std::nan("");
   double jitterAbs_;  ///< mean absolute deviation of the latency from the model, seconds
 };

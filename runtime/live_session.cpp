@@ -134,11 +134,24 @@ bool LiveSession::stepAdaptive(double frameSeconds) {
   return true;
 }
 
-void LiveSession::runFrame(int raysPerSource) {
+double LiveSession::pickUpSeconds() const {
+  // The audio thread takes a new IR set at its next block, and a staggered swap reaches its
+  // last source group that many blocks later.
+  return double(audioStage_->irSwapSpreadBlocks()) * blockSize_ / sampleRate_;
+}
+
+void LiveSession::runFrame(int raysPerSource, bool adapt) {
   lastPoseNs_ = lastReadyNs_ = 0;  // set by handOver() only if this frame yields an IR set
   const auto t0 = std::chrono::steady_clock::now();
   size_t played = 0;
   const ListenerPose pose = poses_.assemble(world_, played);
+  if (adapt) {
+    // What this frame's latency already holds before any work: its pose's age, the pick-up.
+    const int64_t now = steadyNowNs();
+    lastKnownSeconds_ =
+        (pose.publishedNs > 0 ? double(now - pose.publishedNs) * 1e-9 : 0.0) + pickUpSeconds();
+    raysPerSource = adaptiveRays_.raysFor(lastKnownSeconds_);
+  }
   // The estimators normalise by the rays each frame traced, so the count may change per frame.
   propagation_->traceWorld(world_, raysPerSource);
   const bool produced = handOver(played, pose);
@@ -198,22 +211,21 @@ void LiveSession::propagationLoop() {
     // The first frame traces the controller's first rays (a quarter of the scene's): the first
     // sound comes that much sooner, and the cache's estimate is unbiased at any ray count (its
     // noise then falls as the following frames, at the controller's rays, add theirs).
-    const int rays = options_.adaptiveRays ? adaptiveRays_.rays() : settings().raysPerFrame;
-    runFrame(rays);
+    const bool adapt = options_.adaptiveRays && !first;
+    runFrame(options_.adaptiveRays ? adaptiveRays_.rays() : settings().raysPerFrame, adapt);
     if (first) afterFirstFrame();  // outside the controller's frame time
     // The whole frame, snapshot included: what must fit in the period; and its pose's age when
     // the IR was ready plus one block (the audio thread picks it up at its next block) and the
     // blocks a staggered swap takes to reach its last source group: the motion-to-sound
     // latency it will have, as renderBlock measures it. The short first frame says nothing
     // about the controller's rays.
-    if (options_.adaptiveRays && !first) {
-      const double pickUp = double(audioStage_->irSwapSpreadBlocks()) * blockSize_ / sampleRate_;
+    if (adapt) {
       const double latency = lastPoseNs_ > 0
-                                 ? double(lastReadyNs_ - lastPoseNs_) * 1e-9 + pickUp
+                                 ? double(lastReadyNs_ - lastPoseNs_) * 1e-9 + pickUpSeconds()
                                  : std::nan("");
       adaptiveRays_.update(
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), latency,
-          raysSeconds(propagation_->simulation().frameTimes()));
+          raysSeconds(propagation_->simulation().frameTimes()), lastKnownSeconds_);
     }
     // At most frame_rate frames per second; run late frames back to back.
     std::unique_lock<std::mutex> lock(wakeMutex_);

@@ -276,7 +276,11 @@ class LiveSession {
   /// One propagation frame at raysPerSource rays per source: assemble the world, trace it,
   /// hand the played listener's IR set over, update the counters and the response snapshot.
   /// Propagation thread (or the control thread through step()).
-  void runFrame(int raysPerSource);
+  /// One frame at raysPerSource, or (adapt) at the controller's rays for what its pose's age
+  /// leaves of the latency budget (AdaptiveRays::raysFor).
+  void runFrame(int raysPerSource, bool adapt = false);
+  /// Seconds from an IR set's readiness to its last source group's first block (at most).
+  double pickUpSeconds() const;
   /// The frame's statistics after the trace (runFrame).
   void recordFrame(size_t played, bool produced, double frameMs);
   /// Synthesises the played listener's IR set into a free set of the exchange and publishes
@@ -322,6 +326,7 @@ class LiveSession {
   AdaptiveRays adaptiveRays_;  ///< propagation thread (or stepAdaptive() while stopped)
   /// The last IR set's pose publication and readiness, steady_clock ns (propagation thread).
   int64_t lastPoseNs_ = 0, lastReadyNs_ = 0;
+  double lastKnownSeconds_ = 0.0;  ///< the last frame's latency known at its start, s
   audio::CallbackStats swapStats_, noSwapStats_, latencyStats_, headLatencyStats_;
   /// Head-tracked binaural output: the audio thread reads the pose every block.
   bool headTracked_ = false;

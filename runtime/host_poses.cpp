@@ -39,7 +39,7 @@ HostPoses::HostPoses(std::shared_ptr<const SceneDesc> scene, size_t played)
   for (size_t l = 0; l < s.listeners.size(); ++l) {
     const Orientation o = listenerOrientationAt(s.listeners[l], 0.0);
     listeners_[l].publish(ListenerPose{listenerPositionAt(s.listeners[l], 0.0), o.yawRadians,
-                                       o.pitchRadians, o.rollRadians, steadyNowNs(), 0.0});
+                                       o.pitchRadians, o.rollRadians, steadyNowNs(), 0.0, 0});
   }
   sources_ = std::make_unique<SeqlockChannel<HostSourcePosition>[]>(s.sources.size());
   sourceRotations_ = std::make_unique<SeqlockChannel<HostSourceRotation>[]>(s.sources.size());
@@ -54,8 +54,11 @@ bool HostPoses::setListenerPose(size_t index, const glm::vec3& position, float y
       !positionWithinLimit(position.x, position.y, position.z) || !std::isfinite(yawRadians) ||
       !std::isfinite(pitchRadians) || !std::isfinite(rollRadians))
     return false;
-  listeners_[index].publish(
-      ListenerPose{position, yawRadians, pitchRadians, rollRadians, steadyNowNs(), sceneSeconds});
+  // The one writer of this channel reads its own last value: never contended.
+  const ListenerPose previous = listeners_[index].read();
+  const int64_t now = steadyNowNs();
+  listeners_[index].publish(ListenerPose{position, yawRadians, pitchRadians, rollRadians, now,
+                                         sceneSeconds, now - previous.publishedNs});
   return true;
 }
 

@@ -10,6 +10,7 @@
 #include "common/input_error.h"
 #include "common/stopwatch.h"
 #include "runtime/output_format.h"
+#include "runtime/pose_sync.h"
 #include "scene/orientation.h"
 
 namespace dpc {
@@ -134,6 +135,18 @@ bool LiveSession::stepAdaptive(double frameSeconds) {
   return true;
 }
 
+void LiveSession::awaitFreshPose(int64_t latestNs) {
+  ListenerPose held;
+  const size_t played = poses_.played();
+  if (!poses_.tryListenerPose(played, held)) return;
+  const int64_t until = poseWaitUntilNs(held, steadyNowNs(), latestNs);
+  ListenerPose newest;
+  while (steadyNowNs() < until && running_.load(std::memory_order_relaxed)) {
+    std::this_thread::sleep_for(std::chrono::nanoseconds(kPosePollNs));
+    if (poses_.tryListenerPose(played, newest) && newest.publishedNs != held.publishedNs) return;
+  }
+}
+
 double LiveSession::pickUpSeconds() const {
   // The audio thread takes a new IR set at its next block, and a staggered swap reaches its
   // last source group that many blocks later.
@@ -207,6 +220,14 @@ void LiveSession::propagationLoop() {
   auto next = std::chrono::steady_clock::now();
   for (bool first = true; running_.load(std::memory_order_relaxed); first = false) {
     next += period;
+    // The latest start that lets a frame as long as the last one (and a quarter) end before
+    // the next frame is due.
+    if (!first)
+      awaitFreshPose(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                         (next - std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                     std::chrono::duration<double>(1.25 * lastFrameSeconds_)))
+                             .time_since_epoch())
+                         .count());
     const auto start = std::chrono::steady_clock::now();
     // The first frame traces the controller's first rays (a quarter of the scene's): the first
     // sound comes that much sooner, and the cache's estimate is unbiased at any ray count (its
@@ -219,13 +240,15 @@ void LiveSession::propagationLoop() {
     // blocks a staggered swap takes to reach its last source group: the motion-to-sound
     // latency it will have, as renderBlock measures it. The short first frame says nothing
     // about the controller's rays.
+    lastFrameSeconds_ =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (adapt) {
       const double latency = lastPoseNs_ > 0
                                  ? double(lastReadyNs_ - lastPoseNs_) * 1e-9 + pickUpSeconds()
                                  : std::nan("");
-      adaptiveRays_.update(
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), latency,
-          raysSeconds(propagation_->simulation().frameTimes()), lastKnownSeconds_);
+      adaptiveRays_.update(lastFrameSeconds_, latency,
+                           raysSeconds(propagation_->simulation().frameTimes()),
+                           lastKnownSeconds_);
     }
     // At most frame_rate frames per second; run late frames back to back.
     std::unique_lock<std::mutex> lock(wakeMutex_);

@@ -281,6 +281,10 @@ class LiveSession {
   void runFrame(int raysPerSource, bool adapt = false);
   /// Seconds from an IR set's readiness to its last source group's first block (at most).
   double pickUpSeconds() const;
+  /// Propagation thread, before a frame: waits (polling, at most until latestNs, steady ns)
+  /// for the host's next pose when the one in hand is stale and the next is due in time
+  /// (runtime/pose_sync.h).
+  void awaitFreshPose(int64_t latestNs);
   /// The frame's statistics after the trace (runFrame).
   void recordFrame(size_t played, bool produced, double frameMs);
   /// Synthesises the played listener's IR set into a free set of the exchange and publishes
@@ -327,6 +331,7 @@ class LiveSession {
   /// The last IR set's pose publication and readiness, steady_clock ns (propagation thread).
   int64_t lastPoseNs_ = 0, lastReadyNs_ = 0;
   double lastKnownSeconds_ = 0.0;  ///< the last frame's latency known at its start, s
+  double lastFrameSeconds_ = 0.0;  ///< the last frame's duration, s (propagation thread)
   audio::CallbackStats swapStats_, noSwapStats_, latencyStats_, headLatencyStats_;
   /// Head-tracked binaural output: the audio thread reads the pose every block.
   bool headTracked_ = false;

@@ -1,6 +1,7 @@
 // HostPoses (runtime/host_poses.h): the world state of a frame is the trajectories at the
 // played listener's scene time, then the host's overrides.
 #include "runtime/host_poses.h"
+#include "runtime/pose_sync.h"
 
 #include <catch2/catch.hpp>
 #include <cfloat>
@@ -76,4 +77,40 @@ TEST_CASE("HostPoses: a coordinate beyond the scene's limit is refused and chang
   host.assemble(w, played);
   CHECK(w.sourcePositions[0] == glm::vec3(bound, -bound, 1));  // the last accepted ones
   CHECK(w.listenerPositions[0] == glm::vec3(-bound, bound, 1));
+}
+
+TEST_CASE("HostPoses: each pose carries the time since the listener's previous one", "[poses]") {
+  SceneDesc s = test::makeShoebox({6, 3, 4}, Bands(0.3f), 0.5f, {1, 1.5f, 1}, {4, 1.5f, 3});
+  HostPoses host(test::shared(s), 0);
+  ListenerPose first, second;
+  REQUIRE(host.tryListenerPose(0, first));
+  CHECK(first.intervalNs == 0);  // the scene's start pose: no stream yet
+  REQUIRE(host.setListenerPose(0, {2, 1.5f, 2}, 0.f, 0.1, 0.f));
+  REQUIRE(host.tryListenerPose(0, second));
+  CHECK(second.intervalNs == second.publishedNs - first.publishedNs);
+  CHECK(second.intervalNs >= 0);
+}
+
+TEST_CASE("poseWaitUntilNs: a stale pose waits for the host's next one when it comes in time",
+          "[poses]") {
+  constexpr int64_t ms = 1'000'000;
+  ListenerPose p;
+  p.publishedNs = 1000 * ms;
+  p.intervalNs = 10 * ms;  // a host publishing every 10 ms
+  const int64_t far = 2000 * ms;
+  // 1 ms old: fresh (under a quarter of the interval), start now.
+  CHECK(poseWaitUntilNs(p, 1001 * ms, far) == 1001 * ms);
+  // 6 ms old: the next pose is due at 1010 ms; wait for it, until a quarter interval past due.
+  CHECK(poseWaitUntilNs(p, 1006 * ms, far) == 1012 * ms + 500'000);
+  // ... unless the frame must start before then to end within its period.
+  CHECK(poseWaitUntilNs(p, 1006 * ms, 1011 * ms) == 1006 * ms);
+  // 20 ms old: the stream has stopped (overdue beyond the host's jitter): start now.
+  CHECK(poseWaitUntilNs(p, 1020 * ms, far) == 1020 * ms);
+  // No stream (the first pose), or one too slow to align to (200 ms): start now.
+  ListenerPose once = p;
+  once.intervalNs = 0;
+  CHECK(poseWaitUntilNs(once, 1006 * ms, far) == 1006 * ms);
+  ListenerPose slow = p;
+  slow.intervalNs = 200 * ms;
+  CHECK(poseWaitUntilNs(slow, 1100 * ms, far) == 1100 * ms);
 }

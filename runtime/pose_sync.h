@@ -1,0 +1,46 @@
+// Frames aligned to the host's pose publications. A host publishes the listener's pose at its
+// own rate (a game at its frame rate, dpc-demo's control thread every 10 ms); a propagation
+// frame starting on its own clock reads a pose that is on average half an interval old, and
+// its IR reaches the listener that much staler (motion-to-sound latency, docs/live.md). When
+// the pose in hand is stale and the next one is due soon enough for the frame still to end
+// within its period, the frame waits for it.
+//
+// Plain arithmetic on steady_clock nanoseconds (runtime/host_poses.h steadyNowNs); any thread;
+// no allocation; no errors.
+#pragma once
+
+#include <cstdint>
+
+#include "runtime/pose_channel.h"
+
+namespace dpc {
+
+/// A pose older than this fraction of the host's interval is stale enough to wait for the
+/// next (at a 10 ms interval: 2.5 ms; the wait then saves 2.5-10 ms of the pose's age).
+inline constexpr double kStalePoseFraction = 0.25;
+/// The next pose is awaited until this fraction of an interval past its due time (the host's
+/// own timing jitter), then the frame starts with the pose it has.
+inline constexpr double kPoseDueTolerance = 0.25;
+/// A host that publishes less often than this is not a pose stream to align to (a paused
+/// game, a host that sets the pose once): no wait.
+inline constexpr int64_t kMaxPoseIntervalNs = 100'000'000;
+/// How often the waiting propagation thread looks for the new pose, ns.
+inline constexpr int64_t kPosePollNs = 250'000;
+
+/// Until when (ns) a frame about to start at nowNs with `pose` in hand should wait for the
+/// host's next pose, given that it must start by latestNs to end within its period. A value
+/// <= nowNs: start now (the pose is fresh, the host publishes no steady stream, or the next
+/// pose would come too late).
+inline int64_t poseWaitUntilNs(const ListenerPose& pose, int64_t nowNs, int64_t latestNs) {
+  const int64_t interval = pose.intervalNs;
+  if (interval <= 0 || interval > kMaxPoseIntervalNs || pose.publishedNs <= 0) return nowNs;
+  const int64_t age = nowNs - pose.publishedNs;
+  const int64_t tolerance = int64_t(kPoseDueTolerance * double(interval));
+  // Fresh, or the stream has stopped (the next pose is overdue beyond the host's jitter).
+  if (age < int64_t(kStalePoseFraction * double(interval)) || age > interval + tolerance)
+    return nowNs;
+  const int64_t until = pose.publishedNs + interval + tolerance;
+  return until <= latestNs ? until : nowNs;
+}
+
+}  // namespace dpc

@@ -82,6 +82,9 @@ Json report(const CommonOptions& c, const LiveOptions& o, const SceneDesc& scene
   j["rays_per_frame_last"] = st.raysPerFrame;
   j["rays_per_frame_min"] = st.raysPerFrameMin;
   j["reduced_frames"] = st.reducedFrames;
+  j["rays_per_frame_p5"] = st.raysPerFrameP5;
+  j["rays_per_frame_median"] = st.raysPerFrameMedian;
+  j["floor_frames"] = st.floorFrames;
   j["frame_rate_target"] = s.frameRate;
   j["threads"] = s.threads;
   j["duration_s"] = o.duration;

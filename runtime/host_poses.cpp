@@ -54,11 +54,16 @@ bool HostPoses::setListenerPose(size_t index, const glm::vec3& position, float y
       !positionWithinLimit(position.x, position.y, position.z) || !std::isfinite(yawRadians) ||
       !std::isfinite(pitchRadians) || !std::isfinite(rollRadians))
     return false;
-  // The one writer of this channel reads its own last value: never contended.
+  // The one writer of this channel reads its own last value: never contended. The interval is
+  // a moving average, so that one late or early publication (a host's hiccup, a catch-up)
+  // does not read as a change of rate.
   const ListenerPose previous = listeners_[index].read();
   const int64_t now = steadyNowNs();
+  const int64_t gap = now - previous.publishedNs;
+  const int64_t interval =
+      previous.intervalNs > 0 ? previous.intervalNs + (gap - previous.intervalNs) / 4 : gap;
   listeners_[index].publish(ListenerPose{position, yawRadians, pitchRadians, rollRadians, now,
-                                         sceneSeconds, now - previous.publishedNs});
+                                         sceneSeconds, interval});
   return true;
 }
 

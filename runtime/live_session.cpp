@@ -44,7 +44,7 @@ LiveSession::LiveSession(std::shared_ptr<const SceneDesc> scene,
       poses_(scene_, checkedListener(*scene_, options.listener)),
       adapter_(blockSize_, audioStage_->sourceCount(), options.deviceChannels),
       limiter_(std::make_unique<audio::Limiter>(sampleRate_)),
-      counters_(settings.raysPerFrame),
+      counters_(settings.raysPerFrame, AdaptiveRays(settings.raysPerFrame, 1.0).floor()),
       adaptiveRays_(settings.raysPerFrame, 1.0 / settings.frameRate, options.latencyTargetSeconds) {
   if (options.bake) propagation_->attachBake(options.bake);
   if (!(options.lateBusToleranceDb >= 0.0 && options.lateBusToleranceDb <= 6.0))

@@ -30,8 +30,9 @@ struct ListenerPose {
   float rollRadians = 0.f;    ///< about forward, radians (+ = the right ear down)
   int64_t publishedNs = 0;    ///< steady_clock time of publication, ns (for latency)
   double sceneSeconds = 0.0;  ///< scene time the pose belongs to (trajectory time)
-  /// Time since the listener's previous publication, ns (0 for the first): the host's pose
-  /// rate, which the propagation thread aligns its frames to (LiveSession).
+  /// The host's interval between this listener's publications, ns: a moving average (the
+  /// newest gap weighs 1/4; the first gap alone at the second publication; 0 at the first).
+  /// The propagation thread aligns its frames to it (runtime/pose_sync.h).
   int64_t intervalNs = 0;
 };
 

@@ -24,14 +24,17 @@ void FrameTotals::add(const Simulation::SourceResult& r) {
     droppedEnergyFraction = std::max(droppedEnergyFraction, dropped / (dropped + kept));
 }
 
-SessionCounters::SessionCounters(int sceneRaysPerFrame)
-    : sceneRays_(sceneRaysPerFrame), lastRead_(std::chrono::steady_clock::now()) {}
+SessionCounters::SessionCounters(int sceneRaysPerFrame, int floorRays)
+    : sceneRays_(sceneRaysPerFrame), floorRays_(floorRays), lastRead_(std::chrono::steady_clock::now()) {}
 
 void SessionCounters::raysTraced(int traced) noexcept {
   raysPerFrame_.store(traced, std::memory_order_relaxed);
   const int low = raysPerFrameMin_.load(std::memory_order_relaxed);
   if (low == 0 || traced < low) raysPerFrameMin_.store(traced, std::memory_order_relaxed);
   if (traced < sceneRays_) reducedFrames_.fetch_add(1, std::memory_order_relaxed);
+  if (traced <= floorRays_ && traced < sceneRays_)
+    floorFrames_.fetch_add(1, std::memory_order_relaxed);
+  raysStats_.record(uint64_t(std::max(0, traced)), false);
 }
 
 void SessionCounters::frameDone(const FrameTotals& t, double frameMs) noexcept {
@@ -71,6 +74,11 @@ void SessionCounters::read(SessionStatus& st) {
   st.raysPerFrameMin = raysPerFrameMin_.load(r);
   st.raysPerFrameScene = sceneRays_;
   st.reducedFrames = reducedFrames_.load(r);
+  st.raysPerFrameFloor = floorRays_;
+  st.floorFrames = floorFrames_.load(r);
+  const audio::CallbackStats::Snapshot perFrame = raysStats_.snapshot();
+  st.raysPerFrameP5 = int(perFrame.quantileNs(0.05));
+  st.raysPerFrameMedian = int(perFrame.quantileNs(0.5));
   st.cacheEntries = cacheEntries_.load(r);
   st.cacheBytes = cacheBytes_.load(r);
   st.cachePairs = cachePairs_.load(r);

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "audio/callback_stats.h"
 #include "engine/simulation.h"
 
 namespace dpc {
@@ -47,6 +48,13 @@ struct SessionStatus {
   int raysPerFrameMin = 0;      ///< fewest rays per source of any frame so far (0: none yet)
   int raysPerFrameScene = 0;    ///< the settings' rays per source (the controller's ceiling)
   uint64_t reducedFrames = 0;   ///< frames traced with fewer rays than raysPerFrameScene
+  /// The adaptive controller's floor (AdaptiveRays::floor) and the frames traced at or below
+  /// it: frames whose budget the rays could not meet.
+  int raysPerFrameFloor = 0;
+  uint64_t floorFrames = 0;
+  /// 5th percentile and median of the rays per source over all frames so far (the upper edge
+  /// of a histogram bin: at most 6.25 % high; 0 before the first frame).
+  int raysPerFrameP5 = 0, raysPerFrameMedian = 0;
   size_t cacheEntries = 0;      ///< DPC path + coarse entries, summed over sources
   size_t cacheBytes = 0;        ///< DPC heap bytes, summed over sources
   size_t cacheBudgetBytes = 0;  ///< DPC memory budget, summed over sources
@@ -110,7 +118,8 @@ struct SessionStatus {
 /// methods: the audio thread; read() and the getters: any thread. Wait-free; no allocation.
 class SessionCounters {
  public:
-  explicit SessionCounters(int sceneRaysPerFrame);
+  /// sceneRaysPerFrame: the settings' rays; floorRays: the adaptive controller's floor.
+  SessionCounters(int sceneRaysPerFrame, int floorRays);
 
   /// Propagation side: rays per source the frame traced (every source the same).
   void raysTraced(int raysPerSource) noexcept;
@@ -157,9 +166,10 @@ class SessionCounters {
   void read(SessionStatus& st);
 
  private:
-  const int sceneRays_;
+  const int sceneRays_, floorRays_;
+  audio::CallbackStats raysStats_;  ///< rays per source per frame, as a histogram of "ns"
   std::atomic<uint64_t> frames_{0}, rays_{0}, blocks_{0}, nanBlocks_{0},
-      lateCallbacks_{0}, rejectedCallbacks_{0}, irsApplied_{0}, reducedFrames_{0},
+      lateCallbacks_{0}, rejectedCallbacks_{0}, irsApplied_{0}, reducedFrames_{0}, floorFrames_{0},
       cacheMergedEntries_{0}, bakedResponses_{0}, bakeFallbacks_{0}, inputSamplesReplaced_{0},
       fftPlanFailures_{0};
   std::atomic<double> frameMs_{0.0}, irAgeMs_{0.0}, cacheMergedEnergyFraction_{0.0},

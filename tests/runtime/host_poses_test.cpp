@@ -79,7 +79,7 @@ TEST_CASE("HostPoses: a coordinate beyond the scene's limit is refused and chang
   CHECK(w.listenerPositions[0] == glm::vec3(-bound, bound, 1));
 }
 
-TEST_CASE("HostPoses: each pose carries the time since the listener's previous one", "[poses]") {
+TEST_CASE("HostPoses: each pose carries the host's publication interval", "[poses]") {
   SceneDesc s = test::makeShoebox({6, 3, 4}, Bands(0.3f), 0.5f, {1, 1.5f, 1}, {4, 1.5f, 3});
   HostPoses host(test::shared(s), 0);
   ListenerPose first, second;
@@ -89,6 +89,12 @@ TEST_CASE("HostPoses: each pose carries the time since the listener's previous o
   REQUIRE(host.tryListenerPose(0, second));
   CHECK(second.intervalNs == second.publishedNs - first.publishedNs);
   CHECK(second.intervalNs >= 0);
+  // Later gaps move it by a quarter of their difference from it: a moving average.
+  ListenerPose third;
+  REQUIRE(host.setListenerPose(0, {2, 1.5f, 2}, 0.f, 0.2, 0.f));
+  REQUIRE(host.tryListenerPose(0, third));
+  const int64_t gap = third.publishedNs - second.publishedNs;
+  CHECK(third.intervalNs == second.intervalNs + (gap - second.intervalNs) / 4);
 }
 
 TEST_CASE("poseWaitUntilNs: a stale pose waits for the host's next one when it comes in time",

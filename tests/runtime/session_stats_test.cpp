@@ -6,7 +6,7 @@
 using namespace dpc;
 
 TEST_CASE("SessionCounters: rays, frames, blocks and callbacks as counted", "[stats]") {
-  SessionCounters c(1000);
+  SessionCounters c(1000, 400);  // scene rays, the controller's floor
   c.started(1'000'000'000);
   SessionStatus st;
   c.read(st);
@@ -30,6 +30,14 @@ TEST_CASE("SessionCounters: rays, frames, blocks and callbacks as counted", "[st
   CHECK(st.raysPerFrame == 800);
   CHECK(st.raysPerFrameMin == 400);
   CHECK(st.reducedFrames == 2);
+  CHECK(st.raysPerFrameFloor == 400);
+  CHECK(st.floorFrames == 1);  // the 400-ray frame
+  // Quantiles of 1000, 400, 800: the 5th percentile is the 400-ray frame, the median the 800
+  // one (each the upper edge of its 6.25 % histogram bin).
+  CHECK(st.raysPerFrameP5 >= 400);
+  CHECK(st.raysPerFrameP5 <= 425);
+  CHECK(st.raysPerFrameMedian >= 800);
+  CHECK(st.raysPerFrameMedian <= 850);
   CHECK(st.frames == 1);
   CHECK(st.frameMs == 12.5);
   CHECK(st.cacheEntries == 15);

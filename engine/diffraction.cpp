@@ -253,6 +253,7 @@ struct EdgePath {
   double spreading;              // 1/r sqrt(r / (s (r + s))), 1/m
   double prefactor;              // utdPrefactor(n, sin beta0)
   std::array<UtdTerm, 4> terms;  // frequency-independent parts of D
+  UtdTermSums sums;              // the terms' asymptotic order sums (utdTermSums)
   float legs;                    // r + s in single precision, m
   glm::vec3 arrival;             // unit vector from the listener toward Q
   glm::vec3 leaving;             // unit vector from the source toward Q
@@ -345,6 +346,7 @@ bool edgePath(const DiffractionEdge& e, const glm::vec3& source, const glm::vec3
   p.spreading = 1.0 / double(r) * std::sqrt(double(r) / (double(s) * p.length));
   p.prefactor = utdPrefactor(wedge / kPi, sinB);
   p.terms = utdWedgeTerms(wedge / kPi, phiL, phiS);
+  p.sums = utdTermSums(p.terms);
   p.legs = r + s;
   p.arrival = -toL / s;
   p.leaving = toQ / r;
@@ -457,7 +459,7 @@ double bandMeanSquare(int b, const std::vector<EdgePath>& paths, const PathGains
         if (s >= 1.0) continue;
         amplitude *= 1.0 - s;
       }
-      const C d = utdScaled(q.terms, q.prefactor, k * q.distanceParameter);
+      const C d = utdScaled(q.terms, q.sums, q.prefactor, k * q.distanceParameter);
       const double c = std::cos(k * q.length), sn = std::sin(k * q.length);
       // amplitude * d * e^{-jkl}, written out (std::complex's operator* checks for NaN)
       diffracted += amplitude * C(d.real() * c + d.imag() * sn, d.imag() * c - d.real() * sn);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace dpc {
@@ -126,6 +127,39 @@ C utdScaled(const std::array<UtdTerm, 4>& terms, double prefactor, double kl) {
     re += t.cot * f.real(), im += t.cot * f.imag();
   }
   // -e^{-j pi/4} = (-1 + j) / sqrt 2.
+  const double g = prefactor / std::numbers::sqrt2;
+  return {g * (-re - im), g * (re - im)};
+}
+
+UtdTermSums utdTermSums(const std::array<UtdTerm, 4>& terms) {
+  UtdTermSums sums;
+  sums.aMin = std::numeric_limits<double>::infinity();
+  for (const UtdTerm& t : terms) {
+    if (t.cot == 0.0) continue;
+    sums.aMin = std::min(sums.aMin, t.a);
+    double w = t.cot;  // cot a^-m
+    for (int m = 0; m < kUtdSeriesOrders; ++m, w /= t.a) sums.s[size_t(m)] += w;
+  }
+  return sums;
+}
+
+C utdScaled(const std::array<UtdTerm, 4>& terms, const UtdTermSums& sums, double prefactor,
+            double kl) {
+  if (!(kl * sums.aMin >= kTransitionSwitch)) return utdScaled(terms, prefactor, kl);
+  // sum_m c_m j^m S_m, c_m = c_{m-1} (2m - 1) / (2 kl): j^m cycles 1, j, -1, -j.
+  const double h = 0.5 / kl;
+  double re = sums.s[0], im = 0.0, c = 1.0;
+  for (int m = 1; m < kUtdSeriesOrders; ++m) {
+    c *= double(2 * m - 1) * h;
+    const double v = c * sums.s[size_t(m)];
+    switch (m & 3) {
+      case 1: im += v; break;
+      case 2: re -= v; break;
+      case 3: im -= v; break;
+      default: re += v; break;
+    }
+  }
+  // -e^{-j pi/4} = (-1 + j) / sqrt 2, as in the term-by-term sum.
   const double g = prefactor / std::numbers::sqrt2;
   return {g * (-re - im), g * (re - im)};
 }

@@ -48,6 +48,24 @@ double utdPrefactor(double n, double sinBeta0);
 /// D sqrt(k) = -e^{-j pi/4} prefactor * sum over the terms of cot F(kl a), kl = k L.
 std::complex<double> utdScaled(const std::array<UtdTerm, 4>& terms, double prefactor, double kl);
 
+/// Orders of the transition function's asymptotic series (utdTransition's, above X = 12).
+inline constexpr int kUtdSeriesOrders = 8;
+
+/// A path's four terms summed order by order for the asymptotic series: where every term's
+/// X = kl a is past the series' switch, sum_t cot_t F(kl a_t) = sum_m (2m-1)!! (j / 2kl)^m S_m
+/// with S_m = sum_t cot_t a_t^-m: one series per frequency instead of four. Terms with cot 0
+/// add nothing and are left out (of aMin too).
+struct UtdTermSums {
+  std::array<double, kUtdSeriesOrders> s{};  ///< S_m, m = 0..7 (units of a^-m)
+  double aMin = 0.0;                         ///< the smallest a of the terms kept
+};
+UtdTermSums utdTermSums(const std::array<UtdTerm, 4>& terms);
+
+/// utdScaled(terms, prefactor, kl), by the order sums where kl * sums.aMin is past the switch
+/// (equal to the four series' sum to rounding), else term by term. sums = utdTermSums(terms).
+std::complex<double> utdScaled(const std::array<UtdTerm, 4>& terms, const UtdTermSums& sums,
+                               double prefactor, double kl);
+
 /// The coefficient D itself (units sqrt(m)) for wedge index n at wavenumber k: phi, phiSource
 /// as above, sinBeta0 the sine of the angle between the incident ray and the edge, L the
 /// distance parameter (m).

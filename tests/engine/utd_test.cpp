@@ -1,0 +1,42 @@
+// The UTD coefficient by its terms' asymptotic order sums (engine/utd.h utdTermSums) against
+// the term-by-term sum of four transition functions: the same series, regrouped, so the two
+// agree to rounding wherever every term is past the series' switch, and the sums fall back to
+// the terms below it.
+#include "engine/utd.h"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <numbers>
+#include <random>
+
+using namespace dpc;
+
+TEST_CASE("UTD: the order sums equal the four terms' series, and fall back below the switch",
+          "[diffraction]") {
+  constexpr double kPi = std::numbers::pi;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int summed = 0, fellBack = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    // A wedge of air angle n pi, n in (1.05, 2), source and receiver anywhere inside it.
+    const double n = 1.05 + 0.95 * unit(rng);
+    const double phiS = 1e-3 + (n * kPi - 2e-3) * unit(rng);
+    const double phi = 1e-3 + (n * kPi - 2e-3) * unit(rng);
+    const auto terms = utdWedgeTerms(n, phi, phiS);
+    const UtdTermSums sums = utdTermSums(terms);
+    const double prefactor = utdPrefactor(n, 0.2 + 0.8 * unit(rng));
+    const double kl = std::pow(10.0, -1.0 + 5.0 * unit(rng));  // 0.1 .. 1e4
+    const std::complex<double> byTerms = utdScaled(terms, prefactor, kl);
+    const std::complex<double> bySums = utdScaled(terms, sums, prefactor, kl);
+    // Rounding: each term's cot times |F| <= 1, the series' terms at most 1 at X >= 12.
+    double scale = 0.0;
+    for (const UtdTerm& t : terms) scale += std::abs(t.cot);
+    scale *= prefactor;
+    INFO("n " << n << " phi " << phi << " phiS " << phiS << " kl " << kl);
+    CHECK(std::abs(bySums - byTerms) <= 1e-12 * scale + 1e-15);
+    (kl * sums.aMin >= 12.0 ? summed : fellBack) += 1;
+  }
+  // Both regimes were exercised.
+  CHECK(summed > 200);
+  CHECK(fellBack > 200);
+}

@@ -448,7 +448,7 @@ double bandMeanSquare(int b, const std::vector<EdgePath>& paths, const PathGains
   double acc = 0.0;
   for (int i = 0; i < kDiffractionFrequenciesPerBand; ++i) {
     const double k = 2.0 * kPi * diffractionFrequencyHz(b, i) / speedOfSound;
-    C p = directAmplitude * std::polar(1.0, -k * double(directDistance));
+    C p = directAmplitude * pathPhasor(k * double(directDistance));
     C diffracted(0.0, 0.0);
     for (size_t j = 0; j < paths.size(); ++j) {
       const EdgePath& q = paths[j];
@@ -460,7 +460,8 @@ double bandMeanSquare(int b, const std::vector<EdgePath>& paths, const PathGains
         amplitude *= 1.0 - s;
       }
       const C d = utdScaled(q.terms, q.sums, q.prefactor, k * q.distanceParameter);
-      const double c = std::cos(k * q.length), sn = std::sin(k * q.length);
+      const C e = pathPhasor(k * q.length);  // e^{-jkl} = c - j s
+      const double c = e.real(), sn = -e.imag();
       // amplitude * d * e^{-jkl}, written out (std::complex's operator* checks for NaN)
       diffracted += amplitude * C(d.real() * c + d.imag() * sn, d.imag() * c - d.real() * sn);
     }

@@ -131,6 +131,14 @@ C utdScaled(const std::array<UtdTerm, 4>& terms, double prefactor, double kl) {
   return {g * (-re - im), g * (re - im)};
 }
 
+C pathPhasor(double kl) {
+  const double turns = std::nearbyint(kl * (0.5 / kPi));
+  const float reduced = float(std::fma(-turns, 2.0 * kPi, kl));
+  float s = 0.f, c = 0.f;
+  ::sincosf(reduced, &s, &c);
+  return {double(c), -double(s)};
+}
+
 UtdTermSums utdTermSums(const std::array<UtdTerm, 4>& terms) {
   UtdTermSums sums;
   sums.aMin = std::numeric_limits<double>::infinity();

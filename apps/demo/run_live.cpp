@@ -247,8 +247,13 @@ Playback play(const SceneDesc& scene, const Flags& fl, double durationSeconds,
   pb.atStart = output->stats().snapshot();
   std::optional<audio::CallbackWatchdog> watchdog(std::in_place, *output);
   const bool tty = isatty(STDERR_FILENO);
+  // A steady 10 ms tick (not 10 ms after each pass's work): the propagation thread aligns its
+  // frames to the poses' rate (runtime/pose_sync.h), so a regular stream serves it best.
+  auto tick = start;
   for (bool quit = false; !quit && !stopSignal();) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    tick += std::chrono::milliseconds(10);
+    if (tick < Clock::now()) tick = Clock::now();  // overran: no burst to catch up
+    std::this_thread::sleep_until(tick);
     pb.failure = watchdog->check();
     if (!pb.failure.empty()) {
       if (!reconnect(scene, fl, sessionPtr, output, pb)) break;

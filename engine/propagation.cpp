@@ -153,7 +153,7 @@ SpecularSequence Propagator::sourceFirstRun(const RayState& ray, uint32_t k, boo
 void Propagator::testListeners(const TraceRequest& rq, const RayState& ray, float segEnd,
                                HitList& out) const {
   if (rq.receivers.size() > kMaxLinearSpheres) {
-    sphereBvh_.forEachCandidate(ray.org, ray.dir, segEnd,
+    sphereGrid_.forEachCandidate(ray.org, ray.dir, segEnd,
                                 [&](uint32_t l) { testSphere(rq, ray, segEnd, l, out); });
     return;
   }
@@ -184,7 +184,7 @@ void Propagator::prepareSpheres(std::span<const ListenerSphere> listeners) {
   if (listeners.size() <= kMaxLinearSpheres) return;
   sphereBoxes_.clear();
   for (const ListenerSphere& l : listeners) sphereBoxes_.emplace_back(l.position, l.radius);
-  sphereBvh_.build(sphereBoxes_);
+  sphereGrid_.build(sphereBoxes_);
 }
 
 PathHit Propagator::makeHit(const TraceRequest& rq, const RayState& ray, uint32_t l, float b,

@@ -65,7 +65,7 @@
 #include "engine/geometry.h"
 #include "engine/patch.h"
 #include "engine/specular_paths.h"
-#include "engine/sphere_bvh.h"
+#include "engine/sphere_grid.h"
 #include "engine/trace_request.h"
 #include "engine/tracer.h"
 #include "engine/transmission.h"
@@ -80,8 +80,8 @@ Bands propagationAirAttenuation(const PropagationSettings& settings);
 
 class Propagator {
  public:
-  /// Above this many receiver spheres a frame's segments find theirs through a SphereBvh
-  /// (engine/sphere_bvh.h) instead of testing each; up to it, the plain loop (cheaper for few).
+  /// Above this many receiver spheres a frame's segments find theirs through a SphereGrid
+  /// (engine/sphere_grid.h) instead of testing each; up to it, the plain loop (cheaper for few).
   static constexpr size_t kMaxLinearSpheres = 8;
   /// Survival probability of a ray that Russian roulette tests.
   static constexpr float kRouletteSurvival = 0.1f;
@@ -239,7 +239,7 @@ class Propagator {
   /// The segment against receiver l: appends its hit when it crosses.
   void testSphere(const TraceRequest& rq, const RayState& ray, float segEnd, uint32_t l,
                   HitList& out) const;
-  /// Rebuilds sphereBvh_ over `receivers` when there are more than kMaxLinearSpheres.
+  /// Rebuilds sphereGrid_ over `receivers` when there are more than kMaxLinearSpheres.
   void prepareSpheres(std::span<const ListenerSphere> receivers);
   /// The ray's leading specular run (k first reflections) as a source-first sequence: as
   /// recorded, or reversed when tracing from a listener.
@@ -278,7 +278,7 @@ class Propagator {
   float minAir_ = 0.f;   ///< smallest band air attenuation, 1/m (roulette's upper bound)
   PathKeyRule keyRule_;  ///< order-adaptive path identifier (engine/patch.h)
   std::span<const uint32_t> faceOf_;  ///< Options::specularFaces
-  SphereBvh sphereBvh_;                 ///< the frame's spheres, above kMaxLinearSpheres
+  SphereGrid sphereGrid_;               ///< the frame's spheres, above kMaxLinearSpheres
   std::vector<glm::vec4> sphereBoxes_;  ///< prepareSpheres' scratch
   int exactOrder_ = 0;                  ///< exactOrder()
   TraceMode traceMode_ = kDefaultTraceMode;

@@ -29,7 +29,7 @@ bool meets(const glm::vec3& org, const glm::vec3& dir, float end, const glm::vec
 }
 
 /// The spheres the grid offers the segment, and in `calls` how many times it called back.
-std::set<uint32_t> offered(const SphereGrid& grid, const glm::vec3& org, const glm::vec3& dir,
+std::set<uint32_t> offeredBy(const SphereGrid& grid, const glm::vec3& org, const glm::vec3& dir,
                            float end, size_t& calls) {
   std::set<uint32_t> candidates;
   calls = 0;
@@ -59,7 +59,7 @@ TEST_CASE("The sphere grid offers every sphere a segment meets, once", "[engine]
       if (k % 50 == 0) dir = glm::vec3(0.f, 0.f, 1.f);  // axis-parallel: infinite slopes
       const float end = k % 3 == 0 ? INFINITY : 8.f * rng.uniform();
       size_t calls = 0;
-      const std::set<uint32_t> candidates = offered(grid, org, dir, end, calls);
+      const std::set<uint32_t> candidates = offeredBy(grid, org, dir, end, calls);
       CHECK(calls == candidates.size());  // no sphere offered twice
       offered += candidates.size();
       for (uint32_t i = 0; i < n; ++i)
@@ -98,7 +98,7 @@ TEST_CASE("The sphere grid on a talkers' lattice: segments along cell planes and
     const glm::vec3 dir = k % 4 ? dirs[size_t(k) % std::size(dirs)] : uniformSphere(rng);
     const float end = k % 5 == 0 ? INFINITY : 12.f * rng.uniform();
     size_t calls = 0;
-    const std::set<uint32_t> candidates = offered(grid, org, dir, end, calls);
+    const std::set<uint32_t> candidates = offeredBy(grid, org, dir, end, calls);
     CHECK(calls == candidates.size());
     for (uint32_t i = 0; i < spheres.size(); ++i)
       if (meets(org, dir, end, spheres[i])) {

@@ -21,6 +21,9 @@ inline constexpr double kStalePoseFraction = 0.25;
 /// The next pose is awaited until this fraction of an interval past its due time (the host's
 /// own timing jitter), then the frame starts with the pose it has.
 inline constexpr double kPoseDueTolerance = 0.25;
+/// A pose older than this many intervals means the stream has stopped (a paused host); up to
+/// it, a late pose (a host's stall) is still awaited.
+inline constexpr double kStoppedIntervals = 2.0;
 /// A host that publishes less often than this is not a pose stream to align to (a paused
 /// game, a host that sets the pose once): no wait.
 inline constexpr int64_t kMaxPoseIntervalNs = 100'000'000;
@@ -36,10 +39,15 @@ inline int64_t poseWaitUntilNs(const ListenerPose& pose, int64_t nowNs, int64_t 
   if (interval <= 0 || interval > kMaxPoseIntervalNs || pose.publishedNs <= 0) return nowNs;
   const int64_t age = nowNs - pose.publishedNs;
   const int64_t tolerance = int64_t(kPoseDueTolerance * double(interval));
-  // Fresh, or the stream has stopped (the next pose is overdue beyond the host's jitter).
-  if (age < int64_t(kStalePoseFraction * double(interval)) || age > interval + tolerance)
+  // Fresh, or the stream has stopped.
+  if (age < int64_t(kStalePoseFraction * double(interval)) ||
+      age > int64_t(kStoppedIntervals * double(interval)))
     return nowNs;
-  const int64_t until = pose.publishedNs + interval + tolerance;
+  // The next pose is due one interval after this one; when that has passed (the host is late),
+  // it may still come within the stopped limit.
+  const int64_t due = age <= interval + tolerance ? interval + tolerance
+                                                  : int64_t(kStoppedIntervals * double(interval));
+  const int64_t until = pose.publishedNs + due;
   return until <= latestNs ? until : nowNs;
 }
 

@@ -154,7 +154,7 @@ void Propagator::testListeners(const TraceRequest& rq, const RayState& ray, floa
                                HitList& out) const {
   if (rq.receivers.size() > kMaxLinearSpheres) {
     sphereGrid_.forEachCandidate(ray.org, ray.dir, segEnd,
-                                [&](uint32_t l) { testSphere(rq, ray, segEnd, l, out); });
+                                 [&](uint32_t l) { testSphere(rq, ray, segEnd, l, out); });
     return;
   }
   for (uint32_t l = 0; l < rq.receivers.size(); ++l) testSphere(rq, ray, segEnd, l, out);

@@ -53,8 +53,8 @@
 #include <glm/vec3.hpp>
 #include <memory>
 #include <optional>
-#include <utility>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "common/bands.h"
@@ -278,7 +278,7 @@ class Propagator {
   float minAir_ = 0.f;   ///< smallest band air attenuation, 1/m (roulette's upper bound)
   PathKeyRule keyRule_;  ///< order-adaptive path identifier (engine/patch.h)
   std::span<const uint32_t> faceOf_;  ///< Options::specularFaces
-  SphereGrid sphereGrid_;               ///< the frame's spheres, above kMaxLinearSpheres
+  SphereGrid sphereGrid_;             ///< the frame's spheres, above kMaxLinearSpheres
   std::vector<glm::vec4> sphereBoxes_;  ///< prepareSpheres' scratch
   int exactOrder_ = 0;                  ///< exactOrder()
   TraceMode traceMode_ = kDefaultTraceMode;

@@ -96,7 +96,8 @@ bool SphereGrid::start(const glm::vec3& org, const glm::vec3& dir, float segEnd,
 }
 
 bool SphereGrid::advance(Walk& w) const {
-  const int a = w.tMax.x <= w.tMax.y ? (w.tMax.x <= w.tMax.z ? 0 : 2) : (w.tMax.y <= w.tMax.z ? 1 : 2);
+  const int a =
+      w.tMax.x <= w.tMax.y ? (w.tMax.x <= w.tMax.z ? 0 : 2) : (w.tMax.y <= w.tMax.z ? 1 : 2);
   if (!(w.tMax[a] <= w.tEnd)) return false;
   const size_t i = size_t(a);
   w.previous = w.cell;

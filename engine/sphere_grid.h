@@ -84,10 +84,10 @@ class SphereGrid {
 
   glm::vec3 lo_{0.f}, hi_{0.f}, side_{1.f}, inverseSide_{1.f};
   Cell cells_{1, 1, 1};
-  std::vector<CellBox> boxes_;      ///< per sphere
-  std::vector<uint32_t> offsets_;   ///< per cell, into members_ (cells + 1 entries)
-  std::vector<uint32_t> members_;   ///< sphere indices, by cell
-  std::vector<uint32_t> counts_;    ///< build's scratch
+  std::vector<CellBox> boxes_;     ///< per sphere
+  std::vector<uint32_t> offsets_;  ///< per cell, into members_ (cells + 1 entries)
+  std::vector<uint32_t> members_;  ///< sphere indices, by cell
+  std::vector<uint32_t> counts_;   ///< build's scratch
 };
 
 }  // namespace dpc

@@ -161,10 +161,18 @@ C utdScaled(const std::array<UtdTerm, 4>& terms, const UtdTermSums& sums, double
     c *= double(2 * m - 1) * h;
     const double v = c * sums.s[size_t(m)];
     switch (m & 3) {
-      case 1: im += v; break;
-      case 2: re -= v; break;
-      case 3: im -= v; break;
-      default: re += v; break;
+      case 1:
+        im += v;
+        break;
+      case 2:
+        re -= v;
+        break;
+      case 3:
+        im -= v;
+        break;
+      default:
+        re += v;
+        break;
     }
   }
   // -e^{-j pi/4} = (-1 + j) / sqrt 2, as in the term-by-term sum.

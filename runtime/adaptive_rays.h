@@ -116,8 +116,7 @@ class AdaptiveRays {
  private:
   bool hasLatency(double latencySeconds) const;
   double proportionalRays(double elapsedSeconds, double latencySeconds) const;
-  void learn(double elapsedSeconds, double latencySeconds, double raysSeconds,
-             double knownSeconds);
+  void learn(double elapsedSeconds, double latencySeconds, double raysSeconds, double knownSeconds);
   double aim() const;  ///< the latency aimed at, seconds
   int clampRays(double next) const;
   static void blend(double& average, double sample, double weight);

@@ -62,8 +62,8 @@ bool HostPoses::setListenerPose(size_t index, const glm::vec3& position, float y
   const int64_t gap = now - previous.publishedNs;
   const int64_t interval =
       previous.intervalNs > 0 ? previous.intervalNs + (gap - previous.intervalNs) / 4 : gap;
-  listeners_[index].publish(ListenerPose{position, yawRadians, pitchRadians, rollRadians, now,
-                                         sceneSeconds, interval});
+  listeners_[index].publish(
+      ListenerPose{position, yawRadians, pitchRadians, rollRadians, now, sceneSeconds, interval});
   return true;
 }
 

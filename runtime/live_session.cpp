@@ -247,8 +247,7 @@ void LiveSession::propagationLoop() {
                                  ? double(lastReadyNs_ - lastPoseNs_) * 1e-9 + pickUpSeconds()
                                  : std::nan("");
       adaptiveRays_.update(lastFrameSeconds_, latency,
-                           raysSeconds(propagation_->simulation().frameTimes()),
-                           lastKnownSeconds_);
+                           raysSeconds(propagation_->simulation().frameTimes()), lastKnownSeconds_);
     }
     // At most frame_rate frames per second; run late frames back to back.
     std::unique_lock<std::mutex> lock(wakeMutex_);

@@ -25,7 +25,9 @@ void FrameTotals::add(const Simulation::SourceResult& r) {
 }
 
 SessionCounters::SessionCounters(int sceneRaysPerFrame, int floorRays)
-    : sceneRays_(sceneRaysPerFrame), floorRays_(floorRays), lastRead_(std::chrono::steady_clock::now()) {}
+    : sceneRays_(sceneRaysPerFrame),
+      floorRays_(floorRays),
+      lastRead_(std::chrono::steady_clock::now()) {}
 
 void SessionCounters::raysTraced(int traced) noexcept {
   raysPerFrame_.store(traced, std::memory_order_relaxed);

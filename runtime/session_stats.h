@@ -168,8 +168,8 @@ class SessionCounters {
  private:
   const int sceneRays_, floorRays_;
   audio::CallbackStats raysStats_;  ///< rays per source per frame, as a histogram of "ns"
-  std::atomic<uint64_t> frames_{0}, rays_{0}, blocks_{0}, nanBlocks_{0},
-      lateCallbacks_{0}, rejectedCallbacks_{0}, irsApplied_{0}, reducedFrames_{0}, floorFrames_{0},
+  std::atomic<uint64_t> frames_{0}, rays_{0}, blocks_{0}, nanBlocks_{0}, lateCallbacks_{0},
+      rejectedCallbacks_{0}, irsApplied_{0}, reducedFrames_{0}, floorFrames_{0},
       cacheMergedEntries_{0}, bakedResponses_{0}, bakeFallbacks_{0}, inputSamplesReplaced_{0},
       fftPlanFailures_{0};
   std::atomic<double> frameMs_{0.0}, irAgeMs_{0.0}, cacheMergedEnergyFraction_{0.0},

@@ -3,20 +3,20 @@
 // Monte Carlo error of the full-ray one (the estimators normalise each frame by the rays it
 // traced). Frame durations are injected (LiveSession::stepAdaptive), never measured, so the
 // assertions hold however loaded the machine is.
-#include "testing/test_scenes.h"
 #include "runtime/adaptive_rays.h"
 
+#include <algorithm>
 #include <array>
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <random>
-#include <algorithm>
 #include <thread>
 #include <vector>
 
 #include "runtime/live_session.h"
+#include "testing/test_scenes.h"
 
 using namespace dpc;
 

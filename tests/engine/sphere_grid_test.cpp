@@ -1,6 +1,8 @@
 // The sphere grid (engine/sphere_grid.h) and its use by the propagator for many receiver
 // spheres: it must never miss a sphere a segment crosses nor offer one twice, so the hits
 // through it equal, bit for bit, those of testing each sphere alone.
+#include "engine/sphere_grid.h"
+
 #include <catch2/catch.hpp>
 #include <glm/geometric.hpp>
 #include <set>
@@ -10,9 +12,8 @@
 #include "engine/embree_tracer.h"
 #include "engine/propagation.h"
 #include "engine/sampling.h"
-#include "engine/sphere_grid.h"
-#include "testing/test_util.h"
 #include "testing/test_scenes.h"
+#include "testing/test_util.h"
 
 using namespace dpc;
 
@@ -30,7 +31,7 @@ bool meets(const glm::vec3& org, const glm::vec3& dir, float end, const glm::vec
 
 /// The spheres the grid offers the segment, and in `calls` how many times it called back.
 std::set<uint32_t> offeredBy(const SphereGrid& grid, const glm::vec3& org, const glm::vec3& dir,
-                           float end, size_t& calls) {
+                             float end, size_t& calls) {
   std::set<uint32_t> candidates;
   calls = 0;
   grid.forEachCandidate(org, dir, end, [&](uint32_t i) {
@@ -85,9 +86,15 @@ TEST_CASE("The sphere grid on a talkers' lattice: segments along cell planes and
   SphereGrid grid;
   grid.build(spheres);
   Rng rng(11, 3);
-  const glm::vec3 dirs[] = {{1, 0, 0}, {0, 0, 1}, {-1, 0, 0}, {0, 0, -1}, {0, 1, 0},
-                            glm::normalize(glm::vec3(1, 0, 1)), glm::normalize(glm::vec3(-1, 0, 1)),
-                            glm::normalize(glm::vec3(1, 1, 1)), glm::normalize(glm::vec3(1, -1, -1))};
+  const glm::vec3 dirs[] = {{1, 0, 0},
+                            {0, 0, 1},
+                            {-1, 0, 0},
+                            {0, 0, -1},
+                            {0, 1, 0},
+                            glm::normalize(glm::vec3(1, 0, 1)),
+                            glm::normalize(glm::vec3(-1, 0, 1)),
+                            glm::normalize(glm::vec3(1, 1, 1)),
+                            glm::normalize(glm::vec3(1, -1, -1))};
   size_t met = 0;
   for (int k = 0; k < 20000; ++k) {
     // Origins on the lattice's round coordinates (multiples of 0.5 m) and between them.
@@ -118,8 +125,8 @@ TEST_CASE("Through the grid each sphere gets the hits it gets alone", "[engine]"
   Propagator propagator(geometry, tracer, sc.propagation);
   std::vector<ListenerSphere> spheres;
   for (int i = 0; i < 12; ++i)
-    spheres.push_back({{0.8f + 0.7f * i, 1.f + 0.4f * float(i % 5), 0.5f + 0.2f * float(i % 4)},
-                       0.4f});
+    spheres.push_back(
+        {{0.8f + 0.7f * i, 1.f + 0.4f * float(i % 5), 0.5f + 0.2f * float(i % 4)}, 0.4f});
   REQUIRE(spheres.size() > Propagator::kMaxLinearSpheres);
   std::vector<FrameGroups> groups(spheres.size());
   std::vector<FrameGroups*> ptrs;

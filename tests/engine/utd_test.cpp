@@ -4,10 +4,10 @@
 // the terms below it.
 #include "engine/utd.h"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>
-#include <algorithm>
 #include <random>
 
 using namespace dpc;

@@ -46,8 +46,9 @@ bool renderUntil(LiveSession& session, Done done) {
 
 }  // namespace
 
-TEST_CASE("Live session: the first block with sound is timed, its frame traced a quarter of the rays",
-          "[live]") {
+TEST_CASE(
+    "Live session: the first block with sound is timed, its frame traced a quarter of the rays",
+    "[live]") {
   SceneDesc scene = loadScene(std::string(DPC_SOURCE_DIR) + "/scenes/shoebox.json");
   const DrySignals dry = loadDrySignals(scene);
   PropagationSettings ps = scene.propagation;

@@ -1,12 +1,12 @@
 // HostPoses (runtime/host_poses.h): the world state of a frame is the trajectories at the
 // played listener's scene time, then the host's overrides.
 #include "runtime/host_poses.h"
-#include "runtime/pose_sync.h"
 
 #include <catch2/catch.hpp>
 #include <cfloat>
 #include <cmath>
 
+#include "runtime/pose_sync.h"
 #include "scene/limits.h"
 #include "scene/trajectory.h"
 #include "testing/test_scenes.h"

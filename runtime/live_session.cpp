@@ -220,12 +220,12 @@ void LiveSession::propagationLoop() {
   auto next = std::chrono::steady_clock::now();
   for (bool first = true; running_.load(std::memory_order_relaxed); first = false) {
     next += period;
-    // The latest start that lets a frame as long as the last one (and a quarter) end before
-    // the next frame is due.
+    // The latest start that lets a frame as long as the last one (and kFrameLengthMargin) end
+    // before the next frame is due.
     if (!first)
       awaitFreshPose(std::chrono::duration_cast<std::chrono::nanoseconds>(
                          (next - std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                     std::chrono::duration<double>(1.25 * lastFrameSeconds_)))
+                                     std::chrono::duration<double>(kFrameLengthMargin * lastFrameSeconds_)))
                              .time_since_epoch())
                          .count());
     const auto start = std::chrono::steady_clock::now();

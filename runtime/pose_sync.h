@@ -27,6 +27,10 @@ inline constexpr double kStoppedIntervals = 2.0;
 /// A host that publishes less often than this is not a pose stream to align to (a paused
 /// game, a host that sets the pose once): no wait.
 inline constexpr int64_t kMaxPoseIntervalNs = 100'000'000;
+/// A frame waits only while one as long as the last one, times this, still ends before the
+/// next frame is due (live frames vary by a few per cent from one to the next: 1.1 is about
+/// four of their standard deviations).
+inline constexpr double kFrameLengthMargin = 1.1;
 /// How often the waiting propagation thread looks for the new pose, ns.
 inline constexpr int64_t kPosePollNs = 250'000;
 

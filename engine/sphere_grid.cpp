@@ -7,7 +7,7 @@
 
 namespace dpc {
 
-void SphereGrid::size(const glm::vec3& extent, size_t spheres) {
+void SphereGrid::fitCells(const glm::vec3& extent, size_t spheres) {
   // Cells of about equal sides whose count is kCellsPerSphere per sphere.
   const double volume = double(extent.x) * extent.y * extent.z;
   const double target = std::max(1.0, kCellsPerSphere * double(spheres));
@@ -36,7 +36,7 @@ void SphereGrid::build(std::span<const glm::vec4> spheres) {
     lo_ = glm::min(lo_, glm::vec3(s) - s.w);
     hi_ = glm::max(hi_, glm::vec3(s) + s.w);
   }
-  size(hi_ - lo_, spheres.size());
+  fitCells(hi_ - lo_, spheres.size());
   const glm::vec3 margin = kMargin * side_;
   for (size_t i = 0; i < spheres.size(); ++i) {
     const glm::vec3 c(spheres[i]);

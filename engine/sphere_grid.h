@@ -80,7 +80,8 @@ class SphereGrid {
     return uint32_t((c[2] * cells_[1] + c[1]) * cells_[0] + c[0]);
   }
   int cellOf(float x, int axis) const;
-  void size(const glm::vec3& extent, size_t spheres);
+  /// cells_, side_, inverseSide_ for a box of `extent` (m) holding `spheres` spheres.
+  void fitCells(const glm::vec3& extent, size_t spheres);
 
   glm::vec3 lo_{0.f}, hi_{0.f}, side_{1.f}, inverseSide_{1.f};
   Cell cells_{1, 1, 1};

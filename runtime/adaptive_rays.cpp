@@ -6,7 +6,7 @@ namespace dpc {
 
 AdaptiveRays::AdaptiveRays(int sceneRays, double framePeriodSeconds, double latencyTargetSeconds)
     : ceiling_(std::max(1, sceneRays)),
-      floor_(std::max(ceiling_ / kFloorDivisor, std::min(kFloorRays, ceiling_))),
+      floor_(floorFor(sceneRays)),
       first_(std::max(floor_, ceiling_ / kFirstFrameDivisor)),
       period_(framePeriodSeconds),
       latencyTarget_(latencyTargetSeconds > 0.0 ? latencyTargetSeconds
@@ -15,6 +15,11 @@ AdaptiveRays::AdaptiveRays(int sceneRays, double framePeriodSeconds, double late
       last_(first_),
       jitterAbs_(kInitialJitter * (std::isfinite(latencyTarget_) ? latencyTarget_ : period_) /
                  kSigmaPerMad) {}
+
+int AdaptiveRays::floorFor(int sceneRays) {
+  const int ceiling = std::max(1, sceneRays);
+  return std::max(ceiling / kFloorDivisor, std::min(kFloorRays, ceiling));
+}
 
 int AdaptiveRays::update(double elapsedSeconds, double latencySeconds, double raysSeconds,
                          double knownSeconds) {

@@ -90,6 +90,8 @@ class AdaptiveRays {
   /// Rays per source for the next frame; before any update(), firstFrameRays().
   int rays() const { return rays_; }
   int floor() const { return floor_; }
+  /// The floor of a controller for sceneRays: max(sceneRays / 16, min(256, sceneRays)).
+  static int floorFor(int sceneRays);
   int ceiling() const { return ceiling_; }
   int firstFrameRays() const { return first_; }
 
@@ -107,10 +109,7 @@ class AdaptiveRays {
   /// rays(); without a model (no update with the split yet), rays() unchanged.
   int raysFor(double knownSeconds);
 
-  /// The model's current estimates (seconds; NaN before the first split frame). F of the
-  /// latency leaves out its known part.
-  double fixedLatencySeconds() const { return fixedLatency_; }
-  double secondsPerRay() const { return perRay_; }
+  /// The model's sigma: the latency's unforeseen variation, seconds.
   double jitterSeconds() const { return kSigmaPerMad * jitterAbs_; }
 
  private:

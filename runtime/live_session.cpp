@@ -44,7 +44,7 @@ LiveSession::LiveSession(std::shared_ptr<const SceneDesc> scene,
       poses_(scene_, checkedListener(*scene_, options.listener)),
       adapter_(blockSize_, audioStage_->sourceCount(), options.deviceChannels),
       limiter_(std::make_unique<audio::Limiter>(sampleRate_)),
-      counters_(settings.raysPerFrame, AdaptiveRays(settings.raysPerFrame, 1.0).floor()),
+      counters_(settings.raysPerFrame, AdaptiveRays::floorFor(settings.raysPerFrame)),
       adaptiveRays_(settings.raysPerFrame, 1.0 / settings.frameRate, options.latencyTargetSeconds) {
   if (options.bake) propagation_->attachBake(options.bake);
   if (!(options.lateBusToleranceDb >= 0.0 && options.lateBusToleranceDb <= 6.0))
@@ -222,12 +222,11 @@ void LiveSession::propagationLoop() {
     next += period;
     // The latest start that lets a frame as long as the last one (and kFrameLengthMargin) end
     // before the next frame is due.
-    if (!first)
-      awaitFreshPose(std::chrono::duration_cast<std::chrono::nanoseconds>(
-                         (next - std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                     std::chrono::duration<double>(kFrameLengthMargin * lastFrameSeconds_)))
-                             .time_since_epoch())
-                         .count());
+    if (!first) {
+      const int64_t nextNs =
+          std::chrono::duration_cast<std::chrono::nanoseconds>(next.time_since_epoch()).count();
+      awaitFreshPose(nextNs - int64_t(kFrameLengthMargin * lastFrameSeconds_ * 1e9));
+    }
     const auto start = std::chrono::steady_clock::now();
     // The first frame traces the controller's first rays (a quarter of the scene's): the first
     // sound comes that much sooner, and the cache's estimate is unbiased at any ray count (its

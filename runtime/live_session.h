@@ -273,11 +273,10 @@ class LiveSession {
   void afterFirstFrame();
   /// Seconds of a frame that scale with its rays (AdaptiveRays::update).
   static double raysSeconds(const Simulation::FrameTimes& t);
-  /// One propagation frame at raysPerSource rays per source: assemble the world, trace it,
-  /// hand the played listener's IR set over, update the counters and the response snapshot.
-  /// Propagation thread (or the control thread through step()).
-  /// One frame at raysPerSource, or (adapt) at the controller's rays for what its pose's age
-  /// leaves of the latency budget (AdaptiveRays::raysFor).
+  /// One propagation frame at raysPerSource rays per source (adapt: at the controller's rays
+  /// for what its pose's age leaves of the latency budget, AdaptiveRays::raysFor): assemble the
+  /// world, trace it, hand the played listener's IR set over, update the counters and the
+  /// response snapshot. Propagation thread (or the control thread through step()).
   void runFrame(int raysPerSource, bool adapt = false);
   /// Seconds from an IR set's readiness to its last source group's first block (at most).
   double pickUpSeconds() const;

@@ -109,6 +109,11 @@ CLI::App* addLive(CLI::App& app, Options& o) {
                   "Hybrid rendering: a late bus keeps its IR while its decay's shape stays "
                   "within this many dB (0: synthesise every bus every frame; default 0.5)")
       ->check(CLI::Range(0.0, 6.0));
+  sub->add_option("--early-part-tolerance-db", o.live.earlyPartToleranceDb,
+                  "Hybrid rendering: a source keeps its early IR while its exact paths and "
+                  "early energy stay within this many dB (0: synthesise every early part every "
+                  "frame; default 0.5)")
+      ->check(CLI::Range(0.0, 6.0));
   return sub;
 }
 
@@ -151,6 +156,11 @@ CLI::App* addSources(CLI::App& app, Options& o) {
   sub->add_option("--reference-frames", o.sources.referenceFrames,
                   "Path-tracing frames of each reference (4x rays; default 24)")
       ->check(CLI::Range(2, 10000));
+  sub->add_option("--keep-tolerance-db", o.sources.keepToleranceDb,
+                  "Hybrid rendering: keep early and late-bus IRs while their inputs hold within "
+                  "this many dB, as a live session does (default 0: every IR every frame, as "
+                  "offline renders do)")
+      ->check(CLI::Range(0.0, 6.0));
   return sub;
 }
 

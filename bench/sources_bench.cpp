@@ -97,6 +97,8 @@ Json runConfiguration(const CommonOptions& c, const SourcesOptions& o, const Sce
   row["rendering"] = rendersHybrid(scene->audio, size_t(count)) ? "hybrid" : "per_source";
   PropagationStage stage(scene, s);
   WorldState world;
+  stage.reuseEarlyParts(o.keepToleranceDb);
+  stage.reuseLateBuses(o.keepToleranceDb);
   if (const HybridSynthesis* h = stage.hybrid()) {
     row["late_buses"] = h->buses();
     row["early_ms"] = 1e3 * h->split().splitSeconds;
@@ -104,7 +106,15 @@ Json runConfiguration(const CommonOptions& c, const SourcesOptions& o, const Sce
   Totals warm, t;
   for (int f = 0; f < o.warmupFrames; ++f) timeFrame(*scene, stage, world, warm);
   row["quality"] = quality(stage.simulation(), refs);
+  const HybridCounts before = stage.hybrid() ? stage.hybrid()->counts(0) : HybridCounts{};
   for (int f = 0; f < c.frames; ++f) timeFrame(*scene, stage, world, t);
+  if (const HybridSynthesis* h = stage.hybrid()) {
+    const HybridCounts& n = h->counts(0);
+    row["early_irs_kept_share"] =
+        double(n.earlyPartsKept - before.earlyPartsKept) / double(c.frames * count);
+    row["bus_irs_kept_share"] =
+        double(n.busesKept - before.busesKept) / double(c.frames * h->buses());
+  }
   size_t cacheBytes = 0, exactPaths = 0;
   uint64_t refusals = 0, merged = 0;
   double energy = 0.0, coarseEnergy = 0.0, worstCoarse = 0.0;
@@ -271,6 +281,7 @@ int benchSources(const CommonOptions& c, const SourcesOptions& o) {
       "over reference_frames frames; peak RSS of the configuration's own process";
   j["reference_frames"] = o.referenceFrames;
   j["max_from_sources"] = o.maxFromSources;
+  j["keep_tolerance_db"] = o.keepToleranceDb;
   printReport(j);
   return 0;
 }

@@ -122,6 +122,8 @@ class DirectionalEnergyResponse final : public ArrivalSink {
   DirectionalEnergyResponse truncated(double lengthSeconds) const;
   /// Takes other's listener frame (its directions must be these). No allocation.
   void copyFrame(const DirectionalEnergyResponse& other) { frame_ = other.frame_; }
+  /// The listener frame its directions are in.
+  const ListenerFrame& frame() const { return frame_; }
   /// Direction k's response to edit in place (e.g. hybrid rendering's early/late split).
   EnergyResponse& response(size_t k) { return responses_[k]; }
 

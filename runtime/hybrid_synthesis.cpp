@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <glm/geometric.hpp>
 
 #include "common/random.h"
@@ -34,6 +35,8 @@ struct HybridSynthesis::WorkerScratch {
   EnergyResponse early;  ///< mono
   std::vector<SpecularPath> paths;
   std::vector<float*> channels;  ///< spatial: one IR's channel pointers
+  EarlySignature signature;      ///< this frame's inputs of the source at hand
+  uint64_t kept = 0, synthesized = 0;  ///< early parts, this frame
 };
 
 HybridSynthesis::HybridSynthesis(const SceneDesc& scene, const PropagationSettings& settings,
@@ -57,6 +60,7 @@ HybridSynthesis::HybridSynthesis(const SceneDesc& scene, const PropagationSettin
   scratch_->directLate.assign(S, 0);
   for (WorkerScratch& w : workers_) {
     w.paths.reserve(256);
+    w.signature.reserve(256);
     w.channels.reserve(spatial_ ? spatial_->channelCount() : 1);
   }
   scratch_->busEnergy.assign(size_t(buses_), 0.0);
@@ -141,6 +145,7 @@ bool HybridSynthesis::completed() const {
 
 void HybridSynthesis::complete() {
   if (completed()) return;
+  forgetMade();
   const size_t S = earlyMono_.size(), W = workers_.size();
   // The order of construction: each group's first synthesiser before those sharing with it.
   const auto group = [&](size_t w) {
@@ -163,7 +168,37 @@ void HybridSynthesis::ensureListener(size_t listener, size_t sources) {
     clusters_.push_back(std::make_unique<SourceClusters>(sources, buses_, clusterAngle_));
     counts_.emplace_back();
     made_.emplace_back(size_t(buses_));
+    earlyMade_.emplace_back(sources);
   }
+}
+
+void HybridSynthesis::forgetMade() {
+  for (auto& buses : made_)
+    for (BusMade& m : buses) m.valid = false;
+  for (auto& sources : earlyMade_)
+    for (EarlyMade& m : sources) m.valid = false;
+}
+
+bool HybridSynthesis::keptEarly(size_t s, size_t listener, size_t w) {
+  WorkerScratch& x = workers_[w];
+  const EarlyMade& made = earlyMade_[listener][s];
+  if (!made.valid || !x.signature.matches(made.signature, earlyToleranceDb_)) return false;
+  ++x.kept;
+  return true;
+}
+
+void HybridSynthesis::madeEarly(size_t s, size_t listener, size_t w) {
+  WorkerScratch& x = workers_[w];
+  EarlyMade& made = earlyMade_[listener][s];
+  ++x.synthesized;
+  if (earlyToleranceDb_ <= 0.0) {
+    made.valid = false;
+    made.id = 0;
+    return;
+  }
+  std::swap(made.signature, x.signature);  // no allocation: the vectors trade storage
+  made.valid = true;
+  made.id = ++lastEarlyIrId_;
 }
 
 namespace {
@@ -226,9 +261,14 @@ void HybridSynthesis::synthesizeSpatialEarly(const Simulation& sim, size_t s, si
   earlyPaths(sim.specularPaths(s, listener), split_, x.paths);
   DirectSound direct = sim.result(s, listener).direct;
   if (scratch_->directLate[s]) direct.visible = false;
+  if (earlyToleranceDb_ > 0.0) {
+    x.signature.assign(scratch_->earlyDirs[s], direct, x.paths);
+    if (keptEarly(s, listener, w)) return;
+  }
   x.channels.resize(size_t(early.channels()));
   for (int c = 0; c < early.channels(); ++c) x.channels[size_t(c)] = early.channel(c);
   earlySpatial_[w]->synthesize(scratch_->earlyDirs[s], direct, x.channels, x.paths, s);
+  madeEarly(s, listener, w);
 }
 
 double HybridSynthesis::addMonoLate(const Simulation& sim, size_t s, size_t listener, int k,
@@ -259,7 +299,12 @@ void HybridSynthesis::synthesizeMonoEarly(const Simulation& sim, size_t s, size_
   else
     copyPrefix(r.energy, x.early);
   keepEarly(x.early, split_);
+  if (earlyToleranceDb_ > 0.0) {
+    x.signature.assign(x.early, direct, x.paths);
+    if (keptEarly(s, listener, w)) return;
+  }
   earlyMono_[s]->synthesize(x.early, direct, early.channel(0), x.paths);
+  madeEarly(s, listener, w);
 }
 
 void HybridSynthesis::splitSources(const Simulation& sim, size_t listener, BakedPlayback* baked,
@@ -291,6 +336,11 @@ void HybridSynthesis::synthesizeAll(const Simulation& sim, size_t listener, Bake
     parallel_(W + 1, std::ref(job));  // by reference: no std::function allocation per frame
   } else {
     for (size_t j = 0; j <= W; ++j) job(j);
+  }
+  HybridCounts& n = counts_[listener];
+  for (WorkerScratch& x : workers_) {
+    n.earlyPartsKept += std::exchange(x.kept, 0);
+    n.earlyPartsSynthesized += std::exchange(x.synthesized, 0);
   }
 }
 

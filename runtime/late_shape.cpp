@@ -6,6 +6,10 @@
 
 namespace dpc {
 
+namespace {
+constexpr double kDbPerRelative = 10.0 / 2.302585092994046;  // d(10 log10 x) / dx at x = 1
+}  // namespace
+
 int LateShape::segmentOf(double afterStart) {
   int q = 0;
   for (double edge = 0.05; q + 1 < kSegments && afterStart >= edge; edge *= 2.0) ++q;
@@ -34,14 +38,17 @@ void LateShape::add(const EnergyResponse& r, double startSeconds, Cells& diff2) 
 
 void LateShape::normalise(const Cells& diff2) {
   total_ = 0.0;
+  double variance = 0.0;  // the cells' estimates are independent: their variances add
   for (int b = 0; b < kNumBands; ++b)
     for (int q = 0; q < kSegments; ++q) {
       const double c = cells_[size_t(b)][size_t(q)], n = bins_[size_t(q)];
       total_ += c;
-      relVar_[size_t(b)][size_t(q)] =
-          n > 1.0 && c > 0.0 ? n / (n - 1.0) * 0.5 * diff2[size_t(b)][size_t(q)] / (c * c) : 0.0;
+      const double v = n > 1.0 ? n / (n - 1.0) * 0.5 * diff2[size_t(b)][size_t(q)] : 0.0;
+      relVar_[size_t(b)][size_t(q)] = c > 0.0 ? v / (c * c) : 0.0;
+      variance += v;
     }
   if (total_ <= 0.0) return;
+  totalRelVar_ = variance / (total_ * total_);
   for (auto& band : cells_)
     for (double& c : band) c /= total_;
 }
@@ -64,7 +71,6 @@ LateShape LateShape::of(const DirectionalEnergyResponse& r, double startSeconds)
 
 double LateShape::compare(const LateShape& other, double sigmas) const {
   if ((total_ > 0.0) != (other.total_ > 0.0)) return std::numeric_limits<double>::infinity();
-  constexpr double kDbPerRelative = 10.0 / 2.302585092994046;  // d(10 log10 x) / dx at x = 1
   double worst = 0.0;
   for (int b = 0; b < kNumBands; ++b)
     for (int q = 0; q < kSegments; ++q) {
@@ -77,6 +83,13 @@ double LateShape::compare(const LateShape& other, double sigmas) const {
       worst = std::max(worst, std::abs(10.0 * std::log10(a / c)) - sigmas * sigmaDb);
     }
   return worst;
+}
+
+double LateShape::levelExcessDb(const LateShape& other) const {
+  if ((total_ > 0.0) != (other.total_ > 0.0)) return std::numeric_limits<double>::infinity();
+  if (total_ <= 0.0) return 0.0;
+  const double sigmaDb = kDbPerRelative * std::sqrt(totalRelVar_ + other.totalRelVar_);
+  return std::max(0.0, std::abs(10.0 * std::log10(total_ / other.total_)) - kNoiseSigmas * sigmaDb);
 }
 
 double LateShape::maxDifferenceDb(const LateShape& other) const {

@@ -25,6 +25,14 @@ size_t checkedListener(const SceneDesc& scene, size_t listener) {
   return listener;
 }
 
+/// A reuse tolerance of Options, dB in [0, 6].
+double checkedToleranceDb(const char* name, double db) {
+  if (!(db >= 0.0 && db <= 6.0))
+    throw std::invalid_argument(std::string("LiveSession: ") + name + " " + std::to_string(db) +
+                                " outside [0, 6]");
+  return db;
+}
+
 }  // namespace
 
 LiveSession::LiveSession(std::shared_ptr<const SceneDesc> scene,
@@ -47,10 +55,9 @@ LiveSession::LiveSession(std::shared_ptr<const SceneDesc> scene,
       counters_(settings.raysPerFrame, AdaptiveRays::floorFor(settings.raysPerFrame)),
       adaptiveRays_(settings.raysPerFrame, 1.0 / settings.frameRate, options.latencyTargetSeconds) {
   if (options.bake) propagation_->attachBake(options.bake);
-  if (!(options.lateBusToleranceDb >= 0.0 && options.lateBusToleranceDb <= 6.0))
-    throw std::invalid_argument("LiveSession: lateBusToleranceDb " +
-                                std::to_string(options.lateBusToleranceDb) + " outside [0, 6]");
-  propagation_->reuseLateBuses(options.lateBusToleranceDb);
+  propagation_->reuseLateBuses(checkedToleranceDb("lateBusToleranceDb", options.lateBusToleranceDb));
+  propagation_->reuseEarlyParts(
+      checkedToleranceDb("earlyPartToleranceDb", options.earlyPartToleranceDb));
   propagation_->recordSurfaces(options.keepSurfaceEnergy);
   // A live listener moves: the wave band plays live only from a bake that carries it (each
   // probe's, runtime/propagation_stage.h), never simulated for one pose.

@@ -86,6 +86,13 @@ class LiveSession {
     /// difference of G and C80, in every band and decay segment holding at least -30 dB of
     /// the late energy (LateShape).
     double lateBusToleranceDb = 0.5;
+    /// Hybrid rendering: a source's early IR is kept while its inputs match what it was made
+    /// from (HybridSynthesis::reuseEarlyParts, EarlySignature: the same exact arrivals at
+    /// delays within a quarter sample, levels within this many dB, the diffuse early part
+    /// within this many dB beyond its Monte Carlo scatter); a frame then synthesises and
+    /// partitions only the early parts whose paths changed. 0: every early part every frame.
+    /// Default 0.5 dB, as lateBusToleranceDb.
+    double earlyPartToleranceDb = 0.5;
     /// Whether copyResponses() offers each frame's whole IRs (Responses::ir). Building them
     /// (early parts plus their share of the late buses) is the largest part of the snapshot:
     /// 7 ms a frame for 64 sources of 2 s. false: Responses::ir holds no channels; the energy

@@ -150,6 +150,7 @@ std::unique_ptr<IrSet> PropagationStage::makeIrSet() const {
     set->lateGain.assign(scene_->sources.size(), 0.f);
     set->lateBus.assign(scene_->sources.size(), 0);
     set->lateIrIds.assign(size_t(hybrid_->buses()), 0);
+    set->earlyIrIds.assign(scene_->sources.size(), 0);
   }
   return set;
 }
@@ -320,16 +321,18 @@ void PropagationStage::partition(size_t listener, IrSet& set) {
     for (size_t i = g; i < S + B; i += G) {
       const bool early = i < S;
       const ImpulseResponse& ir = early ? irs[i] : lateIrs_[listener][i - S];
-      // A bus IR kept since this set last partitioned it is in the set already.
-      const uint64_t id = early ? 0 : hybrid_->busIrId(listener, int(i - S));
-      if (!early && id != 0 && set.lateIrIds[i - S] == id) continue;
+      // An IR kept since this set last partitioned it is in the set already.
+      const uint64_t id = !hybrid_ ? 0
+                          : early  ? hybrid_->earlyIrId(listener, i)
+                                   : hybrid_->busIrId(listener, int(i - S));
+      uint64_t* held = !hybrid_ ? nullptr : early ? &set.earlyIrIds[i] : &set.lateIrIds[i - S];
+      if (id != 0 && *held == id) continue;
       for (int c = 0; c < numOutputs_; ++c) channels[size_t(c)] = ir.channel(c);
-      if (early) {
+      if (early)
         set.irs->prepare(int(i), channels.data(), irSamples_, int(g));
-      } else {
+      else
         set.lateIrs->prepare(int(i - S), channels.data(), lateLayout_->maxIrSamples(), int(g));
-        set.lateIrIds[i - S] = id;
-      }
+      if (held) *held = id;
     }
   };
   simulation_->propagator().forEachParallel(G, std::ref(group));  // no allocation

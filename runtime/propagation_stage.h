@@ -101,6 +101,12 @@ class PropagationStage {
   void reuseLateBuses(double toleranceDb) {
     if (hybrid_) hybrid_->reuseLateBuses(toleranceDb);
   }
+  /// Hybrid rendering: sources' early IRs kept while their inputs match within toleranceDb
+  /// (HybridSynthesis::reuseEarlyParts); a kept IR is not partitioned again into a set that
+  /// holds it. Nothing without hybrid rendering. Control thread, before the frames.
+  void reuseEarlyParts(double toleranceDb) {
+    if (hybrid_) hybrid_->reuseEarlyParts(toleranceDb);
+  }
   const Simulation& simulation() const { return *simulation_; }
   /// Simulation::recordSurfaces. Control thread before the first frame, or the propagation
   /// thread between frames.

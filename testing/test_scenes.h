@@ -2,10 +2,12 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/vec3.hpp>
 #include <initializer_list>
 #include <memory>
+#include <string>
 
 #include "scene/scene.h"
 
@@ -44,6 +46,25 @@ inline SceneDesc makeShoebox(glm::vec3 size, Bands absorption, float scattering,
   l.position = listener;
   l.radius = radius;
   s.listeners.push_back(l);
+  return s;
+}
+
+/// A 12 x 4 x 9 m room (absorption 0.15, scattering 0.6), one listener, `count` sources on a
+/// ring around it at 2 .. 4.5 m in stereo.
+inline SceneDesc ringScene(int count) {
+  SceneDesc s = test::makeShoebox({12, 4, 9}, Bands(0.15f), 0.6f, {3, 1.5f, 3}, {6, 1.6f, 4.5f});
+  s.audio.output = OutputFormat::kStereo;
+  s.audio.blockSize = 256;
+  s.propagation.irLength = 1.2f;
+  s.propagation.raysPerFrame = 3000;
+  s.sources.clear();
+  for (int i = 0; i < count; ++i) {
+    const float a = 2.f * float(M_PI) * float(i) / float(count), r = 2.f + 0.25f * float(i % 11);
+    SourceDesc d;
+    d.name = "s" + std::to_string(i);
+    d.position = {6.f + r * std::cos(a), 1.2f + 0.1f * float(i % 5), 4.5f + r * std::sin(a)};
+    s.sources.push_back(d);
+  }
   return s;
 }
 

@@ -62,6 +62,8 @@ Json hybridJson(const HybridReport& h) {
               {"forced_joins", h.counts.forcedJoins},
               {"late_bus_irs_synthesized", h.counts.busesSynthesized},
               {"late_bus_irs_kept", h.counts.busesKept},
+              {"early_part_irs_synthesized", h.counts.earlyPartsSynthesized},
+              {"early_part_irs_kept", h.counts.earlyPartsKept},
               {"late_direct_sounds", h.counts.lateDirect},
               {"late_exact_arrivals", h.counts.lateArrivals}};
 }

@@ -15,27 +15,9 @@
 #include "testing/test_util.h"
 
 using namespace dpc;
+using test::ringScene;
 
 namespace {
-
-/// A 12 x 4 x 9 m room (absorption 0.15, scattering 0.6), one listener, `count` sources on a
-/// ring around it at 2 .. 4.5 m in stereo.
-SceneDesc ringScene(int count) {
-  SceneDesc s = test::makeShoebox({12, 4, 9}, Bands(0.15f), 0.6f, {3, 1.5f, 3}, {6, 1.6f, 4.5f});
-  s.audio.output = OutputFormat::kStereo;
-  s.audio.blockSize = 256;
-  s.propagation.irLength = 1.2f;
-  s.propagation.raysPerFrame = 3000;
-  s.sources.clear();
-  for (int i = 0; i < count; ++i) {
-    const float a = 2.f * float(M_PI) * float(i) / float(count), r = 2.f + 0.25f * float(i % 11);
-    SourceDesc d;
-    d.name = "s" + std::to_string(i);
-    d.position = {6.f + r * std::cos(a), 1.2f + 0.1f * float(i % 5), 4.5f + r * std::sin(a)};
-    s.sources.push_back(d);
-  }
-  return s;
-}
 
 /// Two rooms (14 x 3 x 6 m, a wall at x = 7 with a 1 x 2 m doorway at z 5..6): room A
 /// (x < 7) hard, room B's floor and ceiling absorbing the high bands (0.1 at 63 Hz rising to

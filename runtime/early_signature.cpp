@@ -17,6 +17,9 @@ void EarlySignature::assignArrivals(const DirectSound& direct,
     return frame ? frame->toListener(world) : glm::vec3(0.f);
   };
   arrivals_.clear();
+  spatial_ = frame != nullptr;
+  if (frame) frame_ = *frame;
+  hasDiffuse_ = false;
   directVisible_ = direct.visible;
   if (direct.visible)
     arrivals_.push_back(
@@ -31,19 +34,14 @@ void EarlySignature::assignArrivals(const DirectSound& direct,
             });
 }
 
-void EarlySignature::assign(const EnergyResponse& early, const DirectSound& direct,
-                            std::span<const SpecularPath> paths) {
-  spatial_ = false;
-  assignArrivals(direct, paths, nullptr);
+void EarlySignature::assignDiffuse(const EnergyResponse& early) {
   diffuse_ = LateShape::of(early, 0.0);
+  hasDiffuse_ = true;
 }
 
-void EarlySignature::assign(const DirectionalEnergyResponse& early, const DirectSound& direct,
-                            std::span<const SpecularPath> paths) {
-  spatial_ = true;
-  frame_ = early.frame();
-  assignArrivals(direct, paths, &frame_);
+void EarlySignature::assignDiffuse(const DirectionalEnergyResponse& early) {
   diffuse_ = LateShape::of(early, 0.0);
+  hasDiffuse_ = true;
 }
 
 bool EarlySignature::sameArrival(const Arrival& a, const Arrival& b, double toleranceDb) {
@@ -59,19 +57,21 @@ bool EarlySignature::sameArrival(const Arrival& a, const Arrival& b, double tole
          (a.direction == glm::vec3(0.f) && b.direction == glm::vec3(0.f));
 }
 
-bool EarlySignature::matches(const EarlySignature& made, double toleranceDb) const {
+bool EarlySignature::sameArrivals(const EarlySignature& made, double toleranceDb) const {
   if (spatial_ != made.spatial_ || directVisible_ != made.directVisible_ ||
       arrivals_.size() != made.arrivals_.size())
     return false;
-  if (spatial_) {
-    // A turned head turns every arrival: the frames' axes within the direction tolerance.
-    if (glm::dot(frame_.forward, made.frame_.forward) < kMinCos ||
-        glm::dot(frame_.up, made.frame_.up) < kMinCos)
-      return false;
-  }
+  // A turned head turns every arrival: the frames' axes within the direction tolerance.
+  if (spatial_ && (glm::dot(frame_.forward, made.frame_.forward) < kMinCos ||
+                   glm::dot(frame_.up, made.frame_.up) < kMinCos))
+    return false;
   for (size_t i = 0; i < arrivals_.size(); ++i)
     if (!sameArrival(arrivals_[i], made.arrivals_[i], toleranceDb)) return false;
-  return diffuse_.maxExcessDb(made.diffuse_) <= toleranceDb &&
+  return true;
+}
+
+bool EarlySignature::sameDiffuse(const EarlySignature& made, double toleranceDb) const {
+  return hasDiffuse_ && made.hasDiffuse_ && diffuse_.maxExcessDb(made.diffuse_) <= toleranceDb &&
          diffuse_.levelExcessDb(made.diffuse_) <= toleranceDb;
 }
 

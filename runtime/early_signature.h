@@ -54,15 +54,35 @@ class EarlySignature {
   /// Mono output: the early part's diffuse response (its bins from 0 s), the direct sound
   /// as synthesised (visible or not) and the exact early paths. Directions are not kept.
   void assign(const EnergyResponse& early, const DirectSound& direct,
-              std::span<const SpecularPath> paths);
+              std::span<const SpecularPath> paths) {
+    assignArrivals(direct, paths, nullptr);
+    assignDiffuse(early);
+  }
   /// Spatial output: the same with the directional response; directions are kept in its
   /// listener frame, and the frame itself.
   void assign(const DirectionalEnergyResponse& early, const DirectSound& direct,
-              std::span<const SpecularPath> paths);
+              std::span<const SpecularPath> paths) {
+    assignArrivals(direct, paths, &early.frame());
+    assignDiffuse(early);
+  }
+  /// The arrivals alone (the diffuse part then unset): frame is the listener frame of spatial
+  /// output, nullptr for mono. The cheap half: a moving source or listener fails on it.
+  void assignArrivals(const DirectSound& direct, std::span<const SpecularPath> paths,
+                      const ListenerFrame* frame);
+  /// The diffuse part, after assignArrivals.
+  void assignDiffuse(const EnergyResponse& early);
+  void assignDiffuse(const DirectionalEnergyResponse& early);
+  bool hasDiffuse() const { return hasDiffuse_; }
 
-  /// Whether an IR made from `made` stands for this signature (see the file comment).
-  /// toleranceDb > 0.
-  bool matches(const EarlySignature& made, double toleranceDb) const;
+  /// Whether an IR made from `made` stands for this signature (see the file comment):
+  /// sameArrivals and sameDiffuse, both signatures with their diffuse part. toleranceDb > 0.
+  bool matches(const EarlySignature& made, double toleranceDb) const {
+    return sameArrivals(made, toleranceDb) && sameDiffuse(made, toleranceDb);
+  }
+  /// The arrivals (and for spatial output the head's frame) alone.
+  bool sameArrivals(const EarlySignature& made, double toleranceDb) const;
+  /// The diffuse parts alone; false unless both are assigned.
+  bool sameDiffuse(const EarlySignature& made, double toleranceDb) const;
 
  private:
   struct Arrival {
@@ -71,13 +91,12 @@ class EarlySignature {
     Bands intensity{0.f};
     glm::vec3 direction{0.f};  ///< listener frame (spatial output), else zero
   };
-  void assignArrivals(const DirectSound& direct, std::span<const SpecularPath> paths,
-                      const ListenerFrame* frame);
   static bool sameArrival(const Arrival& a, const Arrival& b, double toleranceDb);
 
   std::vector<Arrival> arrivals_;
   bool directVisible_ = false;
   bool spatial_ = false;
+  bool hasDiffuse_ = false;
   ListenerFrame frame_;  ///< spatial output
   LateShape diffuse_;
 };

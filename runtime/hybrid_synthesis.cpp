@@ -176,13 +176,21 @@ void HybridSynthesis::forgetMade() {
   for (auto& buses : made_)
     for (BusMade& m : buses) m.valid = false;
   for (auto& sources : earlyMade_)
-    for (EarlyMade& m : sources) m.valid = false;
+    for (EarlyMade& m : sources) m.arrivals = m.valid = false;
 }
 
-bool HybridSynthesis::keptEarly(size_t s, size_t listener, size_t w) {
+template <class Response>
+bool HybridSynthesis::keptEarly(const Response& r, const DirectSound& direct,
+                                const ListenerFrame* frame, size_t s, size_t listener, size_t w) {
   WorkerScratch& x = workers_[w];
   const EarlyMade& made = earlyMade_[listener][s];
-  if (!made.valid || !x.signature.matches(made.signature, earlyToleranceDb_)) return false;
+  x.signature.assignArrivals(direct, x.paths, frame);
+  // Arrivals that changed since the last synthesis: the source or the listener moves. The
+  // diffuse part, the costlier half, is summarised only once the arrivals hold.
+  if (!made.arrivals || !x.signature.sameArrivals(made.signature, earlyToleranceDb_))
+    return false;
+  x.signature.assignDiffuse(r);
+  if (!made.valid || !x.signature.sameDiffuse(made.signature, earlyToleranceDb_)) return false;
   ++x.kept;
   return true;
 }
@@ -192,12 +200,13 @@ void HybridSynthesis::madeEarly(size_t s, size_t listener, size_t w) {
   EarlyMade& made = earlyMade_[listener][s];
   ++x.synthesized;
   if (earlyToleranceDb_ <= 0.0) {
-    made.valid = false;
+    made.arrivals = made.valid = false;
     made.id = 0;
     return;
   }
   std::swap(made.signature, x.signature);  // no allocation: the vectors trade storage
-  made.valid = true;
+  made.arrivals = true;
+  made.valid = made.signature.hasDiffuse();
   made.id = ++lastEarlyIrId_;
 }
 
@@ -261,13 +270,12 @@ void HybridSynthesis::synthesizeSpatialEarly(const Simulation& sim, size_t s, si
   earlyPaths(sim.specularPaths(s, listener), split_, x.paths);
   DirectSound direct = sim.result(s, listener).direct;
   if (scratch_->directLate[s]) direct.visible = false;
-  if (earlyToleranceDb_ > 0.0) {
-    x.signature.assign(scratch_->earlyDirs[s], direct, x.paths);
-    if (keptEarly(s, listener, w)) return;
-  }
+  const DirectionalEnergyResponse& response = scratch_->earlyDirs[s];
+  if (earlyToleranceDb_ > 0.0 && keptEarly(response, direct, &response.frame(), s, listener, w))
+    return;
   x.channels.resize(size_t(early.channels()));
   for (int c = 0; c < early.channels(); ++c) x.channels[size_t(c)] = early.channel(c);
-  earlySpatial_[w]->synthesize(scratch_->earlyDirs[s], direct, x.channels, x.paths, s);
+  earlySpatial_[w]->synthesize(response, direct, x.channels, x.paths, s);
   madeEarly(s, listener, w);
 }
 
@@ -299,10 +307,7 @@ void HybridSynthesis::synthesizeMonoEarly(const Simulation& sim, size_t s, size_
   else
     copyPrefix(r.energy, x.early);
   keepEarly(x.early, split_);
-  if (earlyToleranceDb_ > 0.0) {
-    x.signature.assign(x.early, direct, x.paths);
-    if (keptEarly(s, listener, w)) return;
-  }
+  if (earlyToleranceDb_ > 0.0 && keptEarly(x.early, direct, nullptr, s, listener, w)) return;
   earlyMono_[s]->synthesize(x.early, direct, early.channel(0), x.paths);
   madeEarly(s, listener, w);
 }

@@ -194,9 +194,12 @@ class HybridSynthesis {
   /// Every bus of the listener: synthesised, or kept while its shape holds (reuseLateBuses).
   void updateBuses(size_t listener, std::vector<ImpulseResponse>& late);
   void ensureListener(size_t listener, size_t sources);
-  /// With reuseEarlyParts: whether source s's early IR stands for the signature worker w has
-  /// just assigned (counted). Worker w's thread.
-  bool keptEarly(size_t s, size_t listener, size_t w);
+  /// With reuseEarlyParts: whether source s's early IR stands for this frame's inputs (the
+  /// early response r, direct, and worker w's paths), counted; their signature is left in
+  /// worker w's scratch. Worker w's thread.
+  template <class Response>
+  bool keptEarly(const Response& r, const DirectSound& direct, const ListenerFrame* frame,
+                 size_t s, size_t listener, size_t w);
   /// After source s's early IR was synthesised: what it was made from (worker w's signature)
   /// and a new identity; counted. Worker w's thread.
   void madeEarly(size_t s, size_t listener, size_t w);
@@ -231,9 +234,12 @@ class HybridSynthesis {
   uint64_t lastBusIrId_ = 0;
   std::vector<std::vector<BusMade>> made_;  ///< per listener, per bus
   double keepToleranceDb_ = 0.0;            ///< 0: every bus synthesised every frame
-  /// What a source's early IR was made from (valid once made while early parts are kept).
+  /// What a source's early IR was made from, while early parts are kept: its arrivals once
+  /// made, its diffuse part too (valid) once made from arrivals that held since the frame
+  /// before.
   struct EarlyMade {
     EarlySignature signature;
+    bool arrivals = false;
     bool valid = false;
     uint64_t id = 0;  ///< earlyIrId
   };

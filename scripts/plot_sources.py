@@ -4,6 +4,7 @@
 Reads docs/data/sources-market.json (dpc-bench sources scenes/market.json, rendering auto:
 hybrid beyond 4 sources) with docs/data/sources-market-per-source.json (--rendering
 per_source), and docs/data/sources-dense-hall.json (dpc-bench sources scenes/dense_hall.json),
+each with its *-live.json (--keep-tolerance-db 0.5: early parts and buses kept as live),
 and writes docs/images/sources-scaling.png and sources-scaling-dense-hall.png: propagation pass
 and IR synthesis per frame (ms), peak RSS (MB), and the worst sampled source's noise, against
 the number of sources, for both tracing directions, with the targets (TARGET_RATIO x one
@@ -30,11 +31,13 @@ def worst_noise(row):
 TARGET_RATIO = {64: 2.5, 256: 6.0}
 TARGET_RSS_MB = 256
 
-# Per figure: data file, optional every-source-whole comparison, title, output.
+# Per figure: data file, optional every-source-whole comparison, optional run with the IRs
+# kept as a live session keeps them (--keep-tolerance-db), title, output.
 FIGURES = [
-    ('sources-market.json', 'sources-market-per-source.json', 'market hall',
-     'sources-scaling.png'),
-    ('sources-dense-hall.json', None, 'dense hall, 20 x 15 x 4 m', 'sources-scaling-dense-hall.png'),
+    ('sources-market.json', 'sources-market-per-source.json', 'sources-market-live.json',
+     'market hall', 'sources-scaling.png'),
+    ('sources-dense-hall.json', None, 'sources-dense-hall-live.json', 'dense hall, 20 x 15 x 4 m',
+     'sources-scaling-dense-hall.png'),
 ]
 
 
@@ -71,7 +74,17 @@ def plot_whole(path, ax1, ax2):
                label='from_listeners, every source whole')
 
 
-def figure(data_dir, out_dir, data, whole, title, out):
+def plot_kept(path, ax1):
+    rs = json.load(open(path)).get('from_listeners') if os.path.exists(path) else None
+    if not rs:
+        print(f'skipping {path}: missing', file=sys.stderr)
+        return
+    n = [r['sources'] for r in rs]
+    ax1.loglog(n, [r['frame_ms'] for r in rs], 'd-', color='tab:green',
+               label='from_listeners: frame, IRs kept as live (still listener)')
+
+
+def figure(data_dir, out_dir, data, whole, kept, title, out):
     path = os.path.join(data_dir, data)
     if not os.path.exists(path):
         print(f'skipping {path}: missing', file=sys.stderr)
@@ -80,6 +93,8 @@ def figure(data_dir, out_dir, data, whole, title, out):
     plot_rows(json.load(open(path)), ax1, ax2, ax3)
     if whole:
         plot_whole(os.path.join(data_dir, whole), ax1, ax2)
+    if kept:
+        plot_kept(os.path.join(data_dir, kept), ax1)
     ax2.plot([64], [TARGET_RSS_MB], 'kx', label=f'target: {TARGET_RSS_MB} MB at 64 sources')
     ax1.set(xlabel='sources', ylabel='ms per frame', title=f'Frame time ({title}, 1 listener)')
     ax2.set(xlabel='sources', ylabel='peak RSS, MB', title='Peak memory')
@@ -98,8 +113,8 @@ def main():
     ap.add_argument('--data', default='docs/data')
     ap.add_argument('--out', default='docs/images')
     a = ap.parse_args()
-    for data, whole, title, out in FIGURES:
-        figure(a.data, a.out, data, whole, title, out)
+    for data, whole, kept, title, out in FIGURES:
+        figure(a.data, a.out, data, whole, kept, title, out)
 
 
 if __name__ == '__main__':

@@ -109,10 +109,10 @@ CLI::App* addLive(CLI::App& app, Options& o) {
                   "Hybrid rendering: a late bus keeps its IR while its decay's shape stays "
                   "within this many dB (0: synthesise every bus every frame; default 0.5)")
       ->check(CLI::Range(0.0, 6.0));
-  sub->add_option("--early-part-tolerance-db", o.live.earlyPartToleranceDb,
-                  "Hybrid rendering: a source keeps its early IR while its exact paths and "
-                  "early energy stay within this many dB (0: synthesise every early part every "
-                  "frame; default 0.5)")
+  sub->add_option("--source-ir-tolerance-db", o.live.sourceIrToleranceDb,
+                  "A source keeps its IR (its early part in hybrid rendering) while its exact "
+                  "paths and energy response stay within this many dB (0: synthesise every IR "
+                  "every frame; default 0.5)")
       ->check(CLI::Range(0.0, 6.0));
   return sub;
 }
@@ -157,9 +157,9 @@ CLI::App* addSources(CLI::App& app, Options& o) {
                   "Path-tracing frames of each reference (4x rays; default 24)")
       ->check(CLI::Range(2, 10000));
   sub->add_option("--keep-tolerance-db", o.sources.keepToleranceDb,
-                  "Hybrid rendering: keep early and late-bus IRs while their inputs hold within "
-                  "this many dB, as a live session does (default 0: every IR every frame, as "
-                  "offline renders do)")
+                  "Keep source IRs (early parts in hybrid rendering) and late-bus IRs while "
+                  "their inputs hold within this many dB, as a live session does (default 0: "
+                  "every IR every frame, as offline renders do)")
       ->check(CLI::Range(0.0, 6.0));
   return sub;
 }

@@ -101,9 +101,9 @@ Json report(const CommonOptions& c, const LiveOptions& o, const SceneDesc& scene
   j["late_bus_tolerance_db"] = o.lateBusToleranceDb;
   j["late_bus_irs"] = {{"synthesized", hybrid.counts.busesSynthesized},
                        {"kept", hybrid.counts.busesKept}};
-  j["early_part_tolerance_db"] = o.earlyPartToleranceDb;
-  j["early_part_irs"] = {{"synthesized", hybrid.counts.earlyPartsSynthesized},
-                         {"kept", hybrid.counts.earlyPartsKept}};
+  j["source_ir_tolerance_db"] = o.sourceIrToleranceDb;
+  j["source_irs"] = {{"synthesized", session.sourceIrCounts().synthesized},
+                     {"kept", session.sourceIrCounts().kept}};
   j["render_time_with_ir_swap"] = renderLoad(session.renderStatsWithSwap(), periodNs);
   j["render_time_without_ir_swap"] = renderLoad(session.renderStatsWithoutSwap(), periodNs);
   return j;
@@ -123,7 +123,7 @@ int benchLive(const CommonOptions& c, const LiveOptions& o) {
   lo.deviceChannels = 2;
   lo.measureFftPlans = true;  // as dpc-demo's live sessions (apps/demo/run_live.cpp)
   lo.lateBusToleranceDb = o.lateBusToleranceDb;
-  lo.earlyPartToleranceDb = o.earlyPartToleranceDb;
+  lo.sourceIrToleranceDb = o.sourceIrToleranceDb;
   lo.keepImpulseResponses = false;  // no reader: a game's or plugin's session
   const auto dry = std::make_shared<const DrySignals>(loadDrySignals(scene));
   const auto constructing = std::chrono::steady_clock::now();

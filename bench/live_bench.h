@@ -16,9 +16,9 @@ struct LiveOptions {
   /// LiveSession::Options::lateBusToleranceDb (hybrid rendering's late buses kept while their
   /// shape holds; 0: every bus synthesised every frame).
   double lateBusToleranceDb = LiveSession::Options{}.lateBusToleranceDb;
-  /// LiveSession::Options::earlyPartToleranceDb (sources' early IRs kept while their inputs
-  /// match; 0: every early part synthesised every frame).
-  double earlyPartToleranceDb = LiveSession::Options{}.earlyPartToleranceDb;
+  /// LiveSession::Options::sourceIrToleranceDb (sources' own IRs kept while their inputs
+  /// match; 0: every IR synthesised every frame).
+  double sourceIrToleranceDb = LiveSession::Options{}.sourceIrToleranceDb;
 };
 
 /// Runs a LiveSession for o.duration seconds with the listener walking its trajectory and

@@ -97,7 +97,7 @@ Json runConfiguration(const CommonOptions& c, const SourcesOptions& o, const Sce
   row["rendering"] = rendersHybrid(scene->audio, size_t(count)) ? "hybrid" : "per_source";
   PropagationStage stage(scene, s);
   WorldState world;
-  stage.reuseEarlyParts(o.keepToleranceDb);
+  stage.reuseSourceIrs(o.keepToleranceDb);
   stage.reuseLateBuses(o.keepToleranceDb);
   if (const HybridSynthesis* h = stage.hybrid()) {
     row["late_buses"] = h->buses();
@@ -107,14 +107,13 @@ Json runConfiguration(const CommonOptions& c, const SourcesOptions& o, const Sce
   for (int f = 0; f < o.warmupFrames; ++f) timeFrame(*scene, stage, world, warm);
   row["quality"] = quality(stage.simulation(), refs);
   const HybridCounts before = stage.hybrid() ? stage.hybrid()->counts(0) : HybridCounts{};
+  const uint64_t keptBefore = stage.sourceIrCounts(0).kept;
   for (int f = 0; f < c.frames; ++f) timeFrame(*scene, stage, world, t);
-  if (const HybridSynthesis* h = stage.hybrid()) {
-    const HybridCounts& n = h->counts(0);
-    row["early_irs_kept_share"] =
-        double(n.earlyPartsKept - before.earlyPartsKept) / double(c.frames * count);
+  row["source_irs_kept_share"] =
+      double(stage.sourceIrCounts(0).kept - keptBefore) / double(c.frames * count);
+  if (const HybridSynthesis* h = stage.hybrid())
     row["bus_irs_kept_share"] =
-        double(n.busesKept - before.busesKept) / double(c.frames * h->buses());
-  }
+        double(h->counts(0).busesKept - before.busesKept) / double(c.frames * h->buses());
   size_t cacheBytes = 0, exactPaths = 0;
   uint64_t refusals = 0, merged = 0;
   double energy = 0.0, coarseEnergy = 0.0, worstCoarse = 0.0;

@@ -20,8 +20,8 @@ struct SourcesOptions {
   int maxFromSources = 64;
   /// audio.rendering of every configuration: auto, per_source or hybrid.
   std::string rendering = "auto";
-  /// Hybrid rendering: early parts and late buses kept within this many dB
-  /// (PropagationStage::reuseEarlyParts, reuseLateBuses), as a live session keeps them; 0:
+  /// Source IRs (early parts in hybrid rendering) and late buses kept within this many dB
+  /// (PropagationStage::reuseSourceIrs, reuseLateBuses), as a live session keeps them; 0:
   /// every IR every frame, as offline renders synthesise them.
   double keepToleranceDb = 0.0;
 };

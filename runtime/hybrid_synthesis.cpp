@@ -35,8 +35,6 @@ struct HybridSynthesis::WorkerScratch {
   EnergyResponse early;  ///< mono
   std::vector<SpecularPath> paths;
   std::vector<float*> channels;  ///< spatial: one IR's channel pointers
-  EarlySignature signature;      ///< this frame's inputs of the source at hand
-  uint64_t kept = 0, synthesized = 0;  ///< early parts, this frame
 };
 
 HybridSynthesis::HybridSynthesis(const SceneDesc& scene, const PropagationSettings& settings,
@@ -60,7 +58,6 @@ HybridSynthesis::HybridSynthesis(const SceneDesc& scene, const PropagationSettin
   scratch_->directLate.assign(S, 0);
   for (WorkerScratch& w : workers_) {
     w.paths.reserve(256);
-    w.signature.reserve(256);
     w.channels.reserve(spatial_ ? spatial_->channelCount() : 1);
   }
   scratch_->busEnergy.assign(size_t(buses_), 0.0);
@@ -168,46 +165,14 @@ void HybridSynthesis::ensureListener(size_t listener, size_t sources) {
     clusters_.push_back(std::make_unique<SourceClusters>(sources, buses_, clusterAngle_));
     counts_.emplace_back();
     made_.emplace_back(size_t(buses_));
-    earlyMade_.emplace_back(sources);
   }
+  early_.ensure(listener + 1, sources, workers_.size());
 }
 
 void HybridSynthesis::forgetMade() {
   for (auto& buses : made_)
     for (BusMade& m : buses) m.valid = false;
-  for (auto& sources : earlyMade_)
-    for (EarlyMade& m : sources) m.arrivals = m.valid = false;
-}
-
-template <class Response>
-bool HybridSynthesis::keptEarly(const Response& r, const DirectSound& direct,
-                                const ListenerFrame* frame, size_t s, size_t listener, size_t w) {
-  WorkerScratch& x = workers_[w];
-  const EarlyMade& made = earlyMade_[listener][s];
-  x.signature.assignArrivals(direct, x.paths, frame);
-  // Arrivals that changed since the last synthesis: the source or the listener moves. The
-  // diffuse part, the costlier half, is summarised only once the arrivals hold.
-  if (!made.arrivals || !x.signature.sameArrivals(made.signature, earlyToleranceDb_))
-    return false;
-  x.signature.assignDiffuse(r);
-  if (!made.valid || !x.signature.sameDiffuse(made.signature, earlyToleranceDb_)) return false;
-  ++x.kept;
-  return true;
-}
-
-void HybridSynthesis::madeEarly(size_t s, size_t listener, size_t w) {
-  WorkerScratch& x = workers_[w];
-  EarlyMade& made = earlyMade_[listener][s];
-  ++x.synthesized;
-  if (earlyToleranceDb_ <= 0.0) {
-    made.arrivals = made.valid = false;
-    made.id = 0;
-    return;
-  }
-  std::swap(made.signature, x.signature);  // no allocation: the vectors trade storage
-  made.arrivals = true;
-  made.valid = made.signature.hasDiffuse();
-  made.id = ++lastEarlyIrId_;
+  early_.forget();
 }
 
 namespace {
@@ -271,12 +236,11 @@ void HybridSynthesis::synthesizeSpatialEarly(const Simulation& sim, size_t s, si
   DirectSound direct = sim.result(s, listener).direct;
   if (scratch_->directLate[s]) direct.visible = false;
   const DirectionalEnergyResponse& response = scratch_->earlyDirs[s];
-  if (earlyToleranceDb_ > 0.0 && keptEarly(response, direct, &response.frame(), s, listener, w))
-    return;
+  if (early_.kept(response, direct, x.paths, &response.frame(), listener, s, w)) return;
   x.channels.resize(size_t(early.channels()));
   for (int c = 0; c < early.channels(); ++c) x.channels[size_t(c)] = early.channel(c);
   earlySpatial_[w]->synthesize(response, direct, x.channels, x.paths, s);
-  madeEarly(s, listener, w);
+  early_.made(listener, s, w);
 }
 
 double HybridSynthesis::addMonoLate(const Simulation& sim, size_t s, size_t listener, int k,
@@ -307,9 +271,9 @@ void HybridSynthesis::synthesizeMonoEarly(const Simulation& sim, size_t s, size_
   else
     copyPrefix(r.energy, x.early);
   keepEarly(x.early, split_);
-  if (earlyToleranceDb_ > 0.0 && keptEarly(x.early, direct, nullptr, s, listener, w)) return;
+  if (early_.kept(x.early, direct, x.paths, nullptr, listener, s, w)) return;
   earlyMono_[s]->synthesize(x.early, direct, early.channel(0), x.paths);
-  madeEarly(s, listener, w);
+  early_.made(listener, s, w);
 }
 
 void HybridSynthesis::splitSources(const Simulation& sim, size_t listener, BakedPlayback* baked,
@@ -342,11 +306,7 @@ void HybridSynthesis::synthesizeAll(const Simulation& sim, size_t listener, Bake
   } else {
     for (size_t j = 0; j <= W; ++j) job(j);
   }
-  HybridCounts& n = counts_[listener];
-  for (WorkerScratch& x : workers_) {
-    n.earlyPartsKept += std::exchange(x.kept, 0);
-    n.earlyPartsSynthesized += std::exchange(x.synthesized, 0);
-  }
+  early_.drainCounts(listener);
 }
 
 void HybridSynthesis::synthesizeBus(int k, ImpulseResponse& late) {

@@ -22,7 +22,6 @@
 // serial split and the groups (K x early bins x 8 floats per source).
 #pragma once
 
-#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -31,7 +30,7 @@
 
 #include "common/impulse_response.h"
 #include "engine/simulation.h"
-#include "runtime/early_signature.h"
+#include "runtime/kept_irs.h"
 #include "runtime/late_shape.h"
 #include "scene/scene.h"
 #include "synthesis/hybrid_split.h"
@@ -58,8 +57,6 @@ struct HybridCounts {
   uint64_t forcedJoins = 0;  ///< sources put in a cluster for want of a bus
   uint64_t busesSynthesized = 0;  ///< late bus IRs synthesised
   uint64_t busesKept = 0;         ///< late bus IRs kept from an earlier frame (reuseLateBuses)
-  uint64_t earlyPartsSynthesized = 0;  ///< sources' early IRs synthesised
-  uint64_t earlyPartsKept = 0;  ///< sources' early IRs kept from an earlier frame (reuseEarlyParts)
 };
 
 /// What a render reports of its hybrid rendering (all zero when it rendered per source).
@@ -138,12 +135,12 @@ class HybridSynthesis {
   /// beyond its Monte Carlo scatter). A live session's choice: with nothing moving, a frame
   /// then synthesises only the early parts whose paths changed. 0: every early part every
   /// frame. Control thread, before the frames; no allocation.
-  void reuseEarlyParts(double toleranceDb) { earlyToleranceDb_ = toleranceDb; }
+  void reuseEarlyParts(double toleranceDb) { early_.setTolerance(toleranceDb); }
   /// The identity of the early IR source s of listener l holds since its last synthesis, as
   /// busIrId; 0 while early parts are not kept (every frame's is new). Propagation thread.
-  uint64_t earlyIrId(size_t listener, size_t s) const {
-    return listener < earlyMade_.size() ? earlyMade_[listener][s].id : 0;
-  }
+  uint64_t earlyIrId(size_t listener, size_t s) const { return early_.id(listener, s); }
+  /// Listener l's early IRs synthesised and kept (reuseEarlyParts), cumulative.
+  KeptIrs::Counts earlyCounts(size_t listener) const { return early_.counts(listener); }
 
   const HybridCounts& counts(size_t listener) const { return counts_.at(listener); }
   /// The report for listener l (a listener never prepared reports zero counts).
@@ -194,15 +191,6 @@ class HybridSynthesis {
   /// Every bus of the listener: synthesised, or kept while its shape holds (reuseLateBuses).
   void updateBuses(size_t listener, std::vector<ImpulseResponse>& late);
   void ensureListener(size_t listener, size_t sources);
-  /// With reuseEarlyParts: whether source s's early IR stands for this frame's inputs (the
-  /// early response r, direct, and worker w's paths), counted; their signature is left in
-  /// worker w's scratch. Worker w's thread.
-  template <class Response>
-  bool keptEarly(const Response& r, const DirectSound& direct, const ListenerFrame* frame,
-                 size_t s, size_t listener, size_t w);
-  /// After source s's early IR was synthesised: what it was made from (worker w's signature)
-  /// and a new identity; counted. Worker w's thread.
-  void madeEarly(size_t s, size_t listener, size_t w);
   /// Every IR made so far no longer stands (the synthesisers changed: complete()).
   void forgetMade();
   /// Empties the buses' late responses (in the listener's frame and bins). No allocation after
@@ -234,18 +222,7 @@ class HybridSynthesis {
   uint64_t lastBusIrId_ = 0;
   std::vector<std::vector<BusMade>> made_;  ///< per listener, per bus
   double keepToleranceDb_ = 0.0;            ///< 0: every bus synthesised every frame
-  /// What a source's early IR was made from, while early parts are kept: its arrivals once
-  /// made, its diffuse part too (valid) once made from arrivals that held since the frame
-  /// before.
-  struct EarlyMade {
-    EarlySignature signature;
-    bool arrivals = false;
-    bool valid = false;
-    uint64_t id = 0;  ///< earlyIrId
-  };
-  std::atomic<uint64_t> lastEarlyIrId_{0};
-  std::vector<std::vector<EarlyMade>> earlyMade_;  ///< per listener, per source
-  double earlyToleranceDb_ = 0.0;                  ///< 0: every early part every frame
+  KeptIrs early_;  ///< the sources' early IRs kept (reuseEarlyParts)
 };
 
 }  // namespace dpc

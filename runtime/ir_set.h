@@ -26,9 +26,9 @@ struct IrSet {
   /// Hybrid: per bus, the identity of the bus IR lateIrs holds the partitions of
   /// (HybridSynthesis::busIrId; 0: none yet): a kept bus IR is not partitioned again.
   std::vector<uint64_t> lateIrIds;
-  /// Hybrid: per source, the identity of the early IR irs holds the partitions of
-  /// (HybridSynthesis::earlyIrId; 0: none, or early parts not kept).
-  std::vector<uint64_t> earlyIrIds;
+  /// Per source, the identity of the IR irs holds the partitions of
+  /// (PropagationStage::sourceIrId; 0: none, or source IRs not kept).
+  std::vector<uint64_t> irIds;
   size_t listener = 0;           ///< listener index (scene.listeners order) it was computed for
   uint64_t frame = 0;            ///< propagation frame index that produced it
   double poseTimeSeconds = 0.0;  ///< scene time of the listener pose it was computed for

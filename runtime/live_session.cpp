@@ -56,8 +56,8 @@ LiveSession::LiveSession(std::shared_ptr<const SceneDesc> scene,
       adaptiveRays_(settings.raysPerFrame, 1.0 / settings.frameRate, options.latencyTargetSeconds) {
   if (options.bake) propagation_->attachBake(options.bake);
   propagation_->reuseLateBuses(checkedToleranceDb("lateBusToleranceDb", options.lateBusToleranceDb));
-  propagation_->reuseEarlyParts(
-      checkedToleranceDb("earlyPartToleranceDb", options.earlyPartToleranceDb));
+  propagation_->reuseSourceIrs(
+      checkedToleranceDb("sourceIrToleranceDb", options.sourceIrToleranceDb));
   propagation_->recordSurfaces(options.keepSurfaceEnergy);
   // A live listener moves: the wave band plays live only from a bake that carries it (each
   // probe's, runtime/propagation_stage.h), never simulated for one pose.
@@ -393,6 +393,10 @@ LiveSession::Status LiveSession::status() const {
 HybridReport LiveSession::hybridReport() const {
   const HybridSynthesis* hybrid = propagation_->hybrid();
   return hybrid ? hybrid->report(playedListener()) : HybridReport{};
+}
+
+KeptIrs::Counts LiveSession::sourceIrCounts() const {
+  return propagation_->sourceIrCounts(playedListener());
 }
 
 size_t LiveSession::commitRecording() {

@@ -86,13 +86,13 @@ class LiveSession {
     /// difference of G and C80, in every band and decay segment holding at least -30 dB of
     /// the late energy (LateShape).
     double lateBusToleranceDb = 0.5;
-    /// Hybrid rendering: a source's early IR is kept while its inputs match what it was made
-    /// from (HybridSynthesis::reuseEarlyParts, EarlySignature: the same exact arrivals at
-    /// delays within a quarter sample, levels within this many dB, the diffuse early part
-    /// within this many dB beyond its Monte Carlo scatter); a frame then synthesises and
-    /// partitions only the early parts whose paths changed. 0: every early part every frame.
-    /// Default 0.5 dB, as lateBusToleranceDb.
-    double earlyPartToleranceDb = 0.5;
+    /// A source's own IR (whole, or its early part in hybrid rendering) is kept while its
+    /// inputs match what it was made from (PropagationStage::reuseSourceIrs, EarlySignature:
+    /// the same exact arrivals at delays within a quarter sample, levels within this many
+    /// dB, the diffuse response within this many dB beyond its Monte Carlo scatter); a frame
+    /// then synthesises and partitions only the IRs whose paths changed. 0: every IR every
+    /// frame (as offline renders do). Default 0.5 dB, as lateBusToleranceDb.
+    double sourceIrToleranceDb = 0.5;
     /// Whether copyResponses() offers each frame's whole IRs (Responses::ir). Building them
     /// (early parts plus their share of the late buses) is the largest part of the snapshot:
     /// 7 ms a frame for 64 sources of 2 s. false: Responses::ir holds no channels; the energy
@@ -249,6 +249,9 @@ class LiveSession {
   /// (before start() or after stop()): the counts are the propagation thread's. Allocates
   /// nothing.
   HybridReport hybridReport() const;
+  /// The played listener's source IRs synthesised and kept (Options::sourceIrToleranceDb),
+  /// cumulative. Threads as hybridReport().
+  KeptIrs::Counts sourceIrCounts() const;
 
   /// Durations of render() per block, split by whether an IR swap (crossfade) happened.
   const audio::CallbackStats& renderStatsWithSwap() const { return swapStats_; }

@@ -115,8 +115,14 @@ void PropagationStage::completeSynthesis() {
     p.forEachParallel(synthesizers_.size() - G, [&](size_t i) {
       synthesizers_[G + i]->complete(synthesizers_[(G + i) % G].get());
     });
+    whole_.forget();  // the IRs after completion are not those made before
   }
   if (hybrid_) hybrid_->complete();
+}
+
+void PropagationStage::reuseSourceIrs(double toleranceDb) {
+  whole_.setTolerance(toleranceDb);
+  if (hybrid_) hybrid_->reuseEarlyParts(toleranceDb);
 }
 
 bool PropagationStage::fftPlansMeasured() const {
@@ -140,6 +146,7 @@ void PropagationStage::levelOnTracingThreads(SpatialIrSynthesizer& synth) {
 
 std::unique_ptr<IrSet> PropagationStage::makeIrSet() const {
   auto set = std::make_unique<IrSet>();
+  set->irIds.assign(scene_->sources.size(), 0);
   set->irs =
       std::make_unique<audio::NonUniformIrSet>(*layout_, int(scene_->sources.size()), numOutputs_,
                                                int(partitionChannels_.size()));
@@ -150,7 +157,6 @@ std::unique_ptr<IrSet> PropagationStage::makeIrSet() const {
     set->lateGain.assign(scene_->sources.size(), 0.f);
     set->lateBus.assign(scene_->sources.size(), 0);
     set->lateIrIds.assign(size_t(hybrid_->buses()), 0);
-    set->earlyIrIds.assign(scene_->sources.size(), 0);
   }
   return set;
 }
@@ -219,21 +225,26 @@ void PropagationStage::frameInputs(const WorldState& world, int raysPerEmitter) 
 }
 
 void PropagationStage::synthesize(size_t s, size_t listener, size_t g) {
-  auto& irs = irs_[listener];
+  ImpulseResponse& ir = irs_[listener][s];
   const Simulation::SourceResult& r = simulation_->result(s, listener);
+  const std::vector<SpecularPath>& paths = simulation_->specularPaths(s, listener);
+  // Joined wave bands blend with the listener's probes: not among the inputs compared.
+  const bool keepable = !waveBands_ && !bakedWave_;
   if (spatial_) {
-    std::vector<float*>& channels = channelScratch_[g];
-    for (size_t c = 0; c < channels.size(); ++c) channels[c] = irs[s].channel(int(c));
     const DirectionalEnergyResponse& live = simulation_->directional(s, listener);
+    const DirectionalEnergyResponse& in = baked_ ? baked_->directional(s, listener, live) : live;
+    if (keepable && whole_.kept(in, r.direct, paths, &in.frame(), listener, s, g)) return;
+    std::vector<float*>& channels = channelScratch_[g];
+    for (size_t c = 0; c < channels.size(); ++c) channels[c] = ir.channel(int(c));
     SpatialIrSynthesizer& synth = g == 0 ? *spatial_ : *spatialCopies_[g - 1];
-    synth.synthesize(baked_ ? baked_->directional(s, listener, live) : live, r.direct, channels,
-                     simulation_->specularPaths(s, listener), s);
+    synth.synthesize(in, r.direct, channels, paths, s);
   } else {
-    synthesizers_[s]->synthesize(baked_ ? baked_->energy(s, listener, r.energy) : r.energy,
-                                 r.direct, irs[s].channel(0),
-                                 simulation_->specularPaths(s, listener));
+    const EnergyResponse& in = baked_ ? baked_->energy(s, listener, r.energy) : r.energy;
+    if (keepable && whole_.kept(in, r.direct, paths, nullptr, listener, s, g)) return;
+    synthesizers_[s]->synthesize(in, r.direct, ir.channel(0), paths);
   }
-  joinWave(s, listener, irs[s]);
+  joinWave(s, listener, ir);
+  whole_.made(listener, s, g);
 }
 
 void PropagationStage::joinWave(size_t s, size_t listener, ImpulseResponse& ir) {
@@ -269,11 +280,13 @@ void PropagationStage::attachWaveBands(std::shared_ptr<const wave::WaveBandSet> 
 void PropagationStage::synthesizeSources(size_t listener) {
   const size_t S = simulation_->sourceCount();
   const size_t G = baked_ || waveBands_ ? 1 : sourceGroups_;
+  whole_.ensure(listener + 1, S, G);  // allocates on a listener's first frame only
   const auto group = [&](size_t g) {
     for (size_t s = g; s < S; s += G) synthesize(s, listener, g);
   };
   // By reference: a std::function holding the lambda itself would allocate every frame.
   simulation_->propagator().forEachParallel(G, std::ref(group));
+  whole_.drainCounts(listener);
 }
 
 void PropagationStage::synthesizeIrs(size_t listener) {
@@ -322,17 +335,16 @@ void PropagationStage::partition(size_t listener, IrSet& set) {
       const bool early = i < S;
       const ImpulseResponse& ir = early ? irs[i] : lateIrs_[listener][i - S];
       // An IR kept since this set last partitioned it is in the set already.
-      const uint64_t id = !hybrid_ ? 0
-                          : early  ? hybrid_->earlyIrId(listener, i)
-                                   : hybrid_->busIrId(listener, int(i - S));
-      uint64_t* held = !hybrid_ ? nullptr : early ? &set.earlyIrIds[i] : &set.lateIrIds[i - S];
-      if (id != 0 && *held == id) continue;
+      const uint64_t id =
+          early ? sourceIrId(listener, i) : hybrid_->busIrId(listener, int(i - S));
+      uint64_t& held = early ? set.irIds[i] : set.lateIrIds[i - S];
+      if (id != 0 && held == id) continue;
       for (int c = 0; c < numOutputs_; ++c) channels[size_t(c)] = ir.channel(c);
       if (early)
         set.irs->prepare(int(i), channels.data(), irSamples_, int(g));
       else
         set.lateIrs->prepare(int(i - S), channels.data(), lateLayout_->maxIrSamples(), int(g));
-      if (held) *held = id;
+      held = id;
     }
   };
   simulation_->propagator().forEachParallel(G, std::ref(group));  // no allocation

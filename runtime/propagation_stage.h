@@ -101,11 +101,20 @@ class PropagationStage {
   void reuseLateBuses(double toleranceDb) {
     if (hybrid_) hybrid_->reuseLateBuses(toleranceDb);
   }
-  /// Hybrid rendering: sources' early IRs kept while their inputs match within toleranceDb
-  /// (HybridSynthesis::reuseEarlyParts); a kept IR is not partitioned again into a set that
-  /// holds it. Nothing without hybrid rendering. Control thread, before the frames.
-  void reuseEarlyParts(double toleranceDb) {
-    if (hybrid_) hybrid_->reuseEarlyParts(toleranceDb);
+  /// Each source's own IR (whole, or its early part in hybrid rendering: HybridSynthesis::
+  /// reuseEarlyParts) kept while its inputs match what it was made from within toleranceDb
+  /// (runtime/kept_irs.h); a kept IR is not partitioned again into a set that holds it. Not
+  /// while wave bands are joined (their blend is not part of the inputs compared). 0: every
+  /// IR every frame. Control thread, before the frames; no allocation.
+  void reuseSourceIrs(double toleranceDb);
+  /// The identity of source s's IR for listener l (KeptIrs::id). Propagation thread.
+  uint64_t sourceIrId(size_t listener, size_t s) const {
+    return hybrid_ ? hybrid_->earlyIrId(listener, s) : whole_.id(listener, s);
+  }
+  /// Listener l's source IRs synthesised and kept, cumulative. Propagation thread, or any
+  /// thread while it is stopped.
+  KeptIrs::Counts sourceIrCounts(size_t listener) const {
+    return hybrid_ ? hybrid_->earlyCounts(listener) : whole_.counts(listener);
   }
   const Simulation& simulation() const { return *simulation_; }
   /// Simulation::recordSurfaces. Control thread before the first frame, or the propagation
@@ -217,6 +226,7 @@ class PropagationStage {
   std::unique_ptr<const wave::WaveBandSet> bakedWave_;
   std::vector<wave::BandWeight> waveBlend_;  ///< joinWave's scratch, reserved by attachBake
   std::unique_ptr<HybridSynthesis> hybrid_;                   ///< hybrid rendering, or none
+  KeptIrs whole_;  ///< sources rendered whole: their IRs kept (reuseSourceIrs)
   std::shared_ptr<const audio::NonUniformLayout> layout_;
   std::shared_ptr<const audio::NonUniformLayout> lateLayout_;  ///< hybrid: full-length IRs
   std::vector<std::vector<ImpulseResponse>> irs_;      ///< [listener][source]

@@ -62,8 +62,6 @@ Json hybridJson(const HybridReport& h) {
               {"forced_joins", h.counts.forcedJoins},
               {"late_bus_irs_synthesized", h.counts.busesSynthesized},
               {"late_bus_irs_kept", h.counts.busesKept},
-              {"early_part_irs_synthesized", h.counts.earlyPartsSynthesized},
-              {"early_part_irs_kept", h.counts.earlyPartsKept},
               {"late_direct_sounds", h.counts.lateDirect},
               {"late_exact_arrivals", h.counts.lateArrivals}};
 }
@@ -125,6 +123,9 @@ void writeLiveStats(const std::string& path, const std::string& scenePath,
       {"stale_partitions", st.stalePartitions},
       {"dropped_energy_fraction", st.droppedEnergyFraction},
       {"hybrid_rendering", hybridJson(session.hybridReport())},
+      {"source_irs",
+       {{"synthesized", session.sourceIrCounts().synthesized},
+        {"kept", session.sourceIrCounts().kept}}},
       {"motion_to_sound_latency_ms", latencyJson(session.latencyStats().snapshot())},
       {"frame_profile_ms", frameProfileJson(session.frameProfile())},
       // Session start -> first block holding a sample other than 0 (null: never).

@@ -64,13 +64,11 @@ void printHybrid(const HybridReport& h) {
   std::printf(
       "hybrid rendering: early part %.0f ms per source, %d late buses (%d in use, largest "
       "cluster radius %.0f deg)  cluster switches %llu  joined for want of a bus %llu  direct "
-      "sounds rendered late %llu  late bus IRs synthesised %llu, kept %llu  early IRs "
-      "synthesised %llu, kept %llu\n",
+      "sounds rendered late %llu  late bus IRs synthesised %llu, kept %llu\n",
       1e3 * h.earlySeconds, h.buses, h.counts.occupiedBuses, h.counts.maxAngularRadiusDegrees,
       (unsigned long long)h.counts.switches, (unsigned long long)h.counts.forcedJoins,
       (unsigned long long)h.counts.lateDirect, (unsigned long long)h.counts.busesSynthesized,
-      (unsigned long long)h.counts.busesKept, (unsigned long long)h.counts.earlyPartsSynthesized,
-      (unsigned long long)h.counts.earlyPartsKept);
+      (unsigned long long)h.counts.busesKept);
 }
 
 }  // namespace dpc::demo

@@ -1,7 +1,7 @@
-// Hybrid rendering's early parts kept across frames (HybridSynthesis::reuseEarlyParts): a
-// source keeps the early IR it plays while its exact arrivals and its diffuse early energy
-// match what that IR was made from (EarlySignature), and synthesises it again as soon as it
-// moves. Oracles: arrivals and responses the test builds itself; in the stage, the direct
+// Sources' own IRs kept across frames (PropagationStage::reuseSourceIrs: whole IRs, or the
+// early parts of hybrid rendering): a source keeps the IR it plays while its exact arrivals and
+// its diffuse energy match what that IR was made from (EarlySignature), and synthesises it
+// again as soon as it moves. Oracles: arrivals and responses the test builds itself; in the stage, the direct
 // sound's delay from the positions (distance / c), and the IRs of a stage that synthesises
 // every early part every frame from the same responses (same seed, bit-identical estimates).
 #include <catch2/catch.hpp>
@@ -165,17 +165,21 @@ size_t peakSample(const ImpulseResponse& ir) {
   return best;
 }
 
+/// test::ringScene's sources and listener, rendered hybrid (9 sources, 2 buses) or each
+/// source whole (3 sources).
 struct RingStage {
-  SceneDesc scene = test::ringScene(9);
+  SceneDesc scene;
   std::unique_ptr<PropagationStage> stage;
   WorldState world;
-  explicit RingStage(double toleranceDb) {
-    scene.audio.rendering = Rendering::kHybrid;
+  RingStage(double toleranceDb, Rendering rendering = Rendering::kHybrid)
+      : scene(test::ringScene(rendering == Rendering::kHybrid ? 9 : 3)) {
+    scene.audio.rendering = rendering;
     scene.audio.lateBuses = 2;
     stage = std::make_unique<PropagationStage>(test::shared(scene), scene.propagation);
-    stage->reuseEarlyParts(toleranceDb);
+    stage->reuseSourceIrs(toleranceDb);
     evaluateWorld(scene, 0.0, world);
   }
+  size_t sources() const { return scene.sources.size(); }
   void frame() {
     stage->traceWorld(world);
     stage->synthesizeIrs(0);
@@ -184,37 +188,46 @@ struct RingStage {
 
 }  // namespace
 
-TEST_CASE("Early parts kept: a still source keeps its IR, a moved one is heard where it is",
+TEST_CASE("Source IRs kept: a still source keeps its IR, a moved one is heard where it is",
           "[hybrid]") {
-  RingStage kept(0.5), fresh(0.0);
-  for (int f = 0; f < 12; ++f) {
+  for (const Rendering rendering : {Rendering::kHybrid, Rendering::kPerSource}) {
+    INFO("rendering " << int(rendering));
+    RingStage kept(0.5, rendering), fresh(0.0, rendering);
+    REQUIRE((kept.stage->hybrid() != nullptr) == (rendering == Rendering::kHybrid));
+    const size_t S = kept.sources();
+    for (int f = 0; f < 12; ++f) {
+      kept.frame();
+      fresh.frame();
+    }
+    // Kept from the third frame (the first two make the IR with, then without, what changed);
+    // more than half of frames 3-12's IRs while the young caches still move.
+    CHECK(kept.stage->sourceIrCounts(0).kept > 5 * S);
+    CHECK(kept.stage->sourceIrCounts(0).kept + kept.stage->sourceIrCounts(0).synthesized ==
+          12 * S);
+    CHECK(fresh.stage->sourceIrCounts(0).kept == 0);
+    // A kept IR against this frame's own synthesis: the same exact arrivals, and a diffuse
+    // part within 0.5 dB beyond its Monte Carlo margin; the direct sound and the exact paths
+    // carry most of the early energy, so 1 dB bounds the difference.
+    const size_t early = kept.stage->hybrid() ? kept.stage->hybrid()->earlySamples()
+                                              : size_t(0.08 * kept.scene.audio.sampleRate);
+    for (size_t s = 0; s < S; ++s) {
+      INFO("source " << s);
+      const double a = energyTo(kept.stage->lastIrs(0)[s], early);
+      const double b = energyTo(fresh.stage->lastIrs(0)[s], early);
+      CHECK(std::abs(10.0 * std::log10(a / b)) < 1.0);
+    }
+    // Source 1 steps 0.6 m toward the listener: synthesised again, its direct sound at the new
+    // delay (distance / c, within the band filters' spread of 2 samples).
+    const uint64_t before = kept.stage->sourceIrId(0, 1);
+    const glm::vec3 listener = kept.world.listenerPositions[0];
+    glm::vec3& p = kept.world.sourcePositions[1];
+    p += 0.6f * glm::normalize(listener - p);
     kept.frame();
-    fresh.frame();
+    CHECK(kept.stage->sourceIrId(0, 1) != before);
+    const double fs = kept.scene.audio.sampleRate;
+    const double delay = glm::length(listener - p) / kept.scene.propagation.speedOfSound;
+    CHECK(std::abs(double(peakSample(kept.stage->lastIrs(0)[1])) - delay * fs) <= 2.0);
   }
-  const HybridCounts& n = kept.stage->hybrid()->counts(0);
-  CHECK(n.earlyPartsKept > 9 * 6);  // most of the last 11 frames' 99 early parts
-  CHECK(fresh.stage->hybrid()->counts(0).earlyPartsKept == 0);
-  // A kept early IR against this frame's own synthesis: the same exact arrivals, and a diffuse
-  // early part within 0.5 dB beyond its Monte Carlo margin; the direct sound and the exact paths
-  // carry most of the early energy, so 1 dB bounds the difference.
-  const size_t early = kept.stage->hybrid()->earlySamples();
-  for (size_t s = 0; s < 9; ++s) {
-    INFO("source " << s);
-    const double a = energyTo(kept.stage->lastIrs(0)[s], early);
-    const double b = energyTo(fresh.stage->lastIrs(0)[s], early);
-    CHECK(std::abs(10.0 * std::log10(a / b)) < 1.0);
-  }
-  // Source 3 steps 0.6 m toward the listener: synthesised again, its direct sound at the new
-  // delay (distance / c, within the band filters' spread of 2 samples).
-  const uint64_t before = kept.stage->hybrid()->earlyIrId(0, 3);
-  const glm::vec3 listener = kept.world.listenerPositions[0];
-  glm::vec3& p = kept.world.sourcePositions[3];
-  p += 0.6f * glm::normalize(listener - p);
-  kept.frame();
-  CHECK(kept.stage->hybrid()->earlyIrId(0, 3) != before);
-  const double fs = kept.scene.audio.sampleRate;
-  const double delay = glm::length(listener - p) / kept.scene.propagation.speedOfSound;
-  CHECK(std::abs(double(peakSample(kept.stage->lastIrs(0)[3])) - delay * fs) <= 2.0);
 }
 
 namespace {
@@ -249,24 +262,24 @@ TEST_CASE("A kept early IR is partitioned once per set: a recycled set holds wha
   stage.prepare(0, *a);
   stage.traceWorld(ring.world);
   stage.prepare(0, *b);
-  const uint64_t id = stage.hybrid()->earlyIrId(0, 0);
+  const uint64_t id = stage.sourceIrId(0, 0);
   REQUIRE(id != 0);
   stage.traceWorld(ring.world);
   stage.prepare(0, *a);  // kept since a was filled: a keeps its partitions
-  REQUIRE(stage.hybrid()->earlyIrId(0, 0) == id);
+  REQUIRE(stage.sourceIrId(0, 0) == id);
   stage.prepare(0, *fresh);  // the same frame into a set that never held it
-  CHECK(fresh->earlyIrIds[0] == id);
+  CHECK(fresh->irIds[0] == id);
   CHECK(sameSourcePartitions(*a, *fresh, 0));
   // Source 0 moves: a set that held its old IR takes the new one.
   ring.world.sourcePositions[0] += glm::vec3(0.5f, 0.f, 0.f);
   stage.traceWorld(ring.world);
   stage.prepare(0, *b);
-  CHECK(stage.hybrid()->earlyIrId(0, 0) != id);
-  CHECK(b->earlyIrIds[0] == stage.hybrid()->earlyIrId(0, 0));
+  CHECK(stage.sourceIrId(0, 0) != id);
+  CHECK(b->irIds[0] == stage.sourceIrId(0, 0));
   CHECK_FALSE(sameSourcePartitions(*a, *b, 0));
 }
 
-TEST_CASE("A live session keeps still sources' early IRs by default; 0 dB turns it off",
+TEST_CASE("A live session keeps still sources' IRs by default, and 0 dB turns it off",
           "[hybrid][live]") {
   SceneDesc scene = test::ringScene(6);
   scene.audio.rendering = Rendering::kHybrid;
@@ -275,18 +288,18 @@ TEST_CASE("A live session keeps still sources' early IRs by default; 0 dB turns 
   const auto run = [&](LiveSession::Options o) {
     LiveSession session(test::shared(scene), scene.propagation, dry, o);
     for (int f = 0; f < 8; ++f) REQUIRE(session.step());
-    return session.hybridReport().counts;
+    return session.sourceIrCounts();
   };
-  const HybridCounts on = run({}), off = run([] {
+  const KeptIrs::Counts on = run({}), off = run([] {
     LiveSession::Options o;
-    o.earlyPartToleranceDb = 0.0;
+    o.sourceIrToleranceDb = 0.0;
     return o;
   }());
-  CHECK(on.earlyPartsKept > 0);
-  CHECK(off.earlyPartsKept == 0);
-  CHECK(off.earlyPartsSynthesized == 8 * 6);
+  CHECK(on.kept > 0);
+  CHECK(off.kept == 0);
+  CHECK(off.synthesized == 8 * 6);
   LiveSession::Options bad;
-  bad.earlyPartToleranceDb = 7.0;
+  bad.sourceIrToleranceDb = 7.0;
   CHECK_THROWS_AS(LiveSession(test::shared(scene), scene.propagation, dry, bad),
                   std::invalid_argument);
 }

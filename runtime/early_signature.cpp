@@ -71,8 +71,8 @@ bool EarlySignature::sameArrivals(const EarlySignature& made, double toleranceDb
 }
 
 bool EarlySignature::sameDiffuse(const EarlySignature& made, double toleranceDb) const {
-  return hasDiffuse_ && made.hasDiffuse_ && diffuse_.maxExcessDb(made.diffuse_) <= toleranceDb &&
-         diffuse_.levelExcessDb(made.diffuse_) <= toleranceDb;
+  return hasDiffuse_ && made.hasDiffuse_ && diffuse_.maxDifferenceDb(made.diffuse_) <= toleranceDb &&
+         diffuse_.levelDifferenceDb(made.diffuse_) <= toleranceDb;
 }
 
 }  // namespace dpc

@@ -7,8 +7,8 @@
 // - the exact arrivals: the direct sound (when visible) and the exact early paths, each with
 //   its delay, its octave-band intensities and, for spatial output, its direction in the
 //   listener's frame; paths are matched by identity (SpecularPath::key), in key order;
-// - the diffuse early energy response, as a LateShape from 0 s (each band's energy in the
-//   segments 0-50, 50-100, 100-200 ms, ... with each cell's Monte Carlo variance);
+// - the diffuse energy response, as a LateShape from 0 s (each band's energy in the segments
+//   0-50, 50-100, 100-200 ms, ...) and its total;
 // - for spatial output, the listener's frame (a turned head turns every arrival).
 //
 // matches(made, toleranceDb) is true when nothing a listener could hear has changed:
@@ -17,8 +17,12 @@
 //   path), each band's intensity within toleranceDb (bands more than 30 dB below the arrival's
 //   strongest are not compared), each direction within kDirectionToleranceDegrees (the minimum
 //   audible angle, about 1 degree: Mills 1958);
-// - the diffuse part's shape (LateShape::maxExcessDb) and level (LateShape::levelExcessDb)
-//   within toleranceDb beyond three standard deviations of the two estimates' scatter.
+// - the diffuse part's shape (LateShape::maxDifferenceDb) and level (levelDifferenceDb)
+//   within toleranceDb as they are. Not beyond a Monte Carlo margin as a late bus's shape: the
+//   margin is read from the scatter between neighbouring bins, which in an early part is
+//   mostly its discrete reflections, so it would let real changes through (a listener's
+//   response still settling after a move kept an IR 0.9 dB off). A noisy estimate is then
+//   synthesised anew more often; a converged one is kept.
 // The exact arrivals are deterministic, so a source and a listener that stay put give the
 // same arrivals bit for bit; a moving one changes the delays by more than the tolerance within
 // one frame at walking speed (1.4 m/s for 10 ms is 14 mm).

@@ -38,17 +38,14 @@ void LateShape::add(const EnergyResponse& r, double startSeconds, Cells& diff2) 
 
 void LateShape::normalise(const Cells& diff2) {
   total_ = 0.0;
-  double variance = 0.0;  // the cells' estimates are independent: their variances add
   for (int b = 0; b < kNumBands; ++b)
     for (int q = 0; q < kSegments; ++q) {
       const double c = cells_[size_t(b)][size_t(q)], n = bins_[size_t(q)];
       total_ += c;
-      const double v = n > 1.0 ? n / (n - 1.0) * 0.5 * diff2[size_t(b)][size_t(q)] : 0.0;
-      relVar_[size_t(b)][size_t(q)] = c > 0.0 ? v / (c * c) : 0.0;
-      variance += v;
+      relVar_[size_t(b)][size_t(q)] =
+          n > 1.0 && c > 0.0 ? n / (n - 1.0) * 0.5 * diff2[size_t(b)][size_t(q)] / (c * c) : 0.0;
     }
   if (total_ <= 0.0) return;
-  totalRelVar_ = variance / (total_ * total_);
   for (auto& band : cells_)
     for (double& c : band) c /= total_;
 }
@@ -85,11 +82,9 @@ double LateShape::compare(const LateShape& other, double sigmas) const {
   return worst;
 }
 
-double LateShape::levelExcessDb(const LateShape& other) const {
+double LateShape::levelDifferenceDb(const LateShape& other) const {
   if ((total_ > 0.0) != (other.total_ > 0.0)) return std::numeric_limits<double>::infinity();
-  if (total_ <= 0.0) return 0.0;
-  const double sigmaDb = kDbPerRelative * std::sqrt(totalRelVar_ + other.totalRelVar_);
-  return std::max(0.0, std::abs(10.0 * std::log10(total_ / other.total_)) - kNoiseSigmas * sigmaDb);
+  return total_ > 0.0 ? std::abs(10.0 * std::log10(total_ / other.total_)) : 0.0;
 }
 
 double LateShape::maxDifferenceDb(const LateShape& other) const {

@@ -14,9 +14,9 @@
 // changes little from one bin to the next, so the variance of their sum is about
 // n / (n - 1) x sum (e_{k+1} - e_k)^2 / 2 (the mean squared successive difference; von Neumann
 // 1941), the decay's own step between 1 ms bins (0.06 dB at T60 = 1 s) adding next to nothing.
-// maxExcessDb compares two shapes beyond kNoiseSigmas of their cells' combined scatter;
-// levelExcessDb compares the totals the same way (an early part, whose IR has no gain to follow
-// its level, is compared on both: runtime/early_signature.h).
+// maxExcessDb compares two shapes beyond kNoiseSigmas of their cells' combined scatter.
+// levelDifferenceDb compares the totals (a source's own IR, which has no gain to follow its
+// level, compares shape and level as they are: runtime/early_signature.h).
 //
 // Threads: any; no allocation; no errors.
 #pragma once
@@ -52,10 +52,9 @@ class LateShape {
   /// cells' relative variances added, in dB), at least 0: how far the shapes differ beyond
   /// what the estimates' Monte Carlo scatter explains. +infinity as maxDifferenceDb.
   double maxExcessDb(const LateShape& other) const;
-  /// |10 log10| of the two totals' ratio less kNoiseSigmas standard deviations of it (the
-  /// totals' relative variances, the sums of their cells', added), at least 0, dB; +infinity
-  /// when one total is 0 and the other not (0 when both are).
-  double levelExcessDb(const LateShape& other) const;
+  /// |10 log10| of the two totals' ratio, dB; +infinity when one total is 0 and the other
+  /// not (0 when both are).
+  double levelDifferenceDb(const LateShape& other) const;
   /// A cell's relative variance (variance of its energy over its energy squared).
   double relativeVariance(int band, int segment) const {
     return relVar_[size_t(band)][size_t(segment)];
@@ -76,7 +75,6 @@ class LateShape {
   Cells cells_{}, relVar_{};
   std::array<int, kSegments> bins_{};  ///< a segment's bins in one response
   double total_ = 0.0;
-  double totalRelVar_ = 0.0;  ///< the total's relative variance
 };
 
 }  // namespace dpc

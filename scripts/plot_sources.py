@@ -62,10 +62,17 @@ def plot_rows(j, ax1, ax2, ax3):
                      ' / '.join('%g' % TARGET_RATIO[c] for c in counts))
 
 
-def plot_whole(path, ax1, ax2):
+def listener_rows(path):
+    """The from_listeners rows of a comparison file, or None (noted on stderr)."""
     rs = json.load(open(path)).get('from_listeners') if os.path.exists(path) else None
     if not rs:
         print(f'skipping {path}: missing', file=sys.stderr)
+    return rs
+
+
+def plot_whole(path, ax1, ax2):
+    rs = listener_rows(path)
+    if not rs:
         return
     n = [r['sources'] for r in rs]
     ax1.loglog(n, [r['synthesis_ms_per_frame'] for r in rs], 'x:', color='grey',
@@ -75,9 +82,8 @@ def plot_whole(path, ax1, ax2):
 
 
 def plot_kept(path, ax1):
-    rs = json.load(open(path)).get('from_listeners') if os.path.exists(path) else None
+    rs = listener_rows(path)
     if not rs:
-        print(f'skipping {path}: missing', file=sys.stderr)
         return
     n = [r['sources'] for r in rs]
     ax1.loglog(n, [r['frame_ms'] for r in rs], 'd-', color='tab:green',

@@ -63,6 +63,10 @@ void serveOfflineStudio(const LoadedRun& run, const Flags& fl) {
   lo.deviceChannels = deviceChannels(scene.audio);
   lo.bake = run.bake;
   lo.keepSurfaceEnergy = true;  // the heat map
+  // The offline clock has no deadline: every IR every frame, as the offline renderer makes
+  // them (the page plays what --offline writes).
+  lo.lateBusToleranceDb = 0.0;
+  lo.sourceIrToleranceDb = 0.0;
   LiveSession session(run.scene, run.settings, run.dry, lo);
   KeyboardMotion motion(scene, session.playedListener());
   std::shared_ptr<studio::StudioAudio> ring;

@@ -16,6 +16,7 @@
 #include "runtime/propagation_stage.h"
 #include "scene/trajectory.h"
 #include "scene/scene.h"
+#include "testing/partitions.h"
 #include "testing/test_scenes.h"
 
 using namespace dpc;
@@ -195,26 +196,6 @@ TEST_CASE("Late shape: an unchanged response's scatter is no change, a change be
   CHECK(LateShape::of(quiet, start).maxExcessDb(LateShape::of(changed, start)) > 1.0);
 }
 
-namespace {
-
-/// Whether two sets hold the same late-bus partitions (every level's active partitions, every
-/// channel, every float of their split spectra) for bus k.
-bool sameBusPartitions(const IrSet& a, const IrSet& b, int k) {
-  const audio::NonUniformIrSet &x = *a.lateIrs, &y = *b.lateIrs;
-  for (int l = 0; l < x.layout().numLevels(); ++l) {
-    if (x.activePartitions(k, l) != y.activePartitions(k, l)) return false;
-    const size_t floats = 2 * (size_t(x.layout().level(l).partitionSize) + 1);
-    for (int c = 0; c < x.numChannels(); ++c)
-      for (int p = 0; p < x.activePartitions(k, l); ++p)
-        if (!std::equal(x.spectrum(l, k, c, p), x.spectrum(l, k, c, p) + floats,
-                        y.spectrum(l, k, c, p)))
-          return false;
-  }
-  return true;
-}
-
-}  // namespace
-
 TEST_CASE("A kept bus IR is partitioned once per set: a recycled set holds what a new one would",
           "[hybrid]") {
   // Oracle: a set that never held the bus (its partitions made fresh from the bus's IR), filled
@@ -244,7 +225,7 @@ TEST_CASE("A kept bus IR is partitioned once per set: a recycled set holds what 
   REQUIRE(stage.hybrid()->busIrId(0, 0) == kept);
   stage.prepare(0, *fresh);  // the same frame into a set that never held the bus
   CHECK(fresh->lateIrIds[0] == kept);
-  CHECK(sameBusPartitions(*a, *fresh, 0));
+  CHECK(test::samePartitions(*a->lateIrs, *fresh->lateIrs, 0));
   // Remade every frame from here: a set holding the old IR must take the new one.
   stage.reuseLateBuses(0.0);
   frame(*b);
@@ -255,6 +236,7 @@ TEST_CASE("A kept bus IR is partitioned once per set: a recycled set holds what 
   REQUIRE(other);
   stage.reuseLateBuses(6.0);  // keep the IR a was just filled with
   stage.prepare(0, *other);
-  CHECK(sameBusPartitions(*a, *other, 0));
-  CHECK_FALSE(sameBusPartitions(*b, *a, 0));  // b, one frame older, holds another IR
+  CHECK(test::samePartitions(*a->lateIrs, *other->lateIrs, 0));
+  // b, one frame older, holds another IR.
+  CHECK_FALSE(test::samePartitions(*b->lateIrs, *a->lateIrs, 0));
 }

@@ -16,6 +16,7 @@
 #include "runtime/live_session.h"
 #include "runtime/propagation_stage.h"
 #include "scene/trajectory.h"
+#include "testing/partitions.h"
 #include "testing/test_scenes.h"
 
 using namespace dpc;
@@ -236,25 +237,6 @@ TEST_CASE("Source IRs kept: a still source keeps its IR, a moved one is heard wh
   }
 }
 
-namespace {
-
-/// Whether two sets hold the same partitions of source s's IR.
-bool sameSourcePartitions(const IrSet& a, const IrSet& b, int s) {
-  const audio::NonUniformIrSet &x = *a.irs, &y = *b.irs;
-  for (int l = 0; l < x.layout().numLevels(); ++l) {
-    if (x.activePartitions(s, l) != y.activePartitions(s, l)) return false;
-    const size_t floats = 2 * (size_t(x.layout().level(l).partitionSize) + 1);
-    for (int c = 0; c < x.numChannels(); ++c)
-      for (int p = 0; p < x.activePartitions(s, l); ++p)
-        if (!std::equal(x.spectrum(l, s, c, p), x.spectrum(l, s, c, p) + floats,
-                        y.spectrum(l, s, c, p)))
-          return false;
-  }
-  return true;
-}
-
-}  // namespace
-
 TEST_CASE("A kept early IR is partitioned once per set: a recycled set holds what a new one would",
           "[hybrid]") {
   RingStage ring(6.0);  // kept from the second frame on
@@ -275,14 +257,14 @@ TEST_CASE("A kept early IR is partitioned once per set: a recycled set holds wha
   REQUIRE(stage.sourceIrId(0, 0) == id);
   stage.prepare(0, *fresh);  // the same frame into a set that never held it
   CHECK(fresh->irIds[0] == id);
-  CHECK(sameSourcePartitions(*a, *fresh, 0));
+  CHECK(test::samePartitions(*a->irs, *fresh->irs, 0));
   // Source 0 moves: a set that held its old IR takes the new one.
   ring.world.sourcePositions[0] += glm::vec3(0.5f, 0.f, 0.f);
   stage.traceWorld(ring.world);
   stage.prepare(0, *b);
   CHECK(stage.sourceIrId(0, 0) != id);
   CHECK(b->irIds[0] == stage.sourceIrId(0, 0));
-  CHECK_FALSE(sameSourcePartitions(*a, *b, 0));
+  CHECK_FALSE(test::samePartitions(*a->irs, *b->irs, 0));
 }
 
 TEST_CASE("A live session keeps still sources' IRs by default, and 0 dB turns it off",

@@ -16,7 +16,7 @@
 #include "runtime/propagation_stage.h"
 #include "scene/trajectory.h"
 #include "scene/scene.h"
-#include "testing/partitions.h"
+#include "tests/runtime/same_partitions.h"
 #include "testing/test_scenes.h"
 
 using namespace dpc;

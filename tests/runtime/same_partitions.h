@@ -1,4 +1,4 @@
-// Comparing partitioned IR sets in tests (audio/nonuniform_convolver.h).
+// Comparing partitioned IR sets in the runtime tests (audio/nonuniform_convolver.h).
 #pragma once
 
 #include <algorithm>

@@ -7,8 +7,9 @@
 // - the exact arrivals: the direct sound (when visible) and the exact early paths, each with
 //   its delay, its octave-band intensities and, for spatial output, its direction in the
 //   listener's frame; paths are matched by identity (SpecularPath::key), in key order;
-// - the diffuse energy response, as a LateShape from 0 s (each band's energy in the segments
-//   0-50, 50-100, 100-200 ms, ...) and its total;
+// - the energy the IR holds, as a LateShape from 0 s: each band's energy in the segments
+//   0-50, 50-100, 100-200 ms, ..., the diffuse response's and the exact arrivals' together
+//   (what a listener hears in a window is their sum), and its total;
 // - for spatial output, the listener's frame (a turned head turns every arrival).
 //
 // matches(made, toleranceDb) is true when nothing a listener could hear has changed:
@@ -17,12 +18,12 @@
 //   path), each band's intensity within toleranceDb (bands more than 30 dB below the arrival's
 //   strongest are not compared), each direction within kDirectionToleranceDegrees (the minimum
 //   audible angle, about 1 degree: Mills 1958);
-// - the diffuse part's shape (LateShape::maxDifferenceDb) and level (levelDifferenceDb)
-//   within toleranceDb as they are. Not beyond a Monte Carlo margin as a late bus's shape: the
-//   margin is read from the scatter between neighbouring bins, which in an early part is
-//   mostly its discrete reflections, so it would let real changes through (a listener's
-//   response still settling after a move kept an IR 0.9 dB off). A noisy estimate is then
-//   synthesised anew more often; a converged one is kept.
+// - those cells' shape (LateShape::maxDifferenceDb) and level (levelDifferenceDb) within
+//   toleranceDb as they are. Not beyond a Monte Carlo margin as a late bus's shape: the margin
+//   is read from the scatter between neighbouring bins, which in an early part is mostly its
+//   discrete reflections, so it would let real changes through (a listener's response still
+//   settling after a move kept an IR 0.9 dB off). A diffuse estimate that scatters much where
+//   it carries much of the energy is then synthesised anew more often.
 // The exact arrivals are deterministic, so a source and a listener that stay put give the
 // same arrivals bit for bit; a moving one changes the delays by more than the tolerance within
 // one frame at walking speed (1.4 m/s for 10 ms is 14 mm).
@@ -53,7 +54,10 @@ class EarlySignature {
   static constexpr double kBandFloor = 1e-3;
 
   /// Room for this many exact arrivals without allocation.
-  void reserve(size_t arrivals) { arrivals_.reserve(arrivals); }
+  void reserve(size_t arrivals) {
+    arrivals_.reserve(arrivals);
+    points_.reserve(arrivals);
+  }
 
   /// Mono output: the early part's diffuse response (its bins from 0 s), the direct sound
   /// as synthesised (visible or not) and the exact early paths. Directions are not kept.
@@ -98,6 +102,7 @@ class EarlySignature {
   static bool sameArrival(const Arrival& a, const Arrival& b, double toleranceDb);
 
   std::vector<Arrival> arrivals_;
+  std::vector<LateShape::Point> points_;  ///< the arrivals' energies, for the cells
   bool directVisible_ = false;
   bool spatial_ = false;
   bool hasDiffuse_ = false;

@@ -50,18 +50,30 @@ void LateShape::normalise(const Cells& diff2) {
     for (double& c : band) c /= total_;
 }
 
-LateShape LateShape::of(const EnergyResponse& r, double startSeconds) {
+void LateShape::addPoints(std::span<const Point> points, double startSeconds) {
+  for (const Point& p : points) {
+    if (p.seconds < startSeconds) continue;
+    const int q = segmentOf(p.seconds - startSeconds);
+    for (int b = 0; b < kNumBands; ++b) cells_[size_t(b)][size_t(q)] += double(p.energy[b]);
+  }
+}
+
+LateShape LateShape::of(const EnergyResponse& r, double startSeconds,
+                        std::span<const Point> points) {
   LateShape s;
   Cells diff2{};
   s.add(r, startSeconds, diff2);
+  s.addPoints(points, startSeconds);
   s.normalise(diff2);
   return s;
 }
 
-LateShape LateShape::of(const DirectionalEnergyResponse& r, double startSeconds) {
+LateShape LateShape::of(const DirectionalEnergyResponse& r, double startSeconds,
+                        std::span<const Point> points) {
   LateShape s;
   Cells diff2{};  // the directions' estimates are independent: their variances add
   for (size_t d = 0; d < r.directionCount(); ++d) s.add(r.response(d), startSeconds, diff2);
+  s.addPoints(points, startSeconds);
   s.normalise(diff2);
   return s;
 }

@@ -22,6 +22,7 @@
 #pragma once
 
 #include <array>
+#include <span>
 
 #include "common/bands.h"
 #include "engine/energy_response.h"
@@ -39,10 +40,20 @@ class LateShape {
   /// with probability 0.3 % (normal errors), some 10 % of the frames for the 48 cells.
   static constexpr double kNoiseSigmas = 3.0;
 
+  /// An exact arrival's energy at a time: what an IR holds beside its response (a source's
+  /// direct sound and exact paths). Seconds; band intensities in the response's units.
+  struct Point {
+    double seconds = 0.0;
+    Bands energy{0.f};
+  };
+
   LateShape() = default;
-  /// The shape of `r` from startSeconds on (the early part's end).
-  static LateShape of(const EnergyResponse& r, double startSeconds);
-  static LateShape of(const DirectionalEnergyResponse& r, double startSeconds);
+  /// The shape of `r` from startSeconds on (the early part's end), with `points` added into
+  /// their cells (they add no variance: they are exact).
+  static LateShape of(const EnergyResponse& r, double startSeconds,
+                      std::span<const Point> points = {});
+  static LateShape of(const DirectionalEnergyResponse& r, double startSeconds,
+                      std::span<const Point> points = {});
 
   /// The largest |10 log10| ratio of this shape's cells to `other`'s over the cells where
   /// either holds at least kCellFloor, dB; +infinity when one total is 0 and the other not
@@ -68,6 +79,7 @@ class LateShape {
   static int segmentOf(double afterStart);
   /// Adds r's energies into the cells, its successive bins' squared differences into diff2.
   void add(const EnergyResponse& r, double startSeconds, Cells& diff2);
+  void addPoints(std::span<const Point> points, double startSeconds);
   /// relVar_ from the cells' sums and diff2, then the cells divided by the total.
   void normalise(const Cells& diff2);
   double compare(const LateShape& other, double sigmas) const;

@@ -99,13 +99,14 @@ TEST_CASE("Early signature: the same arrivals match, any audible change does not
   CHECK_FALSE(matches(louder, direct(), paths(), made));
 }
 
-TEST_CASE("Early signature: the diffuse part is compared as it is, without a noise margin",
+TEST_CASE("Early signature: the cells are compared as they are, without a noise margin",
           "[hybrid]") {
   // An early part's bins hold discrete reflections: the scatter between neighbouring bins is
   // structure, not only noise, so a margin read from it (LateShape's) would let real changes
   // through. Two estimates whose 1 ms bins scatter by 5 % (kappa 400; their 50 ms cells by
-  // 0.03 dB) match; with 50 % (kappa 4; cells 0.3 dB, 33 of them) the largest cell differs by
-  // more than 0.5 dB in most pairs, and the IR is synthesised anew.
+  // 0.03 dB) match; with 50 % (kappa 4; the cells after 50 ms, where the diffuse part carries
+  // the energy, 0.3 dB each) the largest cell differs by more than 0.5 dB in most pairs, and the
+  // IR is synthesised anew.
   std::mt19937 rng(11);
   int quietMismatched = 0, noisyMismatched = 0;
   const int trials = 200;

@@ -78,6 +78,7 @@ void Simulation::reserveListeners(size_t listeners) {
   hitPtrs_.clear();
   for (FrameHits& h : hits_) hitPtrs_.push_back(&h);
   if (orientations_.size() < listeners) orientations_.resize(listeners);
+  directCache_.reserve(reserved_ * sourceCount_);
 }
 
 void Simulation::restart(uint64_t seed) {
@@ -165,6 +166,7 @@ void Simulation::applyInputs(const FrameInputs& in) {
     tracer_->commitPoses();
     objectsMoved_ = !in.objectPoses.empty();
   }
+  directCache_.posesApplied(poses);
   for (size_t s = 0; s < sourceCount_; ++s)
     sourceForwards_[s] = s < in.sourceRotations.size() ? sourceForward(in.sourceRotations[s])
                                                        : initialForwards_[s];
@@ -368,11 +370,14 @@ void Simulation::finishPair(size_t s, size_t l, const glm::vec3& source,
   r.trace = trace;
   r.traceSeconds = traceSeconds;
   const auto t0 = std::chrono::steady_clock::now();
-  r.direct = propagator_->directSound(source, listener, directivities_[s], sourceForwards_[s]);
-  if (diffraction_)
-    diffraction_->apply(*tracer_, source, listener, settings_.speedOfSound,
-                        propagator_->airAttenuationPerMetre(), r.direct, directivities_[s],
-                        sourceForwards_[s], &r.diffractionEdges);
+  if (!directCache_.holds(pair, source, sourceForwards_[s], listener)) {  // else as it was
+    r.direct = propagator_->directSound(source, listener, directivities_[s], sourceForwards_[s]);
+    if (diffraction_)
+      diffraction_->apply(*tracer_, source, listener, settings_.speedOfSound,
+                          propagator_->airAttenuationPerMetre(), r.direct, directivities_[s],
+                          sourceForwards_[s], &r.diffractionEdges);
+    directCache_.computed(pair, source, sourceForwards_[s], listener);
+  }
   r.directSeconds = secondsSince(t0);
   // The frame's exact paths first: a hit is left out exactly when the exact path of its own
   // sequence is in this frame's paths (FrameHits::groupInto), so nothing counts twice.

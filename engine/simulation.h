@@ -1,9 +1,9 @@
 // Simulation: one propagation frame for every source of a scene, as the renderer, the tests
-// and dpc-bench all run it. Owns the geometry tables, the tracer (Embree), the propagator and one
-// estimator (diffuse
-// path cache or plain path tracing) per source-listener pair; produces each pair's energy
-// response (1 ms bins, ir_length long) and analytic direct sound. Several listeners are traced
-// in one pass: every source's rays are tested against all listener spheres (docs/dynamic.md).
+// and dpc-bench all run it. Owns the geometry tables, the tracer (Embree), the propagator and
+// one estimator (diffuse path cache or plain path tracing) per source-listener pair; produces
+// each pair's energy response (1 ms bins, ir_length long) and analytic direct sound. Several
+// listeners are traced in one pass: every source's rays are tested against all listener
+// spheres (docs/dynamic.md).
 //
 // Exact early specular paths (settings.exactOrder > 0, engine/specular_paths.h): every pair
 // also gets the frame's exact all-specular paths up to that order (specularPaths), which the
@@ -37,6 +37,7 @@
 #include <vector>
 
 #include "engine/diffraction.h"
+#include "engine/direct_cache.h"
 #include "engine/energy_response.h"
 #include "engine/frame_hits.h"
 #include "engine/frame_inputs.h"
@@ -254,8 +255,7 @@ class Simulation {
                     ArrivalSink* dir);
   /// Adds one tracing pass to frameTrace_ and its wall time to frameTimes_.
   void addPass(const TraceStats& t, double seconds);
-  /// Runs finishPair for `count` pairs on the tracing threads; adds the wall time to
-  /// frameTimes_.pairs.
+  /// Runs finishPair for `count` pairs on the tracing threads; wall time into frameTimes_.pairs.
   void finishPairs(size_t count, const std::function<void(size_t)>& finish);
   /// frameTimes_'s CPU sums over the pairs of `listeners` listeners.
   void sumPairTimes(size_t listeners);
@@ -271,8 +271,7 @@ class Simulation {
   /// tau, and none for plain path tracing, which keeps nothing from frame to frame (so that
   /// tau = 0 is plain path tracing, exact paths included).
   double exactPathRetention() const;
-  /// Adds the frame's groups to pair's estimator and reads its energy response into r.energy
-  /// (and dir when not null).
+  /// Adds the frame's groups to pair's estimator; its energy response into r.energy (and dir).
   void updateEstimator(size_t pair, const FrameGroups& groups, SourceResult& r,
                        ArrivalSink* dir);
   /// The pair's exact specular paths for this frame, statistics into r.
@@ -294,6 +293,7 @@ class Simulation {
   std::unique_ptr<Tracer> tracer_;
   std::unique_ptr<Propagator> propagator_;
   std::unique_ptr<EdgeDiffraction> diffraction_;  ///< first-order edge paths into the direct sound
+  DirectCache directCache_;  ///< pairs' direct sounds, kept while nothing they depend on moved
   size_t sourceCount_ = 0;
   size_t listenerCount_ = 1;  ///< listeners of the last frame
   size_t reserved_ = 0;       ///< listeners with caches and responses

@@ -32,16 +32,21 @@ void EarlySignature::assignArrivals(const DirectSound& direct,
             [](const Arrival& a, const Arrival& b) {
               return a.key != b.key ? a.key < b.key : a.delaySeconds < b.delaySeconds;
             });
+}
+
+void EarlySignature::fillPoints() {
   points_.clear();
   for (const Arrival& a : arrivals_) points_.push_back({a.delaySeconds, a.intensity});
 }
 
 void EarlySignature::assignDiffuse(const EnergyResponse& early) {
+  fillPoints();
   diffuse_ = LateShape::of(early, 0.0, points_);
   hasDiffuse_ = true;
 }
 
 void EarlySignature::assignDiffuse(const DirectionalEnergyResponse& early) {
+  fillPoints();
   diffuse_ = LateShape::of(early, 0.0, points_);
   hasDiffuse_ = true;
 }

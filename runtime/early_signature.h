@@ -1,7 +1,8 @@
-// EarlySignature: what one source's early IR (hybrid rendering, runtime/hybrid_synthesis.h)
-// is made from, for deciding whether the early IR a source played last still stands for its
-// inputs now. Unlike a late bus, an early IR is played without a gain of its own, so its
-// level counts as well as its shape, and its exact arrivals are placed sample by sample.
+// EarlySignature: what one source's own IR (its whole IR, or its early part in hybrid
+// rendering: runtime/kept_irs.h) is made from, for deciding whether the IR a source played
+// last still stands for its inputs now. Unlike a late bus, a source's IR is played without a
+// gain of its own, so its level counts as well as its shape, and its exact arrivals are
+// placed sample by sample.
 //
 // A signature holds:
 // - the exact arrivals: the direct sound (when visible) and the exact early paths, each with
@@ -80,7 +81,6 @@ class EarlySignature {
   /// The diffuse part, after assignArrivals.
   void assignDiffuse(const EnergyResponse& early);
   void assignDiffuse(const DirectionalEnergyResponse& early);
-  bool hasDiffuse() const { return hasDiffuse_; }
 
   /// Whether an IR made from `made` stands for this signature (see the file comment):
   /// sameArrivals and sameDiffuse, both signatures with their diffuse part. toleranceDb > 0.
@@ -100,9 +100,11 @@ class EarlySignature {
     glm::vec3 direction{0.f};  ///< listener frame (spatial output), else zero
   };
   static bool sameArrival(const Arrival& a, const Arrival& b, double toleranceDb);
+  /// points_ from arrivals_.
+  void fillPoints();
 
   std::vector<Arrival> arrivals_;
-  std::vector<LateShape::Point> points_;  ///< the arrivals' energies, for the cells
+  std::vector<LateShape::Point> points_;  ///< assignDiffuse's scratch: the arrivals' energies
   bool directVisible_ = false;
   bool spatial_ = false;
   bool hasDiffuse_ = false;

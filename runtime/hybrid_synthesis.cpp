@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <utility>
 #include <glm/geometric.hpp>
 
 #include "common/random.h"

@@ -131,10 +131,10 @@ class HybridSynthesis {
 
   /// From now on a source's early IR is kept while what it is made from matches the IR's
   /// signature within toleranceDb (> 0; EarlySignature::matches: the same exact arrivals at
-  /// the same delays, levels within toleranceDb, the diffuse early part within toleranceDb
-  /// beyond its Monte Carlo scatter). A live session's choice: with nothing moving, a frame
-  /// then synthesises only the early parts whose paths changed. 0: every early part every
-  /// frame. Control thread, before the frames; no allocation.
+  /// the same delays, levels within toleranceDb, the energy per band and time segment within
+  /// toleranceDb). A live session's choice: with nothing moving, a frame then synthesises only
+  /// the early parts whose paths changed. 0: every early part every frame. Control thread,
+  /// before the frames; no allocation.
   void reuseEarlyParts(double toleranceDb) { early_.setTolerance(toleranceDb); }
   /// The identity of the early IR source s of listener l holds since its last synthesis, as
   /// busIrId; 0 while early parts are not kept (every frame's is new). Propagation thread.

@@ -23,7 +23,7 @@ void KeptIrs::ensure(size_t listeners, size_t sources, size_t workers) {
 
 void KeptIrs::forget() {
   for (auto& perSource : made_)
-    for (Made& m : perSource) m.arrivals = m.valid = false;
+    for (Made& m : perSource) m.current = false;
 }
 
 void KeptIrs::made(size_t listener, size_t s, size_t worker) {
@@ -32,17 +32,9 @@ void KeptIrs::made(size_t listener, size_t s, size_t worker) {
   ++x.synthesized;
   const bool known = x.listener == listener && x.source == s;
   x.listener = x.source = kNone;
-  if (!on()) {
-    m.arrivals = m.valid = false;
-    m.id = 0;
-    return;
-  }
-  m.id = ++lastId_;
-  m.arrivals = m.valid = false;
-  if (!known) return;
-  std::swap(m.signature, x.signature);  // no allocation: the vectors trade storage
-  m.arrivals = true;
-  m.valid = m.signature.hasDiffuse();
+  m.id = on() ? ++lastId_ : 0;
+  m.current = on() && known;
+  if (m.current) std::swap(m.signature, x.signature);  // no allocation: they trade storage
 }
 
 void KeptIrs::drainCounts(size_t listener) {

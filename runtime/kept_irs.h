@@ -57,9 +57,10 @@ class KeptIrs {
     x.source = s;
     // Arrivals that changed since the last synthesis: something moves; the diffuse part, the
     // costlier half, is summarised only once the arrivals hold.
-    if (!made.arrivals || !x.signature.sameArrivals(made.signature, toleranceDb_)) return false;
+    if (!made.current || !x.signature.sameArrivals(made.signature, toleranceDb_)) return false;
     x.signature.assignDiffuse(r);
-    if (!made.valid || !x.signature.sameDiffuse(made.signature, toleranceDb_)) return false;
+    // A signature made while the arrivals still moved has no diffuse part: no match.
+    if (!x.signature.sameDiffuse(made.signature, toleranceDb_)) return false;
     ++x.kept;
     return true;
   }
@@ -80,12 +81,11 @@ class KeptIrs {
   }
 
  private:
-  /// What a source's IR was made from: its arrivals once made, its diffuse part too (valid)
-  /// once made from arrivals that held since the synthesis before.
+  /// What a source's IR was made from (current: the signature is the IR's; it has its diffuse
+  /// part once made from arrivals that held since the synthesis before).
   struct Made {
     EarlySignature signature;
-    bool arrivals = false;
-    bool valid = false;
+    bool current = false;
     uint64_t id = 0;
   };
   struct Worker {

@@ -6,10 +6,6 @@
 
 namespace dpc {
 
-namespace {
-constexpr double kDbPerRelative = 10.0 / 2.302585092994046;  // d(10 log10 x) / dx at x = 1
-}  // namespace
-
 int LateShape::segmentOf(double afterStart) {
   int q = 0;
   for (double edge = 0.05; q + 1 < kSegments && afterStart >= edge; edge *= 2.0) ++q;
@@ -80,6 +76,7 @@ LateShape LateShape::of(const DirectionalEnergyResponse& r, double startSeconds,
 
 double LateShape::compare(const LateShape& other, double sigmas) const {
   if ((total_ > 0.0) != (other.total_ > 0.0)) return std::numeric_limits<double>::infinity();
+  constexpr double kDbPerRelative = 10.0 / 2.302585092994046;  // d(10 log10 x) / dx at x = 1
   double worst = 0.0;
   for (int b = 0; b < kNumBands; ++b)
     for (int q = 0; q < kSegments; ++q) {

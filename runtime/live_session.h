@@ -89,7 +89,7 @@ class LiveSession {
     /// A source's own IR (whole, or its early part in hybrid rendering) is kept while its
     /// inputs match what it was made from (PropagationStage::reuseSourceIrs, EarlySignature:
     /// the same exact arrivals at delays within a quarter sample, levels within this many
-    /// dB, the diffuse response within this many dB beyond its Monte Carlo scatter); a frame
+    /// dB, the energy per band and time segment within this many dB); a frame
     /// then synthesises and partitions only the IRs whose paths changed. 0: every IR every
     /// frame (as offline renders do). Default 0.5 dB, as lateBusToleranceDb.
     double sourceIrToleranceDb = 0.5;

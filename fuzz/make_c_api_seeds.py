@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Writes the seed corpus of fuzz/c_api_fuzzer.cpp into fuzz/corpus/c_api: byte encodings, in
-the fuzzer's decoding order, of the 6 x 3 x 4 m box of tests/api/box_data.h (valid), the same
-box with diffraction and a second source, and the box with a listener at NaN, a vertex at 1e20
+the fuzzer's decoding order, of the 6 x 3 x 4 m box of tests/api/box_data.h (valid, stereo and
+mono), the same box with diffraction and a second source, and the box with a listener at NaN, a vertex at 1e20
 and a listener sphere of infinite radius (refusals).
 
 Usage: fuzz/make_c_api_seeds.py
@@ -27,7 +27,7 @@ def raw(x):
     return bytes([1]) + struct.pack("<f", x)
 
 
-def box(sources=1, diffraction=0, listener_x=None, vertex0=None, radius=None):
+def box(sources=1, diffraction=0, listener_x=None, vertex0=None, radius=None, output=2):
     b = bytearray([len(BOX_VERTICES), len(BOX_TRIANGLES)])
     for i, v in enumerate(BOX_VERTICES):
         for k, c in enumerate(v):
@@ -52,7 +52,8 @@ def box(sources=1, diffraction=0, listener_x=None, vertex0=None, radius=None):
     b += small(0.5) + small(1) + small(15) + small(0.25)  # patch, tau, frame rate, ir length
     b += struct.pack("<I", 7)              # seed
     b += small(0) + small(20) + small(30)  # speed of sound (0: from temperature), T, humidity
-    b += bytes([1, diffraction, 0, 0, 2])  # air absorption, diffraction, 48 kHz, 256, stereo
+    b += bytes([1, diffraction, 0, 0, output])  # air absorption, diffraction, 48 kHz, 256, output
+    b += bytes([1])                        # ambisonic order 1 (read for every output)
     b += small(2) + small(1.5) + small(2)  # set_source_position
     b += small(4) + small(1.5) + small(2) + small(0) + small(0)  # set_listener_pose
     return bytes(b)
@@ -61,7 +62,8 @@ def box(sources=1, diffraction=0, listener_x=None, vertex0=None, radius=None):
 def main():
     out = os.path.join(os.path.dirname(os.path.abspath(__file__)), "corpus", "c_api")
     os.makedirs(out, exist_ok=True)
-    seeds = {"box": box(), "box-diffraction-2-sources": box(sources=2, diffraction=1),
+    seeds = {"box": box(), "box-mono": box(output=1),
+             "box-diffraction-2-sources": box(sources=2, diffraction=1),
              "box-listener-nan": box(listener_x=float("nan")), "box-vertex-1e20": box(vertex0=1e20),
              "box-radius-inf": box(radius=float("inf"))}
     for name, data in seeds.items():

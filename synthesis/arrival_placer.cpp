@@ -29,7 +29,8 @@ ArrivalPlacer::ArrivalPlacer(const OctaveBandMasks& masks,
     fine_[2 * l] = float(std::cos(w * double(l)));
     fine_[2 * l + 1] = float(std::sin(w * double(l)));
   }
-  std::fill(spec_.p[0], spec_.p[0] + 2 * (n_ / 2 + 1), 0.f);
+  float* const spec = reinterpret_cast<float*>(spec_.p);
+  std::fill(spec, spec + 2 * (n_ / 2 + 1), 0.f);
   std::lock_guard<std::mutex> lock(fftwPlannerMutex());
   inverse_ = fftwf_plan_dft_c2r_1d(int(n_), spec_.p, reinterpret_cast<float*>(spec_.p),
                                    FFTW_ESTIMATE);
@@ -141,7 +142,8 @@ void ArrivalPlacer::addSpectrumToIr(float* ir, size_t length) {
   const float* time = reinterpret_cast<const float*>(spec_.p);
   const float scale = 1.f / float(n_);
   for (size_t i = 0; i < length; ++i) ir[i] += time[i] * scale;
-  std::fill(spec_.p[0], spec_.p[0] + 2 * (n_ / 2 + 1), 0.f);
+  float* const spec = reinterpret_cast<float*>(spec_.p);
+  std::fill(spec, spec + 2 * (n_ / 2 + 1), 0.f);
 }
 
 void ArrivalPlacer::place(std::span<const Arrival> arrivals, int sampleRate, float* ir,

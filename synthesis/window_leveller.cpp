@@ -210,7 +210,8 @@ void WindowLeveller::viewOf(Size& s, int b) {
     fft.band.p[f][0] = current_.p[f][0] * m[f] * scale;
     fft.band.p[f][1] = current_.p[f][1] * m[f] * scale;
   }
-  std::fill(&fft.band.p[support][0], &fft.band.p[0][0] + 2 * rbins, 0.f);
+  float* const band = reinterpret_cast<float*>(fft.band.p);
+  std::fill(band + 2 * support, band + 2 * rbins, 0.f);
   fftwf_execute(fft.inv);  // the view y_b = M_b * r at fft.n points
 }
 

@@ -230,19 +230,29 @@ WindowCache::WindowCache(double tauSeconds, double framePeriodSeconds, size_t bu
   table_.resize(cap_.indexSlots, cap_.entries);
   slotTerms_.assign(shape_.lifetime, 0);
   terms_ = allocZeroed<WindowTerm>(cap_.windowTerms);
+  ringSize_ = std::min(cap_.windowTerms, kRingStep);
 }
 
 uint32_t WindowCache::oldestEntryFrame() const {
   return oldestFrame(table_.entries(), frame_);
 }
 
-void WindowCache::resizeTables(const Capacity& old) {
+void WindowCache::resizeTables(const Capacity& /*old*/) {
   table_.resize(cap_.indexSlots, cap_.entries);
   // The ring of window terms in order from its head.
   Buffer<WindowTerm> terms = allocZeroed<WindowTerm>(cap_.windowTerms);
-  for (size_t k = 0; k < termCount_; ++k) terms[k] = terms_[(termHead_ + k) % old.windowTerms];
+  for (size_t k = 0; k < termCount_; ++k) terms[k] = terms_[(termHead_ + k) % ringSize_];
   terms_ = std::move(terms);
   termHead_ = 0;
+  ringSize_ = std::min(cap_.windowTerms, termCount_ + kRingStep);
+}
+
+void WindowCache::widenRing() {
+  // Full, so the ring is the whole of [0, ringSize_) from termHead_ on: rotated to start at
+  // 0, it grows at its end.
+  std::rotate(terms_.get(), terms_.get() + termHead_, terms_.get() + ringSize_);
+  termHead_ = 0;
+  ringSize_ = std::min(cap_.windowTerms, ringSize_ + std::max(ringSize_ / 4, kRingStep));
 }
 
 void WindowCache::clearEntries() {
@@ -261,6 +271,7 @@ void WindowCache::applyFrame(const FrameGroups& frame, float n, double invC, Ene
   if (frame_ >= shape_.lifetime) retireSlot(slot);
   slotTerms_[slot] = 0;
   for (const FrameGroups::Group& g : frame.groups()) {
+    if (termCount_ == ringSize_ && ringSize_ < cap_.windowTerms) widenRing();
     if (termCount_ == cap_.windowTerms) {
       if (!grow()) makeRoom(invC);
     } else {
@@ -274,7 +285,7 @@ void WindowCache::applyFrame(const FrameGroups& frame, float n, double invC, Ene
     e->hits += float(g.eta);
     e->directionSum += g.direction;
     e->lastHit = frame_;
-    terms_[(termHead_ + termCount_) % cap_.windowTerms] = {g.key, i, g.length, float(g.eta),
+    terms_[(termHead_ + termCount_) % ringSize_] = {g.key, i, g.length, float(g.eta),
                                                            g.direction};
     ++termCount_;
     ++slotTerms_[slot];
@@ -331,12 +342,12 @@ void WindowCache::mergeMarkedTerms(double invC) {
   for (uint64_t f = first; f <= frame_; ++f) {
     uint32_t& n = slotTerms_[slotOf(f)];
     uint32_t kept = 0;
-    for (uint32_t k = 0; k < n; ++k, r = (r + 1) % cap_.windowTerms) {
+    for (uint32_t k = 0; k < n; ++k, r = (r + 1) % ringSize_) {
       const WindowTerm t = terms_[r];
       const WindowEntry& e = table_.entries()[table_.indexOf(t.key)];
       if (e.lastHit != kMergedFrame) {
         terms_[w] = t;
-        w = (w + 1) % cap_.windowTerms;
+        w = (w + 1) % ringSize_;
         ++kept;
         continue;
       }
@@ -362,7 +373,7 @@ void WindowCache::retireSlot(size_t slot) {
   // exactly); its coarse row is cleared.
   for (uint32_t k = 0; k < slotTerms_[slot]; ++k) {
     const WindowTerm& t = terms_[termHead_];
-    termHead_ = (termHead_ + 1) % cap_.windowTerms;
+    termHead_ = (termHead_ + 1) % ringSize_;
     const uint32_t i = table_.indexOf(t.key);
     WindowEntry& e = table_.entries()[i];
     e.hits -= t.hits;

@@ -139,9 +139,18 @@ class WindowCache final : public PathCacheStore {
   void retireSlot(size_t slot);
   size_t slotOf(uint64_t frame) const { return size_t(frame % shape_.lifetime); }
 
+  /// Makes a full ring longer, up to the terms' capacity.
+  void widenRing();
+
+  /// Terms the ring widens by at least (64 kB): its length follows the terms held, so the
+  /// pages a wrapping ring writes are about those the window needs, not the whole capacity
+  /// (which is sized for two terms per entry; many rooms need nearer one).
+  static constexpr size_t kRingStep = 1024;
+
   PathTable<WindowEntry> table_;
-  Buffer<WindowTerm> terms_;  ///< FIFO ring of the window's path terms
+  Buffer<WindowTerm> terms_;  ///< FIFO ring of the window's path terms, in [0, ringSize_)
   size_t termHead_ = 0, termCount_ = 0;
+  size_t ringSize_ = 0;  ///< the ring's length, <= cap_.windowTerms
   std::vector<uint32_t> slotTerms_;  ///< path terms per frame slot
 };
 

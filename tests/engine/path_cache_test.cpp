@@ -126,6 +126,48 @@ TEST_CASE("Window DPC: retiring a frame never leaves a negative band energy", "[
   }
 }
 
+TEST_CASE("Window DPC: the mean over the window's frames, while its ring of terms widens, wraps "
+          "and its tables grow", "[dpc]") {
+  // Frames of 200-2,500 paths drawn from 6,000, so the window's terms (up to ~12,000) outgrow
+  // the ring's first length, its widenings (taken with the ring wrapped at varying heads) and
+  // the tables' first capacity. The oracle: per path, its intensities summed over the last W
+  // frames, divided by W (fewer at the start), at its delay. Each path keeps one length, at a
+  // bin's centre, so the mean delay is exact in any order of summation; the sums differ from
+  // the cache's by float rounding only (relative 1e-5 of the total).
+  const double period = 0.1, tau = 0.5;
+  const uint64_t window = 5;
+  DiffusePathCache cache(DpcWeighting::kWindow, tau, period, 64u << 20);
+  Rng rng(23, 3);
+  std::vector<std::vector<std::pair<uint64_t, float>>> frames;
+  auto lengthOf = [](uint64_t key) { return kC * (1e-3f * float(key % 900) + 0.5e-3f); };
+  for (uint64_t f = 0; f < 40; ++f) {
+    std::vector<PathHit> hits;
+    frames.emplace_back();
+    const uint32_t count = 200 + rng.nextU32() % 2300;
+    for (uint32_t i = 0; i < count; ++i) {
+      const uint64_t key = rng.nextU32() % 6000;
+      const float intensity = 1.f + float(key % 13);
+      hits.push_back(hit(key, intensity, lengthOf(key)));
+      frames.back().push_back({key, intensity});
+    }
+    const EnergyResponse got = frame(cache, hits, 100);
+    std::vector<double> ref(got.binCount(), 0.0);
+    const uint64_t first = f + 1 > window ? f + 1 - window : 0;
+    const double frameCount = double(f + 1 - first);
+    for (uint64_t g = first; g <= f; ++g)
+      for (const auto& [key, intensity] : frames[g])
+        ref[size_t(lengthOf(key) / kC / 1e-3f)] += intensity / 100.0 / frameCount;
+    double total = 0.0, worst = 0.0;
+    for (size_t k = 0; k < ref.size(); ++k) {
+      total += ref[k];
+      worst = std::max(worst, std::abs(double(got.bins()[k][0]) - ref[k]));
+    }
+    INFO("frame " << f << ": worst bin difference " << worst << " of total " << total);
+    REQUIRE(worst <= 1e-5 * total);
+  }
+  CHECK(cache.mergedEntries() == 0);
+}
+
 // docs/estimators.md, "Its bias": a path hit with probability p per frame contributes I / N per hit
 // in expectation. The EMA estimator's long-run mean must equal p I / N (unbiased) within Monte
 // Carlo error; the thesis estimator inflates rare paths towards the harmonic number H_K.

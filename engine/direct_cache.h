@@ -31,6 +31,9 @@ class DirectCache {
   /// The object poses the tracer holds this frame: a change from the last frame's makes every
   /// pair compute its direct sound again.
   void posesApplied(const std::vector<Pose>& poses);
+  /// A number that changes whenever the object poses do (the frame's geometry): other
+  /// per-pair results that depend on the geometry key on it too.
+  uint64_t geometryVersion() const { return geometry_; }
   /// Whether pair p's direct sound from its last computation stands for these inputs.
   bool holds(size_t pair, const glm::vec3& source, const glm::vec3& forward,
              const ListenerSphere& listener) const;

@@ -403,10 +403,10 @@ void Simulation::updateSpecular(size_t pair, const glm::vec3& source,
                                 const ListenerSphere& listener, SourceResult& r) {
   const auto t0 = std::chrono::steady_clock::now();
   SpecularPathCache& cache = *specularCaches_[pair];
-  cache.update(*specularCandidates_, *specularScene_, source, listener.position, listener.radius,
-               frame_);
-  const size_t s = pair % sourceCount_;
-  if (!directivities_[s].omni())
+  const uint64_t geometry = directCache_.geometryVersion();
+  cache.update(*specularCandidates_, *specularScene_,
+               {source, listener.position, listener.radius, geometry}, frame_);
+  if (const size_t s = pair % sourceCount_; !directivities_[s].omni())
     cache.weightBySource(directivities_[s], sourceForwards_[s], source);
   r.specularPaths = cache.paths().size();
   r.specularCandidates = specularCandidates_->sequences().size();

@@ -201,6 +201,7 @@ bool SpecularScene::validate(const SpecularSequence& seq, const glm::vec3& sourc
   const double length = glm::length(glm::dvec3(listener) - image);
   path.key = seq.key();
   path.triangles = seq.triangles;
+  std::fill(path.points.begin() + seq.order, path.points.end(), glm::vec3(0.f));  // unused
   path.length = float(length);
   path.delaySeconds = length / double(speedOfSound_);
   const glm::vec3 toLast = path.points[seq.order - 1] - listener;
@@ -226,6 +227,8 @@ SpecularPathCache::SpecularPathCache(double tauSeconds, double framePeriodSecond
   paths_.reserve(initial);
   dropped_.reserve(initial);
   validKeys_.reserve(initial);
+  invalid_.reserve(initial);
+  invalidNext_.reserve(initial);
 }
 
 void SpecularPathCache::clear() {
@@ -233,6 +236,8 @@ void SpecularPathCache::clear() {
   entries_.clear();
   index_.clear();
   paths_.clear();
+  invalid_.clear();
+  updated_ = false;
 }
 
 void SpecularPathCache::removeEntry(size_t i) {
@@ -244,14 +249,18 @@ void SpecularPathCache::removeEntry(size_t i) {
   entries_.pop_back();
 }
 
+bool SpecularPathCache::validateEntry(Entry& e, const SpecularScene& scene,
+                                      const SpecularInputs& in, bool still) {
+  if (!still) e.valid = scene.validate(e.sequence, in.source, in.listener, in.radius, e.path);
+  return e.valid;
+}
+
 void SpecularPathCache::revalidate(const SpecularCandidates& frame, const SpecularScene& scene,
-                                   const glm::vec3& source, const glm::vec3& listener, float radius,
-                                   uint64_t frameIndex) {
-  SpecularPath path;
+                                   const SpecularInputs& in, bool still, uint64_t frameIndex) {
   for (size_t i = 0; i < entries_.size();) {
     Entry& e = entries_[i];
-    if (scene.validate(e.sequence, source, listener, radius, path)) {
-      paths_.push_back(path);
+    if (validateEntry(e, scene, in, still)) {
+      paths_.push_back(e.path);
       e.lastAlive = frameIndex;
     } else if (frame.contains(e.key)) {
       e.lastAlive = frameIndex;
@@ -264,21 +273,26 @@ void SpecularPathCache::revalidate(const SpecularCandidates& frame, const Specul
 }
 
 void SpecularPathCache::addCandidates(const SpecularCandidates& frame, const SpecularScene& scene,
-                                      const glm::vec3& source, const glm::vec3& listener,
-                                      float radius, uint64_t frameIndex) {
+                                      const SpecularInputs& in, bool still, uint64_t frameIndex) {
   SpecularPath path;
+  invalidNext_.clear();
   for (const SpecularSequence& s : frame.sequences()) {
     const uint64_t key = s.key();
     if (index_.find(key) != index_.end()) continue;  // cached: validated above
-    if (!scene.validate(s, source, listener, radius, path)) continue;
+    if ((still && invalid_.count(key)) ||
+        !scene.validate(s, in.source, in.listener, in.radius, path)) {
+      invalidNext_.insert(key);
+      continue;
+    }
     if (entries_.size() >= capacity_) {
       ++overflow_;
       continue;
     }
     index_.emplace(key, uint32_t(entries_.size()));
-    entries_.push_back(Entry{s, key, frameIndex});
+    entries_.push_back(Entry{s, key, frameIndex, true, path});
     paths_.push_back(path);
   }
+  std::swap(invalid_, invalidNext_);
 }
 
 void SpecularPathCache::removeDuplicates() {
@@ -303,11 +317,13 @@ void SpecularPathCache::removeDuplicates() {
 }
 
 void SpecularPathCache::update(const SpecularCandidates& frame, const SpecularScene& scene,
-                               const glm::vec3& source, const glm::vec3& listener, float radius,
-                               uint64_t frameIndex) {
+                               const SpecularInputs& inputs, uint64_t frameIndex) {
+  const bool still = updated_ && inputs == inputs_;
+  inputs_ = inputs;
+  updated_ = true;
   paths_.clear();
-  revalidate(frame, scene, source, listener, radius, frameIndex);
-  addCandidates(frame, scene, source, listener, radius, frameIndex);
+  revalidate(frame, scene, inputs, still, frameIndex);
+  addCandidates(frame, scene, inputs, still, frameIndex);
   validKeys_.clear();
   for (const SpecularPath& p : paths_) validKeys_.insert(p.key);
   removeDuplicates();

@@ -155,6 +155,18 @@ class SpecularScene {
   float speedOfSound_;
 };
 
+/// What a pair's validations depend on besides the sequence and the scene's fixed settings:
+/// with equal inputs, SpecularScene::validate gives the same result, bit for bit.
+struct SpecularInputs {
+  glm::vec3 source{0.f};    ///< metres
+  glm::vec3 listener{0.f};  ///< the listener sphere's centre, metres
+  float radius = 0.f;       ///< the listener sphere's radius, metres
+  /// Changes whenever the object poses do (DirectCache::geometryVersion): the triangles the
+  /// paths reflect from and the occluders they pass.
+  uint64_t geometry = 0;
+  bool operator==(const SpecularInputs&) const = default;
+};
+
 /// One source-listener pair's exact paths, kept across frames.
 class SpecularPathCache {
  public:
@@ -174,8 +186,11 @@ class SpecularPathCache {
   /// candidates that are not cached yet, drops expired sequences, and leaves the valid paths in
   /// paths(), sorted by length (then key); coincident duplicates (the same reflection points
   /// through coplanar neighbour triangles) are reported once, under the smaller key.
-  void update(const SpecularCandidates& frame, const SpecularScene& scene, const glm::vec3& source,
-              const glm::vec3& listener, float radius, uint64_t frameIndex);
+  /// With the same inputs as the last update (a still pair), a sequence's last result stands:
+  /// cached sequences are not validated again, nor the candidates found invalid last frame,
+  /// so a still pair validates only the sequences its rays propose for the first time.
+  void update(const SpecularCandidates& frame, const SpecularScene& scene,
+              const SpecularInputs& inputs, uint64_t frameIndex);
 
   /// Multiplies every path of the last update by the source's directivity weight toward its
   /// first reflection point P_1 (scene/directivity.h; forward a unit vector, source in metres).
@@ -198,13 +213,15 @@ class SpecularPathCache {
     SpecularSequence sequence;
     uint64_t key = 0;
     uint64_t lastAlive = 0;  ///< last frame it was valid or proposed by a ray
+    bool valid = false;      ///< its last validation's result, with its path when valid
+    SpecularPath path;
   };
+  /// Validates entry e at the inputs, or takes its last result when `still`.
+  bool validateEntry(Entry& e, const SpecularScene& scene, const SpecularInputs& in, bool still);
   void revalidate(const SpecularCandidates& frame, const SpecularScene& scene,
-                  const glm::vec3& source, const glm::vec3& listener, float radius,
-                  uint64_t frameIndex);
+                  const SpecularInputs& in, bool still, uint64_t frameIndex);
   void addCandidates(const SpecularCandidates& frame, const SpecularScene& scene,
-                     const glm::vec3& source, const glm::vec3& listener, float radius,
-                     uint64_t frameIndex);
+                     const SpecularInputs& in, bool still, uint64_t frameIndex);
   void removeEntry(size_t i);
   void removeDuplicates();
 
@@ -215,6 +232,10 @@ class SpecularPathCache {
   std::vector<SpecularPath> paths_;
   std::vector<uint8_t> dropped_;  ///< scratch for removeDuplicates
   tsl::robin_set<uint64_t> validKeys_;
+  /// Candidates found invalid at inputs_ in the last update, and those of this update.
+  tsl::robin_set<uint64_t> invalid_, invalidNext_;
+  SpecularInputs inputs_;
+  bool updated_ = false;  ///< inputs_ holds an update's inputs
   uint64_t overflow_ = 0;
 };
 

@@ -4,8 +4,9 @@
 #include <cstdint>
 
 #include "common/input_error.h"
-#include "scene/scene.h"
 #include "fuzz/fuzz_files.h"
+#include "fuzz/fuzz_report.h"
+#include "scene/scene.h"
 
 namespace {
 const char kScene[] = R"({
@@ -25,8 +26,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       "obj_scene.json", reinterpret_cast<const uint8_t*>(kScene), sizeof(kScene) - 1);
   dpc::fuzz::put("mesh.obj", data, size);
   try {
-    (void)dpc::loadScene(scene);
-  } catch (const dpc::InputError&) {
+    dpc::fuzz::acceptedScene(dpc::loadScene(scene));
+  } catch (const dpc::InputError& e) {
+    dpc::fuzz::refused(e.what());
   }
   return 0;
 }

@@ -56,8 +56,8 @@ meta = bytearray(b); meta[300] ^= 0x01
 open(out + "/shoebox-metadata-flip.h5", "wb").write(meta)
 PY
 printf '2 1.5 2\n' >"$work/two_rooms.txt"
-"$bake" "$work/two_rooms.json" --out "$out/valid-two_rooms-1-probe.h5" --probes "$work/two_rooms.txt" \
-  --rays 64 --frames 4 --threads 1 --quiet
+"$bake" "$work/two_rooms.json" --out "$out/valid-two_rooms-1-probe.h5" \
+  --probes "$work/two_rooms.txt" --rays 64 --frames 4 --threads 1 --quiet
 # The wave band: 16 kHz and up to 200 Hz, so that one probe's band (1,600 floats) stays small.
 short shoebox.json shoebox_wave wave '{"enabled": true, "max_frequency": 200}'
 /usr/bin/python3 - "$work/shoebox_wave.json" <<'PY'

@@ -5,17 +5,18 @@
 // be a dpc_status with a message; a crash, a hang, a sanitizer report or an exception escaping
 // the API is a finding. Fields whose in-range values only cost time or memory (ir_length,
 // rays_per_frame, max_order, the sample rate, counts, the order of a binaural decoding) are
-// capped when in range, so that each input stays cheap; out-of-range raw values pass unchanged. Corpus: fuzz/corpus/c_api
-// (fuzz/make_c_api_seeds.py); DPC_FUZZ_VERBOSE=1 prints each input's outcome.
+// capped when in range, so that each input stays cheap; out-of-range raw values pass unchanged.
+// Corpus: fuzz/corpus/c_api (fuzz/make_c_api_seeds.py); DPC_FUZZ_VERBOSE=1 prints each input's
+// outcome (fuzz/fuzz_report.h).
 #include <climits>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <vector>
 
 #include "dpc/dpc.h"
+#include "fuzz/fuzz_report.h"
 
 namespace {
 
@@ -146,13 +147,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (dpc_engine_create_from_data(&d, &o, &e) != DPC_OK) {
     // A refusal: no engine, and a message.
     if (e != nullptr || dpc_last_error()[0] == '\0') std::abort();
-    if (std::getenv("DPC_FUZZ_VERBOSE")) std::fprintf(stderr, "refused: %s\n", dpc_last_error());
+    dpc::fuzz::refused(dpc_last_error());
     return 0;
   }
-  if (std::getenv("DPC_FUZZ_VERBOSE")) std::fprintf(stderr, "engine built and stepped\n");
   dpc_engine_set_source_position(e, 0, b.f32(), b.f32(), b.f32());
   dpc_engine_set_listener_pose(e, 0, b.f32(), b.f32(), b.f32(), b.f32(), b.f32());
   if (dpc_engine_step(e) != DPC_OK) std::abort();
+  dpc::fuzz::accepted("engine built and stepped");
   dpc_engine_destroy(e);
   return 0;
 }

@@ -12,6 +12,7 @@
 
 #include "common/input_error.h"
 #include "fuzz/fuzz_files.h"
+#include "fuzz/fuzz_report.h"
 #include "scene/scene.h"
 
 namespace {
@@ -41,8 +42,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const bool glb = size >= 4 && std::memcmp(data, "glTF", 4) == 0;
   dpc::fuzz::put(glb ? "level.glb" : "level.gltf", data, size);
   try {
-    (void)dpc::loadScene(glb ? glbScene : gltfScene);
-  } catch (const dpc::InputError&) {
+    dpc::fuzz::acceptedScene(dpc::loadScene(glb ? glbScene : gltfScene));
+  } catch (const dpc::InputError& e) {
+    dpc::fuzz::refused(e.what());
   }
   return 0;
 }

@@ -2,7 +2,8 @@
 """Writes the seed corpus of fuzz/c_api_fuzzer.cpp into fuzz/corpus/c_api: byte encodings, in
 the fuzzer's decoding order, of the 6 x 3 x 4 m box of tests/api/box_data.h (valid, stereo and
 mono), the same box with diffraction and a second source, and the box with a listener at NaN, a vertex at 1e20
-and a listener sphere of infinite radius (refusals).
+and a listener sphere of infinite radius (refusals). The valid seeds are named valid-*: ctest
+fuzz_replay:c_api fails when the fuzzer refuses one (fuzz/fuzz_report.h).
 
 Usage: fuzz/make_c_api_seeds.py
 """
@@ -62,8 +63,8 @@ def box(sources=1, diffraction=0, listener_x=None, vertex0=None, radius=None, ou
 def main():
     out = os.path.join(os.path.dirname(os.path.abspath(__file__)), "corpus", "c_api")
     os.makedirs(out, exist_ok=True)
-    seeds = {"box": box(), "box-mono": box(output=1),
-             "box-diffraction-2-sources": box(sources=2, diffraction=1),
+    seeds = {"valid-box": box(), "valid-box-mono": box(output=1),
+             "valid-box-diffraction-2-sources": box(sources=2, diffraction=1),
              "box-listener-nan": box(listener_x=float("nan")), "box-vertex-1e20": box(vertex0=1e20),
              "box-radius-inf": box(radius=float("inf"))}
     for name, data in seeds.items():

@@ -4,14 +4,16 @@
 #include <cstdint>
 
 #include "common/input_error.h"
-#include "scene/scene.h"
 #include "fuzz/fuzz_files.h"
+#include "fuzz/fuzz_report.h"
+#include "scene/scene.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string path = dpc::fuzz::put("scene.json", data, size);
   try {
-    (void)dpc::loadScene(path);
-  } catch (const dpc::InputError&) {
+    dpc::fuzz::acceptedScene(dpc::loadScene(path));
+  } catch (const dpc::InputError& e) {
+    dpc::fuzz::refused(e.what());
   }
   return 0;
 }

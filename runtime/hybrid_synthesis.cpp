@@ -86,6 +86,7 @@ void HybridSynthesis::buildSpatial(const SceneDesc& scene, const PropagationSett
       makeSpatialSynthesizer(scene, settings, roomVolume, earlySeconds, 0x2545f4914f6cdd1dULL));
   while (earlySpatial_.size() < W) earlySpatial_.push_back(earlySpatial_.front()->workspaceCopy());
   workers_.resize(W);
+  slots_.reset(W);
   parallel_ = std::move(parallel);
   earlySamples_ = earlySpatial_.front()->lengthSamples();
 }
@@ -103,6 +104,7 @@ void HybridSynthesis::buildMono(const SceneDesc& scene, const PropagationSetting
   // any grouping).
   const size_t W = groupCount(bool(parallel), workers, S);
   workers_.resize(W);
+  slots_.reset(W);
   parallel_ = std::move(parallel);
   earlyMono_.resize(S);
   lateMono_.resize(size_t(buses_));
@@ -122,6 +124,8 @@ void HybridSynthesis::buildMono(const SceneDesc& scene, const PropagationSetting
   };
   concurrently(late, group);
   earlySamples_ = earlyMono_.front()->lengthSamples();
+  monoWorkspaces_.resize(W);
+  for (size_t w = 0; w < W; ++w) monoWorkspaces_[w] = earlyMono_[w]->workspace();
 }
 
 void HybridSynthesis::concurrently(const std::function<void()>& late,
@@ -153,6 +157,9 @@ void HybridSynthesis::complete() {
       lateMono_[k]->complete(k == 0 ? nullptr : lateMono_.front().get());
   };
   concurrently(late, group);
+  // Each group's first synthesiser made its group's window leveller.
+  for (size_t w = 0; w < monoWorkspaces_.size(); ++w)
+    monoWorkspaces_[w].windowLeveller = earlyMono_[w]->workspace().windowLeveller;
 }
 
 size_t HybridSynthesis::lateSamples() const {
@@ -271,6 +278,7 @@ void HybridSynthesis::synthesizeMonoEarly(const Simulation& sim, size_t s, size_
     copyPrefix(r.energy, x.early);
   keepEarly(x.early, split_);
   if (early_.kept(x.early, direct, x.paths, nullptr, listener, s, w)) return;
+  earlyMono_[s]->useWorkspace(monoWorkspaces_[w]);
   earlyMono_[s]->synthesize(x.early, direct, early.channel(0), x.paths);
   early_.made(listener, s, w);
 }
@@ -290,20 +298,21 @@ void HybridSynthesis::splitSources(const Simulation& sim, size_t listener, Baked
 void HybridSynthesis::synthesizeAll(const Simulation& sim, size_t listener, BakedPlayback* baked,
                                     std::vector<ImpulseResponse>& early,
                                     std::vector<ImpulseResponse>& late) {
-  // Job 0: the buses (their synthesisers and responses); job 1 + w: worker group w's sources
-  // w, w + W, ... (the synthesisers it shares a workspace with). No two jobs share a buffer.
-  const size_t S = sim.sourceCount(), W = workers_.size();
+  // Job 0: the buses (their synthesisers and responses); job 1 + s: source s's early part,
+  // in a worker workspace no other job holds meanwhile. Jobs of one source each let the
+  // threads share the frame evenly, whatever the buses take.
+  const size_t S = sim.sourceCount();
   const auto job = [&](size_t j) {
     if (j == 0) return updateBuses(listener, late);
-    const size_t w = j - 1;
-    for (size_t s = w; s < S; s += W)
-      spatial_ ? synthesizeSpatialEarly(sim, s, listener, w, early[s])
-               : synthesizeMonoEarly(sim, s, listener, w, baked, early[s]);
+    const size_t s = j - 1;
+    const WorkspaceSlots::Held held(slots_);
+    spatial_ ? synthesizeSpatialEarly(sim, s, listener, held.slot(), early[s])
+             : synthesizeMonoEarly(sim, s, listener, held.slot(), baked, early[s]);
   };
   if (parallel_) {
-    parallel_(W + 1, std::ref(job));  // by reference: no std::function allocation per frame
+    parallel_(S + 1, std::ref(job));  // by reference: no std::function allocation per frame
   } else {
-    for (size_t j = 0; j <= W; ++j) job(j);
+    for (size_t j = 0; j <= S; ++j) job(j);
   }
   early_.drainCounts(listener);
 }

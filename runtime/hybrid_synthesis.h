@@ -32,6 +32,7 @@
 #include "engine/simulation.h"
 #include "runtime/kept_irs.h"
 #include "runtime/late_shape.h"
+#include "runtime/workspace_slots.h"
 #include "scene/scene.h"
 #include "synthesis/hybrid_split.h"
 #include "synthesis/mono_synthesizer.h"
@@ -166,8 +167,8 @@ class HybridSynthesis {
   /// Every source's late share, serially in source order (busEnergy, lateEnergy).
   void splitSources(const Simulation& sim, size_t listener, BakedPlayback* baked,
                     std::span<const int> bus);
-  /// The early IRs in the worker groups and the buses (updateBuses) as one more job, through
-  /// parallel_.
+  /// The buses (updateBuses) as one job and every source's early IR as one more, through
+  /// parallel_, each early job in a free worker workspace (slots_).
   void synthesizeAll(const Simulation& sim, size_t listener, BakedPlayback* baked,
                      std::vector<ImpulseResponse>& early, std::vector<ImpulseResponse>& late);
   /// The number of early worker groups for `workers` threads and `sources` (one without
@@ -205,6 +206,10 @@ class HybridSynthesis {
   /// Early parts (spatial output): per worker group, [0] the original, then workspace copies.
   std::vector<std::unique_ptr<SpatialIrSynthesizer>> earlySpatial_;
   std::vector<std::unique_ptr<IrSynthesizer>> earlyMono_;  ///< per source (mono output)
+  /// Mono output: the worker groups' workspaces (those of earlyMono_[w], w < groups), lent to
+  /// each early synthesis by slot.
+  std::vector<IrSynthesizer::Workspace> monoWorkspaces_;
+  WorkspaceSlots slots_;  ///< which worker workspaces (and WorkerScratch) are in use
   std::vector<std::unique_ptr<IrSynthesizer>> lateMono_;   ///< per bus (mono output)
   std::unique_ptr<Scratch> scratch_;
   struct WorkerScratch;

@@ -128,6 +128,12 @@ class TiltedBands {
   const std::vector<float>& upperHalf(int b) const { return upper_[size_t(b)]; }
   /// alpha s_b + gamma s_hi per bin of the last update(), length samples.
   const std::vector<float>& tilted(int b) const { return (*tilted_)[size_t(b)]; }
+  /// The tilted() buffers: a workspace TiltedBands of one length may share (shareScratch).
+  using Scratch = std::shared_ptr<std::array<std::vector<float>, kNumBands>>;
+  const Scratch& scratch() const { return tilted_; }
+  /// Writes tilted() into s from now on: s from a TiltedBands of this length, not written by
+  /// another update() before this one's tilted() are read. No allocation.
+  void useScratch(const Scratch& s) { tilted_ = s; }
   /// alpha and gamma of bin j of the last update().
   float alpha(int b, size_t j) const { return alpha_[size_t(b)][j]; }
   float gamma(int b, size_t j) const { return gamma_[size_t(b)][j]; }

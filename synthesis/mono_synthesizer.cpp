@@ -64,6 +64,17 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
     sequence_ = std::move(seq);
 }
 
+IrSynthesizer::Workspace IrSynthesizer::workspace() const {
+  return {placer_, leveller_, windowLeveller_, bands_->scratch()};
+}
+
+void IrSynthesizer::useWorkspace(const Workspace& w) {
+  placer_ = w.placer;
+  leveller_ = w.leveller;
+  windowLeveller_ = w.windowLeveller;
+  bands_->useScratch(w.tilted);
+}
+
 size_t IrSynthesizer::bandFftSize() const {
   return nextPow2(length_ + bandFilterTaps(sampleRate_));
 }

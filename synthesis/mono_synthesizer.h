@@ -34,6 +34,7 @@
 // sooner, and its following IRs are the same bits as a complete build's.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -80,6 +81,17 @@ class IrSynthesizer {
   /// at 250 Hz in a 1 s decay, window_leveller.h) and cleaned up (BandLeveller) as ever.
   enum class Build { kComplete, kFirstIr };
 
+  /// What a synthesis writes besides the synthesiser's own state: the arrival placement, the
+  /// band and window levelling and the tilted band signals. It holds nothing between
+  /// synthesize() calls, so synthesisers that share it (sharesWith) may take turns with it,
+  /// never at once.
+  struct Workspace {
+    std::shared_ptr<ArrivalPlacer> placer;
+    std::shared_ptr<BandLeveller> leveller;
+    std::shared_ptr<WindowLeveller> windowLeveller;  ///< null until complete()
+    std::shared_ptr<std::array<std::vector<float>, kNumBands>> tilted;
+  };
+
   /// sampleRate in Hz; lengthSeconds of the IR; roomVolume in m^3 (density law: roomVolume()
   /// of the scene's mesh, engine/room_volume.h); speedOfSound m/s; seed for the Dirac sequence.
   /// shareWith: a synthesiser of the same rate, length, volume and c whose octave masks and
@@ -103,6 +115,14 @@ class IrSynthesizer {
 
   size_t lengthSamples() const { return length_; }
   int sampleRate() const { return sampleRate_; }
+
+  /// The workspace this synthesiser writes now.
+  Workspace workspace() const;
+  /// Writes w from the next synthesize() on: w from a synthesiser this one sharesWith, as
+  /// complete as this one, and used by no other synthesize() meanwhile. The IRs are the same
+  /// bits whichever workspace writes them. Propagation thread, between synthesize() calls of
+  /// this synthesiser; no allocation; no errors.
+  void useWorkspace(const Workspace& w);
 
   /// Writes lengthSamples() samples of pressure IR to ir. energy: the frame's energy
   /// response (any bin width; a bin below 0, which no energy is, counts as 0); direct: the

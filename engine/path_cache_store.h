@@ -241,8 +241,8 @@ class PathCacheStore {
   /// Makes room for at least one more path entry (and window term): merges the oldest path
   /// entries, at least an eighth of the table, into the coarse store.
   virtual void makeRoom(double invC) = 0;
-  /// The weighting's tables anew for capacity() after a growth from `old`.
-  virtual void resizeTables(const Capacity& old) = 0;
+  /// The weighting's tables anew for capacity() after a growth, their entries kept.
+  virtual void resizeTables() = 0;
   /// Empties the weighting's entries and state (DiffusePathCache::clear).
   virtual void clearEntries() = 0;
   /// Bytes of the weighting's allocated but unused per-frame terms (bytesInUse).

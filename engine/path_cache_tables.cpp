@@ -158,9 +158,8 @@ bool PathCacheStore::grow() {
     return false;
   }
   reserved_ += pool_ ? extra : 0;
-  const Capacity old = cap_;
   cap_ = next;
-  resizeTables(old);  // the index anew (slots are placed by hash), the window terms in order
+  resizeTables();  // the index anew (slots are placed by hash), the window terms in order
   return true;
 }
 

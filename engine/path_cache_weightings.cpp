@@ -48,7 +48,7 @@ uint32_t SeedCache::oldestEntryFrame() const {
   return oldestFrame(table_.entries(), frame_);
 }
 
-void SeedCache::resizeTables(const Capacity&) {
+void SeedCache::resizeTables() {
   table_.resize(cap_.indexSlots, cap_.entries);
 }
 
@@ -135,7 +135,7 @@ uint32_t EmaCache::oldestEntryFrame() const {
   return oldestFrame(table_.entries(), frame_);
 }
 
-void EmaCache::resizeTables(const Capacity&) {
+void EmaCache::resizeTables() {
   table_.resize(cap_.indexSlots, cap_.entries);
 }
 
@@ -237,7 +237,7 @@ uint32_t WindowCache::oldestEntryFrame() const {
   return oldestFrame(table_.entries(), frame_);
 }
 
-void WindowCache::resizeTables(const Capacity& /*old*/) {
+void WindowCache::resizeTables() {
   table_.resize(cap_.indexSlots, cap_.entries);
   // The ring of window terms in order from its head.
   Buffer<WindowTerm> terms = allocZeroed<WindowTerm>(cap_.windowTerms);

@@ -82,7 +82,7 @@ class SeedCache final : public PathCacheStore {
   /// Merges the oldest entries into the layer of their creation frame: mu and the lifetime are
   /// shared, so I_hat / mu stays exactly additive.
   void makeRoom(double invC) override;
-  void resizeTables(const Capacity& old) override;
+  void resizeTables() override;
   void clearEntries() override;
   /// Removes entries and the coarse layer that are tau old.
   void expire();
@@ -103,7 +103,7 @@ class EmaCache final : public PathCacheStore {
                   ArrivalSink* directional, double& total, double& coarse) override;
   /// Merges the oldest entries into the one coarse layer (a cell expires with its newest member).
   void makeRoom(double invC) override;
-  void resizeTables(const Capacity& old) override;
+  void resizeTables() override;
   void clearEntries() override;
   /// Removes entries and coarse cells not hit for the lifetime.
   void expire();
@@ -126,7 +126,7 @@ class WindowCache final : public PathCacheStore {
   /// Marks the oldest entries, moves their terms into the coarse rows of their frames and
   /// removes them, until a term is free.
   void makeRoom(double invC) override;
-  void resizeTables(const Capacity& old) override;
+  void resizeTables() override;
   void clearEntries() override;
   size_t unusedTermBytes() const override;
   /// Reads every entry and the coarse rows' sums out as their mean over `frames` frames.

@@ -30,11 +30,12 @@
 // source-listener pair keeps the sequences that validated once and re-validates them every
 // frame at the current poses; a sequence that is neither valid nor proposed by a ray for
 // longer than tau is dropped. Memory is bounded: a frame's candidates and a pair's cache have
-// fixed capacities, reserved at construction; what does not fit is counted, not stored.
+// fixed capacities; what does not fit is counted, not stored.
 //
 // Threads: propagation thread. SpecularScene::validate and SpecularPathCache::update of
 // different pairs may run concurrently (they only read the scene and the tracer); poses change
-// between frames. Allocation: at construction only. No errors (invalid input gives no paths).
+// between frames. Allocation: at construction, and as a pair's tables grow toward their
+// capacities on the propagation thread. No errors (invalid input gives no paths).
 #pragma once
 
 #include <tsl/robin_map.h>
@@ -172,7 +173,9 @@ class SpecularPathCache {
  public:
   /// Default capacity of validated sequences per pair (a shoebox has 62 image sources up to
   /// order 3; rooms with many triangles split them into more sequences). At this capacity a
-  /// pair would hold about 1 MB (entries, index, the frame's paths).
+  /// pair would hold about 1.8 MB (entries with their last paths, index, the frame's paths),
+  /// and its memo of invalid candidates up to 2 x 16 bytes per candidate of a frame (about
+  /// 500 in the dense hall).
   static constexpr size_t kDefaultCapacity = 4096;
   /// Sequences a pair reserves room for at construction (its tables grow from there up to the
   /// capacity): a room's few dozen early paths fit without growing, and 64 pairs do not

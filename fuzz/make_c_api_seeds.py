@@ -1,9 +1,9 @@
 #!/usr/bin/python3
 """Writes the seed corpus of fuzz/c_api_fuzzer.cpp into fuzz/corpus/c_api: byte encodings, in
 the fuzzer's decoding order, of the 6 x 3 x 4 m box of tests/api/box_data.h (valid, stereo and
-mono), the same box with diffraction and a second source, and the box with a listener at NaN, a vertex at 1e20
-and a listener sphere of infinite radius (refusals). The valid seeds are named valid-*: ctest
-fuzz_replay:c_api fails when the fuzzer refuses one (fuzz/fuzz_report.h).
+mono), the same box with diffraction and a second source, and the box with a listener at NaN,
+a vertex at 1e20 and a listener sphere of infinite radius (refusals). The valid seeds are
+named valid-*: ctest fuzz_replay:c_api fails when the fuzzer refuses one (fuzz/fuzz_report.h).
 
 Usage: fuzz/make_c_api_seeds.py
 """
@@ -43,7 +43,8 @@ def box(sources=1, diffraction=0, listener_x=None, vertex0=None, radius=None, ou
     for s in range(4):
         b += small(2 + s * 0.5) + small(1.5) + small(2) + small(0)
     b += (raw(listener_x) if listener_x is not None else small(4)) + small(1.5) + small(2)
-    b += (raw(radius) if radius is not None else small(0.5)) + small(0) + small(0)  # radius, yaw, pitch
+    # radius, yaw, pitch
+    b += (raw(radius) if radius is not None else small(0.5)) + small(0) + small(0)
     b += small(0)                          # roll
     b += bytes([0])                        # no additional listener
     for _ in range(3):

@@ -72,7 +72,7 @@ size_t HybridSynthesis::workerGroups() const {
 
 size_t HybridSynthesis::groupCount(bool parallel, int workers, size_t sources) {
   if (!parallel) return 1;
-  const size_t groups = size_t(std::max(workers, 2) + kExtraEarlyGroups);
+  const size_t groups = size_t(std::max(workers, 2));
   return std::clamp<size_t>(groups, 1, std::max<size_t>(sources, 1));
 }
 

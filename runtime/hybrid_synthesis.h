@@ -74,10 +74,10 @@ class HybridSynthesis {
   /// stage made (nullptr for mono output), used for the late buses; earlySeconds: the early
   /// part's length (hybridEarlyLength). listeners: how many listeners get clusters (more are
   /// added by prepare() on demand, allocating once).
-  /// The sources' early parts are synthesised in worker groups through `parallel`
-  /// (max(workers, 2) + kExtraEarlyGroups; each group with its own synthesis workspace, so the
-  /// IRs are the same for any workers), concurrently with the late buses; `parallel` must
-  /// stay callable while this object is used. Default: on the calling thread.
+  /// The sources' early parts are synthesised through `parallel`, each as a job of its own in
+  /// one of max(workers, 2) workspaces (as many as jobs run at once; the IRs are the same for
+  /// any workers), concurrently with the late buses; `parallel` must stay callable while this
+  /// object is used and run at most `workers` jobs at once. Default: on the calling thread.
   /// build: the mono synthesisers' (IrSynthesizer::Build); complete() finishes a kFirstIr
   /// build.
   HybridSynthesis(const SceneDesc& scene, const PropagationSettings& settings, double roomVolume,
@@ -85,10 +85,6 @@ class HybridSynthesis {
                   int workers = 1, SpatialIrSynthesizer::ParallelFor parallel = {},
                   IrSynthesizer::Build build = IrSynthesizer::Build::kComplete);
   ~HybridSynthesis();
-
-  /// Early groups beyond one per worker: the buses' late IRs (a few full-length syntheses,
-  /// one job) run beside the groups, and one thread takes that job and a smaller group.
-  static constexpr int kExtraEarlyGroups = 1;
 
   /// Completes the mono synthesisers of a kFirstIr build (IrSynthesizer::complete), in the
   /// construction's concurrent groups; nothing when complete or spatial. Between frames, on

@@ -113,7 +113,8 @@ def machines():
     for i in range(4):
         x = 5.0 + 10.0 * i
         out.append(source(f"machine north {i}", (x, 1.0, 0.8), "signals/percussion.wav", -10))
-        out.append(source(f"machine south {i}", (x + 5.0, 1.0, WIDTH - 0.8),
+        # 0.8 m from the south wall, and from the east wall for the last (not on it).
+        out.append(source(f"machine south {i}", (min(x + 5.0, LENGTH - 0.8), 1.0, WIDTH - 0.8),
                           "signals/percussion.wav", -10))
     return out
 

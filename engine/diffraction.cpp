@@ -8,11 +8,10 @@
 #include <glm/geometric.hpp>
 #include <glm/vector_relational.hpp>
 #include <numbers>
-#include <unordered_map>
 
+#include "engine/diffraction_edges.h"
 #include "engine/gap_probe.h"
 #include "engine/slit.h"
-#include "scene/mesh_topology.h"
 
 namespace dpc {
 
@@ -20,227 +19,6 @@ namespace {
 
 using C = std::complex<double>;
 constexpr double kPi = std::numbers::pi;
-
-glm::vec3 safeNormalize(const glm::vec3& v) {
-  const float l = glm::length(v);
-  return l > 0.f ? v / l : glm::vec3(0.f);
-}
-
-/// Undirected edge (welded vertex ids, smaller first, as one key) -> the triangles using it
-/// (first two) and the count.
-struct EdgeUse {
-  uint32_t tri[2]{};
-  int count = 0;
-};
-
-std::unordered_map<uint64_t, EdgeUse> edgeUses(const Mesh& mesh, const std::vector<uint32_t>& id) {
-  std::unordered_map<uint64_t, EdgeUse> uses;
-  uses.reserve(mesh.triangles.size() * 3);
-  for (uint32_t t = 0; t < mesh.triangles.size(); ++t)
-    for (int i = 0; i < 3; ++i) {
-      const uint64_t u = id[mesh.triangles[t][size_t(i)]],
-                     v = id[mesh.triangles[t][size_t((i + 1) % 3)]];
-      EdgeUse& e = uses[u < v ? (u << 32 | v) : (v << 32 | u)];
-      if (e.count < 2) e.tri[e.count] = t;
-      ++e.count;
-    }
-  return uses;
-}
-
-glm::vec3 normalOf(const Mesh& mesh, uint32_t t) {
-  const auto& tr = mesh.triangles[t];
-  return safeNormalize(glm::cross(mesh.vertices[tr[1]] - mesh.vertices[tr[0]],
-                                  mesh.vertices[tr[2]] - mesh.vertices[tr[0]]));
-}
-
-/// In-plane unit vector of triangle t from the edge (ia, ib) toward its third vertex.
-glm::vec3 inward(const Mesh& mesh, const std::vector<uint32_t>& id, uint32_t t, uint32_t ia,
-                 uint32_t ib, const glm::vec3& dir) {
-  const auto& tr = mesh.triangles[t];
-  uint32_t third = tr[0];
-  for (uint32_t v : tr)
-    if (id[v] != ia && id[v] != ib) third = v;
-  glm::vec3 w = mesh.vertices[third] - mesh.vertices[ia];
-  w -= glm::dot(w, dir) * dir;
-  return safeNormalize(w);
-}
-
-/// The candidate edge of welded edge `key`; false when it has no wedge (non-manifold,
-/// degenerate or flat).
-bool makeEdge(const Mesh& mesh, const std::vector<uint32_t>& id, uint64_t key, const EdgeUse& use,
-              DiffractionEdge& e) {
-  if (use.count > 2) return false;  // non-manifold: no wedge defined
-  const uint32_t ia = uint32_t(key >> 32), ib = uint32_t(key & 0xffffffffu);
-  e.a = mesh.vertices[ia];
-  e.b = mesh.vertices[ib];
-  e.length = glm::length(e.b - e.a);
-  if (!(e.length > 0.f)) return false;
-  e.direction = (e.b - e.a) / e.length;
-  e.face0 = inward(mesh, id, use.tri[0], ia, ib, e.direction);
-  e.normal0 = normalOf(mesh, use.tri[0]);
-  if (glm::length(e.face0) == 0.f || glm::length(e.normal0) == 0.f) return false;
-  if (use.count == 1) {
-    e.open = float(2.0 * kPi);  // half-plane: one wedge of 2 pi
-    return true;
-  }
-  // Angle of face 1 from face 0, turning toward normal0. Which of the two wedges
-  // (open, 2 pi - open) holds air is decided per frame by where the source is, so the
-  // mesh's winding does not matter.
-  const glm::vec3 f1 = inward(mesh, id, use.tri[1], ia, ib, e.direction);
-  double ang = std::atan2(double(glm::dot(f1, e.normal0)), double(glm::dot(f1, e.face0)));
-  if (ang < 0) ang += 2.0 * kPi;
-  e.open = float(ang);
-  return !(std::abs(ang - kPi) < 0.05 * kPi);  // flat: no wedge
-}
-
-/// An edge lying in another triangle (a partition's rim along the floor, a box standing on
-/// it) is sealed by that surface: no wedge of air around it. A triangle can hold an edge only
-/// if its bounding box, grown by the tolerance, holds the edge's midpoint, so each edge is
-/// tested against the triangles registered in its midpoint's cell of a uniform grid (the
-/// cells each grown box overlaps, found by sorting (cell, triangle) pairs: O(n log n) for n
-/// triangles) plus the few triangles too large for the grid (walls, floors spanning more than
-/// kMaxCellsPerTriangle cells), instead of against every triangle. The cell of a point is a
-/// monotone function of its coordinates, so the cell of any midpoint inside a grown box is
-/// one the box was registered in: the same triangles pass the box test as in a scan of all.
-class SealingSurfaces {
- public:
-  explicit SealingSurfaces(const Mesh& mesh) : mesh_(mesh) {
-    growBoxes();
-    chooseCells();
-    registerTriangles();
-  }
-
-  bool seal(const DiffractionEdge& e) const {
-    const glm::vec3 mid = 0.5f * (e.a + e.b);
-    const uint64_t key = keyOf(cellOf(mid));
-    const auto cell =
-        std::equal_range(cells_.begin(), cells_.end(), CellEntry{key, 0},
-                         [](const CellEntry& x, const CellEntry& y) { return x.key < y.key; });
-    for (auto it = cell.first; it != cell.second; ++it)
-      if (holdsMidpoint(it->triangle, e, mid)) return true;
-    for (const uint32_t t : large_)
-      if (holdsMidpoint(t, e, mid)) return true;
-    return false;
-  }
-
- private:
-  static constexpr float kTol = 1e-3f;  // m
-  static constexpr int64_t kMaxCellsPerTriangle = 64;
-  static constexpr int64_t kMaxCellsPerAxis = int64_t(1) << 20;  // 21 bits of a key each
-
-  struct CellEntry {
-    uint64_t key;
-    uint32_t triangle;
-  };
-
-  /// Each triangle's bounding box grown by the tolerance, and the box of them all.
-  void growBoxes() {
-    lo_.reserve(mesh_.triangles.size());
-    hi_.reserve(mesh_.triangles.size());
-    for (const auto& tr : mesh_.triangles) {
-      const glm::vec3 p0 = mesh_.vertices[tr[0]], p1 = mesh_.vertices[tr[1]],
-                      p2 = mesh_.vertices[tr[2]];
-      lo_.push_back(glm::min(p0, glm::min(p1, p2)) - kTol);
-      hi_.push_back(glm::max(p0, glm::max(p1, p2)) + kTol);
-      origin_ = lo_.size() == 1 ? lo_.back() : glm::min(origin_, lo_.back());
-      top_ = hi_.size() == 1 ? hi_.back() : glm::max(top_, hi_.back());
-    }
-  }
-
-  /// Cubic cells twice the median triangle's largest extent, coarser if the grid would
-  /// exceed kMaxCellsPerAxis along an axis.
-  void chooseCells() {
-    if (lo_.empty()) return;
-    std::vector<float> extents(lo_.size());
-    for (size_t t = 0; t < lo_.size(); ++t) {
-      const glm::vec3 d = hi_[t] - lo_[t];
-      extents[t] = std::max(d.x, std::max(d.y, d.z));
-    }
-    std::nth_element(extents.begin(), extents.begin() + ptrdiff_t(extents.size() / 2),
-                     extents.end());
-    const glm::vec3 span = top_ - origin_;
-    const float widest = std::max(span.x, std::max(span.y, span.z));
-    const float cell =
-        std::max(2.f * extents[extents.size() / 2], widest / float(kMaxCellsPerAxis - 2));
-    inverseCell_ = 1.f / std::max(cell, 4.f * kTol);
-  }
-
-  /// The grid cell holding p, each coordinate clamped to the grid: monotone in p.
-  std::array<int64_t, 3> cellOf(const glm::vec3& p) const {
-    std::array<int64_t, 3> c{};
-    for (int k = 0; k < 3; ++k) {
-      const float f = std::floor((p[k] - origin_[k]) * inverseCell_);
-      c[size_t(k)] = std::clamp(int64_t(std::clamp(f, -1.f, float(kMaxCellsPerAxis))), int64_t(0),
-                                kMaxCellsPerAxis - 1);
-    }
-    return c;
-  }
-
-  static uint64_t keyOf(const std::array<int64_t, 3>& c) {
-    return uint64_t(c[0]) << 42 | uint64_t(c[1]) << 21 | uint64_t(c[2]);
-  }
-
-  /// Every triangle into the cells its grown box overlaps (or into large_), sorted by cell.
-  void registerTriangles() {
-    cells_.reserve(lo_.size() * 4);
-    for (uint32_t t = 0; t < lo_.size(); ++t) {
-      const auto a = cellOf(lo_[t]), b = cellOf(hi_[t]);
-      if ((b[0] - a[0] + 1) * (b[1] - a[1] + 1) * (b[2] - a[2] + 1) > kMaxCellsPerTriangle) {
-        large_.push_back(t);
-        continue;
-      }
-      for (int64_t x = a[0]; x <= b[0]; ++x)
-        for (int64_t y = a[1]; y <= b[1]; ++y)
-          for (int64_t z = a[2]; z <= b[2]; ++z) cells_.push_back({keyOf({x, y, z}), t});
-    }
-    std::sort(cells_.begin(), cells_.end(), [](const CellEntry& x, const CellEntry& y) {
-      return x.key != y.key ? x.key < y.key : x.triangle < y.triangle;
-    });
-  }
-
-  /// The box test, then whether triangle t holds the edge.
-  bool holdsMidpoint(uint32_t t, const DiffractionEdge& e, const glm::vec3& mid) const {
-    if (glm::any(glm::lessThan(mid, lo_[t])) || glm::any(glm::greaterThan(mid, hi_[t])))
-      return false;
-    return holds(mesh_.triangles[t], e, mid);
-  }
-
-  /// True if the triangle tr (not one of the edge's own faces) contains the edge.
-  bool holds(const std::array<uint32_t, 3>& tr, const DiffractionEdge& e,
-             const glm::vec3& mid) const {
-    const glm::vec3 p0 = mesh_.vertices[tr[0]], p1 = mesh_.vertices[tr[1]],
-                    p2 = mesh_.vertices[tr[2]];
-    const glm::vec3 nrm = safeNormalize(glm::cross(p1 - p0, p2 - p0));
-    if (glm::length(nrm) == 0.f) return false;
-    if (std::abs(glm::dot(e.a - p0, nrm)) > kTol || std::abs(glm::dot(e.b - p0, nrm)) > kTol)
-      return false;
-    // Is the midpoint inside the triangle (edge functions, with tolerance)?
-    const glm::vec3 q = mid - glm::dot(mid - p0, nrm) * nrm;
-    const float w0 = glm::dot(glm::cross(p1 - p0, q - p0), nrm) / glm::length(p1 - p0);
-    const float w1 = glm::dot(glm::cross(p2 - p1, q - p1), nrm) / glm::length(p2 - p1);
-    const float w2 = glm::dot(glm::cross(p0 - p2, q - p2), nrm) / glm::length(p0 - p2);
-    auto isVertex = [&](const glm::vec3& v) { return v == p0 || v == p1 || v == p2; };
-    if (isVertex(e.a) && isVertex(e.b)) return false;  // one of the edge's own faces
-    return w0 > -kTol && w1 > -kTol && w2 > -kTol;
-  }
-
-  const Mesh& mesh_;
-  std::vector<glm::vec3> lo_, hi_;  ///< grown boxes, per triangle
-  glm::vec3 origin_{0.f}, top_{0.f};
-  float inverseCell_ = 1.f;       ///< 1 / cell size, 1/m
-  std::vector<CellEntry> cells_;  ///< sorted by key
-  std::vector<uint32_t> large_;   ///< triangles spanning more than kMaxCellsPerTriangle cells
-};
-
-/// Lexicographic order of the endpoints: a deterministic edge order (the hash map's is not).
-bool edgeBefore(const DiffractionEdge& x, const DiffractionEdge& y) {
-  if (x.a.x != y.a.x) return x.a.x < y.a.x;
-  if (x.a.y != y.a.y) return x.a.y < y.a.y;
-  if (x.a.z != y.a.z) return x.a.z < y.a.z;
-  if (x.b.x != y.b.x) return x.b.x < y.b.x;
-  if (x.b.y != y.b.y) return x.b.y < y.b.y;
-  return x.b.z < y.b.z;
-}
 
 constexpr float kLegEpsilon = 1e-3f;  // m: keeps occlusion tests off the edge's own faces
 constexpr float kGapFarthest = 16.f;  // m: the widest gap probed (k w = 4 pi at 44 Hz)
@@ -437,7 +215,42 @@ void findSlits(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L
 struct PathGains {
   std::vector<double> utd;   // times the UTD path's spreading
   std::vector<double> slit;  // for the slit path
+  /// Per path, its UTD coefficient at band b's anchor frequencies (utdAnchors).
+  std::vector<std::array<C, kUtdAnchorsPerBand>> anchors;
 };
+
+/// The frequencies (indices i of diffractionFrequencyHz) where a band's UTD coefficients are
+/// evaluated: the band's first and last and evenly between.
+constexpr int anchorIndex(int a) {
+  return a * (kDiffractionFrequenciesPerBand - 1) / (kUtdAnchorsPerBand - 1);
+}
+
+/// A path's UTD coefficient (utdScaled, without the 1/sqrt(k) and the path's phase) at its
+/// band's frequency i, from its values at the band's anchors: linear in i (log-frequency)
+/// between them. D is smooth across a band (F(X) is smooth in sqrt(X)), unlike the phase
+/// e^{-jkl}, which is evaluated at every frequency. Against D at all 16 frequencies, the band
+/// intensities of the 256-talker dense hall's pairs differ by 0.0017 dB RMS, 0.019 dB at most
+/// (63 Hz), at a quarter of the UTD evaluations.
+C utdCoefficient(const std::array<C, kUtdAnchorsPerBand>& anchors, int i) {
+  int a = 0;
+  while (a + 2 < kUtdAnchorsPerBand && anchorIndex(a + 1) <= i) ++a;
+  const double t = double(i - anchorIndex(a)) / double(anchorIndex(a + 1) - anchorIndex(a));
+  return anchors[size_t(a)] + t * (anchors[size_t(a) + 1] - anchors[size_t(a)]);
+}
+
+/// Every path's UTD coefficient at band b's anchor frequencies, into gains.anchors.
+void utdAnchors(int b, const std::vector<EdgePath>& paths, float speedOfSound,
+                PathGains& gains) {
+  gains.anchors.resize(paths.size());
+  for (int a = 0; a < kUtdAnchorsPerBand; ++a) {
+    const double k = 2.0 * kPi * diffractionFrequencyHz(b, anchorIndex(a)) / speedOfSound;
+    for (size_t j = 0; j < paths.size(); ++j) {
+      const EdgePath& q = paths[j];
+      gains.anchors[j][size_t(a)] =
+          utdScaled(q.terms, q.sums, q.prefactor, k * q.distanceParameter);
+    }
+  }
+}
 
 /// |p|^2 of the direct sound (amplitude directAmplitude at directDistance, m) plus every
 /// path, averaged over band b's frequencies. A path through a gap adds its slit's field
@@ -459,7 +272,7 @@ double bandMeanSquare(int b, const std::vector<EdgePath>& paths, const PathGains
         if (s >= 1.0) continue;
         amplitude *= 1.0 - s;
       }
-      const C d = utdScaled(q.terms, q.sums, q.prefactor, k * q.distanceParameter);
+      const C d = utdCoefficient(gains.anchors[j], i);
       const C e = pathPhasor(k * q.length);  // e^{-jkl} = c - j s
       const double c = e.real(), sn = -e.imag();
       // amplitude * d * e^{-jkl}, written out (std::complex's operator* checks for NaN)
@@ -499,6 +312,7 @@ Bands coherentIntensity(const std::vector<EdgePath>& paths, const DirectSound& d
     }
     const double directAmplitude =
         direct.visible ? std::sqrt(4.0 * kPi * double(direct.intensity[b])) : 0.0;
+    utdAnchors(b, paths, speedOfSound, gains);
     const double meanSquare =
         bandMeanSquare(b, paths, gains, directAmplitude, direct.distance, speedOfSound);
     intensity[b] = float(meanSquare / (4.0 * kPi));
@@ -525,16 +339,7 @@ double diffractionFrequencyHz(int band, int i) {
   return bandCentreExactHz(band) * std::exp2((i + 0.5) / kDiffractionFrequenciesPerBand - 0.5);
 }
 
-EdgeDiffraction::EdgeDiffraction(const Mesh& mesh) {
-  // Edges by position, not by index: an exporter may write a corner once per face.
-  const std::vector<uint32_t> id = weldedVertexIds(mesh);
-  const SealingSurfaces surfaces(mesh);
-  for (const auto& [key, use] : edgeUses(mesh, id)) {
-    DiffractionEdge e;
-    if (makeEdge(mesh, id, key, use, e) && !surfaces.seal(e)) edges_.push_back(e);
-  }
-  std::sort(edges_.begin(), edges_.end(), edgeBefore);
-}
+EdgeDiffraction::EdgeDiffraction(const Mesh& mesh) : edges_(candidateEdges(mesh)) {}
 
 size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
                               const ListenerSphere& listener, float speedOfSound,

@@ -19,8 +19,9 @@
 // the transition function F(X) = 2j sqrt(X) e^{jX} int_sqrt(X)^inf e^{-j t^2} dt). Continuity:
 // the UTD field is built so that geometric-optics field + diffracted field is continuous at
 // the shadow boundary; here the direct sound (when visible) and every edge path are summed
-// coherently and |p|^2 is averaged over 16 frequencies per octave band, so the band energy is
-// continuous when the listener crosses a shadow boundary, and distant paths (whose phases
+// coherently and |p|^2 is averaged over 16 frequencies per octave band (each path's phase at
+// all 16, its UTD coefficient D, smooth across a band, at 4 and interpolated between), so the
+// band energy is continuous when the listener crosses a shadow boundary, and distant paths (whose phases
 // differ across the band) add as energies. The result replaces the direct sound: band
 // intensity <|p|^2> / (4 pi) (the scale of 1/(4 pi r^2)), delay and direction those of the
 // shortest contributing path. Air absorption multiplies each path's energy by exp(-m l).
@@ -70,6 +71,10 @@ struct DiffractionEdge {
 /// frequencies: kDiffractionFrequenciesPerBand log-spaced across octave band `band`
 /// (i = 0 .. 15, the centres of equal log-frequency slices of the octave), Hz.
 inline constexpr int kDiffractionFrequenciesPerBand = 16;
+/// Frequencies per band where an edge path's UTD coefficient is evaluated; between them it is
+/// interpolated (it is smooth across a band; the path's phase is not, and is evaluated at all
+/// kDiffractionFrequenciesPerBand).
+inline constexpr int kUtdAnchorsPerBand = 4;
 double diffractionFrequencyHz(int band, int i);
 
 class EdgeDiffraction {

@@ -1,0 +1,20 @@
+// The mesh's candidate diffracting edges, found once at load time for EdgeDiffraction
+// (engine/diffraction.h): every edge shared by two non-coplanar triangles, and every edge used
+// by one triangle only (the rim of an open surface), unless it lies on another surface (a
+// partition's rim along the floor is sealed). Edges are welded by position (an exporter may
+// write a corner once per face) and sorted by their endpoints, so the order is deterministic.
+//
+// Internal to the engine. Any thread; allocates; no errors (degenerate triangles are skipped).
+#pragma once
+
+#include <vector>
+
+#include "engine/diffraction.h"
+#include "scene/scene.h"
+
+namespace dpc {
+
+/// The candidate edges of `mesh`, in the order of their endpoints.
+std::vector<DiffractionEdge> candidateEdges(const Mesh& mesh);
+
+}  // namespace dpc

@@ -29,7 +29,7 @@ struct HybridSynthesis::Scratch {
   std::vector<uint8_t> directLate;                 ///< per source: direct sound late
 };
 
-/// One worker group's buffers for the early parts.
+/// One worker workspace's buffers for the early parts.
 struct HybridSynthesis::WorkerScratch {
   EnergyResponse early;  ///< mono
   std::vector<SpecularPath> paths;
@@ -65,10 +65,6 @@ HybridSynthesis::HybridSynthesis(const SceneDesc& scene, const PropagationSettin
 }
 
 HybridSynthesis::~HybridSynthesis() = default;
-
-size_t HybridSynthesis::workerGroups() const {
-  return workers_.size();
-}
 
 size_t HybridSynthesis::groupCount(bool parallel, int workers, size_t sources) {
   if (!parallel) return 1;

@@ -13,13 +13,14 @@
 // makeSpatialSynthesizer does, runtime/output_format.h); prepare() on the propagation thread,
 // without allocation after the first frames (the synthesisers' own reserves). No errors in
 // prepare(). prepare() splits every source serially, in source order (the late buses'
-// responses are sums in that order whatever the threads), then synthesises the early parts in
-// worker groups, each with a workspace of its own, concurrently with the buses' late IRs, on
-// the tracing threads: the IRs are the same bits for any number of workers.
-// Memory: per worker group, mono: one early synthesiser's workspace; spatial: a workspace copy
-// of the early spatial synthesiser (SpatialIrSynthesizer::workspaceCopy: its band signals
+// responses are sums in that order whatever the threads), then synthesises each source's early
+// part as a job of its own in a free worker workspace (runtime/workspace_slots.h),
+// concurrently with the buses' late IRs, on the tracing threads: the IRs are the same bits for
+// any number of workers.
+// Memory: per worker workspace, mono: one early synthesiser's workspace; spatial: a workspace
+// copy of the early spatial synthesiser (SpatialIrSynthesizer::workspaceCopy: its band signals
 // shared). Spatial output also keeps each source's early directional response between the
-// serial split and the groups (K x early bins x 8 floats per source).
+// serial split and the early jobs (K x early bins x 8 floats per source).
 #pragma once
 
 #include <cstdint>
@@ -97,12 +98,10 @@ class HybridSynthesis {
   size_t lateSamples() const;
   int buses() const { return buses_; }
   const HybridSplit& split() const { return split_; }
-  /// The early parts' spatial synthesiser of worker group 0 (nullptr for mono output).
+  /// The early parts' spatial synthesiser of worker workspace 0 (nullptr for mono output).
   SpatialIrSynthesizer* earlySpatial() {
     return earlySpatial_.empty() ? nullptr : earlySpatial_.front().get();
   }
-  /// Worker groups that synthesise the early parts.
-  size_t workerGroups() const;
 
   /// One frame for `listener`: early[s] (earlySamples()) per source, late[k] (full length)
   /// per bus, gain[s] and bus[s] (the late gain and bus of source s). sources: the
@@ -199,7 +198,7 @@ class HybridSynthesis {
   double clusterAngle_;
   size_t earlySamples_ = 0;
   SpatialIrSynthesizer* spatial_ = nullptr;                ///< late buses (spatial output)
-  /// Early parts (spatial output): per worker group, [0] the original, then workspace copies.
+  /// Early parts (spatial output): per worker workspace, [0] the original, then copies.
   std::vector<std::unique_ptr<SpatialIrSynthesizer>> earlySpatial_;
   std::vector<std::unique_ptr<IrSynthesizer>> earlyMono_;  ///< per source (mono output)
   /// Mono output: the worker groups' workspaces (those of earlyMono_[w], w < groups), lent to
@@ -209,7 +208,7 @@ class HybridSynthesis {
   std::vector<std::unique_ptr<IrSynthesizer>> lateMono_;   ///< per bus (mono output)
   std::unique_ptr<Scratch> scratch_;
   struct WorkerScratch;
-  std::vector<WorkerScratch> workers_;  ///< early parts: one per worker group
+  std::vector<WorkerScratch> workers_;  ///< early parts: one per worker workspace
   SpatialIrSynthesizer::ParallelFor parallel_;
   std::vector<std::unique_ptr<SourceClusters>> clusters_;  ///< per listener
   std::vector<HybridCounts> counts_;

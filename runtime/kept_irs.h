@@ -2,15 +2,16 @@
 // rendering) still stand for this frame's inputs, so that a frame synthesises and partitions
 // only the IRs whose inputs changed. Per listener and source it holds what the IR playing now
 // was made from (an EarlySignature, runtime/early_signature.h) and an identity; per worker
-// group, the signature of the source at hand. A source's inputs are summarised in two halves:
+// (a group of sources rendered whole, or a workspace slot of hybrid rendering's early jobs),
+// the signature of the source at hand. A source's inputs are summarised in two halves:
 // the exact arrivals (cheap, and what changes when anything moves) and the diffuse response,
 // summarised only once the arrivals have held since the source's last synthesis. So a moving
 // listener's frames cost the arrivals' comparison alone, and a source is kept from the second
 // frame its arrivals hold.
 //
 // Threads: setTolerance, ensure and forget on the propagation thread between frames; kept()
-// and made() from worker group w's thread for the sources that group synthesises (no two
-// groups share a source); drainCounts() and the accessors on the propagation thread after the
+// and made() for a source from the one thread that holds worker w while it synthesises that
+// source (no two threads hold one worker at once, nor synthesise one source); drainCounts() and the accessors on the propagation thread after the
 // groups. No allocation after the first frames (the signatures trade storage); no errors.
 #pragma once
 

@@ -1,0 +1,41 @@
+// The setup check (engine/setup_check.h) on what users load: every scene the project ships
+// loads without a warning (a source standing on a wall, half its rays escaping, once warned in
+// every render of the market), and a source put outside a room is warned about by name, so
+// the first check cannot pass by the check saying nothing.
+#include "engine/setup_check.h"
+
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "testing/test_scenes.h"
+
+using namespace dpc;
+
+TEST_CASE("Setup check: no shipped scene warns", "[engine]") {
+  int scenes = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(DPC_SOURCE_DIR) +
+                                                                "/scenes")) {
+    if (entry.path().extension() != ".json") continue;
+    const SceneDesc scene = loadScene(entry.path().string());
+    const std::vector<std::string> warnings = setupWarnings(scene);
+    INFO(entry.path().string() << ": " << (warnings.empty() ? "" : warnings.front()));
+    CHECK(warnings.empty());
+    ++scenes;
+  }
+  CHECK(scenes >= 8);  // the shipped scenes were found
+}
+
+TEST_CASE("Setup check: a source outside the room is warned about by name", "[engine]") {
+  SceneDesc scene =
+      test::makeShoebox({10, 3, 7}, Bands(0.1f), 0.2f, {3, 1.5f, 3.5f}, {7, 1.5f, 3.5f});
+  REQUIRE(setupWarnings(scene).empty());
+  SourceDesc outside = scene.sources.front();
+  outside.name = "street";
+  outside.position = {14.f, 1.5f, 3.5f};  // 4 m beyond the x = 10 m wall
+  scene.sources.push_back(outside);
+  const std::vector<std::string> warnings = setupWarnings(scene);
+  REQUIRE(warnings.size() == 1);
+  CHECK(warnings.front().find("street") != std::string::npos);
+}

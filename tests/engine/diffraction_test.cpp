@@ -233,7 +233,12 @@ TEST_CASE("Diffraction: continuous across the shadow boundary, -6 dB on it", "[d
     const Bands at = s.levels(src, onBoundary + 1e-4f * across);
     std::printf("%s: largest step over 1 mm across the boundary %.3f dB; on it %.2f dB (1 kHz)\n",
                 which == 0 ? "screen" : "corner", maxStep, double(at[4]));
-    CHECK(maxStep < 1.0);
+    // The steepest the level can change: about 6 dB across a Fresnel zone, sqrt(lambda d1 d2 /
+    // (d1 + d2)) = 0.2 m at 8 kHz here (d1 3-5 m to the edge, d2 5 m beyond), so 0.03 dB per
+    // mm; 0.1 dB allows the band's upper frequencies and single-precision geometry. A step in
+    // how a band's frequencies are evaluated (UTD coefficients held constant between the
+    // frequencies they were computed at) shows as steps of 0.8 dB here.
+    CHECK(maxStep < 0.1);
     // UTD: at the shadow boundary the total field tends to half the incident one
     // (-6.02 dB) for any wedge as kL grows; the non-singular terms add a relative amplitude
     // of order (2 pi k L)^-1/2 (0.05 at 4 kHz here, +-0.5 dB): checked at 4 and 8 kHz.

@@ -76,7 +76,7 @@ void IrSynthesizer::useWorkspace(const Workspace& w) {
 }
 
 size_t IrSynthesizer::bandFftSize() const {
-  return nextPow2(length_ + bandFilterTaps(sampleRate_));
+  return smoothFftSize(length_ + bandFilterTaps(sampleRate_));
 }
 
 void IrSynthesizer::takeWindowLeveller(const IrSynthesizer* shareWith) {

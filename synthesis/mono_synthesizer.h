@@ -166,7 +166,9 @@ class IrSynthesizer {
   }
   /// windowLeveller_ <- shareWith's when it fits and has one, else a new one.
   void takeWindowLeveller(const IrSynthesizer* shareWith);
-  /// The FFT size of the band signals (the IR plus the band filters' reach).
+  /// The FFT size of the band signals (the IR plus the band filters' reach), 2^a 3^b 5^c
+  /// (smoothFftSize): 20000 points for a 164 ms early part at 48 kHz where a power of two
+  /// would take 32768.
   size_t bandFftSize() const;
 
   int sampleRate_;

@@ -37,7 +37,15 @@ inline constexpr int64_t kPosePollNs = 250'000;
 /// Until when (ns) a frame about to start at nowNs with `pose` in hand should wait for the
 /// host's next pose, given that it must start by latestNs to end within its period. A value
 /// <= nowNs: start now (the pose is fresh, the host publishes no steady stream, or the next
-/// pose would come too late).
+/// pose would come too late for a frame that can still end within its period).
+///
+/// A frame that cannot end within its period however soon it starts (latestNs <= nowNs: frames
+/// longer than the period, run back to back) waits for the next pose too. With work W per
+/// frame and a pose of age A (uniform over the host's interval P) it would otherwise start
+/// with, the IR heard is on average A + W + (interval between IRs) / 2 old: P/2 + 1.5 W
+/// starting at once, 1.5 W + P/4 after the wait (interval W + P - A, pose age 0). The wait
+/// costs up to one host interval of frame rate and takes the pose's age, up to P, out of
+/// every frame's motion-to-sound latency.
 inline int64_t poseWaitUntilNs(const ListenerPose& pose, int64_t nowNs, int64_t latestNs) {
   const int64_t interval = pose.intervalNs;
   if (interval <= 0 || interval > kMaxPoseIntervalNs || pose.publishedNs <= 0) return nowNs;
@@ -52,7 +60,7 @@ inline int64_t poseWaitUntilNs(const ListenerPose& pose, int64_t nowNs, int64_t 
   const int64_t due = age <= interval + tolerance ? interval + tolerance
                                                   : int64_t(kStoppedIntervals * double(interval));
   const int64_t until = pose.publishedNs + due;
-  return until <= latestNs ? until : nowNs;
+  return until <= latestNs || latestNs <= nowNs ? until : nowNs;
 }
 
 }  // namespace dpc

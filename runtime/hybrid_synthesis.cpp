@@ -26,7 +26,6 @@ struct HybridSynthesis::Scratch {
   std::vector<double> lateEnergy;                  ///< per source, this frame
   std::vector<double> busEnergy;                   ///< per bus, this frame
   std::vector<float*> channels;                    ///< one IR's channel pointers
-  std::vector<uint8_t> directLate;                 ///< per source: direct sound late
 };
 
 /// One worker workspace's buffers for the early parts.
@@ -54,7 +53,6 @@ HybridSynthesis::HybridSynthesis(const SceneDesc& scene, const PropagationSettin
     buildMono(scene, settings, roomVolume, earlySeconds, workers, std::move(parallel), build);
   }
   scratch_->lateEnergy.assign(S, 0.0);
-  scratch_->directLate.assign(S, 0);
   for (WorkerScratch& w : workers_) {
     w.paths.reserve(256);
     w.channels.reserve(spatial_ ? spatial_->channelCount() : 1);
@@ -224,7 +222,6 @@ double HybridSynthesis::splitSpatial(const Simulation& sim, size_t s, size_t lis
   early.copyFrame(in);
   for (size_t d = 0; d < in.directionCount(); ++d) copyPrefix(in.response(d), early.response(d));
   keepEarly(early, split_);
-  x.directLate[s] = share.directIsLate ? 1 : 0;
   HybridCounts& n = counts_[listener];
   n.lateDirect += share.directIsLate ? 1 : 0;
   n.lateArrivals += uint64_t(share.lateArrivals);
@@ -236,7 +233,7 @@ void HybridSynthesis::synthesizeSpatialEarly(const Simulation& sim, size_t s, si
   WorkerScratch& x = workers_[w];
   earlyPaths(sim.specularPaths(s, listener), split_, x.paths);
   DirectSound direct = sim.result(s, listener).direct;
-  if (scratch_->directLate[s]) direct.visible = false;
+  if (split_.directIsLate(direct)) direct.visible = false;  // in its bus
   const DirectionalEnergyResponse& response = scratch_->earlyDirs[s];
   if (early_.kept(response, direct, x.paths, &response.frame(), listener, s, w)) return;
   x.channels.resize(size_t(early.channels()));
@@ -252,7 +249,6 @@ double HybridSynthesis::addMonoLate(const Simulation& sim, size_t s, size_t list
   const EnergyResponse& in = baked ? baked->energy(s, listener, r.energy) : r.energy;
   const LateShare share =
       addLate(in, r.direct, sim.specularPaths(s, listener), split_, x.late[size_t(k)]);
-  x.directLate[s] = share.directIsLate ? 1 : 0;
   HybridCounts& n = counts_[listener];
   n.lateDirect += share.directIsLate ? 1 : 0;
   n.lateArrivals += uint64_t(share.lateArrivals);
@@ -266,7 +262,7 @@ void HybridSynthesis::synthesizeMonoEarly(const Simulation& sim, size_t s, size_
   const Simulation::SourceResult& r = sim.result(s, listener);
   earlyPaths(sim.specularPaths(s, listener), split_, x.paths);
   DirectSound direct = r.direct;
-  if (scratch_->directLate[s]) direct.visible = false;
+  if (split_.directIsLate(direct)) direct.visible = false;  // in its bus
   // Worker threads run this concurrently: the bake is read into the worker's own scratch.
   if (baked && baked->plays(s, listener))
     baked->interpolate(s, listener, x.early);
@@ -292,14 +288,19 @@ void HybridSynthesis::splitSources(const Simulation& sim, size_t listener, Baked
 }
 
 void HybridSynthesis::synthesizeAll(const Simulation& sim, size_t listener, BakedPlayback* baked,
+                                    std::span<const int> bus,
                                     std::vector<ImpulseResponse>& early,
                                     std::vector<ImpulseResponse>& late) {
-  // Job 0: the buses (their synthesisers and responses); job 1 + s: source s's early part,
-  // in a worker workspace no other job holds meanwhile. Jobs of one source each let the
-  // threads share the frame evenly, whatever the buses take.
+  // Job 0: the buses (mono output: the sources' late shares first; spatial output split them
+  // before, as its early jobs read the early responses that splitting makes); job 1 + s:
+  // source s's early part, in a worker workspace no other job holds meanwhile. Jobs of one
+  // source each let the threads share the frame evenly, whatever the buses take.
   const size_t S = sim.sourceCount();
   const auto job = [&](size_t j) {
-    if (j == 0) return updateBuses(listener, late);
+    if (j == 0) {
+      if (!spatial_) splitSources(sim, listener, baked, bus);
+      return updateBuses(listener, late);
+    }
     const size_t s = j - 1;
     const WorkspaceSlots::Held held(slots_);
     spatial_ ? synthesizeSpatialEarly(sim, s, listener, held.slot(), early[s])
@@ -357,8 +358,8 @@ void HybridSynthesis::prepare(const Simulation& sim, size_t listener,
     return lineOfSight(tracer, a, b);
   });
   for (size_t s = 0; s < S; ++s) bus[s] = clusters.cluster(s);
-  splitSources(sim, listener, baked, bus);
-  synthesizeAll(sim, listener, baked, early, late);
+  if (spatial_) splitSources(sim, listener, baked, bus);
+  synthesizeAll(sim, listener, baked, bus, early, late);
   for (size_t s = 0; s < S; ++s) {
     // The energy the bus's playing IR holds: each source gets exactly its own late energy.
     const double e = made_[listener][size_t(bus[s])].energy;

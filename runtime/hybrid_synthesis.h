@@ -147,14 +147,14 @@ class HybridSynthesis {
   struct Scratch;
   /// Spatial output: source s's late part into bus k's response and its early part into its
   /// slot of earlyDirs (serial: buses are shared, the bake's reads too); returns its late
-  /// energy and records whether its direct sound went late.
+  /// energy and counts whether its direct sound went late.
   double splitSpatial(const Simulation& sim, size_t s, size_t listener, int k,
                       BakedPlayback* baked);
   /// Spatial output: source s's early IR from its slot into early with worker w's synthesiser.
   void synthesizeSpatialEarly(const Simulation& sim, size_t s, size_t listener, size_t w,
                               ImpulseResponse& early);
   /// Mono output: source s's late part into bus k's response (serial: buses are shared);
-  /// returns its late energy and records whether its direct sound went late.
+  /// returns its late energy and counts whether its direct sound went late.
   double addMonoLate(const Simulation& sim, size_t s, size_t listener, int k, BakedPlayback* baked);
   /// Mono output: source s's early IR into early (channel 0) with worker w's scratch.
   void synthesizeMonoEarly(const Simulation& sim, size_t s, size_t listener, size_t w,
@@ -162,10 +162,12 @@ class HybridSynthesis {
   /// Every source's late share, serially in source order (busEnergy, lateEnergy).
   void splitSources(const Simulation& sim, size_t listener, BakedPlayback* baked,
                     std::span<const int> bus);
-  /// The buses (updateBuses) as one job and every source's early IR as one more, through
-  /// parallel_, each early job in a free worker workspace (slots_).
+  /// The buses (updateBuses; for mono output after splitSources) as one job and every
+  /// source's early IR as one more, through parallel_, each early job in a free worker
+  /// workspace (slots_).
   void synthesizeAll(const Simulation& sim, size_t listener, BakedPlayback* baked,
-                     std::vector<ImpulseResponse>& early, std::vector<ImpulseResponse>& late);
+                     std::span<const int> bus, std::vector<ImpulseResponse>& early,
+                     std::vector<ImpulseResponse>& late);
   /// The number of early worker groups for `workers` threads and `sources` (one without
   /// `parallel`).
   static size_t groupCount(bool parallel, int workers, size_t sources);

@@ -47,7 +47,7 @@ double accumulateLate(const EnergyResponse& r, const HybridSplit& split, EnergyR
 template <typename Add>
 void lateArrivals(const DirectSound& direct, std::span<const SpecularPath> early,
                   const HybridSplit& split, LateShare& share, Add add) {
-  if (direct.visible && !split.arrivalIsEarly(direct.delaySeconds)) {
+  if (split.directIsLate(direct)) {
     add(direct.delaySeconds, direct.intensity, direct.direction);
     share.directIsLate = true;
     ++share.lateArrivals;

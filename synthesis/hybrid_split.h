@@ -35,6 +35,10 @@ struct HybridSplit {
   double earlyWeight(double t) const;
   /// Whether an exact arrival at t seconds stays in the early part (before the fade starts).
   bool arrivalIsEarly(double t) const { return t < splitSeconds - fadeSeconds; }
+  /// Whether the direct sound goes to the late part (visible, and not early).
+  bool directIsLate(const DirectSound& d) const {
+    return d.visible && !arrivalIsEarly(d.delaySeconds);
+  }
 };
 
 /// Early length of hybrid rendering for a scene: the longest direct path that fits in its

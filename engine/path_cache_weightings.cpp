@@ -299,9 +299,10 @@ void WindowCache::readOut(float frames, double invC, EnergyResponse& out,
                           ArrivalSink* directional, double& total, double& coarse) const {
   for (const WindowEntry& e : table_.entries()) {
     const double delay = meanDelaySeconds(e.lengthSum, e.hits, invC);
-    out.add(delay, e.estimateSum / frames);
-    if (directional) directional->add(delay, e.estimateSum / frames, e.directionSum);
-    total += double((e.estimateSum / frames).average());
+    const Bands mean = e.estimateSum / frames;  // once: out.add may alias e for the compiler
+    out.add(delay, mean);
+    if (directional) directional->add(delay, mean, e.directionSum);
+    total += double(mean.average());
   }
   const bool anyCoarse = std::find(layerUsed_.begin(), layerUsed_.end(), 1) != layerUsed_.end();
   for (size_t b = 0; anyCoarse && b < cap_.coarseBins; ++b) {

@@ -43,6 +43,8 @@
 // skipped). apply(): propagation thread (the Tracer's occlusion queries); no errors.
 #pragma once
 
+#include <array>
+#include <complex>
 #include <glm/vec3.hpp>
 #include <vector>
 
@@ -76,6 +78,29 @@ inline constexpr int kDiffractionFrequenciesPerBand = 16;
 /// kDiffractionFrequenciesPerBand).
 inline constexpr int kUtdAnchorsPerBand = 4;
 double diffractionFrequencyHz(int band, int i);
+
+/// The frequency index i (of diffractionFrequencyHz) of a band's UTD anchor a: the band's first
+/// and last frequencies and evenly between. Any thread; no errors.
+constexpr int utdAnchorIndex(int a) {
+  return a * (kDiffractionFrequenciesPerBand - 1) / (kUtdAnchorsPerBand - 1);
+}
+
+/// A path's UTD coefficient (utdScaled, without the 1/sqrt(k) and the path's phase) at its
+/// band's frequency i (0 .. kDiffractionFrequenciesPerBand - 1), from its values at the band's
+/// anchors: linear in i (log-frequency) between them. D is smooth across a band (F(X) is
+/// smooth in sqrt(X)), unlike the phase e^{-jkl}, which is evaluated at every frequency.
+/// Against D at all 16 frequencies, the band intensities of the 256-talker dense hall's pairs
+/// differ by 0.0017 dB RMS, 0.019 dB at most (63 Hz), at a quarter of the UTD evaluations;
+/// tests/engine/utd_test.cpp holds the band means within 0.05 dB over wedges, angles and
+/// distances. Any thread; no allocation; no errors.
+inline std::complex<double> interpolatedUtd(
+    const std::array<std::complex<double>, kUtdAnchorsPerBand>& anchors, int i) {
+  int a = 0;
+  while (a + 2 < kUtdAnchorsPerBand && utdAnchorIndex(a + 1) <= i) ++a;
+  const double t =
+      double(i - utdAnchorIndex(a)) / double(utdAnchorIndex(a + 1) - utdAnchorIndex(a));
+  return anchors[size_t(a)] + t * (anchors[size_t(a) + 1] - anchors[size_t(a)]);
+}
 
 class EdgeDiffraction {
  public:

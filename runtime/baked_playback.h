@@ -41,7 +41,9 @@ class BakedPlayback {
   /// frame (its source is static and its listener sees a probe), for FrameInputs::skippedPairs.
   const std::vector<uint8_t>& bakedPairs() const { return pairs_; }
   /// Source s's energy response for listener l to synthesise: the interpolated one when the
-  /// pair is baked this frame, else `live`. The reference is valid until the next call.
+  /// pair is baked this frame, else `live`. The reference is valid until the next call. Writes
+  /// only its own response and the counts: one thread at a time, which may run beside
+  /// interpolate() calls (hybrid rendering's buses' job beside the early jobs).
   const EnergyResponse& energy(size_t s, size_t listener, const EnergyResponse& live);
   /// The same for the spatial synthesiser (live's directions and listener frame).
   const DirectionalEnergyResponse& directional(size_t s, size_t listener,

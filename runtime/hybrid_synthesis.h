@@ -12,11 +12,12 @@
 // Threads: construction on the control thread (synthesisers, FFTW plans; allocates; throws as
 // makeSpatialSynthesizer does, runtime/output_format.h); prepare() on the propagation thread,
 // without allocation after the first frames (the synthesisers' own reserves). No errors in
-// prepare(). prepare() splits every source serially, in source order (the late buses'
-// responses are sums in that order whatever the threads), then synthesises each source's early
-// part as a job of its own in a free worker workspace (runtime/workspace_slots.h),
-// concurrently with the buses' late IRs, on the tracing threads: the IRs are the same bits for
-// any number of workers.
+// prepare(). prepare() synthesises each source's early part as a job of its own in a free
+// worker workspace (runtime/workspace_slots.h), concurrently with one job for the buses, on the
+// tracing threads. The buses' job splits every source serially, in source order (the late
+// buses' responses are sums in that order whatever the threads), then synthesises the buses'
+// late IRs; spatial output splits before the jobs (its early jobs read the early responses
+// the split makes). The IRs are the same bits for any number of workers.
 // Memory: per worker workspace, mono: one early synthesiser's workspace; spatial: a workspace
 // copy of the early spatial synthesiser (SpatialIrSynthesizer::workspaceCopy: its band signals
 // shared). Spatial output also keeps each source's early directional response between the

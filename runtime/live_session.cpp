@@ -142,11 +142,15 @@ bool LiveSession::stepAdaptive(double frameSeconds) {
   return true;
 }
 
-void LiveSession::awaitFreshPose(int64_t latestNs) {
+void LiveSession::awaitFreshPose(int64_t nextNs) {
   ListenerPose held;
   const size_t played = poses_.played();
   if (!poses_.tryListenerPose(played, held)) return;
-  const int64_t until = poseWaitUntilNs(held, steadyNowNs(), latestNs);
+  // The latest start that lets a frame as long as the last one (and kFrameLengthMargin) end
+  // before the next frame is due; a frame that cannot end by then even starting now is overdue.
+  const int64_t frameNs = int64_t(lastFrameSeconds_ * 1e9), now = steadyNowNs();
+  const int64_t latestNs = nextNs - int64_t(kFrameLengthMargin * double(frameNs));
+  const int64_t until = poseWaitUntilNs(held, now, latestNs, now + frameNs > nextNs ? frameNs : 0);
   ListenerPose newest;
   while (steadyNowNs() < until && running_.load(std::memory_order_relaxed)) {
     std::this_thread::sleep_for(std::chrono::nanoseconds(kPosePollNs));
@@ -227,13 +231,9 @@ void LiveSession::propagationLoop() {
   auto next = std::chrono::steady_clock::now();
   for (bool first = true; running_.load(std::memory_order_relaxed); first = false) {
     next += period;
-    // The latest start that lets a frame as long as the last one (and kFrameLengthMargin) end
-    // before the next frame is due.
-    if (!first) {
-      const int64_t nextNs =
-          std::chrono::duration_cast<std::chrono::nanoseconds>(next.time_since_epoch()).count();
-      awaitFreshPose(nextNs - int64_t(kFrameLengthMargin * lastFrameSeconds_ * 1e9));
-    }
+    if (!first)
+      awaitFreshPose(
+          std::chrono::duration_cast<std::chrono::nanoseconds>(next.time_since_epoch()).count());
     const auto start = std::chrono::steady_clock::now();
     // The first frame traces the controller's first rays (a quarter of the scene's): the first
     // sound comes that much sooner, and the cache's estimate is unbiased at any ray count (its

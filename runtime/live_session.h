@@ -290,10 +290,11 @@ class LiveSession {
   void runFrame(int raysPerSource, bool adapt = false);
   /// Seconds from an IR set's readiness to its last source group's first block (at most).
   double pickUpSeconds() const;
-  /// Propagation thread, before a frame: waits (polling, at most until latestNs, steady ns)
-  /// for the host's next pose when the one in hand is stale and the next is due in time
-  /// (runtime/pose_sync.h).
-  void awaitFreshPose(int64_t latestNs);
+  /// Propagation thread, before a frame due to end by nextNs (steady ns): waits (polling) for
+  /// the host's next pose when the one in hand is stale and the next is due in time for a
+  /// frame as long as the last to end by then, or, when it cannot, soon enough to cost little
+  /// of the frame rate (runtime/pose_sync.h poseWaitUntilNs).
+  void awaitFreshPose(int64_t nextNs);
   /// The frame's statistics after the trace (runFrame).
   void recordFrame(size_t played, bool produced, double frameMs);
   /// Synthesises the played listener's IR set into a free set of the exchange and publishes

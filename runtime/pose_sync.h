@@ -3,7 +3,8 @@
 // frame starting on its own clock reads a pose that is on average half an interval old, and
 // its IR reaches the listener that much staler (motion-to-sound latency, docs/live.md). When
 // the pose in hand is stale and the next one is due soon enough for the frame still to end
-// within its period, the frame waits for it.
+// within its period (or, for frames longer than the period, soon enough to cost little of
+// the frame rate), the frame waits for it.
 //
 // Plain arithmetic on steady_clock nanoseconds (runtime/host_poses.h steadyNowNs); any thread;
 // no allocation; no errors.
@@ -34,19 +35,27 @@ inline constexpr double kFrameLengthMargin = 1.1;
 /// How often the waiting propagation thread looks for the new pose, ns.
 inline constexpr int64_t kPosePollNs = 250'000;
 
+/// An overdue frame (one that cannot end within its period however soon it starts) waits for
+/// the host's next pose only while the wait costs at most this fraction of the frame.
+inline constexpr double kOverdueWaitFraction = 0.25;
+
 /// Until when (ns) a frame about to start at nowNs with `pose` in hand should wait for the
-/// host's next pose, given that it must start by latestNs to end within its period. A value
-/// <= nowNs: start now (the pose is fresh, the host publishes no steady stream, or the next
-/// pose would come too late for a frame that can still end within its period).
+/// host's next pose, given that it must start by latestNs to end within its period.
+/// overdueFrameNs > 0: the frame cannot end within its period however soon it starts (frames
+/// as long as the last one, overdueFrameNs, run back to back), and latestNs does not apply. A
+/// value <= nowNs: start now (the pose is fresh, the host publishes no steady stream, or the
+/// next pose would come too late).
 ///
-/// A frame that cannot end within its period however soon it starts (latestNs <= nowNs: frames
-/// longer than the period, run back to back) waits for the next pose too. With work W per
-/// frame and a pose of age A (uniform over the host's interval P) it would otherwise start
-/// with, the IR heard is on average A + W + (interval between IRs) / 2 old: P/2 + 1.5 W
-/// starting at once, 1.5 W + P/4 after the wait (interval W + P - A, pose age 0). The wait
-/// costs up to one host interval of frame rate and takes the pose's age, up to P, out of
-/// every frame's motion-to-sound latency.
-inline int64_t poseWaitUntilNs(const ListenerPose& pose, int64_t nowNs, int64_t latestNs) {
+/// An overdue frame loses no deadline by waiting, and waits when the wait is at most
+/// kOverdueWaitFraction of the frame: for frames of work W several host intervals P long
+/// (W >> P: the pose's age at the frame's start, A, spread over [0, P)), the IR heard is on
+/// average A + W + (interval between IRs) / 2 old, P/2 + 1.5 W when the frame starts at once
+/// and 1.5 W + P/4 after the wait (age 0, the IRs W + P - A apart), and the pose's age leaves
+/// every frame's motion-to-sound latency, for at most 1 / (1 + kOverdueWaitFraction) of the
+/// frame rate. A longer wait (a host slower than the frames) would trade more frames, each
+/// adding its rays to the path cache, for a fresher pose.
+inline int64_t poseWaitUntilNs(const ListenerPose& pose, int64_t nowNs, int64_t latestNs,
+                               int64_t overdueFrameNs = 0) {
   const int64_t interval = pose.intervalNs;
   if (interval <= 0 || interval > kMaxPoseIntervalNs || pose.publishedNs <= 0) return nowNs;
   const int64_t age = nowNs - pose.publishedNs;
@@ -60,7 +69,9 @@ inline int64_t poseWaitUntilNs(const ListenerPose& pose, int64_t nowNs, int64_t 
   const int64_t due = age <= interval + tolerance ? interval + tolerance
                                                   : int64_t(kStoppedIntervals * double(interval));
   const int64_t until = pose.publishedNs + due;
-  return until <= latestNs || latestNs <= nowNs ? until : nowNs;
+  if (overdueFrameNs > 0)
+    return until - nowNs <= int64_t(kOverdueWaitFraction * double(overdueFrameNs)) ? until : nowNs;
+  return until <= latestNs ? until : nowNs;
 }
 
 }  // namespace dpc

@@ -110,19 +110,20 @@ TEST_CASE("poseWaitUntilNs: a stale pose waits for the host's next one when it c
   CHECK(poseWaitUntilNs(p, 1006 * ms, far) == 1012 * ms + 500'000);
   // ... unless the frame must start before then to end within its period.
   CHECK(poseWaitUntilNs(p, 1006 * ms, 1011 * ms) == 1006 * ms);
-  // A frame that cannot end within its period anyway (its latest start has passed: frames
-  // longer than the period) loses no deadline by waiting, and its pose is then fresh.
-  CHECK(poseWaitUntilNs(p, 1006 * ms, 1005 * ms) == 1012 * ms + 500'000);
-  CHECK(poseWaitUntilNs(p, 1006 * ms, 1006 * ms) == 1012 * ms + 500'000);
+  // A frame that cannot end within its period anyway (frames of 85 ms, longer than the
+  // period) loses no deadline by waiting: it waits while that costs at most a quarter of it.
+  CHECK(poseWaitUntilNs(p, 1006 * ms, 0, 85 * ms) == 1012 * ms + 500'000);
+  // ... but not for a host slower than a quarter of its frames (a 6.5 ms wait for 20 ms).
+  CHECK(poseWaitUntilNs(p, 1006 * ms, 0, 20 * ms) == 1006 * ms);
   // 15 ms old: the host is late (a stall); its pose may still come within two intervals.
   CHECK(poseWaitUntilNs(p, 1015 * ms, far) == 1020 * ms);
   CHECK(poseWaitUntilNs(p, 1015 * ms, 1018 * ms) == 1015 * ms);
-  CHECK(poseWaitUntilNs(p, 1015 * ms, 1000 * ms) == 1020 * ms);
+  CHECK(poseWaitUntilNs(p, 1015 * ms, 0, 85 * ms) == 1020 * ms);
   // 21 ms old: the stream has stopped (past two intervals): start now.
   CHECK(poseWaitUntilNs(p, 1021 * ms, far) == 1021 * ms);
   // An overdue frame does not wait for a fresh pose's successor, nor for a stopped stream.
-  CHECK(poseWaitUntilNs(p, 1001 * ms, 0) == 1001 * ms);
-  CHECK(poseWaitUntilNs(p, 1021 * ms, 0) == 1021 * ms);
+  CHECK(poseWaitUntilNs(p, 1001 * ms, 0, 85 * ms) == 1001 * ms);
+  CHECK(poseWaitUntilNs(p, 1021 * ms, 0, 85 * ms) == 1021 * ms);
   // No stream (the first pose), or one too slow to align to (200 ms): start now.
   ListenerPose once = p;
   once.intervalNs = 0;

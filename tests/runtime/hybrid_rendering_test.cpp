@@ -267,9 +267,11 @@ TEST_CASE("Hybrid rendering: rendered IRs keep each source's energy and direct s
 }
 
 // Mono hybrid rendering synthesises the sources' early parts on the tracing threads, each
-// worker with its own workspace: the IRs must not depend on how many threads there are (a
+// worker with its own workspace, beside the buses' job that splits the late shares: the IRs
+// heard (early part plus gain times bus) must not depend on how many threads there are (a
 // shared workspace written by two workers at once would change them).
-TEST_CASE("Hybrid rendering: mono early parts are the same bit for bit on 1 to 3 threads",
+TEST_CASE("Hybrid rendering: mono IRs (early parts, buses, gains) the same bit for bit on 1 to "
+          "3 threads",
           "[runtime][hybrid]") {
   SceneDesc scene = ringScene(9);
   scene.audio.output = OutputFormat::kMono;

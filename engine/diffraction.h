@@ -92,7 +92,8 @@ constexpr int utdAnchorIndex(int a) {
 /// Against D at all 16 frequencies, the band intensities of the 256-talker dense hall's pairs
 /// differ by 0.0017 dB RMS, 0.019 dB at most (63 Hz), at a quarter of the UTD evaluations;
 /// tests/engine/utd_test.cpp holds band means over random wedges, angles and distances to
-/// 0.005 dB RMS and 0.15 dB at most (0.003 / 0.10 dB measured). Any thread; no allocation; no errors.
+/// 0.005 dB RMS and 0.15 dB at most (0.003 / 0.10 dB measured). Any thread; no allocation; no
+/// errors.
 inline std::complex<double> interpolatedUtd(
     const std::array<std::complex<double>, kUtdAnchorsPerBand>& anchors, int i) {
   int a = 0;

@@ -288,8 +288,7 @@ void HybridSynthesis::splitSources(const Simulation& sim, size_t listener, Baked
 }
 
 void HybridSynthesis::synthesizeAll(const Simulation& sim, size_t listener, BakedPlayback* baked,
-                                    std::span<const int> bus,
-                                    std::vector<ImpulseResponse>& early,
+                                    std::span<const int> bus, std::vector<ImpulseResponse>& early,
                                     std::vector<ImpulseResponse>& late) {
   // Job 0: the buses (mono output: the sources' late shares first; spatial output split them
   // before, as its early jobs read the early responses that splitting makes); job 1 + s:

@@ -115,8 +115,10 @@ TEST_CASE("One ray: the packet path equals the scalar path bit for bit", "[packe
   PropagationSettings ps = raySettings(1, 200);
   ps.seed = 3;
   ps.threads = 1;
-  Propagator scalar(box.g, box.tracer, ps, {.traceMode = TraceMode::kScalar, .specularFaces = {}, .keyRule = {}}),
-      packet(box.g, box.tracer, ps, {.traceMode = TraceMode::kPacket16, .specularFaces = {}, .keyRule = {}});
+  Propagator scalar(box.g, box.tracer, ps,
+                    {.traceMode = TraceMode::kScalar, .specularFaces = {}, .keyRule = {}}),
+      packet(box.g, box.tracer, ps,
+             {.traceMode = TraceMode::kPacket16, .specularFaces = {}, .keyRule = {}});
   const ListenerSphere listener{{7, 1.6f, 5}, 1.0f};
   uint64_t hits = 0;
   for (uint64_t frame = 0; frame < 200; ++frame) {
@@ -144,8 +146,10 @@ TEST_CASE("Packet and scalar tracing agree within Monte Carlo error", "[packet]"
 
   SECTION("same seed: the same rays, up to kernel rounding") {
     ps.seed = 11;
-    Propagator scalar(box.g, box.tracer, ps, {.traceMode = TraceMode::kScalar, .specularFaces = {}, .keyRule = {}}),
-        packet(box.g, box.tracer, ps, {.traceMode = TraceMode::kPacket16, .specularFaces = {}, .keyRule = {}});
+    Propagator scalar(box.g, box.tracer, ps,
+                      {.traceMode = TraceMode::kScalar, .specularFaces = {}, .keyRule = {}}),
+        packet(box.g, box.tracer, ps,
+               {.traceMode = TraceMode::kPacket16, .specularFaces = {}, .keyRule = {}});
     const MeanAndError a = runFrames(scalar, kFrames, 0, source, listener);
     const MeanAndError b = runFrames(packet, kFrames, 0, source, listener);
     REQUIRE(a.hits > 10000);
@@ -167,8 +171,10 @@ TEST_CASE("Packet and scalar tracing agree within Monte Carlo error", "[packet]"
     PropagationSettings scalarSettings = ps, packetSettings = ps;  // each outlives its tracer
     scalarSettings.seed = 21;
     packetSettings.seed = 22;
-    Propagator scalar(box.g, box.tracer, scalarSettings, {.traceMode = TraceMode::kScalar, .specularFaces = {}, .keyRule = {}});
-    Propagator packet(box.g, box.tracer, packetSettings, {.traceMode = TraceMode::kPacket16, .specularFaces = {}, .keyRule = {}});
+    Propagator scalar(box.g, box.tracer, scalarSettings,
+                      {.traceMode = TraceMode::kScalar, .specularFaces = {}, .keyRule = {}});
+    Propagator packet(box.g, box.tracer, packetSettings,
+                      {.traceMode = TraceMode::kPacket16, .specularFaces = {}, .keyRule = {}});
     const MeanAndError a = runFrames(scalar, kFrames, 0, source, listener);
     const MeanAndError b = runFrames(packet, kFrames, 0, source, listener);
     // Tolerance: 4.5 combined standard errors of the mean, measured from the frame-to-frame
@@ -203,8 +209,10 @@ TEST_CASE("Packet tracing is bit-identical for a seed whatever the thread count"
     PropagationSettings oneThread = ps, twoThreads = ps;  // each outlives its tracer
     oneThread.threads = 1;
     twoThreads.threads = 2;
-    Propagator one(box.g, box.tracer, oneThread, {.traceMode = mode, .specularFaces = {}, .keyRule = {}});
-    Propagator two(box.g, box.tracer, twoThreads, {.traceMode = mode, .specularFaces = {}, .keyRule = {}});
+    Propagator one(box.g, box.tracer, oneThread,
+                   {.traceMode = mode, .specularFaces = {}, .keyRule = {}});
+    Propagator two(box.g, box.tracer, twoThreads,
+                   {.traceMode = mode, .specularFaces = {}, .keyRule = {}});
     const ListenerSphere listener{{7, 1.6f, 5}, 0.5f};
     for (uint64_t frame = 0; frame < 3; ++frame) {
       FrameGroups a, b;

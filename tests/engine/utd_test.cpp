@@ -5,14 +5,14 @@
 // (engine/diffraction.h interpolatedUtd) against the coefficient at every frequency.
 #include "engine/utd.h"
 
-#include "engine/diffraction.h"
-
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 #include <random>
+
+#include "engine/diffraction.h"
 
 using namespace dpc;
 
@@ -108,8 +108,8 @@ TEST_CASE("UTD: coefficients interpolated across a band keep its level to 0.005 
       exactSum += std::norm(direct + exact[size_t(i)]);
       interpSum += std::norm(direct + interp[size_t(i)]);
     }
-    for (const double dB : {10 * std::log10(interpAlone / exactAlone),
-                            10 * std::log10(interpSum / exactSum)}) {
+    for (const double dB :
+         {10 * std::log10(interpAlone / exactAlone), 10 * std::log10(interpSum / exactSum)}) {
       INFO("n " << n << " phi " << phi << " phiS " << phiS << " L " << L << " band " << b);
       CHECK(std::abs(dB) < 0.15);
       worst = std::max(worst, std::abs(dB));

@@ -270,9 +270,10 @@ TEST_CASE("Hybrid rendering: rendered IRs keep each source's energy and direct s
 // worker with its own workspace, beside the buses' job that splits the late shares: the IRs
 // heard (early part plus gain times bus) must not depend on how many threads there are (a
 // shared workspace written by two workers at once would change them).
-TEST_CASE("Hybrid rendering: mono IRs (early parts, buses, gains) the same bit for bit on 1 to "
-          "3 threads",
-          "[runtime][hybrid]") {
+TEST_CASE(
+    "Hybrid rendering: mono IRs (early parts, buses, gains) the same bit for bit on 1 to "
+    "3 threads",
+    "[runtime][hybrid]") {
   SceneDesc scene = ringScene(9);
   scene.audio.output = OutputFormat::kMono;
   scene.audio.rendering = Rendering::kHybrid;

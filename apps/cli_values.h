@@ -1,4 +1,4 @@
-// Checks shared by the programs' CLI11 command lines (dpc-demo, dpc-bake).
+// Checks shared by the programs' CLI11 command lines (dpc-demo, dpc-bake, dpc-analyze).
 // Main thread, while the command line is parsed; allocates.
 #pragma once
 

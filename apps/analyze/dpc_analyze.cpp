@@ -18,6 +18,7 @@
 #include <string>
 
 #include "apps/analyze/options.h"
+#include "apps/cli_values.h"
 #include "common/input_error.h"
 
 namespace dpc::analyze {
@@ -87,6 +88,7 @@ void addOptions(CLI::App& app, Options& o) {
 std::optional<int> parseOptions(int argc, char** argv, Options& o) {
   CLI::App app{kDescription, "dpc-analyze"};
   addOptions(app, o);
+  refuseEmptyValues(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

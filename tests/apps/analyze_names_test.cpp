@@ -300,3 +300,31 @@ TEST_CASE("dpc-analyze refuses --channel with an energy response and --band-ener
   CHECK(firstLine(err).find("--band-energy") != std::string::npos);
   fs::remove_all(dir);
 }
+
+TEST_CASE("dpc-analyze refuses an empty option value, naming the option", "[analyze]") {
+  // CLI11 reads an empty number as 0 and an empty --channel as "all channels": without the
+  // check "--air-attenuation '' 50" printed the values at 0 C and "--channel ''" analysed every
+  // channel, both with exit status 0.
+  const fs::path dir = freshDir("analyze_empty_test");
+  const std::string wav = (dir / "ir.wav").string();
+  dpc::audio::writeWav(wav, decayingIr16k());
+  const std::string err = (dir / "err.txt").string(), out = (dir / "out.txt").string();
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {" --air-attenuation '' 50", "--air-attenuation"},
+      {" --air-attenuation 20 ''", "--air-attenuation"},
+      {" " + wav + " --channel ''", "--channel"},
+      {" " + wav + " --diffuseness ''", "--diffuseness"},
+  };
+  for (const auto& [args, flag] : cases) {
+    INFO(args);
+    CHECK(std::system((kTool + args + " > " + out + " 2> " + err).c_str()) != 0);
+    CHECK(firstLine(err) == "dpc-analyze: " + flag + ": is empty (see --help)");
+    CHECK(fs::file_size(out) == 0);
+    std::ifstream e(err);
+    std::string line;
+    size_t lines = 0;
+    while (std::getline(e, line)) ++lines;
+    CHECK(lines == 1);
+  }
+  fs::remove_all(dir);
+}

@@ -42,21 +42,40 @@ std::string trim(const std::string& s) {
   return s.substr(a, b - a + 1);
 }
 
-/// An "f" line (p after "f "): refuses an index tinyobjloader would wrap when parsing into int.
-void checkFaceIndices(const std::string& objFile, const char* p, size_t faceNo, size_t lineNo) {
-  while (*p != '\0') {
-    p += std::strspn(p, " \t\r/");
-    char* end = nullptr;
-    const long long raw = std::strtoll(p, &end, 10);
-    if (end == p) {
-      p += std::strcspn(p, " \t\r/");
-      continue;
+/// What is wrong with one vertex reference of an "f" line ("" if nothing). The forms are v,
+/// v/vt, v//vn and v/vt/vn, each part a whole number within int (vt and vn may be empty):
+/// tinyobjloader reads other text in part ("2.5" and "2x" as 2, "a" or "#" as 0) and wraps an
+/// index beyond int.
+std::string vertexReferenceProblem(const std::string& token) {
+  size_t start = 0;
+  for (int part = 0; part < 3; ++part) {
+    const size_t slash = token.find('/', start);
+    const std::string number =
+        token.substr(start, slash == std::string::npos ? std::string::npos : slash - start);
+    if (part == 0 || !number.empty()) {
+      char* end = nullptr;
+      const long long raw = std::strtoll(number.c_str(), &end, 10);
+      if (number.empty() || end != number.c_str() + number.size()) break;
+      if (raw > std::numeric_limits<int>::max() || raw < -std::numeric_limits<int>::max())
+        return "vertex index " + number + " is out of range";
     }
-    if (raw > std::numeric_limits<int>::max() || raw < -std::numeric_limits<int>::max())
+    if (slash == std::string::npos) return "";
+    start = slash + 1;
+  }
+  return inQuotes(token) +
+         " is not a vertex reference (v, v/vt, v//vn or v/vt/vn, each a whole number)";
+}
+
+/// An "f" line (p after "f "): refuses what tinyobjloader would read otherwise than written.
+void checkFaceIndices(const std::string& objFile, const char* p, size_t faceNo, size_t lineNo) {
+  std::istringstream tokens(p);
+  std::string token;
+  while (tokens >> token) {
+    const std::string problem = vertexReferenceProblem(token);
+    if (!problem.empty())
       throw InputError(objFile,
                        "face " + std::to_string(faceNo) + " (line " + std::to_string(lineNo) + ")",
-                       "vertex index " + std::string(p, size_t(end - p)) + " is out of range");
-    p = end;
+                       problem);
   }
 }
 

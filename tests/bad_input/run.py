@@ -127,6 +127,13 @@ CASES = {
     "scene_max_order_huge": (scene_with(**{"propagation.max_order": 1000000}), OFF, "max_order"),
     "obj_index_huge": (obj_with("f 1 2 99999999999"), OFF, "99999999999"),
     "obj_vertex_1e20": (obj_with("v 1e20 0 0"), OFF, "shoebox.obj"),
+    # Face tokens tinyobjloader would read otherwise than written ("2.5" and "2x" as 2, "a" and
+    # "#" as 0): the first two rendered without a word, the others blamed "vertex index 0".
+    "obj_face_index_fraction": (obj_with("f 1 2.5 5"), OFF, 'shoebox.obj: face 13 (line 29): "2.5" is not a vertex reference'),
+    "obj_face_index_trailing_text": (obj_with("f 1 2x 5"), OFF, 'shoebox.obj: face 13 (line 29): "2x" is not a vertex reference'),
+    "obj_face_index_word": (obj_with("f 1 a 5"), OFF, 'shoebox.obj: face 13 (line 29): "a" is not a vertex reference'),
+    "obj_face_trailing_comment": (obj_with("f 1 2 5 # c"), OFF, 'shoebox.obj: face 13 (line 29): "#" is not a vertex reference'),
+    "obj_face_four_parts": (obj_with("f 1/1/1/1 2 5"), OFF, 'shoebox.obj: face 13 (line 29): "1/1/1/1" is not a vertex reference'),
     # Finding 9: unclear messages.
     "tau_inf": (nothing, OFF + ["--tau", "inf"], "--tau"),
     "tau_nan": (nothing, OFF + ["--tau", "nan"], "--tau"),

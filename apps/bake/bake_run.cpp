@@ -199,10 +199,12 @@ std::string lockedOutput(const Options& o) {
 }
 
 /// The bake and the map, checked before any work as dpc-demo checks its outputs: each a
-/// regular file or absent, naming no input of the scene (nor each other), in an existing
-/// folder. A fresh bake's --out is checked too; a resumed one is the file being finished.
+/// regular file or absent, naming no input of the scene or the --probes list (nor each other),
+/// in an existing folder. A fresh bake's --out is checked too; a resumed one is the file being
+/// finished.
 void checkBakeOutputs(const Options& o, const Plan& plan) {
   auto inputs = sceneInputFiles(plan.scene, o.scene.empty() ? plan.header.scenePath : o.scene);
+  if (!o.probes.empty()) inputs.push_back({o.probes, "the probe list"});
   if (o.resume.empty()) checkOutputPath(o.out, "--out", inputs);
   if (o.map.empty()) return;
   const std::string bake = o.resume.empty() ? o.out : o.resume;

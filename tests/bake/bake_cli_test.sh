@@ -156,6 +156,13 @@ ln -s loop1.h5 loop2.h5
 expect_refusal "too many levels of symbolic links" shoebox.json --out loop1.h5 --spacing 2
 [[ -L loop1.h5 && -L loop2.h5 ]] || fail "a link of the loop was replaced"
 expect_refusal "--map: 'new.h5' is the bake" shoebox.json --out new.h5 --map new.h5 --spacing 2
+# The --probes list is an input too (it was replaced by the bake or the map, exit status 0).
+printf '5 1.6 3.5\n' >probes.txt
+expect_refusal "--out: 'probes.txt' is the probe list" shoebox.json --probes probes.txt \
+  --out probes.txt --rays 100 --frames 4 --threads 1 --quiet
+expect_refusal "--map: 'probes.txt' is the probe list" shoebox.json --probes probes.txt \
+  --out new.h5 --map probes.txt --rays 100 --frames 4 --threads 1 --quiet
+[[ $(cat probes.txt) == "5 1.6 3.5" ]] || fail "probes.txt changed"
 expect_refusal "--map: 'shoebox.json' is the scene file" --resume keep.h5 shoebox.json \
   --map shoebox.json
 mkdir dir.h5

@@ -26,6 +26,10 @@ std::vector<std::pair<std::string, std::string>> sceneInputFiles(const SceneDesc
   for (const auto& obj : scene.objects) inputs.push_back({obj.meshPath, "an object's mesh"});
   for (const auto& src : scene.sources) inputs.push_back({src.signalPath, "a dry signal"});
   if (!scene.audio.hrtfPath.empty()) inputs.push_back({scene.audio.hrtfPath, "the SOFA file"});
+  // layout:FILE.json is read; a preset's name ("7.1") is not, and matches an output only if a
+  // file of that name exists there.
+  if (scene.audio.output == OutputFormat::kLoudspeakers && !scene.audio.layoutName.empty())
+    inputs.push_back({scene.audio.layoutName, "the loudspeaker layout"});
   return inputs;
 }
 

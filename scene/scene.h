@@ -323,7 +323,8 @@ SceneDesc loadScene(const std::string& path);
 size_t listenerIndex(const SceneDesc& scene, const std::string& name, const std::string& flag);
 
 /// The files a run of `scene` (loaded from `scenePath`) reads, each with what it is ("the
-/// scene file", "the mesh", "a dry signal", ...): the inputs no output of the run may name.
+/// scene file", "the mesh", "a dry signal", "the loudspeaker layout", ...): the inputs no
+/// output of the run may name.
 std::vector<std::pair<std::string, std::string>> sceneInputFiles(const SceneDesc& scene,
                                                                  const std::string& scenePath);
 

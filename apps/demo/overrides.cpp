@@ -183,7 +183,8 @@ void checkOutputs(const SceneDesc& scene, const Flags& fl) {
   if (isSofaPath(fl.offline) || isSofaPath(fl.record))
     throw InputError("command line", isSofaPath(fl.offline) ? "--offline" : "--record",
                      "SOFA holds impulse responses, not audio: use --ir-out FILE.sofa");
-  const auto inputs = sceneInputFiles(scene, fl.scene);
+  auto inputs = sceneInputFiles(scene, fl.scene);
+  if (!fl.bake.empty()) inputs.push_back({fl.bake, "the bake"});
   // Every path on its own first (a name too long breaks the comparisons), then against the others.
   for (const auto& [flag, out] : outputs)
     if (!out.empty()) checkOutputPath(out, flag, inputs);

@@ -57,6 +57,12 @@ CASES = {
     "ir_out_same_as_offline": (nothing, ["shoebox.json", "--offline", "o.wav", "--ir-out", "./o.wav"], "--ir-out"),
     "ir_out_is_scene": (nothing, ["shoebox.json", "--offline", "o.wav", "--ir-out", "shoebox.json"], "--ir-out"),
     "ir_out_missing_folder": (nothing, ["shoebox.json", "--offline", "o.wav", "--ir-out", "nope/ir.wav"], "--ir-out"),
+    # The --bake file and a --output layout:FILE.json are inputs too: --offline replaced them
+    # with the render (exit status 0).
+    "offline_is_bake": (bake_file(), ["shoebox.json", "--offline", "bake.h5", "--bake", "bake.h5"], "--offline: 'bake.h5' is the bake; refusing to overwrite it"),
+    "ir_out_is_bake": (bake_file(), OFF + ["--bake", "bake.h5", "--ir-out", "./bake.h5"], "--ir-out: './bake.h5' is the bake; refusing to overwrite it"),
+    "offline_is_layout": (write("lay.json", '{"speakers": [{"name": "A", "azimuth": 30}, {"name": "B", "azimuth": -30}]}'), ["shoebox.json", "--offline", "lay.json", "--output", "layout:lay.json"], "--offline: 'lay.json' is the loudspeaker layout; refusing to overwrite it"),
+    "er_out_is_layout": (write("lay.json", '{"speakers": [{"name": "A", "azimuth": 30}, {"name": "B", "azimuth": -30}]}'), OFF + ["--output", "layout:lay.json", "--er-out", "lay.json"], "--er-out: 'lay.json' is the loudspeaker layout; refusing to overwrite it"),
     "record_is_signal": (nothing, ["shoebox.json", "--record", "signals/speech.wav", "--duration", "1"], "--record"),
     "record_missing_folder": (nothing, ["shoebox.json", "--record", "missing/r.wav", "--duration", "1"], "--record"),
     "stats_is_scene": (nothing, ["shoebox.json", "--stats", "shoebox.json", "--duration", "1"], "--stats"),

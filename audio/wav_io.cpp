@@ -4,7 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
+#include <fstream>
 #include <stdexcept>
 
 #include "common/input_error.h"
@@ -67,9 +70,41 @@ int sndfileFormat(SampleFormat format) {
 
 namespace {
 
+/// For a RIFF WAVE file: how many bytes of the samples its data chunk declares lie beyond the
+/// end of the file: 0 when none, for other formats, and for a declared size of 0 or 0xFFFFFFFF
+/// (what streaming writers leave when the length was unknown; libsndfile judges those).
+/// libsndfile reads what is there, so a cut copy would otherwise play as a shorter signal
+/// without a word.
+uint64_t missingWaveDataBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  unsigned char head[12];
+  if (!in.read(reinterpret_cast<char*>(head), 12) || std::memcmp(head, "RIFF", 4) != 0 ||
+      std::memcmp(head + 8, "WAVE", 4) != 0)
+    return 0;
+  in.seekg(0, std::ios::end);
+  const uint64_t fileBytes = uint64_t(in.tellg());
+  uint64_t offset = 12;
+  unsigned char chunk[8];
+  while (in.seekg(std::streamoff(offset)) && in.read(reinterpret_cast<char*>(chunk), 8)) {
+    const uint64_t size = uint64_t(chunk[4]) | uint64_t(chunk[5]) << 8 | uint64_t(chunk[6]) << 16 |
+                          uint64_t(chunk[7]) << 24;
+    offset += 8;
+    if (std::memcmp(chunk, "data", 4) == 0)
+      return size == 0 || size == 0xFFFFFFFF || offset + size <= fileBytes
+                 ? 0
+                 : offset + size - fileBytes;
+    offset += size + (size & 1);
+  }
+  return 0;
+}
+
 /// Opens a sound file for reading and checks its header; throws InputError naming the file.
 void openSound(const std::string& path, SndFile& file, SF_INFO& info) {
   checkInputFile(path, kMaxSignalBytes, path, "", "cannot read: audio file");
+  if (const uint64_t missing = missingWaveDataBytes(path))
+    throw InputError(path, "",
+                     "cannot read: truncated: its data chunk lacks the last " +
+                         std::to_string(missing) + " bytes (an interrupted copy or download?)");
   file.handle = sf_open(path.c_str(), SFM_READ, &info);
   if (!file.handle) throw InputError(path, "", std::string("cannot read: ") + sf_strerror(nullptr));
   if (info.frames <= 0 || info.channels <= 0)

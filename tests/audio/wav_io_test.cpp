@@ -150,6 +150,29 @@ TEST_CASE("a non-WAV file and an empty file are refused") {
   CHECK_THROWS_WITH(readWav(empty), Catch::StartsWith(empty + ": cannot read"));
 }
 
+TEST_CASE("a WAV cut short of its data chunk is refused; a streamed size of ~0 is read") {
+  TempDir dir;
+  const std::string path = dir.file("cut.wav");
+  AudioData a;
+  a.sampleRate = 48000;
+  a.channels = {std::vector<float>(1000, 0.25f)};
+  writeWav(path, a, SampleFormat::kPcm16);  // 44-byte header, 2000 bytes of samples
+  REQUIRE(fs::file_size(path) == 2044);
+  fs::resize_file(path, 1044);
+  CHECK_THROWS_WITH(readWav(path),
+                    path +
+                        ": cannot read: truncated: its data chunk lacks the last 1000 bytes "
+                        "(an interrupted copy or download?)");
+  CHECK_THROWS_WITH(dpc::audio::readSoundFileInfo(path), Catch::Contains("truncated"));
+  // The data size a streaming writer leaves when the length is unknown: read to the end.
+  const uint32_t unknown = 0xFFFFFFFFu;
+  std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+  f.seekp(40);
+  f.write(reinterpret_cast<const char*>(&unknown), 4);  // little-endian host
+  f.close();
+  CHECK(readWav(path).frames() == 500);
+}
+
 TEST_CASE("writing into a missing folder throws and leaves no file") {
   TempDir dir;
   const std::string path = dir.file("missing/out.wav");

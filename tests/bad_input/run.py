@@ -97,6 +97,10 @@ CASES = {
     "signal_fifo": (lambda d: (fifo("s.wav")(d), scene_with(**{"sources.0.signal": "s.wav"})(d)), OFF, "s.wav"),
     "signal_directory": (scene_with(**{"sources.0.signal": "signals"}), OFF, "signals"),
     "signal_huge_sparse": (lambda d: (sparse("s.wav", 1 << 35)(d), scene_with(**{"sources.0.signal": "s.wav"})(d)), OFF, "s.wav"),
+    # A WAV cut short of its data chunk: libsndfile reads what is there, and the render used the
+    # shorter signal without a word.
+    "signal_truncated": (steps(float_wav("cut.wav", 48000, [0.1] * 4800), lambda d: truncate_half(os.path.join(d, "cut.wav"))), OFF,
+                         "sources[0].signal: cut.wav: cannot read: truncated: its data chunk lacks the last 9622 bytes"),
     "signal_not_wav": (lambda d: (write("s.wav", "not audio")(d), scene_with(**{"sources.0.signal": "s.wav"})(d)), OFF, "s.wav"),
     "signal_nan": (float_wav("n.wav", 48000, [0.1] * 100 + [float("nan")] + [0.1] * 100), OFF, "n.wav: sample 100 of channel 0 is not finite"),
     "signal_inf": (float_wav("n.wav", 48000, [0.1] * 10 + [float("inf")]), OFF, "sources[0].signal: n.wav"),

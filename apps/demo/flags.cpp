@@ -151,7 +151,9 @@ void addOutputOptions(CLI::App& app, Flags& fl) {
                  "ambisonic_binaural's decoder: magls (default) | sampling (virtual "
                  "loudspeakers, for comparison; docs/spatial.md)");
   app.add_option("--hrtf", fl.hrtf,
-                 "SOFA file for binaural output (default: /usr/share/libmysofa/default.sofa)");
+                 "SOFA file for binaural and ambisonic_binaural output (default: "
+                 "/usr/share/libmysofa/default.sofa); without --output it makes the output "
+                 "binaural unless the scene's is ambisonic_binaural");
 }
 
 /// "; did you mean --NAME?" for the last unknown --option in argv that is within two edits

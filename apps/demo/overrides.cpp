@@ -102,7 +102,10 @@ void applyAudioOverrides(SceneDesc& scene, const Flags& fl) {
   if (!fl.hrtf.empty()) {
     checkInputFile(fl.hrtf, kMaxSofaBytes, "command line", "--hrtf", "SOFA file");
     scene.audio.hrtfPath = fl.hrtf;
-    if (fl.output.empty()) scene.audio.output = OutputFormat::kBinaural;
+    // Without --output, an output that does not use an HRTF becomes binaural; one that does
+    // (ambisonic_binaural) is kept.
+    if (fl.output.empty() && scene.audio.output != OutputFormat::kAmbisonicBinaural)
+      scene.audio.output = OutputFormat::kBinaural;
   }
   if (!fl.listener.empty()) listenerIndex(scene, fl.listener, "--listener");  // known name?
   applyRenderingOverrides(scene.audio, fl);

@@ -212,6 +212,37 @@ TEST_CASE("dpc-demo --block-size sets the offline renderer's block as audio.bloc
   fs::remove_all(dir);
 }
 
+TEST_CASE("dpc-demo --hrtf keeps a scene's ambisonic_binaural output", "[offline]") {
+  // --hrtf alone turns a scene's mono or stereo output binaural; an output that already
+  // decodes through the HRTF stays as it is (it became plain binaural without a word).
+  const fs::path dir = fs::temp_directory_path() / ("dpc_demo_hrtf_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  fs::copy(kScenes + "/shoebox.obj", dir / "shoebox.obj");
+  fs::copy(kScenes + "/signals", dir / "signals", fs::copy_options::recursive);
+  std::ifstream in(kScenes + "/shoebox.json");
+  std::string scene((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string key = "\"audio\": {";
+  REQUIRE(scene.find(key) != std::string::npos);
+  std::ofstream((dir / "ab.json").string())
+      << scene.replace(scene.find(key), key.size(), key + " \"output\": \"ambisonic_binaural\",");
+  const std::string sofa = "/usr/share/libmysofa/default.sofa";  // the scene's default HRTF
+  auto render = [&](const std::string& out, const std::string& extra) {
+    const Run r = run((dir / "ab.json").string() + " --offline " + (dir / out).string() +
+                      " --duration 0.3 --rays 256" + extra);
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+  };
+  render("scene.wav", "");
+  render("flag.wav", " --hrtf " + sofa);
+  render("binaural.wav", " --output binaural --hrtf " + sofa);
+  auto same = [&](const std::string& a, const std::string& b) {
+    return std::system(("cmp -s " + (dir / a).string() + " " + (dir / b).string()).c_str()) == 0;
+  };
+  CHECK(same("flag.wav", "scene.wav"));
+  CHECK_FALSE(same("binaural.wav", "scene.wav"));  // the outputs differ: not a vacuous check
+  fs::remove_all(dir);
+}
+
 TEST_CASE("Offline render streamed block by block equals the held render", "[offline]") {
   ShoeboxRender shoebox(200, 10, 0.3f, 0.51);  // not a whole number of blocks: the last is cut
   const SceneDesc& scene = shoebox.scene;

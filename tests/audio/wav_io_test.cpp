@@ -150,7 +150,7 @@ TEST_CASE("a non-WAV file and an empty file are refused") {
   CHECK_THROWS_WITH(readWav(empty), Catch::StartsWith(empty + ": cannot read"));
 }
 
-TEST_CASE("a WAV cut short of its data chunk is refused; a streamed size of ~0 is read") {
+TEST_CASE("a WAV cut short of its data chunk is refused, a streamed size of ~0 is read") {
   TempDir dir;
   const std::string path = dir.file("cut.wav");
   AudioData a;

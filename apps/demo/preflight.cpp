@@ -57,6 +57,13 @@ std::vector<size_t> silentSignals(const SceneDesc& scene, const DrySignals& dry)
   return silent;
 }
 
+float loudestSignalPeak(const DrySignals& dry) {
+  float peak = 0.f;
+  for (const std::vector<float>& signal : dry.samples)
+    for (const float x : signal) peak = std::max(peak, std::abs(x));
+  return peak;
+}
+
 bool allSignalsSilent(const SceneDesc& scene, const DrySignals& dry) {
   const size_t withSignal =
       size_t(std::count_if(scene.sources.begin(), scene.sources.end(),

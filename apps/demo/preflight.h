@@ -34,6 +34,15 @@ void checkSetup(const SceneDesc& scene, const PropagationSettings& settings, dou
 /// and an offline render that quiet is not normalised (a gain to -1 dBFS would overflow float).
 constexpr float kSilentPeak = 1e-30f;
 
+/// An offline render peaking this far below its loudest dry signal (-160 dB) holds float
+/// rounding, not sound (a render that ends before any sound arrives): it is not normalised
+/// (+400 dB would make its rounding full scale) and is warned about. Spreading over 10 km
+/// (-91 dB) and a 40 dB partition stay well above it.
+constexpr double kRoundingPeakRatio = 1e-8;
+
+/// The largest absolute sample over every dry signal (0 for none). Any thread; no allocation.
+float loudestSignalPeak(const DrySignals& dry);
+
 /// The sources (scene.sources indices) that have a signal whose peak is below kSilentPeak.
 /// Any thread; no allocation beyond the result.
 std::vector<size_t> silentSignals(const SceneDesc& scene, const DrySignals& dry);

@@ -118,20 +118,28 @@ struct StagedListener {
 /// by a second streaming pass, or --gain-db already applied) and adds it, with its --ir-out /
 /// --er-out files, to `outputs` (nothing renamed yet).
 /// signalsSilent: every dry signal is (allSignalsSilent, warned about when loaded), so a
-/// silent render is no sign of a geometry problem.
+/// silent render is no sign of a geometry problem. loudestDry: loudestSignalPeak.
 StagedListener stageListener(const Flags& fl, const SceneDesc& scene,
                              const OfflineListenerResult& r, audio::WavStreamWriter& writer,
-                             const OutputPaths& paths, OutputSet& outputs, bool signalsSilent) {
+                             const OutputPaths& paths, OutputSet& outputs, bool signalsSilent,
+                             float loudestDry) {
   const float peak = writer.peak();
   const bool silent = peak < kSilentPeak;
+  const bool rounding = !silent && double(peak) < kRoundingPeakRatio * double(loudestDry);
   if (silent && !signalsSilent)
     std::fprintf(stderr,
                  "warning: %s: the render of listener \"%s\" is silent (empty energy response: "
                  "is the listener inside the mesh and each source inside the room?)\n",
                  fl.scene.c_str(), r.name.c_str());
+  if (rounding)
+    std::fprintf(stderr,
+                 "warning: %s: the render of listener \"%s\" peaks %.0f dB below its loudest dry "
+                 "signal: rounding, not sound (does it end before any sound arrives?); not "
+                 "normalised\n",
+                 fl.scene.c_str(), r.name.c_str(), 20.0 * std::log10(double(loudestDry) / peak));
   double gainDb = fl.gainDb.value_or(0.0);
   if (!fl.gainDb) {
-    gainDb = silent ? 0.0 : -1.0 - 20.0 * std::log10(peak);  // silence stays as it is
+    gainDb = silent || rounding ? 0.0 : -1.0 - 20.0 * std::log10(peak);  // silence stays
     writer.rescale(float(std::pow(10.0, gainDb / 20.0)));
   }
   const StagedListener staged{writer.frames(), gainDb};
@@ -225,9 +233,10 @@ int runOffline(const Flags& fl) {
   OutputSet outputs;
   std::vector<StagedListener> staged;
   const bool signalsSilent = allSignalsSilent(scene, *run.dry);
+  const float loudestDry = loudestSignalPeak(*run.dry);
   for (size_t l = 0; l < r.listeners.size() && l < paths.size(); ++l)
-    staged.push_back(
-        stageListener(fl, scene, r.listeners[l], *writers[l], paths[l], outputs, signalsSilent));
+    staged.push_back(stageListener(fl, scene, r.listeners[l], *writers[l], paths[l], outputs,
+                                   signalsSilent, loudestDry));
   throwIfStopped();
   outputs.commitAll();
   for (size_t l = 0; l < staged.size(); ++l)

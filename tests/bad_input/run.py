@@ -335,6 +335,9 @@ WARN_CASES = {
     # and "out.wav: cannot write: a sample is not finite after the gain" blamed the output).
     "signal_all_zero": (float_wav("z.wav", 48000, [0.0] * 4800), OFF, "sources[0].signal: 'z.wav' is silent"),
     "signal_subnormal": (float_wav("t.wav", 48000, [1e-39 * math.sin(i * 0.06) for i in range(4800)]), OFF, "sources[0].signal: 't.wav' is silent"),
+    # A render that ends before the direct sound arrives (0.1 ms; the talker is 6 m away) holds
+    # float rounding, which normalising to -1 dBFS raised by about 400 dB.
+    "render_before_first_sound": (nothing, ["shoebox.json", "--offline", "out.wav", "--duration", "0.0001", "--rays", "64"], "rounding, not sound"),
 }
 # Warning cases whose stderr must not hold this text (a misdiagnosis).
 UNEXPECTED = {"signal_all_zero": "empty energy response", "signal_subnormal": "empty energy response"}

@@ -317,6 +317,11 @@ CASES = {
     "ir_out_read_only": (read_only("ir.wav"), OFF + ["--ir-out", "ir.wav"], "--ir-out: 'ir.wav': cannot write: the file is read-only"),
     "er_out_read_only_link": (steps(read_only("er.csv"), symlink("er.csv", "l.csv")), OFF + ["--er-out", "l.csv"], "--er-out: 'l.csv': cannot write: the file is read-only"),
     "offline_other_users_file": (steps(read_only("out.wav", 0o644), open_to_nobody), OFF, "--offline: 'out.wav': cannot write: the file is read-only"),
+    # An output named for another format than its flag writes (a WAV under ir.csv, which
+    # dpc-analyze then read as CSV).
+    "ir_out_named_csv": (nothing, OFF + ["--ir-out", "ir.csv"], "--ir-out: 'ir.csv' names a CSV file, but --ir-out writes WAV or SOFA"),
+    "er_out_named_wav": (nothing, OFF + ["--er-out", "er.wav"], "--er-out: 'er.wav' names a WAV file, but --er-out writes CSV"),
+    "offline_named_json": (nothing, ["shoebox.json", "--offline", "out.JSON", "--duration", "0.2"], "--offline: 'out.JSON' names a JSON file"),
     "scene_link_loop": (lambda d: (symlink("b.json", "a.json")(d), symlink("a.json", "b.json")(d)), ["a.json", "--offline", "out.wav"], "a.json: scene file 'a.json' cannot be opened: Too many levels of symbolic links"),
 }
 

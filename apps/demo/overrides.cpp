@@ -7,8 +7,8 @@
 
 #include <algorithm>
 #include <cctype>
-#include <initializer_list>
 #include <filesystem>
+#include <initializer_list>
 #include <string>
 #include <utility>
 #include <vector>
@@ -180,8 +180,8 @@ std::string formatOfName(const std::string& path) {
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return char(std::tolower(c)); });
   static const std::pair<const char*, const char*> kKnown[] = {
-      {".wav", "WAV"},   {".sofa", "SOFA"}, {".csv", "CSV"},   {".json", "JSON"},
-      {".h5", "HDF5"},   {".obj", "OBJ"},   {".gltf", "glTF"}, {".glb", "glTF"}};
+      {".wav", "WAV"}, {".sofa", "SOFA"}, {".csv", "CSV"},   {".json", "JSON"},
+      {".h5", "HDF5"}, {".obj", "OBJ"},   {".gltf", "glTF"}, {".glb", "glTF"}};
   for (const auto& [e, format] : kKnown)
     if (ext == e) return format;
   return "";

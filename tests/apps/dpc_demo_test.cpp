@@ -110,6 +110,27 @@ struct ShoeboxRender {
   }
 };
 
+/// A fresh folder under the system's temporary one (prefix + process id) holding the shipped
+/// shoebox's mesh and dry signals, for scene variants written beside them.
+fs::path shoeboxFolder(const std::string& prefix) {
+  const fs::path dir = fs::temp_directory_path() / (prefix + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  fs::copy(kScenes + "/shoebox.obj", dir / "shoebox.obj");
+  fs::copy(kScenes + "/signals", dir / "signals", fs::copy_options::recursive);
+  return dir;
+}
+
+/// The shipped shoebox scene's JSON text.
+std::string shoeboxSceneText() {
+  std::ifstream in(kScenes + "/shoebox.json");
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+/// Whether two files hold the same bytes (cmp -s).
+bool sameFiles(const fs::path& a, const fs::path& b) {
+  return std::system(("cmp -s " + a.string() + " " + b.string()).c_str()) == 0;
+}
+
 }  // namespace
 
 TEST_CASE("Offline render is bit-identical for a seed and differs for another", "[offline]") {
@@ -183,12 +204,8 @@ TEST_CASE("dpc-demo --block-size sets the offline renderer's block as audio.bloc
           "[offline]") {
   // The engine block changes an offline render (IR swaps fall on block boundaries), so the
   // flag is applied there too, not only in live runs.
-  const fs::path dir = fs::temp_directory_path() / ("dpc_demo_block_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  fs::copy(kScenes + "/shoebox.obj", dir / "shoebox.obj");
-  fs::copy(kScenes + "/signals", dir / "signals", fs::copy_options::recursive);
-  std::ifstream in(kScenes + "/shoebox.json");
-  std::string scene((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const fs::path dir = shoeboxFolder("dpc_demo_block_");
+  std::string scene = shoeboxSceneText();
   const std::string key = "\"block_size\": 512";
   REQUIRE(scene.find(key) != std::string::npos);
   std::ofstream((dir / "shoebox.json").string()) << scene;
@@ -205,7 +222,7 @@ TEST_CASE("dpc-demo --block-size sets the offline renderer's block as audio.bloc
   render("shoebox.json", "flag.wav", " --block-size 256");
   render("b256.json", "key.wav", "");
   auto same = [&](const std::string& a, const std::string& b) {
-    return std::system(("cmp -s " + (dir / a).string() + " " + (dir / b).string()).c_str()) == 0;
+    return sameFiles(dir / a, dir / b);
   };
   CHECK(same("flag.wav", "key.wav"));
   CHECK_FALSE(same("flag.wav", "default.wav"));  // the block matters: not a vacuous comparison
@@ -215,12 +232,8 @@ TEST_CASE("dpc-demo --block-size sets the offline renderer's block as audio.bloc
 TEST_CASE("dpc-demo --hrtf keeps a scene's ambisonic_binaural output", "[offline]") {
   // --hrtf alone turns a scene's mono or stereo output binaural; an output that already
   // decodes through the HRTF stays as it is (it became plain binaural without a word).
-  const fs::path dir = fs::temp_directory_path() / ("dpc_demo_hrtf_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  fs::copy(kScenes + "/shoebox.obj", dir / "shoebox.obj");
-  fs::copy(kScenes + "/signals", dir / "signals", fs::copy_options::recursive);
-  std::ifstream in(kScenes + "/shoebox.json");
-  std::string scene((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const fs::path dir = shoeboxFolder("dpc_demo_hrtf_");
+  std::string scene = shoeboxSceneText();
   const std::string key = "\"audio\": {";
   REQUIRE(scene.find(key) != std::string::npos);
   std::ofstream((dir / "ab.json").string())
@@ -236,7 +249,7 @@ TEST_CASE("dpc-demo --hrtf keeps a scene's ambisonic_binaural output", "[offline
   render("flag.wav", " --hrtf " + sofa);
   render("binaural.wav", " --output binaural --hrtf " + sofa);
   auto same = [&](const std::string& a, const std::string& b) {
-    return std::system(("cmp -s " + (dir / a).string() + " " + (dir / b).string()).c_str()) == 0;
+    return sameFiles(dir / a, dir / b);
   };
   CHECK(same("flag.wav", "scene.wav"));
   CHECK_FALSE(same("binaural.wav", "scene.wav"));  // the outputs differ: not a vacuous check

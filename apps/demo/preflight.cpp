@@ -14,7 +14,16 @@
 #include "runtime/output_format.h"
 
 namespace dpc::demo {
-namespace {}  // namespace
+namespace {
+
+/// The largest absolute sample of one signal (0 for none).
+float signalPeak(const std::vector<float>& signal) {
+  float peak = 0.f;
+  for (const float x : signal) peak = std::max(peak, std::abs(x));
+  return peak;
+}
+
+}  // namespace
 
 void printSceneWarnings(const SceneDesc& scene) {
   for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
@@ -48,19 +57,15 @@ void checkSetup(const SceneDesc& scene, const PropagationSettings& settings, dou
 
 std::vector<size_t> silentSignals(const SceneDesc& scene, const DrySignals& dry) {
   std::vector<size_t> silent;
-  for (size_t s = 0; s < scene.sources.size() && s < dry.samples.size(); ++s) {
-    if (scene.sources[s].signalPath.empty()) continue;
-    float peak = 0.f;
-    for (const float x : dry.samples[s]) peak = std::max(peak, std::abs(x));
-    if (peak < kSilentPeak) silent.push_back(s);
-  }
+  for (size_t s = 0; s < scene.sources.size() && s < dry.samples.size(); ++s)
+    if (!scene.sources[s].signalPath.empty() && signalPeak(dry.samples[s]) < kSilentPeak)
+      silent.push_back(s);
   return silent;
 }
 
 float loudestSignalPeak(const DrySignals& dry) {
   float peak = 0.f;
-  for (const std::vector<float>& signal : dry.samples)
-    for (const float x : signal) peak = std::max(peak, std::abs(x));
+  for (const std::vector<float>& signal : dry.samples) peak = std::max(peak, signalPeak(signal));
   return peak;
 }
 

@@ -4,9 +4,10 @@
 // Butterworth one at prewarped frequencies: -3.01 dB at the edges fc * 2^(+-1/2), about
 // -19.6 dB one octave away, unity gain at the centre fc.
 //
-// One definition shared by the band analysis (analysis/room_parameters.h) and the IR synthesis
-// (synthesis/analysis_refinement.h, which normalises its band energies on these filters'
-// outputs so that an ISO 3382-1 analysis of the synthesised IR returns the energy response it was made from).
+// One definition shared by the band analysis (analysis/room_parameters.h), its expected reading
+// of an energy response (analysis/expected_band_analysis.h) and the IR synthesis's window
+// levelling (synthesis/window_leveller.h, which lays its windows so that the analysis's 80 ms
+// split, delayed by these filters, falls on a window boundary).
 // Any thread; design() allocates a few complex numbers; filtering never allocates; no errors
 // (requires fc * sqrt(2) < fs / 2, which callers check).
 #pragma once
@@ -88,6 +89,21 @@ struct OctaveBandPass {
       if (n % 64 == 63) flushTiny(state);
     }
     return e;
+  }
+
+  /// The energy centroid of the unit impulse response rung out over `samples` samples, in
+  /// samples: how late the filter delivers a band's energy (about one period of fc). No
+  /// allocation.
+  double energyCentroid(size_t samples) const {
+    State state{};
+    double e = 0.0, moment = 0.0;
+    for (size_t n = 0; n < samples; ++n) {
+      const double y = step(n == 0 ? 1.0 : 0.0, state);
+      e += y * y;
+      moment += double(n) * y * y;
+      if (n % 64 == 63) flushTiny(state);
+    }
+    return e > 0.0 ? moment / e : 0.0;
   }
 
   /// Sets state values below 1e-150 to zero: a state ringing out with zero input would

@@ -4,11 +4,9 @@
 
 namespace dpc {
 
-ChannelLevelling::ChannelLevelling(int sampleRate, size_t length, size_t startSample,
-                                   int firstBand, int lastBand)
+ChannelLevelling::ChannelLevelling(int sampleRate, size_t length, int firstBand, int lastBand)
     : sampleRate_(sampleRate),
       length_(length),
-      start_(startSample),
       firstBand_(firstBand),
       lastBand_(lastBand) {
   setWorkers(1, {});
@@ -53,7 +51,7 @@ void ChannelLevelling::level(const DirectionalEnergyResponse& energy, size_t cou
     Worker& w = workers_[g];
     for (size_t c = g; c < channels.size(); c += workers) {
       channelTarget(energy, count, weight, omniGain[c], directionalFrom, c, w.target);
-      w.leveller->level(w.target, onset, start_, channels[c]);
+      w.leveller->level(w.target, onset, channels[c]);
     }
   };
   if (workers > 1)

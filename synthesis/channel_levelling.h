@@ -29,10 +29,8 @@ namespace dpc {
 
 class ChannelLevelling {
  public:
-  /// IRs of `length` samples at sampleRate Hz; windows from `startSample` on (where the
-  /// directions' Dirac sequences are dense enough to level); bands firstBand..lastBand.
-  ChannelLevelling(int sampleRate, size_t length, size_t startSample, int firstBand,
-                   int lastBand);
+  /// IRs of `length` samples at sampleRate Hz; bands firstBand..lastBand.
+  ChannelLevelling(int sampleRate, size_t length, int firstBand, int lastBand);
   ~ChannelLevelling();
 
   /// Runs `n` tasks f(0..n-1), possibly concurrently (SpatialIrSynthesizer::ParallelFor).
@@ -60,7 +58,7 @@ class ChannelLevelling {
                             int directionalFrom, size_t c, EnergyResponse& target);
 
   int sampleRate_;
-  size_t length_, start_;
+  size_t length_;
   int firstBand_, lastBand_;
   std::vector<Worker> workers_;  ///< [0] always exists
   ParallelFor parallel_;         ///< empty: on the calling thread

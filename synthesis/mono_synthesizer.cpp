@@ -53,7 +53,6 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
         sampleRate, length_, kFirstCleanedBand,
         BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, 10.0));
   }
-  levelStart_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, 1.0);
   envelope_ = std::make_unique<BandEnvelope>(
       sampleRate, seq, length_, filterData_,
       measureLowBands(fft, masks, length_, TiltedBands::kLevelledFromBand));
@@ -112,9 +111,19 @@ void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& 
   const size_t onset = firstArrivalSample(energy);
   envelope_->startAt(onset, tilted);
   envelope_->accumulateRange(tilted, ir, onset, length_);
-  if (windowLeveller_) windowLeveller_->level(energy, onset, levelStart_, ir);
-  clearAroundArrivals(ir);
-  placer_->place(arrivals_, sampleRate_, ir, length_);
+  if (windowLeveller_) {
+    // The deterministic part (direct sound, exact paths) placed apart, so that the levelling
+    // sees what it adds to each window and levels the whole IR's energy there.
+    float* fixed = windowLeveller_->fixedScratch();
+    std::fill(fixed, fixed + length_, 0.f);
+    placer_->place(arrivals_, sampleRate_, fixed, length_);
+    windowLeveller_->level(energy, onset, ir, fixed);
+    clearAroundArrivals(ir);
+    for (size_t n = 0; n < length_; ++n) ir[n] += fixed[n];
+  } else {
+    clearAroundArrivals(ir);
+    placer_->place(arrivals_, sampleRate_, ir, length_);
+  }
   cleanUp(energy, ir);
   float* const channels[] = {ir};
   cutLeadingResidue(channels, length_, onset, sampleRate_);

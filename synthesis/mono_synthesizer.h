@@ -182,10 +182,9 @@ class IrSynthesizer {
   std::shared_ptr<ArrivalPlacer> placer_;
   std::unique_ptr<BandEnvelope> envelope_;
   std::shared_ptr<BandLeveller> leveller_;
-  /// Levels the reverberant part to the response in short windows (synthesis/window_leveller.h)
-  /// from levelStart_, where the Dirac sequence holds a pulse per 10 ms by the density law.
+  /// Levels the reverberant part to the response in short windows (synthesis/window_leveller.h),
+  /// beside the direct sound and the exact paths.
   std::shared_ptr<WindowLeveller> windowLeveller_;
-  size_t levelStart_ = 0;
   /// Build::kFirstIr until complete(): the Dirac sequence, which the levelling scales.
   std::vector<float> sequence_;
   std::vector<Arrival> arrivals_;  ///< this frame's direct sound and exact paths

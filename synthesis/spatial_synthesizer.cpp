@@ -68,8 +68,7 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   levelStart_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, kLevelFromPulses);
   rotationFrom_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound,
                                              kIndependentFromDensity * BandLeveller::kBinSeconds);
-  channelLevelStart_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, 1.0);
-  channelLevelling_ = std::make_shared<ChannelLevelling>(sampleRate, length_, channelLevelStart_,
+  channelLevelling_ = std::make_shared<ChannelLevelling>(sampleRate, length_,
                                                          IrSynthesizer::kFirstLevelledBand,
                                                          IrSynthesizer::kLastLevelledBand);
   levelledFrom_ = IrSynthesizer::kLastLevelledBand + 1;  // the bands the windows leave
@@ -88,7 +87,7 @@ std::unique_ptr<SpatialIrSynthesizer> SpatialIrSynthesizer::workspaceCopy() cons
   copy->parallel_ = {};
   if (channelLevelling_)
     copy->channelLevelling_ = std::make_shared<ChannelLevelling>(
-        sampleRate_, length_, channelLevelStart_, IrSynthesizer::kFirstLevelledBand,
+        sampleRate_, length_, IrSynthesizer::kFirstLevelledBand,
         IrSynthesizer::kLastLevelledBand);
   return copy;
 }

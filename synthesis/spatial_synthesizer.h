@@ -223,7 +223,6 @@ class SpatialIrSynthesizer {
   std::shared_ptr<const CoherenceMatch> coherence_;  ///< binaural only; read-only
   /// Each channel's reverberant part levelled in short windows (125 Hz - 1 kHz).
   std::shared_ptr<ChannelLevelling> channelLevelling_;
-  size_t channelLevelStart_ = 0;  ///< its start sample
   /// This frame's mixes per band, [0] before mixSplit_ (a sample), [1] from it on.
   std::array<std::array<EarMix, kNumBands>, 2> earMix_{};
   size_t mixSplit_ = 0;

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "common/octave_band_masks.h"
+#include "common/octave_filter.h"
 #include "synthesis/band_filters.h"
 #include "synthesis/band_tilt.h"
 
@@ -19,6 +20,7 @@ struct WindowLeveller::View {
   size_t support = 0;  ///< bins 0..support-1 of the full spectrum where M_b > 0
   double ratio = 1.0;  ///< full-rate samples per view sample
   std::unique_ptr<FftwRealTransforms> fft;
+  std::vector<float> fixed;  ///< the fixed part's view (its first fft->n samples)
 };
 
 struct WindowLeveller::Size {
@@ -41,6 +43,7 @@ WindowLeveller::View WindowLeveller::reducedView(const std::vector<float>& mask,
   const size_t nr = std::min(n, smoothFftSize(4 * std::max<size_t>(v.support, 1)));
   v.ratio = double(n) / double(nr);
   v.fft = std::make_unique<FftwRealTransforms>(nr);
+  v.fixed.resize(nr);
   return v;
 }
 
@@ -57,8 +60,13 @@ WindowLeveller::WindowLeveller(int sampleRate, size_t length, int firstBand, int
       firstBand > lastBand)
     throw std::invalid_argument("WindowLeveller: rate, length and bands must be valid");
   const size_t taps = bandFilterTaps(sampleRate);
+  for (int b = firstBand; b <= lastBand; ++b)
+    analysisDelay_[size_t(b)] =
+        OctaveBandPass::design(bandCentreExactHz(b), sampleRate).energyCentroid(size_t(sampleRate));
   factor_.resize(length / size_t(std::max(1L, std::lround(kMinWindowSeconds * sampleRate))) + 2);
   windowEnergy_.reserve(factor_.size());
+  windowCross_.reserve(factor_.size());
+  fixedScratch_.resize(length);
   for (size_t span : {length / 8, length / 4, length / 2, length}) {
     if (span == 0) continue;
     auto s = std::make_unique<Size>();
@@ -138,60 +146,80 @@ void WindowLeveller::viewTargets(const EnergyResponse& energy, const Size& s) {
   }
 }
 
+double WindowLeveller::windowLength(int b) const {
+  const double w0 = std::max(kWindowPeriods * sampleRate_ / bandCentreExactHz(b),
+                             kMinWindowSeconds * sampleRate_);
+  const double split = kAlignedSeconds * sampleRate_;
+  return split / std::max(1.0, std::round(split / w0));
+}
+
 void WindowLeveller::windowFactors(int b, const EnergyResponse& energy, const View& v,
-                                   size_t start, size_t span) {
-  const size_t w =
-      std::max(size_t(std::lround(kWindowPeriods * sampleRate_ / bandCentreExactHz(b))),
-               size_t(std::lround(kMinWindowSeconds * sampleRate_)));
+                                   size_t origin, size_t span) {
+  const Windows win{double(origin) - analysisDelay_[size_t(b)], windowLength(b),
+                    std::max<size_t>(1, size_t(double(span - origin) / windowLength(b)))};
   // Whole windows only: the last takes the span's remainder. A short remainder as a window of
   // its own (a few samples of a 125 Hz view can sit at a zero crossing) would read next to no
   // energy and take the largest factor: a burst 12-26 dB above the response just after the
   // span (BRAS CR4; tests/synthesis/low_band_windows_test.cpp).
-  const size_t windows = std::max<size_t>(1, span / w);
-  windowEnergies(v, w, windows, span);
+  windowEnergies(v, win, span);
   // The target's running sum at sample t: whole response bins before it, and a share of its bin.
   const double perBin = energy.binSeconds() * sampleRate_;
   const std::vector<double>& d = targetDensity_[size_t(b)];
-  auto targetBefore = [&](size_t t, size_t& j, double& sum) {
-    while (j < d.size() && double(j + 1) * perBin <= double(t)) sum += d[j++];
-    return j < d.size() ? sum + d[j] * (double(t) - double(j) * perBin) / perBin : sum;
+  auto targetBefore = [&](double t, size_t& j, double& sum) {
+    while (j < d.size() && double(j + 1) * perBin <= t) sum += d[j++];
+    return j < d.size() ? sum + d[j] * (t - double(j) * perBin) / perBin : sum;
   };
   size_t j = 0;
-  double sum = 0.0, before = targetBefore(0, j, sum);
-  for (size_t i = 0; i < windows; ++i) {
-    const size_t lo = i * w, hi = i + 1 == windows ? span : std::min(span, lo + w);
-    const double e = windowEnergy_[i];
+  double sum = 0.0, before = targetBefore(0.0, j, sum);
+  for (size_t i = 0; i < win.count; ++i) {
+    const double lo = win.origin + double(i) * win.length;
+    const double hi = i + 1 == win.count ? double(span) : std::min(double(span), lo + win.length);
+    const double e = windowEnergy_[i], x = windowCross_[i];
     const double after = targetBefore(hi, j, sum), target = after - before;
     before = after;
-    factor_[i] = lo >= start && e > 0.0 && target > 0.0
-                     ? float(std::clamp(std::sqrt(target / e), 1.0 / kMaxFactor, kMaxFactor))
+    // g^2 e + 2 g x = target: the noise's own energy and its cross term with the fixed part
+    // (zero in expectation) together make the target (g = sqrt(target / e) when x = 0).
+    const double g0 = std::sqrt(target / e);
+    const double g = std::clamp((std::sqrt(x * x + e * target) - x) / e, g0 / kCrossRange,
+                                g0 * kCrossRange);
+    factor_[i] = e > 0.0 && target > 0.0
+                     ? float(std::clamp(g, 1.0 / kMaxFactor, kMaxFactor))
                      : 1.f;
   }
-  factor_[windows] = 1.f;  // beyond the span
-  scaleByFactors(v, w, windows);
+  factor_[win.count] = 1.f;  // beyond the span
+  scaleByFactors(v, win);
 }
 
-void WindowLeveller::windowEnergies(const View& v, size_t w, size_t windows, size_t span) {
+size_t WindowLeveller::windowOf(const Windows& win, double t) {
+  return t <= win.origin ? 0
+                         : std::min(win.count - 1, size_t((t - win.origin) / win.length));
+}
+
+void WindowLeveller::windowEnergies(const View& v, const Windows& win, size_t span) {
   // Each view sample stands for `ratio` full-rate samples (Parseval for a band-limited view):
-  // window i holds the samples at full-rate times [i w, (i + 1) w), the last up to the span's end.
-  windowEnergy_.assign(windows, 0.0);
+  // window i holds the samples at full-rate times [origin + i w, origin + (i + 1) w), the first
+  // also what precedes it, the last up to the span's end.
+  windowEnergy_.assign(win.count, 0.0);
+  windowCross_.assign(win.count, 0.0);
   const float* y = v.fft->time.p;
   const size_t last = std::min(v.fft->n, size_t(std::ceil(double(span) / v.ratio)));
-  for (size_t m = 0; m < last; ++m) {
-    const size_t i = std::min(windows - 1, size_t(double(m) * v.ratio) / w);
-    windowEnergy_[i] += v.ratio * double(y[m]) * double(y[m]);
-  }
+  for (size_t m = 0; m < last; ++m)
+    windowEnergy_[windowOf(win, double(m) * v.ratio)] += v.ratio * double(y[m]) * double(y[m]);
+  if (!hasFixed_) return;
+  for (size_t m = 0; m < last; ++m)
+    windowCross_[windowOf(win, double(m) * v.ratio)] +=
+        v.ratio * double(y[m]) * double(v.fixed[m]);
 }
 
-void WindowLeveller::scaleByFactors(const View& v, size_t w, size_t windows) const {
-  // y <- (g - 1) y with g = factor_[0] up to window 0's centre c_0 = (w - 1) / 2, linear
-  // between the centres c_i = c_0 + i w, and 1 (no correction) from c_windows on; at the view
-  // sample m's full-rate time m x ratio.
+void WindowLeveller::scaleByFactors(const View& v, const Windows& win) const {
+  // y <- (g - 1) y with g = factor_[0] up to window 0's centre c_0 = origin + (w - 1) / 2,
+  // linear between the centres c_i = c_0 + i w, and 1 (no correction) from c_count on; at the
+  // view sample m's full-rate time m x ratio.
   float* y = v.fft->time.p;
-  const double c0 = 0.5 * (double(w) - 1.0);
+  const double c0 = win.origin + 0.5 * (win.length - 1.0);
   for (size_t m = 0; m < v.fft->n; ++m) {
-    const double u = (double(m) * v.ratio - c0) / double(w);
-    if (u >= double(windows)) {
+    const double u = (double(m) * v.ratio - c0) / win.length;
+    if (u >= double(win.count)) {
       y[m] = 0.f;
       continue;
     }
@@ -201,14 +229,14 @@ void WindowLeveller::scaleByFactors(const View& v, size_t w, size_t windows) con
   }
 }
 
-void WindowLeveller::viewOf(Size& s, int b) {
+void WindowLeveller::viewOf(Size& s, int b, const fftwf_complex* spectrum) {
   const float scale = 1.f / float(s.n);
   const std::vector<float>& m = s.mask[size_t(b)];
   FftwRealTransforms& fft = *s.view[size_t(b)].fft;
   const size_t rbins = fft.n / 2 + 1, support = std::min(s.view[size_t(b)].support, rbins);
   for (size_t f = 0; f < support; ++f) {
-    fft.band.p[f][0] = current_.p[f][0] * m[f] * scale;
-    fft.band.p[f][1] = current_.p[f][1] * m[f] * scale;
+    fft.band.p[f][0] = spectrum[f][0] * m[f] * scale;
+    fft.band.p[f][1] = spectrum[f][1] * m[f] * scale;
   }
   float* const band = reinterpret_cast<float*>(fft.band.p);
   std::fill(band + 2 * support, band + 2 * rbins, 0.f);
@@ -230,10 +258,10 @@ void WindowLeveller::addViewCorrection(Size& s, int b) {
     }
 }
 
-void WindowLeveller::pass(const EnergyResponse& energy, Size& s, size_t start, size_t span) {
+void WindowLeveller::pass(const EnergyResponse& energy, Size& s, size_t origin, size_t span) {
   for (int b = firstBand_; b <= lastBand_; ++b) {
-    viewOf(s, b);
-    windowFactors(b, energy, s.view[size_t(b)], start, span);
+    viewOf(s, b, current_.p);
+    windowFactors(b, energy, s.view[size_t(b)], origin, span);
     addViewCorrection(s, b);
   }
 }
@@ -263,14 +291,31 @@ void WindowLeveller::applyCorrection(Size& s, size_t onset, float* ir) {
   for (size_t t = onset; t < end; ++t) ir[t] += fft.time.p[t];
 }
 
-void WindowLeveller::level(const EnergyResponse& energy, size_t onset, size_t start, float* ir) {
+void WindowLeveller::loadFixed(Size& s, const float* fixed) {
+  hasFixed_ = fixed != nullptr;
+  if (!hasFixed_) return;
+  FftwRealTransforms& fft = *s.fft;
+  const size_t copied = std::min(length_, s.n);
+  std::copy(fixed, fixed + copied, fft.time.p);
+  std::fill(fft.time.p + copied, fft.time.p + s.n, 0.f);
+  fftwf_execute(fft.fwd);
+  for (int b = firstBand_; b <= lastBand_; ++b) {
+    View& v = s.view[size_t(b)];
+    viewOf(s, b, fft.spec.p);
+    std::copy(v.fft->time.p, v.fft->time.p + v.fft->n, v.fixed.begin());
+  }
+}
+
+void WindowLeveller::level(const EnergyResponse& energy, size_t onset, float* ir,
+                           const float* fixed) {
   const size_t span = spanOf(energy);
-  if (span <= std::max(start, onset) || energy.binCount() == 0) return;
+  if (span <= onset || energy.binCount() == 0) return;
   Size& s = *sizes_[sizeFor(span)];
   viewTargets(energy, s);
+  loadFixed(s, fixed);
   loadSpectrum(s, ir);
   for (int it = 0; it < kIterations; ++it)
-    pass(energy, s, std::max(start, onset), std::min(span, s.span));
+    pass(energy, s, onset, std::min(span, s.span));
   applyCorrection(s, onset, ir);
 }
 

@@ -6,19 +6,34 @@
 // The IR is split into power-complementary views y_b = M_b * r (the octave masks of
 // common/octave_band_masks.h, sum_b M_b^2 = 1: the views' energies add up to the IR's, so
 // levelling them keeps the broadband level and leaves nothing unseen whose level a noisy
-// factor could inflate). Per band b in firstBand..lastBand and window of max(kWindowPeriods
-// periods of the band centre, kMinWindowSeconds), the view's energy is compared with what an
-// exact IR of the response puts in that view: sum_k E_k sum_h t_kh c_bkh, E_k the response's
-// band values (spectral densities, synthesis/band_filters.h), t_kh the within-band tilt of
-// band k's half h (halfBandDensity, synthesis/band_tilt.h, as analysis/expected_band_analysis.h
-// models it) and c_bkh = sum_f M_b^2 M_k^2 P_kh (the share of that half-band's white noise the
-// view sees; P_kh = powerAbove or its complement at the band centre). The factor
-// g = sqrt(target / view energy), linear between window centres, scales the view, and the
+// factor could inflate). Per band b in firstBand..lastBand and window, the view's energy is
+// compared with what an exact IR of the response puts in that view: sum_k E_k sum_h t_kh c_bkh,
+// E_k the response's band values (spectral densities, synthesis/band_filters.h), t_kh the
+// within-band tilt of band k's half h (halfBandDensity, synthesis/band_tilt.h, as
+// analysis/expected_band_analysis.h models it) and c_bkh = sum_f M_b^2 M_k^2 P_kh (the share of
+// that half-band's white noise the view sees; P_kh = powerAbove or its complement at the band
+// centre). A factor g per window, linear between window centres, scales the view, and the
 // correction sum_b M_b * ((g - 1) y_b) is added to the IR from `onset` on (nothing lands
-// before the first arrival); kIterations passes. Only the span up to where the response's
-// remaining energy falls below kSpanEnergy of its total is levelled (beyond it the factor is
-// 1; its last window takes the span's remainder, as a few samples alone estimate no energy),
-// on the smallest of a few FFT sizes that holds it.
+// before the first arrival); kIterations passes (the interpolation between windows leaves a
+// window short of its target after one).
+//
+// Windows. About kWindowPeriods periods of the band centre (at least kMinWindowSeconds),
+// from the first arrival less the ISO 3382-1 analysis filter's delay at that band (its energy
+// centroid, about one period: common/octave_filter.h), so many that 80 ms is a whole number of
+// them: the analysis's C80 split then falls on a window boundary, and no window's energy is
+// shared between the early and the late part by the chance of where its noise lies. Every
+// window from the first arrival on is levelled, also where the Dirac sequence is still sparse.
+// Only the span up to where the response's remaining energy falls below kSpanEnergy of its
+// total is levelled (beyond it the factor is 1; its last window takes the span's remainder, as
+// a few samples alone estimate no energy), on the smallest of a few FFT sizes that holds it.
+//
+// The fixed part. The direct sound and the exact paths (placed by the caller, not levelled)
+// add to a window's energy in pressure: |f + g y|^2 = F + g^2 Y + 2 g X, F and Y their views'
+// energies and X their product summed over the window. X is zero in expectation but not in one
+// realisation (it moved one IR's 500 Hz G by up to 0.5 dB). g solves g^2 Y + 2 g X = T, the
+// window's target, so the whole IR's view holds F + T; g stays within kCrossRange of
+// sqrt(T / Y), the factor without the fixed part, because cancelling a large X with a large
+// noise energy holds only in the view's filter, not in an analysis filter of another shape.
 //
 // Construction: control/propagation thread (FFTW planning); allocates O(length) (FFT buffers
 // and masks for four sizes); throws std::invalid_argument on bad sizes, std::runtime_error
@@ -44,7 +59,13 @@ class WindowLeveller {
   /// degrees of freedom of the band's noise), but at least kMinWindowSeconds.
   static constexpr double kWindowPeriods = 3.0;
   static constexpr double kMinWindowSeconds = 0.002;
-  static constexpr int kIterations = 2;
+  /// Windows start at the first arrival and this span after it (C80's split, ISO 3382-1) is a
+  /// whole number of them, so no window straddles the split.
+  static constexpr double kAlignedSeconds = 0.080;
+  static constexpr int kIterations = 4;
+  /// How far (either way) the fixed part's cross term may move a window's factor from
+  /// sqrt(target / view energy).
+  static constexpr double kCrossRange = 2.0;
   /// Largest amplitude factor (either way) one pass applies to a window.
   static constexpr double kMaxFactor = 8.0;
   /// The levelled span ends where the response's remaining energy is this fraction of its
@@ -58,9 +79,12 @@ class WindowLeveller {
   WindowLeveller& operator=(const WindowLeveller&) = delete;
 
   /// Levels the reverberant part `ir` (length samples, zero before `onset`) to `energy` (any
-  /// bin width; negative bins count as 0), windows from `start` on (a window before it keeps
-  /// factor 1: where the Dirac sequence is too sparse for a window to hold its own pulses).
-  void level(const EnergyResponse& energy, size_t onset, size_t start, float* ir);
+  /// bin width; negative bins count as 0) beside `fixed` (length samples: the direct sound and
+  /// exact paths that will be added to it, pressure on the IR's scale; null: none).
+  void level(const EnergyResponse& energy, size_t onset, float* ir, const float* fixed = nullptr);
+  /// A scratch buffer of `length` samples for the caller's fixed part: the thread that levels;
+  /// no allocation.
+  float* fixedScratch() { return fixedScratch_.data(); }
 
  private:
   struct View;  ///< one band's view at a reduced rate: its transforms
@@ -75,25 +99,37 @@ class WindowLeveller {
   size_t spanOf(const EnergyResponse& energy) const;
   /// One pass: views of the IR whose spectrum `current` holds, their factors, and the
   /// correction's spectrum added to `correction` and `current`.
-  void pass(const EnergyResponse& energy, Size& s, size_t start, size_t span);
-  /// v.fft->time <- band b's view of the spectrum in current_.
-  void viewOf(Size& s, int b);
+  void pass(const EnergyResponse& energy, Size& s, size_t origin, size_t span);
+  /// v.fft->time <- band b's view of `spectrum` (s.n / 2 + 1 bins).
+  void viewOf(Size& s, int b, const fftwf_complex* spectrum);
+  /// Each levelled band's view of `fixed` (length samples) into its View::fixed; none if null.
+  void loadFixed(Size& s, const float* fixed);
   /// The view (scaled) back to the spectrum: added to correction_ and current_.
   void addViewCorrection(Size& s, int b);
   /// current_ <- ir's spectrum (its first s.n samples), correction_ <- 0.
   void loadSpectrum(Size& s, const float* ir);
   /// ir += the correction's time signal, from onset on.
   void applyCorrection(Size& s, size_t onset, float* ir);
+  /// Windows of `length` full-rate samples (fractional) from `origin`, `count` of them.
+  struct Windows {
+    double origin, length;
+    size_t count;
+  };
+  /// Band b's window length: near kWindowPeriods periods, kAlignedSeconds a whole number of them.
+  double windowLength(int b) const;
+  /// The window holding full-rate time t (the first also before the origin, the last after).
+  static size_t windowOf(const Windows& win, double t);
   /// Band b's view (v.fft->time) <- (g - 1) x the view: window factors g over [0, span) from
-  /// the view's energies and the targets, linear between window centres.
-  void windowFactors(int b, const EnergyResponse& energy, const View& v, size_t start,
+  /// the view's energies, its cross term with the fixed part and the targets, linear between
+  /// window centres; windows laid from `origin` (the first arrival).
+  void windowFactors(int b, const EnergyResponse& energy, const View& v, size_t origin,
                      size_t span);
-  /// windowEnergy_[i]: the view's energy in full-rate samples [i w, (i + 1) w), the last window
-  /// up to the span's end.
-  void windowEnergies(const View& v, size_t w, size_t windows, size_t span);
-  /// The view <- (g - 1) x the view, g the factor_ of windows of w full-rate samples, linear
-  /// between their centres (windowFactors).
-  void scaleByFactors(const View& v, size_t w, size_t windows) const;
+  /// windowEnergy_[i], windowCross_[i]: the view's energy and its product with the fixed
+  /// part's view in window i.
+  void windowEnergies(const View& v, const Windows& win, size_t span);
+  /// The view <- (g - 1) x the view, g the factor_ of the windows, linear between their
+  /// centres (windowFactors).
+  void scaleByFactors(const View& v, const Windows& win) const;
 
   int sampleRate_;
   size_t length_;
@@ -102,6 +138,11 @@ class WindowLeveller {
   std::array<std::vector<double>, kNumBands> targetDensity_;  ///< per response bin
   TiltWindowSums tilt_;  ///< viewTargets()' scratch
   std::vector<double> windowEnergy_;                          ///< per window (scratch)
+  std::vector<double> windowCross_;  ///< per window: the view times the fixed part's (scratch)
+  bool hasFixed_ = false;            ///< level() was given a fixed part
+  std::vector<float> fixedScratch_;  ///< length samples, for the caller
+  /// Per band: the ISO 3382-1 analysis filter's energy centroid (full-rate samples).
+  std::array<double, kNumBands> analysisDelay_{};
   std::vector<float> factor_;                                 ///< per window (scratch)
   FftwArray<fftwf_complex> current_, correction_;             ///< spectra (largest size)
 };

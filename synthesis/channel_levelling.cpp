@@ -44,14 +44,15 @@ void ChannelLevelling::channelTarget(const DirectionalEnergyResponse& energy, si
 void ChannelLevelling::level(const DirectionalEnergyResponse& energy, size_t count,
                              const std::vector<std::vector<Bands>>& weight,
                              std::span<const float> omniGain, int directionalFrom, size_t onset,
-                             std::span<float* const> channels) {
+                             std::span<float* const> channels,
+                             std::span<const float* const> fixed) {
   if (count == 0) return;
   const size_t workers = parallel_ ? workers_.size() : 1;
   const auto group = [&](size_t g) {
     Worker& w = workers_[g];
     for (size_t c = g; c < channels.size(); c += workers) {
       channelTarget(energy, count, weight, omniGain[c], directionalFrom, c, w.target);
-      w.leveller->level(w.target, onset, channels[c]);
+      w.leveller->level(w.target, onset, channels[c], fixed.empty() ? nullptr : fixed[c]);
     }
   };
   if (workers > 1)

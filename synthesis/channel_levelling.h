@@ -42,10 +42,13 @@ class ChannelLevelling {
 
   /// Levels each channel c (its reverberant part, zero before `onset`) to its share of
   /// `energy`: per band b, the sum over the first `count` directions d of weight[d][c][b] E_d
-  /// for the directional bands (b >= directionalFrom) and omniGain[c]^2 sum_d E_d below them.
+  /// for the directional bands (b >= directionalFrom) and omniGain[c]^2 sum_d E_d below them;
+  /// beside fixed[c] (length samples: the channel's direct sound and exact paths, aligned with
+  /// it; empty: none), as WindowLeveller::level.
   void level(const DirectionalEnergyResponse& energy, size_t count,
              const std::vector<std::vector<Bands>>& weight, std::span<const float> omniGain,
-             int directionalFrom, size_t onset, std::span<float* const> channels);
+             int directionalFrom, size_t onset, std::span<float* const> channels,
+             std::span<const float* const> fixed = {});
 
  private:
   struct Worker {

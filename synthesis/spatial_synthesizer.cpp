@@ -68,6 +68,9 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   levelStart_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound, kLevelFromPulses);
   rotationFrom_ = BandLeveller::densityStart(sampleRate, roomVolume, speedOfSound,
                                              kIndependentFromDensity * BandLeveller::kBinSeconds);
+  fixed_.assign(channels_, std::vector<float>(length_ + reverbDelay_));
+  fixedTo_.resize(channels_);
+  fixedFrom_.resize(channels_);
   channelLevelling_ = std::make_shared<ChannelLevelling>(sampleRate, length_,
                                                          IrSynthesizer::kFirstLevelledBand,
                                                          IrSynthesizer::kLastLevelledBand);
@@ -299,17 +302,17 @@ void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
         omniEnvelope_->accumulateRange(omni, channels[c], begin, end, omniGains_[c], 0,
                                        kDirectionalFromBand);
   }
-  if (channelLevelling_)
+  placeArrivals(energy, direct, early);
+  if (channelLevelling_) {
+    // The reverberant part is levelled before the filters' delay moves it; the arrivals, which
+    // carry that delay in their filters, are seen reverbDelay_ samples earlier to line up.
+    for (size_t c = 0; c < channels_; ++c) fixedFrom_[c] = fixed_[c].data() + reverbDelay_;
     channelLevelling_->level(energy, count, levelWeight_, omniGains_, kDirectionalFromBand, onset,
-                             channels);
-  delayFrom(onset, reverbDelay_, length_, channels);  // as the filters delay every arrival
-  arrivalDelays_.clear();
-  arrivalEnergy_.clear();
-  if (direct.visible) addArrival(direct, energy.toListener(direct.direction), channels);
-  for (const SpecularPath& p : early) {
-    const DirectSound arrival{true, p.length, float(p.delaySeconds), p.intensity, p.direction};
-    addArrival(arrival, energy.toListener(p.direction), channels);
+                             channels, fixedFrom_);
   }
+  delayFrom(onset, reverbDelay_, length_, channels);  // as the filters delay every arrival
+  for (size_t c = 0; c < channels_; ++c)
+    for (size_t t = 0; t < length_; ++t) channels[c][t] += fixed_[c][t];
   level(energy, count, channels);
   cutLeadingResidue(channels, length_, onset, sampleRate_);
 }
@@ -442,6 +445,22 @@ void SpatialIrSynthesizer::directBandWeights(size_t c) {
             double(fft_->band.p[k][1]) * fft_->band.p[k][1]) *
            double(directMask2_[k][b]);
     w[b] = float(e / (directNorm_[size_t(b)] * kappa_[size_t(b)]));
+  }
+}
+
+void SpatialIrSynthesizer::placeArrivals(const DirectionalEnergyResponse& energy,
+                                         const DirectSound& direct,
+                                         std::span<const SpecularPath> early) {
+  arrivalDelays_.clear();
+  arrivalEnergy_.clear();
+  for (size_t c = 0; c < channels_; ++c) {
+    std::fill(fixed_[c].begin(), fixed_[c].end(), 0.f);
+    fixedTo_[c] = fixed_[c].data();
+  }
+  if (direct.visible) addArrival(direct, energy.toListener(direct.direction), fixedTo_);
+  for (const SpecularPath& p : early) {
+    const DirectSound arrival{true, p.length, float(p.delaySeconds), p.intensity, p.direction};
+    addArrival(arrival, energy.toListener(p.direction), fixedTo_);
   }
 }
 

@@ -186,6 +186,9 @@ class SpatialIrSynthesizer {
   void prepareDirect(size_t margin, size_t longestFilter);
   /// The omnidirectional response: the directions' low bands summed.
   void sumOmniEnergy(const DirectionalEnergyResponse& energy, size_t count);
+  /// fixed_ <- the direct sound and the exact paths, each through its exact filter (addArrival).
+  void placeArrivals(const DirectionalEnergyResponse& energy, const DirectSound& direct,
+                     std::span<const SpecularPath> early);
   /// Adds one arrival through the exact filter of its listener-frame direction, and records
   /// its per-channel band energies for the levelling.
   void addArrival(const DirectSound& arrival, const glm::vec3& listenerDirection,
@@ -263,6 +266,11 @@ class SpatialIrSynthesizer {
   /// levelWeight_[d][c][b]: the levellers' weights (viewWeights of channelWeight_).
   std::vector<std::vector<Bands>> levelWeight_;
   std::vector<Bands> directWeight_;
+  /// Per channel: this frame's arrivals (length + reverbDelay_ samples), placed apart so that
+  /// the window levelling sees them beside the reverberant part; pointers into them (scratch).
+  std::vector<std::vector<float>> fixed_;
+  std::vector<float*> fixedTo_;
+  std::vector<const float*> fixedFrom_;
   std::vector<double> arrivalDelays_;  ///< this frame's arrivals, seconds
   std::vector<Bands> arrivalEnergy_;   ///< per arrival and channel: band energy as levelled
   std::vector<Bands> directMask2_;     ///< M_b^2 on the direct-sound FFT's bins

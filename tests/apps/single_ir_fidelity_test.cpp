@@ -16,8 +16,8 @@
 // larger.
 //
 // A first-order AmbiX IR is checked alike per channel in its window-levelled bands (250 Hz -
-// 1 kHz), a stereo IR per channel at 250 Hz - 4 kHz. The binaural case (hidden: [.spatial])
-// checks each ear at 250 Hz - 4 kHz against an exact IR through the HRIRs.
+// 1 kHz), a stereo IR per channel at 250 Hz - 4 kHz, a binaural IR per ear at 250 Hz - 4 kHz
+// against an exact IR through the HRIRs.
 #include <algorithm>
 #include <array>
 #include <catch2/catch.hpp>
@@ -367,10 +367,11 @@ TEST_CASE("One stereo IR: each channel reads its own share's octave G, C80 and E
 }
 
 TEST_CASE("One binaural IR: each ear reads its own share's octave G, C80 and EDT",
-          "[.spatial][synthesis][single_ir]") {
+          "[synthesis][single_ir][statistics]") {
   // Each ear against an exact IR through the HRIRs (channelResponse: the flat band model
-  // scaled by filterShapeRatio). Hidden: see docs/validation.md ("One IR against its
-  // response", binaural) for the bands still short.
+  // scaled by filterShapeRatio). The window levelling sees each ear's direct sound and exact
+  // paths beside its reverberant part; without that the 250 Hz band fails (G RMS 0.32 dB,
+  // largest 0.78 dB: the small room's direct sound and the field's start add in pressure).
   checkTwoChannelFormat(OutputFormat::kBinaural, "binaural");
 }
 

@@ -21,6 +21,9 @@ struct WindowLeveller::View {
   double ratio = 1.0;  ///< full-rate samples per view sample
   std::unique_ptr<FftwRealTransforms> fft;
   std::vector<float> fixed;  ///< the fixed part's view (its first fft->n samples)
+  /// sum_f M^4 / sum_f M^2: the share of a correction added through the mask that the view
+  /// sees again (the rest falls where the neighbouring views overlap it).
+  double selfShare = 1.0;
 };
 
 struct WindowLeveller::Size {
@@ -44,6 +47,12 @@ WindowLeveller::View WindowLeveller::reducedView(const std::vector<float>& mask,
   v.ratio = double(n) / double(nr);
   v.fft = std::make_unique<FftwRealTransforms>(nr);
   v.fixed.resize(nr);
+  double m2 = 0.0, m4 = 0.0;
+  for (float g : mask) {
+    m2 += double(g) * g;
+    m4 += double(g) * g * double(g) * g;
+  }
+  if (m2 > 0.0) v.selfShare = m4 / m2;
   return v;
 }
 
@@ -190,42 +199,54 @@ void WindowLeveller::windowFactors(int b, const EnergyResponse& energy, const Vi
   scaleByFactors(v, win);
 }
 
-size_t WindowLeveller::windowOf(const Windows& win, double t) {
-  return t <= win.origin ? 0
-                         : std::min(win.count - 1, size_t((t - win.origin) / win.length));
-}
-
 void WindowLeveller::windowEnergies(const View& v, const Windows& win, size_t span) {
   // Each view sample stands for `ratio` full-rate samples (Parseval for a band-limited view):
-  // window i holds the samples at full-rate times [origin + i w, origin + (i + 1) w), the first
-  // also what precedes it, the last up to the span's end.
+  // window i holds the view samples m with m x ratio in [origin + i w, origin + (i + 1) w), the
+  // first also what precedes it, the last up to the span's end.
   windowEnergy_.assign(win.count, 0.0);
   windowCross_.assign(win.count, 0.0);
   const float* y = v.fft->time.p;
   const size_t last = std::min(v.fft->n, size_t(std::ceil(double(span) / v.ratio)));
-  for (size_t m = 0; m < last; ++m)
-    windowEnergy_[windowOf(win, double(m) * v.ratio)] += v.ratio * double(y[m]) * double(y[m]);
-  if (!hasFixed_) return;
-  for (size_t m = 0; m < last; ++m)
-    windowCross_[windowOf(win, double(m) * v.ratio)] +=
-        v.ratio * double(y[m]) * double(v.fixed[m]);
+  size_t m = 0;
+  for (size_t i = 0; i < win.count; ++i) {
+    const double end = win.origin + double(i + 1) * win.length;  // full-rate time
+    const size_t to =
+        i + 1 == win.count ? last : std::min(last, size_t(std::max(0.0, std::ceil(end / v.ratio))));
+    double e = 0.0, x = 0.0;
+    for (size_t k = m; k < to; ++k) e += double(y[k]) * double(y[k]);
+    if (hasFixed_)
+      for (size_t k = m; k < to; ++k) x += double(y[k]) * double(v.fixed[k]);
+    windowEnergy_[i] = v.ratio * e;
+    windowCross_[i] = v.ratio * x;
+    m = std::max(m, to);
+  }
 }
 
 void WindowLeveller::scaleByFactors(const View& v, const Windows& win) const {
-  // y <- (g - 1) y with g = factor_[0] up to window 0's centre c_0 = origin + (w - 1) / 2,
-  // linear between the centres c_i = c_0 + i w, and 1 (no correction) from c_count on; at the
-  // view sample m's full-rate time m x ratio.
+  // y <- (g - 1) y with g = factor_[i] inside window i, blended linearly with the neighbour's
+  // across kBlend of a window around each boundary (no step, which the band's mask would
+  // smear anyway); factor_[0] before the first window, 1 (no correction) after the last.
+  // The view sample m lies at full-rate time m x ratio, u = (m ratio - origin) / w windows on.
   float* y = v.fft->time.p;
-  const double c0 = win.origin + 0.5 * (win.length - 1.0);
+  const double step = v.ratio / win.length, u0 = -win.origin / win.length;
+  const double half = 0.5 * kBlend;
   for (size_t m = 0; m < v.fft->n; ++m) {
-    const double u = (double(m) * v.ratio - c0) / win.length;
-    if (u >= double(win.count)) {
-      y[m] = 0.f;
-      continue;
+    const double u = u0 + double(m) * step;
+    if (u >= double(win.count) + half) {
+      std::fill(y + m, y + v.fft->n, 0.f);
+      return;
     }
-    const size_t i = u <= 0.0 ? 0 : size_t(u);
-    const double frac = u <= 0.0 ? 0.0 : u - double(i);
-    y[m] *= float(double(factor_[i]) - 1.0 + (double(factor_[i + 1]) - factor_[i]) * frac);
+    const double k = std::floor(u + half);  // the nearest boundary at or below u + half
+    const double p = u - k;                 // in [-half, 1 - half)
+    double g;
+    if (u < half)
+      g = factor_[0];
+    else if (p < half) {
+      const size_t i = size_t(k);  // blending window i - 1 into window i
+      g = factor_[i - 1] + (double(factor_[i]) - factor_[i - 1]) * (p + half) / kBlend;
+    } else
+      g = factor_[std::min(size_t(k), win.count)];
+    y[m] *= float(g - 1.0);
   }
 }
 

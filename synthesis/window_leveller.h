@@ -62,7 +62,9 @@ class WindowLeveller {
   /// Windows start at the first arrival and this span after it (C80's split, ISO 3382-1) is a
   /// whole number of them, so no window straddles the split.
   static constexpr double kAlignedSeconds = 0.080;
-  static constexpr int kIterations = 4;
+  static constexpr int kIterations = 2;
+  /// The share of a window over which its factor blends into the next one's.
+  static constexpr double kBlend = 0.25;
   /// How far (either way) the fixed part's cross term may move a window's factor from
   /// sqrt(target / view energy).
   static constexpr double kCrossRange = 2.0;
@@ -117,8 +119,6 @@ class WindowLeveller {
   };
   /// Band b's window length: near kWindowPeriods periods, kAlignedSeconds a whole number of them.
   double windowLength(int b) const;
-  /// The window holding full-rate time t (the first also before the origin, the last after).
-  static size_t windowOf(const Windows& win, double t);
   /// Band b's view (v.fft->time) <- (g - 1) x the view: window factors g over [0, span) from
   /// the view's energies, its cross term with the fixed part and the targets, linear between
   /// window centres; windows laid from `origin` (the first arrival).

@@ -11,6 +11,7 @@
 #include "bake/hdf5_util.h"
 #include "common/input_error.h"
 #include "common/input_file.h"
+#include "scene/limits.h"
 #include "scene/trajectory.h"
 
 namespace dpc::bake {
@@ -84,7 +85,7 @@ BakeHeader readHeader(hid_t f, const std::string& path) {
   h.probes.positions = points("probes/position");
   h.sources = points("sources/position");
   if (!(h.settings.irLength > 0.0 && h.settings.irLength <= 3600.0))
-    throw std::runtime_error("ir_length_s: " + std::to_string(h.settings.irLength) +
+    throw std::runtime_error("ir_length_s: " + valueText(h.settings.irLength) +
                              " s is outside (0, 3600]");
   h.shape = {h.sources.size(), responseBins(h.settings.irLength)};
   validateShapes(f, h);

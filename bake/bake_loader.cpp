@@ -5,6 +5,7 @@
 #include "bake/bake_file.h"
 #include "common/input_error.h"
 #include "engine/workload.h"
+#include "scene/limits.h"
 
 namespace dpc::bake {
 namespace {
@@ -18,9 +19,9 @@ void checkSettings(const BakeFile& file, const SceneDesc& scene,
   if (g < 0) return;
   if (g == int(SettingGroup::kResponse))
     throw InputError(file.path(), "ir_length_s",
-                     "the bake's responses are " + std::to_string(h.settings.irLength) +
+                     "the bake's responses are " + valueText(h.settings.irLength) +
                          " s long, " + scene.path + "'s ir_length is " +
-                         std::to_string(settings.irLength) + " s: bake again");
+                         valueText(settings.irLength) + " s: bake again");
   const SettingGroupInfo& info = kSettingGroupInfo[size_t(g)];
   throw InputError(file.path(), info.attribute,
                    std::string("the bake's ") + info.what + " differ from " + scene.path +
@@ -107,8 +108,8 @@ void loadWave(const BakeFile& file, const SceneDesc& scene, BakedField& f) {
   if (h.hashes[size_t(SettingGroup::kWave)] != waveHash(scene))
     throw InputError(file.path(), "hash_wave",
                      "the bake's wave band (max_frequency " +
-                         std::to_string(h.wave.maxFrequencyHz) + " Hz, crossover " +
-                         std::to_string(h.wave.crossoverHz) + " Hz, " +
+                         valueText(h.wave.maxFrequencyHz) + " Hz, crossover " +
+                         valueText(h.wave.crossoverHz) + " Hz, " +
                          std::to_string(h.wave.sampleRate) + " Hz sample rate) is not the one " +
                          scene.path + " asks for: bake again");
   f.wave = file.readAll(kWaveBand);

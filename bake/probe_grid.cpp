@@ -12,6 +12,7 @@
 #include "common/input_file.h"
 #include "engine/embree_tracer.h"
 #include "engine/setup_check.h"
+#include "scene/limits.h"
 #include "scene/validate.h"
 
 namespace dpc::bake {
@@ -112,7 +113,7 @@ std::vector<glm::vec3> boxCandidates(const GridRequest& r) {
   }
   if (!(total <= double(kMaxGridCandidates)))
     throw InputError("command line", "--spacing",
-                     std::to_string(r.spacingM) + " m gives more than " +
+                     valueText(r.spacingM) + " m gives more than " +
                          std::to_string(kMaxGridCandidates) + " points in the box");
   std::vector<glm::vec3> c;
   for (size_t k = 0; k < n[1]; ++k)
@@ -138,7 +139,7 @@ std::string probeLayout(const GridRequest& request, bool list) {
 std::vector<glm::vec3> gridCandidates(const SceneDesc& scene, const GridRequest& request) {
   if (!(request.spacingM > 0.0) || !std::isfinite(request.spacingM))
     throw InputError("command line", "--spacing",
-                     std::to_string(request.spacingM) + " m is not > 0");
+                     valueText(request.spacingM) + " m is not > 0");
   if (request.box) return boxCandidates(request);
   glm::vec3 lo(1e30f), hi(-1e30f);
   for (const glm::vec3& v : scene.mesh.vertices) {
@@ -149,7 +150,7 @@ std::vector<glm::vec3> gridCandidates(const SceneDesc& scene, const GridRequest&
   const double nz = std::floor((hi.z - lo.z) / request.spacingM);
   if (!(nx * nz <= double(kMaxGridCandidates)))
     throw InputError("command line", "--spacing",
-                     std::to_string(request.spacingM) + " m gives more than " +
+                     valueText(request.spacingM) + " m gives more than " +
                          std::to_string(kMaxGridCandidates) + " grid points");
   std::vector<glm::vec3> candidates;
   const float y = float(lo.y + request.heightM);

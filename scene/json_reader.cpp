@@ -240,9 +240,17 @@ float JsonReader::floatNumber(const json& v, const std::string& field) const {
 
 double JsonReader::limited(const json& v, const std::string& field,
                            std::string_view limitField) const {
-  const double x = limitOf(limitField).integer ? number(v, field) : floatNumber(v, field);
-  checkField(limitField, x, Origin{file_, {}}, field);
-  return x;
+  const Limit& limit = limitOf(limitField);
+  // The value as written is checked first, so the message names it ("1e-300", not the 0 a
+  // float field would hold); then what the field holds, which rounding may move out of range.
+  const double written = number(v, field);
+  checkField(limitField, written, Origin{file_, {}}, field);
+  if (limit.integer) return written;
+  const double held = floatNumber(v, field);
+  if (!withinLimit(limit, held))
+    fail(field, v.dump() + " is " + valueText(held) + " in single precision, outside " +
+                    rangeText(limit) + (limit.unit.empty() ? "" : " ") + std::string(limit.unit));
+  return held;
 }
 
 bool JsonReader::boolean(const json& v, const std::string& field) const {

@@ -7,6 +7,7 @@
 #include "bake/bake_file.h"
 #include "bake/settings_hash.h"
 #include "common/input_error.h"
+#include "scene/limits.h"
 #include "scene/trajectory.h"
 
 namespace dpc::bake {
@@ -88,14 +89,14 @@ void checkResumable(const std::string& bake, const std::string& scenePath, const
                          scenePath + " has " + std::to_string(p.seed) + tail);
   if (g == int(SettingGroup::kListener))
     throw InputError(bake, "probe_radius_m",
-                     "the bake's probes have radius " + std::to_string(h.grid.radiusM) + " m, " +
+                     "the bake's probes have radius " + valueText(h.grid.radiusM) + " m, " +
                          scenePath + "'s first listener " +
-                         std::to_string(plan.scene.listeners[0].radius) + " m" + tail);
+                         valueText(plan.scene.listeners[0].radius) + " m" + tail);
   if (g == int(SettingGroup::kResponse))
     throw InputError(bake, "ir_length_s",
-                     "the bake's responses are " + std::to_string(h.settings.irLength) +
+                     "the bake's responses are " + valueText(h.settings.irLength) +
                          " s long, " + scenePath + "'s ir_length is " +
-                         std::to_string(p.irLength) + " s" + tail);
+                         valueText(p.irLength) + " s" + tail);
   const SettingGroupInfo& info = kSettingGroupInfo[size_t(g)];
   throw InputError(bake, info.attribute,
                    std::string("the ") + info.what + " of " + scenePath +

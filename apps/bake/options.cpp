@@ -6,6 +6,7 @@
 
 #include "apps/cli_values.h"
 #include "common/input_error.h"
+#include "scene/limits.h"
 #include "scene/scene.h"
 
 namespace dpc::bake {
@@ -86,9 +87,9 @@ void validate(const Options& o, const CLI::App& app) {
                 app.count("--box") == 0 && app.count("--rays") == 0 && app.count("--frames") == 0),
       "--resume", "a resumed bake keeps its own grid, rays and frames");
   check(std::isfinite(o.grid.spacingM) && o.grid.spacingM > 0.0, "--spacing",
-        std::to_string(o.grid.spacingM) + " m is not > 0");
+        valueText(o.grid.spacingM) + " m is not > 0");
   check(std::isfinite(o.grid.heightM) && o.grid.heightM >= 0.0, "--height",
-        std::to_string(o.grid.heightM) + " m is not >= 0");
+        valueText(o.grid.heightM) + " m is not >= 0");
   check(o.settings.rays >= 1 && o.settings.rays <= kMaxBakeRays, "--rays",
         std::to_string(o.settings.rays) + " is outside [1, " + std::to_string(kMaxBakeRays) + "]");
   check(o.settings.frames >= o.settings.subStreams && o.settings.frames <= kMaxBakeFrames &&

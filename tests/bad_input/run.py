@@ -203,6 +203,9 @@ CASES = {
     "frame_rate_zero": (scene_with(**{"propagation.frame_rate": 0}), OFF, "frame_rate"),
     "sample_rate_zero": (scene_with(**{"audio.sample_rate": 0}), OFF, "sample_rate"),
     "ir_length_negative": (scene_with(**{"propagation.ir_length": -1}), OFF, "ir_length"),
+    # A float field holds 0 for 1e-300: the message names the value as written and the rounding.
+    "ir_length_rounds_to_zero": (scene_with(**{"propagation.ir_length": 1e-300}), OFF,
+                                 "ir_length: 1e-300 is 0 in single precision"),
     "radius_negative": (scene_with(**{"listener.radius": -1}), OFF, "radius"),
     "mesh_missing": (scene_with(mesh="none.obj"), OFF, "mesh"),
     # glTF levels (scene/model_reader.h): the line names the model file and what is wrong.

@@ -126,7 +126,7 @@ expect_refusal "command line: --map: is empty" "$scene" --out new.h5 --spacing 2
 expect_refusal "command line: --out: is empty" "$scene" --out "" --spacing 2
 expect_refusal "command line: --spacing: is empty" "$scene" --out new.h5 --spacing ""
 expect_refusal --spacing "$scene" --out keep.h5 --spacing 0
-expect_refusal --spacing "$scene" --out keep.h5 --spacing -1
+expect_refusal "--spacing: -1 m is not > 0" "$scene" --out keep.h5 --spacing -1
 expect_refusal shoebox.json "$scene" --out keep.h5 --spacing 50
 expect_refusal --height "$scene" --out keep.h5 --spacing 1 --height 9
 expect_refusal --box "$scene" --out keep.h5 --spacing 1 --box 3 2 2 3 2.5 5
@@ -238,7 +238,7 @@ expect_play_refusal() {  # expect_play_refusal WORD SCENE BAKE
   [[ $status == 1 && $(wc -l <err.txt) == 1 ]] || fail "played $3 on $2: $(cat err.txt)"
   grep -q -- "$1" err.txt || fail "line does not name $1: $(cat err.txt)"
 }
-expect_play_refusal "reference.h5: ir_length_s: the bake's responses are 2.0* s long" short.json \
+expect_play_refusal "reference.h5: ir_length_s: the bake's responses are 2 s long, short.json's ir_length is 1 s" short.json \
   reference.h5
 expect_play_refusal "reference.h5: hash_geometry" "$2/scenes/two_rooms.json" reference.h5
 cp reference.h5 flipped.h5

@@ -70,41 +70,71 @@ int sndfileFormat(SampleFormat format) {
 
 namespace {
 
-/// For a RIFF WAVE file: how many bytes of the samples its data chunk declares lie beyond the
-/// end of the file: 0 when none, for other formats, and for a declared size of 0 or 0xFFFFFFFF
-/// (what streaming writers leave when the length was unknown; libsndfile judges those).
-/// libsndfile reads what is there, so a cut copy would otherwise play as a shorter signal
-/// without a word.
-uint64_t missingWaveDataBytes(const std::string& path) {
+/// What a RIFF WAVE file's chunks declare, read before libsndfile, whose messages for these
+/// cases name neither the field nor the value.
+struct WaveChunks {
+  /// Bytes of the samples the data chunk declares beyond the end of the file: 0 when none, and
+  /// for a declared size of 0 or 0xFFFFFFFF (what streaming writers leave when the length was
+  /// unknown; libsndfile judges those). libsndfile reads what is there, so a cut copy would
+  /// otherwise play as a shorter signal without a word.
+  uint64_t missingDataBytes = 0;
+  bool hasFormat = false;  ///< a fmt chunk of at least 8 bytes was read
+  uint16_t channels = 0;   ///< as its fmt chunk declares them
+  uint32_t sampleRate = 0;
+};
+
+uint32_t littleEndian(const unsigned char* p, int bytes) {
+  uint32_t v = 0;
+  for (int i = bytes - 1; i >= 0; --i) v = v << 8 | p[i];
+  return v;
+}
+
+/// The chunks of a RIFF WAVE file (all defaults for any other file).
+WaveChunks readWaveChunks(const std::string& path) {
+  WaveChunks out;
   std::ifstream in(path, std::ios::binary);
   unsigned char head[12];
   if (!in.read(reinterpret_cast<char*>(head), 12) || std::memcmp(head, "RIFF", 4) != 0 ||
       std::memcmp(head + 8, "WAVE", 4) != 0)
-    return 0;
+    return out;
   in.seekg(0, std::ios::end);
   const uint64_t fileBytes = uint64_t(in.tellg());
   uint64_t offset = 12;
-  unsigned char chunk[8];
+  unsigned char chunk[16];
   while (in.seekg(std::streamoff(offset)) && in.read(reinterpret_cast<char*>(chunk), 8)) {
-    const uint64_t size = uint64_t(chunk[4]) | uint64_t(chunk[5]) << 8 | uint64_t(chunk[6]) << 16 |
-                          uint64_t(chunk[7]) << 24;
+    const uint64_t size = littleEndian(chunk + 4, 4);
     offset += 8;
-    if (std::memcmp(chunk, "data", 4) == 0)
-      return size == 0 || size == 0xFFFFFFFF || offset + size <= fileBytes
-                 ? 0
-                 : offset + size - fileBytes;
+    if (std::memcmp(chunk, "fmt ", 4) == 0 && size >= 8 &&
+        in.read(reinterpret_cast<char*>(chunk + 8), 8)) {
+      out.hasFormat = true;
+      out.channels = uint16_t(littleEndian(chunk + 10, 2));
+      out.sampleRate = littleEndian(chunk + 12, 4);
+    }
+    if (std::memcmp(chunk, "data", 4) == 0) {
+      out.missingDataBytes =
+          size == 0 || size == 0xFFFFFFFF || offset + size <= fileBytes ? 0
+                                                                        : offset + size - fileBytes;
+      return out;
+    }
     offset += size + (size & 1);
   }
-  return 0;
+  return out;
 }
 
 /// Opens a sound file for reading and checks its header; throws InputError naming the file.
 void openSound(const std::string& path, SndFile& file, SF_INFO& info) {
   checkInputFile(path, kMaxSignalBytes, path, "", "cannot read: audio file");
-  if (const uint64_t missing = missingWaveDataBytes(path))
+  const WaveChunks wave = readWaveChunks(path);
+  if (wave.missingDataBytes)
     throw InputError(path, "",
                      "cannot read: truncated: its data chunk lacks the last " +
-                         std::to_string(missing) + " bytes (an interrupted copy or download?)");
+                         std::to_string(wave.missingDataBytes) +
+                         " bytes (an interrupted copy or download?)");
+  if (wave.hasFormat && (wave.sampleRate == 0 || wave.channels == 0))
+    throw InputError(path, "",
+                     "cannot read: its fmt chunk declares " +
+                         (wave.sampleRate == 0 ? std::string("a sample rate of 0 Hz")
+                                               : std::string("0 channels")));
   file.handle = sf_open(path.c_str(), SFM_READ, &info);
   if (!file.handle) throw InputError(path, "", std::string("cannot read: ") + sf_strerror(nullptr));
   if (info.frames <= 0 || info.channels <= 0)

@@ -101,6 +101,9 @@ CASES = {
     # shorter signal without a word.
     "signal_truncated": (steps(float_wav("cut.wav", 48000, [0.1] * 4800), lambda d: truncate_half(os.path.join(d, "cut.wav"))), OFF,
                          "sources[0].signal: cut.wav: cannot read: truncated: its data chunk lacks the last 9622 bytes"),
+    # A fmt chunk with rate 0: libsndfile said "Internal error : SF_INFO struct incomplete."
+    "signal_rate_zero": (float_wav("z.wav", 0, [0.1] * 100), OFF,
+                         "sources[0].signal: z.wav: cannot read: its fmt chunk declares a sample rate of 0 Hz"),
     "signal_not_wav": (lambda d: (write("s.wav", "not audio")(d), scene_with(**{"sources.0.signal": "s.wav"})(d)), OFF, "s.wav"),
     "signal_nan": (float_wav("n.wav", 48000, [0.1] * 100 + [float("nan")] + [0.1] * 100), OFF, "n.wav: sample 100 of channel 0 is not finite"),
     "signal_inf": (float_wav("n.wav", 48000, [0.1] * 10 + [float("inf")]), OFF, "sources[0].signal: n.wav"),

@@ -80,30 +80,31 @@ struct OctaveBandPass {
   /// Energy of the unit impulse response, rung out over `samples` samples (a second's worth
   /// leaves the 63 Hz band's remainder far below 1e-12): the free-field reference of a band
   /// reading, about the band's share of a white spectrum. No allocation.
-  double impulseEnergy(size_t samples) const {
-    State state{};
-    double e = 0.0;
-    for (size_t n = 0; n < samples; ++n) {
-      const double y = step(n == 0 ? 1.0 : 0.0, state);
-      e += y * y;
-      if (n % 64 == 63) flushTiny(state);
-    }
-    return e;
-  }
+  double impulseEnergy(size_t samples) const { return impulseMoments(samples).energy; }
 
   /// The energy centroid of the unit impulse response rung out over `samples` samples, in
   /// samples: how late the filter delivers a band's energy (about one period of fc). No
   /// allocation.
   double energyCentroid(size_t samples) const {
+    const Moments m = impulseMoments(samples);
+    return m.energy > 0.0 ? m.moment / m.energy : 0.0;
+  }
+
+  /// The unit impulse response's energy sum_n h[n]^2 and first moment sum_n n h[n]^2 over
+  /// `samples` samples. No allocation.
+  struct Moments {
+    double energy = 0.0, moment = 0.0;
+  };
+  Moments impulseMoments(size_t samples) const {
     State state{};
-    double e = 0.0, moment = 0.0;
+    Moments m;
     for (size_t n = 0; n < samples; ++n) {
       const double y = step(n == 0 ? 1.0 : 0.0, state);
-      e += y * y;
-      moment += double(n) * y * y;
+      m.energy += y * y;
+      m.moment += double(n) * y * y;
       if (n % 64 == 63) flushTiny(state);
     }
-    return e > 0.0 ? moment / e : 0.0;
+    return m;
   }
 
   /// Sets state values below 1e-150 to zero: a state ringing out with zero input would

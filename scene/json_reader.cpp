@@ -241,15 +241,21 @@ float JsonReader::floatNumber(const json& v, const std::string& field) const {
 double JsonReader::limited(const json& v, const std::string& field,
                            std::string_view limitField) const {
   const Limit& limit = limitOf(limitField);
-  // The value as written is checked first, so the message names it ("1e-300", not the 0 a
-  // float field would hold); then what the field holds, which rounding may move out of range.
   const double written = number(v, field);
-  checkField(limitField, written, Origin{file_, {}}, field);
-  if (limit.integer) return written;
+  if (limit.integer) {
+    checkField(limitField, written, Origin{file_, {}}, field);
+    return written;
+  }
+  // A float field holds the value rounded: that is what must lie within the limit. When only
+  // the rounding takes it out, the message names the value as written ("1e-300"), not only the
+  // 0 the field would hold.
   const double held = floatNumber(v, field);
-  if (!withinLimit(limit, held))
-    fail(field, v.dump() + " is " + valueText(held) + " in single precision, outside " +
-                    rangeText(limit) + (limit.unit.empty() ? "" : " ") + std::string(limit.unit));
+  if (!withinLimit(limit, held) && withinLimit(limit, written)) {
+    char problem[160];
+    writeLimitProblem(limit, held, problem, sizeof problem);
+    fail(field, v.dump() + " rounds to " + valueText(held) + " in single precision: " + problem);
+  }
+  checkField(limitField, held, Origin{file_, {}}, field);
   return held;
 }
 

@@ -111,16 +111,19 @@ void IrSynthesizer::synthesize(const EnergyResponse& energy, const DirectSound& 
   const size_t onset = firstArrivalSample(energy);
   envelope_->startAt(onset, tilted);
   envelope_->accumulateRange(tilted, ir, onset, length_);
-  if (windowLeveller_) {
+  if (windowLeveller_ && !arrivals_.empty()) {
     // The deterministic part (direct sound, exact paths) placed apart, so that the levelling
-    // sees what it adds to each window and levels the whole IR's energy there.
+    // sees what it adds to each window and levels the whole IR's energy there; the noise
+    // cleared around them before (what the levelling measures) and after (its correction).
     float* fixed = windowLeveller_->fixedScratch();
     std::fill(fixed, fixed + length_, 0.f);
     placer_->place(arrivals_, sampleRate_, fixed, length_);
+    clearAroundArrivals(ir);
     windowLeveller_->level(energy, onset, ir, fixed);
     clearAroundArrivals(ir);
     for (size_t n = 0; n < length_; ++n) ir[n] += fixed[n];
   } else {
+    if (windowLeveller_) windowLeveller_->level(energy, onset, ir);
     clearAroundArrivals(ir);
     placer_->place(arrivals_, sampleRate_, ir, length_);
   }

@@ -13,14 +13,17 @@
 //  1. the within-band tilt (synthesis/band_tilt.h): each band's spectrum is tilted within its
 //     octave per synthesis bin toward its neighbours';
 //  2. the envelope (synthesis/band_envelope.h): per band and bin the gain that gives the
-//     tilted band signal the response's band energy in expectation (no per-realisation
-//     correction: the IR's band readings scatter as a measured IR's do);
+//     tilted band signal the response's band energy in expectation (one realisation's
+//     readings scatter around it until stage 4 levels them);
 //     ir[n] = sum_b g_b[j] s_b[n], from the first arrival on (the bin that straddles it keeps
 //     its energy in its part after it: nothing is rendered before the first arrival);
 //  3. the direct sound and the exact early arrivals: the band filters' impulse responses at
 //     each arrival's sample delay, with band amplitudes sqrt(E_b), so a flat arrival is a
-//     Dirac;
-//  4. the clean-up of the 4 and 8 kHz parts where the gain steps of slower bands splatter into
+//     Dirac; placed apart first, so that
+//  4. the window levelling (synthesis/window_leveller.h) brings the 125 Hz - 1 kHz views of
+//     one realisation, beside those arrivals, to what an exact IR of the response puts in
+//     short windows; then the arrivals are added;
+//  5. the clean-up of the 4 and 8 kHz parts where the gain steps of slower bands splatter into
 //     them (synthesis/band_leveller.h).
 // The 63 Hz band's mask reaches down to 0 Hz and the 8 kHz band's up to Nyquist, for the
 // direct sound and the reverberant part alike. Units: the IR's squared samples sum to energy

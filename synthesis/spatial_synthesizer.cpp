@@ -307,12 +307,15 @@ void SpatialIrSynthesizer::synthesize(const DirectionalEnergyResponse& energy,
     // The reverberant part is levelled before the filters' delay moves it; the arrivals, which
     // carry that delay in their filters, are seen reverbDelay_ samples earlier to line up.
     for (size_t c = 0; c < channels_; ++c) fixedFrom_[c] = fixed_[c].data() + reverbDelay_;
+    const bool placed = !arrivalDelays_.empty();  // none: no fixed part to transform
     channelLevelling_->level(energy, count, levelWeight_, omniGains_, kDirectionalFromBand, onset,
-                             channels, fixedFrom_);
+                             channels, placed ? std::span<const float* const>(fixedFrom_)
+                                              : std::span<const float* const>());
   }
   delayFrom(onset, reverbDelay_, length_, channels);  // as the filters delay every arrival
-  for (size_t c = 0; c < channels_; ++c)
-    for (size_t t = 0; t < length_; ++t) channels[c][t] += fixed_[c][t];
+  if (!arrivalDelays_.empty())
+    for (size_t c = 0; c < channels_; ++c)
+      for (size_t t = 0; t < length_; ++t) channels[c][t] += fixed_[c][t];
   level(energy, count, channels);
   cutLeadingResidue(channels, length_, onset, sampleRate_);
 }
@@ -453,6 +456,7 @@ void SpatialIrSynthesizer::placeArrivals(const DirectionalEnergyResponse& energy
                                          std::span<const SpecularPath> early) {
   arrivalDelays_.clear();
   arrivalEnergy_.clear();
+  if (!direct.visible && early.empty()) return;
   for (size_t c = 0; c < channels_; ++c) {
     std::fill(fixed_[c].begin(), fixed_[c].end(), 0.f);
     fixedTo_[c] = fixed_[c].data();

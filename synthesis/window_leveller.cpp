@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 
 #include "common/octave_band_masks.h"
@@ -21,9 +22,6 @@ struct WindowLeveller::View {
   double ratio = 1.0;  ///< full-rate samples per view sample
   std::unique_ptr<FftwRealTransforms> fft;
   std::vector<float> fixed;  ///< the fixed part's view (its first fft->n samples)
-  /// sum_f M^4 / sum_f M^2: the share of a correction added through the mask that the view
-  /// sees again (the rest falls where the neighbouring views overlap it).
-  double selfShare = 1.0;
 };
 
 struct WindowLeveller::Size {
@@ -47,12 +45,6 @@ WindowLeveller::View WindowLeveller::reducedView(const std::vector<float>& mask,
   v.ratio = double(n) / double(nr);
   v.fft = std::make_unique<FftwRealTransforms>(nr);
   v.fixed.resize(nr);
-  double m2 = 0.0, m4 = 0.0;
-  for (float g : mask) {
-    m2 += double(g) * g;
-    m4 += double(g) * g * double(g) * g;
-  }
-  if (m2 > 0.0) v.selfShare = m4 / m2;
   return v;
 }
 
@@ -69,13 +61,7 @@ WindowLeveller::WindowLeveller(int sampleRate, size_t length, int firstBand, int
       firstBand > lastBand)
     throw std::invalid_argument("WindowLeveller: rate, length and bands must be valid");
   const size_t taps = bandFilterTaps(sampleRate);
-  for (int b = firstBand; b <= lastBand; ++b)
-    analysisDelay_[size_t(b)] =
-        OctaveBandPass::design(bandCentreExactHz(b), sampleRate).energyCentroid(size_t(sampleRate));
-  factor_.resize(length / size_t(std::max(1L, std::lround(kMinWindowSeconds * sampleRate))) + 2);
-  windowEnergy_.reserve(factor_.size());
-  windowCross_.reserve(factor_.size());
-  fixedScratch_.resize(length);
+  prepareWindows();
   for (size_t span : {length / 8, length / 4, length / 2, length}) {
     if (span == 0) continue;
     auto s = std::make_unique<Size>();
@@ -116,6 +102,33 @@ WindowLeveller::WindowLeveller(int sampleRate, size_t length, int firstBand, int
     }
     sizes_.push_back(std::move(s));
   }
+}
+
+void WindowLeveller::prepareWindows() {
+  double shortest = double(length_);
+  for (int b = firstBand_; b <= lastBand_; ++b) {
+    const double fc = bandCentreExactHz(b);
+    // A band whose analysis filter does not fit below Nyquist: about one period, as the others.
+    analysisDelay_[size_t(b)] =
+        fc * std::numbers::sqrt2 < 0.5 * sampleRate_
+            ? OctaveBandPass::design(fc, sampleRate_).energyCentroid(size_t(sampleRate_))
+            : sampleRate_ / fc;
+    shortest = std::min(shortest, windowLength(b));
+  }
+  // The windows of the shortest length, and the one the factors end with.
+  factor_.resize(size_t(double(length_) / shortest) + 2);
+  windowEnergy_.reserve(factor_.size());
+  windowCross_.reserve(factor_.size());
+}
+
+double WindowLeveller::windowFactor(double e, double x, double target) {
+  // g^2 e + 2 g x = target: the noise's own energy and its cross term with the fixed part
+  // (zero in expectation) together make the target: the positive root, in the form without
+  // cancellation for either sign of x (sqrt(target / e) when x = 0).
+  const double g0 = std::sqrt(target / e), root = std::sqrt(x * x + e * target);
+  const double g = x >= 0.0 ? target / (root + x) : (root - x) / e;
+  return std::clamp(std::clamp(g, g0 / kCrossRange, g0 * kCrossRange), 1.0 / kMaxFactor,
+                    kMaxFactor);
 }
 
 size_t WindowLeveller::sizeFor(size_t span) const {
@@ -164,8 +177,9 @@ double WindowLeveller::windowLength(int b) const {
 
 void WindowLeveller::windowFactors(int b, const EnergyResponse& energy, const View& v,
                                    size_t origin, size_t span) {
-  const Windows win{double(origin) - analysisDelay_[size_t(b)], windowLength(b),
-                    std::max<size_t>(1, size_t(double(span - origin) / windowLength(b)))};
+  const double w = windowLength(b), start = windowOrigin(b, origin);
+  const Windows win{start, w, std::max<size_t>(1, size_t((double(span) - start) / w)),
+                    double(span)};
   // Whole windows only: the last takes the span's remainder. A short remainder as a window of
   // its own (a few samples of a 125 Hz view can sit at a zero crossing) would read next to no
   // energy and take the largest factor: a burst 12-26 dB above the response just after the
@@ -186,14 +200,7 @@ void WindowLeveller::windowFactors(int b, const EnergyResponse& energy, const Vi
     const double e = windowEnergy_[i], x = windowCross_[i];
     const double after = targetBefore(hi, j, sum), target = after - before;
     before = after;
-    // g^2 e + 2 g x = target: the noise's own energy and its cross term with the fixed part
-    // (zero in expectation) together make the target (g = sqrt(target / e) when x = 0).
-    const double g0 = std::sqrt(target / e);
-    const double g = std::clamp((std::sqrt(x * x + e * target) - x) / e, g0 / kCrossRange,
-                                g0 * kCrossRange);
-    factor_[i] = e > 0.0 && target > 0.0
-                     ? float(std::clamp(g, 1.0 / kMaxFactor, kMaxFactor))
-                     : 1.f;
+    factor_[i] = e > 0.0 && target > 0.0 ? float(windowFactor(e, x, target)) : 1.f;
   }
   factor_[win.count] = 1.f;  // beyond the span
   scaleByFactors(v, win);
@@ -225,27 +232,31 @@ void WindowLeveller::windowEnergies(const View& v, const Windows& win, size_t sp
 void WindowLeveller::scaleByFactors(const View& v, const Windows& win) const {
   // y <- (g - 1) y with g = factor_[i] inside window i, blended linearly with the neighbour's
   // across kBlend of a window around each boundary (no step, which the band's mask would
-  // smear anyway); factor_[0] before the first window, 1 (no correction) after the last.
-  // The view sample m lies at full-rate time m x ratio, u = (m ratio - origin) / w windows on.
+  // smear anyway); factor_[0] before the first window; the last window's factor up to the
+  // span's end, blended there into 1 (no correction). The view sample m lies at full-rate time
+  // m x ratio, u = (m ratio - origin) / w windows on.
   float* y = v.fft->time.p;
   const double step = v.ratio / win.length, u0 = -win.origin / win.length;
-  const double half = 0.5 * kBlend;
+  const double half = 0.5 * kBlend, end = (win.end - win.origin) / win.length;
+  const size_t last = win.count - 1;
   for (size_t m = 0; m < v.fft->n; ++m) {
     const double u = u0 + double(m) * step;
-    if (u >= double(win.count) + half) {
+    if (u >= end + half) {
       std::fill(y + m, y + v.fft->n, 0.f);
       return;
     }
     const double k = std::floor(u + half);  // the nearest boundary at or below u + half
     const double p = u - k;                 // in [-half, 1 - half)
     double g;
-    if (u < half)
+    if (u >= end - half)
+      g = factor_[last] + (1.0 - factor_[last]) * (u - end + half) / kBlend;
+    else if (u < half)
       g = factor_[0];
-    else if (p < half) {
-      const size_t i = size_t(k);  // blending window i - 1 into window i
-      g = factor_[i - 1] + (double(factor_[i]) - factor_[i - 1]) * (p + half) / kBlend;
-    } else
-      g = factor_[std::min(size_t(k), win.count)];
+    else if (p < half && size_t(k) <= last)  // blending window k - 1 into window k
+      g = factor_[size_t(k) - 1] +
+          (double(factor_[size_t(k)]) - factor_[size_t(k) - 1]) * (p + half) / kBlend;
+    else
+      g = factor_[std::min(size_t(k), last)];
     y[m] *= float(g - 1.0);
   }
 }

@@ -12,10 +12,11 @@
 // within-band tilt of band k's half h (halfBandDensity, synthesis/band_tilt.h, as
 // analysis/expected_band_analysis.h models it) and c_bkh = sum_f M_b^2 M_k^2 P_kh (the share of
 // that half-band's white noise the view sees; P_kh = powerAbove or its complement at the band
-// centre). A factor g per window, linear between window centres, scales the view, and the
-// correction sum_b M_b * ((g - 1) y_b) is added to the IR from `onset` on (nothing lands
-// before the first arrival); kIterations passes (the interpolation between windows leaves a
-// window short of its target after one).
+// centre). A factor g per window, held inside it and blended into the next window's over
+// kBlend of a window at each boundary, scales the view, and the correction
+// sum_b M_b * ((g - 1) y_b) is added to the IR from `onset` on (nothing lands before the first
+// arrival); kIterations passes (the masks smooth each correction and the views overlap, so one
+// pass leaves a window short of its target).
 //
 // Windows. About kWindowPeriods periods of the band centre (at least kMinWindowSeconds),
 // from the first arrival less the ISO 3382-1 analysis filter's delay at that band (its energy
@@ -59,8 +60,8 @@ class WindowLeveller {
   /// degrees of freedom of the band's noise), but at least kMinWindowSeconds.
   static constexpr double kWindowPeriods = 3.0;
   static constexpr double kMinWindowSeconds = 0.002;
-  /// Windows start at the first arrival and this span after it (C80's split, ISO 3382-1) is a
-  /// whole number of them, so no window straddles the split.
+  /// Windows start at the first arrival less the analysis filter's delay, and this span (C80's
+  /// split, ISO 3382-1) is a whole number of them, so no window straddles the split.
   static constexpr double kAlignedSeconds = 0.080;
   static constexpr int kIterations = 2;
   /// The share of a window over which its factor blends into the next one's.
@@ -76,6 +77,14 @@ class WindowLeveller {
 
   /// sampleRate Hz; IRs of `length` samples; bands firstBand..lastBand (0..7) are levelled.
   WindowLeveller(int sampleRate, size_t length, int firstBand, int lastBand);
+  /// Band b's window length in samples (fractional): near kWindowPeriods periods of its
+  /// centre, at least kMinWindowSeconds, kAlignedSeconds a whole number of them. Any thread.
+  double windowLength(int b) const;
+  /// Where band b's windows start (fractional sample) for an IR whose first arrival is at
+  /// sample `onset`: that less the analysis filter's energy centroid. Any thread.
+  double windowOrigin(int b, size_t onset) const {
+    return double(onset) - analysisDelay_[size_t(b)];
+  }
   ~WindowLeveller();
   WindowLeveller(const WindowLeveller&) = delete;
   WindowLeveller& operator=(const WindowLeveller&) = delete;
@@ -85,8 +94,11 @@ class WindowLeveller {
   /// exact paths that will be added to it, pressure on the IR's scale; null: none).
   void level(const EnergyResponse& energy, size_t onset, float* ir, const float* fixed = nullptr);
   /// A scratch buffer of `length` samples for the caller's fixed part: the thread that levels;
-  /// no allocation.
-  float* fixedScratch() { return fixedScratch_.data(); }
+  /// allocates on the first call.
+  float* fixedScratch() {
+    fixedScratch_.resize(length_);
+    return fixedScratch_.data();
+  }
 
  private:
   struct View;  ///< one band's view at a reduced rate: its transforms
@@ -106,29 +118,35 @@ class WindowLeveller {
   void viewOf(Size& s, int b, const fftwf_complex* spectrum);
   /// Each levelled band's view of `fixed` (length samples) into its View::fixed; none if null.
   void loadFixed(Size& s, const float* fixed);
+  /// The analysis filters' delays and the per-window scratch, sized for the shortest window.
+  void prepareWindows();
   /// The view (scaled) back to the spectrum: added to correction_ and current_.
   void addViewCorrection(Size& s, int b);
   /// current_ <- ir's spectrum (its first s.n samples), correction_ <- 0.
   void loadSpectrum(Size& s, const float* ir);
   /// ir += the correction's time signal, from onset on.
   void applyCorrection(Size& s, size_t onset, float* ir);
-  /// Windows of `length` full-rate samples (fractional) from `origin`, `count` of them.
+  /// Windows of `length` full-rate samples (fractional) from `origin`, `count` of them, the
+  /// last up to `end` (the levelled span's end).
   struct Windows {
     double origin, length;
     size_t count;
+    double end;
   };
-  /// Band b's window length: near kWindowPeriods periods, kAlignedSeconds a whole number of them.
-  double windowLength(int b) const;
+  /// A window's factor: its noise view's energy e, the view's product with the fixed part's x,
+  /// its target; within kCrossRange of sqrt(target / e) and kMaxFactor of 1. e, target > 0.
+  static double windowFactor(double e, double x, double target);
+
   /// Band b's view (v.fft->time) <- (g - 1) x the view: window factors g over [0, span) from
-  /// the view's energies, its cross term with the fixed part and the targets, linear between
-  /// window centres; windows laid from `origin` (the first arrival).
+  /// the view's energies, its cross term with the fixed part and the targets, held per window
+  /// and blended at the boundaries; windows laid from windowOrigin(b, origin).
   void windowFactors(int b, const EnergyResponse& energy, const View& v, size_t origin,
                      size_t span);
   /// windowEnergy_[i], windowCross_[i]: the view's energy and its product with the fixed
   /// part's view in window i.
   void windowEnergies(const View& v, const Windows& win, size_t span);
-  /// The view <- (g - 1) x the view, g the factor_ of the windows, linear between their
-  /// centres (windowFactors).
+  /// The view <- (g - 1) x the view, g the factor_ of the windows, blended over kBlend of a
+  /// window at each boundary and into 1 at the span's end (windowFactors).
   void scaleByFactors(const View& v, const Windows& win) const;
 
   int sampleRate_;

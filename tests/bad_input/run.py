@@ -208,7 +208,9 @@ CASES = {
     "ir_length_negative": (scene_with(**{"propagation.ir_length": -1}), OFF, "ir_length"),
     # A float field holds 0 for 1e-300: the message names the value as written and the rounding.
     "ir_length_rounds_to_zero": (scene_with(**{"propagation.ir_length": 1e-300}), OFF,
-                                 "ir_length: 1e-300 is 0 in single precision"),
+                                 "ir_length: 1e-300 rounds to 0 in single precision: 0 is outside (0, 60] s"),
+    "patch_size_rounds_to_zero": (scene_with(**{"propagation.patch_size": 1e-300}), OFF,
+                                  "patch_size: 1e-300 rounds to 0 in single precision: 0 must be > 0 m"),
     "radius_negative": (scene_with(**{"listener.radius": -1}), OFF, "radius"),
     "mesh_missing": (scene_with(mesh="none.obj"), OFF, "mesh"),
     # glTF levels (scene/model_reader.h): the line names the model file and what is wrong.

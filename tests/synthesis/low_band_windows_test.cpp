@@ -174,11 +174,12 @@ namespace {
 
 /// An exponential decay in every band from 10 ms on (no direct sound), T60 chosen near 1.4 s so
 /// that the window leveller's span (where the remaining energy falls to
-/// WindowLeveller::kSpanEnergy of the total) ends 1 ms into a 125 Hz window
-/// (WindowLeveller::kWindowPeriods periods); `spanEnd` receives that sample.
+/// WindowLeveller::kSpanEnergy of the total) ends 1 ms into a 125 Hz window (the leveller's
+/// own grid: WindowLeveller::windowLength and windowOrigin for a first arrival at 10 ms);
+/// `spanEnd` receives that sample.
 EnergyResponse decayEndingJustPastAWindow(size_t& spanEnd) {
-  const size_t w =
-      size_t(std::lround(WindowLeveller::kWindowPeriods * kFs / bandCentreExactHz(kBand)));
+  const WindowLeveller grid(kFs, size_t((kLengthSeconds + 1.0) * kFs), kBand, kBand);
+  const double w = grid.windowLength(kBand), origin = grid.windowOrigin(kBand, kFs / 100);
   for (double t60 = 1.4;; t60 += 0.001) {
     EnergyResponse er(kLengthSeconds + 1.0, 1e-3);
     double total = 0.0;
@@ -190,7 +191,8 @@ EnergyResponse decayEndingJustPastAWindow(size_t& spanEnd) {
     size_t j = 0;
     for (; remaining > WindowLeveller::kSpanEnergy * total; ++j) remaining -= er.bins()[j][0];
     spanEnd = j * size_t(kFs / 1000);
-    if (spanEnd % w != 0 && spanEnd % w <= size_t(kFs / 1000)) return er;
+    const double into = std::fmod(double(spanEnd) - origin, w);
+    if (into > 0.0 && into <= kFs / 1000) return er;
   }
 }
 

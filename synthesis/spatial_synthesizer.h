@@ -186,7 +186,8 @@ class SpatialIrSynthesizer {
   void prepareDirect(size_t margin, size_t longestFilter);
   /// The omnidirectional response: the directions' low bands summed.
   void sumOmniEnergy(const DirectionalEnergyResponse& energy, size_t count);
-  /// fixed_ <- the direct sound and the exact paths, each through its exact filter (addArrival).
+  /// fixed_ <- the direct sound and the exact paths, each through its exact filter (addArrival;
+  /// these and the direct-sound set-up are in synthesis/spatial_arrivals.cpp).
   void placeArrivals(const DirectionalEnergyResponse& energy, const DirectSound& direct,
                      std::span<const SpecularPath> early);
   /// Adds one arrival through the exact filter of its listener-frame direction, and records

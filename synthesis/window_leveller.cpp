@@ -115,7 +115,8 @@ void WindowLeveller::prepareWindows() {
             : sampleRate_ / fc;
     shortest = std::min(shortest, windowLength(b));
   }
-  // The windows of the shortest length, and the one the factors end with.
+  // The windows of the shortest length over the IR, one more for the first, laid before the
+  // first arrival, and a spare.
   factor_.resize(size_t(double(length_) / shortest) + 2);
   windowEnergy_.reserve(factor_.size());
   windowCross_.reserve(factor_.size());
@@ -202,7 +203,6 @@ void WindowLeveller::windowFactors(int b, const EnergyResponse& energy, const Vi
     before = after;
     factor_[i] = e > 0.0 && target > 0.0 ? float(windowFactor(e, x, target)) : 1.f;
   }
-  factor_[win.count] = 1.f;  // beyond the span
   scaleByFactors(v, win);
 }
 

@@ -274,6 +274,12 @@ void BandLeveller::applyGains(size_t bi, float* ir) const {
 }
 
 void BandLeveller::apply(float* ir, double tolerance, double maxBoost) {
+  std::array<Levelling, kNumBands> perBand;
+  perBand.fill({tolerance, maxBoost});
+  apply(ir, perBand);
+}
+
+void BandLeveller::apply(float* ir, const std::array<Levelling, kNumBands>& perBand) {
   std::array<int, kNumBands> bands{};
   std::array<size_t, kNumBands> first{};
   const int count = levelledBands(bands, first);
@@ -286,7 +292,8 @@ void BandLeveller::apply(float* ir, double tolerance, double maxBoost) {
   measureBands(bands, first, count);
   for (int i = 0; i < count; ++i) {
     const size_t bi = size_t(bands[size_t(i)]);
-    if (bandGains(bi, first[bi], tolerance, maxBoost)) applyGains(bi, ir);
+    const Levelling& l = perBand[bi];
+    if (bandGains(bi, first[bi], l.tolerance, l.maxBoost)) applyGains(bi, ir);
   }
 }
 

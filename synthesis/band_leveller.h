@@ -83,9 +83,17 @@ class BandLeveller {
   /// levelling may start (its bin and the next are not levelled). An arrival outside
   /// [0, length) is ignored.
   void addDirect(double delaySeconds, const Bands& energy);
-  /// Levels ir (length samples) to the targets; see the file comment for tolerance (>= 1,
-  /// energy ratio) and maxBoost (>= 1, amplitude factor).
+  /// How one band is levelled: see the file comment for tolerance (>= 1, energy ratio) and
+  /// maxBoost (>= 1, amplitude factor).
+  struct Levelling {
+    double tolerance = 1.0;
+    double maxBoost = 1.0;
+  };
+  /// Levels ir (length samples) to the targets, every band alike.
   void apply(float* ir, double tolerance, double maxBoost);
+  /// Levels ir (length samples) to the targets, band b as perBand[b] says (bands below
+  /// firstBand are never levelled).
+  void apply(float* ir, const std::array<Levelling, kNumBands>& perBand);
 
  private:
   /// The bands to level, and per band its first levelled bin (after the direct sound's or the

@@ -160,7 +160,11 @@ void IrSynthesizer::cleanUp(const EnergyResponse& energy, float* ir) {
   leveller_->clearTargets();
   leveller_->addResponse(energy, Bands(1.f));
   for (const Arrival& a : arrivals_) leveller_->addDirect(a.delaySeconds, a.intensity);
-  leveller_->apply(ir, kCleanMargin, 1.0);
+  std::array<BandLeveller::Levelling, kNumBands> perBand;
+  for (int b = 0; b < kNumBands; ++b)
+    perBand[size_t(b)] = b <= kLastTwoWayBand ? BandLeveller::Levelling{1.0, kTwoWayBoost}
+                                              : BandLeveller::Levelling{kCleanMargin, 1.0};
+  leveller_->apply(ir, perBand);
 }
 
 }  // namespace dpc

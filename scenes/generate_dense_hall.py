@@ -11,7 +11,7 @@ field: the dense case of many-source propagation (docs/performance.md, "Many sou
 every pair's cache holds a full room's paths.
 
 Usage: generate_dense_hall.py [OUT_FOLDER] [--grid N]
-  OUT_FOLDER  default: this script's folder
+  OUT_FOLDER  default: this script's folder (created if missing)
   --grid N    N x N talkers instead of 8 x 8 (N even; 16: the 256-source case), written as
               dense_hall_N.json / .obj; the signal path is relative to OUT_FOLDER
 """
@@ -38,6 +38,7 @@ if grid < 2 or grid % 2:
     ap.error("--grid: %d is not an even number >= 2 (half the rows stand on each side of the "
              "listener's lane)" % grid)
 name = 'dense_hall' if grid == 8 else 'dense_hall_%d' % grid
+os.makedirs(out, exist_ok=True)
 
 verts, faces, index = [], [], {}
 

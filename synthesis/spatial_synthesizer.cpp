@@ -71,10 +71,9 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   fixed_.assign(channels_, std::vector<float>(length_ + reverbDelay_));
   fixedTo_.resize(channels_);
   fixedFrom_.resize(channels_);
-  channelLevelling_ = std::make_shared<ChannelLevelling>(sampleRate, length_,
-                                                         IrSynthesizer::kFirstLevelledBand,
-                                                         IrSynthesizer::kLastLevelledBand);
-  levelledFrom_ = IrSynthesizer::kLastLevelledBand + 1;  // the bands the windows leave
+  channelLevelling_ = std::make_shared<ChannelLevelling>(
+      sampleRate, length_, IrSynthesizer::kFirstLevelledBand, lastWindowLevelledBand(channels_));
+  levelledFrom_ = lastWindowLevelledBand(channels_) + 1;  // the bands the windows leave
   levellers_.push_back(
       std::make_shared<BandLeveller>(sampleRate, length_, levelledFrom_, levelStart_));
   binned_.assign(directions_.size(), std::vector<Bands>(levellers_[0]->bins()));
@@ -90,8 +89,7 @@ std::unique_ptr<SpatialIrSynthesizer> SpatialIrSynthesizer::workspaceCopy() cons
   copy->parallel_ = {};
   if (channelLevelling_)
     copy->channelLevelling_ = std::make_shared<ChannelLevelling>(
-        sampleRate_, length_, IrSynthesizer::kFirstLevelledBand,
-        IrSynthesizer::kLastLevelledBand);
+        sampleRate_, length_, IrSynthesizer::kFirstLevelledBand, lastWindowLevelledBand(channels_));
   return copy;
 }
 

@@ -19,9 +19,9 @@
 // channels' average band energy follows the mono energy response for a diffuse field (taken
 // over the analysed octave: the 63 Hz and 8 kHz bands carry their octave's spectral density on
 // below 44 Hz and above 11.3 kHz, as an exact IR does). Each channel's reverberant part is
-// then levelled at 125 Hz - 1 kHz in short windows (ChannelLevelling,
-// synthesis/channel_levelling.h) and from 2 kHz up on the ISO 3382-1 analysis filters
-// (BandLeveller, synthesis/band_leveller.h) to its own target: sum_d E_d,b x the direction's
+// then levelled in short windows (ChannelLevelling, synthesis/channel_levelling.h: 125 Hz -
+// 4 kHz for stereo and binaural, 125 Hz - 1 kHz for more channels) and above on the ISO
+// 3382-1 analysis filters (BandLeveller, synthesis/band_leveller.h) to its own target: sum_d E_d,b x the direction's
 // weight, channelWeight(d, c)[b] as the levellers' band views see the filter (viewWeights,
 // synthesis/filter_shape.h: an HRIR is not flat within an octave), plus (BandLeveller) the
 // direct sound x directWeight(c)[b]; this removes the slower bands' gain-step splatter from the
@@ -60,6 +60,7 @@
 #include "synthesis/band_envelope.h"
 #include "synthesis/band_filters.h"
 #include "synthesis/coherence_match.h"
+#include "synthesis/mono_synthesizer.h"
 #include "synthesis/spatial_directions.h"
 #include "synthesis/channel_levelling.h"
 
@@ -77,7 +78,21 @@ class SpatialIrSynthesizer {
  public:
   /// Bands from this one up are rendered per direction; lower ones omnidirectionally.
   static constexpr int kDirectionalFromBand = dpc::kDirectionalFromBand;
-  /// Per-channel levelling of the directional bands (BandLeveller): each band's analysed
+  /// Bands whose channels are levelled in short windows (ChannelLevelling): from
+  /// IrSynthesizer::kFirstLevelledBand (125 Hz) to lastWindowLevelledBand(channels). Outputs of
+  /// at most kFewChannels channels (stereo, binaural) are window-levelled up to 4 kHz, two
+  /// octaves more than the mono synthesis: a channel sums K directions' sequences, so its 2 and
+  /// 4 kHz windows hold enough pulses, and levelled on the analysis filters over 50 ms instead,
+  /// one stereo channel's 2 kHz EDT read up to 10 % off its share's (2.4 % in windows;
+  /// tests/apps/single_ir_fidelity_test.cpp). Ambisonic and loudspeaker-layout outputs stop
+  /// at 1 kHz as the mono synthesis does: their 2-4 kHz windows over 16 channels (AmbiX order
+  /// 3) cost a quarter more synthesis, and one order-5 IR's decoded late coherence at 4 kHz
+  /// read 0.16 against the HRTF set's 0.00 (tests/apps/late_coherence_test.cpp, bound 0.15).
+  static constexpr size_t kFewChannels = 2;
+  static constexpr int lastWindowLevelledBand(size_t channels) {
+    return channels <= kFewChannels ? 6 : IrSynthesizer::kLastLevelledBand;
+  }
+  /// Per-channel levelling of the bands above (BandLeveller): each band's analysed
   /// energy over 50 ms windows is brought to within this energy ratio of the channel's
   /// target, scaled up by at most kLevelMaxBoost (amplitude), from where each direction's Dirac
   /// sequence holds kLevelFromPulses pulses per 10 ms.

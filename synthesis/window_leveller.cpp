@@ -194,19 +194,22 @@ void WindowLeveller::windowFactors(int b, const EnergyResponse& energy, const Vi
     return j < d.size() ? sum + d[j] * (t - double(j) * perBin) / perBin : sum;
   };
   size_t j = 0;
-  double sum = 0.0, before = targetBefore(0.0, j, sum), shortfall = 0.0;
+  // What a window cannot hold (too few pulses for kMaxFactor, or a factor held by kCrossRange)
+  // is carried on, as the band envelope carries an empty bin's energy to the next pulse:
+  // otherwise the band loses it. kCarryShare of what is pending goes to each next window, so
+  // one window's shortfall does not bend the decay where it lands (the last takes the rest).
+  double sum = 0.0, before = targetBefore(0.0, j, sum), pending = 0.0;
   for (size_t i = 0; i < win.count; ++i) {
     const double lo = win.origin + double(i) * win.length;
     const double hi = i + 1 == win.count ? double(span) : std::min(double(span), lo + win.length);
     const double e = windowEnergy_[i], x = windowCross_[i];
-    const double after = targetBefore(hi, j, sum), target = after - before + shortfall;
+    const double carried = i + 1 == win.count ? pending : kCarryShare * pending;
+    pending -= carried;
+    const double after = targetBefore(hi, j, sum), target = after - before + carried;
     before = after;
     const double g = e > 0.0 && target > 0.0 ? windowFactor(e, x, target) : 1.0;
     factor_[i] = float(g);
-    // What a window too sparse to hold its target (few or no pulses: the factor clamped) lacks
-    // is the next window's to carry, as the band envelope carries an empty bin's energy to
-    // the next pulse: otherwise the band loses it.
-    shortfall = std::max(0.0, target - (g * g * e + 2.0 * g * x));
+    pending += std::max(0.0, target - (g * g * e + 2.0 * g * x));
   }
   scaleByFactors(v, win);
 }

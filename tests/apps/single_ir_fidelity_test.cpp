@@ -341,8 +341,11 @@ namespace {
 
 /// Every channel of one `output` IR per room and seed, 250 Hz - 4 kHz, checked as the mono case
 /// is (checkBand) over the 12 IRs x 2 channels; each single channel-IR within 2.3x the
-/// tolerance: the largest of 24 normal draws lies about sqrt(2 ln 24) = 2.5 standard
-/// deviations out against 2.2 for the mono case's 12, so its 2x scales to 2.3x.
+/// tolerance at 250 Hz - 1 kHz (the largest of 24 normal draws lies about sqrt(2 ln 24) = 2.5
+/// standard deviations out against 2.2 for the mono case's 12, so its 2x scales to 2.3x), and
+/// within the tolerance itself at 2 and 4 kHz: there a window of a channel holds many pulses
+/// of K directions, so the RMS is a quarter of the tolerance or less and 2.5 of it stay inside
+/// (levelled on the analysis filters over 50 ms instead, one stereo 2 kHz EDT read 10 %).
 void checkTwoChannelFormat(OutputFormat output, const char* name) {
   SceneDesc scene;
   scene.audio.output = output;
@@ -352,7 +355,7 @@ void checkTwoChannelFormat(OutputFormat output, const char* name) {
   });
   for (int b = kFirstBand; b <= kLastBand; ++b) {
     INFO(name);
-    checkBand(b, diffs[size_t(b)], 2.3);
+    checkBand(b, diffs[size_t(b)], b > IrSynthesizer::kLastLevelledBand ? 1.0 : 2.3);
   }
 }
 

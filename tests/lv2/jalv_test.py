@@ -143,8 +143,8 @@ def connect(client, pairs):
 
 def run_host(lv2dir, dry):
     """Plays `dry` through the plugin in jalv; returns (recorded 2 x N array aligned so that
-    index i is the output at the frame the player wrote dry[i], jalv's console output, jalv's
-    exit status)."""
+    index i is the output in the cycle and at the offset where the player wrote dry[i], jalv's
+    console output, jalv's exit status)."""
     s = Session(lv2dir)
     try:
         player, recorder = s.client("dpc_player"), s.client("dpc_recorder")
@@ -159,8 +159,7 @@ def run_host(lv2dir, dry):
                 out.get_array()[:] = 0
                 return
             p = state["pos"]
-            if p == 0:
-                played.put(player.last_frame_time)
+            played.put((player.last_frame_time, p))
             block = dry[p:p + frames]
             buf = out.get_array()
             buf[:len(block)] = block
@@ -191,14 +190,18 @@ def run_host(lv2dir, dry):
     finally:
         if s.jackd.poll() is None:
             s.close()
-    first = played.get_nowait()
-    blocks = []
-    while not heard.empty():
-        blocks.append(heard.get_nowait())
+    # Each recorded block goes where the player's block of the same JACK cycle came from in
+    # `dry`: a cycle the Python player missed (an xrun of this client alone) shifts the rest of
+    # the input by a period, and the output with it.
+    position = {}
+    while not played.empty():
+        frame, p = played.get_nowait()
+        position[frame] = p
     n = len(dry)
     rec = np.zeros((2, n), dtype=np.float32)
-    for frame, left, right in blocks:
-        i = frame - first
+    while not heard.empty():
+        frame, left, right = heard.get_nowait()
+        i = position.get(frame, -1)
         if 0 <= i < n:
             m = min(len(left), n - i)
             rec[0, i:i + m], rec[1, i:i + m] = left[:m], right[:m]

@@ -83,14 +83,15 @@ class SpatialIrSynthesizer {
   /// at most kFewChannels channels (stereo, binaural) are window-levelled up to 4 kHz, two
   /// octaves more than the mono synthesis: a channel sums K directions' sequences, so its 2 and
   /// 4 kHz windows hold enough pulses, and levelled on the analysis filters over 50 ms instead,
-  /// one stereo channel's 2 kHz EDT read up to 10 % off its share's (2.4 % in windows;
+  /// one stereo channel's 2 kHz EDT read up to 10 % off its share's (1.9 % in windows;
   /// tests/apps/single_ir_fidelity_test.cpp). Ambisonic and loudspeaker-layout outputs stop
   /// at 1 kHz as the mono synthesis does: their 2-4 kHz windows over 16 channels (AmbiX order
   /// 3) cost a quarter more synthesis, and one order-5 IR's decoded late coherence at 4 kHz
   /// read 0.16 against the HRTF set's 0.00 (tests/apps/late_coherence_test.cpp, bound 0.15).
   static constexpr size_t kFewChannels = 2;
+  static constexpr int kLastFewChannelsWindowBand = 6;  ///< 4 kHz
   static constexpr int lastWindowLevelledBand(size_t channels) {
-    return channels <= kFewChannels ? 6 : IrSynthesizer::kLastLevelledBand;
+    return channels <= kFewChannels ? kLastFewChannelsWindowBand : IrSynthesizer::kLastLevelledBand;
   }
   /// Per-channel levelling of the bands above (BandLeveller): each band's analysed
   /// energy over 50 ms windows is brought to within this energy ratio of the channel's

@@ -125,10 +125,12 @@ void WindowLeveller::prepareWindows() {
 double WindowLeveller::windowFactor(double e, double x, double target) {
   // g^2 e + 2 g x = target: the noise's own energy and its cross term with the fixed part
   // (zero in expectation) together make the target: the positive root, in the form without
-  // cancellation for either sign of x (sqrt(target / e) when x = 0).
+  // cancellation for either sign of x (sqrt(target / e) when x = 0); a negative x raises it
+  // less far than a positive one lowers it (its cancellation holds in this view only: see the
+  // header).
   const double g0 = std::sqrt(target / e), root = std::sqrt(x * x + e * target);
   const double g = x >= 0.0 ? target / (root + x) : (root - x) / e;
-  return std::clamp(std::clamp(g, g0 / kCrossRange, g0 * kCrossRange), 1.0 / kMaxFactor,
+  return std::clamp(std::clamp(g, g0 / kCrossLower, g0 * kCrossRaise), 1.0 / kMaxFactor,
                     kMaxFactor);
 }
 
@@ -194,10 +196,11 @@ void WindowLeveller::windowFactors(int b, const EnergyResponse& energy, const Vi
     return j < d.size() ? sum + d[j] * (t - double(j) * perBin) / perBin : sum;
   };
   size_t j = 0;
-  // What a window cannot hold (too few pulses for kMaxFactor, or a factor held by kCrossRange)
-  // is carried on, as the band envelope carries an empty bin's energy to the next pulse:
-  // otherwise the band loses it. kCarryShare of what is pending goes to each next window, so
-  // one window's shortfall does not bend the decay where it lands (the last takes the rest).
+  // What a window cannot hold (too few pulses for kMaxFactor, or a factor held by kCrossLower
+  // or kCrossRaise) is carried on, as the band envelope carries an empty bin's energy to the
+  // next pulse: otherwise the band loses it. kCarryShare of what is pending goes to each next
+  // window, so one window's shortfall does not bend the decay where it lands (the last takes
+  // the rest).
   double sum = 0.0, before = targetBefore(0.0, j, sum), pending = 0.0;
   for (size_t i = 0; i < win.count; ++i) {
     const double lo = win.origin + double(i) * win.length;

@@ -11,9 +11,9 @@
 // and EDT 14 / 12 / 4.8 / 7.6 / 4.9 % at 250 Hz .. 4 kHz over these 12 IRs. The test asks, per
 // band over the 12, for an RMS within the issue's tolerances (G 0.3 dB, C80 0.5 dB, EDT 5 %:
 // a third, a half and one of ISO 3382-1's just noticeable differences), which the noise alone
-// fails at 250 Hz - 2 kHz, for every single IR within twice them, and for no bias: the
-// mean over the 12 within 3 standard errors or a third of the tolerance of 0, whichever is
-// larger.
+// fails at 250 Hz - 2 kHz, for every single IR within twice them (the mono IRs within 1.5
+// times, below), and for no bias: the mean over the 12 within 3 standard errors or a third of
+// the tolerance of 0, whichever is larger.
 //
 // A first-order AmbiX IR is checked alike per channel in its window-levelled bands (250 Hz -
 // 1 kHz), a stereo IR per channel at 250 Hz - 4 kHz, a binaural IR per ear at 250 Hz - 4 kHz
@@ -169,7 +169,11 @@ TEST_CASE("One mono IR reads its response's octave G, C80 and EDT, for every see
       }
     }
   }
-  for (int b = kFirstBand; b <= kLastBand; ++b) checkBand(b, diffs[size_t(b)]);
+  // Each single IR within 1.5x the tolerances: the RMS is about half of them or less in every
+  // band (G 0.12, C80 0.21 dB, EDT 2.6 % at most), and the largest of 12 normal draws lies
+  // about 2.2 RMS out. With the fixed part's cross term free to raise a window's factor to 2x
+  // (synthesis/window_leveller.h), the small room's 250 Hz C80 read +0.82 dB and this fails.
+  for (int b = kFirstBand; b <= kLastBand; ++b) checkBand(b, diffs[size_t(b)], 1.5);
 }
 
 namespace {

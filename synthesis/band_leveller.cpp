@@ -282,7 +282,9 @@ void BandLeveller::apply(float* ir, double tolerance, double maxBoost) {
 void BandLeveller::apply(float* ir, const std::array<Levelling, kNumBands>& perBand) {
   std::array<int, kNumBands> bands{};
   std::array<size_t, kNumBands> first{};
-  const int count = levelledBands(bands, first);
+  int count = 0;
+  for (int i = 0, all = levelledBands(bands, first); i < all; ++i)
+    if (perBand[size_t(bands[size_t(i)])].levelled) bands[size_t(count++)] = bands[size_t(i)];
   if (count == 0) return;
   FftwRealTransforms& c = *fft_;
   std::fill(c.time.p, c.time.p + c.n, 0.f);

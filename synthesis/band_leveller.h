@@ -88,6 +88,7 @@ class BandLeveller {
   struct Levelling {
     double tolerance = 1.0;
     double maxBoost = 1.0;
+    bool levelled = true;  ///< false: the band is left as it is (and not analysed)
   };
   /// Levels ir (length samples) to the targets, every band alike.
   void apply(float* ir, double tolerance, double maxBoost);

@@ -1,23 +1,38 @@
 #include "synthesis/channel_levelling.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace dpc {
 
-ChannelLevelling::ChannelLevelling(int sampleRate, size_t length, int firstBand, int lastBand)
+ChannelLevelling::ChannelLevelling(int sampleRate, size_t length, int firstBand,
+                                   std::vector<int> lastBand)
     : sampleRate_(sampleRate),
       length_(length),
       firstBand_(firstBand),
-      lastBand_(lastBand) {
+      lastBand_(std::move(lastBand)) {
+  if (lastBand_.empty()) throw std::invalid_argument("ChannelLevelling: no channel's bands");
+  for (int b : lastBand_)
+    if (std::find(bands_.begin(), bands_.end(), b) == bands_.end()) bands_.push_back(b);
   setWorkers(1, {});
 }
 
 ChannelLevelling::~ChannelLevelling() = default;
 
+ChannelLevelling::Worker ChannelLevelling::makeWorker() const {
+  Worker w;
+  for (int last : bands_)
+    w.levellers.push_back(std::make_unique<WindowLeveller>(sampleRate_, length_, firstBand_, last));
+  return w;
+}
+
+size_t ChannelLevelling::levellerOf(size_t c) const {
+  const int last = lastBand_[std::min(c, lastBand_.size() - 1)];
+  return size_t(std::find(bands_.begin(), bands_.end(), last) - bands_.begin());
+}
+
 void ChannelLevelling::setWorkers(size_t workers, ParallelFor parallel) {
-  while (workers_.size() < std::max<size_t>(workers, 1))
-    workers_.push_back(
-        {std::make_unique<WindowLeveller>(sampleRate_, length_, firstBand_, lastBand_), {}});
+  while (workers_.size() < std::max<size_t>(workers, 1)) workers_.push_back(makeWorker());
   workers_.resize(std::max<size_t>(workers, 1));
   parallel_ = std::move(parallel);
 }
@@ -52,7 +67,8 @@ void ChannelLevelling::level(const DirectionalEnergyResponse& energy, size_t cou
     Worker& w = workers_[g];
     for (size_t c = g; c < channels.size(); c += workers) {
       channelTarget(energy, count, weight, omniGain[c], directionalFrom, c, w.target);
-      w.leveller->level(w.target, onset, channels[c], fixed.empty() ? nullptr : fixed[c]);
+      w.levellers[levellerOf(c)]->level(w.target, onset, channels[c],
+                                        fixed.empty() ? nullptr : fixed[c]);
     }
   };
   if (workers > 1)

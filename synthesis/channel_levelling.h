@@ -29,8 +29,9 @@ namespace dpc {
 
 class ChannelLevelling {
  public:
-  /// IRs of `length` samples at sampleRate Hz; bands firstBand..lastBand.
-  ChannelLevelling(int sampleRate, size_t length, int firstBand, int lastBand);
+  /// IRs of `length` samples at sampleRate Hz; channel c's bands firstBand..lastBand[c] (one
+  /// entry per channel; a channel beyond them takes the last entry's).
+  ChannelLevelling(int sampleRate, size_t length, int firstBand, std::vector<int> lastBand);
   ~ChannelLevelling();
 
   /// Runs `n` tasks f(0..n-1), possibly concurrently (SpatialIrSynthesizer::ParallelFor).
@@ -52,9 +53,14 @@ class ChannelLevelling {
 
  private:
   struct Worker {
-    std::unique_ptr<WindowLeveller> leveller;
+    /// One per distinct last band (bands_), in its order.
+    std::vector<std::unique_ptr<WindowLeveller>> levellers;
     EnergyResponse target;  ///< scratch: the channel's share of the response
   };
+  /// A worker with a leveller per distinct last band.
+  Worker makeWorker() const;
+  /// The index into bands_ (and Worker::levellers) of channel c's last band.
+  size_t levellerOf(size_t c) const;
   /// target <- channel c's share of energy.
   static void channelTarget(const DirectionalEnergyResponse& energy, size_t count,
                             const std::vector<std::vector<Bands>>& weight, float omniGain,
@@ -62,7 +68,9 @@ class ChannelLevelling {
 
   int sampleRate_;
   size_t length_;
-  int firstBand_, lastBand_;
+  int firstBand_;
+  std::vector<int> lastBand_;    ///< per channel
+  std::vector<int> bands_;       ///< the distinct entries of lastBand_
   std::vector<Worker> workers_;  ///< [0] always exists
   ParallelFor parallel_;         ///< empty: on the calling thread
 };

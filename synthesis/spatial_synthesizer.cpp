@@ -72,7 +72,7 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   fixedTo_.resize(channels_);
   fixedFrom_.resize(channels_);
   channelLevelling_ = std::make_shared<ChannelLevelling>(
-      sampleRate, length_, IrSynthesizer::kFirstLevelledBand, lastWindowLevelledBand(channels_));
+      sampleRate, length_, IrSynthesizer::kFirstLevelledBand, windowBands());
   levelledFrom_ = lastWindowLevelledBand(channels_) + 1;  // the bands the windows leave
   levellers_.push_back(
       std::make_shared<BandLeveller>(sampleRate, length_, levelledFrom_, levelStart_));
@@ -89,8 +89,20 @@ std::unique_ptr<SpatialIrSynthesizer> SpatialIrSynthesizer::workspaceCopy() cons
   copy->parallel_ = {};
   if (channelLevelling_)
     copy->channelLevelling_ = std::make_shared<ChannelLevelling>(
-        sampleRate_, length_, IrSynthesizer::kFirstLevelledBand, lastWindowLevelledBand(channels_));
+        sampleRate_, length_, IrSynthesizer::kFirstLevelledBand, windowBands());
   return copy;
+}
+
+int SpatialIrSynthesizer::lastWindowLevelledBandOf(size_t c) const {
+  return c == 0 && reference_ == Reference::kFirstChannelPressure
+             ? kLastFewChannelsWindowBand
+             : lastWindowLevelledBand(channels_);
+}
+
+std::vector<int> SpatialIrSynthesizer::windowBands() const {
+  std::vector<int> bands(channels_);
+  for (size_t c = 0; c < channels_; ++c) bands[c] = lastWindowLevelledBandOf(c);
+  return bands;
 }
 
 void SpatialIrSynthesizer::setParallelLevelling(int workers, ParallelFor parallel) {
@@ -406,7 +418,11 @@ void SpatialIrSynthesizer::level(const DirectionalEnergyResponse& energy, size_t
       for (size_t d = 0; d < count; ++d) leveller.addBinned(binned_[d], levelWeight_[d][c]);
       for (size_t i = 0; i < arrivalDelays_.size(); ++i)
         leveller.addDirect(arrivalDelays_[i], arrivalEnergy_[i * channels_ + c]);
-      leveller.apply(channels[c], kLevelTolerance, kLevelMaxBoost);
+      // The bands this channel's windows level are left alone.
+      std::array<BandLeveller::Levelling, kNumBands> perBand;
+      for (int b = 0; b < kNumBands; ++b)
+        perBand[size_t(b)] = {kLevelTolerance, kLevelMaxBoost, b > lastWindowLevelledBandOf(c)};
+      leveller.apply(channels[c], perBand);
     }
   };
   if (workers > 1)

@@ -20,7 +20,8 @@
 // over the analysed octave: the 63 Hz and 8 kHz bands carry their octave's spectral density on
 // below 44 Hz and above 11.3 kHz, as an exact IR does). Each channel's reverberant part is
 // then levelled in short windows (ChannelLevelling, synthesis/channel_levelling.h: 125 Hz -
-// 4 kHz for stereo and binaural, 125 Hz - 1 kHz for more channels) and above on the ISO
+// 4 kHz for stereo, binaural and an Ambisonic IR's W, 125 Hz - 1 kHz for the other channels of
+// more than two) and above on the ISO
 // 3382-1 analysis filters (BandLeveller, synthesis/band_leveller.h) to its own target: sum_d E_d,b x the direction's
 // weight, channelWeight(d, c)[b] as the levellers' band views see the filter (viewWeights,
 // synthesis/filter_shape.h: an HRIR is not flat within an octave), plus (BandLeveller) the
@@ -88,11 +89,18 @@ class SpatialIrSynthesizer {
   /// at 1 kHz as the mono synthesis does: their 2-4 kHz windows over 16 channels (AmbiX order
   /// 3) cost a quarter more synthesis, and one order-5 IR's decoded late coherence at 4 kHz
   /// read 0.16 against the HRTF set's 0.00 (tests/apps/late_coherence_test.cpp, bound 0.15).
+  /// The exception: an Ambisonic IR's W (Reference::kFirstChannelPressure's channel 0), which
+  /// a user reads as the omnidirectional IR, is window-levelled up to 4 kHz too (one channel of
+  /// 16 at order 3); on the analysis filters its 2 and 4 kHz C80 read up to 0.53 and 0.78 dB off
+  /// the response's (scripts/single_ir_fidelity.py --output ambisonics --channels 1).
   static constexpr size_t kFewChannels = 2;
   static constexpr int kLastFewChannelsWindowBand = 6;  ///< 4 kHz
   static constexpr int lastWindowLevelledBand(size_t channels) {
     return channels <= kFewChannels ? kLastFewChannelsWindowBand : IrSynthesizer::kLastLevelledBand;
   }
+  /// Channel c's last window-levelled band: lastWindowLevelledBand(channelCount()), or
+  /// kLastFewChannelsWindowBand for an Ambisonic IR's W. Any thread.
+  int lastWindowLevelledBandOf(size_t c) const;
   /// Per-channel levelling of the bands above (BandLeveller): each band's analysed
   /// energy over 50 ms windows is brought to within this energy ratio of the channel's
   /// target, scaled up by at most kLevelMaxBoost (amplitude), from where each direction's Dirac
@@ -298,6 +306,8 @@ class SpatialIrSynthesizer {
   std::vector<std::shared_ptr<BandLeveller>> levellers_;
   size_t levelStart_ = 0;                   ///< BandLeveller's start sample
   int levelledFrom_ = kDirectionalFromBand;  ///< BandLeveller's first band
+  /// lastWindowLevelledBandOf(c) for every channel: ChannelLevelling's bands.
+  std::vector<int> windowBands() const;
   size_t rotationFrom_ = 0;                 ///< where late fields start to differ, samples
   ParallelFor parallel_;                    ///< empty: level on the calling thread
   std::vector<std::vector<Bands>> binned_;  ///< per direction: its response in leveller bins

@@ -31,6 +31,7 @@ Checks, each able to fail:
 Ardour's configuration and caches go to a temporary HOME; LV2_PATH holds only LV2_DIR.
 Runs take 10-60 s each (Ardour's start-up dominates; the script plays 2 x 3 s of real time).
 """
+import math
 import os
 import re
 import shutil
@@ -146,6 +147,30 @@ def control(lv2dir, home, work, runs, failed):
           "at least one)" % (failed, runs, alone, n, bound))
 
 
+def broken_runs(lv2dir, home, work):
+    """The plugin with a scene that does not load: Ardour shows its error and the plugin plays
+    silence. Run again, up to EXTRA_RUNS more times, while Ardour ends before exporting (it does
+    so 3 runs in 10 without the plugin too); returns how many did not exit 0 after every step
+    and how many ran (bounded by the caller's control)."""
+    failed, level, i = 0, float("nan"), 0
+    while i < 1 or (math.isnan(level) and i < 1 + EXTRA_RUNS):
+        status, output, exports = run_ardour(lv2dir, home, work, "broken%d" % i, wait=0)
+        exited = status == 0 and reached(output) == STEPS
+        failed += not exited
+        print("%s a scene that does not load, run %d: exit status %s after %s"
+              % ("ok  " if exited else "note", i + 1, status, reached(output)[-1:]))
+        error = re.search(r"\[ERROR\]: dpc: .*missing\.obj.*", output)
+        print(error.group(0) if error else output[-3000:])
+        wav = os.path.join(exports, "created.wav")
+        level = rms_db(wav, 0, 4) if os.path.exists(wav) else float("nan")
+        i += 1
+    check(error is not None,
+          "a scene that does not load: Ardour shows the plugin's error naming missing.obj")
+    check(level < -80, "a scene that does not load: the plugin plays silence (%.1f dBFS)"
+          % level)
+    return failed, i
+
+
 def main():
     lv2dir = os.path.abspath(sys.argv[1])
     runs = int(sys.argv[2]) if len(sys.argv) > 2 else 1
@@ -154,22 +179,9 @@ def main():
     os.makedirs(home)
     try:
         failed, runs = plugin_runs(lv2dir, home, work, runs)
-        status, output, exports = run_ardour(broken_bundle(lv2dir, work), home, work, "broken",
-                                             wait=0)
-        exited = status == 0 and reached(output) == STEPS
-        failed += not exited
-        print("%s a scene that does not load: exit status %s after %s"
-              % ("ok  " if exited else "note", status, reached(output)[-1:]))
-        error = re.search(r"\[ERROR\]: dpc: .*missing\.obj.*", output)
-        print(error.group(0) if error else output[-3000:])
-        check(error is not None,
-              "a scene that does not load: Ardour shows the plugin's error naming missing.obj")
-        wav = os.path.join(exports, "created.wav")
-        level = rms_db(wav, 0, 4) if os.path.exists(wav) else float("nan")
-        check(level < -80, "a scene that does not load: the plugin plays silence (%.1f dBFS)"
-              % level)
-        if failed:
-            control(lv2dir, home, work, runs + 1, failed)
+        broken_failed, broken = broken_runs(broken_bundle(lv2dir, work), home, work)
+        if failed + broken_failed:
+            control(lv2dir, home, work, runs + broken, failed + broken_failed)
     finally:
         shutil.rmtree(work, ignore_errors=True)
     print("ardour_test: %s" % ("OK" if not failures else "%d FAILED" % len(failures)))

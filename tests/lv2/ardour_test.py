@@ -27,7 +27,8 @@ Checks, each able to fail:
      session: Ardour prints the plugin's error, naming the scene file, the exports are silent
      (RMS below -80 dBFS, measured -94: the 16-bit export's dither alone; the plugin plays
      silence, it does not pass its input through) and
-     Ardour exits 0.
+     Ardour exits 0 (run again, up to EXTRA_RUNS more times, while Ardour ends before exporting;
+     those runs count in check 1's runs).
 Ardour's configuration and caches go to a temporary HOME; LV2_PATH holds only LV2_DIR.
 Runs take 10-60 s each (Ardour's start-up dominates; the script plays 2 x 3 s of real time).
 """

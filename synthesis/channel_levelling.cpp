@@ -19,21 +19,26 @@ ChannelLevelling::ChannelLevelling(int sampleRate, size_t length, int firstBand,
 
 ChannelLevelling::~ChannelLevelling() = default;
 
-ChannelLevelling::Worker ChannelLevelling::makeWorker() const {
-  Worker w;
-  for (int last : bands_)
-    w.levellers.push_back(std::make_unique<WindowLeveller>(sampleRate_, length_, firstBand_, last));
-  return w;
-}
-
 size_t ChannelLevelling::levellerOf(size_t c) const {
-  const int last = lastBand_[std::min(c, lastBand_.size() - 1)];
-  return size_t(std::find(bands_.begin(), bands_.end(), last) - bands_.begin());
+  return size_t(std::find(bands_.begin(), bands_.end(), lastBand_[c]) - bands_.begin());
 }
 
 void ChannelLevelling::setWorkers(size_t workers, ParallelFor parallel) {
-  while (workers_.size() < std::max<size_t>(workers, 1)) workers_.push_back(makeWorker());
-  workers_.resize(std::max<size_t>(workers, 1));
+  const size_t n = std::max<size_t>(workers, 1);
+  workers_.resize(n);
+  // Worker g levels channels g, g + n, ...: it holds a leveller for their last bands only (an
+  // Ambisonic IR's W alone reaches 4 kHz, and only its worker needs that leveller).
+  for (size_t g = 0; g < n; ++g) {
+    std::vector<std::unique_ptr<WindowLeveller>>& own = workers_[g].levellers;
+    own.resize(bands_.size());
+    std::vector<bool> used(bands_.size(), false);
+    for (size_t c = g; c < lastBand_.size(); c += n) used[levellerOf(c)] = true;
+    for (size_t k = 0; k < bands_.size(); ++k)
+      if (!used[k])
+        own[k].reset();
+      else if (!own[k])
+        own[k] = std::make_unique<WindowLeveller>(sampleRate_, length_, firstBand_, bands_[k]);
+  }
   parallel_ = std::move(parallel);
 }
 
@@ -65,7 +70,7 @@ void ChannelLevelling::level(const DirectionalEnergyResponse& energy, size_t cou
   const size_t workers = parallel_ ? workers_.size() : 1;
   const auto group = [&](size_t g) {
     Worker& w = workers_[g];
-    for (size_t c = g; c < channels.size(); c += workers) {
+    for (size_t c = g; c < std::min(channels.size(), lastBand_.size()); c += workers) {
       channelTarget(energy, count, weight, omniGain[c], directionalFrom, c, w.target);
       w.levellers[levellerOf(c)]->level(w.target, onset, channels[c],
                                         fixed.empty() ? nullptr : fixed[c]);

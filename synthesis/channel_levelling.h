@@ -30,7 +30,7 @@ namespace dpc {
 class ChannelLevelling {
  public:
   /// IRs of `length` samples at sampleRate Hz; channel c's bands firstBand..lastBand[c] (one
-  /// entry per channel; a channel beyond them takes the last entry's).
+  /// entry per channel; level() leaves channels beyond them as they are).
   ChannelLevelling(int sampleRate, size_t length, int firstBand, std::vector<int> lastBand);
   ~ChannelLevelling();
 
@@ -53,12 +53,11 @@ class ChannelLevelling {
 
  private:
   struct Worker {
-    /// One per distinct last band (bands_), in its order.
+    /// Per distinct last band (bands_, in its order): a leveller if one of the worker's
+    /// channels ends there, else null.
     std::vector<std::unique_ptr<WindowLeveller>> levellers;
     EnergyResponse target;  ///< scratch: the channel's share of the response
   };
-  /// A worker with a leveller per distinct last band.
-  Worker makeWorker() const;
   /// The index into bands_ (and Worker::levellers) of channel c's last band.
   size_t levellerOf(size_t c) const;
   /// target <- channel c's share of energy.

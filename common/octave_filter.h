@@ -77,17 +77,6 @@ struct OctaveBandPass {
     return x;
   }
 
-  /// The power response |H(f)|^2 at frequency f (Hz) for sampling rate fs (Hz): what the band
-  /// reads of a unit-power sinusoid. No allocation.
-  double powerResponse(double f, double fs) const {
-    const std::complex<double> z = std::polar(1.0, 2.0 * std::numbers::pi * f / fs);
-    const std::complex<double> zi = 1.0 / z;
-    double p = 1.0;
-    for (const Biquad& q : sections)
-      p *= std::norm((q.b0 + q.b1 * zi + q.b2 * zi * zi) / (1.0 + q.a1 * zi + q.a2 * zi * zi));
-    return p;
-  }
-
   /// Energy of the unit impulse response, rung out over `samples` samples (a second's worth
   /// leaves the 63 Hz band's remainder far below 1e-12): the free-field reference of a band
   /// reading, about the band's share of a white spectrum. No allocation.

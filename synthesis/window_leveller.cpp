@@ -55,8 +55,6 @@ WindowLeveller::WindowLeveller(int sampleRate, size_t length, int firstBand, int
       length_(length),
       firstBand_(firstBand),
       lastBand_(lastBand),
-      orthogonaliser_(std::max(sampleRate, 1), std::max<size_t>(length, 1),
-                      std::clamp(firstBand, 0, kNumBands - 1), std::clamp(lastBand, 0, kNumBands - 1)),
       current_(smoothFftSize(length + bandFilterTaps(std::max(sampleRate, 1))) / 2 + 1),
       correction_(smoothFftSize(length + bandFilterTaps(std::max(sampleRate, 1))) / 2 + 1) {
   if (sampleRate <= 0 || length == 0 || firstBand < 0 || lastBand >= kNumBands ||
@@ -356,9 +354,6 @@ void WindowLeveller::level(const EnergyResponse& energy, size_t onset, float* ir
   const size_t span = spanOf(energy);
   if (span <= onset || energy.binCount() == 0) return;
   Size& s = *sizes_[sizeFor(span)];
-  // The noise first loses what it shares with the fixed part in any octave band, so that the
-  // two add in energy, as the response's paths do (synthesis/noise_orthogonaliser.h).
-  if (fixed) orthogonaliser_.apply(ir, fixed);
   viewTargets(energy, s);
   loadFixed(s, fixed);
   loadSpectrum(s, ir);

@@ -33,10 +33,7 @@
 // The fixed part. The direct sound and the exact paths (placed by the caller, not levelled)
 // add to a window's energy in pressure: |f + g y|^2 = F + g^2 Y + 2 g X, F and Y their views'
 // energies and X their product summed over the window. X is zero in expectation but not in one
-// realisation (it moved one IR's 500 Hz G by up to 0.5 dB, and held 10-25 % of a small room's
-// 250 Hz energy at one ear). So level() first makes the noise orthogonal to the fixed part in
-// every ISO octave band (synthesis/noise_orthogonaliser.h): what is left of X in a window's
-// view comes from the view's and the windows' shapes, not from the noise. g then solves g^2 Y + 2 g X = T, the
+// realisation (it moved one IR's 500 Hz G by up to 0.5 dB). g solves g^2 Y + 2 g X = T, the
 // window's target, so the whole IR's view holds F + T; but g stays between sqrt(T / Y) /
 // kCrossLower and sqrt(T / Y) x kCrossRaise, around the factor without the fixed part. A
 // positive X may lower the factor: less noise, less cross term, in any filter. A negative X
@@ -50,8 +47,7 @@
 // Construction: control/propagation thread (FFTW planning); allocates O(length) (FFT buffers
 // and masks for four sizes); throws std::invalid_argument on bad sizes, std::runtime_error
 // when FFTW cannot plan. level(): propagation thread; allocates only when a response has more
-// bins than any before (its per-bin targets) and when a fixed part spans a longer transform
-// than any before (NoiseOrthogonaliser); no errors.
+// bins than any before (its per-bin targets); no errors.
 #pragma once
 
 #include <array>
@@ -63,7 +59,6 @@
 #include "common/fftw_util.h"
 #include "engine/energy_response.h"
 #include "synthesis/band_tilt.h"
-#include "synthesis/noise_orthogonaliser.h"
 
 namespace dpc {
 
@@ -178,7 +173,6 @@ class WindowLeveller {
   std::vector<double> windowCross_;  ///< per window: the view times the fixed part's (scratch)
   bool hasFixed_ = false;            ///< level() was given a fixed part
   std::vector<float> fixedScratch_;  ///< length samples, for the caller
-  NoiseOrthogonaliser orthogonaliser_;
   /// Per band: the ISO 3382-1 analysis filter's energy centroid (full-rate samples).
   std::array<double, kNumBands> analysisDelay_{};
   std::vector<float> factor_;                                 ///< per window (scratch)

@@ -24,7 +24,8 @@ size_t ChannelLevelling::levellerOf(size_t c) const {
 }
 
 void ChannelLevelling::setWorkers(size_t workers, ParallelFor parallel) {
-  const size_t n = std::max<size_t>(workers, 1);
+  // Without a way to run them, level() levels every channel on worker 0: one worker then.
+  const size_t n = parallel ? std::max<size_t>(workers, 1) : 1;
   workers_.resize(n);
   // Worker g levels channels g, g + n, ...: it holds a leveller for their last bands only (an
   // Ambisonic IR's W alone reaches 4 kHz, and only its worker needs that leveller).

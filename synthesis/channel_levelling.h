@@ -38,7 +38,8 @@ class ChannelLevelling {
   using ParallelFor = std::function<void(size_t n, const std::function<void(size_t)>& f)>;
   /// From now on level() spreads the channels over `workers` (>= 1) through `parallel`, each
   /// worker with a leveller of its own: channel c is levelled alike by any worker, so the IR
-  /// does not depend on their number. Control thread; allocates (FFTW planning).
+  /// does not depend on their number. An empty `parallel`: one worker, on the calling thread.
+  /// Control thread; allocates (FFTW planning).
   void setWorkers(size_t workers, ParallelFor parallel);
 
   /// Levels each channel c (its reverberant part, zero before `onset`) to its share of

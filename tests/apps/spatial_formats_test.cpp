@@ -444,4 +444,9 @@ TEST_CASE("AmbiX: levelling on several threads gives the same IR bit for bit", "
     parallel->setParallelLevelling(workers, threads);
     CHECK(synthesize(*parallel) == reference);
   }
+  // A worker per channel asked for without a way to run them: the calling thread levels every
+  // channel (W's 4 kHz leveller and the other channels' 1 kHz one alike), the same IR.
+  auto serial = makeSpatialSynthesizer(scene, ps, roomVolume(scene.mesh));
+  serial->setParallelLevelling(int(serial->channelCount()), {});
+  CHECK(synthesize(*serial) == reference);
 }

@@ -59,15 +59,16 @@ if ((full)); then
   both='^(c_api_create_misuse_test|c_api_gltf_stack_test|bad_input):'
   # Left out here: the one-run Ardour session, whose checks the ten-run session (label "full")
   # makes ten times below.
-  not_run=$(python3 scripts/tests-not-run.py --also "$both" build build-asan/tests-run.txt \
-              -LE 'full|statistics|control' -E '^lv2_plugin:ardour-session$')
+  not_run=$(python3 scripts/tests-not-run.py --also "$both" --skip '^lv2_plugin:ardour-session$' \
+              build build-asan/tests-run.txt -LE 'full|statistics|control')
   if [[ $not_run != 0,0,0 ]]; then
     step not-run-under-asan in_build ctest --output-on-failure -j"$jobs" --timeout 600 -I "$not_run"
   fi
-  # The Monte Carlo checks and the long runs in one ctest, so that the checks fill the second
-  # core while the ten Ardour sessions play; the live JACK runs (RUN_SERIAL) still run alone.
-  step statistics-and-full in_build ctest --output-on-failure -j"$jobs" --timeout 600 \
-    -L 'statistics|full'
+  step statistics in_build ctest --output-on-failure -j"$jobs" --timeout 600 -L statistics
+  # One at a time: Debian's Ardour 7 aborts in its own heap more often beside other work (the
+  # ten sessions beside the unsanitized tests: 10 of 11 runs; alone, Ardour without the plugin
+  # aborts in some runs too: tests/lv2/ardour_test.py).
+  step full in_build ctest --output-on-failure --timeout 600 -L full
   # The queue and live-pipeline threads under ThreadSanitizer (separate build in build-tsan).
   step tsan scripts/tsan.sh
   # A 15 s libFuzzer run per fuzz target (build-fuzz, clang).

@@ -13,11 +13,13 @@ Checks, each able to fail:
      does alone: Debian's Ardour 7 itself aborts in some runs on some machines (glibc's "double
      free or corruption" or "munmap_chunk(): invalid pointer" while saving or closing; 2 of 6
      runs of the same script without any plugin, LV2_PATH empty, on one 2-core machine, 0 on
-     another). When a run with the plugin fails, the same script runs without the plugin
-     (URI "none") max(10, RUNS) times: the failures with the plugin must then be within the
-     control's rate (scaled to RUNS runs) + 3 sqrt of it + 1 (a Poisson count's three standard
-     deviations), and the control must have failed at least once: a plugin whose runs fail
-     where Ardour alone never does fails the test;
+     another; 6 of 11 on a third). When a run with the plugin fails, runs with the plugin are
+     added up to n = max(10, runs made) and the same script runs n times without the plugin
+     (URI "none"): the plugin's failures must not exceed Ardour's own by more than chance
+     allows, Fisher's exact test, one-sided, p >= 0.001 (a false alarm 1 time in 1,000 at
+     any rate of Ardour's own; a plugin that fails 10 of 10 runs where Ardour alone fails 2
+     gives p = 0.0004; a count bound on the control's rate alone, used before, failed 1 run
+     in 5 where Ardour aborts 1 run in 10, whenever its control happened to fail none);
   2. sound came out: every export a run wrote (created and reloaded) carries the plugin's
      output, measured by sox (an instrument independent of dpc): the RMS level of its last
      second above -60 dBFS (measured about -31 dBFS; a plugin that stays silent gives -inf),
@@ -99,20 +101,22 @@ def broken_bundle(lv2dir, work):
 # Ardour alone fails up to 3 runs in 10 here, so one run alone misses 3 times in 10, and 1 + 4
 # runs all miss at that rate 2 times in 1,000 (the control below still bounds the failures).
 EXTRA_RUNS = 4
+# Check 1's sample size (runs with the plugin, and as many without) once a run has failed.
+CONTROL_RUNS = 10
 
 
-def plugin_runs(lv2dir, home, work, runs):
-    """`runs` sessions with the plugin, and up to EXTRA_RUNS more until one exports both
-    sessions (check 2); returns how many did not exit 0 after every step and how many ran
-    (check 1 is the caller's, against the control)."""
+def plugin_runs(lv2dir, home, work, runs, first=0):
+    """`runs` sessions with the plugin (numbered from first + 1), and up to EXTRA_RUNS more
+    until one exports both sessions (check 2); returns how many did not exit 0 after every
+    step and how many ran (check 1 is the caller's, against the control)."""
     failed, both, i = 0, 0, 0
     while i < runs or (both == 0 and i < runs + EXTRA_RUNS):
-        status, output, exports = run_ardour(lv2dir, home, work, "run%d" % i)
+        status, output, exports = run_ardour(lv2dir, home, work, "run%d" % (first + i))
         steps = reached(output)
         exited = status == 0 and steps == STEPS
         failed += not exited
-        print("%s run %d: exit status %s after %s" % ("ok  " if exited else "note", i + 1, status,
-                                                       steps[-1:] or "no step"), flush=True)
+        print("%s run %d: exit status %s after %s" % ("ok  " if exited else "note", first + i + 1,
+                                                       status, steps[-1:] or "no step"), flush=True)
         wrote = 0
         for name in ("created", "reloaded"):
             wav = os.path.join(exports, name + ".wav")
@@ -121,7 +125,7 @@ def plugin_runs(lv2dir, home, work, runs):
             wrote += 1
             level = rms_db(wav, 3, 1)
             check(level > -60, "run %d, %s session: the plugin's output at %.1f dBFS RMS "
-                  "(above -60)" % (i + 1, name, level))
+                  "(above -60)" % (first + i + 1, name, level))
         both += wrote == 2
         if not exited:
             print(output[-3000:])
@@ -132,8 +136,10 @@ def plugin_runs(lv2dir, home, work, runs):
 
 
 def control(lv2dir, home, work, runs, failed):
-    """The same script without the plugin, max(10, runs) times: Ardour's own failure rate."""
-    n = max(10, runs)
+    """The same script without the plugin, as many times as with it (`runs`, of which `failed`
+    failed): Ardour's own failures, against which the plugin's are tested (check 1)."""
+    from scipy.stats import fisher_exact  # Debian's python3-scipy
+    n = runs
     alone = 0
     for i in range(n):
         status, output, _ = run_ardour(lv2dir, home, work, "alone%d" % i, wait=0, uri="none")
@@ -141,11 +147,9 @@ def control(lv2dir, home, work, runs, failed):
         if status != 0:
             crash = re.findall(r"^.*(?:free|corruption|munmap|Segmentation).*$", output, re.M)
             print("Ardour alone, run %d: exit status %s %s" % (i + 1, status, crash[-1:]))
-    expected = alone * runs / n
-    bound = expected + 3 * (expected + 1) ** 0.5
-    check(alone > 0 and failed <= bound,
-          "%d of %d runs with the plugin failed; Ardour alone failed %d of %d (bound %.1f, and "
-          "at least one)" % (failed, runs, alone, n, bound))
+    p = fisher_exact([[failed, runs - failed], [alone, n - alone]], alternative="greater")[1]
+    check(p >= 0.001, "%d of %d runs with the plugin failed; Ardour alone failed %d of %d "
+          "(Fisher's exact test, one-sided: p = %.2g, at least 0.001)" % (failed, runs, alone, n, p))
 
 
 def broken_runs(lv2dir, home, work):
@@ -179,10 +183,14 @@ def main():
     home = os.path.join(work, "home")
     os.makedirs(home)
     try:
-        failed, runs = plugin_runs(lv2dir, home, work, runs)
+        failed, ran = plugin_runs(lv2dir, home, work, runs)
         broken_failed, broken = broken_runs(broken_bundle(lv2dir, work), home, work)
-        if failed + broken_failed:
-            control(lv2dir, home, work, runs + broken, failed + broken_failed)
+        failed, ran = failed + broken_failed, ran + broken
+        if failed:
+            # Check 1's two samples of equal size, at least CONTROL_RUNS.
+            more = max(CONTROL_RUNS - ran, 0)
+            more_failed, more = plugin_runs(lv2dir, home, work, more, first=ran) if more else (0, 0)
+            control(lv2dir, home, work, ran + more, failed + more_failed)
     finally:
         shutil.rmtree(work, ignore_errors=True)
     print("ardour_test: %s" % ("OK" if not failures else "%d FAILED" % len(failures)))

@@ -5,6 +5,8 @@
 #pragma once
 
 #include <array>
+#include <cmath>
+#include <limits>
 #include <vector>
 
 #include "common/bands.h"
@@ -44,5 +46,16 @@ namespace dpc {
 std::array<std::vector<double>, kNumBands> expectedBandAnalysisEnergy(const EnergyResponse& energy,
                                                                       const DirectSound& direct,
                                                                       int sampleRate);
+
+/// The onset t0 (s from emission) that the band analysis of an IR (analyzeImpulseResponse)
+/// finds in a response with this direct sound: its arrival when visible (the pulse's sample,
+/// ISO 3382-1 A.3.4), else NaN, for which audio::analyzeEnergyDecay takes the first non-zero
+/// bin's start. Pass it with expectedBandAnalysisEnergy's bins, or the response's own with the
+/// direct sound in its bin, so that C80 and D50 split where an IR's do. Any thread.
+inline double onsetSecondsOf(const DirectSound& direct) {
+  return direct.visible && std::isfinite(direct.delaySeconds) && direct.delaySeconds >= 0.f
+             ? double(direct.delaySeconds)
+             : std::numeric_limits<double>::quiet_NaN();
+}
 
 }  // namespace dpc

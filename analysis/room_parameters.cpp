@@ -26,9 +26,17 @@ RoomParameters allNaN() {
   return {kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
 }
 
-// Least-squares decay time over the points of `levelDb` (sampled every dt from the onset)
+// Sample times of an energy sequence from the onset: e[0] covers [0, first), e[k >= 1] covers
+// [first + (k - 1) dt, first + k dt). first == dt for a sequence whose onset is a bin start.
+struct Steps {
+  double first, dt;
+  double start(size_t k) const { return k == 0 ? 0.0 : first + double(k - 1) * dt; }
+  double width(size_t k) const { return k == 0 ? first : dt; }
+};
+
+// Least-squares decay time over the points of `levelDb` (sampled at the starts of `steps`)
 // lying in [loDb, hiDb]; NaN if the range is not reached, too close to the floor, or too short.
-double decayTime(const std::vector<double>& levelDb, double dt, double hiDb, double loDb,
+double decayTime(const std::vector<double>& levelDb, const Steps& steps, double hiDb, double loDb,
                  double floorDb) {
   if (loDb < floorDb + kFloorHeadroomDb) return kNaN;
   if (levelDb.empty() || !(levelDb.back() <= loDb)) return kNaN;  // never reaches loDb
@@ -38,7 +46,7 @@ double decayTime(const std::vector<double>& levelDb, double dt, double hiDb, dou
     const double l = levelDb[k];
     if (l > hiDb) continue;
     if (l < loDb) break;  // the curve is non-increasing
-    const double x = double(k) * dt;
+    const double x = steps.start(k);
     sx += x;
     sy += l;
     sxx += x * x;
@@ -55,20 +63,25 @@ double decayTime(const std::vector<double>& levelDb, double dt, double hiDb, dou
 }
 
 // Energy in [t0, t0 + window): whole bins plus the straddling bin's share in proportion to time.
-double earlyEnergy(const std::vector<double>& e, double dt, double window) {
-  const double bins = window / dt;
-  // Guard against 0.05/dt landing a hair below an integer.
-  const double rounded = std::round(bins);
-  const double q = std::abs(bins - rounded) < 1e-9 ? rounded : bins;
-  const size_t whole = size_t(std::floor(q));
+double earlyEnergy(const std::vector<double>& e, const Steps& steps, double window) {
   double sum = 0;
-  for (size_t k = 0; k < std::min(whole, e.size()); ++k) sum += e[k];
-  if (whole < e.size()) sum += (q - double(whole)) * e[whole];
+  for (size_t k = 0; k < e.size(); ++k) {
+    const double start = steps.start(k), width = steps.width(k);
+    // Guard against a window landing a hair below a bin boundary.
+    const double share = (window - start) / width;
+    if (share >= 1.0 - 1e-9) {
+      sum += e[k];
+      continue;
+    }
+    if (share > 1e-9) sum += share * e[k];
+    break;
+  }
   return sum;
 }
 
-// All parameters from an energy sequence starting at the onset (e[0] = energy at t0), step dt.
-RoomParameters fromEnergy(const std::vector<double>& e, double dt) {
+// All parameters from an energy sequence starting at the onset (e[0] = energy at t0), its
+// bins' times `steps`.
+RoomParameters fromEnergy(const std::vector<double>& e, const Steps& steps) {
   RoomParameters r = allNaN();
   const size_t n = e.size();
   if (n == 0) return r;
@@ -90,12 +103,12 @@ RoomParameters fromEnergy(const std::vector<double>& e, double dt) {
   const size_t floorIndex = std::min(n - 1, size_t(std::floor(kFloorFraction * double(n))));
   const double floorDb = levelDb[floorIndex];
 
-  r.t20 = decayTime(levelDb, dt, -5.0, -25.0, floorDb);
-  r.t30 = decayTime(levelDb, dt, -5.0, -35.0, floorDb);
-  r.edt = decayTime(levelDb, dt, 0.0, -10.0, floorDb);
+  r.t20 = decayTime(levelDb, steps, -5.0, -25.0, floorDb);
+  r.t30 = decayTime(levelDb, steps, -5.0, -35.0, floorDb);
+  r.edt = decayTime(levelDb, steps, 0.0, -10.0, floorDb);
 
   auto clarity = [&](double window) {
-    const double early = earlyEnergy(e, dt, window);
+    const double early = earlyEnergy(e, steps, window);
     const double late = std::max(0.0, total - early);
     if (late <= 0) return kInf;
     if (early <= 0) return -kInf;
@@ -103,7 +116,7 @@ RoomParameters fromEnergy(const std::vector<double>& e, double dt) {
   };
   r.c50 = clarity(0.050);
   r.c80 = clarity(0.080);
-  r.d50 = std::clamp(earlyEnergy(e, dt, 0.050) / total, 0.0, 1.0);
+  r.d50 = std::clamp(earlyEnergy(e, steps, 0.050) / total, 0.0, 1.0);
   return r;
 }
 
@@ -115,14 +128,18 @@ std::vector<double> squaredFrom(const std::vector<double>& p, size_t onset) {
 
 }  // namespace
 
-RoomParameters analyzeEnergyDecay(const double* energy, size_t n, double binSeconds) {
+RoomParameters analyzeEnergyDecay(const double* energy, size_t n, double binSeconds,
+                                  double onsetSeconds) {
   if (!energy || n == 0 || !(binSeconds > 0)) return allNaN();
   size_t onset = 0;
   while (onset < n && !(energy[onset] > 0)) ++onset;
   if (onset == n) return allNaN();
   std::vector<double> e(n - onset);
   for (size_t k = onset; k < n; ++k) e[k - onset] = energy[k] > 0 ? energy[k] : 0.0;
-  return fromEnergy(e, binSeconds);
+  // t0 inside the onset bin: that bin covers [t0, its end) only.
+  const double end = double(onset + 1) * binSeconds;
+  const bool inside = onsetSeconds >= double(onset) * binSeconds && onsetSeconds < end;
+  return fromEnergy(e, Steps{inside ? end - onsetSeconds : binSeconds, binSeconds});
 }
 
 namespace {
@@ -171,9 +188,9 @@ ImpulseResponseAnalysis analyzeImpulseResponse(const float* ir, size_t n, int sa
   if (sampleRate <= 0 || !onsetOf(ir, n, p, onset)) return out;
   const double fs = double(sampleRate);
   const double dt = 1.0 / fs;
-  out.broadband = fromEnergy(squaredFrom(p, onset), dt);
+  out.broadband = fromEnergy(squaredFrom(p, onset), Steps{dt, dt});
   for (int b = 0; b < kNumBands; ++b)
-    if (bandSignal(p, b, fs, band)) out.bands[size_t(b)] = fromEnergy(squaredFrom(band, onset), dt);
+    if (bandSignal(p, b, fs, band)) out.bands[size_t(b)] = fromEnergy(squaredFrom(band, onset), Steps{dt, dt});
   return out;
 }
 

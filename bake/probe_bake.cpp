@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "analysis/expected_band_analysis.h"
 #include "analysis/room_parameters.h"
 #include "analysis/speech_transmission.h"
 #include "common/random.h"
@@ -24,8 +25,9 @@ double studentT95(int dof) {
   return t[std::clamp(dof, 1, 10) - 1];
 }
 
-/// The parameters of one response (bands, then broadband) in kParameterNames order, and STI.
-std::vector<double> parametersOf(const BandSeries& e, double bin) {
+/// The parameters of one response (bands, then broadband) in kParameterNames order, and STI;
+/// onsetSeconds: the direct sound's arrival (onsetSecondsOf), where C80 and D50 start.
+std::vector<double> parametersOf(const BandSeries& e, double bin, double onsetSeconds) {
   std::vector<double> out;
   std::vector<double> sum(e[0].size(), 0.0);
   auto add = [&](const audio::RoomParameters& p) {
@@ -33,10 +35,10 @@ std::vector<double> parametersOf(const BandSeries& e, double bin) {
       out.push_back(v);
   };
   for (int b = 0; b < kNumBands; ++b) {
-    add(audio::analyzeEnergyDecay(e[size_t(b)].data(), e[size_t(b)].size(), bin));
+    add(audio::analyzeEnergyDecay(e[size_t(b)].data(), e[size_t(b)].size(), bin, onsetSeconds));
     for (size_t k = 0; k < sum.size(); ++k) sum[k] += e[size_t(b)][k];
   }
-  add(audio::analyzeEnergyDecay(sum.data(), sum.size(), bin));
+  add(audio::analyzeEnergyDecay(sum.data(), sum.size(), bin, onsetSeconds));
   std::array<std::span<const double>, audio::kStiBands> sti;
   for (int k = 0; k < audio::kStiBands; ++k) sti[size_t(k)] = e[size_t(audio::kStiFirstBand + k)];
   out.push_back(audio::speechTransmissionIndex(sti, bin));
@@ -213,11 +215,11 @@ void finishSource(std::vector<BandSeries>& groups, const DirectSound& direct, si
       for (size_t k = 0; k < shape.bins; ++k)
         mean[size_t(b)][k] += g[size_t(b)][k] / double(groups.size());
     addDirect(direct, bin, g);
-    groupParameters.push_back(parametersOf(g, bin));
+    groupParameters.push_back(parametersOf(g, bin, onsetSecondsOf(direct)));
   }
   addDirect(direct, bin, mean);
   storeSource(mean, direct, s, shape, out);
-  summarise(parametersOf(mean, bin), groupParameters, s, out);
+  summarise(parametersOf(mean, bin, onsetSecondsOf(direct)), groupParameters, s, out);
 }
 
 }  // namespace

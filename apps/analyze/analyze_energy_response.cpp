@@ -33,12 +33,13 @@ ImpulseResponseAnalysis analyzeSource(const SourceEnergy& s, bool asMeasured) {
   const auto bands = withDirect(s);
   const auto measured = asMeasured ? sourceBandEnergy(s, true) : bands;
   std::vector<double> sum(bands[0].size(), 0.0);
+  const double t0 = onsetSecondsOf(s.direct), bin = s.energy.binSeconds();
   for (int b = 0; b < kNumBands; ++b) {
     const auto& e = measured[size_t(b)];
-    a.bands[size_t(b)] = audio::analyzeEnergyDecay(e.data(), e.size(), s.energy.binSeconds());
+    a.bands[size_t(b)] = audio::analyzeEnergyDecay(e.data(), e.size(), bin, t0);
     for (size_t k = 0; k < e.size(); ++k) sum[k] += bands[size_t(b)][k];
   }
-  a.broadband = audio::analyzeEnergyDecay(sum.data(), sum.size(), s.energy.binSeconds());
+  a.broadband = audio::analyzeEnergyDecay(sum.data(), sum.size(), bin, t0);
   return a;
 }
 

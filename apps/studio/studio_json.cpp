@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "analysis/energy_response_csv.h"
+#include "analysis/expected_band_analysis.h"
 
 namespace dpc::studio {
 namespace {
@@ -167,8 +168,14 @@ std::string responseJson(const StudioFrame& f) {
     for (const Bands& e : f.energy) bins.push_back(e[b]);
     perBand.push_back(std::move(bins));
   }
-  return json{{"frame", f.frame}, {"source", f.source}, {"binSeconds", f.binSeconds},
-              {"origin", f.fromBake ? "bake" : "traced"}, {"bands", perBand}}
+  // Where an IR's analysis puts t0 (the direct sound's arrival), for the page's C80 and D50.
+  const double onset = onsetSecondsOf(f.direct);
+  return json{{"frame", f.frame},
+              {"source", f.source},
+              {"binSeconds", f.binSeconds},
+              {"onsetSeconds", std::isfinite(onset) ? json(onset) : json(nullptr)},
+              {"origin", f.fromBake ? "bake" : "traced"},
+              {"bands", perBand}}
       .dump();
 }
 

@@ -7,7 +7,7 @@ const kFloorDb = -60;
 
 /// Parameters of every band of a /api/response document.
 export function analyse(response) {
-  return response.bands.map((e) => roomParameters(e, response.binSeconds));
+  return response.bands.map((e) => roomParameters(e, response.binSeconds, response.onsetSeconds ?? null));
 }
 
 /// The decay panel's title: whether the response was traced this session or is the bake's at

@@ -49,15 +49,16 @@ class ResponseBands {
     const auto directOnly = flat ? std::array<std::vector<double>, kNumBands>{}
                                  : expectedBandAnalysisEnergy(none, direct, fs);
     std::vector<double> e(er.binCount()), x;
+    const double t0 = onsetSecondsOf(direct);  // where the IR's analysis finds the onset
     for (int b = 0; b < kNumBands; ++b) {
       for (size_t k = 0; k < e.size(); ++k) e[k] = er.bins()[k][b];
       if (direct.visible) e[size_t(direct.delaySeconds / er.binSeconds())] += direct.intensity[b];
-      response_[size_t(b)] = audio::analyzeEnergyDecay(e.data(), e.size(), er.binSeconds());
+      response_[size_t(b)] = audio::analyzeEnergyDecay(e.data(), e.size(), er.binSeconds(), t0);
       x = exact[size_t(b)];
       const double r = reverberantScale[b], d = directScale[b];
       for (size_t k = 0; k < x.size() && k < directOnly[size_t(b)].size(); ++k)
         x[k] = r * x[k] + (d - r) * directOnly[size_t(b)][k];
-      exactIr_[size_t(b)] = audio::analyzeEnergyDecay(x.data(), x.size(), er.binSeconds());
+      exactIr_[size_t(b)] = audio::analyzeEnergyDecay(x.data(), x.size(), er.binSeconds(), t0);
     }
   }
 

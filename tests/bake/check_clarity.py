@@ -2,11 +2,13 @@
 """C50 and C80 of a bake, checked against an oracle that computes them itself (NumPy and h5py,
 none of dpc's analysis code) from each probe's own stored energy response.
 
-ISO 3382-1, A.2.4: C_te = 10 lg(E[0, te) / E[te, inf)), t = 0 at the arrival of the response
-(here the first non-empty 1 ms bin of the band's energy histogram, the direct sound when it is
-visible), te = 50 ms and 80 ms: whole bins, so no bin straddles the limit. The broadband row is
-the sum of the 8 bands. The bake's `parameters` (columns C50, C80) and the map CSV's rows must
-both agree with it within TOLERANCE_DB.
+ISO 3382-1, A.2.4: C_te = 10 lg(E[t0, t0 + te) / E[t0 + te, inf)), t0 the arrival of the direct
+sound (ISO 3382-1 A.3.4; an IR's analysis finds it at the direct pulse): `direct/delay_s` when the
+probe's direct sound has energy and its arrival lies in the band's first non-empty 1 ms bin of the
+energy histogram (that bin then holds [t0, its end)), else that bin's start. te = 50 ms and 80 ms;
+the bin holding t0 + te is split in proportion to time. The broadband row is the sum of the 8
+bands. The bake's `parameters` (columns C50, C80) and the map CSV's rows must both agree with it
+within TOLERANCE_DB.
 
 Tolerance: the oracle sums the stored float32 energies, dpc the double-precision means they
 were rounded from (relative error 6e-8 per bin); 0.01 dB is 10^4 times that effect, and a
@@ -23,23 +25,27 @@ TOLERANCE_DB = 0.01
 BANDS = ["63", "125", "250", "500", "1000", "2000", "4000", "8000", "broadband"]
 
 
-def clarity(energy, limit_bins):
-    """C in dB of one energy histogram (1 ms bins): early [t0, t0 + limit), late the rest."""
+def clarity(energy, limit_ms, direct_ms):
+    """C in dB of one energy histogram (1 ms bins): early [t0, t0 + limit), late the rest;
+    direct_ms the direct sound's arrival (ms) or None."""
     e = np.asarray(energy, dtype=np.float64)
     nonzero = np.flatnonzero(e > 0)
     if nonzero.size == 0:
         return float("nan")
-    t0 = nonzero[0]
-    early = e[t0:t0 + limit_bins].sum()
-    late = e[t0 + limit_bins:].sum()
+    first = int(nonzero[0])
+    t0 = direct_ms if direct_ms is not None and first <= direct_ms < first + 1 else float(first)
+    end = t0 + limit_ms
+    last = int(np.floor(end))  # the bin holding t0 + limit
+    early = e[first:last].sum() + (end - last) * (e[last] if last < e.size else 0.0)
+    late = e.sum() - early
     with np.errstate(divide="ignore"):
         return float(10 * np.log10(early / late))
 
 
-def oracle(energy_ps):
+def oracle(energy_ps, direct_ms):
     """[row][C50, C80] for one probe and source ([bins][8] energy): 8 bands, then broadband."""
     rows = [energy_ps[:, b] for b in range(8)] + [energy_ps.sum(axis=1)]
-    return np.array([[clarity(r, 50), clarity(r, 80)] for r in rows])
+    return np.array([[clarity(r, 50, direct_ms), clarity(r, 80, direct_ms)] for r in rows])
 
 
 def agree(stored, expected):
@@ -54,6 +60,8 @@ def main(bake_path, map_path):
     columns = f.attrs["parameter_columns"].decode().split(",")
     c50, c80 = columns.index("C50"), columns.index("C80")
     energy = f["energy"][...]
+    delay = f["direct/delay_s"][...]
+    direct_energy = f["direct/energy"][...]
     params = f["parameters"][...]
     done = f["probes/done"][...]
     csv_values = {}
@@ -65,7 +73,8 @@ def main(bake_path, map_path):
     gap = float("inf")
     for p in np.flatnonzero(done):
         for s in range(energy.shape[1]):
-            want = oracle(energy[p, s])
+            heard = direct_energy[p, s].sum() > 0
+            want = oracle(energy[p, s], 1e3 * float(delay[p, s]) if heard else None)
             for r, band in enumerate(BANDS):
                 for k, name, col in ((0, "C50", c50), (1, "C80", c80)):
                     expected = want[r, k]

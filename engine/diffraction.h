@@ -29,11 +29,22 @@
 // synthesis places them at the shortest path's delay (first order only; higher orders: see
 // docs/validation.md).
 //
+// Reflections: inside a face's reflection zone (the listener sees the source's image in the
+// face's plane) the face's specular reflection is the tracer's, added in energy, so the UTD
+// term that corrects it at its boundary is left out of the coherent sum (it would stand
+// alone, about minus half a reflection); outside the zone that term is the image source's
+// diffraction and stays. Openings: the two edges of one face that runs along the line of sight
+// (a thick wall's reveal, seen through its doorway) each count the opening's cut into the
+// direct sound; together they count once (each takes half its field).
+//
 // Gaps: an edge path that passes a narrow gap (the frame's edge beside a closed door leaf, a
 // free edge whose UTD field would count as if nothing else were near) takes the slit's field
 // (engine/slit.h: Gomperts 1964, Mechel 1986) instead of the edge's, in the proportion
 // slitWeight(k w, aspect); engine/gap_probe.h finds the gap's width w and how far it runs along
 // the edge. A gap bounded by two edges counts once; a gap closed within 0.5 mm drops the path.
+// A line of sight through a gap (between two door leaves) keeps the direct sound only in the
+// proportion 1 - s: the slit's field is driven by the incident pressure at its mouth and
+// carries the rest.
 // Energy: with the line of sight blocked (lineOfSight() false), the result is held at the
 // unobstructed direct sound per band (an obstruction adds no energy to the path it blocks);
 // with it free, the sum may exceed it by the lit side's Fresnel ripple (docs/estimators.md,

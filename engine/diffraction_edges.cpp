@@ -30,11 +30,30 @@ struct EdgeUse {
   int count = 0;
 };
 
+/// Per triangle, whether an earlier triangle has the same three welded corners: the back of a
+/// double-sided face (an exporter's two-sided material, a sheet written once per side). Its
+/// edges are the front's: counted twice they would make every edge of the face non-manifold,
+/// and a doorway in a double-sided wall would diffract nothing.
+std::vector<bool> duplicateFaces(const Mesh& mesh, const std::vector<uint32_t>& id) {
+  std::unordered_map<uint64_t, std::vector<std::array<uint32_t, 3>>> seen;
+  std::vector<bool> duplicate(mesh.triangles.size(), false);
+  for (uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+    std::array<uint32_t, 3> c{id[mesh.triangles[t][0]], id[mesh.triangles[t][1]],
+                              id[mesh.triangles[t][2]]};
+    std::sort(c.begin(), c.end());
+    auto& bucket = seen[uint64_t(c[0]) << 32 | c[1]];
+    duplicate[t] = std::find(bucket.begin(), bucket.end(), c) != bucket.end();
+    if (!duplicate[t]) bucket.push_back(c);
+  }
+  return duplicate;
+}
+
 std::unordered_map<uint64_t, EdgeUse> edgeUses(const Mesh& mesh, const std::vector<uint32_t>& id) {
   std::unordered_map<uint64_t, EdgeUse> uses;
   uses.reserve(mesh.triangles.size() * 3);
+  const std::vector<bool> duplicate = duplicateFaces(mesh, id);
   for (uint32_t t = 0; t < mesh.triangles.size(); ++t)
-    for (int i = 0; i < 3; ++i) {
+    for (int i = 0; i < 3 && !duplicate[t]; ++i) {
       const uint64_t u = id[mesh.triangles[t][size_t(i)]],
                      v = id[mesh.triangles[t][size_t((i + 1) % 3)]];
       EdgeUse& e = uses[u < v ? (u << 32 | v) : (v << 32 | u)];

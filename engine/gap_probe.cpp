@@ -20,6 +20,7 @@ constexpr int kAlong = 4;            // points along the edge either side of Q
 constexpr float kLegStart = 1e-3f;   // m: the legs start this far from the source and listener
 constexpr float kInnerWidth = 0.5f;  // along the edge: a gap is free this many widths across
 constexpr float kOuterWidth = 1.5f;  // and closed within this many
+constexpr float kFlank = 0.04f;      // m: where a free Q's flanks are probed (probeFlanks)
 
 // Along the edge the points lie 1 .. kAlong widths either side of Q: up to the aspect at which
 // the slit model holds fully.
@@ -167,11 +168,45 @@ void findWidths(const Tracer& tracer, const glm::vec3& source, const glm::vec3& 
     shapes[gaps[n]].width = std::sqrt(bracket[n][0] * bracket[n][1]);
 }
 
+/// Q's mouth may open onto a narrow gap that crosses the edge there: the slit between two
+/// door leaves meeting under a lintel, where the lintel's point of least path length lies right
+/// above it. Probed through that gap, Q looks free. For each path free at Q, the mouth kFlank
+/// either side of Q along the edge (when both lie on the edge) decides instead: closed on both
+/// sides, the edge is closed (what crosses it there is the crossing gap's own path); a gap on
+/// both sides, the edge bounds that gap (the geometric mean of the two widths).
+void probeFlanks(const Tracer& tracer, const glm::vec3& source, const glm::vec3& listener,
+                 std::span<const GapProbe> probes, std::span<GapShape> shapes) {
+  std::vector<GapProbe> flanks;
+  std::vector<size_t> owner;
+  for (size_t j = 0; j < probes.size(); ++j) {
+    const GapProbe& g = probes[j];
+    if (shapes[j].width != 0.f || !(g.reach > kGapNarrowest) || g.from > -kFlank || g.to < kFlank)
+      continue;
+    for (float a : {-kFlank, kFlank}) {
+      GapProbe f = g;
+      f.q += a * g.along;
+      f.from -= a;
+      f.to -= a;
+      flanks.push_back(f);
+    }
+    owner.push_back(j);
+  }
+  if (flanks.empty()) return;
+  std::vector<GapShape> found(flanks.size());
+  findWidths(tracer, source, listener, flanks, found);
+  for (size_t n = 0; n < owner.size(); ++n) {
+    const float w0 = found[2 * n].width, w1 = found[2 * n + 1].width;
+    if (w0 < 0.f && w1 < 0.f) shapes[owner[n]].width = -1.f;
+    if (w0 > 0.f && w1 > 0.f) shapes[owner[n]].width = std::sqrt(w0 * w1);
+  }
+}
+
 }  // namespace
 
 void probeGaps(const Tracer& tracer, const glm::vec3& source, const glm::vec3& listener,
                std::span<const GapProbe> probes, std::span<GapShape> shapes) {
   findWidths(tracer, source, listener, probes, shapes);
+  probeFlanks(tracer, source, listener, probes, shapes);
   // Along the edge, 1 .. kAlong widths either side of Q: is there still a gap (free at half a
   // width across the mouth) that closes within 1.5 widths? Points: per probe and offset, the
   // inner then the outer one.

@@ -14,7 +14,11 @@
 // on the width through its logarithm). A slit must also run along the edge: the same test 1
 // to 4 widths either side of Q along the edge, free at 0.5 w across the mouth and blocked at
 // 1.5 w, gives the length over which the gap stays that narrow (up to 8 widths; a small
-// obstacle in a wide opening is no slit).
+// obstacle in a wide opening is no slit). Where Q's mouth is free, it may open onto a narrow
+// gap that crosses the edge at Q (the slit between two door leaves, right under the lintel's
+// point of least path length): the mouth 4 cm either side of Q along the edge decides, closed
+// on both sides (no gap: what passes there is the crossing gap's) or a gap on both sides (its
+// width), 16 more rays per free path.
 //
 // u must point across the gap, away from the edge's own solid, in the plane perpendicular to
 // the edge, into the angles around the edge that both the source and the listener see
@@ -62,8 +66,8 @@ struct GapShape {
   float aspect = 0.f;
 };
 
-/// Probes every gap; shapes.size() >= probes.size(). Four batch queries: 8 rays per probe,
-/// then 16, 16 and 32 per gap found.
+/// Probes every gap; shapes.size() >= probes.size(). Batch queries: 8 rays per probe, 16
+/// more per probe free at Q (its flanks), then 16, 16 and 32 per gap found.
 void probeGaps(const Tracer& tracer, const glm::vec3& source, const glm::vec3& listener,
                std::span<const GapProbe> probes, std::span<GapShape> shapes);
 

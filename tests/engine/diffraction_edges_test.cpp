@@ -1,6 +1,10 @@
 // The diffraction edge finder (engine/diffraction.h) on every shipped scene: the same edges,
 // bit for bit, as the exhaustive search it replaced (each edge tested against every triangle),
-// recorded here as a count and a hash of the sorted edge list.
+// recorded here as a count and a hash of the sorted edge list. Re-recorded when a double-sided
+// face's second copy stopped adding its edges: a double-sided sheet's rim (two_rooms'
+// partition, the terrains' panels), used by both copies, had been a wedge of `open` 0 and is now a
+// free edge of open 2 pi, the same half-plane (the same count of edges; the air wedge 2 pi
+// either way).
 #include <catch2/catch.hpp>
 #include <cstdint>
 #include <cstdio>
@@ -45,7 +49,7 @@ struct Golden {
 TEST_CASE("Diffraction edges: the shipped scenes keep their edges", "[diffraction]") {
   const Golden golden[] = {
       {"shoebox", 12, 0x011ca3bf1a9fd443ull},    {"shoebox-corner", 13, 0xefc66783e07aa5f5ull},
-      {"hall", 9343, 0x15c774e48361b4e9ull},     {"two_rooms", 15, 0x965df693c5e3ec7bull},
+      {"hall", 9343, 0x15c774e48361b4e9ull},     {"two_rooms", 15, 0x73352147f10fd920ull},
       {"open_field", 20, 0x60d30ed49e87eccbull},
   };
   for (const Golden& g : golden) {
@@ -63,8 +67,8 @@ TEST_CASE("Diffraction edges: generated terrains with panels keep their edges", 
     size_t edges;
     uint64_t hash;
   };
-  const Terrain golden[] = {{24, 3, 420, 0xb53cfa9b7b486a28ull},
-                            {64, 12, 2159, 0x27f1cb24cc204d2dull}};
+  const Terrain golden[] = {{24, 3, 420, 0xc56b1eea41a546bbull},
+                            {64, 12, 2159, 0xbb7019cf92d3a5bdull}};
   for (const Terrain& g : golden) {
     const EdgeDiffraction d(test::terrain(g.cells, g.panels));
     INFO(g.cells << " cells, " << g.panels << " panels");

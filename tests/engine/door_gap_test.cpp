@@ -41,15 +41,27 @@ enum class Leaf { kNone, kStatic, kObject };
 /// doorway's plane leaving `gap` metres at both sides and the top, standing on the floor; in
 /// the static mesh or as a scene object (as scenes/two_rooms.json has it). All opaque, of
 /// absorption `alpha`.
+/// A panel, and with `twice` its copy wound the other way (a double-sided face).
+void addFace(Mesh& mesh, glm::vec3 o, glm::vec3 u, glm::vec3 v, bool twice) {
+  test::addPanel(mesh, o, u, v, 0);
+  if (twice) test::addPanel(mesh, o, v, u, 0);
+}
+
+/// The partition's panels round the doorway in the plane x = x0.
+void addDoorwayWall(Mesh& mesh, float x0, bool twice = false) {
+  const glm::vec3 y{0, 1, 0}, z{0, 0, 1};
+  const float top = 3.f - kDoorHeight, right = 5.f - kDoorZ0 - kDoorWidth;
+  addFace(mesh, {x0, 0, 0}, kDoorZ0 * z, kDoorHeight * y, twice);
+  addFace(mesh, {x0, kDoorHeight, 0}, kDoorZ0 * z, top * y, twice);
+  addFace(mesh, {x0, kDoorHeight, kDoorZ0}, kDoorWidth * z, top * y, twice);
+  addFace(mesh, {x0, kDoorHeight, kDoorZ0 + kDoorWidth}, right * z, top * y, twice);
+  addFace(mesh, {x0, 0, kDoorZ0 + kDoorWidth}, right * z, kDoorHeight * y, twice);
+}
+
 SceneDesc doorScene(float gap, Leaf leaf, float alpha = 0.2f) {
   SceneDesc s = test::makeShoebox({12, 3, 5}, Bands(alpha), 0.3f, kSource, kListener, 0.5f);
   const glm::vec3 y{0, 1, 0}, z{0, 0, 1};
-  const float top = 3.f - kDoorHeight, right = 5.f - kDoorZ0 - kDoorWidth;
-  test::addPanel(s.mesh, {6, 0, 0}, kDoorZ0 * z, kDoorHeight * y, 0);
-  test::addPanel(s.mesh, {6, kDoorHeight, 0}, kDoorZ0 * z, top * y, 0);
-  test::addPanel(s.mesh, {6, kDoorHeight, kDoorZ0}, kDoorWidth * z, top * y, 0);
-  test::addPanel(s.mesh, {6, kDoorHeight, kDoorZ0 + kDoorWidth}, right * z, top * y, 0);
-  test::addPanel(s.mesh, {6, 0, kDoorZ0 + kDoorWidth}, right * z, kDoorHeight * y, 0);
+  addDoorwayWall(s.mesh, 6.f);
   const glm::vec3 corner{6.f, 0.f, kDoorZ0 + gap};
   const glm::vec3 along = (kDoorWidth - 2.f * gap) * z, up = (kDoorHeight - gap) * y;
   if (leaf == Leaf::kStatic) test::addPanel(s.mesh, corner, along, up, 0);
@@ -64,6 +76,32 @@ SceneDesc doorScene(float gap, Leaf leaf, float alpha = 0.2f) {
   s.propagation.maxOrder = 40;
   s.propagation.exactOrder = 0;
   s.propagation.irLength = 1.f;
+  return s;
+}
+
+/// doorScene's rooms with the doorway through a wall `depth` metres deep: its faces x = 6 and
+/// 6 + depth and the doorway's reveals (two jambs and the lintel), every face once or
+/// (doubleSided) twice, as an exporter writes a two-sided material.
+SceneDesc thickDoorwayScene(float depth, bool doubleSided) {
+  SceneDesc s = doorScene(0.f, Leaf::kNone);
+  s.mesh = test::makeShoebox({12, 3, 5}, Bands(0.2f), 0.3f, kSource, kListener, 0.5f).mesh;
+  const glm::vec3 x{depth, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
+  addDoorwayWall(s.mesh, 6.f, doubleSided);
+  addDoorwayWall(s.mesh, 6.f + depth, doubleSided);
+  addFace(s.mesh, {6, 0, kDoorZ0}, x, kDoorHeight * y, doubleSided);
+  addFace(s.mesh, {6, 0, kDoorZ0 + kDoorWidth}, kDoorHeight * y, x, doubleSided);
+  addFace(s.mesh, {6, kDoorHeight, kDoorZ0}, kDoorWidth * z, x, doubleSided);
+  return s;
+}
+
+/// doorScene's doorway closed by two leaves (in the mesh) meeting in its middle, `middle`
+/// metres apart there (on the line of sight), `gap` from the frame at the sides and the top.
+SceneDesc doubleDoorScene(float gap, float middle) {
+  SceneDesc s = doorScene(0.f, Leaf::kNone);
+  const glm::vec3 y{0, 1, 0}, z{0, 0, 1};
+  const float half = 0.5f * (kDoorWidth - middle) - gap, up = kDoorHeight - gap;
+  test::addPanel(s.mesh, {6.f, 0.f, kDoorZ0 + gap}, half * z, up * y, 0);
+  test::addPanel(s.mesh, {6.f, 0.f, kDoorZ0 + 0.5f * (kDoorWidth + middle)}, half * z, up * y, 0);
   return s;
 }
 
@@ -160,13 +198,18 @@ C modelPressure(const std::vector<Slit>& slits, double k, const MouthImpedance& 
   return p * double(glm::length(L - S));
 }
 
-/// The model's band levels (dB re the free field): |p|^2 averaged over the band's
-/// frequencies, the slits centred in the gaps round the leaf.
-Bands modelLevels(double gap, const MouthImpedance& zr) {
+/// The slits centred in the gaps round a leaf `gap` metres from the frame (none for 0).
+std::vector<Slit> perimeterSlits(double gap) {
   const double z0 = kDoorZ0, z1 = kDoorZ0 + kDoorWidth, h = kDoorHeight;
-  const std::vector<Slit> slits = {{{6, 0, z0 + gap / 2}, {6, h, z0 + gap / 2}, gap},
-                                   {{6, 0, z1 - gap / 2}, {6, h, z1 - gap / 2}, gap},
-                                   {{6, h - gap / 2, z0}, {6, h - gap / 2, z1}, gap}};
+  if (!(gap > 0.0)) return {};
+  return {{{6, 0, z0 + gap / 2}, {6, h, z0 + gap / 2}, gap},
+          {{6, 0, z1 - gap / 2}, {6, h, z1 - gap / 2}, gap},
+          {{6, h - gap / 2, z0}, {6, h - gap / 2, z1}, gap}};
+}
+
+/// The model's band levels (dB re the free field) of `slits`: |p|^2 averaged over the band's
+/// frequencies.
+Bands modelLevels(const std::vector<Slit>& slits, const MouthImpedance& zr) {
   Bands out;
   for (int b = 0; b < kNumBands; ++b) {
     double mean = 0.0;
@@ -206,7 +249,7 @@ TEST_CASE("Door gaps: closed is never louder than open, and the gaps pass what t
   std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
   tableRow("-", "open doorway (UTD)", open);
   for (float gap : {0.f, 0.005f, 0.01f, 0.02f}) {
-    const Bands model = gap > 0.f ? modelLevels(gap, zr) : Bands(-300.f);
+    const Bands model = gap > 0.f ? modelLevels(perimeterSlits(gap), zr) : Bands(-300.f);
     const std::string mm = std::to_string(int(std::lround(gap * 1e3f))) + " mm";
     for (Leaf leaf : {Leaf::kStatic, Leaf::kObject}) {
       const Bands closed = decibels(directLevel(doorScene(gap, leaf)));
@@ -328,4 +371,112 @@ TEST_CASE("Door gaps: an obstacle in a window never lifts the direct sound above
   for (int b = 0; b < kNumBands; ++b) std::printf(" %6.1f", double(level[b]));
   std::printf("\n");
   for (int b = 0; b < kNumBands; ++b) CHECK(level[b] <= 1e-4f);
+}
+
+namespace {
+
+/// int_a^b e^{-j pi u^2 / 2} du by Gauss-Legendre panels short enough for the phase (at most
+/// 0.02 / (1 + |u|) wide); a = -inf (-HUGE_VAL) adds (1 - j) / 2, the integral over u < 0.
+C fresnelIntegral(double a, double b) {
+  if (std::isinf(a)) return C(0.5, -0.5) + fresnelIntegral(0.0, b);
+  const double reach = 1.0 + std::max(std::abs(a), std::abs(b));
+  const int panels = std::max(1, int(std::ceil(std::abs(b - a) * reach / 0.02)));
+  const double h = (b - a) / panels;
+  C sum = 0.0;
+  for (int n = 0; n < panels; ++n)
+    for (size_t g = 0; g < kGlX.size(); ++g) {
+      const double u = a + (n + 0.5 * (kGlX[g] + 1.0)) * h;
+      sum += kGlW[g] * 0.5 * h * std::polar(1.0, -0.5 * kPi * u * u);
+    }
+  return sum;
+}
+
+/// The Kirchhoff-Fresnel integral over the open doorway (z 2..3 m; from the floor, whose own
+/// reflection the tracer carries, so the aperture runs down without end, to the lintel at
+/// 2.1 m), source r and listener s metres from its plane on the line through z 2.5 m, 1.2 m
+/// high: the field re the free field is F(z) F(y) / 2j, F the Fresnel integral over the
+/// aperture's offsets scaled by sqrt(2 / lambda (1 / r + 1 / s)) (M. Born & E. Wolf,
+/// Principles of Optics, 8.7). Band levels (dB re the free field), |.|^2 averaged over the
+/// band's diffraction frequencies.
+Bands kirchhoffLevels(double r, double s) {
+  Bands out;
+  for (int b = 0; b < kNumBands; ++b) {
+    double mean = 0.0;
+    for (int i = 0; i < kDiffractionFrequenciesPerBand; ++i) {
+      const double lambda = kC / diffractionFrequencyHz(b, i);
+      const double g = std::sqrt(2.0 / lambda * (1.0 / r + 1.0 / s));
+      const double zc = kSource.z, yc = kSource.y;
+      const C fz = fresnelIntegral(g * (kDoorZ0 - zc), g * (kDoorZ0 + kDoorWidth - zc));
+      const C fy = fresnelIntegral(-HUGE_VAL, g * (kDoorHeight - yc));
+      mean += std::norm(fz * fy / C(0.0, 2.0)) / kDiffractionFrequenciesPerBand;
+    }
+    out[b] = float(10 * std::log10(mean));
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("Doorways: open, on the line of sight, the Kirchhoff aperture integral, thin or thick",
+          "[diffraction][door]") {
+  // The direct sound with the doorway's edges (UTD, summed coherently) against the Kirchhoff
+  // aperture integral computed here. Kirchhoff ignores the screen's boundary condition and
+  // holds for apertures of several wavelengths: 1.5 dB from 250 Hz (the doorway 0.7 to 30
+  // wavelengths wide; each edge's UTD field matches Biot-Tolstoy-Medwin within 0.05 dB in
+  // diffraction_test, so the rest is Kirchhoff's), 3 dB at 63 and 125 Hz, where the doorway is
+  // narrower than a wavelength, and there below the free field. A wall 0.3 m deep (its two
+  // faces 0.3 m apart change Kirchhoff's result by 0.3 dB at most) reads the same within those
+  // tolerances, its faces written once or twice. Before, the thick wall's six edges each
+  // subtracted the cut (and half the reveals' reflections) and it read 11 dB above the free
+  // field in every band; written twice, its edges were lost and it read the free field.
+  const Bands kirchhoff = kirchhoffLevels(3.0, 3.0);
+  const Bands thin = decibels(directLevel(doorScene(0.f, Leaf::kNone)));
+  const Bands thick = decibels(directLevel(thickDoorwayScene(0.3f, false)));
+  const Bands twice = decibels(directLevel(thickDoorwayScene(0.3f, true)));
+  for (const auto& [what, level] : {std::pair{"Kirchhoff", kirchhoff}, std::pair{"thin", thin},
+                                    std::pair{"0.3 m", thick}, std::pair{"0.3 m twice", twice}}) {
+    std::printf("doorway %-12s (dB re free field)", what);
+    for (int b = 0; b < kNumBands; ++b) std::printf(" %6.1f", double(level[b]));
+    std::printf("\n");
+  }
+  for (int b = 0; b < kNumBands; ++b) {
+    const float tolerance = b >= 2 ? 1.5f : 3.f;
+    CHECK(std::abs(thin[b] - kirchhoff[b]) < tolerance);
+    CHECK(std::abs(thick[b] - kirchhoff[b]) < tolerance);
+    CHECK(std::abs(twice[b] - thick[b]) < 0.01f);
+    if (b < 2) CHECK((thin[b] < 0.f && thick[b] < 0.f));
+  }
+}
+
+TEST_CASE("Door gaps: a double door's leaves meeting on the line of sight pass their slits only",
+          "[diffraction][door]") {
+  // Two leaves meet in the doorway's middle, 5 or 10 mm apart, the line of sight through that
+  // gap; 0 or 10 mm round them. The slit model's field (engine/slit.h) is driven by the
+  // incident pressure at the slit's mouth, so it carries the direct sound through the gap:
+  // kept beside it, the closed door read the free field (+9 dB above the open doorway at 63
+  // Hz). And the lintel's point of least path lies above that gap, where its mouth looks open:
+  // it counted as a free edge (3-7 dB above the model from 125 Hz). Tolerance as for the gaps
+  // round one leaf: 3 dB per octave against the model. Closed <= open in every band, except
+  // with 10 mm round the leaves at 63 Hz: four slits then pass, by the model (which sums them
+  // as independent, each loaded by its own radiation only, not by its neighbours' half a metre
+  // away, a tenth of a wavelength), up to 0.9 dB more than the open doorway; allowed 1.5 dB.
+  const MouthImpedance zr;
+  const Bands open = decibels(directLevel(doorScene(0.f, Leaf::kNone)));
+  for (float gap : {0.f, 0.01f})
+    for (float middle : {0.005f, 0.01f}) {
+      std::vector<Slit> slits = perimeterSlits(gap);
+      const double zc = kDoorZ0 + 0.5 * kDoorWidth;
+      slits.push_back({{6, 0, zc}, {6, kDoorHeight - gap, zc}, middle});
+      const Bands model = modelLevels(slits, zr);
+      const Bands closed = decibels(directLevel(doubleDoorScene(gap, middle)));
+      std::printf("double door, %2.0f mm round, %2.0f mm between: closed / model (dB)",
+                  double(gap) * 1e3, double(middle) * 1e3);
+      for (int b = 0; b < kNumBands; ++b)
+        std::printf(" %5.1f/%5.1f", double(closed[b]), double(model[b]));
+      std::printf("\n");
+      for (int b = 0; b < kNumBands; ++b) {
+        CHECK(closed[b] <= open[b] + (gap > 0.f && b == 0 ? 1.5f : 0.f));
+        CHECK(std::abs(closed[b] - model[b]) < 3.0);
+      }
+    }
 }

@@ -329,6 +329,39 @@ const EdgePath* slitOnLineOfSight(const std::vector<EdgePath>& paths, const glm:
   return nullptr;
 }
 
+/// Scratch of slitLoading: the coupled slits, the path each belongs to, their factors, and
+/// per path its factor.
+struct SlitLoading {
+  std::vector<CoupledSlit> slits;
+  std::vector<size_t> path;
+  std::vector<C> factors, perPath;
+};
+
+/// Per path, the factor its slit's field takes from the slits' mutual loading at wavenumber k
+/// (engine/slit.h, mutualLoading), into out.perPath: owner paths whose slit model holds (weight
+/// s > 0) are coupled; 1 for the rest.
+void slitLoading(const std::vector<EdgePath>& paths, const PathGains& gains, double k,
+                 SlitLoading& out) {
+  out.slits.clear();
+  out.path.clear();
+  out.perPath.assign(paths.size(), C(1.0, 0.0));
+  for (size_t j = 0; j < paths.size(); ++j) {
+    const EdgePath& q = paths[j];
+    if (!(q.gapWidth > 0.f) || !q.slitOwner) continue;
+    const double kt = k * q.slit.sinBeta, x = kt * q.slit.width;
+    if (!(slitWeight(x, q.slitAspect) > 0.0)) continue;
+    const glm::dvec3 along(q.edge->direction);
+    out.slits.push_back({glm::dvec3(q.slitCentre), along,
+                         glm::normalize(glm::cross(along, glm::dvec3(q.mouth))), x, kt,
+                         gains.slit[j] * std::polar(1.0 / q.slit.r, -k * q.slit.r)});
+    out.path.push_back(j);
+  }
+  if (out.slits.size() < 2) return;
+  out.factors.resize(out.slits.size());
+  mutualLoading(out.slits, out.factors);
+  for (size_t i = 0; i < out.path.size(); ++i) out.perPath[out.path[i]] = out.factors[i];
+}
+
 /// The direct sound in the coherent sum: its amplitude (0 when not visible) and distance (m),
 /// and the slit its line of sight passes through (null: none).
 struct DirectPart {
@@ -344,8 +377,10 @@ struct DirectPart {
 double bandMeanSquare(int b, const std::vector<EdgePath>& paths, const PathGains& gains,
                       const DirectPart& direct, float speedOfSound) {
   double acc = 0.0;
+  SlitLoading loading;
   for (int i = 0; i < kDiffractionFrequenciesPerBand; ++i) {
     const double k = 2.0 * kPi * diffractionFrequencyHz(b, i) / speedOfSound;
+    slitLoading(paths, gains, k, loading);
     double directAmplitude = direct.amplitude;
     if (const EdgePath* q = direct.slit)
       directAmplitude *= 1.0 - slitWeight(k * q->slit.sinBeta * q->slit.width, q->slitAspect);
@@ -356,7 +391,8 @@ double bandMeanSquare(int b, const std::vector<EdgePath>& paths, const PathGains
       double amplitude = gains.utd[j];
       if (q.gapWidth > 0.f) {
         const double s = slitWeight(k * q.slit.sinBeta * q.slit.width, q.slitAspect);
-        if (s > 0.0 && q.slitOwner) p += s * gains.slit[j] * slitPressure(q.slit, k);
+        if (s > 0.0 && q.slitOwner)
+          p += s * gains.slit[j] * loading.perPath[j] * slitPressure(q.slit, k);
         if (s >= 1.0) continue;
         amplitude *= 1.0 - s;
       }

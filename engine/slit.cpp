@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <glm/geometric.hpp>
+#include <vector>
 
 #include "engine/utd.h"
 
@@ -82,6 +84,67 @@ C slitPressure(const SlitPath& p, double k) {
   const C j(0.0, 1.0);
   return j / (2.0 * kPi) * transfer * directivity * along / (p.r * p.s) *
          std::polar(1.0, -k * (p.r + p.s));
+}
+
+namespace {
+
+/// Z_ij of two slits (see mutualLoading): parallel and coplanar within kCoplanar, else 0.
+C mutualImpedance(const CoupledSlit& a, const CoupledSlit& b) {
+  constexpr double kParallel = 0.999, kCoplanar = 0.01;  // cosine; m
+  if (std::abs(glm::dot(a.along, b.along)) < kParallel ||
+      std::abs(glm::dot(a.normal, b.normal)) < kParallel ||
+      std::abs(glm::dot(b.point - a.point, a.normal)) > kCoplanar)
+    return 0.0;
+  const glm::dvec3 v = b.point - a.point;
+  const double d = glm::length(v - glm::dot(v, a.along) * a.along);
+  const double kd = 0.5 * (a.kt + b.kt) * d;
+  // Two strips narrow against d: the averaged Green's function is its value at the centres.
+  if (!(kd > std::max(a.x, b.x))) return 0.0;
+  return 0.5 * C(std::cyl_bessel_j(0.0, kd), -std::cyl_neumann(0.0, kd));
+}
+
+/// Solves Z q = p in place (Gaussian elimination with partial pivoting; Z row-major n x n);
+/// false when Z is singular.
+bool solve(std::vector<C>& z, std::vector<C>& p) {
+  const size_t n = p.size();
+  for (size_t c = 0; c < n; ++c) {
+    size_t pivot = c;
+    for (size_t r = c + 1; r < n; ++r)
+      if (std::abs(z[r * n + c]) > std::abs(z[pivot * n + c])) pivot = r;
+    if (!(std::abs(z[pivot * n + c]) > 0.0)) return false;
+    for (size_t k = 0; k < n; ++k) std::swap(z[c * n + k], z[pivot * n + k]);
+    std::swap(p[c], p[pivot]);
+    for (size_t r = c + 1; r < n; ++r) {
+      const C f = z[r * n + c] / z[c * n + c];
+      for (size_t k = c; k < n; ++k) z[r * n + k] -= f * z[c * n + k];
+      p[r] -= f * p[c];
+    }
+  }
+  for (size_t c = n; c-- > 0;) {
+    for (size_t k = c + 1; k < n; ++k) p[c] -= z[c * n + k] * p[k];
+    p[c] /= z[c * n + c];
+  }
+  return true;
+}
+
+}  // namespace
+
+void mutualLoading(std::span<const CoupledSlit> slits, std::span<C> factors) {
+  const size_t n = slits.size();
+  std::vector<C> z(n * n), q(n), self(n);
+  bool coupled = false;
+  for (size_t i = 0; i < n; ++i) {
+    factors[i] = 1.0;
+    self[i] = stripRadiationImpedance(std::max(slits[i].x, 1e-9));
+    q[i] = slits[i].incident;
+    for (size_t j = 0; j < n; ++j) {
+      z[i * n + j] = i == j ? self[i] : mutualImpedance(slits[i], slits[j]);
+      coupled = coupled || (i != j && z[i * n + j] != 0.0);
+    }
+  }
+  if (!coupled || !solve(z, q)) return;
+  for (size_t i = 0; i < n; ++i)
+    if (std::abs(slits[i].incident) > 0.0) factors[i] = q[i] * self[i] / slits[i].incident;
 }
 
 }  // namespace dpc

@@ -170,10 +170,54 @@ struct Slit {
 /// The model's pressure at the listener re the free field's amplitude 1 / d: the sum over the
 /// slits of int (j / 2 pi) t(X) D_S D_L e^{-jk(r + R)} / (r R) dz, t = 1 / z_r for a slit in a
 /// sheet, X = k sin(beta) w, D = sinc(X sin(theta) / 2), by Gauss-Legendre panels of 1 cm.
+/// Per slit, the factor its volume velocity takes from the others' radiation load: Z q = p
+/// against q_i = p_i / Z_ii, Z_ii = z_r(k w), Z_ij = H0^(2)(k d) / 2 for parallel slits d apart
+/// (all lie in the wall x = 6), p_i the incident field at the slit's point level with the
+/// source; Cramer's rule on the parallel ones (at most three here), 1 for the others
+/// (engine/slit.h's mutualLoading, computed here on its own).
+std::vector<C> loadingFactors(const std::vector<Slit>& slits, double k, const MouthImpedance& zr) {
+  const glm::dvec3 S(kSource);
+  std::vector<C> f(slits.size(), 1.0);
+  std::vector<size_t> vertical;  // along y: parallel to each other (the top slit runs along z)
+  for (size_t i = 0; i < slits.size(); ++i)
+    if (slits[i].a.z == slits[i].b.z) vertical.push_back(i);
+  if (vertical.size() < 2) return f;
+  const size_t n = vertical.size();
+  std::vector<std::vector<C>> z(n, std::vector<C>(n));
+  std::vector<C> p(n);
+  for (size_t i = 0; i < n; ++i) {
+    const Slit& si = slits[vertical[i]];
+    const glm::dvec3 P(6.0, std::clamp(S.y, si.a.y, si.b.y), si.a.z);
+    p[i] = std::polar(1.0 / glm::length(P - S), -k * glm::length(P - S));
+    for (size_t j = 0; j < n; ++j) {
+      const double d = std::abs(si.a.z - slits[vertical[j]].a.z);
+      z[i][j] = i == j ? zr(k * si.width)
+                       : 0.5 * C(std::cyl_bessel_j(0.0, k * d), -std::cyl_neumann(0.0, k * d));
+    }
+  }
+  auto det = [&](const std::vector<std::vector<C>>& m) {
+    if (n == 2) return m[0][0] * m[1][1] - m[0][1] * m[1][0];
+    return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+           m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+           m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+  };
+  REQUIRE(n <= 3);
+  const C whole = det(z);
+  for (size_t i = 0; i < n; ++i) {
+    std::vector<std::vector<C>> m = z;
+    for (size_t r = 0; r < n; ++r) m[r][i] = p[r];
+    f[vertical[i]] = det(m) / whole * z[i][i] / p[i];
+  }
+  return f;
+}
+
 C modelPressure(const std::vector<Slit>& slits, double k, const MouthImpedance& zr) {
   const glm::dvec3 S(kSource), L(kListener);
+  const std::vector<C> loading = loadingFactors(slits, k, zr);
   C p = 0.0;
-  for (const Slit& s : slits) {
+  for (size_t i = 0; i < slits.size(); ++i) {
+    const Slit& s = slits[i];
+    C slit = 0.0;
     const glm::dvec3 e = glm::normalize(s.b - s.a);
     const double length = glm::length(s.b - s.a);
     const int panels = int(std::ceil(length / 0.01));
@@ -191,9 +235,10 @@ C modelPressure(const std::vector<Slit>& slits, double k, const MouthImpedance& 
         auto sinc = [](double u) { return std::abs(u) < 1e-9 ? 1.0 : std::sin(u) / u; };
         const double directivity =
             sinc(0.5 * x * sinFromAxis(P - S)) * sinc(0.5 * x * sinFromAxis(L - P));
-        p += kGlW[g] * 0.5 * length / panels * C(0.0, 1.0) / (2 * kPi) / zr(x) * directivity *
-             std::polar(1.0 / (r * R), -k * (r + R));
+        slit += kGlW[g] * 0.5 * length / panels * C(0.0, 1.0) / (2 * kPi) / zr(x) *
+                directivity * std::polar(1.0 / (r * R), -k * (r + R));
       }
+    p += loading[i] * slit;
   }
   return p * double(glm::length(L - S));
 }
@@ -456,10 +501,11 @@ TEST_CASE("Door gaps: a double door's leaves meeting on the line of sight pass t
   // kept beside it, the closed door read the free field (+9 dB above the open doorway at 63
   // Hz). And the lintel's point of least path lies above that gap, where its mouth looks open:
   // it counted as a free edge (3-7 dB above the model from 125 Hz). Tolerance as for the gaps
-  // round one leaf: 3 dB per octave against the model. Closed <= open in every band, except
-  // with 10 mm round the leaves at 63 Hz: four slits then pass, by the model (which sums them
-  // as independent, each loaded by its own radiation only, not by its neighbours' half a metre
-  // away, a tenth of a wavelength), up to 0.9 dB more than the open doorway; allowed 1.5 dB.
+  // round one leaf: 3 dB per octave against the model. Closed <= open in every band: with 10
+  // mm round the leaves the four slits, summed as independent (each loaded by its own
+  // radiation only, not by its neighbours' half a metre away, a tenth of a wavelength), passed
+  // 0.9 dB more than the open doorway at 63 Hz; loading each other (engine/slit.h,
+  // mutualLoading; the model here likewise) they pass 0.7 dB less.
   const MouthImpedance zr;
   const Bands open = decibels(directLevel(doorScene(0.f, Leaf::kNone)));
   for (float gap : {0.f, 0.01f})
@@ -475,7 +521,7 @@ TEST_CASE("Door gaps: a double door's leaves meeting on the line of sight pass t
         std::printf(" %5.1f/%5.1f", double(closed[b]), double(model[b]));
       std::printf("\n");
       for (int b = 0; b < kNumBands; ++b) {
-        CHECK(closed[b] <= open[b] + (gap > 0.f && b == 0 ? 1.5f : 0.f));
+        CHECK(closed[b] <= open[b]);
         CHECK(std::abs(closed[b] - model[b]) < 3.0);
       }
     }

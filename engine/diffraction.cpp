@@ -156,9 +156,10 @@ bool edgePath(const DiffractionEdge& e, const glm::vec3& source, const glm::vec3
   return true;
 }
 
-/// Fills p's slit from its gap width: the slit's centre line runs along the edge, half the
-/// width across the mouth; its stationary point, legs and angles as engine/slit.h defines them.
-void makeSlit(const glm::vec3& source, const glm::vec3& L, EdgePath& p) {
+/// Fills p's slit from its gap: the slit's centre line runs along the edge, half the width
+/// across the mouth, from `from` to `to` m along it relative to Q (where the gap ends,
+/// engine/gap_probe.h); its stationary point, legs and angles as engine/slit.h defines them.
+void makeSlit(const glm::vec3& source, const glm::vec3& L, float from, float to, EdgePath& p) {
   const DiffractionEdge& e = *p.edge;
   const glm::vec3 a = e.a + 0.5f * p.gapWidth * p.mouth;
   const glm::vec3 ps = source - a, pl = L - a;
@@ -175,8 +176,9 @@ void makeSlit(const glm::vec3& source, const glm::vec3& L, EdgePath& p) {
   sp.r = std::max(double(glm::length(toC)), double(kLegEpsilon));
   sp.s = std::max(double(glm::length(toL)), double(kLegEpsilon));
   sp.sinBeta = double(glm::length(glm::cross(toC, e.direction))) / sp.r;
-  sp.zFrom = -double(z0);
-  sp.zTo = double(e.length) - double(z0);
+  const float tq = glm::dot(p.q - e.a, e.direction);
+  sp.zFrom = double(tq + from) - double(z0);
+  sp.zTo = double(tq + to) - double(z0);
   sp.sinSource = sinFromAxis(toC);
   sp.sinListener = sinFromAxis(toL);
   sp.width = double(p.gapWidth);
@@ -273,7 +275,7 @@ void findSlits(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L
     EdgePath& p = paths[kept++] = paths[j];
     p.gapWidth = shapes[j].width;
     if (p.gapWidth > 0.f) {
-      makeSlit(source, L, p);
+      makeSlit(source, L, shapes[j].from, shapes[j].to, p);
       p.slitAspect = double(shapes[j].aspect);
     }
   }

@@ -21,6 +21,7 @@ constexpr float kLegStart = 1e-3f;   // m: the legs start this far from the sour
 constexpr float kInnerWidth = 0.5f;  // along the edge: a gap is free this many widths across
 constexpr float kOuterWidth = 1.5f;  // and closed within this many
 constexpr float kFlank = 0.04f;      // m: where a free Q's flanks are probed (probeFlanks)
+constexpr int kEndSteps = 8;         // bisection steps for where a gap ends (findEnds)
 
 // Along the edge the points lie 1 .. kAlong widths either side of Q: up to the aspect at which
 // the slit model holds fully.
@@ -201,6 +202,47 @@ void probeFlanks(const Tracer& tracer, const glm::vec3& source, const glm::vec3&
   }
 }
 
+/// Adds the two points that tell whether gap j (width w) is still there at `a` m along its edge
+/// from Q: free 0.5 w across the mouth, blocked within 1.5 w.
+void addGapTest(Round& round, size_t j, const GapProbe& g, float w, float a) {
+  const glm::vec3 base = g.q + a * g.along;
+  round.add(j, base + kInnerWidth * w * g.mouth);
+  round.add(j, base + kOuterWidth * w * g.mouth);
+}
+
+/// For each gap, where it ends along its edge either side of Q: the edge's end when the gap is
+/// still there just short of it, else bisection (kEndSteps) between Q and that end.
+void findEnds(const Tracer& tracer, const glm::vec3& source, const glm::vec3& listener,
+              std::span<const GapProbe> probes, const std::vector<size_t>& gaps,
+              std::span<GapShape> shapes) {
+  // Per gap and side: the last offset with the gap (lo) and the first without (hi), m.
+  std::vector<std::array<float, 2>> lo(gaps.size(), {0.f, 0.f}), hi(gaps.size());
+  for (size_t n = 0; n < gaps.size(); ++n)
+    hi[n] = {probes[gaps[n]].from * 0.999f, probes[gaps[n]].to * 0.999f};
+  for (int step = -1; step < kEndSteps; ++step) {
+    Round round;
+    for (size_t n = 0; n < gaps.size(); ++n)
+      for (size_t side = 0; side < 2; ++side) {
+        const float a = step < 0 ? hi[n][side] : 0.5f * (lo[n][side] + hi[n][side]);
+        addGapTest(round, gaps[n], probes[gaps[n]], shapes[gaps[n]].width, a);
+      }
+    const std::vector<bool> blocked = run(tracer, source, listener, probes, round);
+    for (size_t n = 0; n < gaps.size(); ++n)
+      for (size_t side = 0; side < 2; ++side) {
+        const size_t k = (n * 2 + side) * 2;
+        const bool gap = !blocked[k] && blocked[k + 1];
+        const float a = step < 0 ? hi[n][side] : 0.5f * (lo[n][side] + hi[n][side]);
+        if (gap) lo[n][side] = a;
+        else hi[n][side] = a;
+        if (step < 0 && gap) hi[n][side] = a;  // runs to the edge's end: nothing to bisect
+      }
+  }
+  for (size_t n = 0; n < gaps.size(); ++n) {
+    shapes[gaps[n]].from = lo[n][0];
+    shapes[gaps[n]].to = lo[n][1];
+  }
+}
+
 }  // namespace
 
 void probeGaps(const Tracer& tracer, const glm::vec3& source, const glm::vec3& listener,
@@ -237,6 +279,7 @@ void probeGaps(const Tracer& tracer, const glm::vec3& source, const glm::vec3& l
       }
     shapes[gaps[n]].aspect = float(run);
   }
+  findEnds(tracer, source, listener, probes, gaps, shapes);
 }
 
 }  // namespace dpc

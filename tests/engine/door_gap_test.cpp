@@ -58,10 +58,23 @@ void addDoorwayWall(Mesh& mesh, float x0, bool twice = false) {
   addFace(mesh, {x0, 0, kDoorZ0 + kDoorWidth}, right * z, kDoorHeight * y, twice);
 }
 
-SceneDesc doorScene(float gap, Leaf leaf, float alpha = 0.2f) {
+/// The same wall meshed with T-junctions: the jamb panels run the wall's full height and the
+/// lintel panel sits between them (the jambs' edges run 0.9 m past the doorway's top).
+void addTeeDoorwayWall(Mesh& mesh) {
+  const glm::vec3 y{0, 1, 0}, z{0, 0, 1};
+  const float top = 3.f - kDoorHeight, right = 5.f - kDoorZ0 - kDoorWidth;
+  test::addPanel(mesh, {6, 0, 0}, kDoorZ0 * z, 3.f * y, 0);
+  test::addPanel(mesh, {6, kDoorHeight, kDoorZ0}, kDoorWidth * z, top * y, 0);
+  test::addPanel(mesh, {6, 0, kDoorZ0 + kDoorWidth}, right * z, 3.f * y, 0);
+}
+
+SceneDesc doorScene(float gap, Leaf leaf, float alpha = 0.2f, bool tee = false) {
   SceneDesc s = test::makeShoebox({12, 3, 5}, Bands(alpha), 0.3f, kSource, kListener, 0.5f);
   const glm::vec3 y{0, 1, 0}, z{0, 0, 1};
-  addDoorwayWall(s.mesh, 6.f);
+  if (tee)
+    addTeeDoorwayWall(s.mesh);
+  else
+    addDoorwayWall(s.mesh, 6.f);
   const glm::vec3 corner{6.f, 0.f, kDoorZ0 + gap};
   const glm::vec3 along = (kDoorWidth - 2.f * gap) * z, up = (kDoorHeight - gap) * y;
   if (leaf == Leaf::kStatic) test::addPanel(s.mesh, corner, along, up, 0);
@@ -301,6 +314,17 @@ TEST_CASE("Door gaps: closed is never louder than open, and the gaps pass what t
       tableRow(mm.c_str(),
                leaf == Leaf::kStatic ? "closed, leaf in the mesh" : "closed, leaf an object",
                closed);
+      // Meshed with T-junctions, the jambs' edges run past the leaf; the slit along them ends
+      // where the leaf does (engine/gap_probe.h): the same levels (found: within 0.05 dB;
+      // allowed 0.2 dB, the probe's bisection of the slit's end to 4 mm). Taken as the edges'
+      // whole length, the 20 mm slits read 1.2 dB more, above the open doorway at 63 Hz.
+      const Bands tee = decibels(directLevel(doorScene(gap, leaf, 0.2f, true)));
+      float teeWorst = 0.f;
+      for (int b = 0; b < kNumBands && gap > 0.f; ++b) {
+        CHECK(std::abs(tee[b] - closed[b]) < 0.2f);
+        teeWorst = std::max(teeWorst, std::abs(tee[b] - closed[b]));
+      }
+      std::printf("T-junction mesh, %s: largest difference %.3f dB\n", mm.c_str(), double(teeWorst));
       for (int b = 0; b < kNumBands; ++b) {
         // Closing the door adds no energy: below the open doorway and the free field.
         CHECK(closed[b] <= open[b]);

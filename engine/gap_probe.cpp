@@ -238,8 +238,12 @@ void findEnds(const Tracer& tracer, const glm::vec3& source, const glm::vec3& li
       }
   }
   for (size_t n = 0; n < gaps.size(); ++n) {
-    shapes[gaps[n]].from = lo[n][0];
-    shapes[gaps[n]].to = lo[n][1];
+    GapShape& g = shapes[gaps[n]];
+    g.from = lo[n][0];
+    g.to = lo[n][1];
+    // The slit's aspect is its whole length, not only what lies within kAlong widths of Q:
+    // near the end of a leaf's edge Q has gap on one side only.
+    g.aspect = std::max(g.aspect, std::min(float(2 * kAlong), (g.to - g.from) / g.width));
   }
 }
 

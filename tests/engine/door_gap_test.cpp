@@ -118,20 +118,21 @@ SceneDesc doubleDoorScene(float gap, float middle) {
   return s;
 }
 
-/// The direct sound (with edge diffraction) at the listener, band intensity relative to the
-/// free field at the same distance; air ignored.
-Bands directLevel(const SceneDesc& scene) {
+/// The direct sound (with edge diffraction) at `listener` from `source`, band intensity
+/// relative to the free field at the same distance; air ignored.
+Bands directLevel(const SceneDesc& scene, glm::vec3 source = kSource,
+                  glm::vec3 listener = kListener) {
   EmbreeTracer tracer(scene.mesh, scene.objects);
   const EdgeDiffraction diffraction(scene.mesh);
-  const glm::vec3 v = kListener - kSource;
+  const glm::vec3 v = listener - source;
   const float dist = glm::length(v);
   DirectSound d;
-  d.visible = !tracer.occluded(TraceRay{kSource, v / dist, 1e-3f, dist - 1e-3f});
+  d.visible = !tracer.occluded(TraceRay{source, v / dist, 1e-3f, dist - 1e-3f});
   d.distance = dist;
   d.delaySeconds = dist / kC;
   d.direction = -v / dist;
   d.intensity = d.visible ? Bands(float(1.0 / (4 * kPi * dist * dist))) : Bands(0.f);
-  diffraction.apply(tracer, kSource, ListenerSphere{kListener, 0.5f}, kC, Bands(0.f), d);
+  diffraction.apply(tracer, source, ListenerSphere{listener, 0.5f}, kC, Bands(0.f), d);
   return d.intensity * float(4 * kPi * dist * dist);
 }
 
@@ -549,4 +550,44 @@ TEST_CASE("Door gaps: a double door's leaves meeting on the line of sight pass t
         CHECK(std::abs(closed[b] - model[b]) < 3.0);
       }
     }
+}
+
+TEST_CASE("Door gaps: a double door seen beside its leaves' gap or off the axis is never louder",
+          "[diffraction][door]") {
+  // Source and listener moved together beside the leaves' 5 mm gap (the line of sight through
+  // a leaf), and a pair off the axis without a line of sight; 5, 10 and 20 mm round the
+  // leaves. The top gap's stationary point on the leaf's top edge then lies 2.5 mm from the
+  // leaf's end: judged by the 4 widths either side of it the slit was too short, its field a
+  // free edge's, and the door read up to 5.6 dB (beside) and 7.5 dB (off the axis) above the
+  // open doorway at 63 Hz. Along the walk beside the gap (1 cm steps) the 63-500 Hz levels
+  // change by at most 1 dB per step (a wavelength is 0.7 m or more; found: 0.7 dB); before, 5.8
+  // dB within 1 cm at 63 Hz. Off the axis with 20 mm round the leaves, 63 Hz reads 0.4 dB above
+  // the open doorway: the top gap runs across the side gaps, and slits that are not parallel
+  // are not coupled (engine/slit.h); allowed 0.5 dB there, a limit docs/validation.md lists.
+  const std::vector<std::pair<glm::vec3, glm::vec3>> pairs = {
+      {{3.f, 1.6f, 4.2f}, {9.f, 0.9f, 0.7f}}, {{3.f, 1.2f, 2.505f}, {9.f, 1.2f, 2.505f}},
+      {{3.f, 1.2f, 2.55f}, {9.f, 1.2f, 2.55f}}};
+  for (float gap : {0.005f, 0.01f, 0.02f})
+    for (const auto& [src, lis] : pairs) {
+      const Bands open = decibels(directLevel(doorScene(0.f, Leaf::kNone), src, lis));
+      const Bands closed = decibels(directLevel(doubleDoorScene(gap, 0.005f), src, lis));
+      for (int b = 0; b < kNumBands; ++b) {
+        INFO("gap " << gap << " m, listener z " << lis.z << ", band " << b);
+        const bool uncoupled = gap >= 0.02f && lis.z < 1.f && b == 0;
+        CHECK(closed[b] <= open[b] + (uncoupled ? 0.5f : 0.f));
+      }
+    }
+  float worst = 0.f;
+  Bands previous(0.f);
+  for (int i = 0; i <= 10; ++i) {
+    const float z = 2.45f + 0.01f * float(i);
+    const Bands level =
+        decibels(directLevel(doubleDoorScene(0.02f, 0.005f), {3.f, 1.2f, z}, {9.f, 1.2f, z}));
+    for (int b = 0; b <= 3 && i > 0; ++b) {
+      CHECK(std::abs(level[b] - previous[b]) < 1.f);
+      worst = std::max(worst, std::abs(level[b] - previous[b]));
+    }
+    previous = level;
+  }
+  std::printf("double door walk beside its gap: largest step 63-500 Hz %.2f dB\n", double(worst));
 }

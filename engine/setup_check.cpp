@@ -19,6 +19,12 @@ struct Seen {
   float farthest = 0.f;   ///< metres to the farthest hit
 };
 
+/// How far a surface through the point itself can hide: a ray starting on a sheet's plane
+/// does not hit the sheet, so the nearest surface is also looked for from this far either side
+/// of the point along each axis (a listener's centre in a closed door leaf's plane went
+/// unwarned and read 14.5 dB above the free field).
+constexpr float kOffPoint = 0.01f;  // m
+
 Seen look(const Tracer& tracer, const glm::vec3& p) {
   Seen s;
   for (int i = 0; i < kSetupCheckDirections; ++i) {
@@ -66,6 +72,13 @@ std::vector<std::string> setupWarnings(const SceneDesc& scene) {
   for (Point& pt : points) {
     pt.seen = look(tracer, pt.p);
     enclosed += pt.seen.escaped == 0;
+    if (pt.radius <= 0.f) continue;
+    for (int axis = 0; axis < 3; ++axis)
+      for (float sign : {-1.f, 1.f}) {
+        glm::vec3 q = pt.p;
+        q[axis] += sign * kOffPoint;
+        pt.seen.nearest = std::min(pt.seen.nearest, look(tracer, q).nearest + kOffPoint);
+      }
   }
   for (const Point& pt : points) {
     const std::string at = pt.what + fmt(" at (%g, %g, %g)", pt.p.x, pt.p.y, pt.p.z);

@@ -1,0 +1,96 @@
+#!/usr/bin/python3
+"""Doors and doorways on the line of sight: direct sound re the free field per octave band.
+
+Left: the open doorway in a thin wall and through a 0.3 m wall (faces written once or twice)
+against the Kirchhoff aperture integral. Right: closed doors, one leaf with gaps round it and
+two leaves meeting in the middle, against the slit model, with the open doorway for reference.
+Every number comes from build/tests/door_gap_test (tests/engine/door_gap_test.cpp), which
+computes the Kirchhoff integral and the slit model on its own.
+
+Usage: scripts/plot_doorways.py [--build build] [-o docs/images/doorways.png]
+"""
+import argparse
+import os
+import re
+import subprocess
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+BANDS = [63, 125, 250, 500, 1000, 2000, 4000, 8000]
+
+
+def numbers(text):
+    return [float(v) for v in re.findall(r"-?\d+\.\d+", text)]
+
+
+def read(build):
+    test = os.path.join(build, "tests", "door_gap_test")
+    if not os.path.exists(test):
+        sys.exit(f"plot_doorways.py: --build: {test}: no such file (build the tests first)")
+    out = subprocess.run([test, "-s", "Do*"], capture_output=True, text=True).stdout
+    open_rows, table, double = {}, {}, []
+    for line in out.splitlines():
+        m = re.match(r"doorway (.+?)\s+\(dB re free field\)(.*)", line)
+        if m:
+            open_rows[m.group(1).strip()] = numbers(m.group(2))
+        m = re.match(r"\| (\d+ mm) \| (closed, leaf in the mesh|slit model \(this test\)) \|(.*)",
+                     line)
+        if m and m.group(3).split("|")[0].strip() != "-":  # "-": nothing passes (0 mm)
+            table[(m.group(1), m.group(2))] = numbers(m.group(3))
+        m = re.match(r"double door,\s+(\d+) mm round,\s+(\d+) mm between: closed / model \(dB\)(.*)",
+                     line)
+        if m:
+            pairs = re.findall(r"(-?\d+\.\d+)/\s*(-?\d+\.\d+)", m.group(3))
+            double.append((m.group(1), m.group(2), [float(a) for a, _ in pairs],
+                           [float(b) for _, b in pairs]))
+    if not open_rows or not table or not double:
+        sys.exit("plot_doorways.py: door_gap_test printed none of its tables (did it fail?)")
+    return open_rows, table, double
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--build", default="build")
+    ap.add_argument("-o", "--output", default="docs/images/doorways.png")
+    a = ap.parse_args()
+    open_rows, table, double = read(a.build)
+    fig, (left, right) = plt.subplots(1, 2, figsize=(12, 5), sharey=True, constrained_layout=True)
+    styles = {"Kirchhoff": ("k", "--"), "thin": ("C0", "-"), "0.3 m": ("C1", "-"),
+              "0.3 m twice": ("C2", ":")}
+    for name, level in open_rows.items():
+        colour, dash = styles.get(name, ("C3", "-"))
+        label = {"Kirchhoff": "Kirchhoff aperture integral", "thin": "thin wall (dpc)",
+                 "0.3 m": "0.3 m wall (dpc)", "0.3 m twice": "0.3 m wall, faces twice (dpc)"}
+        left.plot(BANDS, level, dash, color=colour, marker="o", label=label.get(name, name))
+    left.set(title="Open doorway, 1 x 2.1 m, source and listener 3 m either side",
+             ylabel="direct sound re free field (dB)")
+    right.plot(BANDS, open_rows["thin"], "k-", lw=2, label="open doorway (dpc)")
+    for i, gap in enumerate(["5 mm", "10 mm", "20 mm"]):
+        right.plot(BANDS, table[(gap, "closed, leaf in the mesh")], "-", color=f"C{i}",
+                   marker="o", label=f"one leaf, {gap} round (dpc)")
+        right.plot(BANDS, table[(gap, "slit model (this test)")], "--", color=f"C{i}")
+    for j, (round_mm, between, dpc, model) in enumerate(double):
+        if between != "5":
+            continue
+        colour = f"C{3 + j}"
+        right.plot(BANDS, dpc, "-", color=colour, marker="s",
+                   label=f"two leaves 5 mm apart, {round_mm} mm round (dpc)")
+        right.plot(BANDS, model, "--", color=colour)
+    right.set(title="Closed: dpc (solid) against the slit model (dashed)")
+    for ax in (left, right):
+        ax.set_ylim(-44, 4)  # room below the curves for the legend
+        ax.set_xscale("log")
+        ax.set_xticks(BANDS, [str(b) for b in BANDS])
+        ax.set_xlabel("octave band (Hz)")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8, loc="lower left")
+    fig.savefig(a.output, dpi=110)
+    print(f"plot_doorways.py: wrote {a.output}")
+
+
+if __name__ == "__main__":
+    main()

@@ -33,7 +33,10 @@
 // face's plane) the face's specular reflection is the tracer's, added in energy, so the UTD
 // term that corrects it at its boundary is left out of the coherent sum (it would stand
 // alone, about minus half a reflection); outside the zone that term is the image source's
-// diffraction and stays. Openings: the two edges of one face that runs along the line of sight
+// diffraction and stays. With the line of sight free, an edge whose faces (without end, as
+// UTD takes them) would put the listener in its shadow leaves out its shadow-boundary terms:
+// its face ends before the line of sight, and the incident field they continue is there.
+// Openings: the two edges of one face that runs along the line of sight
 // (a thick wall's reveal, seen through its doorway) each count the opening's cut into the
 // direct sound; together they count once (each takes half its field).
 //

@@ -4,8 +4,8 @@
 Left: the open doorway in a thin wall and through a 0.3 m wall (faces written once or twice)
 against the Kirchhoff aperture integral. Right: closed doors, one leaf with gaps round it and
 two leaves meeting in the middle, against the slit model, with the open doorway for reference.
-Every number comes from build/tests/door_gap_test (tests/engine/door_gap_test.cpp), which
-computes the Kirchhoff integral and the slit model on its own.
+Every number comes from build/tests/doorway_test and door_gap_test (tests/engine/), which
+compute the Kirchhoff integral and the slit model on their own.
 
 Usage: scripts/plot_doorways.py [--build build] [-o docs/images/doorways.png]
 """
@@ -28,10 +28,12 @@ def numbers(text):
 
 
 def read(build):
-    test = os.path.join(build, "tests", "door_gap_test")
-    if not os.path.exists(test):
-        sys.exit(f"plot_doorways.py: --build: {test}: no such file (build the tests first)")
-    out = subprocess.run([test, "-s", "Do*"], capture_output=True, text=True).stdout
+    out = ""
+    for name in ("doorway_test", "door_gap_test"):
+        test = os.path.join(build, "tests", name)
+        if not os.path.exists(test):
+            sys.exit(f"plot_doorways.py: --build: {test}: no such file (build the tests first)")
+        out += subprocess.run([test, "-s", "Do*"], capture_output=True, text=True).stdout
     open_rows, table, double = {}, {}, []
     for line in out.splitlines():
         m = re.match(r"doorway (.+?)\s+\(dB re free field\)(.*)", line)

@@ -1,0 +1,142 @@
+// Doors and doorways between two rooms for the door tests (door_gap_test, doorway_test):
+// the rooms, the doorway in a thin or a thick wall, leaves, and the direct sound (with its
+// edge and slit paths) the engine gives at a listener, re the free field.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <complex>
+#include <glm/geometric.hpp>
+#include <numbers>
+
+#include "engine/diffraction.h"
+#include "engine/embree_tracer.h"
+#include "engine/propagation.h"
+#include "testing/test_scenes.h"
+
+namespace dpc::door_test {
+
+inline constexpr double kPi = std::numbers::pi;
+inline constexpr float kC = 343.f;
+inline const glm::vec3 kSource{3.f, 1.2f, 2.5f}, kListener{9.f, 1.2f, 2.5f};
+inline constexpr float kDoorZ0 = 2.f, kDoorWidth = 1.f, kDoorHeight = 2.1f;  // doorway in x = 6
+
+enum class Leaf { kNone, kStatic, kObject };
+
+/// A panel, and with `twice` its copy wound the other way (a double-sided face).
+inline void addFace(Mesh& mesh, glm::vec3 o, glm::vec3 u, glm::vec3 v, bool twice) {
+  test::addPanel(mesh, o, u, v, 0);
+  if (twice) test::addPanel(mesh, o, v, u, 0);
+}
+
+/// The partition's panels round the doorway in the plane x = x0.
+inline void addDoorwayWall(Mesh& mesh, float x0, bool twice = false) {
+  const glm::vec3 y{0, 1, 0}, z{0, 0, 1};
+  const float top = 3.f - kDoorHeight, right = 5.f - kDoorZ0 - kDoorWidth;
+  addFace(mesh, {x0, 0, 0}, kDoorZ0 * z, kDoorHeight * y, twice);
+  addFace(mesh, {x0, kDoorHeight, 0}, kDoorZ0 * z, top * y, twice);
+  addFace(mesh, {x0, kDoorHeight, kDoorZ0}, kDoorWidth * z, top * y, twice);
+  addFace(mesh, {x0, kDoorHeight, kDoorZ0 + kDoorWidth}, right * z, top * y, twice);
+  addFace(mesh, {x0, 0, kDoorZ0 + kDoorWidth}, right * z, kDoorHeight * y, twice);
+}
+
+/// The same wall meshed with T-junctions: the jamb panels run the wall's full height and the
+/// lintel panel sits between them (the jambs' edges run 0.9 m past the doorway's top).
+inline void addTeeDoorwayWall(Mesh& mesh) {
+  const glm::vec3 y{0, 1, 0}, z{0, 0, 1};
+  const float top = 3.f - kDoorHeight, right = 5.f - kDoorZ0 - kDoorWidth;
+  test::addPanel(mesh, {6, 0, 0}, kDoorZ0 * z, 3.f * y, 0);
+  test::addPanel(mesh, {6, kDoorHeight, kDoorZ0}, kDoorWidth * z, top * y, 0);
+  test::addPanel(mesh, {6, 0, kDoorZ0 + kDoorWidth}, right * z, 3.f * y, 0);
+}
+
+/// Two rooms 6 x 3 x 5 m along x, joined by the doorway (z 2..3, y 0..2.1) in the partition
+/// x = 6 (double-sided sheets; the jambs end at the lintel), and the leaf: a sheet in the
+/// doorway's plane leaving `gap` metres at both sides and the top, standing on the floor; in
+/// the static mesh or as a scene object (as scenes/two_rooms.json has it). All opaque, of
+/// absorption `alpha`.
+inline SceneDesc doorScene(float gap, Leaf leaf, float alpha = 0.2f, bool tee = false) {
+  SceneDesc s = test::makeShoebox({12, 3, 5}, Bands(alpha), 0.3f, kSource, kListener, 0.5f);
+  const glm::vec3 y{0, 1, 0}, z{0, 0, 1};
+  if (tee)
+    addTeeDoorwayWall(s.mesh);
+  else
+    addDoorwayWall(s.mesh, 6.f);
+  const glm::vec3 corner{6.f, 0.f, kDoorZ0 + gap};
+  const glm::vec3 along = (kDoorWidth - 2.f * gap) * z, up = (kDoorHeight - gap) * y;
+  if (leaf == Leaf::kStatic) test::addPanel(s.mesh, corner, along, up, 0);
+  if (leaf == Leaf::kObject) {
+    ObjectDesc door;
+    door.name = "leaf";
+    test::addPanel(door.mesh, {0, 0, 0}, along, up, 0);
+    door.trajectory = {ObjectKeyframe{0.0, corner, glm::quat(1, 0, 0, 0)}};
+    s.objects.push_back(door);
+  }
+  s.propagation.raysPerFrame = 8192;
+  s.propagation.maxOrder = 40;
+  s.propagation.exactOrder = 0;
+  s.propagation.irLength = 1.f;
+  return s;
+}
+
+/// doorScene's rooms with the doorway through a wall `depth` metres deep: its faces x = 6 and
+/// 6 + depth and the doorway's reveals (two jambs and the lintel), every face once or
+/// (doubleSided) twice, as an exporter writes a two-sided material.
+inline SceneDesc thickDoorwayScene(float depth, bool doubleSided) {
+  SceneDesc s = doorScene(0.f, Leaf::kNone);
+  s.mesh = test::makeShoebox({12, 3, 5}, Bands(0.2f), 0.3f, kSource, kListener, 0.5f).mesh;
+  const glm::vec3 x{depth, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
+  addDoorwayWall(s.mesh, 6.f, doubleSided);
+  addDoorwayWall(s.mesh, 6.f + depth, doubleSided);
+  addFace(s.mesh, {6, 0, kDoorZ0}, x, kDoorHeight * y, doubleSided);
+  addFace(s.mesh, {6, 0, kDoorZ0 + kDoorWidth}, kDoorHeight * y, x, doubleSided);
+  addFace(s.mesh, {6, kDoorHeight, kDoorZ0}, kDoorWidth * z, x, doubleSided);
+  return s;
+}
+
+/// doorScene's doorway closed by two leaves (in the mesh) meeting in its middle, `middle`
+/// metres apart there (on the line of sight), `gap` from the frame at the sides and the top.
+inline SceneDesc doubleDoorScene(float gap, float middle) {
+  SceneDesc s = doorScene(0.f, Leaf::kNone);
+  const glm::vec3 y{0, 1, 0}, z{0, 0, 1};
+  const float half = 0.5f * (kDoorWidth - middle) - gap, up = kDoorHeight - gap;
+  test::addPanel(s.mesh, {6.f, 0.f, kDoorZ0 + gap}, half * z, up * y, 0);
+  test::addPanel(s.mesh, {6.f, 0.f, kDoorZ0 + 0.5f * (kDoorWidth + middle)}, half * z, up * y, 0);
+  return s;
+}
+
+/// The direct sound (with edge diffraction) at `listener` from `source`, band intensity
+/// relative to the free field at the same distance; air ignored.
+inline Bands directLevel(const SceneDesc& scene, glm::vec3 source = kSource,
+                         glm::vec3 listener = kListener) {
+  EmbreeTracer tracer(scene.mesh, scene.objects);
+  const EdgeDiffraction diffraction(scene.mesh);
+  const glm::vec3 v = listener - source;
+  const float dist = glm::length(v);
+  DirectSound d;
+  d.visible = !tracer.occluded(TraceRay{source, v / dist, 1e-3f, dist - 1e-3f});
+  d.distance = dist;
+  d.delaySeconds = dist / kC;
+  d.direction = -v / dist;
+  d.intensity = d.visible ? Bands(float(1.0 / (4 * kPi * dist * dist))) : Bands(0.f);
+  diffraction.apply(tracer, source, ListenerSphere{listener, 0.5f}, kC, Bands(0.f), d);
+  return d.intensity * float(4 * kPi * dist * dist);
+}
+
+/// Gauss-Legendre, 8 points on [-1, 1].
+inline constexpr std::array<double, 8> kGlX = {
+    -0.9602898564975363, -0.7966664774136267, -0.5255324099163290, -0.1834346424956498,
+    0.1834346424956498,  0.5255324099163290,  0.7966664774136267,  0.9602898564975363};
+inline constexpr std::array<double, 8> kGlW = {
+    0.1012285362903763, 0.2223810344533745, 0.3137066458778873, 0.3626837833783620,
+    0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763};
+
+inline Bands decibels(const Bands& x) {
+  Bands out;
+  for (int b = 0; b < kNumBands; ++b)
+    out[b] = float(10 * std::log10(std::max(double(x[b]), 1e-30)));
+  return out;
+}
+
+}  // namespace dpc::door_test

@@ -321,8 +321,8 @@ void utdAnchors(int b, const std::vector<EdgePath>& paths, float speedOfSound,
 }
 
 /// The slit whose gap the line of sight from source to L passes through, if any: an owner
-/// path's gap (from its edge across `mouth` for gapWidth, along the whole edge) that the
-/// segment crosses. That slit's field is then the direct sound's own at the frequencies where
+/// path's gap (from its edge across `mouth` for gapWidth, along the edge where the gap runs:
+/// the slit's extent) that the segment crosses. That slit's field is then the direct sound's own at the frequencies where
 /// the slit model holds (engine/slit.h: it is driven by the incident pressure at its mouth).
 const EdgePath* slitOnLineOfSight(const std::vector<EdgePath>& paths, const glm::vec3& source,
                                   const glm::vec3& L) {
@@ -338,8 +338,10 @@ const EdgePath* slitOnLineOfSight(const std::vector<EdgePath>& paths, const glm:
     if (!(t > 0.f && t < 1.f)) continue;
     const glm::vec3 v = source + t * d - e.a;
     const float across = glm::dot(v, p.mouth), along = glm::dot(v, e.direction);
-    if (across >= -kTolerance && across <= p.gapWidth + kTolerance && along >= 0.f &&
-        along <= e.length)
+    const float z0 = glm::dot(p.slitCentre - e.a, e.direction);  // the slit's own point
+    if (across >= -kTolerance && across <= p.gapWidth + kTolerance &&
+        along >= z0 + float(p.slit.zFrom) - kTolerance &&
+        along <= z0 + float(p.slit.zTo) + kTolerance)
       return &p;
   }
   return nullptr;

@@ -190,7 +190,8 @@ ImpulseResponseAnalysis analyzeImpulseResponse(const float* ir, size_t n, int sa
   const double dt = 1.0 / fs;
   out.broadband = fromEnergy(squaredFrom(p, onset), Steps{dt, dt});
   for (int b = 0; b < kNumBands; ++b)
-    if (bandSignal(p, b, fs, band)) out.bands[size_t(b)] = fromEnergy(squaredFrom(band, onset), Steps{dt, dt});
+    if (bandSignal(p, b, fs, band))
+      out.bands[size_t(b)] = fromEnergy(squaredFrom(band, onset), Steps{dt, dt});
   return out;
 }
 

@@ -444,7 +444,7 @@ Bands coherentIntensity(const std::vector<EdgePath>& paths, const DirectSound& d
                         const EdgePath* throughSlit, float speedOfSound, const Bands& airPerMetre,
                         const std::vector<Bands>& weights) {
   Bands intensity(0.f);
-  PathGains gains{std::vector<double>(paths.size()), std::vector<double>(paths.size())};
+  PathGains gains{std::vector<double>(paths.size()), std::vector<double>(paths.size()), {}};
   for (int b = 0; b < kNumBands; ++b) {
     for (size_t j = 0; j < paths.size(); ++j) {
       const double w = weights.empty() ? 1.0 : std::sqrt(double(weights[j][b]));

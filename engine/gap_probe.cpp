@@ -220,22 +220,26 @@ void findEnds(const Tracer& tracer, const glm::vec3& source, const glm::vec3& li
   for (size_t n = 0; n < gaps.size(); ++n)
     hi[n] = {probes[gaps[n]].from * 0.999f, probes[gaps[n]].to * 0.999f};
   for (int step = -1; step < kEndSteps; ++step) {
+    // First the edge's ends themselves, then bisection; a side already settled is not probed.
     Round round;
+    std::vector<std::array<size_t, 2>> side;  // per probed point pair: gap n, side
+    std::vector<float> at;                    // its offset along the edge, m
     for (size_t n = 0; n < gaps.size(); ++n)
-      for (size_t side = 0; side < 2; ++side) {
-        const float a = step < 0 ? hi[n][side] : 0.5f * (lo[n][side] + hi[n][side]);
-        addGapTest(round, gaps[n], probes[gaps[n]], shapes[gaps[n]].width, a);
+      for (size_t s = 0; s < 2; ++s) {
+        if (step >= 0 && lo[n][s] == hi[n][s]) continue;
+        at.push_back(step < 0 ? hi[n][s] : 0.5f * (lo[n][s] + hi[n][s]));
+        side.push_back({n, s});
+        addGapTest(round, gaps[n], probes[gaps[n]], shapes[gaps[n]].width, at.back());
       }
+    if (at.empty()) break;
     const std::vector<bool> blocked = run(tracer, source, listener, probes, round);
-    for (size_t n = 0; n < gaps.size(); ++n)
-      for (size_t side = 0; side < 2; ++side) {
-        const size_t k = (n * 2 + side) * 2;
-        const bool gap = !blocked[k] && blocked[k + 1];
-        const float a = step < 0 ? hi[n][side] : 0.5f * (lo[n][side] + hi[n][side]);
-        if (gap) lo[n][side] = a;
-        else hi[n][side] = a;
-        if (step < 0 && gap) hi[n][side] = a;  // runs to the edge's end: nothing to bisect
-      }
+    for (size_t i = 0; i < at.size(); ++i) {
+      const auto [n, s] = side[i];
+      const bool gap = !blocked[2 * i] && blocked[2 * i + 1];
+      // Still there at the edge's end: it runs to the end (lo = hi there).
+      (gap ? lo : hi)[n][s] = at[i];
+      if (step < 0 && gap) hi[n][s] = at[i];
+    }
   }
   for (size_t n = 0; n < gaps.size(); ++n) {
     GapShape& g = shapes[gaps[n]];

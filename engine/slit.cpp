@@ -1,9 +1,9 @@
 #include "engine/slit.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
-#include <vector>
 
 #include "engine/utd.h"
 
@@ -103,48 +103,28 @@ C mutualImpedance(const CoupledSlit& a, const CoupledSlit& b) {
   return 0.5 * C(std::cyl_bessel_j(0.0, kd), -std::cyl_neumann(0.0, kd));
 }
 
-/// Solves Z q = p in place (Gaussian elimination with partial pivoting; Z row-major n x n);
-/// false when Z is singular.
-bool solve(std::vector<C>& z, std::vector<C>& p) {
-  const size_t n = p.size();
-  for (size_t c = 0; c < n; ++c) {
-    size_t pivot = c;
-    for (size_t r = c + 1; r < n; ++r)
-      if (std::abs(z[r * n + c]) > std::abs(z[pivot * n + c])) pivot = r;
-    if (!(std::abs(z[pivot * n + c]) > 0.0)) return false;
-    for (size_t k = 0; k < n; ++k) std::swap(z[c * n + k], z[pivot * n + k]);
-    std::swap(p[c], p[pivot]);
-    for (size_t r = c + 1; r < n; ++r) {
-      const C f = z[r * n + c] / z[c * n + c];
-      for (size_t k = c; k < n; ++k) z[r * n + k] -= f * z[c * n + k];
-      p[r] -= f * p[c];
-    }
-  }
-  for (size_t c = n; c-- > 0;) {
-    for (size_t k = c + 1; k < n; ++k) p[c] -= z[c * n + k] * p[k];
-    p[c] /= z[c * n + c];
-  }
-  return true;
-}
-
 }  // namespace
 
 void mutualLoading(std::span<const CoupledSlit> slits, std::span<C> factors) {
-  const size_t n = slits.size();
-  std::vector<C> z(n * n), q(n), self(n);
+  const Eigen::Index n = Eigen::Index(slits.size());
+  Eigen::MatrixXcd z(n, n);
+  Eigen::VectorXcd p(n);
   bool coupled = false;
-  for (size_t i = 0; i < n; ++i) {
-    factors[i] = 1.0;
-    self[i] = stripRadiationImpedance(std::max(slits[i].x, 1e-9));
-    q[i] = slits[i].incident;
-    for (size_t j = 0; j < n; ++j) {
-      z[i * n + j] = i == j ? self[i] : mutualImpedance(slits[i], slits[j]);
-      coupled = coupled || (i != j && z[i * n + j] != 0.0);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    factors[size_t(i)] = 1.0;
+    p(i) = slits[size_t(i)].incident;
+    for (Eigen::Index j = 0; j < n; ++j) {
+      z(i, j) = i == j ? stripRadiationImpedance(slits[size_t(i)].x)
+                       : mutualImpedance(slits[size_t(i)], slits[size_t(j)]);
+      coupled = coupled || (i != j && z(i, j) != 0.0);
     }
   }
-  if (!coupled || !solve(z, q)) return;
-  for (size_t i = 0; i < n; ++i)
-    if (std::abs(slits[i].incident) > 0.0) factors[i] = q[i] * self[i] / slits[i].incident;
+  if (!coupled) return;
+  const Eigen::FullPivLU<Eigen::MatrixXcd> lu(z);
+  if (!lu.isInvertible()) return;
+  const Eigen::VectorXcd q = lu.solve(p);
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (std::abs(p(i)) > 0.0) factors[size_t(i)] = q(i) * z(i, i) / p(i);
 }
 
 }  // namespace dpc

@@ -18,7 +18,7 @@ packages=(
   jalv python3-jack-client  # the plugin inside a real host (tests/lv2/jalv_test.py)
   ardour  # the plugin in Ardour's headless Lua session (tests/lv2/ardour_test.py)
   libzita-convolver-dev  # dpc-bench convolve only: the yardstick
-  libeigen3-dev  # dpc-analyze --diffuseness: covariance eigenvalues (analysis/, headers only)
+  libeigen3-dev  # headers only: dpc-analyze --diffuseness (analysis/), the slits' mutual loading (engine/slit.cpp)
   libhdf5-dev hdf5-tools python3-h5py  # dpc-bake's file, its tests (h5diff), the h5py example
   zlib1g-dev  # the bake file's CRC-32 checksums
   libopenmpi-dev openmpi-bin  # dpc-bake under mpirun (optional: without it, single-process)

@@ -90,4 +90,11 @@ inline Bands exp(const Bands& a) {
   return r;
 }
 
+/// Element-wise minimum.
+inline Bands min(const Bands& a, const Bands& b) {
+  Bands r;
+  for (int i = 0; i < kNumBands; ++i) r[i] = std::min(a[i], b[i]);
+  return r;
+}
+
 }  // namespace dpc

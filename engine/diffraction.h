@@ -59,6 +59,7 @@
 
 #include <array>
 #include <complex>
+#include <cstdint>
 #include <glm/vec3.hpp>
 #include <vector>
 
@@ -75,12 +76,14 @@ namespace dpc {
 /// vector of face 0 pointing away from the edge, face 0's unit normal (winding side), and
 /// `open`, the angle (radians) from face 0 to face 1 turning toward normal0 (2 pi for a free
 /// edge). The two wedges are open and 2 pi - open; the one holding the source is the air wedge,
-/// and it diffracts (can shadow) when wider than pi, with UTD index n = wedge / pi.
+/// and it diffracts (can shadow) when wider than pi, with UTD index n = wedge / pi. `surface`:
+/// the connected surface its faces belong to (scene/mesh_topology.h, connectedSurfaces).
 struct DiffractionEdge {
   glm::vec3 a{0.f}, b{0.f};
   glm::vec3 direction{0.f}, face0{0.f}, normal0{0.f};
   float open = 0.f;
   float length = 0.f;
+  uint32_t surface = 0;
 };
 
 /// The band energy of the direct-plus-diffracted field is |p|^2 averaged over these
@@ -141,6 +144,7 @@ class EdgeDiffraction {
                std::vector<uint32_t>* usedEdges = nullptr) const;
 
  private:
+  std::vector<uint32_t> surfaces_;  ///< per mesh triangle, its connected surface
   std::vector<DiffractionEdge> edges_;
 };
 

@@ -260,13 +260,15 @@ bool edgeBefore(const DiffractionEdge& x, const DiffractionEdge& y) {
 
 }  // namespace
 
-std::vector<DiffractionEdge> candidateEdges(const Mesh& mesh) {
+std::vector<DiffractionEdge> candidateEdges(const Mesh& mesh,
+                                           const std::vector<uint32_t>& surfaces) {
   const std::vector<uint32_t> id = weldedVertexIds(mesh);
-  const SealingSurfaces surfaces(mesh);
+  const SealingSurfaces sealing(mesh);
   std::vector<DiffractionEdge> edges;
   for (const auto& [key, use] : edgeUses(mesh, id)) {
     DiffractionEdge e;
-    if (makeEdge(mesh, id, key, use, e) && !surfaces.seal(e)) edges.push_back(e);
+    e.surface = surfaces[use.tri[0]];
+    if (makeEdge(mesh, id, key, use, e) && !sealing.seal(e)) edges.push_back(e);
   }
   std::sort(edges.begin(), edges.end(), edgeBefore);
   return edges;

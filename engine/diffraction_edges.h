@@ -15,7 +15,8 @@
 
 namespace dpc {
 
-/// The candidate edges of `mesh`, in the order of their endpoints.
-std::vector<DiffractionEdge> candidateEdges(const Mesh& mesh);
+/// The candidate edges of `mesh`, in the order of their endpoints; each edge's surface taken
+/// from `surfaces` (per triangle, connectedSurfaces(mesh)).
+std::vector<DiffractionEdge> candidateEdges(const Mesh& mesh, const std::vector<uint32_t>& surfaces);
 
 }  // namespace dpc

@@ -4,7 +4,6 @@
 #include <array>
 #include <cmath>
 #include <glm/geometric.hpp>
-#include <memory>
 #include <numbers>
 #include <vector>
 
@@ -58,13 +57,18 @@ struct Round {
   }
 };
 
+/// P's distance from the edge's line, m: how far across the mouth it lies.
+float distanceFromEdge(const GapProbe& g, const glm::vec3& p) {
+  const glm::vec3 off = p - g.q;
+  return glm::length(off - glm::dot(off, g.along) * g.along);
+}
+
 /// The two legs to p, each running min(kGapProbeThrough, p's distance from the edge line) past
 /// p unless that would end in the edge's own solid (then they stop at p). An inactive pair
 /// for a point not to be tested.
 void appendLegs(const glm::vec3& source, const glm::vec3& listener, const GapProbe& g,
                 const glm::vec3& p, bool valid, std::vector<TraceRay>& rays) {
-  const glm::vec3 off = p - g.q;
-  const float fromEdge = glm::length(off - glm::dot(off, g.along) * g.along);
+  const float fromEdge = distanceFromEdge(g, p);
   for (const glm::vec3& from : {source, listener}) {
     const glm::vec3 v = p - from;
     const float length = glm::length(v);
@@ -79,18 +83,43 @@ void appendLegs(const glm::vec3& source, const glm::vec3& listener, const GapPro
   }
 }
 
-/// Per point of the round: is either leg blocked? (Untested points: false.)
-std::vector<bool> run(const Tracer& tracer, const glm::vec3& source, const glm::vec3& listener,
+/// True when a leg's hit closes the mouth at P: the surface hit lies within P's distance from
+/// the edge of P (the other side of a gap that wide, at any angle to the mouth), or, taken as
+/// its plane there, crosses the mouth between the edge and P (the foot of P on the edge's line
+/// and P on its two sides or on it, within the legs' run past P: a sheet flush with the edge's
+/// own, a floor under a partition's rim that a low leg reaches far from P). A surface farther
+/// away that leaves the mouth open up to P (the free edge of a leaf ajar, a lintel half a metre
+/// behind the mouth) only hides P from the source or the listener: that is another edge's
+/// shadow, not the other side of a gap, and the point counts as free.
+bool closesMouth(const GapProbe& g, const TraceRay& leg, const TraceHit& hit, const glm::vec3& p) {
+  if (!hit.found) return false;
+  const glm::vec3 at = leg.org + hit.surface.t * leg.dir;
+  const glm::vec3 foot = g.q + glm::dot(p - g.q, g.along) * g.along;
+  if (glm::length(p - at) <= glm::length(p - foot) + kGapProbeThrough) return true;
+  const float dp = glm::dot(p - at, hit.surface.normal);
+  const float df = glm::dot(foot - at, hit.surface.normal);
+  return !((dp > kGapProbeThrough && df > kGapProbeThrough) ||
+           (dp < -kGapProbeThrough && df < -kGapProbeThrough));
+}
+
+/// Per point of the round, the triangle whose surface closes the mouth there (closesMouth),
+/// the source's leg's first; kNoCloser where neither leg meets one (and for untested points).
+std::vector<uint32_t> run(const Tracer& tracer, const glm::vec3& source, const glm::vec3& listener,
                       std::span<const GapProbe> probes, const Round& round) {
   std::vector<TraceRay> rays;
   rays.reserve(round.point.size() * 2);
   for (size_t i = 0; i < round.point.size(); ++i)
     appendLegs(source, listener, probes[round.probe[i]], round.point[i], round.valid[i], rays);
-  const std::unique_ptr<bool[]> hit(new bool[rays.size()]());
-  tracer.occluded(rays, std::span<bool>(hit.get(), rays.size()));
-  std::vector<bool> blocked(round.point.size());
-  for (size_t i = 0; i < blocked.size(); ++i) blocked[i] = hit[2 * i] || hit[2 * i + 1];
-  return blocked;
+  std::vector<TraceHit> hits(rays.size());
+  tracer.intersect(rays, hits);
+  std::vector<uint32_t> closer(round.point.size(), kNoCloser);
+  for (size_t i = 0; i < closer.size(); ++i) {
+    const GapProbe& g = probes[round.probe[i]];
+    const glm::vec3& p = round.point[i];
+    for (const size_t leg : {2 * i + 1, 2 * i})
+      if (closesMouth(g, rays[leg], hits[leg], p)) closer[i] = hits[leg].surface.triangle;
+  }
+  return closer;
 }
 
 /// The deltas of one probe in a round across the mouth, and the points for them.
@@ -99,7 +128,7 @@ struct Across {
   std::vector<float> d;
 };
 
-std::vector<bool> runAcross(const Tracer& tracer, const glm::vec3& source,
+std::vector<uint32_t> runAcross(const Tracer& tracer, const glm::vec3& source,
                             const glm::vec3& listener, std::span<const GapProbe> probes,
                             const std::vector<Across>& list) {
   Round round;
@@ -108,26 +137,32 @@ std::vector<bool> runAcross(const Tracer& tracer, const glm::vec3& source,
   return run(tracer, source, listener, probes, round);
 }
 
-/// Refines each listed bracket [free, blocked] by kFine deltas strictly inside it; returns
-/// the new brackets.
-std::vector<std::array<float, 2>> refine(const Tracer& tracer, const glm::vec3& source,
-                                         const glm::vec3& listener,
-                                         std::span<const GapProbe> probes,
-                                         const std::vector<size_t>& gaps,
-                                         const std::vector<std::array<float, 2>>& bracket) {
+/// A gap's width bracketed: the last free delta, the first closed one (m) and what closes it
+/// there (run).
+struct Bracket {
+  float free, closed;
+  uint32_t closer;
+};
+
+/// Refines each listed bracket by kFine deltas strictly inside it; returns the new brackets.
+std::vector<Bracket> refine(const Tracer& tracer, const glm::vec3& source,
+                            const glm::vec3& listener, std::span<const GapProbe> probes,
+                            const std::vector<size_t>& gaps, const std::vector<Bracket>& bracket) {
   std::vector<Across> list;
   for (size_t n = 0; n < gaps.size(); ++n)
-    list.push_back({gaps[n], deltas(bracket[n][0], bracket[n][1], kFine, true)});
-  const std::vector<bool> blocked = runAcross(tracer, source, listener, probes, list);
-  std::vector<std::array<float, 2>> out = bracket;
+    list.push_back({gaps[n], deltas(bracket[n].free, bracket[n].closed, kFine, true)});
+  const std::vector<uint32_t> closer = runAcross(tracer, source, listener, probes, list);
+  std::vector<Bracket> out = bracket;
   for (size_t n = 0; n < list.size(); ++n) {
     const auto& d = list[n].d;
     for (int i = 0; i < kFine; ++i) {
-      if (blocked[n * kFine + size_t(i)]) {
-        out[n][1] = d[size_t(i)];
+      const uint32_t c = closer[n * kFine + size_t(i)];
+      if (c != kNoCloser) {
+        out[n].closed = d[size_t(i)];
+        out[n].closer = c;
         break;
       }
-      out[n][0] = d[size_t(i)];
+      out[n].free = d[size_t(i)];
     }
   }
   return out;
@@ -144,29 +179,33 @@ void findWidths(const Tracer& tracer, const glm::vec3& source, const glm::vec3& 
       list.push_back({j, deltas(kGapNarrowest, probes[j].reach, kCoarse, false)});
   }
   if (list.empty()) return;
-  const std::vector<bool> coarse = runAcross(tracer, source, listener, probes, list);
+  const std::vector<uint32_t> coarse = runAcross(tracer, source, listener, probes, list);
   std::vector<size_t> gaps;
-  std::vector<std::array<float, 2>> bracket;
+  std::vector<Bracket> bracket;
   for (size_t n = 0; n < list.size(); ++n) {
-    auto blocked = [&](int i) { return bool(coarse[n * kCoarse + size_t(i)]); };
+    auto closer = [&](int i) { return coarse[n * kCoarse + size_t(i)]; };
+    auto blocked = [&](int i) { return closer(i) != kNoCloser; };
     // Blocked everywhere: closed. Blocked only next to the edge, free further out: a leg
     // grazing the edge's own face within rounding (seen 60 m from a wedge's apex), no gap.
     int free = 0;
     while (free < kCoarse && blocked(free)) ++free;
     if (free == kCoarse) {
       shapes[list[n].probe].width = -1.f;
+      shapes[list[n].probe].closer = closer(0);
       continue;
     }
     int f = free;
     while (f < kCoarse && !blocked(f)) ++f;
     if (f == kCoarse) continue;  // free within reach: width 0
     gaps.push_back(list[n].probe);
-    bracket.push_back({list[n].d[size_t(f - 1)], list[n].d[size_t(f)]});
+    bracket.push_back({list[n].d[size_t(f - 1)], list[n].d[size_t(f)], closer(f)});
   }
   if (gaps.empty()) return;
   for (int r = 0; r < 2; ++r) bracket = refine(tracer, source, listener, probes, gaps, bracket);
-  for (size_t n = 0; n < gaps.size(); ++n)
-    shapes[gaps[n]].width = std::sqrt(bracket[n][0] * bracket[n][1]);
+  for (size_t n = 0; n < gaps.size(); ++n) {
+    shapes[gaps[n]].width = std::sqrt(bracket[n].free * bracket[n].closed);
+    shapes[gaps[n]].closer = bracket[n].closer;
+  }
 }
 
 /// Q's mouth may open onto a narrow gap that crosses the edge there: the slit between two
@@ -197,8 +236,10 @@ void probeFlanks(const Tracer& tracer, const glm::vec3& source, const glm::vec3&
   findWidths(tracer, source, listener, flanks, found);
   for (size_t n = 0; n < owner.size(); ++n) {
     const float w0 = found[2 * n].width, w1 = found[2 * n + 1].width;
-    if (w0 < 0.f && w1 < 0.f) shapes[owner[n]].width = -1.f;
-    if (w0 > 0.f && w1 > 0.f) shapes[owner[n]].width = std::sqrt(w0 * w1);
+    if ((w0 < 0.f && w1 < 0.f) || (w0 > 0.f && w1 > 0.f)) {
+      shapes[owner[n]].width = w0 < 0.f ? -1.f : std::sqrt(w0 * w1);
+      shapes[owner[n]].closer = found[2 * n].closer;
+    }
   }
 }
 
@@ -232,10 +273,10 @@ void findEnds(const Tracer& tracer, const glm::vec3& source, const glm::vec3& li
         addGapTest(round, gaps[n], probes[gaps[n]], shapes[gaps[n]].width, at.back());
       }
     if (at.empty()) break;
-    const std::vector<bool> blocked = run(tracer, source, listener, probes, round);
+    const std::vector<uint32_t> closer = run(tracer, source, listener, probes, round);
     for (size_t i = 0; i < at.size(); ++i) {
       const auto [n, s] = side[i];
-      const bool gap = !blocked[2 * i] && blocked[2 * i + 1];
+      const bool gap = closer[2 * i] == kNoCloser && closer[2 * i + 1] != kNoCloser;
       // Still there at the edge's end: it runs to the end (lo = hi there).
       (gap ? lo : hi)[n][s] = at[i];
       if (step < 0 && gap) hi[n][s] = at[i];
@@ -276,13 +317,13 @@ void probeGaps(const Tracer& tracer, const glm::vec3& source, const glm::vec3& l
       }
   }
   if (gaps.empty()) return;
-  const std::vector<bool> blocked = run(tracer, source, listener, probes, round);
+  const std::vector<uint32_t> closer = run(tracer, source, listener, probes, round);
   for (size_t n = 0; n < gaps.size(); ++n) {
     int run = 0;
     for (int side = 0; side < 2; ++side)
       for (int i = 0; i < kAlong; ++i) {
         const size_t k = (n * 2 * kAlong + size_t(side * kAlong + i)) * 2;
-        if (!round.valid[k] || blocked[k] || !blocked[k + 1]) break;
+        if (!round.valid[k] || closer[k] != kNoCloser || closer[k + 1] == kNoCloser) break;
         ++run;
       }
     shapes[gaps[n]].aspect = float(run);

@@ -31,6 +31,7 @@
 // Allocates its ray batches. No errors.
 #pragma once
 
+#include <cstdint>
 #include <glm/vec3.hpp>
 #include <span>
 
@@ -59,16 +60,22 @@ struct GapProbe {
   float airWedge = 0.f;
 };
 
+/// No triangle: a gap's other side not found.
+inline constexpr uint32_t kNoCloser = 0xffffffffu;
+
 /// What the probe found: the gap's width (m; 0 when nothing closes it within reach, a free
 /// edge; -1 when every delta is blocked, a gap closed within kGapNarrowest; else the geometric
 /// mean of the last free and the first blocked delta after the first free one) and, for a gap, the
 /// length along the edge over which it stays open at 0.5 and closed within 1.5 widths, in widths (0
 /// to 8, in steps of 1), and where it ends along the edge either side of Q (m, relative to Q
 /// along `along`: from <= 0 <= to), found to within 1/256 of the edge's length on that side.
+/// `closer`: for a gap or a closed one, the triangle (the Tracer's numbering) whose surface
+/// closes it, met at the first closed delta; else kNoCloser.
 struct GapShape {
   float width = 0.f;
   float aspect = 0.f;
   float from = 0.f, to = 0.f;
+  uint32_t closer = kNoCloser;
 };
 
 /// Probes every gap; shapes.size() >= probes.size(). Batch queries: 8 rays per probe, 16

@@ -1,8 +1,8 @@
 // Open doorways and a leaf ajar on the line of sight between two rooms: the direct sound
 // with its edge paths against the Kirchhoff aperture integral, computed here (Fresnel
 // integrals by Gauss-Legendre quadrature), in a thin wall and through a 0.3 m wall whose faces
-// are written once or twice; and a leaf ajar beside the line of sight, which may not add a
-// second direct sound.
+// are written once or twice; a leaf ajar beside the line of sight, which may not add a second
+// direct sound; and a leaf ajar across it, never louder than the open doorway.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <complex>
@@ -59,6 +59,17 @@ Bands kirchhoffLevels(double r, double s) {
   return out;
 }
 
+/// doorScene's doorway with one leaf (10 mm gaps, in the mesh) swung `degrees` about its hinge
+/// into the second room.
+SceneDesc leafAjarScene(float degrees) {
+  SceneDesc s = doorScene(0.f, Leaf::kNone);
+  const float gap = 0.01f, angle = degrees * float(kPi) / 180.f, width = kDoorWidth - 2.f * gap;
+  const glm::vec3 hinge{6.f, 0.f, kDoorZ0 + gap};
+  const glm::vec3 across = width * glm::vec3(std::sin(angle), 0.f, std::cos(angle));
+  test::addPanel(s.mesh, hinge, across, (kDoorHeight - gap) * glm::vec3(0, 1, 0), 0);
+  return s;
+}
+
 }  // namespace
 
 TEST_CASE("Doorways: open, on the line of sight, the Kirchhoff aperture integral, thin or thick",
@@ -105,15 +116,35 @@ TEST_CASE("Door gaps: a leaf ajar beside the line of sight adds no second direct
   // lists it), so the check is against the free field, which a leaf beside the line of sight
   // cannot raise by more than the lit side's Fresnel ripple (1.4 dB for one knife edge) and
   // here lowers.
-  SceneDesc s = doorScene(0.f, Leaf::kNone);
-  const float gap = 0.01f, angle = 80.f * float(kPi) / 180.f, width = kDoorWidth - 2.f * gap;
-  const glm::vec3 hinge{6.f, 0.f, kDoorZ0 + gap};
-  const glm::vec3 across = width * glm::vec3(std::sin(angle), 0.f, std::cos(angle));
-  test::addPanel(s.mesh, hinge, across, (kDoorHeight - gap) * glm::vec3(0, 1, 0), 0);
-  const Bands level = decibels(directLevel(s));
+  const Bands level = decibels(directLevel(leafAjarScene(80.f)));
   std::printf("leaf ajar 80 deg: direct re free field (dB)");
   for (int b = 0; b < kNumBands; ++b) std::printf(" %6.1f", double(level[b]));
   std::printf("\n");
   for (int b = 0; b < kNumBands; ++b) CHECK(level[b] < 1.4f);
   CHECK(level[0] < 0.f);
+}
+
+
+TEST_CASE("Door gaps: a leaf ajar across the line of sight is never louder than the open doorway",
+          "[diffraction][door]") {
+  // Swung 5 to 45 degrees the leaf blocks the line of sight. The frame's edges then took the
+  // field that reaches them as the free field, and their lit-side terms, which correct a
+  // direct sound the leaf has taken away, stood alone; the frame's edge beside the leaf's free
+  // edge took the leaf's shadow for a slit's other side (a gap is closed by a surface across
+  // its mouth, not by one that only hides it). The leaf read +2.6 / +4.7 / +9.7 dB above the
+  // open doorway at 63 Hz at 20 / 30 / 45 degrees. Now the sum is held at the sum without
+  // the leaf (engine/surface_bound.h), which is the open doorway: closed <= open in every band
+  // (0.01 dB: single-precision geometry), the issue's rule for an obstruction. At 5 degrees
+  // the leaf leaves an 8.6 cm slit at its free edge, below the open doorway on its own.
+  const Bands open = decibels(directLevel(doorScene(0.f, Leaf::kNone)));
+  for (float degrees : {5.f, 10.f, 20.f, 30.f, 45.f}) {
+    const Bands level = decibels(directLevel(leafAjarScene(degrees)));
+    std::printf("leaf ajar %2.0f deg: direct re open doorway (dB)", double(degrees));
+    for (int b = 0; b < kNumBands; ++b) std::printf(" %6.1f", double(level[b] - open[b]));
+    std::printf("\n");
+    for (int b = 0; b < kNumBands; ++b) {
+      INFO(degrees << " degrees, band " << b);
+      CHECK(level[b] <= open[b] + 0.01f);
+    }
+  }
 }

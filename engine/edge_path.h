@@ -1,0 +1,92 @@
+// One first-order edge path source -> Q -> listener over a diffracting edge (engine/diffraction.h):
+// where Q lies, its UTD terms, its legs, and the slit it may pass; and the marks a list of paths
+// takes together (a slit found from both its edges, a reveal's two edges).
+//
+// Internal to the engine (engine/diffraction.cpp, coherent_sum, surface_bound). Any thread;
+// no allocation except markers' scratch; no errors.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <glm/vec3.hpp>
+#include <vector>
+
+#include "engine/diffraction.h"
+#include "engine/slit.h"
+#include "engine/tracer.h"
+#include "engine/utd.h"
+
+namespace dpc {
+
+/// m: keeps occlusion tests off an edge's own faces.
+inline constexpr float kLegEpsilon = 1e-3f;
+
+/// A gap's closing surface when the probe did not say (no connected surface has this number).
+inline constexpr uint32_t kUnknownSurface = 0xfffffffeu;
+
+/// One first-order edge path source -> Q -> listener: its frequency-independent parts, and
+/// the slit it passes when its edge bounds a narrow gap.
+struct EdgePath {
+  double length;                 // r + s, m
+  double distanceParameter;      // L = r s sin^2 beta0 / (r + s), m
+  double spreading;              // 1/r sqrt(r / (s (r + s))), 1/m
+  double prefactor;              // utdPrefactor(n, sin beta0)
+  std::array<UtdTerm, 4> terms;  // frequency-independent parts of D
+  UtdTermSums sums;              // the terms' asymptotic order sums (utdTermSums)
+  float legs;                    // r + s in single precision, m
+  glm::vec3 arrival;             // unit vector from the listener toward Q
+  glm::vec3 leaving;             // unit vector from the source toward Q
+  const DiffractionEdge* edge;
+  glm::vec3 q;                // the point on the edge, m
+  glm::vec3 mouth;            // unit direction across the gap the path may pass
+  glm::vec3 turn;             // the air wedge turns from face0 toward this (+-normal0)
+  float airWedge;             // the air wedge's angle, radians
+  float gapWidth = 0.f;       // m; 0: a free edge (engine/gap_probe.h)
+  bool slitOwner = false;     // carries its slit's field (once per slit)
+  SlitPath slit;              // valid when gapWidth > 0
+  glm::vec3 slitCentre{0.f};  // the slit path's point on the slit's centre line, m
+  double slitAspect = 0.0;    // slit length / width, as probed (0 to 8)
+  double share = 1.0;         // of its UTD field: 1/2 for each edge of a reveal (markReveals)
+  double phiS = 0.0, phiL = 0.0, wedge = 0.0;  // wedgeAngles' angles, radians
+  uint32_t gapCloser = kUnknownSurface;  // the surface that closes its gap (surface_bound.h)
+};
+
+/// The path over edge e from source to the listener centre L through the point Q of least
+/// length, its legs not yet tested (legsFree); false when Q lies outside the edge or the wedge
+/// cannot diffract toward L.
+bool edgePath(const DiffractionEdge& e, const glm::vec3& source, const glm::vec3& L,
+              bool directVisible, EdgePath& p);
+
+/// p's UTD terms from its angles, with the terms the tracer or a free line of sight make
+/// absent left out, and their order sums.
+void setTerms(bool directVisible, EdgePath& p);
+
+/// The path's two legs, source -> Q and Q -> L, each stopping kLegEpsilon short of its ends
+/// (the listener sphere itself is not geometry).
+std::array<TraceRay, 2> legRays(const glm::vec3& source, const glm::vec3& L, const EdgePath& p);
+
+/// True when nothing blocks either leg of p.
+bool legsFree(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L,
+              const EdgePath& p);
+
+/// Fills p's slit from its gap: the slit's centre line runs along the edge, half the width
+/// across the mouth, from `from` to `to` m along it relative to Q (where the gap ends,
+/// engine/gap_probe.h); its stationary point, legs and angles as engine/slit.h defines them.
+void makeSlit(const glm::vec3& source, const glm::vec3& L, float from, float to, EdgePath& p);
+
+/// A slit bounded by two edges (a leaf's rim and its frame's) is found from both; only the
+/// first carries its field. Same slit: parallel edges whose centre lines lie within half the
+/// wider gap (plus 1 mm) of each other.
+void markSlitOwners(std::vector<EdgePath>& paths);
+
+/// The two edges of one face that both diffract the path, the face running along the line of
+/// sight between source and L (the near and far edges of a thick wall's doorway seen through it,
+/// the face within kAlongSight of that line), bound one side of one opening: each first-order
+/// path counts the opening's cut into the direct sound, and both together count it twice
+/// (through a 0.3 m wall, the doorway read 9 dB above the Kirchhoff aperture integral at 63 Hz
+/// and 5 dB at 125 Hz). Like a slit found from both its edges, that side counts once: each
+/// edge takes half. A face seen at a wider angle (a solid wedge's face toward its far rim, 26°
+/// from the line in diffraction_test) is not such a pair.
+void markReveals(const glm::vec3& source, const glm::vec3& L, std::vector<EdgePath>& paths);
+
+}  // namespace dpc

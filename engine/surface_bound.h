@@ -1,0 +1,72 @@
+// What the scene's surfaces allow the coherent sum of the direct sound and the edge paths
+// (engine/diffraction.h): an obstruction adds no energy to the path it blocks. The sum is
+// compared with the same sum with surfaces taken away (a connected surface of the mesh,
+// scene/mesh_topology.h: a door leaf meshed apart from its frame is one): their edges dropped,
+// the paths they alone hid or closed restored, the gaps they closed opened.
+//
+// Internal to the engine. Propagation thread (the Tracer's queries); allocates; no errors.
+#pragma once
+
+#include <cstdint>
+#include <glm/vec3.hpp>
+#include <vector>
+
+#include "common/bands.h"
+#include "engine/edge_path.h"
+#include "engine/propagation.h"
+#include "engine/tracer.h"
+#include "scene/directivity.h"
+
+namespace dpc {
+
+/// Stands for every moving object's triangles among the surfaces a segment crosses: objects
+/// have no diffracting edges, and one of them in the way is taken away with the others.
+inline constexpr uint32_t kMovingObjects = 0xffffffffu;
+
+/// The connected surface of a triangle in the Tracer's numbering (`surfaces`, per mesh
+/// triangle; kMovingObjects past them).
+uint32_t surfaceOf(const std::vector<uint32_t>& surfaces, uint32_t triangle);
+
+/// The connected surfaces of the static mesh (`surfaces`, per triangle; kMovingObjects for an
+/// object's) that the segment `ray` crosses, sorted and each once, into out; false past
+/// kMaxCrossings crossings.
+bool crossedSurfaces(const Tracer& tracer, TraceRay ray, const std::vector<uint32_t>& surfaces,
+                     std::vector<uint32_t>& out);
+
+/// A path one of whose legs is blocked, and the surfaces that block its legs (none known:
+/// `known` false, never reopened).
+struct HiddenPath {
+  EdgePath path;
+  std::vector<uint32_t> by;
+  bool known = false;
+};
+
+/// Everything heldBound uses besides the paths: the query, the paths a leg of which is blocked,
+/// and those whose gap is closed (EdgeDiffraction::apply fills them).
+struct BoundQuery {
+  const Tracer& tracer;
+  glm::vec3 source, L;
+  const std::vector<uint32_t>& surfaces;  // per mesh triangle
+  std::vector<HiddenPath> hidden;
+  std::vector<EdgePath> closed;  // paths whose gap is closed (findSlits)
+  bool hiddenKnown = false;  // hidden[].by filled
+  float speedOfSound;
+  Bands airPerMetre;
+  const Directivity& directivity;
+  glm::vec3 forward;
+};
+
+/// What the surfaces allow the coherent sum, per band: an obstacle adds no energy to the path
+/// it blocks, so
+///  - with the line of sight blocked (coherent.visible false), at most the sum without the
+///    surfaces it crosses (crossedSurfaces), the line of sight free (a leaf ajar across a
+///    doorway's line of sight: at most the open doorway), and at most the direct sound with
+///    nothing in its way (`free`, 1/m^2); `free` alone when those surfaces are not known;
+///  - with the line of sight through a slit (`throughSlit`, slitOnLineOfSight), at most the
+///    sum without either of the slit's two sides (the slit is narrower than what either leaves
+///    open; a double door's leaves seen through the gap between them).
+/// Without a bound, 1e30 in every band. Band intensities in 1/m^2 (coherentIntensity's scale).
+Bands heldBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
+                const EdgePath* throughSlit, const Bands& free, BoundQuery& q);
+
+}  // namespace dpc

@@ -48,10 +48,14 @@
 // A line of sight through a gap (between two door leaves) keeps the direct sound only in the
 // proportion 1 - s: the slit's field is driven by the incident pressure at its mouth and
 // carries the rest.
-// Energy: with the line of sight blocked (lineOfSight() false), the result is held at the
-// unobstructed direct sound per band (an obstruction adds no energy to the path it blocks);
-// with it free, the sum may exceed it by the lit side's Fresnel ripple (docs/estimators.md,
-// "Gaps and slits" and "No energy added to a blocked path").
+// Energy: an obstruction adds no energy to the path it blocks. With the line of sight blocked
+// (lineOfSight() false), the result is held per band at the unobstructed direct sound and at
+// the sum without the connected surfaces the line of sight crosses (a leaf ajar across a
+// doorway's line of sight: the open doorway; engine/surface_bound.h); through a slit, at the
+// sum without either of its sides. With the line of sight free, the sum may exceed the direct
+// sound by the lit side's Fresnel ripple (docs/estimators.md, "Gaps and slits" and "No energy
+// added to a blocked path"). The paths' geometry is engine/edge_path.h, their sum
+// engine/coherent_sum.h.
 //
 // Construction: control/propagation thread; allocates; no errors (degenerate triangles are
 // skipped). apply(): propagation thread (the Tracer's occlusion queries); no errors.

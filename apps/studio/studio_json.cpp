@@ -1,5 +1,6 @@
 #include "apps/studio/studio_json.h"
 
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
@@ -186,6 +187,15 @@ std::string energyCsv(const StudioFrame& f) {
   // Each bin at its centre: the same bin index whatever the rounding of k * binSeconds.
   for (size_t k = 0; k < f.energy.size(); ++k)
     se.energy.add((double(k) + 0.5) * f.binSeconds, f.energy[k]);
+  // The direct sound on a row of its own, as --er-out writes it, taken out of the bin that
+  // holds it: an analysis of the file (dpc-analyze) then puts t0 at its arrival, as the page
+  // does with /api/response's onsetSeconds, and adds it back to the same bin.
+  const double k = double(f.direct.delaySeconds) / f.binSeconds;
+  if (f.direct.visible && k >= 0.0 && k < double(f.energy.size())) {
+    se.direct = f.direct;
+    Bands& bin = se.energy.bins()[size_t(k)];
+    for (int b = 0; b < kNumBands; ++b) bin[b] = std::max(0.f, bin[b] - f.direct.intensity[b]);
+  }
   return energyCsvText({se});
 }
 

@@ -44,12 +44,14 @@ std::string bakeJson(const StudioBake& bake);
 /// Poses, the direct sound, the exact early paths and the figures of a frame (no response).
 std::string stateJson(const StudioFrame& frame);
 
-/// The selected pair's energy response per band: {"frame", "source", "binSeconds", "origin":
-/// "bake" (StudioFrame::fromBake) or "traced", "bands": [[...] x 8]}.
+/// The selected pair's energy response per band, direct sound included: {"frame", "source",
+/// "binSeconds", "onsetSeconds" (the direct sound's arrival, null when none), "origin": "bake"
+/// (StudioFrame::fromBake) or "traced", "bands": [[...] x 8]}.
 std::string responseJson(const StudioFrame& frame);
 
-/// The selected pair's response as an energy-response CSV (analysis/energy_response_csv.h) with
-/// the direct sound already in its bin (no "direct" row): dpc-analyze reads the same numbers.
+/// The selected pair's response as an energy-response CSV (analysis/energy_response_csv.h): the
+/// direct sound (when visible and inside the response) on its "direct" row and out of its bin,
+/// so that dpc-analyze reads the same numbers with t0 at its arrival, as the page does.
 std::string energyCsv(const StudioFrame& frame);
 
 }  // namespace dpc::studio

@@ -247,27 +247,41 @@ function compareWaveform(ir, wav) {
   return { columns: ir.min[0].length, samples: n };
 }
 
-/// The page's T30 per band against dpc-analyze's on the same frame's energy response.
-async function checkT30(page, { port, token }) {
+/// The page's T30, EDT, C80 and D50 per band against dpc-analyze's on the same frame's energy
+/// response, /api/energy.csv: the page's decay.js and dpc-analyze's room_parameters.cpp are two
+/// implementations, and C80 and D50 start at the direct sound's arrival on both (the page from
+/// /api/response's onsetSeconds, dpc-analyze from the file's direct row). Tolerances: the
+/// file's 9 significant digits and the direct sound taken out of its bin and added back in
+/// single precision (relative 1e-6 for T30 and EDT, 1e-4 dB for C80, 1e-6 for D50).
+async function checkParameters(page, { port, token }) {
   for (let attempt = 0; attempt < 5; ++attempt) {
-    const { frame, t30 } = await page.evaluate(() => ({
-      frame: window.studio.response.frame, t30: window.studio.params.map((p) => (Number.isFinite(p.t30) ? p.t30 : null)) }));
+    const { frame, params } = await page.evaluate(() => ({
+      frame: window.studio.response.frame,
+      params: window.studio.params.map((p) => Object.fromEntries(['t30', 'edt', 'c80', 'd50'].map(
+        (k) => [k, Number.isFinite(p[k]) ? p[k] : null]))) }));
     const csv = await rawGet(port, `/api/energy.csv?frame=${frame}`, { 'X-Dpc-Token': token });
     if (csv.status !== 200) {  // the frame left the server's ring: take a newer one
       console.log(`energy.csv of frame ${frame}: HTTP ${csv.status}; trying a newer frame`);
       await sleep(500);
       continue;
     }
+    assert.match(csv.body, /\n0,direct,/, 'energy.csv has the direct sound on its own row');
     const file = path.join(work, 'studio-er.csv');
     fs.writeFileSync(file, csv.body);
-    const ref = JSON.parse(execFileSync(analyze, [file, '--json'], { encoding: 'utf8' })).sources[0].bands.map((b) => b.t30);
-    let finite = 0;
-    ref.forEach((r, b) => {
-      assert.equal(r === null, t30[b] === null, `band ${b}: page ${t30[b]}, dpc-analyze ${r}`);
-      if (r !== null) ++finite, assert.ok(Math.abs(r - t30[b]) <= 1e-6 * r, `band ${b}: page ${t30[b]}, dpc-analyze ${r}`);
-    });
-    assert.ok(finite >= 4, `only ${finite} bands with a T30`);
-    return { frame, t30, ref };
+    const ref = JSON.parse(execFileSync(analyze, [file, '--json'], { encoding: 'utf8' })).sources[0].bands;
+    const tolerance = { t30: (r) => 1e-6 * r, edt: (r) => 1e-6 * r, c80: () => 1e-4, d50: () => 1e-6 };
+    const finite = { t30: 0, edt: 0, c80: 0, d50: 0 };
+    ref.forEach((r, b) => Object.keys(tolerance).forEach((k) => {
+      const mine = params[b][k], theirs = r[k] ?? null;
+      assert.equal(theirs === null, mine === null, `band ${b} ${k}: page ${mine}, dpc-analyze ${theirs}`);
+      if (theirs !== null) {
+        ++finite[k];
+        assert.ok(Math.abs(theirs - mine) <= tolerance[k](theirs), `band ${b} ${k}: page ${mine}, dpc-analyze ${theirs}`);
+      }
+    }));
+    Object.entries(finite).forEach(([k, n]) => assert.ok(n >= 4, `only ${n} bands with a ${k}`));
+    const column = (k) => params.map((p) => p[k]);
+    return { frame, t30: column('t30'), c80: column('c80'), d50: column('d50'), ref: ref.map((r) => r.t30) };
   }
   throw new Error('no frame whose energy response the server still held');
 }
@@ -304,7 +318,7 @@ async function shoeboxChecks(browser, run) {
   assert.ok(share > 0.05, `the canvas is empty (${share} of its pixels drawn)`);
   await checkNoBake(page, (p) => rawGet(run.port, p, { 'X-Dpc-Token': run.token }));
   const law = await checkDistanceLaw(page);
-  const t30 = await checkT30(page, run);
+  const t30 = await checkParameters(page, run);
   const heat = await checkHeat(page, (p) => rawGet(run.port, p, { 'X-Dpc-Token': run.token }));
   assert.equal(await page.evaluate(() => window.studio.response.origin), 'traced');
   assert.match(await page.$eval('#decay-title', (e) => e.textContent), /: traced$/);
@@ -332,7 +346,8 @@ async function shoeboxChecks(browser, run) {
               `densest ${heat.densest}, spread ${heat.spreadDb.toFixed(2)} dB; every ramp position equals the ` +
               `energy per m^2 from /api/scene's areas, ends drawn as viridis's`);
   console.log(`T30 frame ${t30.frame}: page ${t30.t30.map((v) => v?.toFixed(4)).join(' ')}; ` +
-              `dpc-analyze ${t30.ref.map((v) => v?.toFixed(4)).join(' ')}`);
+              `dpc-analyze ${t30.ref.map((v) => v?.toFixed(4)).join(' ')}; EDT, C80 (page ` +
+              `${t30.c80.map((v) => v?.toFixed(2)).join(' ')} dB) and D50 equal dpc-analyze's too`);
 }
 
 /// A scene on the offline clock (its motion happens at fixed scene times): body(page) on a
@@ -373,7 +388,7 @@ async function cornerChecks(page) {
 async function bakeChecks(page, run, bake) {
   const b = await checkBake(page, (p) => rawGet(run.port, p, { 'X-Dpc-Token': run.token }), bake.oracle);
   const d = await checkBakedDecay(page, run, bake);
-  const t30 = await checkT30(page, run);
+  const t30 = await checkParameters(page, run);
   if (arg('--bake-screenshot')) {
     await page.select('#probe-param', '4');  // C80, 1 kHz: the page's first map
     const p = await page.evaluate(() => window.studio.probes.values.indexOf(window.studio.probes.max));

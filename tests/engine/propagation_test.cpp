@@ -76,7 +76,7 @@ TEST_CASE("tau = 0 DPC reproduces plain path tracing exactly, frame after frame"
       dpcSettings.estimator = Estimator::kDpc;
       dpcSettings.dpcWeighting = w;
       ptSettings.estimator = Estimator::kPathTracing;
-      Simulation dpcSim(scene, dpcSettings, {mode}), ptSim(scene, ptSettings, {mode});
+      Simulation dpcSim(scene, dpcSettings, {mode, {}}), ptSim(scene, ptSettings, {mode, {}});
       for (int f = 0; f < 5; ++f) {
         const glm::vec3 listener(7.f - 0.3f * f, 1.6f, 5.f);  // moving: nothing may carry over
         dpcSim.runFrame(listener);

@@ -87,6 +87,50 @@ std::vector<EdgePath> edgePaths(const std::vector<DiffractionEdge>& edges, bool 
   return paths;
 }
 
+/// m: how far from a slit already found an edge's end may lie for addEndSlits (a door's size).
+constexpr float kEndSlitReach = 3.f;
+
+/// The surfaces on either side of the slits among the paths, sorted, each once.
+std::vector<uint32_t> slitSurfaces(const std::vector<EdgePath>& paths) {
+  std::vector<uint32_t> out;
+  for (const EdgePath& p : paths)
+    if (p.gapWidth > 0.f) out.insert(out.end(), {p.edge->surface, p.gapCloser});
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+/// Adds the slits whose edges have no point of least length on them: seen from off a door's
+/// axis, its top gap's and undercut's edges end before the stationary point, yet the slit, a
+/// line source along its extent, still passes sound (its Fresnel integral between its ends,
+/// engine/slit.h). Looked for on the surfaces that bound a slit already found (the leaf and its
+/// frame, by their side gaps), over edges within kEndSlitReach of one, with Q at the edge's
+/// nearer end (edgePath's atEnd: no UTD field); kept when both legs are free and a gap is there.
+void addEndSlits(const std::vector<DiffractionEdge>& edges, bool lineOfSight, BoundQuery& q,
+                 std::vector<EdgePath>& paths) {
+  const std::vector<uint32_t> slitted = slitSurfaces(paths);
+  if (slitted.empty()) return;
+  auto nearSlit = [&](const glm::vec3& point) {
+    return std::any_of(paths.begin(), paths.end(), [&](const EdgePath& p) {
+      return p.gapWidth > 0.f && glm::distance(p.slitCentre, point) < kEndSlitReach;
+    });
+  };
+  std::vector<EdgePath> ends, closed;
+  for (const DiffractionEdge& e : edges) {
+    if (!std::binary_search(slitted.begin(), slitted.end(), e.surface)) continue;
+    EdgePath p;
+    if (!edgePath(e, q.source, q.L, lineOfSight, p, true) || !nearSlit(p.q) ||
+        !legsFree(q.tracer, q.source, q.L, p))
+      continue;
+    ends.push_back(p);
+  }
+  if (ends.empty()) return;
+  findSlits(q.tracer, q.source, q.L, q.surfaces, ends, closed);
+  for (const EdgePath& p : ends)
+    if (p.gapWidth > 0.f) paths.push_back(p);
+  markSlitOwners(paths);
+}
+
 /// The shortest of the direct sound (when visible), the edge paths and the slit paths: its
 /// length (m) and its arrival direction (unit vector from the listener at L).
 std::pair<float, glm::vec3> firstArrival(const std::vector<EdgePath>& paths,
@@ -94,7 +138,7 @@ std::pair<float, glm::vec3> firstArrival(const std::vector<EdgePath>& paths,
   float shortest = direct.visible ? direct.distance : 1e30f;
   glm::vec3 arrival = direct.direction;
   for (const EdgePath& p : paths) {
-    if (p.legs < shortest) {
+    if (!p.atEnd && p.legs < shortest) {
       shortest = p.legs;
       arrival = p.arrival;
     }
@@ -146,6 +190,7 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
   std::vector<EdgePath> paths = edgePaths(edges_, lineOfSight, query);
   findSlits(tracer, source, listener.position, surfaces_, paths, query.closed);
   markReveals(source, listener.position, paths);
+  addEndSlits(edges_, lineOfSight, query, paths);
   if (usedEdges) {
     usedEdges->clear();
     for (const EdgePath& p : paths) usedEdges->push_back(uint32_t(p.edge - edges_.data()));

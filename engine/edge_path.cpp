@@ -125,15 +125,22 @@ void setTerms(bool directVisible, EdgePath& p) {
 }
 
 bool edgePath(const DiffractionEdge& e, const glm::vec3& source, const glm::vec3& L,
-              bool directVisible, EdgePath& p) {
+              bool directVisible, EdgePath& p, bool atEnd) {
   // Stationary point: unfold both points about the edge; Q divides the along-edge
   // separation in the ratio of their distances from the edge line.
   const glm::vec3 ps = source - e.a, pl = L - e.a;
   const float ts = glm::dot(ps, e.direction), tl = glm::dot(pl, e.direction);
   const float rs = glm::length(ps - ts * e.direction), rl = glm::length(pl - tl * e.direction);
   if (!(rs > 1e-4f) || !(rl > 1e-4f)) return false;
-  const float t = ts + (tl - ts) * rs / (rs + rl);
-  if (!(t > 0.f && t < e.length)) return false;
+  float t = ts + (tl - ts) * rs / (rs + rl);
+  const bool inside = t > 0.f && t < e.length;
+  if (inside == atEnd || !std::isfinite(t)) return false;
+  if (atEnd) {
+    const float margin = std::min(kEndMargin, 0.01f * e.length);
+    t = std::clamp(t, margin, e.length - margin);
+    p.atEnd = true;
+    p.share = 0.0;
+  }
   const glm::vec3 q = e.a + t * e.direction;
   const glm::vec3 toQ = q - source, toL = L - q;
   const float r = glm::length(toQ), s = glm::length(toL);
@@ -226,6 +233,7 @@ void markReveals(const glm::vec3& source, const glm::vec3& L, std::vector<EdgePa
   for (size_t k = 0; k < paths.size(); ++k)
     for (size_t j = 0; j < k; ++j) {
       const EdgePath &a = paths[j], &b = paths[k];
+      if (a.atEnd || b.atEnd) continue;  // no UTD field to share
       const float apart = glm::distance(a.q, b.q);
       if (!joinedByFace(*a.edge, *b.edge) || !between(a.q) || !between(b.q) || !(apart > 0.f))
         continue;

@@ -21,6 +21,9 @@ namespace dpc {
 /// m: keeps occlusion tests off an edge's own faces.
 inline constexpr float kLegEpsilon = 1e-3f;
 
+/// m: how far inside its nearer end an atEnd path's point Q lies (edgePath).
+inline constexpr float kEndMargin = 0.01f;
+
 /// A gap's closing surface when the probe did not say (no connected surface has this number).
 inline constexpr uint32_t kUnknownSurface = 0xfffffffeu;
 
@@ -49,13 +52,17 @@ struct EdgePath {
   double share = 1.0;         // of its UTD field: 1/2 for each edge of a reveal (markReveals)
   double phiS = 0.0, phiL = 0.0, wedge = 0.0;  // wedgeAngles' angles, radians
   uint32_t gapCloser = kUnknownSurface;  // the surface that closes its gap (surface_bound.h)
+  bool atEnd = false;  // Q put at the edge's end: no UTD field (share 0), a slit's only
 };
 
 /// The path over edge e from source to the listener centre L through the point Q of least
 /// length, its legs not yet tested (legsFree); false when Q lies outside the edge or the wedge
-/// cannot diffract toward L.
+/// cannot diffract toward L. With atEnd, only where Q lies beyond the edge: Q is then put
+/// kEndMargin (at most 1 % of the edge) inside its nearer end, and the path has no UTD field
+/// (share 0, atEnd), only the field of a slit its edge may bound (the slit is a line source
+/// along its whole extent: its field from beyond the stationary point, engine/slit.h).
 bool edgePath(const DiffractionEdge& e, const glm::vec3& source, const glm::vec3& L,
-              bool directVisible, EdgePath& p);
+              bool directVisible, EdgePath& p, bool atEnd = false);
 
 /// p's UTD terms from its angles, with the terms the tracer or a free line of sight make
 /// absent left out, and their order sums.

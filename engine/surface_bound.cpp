@@ -42,7 +42,7 @@ std::vector<EdgePath> pathsWithout(const std::vector<EdgePath>& paths, BoundQuer
       kept.push_back(h.path);
   for (EdgePath& p : kept) {
     if (p.gapWidth != 0.f && gone(p.gapCloser)) p.gapWidth = 0.f;
-    p.share = 1.0;
+    p.share = p.atEnd ? 0.0 : 1.0;
     setTerms(lineOfSight, p);
   }
   markSlitOwners(kept);

@@ -78,8 +78,8 @@ struct Slit {
 /// (all lie in the wall x = 6), p_i the incident field at the slit's point level with the
 /// source; Cramer's rule on the parallel ones (at most three here), 1 for the others
 /// (engine/slit.h's mutualLoading, computed here on its own).
-std::vector<C> loadingFactors(const std::vector<Slit>& slits, double k, const MouthImpedance& zr) {
-  const glm::dvec3 S(kSource);
+std::vector<C> loadingFactors(const std::vector<Slit>& slits, double k, const MouthImpedance& zr,
+                              const glm::dvec3& S) {
   std::vector<C> f(slits.size(), 1.0);
   std::vector<size_t> vertical;  // along y: parallel to each other (the top slit runs along z)
   for (size_t i = 0; i < slits.size(); ++i)
@@ -114,9 +114,9 @@ std::vector<C> loadingFactors(const std::vector<Slit>& slits, double k, const Mo
   return f;
 }
 
-C modelPressure(const std::vector<Slit>& slits, double k, const MouthImpedance& zr) {
-  const glm::dvec3 S(kSource), L(kListener);
-  const std::vector<C> loading = loadingFactors(slits, k, zr);
+C modelPressure(const std::vector<Slit>& slits, double k, const MouthImpedance& zr,
+                const glm::dvec3& S, const glm::dvec3& L) {
+  const std::vector<C> loading = loadingFactors(slits, k, zr, S);
   C p = 0.0;
   for (size_t i = 0; i < slits.size(); ++i) {
     const Slit& s = slits[i];
@@ -155,15 +155,17 @@ std::vector<Slit> perimeterSlits(double gap) {
           {{6, h - gap / 2, z0}, {6, h - gap / 2, z1}, gap}};
 }
 
-/// The model's band levels (dB re the free field) of `slits`: |p|^2 averaged over the band's
-/// frequencies.
-Bands modelLevels(const std::vector<Slit>& slits, const MouthImpedance& zr) {
+/// The model's band levels (dB re the free field) of `slits` from source S to listener L: |p|^2
+/// averaged over the band's frequencies.
+Bands modelLevels(const std::vector<Slit>& slits, const MouthImpedance& zr,
+                  const glm::dvec3& S = glm::dvec3(kSource),
+                  const glm::dvec3& L = glm::dvec3(kListener)) {
   Bands out;
   for (int b = 0; b < kNumBands; ++b) {
     double mean = 0.0;
     for (int i = 0; i < kDiffractionFrequenciesPerBand; ++i) {
       const double k = 2 * kPi * diffractionFrequencyHz(b, i) / kC;
-      mean += std::norm(modelPressure(slits, k, zr)) / kDiffractionFrequenciesPerBand;
+      mean += std::norm(modelPressure(slits, k, zr, S, L)) / kDiffractionFrequenciesPerBand;
     }
     out[b] = float(10 * std::log10(mean));
   }
@@ -399,4 +401,35 @@ TEST_CASE("Door gaps: a double door seen beside its leaves' gap or off the axis 
     previous = level;
   }
   std::printf("double door walk beside its gap: largest step 63-500 Hz %.2f dB\n", double(worst));
+}
+
+TEST_CASE("Door gaps: seen from off the axis, the gaps pass what the slit model says",
+          "[diffraction][door]") {
+  // Source and listener beside the doorway (both past one jamb, at other heights): the top
+  // gap's edges then end before their point of least path length, so no edge path passes it,
+  // yet the slit, a line source along its extent, does (the model integrates along it). Those
+  // slits are now found from the ends of the edges of the leaf and frame whose side gaps were
+  // found (engine/diffraction.cpp, addEndSlits). Before, dpc read up to 2.2 dB below the model
+  // at 63 and 125 Hz; now within 1 dB. Tolerance 1.5 dB per octave, half the issue's 3 dB:
+  // dpc and the model share the physics and differ by the paraxial Fresnel integral and the
+  // incident pressure the slits' loading takes (the model's: at the source's height).
+  const MouthImpedance zr;
+  const std::vector<std::pair<glm::vec3, glm::vec3>> pairs = {
+      {{3.f, 1.2f, 4.2f}, {9.f, 1.5f, 4.6f}},
+      {{3.f, 1.6f, 0.6f}, {9.f, 1.0f, 1.2f}},
+      {{4.f, 1.2f, 4.5f}, {8.f, 1.2f, 4.5f}},
+      {{3.f, 0.5f, 3.5f}, {10.f, 2.5f, 4.0f}}};
+  for (float gap : {0.005f, 0.01f, 0.02f})
+    for (const auto& [src, lis] : pairs) {
+      const Bands closed = decibels(directLevel(doorScene(gap, Leaf::kStatic), src, lis));
+      const Bands model = modelLevels(perimeterSlits(gap), zr, glm::dvec3(src), glm::dvec3(lis));
+      std::printf("gap %2.0f mm, source z %.1f m, listener z %.1f m: dpc - model (dB)",
+                  1e3 * double(gap), double(src.z), double(lis.z));
+      for (int b = 0; b < kNumBands; ++b) {
+        std::printf(" %5.2f", double(closed[b] - model[b]));
+        INFO("gap " << gap << " m, source z " << src.z << ", band " << b);
+        CHECK(std::abs(closed[b] - model[b]) < 1.5f);
+      }
+      std::printf("\n");
+    }
 }

@@ -90,11 +90,14 @@ std::vector<EdgePath> edgePaths(const std::vector<DiffractionEdge>& edges, bool 
 /// m: how far from a slit already found an edge's end may lie for addEndSlits (a door's size).
 constexpr float kEndSlitReach = 3.f;
 
-/// The surfaces on either side of the slits among the paths, sorted, each once.
-std::vector<uint32_t> slitSurfaces(const std::vector<EdgePath>& paths) {
+/// The surfaces on either side of the gaps among the paths and the closed ones (a leaf shut
+/// tight at its sides may leave an undercut), sorted, each once.
+std::vector<uint32_t> slitSurfaces(const std::vector<EdgePath>& paths,
+                                   const std::vector<EdgePath>& closed) {
   std::vector<uint32_t> out;
   for (const EdgePath& p : paths)
     if (p.gapWidth > 0.f) out.insert(out.end(), {p.edge->surface, p.gapCloser});
+  for (const EdgePath& p : closed) out.insert(out.end(), {p.edge->surface, p.gapCloser});
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
@@ -103,17 +106,20 @@ std::vector<uint32_t> slitSurfaces(const std::vector<EdgePath>& paths) {
 /// Adds the slits whose edges have no point of least length on them: seen from off a door's
 /// axis, its top gap's and undercut's edges end before the stationary point, yet the slit, a
 /// line source along its extent, still passes sound (its Fresnel integral between its ends,
-/// engine/slit.h). Looked for on the surfaces that bound a slit already found (the leaf and its
-/// frame, by their side gaps), over edges within kEndSlitReach of one, with Q at the edge's
+/// engine/slit.h). Looked for on the surfaces that bound a gap already found, open or closed
+/// (the leaf and its frame, by their side gaps), over edges within kEndSlitReach of one, with Q at the edge's
 /// nearer end (edgePath's atEnd: no UTD field); kept when both legs are free and a gap is there.
 void addEndSlits(const std::vector<DiffractionEdge>& edges, bool lineOfSight, BoundQuery& q,
                  std::vector<EdgePath>& paths) {
-  const std::vector<uint32_t> slitted = slitSurfaces(paths);
+  const std::vector<uint32_t> slitted = slitSurfaces(paths, q.closed);
   if (slitted.empty()) return;
   auto nearSlit = [&](const glm::vec3& point) {
-    return std::any_of(paths.begin(), paths.end(), [&](const EdgePath& p) {
-      return p.gapWidth > 0.f && glm::distance(p.slitCentre, point) < kEndSlitReach;
-    });
+    auto near = [&](const EdgePath& p) {
+      return glm::distance(p.gapWidth > 0.f ? p.slitCentre : p.q, point) < kEndSlitReach;
+    };
+    return std::any_of(paths.begin(), paths.end(),
+                       [&](const EdgePath& p) { return p.gapWidth > 0.f && near(p); }) ||
+           std::any_of(q.closed.begin(), q.closed.end(), near);
   };
   std::vector<EdgePath> ends, closed;
   for (const DiffractionEdge& e : edges) {

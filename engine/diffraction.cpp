@@ -16,7 +16,6 @@
 #include "engine/edge_path.h"
 #include "engine/slit.h"
 #include "engine/surface_bound.h"
-#include "scene/mesh_topology.h"
 
 namespace dpc {
 
@@ -96,8 +95,10 @@ std::vector<uint32_t> slitSurfaces(const std::vector<EdgePath>& paths,
                                    const std::vector<EdgePath>& closed) {
   std::vector<uint32_t> out;
   for (const EdgePath& p : paths)
-    if (p.gapWidth > 0.f) out.insert(out.end(), {p.edge->surface, p.gapCloser});
-  for (const EdgePath& p : closed) out.insert(out.end(), {p.edge->surface, p.gapCloser});
+    if (p.gapWidth > 0.f)
+      out.insert(out.end(), {p.edge->surfaces[0], p.edge->surfaces[1], p.gapCloser});
+  for (const EdgePath& p : closed)
+    out.insert(out.end(), {p.edge->surfaces[0], p.edge->surfaces[1], p.gapCloser});
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
@@ -123,7 +124,9 @@ void addEndSlits(const std::vector<DiffractionEdge>& edges, bool lineOfSight, Bo
   };
   std::vector<EdgePath> ends, closed;
   for (const DiffractionEdge& e : edges) {
-    if (!std::binary_search(slitted.begin(), slitted.end(), e.surface)) continue;
+    if (!std::binary_search(slitted.begin(), slitted.end(), e.surfaces[0]) &&
+        !std::binary_search(slitted.begin(), slitted.end(), e.surfaces[1]))
+      continue;
     EdgePath p;
     if (!edgePath(e, q.source, q.L, lineOfSight, p, true) || !nearSlit(p.q) ||
         !legsFree(q.tracer, q.source, q.L, p))
@@ -180,7 +183,9 @@ double diffractionFrequencyHz(int band, int i) {
 }
 
 EdgeDiffraction::EdgeDiffraction(const Mesh& mesh)
-    : surfaces_(connectedSurfaces(mesh)), edges_(candidateEdges(mesh, surfaces_)) {}
+    : surfaces_(flatSurfaces(mesh)),
+      bodies_(surfaceBodies(mesh, surfaces_)),
+      edges_(candidateEdges(mesh, surfaces_)) {}
 
 size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
                               const ListenerSphere& listener, float speedOfSound,
@@ -191,8 +196,8 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
   // in the shadow for the edges, and its energy adds to theirs incoherently (the edge paths'
   // legs are unoccluded, the transmitted path crosses a surface: no path is counted twice).
   const bool lineOfSight = direct.lineOfSight();
-  BoundQuery query{tracer, source,       listener.position, surfaces_,   {},     {},
-                   false,  speedOfSound, airPerMetre,       directivity, forward};
+  BoundQuery query{tracer, source, listener.position, surfaces_, bodies_, edges_, {}, {},
+                   {},     false,  speedOfSound,      airPerMetre, directivity, forward};
   std::vector<EdgePath> paths = edgePaths(edges_, lineOfSight, query);
   findSlits(tracer, source, listener.position, surfaces_, paths, query.closed);
   markReveals(source, listener.position, paths);

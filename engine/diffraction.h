@@ -52,8 +52,9 @@
 // carries the rest.
 // Energy: an obstruction adds no energy to the path it blocks. With the line of sight blocked
 // (lineOfSight() false), the result is held per band at the unobstructed direct sound and at
-// the sum without the connected surfaces the line of sight crosses (a leaf ajar across a
-// doorway's line of sight: the open doorway; engine/surface_bound.h); through a slit, at the
+// the sum without the flat surfaces the line of sight crosses (a leaf ajar across a
+// doorway's line of sight: the open doorway; engine/surface_bound.h; a flat surface: triangles
+// joined by edges that do not diffract); through a slit, at the
 // sum without either of its sides. With the line of sight free, the sum may exceed the direct
 // sound by the lit side's Fresnel ripple (docs/estimators.md, "Gaps and slits" and "No energy
 // added to a blocked path"). The paths' geometry is engine/edge_path.h, their sum
@@ -82,14 +83,25 @@ namespace dpc {
 /// vector of face 0 pointing away from the edge, face 0's unit normal (winding side), and
 /// `open`, the angle (radians) from face 0 to face 1 turning toward normal0 (2 pi for a free
 /// edge). The two wedges are open and 2 pi - open; the one holding the source is the air wedge,
-/// and it diffracts (can shadow) when wider than pi, with UTD index n = wedge / pi. `surface`:
-/// the connected surface its faces belong to (scene/mesh_topology.h, connectedSurfaces).
+/// and it diffracts (can shadow) when wider than pi, with UTD index n = wedge / pi. `surfaces`:
+/// the flat surfaces (flatSurfaces, engine/diffraction_edges.h) of its face 0 and face 1 (the
+/// same twice for a free edge).
 struct DiffractionEdge {
   glm::vec3 a{0.f}, b{0.f};
   glm::vec3 direction{0.f}, face0{0.f}, normal0{0.f};
   float open = 0.f;
   float length = 0.f;
-  uint32_t surface = 0;
+  std::array<uint32_t, 2> surfaces{0, 0};
+};
+
+/// The bodies of a mesh's flat surfaces: per flat surface the number of its body, the
+/// connected piece of mesh it belongs to (triangles sharing a corner, welded), numbered in the
+/// order of their first triangles; and per body whether it is closed, a solid without a free
+/// rim (a box leaf, a pillar). A box's six faces are one closed body; a leaf welded to its
+/// frame is part of the frame's body.
+struct SurfaceBodies {
+  std::vector<uint32_t> body;  ///< per flat surface
+  std::vector<bool> closed;    ///< per body
 };
 
 /// The band energy of the direct-plus-diffracted field is |p|^2 averaged over these
@@ -150,7 +162,8 @@ class EdgeDiffraction {
                std::vector<uint32_t>* usedEdges = nullptr) const;
 
  private:
-  std::vector<uint32_t> surfaces_;  ///< per mesh triangle, its connected surface
+  std::vector<uint32_t> surfaces_;  ///< per mesh triangle, its flat surface
+  SurfaceBodies bodies_;            ///< the flat surfaces' bodies (surfaceBodies)
   std::vector<DiffractionEdge> edges_;
 };
 

@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vector_relational.hpp>
 #include <numbers>
+#include <numeric>
 #include <unordered_map>
 
 #include "scene/mesh_topology.h"
@@ -17,17 +18,17 @@ namespace dpc {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
+/// Two faces within this angle (radians) of lying flat make no wedge: no diffracting edge.
+constexpr double kFlatEdge = 0.05 * kPi;
 
 glm::vec3 safeNormalize(const glm::vec3& v) {
   const float l = glm::length(v);
   return l > 0.f ? v / l : glm::vec3(0.f);
 }
 
-/// Undirected edge (welded vertex ids, smaller first, as one key) -> the triangles using it
-/// (first two) and the count.
+/// Undirected edge (welded vertex ids, smaller first, as one key) -> the triangles using it.
 struct EdgeUse {
-  uint32_t tri[2]{};
-  int count = 0;
+  std::vector<uint32_t> tris;
 };
 
 /// Per triangle, whether an earlier triangle has the same three welded corners: the back of a
@@ -56,9 +57,7 @@ std::unordered_map<uint64_t, EdgeUse> edgeUses(const Mesh& mesh, const std::vect
     for (int i = 0; i < 3 && !duplicate[t]; ++i) {
       const uint64_t u = id[mesh.triangles[t][size_t(i)]],
                      v = id[mesh.triangles[t][size_t((i + 1) % 3)]];
-      EdgeUse& e = uses[u < v ? (u << 32 | v) : (v << 32 | u)];
-      if (e.count < 2) e.tri[e.count] = t;
-      ++e.count;
+      uses[u < v ? (u << 32 | v) : (v << 32 | u)].tris.push_back(t);
     }
   return uses;
 }
@@ -81,32 +80,67 @@ glm::vec3 inward(const Mesh& mesh, const std::vector<uint32_t>& id, uint32_t t, 
   return safeNormalize(w);
 }
 
-/// The candidate edge of welded edge `key`; false when it has no wedge (non-manifold,
-/// degenerate or flat).
-bool makeEdge(const Mesh& mesh, const std::vector<uint32_t>& id, uint64_t key, const EdgeUse& use,
+/// The faces that end at an edge: per flat surface among its triangles, one of them, unless
+/// the surface's triangles lie on both sides of the edge (it runs on across it). At most two.
+struct EdgeFaces {
+  std::array<uint32_t, 2> tri{};
+  int count = 0;
+  bool valid = false;  // false: a surface runs across (interior or a T-junction), or three ends
+};
+
+/// The copies of one sheet (its two sides written as triangles of their own, not exact
+/// duplicates) end at its rim as one face; a leaf welded to its frame at the hinge and the
+/// frame are two faces there, a wedge, though four triangles use the edge.
+EdgeFaces endingFaces(const Mesh& mesh, const std::vector<uint32_t>& id,
+                      const std::vector<uint32_t>& surfaces, uint32_t ia, uint32_t ib,
+                      const glm::vec3& direction, const EdgeUse& use) {
+  EdgeFaces f;
+  std::array<glm::vec3, 2> side{};
+  for (uint32_t t : use.tris) {
+    const glm::vec3 w = inward(mesh, id, t, ia, ib, direction);
+    int k = 0;
+    while (k < f.count && surfaces[f.tri[size_t(k)]] != surfaces[t]) ++k;
+    if (k < f.count) {
+      if (glm::dot(w, side[size_t(k)]) < 0.f) return f;  // runs on across the edge
+      continue;
+    }
+    if (f.count == 2) return f;  // a third surface
+    f.tri[size_t(f.count)] = t;
+    side[size_t(f.count++)] = w;
+  }
+  f.valid = f.count > 0;
+  return f;
+}
+
+/// The candidate edge of welded edge `key`; false when it has no wedge (degenerate, flat, or
+/// where a surface runs on across it or three surfaces meet).
+bool makeEdge(const Mesh& mesh, const std::vector<uint32_t>& id,
+              const std::vector<uint32_t>& surfaces, uint64_t key, const EdgeUse& use,
               DiffractionEdge& e) {
-  if (use.count > 2) return false;  // non-manifold: no wedge defined
   const uint32_t ia = uint32_t(key >> 32), ib = uint32_t(key & 0xffffffffu);
   e.a = mesh.vertices[ia];
   e.b = mesh.vertices[ib];
   e.length = glm::length(e.b - e.a);
   if (!(e.length > 0.f)) return false;
   e.direction = (e.b - e.a) / e.length;
-  e.face0 = inward(mesh, id, use.tri[0], ia, ib, e.direction);
-  e.normal0 = normalOf(mesh, use.tri[0]);
+  const EdgeFaces faces = endingFaces(mesh, id, surfaces, ia, ib, e.direction, use);
+  if (!faces.valid) return false;
+  e.face0 = inward(mesh, id, faces.tri[0], ia, ib, e.direction);
+  e.normal0 = normalOf(mesh, faces.tri[0]);
+  e.surfaces = {surfaces[faces.tri[0]], surfaces[faces.tri[size_t(faces.count - 1)]]};
   if (glm::length(e.face0) == 0.f || glm::length(e.normal0) == 0.f) return false;
-  if (use.count == 1) {
+  if (faces.count == 1) {
     e.open = float(2.0 * kPi);  // half-plane: one wedge of 2 pi
     return true;
   }
   // Angle of face 1 from face 0, turning toward normal0. Which of the two wedges
   // (open, 2 pi - open) holds air is decided per frame by where the source is, so the
   // mesh's winding does not matter.
-  const glm::vec3 f1 = inward(mesh, id, use.tri[1], ia, ib, e.direction);
+  const glm::vec3 f1 = inward(mesh, id, faces.tri[1], ia, ib, e.direction);
   double ang = std::atan2(double(glm::dot(f1, e.normal0)), double(glm::dot(f1, e.face0)));
   if (ang < 0) ang += 2.0 * kPi;
   e.open = float(ang);
-  return !(std::abs(ang - kPi) < 0.05 * kPi);  // flat: no wedge
+  return !(std::abs(ang - kPi) < kFlatEdge);  // flat: no wedge
 }
 
 /// An edge lying in another triangle (a partition's rim along the floor, a box standing on
@@ -260,6 +294,73 @@ bool edgeBefore(const DiffractionEdge& x, const DiffractionEdge& y) {
 
 }  // namespace
 
+std::vector<uint32_t> flatSurfaces(const Mesh& mesh) {
+  const std::vector<uint32_t> id = weldedVertexIds(mesh);
+  std::unordered_map<uint64_t, std::vector<uint32_t>> users;  // welded edge -> its triangles
+  for (uint32_t t = 0; t < mesh.triangles.size(); ++t)
+    for (int i = 0; i < 3; ++i) {
+      const uint64_t u = id[mesh.triangles[t][size_t(i)]],
+                     v = id[mesh.triangles[t][size_t((i + 1) % 3)]];
+      users[u < v ? (u << 32 | v) : (v << 32 | u)].push_back(t);
+    }
+  std::vector<uint32_t> parent(mesh.triangles.size());
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto root = [&parent](uint32_t t) {
+    while (parent[t] != t) t = parent[t] = parent[parent[t]];
+    return t;
+  };
+  const double flat = std::cos(kFlatEdge);
+  for (const auto& [key, ts] : users)
+    for (size_t i = 0; i < ts.size(); ++i)
+      for (size_t j = i + 1; j < ts.size(); ++j) {
+        if (!(std::abs(double(glm::dot(normalOf(mesh, ts[i]), normalOf(mesh, ts[j])))) > flat))
+          continue;
+        const uint32_t a = root(ts[i]), b = root(ts[j]);
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+      }
+  std::vector<uint32_t> number(mesh.triangles.size(), UINT32_MAX), surface(number.size());
+  uint32_t next = 0;
+  for (uint32_t t = 0; t < surface.size(); ++t) {
+    uint32_t& n = number[root(t)];
+    if (n == UINT32_MAX) n = next++;
+    surface[t] = n;
+  }
+  return surface;
+}
+
+SurfaceBodies surfaceBodies(const Mesh& mesh, const std::vector<uint32_t>& surfaces) {
+  const std::vector<uint32_t> id = weldedVertexIds(mesh);
+  std::vector<uint32_t> parent(mesh.vertices.size());
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto root = [&parent](uint32_t v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  for (const auto& t : mesh.triangles)
+    for (size_t i = 1; i < 3; ++i) {
+      const uint32_t a = root(id[t[0]]), b = root(id[t[i]]);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  const uint32_t count =
+      surfaces.empty() ? 0u : *std::max_element(surfaces.begin(), surfaces.end()) + 1u;
+  SurfaceBodies out{std::vector<uint32_t>(count, UINT32_MAX), {}};
+  std::unordered_map<uint32_t, uint32_t> number;  // vertex root -> body
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const uint32_t r = root(id[mesh.triangles[t][0]]);
+    const uint32_t b = number.try_emplace(r, uint32_t(number.size())).first->second;
+    if (out.body[surfaces[t]] == UINT32_MAX) out.body[surfaces[t]] = b;
+  }
+  out.closed.assign(number.size(), true);
+  for (const auto& [key, use] : edgeUses(mesh, id)) {  // a free rim opens its body
+    const uint32_t ia = uint32_t(key >> 32), ib = uint32_t(key & 0xffffffffu);
+    const glm::vec3 d = mesh.vertices[ib] - mesh.vertices[ia];
+    if (!(glm::length(d) > 0.f)) continue;
+    const EdgeFaces f = endingFaces(mesh, id, surfaces, ia, ib, glm::normalize(d), use);
+    if (f.valid && f.count == 1) out.closed[out.body[surfaces[f.tri[0]]]] = false;
+  }
+  return out;
+}
+
 std::vector<DiffractionEdge> candidateEdges(const Mesh& mesh,
                                            const std::vector<uint32_t>& surfaces) {
   const std::vector<uint32_t> id = weldedVertexIds(mesh);
@@ -267,8 +368,7 @@ std::vector<DiffractionEdge> candidateEdges(const Mesh& mesh,
   std::vector<DiffractionEdge> edges;
   for (const auto& [key, use] : edgeUses(mesh, id)) {
     DiffractionEdge e;
-    e.surface = surfaces[use.tri[0]];
-    if (makeEdge(mesh, id, key, use, e) && !sealing.seal(e)) edges.push_back(e);
+    if (makeEdge(mesh, id, surfaces, key, use, e) && !sealing.seal(e)) edges.push_back(e);
   }
   std::sort(edges.begin(), edges.end(), edgeBefore);
   return edges;

@@ -15,8 +15,19 @@
 
 namespace dpc {
 
-/// The candidate edges of `mesh`, in the order of their endpoints; each edge's surface taken
-/// from `surfaces` (per triangle, connectedSurfaces(mesh)).
+/// Per triangle of `mesh`, the number of its flat surface: triangles that share an edge
+/// (welded) across which they lie flat within the angle at which an edge stops diffracting
+/// (kFlatEdge; either side, so the two copies of a double-sided sheet are one) are one
+/// surface, numbered 0, 1, ... in the order of their first triangles. A door leaf is a surface
+/// of its own, even when its hinge is welded to its frame; a wall's coplanar panels are one.
+std::vector<uint32_t> flatSurfaces(const Mesh& mesh);
+
+/// The bodies of the mesh's flat surfaces (SurfaceBodies, engine/diffraction.h), `surfaces`
+/// numbered as flatSurfaces(mesh) gives them.
+SurfaceBodies surfaceBodies(const Mesh& mesh, const std::vector<uint32_t>& surfaces);
+
+/// The candidate edges of `mesh`, in the order of their endpoints; each edge's faces' surfaces
+/// taken from `surfaces` (flatSurfaces(mesh)).
 std::vector<DiffractionEdge> candidateEdges(const Mesh& mesh, const std::vector<uint32_t>& surfaces);
 
 }  // namespace dpc

@@ -24,7 +24,7 @@ inline constexpr float kLegEpsilon = 1e-3f;
 /// m: how far inside its nearer end an atEnd path's point Q lies (edgePath).
 inline constexpr float kEndMargin = 0.01f;
 
-/// A gap's closing surface when the probe did not say (no connected surface has this number).
+/// A gap's closing surface when the probe did not say (no flat surface has this number).
 inline constexpr uint32_t kUnknownSurface = 0xfffffffeu;
 
 /// One first-order edge path source -> Q -> listener: its frequency-independent parts, and

@@ -1,6 +1,8 @@
 #include "engine/surface_bound.h"
 
 #include <algorithm>
+#include <cmath>
+#include <numbers>
 #include <glm/geometric.hpp>
 
 #include "engine/coherent_sum.h"
@@ -24,22 +26,60 @@ void findHiders(BoundQuery& q) {
   }
 }
 
-/// The paths as they would be with the surfaces in `removed` (sorted) taken away: those
-/// surfaces' edges dropped; the paths they alone hid, and those whose gap they alone closed,
-/// restored; the gaps they closed opened (free edges); the slits' owners, the reveals and the
+/// Edge e with its face on a removed surface taken away: the free rim (a half-plane) of the
+/// face that stays, into q.rims; null when both faces or neither go.
+const DiffractionEdge* rimOf(const DiffractionEdge& e, const std::vector<uint32_t>& removed,
+                             BoundQuery& q) {
+  auto gone = [&](uint32_t s) { return std::binary_search(removed.begin(), removed.end(), s); };
+  const bool gone0 = gone(e.surfaces[0]), gone1 = gone(e.surfaces[1]);
+  if (gone0 == gone1) return nullptr;
+  DiffractionEdge& rim = q.rims.emplace_back(e);
+  if (gone0) {  // face 1 stays: it becomes face 0
+    rim.face0 = std::cos(e.open) * e.face0 + std::sin(e.open) * e.normal0;
+    rim.normal0 = glm::normalize(glm::cross(e.direction, rim.face0));
+    rim.surfaces = {e.surfaces[1], e.surfaces[1]};
+  } else {
+    rim.surfaces = {e.surfaces[0], e.surfaces[0]};
+  }
+  rim.open = float(2.0 * std::numbers::pi);
+  return &rim;
+}
+
+/// The paths over the rims that the surfaces in `removed` leave (rimOf) whose legs nothing
+/// else blocks, into kept.
+void addRims(BoundQuery& q, const std::vector<uint32_t>& removed, bool lineOfSight,
+             std::vector<EdgePath>& kept) {
+  std::vector<uint32_t> by;
+  for (const DiffractionEdge& e : q.edges) {
+    const DiffractionEdge* rim = rimOf(e, removed, q);
+    EdgePath p;
+    if (!rim || !edgePath(*rim, q.source, q.L, lineOfSight, p)) continue;
+    bool free = true;
+    for (const TraceRay& ray : legRays(q.source, q.L, p))
+      free = free && crossedSurfaces(q.tracer, ray, q.surfaces, by) &&
+             std::includes(removed.begin(), removed.end(), by.begin(), by.end());
+    if (free) kept.push_back(p);
+  }
+}
+
+/// The paths as they would be with the surfaces in `removed` (sorted) taken away: the edges
+/// of their faces dropped, an edge whose other face stays made its rim (addRims); the paths
+/// they alone hid, and those whose gap they alone closed, restored; the gaps they closed opened (free edges); the slits' owners, the reveals and the
 /// terms (for a line of sight free or not) set again.
 std::vector<EdgePath> pathsWithout(const std::vector<EdgePath>& paths, BoundQuery& q,
                                    const std::vector<uint32_t>& removed, bool lineOfSight) {
   auto gone = [&](uint32_t s) { return std::binary_search(removed.begin(), removed.end(), s); };
+  auto edgeGone = [&](const EdgePath& p) { return gone(p.edge->surfaces[0]) || gone(p.edge->surfaces[1]); };
   std::vector<EdgePath> kept;
   for (const EdgePath& p : paths)
-    if (!gone(p.edge->surface)) kept.push_back(p);
+    if (!edgeGone(p)) kept.push_back(p);
   for (const EdgePath& p : q.closed)
-    if (!gone(p.edge->surface) && gone(p.gapCloser)) kept.push_back(p);
+    if (!edgeGone(p) && gone(p.gapCloser)) kept.push_back(p);
   findHiders(q);
   for (const HiddenPath& h : q.hidden)
-    if (h.known && !gone(h.path.edge->surface) && std::all_of(h.by.begin(), h.by.end(), gone))
+    if (h.known && !edgeGone(h.path) && std::all_of(h.by.begin(), h.by.end(), gone))
       kept.push_back(h.path);
+  addRims(q, removed, lineOfSight, kept);
   for (EdgePath& p : kept) {
     if (p.gapWidth != 0.f && gone(p.gapCloser)) p.gapWidth = 0.f;
     p.share = p.atEnd ? 0.0 : 1.0;
@@ -58,6 +98,42 @@ Bands sumWithout(const std::vector<EdgePath>& paths, BoundQuery& q,
   const EdgePath* throughSlit = d.visible ? slitOnLineOfSight(kept, q.source, q.L) : nullptr;
   return coherentIntensity(kept, d, throughSlit, q.speedOfSound, q.airPerMetre,
                            leavingWeights(kept, q.directivity, q.forward));
+}
+
+/// The surfaces (sorted) grouped by their body (moving objects as one), each group sorted.
+std::vector<std::vector<uint32_t>> byBody(const std::vector<uint32_t>& surfaces,
+                                          const SurfaceBodies& bodies) {
+  auto bodyOf = [&](uint32_t s) {
+    return s < bodies.body.size() ? bodies.body[s] : kMovingObjects;
+  };
+  std::vector<std::vector<uint32_t>> groups;
+  std::vector<uint32_t> keys;
+  for (uint32_t s : surfaces) {
+    const auto at = std::find(keys.begin(), keys.end(), bodyOf(s));
+    if (at == keys.end()) {
+      keys.push_back(bodyOf(s));
+      groups.push_back({s});
+    } else {
+      groups[size_t(at - keys.begin())].push_back(s);
+    }
+  }
+  return groups;
+}
+
+/// The surfaces (sorted) with every surface of each closed body among them added (a solid
+/// goes whole: taken away face by face, a box's side faces would float in the air), sorted.
+std::vector<uint32_t> wholeSolids(const std::vector<uint32_t>& surfaces,
+                                  const SurfaceBodies& bodies) {
+  std::vector<uint32_t> solid;  // closed bodies met
+  for (uint32_t s : surfaces)
+    if (s < bodies.body.size() && bodies.closed[bodies.body[s]]) solid.push_back(bodies.body[s]);
+  if (solid.empty()) return surfaces;
+  std::vector<uint32_t> out = surfaces;
+  for (uint32_t s = 0; s < bodies.body.size(); ++s)
+    if (std::find(solid.begin(), solid.end(), bodies.body[s]) != solid.end()) out.push_back(s);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
 }
 
 }  // namespace
@@ -98,11 +174,16 @@ Bands heldBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
     DirectSound open = coherent;
     open.visible = true;
     open.intensity = free;
-    return min(free, sumWithout(paths, q, crossed, open));
+    Bands bound = min(free, sumWithout(paths, q, wholeSolids(crossed, q.bodies), open));
+    const std::vector<std::vector<uint32_t>> groups = byBody(crossed, q.bodies);
+    if (groups.size() > 1)  // each body alone, the others still in the way
+      for (const std::vector<uint32_t>& g : groups)
+        bound = min(bound, sumWithout(paths, q, wholeSolids(g, q.bodies), coherent));
+    return bound;
   }
   Bands bound(1e30f);
   if (!throughSlit) return bound;
-  for (uint32_t s : {throughSlit->edge->surface, throughSlit->gapCloser})
+  for (uint32_t s : {throughSlit->edge->surfaces[0], throughSlit->gapCloser})
     if (s != kMovingObjects && s != kUnknownSurface)
       bound = min(bound, sumWithout(paths, q, {s}, coherent));
   return bound;

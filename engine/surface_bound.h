@@ -1,17 +1,21 @@
 // What the scene's surfaces allow the coherent sum of the direct sound and the edge paths
 // (engine/diffraction.h): an obstruction adds no energy to the path it blocks. The sum is
-// compared with the same sum with surfaces taken away (a connected surface of the mesh,
-// scene/mesh_topology.h: a door leaf meshed apart from its frame is one): their edges dropped,
-// the paths they alone hid or closed restored, the gaps they closed opened.
+// compared with the same sum with surfaces taken away (a flat surface of the mesh,
+// engine/diffraction_edges.h flatSurfaces: a door leaf is one): the edges of their faces
+// dropped (an edge whose other face stays is that face's free rim: a leaf welded to its frame
+// at the hinge taken away leaves the jamb), the paths they alone hid or closed restored, the
+// gaps they closed opened.
 //
 // Internal to the engine. Propagation thread (the Tracer's queries); allocates; no errors.
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <glm/vec3.hpp>
 #include <vector>
 
 #include "common/bands.h"
+#include "engine/diffraction_edges.h"
 #include "engine/edge_path.h"
 #include "engine/propagation.h"
 #include "engine/tracer.h"
@@ -23,11 +27,11 @@ namespace dpc {
 /// have no diffracting edges, and one of them in the way is taken away with the others.
 inline constexpr uint32_t kMovingObjects = 0xffffffffu;
 
-/// The connected surface of a triangle in the Tracer's numbering (`surfaces`, per mesh
+/// The flat surface of a triangle in the Tracer's numbering (`surfaces`, per mesh
 /// triangle; kMovingObjects past them).
 uint32_t surfaceOf(const std::vector<uint32_t>& surfaces, uint32_t triangle);
 
-/// The connected surfaces of the static mesh (`surfaces`, per triangle; kMovingObjects for an
+/// The flat surfaces of the static mesh (`surfaces`, per triangle; kMovingObjects for an
 /// object's) that the segment `ray` crosses, sorted and each once, into out; false past
 /// kMaxCrossings crossings.
 bool crossedSurfaces(const Tracer& tracer, TraceRay ray, const std::vector<uint32_t>& surfaces,
@@ -46,7 +50,10 @@ struct HiddenPath {
 struct BoundQuery {
   const Tracer& tracer;
   glm::vec3 source, L;
-  const std::vector<uint32_t>& surfaces;  // per mesh triangle
+  const std::vector<uint32_t>& surfaces;  // per mesh triangle, its flat surface
+  const SurfaceBodies& bodies;           // the flat surfaces' bodies (surfaceBodies)
+  const std::vector<DiffractionEdge>& edges;  // the mesh's candidate edges
+  std::deque<DiffractionEdge> rims;  // edges left with one face when the other's surface went
   std::vector<HiddenPath> hidden;
   std::vector<EdgePath> closed;  // paths whose gap is closed (findSlits)
   bool hiddenKnown = false;  // hidden[].by filled
@@ -60,8 +67,11 @@ struct BoundQuery {
 /// it blocks, so
 ///  - with the line of sight blocked (coherent.visible false), at most the sum without the
 ///    surfaces it crosses (crossedSurfaces), the line of sight free (a leaf ajar across a
-///    doorway's line of sight: at most the open doorway), and at most the direct sound with
-///    nothing in its way (`free`, 1/m^2); `free` alone when those surfaces are not known;
+///    doorway's line of sight: at most the open doorway), at most the sum without the ones of
+///    any one body, the others still in the way (a leaf beside a jamb, the line of sight
+///    through both: at most the doorway without the leaf; a box leaf's faces go together), and
+///    at most the direct sound with nothing in its
+///    way (`free`, 1/m^2); `free` alone when those surfaces are not known;
 ///  - with the line of sight through a slit (`throughSlit`, slitOnLineOfSight), at most the
 ///    sum without either of the slit's two sides (the slit is narrower than what either leaves
 ///    open; a double door's leaves seen through the gap between them).

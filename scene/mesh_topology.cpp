@@ -1,8 +1,6 @@
 #include "scene/mesh_topology.h"
 
-#include <algorithm>
 #include <cstring>
-#include <numeric>
 #include <glm/vec3.hpp>
 #include <unordered_map>
 
@@ -33,27 +31,6 @@ std::vector<uint32_t> weldedVertexIds(const Mesh& mesh) {
     ids[i] = first.try_emplace(Key{bits(v.x), bits(v.y), bits(v.z)}, i).first->second;
   }
   return ids;
-}
-
-std::vector<uint32_t> connectedSurfaces(const Mesh& mesh) {
-  const std::vector<uint32_t> id = weldedVertexIds(mesh);
-  std::vector<uint32_t> parent(mesh.vertices.size());
-  std::iota(parent.begin(), parent.end(), 0u);
-  auto root = [&parent](uint32_t v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  };
-  for (const auto& t : mesh.triangles)
-    for (int i = 1; i < 3; ++i) {
-      const uint32_t a = root(id[t[0]]), b = root(id[t[size_t(i)]]);
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
-  std::unordered_map<uint32_t, uint32_t> number;
-  std::vector<uint32_t> surface(mesh.triangles.size());
-  for (size_t t = 0; t < mesh.triangles.size(); ++t)
-    surface[t] = number.try_emplace(root(id[mesh.triangles[t][0]]), uint32_t(number.size()))
-                     .first->second;
-  return surface;
 }
 
 }  // namespace dpc

@@ -1,6 +1,5 @@
 // Mesh topology: which vertices of a triangle mesh are one point, so that shared edges and
-// closedness can be found when an exporter writes a corner once per face, and which triangles
-// form one connected surface.
+// closedness can be found when an exporter writes a corner once per face.
 //
 // Threads: any thread. Allocation: O(vertices). Errors: none.
 #pragma once
@@ -16,11 +15,5 @@ namespace dpc {
 /// for bit, -0 and +0 alike): the mesh's topology (shared edges, closedness) when an exporter
 /// writes a corner once per face.
 std::vector<uint32_t> weldedVertexIds(const Mesh& mesh);
-
-/// Per triangle of mesh.triangles, the number of its connected surface: triangles sharing a
-/// welded vertex (weldedVertexIds) are one surface, numbered 0, 1, ... in the order of their
-/// first triangles. A door leaf meshed apart from its frame (a gap between them) is a surface
-/// of its own; a wall's panels that share corners are one.
-std::vector<uint32_t> connectedSurfaces(const Mesh& mesh);
 
 }  // namespace dpc

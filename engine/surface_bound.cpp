@@ -100,18 +100,22 @@ Bands sumWithout(const std::vector<EdgePath>& paths, BoundQuery& q,
                            leavingWeights(kept, q.directivity, q.forward));
 }
 
-/// The surfaces (sorted) grouped by their body (moving objects as one), each group sorted.
-std::vector<std::vector<uint32_t>> byBody(const std::vector<uint32_t>& surfaces,
-                                          const SurfaceBodies& bodies) {
-  auto bodyOf = [&](uint32_t s) {
-    return s < bodies.body.size() ? bodies.body[s] : kMovingObjects;
+/// The surfaces (sorted) in the groups that can be taken away on their own: a closed body's
+/// together (a solid), the moving objects' together, every other surface alone (a wall's near
+/// face without its far face: the wall thinner).
+std::vector<std::vector<uint32_t>> removalGroups(const std::vector<uint32_t>& surfaces,
+                                                 const SurfaceBodies& bodies) {
+  auto key = [&](uint32_t s) -> uint64_t {
+    if (s >= bodies.body.size()) return uint64_t(kMovingObjects) << 32;
+    const uint32_t b = bodies.body[s];
+    return bodies.closed[b] ? (uint64_t(1) << 63) | b : s;
   };
   std::vector<std::vector<uint32_t>> groups;
-  std::vector<uint32_t> keys;
+  std::vector<uint64_t> keys;
   for (uint32_t s : surfaces) {
-    const auto at = std::find(keys.begin(), keys.end(), bodyOf(s));
+    const auto at = std::find(keys.begin(), keys.end(), key(s));
     if (at == keys.end()) {
-      keys.push_back(bodyOf(s));
+      keys.push_back(key(s));
       groups.push_back({s});
     } else {
       groups[size_t(at - keys.begin())].push_back(s);
@@ -175,8 +179,8 @@ Bands heldBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
     open.visible = true;
     open.intensity = free;
     Bands bound = min(free, sumWithout(paths, q, wholeSolids(crossed, q.bodies), open));
-    const std::vector<std::vector<uint32_t>> groups = byBody(crossed, q.bodies);
-    if (groups.size() > 1)  // each body alone, the others still in the way
+    const std::vector<std::vector<uint32_t>> groups = removalGroups(crossed, q.bodies);
+    if (groups.size() > 1)  // each alone, the others still in the way
       for (const std::vector<uint32_t>& g : groups)
         bound = min(bound, sumWithout(paths, q, wholeSolids(g, q.bodies), coherent));
     return bound;

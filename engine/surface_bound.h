@@ -67,10 +67,10 @@ struct BoundQuery {
 /// it blocks, so
 ///  - with the line of sight blocked (coherent.visible false), at most the sum without the
 ///    surfaces it crosses (crossedSurfaces), the line of sight free (a leaf ajar across a
-///    doorway's line of sight: at most the open doorway), at most the sum without the ones of
-///    any one body, the others still in the way (a leaf beside a jamb, the line of sight
-///    through both: at most the doorway without the leaf; a box leaf's faces go together), and
-///    at most the direct sound with nothing in its
+///    doorway's line of sight: at most the open doorway), at most the sum without any one of
+///    them, the others still in the way (a leaf beside a jamb, the line of sight through both:
+///    at most the doorway without the leaf; a closed body's faces, a box leaf's, go together),
+///    and at most the direct sound with nothing in its
 ///    way (`free`, 1/m^2); `free` alone when those surfaces are not known;
 ///  - with the line of sight through a slit (`throughSlit`, slitOnLineOfSight), at most the
 ///    sum without either of the slit's two sides (the slit is narrower than what either leaves

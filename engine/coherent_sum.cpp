@@ -120,6 +120,7 @@ double bandMeanSquare(int b, const std::vector<EdgePath>& paths, const PathGains
 const EdgePath* slitOnLineOfSight(const std::vector<EdgePath>& paths, const glm::vec3& source,
                                   const glm::vec3& L) {
   constexpr float kTolerance = 1e-4f;  // m, single-precision geometry
+  constexpr float kWidthMargin = 1.05f;
   const glm::vec3 d = L - source;
   for (const EdgePath& p : paths) {
     if (!(p.gapWidth > 0.f) || !p.slitOwner) continue;
@@ -132,7 +133,9 @@ const EdgePath* slitOnLineOfSight(const std::vector<EdgePath>& paths, const glm:
     const glm::vec3 v = source + t * d - e.a;
     const float across = glm::dot(v, p.mouth), along = glm::dot(v, e.direction);
     const float z0 = glm::dot(p.slitCentre - e.a, e.direction);  // the slit's own point
-    if (across >= -kTolerance && across <= p.gapWidth + kTolerance &&
+    // The probed width lies within 5 % of the gap's (engine/gap_probe.h): a line of sight
+    // grazing the gap's far side still passes it.
+    if (across >= -kTolerance && across <= kWidthMargin * p.gapWidth + kTolerance &&
         along >= z0 + float(p.slit.zFrom) - kTolerance &&
         along <= z0 + float(p.slit.zTo) + kTolerance)
       return &p;

@@ -57,6 +57,31 @@ void findSlits(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L
   markSlitOwners(paths);
 }
 
+/// A free edge on the far side of a slit another edge found (a leaf's free edge across the
+/// opening from the jamb whose probe met the leaf) bounds that slit: its UTD field is the
+/// slit's other edge, which the slit's field replaces in the proportion s (engine/slit.h).
+/// Left free, it added that edge's field beside the slit's: a leaf ajar 20 degrees, seen from
+/// beside the doorway, read 16 dB below the open doorway at 63 Hz. Partner: parallel to the
+/// slit's edge and across it (acrossSlit, engine/edge_path.h).
+void markSlitPartners(std::vector<EdgePath>& paths) {
+  constexpr float kParallel = 0.99f;
+  for (EdgePath& p : paths) {
+    if (p.gapWidth != 0.f || p.atEnd) continue;
+    for (const EdgePath& o : paths) {
+      if (!(o.gapWidth > 0.f) || !o.slitOwner || &o == &p ||
+          std::abs(glm::dot(o.edge->direction, p.edge->direction)) < kParallel ||
+          !acrossSlit(o, p))
+        continue;
+      p.gapWidth = o.gapWidth;
+      p.slit = o.slit;
+      p.slitCentre = o.slitCentre;
+      p.slitAspect = o.slitAspect;
+      p.gapCloser = o.edge->surfaces[0];
+      break;
+    }
+  }
+}
+
 /// The direct sound's band intensity with nothing in its way (1/m^2): spreading over the
 /// direct distance, the air's attenuation and the source's weight toward the listener.
 Bands unobstructedIntensity(const glm::vec3& source, const glm::vec3& L, const DirectSound& d,
@@ -104,16 +129,36 @@ std::vector<uint32_t> slitSurfaces(const std::vector<EdgePath>& paths,
   return out;
 }
 
+/// The flat surfaces the line of sight from source to L crosses (none when it is free or they
+/// are not known), sorted.
+std::vector<uint32_t> blockingSurfaces(bool lineOfSight, const BoundQuery& q) {
+  std::vector<uint32_t> crossed;
+  const glm::vec3 v = q.L - q.source;
+  const float length = glm::length(v);
+  if (lineOfSight || !(length > 2.f * kLegEpsilon) ||
+      !crossedSurfaces(q.tracer, TraceRay{q.source, v / length, kLegEpsilon, length - kLegEpsilon},
+                       q.surfaces, crossed))
+    return {};
+  return crossed;
+}
+
 /// Adds the slits whose edges have no point of least length on them: seen from off a door's
 /// axis, its top gap's and undercut's edges end before the stationary point, yet the slit, a
 /// line source along its extent, still passes sound (its Fresnel integral between its ends,
 /// engine/slit.h). Looked for on the surfaces that bound a gap already found, open or closed
-/// (the leaf and its frame, by their side gaps), over edges within kEndSlitReach of one, with Q at the edge's
-/// nearer end (edgePath's atEnd: no UTD field); kept when both legs are free and a gap is there.
+/// (the leaf and its frame, by their side gaps), over edges within kEndSlitReach of one, and on
+/// the surfaces that block the line of sight (a leaf tight in its frame but for an undercut),
+/// with Q at the edge's nearer end (edgePath's atEnd: no UTD field); kept when both legs are
+/// free and a gap is there.
 void addEndSlits(const std::vector<DiffractionEdge>& edges, bool lineOfSight, BoundQuery& q,
                  std::vector<EdgePath>& paths) {
   const std::vector<uint32_t> slitted = slitSurfaces(paths, q.closed);
-  if (slitted.empty()) return;
+  const std::vector<uint32_t> blocking = blockingSurfaces(lineOfSight, q);
+  if (slitted.empty() && blocking.empty()) return;
+  auto on = [](const std::vector<uint32_t>& set, const DiffractionEdge& e) {
+    return std::binary_search(set.begin(), set.end(), e.surfaces[0]) ||
+           std::binary_search(set.begin(), set.end(), e.surfaces[1]);
+  };
   auto nearSlit = [&](const glm::vec3& point) {
     auto near = [&](const EdgePath& p) {
       return glm::distance(p.gapWidth > 0.f ? p.slitCentre : p.q, point) < kEndSlitReach;
@@ -124,11 +169,10 @@ void addEndSlits(const std::vector<DiffractionEdge>& edges, bool lineOfSight, Bo
   };
   std::vector<EdgePath> ends, closed;
   for (const DiffractionEdge& e : edges) {
-    if (!std::binary_search(slitted.begin(), slitted.end(), e.surfaces[0]) &&
-        !std::binary_search(slitted.begin(), slitted.end(), e.surfaces[1]))
-      continue;
+    const bool blocks = on(blocking, e);
+    if (!blocks && !on(slitted, e)) continue;
     EdgePath p;
-    if (!edgePath(e, q.source, q.L, lineOfSight, p, true) || !nearSlit(p.q) ||
+    if (!edgePath(e, q.source, q.L, lineOfSight, p, true) || !(blocks || nearSlit(p.q)) ||
         !legsFree(q.tracer, q.source, q.L, p))
       continue;
     ends.push_back(p);
@@ -200,6 +244,7 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
                    {},     false,  speedOfSound,      airPerMetre, directivity, forward};
   std::vector<EdgePath> paths = edgePaths(edges_, lineOfSight, query);
   findSlits(tracer, source, listener.position, surfaces_, paths, query.closed);
+  markSlitPartners(paths);
   markReveals(source, listener.position, paths);
   addEndSlits(edges_, lineOfSight, query, paths);
   if (usedEdges) {

@@ -45,8 +45,9 @@
 // (engine/slit.h: Gomperts 1964, Mechel 1986) instead of the edge's, in the proportion
 // slitWeight(k w, aspect); engine/gap_probe.h finds the gap's width w and how far it runs along
 // the edge. A gap bounded by two edges counts once; a gap closed within 0.5 mm drops the path.
-// A slit whose edges end before their point of least path length (a door's top gap seen from
-// beside the doorway) is found from the edge's end, on the surfaces of a slit already found.
+// A slit whose edges end before their point of least path length (a door's top gap or an
+// undercut seen from beside the doorway) is found from the edge's end, on the surfaces of a gap
+// already found or that block the line of sight.
 // A line of sight through a gap (between two door leaves) keeps the direct sound only in the
 // proportion 1 - s: the slit's field is driven by the incident pressure at its mouth and
 // carries the rest.

@@ -185,7 +185,10 @@ void makeSlit(const glm::vec3& source, const glm::vec3& L, float from, float to,
   const glm::vec3 ps = source - a, pl = L - a;
   const float ts = glm::dot(ps, e.direction), tl = glm::dot(pl, e.direction);
   const float rs = glm::length(ps - ts * e.direction), rl = glm::length(pl - tl * e.direction);
-  const float z0 = ts + (tl - ts) * rs / std::max(rs + rl, 1e-6f);
+  const float tq = glm::dot(p.q - e.a, e.direction);
+  const float stationary = ts + (tl - ts) * rs / std::max(rs + rl, 1e-6f);
+  // Beyond the slit's ends, the path is expanded at the nearer end (engine/slit.h).
+  const float z0 = std::clamp(stationary, tq + from, tq + to);
   const glm::vec3 c = a + z0 * e.direction, toC = c - source, toL = L - c;
   auto sinFromAxis = [&](const glm::vec3& v) {  // |sin| of v's angle from the slit's axis
     const glm::vec3 across = v - glm::dot(v, e.direction) * e.direction;
@@ -196,14 +199,32 @@ void makeSlit(const glm::vec3& source, const glm::vec3& L, float from, float to,
   sp.r = std::max(double(glm::length(toC)), double(kLegEpsilon));
   sp.s = std::max(double(glm::length(toL)), double(kLegEpsilon));
   sp.sinBeta = double(glm::length(glm::cross(toC, e.direction))) / sp.r;
-  const float tq = glm::dot(p.q - e.a, e.direction);
-  sp.zFrom = double(tq + from) - double(z0);
-  sp.zTo = double(tq + to) - double(z0);
+  double vertex = double(z0);
+  sp.phase = sp.r + sp.s;
+  sp.curvature = 0.0;
+  if (z0 != stationary) {  // d(r + s)/dz and d2(r + s)/dz2 at the end
+    const double cs = double(glm::dot(toC, e.direction)) / sp.r;
+    const double cl = -double(glm::dot(toL, e.direction)) / sp.s;
+    const double slope = cs + cl, bend = (1.0 - cs * cs) / sp.r + (1.0 - cl * cl) / sp.s;
+    if (bend > 1e-9) {
+      vertex -= slope / bend;
+      sp.phase -= slope * slope / (2.0 * bend);
+      sp.curvature = 0.5 * bend;
+    }
+  }
+  sp.zFrom = double(tq + from) - vertex;
+  sp.zTo = double(tq + to) - vertex;
   sp.sinSource = sinFromAxis(toC);
   sp.sinListener = sinFromAxis(toL);
   sp.width = double(p.gapWidth);
   sp.depth = 0.0;
   p.slitCentre = c;
+}
+
+bool acrossSlit(const EdgePath& o, const EdgePath& p) {
+  constexpr float kReach = 1.5f;  // widths: the probe met p's surface within one of the far side
+  return (p.edge->surfaces[0] == o.gapCloser || p.edge->surfaces[1] == o.gapCloser) &&
+         glm::distance(p.q, o.q + o.gapWidth * o.mouth) <= kReach * o.gapWidth;
 }
 
 void markSlitOwners(std::vector<EdgePath>& paths) {
@@ -216,7 +237,8 @@ void markSlitOwners(std::vector<EdgePath>& paths) {
         continue;
       const glm::vec3 v = p.slitCentre - o.slitCentre;
       const float apart = glm::length(v - glm::dot(v, o.edge->direction) * o.edge->direction);
-      if (apart < 0.5f * std::max(o.gapWidth, p.gapWidth) + 1e-3f) p.slitOwner = false;
+      if (apart < 0.5f * std::max(o.gapWidth, p.gapWidth) + 1e-3f || acrossSlit(o, p))
+        p.slitOwner = false;
     }
   }
 }

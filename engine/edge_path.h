@@ -81,9 +81,16 @@ bool legsFree(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L,
 /// engine/gap_probe.h); its stationary point, legs and angles as engine/slit.h defines them.
 void makeSlit(const glm::vec3& source, const glm::vec3& L, float from, float to, EdgePath& p);
 
+/// True when p's edge lies across o's slit: on the surface that closes it, p's point within
+/// 1.5 widths of the slit's far side (o.q + width * mouth; the probe met that surface within
+/// one width of it). A leaf's free edge across the opening from the jamb whose probe met the
+/// leaf.
+bool acrossSlit(const EdgePath& o, const EdgePath& p);
+
 /// A slit bounded by two edges (a leaf's rim and its frame's) is found from both; only the
 /// first carries its field. Same slit: parallel edges whose centre lines lie within half the
-/// wider gap (plus 1 mm) of each other.
+/// wider gap (plus 1 mm) of each other, or one across the other's slit (acrossSlit: an
+/// oblique leaf's free edge and the jamb measure the opening between them differently).
 void markSlitOwners(std::vector<EdgePath>& paths);
 
 /// The two edges of one face that both diffract the path, the face running along the line of

@@ -76,14 +76,16 @@ C slitPressure(const SlitPath& p, double k) {
   const C transfer = slitTransfer(x, kt * p.depth);
   const double directivity = sinc(0.5 * x * p.sinSource) * sinc(0.5 * x * p.sinListener);
   // int_a^b e^{-j alpha (z - z0)^2} dz = (F(sqrt(alpha) b) - F(sqrt(alpha) a)) / sqrt(alpha).
-  const double alpha = 0.5 * k * p.sinBeta * p.sinBeta * (1.0 / p.r + 1.0 / p.s);
+  const bool fitted = p.curvature > 0.0;
+  const double alpha = k * (fitted ? p.curvature
+                                   : 0.5 * p.sinBeta * p.sinBeta * (1.0 / p.r + 1.0 / p.s));
   const double root = std::sqrt(alpha);
   const C along = root * std::max(std::abs(p.zFrom), std::abs(p.zTo)) < 1e-6
                       ? C(p.zTo - p.zFrom, 0.0)
                       : (fresnelIntegral(root * p.zTo) - fresnelIntegral(root * p.zFrom)) / root;
   const C j(0.0, 1.0);
   return j / (2.0 * kPi) * transfer * directivity * along / (p.r * p.s) *
-         std::polar(1.0, -k * (p.r + p.s));
+         std::polar(1.0, -k * (fitted ? p.phase : p.r + p.s));
 }
 
 namespace {

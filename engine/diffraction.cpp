@@ -10,10 +10,10 @@
 #include <numbers>
 #include <utility>
 
-#include "engine/diffraction_edges.h"
-#include "engine/gap_probe.h"
 #include "engine/coherent_sum.h"
+#include "engine/diffraction_edges.h"
 #include "engine/edge_path.h"
+#include "engine/gap_probe.h"
 #include "engine/slit.h"
 #include "engine/surface_bound.h"
 
@@ -61,17 +61,13 @@ void findSlits(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L
 /// opening from the jamb whose probe met the leaf) bounds that slit: its UTD field is the
 /// slit's other edge, which the slit's field replaces in the proportion s (engine/slit.h).
 /// Left free, it added that edge's field beside the slit's: a leaf ajar 20 degrees, seen from
-/// beside the doorway, read 16 dB below the open doorway at 63 Hz. Partner: parallel to the
-/// slit's edge and across it (acrossSlit, engine/edge_path.h).
+/// beside the doorway, read 16 dB below the open doorway at 63 Hz. Partner: across the slit
+/// (acrossSlit, engine/edge_path.h).
 void markSlitPartners(std::vector<EdgePath>& paths) {
-  constexpr float kParallel = 0.99f;
   for (EdgePath& p : paths) {
     if (p.gapWidth != 0.f || p.atEnd) continue;
     for (const EdgePath& o : paths) {
-      if (!(o.gapWidth > 0.f) || !o.slitOwner || &o == &p ||
-          std::abs(glm::dot(o.edge->direction, p.edge->direction)) < kParallel ||
-          !acrossSlit(o, p))
-        continue;
+      if (!(o.gapWidth > 0.f) || !o.slitOwner || &o == &p || !acrossSlit(o, p)) continue;
       p.gapWidth = o.gapWidth;
       p.slit = o.slit;
       p.slitCentre = o.slitCentre;
@@ -129,19 +125,6 @@ std::vector<uint32_t> slitSurfaces(const std::vector<EdgePath>& paths,
   return out;
 }
 
-/// The flat surfaces the line of sight from source to L crosses (none when it is free or they
-/// are not known), sorted.
-std::vector<uint32_t> blockingSurfaces(bool lineOfSight, const BoundQuery& q) {
-  std::vector<uint32_t> crossed;
-  const glm::vec3 v = q.L - q.source;
-  const float length = glm::length(v);
-  if (lineOfSight || !(length > 2.f * kLegEpsilon) ||
-      !crossedSurfaces(q.tracer, TraceRay{q.source, v / length, kLegEpsilon, length - kLegEpsilon},
-                       q.surfaces, crossed))
-    return {};
-  return crossed;
-}
-
 /// Adds the slits whose edges have no point of least length on them: seen from off a door's
 /// axis, its top gap's and undercut's edges end before the stationary point, yet the slit, a
 /// line source along its extent, still passes sound (its Fresnel integral between its ends,
@@ -153,7 +136,7 @@ std::vector<uint32_t> blockingSurfaces(bool lineOfSight, const BoundQuery& q) {
 void addEndSlits(const std::vector<DiffractionEdge>& edges, bool lineOfSight, BoundQuery& q,
                  std::vector<EdgePath>& paths) {
   const std::vector<uint32_t> slitted = slitSurfaces(paths, q.closed);
-  const std::vector<uint32_t> blocking = blockingSurfaces(lineOfSight, q);
+  const std::vector<uint32_t>& blocking = q.crossed;
   if (slitted.empty() && blocking.empty()) return;
   auto on = [](const std::vector<uint32_t>& set, const DiffractionEdge& e) {
     return std::binary_search(set.begin(), set.end(), e.surfaces[0]) ||
@@ -210,9 +193,10 @@ Bands directIntensity(const std::vector<EdgePath>& paths, const DirectSound& dir
                       BoundQuery& q) {
   DirectSound coherent = direct;
   coherent.visible = direct.lineOfSight();
-  const EdgePath* throughSlit = coherent.visible ? slitOnLineOfSight(paths, q.source, q.L) : nullptr;
-  const Bands free = unobstructedIntensity(q.source, q.L, direct, q.airPerMetre, q.directivity,
-                                           q.forward);
+  const EdgePath* throughSlit =
+      coherent.visible ? slitOnLineOfSight(paths, q.source, q.L) : nullptr;
+  const Bands free =
+      unobstructedIntensity(q.source, q.L, direct, q.airPerMetre, q.directivity, q.forward);
   Bands sum = coherentIntensity(paths, coherent, throughSlit, q.speedOfSound, q.airPerMetre,
                                 leavingWeights(paths, q.directivity, q.forward));
   sum = min(sum, heldBound(paths, coherent, throughSlit, free, q));
@@ -240,9 +224,10 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
   // in the shadow for the edges, and its energy adds to theirs incoherently (the edge paths'
   // legs are unoccluded, the transmitted path crosses a surface: no path is counted twice).
   const bool lineOfSight = direct.lineOfSight();
-  BoundQuery query{tracer, source, listener.position, surfaces_, bodies_, edges_, {}, {},
+  BoundQuery query{tracer, source, listener.position, surfaces_,   bodies_,     edges_, {}, {}, {},
                    {},     false,  speedOfSound,      airPerMetre, directivity, forward};
   std::vector<EdgePath> paths = edgePaths(edges_, lineOfSight, query);
+  crossLineOfSight(lineOfSight, query);
   findSlits(tracer, source, listener.position, surfaces_, paths, query.closed);
   markSlitPartners(paths);
   markReveals(source, listener.position, paths);

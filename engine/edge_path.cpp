@@ -10,6 +10,7 @@ namespace dpc {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
+constexpr float kParallelEdges = 0.99f;  // cosine: two slits' edges taken as parallel
 
 /// Angles (radians, from face 0 in the plane perpendicular to the edge) of the source and the
 /// listener seen from Q, the air wedge's angle and its sense (+1: from face 0 toward normal0,
@@ -223,7 +224,8 @@ void makeSlit(const glm::vec3& source, const glm::vec3& L, float from, float to,
 
 bool acrossSlit(const EdgePath& o, const EdgePath& p) {
   constexpr float kReach = 1.5f;  // widths: the probe met p's surface within one of the far side
-  return (p.edge->surfaces[0] == o.gapCloser || p.edge->surfaces[1] == o.gapCloser) &&
+  return std::abs(glm::dot(o.edge->direction, p.edge->direction)) >= kParallelEdges &&
+         (p.edge->surfaces[0] == o.gapCloser || p.edge->surfaces[1] == o.gapCloser) &&
          glm::distance(p.q, o.q + o.gapWidth * o.mouth) <= kReach * o.gapWidth;
 }
 
@@ -233,7 +235,7 @@ void markSlitOwners(std::vector<EdgePath>& paths) {
     p.slitOwner = p.gapWidth > 0.f;
     for (size_t j = 0; j < k && p.slitOwner; ++j) {
       const EdgePath& o = paths[j];
-      if (!o.slitOwner || std::abs(glm::dot(o.edge->direction, p.edge->direction)) < 0.99f)
+      if (!o.slitOwner || std::abs(glm::dot(o.edge->direction, p.edge->direction)) < kParallelEdges)
         continue;
       const glm::vec3 v = p.slitCentre - o.slitCentre;
       const float apart = glm::length(v - glm::dot(v, o.edge->direction) * o.edge->direction);

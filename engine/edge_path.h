@@ -51,7 +51,7 @@ struct EdgePath {
   double slitAspect = 0.0;    // slit length / width, as probed (0 to 8)
   double share = 1.0;         // of its UTD field: 1/2 for each edge of a reveal (markReveals)
   double phiS = 0.0, phiL = 0.0, wedge = 0.0;  // wedgeAngles' angles, radians
-  uint32_t gapCloser = kUnknownSurface;  // the surface that closes its gap (surface_bound.h)
+  uint32_t gapCloser = kUnknownSurface;        // the surface that closes its gap (surface_bound.h)
   bool atEnd = false;  // Q put at the edge's end: no UTD field (share 0), a slit's only
 };
 
@@ -73,18 +73,17 @@ void setTerms(bool directVisible, EdgePath& p);
 std::array<TraceRay, 2> legRays(const glm::vec3& source, const glm::vec3& L, const EdgePath& p);
 
 /// True when nothing blocks either leg of p.
-bool legsFree(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L,
-              const EdgePath& p);
+bool legsFree(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L, const EdgePath& p);
 
 /// Fills p's slit from its gap: the slit's centre line runs along the edge, half the width
 /// across the mouth, from `from` to `to` m along it relative to Q (where the gap ends,
 /// engine/gap_probe.h); its stationary point, legs and angles as engine/slit.h defines them.
 void makeSlit(const glm::vec3& source, const glm::vec3& L, float from, float to, EdgePath& p);
 
-/// True when p's edge lies across o's slit: on the surface that closes it, p's point within
-/// 1.5 widths of the slit's far side (o.q + width * mouth; the probe met that surface within
-/// one width of it). A leaf's free edge across the opening from the jamb whose probe met the
-/// leaf.
+/// True when p's edge lies across o's slit: parallel to o's edge, on the surface that closes it,
+/// p's point within 1.5 widths of the slit's far side (o.q + width * mouth; the probe met that
+/// surface within one width of it). A leaf's free edge across the opening from the jamb whose probe
+/// met the leaf.
 bool acrossSlit(const EdgePath& o, const EdgePath& p);
 
 /// A slit bounded by two edges (a leaf's rim and its frame's) is found from both; only the

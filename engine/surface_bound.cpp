@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <glm/geometric.hpp>
+#include <numbers>
 
 #include "engine/coherent_sum.h"
 
@@ -64,12 +64,15 @@ void addRims(BoundQuery& q, const std::vector<uint32_t>& removed, bool lineOfSig
 
 /// The paths as they would be with the surfaces in `removed` (sorted) taken away: the edges
 /// of their faces dropped, an edge whose other face stays made its rim (addRims); the paths
-/// they alone hid, and those whose gap they alone closed, restored; the gaps they closed opened (free edges); the slits' owners, the reveals and the
-/// terms (for a line of sight free or not) set again.
+/// they alone hid, and those whose gap they alone closed, restored; the gaps they closed opened
+/// (free edges); the slits' owners, the reveals and the terms (for a line of sight free or not) set
+/// again.
 std::vector<EdgePath> pathsWithout(const std::vector<EdgePath>& paths, BoundQuery& q,
                                    const std::vector<uint32_t>& removed, bool lineOfSight) {
   auto gone = [&](uint32_t s) { return std::binary_search(removed.begin(), removed.end(), s); };
-  auto edgeGone = [&](const EdgePath& p) { return gone(p.edge->surfaces[0]) || gone(p.edge->surfaces[1]); };
+  auto edgeGone = [&](const EdgePath& p) {
+    return gone(p.edge->surfaces[0]) || gone(p.edge->surfaces[1]);
+  };
   std::vector<EdgePath> kept;
   for (const EdgePath& p : paths)
     if (!edgeGone(p)) kept.push_back(p);
@@ -163,18 +166,21 @@ bool crossedSurfaces(const Tracer& tracer, TraceRay ray, const std::vector<uint3
   return false;
 }
 
+void crossLineOfSight(bool lineOfSight, BoundQuery& q) {
+  q.crossed.clear();
+  const glm::vec3 v = q.L - q.source;
+  const float length = glm::length(v);
+  if (lineOfSight || !(length > 2.f * kLegEpsilon)) return;
+  if (!crossedSurfaces(q.tracer, TraceRay{q.source, v / length, kLegEpsilon, length - kLegEpsilon},
+                       q.surfaces, q.crossed))
+    q.crossed.clear();
+}
+
 Bands heldBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
                 const EdgePath* throughSlit, const Bands& free, BoundQuery& q) {
   if (!coherent.visible) {
-    const glm::vec3 v = q.L - q.source;
-    const float length = glm::length(v);
-    std::vector<uint32_t> crossed;
-    if (!(length > 2.f * kLegEpsilon) ||
-        !crossedSurfaces(q.tracer,
-                         TraceRay{q.source, v / length, kLegEpsilon, length - kLegEpsilon},
-                         q.surfaces, crossed) ||
-        crossed.empty())
-      return free;
+    const std::vector<uint32_t>& crossed = q.crossed;
+    if (crossed.empty()) return free;
     DirectSound open = coherent;
     open.visible = true;
     open.intensity = free;

@@ -50,12 +50,15 @@ struct HiddenPath {
 struct BoundQuery {
   const Tracer& tracer;
   glm::vec3 source, L;
-  const std::vector<uint32_t>& surfaces;  // per mesh triangle, its flat surface
-  const SurfaceBodies& bodies;           // the flat surfaces' bodies (surfaceBodies)
+  const std::vector<uint32_t>& surfaces;      // per mesh triangle, its flat surface
+  const SurfaceBodies& bodies;                // the flat surfaces' bodies (surfaceBodies)
   const std::vector<DiffractionEdge>& edges;  // the mesh's candidate edges
   std::deque<DiffractionEdge> rims;  // edges left with one face when the other's surface went
   std::vector<HiddenPath> hidden;
   std::vector<EdgePath> closed;  // paths whose gap is closed (findSlits)
+  /// The flat surfaces the line of sight crosses, sorted (crossLineOfSight); empty when it is
+  /// free or they are not known.
+  std::vector<uint32_t> crossed;
   bool hiddenKnown = false;  // hidden[].by filled
   float speedOfSound;
   Bands airPerMetre;
@@ -63,11 +66,15 @@ struct BoundQuery {
   glm::vec3 forward;
 };
 
+/// Fills q.crossed: the flat surfaces the segment from q.source to q.L crosses, when the line
+/// of sight is not free (empty when it is, or past crossedSurfaces's limit).
+void crossLineOfSight(bool lineOfSight, BoundQuery& q);
+
 /// What the surfaces allow the coherent sum, per band: an obstacle adds no energy to the path
 /// it blocks, so
 ///  - with the line of sight blocked (coherent.visible false), at most the sum without the
-///    surfaces it crosses (crossedSurfaces), the line of sight free (a leaf ajar across a
-///    doorway's line of sight: at most the open doorway), at most the sum without any one of
+///    surfaces it crosses (q.crossed, crossLineOfSight), the line of sight free (a leaf ajar across
+///    a doorway's line of sight: at most the open doorway), at most the sum without any one of
 ///    them, the others still in the way (a leaf beside a jamb, the line of sight through both:
 ///    at most the doorway without the leaf; a closed body's faces, a box leaf's, go together),
 ///    and at most the direct sound with nothing in its

@@ -213,7 +213,9 @@ double diffractionFrequencyHz(int band, int i) {
 EdgeDiffraction::EdgeDiffraction(const Mesh& mesh)
     : surfaces_(flatSurfaces(mesh)),
       bodies_(surfaceBodies(mesh, surfaces_)),
-      edges_(candidateEdges(mesh, surfaces_)) {}
+      edges_(candidateEdges(mesh, surfaces_)) {
+  bodies_.extent = freeStandingExtents(mesh, surfaces_, edges_);
+}
 
 size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
                               const ListenerSphere& listener, float speedOfSound,

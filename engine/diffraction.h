@@ -98,11 +98,13 @@ struct DiffractionEdge {
 /// The bodies of a mesh's flat surfaces: per flat surface the number of its body, the
 /// connected piece of mesh it belongs to (triangles sharing a corner, welded), numbered in the
 /// order of their first triangles; and per body whether it is closed, a solid without a free
-/// rim (a box leaf, a pillar). A box's six faces are one closed body; a leaf welded to its
-/// frame is part of the frame's body.
+/// rim (a box leaf, a pillar); and per flat surface its extent when it stands free (m; +inf
+/// when not: freeStandingExtents, engine/diffraction_edges.h). A box's six faces are one closed
+/// body; a leaf welded to its frame is part of the frame's body.
 struct SurfaceBodies {
   std::vector<uint32_t> body;  ///< per flat surface
   std::vector<bool> closed;    ///< per body
+  std::vector<float> extent;   ///< per flat surface, m
 };
 
 /// The band energy of the direct-plus-diffracted field is |p|^2 averaged over these

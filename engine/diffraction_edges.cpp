@@ -8,8 +8,10 @@
 #include <glm/geometric.hpp>
 #include <glm/vector_relational.hpp>
 #include <numbers>
+#include <limits>
 #include <numeric>
 #include <unordered_map>
+#include <utility>
 
 #include "scene/mesh_topology.h"
 
@@ -343,7 +345,7 @@ SurfaceBodies surfaceBodies(const Mesh& mesh, const std::vector<uint32_t>& surfa
     }
   const uint32_t count =
       surfaces.empty() ? 0u : *std::max_element(surfaces.begin(), surfaces.end()) + 1u;
-  SurfaceBodies out{std::vector<uint32_t>(count, UINT32_MAX), {}};
+  SurfaceBodies out{std::vector<uint32_t>(count, UINT32_MAX), {}, {}};
   std::unordered_map<uint32_t, uint32_t> number;  // vertex root -> body
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
     const uint32_t r = root(id[mesh.triangles[t][0]]);
@@ -359,6 +361,53 @@ SurfaceBodies surfaceBodies(const Mesh& mesh, const std::vector<uint32_t>& surfa
     if (f.valid && f.count == 1) out.closed[out.body[surfaces[f.tri[0]]]] = false;
   }
   return out;
+}
+
+std::vector<float> freeStandingExtents(const Mesh& mesh, const std::vector<uint32_t>& surfaces,
+                                       const std::vector<DiffractionEdge>& edges) {
+  const size_t count =
+      surfaces.empty() ? 0 : size_t(*std::max_element(surfaces.begin(), surfaces.end())) + 1;
+  const std::vector<uint32_t> id = weldedVertexIds(mesh);
+  std::vector<std::pair<glm::vec3, glm::vec3>> box(count, {glm::vec3(1e30f), glm::vec3(-1e30f)});
+  // Each surface's triangles once (a double-sided copy has the same corners), then their sides
+  // as (surface, welded corners): a side used once is the surface's boundary.
+  std::vector<std::array<uint32_t, 4>> triangles, sides;
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    std::array<uint32_t, 4> k{surfaces[t], id[mesh.triangles[t][0]], id[mesh.triangles[t][1]],
+                              id[mesh.triangles[t][2]]};
+    std::sort(k.begin() + 1, k.end());
+    triangles.push_back(k);
+    for (uint32_t v : mesh.triangles[t]) {
+      box[surfaces[t]].first = glm::min(box[surfaces[t]].first, mesh.vertices[v]);
+      box[surfaces[t]].second = glm::max(box[surfaces[t]].second, mesh.vertices[v]);
+    }
+  }
+  std::sort(triangles.begin(), triangles.end());
+  triangles.erase(std::unique(triangles.begin(), triangles.end()), triangles.end());
+  for (const auto& k : triangles)
+    for (int i = 0; i < 3; ++i)
+      sides.push_back({k[0], k[1 + i], k[1 + (i + 1) % 3], 0});
+  for (auto& x : sides)
+    if (x[1] > x[2]) std::swap(x[1], x[2]);
+  std::sort(sides.begin(), sides.end());
+  std::vector<double> boundary(count, 0.0), diffracting(count, 0.0);
+  for (size_t i = 0; i < sides.size();) {
+    size_t j = i;
+    while (j < sides.size() && sides[j] == sides[i]) ++j;
+    if (j - i == 1 && sides[i][1] != sides[i][2])
+      boundary[sides[i][0]] +=
+          double(glm::distance(mesh.vertices[sides[i][1]], mesh.vertices[sides[i][2]]));
+    i = j;
+  }
+  for (const DiffractionEdge& e : edges) {
+    diffracting[e.surfaces[0]] += double(e.length);
+    if (e.surfaces[1] != e.surfaces[0]) diffracting[e.surfaces[1]] += double(e.length);
+  }
+  std::vector<float> extent(count, std::numeric_limits<float>::infinity());
+  for (size_t s = 0; s < count; ++s)
+    if (boundary[s] > 0.0 && diffracting[s] >= kFreeStanding * boundary[s])
+      extent[s] = glm::distance(box[s].first, box[s].second);
+  return extent;
 }
 
 std::vector<DiffractionEdge> candidateEdges(const Mesh& mesh,

@@ -26,6 +26,20 @@ std::vector<uint32_t> flatSurfaces(const Mesh& mesh);
 /// numbered as flatSurfaces(mesh) gives them.
 SurfaceBodies surfaceBodies(const Mesh& mesh, const std::vector<uint32_t>& surfaces);
 
+/// The share of its boundary's length that must be diffracting edges for a flat surface to
+/// stand free (freeStandingExtents).
+inline constexpr double kFreeStanding = 0.75;
+
+/// Per flat surface (`surfaces`, flatSurfaces(mesh)), its extent, the diagonal of its
+/// triangles' bounding box (m), when it stands free: at least kFreeStanding of its boundary's
+/// length is diffracting edges (`edges`, candidateEdges), as a door leaf's, a panel's or a box's
+/// face's; +infinity for a piece of a larger surface (a lintel panel between a wall's jambs
+/// meshed with T-junctions meets them along sealed edges) or one that meets others in a flat
+/// or concave fold (a room's wall). Welded corners (scene/mesh_topology.h); a double-sided
+/// copy adds no boundary.
+std::vector<float> freeStandingExtents(const Mesh& mesh, const std::vector<uint32_t>& surfaces,
+                                       const std::vector<DiffractionEdge>& edges);
+
 /// The candidate edges of `mesh`, in the order of their endpoints; each edge's faces' surfaces
 /// taken from `surfaces` (flatSurfaces(mesh)).
 std::vector<DiffractionEdge> candidateEdges(const Mesh& mesh, const std::vector<uint32_t>& surfaces);

@@ -143,6 +143,75 @@ std::vector<uint32_t> wholeSolids(const std::vector<uint32_t>& surfaces,
   return out;
 }
 
+/// The groups of flat surfaces smaller than the longest band's wavelength among the paths'
+/// edges' faces and the surfaces that hide a path (each alone, a closed body's whole:
+/// wholeSolids), each once, sorted; none that the line of sight crosses (q.crossed: those
+/// the blocked line of sight's bounds take away).
+std::vector<std::vector<uint32_t>> smallSurfaces(const std::vector<EdgePath>& paths,
+                                                 BoundQuery& q) {
+  const double longest = q.speedOfSound / bandCentreExactHz(0);
+  std::vector<std::vector<uint32_t>> out;
+  auto add = [&](uint32_t s) {
+    if (s >= q.bodies.body.size() || !(double(q.bodies.extent[s]) < longest)) return;
+    std::vector<uint32_t> group = wholeSolids({s}, q.bodies);
+    auto crossed = [&](uint32_t g) {
+      return std::binary_search(q.crossed.begin(), q.crossed.end(), g);
+    };
+    if (std::none_of(group.begin(), group.end(), crossed) &&
+        std::find(out.begin(), out.end(), group) == out.end())
+      out.push_back(std::move(group));
+  };
+  for (const EdgePath& p : paths)
+    for (uint32_t s : p.edge->surfaces) add(s);
+  findHiders(q);
+  for (const HiddenPath& h : q.hidden)
+    for (uint32_t s : h.by) add(s);
+  return out;
+}
+
+/// Per group of small surfaces (smallSurfaces) that the line of sight does not cross, at most
+/// the sum without it times kLitRipple in the bands whose wavelength exceeds its extent
+/// (heldBound).
+Bands smallSurfaceBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
+                        BoundQuery& q) {
+  Bands bound(1e30f);
+  for (const std::vector<uint32_t>& group : smallSurfaces(paths, q)) {
+    float extent = 0.f;
+    for (uint32_t s : group) extent = std::max(extent, q.bodies.extent[s]);
+    const Bands without = sumWithout(paths, q, group, coherent);
+    for (int k = 0; k < kNumBands; ++k)
+      if (double(extent) < q.speedOfSound / bandCentreExactHz(k))
+        bound[k] = std::min(bound[k], kLitRipple * without[k]);
+  }
+  return bound;
+}
+
+/// With the line of sight blocked by the surfaces q.crossed (not empty): at most the sum without
+/// them, the line of sight free, and without each of them alone (heldBound).
+Bands blockedBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
+                   const Bands& free, BoundQuery& q) {
+  const std::vector<uint32_t>& crossed = q.crossed;
+  DirectSound open = coherent;
+  open.visible = true;
+  open.intensity = free;
+  Bands bound = min(free, sumWithout(paths, q, wholeSolids(crossed, q.bodies), open));
+  const std::vector<std::vector<uint32_t>> groups = removalGroups(crossed, q.bodies);
+  if (groups.size() > 1)  // each alone, the others still in the way
+    for (const std::vector<uint32_t>& g : groups)
+      bound = min(bound, sumWithout(paths, q, wholeSolids(g, q.bodies), coherent));
+  return bound;
+}
+
+/// With the line of sight through a slit: at most the sum without either of its sides.
+Bands slitBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
+                const EdgePath& throughSlit, BoundQuery& q) {
+  Bands bound(1e30f);
+  for (uint32_t s : {throughSlit.edge->surfaces[0], throughSlit.gapCloser})
+    if (s != kMovingObjects && s != kUnknownSurface)
+      bound = min(bound, sumWithout(paths, q, {s}, coherent));
+  return bound;
+}
+
 }  // namespace
 
 uint32_t surfaceOf(const std::vector<uint32_t>& surfaces, uint32_t triangle) {
@@ -178,25 +247,12 @@ void crossLineOfSight(bool lineOfSight, BoundQuery& q) {
 
 Bands heldBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
                 const EdgePath* throughSlit, const Bands& free, BoundQuery& q) {
-  if (!coherent.visible) {
-    const std::vector<uint32_t>& crossed = q.crossed;
-    if (crossed.empty()) return free;
-    DirectSound open = coherent;
-    open.visible = true;
-    open.intensity = free;
-    Bands bound = min(free, sumWithout(paths, q, wholeSolids(crossed, q.bodies), open));
-    const std::vector<std::vector<uint32_t>> groups = removalGroups(crossed, q.bodies);
-    if (groups.size() > 1)  // each alone, the others still in the way
-      for (const std::vector<uint32_t>& g : groups)
-        bound = min(bound, sumWithout(paths, q, wholeSolids(g, q.bodies), coherent));
-    return bound;
-  }
-  Bands bound(1e30f);
+  // Blocked, but by surfaces not known (a grazing segment's crossings): the free field alone.
+  if (!coherent.visible && q.crossed.empty()) return free;
+  const Bands bound = smallSurfaceBound(paths, coherent, q);
+  if (!coherent.visible) return min(bound, blockedBound(paths, coherent, free, q));
   if (!throughSlit) return bound;
-  for (uint32_t s : {throughSlit->edge->surfaces[0], throughSlit->gapCloser})
-    if (s != kMovingObjects && s != kUnknownSurface)
-      bound = min(bound, sumWithout(paths, q, {s}, coherent));
-  return bound;
+  return min(bound, slitBound(paths, coherent, *throughSlit, q));
 }
 
 }  // namespace dpc

@@ -214,7 +214,7 @@ EdgeDiffraction::EdgeDiffraction(const Mesh& mesh)
     : surfaces_(flatSurfaces(mesh)),
       bodies_(surfaceBodies(mesh, surfaces_)),
       edges_(candidateEdges(mesh, surfaces_)) {
-  bodies_.extent = freeStandingExtents(mesh, surfaces_, edges_);
+  bodies_.extent = freeStandingExtents(mesh, surfaces_, bodies_, edges_);
 }
 
 size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,

@@ -363,7 +363,42 @@ SurfaceBodies surfaceBodies(const Mesh& mesh, const std::vector<uint32_t>& surfa
   return out;
 }
 
+namespace {
+
+/// Per body, whether it is a solid object: closed and less than kSolidExtent across (a room is
+/// closed too, and larger; windings differ between exporters, so they cannot tell).
+std::vector<bool> solidBodies(const Mesh& mesh, const std::vector<uint32_t>& surfaces,
+                              const SurfaceBodies& bodies) {
+  std::vector<std::pair<glm::vec3, glm::vec3>> box(bodies.closed.size(),
+                                                   {glm::vec3(1e30f), glm::vec3(-1e30f)});
+  for (size_t t = 0; t < mesh.triangles.size(); ++t)
+    for (uint32_t v : mesh.triangles[t]) {
+      auto& [lo, hi] = box[bodies.body[surfaces[t]]];
+      lo = glm::min(lo, mesh.vertices[v]);
+      hi = glm::max(hi, mesh.vertices[v]);
+    }
+  std::vector<bool> solid(box.size());
+  for (size_t b = 0; b < solid.size(); ++b)
+    solid[b] = bodies.closed[b] && glm::distance(box[b].first, box[b].second) < kSolidExtent;
+  return solid;
+}
+
+/// Whether edge e diffracts on both of its faces' sides as a free-standing surface's rim does: a
+/// sheet's free rim, any edge wider than pi of an open body (sheets, air on both sides), a solid's
+/// convex edge; not a closed body's that is no solid (a room's corners, concave from inside).
+bool diffracts(const DiffractionEdge& e, const std::vector<bool>& solid,
+               const SurfaceBodies& bodies) {
+  constexpr double kPi = std::numbers::pi;
+  if (double(e.open) >= 2.0 * kPi - 1e-3) return true;
+  if (!(double(e.open) > kPi + 1e-3)) return false;
+  const uint32_t body = bodies.body[e.surfaces[0]];
+  return !bodies.closed[body] || solid[body];
+}
+
+}  // namespace
+
 std::vector<float> freeStandingExtents(const Mesh& mesh, const std::vector<uint32_t>& surfaces,
+                                       const SurfaceBodies& bodies,
                                        const std::vector<DiffractionEdge>& edges) {
   const size_t count =
       surfaces.empty() ? 0 : size_t(*std::max_element(surfaces.begin(), surfaces.end())) + 1;
@@ -399,7 +434,9 @@ std::vector<float> freeStandingExtents(const Mesh& mesh, const std::vector<uint3
           double(glm::distance(mesh.vertices[sides[i][1]], mesh.vertices[sides[i][2]]));
     i = j;
   }
+  const std::vector<bool> solid = solidBodies(mesh, surfaces, bodies);
   for (const DiffractionEdge& e : edges) {
+    if (!diffracts(e, solid, bodies)) continue;
     diffracting[e.surfaces[0]] += double(e.length);
     if (e.surfaces[1] != e.surfaces[0]) diffracting[e.surfaces[1]] += double(e.length);
   }

@@ -26,18 +26,24 @@ std::vector<uint32_t> flatSurfaces(const Mesh& mesh);
 /// numbered as flatSurfaces(mesh) gives them.
 SurfaceBodies surfaceBodies(const Mesh& mesh, const std::vector<uint32_t>& surfaces);
 
+/// m: a closed body less than this across is a solid object (a box leaf, a pillar, a cabinet),
+/// whose convex edges diffract; a larger one is taken for a room, whose corners do not.
+inline constexpr float kSolidExtent = 5.f;
+
 /// The share of its boundary's length that must be diffracting edges for a flat surface to
 /// stand free (freeStandingExtents).
-inline constexpr double kFreeStanding = 0.75;
+inline constexpr double kFreeStanding = 0.5;
 
 /// Per flat surface (`surfaces`, flatSurfaces(mesh)), its extent, the diagonal of its
 /// triangles' bounding box (m), when it stands free: at least kFreeStanding of its boundary's
-/// length is diffracting edges (`edges`, candidateEdges), as a door leaf's, a panel's or a box's
-/// face's; +infinity for a piece of a larger surface (a lintel panel between a wall's jambs
-/// meshed with T-junctions meets them along sealed edges) or one that meets others in a flat
-/// or concave fold (a room's wall). Welded corners (scene/mesh_topology.h); a double-sided
-/// copy adds no boundary.
+/// length is edges (`edges`, candidateEdges) that diffract as a free-standing surface's rim
+/// does (a sheet's free rim, an open body's edge wider than pi, a solid's convex edge:
+/// `bodies`, surfaceBodies), as a door leaf's, a panel's or a box's face's; +infinity for a
+/// piece of a larger surface (a lintel panel between a wall's jambs meshed with T-junctions
+/// meets them along sealed edges) or one that meets others in flat or concave folds (a room's
+/// wall). Welded corners (scene/mesh_topology.h); a double-sided copy adds no boundary.
 std::vector<float> freeStandingExtents(const Mesh& mesh, const std::vector<uint32_t>& surfaces,
+                                       const SurfaceBodies& bodies,
                                        const std::vector<DiffractionEdge>& edges);
 
 /// The candidate edges of `mesh`, in the order of their endpoints; each edge's faces' surfaces

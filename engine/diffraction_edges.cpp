@@ -383,14 +383,13 @@ std::vector<bool> solidBodies(const Mesh& mesh, const std::vector<uint32_t>& sur
   return solid;
 }
 
-/// Whether edge e diffracts on both of its faces' sides as a free-standing surface's rim does: a
-/// sheet's free rim, any edge wider than pi of an open body (sheets, air on both sides), a solid's
-/// convex edge; not a closed body's that is no solid (a room's corners, concave from inside).
+/// Whether edge e bounds its faces as a free-standing surface's rim does: a sheet's free rim,
+/// any edge of an open body (sheets with air on both sides: the edge diffracts into the wider
+/// side, whichever way the faces are wound), any edge of a solid; not a room's (a closed body
+/// that is no solid: its corners are concave from inside).
 bool diffracts(const DiffractionEdge& e, const std::vector<bool>& solid,
                const SurfaceBodies& bodies) {
-  constexpr double kPi = std::numbers::pi;
-  if (double(e.open) >= 2.0 * kPi - 1e-3) return true;
-  if (!(double(e.open) > kPi + 1e-3)) return false;
+  if (double(e.open) >= 2.0 * std::numbers::pi - 1e-3) return true;
   const uint32_t body = bodies.body[e.surfaces[0]];
   return !bodies.closed[body] || solid[body];
 }

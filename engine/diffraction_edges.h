@@ -32,13 +32,13 @@ inline constexpr float kSolidExtent = 5.f;
 
 /// The share of its boundary's length that must be diffracting edges for a flat surface to
 /// stand free (freeStandingExtents).
-inline constexpr double kFreeStanding = 0.5;
+inline constexpr double kFreeStanding = 0.75;
 
 /// Per flat surface (`surfaces`, flatSurfaces(mesh)), its extent, the diagonal of its
 /// triangles' bounding box (m), when it stands free: at least kFreeStanding of its boundary's
-/// length is edges (`edges`, candidateEdges) that diffract as a free-standing surface's rim
-/// does (a sheet's free rim, an open body's edge wider than pi, a solid's convex edge:
-/// `bodies`, surfaceBodies), as a door leaf's, a panel's or a box's face's; +infinity for a
+/// length is edges (`edges`, candidateEdges) that bound it as a free-standing surface's rim
+/// does (a sheet's free rim, an open body's edge, a solid's edge: `bodies`, surfaceBodies), as
+/// a door leaf's, a panel's or a box's face's; +infinity for a
 /// piece of a larger surface (a lintel panel between a wall's jambs meshed with T-junctions
 /// meets them along sealed edges) or one that meets others in flat or concave folds (a room's
 /// wall). Welded corners (scene/mesh_topology.h); a double-sided copy adds no boundary.

@@ -1,5 +1,6 @@
 #include "engine/coherent_sum.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <complex>
@@ -151,12 +152,18 @@ std::vector<Bands> leavingWeights(const std::vector<EdgePath>& paths, const Dire
   return w;
 }
 
+double bandAmplitude(const EdgePath& p, int b, float speedOfSound) {
+  const double k = 2.0 * kPi * diffractionFrequencyHz(b, 0) / double(speedOfSound);
+  return p.share * p.spreading *
+         std::abs(utdScaled(p.terms, p.sums, p.prefactor, k * p.distanceParameter)) / std::sqrt(k);
+}
+
 Bands coherentIntensity(const std::vector<EdgePath>& paths, const DirectSound& direct,
                         const EdgePath* throughSlit, float speedOfSound, const Bands& airPerMetre,
-                        const std::vector<Bands>& weights) {
+                        const std::vector<Bands>& weights, int bands) {
   Bands intensity(0.f);
   PathGains gains{std::vector<double>(paths.size()), std::vector<double>(paths.size()), {}};
-  for (int b = 0; b < kNumBands; ++b) {
+  for (int b = 0; b < std::min(bands, kNumBands); ++b) {
     for (size_t j = 0; j < paths.size(); ++j) {
       const double w = weights.empty() ? 1.0 : std::sqrt(double(weights[j][b]));
       gains.utd[j] = paths[j].share * paths[j].spreading *

@@ -27,12 +27,18 @@ const EdgePath* slitOnLineOfSight(const std::vector<EdgePath>& paths, const glm:
 std::vector<Bands> leavingWeights(const std::vector<EdgePath>& paths, const Directivity& d,
                                   const glm::vec3& forward);
 
+/// The largest pressure amplitude (the direct sound's scale, 1/r) path p's UTD field takes in
+/// band b: at the band's lowest frequency, where |D| / sqrt(k) is largest; air and the
+/// source's weight left out.
+double bandAmplitude(const EdgePath& p, int b, float speedOfSound);
+
 /// Band intensity (1/m^2, the scale of 1/(4 pi r^2)) of the coherent sum of the direct sound
 /// (when visible; its directivity weight is already in direct.intensity) and the edge paths,
 /// each path's pressure scaled by the square root of its energy weight (none when empty);
-/// throughSlit: the slit the line of sight passes (slitOnLineOfSight), or null.
+/// throughSlit: the slit the line of sight passes (slitOnLineOfSight), or null. Only the
+/// first `bands` bands are summed (the rest 0).
 Bands coherentIntensity(const std::vector<EdgePath>& paths, const DirectSound& direct,
                         const EdgePath* throughSlit, float speedOfSound, const Bands& airPerMetre,
-                        const std::vector<Bands>& weights);
+                        const std::vector<Bands>& weights, int bands = kNumBands);
 
 }  // namespace dpc

@@ -199,7 +199,7 @@ Bands directIntensity(const std::vector<EdgePath>& paths, const DirectSound& dir
       unobstructedIntensity(q.source, q.L, direct, q.airPerMetre, q.directivity, q.forward);
   Bands sum = coherentIntensity(paths, coherent, throughSlit, q.speedOfSound, q.airPerMetre,
                                 leavingWeights(paths, q.directivity, q.forward));
-  sum = min(sum, heldBound(paths, coherent, throughSlit, free, q));
+  sum = min(sum, heldBound(paths, coherent, throughSlit, free, sum, q));
   if (coherent.visible) return sum;
   return min(sum + (direct.visible ? direct.intensity : Bands(0.f)), free);
 }
@@ -215,6 +215,8 @@ EdgeDiffraction::EdgeDiffraction(const Mesh& mesh)
       bodies_(surfaceBodies(mesh, surfaces_)),
       edges_(candidateEdges(mesh, surfaces_)) {
   bodies_.extent = freeStandingExtents(mesh, surfaces_, bodies_, edges_);
+  bodies_.box = surfaceBoxes(mesh, surfaces_);
+  bodies_.edges = surfaceEdges(bodies_.box.size(), edges_);
 }
 
 size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
@@ -226,8 +228,9 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
   // in the shadow for the edges, and its energy adds to theirs incoherently (the edge paths'
   // legs are unoccluded, the transmitted path crosses a surface: no path is counted twice).
   const bool lineOfSight = direct.lineOfSight();
-  BoundQuery query{tracer, source, listener.position, surfaces_,   bodies_,     edges_, {}, {}, {},
-                   {},     false,  speedOfSound,      airPerMetre, directivity, forward};
+  BoundQuery query{tracer, source,       listener.position, surfaces_, bodies_,
+                   edges_, {},           {},                {},        {},
+                   speedOfSound, airPerMetre, directivity,  forward};
   std::vector<EdgePath> paths = edgePaths(edges_, lineOfSight, query);
   crossLineOfSight(lineOfSight, query);
   findSlits(tracer, source, listener.position, surfaces_, paths, query.closed);

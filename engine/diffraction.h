@@ -69,6 +69,7 @@
 #include <complex>
 #include <cstdint>
 #include <glm/vec3.hpp>
+#include <utility>
 #include <vector>
 
 #include "common/bands.h"
@@ -105,6 +106,11 @@ struct SurfaceBodies {
   std::vector<uint32_t> body;  ///< per flat surface
   std::vector<bool> closed;    ///< per body
   std::vector<float> extent;   ///< per flat surface, m
+  /// Per flat surface: its triangles' bounding box (m), and the candidate edges on its faces
+  /// (indices into EdgeDiffraction::edges()).
+  std::vector<std::pair<glm::vec3, glm::vec3>> box;
+  std::vector<std::vector<uint32_t>> edges;
+  std::vector<std::vector<uint32_t>> members;  ///< per body, its flat surfaces (ascending)
 };
 
 /// The band energy of the direct-plus-diffracted field is |p|^2 averaged over these

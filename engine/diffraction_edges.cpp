@@ -345,13 +345,16 @@ SurfaceBodies surfaceBodies(const Mesh& mesh, const std::vector<uint32_t>& surfa
     }
   const uint32_t count =
       surfaces.empty() ? 0u : *std::max_element(surfaces.begin(), surfaces.end()) + 1u;
-  SurfaceBodies out{std::vector<uint32_t>(count, UINT32_MAX), {}, {}};
+  SurfaceBodies out{std::vector<uint32_t>(count, UINT32_MAX), {}, {}, {}, {}, {}};
   std::unordered_map<uint32_t, uint32_t> number;  // vertex root -> body
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
     const uint32_t r = root(id[mesh.triangles[t][0]]);
     const uint32_t b = number.try_emplace(r, uint32_t(number.size())).first->second;
     if (out.body[surfaces[t]] == UINT32_MAX) out.body[surfaces[t]] = b;
   }
+  out.members.resize(number.size());
+  for (uint32_t s = 0; s < count; ++s)
+    if (out.body[s] != UINT32_MAX) out.members[out.body[s]].push_back(s);
   out.closed.assign(number.size(), true);
   for (const auto& [key, use] : edgeUses(mesh, id)) {  // a free rim opens its body
     const uint32_t ia = uint32_t(key >> 32), ib = uint32_t(key & 0xffffffffu);
@@ -402,7 +405,7 @@ std::vector<float> freeStandingExtents(const Mesh& mesh, const std::vector<uint3
   const size_t count =
       surfaces.empty() ? 0 : size_t(*std::max_element(surfaces.begin(), surfaces.end())) + 1;
   const std::vector<uint32_t> id = weldedVertexIds(mesh);
-  std::vector<std::pair<glm::vec3, glm::vec3>> box(count, {glm::vec3(1e30f), glm::vec3(-1e30f)});
+  const std::vector<std::pair<glm::vec3, glm::vec3>> box = surfaceBoxes(mesh, surfaces);
   // Each surface's triangles once (a double-sided copy has the same corners), then their sides
   // as (surface, welded corners): a side used once is the surface's boundary.
   std::vector<std::array<uint32_t, 4>> triangles, sides;
@@ -411,10 +414,6 @@ std::vector<float> freeStandingExtents(const Mesh& mesh, const std::vector<uint3
                               id[mesh.triangles[t][2]]};
     std::sort(k.begin() + 1, k.end());
     triangles.push_back(k);
-    for (uint32_t v : mesh.triangles[t]) {
-      box[surfaces[t]].first = glm::min(box[surfaces[t]].first, mesh.vertices[v]);
-      box[surfaces[t]].second = glm::max(box[surfaces[t]].second, mesh.vertices[v]);
-    }
   }
   std::sort(triangles.begin(), triangles.end());
   triangles.erase(std::unique(triangles.begin(), triangles.end()), triangles.end());
@@ -444,6 +443,29 @@ std::vector<float> freeStandingExtents(const Mesh& mesh, const std::vector<uint3
     if (boundary[s] > 0.0 && diffracting[s] >= kFreeStanding * boundary[s])
       extent[s] = glm::distance(box[s].first, box[s].second);
   return extent;
+}
+
+std::vector<std::pair<glm::vec3, glm::vec3>> surfaceBoxes(const Mesh& mesh,
+                                                          const std::vector<uint32_t>& surfaces) {
+  const size_t count =
+      surfaces.empty() ? 0 : size_t(*std::max_element(surfaces.begin(), surfaces.end())) + 1;
+  std::vector<std::pair<glm::vec3, glm::vec3>> box(count, {glm::vec3(1e30f), glm::vec3(-1e30f)});
+  for (size_t t = 0; t < mesh.triangles.size(); ++t)
+    for (uint32_t v : mesh.triangles[t]) {
+      box[surfaces[t]].first = glm::min(box[surfaces[t]].first, mesh.vertices[v]);
+      box[surfaces[t]].second = glm::max(box[surfaces[t]].second, mesh.vertices[v]);
+    }
+  return box;
+}
+
+std::vector<std::vector<uint32_t>> surfaceEdges(size_t surfaceCount,
+                                                const std::vector<DiffractionEdge>& edges) {
+  std::vector<std::vector<uint32_t>> out(surfaceCount);
+  for (size_t i = 0; i < edges.size(); ++i)
+    for (uint32_t s : {edges[i].surfaces[0], edges[i].surfaces[1]})
+      if (s < surfaceCount && (out[s].empty() || out[s].back() != uint32_t(i)))
+        out[s].push_back(uint32_t(i));
+  return out;
 }
 
 std::vector<DiffractionEdge> candidateEdges(const Mesh& mesh,

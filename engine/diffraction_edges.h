@@ -46,6 +46,14 @@ std::vector<float> freeStandingExtents(const Mesh& mesh, const std::vector<uint3
                                        const SurfaceBodies& bodies,
                                        const std::vector<DiffractionEdge>& edges);
 
+/// Per flat surface (`surfaces`, flatSurfaces(mesh)), its triangles' bounding box (m).
+std::vector<std::pair<glm::vec3, glm::vec3>> surfaceBoxes(const Mesh& mesh,
+                                                          const std::vector<uint32_t>& surfaces);
+
+/// Per flat surface, the indices into `edges` of the edges on its faces.
+std::vector<std::vector<uint32_t>> surfaceEdges(size_t surfaceCount,
+                                                const std::vector<DiffractionEdge>& edges);
+
 /// The candidate edges of `mesh`, in the order of their endpoints; each edge's faces' surfaces
 /// taken from `surfaces` (flatSurfaces(mesh)).
 std::vector<DiffractionEdge> candidateEdges(const Mesh& mesh, const std::vector<uint32_t>& surfaces);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <numbers>
+#include <utility>
 
 #include "engine/coherent_sum.h"
 
@@ -11,19 +12,46 @@ namespace dpc {
 
 namespace {
 
-/// Fills every hidden path's blocking surfaces, once.
-void findHiders(BoundQuery& q) {
-  if (q.hiddenKnown) return;
-  q.hiddenKnown = true;
+/// Whether the surfaces that block h's legs are known, searching them the first time.
+bool hidersKnown(HiddenPath& h, const BoundQuery& q) {
+  if (h.searched) return h.known;
+  h.searched = h.known = true;
   std::vector<uint32_t> leg;
-  for (HiddenPath& h : q.hidden) {
-    h.known = true;
-    for (const TraceRay& ray : legRays(q.source, q.L, h.path)) {
-      if (!crossedSurfaces(q.tracer, ray, q.surfaces, leg)) h.known = false;
-      h.by.insert(h.by.end(), leg.begin(), leg.end());
-    }
-    std::sort(h.by.begin(), h.by.end());
+  for (const TraceRay& ray : legRays(q.source, q.L, h.path)) {
+    if (!crossedSurfaces(q.tracer, ray, q.surfaces, leg)) h.known = false;
+    h.by.insert(h.by.end(), leg.begin(), leg.end());
   }
+  std::sort(h.by.begin(), h.by.end());
+  return h.known;
+}
+
+/// The bounding box of the surfaces in `removed` (everything when moving objects are among them).
+std::pair<glm::vec3, glm::vec3> boxOf(const std::vector<uint32_t>& removed, const BoundQuery& q) {
+  std::pair<glm::vec3, glm::vec3> box{glm::vec3(1e30f), glm::vec3(-1e30f)};
+  for (uint32_t s : removed) {
+    if (s >= q.bodies.box.size()) return {glm::vec3(-1e30f), glm::vec3(1e30f)};
+    box.first = glm::min(box.first, q.bodies.box[s].first);
+    box.second = glm::max(box.second, q.bodies.box[s].second);
+  }
+  return box;
+}
+
+/// Whether the segment of `ray` meets the box grown by kLegEpsilon (slab test).
+bool meetsBox(const TraceRay& ray, const std::pair<glm::vec3, glm::vec3>& box) {
+  float t0 = ray.tnear, t1 = ray.tfar;
+  for (int a = 0; a < 3; ++a) {
+    const float lo = box.first[a] - kLegEpsilon, hi = box.second[a] + kLegEpsilon;
+    if (std::abs(ray.dir[a]) < 1e-12f) {
+      if (ray.org[a] < lo || ray.org[a] > hi) return false;
+      continue;
+    }
+    float ta = (lo - ray.org[a]) / ray.dir[a], tb = (hi - ray.org[a]) / ray.dir[a];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+    if (t0 > t1) return false;
+  }
+  return true;
 }
 
 /// Edge e with its face on a removed surface taken away: the free rim (a half-plane) of the
@@ -45,20 +73,28 @@ const DiffractionEdge* rimOf(const DiffractionEdge& e, const std::vector<uint32_
   return &rim;
 }
 
+/// The path over edge e's rim when a surface in `removed` takes one of its faces (rimOf), if
+/// nothing else blocks its legs, into kept.
+void addRim(BoundQuery& q, const DiffractionEdge& e, const std::vector<uint32_t>& removed,
+            bool lineOfSight, std::vector<uint32_t>& by, std::vector<EdgePath>& kept) {
+  const DiffractionEdge* rim = rimOf(e, removed, q);
+  EdgePath p;
+  if (!rim || !edgePath(*rim, q.source, q.L, lineOfSight, p)) return;
+  bool free = true;
+  for (const TraceRay& ray : legRays(q.source, q.L, p))
+    free = free && crossedSurfaces(q.tracer, ray, q.surfaces, by) &&
+           std::includes(removed.begin(), removed.end(), by.begin(), by.end());
+  if (free) kept.push_back(p);
+}
+
 /// The paths over the rims that the surfaces in `removed` leave (rimOf) whose legs nothing
-/// else blocks, into kept.
+/// else blocks, into kept: the edges on the removed surfaces' faces (SurfaceBodies::edges).
 void addRims(BoundQuery& q, const std::vector<uint32_t>& removed, bool lineOfSight,
              std::vector<EdgePath>& kept) {
   std::vector<uint32_t> by;
-  for (const DiffractionEdge& e : q.edges) {
-    const DiffractionEdge* rim = rimOf(e, removed, q);
-    EdgePath p;
-    if (!rim || !edgePath(*rim, q.source, q.L, lineOfSight, p)) continue;
-    bool free = true;
-    for (const TraceRay& ray : legRays(q.source, q.L, p))
-      free = free && crossedSurfaces(q.tracer, ray, q.surfaces, by) &&
-             std::includes(removed.begin(), removed.end(), by.begin(), by.end());
-    if (free) kept.push_back(p);
+  for (uint32_t s : removed) {
+    if (s >= q.bodies.edges.size()) continue;
+    for (uint32_t i : q.bodies.edges[s]) addRim(q, q.edges[i], removed, lineOfSight, by, kept);
   }
 }
 
@@ -78,10 +114,13 @@ std::vector<EdgePath> pathsWithout(const std::vector<EdgePath>& paths, BoundQuer
     if (!edgeGone(p)) kept.push_back(p);
   for (const EdgePath& p : q.closed)
     if (!edgeGone(p) && gone(p.gapCloser)) kept.push_back(p);
-  findHiders(q);
-  for (const HiddenPath& h : q.hidden)
-    if (h.known && !edgeGone(h.path) && std::all_of(h.by.begin(), h.by.end(), gone))
-      kept.push_back(h.path);
+  const auto box = boxOf(removed, q);  // a hider lies in it
+  for (HiddenPath& h : q.hidden) {
+    if (edgeGone(h.path)) continue;
+    const auto legs = legRays(q.source, q.L, h.path);
+    if (!meetsBox(legs[0], box) && !meetsBox(legs[1], box)) continue;
+    if (hidersKnown(h, q) && std::all_of(h.by.begin(), h.by.end(), gone)) kept.push_back(h.path);
+  }
   addRims(q, removed, lineOfSight, kept);
   for (EdgePath& p : kept) {
     if (p.gapWidth != 0.f && gone(p.gapCloser)) p.gapWidth = 0.f;
@@ -94,13 +133,14 @@ std::vector<EdgePath> pathsWithout(const std::vector<EdgePath>& paths, BoundQuer
 }
 
 /// The coherent sum with the surfaces `removed` taken away (pathsWithout) and the direct sound
-/// d (through a slit the line of sight still passes, if any).
+/// d (through a slit the line of sight still passes, if any), in the first `bands` bands.
 Bands sumWithout(const std::vector<EdgePath>& paths, BoundQuery& q,
-                 const std::vector<uint32_t>& removed, const DirectSound& d) {
+                 const std::vector<uint32_t>& removed, const DirectSound& d,
+                 int bands = kNumBands) {
   const std::vector<EdgePath> kept = pathsWithout(paths, q, removed, d.visible);
   const EdgePath* throughSlit = d.visible ? slitOnLineOfSight(kept, q.source, q.L) : nullptr;
   return coherentIntensity(kept, d, throughSlit, q.speedOfSound, q.airPerMetre,
-                           leavingWeights(kept, q.directivity, q.forward));
+                           leavingWeights(kept, q.directivity, q.forward), bands);
 }
 
 /// The surfaces (sorted) in the groups that can be taken away on their own: a closed body's
@@ -136,52 +176,103 @@ std::vector<uint32_t> wholeSolids(const std::vector<uint32_t>& surfaces,
     if (s < bodies.body.size() && bodies.closed[bodies.body[s]]) solid.push_back(bodies.body[s]);
   if (solid.empty()) return surfaces;
   std::vector<uint32_t> out = surfaces;
-  for (uint32_t s = 0; s < bodies.body.size(); ++s)
-    if (std::find(solid.begin(), solid.end(), bodies.body[s]) != solid.end()) out.push_back(s);
+  for (uint32_t b : solid)
+    if (b < bodies.members.size())
+      out.insert(out.end(), bodies.members[b].begin(), bodies.members[b].end());
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
 }
 
-/// The groups of flat surfaces smaller than the longest band's wavelength among the paths'
-/// edges' faces and the surfaces that hide a path (each alone, a closed body's whole:
-/// wholeSolids), each once, sorted; none that the line of sight crosses (q.crossed: those
-/// the blocked line of sight's bounds take away).
-std::vector<std::vector<uint32_t>> smallSurfaces(const std::vector<EdgePath>& paths,
-                                                 BoundQuery& q) {
+/// A group of flat surfaces for smallSurfaceBound: the surfaces (sorted), the largest extent
+/// among those that stand free (m; freeStandingExtents) and the least path-length excess over
+/// the direct distance of their edges' paths (m).
+struct SmallGroup {
+  std::vector<uint32_t> surfaces;
+  float extent = 0.f;
+  double excess = 1e30;
+};
+
+/// The surfaces taken away with free-standing surface s (sorted): its whole body when the body
+/// is less than `wavelength` across (a seat's boxes, a box leaf: a small object goes whole), else
+/// s alone (a leaf welded to its wall), a closed body's faces together (wholeSolids).
+std::vector<uint32_t> smallGroupOf(uint32_t s, double wavelength, const SurfaceBodies& bodies) {
+  const uint32_t b = bodies.body[s];
+  if (b < bodies.members.size() && !bodies.box.empty()) {
+    std::pair<glm::vec3, glm::vec3> box{glm::vec3(1e30f), glm::vec3(-1e30f)};
+    for (uint32_t m : bodies.members[b]) {
+      box.first = glm::min(box.first, bodies.box[m].first);
+      box.second = glm::max(box.second, bodies.box[m].second);
+    }
+    if (double(glm::distance(box.first, box.second)) < wavelength) return bodies.members[b];
+  }
+  return wholeSolids({s}, bodies);
+}
+
+/// The groups of free-standing flat surfaces smaller than the longest band's wavelength with an
+/// edge path inside that band's first Fresnel zone (excess under half its wavelength) among the
+/// paths' edges' faces (smallGroupOf); none that the line of sight crosses (q.crossed: those the
+/// blocked line of sight's bounds take away).
+std::vector<SmallGroup> smallSurfaces(const std::vector<EdgePath>& paths, const BoundQuery& q) {
   const double longest = q.speedOfSound / bandCentreExactHz(0);
-  std::vector<std::vector<uint32_t>> out;
-  auto add = [&](uint32_t s) {
-    if (s >= q.bodies.body.size() || !(double(q.bodies.extent[s]) < longest)) return;
-    std::vector<uint32_t> group = wholeSolids({s}, q.bodies);
-    auto crossed = [&](uint32_t g) {
-      return std::binary_search(q.crossed.begin(), q.crossed.end(), g);
-    };
-    if (std::none_of(group.begin(), group.end(), crossed) &&
-        std::find(out.begin(), out.end(), group) == out.end())
-      out.push_back(std::move(group));
-  };
-  for (const EdgePath& p : paths)
-    for (uint32_t s : p.edge->surfaces) add(s);
-  findHiders(q);
-  for (const HiddenPath& h : q.hidden)
-    for (uint32_t s : h.by) add(s);
+  const double direct = double(glm::distance(q.source, q.L));
+  std::vector<SmallGroup> out;
+  auto crossed = [&](uint32_t g) { return std::binary_search(q.crossed.begin(), q.crossed.end(), g); };
+  for (const EdgePath& p : paths) {
+    const double excess = p.length - direct;
+    if (p.atEnd || !(excess < 0.5 * longest)) continue;
+    for (uint32_t s : p.edge->surfaces) {
+      if (s >= q.bodies.extent.size() || !(double(q.bodies.extent[s]) < longest)) continue;
+      std::vector<uint32_t> group = smallGroupOf(s, longest, q.bodies);
+      if (std::any_of(group.begin(), group.end(), crossed)) continue;
+      auto at = std::find_if(out.begin(), out.end(),
+                             [&](const SmallGroup& g) { return g.surfaces == group; });
+      if (at == out.end()) {
+        float extent = 0.f;  // of the faces that stand free (a box's bottom on the floor does not)
+        for (uint32_t g : group)
+          if (std::isfinite(q.bodies.extent[g])) extent = std::max(extent, q.bodies.extent[g]);
+        at = out.insert(out.end(), SmallGroup{std::move(group), extent, excess});
+      }
+      at->excess = std::min(at->excess, excess);
+    }
+  }
   return out;
 }
 
-/// Per group of small surfaces (smallSurfaces) that the line of sight does not cross, at most
-/// the sum without it times kLitRipple in the bands whose wavelength exceeds its extent
-/// (heldBound).
+/// Whether the group's own edge paths carry, in each of the first `bands` bands, at most
+/// kSmallShare of the sum's pressure: taking them away cannot lower the sum to 1 / kLitRipple
+/// of itself, so the bound cannot hold it.
+bool weakGroup(const std::vector<EdgePath>& paths, const SmallGroup& group, int bands,
+               const Bands& sum, const BoundQuery& q) {
+  // (1 - s)^2 kLitRipple >= 1 for s <= 1 - 1 / sqrt(1.37) = 0.146.
+  constexpr double kSmallShare = 0.14;
+  for (int k = 0; k < bands; ++k) {
+    double own = 0.0;
+    for (const EdgePath& p : paths)
+      if (std::binary_search(group.surfaces.begin(), group.surfaces.end(), p.edge->surfaces[0]) ||
+          std::binary_search(group.surfaces.begin(), group.surfaces.end(), p.edge->surfaces[1]))
+        own += bandAmplitude(p, k, q.speedOfSound);
+    if (own > kSmallShare * std::sqrt(4.0 * std::numbers::pi * double(sum[k]))) return false;
+  }
+  return true;
+}
+
+/// Per group of small surfaces (smallSurfaces), at most the sum without it times kLitRipple in
+/// the bands whose wavelength exceeds its extent and twice its least path excess (heldBound);
+/// `sum` the coherent sum with everything in place.
 Bands smallSurfaceBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
-                        BoundQuery& q) {
+                        const Bands& sum, BoundQuery& q) {
   Bands bound(1e30f);
-  for (const std::vector<uint32_t>& group : smallSurfaces(paths, q)) {
-    float extent = 0.f;
-    for (uint32_t s : group) extent = std::max(extent, q.bodies.extent[s]);
-    const Bands without = sumWithout(paths, q, group, coherent);
-    for (int k = 0; k < kNumBands; ++k)
-      if (double(extent) < q.speedOfSound / bandCentreExactHz(k))
-        bound[k] = std::min(bound[k], kLitRipple * without[k]);
+  for (const SmallGroup& group : smallSurfaces(paths, q)) {
+    auto small = [&](int k) {  // the bands where it holds are the lowest ones
+      const double wavelength = q.speedOfSound / bandCentreExactHz(k);
+      return double(group.extent) < wavelength && group.excess < 0.5 * wavelength;
+    };
+    int bands = 0;
+    while (bands < kNumBands && small(bands)) ++bands;
+    if (weakGroup(paths, group, bands, sum, q)) continue;
+    const Bands without = sumWithout(paths, q, group.surfaces, coherent, bands);
+    for (int k = 0; k < bands; ++k) bound[k] = std::min(bound[k], kLitRipple * without[k]);
   }
   return bound;
 }
@@ -246,10 +337,10 @@ void crossLineOfSight(bool lineOfSight, BoundQuery& q) {
 }
 
 Bands heldBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
-                const EdgePath* throughSlit, const Bands& free, BoundQuery& q) {
+                const EdgePath* throughSlit, const Bands& free, const Bands& sum, BoundQuery& q) {
   // Blocked, but by surfaces not known (a grazing segment's crossings): the free field alone.
   if (!coherent.visible && q.crossed.empty()) return free;
-  const Bands bound = smallSurfaceBound(paths, coherent, q);
+  const Bands bound = smallSurfaceBound(paths, coherent, sum, q);
   if (!coherent.visible) return min(bound, blockedBound(paths, coherent, free, q));
   if (!throughSlit) return bound;
   return min(bound, slitBound(paths, coherent, *throughSlit, q));

@@ -41,11 +41,12 @@ uint32_t surfaceOf(const std::vector<uint32_t>& surfaces, uint32_t triangle);
 bool crossedSurfaces(const Tracer& tracer, TraceRay ray, const std::vector<uint32_t>& surfaces,
                      std::vector<uint32_t>& out);
 
-/// A path one of whose legs is blocked, and the surfaces that block its legs (none known:
-/// `known` false, never reopened).
+/// A path one of whose legs is blocked, and the surfaces that block its legs, found when first
+/// asked (`searched`; none known: `known` false, never reopened).
 struct HiddenPath {
   EdgePath path;
   std::vector<uint32_t> by;
+  bool searched = false;
   bool known = false;
 };
 
@@ -63,7 +64,6 @@ struct BoundQuery {
   /// The flat surfaces the line of sight crosses, sorted (crossLineOfSight); empty when it is
   /// free or they are not known.
   std::vector<uint32_t> crossed;
-  bool hiddenKnown = false;  // hidden[].by filled
   float speedOfSound;
   Bands airPerMetre;
   const Directivity& directivity;
@@ -95,8 +95,10 @@ void crossLineOfSight(bool lineOfSight, BoundQuery& q);
 ///    door leaf swung 70 to 85 degrees beside a doorway's line of sight read 6 to 9 dB above
 ///    the open doorway at 63 Hz where a wave simulation of the same scene reads it within
 ///    1.5 dB (docs/validation.md, "Doors against a wave simulation").
-/// Without a bound, 1e30 in every band. Band intensities in 1/m^2 (coherentIntensity's scale).
+/// `sum`: the coherent sum itself (the small-surface bound is skipped where a surface's own
+/// paths are too weak to matter). Without a bound, 1e30 in every band. Band intensities in
+/// 1/m^2 (coherentIntensity's scale).
 Bands heldBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
-                const EdgePath* throughSlit, const Bands& free, BoundQuery& q);
+                const EdgePath* throughSlit, const Bands& free, const Bands& sum, BoundQuery& q);
 
 }  // namespace dpc

@@ -104,7 +104,6 @@ SpecularScene::SpecularScene(const Mesh& mesh, const std::vector<ObjectDesc>& ob
                              const Geometry& geometry, const Tracer& tracer,
                              const Bands& airPerMetre, float speedOfSound)
     : faces_(meshesOf(mesh, objects)),
-      reflectors_(meshesOf(mesh, objects), faces_),
       geometry_(geometry),
       tracer_(tracer),
       airPerMetre_(airPerMetre),
@@ -193,27 +192,6 @@ bool SpecularScene::visible(const SpecularPath& path, const glm::vec3& source,
   return true;
 }
 
-Bands SpecularScene::smallFaceFactor(const SpecularSequence& seq, const glm::vec3& source,
-                                     double length, const SpecularPath& path) const {
-  Bands factor(1.f);
-  glm::dvec3 from(source);
-  double before = 0.0;
-  for (uint32_t i = 0; i < seq.order; ++i) {
-    const glm::dvec3 p(path.points[i]);
-    before += glm::length(p - from);
-    const uint32_t face = seq.triangles[i];
-    if (reflectors_.area(face) > 0.f && face < world_.size()) {
-      const Triangle& t = world_[face];
-      const glm::dvec3 n = glm::normalize(glm::cross(glm::dvec3(t.v1 - t.v0), glm::dvec3(t.v2 - t.v0)));
-      const double cosIncidence = std::abs(glm::dot(n, glm::normalize(p - from)));
-      factor *= reflectors_.factor(face, cosIncidence, before, length - before,
-                                   double(speedOfSound_));
-    }
-    from = p;
-  }
-  return factor;
-}
-
 bool SpecularScene::validate(const SpecularSequence& seq, const glm::vec3& source,
                              const glm::vec3& listener, float radius, SpecularPath& path) const {
   path.order = seq.order;
@@ -229,7 +207,7 @@ bool SpecularScene::validate(const SpecularSequence& seq, const glm::vec3& sourc
   const glm::vec3 toLast = path.points[seq.order - 1] - listener;
   const float toLastLength = glm::length(toLast);
   path.direction = toLastLength > 0.f ? toLast / toLastLength : glm::vec3(0.f);
-  Bands factor = smallFaceFactor(seq, source, length, path);
+  Bands factor(1.f);
   for (uint32_t i = 0; i < seq.order; ++i)
     factor *= geometry_.reflectance(seq.triangles[i]) *
               (Bands(1.f) - geometry_.scattering(seq.triangles[i]));

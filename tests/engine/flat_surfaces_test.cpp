@@ -63,3 +63,45 @@ TEST_CASE("Flat surfaces: a corner written once per face is still one point", "[
   CHECK(a == b);
   CHECK(panelSurfaces(a, 3) == std::vector<uint32_t>{0, 0, 1});
 }
+
+TEST_CASE("Free-standing surfaces: a leaf and a box's faces stand free, a room's walls and a "
+          "lintel panel between jambs do not",
+          "[diffraction]") {
+  // freeStandingExtents (engine/diffraction_edges.h): three quarters of a surface's boundary
+  // must be edges that bound it as a free-standing surface's rim does.
+  auto extents = [](const Mesh& m) {
+    const std::vector<uint32_t> s = flatSurfaces(m);
+    const std::vector<float> e =
+        freeStandingExtents(m, s, surfaceBodies(m, s), candidateEdges(m, s));
+    std::vector<float> perTriangle;
+    for (uint32_t t : s) perTriangle.push_back(e[t]);
+    return perTriangle;
+  };
+  // The shoebox: closed, 12 m across, a room: no wall stands free.
+  const SceneDesc room = test::makeShoebox({10, 3, 7}, Bands(0.1f), 0.f, {2, 1, 2}, {8, 1, 5});
+  for (float e : extents(room.mesh)) CHECK(std::isinf(e));
+  // A wall meshed with T-junctions round a doorway: the jambs full height, a lintel panel between
+  // them whose sides meet the jambs (sealed: 2 of its 3.8 m of boundary are free); a leaf beside
+  // it, a gap from the wall (all its boundary free: it stands free, 1.7 m x 2.09 m across).
+  Mesh wall;
+  const glm::vec3 y{0, 1, 0}, z{0, 0, 1};
+  test::addPanel(wall, {6, 0, 0}, 2.f * z, 3.f * y, 0);
+  test::addPanel(wall, {6, 2.1f, 2}, 1.f * z, 0.9f * y, 0);
+  test::addPanel(wall, {6, 0, 3}, 2.f * z, 3.f * y, 0);
+  test::addPanel(wall, {6.01f, 0, 2.01f}, glm::vec3(0.7f, 0, 0.7f), 2.09f * y, 0);
+  const std::vector<float> w = extents(wall);
+  CHECK(std::isinf(w[4]));  // the lintel panel
+  CHECK(w[12] == Approx(std::sqrt(0.98 + 2.09 * 2.09)).epsilon(1e-4));  // the leaf's diagonal
+  // A solid box 1 m across: every face stands free.
+  Mesh box;
+  for (int i = 0; i < 8; ++i)
+    box.vertices.push_back({(i & 1) ? 1.f : 0.f, (i & 2) ? 1.f : 0.f, (i & 4) ? 1.f : 0.f});
+  const int quads[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1},
+                           {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
+  for (const auto& q : quads) {
+    box.triangles.push_back({uint32_t(q[0]), uint32_t(q[2]), uint32_t(q[1])});
+    box.triangles.push_back({uint32_t(q[0]), uint32_t(q[3]), uint32_t(q[2])});
+  }
+  box.materialIndex.assign(box.triangles.size(), 0);
+  for (float e : extents(box)) CHECK(e == Approx(std::sqrt(2.0)).epsilon(1e-4));
+}

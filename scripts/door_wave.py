@@ -100,7 +100,17 @@ def write_scene(tmp, name, angle):
                                  'air_absorption': False})
     with open(path, 'w') as f:
         json.dump(scene, f, indent=1)
+    # The engine's renders without the wave band (it joins the IR only, not --er-out, and would
+    # simulate the cube for every render).
+    scene['wave']['enabled'] = False
+    with open(rays_scene(path), 'w') as f:
+        json.dump(scene, f, indent=1)
     return path
+
+
+def rays_scene(path):
+    """The scene file of `path` without the wave band (write_scene writes both)."""
+    return path[:-len('.json')] + '_rays.json'
 
 
 def window_end(p):
@@ -130,7 +140,7 @@ def engine_levels(build, scene, tmp, name):
     out = []
     for k, (p, _) in enumerate(RECEIVERS):
         er = os.path.join(tmp, '%s_%d.csv' % (name, k))
-        subprocess.run([os.path.join(build, 'apps', 'dpc-demo'), scene, '--offline',
+        subprocess.run([os.path.join(build, 'apps', 'dpc-demo'), rays_scene(scene), '--offline',
                         os.path.join(tmp, 'out.wav'), '--er-out', er, '--listener', 'l%d' % k,
                         '--duration', '0.3', '--quiet'], check=True, capture_output=True)
         free = 1 / (4 * math.pi * float(np.linalg.norm(np.subtract(p, SOURCE))) ** 2)

@@ -215,7 +215,6 @@ EdgeDiffraction::EdgeDiffraction(const Mesh& mesh)
       bodies_(surfaceBodies(mesh, surfaces_)),
       edges_(candidateEdges(mesh, surfaces_)) {
   bodies_.extent = freeStandingExtents(mesh, surfaces_, bodies_, edges_);
-  bodies_.box = surfaceBoxes(mesh, surfaces_);
   bodies_.edges = surfaceEdges(bodies_.box.size(), edges_);
 }
 

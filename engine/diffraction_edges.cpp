@@ -7,8 +7,8 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/vector_relational.hpp>
-#include <numbers>
 #include <limits>
+#include <numbers>
 #include <numeric>
 #include <unordered_map>
 #include <utility>
@@ -330,6 +330,24 @@ std::vector<uint32_t> flatSurfaces(const Mesh& mesh) {
   return surface;
 }
 
+namespace {
+
+/// Per flat surface, its triangles' bounding box (m).
+std::vector<std::pair<glm::vec3, glm::vec3>> surfaceBoxes(const Mesh& mesh,
+                                                          const std::vector<uint32_t>& surfaces) {
+  const size_t count =
+      surfaces.empty() ? 0 : size_t(*std::max_element(surfaces.begin(), surfaces.end())) + 1;
+  std::vector<std::pair<glm::vec3, glm::vec3>> box(count, {glm::vec3(1e30f), glm::vec3(-1e30f)});
+  for (size_t t = 0; t < mesh.triangles.size(); ++t)
+    for (uint32_t v : mesh.triangles[t]) {
+      box[surfaces[t]].first = glm::min(box[surfaces[t]].first, mesh.vertices[v]);
+      box[surfaces[t]].second = glm::max(box[surfaces[t]].second, mesh.vertices[v]);
+    }
+  return box;
+}
+
+}  // namespace
+
 SurfaceBodies surfaceBodies(const Mesh& mesh, const std::vector<uint32_t>& surfaces) {
   const std::vector<uint32_t> id = weldedVertexIds(mesh);
   std::vector<uint32_t> parent(mesh.vertices.size());
@@ -352,6 +370,7 @@ SurfaceBodies surfaceBodies(const Mesh& mesh, const std::vector<uint32_t>& surfa
     const uint32_t b = number.try_emplace(r, uint32_t(number.size())).first->second;
     if (out.body[surfaces[t]] == UINT32_MAX) out.body[surfaces[t]] = b;
   }
+  out.box = surfaceBoxes(mesh, surfaces);
   out.members.resize(number.size());
   for (uint32_t s = 0; s < count; ++s)
     if (out.body[s] != UINT32_MAX) out.members[out.body[s]].push_back(s);
@@ -370,19 +389,12 @@ namespace {
 
 /// Per body, whether it is a solid object: closed and less than kSolidExtent across (a room is
 /// closed too, and larger; windings differ between exporters, so they cannot tell).
-std::vector<bool> solidBodies(const Mesh& mesh, const std::vector<uint32_t>& surfaces,
-                              const SurfaceBodies& bodies) {
-  std::vector<std::pair<glm::vec3, glm::vec3>> box(bodies.closed.size(),
-                                                   {glm::vec3(1e30f), glm::vec3(-1e30f)});
-  for (size_t t = 0; t < mesh.triangles.size(); ++t)
-    for (uint32_t v : mesh.triangles[t]) {
-      auto& [lo, hi] = box[bodies.body[surfaces[t]]];
-      lo = glm::min(lo, mesh.vertices[v]);
-      hi = glm::max(hi, mesh.vertices[v]);
-    }
-  std::vector<bool> solid(box.size());
-  for (size_t b = 0; b < solid.size(); ++b)
-    solid[b] = bodies.closed[b] && glm::distance(box[b].first, box[b].second) < kSolidExtent;
+std::vector<bool> solidBodies(const SurfaceBodies& bodies) {
+  std::vector<bool> solid(bodies.closed.size());
+  for (size_t b = 0; b < solid.size(); ++b) {
+    const auto [lo, hi] = boxOfSurfaces(bodies.members[b], bodies);
+    solid[b] = bodies.closed[b] && glm::distance(lo, hi) < kSolidExtent;
+  }
   return solid;
 }
 
@@ -405,7 +417,6 @@ std::vector<float> freeStandingExtents(const Mesh& mesh, const std::vector<uint3
   const size_t count =
       surfaces.empty() ? 0 : size_t(*std::max_element(surfaces.begin(), surfaces.end())) + 1;
   const std::vector<uint32_t> id = weldedVertexIds(mesh);
-  const std::vector<std::pair<glm::vec3, glm::vec3>> box = surfaceBoxes(mesh, surfaces);
   // Each surface's triangles once (a double-sided copy has the same corners), then their sides
   // as (surface, welded corners): a side used once is the surface's boundary.
   std::vector<std::array<uint32_t, 4>> triangles, sides;
@@ -432,7 +443,7 @@ std::vector<float> freeStandingExtents(const Mesh& mesh, const std::vector<uint3
           double(glm::distance(mesh.vertices[sides[i][1]], mesh.vertices[sides[i][2]]));
     i = j;
   }
-  const std::vector<bool> solid = solidBodies(mesh, surfaces, bodies);
+  const std::vector<bool> solid = solidBodies(bodies);
   for (const DiffractionEdge& e : edges) {
     if (!diffracts(e, solid, bodies)) continue;
     diffracting[e.surfaces[0]] += double(e.length);
@@ -441,20 +452,18 @@ std::vector<float> freeStandingExtents(const Mesh& mesh, const std::vector<uint3
   std::vector<float> extent(count, std::numeric_limits<float>::infinity());
   for (size_t s = 0; s < count; ++s)
     if (boundary[s] > 0.0 && diffracting[s] >= kFreeStanding * boundary[s])
-      extent[s] = glm::distance(box[s].first, box[s].second);
+      extent[s] = glm::distance(bodies.box[s].first, bodies.box[s].second);
   return extent;
 }
 
-std::vector<std::pair<glm::vec3, glm::vec3>> surfaceBoxes(const Mesh& mesh,
-                                                          const std::vector<uint32_t>& surfaces) {
-  const size_t count =
-      surfaces.empty() ? 0 : size_t(*std::max_element(surfaces.begin(), surfaces.end())) + 1;
-  std::vector<std::pair<glm::vec3, glm::vec3>> box(count, {glm::vec3(1e30f), glm::vec3(-1e30f)});
-  for (size_t t = 0; t < mesh.triangles.size(); ++t)
-    for (uint32_t v : mesh.triangles[t]) {
-      box[surfaces[t]].first = glm::min(box[surfaces[t]].first, mesh.vertices[v]);
-      box[surfaces[t]].second = glm::max(box[surfaces[t]].second, mesh.vertices[v]);
-    }
+std::pair<glm::vec3, glm::vec3> boxOfSurfaces(const std::vector<uint32_t>& surfaces,
+                                              const SurfaceBodies& bodies) {
+  std::pair<glm::vec3, glm::vec3> box{glm::vec3(1e30f), glm::vec3(-1e30f)};
+  for (uint32_t s : surfaces) {
+    if (s >= bodies.box.size()) return {glm::vec3(-1e30f), glm::vec3(1e30f)};
+    box.first = glm::min(box.first, bodies.box[s].first);
+    box.second = glm::max(box.second, bodies.box[s].second);
+  }
   return box;
 }
 

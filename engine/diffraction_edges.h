@@ -23,7 +23,8 @@ namespace dpc {
 std::vector<uint32_t> flatSurfaces(const Mesh& mesh);
 
 /// The bodies of the mesh's flat surfaces (SurfaceBodies, engine/diffraction.h), `surfaces`
-/// numbered as flatSurfaces(mesh) gives them.
+/// numbered as flatSurfaces(mesh) gives them: body, closed, members and box filled (extent and
+/// edges are freeStandingExtents's and surfaceEdges's).
 SurfaceBodies surfaceBodies(const Mesh& mesh, const std::vector<uint32_t>& surfaces);
 
 /// m: a closed body less than this across is a solid object (a box leaf, a pillar, a cabinet),
@@ -46,9 +47,10 @@ std::vector<float> freeStandingExtents(const Mesh& mesh, const std::vector<uint3
                                        const SurfaceBodies& bodies,
                                        const std::vector<DiffractionEdge>& edges);
 
-/// Per flat surface (`surfaces`, flatSurfaces(mesh)), its triangles' bounding box (m).
-std::vector<std::pair<glm::vec3, glm::vec3>> surfaceBoxes(const Mesh& mesh,
-                                                          const std::vector<uint32_t>& surfaces);
+/// The bounding box (m) of the flat surfaces listed (SurfaceBodies::box); every point when one
+/// lies outside `bodies` (a moving object's), none when the list is empty.
+std::pair<glm::vec3, glm::vec3> boxOfSurfaces(const std::vector<uint32_t>& surfaces,
+                                              const SurfaceBodies& bodies);
 
 /// Per flat surface, the indices into `edges` of the edges on its faces.
 std::vector<std::vector<uint32_t>> surfaceEdges(size_t surfaceCount,

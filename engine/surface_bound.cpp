@@ -25,17 +25,6 @@ bool hidersKnown(HiddenPath& h, const BoundQuery& q) {
   return h.known;
 }
 
-/// The bounding box of the surfaces in `removed` (everything when moving objects are among them).
-std::pair<glm::vec3, glm::vec3> boxOf(const std::vector<uint32_t>& removed, const BoundQuery& q) {
-  std::pair<glm::vec3, glm::vec3> box{glm::vec3(1e30f), glm::vec3(-1e30f)};
-  for (uint32_t s : removed) {
-    if (s >= q.bodies.box.size()) return {glm::vec3(-1e30f), glm::vec3(1e30f)};
-    box.first = glm::min(box.first, q.bodies.box[s].first);
-    box.second = glm::max(box.second, q.bodies.box[s].second);
-  }
-  return box;
-}
-
 /// Whether the segment of `ray` meets the box grown by kLegEpsilon (slab test).
 bool meetsBox(const TraceRay& ray, const std::pair<glm::vec3, glm::vec3>& box) {
   float t0 = ray.tnear, t1 = ray.tfar;
@@ -114,7 +103,7 @@ std::vector<EdgePath> pathsWithout(const std::vector<EdgePath>& paths, BoundQuer
     if (!edgeGone(p)) kept.push_back(p);
   for (const EdgePath& p : q.closed)
     if (!edgeGone(p) && gone(p.gapCloser)) kept.push_back(p);
-  const auto box = boxOf(removed, q);  // a hider lies in it
+  const auto box = boxOfSurfaces(removed, q.bodies);  // a hider lies in it
   for (HiddenPath& h : q.hidden) {
     if (edgeGone(h.path)) continue;
     const auto legs = legRays(q.source, q.L, h.path);
@@ -198,13 +187,9 @@ struct SmallGroup {
 /// s alone (a leaf welded to its wall), a closed body's faces together (wholeSolids).
 std::vector<uint32_t> smallGroupOf(uint32_t s, double wavelength, const SurfaceBodies& bodies) {
   const uint32_t b = bodies.body[s];
-  if (b < bodies.members.size() && !bodies.box.empty()) {
-    std::pair<glm::vec3, glm::vec3> box{glm::vec3(1e30f), glm::vec3(-1e30f)};
-    for (uint32_t m : bodies.members[b]) {
-      box.first = glm::min(box.first, bodies.box[m].first);
-      box.second = glm::max(box.second, bodies.box[m].second);
-    }
-    if (double(glm::distance(box.first, box.second)) < wavelength) return bodies.members[b];
+  if (b < bodies.members.size()) {
+    const auto [lo, hi] = boxOfSurfaces(bodies.members[b], bodies);
+    if (double(glm::distance(lo, hi)) < wavelength) return bodies.members[b];
   }
   return wholeSolids({s}, bodies);
 }
@@ -239,19 +224,32 @@ std::vector<SmallGroup> smallSurfaces(const std::vector<EdgePath>& paths, const 
   return out;
 }
 
-/// Whether the group's own edge paths carry, in each of the first `bands` bands, at most
-/// kSmallShare of the sum's pressure: taking them away cannot lower the sum to 1 / kLitRipple
-/// of itself, so the bound cannot hold it.
-bool weakGroup(const std::vector<EdgePath>& paths, const SmallGroup& group, int bands,
-               const Bands& sum, const BoundQuery& q) {
+/// The bands (the lowest ones) where a group's bound applies: its extent under the wavelength,
+/// its least path excess under half of it.
+int smallBands(const SmallGroup& group, float speedOfSound) {
+  int bands = 0;
+  while (bands < kNumBands) {
+    const double wavelength = speedOfSound / bandCentreExactHz(bands);
+    if (!(double(group.extent) < wavelength && group.excess < 0.5 * wavelength)) break;
+    ++bands;
+  }
+  return bands;
+}
+
+/// Whether the group's own edge paths (their band amplitudes `amplitude`, bandAmplitude) carry,
+/// in each of the first `bands` bands, at most kSmallShare of the sum's pressure: taking them
+/// away cannot lower the sum to 1 / kLitRipple of itself, so the bound cannot hold it.
+bool weakGroup(const std::vector<EdgePath>& paths, const std::vector<Bands>& amplitude,
+               const SmallGroup& group, int bands, const Bands& sum) {
   // (1 - s)^2 kLitRipple >= 1 for s <= 1 - 1 / sqrt(1.37) = 0.146.
   constexpr double kSmallShare = 0.14;
+  const auto& g = group.surfaces;
   for (int k = 0; k < bands; ++k) {
     double own = 0.0;
-    for (const EdgePath& p : paths)
-      if (std::binary_search(group.surfaces.begin(), group.surfaces.end(), p.edge->surfaces[0]) ||
-          std::binary_search(group.surfaces.begin(), group.surfaces.end(), p.edge->surfaces[1]))
-        own += bandAmplitude(p, k, q.speedOfSound);
+    for (size_t j = 0; j < paths.size(); ++j)
+      if (std::binary_search(g.begin(), g.end(), paths[j].edge->surfaces[0]) ||
+          std::binary_search(g.begin(), g.end(), paths[j].edge->surfaces[1]))
+        own += double(amplitude[j][k]);
     if (own > kSmallShare * std::sqrt(4.0 * std::numbers::pi * double(sum[k]))) return false;
   }
   return true;
@@ -263,14 +261,15 @@ bool weakGroup(const std::vector<EdgePath>& paths, const SmallGroup& group, int 
 Bands smallSurfaceBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
                         const Bands& sum, BoundQuery& q) {
   Bands bound(1e30f);
-  for (const SmallGroup& group : smallSurfaces(paths, q)) {
-    auto small = [&](int k) {  // the bands where it holds are the lowest ones
-      const double wavelength = q.speedOfSound / bandCentreExactHz(k);
-      return double(group.extent) < wavelength && group.excess < 0.5 * wavelength;
-    };
-    int bands = 0;
-    while (bands < kNumBands && small(bands)) ++bands;
-    if (weakGroup(paths, group, bands, sum, q)) continue;
+  const std::vector<SmallGroup> groups = smallSurfaces(paths, q);
+  int most = 0;
+  for (const SmallGroup& group : groups) most = std::max(most, smallBands(group, q.speedOfSound));
+  std::vector<Bands> amplitude(paths.size(), Bands(0.f));  // each path's, once
+  for (size_t j = 0; j < paths.size(); ++j)
+    for (int k = 0; k < most; ++k) amplitude[j][k] = float(bandAmplitude(paths[j], k, q.speedOfSound));
+  for (const SmallGroup& group : groups) {
+    const int bands = smallBands(group, q.speedOfSound);
+    if (bands == 0 || weakGroup(paths, amplitude, group, bands, sum)) continue;
     const Bands without = sumWithout(paths, q, group.surfaces, coherent, bands);
     for (int k = 0; k < bands; ++k) bound[k] = std::min(bound[k], kLitRipple * without[k]);
   }

@@ -228,8 +228,17 @@ def main():
     args = ap.parse_args()
     stored = None
     if args.engine_only:
-        with open(args.json) as f:
-            stored = json.load(f)
+        try:
+            with open(args.json) as f:
+                stored = json.load(f)
+            missing = [name_of(a) for a in ANGLES if name_of(a) not in stored]
+        except (OSError, ValueError) as e:
+            sys.exit('door_wave: %s: cannot read the stored FDTD levels (%s)' % (args.json, e))
+        if missing:
+            sys.exit('door_wave: %s: no FDTD levels for %s' % (args.json, ', '.join(missing)))
+    demo = os.path.join(args.build, 'apps', 'dpc-demo')
+    if not os.access(demo, os.X_OK):
+        sys.exit('door_wave: --build %s: no dpc-demo in apps/' % args.build)
     results = {}
     with tempfile.TemporaryDirectory() as tmp:
         for angle in ANGLES:
@@ -240,9 +249,11 @@ def main():
             fdtd = stored[name]['fdtd'] if stored else fdtd_levels(args.build, scene, tmp, file)
             results[name] = {'fdtd': fdtd, 'engine': engine_levels(args.build, scene, tmp, file)}
     print(table(results))
-    if not args.engine_only:
-        with open(args.json, 'w') as f:
+    if not args.engine_only:  # written whole or not at all
+        partial = args.json + '.partial'
+        with open(partial, 'w') as f:
             json.dump(results, f, indent=1)
+        os.replace(partial, args.json)
     if args.plot:
         plot(results, args.plot)
     if args.check:

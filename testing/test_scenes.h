@@ -89,6 +89,22 @@ inline void addPanel(Mesh& mesh, glm::vec3 o, glm::vec3 u, glm::vec3 v, uint32_t
   }
 }
 
+/// A solid cube [0, size]^3 (8 shared corners, 12 triangles, normals out into the air, material
+/// 0): its edges are 90-degree wedges, one closed body.
+inline Mesh solidBox(float size) {
+  Mesh m;
+  for (int i = 0; i < 8; ++i)
+    m.vertices.push_back({(i & 1) ? size : 0.f, (i & 2) ? size : 0.f, (i & 4) ? size : 0.f});
+  const int quads[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1},
+                           {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
+  for (const auto& q : quads) {  // each quad wound inward as listed: written the other way
+    m.triangles.push_back({uint32_t(q[0]), uint32_t(q[2]), uint32_t(q[1])});
+    m.triangles.push_back({uint32_t(q[0]), uint32_t(q[3]), uint32_t(q[2])});
+  }
+  m.materialIndex.assign(m.triangles.size(), 0);
+  return m;
+}
+
 /// A 4.1 x 2.7 x 3.3 m box (absorption 0.08) with a partition of another material (0.4) at
 /// x = 1.7 m from the floor to 1.6 m, z in [0, 1.9] m, the wave band on up to 250 Hz: a room
 /// with no symmetry to hide an error of the wave solver. Source (0.7, 1.1, 0.9) m, listener

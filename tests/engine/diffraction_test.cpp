@@ -16,6 +16,7 @@
 #include "engine/geometry.h"
 #include "engine/propagation.h"
 #include "scene/scene.h"
+#include "testing/test_scenes.h"
 
 using namespace dpc;
 
@@ -29,22 +30,6 @@ Mesh screen() {
   m.vertices = {{0, 0, -500}, {0, 0, 500}, {0, -500, 500}, {0, -500, -500}};
   m.triangles = {{0, 1, 2}, {0, 2, 3}};
   m.materialIndex = {0, 0};
-  return m;
-}
-
-/// Solid box [0,2]^3 with outward normals (into the air): its edges are 90-degree wedges.
-Mesh solidBox() {
-  Mesh m;
-  for (int i = 0; i < 8; ++i)
-    m.vertices.push_back({(i & 1) ? 2.f : 0.f, (i & 2) ? 2.f : 0.f, (i & 4) ? 2.f : 0.f});
-  const int quads[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1},
-                           {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
-  for (const auto& q : quads) {
-    m.triangles.push_back({uint32_t(q[0]), uint32_t(q[1]), uint32_t(q[2])});
-    m.triangles.push_back({uint32_t(q[0]), uint32_t(q[2]), uint32_t(q[3])});
-  }
-  for (auto& t : m.triangles) std::swap(t[1], t[2]);  // quads above wind inward: flip
-  m.materialIndex.assign(m.triangles.size(), 0);
   return m;
 }
 
@@ -148,7 +133,7 @@ TEST_CASE("Diffraction: edges found at load time", "[diffraction]") {
   const EdgeDiffraction s(screen());
   CHECK(s.edges().size() == 4);  // the four rims; the coplanar diagonal is no wedge
   for (const auto& e : s.edges()) CHECK(e.open == Approx(2 * std::numbers::pi));
-  const EdgeDiffraction box(solidBox());
+  const EdgeDiffraction box(test::solidBox(2.f));
   CHECK(box.edges().size() == 12);  // diagonals of the faces are flat
   // 90 or 270 degrees from face 0 depending on the winding; either way the wedges are
   // pi/2 (the solid) and 3 pi/2 (the air round it).
@@ -162,7 +147,7 @@ TEST_CASE("Diffraction: a box written with a corner per face has the same 12 edg
   // Exporters often write each face's corners separately; edges must be matched by position,
   // or every edge of a solid becomes two coincident thin screens (open angle 2 pi) and the
   // diffracted sound is counted twice.
-  const Mesh shared = solidBox();
+  const Mesh shared = test::solidBox(2.f);
   Mesh split;
   for (const auto& t : shared.triangles) {
     const uint32_t base = uint32_t(split.vertices.size());
@@ -214,7 +199,7 @@ TEST_CASE("Diffraction: thin screen follows Kurze-Anderson across Fresnel number
 TEST_CASE("Diffraction: continuous across the shadow boundary, -6 dB on it", "[diffraction]") {
   for (int which = 0; which < 2; ++which) {
     // A screen (half-plane) and a 90-degree corner of a solid box.
-    Setup s(which == 0 ? screen() : solidBox());
+    Setup s(which == 0 ? screen() : test::solidBox(2.f));
     const glm::vec3 src = which == 0 ? glm::vec3{-5.f, -1.f, 0.f} : glm::vec3{-3.f, 1.f, 1.f};
     const glm::vec3 edgePoint = which == 0 ? glm::vec3{0.f, 0.f, 0.f} : glm::vec3{0.f, 2.f, 1.f};
     // Shadow boundary behind the edge: the line from the source through the edge, listener

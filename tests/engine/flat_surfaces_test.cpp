@@ -93,15 +93,6 @@ TEST_CASE("Free-standing surfaces: a leaf and a box's faces stand free, a room's
   CHECK(std::isinf(w[4]));  // the lintel panel
   CHECK(w[12] == Approx(std::sqrt(0.98 + 2.09 * 2.09)).epsilon(1e-4));  // the leaf's diagonal
   // A solid box 1 m across: every face stands free.
-  Mesh box;
-  for (int i = 0; i < 8; ++i)
-    box.vertices.push_back({(i & 1) ? 1.f : 0.f, (i & 2) ? 1.f : 0.f, (i & 4) ? 1.f : 0.f});
-  const int quads[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1},
-                           {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
-  for (const auto& q : quads) {
-    box.triangles.push_back({uint32_t(q[0]), uint32_t(q[2]), uint32_t(q[1])});
-    box.triangles.push_back({uint32_t(q[0]), uint32_t(q[3]), uint32_t(q[2])});
-  }
-  box.materialIndex.assign(box.triangles.size(), 0);
+  const Mesh box = test::solidBox(1.f);
   for (float e : extents(box)) CHECK(e == Approx(std::sqrt(2.0)).epsilon(1e-4));
 }

@@ -7,9 +7,11 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/vector_relational.hpp>
+#include <limits>
 #include <numbers>
 #include <utility>
 
+#include "engine/channel_path.h"
 #include "engine/coherent_sum.h"
 #include "engine/diffraction_edges.h"
 #include "engine/edge_path.h"
@@ -35,7 +37,8 @@ void findSlits(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L
     const DiffractionEdge& e = *p.edge;
     const float t = glm::dot(p.q - e.a, e.direction);
     const float reach = std::min(e.length / float(kSlitMinAspect), kGapFarthest);
-    probes[j] = {p.q, p.mouth, reach, e.direction, -t, e.length - t, e.face0, p.turn, p.airWedge};
+    probes[j] = {p.q,    p.mouth,  reach,      e.direction, -t,
+                 e.length - t, e.face0, p.turn, p.airWedge, p.through};
   }
   std::vector<GapShape> shapes(paths.size());
   probeGaps(tracer, source, L, probes, shapes);
@@ -49,12 +52,118 @@ void findSlits(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L
     EdgePath& p = paths[kept++] = paths[j];
     p.gapWidth = shapes[j].width;
     if (p.gapWidth > 0.f) {
-      makeSlit(source, L, shapes[j].from, shapes[j].to, p);
+      makeSlit(source, L - p.through, shapes[j].from, shapes[j].to, p);
       p.slitAspect = double(shapes[j].aspect);
     }
   }
   paths.resize(kept);
   markSlitOwners(paths);
+}
+
+/// m: how far either side of an edge path's leg the gaps it may thread are looked for (door
+/// gaps are 3 to 20 mm), and how far from Q along the leg (Q's own gap is the probe's).
+constexpr float kThreadReach = 0.03f;
+constexpr float kThreadStart = 0.01f;
+
+/// The rays parallel to each leg of p (each leg from Q outward: toward the source, then toward
+/// the listener), kThreadReach either side of it across the edge, from kThreadStart along it;
+/// inactive for a leg nearly along the edge or shorter than kThreadStart. `side` receives each
+/// ray's unit offset direction.
+std::array<TraceRay, 4> threadRays(const glm::vec3& source, const glm::vec3& L, const EdgePath& p,
+                                   std::array<glm::vec3, 4>& side) {
+  std::array<TraceRay, 4> out;
+  const std::array<glm::vec3, 2> ends = {source, L};
+  for (size_t i = 0; i < 2; ++i) {
+    const float length = glm::distance(p.q, ends[i]);
+    const glm::vec3 dir = (ends[i] - p.q) / std::max(length, 1e-6f);
+    const glm::vec3 across = glm::cross(dir, p.edge->direction);
+    const float sine = glm::length(across);
+    for (size_t k = 0; k < 2; ++k) {
+      side[2 * i + k] = (k == 0 ? 1.f : -1.f) / std::max(sine, 1e-6f) * across;
+      out[2 * i + k] = TraceRay{p.q + kThreadStart * dir + kThreadReach * side[2 * i + k], dir,
+                                0.f, length - kThreadStart - kLegEpsilon,
+                                sine > 0.1f && length > 2.f * kThreadStart && !p.atEnd};
+    }
+  }
+  return out;
+}
+
+/// Per ray, the first hit on a surface other than its path's edge's own two (a sheet's rim
+/// starts a parallel ray just off the sheet when its leg is oblique), in up to three rounds.
+std::vector<TraceHit> foreignHits(const BoundQuery& q, const std::vector<EdgePath>& paths,
+                                  std::vector<TraceRay> rays) {
+  std::vector<TraceHit> hits(rays.size()), found(rays.size());
+  for (int round = 0; round < 3; ++round) {
+    q.tracer.intersect(rays, hits);
+    bool again = false;
+    for (size_t i = 0; i < rays.size(); ++i) {
+      if (!rays[i].active || !hits[i].found) continue;
+      const DiffractionEdge& e = *paths[i / 4].edge;
+      const uint32_t s = surfaceOf(q.surfaces, hits[i].surface.triangle);
+      if (s == e.surfaces[0] || s == e.surfaces[1]) {
+        rays[i].tnear = hits[i].surface.t + surfaceOffset(rays[i].org, hits[i].surface.t);
+        again = true;
+        continue;
+      }
+      found[i] = hits[i];
+      rays[i].active = false;
+    }
+    if (!again) break;
+  }
+  return found;
+}
+
+/// An edge path whose leg threads a gap away from Q (a thick wall's jamb seen through the
+/// 10 mm gap beside a leaf set in the middle of the wall) is neither a free edge nor the mouth
+/// of a slit of its own: what passes there is the gap's, carried by the slit the leaf's rim or
+/// its side face bounds. Counted, the jamb took the closed door to the open doorway's level at
+/// 250-500 Hz. Threaded: a parallel ray kThreadReach to one side of a leg meets a surface not
+/// the edge's own, and from the leg's point level with that hit a ray across to the other side
+/// meets one within kThreadReach too. Such paths move to q.closed, the first surface as their
+/// gap's closer (taken away, the leg is free again: surface_bound.h).
+void dropThreadedPaths(BoundQuery& q, std::vector<EdgePath>& paths) {
+  std::vector<TraceRay> rays;
+  std::vector<glm::vec3> sides;
+  for (const EdgePath& p : paths) {
+    std::array<glm::vec3, 4> side;
+    for (const TraceRay& r : threadRays(q.source, q.L, p, side)) rays.push_back(r);
+    sides.insert(sides.end(), side.begin(), side.end());
+  }
+  const std::vector<TraceHit> hits = foreignHits(q, paths, rays);
+  // Across from the leg near the point level with each hit: the offset leans the hit up to
+  // kThreadReach tan(angle) past a sheet flush with a thick wall's face, whose reveal lies
+  // only before that plane.
+  constexpr std::array<float, 4> kSteps = {-0.5f * kThreadReach, -kGapProbeThrough,
+                                           kGapProbeThrough, 0.5f * kThreadReach};
+  std::vector<TraceRay> across(kSteps.size() * rays.size(),
+                               TraceRay{glm::vec3(0.f), glm::vec3(1.f, 0.f, 0.f), 0.f, 0.f, false});
+  for (size_t i = 0; i < rays.size(); ++i) {
+    if (!hits[i].found) continue;
+    const glm::vec3 level = rays[i].org - kThreadReach * sides[i] + hits[i].surface.t * rays[i].dir;
+    for (size_t k = 0; k < kSteps.size(); ++k)
+      across[kSteps.size() * i + k] =
+          TraceRay{level + kSteps[k] * rays[i].dir, -sides[i], 0.f, 1.05f * kThreadReach};
+  }
+  std::vector<TraceHit> closed(across.size());
+  q.tracer.intersect(across, closed);
+  auto threaded = [&](size_t i) {
+    return std::any_of(closed.begin() + long(kSteps.size() * i),
+                       closed.begin() + long(kSteps.size() * (i + 1)),
+                       [](const TraceHit& h) { return h.found; });
+  };
+  size_t kept = 0;
+  for (size_t j = 0; j < paths.size(); ++j) {
+    size_t by = 4;
+    for (size_t i = 0; i < 4 && by == 4; ++i)
+      if (threaded(4 * j + i)) by = i;
+    if (by == 4) {
+      paths[kept++] = paths[j];
+      continue;
+    }
+    paths[j].gapCloser = surfaceOf(q.surfaces, hits[4 * j + by].surface.triangle);
+    q.closed.push_back(paths[j]);
+  }
+  paths.resize(kept);
 }
 
 /// A free edge on the far side of a slit another edge found (a leaf's free edge across the
@@ -167,6 +276,24 @@ void addEndSlits(const std::vector<DiffractionEdge>& edges, bool lineOfSight, Bo
   markSlitOwners(paths);
 }
 
+/// Adds the channels (engine/channel_path.h) along the narrow faces `faces` whose legs are free
+/// and whose gap the probe finds open (a closed box leaf's gaps to its frame and the floor).
+void addChannels(const std::vector<DiffractionEdge>& edges, const std::vector<NarrowFace>& faces,
+                 BoundQuery& q, std::vector<EdgePath>& paths) {
+  std::vector<EdgePath> channels, closed;
+  for (const NarrowFace& f : faces)
+    for (const auto& [a, b] : {std::pair(f.a, f.b), std::pair(f.b, f.a)}) {
+      EdgePath p;
+      if (channelPath(edges[a], edges[b], q.source, q.L, p) && legsFree(q.tracer, q.source, q.L, p))
+        channels.push_back(p);
+    }
+  if (channels.empty()) return;
+  findSlits(q.tracer, q.source, q.L, q.surfaces, channels, closed);
+  for (const EdgePath& p : channels)
+    if (p.gapWidth > 0.f) paths.push_back(p);
+  markSlitOwners(paths);
+}
+
 /// The shortest of the direct sound (when visible), the edge paths and the slit paths: its
 /// length (m) and its arrival direction (unit vector from the listener at L).
 std::pair<float, glm::vec3> firstArrival(const std::vector<EdgePath>& paths,
@@ -216,6 +343,14 @@ EdgeDiffraction::EdgeDiffraction(const Mesh& mesh)
       edges_(candidateEdges(mesh, surfaces_)) {
   bodies_.extent = freeStandingExtents(mesh, surfaces_, bodies_, edges_);
   bodies_.edges = surfaceEdges(bodies_.box.size(), edges_);
+  narrow_ = narrowFaces(edges_, bodies_.edges);
+  // A narrow face (a thick wall's reveal, a box leaf's side) does not stand free on its own:
+  // taken away, it opens the body it closes. Its body may stand free by its other faces.
+  for (const NarrowFace& f : narrow_)
+    for (uint32_t s : edges_[f.a].surfaces)
+      if ((s == edges_[f.b].surfaces[0] || s == edges_[f.b].surfaces[1]) &&
+          s < bodies_.extent.size())
+        bodies_.extent[s] = std::numeric_limits<float>::infinity();
 }
 
 size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
@@ -233,9 +368,12 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
   std::vector<EdgePath> paths = edgePaths(edges_, lineOfSight, query);
   crossLineOfSight(lineOfSight, query);
   findSlits(tracer, source, listener.position, surfaces_, paths, query.closed);
+  dropThreadedPaths(query, paths);
+  markSlitOwners(paths);
   markSlitPartners(paths);
   markReveals(source, listener.position, paths);
   addEndSlits(edges_, lineOfSight, query, paths);
+  addChannels(edges_, narrow_, query, paths);
   if (usedEdges) {
     usedEdges->clear();
     for (const EdgePath& p : paths) usedEdges->push_back(uint32_t(p.edge - edges_.data()));

@@ -147,6 +147,11 @@ inline std::complex<double> interpolatedUtd(
   return anchors[size_t(a)] + t * (anchors[size_t(a) + 1] - anchors[size_t(a)]);
 }
 
+/// Two edges bounding one narrow flat face (engine/channel_path.h): indices into the edges.
+struct NarrowFace {
+  uint32_t a, b;
+};
+
 class EdgeDiffraction {
  public:
   /// Finds the diffracting edges of the mesh.
@@ -174,6 +179,7 @@ class EdgeDiffraction {
   std::vector<uint32_t> surfaces_;  ///< per mesh triangle, its flat surface
   SurfaceBodies bodies_;            ///< the flat surfaces' bodies (surfaceBodies)
   std::vector<DiffractionEdge> edges_;
+  std::vector<NarrowFace> narrow_;  ///< faces a channel may run along (engine/channel_path.h)
 };
 
 }  // namespace dpc

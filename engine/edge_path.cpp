@@ -93,15 +93,12 @@ glm::vec3 mouthDirection(const DiffractionEdge& e, double phiS, double phiL, dou
   return float(std::cos(mid)) * e.face0 + float(sense * std::sin(mid)) * e.normal0;
 }
 
-/// Edge e's two faces' in-plane unit vectors pointing away from it: face 0's, and face 1's at
-/// angle `open` from it toward normal0 (a free edge's face 1 is face 0's continuation).
+}  // namespace
+
 std::array<glm::vec3, 2> faceDirections(const DiffractionEdge& e) {
   return {e.face0, std::cos(e.open) * e.face0 + std::sin(e.open) * e.normal0};
 }
 
-/// True when edges a and b are the two ends of one flat face: parallel, and the line across
-/// from a to b runs along one of a's faces and back along one of b's (a reveal of a thick wall,
-/// a slab's two rims).
 bool joinedByFace(const DiffractionEdge& a, const DiffractionEdge& b) {
   constexpr float kParallel = 0.999f;
   if (std::abs(glm::dot(a.direction, b.direction)) < kParallel) return false;
@@ -115,8 +112,6 @@ bool joinedByFace(const DiffractionEdge& a, const DiffractionEdge& b) {
   };
   return along(faceDirections(a), u) && along(faceDirections(b), -u);
 }
-
-}  // namespace
 
 void setTerms(bool directVisible, EdgePath& p) {
   p.terms = utdWedgeTerms(p.wedge / kPi, p.phiL, p.phiS);
@@ -169,9 +164,11 @@ bool edgePath(const DiffractionEdge& e, const glm::vec3& source, const glm::vec3
 }
 
 std::array<TraceRay, 2> legRays(const glm::vec3& source, const glm::vec3& L, const EdgePath& p) {
-  const float r = glm::distance(source, p.q), s = glm::distance(p.q, L);
+  const float r = glm::distance(source, p.q);
+  const glm::vec3 back = p.q + p.through;
+  const float b = glm::distance(back, L);
   return {TraceRay{source, (p.q - source) / r, kLegEpsilon, r - kLegEpsilon},
-          TraceRay{p.q, (L - p.q) / s, kLegEpsilon, s - kLegEpsilon}};
+          TraceRay{back, (L - back) / b, kLegEpsilon, b - kLegEpsilon}};
 }
 
 bool legsFree(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L,
@@ -218,7 +215,7 @@ void makeSlit(const glm::vec3& source, const glm::vec3& L, float from, float to,
   sp.sinSource = sinFromAxis(toC);
   sp.sinListener = sinFromAxis(toL);
   sp.width = double(p.gapWidth);
-  sp.depth = 0.0;
+  sp.depth = double(glm::length(p.through));
   p.slitCentre = c;
 }
 
@@ -229,20 +226,39 @@ bool acrossSlit(const EdgePath& o, const EdgePath& p) {
          glm::distance(p.q, o.q + o.gapWidth * o.mouth) <= kReach * o.gapWidth;
 }
 
+namespace {
+
+/// The distance across the edges (perpendicular to o's edge) between o's and p's slit centre
+/// lines, each from its slit centre to its back mouth (the centre alone but for a channel), m.
+float slitsApart(const EdgePath& o, const EdgePath& p) {
+  const glm::vec3 e = o.edge->direction;
+  auto flat = [&](const glm::vec3& v) { return v - glm::dot(v, e) * e; };
+  auto toSegment = [&](const glm::vec3& x, const glm::vec3& a, const glm::vec3& through) {
+    const glm::vec3 d = flat(through), v = flat(x - a);
+    const float dd = glm::dot(d, d);
+    const float t = dd > 0.f ? std::clamp(glm::dot(v, d) / dd, 0.f, 1.f) : 0.f;
+    return glm::length(v - t * d);
+  };
+  return std::min({toSegment(p.slitCentre, o.slitCentre, o.through),
+                   toSegment(p.slitCentre + p.through, o.slitCentre, o.through),
+                   toSegment(o.slitCentre, p.slitCentre, p.through),
+                   toSegment(o.slitCentre + o.through, p.slitCentre, p.through)});
+}
+
+}  // namespace
+
 void markSlitOwners(std::vector<EdgePath>& paths) {
-  for (size_t k = 0; k < paths.size(); ++k) {
-    EdgePath& p = paths[k];
-    p.slitOwner = p.gapWidth > 0.f;
-    for (size_t j = 0; j < k && p.slitOwner; ++j) {
-      const EdgePath& o = paths[j];
+  for (EdgePath& p : paths) p.slitOwner = p.gapWidth > 0.f;
+  for (size_t k = 0; k < paths.size(); ++k)
+    for (size_t j = 0; j < k && paths[k].slitOwner; ++j) {
+      EdgePath &o = paths[j], &p = paths[k];
       if (!o.slitOwner || std::abs(glm::dot(o.edge->direction, p.edge->direction)) < kParallelEdges)
         continue;
-      const glm::vec3 v = p.slitCentre - o.slitCentre;
-      const float apart = glm::length(v - glm::dot(v, o.edge->direction) * o.edge->direction);
-      if (apart < 0.5f * std::max(o.gapWidth, p.gapWidth) + 1e-3f || acrossSlit(o, p))
-        p.slitOwner = false;
+      if (!(slitsApart(o, p) < 0.5f * std::max(o.gapWidth, p.gapWidth) + 1e-3f) &&
+          !acrossSlit(o, p))
+        continue;
+      (p.slit.depth < o.slit.depth ? o : p).slitOwner = false;
     }
-  }
 }
 
 void markReveals(const glm::vec3& source, const glm::vec3& L, std::vector<EdgePath>& paths) {

@@ -53,7 +53,19 @@ struct EdgePath {
   double phiS = 0.0, phiL = 0.0, wedge = 0.0;  // wedgeAngles' angles, radians
   uint32_t gapCloser = kUnknownSurface;        // the surface that closes its gap (surface_bound.h)
   bool atEnd = false;  // Q put at the edge's end: no UTD field (share 0), a slit's only
+  /// A channel's (engine/channel_path.h) offset from its front mouth's point Q to its back
+  /// mouth's, m (the slit's depth across the face it runs along); zero for every other path.
+  glm::vec3 through{0.f};
 };
+
+/// Edge e's two faces' in-plane unit vectors pointing away from it: face 0's, and face 1's at
+/// angle `open` from it toward normal0 (a free edge's face 1 is face 0's continuation).
+std::array<glm::vec3, 2> faceDirections(const DiffractionEdge& e);
+
+/// True when edges a and b are the two ends of one flat face: parallel, and the line across
+/// from a to b runs along one of a's faces and back along one of b's (a reveal of a thick wall,
+/// a slab's two rims).
+bool joinedByFace(const DiffractionEdge& a, const DiffractionEdge& b);
 
 /// The path over edge e from source to the listener centre L through the point Q of least
 /// length, its legs not yet tested (legsFree); false when Q lies outside the edge or the wedge
@@ -68,8 +80,8 @@ bool edgePath(const DiffractionEdge& e, const glm::vec3& source, const glm::vec3
 /// absent left out, and their order sums.
 void setTerms(bool directVisible, EdgePath& p);
 
-/// The path's two legs, source -> Q and Q -> L, each stopping kLegEpsilon short of its ends
-/// (the listener sphere itself is not geometry).
+/// The path's two legs, source -> Q and Q -> L (from Q + through for a channel), each stopping
+/// kLegEpsilon short of its ends (the listener sphere itself is not geometry).
 std::array<TraceRay, 2> legRays(const glm::vec3& source, const glm::vec3& L, const EdgePath& p);
 
 /// True when nothing blocks either leg of p.
@@ -86,10 +98,12 @@ void makeSlit(const glm::vec3& source, const glm::vec3& L, float from, float to,
 /// met the leaf.
 bool acrossSlit(const EdgePath& o, const EdgePath& p);
 
-/// A slit bounded by two edges (a leaf's rim and its frame's) is found from both; only the
-/// first carries its field. Same slit: parallel edges whose centre lines lie within half the
-/// wider gap (plus 1 mm) of each other, or one across the other's slit (acrossSlit: an
-/// oblique leaf's free edge and the jamb measure the opening between them differently).
+/// A slit bounded by two edges (a leaf's rim and its frame's) is found from both; only one
+/// carries its field: the shallowest (a sheet's rim before the reveal beside it, a box leaf's
+/// side face before the wall's reveal), the first of equals. Same slit: parallel edges whose
+/// centre lines (a channel's, from its front mouth to its back one) lie within half the wider
+/// gap (plus 1 mm) of each other, or one across the other's slit (acrossSlit: an oblique
+/// leaf's free edge and the jamb measure the opening between them differently).
 void markSlitOwners(std::vector<EdgePath>& paths);
 
 /// The two edges of one face that both diffract the path, the face running along the line of

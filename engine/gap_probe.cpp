@@ -45,15 +45,21 @@ bool inSolid(const GapProbe& g, const glm::vec3& p) {
   return a > double(g.airWedge);
 }
 
-/// The points of one round: which probe each belongs to, and whether it is to be tested.
+/// The points of one round: which probe each belongs to, whether it is to be tested, and
+/// whether any surface a leg meets closes it there (`hidden`: the outer points of a gap's
+/// continuation along its edge, which the gap's far side or the solid beyond it hides; a
+/// leaf set in a thick wall's doorway has the wall's faces between the source and the gap's
+/// far side, and closesMouth took them for another edge's shadow).
 struct Round {
   std::vector<size_t> probe;
   std::vector<glm::vec3> point;
   std::vector<bool> valid;
-  void add(size_t j, const glm::vec3& p, bool v = true) {
+  std::vector<bool> hidden;
+  void add(size_t j, const glm::vec3& p, bool v = true, bool h = false) {
     probe.push_back(j);
     point.push_back(p);
     valid.push_back(v);
+    hidden.push_back(h);
   }
 };
 
@@ -69,8 +75,11 @@ float distanceFromEdge(const GapProbe& g, const glm::vec3& p) {
 void appendLegs(const glm::vec3& source, const glm::vec3& listener, const GapProbe& g,
                 const glm::vec3& p, bool valid, std::vector<TraceRay>& rays) {
   const float fromEdge = distanceFromEdge(g, p);
-  for (const glm::vec3& from : {source, listener}) {
-    const glm::vec3 v = p - from;
+  const bool channel = g.through != glm::vec3(0.f);
+  for (int leg = 0; leg < 2; ++leg) {
+    const glm::vec3& from = leg == 0 ? source : listener;
+    const glm::vec3 to = leg == 0 ? p : p + g.through;
+    const glm::vec3 v = to - from;
     const float length = glm::length(v);
     if (!valid || !(length > kLegStart)) {
       rays.push_back(TraceRay{from, glm::vec3(1.f, 0.f, 0.f), 0.f, 0.f, false});
@@ -78,7 +87,7 @@ void appendLegs(const glm::vec3& source, const glm::vec3& listener, const GapPro
     }
     const glm::vec3 dir = v / length;
     float through = std::min(kGapProbeThrough, fromEdge);
-    if (inSolid(g, p + through * dir)) through = 0.f;
+    if (inSolid(g, p + through * dir) || (channel && leg == 1)) through = 0.f;
     rays.push_back(TraceRay{from, dir, kLegStart, length + through});
   }
 }
@@ -102,22 +111,44 @@ bool closesMouth(const GapProbe& g, const TraceRay& leg, const TraceHit& hit, co
            (dp < -kGapProbeThrough && df < -kGapProbeThrough));
 }
 
-/// Per point of the round, the triangle whose surface closes the mouth there (closesMouth),
-/// the source's leg's first; kNoCloser where neither leg meets one (and for untested points).
+/// The segment across the mouth from the edge's line to p (inactive at the line): a surface it
+/// meets closes the gap within p's distance (the reveal beside a leaf set in a thick wall,
+/// whose legs meet the wall's faces first, which closesMouth takes for another edge's shadow).
+TraceRay acrossRay(const GapProbe& g, const glm::vec3& p, bool valid) {
+  const glm::vec3 foot = g.q + glm::dot(p - g.q, g.along) * g.along;
+  const float length = glm::distance(foot, p);
+  if (!valid || !(length > 0.f)) return TraceRay{p, glm::vec3(1.f, 0.f, 0.f), 0.f, 0.f, false};
+  return TraceRay{foot, (p - foot) / length, surfaceOffset(foot), length};
+}
+
+/// Per point of the round, the triangle whose surface closes the mouth there (closesMouth, or
+/// met across the mouth), the source's leg's first; kNoCloser where none does (and for
+/// untested points).
 std::vector<uint32_t> run(const Tracer& tracer, const glm::vec3& source, const glm::vec3& listener,
                       std::span<const GapProbe> probes, const Round& round) {
   std::vector<TraceRay> rays;
-  rays.reserve(round.point.size() * 2);
-  for (size_t i = 0; i < round.point.size(); ++i)
-    appendLegs(source, listener, probes[round.probe[i]], round.point[i], round.valid[i], rays);
+  rays.reserve(round.point.size() * 3);
+  for (size_t i = 0; i < round.point.size(); ++i) {
+    const GapProbe& g = probes[round.probe[i]];
+    appendLegs(source, listener, g, round.point[i], round.valid[i], rays);
+    rays.push_back(acrossRay(g, round.point[i], round.valid[i]));
+  }
   std::vector<TraceHit> hits(rays.size());
   tracer.intersect(rays, hits);
   std::vector<uint32_t> closer(round.point.size(), kNoCloser);
   for (size_t i = 0; i < closer.size(); ++i) {
     const GapProbe& g = probes[round.probe[i]];
     const glm::vec3& p = round.point[i];
-    for (const size_t leg : {2 * i + 1, 2 * i})
-      if (closesMouth(g, rays[leg], hits[leg], p)) closer[i] = hits[leg].surface.triangle;
+    if (hits[3 * i + 2].found) closer[i] = hits[3 * i + 2].surface.triangle;
+    GapProbe back = g;  // the listener's leg goes to the back mouth
+    back.q += g.through;
+    for (const size_t leg : {3 * i + 1, 3 * i}) {
+      const bool listener = leg == 3 * i + 1;
+      if (round.hidden[i] ? hits[leg].found
+                          : closesMouth(listener ? back : g, rays[leg], hits[leg],
+                                        listener ? p + g.through : p))
+        closer[i] = hits[leg].surface.triangle;
+    }
   }
   return closer;
 }
@@ -248,7 +279,7 @@ void probeFlanks(const Tracer& tracer, const glm::vec3& source, const glm::vec3&
 void addGapTest(Round& round, size_t j, const GapProbe& g, float w, float a) {
   const glm::vec3 base = g.q + a * g.along;
   round.add(j, base + kInnerWidth * w * g.mouth);
-  round.add(j, base + kOuterWidth * w * g.mouth);
+  round.add(j, base + kOuterWidth * w * g.mouth, true, true);
 }
 
 /// For each gap, where it ends along its edge either side of Q: the edge's end when the gap is
@@ -313,7 +344,7 @@ void probeGaps(const Tracer& tracer, const glm::vec3& source, const glm::vec3& l
         const bool within = a >= probes[j].from && a <= probes[j].to;
         const glm::vec3 base = probes[j].q + a * probes[j].along;
         round.add(j, base + kInnerWidth * w * probes[j].mouth, within);
-        round.add(j, base + kOuterWidth * w * probes[j].mouth, within);
+        round.add(j, base + kOuterWidth * w * probes[j].mouth, within, true);
       }
   }
   if (gaps.empty()) return;

@@ -23,6 +23,9 @@
 // on both sides (no gap: what passes there is the crossing gap's) or a gap on both sides (its
 // width), 16 more rays per free path.
 //
+// A channel (a gap along a box leaf's side face, between its front and back edges) is probed
+// at its front mouth from the source and at its back mouth from the listener.
+//
 // u must point across the gap, away from the edge's own solid, in the plane perpendicular to
 // the edge, into the angles around the edge that both the source and the listener see
 // (engine/diffraction.cpp chooses it), so that a lone wedge never closes it.
@@ -58,6 +61,9 @@ struct GapProbe {
   float from = 0.f, to = 0.f;
   glm::vec3 face0{0.f}, turn{0.f};
   float airWedge = 0.f;
+  /// A channel's depth (engine/channel_path.h): the listener's legs go to each point moved by
+  /// this (m), to the channel's back mouth, and stop there; zero for an edge's own gap.
+  glm::vec3 through{0.f};
 };
 
 /// No triangle: a gap's other side not found.

@@ -89,19 +89,25 @@ inline void addPanel(Mesh& mesh, glm::vec3 o, glm::vec3 u, glm::vec3 v, uint32_t
   }
 }
 
-/// A solid cube [0, size]^3 (8 shared corners, 12 triangles, normals out into the air, material
-/// 0): its edges are 90-degree wedges, one closed body.
-inline Mesh solidBox(float size) {
-  Mesh m;
+/// Appends a solid box [lo, hi] (8 corners of its own, 12 triangles, normals out into the air,
+/// material m): its edges are 90-degree wedges, one closed body.
+inline void addSolidBox(Mesh& mesh, glm::vec3 lo, glm::vec3 hi, uint32_t m) {
+  const auto base = uint32_t(mesh.vertices.size());
   for (int i = 0; i < 8; ++i)
-    m.vertices.push_back({(i & 1) ? size : 0.f, (i & 2) ? size : 0.f, (i & 4) ? size : 0.f});
+    mesh.vertices.push_back({(i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z});
   const int quads[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1},
                            {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
   for (const auto& q : quads) {  // each quad wound inward as listed: written the other way
-    m.triangles.push_back({uint32_t(q[0]), uint32_t(q[2]), uint32_t(q[1])});
-    m.triangles.push_back({uint32_t(q[0]), uint32_t(q[3]), uint32_t(q[2])});
+    mesh.triangles.push_back({base + uint32_t(q[0]), base + uint32_t(q[2]), base + uint32_t(q[1])});
+    mesh.triangles.push_back({base + uint32_t(q[0]), base + uint32_t(q[3]), base + uint32_t(q[2])});
+    mesh.materialIndex.insert(mesh.materialIndex.end(), {m, m});
   }
-  m.materialIndex.assign(m.triangles.size(), 0);
+}
+
+/// A solid cube [0, size]^3 (addSolidBox, material 0).
+inline Mesh solidBox(float size) {
+  Mesh m;
+  addSolidBox(m, glm::vec3(0.f), glm::vec3(size), 0);
   return m;
 }
 

@@ -64,11 +64,21 @@ class MouthImpedance {
   std::array<C, kPoints> table_{};
 };
 
-/// One straight slit of the model: centre line from a to b, width w, in the wall x = 6.
+/// One straight slit of the model: centre line from a to b, width w, depth d (0: in a sheet),
+/// in a wall x = const.
 struct Slit {
   glm::dvec3 a, b;
   double width;
+  double depth = 0.0;
 };
+
+/// The slit's transfer t(X) (q = t p_i / (omega rho)) for X = k_t w and k_t d: a plane wave
+/// through the depth, driven by the blocked pressure at one mouth and loaded by both mouths'
+/// impedance (Mechel 1986; Vigran, Building Acoustics, eq. 9.4, for holes); 1 / z_r in a sheet.
+C transfer(const MouthImpedance& zr, double x, double kd) {
+  const C z = zr(x);
+  return 2.0 / (2.0 * z * std::cos(kd) + C(0.0, 1.0) * (1.0 / x + z * z * x) * std::sin(kd));
+}
 
 /// The model's pressure at the listener re the free field's amplitude 1 / d: the sum over the
 /// slits of int (j / 2 pi) t(X) D_S D_L e^{-jk(r + R)} / (r R) dz, t = 1 / z_r for a slit in a
@@ -90,7 +100,7 @@ std::vector<C> loadingFactors(const std::vector<Slit>& slits, double k, const Mo
   std::vector<C> p(n);
   for (size_t i = 0; i < n; ++i) {
     const Slit& si = slits[vertical[i]];
-    const glm::dvec3 P(6.0, std::clamp(S.y, si.a.y, si.b.y), si.a.z);
+    const glm::dvec3 P(si.a.x, std::clamp(S.y, si.a.y, si.b.y), si.a.z);
     p[i] = std::polar(1.0 / glm::length(P - S), -k * glm::length(P - S));
     for (size_t j = 0; j < n; ++j) {
       const double d = std::abs(si.a.z - slits[vertical[j]].a.z);
@@ -138,7 +148,8 @@ C modelPressure(const std::vector<Slit>& slits, double k, const MouthImpedance& 
         auto sinc = [](double u) { return std::abs(u) < 1e-9 ? 1.0 : std::sin(u) / u; };
         const double directivity =
             sinc(0.5 * x * sinFromAxis(P - S)) * sinc(0.5 * x * sinFromAxis(L - P));
-        slit += kGlW[g] * 0.5 * length / panels * C(0.0, 1.0) / (2 * kPi) / zr(x) * directivity *
+        slit += kGlW[g] * 0.5 * length / panels * C(0.0, 1.0) / (2 * kPi) *
+                transfer(zr, x, k * sinBeta * s.depth) * directivity *
                 std::polar(1.0 / (r * R), -k * (r + R));
       }
     p += loading[i] * slit;
@@ -146,13 +157,14 @@ C modelPressure(const std::vector<Slit>& slits, double k, const MouthImpedance& 
   return p * double(glm::length(L - S));
 }
 
-/// The slits centred in the gaps round a leaf `gap` metres from the frame (none for 0).
-std::vector<Slit> perimeterSlits(double gap) {
+/// The slits centred in the gaps round a leaf `gap` metres from the frame (none for 0), in the
+/// plane x, `depth` metres deep (the leaf's thickness).
+std::vector<Slit> perimeterSlits(double gap, double x = 6.0, double depth = 0.0) {
   const double z0 = kDoorZ0, z1 = kDoorZ0 + kDoorWidth, h = kDoorHeight;
   if (!(gap > 0.0)) return {};
-  return {{{6, 0, z0 + gap / 2}, {6, h, z0 + gap / 2}, gap},
-          {{6, 0, z1 - gap / 2}, {6, h, z1 - gap / 2}, gap},
-          {{6, h - gap / 2, z0}, {6, h - gap / 2, z1}, gap}};
+  return {{{x, 0, z0 + gap / 2}, {x, h, z0 + gap / 2}, gap, depth},
+          {{x, 0, z1 - gap / 2}, {x, h, z1 - gap / 2}, gap, depth},
+          {{x, h - gap / 2, z0}, {x, h - gap / 2, z1}, gap, depth}};
 }
 
 /// The model's band levels (dB re the free field) of `slits` from source S to listener L: |p|^2
@@ -221,6 +233,43 @@ TEST_CASE("Door gaps: closed is never louder than open, and the gaps pass what t
       }
     }
     if (gap > 0.f) tableRow(mm.c_str(), "slit model (this test)", model);
+  }
+}
+
+TEST_CASE("Door gaps: a leaf set in a thick wall passes its gaps, a box leaf through their depth",
+          "[diffraction][door]") {
+  // A real door: its leaf (a sheet, or a box 4 cm thick) set in a wall 0.1 or 0.2 m thick,
+  // flush with either face or in the middle, gaps of 5, 10 and 20 mm round it. Before, a box
+  // leaf passed nothing (its two rims each hid the gap from the other side), and the jambs'
+  // edges, seen through the gap beside a sheet, took the closed door to the open doorway's
+  // level at 250-500 Hz. Closed stays below the open doorway and the free field in every band,
+  // and within the issue's 3 dB of the slit model with the leaf's thickness as the slit's depth
+  // (Mechel's transmission line, computed here on its own; found: within 1.0 dB in every band,
+  // the box's half-wave resonance at 4 kHz included). The slits' mutual loading is taken as
+  // for slits in a sheet, by dpc and this model alike: deep slits' mouths load each other on
+  // both sides, which neither holds; the 63 and 125 Hz levels rest on that.
+  const MouthImpedance zr;
+  for (float wall : {0.1f, 0.2f}) {
+    const Bands open = decibels(directLevel(thickDoorwayScene(wall, false)));
+    for (float thickness : {0.f, 0.04f})
+      for (float set : {0.f, 0.5f, 1.f})  // flush with the source's face, middle, far face
+        for (float gap : {0.005f, 0.01f, 0.02f}) {
+          const float x = 6.f + 0.5f * thickness + set * (wall - thickness);
+          const Bands closed = decibels(directLevel(recessedLeafScene(wall, gap, thickness, x)));
+          const Bands model = modelLevels(perimeterSlits(gap, x, thickness), zr);
+          std::printf("wall %.1f m, leaf %2.0f mm at x %.2f, gap %2.0f mm: dpc, dpc - model (dB)",
+                      double(wall), 1e3 * double(thickness), double(x), 1e3 * double(gap));
+          for (int b = 0; b < kNumBands; ++b)
+            std::printf(" %5.1f/%+4.1f", double(closed[b]), double(closed[b] - model[b]));
+          std::printf("\n");
+          for (int b = 0; b < kNumBands; ++b) {
+            INFO("wall " << wall << ", leaf " << thickness << " at " << x << ", gap " << gap
+                         << ", band " << b);
+            CHECK(closed[b] <= open[b]);
+            CHECK(closed[b] <= 1e-4f);
+            CHECK(std::abs(closed[b] - model[b]) < 3.f);
+          }
+        }
   }
 }
 

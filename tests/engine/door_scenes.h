@@ -95,6 +95,21 @@ inline SceneDesc thickDoorwayScene(float depth, bool doubleSided) {
   return s;
 }
 
+/// thickDoorwayScene(depth)'s doorway closed by a leaf standing on the floor `gap` metres from
+/// the jambs and the lintel: a sheet in the plane x (thickness 0) or a solid box `thickness`
+/// metres deep centred on it (a real door's leaf, set in its frame).
+inline SceneDesc recessedLeafScene(float depth, float gap, float thickness, float x) {
+  SceneDesc s = thickDoorwayScene(depth, false);
+  const glm::vec3 y{0, 1, 0}, z{0, 0, 1};
+  if (thickness > 0.f)
+    test::addSolidBox(s.mesh, {x - 0.5f * thickness, 0.f, kDoorZ0 + gap},
+                      {x + 0.5f * thickness, kDoorHeight - gap, kDoorZ0 + kDoorWidth - gap}, 0);
+  else
+    test::addPanel(s.mesh, {x, 0.f, kDoorZ0 + gap}, (kDoorWidth - 2.f * gap) * z,
+                   (kDoorHeight - gap) * y, 0);
+  return s;
+}
+
 /// doorScene's doorway closed by two leaves (in the mesh) meeting in its middle, `middle`
 /// metres apart there (on the line of sight), `gap` from the frame at the sides and the top.
 inline SceneDesc doubleDoorScene(float gap, float middle) {

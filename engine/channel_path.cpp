@@ -1,0 +1,114 @@
+#include "engine/channel_path.h"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <numbers>
+#include <utility>
+
+namespace dpc {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+/// The angle of direction v around edge e from face 0, in [0, 2 pi) (toward normal0).
+double angleAround(const DiffractionEdge& e, const glm::vec3& v) {
+  const double a = std::atan2(double(glm::dot(v, e.normal0)), double(glm::dot(v, e.face0)));
+  return a < 0.0 ? a + 2.0 * kPi : a;
+}
+
+/// The offset from edge a's line to edge b's, perpendicular to a (m).
+glm::vec3 acrossTo(const DiffractionEdge& a, const DiffractionEdge& b) {
+  const glm::vec3 v = b.a - a.a;
+  return v - glm::dot(v, a.direction) * a.direction;
+}
+
+bool freeRim(const DiffractionEdge& e) { return e.open >= float(2.0 * kPi) - 1e-4f; }
+
+/// The unit direction from `front` out of the channel's face into the gap beside it: away
+/// from front's other face, square to the face (none: zero).
+glm::vec3 channelMouth(const DiffractionEdge& front, const glm::vec3& m) {
+  const std::array<glm::vec3, 2> faces = faceDirections(front);
+  const glm::vec3 other = glm::dot(faces[0], m) > glm::dot(faces[1], m) ? faces[1] : faces[0];
+  const glm::vec3 u = -(other - glm::dot(other, m) * m);
+  const float l = glm::length(u);
+  return l > 0.5f ? u / l : glm::vec3(0.f);
+}
+
+}  // namespace
+
+std::vector<NarrowFace> narrowFaces(const std::vector<DiffractionEdge>& edges,
+                                    const std::vector<std::vector<uint32_t>>& surfaceEdges) {
+  std::vector<NarrowFace> out;
+  for (const std::vector<uint32_t>& list : surfaceEdges)
+    for (size_t i = 0; i < list.size(); ++i)
+      for (size_t j = i + 1; j < list.size(); ++j) {
+        const DiffractionEdge &a = edges[list[i]], &b = edges[list[j]];
+        if (freeRim(a) || freeRim(b) || glm::length(acrossTo(a, b)) > kChannelDepthMax ||
+            !joinedByFace(a, b))
+          continue;
+        out.push_back({std::min(list[i], list[j]), std::max(list[i], list[j])});
+      }
+  std::sort(out.begin(), out.end(),
+            [](const NarrowFace& x, const NarrowFace& y) { return std::pair(x.a, x.b) < std::pair(y.a, y.b); });
+  out.erase(std::unique(out.begin(), out.end(),
+                        [](const NarrowFace& x, const NarrowFace& y) { return x.a == y.a && x.b == y.b; }),
+            out.end());
+  return out;
+}
+
+bool channelPath(const DiffractionEdge& front, const DiffractionEdge& back,
+                 const glm::vec3& source, const glm::vec3& L, EdgePath& p) {
+  const glm::vec3 through = acrossTo(front, back);
+  const float depth = glm::length(through);
+  if (!(depth > 1e-4f)) return false;
+  const glm::vec3 m = through / depth;
+  if (!(glm::dot(source - front.a, m) < 0.f) || !(glm::dot(L - back.a, m) > 0.f)) return false;
+  // Fermat over the front edge with the listener moved back across the face.
+  const glm::vec3 ps = source - front.a, pl = L - through - front.a;
+  const float ts = glm::dot(ps, front.direction), tl = glm::dot(pl, front.direction);
+  const float rs = glm::length(ps - ts * front.direction), rl = glm::length(pl - tl * front.direction);
+  if (!(rs > 1e-4f) || !(rl > 1e-4f)) return false;
+  const float t = ts + (tl - ts) * rs / (rs + rl);
+  const glm::vec3 q = front.a + t * front.direction;
+  const float tb = glm::dot(q + through - back.a, back.direction);
+  if (!(t > 0.f && t < front.length && tb > 0.f && tb < back.length)) return false;
+  const glm::vec3 mouth = channelMouth(front, m);
+  if (mouth == glm::vec3(0.f)) return false;
+  // The air wedge at the front edge holds the source and the mouth; it must be convex.
+  double wedge = double(front.open), sense = 1.0;
+  double phiS = angleAround(front, source - q), phiM = angleAround(front, mouth);
+  if (phiS > wedge) {
+    sense = -1.0;
+    wedge = 2.0 * kPi - wedge;
+    phiS = 2.0 * kPi - phiS;
+    phiM = 2.0 * kPi - phiM;
+  }
+  if (!(wedge > 1.05 * kPi) || !(phiM > 0.0 && phiM < wedge)) return false;
+  const float r = glm::distance(source, q), s = glm::distance(q + through, L);
+  if (!(r > kLegEpsilon && s > kLegEpsilon)) return false;
+  p = EdgePath{};
+  p.length = double(r) + double(depth) + double(s);
+  p.distanceParameter = double(r) * double(s) / (double(r) + double(s));
+  p.spreading = 0.0;  // no UTD field: the slit's only
+  p.prefactor = utdPrefactor(wedge / kPi, 1.0);
+  p.phiS = phiS;
+  p.phiL = phiM;
+  p.wedge = wedge;
+  setTerms(false, p);
+  p.legs = float(p.length);
+  p.arrival = (q + through - L) / s;
+  p.leaving = (q - source) / r;
+  p.edge = &front;
+  p.q = q;
+  p.mouth = mouth;
+  p.turn = float(sense) * front.normal0;
+  p.airWedge = float(wedge);
+  p.share = 0.0;
+  p.atEnd = true;
+  p.through = through;
+  return true;
+}
+
+}  // namespace dpc

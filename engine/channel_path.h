@@ -1,0 +1,42 @@
+// A gap with depth: the channel between a box leaf's side face and the reveal, frame or floor
+// beside it. Its two edges (the leaf's front and back rims of that face) each shut the other
+// out: from the front edge the listener lies inside the leaf, and from the back edge the
+// source does, so no first-order edge path passes the gap, and a closed box leaf in a thick
+// wall passed nothing at all. The channel path runs source -> Q1 on the front edge, along the
+// face to Q2 = Q1 + through on the back edge, -> listener, with Q1 where r + |through| + s is
+// least (the listener moved back by `through` makes it a first-order path over the front
+// edge). It carries only its slit's field (engine/slit.h), with the face's width as the slit's
+// depth d: the transmission-line model of Gomperts (1964) and Mechel (1986) through a slit of
+// that depth, found and measured by engine/gap_probe.h from both mouths.
+//
+// Internal to the engine (engine/diffraction.cpp). Any thread; allocates only the pairs at
+// load time; no errors.
+#pragma once
+
+#include <cstdint>
+#include <glm/vec3.hpp>
+#include <vector>
+
+#include "engine/edge_path.h"
+
+namespace dpc {
+
+/// m: the widest face a channel runs along (door leaves are 35 to 80 mm thick; a thin wall's
+/// reveal).
+inline constexpr float kChannelDepthMax = 0.12f;
+
+/// The narrow faces (NarrowFace, engine/diffraction.h: two edges bounding one flat face at most
+/// kChannelDepthMax wide, joinedByFace, neither a sheet's rim), each pair once, looked for among the edges on each flat surface
+/// (`surfaceEdges`: SurfaceBodies::edges).
+std::vector<NarrowFace> narrowFaces(const std::vector<DiffractionEdge>& edges,
+                                    const std::vector<std::vector<uint32_t>>& surfaceEdges);
+
+/// The channel path from source over `front` and along the face to `back`, then to the
+/// listener L, without its gap (findSlits probes it); false unless the source lies on front's
+/// side of the face and L on back's, the point of least length lies on both edges, and the
+/// face's outer side is an air wedge wider than pi at front. p's UTD share is 0 (atEnd): only
+/// its slit's field counts.
+bool channelPath(const DiffractionEdge& front, const DiffractionEdge& back,
+                 const glm::vec3& source, const glm::vec3& L, EdgePath& p);
+
+}  // namespace dpc

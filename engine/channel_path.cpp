@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <limits>
 #include <numbers>
 #include <utility>
 
@@ -58,6 +59,42 @@ std::vector<NarrowFace> narrowFaces(const std::vector<DiffractionEdge>& edges,
   return out;
 }
 
+namespace {
+
+/// The point Q1 on `front` of least length source -> Q1 -> Q1 + through -> L (Fermat over the
+/// front edge with the listener moved back across the face), as its parameter along front (m);
+/// NaN when the source or the moved listener lies on the edge's line.
+float channelPoint(const DiffractionEdge& front, const glm::vec3& through, const glm::vec3& source,
+                   const glm::vec3& L) {
+  const glm::vec3 ps = source - front.a, pl = L - through - front.a;
+  const float ts = glm::dot(ps, front.direction), tl = glm::dot(pl, front.direction);
+  const float rs = glm::length(ps - ts * front.direction), rl = glm::length(pl - tl * front.direction);
+  if (!(rs > 1e-4f) || !(rl > 1e-4f)) return std::numeric_limits<float>::quiet_NaN();
+  return ts + (tl - ts) * rs / (rs + rl);
+}
+
+/// The air wedge at `front` (radians), its sense (+1: from face 0 toward normal0) and the angles
+/// of the source and of the mouth in it; false unless the wedge holding the source is convex
+/// (wider than pi) and holds the mouth too.
+bool channelWedge(const DiffractionEdge& front, const glm::vec3& q, const glm::vec3& source,
+                  const glm::vec3& mouth, EdgePath& p, double& sense) {
+  double wedge = double(front.open);
+  double phiS = angleAround(front, source - q), phiM = angleAround(front, mouth);
+  sense = 1.0;
+  if (phiS > wedge) {
+    sense = -1.0;
+    wedge = 2.0 * kPi - wedge;
+    phiS = 2.0 * kPi - phiS;
+    phiM = 2.0 * kPi - phiM;
+  }
+  p.phiS = phiS;
+  p.phiL = phiM;  // no UTD field: any angle inside the wedge keeps the terms finite
+  p.wedge = wedge;
+  return wedge > 1.05 * kPi && phiM > 0.0 && phiM < wedge;
+}
+
+}  // namespace
+
 bool channelPath(const DiffractionEdge& front, const DiffractionEdge& back,
                  const glm::vec3& source, const glm::vec3& L, EdgePath& p) {
   const glm::vec3 through = acrossTo(front, back);
@@ -65,37 +102,21 @@ bool channelPath(const DiffractionEdge& front, const DiffractionEdge& back,
   if (!(depth > 1e-4f)) return false;
   const glm::vec3 m = through / depth;
   if (!(glm::dot(source - front.a, m) < 0.f) || !(glm::dot(L - back.a, m) > 0.f)) return false;
-  // Fermat over the front edge with the listener moved back across the face.
-  const glm::vec3 ps = source - front.a, pl = L - through - front.a;
-  const float ts = glm::dot(ps, front.direction), tl = glm::dot(pl, front.direction);
-  const float rs = glm::length(ps - ts * front.direction), rl = glm::length(pl - tl * front.direction);
-  if (!(rs > 1e-4f) || !(rl > 1e-4f)) return false;
-  const float t = ts + (tl - ts) * rs / (rs + rl);
+  const float t = channelPoint(front, through, source, L);
   const glm::vec3 q = front.a + t * front.direction;
   const float tb = glm::dot(q + through - back.a, back.direction);
   if (!(t > 0.f && t < front.length && tb > 0.f && tb < back.length)) return false;
   const glm::vec3 mouth = channelMouth(front, m);
-  if (mouth == glm::vec3(0.f)) return false;
-  // The air wedge at the front edge holds the source and the mouth; it must be convex.
-  double wedge = double(front.open), sense = 1.0;
-  double phiS = angleAround(front, source - q), phiM = angleAround(front, mouth);
-  if (phiS > wedge) {
-    sense = -1.0;
-    wedge = 2.0 * kPi - wedge;
-    phiS = 2.0 * kPi - phiS;
-    phiM = 2.0 * kPi - phiM;
-  }
-  if (!(wedge > 1.05 * kPi) || !(phiM > 0.0 && phiM < wedge)) return false;
   const float r = glm::distance(source, q), s = glm::distance(q + through, L);
-  if (!(r > kLegEpsilon && s > kLegEpsilon)) return false;
   p = EdgePath{};
+  double sense = 1.0;
+  if (mouth == glm::vec3(0.f) || !channelWedge(front, q, source, mouth, p, sense) ||
+      !(r > kLegEpsilon && s > kLegEpsilon))
+    return false;
   p.length = double(r) + double(depth) + double(s);
   p.distanceParameter = double(r) * double(s) / (double(r) + double(s));
   p.spreading = 0.0;  // no UTD field: the slit's only
-  p.prefactor = utdPrefactor(wedge / kPi, 1.0);
-  p.phiS = phiS;
-  p.phiL = phiM;
-  p.wedge = wedge;
+  p.prefactor = utdPrefactor(p.wedge / kPi, 1.0);
   setTerms(false, p);
   p.legs = float(p.length);
   p.arrival = (q + through - L) / s;
@@ -104,7 +125,7 @@ bool channelPath(const DiffractionEdge& front, const DiffractionEdge& back,
   p.q = q;
   p.mouth = mouth;
   p.turn = float(sense) * front.normal0;
-  p.airWedge = float(wedge);
+  p.airWedge = float(p.wedge);
   p.share = 0.0;
   p.atEnd = true;
   p.through = through;

@@ -113,15 +113,43 @@ std::vector<TraceHit> foreignHits(const BoundQuery& q, const std::vector<EdgePat
   return found;
 }
 
-/// An edge path whose leg threads a gap away from Q (a thick wall's jamb seen through the
-/// 10 mm gap beside a leaf set in the middle of the wall) is neither a free edge nor the mouth
-/// of a slit of its own: what passes there is the gap's, carried by the slit the leaf's rim or
-/// its side face bounds. Counted, the jamb took the closed door to the open doorway's level at
-/// 250-500 Hz. Threaded: a parallel ray kThreadReach to one side of a leg meets a surface not
-/// the edge's own, and from the leg's point level with that hit a ray across to the other side
-/// meets one within kThreadReach too. Such paths move to q.closed, the first surface as their
-/// gap's closer (taken away, the leg is free again: surface_bound.h).
-void dropThreadedPaths(BoundQuery& q, std::vector<EdgePath>& paths) {
+/// Per parallel ray (threadRays) that met a surface (`hits`), the surface a ray across to the
+/// other side of the leg meets within kThreadReach, from near the leg's point level with the hit
+/// (kUnknownSurface: none): the offset leans the hit up to kThreadReach tan(angle) past a sheet
+/// flush with a thick wall's face, whose reveal lies only before that plane, so four points
+/// along the leg are tried.
+std::vector<uint32_t> otherSide(const BoundQuery& q, const std::vector<TraceRay>& rays,
+                                const std::vector<glm::vec3>& sides,
+                                const std::vector<TraceHit>& hits) {
+  constexpr std::array<float, 4> kSteps = {-0.5f * kThreadReach, -kGapProbeThrough,
+                                           kGapProbeThrough, 0.5f * kThreadReach};
+  std::vector<TraceRay> across(kSteps.size() * rays.size(),
+                               TraceRay{glm::vec3(0.f), glm::vec3(1.f, 0.f, 0.f), 0.f, 0.f, false});
+  for (size_t i = 0; i < rays.size(); ++i) {
+    if (!hits[i].found) continue;
+    // From kLegEpsilon on the hit's side of the leg: a leg along a face (a listener in a
+    // reveal's plane) has that face on its other side.
+    const glm::vec3 level = rays[i].org - (kThreadReach - kLegEpsilon) * sides[i] +
+                            hits[i].surface.t * rays[i].dir;
+    for (size_t k = 0; k < kSteps.size(); ++k)
+      across[kSteps.size() * i + k] = TraceRay{level + kSteps[k] * rays[i].dir, -sides[i], 0.f,
+                                               1.05f * kThreadReach + kLegEpsilon};
+  }
+  std::vector<TraceHit> met(across.size());
+  q.tracer.intersect(across, met);
+  std::vector<uint32_t> out(rays.size(), kUnknownSurface);
+  for (size_t i = 0; i < across.size(); ++i)
+    if (met[i].found && out[i / kSteps.size()] == kUnknownSurface)
+      out[i / kSteps.size()] = surfaceOf(q.surfaces, met[i].surface.triangle);
+  return out;
+}
+
+/// Marks the edge paths whose leg threads a gap away from Q (a thick wall's jamb seen through
+/// the 10 mm gap beside a leaf set in the middle of the wall): a parallel ray kThreadReach to one
+/// side of a leg meets a surface not the edge's own, and from the leg's point level with that
+/// hit a ray across to the other side meets one within kThreadReach too. p.threadedBy: those
+/// two surfaces.
+void markThreads(const BoundQuery& q, std::vector<EdgePath>& paths) {
   std::vector<TraceRay> rays;
   std::vector<glm::vec3> sides;
   for (const EdgePath& p : paths) {
@@ -130,38 +158,53 @@ void dropThreadedPaths(BoundQuery& q, std::vector<EdgePath>& paths) {
     sides.insert(sides.end(), side.begin(), side.end());
   }
   const std::vector<TraceHit> hits = foreignHits(q, paths, rays);
-  // Across from the leg near the point level with each hit: the offset leans the hit up to
-  // kThreadReach tan(angle) past a sheet flush with a thick wall's face, whose reveal lies
-  // only before that plane.
-  constexpr std::array<float, 4> kSteps = {-0.5f * kThreadReach, -kGapProbeThrough,
-                                           kGapProbeThrough, 0.5f * kThreadReach};
-  std::vector<TraceRay> across(kSteps.size() * rays.size(),
-                               TraceRay{glm::vec3(0.f), glm::vec3(1.f, 0.f, 0.f), 0.f, 0.f, false});
-  for (size_t i = 0; i < rays.size(); ++i) {
-    if (!hits[i].found) continue;
-    const glm::vec3 level = rays[i].org - kThreadReach * sides[i] + hits[i].surface.t * rays[i].dir;
-    for (size_t k = 0; k < kSteps.size(); ++k)
-      across[kSteps.size() * i + k] =
-          TraceRay{level + kSteps[k] * rays[i].dir, -sides[i], 0.f, 1.05f * kThreadReach};
-  }
-  std::vector<TraceHit> closed(across.size());
-  q.tracer.intersect(across, closed);
-  auto threaded = [&](size_t i) {
-    return std::any_of(closed.begin() + long(kSteps.size() * i),
-                       closed.begin() + long(kSteps.size() * (i + 1)),
-                       [](const TraceHit& h) { return h.found; });
+  const std::vector<uint32_t> other = otherSide(q, rays, sides, hits);
+  for (size_t j = 0; j < paths.size(); ++j)
+    for (size_t i = 4 * j; i < 4 * j + 4; ++i)
+      if (other[i] != kUnknownSurface) {
+        paths[j].threadedBy = {surfaceOf(q.surfaces, hits[i].surface.triangle), other[i]};
+        break;
+      }
+}
+
+/// Of the two surfaces either side of the gap p's leg threads, the one on another body than p's
+/// edge (the leaf beside a jamb), else the first: the gap's closer, whose removal frees the leg.
+uint32_t threadCloser(const SurfaceBodies& bodies, const EdgePath& p) {
+  auto body = [&](uint32_t s) { return s < bodies.body.size() ? bodies.body[s] : kMovingObjects; };
+  for (uint32_t s : p.threadedBy)
+    if (body(s) != body(p.edge->surfaces[0])) return s;
+  return p.threadedBy[0];
+}
+
+/// A path whose leg threads a gap (markThreads, run here: the channels, found after it, are
+/// not marked) that a slit or channel path carries (one of the
+/// gap's two surfaces bounds that slit: the leaf's rim or side face, or closes it) is neither a
+/// free edge nor the mouth of a slit of its own: what passes there is that slit's. Counted, the
+/// jamb took a closed door set in a thick wall to the open doorway's level at 250-500 Hz. A gap
+/// no slit carries (between the slats of a screen, which the probe does not take for slits)
+/// leaves the path as it was. Dropped paths go to q.closed, the first surface as their gap's
+/// closer (taken away, the leg is free again: surface_bound.h).
+void dropThreadedPaths(BoundQuery& q, std::vector<EdgePath>& paths) {
+  // Only a slit can carry a gap: without one (a hall of seats) no leg is looked at.
+  if (std::none_of(paths.begin(), paths.end(), [](const EdgePath& p) { return p.gapWidth > 0.f; }))
+    return;
+  markThreads(q, paths);
+  std::vector<uint32_t> carried;  // the surfaces of the slits not threaded themselves
+  for (const EdgePath& p : paths)
+    if (p.gapWidth > 0.f && p.threadedBy[0] == kUnknownSurface)
+      carried.insert(carried.end(), {p.edge->surfaces[0], p.edge->surfaces[1], p.gapCloser});
+  std::sort(carried.begin(), carried.end());
+  auto isCarried = [&](uint32_t s) {
+    return s != kUnknownSurface && std::binary_search(carried.begin(), carried.end(), s);
   };
   size_t kept = 0;
-  for (size_t j = 0; j < paths.size(); ++j) {
-    size_t by = 4;
-    for (size_t i = 0; i < 4 && by == 4; ++i)
-      if (threaded(4 * j + i)) by = i;
-    if (by == 4) {
-      paths[kept++] = paths[j];
+  for (EdgePath& p : paths) {
+    if (!isCarried(p.threadedBy[0]) && !isCarried(p.threadedBy[1])) {
+      paths[kept++] = p;
       continue;
     }
-    paths[j].gapCloser = surfaceOf(q.surfaces, hits[4 * j + by].surface.triangle);
-    q.closed.push_back(paths[j]);
+    p.gapCloser = threadCloser(q.bodies, p);
+    q.closed.push_back(p);
   }
   paths.resize(kept);
 }
@@ -277,7 +320,9 @@ void addEndSlits(const std::vector<DiffractionEdge>& edges, bool lineOfSight, Bo
 }
 
 /// Adds the channels (engine/channel_path.h) along the narrow faces `faces` whose legs are free
-/// and whose gap the probe finds open (a closed box leaf's gaps to its frame and the floor).
+/// and whose gap the probe finds open (a closed box leaf's gaps to its frame and the floor), at
+/// most as wide as the face is deep: a wider gap is an opening whose edges UTD handles (a leaf
+/// ajar 5 degrees has a 9 cm gap at its latch side).
 void addChannels(const std::vector<DiffractionEdge>& edges, const std::vector<NarrowFace>& faces,
                  BoundQuery& q, std::vector<EdgePath>& paths) {
   std::vector<EdgePath> channels, closed;
@@ -290,7 +335,7 @@ void addChannels(const std::vector<DiffractionEdge>& edges, const std::vector<Na
   if (channels.empty()) return;
   findSlits(q.tracer, q.source, q.L, q.surfaces, channels, closed);
   for (const EdgePath& p : channels)
-    if (p.gapWidth > 0.f) paths.push_back(p);
+    if (p.gapWidth > 0.f && p.gapWidth <= glm::length(p.through)) paths.push_back(p);
   markSlitOwners(paths);
 }
 
@@ -344,13 +389,17 @@ EdgeDiffraction::EdgeDiffraction(const Mesh& mesh)
   bodies_.extent = freeStandingExtents(mesh, surfaces_, bodies_, edges_);
   bodies_.edges = surfaceEdges(bodies_.box.size(), edges_);
   narrow_ = narrowFaces(edges_, bodies_.edges);
-  // A narrow face (a thick wall's reveal, a box leaf's side) does not stand free on its own:
-  // taken away, it opens the body it closes. Its body may stand free by its other faces.
+  // A narrow face of a body too large to be taken away whole (a thick wall's reveal) does not
+  // stand free: taken away alone, it opens the body it closes. A small body's narrow faces (a
+  // slat's, a box leaf's sides) stay: the body goes whole (engine/surface_bound.h).
   for (const NarrowFace& f : narrow_)
-    for (uint32_t s : edges_[f.a].surfaces)
-      if ((s == edges_[f.b].surfaces[0] || s == edges_[f.b].surfaces[1]) &&
-          s < bodies_.extent.size())
+    for (uint32_t s : edges_[f.a].surfaces) {
+      if (s != edges_[f.b].surfaces[0] && s != edges_[f.b].surfaces[1]) continue;
+      if (s >= bodies_.extent.size() || bodies_.body[s] >= bodies_.members.size()) continue;
+      const auto [lo, hi] = boxOfSurfaces(bodies_.members[bodies_.body[s]], bodies_);
+      if (glm::distance(lo, hi) >= kSolidExtent)
         bodies_.extent[s] = std::numeric_limits<float>::infinity();
+    }
 }
 
 size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
@@ -368,12 +417,12 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
   std::vector<EdgePath> paths = edgePaths(edges_, lineOfSight, query);
   crossLineOfSight(lineOfSight, query);
   findSlits(tracer, source, listener.position, surfaces_, paths, query.closed);
+  addChannels(edges_, narrow_, query, paths);
   dropThreadedPaths(query, paths);
   markSlitOwners(paths);
   markSlitPartners(paths);
   markReveals(source, listener.position, paths);
   addEndSlits(edges_, lineOfSight, query, paths);
-  addChannels(edges_, narrow_, query, paths);
   if (usedEdges) {
     usedEdges->clear();
     for (const EdgePath& p : paths) usedEdges->push_back(uint32_t(p.edge - edges_.data()));

@@ -248,17 +248,26 @@ float slitsApart(const EdgePath& o, const EdgePath& p) {
 }  // namespace
 
 void markSlitOwners(std::vector<EdgePath>& paths) {
-  for (EdgePath& p : paths) p.slitOwner = p.gapWidth > 0.f;
-  for (size_t k = 0; k < paths.size(); ++k)
-    for (size_t j = 0; j < k && paths[k].slitOwner; ++j) {
-      EdgePath &o = paths[j], &p = paths[k];
-      if (!o.slitOwner || std::abs(glm::dot(o.edge->direction, p.edge->direction)) < kParallelEdges)
-        continue;
-      if (!(slitsApart(o, p) < 0.5f * std::max(o.gapWidth, p.gapWidth) + 1e-3f) &&
-          !acrossSlit(o, p))
-        continue;
-      (p.slit.depth < o.slit.depth ? o : p).slitOwner = false;
+  auto sameSlit = [](const EdgePath& o, const EdgePath& p) {
+    return std::abs(glm::dot(o.edge->direction, p.edge->direction)) >= kParallelEdges &&
+           (slitsApart(o, p) < 0.5f * std::max(o.gapWidth, p.gapWidth) + 1e-3f ||
+            acrossSlit(o, p));
+  };
+  // Shallowest first, then in list order: each path owns its slit unless an owner before it
+  // in that order finds the same slit.
+  std::vector<size_t> order(paths.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    return paths[a].slit.depth < paths[b].slit.depth;
+  });
+  for (size_t n = 0; n < order.size(); ++n) {
+    EdgePath& p = paths[order[n]];
+    p.slitOwner = p.gapWidth > 0.f;
+    for (size_t m = 0; m < n && p.slitOwner; ++m) {
+      const EdgePath& o = paths[order[m]];
+      if (o.slitOwner && sameSlit(o, p)) p.slitOwner = false;
     }
+  }
 }
 
 void markReveals(const glm::vec3& source, const glm::vec3& L, std::vector<EdgePath>& paths) {

@@ -56,6 +56,10 @@ struct EdgePath {
   /// A channel's (engine/channel_path.h) offset from its front mouth's point Q to its back
   /// mouth's, m (the slit's depth across the face it runs along); zero for every other path.
   glm::vec3 through{0.f};
+  /// The two surfaces either side of a gap one of its legs threads away from Q (the leaf and
+  /// the reveal beside a thick wall's jamb; engine/diffraction.cpp, markThreads); none:
+  /// kUnknownSurface.
+  std::array<uint32_t, 2> threadedBy{kUnknownSurface, kUnknownSurface};
 };
 
 /// Edge e's two faces' in-plane unit vectors pointing away from it: face 0's, and face 1's at

@@ -45,21 +45,15 @@ bool inSolid(const GapProbe& g, const glm::vec3& p) {
   return a > double(g.airWedge);
 }
 
-/// The points of one round: which probe each belongs to, whether it is to be tested, and
-/// whether any surface a leg meets closes it there (`hidden`: the outer points of a gap's
-/// continuation along its edge, which the gap's far side or the solid beyond it hides; a
-/// leaf set in a thick wall's doorway has the wall's faces between the source and the gap's
-/// far side, and closesMouth took them for another edge's shadow).
+/// The points of one round: which probe each belongs to, and whether it is to be tested.
 struct Round {
   std::vector<size_t> probe;
   std::vector<glm::vec3> point;
   std::vector<bool> valid;
-  std::vector<bool> hidden;
-  void add(size_t j, const glm::vec3& p, bool v = true, bool h = false) {
+  void add(size_t j, const glm::vec3& p, bool v = true) {
     probe.push_back(j);
     point.push_back(p);
     valid.push_back(v);
-    hidden.push_back(h);
   }
 };
 
@@ -144,9 +138,7 @@ std::vector<uint32_t> run(const Tracer& tracer, const glm::vec3& source, const g
     back.q += g.through;
     for (const size_t leg : {3 * i + 1, 3 * i}) {
       const bool listener = leg == 3 * i + 1;
-      if (round.hidden[i] ? hits[leg].found
-                          : closesMouth(listener ? back : g, rays[leg], hits[leg],
-                                        listener ? p + g.through : p))
+      if (closesMouth(listener ? back : g, rays[leg], hits[leg], listener ? p + g.through : p))
         closer[i] = hits[leg].surface.triangle;
     }
   }
@@ -279,7 +271,7 @@ void probeFlanks(const Tracer& tracer, const glm::vec3& source, const glm::vec3&
 void addGapTest(Round& round, size_t j, const GapProbe& g, float w, float a) {
   const glm::vec3 base = g.q + a * g.along;
   round.add(j, base + kInnerWidth * w * g.mouth);
-  round.add(j, base + kOuterWidth * w * g.mouth, true, true);
+  round.add(j, base + kOuterWidth * w * g.mouth);
 }
 
 /// For each gap, where it ends along its edge either side of Q: the edge's end when the gap is
@@ -344,7 +336,7 @@ void probeGaps(const Tracer& tracer, const glm::vec3& source, const glm::vec3& l
         const bool within = a >= probes[j].from && a <= probes[j].to;
         const glm::vec3 base = probes[j].q + a * probes[j].along;
         round.add(j, base + kInnerWidth * w * probes[j].mouth, within);
-        round.add(j, base + kOuterWidth * w * probes[j].mouth, within, true);
+        round.add(j, base + kOuterWidth * w * probes[j].mouth, within);
       }
   }
   if (gaps.empty()) return;

@@ -96,13 +96,13 @@ bool channelWedge(const DiffractionEdge& front, const glm::vec3& q, const glm::v
 }  // namespace
 
 bool channelPath(const DiffractionEdge& front, const DiffractionEdge& back,
-                 const glm::vec3& source, const glm::vec3& L, EdgePath& p) {
+                 const glm::vec3& source, const glm::vec3& L, EdgePath& p, float at) {
   const glm::vec3 through = acrossTo(front, back);
   const float depth = glm::length(through);
   if (!(depth > 1e-4f)) return false;
   const glm::vec3 m = through / depth;
   if (!(glm::dot(source - front.a, m) < 0.f) || !(glm::dot(L - back.a, m) > 0.f)) return false;
-  const float t = channelPoint(front, through, source, L);
+  const float t = std::isnan(at) ? channelPoint(front, through, source, L) : at;
   const glm::vec3 q = front.a + t * front.direction;
   const float tb = glm::dot(q + through - back.a, back.direction);
   if (!(t > 0.f && t < front.length && tb > 0.f && tb < back.length)) return false;
@@ -129,6 +129,55 @@ bool channelPath(const DiffractionEdge& front, const DiffractionEdge& back,
   p.share = 0.0;
   p.atEnd = true;
   p.through = through;
+  return true;
+}
+
+}  // namespace dpc
+
+namespace dpc {
+
+bool visibleChannel(const Tracer& tracer, const DiffractionEdge& front, const DiffractionEdge& back,
+                    const glm::vec3& source, const glm::vec3& L, EdgePath& p) {
+  constexpr int kSamples = 8, kSteps = 8;
+  const glm::vec3 through = acrossTo(front, back);
+  if (!(glm::dot(source - front.a, through) < 0.f) || !(glm::dot(L - back.a, through) > 0.f))
+    return false;
+  const float stationary = channelPoint(front, through, source, L);
+  if (std::isnan(stationary)) return false;
+  // A gap's other side across the mouth near that point (one ray), or no channel to look for:
+  // a seat's narrow faces have none.
+  const float near = std::clamp(stationary, 0.01f * front.length, 0.99f * front.length);
+  const glm::vec3 from = front.a + near * front.direction;
+  const glm::vec3 mouth = channelMouth(front, through / glm::length(through));
+  if (mouth == glm::vec3(0.f) ||
+      !tracer.occluded(TraceRay{from, mouth, surfaceOffset(from), kChannelDepthMax}))
+    return false;
+  auto freeAt = [&](float t, EdgePath& out) {
+    return channelPath(front, back, source, L, out, t) && legsFree(tracer, source, L, out);
+  };
+  // The free sample nearest the point of least length.
+  float best = std::numeric_limits<float>::quiet_NaN();
+  EdgePath found;
+  for (int i = 0; i < kSamples; ++i) {
+    const float t = front.length * (float(i) + 0.5f) / float(kSamples);
+    EdgePath candidate;
+    if ((std::isnan(best) || std::abs(t - stationary) < std::abs(best - stationary)) &&
+        freeAt(t, candidate)) {
+      best = t;
+      found = candidate;
+    }
+  }
+  if (std::isnan(best)) return false;
+  // Where the legs stop being free between it and the point of least length (bisection): the
+  // slit radiates from the visible side of that limit only.
+  float lo = best, hi = std::clamp(stationary, 0.f, front.length);
+  for (int i = 0; i < kSteps; ++i) {
+    const float mid = 0.5f * (lo + hi);
+    EdgePath probe;
+    (freeAt(mid, probe) ? lo : hi) = mid;
+  }
+  p = found;
+  (stationary > best ? p.visibleTo : p.visibleFrom) = lo - best;
   return true;
 }
 

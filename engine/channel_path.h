@@ -15,9 +15,11 @@
 
 #include <cstdint>
 #include <glm/vec3.hpp>
+#include <limits>
 #include <vector>
 
 #include "engine/edge_path.h"
+#include "engine/tracer.h"
 
 namespace dpc {
 
@@ -36,7 +38,20 @@ std::vector<NarrowFace> narrowFaces(const std::vector<DiffractionEdge>& edges,
 /// side of the face and L on back's, the point of least length lies on both edges, and the
 /// face's outer side is an air wedge wider than pi at front. p's UTD share is 0 (atEnd): only
 /// its slit's field counts.
+/// With `at` (m along front), the path through that point of front instead of the point of
+/// least length.
 bool channelPath(const DiffractionEdge& front, const DiffractionEdge& back,
-                 const glm::vec3& source, const glm::vec3& L, EdgePath& p);
+                 const glm::vec3& source, const glm::vec3& L, EdgePath& p,
+                 float at = std::numeric_limits<float>::quiet_NaN());
+
+/// For a channel whose point of least length is hidden or lies beyond its edges (a lintel hides
+/// the side gaps' upper part from a listener above the door): p becomes the path through the
+/// free point of 8 along front nearest that point, its slit limited on that side to where the
+/// legs stop being free (p.visibleFrom or p.visibleTo, by 8 bisections), so the slit's line
+/// source counts only its visible part (engine/slit.h integrates over the slit's extent). False
+/// when the source and the listener are not on the face's two sides or no sampled point is
+/// free. Reentrant; 2 rays per point tried.
+bool visibleChannel(const Tracer& tracer, const DiffractionEdge& front, const DiffractionEdge& back,
+                    const glm::vec3& source, const glm::vec3& L, EdgePath& p);
 
 }  // namespace dpc

@@ -52,7 +52,8 @@ void findSlits(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L
     EdgePath& p = paths[kept++] = paths[j];
     p.gapWidth = shapes[j].width;
     if (p.gapWidth > 0.f) {
-      makeSlit(source, L - p.through, shapes[j].from, shapes[j].to, p);
+      makeSlit(source, L - p.through, std::max(shapes[j].from, p.visibleFrom),
+               std::min(shapes[j].to, p.visibleTo), p);
       p.slitAspect = double(shapes[j].aspect);
     }
   }
@@ -329,7 +330,9 @@ void addChannels(const std::vector<DiffractionEdge>& edges, const std::vector<Na
   for (const NarrowFace& f : faces)
     for (const auto& [a, b] : {std::pair(f.a, f.b), std::pair(f.b, f.a)}) {
       EdgePath p;
-      if (channelPath(edges[a], edges[b], q.source, q.L, p) && legsFree(q.tracer, q.source, q.L, p))
+      if ((channelPath(edges[a], edges[b], q.source, q.L, p) &&
+           legsFree(q.tracer, q.source, q.L, p)) ||
+          visibleChannel(q.tracer, edges[a], edges[b], q.source, q.L, p))
         channels.push_back(p);
     }
   if (channels.empty()) return;

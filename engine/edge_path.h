@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <glm/vec3.hpp>
 #include <vector>
 
@@ -60,6 +61,11 @@ struct EdgePath {
   /// the reveal beside a thick wall's jamb; engine/diffraction.cpp, markThreads); none:
   /// kUnknownSurface.
   std::array<uint32_t, 2> threadedBy{kUnknownSurface, kUnknownSurface};
+  /// How far along the edge from Q the slit is seen from both ends (m, relative to Q; a channel
+  /// whose point of least length is hidden: engine/channel_path.h visibleChannel); unbounded
+  /// for every other path.
+  float visibleFrom = -std::numeric_limits<float>::infinity();
+  float visibleTo = std::numeric_limits<float>::infinity();
 };
 
 /// Edge e's two faces' in-plane unit vectors pointing away from it: face 0's, and face 1's at

@@ -136,6 +136,21 @@ bool channelPath(const DiffractionEdge& front, const DiffractionEdge& back,
 
 namespace dpc {
 
+namespace {
+
+/// True when a ray from `front` near parameter t across the mouth meets the gap's other side
+/// within kChannelDepthMax: a seat's narrow faces have none, and no channel is looked for.
+bool gapAcross(const Tracer& tracer, const DiffractionEdge& front, const glm::vec3& through,
+               float t) {
+  const float near = std::clamp(t, 0.01f * front.length, 0.99f * front.length);
+  const glm::vec3 from = front.a + near * front.direction;
+  const glm::vec3 mouth = channelMouth(front, through / glm::length(through));
+  return mouth != glm::vec3(0.f) &&
+         tracer.occluded(TraceRay{from, mouth, surfaceOffset(from), kChannelDepthMax});
+}
+
+}  // namespace
+
 bool visibleChannel(const Tracer& tracer, const DiffractionEdge& front, const DiffractionEdge& back,
                     const glm::vec3& source, const glm::vec3& L, EdgePath& p) {
   constexpr int kSamples = 8, kSteps = 8;
@@ -143,28 +158,18 @@ bool visibleChannel(const Tracer& tracer, const DiffractionEdge& front, const Di
   if (!(glm::dot(source - front.a, through) < 0.f) || !(glm::dot(L - back.a, through) > 0.f))
     return false;
   const float stationary = channelPoint(front, through, source, L);
-  if (std::isnan(stationary)) return false;
-  // A gap's other side across the mouth near that point (one ray), or no channel to look for:
-  // a seat's narrow faces have none.
-  const float near = std::clamp(stationary, 0.01f * front.length, 0.99f * front.length);
-  const glm::vec3 from = front.a + near * front.direction;
-  const glm::vec3 mouth = channelMouth(front, through / glm::length(through));
-  if (mouth == glm::vec3(0.f) ||
-      !tracer.occluded(TraceRay{from, mouth, surfaceOffset(from), kChannelDepthMax}))
-    return false;
+  if (std::isnan(stationary) || !gapAcross(tracer, front, through, stationary)) return false;
   auto freeAt = [&](float t, EdgePath& out) {
     return channelPath(front, back, source, L, out, t) && legsFree(tracer, source, L, out);
   };
-  // The free sample nearest the point of least length.
-  float best = std::numeric_limits<float>::quiet_NaN();
-  EdgePath found;
+  float best = std::numeric_limits<float>::quiet_NaN();  // the free sample nearest stationary
   for (int i = 0; i < kSamples; ++i) {
     const float t = front.length * (float(i) + 0.5f) / float(kSamples);
     EdgePath candidate;
     if ((std::isnan(best) || std::abs(t - stationary) < std::abs(best - stationary)) &&
         freeAt(t, candidate)) {
       best = t;
-      found = candidate;
+      p = candidate;
     }
   }
   if (std::isnan(best)) return false;
@@ -176,7 +181,6 @@ bool visibleChannel(const Tracer& tracer, const DiffractionEdge& front, const Di
     EdgePath probe;
     (freeAt(mid, probe) ? lo : hi) = mid;
   }
-  p = found;
   (stationary > best ? p.visibleTo : p.visibleFrom) = lo - best;
   return true;
 }

@@ -310,7 +310,7 @@ TEST_CASE("Door gaps: a slatted screen never takes the direct sound away", "[dif
   // the source and the listener, not each other's edges), so the slats' edge paths carry it; the
   // paths whose legs thread a slot stay, as no slit carries that slot. Dropping them, as the
   // first version of the threaded-leg test did, left the direct sound out at 7 of 10 points of
-  // this walk. The floor checked is 20 dB below the free field from 63 to 250 Hz: the sum of the
+  // such a walk (a held-out review's screen, 2 cm steps). The floor checked is 20 dB below the free field from 63 to 250 Hz: the sum of the
   // slats' first-order UTD fields scatters about the mass law's level by -16.5 to +12.2 dB along
   // this walk (as before that test; docs/validation.md, still short), so only its loss is caught.
   SceneDesc s = doorScene(0.f, Leaf::kNone);

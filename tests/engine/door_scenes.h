@@ -83,9 +83,9 @@ inline SceneDesc doorScene(float gap, Leaf leaf, float alpha = 0.2f, bool tee = 
 /// doorScene's rooms with the doorway through a wall `depth` metres deep: its faces x = 6 and
 /// 6 + depth and the doorway's reveals (two jambs and the lintel), every face once or
 /// (doubleSided) twice, as an exporter writes a two-sided material.
-inline SceneDesc thickDoorwayScene(float depth, bool doubleSided) {
-  SceneDesc s = doorScene(0.f, Leaf::kNone);
-  s.mesh = test::makeShoebox({12, 3, 5}, Bands(0.2f), 0.3f, kSource, kListener, 0.5f).mesh;
+inline SceneDesc thickDoorwayScene(float depth, bool doubleSided, float alpha = 0.2f) {
+  SceneDesc s = doorScene(0.f, Leaf::kNone, alpha);
+  s.mesh = test::makeShoebox({12, 3, 5}, Bands(alpha), 0.3f, kSource, kListener, 0.5f).mesh;
   const glm::vec3 x{depth, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
   addDoorwayWall(s.mesh, 6.f, doubleSided);
   addDoorwayWall(s.mesh, 6.f + depth, doubleSided);
@@ -97,9 +97,10 @@ inline SceneDesc thickDoorwayScene(float depth, bool doubleSided) {
 
 /// thickDoorwayScene(depth)'s doorway closed by a leaf standing on the floor `gap` metres from
 /// the jambs and the lintel: a sheet in the plane x (thickness 0) or a solid box `thickness`
-/// metres deep centred on it (a real door's leaf, set in its frame).
-inline SceneDesc recessedLeafScene(float depth, float gap, float thickness, float x) {
-  SceneDesc s = thickDoorwayScene(depth, false);
+/// metres deep centred on it (a real door's leaf, set in its frame). All of absorption alpha.
+inline SceneDesc recessedLeafScene(float depth, float gap, float thickness, float x,
+                                   float alpha = 0.2f) {
+  SceneDesc s = thickDoorwayScene(depth, false, alpha);
   const glm::vec3 y{0, 1, 0}, z{0, 0, 1};
   if (thickness > 0.f)
     test::addSolidBox(s.mesh, {x - 0.5f * thickness, 0.f, kDoorZ0 + gap},

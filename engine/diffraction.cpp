@@ -66,24 +66,33 @@ void findSlits(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L
 constexpr float kThreadReach = 0.03f;
 constexpr float kThreadStart = 0.01f;
 
+/// Rays per path of the threaded-leg test: per leg, two across the edge and two along it.
+constexpr size_t kThreadRays = 8;
+
 /// The rays parallel to each leg of p (each leg from Q outward: toward the source, then toward
-/// the listener), kThreadReach either side of it across the edge, from kThreadStart along it;
-/// inactive for a leg nearly along the edge or shorter than kThreadStart. `side` receives each
-/// ray's unit offset direction.
-std::array<TraceRay, 4> threadRays(const glm::vec3& source, const glm::vec3& L, const EdgePath& p,
-                                   std::array<glm::vec3, 4>& side) {
-  std::array<TraceRay, 4> out;
+/// the listener), kThreadReach either side of it across the edge and along it (a gap that
+/// crosses the edge: the slit between two leaves under a lintel), from kThreadStart along the
+/// leg; inactive for a leg nearly along the edge or shorter than 2 kThreadStart. `side`
+/// receives each ray's unit offset direction.
+std::array<TraceRay, kThreadRays> threadRays(const glm::vec3& source, const glm::vec3& L,
+                                             const EdgePath& p,
+                                             std::array<glm::vec3, kThreadRays>& side) {
+  std::array<TraceRay, kThreadRays> out;
   const std::array<glm::vec3, 2> ends = {source, L};
   for (size_t i = 0; i < 2; ++i) {
     const float length = glm::distance(p.q, ends[i]);
     const glm::vec3 dir = (ends[i] - p.q) / std::max(length, 1e-6f);
     const glm::vec3 across = glm::cross(dir, p.edge->direction);
     const float sine = glm::length(across);
-    for (size_t k = 0; k < 2; ++k) {
-      side[2 * i + k] = (k == 0 ? 1.f : -1.f) / std::max(sine, 1e-6f) * across;
-      out[2 * i + k] = TraceRay{p.q + kThreadStart * dir + kThreadReach * side[2 * i + k], dir,
-                                0.f, length - kThreadStart - kLegEpsilon,
-                                sine > 0.1f && length > 2.f * kThreadStart && !p.atEnd};
+    const glm::vec3 along = p.edge->direction - glm::dot(p.edge->direction, dir) * dir;
+    const std::array<glm::vec3, 2> axes = {across / std::max(sine, 1e-6f),
+                                           along / std::max(sine, 1e-6f)};
+    for (size_t k = 0; k < 4; ++k) {
+      const size_t n = 4 * i + k;
+      side[n] = (k % 2 == 0 ? 1.f : -1.f) * axes[k / 2];
+      out[n] = TraceRay{p.q + kThreadStart * dir + kThreadReach * side[n], dir, 0.f,
+                        length - kThreadStart - kLegEpsilon,
+                        sine > 0.1f && length > 2.f * kThreadStart && !p.atEnd};
     }
   }
   return out;
@@ -99,7 +108,7 @@ std::vector<TraceHit> foreignHits(const BoundQuery& q, const std::vector<EdgePat
     bool again = false;
     for (size_t i = 0; i < rays.size(); ++i) {
       if (!rays[i].active || !hits[i].found) continue;
-      const DiffractionEdge& e = *paths[i / 4].edge;
+      const DiffractionEdge& e = *paths[i / kThreadRays].edge;
       const uint32_t s = surfaceOf(q.surfaces, hits[i].surface.triangle);
       if (s == e.surfaces[0] || s == e.surfaces[1]) {
         rays[i].tnear = hits[i].surface.t + surfaceOffset(rays[i].org, hits[i].surface.t);
@@ -154,14 +163,14 @@ void markThreads(const BoundQuery& q, std::vector<EdgePath>& paths) {
   std::vector<TraceRay> rays;
   std::vector<glm::vec3> sides;
   for (const EdgePath& p : paths) {
-    std::array<glm::vec3, 4> side;
+    std::array<glm::vec3, kThreadRays> side;
     for (const TraceRay& r : threadRays(q.source, q.L, p, side)) rays.push_back(r);
     sides.insert(sides.end(), side.begin(), side.end());
   }
   const std::vector<TraceHit> hits = foreignHits(q, paths, rays);
   const std::vector<uint32_t> other = otherSide(q, rays, sides, hits);
   for (size_t j = 0; j < paths.size(); ++j)
-    for (size_t i = 4 * j; i < 4 * j + 4; ++i)
+    for (size_t i = kThreadRays * j; i < kThreadRays * (j + 1); ++i)
       if (other[i] != kUnknownSurface) {
         paths[j].threadedBy = {surfaceOf(q.surfaces, hits[i].surface.triangle), other[i]};
         break;

@@ -478,6 +478,26 @@ TEST_CASE("Door gaps: a double door's leaves meeting on the line of sight pass t
         CHECK(std::abs(closed[b] - model[b]) < 3.0);
       }
     }
+  // Box leaves 4 cm thick in the middle of a 0.2 m wall: every gap a channel as deep as the
+  // leaves (the model's slits 4 cm deep), the line of sight through the middle one.
+  const Bands thickOpen = decibels(directLevel(thickDoorwayScene(0.2f, false)));
+  for (float gap : {0.005f, 0.01f})
+    for (float middle : {0.005f, 0.01f}) {
+      std::vector<Slit> slits = perimeterSlits(gap, 6.1, 0.04);
+      const double zc = kDoorZ0 + 0.5 * kDoorWidth;
+      slits.push_back({{6.1, 0, zc}, {6.1, kDoorHeight - gap, zc}, middle, 0.04});
+      const Bands model = modelLevels(slits, zr);
+      const Bands closed = decibels(directLevel(doubleBoxDoorScene(0.2f, gap, middle, 0.04f, 6.1f)));
+      std::printf("double box door in a 0.2 m wall, %2.0f mm round, %2.0f mm between: closed / "
+                  "model (dB)", double(gap) * 1e3, double(middle) * 1e3);
+      for (int b = 0; b < kNumBands; ++b)
+        std::printf(" %5.1f/%5.1f", double(closed[b]), double(model[b]));
+      std::printf("\n");
+      for (int b = 0; b < kNumBands; ++b) {
+        CHECK(closed[b] <= thickOpen[b]);
+        CHECK(std::abs(closed[b] - model[b]) < 3.0);
+      }
+    }
 }
 
 TEST_CASE("Door gaps: a double door seen beside its leaves' gap or off the axis is never louder",

@@ -111,6 +111,20 @@ inline SceneDesc recessedLeafScene(float depth, float gap, float thickness, floa
   return s;
 }
 
+/// thickDoorwayScene(depth)'s doorway closed by two box leaves `thickness` deep centred on the
+/// plane x, meeting in its middle `middle` metres apart, `gap` from the jambs and the lintel,
+/// standing on the floor.
+inline SceneDesc doubleBoxDoorScene(float depth, float gap, float middle, float thickness,
+                                    float x) {
+  SceneDesc s = thickDoorwayScene(depth, false);
+  const float half = 0.5f * (kDoorWidth - middle) - gap, top = kDoorHeight - gap;
+  const float x0 = x - 0.5f * thickness, x1 = x + 0.5f * thickness;
+  test::addSolidBox(s.mesh, {x0, 0.f, kDoorZ0 + gap}, {x1, top, kDoorZ0 + gap + half}, 0);
+  test::addSolidBox(s.mesh, {x0, 0.f, kDoorZ0 + kDoorWidth - gap - half},
+                    {x1, top, kDoorZ0 + kDoorWidth - gap}, 0);
+  return s;
+}
+
 /// doorScene's doorway closed by two leaves (in the mesh) meeting in its middle, `middle`
 /// metres apart there (on the line of sight), `gap` from the frame at the sides and the top.
 inline SceneDesc doubleDoorScene(float gap, float middle) {

@@ -27,6 +27,11 @@ namespace dpc {
 /// reveal).
 inline constexpr float kChannelDepthMax = 0.12f;
 
+/// m: the widest gap a channel carries when its face is shallower than that (a 6 mm glass leaf
+/// with 10 mm gaps); a deeper face carries gaps up to its depth. Wider is an opening whose edges
+/// UTD handles (a leaf ajar 5 degrees opens 9 cm at its latch side).
+inline constexpr float kChannelGapMax = 0.03f;
+
 /// The narrow faces (NarrowFace, engine/diffraction.h: two edges bounding one flat face at most
 /// kChannelDepthMax wide, joinedByFace, neither a sheet's rim), each pair once, looked for among the edges on each flat surface
 /// (`surfaceEdges`: SurfaceBodies::edges).

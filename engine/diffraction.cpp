@@ -187,8 +187,8 @@ uint32_t threadCloser(const SurfaceBodies& bodies, const EdgePath& p) {
 }
 
 /// A path whose leg threads a gap (markThreads, run here: the channels, found after it, are
-/// not marked) that a slit or channel path carries (one of the
-/// gap's two surfaces bounds that slit: the leaf's rim or side face, or closes it) is neither a
+/// not marked) that a slit or channel path carries (the gap's two
+/// surfaces belong to the bodies either side of that slit: the leaf and its wall) is neither a
 /// free edge nor the mouth of a slit of its own: what passes there is that slit's. Counted, the
 /// jamb took a closed door set in a thick wall to the open doorway's level at 250-500 Hz. A gap
 /// no slit carries (between the slats of a screen, which the probe does not take for slits)
@@ -199,17 +199,22 @@ void dropThreadedPaths(BoundQuery& q, std::vector<EdgePath>& paths) {
   if (std::none_of(paths.begin(), paths.end(), [](const EdgePath& p) { return p.gapWidth > 0.f; }))
     return;
   markThreads(q, paths);
-  std::vector<uint32_t> carried;  // the surfaces of the slits not threaded themselves
+  // The bodies either side of the slits not threaded themselves (a leaf and its wall).
+  auto body = [&](uint32_t s) {
+    return s < q.bodies.body.size() ? q.bodies.body[s] : kMovingObjects;
+  };
+  std::vector<uint32_t> carried;
   for (const EdgePath& p : paths)
     if (p.gapWidth > 0.f && p.threadedBy[0] == kUnknownSurface)
-      carried.insert(carried.end(), {p.edge->surfaces[0], p.edge->surfaces[1], p.gapCloser});
+      for (uint32_t s : {p.edge->surfaces[0], p.edge->surfaces[1], p.gapCloser})
+        if (s != kUnknownSurface) carried.push_back(body(s));
   std::sort(carried.begin(), carried.end());
   auto isCarried = [&](uint32_t s) {
-    return s != kUnknownSurface && std::binary_search(carried.begin(), carried.end(), s);
+    return s != kUnknownSurface && std::binary_search(carried.begin(), carried.end(), body(s));
   };
   size_t kept = 0;
   for (EdgePath& p : paths) {
-    if (!isCarried(p.threadedBy[0]) && !isCarried(p.threadedBy[1])) {
+    if (!isCarried(p.threadedBy[0]) || !isCarried(p.threadedBy[1])) {
       paths[kept++] = p;
       continue;
     }
@@ -331,8 +336,7 @@ void addEndSlits(const std::vector<DiffractionEdge>& edges, bool lineOfSight, Bo
 
 /// Adds the channels (engine/channel_path.h) along the narrow faces `faces` whose legs are free
 /// and whose gap the probe finds open (a closed box leaf's gaps to its frame and the floor), at
-/// most as wide as the face is deep: a wider gap is an opening whose edges UTD handles (a leaf
-/// ajar 5 degrees has a 9 cm gap at its latch side).
+/// most as wide as the face is deep or kChannelGapMax.
 void addChannels(const std::vector<DiffractionEdge>& edges, const std::vector<NarrowFace>& faces,
                  BoundQuery& q, std::vector<EdgePath>& paths) {
   std::vector<EdgePath> channels, closed;
@@ -347,7 +351,8 @@ void addChannels(const std::vector<DiffractionEdge>& edges, const std::vector<Na
   if (channels.empty()) return;
   findSlits(q.tracer, q.source, q.L, q.surfaces, channels, closed);
   for (const EdgePath& p : channels)
-    if (p.gapWidth > 0.f && p.gapWidth <= glm::length(p.through)) paths.push_back(p);
+    if (p.gapWidth > 0.f && p.gapWidth <= std::max(glm::length(p.through), kChannelGapMax))
+      paths.push_back(p);
   markSlitOwners(paths);
 }
 

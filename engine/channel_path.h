@@ -25,7 +25,7 @@ namespace dpc {
 
 /// m: the widest face a channel runs along (door leaves are 35 to 80 mm thick; a thin wall's
 /// reveal).
-inline constexpr float kChannelDepthMax = 0.12f;
+inline constexpr float kChannelDepthMax = 0.3f;
 
 /// m: the widest gap a channel carries when its face is shallower than that (a 6 mm glass leaf
 /// with 10 mm gaps); a deeper face carries gaps up to its depth. Wider is an opening whose edges

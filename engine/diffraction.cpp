@@ -52,6 +52,11 @@ void findSlits(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L
     EdgePath& p = paths[kept++] = paths[j];
     p.gapWidth = shapes[j].width;
     if (p.gapWidth > 0.f) {
+      if (p.measuredDepth && shapes[j].depth >= 0.f) {  // the slit where its far side stands
+        const glm::vec3 dir = p.through / glm::length(p.through);
+        p.q += shapes[j].inset * dir;
+        p.through = shapes[j].depth * dir;
+      }
       makeSlit(source, L - p.through, std::max(shapes[j].from, p.visibleFrom),
                std::min(shapes[j].to, p.visibleTo), p);
       p.slitAspect = double(shapes[j].aspect);
@@ -334,6 +339,14 @@ void addEndSlits(const std::vector<DiffractionEdge>& edges, bool lineOfSight, Bo
   markSlitOwners(paths);
 }
 
+/// True when flat surface s belongs to a body too large to be taken away whole (kSolidExtent
+/// across or more: a wall).
+bool largeBody(const SurfaceBodies& bodies, uint32_t s) {
+  if (s >= bodies.body.size() || bodies.body[s] >= bodies.members.size()) return false;
+  const auto [lo, hi] = boxOfSurfaces(bodies.members[bodies.body[s]], bodies);
+  return glm::distance(lo, hi) >= kSolidExtent;
+}
+
 /// Adds the channels (engine/channel_path.h) along the narrow faces `faces` whose legs are free
 /// and whose gap the probe finds open (a closed box leaf's gaps to its frame and the floor), at
 /// most as wide as the face is deep or kChannelGapMax.
@@ -345,8 +358,10 @@ void addChannels(const std::vector<DiffractionEdge>& edges, const std::vector<Na
       EdgePath p;
       if ((channelPath(edges[a], edges[b], q.source, q.L, p) &&
            legsFree(q.tracer, q.source, q.L, p)) ||
-          visibleChannel(q.tracer, edges[a], edges[b], q.source, q.L, p))
+          visibleChannel(q.tracer, edges[a], edges[b], q.source, q.L, p)) {
+        p.measuredDepth = largeBody(q.bodies, p.edge->surfaces[0]);
         channels.push_back(p);
+      }
     }
   if (channels.empty()) return;
   findSlits(q.tracer, q.source, q.L, q.surfaces, channels, closed);
@@ -412,9 +427,7 @@ EdgeDiffraction::EdgeDiffraction(const Mesh& mesh)
   for (const NarrowFace& f : narrow_)
     for (uint32_t s : edges_[f.a].surfaces) {
       if (s != edges_[f.b].surfaces[0] && s != edges_[f.b].surfaces[1]) continue;
-      if (s >= bodies_.extent.size() || bodies_.body[s] >= bodies_.members.size()) continue;
-      const auto [lo, hi] = boxOfSurfaces(bodies_.members[bodies_.body[s]], bodies_);
-      if (glm::distance(lo, hi) >= kSolidExtent)
+      if (s < bodies_.extent.size() && largeBody(bodies_, s))
         bodies_.extent[s] = std::numeric_limits<float>::infinity();
     }
 }

@@ -179,7 +179,10 @@ bool legsFree(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L,
 
 void makeSlit(const glm::vec3& source, const glm::vec3& L, float from, float to, EdgePath& p) {
   const DiffractionEdge& e = *p.edge;
-  const glm::vec3 a = e.a + 0.5f * p.gapWidth * p.mouth;
+  // The slit's centre line runs along the edge through Q (a measured channel's Q lies off its
+  // edge, where the gap's far side stands), half the width across the mouth.
+  const glm::vec3 line = p.q - glm::dot(p.q - e.a, e.direction) * e.direction;
+  const glm::vec3 a = line + 0.5f * p.gapWidth * p.mouth;
   const glm::vec3 ps = source - a, pl = L - a;
   const float ts = glm::dot(ps, e.direction), tl = glm::dot(pl, e.direction);
   const float rs = glm::length(ps - ts * e.direction), rl = glm::length(pl - tl * e.direction);
@@ -245,11 +248,28 @@ float slitsApart(const EdgePath& o, const EdgePath& p) {
                    toSegment(o.slitCentre + o.through, p.slitCentre, p.through)});
 }
 
+/// True when o's and p's slits (parallel) share part of their extent along o's edge: the top
+/// gaps of two leaves meeting in a doorway lie on one line but are two slits.
+bool overlapAlong(const EdgePath& o, const EdgePath& p) {
+  constexpr float kTolerance = 1e-3f;  // m
+  const glm::vec3 d = o.edge->direction;
+  auto extent = [&](const EdgePath& x) {
+    const float sign = glm::dot(x.edge->direction, d) < 0.f ? -1.f : 1.f;
+    const float c = glm::dot(x.slitCentre, d);
+    const float a = c + sign * float(x.slit.zFrom), b = c + sign * float(x.slit.zTo);
+    return std::pair(std::min(a, b), std::max(a, b));
+  };
+  const auto [oa, ob] = extent(o);
+  const auto [pa, pb] = extent(p);
+  return pa < ob - kTolerance && oa < pb - kTolerance;
+}
+
 }  // namespace
 
 void markSlitOwners(std::vector<EdgePath>& paths) {
   auto sameSlit = [](const EdgePath& o, const EdgePath& p) {
     return std::abs(glm::dot(o.edge->direction, p.edge->direction)) >= kParallelEdges &&
+           overlapAlong(o, p) &&
            (slitsApart(o, p) < 0.5f * std::max(o.gapWidth, p.gapWidth) + 1e-3f ||
             acrossSlit(o, p));
   };

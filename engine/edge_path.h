@@ -64,6 +64,10 @@ struct EdgePath {
   /// How far along the edge from Q the slit is seen from both ends (m, relative to Q; a channel
   /// whose point of least length is hidden: engine/channel_path.h visibleChannel); unbounded
   /// for every other path.
+  /// A channel along a large body's face (a wall's reveal beside a leaf set in it, a moving one
+  /// too): its slit is as deep as the gap's far side stands along it (measured by the probe),
+  /// not as the face is wide.
+  bool measuredDepth = false;
   float visibleFrom = -std::numeric_limits<float>::infinity();
   float visibleTo = std::numeric_limits<float>::infinity();
 };

@@ -115,17 +115,28 @@ TraceRay acrossRay(const GapProbe& g, const glm::vec3& p, bool valid) {
   return TraceRay{foot, (p - foot) / length, surfaceOffset(foot), length};
 }
 
+/// A channel's segment from p at its front mouth to p + through at its back one (inactive for
+/// other probes): a surface on it closes the channel that far across (a moving leaf set in a
+/// thick wall's doorway, beside the reveal the channel runs along).
+TraceRay throughRay(const GapProbe& g, const glm::vec3& p, bool valid) {
+  const float length = glm::length(g.through);
+  if (!valid || !(length > 0.f)) return TraceRay{p, glm::vec3(1.f, 0.f, 0.f), 0.f, 0.f, false};
+  return TraceRay{p, g.through / length, surfaceOffset(p), length};
+}
+
 /// Per point of the round, the triangle whose surface closes the mouth there (closesMouth, or
-/// met across the mouth), the source's leg's first; kNoCloser where none does (and for
-/// untested points).
+/// met across the mouth or through a channel), the source's leg's first; kNoCloser where none
+/// does (and for untested points).
 std::vector<uint32_t> run(const Tracer& tracer, const glm::vec3& source, const glm::vec3& listener,
                       std::span<const GapProbe> probes, const Round& round) {
+  constexpr size_t kRays = 4;  // two legs, across the mouth, through a channel
   std::vector<TraceRay> rays;
-  rays.reserve(round.point.size() * 3);
+  rays.reserve(round.point.size() * kRays);
   for (size_t i = 0; i < round.point.size(); ++i) {
     const GapProbe& g = probes[round.probe[i]];
     appendLegs(source, listener, g, round.point[i], round.valid[i], rays);
     rays.push_back(acrossRay(g, round.point[i], round.valid[i]));
+    rays.push_back(throughRay(g, round.point[i], round.valid[i]));
   }
   std::vector<TraceHit> hits(rays.size());
   tracer.intersect(rays, hits);
@@ -133,11 +144,12 @@ std::vector<uint32_t> run(const Tracer& tracer, const glm::vec3& source, const g
   for (size_t i = 0; i < closer.size(); ++i) {
     const GapProbe& g = probes[round.probe[i]];
     const glm::vec3& p = round.point[i];
-    if (hits[3 * i + 2].found) closer[i] = hits[3 * i + 2].surface.triangle;
+    for (const size_t ray : {kRays * i + 3, kRays * i + 2})
+      if (hits[ray].found) closer[i] = hits[ray].surface.triangle;
     GapProbe back = g;  // the listener's leg goes to the back mouth
     back.q += g.through;
-    for (const size_t leg : {3 * i + 1, 3 * i}) {
-      const bool listener = leg == 3 * i + 1;
+    for (const size_t leg : {kRays * i + 1, kRays * i}) {
+      const bool listener = leg == kRays * i + 1;
       if (closesMouth(listener ? back : g, rays[leg], hits[leg], listener ? p + g.through : p))
         closer[i] = hits[leg].surface.triangle;
     }
@@ -315,6 +327,38 @@ void findEnds(const Tracer& tracer, const glm::vec3& source, const glm::vec3& li
   }
 }
 
+/// For each channel gap, where its far side stands along the channel (GapShape::depth): rays
+/// 1.5 widths across, from kGapProbeThrough outside either mouth toward the other; what they
+/// run free before meeting it is not the gap's depth (a leaf 4 cm thick set in a 0.2 m reveal:
+/// 0.04). A ray that meets nothing (the far side is the face's own body) leaves it whole.
+void measureDepths(const Tracer& tracer, std::span<const GapProbe> probes,
+                   const std::vector<size_t>& gaps, std::span<GapShape> shapes) {
+  std::vector<TraceRay> rays;
+  std::vector<size_t> owner;
+  for (size_t j : gaps) {
+    const GapProbe& g = probes[j];
+    const float length = glm::length(g.through);
+    if (!(length > 0.f)) continue;
+    const glm::vec3 dir = g.through / length;
+    const glm::vec3 front = g.q + kOuterWidth * shapes[j].width * g.mouth - kGapProbeThrough * dir;
+    const glm::vec3 back = front + g.through + 2.f * kGapProbeThrough * dir;
+    rays.push_back(TraceRay{front, dir, 0.f, length + kGapProbeThrough});
+    rays.push_back(TraceRay{back, -dir, 0.f, length + kGapProbeThrough});
+    owner.push_back(j);
+  }
+  if (rays.empty()) return;
+  std::vector<TraceHit> hits(rays.size());
+  tracer.intersect(rays, hits);
+  for (size_t n = 0; n < owner.size(); ++n) {
+    std::array<float, 2> free = {0.f, 0.f};  // from the front mouth, from the back one
+    for (size_t k = 0; k < 2; ++k)
+      if (hits[2 * n + k].found) free[k] = std::max(0.f, hits[2 * n + k].surface.t - kGapProbeThrough);
+    GapShape& shape = shapes[owner[n]];
+    shape.depth = std::max(0.f, glm::length(probes[owner[n]].through) - free[0] - free[1]);
+    shape.inset = std::min(free[0], glm::length(probes[owner[n]].through) - shape.depth);
+  }
+}
+
 }  // namespace
 
 void probeGaps(const Tracer& tracer, const glm::vec3& source, const glm::vec3& listener,
@@ -352,6 +396,7 @@ void probeGaps(const Tracer& tracer, const glm::vec3& source, const glm::vec3& l
     shapes[gaps[n]].aspect = float(run);
   }
   findEnds(tracer, source, listener, probes, gaps, shapes);
+  measureDepths(tracer, probes, gaps, shapes);
 }
 
 }  // namespace dpc

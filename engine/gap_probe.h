@@ -82,6 +82,10 @@ struct GapShape {
   float aspect = 0.f;
   float from = 0.f, to = 0.f;
   uint32_t closer = kNoCloser;
+  /// A channel's depth where its far side stands (m; a leaf 4 cm thick beside a 0.2 m reveal:
+  /// 0.04), and how far in from the front mouth that begins (m); depth -1 for other probes.
+  float depth = -1.f;
+  float inset = 0.f;
 };
 
 /// Probes every gap; shapes.size() >= probes.size(). Batch queries: 8 rays per probe, 16

@@ -111,6 +111,19 @@ inline SceneDesc recessedLeafScene(float depth, float gap, float thickness, floa
   return s;
 }
 
+/// recessedLeafScene's box leaf as a scene object (a game's door, moved by its trajectory; its
+/// own edges do not diffract), at rest closed.
+inline SceneDesc objectLeafScene(float depth, float gap, float thickness, float x) {
+  SceneDesc s = thickDoorwayScene(depth, false);
+  ObjectDesc door;
+  door.name = "leaf";
+  test::addSolidBox(door.mesh, {-0.5f * thickness, 0.f, 0.f},
+                    {0.5f * thickness, kDoorHeight - gap, kDoorWidth - 2.f * gap}, 0);
+  door.trajectory = {ObjectKeyframe{0.0, glm::vec3(x, 0.f, kDoorZ0 + gap), glm::quat(1, 0, 0, 0)}};
+  s.objects.push_back(door);
+  return s;
+}
+
 /// thickDoorwayScene(depth)'s doorway closed by two box leaves `thickness` deep centred on the
 /// plane x, meeting in its middle `middle` metres apart, `gap` from the jambs and the lintel,
 /// standing on the floor.

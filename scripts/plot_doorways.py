@@ -2,8 +2,10 @@
 """Doors and doorways on the line of sight: direct sound re the free field per octave band.
 
 Left: the open doorway in a thin wall and through a 0.3 m wall (faces written once or twice)
-against the Kirchhoff aperture integral. Right: closed doors, one leaf with gaps round it and
+against the Kirchhoff aperture integral. Middle: closed doors, one leaf with gaps round it and
 two leaves meeting in the middle, against the slit model, with the open doorway for reference.
+Right: real doors, a 4 cm box leaf set in the middle of a 0.2 m wall, in the static mesh and
+as a moving object, against the slit model with the leaf's thickness as the slits' depth.
 Every number comes from build/tests/doorway_test and door_gap_test (tests/engine/), which
 compute the Kirchhoff integral and the slit model on their own.
 
@@ -34,8 +36,15 @@ def read(build):
         if not os.path.exists(test):
             sys.exit(f"plot_doorways.py: --build: {test}: no such file (build the tests first)")
         out += subprocess.run([test, "-s", "Do*"], capture_output=True, text=True).stdout
-    open_rows, table, double = {}, {}, []
+    open_rows, table, double, box = {}, {}, [], {}
     for line in out.splitlines():
+        m = re.match(r"(wall 0\.2 m, leaf 40 mm at x 6\.10|object box leaf at x 6\.10), gap\s+(\d+) mm: "
+                     r"dpc, dpc - model \(dB\)(.*)", line)
+        if m:
+            pairs = re.findall(r"(-?\d+\.\d+)/([+-]\d+\.\d+)", m.group(3))
+            kind = "object" if m.group(1).startswith("object") else "static"
+            box[(kind, m.group(2))] = ([float(a) for a, _ in pairs],
+                                       [float(a) - float(d) for a, d in pairs])
         m = re.match(r"doorway (.+?)\s+\(dB re free field\)(.*)", line)
         if m:
             open_rows[m.group(1).strip()] = numbers(m.group(2))
@@ -49,9 +58,9 @@ def read(build):
             pairs = re.findall(r"(-?\d+\.\d+)/\s*(-?\d+\.\d+)", m.group(3))
             double.append((m.group(1), m.group(2), [float(a) for a, _ in pairs],
                            [float(b) for _, b in pairs]))
-    if not open_rows or not table or not double:
+    if not open_rows or not table or not double or not box:
         sys.exit("plot_doorways.py: door_gap_test printed none of its tables (did it fail?)")
-    return open_rows, table, double
+    return open_rows, table, double, box
 
 
 def main():
@@ -59,8 +68,9 @@ def main():
     ap.add_argument("--build", default="build")
     ap.add_argument("-o", "--output", default="docs/images/doorways.png")
     a = ap.parse_args()
-    open_rows, table, double = read(a.build)
-    fig, (left, right) = plt.subplots(1, 2, figsize=(12, 5), sharey=True, constrained_layout=True)
+    open_rows, table, double, box = read(a.build)
+    fig, (left, right, real) = plt.subplots(1, 3, figsize=(17, 5), sharey=True,
+                                            constrained_layout=True)
     styles = {"Kirchhoff": ("k", "--"), "thin": ("C0", "-"), "0.3 m": ("C1", "-"),
               "0.3 m twice": ("C2", ":")}
     for name, level in open_rows.items():
@@ -83,7 +93,18 @@ def main():
                    label=f"two leaves 5 mm apart, {round_mm} mm round (dpc)")
         right.plot(BANDS, model, "--", color=colour)
     right.set(title="Closed: dpc (solid) against the slit model (dashed)")
-    for ax in (left, right):
+    real.plot(BANDS, open_rows["0.3 m"], "k-", lw=2, label="open doorway, 0.3 m wall (dpc)")
+    for i, gap in enumerate(["5", "10", "20"]):
+        for kind, marker, dash in (("static", "o", "-"), ("object", "x", ":")):
+            if (kind, gap) not in box:
+                continue
+            dpc, model = box[(kind, gap)]
+            real.plot(BANDS, dpc, dash, color=f"C{i}", marker=marker,
+                      label=f"{gap} mm round, leaf {'a moving object' if kind == 'object' else 'in the mesh'} (dpc)")
+            if kind == "static":
+                real.plot(BANDS, model, "--", color=f"C{i}")
+    real.set(title="4 cm box leaf, 0.2 m wall: against the slit model with depth (dashed)")
+    for ax in (left, right, real):
         ax.set_ylim(-44, 4)  # room below the curves for the legend
         ax.set_xscale("log")
         ax.set_xticks(BANDS, [str(b) for b in BANDS])

@@ -13,12 +13,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-/// The angle of direction v around edge e from face 0, in [0, 2 pi) (toward normal0).
-double angleAround(const DiffractionEdge& e, const glm::vec3& v) {
-  const double a = std::atan2(double(glm::dot(v, e.normal0)), double(glm::dot(v, e.face0)));
-  return a < 0.0 ? a + 2.0 * kPi : a;
-}
-
 /// The offset from edge a's line to edge b's, perpendicular to a (m).
 glm::vec3 acrossTo(const DiffractionEdge& a, const DiffractionEdge& b) {
   const glm::vec3 v = b.a - a.a;
@@ -73,24 +67,12 @@ float channelPoint(const DiffractionEdge& front, const glm::vec3& through, const
   return ts + (tl - ts) * rs / (rs + rl);
 }
 
-/// The air wedge at `front` (radians), its sense (+1: from face 0 toward normal0) and the angles
-/// of the source and of the mouth in it; false unless the wedge holding the source is convex
-/// (wider than pi) and holds the mouth too.
+/// The air wedge at `front` (airWedge) holding the source and the mouth, into p's angles (the
+/// mouth's as the listener's: no UTD field, any angle inside keeps the terms finite); false
+/// unless it is convex and holds the mouth.
 bool channelWedge(const DiffractionEdge& front, const glm::vec3& q, const glm::vec3& source,
                   const glm::vec3& mouth, EdgePath& p, double& sense) {
-  double wedge = double(front.open);
-  double phiS = angleAround(front, source - q), phiM = angleAround(front, mouth);
-  sense = 1.0;
-  if (phiS > wedge) {
-    sense = -1.0;
-    wedge = 2.0 * kPi - wedge;
-    phiS = 2.0 * kPi - phiS;
-    phiM = 2.0 * kPi - phiM;
-  }
-  p.phiS = phiS;
-  p.phiL = phiM;  // no UTD field: any angle inside the wedge keeps the terms finite
-  p.wedge = wedge;
-  return wedge > 1.05 * kPi && phiM > 0.0 && phiM < wedge;
+  return airWedge(front, q, source, q + mouth, p.phiS, p.phiL, p.wedge, sense);
 }
 
 }  // namespace

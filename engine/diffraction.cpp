@@ -182,12 +182,16 @@ void markThreads(const BoundQuery& q, std::vector<EdgePath>& paths) {
       }
 }
 
+/// The body of flat surface s (kMovingObjects for a moving object's or an unknown surface).
+uint32_t bodyOf(const SurfaceBodies& bodies, uint32_t s) {
+  return s < bodies.body.size() ? bodies.body[s] : kMovingObjects;
+}
+
 /// Of the two surfaces either side of the gap p's leg threads, the one on another body than p's
 /// edge (the leaf beside a jamb), else the first: the gap's closer, whose removal frees the leg.
 uint32_t threadCloser(const SurfaceBodies& bodies, const EdgePath& p) {
-  auto body = [&](uint32_t s) { return s < bodies.body.size() ? bodies.body[s] : kMovingObjects; };
   for (uint32_t s : p.threadedBy)
-    if (body(s) != body(p.edge->surfaces[0])) return s;
+    if (bodyOf(bodies, s) != bodyOf(bodies, p.edge->surfaces[0])) return s;
   return p.threadedBy[0];
 }
 
@@ -205,9 +209,7 @@ void dropThreadedPaths(BoundQuery& q, std::vector<EdgePath>& paths) {
     return;
   markThreads(q, paths);
   // The bodies either side of the slits not threaded themselves (a leaf and its wall).
-  auto body = [&](uint32_t s) {
-    return s < q.bodies.body.size() ? q.bodies.body[s] : kMovingObjects;
-  };
+  auto body = [&](uint32_t s) { return bodyOf(q.bodies, s); };
   std::vector<uint32_t> carried;
   for (const EdgePath& p : paths)
     if (p.gapWidth > 0.f && p.threadedBy[0] == kUnknownSurface)

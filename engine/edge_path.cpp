@@ -12,32 +12,40 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr float kParallelEdges = 0.99f;  // cosine: two slits' edges taken as parallel
 
-/// Angles (radians, from face 0 in the plane perpendicular to the edge) of the source and the
-/// listener seen from Q, the air wedge's angle and its sense (+1: from face 0 toward normal0,
-/// -1: the other way); false unless the listener is in the
-/// source's wedge and that wedge is wider than about pi (narrower ones cannot shadow: a room's
-/// inner corner seen from inside).
-bool wedgeAngles(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3& source,
-                 const glm::vec3& L, bool directVisible, double& phiS, double& phiL, double& wedge,
-                 double& sense) {
+}  // namespace
+
+bool airWedge(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3& source,
+              const glm::vec3& other, double& phiS, double& phiOther, double& wedge,
+              double& sense) {
   auto angleOf = [&](const glm::vec3& p) {  // in [0, 2 pi)
     const glm::vec3 v = p - q;
     double a = std::atan2(double(glm::dot(v, e.normal0)), double(glm::dot(v, e.face0)));
     return a < 0 ? a + 2.0 * kPi : a;
   };
   phiS = angleOf(source);
-  phiL = angleOf(L);
+  phiOther = angleOf(other);
   // The source's wedge is the air wedge: [0, open] or, measured from face 0 the other way,
-  // [0, 2 pi - open]. The listener must be in it too.
+  // [0, 2 pi - open].
   wedge = double(e.open);
   sense = 1.0;
   if (phiS > wedge) {
     sense = -1.0;
     wedge = 2.0 * kPi - wedge;
     phiS = 2.0 * kPi - phiS;
-    phiL = 2.0 * kPi - phiL;
+    phiOther = 2.0 * kPi - phiOther;
   }
-  if (!(phiL > 0.0 && phiL < wedge) || wedge <= 1.05 * kPi) return false;
+  return phiOther > 0.0 && phiOther < wedge && wedge > 1.05 * kPi;
+}
+
+namespace {
+
+/// Angles of the source and the listener seen from Q in the air wedge (airWedge); false unless
+/// the listener is in the source's wedge and that wedge is wider than about pi (narrower ones
+/// cannot shadow: a room's inner corner seen from inside).
+bool wedgeAngles(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3& source,
+                 const glm::vec3& L, bool directVisible, double& phiS, double& phiL, double& wedge,
+                 double& sense) {
+  if (!airWedge(e, q, source, L, phiS, phiL, wedge, sense)) return false;
   // On the shadow boundary itself (|phi - phi'| = pi) the occlusion test that decided
   // direct.visible and the UTD's side of the boundary could disagree by rounding; put the
   // listener 1e-4 rad on the side the direct sound's visibility says.

@@ -81,6 +81,15 @@ std::array<glm::vec3, 2> faceDirections(const DiffractionEdge& e);
 /// a slab's two rims).
 bool joinedByFace(const DiffractionEdge& a, const DiffractionEdge& b);
 
+/// The air wedge around edge e at Q: the angles (radians, from face 0 in the plane perpendicular
+/// to the edge) of the source and of the point `other`, measured in the wedge that holds the
+/// source, that wedge's angle and its sense (+1: from face 0 toward normal0, -1: the other
+/// way); true when `other` lies inside that wedge and the wedge is wider than about pi (a
+/// convex edge, which can shadow).
+bool airWedge(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3& source,
+              const glm::vec3& other, double& phiS, double& phiOther, double& wedge,
+              double& sense);
+
 /// The path over edge e from source to the listener centre L through the point Q of least
 /// length, its legs not yet tested (legsFree); false when Q lies outside the edge or the wedge
 /// cannot diffract toward L. With atEnd, only where Q lies beyond the edge: Q is then put

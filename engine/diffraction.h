@@ -48,8 +48,8 @@
 // A slit whose edges end before their point of least path length (a door's top gap or an
 // undercut seen from beside the doorway) is found from the edge's end, on the surfaces of a gap
 // already found or that block the line of sight.
-// A gap along a narrow face (a box leaf's side, up to 0.12 m wide) is a channel: the slit
-// model with the face's width as its depth (engine/channel_path.h). An edge path whose leg
+// A gap along a narrow face (a box leaf's side, a wall's reveal up to 0.3 m) is a channel: the
+// slit model with the gap's depth (engine/channel_path.h). An edge path whose leg
 // threads a gap that such a slit carries (a thick wall's jamb seen through the gap beside a
 // recessed leaf) is dropped: what passes there is that slit's.
 // A line of sight through a gap (between two door leaves) keeps the direct sound only in the

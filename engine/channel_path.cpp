@@ -7,17 +7,13 @@
 #include <numbers>
 #include <utility>
 
+#include "engine/channel_turn.h"
+
 namespace dpc {
 
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-
-/// The offset from edge a's line to edge b's, perpendicular to a (m).
-glm::vec3 acrossTo(const DiffractionEdge& a, const DiffractionEdge& b) {
-  const glm::vec3 v = b.a - a.a;
-  return v - glm::dot(v, a.direction) * a.direction;
-}
 
 bool freeRim(const DiffractionEdge& e) { return e.open >= float(2.0 * kPi) - 1e-4f; }
 
@@ -32,6 +28,11 @@ glm::vec3 channelMouth(const DiffractionEdge& front, const glm::vec3& m) {
 }
 
 }  // namespace
+
+glm::vec3 acrossTo(const DiffractionEdge& a, const DiffractionEdge& b) {
+  const glm::vec3 v = b.a - a.a;
+  return v - glm::dot(v, a.direction) * a.direction;
+}
 
 std::vector<NarrowFace> narrowFaces(const std::vector<DiffractionEdge>& edges,
                                     const std::vector<std::vector<uint32_t>>& surfaceEdges) {
@@ -50,6 +51,10 @@ std::vector<NarrowFace> narrowFaces(const std::vector<DiffractionEdge>& edges,
   out.erase(std::unique(out.begin(), out.end(),
                         [](const NarrowFace& x, const NarrowFace& y) { return x.a == y.a && x.b == y.b; }),
             out.end());
+  for (NarrowFace& f : out) {
+    f.near[0] = channelNeighbours(edges, f.a, f.b);
+    f.near[1] = channelNeighbours(edges, f.b, f.a);
+  }
   return out;
 }
 
@@ -77,32 +82,39 @@ bool channelWedge(const DiffractionEdge& front, const glm::vec3& q, const glm::v
 
 }  // namespace
 
-bool channelPath(const DiffractionEdge& front, const DiffractionEdge& back,
-                 const glm::vec3& source, const glm::vec3& L, EdgePath& p, float at) {
+bool channelVia(const DiffractionEdge& front, const DiffractionEdge& back,
+                const ChannelTurns& turns, const glm::vec3& source, const glm::vec3& L,
+                EdgePath& p, float at) {
+  const glm::vec3 before = turns.before + turns.lipBefore;  // to the outer legs' ends
+  const glm::vec3 beyond = turns.beyond + turns.lipBeyond;
   const glm::vec3 through = acrossTo(front, back);
   const float depth = glm::length(through);
   if (!(depth > 1e-4f)) return false;
   const glm::vec3 m = through / depth;
   if (!(glm::dot(source - front.a, m) < 0.f) || !(glm::dot(L - back.a, m) > 0.f)) return false;
-  const float t = std::isnan(at) ? channelPoint(front, through, source, L) : at;
+  const float t =
+      std::isnan(at) ? channelPoint(front, through + beyond, source + before, L) : at;
   const glm::vec3 q = front.a + t * front.direction;
   const float tb = glm::dot(q + through - back.a, back.direction);
   if (!(t > 0.f && t < front.length && tb > 0.f && tb < back.length)) return false;
   const glm::vec3 mouth = channelMouth(front, m);
-  const float r = glm::distance(source, q), s = glm::distance(q + through, L);
+  const glm::vec3 exit = q + through + beyond;
+  const float r = glm::distance(source, q - before), s = glm::distance(exit, L);
   p = EdgePath{};
   double sense = 1.0;
   if (mouth == glm::vec3(0.f) || !channelWedge(front, q, source, mouth, p, sense) ||
       !(r > kLegEpsilon && s > kLegEpsilon))
     return false;
-  p.length = double(r) + double(depth) + double(s);
+  p.length = double(r) + double(turns.lipBeforeLength) + double(glm::length(turns.before)) +
+             double(depth) + double(glm::length(turns.beyond)) + double(turns.lipBeyondLength) +
+             double(s);
   p.distanceParameter = double(r) * double(s) / (double(r) + double(s));
   p.spreading = 0.0;  // no UTD field: the slit's only
   p.prefactor = utdPrefactor(p.wedge / kPi, 1.0);
   setTerms(false, p);
   p.legs = float(p.length);
-  p.arrival = (q + through - L) / s;
-  p.leaving = (q - source) / r;
+  p.arrival = (exit - L) / s;
+  p.leaving = (q - before - source) / r;
   p.edge = &front;
   p.q = q;
   p.mouth = mouth;
@@ -111,17 +123,28 @@ bool channelPath(const DiffractionEdge& front, const DiffractionEdge& back,
   p.share = 0.0;
   p.atEnd = true;
   p.through = through;
+  p.beyond = turns.beyond;
+  p.before = turns.before;
+  p.lipBeyond = turns.lipBeyond;
+  p.lipBefore = turns.lipBefore;
+  const glm::vec3 entry = q - turns.before, exitMouth = q + through + turns.beyond;
+  p.lipExcess = {std::max(0.f, turns.lipBeforeLength + r - glm::distance(source, entry)),
+                 std::max(0.f, turns.lipBeyondLength + s - glm::distance(exitMouth, L))};
+  p.face = front.surfaces[0] == back.surfaces[0] || front.surfaces[0] == back.surfaces[1]
+               ? front.surfaces[0]
+               : front.surfaces[1];
   return true;
+}
+
+bool channelPath(const DiffractionEdge& front, const DiffractionEdge& back,
+                 const glm::vec3& source, const glm::vec3& L, EdgePath& p, float at) {
+  return channelVia(front, back, ChannelTurns{}, source, L, p, at);
 }
 
 }  // namespace dpc
 
 namespace dpc {
 
-namespace {
-
-/// True when a ray from `front` near parameter t across the mouth meets the gap's other side
-/// within kChannelDepthMax: a seat's narrow faces have none, and no channel is looked for.
 bool gapAcross(const Tracer& tracer, const DiffractionEdge& front, const glm::vec3& through,
                float t) {
   const float near = std::clamp(t, 0.01f * front.length, 0.99f * front.length);
@@ -130,8 +153,6 @@ bool gapAcross(const Tracer& tracer, const DiffractionEdge& front, const glm::ve
   return mouth != glm::vec3(0.f) &&
          tracer.occluded(TraceRay{from, mouth, surfaceOffset(from), kChannelDepthMax});
 }
-
-}  // namespace
 
 bool visibleChannel(const Tracer& tracer, const DiffractionEdge& front, const DiffractionEdge& back,
                     const glm::vec3& source, const glm::vec3& L, EdgePath& p) {

@@ -38,6 +38,9 @@ inline constexpr float kChannelGapMax = 0.03f;
 std::vector<NarrowFace> narrowFaces(const std::vector<DiffractionEdge>& edges,
                                     const std::vector<std::vector<uint32_t>>& surfaceEdges);
 
+/// The offset from edge a's line to edge b's, perpendicular to a (m).
+glm::vec3 acrossTo(const DiffractionEdge& a, const DiffractionEdge& b);
+
 /// The channel path from source over `front` and along the face to `back`, then to the
 /// listener L, without its gap (findSlits probes it); false unless the source lies on front's
 /// side of the face and L on back's, the point of least length lies on both edges, and the
@@ -48,6 +51,31 @@ std::vector<NarrowFace> narrowFaces(const std::vector<DiffractionEdge>& edges,
 bool channelPath(const DiffractionEdge& front, const DiffractionEdge& back,
                  const glm::vec3& source, const glm::vec3& L, EdgePath& p,
                  float at = std::numeric_limits<float>::quiet_NaN());
+
+/// A channel's legs past its mouths when it turns there (engine/channel_turn.h), m: the
+/// narrow leg from the front mouth's point Q back to where it enters (Q - before) and from the
+/// back mouth's point on to where it leaves (+ beyond), each a continuation of the slit; then
+/// the free legs round the stop to where the source and the listener are seen (lipBefore,
+/// lipBeyond: the offsets; their lengths, one leg or several round successive corners).
+struct ChannelTurns {
+  glm::vec3 before{0.f}, beyond{0.f};
+  glm::vec3 lipBefore{0.f}, lipBeyond{0.f};
+  float lipBeforeLength = 0.f, lipBeyondLength = 0.f;
+};
+
+/// channelPath entered at Q - before - lipBefore and left at Q + through + beyond + lipBeyond:
+/// the point of least length with the source moved on and the listener back by those offsets
+/// (the legs' lengths as given), the path's fields set (EdgePath::before, beyond, lipBefore,
+/// lipBeyond, face). Legs not tested.
+bool channelVia(const DiffractionEdge& front, const DiffractionEdge& back,
+                const ChannelTurns& turns, const glm::vec3& source, const glm::vec3& L,
+                EdgePath& p, float at = std::numeric_limits<float>::quiet_NaN());
+
+/// True when a ray from `front` near parameter t (m along it) across the channel's mouth meets
+/// the gap's other side within kChannelDepthMax (a seat's narrow faces have none: no channel is
+/// looked for). One ray.
+bool gapAcross(const Tracer& tracer, const DiffractionEdge& front, const glm::vec3& through,
+               float t);
 
 /// For a channel whose point of least length is hidden or lies beyond its edges (a lintel hides
 /// the side gaps' upper part from a listener above the door): p becomes the path through the

@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "engine/channel_path.h"
+#include "engine/channel_turn.h"
 #include "engine/coherent_sum.h"
 #include "engine/diffraction_edges.h"
 #include "engine/edge_path.h"
@@ -38,7 +39,8 @@ void findSlits(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L
     const float t = glm::dot(p.q - e.a, e.direction);
     const float reach = std::min(e.length / float(kSlitMinAspect), kGapFarthest);
     probes[j] = {p.q,    p.mouth,  reach,      e.direction, -t,
-                 e.length - t, e.face0, p.turn, p.airWedge, p.through};
+                 e.length - t, e.face0, p.turn, p.airWedge, p.through,
+                 p.before != glm::vec3(0.f), p.beyond != glm::vec3(0.f)};
   }
   std::vector<GapShape> shapes(paths.size());
   probeGaps(tracer, source, L, probes, shapes);
@@ -57,7 +59,7 @@ void findSlits(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L
         p.q += shapes[j].inset * dir;
         p.through = shapes[j].depth * dir;
       }
-      makeSlit(source, L - p.through, std::max(shapes[j].from, p.visibleFrom),
+      makeSlit(source + p.before + p.lipBefore, L - p.through - p.beyond - p.lipBeyond, std::max(shapes[j].from, p.visibleFrom),
                std::min(shapes[j].to, p.visibleTo), p);
       p.slitAspect = double(shapes[j].aspect);
     }
@@ -356,11 +358,14 @@ void addChannels(const std::vector<DiffractionEdge>& edges, const std::vector<Na
                  BoundQuery& q, std::vector<EdgePath>& paths) {
   std::vector<EdgePath> channels, closed;
   for (const NarrowFace& f : faces)
-    for (const auto& [a, b] : {std::pair(f.a, f.b), std::pair(f.b, f.a)}) {
+    for (int way = 0; way < 2; ++way) {
+      const uint32_t a = way == 0 ? f.a : f.b, b = way == 0 ? f.b : f.a;
       EdgePath p;
       if ((channelPath(edges[a], edges[b], q.source, q.L, p) &&
            legsFree(q.tracer, q.source, q.L, p)) ||
-          visibleChannel(q.tracer, edges[a], edges[b], q.source, q.L, p)) {
+          visibleChannel(q.tracer, edges[a], edges[b], q.source, q.L, p) ||
+          turnedChannel(q.tracer, edges, edges[a], edges[b], f.near[size_t(1 - way)],
+                        f.near[size_t(way)], q.source, q.L, p)) {
         p.measuredDepth = largeBody(q.bodies, p.edge->surfaces[0]);
         channels.push_back(p);
       }

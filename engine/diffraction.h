@@ -151,9 +151,13 @@ inline std::complex<double> interpolatedUtd(
   return anchors[size_t(a)] + t * (anchors[size_t(a) + 1] - anchors[size_t(a)]);
 }
 
-/// Two edges bounding one narrow flat face (engine/channel_path.h): indices into the edges.
+/// Two edges bounding one narrow flat face (engine/channel_path.h): indices into the edges;
+/// and the edges near each (engine/channel_turn.h channelNeighbours: where a channel may turn,
+/// round a door stop), nearest first: near[0] round b (a channel running a to b leaves there),
+/// near[1] round a.
 struct NarrowFace {
   uint32_t a, b;
+  std::array<std::vector<uint32_t>, 2> near{};
 };
 
 class EdgeDiffraction {

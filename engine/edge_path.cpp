@@ -10,7 +10,6 @@ namespace dpc {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr float kParallelEdges = 0.99f;  // cosine: two slits' edges taken as parallel
 
 }  // namespace
 
@@ -172,10 +171,10 @@ bool edgePath(const DiffractionEdge& e, const glm::vec3& source, const glm::vec3
 }
 
 std::array<TraceRay, 2> legRays(const glm::vec3& source, const glm::vec3& L, const EdgePath& p) {
-  const float r = glm::distance(source, p.q);
-  const glm::vec3 back = p.q + p.through;
-  const float b = glm::distance(back, L);
-  return {TraceRay{source, (p.q - source) / r, kLegEpsilon, r - kLegEpsilon},
+  const glm::vec3 front = p.q - p.before - p.lipBefore;
+  const glm::vec3 back = p.q + p.through + p.beyond + p.lipBeyond;
+  const float r = glm::distance(source, front), b = glm::distance(back, L);
+  return {TraceRay{source, (front - source) / r, kLegEpsilon, r - kLegEpsilon},
           TraceRay{back, (L - back) / b, kLegEpsilon, b - kLegEpsilon}};
 }
 
@@ -183,6 +182,17 @@ bool legsFree(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L,
               const EdgePath& p) {
   const std::array<TraceRay, 2> legs = legRays(source, L, p);
   return !tracer.occluded(legs[0]) && !tracer.occluded(legs[1]);
+}
+
+double channelDepth(const EdgePath& p) {
+  const double depth = double(glm::length(p.through));
+  if (!(depth > 0.0)) return 0.0;
+  const glm::vec3 m = p.through / float(depth);
+  auto squareLeg = [&](const glm::vec3& v) {  // along m, then across it
+    const float along = glm::dot(v, m);
+    return double(std::abs(along)) + double(glm::length(v - along * m));
+  };
+  return squareLeg(p.before) + depth + squareLeg(p.beyond);
 }
 
 void makeSlit(const glm::vec3& source, const glm::vec3& L, float from, float to, EdgePath& p) {
@@ -226,7 +236,8 @@ void makeSlit(const glm::vec3& source, const glm::vec3& L, float from, float to,
   sp.sinSource = sinFromAxis(toC);
   sp.sinListener = sinFromAxis(toL);
   sp.width = double(p.gapWidth);
-  sp.depth = double(glm::length(p.through));
+  sp.depth = channelDepth(p);
+  sp.shadowExcess = {double(p.lipExcess[0]), double(p.lipExcess[1])};
   p.slitCentre = c;
 }
 

@@ -22,6 +22,10 @@ namespace dpc {
 /// m: keeps occlusion tests off an edge's own faces.
 inline constexpr float kLegEpsilon = 1e-3f;
 
+/// Cosine of the angle within which two edges count as parallel (two slits' edges, a channel's
+/// back edge and the edge it turns to).
+inline constexpr float kParallelEdges = 0.99f;
+
 /// m: how far inside its nearer end an atEnd path's point Q lies (edgePath).
 inline constexpr float kEndMargin = 0.01f;
 
@@ -57,6 +61,24 @@ struct EdgePath {
   /// A channel's (engine/channel_path.h) offset from its front mouth's point Q to its back
   /// mouth's, m (the slit's depth across the face it runs along); zero for every other path.
   glm::vec3 through{0.f};
+  /// A channel that turns past its back mouth (between a box leaf's back face and the door
+  /// stop it closes against: engine/channel_path.h turnedChannel): the offset from the back
+  /// edge to the edge where it leaves, m; zero for a straight channel and every other path.
+  glm::vec3 beyond{0.f};
+  /// The same at its front mouth (a door stop on the source's side): the offset from the edge
+  /// where it enters to Q, so the source's leg ends at Q - before; zero for every other path.
+  glm::vec3 before{0.f};
+  /// Past a turn, the leg round the door stop's lip to the stop's far edge, where the listener
+  /// (lipBeyond) or the source (lipBefore) is seen from (m): free air, not part of the slit's
+  /// depth; zero when the turn's edge sees them.
+  glm::vec3 lipBefore{0.f}, lipBeyond{0.f};
+  /// The free legs' path-length excess over the straight line from the slit's mouth at each
+  /// end (m; SlitPath::shadowExcess).
+  std::array<float, 2> lipExcess{0.f, 0.f};
+  /// A channel's narrow face, the flat surface it runs along (its front and back edges'
+  /// common face): taking away the front edge's other face (a wall's face round its reveal)
+  /// leaves the channel; kUnknownSurface for every other path.
+  uint32_t face = kUnknownSurface;
   /// The two surfaces either side of a gap one of its legs threads away from Q (the leaf and
   /// the reveal beside a thick wall's jamb; engine/diffraction.cpp, markThreads); none:
   /// kUnknownSurface.
@@ -103,7 +125,15 @@ bool edgePath(const DiffractionEdge& e, const glm::vec3& source, const glm::vec3
 /// absent left out, and their order sums.
 void setTerms(bool directVisible, EdgePath& p);
 
-/// The path's two legs, source -> Q and Q -> L (from Q + through for a channel), each stopping
+/// A channel's slit depth (m): the length of its gap's centre line, across the face it runs
+/// along (|through|) and, where it turns, along and then square to that direction (a door stop's
+/// turn: the centre line runs along the leaf's face to the middle of the gap behind it, then
+/// along that gap to the stop's edge; with the two gaps equally wide its length is the
+/// leaf's thickness plus the stop's lip); 0 for other paths.
+double channelDepth(const EdgePath& p);
+
+/// The path's two legs, source -> Q and Q -> L (for a channel, source -> Q - before - lipBefore
+/// and Q + through + beyond + lipBeyond -> L), each stopping
 /// kLegEpsilon short of its ends (the listener sphere itself is not geometry).
 std::array<TraceRay, 2> legRays(const glm::vec3& source, const glm::vec3& L, const EdgePath& p);
 

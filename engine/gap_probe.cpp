@@ -75,7 +75,7 @@ void appendLegs(const glm::vec3& source, const glm::vec3& listener, const GapPro
     const glm::vec3 to = leg == 0 ? p : p + g.through;
     const glm::vec3 v = to - from;
     const float length = glm::length(v);
-    if (!valid || !(length > kLegStart)) {
+    if (!valid || !(length > kLegStart) || (leg == 0 ? g.turnedIn : g.turnedOut)) {
       rays.push_back(TraceRay{from, glm::vec3(1.f, 0.f, 0.f), 0.f, 0.f, false});
       continue;
     }
@@ -327,6 +327,26 @@ void findEnds(const Tracer& tracer, const glm::vec3& source, const glm::vec3& li
   }
 }
 
+/// For each channel gap (`channels`, depths measured), the surface across it halfway along its
+/// depth: GapShape::closer. The first closed point across the mouth may be closed by a leg
+/// meeting a face beyond the mouth (seen from off the axis, the wall's face round the reveal
+/// hides the gap's far edge); the channel's far side is the reveal, and taking that face away
+/// leaves the gap (engine/surface_bound.cpp).
+void findFarSides(const Tracer& tracer, std::span<const GapProbe> probes,
+                  const std::vector<size_t>& channels, std::span<GapShape> shapes) {
+  std::vector<TraceRay> rays;
+  for (size_t j : channels) {
+    const GapProbe& g = probes[j];
+    const glm::vec3 dir = g.through / glm::length(g.through);
+    const glm::vec3 mid = g.q + (shapes[j].inset + 0.5f * shapes[j].depth) * dir;
+    rays.push_back(TraceRay{mid, g.mouth, 0.f, kOuterWidth * shapes[j].width + kGapProbeThrough});
+  }
+  std::vector<TraceHit> hits(rays.size());
+  tracer.intersect(rays, hits);
+  for (size_t n = 0; n < channels.size(); ++n)
+    if (hits[n].found) shapes[channels[n]].closer = hits[n].surface.triangle;
+}
+
 /// For each channel gap, where its far side stands along the channel (GapShape::depth): rays
 /// 1.5 widths across, from kGapProbeThrough outside either mouth toward the other; what they
 /// run free before meeting it is not the gap's depth (a leaf 4 cm thick set in a 0.2 m reveal:
@@ -357,6 +377,7 @@ void measureDepths(const Tracer& tracer, std::span<const GapProbe> probes,
     shape.depth = std::max(0.f, glm::length(probes[owner[n]].through) - free[0] - free[1]);
     shape.inset = std::min(free[0], glm::length(probes[owner[n]].through) - shape.depth);
   }
+  findFarSides(tracer, probes, owner, shapes);
 }
 
 }  // namespace

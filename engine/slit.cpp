@@ -83,8 +83,13 @@ C slitPressure(const SlitPath& p, double k) {
   const C along = root * std::max(std::abs(p.zFrom), std::abs(p.zTo)) < 1e-6
                       ? C(p.zTo - p.zFrom, 0.0)
                       : (fresnelIntegral(root * p.zTo) - fresnelIntegral(root * p.zFrom)) / root;
+  double shadow = 1.0;  // amplitude: tanh x / x, x = sqrt(2 pi N), N = 2 delta / lambda
+  for (double delta : p.shadowExcess) {
+    const double x = std::sqrt(2.0 * k * delta);
+    if (x > 1e-6) shadow *= std::tanh(x) / x;
+  }
   const C j(0.0, 1.0);
-  return j / (2.0 * kPi) * transfer * directivity * along / (p.r * p.s) *
+  return j / (2.0 * kPi) * transfer * directivity * shadow * along / (p.r * p.s) *
          std::polar(1.0, -k * (fitted ? p.phase : p.r + p.s));
 }
 

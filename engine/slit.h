@@ -42,6 +42,7 @@
 // allocation; no errors (arguments outside their ranges are clamped as stated).
 #pragma once
 
+#include <array>
 #include <complex>
 #include <glm/vec3.hpp>
 #include <numbers>
@@ -85,6 +86,14 @@ struct SlitPath {
   /// the ends are measured from; curvature 0: at the stationary point, phase r + s and
   /// curvature sin^2 beta (1 / r + 1 / s) / 2.
   double phase = 0.0, curvature = 0.0;
+  /// A turned channel's free legs round a door stop's corners (engine/channel_turn.h), at the
+  /// source's end and the listener's: how much longer (m) each chain is than the straight line
+  /// from the slit's mouth, delta >= 0 (0: none). The field takes a screen's shadow loss past
+  /// its value on the shadow boundary, per end: 20 log10(x / tanh x) dB, x = sqrt(2 pi N),
+  /// N = 2 delta / lambda (Kurze & Anderson 1971, whose 5 dB on the boundary is left out so
+  /// that the level joins the unobstructed leg's without a step; about 18 N dB for small N,
+  /// 10 log10(2 pi N) deep in the shadow).
+  std::array<double, 2> shadowExcess{0.0, 0.0};
 };
 
 /// p above at wavenumber k (> 0), the path's phase e^{-jk(r + s)} included.

@@ -95,7 +95,8 @@ void addRims(BoundQuery& q, const std::vector<uint32_t>& removed, bool lineOfSig
 std::vector<EdgePath> pathsWithout(const std::vector<EdgePath>& paths, BoundQuery& q,
                                    const std::vector<uint32_t>& removed, bool lineOfSight) {
   auto gone = [&](uint32_t s) { return std::binary_search(removed.begin(), removed.end(), s); };
-  auto edgeGone = [&](const EdgePath& p) {
+  auto edgeGone = [&](const EdgePath& p) {  // a channel goes with its face only
+    if (p.face != kUnknownSurface) return gone(p.face);
     return gone(p.edge->surfaces[0]) || gone(p.edge->surfaces[1]);
   };
   std::vector<EdgePath> kept;

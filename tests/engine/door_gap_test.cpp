@@ -274,6 +274,95 @@ TEST_CASE("Door gaps: a leaf set in a thick wall passes its gaps, a box leaf thr
   }
 }
 
+TEST_CASE("Door gaps: a box leaf closed against a door stop passes its L-shaped gaps",
+          "[diffraction][door]") {
+  // Real doors close against a stop: a strip round the frame that the leaf's face overlaps, so
+  // each gap runs along the leaf's side and turns between its face and the stop. Before, such
+  // a door passed nothing at all (from the mouth by the stop, the other room lies behind the
+  // stop). The model (computed here on its own) takes the bent slit as a straight one as deep
+  // as its centre line is long: the leaf's thickness plus the stop's lip (from the middle of
+  // the side gap to the stop's edge, lip - gap / 2, and across the leaf's thickness plus half
+  // the gap between the leaf and the stop). dpc's channel runs straight from edge to edge
+  // (|before| or |beyond| = sqrt(gap^2 + (lip - gap)^2), 1-4 mm shorter). Within the issue's
+  // 3 dB in every band, below the open doorway and the free field; the stop on either side
+  // (the listener's room or the source's).
+  const MouthImpedance zr;
+  constexpr float kThickness = 0.04f;
+  for (float wall : {0.1f, 0.2f}) {
+    const Bands open = decibels(directLevel(thickDoorwayScene(wall, false)));
+    for (float side : {1.f, -1.f})
+      for (float lip : {0.015f, 0.025f})
+        for (float gap : {0.003f, 0.005f, 0.01f}) {
+          const float x0 = side > 0.f ? 6.01f : 6.f + wall - 0.01f - kThickness;
+          const SceneDesc scene = stoppedLeafScene(wall, gap, kThickness, x0, side, lip);
+          const Bands closed = decibels(directLevel(scene));
+          const Bands model =
+              modelLevels(perimeterSlits(gap, x0 + 0.5f * kThickness, kThickness + lip), zr);
+          std::printf("wall %.1f m, stop %s, lip %2.0f mm, gap %2.0f mm: dpc, dpc - model (dB)",
+                      double(wall), side > 0.f ? "behind" : "before", 1e3 * double(lip),
+                      1e3 * double(gap));
+          for (int b = 0; b < kNumBands; ++b)
+            std::printf(" %5.1f/%+4.1f", double(closed[b]), double(closed[b] - model[b]));
+          std::printf("\n");
+          for (int b = 0; b < kNumBands; ++b) {
+            INFO("wall " << wall << ", stop side " << side << ", lip " << lip << ", gap " << gap
+                         << ", band " << b);
+            CHECK(closed[b] <= open[b]);
+            CHECK(closed[b] <= 1e-4f);
+            CHECK(std::abs(closed[b] - model[b]) < 3.f);
+          }
+        }
+  }
+}
+
+TEST_CASE("Door gaps: a box leaf in a thick wall seen off the axis with or without a door stop",
+          "[diffraction][door]") {
+  // The pairs of "seen from off the axis" below (beside the doorway, past a jamb), the leaf
+  // 4 cm thick in a 0.1 m wall, without a stop, or closing against one on the listener's or
+  // the source's side (lip 15 mm). The stop's edge and the wall's corner behind it hide the
+  // gap's mouth by the stop, so the path leaves round them (engine/channel_turn.h). Before,
+  // the stopped doors passed nothing in 9 of these 16 cases and read 3-10 dB below the model
+  // in the others (only the far jamb's gap found); the box leaf without a stop read 2-9 dB
+  // below it: the blocked line of sight's bound took away the wall's face round the reveal,
+  // which the probe had taken for the gaps' far side (engine/gap_probe.cpp findFarSides).
+  // Within the issue's 3 dB of the model (as in the test above, depth thickness + lip; found:
+  // 2.8 dB). The model leaves out the shadow of the stop's corners, which dpc takes (Kurze and
+  // Anderson past the shadow boundary, engine/slit.h): where the 15 mm lip is a wavelength /
+  // 2 pi or more (4 and 8 kHz) dpc may read up to 6 dB below it (found: 3.2 dB), never 3 dB
+  // above.
+  const MouthImpedance zr;
+  const std::vector<std::pair<glm::vec3, glm::vec3>> pairs = {
+      {{3.f, 1.2f, 4.2f}, {9.f, 1.5f, 4.6f}},
+      {{3.f, 1.6f, 0.6f}, {9.f, 1.0f, 1.2f}},
+      {{4.f, 1.2f, 4.5f}, {8.f, 1.2f, 4.5f}},
+      {{3.f, 0.5f, 3.5f}, {10.f, 2.5f, 4.0f}}};
+  constexpr float kThickness = 0.04f, kLip = 0.015f, kWall = 0.1f;
+  for (float side : {0.f, 1.f, -1.f})  // no stop, behind the leaf, before it
+    for (float gap : {0.005f, 0.01f})
+      for (const auto& [src, lis] : pairs) {
+        const float x0 = side >= 0.f ? 6.01f : 6.f + kWall - 0.01f - kThickness;
+        const SceneDesc scene =
+            side == 0.f ? recessedLeafScene(kWall, gap, kThickness, x0 + 0.5f * kThickness)
+                        : stoppedLeafScene(kWall, gap, kThickness, x0, side, kLip);
+        const float depth = kThickness + (side == 0.f ? 0.f : kLip);
+        const Bands closed = decibels(directLevel(scene, src, lis));
+        const Bands model = modelLevels(perimeterSlits(gap, x0 + 0.5f * kThickness, depth), zr,
+                                        glm::dvec3(src), glm::dvec3(lis));
+        const char* where = side == 0.f ? "none  " : side > 0.f ? "behind" : "before";
+        std::printf("stop %s, gap %2.0f mm, source z %.1f m, listener z %.1f m: dpc, dpc - model (dB)",
+                    where, 1e3 * double(gap), double(src.z), double(lis.z));
+        for (int b = 0; b < kNumBands; ++b) {
+          std::printf(" %5.1f/%+4.1f", double(closed[b]), double(closed[b] - model[b]));
+          INFO("stop " << where << ", gap " << gap << ", source z " << src.z << ", band " << b);
+          CHECK(closed[b] <= 1e-4f);
+          const bool shadowed = side != 0.f && b >= 6;  // 4 and 8 kHz: k lip >= 1
+          CHECK(closed[b] - model[b] < 3.f);
+          CHECK(closed[b] - model[b] > (shadowed ? -6.f : -3.f));
+        }
+        std::printf("\n");
+      }
+}
+
 TEST_CASE("Door gaps: a box leaf that is a moving object passes its gaps as a static one does",
           "[diffraction][door]") {
   // Games move their doors: the leaf is a scene object, whose own edges do not diffract, so the
@@ -311,7 +400,9 @@ TEST_CASE("Door gaps: a box leaf in a thick wall heard from above the lintel's h
   // passes at every point, never more than the open doorway. The level falls smoothly but for
   // the step where the top gap's back leg meets the lintel (2.5-4.6 dB at 63-500 Hz between
   // 2.45 and 2.50 m: the slit's radiation round the lintel's edge is a second-order path dpc
-  // does not have; printed, docs/validation.md).
+  // does not have) and a rise of 2.1-3.7 dB between 2.54 and 2.56 m, where the open doorway
+  // rises by 2 dB too (the top slit, carried by the lintel's reveal, is no longer taken down
+  // by the held sum without the wall's face; printed, docs/validation.md).
   const SceneDesc closedScene = recessedLeafScene(0.2f, 0.01f, 0.04f, 6.1f);
   const SceneDesc openScene = thickDoorwayScene(0.2f, false);
   for (float y = 1.8f; y <= 2.901f; y += 0.05f) {

@@ -111,6 +111,22 @@ inline SceneDesc recessedLeafScene(float depth, float gap, float thickness, floa
   return s;
 }
 
+/// recessedLeafScene's box leaf (`thickness` deep, from x0 to x0 + thickness) closed against a
+/// door stop: a strip `lip` metres wide round the jambs and the lintel, 2 cm deep, `gap` metres
+/// behind the leaf (side > 0) or before it (side < 0), so each gap turns between the leaf's
+/// face and the stop (an L-shaped gap, the stop overlapping the leaf by lip - gap).
+inline SceneDesc stoppedLeafScene(float depth, float gap, float thickness, float x0, float side,
+                                  float lip) {
+  SceneDesc s = recessedLeafScene(depth, gap, thickness, x0 + 0.5f * thickness);
+  constexpr float kStopDepth = 0.02f;
+  const float a = side > 0.f ? x0 + thickness + gap : x0 - gap - kStopDepth, b = a + kStopDepth;
+  const float z0 = kDoorZ0, z1 = kDoorZ0 + kDoorWidth, h = kDoorHeight;
+  test::addSolidBox(s.mesh, {a, 0.f, z0}, {b, h, z0 + lip}, 0);
+  test::addSolidBox(s.mesh, {a, 0.f, z1 - lip}, {b, h, z1}, 0);
+  test::addSolidBox(s.mesh, {a, h - lip, z0 + lip}, {b, h, z1 - lip}, 0);
+  return s;
+}
+
 /// recessedLeafScene's box leaf as a scene object (a game's door, moved by its trajectory; its
 /// own edges do not diffract), at rest closed.
 inline SceneDesc objectLeafScene(float depth, float gap, float thickness, float x) {

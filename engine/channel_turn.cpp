@@ -1,0 +1,171 @@
+#include "engine/channel_turn.h"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <limits>
+#include <utility>
+
+#include "engine/channel_path.h"
+
+namespace dpc {
+
+std::vector<uint32_t> channelNeighbours(const std::vector<DiffractionEdge>& edges, uint32_t front,
+                                        uint32_t back) {
+  const DiffractionEdge& b = edges[back];
+  std::vector<std::pair<float, uint32_t>> found;
+  for (uint32_t i = 0; i < uint32_t(edges.size()); ++i) {
+    const DiffractionEdge& c = edges[i];
+    if (i == front || i == back || std::abs(glm::dot(c.direction, b.direction)) < kParallelEdges)
+      continue;
+    const float d = glm::length(acrossTo(b, c));
+    const float ta = glm::dot(c.a - b.a, b.direction), tb = glm::dot(c.b - b.a, b.direction);
+    if (d > 1e-4f && d <= kChannelReach && std::max(ta, tb) > 0.f && std::min(ta, tb) < b.length)
+      found.push_back({d, i});
+  }
+  std::sort(found.begin(), found.end());
+  if (found.size() > kChannelNeighbours) found.resize(kChannelNeighbours);
+  std::vector<uint32_t> out;
+  for (const auto& [d, i] : found) out.push_back(i);
+  return out;
+}
+
+namespace {
+
+/// True when x lies within edge e's length (its foot on e's line between e's ends).
+bool onEdge(const DiffractionEdge& e, const glm::vec3& x) {
+  const float t = glm::dot(x - e.a, e.direction);
+  return t > 0.f && t < e.length;
+}
+
+/// True when the segment from a to b meets nothing (its ends, on edges, kept clear).
+bool segmentFree(const Tracer& tracer, const glm::vec3& a, const glm::vec3& b) {
+  const glm::vec3 v = b - a;
+  const float length = glm::length(v);
+  return length > 2.f * kLegEpsilon &&
+         !tracer.occluded(TraceRay{a, v / length, kLegEpsilon, length - kLegEpsilon});
+}
+
+/// True when the free segment from a to b runs between two surfaces at most kChannelGapMax
+/// apart (a leaf's face and the stop's): from its middle, square to it and to the edges
+/// (direction `along`), both sides are closed that near.
+bool narrowLeg(const Tracer& tracer, const glm::vec3& along, const glm::vec3& a,
+               const glm::vec3& b) {
+  const glm::vec3 n = glm::normalize(glm::cross(glm::normalize(b - a), along));
+  const glm::vec3 mid = 0.5f * (a + b);
+  return tracer.occluded(TraceRay{mid, n, 0.f, kChannelGapMax}) &&
+         tracer.occluded(TraceRay{mid, -n, 0.f, kChannelGapMax});
+}
+
+/// How a mouth is left: the slit's continuation (its first leg when narrow, else zero) and
+/// the free legs after it (their offset and total length), m.
+struct MouthExit {
+  glm::vec3 narrow{0.f}, free{0.f};
+  float freeLength = 0.f;
+};
+
+/// The chain's nodes: the points level with m on the edges `near` (those whose lines reach m's
+/// level within their length), square to `edge`.
+std::vector<glm::vec3> chainNodes(const std::vector<DiffractionEdge>& edges,
+                                  const DiffractionEdge& edge, const std::vector<uint32_t>& near,
+                                  const glm::vec3& m) {
+  std::vector<glm::vec3> at;
+  for (uint32_t j : near) {
+    const glm::vec3 x = m + acrossTo(edge, edges[j]);
+    if (onEdge(edges[j], x)) at.push_back(x);
+  }
+  return at;
+}
+
+/// Shortest chains from m over the nodes, at most kChannelHops legs (each a free segment):
+/// per node its length (inf: unreached), the node before it (-1: m) and the chain's first node.
+struct Chains {
+  std::vector<float> cost;
+  std::vector<int> prev, first;
+};
+
+Chains relaxChains(const Tracer& tracer, const std::vector<glm::vec3>& at, const glm::vec3& m) {
+  const size_t n = at.size();
+  Chains c{std::vector<float>(n, std::numeric_limits<float>::infinity()), std::vector<int>(n, -1),
+           std::vector<int>(n, -1)};
+  for (size_t j = 0; j < n; ++j)
+    if (segmentFree(tracer, m, at[j])) {
+      c.cost[j] = glm::distance(m, at[j]);
+      c.first[j] = int(j);
+    }
+  for (int hop = 1; hop < kChannelHops; ++hop) {
+    Chains next = c;
+    for (size_t i = 0; i < n; ++i)
+      for (size_t j = 0; j < n && std::isfinite(c.cost[i]); ++j) {
+        const float via = c.cost[i] + glm::distance(at[i], at[j]);
+        if (i == j || !(via < next.cost[j]) || !segmentFree(tracer, at[i], at[j])) continue;
+        next.cost[j] = via;
+        next.prev[j] = int(i);
+        next.first[j] = c.first[i];
+      }
+    c = std::move(next);
+  }
+  return c;
+}
+
+/// The shortest chain from m (a mouth's point on `edge`) over the edges `near` to a node from
+/// which `target` (the listener or the source) is seen; false when none is.
+bool leaveMouth(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
+                const DiffractionEdge& edge, const std::vector<uint32_t>& near,
+                const glm::vec3& m, const glm::vec3& target, MouthExit& out) {
+  const std::vector<glm::vec3> at = chainNodes(edges, edge, near, m);
+  const Chains c = relaxChains(tracer, at, m);
+  int best = -1;
+  float bestLength = std::numeric_limits<float>::infinity();
+  for (size_t i = 0; i < at.size(); ++i) {
+    const float total = c.cost[i] + glm::distance(at[i], target);
+    if (total < bestLength && segmentFree(tracer, at[i], target)) {
+      best = int(i);
+      bestLength = total;
+    }
+  }
+  if (best < 0) return false;
+  const glm::vec3 first = at[size_t(c.first[size_t(best)])];
+  const bool narrow = narrowLeg(tracer, edge.direction, m, first);
+  out.narrow = narrow ? first - m : glm::vec3(0.f);
+  out.free = at[size_t(best)] - m - out.narrow;
+  out.freeLength = c.cost[size_t(best)] - (narrow ? glm::distance(m, first) : 0.f);
+  return true;
+}
+
+}  // namespace
+
+bool turnedChannel(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
+                   const DiffractionEdge& front, const DiffractionEdge& back,
+                   const std::vector<uint32_t>& entries, const std::vector<uint32_t>& exits,
+                   const glm::vec3& source, const glm::vec3& L, EdgePath& p) {
+  if (entries.empty() && exits.empty()) return false;
+  EdgePath straight;
+  if (!channelVia(front, back, ChannelTurns{}, source, L, straight) ||
+      !gapAcross(tracer, front, straight.through, glm::dot(straight.q - front.a, front.direction)))
+    return false;
+  const std::array<TraceRay, 2> legs = legRays(source, L, straight);
+  const bool inBlocked = tracer.occluded(legs[0]), outBlocked = tracer.occluded(legs[1]);
+  if (!inBlocked && !outBlocked) return false;
+  ChannelTurns turns;
+  MouthExit e;
+  if (inBlocked) {
+    if (!leaveMouth(tracer, edges, front, entries, straight.q, source, e)) return false;
+    turns.before = -e.narrow;
+    turns.lipBefore = -e.free;
+    turns.lipBeforeLength = e.freeLength;
+  }
+  if (outBlocked) {
+    if (!leaveMouth(tracer, edges, back, exits, straight.q + straight.through, L, e)) return false;
+    turns.beyond = e.narrow;
+    turns.lipBeyond = e.free;
+    turns.lipBeyondLength = e.freeLength;
+  }
+  EdgePath c;
+  if (!channelVia(front, back, turns, source, L, c) || !legsFree(tracer, source, L, c))
+    return false;
+  p = c;
+  return true;
+}
+
+}  // namespace dpc

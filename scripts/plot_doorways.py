@@ -4,8 +4,10 @@
 Left: the open doorway in a thin wall and through a 0.3 m wall (faces written once or twice)
 against the Kirchhoff aperture integral. Middle: closed doors, one leaf with gaps round it and
 two leaves meeting in the middle, against the slit model, with the open doorway for reference.
-Right: real doors, a 4 cm box leaf set in the middle of a 0.2 m wall, in the static mesh and
+Third: real doors, a 4 cm box leaf set in the middle of a 0.2 m wall, in the static mesh and
 as a moving object, against the slit model with the leaf's thickness as the slits' depth.
+Right: the same leaf closed against a door stop (15 mm lip, 0.2 m wall) on the listener's side
+or the source's, against the slit model with the L-shaped gap's centre line as the depth.
 Every number comes from build/tests/doorway_test and door_gap_test (tests/engine/), which
 compute the Kirchhoff integral and the slit model on their own.
 
@@ -36,8 +38,14 @@ def read(build):
         if not os.path.exists(test):
             sys.exit(f"plot_doorways.py: --build: {test}: no such file (build the tests first)")
         out += subprocess.run([test, "-s", "Do*"], capture_output=True, text=True).stdout
-    open_rows, table, double, box = {}, {}, [], {}
+    open_rows, table, double, box, stop = {}, {}, [], {}, {}
     for line in out.splitlines():
+        m = re.match(r"wall 0\.2 m, stop (behind|before), lip 15 mm, gap\s+(\d+) mm: "
+                     r"dpc, dpc - model \(dB\)(.*)", line)
+        if m:
+            pairs = re.findall(r"(-?\d+\.\d+)/([+-]\d+\.\d+)", m.group(3))
+            stop[(m.group(1), m.group(2))] = ([float(a) for a, _ in pairs],
+                                              [float(a) - float(d) for a, d in pairs])
         m = re.match(r"(wall 0\.2 m, leaf 40 mm at x 6\.10|object box leaf at x 6\.10), gap\s+(\d+) mm: "
                      r"dpc, dpc - model \(dB\)(.*)", line)
         if m:
@@ -58,9 +66,9 @@ def read(build):
             pairs = re.findall(r"(-?\d+\.\d+)/\s*(-?\d+\.\d+)", m.group(3))
             double.append((m.group(1), m.group(2), [float(a) for a, _ in pairs],
                            [float(b) for _, b in pairs]))
-    if not open_rows or not table or not double or not box:
+    if not open_rows or not table or not double or not box or not stop:
         sys.exit("plot_doorways.py: door_gap_test printed none of its tables (did it fail?)")
-    return open_rows, table, double, box
+    return open_rows, table, double, box, stop
 
 
 def main():
@@ -68,9 +76,9 @@ def main():
     ap.add_argument("--build", default="build")
     ap.add_argument("-o", "--output", default="docs/images/doorways.png")
     a = ap.parse_args()
-    open_rows, table, double, box = read(a.build)
-    fig, (left, right, real) = plt.subplots(1, 3, figsize=(17, 5), sharey=True,
-                                            constrained_layout=True)
+    open_rows, table, double, box, stop = read(a.build)
+    fig, (left, right, real, stopped) = plt.subplots(1, 4, figsize=(22, 5), sharey=True,
+                                                     constrained_layout=True)
     styles = {"Kirchhoff": ("k", "--"), "thin": ("C0", "-"), "0.3 m": ("C1", "-"),
               "0.3 m twice": ("C2", ":")}
     for name, level in open_rows.items():
@@ -103,9 +111,21 @@ def main():
                       label=f"{gap} mm round, leaf {'a moving object' if kind == 'object' else 'in the mesh'} (dpc)")
             if kind == "static":
                 real.plot(BANDS, model, "--", color=f"C{i}")
-    real.set(title="4 cm box leaf, 0.2 m wall: against the slit model with depth (dashed)")
-    for ax in (left, right, real):
-        ax.set_ylim(-44, 4)  # room below the curves for the legend
+    real.set(title="4 cm box leaf, 0.2 m wall; slit model with depth dashed")
+    stopped.plot(BANDS, open_rows["0.3 m"], "k-", lw=2, label="open doorway, 0.3 m wall (dpc)")
+    for i, gap in enumerate(["3", "5", "10"]):
+        for side, marker, dash in (("behind", "o", "-"), ("before", "x", ":")):
+            if (side, gap) not in stop:
+                continue
+            dpc, model = stop[(side, gap)]
+            where = "listener's side" if side == "behind" else "source's side"
+            stopped.plot(BANDS, dpc, dash, color=f"C{i}", marker=marker,
+                         label=f"{gap} mm gaps, stop on the {where} (dpc)")
+            if side == "behind":
+                stopped.plot(BANDS, model, "--", color=f"C{i}")
+    stopped.set(title="That leaf against a 15 mm door stop; model dashed")
+    for ax in (left, right, real, stopped):
+        ax.set_ylim(-50, 4)  # room below the curves for the legend
         ax.set_xscale("log")
         ax.set_xticks(BANDS, [str(b) for b in BANDS])
         ax.set_xlabel("octave band (Hz)")

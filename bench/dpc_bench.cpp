@@ -15,7 +15,7 @@
 //                        [--threads T] [--device SPEC]
 //   dpc-bench budget SCENE|room-4x3x2.5 [--rays-list N ...]
 //   dpc-bench convolve [--blocks B ...] [--seconds S] [--swap-ms M] [--no-uniform] [--cases C,...]
-//   dpc-bench load [--cells 25,50,...] [--panels P]   (generated terrains; no file)
+//   dpc-bench load [--cells 25,50,...] [--panels P] [--crates C]   (generated terrains; no file)
 //   dpc-bench wave [--volumes V ...] [--frequencies HZ ...] [--seconds S]   (boxes; no file)
 //
 // One file per benchmark family (bench/<family>_bench.h); this file holds the command line.
@@ -201,6 +201,9 @@ CLI::App* addLoad(CLI::App& app, Options& o) {
       ->check(CLI::Range(1, 4000));
   sub->add_option("--panels", o.load.panels, "Panels standing on the terrain (default 16)")
       ->check(CLI::Range(0, 10000));
+  sub->add_option("--crates", o.load.crates,
+                  "Solid 0.25 m crates on it, every face a narrow face (default 0)")
+      ->check(CLI::Range(0, 100000));
   return sub;
 }
 

@@ -45,11 +45,11 @@ void writeScene(const std::string& path, const std::string& obj) {
 }
 
 /// The load stages of one terrain size.
-Json timeLoad(int cells, int panels) {
+Json timeLoad(int cells, int panels, int crates) {
   const test::TempDir dir("dpc_bench_load");
   const std::string obj = (dir.path() / "terrain.obj").string();
   const std::string json = (dir.path() / "terrain.json").string();
-  writeObj(test::terrain(uint32_t(cells), uint32_t(panels)), obj);
+  writeObj(test::terrain(uint32_t(cells), uint32_t(panels), uint32_t(crates)), obj);
   writeScene(json, obj);
   Json j;
   auto t = Clock::now();
@@ -77,9 +77,10 @@ int benchLoad(const LoadOptions& o) {
   Json j;
   j["benchmark"] = "load";
   j["panels"] = o.panels;
+  j["crates"] = o.crates;
   j["sizes"] = Json::array();
   for (const int cells : o.cells) {
-    const Json s = timeLoad(cells, o.panels);
+    const Json s = timeLoad(cells, o.panels, o.crates);
     std::fprintf(stderr, "%zu triangles: load %.0f ms (edges %.0f ms, %zu edges)\n",
                  s["triangles"].get<size_t>(), s["total_ms"].get<double>(),
                  s["edge_finding_ms"].get<double>(), s["edges"].get<size_t>());

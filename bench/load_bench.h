@@ -11,6 +11,8 @@ struct LoadOptions {
   /// Terrain sizes (testing/terrain.h): 2 cells^2 triangles each; 708 gives 1,002,528.
   std::vector<int> cells = {25, 50, 100, 200, 400, 708};
   int panels = 16;  ///< panels standing on the terrain (4 triangles each)
+  /// Solid crates on it (12 triangles, 6 narrow faces each: the channels' neighbour search).
+  int crates = 0;
 };
 
 /// For each size: writes the terrain as an OBJ mesh and a scene file into a temporary folder,

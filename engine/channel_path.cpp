@@ -51,10 +51,7 @@ std::vector<NarrowFace> narrowFaces(const std::vector<DiffractionEdge>& edges,
   out.erase(std::unique(out.begin(), out.end(),
                         [](const NarrowFace& x, const NarrowFace& y) { return x.a == y.a && x.b == y.b; }),
             out.end());
-  for (NarrowFace& f : out) {
-    f.near[0] = channelNeighbours(edges, f.a, f.b);
-    f.near[1] = channelNeighbours(edges, f.b, f.a);
-  }
+  setChannelNeighbours(edges, out);
   return out;
 }
 

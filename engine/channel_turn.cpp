@@ -2,19 +2,76 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <glm/geometric.hpp>
+#include <glm/common.hpp>
+#include <glm/vec3.hpp>
 #include <limits>
+#include <unordered_map>
 #include <utility>
 
 #include "engine/channel_path.h"
 
 namespace dpc {
 
-std::vector<uint32_t> channelNeighbours(const std::vector<DiffractionEdge>& edges, uint32_t front,
-                                        uint32_t back) {
+namespace {
+
+/// Edges binned by the cells (kCell wide) of points sampled along them every kStep: an edge
+/// within kChannelReach of another, beside it, has a sample within kChannelReach + kStep of
+/// one of the other's, so in one of the 27 cells round it. Keeps finding the neighbours linear
+/// in the edges (8000 crates, 48,000 narrow faces: 10 s scanning every edge per face).
+class EdgeGrid {
+ public:
+  explicit EdgeGrid(const std::vector<DiffractionEdge>& edges) {
+    for (uint32_t i = 0; i < uint32_t(edges.size()); ++i)
+      forSamples(edges[i], [&](const glm::ivec3& c) {
+        std::vector<uint32_t>& list = cells_[key(c)];
+        if (list.empty() || list.back() != i) list.push_back(i);
+      });
+  }
+
+  /// The edges with a sample in a cell next to one of e's samples' (e included), each once.
+  std::vector<uint32_t> near(const DiffractionEdge& e) const {
+    std::vector<uint32_t> out;
+    forSamples(e, [&](const glm::ivec3& c) {
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dz = -1; dz <= 1; ++dz) {
+            const auto it = cells_.find(key(c + glm::ivec3(dx, dy, dz)));
+            if (it != cells_.end()) out.insert(out.end(), it->second.begin(), it->second.end());
+          }
+    });
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+  }
+
+ private:
+  static constexpr float kStep = 0.25f * kChannelReach, kCell = 2.f * kChannelReach;
+  static_assert(kChannelReach + kStep < kCell);
+
+  template <class F>
+  static void forSamples(const DiffractionEdge& e, F&& visit) {
+    const int n = int(std::ceil(e.length / kStep));
+    for (int k = 0; k <= n; ++k) {
+      const glm::vec3 p = e.a + (e.length * float(k) / float(std::max(n, 1))) * e.direction;
+      visit(glm::ivec3(glm::floor(p / kCell)));
+    }
+  }
+  static uint64_t key(const glm::ivec3& c) {
+    auto part = [](int v) { return uint64_t(uint32_t(v + (1 << 20)) & 0x1fffffu); };
+    return part(c.x) | (part(c.y) << 21) | (part(c.z) << 42);
+  }
+  std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;
+};
+
+/// The edges a channel from `front` to `back` may turn round past back, from `candidates`
+/// (setChannelNeighbours' rule).
+std::vector<uint32_t> neighboursOf(const std::vector<DiffractionEdge>& edges, uint32_t front,
+                                   uint32_t back, const std::vector<uint32_t>& candidates) {
   const DiffractionEdge& b = edges[back];
   std::vector<std::pair<float, uint32_t>> found;
-  for (uint32_t i = 0; i < uint32_t(edges.size()); ++i) {
+  for (uint32_t i : candidates) {
     const DiffractionEdge& c = edges[i];
     if (i == front || i == back || std::abs(glm::dot(c.direction, b.direction)) < kParallelEdges)
       continue;
@@ -28,6 +85,18 @@ std::vector<uint32_t> channelNeighbours(const std::vector<DiffractionEdge>& edge
   std::vector<uint32_t> out;
   for (const auto& [d, i] : found) out.push_back(i);
   return out;
+}
+
+}  // namespace
+
+void setChannelNeighbours(const std::vector<DiffractionEdge>& edges,
+                          std::vector<NarrowFace>& faces) {
+  if (faces.empty()) return;
+  const EdgeGrid grid(edges);
+  for (NarrowFace& f : faces) {
+    f.near[0] = neighboursOf(edges, f.a, f.b, grid.near(edges[f.b]));
+    f.near[1] = neighboursOf(edges, f.b, f.a, grid.near(edges[f.a]));
+  }
 }
 
 namespace {

@@ -7,15 +7,17 @@
 //
 // The path leaves the channel's mouth point M (the back edge's point, or the front edge's for
 // a stop on the source's side) by a chain of at most kChannelHops legs between edges near M,
-// parallel to the channel's edges (channelNeighbours), each leg a straight segment square to
+// parallel to the channel's edges (setChannelNeighbours), each leg a straight segment square to
 // them that meets nothing: the shortest chain from whose last edge the listener (or source) is
 // seen, by relaxing over the hops (the edges are few: a stop's and a reveal's corners). The
 // first leg continues the slit when it runs between two surfaces at most kChannelGapMax apart
 // (between the leaf's face and the stop): its length, along the channel and then square to it
 // (channelDepth), adds to the slit's depth, a bent slit taken as a straight one as long as its
 // centre line (Mechel's transmission line through the bend: the width is far below the
-// wavelength). The other legs are free air round the stop's corners, counted in the path's
-// length only; what the corners shadow above the slit's own directivity is not modelled.
+// wavelength). The other legs are free air round the stop's corners: they add to the path's
+// length, and their excess over the straight line from the slit's mouth takes the slit's field
+// down by a screen's shadow loss past the shadow boundary (EdgePath::lipExcess, engine/slit.h
+// SlitPath::shadowExcess).
 //
 // Internal to the engine (engine/diffraction.cpp). Any thread (reentrant: tracer queries
 // only); allocates small vectors per query; no errors.
@@ -39,12 +41,13 @@ inline constexpr float kChannelReach = 0.1f;
 inline constexpr size_t kChannelNeighbours = 8;
 inline constexpr int kChannelHops = 3;
 
-/// The edges a channel from `front` to `back` may turn round past back: parallel to it
-/// (kParallelEdges), their lines within kChannelReach of its line, overlapping it along its
-/// length, neither front nor back; the kChannelNeighbours nearest, nearest first. Load time;
-/// O(edges).
-std::vector<uint32_t> channelNeighbours(const std::vector<DiffractionEdge>& edges, uint32_t front,
-                                        uint32_t back);
+/// Sets each face's NarrowFace::near: per direction, the edges a channel may turn round past
+/// its back edge, parallel to it (kParallelEdges), their lines within kChannelReach of its
+/// line, overlapping it along its length, neither of the face's edges; the kChannelNeighbours
+/// nearest, nearest first. Load time; the edges binned in a grid (linear in the edges and the
+/// faces, about (length / 2.5 cm) * 27 cell look-ups per face's edge).
+void setChannelNeighbours(const std::vector<DiffractionEdge>& edges,
+                          std::vector<NarrowFace>& faces);
 
 /// The channel from source over `front` along its face to `back` and on to the listener L
 /// when a leg at a mouth is blocked and a turn round the edges near that mouth (`entries`

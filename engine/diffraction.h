@@ -152,7 +152,7 @@ inline std::complex<double> interpolatedUtd(
 }
 
 /// Two edges bounding one narrow flat face (engine/channel_path.h): indices into the edges;
-/// and the edges near each (engine/channel_turn.h channelNeighbours: where a channel may turn,
+/// and the edges near each (engine/channel_turn.h setChannelNeighbours: where a channel may turn,
 /// round a door stop), nearest first: near[0] round b (a channel running a to b leaves there),
 /// near[1] round a.
 struct NarrowFace {

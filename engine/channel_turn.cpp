@@ -22,7 +22,7 @@ namespace {
 /// in the edges (8000 crates, 48,000 narrow faces: 10 s scanning every edge per face).
 class EdgeGrid {
  public:
-  explicit EdgeGrid(const std::vector<DiffractionEdge>& edges) {
+  explicit EdgeGrid(const std::vector<DiffractionEdge>& edges) : mark_(edges.size(), 0) {
     for (uint32_t i = 0; i < uint32_t(edges.size()); ++i)
       forSamples(edges[i], [&](const glm::ivec3& c) {
         std::vector<uint32_t>& list = cells_[key(c)];
@@ -30,19 +30,27 @@ class EdgeGrid {
       });
   }
 
-  /// The edges with a sample in a cell next to one of e's samples' (e included), each once.
-  std::vector<uint32_t> near(const DiffractionEdge& e) const {
+  /// The edges with a sample in a cell next to one of e's samples' (e included), each once
+  /// (a query's mark per edge; not reentrant).
+  std::vector<uint32_t> near(const DiffractionEdge& e) {
     std::vector<uint32_t> out;
+    ++query_;
+    glm::ivec3 last(std::numeric_limits<int>::min());
     forSamples(e, [&](const glm::ivec3& c) {
+      if (c == last) return;  // consecutive samples in one cell
+      last = c;
       for (int dx = -1; dx <= 1; ++dx)
         for (int dy = -1; dy <= 1; ++dy)
           for (int dz = -1; dz <= 1; ++dz) {
             const auto it = cells_.find(key(c + glm::ivec3(dx, dy, dz)));
-            if (it != cells_.end()) out.insert(out.end(), it->second.begin(), it->second.end());
+            if (it == cells_.end()) continue;
+            for (uint32_t i : it->second)
+              if (mark_[i] != query_) {
+                mark_[i] = query_;
+                out.push_back(i);
+              }
           }
     });
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
     return out;
   }
 
@@ -63,6 +71,8 @@ class EdgeGrid {
     return part(c.x) | (part(c.y) << 21) | (part(c.z) << 42);
   }
   std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;
+  std::vector<uint32_t> mark_;  ///< per edge, the last query that listed it
+  uint32_t query_ = 0;
 };
 
 /// The edges a channel from `front` to `back` may turn round past back, from `candidates`
@@ -92,7 +102,7 @@ std::vector<uint32_t> neighboursOf(const std::vector<DiffractionEdge>& edges, ui
 void setChannelNeighbours(const std::vector<DiffractionEdge>& edges,
                           std::vector<NarrowFace>& faces) {
   if (faces.empty()) return;
-  const EdgeGrid grid(edges);
+  EdgeGrid grid(edges);
   for (NarrowFace& f : faces) {
     f.near[0] = neighboursOf(edges, f.a, f.b, grid.near(edges[f.b]));
     f.near[1] = neighboursOf(edges, f.b, f.a, grid.near(edges[f.a]));
@@ -157,12 +167,14 @@ Chains relaxChains(const Tracer& tracer, const std::vector<glm::vec3>& at, const
   const size_t n = at.size();
   Chains c{std::vector<float>(n, std::numeric_limits<float>::infinity()), std::vector<int>(n, -1),
            std::vector<int>(n, -1)};
+  bool any = false;
   for (size_t j = 0; j < n; ++j)
     if (segmentFree(tracer, m, at[j])) {
+      any = true;
       c.cost[j] = glm::distance(m, at[j]);
       c.first[j] = int(j);
     }
-  for (int hop = 1; hop < kChannelHops; ++hop) {
+  for (int hop = 1; hop < kChannelHops && any; ++hop) {
     Chains next = c;
     for (size_t i = 0; i < n; ++i)
       for (size_t j = 0; j < n && std::isfinite(c.cost[i]); ++j) {

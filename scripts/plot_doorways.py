@@ -8,8 +8,8 @@ Third: real doors, a 4 cm box leaf set in the middle of a 0.2 m wall, in the sta
 as a moving object, against the slit model with the leaf's thickness as the slits' depth.
 Right: the same leaf closed against a door stop (15 mm lip, 0.2 m wall) on the listener's side
 or the source's, against the slit model with the L-shaped gap's centre line as the depth.
-Every number comes from build/tests/doorway_test and door_gap_test (tests/engine/), which
-compute the Kirchhoff integral and the slit model on their own.
+Every number comes from build/tests/doorway_test, door_gap_test and door_frame_test
+(tests/engine/), which compute the Kirchhoff integral and the slit model on their own.
 
 Usage: scripts/plot_doorways.py [--build build] [-o docs/images/doorways.png]
 """
@@ -33,7 +33,7 @@ def numbers(text):
 
 def read(build):
     out = ""
-    for name in ("doorway_test", "door_gap_test"):
+    for name in ("doorway_test", "door_gap_test", "door_frame_test"):
         test = os.path.join(build, "tests", name)
         if not os.path.exists(test):
             sys.exit(f"plot_doorways.py: --build: {test}: no such file (build the tests first)")
@@ -67,7 +67,8 @@ def read(build):
             double.append((m.group(1), m.group(2), [float(a) for a, _ in pairs],
                            [float(b) for _, b in pairs]))
     if not open_rows or not table or not double or not box or not stop:
-        sys.exit("plot_doorways.py: door_gap_test printed none of its tables (did it fail?)")
+        sys.exit("plot_doorways.py: door_gap_test or door_frame_test printed none of its tables "
+                 "(did it fail?)")
     return open_rows, table, double, box, stop
 
 

@@ -1,0 +1,182 @@
+// Doors in their frames: a leaf set in a thick wall (a sheet, a 1 mm plate, a 6 mm pane, a
+// 4 cm box), a box leaf closing against a door stop (an L-shaped gap), seen on the line of
+// sight and off the axis, a box leaf that is a moving object, and one heard from above the
+// lintel's height. The closed levels follow the slit model with depth (tests/engine/
+// slit_model.h, computed on its own) and never exceed the open doorway.
+#include <algorithm>
+#include <array>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "engine/diffraction.h"
+#include "testing/test_scenes.h"
+#include "tests/engine/door_scenes.h"
+#include "tests/engine/slit_model.h"
+
+using namespace dpc;
+using namespace dpc::door_test;
+
+TEST_CASE("Door gaps: a leaf set in a thick wall passes its gaps, a box leaf through their depth",
+          "[diffraction][door]") {
+  // A real door: its leaf (a sheet, a solid 1 mm plate, a 6 mm glass pane, or a box 4 cm thick)
+  // set in a wall 0.1 or 0.2 m thick,
+  // flush with either face or in the middle, gaps of 5, 10 and 20 mm round it. Before, a box
+  // leaf passed nothing (its two rims each hid the gap from the other side), and the jambs'
+  // edges, seen through the gap beside a sheet, took the closed door to the open doorway's
+  // level at 250-500 Hz. Closed stays below the open doorway and the free field in every band,
+  // and within the 3 dB of the slit model with the leaf's thickness as the slit's depth
+  // (Mechel's transmission line, computed here on its own; found: within 1.0 dB in every band,
+  // the box's half-wave resonance at 4 kHz included). The slits' mutual loading is taken as
+  // for slits in a sheet, by dpc and this model alike: deep slits' mouths load each other on
+  // both sides, which neither holds; the 63 and 125 Hz levels rest on that.
+  const MouthImpedance zr;
+  for (float wall : {0.1f, 0.2f}) {
+    const Bands open = decibels(directLevel(thickDoorwayScene(wall, false)));
+    for (float thickness : {0.f, 0.001f, 0.006f, 0.04f})
+      for (float set : {0.f, 0.5f, 1.f})  // flush with the source's face, middle, far face
+        for (float gap : {0.005f, 0.01f, 0.02f}) {
+          const float x = 6.f + 0.5f * thickness + set * (wall - thickness);
+          const Bands closed = decibels(directLevel(recessedLeafScene(wall, gap, thickness, x)));
+          const Bands model = modelLevels(perimeterSlits(gap, x, thickness), zr);
+          char label[96];
+          std::snprintf(label, sizeof label, "wall %.1f m, leaf %2.0f mm at x %.2f, gap %2.0f mm",
+                        double(wall), 1e3 * double(thickness), double(x), 1e3 * double(gap));
+          checkClosedAgainstModel(label, closed, open, model);
+        }
+  }
+}
+
+TEST_CASE("Door gaps: a box leaf closed against a door stop passes its L-shaped gaps",
+          "[diffraction][door]") {
+  // Real doors close against a stop: a strip round the frame that the leaf's face overlaps, so
+  // each gap runs along the leaf's side and turns between its face and the stop. Before, such
+  // a door passed nothing at all (from the mouth by the stop, the other room lies behind the
+  // stop). The model (computed here on its own) takes the bent slit as a straight one as deep
+  // as its centre line is long: the leaf's thickness plus the stop's lip (from the middle of
+  // the side gap to the stop's edge, lip - gap / 2, and across the leaf's thickness plus half
+  // the gap between the leaf and the stop); dpc's depth runs along the channel and then square
+  // to it (engine/edge_path.h channelDepth), the same length with the gaps equally wide, as
+  // here. Within the 3 dB in every band (found: 1.0 dB), below the open doorway and
+  // the free field; the stop on either side (the listener's room or the source's).
+  const MouthImpedance zr;
+  constexpr float kThickness = 0.04f;
+  for (float wall : {0.1f, 0.2f}) {
+    const Bands open = decibels(directLevel(thickDoorwayScene(wall, false)));
+    for (float side : {1.f, -1.f})
+      for (float lip : {0.015f, 0.025f})
+        for (float gap : {0.003f, 0.005f, 0.01f}) {
+          const float x0 = side > 0.f ? 6.01f : 6.f + wall - 0.01f - kThickness;
+          const SceneDesc scene = stoppedLeafScene(wall, gap, kThickness, x0, side, lip);
+          const Bands closed = decibels(directLevel(scene));
+          const Bands model =
+              modelLevels(perimeterSlits(gap, x0 + 0.5f * kThickness, kThickness + lip), zr);
+          char label[96];
+          std::snprintf(label, sizeof label, "wall %.1f m, stop %s, lip %2.0f mm, gap %2.0f mm",
+                        double(wall), side > 0.f ? "behind" : "before", 1e3 * double(lip),
+                        1e3 * double(gap));
+          checkClosedAgainstModel(label, closed, open, model);
+        }
+  }
+}
+
+TEST_CASE("Door gaps: a box leaf in a thick wall seen off the axis with or without a door stop",
+          "[diffraction][door]") {
+  // The pairs of "seen from off the axis" below (beside the doorway, past a jamb), the leaf
+  // 4 cm thick in a 0.1 m wall, without a stop, or closing against one on the listener's or
+  // the source's side (lip 15 mm). The stop's edge and the wall's corner behind it hide the
+  // gap's mouth by the stop, so the path leaves round them (engine/channel_turn.h). Before,
+  // the stopped doors passed nothing in 9 of these 16 cases and read 3-10 dB below the model
+  // in the others (only the far jamb's gap found); the box leaf without a stop read 2-9 dB
+  // below it: the blocked line of sight's bound took away the wall's face round the reveal,
+  // which the probe had taken for the gaps' far side (engine/gap_probe.cpp findFarSides).
+  // Within the 3 dB of the model (as in the test above, depth thickness + lip; found:
+  // 2.8 dB). The model leaves out the shadow of the stop's corners, which dpc takes (Kurze and
+  // Anderson past the shadow boundary, engine/slit.h): where the 15 mm lip is a wavelength /
+  // 2 pi or more (4 and 8 kHz) dpc may read up to 6 dB below it (found: 3.2 dB), never 3 dB
+  // above.
+  const MouthImpedance zr;
+  constexpr float kThickness = 0.04f, kLip = 0.015f, kWall = 0.1f;
+  for (float side : {0.f, 1.f, -1.f})  // no stop, behind the leaf, before it
+    for (float gap : {0.005f, 0.01f})
+      for (const auto& [src, lis] : kOffAxisPairs) {
+        const float x0 = side >= 0.f ? 6.01f : 6.f + kWall - 0.01f - kThickness;
+        const SceneDesc scene =
+            side == 0.f ? recessedLeafScene(kWall, gap, kThickness, x0 + 0.5f * kThickness)
+                        : stoppedLeafScene(kWall, gap, kThickness, x0, side, kLip);
+        const float depth = kThickness + (side == 0.f ? 0.f : kLip);
+        const Bands closed = decibels(directLevel(scene, src, lis));
+        const Bands model = modelLevels(perimeterSlits(gap, x0 + 0.5f * kThickness, depth), zr,
+                                        glm::dvec3(src), glm::dvec3(lis));
+        const char* where = side == 0.f ? "none  " : side > 0.f ? "behind" : "before";
+        std::printf("stop %s, gap %2.0f mm, source z %.1f m, listener z %.1f m: dpc, dpc - model (dB)",
+                    where, 1e3 * double(gap), double(src.z), double(lis.z));
+        for (int b = 0; b < kNumBands; ++b) {
+          std::printf(" %5.1f/%+4.1f", double(closed[b]), double(closed[b] - model[b]));
+          INFO("stop " << where << ", gap " << gap << ", source z " << src.z << ", band " << b);
+          CHECK(closed[b] <= 1e-4f);
+          const bool shadowed = side != 0.f && b >= 6;  // 4 and 8 kHz: k lip >= 1
+          CHECK(closed[b] - model[b] < 3.f);
+          CHECK(closed[b] - model[b] > (shadowed ? -6.f : -3.f));
+        }
+        std::printf("\n");
+      }
+}
+
+TEST_CASE("Door gaps: a box leaf that is a moving object passes its gaps as a static one does",
+          "[diffraction][door]") {
+  // Games move their doors: the leaf is a scene object, whose own edges do not diffract, so the
+  // channels along its side faces are not there. The gap then runs along the wall's reveal
+  // (0.2 m), which is a channel too; the probe finds the leaf across it and where the leaf
+  // stands along it, and the slit is taken there, as deep as the leaf (engine/gap_probe.h,
+  // GapShape::depth). Before, the closed object door passed nothing at all. Checked against
+  // the slit model with depth, 3 dB per octave as above, and below the open doorway.
+  const MouthImpedance zr;
+  const Bands open = decibels(directLevel(thickDoorwayScene(0.2f, false)));
+  for (float x : {0.02f, 0.1f, 0.18f})
+    for (float gap : {0.005f, 0.01f, 0.02f}) {
+      const Bands closed = decibels(directLevel(objectLeafScene(0.2f, gap, 0.04f, 6.f + x)));
+      const Bands model = modelLevels(perimeterSlits(gap, 6.0 + double(x), 0.04), zr);
+      std::printf("object box leaf at x %.2f, gap %2.0f mm: dpc, dpc - model (dB)", 6.0 + double(x),
+                  1e3 * double(gap));
+      for (int b = 0; b < kNumBands; ++b)
+        std::printf(" %5.1f/%+4.1f", double(closed[b]), double(closed[b] - model[b]));
+      std::printf("\n");
+      for (int b = 0; b < kNumBands; ++b) {
+        INFO("leaf at " << x << ", gap " << gap << ", band " << b);
+        CHECK(closed[b] <= open[b]);
+        CHECK(std::abs(closed[b] - model[b]) < 3.f);
+      }
+    }
+}
+
+TEST_CASE("Door gaps: a box leaf in a thick wall heard from above the lintel's height",
+          "[diffraction][door]") {
+  // The listener 1.5 m behind a closed box leaf (4 cm, 10 mm gaps, in the middle of a 0.2 m
+  // wall) rises from 1.8 to 2.9 m: the side gaps' points of least path length climb past the
+  // leaf's top and the lintel hides them, yet the rest of each 2 m slit still sees the listener.
+  // Before, every point from 2.55 m up heard nothing at all; now the channel is taken through
+  // the visible part of its slit (engine/channel_path.h, visibleChannel). Checked: something
+  // passes at every point, never more than the open doorway. The level falls smoothly but for
+  // the step where the top gap's back leg meets the lintel (2.5-4.6 dB at 63-500 Hz between
+  // 2.45 and 2.50 m: the slit's radiation round the lintel's edge is a second-order path dpc
+  // does not have) and a rise of 2.1-3.7 dB between 2.54 and 2.56 m, where the open doorway
+  // rises by 2 dB too (the top slit, carried by the lintel's reveal, is no longer taken down
+  // by the held sum without the wall's face; printed, docs/validation.md).
+  const SceneDesc closedScene = recessedLeafScene(0.2f, 0.01f, 0.04f, 6.1f);
+  const SceneDesc openScene = thickDoorwayScene(0.2f, false);
+  for (float y = 1.8f; y <= 2.901f; y += 0.05f) {
+    const glm::vec3 listener{7.5f, y, 2.5f};
+    const Bands closed = decibels(directLevel(closedScene, kSource, listener));
+    const Bands open = decibels(directLevel(openScene, kSource, listener));
+    std::printf("box leaf, listener height %.2f m: closed re free field (dB)", double(y));
+    for (int b = 0; b < kNumBands; ++b) std::printf(" %5.1f", double(closed[b]));
+    std::printf("\n");
+    for (int b = 0; b < kNumBands; ++b) {
+      INFO("listener height " << y << ", band " << b);
+      CHECK(closed[b] > -60.f);
+      CHECK(closed[b] <= open[b]);
+    }
+  }
+}

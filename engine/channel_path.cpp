@@ -125,6 +125,7 @@ bool channelVia(const DiffractionEdge& front, const DiffractionEdge& back,
   p.lipBeyond = turns.lipBeyond;
   p.lipBefore = turns.lipBefore;
   const glm::vec3 entry = q - turns.before, exitMouth = q + through + turns.beyond;
+  p.lipLength = {turns.lipBeforeLength, turns.lipBeyondLength};
   p.lipExcess = {std::max(0.f, turns.lipBeforeLength + r - glm::distance(source, entry)),
                  std::max(0.f, turns.lipBeyondLength + s - glm::distance(exitMouth, L))};
   p.face = front.surfaces[0] == back.surfaces[0] || front.surfaces[0] == back.surfaces[1]

@@ -6,8 +6,9 @@
 // face to Q2 = Q1 + through on the back edge, -> listener, with Q1 where r + |through| + s is
 // least (the listener moved back by `through` makes it a first-order path over the front
 // edge). It carries only its slit's field (engine/slit.h), with the face's width as the slit's
-// depth d: the transmission-line model of Gomperts (1964) and Mechel (1986) through a slit of
-// that depth, found and measured by engine/gap_probe.h from both mouths.
+// depth d (more where it turns round a door stop: engine/edge_path.h channelDepth,
+// engine/channel_turn.h): the transmission-line model of Gomperts (1964) and Mechel (1986)
+// through a slit of that depth, found and measured by engine/gap_probe.h from both mouths.
 //
 // Internal to the engine (engine/diffraction.cpp). Any thread; allocates only the pairs at
 // load time; no errors.

@@ -143,30 +143,29 @@ struct MouthExit {
   float freeLength = 0.f;
 };
 
-/// The chain's nodes: the points level with m on the edges `near` (those whose lines reach m's
-/// level within their length), square to `edge`.
+/// The chain's nodes: the feet of m on the edges `near` (square to each, level with m on the
+/// parallel ones), those within their edge's length.
 std::vector<glm::vec3> chainNodes(const std::vector<DiffractionEdge>& edges,
-                                  const DiffractionEdge& edge, const std::vector<uint32_t>& near,
-                                  const glm::vec3& m) {
+                                  const std::vector<uint32_t>& near, const glm::vec3& m) {
   std::vector<glm::vec3> at;
   for (uint32_t j : near) {
-    const glm::vec3 x = m + acrossTo(edge, edges[j]);
-    if (onEdge(edges[j], x)) at.push_back(x);
+    const DiffractionEdge& c = edges[j];
+    const glm::vec3 x = c.a + glm::dot(m - c.a, c.direction) * c.direction;
+    if (onEdge(c, x)) at.push_back(x);
   }
   return at;
 }
 
 /// Shortest chains from m over the nodes, at most kChannelHops legs (each a free segment):
-/// per node its length (inf: unreached), the node before it (-1: m) and the chain's first node.
+/// per node its length (inf: unreached) and the chain's first node.
 struct Chains {
   std::vector<float> cost;
-  std::vector<int> prev, first;
+  std::vector<int> first;
 };
 
 Chains relaxChains(const Tracer& tracer, const std::vector<glm::vec3>& at, const glm::vec3& m) {
   const size_t n = at.size();
-  Chains c{std::vector<float>(n, std::numeric_limits<float>::infinity()), std::vector<int>(n, -1),
-           std::vector<int>(n, -1)};
+  Chains c{std::vector<float>(n, std::numeric_limits<float>::infinity()), std::vector<int>(n, -1)};
   bool any = false;
   for (size_t j = 0; j < n; ++j)
     if (segmentFree(tracer, m, at[j])) {
@@ -181,7 +180,6 @@ Chains relaxChains(const Tracer& tracer, const std::vector<glm::vec3>& at, const
         const float via = c.cost[i] + glm::distance(at[i], at[j]);
         if (i == j || !(via < next.cost[j]) || !segmentFree(tracer, at[i], at[j])) continue;
         next.cost[j] = via;
-        next.prev[j] = int(i);
         next.first[j] = c.first[i];
       }
     c = std::move(next);
@@ -194,7 +192,7 @@ Chains relaxChains(const Tracer& tracer, const std::vector<glm::vec3>& at, const
 bool leaveMouth(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
                 const DiffractionEdge& edge, const std::vector<uint32_t>& near,
                 const glm::vec3& m, const glm::vec3& target, MouthExit& out) {
-  const std::vector<glm::vec3> at = chainNodes(edges, edge, near, m);
+  const std::vector<glm::vec3> at = chainNodes(edges, near, m);
   const Chains c = relaxChains(tracer, at, m);
   int best = -1;
   float bestLength = std::numeric_limits<float>::infinity();

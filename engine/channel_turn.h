@@ -45,7 +45,7 @@ inline constexpr int kChannelHops = 3;
 /// its back edge, parallel to it (kParallelEdges), their lines within kChannelReach of its
 /// line, overlapping it along its length, neither of the face's edges; the kChannelNeighbours
 /// nearest, nearest first. Load time; the edges binned in a grid (linear in the edges and the
-/// faces, about (length / 2.5 cm) * 27 cell look-ups per face's edge).
+/// faces, about (length / 20 cm) * 27 cell look-ups per face's edge).
 void setChannelNeighbours(const std::vector<DiffractionEdge>& edges,
                           std::vector<NarrowFace>& faces);
 
@@ -54,8 +54,11 @@ void setChannelNeighbours(const std::vector<DiffractionEdge>& edges,
 /// round front, `exits` round back: NarrowFace::near) reaches what the mouth does not see;
 /// p as channelPath's, with EdgePath::before, beyond, lipBefore, lipBeyond set. False when
 /// there is no gap across the front mouth (gapAcross), both legs are free (channelPath's
-/// case), or no turn reaches. Up to about 2 + n + n^2 kChannelHops rays per blocked mouth
-/// (n <= kChannelNeighbours), then the legs' 2.
+/// case), or no turn reaches. Up to about 2 + 2 n + 2 n^2 rays per blocked mouth (n <=
+/// kChannelNeighbours: the first legs, the further ones over kChannelHops - 1 rounds, the goal
+/// rays and the first leg's two sides), then the legs' 2. The chain is laid out at the straight
+/// channel's point; the turned path's point of least length may lie a little along the edges
+/// from it, where only its outer legs are tested again.
 bool turnedChannel(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
                    const DiffractionEdge& front, const DiffractionEdge& back,
                    const std::vector<uint32_t>& entries, const std::vector<uint32_t>& exits,

@@ -40,7 +40,8 @@ void findSlits(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L
     const float reach = std::min(e.length / float(kSlitMinAspect), kGapFarthest);
     probes[j] = {p.q,    p.mouth,  reach,      e.direction, -t,
                  e.length - t, e.face0, p.turn, p.airWedge, p.through,
-                 p.before != glm::vec3(0.f), p.beyond != glm::vec3(0.f)};
+                 p.before + p.lipBefore != glm::vec3(0.f),
+                 p.beyond + p.lipBeyond != glm::vec3(0.f)};
   }
   std::vector<GapShape> shapes(paths.size());
   probeGaps(tracer, source, L, probes, shapes);
@@ -59,8 +60,8 @@ void findSlits(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L
         p.q += shapes[j].inset * dir;
         p.through = shapes[j].depth * dir;
       }
-      makeSlit(source + p.before + p.lipBefore, L - p.through - p.beyond - p.lipBeyond, std::max(shapes[j].from, p.visibleFrom),
-               std::min(shapes[j].to, p.visibleTo), p);
+      makeSlit(source + p.before + p.lipBefore, L - p.through - p.beyond - p.lipBeyond,
+               std::max(shapes[j].from, p.visibleFrom), std::min(shapes[j].to, p.visibleTo), p);
       p.slitAspect = double(shapes[j].aspect);
     }
   }
@@ -366,7 +367,10 @@ void addChannels(const std::vector<DiffractionEdge>& edges, const std::vector<Na
           visibleChannel(q.tracer, edges[a], edges[b], q.source, q.L, p) ||
           turnedChannel(q.tracer, edges, edges[a], edges[b], f.near[size_t(1 - way)],
                         f.near[size_t(way)], q.source, q.L, p)) {
-        p.measuredDepth = largeBody(q.bodies, p.edge->surfaces[0]);
+        // A turned channel's legs start at its mouths as found: its depth is not measured
+        // again (moving the mouths would leave the turns' offsets behind).
+        const bool turned = p.before + p.lipBefore + p.beyond + p.lipBeyond != glm::vec3(0.f);
+        p.measuredDepth = !turned && largeBody(q.bodies, p.edge->surfaces[0]);
         channels.push_back(p);
       }
     }

@@ -215,8 +215,9 @@ void makeSlit(const glm::vec3& source, const glm::vec3& L, float from, float to,
     return l > 0.f ? double(std::abs(glm::dot(across, p.mouth)) / l) : 0.0;
   };
   SlitPath& sp = p.slit;
-  sp.r = std::max(double(glm::length(toC)), double(kLegEpsilon));
-  sp.s = std::max(double(glm::length(toL)), double(kLegEpsilon));
+  // A turned channel's free legs (engine/channel_turn.h) lengthen the legs to the slit.
+  sp.r = std::max(double(glm::length(toC)), double(kLegEpsilon)) + double(p.lipLength[0]);
+  sp.s = std::max(double(glm::length(toL)), double(kLegEpsilon)) + double(p.lipLength[1]);
   sp.sinBeta = double(glm::length(glm::cross(toC, e.direction))) / sp.r;
   double vertex = double(z0);
   sp.phase = sp.r + sp.s;

@@ -62,11 +62,12 @@ struct EdgePath {
   /// mouth's, m (the slit's depth across the face it runs along); zero for every other path.
   glm::vec3 through{0.f};
   /// A channel that turns past its back mouth (between a box leaf's back face and the door
-  /// stop it closes against: engine/channel_path.h turnedChannel): the offset from the back
+  /// stop it closes against: engine/channel_turn.h turnedChannel): the offset from the back
   /// edge to the edge where it leaves, m; zero for a straight channel and every other path.
   glm::vec3 beyond{0.f};
   /// The same at its front mouth (a door stop on the source's side): the offset from the edge
-  /// where it enters to Q, so the source's leg ends at Q - before; zero for every other path.
+  /// where it enters to Q, so the source's leg ends at Q - before - lipBefore; zero for every
+  /// other path.
   glm::vec3 before{0.f};
   /// Past a turn, the leg round the door stop's lip to the stop's far edge, where the listener
   /// (lipBeyond) or the source (lipBefore) is seen from (m): free air, not part of the slit's
@@ -75,6 +76,9 @@ struct EdgePath {
   /// The free legs' path-length excess over the straight line from the slit's mouth at each
   /// end (m; SlitPath::shadowExcess).
   std::array<float, 2> lipExcess{0.f, 0.f};
+  /// The free legs' lengths at each end (m; ChannelTurns::lipBeforeLength, lipBeyondLength):
+  /// the slit's legs run them as well as the straight lines from their ends.
+  std::array<float, 2> lipLength{0.f, 0.f};
   /// A channel's narrow face, the flat surface it runs along (its front and back edges'
   /// common face): taking away the front edge's other face (a wall's face round its reveal)
   /// leaves the channel; kUnknownSurface for every other path.

@@ -339,7 +339,8 @@ void findFarSides(const Tracer& tracer, std::span<const GapProbe> probes,
     const GapProbe& g = probes[j];
     const glm::vec3 dir = g.through / glm::length(g.through);
     const glm::vec3 mid = g.q + (shapes[j].inset + 0.5f * shapes[j].depth) * dir;
-    rays.push_back(TraceRay{mid, g.mouth, 0.f, kOuterWidth * shapes[j].width + kGapProbeThrough});
+    rays.push_back(TraceRay{mid, g.mouth, surfaceOffset(mid),
+                            kOuterWidth * shapes[j].width + kGapProbeThrough});
   }
   std::vector<TraceHit> hits(rays.size());
   tracer.intersect(rays, hits);

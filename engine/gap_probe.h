@@ -24,8 +24,8 @@
 // width), 16 more rays per free path.
 //
 // A channel (a gap along a box leaf's side face, between its front and back edges) is probed
-// at its front mouth from the source and at its back mouth from the listener (at its front
-// mouth only when it turns past its back one, against a door stop).
+// at its front mouth from the source and at its back mouth from the listener; where it turns
+// at a mouth (against a door stop), that mouth's leg is not probed.
 //
 // u must point across the gap, away from the edge's own solid, in the plane perpendicular to
 // the edge, into the angles around the edge that both the source and the listener see
@@ -65,7 +65,7 @@ struct GapProbe {
   /// A channel's depth (engine/channel_path.h): the listener's legs go to each point moved by
   /// this (m), to the channel's back mouth, and stop there; zero for an edge's own gap.
   glm::vec3 through{0.f};
-  /// A channel that turns before its front mouth or past its back one (engine/channel_path.h
+  /// A channel that turns before its front mouth or past its back one (engine/channel_turn.h
   /// turnedChannel): the source's or the listener's legs are not tested (each was found free
   /// from the turn's edge, and the mouth itself faces the door stop).
   bool turnedIn = false, turnedOut = false;

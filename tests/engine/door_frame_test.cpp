@@ -92,9 +92,9 @@ TEST_CASE("Door gaps: a box leaf in a thick wall seen off the axis with or witho
   // below it: the blocked line of sight's bound took away the wall's face round the reveal,
   // which the probe had taken for the gaps' far side (engine/gap_probe.cpp findFarSides).
   // Within the issue's 3 dB of the model (as in the test above, depth thickness + lip; found:
-  // 2.8 dB). The model leaves out the shadow of the stop's corners, which dpc takes (Kurze and
+  // 2.5 dB). The model leaves out the shadow of the stop's corners, which dpc takes (Kurze and
   // Anderson past the shadow boundary, engine/slit.h): where the 15 mm lip is a wavelength /
-  // 2 pi or more (4 and 8 kHz) dpc may read up to 6 dB below it (found: 3.2 dB), never 3 dB
+  // 2 pi or more (4 and 8 kHz) dpc may read up to 6 dB below it (found: 2.7 dB), never 3 dB
   // above.
   const MouthImpedance zr;
   constexpr float kThickness = 0.04f, kLip = 0.015f, kWall = 0.1f;

@@ -1,14 +1,16 @@
 #include "engine/channel_turn.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
-#include <glm/geometric.hpp>
 #include <glm/common.hpp>
+#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 #include <limits>
 #include <unordered_map>
 #include <utility>
+#include <vector>
 
 #include "engine/channel_path.h"
 

@@ -72,6 +72,21 @@ def read(build):
     return open_rows, table, double, box, stop
 
 
+def against_model(ax, open_level, rows, gaps, variants):
+    """The open doorway, then per gap (one colour) each variant's dpc levels (its marker and
+    dash) and, for the first variant, the slit model dashed; rows[(variant, gap)] = (dpc,
+    model)."""
+    ax.plot(BANDS, open_level, "k-", lw=2, label="open doorway, 0.3 m wall (dpc)")
+    for i, gap in enumerate(gaps):
+        for n, (kind, marker, dash, label) in enumerate(variants):
+            if (kind, gap) not in rows:
+                continue
+            dpc, model = rows[(kind, gap)]
+            ax.plot(BANDS, dpc, dash, color=f"C{i}", marker=marker, label=label.format(gap))
+            if n == 0:
+                ax.plot(BANDS, model, "--", color=f"C{i}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--build", default="build")
@@ -102,28 +117,13 @@ def main():
                    label=f"two leaves 5 mm apart, {round_mm} mm round (dpc)")
         right.plot(BANDS, model, "--", color=colour)
     right.set(title="Closed: dpc (solid) against the slit model (dashed)")
-    real.plot(BANDS, open_rows["0.3 m"], "k-", lw=2, label="open doorway, 0.3 m wall (dpc)")
-    for i, gap in enumerate(["5", "10", "20"]):
-        for kind, marker, dash in (("static", "o", "-"), ("object", "x", ":")):
-            if (kind, gap) not in box:
-                continue
-            dpc, model = box[(kind, gap)]
-            real.plot(BANDS, dpc, dash, color=f"C{i}", marker=marker,
-                      label=f"{gap} mm round, leaf {'a moving object' if kind == 'object' else 'in the mesh'} (dpc)")
-            if kind == "static":
-                real.plot(BANDS, model, "--", color=f"C{i}")
+    against_model(real, open_rows["0.3 m"], box, ["5", "10", "20"],
+                  (("static", "o", "-", "{} mm round, leaf in the mesh (dpc)"),
+                   ("object", "x", ":", "{} mm round, leaf a moving object (dpc)")))
     real.set(title="4 cm box leaf, 0.2 m wall; slit model with depth dashed")
-    stopped.plot(BANDS, open_rows["0.3 m"], "k-", lw=2, label="open doorway, 0.3 m wall (dpc)")
-    for i, gap in enumerate(["3", "5", "10"]):
-        for side, marker, dash in (("behind", "o", "-"), ("before", "x", ":")):
-            if (side, gap) not in stop:
-                continue
-            dpc, model = stop[(side, gap)]
-            where = "listener's side" if side == "behind" else "source's side"
-            stopped.plot(BANDS, dpc, dash, color=f"C{i}", marker=marker,
-                         label=f"{gap} mm gaps, stop on the {where} (dpc)")
-            if side == "behind":
-                stopped.plot(BANDS, model, "--", color=f"C{i}")
+    against_model(stopped, open_rows["0.3 m"], stop, ["3", "5", "10"],
+                  (("behind", "o", "-", "{} mm gaps, stop on the listener's side (dpc)"),
+                   ("before", "x", ":", "{} mm gaps, stop on the source's side (dpc)")))
     stopped.set(title="That leaf against a 15 mm door stop; model dashed")
     for ax in (left, right, real, stopped):
         ax.set_ylim(-50, 4)  # room below the curves for the legend

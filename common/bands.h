@@ -97,4 +97,11 @@ inline Bands min(const Bands& a, const Bands& b) {
   return r;
 }
 
+/// Element-wise maximum.
+inline Bands max(const Bands& a, const Bands& b) {
+  Bands r;
+  for (int i = 0; i < kNumBands; ++i) r[i] = std::max(a[i], b[i]);
+  return r;
+}
+
 }  // namespace dpc

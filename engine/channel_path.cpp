@@ -186,4 +186,19 @@ bool visibleChannel(const Tracer& tracer, const DiffractionEdge& front, const Di
   return true;
 }
 
+bool segmentFree(const Tracer& tracer, const glm::vec3& a, const glm::vec3& b) {
+  const glm::vec3 v = b - a;
+  const float length = glm::length(v);
+  return length > 2.f * kLegEpsilon &&
+         !tracer.occluded(TraceRay{a, v / length, kLegEpsilon, length - kLegEpsilon});
+}
+
+bool narrowAt(const Tracer& tracer, const glm::vec3& along, const glm::vec3& a,
+              const glm::vec3& b, float t) {
+  const glm::vec3 n = glm::normalize(glm::cross(glm::normalize(b - a), along));
+  const glm::vec3 at = a + t * (b - a);
+  return tracer.occluded(TraceRay{at, n, 0.f, kChannelGapMax}) &&
+         tracer.occluded(TraceRay{at, -n, 0.f, kChannelGapMax});
+}
+
 }  // namespace dpc

@@ -88,4 +88,14 @@ bool gapAcross(const Tracer& tracer, const DiffractionEdge& front, const glm::ve
 bool visibleChannel(const Tracer& tracer, const DiffractionEdge& front, const DiffractionEdge& back,
                     const glm::vec3& source, const glm::vec3& L, EdgePath& p);
 
+/// True when the segment from a to b meets nothing (its ends, on edges, kept clear by
+/// kLegEpsilon). One ray.
+bool segmentFree(const Tracer& tracer, const glm::vec3& a, const glm::vec3& b);
+
+/// True when the segment from a to b passes, at the fraction t (0 to 1) of its length, between
+/// two surfaces at most kChannelGapMax apart (a leaf's face and the stop's): from that point,
+/// square to it and to the edges' direction `along`, both sides are closed that near. Two rays.
+bool narrowAt(const Tracer& tracer, const glm::vec3& along, const glm::vec3& a,
+              const glm::vec3& b, float t);
+
 }  // namespace dpc

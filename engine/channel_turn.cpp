@@ -8,74 +8,15 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 #include <limits>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
 #include "engine/channel_path.h"
+#include "engine/edge_grid.h"
 
 namespace dpc {
 
 namespace {
-
-/// Edges binned by the cells (kCell wide) of points sampled along them every kStep: an edge
-/// within kChannelReach of another, beside it, has a sample within kChannelReach + kStep of
-/// one of the other's, so in one of the 27 cells round it. Keeps finding the neighbours linear
-/// in the edges (8000 crates, 48,000 narrow faces: 10 s scanning every edge per face).
-class EdgeGrid {
- public:
-  explicit EdgeGrid(const std::vector<DiffractionEdge>& edges) : mark_(edges.size(), 0) {
-    for (uint32_t i = 0; i < uint32_t(edges.size()); ++i)
-      forSamples(edges[i], [&](const glm::ivec3& c) {
-        std::vector<uint32_t>& list = cells_[key(c)];
-        if (list.empty() || list.back() != i) list.push_back(i);
-      });
-  }
-
-  /// The edges with a sample in a cell next to one of e's samples' (e included), each once
-  /// (a query's mark per edge; not reentrant).
-  std::vector<uint32_t> near(const DiffractionEdge& e) {
-    std::vector<uint32_t> out;
-    ++query_;
-    glm::ivec3 last(std::numeric_limits<int>::min());
-    forSamples(e, [&](const glm::ivec3& c) {
-      if (c == last) return;  // consecutive samples in one cell
-      last = c;
-      for (int dx = -1; dx <= 1; ++dx)
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dz = -1; dz <= 1; ++dz) {
-            const auto it = cells_.find(key(c + glm::ivec3(dx, dy, dz)));
-            if (it == cells_.end()) continue;
-            for (uint32_t i : it->second)
-              if (mark_[i] != query_) {
-                mark_[i] = query_;
-                out.push_back(i);
-              }
-          }
-    });
-    return out;
-  }
-
- private:
-  static constexpr float kStep = 0.25f * kChannelReach, kCell = 2.f * kChannelReach;
-  static_assert(kChannelReach + kStep < kCell);
-
-  template <class F>
-  static void forSamples(const DiffractionEdge& e, F&& visit) {
-    const int n = int(std::ceil(e.length / kStep));
-    for (int k = 0; k <= n; ++k) {
-      const glm::vec3 p = e.a + (e.length * float(k) / float(std::max(n, 1))) * e.direction;
-      visit(glm::ivec3(glm::floor(p / kCell)));
-    }
-  }
-  static uint64_t key(const glm::ivec3& c) {
-    auto part = [](int v) { return uint64_t(uint32_t(v + (1 << 20)) & 0x1fffffu); };
-    return part(c.x) | (part(c.y) << 21) | (part(c.z) << 42);
-  }
-  std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;
-  std::vector<uint32_t> mark_;  ///< per edge, the last query that listed it
-  uint32_t query_ = 0;
-};
 
 /// The edges a channel from `front` to `back` may turn round past back, from `candidates`
 /// (setChannelNeighbours' rule).
@@ -104,7 +45,7 @@ std::vector<uint32_t> neighboursOf(const std::vector<DiffractionEdge>& edges, ui
 void setChannelNeighbours(const std::vector<DiffractionEdge>& edges,
                           std::vector<NarrowFace>& faces) {
   if (faces.empty()) return;
-  EdgeGrid grid(edges);
+  EdgeGrid grid(edges, kChannelReach);
   for (NarrowFace& f : faces) {
     f.near[0] = neighboursOf(edges, f.a, f.b, grid.near(edges[f.b]));
     f.near[1] = neighboursOf(edges, f.b, f.a, grid.near(edges[f.a]));
@@ -117,25 +58,6 @@ namespace {
 bool onEdge(const DiffractionEdge& e, const glm::vec3& x) {
   const float t = glm::dot(x - e.a, e.direction);
   return t > 0.f && t < e.length;
-}
-
-/// True when the segment from a to b meets nothing (its ends, on edges, kept clear).
-bool segmentFree(const Tracer& tracer, const glm::vec3& a, const glm::vec3& b) {
-  const glm::vec3 v = b - a;
-  const float length = glm::length(v);
-  return length > 2.f * kLegEpsilon &&
-         !tracer.occluded(TraceRay{a, v / length, kLegEpsilon, length - kLegEpsilon});
-}
-
-/// True when the free segment from a to b runs between two surfaces at most kChannelGapMax
-/// apart (a leaf's face and the stop's): from its middle, square to it and to the edges
-/// (direction `along`), both sides are closed that near.
-bool narrowLeg(const Tracer& tracer, const glm::vec3& along, const glm::vec3& a,
-               const glm::vec3& b) {
-  const glm::vec3 n = glm::normalize(glm::cross(glm::normalize(b - a), along));
-  const glm::vec3 mid = 0.5f * (a + b);
-  return tracer.occluded(TraceRay{mid, n, 0.f, kChannelGapMax}) &&
-         tracer.occluded(TraceRay{mid, -n, 0.f, kChannelGapMax});
 }
 
 /// How a mouth is left: the slit's continuation (its first leg when narrow, else zero) and
@@ -207,7 +129,7 @@ bool leaveMouth(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
   }
   if (best < 0) return false;
   const glm::vec3 first = at[size_t(c.first[size_t(best)])];
-  const bool narrow = narrowLeg(tracer, edge.direction, m, first);
+  const bool narrow = narrowAt(tracer, edge.direction, m, first, 0.5f);
   out.narrow = narrow ? first - m : glm::vec3(0.f);
   out.free = at[size_t(best)] - m - out.narrow;
   out.freeLength = c.cost[size_t(best)] - (narrow ? glm::distance(m, first) : 0.f);

@@ -15,6 +15,7 @@
 #include "engine/channel_turn.h"
 #include "engine/coherent_sum.h"
 #include "engine/diffraction_edges.h"
+#include "engine/edge_chain.h"
 #include "engine/edge_path.h"
 #include "engine/gap_probe.h"
 #include "engine/slit.h"
@@ -344,14 +345,6 @@ void addEndSlits(const std::vector<DiffractionEdge>& edges, bool lineOfSight, Bo
   markSlitOwners(paths);
 }
 
-/// True when flat surface s belongs to a body too large to be taken away whole (kSolidExtent
-/// across or more: a wall).
-bool largeBody(const SurfaceBodies& bodies, uint32_t s) {
-  if (s >= bodies.body.size() || bodies.body[s] >= bodies.members.size()) return false;
-  const auto [lo, hi] = boxOfSurfaces(bodies.members[bodies.body[s]], bodies);
-  return glm::distance(lo, hi) >= kSolidExtent;
-}
-
 /// Adds the channels (engine/channel_path.h) along the narrow faces `faces` whose legs are free
 /// and whose gap the probe finds open (a closed box leaf's gaps to its frame and the floor), at
 /// most as wide as the face is deep or kChannelGapMax.
@@ -385,6 +378,7 @@ void addChannels(const std::vector<DiffractionEdge>& edges, const std::vector<Na
 /// The shortest of the direct sound (when visible), the edge paths and the slit paths: its
 /// length (m) and its arrival direction (unit vector from the listener at L).
 std::pair<float, glm::vec3> firstArrival(const std::vector<EdgePath>& paths,
+                                         const std::vector<EdgeChain>& chains,
                                          const DirectSound& direct, const glm::vec3& L) {
   float shortest = direct.visible ? direct.distance : 1e30f;
   glm::vec3 arrival = direct.direction;
@@ -398,14 +392,53 @@ std::pair<float, glm::vec3> firstArrival(const std::vector<EdgePath>& paths,
       arrival = glm::normalize(p.slitCentre - L);
     }
   }
+  for (const EdgeChain& c : chains)
+    if (c.length < shortest) {
+      shortest = c.length;
+      arrival = glm::normalize(c.q[c.n - 1] - L);
+    }
   return {shortest, arrival};
 }
 
+/// The paths round edges in series as the bounds see them: each one's band intensity (1/m^2),
+/// the free field at the direct distance, weighted toward its first edge, less its barrier
+/// attenuation (engine/edge_chain.h chainGain), and its edges' flat surfaces.
+std::vector<ChainEnergy> chainEnergies(const std::vector<EdgeChain>& chains,
+                                       const DirectSound& direct, const BoundQuery& q) {
+  std::vector<ChainEnergy> out;
+  const float d = direct.distance;
+  const Bands omni = exp(q.airPerMetre * -d) * (1.f / (4.f * float(kPi) * d * d));
+  for (const EdgeChain& c : chains) {
+    ChainEnergy e{omni * chainGain(c, d, q.speedOfSound, q.airPerMetre), {}};
+    if (!q.directivity.omni())
+      e.energy *=
+          directivityWeight(q.directivity, glm::dot(q.forward, glm::normalize(c.q[0] - q.source)));
+    for (size_t i = 0; i < c.n; ++i)
+      e.surfaces.insert(e.surfaces.end(), q.edges[c.edge[i]].surfaces.begin(),
+                        q.edges[c.edge[i]].surfaces.end());
+    out.push_back(std::move(e));
+  }
+  return out;
+}
+
+/// The held sum with the chains added in energy, at most what chainBound allows and never
+/// below the held sum itself.
+Bands withChains(const std::vector<EdgePath>& paths, const std::vector<EdgeChain>& chains,
+                 const DirectSound& coherent, const DirectSound& direct, const Bands& free,
+                 const Bands& held, BoundQuery& q) {
+  if (chains.empty()) return held;
+  const std::vector<ChainEnergy> energies = chainEnergies(chains, direct, q);
+  Bands chained = held;
+  for (const ChainEnergy& e : energies) chained += e.energy;
+  return max(held, min(chained, chainBound(paths, coherent, free, energies, q)));
+}
+
 /// The band intensity of the direct sound with the edge and slit paths (their coherent sum,
-/// held where heldBound says), plus what the direct sound passes through transmitting surfaces
-/// (added in energy); with the line of sight blocked, at most the unobstructed direct sound.
-Bands directIntensity(const std::vector<EdgePath>& paths, const DirectSound& direct,
-                      BoundQuery& q) {
+/// held where heldBound says) and the chains round edges in series, plus what the direct sound
+/// passes through transmitting surfaces (added in energy); with the line of sight blocked, at
+/// most the unobstructed direct sound.
+Bands directIntensity(const std::vector<EdgePath>& paths, const std::vector<EdgeChain>& chains,
+                      const DirectSound& direct, BoundQuery& q) {
   DirectSound coherent = direct;
   coherent.visible = direct.lineOfSight();
   const EdgePath* throughSlit =
@@ -416,6 +449,7 @@ Bands directIntensity(const std::vector<EdgePath>& paths, const DirectSound& dir
                                 leavingWeights(paths, q.directivity, q.forward));
   sum = min(sum, heldBound(paths, coherent, throughSlit, free, sum, q));
   if (coherent.visible) return sum;
+  sum = withChains(paths, chains, coherent, direct, free, sum, q);
   return min(sum + (direct.visible ? direct.intensity : Bands(0.f)), free);
 }
 
@@ -432,6 +466,7 @@ EdgeDiffraction::EdgeDiffraction(const Mesh& mesh)
   bodies_.extent = freeStandingExtents(mesh, surfaces_, bodies_, edges_);
   bodies_.edges = surfaceEdges(bodies_.box.size(), edges_);
   narrow_ = narrowFaces(edges_, bodies_.edges);
+  chainNear_ = chainNeighbours(edges_);
   // A narrow face of a body too large to be taken away whole (a thick wall's reveal) does not
   // stand free: taken away alone, it opens the body it closes. A small body's narrow faces (a
   // slat's, a box leaf's sides) stay: the body goes whole (engine/surface_bound.h).
@@ -457,6 +492,12 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
                    speedOfSound, airPerMetre, directivity,  forward};
   std::vector<EdgePath> paths = edgePaths(edges_, lineOfSight, query);
   crossLineOfSight(lineOfSight, query);
+  std::vector<EdgeChain> chains;
+  if (!lineOfSight)
+    chains = edgeChains(tracer, edges_, chainNear_,
+                        chainSeeds(query.crossed, bodies_, edges_, source, listener.position,
+                                   direct.chainEdgesLeftOut),
+                        source, listener.position);
   findSlits(tracer, source, listener.position, surfaces_, paths, query.closed);
   addChannels(edges_, narrow_, query, paths);
   dropThreadedPaths(query, paths);
@@ -468,9 +509,9 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
     usedEdges->clear();
     for (const EdgePath& p : paths) usedEdges->push_back(uint32_t(p.edge - edges_.data()));
   }
-  if (paths.empty()) return 0;
-  const auto [shortest, arrival] = firstArrival(paths, direct, listener.position);
-  direct.intensity = directIntensity(paths, direct, query);
+  if (paths.empty() && chains.empty()) return 0;
+  const auto [shortest, arrival] = firstArrival(paths, chains, direct, listener.position);
+  direct.intensity = directIntensity(paths, chains, direct, query);
   direct.visible = true;
   direct.distance = shortest;
   direct.delaySeconds = shortest / speedOfSound;

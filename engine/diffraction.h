@@ -188,6 +188,8 @@ class EdgeDiffraction {
   SurfaceBodies bodies_;            ///< the flat surfaces' bodies (surfaceBodies)
   std::vector<DiffractionEdge> edges_;
   std::vector<NarrowFace> narrow_;  ///< faces a channel may run along (engine/channel_path.h)
+  /// Per edge, the edges a path round edges in series may take next (engine/edge_chain.h).
+  std::vector<std::vector<uint32_t>> chainNear_;
 };
 
 }  // namespace dpc

@@ -467,6 +467,12 @@ std::pair<glm::vec3, glm::vec3> boxOfSurfaces(const std::vector<uint32_t>& surfa
   return box;
 }
 
+bool largeBody(const SurfaceBodies& bodies, uint32_t s) {
+  if (s >= bodies.body.size() || bodies.body[s] >= bodies.members.size()) return false;
+  const auto [lo, hi] = boxOfSurfaces(bodies.members[bodies.body[s]], bodies);
+  return glm::distance(lo, hi) >= kSolidExtent;
+}
+
 std::vector<std::vector<uint32_t>> surfaceEdges(size_t surfaceCount,
                                                 const std::vector<DiffractionEdge>& edges) {
   std::vector<std::vector<uint32_t>> out(surfaceCount);

@@ -52,6 +52,10 @@ std::vector<float> freeStandingExtents(const Mesh& mesh, const std::vector<uint3
 std::pair<glm::vec3, glm::vec3> boxOfSurfaces(const std::vector<uint32_t>& surfaces,
                                               const SurfaceBodies& bodies);
 
+/// True when flat surface s belongs to a body too large to be taken away whole (kSolidExtent
+/// across or more: a wall); false for a moving object's or an unknown surface.
+bool largeBody(const SurfaceBodies& bodies, uint32_t s);
+
 /// Per flat surface, the indices into `edges` of the edges on its faces.
 std::vector<std::vector<uint32_t>> surfaceEdges(size_t surfaceCount,
                                                 const std::vector<DiffractionEdge>& edges);

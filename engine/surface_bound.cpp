@@ -358,4 +358,43 @@ Bands heldBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
   return min(bound, slitBound(paths, coherent, *throughSlit, q));
 }
 
+Bands chainBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
+                 const Bands& free, const std::vector<ChainEnergy>& chains, BoundQuery& q) {
+  if (coherent.visible || chains.empty() || q.crossed.empty()) return Bands(1e30f);
+  // The small bodies crossed, each taken away whole (a pillar meshed as an open tube too).
+  std::vector<uint32_t> small;
+  bool other = false;  // a large body's face or a moving object in the way besides
+  std::vector<uint32_t> all = q.crossed;
+  for (uint32_t s : q.crossed) {
+    if (s < q.bodies.body.size() && q.bodies.body[s] < q.bodies.members.size() &&
+        !largeBody(q.bodies, s)) {
+      small.push_back(q.bodies.body[s]);
+      const std::vector<uint32_t>& members = q.bodies.members[q.bodies.body[s]];
+      all.insert(all.end(), members.begin(), members.end());
+    } else {
+      other = true;
+    }
+  }
+  std::sort(small.begin(), small.end());
+  small.erase(std::unique(small.begin(), small.end()), small.end());
+  std::sort(all.begin(), all.end());
+  all.erase(std::unique(all.begin(), all.end()), all.end());
+  DirectSound open = coherent;
+  open.visible = true;
+  open.intensity = free;
+  Bands bound = min(free, sumWithout(paths, q, all, open));
+  if (small.size() + (other ? 1 : 0) < 2) return bound;
+  for (uint32_t b : small) {
+    const std::vector<uint32_t>& removed = q.bodies.members[b];
+    Bands without = sumWithout(paths, q, removed, coherent);
+    for (const ChainEnergy& c : chains)
+      if (std::none_of(c.surfaces.begin(), c.surfaces.end(), [&](uint32_t s) {
+            return std::binary_search(removed.begin(), removed.end(), s);
+          }))
+        without += c.energy;
+    bound = min(bound, without);
+  }
+  return bound;
+}
+
 }  // namespace dpc

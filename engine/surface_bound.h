@@ -101,4 +101,24 @@ void crossLineOfSight(bool lineOfSight, BoundQuery& q);
 Bands heldBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
                 const EdgePath* throughSlit, const Bands& free, const Bands& sum, BoundQuery& q);
 
+/// A path round edges in series (engine/edge_chain.h) as the bounds see it: its band energy
+/// (1/m^2) and the flat surfaces its edges lie on.
+struct ChainEnergy {
+  Bands energy{0.f};
+  std::vector<uint32_t> surfaces;
+};
+
+/// What the surfaces allow the held sum (heldBound) with the paths round edges in series added
+/// in energy, the line of sight blocked (coherent.visible false) by the surfaces q.crossed: at
+/// most the sum without them, the line of sight free (`free`, 1/m^2, the unobstructed direct
+/// sound), and, when it crosses a small body (not largeBody: a leaf, a crate, a pillar) and
+/// anything else, per small body at most the sum without that body (every surface of it, a
+/// pillar meshed as an open tube too) plus the chains that touch none of its surfaces. A leaf ajar across a doorway's line of sight is no
+/// louder than the open doorway, whatever its chains round the leaf's free edge give (a
+/// barrier's attenuation over the free field, blind to the doorway's own edges). A wall's faces
+/// are not taken away one at a time here: without one, the chains through its doorway would
+/// be left out. 1e30 in every band where no bound applies.
+Bands chainBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
+                 const Bands& free, const std::vector<ChainEnergy>& chains, BoundQuery& q);
+
 }  // namespace dpc

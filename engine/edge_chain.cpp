@@ -1,0 +1,325 @@
+#include "engine/edge_chain.h"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <numbers>
+#include <utility>
+
+#include "engine/channel_path.h"
+#include "engine/edge_grid.h"
+#include "engine/edge_path.h"
+
+namespace dpc {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+/// radians: how far outside its air wedge, or short of its shadow boundary, a chain's point may
+/// lie (a leg along a face lies on the wedge's side).
+constexpr double kWrapTolerance = 1e-3;
+
+/// The edges in `candidates` parallel to edges[i], their lines within kChainReach of its line,
+/// overlapping it along its length; the kChainNeighbours nearest, nearest first.
+std::vector<uint32_t> neighboursOf(const std::vector<DiffractionEdge>& edges, uint32_t i,
+                                   const std::vector<uint32_t>& candidates) {
+  const DiffractionEdge& e = edges[i];
+  std::vector<std::pair<float, uint32_t>> found;
+  for (uint32_t j : candidates) {
+    const DiffractionEdge& c = edges[j];
+    if (j == i || std::abs(glm::dot(c.direction, e.direction)) < kParallelEdges) continue;
+    const float d = glm::length(acrossTo(e, c));
+    const float ta = glm::dot(c.a - e.a, e.direction), tb = glm::dot(c.b - e.a, e.direction);
+    if (d > 1e-4f && d <= kChainReach && std::max(ta, tb) > 0.f && std::min(ta, tb) < e.length)
+      found.push_back({d, j});
+  }
+  std::sort(found.begin(), found.end());
+  if (found.size() > kChainNeighbours) found.resize(kChainNeighbours);
+  std::vector<uint32_t> out;
+  for (const auto& [d, j] : found) out.push_back(j);
+  return out;
+}
+
+/// The point of edge e's line at `along` (m) measured along the unit direction d.
+glm::vec3 pointAlong(const DiffractionEdge& e, const glm::vec3& d, float along) {
+  const float rate = glm::dot(e.direction, d);
+  return e.a + ((along - glm::dot(e.a, d)) / rate) * e.direction;
+}
+
+/// Lays the chain over `ids` (n edges parallel to the first) out at its point of least length
+/// from source to L: unfolded about the edges, the path runs straight, so each Q lies along
+/// the edges as far as its share of the path's length across them. False when a Q falls off
+/// its edge.
+bool layChain(const std::vector<DiffractionEdge>& edges, const std::array<uint32_t, kChainEdges>& ids,
+              size_t n, const glm::vec3& source, const glm::vec3& L, EdgeChain& c) {
+  const glm::vec3 d = edges[ids[0]].direction;
+  auto across = [&](const glm::vec3& x) { return x - glm::dot(x, d) * d; };
+  const float s = glm::dot(source, d), run = glm::dot(L, d) - s;
+  std::array<glm::vec3, kChainEdges + 2> p;
+  p[0] = across(source);
+  for (size_t i = 0; i < n; ++i) p[i + 1] = across(pointAlong(edges[ids[i]], d, s + 0.5f * run));
+  p[n + 1] = across(L);
+  std::array<float, kChainEdges + 2> cumulative{};
+  for (size_t i = 1; i < n + 2; ++i) cumulative[i] = cumulative[i - 1] + glm::distance(p[i - 1], p[i]);
+  const float total = cumulative[n + 1];
+  if (!(total > 0.f)) return false;
+  c.n = n;
+  c.length = 0.f;
+  glm::vec3 last = source;
+  for (size_t i = 0; i < n; ++i) {
+    const DiffractionEdge& e = edges[ids[i]];
+    c.edge[i] = ids[i];
+    c.q[i] = pointAlong(e, d, s + run * cumulative[i + 1] / total);
+    const float t = glm::dot(c.q[i] - e.a, e.direction);
+    if (!(t > 0.f && t < e.length)) return false;
+    c.length += glm::distance(last, c.q[i]);
+    last = c.q[i];
+  }
+  c.length += glm::distance(last, L);
+  return true;
+}
+
+/// True when the path from `before` to `after` wraps round edge e at q: the wider of its two
+/// wedges (wider than pi: a convex corner) holds both, on either side of before's shadow
+/// boundary. A point on a face (a leg along it) lies in both wedges.
+bool wrapsRound(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3& before,
+                const glm::vec3& after) {
+  const bool reversed = double(e.open) < kPi;  // the wider wedge is measured from face 0 back
+  const double wedge = reversed ? 2.0 * kPi - double(e.open) : double(e.open);
+  auto angleOf = [&](const glm::vec3& x) {  // in the wider wedge's measure, near 0 kept near 0
+    const glm::vec3 v = x - q;
+    double a = std::atan2(double(glm::dot(v, e.normal0)), double(glm::dot(v, e.face0)));
+    if (reversed) a = -a;
+    if (a < -kWrapTolerance) a += 2.0 * kPi;
+    return a;
+  };
+  const double b = angleOf(before), a = angleOf(after);
+  auto inside = [&](double x) { return x > -kWrapTolerance && x < wedge + kWrapTolerance; };
+  return wedge > 1.05 * kPi && inside(a) && inside(b) && std::abs(a - b) > kPi - kWrapTolerance;
+}
+
+/// The chain's points: source, its Q, L.
+std::array<glm::vec3, kChainEdges + 2> chainPoints(const EdgeChain& c, const glm::vec3& source,
+                                                    const glm::vec3& L) {
+  std::array<glm::vec3, kChainEdges + 2> p;
+  p[0] = source;
+  for (size_t i = 0; i < c.n; ++i) p[i + 1] = c.q[i];
+  p[c.n + 1] = L;
+  return p;
+}
+
+/// The chain's geometry: every Q wraps its edge.
+bool wrapsAll(const std::vector<DiffractionEdge>& edges, const EdgeChain& c,
+              const std::array<glm::vec3, kChainEdges + 2>& p) {
+  for (size_t i = 0; i < c.n; ++i)
+    if (!wrapsRound(edges[c.edge[i]], c.q[i], p[i], p[i + 2])) return false;
+  return true;
+}
+
+/// True when the segment from a to b threads a gap at most kChannelGapMax wide: a parallel
+/// segment that far to one side (`bothSides`: to each side), square to it and to the edges
+/// (direction `along`), is blocked. A leg between two edges may run along a face: the
+/// segment on that side lies inside the solid, free unless the solid is thinner, and a leaf
+/// beside the reveal the leg runs along blocks the other. A leg to the source or the listener
+/// leaves a corner whose own faces block the segment on their side: only both sides blocked
+/// (a leaf's side face and the reveal beyond the gap between them) is a gap.
+bool threadsGap(const Tracer& tracer, const glm::vec3& along, const glm::vec3& a,
+                const glm::vec3& b, bool bothSides) {
+  const glm::vec3 n = glm::normalize(glm::cross(b - a, along));
+  int blocked = 0;
+  for (float side : {1.f, -1.f})
+    blocked += !segmentFree(tracer, a + side * kChannelGapMax * n, b + side * kChannelGapMax * n);
+  return bothSides ? blocked == 2 : blocked > 0;
+}
+
+/// True when the leg from q (on an edge) toward `end` passes, within kChannelDepthMax of q,
+/// through a gap at most kChannelGapMax wide: the parallel segments either side blocked
+/// (threadsGap), or both sides closed across it a few millimetres to centimetres from q (a gap
+/// between a leaf and the stop it closes against, whose sides' solids the parallel segments
+/// pass inside).
+bool outerLegInGap(const Tracer& tracer, const glm::vec3& along, const glm::vec3& q,
+                   const glm::vec3& end) {
+  const float length = glm::distance(q, end);
+  const float reach = std::min(length, kChannelDepthMax);
+  const glm::vec3 far = q + (reach / length) * (end - q);
+  if (threadsGap(tracer, along, q, far, true)) return true;
+  for (float at : {0.003f, 0.01f, 0.03f})
+    if (at < reach && narrowAt(tracer, along, q, far, at / reach)) return true;
+  return false;
+}
+
+/// True when the leg from a to b between two edges passes through a gap (threadsGap on one
+/// side, or both sides closed across it at a quarter, half or three quarters of its length).
+bool innerLegInGap(const Tracer& tracer, const glm::vec3& along, const glm::vec3& a,
+                   const glm::vec3& b) {
+  if (threadsGap(tracer, along, a, b, false)) return true;
+  for (float t : {0.25f, 0.5f, 0.75f})
+    if (narrowAt(tracer, along, a, b, t)) return true;
+  return false;
+}
+
+/// The chain's rays, cheapest refusals first: its outer legs free, its legs in open air, and
+/// the shortcut past every Q blocked.
+bool chainStands(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
+                 const EdgeChain& c, const std::array<glm::vec3, kChainEdges + 2>& p) {
+  const size_t last = c.n + 1;
+  if (!segmentFree(tracer, p[last - 1], p[last]) || !segmentFree(tracer, p[0], p[1])) return false;
+  const glm::vec3& along = edges[c.edge[0]].direction;
+  if (outerLegInGap(tracer, along, p[1], p[0]) ||
+      outerLegInGap(tracer, along, p[last - 1], p[last]))
+    return false;
+  for (size_t i = 1; i + 1 < last; ++i)
+    if (!segmentFree(tracer, p[i], p[i + 1]) || innerLegInGap(tracer, along, p[i], p[i + 1]))
+      return false;
+  for (size_t i = 1; i < last; ++i)
+    if (segmentFree(tracer, p[i - 1], p[i + 1])) return false;
+  return true;
+}
+
+/// True when `c` runs over the same edges in the same order as one already in `chains`.
+bool alreadyFound(const std::vector<EdgeChain>& chains, const EdgeChain& c) {
+  return std::any_of(chains.begin(), chains.end(), [&](const EdgeChain& o) {
+    return o.n == c.n && std::equal(o.edge.begin(), o.edge.begin() + long(c.n), c.edge.begin());
+  });
+}
+
+/// A depth-first search for chains: the edges so far (ids, n of them), each one's point level
+/// with the middle of the run along the edges (`mid`: the wedges' angles do not depend on how
+/// far along parallel edges the point lies).
+struct ChainSearch {
+  const Tracer& tracer;
+  const std::vector<DiffractionEdge>& edges;
+  const std::vector<std::vector<uint32_t>>& near;
+  glm::vec3 source, L, d;
+  float mid;
+  std::vector<EdgeChain> found;
+
+  glm::vec3 at(uint32_t i) const { return pointAlong(edges[i], d, mid); }
+
+  /// Tries the chain ids[0..n) ended at L, then each neighbour of its last edge after it.
+  void extend(std::array<uint32_t, kChainEdges>& ids, size_t n) {
+    const glm::vec3 before = n >= 2 ? at(ids[n - 2]) : source;
+    const uint32_t last = ids[n - 1];
+    if (n >= 2 && wrapsRound(edges[last], at(last), before, L)) keep(ids, n);
+    if (n == kChainEdges) return;
+    for (uint32_t j : near[last]) {
+      if (std::find(ids.begin(), ids.begin() + long(n), j) != ids.begin() + long(n)) continue;
+      if (std::abs(glm::dot(edges[j].direction, d)) < kParallelEdges ||
+          !wrapsRound(edges[last], at(last), before, at(j)))
+        continue;
+      ids[n] = j;
+      extend(ids, n + 1);
+    }
+  }
+
+  void keep(const std::array<uint32_t, kChainEdges>& ids, size_t n) {
+    EdgeChain c;
+    if (!layChain(edges, ids, n, source, L, c) || alreadyFound(found, c)) return;
+    const auto p = chainPoints(c, source, L);
+    if (wrapsAll(edges, c, p) && chainStands(tracer, edges, c, p)) found.push_back(c);
+  }
+};
+
+/// The distance (m) between the segments [p0, p1] and [q0, q1] (closest points by clamped
+/// parameters: C. Ericson, Real-Time Collision Detection, 2005, sec. 5.1.9).
+float segmentGap(const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& q0,
+                 const glm::vec3& q1) {
+  const glm::vec3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const float a = glm::dot(d1, d1), e = glm::dot(d2, d2), f = glm::dot(d2, r);
+  const float c = glm::dot(d1, r), b = glm::dot(d1, d2), denom = a * e - b * b;
+  float s = a > 0.f && denom > 1e-12f * a * e ? std::clamp((b * f - c * e) / denom, 0.f, 1.f) : 0.f;
+  float t = e > 0.f ? (b * s + f) / e : 0.f;
+  if (t < 0.f || t > 1.f) {
+    t = std::clamp(t, 0.f, 1.f);
+    s = a > 0.f ? std::clamp((t * b - c) / a, 0.f, 1.f) : 0.f;
+  }
+  return glm::distance(p0 + s * d1, q0 + t * d2);
+}
+
+/// The distance (m) from the segment [p0, p1] to an axis-aligned box [lo, hi], at least:
+/// from the box's centre less its half diagonal.
+float boxGap(const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& lo, const glm::vec3& hi) {
+  const glm::vec3 centre = 0.5f * (lo + hi);
+  return segmentGap(p0, p1, centre, centre) - 0.5f * glm::distance(lo, hi);
+}
+
+}  // namespace
+
+std::vector<uint32_t> chainSeeds(const std::vector<uint32_t>& crossed, const SurfaceBodies& bodies,
+                                 const std::vector<DiffractionEdge>& edges,
+                                 const glm::vec3& source, const glm::vec3& L, uint32_t& leftOut) {
+  std::vector<uint32_t> seen;  // bodies
+  std::vector<std::pair<float, uint32_t>> found;
+  for (uint32_t s : crossed) {
+    if (s >= bodies.body.size() || bodies.body[s] >= bodies.members.size()) continue;
+    const uint32_t b = bodies.body[s];
+    if (std::find(seen.begin(), seen.end(), b) != seen.end()) continue;
+    seen.push_back(b);
+    for (uint32_t m : bodies.members[b]) {
+      if (boxGap(source, L, bodies.box[m].first, bodies.box[m].second) > kChainSearch) continue;
+      for (uint32_t i : bodies.edges[m]) {
+        const float d = segmentGap(source, L, edges[i].a, edges[i].b);
+        if (d <= kChainSearch) found.push_back({d, i});
+      }
+    }
+  }
+  std::sort(found.begin(), found.end());
+  found.erase(std::unique(found.begin(), found.end()), found.end());
+  leftOut = uint32_t(found.size() > kChainSeeds ? found.size() - kChainSeeds : 0);
+  if (found.size() > kChainSeeds) found.resize(kChainSeeds);
+  std::vector<uint32_t> out;
+  for (const auto& [d, i] : found) out.push_back(i);
+  return out;
+}
+
+std::vector<std::vector<uint32_t>> chainNeighbours(const std::vector<DiffractionEdge>& edges) {
+  std::vector<std::vector<uint32_t>> out(edges.size());
+  if (edges.empty()) return out;
+  EdgeGrid grid(edges, kChainReach);
+  for (uint32_t i = 0; i < uint32_t(edges.size()); ++i)
+    out[i] = neighboursOf(edges, i, grid.near(edges[i]));
+  return out;
+}
+
+std::vector<EdgeChain> edgeChains(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
+                                  const std::vector<std::vector<uint32_t>>& near,
+                                  const std::vector<uint32_t>& seeds, const glm::vec3& source,
+                                  const glm::vec3& L) {
+  // The first edge: a seed or a seed's neighbour (a door stop beside the wall's reveal).
+  std::vector<uint32_t> firsts = seeds;
+  for (uint32_t s : seeds) firsts.insert(firsts.end(), near[s].begin(), near[s].end());
+  std::sort(firsts.begin(), firsts.end());
+  firsts.erase(std::unique(firsts.begin(), firsts.end()), firsts.end());
+  std::vector<EdgeChain> out;
+  for (uint32_t f : firsts) {
+    const glm::vec3 d = edges[f].direction;
+    ChainSearch search{tracer, edges, near, source, L, d, 0.5f * glm::dot(source + L, d), {}};
+    search.found.swap(out);
+    std::array<uint32_t, kChainEdges> ids{f, 0, 0};
+    search.extend(ids, 1);
+    out.swap(search.found);
+  }
+  return out;
+}
+
+Bands chainGain(const EdgeChain& chain, float direct, float speedOfSound,
+                const Bands& airPerMetre) {
+  constexpr double kC2 = 40.0;  // ISO 9613-2 eq. (14), reflections modelled apart
+  const double z = std::max(0.0, double(chain.length) - double(direct));
+  const double e = double(glm::distance(chain.q[0], chain.q[chain.n - 1]));
+  Bands out(0.f);
+  for (int band = 0; band < kNumBands; ++band) {
+    double sum = 0.0;
+    for (int i = 0; i < kDiffractionFrequenciesPerBand; ++i) {
+      const double lambda = double(speedOfSound) / diffractionFrequencyHz(band, i);
+      const double r = 5.0 * lambda / std::max(e, 1e-6);
+      const double c3 = chain.n < 2 ? 1.0 : (1.0 + r * r) / (1.0 / 3.0 + r * r);
+      sum += 1.0 / (3.0 + kC2 / lambda * c3 * z);
+    }
+    out[band] = float(sum / kDiffractionFrequenciesPerBand);
+  }
+  return out * exp(airPerMetre * -(chain.length - direct));
+}
+
+}  // namespace dpc

@@ -1,0 +1,89 @@
+// Paths round two to four edges in series: a pillar or a crate between the source and the
+// listener, a door frame's stop and then the reveal's corner, a thick wall's jamb passed from
+// one side to the other. A first-order edge path (engine/edge_path.h) over either edge has a
+// leg through the other's body, so with the line of sight blocked nothing reached the listener
+// at all: a 20 cm column silenced the direct sound in every band.
+//
+// The path: source -> Q1 -> ... -> Qn -> listener (n = 2 to kChainEdges) over parallel edges
+// (kParallelEdges), each Q on its edge, of least length (Fermat: unfolded about the edges it is
+// a straight line, so the Q divide the path's run along the edges as its length across them
+// divides). It stands when every leg is free, every leg between two edges runs in open air (not
+// through a gap at most kChannelGapMax wide: a door's gaps are its slits' and channels'), and
+// every Q is a corner the path wraps round: the straight line from the point before it to the
+// point after it is blocked, and both lie in its air wedge, on either side of its shadow
+// boundary. Chains are laid over the edges of the bodies the line of sight crosses that lie
+// within kChainSearch of it, and over the edges near those (kChainReach, at load).
+//
+// Its level is a barrier's attenuation over the free field at the direct distance, ISO
+// 9613-2:1996 eq. (14): Dz = 10 lg(3 + (C2 / lambda) C3 z), z the path's length less the direct
+// distance, C2 = 40 (reflections are the tracer's, not part of the screen term), C3 = 1 for one
+// edge and (1 + (5 lambda / e)^2) / (1/3 + (5 lambda / e)^2) for several, e the distance from
+// the first Q to the last; meteorological correction 1 (indoors), no upper limit. Averaged in
+// energy over the frequencies of each band (diffractionFrequencyHz). The attenuation carries
+// no phase, so chains add in energy to the coherent sum of the direct sound and the first-order
+// paths.
+//
+// Internal to the engine (engine/diffraction.cpp). Load: chainNeighbours. Per query: any thread
+// (reentrant, tracer queries only); allocates small vectors; no errors.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <glm/vec3.hpp>
+#include <vector>
+
+#include "common/bands.h"
+#include "engine/diffraction.h"
+#include "engine/tracer.h"
+
+namespace dpc {
+
+/// m: how far apart two edges of one chain may lie (a pillar's or a crate's width, a wall's
+/// thickness, a stop beside its reveal), and how many of the nearest each edge keeps.
+inline constexpr float kChainReach = 1.f;
+inline constexpr size_t kChainNeighbours = 8;
+/// The most edges in one chain.
+inline constexpr size_t kChainEdges = 4;
+/// m: how far from the line of sight the edges a chain is laid from lie, and the most of them
+/// per query (the nearest); edges past that are not looked at (counted:
+/// DirectSound::chainEdgesLeftOut).
+inline constexpr float kChainSearch = 2.f;
+inline constexpr size_t kChainSeeds = 24;
+
+/// One path round n edges in series: their indices and points (m), its length (m).
+struct EdgeChain {
+  std::array<uint32_t, kChainEdges> edge{};
+  std::array<glm::vec3, kChainEdges> q{};
+  size_t n = 0;
+  float length = 0.f;
+};
+
+/// Per edge, the edges parallel to it (kParallelEdges) whose lines pass within kChainReach of
+/// its line beside it, overlapping it along its length: the kChainNeighbours nearest, nearest
+/// first. Load time; allocates; the edges binned in a grid (engine/edge_grid.h).
+std::vector<std::vector<uint32_t>> chainNeighbours(const std::vector<DiffractionEdge>& edges);
+
+/// The edges a query's chains are laid from: those of the bodies (SurfaceBodies) of the flat
+/// surfaces the line of sight crosses (`crossed`, sorted; kMovingObjects and unknown ones
+/// skipped) within kChainSearch of the segment from source to L, the kChainSeeds nearest;
+/// `leftOut` receives how many more there were.
+std::vector<uint32_t> chainSeeds(const std::vector<uint32_t>& crossed, const SurfaceBodies& bodies,
+                                 const std::vector<DiffractionEdge>& edges,
+                                 const glm::vec3& source, const glm::vec3& L, uint32_t& leftOut);
+
+/// The chains from source to L (m) laid from `seeds` (indices into edges: the edges of the
+/// bodies the line of sight crosses) and their neighbours `near` (chainNeighbours), each once.
+/// Rays: a few per chain whose geometry stands (its legs, shortcuts and gap tests).
+std::vector<EdgeChain> edgeChains(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
+                      const std::vector<std::vector<uint32_t>>& near,
+                      const std::vector<uint32_t>& seeds, const glm::vec3& source,
+                      const glm::vec3& L);
+
+/// A chain's energy over the free field at the direct distance `direct` (m), per band: ISO
+/// 9613-2's barrier attenuation (the file comment), averaged over the band's frequencies, with
+/// the air's attenuation over the path's extra length (airPerMetre per band, energy per m).
+/// speedOfSound in m/s.
+Bands chainGain(const EdgeChain& chain, float direct, float speedOfSound,
+                const Bands& airPerMetre);
+
+}  // namespace dpc

@@ -1,5 +1,7 @@
 #include "engine/coherent_sum.h"
 
+#include "engine/edge_chain.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -167,7 +169,9 @@ Bands coherentIntensity(const std::vector<EdgePath>& paths, const DirectSound& d
     for (size_t j = 0; j < paths.size(); ++j) {
       const double w = weights.empty() ? 1.0 : std::sqrt(double(weights[j][b]));
       gains.utd[j] = paths[j].share * paths[j].spreading *
-                     std::exp(-0.5 * double(airPerMetre[b]) * paths[j].length);
+                     std::exp(-0.5 * double(airPerMetre[b]) * paths[j].length) *
+                     grazingAmplitude(paths[j].grazeExcess, paths[j].grazeSpan,
+                                      double(speedOfSound) / bandCentreExactHz(b));
       if (!weights.empty()) gains.utd[j] *= w;
       gains.slit[j] =
           w * std::exp(-0.5 * double(airPerMetre[b]) * (paths[j].slit.r + paths[j].slit.s));

@@ -375,6 +375,17 @@ void addChannels(const std::vector<DiffractionEdge>& edges, const std::vector<Na
   markSlitOwners(paths);
 }
 
+/// Each free edge path's grazeExcess and grazeSpan (engine/edge_chain.h markGraze): a pillar's near corner's path whose
+/// leg just clears its far corner takes that corner's lit-side transition, and so joins the
+/// chain round both corners that takes over where the leg is blocked.
+void markGrazes(const std::vector<DiffractionEdge>& edges,
+                const std::vector<std::vector<uint32_t>>& near, const BoundQuery& q,
+                std::vector<EdgePath>& paths) {
+  for (EdgePath& p : paths)
+    if (p.gapWidth == 0.f && !p.atEnd && p.through == glm::vec3(0.f))
+      markGraze(edges, near, uint32_t(p.edge - edges.data()), q.source, q.L, p);
+}
+
 /// The shortest of the direct sound (when visible), the edge paths and the slit paths: its
 /// length (m) and its arrival direction (unit vector from the listener at L).
 std::pair<float, glm::vec3> firstArrival(const std::vector<EdgePath>& paths,
@@ -400,36 +411,36 @@ std::pair<float, glm::vec3> firstArrival(const std::vector<EdgePath>& paths,
   return {shortest, arrival};
 }
 
-/// The paths round edges in series as the bounds see them: each one's band intensity (1/m^2),
-/// the free field at the direct distance, weighted toward its first edge, less its barrier
-/// attenuation (engine/edge_chain.h chainGain), and its edges' flat surfaces.
-std::vector<ChainEnergy> chainEnergies(const std::vector<EdgeChain>& chains,
-                                       const DirectSound& direct, const BoundQuery& q) {
-  std::vector<ChainEnergy> out;
-  const float d = direct.distance;
-  const Bands omni = exp(q.airPerMetre * -d) * (1.f / (4.f * float(kPi) * d * d));
-  for (const EdgeChain& c : chains) {
-    ChainEnergy e{omni * chainGain(c, d, q.speedOfSound, q.airPerMetre), {}};
-    if (!q.directivity.omni())
-      e.energy *=
-          directivityWeight(q.directivity, glm::dot(q.forward, glm::normalize(c.q[0] - q.source)));
-    for (size_t i = 0; i < c.n; ++i)
-      e.surfaces.insert(e.surfaces.end(), q.edges[c.edge[i]].surfaces.begin(),
-                        q.edges[c.edge[i]].surfaces.end());
-    out.push_back(std::move(e));
-  }
+/// Per chain, the source's directivity weight toward its first edge (1 for an omni source).
+std::vector<Bands> chainWeights(const std::vector<EdgeChain>& chains, const BoundQuery& q) {
+  std::vector<Bands> out(chains.size(), Bands(1.f));
+  if (q.directivity.omni()) return out;
+  for (size_t c = 0; c < chains.size(); ++c)
+    out[c] = directivityWeight(q.directivity,
+                               glm::dot(q.forward, glm::normalize(chains[c].q[0] - q.source)));
   return out;
 }
 
-/// The held sum with the chains added in energy, at most what chainBound allows and never
-/// below the held sum itself.
+/// The held sum with the chains round edges in series added (engine/edge_chain.h: their
+/// coherent sum over the free field at the direct distance), at most what chainBound allows
+/// (each chain's own energy and its edges' flat surfaces) and never below the held sum itself.
 Bands withChains(const std::vector<EdgePath>& paths, const std::vector<EdgeChain>& chains,
                  const DirectSound& coherent, const DirectSound& direct, const Bands& free,
                  const Bands& held, BoundQuery& q) {
   if (chains.empty()) return held;
-  const std::vector<ChainEnergy> energies = chainEnergies(chains, direct, q);
-  Bands chained = held;
-  for (const ChainEnergy& e : energies) chained += e.energy;
+  const float d = direct.distance;
+  const Bands omni = exp(q.airPerMetre * -d) * (1.f / (4.f * float(kPi) * d * d));
+  const std::vector<Bands> weights = chainWeights(chains, q);
+  std::vector<ChainEnergy> energies;
+  for (size_t c = 0; c < chains.size(); ++c) {
+    ChainEnergy e{omni * chainGain(chains[c], d, q.speedOfSound, q.airPerMetre) * weights[c], {}};
+    for (size_t i = 0; i < chains[c].n; ++i)
+      e.surfaces.insert(e.surfaces.end(), q.edges[chains[c].edge[i]].surfaces.begin(),
+                        q.edges[chains[c].edge[i]].surfaces.end());
+    energies.push_back(std::move(e));
+  }
+  const Bands chained =
+      held + omni * chainsGain(chains, weights, d, q.speedOfSound, q.airPerMetre);
   return max(held, min(chained, chainBound(paths, coherent, free, energies, q)));
 }
 
@@ -505,6 +516,7 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
   markSlitPartners(paths);
   markReveals(source, listener.position, paths);
   addEndSlits(edges_, lineOfSight, query, paths);
+  if (!lineOfSight) markGrazes(edges_, chainNear_, query, paths);
   if (usedEdges) {
     usedEdges->clear();
     for (const EdgePath& p : paths) usedEdges->push_back(uint32_t(p.edge - edges_.data()));

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <glm/geometric.hpp>
 #include <numbers>
 #include <utility>
@@ -80,23 +81,40 @@ bool layChain(const std::vector<DiffractionEdge>& edges, const std::array<uint32
   return true;
 }
 
-/// True when the path from `before` to `after` wraps round edge e at q: the wider of its two
-/// wedges (wider than pi: a convex corner) holds both, on either side of before's shadow
-/// boundary. A point on a face (a leg along it) lies in both wedges.
-bool wrapsRound(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3& before,
-                const glm::vec3& after) {
+/// The angles (radians) of `before` and `after` about edge e at q, measured in its wider wedge
+/// from its face (a point on that face near 0); false unless that wedge is wider than pi (a
+/// convex corner) and holds both (a point on a face, a leg along it, lies in both wedges).
+bool widerWedgeAngles(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3& before,
+                      const glm::vec3& after, double& b, double& a) {
   const bool reversed = double(e.open) < kPi;  // the wider wedge is measured from face 0 back
   const double wedge = reversed ? 2.0 * kPi - double(e.open) : double(e.open);
-  auto angleOf = [&](const glm::vec3& x) {  // in the wider wedge's measure, near 0 kept near 0
+  auto angleOf = [&](const glm::vec3& x) {
     const glm::vec3 v = x - q;
-    double a = std::atan2(double(glm::dot(v, e.normal0)), double(glm::dot(v, e.face0)));
-    if (reversed) a = -a;
-    if (a < -kWrapTolerance) a += 2.0 * kPi;
-    return a;
+    double t = std::atan2(double(glm::dot(v, e.normal0)), double(glm::dot(v, e.face0)));
+    if (reversed) t = -t;
+    if (t < -kWrapTolerance) t += 2.0 * kPi;
+    return t;
   };
-  const double b = angleOf(before), a = angleOf(after);
+  b = angleOf(before);
+  a = angleOf(after);
   auto inside = [&](double x) { return x > -kWrapTolerance && x < wedge + kWrapTolerance; };
-  return wedge > 1.05 * kPi && inside(a) && inside(b) && std::abs(a - b) > kPi - kWrapTolerance;
+  return wedge > 1.05 * kPi && inside(a) && inside(b);
+}
+
+/// True when the path from `before` to `after` wraps round edge e at q: its wider wedge holds
+/// both, on either side of before's shadow boundary.
+bool wrapsRound(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3& before,
+                const glm::vec3& after) {
+  double b, a;
+  return widerWedgeAngles(e, q, before, after, b, a) && std::abs(a - b) > kPi - kWrapTolerance;
+}
+
+/// True when the straight line from `before` to `after` passes edge e (at q) on its lit side:
+/// its wider wedge holds both, within pi of each other.
+bool clearsOnLitSide(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3& before,
+                     const glm::vec3& after) {
+  double b, a;
+  return widerWedgeAngles(e, q, before, after, b, a) && std::abs(a - b) <= kPi - kWrapTolerance;
 }
 
 /// The chain's points: source, its Q, L.
@@ -303,23 +321,80 @@ std::vector<EdgeChain> edgeChains(const Tracer& tracer, const std::vector<Diffra
   return out;
 }
 
-Bands chainGain(const EdgeChain& chain, float direct, float speedOfSound,
-                const Bands& airPerMetre) {
+void markGraze(const std::vector<DiffractionEdge>& edges,
+               const std::vector<std::vector<uint32_t>>& near, uint32_t e,
+               const glm::vec3& source, const glm::vec3& L, EdgePath& p) {
+  p.grazeExcess = -1.f;
+  for (uint32_t j : near[e])
+    for (int order = 0; order < 2; ++order) {
+      const std::array<uint32_t, kChainEdges> ids =
+          order == 0 ? std::array<uint32_t, kChainEdges>{e, j, 0, 0}
+                     : std::array<uint32_t, kChainEdges>{j, e, 0, 0};
+      EdgeChain c;
+      if (!layChain(edges, ids, 2, source, L, c)) continue;
+      const auto at = chainPoints(c, source, L);
+      const size_t k = order == 0 ? 1 : 0;  // j's place in the chain
+      if (!clearsOnLitSide(edges[j], c.q[k], at[k], at[k + 2])) continue;
+      const float excess = std::max(0.f, c.length - p.legs);
+      if (p.grazeExcess >= 0.f && excess >= p.grazeExcess) continue;
+      p.grazeExcess = excess;
+      p.grazeSpan = glm::distance(c.q[0], c.q[1]);
+    }
+}
+
+double multipleEdgeFactor(double lambda, double span) {
+  const double r = 5.0 * lambda / std::max(span, 1e-6);
+  return (1.0 + r * r) / (1.0 / 3.0 + r * r);
+}
+
+double grazingAmplitude(double excess, double span, double lambda) {
+  if (excess < 0.0) return 1.0;
+  const double v = -2.0 * std::sqrt(excess / lambda);
+  if (v <= -0.78) return 1.0;
+  const double j = 6.9 + 20.0 * std::log10(std::sqrt((v - 0.1) * (v - 0.1) + 1.0) + v - 0.1);
+  const double weight = 0.5 * (multipleEdgeFactor(lambda, span) - 1.0);
+  return std::pow(10.0, -weight * j / 20.0);
+}
+
+double chainGainAt(const EdgeChain& chain, float direct, double lambda) {
   constexpr double kC2 = 40.0;  // ISO 9613-2 eq. (14), reflections modelled apart
   const double z = std::max(0.0, double(chain.length) - double(direct));
   const double e = double(glm::distance(chain.q[0], chain.q[chain.n - 1]));
+  const double c3 = chain.n < 2 ? 1.0 : multipleEdgeFactor(lambda, e);
+  return 1.0 / (3.0 + kC2 / lambda * c3 * z);
+}
+
+Bands chainGain(const EdgeChain& chain, float direct, float speedOfSound,
+                const Bands& airPerMetre) {
+  Bands out(0.f);
+  for (int band = 0; band < kNumBands; ++band) {
+    double sum = 0.0;
+    for (int i = 0; i < kDiffractionFrequenciesPerBand; ++i)
+      sum += chainGainAt(chain, direct, double(speedOfSound) / diffractionFrequencyHz(band, i));
+    out[band] = float(sum / kDiffractionFrequenciesPerBand);
+  }
+  return out * exp(airPerMetre * -(chain.length - direct));
+}
+
+Bands chainsGain(const std::vector<EdgeChain>& chains, const std::vector<Bands>& weights,
+                 float direct, float speedOfSound, const Bands& airPerMetre) {
   Bands out(0.f);
   for (int band = 0; band < kNumBands; ++band) {
     double sum = 0.0;
     for (int i = 0; i < kDiffractionFrequenciesPerBand; ++i) {
-      const double lambda = double(speedOfSound) / diffractionFrequencyHz(band, i);
-      const double r = 5.0 * lambda / std::max(e, 1e-6);
-      const double c3 = chain.n < 2 ? 1.0 : (1.0 + r * r) / (1.0 / 3.0 + r * r);
-      sum += 1.0 / (3.0 + kC2 / lambda * c3 * z);
+      const double f = diffractionFrequencyHz(band, i), lambda = double(speedOfSound) / f;
+      std::complex<double> p = 0.0;
+      for (size_t c = 0; c < chains.size(); ++c) {
+        const double air = std::exp(-double(airPerMetre[band]) * double(chains[c].length - direct));
+        const double amplitude =
+            std::sqrt(chainGainAt(chains[c], direct, lambda) * air * double(weights[c][band]));
+        p += std::polar(amplitude, -2.0 * kPi * double(chains[c].length) / lambda);
+      }
+      sum += std::norm(p);
     }
     out[band] = float(sum / kDiffractionFrequenciesPerBand);
   }
-  return out * exp(airPerMetre * -(chain.length - direct));
+  return out;
 }
 
 }  // namespace dpc

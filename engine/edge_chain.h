@@ -20,8 +20,8 @@
 // edge and (1 + (5 lambda / e)^2) / (1/3 + (5 lambda / e)^2) for several, e the distance from
 // the first Q to the last; meteorological correction 1 (indoors), no upper limit. Averaged in
 // energy over the frequencies of each band (diffractionFrequencyHz). The attenuation carries
-// no phase, so chains add in energy to the coherent sum of the direct sound and the first-order
-// paths.
+// no phase of its own: the chains add in pressure among themselves with their lengths' phases
+// (chainsGain), and in energy to the coherent sum of the direct sound and the first-order paths.
 //
 // Internal to the engine (engine/diffraction.cpp). Load: chainNeighbours. Per query: any thread
 // (reentrant, tracer queries only); allocates small vectors; no errors.
@@ -34,6 +34,7 @@
 
 #include "common/bands.h"
 #include "engine/diffraction.h"
+#include "engine/edge_path.h"
 #include "engine/tracer.h"
 
 namespace dpc {
@@ -79,11 +80,49 @@ std::vector<EdgeChain> edgeChains(const Tracer& tracer, const std::vector<Diffra
                       const std::vector<uint32_t>& seeds, const glm::vec3& source,
                       const glm::vec3& L);
 
-/// A chain's energy over the free field at the direct distance `direct` (m), per band: ISO
-/// 9613-2's barrier attenuation (the file comment), averaged over the band's frequencies, with
-/// the air's attenuation over the path's extra length (airPerMetre per band, energy per m).
+/// Sets p.grazeExcess to the least path-length excess (m) of a detour from first-order path p
+/// (over edges[e], its legs free) round a neighbour of e (`near`, chainNeighbours) that one of
+/// its legs passes on the lit side (the detour does not wrap the neighbour, whose wider wedge
+/// holds both ends of the leg), laid as a chain at its point of least length, and p.grazeSpan
+/// to the distance between the two edges' points; -1 when there is none. Geometry only.
+void markGraze(const std::vector<DiffractionEdge>& edges,
+               const std::vector<std::vector<uint32_t>>& near, uint32_t e,
+               const glm::vec3& source, const glm::vec3& L, EdgePath& p);
+
+/// ISO 9613-2's factor C3 for diffraction over edges `span` metres apart (first to last) at
+/// wavelength lambda (m): (1 + (5 lambda / e)^2) / (1/3 + (5 lambda / e)^2), from 1 (edges
+/// much closer than a wavelength act as one) to 3. Any thread; no errors.
+double multipleEdgeFactor(double lambda, double span);
+
+/// The amplitude factor of a field that passes an edge on its lit side with path-length excess
+/// `excess` (m), `span` metres past the edge it diffracted from, at wavelength lambda (m): the
+/// knife edge's lit-side transition J(v) = 6.9 + 20 lg(sqrt((v - 0.1)^2 + 1) + v - 0.1) dB for
+/// v > -0.78 and 0 below (ITU-R P.526-15 eq. (31)), v = -2 sqrt(excess / lambda) (the
+/// clearance's Fresnel-Kirchhoff parameter), in the proportion (C3 - 1) / 2 of its decibels
+/// (multipleEdgeFactor): the whole 6 dB on the shadow boundary where the edges are many
+/// wavelengths apart, none where they act as one. A first-order path whose leg just clears a
+/// second edge thus nears the chain round both that takes over where the leg is blocked. 1 for
+/// a negative excess (none). Any thread; no errors.
+double grazingAmplitude(double excess, double span, double lambda);
+
+/// ISO 9613-2's barrier attenuation of a chain at wavelength lambda (m) as an energy ratio over
+/// the free field at the direct distance `direct` (m): 1 / (3 + (C2 / lambda) C3 z) (the file
+/// comment). Any thread; no errors.
+double chainGainAt(const EdgeChain& chain, float direct, double lambda);
+
+/// A chain's energy over the free field at the direct distance `direct` (m), per band:
+/// chainGainAt averaged over the band's frequencies (diffractionFrequencyHz), with the air's
+/// attenuation over the path's extra length (airPerMetre per band, energy per m).
 /// speedOfSound in m/s.
 Bands chainGain(const EdgeChain& chain, float direct, float speedOfSound,
                 const Bands& airPerMetre);
+
+/// The chains together over the free field at the direct distance, per band: each chain's
+/// pressure sqrt(chainGainAt x air x weights[c]) e^{-jk length} summed, |sum|^2 averaged over
+/// the band's frequencies (the two sides of a pillar add in phase behind it, as its wave field
+/// does; chains whose lengths differ across a band add as energies). weights: per chain, an
+/// energy weight per band (the source's directivity toward its first edge).
+Bands chainsGain(const std::vector<EdgeChain>& chains, const std::vector<Bands>& weights,
+                 float direct, float speedOfSound, const Bands& airPerMetre);
 
 }  // namespace dpc

@@ -55,6 +55,11 @@ struct EdgePath {
   glm::vec3 slitCentre{0.f};  // the slit path's point on the slit's centre line, m
   double slitAspect = 0.0;    // slit length / width, as probed (0 to 8)
   double share = 1.0;         // of its UTD field: 1/2 for each edge of a reveal (markReveals)
+  /// The path-length excess (m) of the detour round another edge one of its legs just clears
+  /// (a pillar's far corner past its near one's path: engine/edge_chain.h grazeExcess); the
+  /// field takes that edge's lit-side transition (grazingAmplitude). Negative: none.
+  float grazeExcess = -1.f;
+  float grazeSpan = 0.f;  ///< m: how far from its edge that other edge lies
   double phiS = 0.0, phiL = 0.0, wedge = 0.0;  // wedgeAngles' angles, radians
   uint32_t gapCloser = kUnknownSurface;        // the surface that closes its gap (surface_bound.h)
   bool atEnd = false;  // Q put at the edge's end: no UTD field (share 0), a slit's only

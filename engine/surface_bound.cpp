@@ -362,9 +362,8 @@ Bands chainBound(const std::vector<EdgePath>& paths, const DirectSound& coherent
                  const Bands& free, const std::vector<ChainEnergy>& chains, BoundQuery& q) {
   if (coherent.visible || chains.empty() || q.crossed.empty()) return Bands(1e30f);
   // The small bodies crossed, each taken away whole (a pillar meshed as an open tube too).
-  std::vector<uint32_t> small;
+  std::vector<uint32_t> small, all;
   bool other = false;  // a large body's face or a moving object in the way besides
-  std::vector<uint32_t> all = q.crossed;
   for (uint32_t s : q.crossed) {
     if (s < q.bodies.body.size() && q.bodies.body[s] < q.bodies.members.size() &&
         !largeBody(q.bodies, s)) {
@@ -379,10 +378,13 @@ Bands chainBound(const std::vector<EdgePath>& paths, const DirectSound& coherent
   small.erase(std::unique(small.begin(), small.end()), small.end());
   std::sort(all.begin(), all.end());
   all.erase(std::unique(all.begin(), all.end()), all.end());
-  DirectSound open = coherent;
-  open.visible = true;
-  open.intensity = free;
-  Bands bound = min(free, sumWithout(paths, q, all, open));
+  Bands bound = free;
+  if (!other) {  // small bodies alone in the way: the scene without them, line of sight free
+    DirectSound open = coherent;
+    open.visible = true;
+    open.intensity = free;
+    bound = min(bound, sumWithout(paths, q, all, open));
+  }
   if (small.size() + (other ? 1 : 0) < 2) return bound;
   for (uint32_t b : small) {
     const std::vector<uint32_t>& removed = q.bodies.members[b];

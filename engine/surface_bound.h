@@ -110,14 +110,16 @@ struct ChainEnergy {
 
 /// What the surfaces allow the held sum (heldBound) with the paths round edges in series added
 /// in energy, the line of sight blocked (coherent.visible false) by the surfaces q.crossed: at
-/// most the sum without them, the line of sight free (`free`, 1/m^2, the unobstructed direct
-/// sound), and, when it crosses a small body (not largeBody: a leaf, a crate, a pillar) and
-/// anything else, per small body at most the sum without that body (every surface of it, a
-/// pillar meshed as an open tube too) plus the chains that touch none of its surfaces. A leaf ajar across a doorway's line of sight is no
-/// louder than the open doorway, whatever its chains round the leaf's free edge give (a
-/// barrier's attenuation over the free field, blind to the doorway's own edges). A wall's faces
-/// are not taken away one at a time here: without one, the chains through its doorway would
-/// be left out. 1e30 in every band where no bound applies.
+/// most `free` (1/m^2, the unobstructed direct sound); when only small bodies block it (not
+/// largeBody: a leaf, a crate, a pillar), at most the sum without them (each taken away whole,
+/// a pillar meshed as an open tube too), the line of sight free; and when it crosses a small
+/// body and anything else, per small body at most the sum without that body plus the chains
+/// that touch none of its surfaces. A leaf ajar across a doorway's line of sight is no louder
+/// than the open doorway, whatever its chains round the leaf's free edge give (a barrier's
+/// attenuation over the free field, blind to the doorway's own edges). A large body's faces are
+/// not taken away here: without one face of a wall the chains through its doorway would be
+/// left out, and without the faces a column's line of sight crosses, its side faces' rims
+/// would stand in the free field as two plates. 1e30 in every band where no bound applies.
 Bands chainBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
                  const Bands& free, const std::vector<ChainEnergy>& chains, BoundQuery& q);
 

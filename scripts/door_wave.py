@@ -40,7 +40,6 @@ import argparse
 import json
 import math
 import os
-import subprocess
 import sys
 import tempfile
 
@@ -48,8 +47,9 @@ import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, 'tests', 'wave'))
-import wave_oracle as oracle  # noqa: E402
+sys.path.insert(0, os.path.join(ROOT, 'scripts'))
 import wave_test as wt  # noqa: E402
+import wave_compare as wc  # noqa: E402
 
 SIZE, WALL_X = 24.0, 12.0
 DOOR_Y, DOOR_H, DOOR_Z, DOOR_W = 11.0, 2.125, 11.5, 1.0
@@ -60,7 +60,7 @@ RECEIVERS = [((15.0, 12.05, 12.0), 'axis 3 m'), ((16.5, 12.05, 12.0), 'axis 4.5 
 ON_AXIS = ('axis 3 m', 'axis 4.5 m')
 ANGLES = [None, 60.0, 70.0, 80.0, 85.0, 90.0]  # None: the doorway open
 CHECKED_ANGLES = [None, 60.0, 70.0, 80.0]
-OCTAVES = [63.0, 125.0]
+OCTAVES = wc.OCTAVES
 TOLERANCE_DB = 4.5
 
 
@@ -86,81 +86,16 @@ def quads(angle):
 
 def write_scene(tmp, name, angle):
     q = quads(angle)
-    absorption = {m: 0.0 for m in q}
-    absorption['marker'] = 1.0
-    path = oracle.write_mesh(tmp, name, q, absorption, [SOURCE], [p for p, _ in RECEIVERS],
-                             {'max_frequency': wt.SCREEN_FMAX, 'crossover_hz': 100,
-                              'grid_spacing': wt.SCREEN_SPACING}, ir_length=0.1)
-    with open(path) as f:
-        scene = json.load(f)
-    scene['sources'][0]['signal'] = os.path.join(ROOT, 'scenes', 'signals', 'percussion.wav')
-    for m in scene['materials'].values():
-        m['scattering'] = 0.0
-    scene['propagation'].update({'exact_order': 2, 'rays_per_frame': 2000, 'max_order': 4,
-                                 'air_absorption': False})
-    with open(path, 'w') as f:
-        json.dump(scene, f, indent=1)
-    # The engine's renders without the wave band (it joins the IR only, not --er-out, and would
-    # simulate the cube for every render).
-    scene['wave']['enabled'] = False
-    with open(rays_scene(path), 'w') as f:
-        json.dump(scene, f, indent=1)
-    return path
-
-
-def rays_scene(path):
-    """The scene file of `path` without the wave band (write_scene writes both)."""
-    return path[:-len('.json')] + '_rays.json'
-
-
-def window_end(p):
-    return wt.first_wall_path(SOURCE, p, SIZE) / wt.C - 0.006
+    return wc.write_scene(tmp, name, {m: v for m, v in q.items() if m != 'marker'}, SOURCE,
+                          [p for p, _ in RECEIVERS])
 
 
 def fdtd_levels(build, scene, tmp, name):
-    """Per receiver, the windowed octave levels over the free field's (dB)."""
-    fs, ir, stats = wt.run_wave(build, scene, os.path.join(tmp, name + '.wav'), 0.08)
-    out = []
-    for k, (p, _) in enumerate(RECEIVERS):
-        dist = float(np.linalg.norm(np.subtract(p, SOURCE)))
-        t_end = window_end(p)
-        free = wt.pulse_filtered(oracle.dirac_ir(dist / wt.C, 1 / dist, fs, t_end), fs,
-                                 stats['step_rate_hz'])
-        a, b = max(int(round((dist / wt.C - 0.004) * fs)), 0), int(round(t_end * fs))
-        w = wt.tukey(b - a)
-        sim = wt.band_levels(ir[a:b, k] * w, fs, OCTAVES)
-        ref = wt.band_levels(free[a:b] * w, fs, OCTAVES)
-        out.append((10 * np.log10(sim / ref)).tolist())
-    return out
+    return wc.fdtd_levels(build, scene, tmp, name, SOURCE, [p for p, _ in RECEIVERS])
 
 
 def engine_levels(build, scene, tmp, name):
-    """Per receiver, [direct row, direct row + bins before the window's end] at each octave,
-    over the free field (dB)."""
-    out = []
-    for k, (p, _) in enumerate(RECEIVERS):
-        er = os.path.join(tmp, '%s_%d.csv' % (name, k))
-        subprocess.run([os.path.join(build, 'apps', 'dpc-demo'), rays_scene(scene), '--offline',
-                        os.path.join(tmp, 'out.wav'), '--er-out', er, '--listener', 'l%d' % k,
-                        '--duration', '0.3', '--quiet'], check=True, capture_output=True)
-        free = 1 / (4 * math.pi * float(np.linalg.norm(np.subtract(p, SOURCE))) ** 2)
-        direct, early = np.zeros(len(OCTAVES)), np.zeros(len(OCTAVES))
-        with open(er) as f:
-            for line in f:
-                r = line.strip().split(',')
-                if len(r) < 3 + len(OCTAVES) or r[0].startswith('#') or r[0] == 'source':
-                    continue
-                values = np.array([float(v) for v in r[3:3 + len(OCTAVES)]])
-                if r[1] == 'direct':
-                    direct += values
-                elif float(r[2]) < window_end(p):
-                    early += values
-        row = []
-        for i in range(len(OCTAVES)):
-            row.append([10 * math.log10(max(direct[i], 1e-30) / free),
-                        10 * math.log10(max(direct[i] + early[i], 1e-30) / free)])
-        out.append(row)
-    return out
+    return wc.engine_levels(build, scene, tmp, name, SOURCE, [p for p, _ in RECEIVERS])
 
 
 def table(results):
@@ -249,11 +184,8 @@ def main():
             fdtd = stored[name]['fdtd'] if stored else fdtd_levels(args.build, scene, tmp, file)
             results[name] = {'fdtd': fdtd, 'engine': engine_levels(args.build, scene, tmp, file)}
     print(table(results))
-    if not args.engine_only:  # written whole or not at all
-        partial = args.json + '.partial'
-        with open(partial, 'w') as f:
-            json.dump(results, f, indent=1)
-        os.replace(partial, args.json)
+    if not args.engine_only:
+        wc.write_json(results, args.json)
     if args.plot:
         plot(results, args.plot)
     if args.check:

@@ -9,7 +9,7 @@
 namespace dpc {
 
 EdgeGrid::EdgeGrid(const std::vector<DiffractionEdge>& edges, float reach)
-    : step_(0.25f * reach), cell_(2.f * reach), mark_(edges.size(), 0) {
+    : step_(0.25f * reach), cell_(1.3f * reach), mark_(edges.size(), 0) {
   for (uint32_t i = 0; i < uint32_t(edges.size()); ++i)
     forSamples(edges[i], [&](const glm::ivec3& c) {
       std::vector<uint32_t>& list = cells_[key(c)];

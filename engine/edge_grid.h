@@ -14,7 +14,7 @@
 
 namespace dpc {
 
-/// Edges binned by the cells (2 reach wide) of points sampled along them every reach / 4: an
+/// Edges binned by the cells (1.3 reach wide) of points sampled along them every reach / 4: an
 /// edge whose line passes within `reach` of another's, beside it, has a sample within
 /// 1.25 reach of one of the other's, so in one of the 27 cells round it.
 class EdgeGrid {

@@ -16,49 +16,19 @@
 
 namespace dpc {
 
-namespace {
-
-/// The edges a channel from `front` to `back` may turn round past back, from `candidates`
-/// (setChannelNeighbours' rule).
-std::vector<uint32_t> neighboursOf(const std::vector<DiffractionEdge>& edges, uint32_t front,
-                                   uint32_t back, const std::vector<uint32_t>& candidates) {
-  const DiffractionEdge& b = edges[back];
-  std::vector<std::pair<float, uint32_t>> found;
-  for (uint32_t i : candidates) {
-    const DiffractionEdge& c = edges[i];
-    if (i == front || i == back || std::abs(glm::dot(c.direction, b.direction)) < kParallelEdges)
-      continue;
-    const float d = glm::length(acrossTo(b, c));
-    const float ta = glm::dot(c.a - b.a, b.direction), tb = glm::dot(c.b - b.a, b.direction);
-    if (d > 1e-4f && d <= kChannelReach && std::max(ta, tb) > 0.f && std::min(ta, tb) < b.length)
-      found.push_back({d, i});
-  }
-  std::sort(found.begin(), found.end());
-  if (found.size() > kChannelNeighbours) found.resize(kChannelNeighbours);
-  std::vector<uint32_t> out;
-  for (const auto& [d, i] : found) out.push_back(i);
-  return out;
-}
-
-}  // namespace
-
 void setChannelNeighbours(const std::vector<DiffractionEdge>& edges,
                           std::vector<NarrowFace>& faces) {
   if (faces.empty()) return;
   EdgeGrid grid(edges, kChannelReach);
   for (NarrowFace& f : faces) {
-    f.near[0] = neighboursOf(edges, f.a, f.b, grid.near(edges[f.b]));
-    f.near[1] = neighboursOf(edges, f.b, f.a, grid.near(edges[f.a]));
+    f.near[0] = parallelNeighbours(edges, f.b, f.a, kChannelReach, kChannelNeighbours,
+                                   grid.near(edges[f.b]));
+    f.near[1] = parallelNeighbours(edges, f.a, f.b, kChannelReach, kChannelNeighbours,
+                                   grid.near(edges[f.a]));
   }
 }
 
 namespace {
-
-/// True when x lies within edge e's length (its foot on e's line between e's ends).
-bool onEdge(const DiffractionEdge& e, const glm::vec3& x) {
-  const float t = glm::dot(x - e.a, e.direction);
-  return t > 0.f && t < e.length;
-}
 
 /// How a mouth is left: the slit's continuation (its first leg when narrow, else zero) and
 /// the free legs after it (their offset and total length), m.
@@ -75,7 +45,7 @@ std::vector<glm::vec3> chainNodes(const std::vector<DiffractionEdge>& edges,
   for (uint32_t j : near) {
     const DiffractionEdge& c = edges[j];
     const glm::vec3 x = c.a + glm::dot(m - c.a, c.direction) * c.direction;
-    if (onEdge(c, x)) at.push_back(x);
+    if (withinEdge(c, x)) at.push_back(x);
   }
   return at;
 }

@@ -1,13 +1,13 @@
 #include "engine/coherent_sum.h"
 
-#include "engine/edge_chain.h"
-
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <complex>
 #include <glm/geometric.hpp>
 #include <numbers>
+
+#include "engine/barrier.h"
 
 namespace dpc {
 

@@ -375,9 +375,10 @@ void addChannels(const std::vector<DiffractionEdge>& edges, const std::vector<Na
   markSlitOwners(paths);
 }
 
-/// Each free edge path's grazeExcess and grazeSpan (engine/edge_chain.h markGraze): a pillar's near corner's path whose
-/// leg just clears its far corner takes that corner's lit-side transition, and so joins the
-/// chain round both corners that takes over where the leg is blocked.
+/// Each free edge path's grazeExcess and grazeSpan (engine/edge_chain.h markGraze), the line of
+/// sight blocked: a pillar's near corner's path whose leg just clears its far corner takes that
+/// corner's lit-side transition, and so nears the chain round both corners that takes over
+/// where the leg is blocked.
 void markGrazes(const std::vector<DiffractionEdge>& edges,
                 const std::vector<std::vector<uint32_t>>& near, const BoundQuery& q,
                 std::vector<EdgePath>& paths) {
@@ -464,6 +465,15 @@ Bands directIntensity(const std::vector<EdgePath>& paths, const std::vector<Edge
   return min(sum + (direct.visible ? direct.intensity : Bands(0.f)), free);
 }
 
+/// The indices in `edges` of the edges the paths and the chains use, in order (cleared first).
+void listUsedEdges(const std::vector<EdgePath>& paths, const std::vector<EdgeChain>& chains,
+                   const std::vector<DiffractionEdge>& edges, std::vector<uint32_t>& out) {
+  out.clear();
+  for (const EdgePath& p : paths) out.push_back(uint32_t(p.edge - edges.data()));
+  for (const EdgeChain& c : chains)
+    out.insert(out.end(), c.edge.begin(), c.edge.begin() + long(c.n));
+}
+
 }  // namespace
 
 double diffractionFrequencyHz(int band, int i) {
@@ -503,12 +513,13 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
                    speedOfSound, airPerMetre, directivity,  forward};
   std::vector<EdgePath> paths = edgePaths(edges_, lineOfSight, query);
   crossLineOfSight(lineOfSight, query);
-  std::vector<EdgeChain> chains;
-  if (!lineOfSight)
-    chains = edgeChains(tracer, edges_, chainNear_,
-                        chainSeeds(query.crossed, bodies_, edges_, source, listener.position,
-                                   direct.chainEdgesLeftOut),
-                        source, listener.position);
+  direct.chainsLeftOut = 0;
+  const std::vector<EdgeChain> chains =
+      lineOfSight ? std::vector<EdgeChain>{}
+                  : edgeChains(tracer, edges_, chainNear_,
+                               chainSeeds(query.crossed, bodies_, edges_, source,
+                                          listener.position, direct.chainsLeftOut),
+                               source, listener.position, direct.chainsLeftOut);
   findSlits(tracer, source, listener.position, surfaces_, paths, query.closed);
   addChannels(edges_, narrow_, query, paths);
   dropThreadedPaths(query, paths);
@@ -517,10 +528,7 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
   markReveals(source, listener.position, paths);
   addEndSlits(edges_, lineOfSight, query, paths);
   if (!lineOfSight) markGrazes(edges_, chainNear_, query, paths);
-  if (usedEdges) {
-    usedEdges->clear();
-    for (const EdgePath& p : paths) usedEdges->push_back(uint32_t(p.edge - edges_.data()));
-  }
+  if (usedEdges) listUsedEdges(paths, chains, edges_, *usedEdges);
   if (paths.empty() && chains.empty()) return 0;
   const auto [shortest, arrival] = firstArrival(paths, chains, direct, listener.position);
   direct.intensity = directIntensity(paths, chains, direct, query);
@@ -528,7 +536,7 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
   direct.distance = shortest;
   direct.delaySeconds = shortest / speedOfSound;
   direct.direction = arrival;
-  return paths.size();
+  return paths.size() + chains.size();
 }
 
 }  // namespace dpc

@@ -55,6 +55,9 @@
 // A line of sight through a gap (between two door leaves) keeps the direct sound only in the
 // proportion 1 - s: the slit's field is driven by the incident pressure at its mouth and
 // carries the rest.
+// Edges in series: with the line of sight blocked, paths round two to four parallel edges (a
+// pillar's corners, a door stop's and the reveal's) at a barrier's attenuation
+// (engine/edge_chain.h), added to the sum in energy.
 // Energy: an obstruction adds no energy to the path it blocks. With the line of sight blocked
 // (lineOfSight() false), the result is held per band at the unobstructed direct sound and at
 // the sum without the flat surfaces the line of sight crosses (a leaf ajar across a
@@ -168,15 +171,17 @@ class EdgeDiffraction {
   const std::vector<DiffractionEdge>& edges() const { return edges_; }
 
   /// Replaces `direct` by the direct sound plus every first-order edge and slit path from
-  /// source to the listener centre (see the file comment). speedOfSound in m/s, airPerMetre
-  /// the energy attenuation per metre per band. Returns the number of edge paths used
-  /// (unoccluded, Q inside its edge, its gap not closed). Reentrant: concurrent calls (one per
+  /// source to the listener centre and, with the line of sight blocked, every path round edges
+  /// in series (engine/edge_chain.h; direct.chainsLeftOut counts what its caps left out) (see
+  /// the file comment). speedOfSound in m/s, airPerMetre the energy attenuation per metre per
+  /// band. Returns the number of edge paths (unoccluded, Q inside its edge, its gap not closed)
+  /// and chains used; 0 leaves `direct` as it was. Reentrant: concurrent calls (one per
   /// listener) are safe; allocates its lists of paths and probe rays. A directional source
   /// (scene/directivity.h, forward a unit vector) scales each path's energy by its weight
-  /// toward its edge point Q (a slit path too); `direct` must carry its own weight already
-  /// (Propagator::directSound does). Omni (the default): no weight. usedEdges, when given,
-  /// receives the index in edges() of each edge path counted, in order (cleared first; it
-  /// allocates only while it grows).
+  /// toward its edge point Q (a slit path too; a chain toward its first edge); `direct` must
+  /// carry its own weight already (Propagator::directSound does). Omni (the default): no
+  /// weight. usedEdges, when given, receives the index in edges() of each edge path counted,
+  /// then each chain's edges, in order (cleared first; it allocates only while it grows).
   size_t apply(const Tracer& tracer, const glm::vec3& source, const ListenerSphere& listener,
                float speedOfSound, const Bands& airPerMetre, DirectSound& direct,
                const Directivity& directivity = {},

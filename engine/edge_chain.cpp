@@ -7,6 +7,7 @@
 #include <numbers>
 #include <utility>
 
+#include "engine/barrier.h"
 #include "engine/channel_path.h"
 #include "engine/edge_grid.h"
 #include "engine/edge_path.h"
@@ -21,27 +22,6 @@ constexpr double kPi = std::numbers::pi;
 /// lie (a leg along a face lies on the wedge's side).
 constexpr double kWrapTolerance = 1e-3;
 
-/// The edges in `candidates` parallel to edges[i], their lines within kChainReach of its line,
-/// overlapping it along its length; the kChainNeighbours nearest, nearest first.
-std::vector<uint32_t> neighboursOf(const std::vector<DiffractionEdge>& edges, uint32_t i,
-                                   const std::vector<uint32_t>& candidates) {
-  const DiffractionEdge& e = edges[i];
-  std::vector<std::pair<float, uint32_t>> found;
-  for (uint32_t j : candidates) {
-    const DiffractionEdge& c = edges[j];
-    if (j == i || std::abs(glm::dot(c.direction, e.direction)) < kParallelEdges) continue;
-    const float d = glm::length(acrossTo(e, c));
-    const float ta = glm::dot(c.a - e.a, e.direction), tb = glm::dot(c.b - e.a, e.direction);
-    if (d > 1e-4f && d <= kChainReach && std::max(ta, tb) > 0.f && std::min(ta, tb) < e.length)
-      found.push_back({d, j});
-  }
-  std::sort(found.begin(), found.end());
-  if (found.size() > kChainNeighbours) found.resize(kChainNeighbours);
-  std::vector<uint32_t> out;
-  for (const auto& [d, j] : found) out.push_back(j);
-  return out;
-}
-
 /// The point of edge e's line at `along` (m) measured along the unit direction d.
 glm::vec3 pointAlong(const DiffractionEdge& e, const glm::vec3& d, float along) {
   const float rate = glm::dot(e.direction, d);
@@ -52,8 +32,9 @@ glm::vec3 pointAlong(const DiffractionEdge& e, const glm::vec3& d, float along) 
 /// from source to L: unfolded about the edges, the path runs straight, so each Q lies along
 /// the edges as far as its share of the path's length across them. False when a Q falls off
 /// its edge.
-bool layChain(const std::vector<DiffractionEdge>& edges, const std::array<uint32_t, kChainEdges>& ids,
-              size_t n, const glm::vec3& source, const glm::vec3& L, EdgeChain& c) {
+bool layChain(const std::vector<DiffractionEdge>& edges,
+              const std::array<uint32_t, kChainEdges>& ids, size_t n, const glm::vec3& source,
+              const glm::vec3& L, EdgeChain& c) {
   const glm::vec3 d = edges[ids[0]].direction;
   auto across = [&](const glm::vec3& x) { return x - glm::dot(x, d) * d; };
   const float s = glm::dot(source, d), run = glm::dot(L, d) - s;
@@ -62,7 +43,8 @@ bool layChain(const std::vector<DiffractionEdge>& edges, const std::array<uint32
   for (size_t i = 0; i < n; ++i) p[i + 1] = across(pointAlong(edges[ids[i]], d, s + 0.5f * run));
   p[n + 1] = across(L);
   std::array<float, kChainEdges + 2> cumulative{};
-  for (size_t i = 1; i < n + 2; ++i) cumulative[i] = cumulative[i - 1] + glm::distance(p[i - 1], p[i]);
+  for (size_t i = 1; i < n + 2; ++i)
+    cumulative[i] = cumulative[i - 1] + glm::distance(p[i - 1], p[i]);
   const float total = cumulative[n + 1];
   if (!(total > 0.f)) return false;
   c.n = n;
@@ -72,8 +54,7 @@ bool layChain(const std::vector<DiffractionEdge>& edges, const std::array<uint32
     const DiffractionEdge& e = edges[ids[i]];
     c.edge[i] = ids[i];
     c.q[i] = pointAlong(e, d, s + run * cumulative[i + 1] / total);
-    const float t = glm::dot(c.q[i] - e.a, e.direction);
-    if (!(t > 0.f && t < e.length)) return false;
+    if (!withinEdge(e, c.q[i])) return false;
     c.length += glm::distance(last, c.q[i]);
     last = c.q[i];
   }
@@ -89,16 +70,14 @@ bool widerWedgeAngles(const DiffractionEdge& e, const glm::vec3& q, const glm::v
   const bool reversed = double(e.open) < kPi;  // the wider wedge is measured from face 0 back
   const double wedge = reversed ? 2.0 * kPi - double(e.open) : double(e.open);
   auto angleOf = [&](const glm::vec3& x) {
-    const glm::vec3 v = x - q;
-    double t = std::atan2(double(glm::dot(v, e.normal0)), double(glm::dot(v, e.face0)));
-    if (reversed) t = -t;
-    if (t < -kWrapTolerance) t += 2.0 * kPi;
-    return t;
+    double t = faceAngle(e, q, x);
+    if (reversed) t = 2.0 * kPi - t;
+    return t > 2.0 * kPi - kWrapTolerance ? t - 2.0 * kPi : t;  // on face 0: near 0
   };
   b = angleOf(before);
   a = angleOf(after);
   auto inside = [&](double x) { return x > -kWrapTolerance && x < wedge + kWrapTolerance; };
-  return wedge > 1.05 * kPi && inside(a) && inside(b);
+  return wedge > kConvexWedge && inside(a) && inside(b);
 }
 
 /// True when the path from `before` to `after` wraps round edge e at q: its wider wedge holds
@@ -119,7 +98,7 @@ bool clearsOnLitSide(const DiffractionEdge& e, const glm::vec3& q, const glm::ve
 
 /// The chain's points: source, its Q, L.
 std::array<glm::vec3, kChainEdges + 2> chainPoints(const EdgeChain& c, const glm::vec3& source,
-                                                    const glm::vec3& L) {
+                                                   const glm::vec3& L) {
   std::array<glm::vec3, kChainEdges + 2> p;
   p[0] = source;
   for (size_t i = 0; i < c.n; ++i) p[i + 1] = c.q[i];
@@ -195,13 +174,6 @@ bool chainStands(const Tracer& tracer, const std::vector<DiffractionEdge>& edges
   return true;
 }
 
-/// True when `c` runs over the same edges in the same order as one already in `chains`.
-bool alreadyFound(const std::vector<EdgeChain>& chains, const EdgeChain& c) {
-  return std::any_of(chains.begin(), chains.end(), [&](const EdgeChain& o) {
-    return o.n == c.n && std::equal(o.edge.begin(), o.edge.begin() + long(c.n), c.edge.begin());
-  });
-}
-
 /// A depth-first search for chains: the edges so far (ids, n of them), each one's point level
 /// with the middle of the run along the edges (`mid`: the wedges' angles do not depend on how
 /// far along parallel edges the point lies).
@@ -212,6 +184,8 @@ struct ChainSearch {
   glm::vec3 source, L, d;
   float mid;
   std::vector<EdgeChain> found;
+  size_t trials = 0;     // chains whose rays were cast
+  uint32_t leftOut = 0;  // chains not tried past kChainTrials
 
   glm::vec3 at(uint32_t i) const { return pointAlong(edges[i], d, mid); }
 
@@ -233,9 +207,15 @@ struct ChainSearch {
 
   void keep(const std::array<uint32_t, kChainEdges>& ids, size_t n) {
     EdgeChain c;
-    if (!layChain(edges, ids, n, source, L, c) || alreadyFound(found, c)) return;
+    if (!layChain(edges, ids, n, source, L, c)) return;
     const auto p = chainPoints(c, source, L);
-    if (wrapsAll(edges, c, p) && chainStands(tracer, edges, c, p)) found.push_back(c);
+    if (!wrapsAll(edges, c, p)) return;
+    if (trials == kChainTrials) {
+      ++leftOut;
+      return;
+    }
+    ++trials;
+    if (chainStands(tracer, edges, c, p)) found.push_back(c);
   }
 };
 
@@ -265,8 +245,8 @@ float boxGap(const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& lo, cons
 }  // namespace
 
 std::vector<uint32_t> chainSeeds(const std::vector<uint32_t>& crossed, const SurfaceBodies& bodies,
-                                 const std::vector<DiffractionEdge>& edges,
-                                 const glm::vec3& source, const glm::vec3& L, uint32_t& leftOut) {
+                                 const std::vector<DiffractionEdge>& edges, const glm::vec3& source,
+                                 const glm::vec3& L, uint32_t& leftOut) {
   std::vector<uint32_t> seen;  // bodies
   std::vector<std::pair<float, uint32_t>> found;
   for (uint32_t s : crossed) {
@@ -296,34 +276,33 @@ std::vector<std::vector<uint32_t>> chainNeighbours(const std::vector<Diffraction
   if (edges.empty()) return out;
   EdgeGrid grid(edges, kChainReach);
   for (uint32_t i = 0; i < uint32_t(edges.size()); ++i)
-    out[i] = neighboursOf(edges, i, grid.near(edges[i]));
+    out[i] = parallelNeighbours(edges, i, i, kChainReach, kChainNeighbours, grid.near(edges[i]));
   return out;
 }
 
 std::vector<EdgeChain> edgeChains(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
                                   const std::vector<std::vector<uint32_t>>& near,
                                   const std::vector<uint32_t>& seeds, const glm::vec3& source,
-                                  const glm::vec3& L) {
+                                  const glm::vec3& L, uint32_t& leftOut) {
   // The first edge: a seed or a seed's neighbour (a door stop beside the wall's reveal).
   std::vector<uint32_t> firsts = seeds;
   for (uint32_t s : seeds) firsts.insert(firsts.end(), near[s].begin(), near[s].end());
   std::sort(firsts.begin(), firsts.end());
   firsts.erase(std::unique(firsts.begin(), firsts.end()), firsts.end());
-  std::vector<EdgeChain> out;
+  ChainSearch search{tracer, edges, near, source, L, glm::vec3(0.f), 0.f, {}};
   for (uint32_t f : firsts) {
-    const glm::vec3 d = edges[f].direction;
-    ChainSearch search{tracer, edges, near, source, L, d, 0.5f * glm::dot(source + L, d), {}};
-    search.found.swap(out);
-    std::array<uint32_t, kChainEdges> ids{f, 0, 0};
+    search.d = edges[f].direction;
+    search.mid = 0.5f * glm::dot(source + L, search.d);
+    std::array<uint32_t, kChainEdges> ids{f, 0, 0, 0};
     search.extend(ids, 1);
-    out.swap(search.found);
   }
-  return out;
+  leftOut += search.leftOut;
+  return std::move(search.found);
 }
 
 void markGraze(const std::vector<DiffractionEdge>& edges,
-               const std::vector<std::vector<uint32_t>>& near, uint32_t e,
-               const glm::vec3& source, const glm::vec3& L, EdgePath& p) {
+               const std::vector<std::vector<uint32_t>>& near, uint32_t e, const glm::vec3& source,
+               const glm::vec3& L, EdgePath& p) {
   p.grazeExcess = -1.f;
   for (uint32_t j : near[e])
     for (int order = 0; order < 2; ++order) {
@@ -342,38 +321,10 @@ void markGraze(const std::vector<DiffractionEdge>& edges,
     }
 }
 
-double multipleEdgeFactor(double lambda, double span) {
-  const double r = 5.0 * lambda / std::max(span, 1e-6);
-  return (1.0 + r * r) / (1.0 / 3.0 + r * r);
-}
-
-double grazingAmplitude(double excess, double span, double lambda) {
-  if (excess < 0.0) return 1.0;
-  const double v = -2.0 * std::sqrt(excess / lambda);
-  if (v <= -0.78) return 1.0;
-  const double j = 6.9 + 20.0 * std::log10(std::sqrt((v - 0.1) * (v - 0.1) + 1.0) + v - 0.1);
-  const double weight = 0.5 * (multipleEdgeFactor(lambda, span) - 1.0);
-  return std::pow(10.0, -weight * j / 20.0);
-}
-
 double chainGainAt(const EdgeChain& chain, float direct, double lambda) {
-  constexpr double kC2 = 40.0;  // ISO 9613-2 eq. (14), reflections modelled apart
-  const double z = std::max(0.0, double(chain.length) - double(direct));
-  const double e = double(glm::distance(chain.q[0], chain.q[chain.n - 1]));
-  const double c3 = chain.n < 2 ? 1.0 : multipleEdgeFactor(lambda, e);
-  return 1.0 / (3.0 + kC2 / lambda * c3 * z);
-}
-
-Bands chainGain(const EdgeChain& chain, float direct, float speedOfSound,
-                const Bands& airPerMetre) {
-  Bands out(0.f);
-  for (int band = 0; band < kNumBands; ++band) {
-    double sum = 0.0;
-    for (int i = 0; i < kDiffractionFrequenciesPerBand; ++i)
-      sum += chainGainAt(chain, direct, double(speedOfSound) / diffractionFrequencyHz(band, i));
-    out[band] = float(sum / kDiffractionFrequenciesPerBand);
-  }
-  return out * exp(airPerMetre * -(chain.length - direct));
+  const double z = double(chain.length) - double(direct);
+  const double span = chain.n >= 2 ? double(glm::distance(chain.q[0], chain.q[chain.n - 1])) : 0.0;
+  return screenGain(lambda, z, span, int(chain.n));
 }
 
 Bands chainsGain(const std::vector<EdgeChain>& chains, const std::vector<Bands>& weights,
@@ -395,6 +346,11 @@ Bands chainsGain(const std::vector<EdgeChain>& chains, const std::vector<Bands>&
     out[band] = float(sum / kDiffractionFrequenciesPerBand);
   }
   return out;
+}
+
+Bands chainGain(const EdgeChain& chain, float direct, float speedOfSound,
+                const Bands& airPerMetre) {
+  return chainsGain({chain}, {Bands(1.f)}, direct, speedOfSound, airPerMetre);
 }
 
 }  // namespace dpc

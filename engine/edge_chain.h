@@ -16,9 +16,9 @@
 //
 // Its level is a barrier's attenuation over the free field at the direct distance, ISO
 // 9613-2:1996 eq. (14): Dz = 10 lg(3 + (C2 / lambda) C3 z), z the path's length less the direct
-// distance, C2 = 40 (reflections are the tracer's, not part of the screen term), C3 = 1 for one
-// edge and (1 + (5 lambda / e)^2) / (1/3 + (5 lambda / e)^2) for several, e the distance from
-// the first Q to the last; meteorological correction 1 (indoors), no upper limit. Averaged in
+// distance, C2 = 40 (reflections are the tracer's, not part of the screen term), C3 =
+// (1 + (5 lambda / e)^2) / (1/3 + (5 lambda / e)^2), e the distance from the first Q to the
+// last (engine/barrier.h); meteorological correction 1 (indoors), no upper limit. Averaged in
 // energy over the frequencies of each band (diffractionFrequencyHz). The attenuation carries
 // no phase of its own: the chains add in pressure among themselves with their lengths' phases
 // (chainsGain), and in energy to the coherent sum of the direct sound and the first-order paths.
@@ -46,10 +46,12 @@ inline constexpr size_t kChainNeighbours = 8;
 /// The most edges in one chain.
 inline constexpr size_t kChainEdges = 4;
 /// m: how far from the line of sight the edges a chain is laid from lie, and the most of them
-/// per query (the nearest); edges past that are not looked at (counted:
-/// DirectSound::chainEdgesLeftOut).
+/// per query (the nearest); and the most chains per query whose rays are cast (the first met).
+/// What the caps leave out is counted (DirectSound::chainsLeftOut). A pillar takes 2 chains, a
+/// door frame's stop a few, slatted shelving or a grid of posts a few dozen.
 inline constexpr float kChainSearch = 2.f;
 inline constexpr size_t kChainSeeds = 24;
+inline constexpr size_t kChainTrials = 64;
 
 /// One path round n edges in series: their indices and points (m), its length (m).
 struct EdgeChain {
@@ -69,16 +71,17 @@ std::vector<std::vector<uint32_t>> chainNeighbours(const std::vector<Diffraction
 /// skipped) within kChainSearch of the segment from source to L, the kChainSeeds nearest;
 /// `leftOut` receives how many more there were.
 std::vector<uint32_t> chainSeeds(const std::vector<uint32_t>& crossed, const SurfaceBodies& bodies,
-                                 const std::vector<DiffractionEdge>& edges,
-                                 const glm::vec3& source, const glm::vec3& L, uint32_t& leftOut);
+                                 const std::vector<DiffractionEdge>& edges, const glm::vec3& source,
+                                 const glm::vec3& L, uint32_t& leftOut);
 
 /// The chains from source to L (m) laid from `seeds` (indices into edges: the edges of the
-/// bodies the line of sight crosses) and their neighbours `near` (chainNeighbours), each once.
-/// Rays: a few per chain whose geometry stands (its legs, shortcuts and gap tests).
+/// bodies the line of sight crosses) or their neighbours `near` (chainNeighbours), each once,
+/// over neighbours. Rays: up to 49 per chain whose geometry stands (its legs, shortcuts and gap
+/// tests), for at most kChainTrials chains; `leftOut` is increased by the chains past that.
 std::vector<EdgeChain> edgeChains(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
-                      const std::vector<std::vector<uint32_t>>& near,
-                      const std::vector<uint32_t>& seeds, const glm::vec3& source,
-                      const glm::vec3& L);
+                                  const std::vector<std::vector<uint32_t>>& near,
+                                  const std::vector<uint32_t>& seeds, const glm::vec3& source,
+                                  const glm::vec3& L, uint32_t& leftOut);
 
 /// Sets p.grazeExcess to the least path-length excess (m) of a detour from first-order path p
 /// (over edges[e], its legs free) round a neighbour of e (`near`, chainNeighbours) that one of
@@ -86,36 +89,19 @@ std::vector<EdgeChain> edgeChains(const Tracer& tracer, const std::vector<Diffra
 /// holds both ends of the leg), laid as a chain at its point of least length, and p.grazeSpan
 /// to the distance between the two edges' points; -1 when there is none. Geometry only.
 void markGraze(const std::vector<DiffractionEdge>& edges,
-               const std::vector<std::vector<uint32_t>>& near, uint32_t e,
-               const glm::vec3& source, const glm::vec3& L, EdgePath& p);
-
-/// ISO 9613-2's factor C3 for diffraction over edges `span` metres apart (first to last) at
-/// wavelength lambda (m): (1 + (5 lambda / e)^2) / (1/3 + (5 lambda / e)^2), from 1 (edges
-/// much closer than a wavelength act as one) to 3. Any thread; no errors.
-double multipleEdgeFactor(double lambda, double span);
-
-/// The amplitude factor of a field that passes an edge on its lit side with path-length excess
-/// `excess` (m), `span` metres past the edge it diffracted from, at wavelength lambda (m): the
-/// knife edge's lit-side transition J(v) = 6.9 + 20 lg(sqrt((v - 0.1)^2 + 1) + v - 0.1) dB for
-/// v > -0.78 and 0 below (ITU-R P.526-15 eq. (31)), v = -2 sqrt(excess / lambda) (the
-/// clearance's Fresnel-Kirchhoff parameter), in the proportion (C3 - 1) / 2 of its decibels
-/// (multipleEdgeFactor): the whole 6 dB on the shadow boundary where the edges are many
-/// wavelengths apart, none where they act as one. A first-order path whose leg just clears a
-/// second edge thus nears the chain round both that takes over where the leg is blocked. 1 for
-/// a negative excess (none). Any thread; no errors.
-double grazingAmplitude(double excess, double span, double lambda);
+               const std::vector<std::vector<uint32_t>>& near, uint32_t e, const glm::vec3& source,
+               const glm::vec3& L, EdgePath& p);
 
 /// ISO 9613-2's barrier attenuation of a chain at wavelength lambda (m) as an energy ratio over
-/// the free field at the direct distance `direct` (m): 1 / (3 + (C2 / lambda) C3 z) (the file
-/// comment). Any thread; no errors.
+/// the free field at the direct distance `direct` (m): engine/barrier.h screenGain with the
+/// chain's excess and span. Any thread; no errors.
 double chainGainAt(const EdgeChain& chain, float direct, double lambda);
 
 /// A chain's energy over the free field at the direct distance `direct` (m), per band:
 /// chainGainAt averaged over the band's frequencies (diffractionFrequencyHz), with the air's
 /// attenuation over the path's extra length (airPerMetre per band, energy per m).
 /// speedOfSound in m/s.
-Bands chainGain(const EdgeChain& chain, float direct, float speedOfSound,
-                const Bands& airPerMetre);
+Bands chainGain(const EdgeChain& chain, float direct, float speedOfSound, const Bands& airPerMetre);
 
 /// The chains together over the free field at the direct distance, per band: each chain's
 /// pressure sqrt(chainGainAt x air x weights[c]) e^{-jk length} summed, |sum|^2 averaged over

@@ -19,7 +19,7 @@ namespace dpc {
 /// 1.25 reach of one of the other's, so in one of the 27 cells round it.
 class EdgeGrid {
  public:
-  /// reach: m, > 0.
+  /// reach: m, > 0 (a smaller one is taken as 1 mm).
   EdgeGrid(const std::vector<DiffractionEdge>& edges, float reach);
 
   /// The edges with a sample in a cell next to one of e's samples' (e included if binned),
@@ -37,5 +37,12 @@ class EdgeGrid {
   std::vector<uint32_t> mark_;  ///< per edge, the last query that listed it
   uint32_t query_ = 0;
 };
+
+/// The edges in `candidates` (EdgeGrid::near) parallel to edges[i] (kParallelEdges), their
+/// lines within `reach` (m) of its line beside it (over 0.1 mm away), overlapping it along its
+/// length, neither i nor `other`; the `count` nearest, nearest first. Allocates.
+std::vector<uint32_t> parallelNeighbours(const std::vector<DiffractionEdge>& edges, uint32_t i,
+                                         uint32_t other, float reach, size_t count,
+                                         const std::vector<uint32_t>& candidates);
 
 }  // namespace dpc

@@ -13,16 +13,22 @@ constexpr double kPi = std::numbers::pi;
 
 }  // namespace
 
+double faceAngle(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3& p) {
+  const glm::vec3 v = p - q;
+  const double a = std::atan2(double(glm::dot(v, e.normal0)), double(glm::dot(v, e.face0)));
+  return a < 0 ? a + 2.0 * kPi : a;
+}
+
+bool withinEdge(const DiffractionEdge& e, const glm::vec3& x) {
+  const float t = glm::dot(x - e.a, e.direction);
+  return t > 0.f && t < e.length;
+}
+
 bool airWedge(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3& source,
               const glm::vec3& other, double& phiS, double& phiOther, double& wedge,
               double& sense) {
-  auto angleOf = [&](const glm::vec3& p) {  // in [0, 2 pi)
-    const glm::vec3 v = p - q;
-    double a = std::atan2(double(glm::dot(v, e.normal0)), double(glm::dot(v, e.face0)));
-    return a < 0 ? a + 2.0 * kPi : a;
-  };
-  phiS = angleOf(source);
-  phiOther = angleOf(other);
+  phiS = faceAngle(e, q, source);
+  phiOther = faceAngle(e, q, other);
   // The source's wedge is the air wedge: [0, open] or, measured from face 0 the other way,
   // [0, 2 pi - open].
   wedge = double(e.open);
@@ -33,7 +39,7 @@ bool airWedge(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3& sou
     phiS = 2.0 * kPi - phiS;
     phiOther = 2.0 * kPi - phiOther;
   }
-  return phiOther > 0.0 && phiOther < wedge && wedge > 1.05 * kPi;
+  return phiOther > 0.0 && phiOther < wedge && wedge > kConvexWedge;
 }
 
 namespace {

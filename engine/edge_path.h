@@ -112,6 +112,18 @@ std::array<glm::vec3, 2> faceDirections(const DiffractionEdge& e);
 /// a slab's two rims).
 bool joinedByFace(const DiffractionEdge& a, const DiffractionEdge& b);
 
+/// The narrowest air wedge that diffracts (radians): wider than pi by a margin, so a corner
+/// folded by less than 9 degrees (flat within rounding) or a room's inner corner seen from
+/// inside never does.
+inline constexpr double kConvexWedge = 1.05 * 3.14159265358979323846;
+
+/// The angle (radians, in [0, 2 pi)) of point p about edge e at q, in the plane square to the
+/// edge, from face 0 toward normal0.
+double faceAngle(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3& p);
+
+/// True when x lies within edge e's length (its foot on e's line strictly between e's ends).
+bool withinEdge(const DiffractionEdge& e, const glm::vec3& x);
+
 /// The air wedge around edge e at Q: the angles (radians, from face 0 in the plane perpendicular
 /// to the edge) of the source and of the point `other`, measured in the wedge that holds the
 /// source, that wedge's angle and its sense (+1: from face 0 toward normal0, -1: the other

@@ -361,31 +361,33 @@ Bands heldBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
 Bands chainBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
                  const Bands& free, const std::vector<ChainEnergy>& chains, BoundQuery& q) {
   if (coherent.visible || chains.empty() || q.crossed.empty()) return Bands(1e30f);
-  // The small bodies crossed, each taken away whole (a pillar meshed as an open tube too).
+  // The small bodies crossed, each taken away whole (a pillar meshed as an open tube too), and
+  // whether a large body's face is crossed too. Moving objects have no edges and no chains
+  // round them: they bound nothing here.
   std::vector<uint32_t> small, all;
-  bool other = false;  // a large body's face or a moving object in the way besides
+  bool other = false;
   for (uint32_t s : q.crossed) {
-    if (s < q.bodies.body.size() && q.bodies.body[s] < q.bodies.members.size() &&
-        !largeBody(q.bodies, s)) {
-      small.push_back(q.bodies.body[s]);
-      const std::vector<uint32_t>& members = q.bodies.members[q.bodies.body[s]];
-      all.insert(all.end(), members.begin(), members.end());
-    } else {
+    if (s >= q.bodies.body.size() || q.bodies.body[s] >= q.bodies.members.size()) continue;
+    if (largeBody(q.bodies, s)) {
       other = true;
+      continue;
     }
+    small.push_back(q.bodies.body[s]);
+    const std::vector<uint32_t>& members = q.bodies.members[q.bodies.body[s]];
+    all.insert(all.end(), members.begin(), members.end());
   }
   std::sort(small.begin(), small.end());
   small.erase(std::unique(small.begin(), small.end()), small.end());
   std::sort(all.begin(), all.end());
   all.erase(std::unique(all.begin(), all.end()), all.end());
   Bands bound = free;
-  if (!other) {  // small bodies alone in the way: the scene without them, line of sight free
+  if (!other) {  // small bodies alone in the way: at most the scene without them all
+    if (small.empty()) return bound;
     DirectSound open = coherent;
     open.visible = true;
     open.intensity = free;
-    bound = min(bound, sumWithout(paths, q, all, open));
+    return min(bound, sumWithout(paths, q, all, open));
   }
-  if (small.size() + (other ? 1 : 0) < 2) return bound;
   for (uint32_t b : small) {
     const std::vector<uint32_t>& removed = q.bodies.members[b];
     Bands without = sumWithout(paths, q, removed, coherent);

@@ -27,8 +27,9 @@ struct DirectSound {
   /// True when the path was counted blocked after kMaxDirectCrossings surfaces.
   bool crossingCapped = false;
   /// Edge diffraction with the line of sight blocked (engine/edge_chain.h): the edges near it
-  /// that no path round edges in series was laid from (past kChainSeeds, the farthest).
-  uint32_t chainEdgesLeftOut = 0;
+  /// that no path round edges in series was laid from (past kChainSeeds, the farthest) plus
+  /// the chains not tried (past kChainTrials).
+  uint32_t chainsLeftOut = 0;
   /// A free line of sight (no surface in between): what diffraction's shadow boundary needs.
   bool lineOfSight() const { return visible && crossings == 0; }
 };

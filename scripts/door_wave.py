@@ -46,9 +46,7 @@ import tempfile
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(ROOT, 'tests', 'wave'))
 sys.path.insert(0, os.path.join(ROOT, 'scripts'))
-import wave_test as wt  # noqa: E402
 import wave_compare as wc  # noqa: E402
 
 SIZE, WALL_X = 24.0, 12.0
@@ -69,14 +67,14 @@ def name_of(angle):
 
 
 def quads(angle):
-    """The wall round the doorway (four panels across the cube), the cube's markers and the
-    leaf swung `angle` degrees from the wall's plane into x > WALL_X (none: open)."""
+    """The wall round the doorway (four panels across the cube) and the leaf swung `angle`
+    degrees from the wall's plane into x > WALL_X (none: open); wave_compare adds the cube's
+    markers."""
     x, s, y0, y1, z0, z1 = WALL_X, SIZE, DOOR_Y, DOOR_Y + DOOR_H, DOOR_Z, DOOR_Z + DOOR_W
     out = {'wall': [((x, 0, 0), (x, y0, 0), (x, y0, s), (x, 0, s)),
                     ((x, y1, 0), (x, s, 0), (x, s, s), (x, y1, s)),
                     ((x, y0, 0), (x, y1, 0), (x, y1, z0), (x, y0, z0)),
-                    ((x, y0, z1), (x, y1, z1), (x, y1, s), (x, y0, s))],
-           'marker': wt.marker_quads(s)}
+                    ((x, y0, z1), (x, y1, z1), (x, y1, s), (x, y0, s))]}
     if angle is not None:
         a = math.radians(angle)
         fx, fz = x + DOOR_W * math.sin(a), z0 + DOOR_W * math.cos(a)
@@ -85,9 +83,7 @@ def quads(angle):
 
 
 def write_scene(tmp, name, angle):
-    q = quads(angle)
-    return wc.write_scene(tmp, name, {m: v for m, v in q.items() if m != 'marker'}, SOURCE,
-                          [p for p, _ in RECEIVERS])
+    return wc.write_scene(tmp, name, quads(angle), SOURCE, [p for p, _ in RECEIVERS])
 
 
 def fdtd_levels(build, scene, tmp, name):

@@ -19,7 +19,8 @@ spanning it from face to face, every edge on a plane between nodes of the 0.125 
                             (a 0.5 m face, which the image source takes as a plane's
                             reflection: docs/validation.md, "Doors against a wave simulation")
 
---check fails unless every cell is within TOLERANCE_DB of the FDTD level. --engine-only takes
+--check fails unless every cell is within TOLERANCE_DB of the FDTD level (3 dB behind the
+pillars, 4.5 dB beside the wall). --engine-only takes
 the FDTD levels from --json's file instead of simulating (seconds instead of minutes).
 
 Usage: /usr/bin/python3 scripts/obstacle_wave.py [--build build]
@@ -39,9 +40,11 @@ sys.path.insert(0, os.path.join(ROOT, 'scripts'))
 import wave_compare as wc  # noqa: E402
 
 S = wc.SIZE
-# dB: first-order edge diffraction against this FDTD at kd of 1-2 reads within 4.5 dB on a
-# doorway's axis (scripts/door_wave.py); FDTD's own spread at these edges is 0.4 dB.
-TOLERANCE_DB = 4.5
+# dB, per obstacle: first-order edge diffraction against this FDTD at kd of 1-2 reads within
+# 4.5 dB on a doorway's axis (scripts/door_wave.py), and the wall's receiver level with the
+# doorway is such a path (+3.9 dB at 63 Hz); behind the pillars every path is a chain (found:
+# within 2.3 dB). FDTD's own spread at these edges is 0.4 dB.
+TOLERANCE_DB = {'pillar 0.5 m': 3.0, 'pillar 1 m': 3.0, 'wall 0.5 m': 4.5}
 
 
 def prism(x0, x1, z0, z1):
@@ -100,7 +103,7 @@ def check(results):
         for k, what in enumerate(r['receivers']):
             for i, f in enumerate(wc.OCTAVES):
                 d = r['engine'][k][i][1] - r['fdtd'][k][i]
-                ok = abs(d) <= TOLERANCE_DB
+                ok = abs(d) <= TOLERANCE_DB[name]
                 failures += not ok
                 print('%s %s, %s, %.0f Hz: engine - FDTD %+.1f dB' %
                       ('ok  ' if ok else 'FAIL', name, what, f, d))
@@ -170,7 +173,7 @@ def main():
     if args.check:
         failures = check(results)
         if failures:
-            sys.exit('obstacle_wave: %d cells beyond %.1f dB' % (failures, TOLERANCE_DB))
+            sys.exit('obstacle_wave: %d cells beyond their tolerance' % failures)
         print('obstacle_wave: OK')
 
 

@@ -16,10 +16,12 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-/// Per-pair times (microseconds) and the edge paths found, summed over the pairs.
+/// Per-pair times (microseconds), the edge paths and chains found and what the chains' caps
+/// left out (DirectSound::chainsLeftOut), summed over the pairs.
 struct PairTimes {
   std::vector<double> micros;
   double paths = 0.0;
+  double chainsLeftOut = 0.0;
 };
 
 PairTimes timePairs(const SceneDesc& scene, const PropagationSettings& s, const Geometry& geometry,
@@ -38,6 +40,7 @@ PairTimes timePairs(const SceneDesc& scene, const PropagationSettings& s, const 
       p.paths += double(diffraction.apply(tracer, at, sphere, s.speedOfSound,
                                           propagator.airAttenuationPerMetre(), d));
       p.micros.push_back(std::chrono::duration<double, std::micro>(Clock::now() - a).count());
+      p.chainsLeftOut += double(d.chainsLeftOut);
     }
   }
   return p;
@@ -64,6 +67,7 @@ int benchDiffraction(const CommonOptions& c) {
   j["edge_finding_ms"] = std::chrono::duration<double, std::milli>(t2 - t1).count();
   j["pairs_timed"] = p.micros.size();
   j["edge_paths_per_pair_mean"] = p.paths / double(p.micros.size());
+  j["chains_left_out_per_pair_mean"] = p.chainsLeftOut / double(p.micros.size());
   j["direct_plus_diffraction_us_per_pair"] = stats(p.micros);
   std::fprintf(stderr, "%zu edges; %.1f edge paths and %.0f us per pair (median)\n",
                diffraction.edges().size(), p.paths / double(p.micros.size()),

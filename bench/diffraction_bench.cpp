@@ -55,7 +55,7 @@ int benchDiffraction(const CommonOptions& c) {
   const Geometry geometry(scene.mesh, scene.materials, s.patchSize, scene.objects);
   const EmbreeTracer tracer(scene.mesh, scene.objects);
   const auto t1 = Clock::now();
-  const EdgeDiffraction diffraction(scene.mesh);
+  const EdgeDiffraction diffraction(scene.mesh, scene.objects);
   const auto t2 = Clock::now();
   const PairTimes p = timePairs(scene, s, geometry, tracer, diffraction, std::max(1, c.frames));
   Json j;

@@ -18,6 +18,7 @@
 #include "engine/edge_chain.h"
 #include "engine/edge_path.h"
 #include "engine/gap_probe.h"
+#include "engine/object_edges.h"
 #include "engine/slit.h"
 #include "engine/surface_bound.h"
 
@@ -435,7 +436,8 @@ Bands withChains(const std::vector<EdgePath>& paths, const std::vector<EdgeChain
   std::vector<ChainEnergy> energies;
   for (size_t c = 0; c < chains.size(); ++c) {
     ChainEnergy e{omni * chainGain(chains[c], d, q.speedOfSound, q.airPerMetre) * weights[c], {}};
-    for (size_t i = 0; i < chains[c].n; ++i)
+    if (chains[c].object >= 0) e.surfaces = {kMovingObjects};
+    for (size_t i = 0; i < chains[c].n && chains[c].object < 0; ++i)
       e.surfaces.insert(e.surfaces.end(), q.edges[chains[c].edge[i]].surfaces.begin(),
                         q.edges[chains[c].edge[i]].surfaces.end());
     energies.push_back(std::move(e));
@@ -465,13 +467,33 @@ Bands directIntensity(const std::vector<EdgePath>& paths, const std::vector<Edge
   return min(sum + (direct.visible ? direct.intensity : Bands(0.f)), free);
 }
 
+/// The chains round edges in series with the line of sight blocked: over the static mesh's
+/// edges near the bodies it crosses (two or more), and over each moving object's edges near it
+/// (one or more: objects have no first-order paths). leftOut counts what the caps left out.
+std::vector<EdgeChain> laidChains(const BoundQuery& q, const std::vector<ObjectEdges>& objects,
+                                  const std::vector<std::vector<uint32_t>>& near,
+                                  uint32_t& leftOut) {
+  std::vector<EdgeChain> out = edgeChains(
+      q.tracer, q.edges, near, chainSeeds(q.crossed, q.bodies, q.edges, q.source, q.L, leftOut),
+      q.source, q.L, leftOut);
+  for (size_t k = 0; k < objects.size(); ++k) {
+    const ObjectEdges& o = objects[k];
+    std::vector<EdgeChain> more =
+        edgeChains(q.tracer, o.world, o.near, edgesNearLine(o.world, q.source, q.L, leftOut),
+                   q.source, q.L, leftOut, 1);
+    for (EdgeChain& c : more) c.object = int(k);
+    out.insert(out.end(), more.begin(), more.end());
+  }
+  return out;
+}
+
 /// The indices in `edges` of the edges the paths and the chains use, in order (cleared first).
 void listUsedEdges(const std::vector<EdgePath>& paths, const std::vector<EdgeChain>& chains,
                    const std::vector<DiffractionEdge>& edges, std::vector<uint32_t>& out) {
   out.clear();
   for (const EdgePath& p : paths) out.push_back(uint32_t(p.edge - edges.data()));
   for (const EdgeChain& c : chains)
-    out.insert(out.end(), c.edge.begin(), c.edge.begin() + long(c.n));
+    if (c.object < 0) out.insert(out.end(), c.edge.begin(), c.edge.begin() + long(c.n));
 }
 
 }  // namespace
@@ -480,7 +502,7 @@ double diffractionFrequencyHz(int band, int i) {
   return bandCentreExactHz(band) * std::exp2((i + 0.5) / kDiffractionFrequenciesPerBand - 0.5);
 }
 
-EdgeDiffraction::EdgeDiffraction(const Mesh& mesh)
+EdgeDiffraction::EdgeDiffraction(const Mesh& mesh, const std::vector<ObjectDesc>& objects)
     : surfaces_(flatSurfaces(mesh)),
       bodies_(surfaceBodies(mesh, surfaces_)),
       edges_(candidateEdges(mesh, surfaces_)) {
@@ -488,6 +510,7 @@ EdgeDiffraction::EdgeDiffraction(const Mesh& mesh)
   bodies_.edges = surfaceEdges(bodies_.box.size(), edges_);
   narrow_ = narrowFaces(edges_, bodies_.edges);
   chainNear_ = chainNeighbours(edges_);
+  objects_ = objectEdges(objects);
   // A narrow face of a body too large to be taken away whole (a thick wall's reveal) does not
   // stand free: taken away alone, it opens the body it closes. A small body's narrow faces (a
   // slat's, a box leaf's sides) stay: the body goes whole (engine/surface_bound.h).
@@ -497,6 +520,11 @@ EdgeDiffraction::EdgeDiffraction(const Mesh& mesh)
       if (s < bodies_.extent.size() && largeBody(bodies_, s))
         bodies_.extent[s] = std::numeric_limits<float>::infinity();
     }
+}
+
+void EdgeDiffraction::setObjectPoses(const std::vector<Pose>& poses) {
+  for (size_t k = 0; k < objects_.size() && k < poses.size(); ++k)
+    placeObjectEdges(objects_[k], poses[k]);
 }
 
 size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
@@ -515,11 +543,8 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
   crossLineOfSight(lineOfSight, query);
   direct.chainsLeftOut = 0;
   const std::vector<EdgeChain> chains =
-      lineOfSight ? std::vector<EdgeChain>{}
-                  : edgeChains(tracer, edges_, chainNear_,
-                               chainSeeds(query.crossed, bodies_, edges_, source,
-                                          listener.position, direct.chainsLeftOut),
-                               source, listener.position, direct.chainsLeftOut);
+      lineOfSight ? std::vector<EdgeChain>{} : laidChains(query, objects_, chainNear_,
+                                                          direct.chainsLeftOut);
   findSlits(tracer, source, listener.position, surfaces_, paths, query.closed);
   addChannels(edges_, narrow_, query, paths);
   dropThreadedPaths(query, paths);

@@ -163,16 +163,32 @@ struct NarrowFace {
   std::array<std::vector<uint32_t>, 2> near{};
 };
 
+/// One moving object's edges (engine/object_edges.h): in its own frame, their neighbours for
+/// chains (engine/edge_chain.h chainNeighbours), and in the world at the pose last placed
+/// (surfaces both kMovingObjects: no flat surface of the static mesh).
+struct ObjectEdges {
+  std::vector<DiffractionEdge> local;
+  std::vector<std::vector<uint32_t>> near;
+  std::vector<DiffractionEdge> world;
+};
+
 class EdgeDiffraction {
  public:
-  /// Finds the diffracting edges of the mesh.
-  explicit EdgeDiffraction(const Mesh& mesh);
+  /// Finds the diffracting edges of the mesh, and of each moving object's mesh (placed at its
+  /// first keyframe's pose, as the tracer starts).
+  explicit EdgeDiffraction(const Mesh& mesh, const std::vector<ObjectDesc>& objects = {});
+
+  /// Places object k's edges at poses[k] (the tracer's poses this frame; objects past the
+  /// list keep theirs). Propagation thread, between frames (not while apply() runs);
+  /// allocates only the first time.
+  void setObjectPoses(const std::vector<Pose>& poses);
 
   const std::vector<DiffractionEdge>& edges() const { return edges_; }
 
   /// Replaces `direct` by the direct sound plus every first-order edge and slit path from
   /// source to the listener centre and, with the line of sight blocked, every path round edges
-  /// in series (engine/edge_chain.h; direct.chainsLeftOut counts what its caps left out) (see
+  /// in series (engine/edge_chain.h; a moving object's edges too, one or more: objects have no
+  /// first-order paths; direct.chainsLeftOut counts what its caps left out) (see
   /// the file comment). speedOfSound in m/s, airPerMetre the energy attenuation per metre per
   /// band. Returns the number of edge paths (unoccluded, Q inside its edge, its gap not closed)
   /// and chains used; 0 leaves `direct` as it was. Reentrant: concurrent calls (one per
@@ -181,7 +197,8 @@ class EdgeDiffraction {
   /// toward its edge point Q (a slit path too; a chain toward its first edge); `direct` must
   /// carry its own weight already (Propagator::directSound does). Omni (the default): no
   /// weight. usedEdges, when given, receives the index in edges() of each edge path counted,
-  /// then each chain's edges, in order (cleared first; it allocates only while it grows).
+  /// then each static chain's edges (not a moving object's), in order (cleared first; it
+  /// allocates only while it grows).
   size_t apply(const Tracer& tracer, const glm::vec3& source, const ListenerSphere& listener,
                float speedOfSound, const Bands& airPerMetre, DirectSound& direct,
                const Directivity& directivity = {},
@@ -195,6 +212,7 @@ class EdgeDiffraction {
   std::vector<NarrowFace> narrow_;  ///< faces a channel may run along (engine/channel_path.h)
   /// Per edge, the edges a path round edges in series may take next (engine/edge_chain.h).
   std::vector<std::vector<uint32_t>> chainNear_;
+  std::vector<ObjectEdges> objects_;  ///< per moving object, its edges (engine/object_edges.h)
 };
 
 }  // namespace dpc

@@ -174,6 +174,26 @@ bool chainStands(const Tracer& tracer, const std::vector<DiffractionEdge>& edges
   return true;
 }
 
+/// True when edge e at q faces a surface within kChannelGapMax past it, along either face's
+/// continuation beyond the edge: a moving object's edge closing a gap against the static mesh
+/// (a leaf shut in its frame), whose slit the frame's own edges carry (engine/gap_probe.h).
+/// A ray along the continuation finds a solid's face; short rays across the continuation's
+/// plane, 3 mm to 3 cm out, find a sheet in that plane (a jamb written as one face, which a
+/// ray in its own plane does not meet).
+bool rimInGap(const Tracer& tracer, const DiffractionEdge& e, const glm::vec3& q) {
+  constexpr float kAcross = 0.002f;  // m, either side of the continuation's plane
+  const glm::vec3 face1 = std::cos(e.open) * e.face0 + std::sin(e.open) * e.normal0;
+  for (const glm::vec3& beyond : {-e.face0, -face1}) {
+    if (tracer.occluded(TraceRay{q, beyond, kLegEpsilon, kChannelGapMax})) return true;
+    const glm::vec3 n = glm::normalize(glm::cross(e.direction, beyond));
+    for (float t : {0.003f, 0.01f, 0.02f, kChannelGapMax}) {
+      const glm::vec3 at = q + t * beyond + kAcross * n;
+      if (tracer.occluded(TraceRay{at, -n, 0.f, 2.f * kAcross})) return true;
+    }
+  }
+  return false;
+}
+
 /// A depth-first search for chains: the edges so far (ids, n of them), each one's point level
 /// with the middle of the run along the edges (`mid`: the wedges' angles do not depend on how
 /// far along parallel edges the point lies).
@@ -184,6 +204,7 @@ struct ChainSearch {
   glm::vec3 source, L, d;
   float mid;
   std::vector<EdgeChain> found;
+  size_t minEdges;       // the fewest edges a chain takes (1: a moving object's)
   size_t trials = 0;     // chains whose rays were cast
   uint32_t leftOut = 0;  // chains not tried past kChainTrials
 
@@ -193,7 +214,7 @@ struct ChainSearch {
   void extend(std::array<uint32_t, kChainEdges>& ids, size_t n) {
     const glm::vec3 before = n >= 2 ? at(ids[n - 2]) : source;
     const uint32_t last = ids[n - 1];
-    if (n >= 2 && wrapsRound(edges[last], at(last), before, L)) keep(ids, n);
+    if (n >= minEdges && wrapsRound(edges[last], at(last), before, L)) keep(ids, n);
     if (n == kChainEdges) return;
     for (uint32_t j : near[last]) {
       if (std::find(ids.begin(), ids.begin() + long(n), j) != ids.begin() + long(n)) continue;
@@ -215,6 +236,9 @@ struct ChainSearch {
       return;
     }
     ++trials;
+    if (minEdges == 1)  // a moving object's edges: their gaps are not probed
+      for (size_t i = 0; i < n; ++i)
+        if (rimInGap(tracer, edges[c.edge[i]], c.q[i])) return;
     if (chainStands(tracer, edges, c, p)) found.push_back(c);
   }
 };
@@ -244,6 +268,25 @@ float boxGap(const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& lo, cons
 
 }  // namespace
 
+namespace {
+
+/// The kChainSeeds nearest of `found` (distance, edge), each once; `leftOut` is increased by
+/// the rest.
+std::vector<uint32_t> nearestSeeds(std::vector<std::pair<float, uint32_t>>& found,
+                                   uint32_t& leftOut) {
+  std::sort(found.begin(), found.end());
+  found.erase(std::unique(found.begin(), found.end()), found.end());
+  if (found.size() > kChainSeeds) {
+    leftOut += uint32_t(found.size() - kChainSeeds);
+    found.resize(kChainSeeds);
+  }
+  std::vector<uint32_t> out;
+  for (const auto& [d, i] : found) out.push_back(i);
+  return out;
+}
+
+}  // namespace
+
 std::vector<uint32_t> chainSeeds(const std::vector<uint32_t>& crossed, const SurfaceBodies& bodies,
                                  const std::vector<DiffractionEdge>& edges, const glm::vec3& source,
                                  const glm::vec3& L, uint32_t& leftOut) {
@@ -262,13 +305,18 @@ std::vector<uint32_t> chainSeeds(const std::vector<uint32_t>& crossed, const Sur
       }
     }
   }
-  std::sort(found.begin(), found.end());
-  found.erase(std::unique(found.begin(), found.end()), found.end());
-  leftOut = uint32_t(found.size() > kChainSeeds ? found.size() - kChainSeeds : 0);
-  if (found.size() > kChainSeeds) found.resize(kChainSeeds);
-  std::vector<uint32_t> out;
-  for (const auto& [d, i] : found) out.push_back(i);
-  return out;
+  return nearestSeeds(found, leftOut);
+}
+
+std::vector<uint32_t> edgesNearLine(const std::vector<DiffractionEdge>& edges,
+                                    const glm::vec3& source, const glm::vec3& L,
+                                    uint32_t& leftOut) {
+  std::vector<std::pair<float, uint32_t>> found;
+  for (uint32_t i = 0; i < uint32_t(edges.size()); ++i) {
+    const float d = segmentGap(source, L, edges[i].a, edges[i].b);
+    if (d <= kChainSearch) found.push_back({d, i});
+  }
+  return nearestSeeds(found, leftOut);
 }
 
 std::vector<std::vector<uint32_t>> chainNeighbours(const std::vector<DiffractionEdge>& edges) {
@@ -283,13 +331,13 @@ std::vector<std::vector<uint32_t>> chainNeighbours(const std::vector<Diffraction
 std::vector<EdgeChain> edgeChains(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
                                   const std::vector<std::vector<uint32_t>>& near,
                                   const std::vector<uint32_t>& seeds, const glm::vec3& source,
-                                  const glm::vec3& L, uint32_t& leftOut) {
+                                  const glm::vec3& L, uint32_t& leftOut, size_t minEdges) {
   // The first edge: a seed or a seed's neighbour (a door stop beside the wall's reveal).
   std::vector<uint32_t> firsts = seeds;
   for (uint32_t s : seeds) firsts.insert(firsts.end(), near[s].begin(), near[s].end());
   std::sort(firsts.begin(), firsts.end());
   firsts.erase(std::unique(firsts.begin(), firsts.end()), firsts.end());
-  ChainSearch search{tracer, edges, near, source, L, glm::vec3(0.f), 0.f, {}};
+  ChainSearch search{tracer, edges, near, source, L, glm::vec3(0.f), 0.f, {}, minEdges};
   for (uint32_t f : firsts) {
     search.d = edges[f].direction;
     search.mid = 0.5f * glm::dot(source + L, search.d);

@@ -1,4 +1,4 @@
-// Paths round two to four edges in series: a pillar or a crate between the source and the
+// Paths round two to four edges in series (and round one to four of a moving object's): a pillar or a crate between the source and the
 // listener, a door frame's stop and then the reveal's corner, a thick wall's jamb passed from
 // one side to the other. A first-order edge path (engine/edge_path.h) over either edge has a
 // leg through the other's body, so with the line of sight blocked nothing reached the listener
@@ -59,6 +59,9 @@ struct EdgeChain {
   std::array<glm::vec3, kChainEdges> q{};
   size_t n = 0;
   float length = 0.f;
+  /// The moving object whose edges these are (engine/object_edges.h), scene order; -1: the
+  /// static mesh's.
+  int object = -1;
 };
 
 /// Per edge, the edges parallel to it (kParallelEdges) whose lines pass within kChainReach of
@@ -74,14 +77,23 @@ std::vector<uint32_t> chainSeeds(const std::vector<uint32_t>& crossed, const Sur
                                  const std::vector<DiffractionEdge>& edges, const glm::vec3& source,
                                  const glm::vec3& L, uint32_t& leftOut);
 
+/// The edges within kChainSearch of the segment from source to L, the kChainSeeds nearest;
+/// `leftOut` is increased by how many more there were (a moving object's edges).
+std::vector<uint32_t> edgesNearLine(const std::vector<DiffractionEdge>& edges,
+                                    const glm::vec3& source, const glm::vec3& L,
+                                    uint32_t& leftOut);
+
 /// The chains from source to L (m) laid from `seeds` (indices into edges: the edges of the
 /// bodies the line of sight crosses) or their neighbours `near` (chainNeighbours), each once,
 /// over neighbours. Rays: up to 49 per chain whose geometry stands (its legs, shortcuts and gap
 /// tests), for at most kChainTrials chains; `leftOut` is increased by the chains past that.
+/// minEdges: the fewest edges a chain takes (2: one is a first-order path, UTD's; 1 for a
+/// moving object's edges, which have no first-order paths of their own; then no edge may face
+/// a surface within kChannelGapMax past it: a leaf shut in its frame is the frame's slits').
 std::vector<EdgeChain> edgeChains(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
                                   const std::vector<std::vector<uint32_t>>& near,
                                   const std::vector<uint32_t>& seeds, const glm::vec3& source,
-                                  const glm::vec3& L, uint32_t& leftOut);
+                                  const glm::vec3& L, uint32_t& leftOut, size_t minEdges = 2);
 
 /// Sets p.grazeExcess to the least path-length excess (m) of a detour from first-order path p
 /// (over edges[e], its legs free) round a neighbour of e (`near`, chainNeighbours) that one of

@@ -40,7 +40,8 @@ Simulation::Simulation(const SceneDesc& scene, const PropagationSettings& settin
       size_t(cachePoolMbFor(settings_,
                             scene.sources.size() * std::max<size_t>(1, scene.listeners.size())) *
              1048576.0));
-  if (settings_.diffraction) diffraction_ = std::make_unique<EdgeDiffraction>(scene.mesh);
+  if (settings_.diffraction)
+    diffraction_ = std::make_unique<EdgeDiffraction>(scene.mesh, scene.objects);
   for (const SourceDesc& s : scene.sources) {
     sourcePositions_.push_back(s.position);
     directivities_.push_back(s.directivity);
@@ -164,6 +165,7 @@ void Simulation::applyInputs(const FrameInputs& in) {
       if (specularScene_) specularScene_->setObjectPose(k, poses[k]);
     }
     tracer_->commitPoses();
+    if (diffraction_) diffraction_->setObjectPoses(poses);
     objectsMoved_ = !in.objectPoses.empty();
   }
   directCache_.posesApplied(poses);

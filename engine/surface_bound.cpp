@@ -361,35 +361,33 @@ Bands heldBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
 Bands chainBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
                  const Bands& free, const std::vector<ChainEnergy>& chains, BoundQuery& q) {
   if (coherent.visible || chains.empty() || q.crossed.empty()) return Bands(1e30f);
-  // The small bodies crossed, each taken away whole (a pillar meshed as an open tube too), and
-  // whether a large body's face is crossed too. Moving objects have no edges and no chains
-  // round them: they bound nothing here.
-  std::vector<uint32_t> small, all;
-  bool other = false;
+  // What can be taken away whole: each small body crossed (a pillar meshed as an open tube
+  // too) and the moving objects together; and whether a large body's face is crossed too.
+  std::vector<std::vector<uint32_t>> groups;
+  std::vector<uint32_t> all;
+  bool large = false;
   for (uint32_t s : q.crossed) {
-    if (s >= q.bodies.body.size() || q.bodies.body[s] >= q.bodies.members.size()) continue;
-    if (largeBody(q.bodies, s)) {
-      other = true;
-      continue;
-    }
-    small.push_back(q.bodies.body[s]);
-    const std::vector<uint32_t>& members = q.bodies.members[q.bodies.body[s]];
-    all.insert(all.end(), members.begin(), members.end());
+    std::vector<uint32_t> group;
+    if (s >= q.bodies.body.size())
+      group = {kMovingObjects};
+    else if (q.bodies.body[s] < q.bodies.members.size() && !largeBody(q.bodies, s))
+      group = q.bodies.members[q.bodies.body[s]];
+    large = large || group.empty();
+    if (group.empty() || std::find(groups.begin(), groups.end(), group) != groups.end()) continue;
+    all.insert(all.end(), group.begin(), group.end());
+    groups.push_back(std::move(group));
   }
-  std::sort(small.begin(), small.end());
-  small.erase(std::unique(small.begin(), small.end()), small.end());
   std::sort(all.begin(), all.end());
   all.erase(std::unique(all.begin(), all.end()), all.end());
-  Bands bound = free;
-  if (!other) {  // small bodies alone in the way: at most the scene without them all
-    if (small.empty()) return bound;
+  if (!large) {  // small bodies and objects alone in the way: the scene without them all
+    if (groups.empty()) return free;
     DirectSound open = coherent;
     open.visible = true;
     open.intensity = free;
-    return min(bound, sumWithout(paths, q, all, open));
+    return min(free, sumWithout(paths, q, all, open));
   }
-  for (uint32_t b : small) {
-    const std::vector<uint32_t>& removed = q.bodies.members[b];
+  Bands bound = free;
+  for (const std::vector<uint32_t>& removed : groups) {
     Bands without = sumWithout(paths, q, removed, coherent);
     for (const ChainEnergy& c : chains)
       if (std::none_of(c.surfaces.begin(), c.surfaces.end(), [&](uint32_t s) {

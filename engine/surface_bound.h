@@ -110,18 +110,19 @@ struct ChainEnergy {
 
 /// What the surfaces allow the held sum (heldBound) with the paths round edges in series added
 /// in energy, the line of sight blocked (coherent.visible false) by the surfaces q.crossed: at
-/// most `free` (1/m^2, the unobstructed direct sound); when only small bodies block it (not
-/// largeBody: a leaf, a crate, a pillar; two pillars in a row), at most the scene without them
-/// all (each taken away whole, a pillar meshed as an open tube too), the line of sight free;
-/// when a large body's face is crossed too (a wall with the leaf ajar in its doorway), per
-/// small body at most the sum without that body plus the chains that touch none of its
-/// surfaces. A leaf ajar across a doorway's line of sight is no louder than the open doorway,
-/// whatever its chains round the leaf's free edge give (a barrier's attenuation over the free
-/// field, blind to the doorway's own edges). A large body's faces are not taken away here:
-/// without one face of a wall the chains through its doorway would be left out, and without
-/// the faces a column's line of sight crosses, its side faces' rims would stand in the free
-/// field as two plates. Moving objects (no edges, no chains round them) bound nothing here.
-/// 1e30 in every band where no bound applies.
+/// most `free` (1/m^2, the unobstructed direct sound); when only small bodies (not largeBody:
+/// a leaf, a crate, a pillar; two pillars in a row) and moving objects block it, at most the
+/// scene without them all (each body taken away whole, a pillar meshed as an open tube too),
+/// the line of sight free; when a large body's face is crossed too (a wall with the leaf ajar
+/// in its doorway), per small body and for the moving objects together at most the sum
+/// without them plus the chains that touch none of their surfaces (a moving object's chains
+/// touch kMovingObjects). A leaf ajar across a doorway's line of sight, in the mesh or an
+/// object, is no louder than the open doorway, whatever its chains round the leaf's free edge
+/// give (a barrier's attenuation over the free field, blind to the doorway's own edges). A
+/// large body's faces are not taken away here: without one face of a wall the chains through
+/// its doorway would be left out, and without the faces a column's line of sight crosses, its
+/// side faces' rims would stand in the free field as two plates. 1e30 in every band where no
+/// bound applies.
 Bands chainBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
                  const Bands& free, const std::vector<ChainEnergy>& chains, BoundQuery& q);
 

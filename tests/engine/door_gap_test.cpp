@@ -162,7 +162,7 @@ TEST_CASE("Door gaps: scenes/two_rooms.json's talker is clearly quieter at b wit
   const SceneDesc scene = loadScene(std::string(DPC_SOURCE_DIR) + "/scenes/two_rooms.json");
   Geometry geometry(scene.mesh, scene.materials, scene.propagation.patchSize, scene.objects);
   EmbreeTracer tracer(scene.mesh, scene.objects);
-  const EdgeDiffraction diffraction(scene.mesh);
+  EdgeDiffraction diffraction(scene.mesh, scene.objects);
   Propagator prop(geometry, tracer, scene.propagation);
   const SourceDesc& talker = scene.sources[0];
   const glm::vec3 forward = sourceForward(sourceRotationAt(talker, 0.0));
@@ -170,6 +170,7 @@ TEST_CASE("Door gaps: scenes/two_rooms.json's talker is clearly quieter at b wit
   auto direct = [&](double t) {
     tracer.setObjectPose(0, objectPoseAt(scene.objects[0], t));
     tracer.commitPoses();
+    diffraction.setObjectPoses({objectPoseAt(scene.objects[0], t)});
     DirectSound d = prop.directSound(talker.position, b, talker.directivity, forward);
     diffraction.apply(tracer, talker.position, b, scene.propagation.speedOfSound,
                       prop.airAttenuationPerMetre(), d, talker.directivity, forward);
@@ -208,7 +209,7 @@ TEST_CASE("Door gaps: an obstacle in a window never lifts the direct sound above
   plate.trajectory = {ObjectKeyframe{0.0, {6.f, 0.f, 0.f}, glm::quat(1, 0, 0, 0)}};
   s.objects.push_back(plate);
   EmbreeTracer tracer(s.mesh, s.objects);
-  const EdgeDiffraction diffraction(s.mesh);
+  const EdgeDiffraction diffraction(s.mesh, s.objects);
   const glm::vec3 src{3.f, 0.f, 0.f}, lis{9.f, 0.f, 0.f};
   DirectSound d;  // blocked by the plate
   d.distance = 6.f;

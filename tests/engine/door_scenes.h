@@ -170,7 +170,7 @@ inline SceneDesc doubleDoorScene(float gap, float middle) {
 inline Bands directLevel(const SceneDesc& scene, glm::vec3 source = kSource,
                          glm::vec3 listener = kListener) {
   EmbreeTracer tracer(scene.mesh, scene.objects);
-  const EdgeDiffraction diffraction(scene.mesh);
+  const EdgeDiffraction diffraction(scene.mesh, scene.objects);
   const glm::vec3 v = listener - source;
   const float dist = glm::length(v);
   DirectSound d;

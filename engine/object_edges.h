@@ -1,0 +1,27 @@
+// The moving objects' diffracting edges (a game's crate, vehicle or door leaf as a scene
+// object), for the paths round them (engine/edge_chain.h): each object's candidate edges
+// found once in its own frame (engine/diffraction_edges.h candidateEdges, the object's mesh
+// alone: an object's edges that rest on the floor count as free), and placed at the object's
+// pose each frame. Without them an object across the line of sight silenced the direct sound in
+// every band.
+//
+// Internal to the engine. objectEdges: load time, allocates. placeObjectEdges: propagation
+// thread between frames, allocates only the first time. No errors.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "engine/diffraction.h"
+#include "scene/scene.h"
+
+namespace dpc {
+
+/// Per object (scene order), its edges (ObjectEdges, engine/diffraction.h), placed at its first keyframe's pose (the tracer's
+/// starting pose).
+std::vector<ObjectEdges> objectEdges(const std::vector<ObjectDesc>& objects);
+
+/// Places o's edges at `pose` (position in metres, unit rotation).
+void placeObjectEdges(ObjectEdges& o, const Pose& pose);
+
+}  // namespace dpc

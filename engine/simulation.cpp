@@ -36,10 +36,8 @@ Simulation::Simulation(const SceneDesc& scene, const PropagationSettings& settin
     options.specularFaces = specularScene_->faces().faces();
   }
   propagator_ = std::make_unique<Propagator>(*geometry_, *tracer_, settings_, options);
-  cachePool_ = std::make_unique<CachePool>(
-      size_t(cachePoolMbFor(settings_,
-                            scene.sources.size() * std::max<size_t>(1, scene.listeners.size())) *
-             1048576.0));
+  const size_t pairs = scene.sources.size() * std::max<size_t>(1, scene.listeners.size());
+  cachePool_ = std::make_unique<CachePool>(size_t(cachePoolMbFor(settings_, pairs) * 1048576.0));
   if (settings_.diffraction)
     diffraction_ = std::make_unique<EdgeDiffraction>(scene.mesh, scene.objects);
   for (const SourceDesc& s : scene.sources) {

@@ -28,7 +28,8 @@ namespace dpc {
 inline constexpr float kLitRipple = 1.37f;
 
 /// Stands for every moving object's triangles among the surfaces a segment crosses: objects
-/// have no diffracting edges, and one of them in the way is taken away with the others.
+/// have no first-order edge paths (only chains round them, engine/object_edges.h), and one of
+/// them in the way is taken away with the others.
 inline constexpr uint32_t kMovingObjects = 0xffffffffu;
 
 /// The flat surface of a triangle in the Tracer's numbering (`surfaces`, per mesh

@@ -1,8 +1,8 @@
-// Paths round two to four edges in series (and round one to four of a moving object's): a pillar or a crate between the source and the
-// listener, a door frame's stop and then the reveal's corner, a thick wall's jamb passed from
-// one side to the other. A first-order edge path (engine/edge_path.h) over either edge has a
-// leg through the other's body, so with the line of sight blocked nothing reached the listener
-// at all: a 20 cm column silenced the direct sound in every band.
+// Paths round two to four edges in series (one to four of a moving object's, engine/
+// object_edges.h): a pillar or a crate between the source and the listener, a door frame's stop
+// and then the reveal's corner, a thick wall's jamb passed from one side to the other. A
+// first-order edge path (engine/edge_path.h) over either edge has a leg through the other's
+// body: with the line of sight blocked, these paths are all the direct sound there is.
 //
 // The path: source -> Q1 -> ... -> Qn -> listener (n = 2 to kChainEdges) over parallel edges
 // (kParallelEdges), each Q on its edge, of least length (Fermat: unfolded about the edges it is

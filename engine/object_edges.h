@@ -2,8 +2,7 @@
 // object), for the paths round them (engine/edge_chain.h): each object's candidate edges
 // found once in its own frame (engine/diffraction_edges.h candidateEdges, the object's mesh
 // alone: an object's edges that rest on the floor count as free), and placed at the object's
-// pose each frame. Without them an object across the line of sight silenced the direct sound in
-// every band.
+// pose each frame: the way round an object across the line of sight.
 //
 // Internal to the engine. objectEdges: load time, allocates. placeObjectEdges: propagation
 // thread between frames, allocates only the first time. No errors.

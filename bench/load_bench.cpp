@@ -63,7 +63,7 @@ Json timeLoad(int cells, int panels, int crates) {
   const EmbreeTracer tracer(scene.mesh, scene.objects);
   j["embree_ms"] = msSince(t);
   t = Clock::now();
-  const EdgeDiffraction diffraction(scene.mesh);
+  const EdgeDiffraction diffraction(scene.mesh, scene.objects);
   j["edge_finding_ms"] = msSince(t);
   j["edges"] = diffraction.edges().size();
   j["total_ms"] = j["load_scene_ms"].get<double>() + j["geometry_ms"].get<double>() +

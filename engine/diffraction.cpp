@@ -473,17 +473,22 @@ Bands directIntensity(const std::vector<EdgePath>& paths, const std::vector<Edge
 std::vector<EdgeChain> laidChains(const BoundQuery& q, const std::vector<ObjectEdges>& objects,
                                   const std::vector<std::vector<uint32_t>>& near,
                                   uint32_t& leftOut) {
+  ChainBudget budget;
   std::vector<EdgeChain> out = edgeChains(
       q.tracer, q.edges, near, chainSeeds(q.crossed, q.bodies, q.edges, q.source, q.L, leftOut),
-      q.source, q.L, leftOut);
+      q.source, q.L, budget);
   for (size_t k = 0; k < objects.size(); ++k) {
     const ObjectEdges& o = objects[k];
+    if (!nearLine(o, q.source, q.L)) continue;
+    ChainBudget own;  // an object's own: the static mesh's chains may have spent theirs
     std::vector<EdgeChain> more =
         edgeChains(q.tracer, o.world, o.near, edgesNearLine(o.world, q.source, q.L, leftOut),
-                   q.source, q.L, leftOut, 1);
+                   q.source, q.L, own, 1);
+    leftOut += own.leftOut;
     for (EdgeChain& c : more) c.object = int(k);
     out.insert(out.end(), more.begin(), more.end());
   }
+  leftOut += budget.leftOut;
   return out;
 }
 

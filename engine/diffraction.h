@@ -170,6 +170,8 @@ struct ObjectEdges {
   std::vector<DiffractionEdge> local;
   std::vector<std::vector<uint32_t>> near;
   std::vector<DiffractionEdge> world;
+  glm::vec3 centre{0.f};  ///< of a sphere holding the placed edges (m)
+  float radius = 0.f;     ///< m
 };
 
 class EdgeDiffraction {

@@ -205,8 +205,7 @@ struct ChainSearch {
   float mid;
   std::vector<EdgeChain> found;
   size_t minEdges;       // the fewest edges a chain takes (1: a moving object's)
-  size_t trials = 0;     // chains whose rays were cast
-  uint32_t leftOut = 0;  // chains not tried past kChainTrials
+  ChainBudget& budget;
 
   glm::vec3 at(uint32_t i) const { return pointAlong(edges[i], d, mid); }
 
@@ -231,33 +230,18 @@ struct ChainSearch {
     if (!layChain(edges, ids, n, source, L, c)) return;
     const auto p = chainPoints(c, source, L);
     if (!wrapsAll(edges, c, p)) return;
-    if (trials == kChainTrials) {
-      ++leftOut;
+    if (budget.trials == kChainTrials) {
+      ++budget.leftOut;
       return;
     }
-    ++trials;
+    ++budget.trials;
+    if (!chainStands(tracer, edges, c, p)) return;
     if (minEdges == 1)  // a moving object's edges: their gaps are not probed
       for (size_t i = 0; i < n; ++i)
         if (rimInGap(tracer, edges[c.edge[i]], c.q[i])) return;
-    if (chainStands(tracer, edges, c, p)) found.push_back(c);
+    found.push_back(c);
   }
 };
-
-/// The distance (m) between the segments [p0, p1] and [q0, q1] (closest points by clamped
-/// parameters: C. Ericson, Real-Time Collision Detection, 2005, sec. 5.1.9).
-float segmentGap(const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& q0,
-                 const glm::vec3& q1) {
-  const glm::vec3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
-  const float a = glm::dot(d1, d1), e = glm::dot(d2, d2), f = glm::dot(d2, r);
-  const float c = glm::dot(d1, r), b = glm::dot(d1, d2), denom = a * e - b * b;
-  float s = a > 0.f && denom > 1e-12f * a * e ? std::clamp((b * f - c * e) / denom, 0.f, 1.f) : 0.f;
-  float t = e > 0.f ? (b * s + f) / e : 0.f;
-  if (t < 0.f || t > 1.f) {
-    t = std::clamp(t, 0.f, 1.f);
-    s = a > 0.f ? std::clamp((t * b - c) / a, 0.f, 1.f) : 0.f;
-  }
-  return glm::distance(p0 + s * d1, q0 + t * d2);
-}
 
 /// The distance (m) from the segment [p0, p1] to an axis-aligned box [lo, hi], at least:
 /// from the box's centre less its half diagonal.
@@ -265,10 +249,6 @@ float boxGap(const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& lo, cons
   const glm::vec3 centre = 0.5f * (lo + hi);
   return segmentGap(p0, p1, centre, centre) - 0.5f * glm::distance(lo, hi);
 }
-
-}  // namespace
-
-namespace {
 
 /// The kChainSeeds nearest of `found` (distance, edge), each once; `leftOut` is increased by
 /// the rest.
@@ -286,6 +266,25 @@ std::vector<uint32_t> nearestSeeds(std::vector<std::pair<float, uint32_t>>& foun
 }
 
 }  // namespace
+
+float segmentGap(const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& q0,
+                 const glm::vec3& q1) {
+  constexpr float kPoint = 1e-12f;  // m^2: a segment this short is a point
+  const glm::vec3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const float a = glm::dot(d1, d1), e = glm::dot(d2, d2), f = glm::dot(d2, r);
+  if (a <= kPoint && e <= kPoint) return glm::distance(p0, q0);
+  if (a <= kPoint) return glm::distance(p0, q0 + std::clamp(f / e, 0.f, 1.f) * d2);
+  const float c = glm::dot(d1, r);
+  if (e <= kPoint) return glm::distance(p0 + std::clamp(-c / a, 0.f, 1.f) * d1, q0);
+  const float b = glm::dot(d1, d2), denom = a * e - b * b;
+  float s = denom > 1e-12f * a * e ? std::clamp((b * f - c * e) / denom, 0.f, 1.f) : 0.f;
+  float t = (b * s + f) / e;
+  if (t < 0.f || t > 1.f) {
+    t = std::clamp(t, 0.f, 1.f);
+    s = std::clamp((t * b - c) / a, 0.f, 1.f);
+  }
+  return glm::distance(p0 + s * d1, q0 + t * d2);
+}
 
 std::vector<uint32_t> chainSeeds(const std::vector<uint32_t>& crossed, const SurfaceBodies& bodies,
                                  const std::vector<DiffractionEdge>& edges, const glm::vec3& source,
@@ -331,20 +330,19 @@ std::vector<std::vector<uint32_t>> chainNeighbours(const std::vector<Diffraction
 std::vector<EdgeChain> edgeChains(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
                                   const std::vector<std::vector<uint32_t>>& near,
                                   const std::vector<uint32_t>& seeds, const glm::vec3& source,
-                                  const glm::vec3& L, uint32_t& leftOut, size_t minEdges) {
+                                  const glm::vec3& L, ChainBudget& budget, size_t minEdges) {
   // The first edge: a seed or a seed's neighbour (a door stop beside the wall's reveal).
   std::vector<uint32_t> firsts = seeds;
   for (uint32_t s : seeds) firsts.insert(firsts.end(), near[s].begin(), near[s].end());
   std::sort(firsts.begin(), firsts.end());
   firsts.erase(std::unique(firsts.begin(), firsts.end()), firsts.end());
-  ChainSearch search{tracer, edges, near, source, L, glm::vec3(0.f), 0.f, {}, minEdges};
+  ChainSearch search{tracer, edges, near, source, L, glm::vec3(0.f), 0.f, {}, minEdges, budget};
   for (uint32_t f : firsts) {
     search.d = edges[f].direction;
     search.mid = 0.5f * glm::dot(source + L, search.d);
     std::array<uint32_t, kChainEdges> ids{f, 0, 0, 0};
     search.extend(ids, 1);
   }
-  leftOut += search.leftOut;
   return std::move(search.found);
 }
 

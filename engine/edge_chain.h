@@ -46,7 +46,8 @@ inline constexpr size_t kChainNeighbours = 8;
 /// The most edges in one chain.
 inline constexpr size_t kChainEdges = 4;
 /// m: how far from the line of sight the edges a chain is laid from lie, and the most of them
-/// per query (the nearest); and the most chains per query whose rays are cast (the first met).
+/// per query (the nearest); and the most chains whose rays are cast (the first met) per query
+/// over the static mesh and over each moving object near the line of sight (ChainBudget).
 /// What the caps leave out is counted (DirectSound::chainsLeftOut). A pillar takes 2 chains, a
 /// door frame's stop a few, slatted shelving or a grid of posts a few dozen.
 inline constexpr float kChainSearch = 2.f;
@@ -63,6 +64,18 @@ struct EdgeChain {
   /// static mesh's.
   int object = -1;
 };
+
+/// The chains whose rays were cast (at most kChainTrials per query over the static mesh, and
+/// as many over each moving object near the line of sight) and those left out past that.
+struct ChainBudget {
+  size_t trials = 0;
+  uint32_t leftOut = 0;
+};
+
+/// The distance (m) between the segments [p0, p1] and [q0, q1] (closest points by clamped
+/// parameters: C. Ericson, Real-Time Collision Detection, 2005, sec. 5.1.9). Any thread.
+float segmentGap(const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& q0,
+                 const glm::vec3& q1);
 
 /// Per edge, the edges parallel to it (kParallelEdges) whose lines pass within kChainReach of
 /// its line beside it, overlapping it along its length: the kChainNeighbours nearest, nearest
@@ -86,14 +99,14 @@ std::vector<uint32_t> edgesNearLine(const std::vector<DiffractionEdge>& edges,
 /// The chains from source to L (m) laid from `seeds` (indices into edges: the edges of the
 /// bodies the line of sight crosses) or their neighbours `near` (chainNeighbours), each once,
 /// over neighbours. Rays: up to 49 per chain whose geometry stands (its legs, shortcuts and gap
-/// tests), for at most kChainTrials chains; `leftOut` is increased by the chains past that.
+/// tests), while `budget` allows (kChainTrials a query; what it leaves out is counted there).
 /// minEdges: the fewest edges a chain takes (2: one is a first-order path, UTD's; 1 for a
 /// moving object's edges, which have no first-order paths of their own; then no edge may face
 /// a surface within kChannelGapMax past it: a leaf shut in its frame is the frame's slits').
 std::vector<EdgeChain> edgeChains(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
                                   const std::vector<std::vector<uint32_t>>& near,
                                   const std::vector<uint32_t>& seeds, const glm::vec3& source,
-                                  const glm::vec3& L, uint32_t& leftOut, size_t minEdges = 2);
+                                  const glm::vec3& L, ChainBudget& budget, size_t minEdges = 2);
 
 /// Sets p.grazeExcess to the least path-length excess (m) of a detour from first-order path p
 /// (over edges[e], its legs free) round a neighbour of e (`near`, chainNeighbours) that one of

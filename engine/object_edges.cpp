@@ -1,5 +1,7 @@
 #include "engine/object_edges.h"
 
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 
 #include "engine/diffraction_edges.h"
@@ -34,6 +36,18 @@ void placeObjectEdges(ObjectEdges& o, const Pose& pose) {
     w.normal0 = pose.rotation * l.normal0;
     w.surfaces = {kMovingObjects, kMovingObjects};
   }
+  glm::vec3 lo(1e30f), hi(-1e30f);
+  for (const DiffractionEdge& w : o.world) {
+    lo = glm::min(lo, glm::min(w.a, w.b));
+    hi = glm::max(hi, glm::max(w.a, w.b));
+  }
+  o.centre = o.world.empty() ? glm::vec3(0.f) : 0.5f * (lo + hi);
+  o.radius = o.world.empty() ? 0.f : 0.5f * glm::distance(lo, hi);
+}
+
+bool nearLine(const ObjectEdges& o, const glm::vec3& source, const glm::vec3& L) {
+  return !o.world.empty() &&
+         segmentGap(source, L, o.centre, o.centre) - o.radius <= kChainSearch;
 }
 
 }  // namespace dpc

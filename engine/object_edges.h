@@ -8,7 +8,6 @@
 // thread between frames, allocates only the first time. No errors.
 #pragma once
 
-#include <cstdint>
 #include <vector>
 
 #include "engine/diffraction.h"
@@ -16,11 +15,15 @@
 
 namespace dpc {
 
-/// Per object (scene order), its edges (ObjectEdges, engine/diffraction.h), placed at its first keyframe's pose (the tracer's
-/// starting pose).
+/// Per object (scene order), its edges (ObjectEdges, engine/diffraction.h), placed at its first
+/// keyframe's pose (the tracer's starting pose).
 std::vector<ObjectEdges> objectEdges(const std::vector<ObjectDesc>& objects);
 
-/// Places o's edges at `pose` (position in metres, unit rotation).
+/// Places o's edges at `pose` (position in metres, unit rotation), and the sphere round them.
 void placeObjectEdges(ObjectEdges& o, const Pose& pose);
+
+/// True when o's placed edges may lie within kChainSearch of the segment from source to L (m):
+/// its sphere does. Any thread.
+bool nearLine(const ObjectEdges& o, const glm::vec3& source, const glm::vec3& L);
 
 }  // namespace dpc

@@ -358,29 +358,48 @@ Bands heldBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
   return min(bound, slitBound(paths, coherent, *throughSlit, q));
 }
 
+namespace {
+
+/// What chainBound takes away whole: each small body q.crossed holds (a pillar meshed as an
+/// open tube too) and the moving objects together, crossed or carrying a chain (a leaf ajar
+/// beside the line of sight, in a partition's doorway); `large`: a large body's face is
+/// crossed too.
+std::vector<std::vector<uint32_t>> chainGroups(const BoundQuery& q,
+                                               const std::vector<ChainEnergy>& chains,
+                                               bool& large) {
+  std::vector<std::vector<uint32_t>> groups;
+  large = false;
+  auto add = [&](std::vector<uint32_t> group) {
+    if (std::find(groups.begin(), groups.end(), group) == groups.end())
+      groups.push_back(std::move(group));
+  };
+  for (uint32_t s : q.crossed) {
+    if (s >= q.bodies.body.size())
+      add({kMovingObjects});
+    else if (q.bodies.body[s] < q.bodies.members.size() && !largeBody(q.bodies, s))
+      add(q.bodies.members[q.bodies.body[s]]);
+    else
+      large = true;
+  }
+  for (const ChainEnergy& c : chains)
+    if (std::find(c.surfaces.begin(), c.surfaces.end(), kMovingObjects) != c.surfaces.end())
+      add({kMovingObjects});
+  return groups;
+}
+
+}  // namespace
+
 Bands chainBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
                  const Bands& free, const std::vector<ChainEnergy>& chains, BoundQuery& q) {
   if (coherent.visible || chains.empty() || q.crossed.empty()) return Bands(1e30f);
-  // What can be taken away whole: each small body crossed (a pillar meshed as an open tube
-  // too) and the moving objects together; and whether a large body's face is crossed too.
-  std::vector<std::vector<uint32_t>> groups;
-  std::vector<uint32_t> all;
   bool large = false;
-  for (uint32_t s : q.crossed) {
-    std::vector<uint32_t> group;
-    if (s >= q.bodies.body.size())
-      group = {kMovingObjects};
-    else if (q.bodies.body[s] < q.bodies.members.size() && !largeBody(q.bodies, s))
-      group = q.bodies.members[q.bodies.body[s]];
-    large = large || group.empty();
-    if (group.empty() || std::find(groups.begin(), groups.end(), group) != groups.end()) continue;
-    all.insert(all.end(), group.begin(), group.end());
-    groups.push_back(std::move(group));
-  }
-  std::sort(all.begin(), all.end());
-  all.erase(std::unique(all.begin(), all.end()), all.end());
+  const std::vector<std::vector<uint32_t>> groups = chainGroups(q, chains, large);
   if (!large) {  // small bodies and objects alone in the way: the scene without them all
     if (groups.empty()) return free;
+    std::vector<uint32_t> all;
+    for (const std::vector<uint32_t>& g : groups) all.insert(all.end(), g.begin(), g.end());
+    std::sort(all.begin(), all.end());
+    all.erase(std::unique(all.begin(), all.end()), all.end());
     DirectSound open = coherent;
     open.visible = true;
     open.intensity = free;

@@ -126,7 +126,8 @@ TEST_CASE("Door gaps: a box leaf in a thick wall seen off the axis with or witho
 
 TEST_CASE("Door gaps: a box leaf that is a moving object passes its gaps as a static one does",
           "[diffraction][door]") {
-  // Games move their doors: the leaf is a scene object, whose own edges do not diffract, so the
+  // Games move their doors: the leaf is a scene object, whose own edges have no first-order
+  // paths (their rims face the frame within 3 cm, so no chain goes round them either), so the
   // channels along its side faces are not there. The gap then runs along the wall's reveal
   // (0.2 m), which is a channel too; the probe finds the leaf across it and where the leaf
   // stands along it, and the slit is taken there, as deep as the leaf (engine/gap_probe.h,

@@ -191,8 +191,8 @@ TEST_CASE("Door gaps: scenes/two_rooms.json's talker is clearly quieter at b wit
 
 TEST_CASE("Door gaps: an obstacle in a window never lifts the direct sound above the free field",
           "[diffraction][door]") {
-  // A 1 m square window in a free-standing wall (four rims), a 10 cm plate in its middle (an
-  // object: no edges of its own) blocking the line of sight. The four rims see the listener
+  // A 1 m square window in a free-standing wall (four rims), a 10 cm plate in its middle (a
+  // moving object, chains round its rims only) blocking the line of sight. The four rims see the listener
   // on their lit side; near their shadow boundaries each one's UTD field is about minus half
   // the incident one, which sum to more than the free field at low frequencies. With the line
   // of sight blocked the result is held at the free field.

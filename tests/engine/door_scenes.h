@@ -128,7 +128,7 @@ inline SceneDesc stoppedLeafScene(float depth, float gap, float thickness, float
 }
 
 /// recessedLeafScene's box leaf as a scene object (a game's door, moved by its trajectory; its
-/// own edges do not diffract), at rest closed.
+/// own edges have no first-order paths), at rest closed.
 inline SceneDesc objectLeafScene(float depth, float gap, float thickness, float x) {
   SceneDesc s = thickDoorwayScene(depth, false);
   ObjectDesc door;

@@ -140,7 +140,7 @@ TEST_CASE("An object between source and listener occludes the direct sound", "[d
   // passes is the way round its four edges (engine/object_edges.h), each path 0.33 m longer
   // than the line of sight, a Fresnel number N = 2 delta / lambda of 1.9 at 1 kHz (13-16 dB
   // for one edge by Maekawa and ISO 9613-2). On the axis the four arrive in phase (the bright
-  // spot behind a symmetric obstacle: -4 dB for four such edges), so at least 3 dB down.
+  // spot behind a symmetric obstacle: -4 dB for four such edges), so 3 to 6 dB down.
   // Slid off the line of sight: the free field. Turned back across: down again.
   SceneDesc s = test::makeShoebox({10, 4, 4}, Bands(0.3f), 0.5f, {2, 2, 2}, {8, 2, 2}, 0.3f);
   s.propagation.raysPerFrame = 16;
@@ -158,7 +158,7 @@ TEST_CASE("An object between source and listener occludes the direct sound", "[d
     return 10.0 * std::log10(double(sim.result(0).direct.intensity[4]) / free);
   };
   sim.runFrame(s.listeners[0].position);
-  CHECK(level() < -3.0);
+  CHECK((level() < -3.0 && level() > -6.0));
   // Slid sideways (z in [2.5, 4.5]): the line of sight at z = 2 is free.
   runWithPoses(sim, s.listeners[0].position, {Pose{{5, 2, 3.5f}, glm::quat(1, 0, 0, 0)}});
   CHECK(sim.result(0).direct.visible);
@@ -167,7 +167,32 @@ TEST_CASE("An object between source and listener occludes the direct sound", "[d
   // square, so it must block again once returned to z = 2.
   runWithPoses(sim, s.listeners[0].position,
                {Pose{{5, 2, 2}, glm::angleAxis(float(kPi / 2), glm::vec3(1, 0, 0))}});
-  CHECK(level() < -3.0);
+  CHECK((level() < -3.0 && level() > -6.0));
+}
+
+TEST_CASE("A moving object's diffracting edges follow its pose", "[dynamic]") {
+  // A 0.6 m crate starts beside the line of sight and is moved across it: the direct sound then
+  // is what passes round the crate's edges at its new pose, the same as a simulation built
+  // with the crate there from the start (bit for bit: the same geometry).
+  SceneDesc s = test::makeShoebox({10, 4, 4}, Bands(0.3f), 0.5f, {2, 2, 2}, {8, 2, 2}, 0.3f);
+  s.propagation.raysPerFrame = 16;
+  ObjectDesc crate;
+  crate.name = "crate";
+  test::addSolidBox(crate.mesh, {-0.3f, -2.f, -0.3f}, {0.3f, 2.f, 0.3f}, 0);
+  crate.trajectory = {ObjectKeyframe{0.0, glm::vec3(5.f, 2.f, 3.5f), glm::quat(1, 0, 0, 0)}};
+  s.objects.push_back(crate);
+  Simulation moved(s);
+  moved.runFrame(s.listeners[0].position);
+  const Pose across{{5.f, 2.f, 2.f}, glm::quat(1, 0, 0, 0)};
+  runWithPoses(moved, s.listeners[0].position, {across});
+  s.objects[0].trajectory[0].position = across.position;
+  Simulation there(s);
+  there.runFrame(s.listeners[0].position);
+  const Bands a = moved.result(0).direct.intensity, b = there.result(0).direct.intensity;
+  for (int band = 0; band < kNumBands; ++band) {
+    CHECK(a[band] == b[band]);
+    CHECK(a[band] > 0.f);
+  }
 }
 
 TEST_CASE("A door closing and opening is answered within tau by the window estimator",

@@ -143,10 +143,10 @@ TEST_CASE("Edge chains: two pillars in a row, and a pillar with a moving object 
           "[diffraction][chain]") {
   // Two 0.3 m pillars on the line of sight 0.5 m apart: the way round takes four corners. A
   // bound that took one pillar away with the other still in the way (and no chain round it)
-  // silenced them. A moving object in the way besides (objects have no edges: no chain goes
-  // round it) clear of the pillar's chains took the pillar's chains with it. Both small
-  // bodies a wavelength and less across at 63-125 Hz: within 1.5 dB of the free field there
-  // (FDTD, one pillar 0.5 m: 0.1 dB).
+  // silenced them. A 10 cm moving post in the way besides, clear of the pillar's chains: the
+  // moving objects and the pillar are taken away together for the bound. Both small bodies a
+  // wavelength and less across at 63-125 Hz: within 1.5 dB of the free field there (FDTD,
+  // one pillar 0.5 m: 0.1 dB).
   SceneDesc two = pillarScene(0.3f);
   two.mesh = test::makeShoebox({12, 3, 5}, Bands(0.2f), 0.3f, kSource, kListener, 0.5f).mesh;
   for (float x : {5.6f, 6.4f})
@@ -183,6 +183,18 @@ TEST_CASE("Edge chains: the standards' screen formulas at their limits", "[diffr
   CHECK(grazingAmplitude(edge * 1.001, 1e6, lambda) == 1.0);
   CHECK(grazingAmplitude(-1.0, 1.0, lambda) == 1.0);
   CHECK(grazingAmplitude(0.0, 1e-3, 10.0) == Approx(1.0).margin(1e-3));  // edges as one
+}
+
+TEST_CASE("Edge chains: the distance between two segments, points included", "[chain]") {
+  // Chains are laid from the edges within 2 m of the line of sight, and a body's or an
+  // object's sphere is tried first as a point: measured by hand here.
+  const glm::vec3 o{0.f}, x{4.f, 0.f, 0.f};
+  CHECK(segmentGap(o, x, {2.f, 3.f, 0.f}, {2.f, 3.f, 0.f}) == Approx(3.f));   // point, middle
+  CHECK(segmentGap(o, x, {6.f, 3.f, 0.f}, {6.f, 3.f, 0.f}) == Approx(std::sqrt(13.f)));
+  CHECK(segmentGap({2.f, 3.f, 0.f}, {2.f, 3.f, 0.f}, o, x) == Approx(3.f));   // either way
+  CHECK(segmentGap(o, x, {1.f, 1.f, -1.f}, {1.f, 1.f, 1.f}) == Approx(1.f));  // crossing
+  CHECK(segmentGap(o, x, {0.f, 2.f, 0.f}, {4.f, 2.f, 0.f}) == Approx(2.f));   // parallel
+  CHECK(segmentGap(o, o, x, x) == Approx(4.f));                               // two points
 }
 
 TEST_CASE("Edge chains: a row of posts hits the seed cap, which is counted",
@@ -235,7 +247,9 @@ TEST_CASE("Edge chains: a moving leaf ajar across the line of sight is no louder
   // the line of sight: the way round its free rim is a chain of one object edge; its other
   // rims face the frame within 3 cm and carry nothing of their own (the frame's slits do).
   // Held at the scene without the object, the open doorway (0.01 dB: single-precision
-  // geometry), and not silent (before: the free rim passed nothing, only the frame's edges).
+  // geometry); at 63 Hz, where a 1 m leaf is a fifth of a wavelength, within 1.5 dB of it (as
+  // the same leaf in the mesh, doorway_test: 0.0 dB; the frame's edges alone read 3.8-9.7 dB
+  // below it).
   const Bands open = decibels(directLevel(doorScene(0.f, Leaf::kNone)));
   for (float degrees : {10.f, 20.f, 45.f}) {
     SceneDesc s = doorScene(0.f, Leaf::kNone);
@@ -254,6 +268,6 @@ TEST_CASE("Edge chains: a moving leaf ajar across the line of sight is no louder
       INFO(degrees << " degrees, band " << b);
       CHECK(level[b] <= open[b] + 0.01f);
     }
-    CHECK(level[0] > -20.f);
+    CHECK(level[0] > open[0] - 1.5f);
   }
 }

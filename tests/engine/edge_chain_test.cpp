@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
+#include <string>
 #include <glm/gtc/quaternion.hpp>
 #include <utility>
 #include <vector>
@@ -14,6 +15,7 @@
 #include "engine/barrier.h"
 #include "engine/diffraction.h"
 #include "engine/embree_tracer.h"
+#include "scene/scene.h"
 #include "testing/test_scenes.h"
 #include "tests/engine/door_scenes.h"
 
@@ -269,5 +271,46 @@ TEST_CASE("Edge chains: a moving leaf ajar across the line of sight is no louder
       CHECK(level[b] <= open[b] + 0.01f);
     }
     CHECK(level[0] > open[0] - 1.5f);
+  }
+}
+
+TEST_CASE("Edge chains: scenes/two_rooms.json's leaf swung open is never louder than no leaf",
+          "[diffraction][chain][door]") {
+  // The shipped scene's door (an object, hinged at (6, 0, 3.5)) swung 5-60 degrees into room
+  // B, talker to listener b, whose line of sight the partition blocks, not the leaf: the chain
+  // round the leaf's free rim is held at the scene without the objects, the open doorway
+  // (0.01 dB: single-precision geometry). Held only at the free field, 45-60 degrees read
+  // 1.5-2 dB above the open doorway at 63 Hz.
+  SceneDesc scene = loadScene(std::string(DPC_SOURCE_DIR) + "/scenes/two_rooms.json");
+  const SourceDesc& talker = scene.sources[0];
+  const ListenerSphere b{scene.listeners[1].position, scene.listeners[1].radius};
+  auto level = [&](const Pose* pose) {
+    SceneDesc s = scene;
+    if (!pose) s.objects.clear();
+    EmbreeTracer tracer(s.mesh, s.objects);
+    EdgeDiffraction diffraction(s.mesh, s.objects);
+    if (pose) {
+      tracer.setObjectPose(0, *pose);
+      tracer.commitPoses();
+      diffraction.setObjectPoses({*pose});
+    }
+    const glm::vec3 v = b.position - talker.position;
+    DirectSound d;
+    d.distance = glm::length(v);
+    d.visible = !tracer.occluded(TraceRay{talker.position, v / d.distance, 1e-3f, d.distance});
+    diffraction.apply(tracer, talker.position, b, kC, Bands(0.f), d);
+    return decibels(d.intensity);
+  };
+  const Bands none = level(nullptr);
+  for (float degrees : {5.f, 10.f, 20.f, 30.f, 45.f, 60.f}) {
+    const Pose pose{{6.f, 0.f, 3.5f}, glm::angleAxis(glm::radians(degrees), glm::vec3(0, 1, 0))};
+    const Bands swung = level(&pose);
+    char label[48];
+    std::snprintf(label, sizeof label, "two_rooms leaf %2.0f deg - none", double(degrees));
+    print(label, swung - none);
+    for (int band = 0; band < kNumBands; ++band) {
+      INFO(degrees << " degrees, band " << band);
+      CHECK(swung[band] <= none[band] + 0.01f);
+    }
   }
 }

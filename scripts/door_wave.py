@@ -36,8 +36,6 @@ of minutes).
 Usage: /usr/bin/python3 scripts/door_wave.py [--build build] [--json docs/data/door-wave.json]
            [--plot docs/images/door-wave.png] [--engine-only] [--check]
 """
-import argparse
-import json
 import math
 import os
 import sys
@@ -149,27 +147,9 @@ def plot(results, path):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
-    ap.add_argument('--build', default=os.path.join(ROOT, 'build'))
-    ap.add_argument('--json', default=os.path.join(ROOT, 'docs', 'data', 'door-wave.json'))
-    ap.add_argument('--plot', help='write the figure here (PNG)')
-    ap.add_argument('--engine-only', action='store_true',
-                    help="take the FDTD levels from --json's file instead of simulating")
-    ap.add_argument('--check', action='store_true', help='fail unless the axis cells hold')
-    args = ap.parse_args()
-    stored = None
-    if args.engine_only:
-        try:
-            with open(args.json) as f:
-                stored = json.load(f)
-            missing = [name_of(a) for a in ANGLES if name_of(a) not in stored]
-        except (OSError, ValueError) as e:
-            sys.exit('door_wave: %s: cannot read the stored FDTD levels (%s)' % (args.json, e))
-        if missing:
-            sys.exit('door_wave: %s: no FDTD levels for %s' % (args.json, ', '.join(missing)))
-    demo = os.path.join(args.build, 'apps', 'dpc-demo')
-    if not os.access(demo, os.X_OK):
-        sys.exit('door_wave: --build %s: no dpc-demo in apps/' % args.build)
+    args = wc.parse_args(__doc__.split('\n')[0], 'door-wave', 'fail unless the axis cells hold')
+    stored = (wc.stored_levels(args.json, [name_of(a) for a in ANGLES], 'door_wave')
+              if args.engine_only else None)
     results = {}
     with tempfile.TemporaryDirectory() as tmp:
         for angle in ANGLES:

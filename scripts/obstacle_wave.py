@@ -27,8 +27,6 @@ Usage: /usr/bin/python3 scripts/obstacle_wave.py [--build build]
            [--json docs/data/obstacle-wave.json] [--plot docs/images/obstacle-wave.png]
            [--engine-only] [--check]
 """
-import argparse
-import json
 import os
 import sys
 import tempfile
@@ -133,26 +131,9 @@ def plot(results, path):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
-    ap.add_argument('--build', default=os.path.join(ROOT, 'build'))
-    ap.add_argument('--json', default=os.path.join(ROOT, 'docs', 'data', 'obstacle-wave.json'))
-    ap.add_argument('--plot', help='write the figure here (PNG)')
-    ap.add_argument('--engine-only', action='store_true',
-                    help="take the FDTD levels from --json's file instead of simulating")
-    ap.add_argument('--check', action='store_true', help='fail unless every cell holds')
-    args = ap.parse_args()
-    stored = None
-    if args.engine_only:
-        try:
-            with open(args.json) as f:
-                stored = json.load(f)
-            missing = [n for n in CONFIGS if n not in stored]
-        except (OSError, ValueError) as e:
-            sys.exit('obstacle_wave: %s: cannot read the stored FDTD levels (%s)' % (args.json, e))
-        if missing:
-            sys.exit('obstacle_wave: %s: no FDTD levels for %s' % (args.json, ', '.join(missing)))
-    if not os.access(os.path.join(args.build, 'apps', 'dpc-demo'), os.X_OK):
-        sys.exit('obstacle_wave: --build %s: no dpc-demo in apps/' % args.build)
+    args = wc.parse_args(__doc__.split('\n')[0], 'obstacle-wave', 'fail unless every cell holds')
+    stored = (wc.stored_levels(args.json, list(CONFIGS), 'obstacle_wave')
+              if args.engine_only else None)
     results = {}
     with tempfile.TemporaryDirectory() as tmp:
         for n, (name, make) in enumerate(CONFIGS.items()):

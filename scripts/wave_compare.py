@@ -11,6 +11,7 @@ Per receiver and octave:
           every energy-response bin before the window's end (the exact and the traced
           reflections), over the free field: energies summed, as the IR carries them
 """
+import argparse
 import json
 import math
 import os
@@ -116,3 +117,33 @@ def write_json(results, path):
     with open(partial, 'w') as f:
         json.dump(results, f, indent=1)
     os.replace(partial, path)
+
+
+def parse_args(description, tool, check_help):
+    """The command line both comparisons take: --build, --json (docs/data/<tool>.json),
+    --plot, --engine-only and --check."""
+    ap = argparse.ArgumentParser(description=description)
+    ap.add_argument('--build', default=os.path.join(ROOT, 'build'))
+    ap.add_argument('--json', default=os.path.join(ROOT, 'docs', 'data', tool + '.json'))
+    ap.add_argument('--plot', help='write the figure here (PNG)')
+    ap.add_argument('--engine-only', action='store_true',
+                    help="take the FDTD levels from --json's file instead of simulating")
+    ap.add_argument('--check', action='store_true', help=check_help)
+    args = ap.parse_args()
+    if not os.access(os.path.join(args.build, 'apps', 'dpc-demo'), os.X_OK):
+        sys.exit('%s: --build %s: no dpc-demo in apps/' % (tool.replace('-', '_'), args.build))
+    return args
+
+
+def stored_levels(path, names, tool):
+    """The FDTD levels stored in `path` (a previous run's --json), which must hold every
+    configuration in `names`; exits with one line naming the file otherwise."""
+    try:
+        with open(path) as f:
+            stored = json.load(f)
+        missing = [n for n in names if n not in stored]
+    except (OSError, ValueError) as e:
+        sys.exit('%s: %s: cannot read the stored FDTD levels (%s)' % (tool, path, e))
+    if missing:
+        sys.exit('%s: %s: no FDTD levels for %s' % (tool, path, ', '.join(missing)))
+    return stored

@@ -20,6 +20,7 @@
 #include "engine/gap_probe.h"
 #include "engine/object_edges.h"
 #include "engine/slit.h"
+#include "engine/small_bodies.h"
 #include "engine/surface_bound.h"
 
 namespace dpc {
@@ -462,8 +463,9 @@ Bands directIntensity(const std::vector<EdgePath>& paths, const std::vector<Edge
   Bands sum = coherentIntensity(paths, coherent, throughSlit, q.speedOfSound, q.airPerMetre,
                                 leavingWeights(paths, q.directivity, q.forward));
   sum = min(sum, heldBound(paths, coherent, throughSlit, free, sum, q));
-  if (coherent.visible) return sum;
-  sum = withChains(paths, chains, coherent, direct, free, sum, q);
+  if (coherent.visible) return max(sum, q.smallFloor);
+  sum = max(withChains(paths, chains, coherent, direct, free, sum, q),
+            thinBodiesFloor(paths, coherent, free, q));
   return min(sum + (direct.visible ? direct.intensity : Bands(0.f)), free);
 }
 

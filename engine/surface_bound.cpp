@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <limits>
 #include <numbers>
 #include <utility>
 
 #include "engine/coherent_sum.h"
+#include "engine/small_bodies.h"
 
 namespace dpc {
 
@@ -41,6 +43,31 @@ bool meetsBox(const TraceRay& ray, const std::pair<glm::vec3, glm::vec3>& box) {
     if (t0 > t1) return false;
   }
   return true;
+}
+
+/// The boxes round the surfaces (sorted) body by body (SurfaceBodies::body): many small
+/// bodies far apart (a hall's seats) leave most legs between their boxes. One box round them
+/// all where a surface has no body (the moving objects).
+std::vector<std::pair<glm::vec3, glm::vec3>> bodyBoxes(const std::vector<uint32_t>& surfaces,
+                                                       const SurfaceBodies& bodies) {
+  std::vector<std::pair<uint32_t, uint32_t>> byBody;  // (body, surface)
+  for (uint32_t s : surfaces) {
+    if (s >= bodies.body.size()) return {boxOfSurfaces(surfaces, bodies)};
+    byBody.push_back({bodies.body[s], s});
+  }
+  std::sort(byBody.begin(), byBody.end());
+  std::vector<std::pair<glm::vec3, glm::vec3>> boxes;
+  for (size_t i = 0; i < byBody.size();) {
+    std::pair<glm::vec3, glm::vec3> box{glm::vec3(1e30f), glm::vec3(-1e30f)};
+    size_t j = i;
+    for (; j < byBody.size() && byBody[j].first == byBody[i].first; ++j) {
+      box.first = glm::min(box.first, bodies.box[byBody[j].second].first);
+      box.second = glm::max(box.second, bodies.box[byBody[j].second].second);
+    }
+    boxes.push_back(box);
+    i = j;
+  }
+  return boxes;
 }
 
 /// Edge e with its face on a removed surface taken away: the free rim (a half-plane) of the
@@ -87,11 +114,8 @@ void addRims(BoundQuery& q, const std::vector<uint32_t>& removed, bool lineOfSig
   }
 }
 
-/// The paths as they would be with the surfaces in `removed` (sorted) taken away: the edges
-/// of their faces dropped, an edge whose other face stays made its rim (addRims); the paths
-/// they alone hid, and those whose gap they alone closed, restored; the gaps they closed opened
-/// (free edges); the slits' owners, the reveals and the terms (for a line of sight free or not) set
-/// again.
+}  // namespace
+
 std::vector<EdgePath> pathsWithout(const std::vector<EdgePath>& paths, BoundQuery& q,
                                    const std::vector<uint32_t>& removed, bool lineOfSight) {
   auto gone = [&](uint32_t s) { return std::binary_search(removed.begin(), removed.end(), s); };
@@ -105,10 +129,16 @@ std::vector<EdgePath> pathsWithout(const std::vector<EdgePath>& paths, BoundQuer
   for (const EdgePath& p : q.closed)
     if (!edgeGone(p) && gone(p.gapCloser)) kept.push_back(p);
   const auto box = boxOfSurfaces(removed, q.bodies);  // a hider lies in it
+  const std::vector<std::pair<glm::vec3, glm::vec3>> boxes = bodyBoxes(removed, q.bodies);
+  auto meets = [&](const TraceRay& leg) {
+    return meetsBox(leg, box) && std::any_of(boxes.begin(), boxes.end(), [&](const auto& b) {
+             return meetsBox(leg, b);
+           });
+  };
   for (HiddenPath& h : q.hidden) {
     if (edgeGone(h.path)) continue;
     const auto legs = legRays(q.source, q.L, h.path);
-    if (!meetsBox(legs[0], box) && !meetsBox(legs[1], box)) continue;
+    if (!meets(legs[0]) && !meets(legs[1])) continue;
     if (hidersKnown(h, q) && std::all_of(h.by.begin(), h.by.end(), gone)) kept.push_back(h.path);
   }
   addRims(q, removed, lineOfSight, kept);
@@ -122,16 +152,15 @@ std::vector<EdgePath> pathsWithout(const std::vector<EdgePath>& paths, BoundQuer
   return kept;
 }
 
-/// The coherent sum with the surfaces `removed` taken away (pathsWithout) and the direct sound
-/// d (through a slit the line of sight still passes, if any), in the first `bands` bands.
 Bands sumWithout(const std::vector<EdgePath>& paths, BoundQuery& q,
-                 const std::vector<uint32_t>& removed, const DirectSound& d,
-                 int bands = kNumBands) {
+                 const std::vector<uint32_t>& removed, const DirectSound& d, int bands) {
   const std::vector<EdgePath> kept = pathsWithout(paths, q, removed, d.visible);
   const EdgePath* throughSlit = d.visible ? slitOnLineOfSight(kept, q.source, q.L) : nullptr;
   return coherentIntensity(kept, d, throughSlit, q.speedOfSound, q.airPerMetre,
                            leavingWeights(kept, q.directivity, q.forward), bands);
 }
+
+namespace {
 
 /// The surfaces (sorted) in the groups that can be taken away on their own: a closed body's
 /// together (a solid), the moving objects' together, every other surface alone (a wall's near
@@ -157,8 +186,8 @@ std::vector<std::vector<uint32_t>> removalGroups(const std::vector<uint32_t>& su
   return groups;
 }
 
-/// The surfaces (sorted) with every surface of each closed body among them added (a solid
-/// goes whole: taken away face by face, a box's side faces would float in the air), sorted.
+}  // namespace
+
 std::vector<uint32_t> wholeSolids(const std::vector<uint32_t>& surfaces,
                                   const SurfaceBodies& bodies) {
   std::vector<uint32_t> solid;  // closed bodies met
@@ -174,115 +203,7 @@ std::vector<uint32_t> wholeSolids(const std::vector<uint32_t>& surfaces,
   return out;
 }
 
-/// A group of flat surfaces for smallSurfaceBound: the surfaces (sorted), the largest extent
-/// among those that stand free (m; freeStandingExtents) and the least path-length excess over
-/// the direct distance of their edges' paths (m).
-struct SmallGroup {
-  std::vector<uint32_t> surfaces;
-  float extent = 0.f;
-  double excess = 1e30;
-};
-
-/// The surfaces taken away with free-standing surface s (sorted): its whole body when the body
-/// is less than `wavelength` across (a seat's boxes, a box leaf: a small object goes whole), else
-/// s alone (a leaf welded to its wall), a closed body's faces together (wholeSolids).
-std::vector<uint32_t> smallGroupOf(uint32_t s, double wavelength, const SurfaceBodies& bodies) {
-  const uint32_t b = bodies.body[s];
-  if (b < bodies.members.size()) {
-    const auto [lo, hi] = boxOfSurfaces(bodies.members[b], bodies);
-    if (double(glm::distance(lo, hi)) < wavelength) return bodies.members[b];
-  }
-  return wholeSolids({s}, bodies);
-}
-
-/// The groups of free-standing flat surfaces smaller than the longest band's wavelength with an
-/// edge path inside that band's first Fresnel zone (excess under half its wavelength) among the
-/// paths' edges' faces (smallGroupOf); none that the line of sight crosses (q.crossed: those the
-/// blocked line of sight's bounds take away).
-std::vector<SmallGroup> smallSurfaces(const std::vector<EdgePath>& paths, const BoundQuery& q) {
-  const double longest = q.speedOfSound / bandCentreExactHz(0);
-  const double direct = double(glm::distance(q.source, q.L));
-  std::vector<SmallGroup> out;
-  auto crossed = [&](uint32_t g) { return std::binary_search(q.crossed.begin(), q.crossed.end(), g); };
-  for (const EdgePath& p : paths) {
-    const double excess = p.length - direct;
-    if (p.atEnd || !(excess < 0.5 * longest)) continue;
-    for (uint32_t s : p.edge->surfaces) {
-      if (s >= q.bodies.extent.size() || !(double(q.bodies.extent[s]) < longest)) continue;
-      std::vector<uint32_t> group = smallGroupOf(s, longest, q.bodies);
-      if (std::any_of(group.begin(), group.end(), crossed)) continue;
-      auto at = std::find_if(out.begin(), out.end(),
-                             [&](const SmallGroup& g) { return g.surfaces == group; });
-      if (at == out.end()) {
-        float extent = 0.f;  // of the faces that stand free (a box's bottom on the floor does not)
-        for (uint32_t g : group)
-          if (std::isfinite(q.bodies.extent[g])) extent = std::max(extent, q.bodies.extent[g]);
-        at = out.insert(out.end(), SmallGroup{std::move(group), extent, excess});
-      }
-      at->excess = std::min(at->excess, excess);
-    }
-  }
-  return out;
-}
-
-/// The bands (the lowest ones) where a group's bound applies: its extent under the wavelength,
-/// its least path excess under half of it.
-int smallBands(const SmallGroup& group, float speedOfSound) {
-  int bands = 0;
-  while (bands < kNumBands) {
-    const double wavelength = speedOfSound / bandCentreExactHz(bands);
-    if (!(double(group.extent) < wavelength && group.excess < 0.5 * wavelength)) break;
-    ++bands;
-  }
-  return bands;
-}
-
-/// Whether the group's own edge paths (their band amplitudes `amplitude`, bandAmplitude) carry,
-/// in each of the first `bands` bands, at most kSmallShare of the sum's pressure: taking them
-/// away cannot lower the sum to 1 / kLitRipple of itself, so the bound cannot hold it.
-bool weakGroup(const std::vector<EdgePath>& paths, const std::vector<Bands>& amplitude,
-               const SmallGroup& group, int bands, const Bands& sum) {
-  // (1 - s)^2 kLitRipple >= 1 for s <= 1 - 1 / sqrt(1.37) = 0.146.
-  constexpr double kSmallShare = 0.14;
-  const auto& g = group.surfaces;
-  for (int k = 0; k < bands; ++k) {
-    double own = 0.0;
-    for (size_t j = 0; j < paths.size(); ++j)
-      if (std::binary_search(g.begin(), g.end(), paths[j].edge->surfaces[0]) ||
-          std::binary_search(g.begin(), g.end(), paths[j].edge->surfaces[1]))
-        own += double(amplitude[j][k]);
-    if (own > kSmallShare * std::sqrt(4.0 * std::numbers::pi * double(sum[k]))) return false;
-  }
-  return true;
-}
-
-/// Per group of small surfaces (smallSurfaces), at most the sum without it times kLitRipple in
-/// the bands whose wavelength exceeds its extent and twice its least path excess (heldBound);
-/// `sum` the coherent sum with everything in place but the surfaces `base` (sorted; the groups
-/// are those of the paths without them, and each group goes with them).
-Bands smallSurfaceBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
-                        const Bands& sum, BoundQuery& q, const std::vector<uint32_t>& base = {}) {
-  Bands bound(1e30f);
-  const std::vector<EdgePath> kept =
-      base.empty() ? paths : pathsWithout(paths, q, base, coherent.visible);
-  const std::vector<SmallGroup> groups = smallSurfaces(kept, q);
-  int most = 0;
-  for (const SmallGroup& group : groups) most = std::max(most, smallBands(group, q.speedOfSound));
-  std::vector<Bands> amplitude(kept.size(), Bands(0.f));  // each path's, once
-  for (size_t j = 0; j < kept.size(); ++j)
-    for (int k = 0; k < most; ++k) amplitude[j][k] = float(bandAmplitude(kept[j], k, q.speedOfSound));
-  for (const SmallGroup& group : groups) {
-    const int bands = smallBands(group, q.speedOfSound);
-    if (bands == 0 || weakGroup(kept, amplitude, group, bands, sum)) continue;
-    std::vector<uint32_t> removed = base;
-    removed.insert(removed.end(), group.surfaces.begin(), group.surfaces.end());
-    std::sort(removed.begin(), removed.end());
-    removed.erase(std::unique(removed.begin(), removed.end()), removed.end());
-    const Bands without = sumWithout(paths, q, removed, coherent, bands);
-    for (int k = 0; k < bands; ++k) bound[k] = std::min(bound[k], kLitRipple * without[k]);
-  }
-  return bound;
-}
+namespace {
 
 /// With the line of sight blocked by the surfaces q.crossed (not empty): at most the sum without
 /// them, the line of sight free, and without each of them alone (heldBound).

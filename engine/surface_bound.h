@@ -69,11 +69,33 @@ struct BoundQuery {
   Bands airPerMetre;
   const Directivity& directivity;
   glm::vec3 forward;
+  /// With the line of sight free, what the small bodies near it leave the sum at least, per
+  /// band (1/m^2; heldBound fills it, 0 where none is small).
+  Bands smallFloor{0.f};
 };
 
 /// Fills q.crossed: the flat surfaces the segment from q.source to q.L crosses, when the line
 /// of sight is not free (empty when it is, or past crossedSurfaces's limit).
 void crossLineOfSight(bool lineOfSight, BoundQuery& q);
+
+/// The paths as they would be with the surfaces in `removed` (sorted) taken away: the edges
+/// of their faces dropped, an edge whose other face stays made its rim (addRims); the paths
+/// they alone hid, and those whose gap they alone closed, restored; the gaps they closed opened
+/// (free edges); the slits' owners, the reveals and the terms (for a line of sight free or not) set
+/// again.
+std::vector<EdgePath> pathsWithout(const std::vector<EdgePath>& paths, BoundQuery& q,
+                                   const std::vector<uint32_t>& removed, bool lineOfSight);
+
+/// The coherent sum with the surfaces `removed` taken away (pathsWithout) and the direct sound
+/// d (through a slit the line of sight still passes, if any), in the first `bands` bands.
+Bands sumWithout(const std::vector<EdgePath>& paths, BoundQuery& q,
+                 const std::vector<uint32_t>& removed, const DirectSound& d,
+                 int bands = kNumBands);
+
+/// The surfaces (sorted) with every surface of each closed body among them added (a solid
+/// goes whole: taken away face by face, a box's side faces would float in the air), sorted.
+std::vector<uint32_t> wholeSolids(const std::vector<uint32_t>& surfaces,
+                                  const SurfaceBodies& bodies);
 
 /// What the surfaces allow the coherent sum, per band: an obstacle adds no energy to the path
 /// it blocks, so

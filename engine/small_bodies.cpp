@@ -1,0 +1,298 @@
+#include "engine/small_bodies.h"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <limits>
+#include <numbers>
+#include <utility>
+
+#include "engine/coherent_sum.h"
+
+namespace dpc {
+
+namespace {
+
+/// A group of flat surfaces for smallSurfaceBound: the surfaces (sorted), the largest extent
+/// among those that stand free (m; freeStandingExtents) and the least path-length excess over
+/// the direct distance of their edges' paths (m).
+struct SmallGroup {
+  std::vector<uint32_t> surfaces;
+  float extent = 0.f;
+  double excess = 1e30;
+  /// m: its box's silhouette seen along the line of sight, its narrowest width (silhouetteWidth);
+  /// infinite unless the group is a whole body or a closed solid (a wall's reveal is not thin).
+  float across = std::numeric_limits<float>::infinity();
+  bool whole = false;  ///< a whole body or a closed solid, standing free of the rest
+};
+
+/// The narrowest width (m) of the silhouette that the box round the surfaces casts along the
+/// direction d (not zero): what shadows the sound passing it, a slat's thickness rather than its
+/// depth. The box's width along a unit u is sum_i |u_i| side_i; u runs round the plane normal to
+/// d in steps of 1/32 of a turn (the least width is under 0.5 % more).
+float silhouetteWidth(const std::vector<uint32_t>& surfaces, const SurfaceBodies& bodies,
+                      const glm::vec3& d) {
+  constexpr int kSteps = 16;  // half a turn: a width along u equals that along -u
+  const auto [lo, hi] = boxOfSurfaces(surfaces, bodies);
+  const glm::vec3 side = hi - lo, n = glm::normalize(d);
+  const glm::vec3 helper = std::abs(n.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+  const glm::vec3 a = glm::normalize(glm::cross(n, helper)), b = glm::cross(n, a);
+  float least = std::numeric_limits<float>::infinity();
+  for (int i = 0; i < kSteps; ++i) {
+    const float t = float(std::numbers::pi) * float(i) / float(kSteps);
+    least = std::min(least, glm::dot(glm::abs(std::cos(t) * a + std::sin(t) * b), side));
+  }
+  return least;
+}
+
+/// The surfaces taken away with free-standing surface s (sorted): its whole body when the body
+/// is less than `wavelength` across (a seat's boxes, a box leaf: a small object goes whole), else
+/// s alone (a leaf welded to its wall), a closed body's faces together (wholeSolids).
+std::vector<uint32_t> smallGroupOf(uint32_t s, double wavelength, const SurfaceBodies& bodies) {
+  const uint32_t b = bodies.body[s];
+  if (b < bodies.members.size()) {
+    const auto [lo, hi] = boxOfSurfaces(bodies.members[b], bodies);
+    if (double(glm::distance(lo, hi)) < wavelength) return bodies.members[b];
+  }
+  return wholeSolids({s}, bodies);
+}
+
+/// Path p's small groups (smallGroupOf) into out, each with the least excess (m) it is given;
+/// none that the line of sight crosses (q.crossed: those the blocked line of sight's bounds take
+/// away).
+void addSmallGroups(const EdgePath& p, double excess, const BoundQuery& q,
+                    std::vector<SmallGroup>& out) {
+  const double longest = q.speedOfSound / bandCentreExactHz(0);
+  auto crossed = [&](uint32_t g) {
+    return std::binary_search(q.crossed.begin(), q.crossed.end(), g);
+  };
+  for (uint32_t s : p.edge->surfaces) {
+    if (s >= q.bodies.extent.size() || !(double(q.bodies.extent[s]) < longest)) continue;
+    const auto known = std::find_if(out.begin(), out.end(), [&](const SmallGroup& g) {
+      return std::binary_search(g.surfaces.begin(), g.surfaces.end(), s);
+    });
+    if (known != out.end()) {  // its group met already (a body's other edges)
+      known->excess = std::min(known->excess, excess);
+      continue;
+    }
+    std::vector<uint32_t> group = smallGroupOf(s, longest, q.bodies);
+    if (std::any_of(group.begin(), group.end(), crossed)) continue;
+    auto at = std::find_if(out.begin(), out.end(),
+                           [&](const SmallGroup& g) { return g.surfaces == group; });
+    if (at == out.end()) {
+      float extent = 0.f;  // of the faces that stand free (a box's bottom on the floor does not)
+      for (uint32_t g : group)
+        if (std::isfinite(q.bodies.extent[g])) extent = std::max(extent, q.bodies.extent[g]);
+      const uint32_t b = q.bodies.body[s];
+      const bool whole = b < q.bodies.members.size() &&
+                         (q.bodies.closed[b] || group == q.bodies.members[b]);
+      const float across = whole ? silhouetteWidth(group, q.bodies, q.L - q.source)
+                                 : std::numeric_limits<float>::infinity();
+      at = out.insert(out.end(), SmallGroup{std::move(group), extent, 1e30, across, whole});
+    }
+    at->excess = std::min(at->excess, excess);
+  }
+}
+
+/// The groups of free-standing flat surfaces smaller than the longest band's wavelength among the
+/// paths' edges' faces (addSmallGroups), each with its paths' least excess (smallBands tests it
+/// against the band's first Fresnel zone); and those of the hidden paths within the longest
+/// band's first Fresnel zone, with no excess of their own (a slat behind another: taken away
+/// with the rest by smallGroupsBound, whose sum would otherwise bring its edges back).
+std::vector<SmallGroup> smallSurfaces(const std::vector<EdgePath>& paths, const BoundQuery& q) {
+  const double longest = q.speedOfSound / bandCentreExactHz(0);
+  const double direct = double(glm::distance(q.source, q.L));
+  std::vector<SmallGroup> out;
+  for (const EdgePath& p : paths)  // a path at its edge's end carries a slit's field only
+    addSmallGroups(p, p.atEnd ? 1e30 : p.length - direct, q, out);
+  if (out.empty()) return out;  // no small body's edge in the sum: nothing to hold
+  for (const HiddenPath& h : q.hidden)
+    if (!h.path.atEnd && h.path.length - direct < 0.5 * longest)
+      addSmallGroups(h.path, 1e30, q, out);
+  return out;
+}
+
+/// k a at most which a body whose silhouette is a wide (a half its narrowest width) counts as
+/// thin: for the bounds above the sum, 1 (Rayleigh's limit); for the floors below it, 1/8, where
+/// a slotted screen of such slats still passes the sound within about 2 dB (the mass law of its
+/// slots' air, m' = rho d / sigma, at a third open and 4 cm deep: 3 dB at 250 Hz).
+constexpr double kThinBound = 1.0, kThinFloor = 0.125;
+
+/// The bands (the lowest ones) in which a silhouette `across` metres wide is thin: k a <= ka.
+int thinBands(float across, float speedOfSound, double ka) {
+  int bands = 0;
+  while (bands < kNumBands &&
+         std::numbers::pi * double(across) * bandCentreExactHz(bands) / speedOfSound <= ka)
+    ++bands;
+  return bands;
+}
+
+/// The bands (the lowest ones) where a group's bound applies: it is small (its extent under the
+/// wavelength, or its silhouette along the line of sight thin, thinBands with kThinBound: a slat
+/// or a leaf seen edge on shadows no more than its thickness, a long body scatters per length
+/// as its cross-section does) and, if `fresnel`, its least excess under half the wavelength (a
+/// group farther out leaves the sum alone).
+int smallBands(const SmallGroup& group, float speedOfSound, bool fresnel = true) {
+  const int thin = thinBands(group.across, speedOfSound, kThinBound);
+  int bands = 0;
+  while (bands < kNumBands) {
+    const double wavelength = speedOfSound / bandCentreExactHz(bands);
+    const bool small = double(group.extent) < wavelength || bands < thin;
+    if (!small || (fresnel && !(group.excess < 0.5 * wavelength))) break;
+    ++bands;
+  }
+  return bands;
+}
+
+/// Whether the edge paths on the surfaces g (sorted; their band amplitudes `amplitude`,
+/// bandAmplitude) carry, in bands from .. to - 1, at most kSmallShare of the sum's pressure:
+/// taking them away cannot move the sum past kLitRipple either way, so no bound or floor holds it.
+bool weakGroup(const std::vector<EdgePath>& paths, const std::vector<Bands>& amplitude,
+               const std::vector<uint32_t>& g, int from, int to, const Bands& sum) {
+  // (1 - s)^2 kLitRipple >= 1 for s <= 1 - 1 / sqrt(1.37) = 0.146.
+  constexpr double kSmallShare = 0.14;
+  for (int k = from; k < to; ++k) {
+    double own = 0.0;
+    for (size_t j = 0; j < paths.size(); ++j)
+      if (std::binary_search(g.begin(), g.end(), paths[j].edge->surfaces[0]) ||
+          std::binary_search(g.begin(), g.end(), paths[j].edge->surfaces[1]))
+        own += double(amplitude[j][k]);
+    if (own > kSmallShare * std::sqrt(4.0 * std::numbers::pi * double(sum[k]))) return false;
+  }
+  return true;
+}
+
+/// The small groups together (smallSurfaces, smallBands): in each band, at most kLitRipple times
+/// the sum without every group small in it, into bound, and (`floor` not null) at least that sum
+/// over kLitRipple, into *floor. Small bodies scatter weakly, together as each alone, while
+/// their edges' first-order terms, each an infinite edge's, add up in phase where their path
+/// excesses are short (a slatted screen's slats read 18 dB above the free field at 63 Hz with
+/// the line of sight free, one group at a time the others holding the excess), or take a thin
+/// slat's near edge for a screen's (10 dB below the free field 1 cm beside it). Groups outside
+/// the first Fresnel zone go too: the bound is on all of them together.
+/// Whether a gap (a slit path's, or a closed gap's: q.closed) has a surface in `removed`
+/// (sorted) on either side: bodies that close an aperture with others (a double door's leaves in
+/// their frame), or that stand close together (louvres: their slots' air is a mass, m' = rho d /
+/// sigma, that a slotted screen a seventh open and 10 cm deep makes 10 dB at 250 Hz), are no free
+/// scatterers.
+bool hasGap(const std::vector<EdgePath>& paths, const BoundQuery& q,
+            const std::vector<uint32_t>& removed) {
+  auto in = [&](uint32_t s) { return std::binary_search(removed.begin(), removed.end(), s); };
+  auto touches = [&](const EdgePath& p) {
+    if (!(p.gapWidth > 0.f) && p.gapCloser == kUnknownSurface) return false;
+    return in(p.edge->surfaces[0]) || in(p.edge->surfaces[1]) || in(p.gapCloser);
+  };
+  return std::any_of(paths.begin(), paths.end(), touches) ||
+         std::any_of(q.closed.begin(), q.closed.end(), touches);
+}
+
+/// What smallGroupsBound weighs: all the paths, those kept without the surfaces `base` and their
+/// band amplitudes (weakGroup), and the coherent sum they give.
+struct SumParts {
+  const std::vector<EdgePath>& paths;
+  const std::vector<EdgePath>& kept;
+  const std::vector<Bands>& amplitude;
+  const Bands& sum;
+};
+
+void smallGroupsBound(const SumParts& parts, const DirectSound& coherent,
+                      const std::vector<SmallGroup>& groups, const std::vector<uint32_t>& base,
+                      BoundQuery& q, Bands& bound, Bands* floor) {
+  const std::vector<EdgePath>& paths = parts.paths;
+  std::vector<int> bands;
+  for (const SmallGroup& g : groups) bands.push_back(smallBands(g, q.speedOfSound, false));
+  for (int k = 0; k < kNumBands;) {  // bands k .. n - 1 take away the same groups
+    std::vector<uint32_t> removed = base;
+    int n = kNumBands, count = 0;
+    bool free = floor != nullptr;  // every group a body of its own, none closing a gap
+    int thin = kNumBands;          // and thin by kThinFloor in bands below this
+    for (size_t i = 0; i < groups.size(); ++i) {
+      if (bands[i] <= k) continue;
+      free = free && groups[i].whole;
+      thin = std::min(thin, thinBands(groups[i].across, q.speedOfSound, kThinFloor));
+      removed.insert(removed.end(), groups[i].surfaces.begin(), groups[i].surfaces.end());
+      n = std::min(n, bands[i]);
+      ++count;
+    }
+    std::sort(removed.begin(), removed.end());
+    removed.erase(std::unique(removed.begin(), removed.end()), removed.end());
+    free = free && count > 0 && thin > k && !hasGap(paths, q, removed);
+    if (count == 0 || (count == 1 && !free)) return;  // one alone: smallSurfaceBound's own
+    if (weakGroup(parts.kept, parts.amplitude, removed, k, n, parts.sum)) {
+      k = n;
+      continue;
+    }
+    const Bands without = sumWithout(paths, q, removed, coherent, n);
+    for (int b = k; b < n; ++b) {
+      bound[b] = std::min(bound[b], kLitRipple * without[b]);
+      if (free && b < thin) (*floor)[b] = without[b] / kLitRipple;
+    }
+    k = n;
+  }
+}
+
+}  // namespace
+
+Bands smallSurfaceBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
+                        const Bands& sum, BoundQuery& q, const std::vector<uint32_t>& base) {
+  Bands bound(1e30f);
+  const std::vector<EdgePath> kept =
+      base.empty() ? paths : pathsWithout(paths, q, base, coherent.visible);
+  const std::vector<SmallGroup> groups = smallSurfaces(kept, q);
+  int most = 0;  // with the groups out of the first Fresnel zone (smallGroupsBound's)
+  for (const SmallGroup& group : groups)
+    most = std::max(most, smallBands(group, q.speedOfSound, false));
+  std::vector<Bands> amplitude(kept.size(), Bands(0.f));  // each path's, once
+  for (size_t j = 0; j < kept.size(); ++j)
+    for (int k = 0; k < most; ++k)
+      amplitude[j][k] = float(bandAmplitude(kept[j], k, q.speedOfSound));
+  for (const SmallGroup& group : groups) {
+    const int bands = smallBands(group, q.speedOfSound);
+    if (bands == 0 || weakGroup(kept, amplitude, group.surfaces, 0, bands, sum)) continue;
+    std::vector<uint32_t> removed = base;
+    removed.insert(removed.end(), group.surfaces.begin(), group.surfaces.end());
+    std::sort(removed.begin(), removed.end());
+    removed.erase(std::unique(removed.begin(), removed.end()), removed.end());
+    const Bands without = sumWithout(paths, q, removed, coherent, bands);
+    for (int k = 0; k < bands; ++k) bound[k] = std::min(bound[k], kLitRipple * without[k]);
+  }
+  q.smallFloor = Bands(0.f);
+  smallGroupsBound({paths, kept, amplitude, sum}, coherent, groups, base, q, bound,
+                   coherent.visible && base.empty() ? &q.smallFloor : nullptr);
+  return bound;
+}
+
+Bands thinBodiesFloor(const std::vector<EdgePath>& paths, const DirectSound& coherent,
+                      const Bands& free, BoundQuery& q) {
+  Bands floor(0.f);
+  if (coherent.visible || q.crossed.empty()) return floor;
+  const double longest = q.speedOfSound / bandCentreExactHz(0);
+  std::vector<uint32_t> removed;
+  int n = kNumBands;
+  for (uint32_t s : q.crossed) {
+    if (s >= q.bodies.body.size() || q.bodies.body[s] >= q.bodies.members.size()) return floor;
+    const uint32_t b = q.bodies.body[s];
+    const std::vector<uint32_t> group = smallGroupOf(s, longest, q.bodies);
+    if (!q.bodies.closed[b] && group != q.bodies.members[b]) return floor;  // not standing free
+    const float across = silhouetteWidth(group, q.bodies, q.L - q.source);
+    n = std::min(n, thinBands(across, q.speedOfSound, kThinFloor));
+    removed.insert(removed.end(), group.begin(), group.end());
+  }
+  // The thin bodies beside them go too: a slat the line of sight crosses has gaps to its
+  // neighbours, and together they are the screen.
+  for (const SmallGroup& g : smallSurfaces(paths, q))
+    if (g.whole && n > 0 && thinBands(g.across, q.speedOfSound, kThinFloor) >= n)
+      removed.insert(removed.end(), g.surfaces.begin(), g.surfaces.end());
+  std::sort(removed.begin(), removed.end());
+  removed.erase(std::unique(removed.begin(), removed.end()), removed.end());
+  if (n == 0 || hasGap(paths, q, removed)) return floor;
+  DirectSound open = coherent;
+  open.visible = true;
+  open.intensity = free;
+  const Bands without = sumWithout(paths, q, removed, open, n);
+  for (int k = 0; k < n; ++k) floor[k] = std::min(free[k], without[k]) / kLitRipple;
+  return floor;
+}
+
+}  // namespace dpc

@@ -1,0 +1,100 @@
+// Thin bodies beside the direct sound's line of sight (engine/small_bodies.h): slatted shelving
+// the line of sight passes through between two slats, a single thin slat just beside it. Each
+// edge's UTD term is an infinite edge's, so the first-order sum took a shelf of slats for a
+// wall of edges in phase (18 to 20 dB above the free field at 63-250 Hz) and a 1 cm slat's near
+// edge for a screen's edge (10 dB below it at 63 Hz).
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdio>
+#include <glm/geometric.hpp>
+
+#include "engine/embree_tracer.h"
+#include "engine/surface_bound.h"
+#include "scene/scene.h"
+#include "testing/test_scenes.h"
+#include "tests/engine/door_scenes.h"
+
+using namespace dpc;
+using namespace dpc::door_test;
+
+namespace {
+
+/// The 12 x 3 x 5 m room with slats `thick` m across (z) and `deep` m deep (x), centred on
+/// x = 6, 2 m tall from the floor, `gap` m apart, from z = 1 to 4 m.
+SceneDesc shelvingScene(float thick, float deep, float gap) {
+  SceneDesc s = test::makeShoebox({12, 3, 5}, Bands(0.2f), 0.3f, kSource, kListener, 0.5f);
+  for (float z = 1.f; z + thick <= 4.f + 1e-4f; z += thick + gap)
+    test::addSolidBox(s.mesh, {6.f - 0.5f * deep, 0.f, z}, {6.f + 0.5f * deep, 2.f, z + thick}, 0);
+  return s;
+}
+
+/// Whether nothing lies between the source and the listener in the scene.
+bool lineOfSightFree(const SceneDesc& s, const glm::vec3& listener) {
+  EmbreeTracer tracer(s.mesh, s.objects);
+  const glm::vec3 v = listener - kSource;
+  const float d = glm::length(v);
+  return !tracer.occluded(TraceRay{kSource, v / d, 1e-3f, d - 1e-3f});
+}
+
+void print(const char* what, const Bands& level) {
+  std::printf("%-44s", what);
+  for (int b = 0; b < kNumBands; ++b) std::printf(" %6.1f", double(level[b]));
+  std::printf("\n");
+}
+
+/// The knife edge's lit-side ripple in dB (surface_bound.h kLitRipple), and a margin for the
+/// bands' single-precision sums.
+const float kRippleDb = 10.f * std::log10(kLitRipple) + 0.05f;
+
+}  // namespace
+
+TEST_CASE("Thin bodies: slatted shelving with the line of sight free is no louder than the "
+          "free field",
+          "[diffraction][door]") {
+  // 1 cm slats 5 cm apart (the shelving is five sixths open), 10 or 30 cm deep, the line of
+  // sight through one slot. As the passing sound sees them (their depth lies nearly along it)
+  // such slats are 1 to 1.5 cm thick, under a wavelength over pi up to 4 kHz, and scatter
+  // weakly, together as each alone: behind them, with the line of sight free, the field is
+  // the free field within the knife edge's lit-side ripple at most. Before, 63-250 Hz read
+  // +13 to +20 dB. At 8 kHz the slats 30 cm deep are 1.5 cm thick seen from the listener at
+  // z 2.6: not held (+2.9 dB; validation.md, "Not done").
+  for (float deep : {0.1f, 0.3f})
+    for (float z : {2.55f, 2.6f}) {
+      const SceneDesc s = shelvingScene(0.01f, deep, 0.05f);
+      const glm::vec3 listener{9.f, 1.2f, z};
+      REQUIRE(lineOfSightFree(s, listener));
+      const Bands level = decibels(directLevel(s, kSource, listener));
+      char what[64];
+      std::snprintf(what, sizeof what, "shelving %.1f m deep, listener z %.2f (dB)", double(deep),
+                    double(z));
+      print(what, level);
+      for (int b = 0; b < kNumBands - 1; ++b) {
+        INFO(what << ", band " << b);
+        CHECK(level[b] <= kRippleDb);
+      }
+    }
+}
+
+TEST_CASE("Thin bodies: a thin slat just beside the line of sight hardly shadows it",
+          "[diffraction][door]") {
+  // One slat 1 cm thick and 10 cm deep along the line of sight, 2 m tall, its near face 1 to
+  // 10 cm beside the line of sight. Kirchhoff's aperture integral says a body blocks what its
+  // silhouette covers of the first Fresnel zone: 1 cm of a zone 0.25 m wide at 8 kHz and wider
+  // below, so a few tenths of a dB. Up to 1 kHz, where 1 cm is under a wavelength over 8 pi
+  // (small_bodies.cpp kThinFloor), the field stays within the ripple of the free field; above,
+  // the slat's near edge still reads as a screen's (validation.md, "Not done"). Before: -10.4
+  // dB at 63 Hz, -3.0 at 500 Hz with the slat 1 cm off.
+  for (float off : {0.01f, 0.05f, 0.1f}) {
+    SceneDesc s = test::makeShoebox({12, 3, 5}, Bands(0.2f), 0.3f, kSource, kListener, 0.5f);
+    test::addSolidBox(s.mesh, {5.95f, 0.f, 2.5f + off}, {6.05f, 2.f, 2.51f + off}, 0);
+    REQUIRE(lineOfSightFree(s, kListener));
+    const Bands level = decibels(directLevel(s));
+    char what[64];
+    std::snprintf(what, sizeof what, "slat %.0f cm beside (dB)", double(100.f * off));
+    print(what, level);
+    for (int b = 0; b <= 4; ++b) {
+      INFO(what << ", band " << b);
+      CHECK(std::abs(level[b]) <= kRippleDb);
+    }
+  }
+}

@@ -347,12 +347,25 @@ void addEndSlits(const std::vector<DiffractionEdge>& edges, bool lineOfSight, Bo
   markSlitOwners(paths);
 }
 
+/// Probes the channels' gaps (findSlits) and adds to paths those the probe finds open, at most
+/// as wide as the face is deep or kChannelGapMax.
+void keepOpenChannels(std::vector<EdgePath>& channels, BoundQuery& q,
+                      std::vector<EdgePath>& paths) {
+  if (channels.empty()) return;
+  std::vector<EdgePath> closed;
+  findSlits(q.tracer, q.source, q.L, q.surfaces, channels, closed);
+  for (const EdgePath& p : channels)
+    if (p.gapWidth > 0.f && p.gapWidth <= std::max(glm::length(p.through), kChannelGapMax))
+      paths.push_back(p);
+  markSlitOwners(paths);
+}
+
 /// Adds the channels (engine/channel_path.h) along the narrow faces `faces` whose legs are free
 /// and whose gap the probe finds open (a closed box leaf's gaps to its frame and the floor), at
 /// most as wide as the face is deep or kChannelGapMax.
 void addChannels(const std::vector<DiffractionEdge>& edges, const std::vector<NarrowFace>& faces,
                  BoundQuery& q, std::vector<EdgePath>& paths) {
-  std::vector<EdgePath> channels, closed;
+  std::vector<EdgePath> channels;
   for (const NarrowFace& f : faces)
     for (int way = 0; way < 2; ++way) {
       const uint32_t a = way == 0 ? f.a : f.b, b = way == 0 ? f.b : f.a;
@@ -369,12 +382,21 @@ void addChannels(const std::vector<DiffractionEdge>& edges, const std::vector<Na
         channels.push_back(p);
       }
     }
-  if (channels.empty()) return;
-  findSlits(q.tracer, q.source, q.L, q.surfaces, channels, closed);
-  for (const EdgePath& p : channels)
-    if (p.gapWidth > 0.f && p.gapWidth <= std::max(glm::length(p.through), kChannelGapMax))
-      paths.push_back(p);
-  markSlitOwners(paths);
+  keepOpenChannels(channels, q, paths);
+}
+
+/// Adds the channels along the moving objects' narrow faces near the line of sight that turn
+/// round a door stop in the mesh (engine/object_edges.h objectChannels), as addChannels does.
+void addObjectChannels(const std::vector<DiffractionEdge>& edges,
+                       const std::vector<ObjectEdges>& objects, BoundQuery& q,
+                       std::vector<EdgePath>& paths) {
+  std::vector<EdgePath> channels;
+  for (const ObjectEdges& o : objects) {
+    if (!nearLine(o, q.source, q.L)) continue;
+    std::vector<EdgePath> more = objectChannels(q.tracer, edges, o, q.source, q.L);
+    channels.insert(channels.end(), more.begin(), more.end());
+  }
+  keepOpenChannels(channels, q, paths);
 }
 
 /// Each free edge path's grazeExcess and grazeSpan (engine/edge_chain.h markGraze), the line of
@@ -554,6 +576,7 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
                                                           direct.chainsLeftOut);
   findSlits(tracer, source, listener.position, surfaces_, paths, query.closed);
   addChannels(edges_, narrow_, query, paths);
+  addObjectChannels(edges_, objects_, query, paths);
   dropThreadedPaths(query, paths);
   markSlitOwners(paths);
   markSlitPartners(paths);

@@ -164,11 +164,15 @@ struct NarrowFace {
 };
 
 /// One moving object's edges (engine/object_edges.h): in its own frame, their neighbours for
-/// chains (engine/edge_chain.h chainNeighbours), and in the world at the pose last placed
+/// chains (engine/edge_chain.h chainNeighbours), its narrow faces, and in the world at the pose
+/// last placed
 /// (surfaces both kMovingObjects: no flat surface of the static mesh).
 struct ObjectEdges {
   std::vector<DiffractionEdge> local;
   std::vector<std::vector<uint32_t>> near;
+  /// Its narrow faces (engine/channel_path.h narrowFaces, in `local`'s numbering; `near` left
+  /// empty: the static edges a channel turns round are found per query, the object moving).
+  std::vector<NarrowFace> faces;
   std::vector<DiffractionEdge> world;
   glm::vec3 centre{0.f};  ///< of a sphere holding the placed edges (m)
   float radius = 0.f;     ///< m

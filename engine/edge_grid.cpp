@@ -58,7 +58,13 @@ void EdgeGrid::forSamples(const DiffractionEdge& e, F&& visit) const {
 std::vector<uint32_t> parallelNeighbours(const std::vector<DiffractionEdge>& edges, uint32_t i,
                                          uint32_t other, float reach, size_t count,
                                          const std::vector<uint32_t>& candidates) {
-  const DiffractionEdge& e = edges[i];
+  return parallelNeighbours(edges, edges[i], i, other, reach, count, candidates);
+}
+
+std::vector<uint32_t> parallelNeighbours(const std::vector<DiffractionEdge>& edges,
+                                         const DiffractionEdge& e, uint32_t i, uint32_t other,
+                                         float reach, size_t count,
+                                         const std::vector<uint32_t>& candidates) {
   std::vector<std::pair<float, uint32_t>> found;
   for (uint32_t j : candidates) {
     const DiffractionEdge& c = edges[j];

@@ -45,4 +45,11 @@ std::vector<uint32_t> parallelNeighbours(const std::vector<DiffractionEdge>& edg
                                          uint32_t other, float reach, size_t count,
                                          const std::vector<uint32_t>& candidates);
 
+/// The same for an edge e that need not be in `edges` (a moving object's, placed), skipping
+/// the indices i and other (none: an index past edges).
+std::vector<uint32_t> parallelNeighbours(const std::vector<DiffractionEdge>& edges,
+                                         const DiffractionEdge& e, uint32_t i, uint32_t other,
+                                         float reach, size_t count,
+                                         const std::vector<uint32_t>& candidates);
+
 }  // namespace dpc

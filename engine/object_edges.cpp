@@ -1,11 +1,15 @@
 #include "engine/object_edges.h"
 
+#include <algorithm>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include "engine/channel_path.h"
+#include "engine/channel_turn.h"
 #include "engine/diffraction_edges.h"
 #include "engine/edge_chain.h"
+#include "engine/edge_grid.h"
 #include "engine/surface_bound.h"
 
 namespace dpc {
@@ -14,8 +18,12 @@ std::vector<ObjectEdges> objectEdges(const std::vector<ObjectDesc>& objects) {
   std::vector<ObjectEdges> out(objects.size());
   for (size_t k = 0; k < objects.size(); ++k) {
     const Mesh& mesh = objects[k].mesh;
-    out[k].local = candidateEdges(mesh, flatSurfaces(mesh));
+    const std::vector<uint32_t> surfaces = flatSurfaces(mesh);
+    out[k].local = candidateEdges(mesh, surfaces);
     out[k].near = chainNeighbours(out[k].local);
+    const size_t count =
+        surfaces.empty() ? 0 : size_t(*std::max_element(surfaces.begin(), surfaces.end())) + 1;
+    out[k].faces = narrowFaces(out[k].local, surfaceEdges(count, out[k].local));
     const auto& key = objects[k].trajectory;
     placeObjectEdges(out[k], key.empty() ? Pose{}
                                          : Pose{key.front().position, key.front().rotation});
@@ -48,6 +56,45 @@ void placeObjectEdges(ObjectEdges& o, const Pose& pose) {
 bool nearLine(const ObjectEdges& o, const glm::vec3& source, const glm::vec3& L) {
   return !o.world.empty() &&
          segmentGap(source, L, o.centre, o.centre) - o.radius <= kChainSearch;
+}
+
+namespace {
+
+/// The static edges whose segments pass within kChannelReach of o's sphere.
+std::vector<uint32_t> staticEdgesNear(const std::vector<DiffractionEdge>& edges,
+                                      const ObjectEdges& o) {
+  std::vector<uint32_t> out;
+  for (uint32_t i = 0; i < edges.size(); ++i)
+    if (segmentGap(edges[i].a, edges[i].b, o.centre, o.centre) <= o.radius + kChannelReach)
+      out.push_back(i);
+  return out;
+}
+
+}  // namespace
+
+std::vector<EdgePath> objectChannels(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
+                                     const ObjectEdges& o, const glm::vec3& source,
+                                     const glm::vec3& L) {
+  std::vector<EdgePath> out;
+  if (o.faces.empty()) return out;
+  const std::vector<uint32_t> near = staticEdgesNear(edges, o);
+  if (near.empty()) return out;
+  const auto none = uint32_t(edges.size());
+  for (const NarrowFace& f : o.faces)
+    for (int way = 0; way < 2; ++way) {
+      const DiffractionEdge& front = o.world[way == 0 ? f.a : f.b];
+      const DiffractionEdge& back = o.world[way == 0 ? f.b : f.a];
+      EdgePath p;
+      if (channelPath(front, back, source, L, p) && legsFree(tracer, source, L, p)) continue;
+      const std::vector<uint32_t> entries =
+          parallelNeighbours(edges, front, none, none, kChannelReach, kChannelNeighbours, near);
+      const std::vector<uint32_t> exits =
+          parallelNeighbours(edges, back, none, none, kChannelReach, kChannelNeighbours, near);
+      if (!turnedChannel(tracer, edges, front, back, entries, exits, source, L, p)) continue;
+      p.face = kMovingObjects;
+      out.push_back(p);
+    }
+  return out;
 }
 
 }  // namespace dpc

@@ -111,6 +111,18 @@ inline SceneDesc recessedLeafScene(float depth, float gap, float thickness, floa
   return s;
 }
 
+/// A door stop for a leaf `thickness` deep from x0 to x0 + thickness (stoppedLeafScene) into the
+/// mesh: strips `lip` wide round the jambs and the lintel, 2 cm deep, `gap` behind the leaf
+/// (side > 0) or before it (side < 0).
+inline void addDoorStop(Mesh& mesh, float gap, float thickness, float x0, float side, float lip) {
+  constexpr float kStopDepth = 0.02f;
+  const float a = side > 0.f ? x0 + thickness + gap : x0 - gap - kStopDepth, b = a + kStopDepth;
+  const float z0 = kDoorZ0, z1 = kDoorZ0 + kDoorWidth, h = kDoorHeight;
+  test::addSolidBox(mesh, {a, 0.f, z0}, {b, h, z0 + lip}, 0);
+  test::addSolidBox(mesh, {a, 0.f, z1 - lip}, {b, h, z1}, 0);
+  test::addSolidBox(mesh, {a, h - lip, z0 + lip}, {b, h, z1 - lip}, 0);
+}
+
 /// recessedLeafScene's box leaf (`thickness` deep, from x0 to x0 + thickness) closed against a
 /// door stop: a strip `lip` metres wide round the jambs and the lintel, 2 cm deep, `gap` metres
 /// behind the leaf (side > 0) or before it (side < 0), so each gap turns between the leaf's
@@ -118,12 +130,7 @@ inline SceneDesc recessedLeafScene(float depth, float gap, float thickness, floa
 inline SceneDesc stoppedLeafScene(float depth, float gap, float thickness, float x0, float side,
                                   float lip) {
   SceneDesc s = recessedLeafScene(depth, gap, thickness, x0 + 0.5f * thickness);
-  constexpr float kStopDepth = 0.02f;
-  const float a = side > 0.f ? x0 + thickness + gap : x0 - gap - kStopDepth, b = a + kStopDepth;
-  const float z0 = kDoorZ0, z1 = kDoorZ0 + kDoorWidth, h = kDoorHeight;
-  test::addSolidBox(s.mesh, {a, 0.f, z0}, {b, h, z0 + lip}, 0);
-  test::addSolidBox(s.mesh, {a, 0.f, z1 - lip}, {b, h, z1}, 0);
-  test::addSolidBox(s.mesh, {a, h - lip, z0 + lip}, {b, h, z1 - lip}, 0);
+  addDoorStop(s.mesh, gap, thickness, x0, side, lip);
   return s;
 }
 

@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "engine/channel_path.h"
+#include "engine/chain_sum.h"
 #include "engine/channel_turn.h"
 #include "engine/coherent_sum.h"
 #include "engine/diffraction_edges.h"
@@ -436,40 +437,6 @@ std::pair<float, glm::vec3> firstArrival(const std::vector<EdgePath>& paths,
   return {shortest, arrival};
 }
 
-/// Per chain, the source's directivity weight toward its first edge (1 for an omni source).
-std::vector<Bands> chainWeights(const std::vector<EdgeChain>& chains, const BoundQuery& q) {
-  std::vector<Bands> out(chains.size(), Bands(1.f));
-  if (q.directivity.omni()) return out;
-  for (size_t c = 0; c < chains.size(); ++c)
-    out[c] = directivityWeight(q.directivity,
-                               glm::dot(q.forward, glm::normalize(chains[c].q[0] - q.source)));
-  return out;
-}
-
-/// The held sum with the chains round edges in series added (engine/edge_chain.h: their
-/// coherent sum over the free field at the direct distance), at most what chainBound allows
-/// (each chain's own energy and its edges' flat surfaces) and never below the held sum itself.
-Bands withChains(const std::vector<EdgePath>& paths, const std::vector<EdgeChain>& chains,
-                 const DirectSound& coherent, const DirectSound& direct, const Bands& free,
-                 const Bands& held, BoundQuery& q) {
-  if (chains.empty()) return held;
-  const float d = direct.distance;
-  const Bands omni = exp(q.airPerMetre * -d) * (1.f / (4.f * float(kPi) * d * d));
-  const std::vector<Bands> weights = chainWeights(chains, q);
-  std::vector<ChainEnergy> energies;
-  for (size_t c = 0; c < chains.size(); ++c) {
-    ChainEnergy e{omni * chainGain(chains[c], d, q.speedOfSound, q.airPerMetre) * weights[c], {}};
-    if (chains[c].object >= 0) e.surfaces = {kMovingObjects};
-    for (size_t i = 0; i < chains[c].n && chains[c].object < 0; ++i)
-      e.surfaces.insert(e.surfaces.end(), q.edges[chains[c].edge[i]].surfaces.begin(),
-                        q.edges[chains[c].edge[i]].surfaces.end());
-    energies.push_back(std::move(e));
-  }
-  const Bands chained =
-      held + omni * chainsGain(chains, weights, d, q.speedOfSound, q.airPerMetre);
-  return max(held, min(chained, chainBound(paths, coherent, free, energies, q)));
-}
-
 /// The band intensity of the direct sound with the edge and slit paths (their coherent sum,
 /// held where heldBound says) and the chains round edges in series, plus what the direct sound
 /// passes through transmitting surfaces (added in energy); with the line of sight blocked, at
@@ -489,31 +456,6 @@ Bands directIntensity(const std::vector<EdgePath>& paths, const std::vector<Edge
   sum = max(withChains(paths, chains, coherent, direct, free, sum, q),
             thinBodiesFloor(paths, coherent, free, q));
   return min(sum + (direct.visible ? direct.intensity : Bands(0.f)), free);
-}
-
-/// The chains round edges in series with the line of sight blocked: over the static mesh's
-/// edges near the bodies it crosses (two or more), and over each moving object's edges near it
-/// (one or more: objects have no first-order paths). leftOut counts what the caps left out.
-std::vector<EdgeChain> laidChains(const BoundQuery& q, const std::vector<ObjectEdges>& objects,
-                                  const std::vector<std::vector<uint32_t>>& near,
-                                  uint32_t& leftOut) {
-  ChainBudget budget;
-  std::vector<EdgeChain> out = edgeChains(
-      q.tracer, q.edges, near, chainSeeds(q.crossed, q.bodies, q.edges, q.source, q.L, leftOut),
-      q.source, q.L, budget);
-  for (size_t k = 0; k < objects.size(); ++k) {
-    const ObjectEdges& o = objects[k];
-    if (!nearLine(o, q.source, q.L)) continue;
-    ChainBudget own;  // an object's own: the static mesh's chains may have spent theirs
-    std::vector<EdgeChain> more =
-        edgeChains(q.tracer, o.world, o.near, edgesNearLine(o.world, q.source, q.L, leftOut),
-                   q.source, q.L, own, 1);
-    leftOut += own.leftOut;
-    for (EdgeChain& c : more) c.object = int(k);
-    out.insert(out.end(), more.begin(), more.end());
-  }
-  leftOut += budget.leftOut;
-  return out;
 }
 
 /// The indices in `edges` of the edges the paths and the chains use, in order (cleared first).

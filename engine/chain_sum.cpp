@@ -1,0 +1,67 @@
+#include "engine/chain_sum.h"
+
+#include <glm/geometric.hpp>
+#include <numbers>
+
+#include "engine/object_edges.h"
+
+namespace dpc {
+
+namespace {
+
+/// Per chain, the source's directivity weight toward its first edge (1 for an omni source).
+std::vector<Bands> chainWeights(const std::vector<EdgeChain>& chains, const BoundQuery& q) {
+  std::vector<Bands> out(chains.size(), Bands(1.f));
+  if (q.directivity.omni()) return out;
+  for (size_t c = 0; c < chains.size(); ++c)
+    out[c] = directivityWeight(q.directivity,
+                               glm::dot(q.forward, glm::normalize(chains[c].q[0] - q.source)));
+  return out;
+}
+
+}  // namespace
+
+Bands withChains(const std::vector<EdgePath>& paths, const std::vector<EdgeChain>& chains,
+                 const DirectSound& coherent, const DirectSound& direct, const Bands& free,
+                 const Bands& held, BoundQuery& q) {
+  if (chains.empty()) return held;
+  const float d = direct.distance;
+  const Bands omni = exp(q.airPerMetre * -d) * (1.f / (4.f * std::numbers::pi_v<float> * d * d));
+  const std::vector<Bands> weights = chainWeights(chains, q);
+  std::vector<ChainEnergy> energies;
+  for (size_t c = 0; c < chains.size(); ++c) {
+    ChainEnergy e{omni * chainGain(chains[c], d, q.speedOfSound, q.airPerMetre) * weights[c], {}};
+    if (chains[c].object >= 0) e.surfaces = {kMovingObjects};
+    for (size_t i = 0; i < chains[c].n && chains[c].object < 0; ++i)
+      e.surfaces.insert(e.surfaces.end(), q.edges[chains[c].edge[i]].surfaces.begin(),
+                        q.edges[chains[c].edge[i]].surfaces.end());
+    energies.push_back(std::move(e));
+  }
+  const Bands chained =
+      held + omni * chainsGain(chains, weights, d, q.speedOfSound, q.airPerMetre);
+  return max(held, min(chained, chainBound(paths, coherent, free, energies, q)));
+}
+
+std::vector<EdgeChain> laidChains(const BoundQuery& q, const std::vector<ObjectEdges>& objects,
+                                  const std::vector<std::vector<uint32_t>>& near,
+                                  uint32_t& leftOut) {
+  ChainBudget budget;
+  std::vector<EdgeChain> out = edgeChains(
+      q.tracer, q.edges, near, chainSeeds(q.crossed, q.bodies, q.edges, q.source, q.L, leftOut),
+      q.source, q.L, budget);
+  for (size_t k = 0; k < objects.size(); ++k) {
+    const ObjectEdges& o = objects[k];
+    if (!nearLine(o, q.source, q.L)) continue;
+    ChainBudget own;  // an object's own: the static mesh's chains may have spent theirs
+    std::vector<EdgeChain> more =
+        edgeChains(q.tracer, o.world, o.near, edgesNearLine(o.world, q.source, q.L, leftOut),
+                   q.source, q.L, own, 1);
+    leftOut += own.leftOut;
+    for (EdgeChain& c : more) c.object = int(k);
+    out.insert(out.end(), more.begin(), more.end());
+  }
+  leftOut += budget.leftOut;
+  return out;
+}
+
+}  // namespace dpc

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <complex>
 #include <glm/geometric.hpp>
+#include <glm/gtc/quaternion.hpp>
 #include <numbers>
 
 #include "engine/diffraction.h"
@@ -144,6 +145,25 @@ inline SceneDesc objectLeafScene(float depth, float gap, float thickness, float 
                     {0.5f * thickness, kDoorHeight - gap, kDoorWidth - 2.f * gap}, 0);
   door.trajectory = {ObjectKeyframe{0.0, glm::vec3(x, 0.f, kDoorZ0 + gap), glm::quat(1, 0, 0, 0)}};
   s.objects.push_back(door);
+  return s;
+}
+
+/// The scene with its moving objects written into the static mesh at their first keyframe's
+/// pose: the same leaf as a static one.
+inline SceneDesc objectsInMesh(SceneDesc s) {
+  for (const ObjectDesc& d : s.objects) {
+    const glm::quat r = d.trajectory.empty() ? glm::quat(1, 0, 0, 0) : d.trajectory[0].rotation;
+    const glm::vec3 t = d.trajectory.empty() ? glm::vec3(0.f) : d.trajectory[0].position;
+    const auto base = uint32_t(s.mesh.vertices.size());
+    for (const glm::vec3& v : d.mesh.vertices) s.mesh.vertices.push_back(r * v + t);
+    for (auto tri : d.mesh.triangles) {
+      for (uint32_t& i : tri) i += base;
+      s.mesh.triangles.push_back(tri);
+    }
+    s.mesh.materialIndex.insert(s.mesh.materialIndex.end(), d.mesh.materialIndex.begin(),
+                                d.mesh.materialIndex.end());
+  }
+  s.objects.clear();
   return s;
 }
 

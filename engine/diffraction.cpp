@@ -202,10 +202,6 @@ uint32_t threadCloser(const SurfaceBodies& bodies, const EdgePath& p) {
   return p.threadedBy[0];
 }
 
-/// m: how far from a threaded path's point the slit that carries its gap may lie (a leaf's side
-/// gap along its jamb; a door leaf is 0.8 to 1 m wide, its hinge and latch gaps farther apart).
-constexpr float kCarryReach = 0.3f;
-
 /// A path whose leg threads a gap (markThreads, run here: the channels, found after it, are
 /// not marked) that a slit or channel path carries (the gap's two
 /// surfaces belong to the bodies either side of that slit: the leaf and its wall) is neither a
@@ -219,32 +215,20 @@ void dropThreadedPaths(BoundQuery& q, std::vector<EdgePath>& paths) {
   if (std::none_of(paths.begin(), paths.end(), [](const EdgePath& p) { return p.gapWidth > 0.f; }))
     return;
   markThreads(q, paths);
-  // The slits not threaded themselves, and the bodies either side of each (a leaf and its
-  // wall): a threaded leg is carried by a slit between the same bodies within kCarryReach of its
-  // point (the jamb's own gap), not by one elsewhere on them (the hinge's gap does not carry
-  // the opening at the latch of a leaf ajar against a door stop).
+  // The bodies either side of the slits not threaded themselves (a leaf and its wall).
   auto body = [&](uint32_t s) { return bodyOf(q.bodies, s); };
-  std::vector<std::pair<glm::vec3, std::vector<uint32_t>>> slits;
-  for (const EdgePath& p : paths) {
-    if (!(p.gapWidth > 0.f) || p.threadedBy[0] != kUnknownSurface) continue;
-    std::vector<uint32_t> sides;
-    for (uint32_t s : {p.edge->surfaces[0], p.edge->surfaces[1], p.gapCloser})
-      if (s != kUnknownSurface) sides.push_back(body(s));
-    slits.push_back({p.q, sides});
-  }
-  auto isCarried = [&](const EdgePath& p) {
-    return std::any_of(slits.begin(), slits.end(), [&](const auto& slit) {
-      auto has = [&](uint32_t s) {
-        return s != kUnknownSurface &&
-               std::find(slit.second.begin(), slit.second.end(), body(s)) != slit.second.end();
-      };
-      return glm::distance(slit.first, p.q) <= kCarryReach && has(p.threadedBy[0]) &&
-             has(p.threadedBy[1]);
-    });
+  std::vector<uint32_t> carried;
+  for (const EdgePath& p : paths)
+    if (p.gapWidth > 0.f && p.threadedBy[0] == kUnknownSurface)
+      for (uint32_t s : {p.edge->surfaces[0], p.edge->surfaces[1], p.gapCloser})
+        if (s != kUnknownSurface) carried.push_back(body(s));
+  std::sort(carried.begin(), carried.end());
+  auto isCarried = [&](uint32_t s) {
+    return s != kUnknownSurface && std::binary_search(carried.begin(), carried.end(), body(s));
   };
   size_t kept = 0;
   for (EdgePath& p : paths) {
-    if (!isCarried(p)) {
+    if (!isCarried(p.threadedBy[0]) || !isCarried(p.threadedBy[1])) {
       paths[kept++] = p;
       continue;
     }

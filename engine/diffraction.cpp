@@ -170,8 +170,8 @@ std::vector<uint32_t> otherSide(const BoundQuery& q, const std::vector<TraceRay>
 /// the 10 mm gap beside a leaf set in the middle of the wall): a parallel ray kThreadReach to one
 /// side of a leg meets a surface not the edge's own, and from the leg's point level with that
 /// hit a ray across to the other side meets one within kThreadReach too. p.threadedBy: those
-/// two surfaces.
-void markThreads(const BoundQuery& q, std::vector<EdgePath>& paths) {
+/// two surfaces. Returns per path the first surface's hit point (m; unset where none).
+std::vector<glm::vec3> markThreads(const BoundQuery& q, std::vector<EdgePath>& paths) {
   std::vector<TraceRay> rays;
   std::vector<glm::vec3> sides;
   for (const EdgePath& p : paths) {
@@ -181,12 +181,15 @@ void markThreads(const BoundQuery& q, std::vector<EdgePath>& paths) {
   }
   const std::vector<TraceHit> hits = foreignHits(q, paths, rays);
   const std::vector<uint32_t> other = otherSide(q, rays, sides, hits);
+  std::vector<glm::vec3> at(paths.size(), glm::vec3(0.f));
   for (size_t j = 0; j < paths.size(); ++j)
     for (size_t i = kThreadRays * j; i < kThreadRays * (j + 1); ++i)
       if (other[i] != kUnknownSurface) {
         paths[j].threadedBy = {surfaceOf(q.surfaces, hits[i].surface.triangle), other[i]};
+        at[j] = rays[i].org + hits[i].surface.t * rays[i].dir;
         break;
       }
+  return at;
 }
 
 /// The body of flat surface s (kMovingObjects for a moving object's or an unknown surface).
@@ -202,6 +205,10 @@ uint32_t threadCloser(const SurfaceBodies& bodies, const EdgePath& p) {
   return p.threadedBy[0];
 }
 
+/// m: how far from the edge of the slit that carries it a threaded gap's hit may lie (a channel's
+/// depth at most, kChannelDepthMax).
+constexpr float kCarryReach = kChannelDepthMax;
+
 /// A path whose leg threads a gap (markThreads, run here: the channels, found after it, are
 /// not marked) that a slit or channel path carries (the gap's two
 /// surfaces belong to the bodies either side of that slit: the leaf and its wall) is neither a
@@ -214,21 +221,39 @@ void dropThreadedPaths(BoundQuery& q, std::vector<EdgePath>& paths) {
   // Only a slit can carry a gap: without one (a hall of seats) no leg is looked at.
   if (std::none_of(paths.begin(), paths.end(), [](const EdgePath& p) { return p.gapWidth > 0.f; }))
     return;
-  markThreads(q, paths);
-  // The bodies either side of the slits not threaded themselves (a leaf and its wall).
+  const std::vector<glm::vec3> at = markThreads(q, paths);
+  // The slits not threaded themselves, and the bodies either side of each (a leaf and its
+  // wall): a slit carries a threaded gap between the same bodies whose hit lies within
+  // kCarryReach of its edge (the jamb's own gap, the gap between two leaves under the lintel's
+  // point), not one elsewhere on them (a leaf ajar against a door stop: the hinge's slit does
+  // not carry the opening at its latch).
   auto body = [&](uint32_t s) { return bodyOf(q.bodies, s); };
-  std::vector<uint32_t> carried;
-  for (const EdgePath& p : paths)
-    if (p.gapWidth > 0.f && p.threadedBy[0] == kUnknownSurface)
-      for (uint32_t s : {p.edge->surfaces[0], p.edge->surfaces[1], p.gapCloser})
-        if (s != kUnknownSurface) carried.push_back(body(s));
-  std::sort(carried.begin(), carried.end());
-  auto isCarried = [&](uint32_t s) {
-    return s != kUnknownSurface && std::binary_search(carried.begin(), carried.end(), body(s));
+  struct Carrier {
+    const DiffractionEdge* edge;
+    std::vector<uint32_t> bodies;
+  };
+  std::vector<Carrier> carriers;
+  for (const EdgePath& p : paths) {
+    if (!(p.gapWidth > 0.f) || p.threadedBy[0] != kUnknownSurface) continue;
+    Carrier c{p.edge, {}};
+    for (uint32_t s : {p.edge->surfaces[0], p.edge->surfaces[1], p.gapCloser})
+      if (s != kUnknownSurface) c.bodies.push_back(body(s));
+    carriers.push_back(std::move(c));
+  }
+  auto isCarried = [&](const EdgePath& p, const glm::vec3& hit) {
+    auto by = [&](const Carrier& c, uint32_t s) {
+      return s != kUnknownSurface &&
+             std::find(c.bodies.begin(), c.bodies.end(), body(s)) != c.bodies.end();
+    };
+    return std::any_of(carriers.begin(), carriers.end(), [&](const Carrier& c) {
+      return by(c, p.threadedBy[0]) && by(c, p.threadedBy[1]) &&
+             segmentGap(hit, hit, c.edge->a, c.edge->b) <= kCarryReach;
+    });
   };
   size_t kept = 0;
-  for (EdgePath& p : paths) {
-    if (!isCarried(p.threadedBy[0]) || !isCarried(p.threadedBy[1])) {
+  for (size_t j = 0; j < paths.size(); ++j) {
+    EdgePath& p = paths[j];
+    if (!isCarried(p, at[j])) {
       paths[kept++] = p;
       continue;
     }

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <complex>
+#include <functional>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/vector_relational.hpp>
@@ -425,6 +426,15 @@ void addObjectChannels(const std::vector<DiffractionEdge>& edges,
   keepOpenChannels(channels, q, paths);
 }
 
+/// The index in `edges` of path p's edge; edges.size() for an edge not in it (a moving
+/// object's, placed: engine/object_edges.h).
+size_t edgeIndex(const std::vector<DiffractionEdge>& edges, const EdgePath& p) {
+  const std::less<const DiffractionEdge*> before;
+  const DiffractionEdge* first = edges.data();
+  return !before(p.edge, first) && before(p.edge, first + edges.size()) ? size_t(p.edge - first)
+                                                                         : edges.size();
+}
+
 /// Each free edge path's grazeExcess and grazeSpan (engine/edge_chain.h markGraze), the line of
 /// sight blocked: a pillar's near corner's path whose leg just clears its far corner takes that
 /// corner's lit-side transition, and so nears the chain round both corners that takes over
@@ -433,8 +443,9 @@ void markGrazes(const std::vector<DiffractionEdge>& edges,
                 const std::vector<std::vector<uint32_t>>& near, const BoundQuery& q,
                 std::vector<EdgePath>& paths) {
   for (EdgePath& p : paths)
-    if (p.gapWidth == 0.f && !p.atEnd && p.through == glm::vec3(0.f))
-      markGraze(edges, near, uint32_t(p.edge - edges.data()), q.source, q.L, p);
+    if (p.gapWidth == 0.f && !p.atEnd && p.through == glm::vec3(0.f) &&
+        edgeIndex(edges, p) < edges.size())
+      markGraze(edges, near, uint32_t(edgeIndex(edges, p)), q.source, q.L, p);
 }
 
 /// The shortest of the direct sound (when visible), the edge paths and the slit paths: its
@@ -483,11 +494,25 @@ Bands directIntensity(const std::vector<EdgePath>& paths, const std::vector<Edge
   return min(sum + (direct.visible ? direct.intensity : Bands(0.f)), free);
 }
 
-/// The indices in `edges` of the edges the paths and the chains use, in order (cleared first).
+/// Whether, with no edge path or chain, the line of sight is blocked only by thin bodies that
+/// keep a floor (engine/small_bodies.h thinBodiesFloor): a table top seen edge on, the line of
+/// sight inside its thickness, has no path round it within the chains' reach.
+bool thinBodiesOnly(const DirectSound& direct, BoundQuery& q) {
+  if (direct.lineOfSight() || q.crossed.empty()) return false;
+  DirectSound blocked = direct;
+  blocked.visible = false;
+  const Bands free =
+      unobstructedIntensity(q.source, q.L, direct, q.airPerMetre, q.directivity, q.forward);
+  return thinBodiesFloor({}, blocked, free, q).max() > 0.f;
+}
+
+/// The indices in `edges` of the static edges the paths and the chains use, in order (cleared
+/// first); a moving object's channels' edges are not among them.
 void listUsedEdges(const std::vector<EdgePath>& paths, const std::vector<EdgeChain>& chains,
                    const std::vector<DiffractionEdge>& edges, std::vector<uint32_t>& out) {
   out.clear();
-  for (const EdgePath& p : paths) out.push_back(uint32_t(p.edge - edges.data()));
+  for (const EdgePath& p : paths)
+    if (const size_t i = edgeIndex(edges, p); i < edges.size()) out.push_back(uint32_t(i));
   for (const EdgeChain& c : chains)
     if (c.object < 0) out.insert(out.end(), c.edge.begin(), c.edge.begin() + long(c.n));
 }
@@ -551,8 +576,12 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
   addEndSlits(edges_, lineOfSight, query, paths);
   if (!lineOfSight) markGrazes(edges_, chainNear_, query, paths);
   if (usedEdges) listUsedEdges(paths, chains, edges_, *usedEdges);
-  if (paths.empty() && chains.empty()) return 0;
-  const auto [shortest, arrival] = firstArrival(paths, chains, direct, listener.position);
+  if (paths.empty() && chains.empty() && !thinBodiesOnly(direct, query)) return 0;
+  auto [shortest, arrival] = firstArrival(paths, chains, direct, listener.position);
+  if (!(shortest < 1e29f)) {  // only the thin bodies' floor: straight through them
+    shortest = glm::distance(source, listener.position);
+    arrival = (source - listener.position) / std::max(shortest, 1e-6f);
+  }
   direct.intensity = directIntensity(paths, chains, direct, query);
   direct.visible = true;
   direct.distance = shortest;

@@ -8,7 +8,9 @@
 #include <numbers>
 #include <utility>
 
+#include "engine/channel_path.h"
 #include "engine/coherent_sum.h"
+#include "engine/diffraction_edges.h"
 
 namespace dpc {
 
@@ -29,21 +31,61 @@ struct SmallGroup {
 
 /// The narrowest width (m) of the silhouette that the box round the surfaces casts along the
 /// direction d (not zero): what shadows the sound passing it, a slat's thickness rather than its
-/// depth. The box's width along a unit u is sum_i |u_i| side_i; u runs round the plane normal to
-/// d in steps of 1/32 of a turn (the least width is under 0.5 % more).
+/// depth. The silhouette is a convex polygon whose sides are the box's edges seen along d, and a
+/// convex polygon is narrowest square to one of its sides: the box's width along each unit u
+/// square to d and to an axis (sum_i |u_i| side_i), the least of the three.
 float silhouetteWidth(const std::vector<uint32_t>& surfaces, const SurfaceBodies& bodies,
                       const glm::vec3& d) {
-  constexpr int kSteps = 16;  // half a turn: a width along u equals that along -u
   const auto [lo, hi] = boxOfSurfaces(surfaces, bodies);
   const glm::vec3 side = hi - lo, n = glm::normalize(d);
-  const glm::vec3 helper = std::abs(n.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
-  const glm::vec3 a = glm::normalize(glm::cross(n, helper)), b = glm::cross(n, a);
   float least = std::numeric_limits<float>::infinity();
-  for (int i = 0; i < kSteps; ++i) {
-    const float t = float(std::numbers::pi) * float(i) / float(kSteps);
-    least = std::min(least, glm::dot(glm::abs(std::cos(t) * a + std::sin(t) * b), side));
+  for (int axis = 0; axis < 3; ++axis) {
+    glm::vec3 e(0.f);
+    e[axis] = 1.f;
+    const glm::vec3 u = glm::cross(n, e);
+    const float length = glm::length(u);
+    if (length > 1e-6f) least = std::min(least, glm::dot(glm::abs(u / length), side));
   }
   return least;
+}
+
+/// The most small bodies closeBodies gathers round those taken away before it gives up.
+constexpr size_t kCloseBodiesMost = 64;
+
+/// `removed` (sorted) with every other small body (not largeBody) whose box lies within
+/// kChannelGapMax of a body already in it added, again and again (boards sealed to each other,
+/// gaps of 1 mm or less, which no probe sees: together a screen); sorted. False when more than
+/// kCloseBodiesMost bodies would be added.
+bool closeBodies(std::vector<uint32_t>& removed, const SurfaceBodies& bodies) {
+  std::vector<std::pair<glm::vec3, glm::vec3>> boxes;
+  std::vector<bool> in(bodies.members.size(), false);
+  for (uint32_t s : removed)
+    if (s < bodies.body.size() && bodies.body[s] < in.size() && !in[bodies.body[s]]) {
+      in[bodies.body[s]] = true;
+      boxes.push_back(boxOfSurfaces(bodies.members[bodies.body[s]], bodies));
+    }
+  auto near = [&](const std::pair<glm::vec3, glm::vec3>& b) {
+    return std::any_of(boxes.begin(), boxes.end(), [&](const auto& a) {
+      const glm::vec3 gap = glm::max(a.first - b.second, b.first - a.second);
+      return std::max({gap.x, gap.y, gap.z}) <= kChannelGapMax;
+    });
+  };
+  for (size_t added = 0, round = 0; round <= kCloseBodiesMost; ++round) {
+    bool more = false;
+    for (uint32_t b = 0; b < bodies.members.size(); ++b) {
+      if (in[b] || bodies.members[b].empty() || largeBody(bodies, bodies.members[b][0])) continue;
+      const auto box = boxOfSurfaces(bodies.members[b], bodies);
+      if (!near(box)) continue;
+      if (++added > kCloseBodiesMost) return false;
+      in[b] = more = true;
+      boxes.push_back(box);
+      removed.insert(removed.end(), bodies.members[b].begin(), bodies.members[b].end());
+    }
+    if (!more) break;
+  }
+  std::sort(removed.begin(), removed.end());
+  removed.erase(std::unique(removed.begin(), removed.end()), removed.end());
+  return true;
 }
 
 /// The surfaces taken away with free-standing surface s (sorted): its whole body when the body
@@ -163,14 +205,6 @@ bool weakGroup(const std::vector<EdgePath>& paths, const std::vector<Bands>& amp
   return true;
 }
 
-/// The small groups together (smallSurfaces, smallBands): in each band, at most kLitRipple times
-/// the sum without every group small in it, into bound, and (`floor` not null) at least that sum
-/// over kLitRipple, into *floor. Small bodies scatter weakly, together as each alone, while
-/// their edges' first-order terms, each an infinite edge's, add up in phase where their path
-/// excesses are short (a slatted screen's slats read 18 dB above the free field at 63 Hz with
-/// the line of sight free, one group at a time the others holding the excess), or take a thin
-/// slat's near edge for a screen's (10 dB below the free field 1 cm beside it). Groups outside
-/// the first Fresnel zone go too: the bound is on all of them together.
 /// Whether a gap (a slit path's, or a closed gap's: q.closed) has a surface in `removed`
 /// (sorted) on either side: bodies that close an aperture with others (a double door's leaves in
 /// their frame), or that stand close together (louvres: their slots' air is a mass, m' = rho d /
@@ -196,6 +230,15 @@ struct SumParts {
   const Bands& sum;
 };
 
+/// The small groups together (smallSurfaces, smallBands): in each band, at most kLitRipple times
+/// the sum without every group small in it, into bound, and (`floor` not null) at least that sum
+/// over kLitRipple, into *floor. Small bodies scatter weakly, together as each alone, while
+/// their edges' first-order terms, each an infinite edge's, add up in phase where their path
+/// excesses are short (a slatted screen's slats read 18 dB above the free field at 63 Hz with
+/// the line of sight free, one group at a time the others holding the excess), or take a thin
+/// slat's near edge for a screen's (10 dB below the free field 1 cm beside it). Groups outside
+/// the first Fresnel zone go too: the bound is on all of them together. The floor needs them all
+/// standing free, without gaps (hasGap) and thin together as each alone.
 void smallGroupsBound(const SumParts& parts, const DirectSound& coherent,
                       const std::vector<SmallGroup>& groups, const std::vector<uint32_t>& base,
                       BoundQuery& q, Bands& bound, Bands* floor) {
@@ -217,6 +260,12 @@ void smallGroupsBound(const SumParts& parts, const DirectSound& coherent,
     }
     std::sort(removed.begin(), removed.end());
     removed.erase(std::unique(removed.begin(), removed.end()), removed.end());
+    if (free && count > 0) {  // together thin too, with the small bodies close to them
+      std::vector<uint32_t> together = removed;
+      free = closeBodies(together, q.bodies);
+      thin = std::min(thin, thinBands(silhouetteWidth(together, q.bodies, q.L - q.source),
+                                      q.speedOfSound, kThinFloor));
+    }
     free = free && count > 0 && thin > k && !hasGap(paths, q, removed);
     if (count == 0 || (count == 1 && !free)) return;  // one alone: smallSurfaceBound's own
     if (weakGroup(parts.kept, parts.amplitude, removed, k, n, parts.sum)) {
@@ -286,6 +335,12 @@ Bands thinBodiesFloor(const std::vector<EdgePath>& paths, const DirectSound& coh
       removed.insert(removed.end(), g.surfaces.begin(), g.surfaces.end());
   std::sort(removed.begin(), removed.end());
   removed.erase(std::unique(removed.begin(), removed.end()), removed.end());
+  // Together thin too, with the small bodies close to them: boards sealed to each other (gaps
+  // of 1 mm or less, which no probe sees) make a solid screen, however thin each.
+  std::vector<uint32_t> together = removed;
+  if (!closeBodies(together, q.bodies)) return floor;
+  n = std::min(n, thinBands(silhouetteWidth(together, q.bodies, q.L - q.source), q.speedOfSound,
+                            kThinFloor));
   if (n == 0 || hasGap(paths, q, removed)) return floor;
   DirectSound open = coherent;
   open.visible = true;

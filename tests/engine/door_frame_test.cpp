@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "engine/diffraction.h"
+#include "engine/embree_tracer.h"
 #include "testing/test_scenes.h"
 #include "tests/engine/door_scenes.h"
 #include "tests/engine/slit_model.h"
@@ -153,6 +154,23 @@ TEST_CASE("Door gaps: a box leaf that is a moving object passes its gaps as a st
     }
 }
 
+namespace {
+
+/// The direct sound from kSource to kListener with its line of sight blocked (nothing of it
+/// passes), for EdgeDiffraction::apply.
+DirectSound blockedDirect() {
+  const glm::vec3 v = kListener - kSource;
+  DirectSound d;
+  d.visible = false;
+  d.distance = glm::length(v);
+  d.delaySeconds = d.distance / kC;
+  d.direction = -v / d.distance;
+  d.intensity = Bands(0.f);
+  return d;
+}
+
+}  // namespace
+
 TEST_CASE("Door gaps: a moving-object leaf closed against a door stop passes its L-shaped gaps",
           "[diffraction][door]") {
   // A game's door is a scene object, and real frames have a stop. The object's narrow faces
@@ -182,6 +200,15 @@ TEST_CASE("Door gaps: a moving-object leaf closed against a door stop passes its
         INFO(label << ", band " << b);
         CHECK(std::abs(closed[b] - fixed[b]) < 0.5f);
       }
+      // The edges a pair reports (the response snapshot indexes the static edges with them):
+      // an object channel's edges are the object's, not among them.
+      EmbreeTracer tracer(scene.mesh, scene.objects);
+      const EdgeDiffraction diffraction(scene.mesh, scene.objects);
+      DirectSound d = blockedDirect();
+      std::vector<uint32_t> used;
+      diffraction.apply(tracer, kSource, ListenerSphere{kListener, 0.5f}, kC, Bands(0.f), d, {},
+                        glm::vec3(1.f, 0.f, 0.f), &used);
+      for (uint32_t e : used) CHECK(e < diffraction.edges().size());
     }
 }
 

@@ -91,7 +91,7 @@ TEST_CASE("Door gaps: a slatted screen never takes the direct sound away", "[dif
   // first version of the threaded-leg test did, left the direct sound out at 7 of 10 points of
   // such a walk (a held-out review's screen, 2 cm steps). The floor checked is 20 dB below the
   // free field from 63 to 250 Hz: the sum of the slats' first-order UTD fields scatters about
-  // the mass law's level by -13.9 to +1.4 dB along this walk (before the small bodies were
+  // the mass law's level by -15.5 to +1.4 dB along this walk (before the small bodies were
   // bounded together, engine/small_bodies.h: to +12.0 dB; the low side, where a slat blocks the
   // line of sight, is still short: docs/validation.md), so only its loss is caught.
   SceneDesc s = doorScene(0.f, Leaf::kNone);

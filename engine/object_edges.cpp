@@ -85,7 +85,11 @@ std::vector<EdgePath> objectChannels(const Tracer& tracer, const std::vector<Dif
       const DiffractionEdge& front = o.world[way == 0 ? f.a : f.b];
       const DiffractionEdge& back = o.world[way == 0 ? f.b : f.a];
       EdgePath p;
-      if (channelPath(front, back, source, L, p) && legsFree(tracer, source, L, p)) continue;
+      if (channelPath(front, back, source, L, p) && legsFree(tracer, source, L, p)) {
+        p.face = kMovingObjects;  // straight: often the reveal's slit too (markSlitOwners)
+        out.push_back(p);
+        continue;
+      }
       const std::vector<uint32_t> entries =
           parallelNeighbours(edges, front, none, none, kChannelReach, kChannelNeighbours, near);
       const std::vector<uint32_t> exits =

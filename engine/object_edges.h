@@ -29,15 +29,14 @@ void placeObjectEdges(ObjectEdges& o, const Pose& pose);
 /// its sphere does. Any thread.
 bool nearLine(const ObjectEdges& o, const glm::vec3& source, const glm::vec3& L);
 
-/// The channels along o's narrow faces that turn at a mouth round the static mesh's edges
-/// (`edges`) near it (engine/channel_turn.h turnedChannel): an object door leaf closed against
-/// a door stop in the mesh, its gaps L-shaped. A straight channel is left out: the reveal's own
-/// channel carries that gap (engine/gap_probe.h GapShape::depth), except where the stop closes
-/// the reveal's channel and the straight one along the leaf's face would reach a listener
-/// beside the doorway (not carried: docs/validation.md). Each path's face is
-/// kMovingObjects; their gaps not yet probed (findSlits). Any thread (tracer queries only);
-/// allocates; one pass over `edges` per call for the ones near o, then turnedChannel's rays per
-/// face whose straight channel is blocked.
+/// The channels along o's narrow faces (engine/channel_path.h channelPath): straight ones whose
+/// legs are free, and those that turn at a mouth round the static mesh's edges (`edges`) near it
+/// (engine/channel_turn.h turnedChannel: an object door leaf closed against a door stop in the
+/// mesh, its gaps L-shaped). A straight one is often the same slit as the reveal's own channel
+/// with the leaf across it (engine/gap_probe.h GapShape::depth): markSlitOwners keeps one. Each
+/// path's face is kMovingObjects; their gaps not yet probed (findSlits). Any thread (tracer
+/// queries only); allocates; one pass over `edges` per call for the ones near o, then
+/// turnedChannel's rays per face whose straight channel is blocked.
 std::vector<EdgePath> objectChannels(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
                                      const ObjectEdges& o, const glm::vec3& source,
                                      const glm::vec3& L);

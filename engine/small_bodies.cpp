@@ -170,6 +170,16 @@ int thinBands(float across, float speedOfSound, double ka) {
   return bands;
 }
 
+/// The bands in which the surfaces (sorted) are thin by kThinFloor together with the small
+/// bodies close to them (closeBodies): boards sealed to each other, gaps of 1 mm or less which
+/// no probe sees, make a solid screen however thin each; 0 where closeBodies gives up.
+int thinTogether(const std::vector<uint32_t>& removed, const BoundQuery& q) {
+  std::vector<uint32_t> together = removed;
+  if (!closeBodies(together, q.bodies)) return 0;
+  return thinBands(silhouetteWidth(together, q.bodies, q.L - q.source), q.speedOfSound,
+                   kThinFloor);
+}
+
 /// The bands (the lowest ones) where a group's bound applies: it is small (its extent under the
 /// wavelength, or its silhouette along the line of sight thin, thinBands with kThinBound: a slat
 /// or a leaf seen edge on shadows no more than its thickness, a long body scatters per length
@@ -260,18 +270,13 @@ void smallGroupsBound(const SumParts& parts, const DirectSound& coherent,
     }
     std::sort(removed.begin(), removed.end());
     removed.erase(std::unique(removed.begin(), removed.end()), removed.end());
-    if (free && count > 0) {  // together thin too, with the small bodies close to them
-      std::vector<uint32_t> together = removed;
-      free = closeBodies(together, q.bodies);
-      thin = std::min(thin, thinBands(silhouetteWidth(together, q.bodies, q.L - q.source),
-                                      q.speedOfSound, kThinFloor));
-    }
     free = free && count > 0 && thin > k && !hasGap(paths, q, removed);
     if (count == 0 || (count == 1 && !free)) return;  // one alone: smallSurfaceBound's own
     if (weakGroup(parts.kept, parts.amplitude, removed, k, n, parts.sum)) {
       k = n;
       continue;
     }
+    if (free) thin = std::min(thin, thinTogether(removed, q));
     const Bands without = sumWithout(paths, q, removed, coherent, n);
     for (int b = k; b < n; ++b) {
       bound[b] = std::min(bound[b], kLitRipple * without[b]);
@@ -306,9 +311,10 @@ Bands smallSurfaceBound(const std::vector<EdgePath>& paths, const DirectSound& c
     const Bands without = sumWithout(paths, q, removed, coherent, bands);
     for (int k = 0; k < bands; ++k) bound[k] = std::min(bound[k], kLitRipple * without[k]);
   }
-  q.smallFloor = Bands(0.f);
+  const bool floor = coherent.visible && base.empty();
+  if (floor) q.smallFloor = Bands(0.f);
   smallGroupsBound({paths, kept, amplitude, sum}, coherent, groups, base, q, bound,
-                   coherent.visible && base.empty() ? &q.smallFloor : nullptr);
+                   floor ? &q.smallFloor : nullptr);
   return bound;
 }
 
@@ -328,6 +334,7 @@ Bands thinBodiesFloor(const std::vector<EdgePath>& paths, const DirectSound& coh
     n = std::min(n, thinBands(across, q.speedOfSound, kThinFloor));
     removed.insert(removed.end(), group.begin(), group.end());
   }
+  if (n == 0) return floor;
   // The thin bodies beside them go too: a slat the line of sight crosses has gaps to its
   // neighbours, and together they are the screen.
   for (const SmallGroup& g : smallSurfaces(paths, q))
@@ -335,13 +342,9 @@ Bands thinBodiesFloor(const std::vector<EdgePath>& paths, const DirectSound& coh
       removed.insert(removed.end(), g.surfaces.begin(), g.surfaces.end());
   std::sort(removed.begin(), removed.end());
   removed.erase(std::unique(removed.begin(), removed.end()), removed.end());
-  // Together thin too, with the small bodies close to them: boards sealed to each other (gaps
-  // of 1 mm or less, which no probe sees) make a solid screen, however thin each.
-  std::vector<uint32_t> together = removed;
-  if (!closeBodies(together, q.bodies)) return floor;
-  n = std::min(n, thinBands(silhouetteWidth(together, q.bodies, q.L - q.source), q.speedOfSound,
-                            kThinFloor));
-  if (n == 0 || hasGap(paths, q, removed)) return floor;
+  if (hasGap(paths, q, removed)) return floor;
+  n = std::min(n, thinTogether(removed, q));
+  if (n == 0) return floor;
   DirectSound open = coherent;
   open.visible = true;
   open.intensity = free;

@@ -148,8 +148,10 @@ bool gapAcross(const Tracer& tracer, const DiffractionEdge& front, const glm::ve
   const float near = std::clamp(t, 0.01f * front.length, 0.99f * front.length);
   const glm::vec3 from = front.a + near * front.direction;
   const glm::vec3 mouth = channelMouth(front, through / glm::length(through));
-  return mouth != glm::vec3(0.f) &&
-         tracer.occluded(TraceRay{from, mouth, surfaceOffset(from), kChannelDepthMax});
+  if (mouth == glm::vec3(0.f)) return false;
+  const glm::vec3 back = from + through;
+  return tracer.occluded(TraceRay{from, mouth, surfaceOffset(from), kChannelDepthMax}) ||
+         tracer.occluded(TraceRay{back, mouth, surfaceOffset(back), kChannelDepthMax});
 }
 
 bool visibleChannel(const Tracer& tracer, const DiffractionEdge& front, const DiffractionEdge& back,

@@ -74,7 +74,9 @@ bool channelVia(const DiffractionEdge& front, const DiffractionEdge& back,
 
 /// True when a ray from `front` near parameter t (m along it) across the channel's mouth meets
 /// the gap's other side within kChannelDepthMax (a seat's narrow faces have none: no channel is
-/// looked for). One ray.
+/// looked for), or the same ray from the back edge does (a leaf opened a degree or two: its
+/// side face's front corner has left the reveal, the back of the face still runs beside it).
+/// One or two rays.
 bool gapAcross(const Tracer& tracer, const DiffractionEdge& front, const glm::vec3& through,
                float t);
 

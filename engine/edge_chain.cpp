@@ -156,6 +156,28 @@ bool innerLegInGap(const Tracer& tracer, const glm::vec3& along, const glm::vec3
   return false;
 }
 
+/// True when the leg from a (on edge e) to b (on edge f) runs along a face that joins the two
+/// edges (a reveal from a wall's front corner to its back one) and the face's air side is closed
+/// within kChannelGapMax at a quarter, half or three quarters of the leg: a leaf beside the
+/// reveal as thick as the wall, whose parallel segments (threadsGap) lie inside the leaf on one
+/// side and inside the wall on the other, and whose middle points lie on the reveal itself.
+/// The air side is the face's side away from e's other face (e's solid wedge is under pi).
+bool faceLegInGap(const Tracer& tracer, const DiffractionEdge& e, const DiffractionEdge& f,
+                  const glm::vec3& a, const glm::vec3& b) {
+  if (!joinedByFace(e, f)) return false;
+  const glm::vec3 u = glm::normalize(b - a);
+  const glm::vec3 face1 = std::cos(e.open) * e.face0 + std::sin(e.open) * e.normal0;
+  const glm::vec3 other = glm::dot(e.face0, u) > glm::dot(face1, u) ? face1 : e.face0;
+  const glm::vec3 solid = other - glm::dot(other, u) * u;
+  if (!(glm::length(solid) > 1e-3f)) return false;
+  const glm::vec3 air = -glm::normalize(solid);
+  for (float t : {0.25f, 0.5f, 0.75f}) {
+    const glm::vec3 at = a + t * (b - a);
+    if (tracer.occluded(TraceRay{at, air, surfaceOffset(at), kChannelGapMax})) return true;
+  }
+  return false;
+}
+
 /// The chain's rays, cheapest refusals first: its outer legs free, its legs in open air, and
 /// the shortcut past every Q blocked.
 bool chainStands(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
@@ -167,7 +189,8 @@ bool chainStands(const Tracer& tracer, const std::vector<DiffractionEdge>& edges
       outerLegInGap(tracer, along, p[last - 1], p[last]))
     return false;
   for (size_t i = 1; i + 1 < last; ++i)
-    if (!segmentFree(tracer, p[i], p[i + 1]) || innerLegInGap(tracer, along, p[i], p[i + 1]))
+    if (!segmentFree(tracer, p[i], p[i + 1]) || innerLegInGap(tracer, along, p[i], p[i + 1]) ||
+        faceLegInGap(tracer, edges[c.edge[i - 1]], edges[c.edge[i]], p[i], p[i + 1]))
       return false;
   for (size_t i = 1; i < last; ++i)
     if (segmentFree(tracer, p[i - 1], p[i + 1])) return false;

@@ -203,8 +203,38 @@ std::vector<Bracket> refine(const Tracer& tracer, const glm::vec3& source,
   return out;
 }
 
-/// The width by deltas across the mouth: kCoarse deltas in log up to the reach, then two
-/// rounds refining the bracket between the last free and the first blocked one.
+/// For each gap's bracket, the coarse deltas' geometric means below it (between the first free
+/// delta and the bracket's free one): the first of them that is closed brackets the gap
+/// instead. A gap may close and open again across its mouth: a sheet's rim a centimetre in
+/// front of a 4 cm wall, probed in the sheet's plane, passes the wall's corner closed from 7 to
+/// 43 mm and meets the wall's back face, far enough not to close it, from there to 50 mm.
+std::vector<Bracket> closedBelow(const Tracer& tracer, const glm::vec3& source,
+                                 const glm::vec3& listener, std::span<const GapProbe> probes,
+                                 const std::vector<size_t>& gaps,
+                                 const std::vector<std::vector<float>>& below,
+                                 std::vector<Bracket> bracket) {
+  std::vector<Across> list;
+  std::vector<size_t> first;  // per gap, its first point in the round
+  for (size_t n = 0; n < gaps.size(); ++n) {
+    first.push_back(list.empty() ? 0 : first.back() + list.back().d.size());
+    std::vector<float> mid;
+    for (size_t i = 0; i + 1 < below[n].size(); ++i)
+      mid.push_back(std::sqrt(below[n][i] * below[n][i + 1]));
+    list.push_back({gaps[n], mid});
+  }
+  const std::vector<uint32_t> closer = runAcross(tracer, source, listener, probes, list);
+  for (size_t n = 0; n < gaps.size(); ++n)
+    for (size_t i = 0; i < list[n].d.size(); ++i)
+      if (const uint32_t c = closer[first[n] + i]; c != kNoCloser) {
+        bracket[n] = {below[n][i], list[n].d[i], c};
+        break;
+      }
+  return bracket;
+}
+
+/// The width by deltas across the mouth: kCoarse deltas in log up to the reach, their means
+/// below a gap's bracket (closedBelow), then two rounds refining the bracket between the last
+/// free and the first blocked one.
 void findWidths(const Tracer& tracer, const glm::vec3& source, const glm::vec3& listener,
                 std::span<const GapProbe> probes, std::span<GapShape> shapes) {
   std::vector<Across> list;
@@ -217,6 +247,7 @@ void findWidths(const Tracer& tracer, const glm::vec3& source, const glm::vec3& 
   const std::vector<uint32_t> coarse = runAcross(tracer, source, listener, probes, list);
   std::vector<size_t> gaps;
   std::vector<Bracket> bracket;
+  std::vector<std::vector<float>> below;  // per gap, its free coarse deltas
   for (size_t n = 0; n < list.size(); ++n) {
     auto closer = [&](int i) { return coarse[n * kCoarse + size_t(i)]; };
     auto blocked = [&](int i) { return closer(i) != kNoCloser; };
@@ -234,8 +265,10 @@ void findWidths(const Tracer& tracer, const glm::vec3& source, const glm::vec3& 
     if (f == kCoarse) continue;  // free within reach: width 0
     gaps.push_back(list[n].probe);
     bracket.push_back({list[n].d[size_t(f - 1)], list[n].d[size_t(f)], closer(f)});
+    below.emplace_back(list[n].d.begin() + free, list[n].d.begin() + f);
   }
   if (gaps.empty()) return;
+  bracket = closedBelow(tracer, source, listener, probes, gaps, below, bracket);
   for (int r = 0; r < 2; ++r) bracket = refine(tracer, source, listener, probes, gaps, bracket);
   for (size_t n = 0; n < gaps.size(); ++n) {
     shapes[gaps[n]].width = std::sqrt(bracket[n].free * bracket[n].closed);
@@ -352,9 +385,13 @@ void findFarSides(const Tracer& tracer, std::span<const GapProbe> probes,
 /// the channel gaps measured): rays
 /// 1.5 widths across, from kGapProbeThrough outside either mouth toward the other; what they
 /// run free before meeting it is not the gap's depth (a leaf 4 cm thick set in a 0.2 m reveal:
-/// 0.04). A ray that meets nothing (the far side is the face's own body) leaves it whole.
+/// 0.04). A ray that meets nothing (the far side is the face's own body) leaves it whole. A ray
+/// that starts inside the far side (a leaf standing a few millimetres proud of the wall, past
+/// the mouth) meets the far side's face across the gap on its way back toward the edge (a
+/// second ray, one width long): the far side stands from that mouth on.
 std::vector<size_t> measureDepths(const Tracer& tracer, std::span<const GapProbe> probes,
                                   const std::vector<size_t>& gaps, std::span<GapShape> shapes) {
+  constexpr size_t kRays = 4;  // per gap: along from either mouth, back across at either
   std::vector<TraceRay> rays;
   std::vector<size_t> owner;
   for (size_t j : gaps) {
@@ -362,10 +399,13 @@ std::vector<size_t> measureDepths(const Tracer& tracer, std::span<const GapProbe
     const float length = glm::length(g.through);
     if (!(length > 0.f)) continue;
     const glm::vec3 dir = g.through / length;
-    const glm::vec3 front = g.q + kOuterWidth * shapes[j].width * g.mouth - kGapProbeThrough * dir;
+    const float w = shapes[j].width;
+    const glm::vec3 front = g.q + kOuterWidth * w * g.mouth - kGapProbeThrough * dir;
     const glm::vec3 back = front + g.through + 2.f * kGapProbeThrough * dir;
     rays.push_back(TraceRay{front, dir, 0.f, length + kGapProbeThrough});
     rays.push_back(TraceRay{back, -dir, 0.f, length + kGapProbeThrough});
+    rays.push_back(TraceRay{front, -g.mouth, 0.f, w});
+    rays.push_back(TraceRay{back, -g.mouth, 0.f, w});
     owner.push_back(j);
   }
   if (rays.empty()) return owner;
@@ -374,7 +414,8 @@ std::vector<size_t> measureDepths(const Tracer& tracer, std::span<const GapProbe
   for (size_t n = 0; n < owner.size(); ++n) {
     std::array<float, 2> free = {0.f, 0.f};  // from the front mouth, from the back one
     for (size_t k = 0; k < 2; ++k)
-      if (hits[2 * n + k].found) free[k] = std::max(0.f, hits[2 * n + k].surface.t - kGapProbeThrough);
+      if (hits[kRays * n + k].found && !hits[kRays * n + 2 + k].found)
+        free[k] = std::max(0.f, hits[kRays * n + k].surface.t - kGapProbeThrough);
     GapShape& shape = shapes[owner[n]];
     shape.depth = std::max(0.f, glm::length(probes[owner[n]].through) - free[0] - free[1]);
     shape.inset = std::min(free[0], glm::length(probes[owner[n]].through) - shape.depth);

@@ -83,6 +83,51 @@ TEST_CASE("Door gaps: a box leaf closed against a door stop passes its L-shaped 
   }
 }
 
+TEST_CASE("Door gaps: a leaf proud of the wall's face, or flush with both faces of a wall as thick",
+          "[diffraction][door]") {
+  // Where a model puts the leaf: a few millimetres proud of the wall's face (toward either
+  // room), or a box exactly as thick as the wall, flush with both its faces (a game level's
+  // door is often a box that fills the hole), or a sheet in front of the wall's face. Before,
+  // against the model below: a box leaf 3 or 10 mm proud read 7.6-9.9 dB above it at 63-1000 Hz
+  // (the channel's depth was measured from inside the leaf: a slit in a sheet); a box as thick
+  // as a 4 or 10 cm wall, flush with both faces, read the open doorway, up to 27 dB above it
+  // (the path round the reveal's two corners ran between the leaf and the reveal, and no test
+  // saw the leaf 5 mm off: both of its side tests lay inside a solid); a sheet 3-20 mm in front
+  // of the face read up to 15.7 dB above it (its rim's probe, in the sheet's plane, passed the
+  // wall's corner between two coarse widths and met the wall's back face too far out to close
+  // it; the wall corner's own, narrower measure was not the one kept). Model: the slit model with depth (computed here on its own), the
+  // slit's depth the leaf's overlap with the reveal, a sheet's slit as wide as the opening
+  // from its rim to the wall's corner (the narrowest; depth 0). Within the issue's 3 dB.
+  const MouthImpedance zr;
+  constexpr float kGap = 0.005f;
+  struct Placement {
+    float wall, thickness, x0;  // m: the leaf from x0 to x0 + thickness (the wall 6 .. 6 + wall)
+  };
+  std::vector<Placement> cases;
+  for (float wall : {0.04f, 0.1f, 0.2f})
+    for (float proud : {0.003f, 0.01f}) {
+      cases.push_back({wall, 0.04f, 6.f - proud});                // proud toward the source
+      cases.push_back({wall, 0.04f, 6.f + wall + proud - 0.04f});  // toward the listener
+    }
+  cases.push_back({0.04f, 0.04f, 6.f});  // flush with both faces
+  cases.push_back({0.1f, 0.1f, 6.f});
+  for (float proud : {0.003f, 0.01f, 0.02f}) cases.push_back({0.04f, 0.f, 6.f - proud});  // sheets
+  for (const Placement& c : cases) {
+    const Bands open = decibels(directLevel(thickDoorwayScene(c.wall, false)));
+    const float x = c.x0 + 0.5f * c.thickness;
+    const Bands closed = decibels(directLevel(recessedLeafScene(c.wall, kGap, c.thickness, x)));
+    const float overlap =
+        std::max(0.f, std::min(c.x0 + c.thickness, 6.f + c.wall) - std::max(c.x0, 6.f));
+    const float proud = std::max(0.f, 6.f - c.x0 - c.thickness);  // a sheet's
+    const Bands model = modelLevels(
+        perimeterSlits(std::hypot(kGap, proud), x, c.thickness > 0.f ? overlap : 0.f), zr);
+    char label[112];
+    std::snprintf(label, sizeof label, "wall %.2f m, leaf %2.0f mm from x %.3f, gap %1.0f mm",
+                  double(c.wall), 1e3 * double(c.thickness), double(c.x0), 1e3 * double(kGap));
+    checkClosedAgainstModel(label, closed, open, model);
+  }
+}
+
 TEST_CASE("Door gaps: a box leaf in a thick wall seen off the axis with or without a door stop",
           "[diffraction][door]") {
   // The pairs of "seen from off the axis" below (beside the doorway, past a jamb), the leaf
@@ -257,6 +302,42 @@ TEST_CASE("Door gaps: a leaf with a door stop swung open is never louder than th
         INFO("stop side " << side << ", " << degrees << " degrees, band " << b);
         CHECK(object[b] <= open[b] + 0.05f);
         CHECK(fixed[b] <= open[b] + 0.05f);
+      }
+    }
+  }
+}
+
+TEST_CASE("Door gaps: a leaf with a door stop opened a degree or two is not quieter than shut",
+          "[diffraction][door]") {
+  // Opened 0.5-2.5 degrees, the leaf's latch side widens its gap to the stop (5 mm to 2-5 cm)
+  // while its front corner leaves the reveal (by 4-43 mm): the side gap's front mouth then
+  // opens onto the room. Before, with the stop behind the leaf, that side's channel was dropped
+  // (its gap was looked for at the front mouth only) and the leaf read 4.7 to 10 dB below shut
+  // at 63 Hz-1 kHz from 1 degree on. Now at most 1.5 dB below: the hinge side's gap narrows as the leaf turns (4.7 to 4.3 mm at 1 degree,
+  // 0.4 dB of one of three slits) and the probe resolves a width to 5 % (0.2 dB). From 3
+  // degrees the whole side face has left the reveal and the opening is an oblique gap between
+  // the wall's corner and the leaf's back face, which no channel models (docs/validation.md).
+  constexpr float kThickness = 0.04f, kWall = 0.2f, kLip = 0.02f, kGap = 0.005f;
+  for (float side : {1.f, -1.f}) {
+    const float x0 = side > 0.f ? 6.01f : 6.f + kWall - 0.01f - kThickness;
+    SceneDesc shut = objectLeafScene(kWall, kGap, kThickness, x0 + 0.5f * kThickness);
+    addDoorStop(shut.mesh, kGap, kThickness, x0, side, kLip);
+    const Bands closed = decibels(directLevel(shut));
+    for (float degrees : {0.5f, 1.f, 1.5f, 2.f, 2.5f}) {
+      SceneDesc scene = shut;
+      const float swing = glm::radians(degrees) * (side > 0.f ? -1.f : 1.f);
+      scene.objects[0].trajectory[0].rotation = glm::angleAxis(swing, glm::vec3(0, 1, 0));
+      const Bands object = decibels(directLevel(scene));
+      const Bands fixed = decibels(directLevel(objectsInMesh(scene)));
+      std::printf("leaf with stop %s, ajar %3.1f deg: object / in the mesh / shut (dB)",
+                  side > 0.f ? "behind" : "before", double(degrees));
+      for (int b = 0; b <= 4; ++b)
+        std::printf(" %5.1f/%5.1f/%5.1f", double(object[b]), double(fixed[b]), double(closed[b]));
+      std::printf("\n");
+      for (int b = 0; b <= 4; ++b) {  // 63 Hz - 1 kHz
+        INFO("stop side " << side << ", " << degrees << " degrees, band " << b);
+        CHECK(object[b] >= closed[b] - 1.5f);
+        CHECK(fixed[b] >= closed[b] - 1.5f);
       }
     }
   }

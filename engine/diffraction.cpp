@@ -238,6 +238,41 @@ void addObjectChannels(const std::vector<DiffractionEdge>& edges,
   keepOpenChannels(channels, q, paths);
 }
 
+/// A moving object's edge taken alone (a one-edge chain: objects have no first-order paths)
+/// whose gap the probe finds open becomes that slit's edge path: a game door's free rim ajar a
+/// few degrees, whose leg hides the latch jamb's from the listener, bounds the latch gap, and
+/// as a chain it added a free edge's field (the door read the open doorway at 63 Hz, 6 dB
+/// above the same leaf in the static mesh). Its chain goes; a rim with no gap stays a chain.
+void addObjectRims(const std::vector<ObjectEdges>& objects, BoundQuery& q,
+                   std::vector<EdgeChain>& chains, std::vector<EdgePath>& paths) {
+  std::vector<EdgePath> rims, closed;
+  std::vector<size_t> from;  // per rim, its chain
+  for (size_t c = 0; c < chains.size(); ++c) {
+    if (chains[c].object < 0 || chains[c].n != 1) continue;
+    const DiffractionEdge& e = objects[size_t(chains[c].object)].world[chains[c].edge[0]];
+    EdgePath p;
+    if (!edgePath(e, q.source, q.L, false, p) || !legsFree(q.tracer, q.source, q.L, p)) continue;
+    rims.push_back(p);
+    from.push_back(c);
+  }
+  if (rims.empty()) return;
+  std::vector<EdgePath> probed = rims;
+  findSlits(q.tracer, q.source, q.L, q.surfaces, probed, closed);
+  std::vector<bool> drop(chains.size(), false);
+  for (const EdgePath& p : probed) {
+    if (!(p.gapWidth > 0.f)) continue;
+    const auto k = size_t(std::find_if(rims.begin(), rims.end(), [&](const EdgePath& r) {
+                            return r.edge == p.edge;
+                          }) - rims.begin());
+    drop[from[k]] = true;
+    paths.push_back(p);
+  }
+  size_t kept = 0;
+  for (size_t c = 0; c < chains.size(); ++c)
+    if (!drop[c]) chains[kept++] = chains[c];
+  chains.resize(kept);
+}
+
 /// The index in `edges` of path p's edge; edges.size() for an edge not in it (a moving
 /// object's, placed: engine/object_edges.h).
 size_t edgeIndex(const std::vector<DiffractionEdge>& edges, const EdgePath& p) {
@@ -375,12 +410,13 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
   std::vector<EdgePath> paths = edgePaths(edges_, lineOfSight, query);
   crossLineOfSight(lineOfSight, query);
   direct.chainsLeftOut = 0;
-  const std::vector<EdgeChain> chains =
+  std::vector<EdgeChain> chains =
       lineOfSight ? std::vector<EdgeChain>{} : laidChains(query, objects_, chainNear_,
                                                           direct.chainsLeftOut);
   findSlits(tracer, source, listener.position, surfaces_, paths, query.closed);
   addChannels(edges_, narrow_, query, paths);
   addObjectChannels(edges_, objects_, query, paths);
+  addObjectRims(objects_, query, chains, paths);
   dropThreadedPaths(query, paths);
   markSlitOwners(paths);
   markSlitPartners(paths);

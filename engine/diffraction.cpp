@@ -407,6 +407,7 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
   BoundQuery query{tracer, source,       listener.position, surfaces_, bodies_,
                    edges_, {},           {},                {},        {},
                    speedOfSound, airPerMetre, directivity,  forward};
+  query.objects = !objects_.empty();
   std::vector<EdgePath> paths = edgePaths(edges_, lineOfSight, query);
   crossLineOfSight(lineOfSight, query);
   direct.chainsLeftOut = 0;

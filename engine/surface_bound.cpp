@@ -279,8 +279,13 @@ Bands heldBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
                 const EdgePath* throughSlit, const Bands& free, const Bands& sum, BoundQuery& q) {
   // Blocked, but by surfaces not known (a grazing segment's crossings): the free field alone.
   if (!coherent.visible && q.crossed.empty()) return free;
-  const Bands bound = smallSurfaceBound(paths, coherent, sum, q);
+  Bands bound = smallSurfaceBound(paths, coherent, sum, q);
   if (!coherent.visible) return min(bound, blockedBound(paths, coherent, free, q));
+  // The moving objects' own edges have no first-order paths, so with the line of sight free
+  // the sum lacks their lit-side fields, which partly cancel the paths they hide: a sliding
+  // door half across its doorway read 4.9 dB above the open doorway at 63 Hz. An obstruction
+  // adds no energy: at most the lit-side ripple over the sum with the objects taken away.
+  if (q.objects) bound = min(bound, sumWithout(paths, q, {kMovingObjects}, coherent) * kLitRipple);
   if (!throughSlit) return bound;
   return min(bound, slitBound(paths, coherent, *throughSlit, q));
 }

@@ -72,6 +72,8 @@ struct BoundQuery {
   /// With the line of sight free, what the small bodies near it leave the sum at least, per
   /// band (1/m^2; heldBound fills it, 0 where none is small).
   Bands smallFloor{0.f};
+  /// The scene has moving objects (their edges have no first-order paths of their own).
+  bool objects = false;
 };
 
 /// Fills q.crossed: the flat surfaces the segment from q.source to q.L crosses, when the line

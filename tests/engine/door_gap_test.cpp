@@ -227,6 +227,34 @@ TEST_CASE("Door gaps: scenes/two_rooms.json's door ajar reads as the same leaf i
   }
 }
 
+TEST_CASE("Door gaps: a sliding door part-way across its doorway is never louder than it open",
+          "[diffraction][door]") {
+  // A sheet leaf (the doorway's size less 1 cm gaps) 2 cm in front of the wall, slid along it
+  // 0.1-0.9 m (a barn door; as a moving object and as the same leaf in the static mesh). With
+  // the line of sight free (from 0.5 m), the object's own edges have no first-order paths, so
+  // the sum kept the doorway's far jamb and lintel but lost the near jamb the leaf hides and
+  // the leaf's rim that stands for it: before, 4.9 dB above the open doorway at 63 Hz, 2.7 dB
+  // at 125 Hz. An obstruction adds no energy: at most the open doorway times the knife edge's
+  // lit-side ripple (kLitRipple, 1.37 dB), in every band.
+  const Bands open = decibels(directLevel(doorScene(0.01f, Leaf::kNone)));
+  const float ripple = 10.f * std::log10(kLitRipple) + 0.05f;
+  for (float slid : {0.1f, 0.3f, 0.5f, 0.7f, 0.9f}) {
+    SceneDesc scene = doorScene(0.01f, Leaf::kObject);
+    scene.objects[0].trajectory[0].position = glm::vec3(5.98f, 0.f, kDoorZ0 + 0.01f + slid);
+    const Bands object = decibels(directLevel(scene));
+    const Bands mesh = decibels(directLevel(objectsInMesh(scene)));
+    std::printf("sliding door %.1f m open: object / in the mesh / open (dB)", double(slid));
+    for (int b = 0; b < kNumBands; ++b)
+      std::printf(" %5.1f/%5.1f/%5.1f", double(object[b]), double(mesh[b]), double(open[b]));
+    std::printf("\n");
+    for (int b = 0; b < kNumBands; ++b) {
+      INFO(slid << " m open, band " << b);
+      CHECK(object[b] <= open[b] + ripple);
+      CHECK(mesh[b] <= open[b] + ripple);
+    }
+  }
+}
+
 TEST_CASE("Door gaps: an obstacle in a window never lifts the direct sound above the free field",
           "[diffraction][door]") {
   // A 1 m square window in a free-standing wall (four rims), a 10 cm plate in its middle (a

@@ -4,7 +4,6 @@
 #include <numbers>
 
 #include "engine/object_edges.h"
-#include "engine/slit.h"
 
 namespace dpc {
 
@@ -20,46 +19,6 @@ std::vector<Bands> chainWeights(const std::vector<EdgeChain>& chains, const Boun
   return out;
 }
 
-/// The band mean of (1 - s)^2, s = slitWeight of owner slit o (engine/slit.h): the energy share
-/// its far edge keeps of its own UTD field.
-Bands partnerShare(const EdgePath& o, float speedOfSound) {
-  Bands out(0.f);
-  for (int band = 0; band < kNumBands; ++band) {
-    double sum = 0.0;
-    for (int i = 0; i < kDiffractionFrequenciesPerBand; ++i) {
-      const double k = 2.0 * std::numbers::pi * diffractionFrequencyHz(band, i) / speedOfSound;
-      const double s = slitWeight(k * o.slit.sinBeta * o.slit.width, o.slitAspect);
-      sum += (1.0 - s) * (1.0 - s);
-    }
-    out[band] = float(sum / kDiffractionFrequenciesPerBand);
-  }
-  return out;
-}
-
-/// A moving object's edge taken alone (a one-edge chain: objects have no first-order paths)
-/// that lies across a slit a static edge found, closed by an object (a game door's free rim
-/// ajar, across the latch gap from the jamb), is that slit's other edge: the slit's field,
-/// which its owner carries, replaces its UTD field in the proportion s, as markSlitPartners
-/// does for a static edge (engine/diffraction.cpp). Its weight is scaled by (1 - s)^2 per band.
-/// Within 1.5 widths of the slit's far side, as acrossSlit (engine/edge_path.h) takes it. A rim
-/// whose own probe finds the gap is a slit path instead (engine/diffraction.cpp addObjectRims);
-/// this is for one whose probe finds none: the two_rooms door ajar 20 degrees read the open
-/// doorway at 63 Hz, 6.2 dB above the same leaf in the static mesh.
-void scaleSlitPartners(const std::vector<EdgePath>& paths, const std::vector<EdgeChain>& chains,
-                       float speedOfSound, std::vector<Bands>& weights) {
-  constexpr float kReach = 1.5f;  // widths
-  for (size_t c = 0; c < chains.size(); ++c) {
-    if (chains[c].object < 0 || chains[c].n != 1) continue;
-    for (const EdgePath& o : paths) {
-      if (!(o.gapWidth > 0.f) || !o.slitOwner || o.gapCloser != kMovingObjects ||
-          glm::distance(chains[c].q[0], o.q + o.gapWidth * o.mouth) > kReach * o.gapWidth)
-        continue;
-      weights[c] *= partnerShare(o, speedOfSound);
-      break;
-    }
-  }
-}
-
 }  // namespace
 
 Bands withChains(const std::vector<EdgePath>& paths, const std::vector<EdgeChain>& chains,
@@ -68,8 +27,7 @@ Bands withChains(const std::vector<EdgePath>& paths, const std::vector<EdgeChain
   if (chains.empty()) return held;
   const float d = direct.distance;
   const Bands omni = exp(q.airPerMetre * -d) * (1.f / (4.f * std::numbers::pi_v<float> * d * d));
-  std::vector<Bands> weights = chainWeights(chains, q);
-  scaleSlitPartners(paths, chains, q.speedOfSound, weights);
+  const std::vector<Bands> weights = chainWeights(chains, q);
   std::vector<ChainEnergy> energies;
   for (size_t c = 0; c < chains.size(); ++c) {
     ChainEnergy e{omni * chainGain(chains[c], d, q.speedOfSound, q.airPerMetre) * weights[c], {}};

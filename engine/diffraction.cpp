@@ -242,7 +242,9 @@ void addObjectChannels(const std::vector<DiffractionEdge>& edges,
 /// whose gap the probe finds open becomes that slit's edge path: a game door's free rim ajar a
 /// few degrees, whose leg hides the latch jamb's from the listener, bounds the latch gap, and
 /// as a chain it added a free edge's field (the door read the open doorway at 63 Hz, 6 dB
-/// above the same leaf in the static mesh). Its chain goes; a rim with no gap stays a chain.
+/// above the same leaf in the static mesh). Its chain goes; a rim with no gap, or with a gap
+/// too short along it for the slit model (slitWeight 0: its field would be UTD's alone, and
+/// unbounded as a first-order path where the chain's is held), stays a chain.
 void addObjectRims(const std::vector<ObjectEdges>& objects, BoundQuery& q,
                    std::vector<EdgeChain>& chains, std::vector<EdgePath>& paths) {
   std::vector<EdgePath> rims, closed;
@@ -260,10 +262,11 @@ void addObjectRims(const std::vector<ObjectEdges>& objects, BoundQuery& q,
   findSlits(q.tracer, q.source, q.L, q.surfaces, probed, closed);
   std::vector<bool> drop(chains.size(), false);
   for (const EdgePath& p : probed) {
-    if (!(p.gapWidth > 0.f)) continue;
+    if (!(p.gapWidth > 0.f) || p.slitAspect < kSlitMinAspect) continue;  // else UTD's alone
     const auto k = size_t(std::find_if(rims.begin(), rims.end(), [&](const EdgePath& r) {
                             return r.edge == p.edge;
                           }) - rims.begin());
+    if (k == rims.size()) continue;
     drop[from[k]] = true;
     paths.push_back(p);
   }

@@ -297,17 +297,14 @@ void markSlitOwners(std::vector<EdgePath>& paths) {
     return std::abs(glm::dot(o.edge->direction, p.edge->direction)) >= kParallelEdges &&
            overlapAlong(o, p) &&
            (slitsApart(o, p) < 0.5f * std::max(o.gapWidth, p.gapWidth) + 1e-3f ||
-            acrossSlit(o, p) || acrossSlit(p, o));
+            acrossSlit(o, p));
   };
-  // Shallowest first, then narrowest (a probe along its mouth measures a gap at least as wide
-  // as it is: a sheet's rim a centimetre proud of the wall meets the wall's back face 5 cm
-  // out, the wall's corner, probed toward the rim, meets the rim), then in list order: each
-  // path owns its slit unless an owner before it in that order finds the same slit.
+  // Shallowest first, then in list order: each path owns its slit unless an owner before it
+  // in that order finds the same slit.
   std::vector<size_t> order(paths.size());
   for (size_t k = 0; k < order.size(); ++k) order[k] = k;
   std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
-    return std::pair(paths[a].slit.depth, paths[a].gapWidth) <
-           std::pair(paths[b].slit.depth, paths[b].gapWidth);
+    return paths[a].slit.depth < paths[b].slit.depth;
   });
   for (size_t n = 0; n < order.size(); ++n) {
     EdgePath& p = paths[order[n]];

@@ -174,8 +174,7 @@ bool acrossSlit(const EdgePath& o, const EdgePath& p);
 
 /// A slit bounded by two edges (a leaf's rim and its frame's) is found from both; only one
 /// carries its field: the shallowest (a sheet's rim before the reveal beside it, a box leaf's
-/// side face before the wall's reveal), of equal depths the narrowest (each probe measures the
-/// gap along its own mouth, so at least as wide as it is), then the first. Same slit: parallel edges whose
+/// side face before the wall's reveal), the first of equals. Same slit: parallel edges whose
 /// centre lines (a channel's, from its front mouth to its back one) lie within half the wider
 /// gap (plus 1 mm) of each other, or one across the other's slit (acrossSlit: an oblique
 /// leaf's free edge and the jamb measure the opening between them differently).

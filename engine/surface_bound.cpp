@@ -280,12 +280,12 @@ Bands heldBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
   // Blocked, but by surfaces not known (a grazing segment's crossings): the free field alone.
   if (!coherent.visible && q.crossed.empty()) return free;
   Bands bound = smallSurfaceBound(paths, coherent, sum, q);
-  // The moving objects' own edges have no first-order paths but their rims' slits, so the sum
-  // lacks the other edges' fields, which partly cancel the paths the objects hide: a sliding
-  // door half across its doorway, the line of sight free, read 4.9 dB above the open doorway
-  // at 63 Hz, a sheet leaf ajar 20 degrees beside it 4 dB. An obstruction adds no energy: at
-  // most the lit-side ripple over the sum with the objects taken away.
   if (!coherent.visible) return min(bound, blockedBound(paths, coherent, free, q));
+  // With the line of sight free the moving objects' own edges have no paths, so the sum lacks
+  // their lit-side fields, which partly cancel the paths they hide: a sliding door half across
+  // its doorway read 4.9 dB above the open doorway at 63 Hz. An obstruction adds no energy: at
+  // most the lit-side ripple over the sum with the objects taken away. (Blocked, the sum
+  // without them lacks the chains withChains adds later, so it is no bound there.)
   if (q.objects) bound = min(bound, sumWithout(paths, q, {kMovingObjects}, coherent) * kLitRipple);
   if (!throughSlit) return bound;
   return min(bound, slitBound(paths, coherent, *throughSlit, q));

@@ -140,7 +140,12 @@ bool outerLegInGap(const Tracer& tracer, const glm::vec3& along, const glm::vec3
   const float length = glm::distance(q, end);
   const float reach = std::min(length, kChannelDepthMax);
   const glm::vec3 far = q + (reach / length) * (end - q);
-  if (threadsGap(tracer, along, q, far, true)) return true;
+  // The parallel segments start kChannelGapMax along the leg: from q itself, the one on the
+  // edge's own side starts behind a sheet's rim that the leg leaves square to it (a leaf ajar 3
+  // degrees, its rim 5 cm from the jamb: the leaf and the jamb read as a gap's two sides). A
+  // gap shallower than that, at q, is the rays across's below.
+  const glm::vec3 from = q + (std::min(kChannelGapMax, 0.5f * reach) / length) * (end - q);
+  if (threadsGap(tracer, along, from, far, true)) return true;
   for (float at : {0.003f, 0.01f, 0.03f})
     if (at < reach && narrowAt(tracer, along, q, far, at / reach)) return true;
   return false;

@@ -205,9 +205,9 @@ std::vector<Bracket> refine(const Tracer& tracer, const glm::vec3& source,
 
 /// For each gap's bracket, the coarse deltas' geometric means below it (between the first free
 /// delta and the bracket's free one): the first of them that is closed brackets the gap
-/// instead. A gap may close and open again across its mouth: a sheet's rim a centimetre in
-/// front of a 4 cm wall, probed in the sheet's plane, passes the wall's corner closed from 7 to
-/// 43 mm and meets the wall's back face, far enough not to close it, from there to 50 mm.
+/// instead. A gap may close and open again across its mouth: a sheet's rim a few millimetres
+/// in front of a 0.2 m wall, probed in the sheet's plane, passes the wall's corner closed from
+/// 7 to 43 mm and beyond meets the wall's back face, far enough not to close it.
 std::vector<Bracket> closedBelow(const Tracer& tracer, const glm::vec3& source,
                                  const glm::vec3& listener, std::span<const GapProbe> probes,
                                  const std::vector<size_t>& gaps,

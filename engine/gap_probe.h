@@ -8,12 +8,12 @@
 // that a surface lying in P's own plane (a leaf flush with the wall: zero-thickness sheets are
 // the common case, and a ray in a sheet's plane misses it) blocks them. The width is the first
 // delta that is blocked after a free one: four deltas spaced evenly in log from
-// kGapNarrowest to the probe's reach (every path: 8 rays), then, for a gap, the means of
-// the free ones below it (a gap may close and open again across its mouth: a sheet's rim in
-// front of a wall passes the wall's corner, then meets its far face, too far out to close it;
-// up to 2 more points), then twice eight between the last free and the first blocked one (the width is the geometric mean of the two
-// deltas that bracket it, within 5 % of either for reaches up to 16 m; the slit model depends
-// on the width through its logarithm). A slit must also run along the edge: the same test 1
+// kGapNarrowest to the probe's reach (every path: 8 rays), then, for a gap, the means of the
+// free ones below it (a gap may close and open again across its mouth: a sheet's rim in front
+// of a wall passes the wall's corner, then meets its far face, too far out to close it; up to
+// 2 more points), then twice eight between the last free and the first blocked one (the width
+// is the geometric mean of the two deltas that bracket it, within 5 % of either for reaches up
+// to 16 m; the slit model depends on the width through its logarithm). A slit must also run along the edge: the same test 1
 // to 4 widths either side of Q along the edge, free at 0.5 w across the mouth and blocked at
 // 1.5 w, gives the length over which the gap stays that narrow (up to 8 widths; a small
 // obstacle in a wide opening is no slit), and by bisection where it ends either side of Q, the

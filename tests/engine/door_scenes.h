@@ -7,6 +7,8 @@
 #include <array>
 #include <cmath>
 #include <complex>
+#include <cstdio>
+#include <initializer_list>
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <numbers>
@@ -208,6 +210,29 @@ inline Bands directLevel(const SceneDesc& scene, glm::vec3 source = kSource,
   d.intensity = d.visible ? Bands(float(1.0 / (4 * kPi * dist * dist))) : Bands(0.f);
   diffraction.apply(tracer, source, ListenerSphere{listener, 0.5f}, kC, Bands(0.f), d);
   return d.intensity * float(4 * kPi * dist * dist);
+}
+
+/// Prints `label`, then per band from 63 Hz to band `last` the levels of each row (dB) joined
+/// by '/', and a newline: a door test's table, one line per case.
+inline void printLevels(const char* label, std::initializer_list<const Bands*> rows,
+                        int last = kNumBands - 1) {
+  std::printf("%s", label);
+  for (int b = 0; b <= last; ++b) {
+    const char* sep = " ";
+    for (const Bands* r : rows) {
+      std::printf("%s%5.1f", sep, double((*r)[b]));
+      sep = "/";
+    }
+  }
+  std::printf("\n");
+}
+
+/// The object leaf `scene` (objectLeafScene) turned `degrees` about its hinge, away from a door
+/// stop on `side` (> 0: behind the leaf, turned toward the source; < 0 the other way).
+inline SceneDesc swungAwayFromStop(SceneDesc scene, float side, float degrees) {
+  const float swing = glm::radians(degrees) * (side > 0.f ? -1.f : 1.f);
+  scene.objects[0].trajectory[0].rotation = glm::angleAxis(swing, glm::vec3(0, 1, 0));
+  return scene;
 }
 
 /// Gauss-Legendre, 8 points on [-1, 1].

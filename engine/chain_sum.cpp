@@ -1,5 +1,6 @@
 #include "engine/chain_sum.h"
 
+#include <algorithm>
 #include <glm/geometric.hpp>
 #include <numbers>
 
@@ -17,6 +18,29 @@ std::vector<Bands> chainWeights(const std::vector<EdgeChain>& chains, const Boun
     out[c] = directivityWeight(q.directivity,
                                glm::dot(q.forward, glm::normalize(chains[c].q[0] - q.source)));
   return out;
+}
+
+/// The chains over the static mesh's edges `seeds` and a moving object's edges `own` (its
+/// world edges' indices) together, each with at least one edge of either: a leaf opened 70-80
+/// degrees, the way from the hinge jamb round the leaf's free rim. The two sets' neighbours
+/// are found among themselves (chainNeighbours over the few edges).
+std::vector<EdgeChain> mixedChains(const BoundQuery& q, const ObjectEdges& o,
+                                   const std::vector<uint32_t>& seeds,
+                                   const std::vector<uint32_t>& own, ChainBudget& budget) {
+  std::vector<DiffractionEdge> edges;
+  for (uint32_t i : seeds) edges.push_back(q.edges[i]);
+  const auto objectFrom = uint32_t(edges.size());
+  for (uint32_t i : own) edges.push_back(o.world[i]);
+  std::vector<uint32_t> all(edges.size());
+  for (uint32_t i = 0; i < uint32_t(all.size()); ++i) all[i] = i;
+  std::vector<EdgeChain> found = edgeChains(q.tracer, edges, chainNeighbours(edges), all, q.source,
+                                            q.L, budget, 2, objectFrom);
+  std::erase_if(found, [&](const EdgeChain& c) {
+    const auto first = c.edge.begin(), end = c.edge.begin() + long(c.n);
+    const bool object = std::any_of(first, end, [&](uint32_t e) { return e >= objectFrom; });
+    return !object || std::all_of(first, end, [&](uint32_t e) { return e >= objectFrom; });
+  });
+  return found;
 }
 
 }  // namespace
@@ -46,16 +70,18 @@ std::vector<EdgeChain> laidChains(const BoundQuery& q, const std::vector<ObjectE
                                   const std::vector<std::vector<uint32_t>>& near,
                                   uint32_t& leftOut) {
   ChainBudget budget;
-  std::vector<EdgeChain> out = edgeChains(
-      q.tracer, q.edges, near, chainSeeds(q.crossed, q.bodies, q.edges, q.source, q.L, leftOut),
-      q.source, q.L, budget);
+  const std::vector<uint32_t> seeds =
+      chainSeeds(q.crossed, q.bodies, q.edges, q.source, q.L, leftOut);
+  std::vector<EdgeChain> out = edgeChains(q.tracer, q.edges, near, seeds, q.source, q.L, budget);
   for (size_t k = 0; k < objects.size(); ++k) {
     const ObjectEdges& o = objects[k];
     if (!nearLine(o, q.source, q.L)) continue;
     ChainBudget own;  // an object's own: the static mesh's chains may have spent theirs
+    const std::vector<uint32_t> nearby = edgesNearLine(o.world, q.source, q.L, leftOut);
     std::vector<EdgeChain> more =
-        edgeChains(q.tracer, o.world, o.near, edgesNearLine(o.world, q.source, q.L, leftOut),
-                   q.source, q.L, own, 1);
+        edgeChains(q.tracer, o.world, o.near, nearby, q.source, q.L, own, 1, 0);
+    const std::vector<EdgeChain> mixed = mixedChains(q, o, seeds, nearby, own);
+    more.insert(more.end(), mixed.begin(), mixed.end());
     leftOut += own.leftOut;
     for (EdgeChain& c : more) c.object = int(k);
     out.insert(out.end(), more.begin(), more.end());

@@ -81,11 +81,17 @@ bool widerWedgeAngles(const DiffractionEdge& e, const glm::vec3& q, const glm::v
 }
 
 /// True when the path from `before` to `after` wraps round edge e at q: its wider wedge holds
-/// both, on either side of before's shadow boundary.
+/// both, on either side of before's shadow boundary. A sheet's rim has a face on either side of
+/// its plane: a point in that plane (a hinge jamb, on the line of its leaf ajar) lies on
+/// either, and the path round the rim from the face the other point does not see wraps it.
 bool wrapsRound(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3& before,
                 const glm::vec3& after) {
   double b, a;
-  return widerWedgeAngles(e, q, before, after, b, a) && std::abs(a - b) > kPi - kWrapTolerance;
+  if (!widerWedgeAngles(e, q, before, after, b, a)) return false;
+  if (std::abs(a - b) > kPi - kWrapTolerance) return true;
+  const bool sheet = double(e.open) > 2.0 * kPi - kWrapTolerance;
+  auto inPlane = [](double x) { return std::abs(x) < kWrapTolerance; };
+  return sheet && (inPlane(a) || inPlane(b));
 }
 
 /// True when the straight line from `before` to `after` passes edge e (at q) on its lit side:
@@ -183,10 +189,70 @@ bool faceLegInGap(const Tracer& tracer, const DiffractionEdge& e, const Diffract
   return false;
 }
 
+/// True when the leg from a to b between two edges runs in the air: free, or free 2 mm to
+/// either side (square to it and to the edges, direction `along`). A hinge jamb's leg to its
+/// leaf's free rim lies in the leaf's plane (the hinge axis on the jamb's corner), where a ray
+/// meets the sheet it grazes.
+bool innerLegFree(const Tracer& tracer, const glm::vec3& along, const glm::vec3& a,
+                  const glm::vec3& b) {
+  constexpr float kGraze = 0.002f;  // m
+  if (segmentFree(tracer, a, b)) return true;
+  const glm::vec3 n = glm::normalize(glm::cross(b - a, along));
+  return segmentFree(tracer, a + kGraze * n, b + kGraze * n) ||
+         segmentFree(tracer, a - kGraze * n, b - kGraze * n);
+}
+
+/// The side (+1 along normal0, -1 against it) of sheet rim e's plane that a leg in that plane
+/// runs along to wrap the rim toward `beyond` (the point the path goes on to past it): the
+/// other side; 0 when e is no sheet's rim or the leg (unit u) leaves its plane.
+float sheetSide(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3& u,
+                const glm::vec3& beyond) {
+  constexpr float kInPlane = 1e-3f;  // |sin| of the leg's angle to the plane
+  if (double(e.open) < 2.0 * kPi - kWrapTolerance || std::abs(glm::dot(u, e.normal0)) > kInPlane)
+    return 0.f;
+  return glm::dot(beyond - q, e.normal0) > 0.f ? -1.f : 1.f;
+}
+
+/// True when the leg from p[i] to p[i + 1] (the chain's points: source, Q..., L) lies in the
+/// plane of a sheet whose rim is one of its ends, and the side it must run along to wrap that
+/// rim (sheetSide) is closed within kChannelGapMax at a quarter, half or three quarters of it,
+/// or the two ends ask for opposite sides of one plane. A sheet leaf slid 2 cm in front of its
+/// wall: from its far rim along its back to its near rim is the gap behind it, not a way round.
+bool sheetLegInGap(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
+                   const EdgeChain& c, const std::array<glm::vec3, kChainEdges + 2>& p,
+                   size_t i) {
+  const glm::vec3 u = glm::normalize(p[i + 1] - p[i]);
+  const DiffractionEdge &e = edges[c.edge[i - 1]], &f = edges[c.edge[i]];
+  const float first = sheetSide(e, p[i], -u, p[i - 1]), second = sheetSide(f, p[i + 1], u, p[i + 2]);
+  if (first != 0.f && second != 0.f && first * glm::dot(e.normal0, f.normal0) != second)
+    return true;
+  for (const auto& [side, n] : {std::pair{first, e.normal0}, std::pair{second, f.normal0}}) {
+    if (side == 0.f) continue;
+    for (float t : {0.25f, 0.5f, 0.75f}) {
+      const glm::vec3 at = p[i] + t * (p[i + 1] - p[i]);
+      if (tracer.occluded(TraceRay{at, side * n, surfaceOffset(at), kChannelGapMax})) return true;
+    }
+  }
+  return false;
+}
+
+/// The straight line from a to b, past a chain's point: open air, blocked, or threading a gap
+/// at most kChannelGapMax wide (free, but threadsGap on one side): a leaf opened 70-80 degrees
+/// leaves a gap of a centimetre at its hinge, which the hinge jamb's own path passes as a slit;
+/// the chain round the leaf's free rim is the other way round the leaf.
+enum class Shortcut { kOpen, kBlocked, kThreaded };
+
+Shortcut shortcut(const Tracer& tracer, const glm::vec3& along, const glm::vec3& a,
+                  const glm::vec3& b) {
+  if (!segmentFree(tracer, a, b)) return Shortcut::kBlocked;
+  return threadsGap(tracer, along, a, b, false) ? Shortcut::kThreaded : Shortcut::kOpen;
+}
+
 /// The chain's rays, cheapest refusals first: its outer legs free, its legs in open air, and
-/// the shortcut past every Q blocked.
+/// the shortcut past every Q closed (`threaded`: one only by a gap it threads).
 bool chainStands(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
-                 const EdgeChain& c, const std::array<glm::vec3, kChainEdges + 2>& p) {
+                 const EdgeChain& c, const std::array<glm::vec3, kChainEdges + 2>& p,
+                 bool& threaded) {
   const size_t last = c.n + 1;
   if (!segmentFree(tracer, p[last - 1], p[last]) || !segmentFree(tracer, p[0], p[1])) return false;
   const glm::vec3& along = edges[c.edge[0]].direction;
@@ -194,11 +260,16 @@ bool chainStands(const Tracer& tracer, const std::vector<DiffractionEdge>& edges
       outerLegInGap(tracer, along, p[last - 1], p[last]))
     return false;
   for (size_t i = 1; i + 1 < last; ++i)
-    if (!segmentFree(tracer, p[i], p[i + 1]) || innerLegInGap(tracer, along, p[i], p[i + 1]) ||
+    if (!innerLegFree(tracer, along, p[i], p[i + 1]) ||
+        innerLegInGap(tracer, along, p[i], p[i + 1]) || sheetLegInGap(tracer, edges, c, p, i) ||
         faceLegInGap(tracer, edges[c.edge[i - 1]], edges[c.edge[i]], p[i], p[i + 1]))
       return false;
-  for (size_t i = 1; i < last; ++i)
-    if (segmentFree(tracer, p[i - 1], p[i + 1])) return false;
+  threaded = false;
+  for (size_t i = 1; i < last; ++i) {
+    const Shortcut past = shortcut(tracer, along, p[i - 1], p[i + 1]);
+    if (past == Shortcut::kOpen) return false;
+    threaded = threaded || past == Shortcut::kThreaded;
+  }
   return true;
 }
 
@@ -233,6 +304,7 @@ struct ChainSearch {
   float mid;
   std::vector<EdgeChain> found;
   size_t minEdges;       // the fewest edges a chain takes (1: a moving object's)
+  uint32_t objectFrom;   // edges from this index on are a moving object's
   ChainBudget& budget;
 
   glm::vec3 at(uint32_t i) const { return pointAlong(edges[i], d, mid); }
@@ -263,10 +335,14 @@ struct ChainSearch {
       return;
     }
     ++budget.trials;
-    if (!chainStands(tracer, edges, c, p)) return;
-    if (minEdges == 1)  // a moving object's edges: their gaps are not probed
-      for (size_t i = 0; i < n; ++i)
-        if (rimInGap(tracer, edges[c.edge[i]], c.q[i])) return;
+    bool threaded = false;
+    if (!chainStands(tracer, edges, c, p, threaded)) return;
+    // A moving object's edges (their gaps are not probed), and every edge of a chain whose
+    // shortcut is closed only by a gap it threads (a leaf shut in its frame: round its face
+    // from one gap to the other is the slits' way).
+    for (size_t i = 0; i < n; ++i)
+      if ((threaded || c.edge[i] >= objectFrom) && rimInGap(tracer, edges[c.edge[i]], c.q[i]))
+        return;
     found.push_back(c);
   }
 };
@@ -358,13 +434,15 @@ std::vector<std::vector<uint32_t>> chainNeighbours(const std::vector<Diffraction
 std::vector<EdgeChain> edgeChains(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
                                   const std::vector<std::vector<uint32_t>>& near,
                                   const std::vector<uint32_t>& seeds, const glm::vec3& source,
-                                  const glm::vec3& L, ChainBudget& budget, size_t minEdges) {
+                                  const glm::vec3& L, ChainBudget& budget, size_t minEdges,
+                                  uint32_t objectFrom) {
   // The first edge: a seed or a seed's neighbour (a door stop beside the wall's reveal).
   std::vector<uint32_t> firsts = seeds;
   for (uint32_t s : seeds) firsts.insert(firsts.end(), near[s].begin(), near[s].end());
   std::sort(firsts.begin(), firsts.end());
   firsts.erase(std::unique(firsts.begin(), firsts.end()), firsts.end());
-  ChainSearch search{tracer, edges, near, source, L, glm::vec3(0.f), 0.f, {}, minEdges, budget};
+  ChainSearch search{tracer, edges,    near,       source, L,     glm::vec3(0.f),
+                     0.f,    {},       minEdges,   objectFrom, budget};
   for (uint32_t f : firsts) {
     search.d = edges[f].direction;
     search.mid = 0.5f * glm::dot(source + L, search.d);

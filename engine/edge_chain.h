@@ -101,12 +101,14 @@ std::vector<uint32_t> edgesNearLine(const std::vector<DiffractionEdge>& edges,
 /// over neighbours. Rays: up to 49 per chain whose geometry stands (its legs, shortcuts and gap
 /// tests), while `budget` allows (kChainTrials a query; what it leaves out is counted there).
 /// minEdges: the fewest edges a chain takes (2: one is a first-order path, UTD's; 1 for a
-/// moving object's edges, which have no first-order paths of their own; then no edge may face
-/// a surface within kChannelGapMax past it: a leaf shut in its frame is the frame's slits').
+/// moving object's edges, which have no first-order paths of their own). objectFrom: the edges
+/// from this index on are a moving object's: none of them may face a surface within
+/// kChannelGapMax past it (a leaf shut in its frame is the frame's slits').
 std::vector<EdgeChain> edgeChains(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
                                   const std::vector<std::vector<uint32_t>>& near,
                                   const std::vector<uint32_t>& seeds, const glm::vec3& source,
-                                  const glm::vec3& L, ChainBudget& budget, size_t minEdges = 2);
+                                  const glm::vec3& L, ChainBudget& budget, size_t minEdges = 2,
+                                  uint32_t objectFrom = UINT32_MAX);
 
 /// Sets p.grazeExcess to the least path-length excess (m) of a detour from first-order path p
 /// (over edges[e], its legs free) round a neighbour of e (`near`, chainNeighbours) that one of

@@ -294,9 +294,10 @@ Bands heldBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
 namespace {
 
 /// What chainBound takes away whole: each small body q.crossed holds (a pillar meshed as an
-/// open tube too) and the moving objects together, crossed or carrying a chain (a leaf ajar
-/// beside the line of sight, in a partition's doorway); `large`: a large body's face is
-/// crossed too.
+/// open tube too) or a chain's edge lies on (a leaf opened 70-80 degrees beside the line of
+/// sight, whose chain runs from the hinge jamb round its free rim), and the moving objects
+/// together, crossed or carrying a chain (a leaf ajar beside the line of sight, in a
+/// partition's doorway); `large`: a large body's face is crossed too.
 std::vector<std::vector<uint32_t>> chainGroups(const BoundQuery& q,
                                                const std::vector<ChainEnergy>& chains,
                                                bool& large) {
@@ -315,8 +316,13 @@ std::vector<std::vector<uint32_t>> chainGroups(const BoundQuery& q,
       large = true;
   }
   for (const ChainEnergy& c : chains)
-    if (std::find(c.surfaces.begin(), c.surfaces.end(), kMovingObjects) != c.surfaces.end())
-      add({kMovingObjects});
+    for (uint32_t s : c.surfaces) {
+      if (s == kMovingObjects)
+        add({kMovingObjects});
+      else if (s < q.bodies.body.size() && q.bodies.body[s] < q.bodies.members.size() &&
+               !largeBody(q.bodies, s))
+        add(q.bodies.members[q.bodies.body[s]]);
+    }
   return groups;
 }
 

@@ -1,6 +1,5 @@
 #include "engine/chain_sum.h"
 
-#include <algorithm>
 #include <glm/geometric.hpp>
 #include <numbers>
 
@@ -21,7 +20,7 @@ std::vector<Bands> chainWeights(const std::vector<EdgeChain>& chains, const Boun
 }
 
 /// The chains over the static mesh's edges `seeds` and a moving object's edges `own` (its
-/// world edges' indices) together, each with at least one edge of either: a leaf opened 70-80
+/// world edges' indices) together, each with at least one edge of either: a leaf opened 70-90
 /// degrees, the way from the hinge jamb round the leaf's free rim. The two sets' neighbours
 /// are found among themselves (chainNeighbours over the few edges).
 std::vector<EdgeChain> mixedChains(const BoundQuery& q, const ObjectEdges& o,
@@ -33,14 +32,8 @@ std::vector<EdgeChain> mixedChains(const BoundQuery& q, const ObjectEdges& o,
   for (uint32_t i : own) edges.push_back(o.world[i]);
   std::vector<uint32_t> all(edges.size());
   for (uint32_t i = 0; i < uint32_t(all.size()); ++i) all[i] = i;
-  std::vector<EdgeChain> found = edgeChains(q.tracer, edges, chainNeighbours(edges), all, q.source,
-                                            q.L, budget, 2, objectFrom);
-  std::erase_if(found, [&](const EdgeChain& c) {
-    const auto first = c.edge.begin(), end = c.edge.begin() + long(c.n);
-    const bool object = std::any_of(first, end, [&](uint32_t e) { return e >= objectFrom; });
-    return !object || std::all_of(first, end, [&](uint32_t e) { return e >= objectFrom; });
-  });
-  return found;
+  return edgeChains(q.tracer, edges, chainNeighbours(edges), all, q.source, q.L, budget, 2,
+                    objectFrom);
 }
 
 }  // namespace

@@ -309,6 +309,15 @@ struct ChainSearch {
 
   glm::vec3 at(uint32_t i) const { return pointAlong(edges[i], d, mid); }
 
+  /// With objectFrom inside the edges, whether ids[0..n) hold edges of both kinds (a chain of
+  /// one kind is another pass's); else true.
+  bool mixes(const std::array<uint32_t, kChainEdges>& ids, size_t n) const {
+    if (objectFrom == 0 || objectFrom >= edges.size()) return true;
+    const auto end = ids.begin() + long(n);
+    return std::any_of(ids.begin(), end, [&](uint32_t e) { return e >= objectFrom; }) &&
+           std::any_of(ids.begin(), end, [&](uint32_t e) { return e < objectFrom; });
+  }
+
   /// Tries the chain ids[0..n) ended at L, then each neighbour of its last edge after it.
   void extend(std::array<uint32_t, kChainEdges>& ids, size_t n) {
     const glm::vec3 before = n >= 2 ? at(ids[n - 2]) : source;
@@ -326,6 +335,7 @@ struct ChainSearch {
   }
 
   void keep(const std::array<uint32_t, kChainEdges>& ids, size_t n) {
+    if (!mixes(ids, n)) return;
     EdgeChain c;
     if (!layChain(edges, ids, n, source, L, c)) return;
     const auto p = chainPoints(c, source, L);

@@ -103,7 +103,8 @@ std::vector<uint32_t> edgesNearLine(const std::vector<DiffractionEdge>& edges,
 /// minEdges: the fewest edges a chain takes (2: one is a first-order path, UTD's; 1 for a
 /// moving object's edges, which have no first-order paths of their own). objectFrom: the edges
 /// from this index on are a moving object's: none of them may face a surface within
-/// kChannelGapMax past it (a leaf shut in its frame is the frame's slits').
+/// kChannelGapMax past it (a leaf shut in its frame is the frame's slits'); strictly inside
+/// the edges, only the chains holding edges of both kinds are laid.
 std::vector<EdgeChain> edgeChains(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
                                   const std::vector<std::vector<uint32_t>>& near,
                                   const std::vector<uint32_t>& seeds, const glm::vec3& source,

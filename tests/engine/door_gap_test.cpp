@@ -244,8 +244,11 @@ TEST_CASE("Door gaps: scenes/two_rooms.json's door opened 70-90 degrees takes li
   // object's), and the door read 10.3 dB below the open doorway at 63 Hz, 9-11 dB at 125 Hz-1
   // kHz. dpc-wave's FDTD of the same doorway and leaf (scripts/door_wave.py, "beside the
   // doorway": docs/data/door-wave.json) has the leaf take 1-3 dB at 63 and 125 Hz; an
-  // obstruction never adds to the open doorway. So at 63-250 Hz: within 3 dB below it and at
-  // most 0.05 dB above, as an object and in the static mesh alike (within 0.5 dB of each other).
+  // obstruction adds no more than a knife edge's lit-side ripple (kLitRipple, 1.37 dB: the box
+  // leaf in the mesh at 90 degrees, b 0.3 m off its face). So at 63-250 Hz: within 3 dB below
+  // the open doorway and at most the ripple above it, as an object and in the static mesh, the
+  // shipped sheet and the 4 cm box leaf of scenes/door.obj (before: 2.7-3 dB above the open
+  // doorway at 70-80 degrees in the mesh, 8.3 dB below it at 85 degrees as an object).
   SceneDesc scene = loadScene(std::string(DPC_SOURCE_DIR) + "/scenes/two_rooms.json");
   scene.objects[0].trajectory.resize(1);
   const glm::vec3 talker = scene.sources[0].trajectory[0].position;
@@ -253,22 +256,29 @@ TEST_CASE("Door gaps: scenes/two_rooms.json's door opened 70-90 degrees takes li
   SceneDesc doorway = scene;
   doorway.objects.clear();
   const Bands open = decibels(directLevel(doorway, talker, b));
-  for (float degrees : {70.f, 75.f, 80.f, 85.f, 90.f}) {
-    scene.objects[0].trajectory[0].rotation =
-        glm::angleAxis(glm::radians(degrees), glm::vec3(0, 1, 0));
-    const Bands object = decibels(directLevel(scene, talker, b));
-    const Bands mesh = decibels(directLevel(objectsInMesh(scene), talker, b));
-    char label[80];
-    std::snprintf(label, sizeof label,
-                  "two_rooms door open %2.0f deg: object / in the mesh / open (dB)", double(degrees));
-    printLevels(label, {&object, &mesh, &open}, 4);
-    for (int band = 0; band <= 2; ++band) {  // 63-250 Hz
-      INFO(degrees << " degrees, band " << band);
-      CHECK(std::abs(object[band] - mesh[band]) < 0.5f);
-      CHECK(object[band] > open[band] - 3.f);
-      CHECK(object[band] < open[band] + 0.05f);
+  const float ripple = 10.f * std::log10(kLitRipple) + 0.05f;
+  SceneDesc box = scene;
+  box.objects[0].mesh = Mesh{};
+  test::addSolidBox(box.objects[0].mesh, {-0.02f, 0.f, 0.01f}, {0.02f, 2.09f, 0.99f},
+                    scene.objects[0].mesh.materialIndex[0]);
+  for (SceneDesc* leaf : {&scene, &box})
+    for (float degrees : {70.f, 75.f, 80.f, 85.f, 90.f}) {
+      leaf->objects[0].trajectory[0].rotation =
+          glm::angleAxis(glm::radians(degrees), glm::vec3(0, 1, 0));
+      const Bands object = decibels(directLevel(*leaf, talker, b));
+      const Bands mesh = decibels(directLevel(objectsInMesh(*leaf), talker, b));
+      char label[80];
+      std::snprintf(label, sizeof label, "two_rooms %s door open %2.0f deg: object / mesh / open",
+                    leaf == &box ? "box" : "sheet", double(degrees));
+      printLevels(label, {&object, &mesh, &open}, 4);
+      for (int band = 0; band <= 2; ++band) {  // 63-250 Hz
+        INFO((leaf == &box ? "box, " : "sheet, ") << degrees << " degrees, band " << band);
+        for (float level : {object[band], mesh[band]}) {
+          CHECK(level > open[band] - 3.f);
+          CHECK(level < open[band] + ripple);
+        }
+      }
     }
-  }
 }
 
 TEST_CASE("Door gaps: a sheet leaf that is a moving object, ajar, reads as the same leaf in the mesh",

@@ -223,7 +223,8 @@ bool sheetLegInGap(const Tracer& tracer, const std::vector<DiffractionEdge>& edg
                    size_t i) {
   const glm::vec3 u = glm::normalize(p[i + 1] - p[i]);
   const DiffractionEdge &e = edges[c.edge[i - 1]], &f = edges[c.edge[i]];
-  const float first = sheetSide(e, p[i], -u, p[i - 1]), second = sheetSide(f, p[i + 1], u, p[i + 2]);
+  const float first = sheetSide(e, p[i], -u, p[i - 1]);
+  const float second = sheetSide(f, p[i + 1], u, p[i + 2]);
   if (first != 0.f && second != 0.f && first * glm::dot(e.normal0, f.normal0) != second)
     return true;
   for (const auto& [side, n] : {std::pair{first, e.normal0}, std::pair{second, f.normal0}}) {

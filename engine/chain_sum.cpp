@@ -1,5 +1,6 @@
 #include "engine/chain_sum.h"
 
+#include <algorithm>
 #include <glm/geometric.hpp>
 #include <numbers>
 
@@ -21,14 +22,24 @@ std::vector<Bands> chainWeights(const std::vector<EdgeChain>& chains, const Boun
 
 /// The chains over the static mesh's edges `seeds` and a moving object's edges `own` (its
 /// world edges' indices) together, each with at least one edge of either: a leaf opened 70-90
-/// degrees, the way from the hinge jamb round the leaf's free rim. The two sets' neighbours
-/// are found among themselves (chainNeighbours over the few edges).
+/// degrees, the way from the hinge jamb round the leaf's free rim. Only the seeds within
+/// kChainReach of one of those edges take part; the two sets' neighbours are found among
+/// themselves (chainNeighbours over these few edges, per query). None when either set is
+/// empty. The chains' edge indices are into that local list (chains of two or more edges:
+/// addObjectRims reads one-edge chains only).
 std::vector<EdgeChain> mixedChains(const BoundQuery& q, const ObjectEdges& o,
                                    const std::vector<uint32_t>& seeds,
                                    const std::vector<uint32_t>& own, ChainBudget& budget) {
   std::vector<DiffractionEdge> edges;
-  for (uint32_t i : seeds) edges.push_back(q.edges[i]);
+  for (uint32_t i : seeds) {  // the static seeds within a chain's reach of the object's edges
+    const DiffractionEdge& e = q.edges[i];
+    if (std::any_of(own.begin(), own.end(), [&](uint32_t j) {
+          return segmentGap(e.a, e.b, o.world[j].a, o.world[j].b) <= kChainReach;
+        }))
+      edges.push_back(e);
+  }
   const auto objectFrom = uint32_t(edges.size());
+  if (objectFrom == 0 || own.empty()) return {};  // no chain holds both kinds
   for (uint32_t i : own) edges.push_back(o.world[i]);
   std::vector<uint32_t> all(edges.size());
   for (uint32_t i = 0; i < uint32_t(all.size()); ++i) all[i] = i;

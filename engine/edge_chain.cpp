@@ -225,8 +225,7 @@ bool sheetLegInGap(const Tracer& tracer, const std::vector<DiffractionEdge>& edg
   const DiffractionEdge &e = edges[c.edge[i - 1]], &f = edges[c.edge[i]];
   const float first = sheetSide(e, p[i], -u, p[i - 1]);
   const float second = sheetSide(f, p[i + 1], u, p[i + 2]);
-  if (first != 0.f && second != 0.f && first * glm::dot(e.normal0, f.normal0) != second)
-    return true;
+  if (first * second * glm::dot(e.normal0, f.normal0) < 0.f) return true;
   for (const auto& [side, n] : {std::pair{first, e.normal0}, std::pair{second, f.normal0}}) {
     if (side == 0.f) continue;
     for (float t : {0.25f, 0.5f, 0.75f}) {
@@ -238,15 +237,27 @@ bool sheetLegInGap(const Tracer& tracer, const std::vector<DiffractionEdge>& edg
 }
 
 /// The straight line from a to b, past a chain's point: open air, blocked, or threading a gap
-/// at most kChannelGapMax wide (free, but threadsGap on one side): a leaf opened 70-80 degrees
+/// at most kChannelGapMax wide (free, but threadsGap on one side): a leaf opened 70-90 degrees
 /// leaves a gap of a centimetre at its hinge, which the hinge jamb's own path passes as a slit;
-/// the chain round the leaf's free rim is the other way round the leaf.
+/// the chain round the leaf's free rim is the other way round the leaf. An end that is a solid
+/// corner's point (`solidA`, `solidB`) is left out of the test for kChannelGapMax, where a
+/// parallel segment would start inside the corner's own solid.
 enum class Shortcut { kOpen, kBlocked, kThreaded };
 
 Shortcut shortcut(const Tracer& tracer, const glm::vec3& along, const glm::vec3& a,
-                  const glm::vec3& b) {
+                  const glm::vec3& b, bool solidA, bool solidB) {
   if (!segmentFree(tracer, a, b)) return Shortcut::kBlocked;
-  return threadsGap(tracer, along, a, b, false) ? Shortcut::kThreaded : Shortcut::kOpen;
+  const float length = glm::distance(a, b);
+  if (!(length > 3.f * kChannelGapMax)) return Shortcut::kOpen;
+  const glm::vec3 trim = (kChannelGapMax / length) * (b - a);
+  const glm::vec3 from = solidA ? a + trim : a, to = solidB ? b - trim : b;
+  return threadsGap(tracer, along, from, to, false) ? Shortcut::kThreaded : Shortcut::kOpen;
+}
+
+/// Whether the chain's point i (1..n in chainPoints' numbering; 0 and n + 1 are the source
+/// and L) lies on a solid corner's edge (a wedge narrower than a sheet's).
+bool solidCorner(const std::vector<DiffractionEdge>& edges, const EdgeChain& c, size_t i) {
+  return i >= 1 && i <= c.n && double(edges[c.edge[i - 1]].open) < 2.0 * kPi - kWrapTolerance;
 }
 
 /// The chain's rays, cheapest refusals first: its outer legs free, its legs in open air, and
@@ -267,7 +278,8 @@ bool chainStands(const Tracer& tracer, const std::vector<DiffractionEdge>& edges
       return false;
   threaded = false;
   for (size_t i = 1; i < last; ++i) {
-    const Shortcut past = shortcut(tracer, along, p[i - 1], p[i + 1]);
+    const Shortcut past = shortcut(tracer, along, p[i - 1], p[i + 1],
+                                   solidCorner(edges, c, i - 1), solidCorner(edges, c, i + 1));
     if (past == Shortcut::kOpen) return false;
     threaded = threaded || past == Shortcut::kThreaded;
   }

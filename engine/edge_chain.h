@@ -10,8 +10,9 @@
 // divides). It stands when every leg is free, every leg between two edges runs in open air (not
 // through a gap at most kChannelGapMax wide: a door's gaps are its slits' and channels'), and
 // every Q is a corner the path wraps round: the straight line from the point before it to the
-// point after it is blocked, and both lie in its air wedge, on either side of its shadow
-// boundary. Chains are laid over the edges of the bodies the line of sight crosses that lie
+// point after it is blocked or threads a gap of at most kChannelGapMax (then no edge of the
+// chain may face a surface that close past it), and both lie in its air wedge, on either side
+// of its shadow boundary. Chains are laid over the edges of the bodies the line of sight crosses that lie
 // within kChainSearch of it, and over the edges near those (kChainReach, at load).
 //
 // Its level is a barrier's attenuation over the free field at the direct distance, ISO

@@ -142,12 +142,18 @@ def check(results):
                 continue
             for i, f in enumerate(OCTAVES):
                 d = r['engine'][k][i][1] - r['fdtd'][k][i]
-                ok = abs(d) <= TOLERANCE_DB
-                print('%s %s, %s, %.0f Hz: engine - FDTD %+.1f dB' %
-                      ('ok  ' if ok else 'FAIL', name_of(angle), what, f, d))
-                if not ok:
-                    failures.append(d)
+                judge(d, TOLERANCE_DB, '%s, %s, %.0f Hz: engine - FDTD' % (name_of(angle), what, f),
+                      failures)
     return failures
+
+
+def judge(d, tolerance, what, failures):
+    """Prints one checked cell (ok or FAIL, `what`, d in dB); d joins failures beyond
+    tolerance."""
+    ok = abs(d) <= tolerance
+    print('%s %s %+.1f dB' % ('ok  ' if ok else 'FAIL', what, d))
+    if not ok:
+        failures.append(d)
 
 
 def leaf_effect(results, angle, k, i, which):
@@ -181,11 +187,8 @@ def beside_check(results):
             for i, f in enumerate(OCTAVES):
                 d = (leaf_effect(results, angle, k, i, 'engine') -
                      leaf_effect(results, angle, k, i, 'fdtd'))
-                ok = abs(d) <= LEAF_TOLERANCE_DB
-                print("%s beside, %s, %s, %.0f Hz: the leaf's effect, engine - FDTD %+.1f dB" %
-                      ('ok  ' if ok else 'FAIL', name_of(angle), what, f, d))
-                if not ok:
-                    failures.append(d)
+                judge(d, LEAF_TOLERANCE_DB, "beside, %s, %s, %.0f Hz: the leaf's effect, "
+                      'engine - FDTD' % (name_of(angle), what, f), failures)
     return failures
 
 

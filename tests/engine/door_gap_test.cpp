@@ -210,16 +210,9 @@ TEST_CASE("Door gaps: scenes/two_rooms.json's door ajar reads as the same leaf i
   // And against the open doorway (the door taken out): ajar up to 10 degrees, its latch gap at
   // most 17 cm of the doorway's metre, at least 3 dB below it at 63-250 Hz (found 5.5-10 dB),
   // so a door the engine ignored, as an object and in the mesh alike, fails here.
-  SceneDesc scene = loadScene(std::string(DPC_SOURCE_DIR) + "/scenes/two_rooms.json");
-  scene.objects[0].trajectory.resize(1);
-  const glm::vec3 talker = scene.sources[0].trajectory[0].position;
-  const glm::vec3 b = scene.listeners[1].position;
-  SceneDesc doorway = scene;
-  doorway.objects.clear();
-  const Bands open = decibels(directLevel(doorway, talker, b));
+  auto [scene, talker, b, open] = twoRoomsDoor();
   for (float degrees : {2.f, 4.f, 6.f, 8.f, 10.f, 15.f}) {
-    scene.objects[0].trajectory[0].rotation =
-        glm::angleAxis(glm::radians(degrees), glm::vec3(0, 1, 0));
+    turnDoor(scene, degrees);
     const Bands object = decibels(directLevel(scene, talker, b));
     const Bands mesh = decibels(directLevel(objectsInMesh(scene), talker, b));
     char label[80];
@@ -249,13 +242,7 @@ TEST_CASE("Door gaps: scenes/two_rooms.json's door opened 70-90 degrees takes li
   // within 3 dB below the open doorway and at most the ripple above it, as an object and in the
   // static mesh, the shipped sheet and the 4 cm box leaf of scenes/door.obj (before: 2.7-3 dB
   // above the open doorway at 70-80 degrees in the mesh, 8.3 dB below it at 85 as an object).
-  SceneDesc scene = loadScene(std::string(DPC_SOURCE_DIR) + "/scenes/two_rooms.json");
-  scene.objects[0].trajectory.resize(1);
-  const glm::vec3 talker = scene.sources[0].trajectory[0].position;
-  const glm::vec3 b = scene.listeners[1].position;
-  SceneDesc doorway = scene;
-  doorway.objects.clear();
-  const Bands open = decibels(directLevel(doorway, talker, b));
+  auto [scene, talker, b, open] = twoRoomsDoor();
   const float ripple = 10.f * std::log10(kLitRipple) + 0.05f;
   SceneDesc box = scene;
   box.objects[0].mesh = Mesh{};
@@ -263,8 +250,7 @@ TEST_CASE("Door gaps: scenes/two_rooms.json's door opened 70-90 degrees takes li
                     scene.objects[0].mesh.materialIndex[0]);
   for (SceneDesc* leaf : {&scene, &box})
     for (float degrees : {70.f, 75.f, 80.f, 85.f, 90.f}) {
-      leaf->objects[0].trajectory[0].rotation =
-          glm::angleAxis(glm::radians(degrees), glm::vec3(0, 1, 0));
+      turnDoor(*leaf, degrees);
       const Bands object = decibels(directLevel(*leaf, talker, b));
       const Bands mesh = decibels(directLevel(objectsInMesh(*leaf), talker, b));
       char label[80];

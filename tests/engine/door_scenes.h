@@ -12,10 +12,12 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <numbers>
+#include <string>
 
 #include "engine/diffraction.h"
 #include "engine/embree_tracer.h"
 #include "engine/propagation.h"
+#include "scene/scene.h"
 #include "testing/test_scenes.h"
 
 namespace dpc::door_test {
@@ -248,6 +250,32 @@ inline Bands decibels(const Bands& x) {
   for (int b = 0; b < kNumBands; ++b)
     out[b] = float(10 * std::log10(std::max(double(x[b]), 1e-30)));
   return out;
+}
+
+/// scenes/two_rooms.json with its door held at its first keyframe, the talker's position,
+/// listener b's, and the open doorway's direct level between them (the door taken out, dB).
+struct TwoRoomsDoor {
+  SceneDesc scene;
+  glm::vec3 talker{0.f}, b{0.f};
+  Bands open{0.f};
+};
+
+inline TwoRoomsDoor twoRoomsDoor() {
+  TwoRoomsDoor d;
+  d.scene = loadScene(std::string(DPC_SOURCE_DIR) + "/scenes/two_rooms.json");
+  d.scene.objects[0].trajectory.resize(1);
+  d.talker = d.scene.sources[0].trajectory[0].position;
+  d.b = d.scene.listeners[1].position;
+  SceneDesc doorway = d.scene;
+  doorway.objects.clear();
+  d.open = decibels(directLevel(doorway, d.talker, d.b));
+  return d;
+}
+
+/// Turns `scene`'s first object (a door hinged on its frame's y axis) to `degrees`.
+inline void turnDoor(SceneDesc& scene, float degrees) {
+  scene.objects[0].trajectory[0].rotation =
+      glm::angleAxis(glm::radians(degrees), glm::vec3(0, 1, 0));
 }
 
 }  // namespace dpc::door_test

@@ -69,6 +69,9 @@ void findSlits(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L
       makeSlit(source + p.before + p.lipBefore, L - p.through - p.beyond - p.lipBeyond,
                std::max(shapes[j].from, p.visibleFrom), std::min(shapes[j].to, p.visibleTo), p);
       p.slitAspect = double(shapes[j].aspect);
+      // A small body's face with nothing across it (a leaf ajar a few degrees, its side face
+      // out of the reveal): the gap is the opening at a mouth, a slit without depth.
+      if (!p.measuredDepth && !shapes[j].farSide) p.slit.depth = 0.0;
     }
   }
   paths.resize(kept);

@@ -93,6 +93,10 @@ struct GapShape {
   /// 0.04), and how far in from the front mouth that begins (m); depth -1 for other probes.
   float depth = -1.f;
   float inset = 0.f;
+  /// A channel gap's far side met beside the face from either mouth (measureDepths' rays);
+  /// false when nothing stands across the face within 1.5 widths (a leaf ajar, its side face
+  /// out of the reveal: the gap is the opening at a mouth, with no depth).
+  bool farSide = true;
 };
 
 /// Probes every gap; shapes.size() >= probes.size(). Batch queries: 8 rays per probe, 16

@@ -4,67 +4,20 @@
 #include <glm/geometric.hpp>
 #include <numbers>
 
-#include "engine/channel_path.h"
+#include "engine/openings.h"
 #include "engine/object_edges.h"
-#include "engine/slit.h"
 
 namespace dpc {
 
 namespace {
 
-/// m: how far a chain's first point may lie from a channel's front edge to be its route.
-constexpr float kOnChannelEdge = 2e-3f;
-
-/// The open channel (a path along a narrow face whose gap the probe found: engine/channel_path.h)
-/// whose route chain c takes, round the face's front edge and across it to the back edge; null
-/// when none. A leaf ajar a few degrees: the chain round its latch end passes the opening
-/// between the leaf and the wall's corner, which the channel's slit carries.
-const EdgePath* channelOf(const EdgeChain& c, const std::vector<EdgePath>& paths) {
-  if (c.n != 2) return nullptr;
-  const glm::vec3 step = c.q[1] - c.q[0];
-  for (const EdgePath& p : paths) {
-    if (!(p.gapWidth > 0.f) || p.through == glm::vec3(0.f)) continue;
-    const DiffractionEdge& e = *p.edge;
-    const glm::vec3 off = c.q[0] - e.a - glm::dot(c.q[0] - e.a, e.direction) * e.direction;
-    const glm::vec3 across = step - glm::dot(step, e.direction) * e.direction;
-    const float depth = glm::length(across);
-    if (glm::length(off) < kOnChannelEdge && depth <= kChannelDepthMax &&
-        glm::dot(across, glm::normalize(p.through)) > 0.5f * depth)
-      return &p;
-  }
-  return nullptr;
-}
-
-/// The energy share per band of a chain's pressure that a channel's slit leaves to it: the
-/// slit model carries s = slitWeight(k_t w, aspect) of the path (engine/slit.h), the edges the
-/// rest, as for a first-order path through a gap; (1 - s)^2 averaged over the band.
-Bands unslitShare(const EdgePath& channel, double speedOfSound) {
-  Bands out;
-  for (int b = 0; b < kNumBands; ++b) {
-    double sum = 0.0;
-    for (int i = 0; i < kDiffractionFrequenciesPerBand; ++i) {
-      const double k = 2.0 * std::numbers::pi * diffractionFrequencyHz(b, i) / speedOfSound;
-      const double s = slitWeight(k * channel.slit.sinBeta * channel.slit.width,
-                                  channel.slitAspect);
-      sum += (1.0 - s) * (1.0 - s);
-    }
-    out[b] = float(sum / kDiffractionFrequenciesPerBand);
-  }
-  return out;
-}
-
-/// Per chain, the source's directivity weight toward its first edge (1 for an omni source),
-/// times the share a channel's slit leaves it where the chain takes that channel's route.
-std::vector<Bands> chainWeights(const std::vector<EdgeChain>& chains,
-                                const std::vector<EdgePath>& paths, const BoundQuery& q) {
+/// Per chain, the source's directivity weight toward its first edge (1 for an omni source).
+std::vector<Bands> chainWeights(const std::vector<EdgeChain>& chains, const BoundQuery& q) {
   std::vector<Bands> out(chains.size(), Bands(1.f));
-  for (size_t c = 0; c < chains.size(); ++c) {
-    if (!q.directivity.omni())
-      out[c] = directivityWeight(q.directivity,
-                                 glm::dot(q.forward, glm::normalize(chains[c].q[0] - q.source)));
-    if (const EdgePath* channel = channelOf(chains[c], paths))
-      out[c] *= unslitShare(*channel, double(q.speedOfSound));
-  }
+  if (q.directivity.omni()) return out;
+  for (size_t c = 0; c < chains.size(); ++c)
+    out[c] = directivityWeight(q.directivity,
+                               glm::dot(q.forward, glm::normalize(chains[c].q[0] - q.source)));
   return out;
 }
 
@@ -103,10 +56,17 @@ Bands withChains(const std::vector<EdgePath>& paths, const std::vector<EdgeChain
   if (chains.empty()) return held;
   const float d = direct.distance;
   const Bands omni = exp(q.airPerMetre * -d) * (1.f / (4.f * std::numbers::pi_v<float> * d * d));
-  const std::vector<Bands> weights = chainWeights(chains, paths, q);
+  std::vector<Bands> weights = chainWeights(chains, q);
+  const std::vector<ChainSlit> slits = chainSlits(chains, paths, q, d);
+  Bands openings(0.f);  // the openings' slit fields, in energy
+  for (size_t c = 0; c < chains.size(); ++c) {
+    openings += slits[c].energy * weights[c];
+    weights[c] *= slits[c].unslit;
+  }
   std::vector<ChainEnergy> energies;
   for (size_t c = 0; c < chains.size(); ++c) {
-    ChainEnergy e{omni * chainGain(chains[c], d, q.speedOfSound, q.airPerMetre) * weights[c], {}};
+    const Bands own = chainGain(chains[c], d, q.speedOfSound, q.airPerMetre) * weights[c];
+    ChainEnergy e{omni * (own + slits[c].energy), {}};
     if (chains[c].object >= 0) e.surfaces = {kMovingObjects};
     for (size_t i = 0; i < chains[c].n && chains[c].object < 0; ++i)
       e.surfaces.insert(e.surfaces.end(), q.edges[chains[c].edge[i]].surfaces.begin(),
@@ -114,7 +74,7 @@ Bands withChains(const std::vector<EdgePath>& paths, const std::vector<EdgeChain
     energies.push_back(std::move(e));
   }
   const Bands chained =
-      held + omni * chainsGain(chains, weights, d, q.speedOfSound, q.airPerMetre);
+      held + omni * (chainsGain(chains, weights, d, q.speedOfSound, q.airPerMetre) + openings);
   return max(held, min(chained, chainBound(paths, coherent, free, energies, q)));
 }
 

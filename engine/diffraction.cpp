@@ -21,6 +21,7 @@
 #include "engine/edge_path.h"
 #include "engine/gap_probe.h"
 #include "engine/object_edges.h"
+#include "engine/openings.h"
 #include "engine/slit.h"
 #include "engine/small_bodies.h"
 #include "engine/threaded_legs.h"
@@ -85,11 +86,12 @@ void findSlits(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L
 /// Left free, it added that edge's field beside the slit's: a leaf ajar 20 degrees, seen from
 /// beside the doorway, read 16 dB below the open doorway at 63 Hz. Partner: across the slit
 /// (acrossSlit, engine/edge_path.h).
-void markSlitPartners(std::vector<EdgePath>& paths) {
+void markSlitPartners(std::vector<EdgePath>& paths, const SurfaceBodies& bodies) {
   for (EdgePath& p : paths) {
     if (p.gapWidth != 0.f || p.atEnd) continue;
     for (const EdgePath& o : paths) {
-      if (!(o.gapWidth > 0.f) || !o.slitOwner || &o == &p || !acrossSlit(o, p)) continue;
+      if (!(o.gapWidth > 0.f) || !o.slitOwner || &o == &p || !acrossSlit(o, p, &bodies.body))
+        continue;
       p.gapWidth = o.gapWidth;
       p.slit = o.slit;
       p.slitCentre = o.slitCentre;
@@ -426,10 +428,14 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
   addObjectRims(objects_, query, chains, paths);
   dropThreadedPaths(query, paths);
   markSlitOwners(paths);
-  markSlitPartners(paths);
+  markSlitPartners(paths, bodies_);
   markReveals(source, listener.position, paths);
   addEndSlits(edges_, lineOfSight, query, paths);
-  if (!lineOfSight) markGrazes(edges_, chainNear_, query, paths);
+  if (!lineOfSight) {
+    openFreeEdges(paths, query);
+    markSlitOwners(paths);
+    markGrazes(edges_, chainNear_, query, paths);
+  }
   if (usedEdges) listUsedEdges(paths, chains, edges_, *usedEdges);
   if (paths.empty() && chains.empty() && !thinBodiesOnly(direct, query)) return 0;
   auto [shortest, arrival] = firstArrival(paths, chains, direct, listener.position);

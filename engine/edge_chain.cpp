@@ -49,6 +49,7 @@ bool layChain(const std::vector<DiffractionEdge>& edges,
   if (!(total > 0.f)) return false;
   c.n = n;
   c.length = 0.f;
+  c.ends = {edges[ids[0]], edges[ids[n - 1]]};
   glm::vec3 last = source;
   for (size_t i = 0; i < n; ++i) {
     const DiffractionEdge& e = edges[ids[i]];

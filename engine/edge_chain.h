@@ -64,6 +64,9 @@ struct EdgeChain {
   /// The moving object whose edges these are (engine/object_edges.h), scene order; -1: the
   /// static mesh's.
   int object = -1;
+  /// Its first and last edges as laid (a mixed chain's indices are into its query's own list:
+  /// engine/chain_sum.cpp), for the openings at its ends (engine/chain_slit.h).
+  std::array<DiffractionEdge, 2> ends{};
 };
 
 /// The chains whose rays were cast (at most kChainTrials per query over the static mesh, and

@@ -248,10 +248,15 @@ void makeSlit(const glm::vec3& source, const glm::vec3& L, float from, float to,
   p.slitCentre = c;
 }
 
-bool acrossSlit(const EdgePath& o, const EdgePath& p) {
+bool acrossSlit(const EdgePath& o, const EdgePath& p, const std::vector<uint32_t>* body) {
   constexpr float kReach = 1.5f;  // widths: the probe met p's surface within one of the far side
+  auto closes = [&](uint32_t s) {
+    if (s == o.gapCloser) return true;
+    return body && s < body->size() && o.gapCloser < body->size() &&
+           (*body)[s] == (*body)[o.gapCloser];
+  };
   return std::abs(glm::dot(o.edge->direction, p.edge->direction)) >= kParallelEdges &&
-         (p.edge->surfaces[0] == o.gapCloser || p.edge->surfaces[1] == o.gapCloser) &&
+         (closes(p.edge->surfaces[0]) || closes(p.edge->surfaces[1])) &&
          glm::distance(p.q, o.q + o.gapWidth * o.mouth) <= kReach * o.gapWidth;
 }
 

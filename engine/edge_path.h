@@ -169,8 +169,11 @@ void makeSlit(const glm::vec3& source, const glm::vec3& L, float from, float to,
 /// True when p's edge lies across o's slit: parallel to o's edge, on the surface that closes it,
 /// p's point within 1.5 widths of the slit's far side (o.q + width * mouth; the probe met that
 /// surface within one width of it). A leaf's free edge across the opening from the jamb whose probe
-/// met the leaf.
-bool acrossSlit(const EdgePath& o, const EdgePath& p);
+/// met the leaf. With `body` (per flat surface, its body: SurfaceBodies::body), an edge on
+/// another face of the closing surface's body counts too (a box leaf ajar 15-20 degrees: the
+/// probe from the jamb meets its front face; the rim across the opening is its back corner).
+bool acrossSlit(const EdgePath& o, const EdgePath& p,
+                const std::vector<uint32_t>* body = nullptr);
 
 /// A slit bounded by two edges (a leaf's rim and its frame's) is found from both; only one
 /// carries its field: the shallowest (a sheet's rim before the reveal beside it, a box leaf's

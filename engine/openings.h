@@ -1,0 +1,58 @@
+// Openings a diffracted path leaves through, beside the edge it turns round. A free edge's UTD
+// field and a chain's barrier term (engine/edge_chain.h, ISO 9613-2) know nothing of a surface
+// a few centimetres past the edge. A door leaf ajar 3-30 degrees is the case: the path round
+// its latch end passes between the leaf's rim and the jamb's corner (2 to 25 cm apart, at a
+// slant the gap probe of engine/gap_probe.h takes for another edge's shadow), and the path
+// over its top passes under the lintel. Below the slit's first cross mode that opening passes
+// what a slit passes (Gomperts 1964; Mechel 1986: engine/slit.h), not what a free edge does:
+// taken as free edges, a box leaf ajar 4-20 degrees read the open doorway's level at 63 Hz,
+// 4-6 dB above the slit model of its opening, and the level stepped by 5-11 dB as the leaf
+// turned a degree (where the probe found the opening, or lost it).
+//
+// The opening beside an edge at the path's point Q: rays from Q square to the edge, fanned
+// 5-60 degrees from the leg toward the listener (or the source) away from the side the path
+// turns round; the nearest surface they meet within a quarter of the edge's length (a slit's
+// least aspect, engine/slit.h kSlitMinAspect) and kOpeningReach. Its width is that point's
+// distance from the edge's line; the slit runs along the edge, without depth, its legs
+// straight to its centre line (engine/edge_path.h makeSlit). Where a path already carries that
+// opening's slit (a jamb's edge path whose probe met the leaf, a channel along the face a
+// chain crosses), the edge or chain is that slit's other side and takes its share.
+//
+// Internal to the engine (engine/diffraction.cpp, engine/chain_sum.cpp). Propagation thread
+// (Tracer queries: 12 rays per edge or chain end looked at); allocates; no errors.
+#pragma once
+
+#include <vector>
+
+#include "common/bands.h"
+#include "engine/edge_chain.h"
+#include "engine/edge_path.h"
+#include "engine/surface_bound.h"
+
+namespace dpc {
+
+/// m: the widest opening looked for (a leaf ajar 30 degrees opens 0.5 m).
+inline constexpr float kOpeningReach = 0.5f;
+
+/// With the line of sight blocked, each free first-order path over a small body's edge (a
+/// leaf's rim; also one whose probed gap is too short along its edge to be a slit) whose
+/// opening the fan finds becomes a slit path: the slit of a path that carries it already
+/// (as markSlitPartners' partner), else its own (its slit's owner).
+void openFreeEdges(std::vector<EdgePath>& paths, const BoundQuery& q);
+
+/// What a chain's opening makes of it, per band: `unslit`, the energy factor on the chain's own
+/// pressure ((1 - s)^2 averaged over the band, s = slitWeight(k_t w, aspect)); `energy`, the
+/// opening's own slit field (s^2 |p|^2 averaged) over the free field at the direct distance,
+/// zero where a path carries it. {1, 0} for a chain with no opening.
+struct ChainSlit {
+  Bands unslit{1.f};
+  Bands energy{0.f};
+};
+
+/// Per chain, its opening at its last edge (toward the listener), else at its first, with the
+/// paths whose slits may be its opening's and the direct distance `direct` (m).
+std::vector<ChainSlit> chainSlits(const std::vector<EdgeChain>& chains,
+                                  const std::vector<EdgePath>& paths, const BoundQuery& q,
+                                  float direct);
+
+}  // namespace dpc

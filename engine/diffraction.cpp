@@ -249,7 +249,9 @@ void addObjectChannels(const std::vector<DiffractionEdge>& edges,
 /// as a chain it added a free edge's field (the door read the open doorway at 63 Hz, 6 dB
 /// above the same leaf in the static mesh). Its chain goes; a rim with no gap, or with a gap
 /// too short along it for the slit model (slitWeight 0: its field would be UTD's alone, and
-/// unbounded as a first-order path where the chain's is held), stays a chain.
+/// unbounded as a first-order path where the chain's is held), stays a chain, unless an
+/// opening the probe misses lies beside it (engine/openings.h: openFreeEdges makes that its
+/// slit, as for the same rim in the mesh).
 void addObjectRims(const std::vector<ObjectEdges>& objects, BoundQuery& q,
                    std::vector<EdgeChain>& chains, std::vector<EdgePath>& paths) {
   std::vector<EdgePath> rims, closed;
@@ -267,7 +269,8 @@ void addObjectRims(const std::vector<ObjectEdges>& objects, BoundQuery& q,
   findSlits(q.tracer, q.source, q.L, q.surfaces, probed, closed);
   std::vector<bool> drop(chains.size(), false);
   for (const EdgePath& p : probed) {
-    if (!(p.gapWidth > 0.f) || p.slitAspect < kSlitMinAspect) continue;  // else UTD's alone
+    const bool slit = p.gapWidth > 0.f && p.slitAspect >= kSlitMinAspect;
+    if (!slit && !hasOpening(p, q)) continue;
     const auto k = size_t(std::find_if(rims.begin(), rims.end(), [&](const EdgePath& r) {
                             return r.edge == p.edge;
                           }) - rims.begin());

@@ -77,16 +77,18 @@ struct Opening {
   uint32_t triangle = 0;  // the Tracer's, of the surface met
 };
 
-/// Whether flat surface s is on the body of edge e's faces (its own solid: a door stop's lip
-/// face seen from its back corner). Moving objects' surfaces are not told apart from each
-/// other: an object's edge takes any object's surface for its own.
-bool sameBody(const BoundQuery& q, const DiffractionEdge& e, uint32_t s) {
+/// Whether flat surfaces s and t are on one body. Moving objects' surfaces are not told apart
+/// from each other (an object's edge takes any object's surface for its own).
+bool sameBody(const BoundQuery& q, uint32_t s, uint32_t t) {
+  if (s == kMovingObjects || t == kMovingObjects) return s == t;
   const std::vector<uint32_t>& body = q.bodies.body;
-  if (s == kMovingObjects) return e.surfaces[0] == kMovingObjects;
-  if (s >= body.size()) return false;
-  for (uint32_t f : e.surfaces)
-    if (f < body.size() && body[f] == body[s]) return true;
-  return false;
+  return s < body.size() && t < body.size() && body[s] == body[t];
+}
+
+/// Whether flat surface s is on the body of edge e's faces (its own solid: a door stop's lip
+/// face seen from its back corner).
+bool onEdgeBody(const BoundQuery& q, const DiffractionEdge& e, uint32_t s) {
+  return sameBody(q, e.surfaces[0], s) || sameBody(q, e.surfaces[1], s);
 }
 
 /// The opening beside edge e at its chain point B, for the leg from B toward T, the chain
@@ -115,7 +117,7 @@ Opening openingAt(const BoundQuery& q, const DiffractionEdge& e, const glm::vec3
     // rim); one the leg runs along and leaves (a reveal beside a door stop's corner) does not.
     const glm::vec3 n = hits[i].surface.normal;
     if (std::abs(glm::dot(n, u)) < kFacing ||
-        sameBody(q, e, surfaceOf(q.surfaces, hits[i].surface.triangle)))
+        onEdgeBody(q, e, surfaceOf(q.surfaces, hits[i].surface.triangle)))
       continue;
     const glm::vec3 across = square(hits[i].surface.t * rays[i].dir, e.direction);
     if (const float w = glm::length(across); w > 0.f && (o.width == 0.f || w < o.width))
@@ -124,16 +126,32 @@ Opening openingAt(const BoundQuery& q, const DiffractionEdge& e, const glm::vec3
   return o;
 }
 
-/// The path whose slit is this opening (parallel, its centre line within the wider of the two
-/// widths of the opening's): a channel's or an edge path's found by the probe.
+/// Whether channel p's opening at a mouth (its slit without depth: widenOpenChannel) is the
+/// one beside point B: B on its front or back edge's line.
+bool mouthOf(const EdgePath& p, const DiffractionEdge& e, const glm::vec3& B) {
+  if (p.through == glm::vec3(0.f) || p.slit.depth != 0.0) return false;
+  const glm::vec3 front = square(B - p.edge->a, e.direction);
+  return glm::length(front) < kOnChannelEdge ||
+         glm::length(front - square(p.through, e.direction)) < kOnChannelEdge;
+}
+
+/// The path whose slit is this opening, its owner or not (the jamb's and the leaf rim's paths
+/// find one slit; which owns it is settled after): a first-order path's parallel slit whose
+/// centre line lies within the wider of the two widths of the opening's, or a channel whose
+/// opening at a mouth is beside B (a box leaf's latch face ajar: its back rim's path as a
+/// moving object's). A channel's slit with depth is not it: the reveal's beside a sheet leaf
+/// proud of the wall is deeper and narrower than the rim's opening.
 const EdgePath* carrierOf(const DiffractionEdge& e, const glm::vec3& B, const Opening& o,
                           const std::vector<EdgePath>& paths, const EdgePath* self = nullptr) {
   const glm::vec3 centre = B + 0.5f * o.width * o.mouth;
-  for (const EdgePath& p : paths)
-    if (&p != self && p.gapWidth > 0.f && p.slitOwner &&
-        std::abs(glm::dot(p.edge->direction, e.direction)) >= kParallelEdges &&
-        glm::length(square(p.slitCentre - centre, e.direction)) <= std::max(p.gapWidth, o.width))
+  for (const EdgePath& p : paths) {
+    if (&p == self || !(p.gapWidth > 0.f) ||
+        std::abs(glm::dot(p.edge->direction, e.direction)) < kParallelEdges)
+      continue;
+    const float apart = glm::length(square(p.slitCentre - centre, e.direction));
+    if (p.through == glm::vec3(0.f) ? apart <= std::max(p.gapWidth, o.width) : mouthOf(p, e, B))
       return &p;
+  }
   return nullptr;
 }
 
@@ -202,21 +220,53 @@ bool looksForOpening(const EdgePath& p, const BoundQuery& q) {
 
 /// Whether opening o replaces p's slit: p has none, or one too short along its edge for the
 /// slit model, or one kNarrowerOpening times as wide as o or more (the probe, square to the
-/// edge, met a surface farther off than the one the path passes at a slant).
-bool narrowerThanSlit(const EdgePath& p, const Opening& o) {
+/// edge, met a surface farther off than the one the path passes at a slant), or one closed by
+/// the body o meets (the same opening, which the probe measures as the source or the listener
+/// sees it: a leaf's rim ajar 10-20 degrees and the wall past the jamb, 4 cm against 16 cm
+/// apart, the probe stopped by the reveal's plane, the fan by the wall's face).
+bool replacesSlit(const EdgePath& p, const Opening& o, const BoundQuery& q) {
   constexpr float kNarrowerOpening = 1.1f;
   return !(p.gapWidth > 0.f) || p.slitAspect < kSlitMinAspect ||
-         p.gapWidth >= kNarrowerOpening * o.width;
+         p.gapWidth >= kNarrowerOpening * o.width ||
+         sameBody(q, p.gapCloser, surfaceOf(q.surfaces, o.triangle));
+}
+
+/// A channel along a small body's face with nothing across it (its slit without depth:
+/// engine/diffraction.cpp findSlits) passes the opening at one of its mouths: a leaf ajar 4-20
+/// degrees, between its latch end's back rim and the jamb's corner, 1 to 25 cm apart. The gap
+/// probe measures it square to the face and finds what the listener sees of it, a quarter to a
+/// third of it; the slit is as wide as the opening (Gomperts's slit width, the narrowest
+/// section the sound passes). Widened where the opening ahead of the back mouth (toward the
+/// listener), else ahead of the front one, is wider than the probe's width.
+void widenOpenChannel(EdgePath& p, const BoundQuery& q) {
+  if (p.through == glm::vec3(0.f) || !(p.gapWidth > 0.f) || p.slit.depth != 0.0) return;
+  DiffractionEdge back = *p.edge;
+  back.a += p.through;
+  back.b += p.through;
+  Opening o = openingAt(q, back, p.q + p.through, p.q, q.L);
+  if (o.width == 0.f) o = openingAt(q, *p.edge, p.q, p.q + p.through, q.source);
+  if (!(o.width > p.gapWidth)) return;
+  p.gapWidth = o.width;
+  p.slit.width = double(o.width);
+  p.slitAspect = std::min(p.slitAspect, double(p.edge->length) / double(o.width));
+}
+
+/// The opening beside free path p's edge toward the listener, else toward the source.
+Opening openingOf(const EdgePath& p, const BoundQuery& q) {
+  const Opening o = openingAt(q, *p.edge, p.q, q.source, q.L);
+  return o.width > 0.f ? o : openingAt(q, *p.edge, p.q, q.L, q.source);
 }
 
 }  // namespace
 
+bool hasOpening(const EdgePath& p, const BoundQuery& q) { return openingOf(p, q).width > 0.f; }
+
 void openFreeEdges(std::vector<EdgePath>& paths, const BoundQuery& q) {
   for (EdgePath& p : paths) {
+    widenOpenChannel(p, q);
     if (!looksForOpening(p, q)) continue;
-    Opening o = openingAt(q, *p.edge, p.q, q.source, q.L);
-    if (o.width == 0.f) o = openingAt(q, *p.edge, p.q, q.L, q.source);
-    if (o.width == 0.f || !narrowerThanSlit(p, o)) continue;
+    const Opening o = openingOf(p, q);
+    if (o.width == 0.f || !replacesSlit(p, o, q)) continue;
     if (const EdgePath* carrier = carrierOf(*p.edge, p.q, o, paths, &p)) {
       p.gapWidth = carrier->gapWidth;
       p.slit = carrier->slit;

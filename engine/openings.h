@@ -40,6 +40,10 @@ inline constexpr float kOpeningReach = 0.5f;
 /// (as markSlitPartners' partner), else its own (its slit's owner).
 void openFreeEdges(std::vector<EdgePath>& paths, const BoundQuery& q);
 
+/// Whether the fan finds an opening beside free path p's edge (toward the listener or the
+/// source): a moving object's rim whose gap the probe does not find becomes a path for it.
+bool hasOpening(const EdgePath& p, const BoundQuery& q);
+
 /// What a chain's opening makes of it, per band: `unslit`, the energy factor on the chain's own
 /// pressure ((1 - s)^2 averaged over the band, s = slitWeight(k_t w, aspect)); `energy`, the
 /// opening's own slit field (s^2 |p|^2 averaged) over the free field at the direct distance,

@@ -1,0 +1,156 @@
+// A door swung open a little at a time, as a game opens one: a 4 cm box leaf in a 0.2 m wall's
+// doorway, hinged at its corner, turned 0-30 degrees toward the source, as a moving object and
+// written into the static mesh. Ajar, it passes three openings: the gap at its hinge, the
+// opening between its latch rim and the jamb's corner once the rim has left the reveal (1 to
+// 25 cm apart, at a slant), and the slot under the lintel where the leaf stands out of the
+// wall. Below their first cross modes they pass what slits pass (engine/slit.h: Gomperts 1964;
+// Mechel 1986), here computed on their own by tests/engine/slit_model.h from the leaf's
+// geometry. Before engine/openings.h, the path round the latch rim was a free edge or a chain
+// at a screen's level wherever the gap probe missed the slanted opening: 4-20 degrees read
+// the open doorway's level at 63 Hz, up to 6 dB above the slit model, and the level stepped
+// by 5-11 dB between neighbouring degrees.
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdio>
+#include <glm/geometric.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <vector>
+
+#include "engine/diffraction.h"
+#include "testing/test_scenes.h"
+#include "tests/engine/door_scenes.h"
+#include "tests/engine/slit_model.h"
+
+using namespace dpc;
+using namespace dpc::door_test;
+
+namespace {
+
+constexpr double kThickness = 0.04, kGap = 0.005, kFront = 6.01;  // m; the leaf's front face
+constexpr double kLeafWidth = kDoorWidth - 2 * kGap, kLeafHeight = kDoorHeight - kGap;
+
+/// thickDoorwayScene(0.2)'s doorway with the leaf as a moving object, `degrees` about its
+/// front hinge corner (x 6.01, z 2.005) toward the source.
+SceneDesc swungLeaf(double degrees) {
+  SceneDesc s = thickDoorwayScene(0.2f, false);
+  ObjectDesc door;
+  door.name = "leaf";
+  test::addSolidBox(door.mesh, {0.f, 0.f, 0.f},
+                    {float(kThickness), float(kLeafHeight), float(kLeafWidth)}, 0);
+  const glm::quat turn = glm::angleAxis(-float(glm::radians(degrees)), glm::vec3(0, 1, 0));
+  door.trajectory = {ObjectKeyframe{
+      0.0, glm::vec3(float(kFront), 0.f, float(kDoorZ0 + kGap)), turn}};
+  s.objects.push_back(door);
+  return s;
+}
+
+/// The leaf's point (x across its thickness from its front face, z along its width from the
+/// hinge) in the room, turned `degrees` (y dropped).
+glm::dvec3 leafPoint(double x, double z, double degrees) {
+  const double a = glm::radians(degrees);
+  return {kFront + x * std::cos(a) - z * std::sin(a), 0.0,
+          kDoorZ0 + kGap + x * std::sin(a) + z * std::cos(a)};
+}
+
+/// The slits of the leaf ajar: its latch gap (5 mm, as deep as the leaf, while the back rim is
+/// in the reveal; then the opening from the rim to the jamb's front corner, without depth);
+/// its hinge gap (widening as the back hinge corner turns off the jamb); the slot under the
+/// lintel in 20 pieces, each the 5 mm gap as deep as the leaf where the leaf is in the reveal
+/// and the opening from its top back edge to the lintel's front corner where it stands out.
+std::vector<Slit> openings(double degrees) {
+  std::vector<Slit> out;
+  const glm::dvec3 rim = leafPoint(kThickness, kLeafWidth, degrees);
+  const glm::dvec3 jamb(6.0, 0.0, kDoorZ0 + kDoorWidth);
+  const double mid = kFront + 0.5 * kThickness;
+  if (rim.x < 6.0) {
+    const glm::dvec3 c = 0.5 * (rim + jamb);
+    out.push_back({{c.x, 0, c.z}, {c.x, kLeafHeight, c.z}, glm::length(rim - jamb), 0.0});
+  } else {
+    const double w = jamb.z - rim.z;
+    out.push_back({{mid, 0, rim.z + w / 2}, {mid, kLeafHeight, rim.z + w / 2}, w, kThickness});
+  }
+  const double hinge = leafPoint(kThickness, 0.0, degrees).z - kDoorZ0;
+  out.push_back({{mid, 0, kDoorZ0 + hinge / 2}, {mid, kLeafHeight, kDoorZ0 + hinge / 2}, hinge,
+                 kThickness});
+  constexpr int kPieces = 20;
+  for (int i = 0; i < kPieces; ++i) {
+    const double z0 = kLeafWidth * i / kPieces, z1 = kLeafWidth * (i + 1) / kPieces;
+    const glm::dvec3 p0 = leafPoint(kThickness, z0, degrees);
+    const glm::dvec3 p1 = leafPoint(kThickness, z1, degrees);
+    const double out_of_wall = 6.0 - 0.5 * (p0.x + p1.x);
+    if (out_of_wall <= 0.0) {
+      const glm::dvec3 c0 = leafPoint(kThickness / 2, z0, degrees);
+      const glm::dvec3 c1 = leafPoint(kThickness / 2, z1, degrees);
+      const double y = kDoorHeight - kGap / 2;
+      out.push_back({{c0.x, y, c0.z}, {c1.x, y, c1.z}, kGap, kThickness});
+    } else {
+      const double w = std::hypot(out_of_wall, kGap), y = kDoorHeight - 0.5 * w;
+      out.push_back({{6.0, y, p0.z}, {6.0, y, p1.z}, w, 0.0});
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("Door swing: a box leaf ajar 2-15 degrees passes what the slit model of its openings "
+          "says", "[diffraction][door]") {
+  // Up to 15 degrees the latch opening (up to 26 cm) is at least 8 times as long as wide, where
+  // the slit model holds fully (engine/slit.h kSlitFullAspect). Tolerance: 3 dB per octave at
+  // 63-250 Hz, as for the gaps round a closed leaf (door_gap_test); the model here places the
+  // slanted openings in the wall's plane. Found -1.9 to +2.0 dB. The object and the same leaf
+  // in the static mesh within 1 dB from 63 Hz to 1 kHz (found 0.1 at most; before, the object's
+  // rim without a probed gap stayed a chain: 1.7 dB apart at 18 degrees).
+  const MouthImpedance zr;
+  for (double degrees = 2.0; degrees <= 15.0; degrees += 1.0) {
+    const SceneDesc scene = swungLeaf(degrees);
+    const Bands object = decibels(directLevel(scene));
+    const Bands mesh = decibels(directLevel(objectsInMesh(scene)));
+    const Bands model = modelLevels(openings(degrees), zr);
+    char label[96];
+    std::snprintf(label, sizeof label, "leaf ajar %4.1f deg: object / in the mesh / model (dB)",
+                  degrees);
+    printLevels(label, {&object, &mesh, &model}, 4);
+    for (int b = 0; b <= 4; ++b) {
+      INFO(degrees << " degrees, band " << b);
+      if (b <= 2) CHECK(std::abs(object[b] - model[b]) < 3.f);
+      CHECK(std::abs(object[b] - mesh[b]) < 1.f);
+    }
+  }
+}
+
+TEST_CASE("Door swing: swung open half a degree at a time, the leaf never steps nor dips below "
+          "shut", "[diffraction][door]") {
+  // 0-30 degrees by half degrees, 63 and 125 Hz. Opening only widens the gaps, so the level
+  // never falls below shut (1 dB: the hinge gap's probe resolves a width to 5 %, 0.4 dB). No
+  // half degree changes the level by more than 3 dB, or than the slit model's own change where
+  // that is larger (up to 5 dB, as the latch rim leaves the reveal at 2.5-3 degrees; the model
+  // is computed to 15 degrees, where it holds). Without a step in the door, 3 dB is a step in
+  // the engine (before: 5-11 dB between neighbouring degrees).
+  const MouthImpedance zr;
+  const Bands shutObject = decibels(directLevel(swungLeaf(0.0)));
+  const Bands shutMesh = decibels(directLevel(objectsInMesh(swungLeaf(0.0))));
+  Bands lastObject = shutObject, lastMesh = shutMesh, lastModel = modelLevels(openings(0.0), zr);
+  float largest = 0.f;
+  for (double degrees = 0.5; degrees <= 30.0; degrees += 0.5) {
+    const SceneDesc scene = swungLeaf(degrees);
+    const Bands object = decibels(directLevel(scene));
+    const Bands mesh = decibels(directLevel(objectsInMesh(scene)));
+    const Bands model = degrees <= 15.0 ? modelLevels(openings(degrees), zr) : lastModel;
+    for (int b = 0; b <= 1; ++b) {
+      INFO(degrees << " degrees, band " << b);
+      CHECK(object[b] > shutObject[b] - 1.f);
+      CHECK(mesh[b] > shutMesh[b] - 1.f);
+      const float allowed = std::max(3.f, std::abs(model[b] - lastModel[b]));
+      for (float step : {object[b] - lastObject[b], mesh[b] - lastMesh[b]}) {
+        largest = std::max(largest, std::abs(step));
+        CHECK(std::abs(step) <= allowed);
+      }
+    }
+    lastObject = object;
+    lastMesh = mesh;
+    lastModel = model;
+  }
+  std::printf("63-125 Hz: largest change between half degrees %.1f dB\n", double(largest));
+}

@@ -91,18 +91,25 @@ bool onEdgeBody(const BoundQuery& q, const DiffractionEdge& e, uint32_t s) {
   return sameBody(q, e.surfaces[0], s) || sameBody(q, e.surfaces[1], s);
 }
 
+/// m: how far from edge e a slit's opening is looked for (kOpeningReach, and at least
+/// kSlitMinAspect times as long as wide), and a wider one another path's slit may be
+/// (kPartnerReach, at least twice as long as wide).
+float slitReach(const DiffractionEdge& e) {
+  return std::min(kOpeningReach, e.length / float(kSlitMinAspect));
+}
+float partnerReach(const DiffractionEdge& e) { return std::min(kPartnerReach, 0.5f * e.length); }
+
 /// The opening beside edge e at its chain point B, for the leg from B toward T, the chain
 /// arriving from A (the chain turns round e's solid toward that side; the fan looks the other
-/// way). Width 0: none within reach.
+/// way), within `reach` metres. Width 0: none.
 Opening openingAt(const BoundQuery& q, const DiffractionEdge& e, const glm::vec3& B,
-                  const glm::vec3& A, const glm::vec3& T) {
+                  const glm::vec3& A, const glm::vec3& T, float reach) {
   const glm::vec3 out = square(T - B, e.direction), in = square(B - A, e.direction);
   if (!(glm::length(out) > 0.f) || !(glm::length(in) > 0.f)) return {};
   const glm::vec3 u = glm::normalize(out);
   const glm::vec3 turn = square(u - glm::normalize(in), u);
   if (glm::length(turn) < 1e-3f) return {};  // no turn: no side to look at
   const glm::vec3 v = -glm::normalize(turn);
-  const float reach = std::min(kOpeningReach, e.length / float(kSlitMinAspect));
   std::array<TraceRay, kFanDegrees.size()> rays;
   for (size_t i = 0; i < rays.size(); ++i) {
     const float a = glm::radians(kFanDegrees[i]);
@@ -198,15 +205,16 @@ ChainSlit chainSlit(const EdgeChain& c, const std::vector<EdgePath>& paths, cons
   const bool one = c.n == 1;
   const DiffractionEdge* e = &c.ends[1];
   glm::vec3 B = c.q[c.n - 1];
-  Opening o = openingAt(q, *e, B, one ? q.source : c.q[c.n - 2], q.L);
+  Opening o = openingAt(q, *e, B, one ? q.source : c.q[c.n - 2], q.L, partnerReach(*e));
   if (o.width == 0.f) {
     e = &c.ends[0];
     B = c.q[0];
-    o = openingAt(q, *e, B, one ? q.L : c.q[1], q.source);
+    o = openingAt(q, *e, B, one ? q.L : c.q[1], q.source, partnerReach(*e));
   }
   if (o.width == 0.f) return {};
   if (const EdgePath* carrier = carrierOf(*e, B, o, paths))
     return {unslitShare(*carrier, q.speedOfSound), Bands(0.f)};
+  if (o.width > slitReach(*e)) return {};  // too wide for a slit of its own
   return openingSlit(*e, B, o, q, direct);
 }
 
@@ -243,29 +251,32 @@ void widenOpenChannel(EdgePath& p, const BoundQuery& q) {
   DiffractionEdge back = *p.edge;
   back.a += p.through;
   back.b += p.through;
-  Opening o = openingAt(q, back, p.q + p.through, p.q, q.L);
-  if (o.width == 0.f) o = openingAt(q, *p.edge, p.q, p.q + p.through, q.source);
+  Opening o = openingAt(q, back, p.q + p.through, p.q, q.L, slitReach(back));
+  if (o.width == 0.f) o = openingAt(q, *p.edge, p.q, p.q + p.through, q.source, slitReach(back));
   if (!(o.width > p.gapWidth)) return;
   p.gapWidth = o.width;
   p.slit.width = double(o.width);
   p.slitAspect = std::min(p.slitAspect, double(p.edge->length) / double(o.width));
 }
 
-/// The opening beside free path p's edge toward the listener, else toward the source.
-Opening openingOf(const EdgePath& p, const BoundQuery& q) {
-  const Opening o = openingAt(q, *p.edge, p.q, q.source, q.L);
-  return o.width > 0.f ? o : openingAt(q, *p.edge, p.q, q.L, q.source);
+/// The opening beside free path p's edge toward the listener, else toward the source, within
+/// `reach` metres.
+Opening openingOf(const EdgePath& p, const BoundQuery& q, float reach) {
+  const Opening o = openingAt(q, *p.edge, p.q, q.source, q.L, reach);
+  return o.width > 0.f ? o : openingAt(q, *p.edge, p.q, q.L, q.source, reach);
 }
 
 }  // namespace
 
-bool hasOpening(const EdgePath& p, const BoundQuery& q) { return openingOf(p, q).width > 0.f; }
+bool hasOpening(const EdgePath& p, const BoundQuery& q) {
+  return openingOf(p, q, slitReach(*p.edge)).width > 0.f;
+}
 
 void openFreeEdges(std::vector<EdgePath>& paths, const BoundQuery& q) {
   for (EdgePath& p : paths) {
     widenOpenChannel(p, q);
     if (!looksForOpening(p, q)) continue;
-    const Opening o = openingOf(p, q);
+    const Opening o = openingOf(p, q, partnerReach(*p.edge));
     if (o.width == 0.f || !replacesSlit(p, o, q)) continue;
     if (const EdgePath* carrier = carrierOf(*p.edge, p.q, o, paths, &p)) {
       p.gapWidth = carrier->gapWidth;
@@ -276,6 +287,7 @@ void openFreeEdges(std::vector<EdgePath>& paths, const BoundQuery& q) {
       p.slitOwner = false;
       continue;
     }
+    if (o.width > slitReach(*p.edge)) continue;  // too wide for a slit of its own
     throughOpening(*p.edge, p.q, o, q.source, q.L, p);
     p.slitOwner = true;
     p.gapCloser = surfaceOf(q.surfaces, o.triangle);

@@ -31,8 +31,11 @@
 
 namespace dpc {
 
-/// m: the widest opening looked for (a leaf ajar 30 degrees opens 0.5 m).
+/// m: the widest opening taken as a slit (a leaf ajar 30 degrees opens 0.5 m), and the widest
+/// looked for as another path's slit (a jamb's, whose probe met the leaf: the leaf's rim is its
+/// other side; a leaf opened 50 degrees, 0.8 m).
 inline constexpr float kOpeningReach = 0.5f;
+inline constexpr float kPartnerReach = 1.f;
 
 /// With the line of sight blocked, each free first-order path over a small body's edge (a
 /// leaf's rim; also one whose probed gap is too short along its edge to be a slit) whose

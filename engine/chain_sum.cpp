@@ -21,6 +21,22 @@ std::vector<Bands> chainWeights(const std::vector<EdgeChain>& chains, const Boun
   return out;
 }
 
+/// Per chain, its opening's own slit field (engine/openings.h) with its directivity weight;
+/// an opening several chains share (chains ending on one rim) is counted with the first.
+std::vector<Bands> openingEnergies(const std::vector<ChainSlit>& slits,
+                                   const std::vector<Bands>& weights) {
+  constexpr float kSameOpening = 1e-3f;  // m between the centres
+  std::vector<Bands> out(slits.size(), Bands(0.f));
+  for (size_t c = 0; c < slits.size(); ++c) {
+    if (!(slits[c].energy.max() > 0.f)) continue;
+    const bool counted = std::any_of(slits.begin(), slits.begin() + long(c), [&](const ChainSlit& o) {
+      return o.energy.max() > 0.f && glm::distance(o.at, slits[c].at) < kSameOpening;
+    });
+    if (!counted) out[c] = slits[c].energy * weights[c];
+  }
+  return out;
+}
+
 /// The chains over the static mesh's edges `seeds` and a moving object's edges `own` (its
 /// world edges' indices) together, each with at least one edge of either: a leaf opened 70-90
 /// degrees, the way from the hinge jamb round the leaf's free rim. Only the seeds within
@@ -58,15 +74,16 @@ Bands withChains(const std::vector<EdgePath>& paths, const std::vector<EdgeChain
   const Bands omni = exp(q.airPerMetre * -d) * (1.f / (4.f * std::numbers::pi_v<float> * d * d));
   std::vector<Bands> weights = chainWeights(chains, q);
   const std::vector<ChainSlit> slits = chainSlits(chains, paths, q, d);
+  const std::vector<Bands> opening = openingEnergies(slits, weights);
   Bands openings(0.f);  // the openings' slit fields, in energy
   for (size_t c = 0; c < chains.size(); ++c) {
-    openings += slits[c].energy * weights[c];
+    openings += opening[c];
     weights[c] *= slits[c].unslit;
   }
   std::vector<ChainEnergy> energies;
   for (size_t c = 0; c < chains.size(); ++c) {
     const Bands own = chainGain(chains[c], d, q.speedOfSound, q.airPerMetre) * weights[c];
-    ChainEnergy e{omni * (own + slits[c].energy), {}};
+    ChainEnergy e{omni * (own + opening[c]), {}};
     if (chains[c].object >= 0) e.surfaces = {kMovingObjects};
     for (size_t i = 0; i < chains[c].n && chains[c].object < 0; ++i)
       e.surfaces.insert(e.surfaces.end(), q.edges[chains[c].edge[i]].surfaces.begin(),

@@ -93,14 +93,14 @@ double bandMeanSquare(int b, const std::vector<EdgePath>& paths, const PathGains
     slitLoading(paths, gains, k, loading);
     double directAmplitude = direct.amplitude;
     if (const EdgePath* q = direct.slit)
-      directAmplitude *= 1.0 - slitWeight(k * q->slit.sinBeta * q->slit.width, q->slitAspect);
+      directAmplitude *= 1.0 - slitShare(*q, k);
     C p = directAmplitude * pathPhasor(k * double(direct.distance));
     C diffracted(0.0, 0.0);
     for (size_t j = 0; j < paths.size(); ++j) {
       const EdgePath& q = paths[j];
       double amplitude = gains.utd[j];
       if (q.gapWidth > 0.f) {
-        const double s = slitWeight(k * q.slit.sinBeta * q.slit.width, q.slitAspect);
+        const double s = slitShare(q, k);
         if (s > 0.0 && q.slitOwner)
           p += s * gains.slit[j] * loading.perPath[j] * slitPressure(q.slit, k);
         if (s >= 1.0) continue;

@@ -72,7 +72,8 @@ void findSlits(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L
       p.slitAspect = double(shapes[j].aspect);
       // A small body's face with nothing across it (a leaf ajar a few degrees, its side face
       // out of the reveal): the gap is the opening at a mouth, a slit without depth.
-      if (!p.measuredDepth && !shapes[j].farSide) p.slit.depth = 0.0;
+      const bool turned = p.before + p.lipBefore + p.beyond + p.lipBeyond != glm::vec3(0.f);
+      if (!p.measuredDepth && !turned && !shapes[j].farSide) p.slit.depth = 0.0;
     }
   }
   paths.resize(kept);
@@ -92,11 +93,7 @@ void markSlitPartners(std::vector<EdgePath>& paths, const SurfaceBodies& bodies)
     for (const EdgePath& o : paths) {
       if (!(o.gapWidth > 0.f) || !o.slitOwner || &o == &p || !acrossSlit(o, p, &bodies.body))
         continue;
-      p.gapWidth = o.gapWidth;
-      p.slit = o.slit;
-      p.slitCentre = o.slitCentre;
-      p.slitAspect = o.slitAspect;
-      p.gapCloser = o.edge->surfaces[0];
+      takeSlit(p, o);
       break;
     }
   }
@@ -270,7 +267,7 @@ void addObjectRims(const std::vector<ObjectEdges>& objects, BoundQuery& q,
   std::vector<bool> drop(chains.size(), false);
   for (const EdgePath& p : probed) {
     const bool slit = p.gapWidth > 0.f && p.slitAspect >= kSlitMinAspect;
-    if (!slit && !hasOpening(p, q)) continue;
+    if (!slit && !hasOpening(p, q, paths)) continue;
     const auto k = size_t(std::find_if(rims.begin(), rims.end(), [&](const EdgePath& r) {
                             return r.edge == p.edge;
                           }) - rims.begin());
@@ -437,6 +434,7 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
   if (!lineOfSight) {
     openFreeEdges(paths, query);
     markSlitOwners(paths);
+    markSlitPartners(paths, bodies_);
     markGrazes(edges_, chainNear_, query, paths);
   }
   if (usedEdges) listUsedEdges(paths, chains, edges_, *usedEdges);

@@ -65,7 +65,7 @@ struct EdgeChain {
   /// static mesh's.
   int object = -1;
   /// Its first and last edges as laid (a mixed chain's indices are into its query's own list:
-  /// engine/chain_sum.cpp), for the openings at its ends (engine/chain_slit.h).
+  /// engine/chain_sum.cpp), for the openings at its ends (engine/openings.h).
   std::array<DiffractionEdge, 2> ends{};
 };
 

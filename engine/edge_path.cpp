@@ -248,12 +248,27 @@ void makeSlit(const glm::vec3& source, const glm::vec3& L, float from, float to,
   p.slitCentre = c;
 }
 
+double slitShare(const EdgePath& p, double k) {
+  return slitWeight(k * p.slit.sinBeta * p.slit.width, p.slitAspect);
+}
+
+void takeSlit(EdgePath& p, const EdgePath& from) {
+  p.gapWidth = from.gapWidth;
+  p.slit = from.slit;
+  p.slitCentre = from.slitCentre;
+  p.slitAspect = from.slitAspect;
+  p.gapCloser = from.edge->surfaces[0];
+  p.slitOwner = false;
+}
+
+bool sameBody(const std::vector<uint32_t>& body, uint32_t s, uint32_t t) {
+  return s == t || (s < body.size() && t < body.size() && body[s] == body[t]);
+}
+
 bool acrossSlit(const EdgePath& o, const EdgePath& p, const std::vector<uint32_t>* body) {
   constexpr float kReach = 1.5f;  // widths: the probe met p's surface within one of the far side
   auto closes = [&](uint32_t s) {
-    if (s == o.gapCloser) return true;
-    return body && s < body->size() && o.gapCloser < body->size() &&
-           (*body)[s] == (*body)[o.gapCloser];
+    return s == o.gapCloser || (body && sameBody(*body, s, o.gapCloser));
   };
   return std::abs(glm::dot(o.edge->direction, p.edge->direction)) >= kParallelEdges &&
          (closes(p.edge->surfaces[0]) || closes(p.edge->surfaces[1])) &&

@@ -166,6 +166,20 @@ bool legsFree(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L,
 /// engine/gap_probe.h); its stationary point, legs and angles as engine/slit.h defines them.
 void makeSlit(const glm::vec3& source, const glm::vec3& L, float from, float to, EdgePath& p);
 
+/// The slit model's share s of path p's pressure at wavenumber k (rad/m): engine/slit.h
+/// slitWeight at X = k sin(beta) w for p's slit and aspect. p must have a slit (gapWidth > 0).
+double slitShare(const EdgePath& p, double k);
+
+/// Makes p the other side of the slit `from` carries (a free edge across it: its UTD field is
+/// that slit's other edge, which the slit's field replaces in the proportion s): from's width,
+/// slit, centre and aspect, closed by from's edge's surface; p does not carry the field.
+void takeSlit(EdgePath& p, const EdgePath& from);
+
+/// Whether flat surfaces s and t are one or on one body (`body`: per flat surface, its body,
+/// SurfaceBodies::body); a surface past body.size() (a moving object's, or none) only equals
+/// itself.
+bool sameBody(const std::vector<uint32_t>& body, uint32_t s, uint32_t t);
+
 /// True when p's edge lies across o's slit: parallel to o's edge, on the surface that closes it,
 /// p's point within 1.5 widths of the slit's far side (o.q + width * mouth; the probe met that
 /// surface within one width of it). A leaf's free edge across the opening from the jamb whose probe

@@ -17,19 +17,25 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-/// m: how far a chain's first point may lie from a channel's front edge to be its route.
-constexpr float kOnChannelEdge = 2e-3f;
+/// m: how far a point may lie from an edge's line to be on it (a chain's first point on a
+/// channel's front edge, an opening's rim on a channel's mouth).
+constexpr float kOnEdge = 2e-3f;
 
-/// How squarely a surface must face the leg to close an opening across it: |cos| of the angle
-/// between its normal and the leg (60 degrees).
-constexpr float kFacing = 0.5f;
+/// cos 60 degrees: how squarely a surface must face the leg to close an opening across it, and
+/// how squarely a chain's step must cross a channel's face to take its route.
+constexpr float kSquarely = 0.5f;
 
-/// The fan of rays looking for an opening: degrees from the leg, away from the chain's turn.
+/// The fan of rays looking for an opening: degrees from the leg, away from the turn.
 constexpr std::array<float, 12> kFanDegrees = {5.f,  10.f, 15.f, 20.f, 25.f, 30.f,
                                                35.f, 40.f, 45.f, 50.f, 55.f, 60.f};
 
 /// x with its component along the unit vector d taken out.
 glm::vec3 square(const glm::vec3& x, const glm::vec3& d) { return x - glm::dot(x, d) * d; }
+
+/// The wavenumber (rad/m) of diffraction frequency i of band b.
+double wavenumber(int b, int i, float speedOfSound) {
+  return 2.0 * kPi * diffractionFrequencyHz(b, i) / double(speedOfSound);
+}
 
 /// The open channel (a path along a narrow face whose gap the probe found: engine/channel_path.h)
 /// whose route chain c takes, round the face's front edge and across it to the back edge; null
@@ -42,27 +48,20 @@ const EdgePath* channelOf(const EdgeChain& c, const std::vector<EdgePath>& paths
     const DiffractionEdge& e = *p.edge;
     const glm::vec3 across = square(step, e.direction);
     const float depth = glm::length(across);
-    if (glm::length(square(c.q[0] - e.a, e.direction)) < kOnChannelEdge &&
-        depth <= kChannelDepthMax && glm::dot(across, glm::normalize(p.through)) > 0.5f * depth)
+    if (glm::length(square(c.q[0] - e.a, e.direction)) < kOnEdge && depth <= kChannelDepthMax &&
+        glm::dot(across, glm::normalize(p.through)) > kSquarely * depth)
       return &p;
   }
   return nullptr;
 }
 
-/// The slit model's share s of a slit path of width w (engine/slit.h slitWeight) at the
-/// diffraction frequency (band b, i), for sin(beta) and the slit's aspect.
-double shareAt(int b, int i, double sinBeta, double width, double aspect, float speedOfSound) {
-  const double k = 2.0 * kPi * diffractionFrequencyHz(b, i) / double(speedOfSound);
-  return slitWeight(k * sinBeta * width, aspect);
-}
-
-/// (1 - s)^2 per band, averaged over its frequencies, for the slit `p` carries.
+/// (1 - s)^2 per band, averaged over its frequencies, for the slit path p (slitShare).
 Bands unslitShare(const EdgePath& p, float speedOfSound) {
   Bands out;
   for (int b = 0; b < kNumBands; ++b) {
     double sum = 0.0;
     for (int i = 0; i < kDiffractionFrequenciesPerBand; ++i) {
-      const double s = shareAt(b, i, p.slit.sinBeta, p.slit.width, p.slitAspect, speedOfSound);
+      const double s = slitShare(p, wavenumber(b, i, speedOfSound));
       sum += (1.0 - s) * (1.0 - s);
     }
     out[b] = float(sum / kDiffractionFrequenciesPerBand);
@@ -70,25 +69,25 @@ Bands unslitShare(const EdgePath& p, float speedOfSound) {
   return out;
 }
 
-/// An opening at a chain's end: its width (m) and the unit direction across it from the edge.
+/// An opening beside an edge: its width (m), the unit direction across it from the edge, and
+/// the flat surface met there.
 struct Opening {
   float width = 0.f;
   glm::vec3 mouth{0.f};
-  uint32_t triangle = 0;  // the Tracer's, of the surface met
+  uint32_t surface = kUnknownSurface;
 };
 
-/// Whether flat surfaces s and t are on one body. Moving objects' surfaces are not told apart
-/// from each other (an object's edge takes any object's surface for its own).
-bool sameBody(const BoundQuery& q, uint32_t s, uint32_t t) {
-  if (s == kMovingObjects || t == kMovingObjects) return s == t;
-  const std::vector<uint32_t>& body = q.bodies.body;
-  return s < body.size() && t < body.size() && body[s] == body[t];
+/// Whether edge e is a small body's or a moving object's: a leaf, a crate, a pillar. A large
+/// body's edge (a wall's) keeps its free field: its openings are the probe's.
+bool smallEdge(const BoundQuery& q, const DiffractionEdge& e) {
+  const uint32_t s = e.surfaces[0];
+  return s == kMovingObjects || (s < q.bodies.body.size() && !largeBody(q.bodies, s));
 }
 
 /// Whether flat surface s is on the body of edge e's faces (its own solid: a door stop's lip
-/// face seen from its back corner).
+/// face seen from its back corner). Moving objects' surfaces are not told apart from each other.
 bool onEdgeBody(const BoundQuery& q, const DiffractionEdge& e, uint32_t s) {
-  return sameBody(q, e.surfaces[0], s) || sameBody(q, e.surfaces[1], s);
+  return sameBody(q.bodies.body, e.surfaces[0], s) || sameBody(q.bodies.body, e.surfaces[1], s);
 }
 
 /// m: how far from edge e a slit's opening is looked for (kOpeningReach, and at least
@@ -99,9 +98,23 @@ float slitReach(const DiffractionEdge& e) {
 }
 float partnerReach(const DiffractionEdge& e) { return std::min(kPartnerReach, 0.5f * e.length); }
 
-/// The opening beside edge e at its chain point B, for the leg from B toward T, the chain
-/// arriving from A (the chain turns round e's solid toward that side; the fan looks the other
-/// way), within `reach` metres. Width 0: none.
+/// The fan's rays from B: square to e, kFanDegrees from the unit leg direction u toward the
+/// unit direction v, `reach` metres long.
+std::array<TraceRay, kFanDegrees.size()> fan(const glm::vec3& B, const glm::vec3& u,
+                                             const glm::vec3& v, float reach) {
+  std::array<TraceRay, kFanDegrees.size()> rays;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const float a = glm::radians(kFanDegrees[i]);
+    rays[i] = TraceRay{B, std::cos(a) * u + std::sin(a) * v, surfaceOffset(B), reach};
+  }
+  return rays;
+}
+
+/// The opening beside edge e at point B, for the leg from B toward T, the path arriving from A
+/// (it turns round e's solid toward that side; the fan looks the other way), within `reach`
+/// metres: the nearest surface that faces the leg within 60 degrees (a wall's face past a
+/// leaf's rim; not a reveal the leg runs along and leaves) and is not e's own body. Width 0:
+/// none.
 Opening openingAt(const BoundQuery& q, const DiffractionEdge& e, const glm::vec3& B,
                   const glm::vec3& A, const glm::vec3& T, float reach) {
   const glm::vec3 out = square(T - B, e.direction), in = square(B - A, e.direction);
@@ -109,26 +122,17 @@ Opening openingAt(const BoundQuery& q, const DiffractionEdge& e, const glm::vec3
   const glm::vec3 u = glm::normalize(out);
   const glm::vec3 turn = square(u - glm::normalize(in), u);
   if (glm::length(turn) < 1e-3f) return {};  // no turn: no side to look at
-  const glm::vec3 v = -glm::normalize(turn);
-  std::array<TraceRay, kFanDegrees.size()> rays;
-  for (size_t i = 0; i < rays.size(); ++i) {
-    const float a = glm::radians(kFanDegrees[i]);
-    rays[i] = TraceRay{B, std::cos(a) * u + std::sin(a) * v, surfaceOffset(B), reach};
-  }
+  const auto rays = fan(B, u, -glm::normalize(turn), reach);
   std::array<TraceHit, kFanDegrees.size()> hits;
   q.tracer.intersect(rays, hits);
   Opening o;
   for (size_t i = 0; i < hits.size(); ++i) {
     if (!hits[i].found) continue;
-    // Only a surface ahead of the leg closes an opening across it (a wall's face past a leaf's
-    // rim); one the leg runs along and leaves (a reveal beside a door stop's corner) does not.
-    const glm::vec3 n = hits[i].surface.normal;
-    if (std::abs(glm::dot(n, u)) < kFacing ||
-        onEdgeBody(q, e, surfaceOf(q.surfaces, hits[i].surface.triangle)))
-      continue;
+    const uint32_t s = surfaceOf(q.surfaces, hits[i].surface.triangle);
+    if (std::abs(glm::dot(hits[i].surface.normal, u)) < kSquarely || onEdgeBody(q, e, s)) continue;
     const glm::vec3 across = square(hits[i].surface.t * rays[i].dir, e.direction);
     if (const float w = glm::length(across); w > 0.f && (o.width == 0.f || w < o.width))
-      o = {w, across / w, hits[i].surface.triangle};
+      o = {w, across / w, s};
   }
   return o;
 }
@@ -138,27 +142,38 @@ Opening openingAt(const BoundQuery& q, const DiffractionEdge& e, const glm::vec3
 bool mouthOf(const EdgePath& p, const DiffractionEdge& e, const glm::vec3& B) {
   if (p.through == glm::vec3(0.f) || p.slit.depth != 0.0) return false;
   const glm::vec3 front = square(B - p.edge->a, e.direction);
-  return glm::length(front) < kOnChannelEdge ||
-         glm::length(front - square(p.through, e.direction)) < kOnChannelEdge;
+  return glm::length(front) < kOnEdge ||
+         glm::length(front - square(p.through, e.direction)) < kOnEdge;
 }
 
-/// The path whose slit is this opening, its owner or not (the jamb's and the leaf rim's paths
-/// find one slit; which owns it is settled after): a first-order path's parallel slit whose
-/// centre line lies within the wider of the two widths of the opening's, or a channel whose
-/// opening at a mouth is beside B (a box leaf's latch face ajar: its back rim's path as a
-/// moving object's). A channel's slit with depth is not it: the reveal's beside a sheet leaf
-/// proud of the wall is deeper and narrower than the rim's opening.
-const EdgePath* carrierOf(const DiffractionEdge& e, const glm::vec3& B, const Opening& o,
-                          const std::vector<EdgePath>& paths, const EdgePath* self = nullptr) {
+/// Whether first-order path p's slit is opening o beside point B on edge e: parallel, B along
+/// p's edge, the centre lines within half the two widths, and p's edge or its gap's far side on
+/// the body o meets (the jamb's path, whose probe met the leaf, and the leaf's rim, whose fan met
+/// the wall).
+bool sameOpening(const BoundQuery& q, const EdgePath& p, const DiffractionEdge& e,
+                 const glm::vec3& B, const Opening& o) {
+  const DiffractionEdge& f = *p.edge;
+  const float t = glm::dot(B - f.a, f.direction);
   const glm::vec3 centre = B + 0.5f * o.width * o.mouth;
-  for (const EdgePath& p : paths) {
-    if (&p == self || !(p.gapWidth > 0.f) ||
-        std::abs(glm::dot(p.edge->direction, e.direction)) < kParallelEdges)
-      continue;
-    const float apart = glm::length(square(p.slitCentre - centre, e.direction));
-    if (p.through == glm::vec3(0.f) ? apart <= std::max(p.gapWidth, o.width) : mouthOf(p, e, B))
+  return std::abs(glm::dot(f.direction, e.direction)) >= kParallelEdges && t >= -kOnEdge &&
+         t <= f.length + kOnEdge &&
+         glm::length(square(p.slitCentre - centre, e.direction)) <=
+             0.5f * (p.gapWidth + o.width) + kOnEdge &&
+         (onEdgeBody(q, f, o.surface) || sameBody(q.bodies.body, p.gapCloser, o.surface));
+}
+
+/// The path whose slit is this opening, its owner or not (which owns it is settled after): a
+/// first-order path's (sameOpening), or a channel's open at the mouth beside B (a box leaf's
+/// latch face ajar, its back rim's path a moving object's). A channel's slit with depth is not
+/// it: the reveal's beside a sheet leaf proud of the wall is deeper and narrower than the rim's
+/// opening.
+const EdgePath* carrierOf(const BoundQuery& q, const DiffractionEdge& e, const glm::vec3& B,
+                          const Opening& o, const std::vector<EdgePath>& paths,
+                          const EdgePath* self = nullptr) {
+  for (const EdgePath& p : paths)
+    if (&p != self && p.gapWidth > 0.f &&
+        (p.through == glm::vec3(0.f) ? sameOpening(q, p, e, B, o) : mouthOf(p, e, B)))
       return &p;
-  }
   return nullptr;
 }
 
@@ -173,57 +188,83 @@ void throughOpening(const DiffractionEdge& e, const glm::vec3& B, const Opening&
   makeSlit(source, L, -t, e.length - t, p);
 }
 
-/// The opening's own slit and the chain's share beside it (ChainSlit).
-ChainSlit openingSlit(const DiffractionEdge& e, const glm::vec3& B, const Opening& o,
+/// The length (m) of chain c's way from `from` (the source or L) to its point n, less the
+/// straight line: the detour round its other edges before the opening at n.
+float detour(const EdgeChain& c, const glm::vec3& from, size_t n, bool fromSource) {
+  float length = 0.f;
+  glm::vec3 last = from;
+  for (size_t k = 0; k < c.n; ++k) {
+    const size_t i = fromSource ? k : c.n - 1 - k;
+    length += glm::distance(last, c.q[i]);
+    last = c.q[i];
+    if (i == n) break;
+  }
+  return std::max(0.f, length - glm::distance(from, c.q[n]));
+}
+
+/// The opening's own slit beside chain c's point n (its legs straight to the slit's centre
+/// line, the chain's detour round its other edges added to the leg on that side, with a
+/// screen's shadow loss for it) and the chain's share beside it (ChainSlit).
+ChainSlit openingSlit(const EdgeChain& c, size_t n, const DiffractionEdge& e, const Opening& o,
                       const BoundQuery& q, float direct) {
   EdgePath p{};
   p.edge = &e;
-  p.q = B;
-  throughOpening(e, B, o, q.source, q.L, p);
-  ChainSlit out;
+  p.q = c.q[n];
+  const size_t side = n + 1 == c.n ? 0 : 1;  // the last edge's opening: the source's leg
+  p.lipLength[side] = p.lipExcess[side] = detour(c, side == 0 ? q.source : q.L, n, side == 0);
+  throughOpening(e, c.q[n], o, q.source, q.L, p);
+  ChainSlit out{unslitShare(p, q.speedOfSound), Bands(0.f), c.q[n] + 0.5f * o.width * o.mouth};
   for (int b = 0; b < kNumBands; ++b) {
     const double air =
         std::exp(-double(q.airPerMetre[b]) * (p.slit.r + p.slit.s - double(direct)));
-    double own = 0.0, slit = 0.0;
+    double slit = 0.0;
     for (int i = 0; i < kDiffractionFrequenciesPerBand; ++i) {
-      const double s = shareAt(b, i, p.slit.sinBeta, p.slit.width, p.slitAspect, q.speedOfSound);
-      const double k = 2.0 * kPi * diffractionFrequencyHz(b, i) / double(q.speedOfSound);
-      own += (1.0 - s) * (1.0 - s);
+      const double k = wavenumber(b, i, q.speedOfSound), s = slitShare(p, k);
       slit += s * s * std::norm(slitPressure(p.slit, k)) * double(direct) * double(direct);
     }
-    out.unslit[b] = float(own / kDiffractionFrequenciesPerBand);
     out.energy[b] = float(air * slit / kDiffractionFrequenciesPerBand);
   }
   return out;
+}
+
+/// The opening beside edge e at B for the leg toward `toward` (from `from`) within the partner
+/// reach, else the one for the leg the other way: the first that is a slit's (within the slit
+/// reach), else the first found.
+Opening openingFor(const BoundQuery& q, const DiffractionEdge& e, const glm::vec3& B,
+                   const glm::vec3& from, const glm::vec3& toward) {
+  const Opening ahead = openingAt(q, e, B, from, toward, partnerReach(e));
+  if (ahead.width > 0.f && ahead.width <= slitReach(e)) return ahead;
+  const Opening behind = openingAt(q, e, B, toward, from, partnerReach(e));
+  if (behind.width > 0.f && (behind.width <= slitReach(e) || ahead.width == 0.f)) return behind;
+  return ahead;
 }
 
 /// Chain c's opening at its last edge (toward L), else at its first (toward the source).
 ChainSlit chainSlit(const EdgeChain& c, const std::vector<EdgePath>& paths, const BoundQuery& q,
                     float direct) {
   if (const EdgePath* channel = channelOf(c, paths))
-    return {unslitShare(*channel, q.speedOfSound), Bands(0.f)};
+    return {unslitShare(*channel, q.speedOfSound), Bands(0.f), glm::vec3(0.f)};
   const bool one = c.n == 1;
-  const DiffractionEdge* e = &c.ends[1];
-  glm::vec3 B = c.q[c.n - 1];
-  Opening o = openingAt(q, *e, B, one ? q.source : c.q[c.n - 2], q.L, partnerReach(*e));
-  if (o.width == 0.f) {
-    e = &c.ends[0];
-    B = c.q[0];
-    o = openingAt(q, *e, B, one ? q.L : c.q[1], q.source, partnerReach(*e));
+  for (size_t end = 0; end < 2; ++end) {
+    const DiffractionEdge& e = c.ends[1 - end];
+    const size_t n = end == 0 ? c.n - 1 : 0;
+    if (!smallEdge(q, e)) continue;
+    const Opening o = end == 0 ? openingAt(q, e, c.q[n], one ? q.source : c.q[n - 1], q.L,
+                                           partnerReach(e))
+                               : openingAt(q, e, c.q[n], one ? q.L : c.q[1], q.source,
+                                           partnerReach(e));
+    if (o.width == 0.f) continue;
+    if (const EdgePath* carrier = carrierOf(q, e, c.q[n], o, paths))
+      return {unslitShare(*carrier, q.speedOfSound), Bands(0.f), glm::vec3(0.f)};
+    if (o.width <= slitReach(e)) return openingSlit(c, n, e, o, q, direct);
   }
-  if (o.width == 0.f) return {};
-  if (const EdgePath* carrier = carrierOf(*e, B, o, paths))
-    return {unslitShare(*carrier, q.speedOfSound), Bands(0.f)};
-  if (o.width > slitReach(*e)) return {};  // too wide for a slit of its own
-  return openingSlit(*e, B, o, q, direct);
+  return {};
 }
 
 /// Whether path p is looked at by openFreeEdges: a first-order path over a small body's edge
 /// (a moving object's rim among them) with its UTD field.
 bool looksForOpening(const EdgePath& p, const BoundQuery& q) {
-  if (p.atEnd || p.through != glm::vec3(0.f) || !(p.share > 0.0)) return false;
-  const uint32_t s = p.edge->surfaces[0];
-  return s == kMovingObjects || (s < q.bodies.body.size() && !largeBody(q.bodies, s));
+  return !p.atEnd && p.through == glm::vec3(0.f) && p.share > 0.0 && smallEdge(q, *p.edge);
 }
 
 /// Whether opening o replaces p's slit: p has none, or one too short along its edge for the
@@ -236,7 +277,7 @@ bool replacesSlit(const EdgePath& p, const Opening& o, const BoundQuery& q) {
   constexpr float kNarrowerOpening = 1.1f;
   return !(p.gapWidth > 0.f) || p.slitAspect < kSlitMinAspect ||
          p.gapWidth >= kNarrowerOpening * o.width ||
-         sameBody(q, p.gapCloser, surfaceOf(q.surfaces, o.triangle));
+         sameBody(q.bodies.body, p.gapCloser, o.surface);
 }
 
 /// A channel along a small body's face with nothing across it (its slit without depth:
@@ -259,38 +300,39 @@ void widenOpenChannel(EdgePath& p, const BoundQuery& q) {
   p.slitAspect = std::min(p.slitAspect, double(p.edge->length) / double(o.width));
 }
 
-/// The opening beside free path p's edge toward the listener, else toward the source, within
-/// `reach` metres.
-Opening openingOf(const EdgePath& p, const BoundQuery& q, float reach) {
-  const Opening o = openingAt(q, *p.edge, p.q, q.source, q.L, reach);
-  return o.width > 0.f ? o : openingAt(q, *p.edge, p.q, q.L, q.source, reach);
+/// Frees the paths that took p's slit as its other side (markSlitPartners), before p's slit is
+/// replaced: they are free edges again, and may be the new slit's other side.
+void releasePartners(const EdgePath& p, std::vector<EdgePath>& paths) {
+  if (!(p.gapWidth > 0.f) || !p.slitOwner) return;
+  for (EdgePath& r : paths)
+    if (&r != &p && !r.slitOwner && r.through == glm::vec3(0.f) && r.gapWidth > 0.f &&
+        r.slitCentre == p.slitCentre)
+      r.gapWidth = 0.f;
 }
 
 }  // namespace
 
-bool hasOpening(const EdgePath& p, const BoundQuery& q) {
-  return openingOf(p, q, slitReach(*p.edge)).width > 0.f;
+bool hasOpening(const EdgePath& p, const BoundQuery& q, const std::vector<EdgePath>& paths) {
+  const Opening o = openingFor(q, *p.edge, p.q, q.source, q.L);
+  return o.width > 0.f && (o.width <= slitReach(*p.edge) || carrierOf(q, *p.edge, p.q, o, paths));
 }
 
 void openFreeEdges(std::vector<EdgePath>& paths, const BoundQuery& q) {
+  for (EdgePath& p : paths) widenOpenChannel(p, q);
   for (EdgePath& p : paths) {
-    widenOpenChannel(p, q);
     if (!looksForOpening(p, q)) continue;
-    const Opening o = openingOf(p, q, partnerReach(*p.edge));
+    const Opening o = openingFor(q, *p.edge, p.q, q.source, q.L);
     if (o.width == 0.f || !replacesSlit(p, o, q)) continue;
-    if (const EdgePath* carrier = carrierOf(*p.edge, p.q, o, paths, &p)) {
-      p.gapWidth = carrier->gapWidth;
-      p.slit = carrier->slit;
-      p.slitCentre = carrier->slitCentre;
-      p.slitAspect = carrier->slitAspect;
-      p.gapCloser = carrier->edge->surfaces[0];
-      p.slitOwner = false;
+    const EdgePath* carrier = carrierOf(q, *p.edge, p.q, o, paths, &p);
+    if (!carrier && o.width > slitReach(*p.edge)) continue;  // too wide for a slit of its own
+    releasePartners(p, paths);
+    if (carrier) {
+      takeSlit(p, *carrier);
       continue;
     }
-    if (o.width > slitReach(*p.edge)) continue;  // too wide for a slit of its own
     throughOpening(*p.edge, p.q, o, q.source, q.L, p);
     p.slitOwner = true;
-    p.gapCloser = surfaceOf(q.surfaces, o.triangle);
+    p.gapCloser = o.surface;
   }
 }
 

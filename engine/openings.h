@@ -18,10 +18,12 @@
 // opening's slit (a jamb's edge path whose probe met the leaf, a channel along the face a
 // chain crosses), the edge or chain is that slit's other side and takes its share.
 //
-// Internal to the engine (engine/diffraction.cpp, engine/chain_sum.cpp). Propagation thread
-// (Tracer queries: 12 rays per edge or chain end looked at); allocates; no errors.
+// Internal to the engine (engine/diffraction.cpp, engine/chain_sum.cpp). Any thread
+// (reentrant: tracer queries only): 12 rays per side looked at, up to 24 per free path, chain
+// or channel; allocates; no errors.
 #pragma once
 
+#include <glm/vec3.hpp>
 #include <vector>
 
 #include "common/bands.h"
@@ -37,15 +39,20 @@ namespace dpc {
 inline constexpr float kOpeningReach = 0.5f;
 inline constexpr float kPartnerReach = 1.f;
 
-/// With the line of sight blocked, each free first-order path over a small body's edge (a
-/// leaf's rim; also one whose probed gap is too short along its edge to be a slit) whose
-/// opening the fan finds becomes a slit path: the slit of a path that carries it already
-/// (as markSlitPartners' partner), else its own (its slit's owner).
+/// With the line of sight blocked: first each channel with nothing across its face takes the
+/// opening at its mouth where that is wider than its probed gap; then each first-order path
+/// over a small body's edge (a leaf's rim, static or a moving object's) whose opening the fan
+/// finds (where it has no slit, one too short along its edge, one at least 1.1 times as wide,
+/// or one closed by the same body) becomes a slit path: the other side of a path that carries
+/// that slit already (takeSlit), else its own slit's owner. The paths that had taken its old
+/// slit as theirs are freed; the caller settles owners and partners again (markSlitOwners,
+/// markSlitPartners).
 void openFreeEdges(std::vector<EdgePath>& paths, const BoundQuery& q);
 
-/// Whether the fan finds an opening beside free path p's edge (toward the listener or the
-/// source): a moving object's rim whose gap the probe does not find becomes a path for it.
-bool hasOpening(const EdgePath& p, const BoundQuery& q);
+/// Whether openFreeEdges would give free path p a slit: an opening beside its edge (toward the
+/// listener, else the source) narrow enough for its own, or one a path in `paths` carries. A
+/// moving object's rim whose gap the probe does not find becomes a path for it.
+bool hasOpening(const EdgePath& p, const BoundQuery& q, const std::vector<EdgePath>& paths);
 
 /// What a chain's opening makes of it, per band: `unslit`, the energy factor on the chain's own
 /// pressure ((1 - s)^2 averaged over the band, s = slitWeight(k_t w, aspect)); `energy`, the
@@ -54,6 +61,7 @@ bool hasOpening(const EdgePath& p, const BoundQuery& q);
 struct ChainSlit {
   Bands unslit{1.f};
   Bands energy{0.f};
+  glm::vec3 at{0.f};  ///< the opening's centre (m) where `energy` is its own: counted once
 };
 
 /// Per chain, its opening at its last edge (toward the listener), else at its first, with the

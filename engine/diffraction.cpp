@@ -303,11 +303,24 @@ void markGrazes(const std::vector<DiffractionEdge>& edges,
       markGraze(edges, near, uint32_t(edgeIndex(edges, p)), q.source, q.L, p);
 }
 
+/// With the line of sight blocked: the openings beside small bodies' edges (engine/openings.h),
+/// who carries each slit and who is its other side settled again, and the grazes.
+void inShadow(const std::vector<DiffractionEdge>& edges,
+              const std::vector<std::vector<uint32_t>>& near, const SurfaceBodies& bodies,
+              BoundQuery& q, std::vector<EdgePath>& paths) {
+  openFreeEdges(paths, q);
+  markSlitOwners(paths);
+  markSlitPartners(paths, bodies);
+  markGrazes(edges, near, q, paths);
+}
+
 /// The shortest of the direct sound (when visible), the edge paths and the slit paths: its
-/// length (m) and its arrival direction (unit vector from the listener at L).
+/// length (m) and its arrival direction (unit vector from the listener at q.L); with none (only
+/// the thin bodies' floor), the straight line through them.
 std::pair<float, glm::vec3> firstArrival(const std::vector<EdgePath>& paths,
                                          const std::vector<EdgeChain>& chains,
-                                         const DirectSound& direct, const glm::vec3& L) {
+                                         const DirectSound& direct, const BoundQuery& q) {
+  const glm::vec3& L = q.L;
   float shortest = direct.visible ? direct.distance : 1e30f;
   glm::vec3 arrival = direct.direction;
   for (const EdgePath& p : paths) {
@@ -325,6 +338,10 @@ std::pair<float, glm::vec3> firstArrival(const std::vector<EdgePath>& paths,
       shortest = c.length;
       arrival = glm::normalize(c.q[c.n - 1] - L);
     }
+  if (!(shortest < 1e29f)) {
+    shortest = glm::distance(q.source, L);
+    arrival = (q.source - L) / std::max(shortest, 1e-6f);
+  }
   return {shortest, arrival};
 }
 
@@ -431,19 +448,10 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
   markSlitPartners(paths, bodies_);
   markReveals(source, listener.position, paths);
   addEndSlits(edges_, lineOfSight, query, paths);
-  if (!lineOfSight) {
-    openFreeEdges(paths, query);
-    markSlitOwners(paths);
-    markSlitPartners(paths, bodies_);
-    markGrazes(edges_, chainNear_, query, paths);
-  }
+  if (!lineOfSight) inShadow(edges_, chainNear_, bodies_, query, paths);
   if (usedEdges) listUsedEdges(paths, chains, edges_, *usedEdges);
   if (paths.empty() && chains.empty() && !thinBodiesOnly(direct, query)) return 0;
-  auto [shortest, arrival] = firstArrival(paths, chains, direct, listener.position);
-  if (!(shortest < 1e29f)) {  // only the thin bodies' floor: straight through them
-    shortest = glm::distance(source, listener.position);
-    arrival = (source - listener.position) / std::max(shortest, 1e-6f);
-  }
+  const auto [shortest, arrival] = firstArrival(paths, chains, direct, query);
   direct.intensity = directIntensity(paths, chains, direct, query);
   direct.visible = true;
   direct.distance = shortest;

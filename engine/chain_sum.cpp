@@ -29,9 +29,10 @@ std::vector<Bands> openingEnergies(const std::vector<ChainSlit>& slits,
   std::vector<Bands> out(slits.size(), Bands(0.f));
   for (size_t c = 0; c < slits.size(); ++c) {
     if (!(slits[c].energy.max() > 0.f)) continue;
-    const bool counted = std::any_of(slits.begin(), slits.begin() + long(c), [&](const ChainSlit& o) {
+    auto same = [&](const ChainSlit& o) {
       return o.energy.max() > 0.f && glm::distance(o.at, slits[c].at) < kSameOpening;
-    });
+    };
+    const bool counted = std::any_of(slits.begin(), slits.begin() + long(c), same);
     if (!counted) out[c] = slits[c].energy * weights[c];
   }
   return out;

@@ -417,8 +417,8 @@ std::vector<size_t> measureDepths(const Tracer& tracer, std::span<const GapProbe
       if (hits[kRays * n + k].found && !hits[kRays * n + 2 + k].found)
         free[k] = std::max(0.f, hits[kRays * n + k].surface.t - kGapProbeThrough);
     GapShape& shape = shapes[owner[n]];
-    shape.farSide = false;
-    for (size_t k = 0; k < kRays; ++k) shape.farSide = shape.farSide || hits[kRays * n + k].found;
+    const auto mine = hits.begin() + long(kRays * n);
+    shape.farSide = std::any_of(mine, mine + long(kRays), [](const TraceHit& h) { return h.found; });
     shape.depth = std::max(0.f, glm::length(probes[owner[n]].through) - free[0] - free[1]);
     shape.inset = std::min(free[0], glm::length(probes[owner[n]].through) - shape.depth);
   }

@@ -111,11 +111,12 @@ bool leaveMouth(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
 bool turnedChannel(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
                    const DiffractionEdge& front, const DiffractionEdge& back,
                    const std::vector<uint32_t>& entries, const std::vector<uint32_t>& exits,
-                   const glm::vec3& source, const glm::vec3& L, EdgePath& p) {
+                   const glm::vec3& source, const glm::vec3& L, bool open, EdgePath& p) {
   if (entries.empty() && exits.empty()) return false;
   EdgePath straight;
   if (!channelVia(front, back, ChannelTurns{}, source, L, straight) ||
-      !gapAcross(tracer, front, straight.through, glm::dot(straight.q - front.a, front.direction)))
+      (!open && !gapAcross(tracer, front, straight.through,
+                           glm::dot(straight.q - front.a, front.direction))))
     return false;
   const std::array<TraceRay, 2> legs = legRays(source, L, straight);
   const bool inBlocked = tracer.occluded(legs[0]), outBlocked = tracer.occluded(legs[1]);
@@ -138,6 +139,65 @@ bool turnedChannel(const Tracer& tracer, const std::vector<DiffractionEdge>& edg
   if (!channelVia(front, back, turns, source, L, c) || !legsFree(tracer, source, L, c))
     return false;
   p = c;
+  return true;
+}
+
+namespace {
+
+/// Whether the ray from a toward b (a leg from Q) is blocked within kChannelReach of a.
+bool blockedNear(const Tracer& tracer, const glm::vec3& a, const glm::vec3& b) {
+  const float length = glm::distance(a, b);
+  return length > kLegEpsilon && tracer.occluded(TraceRay{a, (b - a) / length, kLegEpsilon,
+                                                         std::min(kChannelReach, length)});
+}
+
+/// Whether the leg `ray` is free, or free moved kGrazing either way square to it and to the
+/// edge's direction `along`: a leg that grazes another rim (the leaf's, where it lines up with
+/// the jamb and the listener) is not cut off by a tenth of a millimetre.
+bool grazingFree(const Tracer& tracer, const TraceRay& ray, const glm::vec3& along) {
+  constexpr float kGrazing = 2e-3f;  // m, far below the wavelengths the slit model serves
+  if (!tracer.occluded(ray)) return true;
+  const glm::vec3 side = glm::normalize(glm::cross(along, ray.dir));
+  for (const glm::vec3& d : {side, -side}) {
+    TraceRay moved = ray;
+    moved.org += kGrazing * d;
+    if (!tracer.occluded(moved)) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+bool turnedLeg(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
+               const std::vector<uint32_t>& near, const glm::vec3& source, const glm::vec3& L,
+               EdgePath& p) {
+  if (near.empty() || p.atEnd) return false;
+  const std::array<TraceRay, 2> legs = legRays(source, L, p);
+  const bool out = !grazingFree(tracer, legs[1], p.edge->direction);
+  if (out == !grazingFree(tracer, legs[0], p.edge->direction)) return false;
+  const glm::vec3 target = out ? L : source;
+  MouthExit e;
+  if (!blockedNear(tracer, p.q, target) ||
+      !leaveMouth(tracer, edges, *p.edge, near, p.q, target, e) || e.narrow != glm::vec3(0.f))
+    return false;
+  const glm::vec3 exit = p.q + e.free;  // the turn's last corner, whence the target is seen
+  const float r = glm::distance(source, out ? p.q : exit), s = glm::distance(out ? exit : p.q, L);
+  const size_t side = out ? 1 : 0;
+  p.lipLength[side] = e.freeLength;
+  p.lipExcess[side] =
+      std::max(0.f, e.freeLength + glm::distance(exit, target) - glm::distance(p.q, target));
+  if (out) {
+    p.lipBeyond = e.free;
+    p.arrival = (exit - L) / s;
+  } else {
+    p.lipBefore = -e.free;
+    p.leaving = (exit - source) / r;
+  }
+  p.length = double(r) + double(e.freeLength) + double(s);
+  p.legs = float(p.length);
+  p.spreading = 0.0;
+  p.share = 0.0;
+  p.atEnd = true;
   return true;
 }
 

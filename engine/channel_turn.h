@@ -53,8 +53,9 @@ void setChannelNeighbours(const std::vector<DiffractionEdge>& edges,
 /// when a leg at a mouth is blocked and a turn round the edges near that mouth (`entries`
 /// round front, `exits` round back: NarrowFace::near) reaches what the mouth does not see;
 /// p as channelPath's, with EdgePath::before, beyond, lipBefore, lipBeyond set. False when
-/// there is no gap across the front mouth (gapAcross), both legs are free (channelPath's
-/// case), or no turn reaches. Up to about 2 + 2 n + 2 n^2 rays per blocked mouth (n <=
+/// there is no gap across the front mouth (gapAcross) unless `open` (a small body's face,
+/// whose opening may lie beside a mouth instead: engine/openings.h openChannel), both legs are
+/// free (channelPath's case), or no turn reaches. Up to about 2 + 2 n + 2 n^2 rays per blocked mouth (n <=
 /// kChannelNeighbours: the first legs, the further ones over kChannelHops - 1 rounds, the goal
 /// rays and the first leg's two sides), then the legs' 2. The chain is laid out at the straight
 /// channel's point; the turned path's point of least length may lie a little along the edges
@@ -62,6 +63,20 @@ void setChannelNeighbours(const std::vector<DiffractionEdge>& edges,
 bool turnedChannel(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
                    const DiffractionEdge& front, const DiffractionEdge& back,
                    const std::vector<uint32_t>& entries, const std::vector<uint32_t>& exits,
-                   const glm::vec3& source, const glm::vec3& L, EdgePath& p);
+                   const glm::vec3& source, const glm::vec3& L, bool open, EdgePath& p);
+
+/// First-order path p (edgePath's) whose leg to the listener (or from the source) is blocked
+/// within kChannelReach of its point Q while the other is free (or free moved 2 mm aside: a leg
+/// grazing another rim): a jamb's edge ajar from a leaf, the door stop behind the jamb in the
+/// leg's way. The same path leaving Q round the edges `near` (their lines parallel to p's edge
+/// and near it: a stop's corners) in free air, as a turned channel's mouth is left: p's
+/// EdgePath::lipBeyond (or lipBefore), lipLength and lipExcess set, its length and arrival (or
+/// leaving direction) with them, and no UTD field of its own (share 0, atEnd: the slit's field
+/// only, engine/slit.h, as a channel's). False, p unchanged, when the legs are not so, no turn
+/// reaches, or the turn's first leg runs in a narrow gap (a channel's way). Up to 8 + 2 n +
+/// n^2 rays (n = near.size()).
+bool turnedLeg(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
+               const std::vector<uint32_t>& near, const glm::vec3& source, const glm::vec3& L,
+               EdgePath& p);
 
 }  // namespace dpc

@@ -22,6 +22,8 @@
 #include "engine/gap_probe.h"
 #include "engine/object_edges.h"
 #include "engine/openings.h"
+#include "engine/path_slits.h"
+#include "engine/turned_legs.h"
 #include "engine/slit.h"
 #include "engine/small_bodies.h"
 #include "engine/threaded_legs.h"
@@ -32,54 +34,6 @@ namespace dpc {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr float kGapFarthest = 16.f;  // m: the widest gap probed (k w = 4 pi at 44 Hz)
-
-/// Looks for the gap each path may pass (engine/gap_probe.h) and sets its slit and the surface
-/// that closes it; moves the paths whose gap is closed (narrower than kGapNarrowest) to closed.
-void findSlits(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L,
-               const std::vector<uint32_t>& surfaces, std::vector<EdgePath>& paths,
-               std::vector<EdgePath>& closed) {
-  std::vector<GapProbe> probes(paths.size());
-  for (size_t j = 0; j < paths.size(); ++j) {
-    const EdgePath& p = paths[j];
-    const DiffractionEdge& e = *p.edge;
-    const float t = glm::dot(p.q - e.a, e.direction);
-    const float reach = std::min(e.length / float(kSlitMinAspect), kGapFarthest);
-    probes[j] = {p.q,    p.mouth,  reach,      e.direction, -t,
-                 e.length - t, e.face0, p.turn, p.airWedge, p.through,
-                 p.before + p.lipBefore != glm::vec3(0.f),
-                 p.beyond + p.lipBeyond != glm::vec3(0.f)};
-  }
-  std::vector<GapShape> shapes(paths.size());
-  probeGaps(tracer, source, L, probes, shapes);
-  size_t kept = 0;
-  for (size_t j = 0; j < paths.size(); ++j) {
-    if (shapes[j].closer != kNoCloser) paths[j].gapCloser = surfaceOf(surfaces, shapes[j].closer);
-    if (shapes[j].width < 0.f) {
-      closed.push_back(paths[j]);
-      continue;
-    }
-    EdgePath& p = paths[kept++] = paths[j];
-    p.gapWidth = shapes[j].width;
-    if (p.gapWidth > 0.f) {
-      if (p.measuredDepth && shapes[j].depth >= 0.f) {  // the slit where its far side stands
-        const glm::vec3 dir = p.through / glm::length(p.through);
-        p.q += shapes[j].inset * dir;
-        p.through = shapes[j].depth * dir;
-      }
-      makeSlit(source + p.before + p.lipBefore, L - p.through - p.beyond - p.lipBeyond,
-               std::max(shapes[j].from, p.visibleFrom), std::min(shapes[j].to, p.visibleTo), p);
-      p.slitAspect = double(shapes[j].aspect);
-      // A small body's face with nothing across it (a leaf ajar a few degrees, its side face
-      // out of the reveal): the gap is the opening at a mouth, a slit without depth.
-      const bool turned = p.before + p.lipBefore + p.beyond + p.lipBeyond != glm::vec3(0.f);
-      if (!p.measuredDepth && !turned && !shapes[j].farSide) p.slit.depth = 0.0;
-    }
-  }
-  paths.resize(kept);
-  markSlitOwners(paths);
-}
-
 
 /// A free edge on the far side of a slit another edge found (a leaf's free edge across the
 /// opening from the jamb whose probe met the leaf) bounds that slit: its UTD field is the
@@ -195,9 +149,15 @@ void keepOpenChannels(std::vector<EdgePath>& channels, BoundQuery& q,
   if (channels.empty()) return;
   std::vector<EdgePath> closed;
   findSlits(q.tracer, q.source, q.L, q.surfaces, channels, closed);
-  for (const EdgePath& p : channels)
-    if (p.gapWidth > 0.f && p.gapWidth <= std::max(glm::length(p.through), kChannelGapMax))
+  for (EdgePath& p : channels) {
+    const float widest = std::max(glm::length(p.through), kChannelGapMax);
+    const bool turned = p.before + p.lipBefore + p.beyond + p.lipBeyond != glm::vec3(0.f);
+    const float t = glm::dot(p.q - p.edge->a, p.edge->direction);
+    const bool across = !turned || gapAcross(q.tracer, *p.edge, p.through, t);
+    if ((across && p.gapWidth > 0.f && p.gapWidth <= widest) ||
+        (turned && (!across || p.gapWidth == 0.f) && openChannel(p, q, widest, paths)))
       paths.push_back(p);
+  }
   markSlitOwners(paths);
 }
 
@@ -215,7 +175,8 @@ void addChannels(const std::vector<DiffractionEdge>& edges, const std::vector<Na
            legsFree(q.tracer, q.source, q.L, p)) ||
           visibleChannel(q.tracer, edges[a], edges[b], q.source, q.L, p) ||
           turnedChannel(q.tracer, edges, edges[a], edges[b], f.near[size_t(1 - way)],
-                        f.near[size_t(way)], q.source, q.L, p)) {
+                        f.near[size_t(way)], q.source, q.L,
+                        !largeBody(q.bodies, edges[a].surfaces[0]), p)) {
         // A turned channel's legs start at its mouths as found: its depth is not measured
         // again (moving the mouths would leave the turns' offsets behind).
         const bool turned = p.before + p.lipBefore + p.beyond + p.lipBeyond != glm::vec3(0.f);
@@ -281,14 +242,6 @@ void addObjectRims(const std::vector<ObjectEdges>& objects, BoundQuery& q,
   chains.resize(kept);
 }
 
-/// The index in `edges` of path p's edge; edges.size() for an edge not in it (a moving
-/// object's, placed: engine/object_edges.h).
-size_t edgeIndex(const std::vector<DiffractionEdge>& edges, const EdgePath& p) {
-  const std::less<const DiffractionEdge*> before;
-  const DiffractionEdge* first = edges.data();
-  return !before(p.edge, first) && before(p.edge, first + edges.size()) ? size_t(p.edge - first)
-                                                                         : edges.size();
-}
 
 /// Each free edge path's grazeExcess and grazeSpan (engine/edge_chain.h markGraze), the line of
 /// sight blocked: a pillar's near corner's path whose leg just clears its far corner takes that
@@ -440,6 +393,7 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
       lineOfSight ? std::vector<EdgeChain>{} : laidChains(query, objects_, chainNear_,
                                                           direct.chainsLeftOut);
   findSlits(tracer, source, listener.position, surfaces_, paths, query.closed);
+  if (!lineOfSight) addTurnedLegs(edges_, chainNear_, objects_, query, paths);
   addChannels(edges_, narrow_, query, paths);
   addObjectChannels(edges_, objects_, query, paths);
   addObjectRims(objects_, query, chains, paths);

@@ -1,6 +1,7 @@
 #include "engine/edge_path.h"
 
 #include <algorithm>
+#include <functional>
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <numbers>
@@ -355,6 +356,13 @@ void markReveals(const glm::vec3& source, const glm::vec3& L, std::vector<EdgePa
       if (glm::length(glm::cross((b.q - a.q) / apart, sight)) < kAlongSight)
         paths[j].share = paths[k].share = 0.5;
     }
+}
+
+size_t edgeIndex(const std::vector<DiffractionEdge>& edges, const EdgePath& p) {
+  const std::less<const DiffractionEdge*> before;
+  const DiffractionEdge* first = edges.data();
+  return !before(p.edge, first) && before(p.edge, first + edges.size()) ? size_t(p.edge - first)
+                                                                         : edges.size();
 }
 
 }  // namespace dpc

@@ -207,4 +207,8 @@ void markSlitOwners(std::vector<EdgePath>& paths);
 /// from the line in diffraction_test) is not such a pair.
 void markReveals(const glm::vec3& source, const glm::vec3& L, std::vector<EdgePath>& paths);
 
+/// The index in `edges` of path p's edge; edges.size() for an edge not in it (a moving
+/// object's, placed: engine/object_edges.h).
+size_t edgeIndex(const std::vector<DiffractionEdge>& edges, const EdgePath& p);
+
 }  // namespace dpc

@@ -94,7 +94,7 @@ std::vector<EdgePath> objectChannels(const Tracer& tracer, const std::vector<Dif
           parallelNeighbours(edges, front, none, none, kChannelReach, kChannelNeighbours, near);
       const std::vector<uint32_t> exits =
           parallelNeighbours(edges, back, none, none, kChannelReach, kChannelNeighbours, near);
-      if (!turnedChannel(tracer, edges, front, back, entries, exits, source, L, p)) continue;
+      if (!turnedChannel(tracer, edges, front, back, entries, exits, source, L, true, p)) continue;
       p.face = kMovingObjects;
       out.push_back(p);
     }

@@ -336,6 +336,30 @@ void openFreeEdges(std::vector<EdgePath>& paths, const BoundQuery& q) {
   }
 }
 
+bool openChannel(EdgePath& p, const BoundQuery& q, float widest,
+                 const std::vector<EdgePath>& paths) {
+  if (p.through == glm::vec3(0.f) || !smallEdge(q, *p.edge)) return false;
+  const glm::vec3 beyond = p.beyond + p.lipBeyond, before = p.before + p.lipBefore;
+  const bool out = beyond != glm::vec3(0.f);
+  if (out == (before != glm::vec3(0.f))) return false;
+  DiffractionEdge back = *p.edge;
+  back.a += p.through;
+  back.b += p.through;
+  const glm::vec3 B = p.q + p.through;
+  const Opening o = out ? openingAt(q, back, B, p.q, B + beyond, slitReach(back))
+                        : openingAt(q, *p.edge, p.q, B, p.q - before, slitReach(*p.edge));
+  if (!(o.width > 0.f) || o.width > widest || o.surface >= q.bodies.body.size() ||
+      !largeBody(q.bodies, o.surface) || carrierOf(q, out ? back : *p.edge, out ? B : p.q, o, paths))
+    return false;
+  p.gapWidth = o.width;
+  p.gapCloser = o.surface;
+  p.slitAspect = std::min(kSlitFullAspect, double(p.edge->length) / double(o.width));
+  const float t = glm::dot(p.q - p.edge->a, p.edge->direction);
+  makeSlit(q.source + before, q.L - p.through - beyond, -t, p.edge->length - t, p);
+  p.slit.depth = 0.0;
+  return true;
+}
+
 std::vector<ChainSlit> chainSlits(const std::vector<EdgeChain>& chains,
                                   const std::vector<EdgePath>& paths, const BoundQuery& q,
                                   float direct) {

@@ -54,6 +54,15 @@ void openFreeEdges(std::vector<EdgePath>& paths, const BoundQuery& q);
 /// moving object's rim whose gap the probe does not find becomes a path for it.
 bool hasOpening(const EdgePath& p, const BoundQuery& q, const std::vector<EdgePath>& paths);
 
+/// A channel p that turns at a mouth (engine/channel_turn.h) along a face with nothing across
+/// it (a box leaf closed against a stop and opened 3-5 degrees: its latch face out of the
+/// reveal, the stop in the back leg's way): the gap probe does not test the turned mouth's leg
+/// and finds nothing. Its slit is the opening beside that mouth, toward the turn's first edge
+/// (the jamb's corner past the leaf's rim), without depth, when at most `widest` metres: p's
+/// gap, slit and closer set, true; false, p unchanged, when none.
+bool openChannel(EdgePath& p, const BoundQuery& q, float widest,
+                 const std::vector<EdgePath>& paths);
+
 /// What a chain's opening makes of it, per band: `unslit`, the energy factor on the chain's own
 /// pressure ((1 - s)^2 averaged over the band, s = slitWeight(k_t w, aspect)); `energy`, the
 /// opening's own slit field (s^2 |p|^2 averaged) over the free field at the direct distance,

@@ -1,0 +1,61 @@
+#include "engine/path_slits.h"
+
+#include <algorithm>
+#include <glm/geometric.hpp>
+
+#include "engine/gap_probe.h"
+#include "engine/surface_bound.h"
+
+namespace dpc {
+
+namespace {
+
+constexpr float kGapFarthest = 16.f;  // m: the widest gap probed (k w = 4 pi at 44 Hz)
+
+}  // namespace
+
+void findSlits(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L,
+               const std::vector<uint32_t>& surfaces, std::vector<EdgePath>& paths,
+               std::vector<EdgePath>& closed) {
+  std::vector<GapProbe> probes(paths.size());
+  for (size_t j = 0; j < paths.size(); ++j) {
+    const EdgePath& p = paths[j];
+    const DiffractionEdge& e = *p.edge;
+    const float t = glm::dot(p.q - e.a, e.direction);
+    const float reach = std::min(e.length / float(kSlitMinAspect), kGapFarthest);
+    probes[j] = {p.q,    p.mouth,  reach,      e.direction, -t,
+                 e.length - t, e.face0, p.turn, p.airWedge, p.through,
+                 p.before + p.lipBefore != glm::vec3(0.f),
+                 p.beyond + p.lipBeyond != glm::vec3(0.f)};
+  }
+  std::vector<GapShape> shapes(paths.size());
+  probeGaps(tracer, source, L, probes, shapes);
+  size_t kept = 0;
+  for (size_t j = 0; j < paths.size(); ++j) {
+    if (shapes[j].closer != kNoCloser) paths[j].gapCloser = surfaceOf(surfaces, shapes[j].closer);
+    if (shapes[j].width < 0.f) {
+      closed.push_back(paths[j]);
+      continue;
+    }
+    EdgePath& p = paths[kept++] = paths[j];
+    p.gapWidth = shapes[j].width;
+    if (p.gapWidth > 0.f) {
+      if (p.measuredDepth && shapes[j].depth >= 0.f) {  // the slit where its far side stands
+        const glm::vec3 dir = p.through / glm::length(p.through);
+        p.q += shapes[j].inset * dir;
+        p.through = shapes[j].depth * dir;
+      }
+      makeSlit(source + p.before + p.lipBefore, L - p.through - p.beyond - p.lipBeyond,
+               std::max(shapes[j].from, p.visibleFrom), std::min(shapes[j].to, p.visibleTo), p);
+      p.slitAspect = double(shapes[j].aspect);
+      // A small body's face with nothing across it (a leaf ajar a few degrees, its side face
+      // out of the reveal): the gap is the opening at a mouth, a slit without depth.
+      const bool turned = p.before + p.lipBefore + p.beyond + p.lipBeyond != glm::vec3(0.f);
+      if (!p.measuredDepth && !turned && !shapes[j].farSide) p.slit.depth = 0.0;
+    }
+  }
+  paths.resize(kept);
+  markSlitOwners(paths);
+}
+
+}  // namespace dpc

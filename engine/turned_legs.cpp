@@ -76,7 +76,8 @@ float openingWidth(const std::vector<DiffractionEdge>& edges, const std::vector<
 
 /// Hidden path p (its gap probed) turned round the edges beside it, with its slit as wide as
 /// its opening (openingWidth), without depth, along its edge; false when it does not turn or
-/// the opening is wider than kChannelGapMax.
+/// the opening is wider than the way to the turn's corner (the stop then stands inside the
+/// opening's mouth, not past it: the leaf's rim and its openings take it, engine/openings.h).
 bool turnAndOpen(const std::vector<DiffractionEdge>& edges,
                  const std::vector<std::vector<uint32_t>>& near,
                  const std::vector<ObjectEdges>& objects, const BoundQuery& q, EdgePath& p) {
@@ -84,7 +85,7 @@ bool turnAndOpen(const std::vector<DiffractionEdge>& edges,
       lipEdges(edges, near[edgeIndex(edges, p)], p, q.bodies, p.gapCloser);
   if (!(p.gapWidth > 0.f) || !turnedLeg(q.tracer, edges, lip, q.source, q.L, p)) return false;
   const float w = openingWidth(edges, lip, objects, q, p);
-  if (w > kChannelGapMax) return false;
+  if (w > glm::length(p.lipBeyond + p.lipBefore)) return false;
   if (w < p.gapWidth) p.slitAspect = std::min(kSlitFullAspect, double(p.edge->length) / double(w));
   p.gapWidth = w;
   const float t = glm::dot(p.q - p.edge->a, p.edge->direction);

@@ -12,6 +12,30 @@ namespace {
 
 constexpr float kGapFarthest = 16.f;  // m: the widest gap probed (k w = 4 pi at 44 Hz)
 
+/// Path p's slit from the probe's shape of its gap (p.gapWidth > 0).
+void setSlit(const glm::vec3& source, const glm::vec3& L, const GapShape& shape, EdgePath& p) {
+  const float length = glm::length(p.through);
+  if (p.measuredDepth && shape.depth >= 0.f) {  // the slit where its far side stands
+    const glm::vec3 dir = p.through / length;
+    p.q += shape.inset * dir;
+    p.through = shape.depth * dir;
+  }
+  makeSlit(source + p.before + p.lipBefore, L - p.through - p.beyond - p.lipBeyond,
+           std::max(shape.from, p.visibleFrom), std::min(shape.to, p.visibleTo), p);
+  p.slitAspect = double(shape.aspect);
+  if (p.measuredDepth || !(length > 0.f)) return;
+  const bool turned = p.before + p.lipBefore + p.beyond + p.lipBeyond != glm::vec3(0.f);
+  if (!turned && !shape.farSide) {
+    // A small body's face with nothing across it (a leaf ajar a few degrees, its side face
+    // out of the reveal): the gap is the opening at a mouth, a slit without depth.
+    p.slit.depth = 0.0;
+  } else if (shape.farSide && shape.depth >= 0.f) {
+    // Its far side standing along part of the face (a leaf ajar a degree or two, its latch
+    // face half out of the reveal): the slit as deep as that part, its mouths where found.
+    p.slit.depth = std::max(0.0, p.slit.depth - double(length - shape.depth));
+  }
+}
+
 }  // namespace
 
 void findSlits(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L,
@@ -39,20 +63,7 @@ void findSlits(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L
     }
     EdgePath& p = paths[kept++] = paths[j];
     p.gapWidth = shapes[j].width;
-    if (p.gapWidth > 0.f) {
-      if (p.measuredDepth && shapes[j].depth >= 0.f) {  // the slit where its far side stands
-        const glm::vec3 dir = p.through / glm::length(p.through);
-        p.q += shapes[j].inset * dir;
-        p.through = shapes[j].depth * dir;
-      }
-      makeSlit(source + p.before + p.lipBefore, L - p.through - p.beyond - p.lipBeyond,
-               std::max(shapes[j].from, p.visibleFrom), std::min(shapes[j].to, p.visibleTo), p);
-      p.slitAspect = double(shapes[j].aspect);
-      // A small body's face with nothing across it (a leaf ajar a few degrees, its side face
-      // out of the reveal): the gap is the opening at a mouth, a slit without depth.
-      const bool turned = p.before + p.lipBefore + p.beyond + p.lipBeyond != glm::vec3(0.f);
-      if (!p.measuredDepth && !turned && !shapes[j].farSide) p.slit.depth = 0.0;
-    }
+    if (p.gapWidth > 0.f) setSlit(source, L, shapes[j], p);
   }
   paths.resize(kept);
   markSlitOwners(paths);

@@ -99,7 +99,7 @@ TEST_CASE("Door swing: a box leaf ajar 2-15 degrees passes what the slit model o
   // Up to 15 degrees the latch opening (up to 26 cm) is at least 8 times as long as wide, where
   // the slit model holds fully (engine/slit.h kSlitFullAspect). Tolerance: 3 dB per octave at
   // 63-250 Hz, as for the gaps round a closed leaf (door_gap_test); the model here places the
-  // slanted openings in the wall's plane. Found -1.9 to +2.0 dB. The object and the same leaf
+  // slanted openings in the wall's plane. Found -1.7 to +2.0 dB. The object and the same leaf
   // in the static mesh within 1 dB from 63 Hz to 1 kHz (found 0.1 at most; before, the object's
   // rim without a probed gap stayed a chain: 1.7 dB apart at 18 degrees).
   const MouthImpedance zr;

@@ -21,23 +21,6 @@ std::vector<Bands> chainWeights(const std::vector<EdgeChain>& chains, const Boun
   return out;
 }
 
-/// Per chain, its opening's own slit field (engine/openings.h) with its directivity weight;
-/// an opening several chains share (chains ending on one rim) is counted with the first.
-std::vector<Bands> openingEnergies(const std::vector<ChainSlit>& slits,
-                                   const std::vector<Bands>& weights) {
-  constexpr float kSameOpening = 1e-3f;  // m between the centres
-  std::vector<Bands> out(slits.size(), Bands(0.f));
-  for (size_t c = 0; c < slits.size(); ++c) {
-    if (!(slits[c].energy.max() > 0.f)) continue;
-    auto same = [&](const ChainSlit& o) {
-      return o.energy.max() > 0.f && glm::distance(o.at, slits[c].at) < kSameOpening;
-    };
-    const bool counted = std::any_of(slits.begin(), slits.begin() + long(c), same);
-    if (!counted) out[c] = slits[c].energy * weights[c];
-  }
-  return out;
-}
-
 /// The chains over the static mesh's edges `seeds` and a moving object's edges `own` (its
 /// world edges' indices) together, each with at least one edge of either: a leaf opened 70-90
 /// degrees, the way from the hinge jamb round the leaf's free rim. Only the seeds within
@@ -74,25 +57,19 @@ Bands withChains(const std::vector<EdgePath>& paths, const std::vector<EdgeChain
   const float d = direct.distance;
   const Bands omni = exp(q.airPerMetre * -d) * (1.f / (4.f * std::numbers::pi_v<float> * d * d));
   std::vector<Bands> weights = chainWeights(chains, q);
-  const std::vector<ChainSlit> slits = chainSlits(chains, paths, q, d);
-  const std::vector<Bands> opening = openingEnergies(slits, weights);
-  Bands openings(0.f);  // the openings' slit fields, in energy
-  for (size_t c = 0; c < chains.size(); ++c) {
-    openings += opening[c];
-    weights[c] *= slits[c].unslit;
-  }
+  const std::vector<Bands> unslit = chainUnslit(chains, paths, q);
+  for (size_t c = 0; c < chains.size(); ++c) weights[c] *= unslit[c];
   std::vector<ChainEnergy> energies;
   for (size_t c = 0; c < chains.size(); ++c) {
     const Bands own = chainGain(chains[c], d, q.speedOfSound, q.airPerMetre) * weights[c];
-    ChainEnergy e{omni * (own + opening[c]), {}};
+    ChainEnergy e{omni * own, {}};
     if (chains[c].object >= 0) e.surfaces = {kMovingObjects};
     for (size_t i = 0; i < chains[c].n && chains[c].object < 0; ++i)
       e.surfaces.insert(e.surfaces.end(), q.edges[chains[c].edge[i]].surfaces.begin(),
                         q.edges[chains[c].edge[i]].surfaces.end());
     energies.push_back(std::move(e));
   }
-  const Bands chained =
-      held + omni * (chainsGain(chains, weights, d, q.speedOfSound, q.airPerMetre) + openings);
+  const Bands chained = held + omni * chainsGain(chains, weights, d, q.speedOfSound, q.airPerMetre);
   return max(held, min(chained, chainBound(paths, coherent, free, energies, q)));
 }
 

@@ -96,13 +96,18 @@ double bandMeanSquare(int b, const std::vector<EdgePath>& paths, const PathGains
       directAmplitude *= 1.0 - slitShare(*q, k);
     C p = directAmplitude * pathPhasor(k * double(direct.distance));
     C diffracted(0.0, 0.0);
+    double scattered = 0.0;  // the slits' fields whose phase is not known, in energy
     for (size_t j = 0; j < paths.size(); ++j) {
       const EdgePath& q = paths[j];
       double amplitude = gains.utd[j];
       if (q.gapWidth > 0.f) {
         const double s = slitShare(q, k);
-        if (s > 0.0 && q.slitOwner)
-          p += s * gains.slit[j] * loading.perPath[j] * slitPressure(q.slit, k);
+        if (s > 0.0 && q.slitOwner) {
+          const C field = s * gains.slit[j] * loading.perPath[j] * slitPressure(q.slit, k);
+          const double kj = k * double(q.phaseSpread), coherent = std::exp(-0.5 * kj * kj);
+          p += coherent * field;
+          scattered += (1.0 - coherent * coherent) * std::norm(field);
+        }
         if (s >= 1.0) continue;
         amplitude *= 1.0 - s;
       }
@@ -113,7 +118,7 @@ double bandMeanSquare(int b, const std::vector<EdgePath>& paths, const PathGains
       diffracted += amplitude * C(d.real() * c + d.imag() * sn, d.imag() * c - d.real() * sn);
     }
     p += diffracted / std::sqrt(k);
-    acc += std::norm(p);
+    acc += std::norm(p) + scattered;
   }
   return acc / kDiffractionFrequenciesPerBand;
 }

@@ -256,12 +256,14 @@ void markGrazes(const std::vector<DiffractionEdge>& edges,
       markGraze(edges, near, uint32_t(edgeIndex(edges, p)), q.source, q.L, p);
 }
 
-/// With the line of sight blocked: the openings beside small bodies' edges (engine/openings.h),
+/// With the line of sight blocked: the openings beside small bodies' edges and chains' ends
+/// (engine/openings.h),
 /// who carries each slit and who is its other side settled again, and the grazes.
 void inShadow(const std::vector<DiffractionEdge>& edges,
               const std::vector<std::vector<uint32_t>>& near, const SurfaceBodies& bodies,
-              BoundQuery& q, std::vector<EdgePath>& paths) {
+              const std::vector<EdgeChain>& chains, BoundQuery& q, std::vector<EdgePath>& paths) {
   openFreeEdges(paths, q);
+  addChainOpenings(chains, paths, q);
   markSlitOwners(paths);
   markSlitPartners(paths, bodies);
   markGrazes(edges, near, q, paths);
@@ -402,7 +404,7 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
   markSlitPartners(paths, bodies_);
   markReveals(source, listener.position, paths);
   addEndSlits(edges_, lineOfSight, query, paths);
-  if (!lineOfSight) inShadow(edges_, chainNear_, bodies_, query, paths);
+  if (!lineOfSight) inShadow(edges_, chainNear_, bodies_, chains, query, paths);
   if (usedEdges) listUsedEdges(paths, chains, edges_, *usedEdges);
   if (paths.empty() && chains.empty() && !thinBodiesOnly(direct, query)) return 0;
   const auto [shortest, arrival] = firstArrival(paths, chains, direct, query);

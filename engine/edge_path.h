@@ -63,6 +63,11 @@ struct EdgePath {
   double phiS = 0.0, phiL = 0.0, wedge = 0.0;  // wedgeAngles' angles, radians
   uint32_t gapCloser = kUnknownSurface;        // the surface that closes its gap (surface_bound.h)
   bool atEnd = false;  // Q put at the edge's end: no UTD field (share 0), a slit's only
+  /// The spread (m, a standard deviation) of its slit field's path length where the slit stands
+  /// for an opening whose shape is not traced (a chain's opening beside a leaf's rim:
+  /// engine/openings.h): its field adds coherently by exp(-(k sigma)^2 / 2) of its pressure,
+  /// the rest in energy. Zero for every other path.
+  float phaseSpread = 0.f;
   /// A channel's (engine/channel_path.h) offset from its front mouth's point Q to its back
   /// mouth's, m (the slit's depth across the face it runs along); zero for every other path.
   glm::vec3 through{0.f};

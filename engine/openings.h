@@ -16,7 +16,9 @@
 // distance from the edge's line; the slit runs along the edge, without depth, its legs
 // straight to its centre line (engine/edge_path.h makeSlit). Where a path already carries that
 // opening's slit (a jamb's edge path whose probe met the leaf, a channel along the face a
-// chain crosses), the edge or chain is that slit's other side and takes its share.
+// chain crosses), the edge or chain is that slit's other side and takes its share. A chain's
+// opening no path carries becomes a slit path of its own, summed with the others in pressure,
+// as far as its path length is known (EdgePath::phaseSpread: the opening's width).
 //
 // Internal to the engine (engine/diffraction.cpp, engine/chain_sum.cpp). Any thread
 // (reentrant: tracer queries only): 12 rays per side looked at, up to 24 per free path, chain
@@ -63,20 +65,18 @@ bool hasOpening(const EdgePath& p, const BoundQuery& q, const std::vector<EdgePa
 bool openChannel(EdgePath& p, const BoundQuery& q, float widest,
                  const std::vector<EdgePath>& paths);
 
-/// What a chain's opening makes of it, per band: `unslit`, the energy factor on the chain's own
-/// pressure ((1 - s)^2 averaged over the band, s = slitWeight(k_t w, aspect)); `energy`, the
-/// opening's own slit field (s^2 |p|^2 averaged) over the free field at the direct distance,
-/// zero where a path carries it. {1, 0} for a chain with no opening.
-struct ChainSlit {
-  Bands unslit{1.f};
-  Bands energy{0.f};
-  glm::vec3 at{0.f};  ///< the opening's centre (m) where `energy` is its own: counted once
-};
+/// With the line of sight blocked, after openFreeEdges: per chain with an opening beside its
+/// last edge (toward L), else its first, that no path carries yet and a slit's reach holds,
+/// the opening's own slit path (no UTD field, its slit's owner) added to `paths`, summed with
+/// them in pressure. Chains ending on one rim share it.
+void addChainOpenings(const std::vector<EdgeChain>& chains, std::vector<EdgePath>& paths,
+                      const BoundQuery& q);
 
-/// Per chain, its opening at its last edge (toward the listener), else at its first, with the
-/// paths whose slits may be its opening's and the direct distance `direct` (m).
-std::vector<ChainSlit> chainSlits(const std::vector<EdgeChain>& chains,
-                                  const std::vector<EdgePath>& paths, const BoundQuery& q,
-                                  float direct);
+/// Per chain, the energy factor on its own pressure where a path carries its opening (one of
+/// addChainOpenings', or a channel's over its two rims): (1 - s)^2 averaged over the band, s =
+/// slitWeight(k_t w, aspect) of that path's slit; 1 for a chain with none. The opening's field
+/// is that path's.
+std::vector<Bands> chainUnslit(const std::vector<EdgeChain>& chains,
+                               const std::vector<EdgePath>& paths, const BoundQuery& q);
 
 }  // namespace dpc

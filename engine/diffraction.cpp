@@ -139,7 +139,7 @@ void addEndSlits(const std::vector<DiffractionEdge>& edges, bool lineOfSight, Bo
   findSlits(q.tracer, q.source, q.L, q.surfaces, ends, closed);
   for (const EdgePath& p : ends)
     if (p.gapWidth > 0.f) paths.push_back(p);
-  markSlitOwners(paths);
+  markSlitOwners(paths, &q.bodies.body);
 }
 
 /// Probes the channels' gaps (findSlits) and adds to paths those the probe finds open, at most
@@ -158,7 +158,7 @@ void keepOpenChannels(std::vector<EdgePath>& channels, BoundQuery& q,
         (turned && (!across || p.gapWidth == 0.f) && openChannel(p, q, widest, paths)))
       paths.push_back(p);
   }
-  markSlitOwners(paths);
+  markSlitOwners(paths, &q.bodies.body);
 }
 
 /// Adds the channels (engine/channel_path.h) along the narrow faces `faces` whose legs are free
@@ -264,7 +264,7 @@ void inShadow(const std::vector<DiffractionEdge>& edges,
               const std::vector<EdgeChain>& chains, BoundQuery& q, std::vector<EdgePath>& paths) {
   openFreeEdges(paths, q);
   addChainOpenings(chains, paths, q);
-  markSlitOwners(paths);
+  markSlitOwners(paths, &bodies.body);
   markSlitPartners(paths, bodies);
   markGrazes(edges, near, q, paths);
 }
@@ -400,7 +400,7 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
   addObjectChannels(edges_, objects_, query, paths);
   addObjectRims(objects_, query, chains, paths);
   dropThreadedPaths(query, paths);
-  markSlitOwners(paths);
+  markSlitOwners(paths, &bodies_.body);
   markSlitPartners(paths, bodies_);
   markReveals(source, listener.position, paths);
   addEndSlits(edges_, lineOfSight, query, paths);

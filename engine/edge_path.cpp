@@ -313,12 +313,12 @@ bool overlapAlong(const EdgePath& o, const EdgePath& p) {
 
 }  // namespace
 
-void markSlitOwners(std::vector<EdgePath>& paths) {
-  auto sameSlit = [](const EdgePath& o, const EdgePath& p) {
+void markSlitOwners(std::vector<EdgePath>& paths, const std::vector<uint32_t>* body) {
+  auto sameSlit = [body](const EdgePath& o, const EdgePath& p) {
     return std::abs(glm::dot(o.edge->direction, p.edge->direction)) >= kParallelEdges &&
            overlapAlong(o, p) &&
            (slitsApart(o, p) < 0.5f * std::max(o.gapWidth, p.gapWidth) + 1e-3f ||
-            acrossSlit(o, p));
+            acrossSlit(o, p, body));
   };
   // Shallowest first, then in list order: each path owns its slit unless an owner before it
   // in that order finds the same slit.

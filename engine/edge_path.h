@@ -199,8 +199,10 @@ bool acrossSlit(const EdgePath& o, const EdgePath& p,
 /// side face before the wall's reveal), the first of equals. Same slit: parallel edges whose
 /// centre lines (a channel's, from its front mouth to its back one) lie within half the wider
 /// gap (plus 1 mm) of each other, or one across the other's slit (acrossSlit: an oblique
-/// leaf's free edge and the jamb measure the opening between them differently).
-void markSlitOwners(std::vector<EdgePath>& paths);
+/// leaf's free edge and the jamb measure the opening between them differently; with `body`,
+/// per flat surface its body, an edge on another face of the closing body too: a box leaf's
+/// latch channel in the static mesh and the jamb's path whose probe met the leaf's front face).
+void markSlitOwners(std::vector<EdgePath>& paths, const std::vector<uint32_t>* body = nullptr);
 
 /// The two edges of one face that both diffract the path, the face running along the line of
 /// sight between source and L (the near and far edges of a thick wall's doorway seen through it,

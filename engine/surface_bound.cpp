@@ -147,7 +147,7 @@ std::vector<EdgePath> pathsWithout(const std::vector<EdgePath>& paths, BoundQuer
     p.share = p.atEnd ? 0.0 : 1.0;
     setTerms(lineOfSight, p);
   }
-  markSlitOwners(kept);
+  markSlitOwners(kept, &q.bodies.body);
   markReveals(q.source, q.L, kept);
   return kept;
 }

@@ -29,9 +29,13 @@ void setSlit(const glm::vec3& source, const glm::vec3& L, const GapShape& shape,
     // A small body's face with nothing across it (a leaf ajar a few degrees, its side face
     // out of the reveal): the gap is the opening at a mouth, a slit without depth.
     p.slit.depth = 0.0;
-  } else if (shape.farSide && shape.depth >= 0.f) {
+  } else if (shape.farSide && shape.depth >= 0.f &&
+             (shape.depth > 0.f || (shape.inset > kGapProbeThrough &&
+                                    shape.inset < length - kGapProbeThrough))) {
     // Its far side standing along part of the face (a leaf ajar a degree or two, its latch
-    // face half out of the reveal): the slit as deep as that part, its mouths where found.
+    // face half out of the reveal), or across it at a line within it (a box leaf in a sheet
+    // wall: the slit without depth), not only at a mouth (a reveal whose far side is a leaf's
+    // rim at its back edge): the slit as deep as that part, its mouths where found.
     p.slit.depth = std::max(0.0, p.slit.depth - double(length - shape.depth));
   }
 }

@@ -55,11 +55,12 @@ void setChannelNeighbours(const std::vector<DiffractionEdge>& edges,
 /// p as channelPath's, with EdgePath::before, beyond, lipBefore, lipBeyond set. False when
 /// there is no gap across the front mouth (gapAcross) unless `open` (a small body's face,
 /// whose opening may lie beside a mouth instead: engine/openings.h openChannel), both legs are
-/// free (channelPath's case), or no turn reaches. Up to about 2 + 2 n + 2 n^2 rays per blocked mouth (n <=
-/// kChannelNeighbours: the first legs, the further ones over kChannelHops - 1 rounds, the goal
-/// rays and the first leg's two sides), then the legs' 2. The chain is laid out at the straight
-/// channel's point; the turned path's point of least length may lie a little along the edges
-/// from it, where only its outer legs are tested again.
+/// free (channelPath's case), or no turn reaches. Up to about 2 + 2 n + 2 n^2 rays per
+/// blocked mouth (n <= kChannelNeighbours: the first legs, the further ones over
+/// kChannelHops - 1 rounds, the goal rays and the first leg's two sides), then the legs' 2.
+/// The chain is laid out at the straight channel's point; the turned path's point of least
+/// length may lie a little along the edges from it, where only its outer legs are tested
+/// again.
 bool turnedChannel(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
                    const DiffractionEdge& front, const DiffractionEdge& back,
                    const std::vector<uint32_t>& entries, const std::vector<uint32_t>& exits,

@@ -111,6 +111,7 @@ double bandMeanSquare(int b, const std::vector<EdgePath>& paths, const PathGains
         if (s >= 1.0) continue;
         amplitude *= 1.0 - s;
       }
+      if (amplitude == 0.0) continue;  // no UTD field (a slit's path: its terms may be unset)
       const C d = interpolatedUtd(gains.anchors[j], i);
       const C e = pathPhasor(k * q.length);  // e^{-jkl} = c - j s
       const double c = e.real(), sn = -e.imag();
@@ -160,6 +161,7 @@ std::vector<Bands> leavingWeights(const std::vector<EdgePath>& paths, const Dire
 }
 
 double bandAmplitude(const EdgePath& p, int b, float speedOfSound) {
+  if (p.share * p.spreading == 0.0) return 0.0;  // no UTD field: its terms may be unset
   const double k = 2.0 * kPi * diffractionFrequencyHz(b, 0) / double(speedOfSound);
   return p.share * p.spreading *
          std::abs(utdScaled(p.terms, p.sums, p.prefactor, k * p.distanceParameter)) / std::sqrt(k);

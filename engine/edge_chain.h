@@ -65,7 +65,8 @@ struct EdgeChain {
   /// static mesh's.
   int object = -1;
   /// Its first and last edges as laid (a mixed chain's indices are into its query's own list:
-  /// engine/chain_sum.cpp), for the openings at its ends (engine/openings.h).
+  /// engine/chain_sum.cpp), for the openings at its ends (engine/openings.h); an opening's path
+  /// points at them (EdgePath::edge), so the query's chains stay put once openings are added.
   std::array<DiffractionEdge, 2> ends{};
 };
 

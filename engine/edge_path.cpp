@@ -258,6 +258,7 @@ void takeSlit(EdgePath& p, const EdgePath& from) {
   p.slit = from.slit;
   p.slitCentre = from.slitCentre;
   p.slitAspect = from.slitAspect;
+  p.phaseSpread = from.phaseSpread;
   p.gapCloser = from.edge->surfaces[0];
   p.slitOwner = false;
 }

@@ -62,7 +62,8 @@ struct EdgePath {
   float grazeSpan = 0.f;  ///< m: how far from its edge that other edge lies
   double phiS = 0.0, phiL = 0.0, wedge = 0.0;  // wedgeAngles' angles, radians
   uint32_t gapCloser = kUnknownSurface;        // the surface that closes its gap (surface_bound.h)
-  bool atEnd = false;  // Q put at the edge's end: no UTD field (share 0), a slit's only
+  bool atEnd = false;  // no UTD field (share 0), a slit's only: Q at the edge's end, a
+                       // channel, a turned leg, an opening's own path
   /// The spread (m, a standard deviation) of its slit field's path length where the slit stands
   /// for an opening whose shape is not traced (a chain's opening beside a leaf's rim:
   /// engine/openings.h): its field adds coherently by exp(-(k sigma)^2 / 2) of its pressure,

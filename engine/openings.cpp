@@ -223,8 +223,10 @@ EdgePath openingPath(const EdgeChain& c, size_t n, const DiffractionEdge& e, con
   p.phaseSpread = o.width;
   p.length = p.slit.r + p.slit.s;
   p.legs = float(p.length);
-  p.leaving = glm::normalize(p.slitCentre - q.source);
-  p.arrival = glm::normalize(p.slitCentre - q.L);
+  // The way leaves the source toward the chain's first edge where it detours round the chain
+  // before the opening, and reaches L from its last edge where it detours after it.
+  p.leaving = glm::normalize((side == 0 && n > 0 ? c.q[0] : p.slitCentre) - q.source);
+  p.arrival = glm::normalize((side == 1 && n + 1 < c.n ? c.q[c.n - 1] : p.slitCentre) - q.L);
   return p;
 }
 
@@ -289,7 +291,7 @@ bool replacesSlit(const EdgePath& p, const Opening& o, const BoundQuery& q) {
 }
 
 /// A channel along a small body's face with nothing across it (its slit without depth:
-/// engine/diffraction.cpp findSlits) passes the opening at one of its mouths: a leaf ajar 4-20
+/// engine/path_slits.cpp findSlits) passes the opening at one of its mouths: a leaf ajar 4-20
 /// degrees, between its latch end's back rim and the jamb's corner, 1 to 25 cm apart. The gap
 /// probe measures it square to the face and finds what the listener sees of it, a quarter to a
 /// third of it; the slit is as wide as the opening (Gomperts's slit width, the narrowest

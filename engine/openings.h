@@ -59,9 +59,10 @@ bool hasOpening(const EdgePath& p, const BoundQuery& q, const std::vector<EdgePa
 /// A channel p that turns at a mouth (engine/channel_turn.h) along a face with nothing across
 /// it (a box leaf closed against a stop and opened 3-5 degrees: its latch face out of the
 /// reveal, the stop in the back leg's way): the gap probe does not test the turned mouth's leg
-/// and finds nothing. Its slit is the opening beside that mouth, toward the turn's first edge
-/// (the jamb's corner past the leaf's rim), without depth, when at most `widest` metres: p's
-/// gap, slit and closer set, true; false, p unchanged, when none.
+/// and finds nothing. Its slit is the opening beside that mouth, the fan looking along the leg
+/// to the turn's last corner (the stop's) and meeting the wall past the leaf's rim, without
+/// depth, when at most `widest` metres and no path in `paths` carries it: p's gap, slit and
+/// closer set, true; false, p unchanged, when none.
 bool openChannel(EdgePath& p, const BoundQuery& q, float widest,
                  const std::vector<EdgePath>& paths);
 

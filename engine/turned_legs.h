@@ -31,11 +31,11 @@ namespace dpc {
 
 /// With the line of sight blocked: the paths over large bodies' static edges one of whose legs
 /// is blocked within kChannelReach of the edge (BoundQuery::hidden), the other free, that pass
-/// a gap no wider than the way to the turn's corner and turn round edges beside them (`near`: per static edge,
-/// its chain neighbours, engine/edge_chain.h) to what the edge does not see; `objects`' placed
-/// edges count as rims. Each is moved from q.hidden to `paths`. About 4 + 2 n + n^2 rays per
-/// hidden path with a neighbour within reach (n such neighbours), then the probe's for those
-/// that turn.
+/// a gap no wider than the way to the turn's corner and turn round edges beside them (`near`:
+/// per static edge, its chain neighbours, engine/edge_chain.h) to what the edge does not see;
+/// `objects`' placed edges count as rims. Each is moved from q.hidden to `paths`. Up to
+/// 8 + 2 n + n^2 rays per hidden path with n neighbours within reach (turnedLeg), then the
+/// probe's and the same again for those that turn.
 void addTurnedLegs(const std::vector<DiffractionEdge>& edges,
                    const std::vector<std::vector<uint32_t>>& near,
                    const std::vector<ObjectEdges>& objects, BoundQuery& q,

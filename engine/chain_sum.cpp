@@ -57,7 +57,7 @@ Bands withChains(const std::vector<EdgePath>& paths, const std::vector<EdgeChain
   const float d = direct.distance;
   const Bands omni = exp(q.airPerMetre * -d) * (1.f / (4.f * std::numbers::pi_v<float> * d * d));
   std::vector<Bands> weights = chainWeights(chains, q);
-  const std::vector<Bands> unslit = chainUnslit(chains, paths, q);
+  const std::vector<Bands> unslit = chainUnslit(chains, paths, q.speedOfSound);
   for (size_t c = 0; c < chains.size(); ++c) weights[c] *= unslit[c];
   std::vector<ChainEnergy> energies;
   for (size_t c = 0; c < chains.size(); ++c) {

@@ -261,7 +261,7 @@ void markGrazes(const std::vector<DiffractionEdge>& edges,
 /// who carries each slit and who is its other side settled again, and the grazes.
 void inShadow(const std::vector<DiffractionEdge>& edges,
               const std::vector<std::vector<uint32_t>>& near, const SurfaceBodies& bodies,
-              const std::vector<EdgeChain>& chains, BoundQuery& q, std::vector<EdgePath>& paths) {
+              std::vector<EdgeChain>& chains, BoundQuery& q, std::vector<EdgePath>& paths) {
   openFreeEdges(paths, q);
   addChainOpenings(chains, paths, q);
   markSlitOwners(paths, &bodies.body);

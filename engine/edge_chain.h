@@ -68,6 +68,9 @@ struct EdgeChain {
   /// engine/chain_sum.cpp), for the openings at its ends (engine/openings.h); an opening's path
   /// points at them (EdgePath::edge), so the query's chains stay put once openings are added.
   std::array<DiffractionEdge, 2> ends{};
+  /// The index in the query's paths of the path that carries the opening beside its ends
+  /// (engine/openings.h addChainOpenings); -1: none.
+  int32_t opening = -1;
 };
 
 /// The chains whose rays were cast (at most kChainTrials per query over the static mesh, and

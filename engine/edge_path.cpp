@@ -249,6 +249,13 @@ void makeSlit(const glm::vec3& source, const glm::vec3& L, float from, float to,
   p.slitCentre = c;
 }
 
+void slitAlongEdge(float width, const glm::vec3& source, const glm::vec3& L, EdgePath& p) {
+  p.gapWidth = width;
+  p.slitAspect = std::min(kSlitFullAspect, double(p.edge->length) / double(width));
+  const float t = glm::dot(p.q - p.edge->a, p.edge->direction);
+  makeSlit(source, L, -t, p.edge->length - t, p);
+}
+
 double slitShare(const EdgePath& p, double k) {
   return slitWeight(k * p.slit.sinBeta * p.slit.width, p.slitAspect);
 }
@@ -265,6 +272,10 @@ void takeSlit(EdgePath& p, const EdgePath& from) {
 
 bool sameBody(const std::vector<uint32_t>& body, uint32_t s, uint32_t t) {
   return s == t || (s < body.size() && t < body.size() && body[s] == body[t]);
+}
+
+bool onEdgeBody(const std::vector<uint32_t>& body, const DiffractionEdge& e, uint32_t s) {
+  return sameBody(body, e.surfaces[0], s) || sameBody(body, e.surfaces[1], s);
 }
 
 bool acrossSlit(const EdgePath& o, const EdgePath& p, const std::vector<uint32_t>* body) {

@@ -172,6 +172,11 @@ bool legsFree(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L,
 /// engine/gap_probe.h); its stationary point, legs and angles as engine/slit.h defines them.
 void makeSlit(const glm::vec3& source, const glm::vec3& L, float from, float to, EdgePath& p);
 
+/// Gives p a slit `width` m wide along its edge's whole extent (an opening whose extent the
+/// probe did not measure), its aspect the edge's length over the width (at most
+/// kSlitFullAspect), its legs to `source` and `L` as makeSlit's.
+void slitAlongEdge(float width, const glm::vec3& source, const glm::vec3& L, EdgePath& p);
+
 /// The slit model's share s of path p's pressure at wavenumber k (rad/m): engine/slit.h
 /// slitWeight at X = k sin(beta) w for p's slit and aspect. p must have a slit (gapWidth > 0).
 double slitShare(const EdgePath& p, double k);
@@ -185,6 +190,10 @@ void takeSlit(EdgePath& p, const EdgePath& from);
 /// SurfaceBodies::body); a surface past body.size() (a moving object's, or none) only equals
 /// itself.
 bool sameBody(const std::vector<uint32_t>& body, uint32_t s, uint32_t t);
+
+/// Whether flat surface s is on the body of either of edge e's faces (sameBody; moving
+/// objects' surfaces are not told apart from each other).
+bool onEdgeBody(const std::vector<uint32_t>& body, const DiffractionEdge& e, uint32_t s);
 
 /// True when p's edge lies across o's slit: parallel to o's edge, on the surface that closes it,
 /// p's point within 1.5 widths of the slit's far side (o.q + width * mouth; the probe met that

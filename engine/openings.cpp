@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <complex>
 #include <glm/geometric.hpp>
 #include <numbers>
 
@@ -84,12 +83,6 @@ bool smallEdge(const BoundQuery& q, const DiffractionEdge& e) {
   return s == kMovingObjects || (s < q.bodies.body.size() && !largeBody(q.bodies, s));
 }
 
-/// Whether flat surface s is on the body of edge e's faces (its own solid: a door stop's lip
-/// face seen from its back corner). Moving objects' surfaces are not told apart from each other.
-bool onEdgeBody(const BoundQuery& q, const DiffractionEdge& e, uint32_t s) {
-  return sameBody(q.bodies.body, e.surfaces[0], s) || sameBody(q.bodies.body, e.surfaces[1], s);
-}
-
 /// m: how far from edge e a slit's opening is looked for (kOpeningReach, and at least
 /// kSlitMinAspect times as long as wide), and a wider one another path's slit may be
 /// (kPartnerReach, at least twice as long as wide).
@@ -129,7 +122,7 @@ Opening openingAt(const BoundQuery& q, const DiffractionEdge& e, const glm::vec3
   for (size_t i = 0; i < hits.size(); ++i) {
     if (!hits[i].found) continue;
     const uint32_t s = surfaceOf(q.surfaces, hits[i].surface.triangle);
-    if (std::abs(glm::dot(hits[i].surface.normal, u)) < kSquarely || onEdgeBody(q, e, s)) continue;
+    if (std::abs(glm::dot(hits[i].surface.normal, u)) < kSquarely || onEdgeBody(q.bodies.body, e, s)) continue;
     const glm::vec3 across = square(hits[i].surface.t * rays[i].dir, e.direction);
     if (const float w = glm::length(across); w > 0.f && (o.width == 0.f || w < o.width))
       o = {w, across / w, s};
@@ -159,7 +152,7 @@ bool sameOpening(const BoundQuery& q, const EdgePath& p, const DiffractionEdge& 
          t <= f.length + kOnEdge &&
          glm::length(square(p.slitCentre - centre, e.direction)) <=
              0.5f * (p.gapWidth + o.width) + kOnEdge &&
-         (onEdgeBody(q, f, o.surface) || sameBody(q.bodies.body, p.gapCloser, o.surface));
+         (onEdgeBody(q.bodies.body, f, o.surface) || sameBody(q.bodies.body, p.gapCloser, o.surface));
 }
 
 /// The path whose slit is this opening, its owner or not (which owns it is settled after): a
@@ -177,15 +170,11 @@ const EdgePath* carrierOf(const BoundQuery& q, const DiffractionEdge& e, const g
   return nullptr;
 }
 
-/// Makes p (over edge e at its point B) the path through opening o: its own slit, without
-/// depth, along e's extent.
-void throughOpening(const DiffractionEdge& e, const glm::vec3& B, const Opening& o,
-                    const glm::vec3& source, const glm::vec3& L, EdgePath& p) {
-  p.gapWidth = o.width;
+/// Makes p (over its edge, at its point) the path through opening o: its own slit, without
+/// depth, along the edge's extent.
+void throughOpening(const Opening& o, const glm::vec3& source, const glm::vec3& L, EdgePath& p) {
   p.mouth = o.mouth;
-  p.slitAspect = std::min(kSlitFullAspect, double(e.length) / double(o.width));
-  const float t = glm::dot(B - e.a, e.direction);
-  makeSlit(source, L, -t, e.length - t, p);
+  slitAlongEdge(o.width, source, L, p);
 }
 
 /// The length (m) of chain c's way from `from` (the source or L) to its point n, less the
@@ -215,7 +204,7 @@ EdgePath openingPath(const EdgeChain& c, size_t n, const DiffractionEdge& e, con
   p.q = c.q[n];
   const size_t side = n + 1 == c.n ? 0 : 1;  // the last edge's opening: the source's leg
   p.lipLength[side] = p.lipExcess[side] = detour(c, side == 0 ? q.source : q.L, n, side == 0);
-  throughOpening(e, c.q[n], o, q.source, q.L, p);
+  throughOpening(o, q.source, q.L, p);
   p.slitOwner = true;
   p.gapCloser = o.surface;
   p.share = 0.0;
@@ -340,7 +329,7 @@ void openFreeEdges(std::vector<EdgePath>& paths, const BoundQuery& q) {
       takeSlit(p, *carrier);
       continue;
     }
-    throughOpening(*p.edge, p.q, o, q.source, q.L, p);
+    throughOpening(o, q.source, q.L, p);
     p.slitOwner = true;
     p.gapCloser = o.surface;
   }
@@ -361,32 +350,33 @@ bool openChannel(EdgePath& p, const BoundQuery& q, float widest,
   if (!(o.width > 0.f) || o.width > widest || o.surface >= q.bodies.body.size() ||
       !largeBody(q.bodies, o.surface) || carrierOf(q, out ? back : *p.edge, out ? B : p.q, o, paths))
     return false;
-  p.gapWidth = o.width;
   p.gapCloser = o.surface;
-  p.slitAspect = std::min(kSlitFullAspect, double(p.edge->length) / double(o.width));
-  const float t = glm::dot(p.q - p.edge->a, p.edge->direction);
-  makeSlit(q.source + before, q.L - p.through - beyond, -t, p.edge->length - t, p);
+  slitAlongEdge(o.width, q.source + before, q.L - p.through - beyond, p);
   p.slit.depth = 0.0;
   return true;
 }
 
-void addChainOpenings(const std::vector<EdgeChain>& chains, std::vector<EdgePath>& paths,
+void addChainOpenings(std::vector<EdgeChain>& chains, std::vector<EdgePath>& paths,
                       const BoundQuery& q) {
-  for (const EdgeChain& c : chains) {
-    if (channelOf(c, paths)) continue;
-    const ChainOpening o = chainOpening(c, paths, q);
-    if (o.edge && !o.carrier) paths.push_back(openingPath(c, o.n, *o.edge, o.o, q));
+  for (EdgeChain& c : chains) {
+    c.opening = -1;
+    const EdgePath* carrier = channelOf(c, paths);
+    const ChainOpening o = carrier ? ChainOpening{} : chainOpening(c, paths, q);
+    if (!carrier) carrier = o.carrier;
+    if (carrier) {
+      c.opening = int32_t(carrier - paths.data());
+    } else if (o.edge) {
+      paths.push_back(openingPath(c, o.n, *o.edge, o.o, q));
+      c.opening = int32_t(paths.size() - 1);
+    }
   }
 }
 
 std::vector<Bands> chainUnslit(const std::vector<EdgeChain>& chains,
-                               const std::vector<EdgePath>& paths, const BoundQuery& q) {
+                               const std::vector<EdgePath>& paths, float speedOfSound) {
   std::vector<Bands> out(chains.size(), Bands(1.f));
-  for (size_t c = 0; c < chains.size(); ++c) {
-    const EdgePath* carrier = channelOf(chains[c], paths);
-    if (!carrier) carrier = chainOpening(chains[c], paths, q).carrier;
-    if (carrier) out[c] = unslitShare(*carrier, q.speedOfSound);
-  }
+  for (size_t c = 0; c < chains.size(); ++c)
+    if (chains[c].opening >= 0) out[c] = unslitShare(paths[size_t(chains[c].opening)], speedOfSound);
   return out;
 }
 

@@ -22,7 +22,7 @@
 //
 // Internal to the engine (engine/diffraction.cpp, engine/chain_sum.cpp). Any thread
 // (reentrant: tracer queries only): 12 rays per side looked at, up to 24 per free path, chain
-// or channel; allocates; no errors.
+// or channel, once each; allocates; no errors.
 #pragma once
 
 #include <glm/vec3.hpp>
@@ -69,15 +69,17 @@ bool openChannel(EdgePath& p, const BoundQuery& q, float widest,
 /// With the line of sight blocked, after openFreeEdges: per chain with an opening beside its
 /// last edge (toward L), else its first, that no path carries yet and a slit's reach holds,
 /// the opening's own slit path (no UTD field, its slit's owner) added to `paths`, summed with
-/// them in pressure. Chains ending on one rim share it.
-void addChainOpenings(const std::vector<EdgeChain>& chains, std::vector<EdgePath>& paths,
+/// them in pressure. Chains ending on one rim share it. Sets each chain's EdgeChain::opening
+/// to the path that carries its opening (that one, another's, or a channel's over its two
+/// rims), -1 where none does.
+void addChainOpenings(std::vector<EdgeChain>& chains, std::vector<EdgePath>& paths,
                       const BoundQuery& q);
 
-/// Per chain, the energy factor on its own pressure where a path carries its opening (one of
-/// addChainOpenings', or a channel's over its two rims): (1 - s)^2 averaged over the band, s =
-/// slitWeight(k_t w, aspect) of that path's slit; 1 for a chain with none. The opening's field
-/// is that path's.
+/// Per chain, the energy factor on its own pressure where a path carries its opening
+/// (EdgeChain::opening, set by addChainOpenings): (1 - s)^2 averaged over the band, s =
+/// slitWeight(k_t w, aspect) of that path's slit at speed of sound `speedOfSound` (m/s); 1 for
+/// a chain with none. The opening's field is that path's. No rays.
 std::vector<Bands> chainUnslit(const std::vector<EdgeChain>& chains,
-                               const std::vector<EdgePath>& paths, const BoundQuery& q);
+                               const std::vector<EdgePath>& paths, float speedOfSound);
 
 }  // namespace dpc

@@ -2,24 +2,16 @@
 
 #include <algorithm>
 #include <glm/geometric.hpp>
-#include <limits>
 
 #include "engine/channel_path.h"
 #include "engine/channel_turn.h"
 #include "engine/diffraction_edges.h"
 #include "engine/gap_probe.h"
 #include "engine/path_slits.h"
-#include "engine/slit.h"
 
 namespace dpc {
 
 namespace {
-
-/// Whether flat surface s (kUnknownSurface: none) is on the body of one of edge f's faces.
-bool onBody(const SurfaceBodies& bodies, uint32_t s, const DiffractionEdge& f) {
-  return s != kUnknownSurface &&
-         (sameBody(bodies.body, s, f.surfaces[0]) || sameBody(bodies.body, s, f.surfaces[1]));
-}
 
 /// The edges of `near` whose lines pass within kChannelReach of p's point Q, on neither p's
 /// edge's body nor `closer`'s (the surface across p's gap: a turn round the leaf is the leaf's
@@ -31,8 +23,8 @@ std::vector<uint32_t> lipEdges(const std::vector<DiffractionEdge>& edges,
   for (uint32_t j : near) {
     const DiffractionEdge& f = edges[j];
     const glm::vec3 off = p.q - f.a - glm::dot(p.q - f.a, f.direction) * f.direction;
-    if (glm::length(off) <= kChannelReach && !onBody(bodies, p.edge->surfaces[0], f) &&
-        !onBody(bodies, p.edge->surfaces[1], f) && !onBody(bodies, closer, f))
+    if (glm::length(off) <= kChannelReach && !onEdgeBody(bodies.body, f, p.edge->surfaces[0]) &&
+        !onEdgeBody(bodies.body, f, p.edge->surfaces[1]) && !onEdgeBody(bodies.body, f, closer))
       out.push_back(j);
   }
   return out;
@@ -66,8 +58,8 @@ float openingWidth(const std::vector<DiffractionEdge>& edges, const std::vector<
   const size_t i = edgeIndex(edges, p);
   float w = nearestRim(q.tracer, p, edges, p.gapWidth, [&](uint32_t j) {
     return j == i || std::find(lip.begin(), lip.end(), j) != lip.end() ||
-           onBody(q.bodies, p.edge->surfaces[0], edges[j]) ||
-           onBody(q.bodies, p.edge->surfaces[1], edges[j]);
+           onEdgeBody(q.bodies.body, edges[j], p.edge->surfaces[0]) ||
+           onEdgeBody(q.bodies.body, edges[j], p.edge->surfaces[1]);
   });
   for (const ObjectEdges& o : objects)
     w = nearestRim(q.tracer, p, o.world, w, [](uint32_t) { return false; });
@@ -86,11 +78,7 @@ bool turnAndOpen(const std::vector<DiffractionEdge>& edges,
   if (!(p.gapWidth > 0.f) || !turnedLeg(q.tracer, edges, lip, q.source, q.L, p)) return false;
   const float w = openingWidth(edges, lip, objects, q, p);
   if (w > glm::length(p.lipBeyond + p.lipBefore)) return false;
-  if (w < p.gapWidth) p.slitAspect = std::min(kSlitFullAspect, double(p.edge->length) / double(w));
-  p.gapWidth = w;
-  const float t = glm::dot(p.q - p.edge->a, p.edge->direction);
-  makeSlit(q.source + p.before + p.lipBefore, q.L - p.beyond - p.lipBeyond, -t,
-           p.edge->length - t, p);
+  slitAlongEdge(w, q.source + p.lipBefore, q.L - p.lipBeyond, p);
   return true;
 }
 

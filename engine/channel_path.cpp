@@ -126,6 +126,7 @@ bool channelVia(const DiffractionEdge& front, const DiffractionEdge& back,
   p.lipBefore = turns.lipBefore;
   const glm::vec3 entry = q - turns.before, exitMouth = q + through + turns.beyond;
   p.lipLength = {turns.lipBeforeLength, turns.lipBeyondLength};
+  p.legWidth = {turns.beforeWidth, turns.beyondWidth};
   p.lipExcess = {std::max(0.f, turns.lipBeforeLength + r - glm::distance(source, entry)),
                  std::max(0.f, turns.lipBeyondLength + s - glm::distance(exitMouth, L))};
   p.face = front.surfaces[0] == back.surfaces[0] || front.surfaces[0] == back.surfaces[1]
@@ -201,6 +202,19 @@ bool narrowAt(const Tracer& tracer, const glm::vec3& along, const glm::vec3& a,
   const glm::vec3 at = a + t * (b - a);
   return tracer.occluded(TraceRay{at, n, 0.f, kChannelGapMax}) &&
          tracer.occluded(TraceRay{at, -n, 0.f, kChannelGapMax});
+}
+
+float narrowWidth(const Tracer& tracer, const glm::vec3& along, const glm::vec3& a,
+                  const glm::vec3& b, float t) {
+  const glm::vec3 n = glm::normalize(glm::cross(glm::normalize(b - a), along));
+  const glm::vec3 at = a + t * (b - a);
+  SurfaceHit front, back;
+  if (!tracer.intersect(TraceRay{at, n, 0.f, kChannelGapMax}, front) ||
+      !tracer.intersect(TraceRay{at, -n, 0.f, kChannelGapMax}, back))
+    return std::numeric_limits<float>::infinity();
+  // Each surface's distance from the point square to itself: a leg that crosses the gap
+  // aslant (from the leaf's corner to the stop's edge) would read it wider along n.
+  return front.t * std::abs(glm::dot(n, front.normal)) + back.t * std::abs(glm::dot(n, back.normal));
 }
 
 }  // namespace dpc

@@ -62,6 +62,7 @@ struct ChannelTurns {
   glm::vec3 before{0.f}, beyond{0.f};
   glm::vec3 lipBefore{0.f}, lipBeyond{0.f};
   float lipBeforeLength = 0.f, lipBeyondLength = 0.f;
+  float beforeWidth = 0.f, beyondWidth = 0.f;  ///< m: the narrow legs' widths (narrowWidth)
 };
 
 /// channelPath entered at Q - before - lipBefore and left at Q + through + beyond + lipBeyond:
@@ -95,9 +96,14 @@ bool visibleChannel(const Tracer& tracer, const DiffractionEdge& front, const Di
 bool segmentFree(const Tracer& tracer, const glm::vec3& a, const glm::vec3& b);
 
 /// True when the segment from a to b passes, at the fraction t (0 to 1) of its length, between
-/// two surfaces at most kChannelGapMax apart (a leaf's face and the stop's): from that point,
-/// square to it and to the edges' direction `along`, both sides are closed that near. Two rays.
+/// two surfaces (a leaf's face and the stop's): from that point, square to it and to the
+/// edges' direction `along`, both sides are closed within kChannelGapMax. Two rays.
 bool narrowAt(const Tracer& tracer, const glm::vec3& along, const glm::vec3& a,
               const glm::vec3& b, float t);
+
+/// The width there of the gap narrowAt finds (m: the two surfaces' distances from that point,
+/// each square to its surface, summed), +inf where it finds none. Two closest-hit rays.
+float narrowWidth(const Tracer& tracer, const glm::vec3& along, const glm::vec3& a,
+                  const glm::vec3& b, float t);
 
 }  // namespace dpc

@@ -35,6 +35,7 @@ namespace {
 struct MouthExit {
   glm::vec3 narrow{0.f}, free{0.f};
   float freeLength = 0.f;
+  float narrowWidth = 0.f;  ///< m, the narrow leg's width; 0 when there is none
 };
 
 /// The chain's nodes: the feet of m on the edges `near` (square to each, level with m on the
@@ -99,8 +100,10 @@ bool leaveMouth(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
   }
   if (best < 0) return false;
   const glm::vec3 first = at[size_t(c.first[size_t(best)])];
-  const bool narrow = narrowAt(tracer, edge.direction, m, first, 0.5f);
+  const float width = narrowWidth(tracer, edge.direction, m, first, 0.5f);
+  const bool narrow = std::isfinite(width);
   out.narrow = narrow ? first - m : glm::vec3(0.f);
+  out.narrowWidth = narrow ? width : 0.f;
   out.free = at[size_t(best)] - m - out.narrow;
   out.freeLength = c.cost[size_t(best)] - (narrow ? glm::distance(m, first) : 0.f);
   return true;
@@ -126,12 +129,14 @@ bool turnedChannel(const Tracer& tracer, const std::vector<DiffractionEdge>& edg
   if (inBlocked) {
     if (!leaveMouth(tracer, edges, front, entries, straight.q, source, e)) return false;
     turns.before = -e.narrow;
+    turns.beforeWidth = e.narrowWidth;
     turns.lipBefore = -e.free;
     turns.lipBeforeLength = e.freeLength;
   }
   if (outBlocked) {
     if (!leaveMouth(tracer, edges, back, exits, straight.q + straight.through, L, e)) return false;
     turns.beyond = e.narrow;
+    turns.beyondWidth = e.narrowWidth;
     turns.lipBeyond = e.free;
     turns.lipBeyondLength = e.freeLength;
   }

@@ -199,7 +199,14 @@ double channelDepth(const EdgePath& p) {
     const float along = glm::dot(v, m);
     return double(std::abs(along)) + double(glm::length(v - along * m));
   };
-  return squareLeg(p.before) + depth + squareLeg(p.beyond);
+  // A narrow leg wider than the slit (the gap between a leaf's face and its stop, opening as
+  // the leaf swings) counts its length times the slit's width over its own: at low frequency
+  // the channel's parts are masses in series, each its length over its width per unit length.
+  auto share = [&](float width) {
+    return width > p.gapWidth && p.gapWidth > 0.f ? double(p.gapWidth / width) : 1.0;
+  };
+  return squareLeg(p.before) * share(p.legWidth[0]) + depth +
+         squareLeg(p.beyond) * share(p.legWidth[1]);
 }
 
 void makeSlit(const glm::vec3& source, const glm::vec3& L, float from, float to, EdgePath& p) {
@@ -323,6 +330,15 @@ bool overlapAlong(const EdgePath& o, const EdgePath& p) {
   return pa < ob - kTolerance && oa < pb - kTolerance;
 }
 
+/// True when p, a channel whose far side stands along part of its face, carries the gap that
+/// o, an edge's path at its mouth, reads without depth and no narrower: a leaf's latch face
+/// half out of the reveal is a slit as deep as the jamb stands along it, while the path round
+/// the jamb's corner reads the same gap from the corner, a little wider.
+bool channelAtMouth(const EdgePath& p, const EdgePath& o) {
+  return p.farSideAlong && o.through == glm::vec3(0.f) && !(o.slit.depth > 0.0) &&
+         p.gapWidth <= o.gapWidth;
+}
+
 }  // namespace
 
 void markSlitOwners(std::vector<EdgePath>& paths, const std::vector<uint32_t>* body) {
@@ -333,7 +349,7 @@ void markSlitOwners(std::vector<EdgePath>& paths, const std::vector<uint32_t>* b
             acrossSlit(o, p, body));
   };
   // Shallowest first, then in list order: each path owns its slit unless an owner before it
-  // in that order finds the same slit.
+  // in that order finds the same slit, or p is the channel at whose mouth that owner stands.
   std::vector<size_t> order(paths.size());
   for (size_t k = 0; k < order.size(); ++k) order[k] = k;
   std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
@@ -343,8 +359,12 @@ void markSlitOwners(std::vector<EdgePath>& paths, const std::vector<uint32_t>* b
     EdgePath& p = paths[order[n]];
     p.slitOwner = p.gapWidth > 0.f;
     for (size_t m = 0; m < n && p.slitOwner; ++m) {
-      const EdgePath& o = paths[order[m]];
-      if (o.slitOwner && sameSlit(o, p)) p.slitOwner = false;
+      EdgePath& o = paths[order[m]];
+      if (!o.slitOwner || !sameSlit(o, p)) continue;
+      if (channelAtMouth(p, o))
+        o.slitOwner = false;
+      else
+        p.slitOwner = false;
     }
   }
 }

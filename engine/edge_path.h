@@ -80,6 +80,9 @@ struct EdgePath {
   /// where it enters to Q, so the source's leg ends at Q - before - lipBefore; zero for every
   /// other path.
   glm::vec3 before{0.f};
+  /// The widths of the narrow legs `before` and `beyond` (m; zero where there is none): a
+  /// leg wider than the slit adds less to its depth (channelDepth).
+  std::array<float, 2> legWidth{0.f, 0.f};
   /// Past a turn, the leg round the door stop's lip to the stop's far edge, where the listener
   /// (lipBeyond) or the source (lipBefore) is seen from (m): free air, not part of the slit's
   /// depth; zero when the turn's edge sees them.
@@ -105,6 +108,9 @@ struct EdgePath {
   /// too): its slit is as deep as the gap's far side stands along it (measured by the probe),
   /// not as the face is wide.
   bool measuredDepth = false;
+  /// A small body's channel whose gap's far side stands along part of its face: its slit is
+  /// as deep as that part (engine/path_slits.cpp).
+  bool farSideAlong = false;
   float visibleFrom = -std::numeric_limits<float>::infinity();
   float visibleTo = std::numeric_limits<float>::infinity();
 };
@@ -156,7 +162,9 @@ void setTerms(bool directVisible, EdgePath& p);
 /// along (|through|) and, where it turns, along and then square to that direction (a door stop's
 /// turn: the centre line runs along the leaf's face to the middle of the gap behind it, then
 /// along that gap to the stop's edge; with the two gaps equally wide its length is the
-/// leaf's thickness plus the stop's lip); 0 for other paths.
+/// leaf's thickness plus the stop's lip); a turned leg wider than the slit counted at its
+/// length times p.gapWidth over its width (legWidth), the depth of the slit's width with the
+/// same inertance; 0 for other paths.
 double channelDepth(const EdgePath& p);
 
 /// The path's two legs, source -> Q and Q -> L (for a channel, source -> Q - before - lipBefore
@@ -206,7 +214,10 @@ bool acrossSlit(const EdgePath& o, const EdgePath& p,
 
 /// A slit bounded by two edges (a leaf's rim and its frame's) is found from both; only one
 /// carries its field: the shallowest (a sheet's rim before the reveal beside it, a box leaf's
-/// side face before the wall's reveal), the first of equals. Same slit: parallel edges whose
+/// side face before the wall's reveal), the first of equals, but for a path without depth at
+/// the mouth of a small body's channel whose far side stands along its face and which reads
+/// the gap no wider (the channel carries it: a leaf's latch face half out of the reveal, and
+/// the path round the jamb's corner beside it). Same slit: parallel edges whose
 /// centre lines (a channel's, from its front mouth to its back one) lie within half the wider
 /// gap (plus 1 mm) of each other, or one across the other's slit (acrossSlit: an oblique
 /// leaf's free edge and the jamb measure the opening between them differently; with `body`,

@@ -37,6 +37,7 @@ void setSlit(const glm::vec3& source, const glm::vec3& L, const GapShape& shape,
     // wall: the slit without depth), not only at a mouth (a reveal whose far side is a leaf's
     // rim at its back edge): the slit as deep as that part, its mouths where found.
     p.slit.depth = std::max(0.0, p.slit.depth - double(length - shape.depth));
+    p.farSideAlong = shape.depth > 0.f;
   }
 }
 

@@ -102,13 +102,13 @@ TEST_CASE("Door stop: a leaf closed against a stop and opened half a degree at a
   // 0.5-8 degrees by half degrees, the stop on either side, the leaf as a moving object and in
   // the static mesh. (1) Opening only widens the latch gap: never more than 1.5 dB below shut
   // at 63 Hz-1 kHz (the hinge gap narrows as the leaf turns, 4.7 to 4.3 mm at 1 degree, 0.4 dB
-  // of one of three slits, and the probe resolves a width to 5 %, 0.2 dB; found 0.9). (2) At
+  // of one of three slits, and the probe resolves a width to 5 %, 0.2 dB; found 0.0). (2) At
   // most the slit model of the widest the gaps can be, +3 dB as for a closed leaf. (3) From 3
   // degrees, with the latch rim out of the reveal, within 3 dB above and 6 dB below the slit
   // model of the openings without the stop at 63-250 Hz: the model leaves out the stop, whose
   // lip the way from the opening to the listener grazes (a half-plane takes 6 dB at its shadow
-  // boundary; found -1.9 to +0.6 dB). (4) The object and the same leaf in the mesh within
-  // 1.5 dB at 63-500 Hz (found 1.2; at 1 kHz up to 1.5, where the object's rims and the
+  // boundary; found -0.8 to +0.9 dB). (4) The object and the same leaf in the mesh within
+  // 1.5 dB at 63-500 Hz (found 1.1; at 1 kHz up to 1.5, where the object's rims and the
   // mesh's edges take different ways).
   const MouthImpedance zr;
   for (float side : {1.f, -1.f}) {

@@ -270,7 +270,7 @@ BakeFile BakeFile::open(const std::string& path, Access access) {
 
 bool BakeFile::complete() const { return readComplete(impl_->handle.get(), impl_->path); }
 
-void BakeFile::renamedTo(const std::string& path) { impl_->file = path; }
+void BakeFile::renamedTo(const std::string& path) { impl_->path = impl_->file = path; }
 
 void BakeFile::markIncomplete() { impl_->writeComplete(0); }
 

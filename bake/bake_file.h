@@ -40,8 +40,8 @@ class BakeFile {
                          const BakeHeader& header);
   /// Opens an existing bake and verifies it (above; kWrite: all but the probes' data).
   static BakeFile open(const std::string& path, Access access);
-  /// The file created at a temporary path was renamed to `path`: markComplete() reopens it
-  /// there.
+  /// The file was renamed to `path` (from the temporary it was created at, or a complete
+  /// X.partial onto X): messages name it and markComplete() reopens it there.
   void renamedTo(const std::string& path);
 
   BakeFile(BakeFile&&) noexcept;

@@ -222,6 +222,19 @@ class TempOutputFile {
   int fd_ = -1;
 };
 
+/// checkOutputPath, then a temporary made and removed beside the target: a folder that
+/// access() lets root write but that takes no file (/proc, a read-only mount) fails here,
+/// before any work, not after it. Throws InputError("command line", flag, ...).
+inline void checkOutputCreatable(const std::string& path, const std::string& flag,
+                                 const std::vector<std::pair<std::string, std::string>>& inputs) {
+  checkOutputPath(path, flag, inputs);
+  try {
+    TempOutputFile trial(path);
+  } catch (const InputError& e) {
+    throw InputError("command line", flag, e.what());
+  }
+}
+
 /// The outputs of one run, all or nothing: finished temporaries collected while the run
 /// writes, renamed into place together by commitAll() once every one is complete. Until
 /// then (an error, a stop signal), the destructor removes them all and no path is touched.

@@ -34,10 +34,26 @@ int unfinishedStatus() {
   return s != 0 ? 128 + s : 1;
 }
 
-/// Rank 0's file: a fresh one built in a temporary next to --out and renamed into place once
-/// its layout is written and flushed (so --out is only ever replaced by a valid bake, and a
-/// disk too small fails here), or the resumed one (marked incomplete again when probes it
-/// held were damaged and are baked anew).
+/// What a fresh bake's file adds to --out's name while a file is already there.
+constexpr char kPartialSuffix[] = ".partial";
+
+/// Where a fresh bake is written: --out itself when nothing is there yet, else beside it
+/// (--out.partial), so that a bake already at --out stays whole until the new one is complete.
+std::string freshPath(const std::string& out) {
+  std::error_code ec;
+  return std::filesystem::exists(outputTarget(out), ec) ? out + kPartialSuffix : out;
+}
+
+/// The file a complete bake at `path` replaces: X for X.partial, else "" (none).
+std::string replacedBy(const std::string& path) {
+  const std::string suffix = kPartialSuffix;
+  if (path.size() <= suffix.size() || !path.ends_with(suffix)) return "";
+  return path.substr(0, path.size() - suffix.size());
+}
+
+/// Rank 0's file: a fresh one built in a temporary next to its path (freshPath) and renamed
+/// into place once its layout is written and flushed (so a disk too small fails here), or the
+/// resumed one (marked incomplete again when probes it held were damaged and are baked anew).
 BakeFile openOutput(const Options& o, const Plan& plan) {
   if (!o.resume.empty()) {
     BakeFile file = BakeFile::open(o.resume, BakeFile::Access::kWrite);
@@ -45,11 +61,23 @@ BakeFile openOutput(const Options& o, const Plan& plan) {
     return file;
   }
   checkFreeSpace(o.out, plan.estimate.bytes, o.force);
-  TempOutputFile tmp(o.out);
-  BakeFile file = BakeFile::create(tmp.tempPath(), o.out, plan.header);
+  const std::string path = freshPath(o.out);
+  TempOutputFile tmp(path);
+  BakeFile file = BakeFile::create(tmp.tempPath(), path, plan.header);
   tmp.commit();
-  file.renamedTo(o.out);
+  file.renamedTo(path);
   return file;
+}
+
+/// A complete X.partial renamed onto X, the bake it was made to replace.
+void replaceWithComplete(BakeFile& file) {
+  const std::string to = replacedBy(file.path());
+  if (to.empty()) return;
+  checkReplaceable(to, outputTarget(to));
+  std::error_code ec;
+  std::filesystem::rename(file.path(), outputTarget(to), ec);
+  if (ec) throw InputError(to, "", "cannot replace it with '" + file.path() + "': " + ec.message());
+  file.renamedTo(to);
 }
 
 void printEstimate(const Plan& plan) {
@@ -169,16 +197,19 @@ int finishAsWriter(const Options& o, Plan& plan, Cluster& cluster, BakeFile& fil
   if (!finished) {
     // Under mpirun a rank that dies makes mpirun stop the others with a signal: rank 0 cannot
     // tell that from a user's signal, so the line names both.
+    const std::string replaces = replacedBy(file.path());
     std::fprintf(stderr,
                  "dpc-bake: %s: %s%s with %zu of %zu probes done; dpc-bake --resume %s "
-                 "finishes it\n",
+                 "finishes it%s%s%s\n",
                  file.path().c_str(), Interrupted(stopSignal()).what(),
                  cluster.size() > 1 ? " (the user's, or mpirun's after a rank died)" : "",
                  plan.alreadyDone + progress.done(), plan.header.probes.positions.size(),
-                 file.path().c_str());
+                 file.path().c_str(), replaces.empty() ? "" : " and then replaces ",
+                 replaces.c_str(), replaces.empty() ? "" : ", untouched until then");
     return unfinishedStatus();
   }
   file.markComplete();
+  replaceWithComplete(file);
   if (!o.map.empty()) writeParameterMap(file, o.map);
   if (o.json) printJson(plan, cluster, file, progress, wave);
   std::fprintf(stderr,
@@ -190,10 +221,14 @@ int finishAsWriter(const Options& o, Plan& plan, Cluster& cluster, BakeFile& fil
   return 0;
 }
 
-/// The bake this run writes, its path checked as an output (fresh bakes) before its lock is
-/// taken: a folder that does not exist is named as such, not as a lock file that cannot be made.
+/// The bake this run writes (resuming X.partial, the X it replaces: one lock for both), its
+/// path checked as an output (fresh bakes) before its lock is taken: a folder that does not
+/// exist is named as such, not as a lock file that cannot be made.
 std::string lockedOutput(const Options& o) {
-  if (!o.resume.empty()) return o.resume;
+  if (!o.resume.empty()) {
+    const std::string replaces = replacedBy(o.resume);
+    return replaces.empty() ? o.resume : replaces;
+  }
   checkOutputPath(o.out, "--out", {});
   return o.out;
 }
@@ -209,7 +244,7 @@ void checkBakeOutputs(const Options& o, const Plan& plan) {
   if (o.map.empty()) return;
   const std::string bake = o.resume.empty() ? o.out : o.resume;
   inputs.push_back({bake, "the bake"});
-  checkOutputPath(o.map, "--map", inputs);
+  checkOutputCreatable(o.map, "--map", inputs);
   if (std::filesystem::weakly_canonical(std::filesystem::absolute(o.map)) ==
       std::filesystem::weakly_canonical(std::filesystem::absolute(bake)))
     throw InputError("command line", "--map",

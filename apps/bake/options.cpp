@@ -26,7 +26,8 @@ constexpr const char* kDescription =
 
 void addOptions(CLI::App& app, Options& o) {
   app.add_option("SCENE", o.scene, "Scene file (JSON)")->type_name("FILE");
-  app.add_option("--out", o.out, "The bake to write (HDF5); replaced only once it is valid")
+  app.add_option("--out", o.out, "The bake to write (HDF5). A file already there stays untouched until the new bake is "
+                 "complete: it is built in OUT.partial (resumable with --resume OUT.partial)")
       ->type_name("FILE");
   app.add_option("--resume", o.resume, "Finish an incomplete bake (or rewrite its --map)")
       ->type_name("FILE")

@@ -150,7 +150,7 @@ void report(const wave::WaveBandStats& s, const SceneDesc& scene, double seconds
 int run(const Options& o, Cluster& cluster) {
   const SceneDesc scene = loadWithOverrides(o);
   const bool writer = cluster.rank() == 0;
-  checkOutputPath(o.out, "--out", sceneInputFiles(scene, o.scene));
+  checkOutputCreatable(o.out, "--out", sceneInputFiles(scene, o.scene));
   std::vector<size_t> listeners;
   if (!o.listener.empty())
     listeners.push_back(listenerIndex(scene, o.listener, "--listener"));

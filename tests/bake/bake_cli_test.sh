@@ -63,6 +63,20 @@ complete killed1.h5 && fail "resume killed with SIGKILL marked complete"
 "$bake" --resume killed1.h5 --quiet
 cmp clean.h5 killed1.h5 || fail "bake resumed after SIGKILLs differs from the clean one"
 
+echo "== a new bake over a complete one leaves it whole until the new one is complete"
+# It was replaced when the new bake started: interrupted, a complete bake was lost.
+cp clean.h5 over.h5
+"$bake" "$scene" --out over.h5 "${slow[@]}" 2>over.err & pid=$!
+kill_after_first_probe over.err $pid INT
+status=0; wait $pid || status=$?
+[[ $status == 130 ]] || fail "bake over a complete one: exit status $status"
+cmp clean.h5 over.h5 || fail "an interrupted bake changed the complete bake at --out"
+grep -q "over.h5.partial: interrupted by SIGINT .* --resume over.h5.partial finishes it and then \
+replaces over.h5" over.err || fail "no line naming the partial bake: $(cat over.err)"
+"$bake" --resume over.h5.partial --quiet
+[[ ! -e over.h5.partial ]] || fail "over.h5.partial left beside the completed bake"
+cmp clean.h5 over.h5 || fail "the resumed partial bake differs from the clean one"
+
 echo "== one writer per file: a second dpc-bake on the same file is refused while one runs"
 "$bake" "$scene" --out shared.h5 "${slow[@]}" 2>w1.err & pid=$!
 kill_after_first_probe w1.err $pid 0  # signal 0: only waits for the first probe
@@ -123,6 +137,9 @@ expect_refusal "--map: 'keep.h5': cannot write: the file is read-only" --resume 
   --map keep.h5
 chmod 644 keep.h5
 expect_refusal "command line: --map: is empty" "$scene" --out new.h5 --spacing 2 --map ""
+# A --map folder that takes no file is refused before the bake (it replaced --out first).
+expect_refusal "command line: --map: /proc/m.csv: cannot write" "$scene" --out keep.h5 \
+  --spacing 2 --map /proc/m.csv
 expect_refusal "command line: --out: is empty" "$scene" --out "" --spacing 2
 expect_refusal "command line: --spacing: is empty" "$scene" --out new.h5 --spacing ""
 expect_refusal --spacing "$scene" --out keep.h5 --spacing 0

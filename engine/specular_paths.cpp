@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "common/random.h"
+#include "engine/channel_path.h"
 #include "engine/patch.h"
 
 namespace dpc {
@@ -192,15 +193,55 @@ bool SpecularScene::visible(const SpecularPath& path, const glm::vec3& source,
   return true;
 }
 
+bool SpecularScene::facedWithin(const glm::vec3& point, uint32_t face, const glm::vec3& from) const {
+  const Triangle& t = world_[face];
+  glm::vec3 n = glm::cross(t.v1 - t.v0, t.v2 - t.v0);
+  const float length = glm::length(n);
+  if (!(length > 0.f)) return false;
+  n /= glm::dot(n, from - point) < 0.f ? -length : length;  // toward the side the path is on
+  return tracer_.occluded(TraceRay{point, n, surfaceOffset(point), 2.f * kChannelGapMax});
+}
+
+bool SpecularScene::segmentInGap(const glm::vec3& a, const glm::vec3& b, bool aOnSurface,
+                                 bool bOnSurface) const {
+  // Near a reflection point its own face blocks the parallel on one side, and a face beside
+  // it (a room's corner) the other: those ends are left to facedWithin.
+  const float margin = 2.f * kChannelGapMax, length = glm::distance(a, b);
+  const float from = aOnSurface ? margin : 0.f, to = length - (bOnSurface ? margin : 0.f);
+  if (!(to - from > kChannelGapMax)) return false;
+  const glm::vec3 u = (b - a) / length;
+  const glm::vec3 n1 = glm::normalize(
+      glm::cross(u, std::abs(u.x) < 0.7f ? glm::vec3(1.f, 0.f, 0.f) : glm::vec3(0.f, 1.f, 0.f)));
+  for (const glm::vec3& n : {n1, glm::cross(u, n1)}) {
+    SurfaceHit near, far;
+    if (tracer_.intersect(TraceRay{a + kChannelGapMax * n, u, from, to}, near) &&
+        tracer_.intersect(TraceRay{a - kChannelGapMax * n, u, from, to}, far) &&
+        std::abs(near.t - far.t) <= kChannelDepthMax)
+      return true;
+  }
+  return false;
+}
+
+bool SpecularScene::inGap(const SpecularPath& path, const glm::vec3& source,
+                          const glm::vec3& listener) const {
+  for (uint32_t i = 0; i <= path.order; ++i) {
+    const glm::vec3 a = i == 0 ? source : path.points[i - 1];
+    const glm::vec3 b = i == path.order ? listener : path.points[i];
+    if (i < path.order && facedWithin(b, path.triangles[i], a)) return true;
+    if (segmentInGap(a, b, i > 0, i < path.order)) return true;
+  }
+  return false;
+}
+
 bool SpecularScene::validate(const SpecularSequence& seq, const glm::vec3& source,
                              const glm::vec3& listener, float radius, SpecularPath& path) const {
   path.order = seq.order;
   glm::dvec3 image;
   if (!construct(seq, source, listener, path, image)) return false;
-  if (!visible(path, source, listener)) return false;
+  path.triangles = seq.triangles;
+  if (!visible(path, source, listener) || inGap(path, source, listener)) return false;
   const double length = glm::length(glm::dvec3(listener) - image);
   path.key = seq.key();
-  path.triangles = seq.triangles;
   std::fill(path.points.begin() + seq.order, path.points.end(), glm::vec3(0.f));  // unused
   path.length = float(length);
   path.delaySeconds = length / double(speedOfSound_);

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <mutex>
 #include <numbers>
@@ -21,6 +22,8 @@ constexpr int kAzimuthSteps = int(360.0f / Hrtf::kGridStepDegrees);        // 72
 constexpr int kElevationSteps = int(180.0f / Hrtf::kGridStepDegrees) + 1;  // 37 rows, poles
 constexpr float kRadToDeg = float(180.0 / std::numbers::pi);
 constexpr float kDegToRad = float(std::numbers::pi / 180.0);
+// Hz: the HRIR sets' sampling rates the resampler is given (those of the output, Hrtf::load).
+constexpr int kMinSofaSampleRate = 8000, kMaxSofaSampleRate = 384000;
 
 // libmysofa returns either one of its own codes (>= 10000, or -1) or an errno value from
 // fopen (mysofa_load passes errno through).
@@ -74,6 +77,26 @@ std::string mysofaErrorText(int err) {
 struct EasyCloser {
   void operator()(MYSOFA_EASY* e) const { mysofa_close(e); }
 };
+
+/// Throws InputError(path, "Data.SamplingRate", ...) unless the file's sampling rate is one
+/// the resampler takes: mysofa_open passes the resampler's own error codes (1, 3) on as if
+/// they were errno values ("Operation not permitted", "No such process").
+void checkSamplingRate(const std::string& path) {
+  int err = 0;
+  std::unique_ptr<MYSOFA_HRTF, decltype(&mysofa_free)> h(mysofa_load(path.c_str(), &err),
+                                                          &mysofa_free);
+  if (!h || err != MYSOFA_OK) throw InputError(path, "", mysofaErrorText(err));
+  const MYSOFA_ARRAY& rate = h->DataSamplingRate;
+  if (rate.elements < 1 || rate.values == nullptr)
+    throw InputError(path, "Data.SamplingRate", "missing");
+  const float hz = rate.values[0];
+  if (!(hz >= float(kMinSofaSampleRate) && hz <= float(kMaxSofaSampleRate))) {
+    char text[96];
+    std::snprintf(text, sizeof text, "%g Hz is outside [%d, %d] Hz", double(hz),
+                  kMinSofaSampleRate, kMaxSofaSampleRate);
+    throw InputError(path, "Data.SamplingRate", text);
+  }
+}
 
 // Direction -> (azimuth in [0, 360), elevation in [-90, 90]) degrees, SOFA convention.
 // Zero or non-finite vectors map to straight ahead.
@@ -223,9 +246,10 @@ Hrtf& Hrtf::operator=(Hrtf&&) noexcept = default;
 Hrtf::~Hrtf() = default;
 
 Hrtf Hrtf::load(const std::string& path, int sampleRate) {
-  if (sampleRate < 8000 || sampleRate > 384000)
+  if (sampleRate < kMinSofaSampleRate || sampleRate > kMaxSofaSampleRate)
     throw std::invalid_argument("Hrtf::load: sample rate " + std::to_string(sampleRate) +
                                 " Hz is outside [8000, 384000]");
+  checkSamplingRate(path);
   auto impl = std::make_unique<Impl>();
   int filterLength = 0, err = 0;
   impl->easy.reset(mysofa_open_no_norm(path.c_str(), float(sampleRate), &filterLength, &err));

@@ -17,9 +17,12 @@ class InputError : public std::runtime_error {
       : std::runtime_error(printable(field.empty() ? file + ": " + problem
                                                    : file + ": " + field + ": " + problem)),
         file_(file),
-        field_(field) {}
+        field_(field),
+        problem_(problem) {}
   const std::string& file() const { return file_; }
   const std::string& field() const { return field_; }
+  /// The problem alone, without the file and the field.
+  const std::string& problem() const { return problem_; }
 
  private:
   /// Control characters (from keys or file names) escaped as \xNN so the line is safe to print.
@@ -38,7 +41,7 @@ class InputError : public std::runtime_error {
     }
     return out;
   }
-  std::string file_, field_;
+  std::string file_, field_, problem_;
 };
 
 }  // namespace dpc

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "common/input_error.h"
+#include "engine/cache_pool.h"
 #include "engine/path_cache.h"
 #include "engine/propagation.h"
 #include "scene/tracing_policy.h"
@@ -131,6 +132,22 @@ void checkMemory(const SceneDesc& scene, const PropagationSettings& settings,
                    need + "lower ir_length, sample_rate or the source count");
 }
 
+/// A pool given in MB holds at least the tables every pair's cache starts with (taken from it
+/// whatever its budget): below that it would be exceeded from the first frame without a word.
+void checkCachePool(const SceneDesc& scene, const PropagationSettings& settings) {
+  if (settings.cachePoolMb == kCachePoolAuto) return;
+  CachePool start(0);
+  const DiffusePathCache one(settings.dpcWeighting, settings.cacheTau, 1.0 / settings.frameRate,
+                             size_t(double(settings.cacheMemoryMb) * 1048576.0), &start);
+  const double pairs = double(scene.sources.size()) * double(std::max<size_t>(1, scene.listeners.size()));
+  const double needMb = pairs * double(start.usedBytes()) / 1048576.0;
+  if (double(settings.cachePoolMb) < needMb)
+    throw InputError(scene.path, "propagation.cache_pool_mb",
+                     g3(settings.cachePoolMb) + " MB is below the " + g3(needMb) + " MB the " +
+                         std::to_string(size_t(pairs)) +
+                         " source-listener pairs' path caches start with (their first tables)");
+}
+
 /// A path cache's tables in its budget (DiffusePathCache::capacityFor), refused here naming
 /// the setting rather than inside the engine's first frame.
 void checkCacheTables(const SceneDesc& scene, const PropagationSettings& settings) {
@@ -144,7 +161,9 @@ void checkCacheTables(const SceneDesc& scene, const PropagationSettings& setting
     const size_t colon = why.find(": ");
     throw InputError(scene.path, "propagation." + why.substr(0, colon), why.substr(colon + 2));
   }
+  checkCachePool(scene, settings);
 }
+
 
 }  // namespace
 

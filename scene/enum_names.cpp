@@ -1,14 +1,30 @@
 #include "scene/enum_names.h"
 
+#include <utility>
+
 namespace dpc {
 
+namespace {
+
+constexpr std::pair<const char*, OutputFormat> kOutputFormats[] = {
+    {"mono", OutputFormat::kMono},
+    {"stereo", OutputFormat::kStereo},
+    {"binaural", OutputFormat::kBinaural},
+    {"ambisonics", OutputFormat::kAmbisonics},
+    {"ambisonic_binaural", OutputFormat::kAmbisonicBinaural}};
+
+}  // namespace
+
 std::optional<OutputFormat> parseOutputFormat(const std::string& s) {
-  if (s == "mono") return OutputFormat::kMono;
-  if (s == "stereo") return OutputFormat::kStereo;
-  if (s == "binaural") return OutputFormat::kBinaural;
-  if (s == "ambisonics") return OutputFormat::kAmbisonics;
-  if (s == "ambisonic_binaural") return OutputFormat::kAmbisonicBinaural;
+  for (const auto& [name, format] : kOutputFormats)
+    if (s == name) return format;
   return std::nullopt;
+}
+
+const char* outputFormatName(OutputFormat format) {
+  for (const auto& [name, f] : kOutputFormats)
+    if (f == format) return name;
+  return "a loudspeaker layout";
 }
 
 std::optional<BinauralDecoder> parseBinauralDecoder(const std::string& s) {

@@ -16,6 +16,8 @@ namespace dpc {
 /// Parses "mono" / "stereo" / "binaural" / "ambisonics" / "ambisonic_binaural"; nullopt for
 /// anything else (loudspeaker layouts are named "layout:..." and read by the scene reader).
 std::optional<OutputFormat> parseOutputFormat(const std::string& s);
+/// The name parseOutputFormat reads, "a loudspeaker layout" for kLoudspeakers.
+const char* outputFormatName(OutputFormat format);
 /// Parses "magls" / "sampling"; nullopt for anything else.
 std::optional<BinauralDecoder> parseBinauralDecoder(const std::string& s);
 /// Parses "auto" / "per_source" / "hybrid"; nullopt for anything else.

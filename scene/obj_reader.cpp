@@ -3,10 +3,12 @@
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -188,7 +190,19 @@ std::vector<uint32_t> resolveFace(const std::string& objFile, const ObjFace& f, 
 
 /// Fan-triangulates every face (convex polygons assumed) into `mesh`.
 void triangulate(const std::string& objFile, const ObjData& obj, RawMesh& mesh) {
-  if (obj.faces.empty()) throw InputError(objFile, "", "mesh is empty (no faces)");
+  if (obj.faces.empty()) {
+    // A file of another format read as OBJ holds no faces either: say which formats are read.
+    const std::string ext = std::filesystem::path(objFile).extension().string();
+    std::string lower = ext;
+    for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (lower != ".obj")
+      throw InputError(objFile, "",
+                       "no OBJ faces in it: a mesh is read as OBJ unless it is glTF (.gltf, "
+                       ".glb) or FBX (.fbx), and " +
+                           (ext.empty() ? std::string("it has no extension")
+                                        : inQuotes(ext) + " is none of them"));
+    throw InputError(objFile, "", "mesh is empty (no faces)");
+  }
   for (size_t fi = 0; fi < obj.faces.size(); ++fi) {
     const ObjFace& f = obj.faces[fi];
     const std::vector<uint32_t> idx = resolveFace(objFile, f, fi, int(obj.vertices.size()));

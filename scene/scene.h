@@ -287,6 +287,10 @@ struct WaveSettings {
   double maxSpacing(double c) const { return c / (double(maxFrequencyHz) * kWavePointsPerWavelength); }
   /// The grid spacing in use, metres: gridSpacingM, or maxSpacing(c) when it is 0.
   double spacing(double c) const { return gridSpacingM > 0.f ? double(gridSpacingM) : maxSpacing(c); }
+  /// The field that sets spacing(): "wave.grid_spacing" when given, else "wave.max_frequency".
+  const char* spacingField() const {
+    return gridSpacingM > 0.f ? "wave.grid_spacing" : "wave.max_frequency";
+  }
 };
 
 /// Upper bounds on a scene's entity counts, fixed (independent of the machine's memory) so a

@@ -129,7 +129,7 @@ WaveBand simulateWaveBand(const SceneDesc& scene, const Tracer& tracer, const Ge
   const auto t0 = Clock::now();
   const GridLayout layout = layoutFor(glm::dvec3(geometry.boundsMin()),
                                       glm::dvec3(geometry.boundsMax()), scene.wave.spacing(c),
-                                      scene.path);
+                                      scene.path, scene.wave.spacingField());
   std::vector<glm::vec3> seeds{source.position};
   if (!options.allowUnreached)
     for (const WavePoint& r : receivers) seeds.push_back(r.position);

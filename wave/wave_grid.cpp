@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <optional>
 #include <string>
 
@@ -100,7 +101,7 @@ std::vector<uint8_t> flood(const GridLayout& g, const std::vector<uint16_t>& cod
 }  // namespace
 
 GridLayout layoutFor(const glm::dvec3& lo, const glm::dvec3& hi, double target,
-                     const std::string& file) {
+                     const std::string& file, const std::string& field) {
   GridLayout g;
   g.boundsMin = lo;
   double nodes = 1.0;
@@ -111,11 +112,15 @@ GridLayout layoutFor(const glm::dvec3& lo, const glm::dvec3& hi, double target,
     g.count[size_t(a)] = int(std::min(n, 1e9));
     g.spacing[a] = extent / double(g.count[size_t(a)]);
   }
-  if (!(nodes <= kMaxWaveNodes))
-    throw InputError(file, "wave.max_frequency",
-                     "the grid would have " + std::to_string(int64_t(nodes)) +
-                         " nodes (at most " + std::to_string(int64_t(kMaxWaveNodes)) +
-                         "): lower the maximum frequency or simulate a smaller scene");
+  if (!(nodes <= kMaxWaveNodes)) {
+    char size[96];
+    std::snprintf(size, sizeof size, "a grid of %.3g m would have %.3g nodes (at most %.3g)",
+                  target, nodes, double(kMaxWaveNodes));
+    throw InputError(file, field,
+                     std::string(size) +
+                         ": lower wave.max_frequency, raise wave.grid_spacing or simulate a "
+                         "smaller scene");
+  }
   return g;
 }
 

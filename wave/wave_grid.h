@@ -65,9 +65,10 @@ struct GridLayout {
 };
 
 /// The layout covering [lo, hi] with spacing at most `target` metres per axis (at least one
-/// node per axis). Throws InputError(file, "wave.max_frequency") beyond kMaxWaveNodes.
+/// node per axis). Throws InputError(file, field) beyond kMaxWaveNodes, `field` the setting
+/// that gave the target (WaveSettings::spacingField).
 GridLayout layoutFor(const glm::dvec3& lo, const glm::dvec3& hi, double target,
-                     const std::string& file);
+                     const std::string& file, const std::string& field);
 
 /// Wall codes of a closed face: kWallOutside for the bounding box's edge, else the material's
 /// index + 1; 0 for an open face.

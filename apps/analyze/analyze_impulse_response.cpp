@@ -8,6 +8,7 @@
 #include "apps/analyze/report.h"
 #include "audio/wav_io.h"
 #include "common/input_error.h"
+#include "common/input_file.h"
 
 namespace dpc::analyze {
 namespace {
@@ -37,17 +38,30 @@ size_t parseChannel(const std::string& file, const std::string& text, size_t cha
   return size_t(value - 1);
 }
 
-/// A NaN or infinite sample would turn every parameter into '—': refuses it by name (one line
-/// on stderr, false).
+/// A NaN or infinite sample, a silent channel or a sample rate no signal has (those of a dry
+/// signal: common/input_file.h) would turn every parameter into '—' or nonsense: refuses it by
+/// name (one line on stderr, false).
 bool samplesFinite(const std::string& file, const AudioData& ir, size_t first, size_t last) {
+  if (ir.sampleRate < kMinSignalRateHz || ir.sampleRate > kMaxSignalRateHz) {
+    std::cerr << file << ": sample rate " << ir.sampleRate << " Hz is outside ["
+              << kMinSignalRateHz << ", " << kMaxSignalRateHz << "] Hz\n";
+    return false;
+  }
+  bool silent = true;  // a silent channel beside others (an AmbiX Y of a source ahead) is read
   for (size_t c = first; c < last; ++c)
-    for (size_t n = 0; n < ir.frames(); ++n)
+    for (size_t n = 0; n < ir.frames(); ++n) {
       if (!std::isfinite(ir.channels[c][n])) {
         std::cerr << file << ": sample " << n << " (0 = first) of channel " << c + 1
                   << " is not finite (NaN or infinity)\n";
         return false;
       }
-  return true;
+      silent = silent && ir.channels[c][n] == 0.f;
+    }
+  if (silent)
+    std::cerr << file << ": " << (last - first == 1 ? "the channel" : "every channel")
+              << " analysed is silent (every sample 0): an impulse response without sound has "
+                 "no room parameters\n";
+  return !silent;
 }
 
 /// The parameters of channels [first, last): a table each, or one JSON document.

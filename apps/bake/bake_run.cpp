@@ -95,6 +95,19 @@ void printEstimate(const Plan& plan) {
     std::fprintf(stderr, "dpc-bake: the wave band first: %s\n", describe(plan.wave).c_str());
 }
 
+/// With --quiet, the probes of a --probes list that were skipped (outside the room, inside a
+/// solid, too near a surface) still get one line: the user named each of them.
+void warnSkippedProbes(const Options& o, const Plan& plan) {
+  const BakeHeader& h = plan.header;
+  const size_t skipped = h.probes.outside + h.probes.insideGeometry + h.probes.nearSurface;
+  if (o.probes.empty() || skipped == 0) return;
+  std::fprintf(stderr,
+               "dpc-bake: %s: %zu of %zu listed probes skipped (%zu outside, %zu inside "
+               "geometry, %zu near a surface)\n",
+               o.probes.c_str(), skipped, h.probes.candidates, h.probes.outside,
+               h.probes.insideGeometry, h.probes.nearSurface);
+}
+
 /// This rank's probes: every size-th of the todo list, from its rank.
 std::vector<size_t> share(const std::vector<size_t>& todo, const Cluster& cluster) {
   std::vector<size_t> mine;
@@ -157,10 +170,12 @@ void printJson(const Plan& plan, const Cluster& cluster, const BakeFile& file,
                const Progress& progress, const WaveBakeStats& wave) {
   const double n = double(std::max<size_t>(plan.todo.size(), 1));
   std::printf(
-      "{\"probes\": %zu, \"seconds\": %.6g, \"probes_per_second\": %.6g, "
+      "{\"probes\": %zu, \"probes_skipped\": %zu, \"seconds\": %.6g, \"probes_per_second\": %.6g, "
       "\"processes\": %d, \"bytes_per_probe\": %zu, \"commit_seconds_per_probe\": "
       "%.6g, \"wave_sources\": %zu, \"wave_seconds\": %.6g, \"wave_unreached\": %zu}\n",
-      plan.todo.size(), progress.elapsedSeconds(), progress.rate(), cluster.size(),
+      plan.todo.size(),
+      plan.header.probes.outside + plan.header.probes.insideGeometry + plan.header.probes.nearSurface,
+      progress.elapsedSeconds(), progress.rate(), cluster.size(),
       plan.header.shape.packedFloats() * sizeof(float), file.commitSeconds() / n, wave.sources,
       wave.seconds, wave.unreached);
 }
@@ -280,6 +295,7 @@ int runBake(const Options& o, Cluster& cluster) {
     return stopSignal() != 0 ? unfinishedStatus() : 0;
   }
   if (!o.quiet) printEstimate(plan);
+  if (o.quiet) warnSkippedProbes(o, plan);
   if (o.spacingGiven) warnWaveProbeSpacing(plan.scene, o.grid.spacingM);
   if (cluster.size() == 1) return finishAsWriter(o, plan, cluster, *file);
   // With other ranks, an error here (a write the disk refused) must end the job: the others

@@ -78,7 +78,7 @@ WaveEstimate estimateWave(const SceneDesc& scene, double irLength) {
   const Geometry geometry(scene.mesh, scene.materials, scene.propagation.patchSize, scene.objects);
   const wave::GridLayout layout =
       wave::layoutFor(glm::dvec3(geometry.boundsMin()), glm::dvec3(geometry.boundsMax()),
-                      scene.wave.spacing(c), scene.path);
+                      scene.wave.spacing(c), scene.path, scene.wave.spacingField());
   WaveEstimate e;
   e.simulations = scene.sources.size() * wave::simulatedBands(scene.wave.crossover()).size();
   e.count = layout.count;

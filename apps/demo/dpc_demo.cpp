@@ -4,6 +4,7 @@
 #include <exception>
 #include <optional>
 #include <string>
+#include <tuple>
 
 #include "apps/demo/audio_devices.h"
 #include "apps/demo/flags.h"
@@ -37,6 +38,8 @@ void checkRunKind(const Flags& fl) {
     throw InputError("command line", "--record", "is for live runs (--offline writes the render)");
   if (!fl.offline.empty() && fl.interactive)
     throw InputError("command line", "--interactive", "is for live runs");
+  if (!fl.offline.empty() && !fl.device.empty())
+    throw InputError("command line", "--device", "is for live runs (--offline writes a file)");
   checkLiveNumber(fl, fl.latencyTargetMs, "--latency-target-ms", 1.0, 10000.0, "ms");
   checkLiveNumber(fl, fl.irSwapSpreadMs, "--ir-swap-spread-ms", 0.0,
                   LiveSession::kMaxIrSwapSpreadSeconds * 1e3, "ms");
@@ -50,6 +53,27 @@ void checkRunKind(const Flags& fl) {
     throw InputError("command line", "--ir-out", "needs --offline (offline renders only)");
 }
 
+/// The flag that set a scene field, when the user gave it: a check of the settings together
+/// (cache_tau x frame_rate, the memory a cache needs) or of the file a flag names (--hrtf)
+/// blames the flag, not the scene file's field the user never wrote. Null otherwise.
+const char* flagThatSet(const Flags& fl, const std::string& field) {
+  const std::tuple<const char*, const char*, bool> kSet[] = {
+      {"propagation.cache_tau", "--tau", fl.tau.has_value()},
+      {"propagation.cache_memory_mb", "--cache-memory-mb", fl.cacheMb.has_value()},
+      {"propagation.cache_pool_mb", "--cache-pool-mb", fl.cachePoolMb.has_value()},
+      {"propagation.rays_per_frame", "--rays", fl.rays.has_value()},
+      {"propagation.max_order", "--max-order", fl.maxOrder.has_value()},
+      {"propagation.dpc_weighting", "--dpc-weighting", !fl.weighting.empty()},
+      {"audio.hrtf", "--hrtf", !fl.hrtf.empty()},
+      {"audio.block_size", "--block-size", fl.blockSize.has_value()},
+      {"audio.ambisonic_order", "--ambisonic-order", fl.ambisonicOrder.has_value()},
+      {"audio.late_buses", "--late-buses", fl.lateBuses.has_value()},
+      {"audio.cluster_angle", "--cluster-angle", fl.clusterAngle.has_value()}};
+  for (const auto& [key, flag, given] : kSet)
+    if (given && field == key) return flag;
+  return nullptr;
+}
+
 /// Runs what the flags ask for; returns the exit status.
 int run(const Flags& fl) {
   if (fl.listDevices) return listDevices();
@@ -59,8 +83,13 @@ int run(const Flags& fl) {
     return 1;
   }
   checkRunKind(fl);
-  if (fl.offline.empty()) return runLive(fl);
-  return runOffline(fl);
+  try {
+    return fl.offline.empty() ? runLive(fl) : runOffline(fl);
+  } catch (const InputError& e) {
+    const char* flag = e.file() == fl.scene ? flagThatSet(fl, e.field()) : nullptr;
+    if (!flag) throw;
+    throw InputError("command line", flag, e.problem());
+  }
 }
 
 }  // namespace

@@ -112,6 +112,33 @@ void applyAudioOverrides(SceneDesc& scene, const Flags& fl) {
   }
   if (!fl.listener.empty()) listenerIndex(scene, fl.listener, "--listener");  // known name?
   applyRenderingOverrides(scene.audio, fl);
+  refuseUnusedAudioFlags(scene.audio, fl);
+}
+
+void refuseUnusedAudioFlags(const AudioSettings& audio, const Flags& fl) {
+  const OutputFormat out = audio.output;
+  const bool ambisonic = out == OutputFormat::kAmbisonics || out == OutputFormat::kAmbisonicBinaural;
+  auto unused = [&](const char* flag, const char* forWhat) {
+    throw InputError("command line", flag,
+                     std::string("is for ") + forWhat + " (this run's output is " +
+                         outputFormatName(out) + "); it would change nothing");
+  };
+  auto perSource = [](const char* flag) {
+    throw InputError("command line", flag,
+                     "is for hybrid rendering; with --rendering per_source it would change "
+                     "nothing");
+  };
+  if (!fl.hrtf.empty() && out != OutputFormat::kBinaural && out != OutputFormat::kAmbisonicBinaural)
+    unused("--hrtf", "binaural and ambisonic_binaural output");
+  if (fl.ambisonicOrder && !ambisonic)
+    unused("--ambisonic-order", "ambisonics and ambisonic_binaural output");
+  if (fl.maxRe && !ambisonic) unused("--max-re", "ambisonics and ambisonic_binaural output");
+  if (!fl.binauralDecoder.empty() && out != OutputFormat::kAmbisonicBinaural)
+    unused("--binaural-decoder", "ambisonic_binaural output");
+  if (audio.rendering == Rendering::kPerSource) {
+    if (fl.lateBuses) perSource("--late-buses");
+    if (fl.clusterAngle) perSource("--cluster-angle");
+  }
 }
 
 void applyRenderingOverrides(AudioSettings& audio, const Flags& fl) {

@@ -20,6 +20,12 @@ void applyAudioOverrides(SceneDesc& scene, const Flags& fl);
 /// `audio`; called by applyAudioOverrides. Main thread. Throws InputError naming the flag.
 void applyRenderingOverrides(AudioSettings& audio, const Flags& fl);
 
+/// Throws InputError("command line", FLAG, ...) for a flag the settings make useless (--hrtf
+/// with an output that uses no HRTF, --ambisonic-order or --max-re without Ambisonic output,
+/// --binaural-decoder without ambisonic_binaural, --late-buses or --cluster-angle with
+/// per-source rendering): accepted, it would change nothing without a word. Main thread.
+void refuseUnusedAudioFlags(const AudioSettings& audio, const Flags& fl);
+
 /// --listener: the listener played or rendered (scene.listeners index); the first without it.
 /// Main thread. Throws InputError for an unknown name.
 size_t selectedListener(const SceneDesc& scene, const Flags& fl);

@@ -15,6 +15,7 @@
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <optional>
 #include <string>
@@ -26,6 +27,7 @@
 #include "common/input_error.h"
 #include "common/output_file.h"
 #include "common/program_main.h"
+#include "common/stop_signals.h"
 #include "scene/limits.h"
 #include "scene/scene.h"
 #include "scene/validate.h"
@@ -36,7 +38,7 @@ namespace {
 
 struct Options {
   std::string scene, out;
-  size_t source = 0;
+  int64_t source = 0;  // signed, so that "-1" is named as given, not as 2^64 - 1
   std::string listener;
   std::optional<double> seconds, maxFrequency, gridSpacing;
   bool json = false;
@@ -99,7 +101,7 @@ SceneDesc loadWithOverrides(const Options& o) {
     scene.wave.gridSpacingM = float(*o.gridSpacing);
   }
   validate(scene, Origin{"command line", {}});
-  if (o.source >= scene.sources.size())
+  if (o.source < 0 || uint64_t(o.source) >= scene.sources.size())
     throw InputError("command line", "--source",
                      std::to_string(o.source) + " is not a source index (the scene has " +
                          std::to_string(scene.sources.size()) + ")");
@@ -147,7 +149,26 @@ void report(const wave::WaveBandStats& s, const SceneDesc& scene, double seconds
               s.buildSeconds, s.simulateSeconds, s.processes);
 }
 
+/// A grid too large for the spacing a flag set names the flag, not the scene file's field.
+[[noreturn]] void rethrowForFlag(const Options& o, const InputError& e) {
+  if (e.file() == o.scene && e.field() == "wave.grid_spacing" && o.gridSpacing)
+    throw InputError("command line", "--grid-spacing", e.problem());
+  if (e.file() == o.scene && e.field() == "wave.max_frequency" && o.maxFrequency)
+    throw InputError("command line", "--max-frequency", e.problem());
+  throw e;
+}
+
+int simulate(const Options& o, Cluster& cluster);
+
 int run(const Options& o, Cluster& cluster) {
+  try {
+    return simulate(o, cluster);
+  } catch (const InputError& e) {
+    rethrowForFlag(o, e);
+  }
+}
+
+int simulate(const Options& o, Cluster& cluster) {
   const SceneDesc scene = loadWithOverrides(o);
   const bool writer = cluster.rank() == 0;
   checkOutputCreatable(o.out, "--out", sceneInputFiles(scene, o.scene));
@@ -160,11 +181,20 @@ int run(const Options& o, Cluster& cluster) {
   opt.seconds = o.seconds.value_or(double(scene.propagation.irLength));
   opt.sampleRate = scene.audio.sampleRate;
   const auto t0 = std::chrono::steady_clock::now();
-  if (writer) opt.progress = [t0](size_t done, size_t total) { progress(done, total, t0); };
+  // Alone, a stop signal ends the run at the next step with one line and 128 + its number, no
+  // file written (common/stop_signals.h); under mpirun the ranks keep mpirun's handling.
+  const bool alone = cluster.size() == 1;
+  if (alone) catchStopSignals();
+  if (writer)
+    opt.progress = [t0, alone](size_t done, size_t total) {
+      if (alone) throwIfStopped();
+      progress(done, total, t0);
+    };
   ClusterSlabLink link(cluster);
   if (cluster.size() > 1) opt.link = &link;
-  const wave::WaveBand band = wave::sceneWaveBand(scene, o.source, listeners, 0.0, opt);
+  const wave::WaveBand band = wave::sceneWaveBand(scene, size_t(o.source), listeners, 0.0, opt);
   if (!writer) return 0;
+  if (alone) throwIfStopped();
   audio::AudioData ir;
   ir.sampleRate = scene.audio.sampleRate;
   ir.channels = band.irs;

@@ -107,8 +107,8 @@ dpc::audio::AudioData decayingIr16k() {
   return ir;
 }
 
-/// Writes `samples` to `path` as a mono 16 kHz float WAV, non-finite samples included.
-void writeFloatWav16k(const std::string& path, const std::vector<float>& samples) {
+/// Writes `samples` to `path` as a mono float WAV at `rate` Hz, non-finite samples included.
+void writeFloatWav(const std::string& path, const std::vector<float>& samples, uint32_t rate) {
   // writeWav refuses non-finite samples: write the float WAV by hand (RIFF, format 3).
   std::ofstream f(path, std::ios::binary);
   auto u32 = [&](uint32_t v) { f.write(reinterpret_cast<const char*>(&v), 4); };
@@ -117,10 +117,26 @@ void writeFloatWav16k(const std::string& path, const std::vector<float>& samples
   f << "RIFF";
   u32(36 + bytes);
   f << "WAVEfmt ";
-  u32(16), u16(3), u16(1), u32(16000), u32(64000), u16(4), u16(32);
+  u32(16), u16(3), u16(1), u32(rate), u32(4 * rate), u16(4), u16(32);
   f << "data";
   u32(bytes);
   f.write(reinterpret_cast<const char*>(samples.data()), bytes);
+}
+
+void writeFloatWav16k(const std::string& path, const std::vector<float>& samples) {
+  writeFloatWav(path, samples, 16000);
+}
+
+/// dpc-analyze's first line on stderr for `wav` (and that there is one line only, no stdout).
+std::string refusal(const fs::path& dir, const std::string& wav) {
+  const std::string err = (dir / "err.txt").string(), out = (dir / "out.txt").string();
+  CHECK(std::system((kTool + " " + wav + " > " + out + " 2> " + err).c_str()) != 0);
+  std::ifstream e(err);
+  std::string line, more;
+  std::getline(e, line);
+  CHECK_FALSE(std::getline(e, more));
+  CHECK(fs::file_size(out) == 0);
+  return line;
 }
 
 }  // namespace
@@ -275,6 +291,25 @@ TEST_CASE("dpc-analyze refuses an IR with a NaN sample in every mode", "[analyze
     CHECK(line == nan + ": sample 500 (0 = first) of channel 1 is not finite (NaN or infinity)");
     CHECK_FALSE(std::getline(e, more));
     CHECK(fs::file_size(out) == 0);
+  }
+  fs::remove_all(dir);
+}
+
+TEST_CASE("dpc-analyze refuses a silent IR and a sample rate no signal has", "[analyze]") {
+  // Before, a silent IR printed a table of '—' and a 1 Hz or 1 GHz one a T30 of 52859 s, both
+  // with exit status 0.
+  const fs::path dir = freshDir("analyze_silent_test");
+  const std::string silent = (dir / "silent.wav").string();
+  writeFloatWav16k(silent, std::vector<float>(16000, 0.f));
+  CHECK(refusal(dir, silent) == silent +
+                                    ": the channel analysed is silent (every sample 0): an "
+                                    "impulse response without sound has no room parameters");
+  std::vector<float> decay = decayingIr16k().channels[1];
+  for (uint32_t rate : {1u, 1000000000u}) {
+    const std::string wav = (dir / ("rate" + std::to_string(rate) + ".wav")).string();
+    writeFloatWav(wav, decay, rate);
+    CHECK(refusal(dir, wav) == wav + ": sample rate " + std::to_string(rate) +
+                                   " Hz is outside [8000, 768000] Hz");
   }
   fs::remove_all(dir);
 }

@@ -331,6 +331,23 @@ CASES = {
     "er_out_named_wav": (nothing, OFF + ["--er-out", "er.wav"], "--er-out: 'er.wav' names a WAV file, but --er-out writes CSV"),
     "offline_named_json": (nothing, ["shoebox.json", "--offline", "out.JSON", "--duration", "0.2"], "--offline: 'out.JSON' names a JSON file"),
     "scene_link_loop": (lambda d: (symlink("b.json", "a.json")(d), symlink("a.json", "b.json")(d)), ["a.json", "--offline", "out.wav"], "a.json: scene file 'a.json' cannot be opened: Too many levels of symbolic links"),
+    # A flag's value refused by a check of the settings together, or of the file it names,
+    # names the flag (it named the scene file's field, which the user never wrote).
+    "hrtf_flag_not_sofa": (nothing, OFF + ["--hrtf", "shoebox.json"], "command line: --hrtf: shoebox.json: not a valid SOFA file"),
+    "tau_flag_window_too_long": (nothing, OFF + ["--tau", "3600", "--dpc-weighting", "window"], "command line: --tau: 54000 frames of paths"),
+    "cache_memory_flag_tiny": (nothing, OFF + ["--cache-memory-mb", "0.001"], "command line: --cache-memory-mb: a budget of 1048 bytes"),
+    # A pool below the tables the caches start with (it was exceeded from the first frame).
+    "cache_pool_flag_tiny": (nothing, OFF + ["--cache-pool-mb", "0.001"], "command line: --cache-pool-mb: 0.001 MB is below the"),
+    "cache_pool_scene_tiny": (scene_with(**{"propagation.cache_pool_mb": 0.01}), OFF, "shoebox.json: propagation.cache_pool_mb: 0.01 MB is below the"),
+    # Flags that would change nothing in this run (accepted before, exit 0, without a word).
+    "hrtf_with_mono": (write("h.sofa", "x"), OFF + ["--output", "mono", "--hrtf", "h.sofa"], "command line: --hrtf: is for binaural and ambisonic_binaural output (this run's output is mono)"),
+    "ambisonic_order_with_mono": (nothing, OFF + ["--ambisonic-order", "2"], "command line: --ambisonic-order: is for ambisonics"),
+    "max_re_with_stereo": (nothing, OFF + ["--output", "stereo", "--max-re"], "command line: --max-re: is for ambisonics"),
+    "binaural_decoder_with_mono": (nothing, OFF + ["--binaural-decoder", "sampling"], "command line: --binaural-decoder: is for ambisonic_binaural output"),
+    "late_buses_per_source": (nothing, OFF + ["--rendering", "per_source", "--late-buses", "8"], "command line: --late-buses: is for hybrid rendering"),
+    "device_offline": (nothing, OFF + ["--device", "nosuchdevice"], "command line: --device: is for live runs"),
+    # A mesh of a format dpc does not read, named as it is (it read as an empty OBJ).
+    "mesh_ply": (steps(write("cube.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n0 0 0\n"), scene_with(mesh="cube.ply")), OFF, "cube.ply: no OBJ faces in it: a mesh is read as OBJ unless it is glTF (.gltf, .glb) or FBX (.fbx), and \".ply\" is none of them"),
 }
 
 # Setups that load but cannot be meant: the render runs (exit 0, the output is written), and a

@@ -30,7 +30,7 @@ probes on a 1 m grid at 1.6 m (12 probes):
            built with MPI and mpirun is installed.
   cli      a bake of a scene whose wave keys are out of range (max_frequency 5 Hz, a crossover
            above the maximum frequency) or give a grid over the limit (grid_spacing 2 mm: 3.9e9
-           nodes, named as wave.max_frequency like dpc-wave does): one line naming the scene
+           nodes, named as wave.grid_spacing, which set it): one line naming the scene
            file and the field, exit status 1, no bake file.
 
     wave_bake_test.py BUILD_DIR [band|resume|render|mpi|cli ...]
@@ -287,7 +287,7 @@ def mpi(build, tmp):
 def cli(build, tmp):
     for name, keys, field in (('low', {'max_frequency': 5}, 'wave.max_frequency'),
                               ('crossover', {'crossover_hz': 300}, 'wave.crossover_hz'),
-                              ('grid', {'grid_spacing': 0.002}, 'wave.max_frequency')):
+                              ('grid', {'grid_spacing': 0.002}, 'wave.grid_spacing')):
         scene = room(tmp, 'cli_' + name, **keys)
         out = os.path.join(tmp, 'cli_%s.h5' % name)
         done = subprocess.run([tool(build, 'dpc-bake'), scene, '--out', out, '--spacing', '1'],

@@ -225,6 +225,7 @@ int main(int argc, char** argv) {
       }
     }
     if (parsed <= 0) return parsed == 0 ? 0 : 1;
-    return dpc::together(cluster, "dpc-wave", [&] { return dpc::run(o, cluster); }) ? 0 : 1;
+    if (dpc::together(cluster, "dpc-wave", [&] { return dpc::run(o, cluster); })) return 0;
+    return dpc::stopSignal() != 0 ? 128 + dpc::stopSignal() : 1;  // the line is printed
   });
 }

@@ -50,6 +50,7 @@
 Exit status 0 when every check holds; prints what it measured.
 """
 import json
+import signal
 import os
 import subprocess
 import sys
@@ -459,7 +460,10 @@ def cli(build, tmp):
              ([box, '--out', out, '--grid-spacing', '2'], '--grid-spacing'),
              ([box, '--out', out, '--seconds', '0'], '--seconds'),
              ([box, '--out', box], '--out'),
-             ([box, '--out', out, '--listener', 'nobody'], '--listener')]
+             ([box, '--out', out, '--listener', 'nobody'], '--listener'),
+             ([box, '--out', out, '--source', '-1'], '--source: -1 is not'),
+             ([box, '--out', out, '--grid-spacing', '1e-6'], '--grid-spacing: a grid of 1e-06 m'),
+             ([box, '--out', '/proc/w.wav'], '--out: /proc/w.wav: cannot write')]
     for args, field in cases:
         before = open(box).read()
         done = subprocess.run([exe] + args, capture_output=True, text=True)
@@ -470,12 +474,33 @@ def cli(build, tmp):
               (' '.join(args[1:]), field, lines[:2]))
 
 
+def stop(build, tmp):
+    """A stop signal mid-simulation: one line naming it, exit status 128 + n, no file left (the
+    process died without a word, a temporary of the WAV left behind)."""
+    box = oracle.write_box(tmp, 'stop', (6.0, 4.0, 3.0), {w: 0.1 for w in ('x-', 'x+', 'y-', 'y+',
+                           'z-', 'z+')}, [(1.0, 1.0, 1.0)], [(4.0, 2.5, 1.2)], {'max_frequency': 400})
+    exe = os.path.join(build, 'apps', 'dpc-wave')
+    for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+        out = os.path.join(tmp, 'stop_%d.wav' % sig)
+        p = subprocess.Popen([exe, box, '--out', out, '--seconds', '30'], stderr=subprocess.PIPE,
+                             text=True)
+        line = p.stderr.readline()  # the first progress line: the simulation runs
+        p.send_signal(sig)
+        err = line + p.stderr.read()
+        p.wait()
+        left = [f for f in os.listdir(tmp) if f.startswith('stop_%d.wav' % sig)]
+        name = signal.Signals(sig).name
+        check(p.returncode == 128 + sig and ('interrupted by ' + name) in err and not left,
+              'dpc-wave stopped by %s: status %d, a line naming it, no file (%r, %s)' %
+              (name, p.returncode, err.strip().splitlines()[-1:], left))
+
+
 def main():
     build = sys.argv[1]
     which = sys.argv[2:] or ['modes', 'free_field', 'join', 'cli']
     with tempfile.TemporaryDirectory() as tmp:
         for name in which:
-            {'modes': modes, 'free_field': free_field, 'join': join, 'cli': cli,
+            {'modes': modes, 'free_field': free_field, 'join': join, 'cli': cli, 'stop': stop,
              'screen': screen, 'screen_controls': screen_controls, 'slit': slit}[name](build, tmp)
     print('%d check(s) failed' % len(failures) if failures else 'all checks hold')
     return 1 if failures else 0

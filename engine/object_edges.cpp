@@ -85,7 +85,11 @@ std::vector<EdgePath> objectChannels(const Tracer& tracer, const std::vector<Dif
       const DiffractionEdge& front = o.world[way == 0 ? f.a : f.b];
       const DiffractionEdge& back = o.world[way == 0 ? f.b : f.a];
       EdgePath p;
-      if (channelPath(front, back, source, L, p) && legsFree(tracer, source, L, p)) {
+      // Straight, or seen along part of the edge where its point of least length is hidden (a
+      // listener beside the doorway, the wall between: the undercut seen past the jamb), as
+      // a static face's channels are.
+      if ((channelPath(front, back, source, L, p) && legsFree(tracer, source, L, p)) ||
+          visibleChannel(tracer, front, back, source, L, p)) {
         p.face = kMovingObjects;  // straight: often the reveal's slit too (markSlitOwners)
         out.push_back(p);
         continue;

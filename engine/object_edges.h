@@ -30,7 +30,7 @@ void placeObjectEdges(ObjectEdges& o, const Pose& pose);
 bool nearLine(const ObjectEdges& o, const glm::vec3& source, const glm::vec3& L);
 
 /// The channels along o's narrow faces (engine/channel_path.h channelPath): straight ones whose
-/// legs are free, and those that turn at a mouth round the static mesh's edges (`edges`) near it
+/// legs are free or that are seen along part of their edge (visibleChannel), and those that turn at a mouth round the static mesh's edges (`edges`) near it
 /// (engine/channel_turn.h turnedChannel: an object door leaf closed against a door stop in the
 /// mesh, its gaps L-shaped). A straight one is often the same slit as the reveal's own channel
 /// with the leaf across it (engine/gap_probe.h GapShape::depth): markSlitOwners keeps one. Each

@@ -226,9 +226,19 @@ Bands blockedBound(const std::vector<EdgePath>& paths, const DirectSound& cohere
   const std::vector<uint32_t>& crossed = q.crossed;
   Bands bound = openBound(paths, coherent, free, wholeSolids(crossed, q.bodies), q);
   const std::vector<std::vector<uint32_t>> groups = removalGroups(crossed, q.bodies);
-  if (groups.size() > 1)  // each alone, the others still in the way
-    for (const std::vector<uint32_t>& g : groups)
-      bound = min(bound, sumWithout(paths, q, wholeSolids(g, q.bodies), coherent));
+  // Each alone, the others still in the way; but not while a moving object stays in the way:
+  // its edges have no first-order paths, so the sum lacks its own field (a leaf left standing
+  // with the jamb beside it taken away read 0, and a listener whose line of sight crossed both
+  // heard nothing where the same leaf in the mesh passed its gaps). A sum of nothing is no
+  // bound either: what stays in the way has no path of its own in the list (a sealed leaf's
+  // sides, closed), not a wall that lets nothing round it.
+  const bool object = std::find(crossed.begin(), crossed.end(), kMovingObjects) != crossed.end();
+  if (groups.size() > 1)
+    for (const std::vector<uint32_t>& g : groups) {
+      if (object && g.front() != kMovingObjects) continue;
+      const Bands without = sumWithout(paths, q, wholeSolids(g, q.bodies), coherent);
+      if (without.max() > 0.f) bound = min(bound, without);
+    }
   return bound;
 }
 

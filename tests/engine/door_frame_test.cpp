@@ -204,9 +204,10 @@ TEST_CASE("Door gaps: a box leaf that is a moving object passes its gaps as a st
 namespace {
 
 /// A wall `depth` thick standing alone in the open (x -depth/2 .. depth/2, 60 m square), its
-/// doorway 0.9 x 2.1 m (z -0.45 .. 0.45, y 0 .. 2.1) filled by a box leaf 4 cm thick as a moving
-/// object; no floor: the sill is the wall's own reveal.
-SceneDesc wallInTheOpen(float depth) {
+/// doorway 0.9 x 2.1 m (z -0.45 .. 0.45, y 0 .. 2.1) closed by a box leaf 4 cm thick as a moving
+/// object, `gap` from the jambs and the lintel, `undercut` above the sill (0, 0: it fills the
+/// doorway); no floor: the sill is the wall's own reveal.
+SceneDesc wallInTheOpen(float depth, float gap = 0.f, float undercut = 0.f) {
   SceneDesc s = objectLeafScene(depth, 0.f, 0.04f, 0.f);
   s.mesh = Mesh{};
   const float h = 0.5f * depth;
@@ -215,7 +216,8 @@ SceneDesc wallInTheOpen(float depth) {
   test::addSolidBox(s.mesh, {-h, 0.f, -30.f}, {h, 2.1f, -0.45f}, 0);
   test::addSolidBox(s.mesh, {-h, 0.f, 0.45f}, {h, 2.1f, 30.f}, 0);
   s.objects[0].mesh = Mesh{};
-  test::addSolidBox(s.objects[0].mesh, {-0.02f, 0.f, -0.45f}, {0.02f, 2.1f, 0.45f}, 0);
+  test::addSolidBox(s.objects[0].mesh, {-0.02f, undercut, gap - 0.45f},
+                    {0.02f, 2.1f - gap, 0.45f - gap}, 0);
   s.objects[0].trajectory[0].position = glm::vec3(0.f);
   return s;
 }
@@ -250,6 +252,34 @@ TEST_CASE("Door gaps: a box leaf that fills its doorway exactly passes nothing, 
           CHECK(alone[b] == 0.f);
         }
       }
+}
+
+TEST_CASE("Door gaps: a box leaf that is a moving object, heard past the jamb, reads as in the mesh",
+          "[diffraction][door]") {
+  // The wall in the open above, the leaf 1 cm from the jambs and the lintel with a 1 cm
+  // undercut, or sealed but for a 2 cm undercut. The listener 2 m behind the wall, walked from
+  // the doorway's axis past the jamb, where the wall hides the line of sight (the source on the
+  // axis 2 m before it). The oracle: the same leaf in the static mesh, found within 3 dB of
+  // Gomperts' slit model by a held-out sweep. Before, the object lost the slits whose point of
+  // least length the jamb hides (past the jamb: 2.8 dB at 63 Hz and 6 dB at 500 Hz below the
+  // mesh leaf, nothing at all with the undercut alone), and where the line of sight crossed
+  // both the leaf and the jamb (z 0.86-0.9 m) a bound that took the jamb away with the leaf
+  // still standing, its own field missing from the sum, silenced it.
+  for (const auto [gap, undercut] : {std::pair(0.01f, 0.01f), std::pair(0.f, 0.02f)}) {
+    const SceneDesc object = wallInTheOpen(0.1f, gap, undercut);
+    const SceneDesc mesh = objectsInMesh(object);
+    for (float z = 0.f; z <= 1.2f; z += 0.04f) {
+      const glm::vec3 source{-2.f, 1.05f, 0.f}, listener{2.f, 1.05f, z};
+      const Bands o = decibels(directLevel(object, source, listener));
+      const Bands m = decibels(directLevel(mesh, source, listener));
+      for (int b = 0; b < 5; ++b) {  // 63 Hz - 1 kHz
+        INFO("gap " << gap << ", undercut " << undercut << ", listener z " << z << ", band " << b
+                    << ": object " << o[b] << ", mesh " << m[b] << " dB");
+        CHECK(std::isfinite(m[b]));
+        CHECK(std::abs(o[b] - m[b]) < 1.5f);
+      }
+    }
+  }
 }
 
 namespace {

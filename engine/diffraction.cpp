@@ -136,7 +136,7 @@ void addEndSlits(const std::vector<DiffractionEdge>& edges, bool lineOfSight, Bo
     ends.push_back(p);
   }
   if (ends.empty()) return;
-  findSlits(q.tracer, q.source, q.L, q.surfaces, ends, closed);
+  findSlits(q.tracer, q.source, q.L, q.surfaces, ends, closed, &q.bodies);
   for (const EdgePath& p : ends)
     if (p.gapWidth > 0.f) paths.push_back(p);
   markSlitOwners(paths, &q.bodies.body);
@@ -148,7 +148,7 @@ void keepOpenChannels(std::vector<EdgePath>& channels, BoundQuery& q,
                       std::vector<EdgePath>& paths) {
   if (channels.empty()) return;
   std::vector<EdgePath> closed;
-  findSlits(q.tracer, q.source, q.L, q.surfaces, channels, closed);
+  findSlits(q.tracer, q.source, q.L, q.surfaces, channels, closed, &q.bodies);
   for (EdgePath& p : channels) {
     const float widest = std::max(glm::length(p.through), kChannelGapMax);
     const bool turned = p.before + p.lipBefore + p.beyond + p.lipBeyond != glm::vec3(0.f);
@@ -224,7 +224,7 @@ void addObjectRims(const std::vector<ObjectEdges>& objects, BoundQuery& q,
   }
   if (rims.empty()) return;
   std::vector<EdgePath> probed = rims;
-  findSlits(q.tracer, q.source, q.L, q.surfaces, probed, closed);
+  findSlits(q.tracer, q.source, q.L, q.surfaces, probed, closed, &q.bodies);
   std::vector<bool> drop(chains.size(), false);
   for (const EdgePath& p : probed) {
     const bool slit = p.gapWidth > 0.f && p.slitAspect >= kSlitMinAspect;
@@ -394,7 +394,7 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
   std::vector<EdgeChain> chains =
       lineOfSight ? std::vector<EdgeChain>{} : laidChains(query, objects_, chainNear_,
                                                           direct.chainsLeftOut);
-  findSlits(tracer, source, listener.position, surfaces_, paths, query.closed);
+  findSlits(tracer, source, listener.position, surfaces_, paths, query.closed, &bodies_);
   if (!lineOfSight) addTurnedLegs(edges_, chainNear_, objects_, query, paths);
   addChannels(edges_, narrow_, query, paths);
   addObjectChannels(edges_, objects_, query, paths);

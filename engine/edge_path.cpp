@@ -335,7 +335,10 @@ bool overlapAlong(const EdgePath& o, const EdgePath& p) {
 /// half out of the reveal is a slit as deep as the jamb stands along it, while the path round
 /// the jamb's corner reads the same gap from the corner, a little wider.
 bool channelAtMouth(const EdgePath& p, const EdgePath& o) {
-  return p.farSideAlong && o.through == glm::vec3(0.f) && !(o.slit.depth > 0.0) &&
+  // Seen along its whole edge: a channel seen along part of it (visibleChannel) would take the
+  // slit from o over o's whole extent.
+  const bool whole = std::isinf(p.visibleFrom) && std::isinf(p.visibleTo);
+  return whole && p.farSideAlong && o.through == glm::vec3(0.f) && !(o.slit.depth > 0.0) &&
          p.gapWidth <= o.gapWidth;
 }
 
@@ -366,6 +369,18 @@ void markSlitOwners(std::vector<EdgePath>& paths, const std::vector<uint32_t>* b
       else
         p.slitOwner = false;
     }
+  }
+  // A path that yielded to an owner the channel at its mouth then took the slit from, and that
+  // no other owner covers, owns its own again: no slit is left without one.
+  for (size_t n = 0; n < order.size(); ++n) {
+    EdgePath& p = paths[order[n]];
+    if (p.slitOwner || !(p.gapWidth > 0.f)) continue;
+    bool covered = false;
+    for (size_t m = 0; m < order.size() && !covered; ++m) {
+      const EdgePath& o = paths[order[m]];
+      covered = m != n && o.slitOwner && (sameSlit(o, p) || sameSlit(p, o));
+    }
+    p.slitOwner = !covered;
   }
 }
 

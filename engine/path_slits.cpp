@@ -4,6 +4,7 @@
 #include <glm/geometric.hpp>
 
 #include "engine/channel_path.h"
+#include "engine/diffraction.h"
 #include "engine/gap_probe.h"
 #include "engine/surface_bound.h"
 
@@ -45,13 +46,15 @@ void setSlit(const glm::vec3& source, const glm::vec3& L, const GapShape& shape,
 /// True when a channel's face has another solid lying on it (a leaf that fills its doorway
 /// exactly, its top flush with the lintel's underside, or the reveal beside it): a point
 /// kGapNarrowest off the middle of the face lies inside that solid, and the rays from it both
-/// ways along the channel meet its faces within a wall's thickness, both from the same side
-/// (from behind, or both from the front where the solid's faces point inward). In a gap, at
-/// least one of them leaves through a mouth into the room, or meets a face from the front (a
-/// stop). The probe's points across a covered mouth lie in the solid too, and the legs to
-/// them, blocked by its faces in front of the mouth, read as another edge's shadow: a sealed
-/// leaf's top and sill were taken for gaps 35 mm wide.
-bool coveredFace(const Tracer& tracer, const EdgePath& p) {
+/// ways along the channel meet its faces within a wall's thickness from behind, or, where the
+/// solid's faces point inward, both from the front on one closed body that is not the face's
+/// own (in a gap between two stops both rays meet the stops from the front, but they are two
+/// bodies, or the wall's own). The probe's points across a covered mouth lie in the solid too,
+/// and the legs to them, blocked by its faces in front of the mouth, read as another edge's
+/// shadow: a sealed leaf's top and sill were taken for gaps 35 mm wide. `closer`: the
+/// solid's surface met ahead.
+bool coveredFace(const Tracer& tracer, const std::vector<uint32_t>& surfaces,
+                 const SurfaceBodies* bodies, EdgePath& p) {
   const float depth = glm::length(p.through);
   if (!(depth > 0.f)) return false;
   const glm::vec3 along = p.through / depth;
@@ -62,17 +65,26 @@ bool coveredFace(const Tracer& tracer, const EdgePath& p) {
       !tracer.intersect(TraceRay{m, -along, 0.f, reach}, behind))
     return false;
   const float a = glm::dot(ahead.normal, along), b = -glm::dot(behind.normal, along);
-  return (a > 0.f && b > 0.f) || (a < 0.f && b < 0.f && glm::dot(ahead.normal, behind.normal) < 0.f);
+  const uint32_t s = surfaceOf(surfaces, ahead.triangle), t = surfaceOf(surfaces, behind.triangle);
+  bool covered = a > 0.f && b > 0.f;
+  if (!covered && a < 0.f && b < 0.f && bodies && s < bodies->body.size() &&
+      t < bodies->body.size()) {
+    const uint32_t body = bodies->body[s];
+    covered = body == bodies->body[t] && bodies->closed[body] &&
+              !onEdgeBody(bodies->body, *p.edge, s);
+  }
+  if (covered) p.gapCloser = s;
+  return covered;
 }
 
 }  // namespace
 
 void findSlits(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L,
                const std::vector<uint32_t>& surfaces, std::vector<EdgePath>& paths,
-               std::vector<EdgePath>& closed) {
+               std::vector<EdgePath>& closed, const SurfaceBodies* bodies) {
   size_t open = 0;
   for (size_t j = 0; j < paths.size(); ++j) {
-    if (coveredFace(tracer, paths[j]))
+    if (coveredFace(tracer, surfaces, bodies, paths[j]))
       closed.push_back(paths[j]);
     else
       paths[open++] = paths[j];

@@ -14,12 +14,15 @@
 
 namespace dpc {
 
+struct SurfaceBodies;
+
 /// Looks for the gap each path may pass (engine/gap_probe.h) and sets its slit and the surface
 /// that closes it (`surfaces`: per mesh triangle, its flat surface); moves the paths whose gap
-/// is closed (narrower than kGapNarrowest) to closed, then settles who carries each slit
-/// (markSlitOwners). source and L in m.
+/// is closed (narrower than kGapNarrowest, or a channel whose face another solid lies on:
+/// `bodies`, when given, tells a closed body whose faces point inward) to closed, then settles
+/// who carries each slit (markSlitOwners). source and L in m.
 void findSlits(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L,
                const std::vector<uint32_t>& surfaces, std::vector<EdgePath>& paths,
-               std::vector<EdgePath>& closed);
+               std::vector<EdgePath>& closed, const SurfaceBodies* bodies = nullptr);
 
 }  // namespace dpc

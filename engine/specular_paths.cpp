@@ -202,21 +202,36 @@ bool SpecularScene::facedWithin(const glm::vec3& point, uint32_t face, const glm
   return tracer_.occluded(TraceRay{point, n, surfaceOffset(point), 2.f * kChannelGapMax});
 }
 
-bool SpecularScene::segmentInGap(const glm::vec3& a, const glm::vec3& b, bool aOnSurface,
-                                 bool bOnSurface) const {
+bool SpecularScene::segmentInGap(const glm::vec3& a, const glm::vec3& b, uint32_t aFace,
+                                 uint32_t bFace) const {
   // Near a reflection point its own face blocks the parallel on one side, and a face beside
-  // it (a room's corner) the other: those ends are left to facedWithin.
+  // it (a room's corner) the other: those ends are left to facedWithin, and a parallel that
+  // crosses an end's own face further on (a short leg between a floor and a wall) goes on.
+  const bool aOnSurface = aFace != kNoFace, bOnSurface = bFace != kNoFace;
   const float margin = 2.f * kChannelGapMax, length = glm::distance(a, b);
   const float from = aOnSurface ? margin : 0.f, to = length - (bOnSurface ? margin : 0.f);
   if (!(to - from > kChannelGapMax)) return false;
   const glm::vec3 u = (b - a) / length;
   const glm::vec3 n1 = glm::normalize(
       glm::cross(u, std::abs(u.x) < 0.7f ? glm::vec3(1.f, 0.f, 0.f) : glm::vec3(0.f, 1.f, 0.f)));
+  auto blocked = [&](const glm::vec3& origin, float& t) {
+    TraceRay ray{origin, u, from, to};
+    for (int k = 0; k < 3; ++k) {  // past the ends' own faces
+      SurfaceHit hit;
+      if (!tracer_.intersect(ray, hit)) return false;
+      const uint32_t f = faces_.faceOf(hit.triangle);
+      if (f != aFace && f != bFace) {
+        t = hit.t;
+        return true;
+      }
+      ray.tnear = hit.t + surfaceOffset(origin + hit.t * u, hit.t);
+    }
+    return false;
+  };
   for (const glm::vec3& n : {n1, glm::cross(u, n1)}) {
-    SurfaceHit near, far;
-    if (tracer_.intersect(TraceRay{a + kChannelGapMax * n, u, from, to}, near) &&
-        tracer_.intersect(TraceRay{a - kChannelGapMax * n, u, from, to}, far) &&
-        std::abs(near.t - far.t) <= kChannelDepthMax)
+    float near = 0.f, far = 0.f;
+    if (blocked(a + kChannelGapMax * n, near) && blocked(a - kChannelGapMax * n, far) &&
+        std::abs(near - far) <= kChannelDepthMax)
       return true;
   }
   return false;
@@ -228,7 +243,9 @@ bool SpecularScene::inGap(const SpecularPath& path, const glm::vec3& source,
     const glm::vec3 a = i == 0 ? source : path.points[i - 1];
     const glm::vec3 b = i == path.order ? listener : path.points[i];
     if (i < path.order && facedWithin(b, path.triangles[i], a)) return true;
-    if (segmentInGap(a, b, i > 0, i < path.order)) return true;
+    if (segmentInGap(a, b, i > 0 ? path.triangles[i - 1] : kNoFace,
+                     i < path.order ? path.triangles[i] : kNoFace))
+      return true;
   }
   return false;
 }

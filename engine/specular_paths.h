@@ -155,8 +155,10 @@ class SpecularScene {
   /// 4 (k + 1) + k rays.
   bool inGap(const SpecularPath& path, const glm::vec3& source, const glm::vec3& listener) const;
   bool facedWithin(const glm::vec3& point, uint32_t face, const glm::vec3& from) const;
-  bool segmentInGap(const glm::vec3& a, const glm::vec3& b, bool aOnSurface,
-                    bool bOnSurface) const;
+  /// aFace, bFace: the faces the segment's ends reflect from (kNoFace for the source's and
+  /// the listener's ends).
+  bool segmentInGap(const glm::vec3& a, const glm::vec3& b, uint32_t aFace, uint32_t bFace) const;
+  static constexpr uint32_t kNoFace = 0xffffffffu;
   /// Whether q (on the face's plane) lies in one of face's triangles.
   bool insideFace(const glm::dvec3& q, uint32_t face) const;
 

@@ -98,7 +98,7 @@ void addTurnedLegs(const std::vector<DiffractionEdge>& edges,
       found.push_back(h.path);
   }
   if (found.empty()) return;
-  findSlits(q.tracer, q.source, q.L, q.surfaces, found, closed);  // the gap and its closer
+  findSlits(q.tracer, q.source, q.L, q.surfaces, found, closed, &q.bodies);  // gap, closer
   for (EdgePath& p : found) {
     if (!turnAndOpen(edges, near, objects, q, p)) continue;
     paths.push_back(p);

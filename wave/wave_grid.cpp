@@ -116,10 +116,10 @@ GridLayout layoutFor(const glm::dvec3& lo, const glm::dvec3& hi, double target,
     char size[96];
     std::snprintf(size, sizeof size, "a grid of %.3g m would have %.3g nodes (at most %.3g)",
                   target, nodes, double(kMaxWaveNodes));
+    const bool spacing = field == "wave.grid_spacing";
     throw InputError(file, field,
-                     std::string(size) +
-                         ": lower wave.max_frequency, raise wave.grid_spacing or simulate a "
-                         "smaller scene");
+                     std::string(size) + (spacing ? ": raise the grid spacing" : ": lower the maximum frequency") +
+                         " or simulate a smaller scene");
   }
   return g;
 }

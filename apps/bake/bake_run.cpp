@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "apps/bake/bake_plan.h"
 #include "apps/bake/bake_wave.h"
@@ -37,11 +38,13 @@ int unfinishedStatus() {
 /// What a fresh bake's file adds to --out's name while a file is already there.
 constexpr char kPartialSuffix[] = ".partial";
 
-/// Where a fresh bake is written: --out itself when nothing is there yet, else beside it
-/// (--out.partial), so that a bake already at --out stays whole until the new one is complete.
+/// Where a fresh bake is written: --out itself when nothing is there yet, else beside the file
+/// it would replace (where --out's links lead: the rename stays on one file system), with
+/// kPartialSuffix, so that a bake already there stays whole until the new one is complete.
 std::string freshPath(const std::string& out) {
   std::error_code ec;
-  return std::filesystem::exists(outputTarget(out), ec) ? out + kPartialSuffix : out;
+  const std::string target = outputTarget(out);
+  return std::filesystem::exists(target, ec) ? target + kPartialSuffix : out;
 }
 
 /// The file a complete bake at `path` replaces: X for X.partial, else "" (none).
@@ -245,25 +248,37 @@ std::string lockedOutput(const Options& o) {
     return replaces.empty() ? o.resume : replaces;
   }
   checkOutputPath(o.out, "--out", {});
+  // The suffix is the partial bake's: completed, X.partial replaces X.
+  if (!replacedBy(o.out).empty())
+    throw InputError("command line", "--out",
+                     "'" + o.out + "' ends in " + kPartialSuffix +
+                         ", the name of a bake built beside the one it will replace; choose "
+                         "another name");
   return o.out;
 }
 
 /// The bake and the map, checked before any work as dpc-demo checks its outputs: each a
-/// regular file or absent, naming no input of the scene or the --probes list (nor each other),
-/// in an existing folder. A fresh bake's --out is checked too; a resumed one is the file being
-/// finished.
-void checkBakeOutputs(const Options& o, const Plan& plan) {
+/// regular file or absent, naming no input of the scene or the --probes list (nor each other,
+/// nor the bake a resumed X.partial will replace), in an existing folder; the writer (rank 0)
+/// makes and removes a temporary beside the map. A fresh bake's --out is checked too; a
+/// resumed one is the file being finished.
+void checkBakeOutputs(const Options& o, const Plan& plan, bool writer) {
   auto inputs = sceneInputFiles(plan.scene, o.scene.empty() ? plan.header.scenePath : o.scene);
   if (!o.probes.empty()) inputs.push_back({o.probes, "the probe list"});
   if (o.resume.empty()) checkOutputPath(o.out, "--out", inputs);
   if (o.map.empty()) return;
-  const std::string bake = o.resume.empty() ? o.out : o.resume;
-  inputs.push_back({bake, "the bake"});
-  checkOutputCreatable(o.map, "--map", inputs);
-  if (std::filesystem::weakly_canonical(std::filesystem::absolute(o.map)) ==
-      std::filesystem::weakly_canonical(std::filesystem::absolute(bake)))
-    throw InputError("command line", "--map",
-                     "'" + o.map + "' is the bake; refusing to overwrite it");
+  std::vector<std::string> bakes{o.resume.empty() ? o.out : o.resume};
+  if (!o.resume.empty() && !replacedBy(o.resume).empty()) bakes.push_back(replacedBy(o.resume));
+  for (const std::string& bake : bakes) inputs.push_back({bake, "the bake"});
+  if (writer)
+    checkOutputCreatable(o.map, "--map", inputs);
+  else
+    checkOutputPath(o.map, "--map", inputs);
+  for (const std::string& bake : bakes)
+    if (std::filesystem::weakly_canonical(std::filesystem::absolute(o.map)) ==
+        std::filesystem::weakly_canonical(std::filesystem::absolute(bake)))
+      throw InputError("command line", "--map",
+                       "'" + o.map + "' is the bake; refusing to overwrite it");
 }
 
 }  // namespace
@@ -279,7 +294,7 @@ int runBake(const Options& o, Cluster& cluster) {
           planFresh(o, cluster.size(), writer, plan);
         else
           planResume(o, cluster.size(), writer, plan);
-        checkBakeOutputs(o, plan);
+        checkBakeOutputs(o, plan, writer);
         throwIfStopped();  // a signal while planning: no file opened or created
         return 0;
       }))

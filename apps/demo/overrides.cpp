@@ -125,14 +125,14 @@ void refuseUnusedAudioFlags(const AudioSettings& audio, const Flags& fl) {
   };
   auto perSource = [](const char* flag) {
     throw InputError("command line", flag,
-                     "is for hybrid rendering; with --rendering per_source it would change "
-                     "nothing");
+                     "is for hybrid rendering; with this run's per-source rendering it would "
+                     "change nothing");
   };
   if (!fl.hrtf.empty() && out != OutputFormat::kBinaural && out != OutputFormat::kAmbisonicBinaural)
     unused("--hrtf", "binaural and ambisonic_binaural output");
   if (fl.ambisonicOrder && !ambisonic)
     unused("--ambisonic-order", "ambisonics and ambisonic_binaural output");
-  if (fl.maxRe && !ambisonic) unused("--max-re", "ambisonics and ambisonic_binaural output");
+  if (fl.maxRe && out != OutputFormat::kAmbisonics) unused("--max-re", "ambisonics output");
   if (!fl.binauralDecoder.empty() && out != OutputFormat::kAmbisonicBinaural)
     unused("--binaural-decoder", "ambisonic_binaural output");
   if (audio.rendering == Rendering::kPerSource) {

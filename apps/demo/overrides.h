@@ -21,7 +21,8 @@ void applyAudioOverrides(SceneDesc& scene, const Flags& fl);
 void applyRenderingOverrides(AudioSettings& audio, const Flags& fl);
 
 /// Throws InputError("command line", FLAG, ...) for a flag the settings make useless (--hrtf
-/// with an output that uses no HRTF, --ambisonic-order or --max-re without Ambisonic output,
+/// with an output that uses no HRTF, --ambisonic-order without Ambisonic output, --max-re but
+/// with ambisonics output (the binaural decoders weigh their own),
 /// --binaural-decoder without ambisonic_binaural, --late-buses or --cluster-angle with
 /// per-source rendering): accepted, it would change nothing without a word. Main thread.
 void refuseUnusedAudioFlags(const AudioSettings& audio, const Flags& fl);

@@ -342,7 +342,7 @@ CASES = {
     # Flags that would change nothing in this run (accepted before, exit 0, without a word).
     "hrtf_with_mono": (write("h.sofa", "x"), OFF + ["--output", "mono", "--hrtf", "h.sofa"], "command line: --hrtf: is for binaural and ambisonic_binaural output (this run's output is mono)"),
     "ambisonic_order_with_mono": (nothing, OFF + ["--ambisonic-order", "2"], "command line: --ambisonic-order: is for ambisonics"),
-    "max_re_with_stereo": (nothing, OFF + ["--output", "stereo", "--max-re"], "command line: --max-re: is for ambisonics"),
+    "max_re_with_stereo": (nothing, OFF + ["--output", "stereo", "--max-re"], "command line: --max-re: is for ambisonics output"),
     "binaural_decoder_with_mono": (nothing, OFF + ["--binaural-decoder", "sampling"], "command line: --binaural-decoder: is for ambisonic_binaural output"),
     "late_buses_per_source": (nothing, OFF + ["--rendering", "per_source", "--late-buses", "8"], "command line: --late-buses: is for hybrid rendering"),
     "device_offline": (nothing, OFF + ["--device", "nosuchdevice"], "command line: --device: is for live runs"),

@@ -73,6 +73,10 @@ status=0; wait $pid || status=$?
 cmp clean.h5 over.h5 || fail "an interrupted bake changed the complete bake at --out"
 grep -q "over.h5.partial: interrupted by SIGINT .* --resume over.h5.partial finishes it and then \
 replaces over.h5" over.err || fail "no line naming the partial bake: $(cat over.err)"
+# The map may not name the bake the partial will replace (it overwrote it once complete).
+status=0; "$bake" --resume over.h5.partial --map over.h5 --quiet 2>map.err || status=$?
+[[ $status == 1 ]] && grep -q "'over.h5' is the bake" map.err || fail "--map over.h5: $(cat map.err)"
+cmp clean.h5 over.h5 || fail "a refused --map changed the complete bake"
 "$bake" --resume over.h5.partial --quiet
 [[ ! -e over.h5.partial ]] || fail "over.h5.partial left beside the completed bake"
 cmp clean.h5 over.h5 || fail "the resumed partial bake differs from the clean one"
@@ -137,6 +141,9 @@ expect_refusal "--map: 'keep.h5': cannot write: the file is read-only" --resume 
   --map keep.h5
 chmod 644 keep.h5
 expect_refusal "command line: --map: is empty" "$scene" --out new.h5 --spacing 2 --map ""
+# The partial bake's suffix is reserved: completed, X.partial replaces X.
+expect_refusal "command line: --out: 'x.partial' ends in .partial" "$scene" --out x.partial \
+  --spacing 2
 # A --map folder that takes no file is refused before the bake (it replaced --out first).
 expect_refusal "command line: --map: /proc/m.csv: cannot write" "$scene" --out keep.h5 \
   --spacing 2 --map /proc/m.csv

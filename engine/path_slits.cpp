@@ -1,6 +1,7 @@
 #include "engine/path_slits.h"
 
 #include <algorithm>
+#include <array>
 #include <glm/geometric.hpp>
 
 #include "engine/channel_path.h"
@@ -14,19 +15,50 @@ namespace {
 
 constexpr float kGapFarthest = 16.f;  // m: the widest gap probed (k w = 4 pi at 44 Hz)
 
+/// The distance across a channel's gap, square to its face, at a quarter and three quarters of
+/// its depth (m): the far side's when it stands parallel to the face at both (the two within
+/// 10 % or 0.5 mm), else -1. The probe
+/// reads a gap through its legs, which for a channel seen at a steep angle (a listener beside
+/// the doorway, the gap at the far jamb) meet the far side only at a line: a 3 mm gap along a
+/// 4 cm leaf read 7.4 mm wide and without depth, 13 dB too loud.
+float squareWidth(const Tracer& tracer, const EdgePath& p) {
+  std::array<float, 2> w{};
+  for (size_t k = 0; k < 2; ++k) {
+    SurfaceHit hit;
+    const glm::vec3 from = p.q + (k == 0 ? 0.25f : 0.75f) * p.through;
+    if (!tracer.intersect(TraceRay{from, p.mouth, surfaceOffset(from), 2.f * p.gapWidth}, hit))
+      return -1.f;
+    w[k] = hit.t;
+  }
+  const float wide = std::max(w[0], w[1]);
+  return wide - std::min(w[0], w[1]) <= std::max(0.1f * wide, 5e-4f) ? wide : -1.f;
+}
+
 /// Path p's slit from the probe's shape of its gap (p.gapWidth > 0).
-void setSlit(const glm::vec3& source, const glm::vec3& L, const GapShape& shape, EdgePath& p) {
+void setSlit(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L,
+             GapShape shape, EdgePath& p) {
   const float length = glm::length(p.through);
   if (p.measuredDepth && shape.depth >= 0.f) {  // the slit where its far side stands
     const glm::vec3 dir = p.through / length;
     p.q += shape.inset * dir;
     p.through = shape.depth * dir;
   }
+  const bool turned = p.before + p.lipBefore + p.beyond + p.lipBeyond != glm::vec3(0.f);
+  if (!p.measuredDepth && length > 0.f && (!shape.farSide || shape.depth == 0.f)) {
+    // No far side, or one met at a line within the face, by the legs: standing square across
+    // the face at both its quarters, it stands along the whole face (a leaf's side in a thick
+    // wall's reveal), and the gap is as wide as it is there.
+    if (const float w = squareWidth(tracer, p); w > 0.f) {
+      p.gapWidth = w;
+      shape.farSide = true;
+      shape.depth = length;
+      shape.inset = 0.f;
+    }
+  }
   makeSlit(source + p.before + p.lipBefore, L - p.through - p.beyond - p.lipBeyond,
            std::max(shape.from, p.visibleFrom), std::min(shape.to, p.visibleTo), p);
   p.slitAspect = double(shape.aspect);
   if (p.measuredDepth || !(length > 0.f)) return;
-  const bool turned = p.before + p.lipBefore + p.beyond + p.lipBeyond != glm::vec3(0.f);
   if (!turned && !shape.farSide) {
     // A small body's face with nothing across it (a leaf ajar a few degrees, its side face
     // out of the reveal): the gap is the opening at a mouth, a slit without depth.
@@ -112,7 +144,7 @@ void findSlits(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L
     }
     EdgePath& p = paths[kept++] = paths[j];
     p.gapWidth = shapes[j].width;
-    if (p.gapWidth > 0.f) setSlit(source, L, shapes[j], p);
+    if (p.gapWidth > 0.f) setSlit(tracer, source, L, shapes[j], p);
   }
   paths.resize(kept);
   markSlitOwners(paths);

@@ -107,7 +107,7 @@ TEST_CASE("Door stop: a leaf closed against a stop and opened half a degree at a
   // degrees, with the latch rim out of the reveal, within 3 dB above and 6 dB below the slit
   // model of the openings without the stop at 63-250 Hz: the model leaves out the stop, whose
   // lip the way from the opening to the listener grazes (a half-plane takes 6 dB at its shadow
-  // boundary; found -0.8 to +0.9 dB). (4) The object and the same leaf in the mesh within
+  // boundary; found -1.7 to +0.9 dB). (4) The object and the same leaf in the mesh within
   // 1.5 dB at 63-500 Hz (found 1.1; at 1 kHz up to 1.5, where the object's rims and the
   // mesh's edges take different ways).
   const MouthImpedance zr;

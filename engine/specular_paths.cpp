@@ -5,6 +5,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <numbers>
+#include <utility>
 
 #include "common/random.h"
 #include "engine/channel_path.h"
@@ -177,12 +178,21 @@ bool SpecularScene::insideFace(const glm::dvec3& q, uint32_t face) const {
   return false;
 }
 
+namespace {
+
+/// Segment i (0 .. order) of the path S -> P1 -> ... -> Pk -> L: its two ends.
+std::pair<glm::vec3, glm::vec3> segmentEnds(const SpecularPath& path, const glm::vec3& source,
+                                            const glm::vec3& listener, uint32_t i) {
+  return {i == 0 ? source : path.points[i - 1], i == path.order ? listener : path.points[i]};
+}
+
+}  // namespace
+
 bool SpecularScene::visible(const SpecularPath& path, const glm::vec3& source,
                             const glm::vec3& listener) const {
-  // Segments S -> P1 -> ... -> Pk -> L; ends on a surface keep surfaceOffset() clear of it.
+  // Ends on a surface keep surfaceOffset() clear of it.
   for (uint32_t i = 0; i <= path.order; ++i) {
-    const glm::vec3 a = i == 0 ? source : path.points[i - 1];
-    const glm::vec3 b = i == path.order ? listener : path.points[i];
+    const auto [a, b] = segmentEnds(path, source, listener, i);
     const glm::vec3 ab = b - a;
     const float len = glm::length(ab);
     const float tnear = i == 0 ? 0.f : surfaceOffset(a, len);
@@ -240,8 +250,7 @@ bool SpecularScene::segmentInGap(const glm::vec3& a, const glm::vec3& b, uint32_
 bool SpecularScene::inGap(const SpecularPath& path, const glm::vec3& source,
                           const glm::vec3& listener) const {
   for (uint32_t i = 0; i <= path.order; ++i) {
-    const glm::vec3 a = i == 0 ? source : path.points[i - 1];
-    const glm::vec3 b = i == path.order ? listener : path.points[i];
+    const auto [a, b] = segmentEnds(path, source, listener, i);
     if (i < path.order && facedWithin(b, path.triangles[i], a)) return true;
     if (segmentInGap(a, b, i > 0 ? path.triangles[i - 1] : kNoFace,
                      i < path.order ? path.triangles[i] : kNoFace))

@@ -304,7 +304,9 @@ typedef struct dpc_scene_data {
                             DPC_CACHE_POOL_AUTO (the default since 0.7.0): sized by the scene,
                             4 MB per source-listener pair at 4096 rays, tau 1 s, 15 frames/s
                             (scaled with them), at least 128 (docs/scene-format.md); every
-                            pair's cache grows from it */
+                            pair's cache grows from it; a pool below the tables the pairs'
+                            caches start with is refused (DPC_ERR_INPUT naming
+                            cache_pool_mb) */
   dpc_rendering rendering; /**< DPC_RENDERING_AUTO (default), _PER_SOURCE or _HYBRID */
   int late_buses;          /**< hybrid rendering: late buses per listener, [1, 64]; default 4 */
   float cluster_angle_degrees; /**< hybrid rendering: a cluster's angular radius as seen from

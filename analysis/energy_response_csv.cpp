@@ -19,7 +19,7 @@ void writeEnergyCsv(const std::string& path, const std::vector<SourceEnergy>& so
 
 std::string energyCsvText(const std::vector<SourceEnergy>& sources) {
   std::ostringstream out;
-  out << "# dpc energy response v1: intensity per octave band relative to source power "
+  out << kEnergyCsvSignature << ": intensity per octave band relative to source power "
          "(1/m^2)\n";
   out << "source,kind,time_s";
   for (float f : kBandCentreHz) out << ",e" << int(f);
@@ -32,19 +32,23 @@ std::string energyCsvText(const std::vector<SourceEnergy>& sources) {
     }
     out << "\n";
   };
+  size_t rows = 0;
   for (size_t s = 0; s < sources.size(); ++s) {
     const SourceEnergy& e = sources[s];
     if (e.direct.visible) {
       std::snprintf(buf, sizeof buf, "%zu,direct,%.9g", s, double(e.direct.delaySeconds));
       out << buf;
       values(e.direct.intensity);
+      ++rows;
     }
     for (size_t k = 0; k < e.energy.binCount(); ++k) {
       std::snprintf(buf, sizeof buf, "%zu,bin,%.6f", s, double(k) * e.energy.binSeconds());
       out << buf;
       values(e.energy.bins()[k]);
+      ++rows;
     }
   }
+  out << kEnergyCsvEnd << rows << " rows\n";
   return out.str();
 }
 
@@ -171,21 +175,65 @@ struct CsvSources {
 
 }  // namespace
 
+namespace {
+
+/// What the comment lines say of the file's completeness: a v2 signature requires the end line,
+/// whose count must equal the data rows read before it, and no data row may follow it.
+struct CsvEnding {
+  bool requiresEnd = false;
+  long endRows = -1;  ///< the end line's count; -1 before the end line
+
+  void comment(const std::string& line, size_t lineNo, size_t rows, const std::string& path) {
+    const std::string where = "line " + std::to_string(lineNo);
+    if (lineNo == 1 && line.rfind(kEnergyCsvSignature, 0) == 0) requiresEnd = true;
+    const size_t endLength = std::string(kEnergyCsvEnd).size();
+    if (line.rfind(kEnergyCsvEnd, 0) != 0) return;
+    if (endRows >= 0) throw InputError(path, where, "a second end line");
+    size_t used = 0;
+    try {
+      endRows = std::stol(line.substr(endLength), &used);
+    } catch (const std::exception&) {
+      endRows = -2;
+    }
+    if (endRows < 0 || line.substr(endLength + used) != " rows")
+      throw InputError(path, where, "the end line must read '# end: N rows'");
+    if (size_t(endRows) != rows)
+      throw InputError(path, where,
+                       "the end line counts " + std::to_string(endRows) + " rows, the file has " +
+                           std::to_string(rows) + " (rows lost or added)");
+  }
+  void row(const std::string& path, const std::string& where) const {
+    if (endRows >= 0) throw InputError(path, where, "a data row after the end line");
+  }
+  void finish(const std::string& path, size_t rows) const {
+    if (requiresEnd && endRows < 0)
+      throw InputError(path, "",
+                       "ends after " + std::to_string(rows) +
+                           " data rows without its '# end: N rows' line: cut short");
+  }
+};
+
+}  // namespace
+
 std::vector<SourceEnergy> readEnergyCsv(const std::string& path) {
   checkInputFile(path, kMaxEnergyCsvBytes, path, "", "energy-response CSV");
   std::ifstream f(path);
   if (!f) throw InputError(path, "", "cannot open");
   CsvSources read;
+  CsvEnding ending;
   std::string line;
-  size_t lineNo = 0;
+  size_t lineNo = 0, rows = 0;
   bool header = false;
   while (std::getline(f, line)) {
     ++lineNo;
     const std::string where = "line " + std::to_string(lineNo);
     if (!line.empty() && line.back() == '\r') line.pop_back();  // a file saved with CRLF
+    if (!line.empty() && line[0] == '#') ending.comment(line, lineNo, rows, path);
     if (line.empty() || line[0] == '#') continue;
     if (header) {
+      ending.row(path, where);
       read.add(parseRow(line, path, where), path, where);
+      ++rows;
     } else if (line.rfind("source,kind,time_s", 0) == 0) {
       header = true;
     } else {
@@ -194,6 +242,7 @@ std::vector<SourceEnergy> readEnergyCsv(const std::string& path) {
   }
   if (!header) throw InputError(path, "", "no header line: not a dpc energy-response CSV");
   if (read.sources.empty()) throw InputError(path, "", "no data rows after the header");
+  ending.finish(path, rows);
   return read.finish(path);
 }
 

@@ -118,6 +118,42 @@ TEST_CASE("Energy-response CSV: damaged rows are refused, naming the line", "[er
   CHECK(csvError(kHeader + "0,direct,3e38,1,1,1,1,1,1,1,1\n" + kBins).empty());
 }
 
+TEST_CASE("Energy-response CSV: a table cut short at a line boundary is refused", "[er-out]") {
+  // What dpc writes, cut after each of its lines: only the whole file reads. Without the end
+  // line a cut at a line boundary is a shorter response that analyses as valid (its T30 from
+  // a truncated decay).
+  SourceEnergy a;
+  a.energy = EnergyResponse(0.004, 1e-3);
+  a.energy.bins()[1] = Bands(1.f);
+  a.direct.visible = true;
+  a.direct.delaySeconds = 0.001f;
+  a.direct.intensity = Bands(0.5f);
+  const std::string text = energyCsvText({a, a});
+  REQUIRE(text.rfind(kEnergyCsvSignature, 0) == 0);
+  size_t cuts = 0;
+  for (size_t at = text.find('\n'); at + 1 < text.size(); at = text.find('\n', at + 1), ++cuts) {
+    INFO(text.substr(0, at + 1));
+    CHECK_FALSE(csvError(text.substr(0, at + 1)).empty());
+  }
+  CHECK(cuts == 2 + 2 * 5);  // signature, header, per source a direct row and 4 bins
+  CHECK(csvError(text).empty());
+  CHECK(csvError(text.substr(0, text.rfind("# end"))).find("cut short") != std::string::npos);
+  // A row lost in the middle of a source's bins is refused by the bins' times; a whole source's
+  // rows lost, or a row after the end, by the end line.
+  const std::string sig = std::string(kEnergyCsvSignature) + "\n";
+  const std::string oneSource = sig + kHeader + kBins;
+  CHECK(csvError(oneSource + "# end: 3 rows\n").find("line 5: the end line counts 3 rows, the "
+                                                     "file has 2") != std::string::npos);
+  CHECK(csvError(oneSource + "# end: 2 rows\n" + "1,bin,0,1,1,1,1,1,1,1,1\n")
+            .find("line 6: a data row after the end line") != std::string::npos);
+  CHECK(csvError(oneSource + "# end: two rows\n").find("line 5: the end line must read") !=
+        std::string::npos);
+  CHECK(csvError(oneSource + "# end: 2 rows\n").empty());
+  // v1 (no end line) and unsigned tables are still read.
+  CHECK(csvError("# dpc energy response v1: x\n" + kHeader + kBins).empty());
+  CHECK(csvError(kHeader + kBins).empty());
+}
+
 TEST_CASE("Energy-response CSV: a folder or a FIFO is refused before reading", "[er-out]") {
   const std::string dir = std::string(DPC_BINARY_DIR) + "/energy_csv_dir.csv";
   const std::string fifo = std::string(DPC_BINARY_DIR) + "/energy_csv_fifo.csv";

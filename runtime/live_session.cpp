@@ -217,6 +217,8 @@ void LiveSession::recordFrame(size_t played, bool produced, double frameMs) {
   const Simulation& sim = propagation_->simulation();
   // Rays per source this frame really traced (every source traces the same count).
   if (sim.sourceCount() > 0) counters_.raysTraced(int(sim.result(0, played).trace.rays));
+  silence_.update(sim, played, scene_->listeners[played].name, world_.listenerPositions[played],
+                  propagation_->bakedPlayback());
   if (!produced) return;
   FrameTotals totals;
   for (size_t s = 0; s < sim.sourceCount(); ++s) totals.add(sim.result(s, played));

@@ -39,6 +39,7 @@
 #include "runtime/render_pipeline.h"
 #include "runtime/response_snapshot.h"
 #include "runtime/session_stats.h"
+#include "runtime/silence_watch.h"
 #include "scene/trajectory.h"
 
 namespace dpc {
@@ -338,6 +339,7 @@ class LiveSession {
 
   mutable SessionCounters counters_;
   AdaptiveRays adaptiveRays_;  ///< propagation thread (or stepAdaptive() while stopped)
+  SilenceWatch silence_;       ///< propagation thread: logs when the listener hears nothing
   /// The last IR set's pose publication and readiness, steady_clock ns (propagation thread).
   int64_t lastPoseNs_ = 0, lastReadyNs_ = 0;
   double lastKnownSeconds_ = 0.0;  ///< the last frame's latency known at its start, s

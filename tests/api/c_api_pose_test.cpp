@@ -160,3 +160,48 @@ TEST_CASE("Poses: refused poses name the field") {
   CHECK(messageHas("dpc_engine_place_object: engine is NULL"));
   dpc_engine_destroy(e);
 }
+
+namespace {
+
+struct Logged {
+  std::vector<std::pair<dpc_log_level, std::string>> lines;
+  size_t saying(const std::string& text) const {
+    size_t n = 0;
+    for (const auto& l : lines) n += l.second.find(text) != std::string::npos;
+    return n;
+  }
+};
+
+void keep(dpc_log_level level, const char* message, void* user) {
+  static_cast<Logged*>(user)->lines.emplace_back(level, message);
+}
+
+}  // namespace
+
+TEST_CASE("Poses: a listener moved out of the room is told it hears nothing, once, and back") {
+  // The box is closed and its walls transmit nothing: from outside no direct sound and no path
+  // reaches the listener (the physics), while inside the source is in plain view.
+  BoxData box;
+  dpc_engine* e = nullptr;
+  REQUIRE(dpc_engine_create_from_data(&box.data(), nullptr, &e) == DPC_OK);
+  Logged logged;
+  dpc_set_log_callback(&keep, &logged);
+  const std::string silent = "hears none of the 1 sources";
+  REQUIRE(dpc_engine_step(e) == DPC_OK);
+  CHECK(logged.saying(silent) == 0);
+  // Teleported, so that the cache does not carry the paths heard inside for its window.
+  REQUIRE(dpc_engine_set_listener_pose(e, 0, 50.f, 1.5f, 2.f, 0.f, 0.f) == DPC_OK);
+  REQUIRE(dpc_engine_teleport_listener(e, 0) == DPC_OK);
+  for (int frame = 0; frame < 3; ++frame) REQUIRE(dpc_engine_step(e) == DPC_OK);
+  CHECK(energy(ir(e, 0), ir(e, 0).size()) == 0.0);
+  REQUIRE(logged.saying(silent) == 1);  // once, not per frame
+  CHECK(logged.saying("(50.00, 1.50, 2.00) m") == 1);
+  REQUIRE(dpc_engine_set_listener_pose(e, 0, 4.f, 1.5f, 2.f, 0.f, 0.f) == DPC_OK);
+  REQUIRE(dpc_engine_teleport_listener(e, 0) == DPC_OK);
+  REQUIRE(dpc_engine_step(e) == DPC_OK);
+  CHECK(energy(ir(e, 0), ir(e, 0).size()) > 0.0);
+  CHECK(logged.saying("hears the sources again") == 1);
+  CHECK(logged.saying(silent) == 1);
+  dpc_set_log_callback(nullptr, nullptr);
+  dpc_engine_destroy(e);
+}

@@ -1,0 +1,51 @@
+#include "runtime/silence_watch.h"
+
+#include <cstdio>
+
+#include "common/log.h"
+
+namespace dpc {
+
+bool hearsSource(const Simulation& sim, size_t source, size_t listener,
+                 const BakedPlayback* baked) {
+  if (baked && baked->plays(source, listener)) return true;
+  const Simulation::SourceResult& r = sim.result(source, listener);
+  if (r.direct.visible || !sim.specularPaths(source, listener).empty()) return true;
+  const Bands total = r.energy.total();
+  for (int b = 0; b < kNumBands; ++b)
+    if (total[b] > 0.f) return true;
+  return false;
+}
+
+void SilenceWatch::update(const Simulation& sim, size_t listener, const std::string& name,
+                          glm::vec3 position, const BakedPlayback* baked) {
+  if (listener >= heard_.size()) heard_.resize(listener + 1, -1);
+  bool hears = false;
+  for (size_t s = 0; s < sim.sourceCount() && !hears; ++s)
+    hears = hearsSource(sim, s, listener, baked);
+  const signed char now = hears ? 1 : 0;
+  // The first frame says only silence: hearing is what a listener is expected to do.
+  if (now != heard_[listener] && (heard_[listener] >= 0 || !hears))
+    log(!hears, listener, name, position, sim.sourceCount());
+  heard_[listener] = now;
+}
+
+void SilenceWatch::log(bool silent, size_t listener, const std::string& name, glm::vec3 position,
+                       size_t sources) {
+  if (lines_ >= kMaxSilenceLines) return;
+  ++lines_;
+  char where[160];
+  std::snprintf(where, sizeof where, "listener %zu \"%s\" at (%.2f, %.2f, %.2f) m", listener,
+                name.c_str(), double(position.x), double(position.y), double(position.z));
+  const std::string bound =
+      lines_ == kMaxSilenceLines ? " (further changes of what it hears are not logged)" : "";
+  if (silent)
+    logMessage(LogLevel::kWarning,
+               std::string(where) + " hears none of the " + std::to_string(sources) +
+                   " sources: no direct sound and no path reaches it (outside the room, inside "
+                   "a solid, or sealed off?)" + bound);
+  else
+    logMessage(LogLevel::kInfo, std::string(where) + " hears the sources again" + bound);
+}
+
+}  // namespace dpc

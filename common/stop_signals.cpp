@@ -14,7 +14,13 @@ static_assert(std::atomic<int>::is_always_lock_free);
 
 extern "C" void recordStopSignal(int signal) {
   int none = 0;
-  received.compare_exchange_strong(none, signal, std::memory_order_relaxed);
+  if (received.compare_exchange_strong(none, signal, std::memory_order_relaxed)) return;
+  // A second request (not a reader gone: every later write raises SIGPIPE again) ends the
+  // process at once, as the user asks, by the signal's default action (both calls are
+  // async-signal-safe).
+  if (signal == SIGPIPE) return;
+  ::signal(signal, SIG_DFL);
+  ::raise(signal);
 }
 
 std::string signalName(int signal) {

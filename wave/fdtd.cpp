@@ -204,7 +204,7 @@ std::vector<std::vector<float>> simulate(const WaveGrid& grid, const SimulationI
       if (sh.receiverOwner[r] == sh.rank) out[r][n] = sample(in.receivers[r], sh.base, p.data());
     if (n + 1 < in.steps) advance(grid, k, sh, in, n, p.data(), q.data(), next);
     std::swap(p, q);
-    if (in.progress && (n % 256 == 255 || n + 1 == in.steps)) in.progress(n + 1, in.steps);
+    if (in.progress) in.progress(n + 1, in.steps);
   }
   if (in.link)
     for (size_t r = 0; r < out.size(); ++r) in.link->broadcast(out[r], sh.receiverOwner[r]);

@@ -91,7 +91,8 @@ struct SimulationInput {
   std::span<const float> signal;  ///< q^n, m^3/s^2, one value per step (then 0)
   std::span<const Stencil> receivers;
   size_t steps = 0;
-  /// Called now and then from the calling thread with (steps done, steps); may be empty.
+  /// Called after every step from the calling thread with (steps done, steps), so that a stop
+  /// request it checks ends the run within one step; may be empty (callers throttle output).
   std::function<void(size_t, size_t)> progress;
   /// The processes sharing the simulation; null: this process updates every slice.
   SlabLink* link = nullptr;

@@ -493,6 +493,19 @@ def stop(build, tmp):
         check(p.returncode == 128 + sig and ('interrupted by ' + name) in err and not left,
               'dpc-wave stopped by %s: status %d, a line naming it, no file (%r, %s)' %
               (name, p.returncode, err.strip().splitlines()[-1:], left))
+    # A second request ends it at once, by the signal: both are delivered together (held while
+    # the process is stopped), so the first cannot have ended the run before the second came.
+    p = subprocess.Popen([exe, box, '--out', os.path.join(tmp, 'stop_twice.wav'), '--seconds',
+                          '30'], stderr=subprocess.PIPE, text=True)
+    p.stderr.readline()
+    p.send_signal(signal.SIGSTOP)
+    p.send_signal(signal.SIGINT)
+    p.send_signal(signal.SIGTERM)
+    p.send_signal(signal.SIGCONT)
+    p.stderr.read()
+    p.wait()
+    check(p.returncode in (-signal.SIGINT, -signal.SIGTERM),
+          'dpc-wave asked twice to stop ends by the signal at once: status %d' % p.returncode)
 
 
 def main():

@@ -105,10 +105,12 @@ TEST_CASE("Door gaps: a slatted screen never takes the direct sound away", "[dif
     std::printf("slatted screen, listener z %.2f m: direct re free field (dB)", double(z));
     for (int b = 0; b < kNumBands; ++b) std::printf(" %5.1f", double(level[b]));
     std::printf("\n");
-    for (int b = 0; b < 3; ++b) {
+    for (int b = 0; b < kNumBands; ++b) {
       INFO("listener z " << z << ", band " << b);
-      CHECK(level[b] > -20.f);
-      // Nor above the free field by more than the knife edge's lit-side ripple (+1.37 dB).
+      if (b < 3) CHECK(level[b] > -20.f);
+      // Nor above the free field by more than the knife edge's lit-side ripple (+1.37 dB), in
+      // any band: with the line of sight through a slot 4 and 8 kHz read up to 3.4 and 12.5 dB
+      // above it (the slats' edge terms in phase along the row).
       CHECK(level[b] < 10.f * std::log10(kLitRipple) + 0.05f);
     }
   }

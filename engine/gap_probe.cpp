@@ -19,6 +19,12 @@ constexpr int kAlong = 4;            // points along the edge either side of Q
 constexpr float kLegStart = 1e-3f;   // m: the legs start this far from the source and listener
 constexpr float kInnerWidth = 0.5f;  // along the edge: a gap is free this many widths across
 constexpr float kOuterWidth = 1.5f;  // and closed within this many
+/// Or closed this many widths across: a far side met at a slant (a leaf ajar, its face running
+/// past the jamb's corner) closes the gap just past its width and may be clear by kOuterWidth,
+/// where the point has left the gap beside the leaf's rim.
+constexpr float kMiddleWidth = 1.2f;
+/// Points per test of a gap along its edge (addGapTest): inner, middle, outer.
+constexpr size_t kGapTestPoints = 3;
 constexpr float kFlank = 0.04f;      // m: where a free Q's flanks are probed (probeFlanks)
 constexpr int kEndSteps = 8;         // bisection steps for where a gap ends (findEnds)
 
@@ -311,12 +317,20 @@ void probeFlanks(const Tracer& tracer, const glm::vec3& source, const glm::vec3&
   }
 }
 
-/// Adds the two points that tell whether gap j (width w) is still there at `a` m along its edge
-/// from Q: free 0.5 w across the mouth, blocked within 1.5 w.
-void addGapTest(Round& round, size_t j, const GapProbe& g, float w, float a) {
+/// Adds the kGapTestPoints points that tell whether gap j (width w) is still there at `a` m along
+/// its edge from Q (valid: within the edge): free 0.5 w across the mouth, blocked at 1.2 or 1.5 w.
+void addGapTest(Round& round, size_t j, const GapProbe& g, float w, float a, bool valid = true) {
   const glm::vec3 base = g.q + a * g.along;
-  round.add(j, base + kInnerWidth * w * g.mouth);
-  round.add(j, base + kOuterWidth * w * g.mouth);
+  round.add(j, base + kInnerWidth * w * g.mouth, valid);
+  round.add(j, base + kMiddleWidth * w * g.mouth, valid);
+  round.add(j, base + kOuterWidth * w * g.mouth, valid);
+}
+
+/// Whether test t of a round made by addGapTest found the gap (its points' closers).
+bool gapTestHolds(const Round& round, const std::vector<uint32_t>& closer, size_t t) {
+  const size_t k = kGapTestPoints * t;
+  return round.valid[k] && closer[k] == kNoCloser &&
+         (closer[k + 1] != kNoCloser || closer[k + 2] != kNoCloser);
 }
 
 /// For each gap, where it ends along its edge either side of Q: the edge's end when the gap is
@@ -344,7 +358,7 @@ void findEnds(const Tracer& tracer, const glm::vec3& source, const glm::vec3& li
     const std::vector<uint32_t> closer = run(tracer, source, listener, probes, round);
     for (size_t i = 0; i < at.size(); ++i) {
       const auto [n, s] = side[i];
-      const bool gap = closer[2 * i] == kNoCloser && closer[2 * i + 1] != kNoCloser;
+      const bool gap = gapTestHolds(round, closer, i);
       // Still there at the edge's end: it runs to the end (lo = hi there).
       (gap ? lo : hi)[n][s] = at[i];
       if (step < 0 && gap) hi[n][s] = at[i];
@@ -432,8 +446,7 @@ void probeGaps(const Tracer& tracer, const glm::vec3& source, const glm::vec3& l
   findWidths(tracer, source, listener, probes, shapes);
   probeFlanks(tracer, source, listener, probes, shapes);
   // Along the edge, 1 .. kAlong widths either side of Q: is there still a gap (free at half a
-  // width across the mouth) that closes within 1.5 widths? Points: per probe and offset, the
-  // inner then the outer one.
+  // width across the mouth) that closes within 1.5 widths? Tests per probe: side, then offset.
   Round round;
   std::vector<size_t> gaps;
   for (size_t j = 0; j < probes.size(); ++j) {
@@ -443,22 +456,17 @@ void probeGaps(const Tracer& tracer, const glm::vec3& source, const glm::vec3& l
     for (int side = -1; side <= 1; side += 2)
       for (int i = 1; i <= kAlong; ++i) {
         const float a = float(side * i) * w;
-        const bool within = a >= probes[j].from && a <= probes[j].to;
-        const glm::vec3 base = probes[j].q + a * probes[j].along;
-        round.add(j, base + kInnerWidth * w * probes[j].mouth, within);
-        round.add(j, base + kOuterWidth * w * probes[j].mouth, within);
+        addGapTest(round, j, probes[j], w, a, a >= probes[j].from && a <= probes[j].to);
       }
   }
   if (gaps.empty()) return;
   const std::vector<uint32_t> closer = run(tracer, source, listener, probes, round);
   for (size_t n = 0; n < gaps.size(); ++n) {
     int run = 0;
-    for (int side = 0; side < 2; ++side)
-      for (int i = 0; i < kAlong; ++i) {
-        const size_t k = (n * 2 * kAlong + size_t(side * kAlong + i)) * 2;
-        if (!round.valid[k] || closer[k] != kNoCloser || closer[k + 1] == kNoCloser) break;
+    for (size_t side = 0; side < 2; ++side)
+      for (size_t i = 0; i < kAlong && gapTestHolds(round, closer, (n * 2 + side) * kAlong + i);
+           ++i)
         ++run;
-      }
     shapes[gaps[n]].aspect = float(run);
   }
   findEnds(tracer, source, listener, probes, gaps, shapes);

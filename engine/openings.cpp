@@ -131,9 +131,11 @@ Opening openingAt(const BoundQuery& q, const DiffractionEdge& e, const glm::vec3
 }
 
 /// Whether channel p's opening at a mouth (its slit without depth: widenOpenChannel) is the
-/// one beside point B: B on its front or back edge's line.
+/// one beside point B on edge e: p's edge parallel to e, B on its front or back edge's line (a
+/// leaf's top channel ends at the rim's corner, on the rim's line, but is not the rim's opening).
 bool mouthOf(const EdgePath& p, const DiffractionEdge& e, const glm::vec3& B) {
   if (p.through == glm::vec3(0.f) || p.slit.depth != 0.0) return false;
+  if (std::abs(glm::dot(p.edge->direction, e.direction)) < kParallelEdges) return false;
   const glm::vec3 front = square(B - p.edge->a, e.direction);
   return glm::length(front) < kOnEdge ||
          glm::length(front - square(p.through, e.direction)) < kOnEdge;

@@ -22,10 +22,7 @@ constexpr double kInsideTolerance = 1e-6;
 /// Reflection points closer than this (metres) and lengths equal within it are one path.
 constexpr float kSamePointMetres = 1e-4f;
 
-struct Plane {
-  glm::dvec3 n{0.0};  ///< unit normal
-  double d = 0.0;     ///< n . x = d on the plane
-};
+using Plane = FacePlane;
 
 bool planeOf(const glm::dvec3& v0, const glm::dvec3& v1, const glm::dvec3& v2, Plane& p) {
   const glm::dvec3 c = glm::cross(v1 - v0, v2 - v0);
@@ -137,13 +134,11 @@ void SpecularScene::setObjectPose(size_t object, const Pose& pose) {
     *out++ = {r * t.v0 + pose.position, r * t.v1 + pose.position, r * t.v2 + pose.position};
 }
 
-bool SpecularScene::construct(const SpecularSequence& seq, const glm::dvec3& source,
-                              const glm::dvec3& listener, SpecularPath& path,
-                              glm::dvec3& image) const {
+bool SpecularScene::mirror(const SpecularSequence& seq, const glm::dvec3& source,
+                           std::array<Plane, kMaxExactOrder>& planes,
+                           std::array<glm::dvec3, kMaxExactOrder + 1>& images) const {
   const uint32_t k = seq.order;
   if (k < 1 || k > uint32_t(kMaxExactOrder)) return false;
-  std::array<Plane, kMaxExactOrder> planes;
-  std::array<glm::dvec3, kMaxExactOrder + 1> images;  // S_0 .. S_k
   images[0] = source;
   for (uint32_t i = 0; i < k; ++i) {
     if (seq.triangles[i] >= world_.size()) return false;
@@ -153,6 +148,25 @@ bool SpecularScene::construct(const SpecularSequence& seq, const glm::dvec3& sou
     if (std::abs(dist) < 1e-9) return false;  // the previous image lies on the plane
     images[i + 1] = images[i] - 2.0 * dist * planes[i].n;
   }
+  return true;
+}
+
+bool SpecularScene::imageOf(const SpecularSequence& seq, const glm::vec3& source,
+                            glm::dvec3& image) const {
+  std::array<Plane, kMaxExactOrder> planes;
+  std::array<glm::dvec3, kMaxExactOrder + 1> images;
+  if (!mirror(seq, source, planes, images)) return false;
+  image = images[seq.order];
+  return true;
+}
+
+bool SpecularScene::construct(const SpecularSequence& seq, const glm::dvec3& source,
+                              const glm::dvec3& listener, SpecularPath& path,
+                              glm::dvec3& image) const {
+  const uint32_t k = seq.order;
+  std::array<Plane, kMaxExactOrder> planes;
+  std::array<glm::dvec3, kMaxExactOrder + 1> images;  // S_0 .. S_k
+  if (!mirror(seq, source, planes, images)) return false;
   glm::dvec3 p = listener;  // P_{i+1}, starting at the listener
   for (uint32_t i = k; i-- > 0;) {
     const Plane& pl = planes[i];
@@ -393,7 +407,31 @@ void SpecularPathCache::update(const SpecularCandidates& frame, const SpecularSc
   addCandidates(frame, scene, inputs, still, frameIndex);
   validKeys_.clear();
   for (const SpecularPath& p : paths_) validKeys_.insert(p.key);
+  addImageAliases(frame, scene, inputs);
   removeDuplicates();
+}
+
+void SpecularPathCache::addImageAliases(const SpecularCandidates& frame,
+                                        const SpecularScene& scene, const SpecularInputs& in) {
+  validImages_.clear();
+  for (const SpecularPath& p : paths_) {
+    SpecularSequence s;
+    s.triangles = p.triangles;
+    s.order = p.order;
+    glm::dvec3 image;
+    if (p.order >= 2 && scene.imageOf(s, in.source, image)) validImages_.push_back({p.order, image});
+  }
+  if (validImages_.empty()) return;
+  for (const SpecularSequence& s : frame.sequences()) {
+    if (s.order < 2 || validKeys_.contains(s.key())) continue;
+    glm::dvec3 image;
+    if (!scene.imageOf(s, in.source, image)) continue;
+    for (const ValidImage& v : validImages_)
+      if (v.order == s.order && glm::distance(v.image, image) <= double(kSamePointMetres)) {
+        validKeys_.insert(s.key());
+        break;
+      }
+  }
 }
 
 void SpecularPathCache::weightBySource(const Directivity& directivity, const glm::vec3& forward,

@@ -118,6 +118,12 @@ class SpecularCandidates {
   uint64_t overflow_ = 0;
 };
 
+/// A face's plane: n . x = d for its points x (n a unit normal, metres).
+struct FacePlane {
+  glm::dvec3 n{0.0};
+  double d = 0.0;
+};
+
 /// The scene's triangles in world coordinates at the current poses, and the image-source
 /// validation of a sequence.
 class SpecularScene {
@@ -139,11 +145,19 @@ class SpecularScene {
   /// clamped at radius / 2): true and `path` filled when it exists (above), false otherwise.
   bool validate(const SpecularSequence& sequence, const glm::vec3& source,
                 const glm::vec3& listener, float radius, SpecularPath& path) const;
+  /// The image S_k of `sequence` for a source at `source` (metres): the source mirrored in
+  /// each face's plane in turn, whether or not the path exists for any listener; false when
+  /// a face is degenerate or an image lies on the next face's plane. No allocation.
+  bool imageOf(const SpecularSequence& sequence, const glm::vec3& source, glm::dvec3& image) const;
 
  private:
   struct Triangle {
     glm::vec3 v0{0.f}, v1{0.f}, v2{0.f};
   };
+  /// The planes of the sequence's faces and the images S_0 .. S_k; false as imageOf.
+  bool mirror(const SpecularSequence& sequence, const glm::dvec3& source,
+              std::array<FacePlane, kMaxExactOrder>& planes,
+              std::array<glm::dvec3, kMaxExactOrder + 1>& images) const;
   /// Fills path.points, returns the image S_k; false when the construction fails.
   bool construct(const SpecularSequence& sequence, const glm::dvec3& source,
                  const glm::dvec3& listener, SpecularPath& path, glm::dvec3& image) const;
@@ -219,7 +233,11 @@ class SpecularPathCache {
 
   const std::vector<SpecularPath>& paths() const { return paths_; }
   /// Keys (SpecularSequence::key) of every sequence valid in the last update(), the coincident
-  /// duplicates that paths() reports once included: the sequences whose rays' listener hits an
+  /// duplicates that paths() reports once included, and of this frame's candidates of order 2
+  /// or more whose image coincides with a valid path's of the same order (the two orders round
+  /// a right-angled corner, floor then wall and wall then floor, mirror the source to one
+  /// image; which of them reaches the listener's centre is valid, but rays reach the sphere
+  /// by both, and both sample the one arrival): the sequences whose rays' listener hits an
   /// exact path replaces (FrameHits::groupInto).
   const tsl::robin_set<uint64_t>& validKeys() const { return validKeys_; }
   size_t entryCount() const { return entries_.size(); }
@@ -243,6 +261,9 @@ class SpecularPathCache {
                      const SpecularInputs& in, bool still, uint64_t frameIndex);
   void removeEntry(size_t i);
   void removeDuplicates();
+  /// Adds the candidates' keys whose image is a valid path's to validKeys_ (validKeys()).
+  void addImageAliases(const SpecularCandidates& frame, const SpecularScene& scene,
+                       const SpecularInputs& in);
 
   uint64_t keepFrames_;  ///< tau in frames (rounded down)
   size_t capacity_;
@@ -251,6 +272,11 @@ class SpecularPathCache {
   std::vector<SpecularPath> paths_;
   std::vector<uint8_t> dropped_;  ///< scratch for removeDuplicates
   tsl::robin_set<uint64_t> validKeys_;
+  struct ValidImage {
+    uint32_t order;
+    glm::dvec3 image;
+  };
+  std::vector<ValidImage> validImages_;  ///< scratch for addImageAliases
   /// Candidates found invalid at inputs_ in the last update, and those of this update.
   tsl::robin_set<uint64_t> invalid_, invalidNext_;
   SpecularInputs inputs_;

@@ -274,12 +274,18 @@ bool SpecularScene::inGap(const SpecularPath& path, const glm::vec3& source,
 }
 
 bool SpecularScene::validate(const SpecularSequence& seq, const glm::vec3& source,
-                             const glm::vec3& listener, float radius, SpecularPath& path) const {
+                             const glm::vec3& listener, float radius, SpecularPath& path,
+                             bool* throughGap) const {
+  if (throughGap) *throughGap = false;
   path.order = seq.order;
   glm::dvec3 image;
   if (!construct(seq, source, listener, path, image)) return false;
   path.triangles = seq.triangles;
-  if (!visible(path, source, listener) || inGap(path, source, listener)) return false;
+  if (!visible(path, source, listener)) return false;
+  if (inGap(path, source, listener)) {
+    if (throughGap) *throughGap = true;
+    return false;
+  }
   const double length = glm::length(glm::dvec3(listener) - image);
   path.key = seq.key();
   std::fill(path.points.begin() + seq.order, path.points.end(), glm::vec3(0.f));  // unused
@@ -308,12 +314,14 @@ SpecularPathCache::SpecularPathCache(double tauSeconds, double framePeriodSecond
   paths_.reserve(initial);
   dropped_.reserve(initial);
   validKeys_.reserve(initial);
+  gapKeys_.reserve(initial);
   invalid_.reserve(initial);
   invalidNext_.reserve(initial);
 }
 
 void SpecularPathCache::clear() {
   validKeys_.clear();
+  gapKeys_.clear();
   entries_.clear();
   index_.clear();
   paths_.clear();
@@ -332,7 +340,9 @@ void SpecularPathCache::removeEntry(size_t i) {
 
 bool SpecularPathCache::validateEntry(Entry& e, const SpecularScene& scene,
                                       const SpecularInputs& in, bool still) {
-  if (!still) e.valid = scene.validate(e.sequence, in.source, in.listener, in.radius, e.path);
+  if (!still)
+    e.valid = scene.validate(e.sequence, in.source, in.listener, in.radius, e.path, &e.throughGap);
+  if (!e.valid && e.throughGap) gapKeys_.push_back(e.key);
   return e.valid;
 }
 
@@ -360,9 +370,13 @@ void SpecularPathCache::addCandidates(const SpecularCandidates& frame, const Spe
   for (const SpecularSequence& s : frame.sequences()) {
     const uint64_t key = s.key();
     if (index_.find(key) != index_.end()) continue;  // cached: validated above
-    if ((still && invalid_.count(key)) ||
-        !scene.validate(s, in.source, in.listener, in.radius, path)) {
-      invalidNext_.insert(key);
+    bool throughGap = false;
+    const auto known = still ? invalid_.find(key) : invalid_.end();
+    if (known != invalid_.end()) throughGap = known->second != 0;
+    if (known != invalid_.end() ||
+        !scene.validate(s, in.source, in.listener, in.radius, path, &throughGap)) {
+      invalidNext_.emplace(key, uint8_t(throughGap));
+      if (throughGap) gapKeys_.push_back(key);
       continue;
     }
     if (entries_.size() >= capacity_) {
@@ -370,7 +384,7 @@ void SpecularPathCache::addCandidates(const SpecularCandidates& frame, const Spe
       continue;
     }
     index_.emplace(key, uint32_t(entries_.size()));
-    entries_.push_back(Entry{s, key, frameIndex, true, path});
+    entries_.push_back(Entry{s, key, frameIndex, true, false, path});
     paths_.push_back(path);
   }
   std::swap(invalid_, invalidNext_);
@@ -403,10 +417,12 @@ void SpecularPathCache::update(const SpecularCandidates& frame, const SpecularSc
   inputs_ = inputs;
   updated_ = true;
   paths_.clear();
+  gapKeys_.clear();
   revalidate(frame, scene, inputs, still, frameIndex);
   addCandidates(frame, scene, inputs, still, frameIndex);
   validKeys_.clear();
   for (const SpecularPath& p : paths_) validKeys_.insert(p.key);
+  validKeys_.insert(gapKeys_.begin(), gapKeys_.end());
   addImageAliases(frame, scene, inputs);
   removeDuplicates();
 }

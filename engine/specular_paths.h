@@ -142,9 +142,12 @@ class SpecularScene {
   void setObjectPose(size_t object, const Pose& pose);
 
   /// The path of `sequence` from source to the listener sphere's centre (the spreading is
-  /// clamped at radius / 2): true and `path` filled when it exists (above), false otherwise.
+  /// clamped at radius / 2): true and `path` filled when it exists (above), false otherwise;
+  /// *throughGap (when not null) true when it was refused only because it passes through a
+  /// gap (inGap), whose transmission is the slit's in the direct sound (engine/slit.h).
   bool validate(const SpecularSequence& sequence, const glm::vec3& source,
-                const glm::vec3& listener, float radius, SpecularPath& path) const;
+                const glm::vec3& listener, float radius, SpecularPath& path,
+                bool* throughGap = nullptr) const;
   /// The image S_k of `sequence` for a source at `source` (metres): the source mirrored in
   /// each face's plane in turn, whether or not the path exists for any listener; false when
   /// a face is degenerate or an image lies on the next face's plane. No allocation.
@@ -238,7 +241,12 @@ class SpecularPathCache {
   /// a right-angled corner, floor then wall and wall then floor, mirror the source to one
   /// image; which of them reaches the listener's centre is valid, but rays reach the sphere
   /// by both, and both sample the one arrival): the sequences whose rays' listener hits an
-  /// exact path replaces (FrameHits::groupInto).
+  /// exact path replaces (FrameHits::groupInto); and of the sequences refused only because they
+  /// pass through a gap a few centimetres wide (SpecularScene::validate's throughGap): what
+  /// goes straight through a gap, its reflections inside it included, is the slit's
+  /// transmission in the direct sound, which a beam of rays a gap wide, far narrower than the
+  /// first Fresnel zone, would count again (a shut door's 10 mm gaps: a few rays, flat in
+  /// frequency, as much as the slit's own level and flickering from frame to frame).
   const tsl::robin_set<uint64_t>& validKeys() const { return validKeys_; }
   size_t entryCount() const { return entries_.size(); }
   /// Valid sequences not cached because the cache was full, cumulative.
@@ -251,6 +259,7 @@ class SpecularPathCache {
     uint64_t key = 0;
     uint64_t lastAlive = 0;  ///< last frame it was valid or proposed by a ray
     bool valid = false;      ///< its last validation's result, with its path when valid
+    bool throughGap = false;  ///< invalid only because it passes through a gap (validate)
     SpecularPath path;
   };
   /// Validates entry e at the inputs, or takes its last result when `still`.
@@ -277,8 +286,10 @@ class SpecularPathCache {
     glm::dvec3 image;
   };
   std::vector<ValidImage> validImages_;  ///< scratch for addImageAliases
-  /// Candidates found invalid at inputs_ in the last update, and those of this update.
-  tsl::robin_set<uint64_t> invalid_, invalidNext_;
+  /// Candidates found invalid at inputs_ in the last update, and those of this update, each
+  /// with 1 when only a gap refused it.
+  tsl::robin_map<uint64_t, uint8_t> invalid_, invalidNext_;
+  std::vector<uint64_t> gapKeys_;  ///< this update's sequences refused only by a gap
   SpecularInputs inputs_;
   bool updated_ = false;  ///< inputs_ holds an update's inputs
   uint64_t overflow_ = 0;

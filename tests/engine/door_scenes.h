@@ -100,6 +100,42 @@ inline SceneDesc thickDoorwayScene(float depth, bool doubleSided, float alpha = 
   return s;
 }
 
+/// A wall standing alone, 60 x 62 m and `depth` thick (x from -depth/2 to depth/2, no floor: the
+/// sill is its reveal), with a doorway 0.9 x 2.1 m (z -0.45..0.45, y 0..2.1): one closed solid,
+/// single-sided faces, their normals out into the air if `outward`, else into the wall (as the
+/// held-out sweep's generator wrote them).
+inline void addFreeWallDoorway(Mesh& mesh, float depth, bool outward) {
+  const float x0 = -0.5f * depth, x1 = 0.5f * depth, dz = 0.45f, dh = 2.1f;
+  const auto quad = [&](glm::vec3 a, glm::vec3 b, glm::vec3 d) {
+    if (outward) std::swap(b, d);
+    const auto base = uint32_t(mesh.vertices.size());
+    mesh.vertices.insert(mesh.vertices.end(), {a, b, b + d - a, d});
+    for (const std::array<uint32_t, 3>& t : {std::array<uint32_t, 3>{0, 1, 2}, {0, 2, 3}}) {
+      mesh.triangles.push_back({base + t[0], base + t[1], base + t[2]});
+      mesh.materialIndex.push_back(0);
+    }
+  };
+  const float zs[] = {-30.f, -dz, dz, 30.f}, ys[] = {-30.f, 0.f, dh, 32.f};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      if (i == 1 && j == 1) continue;
+      const float za = zs[i], zb = zs[i + 1], ya = ys[j], yb = ys[j + 1];
+      quad({x0, ya, za}, {x0, yb, za}, {x0, ya, zb});
+      quad({x1, ya, za}, {x1, ya, zb}, {x1, yb, za});
+    }
+  for (int i = 0; i < 3; ++i) {  // the wall's rims
+    quad({x0, 32.f, zs[i]}, {x0, 32.f, zs[i + 1]}, {x1, 32.f, zs[i]});
+    quad({x0, -30.f, zs[i]}, {x1, -30.f, zs[i]}, {x0, -30.f, zs[i + 1]});
+    quad({x0, ys[i], -30.f}, {x1, ys[i], -30.f}, {x0, ys[i + 1], -30.f});
+    quad({x0, ys[i], 30.f}, {x0, ys[i + 1], 30.f}, {x1, ys[i], 30.f});
+  }
+  quad({x0, 0.f, -dz}, {x1, 0.f, -dz}, {x0, dh, -dz});  // the reveals
+  quad({x0, 0.f, dz}, {x0, dh, dz}, {x1, 0.f, dz});
+  quad({x0, dh, -dz}, {x1, dh, -dz}, {x0, dh, dz});
+  quad({x0, 0.f, -dz}, {x0, 0.f, dz}, {x1, 0.f, -dz});
+}
+
+
 /// thickDoorwayScene(depth)'s doorway closed by a leaf standing on the floor `gap` metres from
 /// the jambs and the lintel: a sheet in the plane x (thickness 0) or a solid box `thickness`
 /// metres deep centred on it (a real door's leaf, set in its frame). All of absorption alpha.

@@ -21,6 +21,11 @@ namespace {
 constexpr double kInsideTolerance = 1e-6;
 /// Reflection points closer than this (metres) and lengths equal within it are one path.
 constexpr float kSamePointMetres = 1e-4f;
+/// Images of one order closer than kSamePointMetres plus twice their distance from the source
+/// times this are one image: the orders round a corner built within a quarter of a degree of
+/// square (a surveyed or hand-made mesh: 89.9 degrees mirrors the source 1.7 cm apart at 5 m)
+/// arrive within 0.05 ms and one degree of each other.
+constexpr double kSameImageSine = 4.4e-3;
 
 using Plane = FacePlane;
 
@@ -435,19 +440,33 @@ void SpecularPathCache::addImageAliases(const SpecularCandidates& frame,
     s.triangles = p.triangles;
     s.order = p.order;
     glm::dvec3 image;
-    if (p.order >= 2 && scene.imageOf(s, in.source, image)) validImages_.push_back({p.order, image});
+    if (scene.imageOf(s, in.source, image)) validImages_.push_back({p.order, image});
   }
   if (validImages_.empty()) return;
-  for (const SpecularSequence& s : frame.sequences()) {
-    if (s.order < 2 || validKeys_.contains(s.key())) continue;
-    glm::dvec3 image;
-    if (!scene.imageOf(s, in.source, image)) continue;
-    for (const ValidImage& v : validImages_)
-      if (v.order == s.order && glm::distance(v.image, image) <= double(kSamePointMetres)) {
-        validKeys_.insert(s.key());
-        break;
-      }
-  }
+  std::sort(validImages_.begin(), validImages_.end(), [](const ValidImage& a, const ValidImage& b) {
+    return a.order != b.order ? a.order < b.order : a.image.x < b.image.x;
+  });
+  for (const SpecularSequence& s : frame.sequences())
+    if (!validKeys_.contains(s.key()) && sameImageAsValid(s, scene, in.source))
+      validKeys_.insert(s.key());
+}
+
+bool SpecularPathCache::sameImageAsValid(const SpecularSequence& s, const SpecularScene& scene,
+                                         const glm::vec3& source) const {
+  glm::dvec3 image;
+  if (!scene.imageOf(s, source, image)) return false;
+  const double tolerance = double(kSamePointMetres) +
+                           2.0 * glm::distance(image, glm::dvec3(source)) * kSameImageSine;
+  auto it = std::lower_bound(validImages_.begin(), validImages_.end(),
+                             ValidImage{s.order, image - glm::dvec3(tolerance, 0.0, 0.0)},
+                             [](const ValidImage& a, const ValidImage& b) {
+                               return a.order != b.order ? a.order < b.order
+                                                         : a.image.x < b.image.x;
+                             });
+  for (; it != validImages_.end() && it->order == s.order && it->image.x <= image.x + tolerance;
+       ++it)
+    if (glm::distance(it->image, image) <= tolerance) return true;
+  return false;
 }
 
 void SpecularPathCache::weightBySource(const Directivity& directivity, const glm::vec3& forward,

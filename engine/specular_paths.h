@@ -236,8 +236,9 @@ class SpecularPathCache {
 
   const std::vector<SpecularPath>& paths() const { return paths_; }
   /// Keys (SpecularSequence::key) of every sequence valid in the last update(), the coincident
-  /// duplicates that paths() reports once included, and of this frame's candidates of order 2
-  /// or more whose image coincides with a valid path's of the same order (the two orders round
+  /// duplicates that paths() reports once included, and of this frame's candidates whose image
+  /// coincides with a valid path's of the same order (two coplanar faces of different materials
+  /// at order 1, a window in a wall; the two orders round
   /// a right-angled corner, floor then wall and wall then floor, mirror the source to one
   /// image; which of them reaches the listener's centre is valid, but rays reach the sphere
   /// by both, and both sample the one arrival): the sequences whose rays' listener hits an
@@ -270,9 +271,13 @@ class SpecularPathCache {
                      const SpecularInputs& in, bool still, uint64_t frameIndex);
   void removeEntry(size_t i);
   void removeDuplicates();
-  /// Adds the candidates' keys whose image is a valid path's to validKeys_ (validKeys()).
+  /// Adds the candidates' keys whose image is a valid path's to validKeys_ (validKeys()),
+  /// every update: the valid paths change as the rays propose sequences, still pair or not.
   void addImageAliases(const SpecularCandidates& frame, const SpecularScene& scene,
                        const SpecularInputs& in);
+  /// Whether s's image coincides with one of validImages_ of its order (kSameImageSine).
+  bool sameImageAsValid(const SpecularSequence& s, const SpecularScene& scene,
+                        const glm::vec3& source) const;
 
   uint64_t keepFrames_;  ///< tau in frames (rounded down)
   size_t capacity_;

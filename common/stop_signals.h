@@ -4,9 +4,10 @@
 // handler only records the signal; the program checks it at safe points (between rendered blocks,
 // before committing its outputs), unwinds with Interrupted so that every temporary output file is
 // removed, and exits with 128 + the signal's number after one line on stderr
-// (common/program_main.h). A second SIGINT, SIGTERM or SIGHUP ends the process at once by the
-// signal's default action (a run that does not reach its next safe point soon enough), and may
-// leave a temporary output file (named OUT.tmp-XXXXXX) behind.
+// (common/program_main.h). A second SIGINT or SIGTERM a quarter of a second or more after the
+// first (a person pressing Ctrl-C again while a long step runs; not the same request delivered
+// twice, as a terminal and mpirun both do) ends the process at once by the signal's default
+// action, and may leave a temporary output file (named OUT.tmp-XXXXXX) behind.
 #pragma once
 
 #include <stdexcept>

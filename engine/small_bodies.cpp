@@ -160,6 +160,9 @@ std::vector<SmallGroup> smallSurfaces(const std::vector<EdgePath>& paths, const 
 /// a slotted screen of such slats still passes the sound within about 2 dB (the mass law of its
 /// slots' air, m' = rho d / sigma, at a third open and 4 cm deep: 3 dB at 250 Hz).
 constexpr double kThinBound = 1.0, kThinFloor = 0.125;
+/// Bands (63 Hz to 1 kHz) in which a group must be thin by kThinBound to be held in every band
+/// (smallBands).
+constexpr int kRowThinBands = 5;
 
 /// The bands (the lowest ones) in which a silhouette `across` metres wide is thin: k a <= ka.
 int thinBands(float across, float speedOfSound, double ka) {
@@ -185,13 +188,14 @@ int thinTogether(const std::vector<uint32_t>& removed, const BoundQuery& q) {
 /// or a leaf seen edge on shadows no more than its thickness, a long body scatters per length
 /// as its cross-section does) and, if `fresnel`, its least excess under half the wavelength (a
 /// group farther out leaves the sum alone). Without `fresnel` (the groups together,
-/// smallGroupsBound), a group small in the lowest band is held in every band: above the bands
-/// where its bodies are small, their edges' first-order terms, each an infinite edge's and
-/// blind to the bodies beside it, still add up in phase along a row of slats or posts (a
-/// slatted screen 3.1 / 11.8 dB above the free field at 4 / 8 kHz with the line of sight
-/// through a slot, a grid of 5 cm posts 4.5 dB), while a row of bodies passes at most what
-/// comes through between them; what the bound takes there is at most the part of a face's
-/// reflection-boundary term above kLitRipple, whose reflection is an exact path or rays'.
+/// smallGroupsBound), a group thin up to kRowThinBands (a slat, a post, a rail: up to about
+/// 11 cm across) is held in every band: above the bands where its bodies are thin, their edges'
+/// first-order terms, each an infinite edge's and blind to the bodies beside it, still add up
+/// in phase along a row of slats or posts (a slatted screen +3.4 / +12.5 dB re free field at 4
+/// / 8 kHz with the line of sight through a slot, a grid of 5 cm posts +4.5 dB), while a row of
+/// bodies passes at most what comes through between them. Such narrow faces' reflections are
+/// exact paths or rays'; what the bound takes is at most the part of their reflection-boundary
+/// terms above kLitRipple. Wider bodies (seats, furniture) keep their reflection-boundary terms.
 int smallBands(const SmallGroup& group, float speedOfSound, bool fresnel = true) {
   const int thin = thinBands(group.across, speedOfSound, kThinBound);
   int bands = 0;
@@ -201,7 +205,8 @@ int smallBands(const SmallGroup& group, float speedOfSound, bool fresnel = true)
     if (!small || (fresnel && !(group.excess < 0.5 * wavelength))) break;
     ++bands;
   }
-  return !fresnel && bands > 0 ? kNumBands : bands;
+  const bool row = thin >= kRowThinBands;
+  return !fresnel && bands > 0 && row ? kNumBands : bands;
 }
 
 /// Whether the edge paths on the surfaces g (sorted; their band amplitudes `amplitude`,

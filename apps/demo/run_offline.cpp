@@ -216,10 +216,10 @@ int runOffline(const Flags& fl) {
   // Several listeners: one propagation run traces them all (one pass per source and frame).
   opt.allListeners = paths.size() > 1;
   if (!fl.quiet) opt.progress = progressBar;
-  if (!fl.quiet)
-    opt.waveProgress = [&scene](size_t s, size_t done, size_t total) {
-      waveProgress(scene, s, done, total);
-    };
+  opt.waveProgress = [&scene, quiet = fl.quiet](size_t s, size_t done, size_t total) {
+    throwIfStopped();  // between grid steps: the wave band can take minutes
+    if (!quiet) waveProgress(scene, s, done, total);
+  };
   throwIfStopped();
   Writers writers = openWriters(scene, paths);
   // --gain-db is applied as the blocks are written; a stop signal ends the render here.

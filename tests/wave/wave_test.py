@@ -55,6 +55,7 @@ import os
 import subprocess
 import sys
 import tempfile
+import time
 
 import numpy as np
 
@@ -493,8 +494,9 @@ def stop(build, tmp):
         check(p.returncode == 128 + sig and ('interrupted by ' + name) in err and not left,
               'dpc-wave stopped by %s: status %d, a line naming it, no file (%r, %s)' %
               (name, p.returncode, err.strip().splitlines()[-1:], left))
-    # A second request ends it at once, by the signal: both are delivered together (held while
-    # the process is stopped), so the first cannot have ended the run before the second came.
+    # Two requests delivered together (a terminal's Ctrl-C and mpirun's, a hangup and the
+    # shell's) are one: held while the process is stopped, both arrive at once, and the run
+    # stops as for one (a request repeated a quarter of a second later would end it at once).
     p = subprocess.Popen([exe, box, '--out', os.path.join(tmp, 'stop_twice.wav'), '--seconds',
                           '30'], stderr=subprocess.PIPE, text=True)
     p.stderr.readline()
@@ -502,10 +504,39 @@ def stop(build, tmp):
     p.send_signal(signal.SIGINT)
     p.send_signal(signal.SIGTERM)
     p.send_signal(signal.SIGCONT)
-    p.stderr.read()
+    err = p.stderr.read()
     p.wait()
-    check(p.returncode in (-signal.SIGINT, -signal.SIGTERM),
-          'dpc-wave asked twice to stop ends by the signal at once: status %d' % p.returncode)
+    left = [f for f in os.listdir(tmp) if f.startswith('stop_twice.wav')]
+    check(p.returncode in (128 + signal.SIGINT, 128 + signal.SIGTERM) and 'interrupted by' in err
+          and not left, 'dpc-wave asked twice at once stops as asked once: status %d, files %s' %
+          (p.returncode, left))
+    # dpc-demo --offline simulates the scene's wave band before its first frame (here minutes):
+    # a stop request ends it there, with --quiet too (no progress lines to read, so the signal
+    # comes once the run is under way), not only after the band.
+    demo = os.path.join(build, 'apps', 'dpc-demo')
+    out = os.path.join(tmp, 'stop_demo.wav')
+    big = oracle.write_box(tmp, 'stop_big', (6.0, 4.0, 3.0), {w: 0.1 for w in ('x-', 'x+', 'y-',
+                           'y+', 'z-', 'z+')}, [(1.0, 1.0, 1.0)], [(4.0, 2.5, 1.2)],
+                           {'max_frequency': 1500})  # minutes of grid steps
+    with open(big) as f:
+        scene = json.load(f)
+    scene['sources'][0]['signal'] = os.path.join(HERE, '..', '..', 'scenes', 'signals', 'speech.wav')
+    played = os.path.join(tmp, 'stop_played.json')
+    with open(played, 'w') as f:
+        json.dump(scene, f)
+    p = subprocess.Popen([demo, played, '--offline', out, '--duration', '30', '--quiet'],
+                         stderr=subprocess.PIPE, text=True)
+    time.sleep(3)
+    p.send_signal(signal.SIGINT)
+    try:
+        err = p.communicate(timeout=30)[1]
+    except subprocess.TimeoutExpired:
+        p.kill()
+        err = p.communicate()[1] + ' (still running 30 s after SIGINT)'
+    left = [f for f in os.listdir(tmp) if f.startswith('stop_demo.wav')]
+    check(p.returncode == 128 + signal.SIGINT and 'interrupted by SIGINT' in err and not left,
+          'dpc-demo stopped in its wave band: status %d, a line naming it, no file (%r, %s)' %
+          (p.returncode, err.strip().splitlines()[-1:], left))
 
 
 def main():

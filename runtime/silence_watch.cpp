@@ -19,15 +19,19 @@ bool hearsSource(const Simulation& sim, size_t source, size_t listener,
 
 void SilenceWatch::update(const Simulation& sim, size_t listener, const std::string& name,
                           glm::vec3 position, const BakedPlayback* baked) {
-  if (listener >= heard_.size()) heard_.resize(listener + 1, -1);
+  if (listener >= state_.size()) state_.resize(listener + 1);
   bool hears = false;
   for (size_t s = 0; s < sim.sourceCount() && !hears; ++s)
     hears = hearsSource(sim, s, listener, baked);
+  State& st = state_[listener];
   const signed char now = hears ? 1 : 0;
-  // The first frame says only silence: hearing is what a listener is expected to do.
-  if (now != heard_[listener] && (heard_[listener] >= 0 || !hears))
-    log(!hears, listener, name, position, sim.sourceCount());
-  heard_[listener] = now;
+  st.run = now == st.last ? st.run + 1 : 1;
+  st.last = now;
+  if (st.run < kSilenceSettleFrames) return;
+  // Nothing logged yet: hearing is what a listener is expected to do, so only silence is said.
+  const signed char before = st.logged < 0 ? 1 : st.logged;
+  if (now != before) log(!hears, listener, name, position, sim.sourceCount());
+  if (now != before || st.logged < 0) st.logged = now;
 }
 
 void SilenceWatch::log(bool silent, size_t listener, const std::string& name, glm::vec3 position,

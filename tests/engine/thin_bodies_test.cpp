@@ -82,8 +82,8 @@ TEST_CASE("Thin bodies: a grid of posts with the line of sight free is no louder
   // staggered, across the room (a colonnade, a fence, a rack's uprights); the listener walks
   // behind them where the line of sight passes between the posts. The field there is the free
   // field plus what the posts scatter, which a row of bodies cannot make more than the lit-side
-  // ripple of their edges: the first-order edge terms of the posts, each blind to the others,
-  // added up to +4.5 dB at 4 and 8 kHz before.
+  // ripple of their edges, while the first-order edge terms of the posts, each blind to the
+  // others, add up to +4.5 dB at 4 and 8 kHz when summed alone.
   SceneDesc s = test::makeShoebox({12, 3, 5}, Bands(0.2f), 0.3f, kSource, kListener, 0.5f);
   for (int row = 0; row < 3; ++row)
     for (float z = 1.f + 0.15f * float(row % 2); z + 0.05f <= 4.f; z += 0.3f) {

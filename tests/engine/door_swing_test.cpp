@@ -225,7 +225,7 @@ Bands freeWallLevel(SceneDesc s) {
 }  // namespace
 
 TEST_CASE("Door swing: a box leaf centred in a wall standing alone, swung toward the listener, "
-          "never falls below shut at 63-500 Hz",
+          "never falls below shut at 63-500 Hz nor rises above the open doorway",
           "[diffraction][door]") {
   // The leaf turned 0-30 degrees toward the listener, as a moving object and in the mesh, the
   // leaf on the line of sight. From about 10 degrees the rim stands 8-12 cm from the jamb's far
@@ -235,8 +235,14 @@ TEST_CASE("Door swing: a box leaf centred in a wall standing alone, swung toward
   // to 5 %; 2 dB for the leaf in the mesh, whose latch gap at 3 degrees the probe reads 8.8 mm
   // wide against 9.6 mm for the same leaf as an object, 1.7 dB below shut: docs/validation.md).
   // The way round the rim must not be given up to the leaf's top channel, whose edge merely
-  // ends at the rim's corner (engine/openings.cpp mouthOf).
+  // ends at the rim's corner (engine/openings.cpp mouthOf). Nor may the leaf, whose faces reflect
+  // away from the listener at these angles, add to the open doorway's direct sound in any band
+  // beyond the lit-side ripple of its edges (+1.37 dB): the way round a wide opening's rim is
+  // held at the rim's own chain (chain_sum.cpp wideOpeningGain), never above.
   for (bool outward : {true, false}) {
+    SceneDesc open = freeWallLeaf(0.0, outward);
+    open.objects.clear();
+    const Bands openLevel = freeWallLevel(open);
     const Bands shutObject = freeWallLevel(freeWallLeaf(0.0, outward));
     const Bands shutMesh = freeWallLevel(freeWallLeafWritten(0.0, outward));
     printLevels("shut: object / mesh (dB)", {&shutObject, &shutMesh}, 4);
@@ -247,10 +253,12 @@ TEST_CASE("Door swing: a box leaf centred in a wall standing alone, swung toward
       std::snprintf(label, sizeof label, "leaf ajar %4.1f deg toward L: object / mesh (dB)",
                     degrees);
       printLevels(label, {&object, &mesh}, 4);
-      for (int b = 0; b <= 3; ++b) {
+      for (int b = 0; b < kNumBands; ++b) {
         INFO(degrees << " degrees, band " << b << (outward ? "" : ", faces inward"));
-        CHECK(object[b] > shutObject[b] - 1.f);
-        CHECK(mesh[b] > shutMesh[b] - 2.f);
+        if (b <= 3) CHECK(object[b] > shutObject[b] - 1.f);
+        if (b <= 3) CHECK(mesh[b] > shutMesh[b] - 2.f);
+        CHECK(object[b] <= openLevel[b] + 1.37f);
+        CHECK(mesh[b] <= openLevel[b] + 1.37f);
       }
     }
   }

@@ -51,6 +51,23 @@ cp cut.h5 cut-kept.h5
 "$bake" --resume cut.h5 --quiet
 cmp clean.h5 cut.h5 || fail "resumed bake differs from the clean one"
 
+echo "== Ctrl-C pressed again while a probe runs ends the bake at once, still resumable"
+# One probe of 100,000 rays x 8 frames takes seconds; the first SIGINT is taken after it, the
+# second 0.6 s later ends the process by the signal (a person asking again); the same request
+# delivered twice at once would be one (tests/wave/wave_test.py stop).
+echo "5 1.5 3.5" >one-probe.txt
+"$bake" "$scene" --out again.h5 --probes one-probe.txt --rays 100000 --frames 8 --quiet \
+  2>again.err & pid=$!
+sleep 1.5
+kill -INT $pid
+sleep 0.6
+kill -INT $pid 2>/dev/null || true
+status=0; wait $pid || status=$?
+[[ $status == $((128 + $(kill -l INT))) ]] && grep -q "interrupted by SIGINT" again.err &&
+  fail "a second Ctrl-C 0.6 s later waited for the probe: $(cat again.err)"
+[[ $status != 0 ]] || fail "a bake asked twice to stop exited 0"
+complete again.h5 2>/dev/null && fail "a bake stopped twice marked complete"
+
 echo "== SIGKILL mid-write, twice: never complete; --resume gives the clean bake's bytes"
 "$bake" "$scene" --out killed1.h5 "${slow[@]}" 2>k1.err & pid=$!
 kill_after_first_probe k1.err $pid KILL

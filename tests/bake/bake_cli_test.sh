@@ -56,9 +56,13 @@ echo "== Ctrl-C pressed again while a probe runs ends the bake at once, still re
 # second 0.6 s later ends the process by the signal (a person asking again); the same request
 # delivered twice at once would be one (tests/wave/wave_test.py stop).
 echo "5 1.5 3.5" >one-probe.txt
-"$bake" "$scene" --out again.h5 --probes one-probe.txt --rays 100000 --frames 8 --quiet \
+"$bake" "$scene" --out again.h5 --probes one-probe.txt --rays 100000 --frames 8 \
   2>again.err & pid=$!
-sleep 1.5
+for _ in $(seq 1 600); do  # the plan's line: the probe starts next
+  grep -q 'probes to bake' again.err 2>/dev/null && break
+  sleep 0.1
+done
+sleep 0.5
 kill -INT $pid
 sleep 0.6
 kill -INT $pid 2>/dev/null || true

@@ -319,14 +319,12 @@ SpecularPathCache::SpecularPathCache(double tauSeconds, double framePeriodSecond
   paths_.reserve(initial);
   dropped_.reserve(initial);
   validKeys_.reserve(initial);
-  gapKeys_.reserve(initial);
   invalid_.reserve(initial);
   invalidNext_.reserve(initial);
 }
 
 void SpecularPathCache::clear() {
   validKeys_.clear();
-  gapKeys_.clear();
   entries_.clear();
   index_.clear();
   paths_.clear();
@@ -347,7 +345,7 @@ bool SpecularPathCache::validateEntry(Entry& e, const SpecularScene& scene,
                                       const SpecularInputs& in, bool still) {
   if (!still)
     e.valid = scene.validate(e.sequence, in.source, in.listener, in.radius, e.path, &e.throughGap);
-  if (!e.valid && e.throughGap) gapKeys_.push_back(e.key);
+  if (!e.valid && e.throughGap) validKeys_.insert(e.key);
   return e.valid;
 }
 
@@ -381,7 +379,7 @@ void SpecularPathCache::addCandidates(const SpecularCandidates& frame, const Spe
     if (known != invalid_.end() ||
         !scene.validate(s, in.source, in.listener, in.radius, path, &throughGap)) {
       invalidNext_.emplace(key, uint8_t(throughGap));
-      if (throughGap) gapKeys_.push_back(key);
+      if (throughGap) validKeys_.insert(key);
       continue;
     }
     if (entries_.size() >= capacity_) {
@@ -422,12 +420,10 @@ void SpecularPathCache::update(const SpecularCandidates& frame, const SpecularSc
   inputs_ = inputs;
   updated_ = true;
   paths_.clear();
-  gapKeys_.clear();
+  validKeys_.clear();  // revalidate and addCandidates add the sequences refused only by a gap
   revalidate(frame, scene, inputs, still, frameIndex);
   addCandidates(frame, scene, inputs, still, frameIndex);
-  validKeys_.clear();
   for (const SpecularPath& p : paths_) validKeys_.insert(p.key);
-  validKeys_.insert(gapKeys_.begin(), gapKeys_.end());
   addImageAliases(frame, scene, inputs);
   removeDuplicates();
 }
@@ -443,9 +439,7 @@ void SpecularPathCache::addImageAliases(const SpecularCandidates& frame,
     if (scene.imageOf(s, in.source, image)) validImages_.push_back({p.order, image});
   }
   if (validImages_.empty()) return;
-  std::sort(validImages_.begin(), validImages_.end(), [](const ValidImage& a, const ValidImage& b) {
-    return a.order != b.order ? a.order < b.order : a.image.x < b.image.x;
-  });
+  std::sort(validImages_.begin(), validImages_.end(), ValidImage::before);
   for (const SpecularSequence& s : frame.sequences())
     if (!validKeys_.contains(s.key()) && sameImageAsValid(s, scene, in.source))
       validKeys_.insert(s.key());
@@ -459,10 +453,7 @@ bool SpecularPathCache::sameImageAsValid(const SpecularSequence& s, const Specul
                            2.0 * glm::distance(image, glm::dvec3(source)) * kSameImageSine;
   auto it = std::lower_bound(validImages_.begin(), validImages_.end(),
                              ValidImage{s.order, image - glm::dvec3(tolerance, 0.0, 0.0)},
-                             [](const ValidImage& a, const ValidImage& b) {
-                               return a.order != b.order ? a.order < b.order
-                                                         : a.image.x < b.image.x;
-                             });
+                             ValidImage::before);
   for (; it != validImages_.end() && it->order == s.order && it->image.x <= image.x + tolerance;
        ++it)
     if (glm::distance(it->image, image) <= tolerance) return true;

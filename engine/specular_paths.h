@@ -236,18 +236,16 @@ class SpecularPathCache {
 
   const std::vector<SpecularPath>& paths() const { return paths_; }
   /// Keys (SpecularSequence::key) of every sequence valid in the last update(), the coincident
-  /// duplicates that paths() reports once included, and of this frame's candidates whose image
-  /// coincides with a valid path's of the same order (two coplanar faces of different materials
-  /// at order 1, a window in a wall; the two orders round
-  /// a right-angled corner, floor then wall and wall then floor, mirror the source to one
-  /// image; which of them reaches the listener's centre is valid, but rays reach the sphere
-  /// by both, and both sample the one arrival): the sequences whose rays' listener hits an
-  /// exact path replaces (FrameHits::groupInto); and of the sequences refused only because they
-  /// pass through a gap a few centimetres wide (SpecularScene::validate's throughGap): what
-  /// goes straight through a gap, its reflections inside it included, is the slit's
-  /// transmission in the direct sound, which a beam of rays a gap wide, far narrower than the
-  /// first Fresnel zone, would count again (a shut door's 10 mm gaps: a few rays, flat in
-  /// frequency, as much as the slit's own level and flickering from frame to frame).
+  /// duplicates that paths() reports once included: the sequences whose rays' listener hits an
+  /// exact path replaces (FrameHits::groupInto). Also:
+  /// - this frame's candidates whose image coincides with a valid path's of the same order
+  ///   (the orders round a right-angled corner, floor then wall and wall then floor, mirror
+  ///   the source to one image; one of them is valid at the listener's centre, but rays reach
+  ///   the sphere by both; at order 1, coplanar faces of different materials): one arrival;
+  /// - the sequences refused only because they pass through a gap a few centimetres wide
+  ///   (SpecularScene::validate's throughGap): what goes straight through a gap is the slit's
+  ///   transmission in the direct sound, which a beam of rays a gap wide, far narrower than
+  ///   the first Fresnel zone, would count again.
   const tsl::robin_set<uint64_t>& validKeys() const { return validKeys_; }
   size_t entryCount() const { return entries_.size(); }
   /// Valid sequences not cached because the cache was full, cumulative.
@@ -289,12 +287,15 @@ class SpecularPathCache {
   struct ValidImage {
     uint32_t order;
     glm::dvec3 image;
+    /// Sorted by order, then x (sameImageAsValid searches a range of x).
+    static bool before(const ValidImage& a, const ValidImage& b) {
+      return a.order != b.order ? a.order < b.order : a.image.x < b.image.x;
+    }
   };
   std::vector<ValidImage> validImages_;  ///< scratch for addImageAliases
   /// Candidates found invalid at inputs_ in the last update, and those of this update, each
   /// with 1 when only a gap refused it.
   tsl::robin_map<uint64_t, uint8_t> invalid_, invalidNext_;
-  std::vector<uint64_t> gapKeys_;  ///< this update's sequences refused only by a gap
   SpecularInputs inputs_;
   bool updated_ = false;  ///< inputs_ holds an update's inputs
   uint64_t overflow_ = 0;

@@ -19,6 +19,7 @@ bool hearsSource(const Simulation& sim, size_t source, size_t listener,
 
 void SilenceWatch::update(const Simulation& sim, size_t listener, const std::string& name,
                           glm::vec3 position, const BakedPlayback* baked) {
+  if (sim.sourceCount() == 0) return;  // nothing to hear: a source-less session says nothing
   if (listener >= state_.size()) state_.resize(listener + 1);
   bool hears = false;
   for (size_t s = 0; s < sim.sourceCount() && !hears; ++s)

@@ -185,6 +185,22 @@ TEST_CASE("dpc-demo --er-out writes what dpc-analyze reads, live mode refuses it
   CHECK(sources[0].direct.visible);
   CHECK(sources[0].energy.binSeconds() == Approx(1e-3));
   CHECK(std::system((bin + "dpc-analyze " + csv + " --json >/dev/null").c_str()) == 0);
+  // The same table cut short at a line boundary (a copy interrupted, a disk that filled): one
+  // line naming the file, a non-zero exit, no analysis printed.
+  {
+    std::ifstream in(csv);
+    std::ofstream cut(dir + "/cut.csv");
+    std::string line;
+    for (int n = 0; n < 500 && std::getline(in, line); ++n) cut << line << "\n";
+  }
+  const std::string cutErr = dir + "/cut.err", cutOut = dir + "/cut.out";
+  CHECK(std::system((bin + "dpc-analyze " + dir + "/cut.csv >" + cutOut + " 2>" + cutErr)
+                        .c_str()) != 0);
+  std::stringstream err, out;
+  err << std::ifstream(cutErr).rdbuf();
+  out << std::ifstream(cutOut).rdbuf();
+  CHECK(err.str().find("cut.csv: ends after 498 data rows") != std::string::npos);
+  CHECK(out.str().empty());
   // Without --offline: one-line error naming the flag, non-zero exit, no file.
   const std::string live = dir + "/live.csv";
   const int refused =

@@ -265,7 +265,7 @@ TEST_CASE("Door gaps: a box leaf that is a moving object, heard past the jamb, r
   // mesh leaf, nothing at all with the undercut alone), and where the line of sight crossed
   // both the leaf and the jamb (z 0.86-0.9 m) a bound that took the jamb away with the leaf
   // still standing, its own field missing from the sum, silenced it.
-  for (const auto [gap, undercut] : {std::pair(0.01f, 0.01f), std::pair(0.f, 0.02f)}) {
+  for (const auto& [gap, undercut] : {std::pair(0.01f, 0.01f), std::pair(0.f, 0.02f)}) {
     const SceneDesc object = wallInTheOpen(0.1f, gap, undercut);
     const SceneDesc mesh = objectsInMesh(object);
     for (float z = 0.f; z <= 1.2f; z += 0.04f) {

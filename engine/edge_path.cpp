@@ -286,13 +286,15 @@ bool onEdgeBody(const std::vector<uint32_t>& body, const DiffractionEdge& e, uin
 }
 
 bool acrossSlit(const EdgePath& o, const EdgePath& p, const std::vector<uint32_t>* body) {
-  constexpr float kReach = 1.5f;  // widths: the probe met p's surface within one of the far side
+  // Widths from o's point: the probe met p's surface within one width, p's edge within 1.5 more
+  // (or, seen at a slant, the legs met p's surface in its shadow short of the opening's width).
+  constexpr float kReach = 2.5f;
   auto closes = [&](uint32_t s) {
     return s == o.gapCloser || (body && sameBody(*body, s, o.gapCloser));
   };
   return std::abs(glm::dot(o.edge->direction, p.edge->direction)) >= kParallelEdges &&
          (closes(p.edge->surfaces[0]) || closes(p.edge->surfaces[1])) &&
-         glm::distance(p.q, o.q + o.gapWidth * o.mouth) <= kReach * o.gapWidth;
+         glm::distance(p.q, o.q) <= kReach * o.gapWidth;
 }
 
 namespace {
@@ -342,6 +344,32 @@ bool channelAtMouth(const EdgePath& p, const EdgePath& o) {
          p.gapWidth <= o.gapWidth;
 }
 
+/// True when p, on an edge across o's (not parallel), stands inside o's slit and reads it
+/// lengthwise: its point within o's width across o's mouth and within o's extent along it (plus
+/// a width), its gap more than twice o's (a gap of its own that meets o's at a corner, a leaf's
+/// bottom gap beside its latch gap, reads about as wide). A doorway's sill meets a leaf's latch
+/// opening at its end: probed from there up the opening, it reads the opening lengthwise (8 cm for
+/// a 13 mm slit) and is that slit's corner, not a slit of its own.
+bool insideSlit(const EdgePath& o, const EdgePath& p) {
+  constexpr float kTolerance = 1e-3f;  // m
+  if (!(p.gapWidth > 2.f * o.gapWidth) ||
+      std::abs(glm::dot(o.edge->direction, p.edge->direction)) >= kParallelEdges)
+    return false;
+  const glm::vec3 d = o.edge->direction, v = p.q - o.q;
+  const glm::vec3 across = v - glm::dot(v, d) * d;
+  const float along = glm::dot(p.q - o.slitCentre, d);
+  const float w = o.gapWidth + kTolerance;
+  return glm::length(across) <= w && glm::dot(across, o.mouth) >= -kTolerance &&
+         along >= float(o.slit.zFrom) - w && along <= float(o.slit.zTo) + w;
+}
+
+/// Every owner standing inside another owner's slit (insideSlit) gives up its own.
+void yieldInsideSlits(std::vector<EdgePath>& paths) {
+  for (EdgePath& p : paths)
+    for (size_t m = 0; m < paths.size() && p.slitOwner; ++m)
+      if (&paths[m] != &p && paths[m].slitOwner && insideSlit(paths[m], p)) p.slitOwner = false;
+}
+
 }  // namespace
 
 void markSlitOwners(std::vector<EdgePath>& paths, const std::vector<uint32_t>* body) {
@@ -349,7 +377,7 @@ void markSlitOwners(std::vector<EdgePath>& paths, const std::vector<uint32_t>* b
     return std::abs(glm::dot(o.edge->direction, p.edge->direction)) >= kParallelEdges &&
            overlapAlong(o, p) &&
            (slitsApart(o, p) < 0.5f * std::max(o.gapWidth, p.gapWidth) + 1e-3f ||
-            acrossSlit(o, p, body));
+            acrossSlit(o, p, body) || acrossSlit(p, o, body));
   };
   // Shallowest first, then in list order: each path owns its slit unless an owner before it
   // in that order finds the same slit, or p is the channel at whose mouth that owner stands.
@@ -382,6 +410,7 @@ void markSlitOwners(std::vector<EdgePath>& paths, const std::vector<uint32_t>* b
     }
     p.slitOwner = !covered;
   }
+  yieldInsideSlits(paths);
 }
 
 void markReveals(const glm::vec3& source, const glm::vec3& L, std::vector<EdgePath>& paths) {

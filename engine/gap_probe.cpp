@@ -23,8 +23,8 @@ constexpr float kOuterWidth = 1.5f;  // and closed within this many
 /// past the jamb's corner) closes the gap just past its width and may be clear by kOuterWidth,
 /// where the point has left the gap beside the leaf's rim.
 constexpr float kMiddleWidth = 1.2f;
-/// Points per test of a gap along its edge (addGapTest): inner, middle, outer.
-constexpr size_t kGapTestPoints = 3;
+/// Points per test of a gap along its edge (addGapTest): inner, open, middle, outer.
+constexpr size_t kGapTestPoints = 4;
 constexpr float kFlank = 0.04f;      // m: where a free Q's flanks are probed (probeFlanks)
 constexpr int kEndSteps = 8;         // bisection steps for where a gap ends (findEnds)
 
@@ -278,6 +278,7 @@ void findWidths(const Tracer& tracer, const glm::vec3& source, const glm::vec3& 
   for (int r = 0; r < 2; ++r) bracket = refine(tracer, source, listener, probes, gaps, bracket);
   for (size_t n = 0; n < gaps.size(); ++n) {
     shapes[gaps[n]].width = std::sqrt(bracket[n].free * bracket[n].closed);
+    shapes[gaps[n]].open = bracket[n].free;
     shapes[gaps[n]].closer = bracket[n].closer;
   }
 }
@@ -317,11 +318,15 @@ void probeFlanks(const Tracer& tracer, const glm::vec3& source, const glm::vec3&
   }
 }
 
-/// Adds the kGapTestPoints points that tell whether gap j (width w) is still there at `a` m along
-/// its edge from Q (valid: within the edge): free 0.5 w across the mouth, blocked at 1.2 or 1.5 w.
-void addGapTest(Round& round, size_t j, const GapProbe& g, float w, float a, bool valid = true) {
+/// Adds the kGapTestPoints points that tell whether gap j (its shape at Q) is still there at `a` m
+/// along its edge from Q (valid: within the edge): free 0.5 w across the mouth or where Q's mouth
+/// was found open (GapShape::open, when measured), blocked at 1.2 or 1.5 w.
+void addGapTest(Round& round, size_t j, const GapProbe& g, const GapShape& shape, float a,
+                bool valid = true) {
+  const float w = shape.width;
   const glm::vec3 base = g.q + a * g.along;
   round.add(j, base + kInnerWidth * w * g.mouth, valid);
+  round.add(j, base + shape.open * g.mouth, valid && shape.open > kInnerWidth * w);
   round.add(j, base + kMiddleWidth * w * g.mouth, valid);
   round.add(j, base + kOuterWidth * w * g.mouth, valid);
 }
@@ -329,8 +334,8 @@ void addGapTest(Round& round, size_t j, const GapProbe& g, float w, float a, boo
 /// Whether test t of a round made by addGapTest found the gap (its points' closers).
 bool gapTestHolds(const Round& round, const std::vector<uint32_t>& closer, size_t t) {
   const size_t k = kGapTestPoints * t;
-  return round.valid[k] && closer[k] == kNoCloser &&
-         (closer[k + 1] != kNoCloser || closer[k + 2] != kNoCloser);
+  const bool open = closer[k] == kNoCloser || (round.valid[k + 1] && closer[k + 1] == kNoCloser);
+  return round.valid[k] && open && (closer[k + 2] != kNoCloser || closer[k + 3] != kNoCloser);
 }
 
 /// For each gap, where it ends along its edge either side of Q: the edge's end when the gap is
@@ -352,7 +357,7 @@ void findEnds(const Tracer& tracer, const glm::vec3& source, const glm::vec3& li
         if (step >= 0 && lo[n][s] == hi[n][s]) continue;
         at.push_back(step < 0 ? hi[n][s] : 0.5f * (lo[n][s] + hi[n][s]));
         side.push_back({n, s});
-        addGapTest(round, gaps[n], probes[gaps[n]], shapes[gaps[n]].width, at.back());
+        addGapTest(round, gaps[n], probes[gaps[n]], shapes[gaps[n]], at.back());
       }
     if (at.empty()) break;
     const std::vector<uint32_t> closer = run(tracer, source, listener, probes, round);
@@ -456,7 +461,7 @@ void probeGaps(const Tracer& tracer, const glm::vec3& source, const glm::vec3& l
     for (int side = -1; side <= 1; side += 2)
       for (int i = 1; i <= kAlong; ++i) {
         const float a = float(side * i) * w;
-        addGapTest(round, j, probes[j], w, a, a >= probes[j].from && a <= probes[j].to);
+        addGapTest(round, j, probes[j], shapes[j], a, a >= probes[j].from && a <= probes[j].to);
       }
   }
   if (gaps.empty()) return;

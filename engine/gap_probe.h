@@ -1,29 +1,30 @@
-// How wide is the gap an edge path passes through? An edge path source -> Q -> listener that
-// runs between its edge and another surface a few millimetres away (a door frame's edge next
-// to the closed leaf, a partition's rim above the floor) passes a slit, not a free edge: the
-// edge's UTD field assumes nothing else within several wavelengths of Q (engine/slit.h models
-// the slit). The probe moves Q across the mouth of the gap, P = Q + delta u, and asks whether
-// both straight legs source -> P and listener -> P are free, each run a little past P (up to
-// kGapProbeThrough, at most P's distance from the edge, never into the edge's own solid) so
-// that a surface lying in P's own plane (a leaf flush with the wall: zero-thickness sheets are
-// the common case, and a ray in a sheet's plane misses it) blocks them. The width is the first
-// delta that is blocked after a free one: four deltas spaced evenly in log from
-// kGapNarrowest to the probe's reach (every path: 8 rays), then, for a gap, the means of the
-// free ones below it (a gap may close and open again across its mouth: a sheet's rim in front
-// of a wall passes the wall's corner, then meets its far face, too far out to close it; up to
-// 2 more points), then twice eight between the last free and the first blocked one (the width
-// is the geometric mean of the two deltas that bracket it, within 5 % of either for reaches up
-// to 16 m; the slit model depends on the width through its logarithm). A slit must also run along the edge: the same test 1
-// to 4 widths either side of Q along the edge, free at 0.5 w across the mouth and blocked at
-// 1.5 w, gives the length over which the gap stays that narrow (up to 8 widths; a small
-// obstacle in a wide opening is no slit), and by bisection where it ends either side of Q, the
-// slit's length (a leaf shorter than its frame's edge leaves a slit only along the leaf;
-// taken as the edge's whole length, a partition meshed with its jambs running past the lintel
-// put a door with 20 mm gaps above the open doorway at 63 Hz). Where Q's mouth is free, it may open onto a narrow
-// gap that crosses the edge at Q (the slit between two door leaves, right under the lintel's
-// point of least path length): the mouth 4 cm either side of Q along the edge decides, closed
-// on both sides (no gap: what passes there is the crossing gap's) or a gap on both sides (its
-// width), 16 more rays per free path.
+// How wide is the gap an edge path passes through? An edge path source -> Q -> listener that runs
+// between its edge and another surface a few millimetres away (a door frame's edge next to the
+// closed leaf, a partition's rim above the floor) passes a slit, not a free edge: the edge's UTD
+// field assumes nothing else within several wavelengths of Q (engine/slit.h models the slit). The
+// probe moves Q across the mouth of the gap, P = Q + delta u, and asks whether both straight legs
+// source -> P and listener -> P are free, each run a little past P (up to kGapProbeThrough, at most
+// P's distance from the edge, never into the edge's own solid) so that a surface lying in P's own
+// plane (a leaf flush with the wall: zero-thickness sheets are the common case, and a ray in a
+// sheet's plane misses it) blocks them. The width is the first delta that is blocked after a free
+// one: four deltas spaced evenly in log from kGapNarrowest to the probe's reach (every path: 8
+// rays), then, for a gap, the means of the free ones below it (a gap may close and open again
+// across its mouth: a sheet's rim in front of a wall passes the wall's corner, then meets its far
+// face, too far out to close it; up to 2 more points), then twice eight between the last free and
+// the first blocked one (the width is the geometric mean of the two deltas that bracket it, within
+// 5 % of either for reaches up to 16 m; the slit model depends on the width through its logarithm).
+// A slit must also run along the edge: the same test 1 to 4 widths either side of Q along the edge,
+// free at 0.5 w across the mouth (or where Q's mouth was found free just short of w: met at a
+// slant, a leaf ajar hides the mouth's middle from the listener) and blocked at 1.2 or 1.5 w, gives
+// the length over which the gap stays that narrow (up to 8 widths; a small obstacle in a wide
+// opening is no slit), and by bisection where it ends either side of Q, the slit's length (a leaf
+// shorter than its frame's edge leaves a slit only along the leaf; taken as the edge's whole
+// length, a partition meshed with its jambs running past the lintel put a door with 20 mm gaps
+// above the open doorway at 63 Hz). Where Q's mouth is free, it may open onto a narrow gap that
+// crosses the edge at Q (the slit between two door leaves, right under the lintel's point of least
+// path length): the mouth 4 cm either side of Q along the edge decides, closed on both sides (no
+// gap: what passes there is the crossing gap's) or a gap on both sides (its width), 16 more rays
+// per free path.
 //
 // A channel (a gap along a box leaf's side face, between its front and back edges) is probed
 // at its front mouth from the source and at its back mouth from the listener; where it turns
@@ -79,7 +80,8 @@ inline constexpr uint32_t kNoCloser = 0xffffffffu;
 /// What the probe found: the gap's width (m; 0 when nothing closes it within reach, a free
 /// edge; -1 when every delta is blocked, a gap closed within kGapNarrowest; else the geometric
 /// mean of the last free and the first blocked delta after the first free one) and, for a gap, the
-/// length along the edge over which it stays open at 0.5 and closed within 1.5 widths, in widths (0
+/// length along the edge over which it stays open at 0.5 widths or at `open` and closed within 1.5
+/// widths, in widths (0
 /// to 8, in steps of 1), and where it ends along the edge either side of Q (m, relative to Q
 /// along `along`: from <= 0 <= to), found to within 1/256 of the edge's length on that side.
 /// `closer`: for a gap or a closed one, the triangle (the Tracer's numbering) whose surface
@@ -89,6 +91,10 @@ struct GapShape {
   float aspect = 0.f;
   float from = 0.f, to = 0.f;
   uint32_t closer = kNoCloser;
+  /// The widest delta found free below the width at Q (m; 0 where not measured): a mouth met at
+  /// a slant may be hidden half a width across (a leaf ajar hides it from the listener just
+  /// inside its rim) and open again just short of the width.
+  float open = 0.f;
   /// A channel's depth where its far side stands (m; a leaf 4 cm thick beside a 0.2 m reveal:
   /// 0.04), and how far in from the front mouth that begins (m); depth -1 for other probes.
   float depth = -1.f;

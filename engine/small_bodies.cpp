@@ -1,6 +1,7 @@
 #include "engine/small_bodies.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -10,6 +11,7 @@
 
 #include "engine/channel_path.h"
 #include "engine/coherent_sum.h"
+#include "engine/diffraction.h"
 #include "engine/diffraction_edges.h"
 
 namespace dpc {
@@ -173,14 +175,43 @@ int thinBands(float across, float speedOfSound, double ka) {
   return bands;
 }
 
+/// How close two bodies' boxes stand to be one silhouette (m): boards sealed to each other,
+/// gaps of 1 mm or less which no probe tells from closed, make a solid screen however thin each.
+constexpr float kSealedGap = 1e-3f;
+
 /// The bands in which the surfaces (sorted) are thin by kThinFloor together with the small
-/// bodies close to them (closeBodies): boards sealed to each other, gaps of 1 mm or less which
-/// no probe sees, make a solid screen however thin each; 0 where closeBodies gives up.
+/// bodies close to them (closeBodies), each cluster of bodies within kSealedGap of each other
+/// one silhouette: louvres' slats 1 cm apart and posts a hand apart are each their own (what
+/// passes between them is slotTransmission's); 0 where closeBodies gives up.
 int thinTogether(const std::vector<uint32_t>& removed, const BoundQuery& q) {
   std::vector<uint32_t> together = removed;
   if (!closeBodies(together, q.bodies)) return 0;
-  return thinBands(silhouetteWidth(together, q.bodies, q.L - q.source), q.speedOfSound,
-                   kThinFloor);
+  std::vector<std::vector<uint32_t>> clusters;  // surfaces
+  std::vector<std::pair<glm::vec3, glm::vec3>> boxes;
+  for (uint32_t s : together) {
+    const auto box = boxOfSurfaces({s}, q.bodies);
+    std::vector<size_t> touching;
+    for (size_t c = 0; c < clusters.size(); ++c) {
+      const glm::vec3 gap = glm::max(boxes[c].first - box.second, box.first - boxes[c].second);
+      if (std::max({gap.x, gap.y, gap.z}) <= kSealedGap) touching.push_back(c);
+    }
+    std::vector<uint32_t> merged = {s};
+    std::pair<glm::vec3, glm::vec3> mergedBox = box;
+    for (auto c = touching.rbegin(); c != touching.rend(); ++c) {
+      merged.insert(merged.end(), clusters[*c].begin(), clusters[*c].end());
+      mergedBox = {glm::min(mergedBox.first, boxes[*c].first),
+                   glm::max(mergedBox.second, boxes[*c].second)};
+      clusters.erase(clusters.begin() + long(*c));
+      boxes.erase(boxes.begin() + long(*c));
+    }
+    clusters.push_back(std::move(merged));
+    boxes.push_back(mergedBox);
+  }
+  int thin = kNumBands;
+  for (const std::vector<uint32_t>& c : clusters)
+    thin = std::min(
+        thin, thinBands(silhouetteWidth(c, q.bodies, q.L - q.source), q.speedOfSound, kThinFloor));
+  return thin;
 }
 
 /// The bands (the lowest ones) where a group's bound applies: it is small (its extent under the
@@ -227,20 +258,87 @@ bool weakGroup(const std::vector<EdgePath>& paths, const std::vector<Bands>& amp
   return true;
 }
 
-/// Whether a gap (a slit path's, or a closed gap's: q.closed) has a surface in `removed`
-/// (sorted) on either side: bodies that close an aperture with others (a double door's leaves in
-/// their frame), or that stand close together (louvres: their slots' air is a mass, m' = rho d /
-/// sigma, that a slotted screen a seventh open and 10 cm deep makes 10 dB at 250 Hz), are no free
-/// scatterers.
-bool hasGap(const std::vector<EdgePath>& paths, const BoundQuery& q,
-            const std::vector<uint32_t>& removed) {
+/// The narrowest gap (m) that a slit path or a closed gap (q.closed) has with a surface in
+/// `removed` (sorted) on either side: infinity where none has, 0 where such a gap is closed by
+/// a surface not removed (a leaf shut in its frame: taking it away would open the doorway). A
+/// gap read closed between two removed bodies is left to thinTogether, which tells boards
+/// sealed to each other from posts in staggered rows whose silhouettes overlap along the line
+/// of sight (their probes read the gap between them closed).
+float narrowestGap(const std::vector<EdgePath>& paths, const BoundQuery& q,
+                   const std::vector<uint32_t>& removed) {
   auto in = [&](uint32_t s) { return std::binary_search(removed.begin(), removed.end(), s); };
-  auto touches = [&](const EdgePath& p) {
-    if (!(p.gapWidth > 0.f) && p.gapCloser == kUnknownSurface) return false;
-    return in(p.edge->surfaces[0]) || in(p.edge->surfaces[1]) || in(p.gapCloser);
+  float least = std::numeric_limits<float>::infinity();
+  auto visit = [&](const EdgePath& p) {
+    if (!(p.gapWidth > 0.f) && p.gapCloser == kUnknownSurface) return;
+    const bool edge = in(p.edge->surfaces[0]) || in(p.edge->surfaces[1]);
+    if (!edge && !in(p.gapCloser)) return;
+    if (p.gapWidth > 0.f)
+      least = std::min(least, p.gapWidth);
+    else if (!(edge && in(p.gapCloser)))
+      least = 0.f;
   };
-  return std::any_of(paths.begin(), paths.end(), touches) ||
-         std::any_of(q.closed.begin(), q.closed.end(), touches);
+  std::for_each(paths.begin(), paths.end(), visit);
+  std::for_each(q.closed.begin(), q.closed.end(), visit);
+  return least;
+}
+
+/// The rows the groups (of surfaces) stand in along the line of sight (their boxes' extents
+/// along it, merged where they overlap): each row's depth (m), as deep as its deepest group (a
+/// row of posts across a slanted line of sight spans more along it than any post is deep).
+std::vector<double> rowsAlongSight(const std::vector<std::vector<uint32_t>>& groups,
+                                   const BoundQuery& q) {
+  const glm::vec3 n = glm::normalize(q.L - q.source);
+  std::vector<std::array<double, 3>> spans;  // from, to, depth
+  for (const std::vector<uint32_t>& g : groups) {
+    const auto [lo, hi] = boxOfSurfaces(g, q.bodies);
+    const double c = double(glm::dot(0.5f * (lo + hi), n));
+    const double depth = double(glm::dot(glm::abs(n), hi - lo));
+    spans.push_back({c - 0.5 * depth, c + 0.5 * depth, depth});
+  }
+  std::sort(spans.begin(), spans.end());
+  std::vector<double> rows;
+  double end = -std::numeric_limits<double>::infinity();
+  for (const auto& [from, to, depth] : spans) {
+    if (from > end) rows.push_back(0.0);
+    rows.back() = std::max(rows.back(), depth);
+    end = std::max(end, to);
+  }
+  return rows;
+}
+
+/// Per band, the power that rows of bodies (`groups` of surfaces) `across` wide with gaps `gap`
+/// between them (m) pass at least, as slotted screens: each row a layer of its slots' air,
+/// sigma = gap / (gap + across) open and d + 2 delta deep (d the row's depth, delta = gap / pi
+/// ln(1 / sin(pi sigma / 2)) each mouth's end correction: Morse & Ingard, Theoretical
+/// Acoustics, 9.4, slit gratings), passing a plane wave at normal incidence tau = 1 / (cos^2
+/// kd + (sigma + 1 / sigma)^2 / 4 sin^2 kd) (a layer whose impedance is 1 / sigma the air's;
+/// for k d << 1 the mass law of the slots' air, m' = rho d / sigma), the rows' in series
+/// multiplied, averaged over the band's frequencies. 1 in every band without a gap (infinite),
+/// 0 with a closed one.
+Bands slotTransmission(const std::vector<std::vector<uint32_t>>& groups, double across, float gap,
+                       const BoundQuery& q) {
+  if (!std::isfinite(gap) || groups.empty()) return Bands(1.f);
+  if (!(gap > 0.f)) return Bands(0.f);
+  const double sigma = double(gap) / (double(gap) + across);
+  const double delta =
+      double(gap) / std::numbers::pi * std::log(1.0 / std::sin(0.5 * std::numbers::pi * sigma));
+  const double a = 0.25 * (sigma + 1.0 / sigma) * (sigma + 1.0 / sigma);
+  const std::vector<double> rows = rowsAlongSight(groups, q);
+  Bands tau;
+  for (int b = 0; b < kNumBands; ++b) {
+    double mean = 0.0;
+    for (int i = 0; i < kDiffractionFrequenciesPerBand; ++i) {
+      const double k = 2.0 * std::numbers::pi * diffractionFrequencyHz(b, i) / q.speedOfSound;
+      double t = 1.0;
+      for (double d : rows) {
+        const double c = std::cos(k * (d + 2.0 * delta)), s = std::sin(k * (d + 2.0 * delta));
+        t /= c * c + a * s * s;
+      }
+      mean += t / kDiffractionFrequenciesPerBand;
+    }
+    tau[b] = float(mean);
+  }
+  return tau;
 }
 
 /// What smallGroupsBound weighs: all the paths, those kept without the surfaces `base` and their
@@ -260,7 +358,8 @@ struct SumParts {
 /// the line of sight free, one group at a time the others holding the excess), or take a thin
 /// slat's near edge for a screen's (10 dB below the free field 1 cm beside it). Groups outside
 /// the first Fresnel zone go too: the bound is on all of them together. The floor needs them all
-/// standing free, without gaps (hasGap) and thin together as each alone.
+/// standing free, none closed to another surface (narrowestGap), and thin together as each alone;
+/// what passes between them is held at their slots' mass law (slotTransmission).
 void smallGroupsBound(const SumParts& parts, const DirectSound& coherent,
                       const std::vector<SmallGroup>& groups, const std::vector<uint32_t>& base,
                       BoundQuery& q, Bands& bound, Bands* floor) {
@@ -270,10 +369,14 @@ void smallGroupsBound(const SumParts& parts, const DirectSound& coherent,
   for (int k = 0; k < kNumBands;) {  // bands k .. n - 1 take away the same groups
     std::vector<uint32_t> removed = base;
     int n = kNumBands, count = 0;
-    bool free = floor != nullptr;  // every group a body of its own, none closing a gap
+    bool free = floor != nullptr;  // every group a body of its own, none closed to another
     int thin = kNumBands;          // and thin by kThinFloor in bands below this
+    std::vector<std::vector<uint32_t>> listed;
+    double across = 0.0;  // m: the widest of them
     for (size_t i = 0; i < groups.size(); ++i) {
       if (bands[i] <= k) continue;
+      listed.push_back(groups[i].surfaces);
+      across = std::max(across, double(groups[i].across));
       free = free && groups[i].whole;
       thin = std::min(thin, thinBands(groups[i].across, q.speedOfSound, kThinFloor));
       removed.insert(removed.end(), groups[i].surfaces.begin(), groups[i].surfaces.end());
@@ -282,7 +385,8 @@ void smallGroupsBound(const SumParts& parts, const DirectSound& coherent,
     }
     std::sort(removed.begin(), removed.end());
     removed.erase(std::unique(removed.begin(), removed.end()), removed.end());
-    free = free && count > 0 && thin > k && !hasGap(paths, q, removed);
+    const float gap = free ? narrowestGap(paths, q, removed) : 0.f;
+    free = free && count > 0 && thin > k && gap > 0.f;
     if (count == 0 || (count == 1 && !free)) return;  // one alone: smallSurfaceBound's own
     if (weakGroup(parts.kept, parts.amplitude, removed, k, n, parts.sum)) {
       k = n;
@@ -290,9 +394,10 @@ void smallGroupsBound(const SumParts& parts, const DirectSound& coherent,
     }
     if (free) thin = std::min(thin, thinTogether(removed, q));
     const Bands without = sumWithout(paths, q, removed, coherent, n);
+    const Bands tau = free ? slotTransmission(listed, across, gap, q) : Bands(0.f);
     for (int b = k; b < n; ++b) {
       bound[b] = std::min(bound[b], kLitRipple * without[b]);
-      if (free && b < thin) (*floor)[b] = without[b] / kLitRipple;
+      if (free && b < thin) (*floor)[b] = without[b] * tau[b] / kLitRipple;
     }
     k = n;
   }
@@ -336,6 +441,8 @@ Bands thinBodiesFloor(const std::vector<EdgePath>& paths, const DirectSound& coh
   if (coherent.visible || q.crossed.empty()) return floor;
   const double longest = q.speedOfSound / bandCentreExactHz(0);
   std::vector<uint32_t> removed;
+  std::vector<std::vector<uint32_t>> groups;
+  double widest = 0.0;  // m: the widest silhouette among them
   int n = kNumBands;
   for (uint32_t s : q.crossed) {
     if (s >= q.bodies.body.size() || q.bodies.body[s] >= q.bodies.members.size()) return floor;
@@ -345,23 +452,30 @@ Bands thinBodiesFloor(const std::vector<EdgePath>& paths, const DirectSound& coh
     const float across = silhouetteWidth(group, q.bodies, q.L - q.source);
     n = std::min(n, thinBands(across, q.speedOfSound, kThinFloor));
     removed.insert(removed.end(), group.begin(), group.end());
+    groups.push_back(group);
+    widest = std::max(widest, double(across));
   }
   if (n == 0) return floor;
   // The thin bodies beside them go too: a slat the line of sight crosses has gaps to its
   // neighbours, and together they are the screen.
   for (const SmallGroup& g : smallSurfaces(paths, q))
-    if (g.whole && n > 0 && thinBands(g.across, q.speedOfSound, kThinFloor) >= n)
+    if (g.whole && n > 0 && thinBands(g.across, q.speedOfSound, kThinFloor) >= n) {
       removed.insert(removed.end(), g.surfaces.begin(), g.surfaces.end());
+      groups.push_back(g.surfaces);
+      widest = std::max(widest, double(g.across));
+    }
   std::sort(removed.begin(), removed.end());
   removed.erase(std::unique(removed.begin(), removed.end()), removed.end());
-  if (hasGap(paths, q, removed)) return floor;
+  const float gap = narrowestGap(paths, q, removed);
+  if (!(gap > 0.f)) return floor;
   n = std::min(n, thinTogether(removed, q));
   if (n == 0) return floor;
   DirectSound open = coherent;
   open.visible = true;
   open.intensity = free;
   const Bands without = sumWithout(paths, q, removed, open, n);
-  for (int k = 0; k < n; ++k) floor[k] = std::min(free[k], without[k]) / kLitRipple;
+  const Bands tau = slotTransmission(groups, widest, gap, q);
+  for (int k = 0; k < n; ++k) floor[k] = std::min(free[k], without[k]) * tau[k] / kLitRipple;
   return floor;
 }
 

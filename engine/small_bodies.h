@@ -28,13 +28,15 @@ Bands smallSurfaceBound(const std::vector<EdgePath>& paths, const DirectSound& c
                         const Bands& sum, BoundQuery& q, const std::vector<uint32_t>& base = {});
 
 /// With the line of sight blocked only by bodies that stand free (whole bodies or closed solids,
-/// with no gap to another surface or between them: surface_bound.cpp hasGap) and are thin as
-/// the sound passing sees them (their silhouette along the line of sight a wide, k a <= 1/8),
-/// in those bands at least the scene without them, the line of sight free, over kLitRipple, and
-/// no more than `free` over it. Such a body scatters weakly (a slat 1 cm thick 1 cm beside the
-/// line of sight read 10 dB below the free field at 63 Hz, its near edge taken for a screen's),
-/// while the first-order edge sum round it can fall far short. The thin bodies beside them go
-/// with them. Per band, 1/m^2; 0 where no such floor holds.
+/// none closed by the probe to a surface not taken away with them) and are thin as the sound
+/// passing sees them (their silhouette along the line of sight a wide, k a <= 1/8; bodies within
+/// 1 mm of each other one silhouette), in those bands at least the scene without them, the line
+/// of sight free, over kLitRipple, times what the slots between them pass (a layer of slot air
+/// per row: Morse & Ingard, Theoretical Acoustics, 9.4), and no more than `free` over it. Such a
+/// body scatters weakly (a slat 1 cm thick 1 cm beside the line of sight read 10 dB below the free
+/// field at 63 Hz, its near edge taken for a screen's), while the first-order edge sum round it can
+/// fall far short. The thin bodies beside them go with them. Per band, 1/m^2; 0 where no such floor
+/// holds.
 Bands thinBodiesFloor(const std::vector<EdgePath>& paths, const DirectSound& coherent,
                       const Bands& free, BoundQuery& q);
 

@@ -162,6 +162,10 @@ std::vector<SmallGroup> smallSurfaces(const std::vector<EdgePath>& paths, const 
 /// a slotted screen of such slats still passes the sound within about 2 dB (the mass law of its
 /// slots' air, m' = rho d / sigma, at a third open and 4 cm deep: 3 dB at 250 Hz).
 constexpr double kThinBound = 1.0, kThinFloor = 0.125;
+/// k a at most which bodies with slots between them keep the slots' floor with the line of
+/// sight blocked by them: under half a wavelength across (a half the width), no body casts a
+/// geometric shadow, and what passes is the slots' (slotTransmission).
+constexpr double kSlotFloor = 0.5 * std::numbers::pi;
 /// Bands (63 Hz to 1 kHz) in which a group must be thin by kThinBound to be held in every band
 /// (smallBands).
 constexpr int kRowThinBands = 5;
@@ -179,11 +183,11 @@ int thinBands(float across, float speedOfSound, double ka) {
 /// gaps of 1 mm or less which no probe tells from closed, make a solid screen however thin each.
 constexpr float kSealedGap = 1e-3f;
 
-/// The bands in which the surfaces (sorted) are thin by kThinFloor together with the small
+/// The bands in which the surfaces (sorted) are thin by `ka` together with the small
 /// bodies close to them (closeBodies), each cluster of bodies within kSealedGap of each other
 /// one silhouette: louvres' slats 1 cm apart and posts a hand apart are each their own (what
 /// passes between them is slotTransmission's); 0 where closeBodies gives up.
-int thinTogether(const std::vector<uint32_t>& removed, const BoundQuery& q) {
+int thinTogether(const std::vector<uint32_t>& removed, const BoundQuery& q, double ka) {
   std::vector<uint32_t> together = removed;
   if (!closeBodies(together, q.bodies)) return 0;
   std::vector<std::vector<uint32_t>> clusters;  // surfaces
@@ -209,8 +213,8 @@ int thinTogether(const std::vector<uint32_t>& removed, const BoundQuery& q) {
   }
   int thin = kNumBands;
   for (const std::vector<uint32_t>& c : clusters)
-    thin = std::min(
-        thin, thinBands(silhouetteWidth(c, q.bodies, q.L - q.source), q.speedOfSound, kThinFloor));
+    thin =
+        std::min(thin, thinBands(silhouetteWidth(c, q.bodies, q.L - q.source), q.speedOfSound, ka));
   return thin;
 }
 
@@ -392,7 +396,7 @@ void smallGroupsBound(const SumParts& parts, const DirectSound& coherent,
       k = n;
       continue;
     }
-    if (free) thin = std::min(thin, thinTogether(removed, q));
+    if (free) thin = std::min(thin, thinTogether(removed, q, kThinFloor));
     const Bands without = sumWithout(paths, q, removed, coherent, n);
     const Bands tau = free ? slotTransmission(listed, across, gap, q) : Bands(0.f);
     for (int b = k; b < n; ++b) {
@@ -401,6 +405,41 @@ void smallGroupsBound(const SumParts& parts, const DirectSound& coherent,
     }
     k = n;
   }
+}
+
+/// The bodies a blocked line of sight's floor takes away (thinBodiesFloor): the groups it
+/// crosses and the thin bodies beside them (a slat the line of sight crosses has gaps to its
+/// neighbours, and together they are the screen), each group's silhouette width (m).
+struct FloorBodies {
+  std::vector<uint32_t> removed;  // sorted
+  std::vector<std::vector<uint32_t>> groups;
+  std::vector<float> across;
+};
+
+/// Fills f; false when a body the line of sight crosses does not stand free (a whole body or a
+/// closed solid) or none is thin by kThinFloor in the lowest band with its neighbours.
+bool gatherFloorBodies(const std::vector<EdgePath>& paths, BoundQuery& q, FloorBodies& f) {
+  const double longest = q.speedOfSound / bandCentreExactHz(0);
+  int n = kNumBands;
+  for (uint32_t s : q.crossed) {
+    if (s >= q.bodies.body.size() || q.bodies.body[s] >= q.bodies.members.size()) return false;
+    const uint32_t b = q.bodies.body[s];
+    std::vector<uint32_t> group = smallGroupOf(s, longest, q.bodies);
+    if (!q.bodies.closed[b] && group != q.bodies.members[b]) return false;  // not standing free
+    f.across.push_back(silhouetteWidth(group, q.bodies, q.L - q.source));
+    n = std::min(n, thinBands(f.across.back(), q.speedOfSound, kThinFloor));
+    f.removed.insert(f.removed.end(), group.begin(), group.end());
+    f.groups.push_back(std::move(group));
+  }
+  for (const SmallGroup& g : smallSurfaces(paths, q))
+    if (g.whole && thinBands(g.across, q.speedOfSound, kThinFloor) >= std::max(n, 1)) {
+      f.removed.insert(f.removed.end(), g.surfaces.begin(), g.surfaces.end());
+      f.groups.push_back(g.surfaces);
+      f.across.push_back(g.across);
+    }
+  std::sort(f.removed.begin(), f.removed.end());
+  f.removed.erase(std::unique(f.removed.begin(), f.removed.end()), f.removed.end());
+  return !f.groups.empty();
 }
 
 }  // namespace
@@ -438,43 +477,27 @@ Bands smallSurfaceBound(const std::vector<EdgePath>& paths, const DirectSound& c
 Bands thinBodiesFloor(const std::vector<EdgePath>& paths, const DirectSound& coherent,
                       const Bands& free, BoundQuery& q) {
   Bands floor(0.f);
-  if (coherent.visible || q.crossed.empty()) return floor;
-  const double longest = q.speedOfSound / bandCentreExactHz(0);
-  std::vector<uint32_t> removed;
-  std::vector<std::vector<uint32_t>> groups;
-  double widest = 0.0;  // m: the widest silhouette among them
-  int n = kNumBands;
-  for (uint32_t s : q.crossed) {
-    if (s >= q.bodies.body.size() || q.bodies.body[s] >= q.bodies.members.size()) return floor;
-    const uint32_t b = q.bodies.body[s];
-    const std::vector<uint32_t> group = smallGroupOf(s, longest, q.bodies);
-    if (!q.bodies.closed[b] && group != q.bodies.members[b]) return floor;  // not standing free
-    const float across = silhouetteWidth(group, q.bodies, q.L - q.source);
-    n = std::min(n, thinBands(across, q.speedOfSound, kThinFloor));
-    removed.insert(removed.end(), group.begin(), group.end());
-    groups.push_back(group);
+  FloorBodies f;
+  if (coherent.visible || !gatherFloorBodies(paths, q, f)) return floor;
+  const float gap = narrowestGap(paths, q, f.removed);
+  if (!(gap > 0.f)) return floor;
+  // With slots between them, in every band where each is under half a wavelength across.
+  // Each must be thin by kThinFloor at least in the lowest band (slats, posts: a leaf shut
+  // against its stop is no row of slats, however thin the stop).
+  const double ka = std::isfinite(gap) ? kSlotFloor : kThinFloor;
+  int n = thinTogether(f.removed, q, kThinFloor) > 0 ? thinTogether(f.removed, q, ka) : 0;
+  double widest = 0.0;  // m
+  for (float across : f.across) {
+    if (thinBands(across, q.speedOfSound, kThinFloor) == 0) return floor;
+    n = std::min(n, thinBands(across, q.speedOfSound, ka));
     widest = std::max(widest, double(across));
   }
-  if (n == 0) return floor;
-  // The thin bodies beside them go too: a slat the line of sight crosses has gaps to its
-  // neighbours, and together they are the screen.
-  for (const SmallGroup& g : smallSurfaces(paths, q))
-    if (g.whole && n > 0 && thinBands(g.across, q.speedOfSound, kThinFloor) >= n) {
-      removed.insert(removed.end(), g.surfaces.begin(), g.surfaces.end());
-      groups.push_back(g.surfaces);
-      widest = std::max(widest, double(g.across));
-    }
-  std::sort(removed.begin(), removed.end());
-  removed.erase(std::unique(removed.begin(), removed.end()), removed.end());
-  const float gap = narrowestGap(paths, q, removed);
-  if (!(gap > 0.f)) return floor;
-  n = std::min(n, thinTogether(removed, q));
   if (n == 0) return floor;
   DirectSound open = coherent;
   open.visible = true;
   open.intensity = free;
-  const Bands without = sumWithout(paths, q, removed, open, n);
-  const Bands tau = slotTransmission(groups, widest, gap, q);
+  const Bands without = sumWithout(paths, q, f.removed, open, n);
+  const Bands tau = slotTransmission(f.groups, widest, gap, q);
   for (int k = 0; k < n; ++k) floor[k] = std::min(free[k], without[k]) * tau[k] / kLitRipple;
   return floor;
 }

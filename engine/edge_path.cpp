@@ -294,7 +294,7 @@ bool acrossSlit(const EdgePath& o, const EdgePath& p, const std::vector<uint32_t
   };
   return std::abs(glm::dot(o.edge->direction, p.edge->direction)) >= kParallelEdges &&
          (closes(p.edge->surfaces[0]) || closes(p.edge->surfaces[1])) &&
-         glm::distance(p.q, o.q) <= kReach * o.gapWidth;
+         glm::dot(p.q - o.q, o.mouth) > 0.f && glm::distance(p.q, o.q) <= kReach * o.gapWidth;
 }
 
 namespace {
@@ -344,32 +344,6 @@ bool channelAtMouth(const EdgePath& p, const EdgePath& o) {
          p.gapWidth <= o.gapWidth;
 }
 
-/// True when p, on an edge across o's (not parallel), stands inside o's slit and reads it
-/// lengthwise: its point within o's width across o's mouth and within o's extent along it (plus
-/// a width), its gap more than twice o's (a gap of its own that meets o's at a corner, a leaf's
-/// bottom gap beside its latch gap, reads about as wide). A doorway's sill meets a leaf's latch
-/// opening at its end: probed from there up the opening, it reads the opening lengthwise (8 cm for
-/// a 13 mm slit) and is that slit's corner, not a slit of its own.
-bool insideSlit(const EdgePath& o, const EdgePath& p) {
-  constexpr float kTolerance = 1e-3f;  // m
-  if (!(p.gapWidth > 2.f * o.gapWidth) ||
-      std::abs(glm::dot(o.edge->direction, p.edge->direction)) >= kParallelEdges)
-    return false;
-  const glm::vec3 d = o.edge->direction, v = p.q - o.q;
-  const glm::vec3 across = v - glm::dot(v, d) * d;
-  const float along = glm::dot(p.q - o.slitCentre, d);
-  const float w = o.gapWidth + kTolerance;
-  return glm::length(across) <= w && glm::dot(across, o.mouth) >= -kTolerance &&
-         along >= float(o.slit.zFrom) - w && along <= float(o.slit.zTo) + w;
-}
-
-/// Every owner standing inside another owner's slit (insideSlit) gives up its own.
-void yieldInsideSlits(std::vector<EdgePath>& paths) {
-  for (EdgePath& p : paths)
-    for (size_t m = 0; m < paths.size() && p.slitOwner; ++m)
-      if (&paths[m] != &p && paths[m].slitOwner && insideSlit(paths[m], p)) p.slitOwner = false;
-}
-
 }  // namespace
 
 void markSlitOwners(std::vector<EdgePath>& paths, const std::vector<uint32_t>* body) {
@@ -410,7 +384,6 @@ void markSlitOwners(std::vector<EdgePath>& paths, const std::vector<uint32_t>* b
     }
     p.slitOwner = !covered;
   }
-  yieldInsideSlits(paths);
 }
 
 void markReveals(const glm::vec3& source, const glm::vec3& L, std::vector<EdgePath>& paths) {

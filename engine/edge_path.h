@@ -204,10 +204,11 @@ bool sameBody(const std::vector<uint32_t>& body, uint32_t s, uint32_t t);
 bool onEdgeBody(const std::vector<uint32_t>& body, const DiffractionEdge& e, uint32_t s);
 
 /// True when p's edge lies across o's slit: parallel to o's edge, on the surface that closes it,
-/// p's point within 2.5 widths of o's (the probe met that surface within one width, p's edge
-/// within 1.5 more; seen at a slant, the legs meet it in its shadow short of the opening's
-/// width: a leaf ajar 9 degrees, its rim 7 cm from the jamb, the jamb's probe reads 3.6 cm). A
-/// leaf's free edge across the opening from the jamb whose probe met the leaf. With `body` (per flat surface, its body: SurfaceBodies::body), an edge on
+/// p's point on o's mouth side and within 2.5 widths of o's (the probe met that surface within
+/// one width, p's edge within 1.5 more; seen at a slant, the legs meet it in its shadow short of
+/// the opening's width: a leaf ajar 9 degrees, its rim 7 cm from the jamb, the jamb's probe
+/// reads 3.6 cm). A leaf's free edge across the opening from the jamb whose probe met the leaf.
+/// With `body` (per flat surface, its body: SurfaceBodies::body), an edge on
 /// another face of the closing surface's body counts too (a box leaf ajar 15-20 degrees: the
 /// probe from the jamb meets its front face; the rim across the opening is its back corner).
 bool acrossSlit(const EdgePath& o, const EdgePath& p,
@@ -224,9 +225,6 @@ bool acrossSlit(const EdgePath& o, const EdgePath& p,
 /// leaf's free edge and the jamb measure the opening between them differently; with `body`,
 /// per flat surface its body, an edge on another face of the closing body too: a box leaf's
 /// latch channel in the static mesh and the jamb's path whose probe met the leaf's front face).
-/// Last, an owner on an edge across another owner's (not parallel) whose point stands inside
-/// that slit and whose gap reads more than twice as wide gives up its own: it reads that slit
-/// lengthwise (a doorway's sill at the end of a leaf's latch opening).
 void markSlitOwners(std::vector<EdgePath>& paths, const std::vector<uint32_t>* body = nullptr);
 
 /// The two edges of one face that both diffract the path, the face running along the line of

@@ -451,7 +451,8 @@ void probeGaps(const Tracer& tracer, const glm::vec3& source, const glm::vec3& l
   findWidths(tracer, source, listener, probes, shapes);
   probeFlanks(tracer, source, listener, probes, shapes);
   // Along the edge, 1 .. kAlong widths either side of Q: is there still a gap (free at half a
-  // width across the mouth) that closes within 1.5 widths? Tests per probe: side, then offset.
+  // width across the mouth, or where Q's was found free) that closes within 1.5 widths? Tests
+  // per probe: side, then offset.
   Round round;
   std::vector<size_t> gaps;
   for (size_t j = 0; j < probes.size(); ++j) {

@@ -79,11 +79,11 @@ inline constexpr uint32_t kNoCloser = 0xffffffffu;
 
 /// What the probe found: the gap's width (m; 0 when nothing closes it within reach, a free
 /// edge; -1 when every delta is blocked, a gap closed within kGapNarrowest; else the geometric
-/// mean of the last free and the first blocked delta after the first free one) and, for a gap, the
-/// length along the edge over which it stays open at 0.5 widths or at `open` and closed within 1.5
-/// widths, in widths (0
-/// to 8, in steps of 1), and where it ends along the edge either side of Q (m, relative to Q
-/// along `along`: from <= 0 <= to), found to within 1/256 of the edge's length on that side.
+/// mean of the last free and the first blocked delta after the first free one) and, for a gap,
+/// the length along the edge over which it stays open at 0.5 widths or at `open` and closed
+/// within 1.5 widths, in widths (0 to 8, in steps of 1), and where it ends along the edge either
+/// side of Q (m, relative to Q along `along`: from <= 0 <= to), found to within 1/256 of the
+/// edge's length on that side.
 /// `closer`: for a gap or a closed one, the triangle (the Tracer's numbering) whose surface
 /// closes it, met at the first closed delta; else kNoCloser.
 struct GapShape {

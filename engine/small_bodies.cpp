@@ -55,9 +55,9 @@ float silhouetteWidth(const std::vector<uint32_t>& surfaces, const SurfaceBodies
 constexpr size_t kCloseBodiesMost = 64;
 
 /// `removed` (sorted) with every other small body (not largeBody) whose box lies within
-/// kChannelGapMax of a body already in it added, again and again (boards sealed to each other,
-/// gaps of 1 mm or less, which no probe sees: together a screen); sorted. False when more than
-/// kCloseBodiesMost bodies would be added.
+/// kChannelGapMax of a body already in it added, again and again (the bodies of one screen or
+/// row, which thinTogether then clusters); sorted. False when more than kCloseBodiesMost
+/// bodies would be added (a louvre of more slats keeps no floor).
 bool closeBodies(std::vector<uint32_t>& removed, const SurfaceBodies& bodies) {
   std::vector<std::pair<glm::vec3, glm::vec3>> boxes;
   std::vector<bool> in(bodies.members.size(), false);
@@ -180,7 +180,8 @@ int thinBands(float across, float speedOfSound, double ka) {
 }
 
 /// How close two bodies' boxes stand to be one silhouette (m): boards sealed to each other,
-/// gaps of 1 mm or less which no probe tells from closed, make a solid screen however thin each.
+/// gaps under the probe's narrowest (0.5 mm, engine/gap_probe.h) up to 1 mm, make a solid screen
+/// however thin each.
 constexpr float kSealedGap = 1e-3f;
 
 /// The bands in which the surfaces (sorted) are thin by `ka` together with the small
@@ -262,12 +263,23 @@ bool weakGroup(const std::vector<EdgePath>& paths, const std::vector<Bands>& amp
   return true;
 }
 
+/// How far apart the boxes of flat surfaces s and t stand (m; their separation along the axis
+/// that separates them most, 0 where they overlap or one is unknown).
+float boxSeparation(const SurfaceBodies& bodies, uint32_t s, uint32_t t) {
+  if (s >= bodies.box.size() || t >= bodies.box.size()) return 0.f;
+  const auto& a = bodies.box[s];
+  const auto& b = bodies.box[t];
+  const glm::vec3 gap = glm::max(a.first - b.second, b.first - a.second);
+  return std::max(0.f, std::max({gap.x, gap.y, gap.z}));
+}
+
 /// The narrowest gap (m) that a slit path or a closed gap (q.closed) has with a surface in
 /// `removed` (sorted) on either side: infinity where none has, 0 where such a gap is closed by
 /// a surface not removed (a leaf shut in its frame: taking it away would open the doorway). A
-/// gap read closed between two removed bodies is left to thinTogether, which tells boards
-/// sealed to each other from posts in staggered rows whose silhouettes overlap along the line
-/// of sight (their probes read the gap between them closed).
+/// gap read closed between two removed bodies counts as wide as their boxes stand apart (posts
+/// in staggered rows whose silhouettes overlap along the line of sight, deep slats seen at a
+/// slant: the probes read the gap between them closed); boards sealed to each other are
+/// thinTogether's.
 float narrowestGap(const std::vector<EdgePath>& paths, const BoundQuery& q,
                    const std::vector<uint32_t>& removed) {
   auto in = [&](uint32_t s) { return std::binary_search(removed.begin(), removed.end(), s); };
@@ -280,6 +292,8 @@ float narrowestGap(const std::vector<EdgePath>& paths, const BoundQuery& q,
       least = std::min(least, p.gapWidth);
     else if (!(edge && in(p.gapCloser)))
       least = 0.f;
+    else if (!onEdgeBody(q.bodies.body, *p.edge, p.gapCloser))  // closed between two of them:
+      least = std::min(least, boxSeparation(q.bodies, p.edge->surfaces[0], p.gapCloser));
   };
   std::for_each(paths.begin(), paths.end(), visit);
   std::for_each(q.closed.begin(), q.closed.end(), visit);
@@ -291,13 +305,19 @@ float narrowestGap(const std::vector<EdgePath>& paths, const BoundQuery& q,
 /// row of posts across a slanted line of sight spans more along it than any post is deep).
 std::vector<double> rowsAlongSight(const std::vector<std::vector<uint32_t>>& groups,
                                    const BoundQuery& q) {
-  const glm::vec3 n = glm::normalize(q.L - q.source);
+  const glm::vec3 v = q.L - q.source;
+  if (!(glm::length(v) > 0.f)) return {};
+  const glm::vec3 n = glm::normalize(v), an = glm::abs(n);
+  const int axis = an.x >= an.y && an.x >= an.z ? 0 : (an.y >= an.z ? 1 : 2);
   std::vector<std::array<double, 3>> spans;  // from, to, depth
   for (const std::vector<uint32_t>& g : groups) {
     const auto [lo, hi] = boxOfSurfaces(g, q.bodies);
     const double c = double(glm::dot(0.5f * (lo + hi), n));
-    const double depth = double(glm::dot(glm::abs(n), hi - lo));
-    spans.push_back({c - 0.5 * depth, c + 0.5 * depth, depth});
+    const double extent = double(glm::dot(an, hi - lo));  // the box's along the line
+    // The slot's depth: the box's side along the axis nearest the line, over the cosine (a
+    // slat's depth, not its height: the line rising 5 degrees adds none of its 2 m).
+    const double depth = std::min(extent, double((hi - lo)[axis]) / double(an[axis]));
+    spans.push_back({c - 0.5 * extent, c + 0.5 * extent, depth});
   }
   std::sort(spans.begin(), spans.end());
   std::vector<double> rows;
@@ -417,7 +437,7 @@ struct FloorBodies {
 };
 
 /// Fills f; false when a body the line of sight crosses does not stand free (a whole body or a
-/// closed solid) or none is thin by kThinFloor in the lowest band with its neighbours.
+/// closed solid), or none is found.
 bool gatherFloorBodies(const std::vector<EdgePath>& paths, BoundQuery& q, FloorBodies& f) {
   const double longest = q.speedOfSound / bandCentreExactHz(0);
   int n = kNumBands;
@@ -485,13 +505,16 @@ Bands thinBodiesFloor(const std::vector<EdgePath>& paths, const DirectSound& coh
   // Each must be thin by kThinFloor at least in the lowest band (slats, posts: a leaf shut
   // against its stop is no row of slats, however thin the stop).
   const double ka = std::isfinite(gap) ? kSlotFloor : kThinFloor;
-  int n = thinTogether(f.removed, q, kThinFloor) > 0 ? thinTogether(f.removed, q, ka) : 0;
+  int n = kNumBands;
   double widest = 0.0;  // m
   for (float across : f.across) {
     if (thinBands(across, q.speedOfSound, kThinFloor) == 0) return floor;
     n = std::min(n, thinBands(across, q.speedOfSound, ka));
     widest = std::max(widest, double(across));
   }
+  const int thin = thinTogether(f.removed, q, kThinFloor);
+  if (thin == 0) return floor;
+  n = std::min(n, ka == kThinFloor ? thin : thinTogether(f.removed, q, ka));
   if (n == 0) return floor;
   DirectSound open = coherent;
   open.visible = true;

@@ -32,7 +32,10 @@ Bands smallSurfaceBound(const std::vector<EdgePath>& paths, const DirectSound& c
 /// passing sees them (their silhouette along the line of sight a wide, k a <= 1/8; bodies within
 /// 1 mm of each other one silhouette), in those bands at least the scene without them, the line
 /// of sight free, over kLitRipple, times what the slots between them pass (a layer of slot air
-/// per row: Morse & Ingard, Theoretical Acoustics, 9.4), and no more than `free` over it. Such a
+/// per row: Morse & Ingard, Theoretical Acoustics, 9.4), and no more than `free` over it. With
+/// slots between them, bodies thin at 63 Hz keep that floor in every band where each is under
+/// half a wavelength across (k a <= pi/2: no geometric shadow; a listener farther from them
+/// than their period squared over the wavelength is assumed). Such a
 /// body scatters weakly (a slat 1 cm thick 1 cm beside the line of sight read 10 dB below the free
 /// field at 63 Hz, its near edge taken for a screen's), while the first-order edge sum round it can
 /// fall far short. The thin bodies beside them go with them. Per band, 1/m^2; 0 where no such floor

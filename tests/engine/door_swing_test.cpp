@@ -316,8 +316,7 @@ TEST_CASE(
   // the thick wall above, and never more than 3 dB between neighbouring degrees (the model's own
   // steps are under 1 dB here). Before, the gap probe read the opening as a free edge at 7-8
   // degrees (the open doorway's level, 11 dB above the model at 63 Hz) and counted it twice at
-  // 5 and 9 degrees (from the jamb and from the rim, or from the sill's end inside it: +3.4 and
-  // +4.1 dB), a step of 18 dB from 6 to 7 degrees.
+  // 9 degrees (from the jamb and from the rim: +4.1 dB), a step of 20 dB from 6 to 7 degrees.
   const MouthImpedance zr;
   const glm::vec3 beside = kFreeListener + glm::vec3(0.f, 0.f, 1.f);
   Bands lastObject{}, lastMesh{};

@@ -51,12 +51,20 @@ float silhouetteWidth(const std::vector<uint32_t>& surfaces, const SurfaceBodies
   return least;
 }
 
+/// How far apart two boxes stand (m): their separation along the axis that separates them most;
+/// zero or less where they touch or overlap.
+float boxesApart(const std::pair<glm::vec3, glm::vec3>& a,
+                 const std::pair<glm::vec3, glm::vec3>& b) {
+  const glm::vec3 gap = glm::max(a.first - b.second, b.first - a.second);
+  return std::max({gap.x, gap.y, gap.z});
+}
+
 /// The most small bodies closeBodies gathers round those taken away before it gives up.
 constexpr size_t kCloseBodiesMost = 64;
 
 /// `removed` (sorted) with every other small body (not largeBody) whose box lies within
 /// kChannelGapMax of a body already in it added, again and again (the bodies of one screen or
-/// row, which thinTogether then clusters); sorted. False when more than kCloseBodiesMost
+/// row, which widestTogether then clusters); sorted. False when more than kCloseBodiesMost
 /// bodies would be added (a louvre of more slats keeps no floor).
 bool closeBodies(std::vector<uint32_t>& removed, const SurfaceBodies& bodies) {
   std::vector<std::pair<glm::vec3, glm::vec3>> boxes;
@@ -67,10 +75,8 @@ bool closeBodies(std::vector<uint32_t>& removed, const SurfaceBodies& bodies) {
       boxes.push_back(boxOfSurfaces(bodies.members[bodies.body[s]], bodies));
     }
   auto near = [&](const std::pair<glm::vec3, glm::vec3>& b) {
-    return std::any_of(boxes.begin(), boxes.end(), [&](const auto& a) {
-      const glm::vec3 gap = glm::max(a.first - b.second, b.first - a.second);
-      return std::max({gap.x, gap.y, gap.z}) <= kChannelGapMax;
-    });
+    return std::any_of(boxes.begin(), boxes.end(),
+                       [&](const auto& a) { return boxesApart(a, b) <= kChannelGapMax; });
   };
   for (size_t added = 0, round = 0; round <= kCloseBodiesMost; ++round) {
     bool more = false;
@@ -184,22 +190,20 @@ int thinBands(float across, float speedOfSound, double ka) {
 /// however thin each.
 constexpr float kSealedGap = 1e-3f;
 
-/// The bands in which the surfaces (sorted) are thin by `ka` together with the small
-/// bodies close to them (closeBodies), each cluster of bodies within kSealedGap of each other
-/// one silhouette: louvres' slats 1 cm apart and posts a hand apart are each their own (what
-/// passes between them is slotTransmission's); 0 where closeBodies gives up.
-int thinTogether(const std::vector<uint32_t>& removed, const BoundQuery& q, double ka) {
+/// The widest silhouette (m, silhouetteWidth) among the surfaces (sorted) and the small bodies
+/// close to them (closeBodies), each cluster of bodies within kSealedGap of each other one
+/// silhouette: louvres' slats 1 cm apart and posts a hand apart are each their own (what passes
+/// between them is slotTransmission's); infinity where closeBodies gives up.
+float widestTogether(const std::vector<uint32_t>& removed, const BoundQuery& q) {
   std::vector<uint32_t> together = removed;
-  if (!closeBodies(together, q.bodies)) return 0;
+  if (!closeBodies(together, q.bodies)) return std::numeric_limits<float>::infinity();
   std::vector<std::vector<uint32_t>> clusters;  // surfaces
   std::vector<std::pair<glm::vec3, glm::vec3>> boxes;
   for (uint32_t s : together) {
     const auto box = boxOfSurfaces({s}, q.bodies);
     std::vector<size_t> touching;
-    for (size_t c = 0; c < clusters.size(); ++c) {
-      const glm::vec3 gap = glm::max(boxes[c].first - box.second, box.first - boxes[c].second);
-      if (std::max({gap.x, gap.y, gap.z}) <= kSealedGap) touching.push_back(c);
-    }
+    for (size_t c = 0; c < clusters.size(); ++c)
+      if (boxesApart(boxes[c], box) <= kSealedGap) touching.push_back(c);
     std::vector<uint32_t> merged = {s};
     std::pair<glm::vec3, glm::vec3> mergedBox = box;
     for (auto c = touching.rbegin(); c != touching.rend(); ++c) {
@@ -212,11 +216,10 @@ int thinTogether(const std::vector<uint32_t>& removed, const BoundQuery& q, doub
     clusters.push_back(std::move(merged));
     boxes.push_back(mergedBox);
   }
-  int thin = kNumBands;
+  float widest = 0.f;
   for (const std::vector<uint32_t>& c : clusters)
-    thin =
-        std::min(thin, thinBands(silhouetteWidth(c, q.bodies, q.L - q.source), q.speedOfSound, ka));
-  return thin;
+    widest = std::max(widest, silhouetteWidth(c, q.bodies, q.L - q.source));
+  return widest;
 }
 
 /// The bands (the lowest ones) where a group's bound applies: it is small (its extent under the
@@ -267,10 +270,7 @@ bool weakGroup(const std::vector<EdgePath>& paths, const std::vector<Bands>& amp
 /// that separates them most, 0 where they overlap or one is unknown).
 float boxSeparation(const SurfaceBodies& bodies, uint32_t s, uint32_t t) {
   if (s >= bodies.box.size() || t >= bodies.box.size()) return 0.f;
-  const auto& a = bodies.box[s];
-  const auto& b = bodies.box[t];
-  const glm::vec3 gap = glm::max(a.first - b.second, b.first - a.second);
-  return std::max(0.f, std::max({gap.x, gap.y, gap.z}));
+  return std::max(0.f, boxesApart(bodies.box[s], bodies.box[t]));
 }
 
 /// The narrowest gap (m) that a slit path or a closed gap (q.closed) has with a surface in
@@ -279,7 +279,7 @@ float boxSeparation(const SurfaceBodies& bodies, uint32_t s, uint32_t t) {
 /// gap read closed between two removed bodies counts as wide as their boxes stand apart (posts
 /// in staggered rows whose silhouettes overlap along the line of sight, deep slats seen at a
 /// slant: the probes read the gap between them closed); boards sealed to each other are
-/// thinTogether's.
+/// widestTogether's.
 float narrowestGap(const std::vector<EdgePath>& paths, const BoundQuery& q,
                    const std::vector<uint32_t>& removed) {
   auto in = [&](uint32_t s) { return std::binary_search(removed.begin(), removed.end(), s); };
@@ -416,7 +416,8 @@ void smallGroupsBound(const SumParts& parts, const DirectSound& coherent,
       k = n;
       continue;
     }
-    if (free) thin = std::min(thin, thinTogether(removed, q, kThinFloor));
+    if (free)
+      thin = std::min(thin, thinBands(widestTogether(removed, q), q.speedOfSound, kThinFloor));
     const Bands without = sumWithout(paths, q, removed, coherent, n);
     const Bands tau = free ? slotTransmission(listed, across, gap, q) : Bands(0.f);
     for (int b = k; b < n; ++b) {
@@ -512,9 +513,9 @@ Bands thinBodiesFloor(const std::vector<EdgePath>& paths, const DirectSound& coh
     n = std::min(n, thinBands(across, q.speedOfSound, ka));
     widest = std::max(widest, double(across));
   }
-  const int thin = thinTogether(f.removed, q, kThinFloor);
-  if (thin == 0) return floor;
-  n = std::min(n, ka == kThinFloor ? thin : thinTogether(f.removed, q, ka));
+  const float together = widestTogether(f.removed, q);
+  if (thinBands(together, q.speedOfSound, kThinFloor) == 0) return floor;
+  n = std::min(n, thinBands(together, q.speedOfSound, ka));
   if (n == 0) return floor;
   DirectSound open = coherent;
   open.visible = true;

@@ -46,6 +46,32 @@ void print(const char* what, const Bands& level) {
 /// bands' single-precision sums.
 const float kRippleDb = 10.f * std::log10(kLitRipple) + 0.05f;
 
+/// What a plane wave at normal incidence keeps through a layer of slots (dB, mean power over
+/// 64 frequencies across octave band b): the slots `slot` m wide between slats `thick` m
+/// thick, `deep` m deep plus each mouth's end correction (Morse & Ingard, Theoretical
+/// Acoustics, 9.4): tau = 1 / (cos^2 kd + (sigma + 1/sigma)^2 / 4 sin^2 kd), sigma open.
+double slotsPassDb(double thick, double deep, double slot, int b) {
+  const double sigma = slot / (slot + thick), pi = std::acos(-1.0);
+  const double depth = deep + 2.0 * slot / pi * std::log(1.0 / std::sin(0.5 * pi * sigma));
+  const double a = 0.25 * (sigma + 1.0 / sigma) * (sigma + 1.0 / sigma);
+  double tau = 0.0;
+  for (int i = 0; i < 64; ++i) {
+    const double f = 62.5 * std::pow(2.0, b - 0.5 + (i + 0.5) / 64.0);
+    const double kd = 2.0 * pi * f / 343.0 * depth;
+    tau += 1.0 / (std::cos(kd) * std::cos(kd) + a * std::sin(kd) * std::sin(kd)) / 64.0;
+  }
+  return 10.0 * std::log10(tau);
+}
+
+/// A louvre of slats `thick` m across (z) and `deep` m deep (x), 2 m tall, `slot` m apart,
+/// across a metre of the room (z 2 to 3 m), its middle on the line of sight.
+SceneDesc louvreScene(float thick, float deep, float slot) {
+  SceneDesc s = test::makeShoebox({12, 3, 5}, Bands(0.2f), 0.3f, kSource, kListener, 0.5f);
+  for (float z = 2.f; z + thick <= 3.f + 1e-4f; z += thick + slot)
+    test::addSolidBox(s.mesh, {6.f - 0.5f * deep, 0.f, z}, {6.f + 0.5f * deep, 2.f, z + thick}, 0);
+  return s;
+}
+
 }  // namespace
 
 TEST_CASE("Thin bodies: slatted shelving with the line of sight free is no louder than the "
@@ -85,11 +111,13 @@ TEST_CASE(
   // field plus what the posts scatter, which a row of bodies cannot make more than the lit-side
   // ripple of their edges, while the first-order edge terms of the posts, each blind to the
   // others, add up to +4.5 dB at 4 and 8 kHz when summed alone. Nor can posts 5 cm across take
-  // much away where they are thin (k a <= 1/8, 63-250 Hz): at least the free field below the
-  // ripple and the rows' mass law as slotted screens (their slots' air, m' = rho d / sigma, the
-  // three rows 5 cm deep and 80 % open: 0.1 dB at 63 Hz, under 1 dB at 250 Hz; 1.5 dB allowed).
-  // Before, grazing a post read down to -6.8 dB at 63 Hz and -5.3 dB at 250 Hz: the posts' gaps
-  // barred the floor that a body standing free keeps, as sealed boards do.
+  // much away where they are under half a wavelength across (k a <= pi/2, 63 Hz-2 kHz: no
+  // geometric shadow): at least the free field below the ripple and what the rows pass as
+  // slotted screens (slotsPassDb; three rows 5 cm deep and 83 % open: under 0.5 dB in those
+  // bands; 1.5 dB allowed). Before, grazing a post read down to -6.8 dB at 63 Hz and -5.3 dB
+  // at 250 Hz (the posts' gaps barred the floor that a body standing free keeps, as sealed
+  // boards do), and then -7.7 dB at 500 Hz with the line of sight between the posts (the
+  // floor held only where they are thin by k a <= 1/8).
   SceneDesc s = test::makeShoebox({12, 3, 5}, Bands(0.2f), 0.3f, kSource, kListener, 0.5f);
   for (int row = 0; row < 3; ++row)
     for (float z = 1.f + 0.15f * float(row % 2); z + 0.05f <= 4.f; z += 0.3f) {
@@ -108,7 +136,7 @@ TEST_CASE(
     for (int b = 0; b < kNumBands; ++b) {
       INFO(what << ", band " << b);
       CHECK(level[b] <= kRippleDb);
-      if (b <= 2) CHECK(level[b] >= -kRippleDb - 1.5f);
+      if (b <= 5) CHECK(level[b] >= -kRippleDb - 1.5f);
     }
   }
   CHECK(walked >= 10);
@@ -190,13 +218,7 @@ TEST_CASE("Thin bodies: a louvre whose slat blocks the line of sight passes what
   // behind the slat it read nothing at all (-300 dB): 1 cm apart, the slats were taken for
   // boards sealed to each other, and from 2 kHz, where they are not thin, nothing held them.
   constexpr float kThick = 0.01f, kDeep = 0.1f, kSlot = 0.01f;
-  SceneDesc s = test::makeShoebox({12, 3, 5}, Bands(0.2f), 0.3f, kSource, kListener, 0.5f);
-  for (float z = 2.f; z + kThick <= 3.f + 1e-4f; z += kThick + kSlot)
-    test::addSolidBox(s.mesh, {6.f - 0.5f * kDeep, 0.f, z}, {6.f + 0.5f * kDeep, 2.f, z + kThick},
-                      0);
-  const double sigma = 0.5, pi = std::acos(-1.0);
-  const double depth = kDeep + 2.0 * kSlot / pi * std::log(1.0 / std::sin(0.5 * pi * sigma));
-  const double a = 0.25 * (sigma + 1.0 / sigma) * (sigma + 1.0 / sigma);
+  const SceneDesc s = louvreScene(kThick, kDeep, kSlot);
   int blocked = 0;
   for (float z : {2.49f, 2.50f, 2.51f}) {
     const glm::vec3 listener{9.f, 1.2f, z};
@@ -207,16 +229,49 @@ TEST_CASE("Thin bodies: a louvre whose slat blocks the line of sight passes what
     std::snprintf(what, sizeof what, "louvre, listener z %.2f (dB)", double(z));
     print(what, level);
     for (int b = 0; b < kNumBands; ++b) {
-      double tau = 0.0;
-      for (int i = 0; i < 64; ++i) {
-        const double f = 62.5 * std::pow(2.0, b - 0.5 + (i + 0.5) / 64.0);
-        const double kd = 2.0 * pi * f / 343.0 * depth;
-        tau += 1.0 / (std::cos(kd) * std::cos(kd) + a * std::sin(kd) * std::sin(kd)) / 64.0;
-      }
-      INFO(what << ", band " << b << ", slots pass " << 10.0 * std::log10(tau) << " dB");
-      CHECK(level[b] >= float(10.0 * std::log10(tau)) - kRippleDb - 0.5f);
+      const double pass = slotsPassDb(kThick, kDeep, kSlot, b);
+      INFO(what << ", band " << b << ", slots pass " << pass << " dB");
+      CHECK(level[b] >= float(pass) - kRippleDb - 0.5f);
       CHECK(level[b] <= kRippleDb);
     }
   }
+  CHECK(blocked >= 2);
+}
+
+TEST_CASE("Thin bodies: a tight louvre passes as much through a slot as through a slat",
+          "[diffraction][door]") {
+  // Slats 3 cm thick and 5 cm deep, 3 mm apart (9 % open), the listener walking 5 mm at a time
+  // so that the line of sight passes now through a slot, now through a slat. Three metres
+  // behind, farther than the period squared over the wavelength at every band, the field is
+  // the grating's zeroth order: what the slot layer passes (slotsPassDb: -0.5 dB at 63 Hz,
+  // -9 dB at 500 Hz, -19 dB at 4 kHz), the same wherever the line of sight falls. Slats under
+  // half a wavelength thick (3 cm: up to 4 kHz) cast no geometric shadow, so in those bands
+  // every position keeps at least what the slots pass, less the ripple and 1 dB for the
+  // probes' reading of the gap (within 5 %, engine/gap_probe.h) and of the slats' silhouette:
+  // 9 % open, tau goes as sigma squared (0.3 dB for the 4 % they read here, 16 frequencies per
+  // band where this takes 64); and none more than the free field with the ripple. Before,
+  // through a slot read -27 dB at 63 Hz and -26 dB at 500 Hz where a slat beside it read -1.3
+  // and -10.3 dB: the slot was read as one slit in a wall, the slats' own paths too weak to
+  // be held.
+  constexpr float kThick = 0.03f, kDeep = 0.05f, kSlot = 0.003f;
+  const SceneDesc s = louvreScene(kThick, kDeep, kSlot);
+  int through = 0, blocked = 0;
+  for (float z = 2.44f; z <= 2.56f; z += 0.005f) {
+    const glm::vec3 listener{9.f, 1.2f, z};
+    const bool free = lineOfSightFree(s, listener);
+    (free ? through : blocked) += 1;
+    const Bands level = decibels(directLevel(s, kSource, listener));
+    char what[64];
+    std::snprintf(what, sizeof what, "tight louvre, z %.3f, %s (dB)", double(z),
+                  free ? "slot" : "slat");
+    print(what, level);
+    for (int b = 0; b < kNumBands; ++b) {
+      const double pass = slotsPassDb(kThick, kDeep, kSlot, b);
+      INFO(what << ", band " << b << ", slots pass " << pass << " dB");
+      if (b <= 6) CHECK(level[b] >= float(pass) - kRippleDb - 1.f);
+      CHECK(level[b] <= kRippleDb);
+    }
+  }
+  CHECK(through >= 2);
   CHECK(blocked >= 2);
 }

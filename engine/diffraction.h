@@ -118,6 +118,12 @@ struct SurfaceBodies {
   std::vector<std::pair<glm::vec3, glm::vec3>> box;
   std::vector<std::vector<uint32_t>> edges;
   std::vector<std::vector<uint32_t>> members;  ///< per body, its flat surfaces (ascending)
+  /// Per body, +1 where its faces' normals (by their triangles' winding) point into the air,
+  /// -1 for a solid object (closed, less than kSolidExtent across) wound inside out (its
+  /// triangles enclose a negative volume): exporters differ, and a hit's normal times this
+  /// points out of the solid whichever way it was wound. +1 for every other body (a room, a
+  /// wall, a sheet), whose faces are taken as wound.
+  std::vector<float> outward;
 };
 
 /// The band energy of the direct-plus-diffracted field is |p|^2 averaged over these

@@ -348,6 +348,41 @@ std::vector<std::pair<glm::vec3, glm::vec3>> surfaceBoxes(const Mesh& mesh,
 
 }  // namespace
 
+namespace {
+
+/// SurfaceBodies::outward: per body, the sign of the volume its triangles enclose (the sum of
+/// the tetrahedra from its box's corner to each, the divergence theorem) where it is a solid
+/// object; +1 where that volume is not clearly signed (under a tenth of the tetrahedra's
+/// volumes taken unsigned: a double-sided copy cancels its face, mixed windings) or the body
+/// is none.
+std::vector<float> outwardSigns(const Mesh& mesh, const std::vector<uint32_t>& surfaces,
+                                const SurfaceBodies& bodies) {
+  const size_t n = bodies.members.size();
+  std::vector<double> volume(n, 0.0), unsigned_(n, 0.0);
+  std::vector<glm::dvec3> corner(n);
+  for (size_t b = 0; b < n; ++b)
+    if (!bodies.members[b].empty()) corner[b] = boxOfSurfaces(bodies.members[b], bodies).first;
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const uint32_t b = bodies.body[surfaces[t]];
+    if (b >= n || !bodies.closed[b]) continue;
+    const glm::dvec3 v0 = mesh.vertices[mesh.triangles[t][0]];
+    const glm::dvec3 e1 = glm::dvec3(mesh.vertices[mesh.triangles[t][1]]) - v0;
+    const glm::dvec3 e2 = glm::dvec3(mesh.vertices[mesh.triangles[t][2]]) - v0;
+    const double v = glm::dot(v0 - corner[b], glm::cross(e1, e2)) / 6.0;
+    volume[b] += v;
+    unsigned_[b] += std::abs(v);
+  }
+  std::vector<float> out(n, 1.f);
+  for (size_t b = 0; b < n; ++b) {
+    if (!bodies.closed[b] || bodies.members[b].empty()) continue;
+    const auto [lo, hi] = boxOfSurfaces(bodies.members[b], bodies);
+    if (glm::distance(lo, hi) < kSolidExtent && volume[b] < -0.1 * unsigned_[b]) out[b] = -1.f;
+  }
+  return out;
+}
+
+}  // namespace
+
 SurfaceBodies surfaceBodies(const Mesh& mesh, const std::vector<uint32_t>& surfaces) {
   const std::vector<uint32_t> id = weldedVertexIds(mesh);
   std::vector<uint32_t> parent(mesh.vertices.size());
@@ -363,7 +398,7 @@ SurfaceBodies surfaceBodies(const Mesh& mesh, const std::vector<uint32_t>& surfa
     }
   const uint32_t count =
       surfaces.empty() ? 0u : *std::max_element(surfaces.begin(), surfaces.end()) + 1u;
-  SurfaceBodies out{std::vector<uint32_t>(count, UINT32_MAX), {}, {}, {}, {}, {}};
+  SurfaceBodies out{std::vector<uint32_t>(count, UINT32_MAX), {}, {}, {}, {}, {}, {}};
   std::unordered_map<uint32_t, uint32_t> number;  // vertex root -> body
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
     const uint32_t r = root(id[mesh.triangles[t][0]]);
@@ -382,6 +417,7 @@ SurfaceBodies surfaceBodies(const Mesh& mesh, const std::vector<uint32_t>& surfa
     const EdgeFaces f = endingFaces(mesh, id, surfaces, ia, ib, glm::normalize(d), use);
     if (f.valid && f.count == 1) out.closed[out.body[surfaces[f.tri[0]]]] = false;
   }
+  out.outward = outwardSigns(mesh, surfaces, out);
   return out;
 }
 

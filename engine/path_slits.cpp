@@ -78,10 +78,12 @@ void setSlit(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L,
 /// True when a channel's face has another solid lying on it (a leaf that fills its doorway
 /// exactly, its top flush with the lintel's underside, or the reveal beside it): a point
 /// kGapNarrowest off the middle of the face lies inside that solid, and the rays from it both
-/// ways along the channel meet its faces within a wall's thickness from behind, or, where the
-/// solid's faces point inward, both from the front on one closed body that is not the face's
-/// own (in a gap between two stops both rays meet the stops from the front, but they are two
-/// bodies, or the wall's own). The probe's points across a covered mouth lie in the solid too,
+/// ways along the channel meet its faces within a wall's thickness from behind (the normals of
+/// a solid wound inside out turned back, SurfaceBodies::outward: staggered posts so wound
+/// had every gap between them read covered), or both from the front on one closed body that is
+/// not the face's own (a body larger than a solid object whose faces point inward; in a gap
+/// between two stops both rays meet the stops from the front, but they are two bodies, or the
+/// wall's own). The probe's points across a covered mouth lie in the solid too,
 /// and the legs to them, blocked by its faces in front of the mouth, read as another edge's
 /// shadow: a sealed leaf's top and sill were taken for gaps 35 mm wide. `closer`: the
 /// solid's surface met ahead.
@@ -96,8 +98,12 @@ bool coveredFace(const Tracer& tracer, const std::vector<uint32_t>& surfaces,
   if (!tracer.intersect(TraceRay{m, along, 0.f, reach}, ahead) ||
       !tracer.intersect(TraceRay{m, -along, 0.f, reach}, behind))
     return false;
-  const float a = glm::dot(ahead.normal, along), b = -glm::dot(behind.normal, along);
   const uint32_t s = surfaceOf(surfaces, ahead.triangle), t = surfaceOf(surfaces, behind.triangle);
+  auto outward = [&](uint32_t u) {  // a solid wound inside out: its normals turned back
+    return bodies && u < bodies->body.size() ? bodies->outward[bodies->body[u]] : 1.f;
+  };
+  const float a = outward(s) * glm::dot(ahead.normal, along);
+  const float b = -outward(t) * glm::dot(behind.normal, along);
   bool covered = a > 0.f && b > 0.f;
   if (!covered && a < 0.f && b < 0.f && bodies && s < bodies->body.size() &&
       t < bodies->body.size()) {

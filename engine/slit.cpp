@@ -107,7 +107,10 @@ C mutualImpedance(const CoupledSlit& a, const CoupledSlit& b) {
   const double kd = 0.5 * (a.kt + b.kt) * d;
   // Two strips narrow against d: the averaged Green's function is its value at the centres.
   if (!(kd > std::max(a.x, b.x))) return 0.0;
-  return 0.5 * C(std::cyl_bessel_j(0.0, kd), -std::cyl_neumann(0.0, kd));
+  // H0^(2) = J0 - j Y0 by libm's order-0 Bessel functions (POSIX j0, y0): a louvre's dozens of
+  // coupled slits take thousands per frequency, where the general order's std::cyl_bessel_j and
+  // std::cyl_neumann cost most of a frame.
+  return 0.5 * C(::j0(kd), -::y0(kd));
 }
 
 }  // namespace
@@ -120,16 +123,17 @@ void mutualLoading(std::span<const CoupledSlit> slits, std::span<C> factors) {
   for (Eigen::Index i = 0; i < n; ++i) {
     factors[size_t(i)] = 1.0;
     p(i) = slits[size_t(i)].incident;
-    for (Eigen::Index j = 0; j < n; ++j) {
-      z(i, j) = i == j ? stripRadiationImpedance(slits[size_t(i)].x)
-                       : mutualImpedance(slits[size_t(i)], slits[size_t(j)]);
-      coupled = coupled || (i != j && z(i, j) != 0.0);
+    z(i, i) = stripRadiationImpedance(slits[size_t(i)].x);
+    for (Eigen::Index j = 0; j < i; ++j) {  // Z_ij = Z_ji: reciprocity
+      z(i, j) = z(j, i) = mutualImpedance(slits[size_t(i)], slits[size_t(j)]);
+      coupled = coupled || z(i, j) != 0.0;
     }
   }
   if (!coupled) return;
-  const Eigen::FullPivLU<Eigen::MatrixXcd> lu(z);
-  if (!lu.isInvertible()) return;
-  const Eigen::VectorXcd q = lu.solve(p);
+  // Partial pivoting: full pivoting's search takes |z| of every remaining element at each step
+  // (n^3 / 3 complex magnitudes, most of a louvre's frame). A singular Z leaves q not finite.
+  const Eigen::VectorXcd q = Eigen::PartialPivLU<Eigen::MatrixXcd>(z).solve(p);
+  if (!q.allFinite()) return;
   for (Eigen::Index i = 0; i < n; ++i)
     if (std::abs(p(i)) > 0.0) factors[size_t(i)] = q(i) * z(i, i) / p(i);
 }

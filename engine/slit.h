@@ -121,7 +121,8 @@ struct CoupledSlit {
 };
 
 /// factors[i] = q_i (coupled: Z q = p) / (p_i / Z_ii) (alone), for i < slits.size() <=
-/// factors.size(); 1 for a slit coupled to none, or when Z is singular (Eigen's full-pivot LU).
+/// factors.size(); 1 for a slit coupled to none, or when Z is singular (Eigen's partial-pivot
+/// LU leaves the solution not finite).
 /// Any thread; allocates O(n^2); no errors.
 void mutualLoading(std::span<const CoupledSlit> slits, std::span<std::complex<double>> factors);
 

@@ -96,6 +96,16 @@ bool closeBodies(std::vector<uint32_t>& removed, const SurfaceBodies& bodies) {
   return true;
 }
 
+/// The surfaces (sorted) and the small bodies close to them (closeBodies): the whole screen or
+/// row, which a sum without them takes away (the edges of slats left beside those taken away,
+/// each summed as an infinite edge's, would take the screen's slots for a screen's edges: a slat
+/// on the line of sight between two 3 cm slots read 7.5 dB below the free field at 63 Hz, a
+/// slot beside two slats left 7.9 dB); the surfaces alone where closeBodies gives up.
+std::vector<uint32_t> screenOf(const std::vector<uint32_t>& removed, const SurfaceBodies& bodies) {
+  std::vector<uint32_t> screen = removed;
+  return closeBodies(screen, bodies) ? screen : removed;
+}
+
 /// The surfaces taken away with free-standing surface s (sorted): its whole body when the body
 /// is less than `wavelength` across (a seat's boxes, a box leaf: a small object goes whole), else
 /// s alone (a leaf welded to its wall), a closed body's faces together (wholeSolids).
@@ -274,19 +284,25 @@ struct SumParts {
 /// most kSmallShare of the sum's pressure: taking them away cannot move the sum past kLitRipple
 /// either way, so no bound or floor holds it. Never where g holds a side of the slit the line
 /// of sight passes: taking it away gives the direct sound back (a slatted screen seen through
-/// a 3 mm slot read 27 dB below the free field at 63 Hz, its slats' own paths weak).
-bool weakGroup(const SumParts& parts, const std::vector<uint32_t>& g, int from, int to) {
+/// a 3 mm slot read 27 dB below the free field at 63 Hz, its slats' own paths weak). With
+/// `slits`, never where a kept path on g carries a slit's field, which bandAmplitude does not
+/// weigh (a louvre's slots beside the line of sight summed to 4.9 dB above the free field).
+bool weakGroup(const SumParts& parts, const std::vector<uint32_t>& g, int from, int to,
+               bool slits = false) {
   // (1 - s)^2 kLitRipple >= 1 for s <= 1 - 1 / sqrt(1.37) = 0.146.
   constexpr double kSmallShare = 0.14;
   auto in = [&](uint32_t s) { return std::binary_search(g.begin(), g.end(), s); };
-  if (const EdgePath* slit = parts.throughSlit;
-      slit && (in(slit->edge->surfaces[0]) || in(slit->edge->surfaces[1]) || in(slit->gapCloser)))
+  auto on = [&](const EdgePath& p) { return in(p.edge->surfaces[0]) || in(p.edge->surfaces[1]); };
+  if (const EdgePath* slit = parts.throughSlit; slit && (on(*slit) || in(slit->gapCloser)))
+    return false;
+  if (slits && std::any_of(parts.kept.begin(), parts.kept.end(), [&](const EdgePath& p) {
+        return p.gapWidth > 0.f && p.slitOwner && on(p);
+      }))
     return false;
   for (int k = from; k < to; ++k) {
     double own = 0.0;
     for (size_t j = 0; j < parts.kept.size(); ++j)
-      if (in(parts.kept[j].edge->surfaces[0]) || in(parts.kept[j].edge->surfaces[1]))
-        own += double(parts.amplitude[j][k]);
+      if (on(parts.kept[j])) own += double(parts.amplitude[j][k]);
     if (own > kSmallShare * std::sqrt(4.0 * std::numbers::pi * double(parts.sum[k]))) return false;
   }
   return true;
@@ -302,24 +318,30 @@ float boxSeparation(const SurfaceBodies& bodies, uint32_t s, uint32_t t) {
 /// The narrowest gap (m) that a slit path or a closed gap (q.closed) has with a surface in
 /// `removed` (sorted) on either side: infinity where none has, 0 where such a gap is closed by
 /// a surface not removed (a leaf shut in its frame: taking it away would open the doorway). A
-/// gap read closed between two removed bodies counts as wide as their boxes stand apart (posts
-/// in staggered rows whose silhouettes overlap along the line of sight, deep slats seen at a
-/// slant: the probes read the gap between them closed); boards sealed to each other are
-/// widestTogether's.
+/// gap read closed between two of the removed bodies, or between one and a small body standing
+/// beside them (closeBodies: the next slat of the screen), counts as wide as their boxes stand
+/// apart (posts in staggered rows whose silhouettes overlap along the line of sight, deep slats
+/// seen at a slant, the bottom edge of a slat 3 cm from the next: the probes read the gap
+/// between them closed); boards sealed to each other are bodiesTogether's.
 float narrowestGap(const std::vector<EdgePath>& paths, const BoundQuery& q,
                    const std::vector<uint32_t>& removed) {
   auto in = [&](uint32_t s) { return std::binary_search(removed.begin(), removed.end(), s); };
+  std::vector<uint32_t> beside;  // removed and the small bodies close to them, when first asked
+  auto near = [&](uint32_t s) {
+    if (beside.empty() && !closeBodies(beside = removed, q.bodies)) beside = removed;
+    return std::binary_search(beside.begin(), beside.end(), s);
+  };
   float least = std::numeric_limits<float>::infinity();
   auto visit = [&](const EdgePath& p) {
     if (!(p.gapWidth > 0.f) && p.gapCloser == kUnknownSurface) return;
-    const bool edge = in(p.edge->surfaces[0]) || in(p.edge->surfaces[1]);
-    if (!edge && !in(p.gapCloser)) return;
+    const uint32_t s0 = p.edge->surfaces[0], s1 = p.edge->surfaces[1];
+    if (!in(s0) && !in(s1) && !in(p.gapCloser)) return;
     if (p.gapWidth > 0.f)
       least = std::min(least, p.gapWidth);
-    else if (!(edge && in(p.gapCloser)))
+    else if (!((near(s0) || near(s1)) && near(p.gapCloser)))
       least = 0.f;
     else if (!onEdgeBody(q.bodies.body, *p.edge, p.gapCloser))  // closed between two of them:
-      least = std::min(least, boxSeparation(q.bodies, p.edge->surfaces[0], p.gapCloser));
+      least = std::min(least, boxSeparation(q.bodies, s0, p.gapCloser));
   };
   std::for_each(paths.begin(), paths.end(), visit);
   std::for_each(q.closed.begin(), q.closed.end(), visit);
@@ -428,16 +450,18 @@ void smallGroupsBound(const SumParts& parts, const DirectSound& coherent,
     int thin = floorBands(float(across), gap, q.speedOfSound);  // the floor's bands
     free = free && count > 0 && thin > k && gap > 0.f;
     if (count == 0 || (count == 1 && !free)) return;  // one alone: smallSurfaceBound's own
-    if (weakGroup(parts, removed, k, n)) {
+    if (weakGroup(parts, removed, k, n, true)) {
       k = n;
       continue;
     }
     if (free) thin = std::min(thin, floorBands(widestTogether(removed, q), gap, q.speedOfSound));
-    const Bands without = sumWithout(paths, q, removed, coherent, n);
+    const Bands without =
+        sumWithout(paths, q, free && thin > k ? screenOf(removed, q.bodies) : removed, coherent, n);
     const Bands tau = free ? slotTransmission(listed, across, gap, q) : Bands(0.f);
     for (int b = k; b < n; ++b) {
       bound[b] = std::min(bound[b], kLitRipple * without[b]);
-      if (free && b < thin) (*floor)[b] = without[b] * tau[b] / kLitRipple;
+      if (free && b < thin)
+        (*floor)[b] = std::min(without[b], coherent.intensity[b]) * tau[b] / kLitRipple;
     }
     k = n;
   }
@@ -526,7 +550,7 @@ Bands thinBodiesFloor(const std::vector<EdgePath>& paths, const DirectSound& coh
   DirectSound open = coherent;
   open.visible = true;
   open.intensity = free;
-  const Bands without = sumWithout(paths, q, f.removed, open, n);
+  const Bands without = sumWithout(paths, q, screenOf(f.removed, q.bodies), open, n);
   const Bands tau = slotTransmission(f.groups, widest, gap, q);
   for (int k = 0; k < n; ++k) floor[k] = std::min(free[k], without[k]) * tau[k] / kLitRipple;
   return floor;

@@ -22,7 +22,8 @@ namespace dpc {
 /// `sum` the coherent sum with everything in place but the surfaces `base` (sorted; the groups
 /// are those of the paths without them, and each group goes with them).
 /// Also fills q.smallFloor when the line of sight is free and `base` empty: what the small
-/// bodies together leave the sum at least (smallGroupsBound in engine/small_bodies.cpp). Band
+/// bodies together leave the sum at least (smallGroupsBound in engine/small_bodies.cpp; the
+/// same floor as thinBodiesFloor's, at most the direct sound times what their slots pass). Band
 /// intensities in 1/m^2; 1e30 where no bound holds.
 Bands smallSurfaceBound(const std::vector<EdgePath>& paths, const DirectSound& coherent,
                         const Bands& sum, BoundQuery& q, const std::vector<uint32_t>& base = {});
@@ -30,8 +31,9 @@ Bands smallSurfaceBound(const std::vector<EdgePath>& paths, const DirectSound& c
 /// With the line of sight blocked only by bodies that stand free (whole bodies or closed solids,
 /// none closed by the probe to a surface not taken away with them) and are thin as the sound
 /// passing sees them (their silhouette along the line of sight a wide, k a <= 1/8; bodies within
-/// 1 mm of each other one silhouette), in those bands at least the scene without them, the line
-/// of sight free, over kLitRipple, times what the slots between them pass (a layer of slot air
+/// 1 mm of each other one silhouette), in those bands at least the scene without them (and the
+/// small bodies within 3 cm of them: the whole screen), the line of sight free, over
+/// kLitRipple, times what the slots between them pass (a layer of slot air
 /// per row: Morse & Ingard, Theoretical Acoustics, 9.4), and no more than `free` over it. With
 /// slots between them, bodies thin at 63 Hz keep that floor in every band where each is under
 /// half a wavelength across (k a <= pi/2: no geometric shadow; a listener farther from them

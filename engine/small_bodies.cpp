@@ -5,6 +5,7 @@
 #include <cmath>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <glm/vector_relational.hpp>
 #include <limits>
 #include <numbers>
 #include <utility>
@@ -285,8 +286,10 @@ struct SumParts {
 /// either way, so no bound or floor holds it. Never where g holds a side of the slit the line
 /// of sight passes: taking it away gives the direct sound back (a slatted screen seen through
 /// a 3 mm slot read 27 dB below the free field at 63 Hz, its slats' own paths weak). With
-/// `slits`, never where a kept path on g carries a slit's field, which bandAmplitude does not
-/// weigh (a louvre's slots beside the line of sight summed to 4.9 dB above the free field).
+/// `slits` (the line of sight free, where the row's bound holds the sum to what passes between
+/// the bodies), never where a kept path on g carries a slit's field, which bandAmplitude does
+/// not weigh (a louvre's slots beside the line of sight summed to 4.9 dB above the free field;
+/// with the line of sight blocked by posts, the sum without their neighbours is nothing).
 bool weakGroup(const SumParts& parts, const std::vector<uint32_t>& g, int from, int to,
                bool slits = false) {
   // (1 - s)^2 kLitRipple >= 1 for s <= 1 - 1 / sqrt(1.37) = 0.146.
@@ -331,11 +334,21 @@ float narrowestGap(const std::vector<EdgePath>& paths, const BoundQuery& q,
     if (beside.empty() && !closeBodies(beside = removed, q.bodies)) beside = removed;
     return std::binary_search(beside.begin(), beside.end(), s);
   };
+  // A closed gap's closer lies at its mouth: a probe that met a body far from the edge (a ground
+  // plane's rim 20 m off read closed by a slat) closes nothing near them.
+  auto atMouth = [&](const EdgePath& p) {
+    if (p.gapCloser >= q.bodies.box.size()) return true;
+    const auto& [lo, hi] = q.bodies.box[p.gapCloser];
+    const glm::vec3 reach(kChannelGapMax);
+    return glm::all(glm::greaterThanEqual(p.q, lo - reach)) &&
+           glm::all(glm::lessThanEqual(p.q, hi + reach));
+  };
   float least = std::numeric_limits<float>::infinity();
   auto visit = [&](const EdgePath& p) {
     if (!(p.gapWidth > 0.f) && p.gapCloser == kUnknownSurface) return;
     const uint32_t s0 = p.edge->surfaces[0], s1 = p.edge->surfaces[1];
     if (!in(s0) && !in(s1) && !in(p.gapCloser)) return;
+    if (!(p.gapWidth > 0.f) && !atMouth(p)) return;
     if (p.gapWidth > 0.f)
       least = std::min(least, p.gapWidth);
     else if (!((near(s0) || near(s1)) && near(p.gapCloser)))
@@ -413,6 +426,34 @@ Bands slotTransmission(const std::vector<std::vector<uint32_t>>& groups, double 
   return tau;
 }
 
+/// The small groups smallGroupsBound takes away from band k on (those whose bands, smallBands,
+/// reach past k): their surfaces with `base` (sorted), each group's surfaces, the widest
+/// silhouette among them (m), the first band where one of them stops (n), and whether every one
+/// is a whole body (`free` with a floor asked for).
+struct BandGroups {
+  std::vector<uint32_t> removed;
+  std::vector<std::vector<uint32_t>> listed;
+  double across = 0.0;
+  int n = kNumBands;
+  bool free = true;
+};
+
+BandGroups bandGroups(const std::vector<SmallGroup>& groups, const std::vector<int>& bands, int k,
+                      const std::vector<uint32_t>& base, bool floor) {
+  BandGroups g{base, {}, 0.0, kNumBands, floor};
+  for (size_t i = 0; i < groups.size(); ++i) {
+    if (bands[i] <= k) continue;
+    g.listed.push_back(groups[i].surfaces);
+    g.across = std::max(g.across, double(groups[i].across));
+    g.free = g.free && groups[i].whole;
+    g.removed.insert(g.removed.end(), groups[i].surfaces.begin(), groups[i].surfaces.end());
+    g.n = std::min(g.n, bands[i]);
+  }
+  std::sort(g.removed.begin(), g.removed.end());
+  g.removed.erase(std::unique(g.removed.begin(), g.removed.end()), g.removed.end());
+  return g;
+}
+
 /// The small groups together (smallSurfaces, smallBands): in each band, at most kLitRipple times
 /// the sum without every group small in it, into bound, and (`floor` not null) at least that sum
 /// over kLitRipple, into *floor. Small bodies scatter weakly, together as each alone, while
@@ -426,44 +467,30 @@ Bands slotTransmission(const std::vector<std::vector<uint32_t>>& groups, double 
 void smallGroupsBound(const SumParts& parts, const DirectSound& coherent,
                       const std::vector<SmallGroup>& groups, const std::vector<uint32_t>& base,
                       BoundQuery& q, Bands& bound, Bands* floor) {
-  const std::vector<EdgePath>& paths = parts.paths;
   std::vector<int> bands;
   for (const SmallGroup& g : groups) bands.push_back(smallBands(g, q.speedOfSound, false));
   for (int k = 0; k < kNumBands;) {  // bands k .. n - 1 take away the same groups
-    std::vector<uint32_t> removed = base;
-    int n = kNumBands, count = 0;
-    bool free = floor != nullptr;  // every group a body of its own, none closed to another
-    std::vector<std::vector<uint32_t>> listed;
-    double across = 0.0;  // m: the widest of them
-    for (size_t i = 0; i < groups.size(); ++i) {
-      if (bands[i] <= k) continue;
-      listed.push_back(groups[i].surfaces);
-      across = std::max(across, double(groups[i].across));
-      free = free && groups[i].whole;
-      removed.insert(removed.end(), groups[i].surfaces.begin(), groups[i].surfaces.end());
-      n = std::min(n, bands[i]);
-      ++count;
-    }
-    std::sort(removed.begin(), removed.end());
-    removed.erase(std::unique(removed.begin(), removed.end()), removed.end());
-    const float gap = free ? narrowestGap(paths, q, removed) : 0.f;
-    int thin = floorBands(float(across), gap, q.speedOfSound);  // the floor's bands
-    free = free && count > 0 && thin > k && gap > 0.f;
+    const BandGroups g = bandGroups(groups, bands, k, base, floor != nullptr);
+    const size_t count = g.listed.size();
+    const float gap = g.free ? narrowestGap(parts.paths, q, g.removed) : 0.f;
+    int thin = floorBands(float(g.across), gap, q.speedOfSound);  // the floor's bands
+    const bool free = g.free && count > 0 && thin > k && gap > 0.f;
     if (count == 0 || (count == 1 && !free)) return;  // one alone: smallSurfaceBound's own
-    if (weakGroup(parts, removed, k, n, true)) {
-      k = n;
+    if (weakGroup(parts, g.removed, k, g.n, coherent.visible)) {
+      k = g.n;
       continue;
     }
-    if (free) thin = std::min(thin, floorBands(widestTogether(removed, q), gap, q.speedOfSound));
+    if (free) thin = std::min(thin, floorBands(widestTogether(g.removed, q), gap, q.speedOfSound));
     const Bands without =
-        sumWithout(paths, q, free && thin > k ? screenOf(removed, q.bodies) : removed, coherent, n);
-    const Bands tau = free ? slotTransmission(listed, across, gap, q) : Bands(0.f);
-    for (int b = k; b < n; ++b) {
+        sumWithout(parts.paths, q, free && thin > k ? screenOf(g.removed, q.bodies) : g.removed,
+                   coherent, g.n);
+    const Bands tau = free ? slotTransmission(g.listed, g.across, gap, q) : Bands(0.f);
+    for (int b = k; b < g.n; ++b) {
       bound[b] = std::min(bound[b], kLitRipple * without[b]);
       if (free && b < thin)
         (*floor)[b] = std::min(without[b], coherent.intensity[b]) * tau[b] / kLitRipple;
     }
-    k = n;
+    k = g.n;
   }
 }
 

@@ -63,11 +63,12 @@ float boxesApart(const std::pair<glm::vec3, glm::vec3>& a,
 /// The most small bodies closeBodies gathers round those taken away before it gives up.
 constexpr size_t kCloseBodiesMost = 64;
 
-/// `removed` (sorted) with every other small body (not largeBody) whose box lies within
-/// kChannelGapMax of a body already in it added, again and again (the bodies of one screen or
-/// row, which widestTogether then clusters); sorted. False when more than kCloseBodiesMost
-/// bodies would be added (a louvre of more slats keeps no floor).
-bool closeBodies(std::vector<uint32_t>& removed, const SurfaceBodies& bodies) {
+/// `removed` (sorted) with every other small body (not largeBody) whose box lies within `reach`
+/// (m) of a body already in it added, again and again (the bodies of one screen or row, which
+/// widestTogether then clusters); sorted. False when more than kCloseBodiesMost bodies would be
+/// added (a louvre of more slats keeps no floor).
+bool closeBodies(std::vector<uint32_t>& removed, const SurfaceBodies& bodies,
+                 float reach = kChannelGapMax) {
   std::vector<std::pair<glm::vec3, glm::vec3>> boxes;
   std::vector<bool> in(bodies.members.size(), false);
   for (uint32_t s : removed)
@@ -77,7 +78,7 @@ bool closeBodies(std::vector<uint32_t>& removed, const SurfaceBodies& bodies) {
     }
   auto near = [&](const std::pair<glm::vec3, glm::vec3>& b) {
     return std::any_of(boxes.begin(), boxes.end(),
-                       [&](const auto& a) { return boxesApart(a, b) <= kChannelGapMax; });
+                       [&](const auto& a) { return boxesApart(a, b) <= reach; });
   };
   for (size_t added = 0, round = 0; round <= kCloseBodiesMost; ++round) {
     bool more = false;
@@ -97,14 +98,18 @@ bool closeBodies(std::vector<uint32_t>& removed, const SurfaceBodies& bodies) {
   return true;
 }
 
-/// The surfaces (sorted) and the small bodies close to them (closeBodies): the whole screen or
-/// row, which a sum without them takes away (the edges of slats left beside those taken away,
-/// each summed as an infinite edge's, would take the screen's slots for a screen's edges: a slat
-/// on the line of sight between two 3 cm slots read 7.5 dB below the free field at 63 Hz, a
-/// slot beside two slats left 7.9 dB); the surfaces alone where closeBodies gives up.
-std::vector<uint32_t> screenOf(const std::vector<uint32_t>& removed, const SurfaceBodies& bodies) {
+/// The surfaces (sorted) and the small bodies close to them (closeBodies, within 3 cm or twice
+/// the gaps `gap` (m) read between them: the next post of a row): the whole screen or row, which
+/// a sum without them takes away (the edges of slats left beside those taken away, each summed
+/// as an infinite edge's, would take the screen's slots for a screen's edges: a slat on the line
+/// of sight between two 3 cm slots read 7.5 dB below the free field at 63 Hz, a slot beside two
+/// slats left 7.9 dB, and posts left beside two rows of octagonal posts 3.5 dB above it); the
+/// surfaces alone where closeBodies gives up.
+std::vector<uint32_t> screenOf(const std::vector<uint32_t>& removed, const SurfaceBodies& bodies,
+                               float gap) {
   std::vector<uint32_t> screen = removed;
-  return closeBodies(screen, bodies) ? screen : removed;
+  const float reach = std::isfinite(gap) ? std::max(kChannelGapMax, 2.f * gap) : kChannelGapMax;
+  return closeBodies(screen, bodies, reach) ? screen : removed;
 }
 
 /// The surfaces taken away with free-standing surface s (sorted): its whole body when the body
@@ -481,9 +486,9 @@ void smallGroupsBound(const SumParts& parts, const DirectSound& coherent,
       continue;
     }
     if (free) thin = std::min(thin, floorBands(widestTogether(g.removed, q), gap, q.speedOfSound));
-    const Bands without =
-        sumWithout(parts.paths, q, free && thin > k ? screenOf(g.removed, q.bodies) : g.removed,
-                   coherent, g.n);
+    const Bands without = sumWithout(
+        parts.paths, q, free && thin > k ? screenOf(g.removed, q.bodies, gap) : g.removed, coherent,
+        g.n);
     const Bands tau = free ? slotTransmission(g.listed, g.across, gap, q) : Bands(0.f);
     for (int b = k; b < g.n; ++b) {
       bound[b] = std::min(bound[b], kLitRipple * without[b]);
@@ -577,7 +582,7 @@ Bands thinBodiesFloor(const std::vector<EdgePath>& paths, const DirectSound& coh
   DirectSound open = coherent;
   open.visible = true;
   open.intensity = free;
-  const Bands without = sumWithout(paths, q, screenOf(f.removed, q.bodies), open, n);
+  const Bands without = sumWithout(paths, q, screenOf(f.removed, q.bodies, gap), open, n);
   const Bands tau = slotTransmission(f.groups, widest, gap, q);
   for (int k = 0; k < n; ++k) floor[k] = std::min(free[k], without[k]) * tau[k] / kLitRipple;
   return floor;

@@ -79,6 +79,32 @@ SceneDesc louvreScene(float thick, float deep, float slot, bool ground = false) 
   return s;
 }
 
+/// Appends a closed octagonal post (an eight-sided prism, flats facing the axes, `flats` m across
+/// them) standing from y = 0 to 2 m on (x, z): 16 corners of its own, normals out into the air.
+void addOctagonalPost(Mesh& mesh, float x, float z, float flats) {
+  const auto base = uint32_t(mesh.vertices.size());
+  const double pi = std::acos(-1.0), radius = 0.5 * double(flats) / std::cos(pi / 8.0);
+  for (float y : {0.f, 2.f})
+    for (int i = 0; i < 8; ++i) {
+      const double a = pi / 8.0 + pi / 4.0 * i;
+      mesh.vertices.push_back(
+          {x + float(radius * std::cos(a)), y, z + float(radius * std::sin(a))});
+    }
+  auto add = [&](uint32_t a, uint32_t b, uint32_t c) {
+    mesh.triangles.push_back({base + a, base + b, base + c});
+    mesh.materialIndex.push_back(0);
+  };
+  for (uint32_t i = 0; i < 8; ++i) {  // sides: bottom i, top i, top i + 1 (outward)
+    const uint32_t j = (i + 1) % 8;
+    add(i, 8 + i, 8 + j);
+    add(i, 8 + j, j);
+  }
+  for (uint32_t i = 1; i + 1 < 8; ++i) {
+    add(0, i, i + 1);          // bottom, facing down
+    add(8, 8 + i + 1, 8 + i);  // top, facing up
+  }
+}
+
 }  // namespace
 
 TEST_CASE("Thin bodies: slatted shelving with the line of sight free is no louder than the "
@@ -334,4 +360,36 @@ TEST_CASE(
     }
   }
   CHECK(blocked >= 10);
+}
+
+TEST_CASE(
+    "Thin bodies: two rows of octagonal posts with the line of sight free are no louder "
+    "than the free field",
+    "[diffraction][door]") {
+  // Octagonal posts 10 cm across the flats (a colonnade of round columns as a game level meshes
+  // them), 15 cm apart centre to centre, two rows 15 cm apart in line, in free space; the
+  // listener walks where the line of sight passes between them. A row of bodies passes at most
+  // what comes through between them: no band above the free field with the ripple. Before,
+  // 250 Hz read up to +4.9 dB: the posts beside those with paths, left in the sum the bound is
+  // measured against, added their edges' terms in phase.
+  SceneDesc s = test::makeShoebox({12, 3, 5}, Bands(0.2f), 0.3f, kSource, kListener, 0.5f);
+  s.mesh = Mesh{};
+  for (int row = 0; row < 2; ++row)
+    for (int k = -9; k <= 9; ++k)
+      addOctagonalPost(s.mesh, 5.925f + 0.15f * float(row), 2.5f + 0.15f * float(k), 0.1f);
+  int walked = 0;
+  for (float z = 2.56f; z <= 2.70f; z += 0.01f) {
+    const glm::vec3 listener{9.f, 1.2f, z};
+    if (!lineOfSightFree(s, listener)) continue;
+    ++walked;
+    const Bands level = decibels(directLevel(s, kSource, listener));
+    char what[64];
+    std::snprintf(what, sizeof what, "octagonal posts, listener z %.2f (dB)", double(z));
+    print(what, level);
+    for (int b = 0; b < kNumBands; ++b) {
+      INFO(what << ", band " << b);
+      CHECK(level[b] <= kRippleDb);
+    }
+  }
+  CHECK(walked >= 4);
 }

@@ -337,12 +337,15 @@ struct ChainSearch {
     const glm::vec3 before = n >= 2 ? at(ids[n - 2]) : source;
     const uint32_t last = ids[n - 1];
     if (n >= minEdges && wrapsRound(edges[last], at(last), before, L)) keep(ids, n);
-    if (n == kChainEdges) return;
     for (uint32_t j : near[last]) {
       if (std::find(ids.begin(), ids.begin() + long(n), j) != ids.begin() + long(n)) continue;
       if (std::abs(glm::dot(edges[j].direction, d)) < kParallelEdges ||
           !wrapsRound(edges[last], at(last), before, at(j)))
         continue;
+      if (n == kChainEdges) {  // it would go on round more edges than a chain holds: counted
+        ++budget.leftOut;
+        return;
+      }
       ids[n] = j;
       extend(ids, n + 1);
     }

@@ -44,7 +44,8 @@ namespace dpc {
 /// thickness, a stop beside its reveal), and how many of the nearest each edge keeps.
 inline constexpr float kChainReach = 1.f;
 inline constexpr size_t kChainNeighbours = 8;
-/// The most edges in one chain.
+/// The most edges in one chain; a chain that would wrap round more is counted as left out (a
+/// column of three posts in line takes six).
 inline constexpr size_t kChainEdges = 4;
 /// m: how far from the line of sight the edges a chain is laid from lie, and the most of them
 /// per query (the nearest); and the most chains whose rays are cast (the first met) per query

@@ -17,6 +17,7 @@ void FrameTotals::add(const Simulation::SourceResult& r) {
   cachePairBytesMax = std::max(cachePairBytesMax, r.cacheBytes);
   ++cachePairs;
   cacheMergedEntries += r.cacheMergedEntries;
+  chainsLeftOut += r.direct.chainsLeftOut;
   cacheCoarseEnergyFraction = std::max(cacheCoarseEnergyFraction, r.cacheCoarseEnergyFraction);
   const double dropped = double(r.energy.droppedEnergy().sum());
   const double kept = double(r.energy.total().sum());

@@ -34,6 +34,9 @@ struct FrameTotals {
   /// Largest per-pair share of the estimator's energy that arrived beyond the IR length and
   /// was left out of the response (EnergyResponse::droppedEnergy(), summed over bands).
   double droppedEnergyFraction = 0;
+  /// Ways round edges in series that the chains' caps left out of the direct sound's
+  /// diffraction (DirectSound::chainsLeftOut, engine/edge_chain.h), summed over the pairs.
+  uint64_t chainsLeftOut = 0;
   void add(const Simulation::SourceResult& r);
 };
 

@@ -182,9 +182,10 @@ void printTotals(const OfflineResult& r, double audioSeconds) {
       audioSeconds / r.wallSeconds);
   std::printf(
       "energy beyond the IR length %.3g %% of the last response (largest per pair)  "
-      "IR sets lost %llu  convolution partitions left out after a jump %llu\n",
+      "IR sets lost %llu  convolution partitions left out after a jump %llu  diffraction "
+      "chains left out %llu (last frame)\n",
       100.0 * r.last.droppedEnergyFraction, (unsigned long long)r.irsLost,
-      (unsigned long long)r.stalePartitions);
+      (unsigned long long)r.stalePartitions, (unsigned long long)r.last.chainsLeftOut);
   std::printf(
       "cache pool in use %.1f MB  per pair (%zu): smallest %.2f MB, mean %.2f MB, "
       "largest %.2f MB\n",

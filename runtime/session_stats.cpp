@@ -53,6 +53,7 @@ void SessionCounters::frameDone(const FrameTotals& t, double frameMs) noexcept {
   cacheMergedEntries_.store(t.cacheMergedEntries, std::memory_order_relaxed);
   cacheMergedEnergyFraction_.store(t.cacheCoarseEnergyFraction, std::memory_order_relaxed);
   droppedEnergyFraction_.store(t.droppedEnergyFraction, std::memory_order_relaxed);
+  chainsLeftOut_.store(t.chainsLeftOut, std::memory_order_relaxed);
   frameMs_.store(frameMs, std::memory_order_relaxed);
 }
 
@@ -92,6 +93,7 @@ void SessionCounters::read(SessionStatus& st) {
   st.cacheMergedEntries = cacheMergedEntries_.load(r);
   st.cacheMergedEnergyFraction = cacheMergedEnergyFraction_.load(r);
   st.droppedEnergyFraction = droppedEnergyFraction_.load(r);
+  st.chainsLeftOut = chainsLeftOut_.load(r);
   st.irsApplied = irsApplied_.load(r);
   if (const int64_t heard = firstSoundNs_.load(r); heard != 0)
     st.firstSoundSeconds = double(heard - startedNs_.load(r)) * 1e-9;

@@ -69,6 +69,9 @@ struct SessionStatus {
   /// Last frame, played listener: largest per-source share of the energy that arrived beyond
   /// the IR length (not in the IR; FrameTotals::droppedEnergyFraction).
   double droppedEnergyFraction = 0.0;
+  /// Last frame, played listener: ways round edges in series the diffraction's caps left out,
+  /// summed over the sources (FrameTotals::chainsLeftOut).
+  uint64_t chainsLeftOut = 0;
   uint64_t irsApplied = 0;  ///< IR sets that reached the convolvers
   uint64_t irsDropped = 0;  ///< superseded before the audio thread applied them
   /// Frames that produced no IR set because every set was held by the audio side (0 unless
@@ -174,7 +177,7 @@ class SessionCounters {
   std::atomic<uint64_t> frames_{0}, rays_{0}, blocks_{0}, nanBlocks_{0}, lateCallbacks_{0},
       rejectedCallbacks_{0}, irsApplied_{0}, reducedFrames_{0}, floorFrames_{0},
       cacheMergedEntries_{0}, bakedResponses_{0}, bakeFallbacks_{0}, inputSamplesReplaced_{0},
-      fftPlanFailures_{0};
+      fftPlanFailures_{0}, chainsLeftOut_{0};
   std::atomic<double> frameMs_{0.0}, irAgeMs_{0.0}, cacheMergedEnergyFraction_{0.0},
       droppedEnergyFraction_{0.0};
   std::atomic<double> completionSeconds_{std::numeric_limits<double>::quiet_NaN()};

@@ -21,6 +21,7 @@ TEST_CASE("SessionCounters: rays, frames, blocks and callbacks as counted", "[st
   t.cacheEntries = 10;
   t.cacheCoarseEntries = 5;
   t.droppedEnergyFraction = 0.25;
+  t.chainsLeftOut = 7;
   c.frameDone(t, 12.5);
   c.blockDone(true, 1, 3.0);
   c.blockDone(false, 2, -1.0);  // no IR age: the last one stays
@@ -42,6 +43,7 @@ TEST_CASE("SessionCounters: rays, frames, blocks and callbacks as counted", "[st
   CHECK(st.frameMs == 12.5);
   CHECK(st.cacheEntries == 15);
   CHECK(st.droppedEnergyFraction == 0.25);
+  CHECK(st.chainsLeftOut == 7);
   CHECK(st.blocks == 2);
   CHECK(st.nanBlocks == 1);
   CHECK(st.irsApplied == 2);
@@ -74,6 +76,8 @@ TEST_CASE("FrameTotals: sums, largest shares, and the energy beyond the IR lengt
   b.cacheEntries = 6;
   a.cacheCoarseEnergyFraction = 0.1;
   b.cacheCoarseEnergyFraction = 0.3;
+  a.direct.chainsLeftOut = 2;
+  b.direct.chainsLeftOut = 3;
   FrameTotals t;
   t.add(a);
   t.add(b);
@@ -81,4 +85,5 @@ TEST_CASE("FrameTotals: sums, largest shares, and the energy beyond the IR lengt
   CHECK(t.cacheEntries == 10);
   CHECK(t.cacheCoarseEnergyFraction == 0.3);
   CHECK(t.droppedEnergyFraction == Approx(0.25));  // a: 1 of 4 dropped, b: none
+  CHECK(t.chainsLeftOut == 5);
 }

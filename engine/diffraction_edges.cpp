@@ -346,9 +346,16 @@ std::vector<std::pair<glm::vec3, glm::vec3>> surfaceBoxes(const Mesh& mesh,
   return box;
 }
 
-}  // namespace
-
-namespace {
+/// Per body, whether it is a solid object: closed and less than kSolidExtent across (a room is
+/// closed too, and larger; which side of it is air its winding cannot tell: exporters differ).
+std::vector<bool> solidBodies(const SurfaceBodies& bodies) {
+  std::vector<bool> solid(bodies.closed.size());
+  for (size_t b = 0; b < solid.size(); ++b) {
+    const auto [lo, hi] = boxOfSurfaces(bodies.members[b], bodies);
+    solid[b] = bodies.closed[b] && glm::distance(lo, hi) < kSolidExtent;
+  }
+  return solid;
+}
 
 /// SurfaceBodies::outward: per body, the sign of the volume its triangles enclose (the sum of
 /// the tetrahedra from its box's corner to each, the divergence theorem) where it is a solid
@@ -359,12 +366,13 @@ std::vector<float> outwardSigns(const Mesh& mesh, const std::vector<uint32_t>& s
                                 const SurfaceBodies& bodies) {
   const size_t n = bodies.members.size();
   std::vector<double> volume(n, 0.0), unsigned_(n, 0.0);
+  const std::vector<bool> solid = solidBodies(bodies);
   std::vector<glm::dvec3> corner(n);
   for (size_t b = 0; b < n; ++b)
-    if (!bodies.members[b].empty()) corner[b] = boxOfSurfaces(bodies.members[b], bodies).first;
+    if (solid[b]) corner[b] = boxOfSurfaces(bodies.members[b], bodies).first;
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
     const uint32_t b = bodies.body[surfaces[t]];
-    if (b >= n || !bodies.closed[b]) continue;
+    if (b >= n || !solid[b]) continue;
     const glm::dvec3 v0 = mesh.vertices[mesh.triangles[t][0]];
     const glm::dvec3 e1 = glm::dvec3(mesh.vertices[mesh.triangles[t][1]]) - v0;
     const glm::dvec3 e2 = glm::dvec3(mesh.vertices[mesh.triangles[t][2]]) - v0;
@@ -373,11 +381,8 @@ std::vector<float> outwardSigns(const Mesh& mesh, const std::vector<uint32_t>& s
     unsigned_[b] += std::abs(v);
   }
   std::vector<float> out(n, 1.f);
-  for (size_t b = 0; b < n; ++b) {
-    if (!bodies.closed[b] || bodies.members[b].empty()) continue;
-    const auto [lo, hi] = boxOfSurfaces(bodies.members[b], bodies);
-    if (glm::distance(lo, hi) < kSolidExtent && volume[b] < -0.1 * unsigned_[b]) out[b] = -1.f;
-  }
+  for (size_t b = 0; b < n; ++b)
+    if (solid[b] && volume[b] < -0.1 * unsigned_[b]) out[b] = -1.f;
   return out;
 }
 
@@ -422,17 +427,6 @@ SurfaceBodies surfaceBodies(const Mesh& mesh, const std::vector<uint32_t>& surfa
 }
 
 namespace {
-
-/// Per body, whether it is a solid object: closed and less than kSolidExtent across (a room is
-/// closed too, and larger; windings differ between exporters, so they cannot tell).
-std::vector<bool> solidBodies(const SurfaceBodies& bodies) {
-  std::vector<bool> solid(bodies.closed.size());
-  for (size_t b = 0; b < solid.size(); ++b) {
-    const auto [lo, hi] = boxOfSurfaces(bodies.members[b], bodies);
-    solid[b] = bodies.closed[b] && glm::distance(lo, hi) < kSolidExtent;
-  }
-  return solid;
-}
 
 /// Whether edge e bounds its faces as a free-standing surface's rim does: a sheet's free rim,
 /// any edge of an open body (sheets with air on both sides: the edge diffracts into the wider

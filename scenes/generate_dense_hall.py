@@ -21,7 +21,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from objfile import write_obj  # noqa: E402
+from objfile import ObjMesh  # noqa: E402
 
 LX, LY, LZ = 20.0, 4.0, 15.0
 PILLARS = [(x, z) for x in (5.0, 10.0, 15.0, 20.0 - 2.5) for z in (5.0, 10.0)][:8]
@@ -40,48 +40,18 @@ if grid < 2 or grid % 2:
 name = 'dense_hall' if grid == 8 else 'dense_hall_%d' % grid
 os.makedirs(out, exist_ok=True)
 
-verts, faces, index = [], [], {}
-
-
-def vertex(p):
-    """Index (1-based) of vertex p, shared by every face that uses it (edges are found by
-    vertex index, engine/diffraction.h)."""
-    if p not in index:
-        verts.append(p)
-        index[p] = len(verts)
-    return index[p]
-
-
-def quad(a, b, c, d, material):
-    """Quad a-b-c-d as two triangles; the winding sets the side it faces."""
-    i = [vertex(p) for p in (a, b, c, d)]
-    faces.append((material, [(i[0], i[1], i[2]), (i[0], i[2], i[3])]))
-
-
-def box(x0, x1, y0, y1, z0, z1, material, inward=False):
-    """A closed box; faces outward (an obstacle) or inward (the room)."""
-    sides = [((x0, y0, z0), (x0, y0, z1), (x0, y1, z1), (x0, y1, z0)),
-             ((x1, y0, z0), (x1, y1, z0), (x1, y1, z1), (x1, y0, z1)),
-             ((x0, y0, z0), (x0, y1, z0), (x1, y1, z0), (x1, y0, z0)),
-             ((x0, y0, z1), (x1, y0, z1), (x1, y1, z1), (x0, y1, z1)),
-             ((x0, y1, z0), (x0, y1, z1), (x1, y1, z1), (x1, y1, z0)),
-             ((x0, y0, z0), (x1, y0, z0), (x1, y0, z1), (x0, y0, z1))]
-    names = material if isinstance(material, list) else [material] * 6
-    for q, m in zip(sides, names):
-        quad(*(q[::-1] if inward else q), m)
-
-
-box(0.0, LX, 0.0, LY, 0.0, LZ, ["wall", "wall", "wall", "wall", "ceiling", "floor"],
+mesh = ObjMesh()
+mesh.box(0.0, LX, 0.0, LY, 0.0, LZ, ["wall", "wall", "wall", "wall", "ceiling", "floor"],
     inward=True)
 for x, z in PILLARS:
-    box(x - PILLAR_HALF, x + PILLAR_HALF, 0.0, LY, z - PILLAR_HALF, z + PILLAR_HALF, "pillar")
+    mesh.box(x - PILLAR_HALF, x + PILLAR_HALF, 0.0, LY, z - PILLAR_HALF, z + PILLAR_HALF, "pillar")
 for x, z in TABLES:
-    box(x - TABLE_HALF, x + TABLE_HALF, 0.0, TABLE_HEIGHT, z - TABLE_HALF, z + TABLE_HALF,
-        "table")
+    mesh.box(x - TABLE_HALF, x + TABLE_HALF, 0.0, TABLE_HEIGHT, z - TABLE_HALF, z + TABLE_HALF,
+             "table")
 
-write_obj(os.path.join(out, name + ".obj"),
-          "# dpc dense hall: one 20 x 15 x 4 m room, 8 pillars, 12 tables, written by "
-          "generate_dense_hall.py. Materials are defined in dense_hall.json.\n", verts, faces)
+mesh.write(os.path.join(out, name + ".obj"),
+           "# dpc dense hall: one 20 x 15 x 4 m room, 8 pillars, 12 tables, written by "
+           "generate_dense_hall.py. Materials are defined in dense_hall.json.\n")
 
 sources = []
 signal = os.path.relpath(os.path.join(here, "signals", "speech.wav"), out)

@@ -18,44 +18,21 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from objfile import write_obj  # noqa: E402
+from objfile import ObjMesh  # noqa: E402
 
 HALF = 20.0  # ground half-width, m
 SLATS, THICK, DEEP, GAP, TALL = 50, 0.01, 0.1, 0.02, 2.0  # count; m
 out = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
 
-verts, faces, index = [], [], {}
-
-
-def vertex(p):
-    """Index (1-based) of vertex p, shared by every face that uses it (a closed box)."""
-    if p not in index:
-        verts.append(p)
-        index[p] = len(verts)
-    return index[p]
-
-
-def quad(a, b, c, d, material):
-    """Quad a-b-c-d, counter-clockwise seen from the side it faces: two triangles."""
-    i = [vertex(p) for p in (a, b, c, d)]
-    faces.append((material, [(i[0], i[1], i[2]), (i[0], i[2], i[3])]))
-
-
-quad((-HALF, 0, -HALF), (-HALF, 0, HALF), (HALF, 0, HALF), (HALF, 0, -HALF), "ground")
+mesh = ObjMesh()
+mesh.quad((-HALF, 0, -HALF), (-HALF, 0, HALF), (HALF, 0, HALF), (HALF, 0, -HALF), "ground")
 z0 = -0.5 * (SLATS * THICK + (SLATS - 1) * GAP)
 for n in range(SLATS):
     a, b = round(z0 + n * (THICK + GAP), 6), round(z0 + n * (THICK + GAP) + THICK, 6)
-    x0, x1, h = -0.5 * DEEP, 0.5 * DEEP, TALL
-    quad((x0, 0, a), (x0, 0, b), (x0, h, b), (x0, h, a), "wood")  # -x
-    quad((x1, 0, a), (x1, h, a), (x1, h, b), (x1, 0, b), "wood")  # +x
-    quad((x0, 0, a), (x0, h, a), (x1, h, a), (x1, 0, a), "wood")  # -z
-    quad((x0, 0, b), (x1, 0, b), (x1, h, b), (x0, h, b), "wood")  # +z
-    quad((x0, h, a), (x0, h, b), (x1, h, b), (x1, h, a), "wood")  # +y
-    quad((x0, 0, a), (x1, 0, a), (x1, 0, b), (x0, 0, b), "wood")  # -y
-
-write_obj(os.path.join(out, "louvre.obj"),
-          "# dpc louvre: a ground plane and a screen of 50 slats, written by "
-          "generate_louvre.py. Materials are defined in louvre.json.\n", verts, faces)
+    mesh.box(-0.5 * DEEP, 0.5 * DEEP, 0, TALL, a, b, "wood")
+mesh.write(os.path.join(out, "louvre.obj"),
+           "# dpc louvre: a ground plane and a screen of 50 slats, written by "
+           "generate_louvre.py. Materials are defined in louvre.json.\n")
 
 scene = {
     "_comment": "A slatted screen on open ground (scenes/generate_louvre.py): 50 slats 1 cm "

@@ -19,7 +19,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from objfile import write_obj  # noqa: E402
+from objfile import ObjMesh  # noqa: E402
 
 HALF = 1000.0  # ground half-width, m
 BUILDINGS = [  # (x0, x1, height, z0, z1)
@@ -28,42 +28,17 @@ BUILDINGS = [  # (x0, x1, height, z0, z1)
 ]
 out = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
 
-verts, faces = [], []
-
-
-def vertex(p):
-    """Index (1-based) of vertex p, shared by every face that uses it: edges are found by
-    vertex index (engine/diffraction.h), so a box's faces must share their corners."""
-    if p not in index:
-        verts.append(p)
-        index[p] = len(verts)
-    return index[p]
-
-
-index = {}
-
-
-def quad(a, b, c, d, material):
-    """Quad a-b-c-d, counter-clockwise seen from the side it faces: two triangles."""
-    i = [vertex(p) for p in (a, b, c, d)]
-    faces.append((material, [(i[0], i[1], i[2]), (i[0], i[2], i[3])]))
-
-
+mesh = ObjMesh()
 # Ground, facing up (+y).
-quad((-HALF, 0, -HALF), (-HALF, 0, HALF), (HALF, 0, HALF), (HALF, 0, -HALF), "ground")
+mesh.quad((-HALF, 0, -HALF), (-HALF, 0, HALF), (HALF, 0, HALF), (HALF, 0, -HALF), "ground")
 for x0, x1, h, z0, z1 in BUILDINGS:
     # Closed boxes (8 shared corners), faces outward (the floor face too, so each box is
     # watertight).
-    quad((x0, 0, z0), (x0, 0, z1), (x0, h, z1), (x0, h, z0), "facade")  # -x
-    quad((x1, 0, z0), (x1, h, z0), (x1, h, z1), (x1, 0, z1), "facade")  # +x
-    quad((x0, 0, z0), (x0, h, z0), (x1, h, z0), (x1, 0, z0), "facade")  # -z
-    quad((x0, 0, z1), (x1, 0, z1), (x1, h, z1), (x0, h, z1), "facade")  # +z
-    quad((x0, h, z0), (x0, h, z1), (x1, h, z1), (x1, h, z0), "roof")    # +y
-    quad((x0, 0, z0), (x1, 0, z0), (x1, 0, z1), (x0, 0, z1), "facade")  # -y
+    mesh.box(x0, x1, 0, h, z0, z1, ["facade"] * 4 + ["roof", "facade"])
 
-write_obj(os.path.join(out, "open_field.obj"),
-          "# dpc open field: 2 km ground plane and two buildings, written by "
-          "generate_open_field.py. Materials are defined in open_field.json.\n", verts, faces)
+mesh.write(os.path.join(out, "open_field.obj"),
+           "# dpc open field: 2 km ground plane and two buildings, written by "
+           "generate_open_field.py. Materials are defined in open_field.json.\n")
 
 scene = {
     "_comment": "Outdoor scene (scenes/generate_open_field.py): 2 km ground plane, two "

@@ -261,22 +261,27 @@ bool solidCorner(const std::vector<DiffractionEdge>& edges, const EdgeChain& c, 
   return i >= 1 && i <= c.n && double(edges[c.edge[i - 1]].open) < 2.0 * kPi - kWrapTolerance;
 }
 
-/// The chain's rays, cheapest refusals first: its outer legs free, its legs in open air, and
-/// the shortcut past every Q closed (`threaded`: one only by a gap it threads).
+/// The chain's rays, cheapest refusals first: its outer legs free, its legs in open air but for
+/// at most one through a gap (`gapLeg`, EdgeChain's numbering; 0: none), and the shortcut past
+/// every Q closed (`threaded`: one only by a gap it threads).
 bool chainStands(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
                  const EdgeChain& c, const std::array<glm::vec3, kChainEdges + 2>& p,
-                 bool& threaded) {
+                 bool& threaded, size_t& gapLeg) {
   const size_t last = c.n + 1;
   if (!segmentFree(tracer, p[last - 1], p[last]) || !segmentFree(tracer, p[0], p[1])) return false;
   const glm::vec3& along = edges[c.edge[0]].direction;
   if (outerLegInGap(tracer, along, p[1], p[0]) ||
       outerLegInGap(tracer, along, p[last - 1], p[last]))
     return false;
-  for (size_t i = 1; i + 1 < last; ++i)
-    if (!innerLegFree(tracer, along, p[i], p[i + 1]) ||
-        innerLegInGap(tracer, along, p[i], p[i + 1]) || sheetLegInGap(tracer, edges, c, p, i) ||
+  gapLeg = 0;
+  for (size_t i = 1; i + 1 < last; ++i) {
+    if (!innerLegFree(tracer, along, p[i], p[i + 1]) || sheetLegInGap(tracer, edges, c, p, i) ||
         faceLegInGap(tracer, edges[c.edge[i - 1]], edges[c.edge[i]], p[i], p[i + 1]))
       return false;
+    if (!innerLegInGap(tracer, along, p[i], p[i + 1])) continue;
+    if (gapLeg != 0) return false;
+    gapLeg = i;
+  }
   threaded = false;
   for (size_t i = 1; i < last; ++i) {
     const Shortcut past = shortcut(tracer, along, p[i - 1], p[i + 1],
@@ -363,7 +368,8 @@ struct ChainSearch {
     }
     ++budget.trials;
     bool threaded = false;
-    if (!chainStands(tracer, edges, c, p, threaded)) return;
+    if (!chainStands(tracer, edges, c, p, threaded, c.gapLeg)) return;
+    if (c.gapLeg != 0) c.gapEnds = {edges[c.edge[c.gapLeg - 1]], edges[c.edge[c.gapLeg]]};
     // A moving object's edges (their gaps are not probed), and every edge of a chain whose
     // shortcut is closed only by a gap it threads (a leaf shut in its frame: round its face
     // from one gap to the other is the slits' way).

@@ -8,12 +8,13 @@
 // (kParallelEdges), each Q on its edge, of least length (Fermat: unfolded about the edges it is
 // a straight line, so the Q divide the path's run along the edges as its length across them
 // divides). It stands when every leg is free, every leg between two edges runs in open air (not
-// through a gap at most kChannelGapMax wide: a door's gaps are its slits' and channels'), and
+// through a gap at most kChannelGapMax wide: a door's gaps are its slits' and channels'; one
+// leg may, where no path carries that gap's slit: EdgeChain::gapLeg), and
 // every Q is a corner the path wraps round: the straight line from the point before it to the
 // point after it is blocked or threads a gap of at most kChannelGapMax (then no edge of the
 // chain may face a surface that close past it), and both lie in its air wedge, on either side
-// of its shadow boundary. Chains are laid over the edges of the bodies the line of sight crosses that lie
-// within kChainSearch of it, and over the edges near those (kChainReach, at load).
+// of its shadow boundary. Chains are laid over the edges of the bodies the line of sight crosses
+// that lie within kChainSearch of it, and over the edges near those (kChainReach, at load).
 //
 // Its level is a barrier's attenuation over the free field at the direct distance, ISO
 // 9613-2:1996 eq. (14): Dz = 10 lg(3 + (C2 / lambda) C3 z), z the path's length less the direct
@@ -72,6 +73,13 @@ struct EdgeChain {
   /// The index in the query's paths of the path that carries the opening beside its ends
   /// (engine/openings.h addChainOpenings); -1: none.
   int32_t opening = -1;
+  /// The leg between two of its edges that threads a gap no wider than kChannelGapMax on a
+  /// side (a leaf ajar toward the source: from its rim past the jamb's corner into the
+  /// doorway): k, the leg from q[k - 1] to q[k], and those two edges as laid; 0: none. It
+  /// stands only as the other side of that opening's slit, found beside the small body's end
+  /// of the leg (engine/openings.h addChainOpenings).
+  size_t gapLeg = 0;
+  std::array<DiffractionEdge, 2> gapEnds{};
 };
 
 /// The chains whose rays were cast (at most kChainTrials per query over the static mesh, and

@@ -103,19 +103,11 @@ std::array<TraceRay, kFanDegrees.size()> fan(const glm::vec3& B, const glm::vec3
   return rays;
 }
 
-/// The opening beside edge e at point B, for the leg from B toward T, the path arriving from A
-/// (it turns round e's solid toward that side; the fan looks the other way), within `reach`
-/// metres: the nearest surface that faces the leg within 60 degrees (a wall's face past a
-/// leaf's rim; not a reveal the leg runs along and leaves) and is not e's own body. Width 0:
-/// none.
-Opening openingAt(const BoundQuery& q, const DiffractionEdge& e, const glm::vec3& B,
-                  const glm::vec3& A, const glm::vec3& T, float reach) {
-  const glm::vec3 out = square(T - B, e.direction), in = square(B - A, e.direction);
-  if (!(glm::length(out) > 0.f) || !(glm::length(in) > 0.f)) return {};
-  const glm::vec3 u = glm::normalize(out);
-  const glm::vec3 turn = square(u - glm::normalize(in), u);
-  if (glm::length(turn) < 1e-3f) return {};  // no turn: no side to look at
-  const auto rays = fan(B, u, -glm::normalize(turn), reach);
+/// The nearest surface the fan from B (kFanDegrees from the unit leg direction u toward the
+/// unit direction v) meets that faces the leg within 60 degrees and is not e's own body.
+Opening openingAlong(const BoundQuery& q, const DiffractionEdge& e, const glm::vec3& B,
+                     const glm::vec3& u, const glm::vec3& v, float reach) {
+  const auto rays = fan(B, u, v, reach);
   std::array<TraceHit, kFanDegrees.size()> hits;
   q.tracer.intersect(rays, hits);
   Opening o;
@@ -128,6 +120,35 @@ Opening openingAt(const BoundQuery& q, const DiffractionEdge& e, const glm::vec3
       o = {w, across / w, s};
   }
   return o;
+}
+
+/// The opening beside edge e at point B, for the leg from B toward T, the path arriving from A
+/// (it turns round e's solid toward that side; the fan looks the other way), within `reach`
+/// metres: the nearest surface that faces the leg within 60 degrees (a wall's face past a
+/// leaf's rim; not a reveal the leg runs along and leaves) and is not e's own body. Width 0:
+/// none.
+Opening openingAt(const BoundQuery& q, const DiffractionEdge& e, const glm::vec3& B,
+                  const glm::vec3& A, const glm::vec3& T, float reach) {
+  const glm::vec3 out = square(T - B, e.direction), in = square(B - A, e.direction);
+  if (!(glm::length(out) > 0.f) || !(glm::length(in) > 0.f)) return {};
+  const glm::vec3 u = glm::normalize(out);
+  const glm::vec3 turn = square(u - glm::normalize(in), u);
+  if (glm::length(turn) < 1e-3f) return {};  // no turn: no side to look at
+  return openingAlong(q, e, B, u, -glm::normalize(turn), reach);
+}
+
+/// The opening beside edge e at B across the leg toward T on the side away from e's solid (its
+/// faces' bisector), for a leg that grazes e's corner and so barely turns there (a leaf's rim
+/// ajar a few degrees, the leg on to the reveal's far corner), within `reach` metres.
+Opening openingAcross(const BoundQuery& q, const DiffractionEdge& e, const glm::vec3& B,
+                      const glm::vec3& T, float reach) {
+  const glm::vec3 out = square(T - B, e.direction);
+  if (!(glm::length(out) > 0.f)) return {};
+  const glm::vec3 u = glm::normalize(out);
+  const std::array<glm::vec3, 2> faces = faceDirections(e);
+  const glm::vec3 away = square(-(faces[0] + faces[1]), u);
+  if (glm::length(away) < 1e-3f) return {};
+  return openingAlong(q, e, B, u, glm::normalize(away), reach);
 }
 
 /// Whether channel p's opening at a mouth (its slit without depth: widenOpenChannel) is the
@@ -194,18 +215,18 @@ float detour(const EdgeChain& c, const glm::vec3& from, size_t n, bool fromSourc
 }
 
 /// The opening's own slit path beside chain c's point n on its edge e: its legs straight to
-/// the slit's centre line, the chain's detour round its other edges added to the leg on that
-/// side, with a screen's shadow loss for it; no UTD field (the chain keeps its own, 1 - s of
-/// its pressure). Summed with the other paths in pressure: the slits round a leaf are in phase
-/// at low frequencies (added in energy, a leaf ajar 5 degrees in a sheet wall read 2.7 dB below
-/// shut, 3.5 dB below the slit model of its openings).
+/// the slit's centre line, the chain's detour round its other edges on each side added to the
+/// leg on that side, with a screen's shadow loss for it; no UTD field (the chain keeps its own,
+/// 1 - s of its pressure). Summed with the other paths in pressure: the slits round a leaf are
+/// in phase at low frequencies (added in energy, a leaf ajar 5 degrees in a sheet wall read 2.7
+/// dB below shut, 3.5 dB below the slit model of its openings).
 EdgePath openingPath(const EdgeChain& c, size_t n, const DiffractionEdge& e, const Opening& o,
                      const BoundQuery& q) {
   EdgePath p{};
   p.edge = &e;
   p.q = c.q[n];
-  const size_t side = n + 1 == c.n ? 0 : 1;  // the last edge's opening: the source's leg
-  p.lipLength[side] = p.lipExcess[side] = detour(c, side == 0 ? q.source : q.L, n, side == 0);
+  p.lipLength[0] = p.lipExcess[0] = detour(c, q.source, n, true);
+  p.lipLength[1] = p.lipExcess[1] = detour(c, q.L, n, false);
   throughOpening(o, q.source, q.L, p);
   p.slitOwner = true;
   p.gapCloser = o.surface;
@@ -216,8 +237,8 @@ EdgePath openingPath(const EdgeChain& c, size_t n, const DiffractionEdge& e, con
   p.legs = float(p.length);
   // The way leaves the source toward the chain's first edge where it detours round the chain
   // before the opening, and reaches L from its last edge where it detours after it.
-  p.leaving = glm::normalize((side == 0 && n > 0 ? c.q[0] : p.slitCentre) - q.source);
-  p.arrival = glm::normalize((side == 1 && n + 1 < c.n ? c.q[c.n - 1] : p.slitCentre) - q.L);
+  p.leaving = glm::normalize((n > 0 ? c.q[0] : p.slitCentre) - q.source);
+  p.arrival = glm::normalize((n + 1 < c.n ? c.q[c.n - 1] : p.slitCentre) - q.L);
   return p;
 }
 
@@ -258,6 +279,24 @@ ChainOpening chainOpening(const EdgeChain& c, const std::vector<EdgePath>& paths
     if (o.width == 0.f) continue;
     const EdgePath* carrier = carrierOf(q, e, c.q[n], o, paths);
     if (carrier || o.width <= slitReach(e)) return {&e, n, o, carrier};
+  }
+  return {};
+}
+
+/// The opening chain c's gap leg (EdgeChain::gapLeg) threads: beside the leg's end on a small
+/// body's edge (its later end first), the fan looking along the leg away from that body
+/// (openingAcross), within the slit reach; the path that carries it, if one does. None (edge
+/// null) where neither end finds one.
+ChainOpening gapOpening(const EdgeChain& c, const std::vector<EdgePath>& paths,
+                        const BoundQuery& q) {
+  const size_t k = c.gapLeg;
+  for (size_t end = 0; end < 2; ++end) {
+    const DiffractionEdge& e = c.gapEnds[1 - end];
+    const size_t n = end == 0 ? k : k - 1, other = end == 0 ? k - 1 : k;
+    if (!smallEdge(q, e)) continue;
+    const Opening o = openingAcross(q, e, c.q[n], c.q[other], slitReach(e));
+    if (o.width == 0.f) continue;
+    return {&e, n, o, carrierOf(q, e, c.q[n], o, paths)};
   }
   return {};
 }
@@ -360,7 +399,16 @@ bool openChannel(EdgePath& p, const BoundQuery& q, float widest,
 
 void addChainOpenings(std::vector<EdgeChain>& chains, std::vector<EdgePath>& paths,
                       const BoundQuery& q) {
+  std::erase_if(chains, [&](EdgeChain& c) {
+    if (c.gapLeg == 0) return false;
+    const ChainOpening o = gapOpening(c, paths, q);
+    if (!o.edge || o.carrier) return true;  // a path's slit carries the gap: the chain is not
+    paths.push_back(openingPath(c, o.n, *o.edge, o.o, q));
+    c.opening = int32_t(paths.size() - 1);
+    return false;
+  });
   for (EdgeChain& c : chains) {
+    if (c.gapLeg != 0) continue;
     c.opening = -1;
     const EdgePath* carrier = channelOf(c, paths);
     const ChainOpening o = carrier ? ChainOpening{} : chainOpening(c, paths, q);

@@ -143,7 +143,10 @@ std::vector<EdgePath> pathsWithout(const std::vector<EdgePath>& paths, BoundQuer
   }
   addRims(q, removed, lineOfSight, kept);
   for (EdgePath& p : kept) {
-    if (p.gapWidth != 0.f && gone(p.gapCloser)) p.gapWidth = 0.f;
+    // A free edge whose gap's far side goes is a free edge. A chain's opening (phaseSpread > 0:
+    // engine/openings.h) keeps its slit: its chain, which the sum lacks, passes more without
+    // that side, not nothing (a wall's face past a leaf's rim, the wall's other face in the way).
+    if (p.gapWidth != 0.f && gone(p.gapCloser) && !(p.phaseSpread > 0.f)) p.gapWidth = 0.f;
     p.share = p.atEnd ? 0.0 : 1.0;
     setTerms(lineOfSight, p);
   }

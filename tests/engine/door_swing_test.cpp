@@ -340,3 +340,54 @@ TEST_CASE(
     lastMesh = mesh;
   }
 }
+
+TEST_CASE(
+    "Door swing: beside the doorway, a box leaf in a wall standing alone swung 1-29 degrees "
+    "toward the source passes what the slit model of its openings says, and never falls below "
+    "shut",
+    "[diffraction][door]") {
+  // The listener 1 m off the axis past the latch jamb, the leaf swung away from it: from about
+  // 5 degrees the rim stands out of the reveal on the source's side, and the way to the jamb's
+  // corner passes between the rim and the wall's face (3 to 40 cm), which the source sees at a
+  // slant past the rim. The model is the toward-listener leaf's mirrored across the wall
+  // (freeWallOpenings, x negated): the same leaf turned the other way, whose openings face the
+  // source. Tolerance: 3 dB per octave at 63-125 Hz against it where its slits are at least 8
+  // times as long as wide (to 15 degrees), as above (found within 2.0 dB); never below shut
+  // (1 dB, as above) to 29 degrees; never more than 3 dB between neighbouring degrees to 26
+  // degrees, while the rim hides the jamb's far corner from the source (at 27 the line from
+  // the source to that corner clears the rim by 2 mm and the corner's own first-order field
+  // takes over, 7 dB louder at 63 Hz: the rim's lit-side transition is not modelled for a
+  // moving object's edge, docs/validation.md). Before, every first-order path was blocked by
+  // the leaf and the chain round the rim and the jamb was refused as threading a gap: 9-26
+  // degrees read up to 7 dB below shut (-22.1 against -14.5 dB at 63 Hz), 12 dB below the model.
+  const MouthImpedance zr;
+  const glm::vec3 beside = kFreeListener + glm::vec3(0.f, 0.f, 1.f);
+  const Bands shutObject = freeWallLevel(freeWallLeaf(0.0, true), beside);
+  const Bands shutMesh = freeWallLevel(freeWallLeafWritten(0.0, true), beside);
+  Bands lastObject = shutObject, lastMesh = shutMesh;
+  for (double degrees = 1.0; degrees <= 29.0; degrees += 1.0) {
+    const Bands object = freeWallLevel(freeWallLeaf(-degrees, true), beside);
+    const Bands mesh = freeWallLevel(freeWallLeafWritten(-degrees, true), beside);
+    std::vector<Slit> slits = freeWallOpenings(degrees);
+    for (Slit& s : slits) {  // mirrored across the wall's mid-plane x = 0
+      s.a.x = -s.a.x;
+      s.b.x = -s.b.x;
+    }
+    const Bands model = modelLevels(slits, zr, glm::dvec3(kFreeSource), glm::dvec3(beside));
+    char label[96];
+    std::snprintf(label, sizeof label, "leaf %4.1f deg toward S, beside: object / mesh / model",
+                  degrees);
+    printLevels(label, {&object, &mesh, &model}, 4);
+    for (int b = 0; b <= 1; ++b) {
+      INFO(degrees << " degrees toward the source, band " << b);
+      if (degrees <= 15.0) CHECK(std::abs(object[b] - model[b]) < 3.f);
+      if (degrees <= 15.0) CHECK(std::abs(mesh[b] - model[b]) < 3.f);
+      CHECK(object[b] > shutObject[b] - 1.f);
+      CHECK(mesh[b] > shutMesh[b] - 1.f);
+      if (degrees <= 26.0) CHECK(std::abs(object[b] - lastObject[b]) <= 3.f);
+      if (degrees <= 26.0) CHECK(std::abs(mesh[b] - lastMesh[b]) <= 3.f);
+    }
+    lastObject = object;
+    lastMesh = mesh;
+  }
+}

@@ -352,7 +352,7 @@ TEST_CASE(
   // slant past the rim. The model is the toward-listener leaf's mirrored across the wall
   // (freeWallOpenings, x negated): the same leaf turned the other way, whose openings face the
   // source. Tolerance: 3 dB per octave at 63-125 Hz against it where its slits are at least 8
-  // times as long as wide (to 15 degrees), as above (found within 2.0 dB); never below shut
+  // times as long as wide (to 15 degrees), as above (found within 1.8 dB); never below shut
   // (1 dB, as above) to 29 degrees; never more than 3 dB between neighbouring degrees to 26
   // degrees, while the rim hides the jamb's far corner from the source (at 27 the line from
   // the source to that corner clears the rim by 2 mm and the corner's own first-order field

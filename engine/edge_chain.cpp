@@ -11,6 +11,7 @@
 #include "engine/channel_path.h"
 #include "engine/edge_grid.h"
 #include "engine/edge_path.h"
+#include "engine/hull_ways.h"
 
 namespace dpc {
 
@@ -137,6 +138,27 @@ bool threadsGap(const Tracer& tracer, const glm::vec3& along, const glm::vec3& a
   return bothSides ? blocked == 2 : blocked > 0;
 }
 
+/// The side of the segment from a to b (+1 along n = (b - a) x along, -1 against it) on which
+/// edge e's solid lies (its faces' bisector); 0 where that is unclear (a leg along its face).
+float solidSide(const DiffractionEdge& e, const glm::vec3& along, const glm::vec3& a,
+                const glm::vec3& b) {
+  const glm::vec3 n = glm::normalize(glm::cross(b - a, along));
+  const std::array<glm::vec3, 2> faces = faceDirections(e);
+  const float s = glm::dot(faces[0] + faces[1], n);
+  return std::abs(s) < 1e-3f ? 0.f : std::copysign(1.f, s);
+}
+
+/// threadsGap on one side, or, where the solids the segment passes lie on one side of it
+/// (`solid`, solidSide: the way round a body, or along a row of posts in line), on the other
+/// side only: on theirs the parallel segment runs inside them and across the slots between
+/// bodies in a row, which the way along the row's side does not thread.
+bool gapBeside(const Tracer& tracer, const glm::vec3& along, const glm::vec3& a, const glm::vec3& b,
+               float solid) {
+  if (solid == 0.f) return threadsGap(tracer, along, a, b, false);
+  const glm::vec3 air = -solid * kChannelGapMax * glm::normalize(glm::cross(b - a, along));
+  return !segmentFree(tracer, a + air, b + air);
+}
+
 /// True when the leg from q (on an edge) toward `end` passes, within kChannelDepthMax of q,
 /// through a gap at most kChannelGapMax wide: the parallel segments either side blocked
 /// (threadsGap), or both sides closed across it a few millimetres to centimetres from q (a gap
@@ -158,11 +180,13 @@ bool outerLegInGap(const Tracer& tracer, const glm::vec3& along, const glm::vec3
   return false;
 }
 
-/// True when the leg from a to b between two edges passes through a gap (threadsGap on one
-/// side, or both sides closed across it at a quarter, half or three quarters of its length).
-bool innerLegInGap(const Tracer& tracer, const glm::vec3& along, const glm::vec3& a,
-                   const glm::vec3& b) {
-  if (threadsGap(tracer, along, a, b, false)) return true;
+/// True when the leg from a (on edge e) to b (on edge f) passes through a gap (gapBeside, away
+/// from both edges' solids where they lie on one side, else either; or both sides closed
+/// across it at a quarter, half or three quarters of its length).
+bool innerLegInGap(const Tracer& tracer, const DiffractionEdge& e, const DiffractionEdge& f,
+                   const glm::vec3& along, const glm::vec3& a, const glm::vec3& b) {
+  const float se = solidSide(e, along, a, b), sf = solidSide(f, along, a, b);
+  if (gapBeside(tracer, along, a, b, se == sf ? se : 0.f)) return true;
   for (float t : {0.25f, 0.5f, 0.75f})
     if (narrowAt(tracer, along, a, b, t)) return true;
   return false;
@@ -246,13 +270,14 @@ bool sheetLegInGap(const Tracer& tracer, const std::vector<DiffractionEdge>& edg
 enum class Shortcut { kOpen, kBlocked, kThreaded };
 
 Shortcut shortcut(const Tracer& tracer, const glm::vec3& along, const glm::vec3& a,
-                  const glm::vec3& b, bool solidA, bool solidB) {
+                  const glm::vec3& b, bool solidA, bool solidB, const DiffractionEdge& past) {
   if (!segmentFree(tracer, a, b)) return Shortcut::kBlocked;
   const float length = glm::distance(a, b);
   if (!(length > 3.f * kChannelGapMax)) return Shortcut::kOpen;
   const glm::vec3 trim = (kChannelGapMax / length) * (b - a);
   const glm::vec3 from = solidA ? a + trim : a, to = solidB ? b - trim : b;
-  return threadsGap(tracer, along, from, to, false) ? Shortcut::kThreaded : Shortcut::kOpen;
+  return gapBeside(tracer, along, from, to, solidSide(past, along, from, to)) ? Shortcut::kThreaded
+                                                                              : Shortcut::kOpen;
 }
 
 /// Whether the chain's point i (1..n in chainPoints' numbering; 0 and n + 1 are the source
@@ -278,14 +303,15 @@ bool chainStands(const Tracer& tracer, const std::vector<DiffractionEdge>& edges
     if (!innerLegFree(tracer, along, p[i], p[i + 1]) || sheetLegInGap(tracer, edges, c, p, i) ||
         faceLegInGap(tracer, edges[c.edge[i - 1]], edges[c.edge[i]], p[i], p[i + 1]))
       return false;
-    if (!innerLegInGap(tracer, along, p[i], p[i + 1])) continue;
+    if (!innerLegInGap(tracer, edges[c.edge[i - 1]], edges[c.edge[i]], along, p[i], p[i + 1]))
+      continue;
     if (gapLeg != 0) return false;
     gapLeg = i;
   }
   threaded = false;
   for (size_t i = 1; i < last; ++i) {
-    const Shortcut past = shortcut(tracer, along, p[i - 1], p[i + 1],
-                                   solidCorner(edges, c, i - 1), solidCorner(edges, c, i + 1));
+    const Shortcut past = shortcut(tracer, along, p[i - 1], p[i + 1], solidCorner(edges, c, i - 1),
+                                   solidCorner(edges, c, i + 1), edges[c.edge[i - 1]]);
     if (past == Shortcut::kOpen) return false;
     threaded = threaded || past == Shortcut::kThreaded;
   }
@@ -353,6 +379,23 @@ struct ChainSearch {
       }
       ids[n] = j;
       extend(ids, n + 1);
+    }
+  }
+
+  /// Each way round the hull of the seeds' parallel edges (engine/hull_ways.h) the search did
+  /// not lay already; one round more edges than a chain holds is counted.
+  void hullWays(const std::vector<uint32_t>& seeds) {
+    for (const std::vector<uint32_t>& way : dpc::hullWays(edges, seeds, source, L)) {
+      if (way.size() > kChainEdges) {
+        ++budget.leftOut;
+        continue;
+      }
+      std::array<uint32_t, kChainEdges> ids{};
+      std::copy(way.begin(), way.end(), ids.begin());
+      const bool laid = std::any_of(found.begin(), found.end(), [&](const EdgeChain& c) {
+        return c.n == way.size() && std::equal(way.begin(), way.end(), c.edge.begin());
+      });
+      if (way.size() >= minEdges && !laid) keep(ids, way.size());
     }
   }
 
@@ -482,6 +525,7 @@ std::vector<EdgeChain> edgeChains(const Tracer& tracer, const std::vector<Diffra
     std::array<uint32_t, kChainEdges> ids{f, 0, 0, 0};
     search.extend(ids, 1);
   }
+  search.hullWays(seeds);
   return std::move(search.found);
 }
 

@@ -14,7 +14,10 @@
 // point after it is blocked or threads a gap of at most kChannelGapMax (then no edge of the
 // chain may face a surface that close past it), and both lie in its air wedge, on either side
 // of its shadow boundary. Chains are laid over the edges of the bodies the line of sight crosses
-// that lie within kChainSearch of it, and over the edges near those (kChainReach, at load).
+// that lie within kChainSearch of it, and over the edges near those (kChainReach, at load),
+// and round the hull of those edges (engine/hull_ways.h: a row of posts in line). A leg whose
+// end edges' solids lie on one side of it is tested for a gap on the other side only (along a
+// row's side it passes the slots between the posts).
 //
 // Its level is a barrier's attenuation over the free field at the direct distance, ISO
 // 9613-2:1996 eq. (14): Dz = 10 lg(3 + (C2 / lambda) C3 z), z the path's length less the direct
@@ -45,8 +48,8 @@ namespace dpc {
 /// thickness, a stop beside its reveal), and how many of the nearest each edge keeps.
 inline constexpr float kChainReach = 1.f;
 inline constexpr size_t kChainNeighbours = 8;
-/// The most edges in one chain; a chain that would wrap round more is counted as left out (a
-/// column of three posts in line takes six).
+/// The most edges in one chain; a chain that would wrap round more is counted as left out (the
+/// search round a column of three posts in line meets ways round six).
 inline constexpr size_t kChainEdges = 4;
 /// m: how far from the line of sight the edges a chain is laid from lie, and the most of them
 /// per query (the nearest); and the most chains whose rays are cast (the first met) per query

@@ -29,7 +29,7 @@ struct DirectSound {
   /// Edge diffraction with the line of sight blocked (engine/edge_chain.h): the edges near it
   /// that no path round edges in series was laid from (past kChainSeeds, the farthest) plus
   /// the chains not tried (past kChainTrials) and those that would wrap round more than
-  /// kChainEdges edges (a column of posts in line).
+  /// kChainEdges edges (a row of more bodies in line than that).
   uint32_t chainsLeftOut = 0;
   /// A free line of sight (no surface in between): what diffraction's shadow boundary needs.
   bool lineOfSight() const { return visible && crossings == 0; }

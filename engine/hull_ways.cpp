@@ -1,0 +1,101 @@
+#include "engine/hull_ways.h"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+
+#include "engine/edge_path.h"
+
+namespace dpc {
+
+namespace {
+
+/// A point of the plane square to the edges: along the line of sight from the source (x, m),
+/// across it (y, m, toward one side), and its edge (none for the source and L).
+struct HullPoint {
+  float x, y;
+  uint32_t edge;
+};
+
+constexpr uint32_t kNoEdge = 0xffffffffu;
+
+/// Twice the signed area of the triangle o, a, b: > 0 where b lies left of o -> a.
+float cross(const HullPoint& o, const HullPoint& a, const HullPoint& b) {
+  return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+}
+
+/// The hull's chain over `points` (sorted by x, the source first and L last, all with y >= 0)
+/// that bulges toward +y: its corners' edges between the source and L, in order.
+std::vector<uint32_t> upperChain(const std::vector<HullPoint>& points) {
+  std::vector<HullPoint> chain;
+  for (const HullPoint& p : points) {
+    // Pop while the turn at the chain's last corner is not clockwise (a corner in line with its
+    // neighbours, turning by less than kHullCollinear radians, is none).
+    while (chain.size() >= 2) {
+      const HullPoint &o = chain[chain.size() - 2], &a = chain.back();
+      const float legs = std::hypot(a.x - o.x, a.y - o.y) * std::hypot(p.x - a.x, p.y - a.y);
+      if (cross(o, a, p) < -kHullCollinear * legs) break;
+      chain.pop_back();
+    }
+    chain.push_back(p);
+  }
+  std::vector<uint32_t> out;
+  for (const HullPoint& p : chain)
+    if (p.edge != kNoEdge) out.push_back(p.edge);
+  return out;
+}
+
+/// The members of `seeds` parallel to edge `first` (and it).
+std::vector<uint32_t> parallelTo(const std::vector<DiffractionEdge>& edges,
+                                 const std::vector<uint32_t>& seeds, uint32_t first) {
+  std::vector<uint32_t> out;
+  for (uint32_t s : seeds)
+    if (std::abs(glm::dot(edges[s].direction, edges[first].direction)) >= kParallelEdges)
+      out.push_back(s);
+  return out;
+}
+
+/// The ways round one group of parallel edges, one per side of the line of sight.
+void groupWays(const std::vector<DiffractionEdge>& edges, const std::vector<uint32_t>& group,
+               const glm::vec3& source, const glm::vec3& L,
+               std::vector<std::vector<uint32_t>>& out) {
+  const glm::vec3 d = edges[group.front()].direction;
+  const glm::vec3 sight = (L - source) - glm::dot(L - source, d) * d;
+  const float length = glm::length(sight);
+  if (!(length > 0.f)) return;  // the line of sight runs along the edges
+  const glm::vec3 e1 = sight / length, e2 = glm::cross(d, e1);
+  for (float side : {1.f, -1.f}) {
+    std::vector<HullPoint> points;
+    for (uint32_t i : group) {
+      const glm::vec3 v = edges[i].a - source;
+      const float x = glm::dot(v, e1), y = side * glm::dot(v, e2);
+      if (x > 0.f && x < length && y > 0.f) points.push_back({x, y, i});
+    }
+    if (points.size() < 2) continue;
+    std::sort(points.begin(), points.end(),
+              [](const HullPoint& a, const HullPoint& b) { return a.x < b.x; });
+    points.insert(points.begin(), HullPoint{0.f, 0.f, kNoEdge});
+    points.push_back(HullPoint{length, 0.f, kNoEdge});
+    std::vector<uint32_t> way = upperChain(points);
+    if (way.size() >= 2) out.push_back(std::move(way));
+  }
+}
+
+}  // namespace
+
+std::vector<std::vector<uint32_t>> hullWays(const std::vector<DiffractionEdge>& edges,
+                                            const std::vector<uint32_t>& seeds,
+                                            const glm::vec3& source, const glm::vec3& L) {
+  std::vector<std::vector<uint32_t>> out;
+  std::vector<bool> grouped(seeds.size(), false);
+  for (size_t k = 0; k < seeds.size(); ++k) {
+    if (grouped[k]) continue;
+    const std::vector<uint32_t> group = parallelTo(edges, seeds, seeds[k]);
+    for (size_t m = k; m < seeds.size(); ++m)
+      grouped[m] = grouped[m] || std::find(group.begin(), group.end(), seeds[m]) != group.end();
+    if (group.size() >= 2) groupWays(edges, group, source, L, out);
+  }
+  return out;
+}
+
+}  // namespace dpc

@@ -364,6 +364,7 @@ TEST_CASE(
   const glm::vec3 beside = kFreeListener + glm::vec3(0.f, 0.f, 1.f);
   const Bands shutObject = freeWallLevel(freeWallLeaf(0.0, true), beside);
   const Bands shutMesh = freeWallLevel(freeWallLeafWritten(0.0, true), beside);
+  printLevels("shut, beside: object / mesh (dB)", {&shutObject, &shutMesh}, 4);
   Bands lastObject = shutObject, lastMesh = shutMesh;
   for (double degrees = 1.0; degrees <= 29.0; degrees += 1.0) {
     const Bands object = freeWallLevel(freeWallLeaf(-degrees, true), beside);

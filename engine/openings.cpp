@@ -283,17 +283,19 @@ ChainOpening chainOpening(const EdgeChain& c, const std::vector<EdgePath>& paths
   return {};
 }
 
-/// The opening chain c's gap leg (EdgeChain::gapLeg) threads: beside the leg's end on a small
-/// body's edge (its later end first), the fan looking along the leg away from that body
-/// (openingAcross), within the slit reach; the path that carries it, if one does. None (edge
-/// null) where neither end finds one.
+/// The opening chain c's gap leg (EdgeChain::gapLeg) threads between a small body and a large
+/// one (a leaf's rim and the wall's jamb): beside the leg's end on the small body's edge, the
+/// fan looking along the leg away from that body (openingAcross), within the slit reach; the
+/// path that carries it, if one does. None (edge null) where it finds none, or the leg runs
+/// between two small bodies (the slot between two posts of a row, which the posts' own paths
+/// and floors carry).
 ChainOpening gapOpening(const EdgeChain& c, const std::vector<EdgePath>& paths,
                         const BoundQuery& q) {
   const size_t k = c.gapLeg;
   for (size_t end = 0; end < 2; ++end) {
     const DiffractionEdge& e = c.gapEnds[1 - end];
     const size_t n = end == 0 ? k : k - 1, other = end == 0 ? k - 1 : k;
-    if (!smallEdge(q, e)) continue;
+    if (!smallEdge(q, e) || smallEdge(q, c.gapEnds[end])) continue;
     const Opening o = openingAcross(q, e, c.q[n], c.q[other], slitReach(e));
     if (o.width == 0.f) continue;
     return {&e, n, o, carrierOf(q, e, c.q[n], o, paths)};

@@ -79,8 +79,8 @@ struct EdgeChain {
   /// The leg between two of its edges that threads a gap no wider than kChannelGapMax on a
   /// side (a leaf ajar toward the source: from its rim past the jamb's corner into the
   /// doorway): k, the leg from q[k - 1] to q[k], and those two edges as laid; 0: none. It
-  /// stands only as the other side of that opening's slit, found beside the small body's end
-  /// of the leg (engine/openings.h addChainOpenings).
+  /// stands only between a small body and a large one, as the other side of that opening's
+  /// slit, found beside the small body's end of the leg (engine/openings.h addChainOpenings).
   size_t gapLeg = 0;
   std::array<DiffractionEdge, 2> gapEnds{};
 };

@@ -71,11 +71,11 @@ bool openChannel(EdgePath& p, const BoundQuery& q, float widest,
 /// the opening's own slit path (no UTD field, its slit's owner) added to `paths`, summed with
 /// them in pressure. Chains ending on one rim share it. Sets each chain's EdgeChain::opening
 /// to the path that carries its opening (that one, another's, or a channel's over its two
-/// rims), -1 where none does. A chain with a leg through a gap (EdgeChain::gapLeg) takes the
-/// opening beside that leg's end on a small body's edge, looked for across the leg away from
-/// the body, as its own slit path with the chain's detours on both sides; where none is found
-/// within a slit's reach, or a path carries it already (a gap the probe found), the chain is
-/// removed.
+/// rims), -1 where none does. A chain with a leg through a gap (EdgeChain::gapLeg) between a
+/// small body's edge and a large body's takes the opening beside the small body's end, looked
+/// for across the leg away from the body, as its own slit path with the chain's detours on
+/// both sides; where none is found within a slit's reach, a path carries it already (a gap the
+/// probe found), or both ends are small bodies', the chain is removed.
 void addChainOpenings(std::vector<EdgeChain>& chains, std::vector<EdgePath>& paths,
                       const BoundQuery& q);
 

@@ -404,7 +404,7 @@ void addChainOpenings(std::vector<EdgeChain>& chains, std::vector<EdgePath>& pat
   std::erase_if(chains, [&](EdgeChain& c) {
     if (c.gapLeg == 0) return false;
     const ChainOpening o = gapOpening(c, paths, q);
-    if (!o.edge || o.carrier) return true;  // a path's slit carries the gap: the chain is not
+    if (!o.edge || o.carrier) return true;  // no opening, or a path carries it: no chain
     paths.push_back(openingPath(c, o.n, *o.edge, o.o, q));
     c.opening = int32_t(paths.size() - 1);
     return false;

@@ -82,6 +82,16 @@ def read_away(build):
     return rows, shut[0]
 
 
+def finish(fig, first, title, output):
+    """Labels the first panel (level axis, legend), titles the figure and writes it."""
+    first.set_ylabel("direct sound re free field (dB)")
+    first.legend(fontsize=8)
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(output, dpi=110)
+    print(f"plot_door_swing.py: wrote {output}")
+
+
 def plot_away(data, output):
     rows, shut = data
     degrees = [r[0] for r in rows]
@@ -95,13 +105,8 @@ def plot_away(data, output):
         ax.set_title(f"{band} Hz")
         ax.set_xlabel("leaf turned toward the source (degrees)")
         ax.grid(alpha=0.3)
-    axes[0].set_ylabel("direct sound re free field (dB)")
-    axes[0].legend(fontsize=8)
-    fig.suptitle("A 4 cm box leaf swung toward the source, heard 1 m off the axis past its latch "
-                 "jamb")
-    fig.tight_layout()
-    fig.savefig(output, dpi=110)
-    print(f"plot_door_swing.py: wrote {output}")
+    finish(fig, axes[0], "A 4 cm box leaf swung toward the source, heard 1 m off the axis past "
+           "its latch jamb", output)
 
 
 def plot_swing(rows, output):
@@ -115,13 +120,8 @@ def plot_swing(rows, output):
         ax.set_title(f"{band} Hz")
         ax.set_xlabel("leaf ajar (degrees)")
         ax.grid(alpha=0.3)
-    axes[0].set_ylabel("direct sound re free field (dB)")
-    axes[0].legend(fontsize=8)
-    fig.suptitle("A 4 cm box leaf ajar in a 0.2 m wall: the engine against the slit model of "
-                 "its openings")
-    fig.tight_layout()
-    fig.savefig(output, dpi=110)
-    print(f"plot_door_swing.py: wrote {output}")
+    finish(fig, axes[0], "A 4 cm box leaf ajar in a 0.2 m wall: the engine against the slit "
+           "model of its openings", output)
 
 
 def plot_stop(rows, output):

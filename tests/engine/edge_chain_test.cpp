@@ -233,8 +233,9 @@ TEST_CASE("Edge chains: a row of posts hits the seed cap, which is counted",
           "[diffraction][chain]") {
   // 20 posts 2 cm square, 0.2 m apart, along the line of sight, each crossed by it: their 80
   // vertical edges alone are more than kChainSeeds, and what was left out is counted in
-  // DirectSound::chainsLeftOut. (The row itself stays silent: the way round it wraps the first
-  // post and the last, 3.8 m apart, further than kChainReach; docs/estimators.md.)
+  // DirectSound::chainsLeftOut. (The row itself stays silent at 1-8 kHz: the 24 seeds kept do
+  // not hold the first post's near corner and the last one's far corner, so its hull's way is
+  // not among the candidates; docs/estimators.md.)
   const uint32_t leftOut = chainsLeftOutBehind(20, 0.02f, 0.2f, 4.1f, "row of posts");
   CHECK(leftOut >= 80 - kChainSeeds);
 }

@@ -353,12 +353,18 @@ void markSlitOwners(std::vector<EdgePath>& paths, const std::vector<uint32_t>* b
            (slitsApart(o, p) < 0.5f * std::max(o.gapWidth, p.gapWidth) + 1e-3f ||
             acrossSlit(o, p, body) || acrossSlit(p, o, body));
   };
-  // Shallowest first, then in list order: each path owns its slit unless an owner before it
-  // in that order finds the same slit, or p is the channel at whose mouth that owner stands.
+  // Shallowest first, edges' own paths before channels as deep (the rim's corner of a leaf
+  // ajar and the channel along its end face to that corner read one opening; the list holds a
+  // moving leaf's channels first and a static one's edges), then in list order: each path owns
+  // its slit unless an owner before it in that order finds the same slit, or p is the channel
+  // at whose mouth that owner stands.
   std::vector<size_t> order(paths.size());
   for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+  auto channel = [&](size_t k) { return paths[k].through != glm::vec3(0.f); };
   std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
-    return paths[a].slit.depth < paths[b].slit.depth;
+    if (paths[a].slit.depth != paths[b].slit.depth)
+      return paths[a].slit.depth < paths[b].slit.depth;
+    return !channel(a) && channel(b);
   });
   for (size_t n = 0; n < order.size(); ++n) {
     EdgePath& p = paths[order[n]];

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <glm/geometric.hpp>
+#include <memory>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -86,18 +88,27 @@ std::vector<uint32_t> otherSide(const BoundQuery& q, const std::vector<TraceRay>
                                 const std::vector<TraceHit>& hits) {
   constexpr std::array<float, 4> kSteps = {-0.5f * kThreadReach, -kGapProbeThrough,
                                            kGapProbeThrough, 0.5f * kThreadReach};
-  std::vector<TraceRay> across(kSteps.size() * rays.size(),
-                               TraceRay{glm::vec3(0.f), glm::vec3(1.f, 0.f, 0.f), 0.f, 0.f, false});
+  const TraceRay idle{glm::vec3(0.f), glm::vec3(1.f, 0.f, 0.f), 0.f, 0.f, false};
+  std::vector<TraceRay> across(kSteps.size() * rays.size(), idle), step(across.size(), idle);
   for (size_t i = 0; i < rays.size(); ++i) {
     if (!hits[i].found) continue;
     // From kLegEpsilon on the hit's side of the leg: a leg along a face (a listener in a
-    // reveal's plane) has that face on its other side.
-    const glm::vec3 level = rays[i].org - (kThreadReach - kLegEpsilon) * sides[i] +
-                            hits[i].surface.t * rays[i].dir;
-    for (size_t k = 0; k < kSteps.size(); ++k)
-      across[kSteps.size() * i + k] = TraceRay{level + kSteps[k] * rays[i].dir, -sides[i], 0.f,
+    // reveal's plane) has that face on its other side. The step there is checked below.
+    const glm::vec3 onLeg = rays[i].org - kThreadReach * sides[i] + hits[i].surface.t * rays[i].dir;
+    for (size_t k = 0; k < kSteps.size(); ++k) {
+      const glm::vec3 from = onLeg + kSteps[k] * rays[i].dir;
+      step[kSteps.size() * i + k] = TraceRay{from, sides[i], 0.f, kLegEpsilon};
+      across[kSteps.size() * i + k] = TraceRay{from + kLegEpsilon * sides[i], -sides[i], 0.f,
                                                1.05f * kThreadReach + kLegEpsilon};
+    }
   }
+  // A step that crosses a surface puts its start behind the corner the leg grazes within
+  // kLegEpsilon (a leaf's rim leg along its own end face): the ray across then starts on the
+  // leg, in the air, or it would read the corner's two faces as a gap the leg threads.
+  const std::unique_ptr<bool[]> behind(new bool[step.size()]);
+  q.tracer.occluded(step, std::span<bool>(behind.get(), step.size()));
+  for (size_t i = 0; i < across.size(); ++i)
+    if (behind[i]) across[i] = TraceRay{step[i].org, -step[i].dir, 0.f, 1.05f * kThreadReach};
   std::vector<TraceHit> met(across.size());
   q.tracer.intersect(across, met);
   std::vector<uint32_t> out(rays.size(), kUnknownSurface);

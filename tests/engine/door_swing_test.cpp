@@ -165,18 +165,21 @@ constexpr float kBox = 0.04f, kGaps = 0.01f, kHalf = 0.45f;
 const glm::vec3 kFreeSource{-2.f, 1.05f, 0.f}, kFreeListener{2.f, 1.05f, 0.f};
 
 /// The leaf as a moving object turned `degrees` toward the listener; the wall's faces point
-/// out into the air if `outward`, else into the wall.
-SceneDesc freeWallLeaf(double degrees, bool outward) {
+/// out into the air if `outward`, else into the wall. The wall `wall` m thick, the gaps round
+/// the leaf `gaps` m, the hinge `hinge` m from the wall's mid-plane (the leaf shut spans
+/// +-kBox / 2 about it either way).
+SceneDesc freeWallLeaf(double degrees, bool outward, float wall = 0.1f, float gaps = kGaps,
+                       float hinge = 0.f) {
   SceneDesc s = doorScene(0.f, Leaf::kNone);
   s.mesh = Mesh{};
-  addFreeWallDoorway(s.mesh, 0.1f, outward);
+  addFreeWallDoorway(s.mesh, wall, outward);
   ObjectDesc door;
   door.name = "leaf";
   s.materials.push_back(s.materials[0]);  // the leaf's own, as a level's door has
-  test::addSolidBox(door.mesh, {-0.5f * kBox, kGaps, 0.f},
-                    {0.5f * kBox, 2.1f - kGaps, 2.f * (kHalf - kGaps)}, 1);
+  test::addSolidBox(door.mesh, {-0.5f * kBox - hinge, gaps, 0.f},
+                    {0.5f * kBox - hinge, 2.1f - gaps, 2.f * (kHalf - gaps)}, 1);
   const glm::quat turn = glm::angleAxis(float(glm::radians(degrees)), glm::vec3(0, 1, 0));
-  door.trajectory = {ObjectKeyframe{0.0, glm::vec3(0.f, 0.f, kGaps - kHalf), turn}};
+  door.trajectory = {ObjectKeyframe{0.0, glm::vec3(hinge, 0.f, gaps - kHalf), turn}};
   s.objects.push_back(door);
   return s;
 }
@@ -185,13 +188,14 @@ SceneDesc freeWallLeaf(double degrees, bool outward) {
 /// every coordinate to 1 micrometre (which rim corner a grazing leg clears decides which paths
 /// exist: at 12 degrees the way past the rim to the jamb's far corner is free with the corners
 /// exact, blocked with them rounded, as in the held-out sweep's files).
-SceneDesc freeWallLeafWritten(double degrees, bool outward) {
-  SceneDesc s = freeWallLeaf(degrees, outward);
+SceneDesc freeWallLeafWritten(double degrees, bool outward, float wall = 0.1f, float gaps = kGaps,
+                              float hinge = 0.f) {
+  SceneDesc s = freeWallLeaf(degrees, outward, wall, gaps, hinge);
   const glm::quat turn = s.objects[0].trajectory[0].rotation;
   const glm::vec3 at = s.objects[0].trajectory[0].position;
   s.objects.clear();
-  const float x0 = -0.5f * kBox, x1 = 0.5f * kBox, y0 = kGaps, y1 = 2.1f - kGaps, z0 = 0.f,
-              z1 = 2.f * (kHalf - kGaps);
+  const float x0 = -0.5f * kBox - hinge, x1 = 0.5f * kBox - hinge, y0 = gaps, y1 = 2.1f - gaps,
+              z0 = 0.f, z1 = 2.f * (kHalf - gaps);
   const glm::vec3 faces[6][4] = {
       {{x0, y0, z0}, {x0, y0, z1}, {x0, y1, z1}, {x0, y1, z0}},
       {{x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1}},
@@ -390,5 +394,33 @@ TEST_CASE(
     }
     lastObject = object;
     lastMesh = mesh;
+  }
+}
+
+TEST_CASE(
+    "Door swing: a box leaf whose rim's leg runs along its own end face reads the same in the "
+    "mesh as a moving object",
+    "[diffraction][door]") {
+  // A 0.2 m wall with 20 mm gaps, the leaf swung 12-16 degrees toward the source, the listener
+  // on the axis: near 13.5 degrees the leg from the source to the rim's listener-side corner runs
+  // along the leaf's end face and clears its other corner by about a millimetre. That leg is
+  // free (the leaf as an object keeps it, and so must the mesh), not a gap between the leaf's
+  // own two faces: the threaded-leg test's ray across the leg, started a millimetre to the
+  // corner's side, began behind the corner and read the end face and the leaf's front as a
+  // gap its slits carried. Tolerance: 1 dB per octave at 63 Hz-1 kHz, the held-out sweep's
+  // bound for one leaf in two representations (the probes resolve widths to 5 %). Before, the
+  // mesh read -33 dB at 63 Hz where the object and the neighbouring angles read -6.7 dB.
+  for (double degrees = 12.0; degrees <= 16.0; degrees += 0.5) {
+    const Bands object = freeWallLevel(freeWallLeaf(-degrees, true, 0.2f, 0.02f, -0.5f * kBox));
+    const Bands mesh =
+        freeWallLevel(freeWallLeafWritten(-degrees, true, 0.2f, 0.02f, -0.5f * kBox));
+    char label[96];
+    std::snprintf(label, sizeof label, "leaf %4.1f deg toward S, 0.2 m wall: object / mesh",
+                  degrees);
+    printLevels(label, {&object, &mesh}, 5);
+    for (int b = 0; b <= 4; ++b) {
+      INFO(degrees << " degrees toward the source, band " << b);
+      CHECK(std::abs(object[b] - mesh[b]) <= 1.f);
+    }
   }
 }

@@ -24,9 +24,11 @@ constexpr float kOnEdge = 2e-3f;
 /// how squarely a chain's step must cross a channel's face to take its route.
 constexpr float kSquarely = 0.5f;
 
-/// The fan of rays looking for an opening: degrees from the leg, away from the turn.
-constexpr std::array<float, 12> kFanDegrees = {5.f,  10.f, 15.f, 20.f, 25.f, 30.f,
-                                               35.f, 40.f, 45.f, 50.f, 55.f, 60.f};
+/// The fan of rays looking for an opening: degrees from the leg, away from the turn, to 85 (a
+/// wall's face a few millimetres ahead of a leaf's rim lies far round from the leg).
+constexpr std::array<float, 17> kFanDegrees = {5.f,  10.f, 15.f, 20.f, 25.f, 30.f,
+                                               35.f, 40.f, 45.f, 50.f, 55.f, 60.f,
+                                               65.f, 70.f, 75.f, 80.f, 85.f};
 
 /// x with its component along the unit vector d taken out.
 glm::vec3 square(const glm::vec3& x, const glm::vec3& d) { return x - glm::dot(x, d) * d; }

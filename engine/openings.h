@@ -10,7 +10,7 @@
 // turned a degree (where the probe found the opening, or lost it).
 //
 // The opening beside an edge at the path's point Q: rays from Q square to the edge, fanned
-// 5-60 degrees from the leg toward the listener (or the source) away from the side the path
+// 5-85 degrees from the leg toward the listener (or the source) away from the side the path
 // turns round; the nearest surface they meet within a quarter of the edge's length (a slit's
 // least aspect, engine/slit.h kSlitMinAspect) and kOpeningReach. Its width is that point's
 // distance from the edge's line; the slit runs along the edge, without depth, its legs

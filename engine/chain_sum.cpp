@@ -104,16 +104,19 @@ std::vector<EdgeChain> laidChains(const BoundQuery& q, const std::vector<ObjectE
                                   const std::vector<std::vector<uint32_t>>& near,
                                   uint32_t& leftOut) {
   ChainBudget budget;
+  std::vector<uint32_t> all;
   const std::vector<uint32_t> seeds =
-      chainSeeds(q.crossed, q.bodies, q.edges, q.source, q.L, leftOut);
-  std::vector<EdgeChain> out = edgeChains(q.tracer, q.edges, near, seeds, q.source, q.L, budget);
+      chainSeeds(q.crossed, q.bodies, q.edges, q.source, q.L, leftOut, &all);
+  std::vector<EdgeChain> out =
+      edgeChains(q.tracer, q.edges, near, seeds, q.source, q.L, budget, 2, UINT32_MAX, &all);
   for (size_t k = 0; k < objects.size(); ++k) {
     const ObjectEdges& o = objects[k];
     if (!nearLine(o, q.source, q.L)) continue;
     ChainBudget own;  // an object's own: the static mesh's chains may have spent theirs
-    const std::vector<uint32_t> nearby = edgesNearLine(o.world, q.source, q.L, leftOut);
+    std::vector<uint32_t> around;
+    const std::vector<uint32_t> nearby = edgesNearLine(o.world, q.source, q.L, leftOut, &around);
     std::vector<EdgeChain> more =
-        edgeChains(q.tracer, o.world, o.near, nearby, q.source, q.L, own, 1, 0);
+        edgeChains(q.tracer, o.world, o.near, nearby, q.source, q.L, own, 1, 0, &around);
     const std::vector<EdgeChain> mixed = mixedChains(q, o, seeds, nearby, own);
     more.insert(more.end(), mixed.begin(), mixed.end());
     leftOut += own.leftOut;

@@ -382,25 +382,29 @@ struct ChainSearch {
     }
   }
 
-  /// Each way round the hull of the seeds' parallel edges (engine/hull_ways.h) the search did
-  /// not lay already; one round more edges than a chain holds is counted.
-  void hullWays(const std::vector<uint32_t>& seeds) {
-    for (const std::vector<uint32_t>& way : dpc::hullWays(edges, seeds, source, L)) {
+  /// Whether the chain over ids[0, n) is laid already (a hull's way the search meets again).
+  bool laid(const std::array<uint32_t, kChainEdges>& ids, size_t n) const {
+    return std::any_of(found.begin(), found.end(), [&](const EdgeChain& c) {
+      return c.n == n && std::equal(ids.begin(), ids.begin() + long(n), c.edge.begin());
+    });
+  }
+
+  /// Each way round the hull of the parallel edges among `from` (engine/hull_ways.h); one round
+  /// more edges than a chain holds is counted.
+  void hullWays(const std::vector<uint32_t>& from) {
+    for (const std::vector<uint32_t>& way : dpc::hullWays(edges, from, source, L)) {
       if (way.size() > kChainEdges) {
         ++budget.leftOut;
         continue;
       }
       std::array<uint32_t, kChainEdges> ids{};
       std::copy(way.begin(), way.end(), ids.begin());
-      const bool laid = std::any_of(found.begin(), found.end(), [&](const EdgeChain& c) {
-        return c.n == way.size() && std::equal(way.begin(), way.end(), c.edge.begin());
-      });
-      if (way.size() >= minEdges && !laid) keep(ids, way.size());
+      if (way.size() >= minEdges) keep(ids, way.size());
     }
   }
 
   void keep(const std::array<uint32_t, kChainEdges>& ids, size_t n) {
-    if (!mixes(ids, n)) return;
+    if (!mixes(ids, n) || laid(ids, n)) return;
     EdgeChain c;
     if (!layChain(edges, ids, n, source, L, c)) return;
     const auto p = chainPoints(c, source, L);
@@ -431,11 +435,15 @@ float boxGap(const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& lo, cons
 }
 
 /// The kChainSeeds nearest of `found` (distance, edge), each once; `leftOut` is increased by
-/// the rest.
+/// the rest; `all` (if given) receives every one, nearest first.
 std::vector<uint32_t> nearestSeeds(std::vector<std::pair<float, uint32_t>>& found,
-                                   uint32_t& leftOut) {
+                                   uint32_t& leftOut, std::vector<uint32_t>* all) {
   std::sort(found.begin(), found.end());
   found.erase(std::unique(found.begin(), found.end()), found.end());
+  if (all) {
+    all->clear();
+    for (const auto& [d, i] : found) all->push_back(i);
+  }
   if (found.size() > kChainSeeds) {
     leftOut += uint32_t(found.size() - kChainSeeds);
     found.resize(kChainSeeds);
@@ -468,7 +476,8 @@ float segmentGap(const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& q0,
 
 std::vector<uint32_t> chainSeeds(const std::vector<uint32_t>& crossed, const SurfaceBodies& bodies,
                                  const std::vector<DiffractionEdge>& edges, const glm::vec3& source,
-                                 const glm::vec3& L, uint32_t& leftOut) {
+                                 const glm::vec3& L, uint32_t& leftOut,
+                                 std::vector<uint32_t>* all) {
   std::vector<uint32_t> seen;  // bodies
   std::vector<std::pair<float, uint32_t>> found;
   for (uint32_t s : crossed) {
@@ -484,18 +493,18 @@ std::vector<uint32_t> chainSeeds(const std::vector<uint32_t>& crossed, const Sur
       }
     }
   }
-  return nearestSeeds(found, leftOut);
+  return nearestSeeds(found, leftOut, all);
 }
 
 std::vector<uint32_t> edgesNearLine(const std::vector<DiffractionEdge>& edges,
-                                    const glm::vec3& source, const glm::vec3& L,
-                                    uint32_t& leftOut) {
+                                    const glm::vec3& source, const glm::vec3& L, uint32_t& leftOut,
+                                    std::vector<uint32_t>* all) {
   std::vector<std::pair<float, uint32_t>> found;
   for (uint32_t i = 0; i < uint32_t(edges.size()); ++i) {
     const float d = segmentGap(source, L, edges[i].a, edges[i].b);
     if (d <= kChainSearch) found.push_back({d, i});
   }
-  return nearestSeeds(found, leftOut);
+  return nearestSeeds(found, leftOut, all);
 }
 
 std::vector<std::vector<uint32_t>> chainNeighbours(const std::vector<DiffractionEdge>& edges) {
@@ -511,7 +520,7 @@ std::vector<EdgeChain> edgeChains(const Tracer& tracer, const std::vector<Diffra
                                   const std::vector<std::vector<uint32_t>>& near,
                                   const std::vector<uint32_t>& seeds, const glm::vec3& source,
                                   const glm::vec3& L, ChainBudget& budget, size_t minEdges,
-                                  uint32_t objectFrom) {
+                                  uint32_t objectFrom, const std::vector<uint32_t>* hullFrom) {
   // The first edge: a seed or a seed's neighbour (a door stop beside the wall's reveal).
   std::vector<uint32_t> firsts = seeds;
   for (uint32_t s : seeds) firsts.insert(firsts.end(), near[s].begin(), near[s].end());
@@ -519,13 +528,15 @@ std::vector<EdgeChain> edgeChains(const Tracer& tracer, const std::vector<Diffra
   firsts.erase(std::unique(firsts.begin(), firsts.end()), firsts.end());
   ChainSearch search{tracer, edges,    near,       source, L,     glm::vec3(0.f),
                      0.f,    {},       minEdges,   objectFrom, budget};
+  // The ways round the hulls first: a budget spent edge by edge round a row of many posts
+  // would leave out the way round its side.
+  search.hullWays(hullFrom ? *hullFrom : seeds);
   for (uint32_t f : firsts) {
     search.d = edges[f].direction;
     search.mid = 0.5f * glm::dot(source + L, search.d);
     std::array<uint32_t, kChainEdges> ids{f, 0, 0, 0};
     search.extend(ids, 1);
   }
-  search.hullWays(seeds);
   return std::move(search.found);
 }
 

@@ -105,16 +105,19 @@ std::vector<std::vector<uint32_t>> chainNeighbours(const std::vector<Diffraction
 /// The edges a query's chains are laid from: those of the bodies (SurfaceBodies) of the flat
 /// surfaces the line of sight crosses (`crossed`, sorted; kMovingObjects and unknown ones
 /// skipped) within kChainSearch of the segment from source to L, the kChainSeeds nearest;
-/// `leftOut` receives how many more there were.
+/// `leftOut` receives how many more there were; `all` (if given) every one of them, nearest
+/// first (edgeChains looks for the hulls' ways among them all).
 std::vector<uint32_t> chainSeeds(const std::vector<uint32_t>& crossed, const SurfaceBodies& bodies,
                                  const std::vector<DiffractionEdge>& edges, const glm::vec3& source,
-                                 const glm::vec3& L, uint32_t& leftOut);
+                                 const glm::vec3& L, uint32_t& leftOut,
+                                 std::vector<uint32_t>* all = nullptr);
 
 /// The edges within kChainSearch of the segment from source to L, the kChainSeeds nearest;
-/// `leftOut` is increased by how many more there were (a moving object's edges).
+/// `leftOut` is increased by how many more there were (a moving object's edges); `all` as for
+/// chainSeeds.
 std::vector<uint32_t> edgesNearLine(const std::vector<DiffractionEdge>& edges,
-                                    const glm::vec3& source, const glm::vec3& L,
-                                    uint32_t& leftOut);
+                                    const glm::vec3& source, const glm::vec3& L, uint32_t& leftOut,
+                                    std::vector<uint32_t>* all = nullptr);
 
 /// The chains from source to L (m) laid from `seeds` (indices into edges: the edges of the
 /// bodies the line of sight crosses) or their neighbours `near` (chainNeighbours), each once,
@@ -124,12 +127,16 @@ std::vector<uint32_t> edgesNearLine(const std::vector<DiffractionEdge>& edges,
 /// moving object's edges, which have no first-order paths of their own). objectFrom: the edges
 /// from this index on are a moving object's: none of them may face a surface within
 /// kChannelGapMax past it (a leaf shut in its frame is the frame's slits'); strictly inside
-/// the edges, only the chains holding edges of both kinds are laid.
+/// the edges, only the chains holding edges of both kinds are laid. hullFrom: the edges whose
+/// hulls' ways (engine/hull_ways.h) are laid first, before the budget goes edge by edge (the
+/// seeds if null): the way round a row of twenty posts seen end on wraps its first and last
+/// posts' corners, which the nearest seeds leave out.
 std::vector<EdgeChain> edgeChains(const Tracer& tracer, const std::vector<DiffractionEdge>& edges,
                                   const std::vector<std::vector<uint32_t>>& near,
                                   const std::vector<uint32_t>& seeds, const glm::vec3& source,
                                   const glm::vec3& L, ChainBudget& budget, size_t minEdges = 2,
-                                  uint32_t objectFrom = UINT32_MAX);
+                                  uint32_t objectFrom = UINT32_MAX,
+                                  const std::vector<uint32_t>* hullFrom = nullptr);
 
 /// Sets p.grazeExcess to the least path-length excess (m) of a detour from first-order path p
 /// (over edges[e], its legs free) round a neighbour of e (`near`, chainNeighbours) that one of

@@ -24,11 +24,14 @@ constexpr float kOnEdge = 2e-3f;
 /// how squarely a chain's step must cross a channel's face to take its route.
 constexpr float kSquarely = 0.5f;
 
-/// The fan of rays looking for an opening: degrees from the leg, away from the turn, to 85 (a
-/// wall's face a few millimetres ahead of a leaf's rim lies far round from the leg).
+/// The fan of rays looking for an opening: degrees from the leg, away from the turn. The rays
+/// from kFanWide on (past 60) look for a large body's face only: a wall's face a few
+/// millimetres ahead of a leaf's rim lies far round from the leg, but so does the next post of
+/// a row beside the path, whose slot is no opening (the posts' own paths and floors hold it).
 constexpr std::array<float, 17> kFanDegrees = {5.f,  10.f, 15.f, 20.f, 25.f, 30.f,
                                                35.f, 40.f, 45.f, 50.f, 55.f, 60.f,
                                                65.f, 70.f, 75.f, 80.f, 85.f};
+constexpr size_t kFanWide = 12;
 
 /// x with its component along the unit vector d taken out.
 glm::vec3 square(const glm::vec3& x, const glm::vec3& d) { return x - glm::dot(x, d) * d; }
@@ -106,7 +109,8 @@ std::array<TraceRay, kFanDegrees.size()> fan(const glm::vec3& B, const glm::vec3
 }
 
 /// The nearest surface the fan from B (kFanDegrees from the unit leg direction u toward the
-/// unit direction v) meets that faces the leg within 60 degrees and is not e's own body.
+/// unit direction v) meets that faces the leg within 60 degrees and is not e's own body (past
+/// kFanWide, a large body's only).
 Opening openingAlong(const BoundQuery& q, const DiffractionEdge& e, const glm::vec3& B,
                      const glm::vec3& u, const glm::vec3& v, float reach) {
   const auto rays = fan(B, u, v, reach);
@@ -117,6 +121,7 @@ Opening openingAlong(const BoundQuery& q, const DiffractionEdge& e, const glm::v
     if (!hits[i].found) continue;
     const uint32_t s = surfaceOf(q.surfaces, hits[i].surface.triangle);
     if (std::abs(glm::dot(hits[i].surface.normal, u)) < kSquarely || onEdgeBody(q.bodies.body, e, s)) continue;
+    if (i >= kFanWide && !largeBody(q.bodies, s)) continue;
     const glm::vec3 across = square(hits[i].surface.t * rays[i].dir, e.direction);
     if (const float w = glm::length(across); w > 0.f && (o.width == 0.f || w < o.width))
       o = {w, across / w, s};

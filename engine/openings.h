@@ -10,18 +10,19 @@
 // turned a degree (where the probe found the opening, or lost it).
 //
 // The opening beside an edge at the path's point Q: rays from Q square to the edge, fanned
-// 5-85 degrees from the leg toward the listener (or the source) away from the side the path
-// turns round; the nearest surface they meet within a quarter of the edge's length (a slit's
-// least aspect, engine/slit.h kSlitMinAspect) and kOpeningReach. Its width is that point's
-// distance from the edge's line; the slit runs along the edge, without depth, its legs
-// straight to its centre line (engine/edge_path.h makeSlit). Where a path already carries that
-// opening's slit (a jamb's edge path whose probe met the leaf, a channel along the face a
-// chain crosses), the edge or chain is that slit's other side and takes its share. A chain's
-// opening no path carries becomes a slit path of its own, summed with the others in pressure,
-// as far as its path length is known (EdgePath::phaseSpread: the opening's width).
+// 5-60 degrees (to 85 for a large body's face) from the leg toward the listener (or the source)
+// away from the side the path turns round; the nearest surface they meet within a quarter of
+// the edge's length (a slit's least aspect, engine/slit.h kSlitMinAspect) and kOpeningReach.
+// Its width is that point's distance from the edge's line; the slit runs along the edge,
+// without depth, its legs straight to its centre line (engine/edge_path.h makeSlit). Where a
+// path already carries that opening's slit (a jamb's edge path whose probe met the leaf, a
+// channel along the face a chain crosses), the edge or chain is that slit's other side and
+// takes its share. A chain's opening no path carries becomes a slit path of its own, summed
+// with the others in pressure, as far as its path length is known (EdgePath::phaseSpread: the
+// opening's width).
 //
 // Internal to the engine (engine/diffraction.cpp, engine/chain_sum.cpp). Any thread
-// (reentrant: tracer queries only): 12 rays per side looked at, up to 24 per free path, chain
+// (reentrant: tracer queries only): 17 rays per side looked at, up to 34 per free path, chain
 // or channel, once each; allocates; no errors.
 #pragma once
 

@@ -105,7 +105,7 @@ std::vector<uint32_t> otherSide(const BoundQuery& q, const std::vector<TraceRay>
   // A step that crosses a surface puts its start behind the corner the leg grazes within
   // kLegEpsilon (a leaf's rim leg along its own end face): the ray across then starts on the
   // leg, in the air, or it would read the corner's two faces as a gap the leg threads.
-  const std::unique_ptr<bool[]> behind(new bool[step.size()]);
+  const auto behind = std::make_unique<bool[]>(step.size());
   q.tracer.occluded(step, std::span<bool>(behind.get(), step.size()));
   for (size_t i = 0; i < across.size(); ++i)
     if (behind[i]) across[i] = TraceRay{step[i].org, -step[i].dir, 0.f, 1.05f * kThreadReach};

@@ -4,6 +4,7 @@
 #include <glm/geometric.hpp>
 #include <numbers>
 
+#include "engine/hull_ways.h"
 #include "engine/object_edges.h"
 #include "engine/openings.h"
 #include "engine/slit.h"
@@ -74,6 +75,23 @@ Bands wideOpeningGain(const std::vector<EdgeChain>& chains, const std::vector<Ba
   return out;
 }
 
+/// The flat surfaces (sorted, each once) of the small bodies (not largeBody) whose edges
+/// (indices into q.edges) are listed.
+std::vector<uint32_t> smallSurfaces(const BoundQuery& q, const std::vector<uint32_t>& edges) {
+  std::vector<uint32_t> out;
+  for (uint32_t i : edges)
+    for (uint32_t s : q.edges[i].surfaces)
+      if (s < q.bodies.body.size() && !largeBody(q.bodies, s)) out.push_back(s);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+/// The free field's intensity (1/m^2, omnidirectional) at distance d (m), with air absorption.
+Bands omniAt(float d, const BoundQuery& q) {
+  return exp(q.airPerMetre * -d) * (1.f / (4.f * std::numbers::pi_v<float> * d * d));
+}
+
 }  // namespace
 
 Bands withChains(const std::vector<EdgePath>& paths, const std::vector<EdgeChain>& chains,
@@ -81,7 +99,7 @@ Bands withChains(const std::vector<EdgePath>& paths, const std::vector<EdgeChain
                  const Bands& held, BoundQuery& q) {
   if (chains.empty()) return held;
   const float d = direct.distance;
-  const Bands omni = exp(q.airPerMetre * -d) * (1.f / (4.f * std::numbers::pi_v<float> * d * d));
+  const Bands omni = omniAt(d, q);
   std::vector<Bands> weights = chainWeights(chains, q);
   const Bands wide = omni * wideOpeningGain(chains, weights, paths, d, q);
   const std::vector<Bands> unslit = chainUnslit(chains, paths, q.speedOfSound);
@@ -94,19 +112,23 @@ Bands withChains(const std::vector<EdgePath>& paths, const std::vector<EdgeChain
     for (size_t i = 0; i < chains[c].n && chains[c].object < 0; ++i)
       e.surfaces.insert(e.surfaces.end(), q.edges[chains[c].edge[i]].surfaces.begin(),
                         q.edges[chains[c].edge[i]].surfaces.end());
+    if (chains[c].hull && chains[c].object < 0)  // it passes round the whole group of bodies
+      e.surfaces.insert(e.surfaces.end(), q.hullSurfaces.begin(), q.hullSurfaces.end());
     energies.push_back(std::move(e));
   }
   const Bands chained = held + omni * chainsGain(chains, weights, d, q.speedOfSound, q.airPerMetre);
   return max(held, min(max(chained, wide), chainBound(paths, coherent, free, energies, q)));
 }
 
-std::vector<EdgeChain> laidChains(const BoundQuery& q, const std::vector<ObjectEdges>& objects,
+std::vector<EdgeChain> laidChains(BoundQuery& q, const std::vector<ObjectEdges>& objects,
                                   const std::vector<std::vector<uint32_t>>& near,
                                   uint32_t& leftOut) {
   ChainBudget budget;
   std::vector<uint32_t> all;
   const std::vector<uint32_t> seeds =
       chainSeeds(q.crossed, q.bodies, q.edges, q.source, q.L, leftOut, &all);
+  joinNeighbourBodies(q.bodies, q.edges, near, q.source, q.L, all, leftOut);
+  q.hullSurfaces = smallSurfaces(q, all);
   std::vector<EdgeChain> out =
       edgeChains(q.tracer, q.edges, near, seeds, q.source, q.L, budget, 2, UINT32_MAX, &all);
   for (size_t k = 0; k < objects.size(); ++k) {

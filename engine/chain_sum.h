@@ -28,7 +28,8 @@ Bands withChains(const std::vector<EdgePath>& paths, const std::vector<EdgeChain
 /// The chains round edges in series with the line of sight blocked: over the static mesh's
 /// edges near the bodies it crosses (two or more), and over each moving object's edges near it
 /// (one or more: objects have no first-order paths). leftOut counts what the caps left out.
-std::vector<EdgeChain> laidChains(const BoundQuery& q, const std::vector<ObjectEdges>& objects,
+/// Sets q.hullSurfaces.
+std::vector<EdgeChain> laidChains(BoundQuery& q, const std::vector<ObjectEdges>& objects,
                                   const std::vector<std::vector<uint32_t>>& near,
                                   uint32_t& leftOut);
 

@@ -269,6 +269,14 @@ void inShadow(const std::vector<DiffractionEdge>& edges,
   markGrazes(edges, near, q, paths);
 }
 
+/// Whether slit path p's gap lies between two small static bodies (not largeBody: two slats of
+/// a screen, two posts), its edge's and its closer's; a door's gaps, whose jamb is a wall's,
+/// are not.
+bool betweenSmallBodies(const EdgePath& p, const SurfaceBodies& bodies) {
+  auto small = [&](uint32_t s) { return s < bodies.body.size() && !largeBody(bodies, s); };
+  return small(p.edge->surfaces[0]) && small(p.gapCloser);
+}
+
 /// The shortest of the direct sound (when visible), the edge paths and the slit paths: its
 /// length (m) and its arrival direction (unit vector from the listener at q.L); with none (only
 /// the thin bodies' floor), the straight line through them.
@@ -388,13 +396,33 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
                    edges_, {},           {},                {},        {},
                    speedOfSound, airPerMetre, directivity,  forward};
   query.objects = !objects_.empty();
-  std::vector<EdgePath> paths = edgePaths(edges_, lineOfSight, query);
-  crossLineOfSight(lineOfSight, query);
   direct.chainsLeftOut = 0;
-  std::vector<EdgeChain> chains =
-      lineOfSight ? std::vector<EdgeChain>{} : laidChains(query, objects_, chainNear_,
-                                                          direct.chainsLeftOut);
-  findSlits(tracer, source, listener.position, surfaces_, paths, query.closed, &bodies_);
+  std::vector<EdgePath> paths;
+  std::vector<EdgeChain> chains;
+  layPaths(lineOfSight, query, paths, chains, direct.chainsLeftOut);
+  if (usedEdges) listUsedEdges(paths, chains, edges_, *usedEdges);
+  if (paths.empty() && chains.empty() && !thinBodiesOnly(direct, query)) return 0;
+  const auto [shortest, arrival] = firstArrival(paths, chains, direct, query);
+  direct.intensity = directIntensity(paths, chains, direct, query);
+  const EdgePath* slit = lineOfSight ? slitOnLineOfSight(paths, source, query.L) : nullptr;
+  if (slit && betweenSmallBodies(*slit, bodies_))
+    direct.intensity =
+        max(direct.intensity, slitClosedIntensity(*slit, query, direct, direct.chainsLeftOut));
+  direct.visible = true;
+  direct.distance = shortest;
+  direct.delaySeconds = shortest / speedOfSound;
+  direct.direction = arrival;
+  return paths.size() + chains.size();
+}
+
+void EdgeDiffraction::layPaths(bool lineOfSight, BoundQuery& query, std::vector<EdgePath>& paths,
+                               std::vector<EdgeChain>& chains, uint32_t& chainsLeftOut) const {
+  const Tracer& tracer = query.tracer;
+  const glm::vec3 source = query.source, L = query.L;
+  paths = edgePaths(edges_, lineOfSight, query);
+  if (query.crossed.empty()) crossLineOfSight(lineOfSight, query);
+  if (!lineOfSight) chains = laidChains(query, objects_, chainNear_, chainsLeftOut);
+  findSlits(tracer, source, L, surfaces_, paths, query.closed, &bodies_);
   if (!lineOfSight) addTurnedLegs(edges_, chainNear_, objects_, query, paths);
   addChannels(edges_, narrow_, query, paths);
   addObjectChannels(edges_, objects_, query, paths);
@@ -402,18 +430,39 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
   dropThreadedPaths(query, paths);
   markSlitOwners(paths, &bodies_.body);
   markSlitPartners(paths, bodies_);
-  markReveals(source, listener.position, paths);
+  markReveals(source, L, paths);
   addEndSlits(edges_, lineOfSight, query, paths);
   if (!lineOfSight) inShadow(edges_, chainNear_, bodies_, chains, query, paths);
-  if (usedEdges) listUsedEdges(paths, chains, edges_, *usedEdges);
-  if (paths.empty() && chains.empty() && !thinBodiesOnly(direct, query)) return 0;
-  const auto [shortest, arrival] = firstArrival(paths, chains, direct, query);
-  direct.intensity = directIntensity(paths, chains, direct, query);
-  direct.visible = true;
-  direct.distance = shortest;
-  direct.delaySeconds = shortest / speedOfSound;
-  direct.direction = arrival;
-  return paths.size() + chains.size();
+}
+
+Bands EdgeDiffraction::slitClosedIntensity(const EdgePath& slit, const BoundQuery& open,
+                                           const DirectSound& direct, uint32_t& leftOut) const {
+  BoundQuery query{open.tracer,
+                   open.source,
+                   open.L,
+                   surfaces_,
+                   bodies_,
+                   edges_,
+                   {},
+                   {},
+                   {},
+                   {},
+                   open.speedOfSound,
+                   open.airPerMetre,
+                   open.directivity,
+                   open.forward};
+  query.objects = open.objects;
+  query.crossed.assign(slit.edge->surfaces.begin(), slit.edge->surfaces.end());
+  std::sort(query.crossed.begin(), query.crossed.end());
+  query.crossed.erase(std::unique(query.crossed.begin(), query.crossed.end()), query.crossed.end());
+  DirectSound closed = direct;
+  closed.visible = false;
+  closed.intensity = Bands(0.f);
+  std::vector<EdgePath> paths;
+  std::vector<EdgeChain> chains;
+  layPaths(false, query, paths, chains, leftOut);
+  if (paths.empty() && chains.empty()) return Bands(0.f);
+  return directIntensity(paths, chains, closed, query);
 }
 
 }  // namespace dpc

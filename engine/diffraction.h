@@ -184,6 +184,10 @@ struct ObjectEdges {
   float radius = 0.f;     ///< m
 };
 
+struct BoundQuery;
+struct EdgeChain;
+struct EdgePath;
+
 class EdgeDiffraction {
  public:
   /// Finds the diffracting edges of the mesh, and of each moving object's mesh (placed at its
@@ -218,6 +222,18 @@ class EdgeDiffraction {
                std::vector<uint32_t>* usedEdges = nullptr) const;
 
  private:
+  /// The edge and slit paths and, with the line of sight blocked, the chains from query.source
+  /// to query.L; query.crossed is found unless set (a slit's side taken as closed).
+  void layPaths(bool lineOfSight, BoundQuery& query, std::vector<EdgePath>& paths,
+                std::vector<EdgeChain>& chains, uint32_t& chainsLeftOut) const;
+  /// The direct sound's band intensity (1/m^2) with the line of sight taken as blocked by the
+  /// side of `slit`, the slit it passes free (open: that query): a line of sight through a
+  /// 3 mm slot between two slats hears at least what it would with the slot shut, as a
+  /// listener a centimetre over, behind a slat, does (the ways round the screen). leftOut
+  /// counts the chains its caps left out.
+  Bands slitClosedIntensity(const EdgePath& slit, const BoundQuery& open, const DirectSound& direct,
+                            uint32_t& leftOut) const;
+
   std::vector<uint32_t> surfaces_;  ///< per mesh triangle, its flat surface
   SurfaceBodies bodies_;            ///< the flat surfaces' bodies (surfaceBodies)
   std::vector<DiffractionEdge> edges_;

@@ -399,7 +399,9 @@ struct ChainSearch {
       }
       std::array<uint32_t, kChainEdges> ids{};
       std::copy(way.begin(), way.end(), ids.begin());
+      const size_t before = found.size();
       if (way.size() >= minEdges) keep(ids, way.size());
+      if (found.size() > before) found.back().hull = true;
     }
   }
 

@@ -83,6 +83,8 @@ struct EdgeChain {
   /// slit, found beside the small body's end of the leg (engine/openings.h addChainOpenings).
   size_t gapLeg = 0;
   std::array<DiffractionEdge, 2> gapEnds{};
+  /// A way round the hull of a group of bodies (engine/hull_ways.h), not one found edge by edge.
+  bool hull = false;
 };
 
 /// The chains whose rays were cast (at most kChainTrials per query over the static mesh, and

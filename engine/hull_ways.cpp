@@ -4,6 +4,8 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 
+#include "engine/diffraction_edges.h"
+#include "engine/edge_chain.h"
 #include "engine/edge_path.h"
 
 namespace dpc {
@@ -81,7 +83,45 @@ void groupWays(const std::vector<DiffractionEdge>& edges, const std::vector<uint
   }
 }
 
+/// The body of edge e's face 0 when it is a small static one (not largeBody), else none.
+uint32_t smallBodyOf(const SurfaceBodies& bodies, const DiffractionEdge& e) {
+  const uint32_t s = e.surfaces[0];
+  if (s >= bodies.body.size() || largeBody(bodies, s)) return kNoEdge;
+  return bodies.body[s] < bodies.members.size() ? bodies.body[s] : kNoEdge;
+}
+
 }  // namespace
+
+void joinNeighbourBodies(const SurfaceBodies& bodies, const std::vector<DiffractionEdge>& edges,
+                         const std::vector<std::vector<uint32_t>>& near, const glm::vec3& source,
+                         const glm::vec3& L, std::vector<uint32_t>& candidates, uint32_t& leftOut) {
+  std::vector<uint32_t> joined;  // bodies whose edges are in candidates
+  for (uint32_t i : candidates) {
+    const uint32_t s = edges[i].surfaces[0];
+    if (s < bodies.body.size()) joined.push_back(bodies.body[s]);
+  }
+  std::sort(joined.begin(), joined.end());
+  joined.erase(std::unique(joined.begin(), joined.end()), joined.end());
+  size_t added = 0;
+  // Breadth first: candidates grows as bodies join, and their edges' neighbours are visited.
+  for (size_t k = 0; k < candidates.size(); ++k) {
+    if (smallBodyOf(bodies, edges[candidates[k]]) == kNoEdge) continue;
+    for (uint32_t j : near[candidates[k]]) {
+      const uint32_t b = smallBodyOf(bodies, edges[j]);
+      if (b == kNoEdge || std::binary_search(joined.begin(), joined.end(), b)) continue;
+      joined.insert(std::upper_bound(joined.begin(), joined.end(), b), b);
+      if (++added > kHullBodies) {
+        ++leftOut;
+        continue;
+      }
+      for (uint32_t m : bodies.members[b])
+        for (uint32_t i : bodies.edges[m])
+          if (segmentGap(source, L, edges[i].a, edges[i].b) <= kChainSearch &&
+              std::find(candidates.begin(), candidates.end(), i) == candidates.end())
+            candidates.push_back(i);
+    }
+  }
+}
 
 std::vector<std::vector<uint32_t>> hullWays(const std::vector<DiffractionEdge>& edges,
                                             const std::vector<uint32_t>& seeds,

@@ -38,4 +38,20 @@ std::vector<std::vector<uint32_t>> hullWays(const std::vector<DiffractionEdge>& 
                                             const std::vector<uint32_t>& seeds,
                                             const glm::vec3& source, const glm::vec3& L);
 
+/// Bodies at most: how many small bodies joinNeighbourBodies adds (a screen of 100 slats).
+inline constexpr size_t kHullBodies = 128;
+
+/// Adds to `candidates` (indices into edges: the edges of the bodies the line of sight crosses
+/// within kChainSearch of it, engine/edge_chain.h chainSeeds' `all`) the edges within
+/// kChainSearch of the segment from source to L (m) of every small body (not largeBody, not a
+/// moving object's) joined to a small candidate's body by parallel neighbours (`near`,
+/// chainNeighbours), body by body: the slats of a screen beside the one the line of sight
+/// crosses, whose end slat the way round the screen wraps. Large bodies (a room, a wall) are
+/// neither joined nor joined through: their far corners would set the hull. Past kHullBodies
+/// joined, `leftOut` is increased by the bodies a neighbour still reached. Any thread;
+/// allocates; no rays; no errors.
+void joinNeighbourBodies(const SurfaceBodies& bodies, const std::vector<DiffractionEdge>& edges,
+                         const std::vector<std::vector<uint32_t>>& near, const glm::vec3& source,
+                         const glm::vec3& L, std::vector<uint32_t>& candidates, uint32_t& leftOut);
+
 }  // namespace dpc

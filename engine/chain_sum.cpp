@@ -127,7 +127,7 @@ std::vector<EdgeChain> laidChains(BoundQuery& q, const std::vector<ObjectEdges>&
   std::vector<uint32_t> all;
   const std::vector<uint32_t> seeds =
       chainSeeds(q.crossed, q.bodies, q.edges, q.source, q.L, leftOut, &all);
-  joinNeighbourBodies(q.bodies, q.edges, near, q.source, q.L, all, leftOut);
+  joinNeighbourBodies(q.bodies, q.edges, near, all, leftOut);
   q.hullSurfaces = smallSurfaces(q, all);
   std::vector<EdgeChain> out =
       edgeChains(q.tracer, q.edges, near, seeds, q.source, q.L, budget, 2, UINT32_MAX, &all);

@@ -32,10 +32,12 @@ glm::vec3 pointAlong(const DiffractionEdge& e, const glm::vec3& d, float along) 
 /// Lays the chain over `ids` (n edges parallel to the first) out at its point of least length
 /// from source to L: unfolded about the edges, the path runs straight, so each Q lies along
 /// the edges as far as its share of the path's length across them. False when a Q falls off
-/// its edge.
+/// its edge by more than `reach` (m); within it, Q is laid just inside the edge's end (a way
+/// over a row of slats' tops whose point falls in a slot between two: the row's top edge is
+/// a dashed one, whole at wavelengths longer than its gaps).
 bool layChain(const std::vector<DiffractionEdge>& edges,
               const std::array<uint32_t, kChainEdges>& ids, size_t n, const glm::vec3& source,
-              const glm::vec3& L, EdgeChain& c) {
+              const glm::vec3& L, EdgeChain& c, float reach) {
   const glm::vec3 d = edges[ids[0]].direction;
   auto across = [&](const glm::vec3& x) { return x - glm::dot(x, d) * d; };
   const float s = glm::dot(source, d), run = glm::dot(L, d) - s;
@@ -56,7 +58,11 @@ bool layChain(const std::vector<DiffractionEdge>& edges,
     const DiffractionEdge& e = edges[ids[i]];
     c.edge[i] = ids[i];
     c.q[i] = pointAlong(e, d, s + run * cumulative[i + 1] / total);
-    if (!withinEdge(e, c.q[i])) return false;
+    if (!withinEdge(e, c.q[i])) {
+      const float t = glm::dot(c.q[i] - e.a, e.direction), inside = std::min(1e-3f, e.length / 4);
+      if (t < -reach || t > e.length + reach) return false;
+      c.q[i] = e.a + std::clamp(t, inside, e.length - inside) * e.direction;
+    }
     c.length += glm::distance(last, c.q[i]);
     last = c.q[i];
   }
@@ -351,6 +357,7 @@ struct ChainSearch {
   size_t minEdges;       // the fewest edges a chain takes (1: a moving object's)
   uint32_t objectFrom;   // edges from this index on are a moving object's
   ChainBudget& budget;
+  float reach = 0.f;  // m: how far off its edge a Q may fall (layChain)
 
   glm::vec3 at(uint32_t i) const { return pointAlong(edges[i], d, mid); }
 
@@ -392,6 +399,7 @@ struct ChainSearch {
   /// Each way round the hull of the parallel edges among `from` (engine/hull_ways.h); one round
   /// more edges than a chain holds is counted.
   void hullWays(const std::vector<uint32_t>& from) {
+    reach = kChannelGapMax;  // a hull's corner may be a dashed edge (a row of slats' tops)
     for (const std::vector<uint32_t>& way : dpc::hullWays(edges, from, source, L)) {
       if (way.size() > kChainEdges) {
         ++budget.leftOut;
@@ -403,12 +411,13 @@ struct ChainSearch {
       if (way.size() >= minEdges) keep(ids, way.size());
       if (found.size() > before) found.back().hull = true;
     }
+    reach = 0.f;
   }
 
   void keep(const std::array<uint32_t, kChainEdges>& ids, size_t n) {
     if (!mixes(ids, n) || laid(ids, n)) return;
     EdgeChain c;
-    if (!layChain(edges, ids, n, source, L, c)) return;
+    if (!layChain(edges, ids, n, source, L, c, reach)) return;
     const auto p = chainPoints(c, source, L);
     if (!wrapsAll(edges, c, p)) return;
     if (budget.trials == kChainTrials) {
@@ -552,7 +561,7 @@ void markGraze(const std::vector<DiffractionEdge>& edges,
           order == 0 ? std::array<uint32_t, kChainEdges>{e, j, 0, 0}
                      : std::array<uint32_t, kChainEdges>{j, e, 0, 0};
       EdgeChain c;
-      if (!layChain(edges, ids, 2, source, L, c)) continue;
+      if (!layChain(edges, ids, 2, source, L, c, 0.f)) continue;
       const auto at = chainPoints(c, source, L);
       const size_t k = order == 0 ? 1 : 0;  // j's place in the chain
       if (!clearsOnLitSide(edges[j], c.q[k], at[k], at[k + 2])) continue;

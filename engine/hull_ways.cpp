@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
+#include <limits>
 
 #include "engine/diffraction_edges.h"
 #include "engine/edge_chain.h"
@@ -27,16 +29,17 @@ float cross(const HullPoint& o, const HullPoint& a, const HullPoint& b) {
 }
 
 /// The hull's chain over `points` (sorted by x, the source first and L last, all with y >= 0)
-/// that bulges toward +y: its corners' edges between the source and L, in order.
-std::vector<uint32_t> upperChain(const std::vector<HullPoint>& points) {
+/// that bulges toward +y: its corners' edges between the source and L, in order. A corner
+/// turning the way by less than `collinear` radians is none (negative: one turning back by
+/// less than that is one).
+std::vector<uint32_t> upperChain(const std::vector<HullPoint>& points, float collinear) {
   std::vector<HullPoint> chain;
   for (const HullPoint& p : points) {
-    // Pop while the turn at the chain's last corner is not clockwise (a corner in line with its
-    // neighbours, turning by less than kHullCollinear radians, is none).
+    // Pop while the turn at the chain's last corner is not clockwise by `collinear`.
     while (chain.size() >= 2) {
       const HullPoint &o = chain[chain.size() - 2], &a = chain.back();
       const float legs = std::hypot(a.x - o.x, a.y - o.y) * std::hypot(p.x - a.x, p.y - a.y);
-      if (cross(o, a, p) < -kHullCollinear * legs) break;
+      if (cross(o, a, p) < -collinear * legs) break;
       chain.pop_back();
     }
     chain.push_back(p);
@@ -55,6 +58,46 @@ std::vector<uint32_t> parallelTo(const std::vector<DiffractionEdge>& edges,
     if (std::abs(glm::dot(edges[s].direction, edges[first].direction)) >= kParallelEdges)
       out.push_back(s);
   return out;
+}
+
+/// m: group edges whose points square to the edges lie this close are one hull corner (the
+/// top edges of a row of slats, in line).
+constexpr float kSameCorner = 1e-4f;
+
+/// For each corner of `way` (edges of `group` seen along d, the plane's axes e1, e2), the edge
+/// among those at the same point (kSameCorner) whose span along d lies nearest the way's point
+/// there: the way unfolded about the edges is straight, so its point lies along d as far as
+/// its share of the way's length (as engine/edge_chain.h lays it). Over a row of slats in line
+/// the way crosses the top of the slat below it, not of whichever slat the hull met first.
+void pickDashes(const std::vector<DiffractionEdge>& edges, const std::vector<uint32_t>& group,
+                const glm::vec3& source, const glm::vec3& L, const glm::vec3& d,
+                const glm::vec3& e1, const glm::vec3& e2, std::vector<uint32_t>& way) {
+  auto at = [&](const glm::vec3& p) {
+    return glm::vec2(glm::dot(p - source, e1), glm::dot(p - source, e2));
+  };
+  std::vector<float> cumulative{0.f};
+  glm::vec2 last(0.f);
+  for (uint32_t i : way) {
+    cumulative.push_back(cumulative.back() + glm::distance(last, at(edges[i].a)));
+    last = at(edges[i].a);
+  }
+  const float total = cumulative.back() + glm::distance(last, at(L));
+  const float s = glm::dot(source, d), run = glm::dot(L, d) - s;
+  if (!(total > 0.f)) return;
+  for (size_t k = 0; k < way.size(); ++k) {
+    const float along = s + run * cumulative[k + 1] / total;
+    const glm::vec2 corner = at(edges[way[k]].a);
+    float best = std::numeric_limits<float>::infinity();
+    for (uint32_t i : group) {
+      if (glm::distance(at(edges[i].a), corner) > kSameCorner) continue;
+      const float u = glm::dot(edges[i].a, d), v = glm::dot(edges[i].b, d);
+      const float off = std::max({std::min(u, v) - along, along - std::max(u, v), 0.f});
+      if (off < best) {
+        best = off;
+        way[k] = i;
+      }
+    }
+  }
 }
 
 /// The ways round one group of parallel edges, one per side of the line of sight.
@@ -78,8 +121,13 @@ void groupWays(const std::vector<DiffractionEdge>& edges, const std::vector<uint
               [](const HullPoint& a, const HullPoint& b) { return a.x < b.x; });
     points.insert(points.begin(), HullPoint{0.f, 0.f, kNoEdge});
     points.push_back(HullPoint{length, 0.f, kNoEdge});
-    std::vector<uint32_t> way = upperChain(points);
-    if (way.size() >= 2) out.push_back(std::move(way));
+    std::vector<uint32_t> way = upperChain(points, kHullCollinear);
+    // A listener in line with a body's face (a screen's end) has the way round its two corners
+    // or the first-order path round the near one, whose leg runs along the face: both.
+    if (way.size() == 1) way = upperChain(points, -kHullCollinear);
+    if (way.size() < 2) continue;
+    pickDashes(edges, group, source, L, d, e1, side * e2, way);
+    out.push_back(std::move(way));
   }
 }
 
@@ -93,34 +141,37 @@ uint32_t smallBodyOf(const SurfaceBodies& bodies, const DiffractionEdge& e) {
 }  // namespace
 
 void joinNeighbourBodies(const SurfaceBodies& bodies, const std::vector<DiffractionEdge>& edges,
-                         const std::vector<std::vector<uint32_t>>& near, const glm::vec3& source,
-                         const glm::vec3& L, std::vector<uint32_t>& candidates, uint32_t& leftOut) {
-  std::vector<uint32_t> joined;  // bodies whose edges are in candidates
+                         const std::vector<std::vector<uint32_t>>& near,
+                         std::vector<uint32_t>& candidates, uint32_t& leftOut) {
+  std::vector<uint32_t> joined;  // bodies whose edges are in candidates or `more`
   for (uint32_t i : candidates) {
     const uint32_t s = edges[i].surfaces[0];
     if (s < bodies.body.size()) joined.push_back(bodies.body[s]);
   }
   std::sort(joined.begin(), joined.end());
   joined.erase(std::unique(joined.begin(), joined.end()), joined.end());
+  std::vector<uint32_t> frontier = candidates, more;
   size_t added = 0;
-  // Breadth first: candidates grows as bodies join, and their edges' neighbours are visited.
-  for (size_t k = 0; k < candidates.size(); ++k) {
-    if (smallBodyOf(bodies, edges[candidates[k]]) == kNoEdge) continue;
-    for (uint32_t j : near[candidates[k]]) {
+  // Breadth first: the frontier grows as bodies join, and their edges' neighbours are visited.
+  for (size_t k = 0; k < frontier.size(); ++k) {
+    if (smallBodyOf(bodies, edges[frontier[k]]) == kNoEdge) continue;
+    for (uint32_t j : near[frontier[k]]) {
       const uint32_t b = smallBodyOf(bodies, edges[j]);
       if (b == kNoEdge || std::binary_search(joined.begin(), joined.end(), b)) continue;
-      joined.insert(std::upper_bound(joined.begin(), joined.end(), b), b);
-      if (++added > kHullBodies) {
+      if (++added > kHullBodies) {  // a hull cut off there would invent the group's end
         ++leftOut;
-        continue;
+        return;
       }
+      joined.insert(std::upper_bound(joined.begin(), joined.end(), b), b);
       for (uint32_t m : bodies.members[b])
         for (uint32_t i : bodies.edges[m])
-          if (segmentGap(source, L, edges[i].a, edges[i].b) <= kChainSearch &&
-              std::find(candidates.begin(), candidates.end(), i) == candidates.end())
-            candidates.push_back(i);
+          if (std::find(more.begin(), more.end(), i) == more.end()) {
+            more.push_back(i);
+            frontier.push_back(i);
+          }
     }
   }
+  candidates.insert(candidates.end(), more.begin(), more.end());
 }
 
 std::vector<std::vector<uint32_t>> hullWays(const std::vector<DiffractionEdge>& edges,

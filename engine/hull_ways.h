@@ -42,16 +42,16 @@ std::vector<std::vector<uint32_t>> hullWays(const std::vector<DiffractionEdge>& 
 inline constexpr size_t kHullBodies = 128;
 
 /// Adds to `candidates` (indices into edges: the edges of the bodies the line of sight crosses
-/// within kChainSearch of it, engine/edge_chain.h chainSeeds' `all`) the edges within
-/// kChainSearch of the segment from source to L (m) of every small body (not largeBody, not a
-/// moving object's) joined to a small candidate's body by parallel neighbours (`near`,
-/// chainNeighbours), body by body: the slats of a screen beside the one the line of sight
-/// crosses, whose end slat the way round the screen wraps. Large bodies (a room, a wall) are
-/// neither joined nor joined through: their far corners would set the hull. Past kHullBodies
-/// joined, `leftOut` is increased by the bodies a neighbour still reached. Any thread;
-/// allocates; no rays; no errors.
+/// within kChainSearch of it, engine/edge_chain.h chainSeeds' `all`) every edge of every small
+/// body (not largeBody, not a moving object's) joined to a small candidate's body by parallel
+/// neighbours (`near`, chainNeighbours), body by body, however far from the line of sight: the
+/// slats of a screen beside the one the line of sight crosses, whose end slats the ways round
+/// the screen wrap. Large bodies (a room, a wall) are neither joined nor joined through: their
+/// far corners would set the hull. Past kHullBodies joined, nothing is added (a hull cut off
+/// there would wrap a body inside the group as its end) and `leftOut` is increased by one. Any
+/// thread; allocates; no rays; no errors.
 void joinNeighbourBodies(const SurfaceBodies& bodies, const std::vector<DiffractionEdge>& edges,
-                         const std::vector<std::vector<uint32_t>>& near, const glm::vec3& source,
-                         const glm::vec3& L, std::vector<uint32_t>& candidates, uint32_t& leftOut);
+                         const std::vector<std::vector<uint32_t>>& near,
+                         std::vector<uint32_t>& candidates, uint32_t& leftOut);
 
 }  // namespace dpc

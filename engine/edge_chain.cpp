@@ -7,7 +7,6 @@
 #include <numbers>
 #include <utility>
 
-#include "engine/barrier.h"
 #include "engine/channel_path.h"
 #include "engine/edge_grid.h"
 #include "engine/edge_path.h"
@@ -570,38 +569,6 @@ void markGraze(const std::vector<DiffractionEdge>& edges,
       p.grazeExcess = excess;
       p.grazeSpan = glm::distance(c.q[0], c.q[1]);
     }
-}
-
-double chainGainAt(const EdgeChain& chain, float direct, double lambda) {
-  const double z = double(chain.length) - double(direct);
-  const double span = chain.n >= 2 ? double(glm::distance(chain.q[0], chain.q[chain.n - 1])) : 0.0;
-  return screenGain(lambda, z, span, int(chain.n));
-}
-
-Bands chainsGain(const std::vector<EdgeChain>& chains, const std::vector<Bands>& weights,
-                 float direct, float speedOfSound, const Bands& airPerMetre) {
-  Bands out(0.f);
-  for (int band = 0; band < kNumBands; ++band) {
-    double sum = 0.0;
-    for (int i = 0; i < kDiffractionFrequenciesPerBand; ++i) {
-      const double f = diffractionFrequencyHz(band, i), lambda = double(speedOfSound) / f;
-      std::complex<double> p = 0.0;
-      for (size_t c = 0; c < chains.size(); ++c) {
-        const double air = std::exp(-double(airPerMetre[band]) * double(chains[c].length - direct));
-        const double amplitude =
-            std::sqrt(chainGainAt(chains[c], direct, lambda) * air * double(weights[c][band]));
-        p += std::polar(amplitude, -2.0 * kPi * double(chains[c].length) / lambda);
-      }
-      sum += std::norm(p);
-    }
-    out[band] = float(sum / kDiffractionFrequenciesPerBand);
-  }
-  return out;
-}
-
-Bands chainGain(const EdgeChain& chain, float direct, float speedOfSound,
-                const Bands& airPerMetre) {
-  return chainsGain({chain}, {Bands(1.f)}, direct, speedOfSound, airPerMetre);
 }
 
 }  // namespace dpc

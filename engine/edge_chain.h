@@ -26,7 +26,8 @@
 // last (engine/barrier.h); meteorological correction 1 (indoors), no upper limit. Averaged in
 // energy over the frequencies of each band (diffractionFrequencyHz). The attenuation carries
 // no phase of its own: the chains add in pressure among themselves with their lengths' phases
-// (chainsGain), and in energy to the coherent sum of the direct sound and the first-order paths.
+// (engine/chain_sum.h chainsGain), and in energy to the coherent sum of the direct sound and the
+// first-order paths.
 //
 // Internal to the engine (engine/diffraction.cpp). Load: chainNeighbours. Per query: any thread
 // (reentrant, tracer queries only); allocates small vectors; no errors.
@@ -148,24 +149,5 @@ std::vector<EdgeChain> edgeChains(const Tracer& tracer, const std::vector<Diffra
 void markGraze(const std::vector<DiffractionEdge>& edges,
                const std::vector<std::vector<uint32_t>>& near, uint32_t e, const glm::vec3& source,
                const glm::vec3& L, EdgePath& p);
-
-/// ISO 9613-2's barrier attenuation of a chain at wavelength lambda (m) as an energy ratio over
-/// the free field at the direct distance `direct` (m): engine/barrier.h screenGain with the
-/// chain's excess and span. Any thread; no errors.
-double chainGainAt(const EdgeChain& chain, float direct, double lambda);
-
-/// A chain's energy over the free field at the direct distance `direct` (m), per band:
-/// chainGainAt averaged over the band's frequencies (diffractionFrequencyHz), with the air's
-/// attenuation over the path's extra length (airPerMetre per band, energy per m).
-/// speedOfSound in m/s.
-Bands chainGain(const EdgeChain& chain, float direct, float speedOfSound, const Bands& airPerMetre);
-
-/// The chains together over the free field at the direct distance, per band: each chain's
-/// pressure sqrt(chainGainAt x air x weights[c]) e^{-jk length} summed, |sum|^2 averaged over
-/// the band's frequencies (the two sides of a pillar add in phase behind it, as its wave field
-/// does; chains whose lengths differ across a band add as energies). weights: per chain, an
-/// energy weight per band (the source's directivity toward its first edge).
-Bands chainsGain(const std::vector<EdgeChain>& chains, const std::vector<Bands>& weights,
-                 float direct, float speedOfSound, const Bands& airPerMetre);
 
 }  // namespace dpc

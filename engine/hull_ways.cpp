@@ -7,7 +7,6 @@
 #include <limits>
 
 #include "engine/diffraction_edges.h"
-#include "engine/edge_chain.h"
 #include "engine/edge_path.h"
 
 namespace dpc {
@@ -131,11 +130,23 @@ void groupWays(const std::vector<DiffractionEdge>& edges, const std::vector<uint
   }
 }
 
-/// The body of edge e's face 0 when it is a small static one (not largeBody), else none.
+constexpr uint32_t kNoBody = 0xffffffffu;
+
+/// The body of edge e's face 0 when it is a small static one (not largeBody), else kNoBody.
 uint32_t smallBodyOf(const SurfaceBodies& bodies, const DiffractionEdge& e) {
   const uint32_t s = e.surfaces[0];
-  if (s >= bodies.body.size() || largeBody(bodies, s)) return kNoEdge;
-  return bodies.body[s] < bodies.members.size() ? bodies.body[s] : kNoEdge;
+  if (s >= bodies.body.size() || largeBody(bodies, s)) return kNoBody;
+  return bodies.body[s] < bodies.members.size() ? bodies.body[s] : kNoBody;
+}
+
+/// Body b's edges, each once (an edge lies on two of its faces).
+std::vector<uint32_t> bodyEdges(const SurfaceBodies& bodies, uint32_t b) {
+  std::vector<uint32_t> out;
+  for (uint32_t m : bodies.members[b])
+    out.insert(out.end(), bodies.edges[m].begin(), bodies.edges[m].end());
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
 }
 
 }  // namespace
@@ -143,7 +154,7 @@ uint32_t smallBodyOf(const SurfaceBodies& bodies, const DiffractionEdge& e) {
 void joinNeighbourBodies(const SurfaceBodies& bodies, const std::vector<DiffractionEdge>& edges,
                          const std::vector<std::vector<uint32_t>>& near,
                          std::vector<uint32_t>& candidates, uint32_t& leftOut) {
-  std::vector<uint32_t> joined;  // bodies whose edges are in candidates or `more`
+  std::vector<uint32_t> joined;  // bodies whose edges are in candidates or `more`, sorted
   for (uint32_t i : candidates) {
     const uint32_t s = edges[i].surfaces[0];
     if (s < bodies.body.size()) joined.push_back(bodies.body[s]);
@@ -154,21 +165,18 @@ void joinNeighbourBodies(const SurfaceBodies& bodies, const std::vector<Diffract
   size_t added = 0;
   // Breadth first: the frontier grows as bodies join, and their edges' neighbours are visited.
   for (size_t k = 0; k < frontier.size(); ++k) {
-    if (smallBodyOf(bodies, edges[frontier[k]]) == kNoEdge) continue;
+    if (smallBodyOf(bodies, edges[frontier[k]]) == kNoBody) continue;
     for (uint32_t j : near[frontier[k]]) {
       const uint32_t b = smallBodyOf(bodies, edges[j]);
-      if (b == kNoEdge || std::binary_search(joined.begin(), joined.end(), b)) continue;
+      if (b == kNoBody || std::binary_search(joined.begin(), joined.end(), b)) continue;
       if (++added > kHullBodies) {  // a hull cut off there would invent the group's end
         ++leftOut;
         return;
       }
       joined.insert(std::upper_bound(joined.begin(), joined.end(), b), b);
-      for (uint32_t m : bodies.members[b])
-        for (uint32_t i : bodies.edges[m])
-          if (std::find(more.begin(), more.end(), i) == more.end()) {
-            more.push_back(i);
-            frontier.push_back(i);
-          }
+      const std::vector<uint32_t> own = bodyEdges(bodies, b);  // no other body's edges
+      more.insert(more.end(), own.begin(), own.end());
+      frontier.insert(frontier.end(), own.begin(), own.end());
     }
   }
   candidates.insert(candidates.end(), more.begin(), more.end());

@@ -13,8 +13,12 @@
 // line with their neighbours (turning by under kHullCollinear) are left out. Each way is
 // offered to the chain search as one more candidate; it stands or not by the same tests.
 //
-// Internal to the engine (engine/edge_chain.cpp). Any thread; allocates small vectors; no rays;
-// no errors.
+// The edges are those of the bodies the line of sight crosses and of the small bodies joined
+// to them (joinNeighbourBodies): behind a slatted screen the line of sight crosses one slat,
+// and the way round the screen's end wraps the end slat's corners.
+//
+// Internal to the engine (engine/edge_chain.cpp, engine/chain_sum.cpp). Any thread; allocates
+// small vectors; no rays; no errors.
 #pragma once
 
 #include <cstdint>

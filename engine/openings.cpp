@@ -43,13 +43,16 @@ double wavenumber(int b, int i, float speedOfSound) {
 
 /// The open channel (a path along a narrow face whose gap the probe found: engine/channel_path.h)
 /// whose route chain c takes, round the face's front edge and across it to the back edge; null
-/// when none (a leaf ajar a few degrees: the chain round its latch end's two rims).
+/// when none (a leaf ajar a few degrees: the chain round its latch end's two rims). The
+/// chain's edges run along the channel's (a way over a row of slats' tops, whose point lies
+/// at a vertical slot's top end, is not that slot's channel).
 const EdgePath* channelOf(const EdgeChain& c, const std::vector<EdgePath>& paths) {
   if (c.n != 2) return nullptr;
   const glm::vec3 step = c.q[1] - c.q[0];
   for (const EdgePath& p : paths) {
     if (!(p.gapWidth > 0.f) || p.through == glm::vec3(0.f)) continue;
     const DiffractionEdge& e = *p.edge;
+    if (std::abs(glm::dot(e.direction, c.ends[0].direction)) < kParallelEdges) continue;
     const glm::vec3 across = square(step, e.direction);
     const float depth = glm::length(across);
     if (glm::length(square(c.q[0] - e.a, e.direction)) < kOnEdge && depth <= kChannelDepthMax &&

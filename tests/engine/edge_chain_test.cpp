@@ -414,6 +414,32 @@ TEST_CASE(
   }
 }
 
+namespace {
+
+constexpr float kSlatThick = 0.03f, kSlatDeep = 0.05f, kSlot = 0.003f;  // m
+
+/// m: how wide a screen of `count` slats kSlatThick across, kSlot apart, is.
+float slatScreenWidth(int count) {
+  return float(count) * kSlatThick + float(count - 1) * kSlot;
+}
+
+/// The shoebox of pillarScene with a screen of `count` slats (kSlatThick across, kSlatDeep
+/// deep, kSlot apart) standing on the floor, `height` m tall, midway between kSource and
+/// kListener and centred on their line.
+SceneDesc slatScene(int count, float height) {
+  SceneDesc s = pillarScene(0.f);
+  s.mesh = test::makeShoebox({12, 3, 5}, Bands(0.2f), 0.3f, kSource, kListener, 0.5f).mesh;
+  const float z0 = 2.5f - 0.5f * slatScreenWidth(count);
+  for (int i = 0; i < count; ++i) {
+    const float z = z0 + float(i) * (kSlatThick + kSlot);
+    test::addSolidBox(s.mesh, {6.f - 0.5f * kSlatDeep, 0.f, z},
+                      {6.f + 0.5f * kSlatDeep, height, z + kSlatThick}, 0);
+  }
+  return s;
+}
+
+}  // namespace
+
 TEST_CASE("Edge chains: a slatted screen is heard round its ends, walking behind it",
           "[diffraction][chain]") {
   // Nine slats 30 mm across and 50 mm deep, 3 mm apart (0.294 m wide), floor to ceiling
@@ -429,16 +455,8 @@ TEST_CASE("Edge chains: a slatted screen is heard round its ends, walking behind
   // no path's: behind it -1.9 / -3.1 / -6.0 / -10.4 dB at 63-500 Hz against Kirchhoff's -0.3
   // to -1.7, a slot on the line of sight -5.7 dB at 250 Hz between 0.0 dB neighbours, and a 6
   // dB step where the leg from the end corner cleared the end slat's face.
-  constexpr int kSlats = 9;
-  constexpr float kThick = 0.03f, kDeep = 0.05f, kSlot = 0.003f;
-  const float width = kSlats * kThick + (kSlats - 1) * kSlot, z0 = 2.5f - 0.5f * width;
-  SceneDesc scene = pillarScene(0.f);
-  scene.mesh = test::makeShoebox({12, 3, 5}, Bands(0.2f), 0.3f, kSource, kListener, 0.5f).mesh;
-  for (int i = 0; i < kSlats; ++i) {
-    const float z = z0 + float(i) * (kThick + kSlot);
-    test::addSolidBox(scene.mesh, {6.f - 0.5f * kDeep, 0.f, z},
-                      {6.f + 0.5f * kDeep, 3.f, z + kThick}, 0);
-  }
+  const SceneDesc scene = slatScene(9, 3.f);
+  const float width = slatScreenWidth(9);
   Bands last(0.f);
   for (int step = 0; step <= 36; ++step) {
     const float off = 0.01f * float(step);
@@ -454,6 +472,33 @@ TEST_CASE("Edge chains: a slatted screen is heard round its ends, walking behind
           kirchhoffOffsetStripDb(-0.5 * width - crossing, 0.5 * width - crossing, 3.0, 3.0, lambda);
       INFO(label << ", band " << b << ": Kirchhoff's solid strip " << oracle << " dB");
       if (b <= 3) CHECK(double(level[b]) >= oracle - 3.0);
+      CHECK(level[b] <= 1.37f);
+      if (step > 0 && b <= 2) CHECK(std::abs(level[b] - last[b]) <= 3.f);
+    }
+    last = level;
+  }
+}
+
+TEST_CASE("Edge chains: a wide slatted screen is heard over its top, walking behind it",
+          "[diffraction][chain]") {
+  // 61 slats (2.01 m wide) 2 m tall on the floor of the 3 m room, the listener walking 0.3 m
+  // behind its middle in 1 cm steps: the way over the top crosses the tops of the slats in
+  // line, a dashed edge, wherever its point falls (engine/hull_ways.h). No step over 3 dB
+  // between listeners 1 cm apart at 63-250 Hz (a field does not jump where nothing in the
+  // scene changes), never above the free field + 1.37 dB. Before, a vertical slot's channel
+  // whose top end lay within 2 mm of the way's point took the way's share at low frequencies
+  // (engine/openings.h), and listeners alternated between 0.0 and -1.3 dB at 63 Hz and -0.9
+  // and -4.3 dB at 250 Hz.
+  const SceneDesc scene = slatScene(61, 2.f);
+  Bands last(0.f);
+  for (int step = 0; step <= 30; ++step) {
+    const float off = 0.01f * float(step);
+    const Bands level = decibels(directLevel(scene, kSource, {9.f, 1.2f, 2.5f + off}));
+    char label[64];
+    std::snprintf(label, sizeof label, "wide screen, listener %.2f m off (dB)", double(off));
+    print(label, level);
+    for (int b = 0; b < kNumBands; ++b) {
+      INFO(label << ", band " << b);
       CHECK(level[b] <= 1.37f);
       if (step > 0 && b <= 2) CHECK(std::abs(level[b] - last[b]) <= 3.f);
     }

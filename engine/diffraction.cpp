@@ -277,6 +277,15 @@ bool betweenSmallBodies(const EdgePath& p, const SurfaceBodies& bodies) {
   return small(p.edge->surfaces[0]) && small(p.gapCloser);
 }
 
+/// Whether `level` lies below `free` by more than kShortOfFree in some band (1/m^2 each): a
+/// line of sight through a slot that already passes the free field needs no second look.
+bool shortOf(const Bands& level, const Bands& free) {
+  constexpr float kShortOfFree = 0.977f;  // -0.1 dB
+  for (int b = 0; b < kNumBands; ++b)
+    if (level[b] < kShortOfFree * free[b]) return true;
+  return false;
+}
+
 /// The shortest of the direct sound (when visible), the edge paths and the slit paths: its
 /// length (m) and its arrival direction (unit vector from the listener at q.L); with none (only
 /// the thin bodies' floor), the straight line through them.
@@ -392,6 +401,7 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
   // in the shadow for the edges, and its energy adds to theirs incoherently (the edge paths'
   // legs are unoccluded, the transmitted path crosses a surface: no path is counted twice).
   const bool lineOfSight = direct.lineOfSight();
+  const Bands unobstructed = direct.intensity;
   BoundQuery query{tracer, source,       listener.position, surfaces_, bodies_,
                    edges_, {},           {},                {},        {},
                    speedOfSound, airPerMetre, directivity,  forward};
@@ -405,7 +415,7 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
   const auto [shortest, arrival] = firstArrival(paths, chains, direct, query);
   direct.intensity = directIntensity(paths, chains, direct, query);
   const EdgePath* slit = lineOfSight ? slitOnLineOfSight(paths, source, query.L) : nullptr;
-  if (slit && betweenSmallBodies(*slit, bodies_))
+  if (slit && betweenSmallBodies(*slit, bodies_) && shortOf(direct.intensity, unobstructed))
     direct.intensity =
         max(direct.intensity, slitClosedIntensity(*slit, query, direct, direct.chainsLeftOut));
   direct.visible = true;

@@ -1,7 +1,8 @@
 // The paths round edges in series (engine/edge_chain.h) in the direct sound: laid per query
 // with the line of sight blocked, over the static mesh's edges and each moving object's, and
 // added to the held coherent sum of the first-order paths under engine/surface_bound.h
-// chainBound.
+// chainBound, each at its level (ISO 9613-2:1996 eq. (14), engine/edge_chain.h's file comment)
+// and with its length's phase.
 //
 // Internal to the engine (engine/diffraction.cpp). Propagation thread (the Tracer's queries);
 // allocates; no errors.

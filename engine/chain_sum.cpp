@@ -84,7 +84,7 @@ std::vector<uint32_t> smallSurfaces(const BoundQuery& q, const std::vector<uint3
   std::vector<uint32_t> out;
   for (uint32_t i : edges)
     for (uint32_t s : q.edges[i].surfaces)
-      if (s < q.bodies.body.size() && !largeBody(q.bodies, s)) out.push_back(s);
+      if (smallBody(q.bodies, s)) out.push_back(s);
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;

@@ -273,8 +273,7 @@ void inShadow(const std::vector<DiffractionEdge>& edges,
 /// a screen, two posts), its edge's and its closer's; a door's gaps, whose jamb is a wall's,
 /// are not.
 bool betweenSmallBodies(const EdgePath& p, const SurfaceBodies& bodies) {
-  auto small = [&](uint32_t s) { return s < bodies.body.size() && !largeBody(bodies, s); };
-  return small(p.edge->surfaces[0]) && small(p.gapCloser);
+  return smallBody(bodies, p.edge->surfaces[0]) && smallBody(bodies, p.gapCloser);
 }
 
 /// Whether `level` lies below `free` by more than kShortOfFree in some band (1/m^2 each): a
@@ -402,10 +401,8 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
   // legs are unoccluded, the transmitted path crosses a surface: no path is counted twice).
   const bool lineOfSight = direct.lineOfSight();
   const Bands unobstructed = direct.intensity;
-  BoundQuery query{tracer, source,       listener.position, surfaces_, bodies_,
-                   edges_, {},           {},                {},        {},
-                   speedOfSound, airPerMetre, directivity,  forward};
-  query.objects = !objects_.empty();
+  BoundQuery query =
+      newQuery(tracer, source, listener.position, speedOfSound, airPerMetre, directivity, forward);
   direct.chainsLeftOut = 0;
   std::vector<EdgePath> paths;
   std::vector<EdgeChain> chains;
@@ -423,6 +420,16 @@ size_t EdgeDiffraction::apply(const Tracer& tracer, const glm::vec3& source,
   direct.delaySeconds = shortest / speedOfSound;
   direct.direction = arrival;
   return paths.size() + chains.size();
+}
+
+BoundQuery EdgeDiffraction::newQuery(const Tracer& tracer, const glm::vec3& source,
+                                     const glm::vec3& L, float speedOfSound,
+                                     const Bands& airPerMetre, const Directivity& directivity,
+                                     const glm::vec3& forward) const {
+  BoundQuery q{tracer, source, L,  surfaces_,    bodies_,     edges_,      {},
+               {},     {},     {}, speedOfSound, airPerMetre, directivity, forward};
+  q.objects = !objects_.empty();
+  return q;
 }
 
 void EdgeDiffraction::layPaths(bool lineOfSight, BoundQuery& query, std::vector<EdgePath>& paths,
@@ -447,21 +454,8 @@ void EdgeDiffraction::layPaths(bool lineOfSight, BoundQuery& query, std::vector<
 
 Bands EdgeDiffraction::slitClosedIntensity(const EdgePath& slit, const BoundQuery& open,
                                            const DirectSound& direct, uint32_t& leftOut) const {
-  BoundQuery query{open.tracer,
-                   open.source,
-                   open.L,
-                   surfaces_,
-                   bodies_,
-                   edges_,
-                   {},
-                   {},
-                   {},
-                   {},
-                   open.speedOfSound,
-                   open.airPerMetre,
-                   open.directivity,
-                   open.forward};
-  query.objects = open.objects;
+  BoundQuery query = newQuery(open.tracer, open.source, open.L, open.speedOfSound, open.airPerMetre,
+                              open.directivity, open.forward);
   query.crossed.assign(slit.edge->surfaces.begin(), slit.edge->surfaces.end());
   std::sort(query.crossed.begin(), query.crossed.end());
   query.crossed.erase(std::unique(query.crossed.begin(), query.crossed.end()), query.crossed.end());

@@ -222,6 +222,10 @@ class EdgeDiffraction {
                std::vector<uint32_t>* usedEdges = nullptr) const;
 
  private:
+  /// A query from source to L (m) over this mesh's surfaces, bodies and edges, nothing laid.
+  BoundQuery newQuery(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L,
+                      float speedOfSound, const Bands& airPerMetre, const Directivity& directivity,
+                      const glm::vec3& forward) const;
   /// The edge and slit paths and, with the line of sight blocked, the chains from query.source
   /// to query.L; query.crossed is found unless set (a slit's side taken as closed).
   void layPaths(bool lineOfSight, BoundQuery& query, std::vector<EdgePath>& paths,

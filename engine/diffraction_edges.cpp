@@ -503,6 +503,10 @@ bool largeBody(const SurfaceBodies& bodies, uint32_t s) {
   return glm::distance(lo, hi) >= kSolidExtent;
 }
 
+bool smallBody(const SurfaceBodies& bodies, uint32_t s) {
+  return s < bodies.body.size() && bodies.body[s] < bodies.members.size() && !largeBody(bodies, s);
+}
+
 std::vector<std::vector<uint32_t>> surfaceEdges(size_t surfaceCount,
                                                 const std::vector<DiffractionEdge>& edges) {
   std::vector<std::vector<uint32_t>> out(surfaceCount);

@@ -56,6 +56,11 @@ std::pair<glm::vec3, glm::vec3> boxOfSurfaces(const std::vector<uint32_t>& surfa
 /// across or more: a wall); false for a moving object's or an unknown surface.
 bool largeBody(const SurfaceBodies& bodies, uint32_t s);
 
+/// True when flat surface s belongs to a known static body that is not largeBody (a slat, a
+/// post, a box leaf): one taken away whole; false for a large body's, a moving object's or an
+/// unknown surface.
+bool smallBody(const SurfaceBodies& bodies, uint32_t s);
+
 /// Per flat surface, the indices into `edges` of the edges on its faces.
 std::vector<std::vector<uint32_t>> surfaceEdges(size_t surfaceCount,
                                                 const std::vector<DiffractionEdge>& edges);

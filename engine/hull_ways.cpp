@@ -135,8 +135,7 @@ constexpr uint32_t kNoBody = 0xffffffffu;
 /// The body of edge e's face 0 when it is a small static one (not largeBody), else kNoBody.
 uint32_t smallBodyOf(const SurfaceBodies& bodies, const DiffractionEdge& e) {
   const uint32_t s = e.surfaces[0];
-  if (s >= bodies.body.size() || largeBody(bodies, s)) return kNoBody;
-  return bodies.body[s] < bodies.members.size() ? bodies.body[s] : kNoBody;
+  return smallBody(bodies, s) ? bodies.body[s] : kNoBody;
 }
 
 /// Body b's edges, each once (an edge lies on two of its faces).

@@ -88,7 +88,7 @@ struct Opening {
 /// body's edge (a wall's) keeps its free field: its openings are the probe's.
 bool smallEdge(const BoundQuery& q, const DiffractionEdge& e) {
   const uint32_t s = e.surfaces[0];
-  return s == kMovingObjects || (s < q.bodies.body.size() && !largeBody(q.bodies, s));
+  return s == kMovingObjects || smallBody(q.bodies, s);
 }
 
 /// m: how far from edge e a slit's opening is looked for (kOpeningReach, and at least

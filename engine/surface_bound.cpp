@@ -323,7 +323,7 @@ std::vector<std::vector<uint32_t>> chainGroups(const BoundQuery& q,
   for (uint32_t s : q.crossed) {
     if (s >= q.bodies.body.size())
       add({kMovingObjects});
-    else if (q.bodies.body[s] < q.bodies.members.size() && !largeBody(q.bodies, s))
+    else if (smallBody(q.bodies, s))
       add(q.bodies.members[q.bodies.body[s]]);
     else
       large = true;
@@ -332,8 +332,7 @@ std::vector<std::vector<uint32_t>> chainGroups(const BoundQuery& q,
     for (uint32_t s : c.surfaces) {
       if (s == kMovingObjects)
         add({kMovingObjects});
-      else if (s < q.bodies.body.size() && q.bodies.body[s] < q.bodies.members.size() &&
-               !largeBody(q.bodies, s))
+      else if (smallBody(q.bodies, s))
         add(q.bodies.members[q.bodies.body[s]]);
     }
   return groups;

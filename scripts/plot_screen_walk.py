@@ -92,6 +92,9 @@ def main():
     ap.add_argument("--build", default="build", help="build folder holding tests/edge_chain_test")
     ap.add_argument("-o", "--output", default="docs/images/screen-walk.png", help="PNG to write")
     args = ap.parse_args()
+    folder = os.path.dirname(os.path.abspath(args.output))
+    if not os.path.isdir(folder):
+        sys.exit(f"plot_screen_walk.py: --output: {folder}: no such folder")
     plot(read(args.build), args.output)
 
 

@@ -21,20 +21,27 @@ constexpr double kPi = std::numbers::pi;
 struct PathGains {
   std::vector<double> utd;   // times the UTD path's spreading
   std::vector<double> slit;  // for the slit path
-  /// Per path, its UTD coefficient at band b's anchor frequencies (utdAnchors).
+  /// Per path, its UTD coefficient at band b's anchor frequencies (utdAnchors), and its end
+  /// sums D^(e) there (engine/finite_edge.h; set where an end is finite).
   std::vector<std::array<C, kUtdAnchorsPerBand>> anchors;
+  std::vector<std::array<std::array<C, kUtdAnchorsPerBand>, 2>> endAnchors;
 };
 
 /// Every path's UTD coefficient at band b's anchor frequencies, into gains.anchors.
 void utdAnchors(int b, const std::vector<EdgePath>& paths, float speedOfSound,
                 PathGains& gains) {
   gains.anchors.resize(paths.size());
+  gains.endAnchors.resize(paths.size());
   for (int a = 0; a < kUtdAnchorsPerBand; ++a) {
     const double k = 2.0 * kPi * diffractionFrequencyHz(b, utdAnchorIndex(a)) / speedOfSound;
     for (size_t j = 0; j < paths.size(); ++j) {
       const EdgePath& q = paths[j];
-      gains.anchors[j][size_t(a)] =
-          utdScaled(q.terms, q.sums, q.prefactor, k * q.distanceParameter);
+      const double kl = k * q.distanceParameter;
+      gains.anchors[j][size_t(a)] = utdScaled(q.terms, q.sums, q.prefactor, kl);
+      if (!q.ends.finite()) continue;
+      for (size_t e = 0; e < 2; ++e)
+        gains.endAnchors[j][e][size_t(a)] =
+            utdScaled(q.ends.terms[e], q.ends.sums[e], q.prefactor, kl);
     }
   }
 }
@@ -112,7 +119,12 @@ double bandMeanSquare(int b, const std::vector<EdgePath>& paths, const PathGains
         amplitude *= 1.0 - s;
       }
       if (amplitude == 0.0) continue;  // no UTD field (a slit's path: its terms may be unset)
-      const C d = interpolatedUtd(gains.anchors[j], i);
+      C d = interpolatedUtd(gains.anchors[j], i);
+      if (q.ends.finite()) {  // the edge's ends (engine/finite_edge.h)
+        const std::array<C, 2> g = endTails(q.ends, k);
+        d -= g[1] * interpolatedUtd(gains.endAnchors[j][1], i) +
+             g[0] * interpolatedUtd(gains.endAnchors[j][0], i);
+      }
       const C e = pathPhasor(k * q.length);  // e^{-jkl} = c - j s
       const double c = e.real(), sn = -e.imag();
       // amplitude * d * e^{-jkl}, written out (std::complex's operator* checks for NaN)
@@ -163,15 +175,20 @@ std::vector<Bands> leavingWeights(const std::vector<EdgePath>& paths, const Dire
 double bandAmplitude(const EdgePath& p, int b, float speedOfSound) {
   if (p.share * p.spreading == 0.0) return 0.0;  // no UTD field: its terms may be unset
   const double k = 2.0 * kPi * diffractionFrequencyHz(b, 0) / double(speedOfSound);
-  return p.share * p.spreading *
-         std::abs(utdScaled(p.terms, p.sums, p.prefactor, k * p.distanceParameter)) / std::sqrt(k);
+  const double kl = k * p.distanceParameter;
+  C d = utdScaled(p.terms, p.sums, p.prefactor, kl);
+  if (p.ends.finite())  // the edge's ends (engine/finite_edge.h)
+    d *= finiteEdgeFactor(p.ends, k, d,
+                          {utdScaled(p.ends.terms[0], p.ends.sums[0], p.prefactor, kl),
+                           utdScaled(p.ends.terms[1], p.ends.sums[1], p.prefactor, kl)});
+  return p.share * p.spreading * std::abs(d) / std::sqrt(k);
 }
 
 Bands coherentIntensity(const std::vector<EdgePath>& paths, const DirectSound& direct,
                         const EdgePath* throughSlit, float speedOfSound, const Bands& airPerMetre,
                         const std::vector<Bands>& weights, int bands) {
   Bands intensity(0.f);
-  PathGains gains{std::vector<double>(paths.size()), std::vector<double>(paths.size()), {}};
+  PathGains gains{std::vector<double>(paths.size()), std::vector<double>(paths.size()), {}, {}};
   for (int b = 0; b < std::min(bands, kNumBands); ++b) {
     for (size_t j = 0; j < paths.size(); ++j) {
       const double w = weights.empty() ? 1.0 : std::sqrt(double(weights[j][b]));

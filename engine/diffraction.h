@@ -76,6 +76,7 @@
 #include <complex>
 #include <cstdint>
 #include <glm/vec3.hpp>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -101,6 +102,11 @@ struct DiffractionEdge {
   float open = 0.f;
   float length = 0.f;
   std::array<uint32_t, 2> surfaces{0, 0};
+  /// Its run (engine/finite_edge.h setEdgeRuns): from runFrom <= 0 to runTo >= length (m along
+  /// `direction` from a), the collinear edges that continue it with the same faces included.
+  /// Unbounded (an edge without end, UTD's) unless set.
+  float runFrom = -std::numeric_limits<float>::infinity();
+  float runTo = std::numeric_limits<float>::infinity();
 };
 
 /// The bodies of a mesh's flat surfaces: per flat surface the number of its body, the

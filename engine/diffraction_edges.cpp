@@ -13,6 +13,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "engine/finite_edge.h"
 #include "scene/mesh_topology.h"
 
 namespace dpc {
@@ -527,6 +528,7 @@ std::vector<DiffractionEdge> candidateEdges(const Mesh& mesh,
     if (makeEdge(mesh, id, surfaces, key, use, e) && !sealing.seal(e)) edges.push_back(e);
   }
   std::sort(edges.begin(), edges.end(), edgeBefore);
+  setEdgeRuns(edges);
   return edges;
 }
 

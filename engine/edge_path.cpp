@@ -166,6 +166,7 @@ bool edgePath(const DiffractionEdge& e, const glm::vec3& source, const glm::vec3
   p.phiL = phiL;
   p.wedge = wedge;
   setTerms(directVisible, p);
+  if (!atEnd) p.ends = edgeEnds(e, q, source, L, phiS, phiL, wedge, p.terms);
   p.legs = r + s;
   p.arrival = -toL / s;
   p.leaving = toQ / r;

@@ -8,11 +8,12 @@
 
 #include <array>
 #include <cstdint>
-#include <limits>
 #include <glm/vec3.hpp>
+#include <limits>
 #include <vector>
 
 #include "engine/diffraction.h"
+#include "engine/finite_edge.h"
 #include "engine/slit.h"
 #include "engine/tracer.h"
 #include "engine/utd.h"
@@ -61,6 +62,9 @@ struct EdgePath {
   float grazeExcess = -1.f;
   float grazeSpan = 0.f;  ///< m: how far from its edge that other edge lies
   double phiS = 0.0, phiL = 0.0, wedge = 0.0;  // wedgeAngles' angles, radians
+  /// Its edge's run's ends seen from Q (engine/finite_edge.h): the UTD field times
+  /// finiteEdgeFactor. Unbounded for a path without a UTD field.
+  EdgeEnds ends;
   uint32_t gapCloser = kUnknownSurface;        // the surface that closes its gap (surface_bound.h)
   bool atEnd = false;  // no UTD field (share 0), a slit's only: Q at the edge's end, a
                        // channel, a turned leg, an opening's own path

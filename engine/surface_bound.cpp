@@ -86,6 +86,16 @@ const DiffractionEdge* rimOf(const DiffractionEdge& e, const std::vector<uint32_
     rim.surfaces = {e.surfaces[0], e.surfaces[0]};
   }
   rim.open = float(2.0 * std::numbers::pi);
+  // An obstruction taken away (a surface the line of sight crosses: a leaf, welded at its
+  // hinge or not) leaves the scene without it, whose frame has a free edge there, its run the
+  // wedge's (engine/finite_edge.h). Any other surface is taken away by the small-surface bound
+  // (a thick wall's reveal), whose bound holds a sum in which that edge is a wedge, taken as
+  // infinite: the rim stays infinite too, so that the two take the edge alike.
+  const uint32_t s = gone0 ? e.surfaces[0] : e.surfaces[1];
+  if (std::find(q.crossed.begin(), q.crossed.end(), s) == q.crossed.end()) {
+    rim.runFrom = -std::numeric_limits<float>::infinity();
+    rim.runTo = std::numeric_limits<float>::infinity();
+  }
   return &rim;
 }
 
@@ -149,6 +159,7 @@ std::vector<EdgePath> pathsWithout(const std::vector<EdgePath>& paths, BoundQuer
     if (p.gapWidth != 0.f && gone(p.gapCloser) && !(p.phaseSpread > 0.f)) p.gapWidth = 0.f;
     p.share = p.atEnd ? 0.0 : 1.0;
     setTerms(lineOfSight, p);
+    if (!p.atEnd) p.ends = edgeEnds(*p.edge, p.q, q.source, q.L, p.phiS, p.phiL, p.wedge, p.terms);
   }
   markSlitOwners(kept, &q.bodies.body);
   markReveals(q.source, q.L, kept);

@@ -21,7 +21,7 @@ using namespace dpc;
 using namespace dpc::door_test;
 
 TEST_CASE("Door gaps: a leaf set in a thick wall passes its gaps, a box leaf through their depth",
-          "[diffraction][door]") {
+          "[diffraction][door][heavy]") {
   // A real door: its leaf (a sheet, a solid 1 mm plate, a 6 mm glass pane, or a box 4 cm thick)
   // set in a wall 0.1 or 0.2 m thick,
   // flush with either face or in the middle, gaps of 5, 10 and 20 mm round it. Before, a box

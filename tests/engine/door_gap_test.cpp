@@ -81,7 +81,8 @@ TEST_CASE("Door gaps: closed is never louder than open, and the gaps pass what t
   }
 }
 
-TEST_CASE("Door gaps: a slatted screen never takes the direct sound away", "[diffraction][door]") {
+TEST_CASE("Door gaps: a slatted screen never takes the direct sound away",
+          "[diffraction][door][heavy]") {
   // A screen of slats 3 cm wide and 4 cm deep, 1.5 cm apart, 2 m tall, across the 12 x 3 x 5 m
   // room at x = 6 (no wall): a third of it open. Its slots' air is its only mass: the mass law of
   // a slotted panel, m' = rho d_eff / sigma (d_eff = 4 cm plus end corrections, under 6 cm; sigma

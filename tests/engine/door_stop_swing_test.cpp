@@ -96,9 +96,10 @@ Bands widestGaps(double degrees, float side, const MouthImpedance& zr) {
 
 }  // namespace
 
-TEST_CASE("Door stop: a leaf closed against a stop and opened half a degree at a time is never "
-          "quieter than shut, and from 3 degrees passes what its openings pass",
-          "[diffraction][door]") {
+TEST_CASE(
+    "Door stop: a leaf closed against a stop and opened half a degree at a time is never "
+    "quieter than shut, and from 3 degrees passes what its openings pass",
+    "[diffraction][door][heavy]") {
   // 0.5-8 degrees by half degrees, the stop on either side, the leaf as a moving object and in
   // the static mesh. (1) Opening only widens the latch gap: never more than 1.5 dB below shut
   // at 63 Hz-1 kHz (the hinge gap narrows as the leaf turns, 4.7 to 4.3 mm at 1 degree, 0.4 dB

@@ -9,7 +9,9 @@
 #include <complex>
 #include <cstdio>
 #include <utility>
+#include <vector>
 
+#include "testing/btm_edges.h"
 #include "testing/test_scenes.h"
 #include "tests/engine/door_scenes.h"
 
@@ -105,26 +107,43 @@ TEST_CASE("Doorways: open, on the line of sight, the Kirchhoff aperture integral
   // aperture integral computed here. Kirchhoff ignores the screen's boundary condition and
   // holds for apertures of several wavelengths: 1.5 dB from 250 Hz (the doorway 0.7 to 30
   // wavelengths wide; each edge's UTD field matches Biot-Tolstoy-Medwin within 0.05 dB in
-  // diffraction_test, so the rest is Kirchhoff's), 3 dB at 63 and 125 Hz, where the doorway is
-  // narrower than a wavelength, and there below the free field. A wall 0.3 m deep (its two
-  // faces 0.3 m apart change Kirchhoff's result by 0.3 dB at most) reads the same within those
-  // tolerances, its faces written once or twice. Before, the thick wall's six edges each
+  // diffraction_test, so the rest is Kirchhoff's). At 63 and 125 Hz, where the doorway is
+  // narrower than a wavelength, Kirchhoff reads 3.2-4.9 dB below dpc-wave's FDTD of a doorway
+  // as wide in a thin wall (docs/validation.md, "Finite edges"), so the thin doorway is checked
+  // there against the first-order Biot-Tolstoy-Medwin field of its three edges, the jambs from
+  // the floor to the lintel, with the direct sound (testing/btm_edges.h): within 0.5 dB, as a
+  // free-standing panel reads (finite_edge_test); before the engine took its edges' lengths,
+  // the jambs counted as infinite and it read 2.8 dB below it at 63 Hz. The thick wall's edges
+  // are wedges, taken as infinite (engine/finite_edge.h), and stay checked against Kirchhoff
+  // within 3 dB there. Both read below the free field at 63 and 125 Hz. A wall 0.3 m deep (its
+  // two faces 0.3 m apart change Kirchhoff's result by 0.3 dB at most) reads the same within
+  // those tolerances, its faces written once or twice. Before, the thick wall's six edges each
   // subtracted the cut (and half the reveals' reflections) and it read 11 dB above the free
   // field in every band; written twice, its edges were lost and it read the free field.
   const Bands kirchhoff = kirchhoffLevels(3.0, 3.0);
   const Bands thin = decibels(directLevel(doorScene(0.f, Leaf::kNone)));
   const Bands thick = decibels(directLevel(thickDoorwayScene(0.3f, false)));
   const Bands twice = decibels(directLevel(thickDoorwayScene(0.3f, true)));
-  for (const auto& [what, level] : {std::pair{"Kirchhoff", kirchhoff}, std::pair{"thin", thin},
-                                    std::pair{"0.3 m", thick}, std::pair{"0.3 m twice", twice}}) {
-    std::printf("doorway %-12s (dB re free field)", what);
+  std::vector<test::ThinEdge> edges =  // the doorway in x = 6: z 2..3 m, y 0..2.1 m
+      test::rectangleEdges({6.0, 0.0, kDoorZ0}, {0.0, 0.0, kDoorWidth}, {0.0, kDoorHeight, 0.0},
+                           true);
+  edges.erase(edges.begin());  // the threshold on the floor is no edge
+  Bands btm(0.f);
+  for (int b = 0; b < 2; ++b)
+    btm[b] = float(test::btmBandLevelDb(edges, glm::dvec3(kSource), glm::dvec3(kListener), true,
+                                        bandCentreExactHz(b), kC));
+  for (const auto& [what, level] :
+       {std::pair{"Kirchhoff", kirchhoff}, std::pair{"BTM (to 125 Hz)", btm},
+        std::pair{"thin", thin}, std::pair{"0.3 m", thick}, std::pair{"0.3 m twice", twice}}) {
+    std::printf("doorway %-15s (dB re free field)", what);
     for (int b = 0; b < kNumBands; ++b) std::printf(" %6.1f", double(level[b]));
     std::printf("\n");
   }
   for (int b = 0; b < kNumBands; ++b) {
-    const float tolerance = b >= 2 ? 1.5f : 3.f;
-    CHECK(std::abs(thin[b] - kirchhoff[b]) < tolerance);
-    CHECK(std::abs(thick[b] - kirchhoff[b]) < tolerance);
+    INFO("band " << b);
+    if (b >= 2) CHECK(std::abs(thin[b] - kirchhoff[b]) < 1.5f);
+    if (b < 2) CHECK(std::abs(thin[b] - btm[b]) < 0.5f);
+    CHECK(std::abs(thick[b] - kirchhoff[b]) < (b >= 2 ? 1.5f : 3.f));
     CHECK(std::abs(twice[b] - thick[b]) < 0.01f);
     if (b < 2) CHECK((thin[b] < 0.f && thick[b] < 0.f));
   }

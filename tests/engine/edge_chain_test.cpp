@@ -268,28 +268,37 @@ TEST_CASE("Edge chains: a moving leaf ajar across the line of sight is no louder
   // the line of sight: the way round its free rim is a chain of one object edge; its other
   // rims face the frame within 3 cm and carry nothing of their own (the frame's slits do).
   // Held at the scene without the object, the open doorway (0.01 dB: single-precision
-  // geometry); at 63 Hz, where a 1 m leaf is a fifth of a wavelength, within 1.5 dB of it (as
-  // the same leaf in the mesh, doorway_test: 0.0 dB; the frame's edges alone read 3.8-9.7 dB
-  // below it).
+  // geometry). At 63 and 125 Hz, where its way round the rim carries it, it reads as the same
+  // sheet in the mesh within 0.1 dB (single-precision geometry): 1.6 dB below the open doorway
+  // at 10 degrees at 63 Hz, where the frame's edges alone read 3.8-9.7 dB below it. (Swung 45
+  // degrees the two part at 250-500 Hz, by up to 3.2 dB: the mesh's sheet has first-order
+  // paths over its own rims, a moving object's has none.)
   const Bands open = decibels(directLevel(doorScene(0.f, Leaf::kNone)));
+  const glm::vec3 hinge(6.f, 0.f, kDoorZ0 + 0.01f);
+  const glm::vec3 across = (kDoorWidth - 0.02f) * glm::vec3(0, 0, 1);
+  const glm::vec3 up = (kDoorHeight - 0.01f) * glm::vec3(0, 1, 0);
   for (float degrees : {10.f, 20.f, 45.f}) {
     SceneDesc s = doorScene(0.f, Leaf::kNone);
+    SceneDesc fixed = s;
     ObjectDesc leaf;
     leaf.name = "leaf";
-    test::addPanel(leaf.mesh, {0.f, 0.f, 0.f}, (kDoorWidth - 0.02f) * glm::vec3(0, 0, 1),
-                   (kDoorHeight - 0.01f) * glm::vec3(0, 1, 0), 0);
+    test::addPanel(leaf.mesh, {0.f, 0.f, 0.f}, across, up, 0);
     const glm::quat turn = glm::angleAxis(glm::radians(degrees), glm::vec3(0, 1, 0));
-    leaf.trajectory = {ObjectKeyframe{0.0, glm::vec3(6.f, 0.f, kDoorZ0 + 0.01f), turn}};
+    leaf.trajectory = {ObjectKeyframe{0.0, hinge, turn}};
     s.objects.push_back(leaf);
+    test::addPanel(fixed.mesh, hinge, turn * across, turn * up, 0);
     const Bands level = decibels(directLevel(s));
+    const Bands inMesh = decibels(directLevel(fixed));
     char label[48];
     std::snprintf(label, sizeof label, "object leaf %2.0f deg - open", double(degrees));
     print(label, level - open);
+    std::snprintf(label, sizeof label, "mesh leaf %2.0f deg - open", double(degrees));
+    print(label, inMesh - open);
     for (int b = 0; b < kNumBands; ++b) {
       INFO(degrees << " degrees, band " << b);
       CHECK(level[b] <= open[b] + 0.01f);
     }
-    CHECK(level[0] > open[0] - 1.5f);
+    for (int b = 0; b < 2; ++b) CHECK(std::abs(level[b] - inMesh[b]) < 0.1f);
   }
 }
 
@@ -480,7 +489,7 @@ TEST_CASE("Edge chains: a slatted screen is heard round its ends, walking behind
 }
 
 TEST_CASE("Edge chains: a wide slatted screen is heard over its top, walking behind it",
-          "[diffraction][chain]") {
+          "[diffraction][chain][heavy]") {
   // 61 slats (2.01 m wide) 2 m tall on the floor of the 3 m room, the listener walking 0.3 m
   // behind its middle in 1 cm steps: the way over the top crosses the tops of the slats in
   // line, a dashed edge, wherever its point falls (engine/hull_ways.h). No step over 3 dB

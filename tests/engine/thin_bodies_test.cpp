@@ -131,9 +131,10 @@ void addOctagonalPost(Mesh& mesh, float x, float z, float flats) {
 
 }  // namespace
 
-TEST_CASE("Thin bodies: slatted shelving with the line of sight free is no louder than the "
-          "free field",
-          "[diffraction][door]") {
+TEST_CASE(
+    "Thin bodies: slatted shelving with the line of sight free is no louder than the "
+    "free field",
+    "[diffraction][door][heavy]") {
   // 1 cm slats 5 cm apart (the shelving is five sixths open), 10 or 30 cm deep, the line of
   // sight through one slot. As the passing sound sees them (their depth lies nearly along it)
   // such slats are 1 to 1.5 cm thick, under a wavelength over pi up to 4 kHz, and scatter
@@ -248,7 +249,7 @@ TEST_CASE("Thin bodies: boards sealed to each other are a screen, not thin bodie
 }
 
 TEST_CASE("Thin bodies: a louvre whose slat blocks the line of sight passes what its slots pass",
-          "[diffraction][door]") {
+          "[diffraction][door][heavy]") {
   // Slats 1 cm thick and 10 cm deep, 1 cm apart (half open), 2 m tall, across a metre of the
   // room, the line of sight on a slat. Each slot is a layer of air half the area, 10 cm deep
   // (plus its mouths' end corrections, Morse & Ingard 9.4): a plane wave passes it with tau =

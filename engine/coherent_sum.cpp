@@ -46,6 +46,16 @@ void utdAnchors(int b, const std::vector<EdgePath>& paths, float speedOfSound,
   }
 }
 
+/// Path j's UTD coefficient at band frequency i (wavenumber k), its edge's ends taken off
+/// (engine/finite_edge.h): D - G_1 D^(1) - G_0 D^(0), each interpolated from the anchors.
+C pathUtd(const EdgePath& q, const PathGains& gains, size_t j, int i, double k) {
+  C d = interpolatedUtd(gains.anchors[j], i);
+  if (!q.ends.finite()) return d;
+  const std::array<C, 2> g = endTails(q.ends, k);
+  return d - g[1] * interpolatedUtd(gains.endAnchors[j][1], i) -
+         g[0] * interpolatedUtd(gains.endAnchors[j][0], i);
+}
+
 /// Scratch of slitLoading: the coupled slits, the path each belongs to, their factors, and
 /// per path its factor.
 struct SlitLoading {
@@ -119,12 +129,7 @@ double bandMeanSquare(int b, const std::vector<EdgePath>& paths, const PathGains
         amplitude *= 1.0 - s;
       }
       if (amplitude == 0.0) continue;  // no UTD field (a slit's path: its terms may be unset)
-      C d = interpolatedUtd(gains.anchors[j], i);
-      if (q.ends.finite()) {  // the edge's ends (engine/finite_edge.h)
-        const std::array<C, 2> g = endTails(q.ends, k);
-        d -= g[1] * interpolatedUtd(gains.endAnchors[j][1], i) +
-             g[0] * interpolatedUtd(gains.endAnchors[j][0], i);
-      }
+      const C d = pathUtd(q, gains, j, i, k);
       const C e = pathPhasor(k * q.length);  // e^{-jkl} = c - j s
       const double c = e.real(), sn = -e.imag();
       // amplitude * d * e^{-jkl}, written out (std::complex's operator* checks for NaN)

@@ -114,12 +114,16 @@ EdgeEnds edgeEnds(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3&
   out.at = {float(double(e.runFrom) - t), float(double(e.runTo) - t)};
   for (size_t end = 0; end < 2; ++end) {
     const double z = double(out.at[end]);
-    const double m = glm::length(S - Q - z * dir), l = glm::length(R - Q - z * dir);
-    const double coshEta = (m * l + (z - zs) * (z - zr)) / (rs * rr);
-    const std::array<double, 4> atEnd = btmTerms(coshEta, nu, psi);
+    std::array<double, 4> atEnd{};  // none at an infinite end
+    double ml = 1.0;
+    if (std::isfinite(z)) {
+      const double m = glm::length(S - Q - z * dir), l = glm::length(R - Q - z * dir);
+      atEnd = btmTerms((m * l + (z - zs) * (z - zr)) / (rs * rr), nu, psi);
+      ml = m * l;
+    }
     out.terms[end] = terms;
     for (size_t i = 0; i < 4; ++i) {
-      const double w = std::isfinite(z) && atQ[i] > 0.0 ? atEnd[i] * r * s / (atQ[i] * m * l) : 0.0;
+      const double w = atQ[i] > 0.0 ? atEnd[i] * r * s / (atQ[i] * ml) : 0.0;
       out.terms[end][i].cot *= std::clamp(w, 0.0, 1.0);
     }
     out.sums[end] = utdTermSums(out.terms[end]);

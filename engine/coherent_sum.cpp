@@ -47,13 +47,13 @@ void utdAnchors(int b, const std::vector<EdgePath>& paths, float speedOfSound,
 }
 
 /// Path j's UTD coefficient at band frequency i (wavenumber k), its edge's ends taken off
-/// (engine/finite_edge.h): D - G_1 D^(1) - G_0 D^(0), each interpolated from the anchors.
+/// (engine/finite_edge.h withEnds), each sum interpolated from the anchors.
 C pathUtd(const EdgePath& q, const PathGains& gains, size_t j, int i, double k) {
-  C d = interpolatedUtd(gains.anchors[j], i);
+  const C d = interpolatedUtd(gains.anchors[j], i);
   if (!q.ends.finite()) return d;
-  const std::array<C, 2> g = endTails(q.ends, k);
-  return d - g[1] * interpolatedUtd(gains.endAnchors[j][1], i) -
-         g[0] * interpolatedUtd(gains.endAnchors[j][0], i);
+  return withEnds(
+      q.ends, endTails(q.ends, k), d,
+      {interpolatedUtd(gains.endAnchors[j][0], i), interpolatedUtd(gains.endAnchors[j][1], i)});
 }
 
 /// Scratch of slitLoading: the coupled slits, the path each belongs to, their factors, and

@@ -12,22 +12,23 @@
 #include <numbers>
 #include <utility>
 
-#include "engine/channel_path.h"
 #include "engine/chain_sum.h"
+#include "engine/channel_path.h"
 #include "engine/channel_turn.h"
 #include "engine/coherent_sum.h"
 #include "engine/diffraction_edges.h"
 #include "engine/edge_chain.h"
 #include "engine/edge_path.h"
+#include "engine/finite_edge.h"
 #include "engine/gap_probe.h"
 #include "engine/object_edges.h"
 #include "engine/openings.h"
 #include "engine/path_slits.h"
-#include "engine/turned_legs.h"
 #include "engine/slit.h"
 #include "engine/small_bodies.h"
-#include "engine/threaded_legs.h"
 #include "engine/surface_bound.h"
+#include "engine/threaded_legs.h"
+#include "engine/turned_legs.h"
 
 namespace dpc {
 
@@ -67,17 +68,19 @@ Bands unobstructedIntensity(const glm::vec3& source, const glm::vec3& L, const D
 }
 
 /// The path over every edge, into the result when both its legs are free, into q.hidden when
-/// one is blocked.
+/// one is blocked; the corner paths (cornerPath: a thin sheet's edge whose Q lies past its
+/// run's end) with free legs into `corners`, kept apart from the gap probes.
 std::vector<EdgePath> edgePaths(const std::vector<DiffractionEdge>& edges, bool lineOfSight,
-                                BoundQuery& q) {
+                                BoundQuery& q, std::vector<EdgePath>& corners) {
   std::vector<EdgePath> paths;
   for (const DiffractionEdge& e : edges) {
     EdgePath p;
-    if (!edgePath(e, q.source, q.L, lineOfSight, p)) continue;
-    if (legsFree(q.tracer, q.source, q.L, p))
-      paths.push_back(p);
-    else
+    const bool onEdge = edgePath(e, q.source, q.L, lineOfSight, p);
+    if (!onEdge && !cornerPath(e, q.source, q.L, lineOfSight, (p = EdgePath{}))) continue;
+    if (!legsFree(q.tracer, q.source, q.L, p))
       q.hidden.push_back({p, {}, false});
+    else
+      (onEdge ? paths : corners).push_back(p);
   }
   return paths;
 }
@@ -374,6 +377,7 @@ EdgeDiffraction::EdgeDiffraction(const Mesh& mesh, const std::vector<ObjectDesc>
   bodies_.edges = surfaceEdges(bodies_.box.size(), edges_);
   narrow_ = narrowFaces(edges_, bodies_.edges);
   chainNear_ = chainNeighbours(edges_);
+  markFreeEnds(bodies_, chainNear_, edges_);
   objects_ = objectEdges(objects);
   // A narrow face of a body too large to be taken away whole (a thick wall's reveal) does not
   // stand free: taken away alone, it opens the body it closes. A small body's narrow faces (a
@@ -436,10 +440,12 @@ void EdgeDiffraction::layPaths(bool lineOfSight, BoundQuery& query, std::vector<
                                std::vector<EdgeChain>& chains, uint32_t& chainsLeftOut) const {
   const Tracer& tracer = query.tracer;
   const glm::vec3 source = query.source, L = query.L;
-  paths = edgePaths(edges_, lineOfSight, query);
+  std::vector<EdgePath> corners;
+  paths = edgePaths(edges_, lineOfSight, query, corners);
   if (query.crossed.empty()) crossLineOfSight(lineOfSight, query);
   if (!lineOfSight) chains = laidChains(query, objects_, chainNear_, chainsLeftOut);
   findSlits(tracer, source, L, surfaces_, paths, query.closed, &bodies_);
+  paths.insert(paths.end(), corners.begin(), corners.end());
   if (!lineOfSight) addTurnedLegs(edges_, chainNear_, objects_, query, paths);
   addChannels(edges_, narrow_, query, paths);
   addObjectChannels(edges_, objects_, query, paths);

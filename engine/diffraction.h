@@ -107,6 +107,10 @@ struct DiffractionEdge {
   /// Unbounded (an edge without end, UTD's) unless set.
   float runFrom = -std::numeric_limits<float>::infinity();
   float runTo = std::numeric_limits<float>::infinity();
+  /// Whether the wave from beyond its run's ends is laid (engine/edge_path.h cornerPath): a
+  /// thin sheet's edge that no other body's edge runs beside (engine/finite_edge.h
+  /// markFreeEnds). False unless set.
+  bool freeEnds = false;
 };
 
 /// The bodies of a mesh's flat surfaces: per flat surface the number of its body, the

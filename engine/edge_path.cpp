@@ -1,8 +1,8 @@
 #include "engine/edge_path.h"
 
 #include <algorithm>
-#include <functional>
 #include <cmath>
+#include <functional>
 #include <glm/geometric.hpp>
 #include <numbers>
 
@@ -107,6 +107,43 @@ glm::vec3 mouthDirection(const DiffractionEdge& e, double phiS, double phiL, dou
   return float(std::cos(mid)) * e.face0 + float(sense * std::sin(mid)) * e.normal0;
 }
 
+/// The path's parts through point q on e's line (its length, UTD parameters, angles, terms,
+/// legs' directions; p.q = q): false when a leg is too short or the wedge cannot diffract.
+bool edgeFields(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3& source,
+                const glm::vec3& L, bool directVisible, EdgePath& p) {
+  const glm::vec3 toQ = q - source, toL = L - q;
+  const float r = glm::length(toQ), s = glm::length(toL);
+  if (!(r > kLegEpsilon && s > kLegEpsilon)) return false;
+  double phiS = 0.0, phiL = 0.0, wedge = 0.0, sense = 1.0;
+  if (!wedgeAngles(e, q, source, L, directVisible, phiS, phiL, wedge, sense)) return false;
+  const double sinB = double(glm::length(glm::cross(toQ / r, e.direction)));
+  p.length = double(r) + double(s);
+  p.distanceParameter = double(r) * double(s) * sinB * sinB / p.length;
+  p.spreading = 1.0 / double(r) * std::sqrt(double(r) / (double(s) * p.length));
+  p.prefactor = utdPrefactor(wedge / kPi, sinB);
+  p.phiS = phiS;
+  p.phiL = phiL;
+  p.wedge = wedge;
+  setTerms(directVisible, p);
+  p.legs = r + s;
+  p.arrival = -toL / s;
+  p.leaving = toQ / r;
+  p.edge = &e;
+  p.q = q;
+  p.mouth = mouthDirection(e, phiS, phiL, wedge, sense);
+  p.turn = float(sense) * e.normal0;
+  p.airWedge = float(wedge);
+  return true;
+}
+
+/// rad/m: the lowest (band 0) or highest (the last band) frequency a band's coherent sum is
+/// evaluated at (diffractionFrequencyHz), at the default speed of sound (PropagationSettings):
+/// cornerPath's reach is measured there.
+double cornerWavenumber(int band) {
+  const int i = band == 0 ? 0 : kDiffractionFrequenciesPerBand - 1;
+  return 2.0 * kPi * diffractionFrequencyHz(band, i) / double(PropagationSettings{}.speedOfSound);
+}
+
 }  // namespace
 
 std::array<glm::vec3, 2> faceDirections(const DiffractionEdge& e) {
@@ -130,8 +167,42 @@ bool joinedByFace(const DiffractionEdge& a, const DiffractionEdge& b) {
 void setTerms(bool directVisible, EdgePath& p) {
   p.terms = utdWedgeTerms(p.wedge / kPi, p.phiL, p.phiS);
   dropTracedReflectionTerms(p.phiS, p.phiL, p.wedge, p.terms);
-  dropAbsentShadowTerms(p.phiS, p.phiL, directVisible, p.terms);
+  // A corner path's run excludes Q, where a term continues the incident field (below).
+  if (!p.corner) dropAbsentShadowTerms(p.phiS, p.phiL, directVisible, p.terms);
   p.sums = utdTermSums(p.terms);
+}
+
+bool cornerPath(const DiffractionEdge& e, const glm::vec3& source, const glm::vec3& L,
+                bool directVisible, EdgePath& p) {
+  constexpr float kHeld = 1e-4f;  // m: this edge holds its run's end
+  if (!e.freeEnds) return false;
+  const glm::vec3 ps = source - e.a, pl = L - e.a;
+  const float ts = glm::dot(ps, e.direction), tl = glm::dot(pl, e.direction);
+  const float rs = glm::length(ps - ts * e.direction), rl = glm::length(pl - tl * e.direction);
+  if (!(rs > 1e-4f) || !(rl > 1e-4f)) return false;
+  const float t = ts + (tl - ts) * rs / (rs + rl);
+  const bool pastB = t > e.runTo && e.runTo <= e.length + kHeld;
+  const bool pastA = t < e.runFrom && e.runFrom >= -kHeld;
+  if (!std::isfinite(t) || (!pastA && !pastB)) return false;
+  p.corner = true;
+  const glm::vec3 q = e.a + t * e.direction;
+  if (!edgeFields(e, q, source, L, directVisible, p)) return false;
+  p.ends = edgeEnds(e, q, source, L, p.phiS, p.phiL, p.wedge, p.terms);
+  p.ends.outside = true;
+  const double near = std::min(std::abs(double(p.ends.at[0])), std::abs(double(p.ends.at[1])));
+  const double far = std::max(std::abs(double(p.ends.at[0])), std::abs(double(p.ends.at[1])));
+  if (!(near * std::sqrt(cornerWavenumber(0) * p.ends.zone) < kCornerReach)) return false;
+  // A run shorter than a twentieth of a Fresnel unit at the highest frequency (a marker's
+  // centimetre seen from 30 m) holds nothing worth its two leg rays.
+  if (!((far - near) * std::sqrt(cornerWavenumber(kNumBands - 1) * p.ends.zone) > 0.05))
+    return false;
+  const float margin = std::min(kEndMargin, 0.01f * e.length);
+  p.q = pastB ? e.b - margin * e.direction : e.a + margin * e.direction;
+  const float r = glm::distance(source, p.q), s = glm::distance(p.q, L);
+  p.legs = r + s;
+  p.arrival = (p.q - L) / s;
+  p.leaving = (p.q - source) / r;
+  return true;
 }
 
 bool edgePath(const DiffractionEdge& e, const glm::vec3& source, const glm::vec3& L,
@@ -152,29 +223,8 @@ bool edgePath(const DiffractionEdge& e, const glm::vec3& source, const glm::vec3
     p.share = 0.0;
   }
   const glm::vec3 q = e.a + t * e.direction;
-  const glm::vec3 toQ = q - source, toL = L - q;
-  const float r = glm::length(toQ), s = glm::length(toL);
-  if (!(r > kLegEpsilon && s > kLegEpsilon)) return false;
-  double phiS = 0.0, phiL = 0.0, wedge = 0.0, sense = 1.0;
-  if (!wedgeAngles(e, q, source, L, directVisible, phiS, phiL, wedge, sense)) return false;
-  const double sinB = double(glm::length(glm::cross(toQ / r, e.direction)));
-  p.length = double(r) + double(s);
-  p.distanceParameter = double(r) * double(s) * sinB * sinB / p.length;
-  p.spreading = 1.0 / double(r) * std::sqrt(double(r) / (double(s) * p.length));
-  p.prefactor = utdPrefactor(wedge / kPi, sinB);
-  p.phiS = phiS;
-  p.phiL = phiL;
-  p.wedge = wedge;
-  setTerms(directVisible, p);
-  if (!atEnd) p.ends = edgeEnds(e, q, source, L, phiS, phiL, wedge, p.terms);
-  p.legs = r + s;
-  p.arrival = -toL / s;
-  p.leaving = toQ / r;
-  p.edge = &e;
-  p.q = q;
-  p.mouth = mouthDirection(e, phiS, phiL, wedge, sense);
-  p.turn = float(sense) * e.normal0;
-  p.airWedge = float(wedge);
+  if (!edgeFields(e, q, source, L, directVisible, p)) return false;
+  if (!atEnd) p.ends = edgeEnds(e, q, source, L, p.phiS, p.phiL, p.wedge, p.terms);
   return true;
 }
 
@@ -418,7 +468,7 @@ size_t edgeIndex(const std::vector<DiffractionEdge>& edges, const EdgePath& p) {
   const std::less<const DiffractionEdge*> before;
   const DiffractionEdge* first = edges.data();
   return !before(p.edge, first) && before(p.edge, first + edges.size()) ? size_t(p.edge - first)
-                                                                         : edges.size();
+                                                                        : edges.size();
 }
 
 }  // namespace dpc

@@ -30,6 +30,11 @@ inline constexpr float kParallelEdges = 0.99f;
 /// m: how far inside its nearer end an atEnd path's point Q lies (edgePath).
 inline constexpr float kEndMargin = 0.01f;
 
+/// How far past a corner path's nearer end its Q may lie, in Fresnel units (the end's distance
+/// times sqrt(k zone), engine/finite_edge.h) at the lowest band's lowest frequency: beyond 3 the
+/// run's field is under a tenth of a half edge's (G(3) = 0.09).
+inline constexpr double kCornerReach = 3.0;
+
 /// A gap's closing surface when the probe did not say (no flat surface has this number).
 inline constexpr uint32_t kUnknownSurface = 0xfffffffeu;
 
@@ -65,6 +70,9 @@ struct EdgePath {
   /// Its edge's run's ends seen from Q (engine/finite_edge.h): the UTD field times
   /// finiteEdgeFactor. Unbounded for a path without a UTD field.
   EdgeEnds ends;
+  /// A corner path (cornerPath): Q lies beyond its edge's run on the edge's line, the legs
+  /// are tested to the run's end (q), and the field is that of the run alone (ends.outside).
+  bool corner = false;
   uint32_t gapCloser = kUnknownSurface;        // the surface that closes its gap (surface_bound.h)
   bool atEnd = false;  // no UTD field (share 0), a slit's only: Q at the edge's end, a
                        // channel, a turned leg, an opening's own path
@@ -148,6 +156,16 @@ bool withinEdge(const DiffractionEdge& e, const glm::vec3& x);
 bool airWedge(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3& source,
               const glm::vec3& other, double& phiS, double& phiOther, double& wedge,
               double& sense);
+
+/// Where Q lies beyond the end of a thin sheet's edge run (a panel's top seen from beside the
+/// panel), the wave from the run itself, its corner's: the path through Q on the edge's line
+/// (length, angles, UTD terms there; every term kept, the run excluding Q), its field the
+/// run's integral (EdgeEnds::outside), q the run's end, where the legs are tested. Only
+/// where the end lies within kCornerReach of Q in Fresnel units at the lowest band's lowest
+/// frequency (beyond, G(x) < 0.1). False otherwise, or for a wedge's edge or an edge that does
+/// not hold its run's end on that side.
+bool cornerPath(const DiffractionEdge& e, const glm::vec3& source, const glm::vec3& L,
+                bool directVisible, EdgePath& p);
 
 /// The path over edge e from source to the listener centre L through the point Q of least
 /// length, its legs not yet tested (legsFree); false when Q lies outside the edge or the wedge

@@ -8,6 +8,8 @@
 #include <numbers>
 #include <unordered_map>
 
+#include "engine/diffraction_edges.h"
+
 namespace dpc {
 
 namespace {
@@ -95,6 +97,24 @@ void setEdgeRuns(std::vector<DiffractionEdge>& edges) {
   }
 }
 
+void markFreeEnds(const SurfaceBodies& bodies, const std::vector<std::vector<uint32_t>>& near,
+                  std::vector<DiffractionEdge>& edges) {
+  constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
+  auto bodyOf = [&](uint32_t s) { return s < bodies.body.size() ? bodies.body[s] : kNone; };
+  std::vector<bool> mounted(bodies.closed.size(), false);  // a body beside another's edge
+  for (size_t i = 0; i < edges.size() && i < near.size(); ++i)
+    for (uint32_t j : near[i]) {
+      const uint32_t b = bodyOf(edges[i].surfaces[0]);
+      if (b != kNone && b < mounted.size() && bodyOf(edges[j].surfaces[0]) != b) mounted[b] = true;
+    }
+  for (DiffractionEdge& e : edges) {
+    const uint32_t b = bodyOf(e.surfaces[0]);
+    e.freeEnds = e.open >= float(2.0 * kPi) - 1e-4f && std::isfinite(e.runFrom) &&
+                 std::isfinite(e.runTo) && b != kNone && b < mounted.size() && !mounted[b] &&
+                 smallBody(bodies, e.surfaces[0]);
+  }
+}
+
 EdgeEnds edgeEnds(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3& source,
                   const glm::vec3& L, double phiS, double phiL, double wedge,
                   const std::array<UtdTerm, 4>& terms) {
@@ -139,11 +159,18 @@ std::array<std::complex<double>, 2> endTails(const EdgeEnds& ends, double k) {
   return out;
 }
 
+std::complex<double> withEnds(const EdgeEnds& ends, const std::array<std::complex<double>, 2>& g,
+                              std::complex<double> d,
+                              const std::array<std::complex<double>, 2>& dEnds) {
+  if (!ends.outside) return d - g[1] * dEnds[1] - g[0] * dEnds[0];
+  const size_t near = std::abs(ends.at[0]) < std::abs(ends.at[1]) ? 0 : 1;
+  return g[near] * dEnds[near] - g[1 - near] * dEnds[1 - near];
+}
+
 std::complex<double> finiteEdgeFactor(const EdgeEnds& ends, double k, std::complex<double> d,
                                       const std::array<std::complex<double>, 2>& dEnds) {
   if (!ends.finite() || std::abs(d) == 0.0) return 1.0;
-  const std::array<std::complex<double>, 2> g = endTails(ends, k);
-  return 1.0 - (g[1] * dEnds[1] + g[0] * dEnds[0]) / d;
+  return withEnds(ends, endTails(ends, k), d, dEnds) / d;
 }
 
 }  // namespace dpc

@@ -59,13 +59,25 @@ struct EdgeEnds {
   /// sin^2 beta (r + s) / (2 r s), 1/m: the path over the edge's point z (m) from Q is longer
   /// by zone z^2.
   double zone = 0.0;
+  /// Q lies beyond the run on its line (a corner path, engine/edge_path.h cornerPath): both
+  /// ends on one side, the field G(|a_near|) D^(near) - G(|a_far|) D^(far), without D itself.
+  bool outside = false;
   /// Whether either end is finite (otherwise the field is the infinite edge's).
-  bool finite() const { return std::isfinite(at[0]) || std::isfinite(at[1]); }
+  bool finite() const { return outside || std::isfinite(at[0]) || std::isfinite(at[1]); }
 };
 
 /// Sets every edge's run (DiffractionEdge::runFrom, runTo): the edges joined end to end along
 /// one line whose faces are the same flat surfaces at the same angles.
 void setEdgeRuns(std::vector<DiffractionEdge>& edges);
+
+/// Sets DiffractionEdge::freeEnds: a free edge (a thin sheet's rim, faces 2 pi apart) of a
+/// small body (smallBody: a panel, not a wall) none of whose edges has a parallel neighbour
+/// within kChainReach (`near`, chainNeighbours) on another body. A door leaf's rims run beside
+/// its frame's edges, a few millimetres off: its corners are the gaps' (engine/slit.h), and a
+/// leaf that is a moving object has no first-order paths at all, so the same leaf in the mesh
+/// takes none either.
+void markFreeEnds(const SurfaceBodies& bodies, const std::vector<std::vector<uint32_t>>& near,
+                  std::vector<DiffractionEdge>& edges);
 
 /// The ends of edge `e`'s run seen from a path's point Q (unbounded unless e is a free edge) (m, on
 /// the edge) between `source` and `L`, with the path's wedge angles (radians: phiS, phiL from face
@@ -77,8 +89,14 @@ EdgeEnds edgeEnds(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3&
 /// G(|a_e| sqrt(k zone)) above for both ends at wavenumber k (rad/m); 0 for an infinite end.
 std::array<std::complex<double>, 2> endTails(const EdgeEnds& ends, double k);
 
-/// The path's field factor sum_i D_i T_i / D given its UTD sum D and the end sums D^(e) at the
-/// same k: 1 - (G_1 D^(1) + G_0 D^(0)) / D (1 where D is 0).
+/// The path's field from its UTD sum D and its end sums D^(e) at one k, given their ends'
+/// tails g = endTails(ends, k): D - g_1 D^(1) - g_0 D^(0), or outside the run
+/// g_near D^(near) - g_far D^(far).
+std::complex<double> withEnds(const EdgeEnds& ends, const std::array<std::complex<double>, 2>& g,
+                              std::complex<double> d,
+                              const std::array<std::complex<double>, 2>& dEnds);
+
+/// withEnds(ends, endTails(ends, k), d, dEnds) / d (1 where d is 0 or no end is finite).
 std::complex<double> finiteEdgeFactor(const EdgeEnds& ends, double k, std::complex<double> d,
                                       const std::array<std::complex<double>, 2>& dEnds);
 

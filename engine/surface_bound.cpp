@@ -159,7 +159,8 @@ std::vector<EdgePath> pathsWithout(const std::vector<EdgePath>& paths, BoundQuer
     if (p.gapWidth != 0.f && gone(p.gapCloser) && !(p.phaseSpread > 0.f)) p.gapWidth = 0.f;
     p.share = p.atEnd ? 0.0 : 1.0;
     setTerms(lineOfSight, p);
-    if (!p.atEnd) p.ends = edgeEnds(*p.edge, p.q, q.source, q.L, p.phiS, p.phiL, p.wedge, p.terms);
+    if (!p.atEnd && !p.corner)
+      p.ends = edgeEnds(*p.edge, p.q, q.source, q.L, p.phiS, p.phiL, p.wedge, p.terms);
   }
   markSlitOwners(kept, &q.bodies.body);
   markReveals(q.source, q.L, kept);

@@ -76,7 +76,11 @@ std::vector<EdgePath> edgePaths(const std::vector<DiffractionEdge>& edges, bool 
   for (const DiffractionEdge& e : edges) {
     EdgePath p;
     const bool onEdge = edgePath(e, q.source, q.L, lineOfSight, p);
-    if (!onEdge && !cornerPath(e, q.source, q.L, lineOfSight, (p = EdgePath{}))) continue;
+    if (!onEdge) {  // a corner's wave (a fresh path: edgePath may have set some fields)
+      if (!e.freeEnds) continue;
+      p = EdgePath{};
+      if (!cornerPath(e, q.source, q.L, lineOfSight, p)) continue;
+    }
     if (!legsFree(q.tracer, q.source, q.L, p))
       q.hidden.push_back({p, {}, false});
     else

@@ -184,18 +184,20 @@ bool cornerPath(const DiffractionEdge& e, const glm::vec3& source, const glm::ve
   const bool pastB = t > e.runTo && e.runTo <= e.length + kHeld;
   const bool pastA = t < e.runFrom && e.runFrom >= -kHeld;
   if (!std::isfinite(t) || (!pastA && !pastB)) return false;
-  p.corner = true;
+  // The reach, before the fields: the along-edge curvature sin^2 beta (r + s) / (2 r s).
   const glm::vec3 q = e.a + t * e.direction;
+  const double r0 = double(glm::distance(source, q)), s0 = double(glm::distance(q, L));
+  const double zone = 0.5 * double(rs * rs) / (r0 * r0) * (r0 + s0) / (r0 * s0);
+  const double near = pastB ? double(t - e.runTo) : double(e.runFrom - t);
+  const double span = double(e.runTo - e.runFrom);
+  if (!(near * std::sqrt(cornerWavenumber(0) * zone) < kCornerReach)) return false;
+  // A run shorter than a twentieth of a Fresnel unit at the highest frequency (a marker's
+  // centimetre seen from 30 m) holds nothing worth its two leg rays.
+  if (!(span * std::sqrt(cornerWavenumber(kNumBands - 1) * zone) > 0.05)) return false;
+  p.corner = true;
   if (!edgeFields(e, q, source, L, directVisible, p)) return false;
   p.ends = edgeEnds(e, q, source, L, p.phiS, p.phiL, p.wedge, p.terms);
   p.ends.outside = true;
-  const double near = std::min(std::abs(double(p.ends.at[0])), std::abs(double(p.ends.at[1])));
-  const double far = std::max(std::abs(double(p.ends.at[0])), std::abs(double(p.ends.at[1])));
-  if (!(near * std::sqrt(cornerWavenumber(0) * p.ends.zone) < kCornerReach)) return false;
-  // A run shorter than a twentieth of a Fresnel unit at the highest frequency (a marker's
-  // centimetre seen from 30 m) holds nothing worth its two leg rays.
-  if (!((far - near) * std::sqrt(cornerWavenumber(kNumBands - 1) * p.ends.zone) > 0.05))
-    return false;
   const float margin = std::min(kEndMargin, 0.01f * e.length);
   p.q = pastB ? e.b - margin * e.direction : e.a + margin * e.direction;
   const float r = glm::distance(source, p.q), s = glm::distance(p.q, L);

@@ -33,7 +33,7 @@ inline constexpr float kEndMargin = 0.01f;
 /// How far past a corner path's nearer end its Q may lie, in Fresnel units (the end's distance
 /// times sqrt(k zone), engine/finite_edge.h) at the lowest band's lowest frequency: beyond 3 the
 /// run's field is under a tenth of a half edge's (G(3) = 0.09).
-inline constexpr double kCornerReach = 3.0;
+inline constexpr double kCornerReach = 1.5;
 
 /// A gap's closing surface when the probe did not say (no flat surface has this number).
 inline constexpr uint32_t kUnknownSurface = 0xfffffffeu;

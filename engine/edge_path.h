@@ -31,8 +31,8 @@ inline constexpr float kParallelEdges = 0.99f;
 inline constexpr float kEndMargin = 0.01f;
 
 /// How far past a corner path's nearer end its Q may lie, in Fresnel units (the end's distance
-/// times sqrt(k zone), engine/finite_edge.h) at the lowest band's lowest frequency: beyond 3 the
-/// run's field is under a tenth of a half edge's (G(3) = 0.09).
+/// times sqrt(k zone), engine/finite_edge.h) at the lowest band's lowest frequency: beyond 1.5
+/// the run's field is under 0.18 of an infinite edge's (|G(1.5)| = 0.176; |G(3)| = 0.093).
 inline constexpr double kCornerReach = 1.5;
 
 /// A gap's closing surface when the probe did not say (no flat surface has this number).
@@ -161,9 +161,9 @@ bool airWedge(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3& sou
 /// panel), the wave from the run itself, its corner's: the path through Q on the edge's line
 /// (length, angles, UTD terms there; every term kept, the run excluding Q), its field the
 /// run's integral (EdgeEnds::outside), q the run's end, where the legs are tested. Only
-/// where the end lies within kCornerReach of Q in Fresnel units at the lowest band's lowest
-/// frequency (beyond, G(x) < 0.1). False otherwise, or for a wedge's edge or an edge that does
-/// not hold its run's end on that side.
+/// where the end lies within kCornerReach of Q (Fresnel units at the lowest band's lowest
+/// frequency). False otherwise, for an edge without DiffractionEdge::freeEnds (a wedge's, a
+/// door leaf's beside its frame), or for one that does not hold its run's end on that side.
 bool cornerPath(const DiffractionEdge& e, const glm::vec3& source, const glm::vec3& L,
                 bool directVisible, EdgePath& p);
 

@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "engine/finite_edge.h"
+#include "engine/sealed_edges.h"
 #include "scene/mesh_topology.h"
 
 namespace dpc {
@@ -145,145 +146,6 @@ bool makeEdge(const Mesh& mesh, const std::vector<uint32_t>& id,
   e.open = float(ang);
   return !(std::abs(ang - kPi) < kFlatEdge);  // flat: no wedge
 }
-
-/// An edge lying in another triangle (a partition's rim along the floor, a box standing on
-/// it) is sealed by that surface: no wedge of air around it. A triangle can hold an edge only
-/// if its bounding box, grown by the tolerance, holds the edge's midpoint, so each edge is
-/// tested against the triangles registered in its midpoint's cell of a uniform grid (the
-/// cells each grown box overlaps, found by sorting (cell, triangle) pairs: O(n log n) for n
-/// triangles) plus the few triangles too large for the grid (walls, floors spanning more than
-/// kMaxCellsPerTriangle cells), instead of against every triangle. The cell of a point is a
-/// monotone function of its coordinates, so the cell of any midpoint inside a grown box is
-/// one the box was registered in: the same triangles pass the box test as in a scan of all.
-class SealingSurfaces {
- public:
-  explicit SealingSurfaces(const Mesh& mesh) : mesh_(mesh) {
-    growBoxes();
-    chooseCells();
-    registerTriangles();
-  }
-
-  bool seal(const DiffractionEdge& e) const {
-    const glm::vec3 mid = 0.5f * (e.a + e.b);
-    const uint64_t key = keyOf(cellOf(mid));
-    const auto cell =
-        std::equal_range(cells_.begin(), cells_.end(), CellEntry{key, 0},
-                         [](const CellEntry& x, const CellEntry& y) { return x.key < y.key; });
-    for (auto it = cell.first; it != cell.second; ++it)
-      if (holdsMidpoint(it->triangle, e, mid)) return true;
-    for (const uint32_t t : large_)
-      if (holdsMidpoint(t, e, mid)) return true;
-    return false;
-  }
-
- private:
-  static constexpr float kTol = 1e-3f;  // m
-  static constexpr int64_t kMaxCellsPerTriangle = 64;
-  static constexpr int64_t kMaxCellsPerAxis = int64_t(1) << 20;  // 21 bits of a key each
-
-  struct CellEntry {
-    uint64_t key;
-    uint32_t triangle;
-  };
-
-  /// Each triangle's bounding box grown by the tolerance, and the box of them all.
-  void growBoxes() {
-    lo_.reserve(mesh_.triangles.size());
-    hi_.reserve(mesh_.triangles.size());
-    for (const auto& tr : mesh_.triangles) {
-      const glm::vec3 p0 = mesh_.vertices[tr[0]], p1 = mesh_.vertices[tr[1]],
-                      p2 = mesh_.vertices[tr[2]];
-      lo_.push_back(glm::min(p0, glm::min(p1, p2)) - kTol);
-      hi_.push_back(glm::max(p0, glm::max(p1, p2)) + kTol);
-      origin_ = lo_.size() == 1 ? lo_.back() : glm::min(origin_, lo_.back());
-      top_ = hi_.size() == 1 ? hi_.back() : glm::max(top_, hi_.back());
-    }
-  }
-
-  /// Cubic cells twice the median triangle's largest extent, coarser if the grid would
-  /// exceed kMaxCellsPerAxis along an axis.
-  void chooseCells() {
-    if (lo_.empty()) return;
-    std::vector<float> extents(lo_.size());
-    for (size_t t = 0; t < lo_.size(); ++t) {
-      const glm::vec3 d = hi_[t] - lo_[t];
-      extents[t] = std::max(d.x, std::max(d.y, d.z));
-    }
-    std::nth_element(extents.begin(), extents.begin() + ptrdiff_t(extents.size() / 2),
-                     extents.end());
-    const glm::vec3 span = top_ - origin_;
-    const float widest = std::max(span.x, std::max(span.y, span.z));
-    const float cell =
-        std::max(2.f * extents[extents.size() / 2], widest / float(kMaxCellsPerAxis - 2));
-    inverseCell_ = 1.f / std::max(cell, 4.f * kTol);
-  }
-
-  /// The grid cell holding p, each coordinate clamped to the grid: monotone in p.
-  std::array<int64_t, 3> cellOf(const glm::vec3& p) const {
-    std::array<int64_t, 3> c{};
-    for (int k = 0; k < 3; ++k) {
-      const float f = std::floor((p[k] - origin_[k]) * inverseCell_);
-      c[size_t(k)] = std::clamp(int64_t(std::clamp(f, -1.f, float(kMaxCellsPerAxis))), int64_t(0),
-                                kMaxCellsPerAxis - 1);
-    }
-    return c;
-  }
-
-  static uint64_t keyOf(const std::array<int64_t, 3>& c) {
-    return uint64_t(c[0]) << 42 | uint64_t(c[1]) << 21 | uint64_t(c[2]);
-  }
-
-  /// Every triangle into the cells its grown box overlaps (or into large_), sorted by cell.
-  void registerTriangles() {
-    cells_.reserve(lo_.size() * 4);
-    for (uint32_t t = 0; t < lo_.size(); ++t) {
-      const auto a = cellOf(lo_[t]), b = cellOf(hi_[t]);
-      if ((b[0] - a[0] + 1) * (b[1] - a[1] + 1) * (b[2] - a[2] + 1) > kMaxCellsPerTriangle) {
-        large_.push_back(t);
-        continue;
-      }
-      for (int64_t x = a[0]; x <= b[0]; ++x)
-        for (int64_t y = a[1]; y <= b[1]; ++y)
-          for (int64_t z = a[2]; z <= b[2]; ++z) cells_.push_back({keyOf({x, y, z}), t});
-    }
-    std::sort(cells_.begin(), cells_.end(), [](const CellEntry& x, const CellEntry& y) {
-      return x.key != y.key ? x.key < y.key : x.triangle < y.triangle;
-    });
-  }
-
-  /// The box test, then whether triangle t holds the edge.
-  bool holdsMidpoint(uint32_t t, const DiffractionEdge& e, const glm::vec3& mid) const {
-    if (glm::any(glm::lessThan(mid, lo_[t])) || glm::any(glm::greaterThan(mid, hi_[t])))
-      return false;
-    return holds(mesh_.triangles[t], e, mid);
-  }
-
-  /// True if the triangle tr (not one of the edge's own faces) contains the edge.
-  bool holds(const std::array<uint32_t, 3>& tr, const DiffractionEdge& e,
-             const glm::vec3& mid) const {
-    const glm::vec3 p0 = mesh_.vertices[tr[0]], p1 = mesh_.vertices[tr[1]],
-                    p2 = mesh_.vertices[tr[2]];
-    const glm::vec3 nrm = safeNormalize(glm::cross(p1 - p0, p2 - p0));
-    if (glm::length(nrm) == 0.f) return false;
-    if (std::abs(glm::dot(e.a - p0, nrm)) > kTol || std::abs(glm::dot(e.b - p0, nrm)) > kTol)
-      return false;
-    // Is the midpoint inside the triangle (edge functions, with tolerance)?
-    const glm::vec3 q = mid - glm::dot(mid - p0, nrm) * nrm;
-    const float w0 = glm::dot(glm::cross(p1 - p0, q - p0), nrm) / glm::length(p1 - p0);
-    const float w1 = glm::dot(glm::cross(p2 - p1, q - p1), nrm) / glm::length(p2 - p1);
-    const float w2 = glm::dot(glm::cross(p0 - p2, q - p2), nrm) / glm::length(p0 - p2);
-    auto isVertex = [&](const glm::vec3& v) { return v == p0 || v == p1 || v == p2; };
-    if (isVertex(e.a) && isVertex(e.b)) return false;  // one of the edge's own faces
-    return w0 > -kTol && w1 > -kTol && w2 > -kTol;
-  }
-
-  const Mesh& mesh_;
-  std::vector<glm::vec3> lo_, hi_;  ///< grown boxes, per triangle
-  glm::vec3 origin_{0.f}, top_{0.f};
-  float inverseCell_ = 1.f;       ///< 1 / cell size, 1/m
-  std::vector<CellEntry> cells_;  ///< sorted by key
-  std::vector<uint32_t> large_;   ///< triangles spanning more than kMaxCellsPerTriangle cells
-};
 
 /// Lexicographic order of the endpoints: a deterministic edge order (the hash map's is not).
 bool edgeBefore(const DiffractionEdge& x, const DiffractionEdge& y) {
@@ -525,7 +387,7 @@ std::vector<DiffractionEdge> candidateEdges(const Mesh& mesh,
   std::vector<DiffractionEdge> edges;
   for (const auto& [key, use] : edgeUses(mesh, id)) {
     DiffractionEdge e;
-    if (makeEdge(mesh, id, surfaces, key, use, e) && !sealing.seal(e)) edges.push_back(e);
+    if (makeEdge(mesh, id, surfaces, key, use, e)) sealing.appendOpenParts(e, edges);
   }
   std::sort(edges.begin(), edges.end(), edgeBefore);
   setEdgeRuns(edges);

@@ -1,0 +1,200 @@
+#include "engine/sealed_edges.h"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vector_relational.hpp>
+#include <limits>
+#include <utility>
+
+namespace dpc {
+
+namespace {
+
+glm::vec3 unitOrZero(const glm::vec3& v) {
+  const float l = glm::length(v);
+  return l > 0.f ? v / l : glm::vec3(0.f);
+}
+
+}  // namespace
+
+SealingSurfaces::SealingSurfaces(const Mesh& mesh) : mesh_(mesh) {
+  growBoxes();
+  chooseCells();
+  registerTriangles();
+}
+
+void SealingSurfaces::growBoxes() {
+  lo_.reserve(mesh_.triangles.size());
+  hi_.reserve(mesh_.triangles.size());
+  for (const auto& tr : mesh_.triangles) {
+    const glm::vec3 p0 = mesh_.vertices[tr[0]], p1 = mesh_.vertices[tr[1]],
+                    p2 = mesh_.vertices[tr[2]];
+    lo_.push_back(glm::min(p0, glm::min(p1, p2)) - kTol);
+    hi_.push_back(glm::max(p0, glm::max(p1, p2)) + kTol);
+    origin_ = lo_.size() == 1 ? lo_.back() : glm::min(origin_, lo_.back());
+    top_ = hi_.size() == 1 ? hi_.back() : glm::max(top_, hi_.back());
+  }
+}
+
+/// Cubic cells twice the median triangle's largest extent, coarser if the grid would exceed
+/// kMaxCellsPerAxis along an axis.
+void SealingSurfaces::chooseCells() {
+  if (lo_.empty()) return;
+  std::vector<float> extents(lo_.size());
+  for (size_t t = 0; t < lo_.size(); ++t) {
+    const glm::vec3 d = hi_[t] - lo_[t];
+    extents[t] = std::max(d.x, std::max(d.y, d.z));
+  }
+  std::nth_element(extents.begin(), extents.begin() + ptrdiff_t(extents.size() / 2), extents.end());
+  const glm::vec3 span = top_ - origin_;
+  const float widest = std::max(span.x, std::max(span.y, span.z));
+  cell_ =
+      std::max(std::max(2.f * extents[extents.size() / 2], widest / float(kMaxCellsPerAxis - 2)),
+               4.f * kTol);
+}
+
+/// The grid cell holding p, each coordinate clamped to the grid: monotone in p, so the cell
+/// of a point inside a grown box is one the box was registered in.
+std::array<int64_t, 3> SealingSurfaces::cellOf(const glm::vec3& p) const {
+  std::array<int64_t, 3> c{};
+  for (int k = 0; k < 3; ++k) {
+    const float f = std::floor((p[k] - origin_[k]) / cell_);
+    c[size_t(k)] = std::clamp(int64_t(std::clamp(f, -1.f, float(kMaxCellsPerAxis))), int64_t(0),
+                              kMaxCellsPerAxis - 1);
+  }
+  return c;
+}
+
+uint64_t SealingSurfaces::keyOf(const std::array<int64_t, 3>& c) {
+  return uint64_t(c[0]) << 42 | uint64_t(c[1]) << 21 | uint64_t(c[2]);
+}
+
+/// Every triangle into the cells its grown box overlaps (or into large_), sorted by cell.
+void SealingSurfaces::registerTriangles() {
+  cells_.reserve(lo_.size() * 4);
+  for (uint32_t t = 0; t < lo_.size(); ++t) {
+    const auto a = cellOf(lo_[t]), b = cellOf(hi_[t]);
+    if ((b[0] - a[0] + 1) * (b[1] - a[1] + 1) * (b[2] - a[2] + 1) > kMaxCellsPerTriangle) {
+      large_.push_back(t);
+      continue;
+    }
+    for (int64_t x = a[0]; x <= b[0]; ++x)
+      for (int64_t y = a[1]; y <= b[1]; ++y)
+        for (int64_t z = a[2]; z <= b[2]; ++z) cells_.push_back({keyOf({x, y, z}), t});
+  }
+  std::sort(cells_.begin(), cells_.end(), [](const CellEntry& x, const CellEntry& y) {
+    return x.key != y.key ? x.key < y.key : x.triangle < y.triangle;
+  });
+}
+
+std::vector<uint32_t> SealingSurfaces::trianglesAlong(const DiffractionEdge& e) const {
+  // The cells the edge passes through, in order (a grid walk: J. Amanatides, A. Woo, "A fast
+  // voxel traversal algorithm for ray tracing", Eurographics 1987): a triangle holding a point
+  // of the edge was registered in that point's cell.
+  const glm::dvec3 ga = (glm::dvec3(e.a) - glm::dvec3(origin_)) / double(cell_);
+  const glm::dvec3 d = (glm::dvec3(e.b) - glm::dvec3(origin_)) / double(cell_) - ga;
+  std::array<int64_t, 3> c = cellOf(e.a), step{}, last = cellOf(e.b);
+  glm::dvec3 next(std::numeric_limits<double>::infinity()), delta(next);
+  for (int k = 0; k < 3; ++k) {
+    if (d[k] == 0.0) continue;
+    step[size_t(k)] = d[k] > 0.0 ? 1 : -1;
+    delta[k] = 1.0 / std::abs(d[k]);
+    const double boundary = std::floor(ga[k]) + (d[k] > 0.0 ? 1.0 : 0.0);
+    next[k] = (boundary - ga[k]) / d[k];
+  }
+  std::vector<uint32_t> out(large_);
+  const int64_t cells =
+      std::abs(last[0] - c[0]) + std::abs(last[1] - c[1]) + std::abs(last[2] - c[2]);
+  for (int64_t i = 0; i <= cells; ++i) {
+    const auto cell =
+        std::equal_range(cells_.begin(), cells_.end(), CellEntry{keyOf(c), 0},
+                         [](const CellEntry& x, const CellEntry& y) { return x.key < y.key; });
+    for (auto it = cell.first; it != cell.second; ++it) out.push_back(it->triangle);
+    const int k = next[0] < next[1] ? (next[0] < next[2] ? 0 : 2) : (next[1] < next[2] ? 1 : 2);
+    if (!(next[k] <= 1.0)) break;
+    c[size_t(k)] = std::clamp(c[size_t(k)] + step[size_t(k)], int64_t(0), kMaxCellsPerAxis - 1);
+    next[k] += delta[k];
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+bool SealingSurfaces::holdsMidpoint(uint32_t t, const DiffractionEdge& e) const {
+  const glm::vec3 mid = 0.5f * (e.a + e.b);
+  if (glm::any(glm::lessThan(mid, lo_[t])) || glm::any(glm::greaterThan(mid, hi_[t]))) return false;
+  const auto& tr = mesh_.triangles[t];
+  const glm::vec3 p0 = mesh_.vertices[tr[0]], p1 = mesh_.vertices[tr[1]],
+                  p2 = mesh_.vertices[tr[2]];
+  const glm::vec3 nrm = unitOrZero(glm::cross(p1 - p0, p2 - p0));
+  if (glm::length(nrm) == 0.f) return false;
+  if (std::abs(glm::dot(e.a - p0, nrm)) > kTol || std::abs(glm::dot(e.b - p0, nrm)) > kTol)
+    return false;
+  auto isCorner = [&](const glm::vec3& v) { return v == p0 || v == p1 || v == p2; };
+  if (isCorner(e.a) && isCorner(e.b)) return false;         // one of the edge's own faces
+  const glm::vec3 q = mid - glm::dot(mid - p0, nrm) * nrm;  // inside each side, with tolerance
+  const float w0 = glm::dot(glm::cross(p1 - p0, q - p0), nrm) / glm::length(p1 - p0);
+  const float w1 = glm::dot(glm::cross(p2 - p1, q - p1), nrm) / glm::length(p2 - p1);
+  const float w2 = glm::dot(glm::cross(p0 - p2, q - p2), nrm) / glm::length(p0 - p2);
+  return w0 > -kTol && w1 > -kTol && w2 > -kTol;
+}
+
+bool SealingSurfaces::sideAlong(uint32_t t, const DiffractionEdge& e, float& lo, float& hi) const {
+  const auto& tr = mesh_.triangles[t];
+  const glm::vec3 p[3] = {mesh_.vertices[tr[0]], mesh_.vertices[tr[1]], mesh_.vertices[tr[2]]};
+  auto isCorner = [&](const glm::vec3& v) { return v == p[0] || v == p[1] || v == p[2]; };
+  if (isCorner(e.a) && isCorner(e.b)) return false;  // one of the edge's own faces
+  const glm::vec3 nrm = unitOrZero(glm::cross(p[1] - p[0], p[2] - p[0]));
+  if (glm::length(nrm) == 0.f) return false;
+  if (std::abs(glm::dot(e.a - p[0], nrm)) > kTol || std::abs(glm::dot(e.b - p[0], nrm)) > kTol)
+    return false;
+  auto offLine = [&](const glm::vec3& v) {
+    const glm::vec3 r = v - e.a;
+    return glm::length(r - glm::dot(r, e.direction) * e.direction);
+  };
+  for (int i = 0; i < 3; ++i) {
+    const glm::vec3 u = p[i], v = p[(i + 1) % 3];
+    if (offLine(u) > kTol || offLine(v) > kTol) continue;
+    const float tu = glm::dot(u - e.a, e.direction), tv = glm::dot(v - e.a, e.direction);
+    lo = std::max(std::min(tu, tv), 0.f);
+    hi = std::min(std::max(tu, tv), e.length);
+    return hi - lo > kMinPart;
+  }
+  return false;
+}
+
+void SealingSurfaces::appendOpenParts(const DiffractionEdge& e,
+                                      std::vector<DiffractionEdge>& out) const {
+  const std::vector<uint32_t> near = trianglesAlong(e);
+  for (uint32_t t : near)
+    if (holdsMidpoint(t, e)) return;  // sealed whole
+  std::vector<std::pair<float, float>> held;
+  for (uint32_t t : near) {
+    float lo = 0.f, hi = 0.f;
+    if (sideAlong(t, e, lo, hi)) held.push_back({lo, hi});
+  }
+  if (held.empty()) {
+    out.push_back(e);
+    return;
+  }
+  std::sort(held.begin(), held.end());
+  float from = 0.f;  // the open part so far starts here
+  auto emit = [&](float to) {
+    if (to - from < kMinPart) return;
+    DiffractionEdge part = e;
+    part.a = e.a + from * e.direction;
+    part.b = to >= e.length ? e.b : e.a + to * e.direction;
+    part.length = glm::distance(part.a, part.b);
+    out.push_back(part);
+  };
+  for (const auto& [lo, hi] : held) {
+    if (lo > from) emit(lo);
+    from = std::max(from, hi);
+  }
+  if (from < e.length) emit(e.length);
+}
+
+}  // namespace dpc

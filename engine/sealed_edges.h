@@ -1,0 +1,77 @@
+// Which parts of a candidate edge another surface seals. An edge lying in another triangle (a
+// partition's rim along the floor, a box standing on it) has no wedge of air around it: it does
+// not diffract. A mesh with T-junctions (an exporter's wall strip running on past a doorway,
+// whose lintel is then one triangle edge as long as the wall, the strips beside the doorway
+// meeting it at vertices of their own) has edges sealed over part of their length only: the
+// part of the strip's edge that no other triangle holds is the doorway's lintel, and only that
+// part diffracts.
+//
+// Internal to the engine (diffraction_edges). Load time, any thread; construction allocates
+// (a uniform grid of the triangles, O(n log n)); no errors (degenerate triangles seal nothing).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <glm/vec3.hpp>
+#include <vector>
+
+#include "engine/diffraction.h"
+#include "scene/scene.h"
+
+namespace dpc {
+
+/// The mesh's triangles, found by where they lie: a triangle can hold part of an edge only if
+/// its bounding box, grown by the tolerance, holds a point of the edge, so each edge is tested
+/// against the triangles registered in the cells it passes through (a uniform grid, cells
+/// found by sorting (cell, triangle) pairs: O(n log n) for n triangles) plus the few
+/// triangles too large for the grid (walls, floors spanning more than kMaxCellsPerTriangle
+/// cells), instead of against every triangle.
+class SealingSurfaces {
+ public:
+  explicit SealingSurfaces(const Mesh& mesh);
+
+  /// Appends to `out` the parts of `e` that stay open, each an edge of its own with e's faces
+  /// and at least kMinPart long: nothing when another triangle holds its midpoint (sealed
+  /// whole); otherwise e less the spans that other triangles' sides lying along its line cover
+  /// (sideAlong), e itself when there are none. Allocates its scratch.
+  void appendOpenParts(const DiffractionEdge& e, std::vector<DiffractionEdge>& out) const;
+
+  static constexpr float kTol = 1e-3f;      ///< m: how far off a triangle's plane still lies in it
+  static constexpr float kMinPart = 2e-3f;  ///< m: shorter open parts are dropped
+
+ private:
+  struct CellEntry {
+    uint64_t key;
+    uint32_t triangle;
+  };
+  static constexpr int64_t kMaxCellsPerTriangle = 64;
+  static constexpr int64_t kMaxCellsPerAxis = int64_t(1) << 20;  // 21 bits of a key each
+
+  void growBoxes();
+  void chooseCells();
+  void registerTriangles();
+  std::array<int64_t, 3> cellOf(const glm::vec3& p) const;
+  static uint64_t keyOf(const std::array<int64_t, 3>& c);
+  /// The triangles registered in the cells the edge passes through, and the large ones;
+  /// ascending, without repeats.
+  std::vector<uint32_t> trianglesAlong(const DiffractionEdge& e) const;
+  /// Whether triangle t (not one of the edge's own faces, both ends its corners) holds the
+  /// edge's midpoint, within kTol of its plane and sides: the edge is sealed whole (a
+  /// partition's rim along the floor).
+  bool holdsMidpoint(uint32_t t, const DiffractionEdge& e) const;
+  /// Whether a side of triangle t (not one of the edge's own faces), which lies in a plane
+  /// holding the edge, runs along the
+  /// edge's line (both its corners within kTol of it) for more than kMinPart: the span
+  /// [lo, hi] (m along e from e.a) it covers, where the surface runs on past the edge (a
+  /// T-junction).
+  bool sideAlong(uint32_t t, const DiffractionEdge& e, float& lo, float& hi) const;
+
+  const Mesh& mesh_;
+  std::vector<glm::vec3> lo_, hi_;  ///< grown boxes, per triangle
+  glm::vec3 origin_{0.f}, top_{0.f};
+  float cell_ = 1.f;              ///< cell size, m
+  std::vector<CellEntry> cells_;  ///< sorted by key
+  std::vector<uint32_t> large_;   ///< triangles spanning more than kMaxCellsPerTriangle cells
+};
+
+}  // namespace dpc

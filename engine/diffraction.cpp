@@ -81,6 +81,8 @@ std::vector<EdgePath> edgePaths(const std::vector<DiffractionEdge>& edges, bool 
       p = EdgePath{};
       if (!cornerPath(e, q.source, q.L, lineOfSight, p)) continue;
     }
+    // Before the legs' test: a hidden path comes back when what hides it is taken away.
+    if (onEdge) findAbsentReflections(q.tracer, q.source, q.L, lineOfSight, p);
     if (!legsFree(q.tracer, q.source, q.L, p))
       q.hidden.push_back({p, {}, false});
     else

@@ -21,8 +21,8 @@
 // the shadow boundary; here the direct sound (when visible) and every edge path are summed
 // coherently and |p|^2 is averaged over 16 frequencies per octave band (each path's phase at
 // all 16, its UTD coefficient D, smooth across a band, at 4 and interpolated between), so the
-// band energy is continuous when the listener crosses a shadow boundary, and distant paths (whose phases
-// differ across the band) add as energies. The result replaces the direct sound: band
+// band energy is continuous when the listener crosses a shadow boundary, and distant paths (whose
+// phases differ across the band) add as energies. The result replaces the direct sound: band
 // intensity <|p|^2> / (4 pi) (the scale of 1/(4 pi r^2)), delay and direction those of the
 // shortest contributing path. Air absorption multiplies each path's energy by exp(-m l).
 // Paths that merge into one impulse arrive within (longest - shortest) path difference; the
@@ -33,7 +33,10 @@
 // face's plane) the face's specular reflection is the tracer's, added in energy, so the UTD
 // term that corrects it at its boundary is left out of the coherent sum (it would stand
 // alone, about minus half a reflection); outside the zone that term is the image source's
-// diffraction and stays. With the line of sight free, an edge whose faces (without end, as
+// diffraction and stays. The zone is the face's as it is, not as UTD takes it (without end):
+// where the face ends before the reflection point (a 0.3 m reveal, the reflection point past
+// its far edge), no reflection is traced and the term stays (engine/edge_path.h
+// findAbsentReflections). With the line of sight free, an edge whose faces (without end, as
 // UTD takes them) would put the listener in its shadow leaves out its shadow-boundary terms:
 // its face ends before the line of sight, and the incident field they continue is there.
 // Openings: the two edges of one face that runs along the line of sight

@@ -62,7 +62,18 @@ bool wedgeAngles(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3& 
   return true;
 }
 
-/// Zeroes the reflection-boundary terms of the faces whose reflection zone holds the listener.
+/// Per face (0 at angle 0, 1 at `wedge`), whether its reflection zone as UTD takes the face
+/// (without end) holds the listener: the listener sees the source's image in its plane. On the
+/// boundary itself (a listener on the axis of a symmetric doorway, seen by both edges of a
+/// reveal at their boundaries) it counts as inside, so that both edges decide alike.
+std::array<bool, 2> reflectionZones(double phiS, double phiL, double wedge) {
+  constexpr double kOnBoundary = 1e-6;  // rad, single-precision geometry
+  return {phiS < kPi && phiL<kPi - phiS + kOnBoundary, phiS> wedge - kPi &&
+          phiL > 2.0 * wedge - kPi - phiS - kOnBoundary};
+}
+
+/// Zeroes the reflection-boundary terms of the faces whose reflection zone holds the listener
+/// and that are there to reflect (EdgePath::reflects).
 /// There the face's specular reflection reaches the listener, and it is the tracer's (an image
 /// source or a ray path, added in energy), not the coherent sum's; the term that corrects that
 /// reflection near its boundary (about -1/2 of it just inside) would stand alone and subtract
@@ -71,13 +82,10 @@ bool wedgeAngles(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3& 
 /// free field in every band. Outside the zone the term is the diffraction of the face's image
 /// source, and kept. Faces: face 0 at angle 0, face n at `wedge`; terms as utdWedgeTerms orders
 /// them ([2] singular at face n's boundary, [3] at face 0's).
-void dropTracedReflectionTerms(double phiS, double phiL, double wedge,
-                               std::array<UtdTerm, 4>& terms) {
-  // On the boundary itself (a listener on the axis of a symmetric doorway, seen by both edges
-  // of a reveal at their boundaries) it counts as inside, so that both edges decide alike.
-  constexpr double kOnBoundary = 1e-6;  // rad, single-precision geometry
-  if (phiS < kPi && phiL < kPi - phiS + kOnBoundary) terms[3].cot = 0.0;
-  if (phiS > wedge - kPi && phiL > 2.0 * wedge - kPi - phiS - kOnBoundary) terms[2].cot = 0.0;
+void dropTracedReflectionTerms(const std::array<bool, 2>& zones,
+                               const std::array<bool, 2>& reflects, std::array<UtdTerm, 4>& terms) {
+  if (zones[0] && reflects[0]) terms[3].cot = 0.0;
+  if (zones[1] && reflects[1]) terms[2].cot = 0.0;
 }
 
 /// Zeroes the shadow-boundary terms when the listener lies in the shadow of the edge's
@@ -166,7 +174,7 @@ bool joinedByFace(const DiffractionEdge& a, const DiffractionEdge& b) {
 
 void setTerms(bool directVisible, EdgePath& p) {
   p.terms = utdWedgeTerms(p.wedge / kPi, p.phiL, p.phiS);
-  dropTracedReflectionTerms(p.phiS, p.phiL, p.wedge, p.terms);
+  dropTracedReflectionTerms(reflectionZones(p.phiS, p.phiL, p.wedge), p.reflects, p.terms);
   // A corner path's run excludes Q, where a term continues the incident field (below).
   if (!p.corner) dropAbsentShadowTerms(p.phiS, p.phiL, directVisible, p.terms);
   p.sums = utdTermSums(p.terms);
@@ -236,6 +244,35 @@ std::array<TraceRay, 2> legRays(const glm::vec3& source, const glm::vec3& L, con
   const float r = glm::distance(source, front), b = glm::distance(back, L);
   return {TraceRay{source, (front - source) / r, kLegEpsilon, r - kLegEpsilon},
           TraceRay{back, (L - back) / b, kLegEpsilon, b - kLegEpsilon}};
+}
+
+void findAbsentReflections(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L,
+                           bool directVisible, EdgePath& p) {
+  constexpr float kIntoFace = 1e-3f, kProbe = 1e-3f, kOnFarEdge = 1e-5f;  // m
+  const std::array<bool, 2> zones = reflectionZones(p.phiS, p.phiL, p.wedge);
+  if (!p.edge || p.corner || p.atEnd || !(zones[0] || zones[1])) return;
+  const DiffractionEdge& e = *p.edge;
+  const std::array<glm::vec3, 2> faces = faceDirections(e);
+  for (size_t f = 0; f < 2; ++f) {
+    if (!zones[f]) continue;
+    const glm::vec3 n = glm::normalize(glm::cross(e.direction, faces[f]));
+    const float ds = glm::dot(source - p.q, n), dl = glm::dot(L - p.q, n);
+    if (!(ds * dl > 0.f)) continue;  // not both on one side of its plane: no image to see
+    const glm::vec3 mirrored = L - 2.f * dl * n;
+    glm::vec3 at = source + (ds / (ds + dl)) * (mirrored - source);
+    const float along = glm::dot(at - p.q, faces[f]);
+    if (along < kIntoFace) at += (kIntoFace - along) * faces[f];  // next to its edge it is there
+    const glm::vec3 side = ds > 0.f ? n : -n;
+    auto holds = [&](const glm::vec3& x) {
+      return tracer.occluded(TraceRay{x + kProbe * side, -side, 0.f, 2.f * kProbe});
+    };
+    // A point on the face's far edge itself counts as on the face, as the far edge's own zone
+    // counts its boundary as inside, so that both edges decide alike.
+    p.reflects[f] = holds(at) || holds(at - kOnFarEdge * faces[f]);
+  }
+  if (p.reflects[0] && p.reflects[1]) return;
+  setTerms(directVisible, p);
+  p.ends = edgeEnds(e, p.q, source, L, p.phiS, p.phiL, p.wedge, p.terms);
 }
 
 bool legsFree(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L,

@@ -70,6 +70,12 @@ struct EdgePath {
   /// Its edge's run's ends seen from Q (engine/finite_edge.h): the UTD field times
   /// finiteEdgeFactor. Unbounded for a path without a UTD field.
   EdgeEnds ends;
+  /// Per face of its wedge (0: at angle 0, the edge's face 0; 1: at `wedge`, its face 1),
+  /// whether the face is there to reflect where the listener sees the source's image in its
+  /// plane (findAbsentReflections); where it is not (a reveal 0.25 m deep, the reflection
+  /// point past its far edge), no reflection reaches the listener and the face's
+  /// reflection-boundary term stays in the sum (setTerms).
+  std::array<bool, 2> reflects{true, true};
   /// A corner path (cornerPath): Q lies beyond its edge's run on the edge's line, the legs
   /// are tested to the run's end (q), and the field is that of the run alone (ends.outside).
   bool corner = false;
@@ -193,6 +199,14 @@ double channelDepth(const EdgePath& p);
 /// and Q + through + beyond + lipBeyond -> L), each stopping
 /// kLegEpsilon short of its ends (the listener sphere itself is not geometry).
 std::array<TraceRay, 2> legRays(const glm::vec3& source, const glm::vec3& L, const EdgePath& p);
+
+/// Sets p.reflects for each face whose reflection zone, as UTD takes the face (without end),
+/// holds the listener: whether the face holds the point where the source's image in its plane
+/// is seen from L (a short ray across the plane there, the point taken at least 1 mm from
+/// p's own edge, where its face is), then sets p's terms and ends again. Propagation thread;
+/// up to two occlusion rays; no allocation.
+void findAbsentReflections(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L,
+                           bool directVisible, EdgePath& p);
 
 /// True when nothing blocks either leg of p.
 bool legsFree(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L, const EdgePath& p);

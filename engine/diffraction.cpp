@@ -228,6 +228,7 @@ void addObjectRims(const std::vector<ObjectEdges>& objects, BoundQuery& q,
     const DiffractionEdge& e = objects[size_t(chains[c].object)].world[chains[c].edge[0]];
     EdgePath p;
     if (!edgePath(e, q.source, q.L, false, p) || !legsFree(q.tracer, q.source, q.L, p)) continue;
+    findAbsentReflections(q.tracer, q.source, q.L, false, p);
     rims.push_back(p);
     from.push_back(c);
   }

@@ -68,8 +68,9 @@ bool wedgeAngles(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3& 
 /// reveal at their boundaries) it counts as inside, so that both edges decide alike.
 std::array<bool, 2> reflectionZones(double phiS, double phiL, double wedge) {
   constexpr double kOnBoundary = 1e-6;  // rad, single-precision geometry
-  return {phiS < kPi && phiL<kPi - phiS + kOnBoundary, phiS> wedge - kPi &&
-          phiL > 2.0 * wedge - kPi - phiS - kOnBoundary};
+  const bool face0 = phiS < kPi && phiL < kPi - phiS + kOnBoundary;
+  const bool faceN = phiS > wedge - kPi && phiL > 2.0 * wedge - kPi - phiS - kOnBoundary;
+  return {face0, faceN};
 }
 
 /// Zeroes the reflection-boundary terms of the faces whose reflection zone holds the listener

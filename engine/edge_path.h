@@ -203,8 +203,11 @@ std::array<TraceRay, 2> legRays(const glm::vec3& source, const glm::vec3& L, con
 /// Sets p.reflects for each face whose reflection zone, as UTD takes the face (without end),
 /// holds the listener: whether the face holds the point where the source's image in its plane
 /// is seen from L (a short ray across the plane there, the point taken at least 1 mm from
-/// p's own edge, where its face is), then sets p's terms and ends again. Propagation thread;
-/// up to two occlusion rays; no allocation.
+/// p's own edge, where its face is, and again 0.01 mm back toward the edge, so that a point on
+/// the far edge's line counts as on the face), then sets p's terms and ends again. Anything in
+/// the face's plane there counts (a coplanar leaf shut in its doorway too; a bound that takes
+/// that leaf away keeps the flag). A corner path, a path without a UTD field (atEnd) or without
+/// an edge is left as it is. Propagation thread; up to four occlusion rays; no allocation.
 void findAbsentReflections(const Tracer& tracer, const glm::vec3& source, const glm::vec3& L,
                            bool directVisible, EdgePath& p);
 

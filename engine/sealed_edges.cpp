@@ -94,28 +94,33 @@ std::vector<uint32_t> SealingSurfaces::trianglesAlong(const DiffractionEdge& e) 
   // The cells the edge passes through, in order (a grid walk: J. Amanatides, A. Woo, "A fast
   // voxel traversal algorithm for ray tracing", Eurographics 1987): a triangle holding a point
   // of the edge was registered in that point's cell.
+  // The walk's cells and its steps both come from the same double coordinates, so that an end
+  // within rounding of a cell's side does not put the whole walk one cell off; the float
+  // registration's grown boxes (kTol) cover the difference between the two.
   const glm::dvec3 ga = (glm::dvec3(e.a) - glm::dvec3(origin_)) / double(cell_);
   const glm::dvec3 d = (glm::dvec3(e.b) - glm::dvec3(origin_)) / double(cell_) - ga;
-  std::array<int64_t, 3> c = cellOf(e.a), step{}, last = cellOf(e.b);
+  std::array<int64_t, 3> c{}, step{};
   glm::dvec3 next(std::numeric_limits<double>::infinity()), delta(next);
+  int64_t cells = 1;  // at most: one per cell side crossed, and the first
   for (int k = 0; k < 3; ++k) {
+    c[size_t(k)] = int64_t(std::floor(ga[k]));
+    cells += std::abs(int64_t(std::floor(ga[k] + d[k])) - c[size_t(k)]);
     if (d[k] == 0.0) continue;
     step[size_t(k)] = d[k] > 0.0 ? 1 : -1;
     delta[k] = 1.0 / std::abs(d[k]);
-    const double boundary = std::floor(ga[k]) + (d[k] > 0.0 ? 1.0 : 0.0);
-    next[k] = (boundary - ga[k]) / d[k];
+    next[k] = (double(c[size_t(k)]) + (d[k] > 0.0 ? 1.0 : 0.0) - ga[k]) / d[k];
   }
   std::vector<uint32_t> out(large_);
-  const int64_t cells =
-      std::abs(last[0] - c[0]) + std::abs(last[1] - c[1]) + std::abs(last[2] - c[2]);
-  for (int64_t i = 0; i <= cells; ++i) {
+  for (int64_t i = 0; i < cells; ++i) {
+    std::array<int64_t, 3> clamped{};
+    for (size_t k = 0; k < 3; ++k) clamped[k] = std::clamp(c[k], int64_t(0), kMaxCellsPerAxis - 1);
     const auto cell =
-        std::equal_range(cells_.begin(), cells_.end(), CellEntry{keyOf(c), 0},
+        std::equal_range(cells_.begin(), cells_.end(), CellEntry{keyOf(clamped), 0},
                          [](const CellEntry& x, const CellEntry& y) { return x.key < y.key; });
     for (auto it = cell.first; it != cell.second; ++it) out.push_back(it->triangle);
     const int k = next[0] < next[1] ? (next[0] < next[2] ? 0 : 2) : (next[1] < next[2] ? 1 : 2);
     if (!(next[k] <= 1.0)) break;
-    c[size_t(k)] = std::clamp(c[size_t(k)] + step[size_t(k)], int64_t(0), kMaxCellsPerAxis - 1);
+    c[size_t(k)] += step[size_t(k)];
     next[k] += delta[k];
   }
   std::sort(out.begin(), out.end());
@@ -142,26 +147,29 @@ bool SealingSurfaces::holdsMidpoint(uint32_t t, const DiffractionEdge& e) const 
   return w0 > -kTol && w1 > -kTol && w2 > -kTol;
 }
 
-bool SealingSurfaces::sideAlong(uint32_t t, const DiffractionEdge& e, float& lo, float& hi) const {
+bool SealingSurfaces::sideAlong(uint32_t t, const DiffractionEdge& e, HeldSpan& span) const {
   const auto& tr = mesh_.triangles[t];
   const glm::vec3 p[3] = {mesh_.vertices[tr[0]], mesh_.vertices[tr[1]], mesh_.vertices[tr[2]]};
   auto isCorner = [&](const glm::vec3& v) { return v == p[0] || v == p[1] || v == p[2]; };
   if (isCorner(e.a) && isCorner(e.b)) return false;  // one of the edge's own faces
-  const glm::vec3 nrm = unitOrZero(glm::cross(p[1] - p[0], p[2] - p[0]));
-  if (glm::length(nrm) == 0.f) return false;
-  if (std::abs(glm::dot(e.a - p[0], nrm)) > kTol || std::abs(glm::dot(e.b - p[0], nrm)) > kTol)
-    return false;
+  if (glm::length(glm::cross(p[1] - p[0], p[2] - p[0])) == 0.f) return false;  // degenerate
   auto offLine = [&](const glm::vec3& v) {
     const glm::vec3 r = v - e.a;
     return glm::length(r - glm::dot(r, e.direction) * e.direction);
   };
   for (int i = 0; i < 3; ++i) {
-    const glm::vec3 u = p[i], v = p[(i + 1) % 3];
+    glm::vec3 u = p[i], v = p[(i + 1) % 3];
     if (offLine(u) > kTol || offLine(v) > kTol) continue;
-    const float tu = glm::dot(u - e.a, e.direction), tv = glm::dot(v - e.a, e.direction);
-    lo = std::max(std::min(tu, tv), 0.f);
-    hi = std::min(std::max(tu, tv), e.length);
-    return hi - lo > kMinPart;
+    float tu = glm::dot(u - e.a, e.direction), tv = glm::dot(v - e.a, e.direction);
+    if (tu > tv) {
+      std::swap(tu, tv);
+      std::swap(u, v);
+    }
+    span.lo = std::max(tu, 0.f);
+    span.hi = std::min(tv, e.length);
+    span.loCorner = tu > 0.f ? u : e.a;
+    span.hiCorner = tv < e.length ? v : e.b;
+    return span.hi - span.lo > kMinPart;
   }
   return false;
 }
@@ -169,32 +177,38 @@ bool SealingSurfaces::sideAlong(uint32_t t, const DiffractionEdge& e, float& lo,
 void SealingSurfaces::appendOpenParts(const DiffractionEdge& e,
                                       std::vector<DiffractionEdge>& out) const {
   const std::vector<uint32_t> near = trianglesAlong(e);
-  for (uint32_t t : near)
-    if (holdsMidpoint(t, e)) return;  // sealed whole
-  std::vector<std::pair<float, float>> held;
+  std::vector<HeldSpan> held;
   for (uint32_t t : near) {
-    float lo = 0.f, hi = 0.f;
-    if (sideAlong(t, e, lo, hi)) held.push_back({lo, hi});
+    HeldSpan span;
+    if (sideAlong(t, e, span))
+      held.push_back(span);
+    else if (holdsMidpoint(t, e))
+      return;  // sealed whole (not at a side: a rim on a floor)
   }
   if (held.empty()) {
     out.push_back(e);
     return;
   }
-  std::sort(held.begin(), held.end());
-  float from = 0.f;  // the open part so far starts here
-  auto emit = [&](float to) {
+  std::sort(held.begin(), held.end(),
+            [](const HeldSpan& x, const HeldSpan& y) { return x.lo < y.lo; });
+  float from = 0.f;  // the open part so far starts here, at the corner `start`
+  glm::vec3 start = e.a;
+  auto emit = [&](float to, const glm::vec3& end) {
     if (to - from < kMinPart) return;
-    DiffractionEdge part = e;
-    part.a = e.a + from * e.direction;
-    part.b = to >= e.length ? e.b : e.a + to * e.direction;
+    DiffractionEdge part = e;  // its ends at the corners that cut it, as a welded mesh has them
+    part.a = start;
+    part.b = end;
     part.length = glm::distance(part.a, part.b);
     out.push_back(part);
   };
-  for (const auto& [lo, hi] : held) {
-    if (lo > from) emit(lo);
-    from = std::max(from, hi);
+  for (const HeldSpan& h : held) {
+    if (h.lo > from) emit(h.lo, h.loCorner);
+    if (h.hi > from) {
+      from = h.hi;
+      start = h.hiCorner;
+    }
   }
-  if (from < e.length) emit(e.length);
+  if (from < e.length) emit(e.length, e.b);
 }
 
 }  // namespace dpc

@@ -4,7 +4,10 @@
 // whose lintel is then one triangle edge as long as the wall, the strips beside the doorway
 // meeting it at vertices of their own) has edges sealed over part of their length only: the
 // part of the strip's edge that no other triangle holds is the doorway's lintel, and only that
-// part diffracts.
+// part diffracts. A face in another plane that meets an edge along a side without sharing its
+// corners (a thick wall's reveal written with T-junctions) seals that span too, as such a
+// meeting always did when it held the edge's midpoint: the wedge the two faces make there is
+// not formed, and that lintel does not diffract (docs/validation.md).
 //
 // Internal to the engine (diffraction_edges). Load time, any thread; construction allocates
 // (a uniform grid of the triangles, O(n log n)); no errors (degenerate triangles seal nothing).
@@ -31,9 +34,10 @@ class SealingSurfaces {
   explicit SealingSurfaces(const Mesh& mesh);
 
   /// Appends to `out` the parts of `e` that stay open, each an edge of its own with e's faces
-  /// and at least kMinPart long: nothing when another triangle holds its midpoint (sealed
-  /// whole); otherwise e less the spans that other triangles' sides lying along its line cover
-  /// (sideAlong), e itself when there are none. Allocates its scratch.
+  /// and at least kMinPart long, its ends at the corners that cut it: e less the spans that
+  /// other triangles' sides lying along its line cover (sideAlong); nothing when a triangle
+  /// holds its midpoint otherwise than at a side (a partition's rim lying on the floor: sealed
+  /// whole); e itself when no triangle holds any of it. Allocates its scratch.
   void appendOpenParts(const DiffractionEdge& e, std::vector<DiffractionEdge>& out) const;
 
   static constexpr float kTol = 1e-3f;      ///< m: how far off a triangle's plane still lies in it
@@ -59,12 +63,17 @@ class SealingSurfaces {
   /// edge's midpoint, within kTol of its plane and sides: the edge is sealed whole (a
   /// partition's rim along the floor).
   bool holdsMidpoint(uint32_t t, const DiffractionEdge& e) const;
-  /// Whether a side of triangle t (not one of the edge's own faces), which lies in a plane
-  /// holding the edge, runs along the
-  /// edge's line (both its corners within kTol of it) for more than kMinPart: the span
-  /// [lo, hi] (m along e from e.a) it covers, where the surface runs on past the edge (a
-  /// T-junction).
-  bool sideAlong(uint32_t t, const DiffractionEdge& e, float& lo, float& hi) const;
+  /// A span of the edge that a triangle's side covers: [lo, hi] m along it from e.a, and the
+  /// side's corners at its ends (the edge's own ends where the side runs past them).
+  struct HeldSpan {
+    float lo = 0.f, hi = 0.f;
+    glm::vec3 loCorner{0.f}, hiCorner{0.f};
+  };
+  /// Whether a side of triangle t (not one of the edge's own faces) runs along the edge's line
+  /// (both its corners within kTol of it) for more than kMinPart: where a surface runs on past
+  /// the edge (a T-junction), or a face in another plane meets it there without sharing its
+  /// corners (taken as sealing it too, as a whole edge held at its midpoint always was).
+  bool sideAlong(uint32_t t, const DiffractionEdge& e, HeldSpan& span) const;
 
   const Mesh& mesh_;
   std::vector<glm::vec3> lo_, hi_;  ///< grown boxes, per triangle

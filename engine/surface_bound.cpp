@@ -106,6 +106,7 @@ void addRim(BoundQuery& q, const DiffractionEdge& e, const std::vector<uint32_t>
   const DiffractionEdge* rim = rimOf(e, removed, q);
   EdgePath p;
   if (!rim || !edgePath(*rim, q.source, q.L, lineOfSight, p)) return;
+  findAbsentReflections(q.tracer, q.source, q.L, lineOfSight, p);
   bool free = true;
   for (const TraceRay& ray : legRays(q.source, q.L, p))
     free = free && crossedSurfaces(q.tracer, ray, q.surfaces, by) &&

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <glm/vec2.hpp>
 #include <string>
 
 #include "engine/diffraction.h"
@@ -91,38 +92,45 @@ TEST_CASE("Diffraction edges: generated terrains with panels keep their edges", 
 
 TEST_CASE("Diffraction edges: a window in a wall meshed with T-junctions has the window's edges",
           "[diffraction]") {
-  // A 10 x 10 m wall (x = 0) with a window 1 x 1 m (y, z 4.5..5.5) meshed as exporters write
-  // it without splitting: two strips the wall's full height beside the window, a panel below
-  // and one above it between them, whose corners lie on the strips' edges (T-junctions). The
-  // oracle is the window's outline: its four sides, each 1 m, are the edges inside the wall
-  // (the rest are the wall's outer rims). Before engine/sealed_edges.h, a strip's edge beside
-  // the window, whose midpoint lies in the window, was one free edge 10 m long; the panels'
-  // edges along the strips were sealed (their midpoints lie on the strips).
-  SceneDesc s;
-  const glm::vec3 y{0, 1, 0}, z{0, 0, 1};
-  test::addPanel(s.mesh, {0, 0, 0}, 4.5f * z, 10.f * y, 0);
-  test::addPanel(s.mesh, {0, 0, 5.5f}, 4.5f * z, 10.f * y, 0);
-  test::addPanel(s.mesh, {0, 0, 4.5f}, 1.f * z, 4.5f * y, 0);
-  test::addPanel(s.mesh, {0, 5.5f, 4.5f}, 1.f * z, 4.5f * y, 0);
-  const EdgeDiffraction d(s.mesh);
-  int inside = 0;
-  float insideLength = 0.f;
-  for (const DiffractionEdge& e : d.edges()) {
-    auto onRim = [](const glm::vec3& p) {
-      return p.y < 1e-4f || p.y > 10.f - 1e-4f || p.z < 1e-4f || p.z > 10.f - 1e-4f;
-    };
-    if (onRim(e.a) && onRim(e.b)) continue;  // the wall's outer rim
-    ++inside;
-    insideLength += e.length;
-    INFO("edge from (" << e.a.y << ", " << e.a.z << ") to (" << e.b.y << ", " << e.b.z << ")");
-    CHECK(e.length == Approx(1.f).margin(1e-4));
-    for (const glm::vec3& p : {e.a, e.b}) {  // on the window's outline
-      CHECK(p.y > 4.5f - 1e-4f);
-      CHECK(p.y < 5.5f + 1e-4f);
-      CHECK(p.z > 4.5f - 1e-4f);
-      CHECK(p.z < 5.5f + 1e-4f);
+  // A 10 x 10 m wall (x = 0) with a window 1 x 1 m meshed as exporters write it without
+  // splitting: two strips the wall's full height beside the window, a panel below and one
+  // above it between them, whose corners lie on the strips' edges (T-junctions). The oracle is
+  // the window's outline: its four sides, each 1 m, are the edges inside the wall (the rest
+  // are the wall's outer rims). In the middle of the wall and off it: there a strip's edge
+  // has its midpoint on a panel's side. Before engine/sealed_edges.h, a strip's edge beside
+  // the middle window, whose midpoint lies in the window, was one free edge 10 m long, and
+  // beside the window off the middle the strips' edges were sealed whole (their midpoints on
+  // the panels' sides), so that window had no jambs.
+  for (const glm::vec2 corner : {glm::vec2(4.5f, 4.5f), glm::vec2(6.5f, 2.f)}) {
+    const float y0 = corner.x, z0 = corner.y;
+    SceneDesc s;
+    const glm::vec3 y{0, 1, 0}, z{0, 0, 1};
+    test::addPanel(s.mesh, {0, 0, 0}, z0 * z, 10.f * y, 0);
+    test::addPanel(s.mesh, {0, 0, z0 + 1.f}, (9.f - z0) * z, 10.f * y, 0);
+    test::addPanel(s.mesh, {0, 0, z0}, 1.f * z, y0 * y, 0);
+    test::addPanel(s.mesh, {0, y0 + 1.f, z0}, 1.f * z, (9.f - y0) * y, 0);
+    const EdgeDiffraction d(s.mesh);
+    int inside = 0;
+    float insideLength = 0.f;
+    for (const DiffractionEdge& e : d.edges()) {
+      auto onRim = [](const glm::vec3& p) {
+        return p.y < 1e-4f || p.y > 10.f - 1e-4f || p.z < 1e-4f || p.z > 10.f - 1e-4f;
+      };
+      if (onRim(e.a) && onRim(e.b)) continue;  // the wall's outer rim
+      ++inside;
+      insideLength += e.length;
+      INFO("window at (" << y0 << ", " << z0 << "): edge from (" << e.a.y << ", " << e.a.z
+                         << ") to (" << e.b.y << ", " << e.b.z << ")");
+      CHECK(e.length == Approx(1.f).margin(1e-4));
+      for (const glm::vec3& p : {e.a, e.b}) {  // on the window's outline
+        CHECK(p.y > y0 - 1e-4f);
+        CHECK(p.y < y0 + 1.f + 1e-4f);
+        CHECK(p.z > z0 - 1e-4f);
+        CHECK(p.z < z0 + 1.f + 1e-4f);
+      }
     }
+    INFO("window at (" << y0 << ", " << z0 << ")");
+    CHECK(inside == 4);
+    CHECK(insideLength == Approx(4.f).margin(1e-3));
   }
-  CHECK(inside == 4);
-  CHECK(insideLength == Approx(4.f).margin(1e-3));
 }

@@ -15,7 +15,9 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-bool freeRim(const DiffractionEdge& e) { return e.open >= float(2.0 * kPi) - 1e-4f; }
+bool freeRim(const DiffractionEdge& e) {
+  return isFreeEdge(e);
+}
 
 /// The unit direction from `front` out of the channel's face into the gap beside it: away
 /// from front's other face, square to the face (none: zero).

@@ -22,8 +22,6 @@ namespace dpc {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-/// Two faces within this angle (radians) of lying flat make no wedge: no diffracting edge.
-constexpr double kFlatEdge = 0.05 * kPi;
 
 glm::vec3 safeNormalize(const glm::vec3& v) {
   const float l = glm::length(v);
@@ -387,7 +385,9 @@ std::vector<DiffractionEdge> candidateEdges(const Mesh& mesh,
   std::vector<DiffractionEdge> edges;
   for (const auto& [key, use] : edgeUses(mesh, id)) {
     DiffractionEdge e;
-    if (makeEdge(mesh, id, surfaces, key, use, e)) sealing.appendOpenParts(e, edges);
+    if (makeEdge(mesh, id, surfaces, key, use, e))
+      sealing.appendOpenParts(e, *std::min_element(use.tris.begin(), use.tris.end()), surfaces,
+                              edges);
   }
   std::sort(edges.begin(), edges.end(), edgeBefore);
   setEdgeRuns(edges);

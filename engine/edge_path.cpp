@@ -109,7 +109,7 @@ void dropAbsentShadowTerms(double phiS, double phiL, bool directVisible,
 /// phiS +- pi), which a lone wedge never closes.
 glm::vec3 mouthDirection(const DiffractionEdge& e, double phiS, double phiL, double wedge,
                          double sense) {
-  if (e.open >= float(2.0 * kPi) - 1e-4f) return -e.face0;
+  if (isFreeEdge(e)) return -e.face0;
   const double lo = std::max({0.0, phiS - kPi, phiL - kPi});
   const double hi = std::min({wedge, phiS + kPi, phiL + kPi});
   const double mid = 0.5 * (lo + hi);

@@ -109,8 +109,8 @@ void markFreeEnds(const SurfaceBodies& bodies, const std::vector<std::vector<uin
     }
   for (DiffractionEdge& e : edges) {
     const uint32_t b = bodyOf(e.surfaces[0]);
-    e.freeEnds = e.open >= float(2.0 * kPi) - 1e-4f && std::isfinite(e.runFrom) &&
-                 std::isfinite(e.runTo) && b != kNone && b < mounted.size() && !mounted[b] &&
+    e.freeEnds = isFreeEdge(e) && std::isfinite(e.runFrom) && std::isfinite(e.runTo) &&
+                 b != kNone && b < mounted.size() && !mounted[b] &&
                  smallBody(bodies, e.surfaces[0]);
   }
 }
@@ -119,7 +119,7 @@ EdgeEnds edgeEnds(const DiffractionEdge& e, const glm::vec3& q, const glm::vec3&
                   const glm::vec3& L, double phiS, double phiL, double wedge,
                   const std::array<UtdTerm, 4>& terms) {
   EdgeEnds out;
-  if (!(e.open >= float(2.0 * kPi) - 1e-4f)) return out;  // a wedge's edge: taken as infinite
+  if (!isFreeEdge(e)) return out;  // a wedge's edge: taken as infinite
   const glm::dvec3 dir(e.direction), Q(q), S(source), R(L);
   const double t = glm::dot(Q - glm::dvec3(e.a), dir);
   const double zs = glm::dot(S - Q, dir), zr = glm::dot(R - Q, dir);

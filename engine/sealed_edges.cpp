@@ -7,6 +7,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vector_relational.hpp>
 #include <limits>
+#include <numbers>
 #include <utility>
 
 namespace dpc {
@@ -169,12 +170,61 @@ bool SealingSurfaces::sideAlong(uint32_t t, const DiffractionEdge& e, HeldSpan& 
     span.hi = std::min(tv, e.length);
     span.loCorner = tu > 0.f ? u : e.a;
     span.hiCorner = tv < e.length ? v : e.b;
+    span.triangle = t;
+    glm::vec3 in = p[(i + 2) % 3] - u;  // toward the third corner, square to the line
+    span.inward = unitOrZero(in - glm::dot(in, e.direction) * e.direction);
+    // A sheet's rim met by a face in another plane is a fold (the two make a wedge there);
+    // within kFoldFlat of the sheet's own plane, either way, the surface runs on (sealed).
+    constexpr float kFoldFlat = 0.999f;
+    span.fold = isFreeEdge(e) && std::abs(glm::dot(span.inward, e.face0)) < kFoldFlat;
     return span.hi - span.lo > kMinPart;
   }
   return false;
 }
 
-void SealingSurfaces::appendOpenParts(const DiffractionEdge& e,
+std::vector<SealingSurfaces::Piece> SealingSurfaces::pieces(const DiffractionEdge& e,
+                                                            std::vector<HeldSpan> held) const {
+  std::vector<std::pair<float, glm::vec3>> cuts{{0.f, e.a}, {e.length, e.b}};
+  for (const HeldSpan& h : held) {
+    cuts.push_back({h.lo, h.loCorner});
+    cuts.push_back({h.hi, h.hiCorner});
+  }
+  std::sort(cuts.begin(), cuts.end(),
+            [](const auto& x, const auto& y) { return x.first < y.first; });
+  std::vector<Piece> out;
+  for (size_t i = 0; i + 1 < cuts.size(); ++i) {
+    const float lo = cuts[i].first, hi = cuts[i + 1].first, mid = 0.5f * (lo + hi);
+    if (!(hi - lo > 0.f)) continue;
+    int fold = -1;  // -1 open, -2 sealed, else the fold's span
+    for (size_t k = 0; k < held.size() && fold != -2; ++k) {
+      if (!(held[k].lo <= mid && mid <= held[k].hi)) continue;
+      // A second fold in the same plane is the first's other copy (a two-sided face).
+      const bool same = fold >= 0 && glm::dot(held[k].inward, held[size_t(fold)].inward) > 0.999f;
+      fold = held[k].fold && (fold == -1 || same) ? (fold == -1 ? int(k) : fold) : -2;
+    }
+    if (!out.empty() && out.back().fold == fold) {
+      out.back().b = cuts[i + 1].second;
+      out.back().hi = hi;
+    } else {
+      out.push_back({cuts[i].second, cuts[i + 1].second, lo, hi, fold});
+    }
+  }
+  return out;
+}
+
+DiffractionEdge SealingSurfaces::foldEdge(const DiffractionEdge& e, const HeldSpan& fold,
+                                          const std::vector<uint32_t>& surfaces) const {
+  DiffractionEdge w = e;
+  double ang =
+      std::atan2(double(glm::dot(fold.inward, e.normal0)), double(glm::dot(fold.inward, e.face0)));
+  if (ang < 0.0) ang += 2.0 * std::numbers::pi;
+  w.open = float(ang);
+  if (fold.triangle < surfaces.size()) w.surfaces[1] = surfaces[fold.triangle];
+  return w;
+}
+
+void SealingSurfaces::appendOpenParts(const DiffractionEdge& e, uint32_t ownTriangle,
+                                      const std::vector<uint32_t>& surfaces,
                                       std::vector<DiffractionEdge>& out) const {
   const std::vector<uint32_t> near = trianglesAlong(e);
   std::vector<HeldSpan> held;
@@ -189,26 +239,21 @@ void SealingSurfaces::appendOpenParts(const DiffractionEdge& e,
     out.push_back(e);
     return;
   }
-  std::sort(held.begin(), held.end(),
-            [](const HeldSpan& x, const HeldSpan& y) { return x.lo < y.lo; });
-  float from = 0.f;  // the open part so far starts here, at the corner `start`
-  glm::vec3 start = e.a;
-  auto emit = [&](float to, const glm::vec3& end) {
-    if (to - from < kMinPart) return;
+  for (const Piece& piece : pieces(e, held)) {
+    if (piece.fold == -2 || piece.hi - piece.lo < kMinPart) continue;
     DiffractionEdge part = e;  // its ends at the corners that cut it, as a welded mesh has them
-    part.a = start;
-    part.b = end;
+    if (piece.fold >= 0) {
+      // Both faces' rims meet here; the one whose face comes first in the mesh lays the wedge.
+      const HeldSpan& f = held[size_t(piece.fold)];
+      if (!(ownTriangle < f.triangle)) continue;
+      part = foldEdge(e, f, surfaces);
+      if (std::abs(double(part.open) - std::numbers::pi) < kFlatEdge) continue;
+    }
+    part.a = piece.a;
+    part.b = piece.b;
     part.length = glm::distance(part.a, part.b);
     out.push_back(part);
-  };
-  for (const HeldSpan& h : held) {
-    if (h.lo > from) emit(h.lo, h.loCorner);
-    if (h.hi > from) {
-      from = h.hi;
-      start = h.hiCorner;
-    }
   }
-  if (from < e.length) emit(e.length, e.b);
 }
 
 }  // namespace dpc

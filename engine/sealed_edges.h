@@ -4,10 +4,10 @@
 // whose lintel is then one triangle edge as long as the wall, the strips beside the doorway
 // meeting it at vertices of their own) has edges sealed over part of their length only: the
 // part of the strip's edge that no other triangle holds is the doorway's lintel, and only that
-// part diffracts. A face in another plane that meets an edge along a side without sharing its
-// corners (a thick wall's reveal written with T-junctions) seals that span too, as such a
-// meeting always did when it held the edge's midpoint: the wedge the two faces make there is
-// not formed, and that lintel does not diffract (docs/validation.md).
+// part diffracts. Where a face in another plane meets a sheet's rim along a side without
+// sharing its corners (a thick wall's reveal written with T-junctions), the two make a wedge
+// over that span: one edge with both faces, laid once (by the rim whose face comes first in
+// the mesh), as a welded mesh has it.
 //
 // Internal to the engine (diffraction_edges). Load time, any thread; construction allocates
 // (a uniform grid of the triangles, O(n log n)); no errors (degenerate triangles seal nothing).
@@ -35,10 +35,15 @@ class SealingSurfaces {
 
   /// Appends to `out` the parts of `e` that stay open, each an edge of its own with e's faces
   /// and at least kMinPart long, its ends at the corners that cut it: e less the spans that
-  /// other triangles' sides lying along its line cover (sideAlong); nothing when a triangle
-  /// holds its midpoint otherwise than at a side (a partition's rim lying on the floor: sealed
-  /// whole); e itself when no triangle holds any of it. Allocates its scratch.
-  void appendOpenParts(const DiffractionEdge& e, std::vector<DiffractionEdge>& out) const;
+  /// other triangles' sides lying along its line cover (sideAlong), a fold's span as a wedge
+  /// of e's face and the fold's when e's face comes first in the mesh (ownTriangle, the
+  /// smallest of its triangles, against the fold's; `surfaces` per triangle its flat surface);
+  /// nothing when a triangle holds its midpoint otherwise than at a side (a partition's rim
+  /// lying on the floor: sealed whole); e itself when no triangle holds any of it. Allocates
+  /// its scratch.
+  void appendOpenParts(const DiffractionEdge& e, uint32_t ownTriangle,
+                       const std::vector<uint32_t>& surfaces,
+                       std::vector<DiffractionEdge>& out) const;
 
   static constexpr float kTol = 1e-3f;      ///< m: how far off a triangle's plane still lies in it
   static constexpr float kMinPart = 2e-3f;  ///< m: shorter open parts are dropped
@@ -68,11 +73,29 @@ class SealingSurfaces {
   struct HeldSpan {
     float lo = 0.f, hi = 0.f;
     glm::vec3 loCorner{0.f}, hiCorner{0.f};
+    uint32_t triangle = 0;  ///< the triangle whose side it is
+    glm::vec3 inward{0.f};  ///< unit, in that triangle's plane, from the line into it
+    bool fold = false;      ///< a face in another plane meeting a sheet's rim: a wedge there
   };
+  /// A stretch of the edge between cuts: [lo, hi] m along it, its ends at the cutting corners;
+  /// fold -1 open, -2 sealed, else the index of the fold's span.
+  struct Piece {
+    glm::vec3 a{0.f}, b{0.f};
+    float lo = 0.f, hi = 0.f;
+    int fold = -1;
+  };
+  /// The edge cut at every span's ends, each stretch classed by the spans over it (sealed
+  /// where any surface runs on past it, else a fold where a fold meets it, else open), runs of
+  /// one class joined.
+  std::vector<Piece> pieces(const DiffractionEdge& e, std::vector<HeldSpan> held) const;
+  /// The wedge a sheet's rim e makes with the fold's face: e's face 0, the fold's as face 1.
+  DiffractionEdge foldEdge(const DiffractionEdge& e, const HeldSpan& fold,
+                           const std::vector<uint32_t>& surfaces) const;
+
   /// Whether a side of triangle t (not one of the edge's own faces) runs along the edge's line
   /// (both its corners within kTol of it) for more than kMinPart: where a surface runs on past
-  /// the edge (a T-junction), or a face in another plane meets it there without sharing its
-  /// corners (taken as sealing it too, as a whole edge held at its midpoint always was).
+  /// the edge (a T-junction: sealed), or, for a sheet's rim, a face in another plane meets it
+  /// there without sharing its corners (a fold: the two make a wedge).
   bool sideAlong(uint32_t t, const DiffractionEdge& e, HeldSpan& span) const;
 
   const Mesh& mesh_;

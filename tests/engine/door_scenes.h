@@ -48,12 +48,12 @@ inline void addDoorwayWall(Mesh& mesh, float x0, bool twice = false) {
 
 /// The same wall meshed with T-junctions: the jamb panels run the wall's full height and the
 /// lintel panel sits between them (the jambs' edges run 0.9 m past the doorway's top).
-inline void addTeeDoorwayWall(Mesh& mesh) {
+inline void addTeeDoorwayWall(Mesh& mesh, float x0 = 6.f) {
   const glm::vec3 y{0, 1, 0}, z{0, 0, 1};
   const float top = 3.f - kDoorHeight, right = 5.f - kDoorZ0 - kDoorWidth;
-  test::addPanel(mesh, {6, 0, 0}, kDoorZ0 * z, 3.f * y, 0);
-  test::addPanel(mesh, {6, kDoorHeight, kDoorZ0}, kDoorWidth * z, top * y, 0);
-  test::addPanel(mesh, {6, 0, kDoorZ0 + kDoorWidth}, right * z, 3.f * y, 0);
+  test::addPanel(mesh, {x0, 0, 0}, kDoorZ0 * z, 3.f * y, 0);
+  test::addPanel(mesh, {x0, kDoorHeight, kDoorZ0}, kDoorWidth * z, top * y, 0);
+  test::addPanel(mesh, {x0, 0, kDoorZ0 + kDoorWidth}, right * z, 3.f * y, 0);
 }
 
 /// Two rooms 6 x 3 x 5 m along x, joined by the doorway (z 2..3, y 0..2.1) in the partition
@@ -87,13 +87,20 @@ inline SceneDesc doorScene(float gap, Leaf leaf, float alpha = 0.2f, bool tee = 
 
 /// doorScene's rooms with the doorway through a wall `depth` metres deep: its faces x = 6 and
 /// 6 + depth and the doorway's reveals (two jambs and the lintel), every face once or
-/// (doubleSided) twice, as an exporter writes a two-sided material.
-inline SceneDesc thickDoorwayScene(float depth, bool doubleSided, float alpha = 0.2f) {
+/// (doubleSided) twice, as an exporter writes a two-sided material; with `tee` each face
+/// written with T-junctions (addTeeDoorwayWall: the jambs' reveals meet the face's strips
+/// along their sides without sharing the corners at the lintel's height).
+inline SceneDesc thickDoorwayScene(float depth, bool doubleSided, float alpha = 0.2f,
+                                   bool tee = false) {
   SceneDesc s = doorScene(0.f, Leaf::kNone, alpha);
   s.mesh = test::makeShoebox({12, 3, 5}, Bands(alpha), 0.3f, kSource, kListener, 0.5f).mesh;
   const glm::vec3 x{depth, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
-  addDoorwayWall(s.mesh, 6.f, doubleSided);
-  addDoorwayWall(s.mesh, 6.f + depth, doubleSided);
+  for (const float x0 : {6.f, 6.f + depth}) {
+    if (tee)
+      addTeeDoorwayWall(s.mesh, x0);
+    else
+      addDoorwayWall(s.mesh, x0, doubleSided);
+  }
   addFace(s.mesh, {6, 0, kDoorZ0}, x, kDoorHeight * y, doubleSided);
   addFace(s.mesh, {6, 0, kDoorZ0 + kDoorWidth}, kDoorHeight * y, x, doubleSided);
   addFace(s.mesh, {6, kDoorHeight, kDoorZ0}, kDoorWidth * z, x, doubleSided);

@@ -130,6 +130,7 @@ TEST_CASE("Doorways: open, on the line of sight, the Kirchhoff aperture integral
   const Bands tee = decibels(directLevel(doorScene(0.f, Leaf::kNone, 0.2f, true)));
   const Bands thick = decibels(directLevel(thickDoorwayScene(0.3f, false)));
   const Bands twice = decibels(directLevel(thickDoorwayScene(0.3f, true)));
+  const Bands thickTee = decibels(directLevel(thickDoorwayScene(0.3f, false, 0.2f, true)));
   std::vector<test::ThinEdge> edges =  // the doorway in x = 6: z 2..3 m, y 0..2.1 m
       test::rectangleEdges({6.0, 0.0, kDoorZ0}, {0.0, 0.0, kDoorWidth}, {0.0, kDoorHeight, 0.0},
                            true);
@@ -141,8 +142,8 @@ TEST_CASE("Doorways: open, on the line of sight, the Kirchhoff aperture integral
   for (const auto& [what, level] :
        {std::pair{"Kirchhoff", kirchhoff}, std::pair{"BTM (to 125 Hz)", btm},
         std::pair{"thin", thin}, std::pair{"T-junctions", tee}, std::pair{"0.3 m", thick},
-        std::pair{"0.3 m twice", twice}}) {
-    std::printf("doorway %-15s (dB re free field)", what);
+        std::pair{"0.3 m twice", twice}, std::pair{"0.3 m, T-junctions", thickTee}}) {
+    std::printf("doorway %-18s (dB re free field)", what);
     for (int b = 0; b < kNumBands; ++b) std::printf(" %6.1f", double(level[b]));
     std::printf("\n");
   }
@@ -153,6 +154,7 @@ TEST_CASE("Doorways: open, on the line of sight, the Kirchhoff aperture integral
     CHECK(std::abs(tee[b] - thin[b]) < 0.05f);
     CHECK(std::abs(thick[b] - kirchhoff[b]) < (b >= 2 ? 1.5f : 3.f));
     CHECK(std::abs(twice[b] - thick[b]) < 0.01f);
+    CHECK(std::abs(thickTee[b] - thick[b]) < 0.05f);
     if (b < 2) CHECK((thin[b] < 0.f && thick[b] < 0.f));
   }
 }

@@ -15,10 +15,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-bool freeRim(const DiffractionEdge& e) {
-  return isFreeEdge(e);
-}
-
 /// The unit direction from `front` out of the channel's face into the gap beside it: away
 /// from front's other face, square to the face (none: zero).
 glm::vec3 channelMouth(const DiffractionEdge& front, const glm::vec3& m) {
@@ -43,7 +39,7 @@ std::vector<NarrowFace> narrowFaces(const std::vector<DiffractionEdge>& edges,
     for (size_t i = 0; i < list.size(); ++i)
       for (size_t j = i + 1; j < list.size(); ++j) {
         const DiffractionEdge &a = edges[list[i]], &b = edges[list[j]];
-        if (freeRim(a) || freeRim(b) || glm::length(acrossTo(a, b)) > kChannelDepthMax ||
+        if (isFreeEdge(a) || isFreeEdge(b) || glm::length(acrossTo(a, b)) > kChannelDepthMax ||
             !joinedByFace(a, b))
           continue;
         out.push_back({std::min(list[i], list[j]), std::max(list[i], list[j])});

@@ -82,7 +82,7 @@ std::vector<EdgePath> edgePaths(const std::vector<DiffractionEdge>& edges, bool 
       if (!cornerPath(e, q.source, q.L, lineOfSight, p)) continue;
     }
     // Before the legs' test: a hidden path comes back when what hides it is taken away.
-    if (onEdge) findAbsentReflections(q.tracer, q.source, q.L, lineOfSight, p);
+    findAbsentReflections(q.tracer, q.source, q.L, lineOfSight, p);
     if (!legsFree(q.tracer, q.source, q.L, p))
       q.hidden.push_back({p, {}, false});
     else

@@ -80,6 +80,7 @@
 #include <cstdint>
 #include <glm/vec3.hpp>
 #include <limits>
+#include <numbers>
 #include <utility>
 #include <vector>
 
@@ -118,11 +119,11 @@ struct DiffractionEdge {
 
 /// Whether e is a free edge: a sheet's rim, one face, its wedge 2 pi.
 inline bool isFreeEdge(const DiffractionEdge& e) {
-  return e.open >= float(2.0 * 3.14159265358979323846) - 1e-4f;
+  return e.open >= float(2.0 * std::numbers::pi) - 1e-4f;
 }
 
 /// rad: two faces within this angle of lying flat make no wedge (no diffracting edge).
-inline constexpr double kFlatEdge = 0.05 * 3.14159265358979323846;
+inline constexpr double kFlatEdge = 0.05 * std::numbers::pi;
 
 /// The bodies of a mesh's flat surfaces: per flat surface the number of its body, the
 /// connected piece of mesh it belongs to (triangles sharing a corner, welded), numbered in the

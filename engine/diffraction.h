@@ -222,6 +222,8 @@ class EdgeDiffraction {
   void setObjectPoses(const std::vector<Pose>& poses);
 
   const std::vector<DiffractionEdge>& edges() const { return edges_; }
+  /// Per static mesh triangle, its flat surface (flatSurfaces, engine/diffraction_edges.h).
+  const std::vector<uint32_t>& surfaces() const { return surfaces_; }
 
   /// Replaces `direct` by the direct sound plus every first-order edge and slit path from
   /// source to the listener centre and, with the line of sight blocked, every path round edges

@@ -302,9 +302,7 @@ bool diffracts(const DiffractionEdge& e, const std::vector<bool>& solid,
 
 }  // namespace
 
-std::vector<float> freeStandingExtents(const Mesh& mesh, const std::vector<uint32_t>& surfaces,
-                                       const SurfaceBodies& bodies,
-                                       const std::vector<DiffractionEdge>& edges) {
+std::vector<double> surfaceBoundaries(const Mesh& mesh, const std::vector<uint32_t>& surfaces) {
   const size_t count =
       surfaces.empty() ? 0 : size_t(*std::max_element(surfaces.begin(), surfaces.end())) + 1;
   const std::vector<uint32_t> id = weldedVertexIds(mesh);
@@ -325,7 +323,7 @@ std::vector<float> freeStandingExtents(const Mesh& mesh, const std::vector<uint3
   for (auto& x : sides)
     if (x[1] > x[2]) std::swap(x[1], x[2]);
   std::sort(sides.begin(), sides.end());
-  std::vector<double> boundary(count, 0.0), diffracting(count, 0.0);
+  std::vector<double> boundary(count, 0.0);
   for (size_t i = 0; i < sides.size();) {
     size_t j = i;
     while (j < sides.size() && sides[j] == sides[i]) ++j;
@@ -334,6 +332,15 @@ std::vector<float> freeStandingExtents(const Mesh& mesh, const std::vector<uint3
           double(glm::distance(mesh.vertices[sides[i][1]], mesh.vertices[sides[i][2]]));
     i = j;
   }
+  return boundary;
+}
+
+std::vector<float> freeStandingExtents(const Mesh& mesh, const std::vector<uint32_t>& surfaces,
+                                       const SurfaceBodies& bodies,
+                                       const std::vector<DiffractionEdge>& edges) {
+  const std::vector<double> boundary = surfaceBoundaries(mesh, surfaces);
+  const size_t count = boundary.size();
+  std::vector<double> diffracting(count, 0.0);
   const std::vector<bool> solid = solidBodies(bodies);
   for (const DiffractionEdge& e : edges) {
     if (!diffracts(e, solid, bodies)) continue;

@@ -36,6 +36,11 @@ inline constexpr float kSolidExtent = 5.f;
 /// stand free (freeStandingExtents).
 inline constexpr double kFreeStanding = 0.75;
 
+/// Per flat surface (`surfaces`, flatSurfaces(mesh)), the length of its boundary (m): the sides
+/// of its triangles used by no other of its triangles (welded corners; a double-sided copy adds
+/// none).
+std::vector<double> surfaceBoundaries(const Mesh& mesh, const std::vector<uint32_t>& surfaces);
+
 /// Per flat surface (`surfaces`, flatSurfaces(mesh)), its extent, the diagonal of its
 /// triangles' bounding box (m), when it stands free: at least kFreeStanding of its boundary's
 /// length is edges (`edges`, candidateEdges) that bound it as a free-standing surface's rim

@@ -28,18 +28,18 @@ Simulation::Simulation(const SceneDesc& scene, const PropagationSettings& settin
   Propagator::Options options;
   options.traceMode = simulationOptions.traceMode;
   options.keyRule = simulationOptions.keyRule;
+  if (settings_.diffraction)
+    diffraction_ = std::make_unique<EdgeDiffraction>(scene.mesh, scene.objects);
   if (std::clamp(std::min(settings_.exactOrder, settings_.maxOrder), 0, kMaxExactOrder) > 0) {
-    specularScene_ = std::make_unique<SpecularScene>(
-        scene.mesh, scene.objects, *geometry_, *tracer_,
-        propagationAirAttenuation(settings_), settings_.speedOfSound);
+    specularScene_ = std::make_unique<SpecularScene>(scene.mesh, scene.objects, *geometry_,
+                                                     *tracer_, propagationAirAttenuation(settings_),
+                                                     settings_.speedOfSound, diffraction_.get());
     specularCandidates_ = std::make_unique<SpecularCandidates>();
     options.specularFaces = specularScene_->faces().faces();
   }
   propagator_ = std::make_unique<Propagator>(*geometry_, *tracer_, settings_, options);
   const size_t pairs = scene.sources.size() * std::max<size_t>(1, scene.listeners.size());
   cachePool_ = std::make_unique<CachePool>(size_t(cachePoolMbFor(settings_, pairs) * 1048576.0));
-  if (settings_.diffraction)
-    diffraction_ = std::make_unique<EdgeDiffraction>(scene.mesh, scene.objects);
   for (const SourceDesc& s : scene.sources) {
     sourcePositions_.push_back(s.position);
     directivities_.push_back(s.directivity);

@@ -9,6 +9,7 @@
 
 #include "common/random.h"
 #include "engine/channel_path.h"
+#include "engine/diffraction.h"
 #include "engine/patch.h"
 
 namespace dpc {
@@ -106,7 +107,8 @@ bool SpecularCandidates::insert(const SpecularSequence& sequence) {
 
 SpecularScene::SpecularScene(const Mesh& mesh, const std::vector<ObjectDesc>& objects,
                              const Geometry& geometry, const Tracer& tracer,
-                             const Bands& airPerMetre, float speedOfSound)
+                             const Bands& airPerMetre, float speedOfSound,
+                             const EdgeDiffraction* diffraction)
     : faces_(meshesOf(mesh, objects)),
       geometry_(geometry),
       tracer_(tracer),
@@ -129,6 +131,9 @@ SpecularScene::SpecularScene(const Mesh& mesh, const std::vector<ObjectDesc>& ob
     const auto& key = objects[k].trajectory;
     setObjectPose(k, key.empty() ? Pose{} : Pose{key.front().position, key.front().rotation});
   }
+  if (diffraction)
+    reflectors_ = std::make_unique<SmallReflectors>(mesh, diffraction->surfaces(),
+                                                    diffraction->edges(), objects);
 }
 
 void SpecularScene::setObjectPose(size_t object, const Pose& pose) {
@@ -300,6 +305,11 @@ bool SpecularScene::validate(const SpecularSequence& seq, const glm::vec3& sourc
   const float toLastLength = glm::length(toLast);
   path.direction = toLastLength > 0.f ? toLast / toLastLength : glm::vec3(0.f);
   Bands factor(1.f);
+  if (reflectors_)
+    factor = reflectors_->pathShare(tracer_, world_,
+                                    std::span<const uint32_t>(seq.triangles.data(), seq.order),
+                                    std::span<const glm::vec3>(path.points.data(), seq.order),
+                                    source, length, double(speedOfSound_));
   for (uint32_t i = 0; i < seq.order; ++i)
     factor *= geometry_.reflectance(seq.triangles[i]) *
               (Bands(1.f) - geometry_.scattering(seq.triangles[i]));

@@ -22,14 +22,17 @@
 // the slit's (engine/diffraction.h, for the direct sound).
 //
 // Energy of a valid path (intensity relative to source power, 1/m^2, DirectSound's scale):
-//   I_b = prod_i (1 - alpha_b(T_i)) (1 - s_b(T_i)) * exp(-m_b d) / (4 pi d^2),
+//   I_b = prod_i (1 - alpha_b(T_i)) (1 - s_b(T_i)) * K_b * exp(-m_b d) / (4 pi d^2),
 // m_b the ISO 9613-1 air attenuation, d the path length (the spreading clamped at R/2 as
-// DirectSound does). The factor (1 - s) per reflection is the probability that a ray takes the
-// specular lobe (docs/design.md, "Reflection direction"): the propagator keeps every listener
-// hit of an all-specular path of order <= N out of the energy response, whose expectation is
-// exactly this I_b, so nothing is counted twice (docs/estimators.md, "Exact early specular
-// paths"). A directional source multiplies I_b by its pattern's weight toward P_1, the direction
-// the path leaves the source (SpecularPathCache::weightBySource), as the rays are weighted.
+// DirectSound does), K_b the share of the image source's field that the face of a first-order
+// path reflects when it stands free and is smaller than the first Fresnel zone (a door leaf, a
+// thick doorway's reveal; engine/small_reflectors.h), 1 otherwise. The factor (1 - s) per
+// reflection is the probability that a ray takes the specular lobe (docs/design.md, "Reflection
+// direction"): the propagator keeps every listener hit of an all-specular path of order <= N out of
+// the energy response, whose expectation is exactly this I_b, so nothing is counted twice
+// (docs/estimators.md, "Exact early specular paths"). A directional source multiplies I_b by its
+// pattern's weight toward P_1, the direction the path leaves the source
+// (SpecularPathCache::weightBySource), as the rays are weighted.
 //
 // Persistence across frames (as the DPC keeps its paths, Schissler thesis §3.2.2): each
 // source-listener pair keeps the sequences that validated once and re-validates them every
@@ -49,17 +52,21 @@
 #include <array>
 #include <cstdint>
 #include <glm/vec3.hpp>
+#include <memory>
 #include <vector>
 
 #include "common/bands.h"
 #include "engine/coplanar_faces.h"
 #include "engine/energy_response.h"
 #include "engine/geometry.h"
+#include "engine/small_reflectors.h"
 #include "engine/tracer.h"
 #include "scene/directivity.h"
 #include "scene/scene.h"
 
 namespace dpc {
+
+class EdgeDiffraction;  // engine/diffraction.h (which includes this header through propagation.h)
 
 /// The faces T1..Tk of an all-specular path (CoplanarFaces::faceOf of the triangles struck:
 /// the smallest triangle number of each coplanar face), k = order in 1..kMaxExactOrder;
@@ -132,8 +139,13 @@ class SpecularScene {
   /// places them); geometry, tracer: the simulation's, outliving this. airPerMetre: ISO 9613-1
   /// energy attenuation per band, 1/m; speedOfSound m/s. The visibility queries keep
   /// surfaceOffset() (engine/tracer.h) clear of a reflecting surface, as the rays do.
+  /// diffraction: the simulation's edge diffraction of the same scene when it is on (its edge
+  /// paths carry the rest of a small face's field): then a first-order path off a small
+  /// free-standing face carries its Kirchhoff share (engine/small_reflectors.h); null: every
+  /// path carries its image source's whole reflection.
   SpecularScene(const Mesh& mesh, const std::vector<ObjectDesc>& objects, const Geometry& geometry,
-                const Tracer& tracer, const Bands& airPerMetre, float speedOfSound);
+                const Tracer& tracer, const Bands& airPerMetre, float speedOfSound,
+                const EdgeDiffraction* diffraction = nullptr);
 
   /// The scene's coplanar faces: sequences are over faces (CoplanarFaces::faceOf of the
   /// triangles the rays struck), and a reflection point may lie in any triangle of its face.
@@ -154,9 +166,7 @@ class SpecularScene {
   bool imageOf(const SpecularSequence& sequence, const glm::vec3& source, glm::dvec3& image) const;
 
  private:
-  struct Triangle {
-    glm::vec3 v0{0.f}, v1{0.f}, v2{0.f};
-  };
+  using Triangle = WorldTriangle;
   /// The planes of the sequence's faces and the images S_0 .. S_k; false as imageOf.
   bool mirror(const SpecularSequence& sequence, const glm::dvec3& source,
               std::array<FacePlane, kMaxExactOrder>& planes,
@@ -180,6 +190,8 @@ class SpecularScene {
   bool insideFace(const glm::dvec3& q, uint32_t face) const;
 
   CoplanarFaces faces_;
+  /// Which faces stand free, and the share they reflect (none without edge diffraction).
+  std::unique_ptr<SmallReflectors> reflectors_;
   std::vector<Triangle> world_;               ///< per triangle, current pose
   std::vector<std::vector<Triangle>> local_;  ///< per object, local coordinates
   std::vector<uint32_t> objectFirst_;         ///< per object, its first triangle number

@@ -5,11 +5,9 @@
 #include <complex>
 #include <glm/geometric.hpp>
 #include <numbers>
-#include <set>
 
 #include "engine/diffraction.h"
 #include "engine/diffraction_edges.h"
-#include "scene/mesh_topology.h"
 
 namespace dpc {
 
@@ -22,14 +20,19 @@ constexpr uint8_t kFront = 1, kBack = 2;
 constexpr double kProbeWavelengths = 0.125;
 /// A probe's hit counts as coplanar when its normal is within about 2.6 degrees of the face's.
 constexpr double kCoplanarCos = 0.999;
-/// The face's own part is integrated over its triangles when it is no larger than the tapered
-/// ellipse and has at most kOwnTriangles triangles (a bound on the cost; otherwise it covers a
-/// good part of the ellipse, and the probes find it).
-constexpr size_t kOwnTriangles = 1024;
-/// A triangle is halved (into four) while its Fresnel phase varies by more than kPhaseStep rad,
-/// at most kOwnDepth times (pieces of 1/4096 of it).
-constexpr double kPhaseStep = 0.5;
-constexpr int kOwnDepth = 6;
+/// The surface's own part is integrated over its triangles when it has at most kOwnTriangles
+/// (otherwise the probes find it). Over a piece its phase is taken linear between the corners'
+/// and integrated exactly, the taper at its centroid; a triangle is halved across its longest
+/// side while its corners' phases spread over more than kPhaseSpread rad, the phase's curvature
+/// departs from linear by more than kPhaseCurvature rad or the taper changes by more than
+/// kTaperSpread across it, at most kOwnDepth times, when the surface has at most kFineTriangles
+/// triangles (else whole). Pieces past the taper's end are dropped whole.
+constexpr size_t kOwnTriangles = 16384, kFineTriangles = 1024;
+constexpr double kPhaseSpread = 3.0, kPhaseCurvature = 0.3, kTaperSpread = 0.25;
+constexpr int kOwnDepth = 16;
+/// Terms of the series for a piece's mean phase factor: at a spread of kPhaseSpread the last is
+/// below 1e-16.
+constexpr int kSeriesTerms = 28;
 
 glm::dvec3 triangleNormal(const Mesh& mesh, size_t t) {
   const auto& v = mesh.triangles[t];
@@ -137,10 +140,29 @@ void addAt(BandSums& sums, double weight, double s, double phase = 0.0) {
                           (phase - std::numbers::pi * s) * m[i]);
 }
 
-/// Adds the integral of taper(s) e^{-j pi s} dA (m^2) over triangle (a, b, c) (m) at each of
-/// the band's frequencies, halving it while its phase at the highest varies by more than
-/// kPhaseStep; a piece d before the plane (a flat surface bends by up to kFlatEdge) shifted by
-/// shift d (rad at the centre frequency).
+/// The mean of e^{j phi} over a triangle whose phase phi is linear between its corners' p1, p2,
+/// p3 (rad): 2 e[j p1, j p2, j p3], the divided difference of exp over the simplex
+/// (Hermite-Genocchi), summed as its series about the mean phase (stable at any spread).
+std::complex<double> meanPhaseFactor(double p1, double p2, double p3) {
+  using C = std::complex<double>;
+  const double c = (p1 + p2 + p3) / 3.0;
+  const C w1(0.0, p1 - c), w2(0.0, p2 - c), w3(0.0, p3 - c);
+  C h1(1.0), h2(1.0), h3(1.0), sum(0.5);  // complete homogeneous sums of degree 0, over 2!
+  double factorial = 2.0;
+  for (int n = 1; n <= kSeriesTerms; ++n) {
+    h1 *= w1;           // of w1
+    h2 = h1 + w2 * h2;  // of w1, w2
+    h3 = h2 + w3 * h3;  // of w1, w2, w3
+    factorial *= double(n + 2);
+    sum += h3 / factorial;
+  }
+  return 2.0 * std::polar(1.0, c) * sum;
+}
+
+/// Adds the integral of taper(s) e^{j (shift d - pi s)} dA (m^2) over triangle (a, b, c) (m) at
+/// each of the band's frequencies (s the zone number squared, d the height before the plane,
+/// `shift` rad per metre at the centre frequency), halved across its longest side (in the
+/// zone's axes) while kPhaseSpread or kPhaseCurvature is exceeded at the highest.
 void addOwn(BandSums& sums, const SmallReflectors::Zone& z, double ru, double rv, double shift,
             const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, int depth) {
   const auto m = bandMultipliers();
@@ -148,62 +170,65 @@ void addOwn(BandSums& sums, const SmallReflectors::Zone& z, double ru, double rv
                    pc = zonePoint(z, ru, rv, c);
   const double least = leastSquaredRadius(pa, pb, pc);
   if (least * m.front() >= SmallReflectors::kTaperEnd) return;
+  const double ab = glm::dot(pb - pa, pb - pa), bc = glm::dot(pc - pb, pc - pb),
+               ca = glm::dot(pa - pc, pa - pc);
+  const double pi = std::numbers::pi;
+  const std::array<double, 3> phase{
+      shift * glm::dot(a - z.point, z.normal) - pi * glm::dot(pa, pa),
+      shift * glm::dot(b - z.point, z.normal) - pi * glm::dot(pb, pb),
+      shift * glm::dot(c - z.point, z.normal) - pi * glm::dot(pc, pc)};
+  const double spread =
+      *std::max_element(phase.begin(), phase.end()) - *std::min_element(phase.begin(), phase.end());
+  const double curvature = 0.25 * pi * std::max({ab, bc, ca});
   const double most = std::max({glm::dot(pa, pa), glm::dot(pb, pb), glm::dot(pc, pc)});
-  if (depth == 0 || std::numbers::pi * (most - least) * m.back() <= kPhaseStep) {
+  const double taperSpread =
+      SmallReflectors::taper(least * m.back()) - SmallReflectors::taper(most * m.back());
+  if (depth == 0 || (spread * m.back() <= kPhaseSpread && curvature * m.back() <= kPhaseCurvature &&
+                     taperSpread <= kTaperSpread)) {
     const glm::dvec2 centroid = (pa + pb + pc) / 3.0;
-    const double before = glm::dot((a + b + c) / 3.0 - z.point, z.normal);
-    addAt(sums, 0.5 * glm::length(glm::cross(b - a, c - a)), glm::dot(centroid, centroid),
-          shift * before);
+    const double area = 0.5 * glm::length(glm::cross(b - a, c - a)),
+                 s = glm::dot(centroid, centroid);
+    for (size_t i = 0; i < sums.size(); ++i)
+      sums[i] += area * SmallReflectors::taper(s * m[i]) *
+                 meanPhaseFactor(phase[0] * m[i], phase[1] * m[i], phase[2] * m[i]);
     return;
   }
-  const glm::dvec3 ab = 0.5 * (a + b), bc = 0.5 * (b + c), ca = 0.5 * (c + a);
-  addOwn(sums, z, ru, rv, shift, a, ab, ca, depth - 1);
-  addOwn(sums, z, ru, rv, shift, ab, b, bc, depth - 1);
-  addOwn(sums, z, ru, rv, shift, ca, bc, c, depth - 1);
-  addOwn(sums, z, ru, rv, shift, ab, bc, ca, depth - 1);
+  if (ab >= bc && ab >= ca) {
+    addOwn(sums, z, ru, rv, shift, a, 0.5 * (a + b), c, depth - 1);
+    addOwn(sums, z, ru, rv, shift, 0.5 * (a + b), b, c, depth - 1);
+  } else if (bc >= ca) {
+    addOwn(sums, z, ru, rv, shift, a, b, 0.5 * (b + c), depth - 1);
+    addOwn(sums, z, ru, rv, shift, a, 0.5 * (b + c), c, depth - 1);
+  } else {
+    addOwn(sums, z, ru, rv, shift, a, b, 0.5 * (c + a), depth - 1);
+    addOwn(sums, z, ru, rv, shift, 0.5 * (c + a), b, c, depth - 1);
+  }
 }
 
-/// Whether x, seen along the unit n, lies in one of the triangles `own` (the surface integrated
-/// already, whose double-sided copy is the same surface).
-bool onFace(const std::vector<WorldTriangle>& world, std::span<const uint32_t> own,
-            const glm::dvec3& x, const glm::dvec3& n) {
-  constexpr double kSlack = 1e-9;  // m^2: a point on a shared side counts
+/// Adds the surface's own triangles `own` that face as `facing` does (the reflecting
+/// triangle's normal: a double-sided copy and a curved surface's far side are left out).
+void addOwnSurface(BandSums& sums, const std::vector<WorldTriangle>& world,
+                   std::span<const uint32_t> own, const glm::dvec3& facing,
+                   const SmallReflectors::Zone& z, double ru, double rv, double shift) {
+  const int depth = own.size() <= kFineTriangles ? kOwnDepth : 0;
   for (uint32_t t : own) {
     if (t >= world.size()) continue;
     const glm::dvec3 a(world[t].v0), b(world[t].v1), c(world[t].v2);
-    if (!(std::abs(glm::dot(glm::cross(b - a, c - a), n)) > kSlack)) continue;  // degenerate
-    const double ab = glm::dot(glm::cross(b - a, x - a), n),
-                 bc = glm::dot(glm::cross(c - b, x - b), n),
-                 ca = glm::dot(glm::cross(a - c, x - c), n);
-    if ((ab >= -kSlack && bc >= -kSlack && ca >= -kSlack) ||
-        (ab <= kSlack && bc <= kSlack && ca <= kSlack))
-      return true;
+    if (glm::dot(glm::cross(b - a, c - a), facing) < 0.0) continue;
+    addOwn(sums, z, ru, rv, shift, a, b, c, depth);
   }
-  return false;
 }
 
-/// Adds one mesh's flat surfaces (`surfaces`, flatSurfaces of it) to `members` and `area`, its
-/// triangles numbered from `first`: each triangle once per set of welded corners.
-void addSurfaces(const Mesh& mesh, const std::vector<uint32_t>& surfaces, uint32_t first,
-                 std::vector<uint32_t>& surfaceOf, std::vector<std::vector<uint32_t>>& members,
-                 std::vector<double>& area) {
+/// Adds one mesh's flat surfaces (`surfaces`, flatSurfaces of it) to `members`, its triangles
+/// numbered from `first`.
+void addSurfaces(const std::vector<uint32_t>& surfaces, uint32_t first,
+                 std::vector<uint32_t>& surfaceOf, std::vector<std::vector<uint32_t>>& members) {
   const auto offset = uint32_t(members.size());
-  const std::vector<uint32_t> id = weldedVertexIds(mesh);
-  std::set<std::array<uint32_t, 4>> seen;
-  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+  for (size_t t = 0; t < surfaces.size(); ++t) {
     const uint32_t s = offset + surfaces[t];
     surfaceOf.push_back(s);
-    if (s >= members.size()) {
-      members.resize(s + 1);
-      area.resize(s + 1, 0.0);
-    }
-    const auto& v = mesh.triangles[t];
-    std::array<uint32_t, 4> key{s, id[v[0]], id[v[1]], id[v[2]]};
-    std::sort(key.begin() + 1, key.end());
-    if (!seen.insert(key).second) continue;
+    if (s >= members.size()) members.resize(s + 1);
     members[s].push_back(first + uint32_t(t));
-    const glm::dvec3 a(mesh.vertices[v[0]]), b(mesh.vertices[v[1]]), c(mesh.vertices[v[2]]);
-    area[s] += 0.5 * glm::length(glm::cross(b - a, c - a));
   }
 }
 
@@ -213,12 +238,12 @@ SmallReflectors::SmallReflectors(const Mesh& mesh, const std::vector<uint32_t>& 
                                  const std::vector<DiffractionEdge>& edges,
                                  const std::vector<ObjectDesc>& objects)
     : free_(freeSides(mesh, surfaces, edges)) {
-  addSurfaces(mesh, surfaces, 0, surface_, members_, area_);
+  addSurfaces(surfaces, 0, surface_, members_);
   for (const ObjectDesc& o : objects) {
     const std::vector<uint32_t> objectSurfaces = flatSurfaces(o.mesh);
     const std::vector<uint8_t> sides =
         freeSides(o.mesh, objectSurfaces, candidateEdges(o.mesh, objectSurfaces));
-    addSurfaces(o.mesh, objectSurfaces, uint32_t(free_.size()), surface_, members_, area_);
+    addSurfaces(objectSurfaces, uint32_t(free_.size()), surface_, members_);
     free_.insert(free_.end(), sides.begin(), sides.end());
   }
   // Sunflower: sample k at radius sqrt((k + 1/2) / K), turned by the golden angle each step.
@@ -258,21 +283,22 @@ double SmallReflectors::taper(double s) {
 }
 
 double SmallReflectors::energyRatio(const Tracer& tracer, const std::vector<WorldTriangle>& world,
-                                    uint32_t surface, const Zone& z, double radius,
+                                    uint32_t t, const Zone& z, double radius,
                                     double wavelength) const {
+  const uint32_t surface = surface_[t];
   const auto m = bandMultipliers();
   const double ru = radius / z.cosIncidence, rv = radius;
   const double reach = kTaperEnd / m.front();  // s at fc where the lowest frequency's taper ends
   const std::span<const uint32_t> own = members_[surface];
-  const bool exact =
-      own.size() <= kOwnTriangles && area_[surface] <= reach * std::numbers::pi * ru * rv;
+  const bool exact = own.size() <= kOwnTriangles;
   const double k = 2.0 * std::numbers::pi / wavelength;  // a surface d before the plane
   const double shift = 2.0 * k * z.cosIncidence;         // shortens the path by 2 d cos(theta)
   BandSums sums{};                                       // m^2
   if (exact)
-    for (uint32_t t : own)
-      if (t < world.size())
-        addOwn(sums, z, ru, rv, shift, world[t].v0, world[t].v1, world[t].v2, kOwnDepth);
+    addOwnSurface(
+        sums, world, own,
+        glm::cross(glm::dvec3(world[t].v1 - world[t].v0), glm::dvec3(world[t].v2 - world[t].v0)), z,
+        ru, rv, shift);
   // The samples spread evenly over the ellipse s <= reach, of area reach pi ru rv.
   const double cell = reach * std::numbers::pi * ru * rv / double(samples_.size());
   const double depth = kProbeWavelengths * wavelength;
@@ -283,8 +309,11 @@ double SmallReflectors::energyRatio(const Tracer& tracer, const std::vector<Worl
     if (!tracer.intersect(TraceRay{glm::vec3(x), glm::vec3(-z.normal), 0.f, float(2.0 * depth)},
                           hit))
       continue;
-    if (std::abs(glm::dot(glm::dvec3(hit.normal), z.normal)) < kCoplanarCos) continue;
-    if (exact && onFace(world, own, x - double(hit.t) * z.normal, z.normal)) continue;
+    // Its own surface counts at any tilt (a fold of up to kFlatEdge), integrated already when
+    // exact; other surface only parallel to the plane.
+    const bool onOwn = hit.triangle < surface_.size() && surface_[hit.triangle] == surface;
+    if (exact && onOwn) continue;
+    if (!onOwn && std::abs(glm::dot(glm::dvec3(hit.normal), z.normal)) < kCoplanarCos) continue;
     addAt(sums, cell, glm::dot(q, q), shift * (depth - double(hit.t)));
   }
   // |p / p_image| = (pi / Z) |sum| at each frequency, Z = pi ru rv / m its first zone's area.
@@ -303,8 +332,7 @@ Bands SmallReflectors::share(const Tracer& tracer, const std::vector<WorldTriang
   for (int b = 0; b < kNumBands; ++b) {
     const double wavelength = speedOfSound / bandCentreExactHz(b);
     const double radius = std::sqrt(wavelength * zone.distance);
-    const double s =
-        std::min(1.0, energyRatio(tracer, world, surface_[t], zone, radius, wavelength));
+    const double s = std::min(1.0, energyRatio(tracer, world, t, zone, radius, wavelength));
     // From the first band the surface reflects whole, the higher bands' smaller zones lie
     // further inside it; the integral's swing about 1 there is left out, as it is above 1.
     if (s >= 1.0) break;

@@ -22,11 +22,12 @@
 //
 // The covered part counts every coplanar surface, whatever its body: a row of tables at one
 // height or a wall's panels reflect together. The reflecting surface's own part, its flat
-// surface (engine/diffraction_edges.h flatSurfaces: a double-sided sheet's two copies counted
-// once), is integrated over its triangles, each cut while its phase varies by more than half a
-// radian, when it is no larger than the probed ellipse and has at most 1,024 triangles. Other
-// surface is found by kZoneSamples probes spread evenly over the tapered ellipse (a sunflower
-// pattern), a ray across the plane at each from an eighth of a wavelength before it to as far
+// surface (engine/diffraction_edges.h flatSurfaces) less its triangles facing the other way (a
+// double-sided sheet's second copy, a curved surface's far side), is integrated over its
+// triangles, the phase taken linear over each piece and integrated exactly, a piece halved
+// while it departs from linear by more than 0.3 rad (at most 1,024 triangles; one piece each
+// up to 16,384; beyond, the probes find it). Other surface is found by kZoneSamples probes
+// spread evenly over the tapered ellipse (a sunflower pattern), a ray across the plane at each from an eighth of a wavelength before it to as far
 // behind: a parallel surface that near counts too (a panel on a wall and the wall round it
 // reflect together at low frequencies), its phase shifted by the path it saves or adds; one
 // farther off does not (a hard limit: a panel 0.3 m before a wall reads it at 63-125 Hz only).
@@ -123,17 +124,15 @@ class SmallReflectors {
               const Zone& zone, double speedOfSound) const;
 
  private:
-  /// |p / p_image|^2 averaged over the band's kBandPoints frequencies, its centre's zone of
-  /// semi-axes radius / cosIncidence and radius (m), its centre's wavelength (m).
-  double energyRatio(const Tracer& tracer, const std::vector<WorldTriangle>& world,
-                     uint32_t surface, const Zone& zone, double radius, double wavelength) const;
+  /// |p / p_image|^2 averaged over the band's kBandPoints frequencies for a reflection off
+  /// triangle t's flat surface, its centre's zone of semi-axes radius / cosIncidence and radius
+  /// (m), its centre's wavelength (m).
+  double energyRatio(const Tracer& tracer, const std::vector<WorldTriangle>& world, uint32_t t,
+                     const Zone& zone, double radius, double wavelength) const;
 
   std::vector<uint8_t> free_;      ///< per triangle: bit 0 its front stands free, bit 1 its back
   std::vector<uint32_t> surface_;  ///< per triangle, its flat surface (objects' after the mesh's)
-  /// Per flat surface, its triangles once each (a double-sided copy on the same corners left
-  /// out), and their area (m^2).
-  std::vector<std::vector<uint32_t>> members_;
-  std::vector<double> area_;
+  std::vector<std::vector<uint32_t>> members_;      ///< per flat surface, its triangles
   std::array<glm::dvec2, kZoneSamples> samples_{};  ///< in the unit disk
 };
 

@@ -5,6 +5,7 @@
 #include <complex>
 #include <glm/geometric.hpp>
 #include <numbers>
+#include <span>
 
 #include "engine/diffraction.h"
 #include "engine/diffraction_edges.h"
@@ -98,10 +99,6 @@ std::vector<uint8_t> freeSides(const Mesh& mesh, const std::vector<uint32_t>& su
   return out;
 }
 
-}  // namespace
-
-namespace {
-
 /// s: the zone number squared, rho^2 = (x_u / ru)^2 + (x_v / rv)^2 in the zone's axes; the
 /// Fresnel phase there is pi s (pi at the first zone's rim).
 glm::dvec2 zonePoint(const SmallReflectors::Zone& z, double ru, double rv, const glm::dvec3& x) {
@@ -133,7 +130,7 @@ using BandSums = std::array<std::complex<double>, SmallReflectors::kBandPoints>;
 
 /// Adds weight taper(s m) e^{j (phase - pi s) m} at each of the band's frequencies m, s the zone
 /// number squared and `phase` (rad) a shift, both at the centre frequency.
-void addAt(BandSums& sums, double weight, double s, double phase = 0.0) {
+void addAt(BandSums& sums, double weight, double s, double phase) {
   const auto m = bandMultipliers();
   for (size_t i = 0; i < sums.size(); ++i)
     sums[i] += std::polar(weight * SmallReflectors::taper(s * m[i]),
@@ -162,7 +159,7 @@ std::complex<double> meanPhaseFactor(double p1, double p2, double p3) {
 /// Adds the integral of taper(s) e^{j (shift d - pi s)} dA (m^2) over triangle (a, b, c) (m) at
 /// each of the band's frequencies (s the zone number squared, d the height before the plane,
 /// `shift` rad per metre at the centre frequency), halved across its longest side (in the
-/// zone's axes) while kPhaseSpread or kPhaseCurvature is exceeded at the highest.
+/// zone's axes) while kPhaseSpread, kPhaseCurvature or kTaperSpread is exceeded at the highest.
 void addOwn(BandSums& sums, const SmallReflectors::Zone& z, double ru, double rv, double shift,
             const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, int depth) {
   const auto m = bandMultipliers();
@@ -341,13 +338,11 @@ Bands SmallReflectors::share(const Tracer& tracer, const std::vector<WorldTriang
   return out;
 }
 
-Bands SmallReflectors::pathShare(const Tracer& tracer, const std::vector<WorldTriangle>& world,
-                                 std::span<const uint32_t> triangles,
-                                 std::span<const glm::vec3> points, const glm::vec3& source,
-                                 double length, double speedOfSound) const {
-  if (triangles.size() != 1 || points.size() != 1) return Bands(1.f);
-  const uint32_t t = triangles[0];
-  const glm::dvec3 p(points[0]);
+Bands SmallReflectors::firstOrderShare(const Tracer& tracer,
+                                       const std::vector<WorldTriangle>& world, uint32_t t,
+                                       const glm::vec3& point, const glm::vec3& source,
+                                       double length, double speedOfSound) const {
+  const glm::dvec3 p(point);
   const glm::dvec3 in = p - glm::dvec3(source);
   const double before = glm::length(in);
   if (t >= world.size() || !(before > 0.0) || !(length - before > 0.0)) return Bands(1.f);

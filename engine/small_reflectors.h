@@ -27,10 +27,11 @@
 // triangles, the phase taken linear over each piece and integrated exactly, a piece halved
 // while it departs from linear by more than 0.3 rad (at most 1,024 triangles; one piece each
 // up to 16,384; beyond, the probes find it). Other surface is found by kZoneSamples probes
-// spread evenly over the tapered ellipse (a sunflower pattern), a ray across the plane at each from an eighth of a wavelength before it to as far
-// behind: a parallel surface that near counts too (a panel on a wall and the wall round it
-// reflect together at low frequencies), its phase shifted by the path it saves or adds; one
-// farther off does not (a hard limit: a panel 0.3 m before a wall reads it at 63-125 Hz only).
+// spread evenly over the tapered ellipse (a sunflower pattern), a ray across the plane at each from
+// an eighth of a wavelength before it to as far behind: a parallel surface that near counts too (a
+// panel on a wall and the wall round it reflect together at low frequencies), its phase shifted by
+// the path it saves or adds; one farther off does not (a hard limit: a panel 0.3 m before a wall
+// reads it at 63-125 Hz only).
 //
 // First-order paths only. There the face's edges diffract the direct sound (engine/
 // diffraction.h) and carry the rest of its field, the lobe round the image that a small face
@@ -57,7 +58,6 @@
 #include <cstdint>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
-#include <span>
 #include <vector>
 
 #include "common/bands.h"
@@ -98,13 +98,13 @@ class SmallReflectors {
   /// normal points to) when `front`, else on its back side. False for t out of range.
   bool standsFree(uint32_t t, bool front) const;
 
-  /// The share per octave band that a first-order path from `source` (m) through `points` off
-  /// `triangles` (one each; Geometry's numbers, in `world`: every triangle in its current pose)
-  /// reflects, `length` the path's unfolded length (m), speedOfSound m/s. 1 in every band for a
-  /// path of higher order (see above) or off a face that does not stand free.
-  Bands pathShare(const Tracer& tracer, const std::vector<WorldTriangle>& world,
-                  std::span<const uint32_t> triangles, std::span<const glm::vec3> points,
-                  const glm::vec3& source, double length, double speedOfSound) const;
+  /// The share per octave band that a first-order path from `source` (m) reflected at `point`
+  /// (m) off triangle t (Geometry's number, in `world`: every triangle in its current pose)
+  /// reflects, `length` the path's unfolded length (m), speedOfSound m/s. 1 in every band off a
+  /// face that does not stand free. Higher orders keep their image sources (see above).
+  Bands firstOrderShare(const Tracer& tracer, const std::vector<WorldTriangle>& world, uint32_t t,
+                        const glm::vec3& point, const glm::vec3& source, double length,
+                        double speedOfSound) const;
 
   /// One reflection's first Fresnel zone: the point (m), the unit normal toward the incoming
   /// sound, unit in-plane axes u (in the plane of incidence) and v, cos(theta) (at least

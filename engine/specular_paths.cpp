@@ -305,11 +305,9 @@ bool SpecularScene::validate(const SpecularSequence& seq, const glm::vec3& sourc
   const float toLastLength = glm::length(toLast);
   path.direction = toLastLength > 0.f ? toLast / toLastLength : glm::vec3(0.f);
   Bands factor(1.f);
-  if (reflectors_)
-    factor = reflectors_->pathShare(tracer_, world_,
-                                    std::span<const uint32_t>(seq.triangles.data(), seq.order),
-                                    std::span<const glm::vec3>(path.points.data(), seq.order),
-                                    source, length, double(speedOfSound_));
+  if (reflectors_ && seq.order == 1)
+    factor = reflectors_->firstOrderShare(tracer_, world_, seq.triangles[0], path.points[0], source,
+                                          length, double(speedOfSound_));
   for (uint32_t i = 0; i < seq.order; ++i)
     factor *= geometry_.reflectance(seq.triangles[i]) *
               (Bands(1.f) - geometry_.scattering(seq.triangles[i]));

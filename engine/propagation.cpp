@@ -12,6 +12,7 @@
 
 #include "common/air_absorption.h"
 #include "engine/patch.h"
+#include "engine/reflection_scattering.h"
 #include "engine/sampling.h"
 #include "engine/transmission.h"
 
@@ -41,6 +42,7 @@ Propagator::Propagator(const Geometry& geometry, const Tracer& tracer,
       tracer_(tracer),
       settings_(settings),
       faceOf_(options.specularFaces),
+      reflectionScattering_(options.reflectionScattering),
       traceMode_(options.traceMode) {
   airPerMetre_ = propagationAirAttenuation(settings_);
   minAir_ = airPerMetre_.min();
@@ -137,7 +139,7 @@ bool Propagator::advance(const TraceRequest& rq, RayState& ray, bool surface,
   const float segEnd = surface ? hit.t : std::numeric_limits<float>::infinity();
   if (ray.order > 0 || rq.includeDirectRays) testListeners(rq, ray, segEnd, out);
   if (!surface || ray.order >= settings_.maxOrder) return false;
-  return reflect(ray, hit);
+  return reflect(rq, ray, hit);
 }
 
 SpecularSequence Propagator::sourceFirstRun(const RayState& ray, uint32_t k, bool fromListener) {
@@ -221,7 +223,7 @@ bool Propagator::belowRouletteThreshold(const RayState& ray) const {
   return e * std::exp(-x) < threshold;
 }
 
-bool Propagator::reflect(RayState& ray, const SurfaceHit& hit) const {
+bool Propagator::reflect(const TraceRequest& rq, RayState& ray, const SurfaceHit& hit) const {
   ray.travelled += hit.t;
   const glm::vec3 p = ray.org + ray.dir * hit.t;
   if (ray.path.nextNeedsPatch(keyRule_)) {
@@ -250,16 +252,33 @@ bool Propagator::reflect(RayState& ray, const SurfaceHit& hit) const {
   }
   // Normal facing the side the ray came from.
   const glm::vec3 n = glm::dot(hit.normal, ray.dir) < 0.f ? hit.normal : -hit.normal;
-  const bool diffuse = ray.rng.uniform() < geometry_.scattering(hit.triangle)[ray.band];
-  if (diffuse)
+  const glm::vec3 org = p + n * surfaceOffset(p, hit.t);
+  const glm::vec3 mirrored = glm::normalize(ray.dir - 2.f * glm::dot(ray.dir, n) * n);
+  const bool diffuse = scatters(rq, ray, hit, org, n, mirrored);
+  if (diffuse) {
     ray.dir = cosineHemisphere(n, ray.rng);
-  else
-    ray.dir = glm::normalize(ray.dir - 2.f * glm::dot(ray.dir, n) * n);
-  ray.org = p + n * surfaceOffset(p, hit.t);
+    ray.coherentFrom = ray.travelled;
+  } else {
+    ray.dir = mirrored;
+  }
+  ray.org = org;
   if (!diffuse && ray.specularRun == ray.order && ray.order < exactOrder_)
     ray.specular[size_t(ray.specularRun++)] = faceOf(hit.triangle);
   ++ray.order;
   return true;
+}
+
+bool Propagator::scatters(const TraceRequest& rq, RayState& ray, const SurfaceHit& hit,
+                          const glm::vec3& org, const glm::vec3& n,
+                          const glm::vec3& mirrored) const {
+  const Bands& s = geometry_.scattering(hit.triangle);
+  const ReflectionScattering* rs = reflectionScattering_;
+  if (!rs || !rs->standsFree(hit.triangle, n, hit.normal)) return ray.rng.uniform() < s[ray.band];
+  const ReflectionScattering::Reflection r{
+      hit.triangle, org, ray.dir, n, mirrored, ray.travelled - ray.coherentFrom};
+  return rs->scatters(tracer_, rq.receivers, r, settings_.speedOfSound, s,
+                      geometry_.scatteringVariesWithBand() ? ray.band : -1, ray.rng.uniform(),
+                      ray.energy);
 }
 
 void Propagator::traceRay(const Pass& pass, uint32_t rayIndex, Chunk& chunk) const {

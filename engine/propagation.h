@@ -74,6 +74,8 @@
 
 namespace dpc {
 
+class ReflectionScattering;  // engine/reflection_scattering.h
+
 /// The air's energy attenuation per metre and band (ISO 9613-1, 1/m) the settings ask for:
 /// 0 when settings.airAbsorption is off. Any thread.
 Bands propagationAirAttenuation(const PropagationSettings& settings);
@@ -97,6 +99,10 @@ class Propagator {
     /// The path identifier rule (engine/patch.h); none: PathKeyRule::forRoom of the
     /// geometry's bounding box and surface area with 1 ms energy bins.
     std::optional<PathKeyRule> keyRule;
+    /// Free-standing faces' reflection-based scattering (engine/reflection_scattering.h);
+    /// none: every reflection scatters with its material's coefficient alone. Must outlive
+    /// the propagator.
+    const ReflectionScattering* reflectionScattering = nullptr;
   };
 
   /// geometry (patches, materials), tracer (ray queries over the same triangles) and settings
@@ -182,6 +188,7 @@ class Propagator {
     Bands energy{1.f};
     glm::vec3 firstDir{0.f};  ///< direction of the first segment (tracing from listeners)
     float travelled = 0.f;
+    float coherentFrom = 0.f;  ///< travelled at the last diffuse reflection: the wave's origin
     PathKey path;
     int order = 0;
     int band = 0;  ///< band whose scattering coefficient steers reflections
@@ -254,7 +261,11 @@ class Propagator {
   /// Reflects `ray` at `hit`: patch into the path identifier (up to the identifier's full
   /// order), reflectance, Russian roulette, diffuse or specular direction. Returns false when
   /// roulette ends the ray.
-  bool reflect(RayState& ray, const SurfaceHit& hit) const;
+  bool reflect(const TraceRequest& rq, RayState& ray, const SurfaceHit& hit) const;
+  /// Whether the reflection at `org` (lit normal n, mirror direction `mirrored`) scatters:
+  /// the material's coefficient, off a free-standing face ReflectionScattering::scatters.
+  bool scatters(const TraceRequest& rq, RayState& ray, const SurfaceHit& hit, const glm::vec3& org,
+                const glm::vec3& n, const glm::vec3& mirrored) const;
   /// The face recorded in specular sequences for triangle t (Options::specularFaces).
   uint32_t faceOf(uint32_t t) const { return t < faceOf_.size() ? faceOf_[t] : t; }
   /// Appends the ended ray's leading specular sequence, if any, to chunk.specularRuns.
@@ -278,6 +289,7 @@ class Propagator {
   float minAir_ = 0.f;   ///< smallest band air attenuation, 1/m (roulette's upper bound)
   PathKeyRule keyRule_;  ///< order-adaptive path identifier (engine/patch.h)
   std::span<const uint32_t> faceOf_;  ///< Options::specularFaces
+  const ReflectionScattering* reflectionScattering_ = nullptr;  ///< Options::reflectionScattering
   SphereGrid sphereGrid_;             ///< the frame's spheres, above kMaxLinearSpheres
   std::vector<glm::vec4> sphereBoxes_;  ///< prepareSpheres' scratch
   int exactOrder_ = 0;                  ///< exactOrder()

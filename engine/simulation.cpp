@@ -28,12 +28,16 @@ Simulation::Simulation(const SceneDesc& scene, const PropagationSettings& settin
   Propagator::Options options;
   options.traceMode = simulationOptions.traceMode;
   options.keyRule = simulationOptions.keyRule;
-  if (settings_.diffraction)
+  if (settings_.diffraction) {
     diffraction_ = std::make_unique<EdgeDiffraction>(scene.mesh, scene.objects);
+    smallFaces_ = std::make_unique<ReflectionScattering>(scene.mesh, diffraction_->surfaces(),
+                                                         diffraction_->edges(), scene.objects);
+    options.reflectionScattering = smallFaces_.get();
+  }
   if (std::clamp(std::min(settings_.exactOrder, settings_.maxOrder), 0, kMaxExactOrder) > 0) {
-    specularScene_ = std::make_unique<SpecularScene>(scene.mesh, scene.objects, *geometry_,
-                                                     *tracer_, propagationAirAttenuation(settings_),
-                                                     settings_.speedOfSound, diffraction_.get());
+    specularScene_ = std::make_unique<SpecularScene>(
+        scene.mesh, scene.objects, *geometry_, *tracer_, propagationAirAttenuation(settings_),
+        settings_.speedOfSound, smallFaces_ ? &smallFaces_->reflectors() : nullptr);
     specularCandidates_ = std::make_unique<SpecularCandidates>();
     options.specularFaces = specularScene_->faces().faces();
   }
@@ -137,10 +141,6 @@ double Simulation::boundingVolume() const {
   return std::max(1.0, double(e.x) * e.y * e.z);
 }
 
-FrameInputs Simulation::inputsAt(const glm::vec3& listenerPosition) const {
-  return inputsAt(listenerPosition, sourcePositions_);
-}
-
 FrameInputs Simulation::inputsAt(const glm::vec3& listenerPosition,
                                  const std::vector<glm::vec3>& sources) const {
   const ListenerSphere listener{listenerPosition, listenerRadius_};
@@ -161,6 +161,7 @@ void Simulation::applyInputs(const FrameInputs& in) {
     for (size_t k = 0; k < poses.size() && k < tracer_->objectCount(); ++k) {
       tracer_->setObjectPose(k, poses[k]);
       if (specularScene_) specularScene_->setObjectPose(k, poses[k]);
+      if (smallFaces_) smallFaces_->setObjectPose(k, poses[k]);
     }
     tracer_->commitPoses();
     if (diffraction_) diffraction_->setObjectPoses(poses);
@@ -393,10 +394,6 @@ void Simulation::finishPair(size_t s, size_t l, const glm::vec3& source,
   }
   updateOrIdle(pair, groups, r, pairSink(pair, l));
   r.estimatorSeconds = secondsSince(t1);
-}
-
-double Simulation::exactPathRetention() const {
-  return settings_.estimator == Estimator::kDpc ? double(settings_.cacheTau) : 0.0;
 }
 
 void Simulation::updateSpecular(size_t pair, const glm::vec3& source,

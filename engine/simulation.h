@@ -7,17 +7,16 @@
 //
 // Exact early specular paths (settings.exactOrder > 0, engine/specular_paths.h): every pair
 // also gets the frame's exact all-specular paths up to that order (specularPaths), which the
-// energy response then no longer contains.
-//
-// Tracing direction (PropagationSettings::tracing): from the sources, every source's rays are
-// traced once and tested against every listener sphere; from the listeners, every listener's
-// rays are traced once and tested against every source sphere (of the listener's radius), so a
-// frame's tracing costs one pass per listener whatever the number of sources (Schissler &
+// energy response then no longer contains. With edge diffraction on, free-standing faces
+// smaller than their Fresnel zone reflect a share (engine/small_reflectors.h,
+// engine/reflection_scattering.h). Tracing direction (PropagationSettings::tracing): from the
+// sources, every source's rays are traced once and tested against every listener sphere; from
+// the listeners, every listener's rays against every source sphere (of the listener's radius),
+// so a frame's tracing costs one pass per listener whatever the number of sources (Schissler &
 // Manocha, ACM TOG 2016; engine/propagation.h, Propagator::setFromListeners). Caches, exact
-// paths and results are per pair either way.
-//
-// Directional sources (SourceDesc::directivity): the propagator weights each source's rays and
-// direct sound, and each pair's exact paths are weighted toward their first reflection point.
+// paths and results are per pair either way. Directional sources (SourceDesc::directivity):
+// the propagator weights each source's rays and direct sound, and each pair's exact paths are
+// weighted toward their first reflection point.
 //
 // Inputs flow down as values: a frame's inputs (where everything is, rays, restarts, skipped
 // pairs) come with each runFrame as one FrameInputs (engine/frame_inputs.h), and the
@@ -44,6 +43,7 @@
 #include "engine/geometry.h"
 #include "engine/path_cache.h"
 #include "engine/propagation.h"
+#include "engine/reflection_scattering.h"
 #include "engine/sh_energy_response.h"
 #include "engine/specular_paths.h"
 #include "engine/tracer.h"
@@ -87,11 +87,10 @@ class Simulation {
     size_t cachePoolBytes = 0;        ///< the engine's cache pool budget, bytes (shared by pairs)
     size_t cachePoolUsedBytes = 0;    ///< the pool's bytes held by all pairs after this frame
     uint64_t cachePoolRefusals = 0;   ///< this pair's table growths the full pool refused
-    double cacheCoarseEnergyFraction =
-        0.0;                        ///< share of this frame's response from the coarse store
-    double traceSeconds = 0.0;      ///< wall time of this frame's ray tracing
-    double estimatorSeconds = 0.0;  ///< grouping hits + cache update + readout
-    double directSeconds = 0.0;     ///< direct sound with edge diffraction
+    double cacheCoarseEnergyFraction = 0.0;  ///< the response's share from the coarse store
+    double traceSeconds = 0.0;               ///< wall time of this frame's ray tracing
+    double estimatorSeconds = 0.0;           ///< grouping hits + cache update + readout
+    double directSeconds = 0.0;              ///< direct sound with edge diffraction
     // Exact specular paths (all 0 while exactOrder is 0):
     size_t specularPaths = 0;         ///< valid exact paths this frame (specularPaths())
     size_t specularCandidates = 0;    ///< unique sequences the source's rays proposed
@@ -125,7 +124,9 @@ class Simulation {
   /// The inputs of a frame with the scene's sources (or `sources`, one per source) and one
   /// listener at listenerPosition with the scene's first listener's radius; nothing else
   /// changed. Any thread; allocates.
-  FrameInputs inputsAt(const glm::vec3& listenerPosition) const;
+  FrameInputs inputsAt(const glm::vec3& listenerPosition) const {
+    return inputsAt(listenerPosition, sourcePositions_);
+  }
   FrameInputs inputsAt(const glm::vec3& listenerPosition,
                        const std::vector<glm::vec3>& sources) const;
   /// The same for several listeners (index l: listener l).
@@ -251,8 +252,7 @@ class Simulation {
   ArrivalSink* pairSink(size_t pair, size_t listener);
   /// The estimator's share of finishPair: the update, or for a skipped pair nothing (and a
   /// restart of its path cache when it is traced again).
-  void updateOrIdle(size_t pair, const FrameGroups& groups, SourceResult& r,
-                    ArrivalSink* dir);
+  void updateOrIdle(size_t pair, const FrameGroups& groups, SourceResult& r, ArrivalSink* dir);
   /// Adds one tracing pass to frameTrace_ and its wall time to frameTimes_.
   void addPass(const TraceStats& t, double seconds);
   /// Runs finishPair for `count` pairs on the tracing threads; wall time into frameTimes_.pairs.
@@ -270,7 +270,9 @@ class Simulation {
   /// How long an exact path's sequence that is neither valid nor proposed is kept: the DPC's
   /// tau, and none for plain path tracing, which keeps nothing from frame to frame (so that
   /// tau = 0 is plain path tracing, exact paths included).
-  double exactPathRetention() const;
+  double exactPathRetention() const {
+    return settings_.estimator == Estimator::kDpc ? double(settings_.cacheTau) : 0.0;
+  }
   /// Adds the frame's groups to pair's estimator; its energy response into r.energy (and dir).
   void updateEstimator(size_t pair, const FrameGroups& groups, SourceResult& r,
                        ArrivalSink* dir);
@@ -293,6 +295,7 @@ class Simulation {
   std::unique_ptr<Tracer> tracer_;
   std::unique_ptr<Propagator> propagator_;
   std::unique_ptr<EdgeDiffraction> diffraction_;  ///< first-order edge paths into the direct sound
+  std::unique_ptr<ReflectionScattering> smallFaces_;  ///< free-standing faces, with diffraction_
   DirectCache directCache_;  ///< pairs' direct sounds, kept while nothing they depend on moved
   size_t sourceCount_ = 0;
   size_t listenerCount_ = 1;  ///< listeners of the last frame

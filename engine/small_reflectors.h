@@ -97,6 +97,11 @@ class SmallReflectors {
   /// Whether triangle t's flat surface stands free on its front side (the side its winding's
   /// normal points to) when `front`, else on its back side. False for t out of range.
   bool standsFree(uint32_t t, bool front) const;
+  /// Flat surfaces (the static mesh's, then each object's) and triangle t's; t < the
+  /// triangle count.
+  size_t surfaceCount() const { return members_.size(); }
+  uint32_t surfaceOf(uint32_t t) const { return surface_[t]; }
+  const std::vector<uint32_t>& trianglesOf(uint32_t surface) const { return members_[surface]; }
 
   /// The share per octave band that a first-order path from `source` (m) reflected at `point`
   /// (m) off triangle t (Geometry's number, in `world`: every triangle in its current pose)

@@ -9,7 +9,6 @@
 
 #include "common/random.h"
 #include "engine/channel_path.h"
-#include "engine/diffraction.h"
 #include "engine/patch.h"
 
 namespace dpc {
@@ -108,8 +107,9 @@ bool SpecularCandidates::insert(const SpecularSequence& sequence) {
 SpecularScene::SpecularScene(const Mesh& mesh, const std::vector<ObjectDesc>& objects,
                              const Geometry& geometry, const Tracer& tracer,
                              const Bands& airPerMetre, float speedOfSound,
-                             const EdgeDiffraction* diffraction)
+                             const SmallReflectors* reflectors)
     : faces_(meshesOf(mesh, objects)),
+      reflectors_(reflectors),
       geometry_(geometry),
       tracer_(tracer),
       airPerMetre_(airPerMetre),
@@ -131,9 +131,6 @@ SpecularScene::SpecularScene(const Mesh& mesh, const std::vector<ObjectDesc>& ob
     const auto& key = objects[k].trajectory;
     setObjectPose(k, key.empty() ? Pose{} : Pose{key.front().position, key.front().rotation});
   }
-  if (diffraction)
-    reflectors_ = std::make_unique<SmallReflectors>(mesh, diffraction->surfaces(),
-                                                    diffraction->edges(), objects);
 }
 
 void SpecularScene::setObjectPose(size_t object, const Pose& pose) {

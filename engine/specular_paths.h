@@ -52,7 +52,6 @@
 #include <array>
 #include <cstdint>
 #include <glm/vec3.hpp>
-#include <memory>
 #include <vector>
 
 #include "common/bands.h"
@@ -65,8 +64,6 @@
 #include "scene/scene.h"
 
 namespace dpc {
-
-class EdgeDiffraction;  // engine/diffraction.h (which includes this header through propagation.h)
 
 /// The faces T1..Tk of an all-specular path (CoplanarFaces::faceOf of the triangles struck:
 /// the smallest triangle number of each coplanar face), k = order in 1..kMaxExactOrder;
@@ -139,13 +136,13 @@ class SpecularScene {
   /// places them); geometry, tracer: the simulation's, outliving this. airPerMetre: ISO 9613-1
   /// energy attenuation per band, 1/m; speedOfSound m/s. The visibility queries keep
   /// surfaceOffset() (engine/tracer.h) clear of a reflecting surface, as the rays do.
-  /// diffraction: the simulation's edge diffraction of the same scene when it is on (its edge
-  /// paths carry the rest of a small face's field): then a first-order path off a small
-  /// free-standing face carries its Kirchhoff share (engine/small_reflectors.h); null: every
-  /// path carries its image source's whole reflection.
+  /// reflectors: the same scene's free-standing faces when edge diffraction is on (its edge
+  /// paths carry the rest of a small face's field; outliving this): then a first-order path
+  /// off a small free-standing face carries its Kirchhoff share (engine/small_reflectors.h);
+  /// null: every path carries its image source's whole reflection.
   SpecularScene(const Mesh& mesh, const std::vector<ObjectDesc>& objects, const Geometry& geometry,
                 const Tracer& tracer, const Bands& airPerMetre, float speedOfSound,
-                const EdgeDiffraction* diffraction = nullptr);
+                const SmallReflectors* reflectors = nullptr);
 
   /// The scene's coplanar faces: sequences are over faces (CoplanarFaces::faceOf of the
   /// triangles the rays struck), and a reflection point may lie in any triangle of its face.
@@ -191,7 +188,7 @@ class SpecularScene {
 
   CoplanarFaces faces_;
   /// Which faces stand free, and the share they reflect (none without edge diffraction).
-  std::unique_ptr<SmallReflectors> reflectors_;
+  const SmallReflectors* reflectors_ = nullptr;
   std::vector<Triangle> world_;               ///< per triangle, current pose
   std::vector<std::vector<Triangle>> local_;  ///< per object, local coordinates
   std::vector<uint32_t> objectFirst_;         ///< per object, its first triangle number

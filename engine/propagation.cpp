@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <limits>
@@ -118,10 +119,12 @@ void Propagator::startRay(const Pass& pass, uint32_t rayIndex, RayState& ray) co
     // kNumBands times its share so each band's energy stays unbiased; its reflections use that
     // band's scattering coefficient.
     ray.band = int(rayIndex % uint32_t(kNumBands));
+    ray.bands = uint8_t(1u << ray.band);
     ray.energy = Bands(0.f);
     ray.energy[ray.band] = float(kNumBands);
   } else {
     ray.band = 0;  // every band scatters alike: one ray carries them all
+    ray.bands = kAllBands;
     ray.energy = Bands(1.f);
   }
   // The pattern's power-preserving weight at the leaving direction (unbiased: uniform
@@ -129,6 +132,7 @@ void Propagator::startRay(const Pass& pass, uint32_t rayIndex, RayState& ray) co
   if (!rq.fromListener && !rq.pattern.omni())
     ray.energy *= directivityWeight(rq.pattern, glm::dot(rq.forward, ray.dir));
   ray.travelled = 0.f;
+  ray.coherentFrom = 0.f;
   ray.path = PathKey::start(rq.emitter);
   ray.order = 0;
   ray.specularRun = 0;
@@ -139,7 +143,7 @@ bool Propagator::advance(const TraceRequest& rq, RayState& ray, bool surface,
   const float segEnd = surface ? hit.t : std::numeric_limits<float>::infinity();
   if (ray.order > 0 || rq.includeDirectRays) testListeners(rq, ray, segEnd, out);
   if (!surface || ray.order >= settings_.maxOrder) return false;
-  return reflect(rq, ray, hit);
+  return reflect(ray, hit);
 }
 
 SpecularSequence Propagator::sourceFirstRun(const RayState& ray, uint32_t k, bool fromListener) {
@@ -223,7 +227,7 @@ bool Propagator::belowRouletteThreshold(const RayState& ray) const {
   return e * std::exp(-x) < threshold;
 }
 
-bool Propagator::reflect(const TraceRequest& rq, RayState& ray, const SurfaceHit& hit) const {
+bool Propagator::reflect(RayState& ray, const SurfaceHit& hit) const {
   ray.travelled += hit.t;
   const glm::vec3 p = ray.org + ray.dir * hit.t;
   if (ray.path.nextNeedsPatch(keyRule_)) {
@@ -254,7 +258,7 @@ bool Propagator::reflect(const TraceRequest& rq, RayState& ray, const SurfaceHit
   const glm::vec3 n = glm::dot(hit.normal, ray.dir) < 0.f ? hit.normal : -hit.normal;
   const glm::vec3 org = p + n * surfaceOffset(p, hit.t);
   const glm::vec3 mirrored = glm::normalize(ray.dir - 2.f * glm::dot(ray.dir, n) * n);
-  const bool diffuse = scatters(rq, ray, hit, org, n, mirrored);
+  const bool diffuse = scatters(ray, hit, org, n, mirrored);
   if (diffuse) {
     ray.dir = cosineHemisphere(n, ray.rng);
     ray.coherentFrom = ray.travelled;
@@ -268,17 +272,36 @@ bool Propagator::reflect(const TraceRequest& rq, RayState& ray, const SurfaceHit
   return true;
 }
 
-bool Propagator::scatters(const TraceRequest& rq, RayState& ray, const SurfaceHit& hit,
-                          const glm::vec3& org, const glm::vec3& n,
-                          const glm::vec3& mirrored) const {
+bool Propagator::scatters(RayState& ray, const SurfaceHit& hit, const glm::vec3& org,
+                          const glm::vec3& n, const glm::vec3& mirrored) const {
   const Bands& s = geometry_.scattering(hit.triangle);
   const ReflectionScattering* rs = reflectionScattering_;
   if (!rs || !rs->standsFree(hit.triangle, n, hit.normal)) return ray.rng.uniform() < s[ray.band];
   const ReflectionScattering::Reflection r{
       hit.triangle, org, ray.dir, n, mirrored, ray.travelled - ray.coherentFrom};
-  return rs->scatters(tracer_, rq.receivers, r, settings_.speedOfSound, s,
-                      geometry_.scatteringVariesWithBand() ? ray.band : -1, ray.rng.uniform(),
-                      ray.energy);
+  if (std::popcount(ray.bands) > 1) {
+    uint8_t whole = 0;  // the bands the face keeps whole even at its least share
+    const Bands least = rs->least(r, settings_.speedOfSound);
+    for (int b = 0; b < kNumBands; ++b)
+      if ((ray.bands >> b & 1u) && least[b] >= 1.f) whole |= uint8_t(1u << b);
+    if (whole != ray.bands) narrowBands(ray, whole);
+  }
+  return rs->scatters(tracer_, r, settings_.speedOfSound, s[ray.band], ray.band, ray.rng.uniform());
+}
+
+void Propagator::narrowBands(RayState& ray, uint8_t whole) {
+  // Options: the whole group as one (|whole| of n chances), or one other band (one chance).
+  const int n = std::popcount(ray.bands), m = std::popcount(whole);
+  int pick = std::min(n - 1, int(ray.rng.uniform() * float(n)));
+  uint8_t chosen = whole;
+  if (pick >= m)
+    for (int b = 0; b < kNumBands; ++b)
+      if ((ray.bands & ~whole) >> b & 1u && pick-- == m) chosen = uint8_t(1u << b);
+  const float weight = float(n) / float(std::popcount(chosen));
+  for (int b = 0; b < kNumBands; ++b)
+    ray.energy[b] = (chosen >> b & 1u) ? ray.energy[b] * weight : 0.f;
+  ray.bands = chosen;
+  ray.band = std::countr_zero(chosen);
 }
 
 void Propagator::traceRay(const Pass& pass, uint32_t rayIndex, Chunk& chunk) const {

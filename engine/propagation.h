@@ -2,8 +2,9 @@
 //
 // Each frame emits N uniformly distributed rays from a source. A ray reflects up to
 // max_order times: at each hit its band energy is multiplied by (1 - absorption); with
-// probability `scattering` it leaves in a cosine-weighted (Lambert) direction, otherwise in
-// the mirror direction. Every segment (including the one leaving the source only when
+// probability `scattering` (off a small free-standing face 1 - (1 - scattering) K,
+// engine/reflection_scattering.h) it leaves in a cosine-weighted (Lambert) direction,
+// otherwise in the mirror direction. Every segment (including the one leaving the source only when
 // includeDirectRays is set; the direct sound is otherwise analytic) is tested against the
 // listener sphere of radius R; a crossing adds a PathHit with
 //   I(omega) = energy(omega) * exp(-m(omega) r) / (pi R^2),
@@ -85,6 +86,8 @@ class Propagator {
   /// Above this many receiver spheres a frame's segments find theirs through a SphereGrid
   /// (engine/sphere_grid.h) instead of testing each; up to it, the plain loop (cheaper for few).
   static constexpr size_t kMaxLinearSpheres = 8;
+  /// A ray's carried-band mask with every band (RayState::bands).
+  static constexpr uint8_t kAllBands = uint8_t((1u << kNumBands) - 1);
   /// Survival probability of a ray that Russian roulette tests.
   static constexpr float kRouletteSurvival = 0.1f;
 
@@ -192,6 +195,7 @@ class Propagator {
     PathKey path;
     int order = 0;
     int band = 0;  ///< band whose scattering coefficient steers reflections
+    uint8_t bands = kAllBands;  ///< the bands it carries (bit b: band b); `band` the lowest
     /// Leading reflections that were all specular, at most exactOrder_ (== order while the
     /// path is all specular and short enough to be an exact path), and their triangles.
     int specularRun = 0;
@@ -261,11 +265,17 @@ class Propagator {
   /// Reflects `ray` at `hit`: patch into the path identifier (up to the identifier's full
   /// order), reflectance, Russian roulette, diffuse or specular direction. Returns false when
   /// roulette ends the ray.
-  bool reflect(const TraceRequest& rq, RayState& ray, const SurfaceHit& hit) const;
+  bool reflect(RayState& ray, const SurfaceHit& hit) const;
   /// Whether the reflection at `org` (lit normal n, mirror direction `mirrored`) scatters:
   /// the material's coefficient, off a free-standing face ReflectionScattering::scatters.
-  bool scatters(const TraceRequest& rq, RayState& ray, const SurfaceHit& hit, const glm::vec3& org,
-                const glm::vec3& n, const glm::vec3& mirrored) const;
+  bool scatters(RayState& ray, const SurfaceHit& hit, const glm::vec3& org, const glm::vec3& n,
+                const glm::vec3& mirrored) const;
+  /// A ray carrying several bands meets a face whose share differs between them: it goes on
+  /// with the group `whole` (the bands kept whole) or with one of the others, each carried
+  /// band an equal chance, the kept bands' energy scaled by carried over kept (unbiased per
+  /// band; the product of the scales along a path is at most kNumBands, where reweighting
+  /// every band at each such face would compound).
+  static void narrowBands(RayState& ray, uint8_t whole);
   /// The face recorded in specular sequences for triangle t (Options::specularFaces).
   uint32_t faceOf(uint32_t t) const { return t < faceOf_.size() ? faceOf_[t] : t; }
   /// Appends the ended ray's leading specular sequence, if any, to chunk.specularRuns.

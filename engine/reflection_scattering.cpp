@@ -6,33 +6,22 @@
 #include <glm/gtc/quaternion.hpp>
 #include <limits>
 
+#include "engine/channel_path.h"
+
 namespace dpc {
 namespace {
 
-/// A triangle's area and its second moment of area about `centre`, over its area (m^2): a
-/// uniform triangle p0 + x e1 + y e2 has Var x = Var y = 1/18 and Cov(x, y) = -1/36.
-struct AreaMoment {
-  double area = 0.0;
-  glm::dmat3 sum{0.0};  ///< area times the second moment about the origin
-};
-
-void addTriangle(const glm::dvec3& p0, const glm::dvec3& p1, const glm::dvec3& p2, AreaMoment& m,
-                 glm::dvec3& areaCentroid) {
-  const glm::dvec3 e1 = p1 - p0, e2 = p2 - p0;
-  const double a = 0.5 * glm::length(glm::cross(e1, e2));
-  const glm::dvec3 g = (p0 + p1 + p2) / 3.0;
-  const glm::dmat3 cov = (glm::outerProduct(e1, e1) + glm::outerProduct(e2, e2)) / 18.0 -
-                         (glm::outerProduct(e1, e2) + glm::outerProduct(e2, e1)) / 36.0;
-  m.area += a;
-  m.sum += a * (cov + glm::outerProduct(g, g));
-  areaCentroid += a * g;
-}
+constexpr float kFar = std::numeric_limits<float>::infinity();
 
 /// The triangles' vertices in their mesh's frame, Geometry's numbering, and each one's object
 /// (-1 for the static mesh).
 struct Corners {
   std::vector<std::array<glm::vec3, 3>> triangles;
   std::vector<int32_t> object;
+  glm::vec3 normal(uint32_t t) const {
+    const auto& c = triangles[t];
+    return glm::cross(c[1] - c[0], c[2] - c[0]);  // not normalised: only its sign is read
+  }
 };
 
 Corners cornersOf(const Mesh& mesh, const std::vector<ObjectDesc>& objects) {
@@ -48,16 +37,35 @@ Corners cornersOf(const Mesh& mesh, const std::vector<ObjectDesc>& objects) {
   return out;
 }
 
-/// The least distance (m) along the unit `dir` from `org`, below `limit`, at which the ray
-/// passes closest to the centre of a receiver sphere it enters; `limit` when none.
-float nearestReceiver(std::span<const ListenerSphere> receivers, const glm::vec3& org,
-                      const glm::vec3& dir, float limit) {
-  for (const ListenerSphere& r : receivers) {
-    const glm::vec3 oc = r.position - org;
-    const float b = glm::dot(oc, dir);
-    if (b > 0.f && b < limit && glm::dot(oc, oc) - b * b <= r.radius * r.radius) limit = b;
+/// The second moment of area over area (m^2) about their centroid of the triangles `members`
+/// for which keep(t) holds: a uniform triangle p0 + x e1 + y e2 has Var x = Var y = 1/18 and
+/// Cov(x, y) = -1/36, shifted to the common centroid.
+template <class Keep>
+glm::mat3 momentOf(const Corners& corners, const std::vector<uint32_t>& members, Keep keep) {
+  double area = 0.0;
+  glm::dmat3 sum{0.0};
+  glm::dvec3 first{0.0};
+  for (uint32_t t : members) {
+    if (t >= corners.triangles.size() || !keep(t)) continue;
+    const auto& c = corners.triangles[t];
+    const glm::dvec3 p0(c[0]), e1 = glm::dvec3(c[1]) - p0, e2 = glm::dvec3(c[2]) - p0;
+    const double a = 0.5 * glm::length(glm::cross(e1, e2));
+    const glm::dvec3 g = p0 + (e1 + e2) / 3.0;
+    const glm::dmat3 cov = (glm::outerProduct(e1, e1) + glm::outerProduct(e2, e2)) / 18.0 -
+                           (glm::outerProduct(e1, e2) + glm::outerProduct(e2, e1)) / 36.0;
+    area += a;
+    sum += a * (cov + glm::outerProduct(g, g));
+    first += a * g;
   }
-  return limit;
+  if (!(area > 0.0)) return glm::mat3(0.f);
+  first /= area;
+  return glm::mat3(sum / area - glm::outerProduct(first, first));
+}
+
+/// The larger and smaller eigenvalues of the symmetric [[a, b], [b, c]].
+glm::vec2 eigenvalues(float a, float b, float c) {
+  const float mean = 0.5f * (a + c), r = std::sqrt(0.25f * (a - c) * (a - c) + b * b);
+  return {mean + r, std::max(0.f, mean - r)};
 }
 
 }  // namespace
@@ -67,20 +75,36 @@ ReflectionScattering::ReflectionScattering(const Mesh& mesh, const std::vector<u
                                            const std::vector<ObjectDesc>& objects)
     : reflectors_(mesh, surfaces, edges, objects), rotation_(objects.size(), glm::mat3(1.f)) {
   const Corners corners = cornersOf(mesh, objects);
-  moments_.resize(reflectors_.surfaceCount());
-  for (uint32_t s = 0; s < moments_.size(); ++s) {
-    AreaMoment m;
-    glm::dvec3 centroid{0.0};
-    for (uint32_t t : reflectors_.trianglesOf(s)) {
-      if (t >= corners.triangles.size()) continue;
-      const auto& c = corners.triangles[t];
-      addTriangle(c[0], c[1], c[2], m, centroid);
-      moments_[s].object = corners.object[t];
+  momentOf_.assign(corners.triangles.size(), 0);
+  for (uint32_t s = 0; s < reflectors_.surfaceCount(); ++s) {
+    const std::vector<uint32_t>& members = reflectors_.trianglesOf(s);
+    if (members.empty() || members.front() >= corners.triangles.size()) continue;
+    const int32_t object = corners.object[members.front()];
+    // A moment per triangle over those facing its way; a large surface's one per side.
+    const bool each = members.size() <= kMaxPerTriangle;
+    const glm::vec3 side = corners.normal(members.front());
+    for (int way = 0; way < (each ? 0 : 2); ++way) {
+      const float sign = way == 0 ? 1.f : -1.f;
+      moments_.push_back(
+          {momentOf(corners, members,
+                    [&](uint32_t u) { return sign * glm::dot(corners.normal(u), side) > 0.f; }),
+           object});
     }
-    if (!(m.area > 0.0)) continue;
-    centroid /= m.area;
-    moments_[s].c = glm::mat3(m.sum / m.area - glm::outerProduct(centroid, centroid));
+    for (uint32_t t : members) {
+      if (t >= momentOf_.size()) continue;
+      const glm::vec3 n = corners.normal(t);
+      if (!each) {
+        momentOf_[t] = uint32_t(moments_.size() - (glm::dot(n, side) > 0.f ? 2 : 1));
+        continue;
+      }
+      momentOf_[t] = uint32_t(moments_.size());
+      moments_.push_back(
+          {momentOf(corners, members,
+                    [&](uint32_t u) { return glm::dot(corners.normal(u), n) > 0.f; }),
+           object});
+    }
   }
+  if (moments_.empty()) moments_.push_back({});
   for (size_t k = 0; k < objects.size(); ++k) {
     const auto& key = objects[k].trajectory;
     if (!key.empty()) setObjectPose(k, Pose{key.front().position, key.front().rotation});
@@ -96,51 +120,101 @@ bool ReflectionScattering::standsFree(uint32_t t, const glm::vec3& litNormal,
   return reflectors_.standsFree(t, glm::dot(litNormal, windingNormal) > 0.f);
 }
 
-glm::vec2 ReflectionScattering::widths(uint32_t t, const glm::vec3& u, const glm::vec3& v) const {
-  const Moment& m = moments_[reflectors_.surfaceOf(t)];
+glm::vec2 ReflectionScattering::zoneWidths(uint32_t t, const glm::vec3& incoming,
+                                           const glm::vec3& litNormal) const {
+  if (t >= momentOf_.size()) return glm::vec2(0.f);
+  const Moment& m = moments_[momentOf_[t]];
+  const SmallReflectors::Zone zone = SmallReflectors::zoneOf(glm::dvec3(0.0), glm::dvec3(litNormal),
+                                                             glm::dvec3(incoming), 1.0, 1.0);
   // u^T (R C R^T) u = (R^T u)^T C (R^T u): the moment stays in its mesh's frame.
   const glm::mat3 toLocal = m.object < 0 ? glm::mat3(1.f) : glm::transpose(rotation_[m.object]);
-  const glm::vec3 lu = toLocal * u, lv = toLocal * v;
-  return {std::sqrt(std::max(0.f, 12.f * glm::dot(lu, m.c * lu))),
-          std::sqrt(std::max(0.f, 12.f * glm::dot(lv, m.c * lv)))};
+  const glm::vec3 u = toLocal * glm::vec3(zone.u), v = toLocal * glm::vec3(zone.v);
+  const float cosine = float(zone.cosIncidence);
+  const glm::vec2 e = eigenvalues(cosine * cosine * glm::dot(u, m.c * u),
+                                  cosine * glm::dot(u, m.c * v), glm::dot(v, m.c * v));
+  return glm::sqrt(12.f * e);
 }
 
 Bands ReflectionScattering::specularShare(uint32_t t, const glm::vec3& incoming,
                                           const glm::vec3& litNormal, float before, float after,
                                           float speedOfSound) const {
-  const double d1 = before, d2 = after;
-  const double L = std::isinf(d2) ? d1 : d1 * d2 / (d1 + d2);
+  const double L = double(before) * after / (double(before) + after);
   Bands out(1.f);
   if (!(L > 0.0) || !(speedOfSound > 0.f)) return out;
-  const SmallReflectors::Zone zone = SmallReflectors::zoneOf(
-      glm::dvec3(0.0), glm::dvec3(litNormal), glm::dvec3(incoming), d1, std::isinf(d2) ? 1.0 : d2);
-  const glm::vec2 w = widths(t, glm::vec3(zone.u), glm::vec3(zone.v));
-  const double a = double(w.x) * zone.cosIncidence, b = double(w.y);  // projected widths, m
+  const glm::vec2 w = zoneWidths(t, incoming, litNormal);
+  const double w1 = double(w.x) * w.x, w2 = double(w.y) * w.y;  // m^2
   for (int k = 0; k < kNumBands; ++k) {
     const double zoneArea = speedOfSound / kBandCentreHz[k] * L;  // lambda L, m^2
-    out[k] = float(std::min(1.0, a * a / zoneArea) * std::min(1.0, b * b / zoneArea));
+    out[k] = float(std::min(1.0, w1 / zoneArea) * std::min(1.0, w2 / zoneArea));
   }
   return out;
 }
 
-bool ReflectionScattering::scatters(const Tracer& tracer, std::span<const ListenerSphere> receivers,
-                                    const Reflection& r, float speedOfSound, const Bands& s,
-                                    int band, float u, Bands& energy) const {
-  constexpr float kFar = std::numeric_limits<float>::infinity();
-  const int b = std::max(band, 0);
-  // K is least at the largest L, and L <= d1: where even that keeps every band, no query.
-  if (specularShare(r.triangle, r.incoming, r.litNormal, r.before, kFar, speedOfSound).min() >= 1.f)
-    return u < s[b];
+float ReflectionScattering::backing(const Tracer& tracer, const Reflection& r, float limit) const {
+  const float offset = surfaceOffset(r.point);
+  glm::vec3 org = r.point - r.litNormal * (2.f * offset);  // just behind the face
+  float travelled = 0.f;
+  for (int k = 0; k < kBackingHits && travelled < limit; ++k) {
+    SurfaceHit hit;
+    if (!tracer.intersect(TraceRay{org, -r.litNormal, 0.f, limit - travelled}, hit)) break;
+    travelled += hit.t;
+    const float facing = glm::dot(hit.normal, r.litNormal);
+    if (std::abs(facing) < kParallelCos) break;
+    if (!reflectors_.standsFree(hit.triangle, facing > 0.f)) return travelled;
+    org -= r.litNormal * (hit.t + offset);
+    travelled += offset;
+  }
+  return kFar;
+}
+
+Bands ReflectionScattering::share(const Tracer& tracer, const Reflection& r, float after,
+                                  float speedOfSound) const {
+  Bands k = specularShare(r.triangle, r.incoming, r.litNormal, r.before, after, speedOfSound);
+  if (k.min() >= 1.f) return k;
+  SurfaceHit facing;
+  if (tracer.intersect(TraceRay{r.point, r.litNormal, 0.f, 2.f * kChannelGapMax}, facing))
+    return Bands(1.f);
+  const float wall = backing(tracer, r, kBackedWavelengths * speedOfSound / kBandCentreHz[0]);
+  for (int b = 0; b < kNumBands; ++b)
+    if (wall <= kBackedWavelengths * speedOfSound / kBandCentreHz[b]) k[b] = 1.f;
+  return k;
+}
+
+bool ReflectionScattering::scatters(const Tracer& tracer, const Reflection& r, float speedOfSound,
+                                    float s, int band, float u) const {
+  // K is least at the largest L, d2 = d1: where even that keeps the band, no query.
+  if (specularShare(r.triangle, r.incoming, r.litNormal, r.before, r.before, speedOfSound)[band] >=
+      1.f)
+    return u < s;
   SurfaceHit next;
   const float surface = tracer.intersect(TraceRay{r.point, r.mirrored}, next) ? next.t : kFar;
-  const float after = nearestReceiver(receivers, r.point, r.mirrored, surface);
-  const Bands keep = (Bands(1.f) - s) * specularShare(r.triangle, r.incoming, r.litNormal, r.before,
-                                                      after, speedOfSound);
-  if (band >= 0) return u >= keep[b];
-  const float specular = keep.sum() / float(kNumBands);
-  const bool diffuse = u >= specular;
-  energy *= diffuse ? (Bands(1.f) - keep) * (1.f / (1.f - specular)) : keep * (1.f / specular);
-  return diffuse;
+  const float keep = (1.f - s) * share(tracer, r, std::min(surface, r.before), speedOfSound)[band];
+  return u < 1.f - keep;
+}
+
+Bands ReflectionScattering::pathShare(const Tracer& tracer, const std::vector<WorldTriangle>& world,
+                                      std::span<const uint32_t> triangles,
+                                      std::span<const glm::vec3> points, const glm::vec3& source,
+                                      const glm::vec3& listener, float speedOfSound) const {
+  Bands out(1.f);
+  float before = 0.f;
+  for (size_t i = 0; i < triangles.size() && i < points.size(); ++i) {
+    const uint32_t t = triangles[i];
+    if (t >= world.size()) continue;
+    const glm::vec3 from = i == 0 ? source : points[i - 1];
+    const glm::vec3 to = i + 1 < points.size() ? points[i + 1] : listener;
+    const float leg = glm::length(points[i] - from);
+    before += leg;
+    const WorldTriangle& w = world[t];
+    const glm::vec3 winding = glm::normalize(glm::cross(w.v1 - w.v0, w.v2 - w.v0));
+    const glm::vec3 incoming = (points[i] - from) / std::max(leg, 1e-6f);
+    const glm::vec3 lit = glm::dot(winding, incoming) < 0.f ? winding : -winding;
+    if (!standsFree(t, lit, winding)) continue;
+    const glm::vec3 off = points[i] + lit * surfaceOffset(points[i]);  // as a ray leaves it
+    const Reflection r{t, off, incoming, lit, glm::vec3(0.f), before};
+    out *= share(tracer, r, std::min(glm::length(to - points[i]), before), speedOfSound);
+  }
+  return out;
 }
 
 }  // namespace dpc

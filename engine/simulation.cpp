@@ -35,9 +35,9 @@ Simulation::Simulation(const SceneDesc& scene, const PropagationSettings& settin
     options.reflectionScattering = smallFaces_.get();
   }
   if (std::clamp(std::min(settings_.exactOrder, settings_.maxOrder), 0, kMaxExactOrder) > 0) {
-    specularScene_ = std::make_unique<SpecularScene>(
-        scene.mesh, scene.objects, *geometry_, *tracer_, propagationAirAttenuation(settings_),
-        settings_.speedOfSound, smallFaces_ ? &smallFaces_->reflectors() : nullptr);
+    specularScene_ = std::make_unique<SpecularScene>(scene.mesh, scene.objects, *geometry_,
+                                                     *tracer_, propagationAirAttenuation(settings_),
+                                                     settings_.speedOfSound, smallFaces_.get());
     specularCandidates_ = std::make_unique<SpecularCandidates>();
     options.specularFaces = specularScene_->faces().faces();
   }

@@ -10,6 +10,7 @@
 #include "common/random.h"
 #include "engine/channel_path.h"
 #include "engine/patch.h"
+#include "engine/reflection_scattering.h"
 
 namespace dpc {
 
@@ -107,9 +108,9 @@ bool SpecularCandidates::insert(const SpecularSequence& sequence) {
 SpecularScene::SpecularScene(const Mesh& mesh, const std::vector<ObjectDesc>& objects,
                              const Geometry& geometry, const Tracer& tracer,
                              const Bands& airPerMetre, float speedOfSound,
-                             const SmallReflectors* reflectors)
+                             const ReflectionScattering* smallFaces)
     : faces_(meshesOf(mesh, objects)),
-      reflectors_(reflectors),
+      smallFaces_(smallFaces),
       geometry_(geometry),
       tracer_(tracer),
       airPerMetre_(airPerMetre),
@@ -302,9 +303,13 @@ bool SpecularScene::validate(const SpecularSequence& seq, const glm::vec3& sourc
   const float toLastLength = glm::length(toLast);
   path.direction = toLastLength > 0.f ? toLast / toLastLength : glm::vec3(0.f);
   Bands factor(1.f);
-  if (reflectors_ && seq.order == 1)
-    factor = reflectors_->firstOrderShare(tracer_, world_, seq.triangles[0], path.points[0], source,
-                                          length, double(speedOfSound_));
+  if (smallFaces_ && seq.order == 1)
+    factor = smallFaces_->reflectors().firstOrderShare(
+        tracer_, world_, seq.triangles[0], path.points[0], source, length, double(speedOfSound_));
+  else if (smallFaces_)
+    factor =
+        smallFaces_->pathShare(tracer_, world_, {seq.triangles.data(), seq.order},
+                               {path.points.data(), seq.order}, source, listener, speedOfSound_);
   for (uint32_t i = 0; i < seq.order; ++i)
     factor *= geometry_.reflectance(seq.triangles[i]) *
               (Bands(1.f) - geometry_.scattering(seq.triangles[i]));

@@ -24,12 +24,14 @@
 // Energy of a valid path (intensity relative to source power, 1/m^2, DirectSound's scale):
 //   I_b = prod_i (1 - alpha_b(T_i)) (1 - s_b(T_i)) * K_b * exp(-m_b d) / (4 pi d^2),
 // m_b the ISO 9613-1 air attenuation, d the path length (the spreading clamped at R/2 as
-// DirectSound does), K_b the share of the image source's field that the face of a first-order
-// path reflects when it stands free and is smaller than the first Fresnel zone (a door leaf, a
-// thick doorway's reveal; engine/small_reflectors.h), 1 otherwise. The factor (1 - s) per
+// DirectSound does), K_b the share of the image source's field that faces standing free and
+// smaller than the first Fresnel zone reflect (a door leaf, a thick doorway's reveal): at first
+// order the Kirchhoff integral's (engine/small_reflectors.h), from the second the product of the
+// rays' Rindel shares (engine/reflection_scattering.h); 1 otherwise. The factor (1 - s) K per
 // reflection is the probability that a ray takes the specular lobe (docs/design.md, "Reflection
-// direction"): the propagator keeps every listener hit of an all-specular path of order <= N out of
-// the energy response, whose expectation is exactly this I_b, so nothing is counted twice
+// direction"; at first order K the rays' own): the propagator keeps every listener hit of an
+// all-specular path of order <= N out of the energy response, whose expectation is this I_b,
+// so nothing is counted twice
 // (docs/estimators.md, "Exact early specular paths"). A directional source multiplies I_b by its
 // pattern's weight toward P_1, the direction the path leaves the source
 // (SpecularPathCache::weightBySource), as the rays are weighted.
@@ -64,6 +66,8 @@
 #include "scene/scene.h"
 
 namespace dpc {
+
+class ReflectionScattering;  // engine/reflection_scattering.h
 
 /// The faces T1..Tk of an all-specular path (CoplanarFaces::faceOf of the triangles struck:
 /// the smallest triangle number of each coplanar face), k = order in 1..kMaxExactOrder;
@@ -136,13 +140,14 @@ class SpecularScene {
   /// places them); geometry, tracer: the simulation's, outliving this. airPerMetre: ISO 9613-1
   /// energy attenuation per band, 1/m; speedOfSound m/s. The visibility queries keep
   /// surfaceOffset() (engine/tracer.h) clear of a reflecting surface, as the rays do.
-  /// reflectors: the same scene's free-standing faces when edge diffraction is on (its edge
-  /// paths carry the rest of a small face's field; outliving this): then a first-order path
-  /// off a small free-standing face carries its Kirchhoff share (engine/small_reflectors.h);
+  /// smallFaces: the same scene's free-standing faces when edge diffraction is on (its edge
+  /// paths carry the rest of a small face's field; outliving this): then a path off a small
+  /// free-standing face carries its share, at first order the Kirchhoff integral's
+  /// (engine/small_reflectors.h), from the second on the rays' (engine/reflection_scattering.h);
   /// null: every path carries its image source's whole reflection.
   SpecularScene(const Mesh& mesh, const std::vector<ObjectDesc>& objects, const Geometry& geometry,
                 const Tracer& tracer, const Bands& airPerMetre, float speedOfSound,
-                const SmallReflectors* reflectors = nullptr);
+                const ReflectionScattering* smallFaces = nullptr);
 
   /// The scene's coplanar faces: sequences are over faces (CoplanarFaces::faceOf of the
   /// triangles the rays struck), and a reflection point may lie in any triangle of its face.
@@ -188,7 +193,7 @@ class SpecularScene {
 
   CoplanarFaces faces_;
   /// Which faces stand free, and the share they reflect (none without edge diffraction).
-  const SmallReflectors* reflectors_ = nullptr;
+  const ReflectionScattering* smallFaces_ = nullptr;
   std::vector<Triangle> world_;               ///< per triangle, current pose
   std::vector<std::vector<Triangle>> local_;  ///< per object, local coordinates
   std::vector<uint32_t> objectFirst_;         ///< per object, its first triangle number

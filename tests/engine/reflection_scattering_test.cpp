@@ -41,26 +41,37 @@ std::pair<glm::dvec3, glm::dvec3> mirroredPair(double d, double theta) {
 
 }  // namespace
 
-TEST_CASE("Reflection scattering: a face's widths follow its sides and its object's pose",
+TEST_CASE("Reflection scattering: a face's zone widths follow its sides and its object's pose",
           "[reflection_scattering]") {
-  // Exact for a rectangle: its second moment along a side is side^2 / 12.
+  // Exact for a rectangle: its second moment along a side is side^2 / 12, and seen from the
+  // zone at any orientation its principal widths' product is its area times cos(theta).
   const ReflectionScattering still = scatteringOf(plate(0.6f, 1.8f));
   for (uint32_t t = 0; t < 4; ++t) {
-    const glm::vec2 w = still.widths(t, {1, 0, 0}, {0, 1, 0});
-    CHECK(w.x == Approx(0.6f).margin(1e-4));
-    CHECK(w.y == Approx(1.8f).margin(1e-4));
+    const glm::vec3 lit = t < 2 ? glm::vec3(0, 0, 1) : glm::vec3(0, 0, -1);
+    const glm::vec2 w = still.zoneWidths(t, -lit, lit);  // normal incidence
+    CHECK(w.x == Approx(1.8f).margin(1e-4));
+    CHECK(w.y == Approx(0.6f).margin(1e-4));
   }
-  // The same plate as an object turned 90 degrees about z: its 0.6 m side now lies along y.
+  // 60 degrees from the normal in the plane of the 0.6 m side: 0.6 cos 60 = 0.3 m and 1.8 m.
+  const float c = 0.5f, sn = std::sqrt(0.75f);
+  glm::vec2 w = still.zoneWidths(0, glm::vec3(sn, 0.f, -c), {0, 0, 1});
+  CHECK(w.x == Approx(1.8f).margin(1e-4));
+  CHECK(w.y == Approx(0.3f).margin(1e-4));
+  // In a plane 30 degrees off the sides: no longer a side in that plane, the product holds.
+  const glm::vec3 oblique(sn * std::cos(0.5236f), sn * std::sin(0.5236f), -c);
+  w = still.zoneWidths(0, oblique, {0, 0, 1});
+  CHECK(w.x * w.y == Approx(0.6f * 1.8f * c).epsilon(1e-4));
+  // The same plate as an object turned 60 degrees about z and moved: its 0.6 m side now lies
+  // along (cos 60, sin 60, 0), so incidence in the plane of that direction foreshortens it.
   ObjectDesc o;
   o.mesh = plate(0.6f, 1.8f);
   o.trajectory.push_back(ObjectKeyframe{});
   ReflectionScattering moving = scatteringOf(Mesh{}, {o});
-  moving.setObjectPose(
-      0,
-      Pose{{3.f, 0.f, 0.f}, glm::angleAxis(0.5f * std::numbers::pi_v<float>, glm::vec3(0, 0, 1))});
-  const glm::vec2 w = moving.widths(0, {1, 0, 0}, {0, 1, 0});
+  const float turn = std::numbers::pi_v<float> / 3.f;
+  moving.setObjectPose(0, Pose{{3.f, 1.f, 0.f}, glm::angleAxis(turn, glm::vec3(0, 0, 1))});
+  w = moving.zoneWidths(0, glm::vec3(sn * std::cos(turn), sn * std::sin(turn), -c), {0, 0, 1});
   CHECK(w.x == Approx(1.8f).margin(1e-4));
-  CHECK(w.y == Approx(0.6f).margin(1e-4));
+  CHECK(w.y == Approx(0.3f).margin(1e-4));
 }
 
 TEST_CASE("Reflection scattering: the share per band against the Kirchhoff integral",
@@ -97,7 +108,6 @@ TEST_CASE("Reflection scattering: the share per band against the Kirchhoff integ
         std::printf(" %5.1f", model - oracle);
         INFO(w << " x " << h << " m, theta " << theta << ", band " << b << ": K " << model
                << " dB, Kirchhoff " << oracle << " dB");
-        CHECK(k[b] <= 1.f);
         CHECK(model <= oracle + 2.0);
         if (xu <= 0.5 && xv <= 0.5)
           CHECK(std::abs(model - oracle) <= 1.0);
@@ -112,17 +122,24 @@ namespace {
 
 /// The path-traced first-order energy per band (1/m^2) at a 0.5 m listener sphere off a free
 /// 1 x 1 m rigid plate, source and listener 2 m from its centre at 45 degrees: no exact paths
-/// (the rays carry the reflection), `frames` frames of `rays` rays.
-Bands tracedReflection(bool diffraction, int frames, int rays) {
+/// (the rays carry the reflection), `frames` frames of `rays` rays, the bins of the first 20 ms.
+/// backedAt > 0: the plate hangs that far (m) before a wall of a 20 m cube round it.
+Bands tracedReflection(bool diffraction, int frames, int rays, float backedAt = 0.f) {
   SceneDesc s;
-  s.path = "<plate>";
-  s.materials.push_back(Material{"rigid", Bands(0.f), Bands(0.f)});
-  s.mesh = plate(1.f, 1.f);
   const auto [src, lis] = mirroredPair(2.0, std::numbers::pi / 4.0);
-  s.sources.push_back(SourceDesc{});
-  s.sources.back().position = glm::vec3(src);
-  s.listeners.push_back(ListenerDesc{});
-  s.listeners.back().position = glm::vec3(lis);
+  if (backedAt > 0.f) {
+    s = test::makeShoebox({20.f, 20.f, 20.f}, Bands(0.f), 0.f, glm::vec3(src), glm::vec3(lis));
+    for (glm::vec3& v : s.mesh.vertices) v -= glm::vec3(10.f, 10.f, backedAt);
+    test::addPanel(s.mesh, {-0.5f, -0.5f, 0.f}, {1.f, 0.f, 0.f}, {0.f, 1.f, 0.f}, 0);
+  } else {
+    s.materials.push_back(Material{"rigid", Bands(0.f), Bands(0.f)});
+    s.mesh = plate(1.f, 1.f);
+    s.sources.push_back(SourceDesc{});
+    s.sources.back().position = glm::vec3(src);
+    s.listeners.push_back(ListenerDesc{});
+    s.listeners.back().position = glm::vec3(lis);
+  }
+  s.path = "<plate>";
   s.listeners.back().radius = 0.5f;
   s.propagation.estimator = Estimator::kPathTracing;
   s.propagation.exactOrder = 0;
@@ -133,7 +150,8 @@ Bands tracedReflection(bool diffraction, int frames, int rays) {
   Bands total(0.f);
   for (int f = 0; f < frames; ++f) {
     sim.runFrame(glm::vec3(lis));
-    for (const Bands& bin : sim.result(0).energy.bins()) total += bin;
+    const auto& bins = sim.result(0).energy.bins();
+    for (size_t i = 0; i < bins.size() && i < 20; ++i) total += bins[i];
   }
   return total * (1.f / float(frames));
 }
@@ -170,13 +188,15 @@ TEST_CASE("Reflection scattering: a small plate's traced reflection keeps its Ki
   // rays bring the Kirchhoff share K of it specularly and the plate's scattered rest (1 - K)
   // by Lambert's law: their ratio is K + (1 - K) D, K the Kirchhoff integral at the sphere's
   // centre (testing/kirchhoff.h), D the Lambert intensity there over the image's, integrated
-  // over the plate here. About 0.4 % of the rays reach the sphere (2,000 of 524,288, a Monte
-  // Carlo error of 3 % per run and band). At 63-250 Hz within 1 dB: the model's K against the
-  // integral (0.1 dB for this plate) and the intensities' spread over the sphere, 1.5-2.5 m
-  // from the plate. From 1 kHz the plate fills its zone, K is 1 and the ratio 0 dB within the
-  // two runs' Monte Carlo error (0.5 dB at 4 sigma). And the change is real: at 63 Hz the
-  // plate reflects less than a fifth of its image source's energy to the sphere.
-  constexpr int kFrames = 8, kRays = 65536;
+  // over the plate here. About 0.4 % of the rays reach the sphere; off the plate a ray goes on
+  // with the bands it keeps whole or with one other (engine/propagation.h), so at 63-500 Hz
+  // 1,000 hits a band of 2,097,152 rays carry it (a Monte Carlo error of 3 %; without the
+  // plate's share 1 %: 0.6 dB at 4 sigma on the ratio). At 63-250 Hz within 1.6 dB: 1 dB for the
+  // model's K against the integral (0.1 dB for this plate) and the intensities' spread over the
+  // sphere, 1.5-2.5 m from the plate, and the Monte Carlo error. From 1 kHz the plate fills its
+  // zone, K is 1 and the ratio 0 dB within that error. And the change is real: at 63 Hz the plate
+  // reflects less than a fifth of its image source's energy to the sphere.
+  constexpr int kFrames = 8, kRays = 262144;
   const Bands whole = tracedReflection(false, kFrames, kRays);
   const Bands share = tracedReflection(true, kFrames, kRays);
   const auto [s, l] = mirroredPair(2.0, std::numbers::pi / 4.0);
@@ -192,8 +212,28 @@ TEST_CASE("Reflection scattering: a small plate's traced reflection keeps its Ki
     std::printf("  %5.0f Hz %6.2f %6.2f\n", double(kBandCentreHz[b]), ratio, oracle);
     INFO("band " << b);
     REQUIRE(whole[b] > 0.f);
-    if (b < 3) CHECK(std::abs(ratio - oracle) <= 1.0);
-    if (b >= 4) CHECK(std::abs(ratio) <= 0.5);
+    if (b < 3) CHECK(std::abs(ratio - oracle) <= 1.6);
+    if (b >= 4) CHECK(std::abs(ratio) <= 0.6);
   }
   CHECK(10.0 * std::log10(double(share[0]) / double(whole[0])) < -7.0);
+}
+
+TEST_CASE("Reflection scattering: a plate 5 cm before a wall reflects with it at low frequencies",
+          "[reflection_scattering]") {
+  // The same plate hung 5 cm before a wall of a 20 m cube (every face rigid, first order only,
+  // the window before the cube's other walls answer): within an eighth of a wavelength of the
+  // wall up to 500 Hz (0.086 m), where plate and wall reflect together as one plane, every
+  // band keeps the image source's reflection, 0 dB within the two runs' Monte Carlo error
+  // (0.6 dB at 4 sigma, as above); at 1-8 kHz too, the plate filling its zone there.
+  constexpr int kFrames = 8, kRays = 262144;
+  const Bands whole = tracedReflection(false, kFrames, kRays, 0.05f);
+  const Bands backed = tracedReflection(true, kFrames, kRays, 0.05f);
+  std::printf("traced reflection off a 1 x 1 m plate 5 cm before a wall, with / without (dB):");
+  for (int b = 0; b < kNumBands; ++b) {
+    const double ratio = 10.0 * std::log10(double(backed[b]) / double(whole[b]));
+    std::printf(" %5.2f", ratio);
+    INFO("band " << b);
+    CHECK(std::abs(ratio) <= 0.6);
+  }
+  std::printf("\n");
 }

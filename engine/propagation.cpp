@@ -279,29 +279,11 @@ bool Propagator::scatters(RayState& ray, const SurfaceHit& hit, const glm::vec3&
   if (!rs || !rs->standsFree(hit.triangle, n, hit.normal)) return ray.rng.uniform() < s[ray.band];
   const ReflectionScattering::Reflection r{
       hit.triangle, org, ray.dir, n, mirrored, ray.travelled - ray.coherentFrom};
-  if (std::popcount(ray.bands) > 1) {
-    uint8_t whole = 0;  // the bands the face keeps whole even at its least share
-    const Bands least = rs->least(r, settings_.speedOfSound);
-    for (int b = 0; b < kNumBands; ++b)
-      if ((ray.bands >> b & 1u) && least[b] >= 1.f) whole |= uint8_t(1u << b);
-    if (whole != ray.bands) narrowBands(ray, whole);
+  if (std::popcount(ray.bands) > 1) {  // narrowed to bands the face treats alike
+    ray.bands = rs->narrow(r, settings_.speedOfSound, ray.bands, ray.rng, ray.energy);
+    ray.band = std::countr_zero(ray.bands);
   }
   return rs->scatters(tracer_, r, settings_.speedOfSound, s[ray.band], ray.band, ray.rng.uniform());
-}
-
-void Propagator::narrowBands(RayState& ray, uint8_t whole) {
-  // Options: the whole group as one (|whole| of n chances), or one other band (one chance).
-  const int n = std::popcount(ray.bands), m = std::popcount(whole);
-  int pick = std::min(n - 1, int(ray.rng.uniform() * float(n)));
-  uint8_t chosen = whole;
-  if (pick >= m)
-    for (int b = 0; b < kNumBands; ++b)
-      if ((ray.bands & ~whole) >> b & 1u && pick-- == m) chosen = uint8_t(1u << b);
-  const float weight = float(n) / float(std::popcount(chosen));
-  for (int b = 0; b < kNumBands; ++b)
-    ray.energy[b] = (chosen >> b & 1u) ? ray.energy[b] * weight : 0.f;
-  ray.bands = chosen;
-  ray.band = std::countr_zero(chosen);
 }
 
 void Propagator::traceRay(const Pass& pass, uint32_t rayIndex, Chunk& chunk) const {

@@ -270,12 +270,6 @@ class Propagator {
   /// the material's coefficient, off a free-standing face ReflectionScattering::scatters.
   bool scatters(RayState& ray, const SurfaceHit& hit, const glm::vec3& org, const glm::vec3& n,
                 const glm::vec3& mirrored) const;
-  /// A ray carrying several bands meets a face whose share differs between them: it goes on
-  /// with the group `whole` (the bands kept whole) or with one of the others, each carried
-  /// band an equal chance, the kept bands' energy scaled by carried over kept (unbiased per
-  /// band; the product of the scales along a path is at most kNumBands, where reweighting
-  /// every band at each such face would compound).
-  static void narrowBands(RayState& ray, uint8_t whole);
   /// The face recorded in specular sequences for triangle t (Options::specularFaces).
   uint32_t faceOf(uint32_t t) const { return t < faceOf_.size() ? faceOf_[t] : t; }
   /// Appends the ended ray's leading specular sequence, if any, to chunk.specularRuns.

@@ -1,6 +1,7 @@
 #include "engine/reflection_scattering.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -178,6 +179,24 @@ Bands ReflectionScattering::share(const Tracer& tracer, const Reflection& r, flo
   for (int b = 0; b < kNumBands; ++b)
     if (wall <= kBackedWavelengths * speedOfSound / kBandCentreHz[b]) k[b] = 1.f;
   return k;
+}
+
+uint8_t ReflectionScattering::narrow(const Reflection& r, float speedOfSound, uint8_t carried,
+                                     Rng& rng, Bands& energy) const {
+  const Bands k = least(r, speedOfSound);
+  uint8_t whole = 0;
+  for (int b = 0; b < kNumBands; ++b)
+    if ((carried >> b & 1u) && k[b] >= 1.f) whole |= uint8_t(1u << b);
+  if (whole == carried) return carried;
+  // Options: the whole group (|whole| of n chances), or one other band (one chance each).
+  const int n = std::popcount(carried), m = std::popcount(whole);
+  int pick = std::min(n - 1, int(rng.uniform() * float(n)));
+  uint8_t chosen = whole;
+  for (int b = 0; b < kNumBands && pick >= m; ++b)
+    if ((carried & ~whole) >> b & 1u && pick-- == m) chosen = uint8_t(1u << b);
+  const float scale = float(n) / float(std::popcount(chosen));
+  for (int b = 0; b < kNumBands; ++b) energy[b] = (chosen >> b & 1u) ? energy[b] * scale : 0.f;
+  return chosen;
 }
 
 bool ReflectionScattering::scatters(const Tracer& tracer, const Reflection& r, float speedOfSound,

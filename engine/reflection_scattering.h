@@ -54,6 +54,7 @@
 #include <vector>
 
 #include "common/bands.h"
+#include "common/random.h"
 #include "engine/small_reflectors.h"
 #include "engine/tracer.h"
 #include "scene/scene.h"
@@ -103,6 +104,14 @@ class ReflectionScattering {
   Bands least(const Reflection& r, float speedOfSound) const {
     return specularShare(r.triangle, r.incoming, r.litNormal, r.before, r.before, speedOfSound);
   }
+  /// For a ray carrying the bands `carried` (bit b: band b) with `energy` that meets reflection
+  /// r: the bands it goes on with. Where the face keeps some of them whole even at its least
+  /// share and not others, the ray goes on with that group or with one of the others, each
+  /// carried band an equal chance (one draw of `rng`), the kept bands' energy scaled by the
+  /// count carried over the count kept: unbiased per band, and the product of the scales along
+  /// a path is at most kNumBands, where reweighting every band at each such face would compound.
+  uint8_t narrow(const Reflection& r, float speedOfSound, uint8_t carried, Rng& rng,
+                 Bands& energy) const;
   /// Whether reflection r off a free-standing face scatters in `band`, the one band the ray
   /// carries, from one uniform draw u in [0, 1): with probability 1 - (1 - s) K, s the band's
   /// scattering coefficient; d2 from one ray query along `mirrored` (only where K at the

@@ -30,11 +30,9 @@
 // rays' Rindel shares (engine/reflection_scattering.h); 1 otherwise. The factor (1 - s) K per
 // reflection is the probability that a ray takes the specular lobe (docs/design.md, "Reflection
 // direction"; at first order K the rays' own): the propagator keeps every listener hit of an
-// all-specular path of order <= N out of the energy response, whose expectation is this I_b,
-// so nothing is counted twice
-// (docs/estimators.md, "Exact early specular paths"). A directional source multiplies I_b by its
-// pattern's weight toward P_1, the direction the path leaves the source
-// (SpecularPathCache::weightBySource), as the rays are weighted.
+// all-specular path of order <= N out of the energy response, whose expectation is this I_b, so
+// nothing is counted twice (docs/estimators.md, "Exact early specular paths"). A directional
+// source weights I_b toward P_1, where the path leaves it (SpecularPathCache::weightBySource).
 //
 // Persistence across frames (as the DPC keeps its paths, Schissler thesis §3.2.2): each
 // source-listener pair keeps the sequences that validated once and re-validates them every

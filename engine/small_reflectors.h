@@ -37,9 +37,9 @@
 // diffraction.h) and carry the rest of its field, the lobe round the image that a small face
 // spreads wide: the edges' reflection-boundary terms are left out only where the face holds the
 // reflection point, where their coherent sum with the reflection is the integral above. At
-// higher orders no edge diffracts the reflected sound, and the image source stands for the
-// face's reflection and its lobe together: taking its share there would lose the rest
-// (docs/validation.md, "Reflections off faces smaller than a Fresnel zone").
+// higher orders no edge diffracts the reflected sound: there a path carries the traced rays'
+// Rindel share, whose rest the rays scatter (engine/reflection_scattering.h; docs/validation.md,
+// "Reflections off faces smaller than a Fresnel zone").
 //
 // Which faces: those that stand free on the side the sound comes from, three quarters of their
 // boundary (kFreeStanding, engine/diffraction_edges.h) convex from that side: a free rim, or a
@@ -50,8 +50,8 @@
 // wall at its hinge. The side is taken from the reflection itself, so a mesh wound either way
 // is read alike.
 //
-// Construction: any thread; allocates O(triangles); no errors. pathShare(): the propagation
-// thread (the Tracer's queries); no allocation; no errors.
+// Construction: any thread; allocates O(triangles); no errors. firstOrderShare(): the
+// propagation thread (the Tracer's queries); no allocation; no errors.
 #pragma once
 
 #include <array>
@@ -106,7 +106,7 @@ class SmallReflectors {
   /// The share per octave band that a first-order path from `source` (m) reflected at `point`
   /// (m) off triangle t (Geometry's number, in `world`: every triangle in its current pose)
   /// reflects, `length` the path's unfolded length (m), speedOfSound m/s. 1 in every band off a
-  /// face that does not stand free. Higher orders keep their image sources (see above).
+  /// face that does not stand free. Higher orders: ReflectionScattering::pathShare.
   Bands firstOrderShare(const Tracer& tracer, const std::vector<WorldTriangle>& world, uint32_t t,
                         const glm::vec3& point, const glm::vec3& source, double length,
                         double speedOfSound) const;

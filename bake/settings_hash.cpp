@@ -72,7 +72,8 @@ uint64_t sources(const SceneDesc& scene) {
 
 uint64_t physics(const PropagationSettings& p) {
   Fnv h;
-  for (const int v : {p.maxOrder, p.exactOrder, int(p.airAbsorption), int(p.diffraction)})
+  for (const int v : {p.maxOrder, p.exactOrder, int(p.airAbsorption), int(p.diffraction),
+                      int(p.reflectionScattering)})
     h.value(v);
   for (const float v : {p.speedOfSound, p.temperatureC, p.humidityPercent, p.rouletteThreshold})
     h.value(v);

@@ -73,8 +73,10 @@ glm::vec2 eigenvalues(float a, float b, float c) {
 
 ReflectionScattering::ReflectionScattering(const Mesh& mesh, const std::vector<uint32_t>& surfaces,
                                            const std::vector<DiffractionEdge>& edges,
-                                           const std::vector<ObjectDesc>& objects)
-    : reflectors_(mesh, surfaces, edges, objects), rotation_(objects.size(), glm::mat3(1.f)) {
+                                           const std::vector<ObjectDesc>& objects, bool rays)
+    : reflectors_(mesh, surfaces, edges, objects),
+      rotation_(objects.size(), glm::mat3(1.f)),
+      rays_(rays) {
   const Corners corners = cornersOf(mesh, objects);
   momentOf_.assign(corners.triangles.size(), 0);
   for (uint32_t s = 0; s < reflectors_.surfaceCount(); ++s) {
@@ -217,7 +219,7 @@ Bands ReflectionScattering::pathShare(const Tracer& tracer, const std::vector<Wo
                                       const glm::vec3& listener, float speedOfSound) const {
   Bands out(1.f);
   float before = 0.f;
-  for (size_t i = 0; i < triangles.size() && i < points.size(); ++i) {
+  for (size_t i = 0; rays_ && i < triangles.size() && i < points.size(); ++i) {
     const uint32_t t = triangles[i];
     if (t >= world.size()) continue;
     const glm::vec3 from = i == 0 ? source : points[i - 1];

@@ -66,9 +66,11 @@ class ReflectionScattering {
   /// The static mesh with its flat surfaces and candidate edges as EdgeDiffraction found them,
   /// then each object's mesh in its local frame: Geometry's triangle numbering (as
   /// SmallReflectors, which this builds and the exact paths share).
+  /// rays: PropagationSettings::reflectionScattering (off: pathShare is 1, the rays are not
+  /// given this object, and only the exact paths' first-order share remains).
   ReflectionScattering(const Mesh& mesh, const std::vector<uint32_t>& surfaces,
                        const std::vector<DiffractionEdge>& edges,
-                       const std::vector<ObjectDesc>& objects);
+                       const std::vector<ObjectDesc>& objects, bool rays = true);
   const SmallReflectors& reflectors() const { return reflectors_; }
 
   /// Object k's triangles follow `pose` (world = R local + position).
@@ -149,6 +151,7 @@ class ReflectionScattering {
   std::vector<uint32_t> momentOf_;  ///< per triangle, its face's entry in moments_
   std::vector<Moment> moments_;
   std::vector<glm::mat3> rotation_;  ///< per object, its pose's rotation
+  bool rays_ = true;                 ///< the constructor's `rays`
 };
 
 }  // namespace dpc

@@ -31,8 +31,9 @@ Simulation::Simulation(const SceneDesc& scene, const PropagationSettings& settin
   if (settings_.diffraction) {
     diffraction_ = std::make_unique<EdgeDiffraction>(scene.mesh, scene.objects);
     smallFaces_ = std::make_unique<ReflectionScattering>(scene.mesh, diffraction_->surfaces(),
-                                                         diffraction_->edges(), scene.objects);
-    options.reflectionScattering = smallFaces_.get();
+                                                         diffraction_->edges(), scene.objects,
+                                                         settings_.reflectionScattering);
+    if (settings_.reflectionScattering) options.reflectionScattering = smallFaces_.get();
   }
   if (std::clamp(std::min(settings_.exactOrder, settings_.maxOrder), 0, kMaxExactOrder) > 0) {
     specularScene_ = std::make_unique<SpecularScene>(scene.mesh, scene.objects, *geometry_,

@@ -98,10 +98,9 @@ class Simulation {
     uint64_t specularOverflow = 0;    ///< cumulative: sequences refused by full tables
     double specularSeconds = 0.0;     ///< wall time of this pair's validation
     /// With recordSurfaces(true): the frame's estimate per surface, Sum I / rays (1/m^2 per
-    /// band, the energy response's scale) of the hits the estimator took this frame, by the
-    /// triangle each path reflected from last (paths an exact path replaces are not in it);
-    /// summed over surfaces it is this frame's path-traced energy. Empty otherwise and for a
-    /// skipped pair.
+    /// band, the response's scale) of the hits the estimator took this frame, by the triangle
+    /// each path reflected from last (not those an exact path replaces); summed over surfaces,
+    /// this frame's path-traced energy. Empty otherwise and for a skipped pair.
     SurfaceTally surfaces;
   };
 

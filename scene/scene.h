@@ -195,6 +195,11 @@ struct PropagationSettings {
   /// First-order edge diffraction (UTD) of the direct sound around the static mesh's edges
   /// (engine/diffraction.h).
   bool diffraction = true;
+  /// With diffraction: traced rays (and exact paths from the second order) off free-standing
+  /// faces smaller than their Fresnel zone keep Rindel's share specular and scatter the rest
+  /// (engine/reflection_scattering.h). Off: they reflect whole, as a wall does (quieter at equal
+  /// rays where rays meet many small faces; docs/validation.md).
+  bool reflectionScattering = true;
   /// Russian roulette: a ray whose band energy (with air attenuation) has fallen below this
   /// fraction of its initial energy in every band survives with probability
   /// kRouletteSurvival and, if it does, carries 1/kRouletteSurvival times its energy

@@ -356,10 +356,26 @@ void readPropagation(const JsonReader& r, const json& v, PropagationSettings& p)
   const std::string field = "propagation";
   r.expectObject(v, field);
   r.checkKeys(v, field,
-              {"rays_per_frame", "max_order", "exact_order", "patch_size", "cache_tau",
-               "cache_memory_mb", "cache_pool_mb", "frame_rate", "ir_length", "seed", "estimator",
-               "dpc_weighting", "speed_of_sound", "temperature", "humidity", "air_absorption",
-               "diffraction", "roulette_threshold_db", "tracing"});
+              {"rays_per_frame",
+               "max_order",
+               "exact_order",
+               "patch_size",
+               "cache_tau",
+               "cache_memory_mb",
+               "cache_pool_mb",
+               "frame_rate",
+               "ir_length",
+               "seed",
+               "estimator",
+               "dpc_weighting",
+               "speed_of_sound",
+               "temperature",
+               "humidity",
+               "air_absorption",
+               "diffraction",
+               "reflection_scattering",
+               "roulette_threshold_db",
+               "tracing"});
   auto f = [&](const char* key) { return join(field, key); };
   readPropagationNumbers(r, v, p);
   if (const json* x = JsonReader::find(v, "seed")) {
@@ -379,6 +395,8 @@ void readPropagation(const JsonReader& r, const json& v, PropagationSettings& p)
     p.airAbsorption = r.boolean(*x, f("air_absorption"));
   if (const json* x = JsonReader::find(v, "diffraction"))
     p.diffraction = r.boolean(*x, f("diffraction"));
+  if (const json* x = JsonReader::find(v, "reflection_scattering"))
+    p.reflectionScattering = r.boolean(*x, f("reflection_scattering"));
 }
 
 void readAudio(const JsonReader& r, const json& v, const fs::path& folder, AudioSettings& a) {

@@ -113,7 +113,7 @@ TEST_CASE("Propagation and audio keys are read", "[scene]") {
     "rays_per_frame": 1000, "max_order": 7, "patch_size": 0.25, "cache_tau": 0,
     "frame_rate": 30, "ir_length": 1.5, "seed": 18446744073709551615,
     "estimator": "path_tracing", "dpc_weighting": "seed", "temperature": 0,
-    "humidity": 80, "air_absorption": false })");
+    "humidity": 80, "air_absorption": false, "reflection_scattering": false })");
   f.scene["audio"] = json::parse(R"({ "sample_rate": 44100, "block_size": 256 })");
   const SceneDesc s = f.load();
   CHECK(s.propagation.raysPerFrame == 1000);
@@ -128,6 +128,7 @@ TEST_CASE("Propagation and audio keys are read", "[scene]") {
   CHECK(s.propagation.speedOfSound == Approx(331.3));  // from temperature 0 degC
   CHECK(s.propagation.humidityPercent == 80.f);
   CHECK_FALSE(s.propagation.airAbsorption);
+  CHECK_FALSE(s.propagation.reflectionScattering);
   CHECK(s.audio.sampleRate == 44100);
   CHECK(s.audio.blockSize == 256);
 

@@ -157,13 +157,21 @@ float ReflectionScattering::backing(const Tracer& tracer, const Reflection& r, f
   const float offset = surfaceOffset(r.point);
   glm::vec3 org = r.point - r.litNormal * (2.f * offset);  // just behind the face
   float travelled = 0.f;
+  // Free on both sides: a sheet, air behind it. Else a body's face, its inside behind it.
+  const bool solid = !(reflectors_.standsFree(r.triangle, true) &&
+                       reflectors_.standsFree(r.triangle, false));
   for (int k = 0; k < kBackingHits && travelled < limit; ++k) {
     SurfaceHit hit;
     if (!tracer.intersect(TraceRay{org, -r.litNormal, 0.f, limit - travelled}, hit)) break;
     travelled += hit.t;
     const float facing = glm::dot(hit.normal, r.litNormal);
     if (std::abs(facing) < kParallelCos) break;
-    if (!reflectors_.standsFree(hit.triangle, facing > 0.f)) return travelled;
+    // The side the probe meets: a wall if it does not stand free there (a sheet's second copy
+    // and another panel do). Behind a body's face (not free on its back) the first such side
+    // that stands free on its far side is the body's own back, seen from inside: passed.
+    const bool near = facing > 0.f;
+    const bool ownBack = k == 0 && solid && reflectors_.standsFree(hit.triangle, !near);
+    if (!reflectors_.standsFree(hit.triangle, near) && !ownBack) return travelled;
     org -= r.litNormal * (hit.t + offset);
     travelled += offset;
   }
@@ -233,7 +241,12 @@ Bands ReflectionScattering::pathShare(const Tracer& tracer, const std::vector<Wo
     if (!standsFree(t, lit, winding)) continue;
     const glm::vec3 off = points[i] + lit * surfaceOffset(points[i]);  // as a ray leaves it
     const Reflection r{t, off, incoming, lit, glm::vec3(0.f), before};
-    out *= share(tracer, r, std::min(glm::length(to - points[i]), before), speedOfSound);
+    // d2 as the rays take it: the next surface along the outgoing leg, past the listener on
+    // the last one, at most d1.
+    SurfaceHit next;
+    const glm::vec3 outgoing = glm::normalize(to - points[i]);
+    const float surface = tracer.intersect(TraceRay{off, outgoing}, next) ? next.t : kFar;
+    out *= share(tracer, r, std::min(surface, before), speedOfSound);
   }
   return out;
 }

@@ -122,15 +122,18 @@ class ReflectionScattering {
                 float u) const;
   /// The product over an exact path's reflections (triangles and points, source first, in
   /// `world`'s current pose) of the share of each one off a free-standing face: the same K
-  /// (with d2 the next leg, at most d1) as the rays the path replaces carry.
+  /// as the rays traced from the source that the path replaces carry (d1 unfolded, d2 the next
+  /// surface along the outgoing leg, past the listener on the last, at most d1). One ray query
+  /// per such reflection, with share's.
   Bands pathShare(const Tracer& tracer, const std::vector<WorldTriangle>& world,
                   std::span<const uint32_t> triangles, std::span<const glm::vec3> points,
                   const glm::vec3& source, const glm::vec3& listener, float speedOfSound) const;
 
   /// A parallel surface behind the face (within kParallelCos) that does not stand free on the
-  /// side toward it (a wall; not the face's own back, a sheet's second copy or another panel,
-  /// which the probe passes through, up to kBackingHits) within kBackedWavelengths of a band's
-  /// wavelength reflects with it.
+  /// side toward it (a wall; a sheet's second copy, another free panel, and the first such
+  /// surface behind a body's face that stands free on its far side, the body's own back, are
+  /// passed through, up to kBackingHits) within kBackedWavelengths of a band's wavelength
+  /// reflects with it. Read from the surfaces' free sides, so either winding reads alike.
   static constexpr float kBackedWavelengths = 0.125f;
   static constexpr float kParallelCos = 0.99f;
   static constexpr int kBackingHits = 4;

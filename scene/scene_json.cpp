@@ -525,8 +525,15 @@ SceneDesc loadScene(const std::string& path) {
   readSources(r, r.require(root, "", "sources"), folder, scene);
   readListeners(r, root, scene);
   if (const json* o = JsonReader::find(root, "objects")) readObjects(r, *o, folder, scene);
-  if (const json* p = JsonReader::find(root, "propagation"))
+  if (const json* p = JsonReader::find(root, "propagation")) {
     readPropagation(r, *p, scene.propagation);
+    // The reflection-based scattering runs inside the edge diffraction's model: say so when a
+    // scene asks for it with diffraction off, rather than ignore the key.
+    if (JsonReader::find(*p, "reflection_scattering") && scene.propagation.reflectionScattering &&
+        !scene.propagation.diffraction)
+      scene.warnings.push_back(path + ": propagation.reflection_scattering: has no effect with "
+                               "propagation.diffraction false");
+  }
   if (const json* a = JsonReader::find(root, "audio")) readAudio(r, *a, folder, scene.audio);
   if (const json* w = JsonReader::find(root, "wave")) readWave(r, *w, scene.wave);
   loadMeshes(r, root, scene);

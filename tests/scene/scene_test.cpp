@@ -136,6 +136,20 @@ TEST_CASE("Propagation and audio keys are read", "[scene]") {
   CHECK(f.load().propagation.speedOfSound == 340.f);
 }
 
+TEST_CASE("reflection_scattering asked for with diffraction off is a warning, not ignored",
+          "[scene]") {
+  Fixture f;
+  f.scene["propagation"] = {{"diffraction", false}};
+  CHECK(f.load().warnings.empty());  // the default on is not the user's word
+  f.scene["propagation"]["reflection_scattering"] = true;
+  const SceneDesc s = f.load();
+  REQUIRE(s.warnings.size() == 1);
+  CHECK_THAT(s.warnings[0], Contains("scene.json: propagation.reflection_scattering: has no "
+                                     "effect with propagation.diffraction false"));
+  f.scene["propagation"]["diffraction"] = true;
+  CHECK(f.load().warnings.empty());
+}
+
 TEST_CASE("Comment keys are ignored, unknown keys are refused", "[scene]") {
   Fixture f;
   f.scene["_comment"] = "anything";

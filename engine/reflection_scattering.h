@@ -133,7 +133,10 @@ class ReflectionScattering {
   /// side toward it (a wall; a sheet's second copy, another free panel, and the first such
   /// surface behind a body's face that stands free on its far side, the body's own back, are
   /// passed through, up to kBackingHits) within kBackedWavelengths of a band's wavelength
-  /// reflects with it. Read from the surfaces' free sides, so either winding reads alike.
+  /// reflects with it. Read from the surfaces' free sides, so either winding reads alike. A
+  /// body whose back lies exactly in a wall's plane (a box panel flush on it) is not told from
+  /// one standing free: the probe leaves its back and the wall together, so such a panel
+  /// scatters its low bands; a millimetre's gap, or the panel as a sheet, keeps them whole.
   static constexpr float kBackedWavelengths = 0.125f;
   static constexpr float kParallelCos = 0.99f;
   static constexpr int kBackingHits = 4;

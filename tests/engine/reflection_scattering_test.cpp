@@ -4,12 +4,14 @@
 // and what a user hears: a path-traced reflection off a small plate, with and without it.
 #include "engine/reflection_scattering.h"
 
+#include <bit>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
 #include <glm/gtc/quaternion.hpp>
 #include <numbers>
 
+#include "common/random.h"
 #include "engine/diffraction.h"
 #include "engine/simulation.h"
 #include "testing/kirchhoff.h"
@@ -269,4 +271,49 @@ TEST_CASE("Reflection scattering: a 4 cm slab is not its own backing wall",
   std::printf("traced reflection off a 1 x 1 m slab 4 cm thick, 63 Hz, with / without: %.2f dB\n",
               ratio);
   CHECK(ratio < -5.0);
+}
+
+TEST_CASE("Reflection scattering: narrowing a ray's bands is unbiased per band",
+          "[reflection_scattering]") {
+  // A 1 x 1 m plate met at normal incidence 2 m from the source: its least K is below 1 in the
+  // low bands (lambda L of 5.4 m^2 at 63 Hz) and 1 in the high ones (0.04 m^2 at 8 kHz). A ray
+  // carrying every band, or a mix, goes on with a subset; over many draws each band's mean
+  // energy must be what it carried. Per draw a band's energy is n / |chosen| or 0, so the mean of
+  // N draws has standard error at most sqrt(n - 1) / sqrt(N) (n = 8: 2.6 / sqrt(N)); 5 of them
+  // bound a chance failure well below 1e-5 per band. A biased choice (say the whole group taken
+  // with probability 1/2 whatever its size) moves a mean by tens of standard errors.
+  const ReflectionScattering rs = scatteringOf(plate(1.f, 1.f));
+  const ReflectionScattering::Reflection r{0, {0.f, 0.f, 0.f}, {0.f, 0.f, -1.f}, {0.f, 0.f, 1.f},
+                                           {0.f, 0.f, 1.f}, 2.f};
+  const float c = float(test::kKirchhoffC);
+  const Bands least = rs.least(r, c);
+  REQUIRE(least[0] < 1.f);
+  REQUIRE(least[kNumBands - 1] >= 1.f);
+  constexpr int kDraws = 200000;
+  for (const uint8_t carried : {uint8_t(0xFF), uint8_t(0x0F), uint8_t(0x81), uint8_t(0x01)}) {
+    Rng rng(7, carried);
+    Bands sum(0.f);
+    int chosenSingles = 0, wrong = 0;
+    for (int i = 0; i < kDraws; ++i) {
+      Bands energy(0.f);
+      for (int b = 0; b < kNumBands; ++b) energy[b] = (carried >> b & 1u) ? 1.f : 0.f;
+      const uint8_t chosen = rs.narrow(r, c, carried, rng, energy);
+      // Never empty, never a band the ray did not carry, nothing left in a band not chosen,
+      // the scale at most n.
+      wrong += chosen == 0 || (chosen & ~carried) != 0;
+      for (int b = 0; b < kNumBands; ++b)
+        wrong += (!(chosen >> b & 1u) && energy[b] != 0.f) ||
+                 energy[b] > float(std::popcount(carried));
+      chosenSingles += std::popcount(chosen) == 1;
+      sum += energy;
+    }
+    CHECK(wrong == 0);
+    const double n = std::popcount(carried), bound = 5.0 * std::sqrt((n - 1.0) / kDraws);
+    for (int b = 0; b < kNumBands; ++b) {
+      INFO("carried 0x" << std::hex << int(carried) << std::dec << ", band " << b);
+      const double expected = (carried >> b & 1u) ? 1.0 : 0.0;
+      CHECK(std::abs(double(sum[b]) / kDraws - expected) <= bound + 1e-6);
+    }
+    if (std::popcount(carried) > 1) CHECK(chosenSingles > 0);  // it does narrow
+  }
 }

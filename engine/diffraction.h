@@ -224,6 +224,8 @@ class EdgeDiffraction {
   const std::vector<DiffractionEdge>& edges() const { return edges_; }
   /// Per static mesh triangle, its flat surface (flatSurfaces, engine/diffraction_edges.h).
   const std::vector<uint32_t>& surfaces() const { return surfaces_; }
+  /// The static mesh's flat surfaces' bodies (surfaceBodies, engine/diffraction_edges.h).
+  const SurfaceBodies& bodies() const { return bodies_; }
 
   /// Replaces `direct` by the direct sound plus every first-order edge and slit path from
   /// source to the listener centre and, with the line of sight blocked, every path round edges

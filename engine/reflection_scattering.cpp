@@ -8,6 +8,8 @@
 #include <limits>
 
 #include "engine/channel_path.h"
+#include "engine/diffraction.h"
+#include "engine/diffraction_edges.h"
 
 namespace dpc {
 namespace {
@@ -69,14 +71,32 @@ glm::vec2 eigenvalues(float a, float b, float c) {
   return {mean + r, std::max(0.f, mean - r)};
 }
 
+/// Appends one mesh's triangles' bodies (`surfaces` its flatSurfaces, per triangle) to bodyOf,
+/// numbered after those already there, and its bodies' closed flags to closed.
+void addBodies(const SurfaceBodies& bodies, const std::vector<uint32_t>& surfaces,
+               std::vector<uint32_t>& bodyOf, std::vector<bool>& closed) {
+  const uint32_t first = uint32_t(closed.size());
+  for (const uint32_t s : surfaces)
+    bodyOf.push_back(s < bodies.body.size() && bodies.body[s] < bodies.closed.size()
+                         ? first + bodies.body[s]
+                         : UINT32_MAX);
+  closed.insert(closed.end(), bodies.closed.begin(), bodies.closed.end());
+}
+
 }  // namespace
 
 ReflectionScattering::ReflectionScattering(const Mesh& mesh, const std::vector<uint32_t>& surfaces,
                                            const std::vector<DiffractionEdge>& edges,
+                                           const SurfaceBodies& bodies,
                                            const std::vector<ObjectDesc>& objects, bool rays)
     : reflectors_(mesh, surfaces, edges, objects),
       rotation_(objects.size(), glm::mat3(1.f)),
       rays_(rays) {
+  addBodies(bodies, surfaces, bodyOf_, closed_);
+  for (const ObjectDesc& o : objects) {
+    const std::vector<uint32_t> objectSurfaces = flatSurfaces(o.mesh);
+    addBodies(surfaceBodies(o.mesh, objectSurfaces), objectSurfaces, bodyOf_, closed_);
+  }
   const Corners corners = cornersOf(mesh, objects);
   momentOf_.assign(corners.triangles.size(), 0);
   for (uint32_t s = 0; s < reflectors_.surfaceCount(); ++s) {
@@ -153,13 +173,16 @@ Bands ReflectionScattering::specularShare(uint32_t t, const glm::vec3& incoming,
   return out;
 }
 
+bool ReflectionScattering::oneClosedBody(uint32_t a, uint32_t b) const {
+  if (a >= bodyOf_.size() || b >= bodyOf_.size()) return false;
+  const uint32_t body = bodyOf_[a];
+  return body == bodyOf_[b] && body < closed_.size() && closed_[body];
+}
+
 float ReflectionScattering::backing(const Tracer& tracer, const Reflection& r, float limit) const {
   const float offset = surfaceOffset(r.point);
   glm::vec3 org = r.point - r.litNormal * (2.f * offset);  // just behind the face
   float travelled = 0.f;
-  // Free on both sides: a sheet, air behind it. Else a body's face, its inside behind it.
-  const bool solid = !(reflectors_.standsFree(r.triangle, true) &&
-                       reflectors_.standsFree(r.triangle, false));
   for (int k = 0; k < kBackingHits && travelled < limit; ++k) {
     SurfaceHit hit;
     if (!tracer.intersect(TraceRay{org, -r.litNormal, 0.f, limit - travelled}, hit)) break;
@@ -167,11 +190,10 @@ float ReflectionScattering::backing(const Tracer& tracer, const Reflection& r, f
     const float facing = glm::dot(hit.normal, r.litNormal);
     if (std::abs(facing) < kParallelCos) break;
     // The side the probe meets: a wall if it does not stand free there (a sheet's second copy
-    // and another panel do). Behind a body's face (not free on its back) the first such side
-    // that stands free on its far side is the body's own back, seen from inside: passed.
-    const bool near = facing > 0.f;
-    const bool ownBack = k == 0 && solid && reflectors_.standsFree(hit.triangle, !near);
-    if (!reflectors_.standsFree(hit.triangle, near) && !ownBack) return travelled;
+    // and another panel do). Behind a closed body's face the first surface of that body is its
+    // own back, seen from inside: passed.
+    const bool ownBack = k == 0 && oneClosedBody(hit.triangle, r.triangle);
+    if (!reflectors_.standsFree(hit.triangle, facing > 0.f) && !ownBack) return travelled;
     org -= r.litNormal * (hit.t + offset);
     travelled += offset;
   }

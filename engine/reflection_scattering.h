@@ -61,6 +61,8 @@
 
 namespace dpc {
 
+struct SurfaceBodies;  // engine/diffraction.h
+
 class ReflectionScattering {
  public:
   /// The static mesh with its flat surfaces and candidate edges as EdgeDiffraction found them,
@@ -68,8 +70,9 @@ class ReflectionScattering {
   /// SmallReflectors, which this builds and the exact paths share).
   /// rays: PropagationSettings::reflectionScattering (off: pathShare is 1, the rays are not
   /// given this object, and only the exact paths' first-order share remains).
+  /// bodies: the static mesh's (EdgeDiffraction::bodies()); each object's are found here.
   ReflectionScattering(const Mesh& mesh, const std::vector<uint32_t>& surfaces,
-                       const std::vector<DiffractionEdge>& edges,
+                       const std::vector<DiffractionEdge>& edges, const SurfaceBodies& bodies,
                        const std::vector<ObjectDesc>& objects, bool rays = true);
   const SmallReflectors& reflectors() const { return reflectors_; }
 
@@ -130,13 +133,13 @@ class ReflectionScattering {
                   const glm::vec3& source, const glm::vec3& listener, float speedOfSound) const;
 
   /// A parallel surface behind the face (within kParallelCos) that does not stand free on the
-  /// side toward it (a wall; a sheet's second copy, another free panel, and the first such
-  /// surface behind a body's face that stands free on its far side, the body's own back, are
-  /// passed through, up to kBackingHits) within kBackedWavelengths of a band's wavelength
-  /// reflects with it. Read from the surfaces' free sides, so either winding reads alike. A
-  /// body whose back lies exactly in a wall's plane (a box panel flush on it) is not told from
-  /// one standing free: the probe leaves its back and the wall together, so such a panel
-  /// scatters its low bands; a millimetre's gap, or the panel as a sheet, keeps them whole.
+  /// side toward it (a wall; a sheet's second copy and another free panel are passed through,
+  /// up to kBackingHits, and so is the first surface behind a closed body's face when it is
+  /// that body's, its own back seen from inside) within kBackedWavelengths of a band's
+  /// wavelength reflects with it. Read from free sides and bodies (welded meshes), so either
+  /// winding reads alike. A box whose back lies exactly in a wall's plane (a panel flush on
+  /// it) reads as backed when the probe meets the wall first and as free when it meets the
+  /// box's back first (the two at the same distance); a millimetre's gap keeps it backed.
   static constexpr float kBackedWavelengths = 0.125f;
   static constexpr float kParallelCos = 0.99f;
   static constexpr int kBackingHits = 4;
@@ -153,7 +156,12 @@ class ReflectionScattering {
     glm::mat3 c{0.f};     ///< second moment of area over area (m^2), the mesh's frame
     int32_t object = -1;  ///< the object whose frame it is in; -1: the static mesh (world)
   };
+  /// Whether triangles a and b belong to one closed body (a solid: a face's back is inside it).
+  bool oneClosedBody(uint32_t a, uint32_t b) const;
+
   SmallReflectors reflectors_;
+  std::vector<uint32_t> bodyOf_;    ///< per triangle, its body (the static mesh's, then objects')
+  std::vector<bool> closed_;        ///< per body, SurfaceBodies::closed
   std::vector<uint32_t> momentOf_;  ///< per triangle, its face's entry in moments_
   std::vector<Moment> moments_;
   std::vector<glm::mat3> rotation_;  ///< per object, its pose's rotation

@@ -30,9 +30,9 @@ Simulation::Simulation(const SceneDesc& scene, const PropagationSettings& settin
   options.keyRule = simulationOptions.keyRule;
   if (settings_.diffraction) {
     diffraction_ = std::make_unique<EdgeDiffraction>(scene.mesh, scene.objects);
-    smallFaces_ = std::make_unique<ReflectionScattering>(scene.mesh, diffraction_->surfaces(),
-                                                         diffraction_->edges(), scene.objects,
-                                                         settings_.reflectionScattering);
+    smallFaces_ = std::make_unique<ReflectionScattering>(
+        scene.mesh, diffraction_->surfaces(), diffraction_->edges(), diffraction_->bodies(),
+        scene.objects, settings_.reflectionScattering);
     if (settings_.reflectionScattering) options.reflectionScattering = smallFaces_.get();
   }
   if (std::clamp(std::min(settings_.exactOrder, settings_.maxOrder), 0, kMaxExactOrder) > 0) {

@@ -37,7 +37,7 @@ std::vector<double> pathShareDb(const SceneDesc& scene, std::initializer_list<ui
   EmbreeTracer tracer{scene.mesh, scene.objects};
   const EdgeDiffraction diffraction(scene.mesh, scene.objects);
   const ReflectionScattering faces(scene.mesh, diffraction.surfaces(), diffraction.edges(),
-                                   scene.objects);
+                                   diffraction.bodies(), scene.objects);
   SpecularScene specular{scene.mesh, scene.objects, geometry, tracer,
                          Bands(0.f), float(kC),     &faces};
   SpecularSequence seq;

@@ -77,7 +77,7 @@ struct BoundQuery {
   /// The flat surfaces (sorted) of the small bodies whose hull the chains looked for ways round
   /// (engine/hull_ways.h: those the line of sight crosses and those joined to them): a hull's
   /// way passes round them all, so its bound takes them all away (laidChains sets it).
-  std::vector<uint32_t> hullSurfaces;
+  std::vector<uint32_t> hullSurfaces{};
 };
 
 /// Fills q.crossed: the flat surfaces the segment from q.source to q.L crosses, when the line

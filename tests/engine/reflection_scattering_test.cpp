@@ -135,22 +135,17 @@ Bands tracedReflection(bool diffraction, int frames, int rays, float backedAt = 
   if (backedAt > 0.f) {
     s = test::makeShoebox({20.f, 20.f, 20.f}, Bands(0.f), 0.f, glm::vec3(src), glm::vec3(lis));
     for (glm::vec3& v : s.mesh.vertices) v -= glm::vec3(10.f, 10.f, backedAt);
-    if (solid)
-      test::addSolidBox(s.mesh, {-0.5f, -0.5f, -0.04f}, {0.5f, 0.5f, 0.f}, 0);
-    else
-      test::addPanel(s.mesh, {-0.5f, -0.5f, 0.f}, {1.f, 0.f, 0.f}, {0.f, 1.f, 0.f}, 0);
   } else {
     s.materials.push_back(Material{"rigid", Bands(0.f), Bands(0.f)});
-    s.mesh = plate(1.f, 1.f);
-    if (solid) {
-      s.mesh = Mesh{};
-      test::addSolidBox(s.mesh, {-0.5f, -0.5f, -0.04f}, {0.5f, 0.5f, 0.f}, 0);
-    }
     s.sources.push_back(SourceDesc{});
     s.sources.back().position = glm::vec3(src);
     s.listeners.push_back(ListenerDesc{});
     s.listeners.back().position = glm::vec3(lis);
   }
+  if (solid)
+    test::addSolidBox(s.mesh, {-0.5f, -0.5f, -0.04f}, {0.5f, 0.5f, 0.f}, 0);
+  else
+    test::addPanel(s.mesh, {-0.5f, -0.5f, 0.f}, {1.f, 0.f, 0.f}, {0.f, 1.f, 0.f}, 0);
   s.path = "<plate>";
   s.listeners.back().radius = 0.5f;
   s.propagation.estimator = Estimator::kPathTracing;

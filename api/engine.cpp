@@ -40,7 +40,7 @@ dpc_status applyOptions(const dpc_engine_options* o, SceneDesc& scene) {
     return fail(DPC_ERR_INVALID_ARGUMENT, e.what());
   }
   // Checked after the values, so that a bad value's message wins.
-  if (rawOutputFormat(o->output) != DPC_OUTPUT_SCENE &&
+  if (rawEnum(o->output) != DPC_OUTPUT_SCENE &&
       !toOutputFormat(o->output, &scene.audio.output))
     return fail(DPC_ERR_INVALID_ARGUMENT, "dpc_engine_options.output: not a dpc_output_format");
   return DPC_OK;

@@ -122,9 +122,7 @@ void listenersFromData(const dpc_scene_data& d, const Origin& origin, SceneDesc&
 
 /// The rendering of a raw enum value (any bit pattern a caller may store); false if unknown.
 bool toRendering(const dpc_rendering& field, Rendering* out) {
-  std::underlying_type_t<dpc_rendering> raw;
-  std::memcpy(&raw, &field, sizeof raw);
-  switch (long(raw)) {
+  switch (rawEnum(field)) {
     case DPC_RENDERING_AUTO:
       *out = Rendering::kAuto;
       return true;
@@ -139,7 +137,27 @@ bool toRendering(const dpc_rendering& field, Rendering* out) {
   }
 }
 
-void settingsFromData(const dpc_scene_data& d, SceneDesc& scene) {
+/// The 0.8.0 fields: estimator, tracing, reflection scattering and the roulette threshold.
+void propagationChoicesFromData(const dpc_scene_data& d, const Origin& origin,
+                                PropagationSettings& p) {
+  const long estimator = rawEnum(d.estimator), tracing = rawEnum(d.tracing);
+  if (estimator != DPC_ESTIMATOR_DPC && estimator != DPC_ESTIMATOR_PATH_TRACING)
+    bad("estimator", "must be DPC_ESTIMATOR_DPC or DPC_ESTIMATOR_PATH_TRACING");
+  p.estimator = estimator == DPC_ESTIMATOR_DPC ? Estimator::kDpc : Estimator::kPathTracing;
+  if (tracing == DPC_TRACING_AUTO)
+    p.tracing = Tracing::kAuto;
+  else if (tracing == DPC_TRACING_FROM_SOURCES)
+    p.tracing = Tracing::kFromSources;
+  else if (tracing == DPC_TRACING_FROM_LISTENERS)
+    p.tracing = Tracing::kFromListeners;
+  else
+    bad("tracing", "must be DPC_TRACING_AUTO, _FROM_SOURCES or _FROM_LISTENERS");
+  p.reflectionScattering = d.reflection_scattering != 0;
+  checkField("propagation.roulette_threshold_db", d.roulette_threshold_db, origin);
+  p.rouletteThreshold = float(std::pow(10.0, double(d.roulette_threshold_db) / 10.0));
+}
+
+void settingsFromData(const dpc_scene_data& d, const Origin& origin, SceneDesc& scene) {
   PropagationSettings& p = scene.propagation;
   p.raysPerFrame = d.rays_per_frame;
   p.maxOrder = d.max_order;
@@ -167,18 +185,13 @@ void settingsFromData(const dpc_scene_data& d, SceneDesc& scene) {
   p.exactOrder = d.exact_order;
   if (!toRendering(d.rendering, &scene.audio.rendering))
     bad("rendering", "must be DPC_RENDERING_AUTO, _PER_SOURCE or _HYBRID");
+  propagationChoicesFromData(d, origin, p);
 }
 
 }  // namespace
 
-long rawOutputFormat(const dpc_output_format& field) {
-  std::underlying_type_t<dpc_output_format> raw;
-  std::memcpy(&raw, &field, sizeof raw);
-  return long(raw);
-}
-
 bool toOutputFormat(const dpc_output_format& field, OutputFormat* out) {
-  const long raw = rawOutputFormat(field);
+  const long raw = rawEnum(field);
   if (raw == DPC_OUTPUT_MONO) {
     *out = OutputFormat::kMono;
   } else if (raw == DPC_OUTPUT_STEREO) {
@@ -205,7 +218,7 @@ SceneDesc sceneFromData(const dpc_scene_data& d) {
   meshFromData(d.mesh, scene.mesh);
   sourcesFromData(d, origin, scene);
   listenersFromData(d, origin, scene);
-  settingsFromData(d, scene);
+  settingsFromData(d, origin, scene);
   validate(scene, origin);
   scene.mesh = cleanMesh(scene.mesh, scene.warnings);
   return scene;
@@ -256,6 +269,12 @@ dpc_scene_data defaultSceneData() {
   d.ambisonic_order = a.ambisonicOrder;
   d.material_transmissions = nullptr;
   d.exact_order = p.exactOrder;
+  d.reserved_0_7 = 0;
+  d.estimator = p.estimator == Estimator::kDpc ? DPC_ESTIMATOR_DPC : DPC_ESTIMATOR_PATH_TRACING;
+  d.tracing = DPC_TRACING_AUTO;
+  static_assert(PropagationSettings{}.tracing == Tracing::kAuto);
+  d.reflection_scattering = p.reflectionScattering ? 1 : 0;
+  d.roulette_threshold_db = float(10.0 * std::log10(double(p.rouletteThreshold)));
   return d;
 }
 

@@ -2,15 +2,24 @@
 // same content would give, checked with the scene file's bounds (docs/scene-format.md).
 #pragma once
 
+#include <cstring>
+#include <type_traits>
+
 #include "dpc/dpc.h"
 #include "runtime/render_pipeline.h"
 #include "scene/scene.h"
 
 namespace dpc::api {
 
-/// Any thread. The caller's dpc_output_format field read as its integer value, so that a value
-/// outside the enumeration (a caller's garbage) is compared, never loaded as the enum type.
-long rawOutputFormat(const dpc_output_format& field);
+/// Any thread; no allocation. A caller's C enum field (dpc_output_format, dpc_rendering,
+/// dpc_estimator, dpc_tracing) read as its integer value, so that a value outside the
+/// enumeration (a caller's garbage) is compared, never loaded as the enum type.
+template <class E>
+long rawEnum(const E& field) {
+  std::underlying_type_t<E> raw;
+  std::memcpy(&raw, &field, sizeof raw);
+  return long(raw);
+}
 
 /// Any thread. The OutputFormat of a `field` holding DPC_OUTPUT_MONO, _STEREO or _BINAURAL in
 /// *out; false (and *out unchanged) for any other value, DPC_OUTPUT_SCENE included.
@@ -21,8 +30,8 @@ bool toOutputFormat(const dpc_output_format& field, OutputFormat* out);
 /// file's default.
 dpc_scene_data defaultSceneData();
 
-/// Control thread. The scene of `data` (of the current layout, api/layouts.h readVersioned); throws InputError naming the field ("dpc_scene_data:
-/// FIELD: problem") for a value out of range. Allocates.
+/// Control thread. The scene of `data` (of the current layout, api/layouts.h readVersioned);
+/// throws InputError naming the field ("dpc_scene_data: FIELD: problem") for a value out of range. Allocates.
 SceneDesc sceneFromData(const dpc_scene_data& data);
 
 /// Control thread. The sources' dry signals with their gains applied (empty for a source

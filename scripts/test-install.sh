@@ -3,8 +3,8 @@
 # (C with pkg-config, C++ with find_package(dpc)), runs them on scenes/shoebox.json (and the C
 # one on a 16-channel AmbiX copy of it) and checks that each writes a non-silent, finite WAV;
 # checks that find_package and pkg-config accept the same version requests, and that a
-# program compiled against the previous release's dpc.h (0.6.0, tests/install/dpc-0.6.0) runs against
-# the installed library with the results of the same program compiled against the new one
+# program compiled against earlier releases' dpc.h (0.6.0 and 0.7.0, tests/install/) runs
+# against the installed library with the results of the same program compiled against the new one
 # (dpc.h, "Versions and growth rule"); then checks the installed LV2 bundle (lib/lv2/dpc.lv2)
 # with lilv's tools (tests/lv2/lv2_test.py) and the README's LV2_PATH line.
 # Usage: scripts/test-install.sh (after build.sh)
@@ -86,11 +86,12 @@ for request in 0.3:yes "$major.$minor":yes "$major.$((minor + 1))":no "$((major 
   fi
 done
 
-# A program compiled against 0.6.0's dpc.h (and its dpc_version.h, generated as CMake did)
-# runs against this library and prints what the same program compiled against the installed
-# dpc.h prints (tests/install/layout_client.c checks its own results).
-# tests/install/dpc-0.6.0 holds that release's headers as CMake installed them.
-for build in "dpc-0.6.0:$root/tests/install/dpc-0.6.0" "current:$prefix/include"; do
+# A program compiled against 0.6.0's and 0.7.0's dpc.h (and their dpc_version.h, generated as
+# CMake did) runs against this library and prints what the same program compiled against the
+# installed dpc.h prints (tests/install/layout_client.c checks its own results).
+# tests/install/dpc-X.Y.Z holds that release's headers as CMake installed them.
+for build in "dpc-0.6.0:$root/tests/install/dpc-0.6.0" "dpc-0.7.0:$root/tests/install/dpc-0.7.0" \
+             "current:$prefix/include"; do
   name=${build%%:*} header=${build#*:}
   cc -std=c99 -Wall -Werror -o "$work/layout_client-$name" tests/install/layout_client.c \
     -I"$header" -L"$libdir" -ldpc -lm
@@ -98,6 +99,7 @@ for build in "dpc-0.6.0:$root/tests/install/dpc-0.6.0" "current:$prefix/include"
   cat "$work/layout_client-$name.txt"
 done
 diff "$work/layout_client-dpc-0.6.0.txt" "$work/layout_client-current.txt"
+diff "$work/layout_client-dpc-0.7.0.txt" "$work/layout_client-current.txt"
 if [[ -d $libdir/lv2/dpc.lv2 ]]; then
   # The installed bundle finds libdpc.so through its RPATH, not LD_LIBRARY_PATH.
   env -u LD_LIBRARY_PATH /usr/bin/python3 tests/lv2/lv2_test.py "$libdir/lv2"

@@ -145,6 +145,24 @@ typedef enum dpc_rendering {
   DPC_RENDERING_HYBRID = 2
 } dpc_rendering;
 
+/** How traced paths become the energy response (docs/estimators.md): the diffuse path cache
+ *  (Schissler's thesis, section 3.2.2), or plain Monte Carlo path tracing with no reuse
+ *  between frames (what the DPC is at cache_tau 0). Since 0.8.0. */
+typedef enum dpc_estimator {
+  DPC_ESTIMATOR_DPC = 0,
+  DPC_ESTIMATOR_PATH_TRACING = 1
+} dpc_estimator;
+
+/** Which end the rays leave from (docs/performance.md, "Many sources"): one trace per source
+ *  tested against every listener sphere, or one per listener tested against every source
+ *  sphere (reciprocal: the same energy response in expectation). AUTO traces from the
+ *  listeners when the sources outnumber them. Since 0.8.0. */
+typedef enum dpc_tracing {
+  DPC_TRACING_AUTO = 0,
+  DPC_TRACING_FROM_SOURCES = 1,
+  DPC_TRACING_FROM_LISTENERS = 2
+} dpc_tracing;
+
 /** Overrides of a scene's settings when an engine is created. Fill with
  *  dpc_engine_options_init() (struct_size set, every other field "keep the scene's"), then
  *  change what you need. */
@@ -317,6 +335,19 @@ typedef struct dpc_scene_data {
                                      material opaque; else material_count entries */
   int exact_order; /**< exact early specular paths up to this reflection order (docs/design.md
                         "Exact early specular paths"), [0, 6], 0 disables them; default 3 */
+  int reserved_0_7; /**< 0.7.0's tail padding, named so that 0.8.0's fields begin at 0.7.0's
+                         size; ignored, dpc_scene_data_init sets it 0 */
+  /* Since 0.8.0: the scene file's propagation keys of the same names (docs/scene-format.md). */
+  dpc_estimator estimator; /**< DPC_ESTIMATOR_DPC (default) or _PATH_TRACING */
+  dpc_tracing tracing;     /**< DPC_TRACING_AUTO (default), _FROM_SOURCES or _FROM_LISTENERS */
+  int reflection_scattering; /**< nonzero (the default): with diffraction, a ray off a face
+                                  standing free and smaller than its Fresnel zone keeps Rindel's
+                                  share specular and scatters the rest (docs/design.md); 0: it
+                                  reflects whole, as off a wall. No effect with diffraction 0 */
+  float roulette_threshold_db; /**< Russian roulette (Arvo & Kirk 1990): a ray below this level
+                                    of its initial energy in every band goes on with
+                                    probability 0.1 at 10x its energy, or ends (unbiased);
+                                    dB, [-300, 0]; default -60 */
 } dpc_scene_data;
 
 /** Any thread; no allocation. Fills the first struct_size bytes of *data, a layout this

@@ -134,7 +134,23 @@ struct EmbreeTracer::State {
   void setPose(Instance& in, const Pose& pose);
   /// Global triangle number and world normal from an Embree hit.
   void resolveHit(unsigned instID, unsigned primID, const glm::vec3& ng, SurfaceHit& hit) const;
+  /// The closest hit of one ray under `context`; false on a miss.
+  bool closest(const TraceRay& ray, RTCIntersectContext& context, SurfaceHit& hit) const;
+
+  /// A query's context with a TriangleFilter: Embree hands the context's address to the
+  /// filter callback, which reads the rest from behind it.
+  struct FilteredContext {
+    RTCIntersectContext context;  ///< first: its address is the whole struct's
+    const State* state = nullptr;
+    TriangleFilter filter;
+  };
+  /// Embree's context filter: rejects the hits whose triangle the query's filter refuses.
+  static void rejectRefused(const RTCFilterFunctionNArguments* args);
 };
+
+/// Every scene, the instanced ones too, runs a query's context filter when it has one (each
+/// query without one pays a test of a null pointer per hit).
+constexpr RTCSceneFlags kFilterable = RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION;
 
 RTCGeometry EmbreeTracer::State::triangles(const Mesh& mesh) {
   checkMeshTriangles(mesh);
@@ -157,6 +173,7 @@ RTCGeometry EmbreeTracer::State::triangles(const Mesh& mesh) {
 }
 
 void EmbreeTracer::State::buildSingleLevel(const Mesh& mesh) {
+  rtcSetSceneFlags(scene, kFilterable);
   rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
   RTCGeometry geom = triangles(mesh);
   rtcAttachGeometry(scene, geom);
@@ -166,7 +183,7 @@ void EmbreeTracer::State::buildSingleLevel(const Mesh& mesh) {
 }
 
 void EmbreeTracer::State::buildInstances(const Mesh& mesh, const std::vector<ObjectDesc>& objects) {
-  rtcSetSceneFlags(scene, RTC_SCENE_FLAG_DYNAMIC);
+  rtcSetSceneFlags(scene, RTCSceneFlags(RTC_SCENE_FLAG_DYNAMIC | kFilterable));
   rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_LOW);
   instances.resize(1 + objects.size());
   uint32_t first = 0;
@@ -176,6 +193,7 @@ void EmbreeTracer::State::buildInstances(const Mesh& mesh, const std::vector<Obj
     in.firstTriangle = first;
     first += uint32_t(m.triangles.size());
     in.scene = rtcNewScene(device.get());
+    rtcSetSceneFlags(in.scene, kFilterable);
     rtcSetSceneBuildQuality(in.scene, RTC_BUILD_QUALITY_HIGH);
     RTCGeometry geom = triangles(m);
     rtcAttachGeometry(in.scene, geom);
@@ -244,21 +262,47 @@ void EmbreeTracer::commitPoses() {
   state_->device.throwIfError("moving the objects");
 }
 
-bool EmbreeTracer::intersect(const TraceRay& ray, SurfaceHit& hit) const {
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
+bool EmbreeTracer::State::closest(const TraceRay& ray, RTCIntersectContext& context,
+                                  SurfaceHit& hit) const {
   RTCRayHit rh;
   rh.ray = singleRay(ray);
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(state_->scene, &context, &rh);
+  rtcIntersect1(scene, &context, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
   hit.t = rh.ray.tfar;
   hit.barycentric = {1.f - rh.hit.u - rh.hit.v, rh.hit.u, rh.hit.v};
-  state_->resolveHit(rh.hit.instID[0], rh.hit.primID,
-                     glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z), hit);
+  resolveHit(rh.hit.instID[0], rh.hit.primID, glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z),
+             hit);
   return true;
+}
+
+void EmbreeTracer::State::rejectRefused(const RTCFilterFunctionNArguments* args) {
+  const auto* c = reinterpret_cast<const FilteredContext*>(args->context);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] == 0) continue;
+    SurfaceHit resolved;
+    c->state->resolveHit(RTCHitN_instID(args->hit, args->N, i, 0),
+                         RTCHitN_primID(args->hit, args->N, i), glm::vec3(1.f), resolved);
+    if (!c->filter.accepts(c->filter.self, resolved.triangle)) args->valid[i] = 0;
+  }
+}
+
+bool EmbreeTracer::intersect(const TraceRay& ray, SurfaceHit& hit) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  return state_->closest(ray, context, hit);
+}
+
+bool EmbreeTracer::intersect(const TraceRay& ray, const TriangleFilter& filter,
+                             SurfaceHit& hit) const {
+  State::FilteredContext c;
+  rtcInitIntersectContext(&c.context);
+  if (filter.accepts) c.context.filter = &State::rejectRefused;
+  c.state = state_.get();
+  c.filter = filter;
+  return state_->closest(ray, c.context, hit);
 }
 
 bool EmbreeTracer::occluded(const TraceRay& ray) const {

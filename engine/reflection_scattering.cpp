@@ -179,21 +179,36 @@ bool ReflectionScattering::oneClosedBody(uint32_t a, uint32_t b) const {
   return body == bodyOf_[b] && body < closed_.size() && closed_[body];
 }
 
+/// The triangles of other bodies than one closed body's (a TriangleFilter's self).
+struct ReflectionScattering::OtherBodies {
+  const ReflectionScattering* scattering;
+  uint32_t face;
+  static bool accepts(const void* self, uint32_t t) {
+    const auto* o = static_cast<const OtherBodies*>(self);
+    return !o->scattering->oneClosedBody(t, o->face);
+  }
+};
+
 float ReflectionScattering::backing(const Tracer& tracer, const Reflection& r, float limit) const {
   const float offset = surfaceOffset(r.point);
   glm::vec3 org = r.point - r.litNormal * (2.f * offset);  // just behind the face
+  // Behind a closed body's face the first query passes the body itself (its own back, seen
+  // from inside): a wall in the plane of that back (a box flush on it) is then met whichever of
+  // the two coplanar triangles a plain query would report.
+  const OtherBodies others{this, r.triangle};
+  const bool closed = oneClosedBody(r.triangle, r.triangle);
   float travelled = 0.f;
   for (int k = 0; k < kBackingHits && travelled < limit; ++k) {
     SurfaceHit hit;
-    if (!tracer.intersect(TraceRay{org, -r.litNormal, 0.f, limit - travelled}, hit)) break;
+    const TraceRay probe{org, -r.litNormal, 0.f, limit - travelled};
+    const TriangleFilter filter{k == 0 && closed ? &OtherBodies::accepts : nullptr, &others};
+    if (!tracer.intersect(probe, filter, hit)) break;
     travelled += hit.t;
     const float facing = glm::dot(hit.normal, r.litNormal);
     if (std::abs(facing) < kParallelCos) break;
     // The side the probe meets: a wall if it does not stand free there (a sheet's second copy
-    // and another panel do). Behind a closed body's face the first surface of that body is its
-    // own back, seen from inside: passed.
-    const bool ownBack = k == 0 && oneClosedBody(hit.triangle, r.triangle);
-    if (!reflectors_.standsFree(hit.triangle, facing > 0.f) && !ownBack) return travelled;
+    // and another panel do).
+    if (!reflectors_.standsFree(hit.triangle, facing > 0.f)) return travelled;
     org -= r.litNormal * (hit.t + offset);
     travelled += offset;
   }

@@ -134,12 +134,13 @@ class ReflectionScattering {
 
   /// A parallel surface behind the face (within kParallelCos) that does not stand free on the
   /// side toward it (a wall; a sheet's second copy and another free panel are passed through,
-  /// up to kBackingHits, and so is the first surface behind a closed body's face when it is
-  /// that body's, its own back seen from inside) within kBackedWavelengths of a band's
+  /// up to kBackingHits, and so is the closed body whose face it is, its own back seen from
+  /// inside) within kBackedWavelengths of a band's
   /// wavelength reflects with it. Read from free sides and bodies (welded meshes), so either
-  /// winding reads alike. A box whose back lies exactly in a wall's plane (a panel flush on
-  /// it) reads as backed when the probe meets the wall first and as free when it meets the
-  /// box's back first (the two at the same distance); a millimetre's gap keeps it backed.
+  /// winding reads alike. Behind a closed body's face the probe's first query passes the whole
+  /// body (a filtered query), so a box whose back lies exactly in a wall's plane (a panel
+  /// flush on it) reads as backed wherever it is struck, whichever of the two coplanar
+  /// triangles a plain query would report.
   static constexpr float kBackedWavelengths = 0.125f;
   static constexpr float kParallelCos = 0.99f;
   static constexpr int kBackingHits = 4;
@@ -158,6 +159,7 @@ class ReflectionScattering {
   };
   /// Whether triangles a and b belong to one closed body (a solid: a face's back is inside it).
   bool oneClosedBody(uint32_t a, uint32_t b) const;
+  struct OtherBodies;  ///< backing's filter: passes one closed body's triangles
 
   SmallReflectors reflectors_;
   std::vector<uint32_t> bodyOf_;    ///< per triangle, its body (the static mesh's, then objects')

@@ -62,6 +62,15 @@ struct TraceHit {
   SurfaceHit surface;
 };
 
+/// Which triangles a filtered query sees: accepts(self, triangle) false lets the ray pass that
+/// triangle (global number, as SurfaceHit::triangle) as if it were absent. Where two coplanar
+/// triangles lie at one distance, which one a plain query reports is the ray tracer's tie;
+/// leaving one out decides it. accepts runs on the querying thread and must not allocate.
+struct TriangleFilter {
+  bool (*accepts)(const void* self, uint32_t triangle) = nullptr;
+  const void* self = nullptr;
+};
+
 class Tracer {
  public:
   /// Rays the implementation traces together in a batch: rays [16 j, 16 j + 16) of a batch
@@ -73,6 +82,10 @@ class Tracer {
 
   /// Closest hit of one ray; false on a miss (hit is then unchanged).
   virtual bool intersect(const TraceRay& ray, SurfaceHit& hit) const = 0;
+  /// Closest hit of one ray among the triangles `filter` accepts (every one when
+  /// filter.accepts is null); false when none.
+  virtual bool intersect(const TraceRay& ray, const TriangleFilter& filter,
+                         SurfaceHit& hit) const = 0;
   /// True if anything blocks the ray between tnear and tfar (any hit).
   virtual bool occluded(const TraceRay& ray) const = 0;
 

@@ -104,6 +104,16 @@ inline void addSolidBox(Mesh& mesh, glm::vec3 lo, glm::vec3 hi, uint32_t m) {
   }
 }
 
+/// Appends `part`'s vertices and triangles (materials as they are) after mesh's own.
+inline void appendMesh(Mesh& mesh, const Mesh& part) {
+  const auto base = uint32_t(mesh.vertices.size());
+  mesh.vertices.insert(mesh.vertices.end(), part.vertices.begin(), part.vertices.end());
+  for (const std::array<uint32_t, 3>& t : part.triangles)
+    mesh.triangles.push_back({base + t[0], base + t[1], base + t[2]});
+  mesh.materialIndex.insert(mesh.materialIndex.end(), part.materialIndex.begin(),
+                            part.materialIndex.end());
+}
+
 /// A solid cube [0, size]^3 (addSolidBox, material 0).
 inline Mesh solidBox(float size) {
   Mesh m;

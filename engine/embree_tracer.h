@@ -31,8 +31,7 @@ class EmbreeTracer final : public Tracer {
   EmbreeTracer& operator=(const EmbreeTracer&) = delete;
 
   bool intersect(const TraceRay& ray, SurfaceHit& hit) const override;
-  bool intersect(const TraceRay& ray, const TriangleFilter& filter,
-                 SurfaceHit& hit) const override;
+  bool intersect(const TraceRay& ray, const TriangleFilter& filter, SurfaceHit& hit) const override;
   bool occluded(const TraceRay& ray) const override;
   void intersect(std::span<const TraceRay> rays, std::span<TraceHit> hits) const override;
   void occluded(std::span<const TraceRay> rays, std::span<bool> blocked) const override;

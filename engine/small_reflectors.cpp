@@ -279,9 +279,10 @@ double SmallReflectors::taper(double s) {
   return c * c;
 }
 
-double SmallReflectors::energyRatio(const Tracer& tracer, const std::vector<WorldTriangle>& world,
-                                    uint32_t t, const Zone& z, double radius,
-                                    double wavelength) const {
+SmallReflectors::Ratio SmallReflectors::energyRatio(const Tracer& tracer,
+                                                    const std::vector<WorldTriangle>& world,
+                                                    uint32_t t, const Zone& z, double radius,
+                                                    double wavelength, double lasting) const {
   const uint32_t surface = surface_[t];
   const auto m = bandMultipliers();
   const double ru = radius / z.cosIncidence, rv = radius;
@@ -290,12 +291,13 @@ double SmallReflectors::energyRatio(const Tracer& tracer, const std::vector<Worl
   const bool exact = own.size() <= kOwnTriangles;
   const double k = 2.0 * std::numbers::pi / wavelength;  // a surface d before the plane
   const double shift = 2.0 * k * z.cosIncidence;         // shortens the path by 2 d cos(theta)
-  BandSums sums{};                                       // m^2
+  BandSums sums{}, lastingSums{};                        // m^2: all surface, what lasts
   if (exact)
     addOwnSurface(
         sums, world, own,
         glm::cross(glm::dvec3(world[t].v1 - world[t].v0), glm::dvec3(world[t].v2 - world[t].v0)), z,
         ru, rv, shift);
+  if (exact) lastingSums = sums;
   // The samples spread evenly over the ellipse s <= reach, of area reach pi ru rv.
   const double cell = reach * std::numbers::pi * ru * rv / double(samples_.size());
   const double depth = kProbeWavelengths * wavelength;
@@ -311,29 +313,39 @@ double SmallReflectors::energyRatio(const Tracer& tracer, const std::vector<Worl
     const bool onOwn = hit.triangle < surface_.size() && surface_[hit.triangle] == surface;
     if (exact && onOwn) continue;
     if (!onOwn && std::abs(glm::dot(glm::dvec3(hit.normal), z.normal)) < kCoplanarCos) continue;
-    addAt(sums, cell, glm::dot(q, q), shift * (depth - double(hit.t)));
+    const double before = depth - double(hit.t);  // m the surface lies before the plane
+    addAt(sums, cell, glm::dot(q, q), shift * before);
+    if (onOwn || std::abs(before) <= lasting)
+      addAt(lastingSums, cell, glm::dot(q, q), shift * before);
   }
   // |p / p_image| = (pi / Z) |sum| at each frequency, Z = pi ru rv / m its first zone's area.
-  double energy = 0.0;
-  for (size_t i = 0; i < sums.size(); ++i) {
-    const double ratio = std::abs(sums[i]) * m[i] / (ru * rv);
-    energy += ratio * ratio;
-  }
-  return energy / double(sums.size());
+  const auto energy = [&](const BandSums& s) {
+    double e = 0.0;
+    for (size_t i = 0; i < s.size(); ++i) {
+      const double ratio = std::abs(s[i]) * m[i] / (ru * rv);
+      e += ratio * ratio;
+    }
+    return e / double(s.size());
+  };
+  return {energy(sums), energy(lastingSums)};
 }
 
 Bands SmallReflectors::share(const Tracer& tracer, const std::vector<WorldTriangle>& world,
                              uint32_t t, const Zone& zone, double speedOfSound) const {
   Bands out(1.f);
   if (t >= surface_.size() || !(zone.distance > 0.0) || !(speedOfSound > 0.0)) return out;
+  // Surface this near the plane stays within an eighth of every band's wavelength.
+  const double lasting = kProbeWavelengths * speedOfSound / bandCentreExactHz(kNumBands - 1);
   for (int b = 0; b < kNumBands; ++b) {
     const double wavelength = speedOfSound / bandCentreExactHz(b);
     const double radius = std::sqrt(wavelength * zone.distance);
-    const double s = std::min(1.0, energyRatio(tracer, world, t, zone, radius, wavelength));
-    // From the first band the surface reflects whole, the higher bands' smaller zones lie
-    // further inside it; the integral's swing about 1 there is left out, as it is above 1.
-    if (s >= 1.0) break;
-    out[b] = float(s);
+    const Ratio r = energyRatio(tracer, world, t, zone, radius, wavelength, lasting);
+    // From the first band the surface and what is coplanar with it reflect whole, the higher
+    // bands' smaller zones lie further inside them; the integral's swing about 1 there is left
+    // out, as it is above 1. A band made whole by a parallel surface farther behind (within an
+    // eighth of its wavelength only) is not: the higher bands' probes do not reach it.
+    if (r.lasting >= 1.0) break;
+    out[b] = float(std::min(1.0, r.total));
   }
   return out;
 }

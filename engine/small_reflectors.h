@@ -131,9 +131,15 @@ class SmallReflectors {
  private:
   /// |p / p_image|^2 averaged over the band's kBandPoints frequencies for a reflection off
   /// triangle t's flat surface, its centre's zone of semi-axes radius / cosIncidence and radius
-  /// (m), its centre's wavelength (m).
-  double energyRatio(const Tracer& tracer, const std::vector<WorldTriangle>& world, uint32_t t,
-                     const Zone& zone, double radius, double wavelength) const;
+  /// (m), its centre's wavelength (m): of all the surface counted (total: other coplanar and
+  /// parallel surface within an eighth of the wavelength too) and of the part that counts at
+  /// every band (lasting: the face's own flat surface and other surface within `lasting` m of
+  /// its plane).
+  struct Ratio {
+    double total, lasting;
+  };
+  Ratio energyRatio(const Tracer& tracer, const std::vector<WorldTriangle>& world, uint32_t t,
+                    const Zone& zone, double radius, double wavelength, double lasting) const;
 
   std::vector<uint8_t> free_;      ///< per triangle: bit 0 its front stands free, bit 1 its back
   std::vector<uint32_t> surface_;  ///< per triangle, its flat surface (objects' after the mesh's)

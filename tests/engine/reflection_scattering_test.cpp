@@ -324,8 +324,9 @@ int flushBackedPoints(bool asObject, bool slabFirst) {
       REQUIRE(tracer.intersect(TraceRay{above, {0.f, 0.f, -1.f}}, hit));
       const glm::vec3 point = above + glm::vec3(0.f, 0.f, -hit.t);
       const glm::vec3 lit(0.f, 0.f, 1.f), incoming = glm::normalize(glm::vec3(1.f, 0.f, -1.f));
-      const ReflectionScattering::Reflection r{hit.triangle, point + lit * surfaceOffset(point),
-                                               incoming, lit, glm::reflect(incoming, lit), 2.f};
+      const ReflectionScattering::Reflection r{
+          hit.triangle, point + lit * surfaceOffset(point), incoming,
+          lit,          glm::reflect(incoming, lit),        2.f};
       backed += rs.share(tracer, r, 2.f, 343.f)[0] >= 1.f ? 1 : 0;
     }
   return backed;
@@ -346,7 +347,9 @@ TEST_CASE("Reflection scattering: a slab flush on a wall reflects with the wall 
       if (asObject && slabFirst) continue;
       const int backed = flushBackedPoints(asObject, slabFirst);
       std::printf("slab flush on a wall (%s): %d of %d points backed at 63 Hz\n",
-                  asObject ? "object" : slabFirst ? "mesh, slab first" : "mesh, room first",
+                  asObject    ? "object"
+                  : slabFirst ? "mesh, slab first"
+                              : "mesh, room first",
                   backed, kPoints);
       CHECK(backed == kPoints);
     }
@@ -362,8 +365,8 @@ TEST_CASE("Reflection scattering: narrowing a ray's bands is unbiased per band",
   // bound a chance failure well below 1e-5 per band. A biased choice (say the whole group taken
   // with probability 1/2 whatever its size) moves a mean by tens of standard errors.
   const ReflectionScattering rs = scatteringOf(plate(1.f, 1.f));
-  const ReflectionScattering::Reflection r{0, {0.f, 0.f, 0.f}, {0.f, 0.f, -1.f}, {0.f, 0.f, 1.f},
-                                           {0.f, 0.f, 1.f}, 2.f};
+  const ReflectionScattering::Reflection r{
+      0, {0.f, 0.f, 0.f}, {0.f, 0.f, -1.f}, {0.f, 0.f, 1.f}, {0.f, 0.f, 1.f}, 2.f};
   const float c = float(test::kKirchhoffC);
   const Bands least = rs.least(r, c);
   REQUIRE(least[0] < 1.f);
@@ -381,8 +384,8 @@ TEST_CASE("Reflection scattering: narrowing a ray's bands is unbiased per band",
       // the scale at most n.
       wrong += chosen == 0 || (chosen & ~carried) != 0;
       for (int b = 0; b < kNumBands; ++b)
-        wrong += (!(chosen >> b & 1u) && energy[b] != 0.f) ||
-                 energy[b] > float(std::popcount(carried));
+        wrong +=
+            (!(chosen >> b & 1u) && energy[b] != 0.f) || energy[b] > float(std::popcount(carried));
       chosenSingles += std::popcount(chosen) == 1;
       sum += energy;
     }

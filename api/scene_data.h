@@ -31,7 +31,8 @@ bool toOutputFormat(const dpc_output_format& field, OutputFormat* out);
 dpc_scene_data defaultSceneData();
 
 /// Control thread. The scene of `data` (of the current layout, api/layouts.h readVersioned);
-/// throws InputError naming the field ("dpc_scene_data: FIELD: problem") for a value out of range. Allocates.
+/// throws InputError naming the field ("dpc_scene_data: FIELD: problem") for a value out of range.
+/// Allocates.
 SceneDesc sceneFromData(const dpc_scene_data& data);
 
 /// Control thread. The sources' dry signals with their gains applied (empty for a source

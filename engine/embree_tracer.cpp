@@ -132,6 +132,11 @@ struct EmbreeTracer::State {
   void buildSingleLevel(const Mesh& mesh);
   void buildInstances(const Mesh& mesh, const std::vector<ObjectDesc>& objects);
   void setPose(Instance& in, const Pose& pose);
+  /// Global triangle number of an Embree hit.
+  uint32_t triangleOf(unsigned instID, unsigned primID) const {
+    if (instID == RTC_INVALID_GEOMETRY_ID || instances.empty()) return primID;
+    return instances[instID].firstTriangle + primID;
+  }
   /// Global triangle number and world normal from an Embree hit.
   void resolveHit(unsigned instID, unsigned primID, const glm::vec3& ng, SurfaceHit& hit) const;
   /// The closest hit of one ray under `context`; false on a miss.
@@ -219,15 +224,13 @@ void EmbreeTracer::State::setPose(Instance& in, const Pose& pose) {
 
 void EmbreeTracer::State::resolveHit(unsigned instID, unsigned primID, const glm::vec3& ng,
                                      SurfaceHit& hit) const {
+  hit.triangle = triangleOf(instID, primID);
   if (instID == RTC_INVALID_GEOMETRY_ID || instances.empty()) {
-    hit.triangle = primID;
     hit.normal = glm::normalize(ng);
     return;
   }
   // Instanced hits report the normal in the instance's local frame (RTCHit, Embree 3).
-  const Instance& in = instances[instID];
-  hit.triangle = in.firstTriangle + primID;
-  hit.normal = glm::normalize(in.rotation * ng);
+  hit.normal = glm::normalize(instances[instID].rotation * ng);
 }
 
 EmbreeTracer::EmbreeTracer(const Mesh& mesh, const std::vector<ObjectDesc>& objects)
@@ -282,10 +285,9 @@ void EmbreeTracer::State::rejectRefused(const RTCFilterFunctionNArguments* args)
   const auto* c = reinterpret_cast<const FilteredContext*>(args->context);
   for (unsigned i = 0; i < args->N; ++i) {
     if (args->valid[i] == 0) continue;
-    SurfaceHit resolved;
-    c->state->resolveHit(RTCHitN_instID(args->hit, args->N, i, 0),
-                         RTCHitN_primID(args->hit, args->N, i), glm::vec3(1.f), resolved);
-    if (!c->filter.accepts(c->filter.self, resolved.triangle)) args->valid[i] = 0;
+    const uint32_t t = c->state->triangleOf(RTCHitN_instID(args->hit, args->N, i, 0),
+                                            RTCHitN_primID(args->hit, args->N, i));
+    if (!c->filter.accepts(c->filter.self, t)) args->valid[i] = 0;
   }
 }
 

@@ -135,9 +135,8 @@ class ReflectionScattering {
   /// A parallel surface behind the face (within kParallelCos) that does not stand free on the
   /// side toward it (a wall; a sheet's second copy and another free panel are passed through,
   /// up to kBackingHits, and so is the closed body whose face it is, its own back seen from
-  /// inside) within kBackedWavelengths of a band's
-  /// wavelength reflects with it. Read from free sides and bodies (welded meshes), so either
-  /// winding reads alike. Behind a closed body's face the probe's first query passes the whole
+  /// inside) within kBackedWavelengths of a band's wavelength reflects with it. Read from free
+  /// sides and bodies (welded meshes), so either winding reads alike. Behind a closed body's face the probe's first query passes the whole
   /// body (a filtered query), so a box whose back lies exactly in a wall's plane (a panel
   /// flush on it) reads as backed wherever it is struck, whichever of the two coplanar
   /// triangles a plain query would report.

@@ -1,8 +1,9 @@
 // The C API's growth rule (include/dpc/dpc.h, "Versions and growth rule"): a caller compiled
 // against an earlier release hands over its structs of that release's layout, declared here
 // as the released headers declared them (0.5.0: git show daecec5^:include/dpc/dpc.h; 0.6.0:
-// git show 0029ebc:include/dpc/dpc.h; 0.7.0: git show 097ab2e:include/dpc/dpc.h). The library must read no byte past their struct_size,
-// write none past it, give the fields they lack their defaults, and refuse any other size.
+// git show 0029ebc:include/dpc/dpc.h; 0.7.0: git show 097ab2e:include/dpc/dpc.h). The
+// library must read no byte past their struct_size, write none past it, give the fields they
+// lack their defaults, and refuse any other size.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstddef>

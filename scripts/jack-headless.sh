@@ -6,8 +6,9 @@
 #   scripts/jack-headless.sh build-dev/tests/audio_device_test "[jack]" -s
 #   scripts/jack-headless.sh build-dev/dpc-demo scenes/shoebox.json --device jack:system
 #
-# Environment: JACK_RATE (default 48000), JACK_PERIOD (frames, default 128). The command sees
-# DPC_JACK=1 (the [jack] playback tests run only then).
+# Environment: JACK_RATE (default 48000), JACK_PERIOD (frames, default 128), JACK_LOG (a path:
+# the server's log is written there and kept, e.g. to read which client an xrun named). The
+# command sees DPC_JACK=1 (the [jack] playback tests run only then).
 #
 # Installs Debian's jackd2 if jackd is missing (non-interactively, answering "no" to
 # realtime priority in debconf; jackd itself runs with -R when the machine grants SCHED_FIFO,
@@ -39,7 +40,7 @@ if command -v jack_lsp >/dev/null 2>&1 && JACK_NO_START_SERVER=1 jack_lsp >/dev/
 fi
 
 "$(dirname "$0")/jack-reclaim.sh"
-log=$(mktemp -t jackd-dummy.XXXXXX.log)
+log=${JACK_LOG:-$(mktemp -t jackd-dummy.XXXXXX.log)}
 # Real-time scheduling (-R: the process thread, and so dpc's audio callback, runs SCHED_FIFO)
 # when this machine grants it (chrt succeeds) unless JACK_REALTIME=0; otherwise -r. The choice
 # is printed so test logs say which one ran. Dummy backend, 2 playback ports by default.
@@ -78,5 +79,5 @@ DPC_JACK=1 "$@" || status=$?
 
 stop_server
 trap - EXIT
-rm -f "$log"
+[[ -n ${JACK_LOG:-} ]] || rm -f "$log"
 exit $status

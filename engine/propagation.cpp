@@ -139,10 +139,14 @@ void Propagator::startRay(const Pass& pass, uint32_t rayIndex, RayState& ray) co
 }
 
 bool Propagator::advance(const TraceRequest& rq, RayState& ray, bool surface,
-                         const SurfaceHit& hit, HitList& out) const {
+                         const SurfaceHit& hit, HitList& out, Bands& cut) const {
   const float segEnd = surface ? hit.t : std::numeric_limits<float>::infinity();
   if (ray.order > 0 || rq.includeDirectRays) testListeners(rq, ray, segEnd, out);
-  if (!surface || ray.order >= settings_.maxOrder) return false;
+  if (!surface) return false;
+  if (ray.order >= settings_.maxOrder) {
+    cut += ray.energy * exp(airPerMetre_ * -(ray.travelled + hit.t));
+    return false;
+  }
   return reflect(ray, hit);
 }
 
@@ -293,7 +297,7 @@ void Propagator::traceRay(const Pass& pass, uint32_t rayIndex, Chunk& chunk) con
   for (;;) {
     const bool surface = tracer_.intersect(TraceRay{ray.org, ray.dir}, hit);
     ++chunk.segments;
-    if (!advance(pass.request, ray, surface, hit, chunk.ordered)) break;
+    if (!advance(pass.request, ray, surface, hit, chunk.ordered, chunk.maxOrderEnergy)) break;
   }
   noteSpecularRun(ray, chunk);
 }
@@ -352,7 +356,7 @@ void Propagator::traceChunkPacket(const Pass& pass, uint32_t firstRay, uint32_t 
     for (int i = 0; i < K; ++i) {
       if (!packet[i].active) continue;
       const bool more = advance(pass.request, rays[i], answers[i].found, answers[i].surface,
-                                chunk.unordered);
+                                chunk.unordered, chunk.maxOrderEnergy);
       while (chunk.rayOf.size() < chunk.unordered.hits.size())  // one hit per receiver at most
         chunk.rayOf.push_back(rayIndex[i] - firstRay);
       if (!more) noteSpecularRun(rays[i], chunk);
@@ -412,6 +416,7 @@ TraceStats Propagator::traceFrame(const TraceRequest& request, std::span<FrameHi
       chunk.ordered.clear();
       chunk.specularRuns.clear();
       chunk.segments = 0;
+      chunk.maxOrderEnergy = Bands(0.f);
       const uint32_t end = std::min(n, (c + 1) * perChunk);
       if (traceMode_ == TraceMode::kPacket16) {
         traceChunkPacket(pass, c * perChunk, end, chunk);
@@ -425,6 +430,7 @@ TraceStats Propagator::traceFrame(const TraceRequest& request, std::span<FrameHi
   for (uint32_t c = 0; c < chunkCount; ++c) {
     const Chunk& chunk = chunks_[c];
     stats.segments += chunk.segments;
+    stats.maxOrderEnergy += chunk.maxOrderEnergy;
     const HitList& list = chunk.ordered;
     stats.listenerHits += list.hits.size();
     for (size_t h = 0; h < list.hits.size(); ++h)

@@ -224,6 +224,7 @@ class Propagator {
     HitList ordered;                             ///< the chunk's hits in ray order
     std::vector<SpecularSequence> specularRuns;  ///< per ended ray with a run: its sequence
     uint64_t segments = 0;
+    Bands maxOrderEnergy{0.f};  ///< TraceStats::maxOrderEnergy of the chunk's rays
     // Packet mode scratch: hits in completion order with their ray (offset in the chunk),
     // and the per-ray counts/offsets of the counting sort back into ray order.
     HitList unordered;
@@ -239,9 +240,10 @@ class Propagator {
   };
   void startRay(const Pass& pass, uint32_t rayIndex, RayState& ray) const;
   /// Applies one query's answer (surface hit or miss) to the ray: receiver tests (append to
-  /// `out`, in receiver order), then reflection. Returns false when the ray ends.
+  /// `out`, in receiver order), then reflection. Returns false when the ray ends; a ray the
+  /// order bound ends adds the energy it still carries to `cut`.
   bool advance(const TraceRequest& rq, RayState& ray, bool surface, const SurfaceHit& hit,
-               HitList& out) const;
+               HitList& out, Bands& cut) const;
   /// The segment of `ray` up to segEnd (m) against every receiver sphere: appends a hit per
   /// sphere it crosses (with its receiver index): in receiver order, or the sphere hierarchy's
   /// order above kMaxLinearSpheres.

@@ -301,6 +301,7 @@ void Simulation::addPass(const TraceStats& t, double seconds) {
   frameTrace_.rays += t.rays;
   frameTrace_.segments += t.segments;
   frameTrace_.listenerHits += t.listenerHits;
+  frameTrace_.maxOrderEnergy += t.maxOrderEnergy;
 }
 
 void Simulation::reserveSourceGroups() {

@@ -39,6 +39,11 @@ struct TraceStats {
   uint64_t rays = 0;          ///< rays emitted
   uint64_t segments = 0;      ///< ray segments traced (closest-hit queries)
   uint64_t listenerHits = 0;  ///< segment-sphere crossings, summed over the listeners
+  /// Energy per band that rays still carried (air absorption applied) when the reflection
+  /// order bound (PropagationSettings::maxOrder) ended them, summed over the rays: lost to
+  /// the response. A ray leaves with 1 per band on average, so maxOrderEnergy / rays is the
+  /// emitted energy's share that the bound cut off.
+  Bands maxOrderEnergy{0.f};
 };
 
 /// How Propagator issues its tracer queries (same physics, same random streams).

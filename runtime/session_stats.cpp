@@ -23,6 +23,9 @@ void FrameTotals::add(const Simulation::SourceResult& r) {
   const double kept = double(r.energy.total().sum());
   if (dropped > 0.0)
     droppedEnergyFraction = std::max(droppedEnergyFraction, dropped / (dropped + kept));
+  if (r.trace.rays > 0)
+    maxOrderEnergyFraction = std::max(maxOrderEnergyFraction,
+                                      double(r.trace.maxOrderEnergy.max()) / double(r.trace.rays));
 }
 
 SessionCounters::SessionCounters(int sceneRaysPerFrame, int floorRays)
@@ -53,6 +56,7 @@ void SessionCounters::frameDone(const FrameTotals& t, double frameMs) noexcept {
   cacheMergedEntries_.store(t.cacheMergedEntries, std::memory_order_relaxed);
   cacheMergedEnergyFraction_.store(t.cacheCoarseEnergyFraction, std::memory_order_relaxed);
   droppedEnergyFraction_.store(t.droppedEnergyFraction, std::memory_order_relaxed);
+  maxOrderEnergyFraction_.store(t.maxOrderEnergyFraction, std::memory_order_relaxed);
   chainsLeftOut_.store(t.chainsLeftOut, std::memory_order_relaxed);
   frameMs_.store(frameMs, std::memory_order_relaxed);
 }
@@ -93,6 +97,7 @@ void SessionCounters::read(SessionStatus& st) {
   st.cacheMergedEntries = cacheMergedEntries_.load(r);
   st.cacheMergedEnergyFraction = cacheMergedEnergyFraction_.load(r);
   st.droppedEnergyFraction = droppedEnergyFraction_.load(r);
+  st.maxOrderEnergyFraction = maxOrderEnergyFraction_.load(r);
   st.chainsLeftOut = chainsLeftOut_.load(r);
   st.irsApplied = irsApplied_.load(r);
   if (const int64_t heard = firstSoundNs_.load(r); heard != 0)

@@ -34,6 +34,10 @@ struct FrameTotals {
   /// Largest per-pair share of the estimator's energy that arrived beyond the IR length and
   /// was left out of the response (EnergyResponse::droppedEnergy(), summed over bands).
   double droppedEnergyFraction = 0;
+  /// Largest per-pair, per-band share of the emitted energy that rays still carried when the
+  /// reflection order bound (max_order) ended them (TraceStats::maxOrderEnergy / rays): lost
+  /// to the response, most of it late (a raised max_order keeps it).
+  double maxOrderEnergyFraction = 0;
   /// Ways round edges in series that the chains' caps left out of the direct sound's
   /// diffraction (DirectSound::chainsLeftOut, engine/edge_chain.h), summed over the pairs.
   uint64_t chainsLeftOut = 0;
@@ -69,6 +73,9 @@ struct SessionStatus {
   /// Last frame, played listener: largest per-source share of the energy that arrived beyond
   /// the IR length (not in the IR; FrameTotals::droppedEnergyFraction).
   double droppedEnergyFraction = 0.0;
+  /// Last frame, played listener: largest per-source, per-band share of the emitted energy
+  /// that rays still carried when max_order ended them (FrameTotals::maxOrderEnergyFraction).
+  double maxOrderEnergyFraction = 0.0;
   /// Last frame, played listener: ways round edges in series the diffraction's caps left out,
   /// summed over the sources (FrameTotals::chainsLeftOut).
   uint64_t chainsLeftOut = 0;
@@ -179,7 +186,7 @@ class SessionCounters {
       cacheMergedEntries_{0}, bakedResponses_{0}, bakeFallbacks_{0}, inputSamplesReplaced_{0},
       fftPlanFailures_{0}, chainsLeftOut_{0};
   std::atomic<double> frameMs_{0.0}, irAgeMs_{0.0}, cacheMergedEnergyFraction_{0.0},
-      droppedEnergyFraction_{0.0};
+      droppedEnergyFraction_{0.0}, maxOrderEnergyFraction_{0.0};
   std::atomic<double> completionSeconds_{std::numeric_limits<double>::quiet_NaN()};
   std::atomic<size_t> cacheEntries_{0}, cacheBytes_{0}, cacheBudgetBytes_{0}, cachePairs_{0},
       cachePairBytesMin_{0}, cachePairBytesMax_{0}, cachePoolUsedBytes_{0};

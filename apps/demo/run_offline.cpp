@@ -162,6 +162,21 @@ void printWritten(const SceneDesc& scene, const OfflineListenerResult& r,
                 r.lastIrs.size() * size_t(r.lastIrs.front().channels()));
 }
 
+/// Warns when the rays the reflection order bound ended still carried enough energy to reach
+/// into the decay that T30 reads. In a diffuse room the share of the emitted energy still in
+/// flight is the decay curve's level then (both fall as the room's energy does), so a share
+/// above kMaxOrderWarnShare (-40 dB) cuts the decay off above T30's -35 dB end.
+void warnMaxOrder(const Flags& fl, const PropagationSettings& settings, const OfflineResult& r) {
+  constexpr double kMaxOrderWarnShare = 1e-4;
+  const double share = r.last.maxOrderEnergyFraction;
+  if (!(share > kMaxOrderWarnShare)) return;
+  std::fprintf(stderr,
+               "warning: %s: propagation.max_order: rays ended at order %d still carried %.2g %% "
+               "of the emitted energy (%.0f dB, largest band): the decay below that is lost "
+               "(T30 and the late tail read short); raise max_order\n",
+               fl.scene.c_str(), settings.maxOrder, 100.0 * share, 10.0 * std::log10(share));
+}
+
 /// One line per propagation run (shared by every listener it rendered).
 void printTotals(const OfflineResult& r, double audioSeconds) {
   const auto& t = r.totals;
@@ -182,9 +197,11 @@ void printTotals(const OfflineResult& r, double audioSeconds) {
       audioSeconds / r.wallSeconds);
   std::printf(
       "energy beyond the IR length %.3g %% of the last response (largest per pair)  "
+      "energy in rays ended at max_order %.3g %% of the emitted (largest band and pair)  "
       "IR sets lost %llu  convolution partitions left out after a jump %llu  diffraction "
       "chains left out %llu (last frame)\n",
-      100.0 * r.last.droppedEnergyFraction, (unsigned long long)r.irsLost,
+      100.0 * r.last.droppedEnergyFraction, 100.0 * r.last.maxOrderEnergyFraction,
+      (unsigned long long)r.irsLost,
       (unsigned long long)r.stalePartitions, (unsigned long long)r.last.chainsLeftOut);
   std::printf(
       "cache pool in use %.1f MB  per pair (%zu): smallest %.2f MB, mean %.2f MB, "
@@ -243,6 +260,7 @@ int runOffline(const Flags& fl) {
   for (size_t l = 0; l < staged.size(); ++l)
     printWritten(scene, r.listeners[l], staged[l], paths[l]);
   printTotals(r, audioSeconds);
+  warnMaxOrder(fl, run.settings, r);
   if (run.bake) printBakeSummary(*run.bake, r.bake);
   std::fflush(stdout);
   if (fl.studio) serveOfflineStudio(run, fl);

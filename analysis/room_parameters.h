@@ -25,7 +25,8 @@
 //     about -35 dB, EDT about -20 dB;
 //   * fewer than kMinRegressionPoints samples/bins lie within the range.
 // C50/C80 are +inf when no energy arrives after 50/80 ms (an ideal single impulse), -inf
-// when none arrives before; C and D are NaN when the IR holds no energy at all. No
+// when none arrives before; C and D are NaN when the IR holds no energy at all, and when the
+// record ends less than 50/80 ms after the onset (its late part was never recorded). No
 // background-noise compensation is done (no Lundeby iteration, no noise subtraction): truncate
 // measured IRs where the decay meets the noise before analysing them.
 //

@@ -12,10 +12,13 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <initializer_list>
 #include <string>
 #include <utility>
 #include <vector>
@@ -116,8 +119,40 @@ inline void checkOutputPath(const std::string& path, const std::string& flag,
   std::error_code ec;
   if (!std::filesystem::is_directory(folder, ec))
     throw InputError("command line", flag, "folder '" + folder + "' does not exist");
-  if (::access(folder.c_str(), W_OK) != 0)
+  // Mode bits as for a file (isReadOnlyFile): access() lets root write into a chmod 555 folder.
+  struct stat folderStat {};
+  if (::access(folder.c_str(), W_OK) != 0 ||
+      (::stat(folder.c_str(), &folderStat) == 0 && (folderStat.st_mode & 0222) == 0))
     throw InputError("command line", flag, "folder '" + folder + "' is not writable");
+}
+
+/// The format a file name's extension names among those dpc reads and writes ("" for any
+/// other extension, or none).
+inline std::string formatOfName(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  static const std::pair<const char*, const char*> kKnown[] = {
+      {".wav", "WAV"}, {".sofa", "SOFA"}, {".csv", "CSV"},   {".json", "JSON"},
+      {".h5", "HDF5"}, {".obj", "OBJ"},   {".gltf", "glTF"}, {".glb", "glTF"}};
+  for (const auto& [e, format] : kKnown)
+    if (ext == e) return format;
+  return "";
+}
+
+/// An output whose name names another format than its flag writes is refused (--ir-out
+/// ir.csv wrote a WAV that dpc-analyze then read as CSV). Other extensions pass. Throws
+/// InputError("command line", flag, ...).
+inline void checkOutputFormat(const char* flag, const std::string& path,
+                              std::initializer_list<std::string> writes) {
+  const std::string named = formatOfName(path);
+  if (path.empty() || named.empty() ||
+      std::find(writes.begin(), writes.end(), named) != writes.end())
+    return;
+  std::string list;
+  for (const std::string& w : writes) list += (list.empty() ? "" : " or ") + w;
+  throw InputError("command line", flag,
+                   "'" + path + "' names a " + named + " file, but " + flag + " writes " + list);
 }
 
 /// A temporary file TARGET.tmp-XXXXXX next to `path`'s target (outputTarget: `path`, or the

@@ -24,10 +24,16 @@ inline constexpr int kSetupCheckDirections = 64;
 /// sphere. Any thread; no allocation.
 glm::vec3 setupCheckDirection(int i);
 
-/// Warnings for the scene's listeners and sources at time 0 (trajectories evaluated there):
+/// Warnings for the scene's listeners and sources, at time 0 and at their trajectories'
+/// keyframes (up to 32 of each, spread evenly):
 /// - a point is "enclosed" when every direction hits the static mesh; when some points are
 ///   enclosed and others are not, each one that is not is outside the room (or the room has a
-///   hole it can see through): its rays escape, and no sound connects it with the others;
+///   hole it can see through): its rays escape, and no sound connects it with the others (one
+///   warning per listener or source, at its first such time);
+/// - every point outside the mesh's bounding box: the mesh's units or offset differ from the
+///   positions' (an export in centimetres, a level moved);
+/// - a source inside a listener's sphere at time 0: its direct sound is read at R/2;
+/// at time 0:
 /// - a listener whose sphere radius exceeds the farthest surface seen from its centre contains
 ///   the whole room: the energy response counts every ray segment it holds;
 /// - a listener sphere that reaches through a surface (radius larger than the nearest hit)

@@ -298,10 +298,7 @@ void Simulation::finishUntraced(std::span<const ListenerSphere> listeners,
 
 void Simulation::addPass(const TraceStats& t, double seconds) {
   frameTimes_.trace += seconds;
-  frameTrace_.rays += t.rays;
-  frameTrace_.segments += t.segments;
-  frameTrace_.listenerHits += t.listenerHits;
-  frameTrace_.maxOrderEnergy += t.maxOrderEnergy;
+  frameTrace_ += t;
 }
 
 void Simulation::reserveSourceGroups() {

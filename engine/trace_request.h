@@ -44,6 +44,12 @@ struct TraceStats {
   /// the response. A ray leaves with 1 per band on average, so maxOrderEnergy / rays is the
   /// emitted energy's share that the bound cut off.
   Bands maxOrderEnergy{0.f};
+  /// Adds another pass's counts (a frame's passes, summed).
+  TraceStats& operator+=(const TraceStats& o) {
+    rays += o.rays, segments += o.segments, listenerHits += o.listenerHits;
+    maxOrderEnergy += o.maxOrderEnergy;
+    return *this;
+  }
 };
 
 /// How Propagator issues its tracer queries (same physics, same random streams).

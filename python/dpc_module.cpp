@@ -168,6 +168,8 @@ void importNumpy() {
 }
 
 void bindEngine(py::module_& m) {
+  dpc_scene_data defaults;  // from_arrays's defaults are a scene file's (the C API's)
+  dpc_scene_data_init(&defaults);
   py::class_<PyEngine>(m, "Engine", R"(A scene's engine, stepped one propagation frame at a
 time from Python (the C API's dpc_engine): set poses, step(), read the responses.)")
       .def(py::init(&openEngine), py::arg("scene"), py::arg("rays_per_frame") = 0,
@@ -175,8 +177,10 @@ time from Python (the C API's dpc_engine): set poses, step(), read the responses
       .def_static("from_arrays", &fromArrays, py::arg("vertices"), py::arg("triangles"),
                   py::arg("triangle_materials"), py::arg("absorption"), py::arg("scattering"),
                   py::arg("sources"), py::arg("listener"), py::arg("listener_radius") = 0.5f,
-                  py::arg("rays_per_frame") = 4096, py::arg("max_order") = 50,
-                  py::arg("ir_length") = 2.0f, py::arg("seed") = 1, py::arg("sample_rate") = 48000,
+                  py::arg("rays_per_frame") = defaults.rays_per_frame,
+                  py::arg("max_order") = defaults.max_order,
+                  py::arg("ir_length") = defaults.ir_length, py::arg("seed") = defaults.seed,
+                  py::arg("sample_rate") = 48000,
                   py::arg("output") = "mono",
                   "A scene from arrays (m, octave bands 63 Hz .. 8 kHz); no dry signals.")
       // Getters as lambdas on PyEngine: pybind11 2.10 (Debian 12) binds a noexcept member of

@@ -28,10 +28,11 @@ struct SceneArrays {
   FloatArray sources;            ///< S x 3 positions, m
   FloatArray listener;           ///< 3, m
   float listenerRadius = 0.5f;   ///< m
-  int raysPerFrame = 4096;
-  int maxOrder = 50;
-  float irLength = 2.0f;  ///< s
-  uint64_t seed = 1;
+  // Set by Engine.from_arrays, whose defaults are a scene file's (PropagationSettings).
+  int raysPerFrame = 0;
+  int maxOrder = 0;
+  float irLength = 0.f;  ///< s
+  uint64_t seed = 0;
   int sampleRate = 48000;       ///< Hz
   std::string output = "mono";  ///< "mono", "stereo" or "binaural"
 };

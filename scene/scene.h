@@ -172,7 +172,7 @@ inline constexpr float kCachePoolAuto = -1.f;
 
 struct PropagationSettings {
   int raysPerFrame = 4096;  ///< rays emitted per source per frame (N)
-  int maxOrder = 50;        ///< maximum reflection order d_max
+  int maxOrder = 200;       ///< maximum reflection order d_max
   float patchSize = 0.5f;   ///< lambda, metres
   float cacheTau = 1.0f;    ///< tau, seconds (0: no reuse)
   /// DPC memory budget per cache, i.e. per source-listener pair, megabytes (> 0). Beyond it

@@ -146,7 +146,7 @@ scene = {
         {'name': 'a', 'position': [3.5, 1.6, 1.5], 'radius': 0.5, 'yaw': 0},
         {'name': 'b', 'position': [10.5, 1.6, 3.8], 'radius': 0.5, 'yaw': 180},
     ],
-    'propagation': {'rays_per_frame': 4096, 'max_order': 50, 'cache_tau': 0.5,
+    'propagation': {'rays_per_frame': 4096, 'max_order': 200, 'cache_tau': 0.5,
                     'frame_rate': 15, 'ir_length': 1.5},
 }
 with open(os.path.join(out, 'two_rooms.json'), 'w') as f:

@@ -265,7 +265,10 @@ std::string lockedOutput(const Options& o) {
 void checkBakeOutputs(const Options& o, const Plan& plan, bool writer) {
   auto inputs = sceneInputFiles(plan.scene, o.scene.empty() ? plan.header.scenePath : o.scene);
   if (!o.probes.empty()) inputs.push_back({o.probes, "the probe list"});
-  if (o.resume.empty()) checkOutputPath(o.out, "--out", inputs);
+  if (o.resume.empty()) {
+    checkOutputPath(o.out, "--out", inputs);
+    checkOutputFormat("--out", o.out, {"HDF5"});
+  }
   if (o.map.empty()) return;
   std::vector<std::string> bakes{o.resume.empty() ? o.out : o.resume};
   if (!o.resume.empty() && !replacedBy(o.resume).empty()) bakes.push_back(replacedBy(o.resume));
@@ -279,6 +282,7 @@ void checkBakeOutputs(const Options& o, const Plan& plan, bool writer) {
         std::filesystem::weakly_canonical(std::filesystem::absolute(bake)))
       throw InputError("command line", "--map",
                        "'" + o.map + "' is the bake; refusing to overwrite it");
+  checkOutputFormat("--map", o.map, {"CSV"});
 }
 
 }  // namespace

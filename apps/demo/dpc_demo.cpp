@@ -9,6 +9,7 @@
 #include "apps/demo/audio_devices.h"
 #include "apps/demo/flags.h"
 #include "apps/demo/list_materials.h"
+#include "apps/demo/preflight.h"
 #include "apps/demo/run_live.h"
 #include "apps/demo/run_offline.h"
 #include "common/input_error.h"
@@ -85,6 +86,8 @@ int run(const Flags& fl) {
   checkRunKind(fl);
   try {
     return fl.offline.empty() ? runLive(fl) : runOffline(fl);
+  } catch (const SceneFileError&) {
+    throw;
   } catch (const InputError& e) {
     const char* flag = e.file() == fl.scene ? flagThatSet(fl, e.field()) : nullptr;
     if (!flag) throw;

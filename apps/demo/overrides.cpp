@@ -200,34 +200,6 @@ void checkListenerFileNames(const SceneDesc& scene, const Flags& fl) {
     }
 }
 
-/// The format a file name's extension names among those dpc reads and writes ("" for any
-/// other extension, or none).
-std::string formatOfName(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return char(std::tolower(c)); });
-  static const std::pair<const char*, const char*> kKnown[] = {
-      {".wav", "WAV"}, {".sofa", "SOFA"}, {".csv", "CSV"},   {".json", "JSON"},
-      {".h5", "HDF5"}, {".obj", "OBJ"},   {".gltf", "glTF"}, {".glb", "glTF"}};
-  for (const auto& [e, format] : kKnown)
-    if (ext == e) return format;
-  return "";
-}
-
-/// An output whose name names another format than its flag writes is refused (--ir-out
-/// ir.csv wrote a WAV that dpc-analyze then read as CSV). Other extensions pass.
-void checkOutputFormat(const char* flag, const std::string& path,
-                       std::initializer_list<std::string> writes) {
-  const std::string named = formatOfName(path);
-  if (path.empty() || named.empty() ||
-      std::find(writes.begin(), writes.end(), named) != writes.end())
-    return;
-  std::string list;
-  for (const std::string& w : writes) list += (list.empty() ? "" : " or ") + w;
-  throw InputError("command line", flag,
-                   "'" + path + "' names a " + named + " file, but " + flag + " writes " + list);
-}
-
 }  // namespace
 
 void checkOutputs(const SceneDesc& scene, const Flags& fl) {

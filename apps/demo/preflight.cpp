@@ -90,7 +90,11 @@ std::shared_ptr<const DrySignals> loadDrySignalsWithNotes(const SceneDesc& scene
 
 LoadedRun loadRun(const Flags& fl, PropagationSettings (*prepare)(SceneDesc&, const Flags&)) {
   LoadedRun run;
-  run.scene = std::make_shared<SceneDesc>(loadScene(fl.scene));
+  try {
+    run.scene = std::make_shared<SceneDesc>(loadScene(fl.scene));
+  } catch (const InputError& e) {
+    throw SceneFileError(e);
+  }
   run.settings = prepare(*run.scene, fl);
   run.bake = loadBakeFlag(fl, *run.scene, run.settings);
   run.dry = loadDrySignalsWithNotes(*run.scene);

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "apps/demo/flags.h"
+#include "common/input_error.h"
 #include "runtime/offline_renderer.h"
 #include "scene/scene.h"
 
@@ -65,7 +66,13 @@ struct LoadedRun {
   std::shared_ptr<const BakedField> bake;  ///< --bake, loaded and checked; or none
 };
 
-/// Loads fl.scene, applies `prepare` (the mode's overrides and checks, which may change the
+/// A problem with the scene file's own value, found as it loaded: blamed on the file's field
+/// even where a flag overrides that field (the flag's value is checked apart).
+struct SceneFileError : InputError {
+  explicit SceneFileError(const InputError& e) : InputError(e) {}
+};
+
+/// Loads fl.scene (its errors as SceneFileError), applies `prepare` (the mode's overrides and checks, which may change the
 /// scene and return its settings), loads --bake for it (bake_flag.h), then loads the dry
 /// signals with their notes. Main thread.
 /// Allocates; throws InputError.

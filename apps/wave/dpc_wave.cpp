@@ -171,6 +171,7 @@ int run(const Options& o, Cluster& cluster) {
 int simulate(const Options& o, Cluster& cluster) {
   const SceneDesc scene = loadWithOverrides(o);
   const bool writer = cluster.rank() == 0;
+  checkOutputFormat("--out", o.out, {"WAV"});
   // Alone, a temporary is made and removed beside --out before the simulation; under mpirun
   // every rank takes this path, and a rank whose file system refused it would leave the
   // others waiting in the simulation's exchanges.

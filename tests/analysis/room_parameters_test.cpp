@@ -438,3 +438,23 @@ TEST_CASE("onset: quiet pre-roll before the direct sound is excluded (20 dB belo
   CHECK(b.edt == Approx(a.edt).epsilon(1e-9));
   CHECK(b.t30 == Approx(a.t30).epsilon(1e-9));
 }
+
+TEST_CASE("a record that ends before 50 or 80 ms has no C or D there: NaN, not +inf") {
+  // Constant energy in 1 ms bins: a late part exists in the room but was never recorded. A
+  // 40 ms record cannot give C50, C80 or D50; a 60 ms record gives C50 and D50 (closed form:
+  // 50 of 60 bins early) but not C80. An impulse followed by recorded silence stays +inf.
+  const std::vector<double> e40(40, 1.0), e60(60, 1.0);
+  const RoomParameters short40 = analyzeEnergyDecay(e40.data(), e40.size(), 0.001);
+  CHECK(std::isnan(short40.c50));
+  CHECK(std::isnan(short40.c80));
+  CHECK(std::isnan(short40.d50));
+  const RoomParameters short60 = analyzeEnergyDecay(e60.data(), e60.size(), 0.001);
+  CHECK(short60.c50 == Approx(10 * std::log10(50.0 / 10.0)).epsilon(1e-9));
+  CHECK(short60.d50 == Approx(50.0 / 60.0).epsilon(1e-9));
+  CHECK(std::isnan(short60.c80));
+  std::vector<double> impulse(500, 0.0);
+  impulse[0] = 1.0;
+  const RoomParameters single = analyzeEnergyDecay(impulse.data(), impulse.size(), 0.001);
+  CHECK(std::isinf(single.c80));
+  CHECK(single.c80 > 0);
+}

@@ -18,7 +18,7 @@ MEMORY_LIMIT_BYTES = 4 << 30
 import setups
 from setups import (
     scene_with, without, write, obj_with, nothing, write_text, two_listeners, bake_file,
-    truncate_half, read_only, open_to_nobody, fifo, symlink, mkdir, sparse, float_wav, gltf_level,
+    truncate_half, read_only, read_only_folder, open_to_nobody, fifo, symlink, mkdir, sparse, float_wav, gltf_level,
     gltf_set, gltf_door, no_edit, gltf_nan_vertex, gltf_door_on_node_9, steps,
     gltf_index_out_of_range, gltf_deep_nesting, gltf_node_chain, glb_bytes, fbx_level)
 
@@ -137,6 +137,10 @@ CASES = {
     "empty_scene": (nothing, ["", "--offline", "out.wav"], "dpc-demo: command line: scene: is empty"),
     "empty_duration_equals": (nothing, ["shoebox.json", "--offline", "out.wav", "--duration="], "--duration"),
     "scene_rays_1e10": (scene_with(**{"propagation.rays_per_frame": 10000000000}), OFF[:-2], "rays_per_frame"),
+    # The scene file's own bad value is the file's, also where a flag overrides it (it was
+    # blamed on the flag the user had set correctly).
+    "scene_rays_zero_beside_flag": (scene_with(**{"propagation.rays_per_frame": 0}), OFF, "shoebox.json: propagation.rays_per_frame"),
+    "scene_max_order_negative_beside_flag": (scene_with(**{"propagation.max_order": -1}), OFF + ["--max-order", "5"], "shoebox.json: propagation.max_order"),
     "scene_max_order_huge": (scene_with(**{"propagation.max_order": 1000000}), OFF, "max_order"),
     "obj_index_huge": (obj_with("f 1 2 99999999999"), OFF, "99999999999"),
     "obj_vertex_1e20": (obj_with("v 1e20 0 0"), OFF, "shoebox.obj"),
@@ -329,6 +333,7 @@ CASES = {
     # dpc-analyze then read as CSV).
     "ir_out_named_csv": (nothing, OFF + ["--ir-out", "ir.csv"], "--ir-out: 'ir.csv' names a CSV file, but --ir-out writes WAV or SOFA"),
     "er_out_named_wav": (nothing, OFF + ["--er-out", "er.wav"], "--er-out: 'er.wav' names a WAV file, but --er-out writes CSV"),
+    "offline_in_read_only_folder": (read_only_folder("ro"), ["shoebox.json", "--offline", "ro/out.wav", "--duration", "0.2"], "--offline: folder"),
     "offline_named_json": (nothing, ["shoebox.json", "--offline", "out.JSON", "--duration", "0.2"], "--offline: 'out.JSON' names a JSON file"),
     "scene_link_loop": (lambda d: (symlink("b.json", "a.json")(d), symlink("a.json", "b.json")(d)), ["a.json", "--offline", "out.wav"], "a.json: scene file 'a.json' cannot be opened: Too many levels of symbolic links"),
     # A flag's value refused by a check of the settings together, or of the file it names,

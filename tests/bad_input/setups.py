@@ -101,6 +101,15 @@ def open_to_nobody(d):
             os.chmod(os.path.join(root, name), 0o755)
 
 
+def read_only_folder(name):
+    """A folder NAME with no write bits (mode 555): refused for root too, whom access() lets
+    write into it."""
+    def apply(d):
+        os.mkdir(os.path.join(d, name))
+        os.chmod(os.path.join(d, name), 0o555)
+    return apply
+
+
 def fifo(name):
     return lambda d: os.mkfifo(os.path.join(d, name))
 

@@ -166,8 +166,17 @@ expect_refusal "command line: --map: is empty" "$scene" --out new.h5 --spacing 2
 expect_refusal "command line: --out: 'x.partial' ends in .partial" "$scene" --out x.partial \
   --spacing 2
 # A --map folder that takes no file is refused before the bake (it replaced --out first).
-expect_refusal "command line: --map: /proc/m.csv: cannot write" "$scene" --out keep.h5 \
+expect_refusal "command line: --map: folder '/proc' is not writable" "$scene" --out keep.h5 \
   --spacing 2 --map /proc/m.csv
+# An output named for another format than it writes (an HDF5 bake under b.wav, a CSV map under
+# m.wav), and a read-only folder, which root may write into but the user marked (mode 555).
+expect_refusal "command line: --out: 'b.wav' names a WAV file, but --out writes HDF5" "$scene" \
+  --out b.wav --spacing 2
+expect_refusal "command line: --map: 'm.wav' names a WAV file, but --map writes CSV" "$scene" \
+  --out new.h5 --spacing 2 --map m.wav
+mkdir -m 555 ro
+expect_refusal "is not writable" "$scene" --out ro/b.h5 --spacing 2
+[[ -z $(ls -A ro) ]] || fail "a file was made in the read-only folder"
 expect_refusal "command line: --out: is empty" "$scene" --out "" --spacing 2
 expect_refusal "command line: --spacing: is empty" "$scene" --out new.h5 --spacing ""
 expect_refusal --spacing "$scene" --out keep.h5 --spacing 0

@@ -53,3 +53,46 @@ TEST_CASE("Setup check: a listener whose centre lies in a sheet's plane is warne
   REQUIRE(warnings.size() == 1);
   CHECK(warnings.front().find("reaches through a surface") != std::string::npos);
 }
+
+TEST_CASE("Setup check: a keyframe through a wall is warned about at its time", "[engine]") {
+  // Start inside, then a keyframe typo 5 m beyond the x = 10 m wall at t = 2 s: the check at
+  // time 0 alone said nothing, and the listener walked out of the room in silence.
+  SceneDesc scene =
+      test::makeShoebox({10, 3, 7}, Bands(0.1f), 0.2f, {3, 1.5f, 3.5f}, {7, 1.5f, 3.5f});
+  auto key = [](double t, glm::vec3 p) {
+    Keyframe k;
+    k.timeSeconds = t;
+    k.position = p;
+    return k;
+  };
+  ListenerDesc& l = scene.listeners.front();
+  l.trajectory = {key(0.0, {7, 1.5f, 3.5f}), key(1.0, {8, 1.5f, 3.5f})};
+  REQUIRE(setupWarnings(scene).empty());
+  l.trajectory.push_back(key(2.0, {15, 1.5f, 3.5f}));
+  const std::vector<std::string> warnings = setupWarnings(scene);
+  REQUIRE(warnings.size() == 1);
+  CHECK(warnings.front().find("t = 2 s") != std::string::npos);
+  CHECK(warnings.front().find("outside the room") != std::string::npos);
+}
+
+TEST_CASE("Setup check: a mesh whose units differ from the positions' is warned about",
+          "[engine]") {
+  // A level exported in the wrong unit: the room 0.1 x 0.03 x 0.07 (metres read as
+  // centimetres), every point outside it, none enclosed, so no "outside the room" warning.
+  SceneDesc scene =
+      test::makeShoebox({10, 3, 7}, Bands(0.1f), 0.2f, {3, 1.5f, 3.5f}, {7, 1.5f, 3.5f});
+  for (glm::vec3& v : scene.mesh.vertices) v *= 0.01f;
+  const std::vector<std::string> warnings = setupWarnings(scene);
+  REQUIRE(warnings.size() == 1);
+  CHECK(warnings.front().find("outside its bounds") != std::string::npos);
+}
+
+TEST_CASE("Setup check: a source inside the listener's sphere is warned about", "[engine]") {
+  // The direct sound's distance is clamped to R/2 there: a source 0.2 m from a 0.5 m sphere's
+  // centre read G as at 0.25 m without a word.
+  SceneDesc scene =
+      test::makeShoebox({10, 3, 7}, Bands(0.1f), 0.2f, {6.8f, 1.5f, 3.5f}, {7, 1.5f, 3.5f});
+  const std::vector<std::string> warnings = setupWarnings(scene);
+  REQUIRE(warnings.size() == 1);
+  CHECK(warnings.front().find("inside its 0.5 m sphere") != std::string::npos);
+}

@@ -464,7 +464,8 @@ def cli(build, tmp):
              ([box, '--out', out, '--listener', 'nobody'], '--listener'),
              ([box, '--out', out, '--source', '-1'], '--source: -1 is not'),
              ([box, '--out', out, '--grid-spacing', '1e-6'], '--grid-spacing: a grid of 1e-06 m'),
-             ([box, '--out', '/proc/w.wav'], '--out: /proc/w.wav: cannot write')]
+             ([box, '--out', '/proc/w.wav'], "--out: folder '/proc' is not writable"),
+             ([box, '--out', os.path.join(tmp, 'w.csv')], "names a CSV file, but --out writes WAV")]
     for args, field in cases:
         before = open(box).read()
         done = subprocess.run([exe] + args, capture_output=True, text=True)

@@ -7,9 +7,11 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <filesystem>
 #include <initializer_list>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -22,6 +24,28 @@
 #include "scene/validate.h"
 
 namespace dpc::demo {
+
+namespace {
+
+/// A flag for a float field, checked as the field will hold it (single precision) and naming
+/// the value as given when only the rounding takes it out of range (--cluster-angle 1e-300
+/// held 0 and failed later in a message that named no flag). Throws InputError.
+float floatFlag(std::string_view field, double given) {
+  const Origin flags = commandLineOrigin();
+  checkField(field, given, flags);
+  const float held = float(given);
+  try {
+    checkField(field, double(held), flags);
+  } catch (const InputError& e) {
+    char value[64];
+    std::snprintf(value, sizeof value, "%g rounds to %g in single precision: ", given,
+                  double(held));
+    throw InputError(e.file(), e.field(), value + e.problem());
+  }
+  return held;
+}
+
+}  // namespace
 
 PropagationSettings applyOverrides(const SceneDesc& scene, const Flags& fl) {
   PropagationSettings s = scene.propagation;
@@ -42,16 +66,13 @@ PropagationSettings applyOverrides(const SceneDesc& scene, const Flags& fl) {
     s.maxOrder = int(*fl.maxOrder);
   }
   if (fl.tau) {
-    checkField("propagation.cache_tau", *fl.tau, flags);
-    s.cacheTau = float(*fl.tau);
+    s.cacheTau = floatFlag("propagation.cache_tau", *fl.tau);
   }
   if (fl.cachePoolMb) {
-    checkField("propagation.cache_pool_mb", *fl.cachePoolMb, flags);
-    s.cachePoolMb = float(*fl.cachePoolMb);
+    s.cachePoolMb = floatFlag("propagation.cache_pool_mb", *fl.cachePoolMb);
   }
   if (fl.cacheMb) {
-    checkField("propagation.cache_memory_mb", *fl.cacheMb, flags);
-    s.cacheMemoryMb = float(*fl.cacheMb);
+    s.cacheMemoryMb = floatFlag("propagation.cache_memory_mb", *fl.cacheMb);
   }
   if (fl.threads) {
     if (*fl.threads < 0 || *fl.threads > kMaxTracingThreads)
@@ -154,8 +175,7 @@ void applyRenderingOverrides(AudioSettings& audio, const Flags& fl) {
     audio.lateBuses = int(*fl.lateBuses);
   }
   if (fl.clusterAngle) {
-    checkField("audio.cluster_angle", *fl.clusterAngle, commandLineOrigin());
-    audio.clusterAngleDegrees = float(*fl.clusterAngle);
+    audio.clusterAngleDegrees = floatFlag("audio.cluster_angle", *fl.clusterAngle);
   }
   // The engine block of live runs and offline renders alike (offline, the renderer's block).
   if (fl.blockSize) {

@@ -281,6 +281,8 @@ CASES = {
     "late_buses_fraction": (scene_with(**{"audio.late_buses": 2.5}), OFF, "shoebox.json: audio.late_buses"),
     "cluster_angle_zero": (scene_with(**{"audio.cluster_angle": 0}), OFF, "shoebox.json: audio.cluster_angle"),
     "cluster_angle_flag_nan": (nothing, OFF + ["--cluster-angle", "nan"], "--cluster-angle"),
+    # A value only single precision's rounding takes out of range names the flag and the value.
+    "cluster_angle_flag_tiny": (nothing, OFF + ["--cluster-angle", "1e-300", "--rendering", "hybrid"], "--cluster-angle: 1e-300 rounds to 0 in single precision"),
     "teleport_not_bool": (scene_with(**{"listener.trajectory.1.teleport": "yes"}), OFF, "listener.trajectory[1].teleport"),
     # Finding 4 and 5: work and memory refused before any work, naming the setting to lower.
     "rays_1e8_order_10000": (scene_with(**{"propagation.rays_per_frame": 100000000, "propagation.max_order": 10000}), OFF[:-2], "rays_per_frame"),

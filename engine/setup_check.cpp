@@ -126,8 +126,7 @@ void sphereWarnings(const SceneDesc& scene, const Point& pt, std::vector<std::st
     out.push_back(head + " m reaches through a surface " + fmt("%.2f", pt.seen.nearest) +
                   " m away: paths on both sides of it are counted");
   else if (pt.radius < kTinyRadiusFraction * pt.seen.nearest)
-    out.push_back(head + " m is tiny against the nearest surface " +
-                  fmt("%.2f", pt.seen.nearest) +
+    out.push_back(head + " m is tiny against the nearest surface " + fmt("%.2f", pt.seen.nearest) +
                   " m away: rays hit a sphere in proportion to its area, so its responses "
                   "will be nearly or entirely empty (0.1 to 1 m is usual)");
 }
@@ -149,12 +148,17 @@ void outsideWarnings(const SceneDesc& scene, const std::vector<Point>& points,
   }
   glm::vec3 lo(1e30f), hi(-1e30f);
   for (const glm::vec3& v : scene.mesh.vertices) lo = glm::min(lo, v), hi = glm::max(hi, v);
-  const bool anyInside = std::any_of(points.begin(), points.end(), [&](const Point& pt) {
-    return glm::all(glm::greaterThanEqual(pt.p, lo)) && glm::all(glm::lessThanEqual(pt.p, hi));
+  // Within the mesh's own size of its box: a listener above a flat ground plane is not
+  // outside, a mesh in centimetres read as metres (100 times too small) is.
+  const glm::vec3 reach(glm::length(hi - lo));
+  const bool anyNear = std::any_of(points.begin(), points.end(), [&](const Point& pt) {
+    return glm::all(glm::greaterThanEqual(pt.p, lo - reach)) &&
+           glm::all(glm::lessThanEqual(pt.p, hi + reach));
   });
-  if (!points.empty() && !anyInside)
-    out.push_back(scene.path + ": mesh: every listener and source lies outside its bounds " +
-                  fmt("(%g, %g, %g)", lo.x, lo.y, lo.z) + fmt(" to (%g, %g, %g)", hi.x, hi.y, hi.z) +
+  if (!points.empty() && !anyNear)
+    out.push_back(scene.path + ": mesh: every listener and source lies far outside its bounds " +
+                  fmt("(%g, %g, %g)", lo.x, lo.y, lo.z) +
+                  fmt(" to (%g, %g, %g)", hi.x, hi.y, hi.z) +
                   ": are the mesh's units or offset those of the scene's positions?");
 }
 

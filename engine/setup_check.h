@@ -30,8 +30,8 @@ glm::vec3 setupCheckDirection(int i);
 ///   enclosed and others are not, each one that is not is outside the room (or the room has a
 ///   hole it can see through): its rays escape, and no sound connects it with the others (one
 ///   warning per listener or source, at its first such time);
-/// - every point outside the mesh's bounding box: the mesh's units or offset differ from the
-///   positions' (an export in centimetres, a level moved);
+/// - every point farther outside the mesh's bounding box than the box's diagonal: the mesh's
+///   units or offset differ from the positions' (an export in centimetres, a level moved);
 /// - a source inside a listener's sphere at time 0: its direct sound is read at R/2;
 /// at time 0:
 /// - a listener whose sphere radius exceeds the farthest surface seen from its centre contains

@@ -72,9 +72,9 @@ struct SceneFileError : InputError {
   explicit SceneFileError(const InputError& e) : InputError(e) {}
 };
 
-/// Loads fl.scene (its errors as SceneFileError), applies `prepare` (the mode's overrides and checks, which may change the
-/// scene and return its settings), loads --bake for it (bake_flag.h), then loads the dry
-/// signals with their notes. Main thread.
+/// Loads fl.scene (its errors as SceneFileError), applies `prepare` (the mode's overrides and
+/// checks, which may change the scene and return its settings), loads --bake for it
+/// (bake_flag.h), then loads the dry signals with their notes. Main thread.
 /// Allocates; throws InputError.
 LoadedRun loadRun(const Flags& fl, PropagationSettings (*prepare)(SceneDesc&, const Flags&));
 

@@ -171,7 +171,6 @@ int run(const Options& o, Cluster& cluster) {
 int simulate(const Options& o, Cluster& cluster) {
   const SceneDesc scene = loadWithOverrides(o);
   const bool writer = cluster.rank() == 0;
-  checkOutputFormat("--out", o.out, {"WAV"});
   // Alone, a temporary is made and removed beside --out before the simulation; under mpirun
   // every rank takes this path, and a rank whose file system refused it would leave the
   // others waiting in the simulation's exchanges.
@@ -179,6 +178,7 @@ int simulate(const Options& o, Cluster& cluster) {
     checkOutputCreatable(o.out, "--out", sceneInputFiles(scene, o.scene));
   else
     checkOutputPath(o.out, "--out", sceneInputFiles(scene, o.scene));
+  checkOutputFormat("--out", o.out, {"WAV"});  // after the path's checks, as dpc-demo's
   std::vector<size_t> listeners;
   if (!o.listener.empty())
     listeners.push_back(listenerIndex(scene, o.listener, "--listener"));

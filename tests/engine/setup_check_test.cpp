@@ -96,3 +96,21 @@ TEST_CASE("Setup check: a source inside the listener's sphere is warned about", 
   REQUIRE(warnings.size() == 1);
   CHECK(warnings.front().find("inside its 0.5 m sphere") != std::string::npos);
 }
+
+TEST_CASE("Setup check: an open scene over a ground plane is not called mis-scaled", "[engine]") {
+  // The bounds warning must not fire where every point lies just outside a flat mesh's box
+  // (a listener 1.6 m above a ground plane whose box is 0 m high).
+  SceneDesc scene;
+  scene.path = "<ground>";
+  scene.materials.push_back(Material{"ground", Bands(0.1f), Bands(0.2f)});
+  test::addPanel(scene.mesh, {-50, 0, -50}, {100, 0, 0}, {0, 0, 100}, 0);
+  scene.sources.push_back(SourceDesc{});
+  scene.sources.back().name = "talker";
+  scene.sources.back().position = {0, 1.5f, 0};
+  scene.listeners.push_back(ListenerDesc{});
+  scene.listeners.back().name = "ear";
+  scene.listeners.back().position = {5, 1.6f, 0};
+  const std::vector<std::string> warnings = setupWarnings(scene);
+  INFO((warnings.empty() ? "" : warnings.front()));
+  CHECK(warnings.empty());
+}

@@ -30,7 +30,7 @@ template <>
 struct Layouts<dpc_engine_options> {
   static constexpr const char* kName = "dpc_engine_options";
   static constexpr Layout kKnown[] = {{offsetof(dpc_engine_options, ir_length), "0.5.0, 0.6.0"},
-                                      {sizeof(dpc_engine_options), "0.7.0, 0.8.0"}};
+                                      {sizeof(dpc_engine_options), "0.7.0, 0.8.0, 0.9.0"}};
   /// The layout the plain dpc_engine_options_init of programs compiled against 0.6.0 fills.
   static constexpr size_t kPlainInitSize = kKnown[0].size;
 };
@@ -41,7 +41,7 @@ struct Layouts<dpc_scene_data> {
   static constexpr Layout kKnown[] = {
       {offsetof(dpc_scene_data, material_transmissions), "0.5.0, 0.6.0"},
       {offsetof(dpc_scene_data, estimator), "0.7.0"},
-      {sizeof(dpc_scene_data), "0.8.0"}};
+      {sizeof(dpc_scene_data), "0.8.0, 0.9.0"}};
   /// The layout the plain dpc_scene_data_init of programs compiled against 0.6.0 fills.
   static constexpr size_t kPlainInitSize = kKnown[0].size;
 };
@@ -49,9 +49,11 @@ struct Layouts<dpc_scene_data> {
 template <>
 struct Layouts<dpc_stats> {
   static constexpr const char* kName = "dpc_stats";
-  static constexpr Layout kKnown[] = {{offsetof(dpc_stats, input_samples_replaced), "0.5.0"},
-                                      {offsetof(dpc_stats, dropped_energy_fraction), "0.6.0"},
-                                      {sizeof(dpc_stats), "0.7.0, 0.8.0"}};
+  static constexpr Layout kKnown[] = {
+      {offsetof(dpc_stats, input_samples_replaced), "0.5.0"},
+      {offsetof(dpc_stats, dropped_energy_fraction), "0.6.0"},
+      {offsetof(dpc_stats, max_order_energy_fraction), "0.7.0, 0.8.0"},
+      {sizeof(dpc_stats), "0.9.0"}};
 };
 
 /// True when T's table obeys the rule: sizes increase, the last is sizeof(T), and each earlier

@@ -6,6 +6,7 @@
 #include "api/engine_handle.h"
 #include "api/errors.h"
 #include "api/layouts.h"
+#include "runtime/session_stats.h"
 
 using dpc::api::checkIndex;
 using dpc::api::EngineCall;
@@ -29,6 +30,9 @@ dpc_status checkReadout(const char* function, const EngineCall& call, const dpc_
     return failFixed(DPC_ERR_INVALID_ARGUMENT, function, "out is NULL with a capacity > 0");
   return DPC_OK;
 }
+
+static_assert(DPC_MAX_ORDER_WARN_FRACTION == dpc::kMaxOrderWarnFraction,
+              "dpc.h's max_order bound mirrors runtime/session_stats.h's");
 
 /// dpc_stats at the current layout from the session's status.
 dpc_stats statsOf(const dpc::SessionStatus& s) {
@@ -57,6 +61,7 @@ dpc_stats statsOf(const dpc::SessionStatus& s) {
   out.input_samples_replaced = s.inputSamplesReplaced;
   out.limited_frames = s.limitedFrames;
   out.dropped_energy_fraction = s.droppedEnergyFraction;
+  out.max_order_energy_fraction = s.maxOrderEnergyFraction;
   return out;
 }
 

@@ -81,12 +81,30 @@ struct WaveChunks {
   bool hasFormat = false;  ///< a fmt chunk of at least 8 bytes was read
   uint16_t channels = 0;   ///< as its fmt chunk declares them
   uint32_t sampleRate = 0;
+  /// Bytes of a partial last frame: the declared data size modulo the fmt chunk's block
+  /// align, for PCM and float samples (libsndfile drops them without a word).
+  uint64_t partialFrameBytes = 0;
+  uint16_t blockAlign = 0;  ///< bytes per frame (PCM, float and extensible formats), else 0
 };
 
 uint32_t littleEndian(const unsigned char* p, int bytes) {
   uint32_t v = 0;
   for (int i = bytes - 1; i >= 0; --i) v = v << 8 | p[i];
   return v;
+}
+
+/// A fmt chunk's body of `size` bytes at the stream's position: channels, sample rate and, for
+/// PCM (1), float (3) and extensible (0xFFFE) samples, the block align.
+void readFormat(std::ifstream& in, uint64_t size, WaveChunks& out) {
+  unsigned char fmt[14];
+  const std::streamsize want = size >= 14 ? 14 : 8;
+  if (!in.read(reinterpret_cast<char*>(fmt), want)) return;
+  out.hasFormat = true;
+  out.channels = uint16_t(littleEndian(fmt + 2, 2));
+  out.sampleRate = littleEndian(fmt + 4, 4);
+  const uint32_t tag = littleEndian(fmt, 2);
+  if (want == 14 && (tag == 1 || tag == 3 || tag == 0xFFFE))
+    out.blockAlign = uint16_t(littleEndian(fmt + 12, 2));
 }
 
 /// The chunks of a RIFF WAVE file (all defaults for any other file).
@@ -104,16 +122,11 @@ WaveChunks readWaveChunks(const std::string& path) {
   while (in.seekg(std::streamoff(offset)) && in.read(reinterpret_cast<char*>(chunk), 8)) {
     const uint64_t size = littleEndian(chunk + 4, 4);
     offset += 8;
-    if (std::memcmp(chunk, "fmt ", 4) == 0 && size >= 8 &&
-        in.read(reinterpret_cast<char*>(chunk + 8), 8)) {
-      out.hasFormat = true;
-      out.channels = uint16_t(littleEndian(chunk + 10, 2));
-      out.sampleRate = littleEndian(chunk + 12, 4);
-    }
+    if (std::memcmp(chunk, "fmt ", 4) == 0 && size >= 8) readFormat(in, size, out);
     if (std::memcmp(chunk, "data", 4) == 0) {
-      out.missingDataBytes =
-          size == 0 || size == 0xFFFFFFFF || offset + size <= fileBytes ? 0
-                                                                        : offset + size - fileBytes;
+      const bool unknown = size == 0 || size == 0xFFFFFFFF;
+      out.missingDataBytes = unknown || offset + size <= fileBytes ? 0 : offset + size - fileBytes;
+      out.partialFrameBytes = unknown || out.blockAlign == 0 ? 0 : size % out.blockAlign;
       return out;
     }
     offset += size + (size & 1);
@@ -130,6 +143,11 @@ void openSound(const std::string& path, SndFile& file, SF_INFO& info) {
                      "cannot read: truncated: its data chunk lacks the last " +
                          std::to_string(wave.missingDataBytes) +
                          " bytes (an interrupted copy or download?)");
+  if (wave.partialFrameBytes)
+    throw InputError(path, "",
+                     "cannot read: its data chunk ends in a partial frame (" +
+                         std::to_string(wave.partialFrameBytes) + " of " +
+                         std::to_string(wave.blockAlign) + " bytes; a cut or mis-written file?)");
   if (wave.hasFormat && (wave.sampleRate == 0 || wave.channels == 0))
     throw InputError(path, "",
                      "cannot read: its fmt chunk declares " +

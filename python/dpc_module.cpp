@@ -72,10 +72,24 @@ py::dict iso3382(const py::array_t<float, py::array::c_style | py::array::forcec
 class PyEngine : public dpc::Engine {
  public:
   explicit PyEngine(dpc::Engine&& e) : dpc::Engine(std::move(e)) {}
+  /// One frame; warns (once an engine) when max_order cut more than its bound.
   void step() {
+    double cut = 0.0;
+    {
+      py::gil_scoped_release release;
+      const std::lock_guard<std::mutex> lock(stepMutex_);
+      dpc::Engine::step();
+      cut = stats().max_order_energy_fraction;
+    }
+    if (maxOrderWarned_ || !(cut > DPC_MAX_ORDER_WARN_FRACTION)) return;
+    maxOrderWarned_ = true;  // under the GIL
+    warnMaxOrder("dpc.Engine.step", cut, DPC_MAX_ORDER_WARN_FRACTION);
+  }
+  /// dpc_stats.max_order_energy_fraction of the last frame.
+  double maxOrderEnergyFraction() {
     py::gil_scoped_release release;
     const std::lock_guard<std::mutex> lock(stepMutex_);
-    dpc::Engine::step();
+    return stats().max_order_energy_fraction;
   }
   /// dpc_stats.frames. stats() is a control-thread call, as step() is: under the same lock.
   uint64_t frames() {
@@ -86,6 +100,7 @@ class PyEngine : public dpc::Engine {
 
  private:
   std::mutex stepMutex_;
+  bool maxOrderWarned_ = false;
 };
 
 /// The pose setters: the C API's message names the argument and its limit ("x: 1e+07 is
@@ -200,6 +215,9 @@ time from Python (the C API's dpc_engine): set poses, step(), read the responses
       .def_property_readonly("object_count", [](const PyEngine& e) { return e.objectCount(); })
       .def_property_readonly("frames", &PyEngine::frames,
                              "Propagation frames traced so far (step() adds one).")
+      .def_property_readonly("max_order_energy_fraction", &PyEngine::maxOrderEnergyFraction,
+                             "The last frame's largest per-band share of the emitted energy "
+                             "that rays still carried when max_order ended them (lost; [0, 1]).")
       .def("set_listener_pose", &setListenerPose, py::arg("listener"), py::arg("position"),
            py::arg("yaw_degrees") = 0.f, py::arg("pitch_degrees") = 0.f,
            py::arg("roll_degrees") = 0.f)

@@ -15,6 +15,7 @@
 #include "runtime/dry_signals.h"
 #include "runtime/offline_renderer.h"
 #include "runtime/output_format.h"
+#include "runtime/session_stats.h"
 #include "scene/limits.h"
 #include "scene/scene.h"
 
@@ -25,6 +26,9 @@ namespace {
 struct Render {
   OfflineListenerResult listener;
   int sampleRate = 0;
+  /// The last frame's largest per-source, per-band share of the emitted energy that rays still
+  /// carried when max_order ended them (FrameTotals::maxOrderEnergyFraction).
+  double maxOrderEnergyFraction = 0.0;
 };
 
 /// The index of the listener called `name` (none: the first), else InputError naming it.
@@ -91,7 +95,7 @@ Render render(const std::string& path, std::optional<double> duration, std::opti
   refuseNul(path, "dpc.render", "scene");
   if (duration && !(*duration > 0 && *duration <= 86400))
     throw InputError("dpc.render", "duration", "must be in (0, 86400] s");
-  py::gil_scoped_release release;
+  std::optional<py::gil_scoped_release> release(std::in_place);
   auto scene = std::make_shared<const SceneDesc>(loadScene(path));
   const PropagationSettings ps = settingsFor(*scene, seed, rays, threads);
   OfflineOptions opt;
@@ -103,8 +107,10 @@ Render render(const std::string& path, std::optional<double> duration, std::opti
   BlocksAndSignals blocks(size_t(renderedChannels(scene->audio)), frames);
   opt.sink = std::ref(blocks);
   OfflineResult r = renderOffline(scene, ps, dry, opt);
-  Render out{std::move(r.listeners.at(0)), scene->audio.sampleRate};
+  Render out{std::move(r.listeners.at(0)), scene->audio.sampleRate, r.last.maxOrderEnergyFraction};
   out.listener.output.channels = blocks.take();
+  release.reset();
+  warnMaxOrder("dpc.render", out.maxOrderEnergyFraction, kMaxOrderWarnFraction);
   return out;
 }
 
@@ -121,6 +127,9 @@ const OfflineListenerResult& checked(const Render& r, size_t source) {
 void bindOffline(py::module_& m) {
   py::class_<Render>(m, "Render", "What dpc.render heard: one listener's output and responses.")
       .def_readonly("sample_rate", &Render::sampleRate)
+      .def_readonly("max_order_energy_fraction", &Render::maxOrderEnergyFraction,
+                    "The last frame's largest per-band share of the emitted energy that rays "
+                    "still carried when max_order ended them (lost; [0, 1]).")
       .def_property_readonly("listener", [](const Render& r) { return r.listener.name; })
       .def_property_readonly(
           "output",

@@ -44,8 +44,8 @@ audio::AudioData readSignal(const SceneDesc& scene, size_t i) {
     for (size_t n = 0; n < a.frames(); ++n)
       if (const std::string why = sampleProblem(a.channels[c][n]); !why.empty())
         throw InputError(scene.path, field,
-                         path + ": sample " + std::to_string(n) + " of channel " +
-                             std::to_string(c) + " " + why);
+                         path + ": sample " + std::to_string(n) + " (0 = first) of channel " +
+                             std::to_string(c + 1) + " " + why);
   return a;
 }
 

@@ -44,6 +44,13 @@ struct FrameTotals {
   void add(const Simulation::SourceResult& r);
 };
 
+/// The share of the emitted energy cut by max_order above which dpc-demo (live and offline) and
+/// the Python module warn. In a diffuse room the energy still in flight when a ray ends is the
+/// decay curve's level then (both fall as the room's energy does), so a share above -40 dB
+/// cuts the decay off above the -35 dB where T30's fit ends. The C API's
+/// DPC_MAX_ORDER_WARN_FRACTION mirrors it.
+inline constexpr double kMaxOrderWarnFraction = 1e-4;
+
 /// What LiveSession::status() reports. Plain values; any thread.
 struct SessionStatus {
   uint64_t frames = 0;

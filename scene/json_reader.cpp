@@ -246,17 +246,9 @@ double JsonReader::limited(const json& v, const std::string& field,
     checkField(limitField, written, Origin{file_, {}}, field);
     return written;
   }
-  // A float field holds the value rounded: that is what must lie within the limit. When only
-  // the rounding takes it out, the message names the value as written ("1e-300"), not only the
-  // 0 the field would hold.
-  const double held = floatNumber(v, field);
-  if (!withinLimit(limit, held) && withinLimit(limit, written)) {
-    char problem[160];
-    writeLimitProblem(limit, held, problem, sizeof problem);
-    fail(field, v.dump() + " rounds to " + valueText(held) + " in single precision: " + problem);
-  }
-  checkField(limitField, held, Origin{file_, {}}, field);
-  return held;
+  // A float field holds the value rounded: that is what must lie within the limit; the
+  // message names the value as written ("1e-300"), not only the 0 the field would hold.
+  return checkFloatField(limitField, written, Origin{file_, {}}, field, v.dump());
 }
 
 bool JsonReader::boolean(const json& v, const std::string& field) const {

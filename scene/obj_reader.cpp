@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -81,28 +80,41 @@ void checkFaceIndices(const std::string& objFile, const char* p, size_t faceNo, 
   }
 }
 
-/// A "v" line (p after "v "): three coordinates, strtod (sees nan/inf, refuses garbage).
+/// One whitespace-delimited number at p (after blanks), its end in `end`; throws naming the
+/// token unless all of it is a number ("7abc" is not).
+double vertexNumber(const std::string& objFile, const char* p, const char*& end,
+                    const std::string& field) {
+  char* stop = nullptr;
+  const double x = std::strtod(p, &stop);
+  const size_t n = std::strcspn(p, " \t\r");
+  if (stop != p + n)
+    throw InputError(objFile, field, inQuotes(std::string(p, n)) + " is not a number");
+  end = stop;
+  return x;
+}
+
+/// A "v" line (p after "v "): three coordinates, strtod (sees nan/inf, refuses garbage); what
+/// follows may only be numbers (a weight w, or the vertex colour r g b some exporters write).
 glm::vec3 parseVertex(const std::string& objFile, const char* p, const std::string& field) {
   const Limit& coordinate = limitOf("position");
   glm::vec3 v{0.f};
+  const char* end = p;
   for (int i = 0; i < 3; ++i) {
     p += std::strspn(p, " \t\r");
     if (*p == '\0') throw InputError(objFile, field, "expected 3 coordinates x y z");
-    char* end = nullptr;
-    errno = 0;
-    const double x = std::strtod(p, &end);
-    if (end == p) {
-      const size_t n = std::strcspn(p, " \t\r");
-      throw InputError(objFile, field, inQuotes(std::string(p, n)) + " is not a number");
-    }
+    const double x = vertexNumber(objFile, p, end, field);
+    const std::string text(p, size_t(end - p));
     if (!std::isfinite(x) || std::abs(x) > double(std::numeric_limits<float>::max()))
-      throw InputError(objFile, field,
-                       "coordinate " + std::string(p, size_t(end - p)) + " is not finite");
+      throw InputError(objFile, field, "coordinate " + text + " is not finite");
     if (!withinLimit(coordinate, x))
-      throw InputError(objFile, field,
-                       "coordinate " + std::string(p, size_t(end - p)) + " m is outside +-" +
-                           valueText(coordinate.max) + " m");
+      throw InputError(
+          objFile, field,
+          "coordinate " + text + " m is outside +-" + valueText(coordinate.max) + " m");
     v[i] = float(x);
+    p = end;
+  }
+  for (p += std::strspn(p, " \t\r"); *p != '\0'; p += std::strspn(p, " \t\r")) {
+    vertexNumber(objFile, p, end, field);
     p = end;
   }
   return v;

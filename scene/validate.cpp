@@ -1,6 +1,7 @@
 #include "scene/validate.h"
 
 #include <cmath>
+#include <cstdio>
 #include <set>
 #include <utility>
 
@@ -241,6 +242,25 @@ void checkField(std::string_view field, double value, const Origin& origin,
   if (withinLimit(l, value)) return;
   char why[160];
   writeLimitProblem(l, value, why, sizeof why);
+  fail(origin, path.empty() ? std::string(field) : path, why);
+}
+
+float checkFloatField(std::string_view field, double written, const Origin& origin,
+                      const std::string& path, const std::string& writtenText) {
+  checkField(field, written, origin, path);
+  const Limit& l = limitOf(field);
+  const float held = float(written);
+  const bool underflow = written != 0.0 && held == 0.f;
+  if (withinLimit(l, double(held)) && !underflow) return held;
+  char given[64];
+  std::snprintf(given, sizeof given, "%g", written);
+  std::string why = (writtenText.empty() ? std::string(given) : writtenText) + " rounds to " +
+                    valueText(double(held)) + " in single precision";
+  if (!withinLimit(l, double(held))) {
+    char problem[160];
+    writeLimitProblem(l, double(held), problem, sizeof problem);
+    why += std::string(": ") + problem;
+  }
   fail(origin, path.empty() ? std::string(field) : path, why);
 }
 

@@ -41,6 +41,14 @@ Origin commandLineOrigin();
 void checkField(std::string_view field, double value, const Origin& origin,
                 const std::string& path = "");
 
+/// The single-precision value a float field holds for `written`, checked as held: as
+/// checkField, and besides, when only the rounding takes it out of range or turns a nonzero
+/// value into 0 (which can mean "automatic" or "off": wave.grid_spacing, cache_tau), throws
+/// InputError "WRITTEN rounds to HELD in single precision[: problem]" naming the value as the
+/// user wrote it (`writtenText`; default "%g" of `written`).
+float checkFloatField(std::string_view field, double written, const Origin& origin,
+                      const std::string& path = "", const std::string& writtenText = "");
+
 /// Throws InputError(origin.name, origin.fieldName(field), "N FIELD, more than the limit of
 /// MAX" or "..., fewer than the minimum of MIN") unless `count` entries of the array `field`
 /// ("sources", "listeners", "objects") lie within its limit.

@@ -3,7 +3,7 @@
 # (C with pkg-config, C++ with find_package(dpc)), runs them on scenes/shoebox.json (and the C
 # one on a 16-channel AmbiX copy of it) and checks that each writes a non-silent, finite WAV;
 # checks that find_package and pkg-config accept the same version requests, and that a
-# program compiled against earlier releases' dpc.h (0.6.0 and 0.7.0, tests/install/) runs
+# program compiled against earlier releases' dpc.h (0.6.0, 0.7.0 and 0.8.0, tests/install/) runs
 # against the installed library with the results of the same program compiled against the new one
 # (dpc.h, "Versions and growth rule"); then checks the installed LV2 bundle (lib/lv2/dpc.lv2)
 # with lilv's tools (tests/lv2/lv2_test.py) and the README's LV2_PATH line.
@@ -86,12 +86,12 @@ for request in 0.3:yes "$major.$minor":yes "$major.$((minor + 1))":no "$((major 
   fi
 done
 
-# A program compiled against 0.6.0's and 0.7.0's dpc.h (and their dpc_version.h, generated as
-# CMake did) runs against this library and prints what the same program compiled against the
-# installed dpc.h prints (tests/install/layout_client.c checks its own results).
+# A program compiled against 0.6.0's, 0.7.0's and 0.8.0's dpc.h (and their dpc_version.h,
+# generated as CMake did) runs against this library and prints what the same program compiled
+# against the installed dpc.h prints (tests/install/layout_client.c checks its own results).
 # tests/install/dpc-X.Y.Z holds that release's headers as CMake installed them.
 for build in "dpc-0.6.0:$root/tests/install/dpc-0.6.0" "dpc-0.7.0:$root/tests/install/dpc-0.7.0" \
-             "current:$prefix/include"; do
+             "dpc-0.8.0:$root/tests/install/dpc-0.8.0" "current:$prefix/include"; do
   name=${build%%:*} header=${build#*:}
   cc -std=c99 -Wall -Werror -o "$work/layout_client-$name" tests/install/layout_client.c \
     -I"$header" -L"$libdir" -ldpc -lm
@@ -100,6 +100,7 @@ for build in "dpc-0.6.0:$root/tests/install/dpc-0.6.0" "dpc-0.7.0:$root/tests/in
 done
 diff "$work/layout_client-dpc-0.6.0.txt" "$work/layout_client-current.txt"
 diff "$work/layout_client-dpc-0.7.0.txt" "$work/layout_client-current.txt"
+diff "$work/layout_client-dpc-0.8.0.txt" "$work/layout_client-current.txt"
 if [[ -d $libdir/lv2/dpc.lv2 ]]; then
   # The installed bundle finds libdpc.so through its RPATH, not LD_LIBRARY_PATH.
   env -u LD_LIBRARY_PATH /usr/bin/python3 tests/lv2/lv2_test.py "$libdir/lv2"

@@ -27,22 +27,10 @@ namespace dpc::demo {
 
 namespace {
 
-/// A flag for a float field, checked as the field will hold it (single precision) and naming
-/// the value as given when only the rounding takes it out of range (--cluster-angle 1e-300
-/// held 0 and failed later in a message that named no flag). Throws InputError.
+/// A flag for a float field, checked as the field will hold it (single precision; see
+/// checkFloatField): --cluster-angle 1e-300 is refused naming the flag, not held as 0.
 float floatFlag(std::string_view field, double given) {
-  const Origin flags = commandLineOrigin();
-  checkField(field, given, flags);
-  const float held = float(given);
-  try {
-    checkField(field, double(held), flags);
-  } catch (const InputError& e) {
-    char value[64];
-    std::snprintf(value, sizeof value, "%g rounds to %g in single precision: ", given,
-                  double(held));
-    throw InputError(e.file(), e.field(), value + e.problem());
-  }
-  return held;
+  return checkFloatField(field, given, commandLineOrigin());
 }
 
 }  // namespace

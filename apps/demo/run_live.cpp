@@ -56,6 +56,8 @@ struct Playback {
   int reconnections = 0;
   /// The failed device was already stopped (or abandoned) by a reconnection attempt.
   bool deviceStopped = false;
+  /// The max_order warning was printed (once a run).
+  bool maxOrderWarned = false;
 };
 
 /// The callbacks played so far: the failed devices' and the current one's since it started.
@@ -118,15 +120,19 @@ bool readKeys(RawTerminal& terminal, KeyboardMotion& motion, LiveSession& sessio
   return quit;
 }
 
-/// The once-a-second report: the callback's scheduling as soon as it is known, then the
-/// status line.
-void reportStatus(const LiveSession& session, const audio::AudioOutput& output, Playback& pb,
-                  double sceneSeconds, bool tty) {
+/// The once-a-second report: the callback's scheduling as soon as it is known, the max_order
+/// warning the first time a frame's cut exceeds its bound, then the status line.
+void reportStatus(const SceneDesc& scene, const LiveSession& session,
+                  const audio::AudioOutput& output, Playback& pb, double sceneSeconds, bool tty) {
   if (!pb.scheduling.known) {
     pb.scheduling = output.callbackScheduling();
     if (pb.scheduling.known) printScheduling(pb.scheduling, tty);
   }
-  printStatusLine(session.status(), output, playedCallbacks(pb, output), sceneSeconds, tty);
+  const LiveSession::Status st = session.status();
+  if (!pb.maxOrderWarned)
+    pb.maxOrderWarned =
+        warnMaxOrder(scene.path, session.settings().maxOrder, st.maxOrderEnergyFraction, tty);
+  printStatusLine(st, output, playedCallbacks(pb, output), sceneSeconds, tty);
 }
 
 /// Stops the device (at most kStopTimeoutSeconds) and the session; says so if a device that
@@ -270,7 +276,7 @@ Playback play(const SceneDesc& scene, const Flags& fl, double durationSeconds,
     studioPublish(page, motion, session, *output, pb);
     if (std::chrono::duration<double>(now - lastStatus).count() >= 1.0) {
       lastStatus = now;
-      reportStatus(session, *output, pb, motion.sceneTime(), tty);
+      reportStatus(scene, session, *output, pb, motion.sceneTime(), tty);
     }
   }
   if (tty) std::fprintf(stderr, "\n");

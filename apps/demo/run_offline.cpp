@@ -162,21 +162,6 @@ void printWritten(const SceneDesc& scene, const OfflineListenerResult& r,
                 r.lastIrs.size() * size_t(r.lastIrs.front().channels()));
 }
 
-/// Warns when the rays the reflection order bound ended still carried enough energy to reach
-/// into the decay that T30 reads. In a diffuse room the share of the emitted energy still in
-/// flight is the decay curve's level then (both fall as the room's energy does), so a share
-/// above kMaxOrderWarnShare (-40 dB) cuts the decay off above T30's -35 dB end.
-void warnMaxOrder(const Flags& fl, const PropagationSettings& settings, const OfflineResult& r) {
-  constexpr double kMaxOrderWarnShare = 1e-4;
-  const double share = r.last.maxOrderEnergyFraction;
-  if (!(share > kMaxOrderWarnShare)) return;
-  std::fprintf(stderr,
-               "warning: %s: propagation.max_order: rays ended at order %d still carried %.2g %% "
-               "of the emitted energy (%.0f dB, largest band): the decay below that is lost "
-               "(T30 and the late tail read short); raise max_order\n",
-               fl.scene.c_str(), settings.maxOrder, 100.0 * share, 10.0 * std::log10(share));
-}
-
 /// One line per propagation run (shared by every listener it rendered).
 void printTotals(const OfflineResult& r, double audioSeconds) {
   const auto& t = r.totals;
@@ -260,7 +245,7 @@ int runOffline(const Flags& fl) {
   for (size_t l = 0; l < staged.size(); ++l)
     printWritten(scene, r.listeners[l], staged[l], paths[l]);
   printTotals(r, audioSeconds);
-  warnMaxOrder(fl, run.settings, r);
+  warnMaxOrder(fl.scene, run.settings.maxOrder, r.last.maxOrderEnergyFraction, false);
   if (run.bake) printBakeSummary(*run.bake, r.bake);
   std::fflush(stdout);
   if (fl.studio) serveOfflineStudio(run, fl);

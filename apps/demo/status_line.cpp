@@ -1,6 +1,7 @@
 // Formatting of the live run's status line, scheduling line and summary line.
 #include "apps/demo/status_line.h"
 
+#include <cmath>
 #include <cstdio>
 
 namespace dpc::demo {
@@ -45,7 +46,7 @@ void printLiveSummary(const LiveSession::Status& st, const audio::AudioOutput& o
       "render_swap_p999_pct=%.1f render_noswap_p999_pct=%.1f limited_frames=%llu "
       "over_ceiling_frames=%llu limiter_max_reduction_db=%.2f rays_per_frame=%d "
       "rays_per_frame_min=%d rays_per_frame_scene=%d reduced_frames=%llu baked_responses=%llu "
-      "bake_fallbacks=%llu\n",
+      "bake_fallbacks=%llu max_order_energy_fraction=%.3g\n",
       (unsigned long long)st.frames, (unsigned long long)st.irsApplied,
       (unsigned long long)st.irsDropped, (unsigned long long)st.blocks,
       (unsigned long long)cb.callbacks, (unsigned long long)cb.xruns,
@@ -56,7 +57,17 @@ void printLiveSummary(const LiveSession::Status& st, const audio::AudioOutput& o
       (unsigned long long)st.limitedFrames, (unsigned long long)st.overCeilingFrames,
       st.limiterMaxReductionDb, st.raysPerFrame, st.raysPerFrameMin, st.raysPerFrameScene,
       (unsigned long long)st.reducedFrames, (unsigned long long)st.bakedResponses,
-      (unsigned long long)st.bakeFallbacks);
+      (unsigned long long)st.bakeFallbacks, st.maxOrderEnergyFraction);
+}
+
+bool warnMaxOrder(const std::string& scene, int maxOrder, double share, bool tty) {
+  if (!(share > kMaxOrderWarnFraction)) return false;
+  std::fprintf(stderr,
+               "%swarning: %s: propagation.max_order: rays ended at order %d still carried %.2g %% "
+               "of the emitted energy (%.0f dB, largest band): the decay below that is lost "
+               "(T30 and the late tail read short); raise max_order\n",
+               tty ? "\r" : "", scene.c_str(), maxOrder, 100.0 * share, 10.0 * std::log10(share));
+  return true;
 }
 
 void printHybrid(const HybridReport& h) {

@@ -26,6 +26,11 @@ void printLiveSummary(const LiveSession::Status& st, const audio::AudioOutput& o
                       const audio::CallbackStats::Snapshot& swap,
                       const audio::CallbackStats::Snapshot& noSwap);
 
+/// Warns on stderr when the rays max_order ended still carried more than kMaxOrderWarnFraction
+/// of the emitted energy (`share`, largest band: SessionStatus::maxOrderEnergyFraction); returns
+/// whether it did. `scene`: the scene file's path. tty: as printScheduling. Main thread.
+bool warnMaxOrder(const std::string& scene, int maxOrder, double share, bool tty);
+
 /// Hybrid rendering's summary line on stdout (early part, late buses in use, largest cluster,
 /// cluster switches, sources joined for want of a bus, direct sounds rendered late); nothing
 /// when it was off. Shared by live and offline runs. Main thread.

@@ -92,13 +92,12 @@ void addOptions(CLI::App& app, Options& o) {
 SceneDesc loadWithOverrides(const Options& o) {
   SceneDesc scene = loadScene(o.scene);
   if (o.maxFrequency) {
-    checkField("wave.max_frequency", *o.maxFrequency, Origin{"command line", {}},
-               "--max-frequency");
-    scene.wave.maxFrequencyHz = float(*o.maxFrequency);
+    scene.wave.maxFrequencyHz = checkFloatField("wave.max_frequency", *o.maxFrequency,
+                                                Origin{"command line", {}}, "--max-frequency");
   }
   if (o.gridSpacing) {
-    checkField("wave.grid_spacing", *o.gridSpacing, Origin{"command line", {}}, "--grid-spacing");
-    scene.wave.gridSpacingM = float(*o.gridSpacing);
+    scene.wave.gridSpacingM = checkFloatField("wave.grid_spacing", *o.gridSpacing,
+                                              Origin{"command line", {}}, "--grid-spacing");
   }
   validate(scene, Origin{"command line", {}});
   if (o.source < 0 || uint64_t(o.source) >= scene.sources.size())

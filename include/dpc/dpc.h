@@ -497,7 +497,17 @@ typedef struct dpc_stats {
   double dropped_energy_fraction; /**< last frame, selected listener: the largest per-source
                                        share of the response's energy that arrived after the
                                        IR length (not heard; lengthen ir_length), [0, 1] */
+  /* Since 0.9.0. */
+  double max_order_energy_fraction; /**< last frame, selected listener: the largest per-source,
+                                         per-band share of the emitted energy that rays still
+                                         carried when max_order ended them (lost to the
+                                         response: raise max_order above
+                                         DPC_MAX_ORDER_WARN_FRACTION), [0, 1] */
 } dpc_stats;
+
+/** The share of emitted energy cut by max_order above which dpc-demo and the Python module
+ *  warn (-40 dB: T30 reads a decay down to -35 dB, so a cut there shortens it). */
+#define DPC_MAX_ORDER_WARN_FRACTION 1e-4
 
 /** Control thread (it updates the rays-per-second interval). No allocation. Fills the fields
  *  of *out within out->struct_size (all but struct_size). Errors: DPC_ERR_INVALID_ARGUMENT

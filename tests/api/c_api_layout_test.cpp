@@ -1,9 +1,11 @@
 // The C API's growth rule (include/dpc/dpc.h, "Versions and growth rule"): a caller compiled
 // against an earlier release hands over its structs of that release's layout, declared here
 // as the released headers declared them (0.5.0: git show daecec5^:include/dpc/dpc.h; 0.6.0:
-// git show 0029ebc:include/dpc/dpc.h; 0.7.0: git show 097ab2e:include/dpc/dpc.h). The
-// library must read no byte past their struct_size, write none past it, give the fields they
-// lack their defaults, and refuse any other size.
+// git show 0029ebc:include/dpc/dpc.h; 0.7.0: git show 097ab2e:include/dpc/dpc.h; 0.8.0:
+// git show 209b1ff:include/dpc/dpc.h, whose dpc_stats ends where max_order_energy_fraction
+// begins). The library must read no byte past their struct_size, write none past it, give
+// the fields they lack their defaults, and refuse any other size.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstddef>
@@ -284,6 +286,46 @@ TEST_CASE("0.8.0's reflection_scattering acts on a free-standing face only") {
   CHECK_FALSE(differs());
 }
 
+// Oracle as in propagation_test: in a closed box of one absorption a in every band and no air,
+// every ray meets its (N+1)-th wall with (1 - a)^N of its energy whatever path it took, so the
+// share the order bound ends is (1 - a)^N (float sums: relative 1e-4). At the default bound of
+// 200 the expectation is 0.9^200 = 7e-10, carried by the few rays Russian roulette let through
+// with 10^k times their energy: a draw reads a small multiple of it, so the bound 1e-6 (100
+// times under the warning) holds and an order cut miscounted as roulette's ends would not.
+TEST_CASE("0.9.0's max_order_energy_fraction is the share the reflection order bound cut") {
+  BoxData box;
+  box.d.air_absorption = 0;
+  auto cut = [&](int maxOrder) {
+    box.d.max_order = maxOrder;
+    box.d.exact_order = std::min(box.d.exact_order, maxOrder);
+    dpc_engine* e = nullptr;
+    REQUIRE(dpc_engine_create_from_data(&box.data(), nullptr, &e) == DPC_OK);
+    REQUIRE(dpc_engine_step(e) == DPC_OK);
+    dpc_stats s{};
+    s.struct_size = sizeof s;
+    REQUIRE(dpc_engine_get_stats(e, &s) == DPC_OK);
+    dpc_engine_destroy(e);
+    return s.max_order_energy_fraction;
+  };
+  for (const int n : {2, 8}) {
+    INFO("max_order " << n);
+    CHECK(cut(n) == Approx(std::pow(0.9, n)).epsilon(1e-4));
+    CHECK(cut(n) > DPC_MAX_ORDER_WARN_FRACTION);
+  }
+  CHECK(cut(200) < 1e-6);
+  // A 0.8.0 caller's struct ends before the field: nothing written there.
+  Guarded<dpc_stats> old;
+  old.old.struct_size = offsetof(dpc_stats, max_order_energy_fraction);
+  dpc_engine* e = nullptr;
+  REQUIRE(dpc_engine_create_from_data(&box.data(), nullptr, &e) == DPC_OK);
+  REQUIRE(dpc_engine_step(e) == DPC_OK);
+  CHECK(dpc_engine_get_stats(e, &old.old) == DPC_OK);
+  CHECK(old.old.frames == 1);
+  CHECK(old.bytes[offsetof(dpc_stats, max_order_energy_fraction)] == kCanary);
+  CHECK(old.afterIntact());
+  dpc_engine_destroy(e);
+}
+
 TEST_CASE("0.8.0's fields out of range are refused, naming the field") {
   BoxData box;
   dpc_engine* e = nullptr;
@@ -340,7 +382,7 @@ TEST_CASE("Growth rule: a size that is no known layout is refused, naming both s
     stats.old.struct_size = size;
     CHECK(dpc_engine_get_stats(e, &stats.old) == DPC_ERR_VERSION);
     CHECK(messageHas("dpc_stats.struct_size: " + std::to_string(size) + " bytes"));
-    // The current layout last, its releases up to this one: "184 (0.7.0, 0.8.0)".
+    // The current layout last, its releases up to this one: "192 (0.9.0)".
     CHECK(messageHas(" " + std::to_string(current) + " ("));
     CHECK(messageHas(DPC_VERSION_STRING ")"));
     CHECK(stats.afterIntact());

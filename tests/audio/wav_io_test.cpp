@@ -173,6 +173,28 @@ TEST_CASE("a WAV cut short of its data chunk is refused, a streamed size of ~0 i
   CHECK(readWav(path).frames() == 500);
 }
 
+TEST_CASE("a WAV whose data chunk ends in a partial frame is refused") {
+  TempDir dir;
+  const std::string path = dir.file("partial.wav");
+  AudioData a;
+  a.sampleRate = 48000;
+  a.channels = {std::vector<float>(1000, 0.25f), std::vector<float>(1000, -0.25f)};
+  writeWav(path, a, SampleFormat::kPcm16);  // 44-byte header, 1000 frames of 4 bytes
+  REQUIRE(fs::file_size(path) == 4044);
+  // The last frame cut to its left sample, in the declared size and the file alike: libsndfile
+  // would read 999 frames and drop the 2 bytes without a word.
+  const uint32_t size = 3998;
+  std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+  f.seekp(40);
+  f.write(reinterpret_cast<const char*>(&size), 4);  // little-endian host
+  f.close();
+  fs::resize_file(path, 44 + size);
+  CHECK_THROWS_WITH(readWav(path), path +
+                                       ": cannot read: its data chunk ends in a partial frame "
+                                       "(2 of 4 bytes; a cut or mis-written file?)");
+  CHECK_THROWS_WITH(dpc::audio::readSoundFileInfo(path), Catch::Contains("partial frame"));
+}
+
 TEST_CASE("writing into a missing folder throws and leaves no file") {
   TempDir dir;
   const std::string path = dir.file("missing/out.wav");

@@ -105,7 +105,7 @@ CASES = {
     "signal_rate_zero": (float_wav("z.wav", 0, [0.1] * 100), OFF,
                          "sources[0].signal: z.wav: cannot read: its fmt chunk declares a sample rate of 0 Hz"),
     "signal_not_wav": (lambda d: (write("s.wav", "not audio")(d), scene_with(**{"sources.0.signal": "s.wav"})(d)), OFF, "s.wav"),
-    "signal_nan": (float_wav("n.wav", 48000, [0.1] * 100 + [float("nan")] + [0.1] * 100), OFF, "n.wav: sample 100 of channel 0 is not finite"),
+    "signal_nan": (float_wav("n.wav", 48000, [0.1] * 100 + [float("nan")] + [0.1] * 100), OFF, "n.wav: sample 100 (0 = first) of channel 1 is not finite"),
     "signal_inf": (float_wav("n.wav", 48000, [0.1] * 10 + [float("inf")]), OFF, "sources[0].signal: n.wav"),
     "signal_100hz": (float_wav("lo.wav", 100, [0.1] * 100), OFF, "sample rate 100 Hz is outside"),
     "signal_2mhz": (float_wav("hi.wav", 2000000, [0.1] * 1000), OFF, "sample rate 2000000 Hz"),
@@ -213,6 +213,11 @@ CASES = {
     # A float field holds 0 for 1e-300: the message names the value as written and the rounding.
     "ir_length_rounds_to_zero": (scene_with(**{"propagation.ir_length": 1e-300}), OFF,
                                  "ir_length: 1e-300 rounds to 0 in single precision: 0 is outside (0, 60] s"),
+    # 0 means "automatic" (the grid) and "path tracing" (tau): a nonzero value held as 0 is refused.
+    "grid_spacing_rounds_to_zero": (scene_with(**{"wave": {"grid_spacing": 1e-300}}), OFF,
+                                    "wave.grid_spacing: 1e-300 rounds to 0 in single precision"),
+    "tau_flag_rounds_to_zero": (nothing, OFF + ["--tau", "1e-300"],
+                                "--tau: 1e-300 rounds to 0 in single precision"),
     "patch_size_rounds_to_zero": (scene_with(**{"propagation.patch_size": 1e-300}), OFF,
                                   "patch_size: 1e-300 rounds to 0 in single precision: 0 must be > 0 m"),
     "radius_negative": (scene_with(**{"listener.radius": -1}), OFF, "radius"),

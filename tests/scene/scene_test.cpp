@@ -396,6 +396,20 @@ TEST_CASE("OBJ problems name the OBJ file", "[scene][errors]") {
     f.write("cube.obj", "v 0 0 0\nv 1 zero 0\nv 0 1 0\nusemtl walls\nf 1 2 3\n");
     CHECK_THAT(f.error(), Contains("cube.obj: vertex 2 (line 2): \"zero\" is not a number"));
   }
+  SECTION("garbage after a vertex's coordinates") {
+    Fixture f;
+    f.write("cube.obj", "v 0 0 0\nv 10 3 7 abc\nv 0 1 0\nusemtl walls\nf 1 2 3\n");
+    CHECK_THAT(f.error(), Contains("cube.obj: vertex 2 (line 2): \"abc\" is not a number"));
+    f.write("cube.obj", "v 0 0 0\nv 1 0 7abc\nv 0 1 0\nusemtl walls\nf 1 2 3\n");
+    CHECK_THAT(f.error(), Contains("cube.obj: vertex 2 (line 2): \"7abc\" is not a number"));
+  }
+  SECTION("a weight or a vertex colour after the coordinates loads") {
+    Fixture f;
+    f.write("cube.obj", "v 0 0 0 1\nv 1 0 0 0.5 0.2 0.1\nv 0 1 0\nusemtl walls\nf 1 2 3\n");
+    const SceneDesc scene = f.load();
+    REQUIRE(scene.mesh.vertices.size() == 3);
+    CHECK(scene.mesh.vertices[1].x == 1.f);
+  }
   SECTION("empty mesh") {
     Fixture f;
     f.write("cube.obj", "# nothing but vertices\nv 0 0 0\nv 1 0 0\n");

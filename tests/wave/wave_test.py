@@ -464,6 +464,9 @@ def cli(build, tmp):
              ([box, '--out', out, '--listener', 'nobody'], '--listener'),
              ([box, '--out', out, '--source', '-1'], '--source: -1 is not'),
              ([box, '--out', out, '--grid-spacing', '1e-6'], '--grid-spacing: a grid of 1e-06 m'),
+             # Held as 0 it would mean "automatic": refused, not quietly replaced.
+             ([box, '--out', out, '--grid-spacing', '1e-300'],
+              '--grid-spacing: 1e-300 rounds to 0 in single precision'),
              ([box, '--out', '/proc/w.wav'], "--out: folder '/proc' is not writable"),
              ([box, '--out', os.path.join(tmp, 'w.csv')], "names a CSV file, but --out writes WAV")]
     for args, field in cases:

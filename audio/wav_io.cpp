@@ -84,7 +84,7 @@ struct WaveChunks {
   /// Bytes of a partial last frame: the declared data size modulo the fmt chunk's block
   /// align, for PCM and float samples (libsndfile drops them without a word).
   uint64_t partialFrameBytes = 0;
-  uint16_t blockAlign = 0;  ///< bytes per frame (PCM, float and extensible formats), else 0
+  uint16_t frameBytes = 0;  ///< bytes per frame (PCM, float and extensible formats), else 0
 };
 
 uint32_t littleEndian(const unsigned char* p, int bytes) {
@@ -94,17 +94,21 @@ uint32_t littleEndian(const unsigned char* p, int bytes) {
 }
 
 /// A fmt chunk's body of `size` bytes at the stream's position: channels, sample rate and, for
-/// PCM (1), float (3) and extensible (0xFFFE) samples, the block align.
+/// PCM (1), float (3) and extensible (0xFFFE) samples, the bytes of a frame: channels times the
+/// sample's whole bytes, as readers size it, and only when the block align agrees (a file whose
+/// fields disagree is left to the reader, not judged here).
 void readFormat(std::ifstream& in, uint64_t size, WaveChunks& out) {
-  unsigned char fmt[14];
-  const std::streamsize want = size >= 14 ? 14 : 8;
+  unsigned char fmt[16];
+  const std::streamsize want = size >= 16 ? 16 : 8;
   if (!in.read(reinterpret_cast<char*>(fmt), want)) return;
   out.hasFormat = true;
   out.channels = uint16_t(littleEndian(fmt + 2, 2));
   out.sampleRate = littleEndian(fmt + 4, 4);
   const uint32_t tag = littleEndian(fmt, 2);
-  if (want == 14 && (tag == 1 || tag == 3 || tag == 0xFFFE))
-    out.blockAlign = uint16_t(littleEndian(fmt + 12, 2));
+  if (want < 16 || (tag != 1 && tag != 3 && tag != 0xFFFE)) return;
+  const uint32_t blockAlign = littleEndian(fmt + 12, 2);
+  const uint32_t frame = out.channels * ((littleEndian(fmt + 14, 2) + 7) / 8);
+  if (frame == blockAlign) out.frameBytes = uint16_t(frame);
 }
 
 /// The chunks of a RIFF WAVE file (all defaults for any other file).
@@ -126,7 +130,7 @@ WaveChunks readWaveChunks(const std::string& path) {
     if (std::memcmp(chunk, "data", 4) == 0) {
       const bool unknown = size == 0 || size == 0xFFFFFFFF;
       out.missingDataBytes = unknown || offset + size <= fileBytes ? 0 : offset + size - fileBytes;
-      out.partialFrameBytes = unknown || out.blockAlign == 0 ? 0 : size % out.blockAlign;
+      out.partialFrameBytes = unknown || out.frameBytes == 0 ? 0 : size % out.frameBytes;
       return out;
     }
     offset += size + (size & 1);
@@ -147,7 +151,7 @@ void openSound(const std::string& path, SndFile& file, SF_INFO& info) {
     throw InputError(path, "",
                      "cannot read: its data chunk ends in a partial frame (" +
                          std::to_string(wave.partialFrameBytes) + " of " +
-                         std::to_string(wave.blockAlign) + " bytes; a cut or mis-written file?)");
+                         std::to_string(wave.frameBytes) + " bytes; a cut or mis-written file?)");
   if (wave.hasFormat && (wave.sampleRate == 0 || wave.channels == 0))
     throw InputError(path, "",
                      "cannot read: its fmt chunk declares " +

@@ -27,12 +27,11 @@ PropagationSettings settingsFor(const SceneDesc& scene, const CommonOptions& c) 
   const Origin flags = commandLineOrigin();
   if (c.rays) checkField("propagation.rays_per_frame", *c.rays, flags);
   if (c.maxOrder) checkField("propagation.max_order", *c.maxOrder, flags);
-  if (c.tau) checkField("propagation.cache_tau", *c.tau, flags);
-  if (c.cacheMb) checkField("propagation.cache_memory_mb", *c.cacheMb, flags);
   if (c.rays) s.raysPerFrame = *c.rays;
   if (c.maxOrder) s.maxOrder = *c.maxOrder;
-  if (c.tau) s.cacheTau = float(*c.tau);
-  if (c.cacheMb) s.cacheMemoryMb = float(*c.cacheMb);
+  if (c.tau) s.cacheTau = checkFloatField("propagation.cache_tau", *c.tau, flags);
+  if (c.cacheMb)
+    s.cacheMemoryMb = checkFloatField("propagation.cache_memory_mb", *c.cacheMb, flags);
   return s;
 }
 

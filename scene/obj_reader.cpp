@@ -86,7 +86,7 @@ double vertexNumber(const std::string& objFile, const char* p, const char*& end,
                     const std::string& field) {
   char* stop = nullptr;
   const double x = std::strtod(p, &stop);
-  const size_t n = std::strcspn(p, " \t\r");
+  const size_t n = std::strcspn(p, " \t\r#");
   if (stop != p + n)
     throw InputError(objFile, field, inQuotes(std::string(p, n)) + " is not a number");
   end = stop;
@@ -94,14 +94,15 @@ double vertexNumber(const std::string& objFile, const char* p, const char*& end,
 }
 
 /// A "v" line (p after "v "): three coordinates, strtod (sees nan/inf, refuses garbage); what
-/// follows may only be numbers (a weight w, or the vertex colour r g b some exporters write).
+/// follows may only be numbers (a weight w, or the vertex colour r g b some exporters write),
+/// up to a '#' that starts a comment.
 glm::vec3 parseVertex(const std::string& objFile, const char* p, const std::string& field) {
   const Limit& coordinate = limitOf("position");
   glm::vec3 v{0.f};
   const char* end = p;
   for (int i = 0; i < 3; ++i) {
     p += std::strspn(p, " \t\r");
-    if (*p == '\0') throw InputError(objFile, field, "expected 3 coordinates x y z");
+    if (*p == '\0' || *p == '#') throw InputError(objFile, field, "expected 3 coordinates x y z");
     const double x = vertexNumber(objFile, p, end, field);
     const std::string text(p, size_t(end - p));
     if (!std::isfinite(x) || std::abs(x) > double(std::numeric_limits<float>::max()))
@@ -113,7 +114,7 @@ glm::vec3 parseVertex(const std::string& objFile, const char* p, const std::stri
     v[i] = float(x);
     p = end;
   }
-  for (p += std::strspn(p, " \t\r"); *p != '\0'; p += std::strspn(p, " \t\r")) {
+  for (p += std::strspn(p, " \t\r"); *p != '\0' && *p != '#'; p += std::strspn(p, " \t\r")) {
     vertexNumber(objFile, p, end, field);
     p = end;
   }

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <set>
 #include <utility>
 
@@ -248,20 +249,24 @@ void checkField(std::string_view field, double value, const Origin& origin,
 float checkFloatField(std::string_view field, double written, const Origin& origin,
                       const std::string& path, const std::string& writtenText) {
   checkField(field, written, origin, path);
-  const Limit& l = limitOf(field);
-  const float held = float(written);
-  const bool underflow = written != 0.0 && held == 0.f;
-  if (withinLimit(l, double(held)) && !underflow) return held;
   char given[64];
   std::snprintf(given, sizeof given, "%g", written);
-  std::string why = (writtenText.empty() ? std::string(given) : writtenText) + " rounds to " +
-                    valueText(double(held)) + " in single precision";
+  const std::string as = writtenText.empty() ? std::string(given) : writtenText;
+  const std::string where = path.empty() ? std::string(field) : path;
+  // Checked before the conversion, which is undefined for a finite value beyond the range.
+  if (std::abs(written) > double(std::numeric_limits<float>::max()))
+    fail(origin, where, as + " is beyond single precision (at most 3.4e38 in magnitude)");
+  const Limit& l = limitOf(field);
+  const float held = float(written) + 0.f;  // + 0: -0 held as 0
+  const bool underflow = written != 0.0 && held == 0.f;
+  if (withinLimit(l, double(held)) && !underflow) return held;
+  std::string why = as + " rounds to " + valueText(double(held)) + " in single precision";
   if (!withinLimit(l, double(held))) {
     char problem[160];
     writeLimitProblem(l, double(held), problem, sizeof problem);
     why += std::string(": ") + problem;
   }
-  fail(origin, path.empty() ? std::string(field) : path, why);
+  fail(origin, where, why);
 }
 
 /// The wave band's fields, its crossover below its maximum frequency and its grid fine enough

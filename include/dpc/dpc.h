@@ -501,12 +501,15 @@ typedef struct dpc_stats {
   double max_order_energy_fraction; /**< last frame, selected listener: the largest per-source,
                                          per-band share of the emitted energy that rays still
                                          carried when max_order ended them (lost to the
-                                         response: raise max_order above
-                                         DPC_MAX_ORDER_WARN_FRACTION), [0, 1] */
+                                         response; when above DPC_MAX_ORDER_WARN_FRACTION,
+                                         raise max_order). A Monte Carlo estimate, in [0, 1]
+                                         on average (Russian roulette's survivors carry 10
+                                         times their energy); 0 before the first frame and for
+                                         sources played from a bake */
 } dpc_stats;
 
 /** The share of emitted energy cut by max_order above which dpc-demo and the Python module
- *  warn (-40 dB: T30 reads a decay down to -35 dB, so a cut there shortens it). */
+ *  warn (-40 dB: T30 reads a decay down to -35 dB, so a cut there shortens it). Since 0.9.0. */
 #define DPC_MAX_ORDER_WARN_FRACTION 1e-4
 
 /** Control thread (it updates the rays-per-second interval). No allocation. Fills the fields

@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <string>
+#include <utility>
 
 #include "common/input_error.h"
 
@@ -174,25 +176,36 @@ TEST_CASE("a WAV cut short of its data chunk is refused, a streamed size of ~0 i
 }
 
 TEST_CASE("a WAV whose data chunk ends in a partial frame is refused") {
-  TempDir dir;
-  const std::string path = dir.file("partial.wav");
-  AudioData a;
-  a.sampleRate = 48000;
-  a.channels = {std::vector<float>(1000, 0.25f), std::vector<float>(1000, -0.25f)};
-  writeWav(path, a, SampleFormat::kPcm16);  // 44-byte header, 1000 frames of 4 bytes
-  REQUIRE(fs::file_size(path) == 4044);
-  // The last frame cut to its left sample, in the declared size and the file alike: libsndfile
-  // would read 999 frames and drop the 2 bytes without a word.
-  const uint32_t size = 3998;
-  std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
-  f.seekp(40);
-  f.write(reinterpret_cast<const char*>(&size), 4);  // little-endian host
-  f.close();
-  fs::resize_file(path, 44 + size);
-  CHECK_THROWS_WITH(readWav(path), path +
-                                       ": cannot read: its data chunk ends in a partial frame "
-                                       "(2 of 4 bytes; a cut or mis-written file?)");
-  CHECK_THROWS_WITH(dpc::audio::readSoundFileInfo(path), Catch::Contains("partial frame"));
+  // 16- and 24-bit PCM and 32-bit float (its header carries a fact chunk): the last stereo
+  // frame cut to its left sample, in the declared size and the file alike. libsndfile would
+  // read 999 frames and drop the sample without a word.
+  for (const auto& [format, bytes] :
+       {std::pair{SampleFormat::kPcm16, 2}, std::pair{SampleFormat::kPcm24, 3},
+        std::pair{SampleFormat::kFloat32, 4}}) {
+    TempDir dir;
+    const std::string path = dir.file("partial.wav");
+    AudioData a;
+    a.sampleRate = 48000;
+    a.channels = {std::vector<float>(1000, 0.25f), std::vector<float>(1000, -0.25f)};
+    writeWav(path, a, format);
+    std::string file(fs::file_size(path), '\0');
+    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+    f.read(file.data(), std::streamsize(file.size()));
+    const size_t data = file.find("data");
+    REQUIRE(data != std::string::npos);
+    REQUIRE(file.size() == data + 8 + 1000 * 2 * bytes);
+    const uint32_t size = 1000 * 2 * bytes - bytes;
+    f.seekp(std::streamoff(data + 4));
+    f.write(reinterpret_cast<const char*>(&size), 4);  // little-endian host
+    f.close();
+    fs::resize_file(path, data + 8 + size);
+    INFO(bytes << " bytes per sample");
+    CHECK_THROWS_WITH(readWav(path),
+                      path + ": cannot read: its data chunk ends in a partial frame (" +
+                          std::to_string(bytes) + " of " + std::to_string(2 * bytes) +
+                          " bytes; a cut or mis-written file?)");
+    CHECK_THROWS_WITH(dpc::audio::readSoundFileInfo(path), Catch::Contains("partial frame"));
+  }
 }
 
 TEST_CASE("writing into a missing folder throws and leaves no file") {

@@ -4,6 +4,7 @@
 #include "scene/limits.h"
 
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -180,6 +181,26 @@ TEST_CASE("Limits table: ranges and messages", "[limits]") {
     CHECK(!l.why.empty());
     CHECK(l.min < l.max);
   }
+}
+
+TEST_CASE("A float field is checked as single precision holds it", "[limits]") {
+  const Origin flags = commandLineOrigin();
+  CHECK(checkFloatField("propagation.cache_tau", 0.25, flags) == 0.25f);
+  // 1e-300 rounds to 0, which for cache_tau means plain path tracing: refused, not switched.
+  CHECK_THROWS_WITH(checkFloatField("propagation.cache_tau", 1e-300, flags),
+                    "command line: --tau: 1e-300 rounds to 0 in single precision");
+  // Out of range once rounded: the range is named too.
+  CHECK_THROWS_WITH(checkFloatField("propagation.ir_length", 1e-300, flags),
+                    Catch::Contains("rounds to 0 in single precision: 0 is outside (0, 60] s"));
+  // No upper limit, but beyond what a float holds (the conversion would be undefined).
+  CHECK_THROWS_WITH(
+      checkFloatField("propagation.patch_size", 1e39, Origin{"x.json", {}}),
+      "x.json: propagation.patch_size: 1e+39 is beyond single precision (at most 3.4e38 in "
+      "magnitude)");
+  CHECK_THROWS_WITH(checkFloatField("propagation.cache_memory_mb", std::nan(""), flags),
+                    Catch::StartsWith("command line: --cache-memory-mb: "));
+  // -0 is held as 0 (a sign that would print as "-0" in outputs).
+  CHECK_FALSE(std::signbit(checkFloatField("propagation.cache_tau", -0.0, flags)));
 }
 
 TEST_CASE("Scene file: every limit is accepted at its bounds and refused beyond", "[limits]") {

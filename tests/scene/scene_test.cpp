@@ -410,6 +410,20 @@ TEST_CASE("OBJ problems name the OBJ file", "[scene][errors]") {
     REQUIRE(scene.mesh.vertices.size() == 3);
     CHECK(scene.mesh.vertices[1].x == 1.f);
   }
+  SECTION("a comment after a vertex, and CRLF line ends, load") {
+    Fixture f;
+    f.write("cube.obj",
+            "v 0 0 0 # origin\r\nv 1 0 0#x\r\nv 0 1 0 1\t# weight\r\nusemtl walls\r\nf 1 2 3\r\n");
+    const SceneDesc scene = f.load();
+    REQUIRE(scene.mesh.vertices.size() == 3);
+    CHECK(scene.mesh.vertices[1].x == 1.f);
+    CHECK(scene.mesh.vertices[2].y == 1.f);
+  }
+  SECTION("a comment in place of a coordinate is refused") {
+    Fixture f;
+    f.write("cube.obj", "v 0 0 # z\nv 1 0 0\nv 0 1 0\nusemtl walls\nf 1 2 3\n");
+    CHECK_THAT(f.error(), Contains("expected 3 coordinates x y z"));
+  }
   SECTION("empty mesh") {
     Fixture f;
     f.write("cube.obj", "# nothing but vertices\nv 0 0 0\nv 1 0 0\n");

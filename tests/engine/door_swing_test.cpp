@@ -122,7 +122,7 @@ TEST_CASE("Door swing: a box leaf ajar 2-15 degrees passes what the slit model o
 }
 
 TEST_CASE("Door swing: swung open half a degree at a time, the leaf never steps nor dips below "
-          "shut", "[diffraction][door]") {
+          "shut", "[diffraction][door][heavy]") {
   // 0-30 degrees by half degrees, 63 and 125 Hz. Opening only widens the gaps, so the level
   // never falls below shut (1 dB: the hinge gap's probe resolves a width to 5 %, 0.4 dB). No
   // half degree changes the level by more than 3 dB, or than the slit model's own change where
@@ -349,7 +349,7 @@ TEST_CASE(
     "Door swing: beside the doorway, a box leaf in a wall standing alone swung 1-29 degrees "
     "toward the source passes what the slit model of its openings says, and never falls below "
     "shut",
-    "[diffraction][door]") {
+    "[diffraction][door][heavy]") {
   // The listener 1 m off the axis past the latch jamb, the leaf swung away from it: from about
   // 5 degrees the rim stands out of the reveal on the source's side, and the way to the jamb's
   // corner passes between the rim and the wall's face (3 to 40 cm), which the source sees at a

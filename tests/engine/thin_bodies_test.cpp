@@ -375,7 +375,7 @@ TEST_CASE(
 TEST_CASE(
     "Thin bodies: two rows of octagonal posts with the line of sight free are no louder "
     "than the free field",
-    "[diffraction][door]") {
+    "[diffraction][door][heavy]") {
   // Octagonal posts 10 cm across the flats (a colonnade of round columns as a game level meshes
   // them), 15 cm apart centre to centre, two rows 15 cm apart in line, in free space; the
   // listener walks where the line of sight passes between them. A row of bodies passes at most

@@ -304,7 +304,7 @@ TEST_CASE(
 // an order that depends on the groups) fails this: float addition is not associative.
 TEST_CASE("Hybrid rendering: spatial early parts and buses are the same bit for bit on 1 to 3 "
           "threads",
-          "[runtime][hybrid]") {
+          "[runtime][hybrid][heavy]") {
   for (const OutputFormat output : {OutputFormat::kStereo, OutputFormat::kBinaural}) {
     SceneDesc scene = ringScene(9);
     scene.audio.output = output;

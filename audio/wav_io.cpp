@@ -131,6 +131,8 @@ WaveChunks readWaveChunks(const std::string& path) {
       const bool unknown = size == 0 || size == 0xFFFFFFFF;
       out.missingDataBytes = unknown || offset + size <= fileBytes ? 0 : offset + size - fileBytes;
       out.partialFrameBytes = unknown || out.frameBytes == 0 ? 0 : size % out.frameBytes;
+      // Some writers count the pad byte after odd-sized data in the size: not a sample.
+      if (out.partialFrameBytes == 1 && size % 2 == 0) out.partialFrameBytes = 0;
       return out;
     }
     offset += size + (size & 1);

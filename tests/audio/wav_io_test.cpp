@@ -208,6 +208,31 @@ TEST_CASE("a WAV whose data chunk ends in a partial frame is refused") {
   }
 }
 
+TEST_CASE("a pad byte counted in a WAV's data size is not a partial frame") {
+  // 24-bit mono, 999 frames: 2,997 bytes of data and the pad byte RIFF puts after odd-sized
+  // chunks. A writer that counts the pad in the size (2,998) made a file libsndfile reads whole.
+  TempDir dir;
+  const std::string path = dir.file("pad.wav");
+  AudioData a;
+  a.sampleRate = 48000;
+  a.channels = {std::vector<float>(999, 0.25f)};
+  writeWav(path, a, SampleFormat::kPcm24);
+  std::string file(fs::file_size(path), '\0');
+  std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+  f.read(file.data(), std::streamsize(file.size()));
+  const size_t data = file.find("data");
+  REQUIRE(data != std::string::npos);
+  const uint32_t size = 2998;
+  if (file.size() == data + 8 + 2997) {  // no pad written: add it
+    f.seekp(0, std::ios::end);
+    f.put('\0');
+  }
+  f.seekp(std::streamoff(data + 4));
+  f.write(reinterpret_cast<const char*>(&size), 4);  // little-endian host
+  f.close();
+  CHECK(readWav(path).frames() == 999);
+}
+
 TEST_CASE("writing into a missing folder throws and leaves no file") {
   TempDir dir;
   const std::string path = dir.file("missing/out.wav");

@@ -12,6 +12,7 @@ by tests/CMakeLists.txt, which passes DPC_DEMO and puts the built module on PYTH
 """
 import json
 import os
+import re
 import struct
 import subprocess
 import threading
@@ -181,8 +182,9 @@ def test_energy_the_reflection_order_bound_cuts_is_reported_and_warned():
     """Closed box of absorption 0.1 in every band: each ray meets its (N+1)-th wall with 0.9^N
     of its energy whatever its path, so max_order N cuts 0.9^N of the emitted energy (air along
     its N legs, 4V/S = 2.7 m each, takes under 0.1 % of it at 63 Hz, the largest band; 0.2 %
-    allowed). Over dpc's -40 dB bound: one RuntimeWarning per engine, not one per step; the
-    default bound (200, past where Russian roulette has ended every ray) cuts nothing."""
+    allowed). Over dpc's -40 dB bound: one RuntimeWarning per engine, not one per step. At the
+    default bound of 200 the expectation is 0.9^200 = 7e-10, carried by the few rays Russian
+    roulette let through with 10^k times their energy: far below 1e-6, and no warning."""
     v, tris, mats = box_arrays()
     absorption = np.full((2, 8), 0.1, np.float32)
     scattering = np.array([0.2, 0.2], np.float32)
@@ -197,4 +199,33 @@ def test_energy_the_reflection_order_bound_cuts_is_reported_and_warned():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         whole.step()
-    assert whole.max_order_energy_fraction == 0.0
+    assert whole.max_order_energy_fraction < 1e-6
+
+
+def test_render_reports_and_warns_of_the_max_order_cut(tmp_path):
+    """dpc.render of the shoebox cut at order 4: the share dpc-demo's summary prints for the
+    same run (one renderer; printed to 3 digits), one RuntimeWarning, which
+    a filter turns into an error; above dpc's -40 dB bound (the shoebox's walls keep over
+    80 % per reflection, so order 4 leaves well over 1 %)."""
+    scene = json.loads(open(SHOEBOX).read())
+    scene["mesh"] = os.path.join(SCENES, scene["mesh"])
+    for source in scene["sources"]:
+        source["signal"] = os.path.join(SCENES, source["signal"])
+    scene["propagation"]["max_order"] = 4
+    scene["propagation"]["exact_order"] = 2
+    cut = tmp_path / "cut.json"
+    cut.write_text(json.dumps(scene))
+    demo = subprocess.run([DEMO, str(cut), "--offline", str(tmp_path / "o.wav"), "--duration",
+                           "0.5", "--seed", "3"], check=True, capture_output=True, text=True)
+    printed = re.search(r"energy in rays ended at max_order (\S+) %", demo.stdout)
+    assert printed, demo.stdout
+    expected = float(printed.group(1)) / 100
+    assert expected > 0.01
+    with pytest.warns(RuntimeWarning, match="dpc.render: propagation.max_order") as caught:
+        r = dpc.render(str(cut), duration=0.5, seed=3)
+    assert len([w for w in caught if issubclass(w.category, RuntimeWarning)]) == 1
+    assert r.max_order_energy_fraction == pytest.approx(expected, rel=5e-3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(RuntimeWarning):
+            dpc.render(str(cut), duration=0.5, seed=3)

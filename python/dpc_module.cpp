@@ -71,7 +71,10 @@ py::dict iso3382(const py::array_t<float, py::array::c_style | py::array::forcec
 /// released: a thread waiting for it holds no lock another thread needs.
 class PyEngine : public dpc::Engine {
  public:
-  explicit PyEngine(dpc::Engine&& e) : dpc::Engine(std::move(e)) {}
+  /// `where`: the warning's prefix (the call and, for a scene file, its path); `maxOrder`:
+  /// the engine's max_order where the caller set it, else 0.
+  PyEngine(dpc::Engine&& e, std::string where, int maxOrder)
+      : dpc::Engine(std::move(e)), where_(std::move(where)), maxOrder_(maxOrder) {}
   /// One frame; warns (once an engine) when max_order cut more than its bound.
   void step() {
     double cut = 0.0;
@@ -83,7 +86,7 @@ class PyEngine : public dpc::Engine {
     }
     if (maxOrderWarned_ || !(cut > DPC_MAX_ORDER_WARN_FRACTION)) return;
     maxOrderWarned_ = true;  // under the GIL
-    warnMaxOrder("dpc.Engine.step", cut, DPC_MAX_ORDER_WARN_FRACTION);
+    warnMaxOrder(where_, maxOrder_, cut, DPC_MAX_ORDER_WARN_FRACTION);
   }
   /// dpc_stats.max_order_energy_fraction of the last frame.
   double maxOrderEnergyFraction() {
@@ -100,6 +103,8 @@ class PyEngine : public dpc::Engine {
 
  private:
   std::mutex stepMutex_;
+  const std::string where_;
+  const int maxOrder_;
   bool maxOrderWarned_ = false;
 };
 
@@ -154,7 +159,8 @@ std::unique_ptr<PyEngine> openEngine(const std::string& scene, int rays) {
   dpc_engine_options_init(&o);
   o.rays_per_frame = rays;
   py::gil_scoped_release release;  // loads meshes and signals, builds the BVH
-  return std::make_unique<PyEngine>(dpc::Engine::fromFile(scene, &o));
+  return std::make_unique<PyEngine>(dpc::Engine::fromFile(scene, &o), "dpc.Engine.step: " + scene,
+                                    0);
 }
 
 std::unique_ptr<PyEngine> fromArrays(FloatArray vertices, py::object triangles,
@@ -162,9 +168,11 @@ std::unique_ptr<PyEngine> fromArrays(FloatArray vertices, py::object triangles,
                                      FloatArray scattering, FloatArray sources, FloatArray listener,
                                      float listenerRadius, int rays, int maxOrder, float irLength,
                                      uint64_t seed, int sampleRate, std::string output) {
-  return std::make_unique<PyEngine>(engineFromArrays(
-      {vertices, triangles, triangleMaterials, absorption, scattering, sources, listener,
-       listenerRadius, rays, maxOrder, irLength, seed, sampleRate, std::move(output)}));
+  return std::make_unique<PyEngine>(
+      engineFromArrays({vertices, triangles, triangleMaterials, absorption, scattering, sources,
+                        listener, listenerRadius, rays, maxOrder, irLength, seed, sampleRate,
+                        std::move(output)}),
+      "dpc.Engine.step", maxOrder);
 }
 
 /// numpy, which every response is returned as. Without it the import fails with an ImportError

@@ -1,10 +1,8 @@
 #include "python/errors.h"
 
-#include <cmath>
-#include <cstdio>
-
 #include "common/input_error.h"
 #include "dpc/dpc.hpp"
+#include "runtime/max_order_warning.h"
 
 namespace dpc::python {
 
@@ -28,15 +26,10 @@ void bindErrors(py::module_& m) {
   });
 }
 
-void warnMaxOrder(const char* where, double share, double bound) {
+void warnMaxOrder(const std::string& where, int maxOrder, double share, double bound) {
   if (!(share > bound)) return;
-  char message[256];
-  std::snprintf(message, sizeof message,
-                "%s: propagation.max_order: rays ended at their last order still carried %.2g %% "
-                "of the emitted energy (%.0f dB, largest band): the decay below that is lost "
-                "(T30 and the late tail read short); raise max_order",
-                where, 100.0 * share, 10.0 * std::log10(share));
-  if (PyErr_WarnEx(PyExc_RuntimeWarning, message, 1) != 0) throw py::error_already_set();
+  const std::string message = where + ": " + maxOrderWarning(maxOrder, share);
+  if (PyErr_WarnEx(PyExc_RuntimeWarning, message.c_str(), 1) != 0) throw py::error_already_set();
 }
 
 void refuseNul(const std::string& path, const char* call, const char* argument) {

@@ -19,8 +19,9 @@ void refuseNul(const std::string& path, const char* call, const char* argument);
 /// Issues a RuntimeWarning (once per call; Python's filters decide whether it shows or
 /// raises) when the rays max_order ended still carried more than `bound` of the emitted
 /// energy (`share`, largest band): the decay below that level is missing from the response.
-/// `where`: "dpc.render" or "dpc.Engine.step". Needs the GIL; throws py::error_already_set
+/// `where`: the call and the scene file ("dpc.render: room.json"); `maxOrder` as
+/// dpc::maxOrderWarning (<= 0: not known here). Needs the GIL; throws py::error_already_set
 /// when the warnings filter turns it into an exception.
-void warnMaxOrder(const char* where, double share, double bound);
+void warnMaxOrder(const std::string& where, int maxOrder, double share, double bound);
 
 }  // namespace dpc::python

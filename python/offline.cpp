@@ -110,7 +110,8 @@ Render render(const std::string& path, std::optional<double> duration, std::opti
   Render out{std::move(r.listeners.at(0)), scene->audio.sampleRate, r.last.maxOrderEnergyFraction};
   out.listener.output.channels = blocks.take();
   release.reset();
-  warnMaxOrder("dpc.render", out.maxOrderEnergyFraction, kMaxOrderWarnFraction);
+  warnMaxOrder("dpc.render: " + path, ps.maxOrder, out.maxOrderEnergyFraction,
+               kMaxOrderWarnFraction);
   return out;
 }
 

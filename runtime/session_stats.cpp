@@ -57,6 +57,9 @@ void SessionCounters::frameDone(const FrameTotals& t, double frameMs) noexcept {
   cacheMergedEnergyFraction_.store(t.cacheCoarseEnergyFraction, std::memory_order_relaxed);
   droppedEnergyFraction_.store(t.droppedEnergyFraction, std::memory_order_relaxed);
   maxOrderEnergyFraction_.store(t.maxOrderEnergyFraction, std::memory_order_relaxed);
+  // One writer (the propagation thread), so a load and a store keep the maximum.
+  if (t.maxOrderEnergyFraction > maxOrderEnergyFractionPeak_.load(std::memory_order_relaxed))
+    maxOrderEnergyFractionPeak_.store(t.maxOrderEnergyFraction, std::memory_order_relaxed);
   chainsLeftOut_.store(t.chainsLeftOut, std::memory_order_relaxed);
   frameMs_.store(frameMs, std::memory_order_relaxed);
 }
@@ -98,6 +101,7 @@ void SessionCounters::read(SessionStatus& st) {
   st.cacheMergedEnergyFraction = cacheMergedEnergyFraction_.load(r);
   st.droppedEnergyFraction = droppedEnergyFraction_.load(r);
   st.maxOrderEnergyFraction = maxOrderEnergyFraction_.load(r);
+  st.maxOrderEnergyFractionPeak = maxOrderEnergyFractionPeak_.load(r);
   st.chainsLeftOut = chainsLeftOut_.load(r);
   st.irsApplied = irsApplied_.load(r);
   if (const int64_t heard = firstSoundNs_.load(r); heard != 0)

@@ -13,6 +13,7 @@
 
 #include "audio/callback_stats.h"
 #include "engine/simulation.h"
+#include "runtime/max_order_warning.h"
 
 namespace dpc {
 
@@ -43,13 +44,6 @@ struct FrameTotals {
   uint64_t chainsLeftOut = 0;
   void add(const Simulation::SourceResult& r);
 };
-
-/// The share of the emitted energy cut by max_order above which dpc-demo (live and offline) and
-/// the Python module warn. In a diffuse room the energy still in flight when a ray ends is the
-/// decay curve's level then (both fall as the room's energy does), so a share above -40 dB
-/// cuts the decay off above the -35 dB where T30's fit ends. The C API's
-/// DPC_MAX_ORDER_WARN_FRACTION mirrors it.
-inline constexpr double kMaxOrderWarnFraction = 1e-4;
 
 /// What LiveSession::status() reports. Plain values; any thread.
 struct SessionStatus {
@@ -83,6 +77,9 @@ struct SessionStatus {
   /// Last frame, played listener: largest per-source, per-band share of the emitted energy
   /// that rays still carried when max_order ended them (FrameTotals::maxOrderEnergyFraction).
   double maxOrderEnergyFraction = 0.0;
+  /// The largest maxOrderEnergyFraction of any frame so far: what a warning read once a
+  /// second acts on, so that a frame between two reads is not missed.
+  double maxOrderEnergyFractionPeak = 0.0;
   /// Last frame, played listener: ways round edges in series the diffraction's caps left out,
   /// summed over the sources (FrameTotals::chainsLeftOut).
   uint64_t chainsLeftOut = 0;
@@ -193,7 +190,7 @@ class SessionCounters {
       cacheMergedEntries_{0}, bakedResponses_{0}, bakeFallbacks_{0}, inputSamplesReplaced_{0},
       fftPlanFailures_{0}, chainsLeftOut_{0};
   std::atomic<double> frameMs_{0.0}, irAgeMs_{0.0}, cacheMergedEnergyFraction_{0.0},
-      droppedEnergyFraction_{0.0}, maxOrderEnergyFraction_{0.0};
+      droppedEnergyFraction_{0.0}, maxOrderEnergyFraction_{0.0}, maxOrderEnergyFractionPeak_{0.0};
   std::atomic<double> completionSeconds_{std::numeric_limits<double>::quiet_NaN()};
   std::atomic<size_t> cacheEntries_{0}, cacheBytes_{0}, cacheBudgetBytes_{0}, cachePairs_{0},
       cachePairBytesMin_{0}, cachePairBytesMax_{0}, cachePoolUsedBytes_{0};

@@ -121,8 +121,8 @@ bool readKeys(RawTerminal& terminal, KeyboardMotion& motion, LiveSession& sessio
 }
 
 /// The once-a-second report: the callback's scheduling as soon as it is known, the max_order
-/// warning the first time the last frame's cut, read here, exceeds its bound, then the status
-/// line.
+/// warning the first time the largest cut of any frame so far exceeds its bound, then the
+/// status line.
 void reportStatus(const SceneDesc& scene, const LiveSession& session,
                   const audio::AudioOutput& output, Playback& pb, double sceneSeconds, bool tty) {
   if (!pb.scheduling.known) {
@@ -132,7 +132,7 @@ void reportStatus(const SceneDesc& scene, const LiveSession& session,
   const LiveSession::Status st = session.status();
   if (!pb.maxOrderWarned)
     pb.maxOrderWarned =
-        warnMaxOrder(scene.path, session.settings().maxOrder, st.maxOrderEnergyFraction, tty);
+        warnMaxOrder(scene.path, session.settings().maxOrder, st.maxOrderEnergyFractionPeak, tty);
   printStatusLine(st, output, playedCallbacks(pb, output), sceneSeconds, tty);
 }
 

@@ -62,11 +62,8 @@ void printLiveSummary(const LiveSession::Status& st, const audio::AudioOutput& o
 
 bool warnMaxOrder(const std::string& scene, int maxOrder, double share, bool tty) {
   if (!(share > kMaxOrderWarnFraction)) return false;
-  std::fprintf(stderr,
-               "%swarning: %s: propagation.max_order: rays ended at order %d still carried %.2g %% "
-               "of the emitted energy (%.0f dB, largest band): the decay below that is lost "
-               "(T30 and the late tail read short); raise max_order\n",
-               tty ? "\r" : "", scene.c_str(), maxOrder, 100.0 * share, 10.0 * std::log10(share));
+  std::fprintf(stderr, "%swarning: %s: %s\n", tty ? "\r" : "", scene.c_str(),
+               maxOrderWarning(maxOrder, share).c_str());
   return true;
 }
 

@@ -39,6 +39,19 @@ struct TempDir {
   std::string file(const std::string& name) const { return (path / name).string(); }
 };
 
+/// Overwrites the size field of the WAV's data chunk with `size` (little-endian host) and
+/// returns the byte offset of the chunk's "data" tag; the samples follow 8 bytes after it.
+size_t setDataSize(const std::string& path, uint32_t size) {
+  std::string file(fs::file_size(path), '\0');
+  std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+  f.read(file.data(), std::streamsize(file.size()));
+  const size_t data = file.find("data");
+  REQUIRE(data != std::string::npos);
+  f.seekp(std::streamoff(data + 4));
+  f.write(reinterpret_cast<const char*>(&size), 4);
+  return data;
+}
+
 // Random samples in [-amplitude, amplitude], fixed seed.
 AudioData randomAudio(int channels, size_t frames, int rate, float amplitude, unsigned seed) {
   std::mt19937 rng(seed);
@@ -167,11 +180,7 @@ TEST_CASE("a WAV cut short of its data chunk is refused, a streamed size of ~0 i
                         "(an interrupted copy or download?)");
   CHECK_THROWS_WITH(dpc::audio::readSoundFileInfo(path), Catch::Contains("truncated"));
   // The data size a streaming writer leaves when the length is unknown: read to the end.
-  const uint32_t unknown = 0xFFFFFFFFu;
-  std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
-  f.seekp(40);
-  f.write(reinterpret_cast<const char*>(&unknown), 4);  // little-endian host
-  f.close();
+  REQUIRE(setDataSize(path, 0xFFFFFFFFu) == 36);
   CHECK(readWav(path).frames() == 500);
 }
 
@@ -188,16 +197,9 @@ TEST_CASE("a WAV whose data chunk ends in a partial frame is refused") {
     a.sampleRate = 48000;
     a.channels = {std::vector<float>(1000, 0.25f), std::vector<float>(1000, -0.25f)};
     writeWav(path, a, format);
-    std::string file(fs::file_size(path), '\0');
-    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
-    f.read(file.data(), std::streamsize(file.size()));
-    const size_t data = file.find("data");
-    REQUIRE(data != std::string::npos);
-    REQUIRE(file.size() == data + 8 + 1000 * 2 * bytes);
     const uint32_t size = 1000 * 2 * bytes - bytes;
-    f.seekp(std::streamoff(data + 4));
-    f.write(reinterpret_cast<const char*>(&size), 4);  // little-endian host
-    f.close();
+    const size_t data = setDataSize(path, size);
+    REQUIRE(fs::file_size(path) == data + 8 + 1000 * 2 * bytes);
     fs::resize_file(path, data + 8 + size);
     INFO(bytes << " bytes per sample");
     CHECK_THROWS_WITH(readWav(path),
@@ -217,19 +219,8 @@ TEST_CASE("a pad byte counted in a WAV's data size is not a partial frame") {
   a.sampleRate = 48000;
   a.channels = {std::vector<float>(999, 0.25f)};
   writeWav(path, a, SampleFormat::kPcm24);
-  std::string file(fs::file_size(path), '\0');
-  std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
-  f.read(file.data(), std::streamsize(file.size()));
-  const size_t data = file.find("data");
-  REQUIRE(data != std::string::npos);
-  const uint32_t size = 2998;
-  if (file.size() == data + 8 + 2997) {  // no pad written: add it
-    f.seekp(0, std::ios::end);
-    f.put('\0');
-  }
-  f.seekp(std::streamoff(data + 4));
-  f.write(reinterpret_cast<const char*>(&size), 4);  // little-endian host
-  f.close();
+  const size_t data = setDataSize(path, 2998);
+  if (fs::file_size(path) == data + 8 + 2997) fs::resize_file(path, data + 8 + 2998);  // the pad
   CHECK(readWav(path).frames() == 999);
 }
 

@@ -190,7 +190,8 @@ def test_energy_the_reflection_order_bound_cuts_is_reported_and_warned():
     scattering = np.array([0.2, 0.2], np.float32)
     args = dict(sources=[[1.5, 1.5, 2.0]], listener=[4.5, 1.5, 2.0], rays_per_frame=1000)
     cut = dpc.Engine.from_arrays(v, tris, mats, absorption, scattering, max_order=6, **args)
-    with pytest.warns(RuntimeWarning, match="max_order.*raise max_order") as caught:
+    with pytest.warns(RuntimeWarning, match=r"^dpc\.Engine\.step: propagation\.max_order: "
+                      r"rays ended at order 6 .*raise max_order$") as caught:
         cut.step()
         cut.step()
     assert len([w for w in caught if issubclass(w.category, RuntimeWarning)]) == 1
@@ -221,7 +222,8 @@ def test_render_reports_and_warns_of_the_max_order_cut(tmp_path):
     assert printed, demo.stdout
     expected = float(printed.group(1)) / 100
     assert expected > 0.01
-    with pytest.warns(RuntimeWarning, match="dpc.render: propagation.max_order") as caught:
+    with pytest.warns(RuntimeWarning, match=r"^dpc\.render: " + re.escape(str(cut)) +
+                      r": propagation\.max_order: rays ended at order 4 ") as caught:
         r = dpc.render(str(cut), duration=0.5, seed=3)
     assert len([w for w in caught if issubclass(w.category, RuntimeWarning)]) == 1
     assert r.max_order_energy_fraction == pytest.approx(expected, rel=5e-3)

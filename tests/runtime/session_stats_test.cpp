@@ -87,3 +87,27 @@ TEST_CASE("FrameTotals: sums, largest shares, and the energy beyond the IR lengt
   CHECK(t.droppedEnergyFraction == Approx(0.25));  // a: 1 of 4 dropped, b: none
   CHECK(t.chainsLeftOut == 5);
 }
+
+TEST_CASE("SessionCounters: the max_order cut's peak outlives the frame that set it", "[stats]") {
+  // A live warning reads the counters once a second; a single frame cut short in between must
+  // still be seen. Last frame's share follows each frame, the peak only rises.
+  SessionCounters c(1000, 400);
+  SessionStatus st;
+  FrameTotals t;
+  for (double share : {1e-6, 3e-3, 2e-5}) {
+    t.maxOrderEnergyFraction = share;
+    c.frameDone(t, 10.0);
+  }
+  c.read(st);
+  CHECK(st.maxOrderEnergyFraction == 2e-5);
+  CHECK(st.maxOrderEnergyFractionPeak == 3e-3);
+}
+
+TEST_CASE("maxOrderWarning: the order, the share in percent and dB, the advice", "[stats]") {
+  // 1e-3 of the emitted energy is 0.1 % and 10 log10(1e-3) = -30 dB.
+  const std::string known = maxOrderWarning(12, 1e-3);
+  CHECK(known.rfind("propagation.max_order: rays ended at order 12 still carried 0.1 % ", 0) == 0);
+  CHECK(known.find("(-30 dB, largest band)") != std::string::npos);
+  CHECK_THAT(known, Catch::EndsWith("; raise max_order"));
+  CHECK(maxOrderWarning(0, 1e-3).find("at their last order still") != std::string::npos);
+}

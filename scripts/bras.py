@@ -11,7 +11,9 @@ is not shipped: it is the RAVEN AC3D models `RavenModels/scene9.ac` (CR2) and `s
 (CR4) of "Input and output data for informed room acoustic simulations of the BRAS scene
 database" (L. Aspöck, RWTH Aachen 2020, https://publications.rwth-aachen.de/record/803828),
 whose licence (CC BY-NC-SA 4.0) is not ours; download them and pass their folder with
---raven-models. CR3 (the Konzerthaus chamber music hall, scene 10) has no AC3D model in that
+--raven-models. The same two files are in the public repository of a peer simulator
+(github.com/krzysztofarendt/building3d-rs, validation/bras/informed_sim/RavenModels/; the
+copies docs/validation.md's tables were made from have the sha256 it gives). CR3 (the Konzerthaus chamber music hall, scene 10) has no AC3D model in that
 record's stored copies, so it is not compared (docs/validation.md says what was searched).
 
 Steps per room:
@@ -430,11 +432,14 @@ def cell(x, fmt='{:.2f}'):
 
 
 def tables(results):
-    """The markdown tables: per room and metric the mean |error| (JND) of each reading, then
-    per room the IR's values per band against the measured ones."""
+    """The markdown tables: per room and metric the mean |error| (JND) of each reading and the
+    IR's excess over the energy response read directly (ideal bands) and through the octave
+    filters as the IR is (what the synthesis alone adds), then per room the IR's values per
+    band against the measured ones."""
     lines = ['| room | metric | synthesised IR | energy response | energy response as '
-             'measured | peer simulator | IR − energy response |',
-             '|---|---|---|---|---|---|---|']
+             'measured | peer simulator | IR − energy response | IR − as measured |',
+             '|---|---|---|---|---|---|---|---|']
+    minus = lambda a, b: None if None in (a, b) else a - b
     for room, r in results.items():
         d = r['variants'].get('fitted')
         if not d:
@@ -442,10 +447,11 @@ def tables(results):
         peer = r.get('peer', {}).get('mean_abs_jnd')
         for p in METRICS:
             m = d['mean_abs_jnd']
-            diff = (m['ir'][p] - m['er'][p]) if None not in (m['ir'][p], m['er'][p]) else None
             lines.append(f"| {room} | {p.upper()} | {cell(m['ir'][p])} | {cell(m['er'][p])} | "
                          f"{cell(m['er_as_measured'][p])} | "
-                         f"{cell(peer[p] if peer else None)} | {cell(diff, '{:+.2f}')} |")
+                         f"{cell(peer[p] if peer else None)} | "
+                         f"{cell(minus(m['ir'][p], m['er'][p]), '{:+.2f}')} | "
+                         f"{cell(minus(m['ir'][p], m['er_as_measured'][p]), '{:+.2f}')} |")
     out = ['\n'.join(lines)]
     for room, r in results.items():
         d = r['variants'].get('fitted')

@@ -304,6 +304,7 @@ void PartitionedConvolver::reset() {
   std::fill(fdl_.get(), fdl_.get() + size_t(layout_->numPartitions()) * layout_->spectrumFloats(),
             0.0f);
   head_ = 0;
+  heard_ = false;
 }
 
 const float* PartitionedConvolver::convolveChannel(const IrSpectrum& h, int which) {
@@ -335,6 +336,14 @@ void PartitionedConvolver::run(const float* in, float* const* out, bool add) {
   head_ = head_ == 0 ? layout_->numPartitions() - 1 : head_ - 1;
   layout_->forward(input, fdl_.get() + size_t(head_) * layout_->spectrumFloats());
 
+  // The first IR over a silent history starts at once: the silence it would fade in from is
+  // what the IR itself gives there, so a sound that begins in this block keeps its onset.
+  if (hasPending_ && !current_ && !heard_) {
+    current_ = pending_;
+    hasPending_ = false;
+    pending_ = nullptr;
+  }
+  if (!heard_) heard_ = std::any_of(in, in + ub, [](float v) { return v != 0.0f; });
   const IrSpectra* next = hasPending_ ? pending_ : current_;
   const bool crossfade = hasPending_;
   const float invB = 1.0f / float(b);

@@ -197,7 +197,10 @@ class IrSpectra {
 ///   out[n] = (1 - w[n]) old[n] + w[n] new[n],  w[n] = (n + 1) / B,  0 <= n < B,
 /// so the last sample of the block is purely new and every following block uses the new IR
 /// alone. "No IR" (initially, or after setNextIr(nullptr)) is silence, so the first IR fades
-/// in from silence and setNextIr(nullptr) fades out to silence.
+/// in from silence and setNextIr(nullptr) fades out to silence; but an IR that replaces no IR
+/// while every input so far was zero (since construction or reset(): an offline render's
+/// first IR, set before its first block) starts at once, without the fade, as if it had
+/// always been there, so a sound that begins in that block keeps its onset.
 ///
 /// Threads: setNextIr(), process(), processAdd() and takeRetired() are called by one thread,
 /// the audio thread, and are wait-free (no atomics needed: the hand-over between threads is
@@ -240,9 +243,10 @@ class PartitionedConvolver {
   const IrSpectra* pendingIr() const { return pending_; }
   bool hasPending() const { return hasPending_; }
 
-  /// Clears the delay line and overlap (input history) to silence; IRs (current, pending) and
-  /// retired list are kept. Not the audio thread (unless the audio thread itself calls it
-  /// between blocks: it does not allocate). No errors.
+  /// Clears the delay line and overlap (input history) to silence (the next IR to replace no
+  /// IR starts at once again, above); IRs (current, pending) and retired list are kept. Not the
+  /// audio thread (unless the audio thread itself calls it between blocks: it does not allocate).
+  /// No errors.
   void reset();
 
   const ConvolverLayout& layout() const { return *layout_; }
@@ -265,6 +269,7 @@ class PartitionedConvolver {
   const IrSpectra* current_ = nullptr;
   const IrSpectra* pending_ = nullptr;
   bool hasPending_ = false;
+  bool heard_ = false;  ///< a non-zero input sample since construction or reset()
   FixedRing<const IrSpectra*> retired_{kRetiredCapacity};
 };
 

@@ -338,6 +338,8 @@ void NonUniformConvolver::process(const float* const* in, float* const* out, boo
   if (!add)
     for (int c = 0; c < numOutputs_; ++c) std::fill(out[c], out[c] + ub, 0.0f);
   for (int l = 0; l < layout_->numLevels(); ++l) processLevel(l, in, out);
+  for (int s = 0; s < numSources_ && !heard_; ++s)
+    heard_ = std::any_of(in[s], in[s] + ub, [](float v) { return v != 0.0f; });
   ++block_;
 }
 
@@ -396,6 +398,7 @@ void NonUniformConvolver::startChunk(const NonUniformLayout::Level& lv, LevelSta
     st.next = target_;
     st.swapGroup = 0;
   }
+  if (!st.cur && !heard_) st.cur = st.next;  // the first IR over a silent history: at once
   // The steady accumulator, and the crossfading group's two while a swap runs.
   const size_t used = (st.next != st.cur ? 3 : 1) * lv.fft->spectrumFloats();
   for (int c = 0; c < numOutputs_; ++c)

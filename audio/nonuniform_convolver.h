@@ -57,7 +57,10 @@
 // where h_l is the IR restricted to level l's segment. Level 0 thus swaps within one block,
 // the tail levels at their own chunk boundaries (a later level's segment is later in the IR,
 // so its swap is heard later anyway); an IR replaced before a level took it is skipped by
-// that level.
+// that level. A level with no IR yet takes the first at once, without the crossfade, while
+// every input so far was zero (an offline render's first IR, set before its first block): the
+// silence it would fade in from is what the IR gives there, so a sound that begins in the
+// first block keeps its onset.
 //
 // Staggered swaps (setSwapSpread): a level's swap may be spread over G_l chunks. The sources
 // fall into G_l groups (source s in group s mod G_l: interleaved, because the chunk's work is
@@ -300,6 +303,7 @@ class NonUniformConvolver {
   std::vector<float*> accPtrs_;  ///< scratch: one accumulator pointer per output
   const NonUniformIrSet* target_ = nullptr;
   uint64_t block_ = 0;
+  bool heard_ = false;  ///< a non-zero input sample in a block before this one
   bool skipSilentLevels_ = true;
   /// Written by the audio thread alone (load + store, no read-modify-write), read by any.
   std::atomic<uint64_t> skippedTransforms_{0};

@@ -139,15 +139,10 @@ TEST_CASE("Partitioned convolution equals direct convolution", "[convolver]") {
 
       PartitionedConvolver conv(layout, 1);
       std::vector<Signal> out(1, Signal(x.size(), 0.0f));
-      // The first block fades in from silence; take the IR before any signal arrives by
-      // processing one block of silence first.
+      // Set before any sound: the IR applies from the first sample (no fade-in from silence).
       REQUIRE(conv.setNextIr(&spectra));
-      const Signal silence(ub, 0.0f);
-      float* tmp[1] = {out[0].data()};
-      conv.process(silence.data(), tmp);
-      CHECK(conv.takeRetired() == nullptr);  // nothing was current before
-      conv.reset();                          // clears the (silent) history; keeps the IR
       runBlocks(conv, x, 0, numBlocks, out);
+      CHECK(conv.takeRetired() == nullptr);  // nothing was current before
 
       const double rel = relativeErrorEnergy(out[0], ref, 0, x.size());
       worstDb = std::max(worstDb, toDb(rel));
@@ -184,15 +179,15 @@ TEST_CASE("IR change crossfades the two full convolutions over one block", "[con
     const Reference refB = directConvolution(x, hB);
     const Reference refC = directConvolution(x, hC);
 
-    // Expected output: block 0 fades in A from silence, blocks 1..5 A, block 6 A -> C (B was
-    // replaced before the swap), blocks 7..11 C, block 12 C -> silence, then silence.
+    // Expected output: blocks 0..5 A (the first IR over a silent history starts at once),
+    // block 6 A -> C (B was replaced before the swap), blocks 7..11 C, block 12 C -> silence,
+    // then silence.
     Reference expected(x.size(), 0.0);
     const Reference silence(x.size(), 0.0);
     auto put = [&](const Reference& block, size_t k) {
       std::copy(block.begin(), block.end(), expected.begin() + std::ptrdiff_t(k * ub));
     };
-    put(crossfade(silence, refA, 0, ub), 0);
-    for (size_t k = 1; k < 6; ++k)
+    for (size_t k = 0; k < 6; ++k)
       put(Reference(refA.begin() + k * ub, refA.begin() + (k + 1) * ub), k);
     put(crossfade(refA, refC, 6 * ub, ub), 6);
     for (size_t k = 7; k < 12; ++k)
@@ -230,7 +225,7 @@ TEST_CASE("IR change crossfades the two full convolutions over one block", "[con
     auto blockError = [&](size_t k) {
       return relativeErrorEnergy(out[0], expected, k * ub, (k + 1) * ub);
     };
-    INFO("B=" << b << " fade-in " << toDb(blockError(0)) << " dB, A->C " << toDb(blockError(6))
+    INFO("B=" << b << " first block " << toDb(blockError(0)) << " dB, A->C " << toDb(blockError(6))
               << " dB, fade-out " << toDb(blockError(12)) << " dB, whole "
               << toDb(relativeErrorEnergy(out[0], expected, 0, x.size())) << " dB");
     CHECK(blockError(0) < tol);
@@ -240,6 +235,39 @@ TEST_CASE("IR change crossfades the two full convolutions over one block", "[con
     // Silence after the fade-out is exactly zero.
     CHECK(std::all_of(out[0].begin() + std::ptrdiff_t(13 * ub), out[0].end(),
                       [](float v) { return v == 0.0f; }));
+  }
+}
+
+TEST_CASE("The first IR fades in once sound has entered, at once before", "[convolver]") {
+  // An impulse at the first sample through h: an IR set before it is heard gives h from that
+  // sample on (an offline render's first IR, and its sound's onset); set one block after
+  // sound has entered (a live engine's first IR), it fades in over that block from silence,
+  // w[n] = (n + 1) / B, as every IR change does, so no history bursts in. The oracle is h.
+  const int b = 64;
+  const size_t ub = size_t(b);
+  std::mt19937 rng(5);
+  const Signal h = randomSignal(rng, 3 * ub);
+  ConvolverLayout layout(b, h.size());
+  IrSpectra spectra(layout, 1);
+  const float* hp = h.data();
+  spectra.prepare(&hp, h.size());
+  Signal x(4 * ub, 0.0f);
+  x[0] = 1.0f;
+  for (const bool late : {false, true}) {
+    PartitionedConvolver conv(layout, 1);
+    std::vector<Signal> out(1, Signal(x.size(), 0.0f));
+    if (!late) REQUIRE(conv.setNextIr(&spectra));
+    runBlocks(conv, x, 0, 1, out);
+    if (late) REQUIRE(conv.setNextIr(&spectra));
+    runBlocks(conv, x, 1, 3, out);
+    double worst = 0.0;
+    for (size_t n = 0; n < x.size(); ++n) {
+      double expected = n < h.size() ? h[n] : 0.0;
+      if (late) expected *= n < ub ? 0.0 : n < 2 * ub ? double(n - ub + 1) / double(ub) : 1.0;
+      worst = std::max(worst, std::abs(double(out[0][n]) - expected));
+    }
+    INFO((late ? "set after sound entered" : "set before any sound") << ": worst " << worst);
+    CHECK(worst < 1e-5);  // float FFT rounding of unit-scale samples; the fade is 1/B = 0.016
   }
 }
 
@@ -284,14 +312,8 @@ TEST_CASE("Two outputs with different IRs match their own direct convolutions", 
       ptrs[1] = out[1].data() + k * ub;
       conv.processAdd(x.data() + k * ub, ptrs.data());
     }
-    Reference refL = directConvolution(x, left);
-    Reference refR = directConvolution(x, right);
-    // Block 0 faded in from silence: expected w * ref there.
-    for (size_t n = 0; n < ub; ++n) {
-      const double w = double(n + 1) / double(ub);
-      refL[n] *= w;
-      refR[n] *= w;
-    }
+    const Reference refL = directConvolution(x, left);
+    const Reference refR = directConvolution(x, right);
     Signal convL(x.size()), convR(x.size());
     for (size_t n = 0; n < x.size(); ++n) {
       convL[n] = out[0][n] - bias0[n];

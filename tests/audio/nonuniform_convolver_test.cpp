@@ -64,13 +64,16 @@ struct ChunkSwap {
 
 /// The swap state of each of a level's chunks 0..count-1: a chunk starts a swap to the newest
 /// IR (newestAtChunk(q)) when no swap is under way, and a swap crossfades one source group per
-/// chunk, groups in order, until all have the new IR.
-template <typename Newest>
-std::vector<ChunkSwap> chunkSwaps(long long count, int groups, Newest newestAtChunk) {
+/// chunk, groups in order, until all have the new IR; but a level with no IR takes the first
+/// at once while no input has sounded yet (silentAtChunk(q)).
+template <typename Newest, typename Silent>
+std::vector<ChunkSwap> chunkSwaps(long long count, int groups, Newest newestAtChunk,
+                                  Silent silentAtChunk) {
   std::vector<ChunkSwap> chunks;
   ChunkSwap st;
   for (long long q = 0; q < count; ++q) {
     if (st.after == st.before) st = ChunkSwap{st.before, newestAtChunk(q), 0};
+    if (st.before < 0 && silentAtChunk(q)) st.before = st.after;
     chunks.push_back(st);
     if (st.after != st.before && ++st.group == groups) st = ChunkSwap{st.after, st.after, 0};
   }
@@ -95,6 +98,12 @@ std::vector<double> crossfadeReference(const NonUniformLayout& layout,
   };
   const size_t b = size_t(layout.blockSize());
   const size_t total = x[0].size();
+  // Whether every input sample before callback k is zero.
+  size_t firstSound = total;
+  for (const Signal& xs : x)
+    for (size_t t = 0; t < xs.size() && t < firstSound; ++t)
+      if (xs[t] != 0.0f) firstSound = t;
+  auto silentBefore = [&](long long k) { return k <= 0 || size_t(k) * b <= firstSound; };
   std::vector<double> expected(total, 0.0);
   for (int l = 0; l < layout.numLevels(); ++l) {
     const NonUniformLayout::Level& lv = layout.level(l);
@@ -110,8 +119,10 @@ std::vector<double> crossfadeReference(const NonUniformLayout& layout,
     // its IR in the callback where its input completed.
     const long long m = lv.period, phase = conv.levelPhase(l);
     const int groups = conv.swapGroups(l);
+    const auto callbackOf = [&](long long q) { return (q + 1) * m - 1 - phase; };
     const auto chunks = chunkSwaps((long long)((total + size_t(phase) * b) / n) + 1, groups,
-                                   [&](long long q) { return newestAt((q + 1) * m - 1 - phase); });
+                                   [&](long long q) { return newestAt(callbackOf(q)); },
+                                   [&](long long q) { return silentBefore(callbackOf(q)); });
     const auto value = [&](int ir, int s, size_t t) {
       return ir < 0 ? 0.0 : seg[size_t(ir)][size_t(s)][t];
     };

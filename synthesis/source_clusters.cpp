@@ -20,6 +20,7 @@ SourceClusters::SourceClusters(size_t sources, int buses, double maxAngleRadians
     throw std::invalid_argument("SourceClusters: need sources, buses, an angle and hysteresis");
   assignment_.assign(sources, kNone);
   previous_.assign(sources, kNone);
+  forced_.assign(sources, 0);
   direction_.assign(sources, glm::vec3(1.f, 0.f, 0.f));
   seed_.assign(size_t(buses), kNone);
   sum_.assign(size_t(buses), glm::vec3(0.f));
@@ -33,7 +34,7 @@ int SourceClusters::occupied() const {
 void SourceClusters::computeMeans() {
   std::fill(sum_.begin(), sum_.end(), glm::vec3(0.f));
   for (size_t s = 0; s < previous_.size(); ++s)
-    if (previous_[s] != kNone) sum_[size_t(previous_[s])] += direction_[s];
+    if (previous_[s] != kNone && !forced_[s]) sum_[size_t(previous_[s])] += direction_[s];
   for (size_t k = 0; k < sum_.size(); ++k) {
     const float len = glm::length(sum_[k]);
     mean_[k] = len > 1e-6f ? sum_[k] / len : glm::vec3(0.f);
@@ -43,7 +44,7 @@ void SourceClusters::computeMeans() {
 bool SourceClusters::stays(size_t s, std::span<const glm::vec3> sources,
                            const Visible& visible) const {
   const int k = previous_[s];
-  if (k == kNone || seed_[size_t(k)] == kNone) return false;
+  if (k == kNone || seed_[size_t(k)] == kNone || forced_[s]) return false;
   if (glm::length(mean_[size_t(k)]) == 0.f) return false;
   if (angleBetween(direction_[s], mean_[size_t(k)]) > maxAngle_ * (1.0 + hysteresis_))
     return false;
@@ -68,8 +69,10 @@ int SourceClusters::bestFit(size_t s, std::span<const glm::vec3> sources,
   return best;
 }
 
-void SourceClusters::assign(size_t s, int k) {
+void SourceClusters::assign(size_t s, int k, bool forced) {
   assignment_[s] = k;
+  forced_[s] = forced;
+  if (forced) return;  // the members that fit keep their mean
   if (seed_[size_t(k)] == kNone) seed_[size_t(k)] = int(s);
   sum_[size_t(k)] += direction_[s];
 }
@@ -78,6 +81,12 @@ int SourceClusters::freeBus() const {
   for (size_t k = 0; k < seed_.size(); ++k)
     if (seed_[k] == kNone) return int(k);
   return kNone;
+}
+
+int SourceClusters::forcedCluster(size_t s) const {
+  const int k = previous_[s];
+  if (k != kNone && seed_[size_t(k)] != kNone) return k;
+  return nearestMean(s);
 }
 
 int SourceClusters::nearestMean(size_t s) const {
@@ -101,6 +110,7 @@ void SourceClusters::keepSeeds(size_t n, std::span<const glm::vec3> sources,
     if (!keep) seed = kNone;
   }
   std::fill(assignment_.begin(), assignment_.end(), kNone);
+  std::fill(forced_.begin(), forced_.end(), 0);
   std::fill(sum_.begin(), sum_.end(), glm::vec3(0.f));
   for (size_t k = 0; k < seed_.size(); ++k)
     if (seed_[k] != kNone) assign(size_t(seed_[k]), int(k));
@@ -112,6 +122,7 @@ void SourceClusters::countMoves(size_t n) {
     const int k = assignment_[s];
     if (k == kNone) continue;
     if (previous_[s] != kNone && previous_[s] != k) ++switches_;
+    if (forced_[s]) continue;  // beyond the bound by definition, counted in forcedJoins_
     const float len = glm::length(sum_[size_t(k)]);
     if (len > 1e-6f) maxRadius_ = std::max(maxRadius_, angleBetween(direction_[s], sum_[size_t(k)] / len));
   }
@@ -137,11 +148,12 @@ void SourceClusters::update(const glm::vec3& listener, std::span<const glm::vec3
     if (!isActive(s) || assignment_[s] != kNone) continue;
     int k = bestFit(s, sources, visible);
     if (k == kNone) k = freeBus();
-    if (k == kNone) {
-      k = nearestMean(s);
+    const bool forced = k == kNone;
+    if (forced) {
+      k = forcedCluster(s);
       ++forcedJoins_;
     }
-    assign(s, k);
+    assign(s, k, forced);
   }
   countMoves(n);
 }

@@ -6,8 +6,11 @@
 // member to mean direction, stays within maxAngleRadians) and can see each other (a member and
 // the cluster's seed, its first member, are mutually visible: sources in another room, whose
 // reverberation differs, do not share a bus). The number of clusters is bounded by the late
-// buses; when a source fits no cluster and no bus is free it joins the cluster nearest in
-// direction (counted: forcedJoins()).
+// buses; when a source fits no cluster and no bus is free it joins a cluster anyway (counted:
+// forcedJoins()): the one it joined so last frame while that still exists, else the one nearest
+// in direction. Such a member does not move its cluster's mean direction, so the members that
+// fit are judged as if it were not there, and it is placed anew every frame (a bus may have
+// come free, or a cluster come within the bound) but stays where it was when nothing changed.
 //
 // Hysteresis: a source stays in its previous cluster while it is within (1 + hysteresis) of the
 // angular bound and still sees the seed; only otherwise is it assigned anew, so sources near
@@ -46,7 +49,8 @@ class SourceClusters {
   /// Clusters with at least one member after the last update.
   int occupied() const;
   /// Largest angle (radians) between a member's direction and its cluster's mean direction,
-  /// over all clusters, after the last update.
+  /// over all clusters' members that fit (not those joined for want of a bus), after the last
+  /// update.
   double maxAngularRadius() const { return maxRadius_; }
   /// Sources that changed cluster (between two updates where they were in one), in total.
   uint64_t switches() const { return switches_; }
@@ -65,12 +69,17 @@ class SourceClusters {
                  std::span<const bool> active);
   /// switches_ and maxRadius_ after an assignment.
   void countMoves(size_t n);
-  void assign(size_t s, int k);
+  /// Puts s in cluster k; `forced`: beyond the criteria, for want of a bus (above).
+  void assign(size_t s, int k, bool forced = false);
   int freeBus() const;
   int nearestMean(size_t s) const;
+  /// The cluster s joins for want of a bus: its previous one if it still exists, else the
+  /// nearest in direction.
+  int forcedCluster(size_t s) const;
 
   double maxAngle_, hysteresis_;
   std::vector<int> assignment_, previous_;
+  std::vector<char> forced_;          ///< per source: joined its cluster for want of a bus
   std::vector<int> seed_;             ///< per cluster: its first member, or kNone
   std::vector<glm::vec3> sum_;        ///< per cluster: sum of member directions
   std::vector<glm::vec3> mean_;       ///< per cluster: normalised sum_ (previous members)

@@ -222,7 +222,26 @@ bool SpecularScene::visible(const SpecularPath& path, const glm::vec3& source,
     if (!(tfar > tnear)) return false;  // reflection points (nearly) coincide
     if (tracer_.occluded(TraceRay{a, ab / len, tnear, tfar})) return false;
   }
+  for (uint32_t i = 0; i < path.order; ++i)
+    if (turnBlocked(segmentEnds(path, source, listener, i).first, path.points[i],
+                    segmentEnds(path, source, listener, i + 1).second))
+      return false;
   return true;
+}
+
+bool SpecularScene::turnBlocked(const glm::vec3& from, const glm::vec3& point,
+                                const glm::vec3& to) const {
+  // The legs' tests stop surfaceOffset() short of the point, so a surface through it (a
+  // partition whose foot the point is on) crosses neither leg. It crosses the chord between
+  // the legs near the point: the chord joins two free points on the lit side, so it stays in
+  // the lit half-space, and within the triangle (chord, point) only such a surface lies.
+  const float before = glm::distance(from, point), after = glm::distance(point, to);
+  const float d = std::min({kTurnChord, 0.25f * before, 0.25f * after});
+  if (!(d > 0.f)) return false;
+  const glm::vec3 a = point + (from - point) * (d / before);
+  const glm::vec3 b = point + (to - point) * (d / after);
+  const float length = glm::distance(a, b);
+  return length > 0.f && tracer_.occluded(TraceRay{a, (b - a) / length, 0.f, length});
 }
 
 bool SpecularScene::facedWithin(const glm::vec3& point, uint32_t face, const glm::vec3& from) const {

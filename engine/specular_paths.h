@@ -175,6 +175,14 @@ class SpecularScene {
   bool construct(const SpecularSequence& sequence, const glm::dvec3& source,
                  const glm::dvec3& listener, SpecularPath& path, glm::dvec3& image) const;
   bool visible(const SpecularPath& path, const glm::vec3& source, const glm::vec3& listener) const;
+  /// Whether a surface passes through the reflection point `point` between its incoming leg
+  /// (from `from`) and outgoing one (to `to`): the chord between the legs kTurnChord (or a
+  /// quarter of the shorter leg) from the point is blocked. One ray.
+  bool turnBlocked(const glm::vec3& from, const glm::vec3& point, const glm::vec3& to) const;
+  /// Metres along each leg from a reflection point to turnBlocked's chord: well above float
+  /// rounding of metre coordinates, well below a surface's distance from a reflection point
+  /// that a path could pass (a surface that near lies in a gap, inGap).
+  static constexpr float kTurnChord = 0.005f;
   /// Whether the path passes through a gap at most 2 kChannelGapMax wide (engine/
   /// channel_path.h): a reflection point with a surface facing it that near (facedWithin), or
   /// a segment whose parallels that far to both sides, in either of two directions square to

@@ -4,15 +4,17 @@
 #include <array>
 #include <cmath>
 #include <fstream>
+#include <glm/geometric.hpp>
+#include <glm/gtc/quaternion.hpp>
 #include <glm/vector_relational.hpp>
 #include <sstream>
-#include <glm/geometric.hpp>
 
 #include "common/input_error.h"
 #include "common/input_file.h"
 #include "engine/embree_tracer.h"
 #include "engine/setup_check.h"
 #include "scene/limits.h"
+#include "scene/trajectory.h"
 #include "scene/validate.h"
 
 namespace dpc::bake {
@@ -30,6 +32,15 @@ float airSide(const Mesh& mesh) {
   return volume <= 0.0 ? 1.f : -1.f;
 }
 
+/// Whether a surface passes through p (within 1 cm): rays from p meet a sheet that lies in
+/// its plane only edge-on, and miss it (a door leaf's plane on a grid line). A segment through
+/// p along a direction no mesh is drawn along crosses it.
+bool onSheet(const Tracer& tracer, const glm::vec3& p) {
+  const glm::vec3 g = glm::normalize(glm::vec3(0.3141f, 0.5772f, 0.7548f));
+  constexpr float kReach = 0.01f;
+  return tracer.occluded(TraceRay{p - kReach * g, g, 0.f, 2.f * kReach});
+}
+
 /// airSide: as airSide(). A point sees the surfaces around it from the air side when it stands
 /// in the air; inside a solid (a pillar) most of what it sees is the solid's other side.
 Placement place(const Tracer& tracer, const glm::vec3& p, float radius, float airSide) {
@@ -43,8 +54,25 @@ Placement place(const Tracer& tracer, const glm::vec3& p, float radius, float ai
     if (airSide * glm::dot(d, hit.normal) < 0.f) ++facingAir;
   }
   if (2 * facingAir < kSetupCheckDirections) return Placement::kInsideGeometry;
-  if (nearest < radius * (1.f - 1e-4f)) return Placement::kNearSurface;
+  if (nearest < radius * (1.f - 1e-4f) || onSheet(tracer, p)) return Placement::kNearSurface;
   return Placement::kKept;
+}
+
+/// The static mesh with every moving object's mesh in its pose at t = 0, where the bake's
+/// traces have it.
+Mesh placementMesh(const SceneDesc& scene) {
+  Mesh mesh = scene.mesh;
+  for (const ObjectDesc& o : scene.objects) {
+    const Pose pose = objectPoseAt(o, 0.0);
+    const auto base = uint32_t(mesh.vertices.size());
+    for (const glm::vec3& v : o.mesh.vertices)
+      mesh.vertices.push_back(pose.rotation * v + pose.position);
+    for (const auto& t : o.mesh.triangles)
+      mesh.triangles.push_back({base + t[0], base + t[1], base + t[2]});
+    mesh.materialIndex.insert(mesh.materialIndex.end(), o.mesh.materialIndex.begin(),
+                              o.mesh.materialIndex.end());
+  }
+  return mesh;
 }
 
 void count(ProbeGrid& grid, Placement p, const glm::vec3& position) {
@@ -66,7 +94,7 @@ ProbeGrid placeProbes(const SceneDesc& scene, const std::vector<glm::vec3>& cand
     for (int k = 0; k < 3; ++k)
       checkField("position", double(p[k]), Origin{sceneFile, {}},
                  field + ": probe coordinate " + "xyz"[k]);
-  const EmbreeTracer tracer(scene.mesh);
+  const EmbreeTracer tracer(placementMesh(scene));
   const float side = airSide(scene.mesh);
   ProbeGrid grid;
   for (const glm::vec3& p : candidates) count(grid, place(tracer, p, radius, side), p);

@@ -1,14 +1,15 @@
 // The probes of a bake: a horizontal grid over the static mesh's bounding box, a 3-D lattice
 // in a box (an audience area with raked seating, a balcony, a stairwell), or a list of
-// positions, kept where a listener can stand. Control thread; builds its own tracer (Embree) over the static mesh;
-// allocates; throws InputError naming the flag for a bad request.
+// positions, kept where a listener can stand. Control thread; builds its own tracer (Embree) over
+// the static mesh; allocates; throws InputError naming the flag for a bad request.
 //
 // Grid: cell centres x = xmin + (i + 1/2) spacing, z = zmin + (j + 1/2) spacing over the
 // mesh's bounding box, at y = ymin + height (the floor is the lowest point of the mesh; y is
 // up as in the shipped scenes). Box: along each axis n = max(1, floor(extent / spacing)) points
 // spaced `spacing` apart and centred in the box (a box thinner than the spacing gets one layer
-// in its middle). Moving objects are not part of the test (they stand in their
-// initial pose in the bake's traces, but probes are placed against the static mesh).
+// in its middle). Moving objects stand in their pose at t = 0 in the bake's traces, and the
+// placement tests them there too (a probe on an open door leaf, or within the radius of it, is
+// skipped as the static mesh's are).
 // A candidate is skipped, and counted, when
 //   - outside: a direction of the setup check's Fibonacci sphere (engine/setup_check.h) escapes
 //     the mesh (outside a closed room, or the room has a hole it sees through);
@@ -18,7 +19,7 @@
 //     other; inside a solid (a pillar) a point sees the solid's inner side. A vote rather than
 //     a crossing parity, so that single-sided inner walls (a partition) do not flip it;
 //   - near a surface: the nearest surface is closer than the probe radius (the listener sphere
-//     would count paths on both sides of it).
+//     would count paths on both sides of it), a sheet through the point itself included.
 #pragma once
 
 #include <cstddef>

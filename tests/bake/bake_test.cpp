@@ -314,3 +314,31 @@ TEST_CASE("Bake probe: exact early paths are stored and counted in the response"
   CHECK(std::abs(r.parameters[g] - plain.parameters[g]) <=
         r.parametersCi[g] + plain.parametersCi[g]);
 }
+
+TEST_CASE("Bake grid: probes on or near a moving object in its first pose are skipped", "[bake]") {
+  // Oracle: geometry: a door leaf standing open as a moving object, a 2 x 2 m sheet in the
+  // plane x = 5.1 (z 2.1..4.1, floor to 2 m) in its pose at t = 0, where the bake's traces
+  // have it. A 1 m grid at 1.6 m has its cell centres at x = 0.5, 1.5, ...: those at x = 4.5
+  // and 5.5 lie 0.6 and 0.4 m from the leaf's plane; with a 0.5 m radius the ones at 5.5 whose
+  // z lies beside the leaf (2.5, 3.5) are within it and skipped, those at 4.5 kept.
+  SceneDesc scene = shoebox();
+  const ProbeGrid without = makeProbeGrid(scene, GridRequest{1.0, 1.6, 0.5f}, "d.json");
+  ObjectDesc leaf;
+  leaf.name = "leaf";
+  test::addPanel(leaf.mesh, {0.f, 0.f, 0.f}, {0.f, 2.f, 0.f}, {0.f, 0.f, 2.f}, 0);
+  ObjectKeyframe open;
+  open.position = {5.1f, 0.f, 2.1f};
+  leaf.trajectory = {open};
+  scene.objects.push_back(leaf);
+  const ProbeGrid with = makeProbeGrid(scene, GridRequest{1.0, 1.6, 0.5f}, "d.json");
+  CHECK(with.nearSurface == without.nearSurface + 2);
+  for (const glm::vec3& p : with.positions)
+    CHECK_FALSE((p.x == 5.5f && (p.z == 2.5f || p.z == 3.5f)));
+  CHECK(with.positions.size() + 2 == without.positions.size());
+  // A probe in the leaf's own plane, on it, which no ray from the probe meets but edge-on.
+  const ProbeGrid on =
+      placeProbes(scene, {{5.1f, 1.6f, 3.f}, {2.5f, 1.6f, 3.f}}, 0.5f, "d.json", "--probes");
+  CHECK(on.nearSurface == 1);
+  REQUIRE(on.positions.size() == 1);
+  CHECK(on.positions[0].x == 2.5f);
+}

@@ -109,6 +109,48 @@ void Vbap::buildHull() {
         }
       }
   if (faces_.empty()) throw std::invalid_argument("the loudspeakers span no triangle");
+  addOtherDiagonals();
+}
+
+void Vbap::addOtherDiagonals() {
+  hullFaces_ = faces_.size();
+  otherSplit_.assign(hullFaces_, -1);
+  for (size_t f = 0; f < hullFaces_; ++f)
+    for (size_t h = f + 1; h < hullFaces_; ++h) {
+      const auto& a = faces_[f];
+      const auto& b = faces_[h];
+      int shared = 0, c = -1, d = -1;
+      for (int x : a) shared += std::count(b.begin(), b.end(), x) ? 1 : (c = x, 0);
+      for (int x : b)
+        if (!std::count(a.begin(), a.end(), x)) d = x;
+      if (shared != 2 || size_t(std::max({a[0], a[1], a[2], d})) >= real_) continue;
+      const Vec& o = speakers_[size_t(a[0])];
+      const Vec normal = cross(sub(speakers_[size_t(a[1])], o), sub(speakers_[size_t(a[2])], o));
+      const Vec toD = sub(speakers_[size_t(d)], o);
+      if (std::abs(dot(normal, toD)) > 1e-9 * std::sqrt(dot(normal, normal) * dot(toD, toD)))
+        continue;  // not one plane
+      const int first = int(faces_.size());
+      for (int e : a)
+        if (e != c) {
+          std::array<double, 9> inv{};
+          if (!invert(speakers_[size_t(c)], speakers_[size_t(d)], speakers_[size_t(e)], inv))
+            return;
+          faces_.push_back({c, d, e});
+          inverses_.push_back(inv);
+        }
+      otherSplit_[f] = otherSplit_[h] = first;
+    }
+}
+
+void Vbap::addOtherSplit(size_t f, const Vec& p, std::span<float> out) const {
+  std::array<double, 3> g{};
+  for (int k = 0; k < 2; ++k) {
+    const size_t t = size_t(otherSplit_[f] + k);
+    if (!faceGains(t, p, g)) continue;
+    for (int c = 0; c < 3; ++c)
+      out[size_t(faces_[t][size_t(c)])] += float(std::max(0.0, g[size_t(c)]));
+    return;
+  }
 }
 
 void Vbap::shareImaginary(const std::array<int, 3>& face, std::span<float> out) const {
@@ -148,16 +190,19 @@ void Vbap::gains(const float dir[3], std::span<float> out) const {
     for (double& x : p) x /= len;
   }
   std::array<double, 3> g{};
+  const size_t hull = planar_ ? faces_.size() : hullFaces_;
   size_t f = 0;
-  while (f < faces_.size() && !faceGains(f, p, g)) ++f;
-  if (f == faces_.size()) return;  // outside every pair: a layout with a gap beyond 180 deg
-  double sum = 0;
+  while (f < hull && !faceGains(f, p, g)) ++f;
+  if (f == hull) return;  // outside every pair: a layout with a gap beyond 180 deg
   for (int c = 0; c < 3; ++c) {
     const int s = faces_[f][size_t(c)];
     if (s < 0 || size_t(s) >= real_) continue;  // the 2-D helper axis, an imaginary speaker
     out[size_t(s)] = float(std::max(0.0, g[size_t(c)]));
-    sum += double(out[size_t(s)]) * out[size_t(s)];
   }
+  // A face of four (real loudspeakers only: imaginary ones close the hull alone): both splits.
+  if (!planar_ && otherSplit_[f] >= 0) addOtherSplit(f, p, out);
+  double sum = 0;
+  for (size_t i = 0; i < real_; ++i) sum += double(out[i]) * out[i];
   if (sum <= 0) return shareImaginary(faces_[f], out);
   const float norm = float(1.0 / std::sqrt(sum));
   for (size_t i = 0; i < real_; ++i) out[i] *= norm;

@@ -10,7 +10,10 @@
 // none below -45 degrees (or above +45) gets an imaginary loudspeaker at the nadir (zenith)
 // that closes the hull, whose gain is dropped and the rest renormalised to sum g^2 = 1 (the
 // imaginary loudspeakers of AllRAD, Zotter & Frank, "All-round ambisonic panning and
-// decoding", JAES 60(10), 2012).
+// decoding", JAES 60(10), 2012). Four coplanar loudspeakers (7.1.4's rear four) make one
+// face of the hull, which either diagonal would split unevenly (a source straight behind
+// leaning to one side): there the gains are the mean of both splits' VBAP gains, which still
+// point at the direction (each does) and keep a symmetric layout's panning symmetric.
 //
 // Listener frame as in audio/hrtf.h: x forward, y left, z up; azimuth counter-clockwise
 // (positive to the left), elevation up. Construction: control thread, allocates, throws
@@ -45,12 +48,19 @@ class Vbap {
   void shareImaginary(const std::array<int, 3>& face, std::span<float> out) const;
   /// Gains of p for face f; false if p lies outside it.
   bool faceGains(size_t f, const Vec& p, std::array<double, 3>& g) const;
+  /// For each pair of faces that share an edge and lie in one plane (a face of four), the
+  /// two triangles of its other diagonal, appended to faces_ after the hull's.
+  void addOtherDiagonals();
+  /// Adds to out the gains of p in the other diagonal's triangle of face f's face of four.
+  void addOtherSplit(size_t f, const Vec& p, std::span<float> out) const;
 
   std::vector<Vec> speakers_;  ///< unit vectors, then the imaginary ones
   size_t real_ = 0;
   bool planar_ = false;
   std::vector<std::array<int, 3>> faces_;
   std::vector<std::array<double, 9>> inverses_;  ///< L^-1 per face, row-major
+  size_t hullFaces_ = 0;         ///< faces_[0, hullFaces_): the hull's; then other diagonals' pairs
+  std::vector<int> otherSplit_;  ///< per hull face: its other diagonal's first triangle, or -1
 };
 
 }  // namespace dpc::audio

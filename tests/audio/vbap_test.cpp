@@ -95,3 +95,49 @@ TEST_CASE("VBAP: NaN angles and loudspeakers within 1 degree are refused") {
   CHECK_THROWS_AS(Vbap(Angles{{std::nan(""), 0}, {-30, 0}}), std::invalid_argument);
   CHECK_THROWS_AS(Vbap(Angles{{0, 0}}), std::invalid_argument);
 }
+
+TEST_CASE("VBAP: a layout symmetric left to right pans mirrored directions mirrored") {
+  // Oracle: symmetry. 7.1.4's four rear loudspeakers (+-135 at 0 and 30 degrees) are
+  // coplanar: a hull face of four, which one diagonal alone would split unevenly (a source
+  // straight behind at 15 degrees up leaned 1.6 dB to the right). Mirroring a direction in
+  // the median plane (y -> -y) must swap each left loudspeaker's gain with its right one's,
+  // and the gains must still point at the direction (sum g_i l_i parallel to it: VBAP's
+  // definition). 4000 random directions; float rounding 1e-5.
+  const Angles& layout = k714;
+  const Vbap v(layout);
+  auto mirrorOf = [&](size_t s) {
+    for (size_t m = 0; m < layout.size(); ++m)
+      if (layout[m][0] == -layout[s][0] && layout[m][1] == layout[s][1]) return m;
+    return s;
+  };
+  std::mt19937 rng(11);
+  std::normal_distribution<float> n;
+  for (int i = 0; i < 4000; ++i) {
+    const float d[3] = {n(rng), n(rng), n(rng)};
+    const float e[3] = {d[0], -d[1], d[2]};
+    std::array<float, 64> g{}, h{};
+    v.gains(d, g);
+    v.gains(e, h);
+    std::array<double, 3> sum{};
+    for (size_t s = 0; s < layout.size(); ++s) {
+      INFO("direction " << d[0] << " " << d[1] << " " << d[2] << ", loudspeaker " << s);
+      CHECK(g[s] == Approx(h[mirrorOf(s)]).margin(1e-5));
+      const auto l = dirOf(layout[s][0], layout[s][1]);
+      for (int k = 0; k < 3; ++k) sum[size_t(k)] += double(g[s]) * l[size_t(k)];
+    }
+    // Between the horizon and 20 degrees up only real loudspeakers' faces lie (7.1.4 closes
+    // its hull with an imaginary nadir and zenith, whose gain is dropped).
+    if (d[2] >= 0.f && d[2] < 0.34f * std::hypot(d[0], d[1])) {
+      const double len = std::sqrt(double(d[0]) * d[0] + double(d[1]) * d[1] + double(d[2]) * d[2]);
+      const double sl = std::sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
+      const double cosine = (sum[0] * d[0] + sum[1] * d[1] + sum[2] * d[2]) / (len * sl);
+      CHECK(cosine == Approx(1.0).margin(1e-5));
+    }
+  }
+  // Straight behind at 15 degrees up: left and right alike.
+  std::array<float, 64> g{};
+  const auto behind = dirOf(180, 15);
+  v.gains(behind.data(), g);
+  CHECK(g[3] == Approx(g[4]).margin(1e-6));   // +-135 at 0
+  CHECK(g[9] == Approx(g[10]).margin(1e-6));  // +-135 at 30
+}

@@ -45,7 +45,7 @@
 #include "engine/propagation.h"
 #include "engine/reflection_scattering.h"
 #include "engine/sh_energy_response.h"
-#include "engine/specular_paths.h"
+#include "engine/specular_path_cache.h"
 #include "engine/tracer.h"
 #include "scene/orientation.h"
 #include "scene/scene.h"

@@ -11,7 +11,7 @@
 #include "common/random.h"
 #include "engine/embree_tracer.h"
 #include "engine/geometry.h"
-#include "engine/specular_paths.h"
+#include "engine/specular_path_cache.h"
 #include "testing/test_scenes.h"
 
 using namespace dpc;

@@ -115,30 +115,38 @@ void Vbap::buildHull() {
 void Vbap::addOtherDiagonals() {
   hullFaces_ = faces_.size();
   otherSplit_.assign(hullFaces_, -1);
+  auto has = [](const std::array<int, 3>& face, int s) {
+    return std::find(face.begin(), face.end(), s) != face.end();
+  };
   for (size_t f = 0; f < hullFaces_; ++f)
     for (size_t h = f + 1; h < hullFaces_; ++h) {
       const auto& a = faces_[f];
       const auto& b = faces_[h];
-      int shared = 0, c = -1, d = -1;
-      for (int x : a) shared += std::count(b.begin(), b.end(), x) ? 1 : (c = x, 0);
-      for (int x : b)
-        if (!std::count(a.begin(), a.end(), x)) d = x;
-      if (shared != 2 || size_t(std::max({a[0], a[1], a[2], d})) >= real_) continue;
+      // c: a's vertex off the shared edge, d: b's; the other diagonal is c-d.
+      const auto c = std::find_if(a.begin(), a.end(), [&](int s) { return !has(b, s); });
+      const auto d = std::find_if(b.begin(), b.end(), [&](int s) { return !has(a, s); });
+      if (std::count_if(a.begin(), a.end(), [&](int s) { return has(b, s); }) != 2) continue;
+      if (size_t(std::max({a[0], a[1], a[2], *d})) >= real_) continue;  // real loudspeakers only
       const Vec& o = speakers_[size_t(a[0])];
       const Vec normal = cross(sub(speakers_[size_t(a[1])], o), sub(speakers_[size_t(a[2])], o));
-      const Vec toD = sub(speakers_[size_t(d)], o);
+      const Vec toD = sub(speakers_[size_t(*d)], o);
       if (std::abs(dot(normal, toD)) > 1e-9 * std::sqrt(dot(normal, normal) * dot(toD, toD)))
         continue;  // not one plane
-      const int first = int(faces_.size());
+      std::array<std::array<int, 3>, 2> split{};
+      std::array<std::array<double, 9>, 2> inv{};
+      int k = 0;
       for (int e : a)
-        if (e != c) {
-          std::array<double, 9> inv{};
-          if (!invert(speakers_[size_t(c)], speakers_[size_t(d)], speakers_[size_t(e)], inv))
-            return;
-          faces_.push_back({c, d, e});
-          inverses_.push_back(inv);
-        }
-      otherSplit_[f] = otherSplit_[h] = first;
+        if (e != *c) split[size_t(k)] = {*c, *d, e}, ++k;
+      bool ok = true;
+      for (size_t t = 0; t < 2; ++t)
+        ok = ok && invert(speakers_[size_t(split[t][0])], speakers_[size_t(split[t][1])],
+                          speakers_[size_t(split[t][2])], inv[t]);
+      if (!ok) continue;
+      otherSplit_[f] = otherSplit_[h] = int(faces_.size());
+      for (size_t t = 0; t < 2; ++t) {
+        faces_.push_back(split[t]);
+        inverses_.push_back(inv[t]);
+      }
     }
 }
 

@@ -5,7 +5,6 @@
 #include <cmath>
 #include <fstream>
 #include <glm/geometric.hpp>
-#include <glm/gtc/quaternion.hpp>
 #include <glm/vector_relational.hpp>
 #include <sstream>
 
@@ -14,7 +13,6 @@
 #include "engine/embree_tracer.h"
 #include "engine/setup_check.h"
 #include "scene/limits.h"
-#include "scene/trajectory.h"
 #include "scene/validate.h"
 
 namespace dpc::bake {
@@ -58,23 +56,6 @@ Placement place(const Tracer& tracer, const glm::vec3& p, float radius, float ai
   return Placement::kKept;
 }
 
-/// The static mesh with every moving object's mesh in its pose at t = 0, where the bake's
-/// traces have it.
-Mesh placementMesh(const SceneDesc& scene) {
-  Mesh mesh = scene.mesh;
-  for (const ObjectDesc& o : scene.objects) {
-    const Pose pose = objectPoseAt(o, 0.0);
-    const auto base = uint32_t(mesh.vertices.size());
-    for (const glm::vec3& v : o.mesh.vertices)
-      mesh.vertices.push_back(pose.rotation * v + pose.position);
-    for (const auto& t : o.mesh.triangles)
-      mesh.triangles.push_back({base + t[0], base + t[1], base + t[2]});
-    mesh.materialIndex.insert(mesh.materialIndex.end(), o.mesh.materialIndex.begin(),
-                              o.mesh.materialIndex.end());
-  }
-  return mesh;
-}
-
 void count(ProbeGrid& grid, Placement p, const glm::vec3& position) {
   switch (p) {
     case Placement::kKept: grid.positions.push_back(position); break;
@@ -94,7 +75,8 @@ ProbeGrid placeProbes(const SceneDesc& scene, const std::vector<glm::vec3>& cand
     for (int k = 0; k < 3; ++k)
       checkField("position", double(p[k]), Origin{sceneFile, {}},
                  field + ": probe coordinate " + "xyz"[k]);
-  const EmbreeTracer tracer(placementMesh(scene));
+  // Moving objects stand at their first keyframe's pose, where the bake's traces have them.
+  const EmbreeTracer tracer(scene.mesh, scene.objects);
   const float side = airSide(scene.mesh);
   ProbeGrid grid;
   for (const glm::vec3& p : candidates) count(grid, place(tracer, p, radius, side), p);

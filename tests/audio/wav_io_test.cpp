@@ -39,6 +39,17 @@ struct TempDir {
   std::string file(const std::string& name) const { return (path / name).string(); }
 };
 
+/// Writes `channels` at 48 kHz as `format` to dir's file `name`; returns its path.
+std::string writeIn(const TempDir& dir, const std::string& name,
+                    std::vector<std::vector<float>> channels, SampleFormat format) {
+  const std::string path = dir.file(name);
+  AudioData a;
+  a.sampleRate = 48000;
+  a.channels = std::move(channels);
+  writeWav(path, a, format);
+  return path;
+}
+
 /// Overwrites the size field of the WAV's data chunk with `size` (little-endian host) and
 /// returns the byte offset of the chunk's "data" tag; the samples follow 8 bytes after it.
 size_t setDataSize(const std::string& path, uint32_t size) {
@@ -166,12 +177,9 @@ TEST_CASE("a non-WAV file and an empty file are refused") {
 }
 
 TEST_CASE("a WAV cut short of its data chunk is refused, a streamed size of ~0 is read") {
-  TempDir dir;
-  const std::string path = dir.file("cut.wav");
-  AudioData a;
-  a.sampleRate = 48000;
-  a.channels = {std::vector<float>(1000, 0.25f)};
-  writeWav(path, a, SampleFormat::kPcm16);  // 44-byte header, 2000 bytes of samples
+  TempDir dir;  // 44-byte header, 2000 bytes of samples
+  const std::string path =
+      writeIn(dir, "cut.wav", {std::vector<float>(1000, 0.25f)}, SampleFormat::kPcm16);
   REQUIRE(fs::file_size(path) == 2044);
   fs::resize_file(path, 1044);
   CHECK_THROWS_WITH(readWav(path),
@@ -192,11 +200,9 @@ TEST_CASE("a WAV whose data chunk ends in a partial frame is refused") {
        {std::pair{SampleFormat::kPcm16, 2}, std::pair{SampleFormat::kPcm24, 3},
         std::pair{SampleFormat::kFloat32, 4}}) {
     TempDir dir;
-    const std::string path = dir.file("partial.wav");
-    AudioData a;
-    a.sampleRate = 48000;
-    a.channels = {std::vector<float>(1000, 0.25f), std::vector<float>(1000, -0.25f)};
-    writeWav(path, a, format);
+    const std::string path =
+        writeIn(dir, "partial.wav",
+                {std::vector<float>(1000, 0.25f), std::vector<float>(1000, -0.25f)}, format);
     const uint32_t size = 1000 * 2 * bytes - bytes;
     const size_t data = setDataSize(path, size);
     REQUIRE(fs::file_size(path) == data + 8 + 1000 * 2 * bytes);
@@ -214,11 +220,8 @@ TEST_CASE("a pad byte counted in a WAV's data size is not a partial frame") {
   // 24-bit mono, 999 frames: 2,997 bytes of data and the pad byte RIFF puts after odd-sized
   // chunks. A writer that counts the pad in the size (2,998) made a file libsndfile reads whole.
   TempDir dir;
-  const std::string path = dir.file("pad.wav");
-  AudioData a;
-  a.sampleRate = 48000;
-  a.channels = {std::vector<float>(999, 0.25f)};
-  writeWav(path, a, SampleFormat::kPcm24);
+  const std::string path =
+      writeIn(dir, "pad.wav", {std::vector<float>(999, 0.25f)}, SampleFormat::kPcm24);
   const size_t data = setDataSize(path, 2998);
   if (fs::file_size(path) == data + 8 + 2997) fs::resize_file(path, data + 8 + 2998);  // the pad
   CHECK(readWav(path).frames() == 999);

@@ -194,8 +194,9 @@ class LiveSession {
   using Responses = ResponseSnapshot::Responses;
   /// Any thread but the audio thread: calls f with the newest responses of `source` while
   /// holding the snapshot lock (the propagation thread skips its copy rather than wait for
-  /// it). Returns false, without calling f, before the first frame or for a bad index.
-  /// Allocates nothing itself (f is called directly, not through a type-erased wrapper).
+  /// it, but waits once it skipped the frame before: ResponseSnapshot). Returns false, without
+  /// calling f, before the first frame or for a bad index. Allocates nothing itself (f is called
+  /// directly, not through a type-erased wrapper).
   template <class F>
   bool copyResponses(size_t source, F&& f) {
     return snapshot_.read(source, std::forward<F>(f));

@@ -33,7 +33,16 @@ void ResponseSnapshot::storeEnergy(const PropagationStage& stage, size_t s, size
 bool ResponseSnapshot::tryStore(const PropagationStage& stage, const WorldState& world,
                                 size_t listener, uint64_t frame) {
   std::unique_lock<std::mutex> lock(mutex_, std::try_to_lock);
-  if (!lock.owns_lock()) return false;
+  if (!lock.owns_lock()) {
+    if (!skippedLast_) {
+      skippedLast_ = true;
+      return false;
+    }
+    writerWaiting_.store(true, std::memory_order_release);
+    lock.lock();
+    writerWaiting_.store(false, std::memory_order_release);
+  }
+  skippedLast_ = false;
   const Simulation& sim = stage.simulation();
   if (withIrs_) {
     stage.wholeIrsInto(listener, irs_);

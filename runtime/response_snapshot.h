@@ -1,12 +1,17 @@
 // ResponseSnapshot: the newest frame's responses of one listener, copied by the propagation
 // thread after each frame for readers on other threads (the C API's copy functions, tests).
-// The writer only tries the lock: a reader holding it makes that frame skip its copy, so a
-// reader never delays propagation. The audio thread must not read it.
+// The writer tries the lock first: a reader holding it makes that frame skip its copy, so a
+// reader rarely delays propagation. A reader holding it at the next store too makes the
+// writer wait for it (and later readers wait for the writer), so a reader that copies without
+// pause cannot keep the snapshot at an old frame: at most every other frame is skipped, and
+// the writer waits at most one reader's copy. The audio thread must not read it.
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <mutex>
+#include <thread>
 #include <vector>
 
 #include "common/bands.h"
@@ -51,8 +56,9 @@ class ResponseSnapshot {
 
   /// Propagation thread, after stage.prepare(listener): copies listener's IRs (when kept) and
   /// energy responses (direct sound added into its bin; a pair played from the bake: the
-  /// bake's interpolated response) and the frame's `world` unless a reader holds the lock.
-  /// Returns whether it copied. Allocates only while the copies grow: the buffers are reused,
+  /// bake's interpolated response) and the frame's `world`. Skips the copy when a reader holds
+  /// the lock, unless the previous store skipped too: then waits for that reader. Returns
+  /// whether it copied. Allocates only while the copies grow: the buffers are reused,
   /// so a frame does not allocate and fault in its IRs' size of fresh memory again.
   bool tryStore(const PropagationStage& stage, const WorldState& world, size_t listener,
                 uint64_t frame);
@@ -60,8 +66,10 @@ class ResponseSnapshot {
   /// Any thread but the audio thread: calls f(const Responses&) with the newest responses of
   /// `source` while holding the lock. Returns false, without calling f, before the first
   /// store or for a bad index. Allocates nothing itself (f is called directly).
+  /// Yields while the writer waits for the lock, so that readers in turn cannot hold it off.
   template <class F>
   bool read(size_t source, F&& f) {
+    while (writerWaiting_.load(std::memory_order_acquire)) std::this_thread::yield();
     std::lock_guard<std::mutex> lock(mutex_);
     if (!valid_ || source >= irs_.size()) return false;
     f(Responses{&irs_[source], &energy_[source].bins(), binSeconds_, frame_, &direct_[source],
@@ -77,6 +85,8 @@ class ResponseSnapshot {
   void storeEnergy(const PropagationStage& stage, size_t s, size_t listener);
 
   std::mutex mutex_;
+  std::atomic<bool> writerWaiting_{false};  ///< the writer blocks on mutex_: readers hold off
+  bool skippedLast_ = false;                ///< writer only: the previous store was skipped
   std::vector<ImpulseResponse> irs_;        ///< [source]
   std::vector<EnergyResponse> energy_;                ///< [source]
   std::vector<DirectSound> direct_;                   ///< [source]

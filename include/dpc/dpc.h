@@ -397,8 +397,10 @@ DPC_API dpc_status dpc_engine_stop(dpc_engine* engine);
 DPC_API dpc_status dpc_engine_step(dpc_engine* engine);
 
 /** Any thread except the audio thread (it may wait briefly for a lock the propagation thread
- *  holds while it copies; the propagation thread never waits for it). Copies the pressure
- *  impulse response of the newest propagation frame for `source` (scene order) and output
+ *  holds while it copies; the propagation thread skips a frame's copy rather than wait for
+ *  a copy in progress, but at most every other frame, so a reader that copies without pause
+ *  still sees every other frame or newer). Copies the pressure impulse response of the
+ *  newest propagation frame for `source` (scene order) and output
  *  channel `channel` (< dpc_engine_ir_channels) into out[0..capacity): linear pressure
  *  per sample at dpc_engine_sample_rate(), sample 0 = emission time; its energy per octave
  *  band follows the energy response (dpc_engine_copy_energy_response). *length (if not NULL)

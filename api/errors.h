@@ -33,12 +33,21 @@ bool checkArgument(const char* function, const char* argument, std::string_view 
 dpc_status checkIndex(const char* function, const char* argument, int index, int count,
                       const char* what);
 
+/// A NULL pointer inside a caller's struct where its count says there is data (the caller's
+/// mistake in calling, not in the scene): DPC_ERR_INVALID_ARGUMENT, worded as an InputError.
+struct NullArgument : dpc::InputError {
+  using dpc::InputError::InputError;
+};
+
 /// Control thread: runs f (returning a dpc_status), turning its exceptions into status codes and
-/// the thread's last-error text: InputError is DPC_ERR_INPUT, anything else DPC_ERR_INTERNAL.
+/// the thread's last-error text: NullArgument is DPC_ERR_INVALID_ARGUMENT, any other InputError
+/// DPC_ERR_INPUT, anything else DPC_ERR_INTERNAL.
 template <class F>
 dpc_status guarded(F&& f) {
   try {
     return f();
+  } catch (const NullArgument& e) {
+    return fail(DPC_ERR_INVALID_ARGUMENT, e.what());
   } catch (const dpc::InputError& e) {
     return fail(DPC_ERR_INPUT, e.what());
   } catch (const std::bad_alloc&) {

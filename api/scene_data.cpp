@@ -25,12 +25,18 @@ namespace {
   throw InputError("dpc_scene_data", field, problem);
 }
 
+// The same for a NULL pointer where a count says there is data: DPC_ERR_INVALID_ARGUMENT.
+[[noreturn]] void nullField(const std::string& field, const std::string& problem) {
+  throw NullArgument("dpc_scene_data", field, "NULL with " + problem);
+}
+
 glm::vec3 vec3(const float* p) {
   return glm::vec3(p[0], p[1], p[2]);
 }
 
 void materialsFromData(const dpc_scene_data& d, SceneDesc& scene) {
-  if (d.material_count < 1 || !d.materials) bad("materials", "at least one material is required");
+  if (d.material_count < 1) bad("material_count", "at least one material is required");
+  if (!d.materials) nullField("materials", "material_count " + std::to_string(d.material_count));
   for (int i = 0; i < d.material_count; ++i) {
     const dpc_material& m = d.materials[i];
     Material mat;
@@ -46,8 +52,12 @@ void materialsFromData(const dpc_scene_data& d, SceneDesc& scene) {
 
 // The mesh as given (validate() checks its indices), then cleaned by the one mesh builder.
 void meshFromData(const dpc_mesh& mesh, Mesh& out) {
-  if (mesh.triangle_count == 0 || !mesh.vertices || !mesh.indices || !mesh.materials)
-    bad("mesh", "vertices, indices and materials are required, with triangle_count > 0");
+  if (mesh.triangle_count == 0) bad("mesh.triangle_count", "at least one triangle is required");
+  const std::string counts = "triangle_count " + std::to_string(mesh.triangle_count);
+  if (!mesh.indices) nullField("mesh.indices", counts);
+  if (!mesh.materials) nullField("mesh.materials", counts);
+  if (!mesh.vertices && mesh.vertex_count > 0)
+    nullField("mesh.vertices", "vertex_count " + std::to_string(mesh.vertex_count));
   for (uint32_t v = 0; v < mesh.vertex_count; ++v)
     out.vertices.push_back(vec3(mesh.vertices + 3 * size_t(v)));
   for (uint32_t t = 0; t < mesh.triangle_count; ++t) {
@@ -78,7 +88,8 @@ void directivityFromData(const dpc_source_directivity& d, int i, SourceDesc& src
 }
 
 void sourcesFromData(const dpc_scene_data& d, const Origin& origin, SceneDesc& scene) {
-  if (d.source_count < 1 || !d.sources) bad("sources", "at least one source is required");
+  if (d.source_count < 1) bad("source_count", "at least one source is required");
+  if (!d.sources) nullField("sources", "source_count " + std::to_string(d.source_count));
   checkField("sources", d.source_count, origin);
   for (int i = 0; i < d.source_count; ++i) {
     const dpc_source& s = d.sources[i];
@@ -88,7 +99,8 @@ void sourcesFromData(const dpc_scene_data& d, const Origin& origin, SceneDesc& s
     src.position = vec3(s.position);
     src.gainDb = s.gain_db;
     src.loop = s.loop != 0;
-    if (!s.signal && s.signal_frames > 0) bad(f + ".signal", "NULL with signal_frames > 0");
+    if (!s.signal && s.signal_frames > 0)
+      nullField(f + ".signal", "signal_frames " + std::to_string(s.signal_frames));
     for (size_t n = 0; n < s.signal_frames; ++n)
       if (const std::string why = sampleProblem(s.signal[n]); !why.empty())
         bad(f + ".signal", "sample " + std::to_string(n) + " " + why);
@@ -100,7 +112,8 @@ void sourcesFromData(const dpc_scene_data& d, const Origin& origin, SceneDesc& s
 void listenersFromData(const dpc_scene_data& d, const Origin& origin, SceneDesc& scene) {
   checkField("listeners", 1.0 + d.additional_listener_count, origin);
   if (d.additional_listener_count > 0 && !d.additional_listeners)
-    bad("additional_listeners", "NULL with additional_listener_count > 0");
+    nullField("additional_listeners",
+              "additional_listener_count " + std::to_string(d.additional_listener_count));
   dpc_listener first{};
   std::memcpy(first.position, d.listener_position, sizeof first.position);
   first.radius = d.listener_radius;

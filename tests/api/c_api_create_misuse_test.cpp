@@ -47,9 +47,12 @@ std::vector<Misuse> dataCases() {
        "out is NULL"},
       {"struct_size 0", DPC_ERR_VERSION, create([](B&, D& d) { d.struct_size = 0; }),
        "struct_size"},
-      {"vertices NULL", kInput, create([](B&, D& d) { d.mesh.vertices = nullptr; }), "mesh"},
-      {"indices NULL", kInput, create([](B&, D& d) { d.mesh.indices = nullptr; }), "mesh"},
-      {"materials NULL", kInput, create([](B&, D& d) { d.mesh.materials = nullptr; }), "mesh"},
+      {"vertices NULL", kBad, create([](B&, D& d) { d.mesh.vertices = nullptr; }),
+       "mesh.vertices: NULL with vertex_count 8"},
+      {"indices NULL", kBad, create([](B&, D& d) { d.mesh.indices = nullptr; }),
+       "mesh.indices: NULL with triangle_count 12"},
+      {"materials NULL", kBad, create([](B&, D& d) { d.mesh.materials = nullptr; }),
+       "mesh.materials: NULL with triangle_count 12"},
       {"index == vertex_count", kInput, create([](B& b, D& d) {
          b.indices[5] = 8;
          d.mesh.indices = b.indices.data();
@@ -69,33 +72,32 @@ std::vector<Misuse> dataCases() {
        "mesh.materials[3]"},
       {"material_count 0", kInput, create([](B&, D& d) { d.material_count = 0; }), "material"},
       {"material_count -1", kInput, create([](B&, D& d) { d.material_count = -1; }), "material"},
-      {"materials pointer NULL", kInput, create([](B&, D& d) { d.materials = nullptr; }),
-       "materials"},
-      {"source_count 0", kInput, create([](B&, D& d) { d.source_count = 0; }), "sources"},
-      {"source_count -1", kInput, create([](B&, D& d) { d.source_count = -1; }), "sources"},
+      {"materials pointer NULL", kBad, create([](B&, D& d) { d.materials = nullptr; }),
+       "materials: NULL with material_count 1"},
+      {"source_count 0", kInput, create([](B&, D& d) { d.source_count = 0; }), "source_count"},
+      {"source_count -1", kInput, create([](B&, D& d) { d.source_count = -1; }), "source_count"},
       {"source_count INT_MAX", kInput, create([](B&, D& d) { d.source_count = INT_MAX; }),
        "sources"},
-      {"sources NULL", kInput, create([](B&, D& d) { d.sources = nullptr; }), "sources"},
-      {"signal sample 1e38", kInput,
-       create([](B& b, D& d) {
+      {"sources NULL", kBad, create([](B&, D& d) { d.sources = nullptr; }),
+       "sources: NULL with source_count 1"},
+      {"signal sample 1e38", kInput, create([](B& b, D& d) {
          static const float loud[2] = {0.5f, 1e38f};
          b.sources[0].signal = loud;
          b.sources[0].signal_frames = 2;
          d.sources = b.sources.data();
        }),
        "sources[0].signal: sample 1 is 1e+38, beyond +-1e+06"},
-      {"source_count 257", kInput,
-       create([](B& b, D& d) {
+      {"source_count 257", kInput, create([](B& b, D& d) {
          b.sources.resize(257, b.sources.front());
          d.sources = b.sources.data();
          d.source_count = 257;
        }),
        "sources: 257"},
-      {"signal NULL with frames", kInput, create([](B& b, D& d) {
+      {"signal NULL with frames", kBad, create([](B& b, D& d) {
          b.sources[0].signal_frames = 100;
          d.sources = b.sources.data();
        }),
-       "sources[0]"},
+       "sources[0].signal: NULL with signal_frames 100"},
   };
 }
 
@@ -134,8 +136,9 @@ std::vector<Misuse> dataValueCases() {
        "listeners"},
       {"additional listeners -1", kInput,
        create([](B&, D& d) { d.additional_listener_count = -1; }), "additional_listener_count"},
-      {"additional listeners NULL with count 1", kInput,
-       create([](B&, D& d) { d.additional_listener_count = 1; }), "additional_listeners"},
+      {"additional listeners NULL with count 1", kBad,
+       create([](B&, D& d) { d.additional_listener_count = 1; }),
+       "additional_listeners: NULL with additional_listener_count 1"},
       {"output 99", kInput, create([](B&, D& d) { d.output = dpc_output_format(99); }), "output"},
   };
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "common/durations.h"
 #include "common/spherical_harmonics.h"
 
 namespace dpc {
@@ -15,7 +16,7 @@ ShEnergyResponse::ShEnergyResponse(int order, double lengthSeconds, double binSe
     throw std::invalid_argument("ShEnergyResponse: order 0..7, length and bin width > 0");
   channels_ = size_t(ambisonicChannels(order));
   invBin_ = 1.0 / binSeconds;
-  bins_ = size_t(std::ceil(lengthSeconds / binSeconds - 1e-9));
+  bins_ = stepsCovering(lengthSeconds, binSeconds);
   data_.assign(bins_ * channels_ * kNumBands, 0.f);
 }
 

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <stdexcept>
 
+#include "common/durations.h"
 #include "common/fftw_util.h"
 #include "synthesis/arrival_placer.h"
 #include "synthesis/band_envelope.h"
@@ -26,7 +27,7 @@ IrSynthesizer::IrSynthesizer(int sampleRate, double lengthSeconds, double roomVo
   if (sampleRate <= 0 || !(lengthSeconds > 0.0) || !(roomVolume > 0.0) || !(speedOfSound > 0.0) ||
       !std::isfinite(lengthSeconds) || !std::isfinite(roomVolume) || !std::isfinite(speedOfSound))
     throw std::invalid_argument("IrSynthesizer: rate, length, volume and c must be finite, > 0");
-  length_ = size_t(std::ceil(lengthSeconds * sampleRate));
+  length_ = stepsCovering(lengthSeconds, 1.0 / sampleRate);
   const size_t margin = bandFilterTaps(sampleRate);
   FftwRealTransforms fft(bandFftSize());
   std::vector<float> seq =

@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 #include <stdexcept>
 
+#include "common/durations.h"
 #include "common/random.h"
 #include "synthesis/band_leveller.h"
 #include "synthesis/dirac_sequence.h"
@@ -35,7 +36,7 @@ SpatialIrSynthesizer::SpatialIrSynthesizer(int sampleRate, double lengthSeconds,
   const size_t margin = bandFilterTaps(sampleRate);
   channels_ = filters[0].channels.size();
   const size_t maxFilter = longestFilter(filters, channels_, margin);
-  length_ = size_t(std::ceil(lengthSeconds * sampleRate));
+  length_ = stepsCovering(lengthSeconds, 1.0 / sampleRate);
   FftwRealTransforms big(nextPow2(length_ + margin + maxFilter));
   const OctaveBandMasks masks(sampleRate, big.n);
   filterData_ = BandFilterData::compute(masks, big.n);

@@ -243,4 +243,23 @@ void checkGltfImageUri(const std::string& file, const std::string& field, const 
     (void)levelFile(file, field, uri, false);
 }
 
+std::vector<std::filesystem::path> gltfReferencedFiles(const std::string& file) {
+  const GltfJson level = readGltfJson(file);
+  std::vector<std::filesystem::path> files;
+  for (const char* array : {"buffers", "images"}) {
+    const json* entries = JsonReader::find(level.doc, array);
+    if (!entries || !entries->is_array()) continue;
+    for (const json& entry : *entries) {
+      const json* uri = entry.is_object() ? JsonReader::find(entry, "uri") : nullptr;
+      if (!uri || !uri->is_string() || uri->get_ref<const std::string&>().starts_with("data:"))
+        continue;
+      try {
+        files.push_back(levelFile(file, array, uri->get<std::string>(), false));
+      } catch (const InputError&) {
+      }  // refused when the level is loaded
+    }
+  }
+  return files;
+}
+
 }  // namespace dpc

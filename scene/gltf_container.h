@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace dpc {
 
@@ -48,6 +49,12 @@ uint64_t gltfBufferBytes(const std::string& file, const std::string& field,
 /// Checks an image's URI: a data: URI of an image media type, or a path that levelFile accepts
 /// (it need not exist: dpc never reads images). `field` is "images[i].uri".
 void checkGltfImageUri(const std::string& file, const std::string& field, const std::string& uri);
+
+/// The files that level `file` (.gltf or .glb) names in its buffers' and images' URIs, each
+/// resolved as levelFile resolves it (not data: URIs; a URI levelFile refuses is left out, as
+/// loading the level refuses it). For the list of a run's inputs, which no output may
+/// overwrite. Throws InputError when the level's JSON cannot be read.
+std::vector<std::filesystem::path> gltfReferencedFiles(const std::string& file);
 
 /// The file a URI of level `file` names: percent-decoded (RFC 3986), relative to the level's
 /// folder. Refuses a URI with a scheme (http:, ftp:, file:, ...: dpc never fetches, and never

@@ -5,6 +5,7 @@
 #include "scene/scene.h"
 
 #include "common/input_error.h"
+#include "scene/gltf_container.h"
 
 namespace dpc {
 
@@ -19,11 +20,24 @@ size_t listenerIndex(const SceneDesc& scene, const std::string& name, const std:
       "no listener named \"" + name + "\"" + " in " + scene.path + " (listeners: " + known + ")");
 }
 
+namespace {
+
+/// A mesh file and, for a glTF level, the buffer and image files it names.
+void addMesh(const std::string& path, const std::string& what,
+             std::vector<std::pair<std::string, std::string>>& inputs) {
+  inputs.push_back({path, what});
+  if (!isGltfFile(path)) return;
+  for (const auto& file : gltfReferencedFiles(path))
+    inputs.push_back({file.string(), "a file of " + what + " (" + path + ")"});
+}
+
+}  // namespace
+
 std::vector<std::pair<std::string, std::string>> sceneInputFiles(const SceneDesc& scene,
                                                                  const std::string& scenePath) {
-  std::vector<std::pair<std::string, std::string>> inputs = {{scenePath, "the scene file"},
-                                                             {scene.meshPath, "the mesh"}};
-  for (const auto& obj : scene.objects) inputs.push_back({obj.meshPath, "an object's mesh"});
+  std::vector<std::pair<std::string, std::string>> inputs = {{scenePath, "the scene file"}};
+  addMesh(scene.meshPath, "the mesh", inputs);
+  for (const auto& obj : scene.objects) addMesh(obj.meshPath, "an object's mesh", inputs);
   for (const auto& src : scene.sources) inputs.push_back({src.signalPath, "a dry signal"});
   if (!scene.audio.hrtfPath.empty()) inputs.push_back({scene.audio.hrtfPath, "the SOFA file"});
   // layout:FILE.json is read; a preset's name ("7.1") is not, and matches an output only if a

@@ -234,6 +234,12 @@ CASES = {
                                     'shoebox.glb: animation "swing": moves node "room", which the scene does not name'),
     "gltf_animation_node_out_of_range": (gltf_level(gltf_door_on_node_9), OFF,
                                          "shoebox.glb: animations[0].channels[0].target.node: animation \"swing\": 9 is not an index of nodes"),
+    # A .gltf level's buffer file is an input like the mesh: --offline replaced it (exit 0).
+    "offline_is_gltf_buffer": (gltf_level(no_edit, "shoebox.gltf"),
+                               ["shoebox.json", "--offline", "shoebox.bin", "--duration", "0.2"],
+                               "--offline: 'shoebox.bin' is a file of the mesh (shoebox.gltf); refusing to overwrite it"),
+    "ir_out_is_gltf_buffer": (gltf_level(no_edit, "shoebox.gltf"), OFF + ["--ir-out", "shoebox.bin"],
+                              "--ir-out: 'shoebox.bin' is a file of the mesh (shoebox.gltf)"),
     "gltf_buffer_is_device": (gltf_level(no_edit, "shoebox.gltf", buffer_uri="/dev/zero"),
                               OFF, "shoebox.gltf: buffers[0].uri: '/dev/zero' is an absolute path"),
     "gltf_buffer_is_fifo": (steps(fifo("f.bin"), gltf_level(no_edit, "shoebox.gltf", buffer_uri="f.bin")),

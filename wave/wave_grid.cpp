@@ -23,7 +23,12 @@ uint16_t traceFace(const GridLayout& g, const Tracer& tracer, const Geometry& ge
   const glm::dvec3 from = g.centre(at[0], at[1], at[2]);
   glm::vec3 dir(0.f);
   dir[axis] = 1.f;
-  TraceRay ray{glm::vec3(from), dir, 0.f, float(g.spacing[axis])};
+  // The segment to the neighbour, shifted forward by a ten-thousandth of a spacing: a surface
+  // through a node centre (a wall on a grid plane) lies at t = 0 of one face and t = spacing
+  // of the one below, where a ray's ends lose it to rounding; shifted, it closes the face
+  // below it, and only that one.
+  const float shift = 1e-4f * float(g.spacing[axis]);
+  TraceRay ray{glm::vec3(from), dir, shift, float(g.spacing[axis]) + shift};
   SurfaceHit hit;
   if (tracer.intersect(ray, hit)) return uint16_t(geometry.materialOf(hit.triangle) + 1);
   const size_t c = at[size_t(axis)];

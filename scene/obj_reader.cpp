@@ -67,17 +67,19 @@ std::string vertexReferenceProblem(const std::string& token) {
          " is not a vertex reference (v, v/vt, v//vn or v/vt/vn, each a whole number)";
 }
 
-/// An "f" line (p after "f "): refuses what tinyobjloader would read otherwise than written.
+/// An "f" line (p after "f"): refuses what tinyobjloader would read otherwise than written,
+/// and a face of fewer than 3 vertices (tinyobjloader drops a bare "f" without a word).
 void checkFaceIndices(const std::string& objFile, const char* p, size_t faceNo, size_t lineNo) {
+  const std::string field =
+      "face " + std::to_string(faceNo) + " (line " + std::to_string(lineNo) + ")";
   std::istringstream tokens(p);
   std::string token;
-  while (tokens >> token) {
+  int count = 0;
+  for (; tokens >> token; ++count) {
     const std::string problem = vertexReferenceProblem(token);
-    if (!problem.empty())
-      throw InputError(objFile,
-                       "face " + std::to_string(faceNo) + " (line " + std::to_string(lineNo) + ")",
-                       problem);
+    if (!problem.empty()) throw InputError(objFile, field, problem);
   }
+  if (count < 3) throw InputError(objFile, field, "a face needs at least 3 vertices");
 }
 
 /// One whitespace-delimited number at p (after blanks), its end in `end`; throws naming the
@@ -130,8 +132,8 @@ void readObjVertices(const std::string& objFile, const std::string& text, ObjDat
     ++lineNo;
     const char* p = line.c_str();
     p += std::strspn(p, " \t");
-    if (p[0] == 'f' && (p[1] == ' ' || p[1] == '\t')) {
-      checkFaceIndices(objFile, p + 2, ++faceNo, lineNo);
+    if (p[0] == 'f' && (p[1] == ' ' || p[1] == '\t' || p[1] == '\r' || p[1] == '\0')) {
+      checkFaceIndices(objFile, p + 1, ++faceNo, lineNo);
       continue;
     }
     if (p[0] != 'v' || (p[1] != ' ' && p[1] != '\t')) continue;

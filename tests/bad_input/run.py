@@ -150,6 +150,9 @@ CASES = {
     "obj_face_index_trailing_text": (obj_with("f 1 2x 5"), OFF, 'shoebox.obj: face 13 (line 29): "2x" is not a vertex reference'),
     "obj_face_index_word": (obj_with("f 1 a 5"), OFF, 'shoebox.obj: face 13 (line 29): "a" is not a vertex reference'),
     "obj_face_trailing_comment": (obj_with("f 1 2 5 # c"), OFF, 'shoebox.obj: face 13 (line 29): "#" is not a vertex reference'),
+    # A bare "f" (tinyobjloader calls no callback for it): a hole in the mesh, exit 0 before.
+    "obj_face_empty": (obj_with("f"), OFF, 'shoebox.obj: face 13 (line 29): a face needs at least 3 vertices'),
+    "obj_face_blank": (obj_with("f   "), OFF, 'shoebox.obj: face 13 (line 29): a face needs at least 3 vertices'),
     "obj_face_four_parts": (obj_with("f 1/1/1/1 2 5"), OFF, 'shoebox.obj: face 13 (line 29): "1/1/1/1" is not a vertex reference'),
     # Finding 9: unclear messages.
     "tau_inf": (nothing, OFF + ["--tau", "inf"], "--tau"),

@@ -106,6 +106,13 @@ SceneDesc loadWithOverrides(const Options& o) {
                          std::to_string(scene.sources.size()) + ")");
   if (o.seconds && !(*o.seconds > 0.0 && *o.seconds <= 60.0))
     throw InputError("command line", "--seconds", "must be in (0, 60] s");
+  // The IR's samples (wave::sceneWaveBand rounds the length to whole samples).
+  const double seconds = o.seconds.value_or(double(scene.propagation.irLength));
+  if (std::llround(seconds * scene.audio.sampleRate) < 1)
+    throw InputError(o.seconds ? "command line" : scene.path,
+                     o.seconds ? "--seconds" : "propagation.ir_length",
+                     valueText(seconds) + " s is shorter than one sample at " +
+                         std::to_string(scene.audio.sampleRate) + " Hz");
   return scene;
 }
 

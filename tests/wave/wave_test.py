@@ -511,6 +511,9 @@ def cli(build, tmp):
              ([box, '--out', out, '--max-frequency', '5000'], '--max-frequency'),
              ([box, '--out', out, '--grid-spacing', '2'], '--grid-spacing'),
              ([box, '--out', out, '--seconds', '0'], '--seconds'),
+             # In range, but no sample long: it ran the simulation and then blamed --out.
+             ([box, '--out', out, '--seconds', '1e-9'],
+              '--seconds: 1e-09 s is shorter than one sample'),
              ([box, '--out', box], '--out'),
              ([box, '--out', out, '--listener', 'nobody'], '--listener'),
              ([box, '--out', out, '--source', '-1'], '--source: -1 is not'),

@@ -78,7 +78,12 @@ void prepare(Run& run, const SceneDesc& scene, const WaveGrid& grid, const WaveP
   for (size_t r = 0; r < receivers.size(); ++r) {
     const auto s = stencilAt(grid, receivers[r].position);
     if (!s && allowUnreached) continue;
-    run.receivers.push_back(s ? *s : stencilOrThrow(grid, receivers[r], scene.path));
+    if (!s)
+      throw InputError(scene.path, receivers[r].field,
+                       "lies in no air the wave grid reaches from " + source.field +
+                           " (one of them is inside a wall or a solid, outside the mesh, or in "
+                           "a closed space apart from the other)");
+    run.receivers.push_back(*s);
     run.index.push_back(r);
   }
   run.in.receivers = run.receivers;
@@ -130,9 +135,10 @@ WaveBand simulateWaveBand(const SceneDesc& scene, const Tracer& tracer, const Ge
   const GridLayout layout = layoutFor(glm::dvec3(geometry.boundsMin()),
                                       glm::dvec3(geometry.boundsMax()), scene.wave.spacing(c),
                                       scene.path, scene.wave.spacingField());
-  std::vector<glm::vec3> seeds{source.position};
-  if (!options.allowUnreached)
-    for (const WavePoint& r : receivers) seeds.push_back(r.position);
+  // The air is what the source reaches: a receiver elsewhere (inside a solid, outside a
+  // closed mesh, in a room the source cannot reach) is refused, or skipped with
+  // allowUnreached, rather than simulated in air of its own, where it would hear nothing.
+  const std::vector<glm::vec3> seeds{source.position};
   WaveGrid grid = buildWaveGrid(layout, tracer, geometry, seeds);
   WaveBand out;
   WaveBandStats& st = out.stats;

@@ -55,10 +55,10 @@ struct WaveBandOptions {
   /// The processes sharing each simulation by slabs (wave/fdtd.h); null: this one alone.
   /// Every process gets the same IRs, bit for bit, whatever their number.
   SlabLink* link = nullptr;
-  /// False: a receiver in no air the grid reaches is an error (InputError), and the air is
-  /// flooded from the source and every receiver. True (a bake's probes): the air is flooded
-  /// from the source alone, and a receiver outside it gets no IR (WaveBand::reached 0, its IR
-  /// zeros) instead of an error.
+  /// The air is flooded from the source alone. False: a receiver outside it (inside a solid,
+  /// outside a closed mesh, in a room the source cannot reach) is an error (InputError naming
+  /// the receiver and the source). True (a bake's probes): such a receiver gets no IR
+  /// (WaveBand::reached 0, its IR zeros) instead.
   bool allowUnreached = false;
 };
 

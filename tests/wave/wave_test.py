@@ -46,6 +46,7 @@
 
   walls_on_nodes  a wall and a thin sheet in planes through node centres close the grid: the
               air flooded from the source is the room's volume within the staircase bound.
+  unreached   a listener inside a solid, or the source inside it: refused in one line.
   cli         dpc-wave's bad input: one line naming the flag, exit status 1, no file written.
 
     wave_test.py BUILD_DIR [modes|free_field|join|screen|slit|screen_controls|cli ...]
@@ -501,6 +502,28 @@ def walls_on_nodes(build, tmp):
                   '%.2f m^3 against %.2f (staircase bound %.1f)' % (what, h, air, volume, bound))
 
 
+def unreached(build, tmp):
+    """A listener the source's air does not reach is refused, not simulated in air of its own
+    (where it heard nothing: an all-zero IR with exit status 0): inside a closed 0.5 m solid
+    slab standing in a 6 x 3 x 4 m room, and the source inside it with the listener in the
+    room. One line naming the listener and the source, exit status 1, no file."""
+    room = {'walls': box_quads(0, 6, 0, 3, 0, 4), 'slab': box_quads(2.5, 3.0, 0.5, 2.5, 1.0, 3.0)}
+    inside, air = (2.75, 1.5, 2.0), (1.0, 1.5, 1.0)
+    exe = os.path.join(build, 'apps', 'dpc-wave')
+    for k, (source, listener) in enumerate(((air, inside), (inside, air))):
+        scene = oracle.write_mesh(tmp, 'unreached%d' % k, room, {'walls': 0.1, 'slab': 0.1},
+                                  [source], [listener], {'max_frequency': 150}, ir_length=0.1)
+        out = os.path.join(tmp, 'unreached%d.wav' % k)
+        done = subprocess.run([exe, scene, '--out', out, '--seconds', '0.05'],
+                              capture_output=True, text=True)
+        lines = done.stderr.strip().splitlines()
+        check(done.returncode == 1 and len(lines) == 1 and
+              'listeners[0].position: lies in no air the wave grid reaches from '
+              'sources[0].position' in lines[0] and not os.path.exists(out),
+              'dpc-wave, %s inside a solid: one line naming the listener and the source, '
+              'status 1, no file (%r)' % ('listener' if k == 0 else 'source', lines[:2]))
+
+
 def cli(build, tmp):
     """dpc-wave's bad input: one line naming the flag or field, exit status 1, no file."""
     box = oracle.write_box(tmp, 'cli', (3.0, 2.5, 2.0), {w: 0.1 for w in ('x-', 'x+', 'y-', 'y+',
@@ -604,7 +627,7 @@ def main():
         for name in which:
             {'modes': modes, 'free_field': free_field, 'join': join, 'cli': cli, 'stop': stop,
              'screen': screen, 'screen_controls': screen_controls, 'slit': slit,
-             'walls_on_nodes': walls_on_nodes}[name](build, tmp)
+             'walls_on_nodes': walls_on_nodes, 'unreached': unreached}[name](build, tmp)
     print('%d check(s) failed' % len(failures) if failures else 'all checks hold')
     return 1 if failures else 0
 

@@ -201,6 +201,19 @@ std::string waveSummary(const WaveBakeStats& wave) {
   return text;
 }
 
+/// The map of the complete bake `file`. A map that cannot be written (a full disk) leaves the
+/// bake complete, which the error says, with how to write the map again without baking.
+void writeMapOf(const BakeFile& file, const std::string& map) {
+  try {
+    writeParameterMap(file, map);
+  } catch (const InputError& e) {
+    throw InputError(e.file(), e.field(),
+                     e.problem() + "; the bake " + file.path() +
+                         " is complete: dpc-bake --resume " + file.path() + " --map " + map +
+                         " writes the map again");
+  }
+}
+
 int finishAsWriter(const Options& o, Plan& plan, Cluster& cluster, BakeFile& file) {
   std::unique_ptr<Watchdog> watchdog = watch(plan, cluster, file);
   // The wave band first (the other ranks bake their probes meanwhile): its one simulation per
@@ -228,7 +241,7 @@ int finishAsWriter(const Options& o, Plan& plan, Cluster& cluster, BakeFile& fil
   }
   file.markComplete();
   replaceWithComplete(file);
-  if (!o.map.empty()) writeParameterMap(file, o.map);
+  if (!o.map.empty()) writeMapOf(file, o.map);
   if (o.json) printJson(plan, cluster, file, progress, wave);
   std::fprintf(stderr,
                "dpc-bake: %s: %zu probes complete; this run baked %zu in %.1f s (%.3g "

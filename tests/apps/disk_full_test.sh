@@ -15,7 +15,9 @@
 #      copy-on-write file system or a quota would: SHIM, tests/bake/enospc_shim.c, preloaded;
 #      a tmpfs cannot, the file being allocated whole when it is created): one line naming the
 #      file, exit 1, the file not complete; --resume then finishes it to the same bytes as a
-#      clean bake (cmp).
+#      clean bake (cmp);
+#   6. the bake fits but its --map does not: exit 1, one line naming the map and saying the
+#      bake is complete and how to write the map again (--resume --map), which then works.
 # Exits 77 (ctest: skipped) where a private tmpfs cannot be mounted.
 # Usage: disk_full_test.sh BUILD_DIR SOURCE_DIR [SHIM]
 set -euo pipefail
@@ -94,6 +96,22 @@ echo "$out"
 grep -q "^dpc-bake: $mnt/bake.h5: cannot write: .*No space left on device" "$work/log.txt" ||
     fail "bake 4: no line naming the bake and the full disk"
 [[ $(wc -l <"$work/log.txt") -eq 1 ]] || fail "bake 4: not one line"
+
+# The map does not fit (the tmpfs filled first), the bake does (written outside it): the bake
+# stays complete, the one line says so and how to write the map again, no map or temporary.
+out=$(in_small_disk bash -c 'head -c 500000 /dev/zero >"$1/filler" 2>/dev/null; shift; "$@"' _ \
+      "$mnt" "$bake" "$src/scenes/shoebox.json" --out "$work/mapped.h5" --map "$mnt/m.csv" "${q[@]}")
+echo "$out"
+[[ $(sed -n 1p <<<"$out") == "status 1" ]] || fail "bake 6: expected exit status 1"
+[[ $(sed -n 2,99p <<<"$out") == $'earlier.wav\nfiller\nan earlier render' ]] ||
+    fail "bake 6: no map and no temporary may be left on the tmpfs"
+grep -q "^dpc-bake: $mnt/m.csv: cannot write.*; the bake $work/mapped.h5 is complete: dpc-bake --resume $work/mapped.h5 --map $mnt/m.csv writes the map again" "$work/log.txt" ||
+    fail "bake 6: no line naming the map, the full disk and the complete bake"
+[[ $(wc -l <"$work/log.txt") -eq 1 ]] || fail "bake 6: not one line"
+complete "$work/mapped.h5" || fail "bake 6: the bake itself should be complete"
+"$bake" --resume "$work/mapped.h5" --map "$work/m.csv" --quiet >/dev/null 2>&1 ||
+    fail "bake 6: --resume --map did not write the map"
+[[ $(wc -l <"$work/m.csv") -gt 15 ]] || fail "bake 6: the map written by --resume is empty"
 
 if [[ -z $shim ]]; then
   echo "PASS (a write refused mid-bake not checked: no shim in this build)"

@@ -281,7 +281,15 @@ double ProbeBaker::timeFrame(const glm::vec3& position) {
   sim_->restart(scene_.propagation.seed);
   const auto start = std::chrono::steady_clock::now();
   sim_->runFrame(position);
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  maxOrderShare_ = 0.0;
+  for (size_t s = 0; s < scene_.sources.size(); ++s) {
+    const TraceStats& t = sim_->result(s).trace;
+    if (t.rays > 0)
+      maxOrderShare_ = std::max(maxOrderShare_, double(t.maxOrderEnergy.max()) / double(t.rays));
+  }
+  return seconds;
 }
 
 std::vector<float> pack(const ProbeResult& r) {

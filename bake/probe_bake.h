@@ -131,11 +131,16 @@ class ProbeBaker {
   /// cost per frame, measured to estimate a bake's time. Changes no later result (bake()
   /// restarts the simulation with the probe's seed).
   double timeFrame(const glm::vec3& position);
+  /// The largest share (over sources and bands) of the emitted energy that rays still carried
+  /// when the reflection order bound (propagation.max_order) ended them, in the last
+  /// timeFrame() (0 before one): what a bake of these settings loses to the bound.
+  double maxOrderShare() const { return maxOrderShare_; }
 
  private:
   const SceneDesc& scene_;
   BakeSettings settings_;
   std::unique_ptr<Simulation> sim_;
+  double maxOrderShare_ = 0.0;
 };
 
 /// One probe with a baker of its own (ProbeBaker::bake).

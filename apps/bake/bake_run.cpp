@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <mutex>
@@ -23,6 +23,7 @@
 #include "common/input_error.h"
 #include "common/output_file.h"
 #include "common/stop_signals.h"
+#include "runtime/max_order_warning.h"
 #include "scene/trajectory.h"
 
 namespace dpc::bake {
@@ -96,6 +97,16 @@ void printEstimate(const Plan& plan) {
                h.settings.rays, rays, describe(plan.estimate).c_str());
   if (!plan.waveTodo.empty())
     std::fprintf(stderr, "dpc-bake: the wave band first: %s\n", describe(plan.wave).c_str());
+}
+
+/// The energy the reflection order bound cuts off, measured in the frame timed for the
+/// estimate, above kMaxOrderWarnFraction: one warning line (also with --quiet), as dpc-demo's.
+void warnMaxOrder(const Options& o, const Plan& plan) {
+  const double share = plan.baker ? plan.baker->maxOrderShare() : 0.0;
+  if (!(share > kMaxOrderWarnFraction)) return;
+  std::fprintf(stderr, "dpc-bake: warning: %s: %s (measured in the frame timed for the estimate)\n",
+               (o.scene.empty() ? plan.header.scenePath : o.scene).c_str(),
+               maxOrderWarning(plan.scene.propagation.maxOrder, share).c_str());
 }
 
 /// With --quiet, the probes of a --probes list that were skipped (outside the room, inside a
@@ -329,6 +340,7 @@ int runBake(const Options& o, Cluster& cluster) {
   if (!o.quiet) printEstimate(plan);
   if (o.quiet) warnSkippedProbes(o, plan);
   if (o.spacingGiven) warnWaveProbeSpacing(plan.scene, o.grid.spacingM);
+  warnMaxOrder(o, plan);
   if (cluster.size() == 1) return finishAsWriter(o, plan, cluster, *file);
   // With other ranks, an error here (a write the disk refused) must end the job: the others
   // would wait for rank 0 to receive their probes. Every probe committed so far is flushed.

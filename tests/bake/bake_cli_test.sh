@@ -143,6 +143,20 @@ complete box.h5 || fail "box bake not marked complete"
 h5dump -a /probe_layout box.h5 | grep '"box 3 0.5 2 7 2.5 5"' >/dev/null || fail "probe_layout"
 h5dump -a /grid_candidates box.h5 | grep '(0): 24' >/dev/null || fail "box candidates"
 
+echo "== the energy max_order cuts off is reported, as dpc-demo reports it"
+# max_order 3 in the shoebox (alpha about 0.1-0.3): after three reflections a ray still
+# carries (1 - alpha)^3, over half of what it left with; the bake must say so, also --quiet.
+sed 's/"max_order": 200/"max_order": 3/' "$scene" >order3.json
+cp "$2/scenes/shoebox.obj" .
+cp -r "$2/scenes/signals" .
+grep -q '"max_order": 3' order3.json || fail "order3.json: max_order not set"
+"$bake" order3.json --out order3.h5 "${quick[@]}" --quiet 2>order3.err
+grep -qE '^dpc-bake: warning: order3.json: propagation.max_order: rays ended at order 3 still carried [0-9]+ % of the emitted energy' order3.err ||
+  fail "no max_order warning: $(cat order3.err)"
+"$bake" "$scene" --out order200.h5 "${quick[@]}" --quiet 2>order200.err
+grep -q max_order order200.err && fail "max_order warned at the default order: $(cat order200.err)"
+rm -f order3.h5 order200.h5 order3.err order200.err order3.json
+
 echo "== bad input: one line, exit 1, nothing created or changed"
 listing() { find . -maxdepth 1 -type f ! -name err.txt -printf '%f %s %T@\n' | sort; }
 expect_refusal() {  # expect_refusal WORD ARGS...: exit 1, one line containing WORD

@@ -20,8 +20,10 @@
 //
 // One file per benchmark family (bench/<family>_bench.h); this file holds the command line.
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdio>
 #include <exception>
+#include <string>
 #include <vector>
 
 #include "bench/bake_bench.h"
@@ -31,7 +33,6 @@
 #include "bench/budget_bench.h"
 #include "bench/convolve_bench.h"
 #include "bench/diffraction_bench.h"
-#include "bench/wave_bench.h"
 #include "bench/dynamic_bench.h"
 #include "bench/listeners_bench.h"
 #include "bench/live_bench.h"
@@ -39,6 +40,7 @@
 #include "bench/noise_bench.h"
 #include "bench/propagation_bench.h"
 #include "bench/sources_bench.h"
+#include "bench/wave_bench.h"
 #include "common/input_error.h"
 #include "common/program_main.h"
 #include "scene/enum_names.h"
@@ -72,48 +74,80 @@ struct Subcommands {
       *convolve, *load, *bake, *bakeInterp, *bakeFrame, *wave;
 };
 
+/// A flag's check: a number in [lo, hi]. CLI::Range lets NaN through (its comparisons are
+/// false), which became a null report or the scene's default without a word.
+CLI::Validator within(double lo, double hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) {
+        double v = 0.0;
+        if (!CLI::detail::lexical_cast(text, v) || std::isnan(v)) return text + " is not a number";
+        if (!(v >= lo && v <= hi))
+          return text + " is outside [" + valueText(lo) + ", " + valueText(hi) + "]";
+        return std::string();
+      },
+      "", "WITHIN");
+}
+
+/// The range of a scene field's limit (scene/limits.h) as a flag's check: one definition of
+/// what a scene file and dpc-bench accept.
+CLI::Validator limitRange(const char* field) {
+  const Limit& l = limitOf(field);
+  return within(l.min, l.max);
+}
+
 /// A subcommand that loads a scene, with the options every such benchmark takes.
 CLI::App* addSceneBench(CLI::App& app, const char* name, const char* description,
                         CommonOptions& c) {
   CLI::App* sub = app.add_subcommand(name, description);
   sub->add_option("scene", c.scene, "Scene file")->required();
-  sub->add_option("--threads", c.threads, "Tracing threads (0 = all cores)");
-  sub->add_option("--rays", c.rays, "Rays per frame (default 4096)");
-  sub->add_option("--max-order", c.maxOrder, "Maximum reflection order");
-  sub->add_option("--frames", c.frames, "Frames to measure");
-  sub->add_option("--tau", c.tau, "Cache response time tau, seconds");
-  sub->add_option("--cache-memory-mb", c.cacheMb, "DPC memory budget per source, MB (> 0)");
+  sub->add_option("--threads", c.threads, "Tracing threads (0 = all cores)")
+      ->check(within(0, 1024));
+  sub->add_option("--rays", c.rays, "Rays per frame (default 4096)")
+      ->check(limitRange("propagation.rays_per_frame"));
+  sub->add_option("--max-order", c.maxOrder, "Maximum reflection order")
+      ->check(limitRange("propagation.max_order"));
+  sub->add_option("--frames", c.frames, "Frames to measure")->check(within(1, 1000000));
+  sub->add_option("--tau", c.tau, "Cache response time tau, seconds")
+      ->check(limitRange("propagation.cache_tau"));
+  sub->add_option("--cache-memory-mb", c.cacheMb, "DPC memory budget per source, MB (> 0)")
+      ->check(CLI::PositiveNumber);
   return sub;
 }
 
 CLI::App* addNoise(CLI::App& app, Options& o) {
   CLI::App* sub =
       addSceneBench(app, "noise", "DPC vs path tracing against a converged reference", o.common);
-  sub->add_option("--walk-speed", o.noise.walkSpeed, "Listener speed along the trajectory, m/s");
+  sub->add_option("--walk-speed", o.noise.walkSpeed, "Listener speed along the trajectory, m/s")
+      ->check(within(0.0, 100.0));
   sub->add_option("--reference-frames", o.noise.referenceFrames,
-                  "Path-tracing frames per reference");
-  sub->add_option("--warmup", o.noise.warmup, "Frames before measuring (default 2 tau)");
-  sub->add_option("--pt-multipliers", o.noise.ptMultipliers, "Ray multipliers for path tracing");
+                  "Path-tracing frames per reference")
+      ->check(within(1, 1000000));
+  sub->add_option("--warmup", o.noise.warmup, "Frames before measuring (default 2 tau)")
+      ->check(within(0, 1000000));
+  sub->add_option("--pt-multipliers", o.noise.ptMultipliers, "Ray multipliers for path tracing")
+      ->check(within(1, 4096));
   return sub;
 }
 
 CLI::App* addLive(CLI::App& app, Options& o) {
   CLI::App* sub =
       addSceneBench(app, "live", "Motion-to-sound latency and audio render load", o.common);
-  sub->add_option("--duration", o.live.duration, "Seconds to run (default 20)");
+  sub->add_option("--duration", o.live.duration, "Seconds to run (default 20)")
+      ->check(within(0.1, 86400.0));
   sub->add_option("--block-size", o.live.blockSize, "Audio block size (default 128)");
   sub->add_option("--frame-rate", o.live.frameRate,
-                  "Propagation frames per second (default: scene)");
+                  "Propagation frames per second (default: scene)")
+      ->check(limitRange("propagation.frame_rate"));
   sub->add_option("--device", o.live.device, "Audio device (default: a timer thread, no device)");
   sub->add_option("--late-bus-tolerance-db", o.live.lateBusToleranceDb,
                   "Hybrid rendering: a late bus keeps its IR while its decay's shape stays "
                   "within this many dB (0: synthesise every bus every frame; default 0.5)")
-      ->check(CLI::Range(0.0, 6.0));
+      ->check(within(0.0, 6.0));
   sub->add_option("--source-ir-tolerance-db", o.live.sourceIrToleranceDb,
                   "A source keeps its IR (its early part in hybrid rendering) while its exact "
                   "paths and energy response stay within this many dB (0: synthesise every IR "
                   "every frame; default 0.5)")
-      ->check(CLI::Range(0.0, 6.0));
+      ->check(within(0.0, 6.0));
   return sub;
 }
 
@@ -123,7 +157,7 @@ CLI::App* addListeners(CLI::App& app, Options& o) {
                     "Frame time for several listeners traced in one pass (1, 2, 4, 8)", o.common);
   sub->add_option("--warmup-frames", o.listeners.warmupFrames,
                   "Frames run before timing (cache fill, first-touch page faults; default 5)")
-      ->check(CLI::Range(0, 1000));
+      ->check(within(0, 1000));
   sub->add_option("--counts", o.listeners.counts, "Listener counts (first = the reference)")
       ->delimiter(',')
       ->check(CLI::PositiveNumber);
@@ -137,30 +171,30 @@ CLI::App* addSources(CLI::App& app, Options& o) {
       o.common);
   sub->add_option("--counts", o.sources.counts, "Source counts (first = the reference)")
       ->delimiter(',')
-      ->check(CLI::Range(1, 256));
+      ->check(within(1, 256));
   sub->add_option("--tracing", o.sources.tracing, "from_sources, from_listeners or both")
       ->delimiter(',')
       ->check(CLI::IsMember({"from_sources", "from_listeners", "auto"}));
   sub->add_option("--warmup-frames", o.sources.warmupFrames,
                   "Frames before timing; quality is read after them (default 20)")
-      ->check(CLI::Range(1, 1000));
+      ->check(within(1, 1000));
   sub->add_option("--quality-sources", o.sources.qualitySources,
                   "Sources compared with a reference (default 4)")
-      ->check(CLI::Range(0, 256));
+      ->check(within(0, 256));
   sub->add_option("--rendering", o.sources.rendering,
                   "auto (default: hybrid beyond the late buses' count) | per_source | hybrid")
       ->check(CLI::IsMember({"auto", "per_source", "hybrid"}));
   sub->add_option("--max-from-sources", o.sources.maxFromSources,
                   "Largest source count traced from the sources (default 64)")
-      ->check(CLI::Range(1, 256));
+      ->check(within(1, 256));
   sub->add_option("--reference-frames", o.sources.referenceFrames,
                   "Path-tracing frames of each reference (4x rays; default 24)")
-      ->check(CLI::Range(2, 10000));
+      ->check(within(2, 10000));
   sub->add_option("--keep-tolerance-db", o.sources.keepToleranceDb,
                   "Keep source IRs (early parts in hybrid rendering) and late-bus IRs while "
                   "their inputs hold within this many dB, as a live session does (default 0: "
                   "every IR every frame, as offline renders do)")
-      ->check(CLI::Range(0.0, 6.0));
+      ->check(within(0.0, 6.0));
   return sub;
 }
 
@@ -178,11 +212,11 @@ CLI::App* addConvolve(CLI::App& app, Options& o) {
   CLI::App* sub = app.add_subcommand(
       "convolve", "Convolver CPU: non-uniform dpc (with/without IR swaps) vs zita-convolver");
   sub->add_option("--blocks", o.convolve.blocks, "Block sizes (default 64 128 256 512)")
-      ->check(CLI::Range(limitOf("audio.block_size").min, limitOf("audio.block_size").max));
+      ->check(limitRange("audio.block_size"));
   sub->add_option("--seconds", o.convolve.seconds, "Audio seconds per run (default 3)")
-      ->check(CLI::Range(0.1, 600.0));
+      ->check(within(0.1, 600.0));
   sub->add_option("--swap-ms", o.convolve.swapIntervalMs, "IR swap interval, ms (default 66)")
-      ->check(CLI::Range(0.1, 10000.0));
+      ->check(within(0.1, 10000.0));
   sub->add_flag("!--no-uniform", o.convolve.uniform, "Skip the uniform convolver");
   sub->add_option("--cases", o.convolve.cases,
                   "Comma-separated cases to run: mono, stereo, 2x3, 16x2, hybrid64 (64 sources' "
@@ -198,12 +232,12 @@ CLI::App* addLoad(CLI::App& app, Options& o) {
   sub->add_option("--cells", o.load.cells,
                   "Terrain sizes, cells per side (2 cells^2 triangles; default 25,...,708)")
       ->delimiter(',')
-      ->check(CLI::Range(1, 4000));
+      ->check(within(1, 4000));
   sub->add_option("--panels", o.load.panels, "Panels standing on the terrain (default 16)")
-      ->check(CLI::Range(0, 10000));
+      ->check(within(0, 10000));
   sub->add_option("--crates", o.load.crates,
                   "Solid 0.25 m crates on it, every face a narrow face (default 0)")
-      ->check(CLI::Range(0, 100000));
+      ->check(within(0, 100000));
   return sub;
 }
 
@@ -214,7 +248,7 @@ CLI::App* addBake(CLI::App& app, Options& o) {
   sub->add_option("--spacings", o.bake.spacings, "Grid spacings, m (default 2 1 0.5)")
       ->check(CLI::PositiveNumber);
   sub->add_option("--rays", o.bake.rays, "Rays per source and frame (default 1000)")
-      ->check(CLI::Range(1, 1 << 20));
+      ->check(within(1, 1 << 20));
   sub->add_option("--frames", o.bake.frames, "Frames per probe, a multiple of 4 (default 8)");
   sub->add_option("--bake", o.bake.bake, "The dpc-bake program (default: beside dpc-bench)");
   sub->add_option("--mpirun", o.bake.mpirun, "mpirun program (empty: skip the MPI runs)");
@@ -226,15 +260,15 @@ CLI::App* addBakeInterp(CLI::App& app, Options& o) {
       "bake-interp",
       "Baked playback: interpolation error vs probe spacing (diffuse box), cost, memory");
   sub->add_option("--spacings", o.bakeInterp.spacings, "Probe spacings, m (default 0.5 1 2 4)")
-      ->check(CLI::Range(0.1, 4.0));
+      ->check(within(0.1, 4.0));
   sub->add_option("--points", o.bakeInterp.points, "Test points (default 6)")
-      ->check(CLI::Range(1, 1000));
+      ->check(within(1, 1000));
   sub->add_option("--rays", o.bakeInterp.rays, "Rays per frame (default 4000)")
-      ->check(CLI::Range(1, 1 << 20));
+      ->check(within(1, 1 << 20));
   sub->add_option("--frames", o.bakeInterp.frames, "Frames per response (default 8)")
-      ->check(CLI::Range(1, 1000));
+      ->check(within(1, 1000));
   sub->add_option("--threads", o.bakeInterp.threads, "Tracing threads (0 = all cores)")
-      ->check(CLI::Range(0, 1024));
+      ->check(within(0, 1024));
   return sub;
 }
 
@@ -244,12 +278,12 @@ CLI::App* addBakeFrame(CLI::App& app, Options& o) {
       "Frame cost with every static source played from a bake (not traced) vs all live",
       o.common);
   sub->add_option("--counts", o.bakeFrame.counts, "Static source counts (default 1 4 16)")
-      ->check(CLI::Range(1, 4096));
+      ->check(within(1, 4096));
   sub->add_option("--tracing", o.bakeFrame.tracing,
                   "Tracing directions (default from_sources from_listeners)")
       ->check(CLI::IsMember({"from_sources", "from_listeners"}));
   sub->add_option("--warmup-frames", o.bakeFrame.warmupFrames, "Untimed frames first (default 5)")
-      ->check(CLI::Range(0, 1000));
+      ->check(within(0, 1000));
   return sub;
 }
 
@@ -264,7 +298,7 @@ Subcommands addSubcommands(CLI::App& app, Options& o) {
   s.propagation
       ->add_option("--warmup-frames", o.propagation.warmupFrames,
                    "Untimed frames first (cache growth, first-touch page faults; default 5)")
-      ->check(CLI::Range(0, 1000));
+      ->check(within(0, 1000));
   s.propagation
       ->add_option("--tracing", o.propagationTracing,
                    "from_sources or from_listeners: the full frame's tracing direction (the bare "
@@ -292,11 +326,12 @@ Subcommands addSubcommands(CLI::App& app, Options& o) {
                               "Wave band (FDTD): time and memory per simulated second and cubic "
                               "metre at 250 and 500 Hz; predicted scaling over MPI ranks");
   s.wave->add_option("--volumes", o.wave.volumes, "Box volumes, m^3 (default 50 200 800)")
-      ->check(CLI::Range(1.0, 1e5));
-  s.wave->add_option("--frequencies", o.wave.frequencies, "Maximum frequencies, Hz (default 250 500)")
-      ->check(CLI::Range(20.0, 4000.0));
+      ->check(within(1.0, 1e5));
+  s.wave
+      ->add_option("--frequencies", o.wave.frequencies, "Maximum frequencies, Hz (default 250 500)")
+      ->check(within(20.0, 4000.0));
   s.wave->add_option("--seconds", o.wave.seconds, "Simulated seconds per run (default 0.25)")
-      ->check(CLI::Range(0.01, 60.0));
+      ->check(within(0.01, 60.0));
   return s;
 }
 
@@ -332,8 +367,15 @@ int main(int argc, char** argv) {
   const dpc::bench::Subcommands subs = dpc::bench::addSubcommands(app, o);
   try {
     app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
+  } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    // One line and exit status 1, as every dpc program's input errors.
+    std::string msg = e.what();
+    for (char& ch : msg)
+      if (ch == '\n' || (unsigned char)ch < 0x20) ch = ' ';
+    std::fprintf(stderr, "dpc-bench: command line: %s\n", msg.c_str());
+    return 1;
   }
   return dpc::runReportingErrors("dpc-bench", [&] { return dpc::bench::run(subs, o); });
 }

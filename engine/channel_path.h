@@ -28,9 +28,10 @@ namespace dpc {
 /// reveal).
 inline constexpr float kChannelDepthMax = 0.3f;
 
-/// m: the widest gap a channel carries when its face is shallower than that (a 6 mm glass leaf
-/// with 10 mm gaps); a deeper face carries gaps up to its depth. Wider is an opening whose edges
-/// UTD handles (a leaf ajar 5 degrees opens 9 cm at its latch side).
+/// m: the widest gap taken for a narrow one where its width is not probed (a leg between two
+/// surfaces, a turned channel's legs and its mouth's opening, the face being shallower than
+/// this: a 6 mm glass leaf with 10 mm gaps). A channel whose gap the probe measures across its
+/// face carries it at any width (engine/diffraction.cpp keepOpenChannels).
 inline constexpr float kChannelGapMax = 0.03f;
 
 /// The narrow faces (NarrowFace, engine/diffraction.h: two edges bounding one flat face at most

@@ -16,21 +16,37 @@ namespace dpc {
 
 namespace {
 
-/// m: how far either side of an edge path's leg the gaps it may thread are looked for (door
-/// gaps are 3 to 20 mm), and how far from Q along the leg (Q's own gap is the probe's).
+/// m: how far either side of an edge path's leg the gaps it may thread are looked for at least
+/// (door gaps are 3 to 20 mm; threadReach widens it to the widest channel's gap), and how far
+/// from Q along the leg (Q's own gap is the probe's).
 constexpr float kThreadReach = 0.03f;
 constexpr float kThreadStart = 0.01f;
+
+/// m: how far either side of a leg the gaps it may thread are looked for: kThreadReach, or the
+/// widest gap among the channels (`paths` with slit depth) whose gap is wider than their face
+/// is deep, up to kChannelDepthMax. A leg lies somewhere in the gap it threads, so a parallel
+/// ray that far to one side meets the gap's far side: the sill's edge path through a 4 cm box
+/// leaf's 50 mm undercut, missed at 30 mm, owned the gap as a slit without depth beside the
+/// channel (8 dB above the slit model). Not widened for narrower channels: a leaf ajar 13.5
+/// degrees lost its rim's path to its side face's channel (20 dB at 63 Hz).
+float threadReach(const std::vector<EdgePath>& paths) {
+  float reach = kThreadReach;
+  for (const EdgePath& p : paths)
+    if (p.slit.depth > 0.0 && p.gapWidth > std::max(reach, glm::length(p.through)))
+      reach = p.gapWidth;
+  return std::min(reach, kChannelDepthMax);
+}
 
 /// Rays per path of the threaded-leg test: per leg, two across the edge and two along it.
 constexpr size_t kThreadRays = 8;
 
 /// The rays parallel to each leg of p (each leg from Q outward: toward the source, then toward
-/// the listener), kThreadReach either side of it across the edge and along it (a gap that
-/// crosses the edge: the slit between two leaves under a lintel), from kThreadStart along the
-/// leg; inactive for a leg nearly along the edge or shorter than 2 kThreadStart. `side`
-/// receives each ray's unit offset direction.
+/// the listener), `reach` either side of it across the edge and along it (a gap that crosses
+/// the edge: the slit between two leaves under a lintel), from kThreadStart along the leg;
+/// inactive for a leg nearly along the edge or shorter than 2 kThreadStart. `side` receives
+/// each ray's unit offset direction.
 std::array<TraceRay, kThreadRays> threadRays(const glm::vec3& source, const glm::vec3& L,
-                                             const EdgePath& p,
+                                             const EdgePath& p, float reach,
                                              std::array<glm::vec3, kThreadRays>& side) {
   std::array<TraceRay, kThreadRays> out;
   const std::array<glm::vec3, 2> ends = {source, L};
@@ -45,7 +61,7 @@ std::array<TraceRay, kThreadRays> threadRays(const glm::vec3& source, const glm:
     for (size_t k = 0; k < 4; ++k) {
       const size_t n = 4 * i + k;
       side[n] = (k % 2 == 0 ? 1.f : -1.f) * axes[k / 2];
-      out[n] = TraceRay{p.q + kThreadStart * dir + kThreadReach * side[n], dir, 0.f,
+      out[n] = TraceRay{p.q + kThreadStart * dir + reach * side[n], dir, 0.f,
                         length - kThreadStart - kLegEpsilon,
                         sine > 0.1f && length > 2.f * kThreadStart && !p.atEnd};
     }
@@ -78,28 +94,28 @@ std::vector<TraceHit> foreignHits(const BoundQuery& q, const std::vector<EdgePat
   return found;
 }
 
-/// Per parallel ray (threadRays) that met a surface (`hits`), the surface a ray across to the
-/// other side of the leg meets within kThreadReach, from near the leg's point level with the hit
-/// (kUnknownSurface: none): the offset leans the hit up to kThreadReach tan(angle) past a sheet
-/// flush with a thick wall's face, whose reveal lies only before that plane, so four points
-/// along the leg are tried.
+/// Per parallel ray (threadRays, `reach` off its leg) that met a surface (`hits`), the surface
+/// a ray across to the other side of the leg meets within `reach`, from near the leg's point
+/// level with the hit (kUnknownSurface: none): the offset leans the hit up to reach tan(angle)
+/// past a sheet flush with a thick wall's face, whose reveal lies only before that plane, so
+/// four points along the leg are tried.
 std::vector<uint32_t> otherSide(const BoundQuery& q, const std::vector<TraceRay>& rays,
                                 const std::vector<glm::vec3>& sides,
-                                const std::vector<TraceHit>& hits) {
-  constexpr std::array<float, 4> kSteps = {-0.5f * kThreadReach, -kGapProbeThrough,
-                                           kGapProbeThrough, 0.5f * kThreadReach};
+                                const std::vector<TraceHit>& hits, float reach) {
+  const std::array<float, 4> kSteps = {-0.5f * reach, -kGapProbeThrough, kGapProbeThrough,
+                                       0.5f * reach};
   const TraceRay idle{glm::vec3(0.f), glm::vec3(1.f, 0.f, 0.f), 0.f, 0.f, false};
   std::vector<TraceRay> across(kSteps.size() * rays.size(), idle), step(across.size(), idle);
   for (size_t i = 0; i < rays.size(); ++i) {
     if (!hits[i].found) continue;
     // From kLegEpsilon on the hit's side of the leg: a leg along a face (a listener in a
     // reveal's plane) has that face on its other side. The step there is checked below.
-    const glm::vec3 onLeg = rays[i].org - kThreadReach * sides[i] + hits[i].surface.t * rays[i].dir;
+    const glm::vec3 onLeg = rays[i].org - reach * sides[i] + hits[i].surface.t * rays[i].dir;
     for (size_t k = 0; k < kSteps.size(); ++k) {
       const glm::vec3 from = onLeg + kSteps[k] * rays[i].dir;
       step[kSteps.size() * i + k] = TraceRay{from, sides[i], 0.f, kLegEpsilon};
       across[kSteps.size() * i + k] = TraceRay{from + kLegEpsilon * sides[i], -sides[i], 0.f,
-                                               1.05f * kThreadReach + kLegEpsilon};
+                                               1.05f * reach + kLegEpsilon};
     }
   }
   // A step that crosses a surface puts its start behind the corner the leg grazes within
@@ -108,7 +124,7 @@ std::vector<uint32_t> otherSide(const BoundQuery& q, const std::vector<TraceRay>
   const auto behind = std::make_unique<bool[]>(step.size());
   q.tracer.occluded(step, std::span<bool>(behind.get(), step.size()));
   for (size_t i = 0; i < across.size(); ++i)
-    if (behind[i]) across[i] = TraceRay{step[i].org, -step[i].dir, 0.f, 1.05f * kThreadReach};
+    if (behind[i]) across[i] = TraceRay{step[i].org, -step[i].dir, 0.f, 1.05f * reach};
   std::vector<TraceHit> met(across.size());
   q.tracer.intersect(across, met);
   std::vector<uint32_t> out(rays.size(), kUnknownSurface);
@@ -119,20 +135,21 @@ std::vector<uint32_t> otherSide(const BoundQuery& q, const std::vector<TraceRay>
 }
 
 /// Marks the edge paths whose leg threads a gap away from Q (a thick wall's jamb seen through
-/// the 10 mm gap beside a leaf set in the middle of the wall): a parallel ray kThreadReach to one
+/// the 10 mm gap beside a leaf set in the middle of the wall): a parallel ray threadReach to one
 /// side of a leg meets a surface not the edge's own, and from the leg's point level with that
-/// hit a ray across to the other side meets one within kThreadReach too. p.threadedBy: those
+/// hit a ray across to the other side meets one within that reach too. p.threadedBy: those
 /// two surfaces. Returns per path the first surface's hit point (m; unset where none).
 std::vector<glm::vec3> markThreads(const BoundQuery& q, std::vector<EdgePath>& paths) {
+  const float reach = threadReach(paths);
   std::vector<TraceRay> rays;
   std::vector<glm::vec3> sides;
   for (const EdgePath& p : paths) {
     std::array<glm::vec3, kThreadRays> side;
-    for (const TraceRay& r : threadRays(q.source, q.L, p, side)) rays.push_back(r);
+    for (const TraceRay& r : threadRays(q.source, q.L, p, reach, side)) rays.push_back(r);
     sides.insert(sides.end(), side.begin(), side.end());
   }
   const std::vector<TraceHit> hits = foreignHits(q, paths, rays);
-  const std::vector<uint32_t> other = otherSide(q, rays, sides, hits);
+  const std::vector<uint32_t> other = otherSide(q, rays, sides, hits, reach);
   std::vector<glm::vec3> at(paths.size(), glm::vec3(0.f));
   for (size_t j = 0; j < paths.size(); ++j)
     for (size_t i = kThreadRays * j; i < kThreadRays * (j + 1); ++i)

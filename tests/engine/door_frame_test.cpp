@@ -282,6 +282,55 @@ TEST_CASE("Door gaps: a box leaf that is a moving object, heard past the jamb, r
   }
 }
 
+TEST_CASE("Door gaps: a box leaf's undercut wider than the leaf is deep is still its slit",
+          "[diffraction][door]") {
+  // The wall in the open above, 4 cm thick, the 4 cm box leaf flush with both its faces and
+  // tight at the jambs and the lintel, its undercut 30 to 60 mm (a held-out sweep's door); the
+  // listener 2 and 5 m behind the wall on the axis. The undercut is a slit as deep as the leaf
+  // however wide, until k w passes 2 pi (8 kHz at 43 mm). Before, a channel's gap was at most
+  // its face's depth: from 42 mm on the gap was dropped and the closed door read the open
+  // doorway (-7.9 dB re free field at 63 Hz against the model's -25.8 at 2 m), and from 50 mm,
+  // when kept, the sill's edge path through it (its leg missed by the 30 mm threaded-leg test)
+  // owned it as a slit without depth (8 dB above the model). The model: the slit with depth
+  // (tests/engine/slit_model.h, computed on its own). Checked: within the issue's 3 dB of it at
+  // 63 Hz-2 kHz, monotonic in the gap at 63 Hz-2 kHz, below the open doorway in every band.
+  const MouthImpedance zr;
+  constexpr double kDepth = 0.04;
+  const glm::vec3 source{-2.f, 1.05f, 0.f};
+  SceneDesc doorway = wallInTheOpen(float(kDepth));
+  doorway.objects.clear();
+  for (const float behind : {2.f, 5.f}) {
+    const glm::vec3 listener{behind, 1.05f, 0.f};
+    const Bands open = decibels(directLevel(doorway, source, listener));
+    for (int object = 0; object < 2; ++object) {
+      Bands previous(-1e3f);
+      for (const double under : {0.03, 0.041, 0.045, 0.06}) {
+        SceneDesc scene = wallInTheOpen(float(kDepth), 0.f, float(under));
+        if (!object) scene = objectsInMesh(scene);
+        const Bands closed = decibels(directLevel(scene, source, listener));
+        const std::vector<Slit> slit = {
+            {{0, under / 2, -0.45}, {0, under / 2, 0.45}, under, kDepth}};
+        const Bands model = modelLevels(slit, zr, glm::dvec3(source), glm::dvec3(listener));
+        std::printf("undercut %2.0f mm, %s, listener %.0f m behind: dpc/model (dB)", 1e3 * under,
+                    object ? "object" : "mesh", double(behind));
+        for (int b = 0; b < kNumBands; ++b)
+          std::printf(" %5.1f/%5.1f", double(closed[b]), double(model[b]));
+        std::printf("\n");
+        for (int b = 0; b < kNumBands; ++b) {
+          INFO((object ? "object" : "mesh") << ", undercut " << under << ", listener " << behind
+                                            << " m, band " << b << ": dpc " << closed[b]
+                                            << ", model " << model[b] << ", open " << open[b]);
+          CHECK(closed[b] <= open[b]);
+          if (b > 5) continue;
+          CHECK(std::abs(closed[b] - model[b]) < 3.f);
+          CHECK(closed[b] >= previous[b] - 0.05f);
+        }
+        previous = closed;
+      }
+    }
+  }
+}
+
 TEST_CASE("Door gaps: a box leaf with narrow side gaps, heard beside its doorway, passes its slits",
           "[diffraction][door]") {
   // The wall in the open above, the leaf 3 mm from the jambs and the lintel with a 10 mm

@@ -35,7 +35,7 @@ glm::vec3 vec3(const float* p) {
 }
 
 void materialsFromData(const dpc_scene_data& d, SceneDesc& scene) {
-  if (d.material_count < 1) bad("material_count", "at least one material is required");
+  if (d.material_count < 1) bad("materials", "at least one material is required");
   if (!d.materials) nullField("materials", "material_count " + std::to_string(d.material_count));
   for (int i = 0; i < d.material_count; ++i) {
     const dpc_material& m = d.materials[i];
@@ -52,7 +52,7 @@ void materialsFromData(const dpc_scene_data& d, SceneDesc& scene) {
 
 // The mesh as given (validate() checks its indices), then cleaned by the one mesh builder.
 void meshFromData(const dpc_mesh& mesh, Mesh& out) {
-  if (mesh.triangle_count == 0) bad("mesh.triangle_count", "at least one triangle is required");
+  if (mesh.triangle_count == 0) bad("mesh", "at least one triangle is required");
   const std::string counts = "triangle_count " + std::to_string(mesh.triangle_count);
   if (!mesh.indices) nullField("mesh.indices", counts);
   if (!mesh.materials) nullField("mesh.materials", counts);
@@ -88,7 +88,7 @@ void directivityFromData(const dpc_source_directivity& d, int i, SourceDesc& src
 }
 
 void sourcesFromData(const dpc_scene_data& d, const Origin& origin, SceneDesc& scene) {
-  if (d.source_count < 1) bad("source_count", "at least one source is required");
+  if (d.source_count < 1) bad("sources", "at least one source is required");
   if (!d.sources) nullField("sources", "source_count " + std::to_string(d.source_count));
   checkField("sources", d.source_count, origin);
   for (int i = 0; i < d.source_count; ++i) {

@@ -1,4 +1,6 @@
-// How many whole steps (samples, bins of an energy response) cover a length in seconds.
+// How many whole samples cover a length in seconds (an impulse response's). The energy
+// response's 1 ms bins keep their own count (engine/energy_response.cpp): a bake's shape and
+// settings hash are made of it, and bakes already written must still load.
 //
 // Lengths reach the engine as single-precision floats (a scene's ir_length, the C API's
 // options): 0.1 s is stored as 0.100000001 s, and ceil(0.100000001 * 48000) is 4801 samples,

@@ -4,15 +4,13 @@
 #include <glm/geometric.hpp>
 #include <stdexcept>
 
-#include "common/durations.h"
-
 namespace dpc {
 
 EnergyResponse::EnergyResponse(double lengthSeconds, double binSeconds)
     : binSeconds_(binSeconds), invBin_(1.0 / binSeconds) {
   if (!(lengthSeconds > 0.0) || !(binSeconds > 0.0))
     throw std::invalid_argument("EnergyResponse: length and bin width must be > 0");
-  bins_.assign(stepsCovering(lengthSeconds, binSeconds), Bands(0.f));
+  bins_.assign(size_t(std::ceil(lengthSeconds / binSeconds - 1e-9)), Bands(0.f));
 }
 
 void EnergyResponse::clear() {

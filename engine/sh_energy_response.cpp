@@ -4,7 +4,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "common/durations.h"
 #include "common/spherical_harmonics.h"
 
 namespace dpc {
@@ -16,7 +15,7 @@ ShEnergyResponse::ShEnergyResponse(int order, double lengthSeconds, double binSe
     throw std::invalid_argument("ShEnergyResponse: order 0..7, length and bin width > 0");
   channels_ = size_t(ambisonicChannels(order));
   invBin_ = 1.0 / binSeconds;
-  bins_ = stepsCovering(lengthSeconds, binSeconds);
+  bins_ = size_t(std::ceil(lengthSeconds / binSeconds - 1e-9));
   data_.assign(bins_ * channels_ * kNumBands, 0.f);
 }
 

@@ -107,11 +107,12 @@ RoomParameters fromEnergy(const std::vector<double>& e, const Steps& steps) {
   r.t30 = decayTime(levelDb, steps, -5.0, -35.0, floorDb);
   r.edt = decayTime(levelDb, steps, 0.0, -10.0, floorDb);
 
-  // A record that ends before the split holds no late part to compare: C and D are unknown
-  // (NaN), not +inf (which says that nothing arrived after the split).
+  // A record that ends at or before the split holds no late part to compare: C and D are
+  // unknown (NaN), not +inf (which says that nothing arrived after the split).
   const double recordEnd = steps.start(n - 1) + steps.width(n - 1);
+  const auto holdsLate = [&](double window) { return recordEnd > window + 1e-9; };
   auto clarity = [&](double window) {
-    if (recordEnd < window - 1e-9) return kNaN;
+    if (!holdsLate(window)) return kNaN;
     const double early = earlyEnergy(e, steps, window);
     const double late = std::max(0.0, total - early);
     if (late <= 0) return kInf;
@@ -120,8 +121,7 @@ RoomParameters fromEnergy(const std::vector<double>& e, const Steps& steps) {
   };
   r.c50 = clarity(0.050);
   r.c80 = clarity(0.080);
-  if (!(recordEnd < 0.050 - 1e-9))
-    r.d50 = std::clamp(earlyEnergy(e, steps, 0.050) / total, 0.0, 1.0);
+  if (holdsLate(0.050)) r.d50 = std::clamp(earlyEnergy(e, steps, 0.050) / total, 0.0, 1.0);
   return r;
 }
 

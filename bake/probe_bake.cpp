@@ -26,8 +26,12 @@ double studentT95(int dof) {
 }
 
 /// The parameters of one response (bands, then broadband) in kParameterNames order, and STI;
-/// onsetSeconds: the direct sound's arrival (onsetSecondsOf), where C80 and D50 start.
-std::vector<double> parametersOf(const BandSeries& e, double bin, double onsetSeconds) {
+/// onsetSeconds: the direct sound's arrival (onsetSecondsOf), where C80 and D50 start. The
+/// broadband response weighs each band by its share of a white spectrum at sampleRate
+/// (whiteSpectrumShares): the energy the IR played from the bake carries.
+std::vector<double> parametersOf(const BandSeries& e, double bin, double onsetSeconds,
+                                 double sampleRate) {
+  const std::array<double, kNumBands> share = whiteSpectrumShares(sampleRate);
   std::vector<double> out;
   std::vector<double> sum(e[0].size(), 0.0);
   auto add = [&](const audio::RoomParameters& p) {
@@ -36,7 +40,7 @@ std::vector<double> parametersOf(const BandSeries& e, double bin, double onsetSe
   };
   for (int b = 0; b < kNumBands; ++b) {
     add(audio::analyzeEnergyDecay(e[size_t(b)].data(), e[size_t(b)].size(), bin, onsetSeconds));
-    for (size_t k = 0; k < sum.size(); ++k) sum[k] += e[size_t(b)][k];
+    for (size_t k = 0; k < sum.size(); ++k) sum[k] += share[size_t(b)] * e[size_t(b)][k];
   }
   add(audio::analyzeEnergyDecay(sum.data(), sum.size(), bin, onsetSeconds));
   std::array<std::span<const double>, audio::kStiBands> sti;
@@ -205,7 +209,7 @@ void storeSums(const SourceSums& sums, size_t s, const ProbeShape& shape, ProbeR
 /// One source's groups of frames into the result: the mean response with the direct sound, its
 /// parameters and their confidence half-widths from the groups.
 void finishSource(std::vector<BandSeries>& groups, const DirectSound& direct, size_t s,
-                  const ProbeShape& shape, ProbeResult& out) {
+                  const ProbeShape& shape, double sampleRate, ProbeResult& out) {
   const double bin = Simulation::kEnergyBinSeconds;
   BandSeries mean;
   for (auto& band : mean) band.assign(shape.bins, 0.0);
@@ -215,11 +219,11 @@ void finishSource(std::vector<BandSeries>& groups, const DirectSound& direct, si
       for (size_t k = 0; k < shape.bins; ++k)
         mean[size_t(b)][k] += g[size_t(b)][k] / double(groups.size());
     addDirect(direct, bin, g);
-    groupParameters.push_back(parametersOf(g, bin, onsetSecondsOf(direct)));
+    groupParameters.push_back(parametersOf(g, bin, onsetSecondsOf(direct), sampleRate));
   }
   addDirect(direct, bin, mean);
   storeSource(mean, direct, s, shape, out);
-  summarise(parametersOf(mean, bin, onsetSecondsOf(direct)), groupParameters, s, out);
+  summarise(parametersOf(mean, bin, onsetSecondsOf(direct), sampleRate), groupParameters, s, out);
 }
 
 }  // namespace
@@ -272,7 +276,10 @@ ProbeResult ProbeBaker::bake(size_t probe, const glm::vec3& position) {
     addDirectSh(sim.result(s).direct, settings_.irLength, sums[s].sh);
     storeEarly(sim.specularPaths(s), s, out);
     storeSums(sums[s], s, shape, out);
-    finishSource(sums[s].groups, sim.result(s).direct, s, shape, out);
+    // Broadband at the default scene rate, as dpc-analyze reads a response (a bake holds no
+    // sample rate: it plays at any).
+    finishSource(sums[s].groups, sim.result(s).direct, s, shape, double(AudioSettings{}.sampleRate),
+                 out);
   }
   return out;
 }

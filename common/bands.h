@@ -26,6 +26,25 @@ inline double bandCentreExactHz(int b) {
   return 1000.0 * std::exp2(double(b - 4));
 }
 
+/// Each octave band's share of a white spectrum's power from 0 Hz to Nyquist at sampleRate Hz:
+/// its span between the band edges fc / sqrt 2 and fc sqrt 2 (exact centres), the 63 Hz band
+/// from 0 Hz and the 8 kHz band to Nyquist, over Nyquist (the shares sum to 1). A band value
+/// of an energy response is a spectral density, so sum_b E_b w_b is the broadband energy an IR
+/// carrying the response has: the one definition of a response's broadband (dpc-analyze's CSV
+/// column, a bake's parameter map). Requires sampleRate / 2 above 8 kHz's lower edge.
+inline std::array<double, kNumBands> whiteSpectrumShares(double sampleRate) {
+  const double nyquist = 0.5 * sampleRate;
+  std::array<double, kNumBands> w{};
+  double low = 0.0;
+  for (int b = 0; b < kNumBands; ++b) {
+    const double high =
+        b + 1 < kNumBands ? std::min(nyquist, bandCentreExactHz(b) * std::sqrt(2.0)) : nyquist;
+    w[size_t(b)] = std::max(0.0, high - low) / nyquist;
+    low = std::max(low, high);
+  }
+  return w;
+}
+
 struct Bands {
   std::array<float, kNumBands> v{};
 

@@ -24,20 +24,24 @@ std::array<std::vector<double>, kNumBands> sourceBandEnergy(const SourceEnergy& 
 }
 
 /// Per-band parameters of one source of an energy-response CSV (dpc-demo --er-out); the
-/// "broadband" column sums the bands.
+/// "broadband" column weighs the bands by their shares of a white spectrum at the default
+/// scene sample rate (common/bands.h whiteSpectrumShares): the energy an IR of it carries.
 /// asMeasured: the bands are what the ISO band analysis reads, in expectation, from an IR that
 /// carries the response (dpc::expectedBandAnalysisEnergy at the default scene sample rate); the
-/// broadband column is the same sum of the response's bands either way.
+/// broadband column is the same weighted sum of the response's bands either way.
 ImpulseResponseAnalysis analyzeSource(const SourceEnergy& s, bool asMeasured) {
   ImpulseResponseAnalysis a;
   const auto bands = withDirect(s);
   const auto measured = asMeasured ? sourceBandEnergy(s, true) : bands;
   std::vector<double> sum(bands[0].size(), 0.0);
   const double t0 = onsetSecondsOf(s.direct), bin = s.energy.binSeconds();
+  // Band values are spectral densities: the broadband energy weighs each by its share of a
+  // white spectrum, as an IR synthesised from the response carries them.
+  const auto share = whiteSpectrumShares(double(AudioSettings{}.sampleRate));
   for (int b = 0; b < kNumBands; ++b) {
     const auto& e = measured[size_t(b)];
     a.bands[size_t(b)] = audio::analyzeEnergyDecay(e.data(), e.size(), bin, t0);
-    for (size_t k = 0; k < e.size(); ++k) sum[k] += bands[size_t(b)][k];
+    for (size_t k = 0; k < e.size(); ++k) sum[k] += share[size_t(b)] * bands[size_t(b)][k];
   }
   a.broadband = audio::analyzeEnergyDecay(sum.data(), sum.size(), bin, t0);
   return a;

@@ -103,7 +103,8 @@ std::optional<int> parseOptions(int argc, char** argv, Options& o) {
 bool endsWith(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() &&
          std::equal(tail.rbegin(), tail.rend(), s.rbegin(), [](char a, char b) {
-           return std::tolower(static_cast<unsigned char>(a)) == b;
+           return std::tolower(static_cast<unsigned char>(a)) ==
+                  std::tolower(static_cast<unsigned char>(b));
          });
 }
 

@@ -363,3 +363,43 @@ TEST_CASE("dpc-analyze refuses an empty option value, naming the option", "[anal
   }
   fs::remove_all(dir);
 }
+
+TEST_CASE("dpc-analyze: a CSV's broadband column is the energy an IR of it carries", "[analyze]") {
+  // Oracle: ISO 3382-1 A.2.1, G = 10 lg(E / E10) is 0 dB for the free field's direct sound at
+  // 10 m. A band value is a spectral density, so 1/(4 pi 10^2) in every band is that direct
+  // sound, broadband too (weighted by the bands' white shares). Summing the bands read 9.03 dB.
+  const fs::path dir = freshDir("analyze_broadband_test");
+  dpc::SourceEnergy s{dpc::EnergyResponse(0.5, 1e-3), dpc::DirectSound{}};
+  s.direct.visible = true;
+  s.direct.delaySeconds = float(10.0 / 343.0);
+  for (int b = 0; b < dpc::kNumBands; ++b) s.direct.intensity[b] = float(1.0 / (400.0 * M_PI));
+  // Upper case: the name's .CSV is matched without regard to case.
+  const std::string csv = (dir / "FREE_FIELD.CSV").string();
+  dpc::writeEnergyCsv(csv, {s});
+  const std::string out = (dir / "out.json").string();
+  REQUIRE(std::system((kTool + " " + csv + " --json > " + out).c_str()) == 0);
+  const nlohmann::json source = readJson(out).at("sources").at(0);
+  for (size_t b = 0; b < 8; ++b)
+    CHECK(source.at("bands")[b].at("g").get<double>() == Approx(0.0).margin(0.01));
+  // The shares sum to 1 within the masks' float rounding: 0.01 dB.
+  CHECK(source.at("broadband").at("g").get<double>() == Approx(0.0).margin(0.01));
+}
+
+TEST_CASE("dpc-analyze: a record that ends at 50 ms has no C50 or D50", "[analyze]") {
+  // 2400 samples at 48 kHz from the onset: the late part [50 ms, inf) was never recorded, so
+  // C50 and D50 are unknown (null), not +inf and 1 (nothing arrived after 50 ms).
+  const fs::path dir = freshDir("analyze_short_record_test");
+  dpc::audio::AudioData ir;
+  ir.sampleRate = 48000;
+  ir.channels.assign(1, std::vector<float>(2400, 0.f));
+  for (size_t n = 0; n < 2400; ++n)
+    ir.channels[0][n] = float(std::pow(10.0, -3.0 * double(n) / 48000.0 / 0.3) * (n % 2 ? 1 : -1));
+  const std::string wav = (dir / "short.wav").string();
+  dpc::audio::writeWav(wav, ir);
+  const std::string out = (dir / "out.json").string();
+  REQUIRE(std::system((kTool + " " + wav + " --json > " + out).c_str()) == 0);
+  const nlohmann::json broadband = readJson(out).at("channels").at(0).at("broadband");
+  CHECK(broadband.at("c50").is_null());
+  CHECK(broadband.at("d50").is_null());
+  CHECK_FALSE(broadband.at("c80").is_number());
+}

@@ -6,8 +6,8 @@ ISO 3382-1, A.2.4: C_te = 10 lg(E[t0, t0 + te) / E[t0 + te, inf)), t0 the arriva
 sound (ISO 3382-1 A.3.4; an IR's analysis finds it at the direct pulse): `direct/delay_s` when the
 probe's direct sound has energy and its arrival lies in the band's first non-empty 1 ms bin of the
 energy histogram (that bin then holds [t0, its end)), else that bin's start. te = 50 ms and 80 ms;
-the bin holding t0 + te is split in proportion to time. The broadband row is the sum of the 8
-bands. The bake's `parameters` (columns C50, C80) and the map CSV's rows must both agree with it
+the bin holding t0 + te is split in proportion to time. The broadband row weighs the 8 bands
+by their shares of a white spectrum at 48 kHz (a band value is a spectral density). The bake's `parameters` (columns C50, C80) and the map CSV's rows must both agree with it
 within TOLERANCE_DB.
 
 Tolerance: the oracle sums the stored float32 energies, dpc the double-precision means they
@@ -42,9 +42,18 @@ def clarity(energy, limit_ms, direct_ms):
         return float(10 * np.log10(early / late))
 
 
+def white_shares(rate=48000.0):
+    """Each octave band's share of a white spectrum from 0 Hz to Nyquist: its span between the
+    edges fc / sqrt 2 and fc sqrt 2 (exact base-2 centres), 63 Hz from 0 Hz, 8 kHz to Nyquist."""
+    centres = 1000.0 * 2.0 ** (np.arange(8) - 4)
+    edges = np.concatenate(([0.0], centres[:-1] * np.sqrt(2), [rate / 2]))
+    return np.diff(edges) / (rate / 2)
+
+
 def oracle(energy_ps, direct_ms):
-    """[row][C50, C80] for one probe and source ([bins][8] energy): 8 bands, then broadband."""
-    rows = [energy_ps[:, b] for b in range(8)] + [energy_ps.sum(axis=1)]
+    """[row][C50, C80] for one probe and source ([bins][8] energy): 8 bands, then broadband
+    (the bands weighted by their white shares: a band value is a spectral density)."""
+    rows = [energy_ps[:, b] for b in range(8)] + [energy_ps @ white_shares()]
     return np.array([[clarity(r, 50, direct_ms), clarity(r, 80, direct_ms)] for r in rows])
 
 

@@ -256,7 +256,8 @@ std::vector<std::filesystem::path> gltfReferencedFiles(const std::string& file) 
       try {
         files.push_back(levelFile(file, array, uri->get<std::string>(), false));
       } catch (const InputError&) {
-      }  // refused when the level is loaded
+        // A URI levelFile refuses names no file here; loading the level refuses it.
+      }
     }
   }
   return files;

@@ -291,11 +291,8 @@ double ProbeBaker::timeFrame(const glm::vec3& position) {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   maxOrderShare_ = 0.0;
-  for (size_t s = 0; s < scene_.sources.size(); ++s) {
-    const TraceStats& t = sim_->result(s).trace;
-    if (t.rays > 0)
-      maxOrderShare_ = std::max(maxOrderShare_, double(t.maxOrderEnergy.max()) / double(t.rays));
-  }
+  for (size_t s = 0; s < scene_.sources.size(); ++s)
+    maxOrderShare_ = std::max(maxOrderShare_, sim_->result(s).trace.maxOrderShare());
   return seconds;
 }
 

@@ -44,6 +44,11 @@ struct TraceStats {
   /// the response. A ray leaves with 1 per band on average, so maxOrderEnergy / rays is the
   /// emitted energy's share that the bound cut off.
   Bands maxOrderEnergy{0.f};
+  /// The largest band's share of the emitted energy that the reflection order bound cut off
+  /// (maxOrderEnergy / rays; 0 before any ray): what the max_order warning reads.
+  double maxOrderShare() const {
+    return rays > 0 ? double(maxOrderEnergy.max()) / double(rays) : 0.0;
+  }
   /// Adds another pass's counts (a frame's passes, summed).
   TraceStats& operator+=(const TraceStats& o) {
     rays += o.rays, segments += o.segments, listenerHits += o.listenerHits;

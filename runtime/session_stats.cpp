@@ -23,9 +23,7 @@ void FrameTotals::add(const Simulation::SourceResult& r) {
   const double kept = double(r.energy.total().sum());
   if (dropped > 0.0)
     droppedEnergyFraction = std::max(droppedEnergyFraction, dropped / (dropped + kept));
-  if (r.trace.rays > 0)
-    maxOrderEnergyFraction = std::max(maxOrderEnergyFraction,
-                                      double(r.trace.maxOrderEnergy.max()) / double(r.trace.rays));
+  maxOrderEnergyFraction = std::max(maxOrderEnergyFraction, r.trace.maxOrderShare());
 }
 
 SessionCounters::SessionCounters(int sceneRaysPerFrame, int floorRays)

@@ -78,36 +78,31 @@ if [[ ! -x $bake ]]; then
 fi
 q=(--spacing 2 --rays 200 --frames 4 --threads 1 --quiet)
 complete() { h5dump -a /complete "$1" | grep '(0): 1' >/dev/null; }
+# refused_here NAME LISTING PATTERN: the run in $out ended with status 1, left the tmpfs
+# holding LISTING (then earlier.wav's text), and printed one line matching PATTERN.
+refused_here() {
+  [[ $(sed -n 1p <<<"$out") == "status 1" ]] || fail "$1: expected exit status 1"
+  [[ $(sed -n 2,99p <<<"$out") == "$2"$'\nan earlier render' ]] ||
+      fail "$1: the tmpfs should hold only $2"
+  grep -q "$3" "$work/log.txt" || fail "$1: no line matching $3"
+  [[ $(wc -l <"$work/log.txt") -eq 1 ]] || fail "$1: not one line"
+}
 
 out=$(in_small_disk "$bake" "$src/scenes/shoebox.json" --out "$mnt/bake.h5" "${q[@]}")
 echo "$out"
-[[ $(sed -n 1p <<<"$out") == "status 1" ]] || fail "bake 3: expected exit status 1"
-[[ $(sed -n 2,99p <<<"$out") == $'earlier.wav\nan earlier render' ]] ||
-    fail "bake 3: nothing may be left on the tmpfs"
-grep -q "^dpc-bake: $mnt/bake.h5: cannot write: the bake needs .* free" "$work/log.txt" ||
-    fail "bake 3: no line naming the bake and the free space"
-[[ $(wc -l <"$work/log.txt") -eq 1 ]] || fail "bake 3: not one line"
+refused_here "bake 3" earlier.wav "^dpc-bake: $mnt/bake.h5: cannot write: the bake needs .* free"
 
 out=$(in_small_disk "$bake" "$src/scenes/shoebox.json" --out "$mnt/bake.h5" "${q[@]}" --force)
 echo "$out"
-[[ $(sed -n 1p <<<"$out") == "status 1" ]] || fail "bake 4: expected exit status 1"
-[[ $(sed -n 2,99p <<<"$out") == $'earlier.wav\nan earlier render' ]] ||
-    fail "bake 4: nothing may be left on the tmpfs"
-grep -q "^dpc-bake: $mnt/bake.h5: cannot write: .*No space left on device" "$work/log.txt" ||
-    fail "bake 4: no line naming the bake and the full disk"
-[[ $(wc -l <"$work/log.txt") -eq 1 ]] || fail "bake 4: not one line"
+refused_here "bake 4" earlier.wav "^dpc-bake: $mnt/bake.h5: cannot write: .*No space left on device"
 
 # The map does not fit (the tmpfs filled first), the bake does (written outside it): the bake
 # stays complete, the one line says so and how to write the map again, no map or temporary.
 out=$(in_small_disk bash -c 'head -c 500000 /dev/zero >"$1/filler" 2>/dev/null; shift; "$@"' _ \
       "$mnt" "$bake" "$src/scenes/shoebox.json" --out "$work/mapped.h5" --map "$mnt/m.csv" "${q[@]}")
 echo "$out"
-[[ $(sed -n 1p <<<"$out") == "status 1" ]] || fail "bake 6: expected exit status 1"
-[[ $(sed -n 2,99p <<<"$out") == $'earlier.wav\nfiller\nan earlier render' ]] ||
-    fail "bake 6: no map and no temporary may be left on the tmpfs"
-grep -q "^dpc-bake: $mnt/m.csv: cannot write.*; the bake $work/mapped.h5 is complete: dpc-bake --resume $work/mapped.h5 --map $mnt/m.csv writes the map again" "$work/log.txt" ||
-    fail "bake 6: no line naming the map, the full disk and the complete bake"
-[[ $(wc -l <"$work/log.txt") -eq 1 ]] || fail "bake 6: not one line"
+refused_here "bake 6" $'earlier.wav\nfiller' \
+  "^dpc-bake: $mnt/m.csv: cannot write.*; the bake $work/mapped.h5 is complete: dpc-bake --resume $work/mapped.h5 --map $mnt/m.csv writes the map again"
 complete "$work/mapped.h5" || fail "bake 6: the bake itself should be complete"
 "$bake" --resume "$work/mapped.h5" --map "$work/m.csv" --quiet >/dev/null 2>&1 ||
     fail "bake 6: --resume --map did not write the map"

@@ -1,5 +1,5 @@
 /* A fault for tests/apps/live_jack_test.sh's negative control, loaded with LD_PRELOAD into the
- * client under test: every OVERRUN_EVERY-th process callback (default 250) busy-waits
+ * client under test: every OVERRUN_EVERY-th process callback (default 50) busy-waits
  * OVERRUN_MS milliseconds (default 4, longer than a 128-frame period at 48 kHz) after the
  * client's own callback, as an engine that overran its block would. The live check must then
  * fail on the client's late callbacks and xruns. */
@@ -11,7 +11,7 @@
 
 static JackProcessCallback wrapped;
 static void* wrappedArg;
-static long every = 250;
+static long every = 50;
 static double overrunSeconds = 0.004;
 static long calls;
 

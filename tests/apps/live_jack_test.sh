@@ -29,9 +29,13 @@
 # loaded machine misses deadlines that are not dpc's to keep). Motion-to-sound latency is
 # reported (it is a timing of the shared machine, not a property of the code).
 # Negative control (MODE overrun): tests/apps/jack_overrun_shim.c, preloaded into dpc-demo,
-# makes every 250th callback busy-wait 4 ms after the engine's own work (1.5 periods); the
+# makes every 50th callback busy-wait 4 ms after the engine's own work (1.5 periods); the
 # check must then fail on dpc-demo's xruns as the server counted them, or this test fails (the
 # engine's own late-callback count times only its code, so it does not see the shim's wait).
+# One in 50 (2 % of callbacks, about 150 in 20 s) stands above the noisiest machine met: a CI
+# run's references had 70 and 122 xruns in 20 s (1.7 %), where one in 250 (about 30) lay
+# inside the bound's three standard deviations and passed; the check stays able to see 2 %
+# up to a reference rate of about 30 %.
 # Usage: live_jack_test.sh BUILD_DIR SOURCE_DIR [SECONDS] [MODE: live (default) | overrun]
 set -euo pipefail
 build=$1
@@ -103,7 +107,7 @@ if [[ $mode == overrun ]]; then
     exit 0
   fi
   if ((status == 0)) || ! grep -q 'xruns of dpc-demo' "$work/check.txt"; then
-    echo "FAIL: an engine that overran every 250th callback passed the live check"
+    echo "FAIL: an engine that overran every 50th callback passed the live check"
     exit 1
   fi
   echo "PASS: the live check caught the overrunning callback by its xruns"

@@ -7,6 +7,7 @@
 #include <numbers>
 #include <vector>
 
+#include "analysis/noise_floor.h"
 #include "common/octave_filter.h"
 
 namespace dpc::audio {
@@ -17,8 +18,12 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // ISO 3382-1: the evaluation range must end at least this far above the noise/truncation floor.
 constexpr double kFloorHeadroomDb = 10.0;
-// The floor is read from the decay curve at this fraction of the record after the onset.
+// Without a noise floor found, the floor is read from the decay curve at this fraction of the
+// record after the onset.
 constexpr double kFloorFraction = 0.9;
+// A decay that rises less than this above a noise floor found gives no parameter but its energy
+// (ISO 3382-1 asks 10 dB above the range's end; EDT's range needs 20 dB).
+constexpr double kMinPeakAboveNoiseDb = 20.0;
 // Onset: first sample within this many dB of the peak (ISO 3382-1:2009 A.3.4).
 constexpr double kOnsetBelowPeakDb = 20.0;
 
@@ -79,36 +84,47 @@ double earlyEnergy(const std::vector<double>& e, const Steps& steps, double wind
   return sum;
 }
 
-// All parameters from an energy sequence starting at the onset (e[0] = energy at t0), its
-// bins' times `steps`.
-RoomParameters fromEnergy(const std::vector<double>& e, const Steps& steps) {
-  RoomParameters r = allNaN();
-  const size_t n = e.size();
-  if (n == 0) return r;
-  std::vector<double> tail(n);  // Schroeder integral: tail[k] = Σ_{j>=k} e[j]
-  double acc = 0;
+// Schroeder decay curve (dB re its start) of e[0, n) with `beyond` added to every backward
+// sum (the noise compensation's correction; 0 without). `total` is the curve's 0 dB energy.
+std::vector<double> schroederDb(const std::vector<double>& e, size_t n, double beyond,
+                                double& total) {
+  std::vector<double> tail(n);  // tail[k] = beyond + Σ_{k<=j<n} e[j]
+  double acc = beyond;
   for (size_t k = n; k-- > 0;) {
     acc += e[k];
     tail[k] = acc;
   }
-  const double total = tail[0];
-  if (!(total > 0) || !std::isfinite(total)) return r;
-  r.energy = total;
-
+  total = n > 0 ? tail[0] : 0.0;
+  if (!(total > 0) || !std::isfinite(total)) return {};
   std::vector<double> levelDb(n);
   for (size_t k = 0; k < n; ++k)
     levelDb[k] = tail[k] > 0 ? 10.0 * std::log10(tail[k] / total) : -kInf;
   // Monotonic by construction up to rounding; enforce it so the range selection is contiguous.
   for (size_t k = 1; k < n; ++k) levelDb[k] = std::min(levelDb[k], levelDb[k - 1]);
-  const size_t floorIndex = std::min(n - 1, size_t(std::floor(kFloorFraction * double(n))));
-  const double floorDb = levelDb[floorIndex];
+  return levelDb;
+}
 
+// All parameters from an energy sequence starting at the onset (e[0] = energy at t0), its
+// bins' times `steps`. With a noise floor found, the sequence ends at its crossing and the
+// floor's correction is added (ISO 3382-1:2009 5.3.3), and the ranges keep their headroom from
+// the curve's level at the crossing; without, from its level at kFloorFraction of the record.
+RoomParameters fromEnergy(const std::vector<double>& e, const Steps& steps,
+                          const NoiseFloor& noise = {}) {
+  RoomParameters r = allNaN();
+  const size_t n = noise.found ? std::min(noise.crossing, e.size()) : e.size();
+  double total = 0;
+  const std::vector<double> levelDb = schroederDb(e, n, noise.found ? noise.tailEnergy : 0, total);
+  if (levelDb.empty()) return r;
+  r.energy = total;
+  if (noise.found && !(noise.peakAboveNoiseDb >= kMinPeakAboveNoiseDb)) return r;
+  const double floorDb = noise.found ? 10.0 * std::log10(noise.tailEnergy / total)
+                                     : levelDb[std::min(n - 1, size_t(kFloorFraction * double(n)))];
   r.t20 = decayTime(levelDb, steps, -5.0, -25.0, floorDb);
   r.t30 = decayTime(levelDb, steps, -5.0, -35.0, floorDb);
   r.edt = decayTime(levelDb, steps, 0.0, -10.0, floorDb);
 
-  // A record that ends at or before the split holds no late part to compare: C and D are
-  // unknown (NaN), not +inf (which says that nothing arrived after the split).
+  // A record that ends (or meets its noise) at or before the split holds no late part to
+  // compare: C and D are unknown (NaN), not +inf (which says that nothing arrived after it).
   const double recordEnd = steps.start(n - 1) + steps.width(n - 1);
   const auto holdsLate = [&](double window) { return recordEnd > window + 1e-9; };
   auto clarity = [&](double window) {
@@ -193,10 +209,13 @@ ImpulseResponseAnalysis analyzeImpulseResponse(const float* ir, size_t n, int sa
   if (sampleRate <= 0 || !onsetOf(ir, n, p, onset)) return out;
   const double fs = double(sampleRate);
   const double dt = 1.0 / fs;
-  out.broadband = fromEnergy(squaredFrom(p, onset), Steps{dt, dt});
+  // Per-sample energy from the onset, with Lundeby's noise compensation where a floor is found.
+  const auto analyse = [dt](const std::vector<double>& e) {
+    return fromEnergy(e, Steps{dt, dt}, findNoiseFloor(e, dt));
+  };
+  out.broadband = analyse(squaredFrom(p, onset));
   for (int b = 0; b < kNumBands; ++b)
-    if (bandSignal(p, b, fs, band))
-      out.bands[size_t(b)] = fromEnergy(squaredFrom(band, onset), Steps{dt, dt});
+    if (bandSignal(p, b, fs, band)) out.bands[size_t(b)] = analyse(squaredFrom(band, onset));
   return out;
 }
 

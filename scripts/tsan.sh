@@ -14,8 +14,7 @@ cd "$(dirname "$0")/.."
 
 build=${BUILD_DIR:-build-tsan}
 start=$(date +%s)
-launcher=()
-command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+source scripts/ccache-launcher.sh
 cmake -S . -B "$build" -G Ninja -DDPC_TSAN=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo "${launcher[@]}" >/dev/null
 cmake --build "$build" --target queue_tsan_test pipeline_tsan_test -j"${JOBS:-2}"
 built=$(date +%s)

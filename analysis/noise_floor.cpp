@@ -21,7 +21,8 @@ constexpr size_t kMinFitIntervals = 3;           // fewer points fit no line
 constexpr size_t kMinIntervals = 10;             // a record shorter than this many intervals
 constexpr double kMinExcessDb = 6.0;             // a floor lies this far above the decay's tail
 constexpr double kMaxFlatFraction = 0.25;        // and falls at most this fraction as fast,
-constexpr double kSignificance = 3.0;            // both by this many standard errors
+constexpr double kSignificance = 3.0;            // both by this many standard errors,
+constexpr double kFloorSlopeTolerance = 0.05;    // and as a floor would, to this share of the decay
 
 double toDb(double x) {
   return x > 0 ? 10.0 * std::log10(x) : -kInf;
@@ -132,8 +133,8 @@ struct Estimate {
 // Steps 1-4: the first line, from the peak down to 10 dB above the last 10 %'s noise.
 bool preliminary(const std::vector<double>& e, double dt, Estimate& est) {
   const size_t n = e.size();
-  est.w =
-      std::clamp<size_t>(size_t(std::llround(kFirstIntervalSeconds / dt)), 1, n / kMinIntervals);
+  const double w = std::min(kFirstIntervalSeconds / dt, 1e12);
+  est.w = std::clamp<size_t>(size_t(std::llround(w)), 1, n / kMinIntervals);
   est.noise = meanEnergy(e, size_t(std::floor((1.0 - kTailFraction) * double(n))));
   if (!(est.noise > 0) || !std::isfinite(est.noise)) return false;
   const double noiseDb = toDb(est.noise);
@@ -177,27 +178,47 @@ bool flatterThan(const Line& tail, const Line& decay) {
   return tail.b - kMaxFlatFraction * decay.b > kSignificance * error;
 }
 
+// Least-squares slope (dB/s) over the envelope's points [first, end) of what a stationary floor
+// of `floorEnergy` per sample under the line `late` would give there.
+double floorModelSlope(const Envelope& env, size_t first, const Line& late, double floorEnergy) {
+  Envelope model;
+  for (size_t i = first; i < env.t.size(); ++i) {
+    model.t.push_back(env.t[i]);
+    model.db.push_back(toDb(floorEnergy + std::pow(10.0, (late.a + late.b * env.t[i]) / 10.0)));
+  }
+  return fit(model, 0, model.t.size()).b;
+}
+
 // The verdict (see the header): over the noise region [from, n) the mean lies kMinExcessDb
-// above the late line's extrapolation and the envelope falls at most kMaxFlatFraction as fast
+// above the late line's extrapolation; the envelope falls at most kMaxFlatFraction as fast
 // as the late line or (more points, so a smaller error in a low band) the whole decay from the
 // peak down to the late line's lower end; each by kSignificance standard errors of the lines
 // (the envelope's scatter about them: large in a low band's short tail, where the decision is
-// then left to the 90 % rule).
+// then left to the 90 % rule). And the envelope's slope is the one a stationary floor plus the
+// late line would give, within kSignificance standard errors or kFloorSlopeTolerance of the
+// decay's slope: a second, slower decay (coupled rooms, a ringing mode) is not flat.
 bool isFloor(const std::vector<double>& e, double dt, const Estimate& est, size_t from,
              double& excessDb) {
   const size_t n = e.size();
   const Line& late = est.line;
-  const double noiseDb = toDb(meanEnergy(e, from));
-  excessDb = noiseDb - toDb(lineSum(late, dt, from, double(n - from)) / double(n - from));
+  const double noise = meanEnergy(e, from), noiseDb = toDb(noise);
+  const double lineMean = lineSum(late, dt, from, double(n - from)) / double(n - from);
+  excessDb = noiseDb - toDb(lineMean);
   const Envelope env = smoothed(e, est.w, dt);
-  const auto first = std::lower_bound(env.t.begin(), env.t.end(), double(from) * dt);
-  const Line tail = fit(env, size_t(first - env.t.begin()), env.t.size());
+  const size_t first =
+      size_t(std::lower_bound(env.t.begin(), env.t.end(), double(from) * dt) - env.t.begin());
+  const Line tail = fit(env, first, env.t.size());
+  if (tail.count < kMinFitIntervals) return false;
   // The line's energy over the region lies mostly near its start: judge the level there.
   const double levelError =
       std::hypot(late.levelError(double(from) * dt), tail.sigma / std::sqrt(double(tail.count)));
   if (!(excessDb >= std::max(kMinExcessDb, kSignificance * levelError))) return false;
   const Line whole = fitBetween(env, kInf, noiseDb + kLateFitAboveNoiseDb, double(from) * dt);
-  return flatterThan(tail, late) || (whole.decays() && flatterThan(tail, whole));
+  if (!flatterThan(tail, late) && !(whole.decays() && flatterThan(tail, whole))) return false;
+  const double model = floorModelSlope(env, first, late, noise - lineMean);
+  const double allowed =
+      std::max(kSignificance * tail.slopeError(), kFloorSlopeTolerance * -late.b);
+  return std::abs(tail.b - model) <= allowed;
 }
 
 // Fills `out` from the final estimate: the verdict and, for a floor, the crossing, the noise

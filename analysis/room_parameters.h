@@ -24,7 +24,7 @@
 // floor 50 dB down reads T30 +1.2 %, 41.6 dB down T20 +1.6 % (the method's value for the expected
 // energy; measured means agree within 0.4 %). A tail that falls at the decay's rate or lies on
 // its extrapolation is no floor (a record cut while the decay still runs, as dpc's own are): it
-// is analysed exactly as without this step. An energy decay (analyzeEnergyDecay) is dpc's own,
+// is analysed by the 90 % rule below. An energy decay (analyzeEnergyDecay) is dpc's own,
 // noise-free, and is not searched.
 //
 // Honest NaN. A reverberation time is NaN (never an invented number) when

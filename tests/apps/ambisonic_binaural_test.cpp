@@ -164,7 +164,7 @@ struct DiffuseCoherence {
 
 TEST_CASE(
     "MagLS: above the cut-off the ILD follows the HRTF where the sampling decoder falls short",
-    "[ambisonics]") {
+    "[ambisonics][heavy]") {
   // Above kr = N an order-N decoder cannot match the complex HRTF; MagLS keeps its magnitudes.
   // Asserted: above f_c (orders 3 and 5) the mean ILD error per octave band is within the
   // issue's 2 dB, where the sampling decoder's exceeds it in some band; below f_c MagLS (least
@@ -199,7 +199,7 @@ TEST_CASE(
 }
 
 TEST_CASE("MagLS: the covariance constraint restores the HRTF's diffuse-field coherence",
-          "[ambisonics]") {
+          "[ambisonics][heavy]") {
   // With Zaunschirm et al.'s constraint the decoded diffuse field's interaural coherence
   // equals the HRTF's in every octave centred above where it starts (min(f_c, f_N)), to
   // within 0.03 (the filters' truncation to filterLength() taps and the float spectra);

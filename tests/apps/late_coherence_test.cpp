@@ -191,7 +191,8 @@ void requireSeedMeanCoherence(const std::string& name, const std::string& flags,
 
 }  // namespace
 
-TEST_CASE("The late binaural field has the HRTF set's diffuse-field coherence", "[spatial]") {
+TEST_CASE("The late binaural field has the HRTF set's diffuse-field coherence",
+          "[spatial][heavy]") {
   const std::array<double, 7> want = diffuseFieldCoherence(kSofa);
   // Under the balcony (the hall's start position) and in the stalls' centre aisle.
   requireDiffuseCoherence(renderHallAt("balcony", {28.5, 1.6, 10.0}), want);

@@ -85,7 +85,7 @@ void requireIndependent(const dpc::audio::AudioData& ir, int channelsPerSource, 
 
 }  // namespace
 
-TEST_CASE("Two sources' late fields are uncorrelated: binaural", "[spatial]") {
+TEST_CASE("Two sources' late fields are uncorrelated: binaural", "[spatial][heavy]") {
   const dpc::audio::AudioData ir = render("binaural", "--output binaural");
   requireIndependent(ir, 2, 0);
   requireIndependent(ir, 2, 1);

@@ -214,7 +214,7 @@ TEST_CASE("AmbiX: W carries the mono energy response within 2 dB", "[ambisonics]
 }
 
 TEST_CASE("Loudspeakers: a source at a loudspeaker puts >= 90 % of the direct energy there",
-          "[loudspeakers]") {
+          "[loudspeakers][heavy]") {
   // Listener at the centre facing +x; a source 3 m away at each loudspeaker's direction
   // (azimuth left-positive, elevation up) in scene coordinates: (cos el cos az, sin el,
   // -cos el sin az).

@@ -99,7 +99,8 @@ TEST_CASE("Binaural: turning the listener 180 degrees swaps the ears", "[spatial
   CHECK(db(br[6] / bl[6]) > 6.0);
 }
 
-TEST_CASE("Binaural band energies average to the mono energy response within 2 dB", "[spatial]") {
+TEST_CASE("Binaural band energies average to the mono energy response within 2 dB",
+          "[spatial][heavy]") {
   // A reverberant shoebox, source 5 m away: the diffuse field carries most of the energy.
   SceneDesc scene = test::makeShoebox({10, 3, 7}, Bands(0.15f), 0.7f, {2, 1.5f, 2}, {7, 1.6f, 5});
   scene.propagation.raysPerFrame = 4096;

@@ -146,9 +146,10 @@ Bands lateFromFile(const std::string& path, size_t p, size_t bins, double second
 // hundred terms: 1e-4 relative. A path counted twice adds its intensity: with the 32 of
 // early/paths taken out and all 50 added live, the 18 beyond add 2.4e-4 of 0.037 in 0..80 ms
 // (0.65 %, +0.028 dB); a path dropped takes its intensity away.
-TEST_CASE("Baked playback at a probe: late response + live direct sound + live exact paths = "
-          "the bake's whole response, with more exact paths than early/paths stores",
-          "[bake][playback]") {
+TEST_CASE(
+    "Baked playback at a probe: late response + live direct sound + live exact paths = "
+    "the bake's whole response, with more exact paths than early/paths stores",
+    "[bake][playback][heavy]") {
   for (const int order : {2, 3}) {
     test::TempDir dir("bake_early");
     const SceneDesc s = scene(order);

@@ -34,7 +34,7 @@ SceneDesc diffuseShoebox(DpcWeighting w, float budgetMb) {
 // the L2 change of the unbounded estimate between frames one window apart (statistically
 // independent frames: the window and the EMA forget their terms after tau).
 TEST_CASE("A 1 MB budget on the diffuse shoebox: bytes bounded, energy response unchanged",
-          "[dpc][budget]") {
+          "[dpc][budget][heavy]") {
   for (DpcWeighting w : {DpcWeighting::kEma, DpcWeighting::kWindow}) {
     INFO("weighting " << int(w));
     Simulation small(diffuseShoebox(w, 1.f)), big(diffuseShoebox(w, 512.f));
@@ -89,7 +89,7 @@ TEST_CASE("A 1 MB budget on the diffuse shoebox: bytes bounded, energy response 
 // delay r / c in double): L2 difference over 1 ms bins below 1e-3 relative, while the window
 // cache holds far fewer entries.
 TEST_CASE("Order-adaptive path identifiers keep the energy response and shrink the cache",
-          "[dpc][budget]") {
+          "[dpc][budget][heavy]") {
   const SceneDesc scene = diffuseShoebox(DpcWeighting::kWindow, 512.f);
   Simulation adaptive(scene);
   Simulation::Options thesisRule;

@@ -49,7 +49,7 @@ Run run(SceneDesc scene) {
 }  // namespace
 
 TEST_CASE("Exact paths: a closed door's gaps pass none, and closed stays below open",
-          "[specular][door]") {
+          "[specular][door][heavy]") {
   constexpr float kWall = 0.1f, kThickness = 0.04f;
   const Run open = run(thickDoorwayScene(kWall, false));
   // The control: through the open doorway the rays propose paths and the construction finds

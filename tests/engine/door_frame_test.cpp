@@ -51,7 +51,7 @@ TEST_CASE("Door gaps: a leaf set in a thick wall passes its gaps, a box leaf thr
 }
 
 TEST_CASE("Door gaps: a box leaf closed against a door stop passes its L-shaped gaps",
-          "[diffraction][door]") {
+          "[diffraction][door][heavy]") {
   // Real doors close against a stop: a strip round the frame that the leaf's face overlaps, so
   // each gap runs along the leaf's side and turns between its face and the stop. Before, such
   // a door passed nothing at all (from the mouth by the stop, the other room lies behind the
@@ -84,7 +84,7 @@ TEST_CASE("Door gaps: a box leaf closed against a door stop passes its L-shaped 
 }
 
 TEST_CASE("Door gaps: a leaf proud of the wall's face, or flush with both faces of a wall as thick",
-          "[diffraction][door]") {
+          "[diffraction][door][heavy]") {
   // Where a model puts the leaf: a few millimetres proud of the wall's face (toward either
   // room), or a box exactly as thick as the wall, flush with both its faces (a game level's
   // door is often a box that fills the hole), or a sheet in front of the wall's face. Before,
@@ -131,7 +131,7 @@ TEST_CASE("Door gaps: a leaf proud of the wall's face, or flush with both faces 
 }
 
 TEST_CASE("Door gaps: a box leaf in a thick wall seen off the axis with or without a door stop",
-          "[diffraction][door]") {
+          "[diffraction][door][heavy]") {
   // The pairs of "seen from off the axis" below (beside the doorway, past a jamb), the leaf
   // 4 cm thick in a 0.1 m wall, without a stop, or closing against one on the listener's or
   // the source's side (lip 15 mm). The stop's edge and the wall's corner behind it hide the
@@ -174,7 +174,7 @@ TEST_CASE("Door gaps: a box leaf in a thick wall seen off the axis with or witho
 }
 
 TEST_CASE("Door gaps: a box leaf that is a moving object passes its gaps as a static one does",
-          "[diffraction][door]") {
+          "[diffraction][door][heavy]") {
   // Games move their doors: the leaf is a scene object, whose own edges have no first-order
   // paths (their rims face the frame within 3 cm, so no chain goes round them either), so the
   // channels along its side faces are not there. The gap then runs along the wall's reveal

@@ -368,7 +368,7 @@ TEST_CASE("Door gaps: an obstacle in a window never lifts the direct sound above
 }
 
 TEST_CASE("Door gaps: a double door's leaves meeting on the line of sight pass their slits only",
-          "[diffraction][door]") {
+          "[diffraction][door][heavy]") {
   // Two leaves meet in the doorway's middle, 5 or 10 mm apart, the line of sight through that
   // gap; 0 or 10 mm round them. The slit model's field (engine/slit.h) is driven by the
   // incident pressure at the slit's mouth, so it carries the direct sound through the gap:
@@ -463,7 +463,7 @@ TEST_CASE("Door gaps: a double door seen beside its leaves' gap or off the axis 
 }
 
 TEST_CASE("Door gaps: seen from off the axis, the gaps pass what the slit model says",
-          "[diffraction][door]") {
+          "[diffraction][door][heavy]") {
   // Source and listener beside the doorway (both past one jamb, at other heights): the top
   // gap's edges then end before their point of least path length, so no edge path passes it,
   // yet the slit, a line source along its extent, does (the model integrates along it). Those

@@ -95,8 +95,10 @@ std::vector<Slit> openings(double degrees) {
 
 }  // namespace
 
-TEST_CASE("Door swing: a box leaf ajar 2-15 degrees passes what the slit model of its openings "
-          "says", "[diffraction][door]") {
+TEST_CASE(
+    "Door swing: a box leaf ajar 2-15 degrees passes what the slit model of its openings "
+    "says",
+    "[diffraction][door][heavy]") {
   // Up to 15 degrees the latch opening (up to 26 cm) is at least 8 times as long as wide, where
   // the slit model holds fully (engine/slit.h kSlitFullAspect). Tolerance: 3 dB per octave at
   // 63-250 Hz, as for the gaps round a closed leaf (door_gap_test); the model here places the
@@ -313,7 +315,7 @@ TEST_CASE("Door swing: a box leaf centred in a wall standing alone, swung toward
 TEST_CASE(
     "Door swing: beside the doorway, a box leaf in a wall standing alone ajar 1-12 degrees "
     "passes what the slit model of its openings says, and never steps",
-    "[diffraction][door]") {
+    "[diffraction][door][heavy]") {
   // The listener 1 m off the doorway's axis, past the latch jamb, the leaf swung toward it: the
   // opening between its rim and the jamb's corner (1 to 12 cm) is seen at a slant from both
   // sides. Tolerance: 3 dB per octave at 63-125 Hz against the slit model, as for the leaf in

@@ -33,7 +33,7 @@ TEST_CASE("Key vertex is opposite the shortest edge, counts as defined", "[patch
   CHECK(sizeof(TrianglePatching) <= 6);
 }
 
-TEST_CASE("Patches are about lambda in extent and area, and ids are unique", "[patch]") {
+TEST_CASE("Patches are about lambda in extent and area, and ids are unique", "[patch][heavy]") {
   Rng rng(7, 1);
   const float lambda = 0.25f;
   for (int trial = 0; trial < 20; ++trial) {

@@ -171,7 +171,7 @@ TEST_CASE("Window DPC: the mean over the window's frames, while its ring of term
 // docs/estimators.md, "Its bias": a path hit with probability p per frame contributes I / N per hit
 // in expectation. The EMA estimator's long-run mean must equal p I / N (unbiased) within Monte
 // Carlo error; the thesis estimator inflates rare paths towards the harmonic number H_K.
-TEST_CASE("EMA weighting is unbiased for rarely hit paths, seed weighting is not", "[dpc]") {
+TEST_CASE("EMA weighting is unbiased for rarely hit paths, seed weighting is not", "[dpc][heavy]") {
   const double period = 1.0 / 15, tau = 1.0;
   const uint64_t N = 1000;
   const float I = 1.f;

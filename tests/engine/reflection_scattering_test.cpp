@@ -79,7 +79,7 @@ TEST_CASE("Reflection scattering: a face's zone widths follow its sides and its 
 }
 
 TEST_CASE("Reflection scattering: the share per band against the Kirchhoff integral",
-          "[reflection_scattering]") {
+          "[reflection_scattering][heavy]") {
   // Plates at normal and 45-degree incidence, source and listener 2 m from the centre. The
   // oracle is the exact (non-paraxial) Kirchhoff integral at the listener, each octave's mean
   // over 16 frequencies. Where the plate lies inside half of its first zone in both
@@ -261,7 +261,7 @@ TEST_CASE("Reflection scattering: propagation.reflection_scattering off reflects
 }
 
 TEST_CASE("Reflection scattering: a 4 cm slab is not its own backing wall, a wall behind it is",
-          "[reflection_scattering]") {
+          "[reflection_scattering][heavy]") {
   // The probe behind the lit face meets the slab's own back face from inside first; that is
   // the body, not a wall, so the slab scatters as the sheet does (-8 dB at 63 Hz above, the
   // Monte Carlo error a few tenths of a dB): well below -5 dB, where a wall would keep 0 dB.

@@ -59,7 +59,7 @@ TEST_CASE("SH energy: a plane wave adds its energy times Y(direction), ACN/SN3D"
 // channels vanish by symmetry too; along x the late field has forgotten the source (the mean
 // free path 4V/S = 3.5 m is crossed every 10 ms; 150 ms are 15 reflections).
 TEST_CASE("SH energy: a diffuse late field has first-order components at zero",
-          "[engine][bake]") {
+          "[engine][bake][heavy]") {
   SceneDesc scene = test::makeShoebox({10, 3, 7}, Bands(0.1f), 1.f, {2.5f, 1.5f, 3.5f},
                                       {5.f, 1.5f, 3.5f});
   scene.propagation.estimator = Estimator::kPathTracing;

@@ -96,7 +96,7 @@ void compare(const char* what, const std::vector<double>& model, const std::vect
 }  // namespace
 
 TEST_CASE("Small reflectors: a plate reflects its Kirchhoff share of the image source",
-          "[specular][diffraction]") {
+          "[specular][diffraction][heavy]") {
   struct Case {
     double w, h, a, b, angle;  // m, m, m, m, degrees of incidence
   };

@@ -93,7 +93,7 @@ TEST_CASE("The direct sound's level versus angle follows the pattern", "[directi
 // figure of eight) to about -25 dB. So: within 0.5 dB of the pattern above -15 dB, below
 // -12 dB elsewhere. Writes build/directivity_polar.csv for scripts/plot_directivity.py.
 TEST_CASE("Emitted rays are weighted by the pattern (writes directivity_polar.csv)",
-          "[directivity]") {
+          "[directivity][heavy]") {
   std::vector<float> angles;
   for (int deg = 0; deg <= 180; deg += 15) angles.push_back(float(deg));
   const auto listeners = ring(angles);

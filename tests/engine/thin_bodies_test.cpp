@@ -162,7 +162,7 @@ TEST_CASE(
 TEST_CASE(
     "Thin bodies: a grid of posts with the line of sight free is no louder than the free "
     "field in any band, nor much quieter where the posts are thin",
-    "[diffraction][door]") {
+    "[diffraction][door][heavy]") {
   // Three rows of posts 5 cm square, 0.3 m apart in each row, 0.2 m between the rows, the rows
   // staggered, across the room (a colonnade, a fence, a rack's uprights); the listener walks
   // behind them where the line of sight passes between the posts. The field there is the free
@@ -282,7 +282,7 @@ TEST_CASE("Thin bodies: a louvre whose slat blocks the line of sight passes what
 }
 
 TEST_CASE("Thin bodies: a louvre passes as much through a slot as through a slat",
-          "[diffraction][door]") {
+          "[diffraction][door][heavy]") {
   // Slats 3 cm thick, the listener walking 5 mm at a time so that the line of sight passes now
   // through a slot, now through a slat: 5 cm deep and 3 mm apart (9 % open), and 2 cm deep and
   // 3 cm apart (half open, the slats wider than deep). Three metres behind, farther than the

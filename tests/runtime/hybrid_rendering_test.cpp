@@ -168,7 +168,7 @@ size_t peakSample(const std::vector<std::vector<float>>& ir) {
 // octave band, early part plus g_s^2 times the bus's late response against the whole response.
 // No realisation noise enters, so the bound is the issue's 1 dB in every band.
 TEST_CASE("Hybrid rendering: each source's expected band energy within 1 dB of its own",
-          "[runtime][hybrid]") {
+          "[runtime][hybrid][heavy]") {
   const auto worstBandError = [](const Rendered& r) {
     double worst = 0.0;
     for (size_t s = 0; s < r.expectedWhole.size(); ++s)
@@ -342,7 +342,8 @@ TEST_CASE("Hybrid rendering: spatial early parts and buses are the same bit for 
 // of the synthesiser): every IR must be the same for any number of threads, for a first-IR
 // build, its completion on the tracing threads and the frames after it. Two groups writing one
 // workspace at once would change the IRs.
-TEST_CASE("Sources rendered whole: the same IRs bit for bit on 1 to 3 threads", "[runtime]") {
+TEST_CASE("Sources rendered whole: the same IRs bit for bit on 1 to 3 threads",
+          "[runtime][heavy]") {
   for (const OutputFormat output :
        {OutputFormat::kMono, OutputFormat::kStereo, OutputFormat::kAmbisonics}) {
     SceneDesc scene = ringScene(5);

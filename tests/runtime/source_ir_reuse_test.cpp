@@ -197,7 +197,7 @@ struct RingStage {
 }  // namespace
 
 TEST_CASE("Source IRs kept: a still source keeps its IR, a moved one is heard where it is",
-          "[hybrid]") {
+          "[hybrid][heavy]") {
   for (const Rendering rendering : {Rendering::kHybrid, Rendering::kPerSource}) {
     INFO("rendering " << int(rendering));
     RingStage kept(0.5, rendering), fresh(0.0, rendering);
@@ -339,7 +339,8 @@ double directAfterMove(double toleranceDb, size_t at, size_t w) {
 
 }  // namespace
 
-TEST_CASE("Source IRs kept: a listener that moved is heard at its new place", "[hybrid][live]") {
+TEST_CASE("Source IRs kept: a listener that moved is heard at its new place",
+          "[hybrid][live][heavy]") {
   const SceneDesc scene = pluginRoom();
   const double fs = scene.audio.sampleRate, c = scene.propagation.speedOfSound;
   LiveSession probe(test::shared(scene), scene.propagation, test::shared(loadDrySignals(scene)),

@@ -197,14 +197,13 @@ double floorModelSlope(const Envelope& env, size_t first, const Line& late, doub
 // then left to the 90 % rule). And the envelope's slope is the one a stationary floor plus the
 // late line would give, within kSignificance standard errors or kFloorSlopeTolerance of the
 // decay's slope: a second, slower decay (coupled rooms, a ringing mode) is not flat.
-bool isFloor(const std::vector<double>& e, double dt, const Estimate& est, size_t from,
-             double& excessDb) {
-  const size_t n = e.size();
+// `noise` is the region's mean energy, `env` the envelope at the estimate's interval length.
+bool isFloor(size_t n, double dt, const Estimate& est, size_t from, double noise,
+             const Envelope& env, double& excessDb) {
   const Line& late = est.line;
-  const double noise = meanEnergy(e, from), noiseDb = toDb(noise);
+  const double noiseDb = toDb(noise);
   const double lineMean = lineSum(late, dt, from, double(n - from)) / double(n - from);
   excessDb = noiseDb - toDb(lineMean);
-  const Envelope env = smoothed(e, est.w, dt);
   const size_t first =
       size_t(std::lower_bound(env.t.begin(), env.t.end(), double(from) * dt) - env.t.begin());
   const Line tail = fit(env, first, env.t.size());
@@ -226,13 +225,14 @@ bool isFloor(const std::vector<double>& e, double dt, const Estimate& est, size_
 void judge(const std::vector<double>& e, double dt, const Estimate& est, NoiseFloor& out) {
   const size_t n = e.size(), from = noiseStart(n, dt, est.tc, est.line);
   if (!(est.tc > 0) || !(est.tc / dt < double(from))) return;
-  if (!isFloor(e, dt, est, from, out.excessDb)) return;
+  const double noise = meanEnergy(e, from);
+  const Envelope env = smoothed(e, est.w, dt);
+  if (!isFloor(n, dt, est, from, noise, env, out.excessDb)) return;
   out.found = true;
   out.crossing = std::max<size_t>(1, size_t(std::ceil(est.tc / dt)));
-  out.noise = meanEnergy(e, from);
+  out.noise = noise;
   out.decayDbPerSecond = est.line.b;
   out.tailEnergy = lineSum(est.line, dt, out.crossing, kInf);
-  const Envelope env = smoothed(e, est.w, dt);
   out.peakAboveNoiseDb = *std::max_element(env.db.begin(), env.db.end()) - toDb(out.noise);
 }
 

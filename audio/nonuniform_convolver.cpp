@@ -13,65 +13,6 @@ namespace dpc::audio {
 
 using detail::allocZeroed;
 
-namespace {
-constexpr int kMaxBlock = 8192;
-constexpr size_t kMaxIrSamples = size_t(1) << 27;
-}  // namespace
-
-NonUniformLayout::NonUniformLayout(int blockSize, size_t maxIrSamples, int maxPartition,
-                                   ConvolverLayout::Planning planning)
-    : blockSize_(blockSize), maxIrSamples_(maxIrSamples) {
-  if (blockSize < 1 || blockSize > kMaxBlock)
-    throw std::invalid_argument("NonUniformLayout: blockSize " + std::to_string(blockSize) +
-                                " outside 1.." + std::to_string(kMaxBlock));
-  if (maxIrSamples < 1 || maxIrSamples > kMaxIrSamples)
-    throw std::invalid_argument("NonUniformLayout: maxIrSamples " + std::to_string(maxIrSamples) +
-                                " outside 1.." + std::to_string(kMaxIrSamples));
-  if (maxPartition < blockSize)
-    throw std::invalid_argument("NonUniformLayout: maxPartition " + std::to_string(maxPartition) +
-                                " is below the block size " + std::to_string(blockSize));
-  int capPeriod = 1;  // largest power of two with capPeriod * B <= maxPartition
-  while (size_t(capPeriod) * 2 * size_t(blockSize) <= size_t(maxPartition)) capPeriod *= 2;
-
-  const size_t b = size_t(blockSize);
-  size_t offset = 0;
-  int period = 1;
-  for (;;) {
-    const size_t n = size_t(period) * b;
-    const int nextPeriod = std::min(4 * period, capPeriod);
-    const size_t nextOffset = 2 * size_t(nextPeriod) * b - 2 * b;
-    int partitions;
-    bool last = nextPeriod == period || maxIrSamples <= nextOffset;
-    if (last)
-      partitions = int((maxIrSamples - offset + n - 1) / n);
-    else
-      partitions = int((nextOffset - offset) / n);
-    ffts_.push_back(std::make_unique<ConvolverLayout>(int(n), size_t(partitions) * n, planning));
-    levels_.push_back(Level{int(n), partitions, offset, period, ffts_.back().get()});
-    if (last) break;
-    offset = nextOffset;
-    period = nextPeriod;
-  }
-}
-
-bool NonUniformLayout::plansMeasured() const {
-  for (const auto& fft : ffts_)
-    if (!fft->plansMeasured()) return false;
-  return true;
-}
-
-void NonUniformLayout::measurePlans() const {
-  for (const auto& fft : ffts_) fft->measurePlans();
-}
-
-int NonUniformLayout::totalPartitions() const {
-  int total = 0;
-  for (const Level& l : levels_) total += l.numPartitions;
-  return total;
-}
-
-// ---------------------------------------------------------------------------------------------
-
 NonUniformIrSet::NonUniformIrSet(const NonUniformLayout& layout, int numSources, int numChannels,
                                  int workers)
     : layout_(&layout), numSources_(numSources), numChannels_(numChannels) {
@@ -115,6 +56,20 @@ int firstSounding(const NonUniformLayout::Level& lv, int active, const float* co
 }
 }  // namespace
 
+namespace {
+/// Scales the count samples of a partition of level l that starts at IR sample begin by the
+/// level's share of each (NonUniformLayout::share); only where it is not 1.
+void applyShare(const NonUniformLayout& layout, int l, size_t begin, size_t count, float* x) {
+  const NonUniformLayout::Level& lv = layout.level(l);
+  const bool sharedEnd = lv.overlapPartitions > 0 && begin + count > layout.level(l + 1).offset;
+  const bool sharedStart = l > 0 && layout.level(l - 1).overlapPartitions > 0 &&
+                           begin < lv.offset + size_t(layout.level(l - 1).overlapPartitions) *
+                                                   size_t(layout.level(l - 1).partitionSize);
+  if (!sharedEnd && !sharedStart) return;
+  for (size_t k = 0; k < count; ++k) x[k] *= layout.share(l, begin + k);
+}
+}  // namespace
+
 void NonUniformIrSet::prepare(int source, const float* const* irs, size_t n, int worker) {
   if (source < 0 || source >= numSources_)
     throw std::invalid_argument("NonUniformIrSet::prepare: source " + std::to_string(source) +
@@ -140,6 +95,7 @@ void NonUniformIrSet::prepare(int source, const float* const* irs, size_t n, int
         const size_t count = std::min(len, n - begin);
         std::copy(irs[c] + begin, irs[c] + begin + count, time);
         std::fill(time + count, time + 2 * len, 0.0f);
+        applyShare(*layout_, l, begin, count, time);
         float* re = const_cast<float*>(spectrum(l, source, c, p));
         float* im = re + lv.fft->binStride();
         lv.fft->forward(time, re);
@@ -153,14 +109,14 @@ void NonUniformIrSet::prepare(int source, const float* const* irs, size_t n, int
     active_[at] = active;
     first_[at] = firstSounding(lv, active, irs, numChannels_, n);
   }
-  // Levels follow each other in the IR: the first level that sounds holds the onset.
+  // The earliest first sounding partition over the levels (overlapping levels may both sound).
   onset_[size_t(source)] = kSilent;
   for (int l = 0; l < layout_->numLevels(); ++l) {
     const int first = firstSoundingPartition(source, l);
     if (first == activePartitions(source, l)) continue;
     const NonUniformLayout::Level& lv = layout_->level(l);
-    onset_[size_t(source)] = lv.offset + size_t(first) * size_t(lv.partitionSize);
-    break;
+    onset_[size_t(source)] =
+        std::min(onset_[size_t(source)], lv.offset + size_t(first) * size_t(lv.partitionSize));
   }
 }
 

@@ -10,18 +10,16 @@
 // Aachen 2015, ch. 5-6 (each level is a uniformly partitioned overlap-save convolver with its
 // own frequency-domain delay line, FDL).
 //
-// Layout (NonUniformLayout): level 0 has partitions of the block size B at IR offset 0; level
-// l has partitions of N_l = B * 4^l samples (capped at maxPartition) starting at IR offset
-// o_l = 2 N_l - 2 B, so level l covers [o_l, o_{l+1}) with 2 (N_{l+1} - N_l) / N_l partitions
-// (6 when the size quadruples); the last level covers the rest of the IR. Level l's work for
-// one N_l-sample input chunk is spread over the m_l = N_l / B callbacks after the chunk is
-// complete: the forward FFTs of the sources spread over the m callbacks (source s in callback
-// s m / S), each followed by the spectral multiply-accumulate (MAC) of that source's partition
-// 0; the MACs of partitions 1..P-1 (older input spectra) as (source, partition) pairs spread
-// evenly over the same callbacks; the inverse FFTs in the last (callback m_l - 1),
-// whose output chunk starts playing in that same callback. That is exactly
-// when the IR offset o_l needs it, so the convolution adds no latency: output block k depends
-// on input up to block k (as the uniform convolver, docs/live.md).
+// Layout (audio/nonuniform_layout.h): levels of partitions N_l = B 4^l from IR offsets
+// o_l = 2 N_l - 2 B, each reaching K_l partitions into the next (a zone they share). Level
+// l's work for one N_l-sample input chunk is spread over the m_l = N_l / B callbacks after the
+// chunk is complete: the forward FFTs of the sources spread over the m callbacks (source s in
+// callback s m / S), each followed by the spectral multiply-accumulate (MAC) of that source's
+// partition 0; the MACs of partitions 1..P-1 (older input spectra) as (source, partition) pairs
+// spread evenly over the same callbacks; the inverse FFTs in the last (callback m_l - 1), whose
+// output chunk starts playing in that same callback. That is exactly when the IR offset o_l needs
+// it, so the convolution adds no latency: output block k depends on input up to block k (as the
+// uniform convolver, docs/live.md).
 //
 // Many sources: each source has its own FDL per level; sources are multiply-accumulated per
 // output channel into one spectrum, so the inverse FFTs are one per output channel and level
@@ -86,50 +84,9 @@
 #include <vector>
 
 #include "audio/convolver.h"
+#include "audio/nonuniform_layout.h"
 
 namespace dpc::audio {
-
-/// Partition sizes, offsets and FFT plans of a non-uniform partitioning (see the file comment).
-/// Must outlive every NonUniformIrSet / NonUniformConvolver made from it. Not copyable.
-class NonUniformLayout {
- public:
-  /// Default cap on the partition size, samples: a 16384-point FFT per level chunk keeps the
-  /// callback that runs it short, while an IR of seconds needs few partitions.
-  static constexpr int kDefaultMaxPartition = 8192;
-
-  struct Level {
-    int partitionSize;     ///< N_l samples (a multiple of the block size)
-    int numPartitions;     ///< P_l
-    size_t offset;         ///< o_l: IR sample where the level's first partition starts
-    int period;            ///< m_l = N_l / B: callbacks per chunk
-    ConvolverLayout* fft;  ///< 2 N_l-point transforms, split spectra of N_l + 1 bins
-  };
-
-  /// blockSize B in 1..8192 samples; maxIrSamples in 1..2^27 (the longest IR any set of this
-  /// layout holds); maxPartition >= blockSize caps N_l (rounded down to B times a power of 2).
-  /// Control thread. Allocates, creates FFTW plans. Throws std::invalid_argument naming the
-  /// out-of-range argument, std::runtime_error if FFTW cannot plan.
-  NonUniformLayout(int blockSize, size_t maxIrSamples, int maxPartition = kDefaultMaxPartition,
-                   ConvolverLayout::Planning planning = ConvolverLayout::Planning::kEstimate);
-  NonUniformLayout(const NonUniformLayout&) = delete;
-  NonUniformLayout& operator=(const NonUniformLayout&) = delete;
-
-  int blockSize() const { return blockSize_; }
-  size_t maxIrSamples() const { return maxIrSamples_; }
-  int numLevels() const { return int(levels_.size()); }
-  const Level& level(int l) const { return levels_[size_t(l)]; }
-  /// Total partitions over all levels.
-  int totalPartitions() const;
-  /// Every level's ConvolverLayout::plansMeasured() and measurePlans() (same rules).
-  bool plansMeasured() const;
-  void measurePlans() const;
-
- private:
-  int blockSize_;
-  size_t maxIrSamples_;
-  std::vector<Level> levels_;
-  std::vector<std::unique_ptr<ConvolverLayout>> ffts_;
-};
 
 /// The partitioned spectra of one IR set: numSources x numChannels IRs, each cut into the
 /// layout's levels and partitions and transformed (scaled by 1 / (2 N_l): the convolver needs

@@ -61,6 +61,7 @@ struct Case {
 /// Signals shared by every convolver of a case: dry inputs and two IR variants (for swaps).
 struct CaseData {
   int block = 0, sources = 0, channels = 0;
+  int overlap = 0;  ///< the layout's K
   size_t irSamples = 0, blocks = 0;
   std::vector<std::vector<float>> input;   ///< per source, blocks * block samples
   std::vector<std::vector<float>> irs[2];  ///< variant -> [s * channels + c]
@@ -69,6 +70,7 @@ struct CaseData {
 CaseData makeData(const Case& cs, int block, const ConvolveOptions& o) {
   CaseData d;
   d.block = block;
+  d.overlap = o.overlap;
   d.sources = cs.sources;
   d.channels = cs.channels;
   d.irSamples = size_t(std::lround(cs.irSeconds * o.sampleRate));
@@ -150,7 +152,8 @@ json runNonUniform(const CaseData& d, int swapEvery, bool measure, std::vector<f
   using namespace dpc::audio;
   NonUniformLayout layout(
       d.block, d.irSamples, NonUniformLayout::kDefaultMaxPartition,
-      measure ? ConvolverLayout::Planning::kMeasure : ConvolverLayout::Planning::kEstimate);
+      measure ? ConvolverLayout::Planning::kMeasure : ConvolverLayout::Planning::kEstimate,
+      d.overlap);
   NonUniformConvolver conv(layout, d.sources, d.channels);
   IrSetPool pool(d, layout);
   conv.setNextIr(pool.prepared(0));
@@ -325,6 +328,7 @@ int benchConvolve(const ConvolveOptions& o) {
   json out;
   out["benchmark"] = "convolve";
   out["sample_rate"] = o.sampleRate;
+  out["overlap"] = o.overlap;
   out["seconds_per_run"] = o.seconds;
   out["note"] =
       "CPU time of all threads (getrusage) over each run, as percent of one core's real time; "

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "audio/nonuniform_convolver.h"
+
 namespace dpc::bench {
 
 struct ConvolveOptions {
@@ -14,6 +16,8 @@ struct ConvolveOptions {
   int sampleRate = 48000;
   bool uniform = true;  ///< also time the uniformly partitioned convolver (no swaps)
   std::vector<std::string> cases;  ///< case ids to run (empty: all)
+  /// K: partitions each level of dpc's layout reaches into the next (NonUniformLayout).
+  int overlap = audio::NonUniformLayout::kDefaultOverlap;
 };
 
 /// Prints the JSON report on stdout; returns the process exit code.

@@ -15,6 +15,7 @@
 //                        [--threads T] [--device SPEC]
 //   dpc-bench budget SCENE|room-4x3x2.5 [--rays-list N ...]
 //   dpc-bench convolve [--blocks B ...] [--seconds S] [--swap-ms M] [--no-uniform] [--cases C,...]
+//                      [--overlap K]
 //   dpc-bench load [--cells 25,50,...] [--panels P] [--crates C]   (generated terrains; no file)
 //   dpc-bench wave [--volumes V ...] [--frequencies HZ ...] [--seconds S]   (boxes; no file)
 //
@@ -218,6 +219,11 @@ CLI::App* addConvolve(CLI::App& app, Options& o) {
   sub->add_option("--swap-ms", o.convolve.swapIntervalMs, "IR swap interval, ms (default 66)")
       ->check(within(0.1, 10000.0));
   sub->add_flag("!--no-uniform", o.convolve.uniform, "Skip the uniform convolver");
+  sub->add_option("--overlap", o.convolve.overlap,
+                  "Partitions each level of dpc's layout reaches into the next, 0..4 (default " +
+                      std::to_string(audio::NonUniformLayout::kDefaultOverlap) +
+                      "; 0: levels meet at a hard boundary)")
+      ->check(CLI::Range(0, audio::NonUniformLayout::kMaxOverlap));
   sub->add_option("--cases", o.convolve.cases,
                   "Comma-separated cases to run: mono, stereo, 2x3, 16x2, hybrid64 (64 sources' "
                   "early parts of 0.228 s), late4 (4 late buses of 2 s); default all")

@@ -109,12 +109,14 @@ std::vector<double> crossfadeReference(const NonUniformLayout& layout,
     const NonUniformLayout::Level& lv = layout.level(l);
     const size_t n = size_t(lv.partitionSize);
     const size_t begin = lv.offset, end = lv.offset + size_t(lv.numPartitions) * n;
-    // Per IR and source: the level segment's output.
+    // Per IR and source: the level segment's output, the IR weighted by the level's share.
     std::vector<std::vector<std::vector<double>>> seg(irs.size());
     for (size_t i = 0; i < irs.size(); ++i)
-      for (int s = 0; s < numSources; ++s)
-        seg[i].push_back(
-            segmentConvolution(x[size_t(s)], irs[i][size_t(s * numOutputs + c)], begin, end));
+      for (int s = 0; s < numSources; ++s) {
+        Signal h = irs[i][size_t(s * numOutputs + c)];
+        for (size_t t = begin; t < std::min(end, h.size()); ++t) h[t] *= layout.share(l, t);
+        seg[i].push_back(segmentConvolution(x[size_t(s)], h, begin, end));
+      }
     // The level's chunks are shifted by its phase: local block k + phi (header). Chunk q takes
     // its IR in the callback where its input completed.
     const long long m = lv.period, phase = conv.levelPhase(l);
@@ -267,11 +269,32 @@ TEST_CASE("Non-uniform layout: head at the block size, offsets 2 N - 2 B", "[con
     const auto& lv = layout.level(l);
     CHECK(lv.partitionSize == sizes[l]);
     CHECK(lv.offset == (l == 0 ? 0u : size_t(2 * sizes[l] - 2 * 128)));
-    if (l < 3)
-      CHECK(lv.offset + size_t(lv.numPartitions * lv.partitionSize) == layout.level(l + 1).offset);
+    // Each level reaches K = 2 partitions into the next one's segment (2 of 4 of its first).
+    if (l < 3) {
+      CHECK(lv.overlapPartitions == 2);
+      CHECK(lv.offset + size_t((lv.numPartitions - 2) * lv.partitionSize) ==
+            layout.level(l + 1).offset);
+    }
   }
+  CHECK(layout.level(3).overlapPartitions == 0);
   CHECK(layout.level(3).offset + size_t(layout.level(3).numPartitions) * 8192 >= 144000);
-  CHECK(layout.totalPartitions() == 6 + 6 + 6 + 16);
+  CHECK(layout.totalPartitions() == 8 + 8 + 8 + 16);
+  // The levels' shares of every sample sum to 1; outside the zones one level holds it alone.
+  int shared = 0;
+  for (size_t t = 0; t < 144000; ++t) {
+    float sum = 0.0f, largest = 0.0f;
+    for (int l = 0; l < 4; ++l) {
+      sum += layout.share(l, t);
+      largest = std::max(largest, layout.share(l, t));
+    }
+    CHECK(std::abs(sum - 1.0f) <= 1e-6f);
+    shared += largest < 1.0f;
+  }
+  CHECK(shared == 2 * 128 + 2 * 512 + 2 * 2048);
+  CHECK(NonUniformLayout(128, 144000, 8192, ConvolverLayout::Planning::kEstimate, 0)
+            .totalPartitions() == 6 + 6 + 6 + 16);
+  CHECK_THROWS_AS(NonUniformLayout(128, 100, 8192, ConvolverLayout::Planning::kEstimate, 5),
+                  std::invalid_argument);
 
   CHECK_THROWS_AS(NonUniformLayout(0, 100), std::invalid_argument);
   CHECK_THROWS_AS(NonUniformLayout(8193, 100), std::invalid_argument);

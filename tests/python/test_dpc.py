@@ -235,6 +235,20 @@ def test_render_reports_and_warns_of_the_max_order_cut(tmp_path):
             dpc.render(str(cut), duration=0.5, seed=3)
 
 
+def write_far_triangle(folder):
+    """far.obj: the only mesh of a free-field scene, a fully absorbing triangle 850 m away."""
+    (folder / "far.obj").write_text(
+        "usemtl m\nv 500 -500 500\nv 500.1 -500 500\nv 500 -500 500.1\nf 1 2 3\n")
+
+
+def write_int16_wav(path, samples, fs):
+    with wave.open(str(path), "wb") as w:
+        w.setnchannels(1)
+        w.setsampwidth(2)
+        w.setframerate(fs)
+        w.writeframes(samples.astype(np.int16).tobytes())
+
+
 @pytest.mark.parametrize("output", ["mono", "ambisonic_binaural"])
 def test_render_keeps_the_onset_of_a_sound_at_the_first_sample(tmp_path, output):
     """Free field, a click at t = 0 and another at 0.1 s, 2 m away: an offline render knows its
@@ -243,16 +257,11 @@ def test_render_keeps_the_onset_of_a_sound_at_the_first_sample(tmp_path, output)
     pressure 1 / (sqrt(4 pi) r) of the click (r = 2 m). A first response faded in over the
     first block (512 samples; the direct sound arrives at sample 280 of it) read the first
     click 5 dB low. The only mesh is a fully absorbing triangle 850 m away."""
-    (tmp_path / "far.obj").write_text(
-        "usemtl m\nv 500 -500 500\nv 500.1 -500 500\nv 500 -500 500.1\nf 1 2 3\n")
+    write_far_triangle(tmp_path)
     fs, click = 48000, 32767
     samples = np.zeros(fs // 5, np.int16)
     samples[0] = samples[fs // 10] = click
-    with wave.open(str(tmp_path / "clicks.wav"), "wb") as w:
-        w.setnchannels(1)
-        w.setsampwidth(2)
-        w.setframerate(fs)
-        w.writeframes(samples.tobytes())
+    write_int16_wav(tmp_path / "clicks.wav", samples, fs)
     r = 2.0
     scene = {"mesh": "far.obj", "materials": {"m": {"absorption": 1.0, "scattering": 0.0}},
              "sources": [{"name": "s", "position": [r, 0, 0], "signal": "clicks.wav"}],
@@ -268,3 +277,61 @@ def test_render_keeps_the_onset_of_a_sound_at_the_first_sample(tmp_path, output)
     assert first == pytest.approx(second, rel=1e-4)
     if output == "mono":
         assert first[0] == pytest.approx(click / 32768 / math.sqrt(4 * math.pi) / r, rel=1e-3)
+
+
+@pytest.mark.parametrize("block,level", [(512, 0), (128, 0), (128, 1)])
+@pytest.mark.parametrize("receding", [True, False])
+def test_a_walking_source_keeps_its_level_across_the_convolver_levels(tmp_path, block, level,
+                                                                      receding):
+    """Free field, a 100 Hz tone walking at 1 m/s for 1 m across the distance where the
+    convolver's partition level `level` hands over to the next (IR sample 6 B at level 0, 30 B
+    at level 1: 22 m at B = 512, 5.5 m and 27 m at B = 128). Each 10 ms period's amplitude
+    (quadrature demodulation) must follow the free-field pressure 1 / (sqrt(4 pi) r) at the
+    emission time. A hard boundary between the levels lost the tone for 10-30 ms receding and
+    played it twice (+6 dB) approaching. Bounds from the convolver's documented overlap
+    (audio/nonuniform_convolver.h, tests/audio/moving_arrival_test.cpp): the levels play sets up
+    to S = ceil(3 m / F) + 1 frames apart (m the next level's blocks per chunk, F blocks per
+    frame), delay d = v / (c 15 Hz) fs apart per frame, across a zone of Z = 2 N_l samples: the
+    amplitude within 1 -+ S d / Z, times cos(pi S d / period) below; and the frame holds r for
+    1/15 s (v / (15 r) more either way)."""
+    write_far_triangle(tmp_path)
+    fs, c, v, f = 48000, 343.0, 1.0, 100.0
+    offset, zone, next_period = ([6 * block, 2 * block, 4], [30 * block, 8 * block, 16])[level]
+    r_boundary = offset / fs * c
+    near, far = r_boundary - 0.5 * v, r_boundary + 0.5 * v
+    start, walk = 0.2, 1.0
+    t = np.arange(int(fs * (start + walk + 0.5))) / fs
+    write_int16_wav(tmp_path / "tone.wav", np.round(16384 * np.sin(2 * np.pi * f * t)), fs)
+    a, b = (near, far) if receding else (far, near)
+    scene = {"mesh": "far.obj", "materials": {"m": {"absorption": 1.0, "scattering": 0.0}},
+             "sources": [{"name": "s", "signal": "tone.wav",
+                          "trajectory": [{"t": start, "position": [a, 0, 0]},
+                                         {"t": start + walk, "position": [b, 0, 0]}]}],
+             "listener": {"position": [0, 0, 0], "radius": 0.5},
+             "propagation": {"rays_per_frame": 256, "ir_length": 0.15, "air_absorption": False,
+                             "speed_of_sound": c, "frame_rate": 15},
+             "audio": {"sample_rate": fs, "block_size": block, "output": "mono"}}
+    path = tmp_path / "walk.json"
+    path.write_text(json.dumps(scene))
+    out = dpc.render(str(path), duration=start + walk + 0.3, seed=1, threads=1).output[0]
+
+    frame_blocks = fs // 15 // block
+    sets_apart = math.ceil(3 * next_period / frame_blocks) + 1
+    spread = sets_apart * v / (c * 15) * fs
+    held, hold = spread / zone, v / (15 * near)
+    lower = (1 - held) * math.cos(math.pi * spread * f / fs) * (1 - hold)
+    upper = (1 + held) * (1 + hold)
+    period = int(fs / f)
+    ratios = []
+    for begin in range(int((start + 0.05) * fs), int((start + walk + near / c) * fs), period):
+        n = np.arange(begin, begin + period)
+        i = np.dot(out[n], np.sin(2 * np.pi * f * n / fs))
+        q = np.dot(out[n], np.cos(2 * np.pi * f * n / fs))
+        received = (begin + period / 2) / fs
+        emitted = received
+        for _ in range(30):  # emission time: t_e + r(t_e) / c = received
+            r = a + (b - a) * min(max((emitted - start) / walk, 0.0), 1.0)
+            emitted = received - r / c
+        ratios.append(2 * math.hypot(i, q) / period / (0.5 / math.sqrt(4 * math.pi) / r))
+    assert min(ratios) >= lower, (min(ratios), lower)
+    assert max(ratios) <= upper, (max(ratios), upper)

@@ -116,6 +116,10 @@ RoomParameters fromEnergy(const std::vector<double>& e, const Steps& steps,
   const std::vector<double> levelDb = schroederDb(e, n, noise.found ? noise.tailEnergy : 0, total);
   if (levelDb.empty()) return r;
   r.energy = total;
+  if (noise.found) {
+    r.inrDb = noise.peakAboveNoiseDb;
+    r.truncationSeconds = steps.start(n - 1) + steps.width(n - 1);
+  }
   if (noise.found && !(noise.peakAboveNoiseDb >= kMinPeakAboveNoiseDb)) return r;
   const double floorDb = noise.found ? 10.0 * std::log10(noise.tailEnergy / total)
                                      : levelDb[std::min(n - 1, size_t(kFloorFraction * double(n)))];

@@ -74,6 +74,13 @@ struct RoomParameters {
   /// so a band reads the energy response's band value (a spectral density, see
   /// synthesis/band_filters.h). NaN when the input holds no energy.
   double energy = std::numeric_limits<double>::quiet_NaN();
+  /// Impulse-response-to-noise ratio: the decay's highest 20 ms-scale interval above the
+  /// stationary noise floor found (analysis/noise_floor.h, Lundeby 1995), dB. NaN when no
+  /// floor was found (and always for energy decays, which are not searched).
+  double inrDb = std::numeric_limits<double>::quiet_NaN();
+  /// Where the backward integration stops because the decay meets that floor (ISO 3382-1:2009
+  /// 5.3.3), s from the onset; NaN when no floor was found.
+  double truncationSeconds = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// Strength G in dB from RoomParameters::energy on dpc's scale (relative to 1/(4 pi 10^2)).

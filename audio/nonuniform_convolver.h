@@ -52,7 +52,8 @@
 // previous chunk, the chunk is computed with both from the same FDL (both are steady-state
 // convolutions of the whole input history) and crossfaded over the chunk:
 //   y_l[n] = (1 - g[n]) (x * h_old,l)[n] + g[n] (x * h_new,l)[n],  g[n] = (n + 1) / N_l,
-// where h_l is the IR restricted to level l's segment. Level 0 thus swaps within one block,
+// where h_l is the IR restricted to level l's segment, times the level's share
+// (NonUniformLayout::share). Level 0 thus swaps within one block,
 // the tail levels at their own chunk boundaries (a later level's segment is later in the IR,
 // so its swap is heard later anyway); an IR replaced before a level took it is skipped by
 // that level. A level with no IR yet takes the first at once, without the crossfade, while

@@ -21,12 +21,14 @@
 // which level l+1 covers too. There the IR is shared: level l carries share w(t) = 1 - (t -
 // o_{l+1} + 1/2) / Z_l of sample t, level l+1 the rest, so the levels still sum to the IR
 // (share()). Why: the levels swap IRs at different times (nonuniform_convolver.h, "IR swap":
-// level l+1 starts its crossfade up to about 2 N_{l+1} later than level l). With a hard boundary, an arrival whose delay crosses o_{l+1}
-// between two sets (a source receding or approaching) leaves level l before level l+1 takes it
-// (silent for that time) or is played by both (+6 dB). In the zone it moves from one level to
-// the other in steps of its delay change d between sets: what the later level holds back is
-// at most d / Z_l of its amplitude per set it lags behind. The price is K_l more partitions
-// per level. (dpc's own remedy; docs/live.md "Overlapping levels" has its measurements.)
+// level l+1 starts its crossfade up to about 2 N_{l+1} later than level l). With a hard boundary,
+// an arrival whose delay crosses o_{l+1} between two sets (a source receding or approaching) leaves
+// level l before level l+1 takes it (silent for that time) or is played by both (+6 dB). In the
+// zone it moves from one level to the other in steps of its delay change d between sets: what the
+// later level holds back is at most d / Z_l of its amplitude per set it lags behind (about 3
+// m_{l+1} blocks at most, more with staggered swaps, which add (G - 1) m_{l+1}). The price is K_l
+// more partitions per level. (dpc's own remedy; docs/live.md "Overlapping levels" has its
+// measurements.)
 #pragma once
 
 #include <cstddef>
@@ -45,8 +47,9 @@ class NonUniformLayout {
   /// callback that runs it short, while an IR of seconds needs few partitions.
   static constexpr int kDefaultMaxPartition = 8192;
   /// Default K: partitions each level reaches into the next one's segment (see "Overlapping
-  /// levels"). 2 keeps a receding or approaching arrival's level within d / (2 N_l) of its own
-  /// (d its delay change between sets) for 6 more partitions on a 3 s IR at B = 128 (40, not 34).
+  /// levels"). 2 keeps a receding or approaching arrival's level within S d / (2 N_l) of its
+  /// own (d its delay change between sets, S the sets the later level lags behind) for 6 more
+  /// partitions on a 3 s IR at B = 128 (40, not 34).
   static constexpr int kDefaultOverlap = 2;
   /// Largest K accepted.
   static constexpr int kMaxOverlap = 4;

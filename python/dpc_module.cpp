@@ -48,10 +48,15 @@ py::dict iso3382(const py::array_t<float, py::array::c_style | py::array::forcec
   }
   using Field = double audio::RoomParameters::*;
   const std::pair<const char*, Field> fields[] = {
-      {"t20", &audio::RoomParameters::t20},      {"t30", &audio::RoomParameters::t30},
-      {"edt", &audio::RoomParameters::edt},      {"c50", &audio::RoomParameters::c50},
-      {"c80", &audio::RoomParameters::c80},      {"d50", &audio::RoomParameters::d50},
-      {"energy", &audio::RoomParameters::energy}};
+      {"t20", &audio::RoomParameters::t20},
+      {"t30", &audio::RoomParameters::t30},
+      {"edt", &audio::RoomParameters::edt},
+      {"c50", &audio::RoomParameters::c50},
+      {"c80", &audio::RoomParameters::c80},
+      {"d50", &audio::RoomParameters::d50},
+      {"energy", &audio::RoomParameters::energy},
+      {"inr", &audio::RoomParameters::inrDb},
+      {"truncation", &audio::RoomParameters::truncationSeconds}};
   py::dict out, broadband;
   for (const auto& [name, field] : fields) {
     std::vector<double> perBand(kNumBands);

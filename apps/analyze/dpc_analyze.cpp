@@ -33,6 +33,9 @@ constexpr const char* kDescription =
     "'—' (JSON: null) marks a value the IR cannot give, e.g. T30 when the decay is not\n"
     "recorded 10 dB below -35 dB, or a band above Nyquist. C50/C80 are +inf when no energy\n"
     "arrives late (JSON: the string \"+inf\"). JSON gives D50 as a ratio 0..1.\n"
+    "A measured IR's stationary noise floor is found per band (Lundeby 1995) and compensated\n"
+    "(ISO 3382-1:2009 5.3.3); where one is, two more rows give the impulse-response-to-noise\n"
+    "ratio INR (dB) and where the integration stops (s from the onset; JSON: inr, truncation).\n"
     "Exit status: 0 on success, 1 on bad input (message on stderr).";
 
 void addOptions(CLI::App& app, Options& o) {

@@ -52,9 +52,22 @@ nlohmann::ordered_json toJson(double v) {
 }
 
 nlohmann::ordered_json toJson(const RoomParameters& r) {
-  return {{"t20", toJson(r.t20)},    {"t30", toJson(r.t30)}, {"edt", toJson(r.edt)},
-          {"c50", toJson(r.c50)},    {"c80", toJson(r.c80)}, {"d50", toJson(r.d50)},
-          {"g", toJson(strength(r))}};
+  return {{"t20", toJson(r.t20)},
+          {"t30", toJson(r.t30)},
+          {"edt", toJson(r.edt)},
+          {"c50", toJson(r.c50)},
+          {"c80", toJson(r.c80)},
+          {"d50", toJson(r.d50)},
+          {"g", toJson(strength(r))},
+          {"inr", toJson(r.inrDb)},
+          {"truncation", toJson(r.truncationSeconds)}};
+}
+
+bool anyNoiseFloor(const ImpulseResponseAnalysis& a) {
+  if (!std::isnan(a.broadband.inrDb)) return true;
+  for (const RoomParameters& r : a.bands)
+    if (!std::isnan(r.inrDb)) return true;
+  return false;
 }
 
 }  // namespace
@@ -80,6 +93,11 @@ void printTable(const std::string& title, const ImpulseResponseAnalysis& a) {
     printRow(row.label, a,
              [&](const RoomParameters& r) { return cell(r.*row.field * row.scale, row.decimals); });
   printRow("G (dB)", a, [](const RoomParameters& r) { return cell(strength(r), 1); });
+  if (!anyNoiseFloor(a)) return;
+  // A measured IR's background noise (analysis/noise_floor.h): where it was found, the
+  // parameters above are noise-compensated (ISO 3382-1:2009 5.3.3).
+  printRow("INR (dB)", a, [](const RoomParameters& r) { return cell(r.inrDb, 1); });
+  printRow("cut at (s)", a, [](const RoomParameters& r) { return cell(r.truncationSeconds, 2); });
 }
 
 nlohmann::ordered_json analysisJson(const ImpulseResponseAnalysis& a) {

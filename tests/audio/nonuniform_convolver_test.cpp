@@ -455,6 +455,52 @@ TEST_CASE("Non-uniform convolver: levels' last callbacks never coincide", "[conv
                   std::invalid_argument);
 }
 
+TEST_CASE("Non-uniform convolver: a steady IR convolves exactly across the shared zones",
+          "[convolver]") {
+  // Against the whole IR's direct convolution (no shares in the reference): where levels
+  // overlap their shares must sum to 1. Layouts with odd block sizes, a partition cap at which
+  // the size only doubles, a single level, and IRs that end inside a zone.
+  struct Case {
+    int block;
+    size_t irSamples;
+    int maxPartition;
+  };
+  const Case cases[] = {{64, 6007, 4096}, {7, 3001, 56},   {100, 9000, 800},
+                        {64, 390, 4096},  {64, 400, 4096}, {16, 10, 4096}};
+  std::mt19937 rng(20261203);
+  for (const Case& c : cases) {
+    const NonUniformLayout layout(c.block, c.irSamples, c.maxPartition);
+    const Signal h = randomSignal(rng, c.irSamples);
+    NonUniformIrSet set(layout, 1, 1);
+    const float* hp = h.data();
+    set.prepare(0, &hp, h.size());
+    NonUniformConvolver conv(layout, 1, 1);
+    REQUIRE(conv.setNextIr(&set));
+    // A slow level takes its first IR at its first chunk, fading in from silence once sound
+    // has entered: silence first, as long as the slowest level's chunk.
+    const size_t lead = size_t(layout.level(layout.numLevels() - 1).period) * size_t(c.block);
+    const size_t blocks = (2 * c.irSamples + lead) / size_t(c.block) + 8;
+    Signal x = randomSignal(rng, blocks * size_t(c.block));
+    std::fill(x.begin(), x.begin() + long(lead), 0.0f);
+    Signal y(x.size());
+    for (size_t k = 0; k < blocks; ++k) {
+      const float* in = x.data() + k * size_t(c.block);
+      float* out = y.data() + k * size_t(c.block);
+      conv.process(&in, &out);
+    }
+    const std::vector<double> expected = segmentConvolution(x, h, 0, h.size());
+    double err = 0.0, energy = 0.0;
+    for (size_t t = 0; t < y.size(); ++t) {
+      err += (y[t] - expected[t]) * (y[t] - expected[t]);
+      energy += expected[t] * expected[t];
+    }
+    INFO("block " << c.block << ", IR " << c.irSamples << ", cap " << c.maxPartition << ": "
+                  << layout.numLevels() << " levels, error "
+                  << 10 * std::log10(std::max(err / energy, 1e-300)) << " dB");
+    CHECK(err / energy < tolerance(layout, 1));
+  }
+}
+
 namespace {
 
 /// One IR per source (one output channel), random, silent before that source's onset.
@@ -472,17 +518,18 @@ std::vector<Signal> irsWithOnsets(std::mt19937& rng, size_t length,
 
 TEST_CASE("Non-uniform convolver: levels a source is silent at skip their transforms",
           "[convolver]") {
-  // B = 64, levels [0, 384), [384, 1920) and [1920, 6007) samples: level 0 skips a
-  // source whose sets all start sounding at or after 768, level 1 at or after 3456 (one
-  // segment beyond each level's end); the last level transforms every source that sounds.
+  // B = 64, levels [0, 512), [384, 2432) and [1920, 6007) samples (each but the last reaching
+  // two partitions into the next): level 0 skips a source whose sets all start sounding at or
+  // after 1024, level 1 at or after 4480 (one segment beyond each level's end); the last level
+  // transforms every source that sounds.
   std::mt19937 rng(20261125);
   const NonUniformLayout layout(64, 6007, 4096);
   REQUIRE(layout.numLevels() == 3);
   const double tol = tolerance(layout, 2);
-  // Source 0 approaches: its onset drifts from 4000 to 100 samples over five sets 60 blocks
-  // apart, each step within the margin (level 1 resumes at 3000 and sounds from 1500, level 0
-  // resumes at 700 and sounds from 100); source 1 sounds from its first sample throughout.
-  const size_t drift[] = {4000, 3000, 1500, 700, 100};
+  // Source 0 approaches: its onset drifts from 5000 to 100 samples over five sets 60 blocks
+  // apart, each step within the margin (level 1 resumes at 4000 and sounds from 2000, level 0
+  // resumes at 900 and sounds from 100); source 1 sounds from its first sample throughout.
+  const size_t drift[] = {5000, 4000, 2000, 900, 100};
   std::vector<std::vector<Signal>> irs;
   std::vector<Event> events;
   for (size_t i = 0; i < std::size(drift); ++i) {
@@ -501,10 +548,10 @@ TEST_CASE("Non-uniform convolver: levels a source is silent at skip their transf
   CHECK(rel < tol);
   CHECK(worst < 30.0 * std::sqrt(tol));
 
-  // A jump (a teleport) from onset 4000 to 0 at block 100: the partitions whose input chunk
-  // was skipped are left out and counted; once every level has transformed P_l + 2 chunks
-  // again the output is exact. Compared over the whole run the loss shows.
-  irs = {irsWithOnsets(rng, 6007, {4000, 0}), irsWithOnsets(rng, 6007, {0, 0})};
+  // A jump (a teleport) from onset 5000 to 0 at block 100: the partitions whose input chunk
+  // was skipped (levels 0 and 1) are left out and counted; once every level has transformed
+  // P_l + 2 chunks again the output is exact. Compared over the whole run the loss shows.
+  irs = {irsWithOnsets(rng, 6007, {5000, 0}), irsWithOnsets(rng, 6007, {0, 0})};
   events = {{0, 0}, {100, 1}};
   size_t settle = 0;
   for (int l = 0; l < layout.numLevels(); ++l)

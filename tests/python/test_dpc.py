@@ -293,7 +293,7 @@ def test_a_walking_source_keeps_its_level_across_the_convolver_levels(tmp_path, 
     to S = ceil(3 m / F) + 1 frames apart (m the next level's blocks per chunk, F blocks per
     frame), delay d = v / (c 15 Hz) fs apart per frame, across a zone of Z = 2 N_l samples: the
     amplitude within 1 -+ S d / Z, times cos(pi S d / period) below; and the frame holds r for
-    1/15 s (v / (15 r) more either way)."""
+    1/15 s from where the source is at the frame's time (v / (15 r) + v / c more either way)."""
     write_far_triangle(tmp_path)
     fs, c, v, f = 48000, 343.0, 1.0, 100.0
     offset, zone, next_period = ([6 * block, 2 * block, 4], [30 * block, 8 * block, 16])[level]
@@ -318,7 +318,9 @@ def test_a_walking_source_keeps_its_level_across_the_convolver_levels(tmp_path, 
     frame_blocks = fs // 15 // block
     sets_apart = math.ceil(3 * next_period / frame_blocks) + 1
     spread = sets_apart * v / (c * 15) * fs
-    held, hold = spread / zone, v / (15 * near)
+    # The frame places the source where it is at the frame's time, v / c later than where the
+    # sound left it: v / c more either way.
+    held, hold = spread / zone, v / (15 * near) + v / c
     lower = (1 - held) * math.cos(math.pi * spread * f / fs) * (1 - hold)
     upper = (1 + held) * (1 + hold)
     period = int(fs / f)

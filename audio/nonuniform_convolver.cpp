@@ -408,9 +408,11 @@ void NonUniformConvolver::finishChunk(const NonUniformLayout::Level& lv, LevelSt
       lv.fft->inverse(acc + 2 * spec, st.time2.get());
       newY = st.time2.get() + n;
     }
-    const float invN = 1.0f / float(n);
+    // One block's ramp at every level (see "IR swap"), then the new IR alone.
+    const size_t ramp = std::min(n, size_t(layout_->blockSize()));
+    const float invRamp = 1.0f / float(ramp);
     for (size_t k = 0; k < n; ++k) {
-      const float g = float(k + 1) * invN;
+      const float g = k < ramp ? float(k + 1) * invRamp : 1.0f;
       y[k] += (oldY ? (1.0f - g) * oldY[k] : 0.0f) + (newY ? g * newY[k] : 0.0f);
     }
   }

@@ -50,10 +50,13 @@
 // IR swap: the IR set is swapped for all sources at once. Each level takes the newest IR when
 // it starts a chunk (the chunk's first callback above); if that differs from the IR of its
 // previous chunk, the chunk is computed with both from the same FDL (both are steady-state
-// convolutions of the whole input history) and crossfaded over the chunk:
-//   y_l[n] = (1 - g[n]) (x * h_old,l)[n] + g[n] (x * h_new,l)[n],  g[n] = (n + 1) / N_l,
+// convolutions of the whole input history) and crossfaded over the chunk's first block:
+//   y_l[n] = (1 - g[n]) (x * h_old,l)[n] + g[n] (x * h_new,l)[n],  g[n] = min(1, (n + 1) / B),
 // where h_l is the IR restricted to level l's segment, times the level's share
-// (NonUniformLayout::share). Level 0 thus swaps within one block,
+// (NonUniformLayout::share). One block, not the whole chunk: a moving source's arrival is at
+// different delays in the two IRs, and their mix is a comb filter (for broadband sound 2/3 of
+// the energy, -1.76 dB, averaged over a linear fade); over whole chunks a slow level of a
+// moving source was never out of a fade. Level 0 thus swaps within one block,
 // the tail levels at their own chunk boundaries (a later level's segment is later in the IR,
 // so its swap is heard later anyway); an IR replaced before a level took it is skipped by
 // that level. A level with no IR yet takes the first at once, without the crossfade, while

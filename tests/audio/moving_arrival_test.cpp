@@ -10,7 +10,12 @@
 // the delay step). Across the shared zone of Z_l samples a set's share changes by at most
 // S d / Z_l, so the shares summed over the sets in use lie within 1 -+ S d / Z_l, and the
 // phasors of delays S d apart add to at least cos(w S d / 2) of their sum: the amplitude lies
-// in [(1 - S d / Z_l) cos(w S d / 2), 1 + S d / Z_l]. With the levels meeting at a hard
+// in [(1 - S d / Z_l) cos(w S d / 2), 1 + S d / Z_l]. The instrument: a level switches sets
+// within one block, so the phase may jump inside a window; the demodulation's double-frequency
+// term then no longer cancels and reads up to |jump| / (2 pi W) off over a window of W periods
+// (the sum of e^{-2iwt} over part of a period is at most 1 / sin w ~ P / (2 pi)). Two levels
+// carry the arrival, each jumping by at most w S d: 2 w S d / (2 pi W) either way, W = 4.
+// With the levels meeting at a hard
 // boundary (overlap 0) the arrival is lost for a while (receding) or played twice
 // (approaching), which the same bounds catch.
 #include <algorithm>
@@ -28,16 +33,18 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kBlock = 128;
 constexpr int kPeriod = 480;     // the tone's period, samples (100 Hz at 48 kHz)
+constexpr int kWindowPeriods = 4;  // W: periods per amplitude measurement
 constexpr int kSetEvery = 8;     // F: blocks between IR sets
 constexpr size_t kIrSamples = 21000;
 
 struct Envelope {
   double lowest = 1e9, highest = 0.0;
+  size_t lowestAt = 0, highestAt = 0;  ///< output sample where the period begins
 };
 
 /// Renders a unit sine through the convolver while a unit impulse's delay steps from `from`
 /// toward `to` by `step` samples every kSetEvery blocks, and measures the output amplitude in
-/// every whole tone period once the first arrival has sounded for a period.
+/// windows of kWindowPeriods periods, one period apart, once the first arrival has sounded.
 Envelope renderMovingArrival(int overlap, size_t from, size_t to, size_t step) {
   NonUniformLayout layout(kBlock, kIrSamples, NonUniformLayout::kDefaultMaxPartition,
                           ConvolverLayout::Planning::kEstimate, overlap);
@@ -77,16 +84,17 @@ Envelope renderMovingArrival(int overlap, size_t from, size_t to, size_t step) {
     conv.process(&ip, &op);
   }
   Envelope e;
-  for (size_t t0 = from + kPeriod; t0 + kPeriod <= out.size(); t0 += kPeriod) {
+  const size_t window = size_t(kWindowPeriods) * kPeriod;
+  for (size_t t0 = from + kPeriod; t0 + window <= out.size(); t0 += kPeriod) {
     double i = 0.0, q = 0.0;
-    for (size_t t = t0; t < t0 + kPeriod; ++t) {
+    for (size_t t = t0; t < t0 + window; ++t) {
       const double phase = 2.0 * kPi * double(t) / kPeriod;
       i += out[t] * std::sin(phase);
       q += out[t] * std::cos(phase);
     }
-    const double amplitude = 2.0 * std::hypot(i, q) / kPeriod;
-    e.lowest = std::min(e.lowest, amplitude);
-    e.highest = std::max(e.highest, amplitude);
+    const double amplitude = 2.0 * std::hypot(i, q) / double(window);
+    if (amplitude < e.lowest) e.lowest = amplitude, e.lowestAt = t0;
+    if (amplitude > e.highest) e.highest = amplitude, e.highestAt = t0;
   }
   return e;
 }
@@ -108,13 +116,15 @@ TEST_CASE("An arrival moving across a level boundary keeps its level", "[convolv
     const double s = std::ceil(3.0 * c.nextPeriod / kSetEvery) + 1.0;
     const double spread = s * double(c.step);
     const double held = spread / double(c.zone);
-    const double lower = (1.0 - held) * std::cos(kPi * spread / kPeriod);
-    const double upper = 1.0 + held;
+    const double jumps = 2.0 * (2.0 * kPi * spread / kPeriod) / (2.0 * kPi * kWindowPeriods);
+    const double lower = (1.0 - held) * std::cos(kPi * spread / kPeriod) - jumps;
+    const double upper = 1.0 + held + jumps;
     for (const bool receding : {true, false}) {
       const size_t from = receding ? c.from : c.to, to = receding ? c.to : c.from;
       const Envelope e = renderMovingArrival(NonUniformLayout::kDefaultOverlap, from, to, c.step);
-      INFO("delay " << from << " -> " << to << ": amplitude " << e.lowest << " .. " << e.highest
-                    << ", bounds " << lower << " .. " << upper);
+      INFO("delay " << from << " -> " << to << ": amplitude " << e.lowest << " (at sample "
+                    << e.lowestAt << ") .. " << e.highest << " (at " << e.highestAt << "), bounds "
+                    << lower << " .. " << upper);
       CHECK(e.lowest >= lower);
       CHECK(e.highest <= upper);
       // The same motion across a hard boundary: lost, or played twice, for a while.

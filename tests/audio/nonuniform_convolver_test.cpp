@@ -3,7 +3,7 @@
 // expected output follows the per-level crossfade of nonuniform_convolver.h exactly: level l's
 // chunk c (output samples [o_l + c N_l, o_l + (c + 1) N_l)) takes the IR that was newest in the
 // callback where its input chunk completed, and crossfades from the previous chunk's IR with
-// g[n] = (n + 1) / N_l when they differ; staggered, one source group per chunk.
+// g[n] = min(1, (n + 1) / B) when they differ; staggered, one source group per chunk.
 #include "audio/nonuniform_convolver.h"
 
 #include <algorithm>
@@ -131,7 +131,7 @@ std::vector<double> crossfadeReference(const NonUniformLayout& layout,
     for (size_t t = begin; t < total; ++t) {
       const size_t local = t - begin + size_t(phase) * b;
       const ChunkSwap& q = chunks[local / n];
-      const double g = double(local % n + 1) / double(n);
+      const double g = std::min(1.0, double(local % n + 1) / double(b));
       for (int s = 0; s < numSources; ++s) {
         const int group = s % groups;
         if (q.after == q.before || group > q.group)

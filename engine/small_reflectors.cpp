@@ -26,11 +26,14 @@ constexpr double kCoplanarCos = 0.999;
 /// and integrated exactly, the taper at its centroid; a triangle is halved across its longest
 /// side while its corners' phases spread over more than kPhaseSpread rad, the phase's curvature
 /// departs from linear by more than kPhaseCurvature rad or the taper changes by more than
-/// kTaperSpread across it, at most kOwnDepth times, when the surface has at most kFineTriangles
-/// triangles (else whole). Pieces past the taper's end are dropped whole.
+/// kTaperSpread across it, when the surface has at most kFineTriangles triangles (else whole):
+/// at least kOwnDepth times, and as often as a triangle's longest side needs to reach the size
+/// the curvature test accepts (two halvings per halving of the length), at most kMaxOwnDepth.
+/// Pieces past the taper's end are dropped whole, so a triangle far larger than the zones (a
+/// ground kilometres wide) costs what the part within the taper does.
 constexpr size_t kOwnTriangles = 16384, kFineTriangles = 1024;
 constexpr double kPhaseSpread = 3.0, kPhaseCurvature = 0.3, kTaperSpread = 0.25;
-constexpr int kOwnDepth = 16;
+constexpr int kOwnDepth = 16, kMaxOwnDepth = 96;
 /// Terms of the series for a piece's mean phase factor: at a spread of kPhaseSpread the last is
 /// below 1e-16.
 constexpr int kSeriesTerms = 28;
@@ -202,17 +205,32 @@ void addOwn(BandSums& sums, const SmallReflectors::Zone& z, double ru, double rv
   }
 }
 
+/// How often addOwn may halve triangle (a, b, c): kOwnDepth, or as often as its longest side
+/// (in zone units) needs to pass the curvature test at the band's highest frequency.
+int halvingsFor(const SmallReflectors::Zone& z, double ru, double rv, const glm::dvec3& a,
+                const glm::dvec3& b, const glm::dvec3& c) {
+  const glm::dvec2 pa = zonePoint(z, ru, rv, a), pb = zonePoint(z, ru, rv, b),
+                   pc = zonePoint(z, ru, rv, c);
+  const double side = std::sqrt(std::max(
+      {glm::dot(pb - pa, pb - pa), glm::dot(pc - pb, pc - pb), glm::dot(pa - pc, pa - pc)}));
+  const double accepted =
+      std::sqrt(kPhaseCurvature / (0.25 * std::numbers::pi * bandMultipliers().back()));
+  if (!(side > accepted)) return kOwnDepth;
+  const double needed = 2.0 * std::ceil(std::log2(side / accepted)) + 2.0;
+  return int(std::clamp(needed, double(kOwnDepth), double(kMaxOwnDepth)));
+}
+
 /// Adds the surface's own triangles `own` that face as `facing` does (the reflecting
 /// triangle's normal: a double-sided copy and a curved surface's far side are left out).
 void addOwnSurface(BandSums& sums, const std::vector<WorldTriangle>& world,
                    std::span<const uint32_t> own, const glm::dvec3& facing,
                    const SmallReflectors::Zone& z, double ru, double rv, double shift) {
-  const int depth = own.size() <= kFineTriangles ? kOwnDepth : 0;
+  const bool fine = own.size() <= kFineTriangles;
   for (uint32_t t : own) {
     if (t >= world.size()) continue;
     const glm::dvec3 a(world[t].v0), b(world[t].v1), c(world[t].v2);
     if (glm::dot(glm::cross(b - a, c - a), facing) < 0.0) continue;
-    addOwn(sums, z, ru, rv, shift, a, b, c, depth);
+    addOwn(sums, z, ru, rv, shift, a, b, c, fine ? halvingsFor(z, ru, rv, a, b, c) : 0);
   }
 }
 

@@ -124,6 +124,25 @@ TEST_CASE("Small reflectors: a plate reflects its Kirchhoff share of the image s
   }
 }
 
+TEST_CASE("Small reflectors: a plate kilometres wide reflects the whole image source",
+          "[specular][diffraction]") {
+  // A ground of two triangles 4 km wide, source and listener 1.5 m above it, 5 and 10 m apart.
+  // Oracle: a plane holding every Fresnel zone reflects the image source's field whole (0 dB);
+  // its edges lie 1 km off or more, beyond the taper, so within the 0.6 dB allowed a plate covering
+  // every zone above. The integral once stopped halving such triangles long before their pieces
+  // were small against the zones, and the path read nothing (-inf dB).
+  Mesh mesh;
+  test::addPanel(mesh, {-1000.f, -3000.f, 0.f}, {4000.f, 0, 0}, {0, 4000.f, 0}, 0);
+  for (const float apart : {5.f, 10.f}) {
+    const glm::vec3 s(-0.5f * apart, 0.f, 1.5f), l(0.5f * apart, 0.f, 1.5f);
+    const std::vector<double> model = modelShareDb(rigid(mesh), 0, s, l);
+    for (int b = 0; b < kNumBands; ++b) {
+      INFO(apart << " m apart, " << bandCentreExactHz(b) << " Hz: " << model[size_t(b)] << " dB");
+      CHECK(std::abs(model[size_t(b)]) < 0.6);
+    }
+  }
+}
+
 TEST_CASE("Small reflectors: the same share whichever copy of a sheet and however it is meshed",
           "[specular]") {
   // A 1 x 2.1 m leaf, both sides written (test::addPanel), lit from either side: its two copies
